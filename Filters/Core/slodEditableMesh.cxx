@@ -1,0 +1,606 @@
+#include "slodEditableMesh.h"
+
+#include <algorithm>
+#include <cassert>
+
+namespace slod
+{
+const char* ToString(CollapseStatus status)
+{
+  switch (status)
+  {
+    case CollapseStatus::Ok: return "ok";
+    case CollapseStatus::DeadVertex: return "dead vertex";
+    case CollapseStatus::NonManifold: return "non-manifold result";
+    case CollapseStatus::BoundaryChange: return "boundary change";
+    case CollapseStatus::TooSmall: return "component too small";
+    case CollapseStatus::Flip: return "triangle flip";
+    case CollapseStatus::Degenerate: return "degenerate triangle";
+    case CollapseStatus::BadShape: return "bad triangle shape";
+  }
+  return "unknown";
+}
+
+void CollapseRecord::Clear()
+{
+  this->Vertices = { InvalidIndex, InvalidIndex, InvalidIndex };
+  this->VertexCount = 0;
+  this->Kept = InvalidIndex;
+  this->RemovedTriangles.clear();
+  this->ChangedTriangles.clear();
+  this->ChangedCorner.clear();
+  this->ChangedFrom.clear();
+}
+
+void EditableMesh::Reset(const TriangleMesh& mesh)
+{
+  this->Points = mesh.Points;
+  this->Triangles = mesh.Triangles;
+  const Index np = this->NumberOfPoints();
+  const Index nt = this->NumberOfTriangles();
+  this->TriangleAlive.assign(nt, 1);
+  this->VertexAlive.assign(np, 1);
+  this->LiveTriangles = nt;
+  this->LiveVertices = np;
+  this->TriangleMark.assign(nt, 0);
+  this->VertexMark.assign(np, 0);
+  this->LinkIn.assign(np, 0);
+  this->LinkOut.assign(np, 0);
+  this->Epoch = 0;
+  this->RefStart.assign(np, 0);
+  this->RefCount.assign(np, 0);
+  this->CompactThreshold = 0;
+  this->Refs.clear();
+  this->CompactIfNeeded();
+}
+
+std::uint32_t EditableMesh::NextEpoch() const
+{
+  if (++this->Epoch == 0)
+  {
+    std::fill(this->TriangleMark.begin(), this->TriangleMark.end(), 0);
+    std::fill(this->VertexMark.begin(), this->VertexMark.end(), 0);
+    this->Epoch = 1;
+  }
+  return this->Epoch;
+}
+
+void EditableMesh::SetPoint(Index v, const Vec3& p)
+{
+  std::copy(p.begin(), p.end(), &this->Points[3 * size_t(v)]);
+}
+
+Vec3 EditableMesh::TriangleNormal(Index t) const
+{
+  const Index* tri = this->Triangle(t);
+  return slod::TriangleNormal(this->Point(tri[0]), this->Point(tri[1]), this->Point(tri[2]));
+}
+
+double EditableMesh::TriangleArea(Index t) const
+{
+  const Index* tri = this->Triangle(t);
+  const Vec3 a = this->Point(tri[0]);
+  return 0.5 * Norm(Cross(this->Point(tri[1]) - a, this->Point(tri[2]) - a));
+}
+
+Index EditableMesh::VertexDegree(Index v) const
+{
+  Index n = 0;
+  this->ForEachTriangle(v, [&](Index) { ++n; });
+  return n;
+}
+
+bool EditableMesh::IsBoundaryVertex(Index v) const
+{
+  // Around v each triangle (v, x, y) contributes the link edge x -> y; an edge (v, x) is on the
+  // border exactly when x has unequal numbers of incoming and outgoing link edges.
+  const std::uint32_t epoch = this->NextEpoch();
+  auto touch = [&](Index x) {
+    if (this->VertexMark[x] != epoch)
+    {
+      this->VertexMark[x] = epoch;
+      this->LinkIn[x] = 0;
+      this->LinkOut[x] = 0;
+    }
+  };
+  this->ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    const int c = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
+    touch(x);
+    touch(y);
+    ++this->LinkOut[x];
+    ++this->LinkIn[y];
+  });
+  bool boundary = false;
+  this->ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (tri[k] != v && this->LinkIn[tri[k]] != this->LinkOut[tri[k]])
+      {
+        boundary = true;
+      }
+    }
+  });
+  return boundary;
+}
+
+int EditableMesh::EdgeTriangleCount(Index u, Index v) const
+{
+  int n = 0;
+  this->ForEachTriangle(u, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    n += (tri[0] == v || tri[1] == v || tri[2] == v) ? 1 : 0;
+  });
+  return n;
+}
+
+void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
+{
+  out.clear();
+  const std::uint32_t epoch = this->NextEpoch();
+  this->ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (tri[k] != v && this->VertexMark[tri[k]] != epoch)
+      {
+        this->VertexMark[tri[k]] = epoch;
+        out.push_back(tri[k]);
+      }
+    }
+  });
+}
+
+void EditableMesh::GatherTriangles(const Index* vertices, int count) const
+{
+  this->Scratch.clear();
+  const std::uint32_t epoch = this->NextEpoch();
+  for (int i = 0; i < count; ++i)
+  {
+    this->ForEachTriangle(vertices[i], [&](Index t) {
+      if (this->TriangleMark[t] != epoch)
+      {
+        this->TriangleMark[t] = epoch;
+        this->Scratch.push_back(t);
+      }
+    });
+  }
+}
+
+void EditableMesh::TrianglesAround(const Index* vertices, int count, std::vector<Index>& out) const
+{
+  this->GatherTriangles(vertices, count);
+  out.assign(this->Scratch.begin(), this->Scratch.end());
+}
+
+namespace
+{
+inline int CountMembers(const Index* tri, const Index* set, int count, int& corner)
+{
+  int members = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    for (int i = 0; i < count; ++i)
+    {
+      if (tri[k] == set[i])
+      {
+        ++members;
+        corner = k;
+      }
+    }
+  }
+  return members;
+}
+} // namespace
+
+CollapseStatus EditableMesh::CheckCollapse(
+  const Index* vertices, int count, const Vec3& p, const CollapseOptions& options) const
+{
+  assert(count >= 2 && count <= 3);
+  bool anyBoundary = false;
+  for (int i = 0; i < count; ++i)
+  {
+    if (!this->IsVertexAlive(vertices[i]))
+    {
+      return CollapseStatus::DeadVertex;
+    }
+    anyBoundary = anyBoundary || this->IsBoundaryVertex(vertices[i]);
+  }
+  this->GatherTriangles(vertices, count);
+
+  if (!options.AllowTopologyChange)
+  {
+    // Generalised link condition: the link of the merged vertex, made of the link edges x -> y of
+    // the surviving triangles, must be one simple cycle (interior) or one simple path (border),
+    // and no neighbour may get two incoming or outgoing link edges (an edge with > 2 triangles).
+    const std::uint32_t epoch = this->NextEpoch();
+    Index survivors = 0;
+    Index firstX = InvalidIndex;
+    for (Index t : this->Scratch)
+    {
+      int corner = 0;
+      if (CountMembers(this->Triangle(t), vertices, count, corner) >= 2)
+      {
+        continue;
+      }
+      const Index* tri = this->Triangle(t);
+      const Index x = tri[(corner + 1) % 3], y = tri[(corner + 2) % 3];
+      for (Index w : { x, y })
+      {
+        if (this->VertexMark[w] != epoch)
+        {
+          this->VertexMark[w] = epoch;
+          this->LinkIn[w] = InvalidIndex;
+          this->LinkOut[w] = InvalidIndex;
+        }
+      }
+      if (this->LinkOut[x] != InvalidIndex || this->LinkIn[y] != InvalidIndex)
+      {
+        return CollapseStatus::NonManifold;
+      }
+      this->LinkOut[x] = y;
+      this->LinkIn[y] = x;
+      firstX = firstX == InvalidIndex ? x : firstX;
+      ++survivors;
+    }
+    if (survivors == 0)
+    {
+      return CollapseStatus::TooSmall;
+    }
+    // Find the path start, if any; more than one means several fans (a pinched vertex).
+    Index start = InvalidIndex;
+    bool severalStarts = false;
+    for (Index t : this->Scratch)
+    {
+      const Index* tri = this->Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index w = tri[k];
+        if (this->VertexMark[w] == epoch && this->LinkIn[w] == InvalidIndex && this->LinkOut[w] != InvalidIndex)
+        {
+          severalStarts = severalStarts || (start != InvalidIndex && w != start);
+          start = w;
+        }
+      }
+    }
+    if (severalStarts)
+    {
+      return CollapseStatus::NonManifold;
+    }
+    const bool isPath = start != InvalidIndex;
+    // Walk the link: it must use every surviving triangle's link edge exactly once.
+    Index walked = 0;
+    if (isPath)
+    {
+      for (Index w = start; this->LinkOut[w] != InvalidIndex && walked <= survivors; w = this->LinkOut[w])
+      {
+        ++walked;
+      }
+    }
+    else
+    {
+      Index w = firstX;
+      do
+      {
+        w = this->LinkOut[w];
+        ++walked;
+      } while (w != InvalidIndex && w != firstX && walked <= survivors);
+    }
+    if (walked != survivors)
+    {
+      return CollapseStatus::NonManifold;
+    }
+    if (isPath != anyBoundary)
+    {
+      return CollapseStatus::BoundaryChange;
+    }
+    if (!isPath && survivors < 3)
+    {
+      return CollapseStatus::TooSmall;
+    }
+  }
+
+  // Geometry of the surviving triangles with the set moved to p.
+  for (Index t : this->Scratch)
+  {
+    int corner = 0;
+    const Index* tri = this->Triangle(t);
+    if (CountMembers(tri, vertices, count, corner) >= 2)
+    {
+      continue;
+    }
+    Vec3 q[3] = { this->Point(tri[0]), this->Point(tri[1]), this->Point(tri[2]) };
+    const Vec3 oldNormal = Cross(q[1] - q[0], q[2] - q[0]);
+    const double oldMinAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
+    q[corner] = p;
+    if (IsDegenerate(q[0], q[1], q[2]))
+    {
+      return CollapseStatus::Degenerate;
+    }
+    const Vec3 newNormal = Cross(q[1] - q[0], q[2] - q[0]);
+    const double oldLength = Norm(oldNormal), newLength = Norm(newNormal);
+    if (oldLength > 0 && Dot(oldNormal, newNormal) < options.MinimumNormalDot * oldLength * newLength)
+    {
+      return CollapseStatus::Flip;
+    }
+    if (options.MinimumAngle > 0)
+    {
+      const double newMinAngle = MinimumAngle(q[0], q[1], q[2]);
+      if (newMinAngle < options.MinimumAngle && newMinAngle < oldMinAngle)
+      {
+        return CollapseStatus::BadShape;
+      }
+    }
+  }
+  return CollapseStatus::Ok;
+}
+
+void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p, CollapseRecord* record)
+{
+  this->GatherTriangles(vertices, count);
+  if (record)
+  {
+    record->Clear();
+    record->VertexCount = count;
+    record->Kept = kept;
+    record->NewPosition = p;
+    for (int i = 0; i < count; ++i)
+    {
+      record->Vertices[i] = vertices[i];
+      record->OldPositions[i] = this->Point(vertices[i]);
+    }
+  }
+  this->ScratchBlock.clear();
+  for (Index t : this->Scratch)
+  {
+    int corner = 0;
+    const int members = CountMembers(this->Triangle(t), vertices, count, corner);
+    if (members >= 2)
+    {
+      this->TriangleAlive[t] = 0;
+      --this->LiveTriangles;
+      if (record)
+      {
+        record->RemovedTriangles.push_back(t);
+      }
+      continue;
+    }
+    Index& slot = this->Triangles[3 * size_t(t) + corner];
+    if (slot != kept)
+    {
+      if (record)
+      {
+        record->ChangedTriangles.push_back(t);
+        record->ChangedCorner.push_back(static_cast<unsigned char>(corner));
+        record->ChangedFrom.push_back(slot);
+      }
+      slot = kept;
+    }
+    this->ScratchBlock.push_back(t);
+  }
+  for (int i = 0; i < count; ++i)
+  {
+    if (vertices[i] != kept)
+    {
+      this->VertexAlive[vertices[i]] = 0;
+      this->RefCount[vertices[i]] = 0;
+      --this->LiveVertices;
+    }
+  }
+  this->SetPoint(kept, p);
+  this->AppendBlock(kept, this->ScratchBlock);
+  this->CompactIfNeeded();
+}
+
+void EditableMesh::Undo(const CollapseRecord& record)
+{
+  const Index kept = record.Kept;
+  for (int i = 0; i < record.VertexCount; ++i)
+  {
+    const Index v = record.Vertices[i];
+    if (v != kept)
+    {
+      this->VertexAlive[v] = 1;
+      ++this->LiveVertices;
+    }
+    this->SetPoint(v, record.OldPositions[i]);
+  }
+  for (size_t i = 0; i < record.ChangedTriangles.size(); ++i)
+  {
+    this->Triangles[3 * size_t(record.ChangedTriangles[i]) + record.ChangedCorner[i]] = record.ChangedFrom[i];
+  }
+  for (Index t : record.RemovedTriangles)
+  {
+    this->TriangleAlive[t] = 1;
+    ++this->LiveTriangles;
+  }
+  // Candidates for the blocks of the set: kept's current triangles plus the revived ones.
+  std::vector<Index> candidates;
+  this->ForEachTriangle(kept, [&](Index t) { candidates.push_back(t); });
+  candidates.insert(candidates.end(), record.RemovedTriangles.begin(), record.RemovedTriangles.end());
+  std::vector<Index> block;
+  for (int i = 0; i < record.VertexCount; ++i)
+  {
+    const Index v = record.Vertices[i];
+    block.clear();
+    for (Index t : candidates)
+    {
+      const Index* tri = this->Triangle(t);
+      if (tri[0] == v || tri[1] == v || tri[2] == v)
+      {
+        block.push_back(t);
+      }
+    }
+    this->AppendBlock(v, block);
+  }
+  // Other vertices of revived triangles may have lost them from their blocks in a compaction.
+  for (Index t : record.RemovedTriangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index x = this->Triangle(t)[k];
+      if (std::find(record.Vertices.begin(), record.Vertices.begin() + record.VertexCount, x) !=
+        record.Vertices.begin() + record.VertexCount)
+      {
+        continue;
+      }
+      const Index* refs = this->Refs.data() + this->RefStart[x];
+      if (std::find(refs, refs + this->RefCount[x], t) == refs + this->RefCount[x])
+      {
+        block.assign(refs, refs + this->RefCount[x]);
+        block.push_back(t);
+        this->AppendBlock(x, block);
+      }
+    }
+  }
+  this->CompactIfNeeded();
+}
+
+Index EditableMesh::AddTriangle(Index a, Index b, Index c)
+{
+  const Index t = this->NumberOfTriangles();
+  this->Triangles.insert(this->Triangles.end(), { a, b, c });
+  this->TriangleAlive.push_back(1);
+  this->TriangleMark.push_back(0);
+  ++this->LiveTriangles;
+  std::vector<Index> block;
+  for (Index v : { a, b, c })
+  {
+    const Index* refs = this->Refs.data() + this->RefStart[v];
+    block.assign(refs, refs + this->RefCount[v]);
+    block.push_back(t);
+    this->AppendBlock(v, block);
+  }
+  this->CompactIfNeeded();
+  return t;
+}
+
+void EditableMesh::RemoveTriangle(Index t)
+{
+  if (this->TriangleAlive[t])
+  {
+    this->TriangleAlive[t] = 0;
+    --this->LiveTriangles;
+  }
+}
+
+void EditableMesh::AppendBlock(Index v, const std::vector<Index>& triangles)
+{
+  this->RefStart[v] = static_cast<Index>(this->Refs.size());
+  this->RefCount[v] = static_cast<Index>(triangles.size());
+  this->Refs.insert(this->Refs.end(), triangles.begin(), triangles.end());
+}
+
+void EditableMesh::CompactIfNeeded()
+{
+  if (this->Refs.size() <= this->CompactThreshold)
+  {
+    return;
+  }
+  // Rebuild every block from the live triangles (drops garbage and dead references).
+  const Index np = this->NumberOfPoints();
+  std::fill(this->RefCount.begin(), this->RefCount.end(), 0);
+  for (Index t = 0; t < this->NumberOfTriangles(); ++t)
+  {
+    if (this->TriangleAlive[t])
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        ++this->RefCount[this->Triangles[3 * size_t(t) + k]];
+      }
+    }
+  }
+  Index running = 0;
+  for (Index v = 0; v < np; ++v)
+  {
+    this->RefStart[v] = running;
+    running += this->RefCount[v];
+    this->RefCount[v] = 0;
+  }
+  this->Refs.resize(size_t(running));
+  for (Index t = 0; t < this->NumberOfTriangles(); ++t)
+  {
+    if (this->TriangleAlive[t])
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index v = this->Triangles[3 * size_t(t) + k];
+        this->Refs[size_t(this->RefStart[v] + this->RefCount[v]++)] = t;
+      }
+    }
+  }
+  this->CompactThreshold = std::max<size_t>(2 * this->Refs.size(), 1024);
+}
+
+void EditableMesh::Extract(TriangleMesh& out, std::vector<Index>* newToOld) const
+{
+  out.Points.clear();
+  out.Triangles.clear();
+  std::vector<Index> oldToNew(this->NumberOfPoints(), InvalidIndex);
+  if (newToOld)
+  {
+    newToOld->clear();
+  }
+  for (Index t = 0; t < this->NumberOfTriangles(); ++t)
+  {
+    if (!this->TriangleAlive[t])
+    {
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index v = this->Triangles[3 * size_t(t) + k];
+      if (oldToNew[v] == InvalidIndex)
+      {
+        oldToNew[v] = out.AddPoint(this->Point(v));
+        if (newToOld)
+        {
+          newToOld->push_back(v);
+        }
+      }
+      out.Triangles.push_back(oldToNew[v]);
+    }
+  }
+}
+
+bool EditableMesh::CheckInvariants() const
+{
+  // Every live triangle is in the block of each of its vertices, all of which are alive.
+  for (Index t = 0; t < this->NumberOfTriangles(); ++t)
+  {
+    if (!this->TriangleAlive[t])
+    {
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index v = this->Triangles[3 * size_t(t) + k];
+      if (!this->VertexAlive[v])
+      {
+        return false;
+      }
+      const Index* refs = this->Refs.data() + this->RefStart[v];
+      if (std::find(refs, refs + this->RefCount[v], t) == refs + this->RefCount[v])
+      {
+        return false;
+      }
+    }
+  }
+  // Every live reference points at a triangle that contains the vertex.
+  for (Index v = 0; v < this->NumberOfPoints(); ++v)
+  {
+    bool ok = true;
+    this->ForEachTriangle(v, [&](Index t) {
+      const Index* tri = this->Triangle(t);
+      ok = ok && (tri[0] == v || tri[1] == v || tri[2] == v);
+    });
+    if (!ok)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+} // namespace slod

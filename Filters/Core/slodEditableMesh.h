@@ -1,0 +1,157 @@
+// SurfaceLOD shared core: a triangle mesh that collapse algorithms edit in place.
+//
+// Flat arrays only: each vertex owns a block [RefStart, RefStart+RefCount) of the global Refs
+// array listing its triangles. A collapse appends one fresh block for the surviving vertex
+// (the old blocks become garbage) and the array is compacted when garbage dominates, so no
+// per-vertex heap allocation happens in the hot loop.
+//
+// Collapses merge two (edge collapse) or three (triangle collapse) vertices into one. CheckCollapse
+// tells whether the result stays a manifold with the same topology (generalised link condition)
+// and whether any triangle flips or degenerates; Collapse applies it and can fill a record that
+// Undo (a vertex split) reverts exactly, which is what progressive meshes are made of.
+#ifndef slodEditableMesh_h
+#define slodEditableMesh_h
+
+#include "slodTriangleMesh.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace slod
+{
+struct SURFACELODFILTERS_EXPORT CollapseOptions
+{
+  // Reject when a surviving triangle's unit normal turns so that dot(old, new) < this.
+  // 0 rejects turns beyond 90 degrees; -1 only degenerate triangles.
+  double MinimumNormalDot = 0.0;
+  // Reject when a surviving triangle gets a smaller minimum angle (radians) than this, unless
+  // it already had a smaller one. 0 disables the check.
+  double MinimumAngle = 0.0;
+  // Allow changes of topology (genus, boundary loops, manifoldness). Off: never.
+  bool AllowTopologyChange = false;
+};
+
+enum class CollapseStatus
+{
+  Ok,
+  DeadVertex,      // a vertex of the set was already removed
+  NonManifold,     // the result would have a non-manifold edge or vertex (link condition)
+  BoundaryChange,  // a boundary loop would close, split or vanish
+  TooSmall,        // the component would degenerate (fewer than 4 triangles around closed vertex)
+  Flip,            // a triangle would turn over (normal deviation)
+  Degenerate,      // a triangle would get zero area
+  BadShape         // a triangle would get a minimum angle below the limit
+};
+SURFACELODFILTERS_EXPORT const char* ToString(CollapseStatus status);
+
+// What a collapse changed, enough to undo it exactly (a vertex split).
+struct SURFACELODFILTERS_EXPORT CollapseRecord
+{
+  std::array<Index, 3> Vertices{ InvalidIndex, InvalidIndex, InvalidIndex }; // merged set
+  int VertexCount = 0;
+  Index Kept = InvalidIndex;               // the vertex that remains
+  std::array<Vec3, 3> OldPositions;        // of Vertices
+  Vec3 NewPosition{ 0, 0, 0 };
+  std::vector<Index> RemovedTriangles;     // triangle ids (their vertices are unchanged in storage)
+  std::vector<Index> ChangedTriangles;     // surviving triangles whose corner was redirected
+  std::vector<unsigned char> ChangedCorner; // corner (0..2) of each changed triangle
+  std::vector<Index> ChangedFrom;          // the vertex that corner had before
+  void Clear();
+};
+
+class SURFACELODFILTERS_EXPORT EditableMesh
+{
+public:
+  EditableMesh() = default;
+  explicit EditableMesh(const TriangleMesh& mesh) { this->Reset(mesh); }
+  void Reset(const TriangleMesh& mesh);
+
+  Index NumberOfPoints() const { return static_cast<Index>(this->Points.size() / 3); }
+  Index NumberOfTriangles() const { return static_cast<Index>(this->Triangles.size() / 3); }
+  Index NumberOfLiveTriangles() const { return this->LiveTriangles; }
+  Index NumberOfLiveVertices() const { return this->LiveVertices; }
+
+  bool IsTriangleAlive(Index t) const { return this->TriangleAlive[t] != 0; }
+  bool IsVertexAlive(Index v) const { return this->VertexAlive[v] != 0; }
+  const Index* Triangle(Index t) const { return &this->Triangles[3 * size_t(t)]; }
+  Vec3 Point(Index v) const
+  {
+    const double* p = &this->Points[3 * size_t(v)];
+    return { p[0], p[1], p[2] };
+  }
+  void SetPoint(Index v, const Vec3& p);
+  Vec3 TriangleNormal(Index t) const;
+  double TriangleArea(Index t) const;
+
+  // Live triangles around v. The span may include dead triangles, which are skipped by
+  // ForEachTriangle; use it instead of reading the block directly.
+  template <typename Functor>
+  void ForEachTriangle(Index v, Functor&& f) const
+  {
+    const Index* refs = this->Refs.data() + this->RefStart[v];
+    for (Index i = 0, n = this->RefCount[v]; i < n; ++i)
+    {
+      if (this->TriangleAlive[refs[i]])
+      {
+        f(refs[i]);
+      }
+    }
+  }
+  Index VertexDegree(Index v) const;
+  // True when an edge at v has a single triangle.
+  bool IsBoundaryVertex(Index v) const;
+  // Number of live triangles containing both u and v.
+  int EdgeTriangleCount(Index u, Index v) const;
+  // Distinct neighbours of v (appended to out after clearing it).
+  void Neighbors(Index v, std::vector<Index>& out) const;
+
+  // Would merging the vertices (2 or 3 of them, forming an edge or a triangle) into one vertex
+  // at position p keep the mesh valid?
+  CollapseStatus CheckCollapse(const Index* vertices, int count, const Vec3& p,
+    const CollapseOptions& options = CollapseOptions()) const;
+
+  // Merges the vertices into `kept` (one of them) placed at p. Triangles with two or more of the
+  // vertices disappear. Call CheckCollapse first. The record, when given, allows Undo.
+  void Collapse(const Index* vertices, int count, Index kept, const Vec3& p, CollapseRecord* record = nullptr);
+
+  // Reverts the most recent collapse whose record this is (records must be undone newest first).
+  void Undo(const CollapseRecord& record);
+
+  // Triangles removed (ids) and the live triangles around v, for algorithms that recompute costs.
+  void TrianglesAround(const Index* vertices, int count, std::vector<Index>& out) const;
+
+  // Adds a triangle over live vertices; returns its id.
+  Index AddTriangle(Index a, Index b, Index c);
+  // Removes a live triangle (vertices left without triangles stay alive but isolated).
+  void RemoveTriangle(Index t);
+
+  // The live part as a compact mesh; newToOld (optional) maps output vertices to this mesh's ids.
+  void Extract(TriangleMesh& out, std::vector<Index>* newToOld = nullptr) const;
+
+  // Debug aid: verifies the reference blocks against the triangles. Returns false on mismatch.
+  bool CheckInvariants() const;
+
+private:
+  void AppendBlock(Index v, const std::vector<Index>& triangles);
+  void CompactIfNeeded();
+  // Collects the live triangles touching the set into Scratch (deduplicated).
+  void GatherTriangles(const Index* vertices, int count) const;
+
+  std::vector<double> Points;
+  std::vector<Index> Triangles;
+  std::vector<unsigned char> TriangleAlive, VertexAlive;
+  std::vector<Index> RefStart, RefCount, Refs;
+  Index LiveTriangles = 0, LiveVertices = 0;
+  size_t CompactThreshold = 0;
+
+  // Scratch state reused across calls (mutable: checks are logically const).
+  mutable std::vector<Index> Scratch, ScratchBlock;
+  mutable std::vector<std::uint32_t> TriangleMark, VertexMark;
+  mutable std::vector<Index> LinkIn, LinkOut;
+  mutable std::uint32_t Epoch = 0;
+  std::uint32_t NextEpoch() const;
+};
+} // namespace slod
+
+#endif

@@ -1,0 +1,63 @@
+// SurfaceLOD shared core: the VTK edge. Turns any vtkPolyData into a clean slod::TriangleMesh
+// (with a report of what was changed, for the filter to warn about) and meshes back into
+// vtkPolyData with the point data carried through.
+//
+// What preparation does, in order:
+//  - non-finite (NaN/Inf) coordinates used by a cell: error, nothing else is done;
+//  - vertices and lines: ignored (counted); polygons (> 3 points) and strips: triangulated (counted);
+//  - exactly coincident points: merged (counted);
+//  - degenerate triangles (repeated vertex after merging, or zero area): removed (counted);
+//  - duplicate triangles (same three vertices): removed (counted);
+//  - orientation: made consistent across manifold edges per component, keeping the majority
+//    orientation of each component (counted); non-orientable components are reported;
+//  - non-manifold edges and vertices: counted; each filter says what it does with them.
+#ifndef slodInputPreparation_h
+#define slodInputPreparation_h
+
+#include "slodTriangleMesh.h"
+
+#include <string>
+#include <vector>
+
+class vtkPolyData;
+class vtkPointData;
+
+namespace slod
+{
+struct SURFACELODFILTERS_EXPORT PreparationOptions
+{
+  bool MergeDuplicatePoints = true;
+  bool RemoveDegenerateTriangles = true;
+  bool RemoveDuplicateTriangles = true;
+  bool MakeOrientationConsistent = true;
+};
+
+struct SURFACELODFILTERS_EXPORT PreparationReport
+{
+  bool Valid = true;          // false: the input cannot be used (Error says why)
+  std::string Error;
+  long long NonFinitePoints = 0;
+  long long IgnoredVertexCells = 0;
+  long long IgnoredLineCells = 0;
+  long long TriangulatedPolygons = 0;
+  long long TriangulatedStrips = 0;
+  long long MergedPoints = 0;
+  long long RemovedDegenerateTriangles = 0;
+  long long RemovedDuplicateTriangles = 0;
+  long long FlippedTriangles = 0;
+  long long NonOrientableComponents = 0;
+  long long NonManifoldEdges = 0;
+  long long NonManifoldVertices = 0;
+  // One human-readable sentence per non-zero count above (for vtkWarningMacro).
+  std::vector<std::string> Warnings() const;
+};
+
+// vertexToInputPoint[i] is the input point id of mesh vertex i (the first of merged duplicates).
+SURFACELODFILTERS_EXPORT PreparationReport PrepareTriangleMesh(vtkPolyData* input,
+  const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint);
+
+// Writes the mesh as points (same precision as `pointsLike` when given, else float) + triangles.
+SURFACELODFILTERS_EXPORT void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointDataType = 10 /*VTK_FLOAT*/);
+} // namespace slod
+
+#endif

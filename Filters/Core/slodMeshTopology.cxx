@@ -1,0 +1,398 @@
+#include "slodMeshTopology.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace slod
+{
+namespace
+{
+// Prefix sums turn per-bucket counts into CSR offsets (size n+1).
+void CountsToOffsets(std::vector<Index>& offsets)
+{
+  Index running = 0;
+  for (Index& o : offsets)
+  {
+    const Index c = o;
+    o = running;
+    running += c;
+  }
+}
+
+Index FindRoot(std::vector<Index>& parent, Index x)
+{
+  while (parent[x] != x)
+  {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+} // namespace
+
+void MeshTopology::Build(const TriangleMesh& mesh)
+{
+  this->Mesh = &mesh;
+  this->NumPoints = mesh.NumberOfPoints();
+  this->NumTriangles = mesh.NumberOfTriangles();
+  const Index np = this->NumPoints;
+  const Index nt = this->NumTriangles;
+  const std::vector<Index>& tris = mesh.Triangles;
+
+  // Vertex -> triangles.
+  this->VertexOffsets.assign(size_t(np) + 1, 0);
+  for (Index v : tris)
+  {
+    ++this->VertexOffsets[v];
+  }
+  CountsToOffsets(this->VertexOffsets);
+  this->VertexTriangles.resize(tris.size());
+  {
+    std::vector<Index> fill(this->VertexOffsets.begin(), this->VertexOffsets.end() - 1);
+    for (Index t = 0; t < nt; ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        this->VertexTriangles[fill[tris[3 * size_t(t) + k]]++] = t;
+      }
+    }
+  }
+
+  // Unique edges: bucket half-edges by their smaller vertex, dedupe with a per-vertex stamp.
+  std::vector<Index> halfOffsets(size_t(np) + 1, 0);
+  for (size_t i = 0; i < tris.size(); ++i)
+  {
+    const Index a = tris[i], b = tris[i - i % 3 + (i % 3 + 1) % 3];
+    ++halfOffsets[std::min(a, b)];
+  }
+  CountsToOffsets(halfOffsets);
+  std::vector<Index> halfEdges(tris.size()); // half-edge id = 3*t + k
+  {
+    std::vector<Index> fill(halfOffsets.begin(), halfOffsets.end() - 1);
+    for (size_t i = 0; i < tris.size(); ++i)
+    {
+      const Index a = tris[i], b = tris[i - i % 3 + (i % 3 + 1) % 3];
+      halfEdges[fill[std::min(a, b)]++] = static_cast<Index>(i);
+    }
+  }
+  this->EdgeVertices.clear();
+  this->EdgeVertices.reserve(tris.size()); // about 1.5 edges per triangle, two indices each
+  this->TriangleEdges.assign(tris.size(), InvalidIndex);
+  std::vector<Index> stamp(np, InvalidIndex), stampEdge(np, InvalidIndex);
+  for (Index u = 0; u < np; ++u)
+  {
+    for (Index h = halfOffsets[u]; h < halfOffsets[u + 1]; ++h)
+    {
+      const size_t i = size_t(halfEdges[h]);
+      const Index a = tris[i], b = tris[i - i % 3 + (i % 3 + 1) % 3];
+      const Index w = std::max(a, b);
+      if (stamp[w] != u)
+      {
+        stamp[w] = u;
+        stampEdge[w] = static_cast<Index>(this->EdgeVertices.size() / 2);
+        this->EdgeVertices.push_back(u);
+        this->EdgeVertices.push_back(w);
+      }
+      this->TriangleEdges[i] = stampEdge[w];
+    }
+  }
+  const Index ne = this->NumberOfEdges();
+
+  // Edge -> triangles.
+  this->EdgeOffsets.assign(size_t(ne) + 1, 0);
+  for (Index e : this->TriangleEdges)
+  {
+    ++this->EdgeOffsets[e];
+  }
+  CountsToOffsets(this->EdgeOffsets);
+  this->EdgeTriangles.resize(tris.size());
+  {
+    std::vector<Index> fill(this->EdgeOffsets.begin(), this->EdgeOffsets.end() - 1);
+    for (size_t i = 0; i < tris.size(); ++i)
+    {
+      this->EdgeTriangles[fill[this->TriangleEdges[i]]++] = static_cast<Index>(i / 3);
+    }
+  }
+
+  // Valence and vertex classification.
+  this->ValenceOf.assign(np, 0);
+  this->VertexFlags.assign(np, 0);
+  for (Index e = 0; e < ne; ++e)
+  {
+    const Index a = this->EdgeVertex(e, 0), b = this->EdgeVertex(e, 1);
+    ++this->ValenceOf[a];
+    ++this->ValenceOf[b];
+    const Index count = this->EdgeTriangleCount(e);
+    if (count == 1)
+    {
+      this->VertexFlags[a] |= BoundaryFlag;
+      this->VertexFlags[b] |= BoundaryFlag;
+    }
+    else if (count > 2)
+    {
+      this->VertexFlags[a] |= NonManifoldFlag;
+      this->VertexFlags[b] |= NonManifoldFlag;
+    }
+  }
+  // A vertex whose triangles form several fans (a "bow tie") is non-manifold too.
+  // For one fan, triangles = link edges and link vertices = triangles (closed) or +1 (open),
+  // and a walk from one triangle reaches all of them.
+  std::vector<Index> ring, fan;
+  for (Index v = 0; v < np; ++v)
+  {
+    if (this->VertexDegree(v) == 0 || (this->VertexFlags[v] & NonManifoldFlag))
+    {
+      continue;
+    }
+    if (!this->OrderedOneRing(mesh, v, ring, fan) || Index(fan.size()) != this->VertexDegree(v))
+    {
+      this->VertexFlags[v] |= NonManifoldFlag;
+    }
+  }
+
+  // Edge-connected components.
+  std::vector<Index> parent(nt);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (Index e = 0; e < ne; ++e)
+  {
+    const Index* begin = this->EdgeTrianglesBegin(e);
+    for (const Index* t = begin + 1; t < this->EdgeTrianglesEnd(e); ++t)
+    {
+      const Index ra = FindRoot(parent, *begin), rb = FindRoot(parent, *t);
+      if (ra != rb)
+      {
+        parent[std::max(ra, rb)] = std::min(ra, rb);
+      }
+    }
+  }
+  this->TriangleComponent.assign(nt, InvalidIndex);
+  std::vector<Index> rootLabel(nt, InvalidIndex);
+  this->ComponentCount = 0;
+  for (Index t = 0; t < nt; ++t)
+  {
+    const Index r = FindRoot(parent, t);
+    if (rootLabel[r] == InvalidIndex)
+    {
+      rootLabel[r] = this->ComponentCount++;
+    }
+    this->TriangleComponent[t] = rootLabel[r];
+  }
+}
+
+Index MeshTopology::FindEdge(Index u, Index v) const
+{
+  for (const Index* t = this->VertexTrianglesBegin(u); t != this->VertexTrianglesEnd(u); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index e = this->TriangleEdge(*t, k);
+      const Index a = this->EdgeVertex(e, 0), b = this->EdgeVertex(e, 1);
+      if ((a == u && b == v) || (a == v && b == u))
+      {
+        return e;
+      }
+    }
+  }
+  return InvalidIndex;
+}
+
+Index MeshTopology::EdgeNeighbor(Index t, int k) const
+{
+  const Index e = this->TriangleEdge(t, k);
+  if (this->EdgeTriangleCount(e) != 2)
+  {
+    return InvalidIndex;
+  }
+  const Index* tt = this->EdgeTrianglesBegin(e);
+  return tt[0] == t ? tt[1] : tt[0];
+}
+
+bool MeshTopology::OrderedOneRing(
+  const TriangleMesh& mesh, Index v, std::vector<Index>& ring, std::vector<Index>& triangles) const
+{
+  ring.clear();
+  triangles.clear();
+  const Index degree = this->VertexDegree(v);
+  if (degree == 0 || this->IsNonManifoldVertex(v))
+  {
+    return degree == 0;
+  }
+  // Corner of v in triangle t.
+  auto corner = [&](Index t) {
+    const Index* tri = mesh.Triangle(t);
+    return tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+  };
+  // Walk clockwise (across the edge before v) to find the start of an open fan.
+  Index start = *this->VertexTrianglesBegin(v);
+  if (this->IsBoundaryVertex(v))
+  {
+    Index t = start;
+    for (Index steps = 0; steps <= degree; ++steps)
+    {
+      const Index prev = this->EdgeNeighbor(t, (corner(t) + 2) % 3);
+      if (prev == InvalidIndex)
+      {
+        break;
+      }
+      t = prev;
+      if (t == start)
+      {
+        break;
+      }
+    }
+    start = t;
+  }
+  // Walk counter-clockwise across the edge after v: ring[i] is the vertex after v in triangles[i].
+  Index t = start;
+  for (Index steps = 0; steps < degree; ++steps)
+  {
+    const Index* tri = mesh.Triangle(t);
+    const int c = corner(t);
+    ring.push_back(tri[(c + 1) % 3]);
+    triangles.push_back(t);
+    const Index next = this->EdgeNeighbor(t, (c + 2) % 3);
+    if (next == InvalidIndex)
+    {
+      ring.push_back(tri[(c + 2) % 3]);
+      break;
+    }
+    if (next == start)
+    {
+      break;
+    }
+    // The shared edge must run the other way in the neighbour (consistent orientation).
+    t = next;
+  }
+  return true;
+}
+
+std::vector<std::vector<Index>> MeshTopology::BoundaryLoops() const
+{
+  std::vector<std::vector<Index>> loops;
+  if (!this->Mesh)
+  {
+    return loops;
+  }
+  const TriangleMesh& mesh = *this->Mesh;
+  // Boundary half-edges a->b in triangle order; chain them by their start vertex.
+  std::vector<Index> outOffsets(size_t(this->NumPoints) + 1, 0);
+  std::vector<Index> halfTo;
+  for (Index t = 0; t < this->NumTriangles; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      if (this->IsBoundaryEdge(this->TriangleEdge(t, k)))
+      {
+        ++outOffsets[mesh.Triangle(t)[k]];
+      }
+    }
+  }
+  CountsToOffsets(outOffsets);
+  halfTo.resize(outOffsets.back());
+  std::vector<Index> fill(outOffsets.begin(), outOffsets.end() - 1);
+  for (Index t = 0; t < this->NumTriangles; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      if (this->IsBoundaryEdge(this->TriangleEdge(t, k)))
+      {
+        halfTo[fill[mesh.Triangle(t)[k]]++] = mesh.Triangle(t)[(k + 1) % 3];
+      }
+    }
+  }
+  std::vector<char> used(halfTo.size(), 0);
+  for (Index v = 0; v < this->NumPoints; ++v)
+  {
+    for (Index h = outOffsets[v]; h < outOffsets[v + 1]; ++h)
+    {
+      if (used[h])
+      {
+        continue;
+      }
+      std::vector<Index> loop;
+      Index cur = h, from = v;
+      while (cur != InvalidIndex && !used[cur])
+      {
+        used[cur] = 1;
+        loop.push_back(from);
+        from = halfTo[cur];
+        cur = InvalidIndex;
+        for (Index g = outOffsets[from]; g < outOffsets[from + 1]; ++g)
+        {
+          if (!used[g])
+          {
+            cur = g;
+            break;
+          }
+        }
+      }
+      loops.push_back(std::move(loop));
+    }
+  }
+  return loops;
+}
+
+MeshStatistics MeshTopology::Statistics(const TriangleMesh& mesh) const
+{
+  MeshStatistics s;
+  s.Triangles = this->NumTriangles;
+  s.Edges = this->NumberOfEdges();
+  for (Index v = 0; v < this->NumPoints; ++v)
+  {
+    if (this->VertexDegree(v) > 0)
+    {
+      ++s.Vertices;
+      s.NonManifoldVertices += this->IsNonManifoldVertex(v) ? 1 : 0;
+    }
+  }
+  for (Index e = 0; e < s.Edges; ++e)
+  {
+    const Index count = this->EdgeTriangleCount(e);
+    s.BoundaryEdges += count == 1 ? 1 : 0;
+    s.NonManifoldEdges += count > 2 ? 1 : 0;
+    if (count == 2)
+    {
+      // Both triangles must traverse the edge in opposite directions.
+      const Index a = this->EdgeVertex(e, 0);
+      int forward = 0;
+      for (const Index* t = this->EdgeTrianglesBegin(e); t != this->EdgeTrianglesEnd(e); ++t)
+      {
+        const Index* tri = mesh.Triangle(*t);
+        for (int k = 0; k < 3; ++k)
+        {
+          if (this->TriangleEdge(*t, k) == e && tri[k] == a)
+          {
+            ++forward;
+          }
+        }
+      }
+      s.InconsistentlyOrientedEdges += forward != 1 ? 1 : 0;
+    }
+  }
+  for (Index t = 0; t < this->NumTriangles; ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] ||
+      IsDegenerate(mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2])))
+    {
+      ++s.DegenerateTriangles;
+    }
+  }
+  s.Components = this->ComponentCount;
+  s.BoundaryLoops = static_cast<Index>(this->BoundaryLoops().size());
+  s.EulerCharacteristic = static_cast<long long>(s.Vertices) - s.Edges + s.Triangles;
+  const long long twiceGenus = 2LL * s.Components - s.EulerCharacteristic - s.BoundaryLoops;
+  if (s.NonManifoldEdges == 0 && s.NonManifoldVertices == 0 && s.InconsistentlyOrientedEdges == 0 &&
+    twiceGenus >= 0 && twiceGenus % 2 == 0)
+  {
+    s.Genus = twiceGenus / 2;
+  }
+  return s;
+}
+
+MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh)
+{
+  MeshTopology topology(mesh);
+  return topology.Statistics(mesh);
+}
+} // namespace slod

@@ -1,0 +1,104 @@
+// SurfaceLOD shared core: static adjacency of a triangle mesh, built in linear time.
+//
+// Vertex -> triangles and edge -> triangles in compressed (offset + list) arrays, unique edges,
+// boundary and non-manifold classification, ordered one-rings, components, boundary loops,
+// Euler characteristic and genus. Read-only: editing algorithms use slod::EditableMesh.
+#ifndef slodMeshTopology_h
+#define slodMeshTopology_h
+
+#include "slodTriangleMesh.h"
+
+#include <vector>
+
+namespace slod
+{
+struct SURFACELODFILTERS_EXPORT MeshStatistics
+{
+  Index Vertices = 0;           // vertices used by at least one triangle
+  Index Triangles = 0;
+  Index Edges = 0;
+  Index BoundaryEdges = 0;      // edges with one triangle
+  Index NonManifoldEdges = 0;   // edges with three or more triangles
+  Index NonManifoldVertices = 0; // vertices whose triangles do not form one fan
+  Index BoundaryLoops = 0;
+  Index Components = 0;         // edge-connected triangle components
+  Index DegenerateTriangles = 0;
+  Index InconsistentlyOrientedEdges = 0; // manifold edges used in the same direction by both triangles
+  long long EulerCharacteristic = 0;     // V - E + F
+  // (2C - chi - loops) / 2 for a manifold, orientable mesh; -1 when not defined.
+  long long Genus = -1;
+};
+
+class SURFACELODFILTERS_EXPORT MeshTopology
+{
+public:
+  MeshTopology() = default;
+  explicit MeshTopology(const TriangleMesh& mesh) { this->Build(mesh); }
+  void Build(const TriangleMesh& mesh);
+
+  Index NumberOfPoints() const { return this->NumPoints; }
+  Index NumberOfTriangles() const { return this->NumTriangles; }
+  Index NumberOfEdges() const { return static_cast<Index>(this->EdgeVertices.size() / 2); }
+
+  // Triangles around vertex v (unordered).
+  const Index* VertexTrianglesBegin(Index v) const { return this->VertexTriangles.data() + this->VertexOffsets[v]; }
+  const Index* VertexTrianglesEnd(Index v) const { return this->VertexTriangles.data() + this->VertexOffsets[v + 1]; }
+  Index VertexDegree(Index v) const { return this->VertexOffsets[v + 1] - this->VertexOffsets[v]; }
+
+  // Edge e joins EdgeVertex(e,0) < EdgeVertex(e,1).
+  Index EdgeVertex(Index e, int i) const { return this->EdgeVertices[2 * size_t(e) + i]; }
+  // Edge k of triangle t joins its corners k and (k+1)%3.
+  Index TriangleEdge(Index t, int k) const { return this->TriangleEdges[3 * size_t(t) + k]; }
+  const Index* EdgeTrianglesBegin(Index e) const { return this->EdgeTriangles.data() + this->EdgeOffsets[e]; }
+  const Index* EdgeTrianglesEnd(Index e) const { return this->EdgeTriangles.data() + this->EdgeOffsets[e + 1]; }
+  Index EdgeTriangleCount(Index e) const { return this->EdgeOffsets[e + 1] - this->EdgeOffsets[e]; }
+  bool IsBoundaryEdge(Index e) const { return this->EdgeTriangleCount(e) == 1; }
+  bool IsNonManifoldEdge(Index e) const { return this->EdgeTriangleCount(e) > 2; }
+  // The edge between u and v, or InvalidIndex.
+  Index FindEdge(Index u, Index v) const;
+  // The triangle across edge k of t when the edge is manifold, else InvalidIndex.
+  Index EdgeNeighbor(Index t, int k) const;
+
+  bool IsBoundaryVertex(Index v) const { return this->VertexFlags[v] & BoundaryFlag; }
+  bool IsNonManifoldVertex(Index v) const { return this->VertexFlags[v] & NonManifoldFlag; }
+  // Number of distinct neighbour vertices.
+  Index Valence(Index v) const { return this->ValenceOf[v]; }
+
+  // Ordered one-ring of a manifold vertex: neighbour vertices in counter-clockwise order, and
+  // the triangle between ring[i] and ring[i+1]. For a boundary vertex the ring starts and ends
+  // on the border (ring.size() == triangles.size() + 1); for an interior one it is closed
+  // (ring.size() == triangles.size()). Returns false for non-manifold vertices.
+  bool OrderedOneRing(const TriangleMesh& mesh, Index v, std::vector<Index>& ring,
+    std::vector<Index>& triangles) const;
+
+  // Edge-connected components of triangles: a label per triangle, InvalidIndex-free.
+  const std::vector<Index>& TriangleComponents() const { return this->TriangleComponent; }
+  Index NumberOfComponents() const { return this->ComponentCount; }
+
+  // Closed loops of boundary edges, each a list of vertices in order (first not repeated).
+  std::vector<std::vector<Index>> BoundaryLoops() const;
+
+  MeshStatistics Statistics(const TriangleMesh& mesh) const;
+
+private:
+  enum : unsigned char
+  {
+    BoundaryFlag = 1,
+    NonManifoldFlag = 2
+  };
+  Index NumPoints = 0;
+  Index NumTriangles = 0;
+  std::vector<Index> VertexOffsets, VertexTriangles;
+  std::vector<Index> EdgeVertices, TriangleEdges, EdgeOffsets, EdgeTriangles;
+  std::vector<unsigned char> VertexFlags;
+  std::vector<Index> ValenceOf;
+  std::vector<Index> TriangleComponent;
+  Index ComponentCount = 0;
+  const TriangleMesh* Mesh = nullptr;
+};
+
+// Convenience: statistics of a mesh in one call.
+SURFACELODFILTERS_EXPORT MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh);
+} // namespace slod
+
+#endif

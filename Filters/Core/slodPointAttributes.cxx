@@ -1,0 +1,109 @@
+#include "slodPointAttributes.h"
+
+#include "vtkDataArray.h"
+#include "vtkPointData.h"
+#include "vtkSmartPointer.h"
+
+#include <algorithm>
+
+namespace slod
+{
+void PointAttributes::Load(vtkPointData* input, const std::vector<Index>& rowToInputPoint)
+{
+  this->Arrays.clear();
+  this->Values.clear();
+  this->Width = 0;
+  if (!input)
+  {
+    return;
+  }
+  for (int a = 0; a < input->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = input->GetArray(a);
+    if (!array || !array->GetName())
+    {
+      continue; // string arrays and unnamed arrays are not interpolated
+    }
+    ArrayInfo info;
+    info.Name = array->GetName();
+    info.DataType = array->GetDataType();
+    info.Components = array->GetNumberOfComponents();
+    info.Offset = this->Width;
+    info.AttributeType = input->IsArrayAnAttribute(a);
+    this->Width += info.Components;
+    this->Arrays.push_back(info);
+  }
+  if (this->Width == 0)
+  {
+    return;
+  }
+  this->Values.resize(rowToInputPoint.size() * size_t(this->Width));
+  for (const ArrayInfo& info : this->Arrays)
+  {
+    vtkDataArray* array = input->GetArray(info.Name.c_str());
+    for (size_t r = 0; r < rowToInputPoint.size(); ++r)
+    {
+      for (int c = 0; c < info.Components; ++c)
+      {
+        this->Values[r * this->Width + info.Offset + c] = array->GetComponent(rowToInputPoint[r], c);
+      }
+    }
+  }
+}
+
+void PointAttributes::Merge(Index target, const Index* sources, const double* weights, int count)
+{
+  if (this->Width == 0)
+  {
+    return;
+  }
+  this->Temp.assign(this->Width, 0.0);
+  double total = 0;
+  for (int i = 0; i < count; ++i)
+  {
+    total += weights[i];
+  }
+  for (int i = 0; i < count; ++i)
+  {
+    const double w = total > 0 ? weights[i] / total : 1.0 / count;
+    const double* row = this->Row(sources[i]);
+    for (int c = 0; c < this->Width; ++c)
+    {
+      this->Temp[c] += w * row[c];
+    }
+  }
+  std::copy(this->Temp.begin(), this->Temp.end(), this->Values.begin() + size_t(target) * this->Width);
+}
+
+Index PointAttributes::AddInterpolated(const Index* sources, const double* weights, int count)
+{
+  const Index row = this->NumberOfRows();
+  this->Values.resize(this->Values.size() + this->Width, 0.0);
+  this->Merge(row, sources, weights, count);
+  return row;
+}
+
+void PointAttributes::Store(vtkPointData* output, const std::vector<Index>& outputToRow) const
+{
+  for (const ArrayInfo& info : this->Arrays)
+  {
+    vtkSmartPointer<vtkDataArray> array = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(info.DataType));
+    array->SetName(info.Name.c_str());
+    array->SetNumberOfComponents(info.Components);
+    array->SetNumberOfTuples(static_cast<vtkIdType>(outputToRow.size()));
+    for (size_t i = 0; i < outputToRow.size(); ++i)
+    {
+      const double* row = this->Row(outputToRow[i]) + info.Offset;
+      for (int c = 0; c < info.Components; ++c)
+      {
+        array->SetComponent(static_cast<vtkIdType>(i), c, row[c]);
+      }
+    }
+    const int index = output->AddArray(array);
+    if (info.AttributeType >= 0)
+    {
+      output->SetActiveAttribute(index, info.AttributeType);
+    }
+  }
+}
+} // namespace slod

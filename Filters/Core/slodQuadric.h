@@ -1,0 +1,95 @@
+// SurfaceLOD shared core: symmetric 4x4 error quadrics (sum of squared distances to planes).
+//
+// Q(p) = p^T A p + 2 b^T p + c for the homogeneous point (p, 1); stored as the 10 unique terms.
+#ifndef slodQuadric_h
+#define slodQuadric_h
+
+#include "slodTriangleMesh.h"
+
+#include <cmath>
+
+namespace slod
+{
+struct Quadric
+{
+  // A (symmetric 3x3), b, c.
+  double Axx = 0, Axy = 0, Axz = 0, Ayy = 0, Ayz = 0, Azz = 0;
+  double Bx = 0, By = 0, Bz = 0;
+  double C = 0;
+
+  // weight * (n.p + d)^2 for the plane n.p + d = 0 (n need not be unit: the error scales with |n|^2).
+  static Quadric FromPlane(const Vec3& n, double d, double weight = 1.0)
+  {
+    Quadric q;
+    q.Axx = weight * n[0] * n[0];
+    q.Axy = weight * n[0] * n[1];
+    q.Axz = weight * n[0] * n[2];
+    q.Ayy = weight * n[1] * n[1];
+    q.Ayz = weight * n[1] * n[2];
+    q.Azz = weight * n[2] * n[2];
+    q.Bx = weight * n[0] * d;
+    q.By = weight * n[1] * d;
+    q.Bz = weight * n[2] * d;
+    q.C = weight * d * d;
+    return q;
+  }
+  // Plane through point p with unit normal n.
+  static Quadric FromPointNormal(const Vec3& p, const Vec3& n, double weight = 1.0)
+  {
+    return FromPlane(n, -Dot(n, p), weight);
+  }
+
+  Quadric& operator+=(const Quadric& o)
+  {
+    Axx += o.Axx; Axy += o.Axy; Axz += o.Axz; Ayy += o.Ayy; Ayz += o.Ayz; Azz += o.Azz;
+    Bx += o.Bx; By += o.By; Bz += o.Bz; C += o.C;
+    return *this;
+  }
+  Quadric operator+(const Quadric& o) const
+  {
+    Quadric q = *this;
+    q += o;
+    return q;
+  }
+  Quadric& operator*=(double s)
+  {
+    Axx *= s; Axy *= s; Axz *= s; Ayy *= s; Ayz *= s; Azz *= s;
+    Bx *= s; By *= s; Bz *= s; C *= s;
+    return *this;
+  }
+
+  double Evaluate(const Vec3& p) const
+  {
+    const double x = p[0], y = p[1], z = p[2];
+    const double e = x * (Axx * x + 2 * (Axy * y + Axz * z + Bx)) + y * (Ayy * y + 2 * (Ayz * z + By)) +
+      z * (Azz * z + 2 * Bz) + C;
+    return e > 0 ? e : 0; // rounding can make a sum of squares slightly negative
+  }
+
+  // The point minimising Q: solves A p = -b. Returns false when A is singular or its condition
+  // (smallest pivot relative to the largest entry) is worse than `tolerance`.
+  bool Minimize(Vec3& out, double tolerance = 1e-9) const
+  {
+    // Cofactors of the symmetric matrix.
+    const double c00 = Ayy * Azz - Ayz * Ayz;
+    const double c01 = Axz * Ayz - Axy * Azz;
+    const double c02 = Axy * Ayz - Axz * Ayy;
+    const double det = Axx * c00 + Axy * c01 + Axz * c02;
+    const double scale = std::fabs(Axx) + std::fabs(Ayy) + std::fabs(Azz);
+    if (!(scale > 0) || std::fabs(det) <= tolerance * scale * scale * scale)
+    {
+      return false;
+    }
+    const double c11 = Axx * Azz - Axz * Axz;
+    const double c12 = Axy * Axz - Axx * Ayz;
+    const double c22 = Axx * Ayy - Axy * Axy;
+    const double inv = -1.0 / det;
+    out[0] = inv * (c00 * Bx + c01 * By + c02 * Bz);
+    out[1] = inv * (c01 * Bx + c11 * By + c12 * Bz);
+    out[2] = inv * (c02 * Bx + c12 * By + c22 * Bz);
+    return std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]);
+  }
+};
+} // namespace slod
+
+#endif

@@ -1,0 +1,92 @@
+// SurfaceLOD shared core: the plain triangle mesh every algorithm works on.
+//
+// Flat arrays, no VTK types: points as xyz doubles, triangles as vertex-index triples.
+// Algorithms in SurfaceLOD take and return this; VTK conversion lives in slodInputPreparation.
+#ifndef slodTriangleMesh_h
+#define slodTriangleMesh_h
+
+#include "SurfaceLODFiltersModule.h"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace slod
+{
+// 32-bit indices: meshes up to 2^31 elements, half the memory of vtkIdType in hot arrays.
+using Index = std::int32_t;
+constexpr Index InvalidIndex = -1;
+
+using Vec3 = std::array<double, 3>;
+
+inline Vec3 operator+(const Vec3& a, const Vec3& b) { return { a[0] + b[0], a[1] + b[1], a[2] + b[2] }; }
+inline Vec3 operator-(const Vec3& a, const Vec3& b) { return { a[0] - b[0], a[1] - b[1], a[2] - b[2] }; }
+inline Vec3 operator*(double s, const Vec3& a) { return { s * a[0], s * a[1], s * a[2] }; }
+inline double Dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Vec3 Cross(const Vec3& a, const Vec3& b)
+{
+  return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
+}
+inline double Norm(const Vec3& a) { return std::sqrt(Dot(a, a)); }
+inline Vec3 Normalized(const Vec3& a)
+{
+  const double n = Norm(a);
+  return n > 0 ? (1.0 / n) * a : Vec3{ 0, 0, 0 };
+}
+
+struct SURFACELODFILTERS_EXPORT TriangleMesh
+{
+  std::vector<double> Points;   // 3 per vertex
+  std::vector<Index> Triangles; // 3 per triangle, counter-clockwise seen from outside
+
+  Index NumberOfPoints() const { return static_cast<Index>(this->Points.size() / 3); }
+  Index NumberOfTriangles() const { return static_cast<Index>(this->Triangles.size() / 3); }
+
+  Vec3 Point(Index v) const
+  {
+    const double* p = &this->Points[3 * static_cast<size_t>(v)];
+    return { p[0], p[1], p[2] };
+  }
+  void SetPoint(Index v, const Vec3& p)
+  {
+    double* q = &this->Points[3 * static_cast<size_t>(v)];
+    q[0] = p[0];
+    q[1] = p[1];
+    q[2] = p[2];
+  }
+  const Index* Triangle(Index t) const { return &this->Triangles[3 * static_cast<size_t>(t)]; }
+  Index AddPoint(const Vec3& p)
+  {
+    this->Points.insert(this->Points.end(), p.begin(), p.end());
+    return this->NumberOfPoints() - 1;
+  }
+  Index AddTriangle(Index a, Index b, Index c)
+  {
+    this->Triangles.push_back(a);
+    this->Triangles.push_back(b);
+    this->Triangles.push_back(c);
+    return this->NumberOfTriangles() - 1;
+  }
+
+  // Unnormalised normal (twice the area times the unit normal).
+  Vec3 TriangleAreaVector(Index t) const;
+  double TriangleArea(Index t) const { return 0.5 * Norm(this->TriangleAreaVector(t)); }
+  // Axis-aligned bounds as {xmin,xmax,ymin,ymax,zmin,zmax} of the used and unused points alike.
+  std::array<double, 6> Bounds() const;
+  double BoundingBoxDiagonal() const;
+  double TotalArea() const;
+
+  // Drops points no triangle uses and renumbers; newToOld (optional) gets the old index of each kept point.
+  void RemoveUnusedPoints(std::vector<Index>* newToOld = nullptr);
+};
+
+// Geometry helpers on raw coordinates, shared by every algorithm.
+SURFACELODFILTERS_EXPORT Vec3 TriangleNormal(const Vec3& a, const Vec3& b, const Vec3& c);
+// Smallest interior angle in radians (0 for degenerate triangles).
+SURFACELODFILTERS_EXPORT double MinimumAngle(const Vec3& a, const Vec3& b, const Vec3& c);
+// True when the triangle has (numerically) zero area relative to its longest edge.
+SURFACELODFILTERS_EXPORT bool IsDegenerate(const Vec3& a, const Vec3& b, const Vec3& c, double relativeTolerance = 1e-12);
+} // namespace slod
+
+#endif

@@ -1,0 +1,45 @@
+/**
+ * @class   vtkOFFMeshReader
+ * @brief   reads Object File Format (OFF) surface meshes into vtkPolyData
+ *
+ * Accepts the OFF header variants OFF, COFF, NOFF, CNOFF (the header keyword may be followed by
+ * the counts on the same line), '#' comments anywhere, blank lines, polygons of any size (kept as
+ * polygons; SurfaceLOD filters triangulate them), and ignores per-vertex or per-face color
+ * columns. A malformed file gives a vtkErrorMacro naming the file and the problem, sets the
+ * error code, and produces an empty output.
+ */
+#ifndef vtkOFFMeshReader_h
+#define vtkOFFMeshReader_h
+
+#include "SurfaceLODFiltersModule.h"
+#include "vtkPolyDataAlgorithm.h"
+
+#include <string>
+
+class SURFACELODFILTERS_EXPORT vtkOFFMeshReader : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkOFFMeshReader* New();
+  vtkTypeMacro(vtkOFFMeshReader, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  vtkSetStdStringFromCharMacro(FileName);
+  vtkGetCharFromStdStringMacro(FileName);
+
+  /// Description of the last failure ("" when the last read succeeded).
+  const char* GetLastError() const { return this->LastError.c_str(); }
+
+protected:
+  vtkOFFMeshReader();
+  ~vtkOFFMeshReader() override = default;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  std::string FileName;
+  std::string LastError;
+
+private:
+  vtkOFFMeshReader(const vtkOFFMeshReader&) = delete;
+  void operator=(const vtkOFFMeshReader&) = delete;
+};
+
+#endif

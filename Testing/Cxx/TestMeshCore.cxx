@@ -1,0 +1,370 @@
+// Shared mesh core: adjacency, statistics, editing with the link condition, quadrics,
+// polygon triangulation and input preparation on known shapes and bad inputs.
+#include "TestSupport.h"
+
+#include "slodEditableMesh.h"
+#include "slodInputPreparation.h"
+#include "slodMeshTopology.h"
+#include "slodPolygonTriangulation.h"
+#include "slodQuadric.h"
+
+#include "vtkCellArray.h"
+#include "vtkNew.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+using namespace slod;
+using namespace slodtest;
+
+TEST(MeshTopology, Tetrahedron)
+{
+  const MeshStatistics s = ComputeMeshStatistics(Tetrahedron());
+  EXPECT_EQ(s.Vertices, 4);
+  EXPECT_EQ(s.Edges, 6);
+  EXPECT_EQ(s.Triangles, 4);
+  EXPECT_EQ(s.EulerCharacteristic, 2);
+  EXPECT_EQ(s.Genus, 0);
+  EXPECT_EQ(s.BoundaryEdges, 0);
+  EXPECT_EQ(s.Components, 1);
+  EXPECT_EQ(s.InconsistentlyOrientedEdges, 0);
+}
+
+TEST(MeshTopology, TorusHasGenusOne)
+{
+  const TriangleMesh torus = Torus(24, 12);
+  const MeshStatistics s = ComputeMeshStatistics(torus);
+  EXPECT_EQ(s.EulerCharacteristic, 0);
+  EXPECT_EQ(s.Genus, 1);
+  EXPECT_EQ(s.BoundaryLoops, 0);
+  MeshTopology topology(torus);
+  for (Index v = 0; v < torus.NumberOfPoints(); ++v)
+  {
+    ASSERT_EQ(topology.Valence(v), 6);
+    ASSERT_FALSE(topology.IsBoundaryVertex(v));
+  }
+}
+
+TEST(MeshTopology, SphereSource)
+{
+  const MeshStatistics s = ComputeMeshStatistics(Sphere(16, 12));
+  EXPECT_EQ(s.EulerCharacteristic, 2);
+  EXPECT_EQ(s.Genus, 0);
+  EXPECT_EQ(s.NonManifoldEdges, 0);
+  EXPECT_EQ(s.NonManifoldVertices, 0);
+  EXPECT_EQ(s.DegenerateTriangles, 0);
+}
+
+TEST(MeshTopology, OpenDiskHasOneBoundaryLoop)
+{
+  const TriangleMesh disk = Disk(4, 10);
+  MeshTopology topology(disk);
+  const MeshStatistics s = topology.Statistics(disk);
+  EXPECT_EQ(s.EulerCharacteristic, 1);
+  EXPECT_EQ(s.BoundaryLoops, 1);
+  EXPECT_EQ(s.BoundaryEdges, 10);
+  EXPECT_EQ(s.Genus, 0);
+  const auto loops = topology.BoundaryLoops();
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_EQ(loops[0].size(), 10u);
+  // Ordered one-ring of the centre: 10 neighbours, closed.
+  std::vector<Index> ring, fan;
+  ASSERT_TRUE(topology.OrderedOneRing(disk, 0, ring, fan));
+  EXPECT_EQ(ring.size(), 10u);
+  EXPECT_EQ(fan.size(), 10u);
+  for (size_t i = 0; i < ring.size(); ++i)
+  {
+    EXPECT_EQ(ring[i], Index(1 + i)); // counter-clockwise
+  }
+  // A border vertex: open ring, one more neighbour than triangles.
+  const Index border = 1 + 3 * 10;
+  ASSERT_TRUE(topology.IsBoundaryVertex(border));
+  ASSERT_TRUE(topology.OrderedOneRing(disk, border, ring, fan));
+  EXPECT_EQ(ring.size(), fan.size() + 1);
+}
+
+TEST(MeshTopology, TwoComponents)
+{
+  TriangleMesh far = Sphere(8, 8);
+  for (size_t i = 0; i < far.Points.size(); i += 3)
+  {
+    far.Points[i] += 10;
+  }
+  const TriangleMesh both = Concatenate(Torus(12, 8), far);
+  MeshTopology topology(both);
+  const MeshStatistics s = topology.Statistics(both);
+  EXPECT_EQ(s.Components, 2);
+  EXPECT_EQ(s.EulerCharacteristic, 2); // 0 + 2
+  EXPECT_EQ(s.Genus, 1);               // summed genus
+  const auto& labels = topology.TriangleComponents();
+  EXPECT_EQ(labels.front(), 0);
+  EXPECT_EQ(labels.back(), 1);
+}
+
+TEST(MeshTopology, NonManifoldFan)
+{
+  const TriangleMesh fan = NonManifoldFan(3);
+  MeshTopology topology(fan);
+  const MeshStatistics s = topology.Statistics(fan);
+  EXPECT_EQ(s.NonManifoldEdges, 1);
+  EXPECT_EQ(s.NonManifoldVertices, 2);
+  EXPECT_EQ(s.Genus, -1); // undefined
+  EXPECT_TRUE(topology.IsNonManifoldEdge(topology.FindEdge(0, 1)));
+}
+
+TEST(MeshTopology, BowTieVertexIsNonManifold)
+{
+  TriangleMesh m;
+  m.Points = { 0, 0, 0, 1, 0, 0, 1, 1, 0, -1, 0, 0, -1, -1, 0 };
+  m.Triangles = { 0, 1, 2, 0, 3, 4 };
+  MeshTopology topology(m);
+  EXPECT_TRUE(topology.IsNonManifoldVertex(0));
+  EXPECT_EQ(topology.Statistics(m).NonManifoldEdges, 0);
+}
+
+namespace
+{
+// Collapses the first collapsible triangle repeatedly, checking validity after each step.
+int CollapseTrianglesGreedily(EditableMesh& mesh, int steps, std::vector<CollapseRecord>* records = nullptr)
+{
+  int done = 0;
+  for (Index t = 0; t < mesh.NumberOfTriangles() && done < steps; ++t)
+  {
+    if (!mesh.IsTriangleAlive(t))
+    {
+      continue;
+    }
+    const Index* tri = mesh.Triangle(t);
+    const Index set[3] = { tri[0], tri[1], tri[2] };
+    const Vec3 centroid = (1.0 / 3) * (mesh.Point(set[0]) + mesh.Point(set[1]) + mesh.Point(set[2]));
+    if (mesh.CheckCollapse(set, 3, centroid) != CollapseStatus::Ok)
+    {
+      continue;
+    }
+    CollapseRecord record;
+    mesh.Collapse(set, 3, set[0], centroid, &record);
+    if (records)
+    {
+      records->push_back(record);
+    }
+    ++done;
+  }
+  return done;
+}
+} // namespace
+
+TEST(EditableMesh, TriangleCollapsesKeepTopology)
+{
+  for (const TriangleMesh& input : { Torus(30, 14), Sphere(24, 20), Disk(6, 16) })
+  {
+    const MeshStatistics before = ComputeMeshStatistics(input);
+    EditableMesh mesh(input);
+    const int done = CollapseTrianglesGreedily(mesh, 1000000);
+    EXPECT_GT(done, 10);
+    ASSERT_TRUE(mesh.CheckInvariants());
+    TriangleMesh out;
+    mesh.Extract(out);
+    const MeshStatistics after = ComputeMeshStatistics(out);
+    EXPECT_EQ(after.Genus, before.Genus);
+    EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
+    EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops);
+    EXPECT_EQ(after.NonManifoldEdges, 0);
+    EXPECT_EQ(after.NonManifoldVertices, 0);
+    EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+    EXPECT_EQ(out.NumberOfTriangles(), mesh.NumberOfLiveTriangles());
+    EXPECT_LT(out.NumberOfTriangles(), input.NumberOfTriangles());
+  }
+}
+
+TEST(EditableMesh, LinkConditionRejectsTetrahedronCollapse)
+{
+  EditableMesh mesh(Tetrahedron());
+  const Index edge[2] = { 0, 1 };
+  EXPECT_NE(mesh.CheckCollapse(edge, 2, mesh.Point(0)), CollapseStatus::Ok);
+  const Index face[3] = { 0, 1, 2 };
+  EXPECT_NE(mesh.CheckCollapse(face, 3, mesh.Point(0)), CollapseStatus::Ok);
+}
+
+TEST(EditableMesh, FlipIsRejected)
+{
+  // Moving the centre of a flat disk outside its ring turns triangles over.
+  EditableMesh mesh(Disk(2, 8));
+  const Index edge[2] = { 0, 1 };
+  EXPECT_EQ(mesh.CheckCollapse(edge, 2, Vec3{ 5, 0, 0 }), CollapseStatus::Flip);
+  EXPECT_EQ(mesh.CheckCollapse(edge, 2, mesh.Point(1)), CollapseStatus::Ok);
+}
+
+TEST(EditableMesh, UndoRestoresExactly)
+{
+  const TriangleMesh input = Torus(20, 10);
+  EditableMesh mesh(input);
+  std::vector<CollapseRecord> records;
+  CollapseTrianglesGreedily(mesh, 60, &records);
+  ASSERT_EQ(records.size(), 60u);
+  for (auto it = records.rbegin(); it != records.rend(); ++it)
+  {
+    mesh.Undo(*it);
+  }
+  ASSERT_TRUE(mesh.CheckInvariants());
+  TriangleMesh out;
+  std::vector<Index> newToOld;
+  mesh.Extract(out, &newToOld);
+  ASSERT_EQ(out.NumberOfTriangles(), input.NumberOfTriangles());
+  ASSERT_EQ(out.NumberOfPoints(), input.NumberOfPoints());
+  for (Index t = 0; t < out.NumberOfTriangles(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      ASSERT_EQ(newToOld[out.Triangle(t)[k]], input.Triangle(t)[k]);
+    }
+  }
+  for (Index v = 0; v < out.NumberOfPoints(); ++v)
+  {
+    ASSERT_EQ(out.Point(v), input.Point(newToOld[v]));
+  }
+}
+
+TEST(Quadric, MinimizerOfThreePlanesIsTheirCorner)
+{
+  Quadric q = Quadric::FromPointNormal({ 1, 2, 3 }, { 1, 0, 0 });
+  q += Quadric::FromPointNormal({ 1, 2, 3 }, { 0, 1, 0 });
+  q += Quadric::FromPointNormal({ 1, 2, 3 }, Normalized({ 0, 1, 1 }));
+  Vec3 p;
+  ASSERT_TRUE(q.Minimize(p));
+  EXPECT_NEAR(p[0], 1, 1e-12);
+  EXPECT_NEAR(p[1], 2, 1e-12);
+  EXPECT_NEAR(p[2], 3, 1e-12);
+  EXPECT_NEAR(q.Evaluate(p), 0, 1e-12);
+  EXPECT_NEAR(q.Evaluate({ 2, 2, 3 }), 1, 1e-12);
+  // Two parallel planes: singular.
+  Quadric flat = Quadric::FromPointNormal({ 0, 0, 0 }, { 0, 0, 1 });
+  flat += Quadric::FromPointNormal({ 0, 0, 1 }, { 0, 0, 1 });
+  EXPECT_FALSE(flat.Minimize(p));
+  EXPECT_NEAR(flat.Evaluate({ 0, 0, 0.5 }), 0.5, 1e-12);
+}
+
+TEST(PolygonTriangulation, NonConvexPolygonIsCovered)
+{
+  // An L-shaped hexagon: 4 triangles, total area 3, all counter-clockwise.
+  const std::vector<Vec3> polygon = { { 0, 0, 0 }, { 2, 0, 0 }, { 2, 1, 0 }, { 1, 1, 0 }, { 1, 2, 0 }, { 0, 2, 0 } };
+  const auto result = TriangulatePolygon(polygon, PolygonNormal(polygon));
+  ASSERT_EQ(result.Triangles.size(), 4u);
+  EXPECT_FALSE(result.UsedFallback);
+  double area = 0;
+  for (const auto& t : result.Triangles)
+  {
+    const Vec3 n = Cross(polygon[t[1]] - polygon[t[0]], polygon[t[2]] - polygon[t[0]]);
+    EXPECT_GT(n[2], 0);
+    area += 0.5 * n[2];
+  }
+  EXPECT_NEAR(area, 3.0, 1e-12);
+}
+
+namespace
+{
+vtkSmartPointer<vtkPolyData> MakePolyData(const std::vector<double>& xyz, const std::vector<std::vector<vtkIdType>>& polys,
+  const std::vector<std::vector<vtkIdType>>& lines = {})
+{
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  for (size_t i = 0; i < xyz.size(); i += 3)
+  {
+    points->InsertNextPoint(xyz[i], xyz[i + 1], xyz[i + 2]);
+  }
+  vtkNew<vtkCellArray> cells, lineCells;
+  for (const auto& c : polys)
+  {
+    cells->InsertNextCell(static_cast<vtkIdType>(c.size()), c.data());
+  }
+  for (const auto& c : lines)
+  {
+    lineCells->InsertNextCell(static_cast<vtkIdType>(c.size()), c.data());
+  }
+  pd->SetPoints(points);
+  pd->SetPolys(cells);
+  pd->SetLines(lineCells);
+  return pd;
+}
+} // namespace
+
+TEST(InputPreparation, EmptyInputGivesEmptyMesh)
+{
+  vtkNew<vtkPolyData> empty;
+  TriangleMesh mesh;
+  std::vector<Index> origin;
+  const PreparationReport report = PrepareTriangleMesh(empty, {}, mesh, origin);
+  EXPECT_TRUE(report.Valid);
+  EXPECT_EQ(mesh.NumberOfTriangles(), 0);
+  EXPECT_TRUE(report.Warnings().empty());
+}
+
+TEST(InputPreparation, NaNIsRejected)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto pd = MakePolyData({ 0, 0, 0, 1, 0, 0, nan, 1, 0 }, { { 0, 1, 2 } });
+  TriangleMesh mesh;
+  std::vector<Index> origin;
+  const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
+  EXPECT_FALSE(report.Valid);
+  EXPECT_NE(report.Error.find("NaN"), std::string::npos);
+  EXPECT_EQ(report.NonFinitePoints, 1);
+}
+
+TEST(InputPreparation, PolygonsLinesDuplicatesDegenerates)
+{
+  // A quad, a triangle duplicating one of the quad's points, a degenerate triangle, a repeated
+  // triangle and a line.
+  auto pd = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, /*dup of 1*/ 1, 0, 0, 2, 0, 0 },
+    { { 0, 1, 2, 3 }, { 4, 5, 2 }, { 0, 0, 1 }, { 1, 5, 2 } }, { { 0, 2 } });
+  TriangleMesh mesh;
+  std::vector<Index> origin;
+  const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
+  ASSERT_TRUE(report.Valid);
+  EXPECT_EQ(report.TriangulatedPolygons, 1);
+  EXPECT_EQ(report.IgnoredLineCells, 1);
+  EXPECT_EQ(report.MergedPoints, 1);
+  EXPECT_EQ(report.RemovedDegenerateTriangles, 1);
+  EXPECT_EQ(report.RemovedDuplicateTriangles, 1);
+  EXPECT_EQ(mesh.NumberOfTriangles(), 3);
+  EXPECT_EQ(mesh.NumberOfPoints(), 5);
+  EXPECT_FALSE(report.Warnings().empty());
+  // Each mesh vertex maps back to an input point with the same coordinates.
+  for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+  {
+    double p[3];
+    pd->GetPoint(origin[v], p);
+    EXPECT_EQ(mesh.Point(v), (Vec3{ p[0], p[1], p[2] }));
+  }
+}
+
+TEST(InputPreparation, InconsistentOrientationIsRepaired)
+{
+  TriangleMesh sphere = Sphere(12, 10);
+  // Flip a few triangles.
+  for (Index t = 0; t < 5; ++t)
+  {
+    std::swap(sphere.Triangles[3 * t + 1], sphere.Triangles[3 * t + 2]);
+  }
+  EXPECT_GT(ComputeMeshStatistics(sphere).InconsistentlyOrientedEdges, 0);
+  auto pd = ToPolyData(sphere);
+  TriangleMesh mesh;
+  std::vector<Index> origin;
+  const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
+  EXPECT_EQ(report.FlippedTriangles, 5);
+  EXPECT_EQ(ComputeMeshStatistics(mesh).InconsistentlyOrientedEdges, 0);
+}
+
+TEST(InputPreparation, NonManifoldEdgesAreReported)
+{
+  auto pd = ToPolyData(NonManifoldFan(3));
+  TriangleMesh mesh;
+  std::vector<Index> origin;
+  const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
+  EXPECT_TRUE(report.Valid);
+  EXPECT_EQ(report.NonManifoldEdges, 1);
+}

@@ -1,0 +1,187 @@
+#include "TestSupport.h"
+
+#include "slodInputPreparation.h"
+#include "vtkOFFMeshReader.h"
+
+#include "vtkCellArray.h"
+#include "vtkErrorCode.h"
+#include "vtkNew.h"
+#include "vtkPoints.h"
+#include "vtkSphereSource.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+namespace slodtest
+{
+std::string TestMeshPath(const std::string& name)
+{
+  return std::string(SURFACELOD_MESH_DIR) + "/" + name + ".off";
+}
+
+std::string OutputPath(const std::string& fileName)
+{
+  return std::string(SURFACELOD_TEST_OUTPUT_DIR) + "/" + fileName;
+}
+
+vtkSmartPointer<vtkPolyData> LoadTestMesh(const std::string& name)
+{
+  const std::string path = TestMeshPath(name);
+  if (!std::ifstream(path))
+  {
+    // Missing data is a failure, never a skip.
+    throw std::runtime_error("test mesh missing: " + path + " (install libcgal-demo and reconfigure)");
+  }
+  vtkNew<vtkOFFMeshReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  if (reader->GetErrorCode() != vtkErrorCode::NoError)
+  {
+    throw std::runtime_error("cannot read test mesh " + path + ": " + reader->GetLastError());
+  }
+  vtkSmartPointer<vtkPolyData> out = reader->GetOutput();
+  return out;
+}
+
+slod::TriangleMesh ToTriangleMesh(vtkPolyData* polyData)
+{
+  slod::TriangleMesh mesh;
+  std::vector<slod::Index> origin;
+  const slod::PreparationReport report = slod::PrepareTriangleMesh(polyData, {}, mesh, origin);
+  if (!report.Valid)
+  {
+    throw std::runtime_error("invalid test input: " + report.Error);
+  }
+  return mesh;
+}
+
+vtkSmartPointer<vtkPolyData> ToPolyData(const slod::TriangleMesh& mesh)
+{
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  slod::MeshToPolyData(mesh, out, VTK_DOUBLE);
+  return out;
+}
+
+slod::TriangleMesh Tetrahedron()
+{
+  slod::TriangleMesh m;
+  m.Points = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  m.Triangles = { 0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2 };
+  return m;
+}
+
+slod::TriangleMesh Torus(int majorSegments, int minorSegments, double majorRadius, double minorRadius)
+{
+  slod::TriangleMesh m;
+  for (int i = 0; i < majorSegments; ++i)
+  {
+    const double u = 2 * M_PI * i / majorSegments;
+    for (int j = 0; j < minorSegments; ++j)
+    {
+      const double v = 2 * M_PI * j / minorSegments;
+      const double r = majorRadius + minorRadius * std::cos(v);
+      m.AddPoint({ r * std::cos(u), r * std::sin(u), minorRadius * std::sin(v) });
+    }
+  }
+  auto id = [&](int i, int j) {
+    return static_cast<slod::Index>((i % majorSegments) * minorSegments + (j % minorSegments));
+  };
+  for (int i = 0; i < majorSegments; ++i)
+  {
+    for (int j = 0; j < minorSegments; ++j)
+    {
+      m.AddTriangle(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      m.AddTriangle(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return m;
+}
+
+slod::TriangleMesh Sphere(int thetaResolution, int phiResolution)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(thetaResolution);
+  sphere->SetPhiResolution(phiResolution);
+  sphere->Update();
+  return ToTriangleMesh(sphere->GetOutput());
+}
+
+slod::TriangleMesh Disk(int rings, int segments)
+{
+  slod::TriangleMesh m;
+  m.AddPoint({ 0, 0, 0 });
+  for (int r = 1; r <= rings; ++r)
+  {
+    for (int s = 0; s < segments; ++s)
+    {
+      const double a = 2 * M_PI * s / segments;
+      m.AddPoint({ r * std::cos(a) / rings, r * std::sin(a) / rings, 0 });
+    }
+  }
+  auto id = [&](int r, int s) { return static_cast<slod::Index>(r == 0 ? 0 : 1 + (r - 1) * segments + s % segments); };
+  for (int s = 0; s < segments; ++s)
+  {
+    m.AddTriangle(0, id(1, s), id(1, s + 1));
+  }
+  for (int r = 1; r < rings; ++r)
+  {
+    for (int s = 0; s < segments; ++s)
+    {
+      m.AddTriangle(id(r, s), id(r + 1, s), id(r + 1, s + 1));
+      m.AddTriangle(id(r, s), id(r + 1, s + 1), id(r, s + 1));
+    }
+  }
+  return m;
+}
+
+slod::TriangleMesh Grid(int nx, int ny, double z)
+{
+  slod::TriangleMesh m;
+  for (int j = 0; j <= ny; ++j)
+  {
+    for (int i = 0; i <= nx; ++i)
+    {
+      m.AddPoint({ double(i) / nx, double(j) / ny, z });
+    }
+  }
+  auto id = [&](int i, int j) { return static_cast<slod::Index>(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      m.AddTriangle(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      m.AddTriangle(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return m;
+}
+
+slod::TriangleMesh Concatenate(const slod::TriangleMesh& a, const slod::TriangleMesh& b)
+{
+  slod::TriangleMesh m = a;
+  const slod::Index offset = a.NumberOfPoints();
+  m.Points.insert(m.Points.end(), b.Points.begin(), b.Points.end());
+  for (slod::Index v : b.Triangles)
+  {
+    m.Triangles.push_back(v + offset);
+  }
+  return m;
+}
+
+slod::TriangleMesh NonManifoldFan(int wings)
+{
+  slod::TriangleMesh m;
+  m.AddPoint({ 0, 0, 0 });
+  m.AddPoint({ 0, 0, 1 });
+  for (int w = 0; w < wings; ++w)
+  {
+    const double a = 2 * M_PI * w / wings;
+    const slod::Index v = m.AddPoint({ std::cos(a), std::sin(a), 0.5 });
+    m.AddTriangle(0, v, 1);
+  }
+  return m;
+}
+} // namespace slodtest

@@ -1,0 +1,33 @@
+// Shared helpers of the SurfaceLOD test suite: test meshes, synthetic shapes, property checks.
+#ifndef SurfaceLODTestSupport_h
+#define SurfaceLODTestSupport_h
+
+#include "slodTriangleMesh.h"
+
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+
+#include <string>
+
+namespace slodtest
+{
+// A mesh of Debian's libcgal-demo (e.g. "fandisk", "bunny00"): fails the test loudly when missing.
+vtkSmartPointer<vtkPolyData> LoadTestMesh(const std::string& name);
+std::string TestMeshPath(const std::string& name);
+std::string OutputPath(const std::string& fileName);
+
+// Prepared triangle mesh of a vtkPolyData (the filters' own input preparation).
+slod::TriangleMesh ToTriangleMesh(vtkPolyData* polyData);
+vtkSmartPointer<vtkPolyData> ToPolyData(const slod::TriangleMesh& mesh);
+
+// Known shapes.
+slod::TriangleMesh Tetrahedron();
+slod::TriangleMesh Torus(int majorSegments, int minorSegments, double majorRadius = 1.0, double minorRadius = 0.35);
+slod::TriangleMesh Sphere(int thetaResolution, int phiResolution); // vtkSphereSource, cleaned
+slod::TriangleMesh Disk(int rings, int segments);                    // open, one boundary loop
+slod::TriangleMesh Grid(int nx, int ny, double z = 0.0);             // unit square, one boundary loop
+slod::TriangleMesh Concatenate(const slod::TriangleMesh& a, const slod::TriangleMesh& b);
+slod::TriangleMesh NonManifoldFan(int wings);                        // `wings` triangles on one edge
+} // namespace slodtest
+
+#endif
