@@ -17,8 +17,7 @@ class PythonPipelineTest(unittest.TestCase):
             self.assertTrue(hasattr(surfacelod, name), name)
 
     def test_deviation_in_pipeline(self):
-        sphere = vtkSphereSource(theta_resolution=48, phi_resolution=48) if hasattr(
-            vtkSphereSource, "theta_resolution") else vtkSphereSource()
+        sphere = vtkSphereSource()
         sphere.SetThetaResolution(48)
         sphere.SetPhiResolution(48)
         decimate = vtkQuadricDecimation()
