@@ -1,0 +1,104 @@
+// SurfaceLOD core: quadric-error triangle collapse simplification (Pan, Zhou, Shi 2000).
+//
+// The operation merges the three vertices of a triangle into one new vertex, removing the
+// triangle and its (up to three) edge neighbours. Each triangle's cost is the quadric of the
+// planes of its interrelated triangle set evaluated at the best placement (3x3 solve, or the best
+// of centroid / vertices / edge midpoints when the system is ill-conditioned). Open borders get
+// extra planes through each boundary edge perpendicular to its triangle.
+//
+// Error propagation (paper §2.3) measures every collapse against the ORIGINAL planes: a vertex's
+// logical set is the original triangles around the original vertices it descends from, and a
+// triangle's set is the union of its three vertices' logical sets. Two modes:
+//  - Accumulated (default, fast): each vertex carries the sum of the quadrics of its logical
+//    set (a sum of original planes, so there is no accumulation of approximation error), and a
+//    triangle's quadric is the sum of its three vertex quadrics. Planes shared by two or three
+//    of the vertices (the triangle itself, its edge neighbours, planes common to merged
+//    ancestries) are then counted two or three times instead of once: a reweighting of the same
+//    original planes. Constant memory per vertex.
+//  - ExactUnion: per-vertex sorted lists of original plane ids, union taken per evaluation, every
+//    plane counted exactly once as in the paper. Memory grows with the merge history; meant as the
+//    reference to validate the accumulated mode (see Documentation/QuadricTriangleCollapse.md).
+//
+// Performance: flat arrays, an addressable heap of triangle costs (slod::IndexedHeap), costs
+// recomputed only for the triangles around the new vertex; collapses rejected by the validity
+// test are dropped and retried when their neighbourhood changes.
+#ifndef slodTriangleCollapse_h
+#define slodTriangleCollapse_h
+
+#include "slodEditableMesh.h"
+#include "slodTriangleMesh.h"
+
+#include <functional>
+#include <vector>
+
+namespace slod
+{
+class PointAttributes;
+
+struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
+{
+  // Stop when the mesh has at most this many triangles (0: no count target).
+  Index TargetTriangles = 0;
+  // Never perform a collapse whose error (RMS distance of the new vertex to the original planes
+  // of its interrelated set) exceeds this; negative: no limit.
+  double MaximumError = -1.0;
+  // Weight of the boundary planes relative to the triangle planes (0 disables them).
+  double BoundaryWeight = 1.0;
+  // Reject a collapse that turns a surviving triangle's normal by more than this (degrees).
+  double MaximumNormalDeviation = 60.0;
+  // Allow changes of genus, boundary loops and manifoldness (off: never).
+  bool AllowTopologyChange = false;
+  // Exact union semantics of the interrelated sets (slow reference mode, see above).
+  bool ExactUnion = false;
+  // Record every collapse for progressive meshes (CollapseHistory).
+  bool RecordHistory = false;
+  // Called about every 1% of the work with the fraction done; return false to abort.
+  std::function<bool(double)> Progress;
+};
+
+// Every collapse, enough to undo it by a vertex split (EditableMesh::Undo) on a mesh whose
+// vertex and triangle ids are those of the input mesh. Flat arrays, one entry per collapse unless
+// noted. Vertex ids and triangle ids refer to the input TriangleMesh.
+struct SURFACELODFILTERS_EXPORT CollapseHistory
+{
+  std::vector<Index> Vertices;          // 3 per collapse: kept vertex first, then the two removed
+  std::vector<double> OldPositions;     // 9 per collapse: positions of Vertices before
+  std::vector<double> NewPositions;     // 3 per collapse: the new vertex v0 (stored in the kept id)
+  std::vector<Index> RemovedOffsets;    // collapses + 1 offsets into RemovedTriangles (in 4s)
+  std::vector<Index> RemovedTriangles;  // 4 per removed triangle: id, then its 3 vertices
+  std::vector<Index> ChangedOffsets;    // collapses + 1 offsets into Changed (in 3s)
+  std::vector<Index> Changed;           // 3 per redirected corner: triangle id, corner, previous vertex
+  std::vector<Index> SurroundingOffsets; // collapses + 1 offsets into Surrounding
+  std::vector<Index> Surrounding;       // the paper's surrounding vertices (link of v0), for reference
+
+  Index NumberOfCollapses() const { return static_cast<Index>(this->NewPositions.size() / 3); }
+  void Clear();
+  // Appends one record (positions and ids as in the record).
+  void Append(const CollapseRecord& record, const EditableMesh& mesh);
+  // The record k as an EditableMesh record (for Undo / redo).
+  void Get(Index k, CollapseRecord& record) const;
+  size_t MemoryBytes() const;
+};
+
+struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
+{
+  TriangleMesh Mesh;                 // simplified mesh (compact)
+  std::vector<Index> OutputToInput;  // input vertex id of each output vertex (the kept id)
+  std::vector<Index> OutputTriangleIds; // input triangle id of each output triangle
+  std::vector<double> VertexError;   // per output vertex: RMS distance to its original planes
+  double MaximumError = 0.0;         // largest error of a performed collapse
+  Index Collapses = 0;
+  Index RejectedCollapses = 0;       // validity test failures (each retried later)
+  bool Aborted = false;
+  size_t PeakWorkingBytes = 0;       // bytes of the algorithm's own arrays (estimate)
+  CollapseHistory History;           // when RecordHistory
+};
+
+// Simplifies `mesh` (consumed: its arrays are released to save memory). `attributes`, when given
+// and not empty, has one row per input vertex and is merged as vertices merge (rows of output
+// vertices are OutputToInput).
+SURFACELODFILTERS_EXPORT void SimplifyByTriangleCollapse(TriangleMesh& mesh, const TriangleCollapseOptions& options,
+  TriangleCollapseResult& result, PointAttributes* attributes = nullptr);
+} // namespace slod
+
+#endif

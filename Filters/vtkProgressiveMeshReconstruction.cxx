@@ -1,0 +1,275 @@
+#include "vtkProgressiveMeshReconstruction.h"
+
+#include "slodEditableMesh.h"
+#include "slodInputPreparation.h"
+#include "slodTriangleCollapse.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkTable.h"
+
+#include <algorithm>
+
+vtkStandardNewMacro(vtkProgressiveMeshReconstruction);
+
+struct vtkProgressiveMeshReconstruction::State
+{
+  slod::EditableMesh Mesh;
+  slod::CollapseHistory History;
+  std::vector<vtkIdType> TrianglesAtLevel; // triangle count after s splits
+  vtkIdType Applied = 0;
+  vtkMTimeType CoarseTime = 0, RecordsTime = 0;
+  const void* CoarseData = nullptr;
+  const void* RecordsData = nullptr;
+  int PointType = VTK_DOUBLE;
+};
+
+vtkProgressiveMeshReconstruction::vtkProgressiveMeshReconstruction()
+{
+  this->SetNumberOfInputPorts(2);
+}
+
+vtkProgressiveMeshReconstruction::~vtkProgressiveMeshReconstruction() = default;
+
+int vtkProgressiveMeshReconstruction::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkTable");
+    return 1;
+  }
+  return this->Superclass::FillInputPortInformation(port, info);
+}
+
+namespace
+{
+// Reads the collapse records table back into the core's flat history; false when malformed.
+bool TableToHistory(vtkTable* table, slod::CollapseHistory& h, vtkIdType& points, vtkIdType& triangles)
+{
+  h.Clear();
+  auto column = [&](const char* name, int components) -> vtkDataArray* {
+    vtkDataArray* a = vtkDataArray::SafeDownCast(table->GetColumnByName(name));
+    return a && a->GetNumberOfComponents() == components ? a : nullptr;
+  };
+  vtkDataArray* vertices = column("Vertices", 3);
+  vtkDataArray* oldPositions = column("OldPositions", 9);
+  vtkDataArray* newPosition = column("NewPosition", 3);
+  vtkDataArray* removed = column("RemovedTriangles", 4);
+  vtkDataArray* removedVertices = column("RemovedTriangleVertices", 12);
+  vtkDataArray* changedOffset = column("ChangedOffset", 1);
+  vtkFieldData* fd = table->GetFieldData();
+  vtkDataArray* changed = vtkDataArray::SafeDownCast(fd->GetAbstractArray("Changed"));
+  vtkDataArray* np = vtkDataArray::SafeDownCast(fd->GetAbstractArray("NumberOfInputPoints"));
+  vtkDataArray* nt = vtkDataArray::SafeDownCast(fd->GetAbstractArray("NumberOfInputTriangles"));
+  if (!vertices || !oldPositions || !newPosition || !removed || !removedVertices || !changedOffset || !changed ||
+    changed->GetNumberOfComponents() != 3 || !np || !nt)
+  {
+    return false;
+  }
+  points = static_cast<vtkIdType>(np->GetComponent(0, 0));
+  triangles = static_cast<vtkIdType>(nt->GetComponent(0, 0));
+  const vtkIdType n = table->GetNumberOfRows();
+  h.RemovedOffsets.push_back(0);
+  h.ChangedOffsets.push_back(0);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      const auto v = static_cast<slod::Index>(vertices->GetComponent(k, i));
+      if (v < 0 || v >= points)
+      {
+        return false;
+      }
+      h.Vertices.push_back(v);
+      h.NewPositions.push_back(newPosition->GetComponent(k, i));
+    }
+    for (int i = 0; i < 9; ++i)
+    {
+      h.OldPositions.push_back(oldPositions->GetComponent(k, i));
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+      const auto t = static_cast<slod::Index>(removed->GetComponent(k, i));
+      if (t < 0)
+      {
+        continue;
+      }
+      if (t >= triangles)
+      {
+        return false;
+      }
+      h.RemovedTriangles.push_back(t);
+      for (int j = 0; j < 3; ++j)
+      {
+        h.RemovedTriangles.push_back(static_cast<slod::Index>(removedVertices->GetComponent(k, 3 * i + j)));
+      }
+    }
+    h.RemovedOffsets.push_back(static_cast<slod::Index>(h.RemovedTriangles.size() / 4));
+    const vtkIdType end = k + 1 < n ? static_cast<vtkIdType>(changedOffset->GetComponent(k + 1, 0)) : changed->GetNumberOfTuples();
+    const auto begin = static_cast<vtkIdType>(changedOffset->GetComponent(k, 0));
+    if (begin < 0 || end < begin || end > changed->GetNumberOfTuples())
+    {
+      return false;
+    }
+    for (vtkIdType c = begin; c < end; ++c)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        h.Changed.push_back(static_cast<slod::Index>(changed->GetComponent(c, j)));
+      }
+    }
+    h.ChangedOffsets.push_back(static_cast<slod::Index>(h.Changed.size() / 3));
+  }
+  return true;
+}
+} // namespace
+
+int vtkProgressiveMeshReconstruction::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* coarse = vtkPolyData::GetData(inputVector[0], 0);
+  vtkTable* table = vtkTable::GetData(inputVector[1], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  this->OperationsLastUpdate = 0;
+  if (!coarse || !table || !output)
+  {
+    vtkErrorMacro(<< "Needs the coarse mesh (port 0) and the collapse records (port 1).");
+    return 1;
+  }
+
+  // (Re)build the state at the coarse level when an input changed.
+  if (!this->Cache || this->Cache->CoarseData != coarse || this->Cache->RecordsData != table ||
+    this->Cache->CoarseTime != coarse->GetMTime() || this->Cache->RecordsTime != table->GetMTime())
+  {
+    this->Cache.reset();
+    auto state = std::make_unique<State>();
+    vtkIdType np = 0, nt = 0;
+    if (!TableToHistory(table, state->History, np, nt))
+    {
+      vtkErrorMacro(<< "The collapse records are malformed (see vtkQuadricTriangleCollapse, output port 1).");
+      return 1;
+    }
+    vtkDataArray* vertexIds = coarse->GetPointData()->GetArray("OriginalVertexId");
+    vtkDataArray* triangleIds = coarse->GetCellData()->GetArray("OriginalTriangleId");
+    if (!vertexIds || !triangleIds || !coarse->GetPolys())
+    {
+      vtkErrorMacro(<< "The coarse mesh lacks OriginalVertexId / OriginalTriangleId (turn GenerateProgressiveMesh on).");
+      return 1;
+    }
+    slod::TriangleMesh mesh;
+    mesh.Points.assign(3 * size_t(np), 0.0);
+    mesh.Triangles.assign(3 * size_t(nt), 0);
+    std::vector<unsigned char> live(size_t(nt), 0);
+    for (vtkIdType i = 0; i < coarse->GetNumberOfPoints(); ++i)
+    {
+      const auto v = static_cast<vtkIdType>(vertexIds->GetComponent(i, 0));
+      if (v < 0 || v >= np)
+      {
+        vtkErrorMacro(<< "OriginalVertexId out of range.");
+        return 1;
+      }
+      coarse->GetPoint(i, &mesh.Points[3 * size_t(v)]);
+    }
+    // Removed triangles as they were when removed (their storage is what a split revives).
+    const auto& h = state->History;
+    for (size_t r = 0; r < h.RemovedTriangles.size(); r += 4)
+    {
+      std::copy(&h.RemovedTriangles[r + 1], &h.RemovedTriangles[r + 4], &mesh.Triangles[3 * size_t(h.RemovedTriangles[r])]);
+    }
+    vtkCellArray* polys = coarse->GetPolys();
+    vtkIdType cell = 0;
+    vtkIdType npts;
+    const vtkIdType* pts;
+    for (polys->InitTraversal(); polys->GetNextCell(npts, pts); ++cell)
+    {
+      const auto t = static_cast<vtkIdType>(triangleIds->GetComponent(cell, 0));
+      if (npts != 3 || t < 0 || t >= nt)
+      {
+        vtkErrorMacro(<< "The coarse mesh is not the collapse filter's output (bad cell or OriginalTriangleId).");
+        return 1;
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        mesh.Triangles[3 * size_t(t) + k] = static_cast<slod::Index>(vertexIds->GetComponent(pts[k], 0));
+      }
+      live[t] = 1;
+    }
+    state->Mesh.Reset(mesh);
+    for (slod::Index t = 0; t < nt; ++t)
+    {
+      if (!live[t])
+      {
+        state->Mesh.RemoveTriangle(t);
+      }
+    }
+    const slod::Index n = h.NumberOfCollapses();
+    state->TrianglesAtLevel.resize(size_t(n) + 1);
+    state->TrianglesAtLevel[0] = coarse->GetNumberOfPolys();
+    for (slod::Index s = 1; s <= n; ++s)
+    {
+      const slod::Index k = n - s; // record undone by split s
+      state->TrianglesAtLevel[s] = state->TrianglesAtLevel[s - 1] + h.RemovedOffsets[k + 1] - h.RemovedOffsets[k];
+    }
+    state->PointType = coarse->GetPoints() ? coarse->GetPoints()->GetDataType() : VTK_DOUBLE;
+    state->CoarseData = coarse;
+    state->RecordsData = table;
+    state->CoarseTime = coarse->GetMTime();
+    state->RecordsTime = table->GetMTime();
+    this->Cache = std::move(state);
+  }
+
+  State& state = *this->Cache;
+  const vtkIdType n = state.History.NumberOfCollapses();
+  vtkIdType level = this->NumberOfVertexSplits < 0 ? n : std::min(this->NumberOfVertexSplits, n);
+  if (this->TargetNumberOfTriangles > 0)
+  {
+    level = std::lower_bound(state.TrianglesAtLevel.begin(), state.TrianglesAtLevel.end(), this->TargetNumberOfTriangles) -
+      state.TrianglesAtLevel.begin();
+    level = std::min(level, n);
+  }
+  slod::CollapseRecord record;
+  while (state.Applied < level) // vertex splits, newest record first
+  {
+    state.History.Get(static_cast<slod::Index>(n - 1 - state.Applied), record);
+    state.Mesh.Undo(record);
+    ++state.Applied;
+    ++this->OperationsLastUpdate;
+  }
+  while (state.Applied > level) // back to coarser levels: redo the collapses in order
+  {
+    state.History.Get(static_cast<slod::Index>(n - state.Applied), record);
+    state.Mesh.Collapse(record.Vertices.data(), 3, record.Kept, record.NewPosition);
+    --state.Applied;
+    ++this->OperationsLastUpdate;
+  }
+  this->AppliedVertexSplits = state.Applied;
+
+  slod::TriangleMesh out;
+  std::vector<slod::Index> newToOld;
+  state.Mesh.Extract(out, &newToOld);
+  slod::MeshToPolyData(out, output, state.PointType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
+  vtkNew<vtkIdTypeArray> ids;
+  ids->SetName("OriginalVertexId");
+  ids->SetNumberOfTuples(static_cast<vtkIdType>(newToOld.size()));
+  std::copy(newToOld.begin(), newToOld.end(), ids->GetPointer(0));
+  output->GetPointData()->AddArray(ids);
+  return 1;
+}
+
+void vtkProgressiveMeshReconstruction::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfVertexSplits: " << this->NumberOfVertexSplits << "\n";
+  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
+  os << indent << "AppliedVertexSplits: " << this->AppliedVertexSplits << "\n";
+  os << indent << "OperationsLastUpdate: " << this->OperationsLastUpdate << "\n";
+}

@@ -1,0 +1,160 @@
+/**
+ * @class   vtkQuadricTriangleCollapse
+ * @brief   quadric-error simplification by triangle collapses (Pan, Zhou, Shi 2000)
+ *
+ * Each step merges the three vertices of the cheapest triangle into one new vertex, removing
+ * the triangle and its edge neighbours (usually 4 triangles and 2 vertices per step). The cost
+ * of a triangle is the sum of squared distances of the new vertex to the planes of the ORIGINAL
+ * triangles its vertices descend from (the paper's logical interrelated set), area weighted;
+ * the new vertex minimises it (3x3 solve), or is the best of the centroid, the vertices and
+ * the edge midpoints when the system is ill-conditioned. Open borders are held by planes through
+ * each boundary edge perpendicular to its triangle (BoundaryWeight).
+ *
+ * Union semantics: by default each vertex accumulates the quadric of its logical set and a
+ * triangle's quadric is the sum of its three vertex quadrics, so planes shared by two or three of
+ * the vertices count two or three times instead of once (all planes are still original planes:
+ * no error accumulates). ExactUnion keeps per-vertex sets and counts each plane once, as in the
+ * paper; it is slower and uses more memory, and measured quality is the same (see
+ * Documentation/QuadricTriangleCollapse.md).
+ *
+ * Validity: a collapse is never performed when it would flip or degenerate a triangle (normal
+ * turning more than MaximumNormalDeviation degrees), create a non-manifold edge or vertex,
+ * close, split or remove a boundary loop, or change the genus, unless AllowTopologyChange is on
+ * (then only the geometric tests apply). Non-manifold input parts are kept as they are.
+ *
+ * Stop criteria, whichever is reached first: TargetNumberOfTriangles (0 = unused),
+ * TargetReduction (fraction of triangles to remove, 0 = unused), and MaximumError (collapses
+ * whose error exceeds it are never performed; absolute, or relative to the bounding-box diagonal
+ * when MaximumErrorIsRelative). A triangle target is met within one collapse (the output has at
+ * most the target count and at most 3 fewer).
+ *
+ * Output 0: the simplified mesh with all numeric point arrays interpolated onto the new vertices,
+ * a point array "SimplificationError" (RMS distance of each vertex to its original planes) and
+ * field data "MaximumSimplificationError" (largest performed collapse error) and
+ * "MaximumSimplificationErrorRelative". With GenerateProgressiveMesh on, also point data
+ * "OriginalVertexId" and cell data "OriginalTriangleId" (ids of the prepared input mesh).
+ *
+ * Output 1 (GenerateProgressiveMesh on): the collapse records as a vtkTable, one row per collapse
+ * in collapse order, columns "Vertices" (3 ids: kept vertex v0 first, then the two removed),
+ * "OldPositions" (9), "NewPosition" (3), "RemovedTriangles" (4 triangle ids, -1 padded),
+ * "RemovedTriangleVertices" (12), "ChangedOffset" and "SurroundingOffset" (start of the row's
+ * entries in the field-data arrays "Changed" (triangle id, corner, previous vertex per redirected
+ * corner) and "Surrounding" (the paper's surrounding vertices)), with field data
+ * "NumberOfInputPoints" and "NumberOfInputTriangles" (of the prepared input mesh).
+ * vtkProgressiveMeshReconstruction rebuilds any level from output 0 + output 1.
+ */
+#ifndef vtkQuadricTriangleCollapse_h
+#define vtkQuadricTriangleCollapse_h
+
+#include "SurfaceLODFiltersModule.h"
+#include "vtkPolyDataAlgorithm.h"
+
+class vtkTable;
+
+class SURFACELODFILTERS_EXPORT vtkQuadricTriangleCollapse : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkQuadricTriangleCollapse* New();
+  vtkTypeMacro(vtkQuadricTriangleCollapse, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Stop at this many triangles (0 = unused, default).
+  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
+  ///@}
+
+  ///@{
+  /// Fraction of the triangles to remove, 0..1 (default 0.9; 0 = unused).
+  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
+  vtkGetMacro(TargetReduction, double);
+  ///@}
+
+  ///@{
+  /// Largest allowed collapse error (negative = unused, default). Relative to the bounding-box
+  /// diagonal when MaximumErrorIsRelative (default off: absolute).
+  vtkSetMacro(MaximumError, double);
+  vtkGetMacro(MaximumError, double);
+  vtkSetMacro(MaximumErrorIsRelative, bool);
+  vtkGetMacro(MaximumErrorIsRelative, bool);
+  vtkBooleanMacro(MaximumErrorIsRelative, bool);
+  ///@}
+
+  ///@{
+  /// Weight of the boundary planes relative to the triangle planes (default 1; 0 = free borders).
+  vtkSetClampMacro(BoundaryWeight, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(BoundaryWeight, double);
+  ///@}
+
+  ///@{
+  /// Largest turn of a surviving triangle's normal in one collapse, in degrees (default 60).
+  vtkSetClampMacro(MaximumNormalDeviation, double, 0.0, 180.0);
+  vtkGetMacro(MaximumNormalDeviation, double);
+  ///@}
+
+  ///@{
+  /// Allow genus, boundary-loop and manifoldness changes (default off).
+  vtkSetMacro(AllowTopologyChange, bool);
+  vtkGetMacro(AllowTopologyChange, bool);
+  vtkBooleanMacro(AllowTopologyChange, bool);
+  ///@}
+
+  ///@{
+  /// Exact union of the interrelated sets (each original plane once; slower reference mode).
+  vtkSetMacro(ExactUnion, bool);
+  vtkGetMacro(ExactUnion, bool);
+  vtkBooleanMacro(ExactUnion, bool);
+  ///@}
+
+  ///@{
+  /// Record every collapse (output 1) and add the id arrays to output 0 (default off).
+  vtkSetMacro(GenerateProgressiveMesh, bool);
+  vtkGetMacro(GenerateProgressiveMesh, bool);
+  vtkBooleanMacro(GenerateProgressiveMesh, bool);
+  ///@}
+
+  ///@{
+  /// Output points precision: vtkAlgorithm::DEFAULT_PRECISION (same as input, default),
+  /// SINGLE_PRECISION or DOUBLE_PRECISION.
+  vtkSetMacro(OutputPointsPrecision, int);
+  vtkGetMacro(OutputPointsPrecision, int);
+  ///@}
+
+  ///@{
+  /// Results of the last update.
+  vtkGetMacro(ActualReduction, double);
+  vtkGetMacro(NumberOfCollapses, vtkIdType);
+  vtkGetMacro(MaximumSimplificationError, double);
+  ///@}
+
+  /// The collapse records (output port 1).
+  vtkTable* GetCollapseRecords();
+
+protected:
+  vtkQuadricTriangleCollapse();
+  ~vtkQuadricTriangleCollapse() override = default;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  vtkIdType TargetNumberOfTriangles = 0;
+  double TargetReduction = 0.9;
+  double MaximumError = -1.0;
+  bool MaximumErrorIsRelative = false;
+  double BoundaryWeight = 1.0;
+  double MaximumNormalDeviation = 60.0;
+  bool AllowTopologyChange = false;
+  bool ExactUnion = false;
+  bool GenerateProgressiveMesh = false;
+  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
+
+  double ActualReduction = 0.0;
+  vtkIdType NumberOfCollapses = 0;
+  double MaximumSimplificationError = 0.0;
+
+private:
+  vtkQuadricTriangleCollapse(const vtkQuadricTriangleCollapse&) = delete;
+  void operator=(const vtkQuadricTriangleCollapse&) = delete;
+};
+
+#endif

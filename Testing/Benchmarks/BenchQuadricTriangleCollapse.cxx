@@ -1,0 +1,221 @@
+// Benchmark (not a test): vtkQuadricTriangleCollapse vs vtkQuadricDecimation, same inputs, same
+// run. Reports wall time of the filter update, input triangles per second, the time ratio and the
+// peak memory growth per input vertex (VmHWM reset through /proc/self/clear_refs).
+//
+//   BenchQuadricTriangleCollapse [--mc N] [--runs R] [--write DIR] [--skip-vtk] [mesh[:target]]...
+// Default cases: a ~1M-triangle marching-cubes mesh to 10 %, bunny00 to 2306 triangles (the
+// paper's table). With --write DIR the outputs are saved as .vtp for external measurement.
+#include "TestSupport.h"
+#include "vtkQuadricTriangleCollapse.h"
+
+#include "vtkFlyingEdges3D.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkQuadricDecimation.h"
+#include "vtkSmartPointer.h"
+#include "vtkXMLPolyDataWriter.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace
+{
+long ReadStatusKB(const char* key)
+{
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+  {
+    if (line.rfind(key, 0) == 0)
+    {
+      return std::atol(line.c_str() + std::strlen(key));
+    }
+  }
+  return 0;
+}
+void ResetPeak()
+{
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
+
+// A smooth closed genus-1 surface: a bumpy torus, sampled on N x N x N/2 voxels.
+vtkSmartPointer<vtkPolyData> MarchingCubesMesh(int n)
+{
+  vtkNew<vtkImageData> image;
+  const int nz = n / 2;
+  image->SetDimensions(n, n, nz);
+  const double h = 2.6 / (n - 1);
+  image->SetSpacing(h, h, h);
+  image->SetOrigin(-1.3, -1.3, -0.5 * h * (nz - 1));
+  vtkNew<vtkFloatArray> values;
+  values->SetNumberOfTuples(vtkIdType(n) * n * nz);
+  vtkIdType id = 0;
+  for (int k = 0; k < nz; ++k)
+  {
+    for (int j = 0; j < n; ++j)
+    {
+      for (int i = 0; i < n; ++i, ++id)
+      {
+        const double x = -1.3 + i * h, y = -1.3 + j * h, z = -0.5 * h * (nz - 1) + k * h;
+        const double r = std::sqrt(x * x + y * y) - 0.85;
+        const double bump = 0.06 * std::sin(7 * x) * std::sin(5 * y) * std::cos(6 * z) + 0.04 * std::cos(9 * std::atan2(y, x));
+        values->SetValue(id, static_cast<float>(r * r + 1.3 * z * z - 0.1 + bump * 0.5));
+      }
+    }
+  }
+  image->GetPointData()->SetScalars(values);
+  vtkNew<vtkFlyingEdges3D> mc;
+  mc->SetInputData(image);
+  mc->SetValue(0, 0.0);
+  mc->ComputeNormalsOff();
+  mc->ComputeGradientsOff();
+  mc->ComputeScalarsOff();
+  mc->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(mc->GetOutput());
+  return out;
+}
+
+struct Measure
+{
+  double Seconds = 0;
+  double BytesPerVertex = 0;
+  vtkIdType Triangles = 0;
+};
+
+template <typename Filter>
+Measure Run(vtkPolyData* input, Filter* filter, int runs, vtkSmartPointer<vtkPolyData>& output)
+{
+  std::vector<double> times;
+  Measure m;
+  for (int r = 0; r < runs; ++r)
+  {
+    filter->SetInputData(input);
+    filter->Modified();
+    output = nullptr;
+    ResetPeak();
+    const long before = ReadStatusKB("VmRSS:");
+    const auto t0 = std::chrono::steady_clock::now();
+    filter->Update();
+    const auto t1 = std::chrono::steady_clock::now();
+    const long peak = ReadStatusKB("VmHWM:");
+    times.push_back(std::chrono::duration<double>(t1 - t0).count());
+    m.BytesPerVertex = std::max(m.BytesPerVertex, 1024.0 * double(peak - before) / double(input->GetNumberOfPoints()));
+    output = vtkSmartPointer<vtkPolyData>::New();
+    output->ShallowCopy(filter->GetOutput());
+    filter->SetInputData(nullptr);
+    filter->GetOutput()->Initialize();
+  }
+  std::sort(times.begin(), times.end());
+  m.Seconds = times[times.size() / 2];
+  m.Triangles = output->GetNumberOfPolys();
+  return m;
+}
+
+void Write(vtkPolyData* mesh, const std::string& path)
+{
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(mesh);
+  writer->SetFileName(path.c_str());
+  writer->SetDataModeToBinary();
+  writer->Write();
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  int mcResolution = 400;
+  int runs = 1;
+  bool skipVtk = false;
+  std::string writeDir;
+  std::vector<std::string> cases;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a == "--mc" && i + 1 < argc)
+    {
+      mcResolution = std::atoi(argv[++i]);
+    }
+    else if (a == "--runs" && i + 1 < argc)
+    {
+      runs = std::max(1, std::atoi(argv[++i]));
+    }
+    else if (a == "--write" && i + 1 < argc)
+    {
+      writeDir = argv[++i];
+    }
+    else if (a == "--skip-vtk")
+    {
+      skipVtk = true;
+    }
+    else
+    {
+      cases.push_back(a);
+    }
+  }
+  if (cases.empty())
+  {
+    cases = { "mc:0.1", "bunny00:2306" };
+  }
+
+  std::printf("| case | input tris | target | method | out tris | time s | Mtris/s | peak MB | bytes/vertex |\n");
+  std::printf("|---|---:|---:|---|---:|---:|---:|---:|---:|\n");
+  for (const std::string& c : cases)
+  {
+    const size_t colon = c.find(':');
+    const std::string name = c.substr(0, colon);
+    const std::string spec = colon == std::string::npos ? "0.1" : c.substr(colon + 1);
+    vtkSmartPointer<vtkPolyData> input = name == "mc" ? MarchingCubesMesh(mcResolution) : slodtest::LoadTestMesh(name);
+    const vtkIdType n = input->GetNumberOfPolys();
+    const double value = std::atof(spec.c_str());
+    const vtkIdType target = value < 1.0 ? static_cast<vtkIdType>(std::llround(value * n)) : static_cast<vtkIdType>(value);
+    if (!writeDir.empty())
+    {
+      Write(input, writeDir + "/" + name + ".vtp");
+    }
+
+    vtkSmartPointer<vtkPolyData> ours, theirs;
+    vtkNew<vtkQuadricTriangleCollapse> collapse;
+    collapse->SetTargetNumberOfTriangles(target);
+    collapse->SetTargetReduction(0.0);
+    const Measure a = Run(input.Get(), collapse.Get(), runs, ours);
+    Measure b;
+    if (!skipVtk)
+    {
+      vtkNew<vtkQuadricDecimation> decimation;
+      decimation->SetTargetReduction(1.0 - double(target) / double(n));
+      b = Run(input.Get(), decimation.Get(), runs, theirs);
+    }
+    auto row = [&](const char* method, const Measure& m) {
+      std::printf("| %s | %lld | %lld | %s | %lld | %.3f | %.2f | %.1f | %.0f |\n", name.c_str(), (long long)n,
+        (long long)target, method, (long long)m.Triangles, m.Seconds, n / m.Seconds / 1e6,
+        m.BytesPerVertex * input->GetNumberOfPoints() / 1048576.0, m.BytesPerVertex);
+    };
+    row("vtkQuadricTriangleCollapse", a);
+    if (!skipVtk)
+    {
+      row("vtkQuadricDecimation", b);
+      std::printf("| %s | | | speed-up | | %.2fx | | | |\n", name.c_str(), b.Seconds / a.Seconds);
+    }
+    std::fflush(stdout);
+    if (!writeDir.empty())
+    {
+      const std::string stem = writeDir + "/" + name + "_" + std::to_string(target);
+      Write(ours, stem + "_qtc.vtp");
+      if (theirs)
+      {
+        Write(theirs, stem + "_vtkquadric.vtp");
+      }
+    }
+  }
+  return 0;
+}
