@@ -207,7 +207,8 @@ CollapseStatus EditableMesh::CheckCollapse(
     {
       return CollapseStatus::DeadVertex;
     }
-    anyBoundary = anyBoundary || this->IsBoundaryVertex(vertices[i]);
+    anyBoundary = anyBoundary ||
+      (options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]));
   }
   this->GatherTriangles(vertices, count);
 

@@ -30,6 +30,10 @@ struct SURFACELODFILTERS_EXPORT CollapseOptions
   double MinimumAngle = 0.0;
   // Allow changes of topology (genus, boundary loops, manifoldness). Off: never.
   bool AllowTopologyChange = false;
+  // Optional per-vertex flags (1 = on a border) kept up to date by the caller, used instead of
+  // IsBoundaryVertex (which is the most expensive part of the check). Without topology changes
+  // a merged vertex is on the border exactly when one of its vertices was.
+  const unsigned char* BoundaryVertices = nullptr;
 };
 
 enum class CollapseStatus

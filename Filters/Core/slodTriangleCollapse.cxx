@@ -1,10 +1,13 @@
 #include "slodTriangleCollapse.h"
 
-#include "slodIndexedHeap.h"
+#include "slodBucketQueue.h"
 #include "slodPointAttributes.h"
 #include "slodQuadric.h"
 
 #include <algorithm>
+#include <ctime>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 
@@ -120,7 +123,9 @@ private:
   std::vector<Quadric> VertexQuadric; // accumulated mode: sum of the logical set's planes
   std::vector<double> VertexWeight;   // sum of their weights
   std::vector<unsigned char> Rejected; // 1: failed validity, retried when the 2-ring changes
-  IndexedHeap<float> Heap;
+  std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
+  std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
+  BucketQueue Heap;
   // Exact mode: original planes and, per vertex, the sorted ids of its logical set.
   std::vector<Quadric> PlaneQuadric;
   std::vector<double> PlaneWeight;
@@ -174,7 +179,7 @@ void TriangleCollapser::InitializeQuadrics()
   }
   // Boundary planes (§2.3): through the boundary edge, perpendicular to its triangle, weighted
   // by the squared edge length (same units as the areas) times the user weight.
-  if (this->Options.BoundaryWeight > 0)
+  this->Boundary.assign(size_t(nv), 0);
   {
     for (Index t = 0; t < nt; ++t)
     {
@@ -186,11 +191,16 @@ void TriangleCollapser::InitializeQuadrics()
         {
           continue;
         }
+        this->Boundary[u] = this->Boundary[v] = 1;
         const Vec3 pu = this->Local(u), pv = this->Local(v);
         const Vec3 e = pv - pu;
         const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
         const Vec3 n = Normalized(Cross(e, tn));
         const double w = this->Options.BoundaryWeight * Dot(e, e);
+        if (!(w > 0))
+        {
+          continue;
+        }
         const Index ends[2] = { u, v };
         addPlane(Quadric::FromPointNormal(pu, n, w), 0.0, ends, 2);
       }
@@ -287,6 +297,16 @@ void TriangleCollapser::Update(Index t)
 void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
 {
   result = TriangleCollapseResult();
+  const bool verbose = std::getenv("SLOD_VERBOSE") != nullptr;
+  auto clock = std::clock();
+  auto lap = [&](const char* what) {
+    if (verbose)
+    {
+      const auto now = std::clock();
+      std::fprintf(stderr, "[triangle collapse] %s: %.3f s CPU\n", what, double(now - clock) / CLOCKS_PER_SEC);
+      clock = now;
+    }
+  };
   const Index nt = input.NumberOfTriangles();
   {
     const auto bounds = input.Bounds();
@@ -302,24 +322,27 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
 
   this->InitializeQuadrics();
   this->Rejected.assign(size_t(nt), 0);
+  this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
   {
-    std::vector<float> keys(static_cast<size_t>(nt));
+    this->Heap.Reset(nt);
     for (Index t = 0; t < nt; ++t)
     {
       Vec3 p;
       double error;
-      keys[t] = static_cast<float>(this->Cost(t, p, error) * this->CostScale);
+      this->Heap.Set(t, static_cast<float>(this->Cost(t, p, error) * this->CostScale));
     }
-    this->Heap.Build(keys.data(), nt);
   }
 
+  lap("initialisation");
   const Index target = std::max<Index>(this->Options.TargetTriangles, 0);
   const double maxError = this->Options.MaximumError;
   CollapseOptions check;
   check.AllowTopologyChange = this->Options.AllowTopologyChange;
+  check.BoundaryVertices = this->Options.AllowTopologyChange ? nullptr : this->Boundary.data();
   check.MinimumNormalDot = std::cos(std::min(180.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
   CollapseRecord record;
   std::vector<Index> neighbors;
+  long long resets = 0, updates = 0;
   const Index toRemove = std::max<Index>(1, this->Mesh.NumberOfLiveTriangles() - target);
   const Index progressStep = std::max<Index>(1, toRemove / 100);
   Index nextProgress = progressStep;
@@ -342,6 +365,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     if (this->Mesh.CheckCollapse(tri, 3, p, check) != CollapseStatus::Ok)
     {
       this->Rejected[t] = 1;
+      this->Pending[tri[0]] = this->Pending[tri[1]] = this->Pending[tri[2]] = 1;
       ++result.RejectedCollapses;
       continue;
     }
@@ -362,6 +386,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
       this->Attributes->Merge(kept, tri, w, 3);
     }
     this->Mesh.Collapse(tri, 3, kept, p, &record);
+    this->Boundary[kept] = this->Boundary[tri[0]] | this->Boundary[tri[1]] | this->Boundary[tri[2]];
     if (this->Options.ExactUnion)
     {
       auto& s = this->LogicalSet[kept];
@@ -391,17 +416,24 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
       this->Heap.Remove(r);
     }
     // Error propagation: the triangles around v0 get the quadric of their new logical sets.
-    this->Mesh.ForEachTriangle(kept, [&](Index s) { this->Update(s); });
+    this->Mesh.ForEachTriangle(kept, [&](Index s) {
+      this->Update(s);
+      ++updates;
+    });
     // Collapses rejected for validity may have become valid: retry those in the 2-ring.
     this->Mesh.Neighbors(kept, neighbors);
     for (Index w : neighbors)
     {
-      this->Mesh.ForEachTriangle(w, [&](Index s) {
-        if (this->Rejected[s] == 1)
-        {
-          this->Update(s);
-        }
-      });
+      if (this->Pending[w])
+      {
+        this->Pending[w] = 0;
+        this->Mesh.ForEachTriangle(w, [&](Index s) {
+          if (this->Rejected[s] == 1)
+          {
+            this->Update(s);
+          }
+        });
+      }
     }
     if (this->Options.RecordHistory)
     {
@@ -423,7 +455,14 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
 
   result.PeakWorkingBytes = this->Heap.MemoryBytes() + this->VertexQuadric.capacity() * sizeof(Quadric) +
     this->VertexWeight.capacity() * sizeof(double) + this->Rejected.capacity() + result.History.MemoryBytes();
+  lap("collapses");
   this->ExtractResult(result);
+  lap("extraction");
+  if (verbose)
+  {
+    std::fprintf(stderr, "[triangle collapse] %d collapses, %d rejected, %lld heap re-keys, %lld updates\n",
+      int(result.Collapses), int(result.RejectedCollapses), resets, updates);
+  }
 }
 
 void TriangleCollapser::ExtractResult(TriangleCollapseResult& result)

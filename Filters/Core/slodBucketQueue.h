@@ -1,0 +1,138 @@
+// SurfaceLOD shared core: an addressable min-priority queue of non-negative float costs with
+// O(1) insert, remove and update, for collapse algorithms on large meshes.
+//
+// Why not a binary heap: after every collapse a dozen costs change, and each sift in a heap of a
+// million entries is ~20 levels of cache misses; that dominated the run time. Here the float's
+// bit pattern (monotone for non-negative floats) picks one of 2^15 buckets (128 per octave, so a
+// bucket spans < 0.6 % of relative cost); a bucket is a contiguous array of {key, id}. Pop scans
+// the lowest non-empty bucket for its exact minimum (ties: smallest id), so the order is the same
+// as a heap's; only buckets larger than ScanLimit (typically exact ties such as the zero costs of
+// planar regions) are served from the back without a scan. Deterministic.
+#ifndef slodBucketQueue_h
+#define slodBucketQueue_h
+
+#include "slodTriangleMesh.h"
+
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace slod
+{
+class BucketQueue
+{
+public:
+  static constexpr int BucketBits = 15;
+  static constexpr Index ScanLimit = 512;
+
+  void Reset(Index n)
+  {
+    this->Slot.assign(size_t(n), InvalidIndex);
+    this->BucketId.assign(size_t(n), 0);
+    this->Buckets.assign(size_t(1) << BucketBits, {});
+    this->Lowest = static_cast<Index>(this->Buckets.size());
+    this->Count = 0;
+  }
+
+  bool Empty() const { return this->Count == 0; }
+  Index Size() const { return this->Count; }
+  bool Contains(Index id) const { return this->Slot[id] != InvalidIndex; }
+
+  // Inserts id or changes its key (key >= 0; NaN is treated as +infinity).
+  void Set(Index id, float key)
+  {
+    if (this->Slot[id] != InvalidIndex)
+    {
+      this->Remove(id);
+    }
+    const Index b = BucketOf(key);
+    auto& bucket = this->Buckets[b];
+    this->Slot[id] = static_cast<Index>(bucket.size());
+    this->BucketId[id] = static_cast<std::uint16_t>(b);
+    bucket.push_back({ key, id });
+    this->Lowest = b < this->Lowest ? b : this->Lowest;
+    ++this->Count;
+  }
+
+  void Remove(Index id)
+  {
+    const Index s = this->Slot[id];
+    if (s == InvalidIndex)
+    {
+      return;
+    }
+    // The entry's bucket follows from its key.
+    auto& bucket = this->Buckets[this->BucketId[id]];
+    const Entry last = bucket.back();
+    bucket[s] = last;
+    this->Slot[last.Id] = s;
+    bucket.pop_back();
+    this->Slot[id] = InvalidIndex;
+    --this->Count;
+  }
+
+  // Removes and returns the element of smallest key (call only when not Empty).
+  Index Pop(float* key = nullptr)
+  {
+    while (this->Buckets[this->Lowest].empty())
+    {
+      ++this->Lowest;
+    }
+    auto& bucket = this->Buckets[this->Lowest];
+    size_t best = bucket.size() - 1;
+    if (bucket.size() <= size_t(ScanLimit))
+    {
+      for (size_t i = 0; i + 1 < bucket.size(); ++i)
+      {
+        const Entry& e = bucket[i];
+        if (e.K < bucket[best].K || (!(bucket[best].K < e.K) && e.Id < bucket[best].Id))
+        {
+          best = i;
+        }
+      }
+    }
+    const Entry e = bucket[best];
+    if (key)
+    {
+      *key = e.K;
+    }
+    this->Remove(e.Id);
+    return e.Id;
+  }
+
+  size_t MemoryBytes() const
+  {
+    size_t bytes = this->Slot.capacity() * sizeof(Index) + this->BucketId.capacity() * sizeof(std::uint16_t) + this->Buckets.capacity() * sizeof(this->Buckets[0]);
+    for (const auto& b : this->Buckets)
+    {
+      bytes += b.capacity() * sizeof(Entry);
+    }
+    return bytes;
+  }
+
+private:
+  struct Entry
+  {
+    float K;
+    Index Id;
+  };
+  static Index BucketOf(float key)
+  {
+    if (!(key >= 0.0f))
+    {
+      key = key < 0.0f ? 0.0f : 3.0e38f; // NaN: last
+    }
+    std::uint32_t bits;
+    std::memcpy(&bits, &key, sizeof(bits));
+    return static_cast<Index>(bits >> (31 - BucketBits));
+  }
+
+  std::vector<std::vector<Entry>> Buckets;
+  std::vector<Index> Slot;
+  std::vector<std::uint16_t> BucketId; // bucket of each present id
+  Index Lowest = 0;
+  Index Count = 0;
+};
+} // namespace slod
+
+#endif
