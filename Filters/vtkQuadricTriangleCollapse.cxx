@@ -18,6 +18,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
 
 vtkStandardNewMacro(vtkQuadricTriangleCollapse);
 
@@ -139,12 +142,23 @@ int vtkQuadricTriangleCollapse::RequestData(
     return 1;
   }
 
+  const bool verbose = std::getenv("SLOD_VERBOSE") != nullptr;
+  std::clock_t clock = std::clock();
+  auto lap = [&](const char* what) {
+    if (verbose)
+    {
+      const std::clock_t now = std::clock();
+      std::fprintf(stderr, "[vtkQuadricTriangleCollapse] %s: %.3f s CPU\n", what, double(now - clock) / CLOCKS_PER_SEC);
+      clock = now;
+    }
+  };
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput;
   if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput))
   {
     return 1;
   }
+  lap("input preparation");
   const slod::Index inputTriangles = mesh.NumberOfTriangles();
   const slod::Index inputPoints = mesh.NumberOfPoints();
   if (inputTriangles == 0)
@@ -199,6 +213,7 @@ int vtkQuadricTriangleCollapse::RequestData(
   slod::TriangleCollapseResult result;
   slod::SimplifyByTriangleCollapse(mesh, options, result, &attributes);
 
+  lap("simplification");
   slod::MeshToPolyData(result.Mesh, output, pointType);
   attributes.Store(output->GetPointData(), result.OutputToInput);
   const vtkIdType outPoints = static_cast<vtkIdType>(result.OutputToInput.size());
@@ -222,6 +237,7 @@ int vtkQuadricTriangleCollapse::RequestData(
     }
   }
 
+  lap("output");
   this->NumberOfCollapses = result.Collapses;
   this->MaximumSimplificationError = result.MaximumError;
   this->ActualReduction = 1.0 - double(result.Mesh.NumberOfTriangles()) / double(inputTriangles);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace slod
@@ -18,7 +19,8 @@ void CollapseHistory::Clear()
   *this = CollapseHistory();
 }
 
-void CollapseHistory::Append(const CollapseRecord& record, const EditableMesh& mesh)
+void CollapseHistory::Append(
+  const CollapseRecord& record, const EditableMesh& mesh, const Index* vertexId, const Index* triangleId)
 {
   if (this->RemovedOffsets.empty())
   {
@@ -26,7 +28,7 @@ void CollapseHistory::Append(const CollapseRecord& record, const EditableMesh& m
     this->ChangedOffsets.push_back(0);
     this->SurroundingOffsets.push_back(0);
   }
-  // Kept vertex first.
+  // Kept vertex first; an edge collapse has no third vertex (-1, zero position).
   Index order[3] = { 0, 1, 2 };
   for (int i = 0; i < record.VertexCount; ++i)
   {
@@ -37,21 +39,23 @@ void CollapseHistory::Append(const CollapseRecord& record, const EditableMesh& m
   }
   for (int i = 0; i < 3; ++i)
   {
-    this->Vertices.push_back(record.Vertices[order[i]]);
-    const Vec3& p = record.OldPositions[order[i]];
+    const bool has = order[i] < record.VertexCount;
+    this->Vertices.push_back(has ? vertexId[record.Vertices[order[i]]] : InvalidIndex);
+    const Vec3 p = has ? record.OldPositions[order[i]] : Vec3{ 0, 0, 0 };
     this->OldPositions.insert(this->OldPositions.end(), p.begin(), p.end());
   }
   this->NewPositions.insert(this->NewPositions.end(), record.NewPosition.begin(), record.NewPosition.end());
   for (Index t : record.RemovedTriangles)
   {
     const Index* tri = mesh.Triangle(t);
-    this->RemovedTriangles.insert(this->RemovedTriangles.end(), { t, tri[0], tri[1], tri[2] });
+    this->RemovedTriangles.insert(
+      this->RemovedTriangles.end(), { triangleId[t], vertexId[tri[0]], vertexId[tri[1]], vertexId[tri[2]] });
   }
   this->RemovedOffsets.push_back(static_cast<Index>(this->RemovedTriangles.size() / 4));
   for (size_t i = 0; i < record.ChangedTriangles.size(); ++i)
   {
     this->Changed.insert(this->Changed.end(),
-      { record.ChangedTriangles[i], Index(record.ChangedCorner[i]), record.ChangedFrom[i] });
+      { triangleId[record.ChangedTriangles[i]], Index(record.ChangedCorner[i]), vertexId[record.ChangedFrom[i]] });
   }
   this->ChangedOffsets.push_back(static_cast<Index>(this->Changed.size() / 3));
 }
@@ -59,9 +63,9 @@ void CollapseHistory::Append(const CollapseRecord& record, const EditableMesh& m
 void CollapseHistory::Get(Index k, CollapseRecord& record) const
 {
   record.Clear();
-  record.VertexCount = 3;
+  record.VertexCount = this->Vertices[3 * size_t(k) + 2] == InvalidIndex ? 2 : 3;
   record.Kept = this->Vertices[3 * size_t(k)];
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < record.VertexCount; ++i)
   {
     record.Vertices[i] = this->Vertices[3 * size_t(k) + i];
     const double* p = &this->OldPositions[9 * size_t(k) + 3 * i];
@@ -108,16 +112,23 @@ public:
 private:
   Vec3 Local(Index v) const { return this->Mesh.Point(v) - this->Origin; }
   void InitializeQuadrics();
-  Quadric TriangleQuadric(const Index* tri, double& weight) const;
-  // Best placement (local coordinates) and its cost for the triangle's quadric.
-  double Place(const Index* tri, const Quadric& q, Vec3& local) const;
-  double Cost(Index t, Vec3& local, double& error) const;
+  // Quadric of the interrelated set of 2 (edge) or 3 (triangle) vertices.
+  Quadric SetQuadric(const Index* v, int count, double& weight) const;
+  // Best placement (local coordinates) and its cost for the set's quadric.
+  double Place(const Index* v, int count, const Quadric& q, Vec3& local) const;
+  // Cheapest operation of triangle t: 0 = collapse the triangle, k = 1..3 = collapse its edge
+  // (corner k-1, corner k % 3) when edge collapses are enabled.
+  double Cost(Index t, Vec3& local, double& error, int& operation) const;
   void Update(Index t);
   void ExtractResult(TriangleCollapseResult& result);
 
   const TriangleCollapseOptions& Options;
   PointAttributes* Attributes;
+  void Reorder(TriangleMesh& mesh);
+
   EditableMesh Mesh;
+  // The mesh is renumbered in spatial (Morton) order for cache locality; these map back.
+  std::vector<Index> VertexInput, TriangleInput;
   Vec3 Origin{ 0, 0, 0 };
   double CostScale = 1.0; // makes float heap keys well scaled
   std::vector<Quadric> VertexQuadric; // accumulated mode: sum of the logical set's planes
@@ -132,6 +143,75 @@ private:
   std::vector<std::vector<Index>> LogicalSet;
   mutable std::vector<Index> UnionScratch;
 };
+
+namespace
+{
+std::uint64_t SpreadBits(std::uint64_t x)
+{
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+} // namespace
+
+void TriangleCollapser::Reorder(TriangleMesh& mesh)
+{
+  // Vertices in Morton order of their position, triangles by their smallest new vertex id: the
+  // neighbourhoods that every collapse reads then sit close together in memory.
+  const Index nv = mesh.NumberOfPoints(), nt = mesh.NumberOfTriangles();
+  const auto b = mesh.Bounds();
+  const double extent = std::max({ b[1] - b[0], b[3] - b[2], b[5] - b[4], 1e-300 });
+  const double scale = double((1 << 21) - 1) / extent;
+  std::vector<std::pair<std::uint64_t, Index>> keys(static_cast<size_t>(nv));
+  for (Index v = 0; v < nv; ++v)
+  {
+    const double* p = &mesh.Points[3 * size_t(v)];
+    const auto q = [&](int k) { return static_cast<std::uint64_t>(std::max(0.0, (p[k] - b[2 * k]) * scale)); };
+    keys[v] = { SpreadBits(q(0)) | SpreadBits(q(1)) << 1 | SpreadBits(q(2)) << 2, v };
+  }
+  std::sort(keys.begin(), keys.end());
+  this->VertexInput.resize(static_cast<size_t>(nv));
+  std::vector<Index> newId(static_cast<size_t>(nv));
+  std::vector<double> points(mesh.Points.size());
+  for (Index i = 0; i < nv; ++i)
+  {
+    const Index v = keys[i].second;
+    this->VertexInput[i] = v;
+    newId[v] = i;
+    std::copy(&mesh.Points[3 * size_t(v)], &mesh.Points[3 * size_t(v)] + 3, &points[3 * size_t(i)]);
+  }
+  std::vector<std::pair<std::uint64_t, Index>>().swap(keys);
+  mesh.Points.swap(points);
+  std::vector<double>().swap(points);
+  // Counting sort of the triangles by smallest vertex.
+  std::vector<Index> start(static_cast<size_t>(nv) + 1, 0);
+  for (Index t = 0; t < nt; ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    ++start[std::min({ newId[tri[0]], newId[tri[1]], newId[tri[2]] }) + 1];
+  }
+  for (Index v = 0; v < nv; ++v)
+  {
+    start[v + 1] += start[v];
+  }
+  this->TriangleInput.resize(static_cast<size_t>(nt));
+  std::vector<Index> triangles(mesh.Triangles.size());
+  for (Index t = 0; t < nt; ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    const Index a = newId[tri[0]], c = newId[tri[1]], d = newId[tri[2]];
+    const Index slot = start[std::min({ a, c, d })]++;
+    this->TriangleInput[slot] = t;
+    triangles[3 * size_t(slot)] = a;
+    triangles[3 * size_t(slot) + 1] = c;
+    triangles[3 * size_t(slot) + 2] = d;
+  }
+  mesh.Triangles.swap(triangles);
+}
 
 void TriangleCollapser::InitializeQuadrics()
 {
@@ -215,20 +295,23 @@ void TriangleCollapser::InitializeQuadrics()
   }
 }
 
-Quadric TriangleCollapser::TriangleQuadric(const Index* tri, double& weight) const
+Quadric TriangleCollapser::SetQuadric(const Index* tri, int count, double& weight) const
 {
   if (!this->Options.ExactUnion)
   {
     Quadric q = this->VertexQuadric[tri[0]];
-    q += this->VertexQuadric[tri[1]];
-    q += this->VertexQuadric[tri[2]];
-    weight = this->VertexWeight[tri[0]] + this->VertexWeight[tri[1]] + this->VertexWeight[tri[2]];
+    weight = this->VertexWeight[tri[0]];
+    for (int i = 1; i < count; ++i)
+    {
+      q += this->VertexQuadric[tri[i]];
+      weight += this->VertexWeight[tri[i]];
+    }
     return q;
   }
-  // Union of the three sorted logical sets, each plane once.
+  // Union of the sorted logical sets, each plane once.
   auto& u = this->UnionScratch;
   u.clear();
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < count; ++i)
   {
     const auto& s = this->LogicalSet[tri[i]];
     u.insert(u.end(), s.begin(), s.end());
@@ -245,14 +328,14 @@ Quadric TriangleCollapser::TriangleQuadric(const Index* tri, double& weight) con
   return q;
 }
 
-double TriangleCollapser::Place(const Index* tri, const Quadric& q, Vec3& local) const
+double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, Vec3& local) const
 {
-  const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = this->Local(tri[2]);
+  const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = count == 3 ? this->Local(tri[2]) : b;
   if (q.Minimize(local, 1e-10))
   {
     // A well-conditioned optimum far outside the neighbourhood still means a near-singular
-    // system in practice (long thin features); keep it only within reach of the triangle.
-    const Vec3 centroid = (1.0 / 3.0) * (a + b + c);
+    // system in practice (long thin features); keep it only within reach of the set.
+    const Vec3 centroid = count == 3 ? (1.0 / 3.0) * (a + b + c) : 0.5 * (a + b);
     const double reach = Dot(a - b, a - b) + Dot(b - c, b - c) + Dot(c - a, c - a);
     const Vec3 d = local - centroid;
     if (Dot(d, d) <= 4.0 * reach)
@@ -263,8 +346,10 @@ double TriangleCollapser::Place(const Index* tri, const Quadric& q, Vec3& local)
   // Fallback (§2.2): the best of the centroid, the vertices and the edge midpoints.
   const Vec3 candidates[7] = { (1.0 / 3.0) * (a + b + c), a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
   double best = std::numeric_limits<double>::infinity();
-  for (const Vec3& p : candidates)
+  const int first = count == 3 ? 0 : 1, last = count == 3 ? 7 : 5; // edge: a, b, b, midpoint
+  for (int i = first; i < last; ++i)
   {
+    const Vec3& p = candidates[i];
     const double e = q.Evaluate(p);
     if (e < best)
     {
@@ -275,13 +360,67 @@ double TriangleCollapser::Place(const Index* tri, const Quadric& q, Vec3& local)
   return best;
 }
 
-double TriangleCollapser::Cost(Index t, Vec3& local, double& error) const
+double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operation) const
 {
   const Index* tri = this->Mesh.Triangle(t);
-  double weight = 0;
-  const Quadric q = this->TriangleQuadric(tri, weight);
-  const double cost = this->Place(tri, q, local);
+  operation = 0;
+  const bool edges = this->Options.EdgeCollapses;
+  // An edge collapse removes half as many triangles: it wins only when its cost times the bias
+  // is below the triangle collapse's.
+  const double bias = this->Options.EdgeCollapseBias;
+  if (this->Options.ExactUnion)
+  {
+    double weight = 0;
+    const Quadric q = this->SetQuadric(tri, 3, weight);
+    double cost = this->Place(tri, 3, q, local);
+    error = weight > 0 ? std::sqrt(cost / weight) : 0.0;
+    for (int k = 0; edges && k < 3; ++k)
+    {
+      const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
+      double w = 0;
+      Vec3 p;
+      const Quadric qe = this->SetQuadric(edge, 2, w);
+      const double c = this->Place(edge, 2, qe, p) * bias;
+      if (c < cost)
+      {
+        cost = c;
+        local = p;
+        error = w > 0 ? std::sqrt(c / bias / w) : 0.0;
+        operation = k + 1;
+      }
+    }
+    return cost;
+  }
+  // Accumulated mode: the set quadrics are sums of the three vertex quadrics, shared below.
+  const Quadric& qa = this->VertexQuadric[tri[0]];
+  const Quadric& qb = this->VertexQuadric[tri[1]];
+  const Quadric& qc = this->VertexQuadric[tri[2]];
+  const double wa = this->VertexWeight[tri[0]], wb = this->VertexWeight[tri[1]], wc = this->VertexWeight[tri[2]];
+  const Quadric qab = qa + qb;
+  double cost = this->Place(tri, 3, qab + qc, local);
+  const double weight = wa + wb + wc;
   error = weight > 0 ? std::sqrt(cost / weight) : 0.0;
+  if (edges)
+  {
+    const Quadric* eq[3] = { &qab, nullptr, nullptr };
+    const Quadric qbc = qb + qc, qca = qc + qa;
+    eq[1] = &qbc;
+    eq[2] = &qca;
+    const double ew[3] = { wa + wb, wb + wc, wc + wa };
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
+      Vec3 p;
+      const double c = this->Place(edge, 2, *eq[k], p) * bias;
+      if (c < cost)
+      {
+        cost = c;
+        local = p;
+        error = ew[k] > 0 ? std::sqrt(c / bias / ew[k]) : 0.0;
+        operation = k + 1;
+      }
+    }
+  }
   return cost;
 }
 
@@ -289,7 +428,8 @@ void TriangleCollapser::Update(Index t)
 {
   Vec3 p;
   double error;
-  const double cost = this->Cost(t, p, error);
+  int operation;
+  const double cost = this->Cost(t, p, error, operation);
   this->Heap.Set(t, static_cast<float>(cost * this->CostScale));
   this->Rejected[t] = 0;
 }
@@ -315,6 +455,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     // Costs are area * distance^2 ~ length^4: normalise by the diagonal so float keys keep range.
     this->CostScale = diagonal > 0 ? 1.0 / (diagonal * diagonal * diagonal * diagonal) : 1.0;
   }
+  this->Reorder(input);
   this->Mesh.Reset(input);
   // The editable mesh holds its own copy: release the input's arrays (peak memory).
   std::vector<double>().swap(input.Points);
@@ -329,7 +470,8 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     {
       Vec3 p;
       double error;
-      this->Heap.Set(t, static_cast<float>(this->Cost(t, p, error) * this->CostScale));
+      int operation;
+      this->Heap.Set(t, static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale));
     }
   }
 
@@ -351,47 +493,81 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   while (!this->Heap.Empty() && this->Mesh.NumberOfLiveTriangles() > target)
   {
     const Index t = this->Heap.Pop();
-    Index tri[3];
-    std::copy(this->Mesh.Triangle(t), this->Mesh.Triangle(t) + 3, tri);
     Vec3 local;
     double error;
-    this->Cost(t, local, error);
+    int operation;
+    this->Cost(t, local, error, operation);
+    Index set[3];
+    const Index* tri = this->Mesh.Triangle(t);
+    const int count = operation == 0 ? 3 : 2;
+    if (operation == 0)
+    {
+      std::copy(tri, tri + 3, set);
+    }
+    else
+    {
+      set[0] = tri[operation - 1];
+      set[1] = tri[operation % 3];
+      set[2] = InvalidIndex;
+    }
     if (maxError >= 0 && error > maxError)
     {
       this->Rejected[t] = 2; // retried only when one of its vertices changes
       continue;
     }
     const Vec3 p = local + this->Origin;
-    if (this->Mesh.CheckCollapse(tri, 3, p, check) != CollapseStatus::Ok)
+    if (this->Mesh.CheckCollapse(set, count, p, check) != CollapseStatus::Ok)
     {
       this->Rejected[t] = 1;
       this->Pending[tri[0]] = this->Pending[tri[1]] = this->Pending[tri[2]] = 1;
       ++result.RejectedCollapses;
       continue;
     }
-    const Index kept = std::min(tri[0], std::min(tri[1], tri[2]));
-    // Point data: barycentric weights of the new vertex projected onto the triangle.
+    const Index kept = *std::min_element(set, set + count);
+    // Point data: barycentric weights of the new vertex projected onto the triangle (edge).
     if (this->Attributes)
     {
-      const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = this->Local(tri[2]);
-      const Vec3 n = Cross(b - a, c - a);
-      const double nn = Dot(n, n);
       double w[3] = { 1.0 / 3, 1.0 / 3, 1.0 / 3 };
-      if (nn > 0)
+      const Vec3 a = this->Local(set[0]), b = this->Local(set[1]);
+      if (count == 3)
       {
-        w[0] = std::max(0.0, Dot(Cross(c - b, local - b), n) / nn);
-        w[1] = std::max(0.0, Dot(Cross(a - c, local - c), n) / nn);
-        w[2] = std::max(0.0, Dot(Cross(b - a, local - a), n) / nn);
+        const Vec3 c = this->Local(set[2]);
+        const Vec3 n = Cross(b - a, c - a);
+        const double nn = Dot(n, n);
+        if (nn > 0)
+        {
+          w[0] = std::max(0.0, Dot(Cross(c - b, local - b), n) / nn);
+          w[1] = std::max(0.0, Dot(Cross(a - c, local - c), n) / nn);
+          w[2] = std::max(0.0, Dot(Cross(b - a, local - a), n) / nn);
+        }
       }
-      this->Attributes->Merge(kept, tri, w, 3);
+      else
+      {
+        const double ll = Dot(b - a, b - a);
+        const double s01 = ll > 0 ? std::min(1.0, std::max(0.0, Dot(local - a, b - a) / ll)) : 0.5;
+        w[0] = 1.0 - s01;
+        w[1] = s01;
+      }
+      Index rows[3];
+      for (int i = 0; i < count; ++i)
+      {
+        rows[i] = this->VertexInput[set[i]];
+      }
+      this->Attributes->Merge(this->VertexInput[kept], rows, w, count);
     }
-    this->Mesh.Collapse(tri, 3, kept, p, &record);
-    this->Boundary[kept] = this->Boundary[tri[0]] | this->Boundary[tri[1]] | this->Boundary[tri[2]];
+    this->Mesh.Collapse(set, count, kept, p, &record);
+    unsigned char boundary = 0;
+    for (int i = 0; i < count; ++i)
+    {
+      boundary |= this->Boundary[set[i]];
+    }
+    this->Boundary[kept] = boundary;
     if (this->Options.ExactUnion)
     {
       auto& s = this->LogicalSet[kept];
-      for (Index v : tri)
+      for (int i = 0; i < count; ++i)
       {
+        const Index v = set[i];
         if (v != kept)
         {
           s.insert(s.end(), this->LogicalSet[v].begin(), this->LogicalSet[v].end());
@@ -403,11 +579,9 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     }
     else
     {
-      Quadric q = this->VertexQuadric[tri[0]];
-      q += this->VertexQuadric[tri[1]];
-      q += this->VertexQuadric[tri[2]];
-      this->VertexQuadric[kept] = q;
-      this->VertexWeight[kept] = this->VertexWeight[tri[0]] + this->VertexWeight[tri[1]] + this->VertexWeight[tri[2]];
+      double weight = 0;
+      this->VertexQuadric[kept] = this->SetQuadric(set, count, weight);
+      this->VertexWeight[kept] = weight;
     }
     result.MaximumError = std::max(result.MaximumError, error);
     ++result.Collapses;
@@ -437,8 +611,11 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     }
     if (this->Options.RecordHistory)
     {
-      result.History.Append(record, this->Mesh);
-      result.History.Surrounding.insert(result.History.Surrounding.end(), neighbors.begin(), neighbors.end());
+      result.History.Append(record, this->Mesh, this->VertexInput.data(), this->TriangleInput.data());
+      for (Index w : neighbors)
+      {
+        result.History.Surrounding.push_back(this->VertexInput[w]);
+      }
       result.History.SurroundingOffsets.push_back(static_cast<Index>(result.History.Surrounding.size()));
     }
     const Index removed = startTriangles - this->Mesh.NumberOfLiveTriangles();
@@ -489,16 +666,24 @@ void TriangleCollapser::ExtractResult(TriangleCollapseResult& result)
       if (oldToNew[v] == InvalidIndex)
       {
         oldToNew[v] = out.AddPoint(this->Mesh.Point(v));
-        result.OutputToInput.push_back(v);
+        result.OutputToInput.push_back(this->VertexInput[v]);
       }
       out.Triangles.push_back(oldToNew[v]);
     }
-    result.OutputTriangleIds.push_back(t);
+    result.OutputTriangleIds.push_back(this->TriangleInput[t]);
   }
   result.VertexError.resize(result.OutputToInput.size());
+  std::vector<Index> newToOld(result.OutputToInput.size());
+  for (Index v = 0; v < nv; ++v)
+  {
+    if (oldToNew[v] != InvalidIndex)
+    {
+      newToOld[oldToNew[v]] = v;
+    }
+  }
   for (size_t i = 0; i < result.OutputToInput.size(); ++i)
   {
-    const Index v = result.OutputToInput[i];
+    const Index v = newToOld[i];
     const Vec3 p = this->Local(v);
     double q = 0, w = 0;
     if (this->Options.ExactUnion)

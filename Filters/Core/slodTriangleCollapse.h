@@ -45,9 +45,14 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // Weight of the boundary planes relative to the triangle planes (0 disables them).
   double BoundaryWeight = 1.0;
   // Reject a collapse that turns a surviving triangle's normal by more than this (degrees).
-  double MaximumNormalDeviation = 60.0;
+  double MaximumNormalDeviation = 25.0;
   // Allow changes of genus, boundary loops and manifoldness (off: never).
   bool AllowTopologyChange = false;
+  // Also consider the three edge collapses of each triangle (2 vertices -> 1) and perform the
+  // cheapest operation; off = triangle collapses only, as in the paper. An edge collapse's cost
+  // is multiplied by EdgeCollapseBias before the comparison (it removes half as many triangles).
+  bool EdgeCollapses = true;
+  double EdgeCollapseBias = 2.0;
   // Exact union semantics of the interrelated sets (slow reference mode, see above).
   bool ExactUnion = false;
   // Record every collapse for progressive meshes (CollapseHistory).
@@ -73,8 +78,8 @@ struct SURFACELODFILTERS_EXPORT CollapseHistory
 
   Index NumberOfCollapses() const { return static_cast<Index>(this->NewPositions.size() / 3); }
   void Clear();
-  // Appends one record (positions and ids as in the record).
-  void Append(const CollapseRecord& record, const EditableMesh& mesh);
+  // Appends one record; vertexId / triangleId map the mesh's ids to the ids to store.
+  void Append(const CollapseRecord& record, const EditableMesh& mesh, const Index* vertexId, const Index* triangleId);
   // The record k as an EditableMesh record (for Undo / redo).
   void Get(Index k, CollapseRecord& record) const;
   size_t MemoryBytes() const;
