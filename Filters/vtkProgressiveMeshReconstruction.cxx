@@ -85,7 +85,8 @@ bool TableToHistory(vtkTable* table, slod::CollapseHistory& h, vtkIdType& points
     for (int i = 0; i < 3; ++i)
     {
       const auto v = static_cast<slod::Index>(vertices->GetComponent(k, i));
-      if (v < 0 || v >= points)
+      const bool edgeCollapse = i == 2 && v == slod::InvalidIndex; // two vertices merged
+      if (!edgeCollapse && (v < 0 || v >= points))
       {
         return false;
       }
@@ -247,7 +248,7 @@ int vtkProgressiveMeshReconstruction::RequestData(
   while (state.Applied > level) // back to coarser levels: redo the collapses in order
   {
     state.History.Get(static_cast<slod::Index>(n - state.Applied), record);
-    state.Mesh.Collapse(record.Vertices.data(), 3, record.Kept, record.NewPosition);
+    state.Mesh.Collapse(record.Vertices.data(), record.VertexCount, record.Kept, record.NewPosition);
     --state.Applied;
     ++this->OperationsLastUpdate;
   }

@@ -120,6 +120,9 @@ private:
   // (corner k-1, corner k % 3) when edge collapses are enabled.
   double Cost(Index t, Vec3& local, double& error, int& operation) const;
   void Update(Index t);
+  // True when a vertex outside the set would lose all its triangles (a border "ear" whose base
+  // collapses): that vertex would vanish without a record, so such collapses are not done.
+  bool WouldIsolateVertex(const Index* set, int count) const;
   void ExtractResult(TriangleCollapseResult& result);
 
   const TriangleCollapseOptions& Options;
@@ -424,6 +427,32 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
   return cost;
 }
 
+bool TriangleCollapser::WouldIsolateVertex(const Index* set, int count) const
+{
+  auto member = [&](Index v) { return v == set[0] || v == set[1] || (count == 3 && v == set[2]); };
+  bool isolated = false;
+  // A removed triangle holds at least two set vertices, so it is around set[0] or set[1].
+  for (int i = 0; i < 2 && !isolated; ++i)
+  {
+    this->Mesh.ForEachTriangle(set[i], [&](Index r) {
+      const Index* tri = this->Mesh.Triangle(r);
+      const int members = int(member(tri[0])) + int(member(tri[1])) + int(member(tri[2]));
+      if (members != 2 || isolated)
+      {
+        return;
+      }
+      const Index x = member(tri[0]) ? (member(tri[1]) ? tri[2] : tri[1]) : tri[0];
+      bool keepsOne = false;
+      this->Mesh.ForEachTriangle(x, [&](Index u) {
+        const Index* q = this->Mesh.Triangle(u);
+        keepsOne = keepsOne || int(member(q[0])) + int(member(q[1])) + int(member(q[2])) < 2;
+      });
+      isolated = !keepsOne;
+    });
+  }
+  return isolated;
+}
+
 void TriangleCollapser::Update(Index t)
 {
   Vec3 p;
@@ -481,7 +510,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   CollapseOptions check;
   check.AllowTopologyChange = this->Options.AllowTopologyChange;
   check.BoundaryVertices = this->Options.AllowTopologyChange ? nullptr : this->Boundary.data();
-  check.MinimumNormalDot = std::cos(std::min(180.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
+  check.MinimumNormalDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
   CollapseRecord record;
   std::vector<Index> neighbors;
   long long resets = 0, updates = 0;
@@ -490,8 +519,33 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   Index nextProgress = progressStep;
   const Index startTriangles = this->Mesh.NumberOfLiveTriangles();
 
-  while (!this->Heap.Empty() && this->Mesh.NumberOfLiveTriangles() > target)
+  // When every remaining collapse fails the normal test, the limit is relaxed step by step (up
+  // to 90 degrees, beyond which a triangle would turn over) so that the target is still reached;
+  // the strict limit applies as long as it can.
+  double deviation = std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation));
+  for (;;)
   {
+    if (this->Heap.Empty())
+    {
+      if (this->Mesh.NumberOfLiveTriangles() <= target || deviation >= 90.0 || result.Aborted)
+      {
+        break;
+      }
+      deviation = std::min(90.0, deviation + 20.0);
+      check.MinimumNormalDot = std::cos(deviation * 3.14159265358979323846 / 180.0);
+      for (Index s = 0; s < nt; ++s)
+      {
+        if (this->Rejected[s] == 1 && this->Mesh.IsTriangleAlive(s))
+        {
+          this->Update(s);
+        }
+      }
+      continue;
+    }
+    if (this->Mesh.NumberOfLiveTriangles() <= target)
+    {
+      break;
+    }
     const Index t = this->Heap.Pop();
     Vec3 local;
     double error;
@@ -517,6 +571,13 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     }
     const Vec3 p = local + this->Origin;
     if (this->Mesh.CheckCollapse(set, count, p, check) != CollapseStatus::Ok)
+    {
+      this->Rejected[t] = 1;
+      this->Pending[tri[0]] = this->Pending[tri[1]] = this->Pending[tri[2]] = 1;
+      ++result.RejectedCollapses;
+      continue;
+    }
+    if (this->WouldIsolateVertex(set, count))
     {
       this->Rejected[t] = 1;
       this->Pending[tri[0]] = this->Pending[tri[1]] = this->Pending[tri[2]] = 1;

@@ -1,2 +1,493 @@
+// vtkQuadricTriangleCollapse: properties on real meshes (counts, topology, orientation, flips,
+// borders, determinism, point data, error arrays, stop criteria), bad input, and quality against
+// vtkQuadricDecimation measured in the same run with vtkSurfaceDeviation.
+#include "TestSupport.h"
+
+#include "slodMeshTopology.h"
+#include "slodTriangleCollapse.h"
+#include "vtkQuadricTriangleCollapse.h"
+#include "vtkSurfaceDeviation.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCommand.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFlyingEdges3D.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkQuadricDecimation.h"
+#include "vtkStaticCellLocator.h"
+
 #include <gtest/gtest.h>
-TEST(Placeholder, ToBeWritten) { GTEST_FAIL(); }
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+
+using namespace slod;
+
+namespace
+{
+// The output exactly as stored (no preparation: orientation and duplicates must show).
+TriangleMesh RawMesh(vtkPolyData* pd)
+{
+  TriangleMesh mesh;
+  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    pd->GetPoint(i, p);
+    mesh.AddPoint({ p[0], p[1], p[2] });
+  }
+  vtkIdType n;
+  const vtkIdType* ids;
+  vtkCellArray* polys = pd->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
+  {
+    EXPECT_EQ(n, 3);
+    mesh.AddTriangle(Index(ids[0]), Index(ids[1]), Index(ids[2]));
+  }
+  return mesh;
+}
+
+vtkSmartPointer<vtkPolyData> Collapse(vtkPolyData* input, vtkIdType target, double reduction = 0.0)
+{
+  vtkNew<vtkQuadricTriangleCollapse> filter;
+  filter->SetInputData(input);
+  filter->SetTargetNumberOfTriangles(target);
+  filter->SetTargetReduction(reduction);
+  filter->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(filter->GetOutput());
+  return out;
+}
+
+// A smooth closed genus-1 marching-cubes surface (flying edges over a bumpy torus field).
+vtkSmartPointer<vtkPolyData> MarchingCubesMesh(int n)
+{
+  vtkNew<vtkImageData> image;
+  const int nz = n / 2;
+  image->SetDimensions(n, n, nz);
+  const double h = 2.6 / (n - 1);
+  image->SetSpacing(h, h, h);
+  image->SetOrigin(-1.3, -1.3, -0.5 * h * (nz - 1));
+  vtkNew<vtkFloatArray> values;
+  values->SetNumberOfTuples(vtkIdType(n) * n * nz);
+  vtkIdType id = 0;
+  for (int k = 0; k < nz; ++k)
+  {
+    for (int j = 0; j < n; ++j)
+    {
+      for (int i = 0; i < n; ++i, ++id)
+      {
+        const double x = -1.3 + i * h, y = -1.3 + j * h, z = -0.5 * h * (nz - 1) + k * h;
+        const double r = std::sqrt(x * x + y * y) - 0.85;
+        const double bump = 0.06 * std::sin(7 * x) * std::sin(5 * y) * std::cos(6 * z) + 0.04 * std::cos(9 * std::atan2(y, x));
+        values->SetValue(id, static_cast<float>(r * r + 1.3 * z * z - 0.1 + bump * 0.5));
+      }
+    }
+  }
+  image->GetPointData()->SetScalars(values);
+  vtkNew<vtkFlyingEdges3D> mc;
+  mc->SetInputData(image);
+  mc->SetValue(0, 0.0);
+  mc->ComputeNormalsOff();
+  mc->ComputeScalarsOff();
+  mc->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(mc->GetOutput());
+  return out;
+}
+
+vtkSmartPointer<vtkPolyData> Mesh(const std::string& name)
+{
+  if (name == "marching-cubes")
+  {
+    static vtkSmartPointer<vtkPolyData> mc = MarchingCubesMesh(120);
+    return mc;
+  }
+  return slodtest::LoadTestMesh(name);
+}
+
+// Area fraction of `out` whose triangles face against the closest triangle of `input`.
+double FlippedAreaFraction(vtkPolyData* input, const TriangleMesh& out)
+{
+  vtkNew<vtkStaticCellLocator> locator;
+  locator->SetDataSet(input);
+  locator->BuildLocator();
+  double flippedArea = 0, totalArea = 0;
+  for (Index t = 0; t < out.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = out.Triangle(t);
+    const Vec3 a = out.Point(tri[0]), b = out.Point(tri[1]), c = out.Point(tri[2]);
+    const Vec3 n = Cross(b - a, c - a);
+    Vec3 centroid = (1.0 / 3.0) * (a + b + c);
+    double closest[3], dist2;
+    vtkIdType cell;
+    int subId;
+    locator->FindClosestPoint(centroid.data(), closest, cell, subId, dist2);
+    const vtkIdType* ids;
+    vtkIdType npts;
+    input->GetCellPoints(cell, npts, ids);
+    double p[3][3];
+    for (int k = 0; k < 3; ++k)
+    {
+      input->GetPoint(ids[k], p[k]);
+    }
+    const Vec3 on = Cross(Vec3{ p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2] },
+      Vec3{ p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2] });
+    totalArea += Norm(n);
+    flippedArea += Dot(n, on) < 0 ? Norm(n) : 0.0;
+  }
+  return totalArea > 0 ? flippedArea / totalArea : 0.0;
+}
+
+// Silences and counts the errors / warnings of a filter.
+class MessageCounter : public vtkCommand
+{
+public:
+  static MessageCounter* New() { return new MessageCounter; }
+  void Execute(vtkObject*, unsigned long event, void*) override
+  {
+    (event == vtkCommand::ErrorEvent ? this->Errors : this->Warnings)++;
+  }
+  int Errors = 0, Warnings = 0;
+};
+} // namespace
+
+class TriangleCollapseOnMesh : public ::testing::TestWithParam<const char*>
+{
+};
+
+TEST_P(TriangleCollapseOnMesh, KeepsTopologyOrientationAndHitsTarget)
+{
+  vtkSmartPointer<vtkPolyData> input = Mesh(GetParam());
+  const TriangleMesh in = slodtest::ToTriangleMesh(input);
+  const MeshStatistics before = ComputeMeshStatistics(in);
+  for (double fraction : { 0.1, 0.01 })
+  {
+    const vtkIdType target = std::max<vtkIdType>(4, vtkIdType(fraction * in.NumberOfTriangles()));
+    vtkSmartPointer<vtkPolyData> output = Collapse(input, target);
+    const TriangleMesh out = RawMesh(output);
+    SCOPED_TRACE(std::string(GetParam()) + " to " + std::to_string(target));
+    // The target is met within one collapse (at most 4 triangles per collapse).
+    EXPECT_LE(out.NumberOfTriangles(), target);
+    EXPECT_GE(out.NumberOfTriangles(), target - 3);
+    const MeshStatistics after = ComputeMeshStatistics(out);
+    EXPECT_EQ(after.NonManifoldEdges, 0);
+    EXPECT_EQ(after.NonManifoldVertices, 0);
+    EXPECT_EQ(after.DegenerateTriangles, 0);
+    EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+    EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
+    EXPECT_EQ(after.Genus, before.Genus);
+    EXPECT_EQ(after.Components, before.Components);
+    EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops);
+    EXPECT_EQ(after.Vertices, out.NumberOfPoints()); // no unused points
+
+    // No flipped triangles: each output triangle faces the same way as the original surface at
+    // its centroid. Where a coarse surface cuts across thin parts the closest original triangle
+    // can face elsewhere, so the flipped area fraction is compared with vtkQuadricDecimation's
+    // at the same count (same measure, same run): at most twice it plus 0.5 %.
+    vtkNew<vtkQuadricDecimation> reference;
+    reference->SetInputData(input);
+    reference->SetTargetReduction(1.0 - double(target) / in.NumberOfTriangles());
+    reference->Update();
+    const double ours = FlippedAreaFraction(input, out);
+    const double theirs = FlippedAreaFraction(input, RawMesh(reference->GetOutput()));
+    std::printf("[flips] %s to %lld: flipped area fraction %.5f (vtkQuadricDecimation %.5f)\n", GetParam(),
+      (long long)target, ours, theirs);
+    EXPECT_LE(ours, 2.0 * theirs + 0.005);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(RealMeshes, TriangleCollapseOnMesh,
+  ::testing::Values("fandisk", "femur", "bunny00", "armadillo", "marching-cubes", "holes", "mech-holes-shark"));
+
+TEST(QuadricTriangleCollapse, OpenGridKeepsItsBorder)
+{
+  // A bumpy open grid: the border must stay on the square's sides and its corners must stay.
+  TriangleMesh grid = slodtest::Grid(40, 40);
+  for (Index v = 0; v < grid.NumberOfPoints(); ++v)
+  {
+    Vec3 p = grid.Point(v);
+    p[2] = 0.05 * std::sin(6 * p[0]) * std::cos(5 * p[1]);
+    grid.SetPoint(v, p);
+  }
+  vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(grid);
+  vtkSmartPointer<vtkPolyData> output = Collapse(input, grid.NumberOfTriangles() / 10);
+  const TriangleMesh out = RawMesh(output);
+  const MeshStatistics s = ComputeMeshStatistics(out);
+  EXPECT_EQ(s.BoundaryLoops, 1);
+  EXPECT_EQ(s.Genus, 0);
+  MeshTopology topology(out);
+  int corners = 0;
+  for (Index v = 0; v < out.NumberOfPoints(); ++v)
+  {
+    if (!topology.IsBoundaryVertex(v))
+    {
+      continue;
+    }
+    const Vec3 p = out.Point(v);
+    const double side = std::min({ std::fabs(p[0]), std::fabs(p[0] - 1), std::fabs(p[1]), std::fabs(p[1] - 1) });
+    // The boundary planes stand perpendicular to the (bumpy, tilted) border triangles, so the
+    // border may move by a tiny fraction of the grid spacing (1/40), never more.
+    EXPECT_LT(side, 1e-3) << "border vertex left the border";
+    const bool corner = (std::fabs(p[0]) < 1e-3 || std::fabs(p[0] - 1) < 1e-3) && (std::fabs(p[1]) < 1e-3 || std::fabs(p[1] - 1) < 1e-3);
+    corners += corner ? 1 : 0;
+  }
+  EXPECT_EQ(corners, 4);
+}
+
+TEST(QuadricTriangleCollapse, Deterministic)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("bunny00");
+  vtkSmartPointer<vtkPolyData> a = Collapse(input, 2306), b = Collapse(input, 2306);
+  const TriangleMesh ma = RawMesh(a), mb = RawMesh(b);
+  EXPECT_EQ(ma.Points, mb.Points);
+  EXPECT_EQ(ma.Triangles, mb.Triangles);
+}
+
+TEST(QuadricTriangleCollapse, PointDataErrorArrayAndFieldData)
+{
+  // A linear field f = x + 2y - z is reproduced (up to the clamped barycentric weights).
+  vtkSmartPointer<vtkPolyData> input = vtkSmartPointer<vtkPolyData>::New();
+  input->DeepCopy(slodtest::LoadTestMesh("bunny00"));
+  vtkNew<vtkDoubleArray> f;
+  f->SetName("f");
+  f->SetNumberOfTuples(input->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    input->GetPoint(i, p);
+    f->SetValue(i, p[0] + 2 * p[1] - p[2]);
+  }
+  input->GetPointData()->AddArray(f);
+  vtkNew<vtkQuadricTriangleCollapse> filter;
+  filter->SetInputData(input);
+  filter->SetTargetReduction(0.9);
+  filter->Update();
+  vtkPolyData* out = filter->GetOutput();
+  vtkDataArray* g = out->GetPointData()->GetArray("f");
+  ASSERT_NE(g, nullptr);
+  ASSERT_EQ(g->GetNumberOfTuples(), out->GetNumberOfPoints());
+  const double diagonal = std::sqrt(vtkMath::Distance2BetweenPoints(input->GetBounds(), input->GetBounds() + 3));
+  double meanDifference = 0;
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    out->GetPoint(i, p);
+    meanDifference += std::fabs(g->GetComponent(i, 0) - (p[0] + 2 * p[1] - p[2]));
+  }
+  meanDifference /= out->GetNumberOfPoints();
+  EXPECT_LT(meanDifference, 2e-3 * diagonal);
+
+  vtkDataArray* error = out->GetPointData()->GetArray("SimplificationError");
+  ASSERT_NE(error, nullptr);
+  ASSERT_EQ(error->GetNumberOfTuples(), out->GetNumberOfPoints());
+  vtkDataArray* maxError = out->GetFieldData()->GetArray("MaximumSimplificationError");
+  ASSERT_NE(maxError, nullptr);
+  const double m = maxError->GetComponent(0, 0);
+  EXPECT_GT(m, 0.0);
+  EXPECT_DOUBLE_EQ(m, filter->GetMaximumSimplificationError());
+  EXPECT_LE(error->GetRange()[1], m * (1 + 1e-9));
+  EXPECT_NE(out->GetFieldData()->GetArray("MaximumSimplificationErrorRelative"), nullptr);
+  EXPECT_NEAR(filter->GetActualReduction(), 0.9, 0.001);
+}
+
+TEST(QuadricTriangleCollapse, MaximumErrorStopsFirst)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("bunny00");
+  vtkNew<vtkQuadricTriangleCollapse> filter;
+  filter->SetInputData(input);
+  filter->SetTargetReduction(0.99);
+  filter->SetMaximumError(2e-4);
+  filter->MaximumErrorIsRelativeOn();
+  filter->Update();
+  const vtkIdType n = filter->GetOutput()->GetNumberOfPolys();
+  // The error bound is reached before the 99 % reduction, and it holds.
+  EXPECT_GT(n, vtkIdType(0.01 * input->GetNumberOfPolys()) + 4);
+  EXPECT_LT(n, input->GetNumberOfPolys());
+  const double relative = filter->GetOutput()->GetFieldData()->GetArray("MaximumSimplificationErrorRelative")->GetComponent(0, 0);
+  EXPECT_LE(relative, 2e-4);
+  // A looser bound lets the count target stop first.
+  filter->SetMaximumError(1.0);
+  filter->Update();
+  EXPECT_LE(filter->GetOutput()->GetNumberOfPolys(), vtkIdType(std::ceil(0.01 * input->GetNumberOfPolys())));
+}
+
+TEST(QuadricTriangleCollapse, PaperModeTriangleCollapsesOnly)
+{
+  // With edge collapses off every operation merges three vertices: 2 vertices fewer each.
+  TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  const Index n0 = mesh.NumberOfPoints();
+  TriangleCollapseOptions options;
+  options.EdgeCollapses = false;
+  options.TargetTriangles = 1000;
+  options.RecordHistory = true;
+  TriangleCollapseResult result;
+  SimplifyByTriangleCollapse(mesh, options, result);
+  EXPECT_EQ(result.Mesh.NumberOfPoints(), n0 - 2 * result.Collapses);
+  for (Index k = 0; k < result.History.NumberOfCollapses(); ++k)
+  {
+    ASSERT_NE(result.History.Vertices[3 * size_t(k) + 2], InvalidIndex);
+  }
+  EXPECT_LE(result.Mesh.NumberOfTriangles(), 1000);
+  EXPECT_EQ(ComputeMeshStatistics(result.Mesh).Genus, 0);
+}
+
+TEST(QuadricTriangleCollapse, BadInputGivesDefinedOutput)
+{
+  vtkNew<MessageCounter> messages;
+  vtkNew<vtkQuadricTriangleCollapse> filter;
+  filter->AddObserver(vtkCommand::ErrorEvent, messages);
+  filter->AddObserver(vtkCommand::WarningEvent, messages);
+
+  // Empty.
+  vtkNew<vtkPolyData> empty;
+  filter->SetInputData(empty);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(messages->Errors, 0);
+
+  // NaN coordinates: error, empty output.
+  vtkSmartPointer<vtkPolyData> nan = slodtest::ToPolyData(slodtest::Sphere(12, 8));
+  nan->GetPoints()->SetPoint(3, std::numeric_limits<double>::quiet_NaN(), 0, 0);
+  filter->SetInputData(nan);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(messages->Errors, 1);
+
+  // Lines only: nothing to simplify, empty output with a warning.
+  vtkNew<vtkPolyData> lines;
+  vtkNew<vtkPoints> points;
+  points->InsertNextPoint(0, 0, 0);
+  points->InsertNextPoint(1, 0, 0);
+  points->InsertNextPoint(1, 1, 0);
+  vtkNew<vtkCellArray> cells;
+  const vtkIdType line[3] = { 0, 1, 2 };
+  cells->InsertNextCell(3, line);
+  lines->SetPoints(points);
+  lines->SetLines(cells);
+  filter->SetInputData(lines);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPolys(), 0);
+  EXPECT_GE(messages->Warnings, 1);
+
+  // Non-manifold input: simplified where it is manifold, never made worse.
+  const TriangleMesh fan = slodtest::Concatenate(slodtest::NonManifoldFan(4), slodtest::Sphere(24, 16));
+  const MeshStatistics fanStats = ComputeMeshStatistics(fan);
+  filter->SetInputData(slodtest::ToPolyData(fan));
+  filter->SetTargetReduction(0.8);
+  filter->Update();
+  const TriangleMesh out = RawMesh(filter->GetOutput());
+  const MeshStatistics s = ComputeMeshStatistics(out);
+  EXPECT_LT(out.NumberOfTriangles(), fan.NumberOfTriangles());
+  EXPECT_LE(s.NonManifoldEdges, fanStats.NonManifoldEdges);
+  EXPECT_EQ(s.DegenerateTriangles, 0);
+  EXPECT_EQ(messages->Errors, 1);
+}
+
+// Quality: at the same output count as vtkQuadricDecimation, the symmetric Hausdorff and mean
+// distances (vtkSurfaceDeviation, same samples) are no worse.
+struct QualityCase
+{
+  const char* Mesh;
+  double Fraction;
+};
+
+class TriangleCollapseQuality : public ::testing::TestWithParam<QualityCase>
+{
+};
+
+TEST_P(TriangleCollapseQuality, NoWorseThanQuadricDecimation)
+{
+  const QualityCase c = GetParam();
+  vtkSmartPointer<vtkPolyData> input = Mesh(c.Mesh);
+  vtkNew<vtkQuadricDecimation> reference;
+  reference->SetInputData(input);
+  reference->SetTargetReduction(1.0 - c.Fraction);
+  reference->Update();
+  const vtkIdType count = reference->GetOutput()->GetNumberOfPolys();
+  vtkSmartPointer<vtkPolyData> ours = Collapse(input, count);
+  ASSERT_LE(ours->GetNumberOfPolys(), count);
+
+  auto measure = [&](vtkPolyData* simplified, double& hausdorff, double& mean) {
+    vtkNew<vtkSurfaceDeviation> deviation;
+    deviation->SetReferenceData(input);
+    deviation->SetComparedData(simplified);
+    deviation->SetNumberOfSamples(100000);
+    deviation->Update();
+    hausdorff = deviation->GetHausdorffRelative();
+    mean = deviation->GetMeanRelative();
+  };
+  double hOurs, mOurs, hVtk, mVtk;
+  measure(reference->GetOutput(), hVtk, mVtk);
+  measure(ours, hOurs, mOurs);
+  std::printf("[quality] %s %.0f%% (%lld tris): Hausdorff %.4e vs vtkQuadricDecimation %.4e (ratio %.3f), "
+              "mean %.4e vs %.4e (ratio %.3f)\n",
+    c.Mesh, 100 * c.Fraction, (long long)count, hOurs, hVtk, hVtk > 0 ? hOurs / hVtk : 0.0, mOurs, mVtk,
+    mVtk > 0 ? mOurs / mVtk : 0.0);
+  if (hVtk == 0.0 && mVtk == 0.0)
+  {
+    GTEST_SKIP() << "vtkSurfaceDeviation returned zeros (placeholder implementation): quality not measured";
+  }
+  EXPECT_LE(hOurs, hVtk);
+  EXPECT_LE(mOurs, mVtk);
+}
+
+INSTANTIATE_TEST_SUITE_P(RealMeshes, TriangleCollapseQuality,
+  ::testing::Values(QualityCase{ "fandisk", 0.1 }, QualityCase{ "fandisk", 0.01 }, QualityCase{ "femur", 0.1 },
+    QualityCase{ "femur", 0.01 }, QualityCase{ "bunny00", 0.1 }, QualityCase{ "bunny00", 0.01 },
+    QualityCase{ "armadillo", 0.1 }, QualityCase{ "armadillo", 0.01 }, QualityCase{ "marching-cubes", 0.1 },
+    QualityCase{ "marching-cubes", 0.01 }),
+  [](const ::testing::TestParamInfo<QualityCase>& info) {
+    std::string name = std::string(info.param.Mesh) + "_" + std::to_string(int(std::lround(1000 * info.param.Fraction)));
+    std::replace(name.begin(), name.end(), '-', '_');
+    return name;
+  });
+
+// The accumulated quadrics (default) against the paper's exact union of interrelated sets.
+TEST(QuadricTriangleCollapse, AccumulatedQuadricsMatchExactUnionQuality)
+{
+  for (const char* name : { "fandisk", "femur" })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    const vtkIdType target = input->GetNumberOfPolys() / 20;
+    vtkNew<vtkQuadricTriangleCollapse> exact;
+    exact->SetInputData(input);
+    exact->SetTargetNumberOfTriangles(target);
+    exact->SetTargetReduction(0);
+    exact->ExactUnionOn();
+    exact->Update();
+    vtkSmartPointer<vtkPolyData> accumulated = Collapse(input, target);
+    const MeshStatistics s = ComputeMeshStatistics(RawMesh(exact->GetOutput()));
+    EXPECT_EQ(s.NonManifoldEdges, 0);
+    EXPECT_LE(exact->GetOutput()->GetNumberOfPolys(), target);
+    double h[2], m[2];
+    vtkPolyData* outputs[2] = { accumulated, exact->GetOutput() };
+    for (int i = 0; i < 2; ++i)
+    {
+      vtkNew<vtkSurfaceDeviation> deviation;
+      deviation->SetReferenceData(input);
+      deviation->SetComparedData(outputs[i]);
+      deviation->SetNumberOfSamples(100000);
+      deviation->Update();
+      h[i] = deviation->GetHausdorffRelative();
+      m[i] = deviation->GetMeanRelative();
+    }
+    std::printf("[union] %s to %lld: accumulated Hausdorff %.4e mean %.4e | exact union Hausdorff %.4e mean %.4e\n",
+      name, (long long)target, h[0], m[0], h[1], m[1]);
+    if (h[1] == 0.0)
+    {
+      GTEST_SKIP() << "vtkSurfaceDeviation returned zeros (placeholder implementation): quality not measured";
+    }
+    EXPECT_LE(h[0], 1.25 * h[1]);
+    EXPECT_LE(m[0], 1.10 * m[1]);
+  }
+}
