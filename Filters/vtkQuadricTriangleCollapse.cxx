@@ -175,7 +175,7 @@ int vtkQuadricTriangleCollapse::RequestData(
   }
   if (this->TargetReduction > 0)
   {
-    const auto byReduction = static_cast<slod::Index>(std::ceil((1.0 - this->TargetReduction) * inputTriangles));
+    const auto byReduction = static_cast<slod::Index>(std::floor((1.0 - this->TargetReduction) * inputTriangles + 1e-9));
     target = std::max(target, byReduction);
   }
   const double diagonal = mesh.BoundingBoxDiagonal();
