@@ -186,6 +186,8 @@ int vtkQuadricTriangleCollapse::RequestData(
   options.MaximumNormalDeviation = this->MaximumNormalDeviation;
   options.AllowTopologyChange = this->AllowTopologyChange;
   options.ExactUnion = this->ExactUnion;
+  options.EdgeCollapses = this->EdgeCollapses;
+  options.EdgeCollapseBias = this->EdgeCollapseBias;
   options.RecordHistory = this->GenerateProgressiveMesh;
   options.Progress = [this](double fraction) {
     this->UpdateProgress(fraction);
@@ -259,6 +261,8 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumNormalDeviation: " << this->MaximumNormalDeviation << "\n";
   os << indent << "AllowTopologyChange: " << this->AllowTopologyChange << "\n";
   os << indent << "ExactUnion: " << this->ExactUnion << "\n";
+  os << indent << "EdgeCollapses: " << this->EdgeCollapses << "\n";
+  os << indent << "EdgeCollapseBias: " << this->EdgeCollapseBias << "\n";
   os << indent << "GenerateProgressiveMesh: " << this->GenerateProgressiveMesh << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "ActualReduction: " << this->ActualReduction << "\n";

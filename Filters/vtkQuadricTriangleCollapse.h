@@ -10,6 +10,13 @@
  * the edge midpoints when the system is ill-conditioned. Open borders are held by planes through
  * each boundary edge perpendicular to its triangle (BoundaryWeight).
  *
+ * EdgeCollapses (default on) extends the paper: each triangle also offers its three edge
+ * collapses (2 vertices -> 1, same quadrics and placement rules) and the cheapest of the four
+ * operations is performed. A triangle collapse cannot remove a vertex whose triangles all hold
+ * two feature vertices (a plane bordered by creases, a region between a crease and a border)
+ * without moving the feature, so triangle collapses alone lose accuracy at a given triangle
+ * count; with EdgeCollapses off the filter performs the paper's operation only.
+ *
  * Union semantics: by default each vertex accumulates the quadric of its logical set and a
  * triangle's quadric is the sum of its three vertex quadrics, so planes shared by two or three of
  * the vertices count two or three times instead of once (all planes are still original planes:
@@ -18,9 +25,13 @@
  * Documentation/QuadricTriangleCollapse.md).
  *
  * Validity: a collapse is never performed when it would flip or degenerate a triangle (normal
- * turning more than MaximumNormalDeviation degrees), create a non-manifold edge or vertex,
- * close, split or remove a boundary loop, or change the genus, unless AllowTopologyChange is on
- * (then only the geometric tests apply). Non-manifold input parts are kept as they are.
+ * turning more than MaximumNormalDeviation degrees; when no valid collapse is left before the
+ * target the limit is relaxed step by step up to 90 degrees), create a non-manifold edge or
+ * vertex, close, split or remove a boundary loop, leave a vertex without triangles, or change the
+ * genus, unless AllowTopologyChange is on (then only the geometric tests apply). A rejected
+ * operation is replaced by the triangle's next best one. Non-manifold input parts are kept as
+ * they are; a mesh whose topology forbids further collapses (e.g. many small holes, each kept
+ * with at least 3 border vertices) stops above the target.
  *
  * Stop criteria, whichever is reached first: TargetNumberOfTriangles (0 = unused),
  * TargetReduction (fraction of triangles to remove, 0 = unused), and MaximumError (collapses
@@ -89,7 +100,7 @@ public:
   ///@{
   /// Largest turn of a surviving triangle's normal in one collapse, in degrees (default 25;
   /// tighter keeps sharper features and fewer slivers).
-  vtkSetClampMacro(MaximumNormalDeviation, double, 0.0, 180.0);
+  vtkSetClampMacro(MaximumNormalDeviation, double, 0.0, 90.0);
   vtkGetMacro(MaximumNormalDeviation, double);
   ///@}
 
@@ -98,6 +109,19 @@ public:
   vtkSetMacro(AllowTopologyChange, bool);
   vtkGetMacro(AllowTopologyChange, bool);
   vtkBooleanMacro(AllowTopologyChange, bool);
+  ///@}
+
+  ///@{
+  /// Also consider the three edge collapses of every triangle and perform the cheapest
+  /// operation (default on). Off: triangle collapses only, exactly the paper's operation (faster,
+  /// but the coarser operation costs accuracy at a given triangle count). An edge collapse's cost
+  /// is multiplied by EdgeCollapseBias (default 2: it removes half as many triangles) before the
+  /// comparison.
+  vtkSetMacro(EdgeCollapses, bool);
+  vtkGetMacro(EdgeCollapses, bool);
+  vtkBooleanMacro(EdgeCollapses, bool);
+  vtkSetClampMacro(EdgeCollapseBias, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(EdgeCollapseBias, double);
   ///@}
 
   ///@{
@@ -146,6 +170,8 @@ protected:
   double MaximumNormalDeviation = 25.0;
   bool AllowTopologyChange = false;
   bool ExactUnion = false;
+  bool EdgeCollapses = true;
+  double EdgeCollapseBias = 2.0;
   bool GenerateProgressiveMesh = false;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 

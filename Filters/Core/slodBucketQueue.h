@@ -71,6 +71,25 @@ public:
     --this->Count;
   }
 
+  // The smallest key (call only when not Empty).
+  float TopKey()
+  {
+    while (this->Buckets[this->Lowest].empty())
+    {
+      ++this->Lowest;
+    }
+    const auto& bucket = this->Buckets[this->Lowest];
+    float best = bucket.back().K;
+    if (bucket.size() <= size_t(ScanLimit))
+    {
+      for (const Entry& e : bucket)
+      {
+        best = e.K < best ? e.K : best;
+      }
+    }
+    return best;
+  }
+
   // Removes and returns the element of smallest key (call only when not Empty).
   Index Pop(float* key = nullptr)
   {

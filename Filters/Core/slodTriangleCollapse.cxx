@@ -123,6 +123,9 @@ private:
   // True when a vertex outside the set would lose all its triangles (a border "ear" whose base
   // collapses): that vertex would vanish without a record, so such collapses are not done.
   bool WouldIsolateVertex(const Index* set, int count) const;
+  // The cheapest valid one of the fallback placements of the set (world coordinates in p).
+  bool AlternativePlacement(
+    const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const;
   void ExtractResult(TriangleCollapseResult& result);
 
   const TriangleCollapseOptions& Options;
@@ -136,6 +139,7 @@ private:
   double CostScale = 1.0; // makes float heap keys well scaled
   std::vector<Quadric> VertexQuadric; // accumulated mode: sum of the logical set's planes
   std::vector<double> VertexWeight;   // sum of their weights
+  std::vector<unsigned char> Excluded; // per triangle: bit k = operation k failed validity
   std::vector<unsigned char> Rejected; // 1: failed validity, retried when the 2-ring changes
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
@@ -341,7 +345,7 @@ double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, V
     const Vec3 centroid = count == 3 ? (1.0 / 3.0) * (a + b + c) : 0.5 * (a + b);
     const double reach = Dot(a - b, a - b) + Dot(b - c, b - c) + Dot(c - a, c - a);
     const Vec3 d = local - centroid;
-    if (Dot(d, d) <= 4.0 * reach)
+    if (std::getenv("SLOD_NOREACH") || Dot(d, d) <= 4.0 * reach)
     {
       return q.Evaluate(local);
     }
@@ -366,30 +370,40 @@ double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, V
 double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operation) const
 {
   const Index* tri = this->Mesh.Triangle(t);
-  operation = 0;
-  const bool edges = this->Options.EdgeCollapses;
+  const unsigned excluded = this->Excluded[t]; // operations that failed the validity test
+  operation = -1;
+  double cost = std::numeric_limits<double>::infinity();
+  error = 0.0;
   // An edge collapse removes half as many triangles: it wins only when its cost times the bias
   // is below the triangle collapse's.
   const double bias = this->Options.EdgeCollapseBias;
+  const bool edges = this->Options.EdgeCollapses;
+  auto consider = [&](int op, const Index* set, int count, const Quadric& q, double weight, double factor) {
+    Vec3 p;
+    const double c = this->Place(set, count, q, p) * factor;
+    if (c < cost)
+    {
+      cost = c;
+      local = p;
+      error = weight > 0 ? std::sqrt(c / factor / weight) : 0.0;
+      operation = op;
+    }
+  };
   if (this->Options.ExactUnion)
   {
     double weight = 0;
-    const Quadric q = this->SetQuadric(tri, 3, weight);
-    double cost = this->Place(tri, 3, q, local);
-    error = weight > 0 ? std::sqrt(cost / weight) : 0.0;
+    if (!(excluded & 1u))
+    {
+      const Quadric q = this->SetQuadric(tri, 3, weight);
+      consider(0, tri, 3, q, weight, 1.0);
+    }
     for (int k = 0; edges && k < 3; ++k)
     {
-      const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
-      double w = 0;
-      Vec3 p;
-      const Quadric qe = this->SetQuadric(edge, 2, w);
-      const double c = this->Place(edge, 2, qe, p) * bias;
-      if (c < cost)
+      if (!(excluded & (2u << k)))
       {
-        cost = c;
-        local = p;
-        error = w > 0 ? std::sqrt(c / bias / w) : 0.0;
-        operation = k + 1;
+        const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
+        const Quadric qe = this->SetQuadric(edge, 2, weight);
+        consider(k + 1, edge, 2, qe, weight, bias);
       }
     }
     return cost;
@@ -400,31 +414,59 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
   const Quadric& qc = this->VertexQuadric[tri[2]];
   const double wa = this->VertexWeight[tri[0]], wb = this->VertexWeight[tri[1]], wc = this->VertexWeight[tri[2]];
   const Quadric qab = qa + qb;
-  double cost = this->Place(tri, 3, qab + qc, local);
-  const double weight = wa + wb + wc;
-  error = weight > 0 ? std::sqrt(cost / weight) : 0.0;
+  if (!(excluded & 1u))
+  {
+    consider(0, tri, 3, qab + qc, wa + wb + wc, 1.0);
+  }
   if (edges)
   {
-    const Quadric* eq[3] = { &qab, nullptr, nullptr };
-    const Quadric qbc = qb + qc, qca = qc + qa;
-    eq[1] = &qbc;
-    eq[2] = &qca;
-    const double ew[3] = { wa + wb, wb + wc, wc + wa };
-    for (int k = 0; k < 3; ++k)
+    const Index e0[2] = { tri[0], tri[1] }, e1[2] = { tri[1], tri[2] }, e2[2] = { tri[2], tri[0] };
+    if (!(excluded & 2u))
     {
-      const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
-      Vec3 p;
-      const double c = this->Place(edge, 2, *eq[k], p) * bias;
-      if (c < cost)
-      {
-        cost = c;
-        local = p;
-        error = ew[k] > 0 ? std::sqrt(c / bias / ew[k]) : 0.0;
-        operation = k + 1;
-      }
+      consider(1, e0, 2, qab, wa + wb, bias);
+    }
+    if (!(excluded & 4u))
+    {
+      consider(2, e1, 2, qb + qc, wb + wc, bias);
+    }
+    if (!(excluded & 8u))
+    {
+      consider(3, e2, 2, qc + qa, wc + wa, bias);
     }
   }
   return cost;
+}
+
+bool TriangleCollapser::AlternativePlacement(
+  const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const
+{
+  double weight = 0;
+  const Quadric q = this->SetQuadric(set, count, weight);
+  const Vec3 a = this->Local(set[0]), b = this->Local(set[1]), c = count == 3 ? this->Local(set[2]) : b;
+  std::pair<double, Vec3> candidates[7];
+  int n = 0;
+  const Vec3 all[7] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a), (1.0 / 3.0) * (a + b + c) };
+  const int used[2][7] = { { 0, 1, 3, -1, -1, -1, -1 }, { 0, 1, 2, 3, 4, 5, 6 } };
+  for (int i : used[count == 3 ? 1 : 0])
+  {
+    if (i >= 0)
+    {
+      candidates[n++] = { q.Evaluate(all[i]), all[i] };
+    }
+  }
+  std::sort(candidates, candidates + n, [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (int i = 0; i < n; ++i)
+  {
+    const Vec3 world = candidates[i].second + this->Origin;
+    if (this->Mesh.CheckCollapse(set, count, world, check) == CollapseStatus::Ok)
+    {
+      p = world;
+      cost = candidates[i].first;
+      error = weight > 0 ? std::sqrt(cost / weight) : 0.0;
+      return true;
+    }
+  }
+  return false;
 }
 
 bool TriangleCollapser::WouldIsolateVertex(const Index* set, int count) const
@@ -458,6 +500,7 @@ void TriangleCollapser::Update(Index t)
   Vec3 p;
   double error;
   int operation;
+  this->Excluded[t] = 0; // its neighbourhood changed: every operation may be valid again
   const double cost = this->Cost(t, p, error, operation);
   this->Heap.Set(t, static_cast<float>(cost * this->CostScale));
   this->Rejected[t] = 0;
@@ -492,6 +535,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
 
   this->InitializeQuadrics();
   this->Rejected.assign(size_t(nt), 0);
+  this->Excluded.assign(size_t(nt), 0);
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
   {
     this->Heap.Reset(nt);
@@ -513,7 +557,8 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   check.MinimumNormalDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
   CollapseRecord record;
   std::vector<Index> neighbors;
-  long long resets = 0, updates = 0;
+  long long resets = 0, updates = 0, isolating = 0, replaced = 0;
+  long long statusCounts[8] = { 0, 0, 0, 0, 0, 0, 0, 0 };
   const Index toRemove = std::max<Index>(1, this->Mesh.NumberOfLiveTriangles() - target);
   const Index progressStep = std::max<Index>(1, toRemove / 100);
   Index nextProgress = progressStep;
@@ -553,6 +598,11 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     this->Cost(t, local, error, operation);
     Index set[3];
     const Index* tri = this->Mesh.Triangle(t);
+    if (operation < 0)
+    {
+      this->Rejected[t] = 1;
+      continue;
+    }
     const int count = operation == 0 ? 3 : 2;
     if (operation == 0)
     {
@@ -569,19 +619,55 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
       this->Rejected[t] = 2; // retried only when one of its vertices changes
       continue;
     }
-    const Vec3 p = local + this->Origin;
-    if (this->Mesh.CheckCollapse(set, count, p, check) != CollapseStatus::Ok)
+    Vec3 p = local + this->Origin;
+    CollapseStatus status = this->Mesh.CheckCollapse(set, count, p, check);
+    ++statusCounts[static_cast<int>(status)];
+    if (status == CollapseStatus::Flip || status == CollapseStatus::Degenerate || status == CollapseStatus::BadShape)
     {
-      this->Rejected[t] = 1;
-      this->Pending[tri[0]] = this->Pending[tri[1]] = this->Pending[tri[2]] = 1;
-      ++result.RejectedCollapses;
-      continue;
+      // The optimum folds a triangle: try the paper's other placements (vertices, midpoints,
+      // centroid) of the same set, cheapest first.
+      Vec3 alternative;
+      double alternativeError = 0, alternativeCost = 0;
+      if (this->AlternativePlacement(set, count, check, alternative, alternativeError, alternativeCost))
+      {
+        // Keep the greedy order: do it now only if it is still the cheapest operation left.
+        const float key = static_cast<float>(alternativeCost * (count == 2 ? this->Options.EdgeCollapseBias : 1.0) * this->CostScale);
+        if (this->Heap.Empty() || key <= this->Heap.TopKey())
+        {
+          status = CollapseStatus::Ok;
+          p = alternative;
+          error = alternativeError;
+          local = p - this->Origin;
+          ++replaced;
+        }
+        else
+        {
+          this->Heap.Set(t, key);
+          continue;
+        }
+      }
     }
-    if (this->WouldIsolateVertex(set, count))
+    const bool isolates = status == CollapseStatus::Ok && this->WouldIsolateVertex(set, count);
+    isolating += isolates ? 1 : 0;
+    if (status != CollapseStatus::Ok || isolates)
     {
-      this->Rejected[t] = 1;
-      this->Pending[tri[0]] = this->Pending[tri[1]] = this->Pending[tri[2]] = 1;
       ++result.RejectedCollapses;
+      // Requeue the triangle with its next best operation; when none is left it waits for a
+      // change of its neighbourhood.
+      this->Excluded[t] |= static_cast<unsigned char>(1u << operation);
+      Vec3 next;
+      double nextError;
+      int nextOperation;
+      const double nextCost = this->Cost(t, next, nextError, nextOperation);
+      if (nextOperation >= 0)
+      {
+        this->Heap.Set(t, static_cast<float>(nextCost * this->CostScale));
+      }
+      else
+      {
+        this->Rejected[t] = 1;
+        this->Pending[tri[0]] = this->Pending[tri[1]] = this->Pending[tri[2]] = 1;
+      }
       continue;
     }
     const Index kept = *std::min_element(set, set + count);
@@ -700,6 +786,11 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   {
     std::fprintf(stderr, "[triangle collapse] %d collapses, %d rejected, %lld heap re-keys, %lld updates\n",
       int(result.Collapses), int(result.RejectedCollapses), resets, updates);
+    for (int k = 1; k < 8; ++k)
+    {
+      std::fprintf(stderr, "  rejected: %s %lld\n", ToString(static_cast<CollapseStatus>(k)), statusCounts[k]);
+    }
+    std::fprintf(stderr, "  rejected: would isolate a vertex %lld; placements replaced %lld\n", isolating, replaced);
   }
 }
 
