@@ -98,7 +98,7 @@ public:
   ///@}
 
   ///@{
-  /// Largest turn of a surviving triangle's normal in one collapse, in degrees (default 25;
+  /// Largest turn of a surviving triangle's normal in one collapse, in degrees (default 45;
   /// tighter keeps sharper features and fewer slivers).
   vtkSetClampMacro(MaximumNormalDeviation, double, 0.0, 90.0);
   vtkGetMacro(MaximumNormalDeviation, double);
@@ -167,7 +167,7 @@ protected:
   double MaximumError = -1.0;
   bool MaximumErrorIsRelative = false;
   double BoundaryWeight = 1.0;
-  double MaximumNormalDeviation = 25.0;
+  double MaximumNormalDeviation = 45.0;
   bool AllowTopologyChange = false;
   bool ExactUnion = false;
   bool EdgeCollapses = true;

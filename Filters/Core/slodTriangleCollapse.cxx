@@ -345,7 +345,7 @@ double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, V
     const Vec3 centroid = count == 3 ? (1.0 / 3.0) * (a + b + c) : 0.5 * (a + b);
     const double reach = Dot(a - b, a - b) + Dot(b - c, b - c) + Dot(c - a, c - a);
     const Vec3 d = local - centroid;
-    if (std::getenv("SLOD_NOREACH") || Dot(d, d) <= 4.0 * reach)
+    if (Dot(d, d) <= 4.0 * reach)
     {
       return q.Evaluate(local);
     }

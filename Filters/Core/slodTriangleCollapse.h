@@ -45,7 +45,7 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // Weight of the boundary planes relative to the triangle planes (0 disables them).
   double BoundaryWeight = 1.0;
   // Reject a collapse that turns a surviving triangle's normal by more than this (degrees).
-  double MaximumNormalDeviation = 25.0;
+  double MaximumNormalDeviation = 45.0;
   // Allow changes of genus, boundary loops and manifoldness (off: never).
   bool AllowTopologyChange = false;
   // Also consider the three edge collapses of each triangle (2 vertices -> 1) and perform the
