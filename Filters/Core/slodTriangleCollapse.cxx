@@ -378,6 +378,7 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
   // is below the triangle collapse's.
   const double bias = this->Options.EdgeCollapseBias;
   const bool edges = this->Options.EdgeCollapses;
+  double bestFactor = 1.0, bestWeight = 0.0;
   auto consider = [&](int op, const Index* set, int count, const Quadric& q, double weight, double factor) {
     Vec3 p;
     const double c = this->Place(set, count, q, p) * factor;
@@ -385,9 +386,15 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
     {
       cost = c;
       local = p;
-      error = weight > 0 ? std::sqrt(c / factor / weight) : 0.0;
+      bestFactor = factor;
+      bestWeight = weight;
       operation = op;
     }
+  };
+  // The error (RMS distance to the set's planes) of the winner only.
+  auto finish = [&]() {
+    error = bestWeight > 0 && operation >= 0 ? std::sqrt(cost / bestFactor / bestWeight) : 0.0;
+    return cost;
   };
   if (this->Options.ExactUnion)
   {
@@ -406,7 +413,7 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
         consider(k + 1, edge, 2, qe, weight, bias);
       }
     }
-    return cost;
+    return finish();
   }
   // Accumulated mode: the set quadrics are sums of the three vertex quadrics, shared below.
   const Quadric& qa = this->VertexQuadric[tri[0]];
@@ -434,7 +441,7 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
       consider(3, e2, 2, qc + qa, wc + wa, bias);
     }
   }
-  return cost;
+  return finish();
 }
 
 bool TriangleCollapser::AlternativePlacement(
