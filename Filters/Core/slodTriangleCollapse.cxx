@@ -635,7 +635,8 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
       // centroid) of the same set, cheapest first.
       Vec3 alternative;
       double alternativeError = 0, alternativeCost = 0;
-      if (this->AlternativePlacement(set, count, check, alternative, alternativeError, alternativeCost))
+      if (this->AlternativePlacement(set, count, check, alternative, alternativeError, alternativeCost) &&
+        !(maxError >= 0 && alternativeError > maxError))
       {
         // Keep the greedy order: do it now only if it is still the cheapest operation left.
         const float key = static_cast<float>(alternativeCost * (count == 2 ? this->Options.EdgeCollapseBias : 1.0) * this->CostScale);
