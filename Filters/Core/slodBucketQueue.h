@@ -90,6 +90,19 @@ public:
     return best;
   }
 
+  // True when an element with this key would be popped before every present one (in a bucket
+  // too large to scan, any key of the lowest bucket counts as first: Pop serves it last-in).
+  bool WouldBeFirst(float key)
+  {
+    if (this->Count == 0)
+    {
+      return true;
+    }
+    const float top = this->TopKey();
+    const Index b = BucketOf(key);
+    return b < this->Lowest || (b == this->Lowest && (this->Buckets[b].size() > size_t(ScanLimit) || key <= top));
+  }
+
   // Removes and returns the element of smallest key (call only when not Empty).
   Index Pop(float* key = nullptr)
   {

@@ -640,7 +640,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
       {
         // Keep the greedy order: do it now only if it is still the cheapest operation left.
         const float key = static_cast<float>(alternativeCost * (count == 2 ? this->Options.EdgeCollapseBias : 1.0) * this->CostScale);
-        if (this->Heap.Empty() || key <= this->Heap.TopKey())
+        if (this->Heap.WouldBeFirst(key))
         {
           status = CollapseStatus::Ok;
           p = alternative;
