@@ -120,6 +120,9 @@ private:
   // (corner k-1, corner k % 3) when edge collapses are enabled.
   double Cost(Index t, Vec3& local, double& error, int& operation) const;
   void Update(Index t);
+  // Update of every triangle around the new vertex v0: only the operations that involve v0 are
+  // re-evaluated (each edge (v0, x) once); the edge opposite v0 keeps its cached cost.
+  void UpdateAround(Index kept);
   // True when a vertex outside the set would lose all its triangles (a border "ear" whose base
   // collapses): that vertex would vanish without a record, so such collapses are not done.
   bool WouldIsolateVertex(const Index* set, int count) const;
@@ -139,6 +142,9 @@ private:
   double CostScale = 1.0; // makes float heap keys well scaled
   std::vector<Quadric> VertexQuadric; // accumulated mode: sum of the logical set's planes
   std::vector<double> VertexWeight;   // sum of their weights
+  mutable std::vector<float> EdgeCost; // per triangle edge: cached key of its edge collapse
+  std::vector<Index> SpokeVertex;       // UpdateAround scratch: edges (kept, x) already costed
+  std::vector<float> SpokeCost;
   std::vector<unsigned char> Excluded; // per triangle: bit k = operation k failed validity
   std::vector<unsigned char> Rejected; // 1: failed validity, retried when the 2-ring changes
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
@@ -379,10 +385,10 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
   const double bias = this->Options.EdgeCollapseBias;
   const bool edges = this->Options.EdgeCollapses;
   double bestFactor = 1.0, bestWeight = 0.0;
-  auto consider = [&](int op, const Index* set, int count, const Quadric& q, double weight, double factor) {
+  auto consider = [&](int op, const Index* set, int count, const Quadric& q, double weight, double factor, bool allowed) {
     Vec3 p;
     const double c = this->Place(set, count, q, p) * factor;
-    if (c < cost)
+    if (allowed && c < cost)
     {
       cost = c;
       local = p;
@@ -390,6 +396,7 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
       bestWeight = weight;
       operation = op;
     }
+    return c;
   };
   // The error (RMS distance to the set's planes) of the winner only.
   auto finish = [&]() {
@@ -402,7 +409,7 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
     if (!(excluded & 1u))
     {
       const Quadric q = this->SetQuadric(tri, 3, weight);
-      consider(0, tri, 3, q, weight, 1.0);
+      consider(0, tri, 3, q, weight, 1.0, true);
     }
     for (int k = 0; edges && k < 3; ++k)
     {
@@ -410,7 +417,7 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
       {
         const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
         const Quadric qe = this->SetQuadric(edge, 2, weight);
-        consider(k + 1, edge, 2, qe, weight, bias);
+        consider(k + 1, edge, 2, qe, weight, bias, true);
       }
     }
     return finish();
@@ -423,23 +430,17 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
   const Quadric qab = qa + qb;
   if (!(excluded & 1u))
   {
-    consider(0, tri, 3, qab + qc, wa + wb + wc, 1.0);
+    consider(0, tri, 3, qab + qc, wa + wb + wc, 1.0, true);
   }
   if (edges)
   {
+    // All three edge costs are computed and cached (UpdateAround reuses the edge that does not
+    // touch the new vertex).
     const Index e0[2] = { tri[0], tri[1] }, e1[2] = { tri[1], tri[2] }, e2[2] = { tri[2], tri[0] };
-    if (!(excluded & 2u))
-    {
-      consider(1, e0, 2, qab, wa + wb, bias);
-    }
-    if (!(excluded & 4u))
-    {
-      consider(2, e1, 2, qb + qc, wb + wc, bias);
-    }
-    if (!(excluded & 8u))
-    {
-      consider(3, e2, 2, qc + qa, wc + wa, bias);
-    }
+    float* cache = &this->EdgeCost[3 * size_t(t)];
+    cache[0] = static_cast<float>(consider(1, e0, 2, qab, wa + wb, bias, !(excluded & 2u)) * this->CostScale);
+    cache[1] = static_cast<float>(consider(2, e1, 2, qb + qc, wb + wc, bias, !(excluded & 4u)) * this->CostScale);
+    cache[2] = static_cast<float>(consider(3, e2, 2, qc + qa, wc + wa, bias, !(excluded & 8u)) * this->CostScale);
   }
   return finish();
 }
@@ -491,6 +492,10 @@ bool TriangleCollapser::WouldIsolateVertex(const Index* set, int count) const
         return;
       }
       const Index x = member(tri[0]) ? (member(tri[1]) ? tri[2] : tri[1]) : tri[0];
+      if (!this->Boundary[x] && !this->Options.AllowTopologyChange)
+      {
+        return; // an interior vertex keeps >= 3 triangles, at most 2 of which are removed
+      }
       bool keepsOne = false;
       this->Mesh.ForEachTriangle(x, [&](Index u) {
         const Index* q = this->Mesh.Triangle(u);
@@ -500,6 +505,52 @@ bool TriangleCollapser::WouldIsolateVertex(const Index* set, int count) const
     });
   }
   return isolated;
+}
+
+void TriangleCollapser::UpdateAround(Index kept)
+{
+  if (this->EdgeCost.empty())
+  {
+    this->Mesh.ForEachTriangle(kept, [&](Index s) { this->Update(s); });
+    return;
+  }
+  this->SpokeVertex.clear();
+  this->SpokeCost.clear();
+  const Quadric& qk = this->VertexQuadric[kept];
+  const double bias = this->Options.EdgeCollapseBias;
+  this->Mesh.ForEachTriangle(kept, [&](Index t) {
+    this->Excluded[t] = 0;
+    this->Rejected[t] = 0;
+    const Index* tri = this->Mesh.Triangle(t);
+    Quadric q = this->VertexQuadric[tri[0]];
+    q += this->VertexQuadric[tri[1]];
+    q += this->VertexQuadric[tri[2]];
+    Vec3 p;
+    double best = this->Place(tri, 3, q, p);
+    float* cache = &this->EdgeCost[3 * size_t(t)];
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index u = tri[k], v = tri[(k + 1) % 3];
+      if (u == kept || v == kept)
+      {
+        const Index x = u == kept ? v : u;
+        const auto found = std::find(this->SpokeVertex.begin(), this->SpokeVertex.end(), x);
+        if (found != this->SpokeVertex.end())
+        {
+          cache[k] = this->SpokeCost[found - this->SpokeVertex.begin()];
+        }
+        else
+        {
+          const Index edge[2] = { u, v };
+          cache[k] = static_cast<float>(this->Place(edge, 2, qk + this->VertexQuadric[x], p) * bias * this->CostScale);
+          this->SpokeVertex.push_back(x);
+          this->SpokeCost.push_back(cache[k]);
+        }
+      }
+      best = std::min(best, double(cache[k]) / this->CostScale);
+    }
+    this->Heap.Set(t, static_cast<float>(best * this->CostScale));
+  });
 }
 
 void TriangleCollapser::Update(Index t)
@@ -543,6 +594,10 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   this->InitializeQuadrics();
   this->Rejected.assign(size_t(nt), 0);
   this->Excluded.assign(size_t(nt), 0);
+  if (this->Options.EdgeCollapses && !this->Options.ExactUnion)
+  {
+    this->EdgeCost.assign(3 * size_t(nt), 0.0f);
+  }
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
   {
     this->Heap.Reset(nt);
@@ -745,10 +800,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
       this->Heap.Remove(r);
     }
     // Error propagation: the triangles around v0 get the quadric of their new logical sets.
-    this->Mesh.ForEachTriangle(kept, [&](Index s) {
-      this->Update(s);
-      ++updates;
-    });
+    this->UpdateAround(kept);
     // Collapses rejected for validity may have become valid: retry those in the 2-ring.
     this->Mesh.Neighbors(kept, neighbors);
     for (Index w : neighbors)
