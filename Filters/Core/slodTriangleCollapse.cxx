@@ -120,9 +120,20 @@ private:
   // (corner k-1, corner k % 3) when edge collapses are enabled.
   double Cost(Index t, Vec3& local, double& error, int& operation) const;
   void Update(Index t);
+  void MarkPending(const Index* tri)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      this->PendingCount += this->Pending[tri[k]] ? 0 : 1;
+      this->Pending[tri[k]] = 1;
+    }
+  }
   // Update of every triangle around the new vertex v0: only the operations that involve v0 are
   // re-evaluated (each edge (v0, x) once); the edge opposite v0 keeps its cached cost.
   void UpdateAround(Index kept);
+  // Cost at pop time: the triangle operation is evaluated, the edges come from the cache and
+  // only the winning edge is placed again.
+  double PopCost(Index t, Vec3& local, double& error, int& operation) const;
   // True when a vertex outside the set would lose all its triangles (a border "ear" whose base
   // collapses): that vertex would vanish without a record, so such collapses are not done.
   bool WouldIsolateVertex(const Index* set, int count) const;
@@ -148,6 +159,8 @@ private:
   std::vector<unsigned char> Excluded; // per triangle: bit k = operation k failed validity
   std::vector<unsigned char> Rejected; // 1: failed validity, retried when the 2-ring changes
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
+  Index PendingCount = 0;              // vertices with Pending set
+  bool HasBoundary = false;            // any border vertex (else no vertex can be isolated)
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
   BucketQueue Heap;
   // Exact mode: original planes and, per vertex, the sorted ids of its logical set.
@@ -285,6 +298,7 @@ void TriangleCollapser::InitializeQuadrics()
           continue;
         }
         this->Boundary[u] = this->Boundary[v] = 1;
+        this->HasBoundary = true;
         const Vec3 pu = this->Local(u), pv = this->Local(v);
         const Vec3 e = pv - pu;
         const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
@@ -479,6 +493,10 @@ bool TriangleCollapser::AlternativePlacement(
 
 bool TriangleCollapser::WouldIsolateVertex(const Index* set, int count) const
 {
+  if (!this->HasBoundary && !this->Options.AllowTopologyChange)
+  {
+    return false; // closed manifold parts: checked by the link condition already
+  }
   auto member = [&](Index v) { return v == set[0] || v == set[1] || (count == 3 && v == set[2]); };
   bool isolated = false;
   // A removed triangle holds at least two set vertices, so it is around set[0] or set[1].
@@ -505,6 +523,48 @@ bool TriangleCollapser::WouldIsolateVertex(const Index* set, int count) const
     });
   }
   return isolated;
+}
+
+double TriangleCollapser::PopCost(Index t, Vec3& local, double& error, int& operation) const
+{
+  if (this->EdgeCost.empty())
+  {
+    return this->Cost(t, local, error, operation);
+  }
+  const Index* tri = this->Mesh.Triangle(t);
+  const unsigned excluded = this->Excluded[t];
+  const float* cache = &this->EdgeCost[3 * size_t(t)];
+  operation = -1;
+  double best = std::numeric_limits<double>::infinity();
+  if (!(excluded & 1u))
+  {
+    Quadric q = this->VertexQuadric[tri[0]];
+    q += this->VertexQuadric[tri[1]];
+    q += this->VertexQuadric[tri[2]];
+    best = this->Place(tri, 3, q, local);
+    operation = 0;
+    const double w = this->VertexWeight[tri[0]] + this->VertexWeight[tri[1]] + this->VertexWeight[tri[2]];
+    error = w > 0 ? std::sqrt(best / w) : 0.0;
+  }
+  int edge = -1;
+  for (int k = 0; k < 3; ++k)
+  {
+    if (!(excluded & (2u << k)) && double(cache[k]) / this->CostScale < best)
+    {
+      best = double(cache[k]) / this->CostScale;
+      edge = k;
+    }
+  }
+  if (edge >= 0)
+  {
+    const Index e[2] = { tri[edge], tri[(edge + 1) % 3] };
+    const double bias = this->Options.EdgeCollapseBias;
+    best = this->Place(e, 2, this->VertexQuadric[e[0]] + this->VertexQuadric[e[1]], local) * bias;
+    const double w = this->VertexWeight[e[0]] + this->VertexWeight[e[1]];
+    error = w > 0 && bias > 0 ? std::sqrt(best / bias / w) : 0.0;
+    operation = edge + 1;
+  }
+  return best;
 }
 
 void TriangleCollapser::UpdateAround(Index kept)
@@ -657,7 +717,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     Vec3 local;
     double error;
     int operation;
-    this->Cost(t, local, error, operation);
+    this->PopCost(t, local, error, operation);
     Index set[3];
     const Index* tri = this->Mesh.Triangle(t);
     if (operation < 0)
@@ -729,7 +789,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
       else
       {
         this->Rejected[t] = 1;
-        this->Pending[tri[0]] = this->Pending[tri[1]] = this->Pending[tri[2]] = 1;
+        this->MarkPending(tri);
       }
       continue;
     }
@@ -802,12 +862,18 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     // Error propagation: the triangles around v0 get the quadric of their new logical sets.
     this->UpdateAround(kept);
     // Collapses rejected for validity may have become valid: retry those in the 2-ring.
-    this->Mesh.Neighbors(kept, neighbors);
+    // (Skipped while no vertex is pending, the common case.)
+    neighbors.clear();
+    if (this->PendingCount > 0 || this->Options.RecordHistory)
+    {
+      this->Mesh.Neighbors(kept, neighbors);
+    }
     for (Index w : neighbors)
     {
       if (this->Pending[w])
       {
         this->Pending[w] = 0;
+        --this->PendingCount;
         this->Mesh.ForEachTriangle(w, [&](Index s) {
           if (this->Rejected[s] == 1)
           {
