@@ -19,9 +19,16 @@
 //    plane counted exactly once as in the paper. Memory grows with the merge history; meant as the
 //    reference to validate the accumulated mode (see Documentation/QuadricTriangleCollapse.md).
 //
-// Performance: flat arrays, an addressable heap of triangle costs (slod::IndexedHeap), costs
-// recomputed only for the triangles around the new vertex; collapses rejected by the validity
-// test are dropped and retried when their neighbourhood changes.
+// Extension (EdgeCollapses, default on): each triangle also offers its three edge collapses with
+// the same quadrics; the cheapest of the four operations (edge costs times EdgeCollapseBias) is
+// performed. Triangle collapses alone cannot remove a vertex whose triangles all hold two feature
+// vertices without moving a feature, which costs accuracy at a given triangle count.
+//
+// Performance: the mesh is renumbered in Morton order; flat arrays; an O(1) bucket queue of
+// triangle costs (slod::BucketQueue); after a collapse only the operations touching the new
+// vertex are re-evaluated (edge costs are cached per triangle); a rejected operation is replaced
+// by the triangle's next best one, and triangles with no valid operation are retried when their
+// 2-ring changes. Run with SLOD_VERBOSE=1 in the environment to print stage times and counts.
 #ifndef slodTriangleCollapse_h
 #define slodTriangleCollapse_h
 
