@@ -1,0 +1,105 @@
+#include "Methods.h"
+
+#include "vtkDecimatePro.h"
+#include "vtkQuadricDecimation.h"
+
+// SurfaceLOD filters: add the include here and one line in the table below.
+
+#include <algorithm>
+
+namespace slodcli
+{
+double MethodSettings::ReductionFraction() const
+{
+  if (this->TargetTriangles > 0)
+  {
+    if (this->InputTriangles <= 0)
+    {
+      return 0.0;
+    }
+    return std::clamp(1.0 - double(this->TargetTriangles) / double(this->InputTriangles), 0.0, 1.0);
+  }
+  return std::clamp(this->TargetReduction, 0.0, 1.0);
+}
+
+namespace
+{
+// Every SurfaceLOD filter follows one convention (SetTargetNumberOfTriangles, SetTargetReduction,
+// SetMaximumError), so one factory serves them all.
+template <typename Filter>
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateSurfaceLODFilter(const MethodSettings& settings)
+{
+  auto filter = vtkSmartPointer<Filter>::New();
+  if (settings.TargetTriangles > 0)
+  {
+    filter->SetTargetNumberOfTriangles(settings.TargetTriangles);
+  }
+  else
+  {
+    filter->SetTargetReduction(settings.TargetReduction);
+  }
+  if (settings.HasMaximumError)
+  {
+    filter->SetMaximumError(settings.MaximumError);
+  }
+  return filter;
+}
+
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateVTKQuadricDecimation(const MethodSettings& settings)
+{
+  auto filter = vtkSmartPointer<vtkQuadricDecimation>::New();
+  filter->SetTargetReduction(settings.ReductionFraction());
+  return filter;
+}
+
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateVTKDecimatePro(const MethodSettings& settings)
+{
+  auto filter = vtkSmartPointer<vtkDecimatePro>::New();
+  filter->SetTargetReduction(settings.ReductionFraction());
+  filter->PreserveTopologyOn();
+  if (settings.HasMaximumError)
+  {
+    filter->SetErrorIsAbsolute(1);
+    filter->SetAbsoluteError(settings.MaximumError);
+  }
+  return filter;
+}
+} // namespace
+
+const std::vector<Method>& Methods()
+{
+  // clang-format off
+  static const std::vector<Method> methods = {
+    { "vtk-quadric-decimation", "VTK's vtkQuadricDecimation (Garland-Heckbert edge collapse), the baseline",
+      false, &CreateVTKQuadricDecimation },
+    { "vtk-decimate-pro", "VTK's vtkDecimatePro with PreserveTopologyOn (vertex removal)",
+      true, &CreateVTKDecimatePro },
+    // SurfaceLOD filters, e.g.:
+    // { "quadric-triangle-collapse", "...", true, &CreateSurfaceLODFilter<vtkQuadricTriangleCollapse> },
+  };
+  // clang-format on
+  return methods;
+}
+
+const Method* FindMethod(const std::string& name)
+{
+  for (const Method& m : Methods())
+  {
+    if (name == m.Name)
+    {
+      return &m;
+    }
+  }
+  return nullptr;
+}
+
+std::string MethodNames(const std::string& separator)
+{
+  std::string names;
+  for (const Method& m : Methods())
+  {
+    names += (names.empty() ? "" : separator) + std::string(m.Name);
+  }
+  return names;
+}
+} // namespace slodcli
