@@ -150,6 +150,235 @@ std::string ValidateSurface(vtkPolyData* mesh)
   }
   return std::string();
 }
+
+// vtkPLYReader reads past the end of truncated files (and crashes): check the structure first.
+// Returns "" when the header is sound and the body holds every element the header announces.
+std::string ValidatePLY(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  auto nextHeaderLine = [&]() -> bool {
+    if (!std::getline(in, line))
+    {
+      return false;
+    }
+    if (!line.empty() && line.back() == '\r')
+    {
+      line.pop_back();
+    }
+    return true;
+  };
+  if (!nextHeaderLine() || line != "ply")
+  {
+    return "not a PLY file (first line is not 'ply')";
+  }
+  struct Property
+  {
+    int Size = 0;      // scalar size, or item size of a list
+    int CountSize = 0; // > 0 for lists
+    std::string Name;
+  };
+  struct Element
+  {
+    std::string Name;
+    long long Count = 0;
+    std::vector<Property> Properties;
+  };
+  auto typeSize = [](const std::string& t) -> int {
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
+    if (t == "double" || t == "float64") return 8;
+    return 0;
+  };
+  std::string format;
+  std::vector<Element> elements;
+  bool ended = false;
+  while (nextHeaderLine())
+  {
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "end_header")
+    {
+      ended = true;
+      break;
+    }
+    if (keyword == "format")
+    {
+      words >> format;
+    }
+    else if (keyword == "element")
+    {
+      Element e;
+      if (!(words >> e.Name >> e.Count) || e.Count < 0)
+      {
+        return "bad PLY element line '" + line + "'";
+      }
+      elements.push_back(e);
+    }
+    else if (keyword == "property")
+    {
+      if (elements.empty())
+      {
+        return "PLY property before any element";
+      }
+      Property p;
+      std::string type;
+      words >> type;
+      if (type == "list")
+      {
+        std::string countType, itemType;
+        words >> countType >> itemType;
+        p.CountSize = typeSize(countType);
+        p.Size = typeSize(itemType);
+        if (p.CountSize == 0 || p.Size == 0)
+        {
+          return "bad PLY property line '" + line + "'";
+        }
+      }
+      else if ((p.Size = typeSize(type)) == 0)
+      {
+        return "bad PLY property line '" + line + "'";
+      }
+      if (!(words >> p.Name))
+      {
+        return "bad PLY property line '" + line + "'";
+      }
+      elements.back().Properties.push_back(p);
+    }
+    else if (keyword != "comment" && keyword != "obj_info" && !keyword.empty())
+    {
+      return "unknown PLY header line '" + line + "'";
+    }
+  }
+  if (!ended)
+  {
+    return "PLY header has no end_header";
+  }
+  bool hasVertex = false;
+  for (const Element& e : elements)
+  {
+    if (e.Name == "vertex")
+    {
+      int xyz = 0;
+      for (const Property& p : e.Properties)
+      {
+        xyz += p.CountSize == 0 && (p.Name == "x" || p.Name == "y" || p.Name == "z");
+      }
+      hasVertex = xyz == 3;
+    }
+  }
+  if (!hasVertex)
+  {
+    return "PLY file has no vertex element with x, y, z";
+  }
+  if (format == "ascii")
+  {
+    for (const Element& e : elements)
+    {
+      for (long long i = 0; i < e.Count; ++i)
+      {
+        if (!std::getline(in, line))
+        {
+          return "file ends after " + std::to_string(i) + " of " + std::to_string(e.Count) + " " + e.Name +
+            " elements";
+        }
+        std::istringstream words(line);
+        for (const Property& p : e.Properties)
+        {
+          double value;
+          long long count = 1;
+          if (p.CountSize > 0 && (!(words >> count) || count < 0))
+          {
+            return "malformed " + e.Name + " " + std::to_string(i) + " (bad list count)";
+          }
+          for (long long k = 0; k < count; ++k)
+          {
+            if (!(words >> value))
+            {
+              return "malformed " + e.Name + " " + std::to_string(i) + " (too few values)";
+            }
+          }
+        }
+      }
+    }
+    return std::string();
+  }
+  const bool little = format == "binary_little_endian";
+  if (!little && format != "binary_big_endian")
+  {
+    return "unknown PLY format '" + format + "'";
+  }
+  for (const Element& e : elements)
+  {
+    for (long long i = 0; i < e.Count; ++i)
+    {
+      for (const Property& p : e.Properties)
+      {
+        long long count = 1;
+        if (p.CountSize > 0)
+        {
+          unsigned char bytes[8] = {};
+          if (!in.read(reinterpret_cast<char*>(bytes), p.CountSize))
+          {
+            return "file ends inside " + e.Name + " " + std::to_string(i) + " of " + std::to_string(e.Count);
+          }
+          unsigned long long value = 0;
+          for (int b = 0; b < p.CountSize; ++b)
+          {
+            const int shift = 8 * (little ? b : p.CountSize - 1 - b);
+            value |= static_cast<unsigned long long>(bytes[b]) << shift;
+          }
+          count = static_cast<long long>(value);
+        }
+        in.seekg(count * p.Size, std::ios::cur);
+        if (!in || in.peek() == std::ifstream::traits_type::eof())
+        {
+          in.clear();
+          // The last value of the last element may end exactly at the end of the file.
+          const std::streamoff position = in.tellg();
+          in.seekg(0, std::ios::end);
+          if (!in || position < 0 || position > in.tellg())
+          {
+            return "file ends inside " + e.Name + " " + std::to_string(i) + " of " + std::to_string(e.Count);
+          }
+          in.seekg(position);
+        }
+      }
+    }
+  }
+  return std::string();
+}
+
+// vtkSTLReader silently reads a truncated binary STL: compare the size with the announced count.
+std::string ValidateSTL(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  unsigned char header[84] = {};
+  in.read(reinterpret_cast<char*>(header), sizeof(header));
+  const std::streamsize got = in.gcount();
+  in.clear();
+  in.seekg(0, std::ios::end);
+  const unsigned long long size = static_cast<unsigned long long>(in.tellg());
+  const bool startsWithSolid = got >= 5 && std::string(reinterpret_cast<char*>(header), 5) == "solid";
+  if (got == 84)
+  {
+    const unsigned long long count = header[80] | (header[81] << 8) | (header[82] << 16) |
+      (static_cast<unsigned long long>(header[83]) << 24);
+    const unsigned long long expected = 84 + 50 * count;
+    if (size >= expected && (!startsWithSolid || size == expected))
+    {
+      return std::string(); // binary
+    }
+    if (!startsWithSolid)
+    {
+      return "truncated binary STL: the header announces " + std::to_string(count) + " triangles (" +
+        std::to_string(expected) + " bytes), the file has " + std::to_string(size) + " bytes";
+    }
+  }
+  return startsWithSolid ? std::string() : std::string("not an STL file (too short)");
+}
 } // namespace
 
 void InstallMessageHandler()
@@ -245,12 +474,22 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path)
     vtkSmartPointer<vtkAlgorithm> reader;
     if (ext == ".ply")
     {
+      const std::string plyProblem = ValidatePLY(path);
+      if (!plyProblem.empty())
+      {
+        throw fail(plyProblem);
+      }
       auto r = vtkSmartPointer<vtkPLYReader>::New();
       r->SetFileName(path.c_str());
       reader = r;
     }
     else if (ext == ".stl")
     {
+      const std::string stlProblem = ValidateSTL(path);
+      if (!stlProblem.empty())
+      {
+        throw fail(stlProblem);
+      }
       auto r = vtkSmartPointer<vtkSTLReader>::New();
       r->SetFileName(path.c_str());
       reader = r;
@@ -299,6 +538,22 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path)
   auto result = vtkSmartPointer<vtkPolyData>::New();
   result->ShallowCopy(mesh);
   return result;
+}
+
+void CheckWritablePath(const std::string& path)
+{
+  static const std::vector<std::string> known = { ".off", ".ply", ".stl", ".obj", ".vtp", ".vtk" };
+  const std::string ext = Extension(path);
+  if (std::find(known.begin(), known.end(), ext) == known.end())
+  {
+    throw CliError(ExitData, path + ": unsupported file type '" + ext + "' (writable: " + WritableExtensions() + ")");
+  }
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+  {
+    throw CliError(ExitData, path + ": directory " + parent.string() + " does not exist");
+  }
 }
 
 void WriteMesh(vtkPolyData* mesh, const std::string& path)
@@ -358,12 +613,7 @@ void WriteMesh(vtkPolyData* mesh, const std::string& path)
   {
     throw fail("unsupported file type '" + ext + "' (writable: " + WritableExtensions() + ")");
   }
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  std::error_code ec;
-  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-  {
-    throw fail("directory " + parent.string() + " does not exist");
-  }
+  CheckWritablePath(path);
   MessageCapture capture;
   writer->SetInputDataObject(0, mesh);
   const int ok = write();

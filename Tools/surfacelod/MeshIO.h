@@ -38,6 +38,9 @@ private:
 // missing vertices or has non-finite coordinates.
 vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path);
 
+// Throws CliError(ExitData) unless PATH has a writable extension and its directory exists.
+void CheckWritablePath(const std::string& path);
+
 // Writes .off .ply .stl .obj .vtp .vtk. Throws CliError(ExitData, "PATH: problem").
 void WriteMesh(vtkPolyData* mesh, const std::string& path);
 

@@ -5,6 +5,7 @@
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
+#include "vtkCoordinate.h"
 #include "vtkErrorCode.h"
 #include "vtkNew.h"
 #include "vtkPNGWriter.h"
@@ -67,7 +68,8 @@ void RenderPanels(const std::vector<Panel>& panels, const std::string& pngPath, 
     title->GetTextProperty()->SetFontSize(16);
     title->GetTextProperty()->SetColor(0.1, 0.1, 0.1);
     title->GetTextProperty()->SetVerticalJustificationToTop();
-    title->SetDisplayPosition(10, panelSize - 10);
+    title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    title->GetPositionCoordinate()->SetValue(0.03, 0.97);
     renderer->AddActor2D(title);
     window->AddRenderer(renderer);
     if (i == 0)

@@ -241,6 +241,7 @@ int Simplify(const ParsedArguments& args)
     throw CliError(ExitUsage, std::string("surfacelod simplify: method ") + method->Name + " does not support --max-error");
   }
   TargetSettings(args, 0, true, 0.0); // validate the options before reading a large file
+  CheckWritablePath(outputPath);
 
   vtkSmartPointer<vtkPolyData> input = TriangulatedSurface(ReadMesh(inputPath));
   const MethodSettings settings = TargetSettings(args, CountTriangles(input), true, 0.0);
