@@ -26,6 +26,7 @@ constexpr double RippleAmplitude = 0.05;
 constexpr double RippleFrequency = 11.0;
 // Beyond 6 sigma a blob contributes < 1.6e-8: skipped (far below float precision of the field).
 constexpr double CutoffSigmas = 6.0;
+constexpr float SnapDistance = 1e-3f;
 constexpr double DomainMin[3] = { -1.0, -1.0, -0.5 };
 constexpr double DomainMax[3] = { 1.0, 1.0, 0.5 };
 
@@ -115,9 +116,12 @@ int vtkSyntheticIsosurfaceSource::RequestData(
   float* field = scalars->GetPointer(0);
 
   const float iso = static_cast<float>(GetIsoValue());
-  // A sample exactly at the contour value would create coincident points and zero-area
-  // triangles; nudge it up by one ulp (deterministic, invisible).
-  const float nudged = std::nextafter(iso, 2.0f * iso + 1.0f);
+  // A sample at (or within float rounding of) the contour value puts the contour points of all
+  // its edges on the sample itself: coincident points and zero-area triangles. Samples closer
+  // than SnapDistance to the contour value are pushed to that distance, on their own side, so
+  // every contour point is at least ~5% of an edge away from the grid points (the surface moves
+  // by at most ~3e-4 of the bounding-box diagonal).
+  const float below = iso - SnapDistance, above = iso + SnapDistance;
   const std::array<Blob, NumberOfBlobs> blobs = MakeBlobs();
   const vtkIdType rows = vtkIdType(dims[1]) * dims[2];
   vtkSMPTools::For(0, rows, [&](vtkIdType begin, vtkIdType end) {
@@ -158,8 +162,8 @@ int vtkSyntheticIsosurfaceSource::RequestData(
             value += std::exp(-d2 * blob.InverseTwoSigma2);
           }
         }
-        float v = static_cast<float>(value);
-        out[i] = (v == iso) ? nudged : v;
+        const float v = static_cast<float>(value);
+        out[i] = (v >= below && v <= above) ? (v < iso ? below : above) : v;
       }
     }
   });

@@ -9,7 +9,8 @@
  * with eight Gaussian blobs on a wavy ring, theta_k = k pi / 4:
  *   c_k = (0.6 cos theta_k, 0.6 sin theta_k, 0.12 sin 2 theta_k),  s_k = 0.19 + 0.03 cos 3 theta_k,
  * sampled on a regular grid over x, y in [-1, 1], z in [-0.5, 0.5] (same spacing on every axis)
- * and contoured at f = 0.5 with vtkFlyingEdges3D (marching cubes). Neighbouring blobs merge and
+ * and contoured at f = 0.5 with vtkFlyingEdges3D (marching cubes); samples within 1e-3 of 0.5 are
+ * pushed to 0.5 -/+ 1e-3 so that no two contour points coincide. Neighbouring blobs merge and
  * the centre of the ring stays empty, and f < 0.5 on the whole domain boundary, so the result
  * is one closed, manifold, consistently oriented surface of genus 1 (a lumpy, rippled torus with
  * Euler characteristic 0). The blobs have different radii and the ring is not planar, so the

@@ -1,6 +1,7 @@
 // The synthetic benchmark surface: closed, manifold, one component, genus 1, deterministic.
 #include "TestSupport.h"
 
+#include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "vtkSyntheticIsosurfaceSource.h"
 
@@ -11,6 +12,11 @@
 #include "vtkPolyData.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
 
 namespace
 {
@@ -69,6 +75,31 @@ TEST(SyntheticIsosurfaceSource, ClosedManifoldGenusOne)
   EXPECT_LT(bounds[5], 0.5);
   EXPECT_LT(bounds[0], -0.6);
   EXPECT_GT(bounds[1], 0.6);
+}
+
+TEST(SyntheticIsosurfaceSource, NoCoincidentPointsOrDegenerateTriangles)
+{
+  // Without the snapping of near-contour samples these resolutions give coincident points.
+  for (int resolution : { 183, 246 })
+  {
+    vtkSmartPointer<vtkPolyData> surface = Generate(resolution);
+    std::vector<std::array<float, 3>> points(surface->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
+    {
+      double p[3];
+      surface->GetPoint(i, p);
+      points[i] = { float(p[0]), float(p[1]), float(p[2]) };
+    }
+    std::sort(points.begin(), points.end());
+    EXPECT_EQ(std::adjacent_find(points.begin(), points.end()), points.end())
+      << "coincident points at resolution " << resolution;
+    // Prepared as the filters prepare their input: nothing merged or removed.
+    slod::TriangleMesh mesh;
+    std::vector<slod::Index> origin;
+    const slod::PreparationReport report = slod::PrepareTriangleMesh(surface, {}, mesh, origin);
+    EXPECT_TRUE(report.Warnings().empty()) << "resolution " << resolution << ": " << report.Warnings().front();
+    EXPECT_EQ(slod::ComputeMeshStatistics(mesh).Genus, 1);
+  }
 }
 
 TEST(SyntheticIsosurfaceSource, VerticesLieOnTheDocumentedIsosurface)

@@ -80,7 +80,9 @@ struct Deviation
   double Hausdorff = 0, HausdorffAB = 0, HausdorffBA = 0, Mean = 0, RMS = 0; // relative to A's diagonal
 };
 
-Deviation MeasureDeviation(vtkPolyData* reference, vtkPolyData* compared, vtkIdType samples)
+// quiet: drop the deviation filter's warnings about its inputs (demo and bench tables; `compare`
+// shows them, they describe the user's files).
+Deviation MeasureDeviation(vtkPolyData* reference, vtkPolyData* compared, vtkIdType samples, bool quiet)
 {
   vtkNew<vtkSurfaceDeviation> deviation;
   deviation->SetReferenceData(reference);
@@ -91,7 +93,7 @@ Deviation MeasureDeviation(vtkPolyData* reference, vtkPolyData* compared, vtkIdT
   }
   std::string error;
   {
-    MessageCapture capture(false);
+    MessageCapture capture(quiet);
     ProgressBar progress(deviation, "deviation");
     deviation->Update();
     error = capture.FirstError();
@@ -288,7 +290,7 @@ int Compare(const ParsedArguments& args)
   const vtkIdType samples = args.GetInteger("samples", -1, 0, MaxCount);
   vtkSmartPointer<vtkPolyData> a = TriangulatedSurface(ReadMesh(args.Positionals[0]));
   vtkSmartPointer<vtkPolyData> b = TriangulatedSurface(ReadMesh(args.Positionals[1]));
-  const Deviation d = MeasureDeviation(a, b, samples);
+  const Deviation d = MeasureDeviation(a, b, samples, false);
   if (args.Has("json"))
   {
     JsonLine()
@@ -432,7 +434,7 @@ int Demo(const ParsedArguments& args)
   for (const Method* method : methods)
   {
     const RunResult result = RunMethod(*method, input, settings);
-    const Deviation d = MeasureDeviation(input, result.Output, samples);
+    const Deviation d = MeasureDeviation(input, result.Output, samples, true);
     const vtkIdType triangles = result.Output->GetNumberOfPolys();
     std::cout << Padded(method->Name, 28) << Padded(std::to_string(triangles), 11, true)
               << Padded(Fixed(result.Seconds, 3), 10, true) << Padded(Scientific(d.Hausdorff), 12, true)
@@ -559,7 +561,7 @@ int Bench(const ParsedArguments& args)
       Deviation d;
       if (deviation)
       {
-        d = MeasureDeviation(input, best.Output, samples);
+        d = MeasureDeviation(input, best.Output, samples, true);
       }
       const vtkIdType outTriangles = best.Output->GetNumberOfPolys();
       if (json)
