@@ -235,6 +235,38 @@ def scenario_demo(a):
           "synthetic surface: %r" % synthetic)
 
 
+def scenario_demo_png(a):
+    """The demo picture: one panel per mesh (input + each method), each showing a surface."""
+    if not os.environ.get("DISPLAY"):
+        raise AssertionError("cli.demo-png needs an X display: run ctest under `xvfb-run -a`")
+    out_dir = os.path.join(a.work, "demo")
+    proc = run(a.cli, "demo", "--resolution", "64", "--output-dir", out_dir, "--samples", "2000")
+    png = os.path.join(out_dir, "demo.png")
+    check(os.path.exists(png), "no picture: " + proc.stderr)
+    import vtk  # Debian's python3-vtk9
+    reader = vtk.vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    image = reader.GetOutput()
+    width, height, _ = image.GetDimensions()
+    panels = 1 + len(method_names(a.cli))
+    check(width == 480 * panels and height == 960, "picture is %dx%d, expected %dx960" % (width, height, 480 * panels))
+    scalars = image.GetPointData().GetScalars()
+    components = scalars.GetNumberOfComponents()
+    # Fraction of non-white pixels per panel, top row (overview) and bottom row (close-up).
+    for row in range(2):
+        for panel in range(panels):
+            covered = total = 0
+            for y in range(row * 480 + 10, row * 480 + 470, 7):
+                for x in range(panel * 480 + 10, panel * 480 + 470, 7):
+                    pixel = [scalars.GetComponent(y * width + x, c) for c in range(min(3, components))]
+                    total += 1
+                    covered += min(pixel) < 250
+            fraction = covered / total
+            check(0.15 < fraction <= 1.0, "row %d panel %d: %.0f%% covered, no surface drawn?"
+                  % (row, panel, 100 * fraction))
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--cli", required=True)
