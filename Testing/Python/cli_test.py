@@ -48,6 +48,22 @@ def scenario_info(a):
                 "components": 1, "euler_characteristic": 2, "genus": 0, "degenerate_triangles": 0}
     for key, value in expected.items():
         check(info.get(key) == value, "fandisk %s = %r, expected %r" % (key, info.get(key), value))
+    # A triangle soup (every face with its own vertices) counts as the closed surface it is.
+    corners = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    faces = [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)]
+    soup = os.path.join(a.work, "tetra_soup.off")
+    with open(soup, "w") as f:
+        f.write("OFF\n12 4 0\n")
+        for face in faces:
+            for c in face:
+                f.write("%g %g %g\n" % corners[c])
+        for k in range(4):
+            f.write("3 %d %d %d\n" % (3 * k, 3 * k + 1, 3 * k + 2))
+    info = json_line(run(a.cli, "info", soup, "--json"))
+    expected = {"vertices": 4, "triangles": 4, "boundary_edges": 0, "nonmanifold_edges": 0, "components": 1,
+                "euler_characteristic": 2, "genus": 0, "merged_points": 8}
+    for key, value in expected.items():
+        check(info.get(key) == value, "tetrahedron soup %s = %r, expected %r" % (key, info.get(key), value))
     # Human-readable form carries the same numbers.
     text = run(a.cli, "info", fandisk).stdout
     check("12946" in text and "6475" in text, "plain info output lacks the counts: " + text)

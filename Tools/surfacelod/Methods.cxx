@@ -30,13 +30,23 @@ template <typename Filter>
 vtkSmartPointer<vtkPolyDataAlgorithm> CreateSurfaceLODFilter(const MethodSettings& settings)
 {
   auto filter = vtkSmartPointer<Filter>::New();
+  // The filters stop at whichever target is reached first (0 = unused), and their default
+  // TargetReduction may be non-zero: set both, the one not asked for to 0.
   if (settings.TargetTriangles > 0)
   {
     filter->SetTargetNumberOfTriangles(settings.TargetTriangles);
+    filter->SetTargetReduction(0.0);
+  }
+  else if (settings.TargetReduction > 0.0)
+  {
+    filter->SetTargetNumberOfTriangles(0);
+    filter->SetTargetReduction(settings.TargetReduction);
   }
   else
   {
-    filter->SetTargetReduction(settings.TargetReduction);
+    // A reduction of 0 keeps every triangle.
+    filter->SetTargetNumberOfTriangles(std::max<vtkIdType>(settings.InputTriangles, 1));
+    filter->SetTargetReduction(0.0);
   }
   if (settings.HasMaximumError)
   {
