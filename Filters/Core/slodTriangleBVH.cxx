@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstdint>
+
+#include "vtkSMPTools.h"
 
 namespace slod
 {
@@ -169,14 +172,6 @@ inline double BoxDistance2(const float* b, const double* q)
   return d2;
 }
 
-// One triangle during the build: its box, box centre and id (moved together by partitioning).
-struct Primitive
-{
-  float Box[6];
-  float Centre[3];
-  Index Id;
-};
-
 struct Box
 {
   float B[6] = { std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
@@ -203,97 +198,27 @@ struct Box
   }
 };
 
-constexpr int BinCount = 16;
-// Below this depth splits use the object median, which halves the range: the depth (and the
-// traversal stack) stays bounded whatever the triangle distribution.
-constexpr int SAHDepthLimit = 48;
-constexpr int MaxStack = 128;
+// Depth <= 63 Morton bits + 31 halvings of identical codes: the traversal stack cannot overflow.
+constexpr int MaxStack = 160;
 
-// Binned SAH split of [begin, end): returns the partition point, or begin when no useful split exists.
-Primitive* SplitSAH(Primitive* begin, Primitive* end, const float* centreBounds)
+// Spreads the low 21 bits of v to every third bit (63-bit Morton codes).
+inline std::uint64_t Spread21(std::uint64_t v)
 {
-  const size_t count = size_t(end - begin);
-  double bestCost = std::numeric_limits<double>::max();
-  int bestAxis = -1, bestBin = -1;
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    const double lo = centreBounds[2 * axis], extent = double(centreBounds[2 * axis + 1]) - lo;
-    if (!(extent > 0) || !std::isfinite(extent))
-    {
-      continue;
-    }
-    const double scale = BinCount / extent;
-    Box bins[BinCount];
-    size_t counts[BinCount] = {};
-    for (const Primitive* p = begin; p != end; ++p)
-    {
-      const int bin = std::min(BinCount - 1, static_cast<int>((p->Centre[axis] - lo) * scale));
-      bins[bin].Grow(p->Box);
-      ++counts[bin];
-    }
-    // Sweep from the right to get the right-side areas, then from the left.
-    double rightArea[BinCount];
-    size_t rightCount[BinCount];
-    Box acc;
-    size_t n = 0;
-    for (int i = BinCount - 1; i > 0; --i)
-    {
-      acc.Grow(bins[i].B);
-      n += counts[i];
-      rightArea[i] = acc.HalfArea();
-      rightCount[i] = n;
-    }
-    Box left;
-    size_t nl = 0;
-    for (int i = 0; i < BinCount - 1; ++i)
-    {
-      left.Grow(bins[i].B);
-      nl += counts[i];
-      const size_t nr = rightCount[i + 1];
-      if (nl == 0 || nr == 0)
-      {
-        continue;
-      }
-      const double cost = double(nl) * left.HalfArea() + double(nr) * rightArea[i + 1];
-      if (cost < bestCost)
-      {
-        bestCost = cost;
-        bestAxis = axis;
-        bestBin = i;
-      }
-    }
-  }
-  if (bestAxis < 0)
-  {
-    return begin;
-  }
-  const double lo = centreBounds[2 * bestAxis];
-  const double scale = BinCount / (double(centreBounds[2 * bestAxis + 1]) - lo);
-  Primitive* mid = std::partition(begin, end, [&](const Primitive& p) {
-    return std::min(BinCount - 1, static_cast<int>((p.Centre[bestAxis] - lo) * scale)) <= bestBin;
-  });
-  return (mid == begin || mid == end || size_t(mid - begin) == count) ? begin : mid;
+  v &= 0x1fffff;
+  v = (v | (v << 32)) & 0x1f00000000ffffull;
+  v = (v | (v << 16)) & 0x1f0000ff0000ffull;
+  v = (v | (v << 8)) & 0x100f00f00f00f00full;
+  v = (v | (v << 4)) & 0x10c30c30c30c30c3ull;
+  v = (v | (v << 2)) & 0x1249249249249249ull;
+  return v;
 }
 
-Primitive* SplitMedian(Primitive* begin, Primitive* end, const float* centreBounds)
+struct MortonEntry
 {
-  int axis = 0;
-  double extent = -1;
-  for (int k = 0; k < 3; ++k)
-  {
-    const double e = double(centreBounds[2 * k + 1]) - centreBounds[2 * k];
-    if (e > extent)
-    {
-      extent = e;
-      axis = k;
-    }
-  }
-  Primitive* mid = begin + (end - begin) / 2;
-  std::nth_element(begin, mid, end, [axis](const Primitive& a, const Primitive& b) {
-    return a.Centre[axis] < b.Centre[axis] || (a.Centre[axis] == b.Centre[axis] && a.Id < b.Id);
-  });
-  return mid;
-}
+  std::uint64_t Code;
+  Index Id;
+  bool operator<(const MortonEntry& o) const { return this->Code < o.Code || (this->Code == o.Code && this->Id < o.Id); }
+};
 } // namespace
 
 void TriangleBVH::Build(const TriangleMesh& mesh)
@@ -308,31 +233,65 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
   {
     return;
   }
-
-  std::vector<Primitive> prims(static_cast<size_t>(nt));
-  for (Index t = 0; t < nt; ++t)
+  // Triangle boxes (float, rounded outwards) and centres.
+  std::vector<float> boxes(6 * size_t(nt));
+  std::vector<double> centres(3 * size_t(nt));
+  vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType t = first; t < last; ++t)
+    {
+      const Index* tri = mesh.Triangle(Index(t));
+      for (int k = 0; k < 3; ++k)
+      {
+        double lo = Infinity, hi = -Infinity;
+        for (int j = 0; j < 3; ++j)
+        {
+          const double x = mesh.Points[3 * size_t(tri[j]) + k];
+          lo = std::min(lo, x);
+          hi = std::max(hi, x);
+        }
+        boxes[6 * size_t(t) + 2 * k] = RoundDown(lo);
+        boxes[6 * size_t(t) + 2 * k + 1] = RoundUp(hi);
+        centres[3 * size_t(t) + k] = 0.5 * (lo + hi);
+      }
+    }
+  });
+  double lo[3] = { Infinity, Infinity, Infinity }, hi[3] = { -Infinity, -Infinity, -Infinity };
+  for (size_t i = 0; i < centres.size(); i += 3)
   {
-    const Index* tri = mesh.Triangle(t);
-    Primitive& p = prims[size_t(t)];
     for (int k = 0; k < 3; ++k)
     {
-      double lo = Infinity, hi = -Infinity;
-      for (int j = 0; j < 3; ++j)
+      if (std::isfinite(centres[i + k]))
       {
-        const double x = mesh.Points[3 * size_t(tri[j]) + k];
-        lo = std::min(lo, x);
-        hi = std::max(hi, x);
+        lo[k] = std::min(lo[k], centres[i + k]);
+        hi[k] = std::max(hi[k], centres[i + k]);
       }
-      p.Box[2 * k] = RoundDown(lo);
-      p.Box[2 * k + 1] = RoundUp(hi);
-      const double c = 0.5 * (lo + hi);
-      p.Centre[k] = static_cast<float>(std::isfinite(c) ? std::max(-3e38, std::min(3e38, c)) : 0.0);
     }
-    p.Id = t;
   }
+  double scale[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    const double extent = hi[k] - lo[k];
+    scale[k] = extent > 0 && std::isfinite(extent) ? double((1 << 21) - 1) / extent : 0.0;
+  }
+  // Morton order of the centres: spatially coherent, and splitting at the highest differing bit
+  // of a sorted range halves its cell (a linear BVH, built in O(n) after the sort).
+  std::vector<MortonEntry> entries(static_cast<size_t>(nt));
+  vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType t = first; t < last; ++t)
+    {
+      std::uint64_t code = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double c = centres[3 * size_t(t) + k];
+        const double u = std::isfinite(c) ? std::max(0.0, std::min(double((1 << 21) - 1), (c - lo[k]) * scale[k])) : 0.0;
+        code |= Spread21(static_cast<std::uint64_t>(u)) << (2 - k);
+      }
+      entries[size_t(t)] = { code, Index(t) };
+    }
+  });
+  vtkSMPTools::Sort(entries.begin(), entries.end());
 
-  // A binary tree with leaves of >= 1 triangle has < 2 * nt nodes.
-  this->Nodes.reserve(2 * size_t(nt) / TriangleBVH::LeafSize + 16);
+  this->Nodes.reserve(size_t(nt) + 16);
   this->Nodes.push_back(Node{});
   struct Task
   {
@@ -346,17 +305,7 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
     const Task task = tasks.back();
     tasks.pop_back();
     this->Depth = std::max(this->Depth, task.Depth);
-    Primitive* begin = prims.data() + task.Begin;
-    Primitive* end = prims.data() + task.End;
-    Box box, centres;
-    for (const Primitive* p = begin; p != end; ++p)
-    {
-      box.Grow(p->Box);
-      const float c[6] = { p->Centre[0], p->Centre[0], p->Centre[1], p->Centre[1], p->Centre[2], p->Centre[2] };
-      centres.Grow(c);
-    }
     Node& node = this->Nodes[size_t(task.NodeIndex)];
-    std::copy(box.B, box.B + 6, node.Bounds);
     const Index count = task.End - task.Begin;
     if (count <= TriangleBVH::LeafSize)
     {
@@ -364,34 +313,62 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
       node.Count = count;
       continue;
     }
-    Primitive* mid = task.Depth < SAHDepthLimit ? SplitSAH(begin, end, centres.B) : begin;
-    if (mid == begin)
+    const std::uint64_t c0 = entries[size_t(task.Begin)].Code, c1 = entries[size_t(task.End - 1)].Code;
+    Index split = task.Begin + count / 2; // identical codes: halve
+    if (c0 != c1)
     {
-      mid = SplitMedian(begin, end, centres.B);
+      int bit = 63;
+      while (!(((c0 ^ c1) >> bit) & 1))
+      {
+        --bit;
+      }
+      const auto it = std::partition_point(entries.begin() + task.Begin, entries.begin() + task.End,
+        [bit](const MortonEntry& e) { return !((e.Code >> bit) & 1); });
+      split = static_cast<Index>(it - entries.begin());
     }
     const Index left = static_cast<Index>(this->Nodes.size());
     node.First = left;
     node.Count = 0;
     this->Nodes.push_back(Node{});
     this->Nodes.push_back(Node{});
-    const Index split = static_cast<Index>(mid - prims.data());
-    // Right first on the stack so the left subtree is laid out right after its parent.
     tasks.push_back({ left + 1, split, task.End, task.Depth + 1 });
     tasks.push_back({ left, task.Begin, split, task.Depth + 1 });
   }
 
+  // Bounds bottom-up: children always come after their parent.
+  for (size_t n = this->Nodes.size(); n-- > 0;)
+  {
+    Node& node = this->Nodes[n];
+    Box box;
+    if (node.Count > 0)
+    {
+      for (Index i = node.First; i < node.First + node.Count; ++i)
+      {
+        box.Grow(&boxes[6 * size_t(entries[size_t(i)].Id)]);
+      }
+    }
+    else
+    {
+      box.Grow(this->Nodes[size_t(node.First)].Bounds);
+      box.Grow(this->Nodes[size_t(node.First) + 1].Bounds);
+    }
+    std::copy(box.B, box.B + 6, node.Bounds);
+  }
+
   this->Order.resize(size_t(nt));
   this->Corners.resize(9 * size_t(nt));
-  for (size_t i = 0; i < prims.size(); ++i)
-  {
-    const Index t = prims[i].Id;
-    this->Order[i] = t;
-    const Index* tri = mesh.Triangle(t);
-    for (int j = 0; j < 3; ++j)
+  vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType i = first; i < last; ++i)
     {
-      std::copy_n(&mesh.Points[3 * size_t(tri[j])], 3, &this->Corners[9 * i + 3 * size_t(j)]);
+      const Index t = entries[size_t(i)].Id;
+      this->Order[size_t(i)] = t;
+      const Index* tri = mesh.Triangle(t);
+      for (int j = 0; j < 3; ++j)
+      {
+        std::copy_n(&mesh.Points[3 * size_t(tri[j])], 3, &this->Corners[9 * size_t(i) + 3 * size_t(j)]);
+      }
     }
-  }
+  });
 }
 
 bool TriangleBVH::Empty() const
