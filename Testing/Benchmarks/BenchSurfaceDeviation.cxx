@@ -9,7 +9,8 @@
 //     300,000 random samples per side);
 //  3. with --vtk: vtkHausdorffDistancePointSetFilter (point-to-cell, vertices only) on the same
 //     pair, VTK's own tool for this, for the ratio.
-// Usage: BenchSurfaceDeviation [--resolution N] [--samples N] [--threads N] [--vtk]
+// Usage: BenchSurfaceDeviation [--resolution N] [--samples N] [--threads N] [--vtk] [--write PREFIX]
+// (--write saves the pair as PREFIX_A.vtp / PREFIX_B.vtp, e.g. to run meshdist on it.)
 #include "slodInputPreparation.h"
 #include "slodSurfaceDeviation.h"
 #include "slodTriangleBVH.h"
@@ -24,6 +25,7 @@
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
+#include "vtkXMLPolyDataWriter.h"
 
 #include <chrono>
 #include <cmath>
@@ -83,6 +85,7 @@ int main(int argc, char* argv[])
   long long samples = 300000;
   int threads = 0;
   bool runVtk = false;
+  std::string writePrefix;
   for (int i = 1; i < argc; ++i)
   {
     const std::string arg = argv[i];
@@ -98,13 +101,17 @@ int main(int argc, char* argv[])
     {
       threads = std::atoi(argv[++i]);
     }
+    else if (arg == "--write" && i + 1 < argc)
+    {
+      writePrefix = argv[++i];
+    }
     else if (arg == "--vtk")
     {
       runVtk = true;
     }
     else
     {
-      std::fprintf(stderr, "usage: %s [--resolution N] [--samples N] [--threads N] [--vtk]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--resolution N] [--samples N] [--threads N] [--vtk] [--write PREFIX]\n", argv[0]);
       return 2;
     }
   }
@@ -119,6 +126,18 @@ int main(int argc, char* argv[])
   vtkSmartPointer<vtkPolyData> b = RippledRing(resolution / 4);
   std::printf("meshes: A %lld triangles, B %lld triangles (generated in %.2f s, untimed)\n",
     static_cast<long long>(a->GetNumberOfPolys()), static_cast<long long>(b->GetNumberOfPolys()), Now() - t);
+
+  if (!writePrefix.empty())
+  {
+    for (const auto& item : { std::make_pair(std::string("_A.vtp"), a), std::make_pair(std::string("_B.vtp"), b) })
+    {
+      vtkNew<vtkXMLPolyDataWriter> writer;
+      writer->SetFileName((writePrefix + item.first).c_str());
+      writer->SetInputData(item.second);
+      writer->SetDataModeToBinary();
+      writer->Write();
+    }
+  }
 
   // 1. One side, core API.
   slod::TriangleMesh meshA, meshB;
