@@ -80,13 +80,13 @@ int vtkSurfaceDeviation::RequestData(
   {
     if (!side.second->Valid)
     {
-      vtkErrorMacro("Invalid " << side.first << " input: " << side.second->Error);
+      vtkErrorMacro("Invalid " << side.first << " input: " << side.second->Error << "; the output is empty.");
       output->Initialize();
       return 1;
     }
     for (const std::string& warning : side.second->Warnings())
     {
-      vtkWarningMacro(<< side.first << ": " << warning);
+      vtkWarningMacro(<< "Input " << side.first << ": " << warning << ".");
     }
   }
   this->UpdateProgress(0.05);

@@ -459,23 +459,26 @@ TEST(SurfaceDeviation, DeterministicAcrossRunsAndThreadCounts)
     }
     return values;
   };
-  // (Single-thread last: TBB keeps a lower worker limit for the rest of the process.)
+  // A different seed changes the random samples (and so the means) but not by much.
+  {
+    vtkNew<vtkSurfaceDeviation> f;
+    f->SetReferenceData(bunny);
+    f->SetComparedData(decimated);
+    f->SetNumberOfSamples(30000);
+    f->SetSeed(99);
+    f->Update();
+    const std::vector<double> reference = run(vtkSMPTools::Config{ 2 });
+    EXPECT_NE(f->GetRMS(), reference[4]);
+    EXPECT_NEAR(f->GetRMS(), reference[4], 0.02 * reference[4]);
+  }
+  // Identical for every thread count and backend. (Single thread last: in VTK 9.1 a TBB limit of
+  // one worker outlives its LocalScope.)
   const std::vector<double> first = run(vtkSMPTools::Config{ 2 });
+  EXPECT_GT(first[0], 0.0);
   EXPECT_EQ(first, run(vtkSMPTools::Config{ 2 }));
   EXPECT_EQ(first, run(vtkSMPTools::Config{ 3, std::string("STDThread"), true }));
   EXPECT_EQ(first, run(vtkSMPTools::Config{ std::string("Sequential") }));
   EXPECT_EQ(first, run(vtkSMPTools::Config{ 1 }));
-  EXPECT_GT(first[0], 0.0);
-
-  // A different seed changes the random samples (and so the means) but not by much.
-  vtkNew<vtkSurfaceDeviation> f;
-  f->SetReferenceData(bunny);
-  f->SetComparedData(decimated);
-  f->SetNumberOfSamples(30000);
-  f->SetSeed(99);
-  f->Update();
-  EXPECT_NE(f->GetRMS(), first[4]);
-  EXPECT_NEAR(f->GetRMS(), first[4], 0.02 * first[4]);
 }
 
 // meshdist (anchorbench, /work/shared/tools/anchorbench) on the same pair, built per its README
