@@ -318,6 +318,38 @@ TEST(TriangleBVH, StructureIsValid)
   EXPECT_LE(tree.GetDepth(), 64);
 }
 
+TEST(TriangleBVH, BatchedDistancesMatchBruteForce)
+{
+  // ComputeDistances reorders the points (Morton) and bounds each query by the previous answer:
+  // the distances must still be the exact ones, in the caller's order.
+  const TriangleMesh mesh = ToTriangleMesh(LoadTestMesh("fandisk"));
+  const TriangleBVH tree(mesh);
+  std::vector<double> points;
+  SampleSurface(mesh, 1500, 5, 0, points); // on the surface: distance ~0
+  std::mt19937_64 rng(9);
+  const auto b = mesh.Bounds();
+  std::uniform_real_distribution<double> u(-0.1, 1.1);
+  for (int i = 0; i < 1500; ++i)
+  {
+    points.push_back(b[0] + u(rng) * (b[1] - b[0]));
+    points.push_back(b[2] + u(rng) * (b[3] - b[2]));
+    points.push_back(b[4] + u(rng) * (b[5] - b[4]));
+  }
+  points.push_back(std::numeric_limits<double>::quiet_NaN());
+  points.push_back(0);
+  points.push_back(0);
+  std::vector<double> distances;
+  ASSERT_TRUE(ComputeDistances(tree, points, distances));
+  ASSERT_EQ(distances.size(), points.size() / 3);
+  const double diag = mesh.BoundingBoxDiagonal();
+  for (size_t i = 0; i + 1 < distances.size(); ++i)
+  {
+    const Vec3 q{ points[3 * i], points[3 * i + 1], points[3 * i + 2] };
+    EXPECT_NEAR(distances[i], std::sqrt(BruteForceMeshDistance2(mesh, q)), 1e-12 * diag) << i;
+  }
+  EXPECT_TRUE(std::isnan(distances.back()));
+}
+
 // ---------------------------------------------------------------- sampling
 
 TEST(SurfaceSampling, AreaWeightedAndOnTheSurface)
@@ -611,6 +643,7 @@ TEST(SurfaceDeviation, DistanceOnEveryInputPointOfB)
   points->InsertNextPoint(0, 1, 0.5);
   points->InsertNextPoint(1, 1, 0.5);  // duplicate of point 2
   points->InsertNextPoint(0.5, 0.5, 2); // vertex cell only
+  points->InsertNextPoint(std::numeric_limits<double>::quiet_NaN(), 0, 0); // unused
   vtkNew<vtkCellArray> polys;
   const vtkIdType quad[4] = { 0, 1, 4, 3 };
   polys->InsertNextCell(4, quad);
@@ -632,12 +665,14 @@ TEST(SurfaceDeviation, DistanceOnEveryInputPointOfB)
   EXPECT_FALSE(w.Messages->Warnings.empty()); // merged points, ignored vertex cell
   vtkDataArray* distance = w.Filter->GetOutput()->GetPointData()->GetArray("Distance");
   ASSERT_NE(distance, nullptr);
-  ASSERT_EQ(distance->GetNumberOfTuples(), 6);
+  ASSERT_EQ(distance->GetNumberOfTuples(), 7);
   for (vtkIdType i = 0; i < 5; ++i)
   {
     EXPECT_NEAR(distance->GetTuple1(i), 0.5, 1e-15) << i;
   }
   EXPECT_NEAR(distance->GetTuple1(5), 2.0, 1e-15);
+  EXPECT_TRUE(std::isnan(distance->GetTuple1(6))); // no distance for a point without coordinates
+  EXPECT_TRUE(w.Messages->Errors.empty());
   EXPECT_NEAR(w.Filter->GetHausdorff(), 0.5, 1e-15);
   // The input is untouched.
   EXPECT_EQ(b->GetPointData()->GetArray("Distance"), nullptr);
