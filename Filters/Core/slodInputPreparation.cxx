@@ -5,6 +5,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkObject.h"
 #include "vtkPoints.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
@@ -106,9 +107,8 @@ void CollectTriangles(vtkPolyData* input, const std::vector<double>& points, Pre
 }
 
 // Makes neighbouring triangles traverse shared manifold edges in opposite directions.
-void OrientConsistently(TriangleMesh& mesh, PreparationReport& report)
+void OrientConsistently(TriangleMesh& mesh, const MeshTopology& topology, PreparationReport& report)
 {
-  MeshTopology topology(mesh);
   const Index nt = mesh.NumberOfTriangles();
   std::vector<signed char> flip(nt, -1); // -1 unvisited, 0 keep, 1 flip
   std::vector<Index> queue, component;
@@ -347,14 +347,45 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
     }
   }
 
+  // One adjacency build serves both the orientation repair and the non-manifold counts (flipping
+  // triangles changes neither edges nor fans).
+  const MeshTopology topology(mesh);
   if (options.MakeOrientationConsistent)
   {
-    OrientConsistently(mesh, report);
+    OrientConsistently(mesh, topology, report);
   }
-  const MeshStatistics stats = ComputeMeshStatistics(mesh);
-  report.NonManifoldEdges = stats.NonManifoldEdges;
-  report.NonManifoldVertices = stats.NonManifoldVertices;
+  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    report.NonManifoldEdges += topology.IsNonManifoldEdge(e) ? 1 : 0;
+  }
+  for (Index v = 0; v < topology.NumberOfPoints(); ++v)
+  {
+    report.NonManifoldVertices += topology.IsNonManifoldVertex(v) ? 1 : 0;
+  }
   return report;
+}
+
+bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const PreparationOptions& options,
+  TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint, PreparationReport* reportOut)
+{
+  const PreparationReport report = PrepareTriangleMesh(input, options, mesh, vertexToInputPoint);
+  if (reportOut)
+  {
+    *reportOut = report;
+  }
+  if (!report.Valid)
+  {
+    vtkErrorWithObjectMacro(filter, << "Invalid input: " << report.Error << "; the output is empty.");
+    mesh.Points.clear();
+    mesh.Triangles.clear();
+    vertexToInputPoint.clear();
+    return false;
+  }
+  for (const std::string& warning : report.Warnings())
+  {
+    vtkWarningWithObjectMacro(filter, << "Input: " << warning << ".");
+  }
+  return true;
 }
 
 void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointDataType)
