@@ -128,6 +128,22 @@ def scenario_compare_self(a):
         check(value is not None and 0 <= value < 1e-9, "compare with itself: %s = %r" % (key, value))
 
 
+def scenario_compare_simplified(a):
+    """compare measures a simplification: small but non-zero, symmetric maximum of both sides."""
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    out = os.path.join(a.work, "fandisk_1000.ply")
+    run(a.cli, "simplify", fandisk, out, "--method", "vtk-quadric-decimation", "--target-triangles", 1000)
+    d = json_line(run(a.cli, "compare", fandisk, out, "--samples", 50000, "--json"))
+    # vtkQuadricDecimation to 1000 triangles stays within ~0.1% of the diagonal on fandisk.
+    check(1e-5 < d["hausdorff"] < 5e-3, "hausdorff %r" % d["hausdorff"])
+    check(d["hausdorff"] == max(d["hausdorff_ab"], d["hausdorff_ba"]), "hausdorff is not the max of both sides: %r" % d)
+    check(0 < d["mean"] <= d["rms"] <= d["hausdorff"], "mean <= rms <= hausdorff violated: %r" % d)
+    # Swapping the arguments swaps the one-sided distances (up to the sampling of the other surface).
+    e = json_line(run(a.cli, "compare", out, fandisk, "--samples", 50000, "--json"))
+    check(abs(e["hausdorff"] * 1.0 - d["hausdorff"]) < 0.2 * d["hausdorff"],
+          "swapped hausdorff %r vs %r" % (e["hausdorff"], d["hausdorff"]))
+
+
 def scenario_errors(a):
     w = a.work
     def write(name, data):
