@@ -6,6 +6,8 @@
 // SurfaceLOD filters: add the include here and one line in the table below.
 
 #include <algorithm>
+#include <type_traits>
+#include <utility>
 
 namespace slodcli
 {
@@ -24,6 +26,16 @@ double MethodSettings::ReductionFraction() const
 
 namespace
 {
+template <typename Filter, typename = void>
+struct HasMaximumError : std::false_type
+{
+};
+template <typename Filter>
+struct HasMaximumError<Filter, std::void_t<decltype(std::declval<Filter&>().SetMaximumError(0.0))>>
+  : std::true_type
+{
+};
+
 // Every SurfaceLOD filter follows one convention (SetTargetNumberOfTriangles, SetTargetReduction,
 // SetMaximumError), so one factory serves them all.
 template <typename Filter>
@@ -48,11 +60,21 @@ vtkSmartPointer<vtkPolyDataAlgorithm> CreateSurfaceLODFilter(const MethodSetting
     filter->SetTargetNumberOfTriangles(std::max<vtkIdType>(settings.InputTriangles, 1));
     filter->SetTargetReduction(0.0);
   }
-  if (settings.HasMaximumError)
+  if constexpr (HasMaximumError<Filter>::value)
   {
-    filter->SetMaximumError(settings.MaximumError);
+    if (settings.HasMaximumError)
+    {
+      filter->SetMaximumError(settings.MaximumError);
+    }
   }
   return filter;
+}
+
+// One registry entry for a SurfaceLOD filter; --max-error is offered when it has SetMaximumError.
+template <typename Filter>
+Method SurfaceLODMethod(const char* name, const char* description)
+{
+  return { name, description, HasMaximumError<Filter>::value, &CreateSurfaceLODFilter<Filter> };
 }
 
 vtkSmartPointer<vtkPolyDataAlgorithm> CreateVTKQuadricDecimation(const MethodSettings& settings)
@@ -84,8 +106,8 @@ const std::vector<Method>& Methods()
       false, &CreateVTKQuadricDecimation },
     { "vtk-decimate-pro", "VTK's vtkDecimatePro with PreserveTopologyOn (vertex removal)",
       true, &CreateVTKDecimatePro },
-    // SurfaceLOD filters, e.g.:
-    // { "quadric-triangle-collapse", "...", true, &CreateSurfaceLODFilter<vtkQuadricTriangleCollapse> },
+    // SurfaceLOD filters, one line each (and the header include above), e.g.:
+    // SurfaceLODMethod<vtkQuadricTriangleCollapse>("quadric-triangle-collapse", "..."),
   };
   // clang-format on
   return methods;
