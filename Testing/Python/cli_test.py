@@ -64,6 +64,12 @@ def scenario_info(a):
                 "euler_characteristic": 2, "genus": 0, "merged_points": 8}
     for key, value in expected.items():
         check(info.get(key) == value, "tetrahedron soup %s = %r, expected %r" % (key, info.get(key), value))
+    # An unused point with NaN coordinates does not make a file unusable (as the filters' input contract).
+    unused_nan = os.path.join(a.work, "unused_nan.off")
+    with open(unused_nan, "w") as f:
+        f.write("OFF\n5 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\nnan nan nan\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n")
+    info = json_line(run(a.cli, "info", unused_nan, "--json"))
+    check(info["vertices"] == 4 and info["genus"] == 0, "unused NaN point: %r" % info)
     # Human-readable form carries the same numbers.
     text = run(a.cli, "info", fandisk).stdout
     check("12946" in text and "6475" in text, "plain info output lacks the counts: " + text)

@@ -106,7 +106,7 @@ std::string Extension(const std::string& path)
   return ext;
 }
 
-// Cell point ids in range and finite coordinates: readers do not all check this, and a bad id
+// Cell point ids in range and finite coordinates of the used points: readers do not all check this, and a bad id
 // would crash a filter later.
 std::string ValidateSurface(vtkPolyData* mesh)
 {
@@ -116,6 +116,7 @@ std::string ValidateSurface(vtkPolyData* mesh)
   {
     return "no surface in the file (0 polygons)";
   }
+  std::vector<char> used(static_cast<size_t>(numPoints), 0);
   for (vtkCellArray* cells : { mesh->GetVerts(), mesh->GetLines(), mesh->GetPolys(), mesh->GetStrips() })
   {
     if (!cells)
@@ -135,12 +136,17 @@ std::string ValidateSurface(vtkPolyData* mesh)
           return "a face refers to vertex " + std::to_string(ids[k]) + " but the file has " +
             std::to_string(numPoints) + " vertices";
         }
+        used[static_cast<size_t>(ids[k])] = 1;
       }
     }
   }
   vtkDataArray* coordinates = mesh->GetPoints()->GetData();
   for (vtkIdType i = 0; i < numPoints; ++i)
   {
+    if (!used[static_cast<size_t>(i)])
+    {
+      continue; // an unused point cannot harm: the filters never look at it
+    }
     double p[3];
     coordinates->GetTuple(i, p);
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
