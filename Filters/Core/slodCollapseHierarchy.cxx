@@ -189,6 +189,39 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   }
   e.Kappa = EvaluateCurvature(patch, 0, 0).Absolute();
   e.Point = frame.ToWorld(0, 0, patch.Evaluate(0, 0));
+  if (this->Parameters.ErrorWeight > 0)
+  {
+    Quadric q = this->Quadrics[tri[0]];
+    q += this->Quadrics[tri[1]];
+    q += this->Quadrics[tri[2]];
+    if (this->Parameters.QuadricCollapsePoint)
+    {
+      // Q(c + s n) is quadratic in s: minimise it, staying within the patch's reach.
+      const Vec3& n = frame.Normal;
+      const Vec3 An{ q.Axx * n[0] + q.Axy * n[1] + q.Axz * n[2], q.Axy * n[0] + q.Ayy * n[1] + q.Ayz * n[2],
+        q.Axz * n[0] + q.Ayz * n[1] + q.Azz * n[2] };
+      const Vec3 Ac{ q.Axx * centroid[0] + q.Axy * centroid[1] + q.Axz * centroid[2],
+        q.Axy * centroid[0] + q.Ayy * centroid[1] + q.Ayz * centroid[2],
+        q.Axz * centroid[0] + q.Ayz * centroid[1] + q.Azz * centroid[2] };
+      const double nAn = Dot(n, An);
+      Vec3 best;
+      const double reach = Norm(a - centroid) + Norm(b - centroid) + Norm(c - centroid);
+      if (q.Minimize(best, 1e-7) && Norm(best - centroid) <= reach)
+      {
+        // Well-conditioned (corners, creases): the quadric's own optimum, near the triangle.
+        e.Point = best;
+      }
+      else if (nAn > 1e-300)
+      {
+        const double s = -(Dot(n, Ac) + Dot(n, Vec3{ q.Bx, q.By, q.Bz })) / nAn;
+        if (std::isfinite(s))
+        {
+          e.Point = centroid + s * n;
+        }
+      }
+    }
+    e.Error = q.Evaluate(e.Point);
+  }
   // alpha = 2 (cos A + cos B + cos C - 1) = 2 r / R.
   double cosSum = 0;
   const Vec3 corners[3] = { a, b, c };
@@ -206,7 +239,9 @@ double CollapseHierarchy::WeightOf(const Evaluation& e) const
   const CollapseHierarchyParameters& p = this->Parameters;
   const double term = p.CurvatureWeight * (e.Kappa / this->KappaMax) + p.AngleWeight * e.Alpha +
     p.ValenceWeight * (std::abs(e.Valence - 6) / this->Mv);
-  return e.Area * term / (this->WeightSum * this->MeanArea);
+  const double paper = e.Area * term / (this->WeightSum * this->MeanArea);
+  const double error = e.Error / (this->MeanArea * this->MeanArea);
+  return (1 - p.ErrorWeight) * paper + p.ErrorWeight * error;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -230,6 +265,11 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
   this->GlobalPoints.insert(this->GlobalPoints.end(), p.begin(), p.end());
 
   m.Collapse(vertices, 3, kept, p, &this->Record);
+  if (!this->Quadrics.empty())
+  {
+    this->Quadrics[kept] += this->Quadrics[vertices[1]];
+    this->Quadrics[kept] += this->Quadrics[vertices[2]];
+  }
   this->Collapses.push_back(collapse);
   this->GlobalOf[kept] = collapse.Point;
 
@@ -298,6 +338,7 @@ bool CollapseHierarchy::Build(
     p.CurvatureWeight = p.AngleWeight = p.ValenceWeight = 1.0 / 3.0;
     this->WeightSum = 1;
   }
+  p.ErrorWeight = std::min(1.0, std::max(0.0, p.ErrorWeight));
   p.BatchFraction = std::min(1.0, std::max(1e-6, p.BatchFraction));
 
   this->Base = input;
@@ -338,6 +379,26 @@ bool CollapseHierarchy::Build(
     return true;
   }
 
+  this->Quadrics.clear();
+  if (p.ErrorWeight > 0)
+  {
+    this->Quadrics.assign(np, Quadric());
+    for (Index t = 0; t < nt; ++t)
+    {
+      const Index* tri = this->Base.Triangle(t);
+      const Vec3 a = this->Base.Point(tri[0]);
+      const Vec3 areaVector = this->Base.TriangleAreaVector(t);
+      const double area = 0.5 * Norm(areaVector);
+      if (area > 0)
+      {
+        const Quadric q = Quadric::FromPointNormal(a, Normalized(areaVector), area);
+        for (int k = 0; k < 3; ++k)
+        {
+          this->Quadrics[tri[k]] += q;
+        }
+      }
+    }
+  }
   // Initial evaluation; the curvature and valence normalisers come from M0.
   this->Evaluations.assign(nt, Evaluation());
   this->Weights.assign(nt, 0.0);

@@ -23,6 +23,7 @@
 #define slodCollapseHierarchy_h
 
 #include "slodEditableMesh.h"
+#include "slodQuadric.h"
 #include "slodQuadraticFit.h"
 #include "slodTriangleStencil.h"
 
@@ -38,6 +39,15 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   double CurvatureWeight = 1.0 / 3.0;
   double AngleWeight = 1.0 / 3.0;
   double ValenceWeight = 1.0 / 3.0;
+  // Blend with a geometric error term (not in the paper): W = (1 - e) W_paper + e E(T), where E(T)
+  // is the area-weighted squared distance of the collapse point to the planes of the original
+  // triangles merged into T's vertices (quadric error), divided by the squared mean triangle area.
+  // 0 gives the paper's weights exactly.
+  double ErrorWeight = 0.0;
+  // Collapse point: the paper's c + f(0,0) n on the fitted quadratic (false), or the point of
+  // least quadric error (true; needs ErrorWeight > 0): the quadric's minimum when it is well
+  // conditioned and near T (creases, corners), else the minimum on the line c + s n.
+  bool QuadricCollapsePoint = false;
   // Fraction of the live triangles collapsed per level (at most).
   double BatchFraction = 0.025;
   // Only triangles with W(T) / (mean input triangle area) below this are collapsed (0: no limit).
@@ -122,7 +132,7 @@ public:
 private:
   struct Evaluation
   {
-    double Kappa = 0, Alpha = 0, Area = 0;
+    double Kappa = 0, Alpha = 0, Area = 0, Error = 0;
     int Valence = 6;
     Vec3 Point{ 0, 0, 0 }, Normal{ 0, 0, 1 };
   };
@@ -147,6 +157,7 @@ private:
   std::vector<double> RecordOldPositions;
 
   std::vector<Evaluation> Evaluations;
+  std::vector<Quadric> Quadrics; // per editable vertex: planes of its original triangles
   std::vector<double> Weights;
   double KappaMax = 1, Mv = 1, MeanArea = 1, WeightSum = 1;
 
