@@ -49,6 +49,7 @@ struct vtkTriangleCollapseHierarchy::Internals
       a.ValenceWeight == b.ValenceWeight && a.BatchFraction == b.BatchFraction &&
       a.MaximumWeight == b.MaximumWeight && a.ValenceNormalizer == b.ValenceNormalizer &&
       a.RemoveCycles == b.RemoveCycles && a.MaximumNumberOfLevels == b.MaximumNumberOfLevels &&
+      a.RelaxWhenBlocked == b.RelaxWhenBlocked &&
       a.MinimumNumberOfTriangles == b.MinimumNumberOfTriangles && a.MinimumNormalDot == b.MinimumNormalDot &&
       a.ErrorWeight == b.ErrorWeight && a.QuadricCollapsePoint == b.QuadricCollapsePoint;
   }
@@ -229,6 +230,7 @@ int vtkTriangleCollapseHierarchy::RequestData(
   parameters.MinimumNumberOfTriangles = static_cast<slod::Index>(this->MinimumNumberOfTriangles);
   parameters.MinimumNormalDot = this->MinimumNormalDot;
   parameters.ErrorWeight = this->ErrorWeight;
+  parameters.RelaxWhenBlocked = this->RelaxWhenBlocked;
   parameters.QuadricCollapsePoint = this->QuadricCollapsePoint;
 
   const bool rebuild = !in.Valid || in.Input != input || in.InputTime != input->GetMTime() ||
@@ -349,6 +351,7 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ValenceWeight: " << this->ValenceWeight << "\n";
   os << indent << "ErrorWeight: " << this->ErrorWeight << "\n";
   os << indent << "QuadricCollapsePoint: " << this->QuadricCollapsePoint << "\n";
+  os << indent << "RelaxWhenBlocked: " << this->RelaxWhenBlocked << "\n";
   os << indent << "BatchFraction: " << this->BatchFraction << "\n";
   os << indent << "MaximumWeight: " << this->MaximumWeight << "\n";
   os << indent << "ValenceNormalizer: " << this->ValenceNormalizer << "\n";

@@ -112,6 +112,15 @@ public:
   ///@}
 
   ///@{
+  /// When no triangle passes the paper's collapsibility rules, retry the level with the
+  /// valence-four rule relaxed and star-shapedness also tried in the stencil's mean plane,
+  /// instead of stopping (not in the paper).
+  vtkSetMacro(RelaxWhenBlocked, bool);
+  vtkGetMacro(RelaxWhenBlocked, bool);
+  vtkBooleanMacro(RelaxWhenBlocked, bool);
+  ///@}
+
+  ///@{
   /// Upper bound on the number of meshes in the hierarchy (default 1000).
   vtkSetClampMacro(MaximumNumberOfLevels, int, 1, VTK_INT_MAX);
   vtkGetMacro(MaximumNumberOfLevels, int);
@@ -170,6 +179,7 @@ protected:
   double MaximumWeight = 0.0;
   double ValenceNormalizer = 0.0;
   bool RemoveCycles = false;
+  bool RelaxWhenBlocked = false;
   int MaximumNumberOfLevels = 1000;
   vtkIdType MinimumNumberOfTriangles = 0;
   double MinimumNormalDot = 0.2;

@@ -1,6 +1,10 @@
 #include "slodCollapseHierarchy.h"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <numeric>
 #include <utility>
@@ -196,27 +200,50 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
     q += this->Quadrics[tri[2]];
     if (this->Parameters.QuadricCollapsePoint)
     {
-      // Q(c + s n) is quadratic in s: minimise it, staying within the patch's reach.
-      const Vec3& n = frame.Normal;
-      const Vec3 An{ q.Axx * n[0] + q.Axy * n[1] + q.Axz * n[2], q.Axy * n[0] + q.Ayy * n[1] + q.Ayz * n[2],
-        q.Axz * n[0] + q.Ayz * n[1] + q.Azz * n[2] };
-      const Vec3 Ac{ q.Axx * centroid[0] + q.Axy * centroid[1] + q.Axz * centroid[2],
-        q.Axy * centroid[0] + q.Ayy * centroid[1] + q.Ayz * centroid[2],
-        q.Axz * centroid[0] + q.Ayz * centroid[1] + q.Azz * centroid[2] };
-      const double nAn = Dot(n, An);
-      Vec3 best;
-      const double reach = Norm(a - centroid) + Norm(b - centroid) + Norm(c - centroid);
-      if (q.Minimize(best, 1e-7) && Norm(best - centroid) <= reach)
+      // Least quadric error nearest to the centroid: pseudo-inverse of A around c, dropping
+      // directions the planes do not constrain (flat: moves along the normal only; crease: onto
+      // the crease line; corner: onto the corner).
+      Eigen::Matrix3d A;
+      A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
+      const Eigen::Vector3d cc(centroid[0], centroid[1], centroid[2]);
+      const Eigen::Vector3d g = A * cc + Eigen::Vector3d(q.Bx, q.By, q.Bz);
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(A);
+      const Eigen::Vector3d lambda = eigen.eigenvalues();
+      const double top = std::max(std::abs(lambda[0]), std::max(std::abs(lambda[1]), std::abs(lambda[2])));
+      Eigen::Vector3d x = cc;
+      for (int i = 0; i < 3; ++i)
       {
-        // Well-conditioned (corners, creases): the quadric's own optimum, near the triangle.
+        if (lambda[i] > 1e-3 * top && top > 0)
+        {
+          const Eigen::Vector3d u = eigen.eigenvectors().col(i);
+          x -= (u.dot(g) / lambda[i]) * u;
+        }
+      }
+      const Vec3 best{ x[0], x[1], x[2] };
+      const double reach = Norm(a - centroid) + Norm(b - centroid) + Norm(c - centroid);
+      if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && Norm(best - centroid) <= reach)
+      {
         e.Point = best;
       }
-      else if (nAn > 1e-300)
+      // When the optimum would fold the stencil, the cheapest valid alternative among the
+      // corners and edge midpoints (a triangle collapse can still go there).
+      this->Stencils.Build(m, t, this->Stencil);
+      if (this->Stencil.Complete &&
+        this->Stencils.CheckCollapsible(m, this->Stencil, e.Point, frame.Normal, &this->MeshOptions,
+          this->Rules) == CollapsibleStatus::NotStarShaped)
       {
-        const double s = -(Dot(n, Ac) + Dot(n, Vec3{ q.Bx, q.By, q.Bz })) / nAn;
-        if (std::isfinite(s))
+        const Vec3 options[6] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
+        double bestError = std::numeric_limits<double>::infinity();
+        for (const Vec3& o : options)
         {
-          e.Point = centroid + s * n;
+          const double error = q.Evaluate(o);
+          if (error < bestError &&
+            this->Stencils.CheckCollapsible(m, this->Stencil, o, frame.Normal, &this->MeshOptions, this->Rules) ==
+              CollapsibleStatus::Ok)
+          {
+            bestError = error;
+            e.Point = o;
+          }
         }
       }
     }
@@ -341,6 +368,9 @@ bool CollapseHierarchy::Build(
   p.ErrorWeight = std::min(1.0, std::max(0.0, p.ErrorWeight));
   p.BatchFraction = std::min(1.0, std::max(1e-6, p.BatchFraction));
 
+  this->MeshOptions = CollapseOptions();
+  this->MeshOptions.MinimumNormalDot = p.MinimumNormalDot;
+  this->Rules = CollapsibleOptions();
   this->Base = input;
   if (p.RemoveCycles)
   {
@@ -423,8 +453,7 @@ bool CollapseHierarchy::Build(
     this->Weights[t] = this->WeightOf(this->Evaluations[t]);
   }
 
-  CollapseOptions meshOptions;
-  meshOptions.MinimumNormalDot = p.MinimumNormalDot;
+  CollapseOptions& meshOptions = this->MeshOptions;
   std::vector<std::pair<double, Index>> candidates;
   std::vector<Index> batch, affected;
   std::vector<int> stencilMark(nt, -1);
@@ -453,47 +482,62 @@ bool CollapseHierarchy::Build(
     {
       wanted = std::min<Index>(wanted, std::max<Index>(1, (live - p.MinimumNumberOfTriangles + 3) / 4));
     }
-    batch.clear();
-    size_t sorted = 0;
-    while (static_cast<Index>(batch.size()) < wanted && sorted < candidates.size())
-    {
-      // Sort the next chunk of the priority order only (usually a few times the batch size).
-      const size_t chunk = std::min(candidates.size() - sorted, std::max<size_t>(8 * size_t(wanted), 1024));
-      std::nth_element(candidates.begin() + sorted, candidates.begin() + sorted + chunk - 1, candidates.end());
-      std::sort(candidates.begin() + sorted, candidates.begin() + sorted + chunk);
-      for (size_t i = sorted; i < sorted + chunk && static_cast<Index>(batch.size()) < wanted; ++i)
+    CollapsibleOptions& rules = this->Rules;
+    rules = CollapsibleOptions();
+    auto select = [&]() {
+      batch.clear();
+      size_t sorted = 0;
+      while (static_cast<Index>(batch.size()) < wanted && sorted < candidates.size())
       {
-        const Index t = candidates[i].second;
-        // Stencils of one batch must be pairwise disjoint.
-        if (stencilMark[t] == level)
+        // Sort the next chunk of the priority order only (usually a few times the batch size).
+        const size_t chunk = std::min(candidates.size() - sorted, std::max<size_t>(8 * size_t(wanted), 1024));
+        if (!rules.AllowNewCycles)
         {
-          continue;
+          std::nth_element(candidates.begin() + sorted, candidates.begin() + sorted + chunk - 1, candidates.end());
+          std::sort(candidates.begin() + sorted, candidates.begin() + sorted + chunk);
         }
-        bool free = true;
-        const Index* tri = this->Mesh.Triangle(t);
-        for (int k = 0; k < 3 && free; ++k)
+        for (size_t i = sorted; i < sorted + chunk && static_cast<Index>(batch.size()) < wanted; ++i)
         {
-          this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && stencilMark[x] != level; });
+          const Index t = candidates[i].second;
+          // Stencils of one batch must be pairwise disjoint.
+          if (stencilMark[t] == level)
+          {
+            continue;
+          }
+          bool free = true;
+          const Index* tri = this->Mesh.Triangle(t);
+          for (int k = 0; k < 3 && free; ++k)
+          {
+            this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && stencilMark[x] != level; });
+          }
+          if (!free)
+          {
+            continue;
+          }
+          const Evaluation& e = this->Evaluations[t];
+          this->Stencils.Build(this->Mesh, t, this->Stencil);
+          if (this->Stencils.CheckCollapsible(
+                this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) != CollapsibleStatus::Ok)
+          {
+            continue;
+          }
+          stencilMark[t] = level;
+          for (Index x : this->Stencil.Triangles)
+          {
+            stencilMark[x] = level;
+          }
+          batch.push_back(t);
         }
-        if (!free)
-        {
-          continue;
-        }
-        const Evaluation& e = this->Evaluations[t];
-        this->Stencils.Build(this->Mesh, t, this->Stencil);
-        if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions) !=
-          CollapsibleStatus::Ok)
-        {
-          continue;
-        }
-        stencilMark[t] = level;
-        for (Index x : this->Stencil.Triangles)
-        {
-          stencilMark[x] = level;
-        }
-        batch.push_back(t);
+        sorted += chunk;
       }
-      sorted += chunk;
+    };
+    select();
+    if (batch.empty() && p.RelaxWhenBlocked)
+    {
+      // The whole list is sorted by now (the first pass scanned it all).
+      rules.AllowNewCycles = true;
+      rules.StencilPlaneFallback = true;
+      select();
     }
     // Collapse the batch. Earlier collapses of the batch can only have changed valences on the
     // shared stencil boundaries, so rule (2) is checked again.
@@ -504,7 +548,7 @@ bool CollapseHierarchy::Build(
       bool cycle = false;
       for (Index q : this->Stencil.OppositeVertices)
       {
-        cycle = cycle || this->Mesh.VertexDegree(q) == 4;
+        cycle = cycle || (!rules.AllowNewCycles && this->Mesh.VertexDegree(q) == 4);
       }
       if (cycle)
       {
@@ -514,6 +558,17 @@ bool CollapseHierarchy::Build(
     }
     if (this->NumberOfCollapses() == levelStart)
     {
+      if (getenv("SLOD_DEBUG"))
+      {
+        int counts[8] = { 0 };
+        for (Index t = 0; t < nt; ++t)
+        {
+          if (!this->Mesh.IsTriangleAlive(t)) continue;
+          this->Stencils.Build(this->Mesh, t, this->Stencil);
+          counts[int(this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, this->Evaluations[t].Point, this->Evaluations[t].Normal, &meshOptions))]++;
+        }
+        for (int i = 0; i < 7; ++i) fprintf(stderr, "%s: %d\n", ToString(CollapsibleStatus(i)), counts[i]);
+      }
       break;
     }
     this->LevelStarts.push_back(this->NumberOfCollapses());

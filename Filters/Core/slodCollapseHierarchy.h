@@ -56,6 +56,9 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   double ValenceNormalizer = 0.0;
   // Swap edges to remove stencil cycles (valence-3 vertices) from M0 before reducing (Fig. 3).
   bool RemoveCycles = false;
+  // When no triangle passes the paper's rules, retry the level with rule (2) relaxed (a valence-3
+  // vertex may appear) and rule (3) also tried in the stencil's mean plane, instead of stopping.
+  bool RelaxWhenBlocked = false;
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
   Index MinimumNumberOfTriangles = 0;
@@ -166,6 +169,8 @@ private:
   StencilBuilder Stencils;
   TriangleStencil Stencil;
   CollapseRecord Record;
+  CollapseOptions MeshOptions;
+  CollapsibleOptions Rules;
   std::vector<double> FitPoints;
   std::vector<Index> StencilVertices;
   std::vector<std::uint32_t> VertexMark;

@@ -210,7 +210,7 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
 }
 
 CollapsibleStatus StencilBuilder::CheckCollapsible(const EditableMesh& mesh, const TriangleStencil& s,
-  const Vec3& p, const Vec3& normal, const CollapseOptions* meshOptions)
+  const Vec3& p, const Vec3& normal, const CollapseOptions* meshOptions, const CollapsibleOptions& options)
 {
   if (s.Triangle == InvalidIndex || !mesh.IsTriangleAlive(s.Triangle))
   {
@@ -226,7 +226,7 @@ CollapsibleStatus StencilBuilder::CheckCollapsible(const EditableMesh& mesh, con
   }
   for (Index q : s.OppositeVertices)
   {
-    if (mesh.VertexDegree(q) == 4)
+    if (!options.AllowNewCycles && mesh.VertexDegree(q) == 4)
     {
       return CollapsibleStatus::CreatesCycle;
     }
@@ -234,12 +234,33 @@ CollapsibleStatus StencilBuilder::CheckCollapsible(const EditableMesh& mesh, con
   // Star-shaped with respect to p seen along the normal: every boundary edge must have the
   // projection of p strictly on its left, i.e. every new triangle (p, x, y) keeps T's orientation.
   const size_t n = s.BoundaryPolygon.size();
-  for (size_t i = 0; i < n; ++i)
+  auto starShaped = [&](const Vec3& direction) {
+    for (size_t i = 0; i < n; ++i)
+    {
+      const Vec3 x = mesh.Point(s.BoundaryPolygon[i]) - p;
+      const Vec3 y = mesh.Point(s.BoundaryPolygon[(i + 1) % n]) - p;
+      const double area = Dot(Cross(x, y), direction);
+      if (!(area > 1e-12 * (Dot(x, x) + Dot(y, y))))
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  if (!starShaped(normal))
   {
-    const Vec3 x = mesh.Point(s.BoundaryPolygon[i]) - p;
-    const Vec3 y = mesh.Point(s.BoundaryPolygon[(i + 1) % n]) - p;
-    const double area = Dot(Cross(x, y), normal);
-    if (!(area > 1e-12 * Dot(x, x) + 1e-12 * Dot(y, y)))
+    bool ok = false;
+    if (options.StencilPlaneFallback)
+    {
+      Vec3 mean = mesh.TriangleNormal(s.Triangle);
+      mean = mesh.TriangleArea(s.Triangle) * mean;
+      for (Index x : s.Triangles)
+      {
+        mean = mean + mesh.TriangleArea(x) * mesh.TriangleNormal(x);
+      }
+      ok = Norm(mean) > 0 && starShaped(Normalized(mean));
+    }
+    if (!ok)
     {
       return CollapsibleStatus::NotStarShaped;
     }

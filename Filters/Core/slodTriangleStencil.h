@@ -45,6 +45,16 @@ enum class CollapsibleStatus
 };
 SURFACELODFILTERS_EXPORT const char* ToString(CollapsibleStatus status);
 
+// Relaxations of the paper's rules (both off = the paper).
+struct SURFACELODFILTERS_EXPORT CollapsibleOptions
+{
+  // Skip rule (2): allow collapses that leave a valence-three vertex.
+  bool AllowNewCycles = false;
+  // Rule (3) also passes when the polygon is star-shaped in the plane of the stencil's mean
+  // normal (T's own plane can be tilted against its neighbourhood on coarse meshes).
+  bool StencilPlaneFallback = false;
+};
+
 // Builds the stencil of live triangle t and classifies it. Scratch vectors are reused.
 class SURFACELODFILTERS_EXPORT StencilBuilder
 {
@@ -54,7 +64,8 @@ public:
   // Rules (1)-(3) for the stencil (built by Build) and collapse point p; `normal` is T's plane
   // normal (unit). When meshOptions is given, EditableMesh::CheckCollapse is also consulted.
   CollapsibleStatus CheckCollapsible(const EditableMesh& mesh, const TriangleStencil& stencil,
-    const Vec3& p, const Vec3& normal, const CollapseOptions* meshOptions = nullptr);
+    const Vec3& p, const Vec3& normal, const CollapseOptions* meshOptions = nullptr,
+    const CollapsibleOptions& options = CollapsibleOptions());
 
 private:
   std::vector<Index> EdgeFrom, EdgeTo;
