@@ -173,16 +173,16 @@ protected:
   double CurvatureWeight = 1.0 / 3.0;
   double AngleWeight = 1.0 / 3.0;
   double ValenceWeight = 1.0 / 3.0;
-  double ErrorWeight = 0.0;
-  bool QuadricCollapsePoint = false;
+  double ErrorWeight = 1.0;
+  bool QuadricCollapsePoint = true;
   double BatchFraction = 0.025;
   double MaximumWeight = 0.0;
   double ValenceNormalizer = 0.0;
   bool RemoveCycles = false;
-  bool RelaxWhenBlocked = false;
+  bool RelaxWhenBlocked = true;
   int MaximumNumberOfLevels = 1000;
   vtkIdType MinimumNumberOfTriangles = 0;
-  double MinimumNormalDot = 0.2;
+  double MinimumNormalDot = 0.5;
   bool GenerateAllLevels = true;
 
   double ShownLevel = 0;

@@ -14,6 +14,7 @@ namespace slod
 namespace
 {
 constexpr Index Never = std::numeric_limits<Index>::max();
+constexpr Index MaximumFitPoints = 64;
 }
 
 void HierarchyMesh::Clear()
@@ -154,11 +155,23 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
 
   // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
   // collapses does not accumulate (section 7). Extended stencil when the system is singular.
+  // On coarse levels the ancestors number hundreds: a regular subsample of about
+  // MaximumFitPoints keeps the fit's cost bounded without biasing it.
+  Index total = 0;
+  for (Index v : this->StencilVertices)
+  {
+    total += this->AncestorCount[v];
+  }
+  const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
+  Index counter = 0;
   auto addAncestors = [&](Index v) {
     for (Index o = this->AncestorHead[v]; o != InvalidIndex; o = this->AncestorNext[o])
     {
-      const Vec3 l = frame.ToLocal(this->Base.Point(o));
-      this->FitPoints.insert(this->FitPoints.end(), l.begin(), l.end());
+      if (counter++ % stride == 0)
+      {
+        const Vec3 l = frame.ToLocal(this->Base.Point(o));
+        this->FitPoints.insert(this->FitPoints.end(), l.begin(), l.end());
+      }
     }
   };
   this->FitPoints.clear();
@@ -226,20 +239,42 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
         e.Point = best;
       }
       // When the optimum would fold the stencil, the cheapest valid alternative among the
-      // corners and edge midpoints (a triangle collapse can still go there).
-      this->Stencils.Build(m, t, this->Stencil);
-      if (this->Stencil.Complete &&
-        this->Stencils.CheckCollapsible(m, this->Stencil, e.Point, frame.Normal, &this->MeshOptions,
-          this->Rules) == CollapsibleStatus::NotStarShaped)
+      // corners and edge midpoints (a triangle collapse can still go there). The link edges
+      // (opposite edges of the triangles holding exactly one of T's vertices) suffice for the
+      // star-shape test, without building the whole stencil.
+      auto starShaped = [&](const Vec3& point) {
+        bool ok = true;
+        for (int k = 0; k < 3 && ok; ++k)
+        {
+          m.ForEachTriangle(tri[k], [&](Index x) {
+            const Index* o = m.Triangle(x);
+            int members = 0, corner = 0;
+            for (int j = 0; j < 3; ++j)
+            {
+              if (o[j] == tri[0] || o[j] == tri[1] || o[j] == tri[2])
+              {
+                ++members;
+                corner = j;
+              }
+            }
+            if (members == 1)
+            {
+              const Vec3 u = m.Point(o[(corner + 1) % 3]) - point, w = m.Point(o[(corner + 2) % 3]) - point;
+              ok = ok && Dot(Cross(u, w), frame.Normal) > 1e-12 * (Dot(u, u) + Dot(w, w));
+            }
+          });
+        }
+        return ok;
+      };
+      if (!starShaped(e.Point))
       {
         const Vec3 options[6] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
         double bestError = std::numeric_limits<double>::infinity();
         for (const Vec3& o : options)
         {
           const double error = q.Evaluate(o);
-          if (error < bestError &&
-            this->Stencils.CheckCollapsible(m, this->Stencil, o, frame.Normal, &this->MeshOptions, this->Rules) ==
-              CollapsibleStatus::Ok)
+          if (error < bestError && starShaped(o) &&
+            m.CheckCollapse(tri, 3, o, this->MeshOptions) == CollapseStatus::Ok)
           {
             bestError = error;
             e.Point = o;
@@ -309,6 +344,8 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
       this->AncestorNext[this->AncestorTail[kept]] = this->AncestorHead[v];
       this->AncestorTail[kept] = this->AncestorTail[v];
       this->AncestorHead[v] = this->AncestorTail[v] = InvalidIndex;
+      this->AncestorCount[kept] += this->AncestorCount[v];
+      this->AncestorCount[v] = 0;
     }
   }
 
@@ -385,6 +422,7 @@ bool CollapseHierarchy::Build(
   this->AncestorHead = this->GlobalOf;
   this->AncestorTail = this->GlobalOf;
   this->AncestorNext.assign(np, InvalidIndex);
+  this->AncestorCount.assign(np, 1);
   this->EntryVertices = this->Base.Triangles;
   this->EntryBirth.assign(nt, 0);
   this->EntryDeath.assign(nt, Never);

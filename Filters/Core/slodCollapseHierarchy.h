@@ -149,7 +149,7 @@ private:
   EditableMesh Mesh;
   std::vector<double> GlobalPoints;
   std::vector<Index> GlobalOf;                  // editable vertex -> current global id
-  std::vector<Index> AncestorHead, AncestorTail, AncestorNext; // original points per vertex
+  std::vector<Index> AncestorHead, AncestorTail, AncestorNext, AncestorCount; // original points per vertex
   std::vector<Index> EntryVertices, EntryBirth, EntryDeath, EntryOf;
   std::vector<HierarchyCollapse> Collapses;
   std::vector<Index> LevelStarts, TriangleCounts;

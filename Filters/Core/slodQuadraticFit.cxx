@@ -61,11 +61,12 @@ QuadraticPatch QuadraticFitter::Fit(const double* uvh, int count)
     return patch;
   }
   // Scale so that the points lie in the unit disc: the monomials are then O(1).
-  double scale = 0;
+  double scale2 = 0;
   for (int i = 0; i < count; ++i)
   {
-    scale = std::max(scale, std::hypot(uvh[3 * i], uvh[3 * i + 1]));
+    scale2 = std::max(scale2, uvh[3 * i] * uvh[3 * i] + uvh[3 * i + 1] * uvh[3 * i + 1]);
   }
+  const double scale = std::sqrt(scale2);
   if (!(scale > 0) || !std::isfinite(scale))
   {
     return patch;
