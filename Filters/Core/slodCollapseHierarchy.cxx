@@ -26,6 +26,7 @@ void HierarchyMesh::Clear()
   this->TriangleCollapseLevel.clear();
   this->TriangleBatch.clear();
   this->TriangleRole.clear();
+  this->TriangleOrigin.clear();
   this->BlendT = 0;
 }
 
@@ -307,6 +308,37 @@ double CollapseHierarchy::WeightOf(const Evaluation& e) const
 }
 
 // ---------------------------------------------------------------------------------------------
+// The per-collapse flip guard bounds each turn; this bounds the accumulated one: no surviving
+// triangle may end up facing away from the M0 triangle it descends from.
+bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
+{
+  const EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  bool ok = true;
+  for (int k = 0; k < 3 && ok; ++k)
+  {
+    m.ForEachTriangle(tri[k], [&](Index x) {
+      const Index* o = m.Triangle(x);
+      int members = 0, corner = 0;
+      for (int j = 0; j < 3; ++j)
+      {
+        if (o[j] == tri[0] || o[j] == tri[1] || o[j] == tri[2])
+        {
+          ++members;
+          corner = j;
+        }
+      }
+      if (members == 1)
+      {
+        Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
+        q[corner] = p;
+        ok = ok && Dot(Cross(q[1] - q[0], q[2] - q[0]), this->Base.TriangleAreaVector(x)) > 0;
+      }
+    });
+  }
+  return ok;
+}
+
 void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
 {
   EditableMesh& m = this->Mesh;
@@ -364,6 +396,7 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
     }
     this->EntryBirth.push_back(k + 1);
     this->EntryDeath.push_back(Never);
+    this->EntryTriangle.push_back(x);
   });
   this->TriangleCounts.push_back(m.NumberOfLiveTriangles());
 
@@ -426,6 +459,8 @@ bool CollapseHierarchy::Build(
   this->EntryVertices = this->Base.Triangles;
   this->EntryBirth.assign(nt, 0);
   this->EntryDeath.assign(nt, Never);
+  this->EntryTriangle.resize(nt);
+  std::iota(this->EntryTriangle.begin(), this->EntryTriangle.end(), 0);
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
   this->Collapses.clear();
@@ -556,6 +591,10 @@ bool CollapseHierarchy::Build(
           this->Stencils.Build(this->Mesh, t, this->Stencil);
           if (this->Stencils.CheckCollapsible(
                 this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) != CollapsibleStatus::Ok)
+          {
+            continue;
+          }
+          if (!this->KeepsOrientation(t, e.Point))
           {
             continue;
           }
@@ -711,6 +750,7 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     }
     out.TriangleBatch.push_back(batch);
     out.TriangleRole.push_back(moving == 3 ? 2 : (moving > 0 ? 1 : 0));
+    out.TriangleOrigin.push_back(this->EntryTriangle[e]);
     out.TriangleCollapseLevel.push_back(
       this->EntryDeath[e] == Never ? -1 : this->Collapses[this->EntryDeath[e] - 1].Level);
   }

@@ -85,6 +85,7 @@ struct SURFACELODFILTERS_EXPORT HierarchyMesh
   std::vector<int> TriangleCollapseLevel; // level at which this triangle disappears, -1 never
   std::vector<Index> TriangleBatch;  // collapse (index within the blended batch) of the stencil, -1
   std::vector<unsigned char> TriangleRole; // 2 collapsing triangle, 1 its stencil, 0 other
+  std::vector<Index> TriangleOrigin; // the M0 triangle this one descends from (same slot)
   double BlendT = 0;
   void Clear();
 };
@@ -143,6 +144,7 @@ private:
   double WeightOf(const Evaluation& e) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Vec3& p, int level);
+  bool KeepsOrientation(Index t, const Vec3& p) const;
 
   CollapseHierarchyParameters Parameters;
   TriangleMesh Base;
@@ -150,7 +152,7 @@ private:
   std::vector<double> GlobalPoints;
   std::vector<Index> GlobalOf;                  // editable vertex -> current global id
   std::vector<Index> AncestorHead, AncestorTail, AncestorNext, AncestorCount; // original points per vertex
-  std::vector<Index> EntryVertices, EntryBirth, EntryDeath, EntryOf;
+  std::vector<Index> EntryVertices, EntryBirth, EntryDeath, EntryOf, EntryTriangle;
   std::vector<HierarchyCollapse> Collapses;
   std::vector<Index> LevelStarts, TriangleCounts;
   // Flat EditableMesh collapse records.
