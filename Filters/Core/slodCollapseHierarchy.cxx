@@ -3,8 +3,6 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <numeric>
 #include <utility>
@@ -589,8 +587,8 @@ bool CollapseHierarchy::Build(
           }
           const Evaluation& e = this->Evaluations[t];
           this->Stencils.Build(this->Mesh, t, this->Stencil);
-          if (this->Stencils.CheckCollapsible(
-                this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) != CollapsibleStatus::Ok)
+          if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) !=
+            CollapsibleStatus::Ok)
           {
             continue;
           }
@@ -635,17 +633,6 @@ bool CollapseHierarchy::Build(
     }
     if (this->NumberOfCollapses() == levelStart)
     {
-      if (getenv("SLOD_DEBUG"))
-      {
-        int counts[8] = { 0 };
-        for (Index t = 0; t < nt; ++t)
-        {
-          if (!this->Mesh.IsTriangleAlive(t)) continue;
-          this->Stencils.Build(this->Mesh, t, this->Stencil);
-          counts[int(this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, this->Evaluations[t].Point, this->Evaluations[t].Normal, &meshOptions))]++;
-        }
-        for (int i = 0; i < 7; ++i) fprintf(stderr, "%s: %d\n", ToString(CollapsibleStatus(i)), counts[i]);
-      }
       break;
     }
     this->LevelStarts.push_back(this->NumberOfCollapses());
