@@ -20,7 +20,6 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
-#include "vtkUnsignedCharArray.h"
 
 #include <chrono>
 #include <cmath>
@@ -100,7 +99,8 @@ struct vtkTriangleCollapseHierarchy::Internals
     vtkNew<vtkIntArray> batch;
     batch->SetName("CollapseBatch");
     batch->SetNumberOfValues(nt);
-    vtkNew<vtkUnsignedCharArray> role;
+    // Int, not unsigned char: VTK mappers would take unsigned char values as colours.
+    vtkNew<vtkIntArray> role;
     role->SetName("CollapseRole");
     role->SetNumberOfValues(nt);
     for (vtkIdType i = 0; i < nt; ++i)

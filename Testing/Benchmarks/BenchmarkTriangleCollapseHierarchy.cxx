@@ -30,7 +30,8 @@ double Seconds(std::chrono::steady_clock::time_point start)
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// A smooth implicit field (three blended blobs and a torus), sampled on n^3 points.
+// A smooth implicit field sampled on n^3 points: a gyroid (period 0.5) closed off smoothly by a
+// radial term outside radius 0.8, so the surface is one closed, high-genus, curved sheet.
 vtkSmartPointer<vtkPolyData> MarchingCubesSurface(int n)
 {
   vtkNew<vtkImageData> image;
@@ -40,7 +41,7 @@ vtkSmartPointer<vtkPolyData> MarchingCubesSurface(int n)
   vtkNew<vtkFloatArray> values;
   values->SetName("field");
   values->SetNumberOfValues(vtkIdType(n) * n * n);
-  const double centers[3][3] = { { -0.35, 0, 0 }, { 0.35, 0.1, 0 }, { 0, -0.2, 0.35 } };
+  const double a = 4 * M_PI;
   vtkIdType i = 0;
   for (int z = 0; z < n; ++z)
   {
@@ -49,22 +50,18 @@ vtkSmartPointer<vtkPolyData> MarchingCubesSurface(int n)
       for (int x = 0; x < n; ++x, ++i)
       {
         const double p[3] = { -1 + 2.0 * x / (n - 1), -1 + 2.0 * y / (n - 1), -1 + 2.0 * z / (n - 1) };
-        double f = 0;
-        for (const auto& c : centers)
-        {
-          const double d2 = (p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]);
-          f += std::exp(-d2 / 0.08);
-        }
-        const double ring = std::hypot(std::hypot(p[0], p[1]) - 0.6, p[2] + 0.3);
-        f += std::exp(-ring * ring / 0.01);
-        values->SetValue(i, static_cast<float>(f));
+        const double gyroid = std::sin(a * p[0]) * std::cos(a * p[1]) + std::sin(a * p[1]) * std::cos(a * p[2]) +
+          std::sin(a * p[2]) * std::cos(a * p[0]);
+        const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        const double outside = r > 0.8 ? 60 * (r - 0.8) * (r - 0.8) : 0.0;
+        values->SetValue(i, static_cast<float>(gyroid + outside));
       }
     }
   }
   image->GetPointData()->SetScalars(values);
   vtkNew<vtkFlyingEdges3D> contour;
   contour->SetInputData(image);
-  contour->SetValue(0, 0.5);
+  contour->SetValue(0, 0.3);
   contour->ComputeNormalsOff();
   contour->ComputeGradientsOff();
   contour->ComputeScalarsOff();
