@@ -48,7 +48,7 @@ struct vtkTriangleCollapseHierarchy::Internals
       a.ValenceWeight == b.ValenceWeight && a.BatchFraction == b.BatchFraction &&
       a.MaximumWeight == b.MaximumWeight && a.ValenceNormalizer == b.ValenceNormalizer &&
       a.RemoveCycles == b.RemoveCycles && a.MaximumNumberOfLevels == b.MaximumNumberOfLevels &&
-      a.RelaxWhenBlocked == b.RelaxWhenBlocked &&
+      a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.BatchSearchDepth == b.BatchSearchDepth &&
       a.MinimumNumberOfTriangles == b.MinimumNumberOfTriangles && a.MinimumNormalDot == b.MinimumNormalDot &&
       a.ErrorWeight == b.ErrorWeight && a.QuadricCollapsePoint == b.QuadricCollapsePoint;
   }
@@ -231,6 +231,7 @@ int vtkTriangleCollapseHierarchy::RequestData(
   parameters.MinimumNormalDot = this->MinimumNormalDot;
   parameters.ErrorWeight = this->ErrorWeight;
   parameters.RelaxWhenBlocked = this->RelaxWhenBlocked;
+  parameters.BatchSearchDepth = this->BatchSearchDepth;
   parameters.QuadricCollapsePoint = this->QuadricCollapsePoint;
 
   const bool rebuild = !in.Valid || in.Input != input || in.InputTime != input->GetMTime() ||
@@ -352,6 +353,7 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ErrorWeight: " << this->ErrorWeight << "\n";
   os << indent << "QuadricCollapsePoint: " << this->QuadricCollapsePoint << "\n";
   os << indent << "RelaxWhenBlocked: " << this->RelaxWhenBlocked << "\n";
+  os << indent << "BatchSearchDepth: " << this->BatchSearchDepth << "\n";
   os << indent << "BatchFraction: " << this->BatchFraction << "\n";
   os << indent << "MaximumWeight: " << this->MaximumWeight << "\n";
   os << indent << "ValenceNormalizer: " << this->ValenceNormalizer << "\n";

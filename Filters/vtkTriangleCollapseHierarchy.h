@@ -93,6 +93,15 @@ public:
   ///@}
 
   ///@{
+  /// Adaptive batch threshold (not in the paper): when > 0, a level looks no deeper into the
+  /// priority order than this factor times the batch size, so that cheap triangles blocked by the
+  /// rules do not force expensive ones into the batch (levels may then hold fewer than
+  /// BatchFraction of the triangles, but at least a quarter of it). 0: unlimited.
+  vtkSetClampMacro(BatchSearchDepth, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(BatchSearchDepth, double);
+  ///@}
+
+  ///@{
   /// Only triangles with weight / (mean input triangle area) below this collapse (0: no limit).
   vtkSetClampMacro(MaximumWeight, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MaximumWeight, double);
@@ -176,6 +185,7 @@ protected:
   double ErrorWeight = 1.0;
   bool QuadricCollapsePoint = true;
   double BatchFraction = 0.025;
+  double BatchSearchDepth = 4.0;
   double MaximumWeight = 0.0;
   double ValenceNormalizer = 0.0;
   bool RemoveCycles = false;

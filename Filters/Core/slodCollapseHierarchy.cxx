@@ -555,6 +555,12 @@ bool CollapseHierarchy::Build(
     }
     CollapsibleOptions& rules = this->Rules;
     rules = CollapsibleOptions();
+    // Search depth in the priority order (BatchSearchDepth x batch size; unlimited when 0).
+    const size_t depth = p.BatchSearchDepth > 0
+      ? static_cast<size_t>(std::ceil(p.BatchSearchDepth * wanted))
+      : std::numeric_limits<size_t>::max();
+    // Below a quarter of the batch the search goes on: levels must keep making progress.
+    const Index minimumBatch = std::max<Index>(1, wanted / 4);
     auto select = [&]() {
       batch.clear();
       size_t sorted = 0;
@@ -569,6 +575,11 @@ bool CollapseHierarchy::Build(
         }
         for (size_t i = sorted; i < sorted + chunk && static_cast<Index>(batch.size()) < wanted; ++i)
         {
+          if (i >= depth && static_cast<Index>(batch.size()) >= minimumBatch)
+          {
+            sorted = candidates.size(); // deeper candidates would force expensive collapses
+            break;
+          }
           const Index t = candidates[i].second;
           // Stencils of one batch must be pairwise disjoint.
           if (stencilMark[t] == level)
@@ -603,7 +614,7 @@ bool CollapseHierarchy::Build(
           }
           batch.push_back(t);
         }
-        sorted += chunk;
+        sorted = std::min(candidates.size(), sorted + chunk);
       }
     };
     select();

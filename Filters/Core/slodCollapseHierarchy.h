@@ -48,6 +48,11 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // least quadric error (true; needs ErrorWeight > 0): the quadric's minimum when it is well
   // conditioned and near T (creases, corners), else the minimum on the line c + s n.
   bool QuadricCollapsePoint = false;
+  // Adaptive threshold of a batch: when > 0, a level looks no deeper into the priority order than
+  // this factor times the batch size, so that cheap triangles blocked by the rules do not force
+  // expensive ones into the batch (a level still takes at least a quarter of its batch size, so
+  // that levels keep making progress). 0: unlimited (paper).
+  double BatchSearchDepth = 0.0;
   // Fraction of the live triangles collapsed per level (at most).
   double BatchFraction = 0.025;
   // Only triangles with W(T) / (mean input triangle area) below this are collapsed (0: no limit).

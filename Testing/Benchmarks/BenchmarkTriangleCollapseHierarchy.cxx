@@ -83,6 +83,7 @@ void Run(const std::string& label, vtkPolyData* mesh, bool paper)
     filter->SetQuadricCollapsePoint(false);
     filter->SetRelaxWhenBlocked(false);
     filter->SetMinimumNormalDot(0.2);
+    filter->SetBatchSearchDepth(0.0);
   }
   filter->SetLevel(0);
   filter->Update();

@@ -373,6 +373,7 @@ CollapseHierarchyParameters DefaultParameters()
   p.QuadricCollapsePoint = f->GetQuadricCollapsePoint();
   p.RelaxWhenBlocked = f->GetRelaxWhenBlocked();
   p.BatchFraction = f->GetBatchFraction();
+  p.BatchSearchDepth = f->GetBatchSearchDepth();
   p.MinimumNormalDot = f->GetMinimumNormalDot();
   return p;
 }
