@@ -217,6 +217,10 @@ int vtkTriangleCollapseHierarchy::RequestData(
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   vtkMultiBlockDataSet* levels = vtkMultiBlockDataSet::GetData(outputVector, 1);
   Internals& in = *this->Internal;
+  if (!input || !output)
+  {
+    return 1;
+  }
 
   slod::CollapseHierarchyParameters parameters;
   parameters.CurvatureWeight = this->CurvatureWeight;
@@ -242,7 +246,7 @@ int vtkTriangleCollapseHierarchy::RequestData(
     in.Levels = nullptr;
     slod::TriangleMesh mesh;
     std::vector<slod::Index> vertexToInputPoint;
-    if (!input || !slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInputPoint))
+    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInputPoint))
     {
       return 1;
     }
