@@ -4,7 +4,7 @@
 // build time, the time of one blended level M_i(t) through the pipeline (the slider path), and
 // vtkQuadricDecimation's time to 5% on the same mesh, measured in the same run.
 //
-// Usage: BenchmarkTriangleCollapseHierarchy [mesh-directory] [marching-cubes grid size (default 300)]
+// Usage: BenchmarkTriangleCollapseHierarchy [mesh-directory] [marching-cubes grid size (default 230: about 1M triangles)]
 #include "vtkFlyingEdges3D.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
@@ -139,7 +139,7 @@ void RunQuadric(const std::string& label, vtkPolyData* mesh)
 int main(int argc, char* argv[])
 {
   const std::string dir = argc > 1 ? argv[1] : SURFACELOD_MESH_DIR;
-  const int grid = argc > 2 ? std::atoi(argv[2]) : 300;
+  const int grid = argc > 2 ? std::atoi(argv[2]) : 230;
   vtkNew<vtkOFFMeshReader> reader;
   reader->SetFileName((dir + "/bunny00.off").c_str());
   reader->Update();
