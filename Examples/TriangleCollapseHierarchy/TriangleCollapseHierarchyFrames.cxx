@@ -1,6 +1,6 @@
 // Renders a smooth sweep through a triangle-collapse hierarchy (Gieng et al. 1997) as PNG frames:
-// frame f shows M_i(t) for the continuous level (n * f / (frames - 1)), from the input M0 to the
-// coarsest mesh Mn. The hierarchy is built once; each frame only changes SetContinuousLevel, which
+// frame f shows M_i(t) for the continuous level at which the triangle count is
+// N0 (Nn / N0)^(f / (frames - 1)), from the input M0 to the coarsest mesh Mn. The hierarchy is built once; each frame only changes SetContinuousLevel, which
 // is what an interactive slider would do.
 //
 // Usage: TriangleCollapseHierarchyFrames input.(off|ply|vtp) output-directory [frames=60] [flat]
@@ -27,6 +27,8 @@
 #include "vtkWindowToImageFilter.h"
 #include "vtkXMLPolyDataReader.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -137,9 +139,26 @@ int main(int argc, char* argv[])
   window->SetSize(640, 640);
   window->AddRenderer(renderer);
 
+  // The sweep is geometric in the triangle count (each frame removes the same fraction), which
+  // spreads the frames evenly over what the eye sees; the continuous level follows from the
+  // triangle counts of the levels.
+  const double n0 = static_cast<double>(hierarchy->GetLevelNumberOfTriangles(0));
+  const double nn = static_cast<double>(hierarchy->GetLevelNumberOfTriangles(levels - 1));
+  auto levelFor = [&](double count) {
+    for (int i = 0; i + 1 < levels; ++i)
+    {
+      const double a = static_cast<double>(hierarchy->GetLevelNumberOfTriangles(i));
+      const double b = static_cast<double>(hierarchy->GetLevelNumberOfTriangles(i + 1));
+      if (count >= b)
+      {
+        return i + (a > b ? std::min(1.0, std::max(0.0, (a - count) / (a - b))) : 0.0);
+      }
+    }
+    return double(levels - 1);
+  };
   for (int f = 0; f < frames; ++f)
   {
-    const double level = (levels - 1) * double(f) / (frames - 1);
+    const double level = levelFor(n0 * std::pow(nn / n0, double(f) / (frames - 1)));
     hierarchy->SetContinuousLevel(level);
     hierarchy->Update();
     shown->ShallowCopy(hierarchy->GetOutput());
