@@ -610,6 +610,50 @@ TEST(CollapseHierarchy, CycleRemovalBySwapping)
   EXPECT_NEAR(base.TotalArea(), 1.0, 1e-12); // same flat square, no fold
 }
 
+TEST(CollapseHierarchy, SmallOpenAndNonManifoldMeshes)
+{
+  CollapseHierarchyParameters p = DefaultParameters();
+  HierarchyMesh m;
+  // A tetrahedron has no collapsible triangle (every stencil is cyclic): one level, unchanged.
+  {
+    CollapseHierarchy h;
+    ASSERT_TRUE(h.Build(Tetrahedron(), p));
+    EXPECT_EQ(h.NumberOfLevels(), 1);
+    h.ExtractLevel(5.5, m);
+    EXPECT_EQ(m.Triangles.size(), 12u);
+  }
+  // An open disk: the boundary stays (its triangles have incomplete stencils), the rest reduces.
+  {
+    const TriangleMesh disk = Disk(12, 32);
+    const MeshStatistics in = ComputeMeshStatistics(disk);
+    CollapseHierarchy h;
+    ASSERT_TRUE(h.Build(disk, p));
+    ASSERT_GT(h.NumberOfLevels(), 2);
+    h.ExtractLevel(h.NumberOfLevels() - 1, m);
+    const MeshStatistics out = ComputeMeshStatistics(ToMesh(m));
+    EXPECT_LT(out.Triangles, in.Triangles / 2);
+    EXPECT_EQ(out.BoundaryLoops, 1);
+    EXPECT_EQ(out.BoundaryEdges, in.BoundaryEdges);
+    EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+    EXPECT_EQ(out.NonManifoldEdges, 0);
+  }
+  // Two components keep their identity; a non-manifold fan is left alone where it is not a disc.
+  {
+    const TriangleMesh two = Concatenate(Sphere(24, 24), Torus(32, 16));
+    CollapseHierarchy h;
+    ASSERT_TRUE(h.Build(two, p));
+    h.ExtractLevel(h.NumberOfLevels() - 1, m);
+    const MeshStatistics out = ComputeMeshStatistics(ToMesh(m));
+    EXPECT_EQ(out.Components, 2);
+    EXPECT_EQ(out.Genus, ComputeMeshStatistics(two).Genus);
+    EXPECT_EQ(out.NonManifoldEdges, 0);
+    CollapseHierarchy fan;
+    ASSERT_TRUE(fan.Build(NonManifoldFan(5), p));
+    fan.ExtractLevel(fan.NumberOfLevels() - 1, m);
+    EXPECT_EQ(ComputeMeshStatistics(ToMesh(m)).NonManifoldEdges, ComputeMeshStatistics(NonManifoldFan(5)).NonManifoldEdges);
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // The VTK filter.
 
