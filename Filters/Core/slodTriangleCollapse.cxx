@@ -137,6 +137,9 @@ private:
   // True when a vertex outside the set would lose all its triangles (a border "ear" whose base
   // collapses): that vertex would vanish without a record, so such collapses are not done.
   bool WouldIsolateVertex(const Index* set, int count) const;
+  // True when border vertices of the set are not joined by border edges of the set: merging them
+  // would close a hole or join two border loops, which the link test does not always see.
+  bool WouldJoinBorders(const Index* set, int count) const;
   // The cheapest valid one of the fallback placements of the set (world coordinates in p).
   bool AlternativePlacement(
     const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const;
@@ -496,6 +499,37 @@ bool TriangleCollapser::AlternativePlacement(
   return false;
 }
 
+bool TriangleCollapser::WouldJoinBorders(const Index* set, int count) const
+{
+  if (this->Options.AllowTopologyChange)
+  {
+    return false;
+  }
+  int border = 0;
+  for (int i = 0; i < count; ++i)
+  {
+    border += this->Boundary[set[i]] ? 1 : 0;
+  }
+  if (border < 2)
+  {
+    return false;
+  }
+  // Border edges among the set's edges that join two border vertices.
+  int borderEdges = 0;
+  const int edges = count == 3 ? 3 : 1;
+  for (int k = 0; k < edges; ++k)
+  {
+    const Index u = set[k], v = set[(k + 1) % count];
+    if (this->Boundary[u] && this->Boundary[v] && this->Mesh.EdgeTriangleCount(u, v) == 1)
+    {
+      ++borderEdges;
+    }
+  }
+  // The border vertices must form a chain along one border: 2 need their edge on the border,
+  // 3 need two of the triangle's edges on it.
+  return borderEdges < border - 1;
+}
+
 bool TriangleCollapser::WouldIsolateVertex(const Index* set, int count) const
 {
   if (!this->HasBoundary && !this->Options.AllowTopologyChange)
@@ -775,7 +809,8 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
         }
       }
     }
-    const bool isolates = status == CollapseStatus::Ok && this->WouldIsolateVertex(set, count);
+    const bool isolates = status == CollapseStatus::Ok &&
+      (this->WouldIsolateVertex(set, count) || this->WouldJoinBorders(set, count));
     isolating += isolates ? 1 : 0;
     if (status != CollapseStatus::Ok || isolates)
     {
