@@ -27,7 +27,7 @@
  * Validity: a collapse is never performed when it would flip or degenerate a triangle (normal
  * turning more than MaximumNormalDeviation degrees; when no valid collapse is left before the
  * target the limit is relaxed step by step up to 90 degrees), create a non-manifold edge or
- * vertex, close, split or remove a boundary loop, leave a vertex without triangles, or change the
+ * vertex, close, split, join or remove a boundary loop, leave a vertex without triangles, or change the
  * genus, unless AllowTopologyChange is on (then only the geometric tests apply). A rejected
  * operation is replaced by the triangle's next best one. Non-manifold input parts are kept as
  * they are; a mesh whose topology forbids further collapses (e.g. many small holes, each kept
