@@ -1,0 +1,1262 @@
+#include "slodPatchBoundaryMerge.h"
+
+#include "slodPolygonTriangulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace slod
+{
+namespace
+{
+constexpr float InfiniteKey = std::numeric_limits<float>::infinity();
+constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
+
+double PointSegmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+  const Vec3 ab = b - a;
+  const Vec3 ap = p - a;
+  const double len2 = Dot(ab, ab);
+  double t = len2 > 0 ? Dot(ap, ab) / len2 : 0.0;
+  t = std::min(1.0, std::max(0.0, t));
+  const Vec3 d = ap - t * ab;
+  return Dot(d, d);
+}
+
+// Open-addressing map from undirected edges to a small value (the chain that owns the edge, or a
+// negative tag). One flat array, no per-element allocation.
+class EdgeMap
+{
+public:
+  void Reset(size_t expected)
+  {
+    size_t capacity = 64;
+    while (capacity < 2 * expected + 64)
+    {
+      capacity <<= 1;
+    }
+    this->Keys.assign(capacity, Empty);
+    this->Values.resize(capacity);
+    this->Count = 0;
+  }
+  // Inserts (a,b) -> value; when present returns false and leaves `existing` with its value.
+  bool Insert(Index a, Index b, Index value, Index& existing)
+  {
+    if (2 * (this->Count + 1) > this->Keys.size())
+    {
+      this->Grow();
+    }
+    const uint64_t key = Key(a, b);
+    size_t slot = this->Slot(key);
+    while (this->Keys[slot] != Empty)
+    {
+      if (this->Keys[slot] == key)
+      {
+        existing = this->Values[slot];
+        return false;
+      }
+      slot = (slot + 1) & (this->Keys.size() - 1);
+    }
+    this->Keys[slot] = key;
+    this->Values[slot] = value;
+    ++this->Count;
+    return true;
+  }
+  bool Contains(Index a, Index b) const
+  {
+    const uint64_t key = Key(a, b);
+    size_t slot = this->Slot(key);
+    while (this->Keys[slot] != Empty)
+    {
+      if (this->Keys[slot] == key)
+      {
+        return true;
+      }
+      slot = (slot + 1) & (this->Keys.size() - 1);
+    }
+    return false;
+  }
+  size_t MemoryUsage() const { return this->Keys.capacity() * 8 + this->Values.capacity() * sizeof(Index); }
+
+private:
+  static constexpr uint64_t Empty = ~uint64_t(0);
+  static uint64_t Key(Index a, Index b)
+  {
+    if (a > b)
+    {
+      std::swap(a, b);
+    }
+    return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+  }
+  size_t Slot(uint64_t key) const
+  {
+    return size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & (this->Keys.size() - 1);
+  }
+  void Grow()
+  {
+    std::vector<uint64_t> keys;
+    std::vector<Index> values;
+    keys.swap(this->Keys);
+    values.swap(this->Values);
+    this->Reset(keys.size());
+    Index ignored;
+    for (size_t i = 0; i < keys.size(); ++i)
+    {
+      if (keys[i] != Empty)
+      {
+        this->Insert(Index(keys[i] >> 32), Index(keys[i] & 0xffffffffu), values[i], ignored);
+      }
+    }
+  }
+  std::vector<uint64_t> Keys;
+  std::vector<Index> Values;
+  size_t Count = 0;
+};
+} // namespace
+
+// Working state of one level: the chain graph after simplification, merging and collapses.
+// Chains keep their Patchification ids; patch and endpoint memberships are intrusive linked
+// lists of "slots" (2c = left side / start end, 2c+1 = right side / end end) so merges and
+// collapses splice in O(1) plus one walk.
+struct SpbmLevelGenerator::State
+{
+  // Chains.
+  std::vector<Index> A, B, L, R, Interior;
+  std::vector<unsigned char> Alive, Locked;
+  std::vector<Index> PartFirst, PartLast, PartNext; // joined chains: list of original chains
+  std::vector<Index> JointBefore; // endpoint between a part and the previous one
+  std::vector<unsigned char> PartReversed;
+  // Endpoints.
+  std::vector<Index> EndHead, EndSlotNext, Degree;
+  // Patches (union-find over original patches).
+  std::vector<Index> Parent, PatchHead, PatchSlotNext, Size, NonSingle;
+  std::vector<Vec3> Normal;
+  std::vector<unsigned char> Frozen;
+  long long Total = 0;
+  // Scratch.
+  std::vector<Index> PatchStamp, EndStamp, VertexStamp;
+  Index Stamp = 0;
+  std::vector<std::pair<double, Index>> Heap;
+  std::vector<unsigned char> NoFreeze;
+  // Generation buffers.
+  std::vector<Index> SeqOffsets, SeqVertices;
+  std::vector<unsigned char> SeqKeep;
+  EdgeMap Edges;
+
+  Index Find(Index p)
+  {
+    while (this->Parent[p] != p)
+    {
+      this->Parent[p] = this->Parent[this->Parent[p]];
+      p = this->Parent[p];
+    }
+    return p;
+  }
+  Index NextStamp()
+  {
+    if (++this->Stamp == std::numeric_limits<Index>::max())
+    {
+      std::fill(this->PatchStamp.begin(), this->PatchStamp.end(), 0);
+      std::fill(this->EndStamp.begin(), this->EndStamp.end(), 0);
+      std::fill(this->VertexStamp.begin(), this->VertexStamp.end(), 0);
+      this->Stamp = 1;
+    }
+    return this->Stamp;
+  }
+};
+
+SpbmLevelGenerator::SpbmLevelGenerator()
+  : Work(new State)
+{
+}
+
+SpbmLevelGenerator::~SpbmLevelGenerator() = default;
+
+void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchification& patches)
+{
+  this->Mesh = &mesh;
+  this->Patches = &patches;
+  const Patchification& P = patches;
+  const Index nc = P.NumberOfChains();
+  const Index ne = P.NumberOfEndpoints();
+  const size_t totalVertices = nc > 0 ? size_t(P.ChainVerticesBegin(nc - 1) + P.ChainSize(nc - 1) - P.ChainVerticesBegin(0)) : 0;
+  this->Keys.assign(totalVertices, InfiniteKey);
+  this->SortedKeys.clear();
+
+  // Divide-and-conquer refinement tree of every chain, stored as one key per vertex.
+  struct Node
+  {
+    Index I, J;
+    float ParentKey;
+  };
+  std::vector<Node> stack;
+  for (Index c = 0; c < nc; ++c)
+  {
+    if (P.ChainIsNonManifold(c))
+    {
+      continue; // kept as it is
+    }
+    const Index* v = P.ChainVerticesBegin(c);
+    const size_t offset = size_t(v - P.ChainVerticesBegin(0));
+    const Index n = P.ChainSize(c);
+    stack.clear();
+    stack.push_back({ 0, n - 1, InfiniteKey });
+    while (!stack.empty())
+    {
+      const Node node = stack.back();
+      stack.pop_back();
+      if (node.J - node.I < 2)
+      {
+        continue;
+      }
+      const Vec3 a = mesh.Point(v[node.I]);
+      const Vec3 b = mesh.Point(v[node.J]);
+      double worst = 0;
+      for (Index k = node.I + 1; k < node.J; ++k)
+      {
+        worst = std::max(worst, PointSegmentDistance2(mesh.Point(v[k]), a, b));
+      }
+      const Index m = (node.I + node.J) / 2;
+      // Kept when epsilon < key: refined only if this sub-chain and all its ancestors are off.
+      const float key = std::min(static_cast<float>(std::sqrt(worst)), node.ParentKey);
+      this->Keys[offset + size_t(m)] = key;
+      this->SortedKeys.push_back(key);
+      stack.push_back({ node.I, m, key });
+      stack.push_back({ m, node.J, key });
+    }
+  }
+  std::sort(this->SortedKeys.begin(), this->SortedKeys.end(), std::greater<float>());
+
+  // Parallel chains (same two endpoints) bound a lens; all but one keep an interior vertex so
+  // that no patch degenerates to two vertices and no two chains become the same edge.
+  this->MinimumInterior.assign(size_t(nc), 0);
+  {
+    std::vector<Index> order(static_cast<size_t>(nc));
+    for (Index c = 0; c < nc; ++c)
+    {
+      order[c] = c;
+    }
+    auto pairOf = [&](Index c) {
+      const Index a = P.ChainStart(c), b = P.ChainEnd(c);
+      return std::make_pair(std::min(a, b), std::max(a, b));
+    };
+    std::sort(order.begin(), order.end(), [&](Index x, Index y) {
+      const auto px = pairOf(x), py = pairOf(y);
+      return px < py || (px == py && (P.ChainSize(x) < P.ChainSize(y) || (P.ChainSize(x) == P.ChainSize(y) && x < y)));
+    });
+    for (size_t i = 0; i < order.size();)
+    {
+      size_t j = i + 1;
+      while (j < order.size() && pairOf(order[j]) == pairOf(order[i]))
+      {
+        ++j;
+      }
+      for (size_t k = i + 1; k < j; ++k) // the shortest of the group may stay one segment
+      {
+        if (P.ChainSize(order[k]) > 2)
+        {
+          this->MinimumInterior[order[k]] = 1;
+        }
+      }
+      i = j;
+    }
+  }
+
+  // Normal variation around each endpoint: the largest angle between the patches meeting there.
+  this->EndpointVariation.assign(size_t(ne), 0.0);
+  for (Index c = 0; c < nc; ++c)
+  {
+    if (P.ChainRightPatch(c) == InvalidIndex)
+    {
+      continue;
+    }
+    const double variation = 1.0 - Dot(P.PatchNormal(P.ChainLeftPatch(c)), P.PatchNormal(P.ChainRightPatch(c)));
+    for (const Index e : { P.ChainStart(c), P.ChainEnd(c) })
+    {
+      this->EndpointVariation[e] = std::max(this->EndpointVariation[e], variation);
+    }
+  }
+}
+
+double SpbmLevelGenerator::ChainVertexKey(Index c, Index i) const
+{
+  const size_t offset = size_t(this->Patches->ChainVerticesBegin(c) - this->Patches->ChainVerticesBegin(0));
+  return this->Keys[offset + size_t(i)];
+}
+
+size_t SpbmLevelGenerator::MemoryUsage() const
+{
+  size_t bytes = this->Keys.capacity() * 4 + this->SortedKeys.capacity() * 4 + this->MinimumInterior.capacity() +
+    this->EndpointVariation.capacity() * 8;
+  const State& s = *this->Work;
+  auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
+    b(s.PartLast) + b(s.PartNext) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) + b(s.Degree) +
+    b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.NonSingle) + b(s.Normal) + b(s.Frozen) +
+    b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.SeqOffsets) + b(s.SeqVertices) +
+    b(s.SeqKeep) + s.Edges.MemoryUsage();
+  return bytes;
+}
+
+void SpbmLevelGenerator::RunMerging(
+  const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s)
+{
+  const Patchification& P = *this->Patches;
+  const TriangleMesh& mesh = *this->Mesh;
+  const Index np = P.NumberOfPatches();
+  const Index nc = P.NumberOfChains();
+  const Index ne = P.NumberOfEndpoints();
+  const float eps = static_cast<float>(parameters.Epsilon);
+  const Index* base = nc > 0 ? P.ChainVerticesBegin(0) : nullptr;
+
+  s.Parent.resize(size_t(np));
+  s.PatchHead.assign(size_t(np), InvalidIndex);
+  s.Size.assign(size_t(np), 0);
+  s.NonSingle.assign(size_t(np), 0);
+  s.Normal.resize(size_t(np));
+  s.Frozen = frozen;
+  s.PatchStamp.resize(size_t(np), 0);
+  for (Index p = 0; p < np; ++p)
+  {
+    s.Parent[p] = p;
+    s.Normal[p] = P.PatchNormalSum(p);
+  }
+  s.EndHead.assign(size_t(ne), InvalidIndex);
+  s.Degree.assign(size_t(ne), 0);
+  s.EndStamp.resize(size_t(ne), 0);
+  s.A.resize(size_t(nc));
+  s.B.resize(size_t(nc));
+  s.L.resize(size_t(nc));
+  s.R.resize(size_t(nc));
+  s.Interior.resize(size_t(nc));
+  s.Alive.assign(size_t(nc), 1);
+  s.Locked.resize(size_t(nc));
+  s.PartFirst.resize(size_t(nc));
+  s.PartLast.resize(size_t(nc));
+  s.PartNext.assign(size_t(nc), InvalidIndex);
+  s.JointBefore.assign(size_t(nc), InvalidIndex);
+  s.PartReversed.assign(size_t(nc), 0);
+  s.EndSlotNext.resize(2 * size_t(nc));
+  s.PatchSlotNext.resize(2 * size_t(nc));
+
+  for (Index c = 0; c < nc; ++c)
+  {
+    const Index a = P.ChainStart(c), b = P.ChainEnd(c), l = P.ChainLeftPatch(c), r = P.ChainRightPatch(c);
+    const Index n = P.ChainSize(c);
+    s.A[c] = a;
+    s.B[c] = b;
+    s.L[c] = l;
+    s.R[c] = r;
+    s.PartFirst[c] = s.PartLast[c] = c;
+    const bool locked = P.ChainIsNonManifold(c) || frozen[l] || (r != InvalidIndex && frozen[r]);
+    s.Locked[c] = locked;
+    Index interior = 0;
+    if (locked)
+    {
+      interior = n - 2;
+    }
+    else
+    {
+      const float* keys = this->Keys.data() + (P.ChainVerticesBegin(c) - base);
+      for (Index i = 1; i + 1 < n; ++i)
+      {
+        interior += keys[i] > eps;
+      }
+      if (interior == 0 && this->MinimumInterior[c])
+      {
+        interior = 1;
+      }
+    }
+    s.Interior[c] = interior;
+    s.EndSlotNext[2 * size_t(c)] = s.EndHead[a];
+    s.EndHead[a] = 2 * c;
+    s.EndSlotNext[2 * size_t(c) + 1] = s.EndHead[b];
+    s.EndHead[b] = 2 * c + 1;
+    ++s.Degree[a];
+    ++s.Degree[b];
+    s.PatchSlotNext[2 * size_t(c)] = s.PatchHead[l];
+    s.PatchHead[l] = 2 * c;
+    s.Size[l] += interior + 1;
+    s.NonSingle[l] += (interior > 0 || locked);
+    if (r != InvalidIndex)
+    {
+      s.PatchSlotNext[2 * size_t(c) + 1] = s.PatchHead[r];
+      s.PatchHead[r] = 2 * c + 1;
+      s.Size[r] += interior + 1;
+      s.NonSingle[r] += (interior > 0 || locked);
+    }
+  }
+  s.Total = 0;
+  for (Index p = 0; p < np; ++p)
+  {
+    s.Total += s.Size[p] - 2;
+  }
+  if (!parameters.MergePatches && !parameters.CollapseChains)
+  {
+    return;
+  }
+
+  const double cosMerge = std::cos(parameters.MergeAngle * DegreesToRadians);
+  auto sideDot = [&](Index p, Index q) { return Dot(Normalized(s.Normal[p]), Normalized(s.Normal[q])); };
+  auto otherEnd = [&](Index c, Index e) { return s.A[c] == e ? s.B[c] : s.A[c]; };
+  auto endpointPoint = [&](Index e) { return mesh.Point(P.EndpointVertex(e)); };
+  auto movable = [&](Index c) {
+    return s.Alive[c] && !s.Locked[c] && s.Interior[c] == 0 && s.R[c] != InvalidIndex;
+  };
+  auto pushCandidate = [&](Index c) {
+    if (!movable(c))
+    {
+      return;
+    }
+    const Index p = s.Find(s.L[c]), q = s.Find(s.R[c]);
+    if (p == q || s.Frozen[p] || s.Frozen[q])
+    {
+      return;
+    }
+    const double d = sideDot(p, q);
+    if (d >= cosMerge)
+    {
+      s.Heap.emplace_back(d, c);
+      std::push_heap(s.Heap.begin(), s.Heap.end());
+    }
+  };
+  // Walk the alive chains of root patch p.
+  auto forPatchChains = [&](Index p, auto&& f) {
+    for (Index slot = s.PatchHead[p]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+    {
+      const Index c = slot / 2;
+      if (s.Alive[c])
+      {
+        f(c);
+      }
+    }
+  };
+  auto forEndChains = [&](Index e, auto&& f) {
+    for (Index slot = s.EndHead[e]; slot != InvalidIndex; slot = s.EndSlotNext[slot])
+    {
+      const Index c = slot / 2;
+      if (s.Alive[c] && (slot % 2 == 0 ? s.A[c] : s.B[c]) == e)
+      {
+        f(c);
+      }
+    }
+  };
+  auto spliceEndList = [&](Index from, Index to) {
+    if (s.EndHead[from] == InvalidIndex)
+    {
+      return;
+    }
+    Index tail = s.EndHead[from];
+    while (s.EndSlotNext[tail] != InvalidIndex)
+    {
+      tail = s.EndSlotNext[tail];
+    }
+    s.EndSlotNext[tail] = s.EndHead[to];
+    s.EndHead[to] = s.EndHead[from];
+    s.EndHead[from] = InvalidIndex;
+  };
+  auto reverseParts = [&](Index c) {
+    // p1..pm with joints J2..Jm (J_i before p_i) becomes pm..p1 with J_{i+1} before p_i.
+    Index previous = InvalidIndex;
+    Index part = s.PartFirst[c];
+    while (part != InvalidIndex)
+    {
+      const Index following = s.PartNext[part];
+      const Index joint = s.JointBefore[part];
+      s.PartNext[part] = previous;
+      s.PartReversed[part] ^= 1;
+      if (previous != InvalidIndex)
+      {
+        s.JointBefore[previous] = joint;
+      }
+      previous = part;
+      part = following;
+    }
+    std::swap(s.PartFirst[c], s.PartLast[c]);
+    s.JointBefore[s.PartFirst[c]] = InvalidIndex;
+  };
+
+  // Chain collapse (4.2.6 (a)-(c), 4.2.7): one-edge chain e of patch x shrinks to one endpoint.
+  auto tryCollapse = [&](Index e, double longest) {
+    if (!movable(e))
+    {
+      return false;
+    }
+    const Index p = s.Find(s.L[e]), q = s.Find(s.R[e]);
+    if (p == q || s.Frozen[p] || s.Frozen[q] || sideDot(p, q) < cosMerge) // (b)
+    {
+      return false;
+    }
+    const Index a = s.A[e], b = s.B[e];
+    const Vec3 pa = endpointPoint(a), pb = endpointPoint(b);
+    if (Norm(pb - pa) >= parameters.CollapseLengthFactor * longest) // (c)
+    {
+      return false;
+    }
+    const bool borderA = P.EndpointOnBorder(a), borderB = P.EndpointOnBorder(b);
+    if (borderA && borderB)
+    {
+      return false;
+    }
+    // Toward the border vertex, else toward the larger normal variation.
+    const Index keep = borderA ? a : (borderB ? b : (this->EndpointVariation[a] >= this->EndpointVariation[b] ? a : b));
+    const Index gone = keep == a ? b : a;
+    if (s.Size[p] < 4 || s.Size[q] < 4)
+    {
+      return false;
+    }
+    const Index stamp = s.NextStamp();
+    forEndChains(keep, [&](Index c) {
+      s.PatchStamp[s.Find(s.L[c])] = stamp;
+      if (s.R[c] != InvalidIndex)
+      {
+        s.PatchStamp[s.Find(s.R[c])] = stamp;
+      }
+      s.EndStamp[otherEnd(c, keep)] = stamp;
+    });
+    bool ok = true;
+    forEndChains(gone, [&](Index c) {
+      if (c == e || !ok)
+      {
+        return;
+      }
+      const Index sides[2] = { s.Find(s.L[c]), s.R[c] == InvalidIndex ? InvalidIndex : s.Find(s.R[c]) };
+      for (const Index side : sides)
+      {
+        if (side == InvalidIndex)
+        {
+          continue;
+        }
+        if (s.Frozen[side] || (side != p && side != q && s.PatchStamp[side] == stamp)) // (a)
+        {
+          ok = false;
+        }
+      }
+      const Index o = otherEnd(c, gone);
+      if (s.Locked[c] || o == keep || s.EndStamp[o] == stamp) // would make parallel edges
+      {
+        ok = false;
+      }
+    });
+    if (!ok)
+    {
+      return false;
+    }
+    s.Alive[e] = 0;
+    forEndChains(gone, [&](Index c) {
+      if (s.A[c] == gone)
+      {
+        s.A[c] = keep;
+      }
+      if (s.B[c] == gone)
+      {
+        s.B[c] = keep;
+      }
+    });
+    spliceEndList(gone, keep);
+    s.Degree[keep] += s.Degree[gone] - 2;
+    s.Degree[gone] = 0;
+    --s.Size[p];
+    --s.Size[q];
+    s.Total -= 2;
+    return true;
+  };
+  auto tryCollapses = [&](Index x, Index exclude) {
+    double longest = 0;
+    forPatchChains(x, [&](Index c) { longest = std::max(longest, Norm(endpointPoint(s.B[c]) - endpointPoint(s.A[c]))); });
+    for (Index slot = s.PatchHead[x]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+    {
+      const Index c = slot / 2;
+      if (c != exclude && s.Alive[c])
+      {
+        tryCollapse(c, longest);
+      }
+    }
+  };
+  // An endpoint left between exactly two one-edge chains of the same two patches disappears.
+  auto tryJoin = [&](Index u) {
+    if (s.Degree[u] != 2 || P.EndpointOnBorder(u))
+    {
+      return;
+    }
+    Index pair[2] = { InvalidIndex, InvalidIndex };
+    int found = 0;
+    forEndChains(u, [&](Index c) {
+      if (found < 2)
+      {
+        pair[found] = c;
+      }
+      ++found;
+    });
+    if (found != 2 || !movable(pair[0]) || !movable(pair[1]))
+    {
+      return;
+    }
+    const Index x = pair[0], y = pair[1];
+    const Index xl = s.Find(s.L[x]), xr = s.Find(s.R[x]), yl = s.Find(s.L[y]), yr = s.Find(s.R[y]);
+    if (!((xl == yl && xr == yr) || (xl == yr && xr == yl)) || xl == xr)
+    {
+      return;
+    }
+    const Index ox = otherEnd(x, u), oy = otherEnd(y, u);
+    if (ox == oy || s.Size[xl] < 4 || s.Size[xr] < 4)
+    {
+      return;
+    }
+    bool parallel = false;
+    forEndChains(ox, [&](Index c) { parallel = parallel || otherEnd(c, ox) == oy; });
+    if (parallel)
+    {
+      return;
+    }
+    if (s.B[x] == u)
+    {
+      // x runs ox -> u; append y oriented u -> oy.
+      const bool forward = s.A[y] == u;
+      if (forward != (yl == xl))
+      {
+        return; // inconsistent sides (cannot happen for oriented input)
+      }
+      if (!forward)
+      {
+        reverseParts(y);
+      }
+      s.JointBefore[s.PartFirst[y]] = u;
+      s.PartNext[s.PartLast[x]] = s.PartFirst[y];
+      s.PartLast[x] = s.PartLast[y];
+      s.B[x] = oy;
+      s.EndSlotNext[2 * size_t(x) + 1] = s.EndHead[oy];
+      s.EndHead[oy] = 2 * x + 1;
+    }
+    else
+    {
+      // x runs u -> ox; prepend y oriented oy -> u.
+      const bool forward = s.B[y] == u;
+      if (forward != (yl == xl))
+      {
+        return;
+      }
+      if (!forward)
+      {
+        reverseParts(y);
+      }
+      s.JointBefore[s.PartFirst[x]] = u;
+      s.PartNext[s.PartLast[y]] = s.PartFirst[x];
+      s.PartFirst[x] = s.PartFirst[y];
+      s.A[x] = oy;
+      s.EndSlotNext[2 * size_t(x)] = s.EndHead[oy];
+      s.EndHead[oy] = 2 * x;
+    }
+    s.Alive[y] = 0;
+    s.Degree[u] = 0;
+    --s.Size[xl];
+    --s.Size[xr];
+    s.Total -= 2;
+  };
+  auto tryMerge = [&](Index c, Index p, Index q) {
+    if (s.NonSingle[p] != 0 || s.NonSingle[q] != 0 || s.Size[p] + s.Size[q] - 2 < 3)
+    {
+      return false;
+    }
+    // Common boundary = this one chain, and no other common vertex (the union stays a disk).
+    const Index stamp = s.NextStamp();
+    bool ok = true;
+    forPatchChains(q, [&](Index x) {
+      if (x != c)
+      {
+        const Index other = s.Find(s.L[x]) == q ? (s.R[x] == InvalidIndex ? InvalidIndex : s.Find(s.R[x])) : s.Find(s.L[x]);
+        ok = ok && other != p;
+        s.EndStamp[s.A[x]] = stamp;
+        s.EndStamp[s.B[x]] = stamp;
+      }
+    });
+    if (!ok)
+    {
+      return false;
+    }
+    forPatchChains(p, [&](Index x) {
+      if (x != c)
+      {
+        for (const Index e : { s.A[x], s.B[x] })
+        {
+          if (e != s.A[c] && e != s.B[c] && s.EndStamp[e] == stamp)
+          {
+            ok = false;
+          }
+        }
+      }
+    });
+    if (!ok)
+    {
+      return false;
+    }
+    s.Parent[q] = p;
+    s.Normal[p] = s.Normal[p] + s.Normal[q];
+    s.Size[p] += s.Size[q] - 2;
+    // Splice q's chain list into p's.
+    if (s.PatchHead[q] != InvalidIndex)
+    {
+      Index tail = s.PatchHead[q];
+      while (s.PatchSlotNext[tail] != InvalidIndex)
+      {
+        tail = s.PatchSlotNext[tail];
+      }
+      s.PatchSlotNext[tail] = s.PatchHead[p];
+      s.PatchHead[p] = s.PatchHead[q];
+      s.PatchHead[q] = InvalidIndex;
+    }
+    s.Alive[c] = 0;
+    --s.Degree[s.A[c]];
+    --s.Degree[s.B[c]];
+    tryJoin(s.A[c]);
+    tryJoin(s.B[c]);
+    return true;
+  };
+
+  s.Heap.clear();
+  for (Index c = 0; c < nc; ++c)
+  {
+    pushCandidate(c);
+  }
+  while (!s.Heap.empty())
+  {
+    std::pop_heap(s.Heap.begin(), s.Heap.end());
+    const auto entry = s.Heap.back();
+    s.Heap.pop_back();
+    const Index c = entry.second;
+    if (!movable(c))
+    {
+      continue;
+    }
+    Index p = s.Find(s.L[c]), q = s.Find(s.R[c]);
+    if (p == q || s.Frozen[p] || s.Frozen[q])
+    {
+      continue;
+    }
+    const double d = sideDot(p, q);
+    if (d < entry.first - 1e-12)
+    {
+      pushCandidate(c); // normals changed since: requeue with the current value
+      continue;
+    }
+    if (parameters.CollapseChains)
+    {
+      tryCollapses(p, c);
+      tryCollapses(q, c);
+      if (!movable(c))
+      {
+        continue;
+      }
+    }
+    if (parameters.MergePatches && tryMerge(c, p, q))
+    {
+      forPatchChains(p, [&](Index x) { pushCandidate(x); });
+    }
+  }
+}
+
+Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parameters)
+{
+  State& s = *this->Work;
+  s.NoFreeze.assign(size_t(this->Patches->NumberOfPatches()), 0);
+  this->RunMerging(parameters, s.NoFreeze, s);
+  return static_cast<Index>(s.Total);
+}
+
+SpbmLevelParameters SpbmLevelGenerator::FindParameters(
+  Index target, const SpbmLevelParameters& base, Index* predicted)
+{
+  SpbmLevelParameters params = base;
+  const Index nk = static_cast<Index>(this->SortedKeys.size());
+  auto epsilonFor = [&](Index k) { return k < nk ? double(this->SortedKeys[k]) : -1.0; };
+  auto countFor = [&](Index k, double angle) {
+    SpbmLevelParameters p = base;
+    p.Epsilon = epsilonFor(k);
+    p.MergeAngle = angle;
+    return this->PredictTriangleCount(p);
+  };
+  Index count0 = countFor(0, base.MergeAngle);
+  if (count0 > target)
+  {
+    // Even single-segment chains give too many triangles: widen alpha1.
+    params.Epsilon = epsilonFor(0);
+    Index best = count0;
+    if (base.MergePatches || base.CollapseChains)
+    {
+      double lo = base.MergeAngle, hi = std::max(90.0, base.MergeAngle);
+      Index countHi = countFor(0, hi);
+      if (countHi > target)
+      {
+        params.MergeAngle = hi;
+        best = countHi;
+      }
+      else
+      {
+        best = countHi;
+        for (int iteration = 0; iteration < 24; ++iteration)
+        {
+          const double mid = 0.5 * (lo + hi);
+          const Index c = countFor(0, mid);
+          if (c > target)
+          {
+            lo = mid;
+          }
+          else
+          {
+            hi = mid;
+            best = c;
+          }
+        }
+        params.MergeAngle = hi;
+      }
+    }
+    if (predicted)
+    {
+      *predicted = best;
+    }
+    return params;
+  }
+  // Smallest number of kept chain vertices whose count reaches the target.
+  Index lo = 0, hi = nk;
+  Index countHi = countFor(nk, base.MergeAngle);
+  if (countHi <= target)
+  {
+    params.Epsilon = epsilonFor(nk);
+    if (predicted)
+    {
+      *predicted = countHi;
+    }
+    return params;
+  }
+  while (hi - lo > 1)
+  {
+    const Index mid = lo + (hi - lo) / 2;
+    if (countFor(mid, base.MergeAngle) > target)
+    {
+      hi = mid;
+    }
+    else
+    {
+      lo = mid;
+    }
+  }
+  // The count is not strictly monotone (merges): look around for the closest count <= target.
+  Index bestK = lo, bestCount = countFor(lo, base.MergeAngle);
+  for (Index k = std::max<Index>(0, lo - 24); k <= std::min<Index>(nk, lo + 24); ++k)
+  {
+    const Index c = countFor(k, base.MergeAngle);
+    if (c <= target && (bestCount > target || c > bestCount))
+    {
+      bestK = k;
+      bestCount = c;
+    }
+  }
+  params.Epsilon = epsilonFor(bestK);
+  if (predicted)
+  {
+    *predicted = bestCount;
+  }
+  return params;
+}
+
+bool SpbmLevelGenerator::Generate(
+  const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort)
+{
+  const Patchification& P = *this->Patches;
+  const TriangleMesh& mesh = *this->Mesh;
+  State& s = *this->Work;
+  const Index np = P.NumberOfPatches();
+  const Index nc = P.NumberOfChains();
+  const Index nv = mesh.NumberOfPoints();
+  const Index* base = nc > 0 ? P.ChainVerticesBegin(0) : nullptr;
+  const float eps = static_cast<float>(parameters.Epsilon);
+  s.VertexStamp.resize(size_t(nv), 0);
+
+  std::vector<unsigned char> frozen(size_t(np), 0);
+  std::vector<unsigned char> failed;
+  std::vector<Index> polygon, other, ring;
+  std::vector<Vec3> points;
+  std::vector<Index> localStart; // per endpoint, scratch via EndStamp
+  level = SpbmLevel();
+  const int maxPasses = 2 * 64 + 2;
+  for (int pass = 1;; ++pass)
+  {
+    if (abort && abort())
+    {
+      return false;
+    }
+    level.Passes = pass;
+    if (pass > maxPasses)
+    {
+      std::fill(frozen.begin(), frozen.end(), 2); // last resort: the input itself
+    }
+    this->RunMerging(parameters, frozen, s);
+    if (pass == 1)
+    {
+      level.PredictedTriangles = static_cast<Index>(s.Total);
+    }
+    failed.assign(size_t(np), 0);
+
+    // 1. Vertex sequences of the alive chains (all vertices, with keep flags).
+    s.SeqOffsets.assign(size_t(nc) + 1, 0);
+    s.SeqVertices.clear();
+    s.SeqKeep.clear();
+    for (Index c = 0; c < nc; ++c)
+    {
+      s.SeqOffsets[c] = static_cast<Index>(s.SeqVertices.size());
+      if (!s.Alive[c])
+      {
+        continue;
+      }
+      const bool single = s.PartFirst[c] == s.PartLast[c];
+      s.SeqVertices.push_back(P.EndpointVertex(s.A[c]));
+      s.SeqKeep.push_back(1);
+      for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
+      {
+        if (part != s.PartFirst[c])
+        {
+          // Joint between parts: the endpoint dropped when they were joined.
+          s.SeqVertices.push_back(P.EndpointVertex(s.JointBefore[part]));
+          s.SeqKeep.push_back(0);
+        }
+        const Index* v = P.ChainVerticesBegin(part);
+        const float* keys = this->Keys.data() + (v - base);
+        const Index n = P.ChainSize(part);
+        const bool reversed = s.PartReversed[part];
+        for (Index i = 1; i + 1 < n; ++i)
+        {
+          const Index k = reversed ? n - 1 - i : i;
+          s.SeqVertices.push_back(v[k]);
+          s.SeqKeep.push_back(s.Locked[c] || (single && keys[k] > eps));
+        }
+      }
+      s.SeqVertices.push_back(P.EndpointVertex(s.B[c]));
+      s.SeqKeep.push_back(1);
+      // Forced vertex (lens rule): the top of the hierarchy, or the middle of a joined chain.
+      const Index first = s.SeqOffsets[c], count = static_cast<Index>(s.SeqVertices.size()) - first;
+      Index kept = 0;
+      for (Index i = 1; i + 1 < count; ++i)
+      {
+        kept += s.SeqKeep[first + i];
+      }
+      if (kept < s.Interior[c] && count > 2)
+      {
+        Index best = count / 2;
+        if (single)
+        {
+          const float* keys = this->Keys.data() + (P.ChainVerticesBegin(c) - base);
+          for (Index i = 1; i + 1 < count; ++i)
+          {
+            if (keys[i] > keys[best])
+            {
+              best = i;
+            }
+          }
+        }
+        s.SeqKeep[first + best] = 1;
+      }
+    }
+    s.SeqOffsets[nc] = static_cast<Index>(s.SeqVertices.size());
+
+    // 2. Segments must be unique: refine a chain whose shortcut duplicates another edge.
+    for (int round = 0; round < 64; ++round)
+    {
+      bool changed = false;
+      s.Edges.Reset(s.SeqVertices.size());
+      for (Index c = 0; c < nc && !changed; ++c)
+      {
+        Index previous = s.SeqOffsets[c];
+        for (Index i = s.SeqOffsets[c] + 1; i < s.SeqOffsets[c + 1]; ++i)
+        {
+          if (!s.SeqKeep[i])
+          {
+            continue;
+          }
+          Index existing;
+          if (!s.Edges.Insert(s.SeqVertices[previous], s.SeqVertices[i], c, existing))
+          {
+            if (i - previous >= 2)
+            {
+              s.SeqKeep[(previous + i) / 2] = 1;
+              changed = true;
+            }
+            else
+            {
+              // Refine the other one (find its segment), else give up on both patches.
+              bool refined = false;
+              Index prevOther = s.SeqOffsets[existing];
+              for (Index j = s.SeqOffsets[existing] + 1; j < s.SeqOffsets[existing + 1] && !refined; ++j)
+              {
+                if (!s.SeqKeep[j])
+                {
+                  continue;
+                }
+                const Index x = s.SeqVertices[prevOther], y = s.SeqVertices[j];
+                if (((x == s.SeqVertices[previous] && y == s.SeqVertices[i]) ||
+                      (y == s.SeqVertices[previous] && x == s.SeqVertices[i])) &&
+                  j - prevOther >= 2)
+                {
+                  s.SeqKeep[(prevOther + j) / 2] = 1;
+                  refined = true;
+                }
+                prevOther = j;
+              }
+              if (refined)
+              {
+                changed = true;
+              }
+              else
+              {
+                for (const Index x : { c, existing })
+                {
+                  failed[s.Find(s.L[x])] = 1;
+                  if (s.R[x] != InvalidIndex)
+                  {
+                    failed[s.Find(s.R[x])] = 1;
+                  }
+                }
+              }
+            }
+          }
+          previous = i;
+        }
+      }
+      if (!changed)
+      {
+        break;
+      }
+    }
+
+    // 3. Edges of patches kept as original triangles.
+    level.Triangles.clear();
+    level.TrianglePatch.clear();
+    bool anyOriginal = false;
+    for (Index p = 0; p < np; ++p)
+    {
+      anyOriginal = anyOriginal || frozen[p] == 2;
+    }
+    if (anyOriginal)
+    {
+      const std::vector<Index>& patchOf = P.TrianglePatches();
+      for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+      {
+        const Index p = patchOf[t];
+        if (frozen[p] != 2)
+        {
+          continue;
+        }
+        const Index* tri = mesh.Triangle(t);
+        for (int k = 0; k < 3; ++k)
+        {
+          Index existing;
+          if (!s.Edges.Insert(tri[k], tri[(k + 1) % 3], -1 - p, existing) && existing >= 0)
+          {
+            const Index x = existing;
+            if (s.Find(s.L[x]) != p && (s.R[x] == InvalidIndex || s.Find(s.R[x]) != p))
+            {
+              failed[s.Find(s.L[x])] = 1;
+              if (s.R[x] != InvalidIndex)
+              {
+                failed[s.Find(s.R[x])] = 1;
+              }
+            }
+          }
+        }
+        level.Triangles.insert(level.Triangles.end(), tri, tri + 3);
+        level.TrianglePatch.push_back(p);
+      }
+    }
+
+    // 4. Triangulate every other patch from its simplified boundary.
+    for (Index p = 0; p < np; ++p)
+    {
+      if (s.Parent[p] != p || frozen[p] == 2 || failed[p])
+      {
+        continue;
+      }
+      if ((p & 255) == 0 && abort && abort())
+      {
+        return false;
+      }
+      // Oriented chains of p, linked end to start.
+      ring.clear();
+      const Index stamp = s.NextStamp();
+      for (Index slot = s.PatchHead[p]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+      {
+        const Index c = slot / 2;
+        if (!s.Alive[c])
+        {
+          continue;
+        }
+        const bool reversed = s.Find(s.L[c]) != p;
+        const Index startEnd = reversed ? s.B[c] : s.A[c];
+        if (s.EndStamp[startEnd] == stamp)
+        {
+          ring.clear();
+          break; // two chains leave the same vertex: not a simple loop
+        }
+        s.EndStamp[startEnd] = stamp;
+        ring.push_back(reversed ? -1 - c : c);
+      }
+      polygon.clear();
+      other.clear();
+      bool ok = !ring.empty();
+      if (ok)
+      {
+        // Order: follow end -> start through a small search (patch degrees are small).
+        std::vector<Index>& order = localStart;
+        order.assign(ring.begin(), ring.end());
+        auto startOf = [&](Index o) { return o >= 0 ? s.A[o] : s.B[-1 - o]; };
+        auto endOf = [&](Index o) { return o >= 0 ? s.B[o] : s.A[-1 - o]; };
+        for (size_t i = 0; i + 1 < order.size() && ok; ++i)
+        {
+          size_t j = i + 1;
+          while (j < order.size() && startOf(order[j]) != endOf(order[i]))
+          {
+            ++j;
+          }
+          if (j == order.size())
+          {
+            ok = false;
+          }
+          else
+          {
+            std::swap(order[i + 1], order[j]);
+          }
+        }
+        ok = ok && endOf(order.back()) == startOf(order.front());
+        for (size_t i = 0; i < order.size() && ok; ++i)
+        {
+          const Index c = order[i] >= 0 ? order[i] : -1 - order[i];
+          const bool reversed = order[i] < 0;
+          const Index otherSide = s.R[c] == InvalidIndex
+            ? InvalidIndex
+            : (reversed ? s.Find(s.L[c]) : s.Find(s.R[c]));
+          const Index first = s.SeqOffsets[c], last = s.SeqOffsets[c + 1] - 1;
+          for (Index k = 0; k < last - first; ++k) // all but the final vertex
+          {
+            const Index pos = reversed ? last - k : first + k;
+            if (!s.SeqKeep[pos])
+            {
+              continue;
+            }
+            polygon.push_back(s.SeqVertices[pos]);
+            other.push_back(k == 0 ? InvalidIndex : otherSide);
+          }
+        }
+      }
+      // Distinct vertices.
+      const Index vstamp = s.NextStamp();
+      for (const Index v : polygon)
+      {
+        ok = ok && s.VertexStamp[v] != vstamp;
+        s.VertexStamp[v] = vstamp;
+      }
+      ok = ok && polygon.size() >= 3;
+      if (ok)
+      {
+        points.resize(polygon.size());
+        for (size_t i = 0; i < polygon.size(); ++i)
+        {
+          points[i] = mesh.Point(polygon[i]);
+        }
+        const Vec3 normal = Normalized(s.Normal[p]);
+        const Index n = static_cast<Index>(polygon.size());
+        PolygonTriangulationOptions options;
+        options.AllowFallback = false;
+        options.AcceptEar = [&](Index ia, Index k, Index ic) {
+          if (s.Edges.Contains(polygon[ia], polygon[ic]))
+          {
+            return false; // the diagonal is already an edge: would be non-manifold
+          }
+          if (other[k] != InvalidIndex && ia == (k + n - 1) % n && ic == (k + 1) % n)
+          {
+            // Double ear: the mirrored triangle would also be an ear of the patch across; keep
+            // the one whose normal is closer to its patch normal.
+            const Vec3 nt = Cross(points[k] - points[ia], points[ic] - points[ia]);
+            if (Dot(nt, normal + Normalized(s.Normal[other[k]])) < 0)
+            {
+              return false;
+            }
+          }
+          return true;
+        };
+        const PolygonTriangulationResult result = TriangulatePolygon(points, normal, options);
+        ok = !result.Failed && result.Triangles.size() + 2 == polygon.size();
+        if (ok)
+        {
+          for (const auto& t : result.Triangles)
+          {
+            Index ignored;
+            for (int k = 0; k < 3; ++k)
+            {
+              s.Edges.Insert(polygon[t[k]], polygon[t[(k + 1) % 3]], -1, ignored);
+            }
+            level.Triangles.push_back(polygon[t[0]]);
+            level.Triangles.push_back(polygon[t[1]]);
+            level.Triangles.push_back(polygon[t[2]]);
+            level.TrianglePatch.push_back(p);
+          }
+        }
+      }
+      if (!ok)
+      {
+        failed[p] = 1;
+      }
+    }
+
+    // 5. Fallback: freeze the failed patches one level further and regenerate.
+    bool anyFailed = false;
+    for (Index q = 0; q < np; ++q)
+    {
+      if (failed[s.Find(q)] && frozen[q] < 2)
+      {
+        ++frozen[q];
+        anyFailed = true;
+      }
+    }
+    if (!anyFailed)
+    {
+      break;
+    }
+  }
+
+  // Compact patch ids and the profile curves.
+  std::vector<Index> compact(size_t(np), InvalidIndex);
+  Index next = 0;
+  for (Index& p : level.TrianglePatch)
+  {
+    if (compact[p] == InvalidIndex)
+    {
+      compact[p] = next++;
+    }
+    p = compact[p];
+  }
+  level.NumberOfPatches = next;
+  for (Index p = 0; p < np; ++p)
+  {
+    level.RefinedPatches += frozen[p] == 1;
+    level.OriginalPatches += frozen[p] == 2;
+  }
+  level.CurveOffsets.assign(1, 0);
+  level.CurveVertices.clear();
+  for (Index c = 0; c < nc; ++c)
+  {
+    if (!s.Alive[c])
+    {
+      continue;
+    }
+    for (Index i = s.SeqOffsets[c]; i < s.SeqOffsets[c + 1]; ++i)
+    {
+      if (s.SeqKeep[i])
+      {
+        level.CurveVertices.push_back(s.SeqVertices[i]);
+      }
+    }
+    level.CurveOffsets.push_back(static_cast<Index>(level.CurveVertices.size()));
+  }
+  return true;
+}
+} // namespace slod
