@@ -49,8 +49,9 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->Epoch = 0;
   this->RefStart.assign(np, 0);
   this->RefCount.assign(np, 0);
-  this->CompactThreshold = 0;
   this->Refs.clear();
+  this->CompactThreshold = 0;
+  this->Refs.push_back(0); // forces the first build of the blocks
   this->CompactIfNeeded();
 }
 

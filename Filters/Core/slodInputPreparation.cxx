@@ -5,6 +5,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkObject.h"
 #include "vtkPoints.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
@@ -355,6 +356,29 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
   report.NonManifoldEdges = stats.NonManifoldEdges;
   report.NonManifoldVertices = stats.NonManifoldVertices;
   return report;
+}
+
+bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const PreparationOptions& options,
+  TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint, PreparationReport* reportOut)
+{
+  const PreparationReport report = PrepareTriangleMesh(input, options, mesh, vertexToInputPoint);
+  if (reportOut)
+  {
+    *reportOut = report;
+  }
+  if (!report.Valid)
+  {
+    vtkErrorWithObjectMacro(filter, << "Invalid input: " << report.Error << "; the output is empty.");
+    mesh.Points.clear();
+    mesh.Triangles.clear();
+    vertexToInputPoint.clear();
+    return false;
+  }
+  for (const std::string& warning : report.Warnings())
+  {
+    vtkWarningWithObjectMacro(filter, << "Input: " << warning << ".");
+  }
+  return true;
 }
 
 void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointDataType)

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+class vtkObject;
 class vtkPolyData;
 class vtkPointData;
 
@@ -55,6 +56,13 @@ struct SURFACELODFILTERS_EXPORT PreparationReport
 // vertexToInputPoint[i] is the input point id of mesh vertex i (the first of merged duplicates).
 SURFACELODFILTERS_EXPORT PreparationReport PrepareTriangleMesh(vtkPolyData* input,
   const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint);
+
+// PrepareTriangleMesh for a filter: reports each warning with vtkWarningWithObjectMacro and an invalid
+// input with vtkErrorWithObjectMacro on `filter`. Returns false when the input cannot be used (the
+// filter then produces an empty output).
+SURFACELODFILTERS_EXPORT bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input,
+  const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint,
+  PreparationReport* report = nullptr);
 
 // Writes the mesh as points (same precision as `pointsLike` when given, else float) + triangles.
 SURFACELODFILTERS_EXPORT void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointDataType = 10 /*VTK_FLOAT*/);

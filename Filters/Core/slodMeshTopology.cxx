@@ -229,7 +229,7 @@ bool MeshTopology::OrderedOneRing(
     Index t = start;
     for (Index steps = 0; steps <= degree; ++steps)
     {
-      const Index prev = this->EdgeNeighbor(t, (corner(t) + 2) % 3);
+      const Index prev = this->EdgeNeighbor(t, corner(t)); // across the edge (v, next)
       if (prev == InvalidIndex)
       {
         break;

@@ -5,6 +5,7 @@
 #include "vtkSmartPointer.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace slod
 {
@@ -97,6 +98,20 @@ void PointAttributes::Store(vtkPointData* output, const std::vector<Index>& outp
       for (int c = 0; c < info.Components; ++c)
       {
         array->SetComponent(static_cast<vtkIdType>(i), c, row[c]);
+      }
+    }
+    if (info.AttributeType == vtkDataSetAttributes::NORMALS && info.Components == 3)
+    {
+      // Averaged unit normals are shorter than one: renormalise.
+      for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i)
+      {
+        double n[3];
+        array->GetTuple(i, n);
+        const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (length > 0)
+        {
+          array->SetTuple3(i, n[0] / length, n[1] / length, n[2] / length);
+        }
       }
     }
     const int index = output->AddArray(array);

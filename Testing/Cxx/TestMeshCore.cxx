@@ -6,9 +6,14 @@
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
+#include "slodPointAttributes.h"
 #include "slodQuadric.h"
 
 #include "vtkCellArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIntArray.h"
+#include "vtkPointData.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -367,4 +372,50 @@ TEST(InputPreparation, NonManifoldEdgesAreReported)
   const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
   EXPECT_TRUE(report.Valid);
   EXPECT_EQ(report.NonManifoldEdges, 1);
+}
+
+TEST(PointAttributes, CarriedThroughMergesWithTypes)
+{
+  vtkNew<vtkPointData> input;
+  vtkNew<vtkFloatArray> temperature;
+  temperature->SetName("Temperature");
+  vtkNew<vtkIntArray> label;
+  label->SetName("Label");
+  vtkNew<vtkDoubleArray> normals;
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  for (int i = 0; i < 4; ++i)
+  {
+    temperature->InsertNextValue(10.0f * i);
+    label->InsertNextValue(i);
+  }
+  normals->InsertNextTuple3(1, 0, 0);
+  normals->InsertNextTuple3(0, 1, 0);
+  normals->InsertNextTuple3(0, 0, 1);
+  normals->InsertNextTuple3(0, 0, 1);
+  input->AddArray(temperature);
+  input->AddArray(label);
+  input->SetNormals(normals);
+
+  PointAttributes attributes;
+  attributes.Load(input, { 3, 0, 1 }); // rows: input points 3, 0, 1
+  EXPECT_EQ(attributes.GetWidth(), 5);
+  const Index sources[2] = { 1, 2 };
+  const double weights[2] = { 1, 1 };
+  attributes.Merge(1, sources, weights, 2); // row 1 := mean of input points 0 and 1
+  const Index added = attributes.AddInterpolated(sources, weights, 2);
+  EXPECT_EQ(added, 3);
+
+  vtkNew<vtkPointData> output;
+  attributes.Store(output, { 0, 1 });
+  auto* t = vtkFloatArray::SafeDownCast(output->GetArray("Temperature"));
+  ASSERT_NE(t, nullptr);
+  EXPECT_FLOAT_EQ(t->GetValue(0), 30.0f);
+  EXPECT_FLOAT_EQ(t->GetValue(1), 5.0f);
+  ASSERT_NE(vtkIntArray::SafeDownCast(output->GetArray("Label")), nullptr);
+  ASSERT_NE(output->GetNormals(), nullptr);
+  double n[3];
+  output->GetNormals()->GetTuple(1, n);
+  EXPECT_NEAR(n[0], std::sqrt(0.5), 1e-12); // averaged and renormalised
+  EXPECT_NEAR(n[1], std::sqrt(0.5), 1e-12);
 }

@@ -1,0 +1,57 @@
+"""The wrapped SurfaceLOD filters in a real VTK Python pipeline (run with Debian's /usr/bin/python3)."""
+import os
+import sys
+import unittest
+
+from vtkmodules.vtkFiltersSources import vtkSphereSource
+from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
+
+import surfacelod
+
+MESH_DIR = os.environ.get("SURFACELOD_MESH_DIR", "")
+
+
+class PythonPipelineTest(unittest.TestCase):
+    def test_package_exports_filters(self):
+        for name in ("vtkSurfaceDeviation", "vtkOFFMeshReader"):
+            self.assertTrue(hasattr(surfacelod, name), name)
+
+    def test_deviation_in_pipeline(self):
+        sphere = vtkSphereSource()
+        sphere.SetThetaResolution(48)
+        sphere.SetPhiResolution(48)
+        decimate = vtkQuadricDecimation()
+        decimate.SetInputConnection(sphere.GetOutputPort())
+        decimate.SetTargetReduction(0.9)
+        deviation = surfacelod.vtkSurfaceDeviation()
+        deviation.SetInputConnection(0, sphere.GetOutputPort())
+        deviation.SetInputConnection(1, decimate.GetOutputPort())
+        deviation.SetNumberOfSamples(20000)
+        deviation.Update()
+        hausdorff = deviation.GetHausdorffRelative()
+        self.assertGreater(hausdorff, 1e-4)
+        self.assertLess(hausdorff, 0.05)
+        out = deviation.GetOutput()
+        self.assertEqual(out.GetNumberOfPolys(), decimate.GetOutput().GetNumberOfPolys())
+        self.assertIsNotNone(out.GetPointData().GetArray("Distance"))
+        # Identical surfaces are at distance zero.
+        same = surfacelod.vtkSurfaceDeviation()
+        same.SetInputConnection(0, sphere.GetOutputPort())
+        same.SetInputConnection(1, sphere.GetOutputPort())
+        same.SetNumberOfSamples(5000)
+        same.Update()
+        self.assertLess(same.GetHausdorffRelative(), 1e-9)
+
+    def test_off_reader_reads_fandisk(self):
+        path = os.path.join(MESH_DIR, "fandisk.off")
+        self.assertTrue(os.path.exists(path), "test mesh missing: " + path)
+        reader = surfacelod.vtkOFFMeshReader()
+        reader.SetFileName(path)
+        reader.Update()
+        self.assertEqual(reader.GetOutput().GetNumberOfPolys(), 12946)
+        self.assertEqual(reader.GetOutput().GetNumberOfPoints(), 6475)
+
+
+if __name__ == "__main__":
+    result = unittest.main(exit=False, verbosity=2).result
+    sys.exit(0 if result.wasSuccessful() and result.testsRun > 0 else 1)

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Command 2 of the README: build (if needed) and run the whole test suite, image tests included,
+# under a virtual X server. Exits non-zero on any failure.
+#   BUILD_DIR   build directory (default: build)
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${BUILD_DIR:-$here/build}"
+if [[ ! -f "$build/CMakeCache.txt" ]]; then
+  cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+fi
+cmake --build "$build" -j "$(nproc)"
+cd "$build"
+xvfb-run -a ctest --output-on-failure -j 2 --timeout 1200
