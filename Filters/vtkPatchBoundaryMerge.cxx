@@ -76,6 +76,7 @@ int vtkPatchBoundaryMerge::RequestData(
     return 0;
   }
   this->NumberOfMergedPatches = 0;
+  this->UnmergedPatches = 0;
   this->RefinedPatches = 0;
   this->OriginalPatches = 0;
   this->PatchificationTime = 0;
@@ -161,18 +162,25 @@ int vtkPatchBoundaryMerge::RequestData(
   {
     target = static_cast<vtkIdType>(std::llround((1.0 - this->TargetReduction) * mesh.NumberOfTriangles()));
   }
+  slod::SpbmLevel result;
+  auto abort = [this]() { return this->GetAbortExecute() != 0; };
   if (target > 0)
   {
-    level = cache.Generator.FindParameters(static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), level);
+    const slod::SpbmLevelParameters base = level;
+    if (!cache.Generator.GenerateForTarget(
+          static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), base, result, &level, abort))
+    {
+      return 1;
+    }
   }
-  this->UsedEpsilon = level.Epsilon < 0 ? 0.0 : level.Epsilon;
-  this->UsedMergeAngle = level.MergeAngle;
-  slod::SpbmLevel result;
-  if (!cache.Generator.Generate(level, result, [this]() { return this->GetAbortExecute() != 0; }))
+  else if (!cache.Generator.Generate(level, result, abort))
   {
     return 1;
   }
+  this->UsedEpsilon = level.Epsilon < 0 ? 0.0 : level.Epsilon;
+  this->UsedMergeAngle = level.MergeAngle;
   this->NumberOfMergedPatches = result.NumberOfPatches;
+  this->UnmergedPatches = result.UnmergedPatches;
   this->RefinedPatches = result.RefinedPatches;
   this->OriginalPatches = result.OriginalPatches;
   this->UpdateProgress(0.9);

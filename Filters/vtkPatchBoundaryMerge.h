@@ -126,8 +126,11 @@ public:
   vtkGetMacro(NumberOfMergedPatches, vtkIdType);  // in the output level
   vtkGetMacro(UsedEpsilon, double);               // absolute
   vtkGetMacro(UsedMergeAngle, double);
-  vtkGetMacro(RefinedPatches, vtkIdType);         // fallback 1 (full-resolution boundary)
-  vtkGetMacro(OriginalPatches, vtkIdType);        // fallback 2 (original triangles)
+  // Fallbacks (in patches of the patchification) for boundaries that could not be triangulated
+  // validly: kept unmerged, refined (finer epsilon up to full resolution), original triangles.
+  vtkGetMacro(UnmergedPatches, vtkIdType);
+  vtkGetMacro(RefinedPatches, vtkIdType);
+  vtkGetMacro(OriginalPatches, vtkIdType);
   vtkGetMacro(PatchificationReused, bool);        // the cache was hit
   vtkGetMacro(PatchificationTime, double);        // seconds (input preparation + patches + hierarchy)
   vtkGetMacro(LevelTime, double);                 // seconds (search + level generation + output)
@@ -161,6 +164,7 @@ protected:
   vtkIdType NumberOfMergedPatches = 0;
   double UsedEpsilon = 0.0;
   double UsedMergeAngle = 0.0;
+  vtkIdType UnmergedPatches = 0;
   vtkIdType RefinedPatches = 0;
   vtkIdType OriginalPatches = 0;
   bool PatchificationReused = false;

@@ -3,8 +3,11 @@
 #include "slodPolygonTriangulation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 namespace slod
@@ -13,6 +16,10 @@ namespace
 {
 constexpr float InfiniteKey = std::numeric_limits<float>::infinity();
 constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
+// Fallback levels of a patch that could not be triangulated: 1 unmerged, 2..5 its chains with
+// epsilon / 4^(level-1), 6 full resolution, 7 its original triangles.
+constexpr int FullResolutionLevel = 6;
+constexpr int OriginalLevel = 7;
 
 double PointSegmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b)
 {
@@ -23,6 +30,77 @@ double PointSegmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b)
   t = std::min(1.0, std::max(0.0, t));
   const Vec3 d = ap - t * ab;
   return Dot(d, d);
+}
+
+// True when the closed polygon, projected on the plane orthogonal to `normal`, is simple and
+// counter-clockwise (the condition for a valid ear-clipping triangulation without flips). O(n^2):
+// used on merged patch boundaries, which are short at the levels where merging happens.
+// With `changed` set, the polygon is known to have been simple before vertex `changed` moved or
+// its neighbour was removed: only the segments at `changed` are tested against the others (O(n)).
+bool ProjectsToSimplePolygon(const std::vector<Vec3>& polygon, const Vec3& normal, size_t changed = size_t(-1))
+{
+  const size_t n = polygon.size();
+  if (n < 3)
+  {
+    return false;
+  }
+  const Vec3 w = Normalized(normal);
+  const Vec3 helper = std::fabs(w[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
+  const Vec3 u = Normalized(Cross(helper, w));
+  const Vec3 v = Cross(w, u);
+  std::vector<std::array<double, 2>> p(n);
+  double area = 0;
+  for (size_t i = 0; i < n; ++i)
+  {
+    p[i] = { Dot(polygon[i], u), Dot(polygon[i], v) };
+  }
+  for (size_t i = 0; i < n; ++i)
+  {
+    const auto& a = p[i];
+    const auto& b = p[(i + 1) % n];
+    area += a[0] * b[1] - a[1] * b[0];
+  }
+  if (area <= 0)
+  {
+    return false;
+  }
+  auto orient = [](const std::array<double, 2>& o, const std::array<double, 2>& a, const std::array<double, 2>& b) {
+    const double d = (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    return (d > 0) - (d < 0);
+  };
+  auto onSegment = [](const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& q) {
+    return std::min(a[0], b[0]) <= q[0] && q[0] <= std::max(a[0], b[0]) && std::min(a[1], b[1]) <= q[1] &&
+      q[1] <= std::max(a[1], b[1]);
+  };
+  for (size_t i = 0; i < n; ++i)
+  {
+    const auto& a = p[i];
+    const auto& b = p[(i + 1) % n];
+    for (size_t j = i + 2; j < n; ++j)
+    {
+      if (i == 0 && j == n - 1)
+      {
+        continue; // adjacent through the wrap
+      }
+      if (changed < n && i != changed && (i + 1) % n != changed && j != changed && (j + 1) % n != changed)
+      {
+        continue; // neither segment touches the changed vertex
+      }
+      const auto& c = p[j];
+      const auto& d = p[(j + 1) % n];
+      const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+      if (o1 != o2 && o3 != o4)
+      {
+        return false;
+      }
+      if ((o1 == 0 && onSegment(a, b, c)) || (o2 == 0 && onSegment(a, b, d)) || (o3 == 0 && onSegment(c, d, a)) ||
+        (o4 == 0 && onSegment(c, d, b)))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
 }
 
 // Open-addressing map from undirected edges to a small value (the chain that owns the edge, or a
@@ -124,6 +202,7 @@ struct SpbmLevelGenerator::State
 {
   // Chains.
   std::vector<Index> A, B, L, R, Interior;
+  std::vector<float> Tolerance; // per chain: epsilon, finer next to refined (frozen) patches
   std::vector<unsigned char> Alive, Locked;
   std::vector<Index> PartFirst, PartLast, PartNext; // joined chains: list of original chains
   std::vector<Index> JointBefore; // endpoint between a part and the previous one
@@ -136,7 +215,7 @@ struct SpbmLevelGenerator::State
   std::vector<unsigned char> Frozen;
   long long Total = 0;
   // Scratch.
-  std::vector<Index> PatchStamp, EndStamp, VertexStamp;
+  std::vector<Index> PatchStamp, EndStamp, EndLocal, VertexStamp;
   Index Stamp = 0;
   std::vector<std::pair<double, Index>> Heap;
   std::vector<unsigned char> NoFreeze;
@@ -326,11 +405,13 @@ void SpbmLevelGenerator::RunMerging(
   s.EndHead.assign(size_t(ne), InvalidIndex);
   s.Degree.assign(size_t(ne), 0);
   s.EndStamp.resize(size_t(ne), 0);
+  s.EndLocal.resize(size_t(ne), 0);
   s.A.resize(size_t(nc));
   s.B.resize(size_t(nc));
   s.L.resize(size_t(nc));
   s.R.resize(size_t(nc));
   s.Interior.resize(size_t(nc));
+  s.Tolerance.resize(size_t(nc));
   s.Alive.assign(size_t(nc), 1);
   s.Locked.resize(size_t(nc));
   s.PartFirst.resize(size_t(nc));
@@ -350,8 +431,11 @@ void SpbmLevelGenerator::RunMerging(
     s.L[c] = l;
     s.R[c] = r;
     s.PartFirst[c] = s.PartLast[c] = c;
-    const bool locked = P.ChainIsNonManifold(c) || frozen[l] || (r != InvalidIndex && frozen[r]);
+    const int level = std::max<int>(frozen[l], r != InvalidIndex ? frozen[r] : 0);
+    const bool locked = P.ChainIsNonManifold(c) || level >= FullResolutionLevel;
     s.Locked[c] = locked;
+    // Refinement levels 2.. divide epsilon by 4 each.
+    s.Tolerance[c] = level >= 2 ? eps * std::pow(0.25f, float(level - 1)) : eps;
     Index interior = 0;
     if (locked)
     {
@@ -362,7 +446,7 @@ void SpbmLevelGenerator::RunMerging(
       const float* keys = this->Keys.data() + (P.ChainVerticesBegin(c) - base);
       for (Index i = 1; i + 1 < n; ++i)
       {
-        interior += keys[i] > eps;
+        interior += keys[i] > s.Tolerance[c];
       }
       if (interior == 0 && this->MinimumInterior[c])
       {
@@ -478,6 +562,111 @@ void SpbmLevelGenerator::RunMerging(
     s.JointBefore[s.PartFirst[c]] = InvalidIndex;
   };
 
+  // Boundary points of root patch `x` (plus `y` when merging along chain `skip`), in order,
+  // with the chain vertices the current tolerances keep. False when they do not close.
+  std::vector<Index> oriented;
+  std::vector<Vec3> forward;
+  auto boundaryPoints = [&](Index x, Index y, Index skip, std::vector<Vec3>& points) {
+    points.clear();
+    oriented.clear();
+    const Index stamp = s.NextStamp();
+    for (const Index root : { x, y })
+    {
+      if (root == InvalidIndex)
+      {
+        continue;
+      }
+      for (Index slot = s.PatchHead[root]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+      {
+        const Index c = slot / 2;
+        if (!s.Alive[c] || c == skip)
+        {
+          continue;
+        }
+        const bool reversed = s.Find(s.L[c]) != root;
+        const Index start = reversed ? s.B[c] : s.A[c];
+        if (s.EndStamp[start] == stamp)
+        {
+          return false;
+        }
+        s.EndStamp[start] = stamp;
+        s.EndLocal[start] = static_cast<Index>(oriented.size());
+        oriented.push_back(reversed ? -1 - c : c);
+      }
+    }
+    if (oriented.empty())
+    {
+      return false;
+    }
+    Index current = 0;
+    for (size_t step = 0; step < oriented.size(); ++step)
+    {
+      const Index o = oriented[current];
+      const Index c = o >= 0 ? o : -1 - o;
+      forward.clear();
+      forward.push_back(endpointPoint(s.A[c]));
+      for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
+      {
+        const Index* v = P.ChainVerticesBegin(part);
+        const float* keys = this->Keys.data() + (v - base);
+        const Index n = P.ChainSize(part);
+        for (Index i = 1; i + 1 < n; ++i)
+        {
+          const Index k = s.PartReversed[part] ? n - 1 - i : i;
+          if (s.Locked[c] || keys[k] > s.Tolerance[c])
+          {
+            forward.push_back(mesh.Point(v[k]));
+          }
+        }
+      }
+      if (o >= 0)
+      {
+        points.insert(points.end(), forward.begin(), forward.end());
+      }
+      else
+      {
+        points.push_back(endpointPoint(s.B[c]));
+        points.insert(points.end(), forward.rbegin(), forward.rend() - 1);
+      }
+      const Index end = o >= 0 ? s.B[c] : s.A[c];
+      if (s.EndStamp[end] != stamp)
+      {
+        return false;
+      }
+      current = s.EndLocal[end];
+    }
+    return current == 0;
+  };
+  // Would patch x still project to a simple polygon once endpoint `gone` is dropped (replace ==
+  // InvalidIndex) or replaced by `replace`?
+  std::vector<Vec3> checkPoints;
+  auto simpleAfter = [&](Index x, Index gone, Index replace) {
+    if (s.Size[x] > 512)
+    {
+      return true; // left to the triangulation fallback
+    }
+    if (!boundaryPoints(x, InvalidIndex, InvalidIndex, checkPoints))
+    {
+      return false;
+    }
+    const Vec3 g = endpointPoint(gone);
+    const auto at = std::find(checkPoints.begin(), checkPoints.end(), g);
+    if (at == checkPoints.end())
+    {
+      return true;
+    }
+    size_t changed = size_t(at - checkPoints.begin());
+    if (replace == InvalidIndex)
+    {
+      checkPoints.erase(at);
+      changed = changed == 0 ? checkPoints.size() - 1 : changed - 1; // the new segment starts here
+    }
+    else
+    {
+      *at = endpointPoint(replace);
+    }
+    return ProjectsToSimplePolygon(checkPoints, s.Normal[x], changed);
+  };
   // Chain collapse (4.2.6 (a)-(c), 4.2.7): one-edge chain e of patch x shrinks to one endpoint.
   auto tryCollapse = [&](Index e, double longest) {
     if (!movable(e))
@@ -544,6 +733,27 @@ void SpbmLevelGenerator::RunMerging(
     {
       return false;
     }
+    // The patches around `gone` must stay simple in projection.
+    if (!simpleAfter(p, gone, InvalidIndex) || !simpleAfter(q, gone, InvalidIndex))
+    {
+      return false;
+    }
+    const Index around = s.NextStamp();
+    s.PatchStamp[p] = s.PatchStamp[q] = around;
+    forEndChains(gone, [&](Index c) {
+      for (const Index side : { s.L[c], s.R[c] })
+      {
+        if (ok && side != InvalidIndex && s.PatchStamp[s.Find(side)] != around)
+        {
+          s.PatchStamp[s.Find(side)] = around;
+          ok = simpleAfter(s.Find(side), gone, keep);
+        }
+      }
+    });
+    if (!ok)
+    {
+      return false;
+    }
     s.Alive[e] = 0;
     forEndChains(gone, [&](Index c) {
       if (s.A[c] == gone)
@@ -590,7 +800,11 @@ void SpbmLevelGenerator::RunMerging(
       }
       ++found;
     });
-    if (found != 2 || !movable(pair[0]) || !movable(pair[1]))
+    auto joinable = [&](Index c) {
+      return s.Alive[c] && !s.Locked[c] && s.R[c] != InvalidIndex && !s.Frozen[s.Find(s.L[c])] &&
+        !s.Frozen[s.Find(s.R[c])];
+    };
+    if (found != 2 || !joinable(pair[0]) || !joinable(pair[1]))
     {
       return;
     }
@@ -607,7 +821,7 @@ void SpbmLevelGenerator::RunMerging(
     }
     bool parallel = false;
     forEndChains(ox, [&](Index c) { parallel = parallel || otherEnd(c, ox) == oy; });
-    if (parallel)
+    if (parallel || !simpleAfter(xl, u, InvalidIndex) || !simpleAfter(xr, u, InvalidIndex))
     {
       return;
     }
@@ -649,14 +863,19 @@ void SpbmLevelGenerator::RunMerging(
       s.EndSlotNext[2 * size_t(x)] = s.EndHead[oy];
       s.EndHead[oy] = 2 * x;
     }
+    s.Interior[x] += s.Interior[y];
     s.Alive[y] = 0;
     s.Degree[u] = 0;
     --s.Size[xl];
     --s.Size[xr];
     s.Total -= 2;
   };
+  std::vector<Vec3> mergedPoints;
   auto tryMerge = [&](Index c, Index p, Index q) {
-    if (s.NonSingle[p] != 0 || s.NonSingle[q] != 0 || s.Size[p] + s.Size[q] - 2 < 3)
+    // The paper also asks every chain of both patches to be one segment; only the common one
+    // has to be (the union of two disks glued along one segment is a disk either way), which
+    // lets small patches merge into large curved ones.
+    if (s.Size[p] + s.Size[q] - 2 < 3)
     {
       return false;
     }
@@ -689,6 +908,14 @@ void SpbmLevelGenerator::RunMerging(
       }
     });
     if (!ok)
+    {
+      return false;
+    }
+    // Method (3) of section 4.2.8: no merge whose boundary would not project to a simple polygon
+    // on the merged normal (it could not be triangulated without flips). Long boundaries are
+    // left to the triangulation fallback.
+    if (s.Size[p] + s.Size[q] <= 512 &&
+      (!boundaryPoints(p, q, c, mergedPoints) || !ProjectsToSimplePolygon(mergedPoints, s.Normal[p] + s.Normal[q])))
     {
       return false;
     }
@@ -795,7 +1022,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
       else
       {
         best = countHi;
-        for (int iteration = 0; iteration < 24; ++iteration)
+        for (int iteration = 0; iteration < 14; ++iteration)
         {
           const double mid = 0.5 * (lo + hi);
           const Index c = countFor(0, mid);
@@ -844,7 +1071,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   }
   // The count is not strictly monotone (merges): look around for the closest count <= target.
   Index bestK = lo, bestCount = countFor(lo, base.MergeAngle);
-  for (Index k = std::max<Index>(0, lo - 24); k <= std::min<Index>(nk, lo + 24); ++k)
+  for (Index k = std::max<Index>(0, lo - 4); k <= std::min<Index>(nk, lo + 4); ++k)
   {
     const Index c = countFor(k, base.MergeAngle);
     if (c <= target && (bestCount > target || c > bestCount))
@@ -871,7 +1098,6 @@ bool SpbmLevelGenerator::Generate(
   const Index nc = P.NumberOfChains();
   const Index nv = mesh.NumberOfPoints();
   const Index* base = nc > 0 ? P.ChainVerticesBegin(0) : nullptr;
-  const float eps = static_cast<float>(parameters.Epsilon);
   s.VertexStamp.resize(size_t(nv), 0);
 
   std::vector<unsigned char> frozen(size_t(np), 0);
@@ -890,7 +1116,7 @@ bool SpbmLevelGenerator::Generate(
     level.Passes = pass;
     if (pass > maxPasses)
     {
-      std::fill(frozen.begin(), frozen.end(), 2); // last resort: the input itself
+      std::fill(frozen.begin(), frozen.end(), OriginalLevel); // last resort: the input itself
     }
     this->RunMerging(parameters, frozen, s);
     if (pass == 1)
@@ -929,7 +1155,7 @@ bool SpbmLevelGenerator::Generate(
         {
           const Index k = reversed ? n - 1 - i : i;
           s.SeqVertices.push_back(v[k]);
-          s.SeqKeep.push_back(s.Locked[c] || (single && keys[k] > eps));
+          s.SeqKeep.push_back(s.Locked[c] || keys[k] > s.Tolerance[c]);
         }
       }
       s.SeqVertices.push_back(P.EndpointVertex(s.B[c]));
@@ -1035,7 +1261,7 @@ bool SpbmLevelGenerator::Generate(
     bool anyOriginal = false;
     for (Index p = 0; p < np; ++p)
     {
-      anyOriginal = anyOriginal || frozen[p] == 2;
+      anyOriginal = anyOriginal || frozen[p] == OriginalLevel;
     }
     if (anyOriginal)
     {
@@ -1043,7 +1269,7 @@ bool SpbmLevelGenerator::Generate(
       for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
       {
         const Index p = patchOf[t];
-        if (frozen[p] != 2)
+        if (frozen[p] != OriginalLevel)
         {
           continue;
         }
@@ -1072,7 +1298,7 @@ bool SpbmLevelGenerator::Generate(
     // 4. Triangulate every other patch from its simplified boundary.
     for (Index p = 0; p < np; ++p)
     {
-      if (s.Parent[p] != p || frozen[p] == 2 || failed[p])
+      if (s.Parent[p] != p || frozen[p] == OriginalLevel || failed[p])
       {
         continue;
       }
@@ -1166,12 +1392,13 @@ bool SpbmLevelGenerator::Generate(
         const Index n = static_cast<Index>(polygon.size());
         PolygonTriangulationOptions options;
         options.AllowFallback = false;
+        bool doubleEarRule = true;
         options.AcceptEar = [&](Index ia, Index k, Index ic) {
           if (s.Edges.Contains(polygon[ia], polygon[ic]))
           {
             return false; // the diagonal is already an edge: would be non-manifold
           }
-          if (other[k] != InvalidIndex && ia == (k + n - 1) % n && ic == (k + 1) % n)
+          if (doubleEarRule && other[k] != InvalidIndex && ia == (k + n - 1) % n && ic == (k + 1) % n)
           {
             // Double ear: the mirrored triangle would also be an ear of the patch across; keep
             // the one whose normal is closer to its patch normal.
@@ -1183,7 +1410,12 @@ bool SpbmLevelGenerator::Generate(
           }
           return true;
         };
-        const PolygonTriangulationResult result = TriangulatePolygon(points, normal, options);
+        PolygonTriangulationResult result = TriangulatePolygon(points, normal, options);
+        if (result.Failed)
+        {
+          doubleEarRule = false; // the rule only chooses between sides; never fail because of it
+          result = TriangulatePolygon(points, normal, options);
+        }
         ok = !result.Failed && result.Triangles.size() + 2 == polygon.size();
         if (ok)
         {
@@ -1204,6 +1436,15 @@ bool SpbmLevelGenerator::Generate(
       if (!ok)
       {
         failed[p] = 1;
+        if (getenv("SLOD_SPBM_DEBUG"))
+        {
+          // DEBUG: classify
+          int conflicts = 0;
+          for (size_t i = 0; i < polygon.size(); ++i)
+            for (size_t j = i + 2; j < polygon.size(); ++j)
+              conflicts += s.Edges.Contains(polygon[i], polygon[j]) && !(i == 0 && j + 1 == polygon.size());
+          fprintf(stderr, "pass %d patch %d frozen %d ring %zu polygon %zu conflicts %d\n", pass, p, frozen[p], ring.size(), polygon.size(), conflicts);
+        }
       }
     }
 
@@ -1211,7 +1452,7 @@ bool SpbmLevelGenerator::Generate(
     bool anyFailed = false;
     for (Index q = 0; q < np; ++q)
     {
-      if (failed[s.Find(q)] && frozen[q] < 2)
+      if (failed[s.Find(q)] && frozen[q] < OriginalLevel)
       {
         ++frozen[q];
         anyFailed = true;
@@ -1237,8 +1478,9 @@ bool SpbmLevelGenerator::Generate(
   level.NumberOfPatches = next;
   for (Index p = 0; p < np; ++p)
   {
-    level.RefinedPatches += frozen[p] == 1;
-    level.OriginalPatches += frozen[p] == 2;
+    level.UnmergedPatches += frozen[p] == 1;
+    level.RefinedPatches += frozen[p] >= 2 && frozen[p] < OriginalLevel;
+    level.OriginalPatches += frozen[p] == OriginalLevel;
   }
   level.CurveOffsets.assign(1, 0);
   level.CurveVertices.clear();
@@ -1256,6 +1498,48 @@ bool SpbmLevelGenerator::Generate(
       }
     }
     level.CurveOffsets.push_back(static_cast<Index>(level.CurveVertices.size()));
+  }
+  return true;
+}
+
+bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
+  SpbmLevelParameters* used, const std::function<bool()>& abort)
+{
+  // Fallbacks add triangles the prediction does not know about: aim lower by the overshoot and
+  // keep the best level (closest count not above the target, else the smallest).
+  Index aim = target;
+  bool haveBest = false;
+  SpbmLevel candidate;
+  for (int attempt = 0; attempt < 6; ++attempt)
+  {
+    const SpbmLevelParameters parameters = this->FindParameters(aim, base);
+    if (!this->Generate(parameters, candidate, abort))
+    {
+      return false;
+    }
+    const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
+    const Index best = haveBest ? static_cast<Index>(level.TrianglePatch.size()) : 0;
+    const bool better = !haveBest || (produced <= target && (best > target || produced > best)) ||
+      (produced > target && best > target && produced < best);
+    if (better)
+    {
+      std::swap(level, candidate);
+      if (used)
+      {
+        *used = parameters;
+      }
+      haveBest = true;
+    }
+    if (produced <= target)
+    {
+      break;
+    }
+    const Index next = std::max<Index>(4, aim - (produced - target));
+    if (next == aim)
+    {
+      break;
+    }
+    aim = next;
   }
   return true;
 }

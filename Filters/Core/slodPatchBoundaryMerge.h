@@ -20,8 +20,8 @@
 //     rule (a corner that is an ear on both sides of its chain goes to the side whose normal fits).
 // Robust fallback: a patch that cannot be triangulated that way (its projected boundary is not
 // simple, or every ear would duplicate an edge) is frozen and the level regenerated: first its
-// chains are kept at full resolution (and it is not merged), then, if that still fails, its
-// original triangles are kept. The output is therefore always a valid mesh over original
+// member patches are not merged (nor their chains collapsed), then their chains are kept at full
+// resolution, then, if that still fails, their original triangles are kept. The output is therefore always a valid mesh over original
 // vertices with the topology of the input (closed manifold in -> closed manifold out, same genus).
 #ifndef slodPatchBoundaryMerge_h
 #define slodPatchBoundaryMerge_h
@@ -53,8 +53,12 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   std::vector<Index> CurveOffsets;
   std::vector<Index> CurveVertices;
   Index PredictedTriangles = 0; // sum over patches of (boundary vertices - 2) before fallbacks
-  Index RefinedPatches = 0;     // fallback 1: full-resolution boundary
-  Index OriginalPatches = 0;    // fallback 2: original triangles
+  // Fallbacks, counted in patches of the patchification: patches that could not be triangulated
+  // are regenerated (1) unmerged, then (2) with full-resolution chains, then (3) as their
+  // original triangles.
+  Index UnmergedPatches = 0;
+  Index RefinedPatches = 0;
+  Index OriginalPatches = 0;
   int Passes = 0;               // generation passes (1 without fallback)
 };
 
@@ -81,6 +85,10 @@ public:
   // many triangles, the merge angle alpha1 is widened (up to 90 degrees). Prefers the closest
   // count not above the target. `predicted` gets the predicted count.
   SpbmLevelParameters FindParameters(Index target, const SpbmLevelParameters& base, Index* predicted = nullptr);
+
+  // FindParameters + Generate, re-aiming when fallbacks pushed the count above the target.
+  bool GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
+    SpbmLevelParameters* used = nullptr, const std::function<bool()>& abort = nullptr);
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
   double ChainVertexKey(Index c, Index i) const;

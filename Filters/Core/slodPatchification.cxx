@@ -55,7 +55,8 @@ void Patchification::Build(const TriangleMesh& mesh, const MeshTopology& topolog
 // a triangle sharing one edge with P joins only when its third vertex is not yet in P (no pinch,
 // feasibility test (a)); one sharing two edges closes a notch; one sharing three never joins; a
 // triangle is removed again (case "two free neighbours, infeasible") only when it hangs on P by
-// one edge and its opposite vertex belongs to no other triangle of P.
+// one edge and its opposite vertex belongs to no other triangle of P. A removed triangle may
+// rejoin P later only through two shared edges (a notch).
 void Patchification::Grow(const TriangleMesh& mesh, const MeshTopology& topology,
   const PatchificationParameters& parameters, const ProgressFunction& progress)
 {
@@ -144,14 +145,16 @@ void Patchification::Grow(const TriangleMesh& mesh, const MeshTopology& topology
     return shared;
   };
   auto feasible = [&](Index t, Index candidate) {
-    if (triedStamp[candidate] == patch)
-    {
-      return false;
-    }
     Index opposite = InvalidIndex;
     const int shared = sharedEdges(candidate, opposite);
     if (shared >= 3 || shared == 0)
     {
+      return false;
+    }
+    if (triedStamp[candidate] == patch && shared < 2)
+    {
+      // Removed from this patch before: it may come back only to fill a notch (two shared
+      // edges), after which it can never be removed again (termination).
       return false;
     }
     if (shared == 1 && inPatch(opposite))
@@ -193,9 +196,12 @@ void Patchification::Grow(const TriangleMesh& mesh, const MeshTopology& topology
           freeNeighbors[freeCount++] = n;
         }
       }
-      if (freeCount == 1 || freeCount == 3)
+      if (freeCount == 1 || freeCount == 3 || t == seed)
       {
-        // One free neighbour; or three (a seed): add each feasible one.
+        // One free neighbour; or a seed (three free neighbours in the paper's first patch; a
+        // later seed next to a finished patch has one or two): add each feasible one. Treating
+        // a two-neighbour seed like the paper's case 2 would leave it alone, and its rejected
+        // neighbour would seed the next single-triangle patch along every crease.
         bool ok[3];
         for (int i = 0; i < freeCount; ++i)
         {
