@@ -17,8 +17,44 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 vtkStandardNewMacro(vtkPatchBoundaryMerge);
+
+namespace
+{
+// Manifold edges both of whose triangles run them the same way.
+slod::Index InconsistentEdges(const slod::TriangleMesh& mesh, const slod::MeshTopology& topology)
+{
+  slod::Index count = 0;
+  for (slod::Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    if (topology.EdgeTriangleCount(e) != 2)
+    {
+      continue;
+    }
+    const slod::Index a = topology.EdgeVertex(e, 0), b = topology.EdgeVertex(e, 1);
+    int direction = 0;
+    for (const slod::Index* t = topology.EdgeTrianglesBegin(e); t != topology.EdgeTrianglesEnd(e); ++t)
+    {
+      const slod::Index* tri = mesh.Triangle(*t);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (tri[k] == a && tri[(k + 1) % 3] == b)
+        {
+          ++direction;
+        }
+        else if (tri[k] == b && tri[(k + 1) % 3] == a)
+        {
+          --direction;
+        }
+      }
+    }
+    count += direction != 0;
+  }
+  return count;
+}
+} // namespace
 
 // The patchification and its chain hierarchy, kept between updates.
 struct vtkPatchBoundaryMerge::Cache
@@ -99,23 +135,31 @@ int vtkPatchBoundaryMerge::RequestData(
     cache.Input = input;
     cache.InputTime = input->GetMTime();
     cache.Parameters = patchParameters;
-    const slod::PreparationReport report =
-      slod::PrepareTriangleMesh(input, slod::PreparationOptions(), cache.Mesh, cache.VertexToInput);
+    // Orientation repair is the costliest part of the preparation and most inputs do not need
+    // it: prepare without it, and again with it only when an inconsistent edge shows up.
+    slod::PreparationOptions options;
+    options.MakeOrientationConsistent = false;
+    slod::PreparationReport report = slod::PrepareTriangleMesh(input, options, cache.Mesh, cache.VertexToInput);
     if (!report.Valid)
     {
       vtkErrorMacro("Cannot simplify this input: " << report.Error);
       this->Cached.reset();
       return 1;
     }
-    cache.Warnings = report.Warnings();
-    if (report.NonManifoldEdges > 0)
-    {
-      cache.Warnings.push_back("non-manifold edges are kept as patch borders at full resolution");
-    }
     this->UpdateProgress(0.05);
     {
-      slod::MeshTopology topology(cache.Mesh); // only needed while growing patches
-      cache.Patches.Build(cache.Mesh, topology, patchParameters, [this](double f) {
+      auto topology = std::make_unique<slod::MeshTopology>(cache.Mesh); // only needed while growing patches
+      if (InconsistentEdges(cache.Mesh, *topology) > 0)
+      {
+        report = slod::PrepareTriangleMesh(input, slod::PreparationOptions(), cache.Mesh, cache.VertexToInput);
+        topology = std::make_unique<slod::MeshTopology>(cache.Mesh);
+      }
+      cache.Warnings = report.Warnings();
+      if (report.NonManifoldEdges > 0)
+      {
+        cache.Warnings.push_back("non-manifold edges are kept as patch borders at full resolution");
+      }
+      cache.Patches.Build(cache.Mesh, *topology, patchParameters, [this](double f) {
         this->UpdateProgress(0.05 + 0.6 * f);
         return this->GetAbortExecute() != 0;
       });

@@ -72,29 +72,65 @@ bool ProjectsToSimplePolygon(const std::vector<Vec3>& polygon, const Vec3& norma
     return std::min(a[0], b[0]) <= q[0] && q[0] <= std::max(a[0], b[0]) && std::min(a[1], b[1]) <= q[1] &&
       q[1] <= std::max(a[1], b[1]);
   };
-  for (size_t i = 0; i < n; ++i)
-  {
+  auto crossing = [&](size_t i, size_t j) {
+    if (i > j)
+    {
+      std::swap(i, j);
+    }
+    if (j == i + 1 || (i == 0 && j == n - 1) || i == j)
+    {
+      return false; // adjacent segments share a vertex
+    }
     const auto& a = p[i];
     const auto& b = p[(i + 1) % n];
-    for (size_t j = i + 2; j < n; ++j)
+    const auto& c = p[j];
+    const auto& d = p[(j + 1) % n];
+    const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+    if (o1 != o2 && o3 != o4)
     {
-      if (i == 0 && j == n - 1)
+      return true;
+    }
+    return (o1 == 0 && onSegment(a, b, c)) || (o2 == 0 && onSegment(a, b, d)) || (o3 == 0 && onSegment(c, d, a)) ||
+      (o4 == 0 && onSegment(c, d, b));
+  };
+  if (changed < n)
+  {
+    // Only the two segments at the changed vertex are new.
+    const size_t mine[2] = { (changed + n - 1) % n, changed };
+    for (const size_t i : mine)
+    {
+      for (size_t j = 0; j < n; ++j)
       {
-        continue; // adjacent through the wrap
+        if (crossing(i, j))
+        {
+          return false;
+        }
       }
-      if (changed < n && i != changed && (i + 1) % n != changed && j != changed && (j + 1) % n != changed)
+    }
+    return true;
+  }
+  // Sweep along x: only segments whose x-ranges overlap are compared.
+  std::vector<size_t> order(n);
+  for (size_t i = 0; i < n; ++i)
+  {
+    order[i] = i;
+  }
+  auto minX = [&](size_t i) { return std::min(p[i][0], p[(i + 1) % n][0]); };
+  auto maxX = [&](size_t i) { return std::max(p[i][0], p[(i + 1) % n][0]); };
+  std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return minX(x) < minX(y); });
+  for (size_t a = 0; a < n; ++a)
+  {
+    const size_t i = order[a];
+    const double reach = maxX(i);
+    const double lowY = std::min(p[i][1], p[(i + 1) % n][1]), highY = std::max(p[i][1], p[(i + 1) % n][1]);
+    for (size_t b = a + 1; b < n && minX(order[b]) <= reach; ++b)
+    {
+      const size_t j = order[b];
+      if (std::max(p[j][1], p[(j + 1) % n][1]) < lowY || std::min(p[j][1], p[(j + 1) % n][1]) > highY)
       {
-        continue; // neither segment touches the changed vertex
+        continue;
       }
-      const auto& c = p[j];
-      const auto& d = p[(j + 1) % n];
-      const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
-      if (o1 != o2 && o3 != o4)
-      {
-        return false;
-      }
-      if ((o1 == 0 && onSegment(a, b, c)) || (o2 == 0 && onSegment(a, b, d)) || (o3 == 0 && onSegment(c, d, a)) ||
-        (o4 == 0 && onSegment(c, d, b)))
+      if (crossing(i, j))
       {
         return false;
       }
@@ -102,7 +138,6 @@ bool ProjectsToSimplePolygon(const std::vector<Vec3>& polygon, const Vec3& norma
   }
   return true;
 }
-
 // Open-addressing map from undirected edges to a small value (the chain that owns the edge, or a
 // negative tag). One flat array, no per-element allocation.
 class EdgeMap
@@ -203,6 +238,7 @@ struct SpbmLevelGenerator::State
   // Chains.
   std::vector<Index> A, B, L, R, Interior;
   std::vector<float> Tolerance; // per chain: epsilon, finer next to refined (frozen) patches
+  std::vector<Index> KeptOffsets, KeptPositions; // per chain: kept interior positions, ascending
   std::vector<unsigned char> Alive, Locked;
   std::vector<Index> PartFirst, PartLast, PartNext; // joined chains: list of original chains
   std::vector<Index> JointBefore; // endpoint between a part and the previous one
@@ -210,7 +246,8 @@ struct SpbmLevelGenerator::State
   // Endpoints.
   std::vector<Index> EndHead, EndSlotNext, Degree;
   // Patches (union-find over original patches).
-  std::vector<Index> Parent, PatchHead, PatchSlotNext, Size, NonSingle;
+  std::vector<Index> Parent, PatchHead, PatchSlotNext, Size, Version;
+  std::vector<Index> TriedP, TriedQ; // per chain: patch versions of its last failed collapse
   std::vector<Vec3> Normal;
   std::vector<unsigned char> Frozen;
   long long Total = 0;
@@ -257,6 +294,7 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
 {
   this->Mesh = &mesh;
   this->Patches = &patches;
+  this->Memo.clear();
   const Patchification& P = patches;
   const Index nc = P.NumberOfChains();
   const Index ne = P.NumberOfEndpoints();
@@ -307,6 +345,26 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
     }
   }
   std::sort(this->SortedKeys.begin(), this->SortedKeys.end(), std::greater<float>());
+  // Per chain, its interior positions by decreasing key: the vertices kept for any epsilon are a
+  // prefix (found by binary search).
+  this->KeyOrder.assign(totalVertices, 0);
+  this->OrderedKeys.assign(totalVertices, InfiniteKey);
+  for (Index c = 0; c < nc; ++c)
+  {
+    const size_t offset = size_t(P.ChainVerticesBegin(c) - P.ChainVerticesBegin(0));
+    const Index n = P.ChainSize(c);
+    Index* order = this->KeyOrder.data() + offset;
+    for (Index i = 1; i + 1 < n; ++i)
+    {
+      order[i - 1] = i;
+    }
+    const float* keys = this->Keys.data() + offset;
+    std::stable_sort(order, order + std::max<Index>(0, n - 2), [&](Index x, Index y) { return keys[x] > keys[y]; });
+    for (Index i = 0; i + 2 < n; ++i)
+    {
+      this->OrderedKeys[offset + i] = keys[order[i]];
+    }
+  }
 
   // Parallel chains (same two endpoints) bound a lens; all but one keep an interior vertex so
   // that no patch degenerates to two vertices and no two chains become the same edge.
@@ -367,13 +425,13 @@ double SpbmLevelGenerator::ChainVertexKey(Index c, Index i) const
 
 size_t SpbmLevelGenerator::MemoryUsage() const
 {
-  size_t bytes = this->Keys.capacity() * 4 + this->SortedKeys.capacity() * 4 + this->MinimumInterior.capacity() +
+  size_t bytes = this->Keys.capacity() * 4 + this->SortedKeys.capacity() * 4 + this->KeyOrder.capacity() * 4 + this->OrderedKeys.capacity() * 4 + this->MinimumInterior.capacity() +
     this->EndpointVariation.capacity() * 8;
   const State& s = *this->Work;
   auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
     b(s.PartLast) + b(s.PartNext) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) + b(s.Degree) +
-    b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.NonSingle) + b(s.Normal) + b(s.Frozen) +
+    b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) + b(s.TriedQ) + b(s.Normal) + b(s.Frozen) +
     b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.SeqOffsets) + b(s.SeqVertices) +
     b(s.SeqKeep) + s.Edges.MemoryUsage();
   return bytes;
@@ -393,7 +451,7 @@ void SpbmLevelGenerator::RunMerging(
   s.Parent.resize(size_t(np));
   s.PatchHead.assign(size_t(np), InvalidIndex);
   s.Size.assign(size_t(np), 0);
-  s.NonSingle.assign(size_t(np), 0);
+  s.Version.assign(size_t(np), 0);
   s.Normal.resize(size_t(np));
   s.Frozen = frozen;
   s.PatchStamp.resize(size_t(np), 0);
@@ -413,6 +471,8 @@ void SpbmLevelGenerator::RunMerging(
   s.Interior.resize(size_t(nc));
   s.Tolerance.resize(size_t(nc));
   s.Alive.assign(size_t(nc), 1);
+  s.TriedP.assign(size_t(nc), -1);
+  s.TriedQ.assign(size_t(nc), -1);
   s.Locked.resize(size_t(nc));
   s.PartFirst.resize(size_t(nc));
   s.PartLast.resize(size_t(nc));
@@ -421,6 +481,8 @@ void SpbmLevelGenerator::RunMerging(
   s.PartReversed.assign(size_t(nc), 0);
   s.EndSlotNext.resize(2 * size_t(nc));
   s.PatchSlotNext.resize(2 * size_t(nc));
+  s.KeptOffsets.resize(size_t(nc) + 1);
+  s.KeptPositions.clear();
 
   for (Index c = 0; c < nc; ++c)
   {
@@ -436,22 +498,32 @@ void SpbmLevelGenerator::RunMerging(
     s.Locked[c] = locked;
     // Refinement levels 2.. divide epsilon by 4 each.
     s.Tolerance[c] = level >= 2 ? eps * std::pow(0.25f, float(level - 1)) : eps;
-    Index interior = 0;
-    if (locked)
+    const size_t offset = size_t(P.ChainVerticesBegin(c) - base);
+    const Index m = std::max<Index>(0, n - 2);
+    Index interior = m;
+    if (!locked)
     {
-      interior = n - 2;
-    }
-    else
-    {
-      const float* keys = this->Keys.data() + (P.ChainVerticesBegin(c) - base);
-      for (Index i = 1; i + 1 < n; ++i)
-      {
-        interior += keys[i] > s.Tolerance[c];
-      }
-      if (interior == 0 && this->MinimumInterior[c])
+      const float tolerance = s.Tolerance[c];
+      const float* ordered = this->OrderedKeys.data() + offset;
+      interior = static_cast<Index>(std::partition_point(ordered, ordered + m, [&](float k) { return k > tolerance; }) - ordered);
+      if (interior == 0 && m > 0 && this->MinimumInterior[c])
       {
         interior = 1;
       }
+    }
+    s.KeptOffsets[c] = static_cast<Index>(s.KeptPositions.size());
+    if (locked)
+    {
+      for (Index i = 1; i + 1 < n; ++i)
+      {
+        s.KeptPositions.push_back(i);
+      }
+    }
+    else
+    {
+      const Index* order = this->KeyOrder.data() + offset;
+      s.KeptPositions.insert(s.KeptPositions.end(), order, order + interior);
+      std::sort(s.KeptPositions.end() - interior, s.KeptPositions.end());
     }
     s.Interior[c] = interior;
     s.EndSlotNext[2 * size_t(c)] = s.EndHead[a];
@@ -463,15 +535,14 @@ void SpbmLevelGenerator::RunMerging(
     s.PatchSlotNext[2 * size_t(c)] = s.PatchHead[l];
     s.PatchHead[l] = 2 * c;
     s.Size[l] += interior + 1;
-    s.NonSingle[l] += (interior > 0 || locked);
     if (r != InvalidIndex)
     {
       s.PatchSlotNext[2 * size_t(c) + 1] = s.PatchHead[r];
       s.PatchHead[r] = 2 * c + 1;
       s.Size[r] += interior + 1;
-      s.NonSingle[r] += (interior > 0 || locked);
     }
   }
+  s.KeptOffsets[nc] = static_cast<Index>(s.KeptPositions.size());
   s.Total = 0;
   for (Index p = 0; p < np; ++p)
   {
@@ -608,14 +679,19 @@ void SpbmLevelGenerator::RunMerging(
       for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
       {
         const Index* v = P.ChainVerticesBegin(part);
-        const float* keys = this->Keys.data() + (v - base);
-        const Index n = P.ChainSize(part);
-        for (Index i = 1; i + 1 < n; ++i)
+        const Index first = s.KeptOffsets[part], last = s.KeptOffsets[part + 1];
+        if (s.PartReversed[part])
         {
-          const Index k = s.PartReversed[part] ? n - 1 - i : i;
-          if (s.Locked[c] || keys[k] > s.Tolerance[c])
+          for (Index i = last; i > first; --i)
           {
-            forward.push_back(mesh.Point(v[k]));
+            forward.push_back(mesh.Point(v[s.KeptPositions[i - 1]]));
+          }
+        }
+        else
+        {
+          for (Index i = first; i < last; ++i)
+          {
+            forward.push_back(mesh.Point(v[s.KeptPositions[i]]));
           }
         }
       }
@@ -678,6 +754,12 @@ void SpbmLevelGenerator::RunMerging(
     {
       return false;
     }
+    if (s.TriedP[e] == s.Version[p] && s.TriedQ[e] == s.Version[q])
+    {
+      return false; // failed before and neither patch changed since
+    }
+    s.TriedP[e] = s.Version[p];
+    s.TriedQ[e] = s.Version[q];
     const Index a = s.A[e], b = s.B[e];
     const Vec3 pa = endpointPoint(a), pb = endpointPoint(b);
     if (Norm(pb - pa) >= parameters.CollapseLengthFactor * longest) // (c)
@@ -763,6 +845,13 @@ void SpbmLevelGenerator::RunMerging(
       if (s.B[c] == gone)
       {
         s.B[c] = keep;
+      }
+    });
+    forEndChains(gone, [&](Index c) {
+      ++s.Version[s.Find(s.L[c])];
+      if (s.R[c] != InvalidIndex)
+      {
+        ++s.Version[s.Find(s.R[c])];
       }
     });
     spliceEndList(gone, keep);
@@ -864,6 +953,8 @@ void SpbmLevelGenerator::RunMerging(
       s.EndHead[oy] = 2 * x;
     }
     s.Interior[x] += s.Interior[y];
+    ++s.Version[xl];
+    ++s.Version[xr];
     s.Alive[y] = 0;
     s.Degree[u] = 0;
     --s.Size[xl];
@@ -920,6 +1011,7 @@ void SpbmLevelGenerator::RunMerging(
       return false;
     }
     s.Parent[q] = p;
+    s.Version[p] += s.Version[q] + 1;
     s.Normal[p] = s.Normal[p] + s.Normal[q];
     s.Size[p] += s.Size[q] - 2;
     // Splice q's chain list into p's.
@@ -986,9 +1078,25 @@ void SpbmLevelGenerator::RunMerging(
 
 Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parameters)
 {
+  // Searches (and re-aimed searches) ask for the same levels again: remember the answers.
+  const float eps = static_cast<float>(parameters.Epsilon);
+  for (const PredictionMemo& m : this->Memo)
+  {
+    if (m.Epsilon == eps && m.MergeAngle == parameters.MergeAngle && m.MergePatches == parameters.MergePatches &&
+      m.CollapseChains == parameters.CollapseChains && m.CollapseLengthFactor == parameters.CollapseLengthFactor)
+    {
+      return m.Count;
+    }
+  }
   State& s = *this->Work;
   s.NoFreeze.assign(size_t(this->Patches->NumberOfPatches()), 0);
   this->RunMerging(parameters, s.NoFreeze, s);
+  if (this->Memo.size() > 256)
+  {
+    this->Memo.clear();
+  }
+  this->Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
+    parameters.CollapseLengthFactor, static_cast<Index>(s.Total) });
   return static_cast<Index>(s.Total);
 }
 
@@ -1148,14 +1256,18 @@ bool SpbmLevelGenerator::Generate(
           s.SeqKeep.push_back(0);
         }
         const Index* v = P.ChainVerticesBegin(part);
-        const float* keys = this->Keys.data() + (v - base);
         const Index n = P.ChainSize(part);
         const bool reversed = s.PartReversed[part];
+        const size_t partStart = s.SeqVertices.size();
         for (Index i = 1; i + 1 < n; ++i)
         {
-          const Index k = reversed ? n - 1 - i : i;
-          s.SeqVertices.push_back(v[k]);
-          s.SeqKeep.push_back(s.Locked[c] || keys[k] > s.Tolerance[c]);
+          s.SeqVertices.push_back(v[reversed ? n - 1 - i : i]);
+          s.SeqKeep.push_back(0);
+        }
+        for (Index j = s.KeptOffsets[part]; j < s.KeptOffsets[part + 1]; ++j)
+        {
+          const Index k = s.KeptPositions[j];
+          s.SeqKeep[partStart + size_t(reversed ? n - 1 - k : k) - 1] = 1;
         }
       }
       s.SeqVertices.push_back(P.EndpointVertex(s.B[c]));

@@ -102,8 +102,19 @@ private:
   const Patchification* Patches = nullptr;
   std::vector<float> Keys;                 // per chain vertex (Patchification's chain vertex list)
   std::vector<float> SortedKeys;           // finite keys, descending
+  std::vector<Index> KeyOrder;             // per chain: interior positions by decreasing key
+  std::vector<float> OrderedKeys;          // the keys in that order
   std::vector<unsigned char> MinimumInterior; // chains that must keep one interior vertex
   std::vector<double> EndpointVariation;   // normal variation around each endpoint
+  struct PredictionMemo
+  {
+    float Epsilon;
+    double MergeAngle;
+    bool MergePatches, CollapseChains;
+    double CollapseLengthFactor;
+    Index Count;
+  };
+  std::vector<PredictionMemo> Memo;
   std::unique_ptr<State> Work;
 };
 } // namespace slod

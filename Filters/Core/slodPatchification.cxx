@@ -9,46 +9,51 @@ namespace
 {
 constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
 
-// Local view of the adjacency the growth needs: the triangle across edge k of t when that edge is
-// manifold and consistently oriented (the neighbour runs it the other way), else InvalidIndex.
-// Growing only across such edges keeps every patch an orientable disk.
-struct Adjacency
-{
-  const TriangleMesh& Mesh;
-  const MeshTopology& Topology;
+} // namespace
 
-  Index Neighbor(Index t, int k) const
+// The adjacency the growth needs, as one flat array: the triangle across edge k of t when that
+// edge is manifold and consistently oriented (the neighbour runs it the other way), else
+// InvalidIndex. Growing only across such edges keeps every patch an orientable disk.
+struct Patchification::Adjacency
+{
+  std::vector<Index> Across;
+
+  Adjacency(const TriangleMesh& mesh, const MeshTopology& topology)
   {
-    const Index n = this->Topology.EdgeNeighbor(t, k);
-    if (n == InvalidIndex)
+    const Index nt = mesh.NumberOfTriangles();
+    this->Across.resize(3 * size_t(nt));
+    for (Index t = 0; t < nt; ++t)
     {
-      return InvalidIndex;
-    }
-    const Index* tri = this->Mesh.Triangle(t);
-    const Index a = tri[k], b = tri[(k + 1) % 3];
-    const Index* other = this->Mesh.Triangle(n);
-    for (int j = 0; j < 3; ++j)
-    {
-      if (other[j] == b && other[(j + 1) % 3] == a)
+      const Index* tri = mesh.Triangle(t);
+      for (int k = 0; k < 3; ++k)
       {
-        return n;
+        Index n = topology.EdgeNeighbor(t, k);
+        if (n != InvalidIndex)
+        {
+          const Index a = tri[k], b = tri[(k + 1) % 3];
+          const Index* other = mesh.Triangle(n);
+          const bool consistent = (other[0] == b && other[1] == a) || (other[1] == b && other[2] == a) ||
+            (other[2] == b && other[0] == a);
+          n = consistent ? n : InvalidIndex;
+        }
+        this->Across[3 * size_t(t) + k] = n;
       }
     }
-    return InvalidIndex;
   }
+  Index Neighbor(Index t, int k) const { return this->Across[3 * size_t(t) + k]; }
 };
-} // namespace
 
 void Patchification::Build(const TriangleMesh& mesh, const MeshTopology& topology,
   const PatchificationParameters& parameters, const ProgressFunction& progress)
 {
   this->WasAborted = false;
-  this->Grow(mesh, topology, parameters, progress);
+  const Adjacency adjacency(mesh, topology);
+  this->Grow(mesh, adjacency, parameters, progress);
   if (this->WasAborted)
   {
     return;
   }
-  this->ExtractChains(mesh, topology);
+  this->ExtractChains(mesh, topology, adjacency);
 }
 
 // Breadth-first growth with the four cases of section 4.2.2. The disk invariant is kept exactly:
@@ -57,12 +62,11 @@ void Patchification::Build(const TriangleMesh& mesh, const MeshTopology& topolog
 // triangle is removed again (case "two free neighbours, infeasible") only when it hangs on P by
 // one edge and its opposite vertex belongs to no other triangle of P. A removed triangle may
 // rejoin P later only through two shared edges (a notch).
-void Patchification::Grow(const TriangleMesh& mesh, const MeshTopology& topology,
+void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
   const PatchificationParameters& parameters, const ProgressFunction& progress)
 {
   const Index nt = mesh.NumberOfTriangles();
   const Index nv = mesh.NumberOfPoints();
-  const Adjacency adjacency{ mesh, topology };
   this->TrianglePatch.assign(size_t(nt), InvalidIndex);
   this->PatchAreaVector.clear();
   this->PatchAreaOf.clear();
@@ -294,11 +298,11 @@ void Patchification::Grow(const TriangleMesh& mesh, const MeshTopology& topology
 // or a non-manifold edge) are followed counter-clockwise around the patch; a chain ends where the
 // patch on the other side changes. Closed loops without such a vertex (e.g. a patch inside a
 // single other patch's hole... on a sphere cut in two) are cut into three chains.
-void Patchification::ExtractChains(const TriangleMesh& mesh, const MeshTopology& topology)
+void Patchification::ExtractChains(
+  const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency)
 {
   const Index nt = mesh.NumberOfTriangles();
   const Index nv = mesh.NumberOfPoints();
-  const Adjacency adjacency{ mesh, topology };
   const std::vector<Index>& patchOf = this->TrianglePatch;
 
   auto isBoundary = [&](Index h) {

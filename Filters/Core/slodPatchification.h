@@ -92,9 +92,10 @@ private:
   {
     NonManifoldChain = 1
   };
-  void Grow(const TriangleMesh& mesh, const MeshTopology& topology, const PatchificationParameters& parameters,
+  struct Adjacency;
+  void Grow(const TriangleMesh& mesh, const Adjacency& adjacency, const PatchificationParameters& parameters,
     const ProgressFunction& progress);
-  void ExtractChains(const TriangleMesh& mesh, const MeshTopology& topology);
+  void ExtractChains(const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency);
 
   bool WasAborted = false;
   std::vector<Index> TrianglePatch;
