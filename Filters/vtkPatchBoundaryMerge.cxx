@@ -68,14 +68,16 @@ struct vtkPatchBoundaryMerge::Cache
   slod::SpbmLevelGenerator Generator;
   std::vector<std::string> Warnings;
 
-  bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p) const
+  double RelativePlaneDistance = 0;
+
+  bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p, double relativePlaneDistance) const
   {
     return this->Input == input && this->InputTime == input->GetMTime() &&
       this->Parameters.OneEdgePatchAngle == p.OneEdgePatchAngle &&
       this->Parameters.OneEdgeNeighborAngle == p.OneEdgeNeighborAngle &&
       this->Parameters.TwoEdgePatchAngle == p.TwoEdgePatchAngle &&
       this->Parameters.TwoEdgeNeighborAngle == p.TwoEdgeNeighborAngle &&
-      this->Parameters.AreaWeighted == p.AreaWeighted;
+      this->Parameters.AreaWeighted == p.AreaWeighted && this->RelativePlaneDistance == relativePlaneDistance;
   }
   size_t MemoryUsage() const
   {
@@ -127,7 +129,8 @@ int vtkPatchBoundaryMerge::RequestData(
 
   // 1. Patchification (cached).
   const auto start = Clock::now();
-  this->PatchificationReused = this->Cached && this->Cached->Matches(input, patchParameters);
+  this->PatchificationReused =
+    this->Cached && this->Cached->Matches(input, patchParameters, this->PatchPlaneDistance);
   if (!this->PatchificationReused)
   {
     this->Cached.reset(new Cache);
@@ -135,6 +138,7 @@ int vtkPatchBoundaryMerge::RequestData(
     cache.Input = input;
     cache.InputTime = input->GetMTime();
     cache.Parameters = patchParameters;
+    cache.RelativePlaneDistance = this->PatchPlaneDistance;
     // Orientation repair is the costliest part of the preparation and most inputs do not need
     // it: prepare without it, and again with it only when an inconsistent edge shows up.
     slod::PreparationOptions options;
@@ -159,7 +163,9 @@ int vtkPatchBoundaryMerge::RequestData(
       {
         cache.Warnings.push_back("non-manifold edges are kept as patch borders at full resolution");
       }
-      cache.Patches.Build(cache.Mesh, *topology, patchParameters, [this](double f) {
+      slod::PatchificationParameters growth = patchParameters;
+      growth.MaximumPlaneDistance = this->PatchPlaneDistance * cache.Mesh.BoundingBoxDiagonal();
+      cache.Patches.Build(cache.Mesh, *topology, growth, [this](double f) {
         this->UpdateProgress(0.05 + 0.6 * f);
         return this->GetAbortExecute() != 0;
       });
@@ -312,6 +318,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TwoEdgePatchAngle: " << this->TwoEdgePatchAngle << "\n";
   os << indent << "TwoEdgeNeighborAngle: " << this->TwoEdgeNeighborAngle << "\n";
   os << indent << "AreaWeightedNormals: " << this->AreaWeightedNormals << "\n";
+  os << indent << "PatchPlaneDistance: " << this->PatchPlaneDistance << "\n";
   os << indent << "Epsilon: " << this->Epsilon << (this->RelativeEpsilon ? " (relative)" : " (absolute)") << "\n";
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
   os << indent << "MergePatches: " << this->MergePatches << "\n";

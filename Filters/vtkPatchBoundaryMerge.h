@@ -58,6 +58,15 @@ public:
   ///@}
 
   ///@{
+  /// Extension of feasibility (b) (not in the paper): a triangle joins a patch only when its new
+  /// vertex lies within this distance of the patch's running plane, relative to the bounding-box
+  /// diagonal (default 0.004; 0 = off, the paper's normal-only test). Patches are re-triangulated
+  /// from their boundary alone, so this bounds the error of flat patches on curved parts.
+  vtkSetClampMacro(PatchPlaneDistance, double, 0.0, 1.0);
+  vtkGetMacro(PatchPlaneDistance, double);
+  ///@}
+
+  ///@{
   /// Area-weighted running patch normal (default on).
   vtkSetMacro(AreaWeightedNormals, bool);
   vtkGetMacro(AreaWeightedNormals, bool);
@@ -148,6 +157,7 @@ protected:
   double TwoEdgePatchAngle = 90.0;
   double TwoEdgeNeighborAngle = 90.0;
   bool AreaWeightedNormals = true;
+  double PatchPlaneDistance = 0.004;
   double Epsilon = 0.005;
   bool RelativeEpsilon = true;
   double MergeAngle = 20.0;

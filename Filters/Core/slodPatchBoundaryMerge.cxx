@@ -766,6 +766,10 @@ void SpbmLevelGenerator::RunMerging(
     {
       return false;
     }
+    if (parameters.CollapseWithinEpsilon && Norm(pb - pa) > std::min(s.Tolerance[e], float(parameters.Epsilon)))
+    {
+      return false; // moving an endpoint farther than epsilon would break the chain bound
+    }
     const bool borderA = P.EndpointOnBorder(a), borderB = P.EndpointOnBorder(b);
     if (borderA && borderB)
     {
@@ -875,6 +879,77 @@ void SpbmLevelGenerator::RunMerging(
     }
   };
   // An endpoint left between exactly two one-edge chains of the same two patches disappears.
+  // All vertices of chain c from endpoint `from` to the other one, with kept flags.
+  std::vector<Vec3> chainPoints;
+  std::vector<unsigned char> chainKept;
+  auto appendChain = [&](Index c, Index from, bool skipFirst) {
+    const size_t start = chainPoints.size();
+    chainPoints.push_back(endpointPoint(s.A[c]));
+    chainKept.push_back(1);
+    for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
+    {
+      if (part != s.PartFirst[c])
+      {
+        chainPoints.push_back(endpointPoint(s.JointBefore[part]));
+        chainKept.push_back(0);
+      }
+      const Index* v = P.ChainVerticesBegin(part);
+      const Index n = P.ChainSize(part);
+      const bool reversed = s.PartReversed[part];
+      const size_t partStart = chainPoints.size();
+      for (Index i = 1; i + 1 < n; ++i)
+      {
+        chainPoints.push_back(mesh.Point(v[reversed ? n - 1 - i : i]));
+        chainKept.push_back(0);
+      }
+      for (Index j = s.KeptOffsets[part]; j < s.KeptOffsets[part + 1]; ++j)
+      {
+        const Index k = s.KeptPositions[j];
+        chainKept[partStart + size_t(reversed ? n - 1 - k : k) - 1] = 1;
+      }
+    }
+    chainPoints.push_back(endpointPoint(s.B[c]));
+    chainKept.push_back(1);
+    if (s.A[c] != from)
+    {
+      std::reverse(chainPoints.begin() + std::ptrdiff_t(start), chainPoints.end());
+      std::reverse(chainKept.begin() + std::ptrdiff_t(start), chainKept.end());
+    }
+    if (skipFirst)
+    {
+      chainPoints.erase(chainPoints.begin() + std::ptrdiff_t(start));
+      chainKept.erase(chainKept.begin() + std::ptrdiff_t(start));
+    }
+  };
+  // Dropping endpoint u between chains x and y keeps the chain within its tolerance: every
+  // vertex between the kept neighbours of u stays within epsilon of the new segment.
+  auto joinWithinTolerance = [&](Index x, Index y, Index u) {
+    chainPoints.clear();
+    chainKept.clear();
+    appendChain(x, otherEnd(x, u), false);
+    const size_t joint = chainPoints.size() - 1;
+    appendChain(y, u, true);
+    chainKept[joint] = 0;
+    size_t a = joint, b = joint;
+    while (!chainKept[a])
+    {
+      --a;
+    }
+    while (!chainKept[b])
+    {
+      ++b;
+    }
+    const double tolerance = std::min(s.Tolerance[x], s.Tolerance[y]);
+    for (size_t i = a + 1; i < b; ++i)
+    {
+      if (PointSegmentDistance2(chainPoints[i], chainPoints[a], chainPoints[b]) > tolerance * tolerance ||
+        tolerance < 0)
+      {
+        return false;
+      }
+    }
+    return true;
+  };
   auto tryJoin = [&](Index u) {
     if (s.Degree[u] != 2 || P.EndpointOnBorder(u))
     {
@@ -910,7 +985,8 @@ void SpbmLevelGenerator::RunMerging(
     }
     bool parallel = false;
     forEndChains(ox, [&](Index c) { parallel = parallel || otherEnd(c, ox) == oy; });
-    if (parallel || !simpleAfter(xl, u, InvalidIndex) || !simpleAfter(xr, u, InvalidIndex))
+    if (parallel || (parameters.JoinWithinEpsilon && !joinWithinTolerance(x, y, u)) ||
+      !simpleAfter(xl, u, InvalidIndex) || !simpleAfter(xr, u, InvalidIndex))
     {
       return;
     }

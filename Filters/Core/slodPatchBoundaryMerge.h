@@ -42,6 +42,12 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   bool MergePatches = true;
   bool CollapseChains = true;
   double CollapseLengthFactor = 0.2; // condition (c)
+  // Keep every chain within epsilon of the original boundary through merging too: an endpoint is
+  // dropped (degree two after a merge) only when the joined chain stays within epsilon, and a
+  // chain collapses only when it is shorter than epsilon. The paper does neither (merging is
+  // bounded by alpha1 only); both are on by default because they bound the profile-curve error.
+  bool JoinWithinEpsilon = true;
+  bool CollapseWithinEpsilon = true;
 };
 
 struct SURFACELODFILTERS_EXPORT SpbmLevel

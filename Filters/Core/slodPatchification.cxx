@@ -91,7 +91,9 @@ void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
 
   Index patch = InvalidIndex;
   Vec3 sum{ 0, 0, 0 };
+  Vec3 centroidSum{ 0, 0, 0 }; // area-weighted
   double area = 0;
+  const double maximumDistance = parameters.MaximumPlaneDistance;
   Index count = 0;
 
   auto weightOf = [&](Index t, Vec3& areaVector) {
@@ -115,6 +117,7 @@ void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
     Vec3 av;
     sum = sum + weightOf(t, av);
     area += 0.5 * Norm(av);
+    centroidSum = centroidSum + (Norm(av) / 6.0) * (mesh.Point(tri[0]) + mesh.Point(tri[1]) + mesh.Point(tri[2]));
     ++count;
     ++assigned;
     queue.push_back(t);
@@ -129,6 +132,7 @@ void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
     Vec3 av;
     sum = sum - weightOf(t, av);
     area -= 0.5 * Norm(av);
+    centroidSum = centroidSum - (Norm(av) / 6.0) * (mesh.Point(tri[0]) + mesh.Point(tri[1]) + mesh.Point(tri[2]));
     --count;
     --assigned;
   };
@@ -168,6 +172,14 @@ void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
     const Vec3 nc = Normalized(mesh.TriangleAreaVector(candidate));
     const Vec3 nt = Normalized(mesh.TriangleAreaVector(t));
     const Vec3 np = Normalized(sum);
+    if (maximumDistance > 0 && shared == 1 && area > 0)
+    {
+      const Vec3 centroid = (1.0 / area) * centroidSum;
+      if (std::fabs(Dot(mesh.Point(opposite) - centroid, np)) > maximumDistance)
+      {
+        return false; // the patch would bend away from its plane
+      }
+    }
     const double cosPatch = shared == 1 ? cosOnePatch : cosTwoPatch;
     const double cosNeighbor = shared == 1 ? cosOneNeighbor : cosTwoNeighbor;
     return Dot(nc, np) >= cosPatch && Dot(nc, nt) >= cosNeighbor; // (b)
@@ -178,6 +190,7 @@ void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
   {
     patch = static_cast<Index>(this->PatchAreaVector.size());
     sum = { 0, 0, 0 };
+    centroidSum = { 0, 0, 0 };
     area = 0;
     count = 0;
     queue.clear();

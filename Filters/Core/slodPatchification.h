@@ -31,6 +31,10 @@ struct SURFACELODFILTERS_EXPORT PatchificationParameters
   double TwoEdgeNeighborAngle = 90.0;
   // The running patch normal averages triangle normals weighted by area (else unweighted).
   bool AreaWeighted = true;
+  // Extension (not in the paper; 0 = off): a triangle joins only if its new vertex lies within
+  // this distance of the patch's running plane (area-weighted centroid and normal). A patch is
+  // re-triangulated from its boundary alone, so this bounds the flat-patch error on curved parts.
+  double MaximumPlaneDistance = 0.0;
 };
 
 class SURFACELODFILTERS_EXPORT Patchification

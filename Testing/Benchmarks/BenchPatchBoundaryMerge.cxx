@@ -3,7 +3,7 @@
 // patchification and level-generation times separately), whole-filter speed ratios, peak memory
 // per vertex and quality at equal triangle count (vtkSurfaceDeviation).
 //
-// usage: BenchPatchBoundaryMerge [fandisk] [bunny00] [mc1m] [--samples N] [--repeat N]
+// usage: BenchPatchBoundaryMerge [fandisk] [bunny00] [mc1m] [--samples N] [--repeat N] [--write DIR]
 // (no model argument: all three). Models are read from the CGAL demo meshes of the build
 // (SURFACELOD_MESH_DIR); mc1m is a ~1M-triangle vtkFlyingEdges3D isosurface of a smooth field.
 #include "vtkPatchBoundaryMerge.h"
@@ -19,6 +19,7 @@
 #include "vtkPolyData.h"
 #include "vtkQuadricDecimation.h"
 #include "vtkSmartPointer.h"
+#include "vtkXMLPolyDataWriter.h"
 
 #include <algorithm>
 #include <chrono>
@@ -145,8 +146,14 @@ int main(int argc, char* argv[])
   std::vector<std::string> models;
   vtkIdType samples = 100000;
   int repeat = 3;
+  std::string writeDirectory;
   for (int i = 1; i < argc; ++i)
   {
+    if (!std::strcmp(argv[i], "--write") && i + 1 < argc)
+    {
+      writeDirectory = argv[++i];
+      continue;
+    }
     if (!std::strcmp(argv[i], "--samples") && i + 1 < argc)
     {
       samples = std::atol(argv[++i]);
@@ -262,6 +269,19 @@ int main(int argc, char* argv[])
       }
       // A fresh filter for this level: the first level's patchification + this level.
       const double fresh = spbmTotal[0] - levelTime[0] + levelTime[t];
+      if (!writeDirectory.empty())
+      {
+        auto write = [&](vtkPolyData* pd, const std::string& method) {
+          vtkNew<vtkXMLPolyDataWriter> writer;
+          writer->SetInputData(pd);
+          writer->SetFileName((writeDirectory + "/" + name + "_" + std::to_string(targets[t]) + "_" + method + ".vtp").c_str());
+          writer->Write();
+        };
+        write(input, "input");
+        write(spbmOut[t], "spbm");
+        write(quadricOut, "quadric");
+        write(proOut, "decimatepro");
+      }
       const Quality qs = Measure(input, spbmOut[t], samples);
       const Quality qq = Measure(input, quadricOut, samples);
       const Quality qp = Measure(input, proOut, samples);
