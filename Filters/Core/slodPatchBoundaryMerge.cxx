@@ -6,8 +6,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 
 namespace slod
@@ -20,6 +18,8 @@ constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
 // epsilon / 4^(level-1), 6 full resolution, 7 its original triangles.
 constexpr int FullResolutionLevel = 6;
 constexpr int OriginalLevel = 7;
+// Longer patch boundaries are not checked for simplicity while merging (left to the fallback).
+constexpr Index MaximumCheckedBoundary = 1 << 16;
 
 double PointSegmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b)
 {
@@ -498,34 +498,6 @@ void SpbmLevelGenerator::RunMerging(
     s.Locked[c] = locked;
     // Refinement levels 2.. divide epsilon by 4 each.
     s.Tolerance[c] = level >= 2 ? eps * std::pow(0.25f, float(level - 1)) : eps;
-    const size_t offset = size_t(P.ChainVerticesBegin(c) - base);
-    const Index m = std::max<Index>(0, n - 2);
-    Index interior = m;
-    if (!locked)
-    {
-      const float tolerance = s.Tolerance[c];
-      const float* ordered = this->OrderedKeys.data() + offset;
-      interior = static_cast<Index>(std::partition_point(ordered, ordered + m, [&](float k) { return k > tolerance; }) - ordered);
-      if (interior == 0 && m > 0 && this->MinimumInterior[c])
-      {
-        interior = 1;
-      }
-    }
-    s.KeptOffsets[c] = static_cast<Index>(s.KeptPositions.size());
-    if (locked)
-    {
-      for (Index i = 1; i + 1 < n; ++i)
-      {
-        s.KeptPositions.push_back(i);
-      }
-    }
-    else
-    {
-      const Index* order = this->KeyOrder.data() + offset;
-      s.KeptPositions.insert(s.KeptPositions.end(), order, order + interior);
-      std::sort(s.KeptPositions.end() - interior, s.KeptPositions.end());
-    }
-    s.Interior[c] = interior;
     s.EndSlotNext[2 * size_t(c)] = s.EndHead[a];
     s.EndHead[a] = 2 * c;
     s.EndSlotNext[2 * size_t(c) + 1] = s.EndHead[b];
@@ -534,24 +506,57 @@ void SpbmLevelGenerator::RunMerging(
     ++s.Degree[b];
     s.PatchSlotNext[2 * size_t(c)] = s.PatchHead[l];
     s.PatchHead[l] = 2 * c;
-    s.Size[l] += interior + 1;
     if (r != InvalidIndex)
     {
       s.PatchSlotNext[2 * size_t(c) + 1] = s.PatchHead[r];
       s.PatchHead[r] = 2 * c + 1;
-      s.Size[r] += interior + 1;
     }
   }
-  s.KeptOffsets[nc] = static_cast<Index>(s.KeptPositions.size());
-  s.Total = 0;
-  for (Index p = 0; p < np; ++p)
-  {
-    s.Total += s.Size[p] - 2;
-  }
-  if (!parameters.MergePatches && !parameters.CollapseChains)
-  {
-    return;
-  }
+  // Kept vertices of every chain for its tolerance (a prefix of its key order), patch sizes.
+  auto rebuildKept = [&]() {
+    s.KeptPositions.clear();
+    std::fill(s.Size.begin(), s.Size.end(), 0);
+    for (Index c = 0; c < nc; ++c)
+    {
+      const Index n = P.ChainSize(c);
+      const size_t offset = size_t(P.ChainVerticesBegin(c) - base);
+      const Index m = std::max<Index>(0, n - 2);
+      Index interior = m;
+      if (!s.Locked[c])
+      {
+        const float tolerance = s.Tolerance[c];
+        const float* ordered = this->OrderedKeys.data() + offset;
+        interior = static_cast<Index>(
+          std::partition_point(ordered, ordered + m, [&](float k) { return k > tolerance; }) - ordered);
+        if (interior == 0 && m > 0 && this->MinimumInterior[c])
+        {
+          interior = 1;
+        }
+      }
+      s.KeptOffsets[c] = static_cast<Index>(s.KeptPositions.size());
+      if (s.Locked[c])
+      {
+        for (Index i = 1; i + 1 < n; ++i)
+        {
+          s.KeptPositions.push_back(i);
+        }
+      }
+      else
+      {
+        const Index* order = this->KeyOrder.data() + offset;
+        s.KeptPositions.insert(s.KeptPositions.end(), order, order + interior);
+        std::sort(s.KeptPositions.end() - interior, s.KeptPositions.end());
+      }
+      s.Interior[c] = interior;
+      s.Size[s.L[c]] += interior + 1;
+      if (s.R[c] != InvalidIndex)
+      {
+        s.Size[s.R[c]] += interior + 1;
+      }
+    }
+    s.KeptOffsets[nc] = static_cast<Index>(s.KeptPositions.size());
+  };
+  rebuildKept();
 
   const double cosMerge = std::cos(parameters.MergeAngle * DegreesToRadians);
   auto sideDot = [&](Index p, Index q) { return Dot(Normalized(s.Normal[p]), Normalized(s.Normal[q])); };
@@ -717,7 +722,7 @@ void SpbmLevelGenerator::RunMerging(
   // InvalidIndex) or replaced by `replace`?
   std::vector<Vec3> checkPoints;
   auto simpleAfter = [&](Index x, Index gone, Index replace) {
-    if (s.Size[x] > 512)
+    if (s.Size[x] > MaximumCheckedBoundary)
     {
       return true; // left to the triangulation fallback
     }
@@ -743,6 +748,53 @@ void SpbmLevelGenerator::RunMerging(
     }
     return ProjectsToSimplePolygon(checkPoints, s.Normal[x], changed);
   };
+  // Method (3) of section 4.2.8 for the patches themselves: a patch whose simplified boundary
+  // does not project to a simple polygon gets finer chains (epsilon / 4 per round, then full
+  // resolution) before anything else, so that predictions include it and triangulation succeeds.
+  for (int round = 0; round < 8; ++round)
+  {
+    bool refined = false;
+    for (Index p = 0; p < np; ++p)
+    {
+      if (s.Size[p] > MaximumCheckedBoundary || s.Frozen[p] >= FullResolutionLevel)
+      {
+        continue;
+      }
+      if (boundaryPoints(p, InvalidIndex, InvalidIndex, checkPoints) && ProjectsToSimplePolygon(checkPoints, s.Normal[p]))
+      {
+        continue;
+      }
+      forPatchChains(p, [&](Index c) {
+        if (!s.Locked[c])
+        {
+          refined = true;
+          if (round >= 5 || s.Tolerance[c] <= 0)
+          {
+            s.Locked[c] = 1; // full resolution
+          }
+          else
+          {
+            s.Tolerance[c] *= 0.25f;
+          }
+        }
+      });
+    }
+    if (!refined)
+    {
+      break;
+    }
+    rebuildKept();
+  }
+  s.Total = 0;
+  for (Index p = 0; p < np; ++p)
+  {
+    s.Total += s.Size[p] - 2;
+  }
+  if (!parameters.MergePatches && !parameters.CollapseChains)
+  {
+    return;
+  }
+
   // Chain collapse (4.2.6 (a)-(c), 4.2.7): one-edge chain e of patch x shrinks to one endpoint.
   auto tryCollapse = [&](Index e, double longest) {
     if (!movable(e))
@@ -1081,7 +1133,7 @@ void SpbmLevelGenerator::RunMerging(
     // Method (3) of section 4.2.8: no merge whose boundary would not project to a simple polygon
     // on the merged normal (it could not be triangulated without flips). Long boundaries are
     // left to the triangulation fallback.
-    if (s.Size[p] + s.Size[q] <= 512 &&
+    if (s.Size[p] + s.Size[q] <= MaximumCheckedBoundary &&
       (!boundaryPoints(p, q, c, mergedPoints) || !ProjectsToSimplePolygon(mergedPoints, s.Normal[p] + s.Normal[q])))
     {
       return false;
@@ -1188,80 +1240,54 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
     p.MergeAngle = angle;
     return this->PredictTriangleCount(p);
   };
-  Index count0 = countFor(0, base.MergeAngle);
-  if (count0 > target)
+  // 1. alpha1: the given one, or (when even single-segment chains give too many triangles) the
+  // smallest wider one, up to 90 degrees, that reaches the target.
+  double angle = base.MergeAngle;
+  if (countFor(0, angle) > target && (base.MergePatches || base.CollapseChains))
   {
-    // Even single-segment chains give too many triangles: widen alpha1.
-    params.Epsilon = epsilonFor(0);
-    Index best = count0;
-    if (base.MergePatches || base.CollapseChains)
+    double lo = angle, hi = std::max(90.0, angle);
+    if (countFor(0, hi) > target)
     {
-      double lo = base.MergeAngle, hi = std::max(90.0, base.MergeAngle);
-      Index countHi = countFor(0, hi);
-      if (countHi > target)
-      {
-        params.MergeAngle = hi;
-        best = countHi;
-      }
-      else
-      {
-        best = countHi;
-        for (int iteration = 0; iteration < 14; ++iteration)
-        {
-          const double mid = 0.5 * (lo + hi);
-          const Index c = countFor(0, mid);
-          if (c > target)
-          {
-            lo = mid;
-          }
-          else
-          {
-            hi = mid;
-            best = c;
-          }
-        }
-        params.MergeAngle = hi;
-      }
-    }
-    if (predicted)
-    {
-      *predicted = best;
-    }
-    return params;
-  }
-  // Smallest number of kept chain vertices whose count reaches the target.
-  Index lo = 0, hi = nk;
-  Index countHi = countFor(nk, base.MergeAngle);
-  if (countHi <= target)
-  {
-    params.Epsilon = epsilonFor(nk);
-    if (predicted)
-    {
-      *predicted = countHi;
-    }
-    return params;
-  }
-  while (hi - lo > 1)
-  {
-    const Index mid = lo + (hi - lo) / 2;
-    if (countFor(mid, base.MergeAngle) > target)
-    {
-      hi = mid;
+      angle = hi;
     }
     else
     {
-      lo = mid;
+      for (int iteration = 0; iteration < 12; ++iteration)
+      {
+        const double mid = 0.5 * (lo + hi);
+        (countFor(0, mid) > target ? lo : hi) = mid;
+      }
+      angle = hi;
     }
   }
-  // The count is not strictly monotone (merges): look around for the closest count <= target.
-  Index bestK = lo, bestCount = countFor(lo, base.MergeAngle);
-  for (Index k = std::max<Index>(0, lo - 4); k <= std::min<Index>(nk, lo + 4); ++k)
+  params.MergeAngle = angle;
+  // 2. epsilon: the number of kept chain vertices (top keys) whose count comes closest to the
+  // target from below.
+  Index bestK = 0, bestCount = countFor(0, angle);
+  if (bestCount < target)
   {
-    const Index c = countFor(k, base.MergeAngle);
-    if (c <= target && (bestCount > target || c > bestCount))
+    Index lo = 0, hi = nk;
+    if (countFor(nk, angle) <= target)
     {
-      bestK = k;
-      bestCount = c;
+      lo = nk;
+    }
+    else
+    {
+      while (hi - lo > 1)
+      {
+        const Index mid = lo + (hi - lo) / 2;
+        (countFor(mid, angle) > target ? hi : lo) = mid;
+      }
+    }
+    // The count is not strictly monotone (merges, refinements): look around.
+    for (Index k = std::max<Index>(0, lo - 4); k <= std::min<Index>(nk, lo + 4); ++k)
+    {
+      const Index c = countFor(k, angle);
+      if (c <= target && (bestCount > target || c > bestCount))
+      {
+        bestK = k;
+        bestCount = c;
+      }
     }
   }
   params.Epsilon = epsilonFor(bestK);
@@ -1289,6 +1315,7 @@ bool SpbmLevelGenerator::Generate(
   std::vector<Index> polygon, other, ring;
   std::vector<Vec3> points;
   std::vector<Index> localStart; // per endpoint, scratch via EndStamp
+  std::vector<Index> order;
   level = SpbmLevel();
   const int maxPasses = 2 * 64 + 2;
   for (int pass = 1;; ++pass)
@@ -1483,14 +1510,21 @@ bool SpbmLevelGenerator::Generate(
       }
     }
 
-    // 4. Triangulate every other patch from its simplified boundary.
+    // 4. Triangulate every other patch from its simplified boundary, smallest boundaries first:
+    // they have the fewest alternative diagonals, large ones can avoid the edges already taken.
+    order.clear();
     for (Index p = 0; p < np; ++p)
     {
-      if (s.Parent[p] != p || frozen[p] == OriginalLevel || failed[p])
+      if (s.Parent[p] == p && frozen[p] != OriginalLevel && !failed[p])
       {
-        continue;
+        order.push_back(p);
       }
-      if ((p & 255) == 0 && abort && abort())
+    }
+    std::stable_sort(order.begin(), order.end(), [&](Index x, Index y) { return s.Size[x] < s.Size[y]; });
+    for (size_t orderIndex = 0; orderIndex < order.size(); ++orderIndex)
+    {
+      const Index p = order[orderIndex];
+      if ((orderIndex & 255) == 0 && abort && abort())
       {
         return false;
       }
@@ -1624,15 +1658,6 @@ bool SpbmLevelGenerator::Generate(
       if (!ok)
       {
         failed[p] = 1;
-        if (getenv("SLOD_SPBM_DEBUG"))
-        {
-          // DEBUG: classify
-          int conflicts = 0;
-          for (size_t i = 0; i < polygon.size(); ++i)
-            for (size_t j = i + 2; j < polygon.size(); ++j)
-              conflicts += s.Edges.Contains(polygon[i], polygon[j]) && !(i == 0 && j + 1 == polygon.size());
-          fprintf(stderr, "pass %d patch %d frozen %d ring %zu polygon %zu conflicts %d\n", pass, p, frozen[p], ring.size(), polygon.size(), conflicts);
-        }
       }
     }
 

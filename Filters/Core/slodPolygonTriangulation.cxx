@@ -43,6 +43,24 @@ double CornerAngle(const Vec2& a, const Vec2& b, const Vec2& c)
   const double angle = std::atan2(ux * wy - uy * wx, ux * wx + uy * wy);
   return angle < 0 ? angle + 2 * M_PI : angle;
 }
+// True when q lies within `tolerance` of the segment ab (strictly between its ends).
+bool NearSegment(const Vec2& q, const Vec2& a, const Vec2& b, double tolerance)
+{
+  const double dx = b[0] - a[0], dy = b[1] - a[1];
+  const double length2 = dx * dx + dy * dy;
+  if (length2 <= 0)
+  {
+    return false;
+  }
+  const double t = ((q[0] - a[0]) * dx + (q[1] - a[1]) * dy) / length2;
+  if (t <= 0 || t >= 1)
+  {
+    return false;
+  }
+  const double cross = dx * (q[1] - a[1]) - dy * (q[0] - a[0]);
+  return cross * cross <= tolerance * tolerance * length2;
+}
+
 // Proper crossing of segments ab and cd (touching at shared endpoints does not count).
 bool SegmentsCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d)
 {
@@ -83,6 +101,13 @@ PolygonTriangulationResult TriangulatePolygon(
     prev[i] = (i + n - 1) % n;
     next[i] = (i + 1) % n;
   }
+  // Distances below this (relative to the polygon's size) count as zero in strict mode.
+  double extent = 0;
+  for (size_t i = 0; i < n; ++i)
+  {
+    extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
+  }
+  const double tolerance = 1e-9 * extent;
   std::vector<char> removed(n, 0);
   size_t remaining = n;
   size_t start = 0; // some remaining corner
@@ -96,14 +121,19 @@ PolygonTriangulationResult TriangulatePolygon(
     {
       return false; // reflex or flat corner
     }
+    if (!options.AllowFallback && IsDegenerate(polygon[ia], polygon[k], polygon[ic]))
+    {
+      return false; // strict mode: no (numerically) zero-area triangle
+    }
     size_t j = next[ic];
     while (j != ia)
     {
       const Vec2& q = p[j];
       const bool repeated =
         (q[0] == a[0] && q[1] == a[1]) || (q[0] == b[0] && q[1] == b[1]) || (q[0] == c[0] && q[1] == c[1]);
-      // A repeated point of the boundary does not block the ear.
-      if (!repeated && InsideTriangle(q, a, b, c))
+      // A repeated point of the boundary does not block the ear. In strict mode a point (almost)
+      // on the diagonal blocks it too: clipping there would leave a collinear, unclippable rest.
+      if (!repeated && (InsideTriangle(q, a, b, c) || (!options.AllowFallback && NearSegment(q, a, c, tolerance))))
       {
         return false;
       }
@@ -212,7 +242,7 @@ PolygonTriangulationResult TriangulatePolygon(
   }
   const size_t a = start, b = next[a], c = next[b];
   // The last triangle adds no diagonal; in strict mode it must still be counter-clockwise.
-  if (!options.AllowFallback && Cross2(p[a], p[b], p[c]) <= 0)
+  if (!options.AllowFallback && (Cross2(p[a], p[b], p[c]) <= 0 || IsDegenerate(polygon[a], polygon[b], polygon[c])))
   {
     result.Failed = true;
     return result;

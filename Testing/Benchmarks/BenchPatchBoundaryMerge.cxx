@@ -5,7 +5,8 @@
 //
 // usage: BenchPatchBoundaryMerge [fandisk] [bunny00] [mc1m] [--samples N] [--repeat N] [--write DIR]
 // (no model argument: all three). Models are read from the CGAL demo meshes of the build
-// (SURFACELOD_MESH_DIR); mc1m is a ~1M-triangle vtkFlyingEdges3D isosurface of a smooth field.
+// (SURFACELOD_MESH_DIR); mc1m is a ~1M-triangle vtkFlyingEdges3D isosurface of a smooth field
+// (a bumpy sphere).
 #include "vtkPatchBoundaryMerge.h"
 #include "vtkOFFMeshReader.h"
 #include "vtkSurfaceDeviation.h"
@@ -58,47 +59,41 @@ void ResetPeak()
   std::ofstream("/proc/self/clear_refs") << "5"; // resets VmHWM to the current RSS
 }
 
-// A smooth closed isosurface with about 1M triangles: three fused ellipsoidal blobs with a gentle
-// ripple, sampled on a regular grid and extracted with vtkFlyingEdges3D.
+// A smooth closed isosurface with about 1M triangles: a gently bumpy sphere (radius 0.8, bumps of
+// 8 %), sampled on an n^3 grid over [-0.95, 0.95]^3 and extracted with vtkFlyingEdges3D.
 vtkSmartPointer<vtkPolyData> MarchingCubesMesh(int n)
 {
   vtkNew<vtkImageData> image;
   image->SetDimensions(n, n, n);
-  const double h = 2.0 / (n - 1);
-  image->SetOrigin(-1, -1, -1);
+  const double h = 1.9 / (n - 1);
+  image->SetOrigin(-0.95, -0.95, -0.95);
   image->SetSpacing(h, h, h);
   vtkNew<vtkFloatArray> field;
   field->SetNumberOfValues(vtkIdType(n) * n * n);
-  const double centers[3][3] = { { -0.35, 0, 0 }, { 0.35, 0.1, 0 }, { 0, -0.3, 0.25 } };
-  const double radii[3][3] = { { 0.45, 0.35, 0.3 }, { 0.4, 0.4, 0.3 }, { 0.3, 0.3, 0.35 } };
+  std::vector<double> s(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i)
+  {
+    s[i] = std::sin(5.0 * (-0.95 + i * h));
+  }
   vtkIdType i = 0;
   for (int z = 0; z < n; ++z)
   {
+    const double pz = -0.95 + z * h;
     for (int y = 0; y < n; ++y)
     {
+      const double py = -0.95 + y * h;
       for (int x = 0; x < n; ++x, ++i)
       {
-        const double p[3] = { -1 + x * h, -1 + y * h, -1 + z * h };
-        double f = 0;
-        for (int b = 0; b < 3; ++b)
-        {
-          double r2 = 0;
-          for (int k = 0; k < 3; ++k)
-          {
-            const double d = (p[k] - centers[b][k]) / radii[b][k];
-            r2 += d * d;
-          }
-          f += std::exp(-r2);
-        }
-        f += 0.04 * std::sin(7 * p[0]) * std::sin(6 * p[1]) * std::sin(5 * p[2]);
-        field->SetValue(i, static_cast<float>(f));
+        const double px = -0.95 + x * h;
+        const double r = std::sqrt(px * px + py * py + pz * pz);
+        field->SetValue(i, static_cast<float>(r - 0.8 * (1.0 + 0.08 * s[x] * s[y] * s[z])));
       }
     }
   }
   image->GetPointData()->SetScalars(field);
   vtkNew<vtkFlyingEdges3D> contour;
   contour->SetInputData(image);
-  contour->SetValue(0, 0.45);
+  contour->SetValue(0, 0.0);
   contour->ComputeNormalsOff();
   contour->ComputeGradientsOff();
   contour->ComputeScalarsOff();
@@ -111,7 +106,7 @@ vtkSmartPointer<vtkPolyData> LoadModel(const std::string& name)
 {
   if (name == "mc1m")
   {
-    return MarchingCubesMesh(330);
+    return MarchingCubesMesh(386);
   }
   vtkNew<vtkOFFMeshReader> reader;
   const std::string path = std::string(SURFACELOD_MESH_DIR) + "/" + name + ".off";
