@@ -239,6 +239,11 @@ struct SpbmLevelGenerator::State
   std::vector<Index> A, B, L, R, Interior;
   std::vector<float> Tolerance; // per chain: epsilon, finer next to refined (frozen) patches
   std::vector<Index> KeptOffsets, KeptPositions; // per chain: kept interior positions, ascending
+  // Chain tolerances after refining non-simple patches, for the last epsilon (no fallbacks).
+  bool RefinedValid = false;
+  float RefinedEpsilon = 0;
+  std::vector<float> RefinedTolerance;
+  std::vector<unsigned char> RefinedLocked;
   std::vector<unsigned char> Alive, Locked;
   std::vector<Index> PartFirst, PartLast, PartNext; // joined chains: list of original chains
   std::vector<Index> JointBefore; // endpoint between a part and the previous one
@@ -295,6 +300,7 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Mesh = &mesh;
   this->Patches = &patches;
   this->Memo.clear();
+  this->Work->RefinedValid = false;
   const Patchification& P = patches;
   const Index nc = P.NumberOfChains();
   const Index ne = P.NumberOfEndpoints();
@@ -751,7 +757,20 @@ void SpbmLevelGenerator::RunMerging(
   // Method (3) of section 4.2.8 for the patches themselves: a patch whose simplified boundary
   // does not project to a simple polygon gets finer chains (epsilon / 4 per round, then full
   // resolution) before anything else, so that predictions include it and triangulation succeeds.
-  for (int round = 0; round < 8; ++round)
+  // The refinement depends on epsilon only (not on alpha1): searches over alpha1 reuse it.
+  bool anyFrozen = false;
+  for (Index p = 0; p < np && !anyFrozen; ++p)
+  {
+    anyFrozen = frozen[p] != 0;
+  }
+  const bool reuse = !anyFrozen && s.RefinedValid && s.RefinedEpsilon == eps;
+  if (reuse)
+  {
+    s.Tolerance = s.RefinedTolerance;
+    s.Locked = s.RefinedLocked;
+    rebuildKept();
+  }
+  for (int round = 0; round < 8 && !reuse; ++round)
   {
     bool refined = false;
     for (Index p = 0; p < np; ++p)
@@ -784,6 +803,13 @@ void SpbmLevelGenerator::RunMerging(
       break;
     }
     rebuildKept();
+  }
+  if (!anyFrozen && !reuse)
+  {
+    s.RefinedValid = true;
+    s.RefinedEpsilon = eps;
+    s.RefinedTolerance = s.Tolerance;
+    s.RefinedLocked = s.Locked;
   }
   s.Total = 0;
   for (Index p = 0; p < np; ++p)
@@ -1246,16 +1272,45 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   if (countFor(0, angle) > target && (base.MergePatches || base.CollapseChains))
   {
     double lo = angle, hi = std::max(90.0, angle);
-    if (countFor(0, hi) > target)
+    Index countLo = countFor(0, lo), countHi = countFor(0, hi);
+    if (countHi > target)
     {
       angle = hi;
     }
     else
     {
-      for (int iteration = 0; iteration < 12; ++iteration)
+      // Regula falsi (Illinois) on the count, bracketed: the count is nearly linear in alpha1.
+      int side = 0;
+      for (int iteration = 0; iteration < 8 && hi - lo > 0.05; ++iteration)
       {
-        const double mid = 0.5 * (lo + hi);
-        (countFor(0, mid) > target ? lo : hi) = mid;
+        double mid = hi - (hi - lo) * double(countHi - target) / std::min(-1.0, double(countHi - countLo));
+        mid = hi - (hi - lo) * double(target - countHi) / std::max(1.0, double(countLo - countHi));
+        mid = std::min(hi - 0.01 * (hi - lo), std::max(lo + 0.01 * (hi - lo), mid));
+        const Index c = countFor(0, mid);
+        if (c > target)
+        {
+          lo = mid;
+          countLo = c;
+          if (side == -1)
+          {
+            countHi = target + (countHi - target) / 2;
+          }
+          side = -1;
+        }
+        else
+        {
+          hi = mid;
+          countHi = c;
+          if (side == 1)
+          {
+            countLo = target + (countLo - target) / 2;
+          }
+          side = 1;
+          if (c == target)
+          {
+            break;
+          }
+        }
       }
       angle = hi;
     }
@@ -1267,20 +1322,50 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   if (bestCount < target)
   {
     Index lo = 0, hi = nk;
-    if (countFor(nk, angle) <= target)
+    Index countLo = bestCount, countHi = countFor(nk, angle);
+    if (countHi <= target)
     {
       lo = nk;
     }
     else
     {
-      while (hi - lo > 1)
+      // Regula falsi (Illinois) over the number of kept vertices: the count grows about
+      // linearly with it, so a few evaluations replace a binary search.
+      int side = 0;
+      for (int iteration = 0; iteration < 40 && hi - lo > 1; ++iteration)
       {
-        const Index mid = lo + (hi - lo) / 2;
-        (countFor(mid, angle) > target ? hi : lo) = mid;
+        const double spread = std::max(1.0, double(countHi - countLo));
+        Index mid = lo + static_cast<Index>(double(hi - lo) * double(target - countLo) / spread);
+        mid = std::min(hi - 1, std::max(lo + 1, mid));
+        const Index c = countFor(mid, angle);
+        if (c > target)
+        {
+          hi = mid;
+          countHi = c;
+          if (side == 1)
+          {
+            countLo = target - (target - countLo) / 2;
+          }
+          side = 1;
+        }
+        else
+        {
+          lo = mid;
+          countLo = c;
+          if (side == -1)
+          {
+            countHi = target + (countHi - target) / 2;
+          }
+          side = -1;
+          if (c == target)
+          {
+            break;
+          }
+        }
       }
     }
     // The count is not strictly monotone (merges, refinements): look around.
-    for (Index k = std::max<Index>(0, lo - 4); k <= std::min<Index>(nk, lo + 4); ++k)
+    for (Index k = std::max<Index>(0, lo - 2); k <= std::min<Index>(nk, lo + 2); ++k)
     {
       const Index c = countFor(k, angle);
       if (c <= target && (bestCount > target || c > bestCount))
