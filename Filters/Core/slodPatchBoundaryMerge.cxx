@@ -1817,8 +1817,11 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
     }
     const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
     const Index best = haveBest ? static_cast<Index>(level.TrianglePatch.size()) : 0;
-    const bool better = !haveBest || (produced <= target && (best > target || produced > best)) ||
-      (produced > target && best > target && produced < best);
+    // Closest on a log scale, ties to the one not above the target: a re-aimed level far below
+    // the target (when fallbacks cannot be avoided) must not win over a moderate overshoot.
+    auto distance = [&](Index count) { return std::fabs(std::log(double(std::max<Index>(count, 1)) / double(target))); };
+    const bool better = !haveBest || distance(produced) < distance(best) - 1e-12 ||
+      (std::fabs(distance(produced) - distance(best)) <= 1e-12 && produced <= target && best > target);
     if (better)
     {
       std::swap(level, candidate);

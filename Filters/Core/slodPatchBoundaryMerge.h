@@ -7,22 +7,26 @@
 //     The whole refinement tree is stored once as one tolerance per chain vertex ("keep me when
 //     epsilon < key"; keys decrease down the tree), so any epsilon is a threshold on stored keys
 //     and several levels come from one patchification (4.2.4);
-//  2. patch merging (4.2.6): pairs whose common boundary is a single one-edge chain and whose
-//     normals agree within alpha1 merge (most parallel first); endpoints left with two chains are
-//     dropped; short one-edge chains collapse into the endpoint with the larger normal variation
-//     when (a) no third patch has both endpoints, (b) the normals agree within alpha1 and (c) the
-//     chain is shorter than a factor (1/5) of the patch's longest chain;
+//  2. patch merging (4.2.6): pairs whose common boundary is a single chain of one segment and
+//     whose normals agree within alpha1 merge (most parallel first); endpoints left with two
+//     chains of the same two patches are dropped (when the joined chain stays within epsilon);
+//     short one-segment chains collapse into the endpoint with the larger normal variation when
+//     (a) no third patch has both endpoints, (b) the normals agree within alpha1, (c) the chain is
+//     shorter than a factor (1/5) of the patch's longest chain (and than epsilon);
 //  3. boundary preservation (4.2.7): chains with an endpoint on the mesh border collapse only
 //     toward it; chains on the border and endpoints on it are never removed;
 //  4. triangulation (4.2.8): each patch's simplified boundary, projected on the plane orthogonal
 //     to its normal, is ear-clipped smallest angle first (slod::TriangulatePolygon) with valid
 //     diagonals only, no diagonal that is already an edge elsewhere, and the double-ear normal
 //     rule (a corner that is an ear on both sides of its chain goes to the side whose normal fits).
-// Robust fallback: a patch that cannot be triangulated that way (its projected boundary is not
-// simple, or every ear would duplicate an edge) is frozen and the level regenerated: first its
-// member patches are not merged (nor their chains collapsed), then their chains are kept at full
-// resolution, then, if that still fails, their original triangles are kept. The output is therefore always a valid mesh over original
-// vertices with the topology of the input (closed manifold in -> closed manifold out, same genus).
+// Method (3) of 4.2.8 keeps boundaries triangulable: a patch whose simplified boundary does not
+// project to a simple polygon gets finer chains (epsilon / 4 per round, then full resolution)
+// before merging, and merges, joins and collapses that would make a boundary non-simple are
+// refused. Robust fallback for whatever still fails (every remaining ear would duplicate an edge,
+// numerically degenerate corners): the level is regenerated with the failed patch frozen: first
+// unmerged, then with finer chains around it (epsilon / 4 per level, then full resolution), then
+// as its original triangles. The output is therefore always a valid mesh over original vertices
+// with the topology of the input (closed manifold in -> closed manifold out, same genus).
 #ifndef slodPatchBoundaryMerge_h
 #define slodPatchBoundaryMerge_h
 

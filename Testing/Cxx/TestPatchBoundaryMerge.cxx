@@ -536,6 +536,44 @@ TEST(PatchBoundaryMerge, OpenSurfaceBorderIsPreserved)
   }
 }
 
+TEST(PatchBoundaryMerge, SpiralRampStaysValidThroughFallbacks)
+{
+  // A helicoid ("spiralling ramp", section 4.2.8) with very loose patch angles: patch boundaries
+  // overlap in projection, and the output must still be a valid surface with the input's border.
+  TriangleMesh ramp = slodtest::Grid(16, 160);
+  for (Index v = 0; v < ramp.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = ramp.Point(v);
+    const double radius = 0.3 + 0.7 * p[0], angle = 4 * Pi * p[1];
+    ramp.SetPoint(v, { radius * std::cos(angle), radius * std::sin(angle), 0.15 * angle });
+  }
+  auto input = slodtest::ToPolyData(ramp);
+  const MeshStatistics in = RawStatistics(input);
+  vtkNew<vtkPatchBoundaryMerge> filter;
+  filter->SetPatchAngle(80);
+  filter->SetNeighborAngle(80);
+  filter->SetPatchPlaneDistance(0);
+  for (const vtkIdType target : { 2000, 300 })
+  {
+    auto out = RunFilter(input, target, filter);
+    const MeshStatistics st = RawStatistics(out);
+    EXPECT_GT(st.Triangles, 0);
+    EXPECT_EQ(st.NonManifoldEdges, 0);
+    EXPECT_EQ(st.NonManifoldVertices, 0);
+    EXPECT_EQ(st.InconsistentlyOrientedEdges, 0);
+    EXPECT_EQ(st.DegenerateTriangles, 0);
+    EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops);
+    EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic);
+    EXPECT_EQ(st.Components, 1);
+    if (target == 2000)
+    {
+      // One spiralling patch whose border overlaps itself in projection at every resolution:
+      // only the last fallback (its original triangles) is valid.
+      EXPECT_GT(filter->GetOriginalPatches(), 0);
+    }
+  }
+}
+
 TEST(PatchBoundaryMerge, InvalidAndEmptyInputs)
 {
   vtkNew<vtkPolyData> empty;
