@@ -107,9 +107,8 @@ void CollectTriangles(vtkPolyData* input, const std::vector<double>& points, Pre
 }
 
 // Makes neighbouring triangles traverse shared manifold edges in opposite directions.
-void OrientConsistently(TriangleMesh& mesh, PreparationReport& report)
+void OrientConsistently(TriangleMesh& mesh, const MeshTopology& topology, PreparationReport& report)
 {
-  MeshTopology topology(mesh);
   const Index nt = mesh.NumberOfTriangles();
   std::vector<signed char> flip(nt, -1); // -1 unvisited, 0 keep, 1 flip
   std::vector<Index> queue, component;
@@ -348,13 +347,21 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
     }
   }
 
+  // One adjacency build serves both the orientation repair and the non-manifold counts (flipping
+  // triangles changes neither edges nor fans).
+  const MeshTopology topology(mesh);
   if (options.MakeOrientationConsistent)
   {
-    OrientConsistently(mesh, report);
+    OrientConsistently(mesh, topology, report);
   }
-  const MeshStatistics stats = ComputeMeshStatistics(mesh);
-  report.NonManifoldEdges = stats.NonManifoldEdges;
-  report.NonManifoldVertices = stats.NonManifoldVertices;
+  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    report.NonManifoldEdges += topology.IsNonManifoldEdge(e) ? 1 : 0;
+  }
+  for (Index v = 0; v < topology.NumberOfPoints(); ++v)
+  {
+    report.NonManifoldVertices += topology.IsNonManifoldVertex(v) ? 1 : 0;
+  }
   return report;
 }
 

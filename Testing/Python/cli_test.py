@@ -1,0 +1,330 @@
+#!/usr/bin/python3
+"""End-to-end tests of the `surfacelod` command-line tool (run by ctest, one scenario per test).
+
+usage: cli_test.py --cli PATH --mesh-dir DIR --work DIR SCENARIO [ARG]
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+FAILURES = []
+
+
+def check(condition, message):
+    if not condition:
+        FAILURES.append(message)
+        print("FAIL: " + message)
+
+
+def run(cli, *args, expect=0):
+    proc = subprocess.run([cli] + [str(a) for a in args], capture_output=True, text=True, timeout=600)
+    if proc.returncode != expect:
+        raise AssertionError("surfacelod %s: exit %d (expected %d)\nstdout: %s\nstderr: %s"
+                             % (" ".join(map(str, args)), proc.returncode, expect, proc.stdout, proc.stderr))
+    return proc
+
+
+def json_line(proc):
+    lines = [l for l in proc.stdout.splitlines() if l.strip()]
+    if len(lines) != 1:
+        raise AssertionError("expected exactly one JSON line, got: %r" % proc.stdout)
+    return json.loads(lines[0])
+
+
+def method_names(cli):
+    return [line.split()[0] for line in run(cli, "methods").stdout.splitlines() if line.strip()]
+
+
+# Triangle-count tolerance at a 1000-triangle target; methods not listed must be within 1%.
+TOLERANCE = {"vtk-quadric-decimation": 5, "vtk-decimate-pro": 50}
+
+
+def scenario_info(a):
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    info = json_line(run(a.cli, "info", fandisk, "--json"))
+    expected = {"triangles": 12946, "vertices": 6475, "boundary_edges": 0, "nonmanifold_edges": 0,
+                "components": 1, "euler_characteristic": 2, "genus": 0, "degenerate_triangles": 0}
+    for key, value in expected.items():
+        check(info.get(key) == value, "fandisk %s = %r, expected %r" % (key, info.get(key), value))
+    # A triangle soup (every face with its own vertices) counts as the closed surface it is.
+    corners = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    faces = [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)]
+    soup = os.path.join(a.work, "tetra_soup.off")
+    with open(soup, "w") as f:
+        f.write("OFF\n12 4 0\n")
+        for face in faces:
+            for c in face:
+                f.write("%g %g %g\n" % corners[c])
+        for k in range(4):
+            f.write("3 %d %d %d\n" % (3 * k, 3 * k + 1, 3 * k + 2))
+    info = json_line(run(a.cli, "info", soup, "--json"))
+    expected = {"vertices": 4, "triangles": 4, "boundary_edges": 0, "nonmanifold_edges": 0, "components": 1,
+                "euler_characteristic": 2, "genus": 0, "merged_points": 8}
+    for key, value in expected.items():
+        check(info.get(key) == value, "tetrahedron soup %s = %r, expected %r" % (key, info.get(key), value))
+    # An unused point with NaN coordinates does not make a file unusable (as the filters' input contract).
+    unused_nan = os.path.join(a.work, "unused_nan.off")
+    with open(unused_nan, "w") as f:
+        f.write("OFF\n5 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\nnan nan nan\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n")
+    info = json_line(run(a.cli, "info", unused_nan, "--json"))
+    check(info["vertices"] == 4 and info["genus"] == 0, "unused NaN point: %r" % info)
+    # Human-readable form carries the same numbers.
+    text = run(a.cli, "info", fandisk).stdout
+    check("12946" in text and "6475" in text, "plain info output lacks the counts: " + text)
+
+
+def scenario_simplify(a):
+    method = a.arg
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    out = os.path.join(a.work, "fandisk_%s.vtp" % method)
+    result = json_line(run(a.cli, "simplify", fandisk, out, "--method", method, "--target-triangles", 1000, "--json"))
+    check(set(result) >= {"method", "input_triangles", "output_triangles", "seconds", "peak_rss_mb"},
+          "JSON keys: %r" % sorted(result))
+    check(result["method"] == method, "method %r" % result["method"])
+    check(result["input_triangles"] == 12946, "input_triangles %r" % result["input_triangles"])
+    tolerance = TOLERANCE.get(method, 10)
+    check(abs(result["output_triangles"] - 1000) <= tolerance,
+          "%s: %d triangles for a target of 1000 (tolerance %d)" % (method, result["output_triangles"], tolerance))
+    check(result["seconds"] > 0 and result["peak_rss_mb"] > 1, "seconds / peak_rss_mb: %r" % result)
+    # The written file reads back with the reported triangle count, closed.
+    info = json_line(run(a.cli, "info", out, "--json"))
+    check(info["triangles"] == result["output_triangles"], "file has %d triangles, JSON said %d"
+          % (info["triangles"], result["output_triangles"]))
+    check(info["boundary_edges"] == 0, "%s opened the closed fandisk: %d boundary edges" % (method, info["boundary_edges"]))
+    # Reduction form: remove 50%.
+    result = json_line(run(a.cli, "simplify", fandisk, out, "--method", method, "--target-reduction", 0.5, "--json"))
+    check(abs(result["output_triangles"] - 6473) <= max(tolerance, 65),
+          "%s: --target-reduction 0.5 gave %d triangles" % (method, result["output_triangles"]))
+
+
+def scenario_methods_covered(a):
+    tested = set(a.arg.split(","))
+    for name in method_names(a.cli):
+        check(name in tested, "method %s has no CLI test: add it to surfacelod_cli_methods in "
+              "Testing/CMakeLists.txt" % name)
+
+
+def scenario_formats(a):
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    reference = None
+    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk"]:
+        out = os.path.join(a.work, "formats.%s" % ext)
+        result = json_line(run(a.cli, "simplify", fandisk, out, "--method", "vtk-quadric-decimation",
+                               "--target-triangles", 1000, "--json"))
+        info = json_line(run(a.cli, "info", out, "--json"))
+        check(info["triangles"] == result["output_triangles"], "%s: %d triangles read back, %d written"
+              % (ext, info["triangles"], result["output_triangles"]))
+        summary = (info["vertices"], info["triangles"], info["boundary_edges"], info["euler_characteristic"])
+        if reference is None:
+            reference = summary
+        check(summary == reference, "%s reads back as %r, .off as %r" % (ext, summary, reference))
+        # The written file is a valid input again.
+        again = json_line(run(a.cli, "simplify", out, os.path.join(a.work, "formats_again.off"),
+                              "--method", "vtk-quadric-decimation", "--target-triangles", 500, "--json"))
+        check(again["input_triangles"] == info["triangles"], "%s: re-read %d" % (ext, again["input_triangles"]))
+
+
+def scenario_compare_self(a):
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    result = json_line(run(a.cli, "compare", fandisk, fandisk, "--samples", 20000, "--json"))
+    check(set(result) == {"hausdorff", "hausdorff_ab", "hausdorff_ba", "mean", "rms"}, "keys %r" % sorted(result))
+    for key, value in result.items():
+        check(value is not None and 0 <= value < 1e-9, "compare with itself: %s = %r" % (key, value))
+
+
+def scenario_compare_simplified(a):
+    """compare measures a simplification: small but non-zero, symmetric maximum of both sides."""
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    out = os.path.join(a.work, "fandisk_1000.ply")
+    run(a.cli, "simplify", fandisk, out, "--method", "vtk-quadric-decimation", "--target-triangles", 1000)
+    d = json_line(run(a.cli, "compare", fandisk, out, "--samples", 50000, "--json"))
+    # vtkQuadricDecimation to 1000 triangles stays within ~0.1% of the diagonal on fandisk.
+    check(1e-5 < d["hausdorff"] < 5e-3, "hausdorff %r" % d["hausdorff"])
+    check(d["hausdorff"] == max(d["hausdorff_ab"], d["hausdorff_ba"]), "hausdorff is not the max of both sides: %r" % d)
+    check(0 < d["mean"] <= d["rms"] <= d["hausdorff"], "mean <= rms <= hausdorff violated: %r" % d)
+    # Swapping the arguments swaps the one-sided distances (up to the sampling of the other surface).
+    e = json_line(run(a.cli, "compare", out, fandisk, "--samples", 50000, "--json"))
+    check(abs(e["hausdorff"] * 1.0 - d["hausdorff"]) < 0.2 * d["hausdorff"],
+          "swapped hausdorff %r vs %r" % (e["hausdorff"], d["hausdorff"]))
+
+
+def scenario_errors(a):
+    w = a.work
+    def write(name, data):
+        path = os.path.join(w, name)
+        with open(path, "wb") as f:
+            f.write(data)
+        return path
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    binary_stl = os.path.join(w, "good.stl")
+    run(a.cli, "simplify", fandisk, binary_stl, "--method", "vtk-quadric-decimation", "--target-triangles", 100)
+    with open(binary_stl, "rb") as f:
+        stl_bytes = f.read()
+    binary_ply = os.path.join(w, "good.ply")
+    run(a.cli, "simplify", fandisk, binary_ply, "--method", "vtk-quadric-decimation", "--target-triangles", 100)
+    with open(binary_ply, "rb") as f:
+        ply_bytes = f.read()
+    cases = {
+        "bad header": write("bad_header.off", b"OFX\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        "truncated": write("truncated.off", b"OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n"),
+        "index out of range": write("out_of_range.off", b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"),
+        "missing file": os.path.join(w, "does_not_exist.off"),
+        "unsupported extension": write("mesh.xyz", b"0 0 0\n"),
+        "empty file": write("empty.off", b""),
+        "directory": w + "/.",
+        "truncated binary stl": write("truncated.stl", stl_bytes[:1000]),
+        "bad ascii stl": write("bad_ascii.stl", b"solid x\nfoo bar\n"),
+        "truncated binary ply": write("truncated.ply", ply_bytes[:len(ply_bytes) // 2]),
+        "truncated ascii ply": write("truncated_ascii.ply", b"ply\nformat ascii 1.0\nelement vertex 3\n"
+                                     b"property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                                     b"property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n"),
+        "ply index out of range": write("range.ply", b"ply\nformat ascii 1.0\nelement vertex 3\n"
+                                        b"property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                                        b"property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+                                        b"3 0 1 5\n"),
+        "obj index out of range": write("range.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
+        "garbage vtp": write("garbage.vtp", b"this is not xml\n"),
+        "garbage vtk": write("garbage.vtk", b"this is not a legacy file\n"),
+        "nan coordinate": write("nan.off", b"OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"),
+    }
+    for what, path in cases.items():
+        for args in (["info", path, "--json"],
+                     ["simplify", path, os.path.join(w, "out.vtp"), "--method", "vtk-quadric-decimation",
+                      "--target-reduction", "0.5"],
+                     ["compare", fandisk, path]):
+            proc = subprocess.run([a.cli] + args, capture_output=True, text=True, timeout=120)
+            lines = proc.stderr.strip().splitlines()
+            check(proc.returncode == 2, "%s (%s): exit %d, expected 2; stderr %r"
+                  % (what, args[0], proc.returncode, proc.stderr))
+            check(len(lines) == 1, "%s (%s): expected one line on stderr, got %r" % (what, args[0], proc.stderr))
+            check(path in proc.stderr, "%s (%s): message does not name %s: %r" % (what, args[0], path, proc.stderr))
+            check(proc.stdout == "", "%s (%s): unexpected stdout %r" % (what, args[0], proc.stdout))
+    # Unwritable output: exit 2 before any work, naming the output.
+    for bad in [os.path.join(w, "no_such_dir", "out.vtp"), os.path.join(w, "out.xyz")]:
+        proc = subprocess.run([a.cli, "simplify", fandisk, bad, "--method", "vtk-quadric-decimation",
+                               "--target-triangles", "100"], capture_output=True, text=True, timeout=120)
+        check(proc.returncode == 2 and bad in proc.stderr and len(proc.stderr.strip().splitlines()) == 1,
+              "unwritable %s: exit %d, stderr %r" % (bad, proc.returncode, proc.stderr))
+
+
+def scenario_usage(a):
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    out = os.path.join(a.work, "usage.vtp")
+    bad = [
+        ["simplify", fandisk, out, "--target-triangles", "10"],                     # no method
+        ["simplify", fandisk, out, "--method", "nope", "--target-triangles", "10"],
+        ["simplify", fandisk, out, "--method", "vtk-quadric-decimation"],            # no target
+        ["simplify", fandisk, out, "--method", "vtk-quadric-decimation", "--target-triangles", "10",
+         "--target-reduction", "0.5"],
+        ["simplify", fandisk, out, "--method", "vtk-quadric-decimation", "--target-reduction", "1.5"],
+        ["simplify", fandisk, out, "--method", "vtk-quadric-decimation", "--target-triangles", "ten"],
+        ["simplify", fandisk, "--method", "vtk-quadric-decimation", "--target-triangles", "10"],
+        ["info", fandisk, "--bogus"],
+        ["frobnicate"],
+        [],
+    ]
+    for args in bad:
+        proc = subprocess.run([a.cli] + args, capture_output=True, text=True, timeout=120)
+        check(proc.returncode == 1, "%r: exit %d, expected 1 (usage); stderr %r" % (args, proc.returncode, proc.stderr))
+        check(proc.stderr.strip() != "", "%r: no message" % args)
+    for command in ["simplify", "compare", "info", "demo", "bench", "methods"]:
+        proc = run(a.cli, command, "--help")
+        check(proc.stdout.startswith("usage: surfacelod " + command), "%s --help: %r" % (command, proc.stdout[:80]))
+    help_text = run(a.cli, "simplify", "--help").stdout
+    for name in method_names(a.cli):
+        check(name in help_text, "simplify --help does not list %s" % name)
+
+
+def scenario_bench(a):
+    proc = run(a.cli, "bench", "--inputs", "synthetic:48,fandisk", "--mesh-dir", a.mesh_dir, "--target-reduction",
+               "0.8", "--json", "--samples", "2000")
+    rows = [json.loads(l) for l in proc.stdout.splitlines() if l.strip()]
+    names = method_names(a.cli)
+    check(len(rows) == 2 * len(names), "expected %d rows, got %d" % (2 * len(names), len(rows)))
+    for row in rows:
+        check(row["output_triangles"] < row["input_triangles"], "bench row did not simplify: %r" % row)
+        if row["method"] == "vtk-quadric-decimation":
+            check(abs(row["speedup_vs_vtk_quadric"] - 1.0) < 1e-9, "baseline speedup %r" % row)
+    fandisk_rows = [r for r in rows if r["input"] == "fandisk"]
+    check(all(r["input_triangles"] == 12946 for r in fandisk_rows), "fandisk rows: %r" % fandisk_rows)
+
+
+def scenario_demo(a):
+    out_dir = os.path.join(a.work, "demo")
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)  # no X: the table and meshes, a one-line note instead of the picture
+    proc = subprocess.run([a.cli, "demo", "--resolution", "64", "--output-dir", out_dir, "--samples", "2000"],
+                          capture_output=True, text=True, timeout=600, env=env)
+    check(proc.returncode == 0, "demo exit %d: %s" % (proc.returncode, proc.stderr))
+    check("DISPLAY" in proc.stderr and "skipping the picture" in proc.stderr, "no-display note: %r" % proc.stderr)
+    for name in method_names(a.cli):
+        path = os.path.join(out_dir, name + ".vtp")
+        check(os.path.exists(path), "demo did not write " + path)
+        check(name in proc.stdout, "demo table lacks " + name)
+        if os.path.exists(path):
+            info = json_line(run(a.cli, "info", path, "--json"))
+            synthetic = json_line(run(a.cli, "info", os.path.join(out_dir, "synthetic.vtp"), "--json"))
+            check(abs(info["triangles"] - 0.1 * synthetic["triangles"]) <= 0.02 * synthetic["triangles"],
+                  "%s: %d of %d triangles" % (name, info["triangles"], synthetic["triangles"]))
+    synthetic = json_line(run(a.cli, "info", os.path.join(out_dir, "synthetic.vtp"), "--json"))
+    check(synthetic["genus"] == 1 and synthetic["boundary_edges"] == 0 and synthetic["components"] == 1,
+          "synthetic surface: %r" % synthetic)
+
+
+def scenario_demo_png(a):
+    """The demo picture: one panel per mesh (input + each method), each showing a surface."""
+    if not os.environ.get("DISPLAY"):
+        raise AssertionError("cli.demo-png needs an X display: run ctest under `xvfb-run -a`")
+    out_dir = os.path.join(a.work, "demo")
+    proc = run(a.cli, "demo", "--resolution", "64", "--output-dir", out_dir, "--samples", "2000")
+    png = os.path.join(out_dir, "demo.png")
+    check(os.path.exists(png), "no picture: " + proc.stderr)
+    import vtk  # Debian's python3-vtk9
+    reader = vtk.vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    image = reader.GetOutput()
+    width, height, _ = image.GetDimensions()
+    panels = 1 + len(method_names(a.cli))
+    check(width == 480 * panels and height == 960, "picture is %dx%d, expected %dx960" % (width, height, 480 * panels))
+    scalars = image.GetPointData().GetScalars()
+    components = scalars.GetNumberOfComponents()
+    # Fraction of non-white pixels per panel, top row (overview) and bottom row (close-up).
+    for row in range(2):
+        for panel in range(panels):
+            covered = total = 0
+            for y in range(row * 480 + 10, row * 480 + 470, 7):
+                for x in range(panel * 480 + 10, panel * 480 + 470, 7):
+                    pixel = [scalars.GetComponent(y * width + x, c) for c in range(min(3, components))]
+                    total += 1
+                    covered += min(pixel) < 250
+            fraction = covered / total
+            check(0.15 < fraction <= 1.0, "row %d panel %d: %.0f%% covered, no surface drawn?"
+                  % (row, panel, 100 * fraction))
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--cli", required=True)
+    parser.add_argument("--mesh-dir", required=True)
+    parser.add_argument("--work", required=True)
+    parser.add_argument("scenario")
+    parser.add_argument("arg", nargs="?")
+    a = parser.parse_args()
+    a.work = os.path.join(a.work, "cli_" + a.scenario + ("_" + a.arg if a.arg and len(a.arg) < 40 else ""))
+    os.makedirs(a.work, exist_ok=True)
+    if not os.path.exists(os.path.join(a.mesh_dir, "fandisk.off")):
+        print("FAIL: test mesh missing: " + os.path.join(a.mesh_dir, "fandisk.off"))
+        return 1
+    globals()["scenario_" + a.scenario.replace("-", "_")](a)
+    if FAILURES:
+        print("%d check(s) failed" % len(FAILURES))
+        return 1
+    print("ok")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

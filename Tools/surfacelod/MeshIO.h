@@ -1,0 +1,56 @@
+// Mesh files of the `surfacelod` tool: reader/writer chosen by extension, with every failure
+// turned into one clean line (VTK's own error messages are captured, not printed).
+#ifndef surfacelodMeshIO_h
+#define surfacelodMeshIO_h
+
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+
+#include <string>
+#include <vector>
+
+namespace slodcli
+{
+// Replaces VTK's output window: while a capture is active errors and warnings are collected;
+// otherwise each is printed as one line "surfacelod: warning: ..." on stderr.
+void InstallMessageHandler();
+
+// Collects the VTK errors and warnings raised during its lifetime (nestable).
+class MessageCapture
+{
+public:
+  // Warnings are dropped when swallowWarnings (reading files), else printed as usual.
+  explicit MessageCapture(bool swallowWarnings = true);
+  ~MessageCapture();
+  MessageCapture(const MessageCapture&) = delete;
+  MessageCapture& operator=(const MessageCapture&) = delete;
+  const std::vector<std::string>& Errors() const;
+  // First error, or "" when none.
+  std::string FirstError() const;
+
+private:
+  size_t Depth;
+  bool PreviousSwallow;
+};
+
+// Reads .off .ply .stl .obj .vtp .vtk. Throws CliError(ExitData, "PATH: problem") when the file
+// is missing, unreadable, of an unsupported type, malformed, has no surface cells, refers to
+// missing vertices or has non-finite coordinates.
+vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path);
+
+// Throws CliError(ExitData) unless PATH has a writable extension and its directory exists.
+void CheckWritablePath(const std::string& path);
+
+// Writes .off .ply .stl .obj .vtp .vtk. Throws CliError(ExitData, "PATH: problem").
+void WriteMesh(vtkPolyData* mesh, const std::string& path);
+
+// Supported extensions, for messages and --help.
+std::string ReadableExtensions();
+std::string WritableExtensions();
+
+// The polygons and strips of a mesh as triangles only (the mesh itself when it already is).
+vtkSmartPointer<vtkPolyData> TriangulatedSurface(vtkPolyData* mesh);
+vtkIdType CountTriangles(vtkPolyData* triangles);
+} // namespace slodcli
+
+#endif

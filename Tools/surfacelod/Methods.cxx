@@ -1,0 +1,137 @@
+#include "Methods.h"
+
+#include "vtkDecimatePro.h"
+#include "vtkQuadricDecimation.h"
+
+// SurfaceLOD filters: add the include here and one line in the table below.
+
+#include <algorithm>
+#include <type_traits>
+#include <utility>
+
+namespace slodcli
+{
+double MethodSettings::ReductionFraction() const
+{
+  if (this->TargetTriangles > 0)
+  {
+    if (this->InputTriangles <= 0)
+    {
+      return 0.0;
+    }
+    return std::clamp(1.0 - double(this->TargetTriangles) / double(this->InputTriangles), 0.0, 1.0);
+  }
+  return std::clamp(this->TargetReduction, 0.0, 1.0);
+}
+
+namespace
+{
+template <typename Filter, typename = void>
+struct HasMaximumError : std::false_type
+{
+};
+template <typename Filter>
+struct HasMaximumError<Filter, std::void_t<decltype(std::declval<Filter&>().SetMaximumError(0.0))>>
+  : std::true_type
+{
+};
+
+// Every SurfaceLOD filter follows one convention (SetTargetNumberOfTriangles, SetTargetReduction,
+// SetMaximumError), so one factory serves them all.
+template <typename Filter>
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateSurfaceLODFilter(const MethodSettings& settings)
+{
+  auto filter = vtkSmartPointer<Filter>::New();
+  // The filters stop at whichever target is reached first (0 = unused), and their default
+  // TargetReduction may be non-zero: set both, the one not asked for to 0.
+  if (settings.TargetTriangles > 0)
+  {
+    filter->SetTargetNumberOfTriangles(settings.TargetTriangles);
+    filter->SetTargetReduction(0.0);
+  }
+  else if (settings.TargetReduction > 0.0)
+  {
+    filter->SetTargetNumberOfTriangles(0);
+    filter->SetTargetReduction(settings.TargetReduction);
+  }
+  else
+  {
+    // A reduction of 0 keeps every triangle.
+    filter->SetTargetNumberOfTriangles(std::max<vtkIdType>(settings.InputTriangles, 1));
+    filter->SetTargetReduction(0.0);
+  }
+  if constexpr (HasMaximumError<Filter>::value)
+  {
+    if (settings.HasMaximumError)
+    {
+      filter->SetMaximumError(settings.MaximumError);
+    }
+  }
+  return filter;
+}
+
+// One registry entry for a SurfaceLOD filter; --max-error is offered when it has SetMaximumError.
+template <typename Filter>
+Method SurfaceLODMethod(const char* name, const char* description)
+{
+  return { name, description, HasMaximumError<Filter>::value, &CreateSurfaceLODFilter<Filter> };
+}
+
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateVTKQuadricDecimation(const MethodSettings& settings)
+{
+  auto filter = vtkSmartPointer<vtkQuadricDecimation>::New();
+  filter->SetTargetReduction(settings.ReductionFraction());
+  return filter;
+}
+
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateVTKDecimatePro(const MethodSettings& settings)
+{
+  auto filter = vtkSmartPointer<vtkDecimatePro>::New();
+  filter->SetTargetReduction(settings.ReductionFraction());
+  filter->PreserveTopologyOn();
+  if (settings.HasMaximumError)
+  {
+    filter->SetErrorIsAbsolute(1);
+    filter->SetAbsoluteError(settings.MaximumError);
+  }
+  return filter;
+}
+} // namespace
+
+const std::vector<Method>& Methods()
+{
+  // clang-format off
+  static const std::vector<Method> methods = {
+    { "vtk-quadric-decimation", "VTK's vtkQuadricDecimation (Garland-Heckbert edge collapse), the baseline",
+      false, &CreateVTKQuadricDecimation },
+    { "vtk-decimate-pro", "VTK's vtkDecimatePro with PreserveTopologyOn (vertex removal)",
+      true, &CreateVTKDecimatePro },
+    // SurfaceLOD filters, one line each (and the header include above), e.g.:
+    // SurfaceLODMethod<vtkQuadricTriangleCollapse>("quadric-triangle-collapse", "..."),
+  };
+  // clang-format on
+  return methods;
+}
+
+const Method* FindMethod(const std::string& name)
+{
+  for (const Method& m : Methods())
+  {
+    if (name == m.Name)
+    {
+      return &m;
+    }
+  }
+  return nullptr;
+}
+
+std::string MethodNames(const std::string& separator)
+{
+  std::string names;
+  for (const Method& m : Methods())
+  {
+    names += (names.empty() ? "" : separator) + std::string(m.Name);
+  }
+  return names;
+}
+} // namespace slodcli

@@ -1,0 +1,43 @@
+// The simplification methods the `surfacelod` tool can run: one registry, one entry per method.
+#ifndef surfacelodMethods_h
+#define surfacelodMethods_h
+
+#include "vtkPolyDataAlgorithm.h"
+#include "vtkSmartPointer.h"
+
+#include <string>
+#include <vector>
+
+namespace slodcli
+{
+// What the user asked for; exactly one of TargetTriangles (> 0) or TargetReduction (>= 0) is set.
+struct MethodSettings
+{
+  vtkIdType TargetTriangles = 0;
+  double TargetReduction = -1.0; // fraction of the input triangles removed
+  bool HasMaximumError = false;
+  double MaximumError = 0.0; // absolute distance, in the mesh's units
+  vtkIdType InputTriangles = 0;
+
+  // The target as a reduction fraction (for filters that only take that).
+  double ReductionFraction() const;
+};
+
+struct Method
+{
+  const char* Name;
+  const char* Description;
+  bool SupportsMaximumError;
+  // A configured filter; the caller sets the input and calls Update().
+  vtkSmartPointer<vtkPolyDataAlgorithm> (*Create)(const MethodSettings&);
+};
+
+const std::vector<Method>& Methods();
+const Method* FindMethod(const std::string& name); // nullptr when unknown
+std::string MethodNames(const std::string& separator = ", ");
+
+// The baseline that speed-ups are measured against.
+constexpr const char* BaselineMethod = "vtk-quadric-decimation";
+} // namespace slodcli
+
+#endif
