@@ -212,15 +212,43 @@ int vtkPatchBoundaryMerge::RequestData(
   {
     target = static_cast<vtkIdType>(std::llround((1.0 - this->TargetReduction) * mesh.NumberOfTriangles()));
   }
+  if (this->MaximumError > 0)
+  {
+    level.Epsilon = this->MaximumError;
+  }
   slod::SpbmLevel result;
   auto abort = [this]() { return this->GetAbortExecute() != 0; };
-  if (target > 0)
+  if (target >= mesh.NumberOfTriangles())
+  {
+    // No reduction asked for: the (prepared) input itself, with its patches and chains.
+    result.Triangles = mesh.Triangles;
+    result.TrianglePatch = cache.Patches.TrianglePatches();
+    result.NumberOfPatches = cache.Patches.NumberOfPatches();
+    result.CurveOffsets.assign(1, 0);
+    for (slod::Index c = 0; c < cache.Patches.NumberOfChains(); ++c)
+    {
+      const slod::Index* v = cache.Patches.ChainVerticesBegin(c);
+      result.CurveVertices.insert(result.CurveVertices.end(), v, v + cache.Patches.ChainSize(c));
+      result.CurveOffsets.push_back(static_cast<slod::Index>(result.CurveVertices.size()));
+    }
+    level.Epsilon = 0;
+  }
+  else if (target > 0)
   {
     const slod::SpbmLevelParameters base = level;
     if (!cache.Generator.GenerateForTarget(
           static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), base, result, &level, abort))
     {
       return 1;
+    }
+    if (this->MaximumError > 0 && level.Epsilon > this->MaximumError)
+    {
+      // The error bound is reached before the target: stop there.
+      level = base;
+      if (!cache.Generator.Generate(level, result, abort))
+      {
+        return 1;
+      }
     }
   }
   else if (!cache.Generator.Generate(level, result, abort))
@@ -326,6 +354,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CollapseLengthFactor: " << this->CollapseLengthFactor << "\n";
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
+  os << indent << "MaximumError: " << this->MaximumError << "\n";
   os << indent << "GeneratePatchColoredInput: " << this->GeneratePatchColoredInput << "\n";
   os << indent << "OutputDoublePrecision: " << this->OutputDoublePrecision << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";

@@ -25,7 +25,8 @@
  *
  * Target: SetTargetNumberOfTriangles (0 = unused) or SetTargetReduction (fraction removed) search
  * epsilon over the stored chain hierarchy (and widen alpha1 when needed) without repeating the
- * patchification; otherwise Epsilon and MergeAngle are used as given.
+ * patchification; otherwise Epsilon (or MaximumError) and MergeAngle are used as given. A target
+ * of at least the input's triangle count returns the (prepared) input unchanged.
  */
 #ifndef vtkPatchBoundaryMerge_h
 #define vtkPatchBoundaryMerge_h
@@ -112,6 +113,14 @@ public:
   ///@}
 
   ///@{
+  /// Optional error bound (SurfaceLOD convention; 0 = unused): the absolute chain tolerance
+  /// epsilon may not exceed it. Without a target it is the epsilon used; with a target the
+  /// filter stops at whichever is reached first (more triangles than the target if needed).
+  vtkSetClampMacro(MaximumError, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumError, double);
+  ///@}
+
+  ///@{
   /// Fill output port 2 with the input coloured by patch (default off).
   vtkSetMacro(GeneratePatchColoredInput, bool);
   vtkGetMacro(GeneratePatchColoredInput, bool);
@@ -166,6 +175,7 @@ protected:
   double CollapseLengthFactor = 0.2;
   vtkIdType TargetNumberOfTriangles = 0;
   double TargetReduction = 0.0;
+  double MaximumError = 0.0;
   bool GeneratePatchColoredInput = false;
   bool OutputDoublePrecision = false;
 

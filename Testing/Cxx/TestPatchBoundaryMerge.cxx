@@ -501,6 +501,23 @@ TEST(PatchBoundaryMerge, DeterministicAndTargetReduction)
   }
 }
 
+TEST(PatchBoundaryMerge, MaximumErrorAndNoReduction)
+{
+  auto input = slodtest::LoadTestMesh("fandisk");
+  vtkNew<vtkPatchBoundaryMerge> filter;
+  // A target of the input size keeps the input.
+  auto same = RunFilter(input, input->GetNumberOfCells(), filter);
+  EXPECT_EQ(same->GetNumberOfCells(), input->GetNumberOfCells());
+  // An error bound tighter than the target's epsilon wins: more triangles, epsilon at the bound.
+  auto coarse = RunFilter(input, 266, filter);
+  const double coarseEpsilon = filter->GetUsedEpsilon();
+  filter->SetMaximumError(0.25 * coarseEpsilon);
+  auto bounded = RunFilter(input, 266, filter);
+  EXPECT_LE(filter->GetUsedEpsilon(), 0.25 * coarseEpsilon * (1 + 1e-9));
+  EXPECT_GT(bounded->GetNumberOfCells(), coarse->GetNumberOfCells());
+  ExpectValidClosedOutput(input, bounded, 0);
+}
+
 TEST(PatchBoundaryMerge, OpenSurfaceBorderIsPreserved)
 {
   // A wavy open sheet: border vertices keep their place, one border loop, no holes.
