@@ -75,6 +75,9 @@ def scenario_info(a):
     check("12946" in text and "6475" in text, "plain info output lacks the counts: " + text)
 
 
+LEVEL_METHODS = {"triangle-collapse-hierarchy"}
+
+
 def scenario_simplify(a):
     method = a.arg
     fandisk = os.path.join(a.mesh_dir, "fandisk.off")
@@ -97,6 +100,17 @@ def scenario_simplify(a):
     result = json_line(run(a.cli, "simplify", fandisk, out, "--method", method, "--target-reduction", 0.5, "--json"))
     check(abs(result["output_triangles"] - 6473) <= max(tolerance, 65),
           "%s: --target-reduction 0.5 gave %d triangles" % (method, result["output_triangles"]))
+    if method in LEVEL_METHODS:
+        # Levels: a deeper level has fewer triangles; a blended level lies between its neighbours.
+        counts = {}
+        for level in (2, 2.5, 3):
+            r = json_line(run(a.cli, "simplify", fandisk, out, "--method", method, "--level", level, "--json"))
+            counts[level] = r["output_triangles"]
+        check(counts[2] > counts[3], "level 2 has %d triangles, level 3 %d" % (counts[2], counts[3]))
+        check(counts[3] <= counts[2.5] <= counts[2], "level 2.5 has %d triangles" % counts[2.5])
+    else:
+        bad = run(a.cli, "simplify", fandisk, out, "--method", method, "--level", 1, expect=1)
+        check("--level" in bad.stderr, "--level on a method without levels: %r" % bad.stderr)
 
 
 def scenario_methods_covered(a):

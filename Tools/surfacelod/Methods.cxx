@@ -4,6 +4,7 @@
 #include "vtkQuadricDecimation.h"
 
 // SurfaceLOD filters: add the include here and one line in the table below.
+#include "vtkTriangleCollapseHierarchy.h"
 
 #include <algorithm>
 #include <type_traits>
@@ -77,6 +78,18 @@ Method SurfaceLODMethod(const char* name, const char* description)
   return { name, description, HasMaximumError<Filter>::value, &CreateSurfaceLODFilter<Filter> };
 }
 
+// The hierarchy also shows a (real-valued) level: M_i(t) for --level i+t.
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateTriangleCollapseHierarchy(const MethodSettings& settings)
+{
+  if (settings.Level < 0)
+  {
+    return CreateSurfaceLODFilter<vtkTriangleCollapseHierarchy>(settings);
+  }
+  auto filter = vtkSmartPointer<vtkTriangleCollapseHierarchy>::New();
+  filter->SetContinuousLevel(settings.Level);
+  return filter;
+}
+
 vtkSmartPointer<vtkPolyDataAlgorithm> CreateVTKQuadricDecimation(const MethodSettings& settings)
 {
   auto filter = vtkSmartPointer<vtkQuadricDecimation>::New();
@@ -106,8 +119,9 @@ const std::vector<Method>& Methods()
       false, &CreateVTKQuadricDecimation },
     { "vtk-decimate-pro", "VTK's vtkDecimatePro with PreserveTopologyOn (vertex removal)",
       true, &CreateVTKDecimatePro },
-    // SurfaceLOD filters, one line each (and the header include above), e.g.:
-    // SurfaceLODMethod<vtkQuadricTriangleCollapse>("quadric-triangle-collapse", "..."),
+    // SurfaceLOD filters, one line each (and the header include above).
+    { "triangle-collapse-hierarchy", "Gieng et al. 1997: batches of triangle collapses on quadratic fits, "
+      "levels M0..Mn with smooth blending (also --level i+t)", false, &CreateTriangleCollapseHierarchy, true },
   };
   // clang-format on
   return methods;

@@ -18,6 +18,7 @@ struct MethodSettings
   bool HasMaximumError = false;
   double MaximumError = 0.0; // absolute distance, in the mesh's units
   vtkIdType InputTriangles = 0;
+  double Level = -1.0; // hierarchy level (i + t) instead of a target, for methods that have levels
 
   // The target as a reduction fraction (for filters that only take that).
   double ReductionFraction() const;
@@ -30,6 +31,7 @@ struct Method
   bool SupportsMaximumError;
   // A configured filter; the caller sets the input and calls Update().
   vtkSmartPointer<vtkPolyDataAlgorithm> (*Create)(const MethodSettings&);
+  bool SupportsLevel = false; // accepts --level (a level of a hierarchy) instead of a target
 };
 
 const std::vector<Method>& Methods();

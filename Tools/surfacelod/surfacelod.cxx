@@ -136,15 +136,20 @@ MethodSettings TargetSettings(const ParsedArguments& args, vtkIdType inputTriang
   settings.InputTriangles = inputTriangles;
   const bool byCount = args.Has("target-triangles");
   const bool byReduction = args.Has("target-reduction");
-  if (byCount && byReduction)
+  const bool byLevel = args.Has("level");
+  if (int(byCount) + int(byReduction) + int(byLevel) > 1)
   {
-    throw CliError(ExitUsage, "surfacelod " + args.Command + ": give --target-triangles or --target-reduction, not both");
+    throw CliError(ExitUsage, "surfacelod " + args.Command + ": give one of --target-triangles, --target-reduction, --level");
   }
-  if (!byCount && !byReduction && required)
+  if (!byCount && !byReduction && !byLevel && required)
   {
     throw CliError(ExitUsage, "surfacelod " + args.Command + ": give --target-triangles N or --target-reduction R");
   }
-  if (byCount)
+  if (byLevel)
+  {
+    settings.Level = args.GetReal("level", 0.0, 0.0, std::numeric_limits<double>::max());
+  }
+  else if (byCount)
   {
     settings.TargetTriangles = args.GetInteger("target-triangles", 0, 1, std::numeric_limits<long long>::max());
   }
@@ -222,6 +227,7 @@ CommandSpec SimplifySpec()
       { "target-triangles", "N", "number of triangles to keep" },
       { "target-reduction", "R", "fraction of the triangles to remove, 0..1 (0.9 keeps 10%)" },
       { "max-error", "E", "stop before the surface moves more than E (absolute, mesh units)" },
+      { "level", "L", "level i+t of a hierarchy method (triangle-collapse-hierarchy): M_i blended by t" },
       { "json", "", "print one JSON line: method, input_triangles, output_triangles, seconds, peak_rss_mb" } } };
 }
 
@@ -241,6 +247,10 @@ int Simplify(const ParsedArguments& args)
   if (args.Has("max-error") && !method->SupportsMaximumError)
   {
     throw CliError(ExitUsage, std::string("surfacelod simplify: method ") + method->Name + " does not support --max-error");
+  }
+  if (args.Has("level") && !method->SupportsLevel)
+  {
+    throw CliError(ExitUsage, std::string("surfacelod simplify: method ") + method->Name + " has no levels (--level)");
   }
   TargetSettings(args, 0, true, 0.0); // validate the options before reading a large file
   CheckWritablePath(outputPath);

@@ -1,0 +1,824 @@
+#include "slodCollapseHierarchy.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+namespace slod
+{
+namespace
+{
+constexpr Index Never = std::numeric_limits<Index>::max();
+constexpr Index MaximumFitPoints = 64;
+}
+
+void HierarchyMesh::Clear()
+{
+  this->Points.clear();
+  this->Triangles.clear();
+  this->PointGlobal.clear();
+  this->PointTarget.clear();
+  this->TriangleCollapseLevel.clear();
+  this->TriangleBatch.clear();
+  this->TriangleRole.clear();
+  this->TriangleOrigin.clear();
+  this->BlendT = 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Cycle removal (Fig. 3): a valence-3 interior vertex q makes its three triangles a cycle; swapping
+// the edge of one of them opposite q raises q's valence to four.
+void CollapseHierarchy::RemoveCyclesBySwapping(TriangleMesh& mesh) const
+{
+  EditableMesh em(mesh);
+  std::vector<Index> around, neighbors;
+  for (Index q = 0; q < em.NumberOfPoints(); ++q)
+  {
+    if (!em.IsVertexAlive(q) || em.VertexDegree(q) != 3 || em.IsBoundaryVertex(q))
+    {
+      continue;
+    }
+    em.TrianglesAround(&q, 1, around);
+    for (Index n : around)
+    {
+      const Index* tri = em.Triangle(n);
+      const int c = tri[0] == q ? 0 : (tri[1] == q ? 1 : 2);
+      const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
+      // The triangle across (x, y): it runs y -> x.
+      Index other = InvalidIndex, z = InvalidIndex;
+      em.ForEachTriangle(x, [&](Index m) {
+        const Index* o = em.Triangle(m);
+        for (int k = 0; k < 3; ++k)
+        {
+          if (m != n && o[k] == y && o[(k + 1) % 3] == x)
+          {
+            other = m;
+            z = o[(k + 2) % 3];
+          }
+        }
+      });
+      if (other == InvalidIndex || z == q || em.VertexDegree(x) < 5 || em.VertexDegree(y) < 5)
+      {
+        continue;
+      }
+      em.Neighbors(q, neighbors);
+      if (std::find(neighbors.begin(), neighbors.end(), z) != neighbors.end())
+      {
+        continue;
+      }
+      const Vec3 px = em.Point(x), py = em.Point(y), pq = em.Point(q), pz = em.Point(z);
+      const Vec3 reference = Cross(py - px, pq - px) + Cross(px - py, pz - py);
+      const Vec3 n1 = Cross(pz - px, pq - px), n2 = Cross(py - pz, pq - pz);
+      if (Dot(n1, reference) <= 0 || Dot(n2, reference) <= 0 || IsDegenerate(px, pz, pq) ||
+        IsDegenerate(pz, py, pq))
+      {
+        continue;
+      }
+      em.RemoveTriangle(n);
+      em.RemoveTriangle(other);
+      em.AddTriangle(x, z, q);
+      em.AddTriangle(z, y, q);
+      break;
+    }
+  }
+  // Same points (same ids), live triangles in id order.
+  TriangleMesh result;
+  result.Points = mesh.Points;
+  for (Index t = 0; t < em.NumberOfTriangles(); ++t)
+  {
+    if (em.IsTriangleAlive(t))
+    {
+      const Index* tri = em.Triangle(t);
+      result.AddTriangle(tri[0], tri[1], tri[2]);
+    }
+  }
+  mesh = std::move(result);
+}
+
+// ---------------------------------------------------------------------------------------------
+void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
+{
+  const EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  const Vec3 a = m.Point(tri[0]), b = m.Point(tri[1]), c = m.Point(tri[2]);
+  const Vec3 centroid = (1.0 / 3.0) * (a + b + c);
+  Vec3 areaVector = Cross(b - a, c - a);
+  e.Area = 0.5 * Norm(areaVector);
+  // Gather the stencil vertices (T's vertices and the stencil boundary).
+  if (++this->MarkEpoch == 0)
+  {
+    std::fill(this->VertexMark.begin(), this->VertexMark.end(), 0);
+    this->MarkEpoch = 1;
+  }
+  const std::uint32_t epoch = this->MarkEpoch;
+  this->StencilVertices.clear();
+  Vec3 stencilNormal{ 0, 0, 0 };
+  int degree = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    m.ForEachTriangle(tri[k], [&](Index x) {
+      ++degree;
+      const Index* q = m.Triangle(x);
+      stencilNormal = stencilNormal +
+        Cross(m.Point(q[1]) - m.Point(q[0]), m.Point(q[2]) - m.Point(q[0]));
+      for (int j = 0; j < 3; ++j)
+      {
+        if (this->VertexMark[q[j]] != epoch)
+        {
+          this->VertexMark[q[j]] = epoch;
+          this->StencilVertices.push_back(q[j]);
+        }
+      }
+    });
+  }
+  // Valence of the collapse point: the stencil boundary (interior case: sum of valences - 9).
+  e.Valence = std::max(0, degree - 9);
+  // A degenerate triangle has no plane of its own: use its stencil's.
+  if (IsDegenerate(a, b, c))
+  {
+    areaVector = stencilNormal;
+  }
+  LocalFrame frame;
+  if (!frame.Set(centroid, areaVector, b - a))
+  {
+    e.Normal = { 0, 0, 0 };
+    e.Point = centroid;
+    e.Kappa = 0;
+    e.Alpha = 0;
+    return;
+  }
+  e.Normal = frame.Normal;
+
+  // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
+  // collapses does not accumulate (section 7). Extended stencil when the system is singular.
+  // On coarse levels the ancestors number hundreds: a regular subsample of about
+  // MaximumFitPoints keeps the fit's cost bounded without biasing it.
+  Index total = 0;
+  for (Index v : this->StencilVertices)
+  {
+    total += this->AncestorCount[v];
+  }
+  const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
+  Index counter = 0;
+  auto addAncestors = [&](Index v) {
+    for (Index o = this->AncestorHead[v]; o != InvalidIndex; o = this->AncestorNext[o])
+    {
+      if (counter++ % stride == 0)
+      {
+        const Vec3 l = frame.ToLocal(this->Base.Point(o));
+        this->FitPoints.insert(this->FitPoints.end(), l.begin(), l.end());
+      }
+    }
+  };
+  this->FitPoints.clear();
+  for (Index v : this->StencilVertices)
+  {
+    addAncestors(v);
+  }
+  QuadraticPatch patch = this->Fitter.Fit(this->FitPoints);
+  if (patch.Degree < 6)
+  {
+    const size_t ring = this->StencilVertices.size();
+    for (size_t i = 0; i < ring; ++i)
+    {
+      m.ForEachTriangle(this->StencilVertices[i], [&](Index x) {
+        const Index* q = m.Triangle(x);
+        for (int j = 0; j < 3; ++j)
+        {
+          if (this->VertexMark[q[j]] != epoch)
+          {
+            this->VertexMark[q[j]] = epoch;
+            this->StencilVertices.push_back(q[j]);
+            addAncestors(q[j]);
+          }
+        }
+      });
+    }
+    const QuadraticPatch extended = this->Fitter.Fit(this->FitPoints);
+    if (extended.Degree >= patch.Degree)
+    {
+      patch = extended;
+    }
+  }
+  e.Kappa = EvaluateCurvature(patch, 0, 0).Absolute();
+  e.Point = frame.ToWorld(0, 0, patch.Evaluate(0, 0));
+  if (this->Parameters.ErrorWeight > 0)
+  {
+    Quadric q = this->Quadrics[tri[0]];
+    q += this->Quadrics[tri[1]];
+    q += this->Quadrics[tri[2]];
+    if (this->Parameters.QuadricCollapsePoint)
+    {
+      // Least quadric error nearest to the centroid: pseudo-inverse of A around c, dropping
+      // directions the planes do not constrain (flat: moves along the normal only; crease: onto
+      // the crease line; corner: onto the corner).
+      Eigen::Matrix3d A;
+      A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
+      const Eigen::Vector3d cc(centroid[0], centroid[1], centroid[2]);
+      const Eigen::Vector3d g = A * cc + Eigen::Vector3d(q.Bx, q.By, q.Bz);
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(A);
+      const Eigen::Vector3d lambda = eigen.eigenvalues();
+      const double top = std::max(std::abs(lambda[0]), std::max(std::abs(lambda[1]), std::abs(lambda[2])));
+      Eigen::Vector3d x = cc;
+      for (int i = 0; i < 3; ++i)
+      {
+        if (lambda[i] > 1e-3 * top && top > 0)
+        {
+          const Eigen::Vector3d u = eigen.eigenvectors().col(i);
+          x -= (u.dot(g) / lambda[i]) * u;
+        }
+      }
+      const Vec3 best{ x[0], x[1], x[2] };
+      const double reach = Norm(a - centroid) + Norm(b - centroid) + Norm(c - centroid);
+      if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && Norm(best - centroid) <= reach)
+      {
+        e.Point = best;
+      }
+      // When the optimum would fold the stencil, the cheapest valid alternative among the
+      // corners and edge midpoints (a triangle collapse can still go there). The link edges
+      // (opposite edges of the triangles holding exactly one of T's vertices) suffice for the
+      // star-shape test, without building the whole stencil.
+      auto starShaped = [&](const Vec3& point) {
+        bool ok = true;
+        for (int k = 0; k < 3 && ok; ++k)
+        {
+          m.ForEachTriangle(tri[k], [&](Index x) {
+            const Index* o = m.Triangle(x);
+            int members = 0, corner = 0;
+            for (int j = 0; j < 3; ++j)
+            {
+              if (o[j] == tri[0] || o[j] == tri[1] || o[j] == tri[2])
+              {
+                ++members;
+                corner = j;
+              }
+            }
+            if (members == 1)
+            {
+              const Vec3 u = m.Point(o[(corner + 1) % 3]) - point, w = m.Point(o[(corner + 2) % 3]) - point;
+              ok = ok && Dot(Cross(u, w), frame.Normal) > 1e-12 * (Dot(u, u) + Dot(w, w));
+            }
+          });
+        }
+        return ok;
+      };
+      if (!starShaped(e.Point))
+      {
+        const Vec3 options[6] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
+        double bestError = std::numeric_limits<double>::infinity();
+        for (const Vec3& o : options)
+        {
+          const double error = q.Evaluate(o);
+          if (error < bestError && starShaped(o) &&
+            m.CheckCollapse(tri, 3, o, this->MeshOptions) == CollapseStatus::Ok)
+          {
+            bestError = error;
+            e.Point = o;
+          }
+        }
+      }
+    }
+    e.Error = q.Evaluate(e.Point);
+  }
+  // alpha = 2 (cos A + cos B + cos C - 1) = 2 r / R.
+  double cosSum = 0;
+  const Vec3 corners[3] = { a, b, c };
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec3 u = corners[(k + 1) % 3] - corners[k], w = corners[(k + 2) % 3] - corners[k];
+    const double nu = Norm(u), nw = Norm(w);
+    cosSum += (nu > 0 && nw > 0) ? Dot(u, w) / (nu * nw) : 1.0;
+  }
+  e.Alpha = std::min(1.0, std::max(0.0, 2.0 * (cosSum - 1.0)));
+}
+
+double CollapseHierarchy::WeightOf(const Evaluation& e) const
+{
+  const CollapseHierarchyParameters& p = this->Parameters;
+  const double term = p.CurvatureWeight * (e.Kappa / this->KappaMax) + p.AngleWeight * e.Alpha +
+    p.ValenceWeight * (std::abs(e.Valence - 6) / this->Mv);
+  const double paper = e.Area * term / (this->WeightSum * this->MeanArea);
+  const double error = e.Error / (this->MeanArea * this->MeanArea);
+  return (1 - p.ErrorWeight) * paper + p.ErrorWeight * error;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The per-collapse flip guard bounds each turn; this bounds the accumulated one: no surviving
+// triangle may end up facing away from the M0 triangle it descends from.
+bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
+{
+  const EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  bool ok = true;
+  for (int k = 0; k < 3 && ok; ++k)
+  {
+    m.ForEachTriangle(tri[k], [&](Index x) {
+      const Index* o = m.Triangle(x);
+      int members = 0, corner = 0;
+      for (int j = 0; j < 3; ++j)
+      {
+        if (o[j] == tri[0] || o[j] == tri[1] || o[j] == tri[2])
+        {
+          ++members;
+          corner = j;
+        }
+      }
+      if (members == 1)
+      {
+        Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
+        q[corner] = p;
+        ok = ok && Dot(Cross(q[1] - q[0], q[2] - q[0]), this->Base.TriangleAreaVector(x)) > 0;
+      }
+    });
+  }
+  return ok;
+}
+
+void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
+{
+  EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  const Index vertices[3] = { tri[0], tri[1], tri[2] };
+  const Index kept = vertices[0];
+  const Index k = static_cast<Index>(this->Collapses.size());
+
+  HierarchyCollapse collapse;
+  for (int i = 0; i < 3; ++i)
+  {
+    collapse.Sources[i] = this->GlobalOf[vertices[i]];
+  }
+  collapse.Point = this->NumberOfVertices();
+  collapse.Level = level;
+  collapse.Triangle = t;
+  collapse.Weight = this->Weights[t];
+  this->GlobalPoints.insert(this->GlobalPoints.end(), p.begin(), p.end());
+
+  m.Collapse(vertices, 3, kept, p, &this->Record);
+  if (!this->Quadrics.empty())
+  {
+    this->Quadrics[kept] += this->Quadrics[vertices[1]];
+    this->Quadrics[kept] += this->Quadrics[vertices[2]];
+  }
+  this->Collapses.push_back(collapse);
+  this->GlobalOf[kept] = collapse.Point;
+
+  // Ancestors: the kept vertex now stands for the original points of all three.
+  for (int i = 1; i < 3; ++i)
+  {
+    const Index v = vertices[i];
+    if (this->AncestorHead[v] != InvalidIndex)
+    {
+      this->AncestorNext[this->AncestorTail[kept]] = this->AncestorHead[v];
+      this->AncestorTail[kept] = this->AncestorTail[v];
+      this->AncestorHead[v] = this->AncestorTail[v] = InvalidIndex;
+      this->AncestorCount[kept] += this->AncestorCount[v];
+      this->AncestorCount[v] = 0;
+    }
+  }
+
+  // Triangle versions: removed ones end, the ones around the moved vertex start anew.
+  for (Index r : this->Record.RemovedTriangles)
+  {
+    this->EntryDeath[this->EntryOf[r]] = k + 1;
+  }
+  m.ForEachTriangle(kept, [&](Index x) {
+    this->EntryDeath[this->EntryOf[x]] = k + 1;
+    const Index* q = m.Triangle(x);
+    this->EntryOf[x] = static_cast<Index>(this->EntryBirth.size());
+    for (int j = 0; j < 3; ++j)
+    {
+      this->EntryVertices.push_back(this->GlobalOf[q[j]]);
+    }
+    this->EntryBirth.push_back(k + 1);
+    this->EntryDeath.push_back(Never);
+    this->EntryTriangle.push_back(x);
+  });
+  this->TriangleCounts.push_back(m.NumberOfLiveTriangles());
+
+  // Flat record for exact vertex splits.
+  this->RecordKept.push_back(kept);
+  for (int i = 0; i < 3; ++i)
+  {
+    this->RecordVertices.push_back(vertices[i]);
+    const Vec3& old = this->Record.OldPositions[i];
+    this->RecordOldPositions.insert(this->RecordOldPositions.end(), old.begin(), old.end());
+  }
+  this->RecordRemoved.insert(this->RecordRemoved.end(), this->Record.RemovedTriangles.begin(),
+    this->Record.RemovedTriangles.end());
+  this->RecordRemovedStart.push_back(static_cast<Index>(this->RecordRemoved.size()));
+  this->RecordChangedTriangle.insert(this->RecordChangedTriangle.end(),
+    this->Record.ChangedTriangles.begin(), this->Record.ChangedTriangles.end());
+  this->RecordChangedCorner.insert(this->RecordChangedCorner.end(), this->Record.ChangedCorner.begin(),
+    this->Record.ChangedCorner.end());
+  this->RecordChangedFrom.insert(this->RecordChangedFrom.end(), this->Record.ChangedFrom.begin(),
+    this->Record.ChangedFrom.end());
+  this->RecordChangedStart.push_back(static_cast<Index>(this->RecordChangedTriangle.size()));
+}
+
+// ---------------------------------------------------------------------------------------------
+bool CollapseHierarchy::Build(
+  const TriangleMesh& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
+{
+  this->Parameters = parameters;
+  CollapseHierarchyParameters& p = this->Parameters;
+  p.CurvatureWeight = std::max(0.0, p.CurvatureWeight);
+  p.AngleWeight = std::max(0.0, p.AngleWeight);
+  p.ValenceWeight = std::max(0.0, p.ValenceWeight);
+  this->WeightSum = p.CurvatureWeight + p.AngleWeight + p.ValenceWeight;
+  if (!(this->WeightSum > 0))
+  {
+    p.CurvatureWeight = p.AngleWeight = p.ValenceWeight = 1.0 / 3.0;
+    this->WeightSum = 1;
+  }
+  p.ErrorWeight = std::min(1.0, std::max(0.0, p.ErrorWeight));
+  p.BatchFraction = std::min(1.0, std::max(1e-6, p.BatchFraction));
+
+  this->MeshOptions = CollapseOptions();
+  this->MeshOptions.MinimumNormalDot = p.MinimumNormalDot;
+  this->Rules = CollapsibleOptions();
+  this->Base = input;
+  if (p.RemoveCycles)
+  {
+    this->RemoveCyclesBySwapping(this->Base);
+  }
+  this->Mesh.Reset(this->Base);
+  const Index np = this->Base.NumberOfPoints();
+  const Index nt = this->Base.NumberOfTriangles();
+  this->GlobalPoints = this->Base.Points;
+  this->GlobalOf.resize(np);
+  std::iota(this->GlobalOf.begin(), this->GlobalOf.end(), 0);
+  this->AncestorHead = this->GlobalOf;
+  this->AncestorTail = this->GlobalOf;
+  this->AncestorNext.assign(np, InvalidIndex);
+  this->AncestorCount.assign(np, 1);
+  this->EntryVertices = this->Base.Triangles;
+  this->EntryBirth.assign(nt, 0);
+  this->EntryDeath.assign(nt, Never);
+  this->EntryTriangle.resize(nt);
+  std::iota(this->EntryTriangle.begin(), this->EntryTriangle.end(), 0);
+  this->EntryOf.resize(nt);
+  std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
+  this->Collapses.clear();
+  this->LevelStarts.assign(1, 0);
+  this->TriangleCounts.assign(1, nt);
+  this->RecordKept.clear();
+  this->RecordVertices.clear();
+  this->RecordOldPositions.clear();
+  this->RecordRemoved.clear();
+  this->RecordRemovedStart.assign(1, 0);
+  this->RecordChangedTriangle.clear();
+  this->RecordChangedCorner.clear();
+  this->RecordChangedFrom.clear();
+  this->RecordChangedStart.assign(1, 0);
+  this->VertexMark.assign(np, 0);
+  this->MarkEpoch = 0;
+  if (nt == 0)
+  {
+    return true;
+  }
+
+  this->Quadrics.clear();
+  if (p.ErrorWeight > 0)
+  {
+    this->Quadrics.assign(np, Quadric());
+    for (Index t = 0; t < nt; ++t)
+    {
+      const Index* tri = this->Base.Triangle(t);
+      const Vec3 a = this->Base.Point(tri[0]);
+      const Vec3 areaVector = this->Base.TriangleAreaVector(t);
+      const double area = 0.5 * Norm(areaVector);
+      if (area > 0)
+      {
+        const Quadric q = Quadric::FromPointNormal(a, Normalized(areaVector), area);
+        for (int k = 0; k < 3; ++k)
+        {
+          this->Quadrics[tri[k]] += q;
+        }
+      }
+    }
+  }
+  // Initial evaluation; the curvature and valence normalisers come from M0.
+  this->Evaluations.assign(nt, Evaluation());
+  this->Weights.assign(nt, 0.0);
+  double totalArea = 0, kappaMax = 0;
+  int valenceMax = 0;
+  for (Index t = 0; t < nt; ++t)
+  {
+    this->Evaluate(t, this->Evaluations[t]);
+    totalArea += this->Evaluations[t].Area;
+    kappaMax = std::max(kappaMax, this->Evaluations[t].Kappa);
+    valenceMax = std::max(valenceMax, std::abs(this->Evaluations[t].Valence - 6));
+    if (progress && (t & 4095) == 0 && !progress(0.1 * t / nt))
+    {
+      return false;
+    }
+  }
+  this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
+  this->KappaMax = kappaMax > 0 ? kappaMax : 1.0;
+  this->Mv = p.ValenceNormalizer > 0 ? p.ValenceNormalizer : std::max(1, valenceMax);
+  for (Index t = 0; t < nt; ++t)
+  {
+    this->Weights[t] = this->WeightOf(this->Evaluations[t]);
+  }
+
+  CollapseOptions& meshOptions = this->MeshOptions;
+  std::vector<std::pair<double, Index>> candidates;
+  std::vector<Index> batch, affected;
+  std::vector<int> stencilMark(nt, -1);
+  std::vector<std::uint32_t> affectedMark(nt, 0);
+  std::uint32_t affectedEpoch = 0;
+  const double maxWeight = p.MaximumWeight > 0 ? p.MaximumWeight : std::numeric_limits<double>::infinity();
+
+  for (int level = 0; level + 1 < p.MaximumNumberOfLevels; ++level)
+  {
+    const Index live = this->Mesh.NumberOfLiveTriangles();
+    if (live <= p.MinimumNumberOfTriangles)
+    {
+      break;
+    }
+    // Priority order of this level: live triangles by increasing weight (ties by id).
+    candidates.clear();
+    for (Index t = 0; t < nt; ++t)
+    {
+      if (this->Mesh.IsTriangleAlive(t) && this->Weights[t] <= maxWeight)
+      {
+        candidates.emplace_back(this->Weights[t], t);
+      }
+    }
+    Index wanted = std::max<Index>(1, static_cast<Index>(std::floor(p.BatchFraction * live)));
+    if (p.MinimumNumberOfTriangles > 0)
+    {
+      wanted = std::min<Index>(wanted, std::max<Index>(1, (live - p.MinimumNumberOfTriangles + 3) / 4));
+    }
+    CollapsibleOptions& rules = this->Rules;
+    rules = CollapsibleOptions();
+    // Search depth in the priority order (BatchSearchDepth x batch size; unlimited when 0).
+    const size_t depth = p.BatchSearchDepth > 0
+      ? static_cast<size_t>(std::ceil(p.BatchSearchDepth * wanted))
+      : std::numeric_limits<size_t>::max();
+    // Below a quarter of the batch the search goes on: levels must keep making progress.
+    const Index minimumBatch = std::max<Index>(1, wanted / 4);
+    auto select = [&]() {
+      batch.clear();
+      size_t sorted = 0;
+      while (static_cast<Index>(batch.size()) < wanted && sorted < candidates.size())
+      {
+        // Sort the next chunk of the priority order only (usually a few times the batch size).
+        const size_t chunk = std::min(candidates.size() - sorted, std::max<size_t>(8 * size_t(wanted), 1024));
+        if (!rules.AllowNewCycles)
+        {
+          std::nth_element(candidates.begin() + sorted, candidates.begin() + sorted + chunk - 1, candidates.end());
+          std::sort(candidates.begin() + sorted, candidates.begin() + sorted + chunk);
+        }
+        for (size_t i = sorted; i < sorted + chunk && static_cast<Index>(batch.size()) < wanted; ++i)
+        {
+          if (i >= depth && static_cast<Index>(batch.size()) >= minimumBatch)
+          {
+            sorted = candidates.size(); // deeper candidates would force expensive collapses
+            break;
+          }
+          const Index t = candidates[i].second;
+          // Stencils of one batch must be pairwise disjoint.
+          if (stencilMark[t] == level)
+          {
+            continue;
+          }
+          bool free = true;
+          const Index* tri = this->Mesh.Triangle(t);
+          for (int k = 0; k < 3 && free; ++k)
+          {
+            this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && stencilMark[x] != level; });
+          }
+          if (!free)
+          {
+            continue;
+          }
+          const Evaluation& e = this->Evaluations[t];
+          this->Stencils.Build(this->Mesh, t, this->Stencil);
+          if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) !=
+            CollapsibleStatus::Ok)
+          {
+            continue;
+          }
+          if (!this->KeepsOrientation(t, e.Point))
+          {
+            continue;
+          }
+          stencilMark[t] = level;
+          for (Index x : this->Stencil.Triangles)
+          {
+            stencilMark[x] = level;
+          }
+          batch.push_back(t);
+        }
+        sorted = std::min(candidates.size(), sorted + chunk);
+      }
+    };
+    select();
+    if (batch.empty() && p.RelaxWhenBlocked)
+    {
+      // The whole list is sorted by now (the first pass scanned it all).
+      rules.AllowNewCycles = true;
+      rules.StencilPlaneFallback = true;
+      select();
+    }
+    // Collapse the batch. Earlier collapses of the batch can only have changed valences on the
+    // shared stencil boundaries, so rule (2) is checked again.
+    const Index levelStart = this->NumberOfCollapses();
+    for (Index t : batch)
+    {
+      this->Stencils.Build(this->Mesh, t, this->Stencil);
+      bool cycle = false;
+      for (Index q : this->Stencil.OppositeVertices)
+      {
+        cycle = cycle || (!rules.AllowNewCycles && this->Mesh.VertexDegree(q) == 4);
+      }
+      if (cycle)
+      {
+        continue;
+      }
+      this->ApplyCollapse(t, this->Evaluations[t].Point, level);
+    }
+    if (this->NumberOfCollapses() == levelStart)
+    {
+      break;
+    }
+    this->LevelStarts.push_back(this->NumberOfCollapses());
+
+    // Recompute the weights of the triangles around the new vertices.
+    affected.clear();
+    ++affectedEpoch;
+    for (Index k = levelStart; k < this->NumberOfCollapses(); ++k)
+    {
+      this->Mesh.ForEachTriangle(this->RecordKept[k], [&](Index x) {
+        if (affectedMark[x] != affectedEpoch)
+        {
+          affectedMark[x] = affectedEpoch;
+          affected.push_back(x);
+        }
+      });
+    }
+    for (Index x : affected)
+    {
+      this->Evaluate(x, this->Evaluations[x]);
+      this->Weights[x] = this->WeightOf(this->Evaluations[x]);
+    }
+    if (progress)
+    {
+      const double done = double(nt - this->Mesh.NumberOfLiveTriangles()) / (0.95 * nt);
+      if (!progress(0.1 + 0.9 * std::min(1.0, done)))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+Index CollapseHierarchy::CollapsesForTriangleCount(Index target) const
+{
+  // TriangleCounts decreases with the number of collapses.
+  Index best = 0;
+  Index bestDiff = std::numeric_limits<Index>::max();
+  const auto it = std::lower_bound(this->TriangleCounts.begin(), this->TriangleCounts.end(), target,
+    [](Index count, Index value) { return count > value; });
+  const Index k = static_cast<Index>(it - this->TriangleCounts.begin());
+  for (Index c : { k - 1, k })
+  {
+    if (c >= 0 && c < static_cast<Index>(this->TriangleCounts.size()))
+    {
+      const Index diff = std::abs(this->TriangleCounts[c] - target);
+      if (diff < bestDiff)
+      {
+        best = c;
+        bestDiff = diff;
+      }
+    }
+  }
+  return best;
+}
+
+void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, HierarchyMesh& out) const
+{
+  out.Clear();
+  const Index ng = this->NumberOfVertices();
+  collapses = std::max<Index>(0, std::min(collapses, this->NumberOfCollapses()));
+  blendEnd = std::max(collapses, std::min(blendEnd, this->NumberOfCollapses()));
+  t = std::min(1.0, std::max(0.0, t));
+  out.BlendT = t;
+  this->ScratchMap.resize(ng, InvalidIndex);
+  this->ScratchTarget.resize(ng, InvalidIndex);
+  this->ScratchBatch.resize(ng, InvalidIndex);
+  for (Index k = collapses; k < blendEnd; ++k)
+  {
+    for (Index g : this->Collapses[k].Sources)
+    {
+      this->ScratchTarget[g] = this->Collapses[k].Point;
+      this->ScratchBatch[g] = k - collapses;
+    }
+  }
+  const Index entries = static_cast<Index>(this->EntryBirth.size());
+  for (Index e = 0; e < entries; ++e)
+  {
+    if (this->EntryBirth[e] > collapses || this->EntryDeath[e] <= collapses)
+    {
+      continue;
+    }
+    const Index* g = &this->EntryVertices[3 * size_t(e)];
+    Index batch = InvalidIndex;
+    int moving = 0;
+    for (int j = 0; j < 3; ++j)
+    {
+      Index& slot = this->ScratchMap[g[j]];
+      if (slot == InvalidIndex)
+      {
+        slot = static_cast<Index>(out.PointGlobal.size());
+        out.PointGlobal.push_back(g[j]);
+      }
+      out.Triangles.push_back(slot);
+      if (this->ScratchBatch[g[j]] != InvalidIndex)
+      {
+        batch = this->ScratchBatch[g[j]];
+        ++moving;
+      }
+    }
+    out.TriangleBatch.push_back(batch);
+    out.TriangleRole.push_back(moving == 3 ? 2 : (moving > 0 ? 1 : 0));
+    out.TriangleOrigin.push_back(this->EntryTriangle[e]);
+    out.TriangleCollapseLevel.push_back(
+      this->EntryDeath[e] == Never ? -1 : this->Collapses[this->EntryDeath[e] - 1].Level);
+  }
+  const size_t n = out.PointGlobal.size();
+  out.Points.resize(3 * n);
+  out.PointTarget.resize(n);
+  for (size_t i = 0; i < n; ++i)
+  {
+    const Index g = out.PointGlobal[i];
+    const double* a = &this->GlobalPoints[3 * size_t(g)];
+    const Index target = this->ScratchTarget[g];
+    out.PointTarget[i] = target;
+    if (target != InvalidIndex && t > 0)
+    {
+      const double* b = &this->GlobalPoints[3 * size_t(target)];
+      for (int j = 0; j < 3; ++j)
+      {
+        out.Points[3 * i + j] = t == 1.0 ? b[j] : a[j] + t * (b[j] - a[j]);
+      }
+    }
+    else
+    {
+      std::copy(a, a + 3, &out.Points[3 * i]);
+    }
+    this->ScratchMap[g] = InvalidIndex;
+  }
+  for (Index k = collapses; k < blendEnd; ++k)
+  {
+    for (Index g : this->Collapses[k].Sources)
+    {
+      this->ScratchTarget[g] = InvalidIndex;
+      this->ScratchBatch[g] = InvalidIndex;
+    }
+  }
+}
+
+void CollapseHierarchy::ExtractLevel(double level, HierarchyMesh& out) const
+{
+  const int n = this->NumberOfLevels() - 1;
+  if (!(level > 0))
+  {
+    level = 0;
+  }
+  if (level >= n)
+  {
+    this->Extract(this->LevelStarts[n], this->LevelStarts[n], 0.0, out);
+    return;
+  }
+  const int i = static_cast<int>(std::floor(level));
+  this->Extract(this->LevelStarts[i], this->LevelStarts[i + 1], level - i, out);
+}
+
+void CollapseHierarchy::Refine(EditableMesh& mesh, Index k) const
+{
+  CollapseRecord record;
+  record.VertexCount = 3;
+  record.Kept = this->RecordKept[k];
+  for (int i = 0; i < 3; ++i)
+  {
+    record.Vertices[i] = this->RecordVertices[3 * size_t(k) + i];
+    const double* o = &this->RecordOldPositions[9 * size_t(k) + 3 * i];
+    record.OldPositions[i] = { o[0], o[1], o[2] };
+  }
+  record.NewPosition = this->Vertex(this->Collapses[k].Point);
+  record.RemovedTriangles.assign(this->RecordRemoved.begin() + this->RecordRemovedStart[k],
+    this->RecordRemoved.begin() + this->RecordRemovedStart[k + 1]);
+  const Index c0 = this->RecordChangedStart[k], c1 = this->RecordChangedStart[k + 1];
+  record.ChangedTriangles.assign(this->RecordChangedTriangle.begin() + c0, this->RecordChangedTriangle.begin() + c1);
+  record.ChangedCorner.assign(this->RecordChangedCorner.begin() + c0, this->RecordChangedCorner.begin() + c1);
+  record.ChangedFrom.assign(this->RecordChangedFrom.begin() + c0, this->RecordChangedFrom.begin() + c1);
+  mesh.Undo(record);
+}
+} // namespace slod

@@ -1,0 +1,189 @@
+// SurfaceLOD core: smooth hierarchical surface triangulations by triangle collapse
+// (Gieng, Hamann, Joy, Schussman, Trotts, IEEE Visualization 1997).
+//
+// Build() reduces a closed or open manifold triangle mesh M0 by batches of triangle collapses:
+// every triangle T gets a least-squares quadratic height field fitted over T's plane to the
+// ancestral original points of its stencil (slodQuadraticFit), which gives the collapse point
+// c + f(0,0) n and the absolute curvature |k1| + |k2| at the centroid. Its weight is
+//   W(T) = A(T) (wk kappa(T) / max kappa + wa alpha(T) + wv |val(cP) - 6| / mv),
+// alpha(T) = 2 (sum cos(angles) - 1) (0 degenerate .. 1 equilateral). Each level takes triangles
+// in increasing weight order (a priority order rebuilt per level by partial sorting), keeps up to
+// BatchFraction of the live triangles that are collapsible (slodTriangleStencil) and have pairwise
+// disjoint stencils, collapses them together and refits the triangles around the new vertices.
+// This yields the levels M0 .. Mn.
+//
+// Representation (compact, reversible, fast to blend):
+//  - global vertices: the input points followed by one collapse point per collapse;
+//  - triangle lifetimes: every triangle version in global vertex ids with the collapse count at
+//    which it appears (Birth) and disappears (Death); the mesh after K collapses is the set of
+//    versions with Birth <= K < Death, and M_i = the mesh after LevelStart(i) collapses;
+//  - per collapse the EditableMesh record (flat), so Refine() splits the vertex exactly (Undo).
+// M_i(t) moves the vertices of level i's collapsing triangles linearly to their collapse points.
+#ifndef slodCollapseHierarchy_h
+#define slodCollapseHierarchy_h
+
+#include "slodEditableMesh.h"
+#include "slodQuadric.h"
+#include "slodQuadraticFit.h"
+#include "slodTriangleStencil.h"
+
+#include <functional>
+#include <limits>
+#include <vector>
+
+namespace slod
+{
+struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
+{
+  // W(T) = A(T) (CurvatureWeight kappa + AngleWeight alpha + ValenceWeight V); normalised to sum 1.
+  double CurvatureWeight = 1.0 / 3.0;
+  double AngleWeight = 1.0 / 3.0;
+  double ValenceWeight = 1.0 / 3.0;
+  // Blend with a geometric error term (not in the paper): W = (1 - e) W_paper + e E(T), where E(T)
+  // is the area-weighted squared distance of the collapse point to the planes of the original
+  // triangles merged into T's vertices (quadric error), divided by the squared mean triangle area.
+  // 0 gives the paper's weights exactly.
+  double ErrorWeight = 0.0;
+  // Collapse point: the paper's c + f(0,0) n on the fitted quadratic (false), or the point of
+  // least quadric error (true; needs ErrorWeight > 0): the quadric's minimum when it is well
+  // conditioned and near T (creases, corners), else the minimum on the line c + s n.
+  bool QuadricCollapsePoint = false;
+  // Adaptive threshold of a batch: when > 0, a level looks no deeper into the priority order than
+  // this factor times the batch size, so that cheap triangles blocked by the rules do not force
+  // expensive ones into the batch (a level still takes at least a quarter of its batch size, so
+  // that levels keep making progress). 0: unlimited (paper).
+  double BatchSearchDepth = 0.0;
+  // Fraction of the live triangles collapsed per level (at most).
+  double BatchFraction = 0.025;
+  // Only triangles with W(T) / (mean input triangle area) below this are collapsed (0: no limit).
+  double MaximumWeight = 0.0;
+  // m_v of V(T) = |val(cP) - 6| / m_v; 0: the largest |val - 6| over the input's triangles.
+  double ValenceNormalizer = 0.0;
+  // Swap edges to remove stencil cycles (valence-3 vertices) from M0 before reducing (Fig. 3).
+  bool RemoveCycles = false;
+  // When no triangle passes the paper's rules, retry the level with rule (2) relaxed (a valence-3
+  // vertex may appear) and rule (3) also tried in the stencil's mean plane, instead of stopping.
+  bool RelaxWhenBlocked = false;
+  int MaximumNumberOfLevels = 1000;
+  // Stop once a level has at most this many triangles (0: reduce as far as possible).
+  Index MinimumNumberOfTriangles = 0;
+  // Flip guard of the collapse (EditableMesh::CheckCollapse MinimumNormalDot).
+  double MinimumNormalDot = 0.2;
+};
+
+struct SURFACELODFILTERS_EXPORT HierarchyCollapse
+{
+  Index Sources[3];   // global ids of the collapsed triangle's vertices
+  Index Point;        // global id of the collapse point
+  int Level;          // M_Level -> M_Level+1
+  Index Triangle;     // the triangle's id in M0 numbering
+  double Weight;      // W(T) / mean input area when it was selected
+};
+
+// A mesh of the hierarchy, ready to hand to VTK.
+struct SURFACELODFILTERS_EXPORT HierarchyMesh
+{
+  std::vector<double> Points;        // xyz
+  std::vector<Index> Triangles;      // 3 per triangle, output point ids
+  std::vector<Index> PointGlobal;    // global vertex of each output point
+  std::vector<Index> PointTarget;    // global collapse point it moves to (blend), or -1
+  std::vector<int> TriangleCollapseLevel; // level at which this triangle disappears, -1 never
+  std::vector<Index> TriangleBatch;  // collapse (index within the blended batch) of the stencil, -1
+  std::vector<unsigned char> TriangleRole; // 2 collapsing triangle, 1 its stencil, 0 other
+  std::vector<Index> TriangleOrigin; // the M0 triangle this one descends from (same slot)
+  double BlendT = 0;
+  void Clear();
+};
+
+class SURFACELODFILTERS_EXPORT CollapseHierarchy
+{
+public:
+  // Progress in [0,1]; return false to abort (Build then returns false).
+  using ProgressFunction = std::function<bool(double)>;
+
+  bool Build(const TriangleMesh& mesh, const CollapseHierarchyParameters& parameters,
+    const ProgressFunction& progress = ProgressFunction());
+
+  // Meshes M0..Mn: NumberOfLevels() = n + 1.
+  int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
+  Index NumberOfCollapses() const { return static_cast<Index>(this->Collapses.size()); }
+  Index LevelStart(int level) const { return this->LevelStarts[level]; }
+  Index NumberOfTrianglesAfter(Index collapses) const { return this->TriangleCounts[collapses]; }
+  Index LevelTriangleCount(int level) const { return this->TriangleCounts[this->LevelStarts[level]]; }
+  // Number of collapses whose result has the triangle count closest to target (ties: more triangles).
+  Index CollapsesForTriangleCount(Index target) const;
+  const HierarchyCollapse& GetCollapse(Index k) const { return this->Collapses[k]; }
+  // Level whose batch contains collapse k.
+  int LevelOfCollapse(Index k) const { return this->Collapses[k].Level; }
+
+  Index NumberOfVertices() const { return static_cast<Index>(this->GlobalPoints.size() / 3); }
+  Vec3 Vertex(Index g) const
+  {
+    const double* p = &this->GlobalPoints[3 * size_t(g)];
+    return { p[0], p[1], p[2] };
+  }
+  // M0 (the input, or the input after cycle-removing swaps).
+  const TriangleMesh& BaseMesh() const { return this->Base; }
+  double MaximumCurvature() const { return this->KappaMax; }
+  double ValenceNormalizer() const { return this->Mv; }
+
+  // The mesh after `collapses` collapses, with the collapses [collapses, blendEnd) partially
+  // applied with parameter t in [0,1] (their triangles' vertices moved toward the collapse point).
+  void Extract(Index collapses, Index blendEnd, double t, HierarchyMesh& out) const;
+  // M_i(t) for level = i + t (clamped to [0, n]); M_n for level >= n.
+  void ExtractLevel(double level, HierarchyMesh& out) const;
+
+  // Vertex splits: the coarsest mesh as an EditableMesh (M0 numbering), and the undo of
+  // collapse k (collapses must be refined newest first).
+  const EditableMesh& CoarsestMesh() const { return this->Mesh; }
+  void Refine(EditableMesh& mesh, Index k) const;
+
+private:
+  struct Evaluation
+  {
+    double Kappa = 0, Alpha = 0, Area = 0, Error = 0;
+    int Valence = 6;
+    Vec3 Point{ 0, 0, 0 }, Normal{ 0, 0, 1 };
+  };
+  void Evaluate(Index t, Evaluation& e);
+  double WeightOf(const Evaluation& e) const;
+  void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
+  void ApplyCollapse(Index t, const Vec3& p, int level);
+  bool KeepsOrientation(Index t, const Vec3& p) const;
+
+  CollapseHierarchyParameters Parameters;
+  TriangleMesh Base;
+  EditableMesh Mesh;
+  std::vector<double> GlobalPoints;
+  std::vector<Index> GlobalOf;                  // editable vertex -> current global id
+  std::vector<Index> AncestorHead, AncestorTail, AncestorNext, AncestorCount; // original points per vertex
+  std::vector<Index> EntryVertices, EntryBirth, EntryDeath, EntryOf, EntryTriangle;
+  std::vector<HierarchyCollapse> Collapses;
+  std::vector<Index> LevelStarts, TriangleCounts;
+  // Flat EditableMesh collapse records.
+  std::vector<Index> RecordKept, RecordVertices, RecordRemovedStart, RecordRemoved;
+  std::vector<Index> RecordChangedStart, RecordChangedTriangle, RecordChangedFrom;
+  std::vector<unsigned char> RecordChangedCorner;
+  std::vector<double> RecordOldPositions;
+
+  std::vector<Evaluation> Evaluations;
+  std::vector<Quadric> Quadrics; // per editable vertex: planes of its original triangles
+  std::vector<double> Weights;
+  double KappaMax = 1, Mv = 1, MeanArea = 1, WeightSum = 1;
+
+  // Scratch.
+  QuadraticFitter Fitter;
+  StencilBuilder Stencils;
+  TriangleStencil Stencil;
+  CollapseRecord Record;
+  CollapseOptions MeshOptions;
+  CollapsibleOptions Rules;
+  std::vector<double> FitPoints;
+  std::vector<Index> StencilVertices;
+  std::vector<std::uint32_t> VertexMark;
+  std::uint32_t MarkEpoch = 0;
+  mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;
+};
+} // namespace slod
+
+#endif

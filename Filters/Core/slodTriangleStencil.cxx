@@ -1,0 +1,275 @@
+#include "slodTriangleStencil.h"
+
+#include <algorithm>
+
+namespace slod
+{
+void TriangleStencil::Clear()
+{
+  this->Triangle = InvalidIndex;
+  this->Triangles.clear();
+  this->Neighbors.clear();
+  this->OppositeVertices.clear();
+  this->BoundaryPolygon.clear();
+  this->Connected = this->Cyclic = this->Complete = false;
+}
+
+const char* ToString(CollapsibleStatus status)
+{
+  switch (status)
+  {
+    case CollapsibleStatus::Ok: return "collapsible";
+    case CollapsibleStatus::DeadTriangle: return "dead triangle";
+    case CollapsibleStatus::IncompleteStencil: return "incomplete stencil";
+    case CollapsibleStatus::CyclicStencil: return "cyclic stencil";
+    case CollapsibleStatus::CreatesCycle: return "collapse would create a cycle";
+    case CollapsibleStatus::NotStarShaped: return "stencil polygon not star-shaped";
+    case CollapsibleStatus::MeshCheckFailed: return "mesh check failed";
+  }
+  return "unknown";
+}
+
+namespace
+{
+inline int SharedVertices(const Index* a, const Index* b)
+{
+  int n = 0;
+  for (int i = 0; i < 3; ++i)
+  {
+    n += (a[i] == b[0] || a[i] == b[1] || a[i] == b[2]) ? 1 : 0;
+  }
+  return n;
+}
+} // namespace
+
+void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s)
+{
+  s.Clear();
+  s.Triangle = t;
+  if (!mesh.IsTriangleAlive(t))
+  {
+    return;
+  }
+  const Index* tri = mesh.Triangle(t);
+  std::copy(tri, tri + 3, s.Vertices);
+  for (int k = 0; k < 3; ++k)
+  {
+    mesh.ForEachTriangle(tri[k], [&](Index x) {
+      if (x != t && std::find(s.Triangles.begin(), s.Triangles.end(), x) == s.Triangles.end())
+      {
+        s.Triangles.push_back(x);
+      }
+    });
+  }
+  const size_t n = s.Triangles.size();
+  for (Index x : s.Triangles)
+  {
+    const Index* q = mesh.Triangle(x);
+    if (SharedVertices(q, tri) == 2)
+    {
+      s.Neighbors.push_back(x);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (q[k] != tri[0] && q[k] != tri[1] && q[k] != tri[2])
+        {
+          s.OppositeVertices.push_back(q[k]);
+        }
+      }
+    }
+  }
+  if (n == 0 || n > 64)
+  {
+    // Isolated triangle, or a neighbourhood too irregular to collapse (valence > ~60).
+    return;
+  }
+
+  // Edge adjacency inside the stencil as bit masks: connectivity and 3-cycles.
+  this->Adjacency.assign(n, 0ull);
+  for (size_t i = 0; i < n; ++i)
+  {
+    for (size_t j = i + 1; j < n; ++j)
+    {
+      if (SharedVertices(mesh.Triangle(s.Triangles[i]), mesh.Triangle(s.Triangles[j])) >= 2)
+      {
+        this->Adjacency[i] |= 1ull << j;
+        this->Adjacency[j] |= 1ull << i;
+      }
+    }
+  }
+  unsigned long long reached = 1ull, frontier = 1ull;
+  while (frontier)
+  {
+    unsigned long long next = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+      if (frontier & (1ull << i))
+      {
+        next |= this->Adjacency[i];
+      }
+    }
+    frontier = next & ~reached;
+    reached |= next;
+  }
+  const unsigned long long all = n == 64 ? ~0ull : ((1ull << n) - 1);
+  s.Connected = reached == all;
+  for (size_t i = 0; i < n && !s.Cyclic; ++i)
+  {
+    for (size_t j = i + 1; j < n; ++j)
+    {
+      if ((this->Adjacency[i] & (1ull << j)) && (this->Adjacency[i] & this->Adjacency[j]))
+      {
+        s.Cyclic = true;
+        break;
+      }
+    }
+  }
+
+  // Boundary of the region S u {T}: directed edges whose reverse is not in the region.
+  this->EdgeFrom.clear();
+  this->EdgeTo.clear();
+  auto addEdges = [&](Index x) {
+    const Index* q = mesh.Triangle(x);
+    for (int k = 0; k < 3; ++k)
+    {
+      this->EdgeFrom.push_back(q[k]);
+      this->EdgeTo.push_back(q[(k + 1) % 3]);
+    }
+  };
+  addEdges(t);
+  for (Index x : s.Triangles)
+  {
+    addEdges(x);
+  }
+  const size_t m = this->EdgeFrom.size();
+  this->EdgeBoundary.assign(m, 1);
+  for (size_t i = 0; i < m; ++i)
+  {
+    for (size_t j = i + 1; j < m; ++j)
+    {
+      if (this->EdgeFrom[i] == this->EdgeTo[j] && this->EdgeTo[i] == this->EdgeFrom[j])
+      {
+        this->EdgeBoundary[i] = this->EdgeBoundary[j] = 0;
+      }
+    }
+  }
+  size_t boundaryCount = 0, first = m;
+  bool touchesT = false;
+  for (size_t i = 0; i < m; ++i)
+  {
+    if (this->EdgeBoundary[i])
+    {
+      ++boundaryCount;
+      first = std::min(first, i);
+      for (int k = 0; k < 3; ++k)
+      {
+        touchesT = touchesT || this->EdgeFrom[i] == tri[k] || this->EdgeTo[i] == tri[k];
+      }
+    }
+  }
+  if (boundaryCount < 3)
+  {
+    return; // closed region (the whole component) or degenerate
+  }
+  // Walk the boundary: it must be one simple loop.
+  Index v = this->EdgeFrom[first];
+  const Index start = v;
+  bool simple = true;
+  for (size_t step = 0; step < boundaryCount; ++step)
+  {
+    if (std::find(s.BoundaryPolygon.begin(), s.BoundaryPolygon.end(), v) != s.BoundaryPolygon.end())
+    {
+      simple = false;
+      break;
+    }
+    s.BoundaryPolygon.push_back(v);
+    size_t found = m;
+    for (size_t i = 0; i < m; ++i)
+    {
+      if (this->EdgeBoundary[i] && this->EdgeFrom[i] == v)
+      {
+        if (found != m)
+        {
+          simple = false; // two boundary edges leave v: pinched region
+        }
+        found = i;
+      }
+    }
+    if (found == m || !simple)
+    {
+      simple = false;
+      break;
+    }
+    v = this->EdgeTo[found];
+  }
+  simple = simple && v == start && s.BoundaryPolygon.size() == boundaryCount;
+  if (!simple)
+  {
+    s.BoundaryPolygon.clear();
+  }
+  s.Complete = s.Connected && !s.Cyclic && simple && !touchesT;
+}
+
+CollapsibleStatus StencilBuilder::CheckCollapsible(const EditableMesh& mesh, const TriangleStencil& s,
+  const Vec3& p, const Vec3& normal, const CollapseOptions* meshOptions, const CollapsibleOptions& options)
+{
+  if (s.Triangle == InvalidIndex || !mesh.IsTriangleAlive(s.Triangle))
+  {
+    return CollapsibleStatus::DeadTriangle;
+  }
+  if (s.Cyclic)
+  {
+    return CollapsibleStatus::CyclicStencil;
+  }
+  if (!s.Complete || s.Neighbors.size() != 3)
+  {
+    return CollapsibleStatus::IncompleteStencil;
+  }
+  for (Index q : s.OppositeVertices)
+  {
+    if (!options.AllowNewCycles && mesh.VertexDegree(q) == 4)
+    {
+      return CollapsibleStatus::CreatesCycle;
+    }
+  }
+  // Star-shaped with respect to p seen along the normal: every boundary edge must have the
+  // projection of p strictly on its left, i.e. every new triangle (p, x, y) keeps T's orientation.
+  const size_t n = s.BoundaryPolygon.size();
+  auto starShaped = [&](const Vec3& direction) {
+    for (size_t i = 0; i < n; ++i)
+    {
+      const Vec3 x = mesh.Point(s.BoundaryPolygon[i]) - p;
+      const Vec3 y = mesh.Point(s.BoundaryPolygon[(i + 1) % n]) - p;
+      const double area = Dot(Cross(x, y), direction);
+      if (!(area > 1e-12 * (Dot(x, x) + Dot(y, y))))
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  if (!starShaped(normal))
+  {
+    bool ok = false;
+    if (options.StencilPlaneFallback)
+    {
+      Vec3 mean = mesh.TriangleNormal(s.Triangle);
+      mean = mesh.TriangleArea(s.Triangle) * mean;
+      for (Index x : s.Triangles)
+      {
+        mean = mean + mesh.TriangleArea(x) * mesh.TriangleNormal(x);
+      }
+      ok = Norm(mean) > 0 && starShaped(Normalized(mean));
+    }
+    if (!ok)
+    {
+      return CollapsibleStatus::NotStarShaped;
+    }
+  }
+  if (meshOptions &&
+    mesh.CheckCollapse(s.Vertices, 3, p, *meshOptions) != CollapseStatus::Ok)
+  {
+    return CollapsibleStatus::MeshCheckFailed;
+  }
+  return CollapsibleStatus::Ok;
+}
+} // namespace slod

@@ -1,0 +1,77 @@
+// SurfaceLOD shared core: stencils of triangles and the triangle-collapse rules of
+// Gieng, Hamann, Joy, Schussman, Trotts, "Smooth hierarchical surface triangulations" (1997).
+//
+// The stencil S_T of a triangle T is the set of the other triangles sharing a vertex with T.
+//  - connected: the stencil triangles are connected through shared edges;
+//  - cyclic: three stencil triangles are pairwise edge neighbours (a vertex of valence three);
+//  - complete: connected, acyclic, and the boundary polygon of S_T u {T} is one simple closed
+//    polygon that contains no vertex of T (so T is interior and its neighbourhood is a disc).
+// T is collapsible when (1) its stencil is complete, (2) no opposite vertex of its three edge
+// neighbours has valence four (collapsing would leave a valence-three vertex, i.e. a new cycle),
+// and (3) the boundary polygon projected onto T's plane is star-shaped with respect to the point
+// the triangle collapses to (then the fan of new triangles cannot fold).
+#ifndef slodTriangleStencil_h
+#define slodTriangleStencil_h
+
+#include "slodEditableMesh.h"
+
+#include <vector>
+
+namespace slod
+{
+struct SURFACELODFILTERS_EXPORT TriangleStencil
+{
+  Index Triangle = InvalidIndex;
+  Index Vertices[3] = { InvalidIndex, InvalidIndex, InvalidIndex };
+  std::vector<Index> Triangles;        // stencil triangles (T excluded)
+  std::vector<Index> Neighbors;        // the stencil triangles sharing an edge with T
+  std::vector<Index> OppositeVertices; // vertex of each neighbour not in T
+  std::vector<Index> BoundaryPolygon;  // ordered like T (counter-clockwise), when it is one loop
+  bool Connected = false;
+  bool Cyclic = false;
+  bool Complete = false;
+  void Clear();
+};
+
+enum class CollapsibleStatus
+{
+  Ok,
+  DeadTriangle,
+  IncompleteStencil, // disconnected, on the mesh boundary, or the polygon touches T
+  CyclicStencil,
+  CreatesCycle,      // an opposite vertex has valence four
+  NotStarShaped,
+  MeshCheckFailed    // EditableMesh::CheckCollapse refused (link condition, flip...)
+};
+SURFACELODFILTERS_EXPORT const char* ToString(CollapsibleStatus status);
+
+// Relaxations of the paper's rules (both off = the paper).
+struct SURFACELODFILTERS_EXPORT CollapsibleOptions
+{
+  // Skip rule (2): allow collapses that leave a valence-three vertex.
+  bool AllowNewCycles = false;
+  // Rule (3) also passes when the polygon is star-shaped in the plane of the stencil's mean
+  // normal (T's own plane can be tilted against its neighbourhood on coarse meshes).
+  bool StencilPlaneFallback = false;
+};
+
+// Builds the stencil of live triangle t and classifies it. Scratch vectors are reused.
+class SURFACELODFILTERS_EXPORT StencilBuilder
+{
+public:
+  void Build(const EditableMesh& mesh, Index t, TriangleStencil& stencil);
+
+  // Rules (1)-(3) for the stencil (built by Build) and collapse point p; `normal` is T's plane
+  // normal (unit). When meshOptions is given, EditableMesh::CheckCollapse is also consulted.
+  CollapsibleStatus CheckCollapsible(const EditableMesh& mesh, const TriangleStencil& stencil,
+    const Vec3& p, const Vec3& normal, const CollapseOptions* meshOptions = nullptr,
+    const CollapsibleOptions& options = CollapsibleOptions());
+
+private:
+  std::vector<Index> EdgeFrom, EdgeTo;
+  std::vector<unsigned char> EdgeBoundary;
+  std::vector<unsigned long long> Adjacency;
+};
+} // namespace slod
+
+#endif

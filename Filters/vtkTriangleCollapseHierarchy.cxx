@@ -1,0 +1,371 @@
+#include "vtkTriangleCollapseHierarchy.h"
+
+#include "slodCollapseHierarchy.h"
+#include "slodInputPreparation.h"
+#include "slodPointAttributes.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+vtkStandardNewMacro(vtkTriangleCollapseHierarchy);
+
+struct vtkTriangleCollapseHierarchy::Internals
+{
+  // The cached hierarchy and what it was built from.
+  bool Valid = false;
+  vtkPolyData* Input = nullptr;
+  vtkMTimeType InputTime = 0;
+  slod::CollapseHierarchyParameters Parameters;
+  int PointDataType = VTK_FLOAT;
+
+  slod::CollapseHierarchy Hierarchy;
+  slod::PointAttributes Attributes; // one row per global vertex
+  vtkSmartPointer<vtkMultiBlockDataSet> Levels;
+  slod::HierarchyMesh Scratch;
+  std::vector<slod::Index> Rows;
+
+  static bool Same(const slod::CollapseHierarchyParameters& a, const slod::CollapseHierarchyParameters& b)
+  {
+    return a.CurvatureWeight == b.CurvatureWeight && a.AngleWeight == b.AngleWeight &&
+      a.ValenceWeight == b.ValenceWeight && a.BatchFraction == b.BatchFraction &&
+      a.MaximumWeight == b.MaximumWeight && a.ValenceNormalizer == b.ValenceNormalizer &&
+      a.RemoveCycles == b.RemoveCycles && a.MaximumNumberOfLevels == b.MaximumNumberOfLevels &&
+      a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.BatchSearchDepth == b.BatchSearchDepth &&
+      a.MinimumNumberOfTriangles == b.MinimumNumberOfTriangles && a.MinimumNormalDot == b.MinimumNormalDot &&
+      a.ErrorWeight == b.ErrorWeight && a.QuadricCollapsePoint == b.QuadricCollapsePoint;
+  }
+
+  // Hierarchy mesh -> polydata with cell arrays and interpolated point data.
+  void ToPolyData(const slod::HierarchyMesh& m, double shownLevel, vtkPolyData* out)
+  {
+    const vtkIdType np = static_cast<vtkIdType>(m.PointGlobal.size());
+    const vtkIdType nt = static_cast<vtkIdType>(m.Triangles.size() / 3);
+    vtkNew<vtkPoints> points;
+    points->SetDataType(this->PointDataType);
+    points->SetNumberOfPoints(np);
+    if (this->PointDataType == VTK_DOUBLE)
+    {
+      double* dst = static_cast<vtkDoubleArray*>(points->GetData())->GetPointer(0);
+      std::memcpy(dst, m.Points.data(), sizeof(double) * m.Points.size());
+    }
+    else
+    {
+      float* dst = static_cast<vtkFloatArray*>(points->GetData())->GetPointer(0);
+      for (size_t i = 0; i < m.Points.size(); ++i)
+      {
+        dst[i] = static_cast<float>(m.Points[i]);
+      }
+    }
+    vtkNew<vtkIdTypeArray> offsets, connectivity;
+    offsets->SetNumberOfValues(nt + 1);
+    connectivity->SetNumberOfValues(3 * nt);
+    vtkIdType* off = offsets->GetPointer(0);
+    vtkIdType* con = connectivity->GetPointer(0);
+    for (vtkIdType i = 0; i <= nt; ++i)
+    {
+      off[i] = 3 * i;
+    }
+    for (vtkIdType i = 0; i < 3 * nt; ++i)
+    {
+      con[i] = m.Triangles[i];
+    }
+    vtkNew<vtkCellArray> polys;
+    polys->SetData(offsets, connectivity);
+    out->Initialize();
+    out->SetPoints(points);
+    out->SetPolys(polys);
+
+    vtkNew<vtkIntArray> level;
+    level->SetName("CollapseLevel");
+    level->SetNumberOfValues(nt);
+    vtkNew<vtkIntArray> batch;
+    batch->SetName("CollapseBatch");
+    batch->SetNumberOfValues(nt);
+    // Int, not unsigned char: VTK mappers would take unsigned char values as colours.
+    vtkNew<vtkIntArray> role;
+    role->SetName("CollapseRole");
+    role->SetNumberOfValues(nt);
+    for (vtkIdType i = 0; i < nt; ++i)
+    {
+      level->SetValue(i, m.TriangleCollapseLevel[i]);
+      batch->SetValue(i, m.TriangleBatch[i]);
+      role->SetValue(i, m.TriangleRole[i]);
+    }
+    out->GetCellData()->AddArray(level);
+    out->GetCellData()->AddArray(batch);
+    out->GetCellData()->AddArray(role);
+    vtkNew<vtkDoubleArray> shown;
+    shown->SetName("HierarchyLevel");
+    shown->SetNumberOfValues(1);
+    shown->SetValue(0, shownLevel);
+    out->GetFieldData()->AddArray(shown);
+
+    if (!this->Attributes.Empty())
+    {
+      // Rows of the points, then the rows of the blend targets, interpolated and cut off.
+      this->Rows.assign(m.PointGlobal.begin(), m.PointGlobal.end());
+      const bool blending = m.BlendT > 0;
+      if (blending)
+      {
+        for (vtkIdType i = 0; i < np; ++i)
+        {
+          if (m.PointTarget[i] != slod::InvalidIndex)
+          {
+            this->Rows.push_back(m.PointTarget[i]);
+          }
+        }
+      }
+      vtkPointData* pd = out->GetPointData();
+      this->Attributes.Store(pd, this->Rows);
+      if (blending && static_cast<vtkIdType>(this->Rows.size()) > np)
+      {
+        vtkIdType extra = np;
+        for (vtkIdType i = 0; i < np; ++i)
+        {
+          if (m.PointTarget[i] == slod::InvalidIndex)
+          {
+            continue;
+          }
+          for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+          {
+            vtkDataArray* array = pd->GetArray(a);
+            if (array)
+            {
+              array->InterpolateTuple(i, i, array, extra, array, m.BlendT);
+            }
+          }
+          ++extra;
+        }
+        for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+        {
+          if (vtkAbstractArray* array = pd->GetAbstractArray(a))
+          {
+            array->SetNumberOfTuples(np);
+          }
+        }
+      }
+    }
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkTriangleCollapseHierarchy::vtkTriangleCollapseHierarchy()
+  : Internal(new Internals)
+{
+  this->SetNumberOfOutputPorts(2);
+}
+
+vtkTriangleCollapseHierarchy::~vtkTriangleCollapseHierarchy() = default;
+
+int vtkTriangleCollapseHierarchy::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkMultiBlockDataSet");
+    return 1;
+  }
+  return this->Superclass::FillOutputPortInformation(port, info);
+}
+
+vtkMultiBlockDataSet* vtkTriangleCollapseHierarchy::GetLevelsOutput()
+{
+  return vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1));
+}
+
+int vtkTriangleCollapseHierarchy::GetNumberOfLevels() const
+{
+  return this->Internal->Valid ? this->Internal->Hierarchy.NumberOfLevels() : 0;
+}
+
+vtkIdType vtkTriangleCollapseHierarchy::GetLevelNumberOfTriangles(int level) const
+{
+  if (!this->Internal->Valid || level < 0 || level >= this->Internal->Hierarchy.NumberOfLevels())
+  {
+    return 0;
+  }
+  return this->Internal->Hierarchy.LevelTriangleCount(level);
+}
+
+vtkIdType vtkTriangleCollapseHierarchy::GetNumberOfCollapses() const
+{
+  return this->Internal->Valid ? this->Internal->Hierarchy.NumberOfCollapses() : 0;
+}
+
+//------------------------------------------------------------------------------
+int vtkTriangleCollapseHierarchy::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkMultiBlockDataSet* levels = vtkMultiBlockDataSet::GetData(outputVector, 1);
+  Internals& in = *this->Internal;
+  if (!input || !output)
+  {
+    return 1;
+  }
+
+  slod::CollapseHierarchyParameters parameters;
+  parameters.CurvatureWeight = this->CurvatureWeight;
+  parameters.AngleWeight = this->AngleWeight;
+  parameters.ValenceWeight = this->ValenceWeight;
+  parameters.BatchFraction = this->BatchFraction;
+  parameters.MaximumWeight = this->MaximumWeight;
+  parameters.ValenceNormalizer = this->ValenceNormalizer;
+  parameters.RemoveCycles = this->RemoveCycles;
+  parameters.MaximumNumberOfLevels = this->MaximumNumberOfLevels;
+  parameters.MinimumNumberOfTriangles = static_cast<slod::Index>(this->MinimumNumberOfTriangles);
+  parameters.MinimumNormalDot = this->MinimumNormalDot;
+  parameters.ErrorWeight = this->ErrorWeight;
+  parameters.RelaxWhenBlocked = this->RelaxWhenBlocked;
+  parameters.BatchSearchDepth = this->BatchSearchDepth;
+  parameters.QuadricCollapsePoint = this->QuadricCollapsePoint;
+
+  const bool rebuild = !in.Valid || in.Input != input || in.InputTime != input->GetMTime() ||
+    !Internals::Same(in.Parameters, parameters);
+  if (rebuild)
+  {
+    in.Valid = false;
+    in.Levels = nullptr;
+    slod::TriangleMesh mesh;
+    std::vector<slod::Index> vertexToInputPoint;
+    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInputPoint))
+    {
+      return 1;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const bool done = in.Hierarchy.Build(mesh, parameters, [this](double progress) {
+      this->UpdateProgress(0.9 * progress);
+      return !this->GetAbortExecute();
+    });
+    if (!done)
+    {
+      return 1;
+    }
+    in.PointDataType =
+      input->GetPoints() && input->GetPoints()->GetDataType() == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT;
+    in.Attributes.Load(input->GetPointData(), vertexToInputPoint);
+    if (!in.Attributes.Empty())
+    {
+      // Row g = global vertex g: collapse points are the mean of the three merged vertices.
+      const double third[3] = { 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0 };
+      for (slod::Index k = 0; k < in.Hierarchy.NumberOfCollapses(); ++k)
+      {
+        in.Attributes.AddInterpolated(in.Hierarchy.GetCollapse(k).Sources, third, 3);
+      }
+    }
+    this->HierarchyBuildTime =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++this->NumberOfHierarchyBuilds;
+    in.Valid = true;
+    in.Input = input;
+    in.InputTime = input->GetMTime();
+    in.Parameters = parameters;
+  }
+  const slod::CollapseHierarchy& h = in.Hierarchy;
+  const int lastLevel = h.NumberOfLevels() - 1;
+
+  // Output 0: the selected mesh.
+  if (this->ContinuousLevel >= 0)
+  {
+    this->ShownLevel = std::min<double>(this->ContinuousLevel, lastLevel);
+    h.ExtractLevel(this->ShownLevel, in.Scratch);
+  }
+  else if (this->Level >= 0)
+  {
+    this->ShownLevel = std::min(this->Level, lastLevel);
+    h.ExtractLevel(this->ShownLevel, in.Scratch);
+  }
+  else
+  {
+    const slod::Index n0 = h.LevelTriangleCount(0);
+    const slod::Index target = this->TargetNumberOfTriangles > 0
+      ? static_cast<slod::Index>(std::min<vtkIdType>(this->TargetNumberOfTriangles, n0))
+      : static_cast<slod::Index>(std::llround((1.0 - this->TargetReduction) * n0));
+    const slod::Index k = h.CollapsesForTriangleCount(target);
+    h.Extract(k, k, 0.0, in.Scratch);
+    // Level shown: the level containing the cut, as a fraction of its batch.
+    int level = k < h.NumberOfCollapses() ? h.LevelOfCollapse(k) : lastLevel;
+    if (level < lastLevel)
+    {
+      const double span = h.LevelStart(level + 1) - h.LevelStart(level);
+      this->ShownLevel = level + (span > 0 ? (k - h.LevelStart(level)) / span : 0.0);
+    }
+    else
+    {
+      this->ShownLevel = lastLevel;
+    }
+  }
+  in.ToPolyData(in.Scratch, this->ShownLevel, output);
+
+  // Output 1: every level (cached with the hierarchy).
+  if (levels)
+  {
+    levels->Initialize();
+    if (this->GenerateAllLevels)
+    {
+      if (!in.Levels)
+      {
+        in.Levels = vtkSmartPointer<vtkMultiBlockDataSet>::New();
+        in.Levels->SetNumberOfBlocks(h.NumberOfLevels());
+        slod::HierarchyMesh m;
+        for (int i = 0; i < h.NumberOfLevels(); ++i)
+        {
+          h.Extract(h.LevelStart(i), h.LevelStart(i), 0.0, m);
+          vtkNew<vtkPolyData> block;
+          in.ToPolyData(m, i, block);
+          in.Levels->SetBlock(i, block);
+          in.Levels->GetMetaData(static_cast<unsigned int>(i))
+            ->Set(vtkCompositeDataSet::NAME(), ("Level " + std::to_string(i)).c_str());
+        }
+      }
+      levels->ShallowCopy(in.Levels);
+    }
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ContinuousLevel: " << this->ContinuousLevel << "\n";
+  os << indent << "Level: " << this->Level << "\n";
+  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
+  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
+  os << indent << "CurvatureWeight: " << this->CurvatureWeight << "\n";
+  os << indent << "AngleWeight: " << this->AngleWeight << "\n";
+  os << indent << "ValenceWeight: " << this->ValenceWeight << "\n";
+  os << indent << "ErrorWeight: " << this->ErrorWeight << "\n";
+  os << indent << "QuadricCollapsePoint: " << this->QuadricCollapsePoint << "\n";
+  os << indent << "RelaxWhenBlocked: " << this->RelaxWhenBlocked << "\n";
+  os << indent << "BatchSearchDepth: " << this->BatchSearchDepth << "\n";
+  os << indent << "BatchFraction: " << this->BatchFraction << "\n";
+  os << indent << "MaximumWeight: " << this->MaximumWeight << "\n";
+  os << indent << "ValenceNormalizer: " << this->ValenceNormalizer << "\n";
+  os << indent << "RemoveCycles: " << this->RemoveCycles << "\n";
+  os << indent << "MaximumNumberOfLevels: " << this->MaximumNumberOfLevels << "\n";
+  os << indent << "MinimumNumberOfTriangles: " << this->MinimumNumberOfTriangles << "\n";
+  os << indent << "MinimumNormalDot: " << this->MinimumNormalDot << "\n";
+  os << indent << "GenerateAllLevels: " << this->GenerateAllLevels << "\n";
+  os << indent << "NumberOfLevels: " << this->GetNumberOfLevels() << "\n";
+  os << indent << "ShownLevel: " << this->ShownLevel << "\n";
+}

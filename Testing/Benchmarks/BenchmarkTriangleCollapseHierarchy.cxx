@@ -1,0 +1,164 @@
+// Benchmark of vtkTriangleCollapseHierarchy (not a test): the paper's figures on bunny00 and on a
+// ~1M-triangle marching-cubes surface. Prints, per mesh and configuration: the number of levels
+// needed to get below 5% of the triangles with 2.5% per batch, the levels in all, the hierarchy
+// build time, the time of one blended level M_i(t) through the pipeline (the slider path), and
+// vtkQuadricDecimation's time to 5% on the same mesh, measured in the same run.
+//
+// Usage: BenchmarkTriangleCollapseHierarchy [mesh-directory] [marching-cubes grid size (default 230: about 1M triangles)]
+#include "vtkFlyingEdges3D.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkOFFMeshReader.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkQuadricDecimation.h"
+#include "vtkSmartPointer.h"
+#include "vtkTriangleCollapseHierarchy.h"
+#include "vtkFloatArray.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace
+{
+double Seconds(std::chrono::steady_clock::time_point start)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A smooth implicit field sampled on n^3 points: a gyroid (period 0.5) closed off smoothly by a
+// radial term outside radius 0.8, so the surface is one closed, high-genus, curved sheet.
+vtkSmartPointer<vtkPolyData> MarchingCubesSurface(int n)
+{
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(n, n, n);
+  image->SetSpacing(2.0 / (n - 1), 2.0 / (n - 1), 2.0 / (n - 1));
+  image->SetOrigin(-1, -1, -1);
+  vtkNew<vtkFloatArray> values;
+  values->SetName("field");
+  values->SetNumberOfValues(vtkIdType(n) * n * n);
+  const double a = 4 * M_PI;
+  vtkIdType i = 0;
+  for (int z = 0; z < n; ++z)
+  {
+    for (int y = 0; y < n; ++y)
+    {
+      for (int x = 0; x < n; ++x, ++i)
+      {
+        const double p[3] = { -1 + 2.0 * x / (n - 1), -1 + 2.0 * y / (n - 1), -1 + 2.0 * z / (n - 1) };
+        const double gyroid = std::sin(a * p[0]) * std::cos(a * p[1]) + std::sin(a * p[1]) * std::cos(a * p[2]) +
+          std::sin(a * p[2]) * std::cos(a * p[0]);
+        const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        const double outside = r > 0.8 ? 60 * (r - 0.8) * (r - 0.8) : 0.0;
+        values->SetValue(i, static_cast<float>(gyroid + outside));
+      }
+    }
+  }
+  image->GetPointData()->SetScalars(values);
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputData(image);
+  contour->SetValue(0, 0.3);
+  contour->ComputeNormalsOff();
+  contour->ComputeGradientsOff();
+  contour->ComputeScalarsOff();
+  contour->Update();
+  vtkSmartPointer<vtkPolyData> out = contour->GetOutput();
+  return out;
+}
+
+void Run(const std::string& label, vtkPolyData* mesh, bool paper)
+{
+  const vtkIdType n0 = mesh->GetNumberOfPolys();
+  vtkNew<vtkTriangleCollapseHierarchy> filter;
+  filter->SetInputData(mesh);
+  filter->GenerateAllLevelsOff();
+  if (paper)
+  {
+    // Gieng et al.: w = 1/3 each, collapse point on the fitted quadratic, the paper's rules only.
+    filter->SetErrorWeight(0.0);
+    filter->SetQuadricCollapsePoint(false);
+    filter->SetRelaxWhenBlocked(false);
+    filter->SetMinimumNormalDot(0.2);
+    filter->SetBatchSearchDepth(0.0);
+  }
+  filter->SetLevel(0);
+  filter->Update();
+  const int levels = filter->GetNumberOfLevels();
+  int below = -1;
+  for (int i = 0; i < levels && below < 0; ++i)
+  {
+    if (filter->GetLevelNumberOfTriangles(i) < 0.05 * n0)
+    {
+      below = i;
+    }
+  }
+  // Blend: one M_i(t) per Update, t sweeping the whole hierarchy like a slider.
+  const int steps = 200;
+  std::vector<double> times;
+  for (int s = 0; s < steps; ++s)
+  {
+    filter->SetContinuousLevel((levels - 1) * (s + 0.5) / steps);
+    const auto start = std::chrono::steady_clock::now();
+    filter->Update();
+    times.push_back(Seconds(start));
+  }
+  std::sort(times.begin(), times.end());
+  // The finest levels are the most expensive to blend.
+  double worst = 0;
+  for (int s = 0; s < 20; ++s)
+  {
+    filter->SetContinuousLevel(0.05 * s);
+    const auto start = std::chrono::steady_clock::now();
+    filter->Update();
+    worst = std::max(worst, Seconds(start));
+  }
+  std::printf("%-10s %-6s %9lld tris: %3d levels to <5%% (%lld tris), %3d levels, coarsest %lld tris, "
+              "build %.2f s, blend median %.2f ms, blend at M0(t) max %.2f ms, %d builds\n",
+    label.c_str(), paper ? "paper" : "default", static_cast<long long>(n0), below,
+    below >= 0 ? static_cast<long long>(filter->GetLevelNumberOfTriangles(below)) : -1LL, levels,
+    static_cast<long long>(filter->GetLevelNumberOfTriangles(levels - 1)), filter->GetHierarchyBuildTime(),
+    1e3 * times[times.size() / 2], 1e3 * worst, filter->GetNumberOfHierarchyBuilds());
+}
+
+void RunQuadric(const std::string& label, vtkPolyData* mesh)
+{
+  vtkNew<vtkQuadricDecimation> quadric;
+  quadric->SetInputData(mesh);
+  quadric->SetTargetReduction(0.95);
+  const auto start = std::chrono::steady_clock::now();
+  quadric->Update();
+  std::printf("%-10s vtkQuadricDecimation to 5%%: %.2f s (%lld tris)\n", label.c_str(), Seconds(start),
+    static_cast<long long>(quadric->GetOutput()->GetNumberOfPolys()));
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  const std::string dir = argc > 1 ? argv[1] : SURFACELOD_MESH_DIR;
+  const int grid = argc > 2 ? std::atoi(argv[2]) : 230;
+  vtkNew<vtkOFFMeshReader> reader;
+  reader->SetFileName((dir + "/bunny00.off").c_str());
+  reader->Update();
+  vtkPolyData* bunny = reader->GetOutput();
+  if (bunny->GetNumberOfPolys() == 0)
+  {
+    std::fprintf(stderr, "cannot read %s/bunny00.off\n", dir.c_str());
+    return 1;
+  }
+  Run("bunny00", bunny, true);
+  Run("bunny00", bunny, false);
+  RunQuadric("bunny00", bunny);
+
+  const auto start = std::chrono::steady_clock::now();
+  vtkSmartPointer<vtkPolyData> mc = MarchingCubesSurface(grid);
+  std::printf("marching cubes %d^3: %lld triangles in %.2f s\n", grid,
+    static_cast<long long>(mc->GetNumberOfPolys()), Seconds(start));
+  Run("mc", mc, true);
+  Run("mc", mc, false);
+  RunQuadric("mc", mc);
+  return 0;
+}

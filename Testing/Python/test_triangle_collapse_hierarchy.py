@@ -1,0 +1,59 @@
+"""vtkTriangleCollapseHierarchy from Python: a pipeline, a slider-like sweep of the continuous
+level without rebuilding, and the all-levels output (run with Debian's /usr/bin/python3)."""
+import os
+import unittest
+
+from vtkmodules.vtkFiltersSources import vtkSphereSource
+from vtkmodules.vtkFiltersCore import vtkTriangleFilter
+
+import surfacelod
+
+MESH_DIR = os.environ.get("SURFACELOD_MESH_DIR", "")
+
+
+class TriangleCollapseHierarchyTest(unittest.TestCase):
+    def test_sphere_pipeline_and_slider(self):
+        sphere = vtkSphereSource()
+        sphere.SetThetaResolution(64)
+        sphere.SetPhiResolution(64)
+        triangles = vtkTriangleFilter()
+        triangles.SetInputConnection(sphere.GetOutputPort())
+        lod = surfacelod.vtkTriangleCollapseHierarchy()
+        lod.SetInputConnection(triangles.GetOutputPort())
+        lod.SetTargetReduction(0.8)
+        lod.Update()
+        n0 = lod.GetLevelNumberOfTriangles(0)
+        self.assertEqual(n0, triangles.GetOutput().GetNumberOfPolys())
+        self.assertAlmostEqual(lod.GetOutput().GetNumberOfPolys(), 0.2 * n0, delta=4)
+        levels = lod.GetNumberOfLevels()
+        self.assertGreater(levels, 10)
+        counts = []
+        for step in range(21):
+            level = (levels - 1) * step / 20.0
+            lod.SetContinuousLevel(level)
+            lod.Update()
+            self.assertAlmostEqual(lod.GetShownLevel(), level)
+            counts.append(lod.GetOutput().GetNumberOfPolys())
+        self.assertEqual(lod.GetNumberOfHierarchyBuilds(), 1)
+        self.assertEqual(counts, sorted(counts, reverse=True))
+        self.assertEqual(counts[0], n0)
+        all_levels = lod.GetLevelsOutput()
+        self.assertEqual(all_levels.GetNumberOfBlocks(), levels)
+        self.assertEqual(all_levels.GetBlock(levels - 1).GetNumberOfPolys(),
+                         lod.GetLevelNumberOfTriangles(levels - 1))
+        self.assertIsNotNone(lod.GetOutput().GetCellData().GetArray("CollapseBatch"))
+
+    @unittest.skipUnless(MESH_DIR, "SURFACELOD_MESH_DIR not set")
+    def test_bunny_levels(self):
+        reader = surfacelod.vtkOFFMeshReader()
+        reader.SetFileName(os.path.join(MESH_DIR, "bunny00.off"))
+        lod = surfacelod.vtkTriangleCollapseHierarchy()
+        lod.SetInputConnection(reader.GetOutputPort())
+        lod.GenerateAllLevelsOff()
+        lod.SetLevel(29)
+        lod.Update()
+        self.assertLess(lod.GetOutput().GetNumberOfPolys(), 0.05 * reader.GetOutput().GetNumberOfPolys())
+
+
+if __name__ == "__main__":
+    unittest.main()
