@@ -241,6 +241,13 @@ int vtkPatchBoundaryMerge::RequestData(
     {
       return 1;
     }
+    const vtkIdType produced = static_cast<vtkIdType>(result.Triangles.size() / 3);
+    if (produced < target && 10 * (target - produced) > target)
+    {
+      // SPBM keeps no vertex inside a patch, so even its finest level is far below the input count.
+      vtkWarningMacro(<< "Target of " << target << " triangles is beyond SPBM's finest level for these patch "
+                      << "parameters; produced " << produced << " triangles (lower the angle tolerances for more).");
+    }
     if (this->MaximumError > 0 && level.Epsilon > this->MaximumError)
     {
       // The error bound is reached before the target: stop there.
