@@ -1,5 +1,6 @@
 #include "slodPolygonTriangulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -42,14 +43,45 @@ double CornerAngle(const Vec2& a, const Vec2& b, const Vec2& c)
   const double angle = std::atan2(ux * wy - uy * wx, ux * wx + uy * wy);
   return angle < 0 ? angle + 2 * M_PI : angle;
 }
+// True when q lies within `tolerance` of the segment ab (strictly between its ends).
+bool NearSegment(const Vec2& q, const Vec2& a, const Vec2& b, double tolerance)
+{
+  const double dx = b[0] - a[0], dy = b[1] - a[1];
+  const double length2 = dx * dx + dy * dy;
+  if (length2 <= 0)
+  {
+    return false;
+  }
+  const double t = ((q[0] - a[0]) * dx + (q[1] - a[1]) * dy) / length2;
+  if (t <= 0 || t >= 1)
+  {
+    return false;
+  }
+  const double cross = dx * (q[1] - a[1]) - dy * (q[0] - a[0]);
+  return cross * cross <= tolerance * tolerance * length2;
+}
+
+// Proper crossing of segments ab and cd (touching at shared endpoints does not count).
+bool SegmentsCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d)
+{
+  const double d1 = Cross2(a, b, c), d2 = Cross2(a, b, d), d3 = Cross2(c, d, a), d4 = Cross2(c, d, b);
+  return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
 } // namespace
 
 PolygonTriangulationResult TriangulatePolygon(const std::vector<Vec3>& polygon, const Vec3& normal)
+{
+  return TriangulatePolygon(polygon, normal, PolygonTriangulationOptions());
+}
+
+PolygonTriangulationResult TriangulatePolygon(
+  const std::vector<Vec3>& polygon, const Vec3& normal, const PolygonTriangulationOptions& options)
 {
   PolygonTriangulationResult result;
   const size_t n = polygon.size();
   if (n < 3)
   {
+    result.Failed = n > 0;
     return result;
   }
   // Orthonormal frame (u, v) of the projection plane, oriented by the normal.
@@ -62,64 +94,139 @@ PolygonTriangulationResult TriangulatePolygon(const std::vector<Vec3>& polygon, 
   {
     p[i] = { Dot(polygon[i], u), Dot(polygon[i], v) };
   }
-  std::vector<size_t> ring(n);
+  // Doubly linked ring of remaining corners.
+  std::vector<size_t> prev(n), next(n);
   for (size_t i = 0; i < n; ++i)
   {
-    ring[i] = i;
+    prev[i] = (i + n - 1) % n;
+    next[i] = (i + 1) % n;
   }
+  // Distances below this (relative to the polygon's size) count as zero in strict mode.
+  double extent = 0;
+  for (size_t i = 0; i < n; ++i)
+  {
+    extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
+  }
+  const double tolerance = 1e-9 * extent;
+  std::vector<char> removed(n, 0);
+  size_t remaining = n;
+  size_t start = 0; // some remaining corner
+
   auto isEar = [&](size_t k) {
-    const size_t m = ring.size();
-    const Vec2& a = p[ring[(k + m - 1) % m]];
-    const Vec2& b = p[ring[k]];
-    const Vec2& c = p[ring[(k + 1) % m]];
+    const size_t ia = prev[k], ic = next[k];
+    const Vec2& a = p[ia];
+    const Vec2& b = p[k];
+    const Vec2& c = p[ic];
     if (Cross2(a, b, c) <= 0)
     {
       return false; // reflex or flat corner
     }
-    for (size_t j = 0; j < m; ++j)
+    if (!options.AllowFallback && IsDegenerate(polygon[ia], polygon[k], polygon[ic]))
     {
-      if (j == k || j == (k + 1) % m || j == (k + m - 1) % m)
-      {
-        continue;
-      }
-      const Vec2& q = p[ring[j]];
-      if ((q[0] == a[0] && q[1] == a[1]) || (q[0] == b[0] && q[1] == b[1]) || (q[0] == c[0] && q[1] == c[1]))
-      {
-        continue; // a repeated point of the boundary does not block the ear
-      }
-      if (InsideTriangle(q, a, b, c))
+      return false; // strict mode: no (numerically) zero-area triangle
+    }
+    size_t j = next[ic];
+    while (j != ia)
+    {
+      const Vec2& q = p[j];
+      const bool repeated =
+        (q[0] == a[0] && q[1] == a[1]) || (q[0] == b[0] && q[1] == b[1]) || (q[0] == c[0] && q[1] == c[1]);
+      // A repeated point of the boundary does not block the ear. In strict mode a point (almost)
+      // on the diagonal blocks it too: clipping there would leave a collinear, unclippable rest.
+      if (!repeated && (InsideTriangle(q, a, b, c) || (!options.AllowFallback && NearSegment(q, a, c, tolerance))))
       {
         return false;
       }
+      // The diagonal a-c must not cross an edge of the remaining polygon.
+      if (SegmentsCross(a, c, q, p[next[j]]))
+      {
+        return false;
+      }
+      j = next[j];
+    }
+    if (options.AcceptEar &&
+      !options.AcceptEar(static_cast<Index>(ia), static_cast<Index>(k), static_cast<Index>(ic)))
+    {
+      return false;
     }
     return true;
   };
-  while (ring.size() > 3)
+  auto angleOf = [&](size_t k) { return CornerAngle(p[prev[k]], p[k], p[next[k]]); };
+
+  // Ears ordered by angle; entries are validated against a per-corner version when popped.
+  struct Entry
   {
-    const size_t m = ring.size();
-    size_t best = m;
-    double bestAngle = std::numeric_limits<double>::infinity();
-    for (size_t k = 0; k < m; ++k)
+    double Angle;
+    size_t Corner;
+    unsigned Version;
+    bool operator<(const Entry& o) const
     {
-      if (!isEar(k))
+      return this->Angle > o.Angle || (this->Angle == o.Angle && this->Corner > o.Corner);
+    }
+  };
+  std::vector<Entry> heap;
+  std::vector<unsigned> version(n, 0);
+  auto refresh = [&](size_t k) {
+    ++version[k];
+    if (isEar(k))
+    {
+      heap.push_back({ angleOf(k), k, version[k] });
+      std::push_heap(heap.begin(), heap.end());
+    }
+  };
+  auto rescan = [&]() {
+    heap.clear();
+    size_t k = start;
+    for (size_t i = 0; i < remaining; ++i, k = next[k])
+    {
+      refresh(k);
+    }
+  };
+  auto clip = [&](size_t k) {
+    result.Triangles.push_back({ static_cast<Index>(prev[k]), static_cast<Index>(k), static_cast<Index>(next[k]) });
+    next[prev[k]] = next[k];
+    prev[next[k]] = prev[k];
+    removed[k] = 1;
+    start = next[k];
+    --remaining;
+  };
+
+  rescan();
+  bool rescanned = true;
+  while (remaining > 3)
+  {
+    size_t best = n;
+    while (!heap.empty())
+    {
+      std::pop_heap(heap.begin(), heap.end());
+      const Entry e = heap.back();
+      heap.pop_back();
+      if (!removed[e.Corner] && e.Version == version[e.Corner])
       {
-        continue;
-      }
-      const double angle = CornerAngle(p[ring[(k + m - 1) % m]], p[ring[k]], p[ring[(k + 1) % m]]);
-      if (angle < bestAngle)
-      {
-        bestAngle = angle;
-        best = k;
+        best = e.Corner;
+        break;
       }
     }
-    if (best == m)
+    if (best == n)
     {
+      if (!rescanned)
+      {
+        rescan(); // far corners may have become ears since their last test
+        rescanned = true;
+        continue;
+      }
+      if (!options.AllowFallback)
+      {
+        result.Failed = true;
+        return result;
+      }
       // Not simple in projection: clip the most convex corner (largest signed area) anyway.
       result.UsedFallback = true;
       double bestArea = -std::numeric_limits<double>::infinity();
-      for (size_t k = 0; k < m; ++k)
+      size_t k = start;
+      for (size_t i = 0; i < remaining; ++i, k = next[k])
       {
-        const double area = Cross2(p[ring[(k + m - 1) % m]], p[ring[k]], p[ring[(k + 1) % m]]);
+        const double area = Cross2(p[prev[k]], p[k], p[next[k]]);
         if (area > bestArea)
         {
           bestArea = area;
@@ -127,12 +234,20 @@ PolygonTriangulationResult TriangulatePolygon(const std::vector<Vec3>& polygon, 
         }
       }
     }
-    result.Triangles.push_back({ static_cast<Index>(ring[(best + m - 1) % m]), static_cast<Index>(ring[best]),
-      static_cast<Index>(ring[(best + 1) % m]) });
-    ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(best));
+    const size_t a = prev[best], c = next[best];
+    clip(best);
+    rescanned = false;
+    refresh(a);
+    refresh(c);
   }
-  result.Triangles.push_back(
-    { static_cast<Index>(ring[0]), static_cast<Index>(ring[1]), static_cast<Index>(ring[2]) });
+  const size_t a = start, b = next[a], c = next[b];
+  // The last triangle adds no diagonal; in strict mode it must still be counter-clockwise.
+  if (!options.AllowFallback && (Cross2(p[a], p[b], p[c]) <= 0 || IsDegenerate(polygon[a], polygon[b], polygon[c])))
+  {
+    result.Failed = true;
+    return result;
+  }
+  result.Triangles.push_back({ static_cast<Index>(a), static_cast<Index>(b), static_cast<Index>(c) });
   return result;
 }
 } // namespace slod

@@ -2,15 +2,21 @@
 //
 // The polygon is projected on the plane orthogonal to a given normal (pass the Newell normal for a
 // general polygon, or a patch normal). Ears are clipped smallest interior angle first, which avoids
-// slivers. When the projection is not simple (no valid ear is left), the remaining polygon is
-// finished by clipping the best remaining convex corner, so the result always covers the polygon
-// with exactly n - 2 triangles (never a hole).
+// slivers. An ear is valid when its corner is convex in projection, no other polygon vertex lies in
+// it and its diagonal crosses no polygon edge; callers may add their own test (AcceptEar, e.g.
+// "this diagonal is not already an edge elsewhere in the mesh"). When the projection is not simple
+// (no valid ear is left), the remaining polygon is by default finished by clipping the best
+// remaining convex corner, so the result always covers the polygon with exactly n - 2 triangles
+// (never a hole); with AllowFallback off the call stops instead and reports Failed.
+// Cost: O(n^2) for simple polygons (ear status is cached and only refreshed next to a clipped ear,
+// with a full rescan before giving up).
 #ifndef slodPolygonTriangulation_h
 #define slodPolygonTriangulation_h
 
 #include "slodTriangleMesh.h"
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace slod
@@ -22,10 +28,21 @@ struct PolygonTriangulationResult
 {
   std::vector<std::array<Index, 3>> Triangles; // indices into the polygon, same orientation
   bool UsedFallback = false;                   // some ear was not valid in projection
+  bool Failed = false; // AllowFallback off and no acceptable ear left: Triangles is incomplete
+};
+
+struct PolygonTriangulationOptions
+{
+  // Extra test of a candidate ear (previous, corner, next: polygon indices); false rejects it.
+  std::function<bool(Index, Index, Index)> AcceptEar;
+  // No valid ear left: clip the most convex corner anyway (true) or stop with Failed (false).
+  bool AllowFallback = true;
 };
 
 SURFACELODFILTERS_EXPORT PolygonTriangulationResult TriangulatePolygon(
   const std::vector<Vec3>& polygon, const Vec3& normal);
+SURFACELODFILTERS_EXPORT PolygonTriangulationResult TriangulatePolygon(
+  const std::vector<Vec3>& polygon, const Vec3& normal, const PolygonTriangulationOptions& options);
 } // namespace slod
 
 #endif

@@ -4,6 +4,7 @@
 #include "vtkQuadricDecimation.h"
 
 // SurfaceLOD filters: add the include here and one line in the table below.
+#include "vtkPatchBoundaryMerge.h"
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <algorithm>
@@ -122,6 +123,8 @@ const std::vector<Method>& Methods()
     // SurfaceLOD filters, one line each (and the header include above).
     { "triangle-collapse-hierarchy", "Gieng et al. 1997: batches of triangle collapses on quadratic fits, "
       "levels M0..Mn with smooth blending (also --level i+t)", false, &CreateTriangleCollapseHierarchy, true },
+    SurfaceLODMethod<vtkPatchBoundaryMerge>("patch-boundary-merge",
+      "Ho 1999 ch. 4 (SPBM): planar patches, simplified boundaries, ear-clipped; original vertices only"),
   };
   // clang-format on
   return methods;

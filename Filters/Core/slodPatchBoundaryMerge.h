@@ -1,0 +1,132 @@
+// SurfaceLOD shared core: level-of-detail generation of the Simplified Patch Boundary Merging
+// method (Ho 1999, sections 4.2.4-4.2.8) on top of a slod::Patchification.
+//
+// Stages of one level:
+//  1. chain simplification (4.2.5): every chain is approximated by divide-and-conquer refinement
+//     (split at the middle index while the sub-chain is farther than epsilon from its segment).
+//     The whole refinement tree is stored once as one tolerance per chain vertex ("keep me when
+//     epsilon < key"; keys decrease down the tree), so any epsilon is a threshold on stored keys
+//     and several levels come from one patchification (4.2.4);
+//  2. patch merging (4.2.6): pairs whose common boundary is a single chain of one segment and
+//     whose normals agree within alpha1 merge (most parallel first); endpoints left with two
+//     chains of the same two patches are dropped (when the joined chain stays within epsilon);
+//     short one-segment chains collapse into the endpoint with the larger normal variation when
+//     (a) no third patch has both endpoints, (b) the normals agree within alpha1, (c) the chain is
+//     shorter than a factor (1/5) of the patch's longest chain (and than epsilon);
+//  3. boundary preservation (4.2.7): chains with an endpoint on the mesh border collapse only
+//     toward it; chains on the border and endpoints on it are never removed;
+//  4. triangulation (4.2.8): each patch's simplified boundary, projected on the plane orthogonal
+//     to its normal, is ear-clipped smallest angle first (slod::TriangulatePolygon) with valid
+//     diagonals only, no diagonal that is already an edge elsewhere, and the double-ear normal
+//     rule (a corner that is an ear on both sides of its chain goes to the side whose normal fits).
+// Method (3) of 4.2.8 keeps boundaries triangulable: a patch whose simplified boundary does not
+// project to a simple polygon gets finer chains (epsilon / 4 per round, then full resolution)
+// before merging, and merges, joins and collapses that would make a boundary non-simple are
+// refused. Robust fallback for whatever still fails (every remaining ear would duplicate an edge,
+// numerically degenerate corners): the level is regenerated with the failed patch frozen: first
+// unmerged, then with finer chains around it (epsilon / 4 per level, then full resolution), then
+// as its original triangles. The output is therefore always a valid mesh over original vertices
+// with the topology of the input (closed manifold in -> closed manifold out, same genus).
+#ifndef slodPatchBoundaryMerge_h
+#define slodPatchBoundaryMerge_h
+
+#include "slodPatchification.h"
+#include "slodTriangleMesh.h"
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace slod
+{
+struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
+{
+  double Epsilon = 0.0;     // absolute chain tolerance; negative keeps every chain vertex
+  double MergeAngle = 20.0; // alpha1 in degrees (patch merging and chain collapse)
+  bool MergePatches = true;
+  bool CollapseChains = true;
+  double CollapseLengthFactor = 0.2; // condition (c)
+  // Keep every chain within epsilon of the original boundary through merging too: an endpoint is
+  // dropped (degree two after a merge) only when the joined chain stays within epsilon, and a
+  // chain collapses only when it is shorter than epsilon. The paper does neither (merging is
+  // bounded by alpha1 only); both are on by default because they bound the profile-curve error.
+  bool JoinWithinEpsilon = true;
+  bool CollapseWithinEpsilon = true;
+};
+
+struct SURFACELODFILTERS_EXPORT SpbmLevel
+{
+  std::vector<Index> Triangles;     // 3 original vertex ids per triangle
+  std::vector<Index> TrianglePatch; // merged patch of each triangle, 0..NumberOfPatches-1
+  Index NumberOfPatches = 0;
+  // Profile curves: the simplified chains as polylines of original vertex ids.
+  std::vector<Index> CurveOffsets;
+  std::vector<Index> CurveVertices;
+  Index PredictedTriangles = 0; // sum over patches of (boundary vertices - 2) before fallbacks
+  // Fallbacks, counted in patches of the patchification: patches that could not be triangulated
+  // are regenerated (1) unmerged, then (2) with full-resolution chains, then (3) as their
+  // original triangles.
+  Index UnmergedPatches = 0;
+  Index RefinedPatches = 0;
+  Index OriginalPatches = 0;
+  int Passes = 0;               // generation passes (1 without fallback)
+};
+
+class SURFACELODFILTERS_EXPORT SpbmLevelGenerator
+{
+public:
+  SpbmLevelGenerator();
+  ~SpbmLevelGenerator();
+  SpbmLevelGenerator(const SpbmLevelGenerator&) = delete;
+  SpbmLevelGenerator& operator=(const SpbmLevelGenerator&) = delete;
+
+  // Builds the chain hierarchy. Both objects must outlive the generator.
+  void Initialize(const TriangleMesh& mesh, const Patchification& patches);
+
+  // Triangle count of the level (before fallbacks) without triangulating: cheap, for searches.
+  Index PredictTriangleCount(const SpbmLevelParameters& parameters);
+
+  // Generates the level. Returns false only when aborted through `abort`.
+  bool Generate(const SpbmLevelParameters& parameters, SpbmLevel& level,
+    const std::function<bool()>& abort = nullptr);
+
+  // Parameters whose level has about `target` triangles: the number of kept chain vertices (i.e.
+  // epsilon) is searched over the stored hierarchy; when even single-segment chains give too
+  // many triangles, the merge angle alpha1 is widened (up to 90 degrees). Prefers the closest
+  // count not above the target. `predicted` gets the predicted count.
+  SpbmLevelParameters FindParameters(Index target, const SpbmLevelParameters& base, Index* predicted = nullptr);
+
+  // FindParameters + Generate, re-aiming when fallbacks pushed the count above the target.
+  bool GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
+    SpbmLevelParameters* used = nullptr, const std::function<bool()>& abort = nullptr);
+
+  // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
+  double ChainVertexKey(Index c, Index i) const;
+  size_t MemoryUsage() const;
+
+private:
+  struct State;
+  void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
+
+  const TriangleMesh* Mesh = nullptr;
+  const Patchification* Patches = nullptr;
+  std::vector<float> Keys;                 // per chain vertex (Patchification's chain vertex list)
+  std::vector<float> SortedKeys;           // finite keys, descending
+  std::vector<Index> KeyOrder;             // per chain: interior positions by decreasing key
+  std::vector<float> OrderedKeys;          // the keys in that order
+  std::vector<unsigned char> MinimumInterior; // chains that must keep one interior vertex
+  std::vector<double> EndpointVariation;   // normal variation around each endpoint
+  struct PredictionMemo
+  {
+    float Epsilon;
+    double MergeAngle;
+    bool MergePatches, CollapseChains;
+    double CollapseLengthFactor;
+    Index Count;
+  };
+  std::vector<PredictionMemo> Memo;
+  std::unique_ptr<State> Work;
+};
+} // namespace slod
+
+#endif

@@ -1,0 +1,117 @@
+// SurfaceLOD shared core: patchification of a triangle mesh (Ho 1999, sections 4.2.1-4.2.3).
+//
+// The surface is partitioned into patches, each a simply connected set of triangles (a disk:
+// one simple boundary loop, no pinch points) whose normals stay within a cone around the
+// patch's running (area-weighted) normal. Patches grow breadth-first from a seed triangle; the
+// next seed is a free triangle next to the patch just finished. The common boundaries between
+// patches (and the mesh border) are cut into chains at the vertices where the neighbouring
+// patch changes ("endpoints"); chains and patches form the patch graph.
+//
+// Used by the SPBM level generator (slodPatchBoundaryMerge) and meant for reuse by the topology
+// simplification of chapter 5 (sharp loops are cycles of chains).
+#ifndef slodPatchification_h
+#define slodPatchification_h
+
+#include "slodMeshTopology.h"
+#include "slodTriangleMesh.h"
+
+#include <functional>
+#include <vector>
+
+namespace slod
+{
+struct SURFACELODFILTERS_EXPORT PatchificationParameters
+{
+  // Feasibility (b), in degrees. A free triangle T' next to T in patch P joins P when
+  // angle(n_T', n_P) <= PatchAngle and angle(n_T', n_T) <= NeighborAngle. The first pair applies
+  // when T' shares one edge with P, the second (looser: it fills a notch) when it shares two.
+  double OneEdgePatchAngle = 25.0;
+  double OneEdgeNeighborAngle = 20.0;
+  double TwoEdgePatchAngle = 90.0;
+  double TwoEdgeNeighborAngle = 90.0;
+  // The running patch normal averages triangle normals weighted by area (else unweighted).
+  bool AreaWeighted = true;
+  // Extension (not in the paper; 0 = off): a triangle joins only if its new vertex lies within
+  // this distance of the patch's running plane (area-weighted centroid and normal). A patch is
+  // re-triangulated from its boundary alone, so this bounds the flat-patch error on curved parts.
+  double MaximumPlaneDistance = 0.0;
+};
+
+class SURFACELODFILTERS_EXPORT Patchification
+{
+public:
+  // Optional progress callback (fraction in [0,1]); returning true aborts (the result is then
+  // incomplete and Aborted() is true).
+  using ProgressFunction = std::function<bool(double)>;
+
+  void Build(const TriangleMesh& mesh, const MeshTopology& topology, const PatchificationParameters& parameters,
+    const ProgressFunction& progress = nullptr);
+  bool Aborted() const { return this->WasAborted; }
+
+  // --- Patches ---
+  Index NumberOfPatches() const { return static_cast<Index>(this->PatchAreaVector.size()); }
+  // Patch of each triangle (every triangle belongs to exactly one patch).
+  const std::vector<Index>& TrianglePatches() const { return this->TrianglePatch; }
+  // Sum of the member triangles' normals (area vectors when AreaWeighted, unit normals otherwise).
+  const Vec3& PatchNormalSum(Index p) const { return this->PatchAreaVector[p]; }
+  Vec3 PatchNormal(Index p) const { return Normalized(this->PatchAreaVector[p]); }
+  double PatchArea(Index p) const { return this->PatchAreaOf[p]; }
+  Index PatchTriangleCount(Index p) const { return this->PatchTriangleCountOf[p]; }
+
+  // --- Chains: maximal boundary paths with one patch on each side ---
+  // A chain runs from its start to its end endpoint with LeftPatch on its left (seen from outside,
+  // i.e. in LeftPatch's counter-clockwise boundary order) and RightPatch on its right
+  // (InvalidIndex on the mesh border or along a non-manifold edge).
+  Index NumberOfChains() const { return static_cast<Index>(this->ChainLeft.size()); }
+  const Index* ChainVerticesBegin(Index c) const { return this->ChainVertexList.data() + this->ChainOffsets[c]; }
+  Index ChainSize(Index c) const { return this->ChainOffsets[c + 1] - this->ChainOffsets[c]; } // vertices
+  Index ChainLeftPatch(Index c) const { return this->ChainLeft[c]; }
+  Index ChainRightPatch(Index c) const { return this->ChainRight[c]; }
+  // True when the chain runs along non-manifold edges (then it is kept as it is).
+  bool ChainIsNonManifold(Index c) const { return this->ChainFlags[c] & NonManifoldChain; }
+  // Endpoint ids (index into EndpointVertex) of the chain's first and last vertex.
+  Index ChainStart(Index c) const { return this->ChainEndpoints[2 * size_t(c)]; }
+  Index ChainEnd(Index c) const { return this->ChainEndpoints[2 * size_t(c) + 1]; }
+
+  // --- Endpoints: mesh vertices where chains meet ---
+  Index NumberOfEndpoints() const { return static_cast<Index>(this->EndpointVertices.size()); }
+  Index EndpointVertex(Index e) const { return this->EndpointVertices[e]; }
+  // On the mesh border (or non-manifold): such endpoints are preserved by collapses.
+  bool EndpointOnBorder(Index e) const { return this->EndpointBorder[e] != 0; }
+
+  // --- Patch graph: the chains around each patch (unordered) ---
+  const Index* PatchChainsBegin(Index p) const { return this->PatchChainList.data() + this->PatchChainOffsets[p]; }
+  const Index* PatchChainsEnd(Index p) const { return this->PatchChainList.data() + this->PatchChainOffsets[p + 1]; }
+
+  // Boundary of patch p as one closed vertex loop in counter-clockwise order (first vertex not
+  // repeated). Returns false when the chains do not form a single simple loop (never for a patch
+  // built here; used by tests and by consumers that check).
+  bool PatchBoundaryLoop(Index p, std::vector<Index>& loop) const;
+
+  // Heap memory of the result (bytes).
+  size_t MemoryUsage() const;
+
+private:
+  enum : unsigned char
+  {
+    NonManifoldChain = 1
+  };
+  struct Adjacency;
+  void Grow(const TriangleMesh& mesh, const Adjacency& adjacency, const PatchificationParameters& parameters,
+    const ProgressFunction& progress);
+  void ExtractChains(const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency);
+
+  bool WasAborted = false;
+  std::vector<Index> TrianglePatch;
+  std::vector<Vec3> PatchAreaVector;
+  std::vector<double> PatchAreaOf;
+  std::vector<Index> PatchTriangleCountOf;
+  std::vector<Index> ChainOffsets, ChainVertexList, ChainLeft, ChainRight, ChainEndpoints;
+  std::vector<unsigned char> ChainFlags;
+  std::vector<Index> EndpointVertices;
+  std::vector<unsigned char> EndpointBorder;
+  std::vector<Index> PatchChainOffsets, PatchChainList;
+};
+} // namespace slod
+
+#endif

@@ -1,0 +1,372 @@
+#include "vtkPatchBoundaryMerge.h"
+
+#include "slodInputPreparation.h"
+#include "slodMeshTopology.h"
+#include "slodPatchBoundaryMerge.h"
+#include "slodPatchification.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+vtkStandardNewMacro(vtkPatchBoundaryMerge);
+
+namespace
+{
+// Manifold edges both of whose triangles run them the same way.
+slod::Index InconsistentEdges(const slod::TriangleMesh& mesh, const slod::MeshTopology& topology)
+{
+  slod::Index count = 0;
+  for (slod::Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    if (topology.EdgeTriangleCount(e) != 2)
+    {
+      continue;
+    }
+    const slod::Index a = topology.EdgeVertex(e, 0), b = topology.EdgeVertex(e, 1);
+    int direction = 0;
+    for (const slod::Index* t = topology.EdgeTrianglesBegin(e); t != topology.EdgeTrianglesEnd(e); ++t)
+    {
+      const slod::Index* tri = mesh.Triangle(*t);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (tri[k] == a && tri[(k + 1) % 3] == b)
+        {
+          ++direction;
+        }
+        else if (tri[k] == b && tri[(k + 1) % 3] == a)
+        {
+          --direction;
+        }
+      }
+    }
+    count += direction != 0;
+  }
+  return count;
+}
+} // namespace
+
+// The patchification and its chain hierarchy, kept between updates.
+struct vtkPatchBoundaryMerge::Cache
+{
+  const void* Input = nullptr;
+  vtkMTimeType InputTime = 0;
+  slod::PatchificationParameters Parameters;
+  slod::TriangleMesh Mesh;
+  std::vector<slod::Index> VertexToInput;
+  slod::Patchification Patches;
+  slod::SpbmLevelGenerator Generator;
+  std::vector<std::string> Warnings;
+
+  double RelativePlaneDistance = 0;
+
+  bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p, double relativePlaneDistance) const
+  {
+    return this->Input == input && this->InputTime == input->GetMTime() &&
+      this->Parameters.OneEdgePatchAngle == p.OneEdgePatchAngle &&
+      this->Parameters.OneEdgeNeighborAngle == p.OneEdgeNeighborAngle &&
+      this->Parameters.TwoEdgePatchAngle == p.TwoEdgePatchAngle &&
+      this->Parameters.TwoEdgeNeighborAngle == p.TwoEdgeNeighborAngle &&
+      this->Parameters.AreaWeighted == p.AreaWeighted && this->RelativePlaneDistance == relativePlaneDistance;
+  }
+  size_t MemoryUsage() const
+  {
+    return this->Mesh.Points.capacity() * sizeof(double) + this->Mesh.Triangles.capacity() * sizeof(slod::Index) +
+      this->VertexToInput.capacity() * sizeof(slod::Index) + this->Patches.MemoryUsage() +
+      this->Generator.MemoryUsage();
+  }
+};
+
+vtkPatchBoundaryMerge::vtkPatchBoundaryMerge()
+{
+  this->SetNumberOfOutputPorts(3);
+}
+
+vtkPatchBoundaryMerge::~vtkPatchBoundaryMerge() = default;
+
+void vtkPatchBoundaryMerge::ReleaseCache()
+{
+  this->Cached.reset();
+  this->CacheMemory = 0;
+  this->Modified();
+}
+
+int vtkPatchBoundaryMerge::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  using Clock = std::chrono::steady_clock;
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* curves = vtkPolyData::GetData(outputVector, 1);
+  vtkPolyData* colored = vtkPolyData::GetData(outputVector, 2);
+  if (!input || !output || !curves || !colored)
+  {
+    return 0;
+  }
+  this->NumberOfMergedPatches = 0;
+  this->UnmergedPatches = 0;
+  this->RefinedPatches = 0;
+  this->OriginalPatches = 0;
+  this->PatchificationTime = 0;
+  this->LevelTime = 0;
+
+  slod::PatchificationParameters patchParameters;
+  patchParameters.OneEdgePatchAngle = this->PatchAngle;
+  patchParameters.OneEdgeNeighborAngle = this->NeighborAngle;
+  patchParameters.TwoEdgePatchAngle = this->TwoEdgePatchAngle;
+  patchParameters.TwoEdgeNeighborAngle = this->TwoEdgeNeighborAngle;
+  patchParameters.AreaWeighted = this->AreaWeightedNormals;
+
+  // 1. Patchification (cached).
+  const auto start = Clock::now();
+  this->PatchificationReused =
+    this->Cached && this->Cached->Matches(input, patchParameters, this->PatchPlaneDistance);
+  if (!this->PatchificationReused)
+  {
+    this->Cached.reset(new Cache);
+    Cache& cache = *this->Cached;
+    cache.Input = input;
+    cache.InputTime = input->GetMTime();
+    cache.Parameters = patchParameters;
+    cache.RelativePlaneDistance = this->PatchPlaneDistance;
+    // Orientation repair is the costliest part of the preparation and most inputs do not need
+    // it: prepare without it, and again with it only when an inconsistent edge shows up.
+    slod::PreparationOptions options;
+    options.MakeOrientationConsistent = false;
+    slod::PreparationReport report = slod::PrepareTriangleMesh(input, options, cache.Mesh, cache.VertexToInput);
+    if (!report.Valid)
+    {
+      vtkErrorMacro("Cannot simplify this input: " << report.Error);
+      this->Cached.reset();
+      return 1;
+    }
+    this->UpdateProgress(0.05);
+    {
+      auto topology = std::make_unique<slod::MeshTopology>(cache.Mesh); // only needed while growing patches
+      if (InconsistentEdges(cache.Mesh, *topology) > 0)
+      {
+        report = slod::PrepareTriangleMesh(input, slod::PreparationOptions(), cache.Mesh, cache.VertexToInput);
+        topology = std::make_unique<slod::MeshTopology>(cache.Mesh);
+      }
+      cache.Warnings = report.Warnings();
+      if (report.NonManifoldEdges > 0)
+      {
+        cache.Warnings.push_back("non-manifold edges are kept as patch borders at full resolution");
+      }
+      slod::PatchificationParameters growth = patchParameters;
+      growth.MaximumPlaneDistance = this->PatchPlaneDistance * cache.Mesh.BoundingBoxDiagonal();
+      cache.Patches.Build(cache.Mesh, *topology, growth, [this](double f) {
+        this->UpdateProgress(0.05 + 0.6 * f);
+        return this->GetAbortExecute() != 0;
+      });
+    }
+    if (cache.Patches.Aborted())
+    {
+      this->Cached.reset();
+      return 1;
+    }
+    cache.Generator.Initialize(cache.Mesh, cache.Patches);
+  }
+  Cache& cache = *this->Cached;
+  for (const std::string& warning : cache.Warnings)
+  {
+    vtkWarningMacro(<< warning);
+  }
+  this->NumberOfPatches = cache.Patches.NumberOfPatches();
+  this->NumberOfChains = cache.Patches.NumberOfChains();
+  const auto patched = Clock::now();
+  if (!this->PatchificationReused)
+  {
+    this->PatchificationTime = std::chrono::duration<double>(patched - start).count();
+  }
+  this->UpdateProgress(0.7);
+  const slod::TriangleMesh& mesh = cache.Mesh;
+  if (mesh.NumberOfTriangles() == 0)
+  {
+    return 1;
+  }
+
+  // 2. The level.
+  slod::SpbmLevelParameters level;
+  level.Epsilon = this->RelativeEpsilon ? this->Epsilon * mesh.BoundingBoxDiagonal() : this->Epsilon;
+  level.MergeAngle = this->MergeAngle;
+  level.MergePatches = this->MergePatches;
+  level.CollapseChains = this->CollapseChains;
+  level.CollapseLengthFactor = this->CollapseLengthFactor;
+  vtkIdType target = 0;
+  if (this->TargetNumberOfTriangles > 0)
+  {
+    target = this->TargetNumberOfTriangles;
+  }
+  else if (this->TargetReduction > 0)
+  {
+    target = static_cast<vtkIdType>(std::llround((1.0 - this->TargetReduction) * mesh.NumberOfTriangles()));
+  }
+  if (this->MaximumError > 0)
+  {
+    level.Epsilon = this->MaximumError;
+  }
+  slod::SpbmLevel result;
+  auto abort = [this]() { return this->GetAbortExecute() != 0; };
+  if (target >= mesh.NumberOfTriangles())
+  {
+    // No reduction asked for: the (prepared) input itself, with its patches and chains.
+    result.Triangles = mesh.Triangles;
+    result.TrianglePatch = cache.Patches.TrianglePatches();
+    result.NumberOfPatches = cache.Patches.NumberOfPatches();
+    result.CurveOffsets.assign(1, 0);
+    for (slod::Index c = 0; c < cache.Patches.NumberOfChains(); ++c)
+    {
+      const slod::Index* v = cache.Patches.ChainVerticesBegin(c);
+      result.CurveVertices.insert(result.CurveVertices.end(), v, v + cache.Patches.ChainSize(c));
+      result.CurveOffsets.push_back(static_cast<slod::Index>(result.CurveVertices.size()));
+    }
+    level.Epsilon = 0;
+  }
+  else if (target > 0)
+  {
+    const slod::SpbmLevelParameters base = level;
+    if (!cache.Generator.GenerateForTarget(
+          static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), base, result, &level, abort))
+    {
+      return 1;
+    }
+    const vtkIdType produced = static_cast<vtkIdType>(result.Triangles.size() / 3);
+    if (produced < target && 10 * (target - produced) > target)
+    {
+      // SPBM keeps no vertex inside a patch, so even its finest level is far below the input count.
+      vtkWarningMacro(<< "Target of " << target << " triangles is beyond SPBM's finest level for these patch "
+                      << "parameters; produced " << produced << " triangles (lower the angle tolerances for more).");
+    }
+    if (this->MaximumError > 0 && level.Epsilon > this->MaximumError)
+    {
+      // The error bound is reached before the target: stop there.
+      level = base;
+      if (!cache.Generator.Generate(level, result, abort))
+      {
+        return 1;
+      }
+    }
+  }
+  else if (!cache.Generator.Generate(level, result, abort))
+  {
+    return 1;
+  }
+  this->UsedEpsilon = level.Epsilon < 0 ? 0.0 : level.Epsilon;
+  this->UsedMergeAngle = level.MergeAngle;
+  this->NumberOfMergedPatches = result.NumberOfPatches;
+  this->UnmergedPatches = result.UnmergedPatches;
+  this->RefinedPatches = result.RefinedPatches;
+  this->OriginalPatches = result.OriginalPatches;
+  this->UpdateProgress(0.9);
+
+  // 3. Outputs over the original vertices that are used.
+  std::vector<slod::Index> outputOf(size_t(mesh.NumberOfPoints()), slod::InvalidIndex);
+  std::vector<slod::Index> used;
+  auto use = [&](slod::Index v) {
+    if (outputOf[v] == slod::InvalidIndex)
+    {
+      outputOf[v] = static_cast<slod::Index>(used.size());
+      used.push_back(v);
+    }
+    return static_cast<vtkIdType>(outputOf[v]);
+  };
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateExact(static_cast<vtkIdType>(result.TrianglePatch.size()), static_cast<vtkIdType>(result.Triangles.size()));
+  for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
+  {
+    const vtkIdType ids[3] = { use(result.Triangles[3 * t]), use(result.Triangles[3 * t + 1]),
+      use(result.Triangles[3 * t + 2]) };
+    polys->InsertNextCell(3, ids);
+  }
+  vtkNew<vtkCellArray> lines;
+  for (size_t c = 0; c + 1 < result.CurveOffsets.size(); ++c)
+  {
+    lines->InsertNextCell(result.CurveOffsets[c + 1] - result.CurveOffsets[c]);
+    for (slod::Index i = result.CurveOffsets[c]; i < result.CurveOffsets[c + 1]; ++i)
+    {
+      lines->InsertCellPoint(use(result.CurveVertices[i]));
+    }
+  }
+  const int pointType = this->OutputDoublePrecision || !input->GetPoints()
+    ? VTK_DOUBLE
+    : input->GetPoints()->GetDataType();
+  vtkNew<vtkPoints> points;
+  points->SetDataType(pointType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
+  points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
+  vtkPointData* inPD = input->GetPointData();
+  vtkPointData* outPD = output->GetPointData();
+  outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
+  for (size_t i = 0; i < used.size(); ++i)
+  {
+    points->SetPoint(static_cast<vtkIdType>(i), &mesh.Points[3 * size_t(used[i])]);
+    outPD->CopyData(inPD, cache.VertexToInput[used[i]], static_cast<vtkIdType>(i));
+  }
+  vtkNew<vtkIntArray> patchIds;
+  patchIds->SetName("PatchId");
+  patchIds->SetNumberOfValues(static_cast<vtkIdType>(result.TrianglePatch.size()));
+  for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
+  {
+    patchIds->SetValue(static_cast<vtkIdType>(t), result.TrianglePatch[t]);
+  }
+  output->SetPoints(points);
+  output->SetPolys(polys);
+  output->GetCellData()->AddArray(patchIds);
+  curves->SetPoints(points);
+  curves->GetPointData()->ShallowCopy(outPD);
+  curves->SetLines(lines);
+
+  if (this->GeneratePatchColoredInput)
+  {
+    slod::MeshToPolyData(mesh, colored, points->GetDataType());
+    vtkNew<vtkIntArray> inputPatch;
+    inputPatch->SetName("PatchId");
+    inputPatch->SetNumberOfValues(mesh.NumberOfTriangles());
+    const std::vector<slod::Index>& patchOf = cache.Patches.TrianglePatches();
+    for (slod::Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    {
+      inputPatch->SetValue(t, patchOf[t]);
+    }
+    colored->GetCellData()->AddArray(inputPatch);
+  }
+  this->CacheMemory = static_cast<vtkIdType>(cache.MemoryUsage());
+  this->LevelTime = std::chrono::duration<double>(Clock::now() - patched).count();
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "PatchAngle: " << this->PatchAngle << "\n";
+  os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
+  os << indent << "TwoEdgePatchAngle: " << this->TwoEdgePatchAngle << "\n";
+  os << indent << "TwoEdgeNeighborAngle: " << this->TwoEdgeNeighborAngle << "\n";
+  os << indent << "AreaWeightedNormals: " << this->AreaWeightedNormals << "\n";
+  os << indent << "PatchPlaneDistance: " << this->PatchPlaneDistance << "\n";
+  os << indent << "Epsilon: " << this->Epsilon << (this->RelativeEpsilon ? " (relative)" : " (absolute)") << "\n";
+  os << indent << "MergeAngle: " << this->MergeAngle << "\n";
+  os << indent << "MergePatches: " << this->MergePatches << "\n";
+  os << indent << "CollapseChains: " << this->CollapseChains << "\n";
+  os << indent << "CollapseLengthFactor: " << this->CollapseLengthFactor << "\n";
+  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
+  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
+  os << indent << "MaximumError: " << this->MaximumError << "\n";
+  os << indent << "GeneratePatchColoredInput: " << this->GeneratePatchColoredInput << "\n";
+  os << indent << "OutputDoublePrecision: " << this->OutputDoublePrecision << "\n";
+  os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
+  os << indent << "NumberOfMergedPatches: " << this->NumberOfMergedPatches << "\n";
+  os << indent << "UsedEpsilon: " << this->UsedEpsilon << "\n";
+  os << indent << "UsedMergeAngle: " << this->UsedMergeAngle << "\n";
+  os << indent << "PatchificationReused: " << this->PatchificationReused << "\n";
+}

@@ -1,0 +1,203 @@
+/**
+ * @class   vtkPatchBoundaryMerge
+ * @brief   Simplified Patch Boundary Merging (SPBM, Ho 1999, chapter 4): fast level-of-detail
+ *          generation from a patchification of the surface
+ *
+ * The input surface is partitioned once into patches (simply connected sets of triangles whose
+ * normals stay within a cone: slod::Patchification). A level of detail is then generated from the
+ * patch boundaries only: the boundary chains are simplified to a tolerance epsilon (divide and
+ * conquer, the whole hierarchy is stored), nearly coplanar neighbouring patches merge (alpha1),
+ * short chains collapse, and every patch is re-triangulated from its simplified boundary by
+ * prioritised ear clipping in the plane orthogonal to its normal. Output vertices are original
+ * input vertices (no Steiner points); a closed manifold input gives a closed manifold output of
+ * the same genus (patches that cannot be triangulated validly from their simplified boundary fall
+ * back to their full-resolution boundary, then to their original triangles).
+ *
+ * The patchification is cached (keyed on the input's modification time and the patch
+ * parameters): changing Epsilon, MergeAngle or the target re-generates a level in a small fraction
+ * of the first run's time.
+ *
+ * Outputs:
+ *  - port 0: the simplified mesh, cell data "PatchId" (merged patch), input point data carried;
+ *  - port 1: the profile curves (simplified patch boundaries) as polylines over the same points;
+ *  - port 2: when GeneratePatchColoredInput is on, the (prepared) input with cell data "PatchId"
+ *    of the patchification (empty otherwise).
+ *
+ * Target: SetTargetNumberOfTriangles (0 = unused) or SetTargetReduction (fraction removed) search
+ * epsilon over the stored chain hierarchy (and widen alpha1 when needed) without repeating the
+ * patchification; otherwise Epsilon (or MaximumError) and MergeAngle are used as given. A target
+ * of at least the input's triangle count returns the (prepared) input unchanged.
+ */
+#ifndef vtkPatchBoundaryMerge_h
+#define vtkPatchBoundaryMerge_h
+
+#include "SurfaceLODFiltersModule.h"
+#include "vtkPolyDataAlgorithm.h"
+
+#include <memory>
+
+class SURFACELODFILTERS_EXPORT vtkPatchBoundaryMerge : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkPatchBoundaryMerge* New();
+  vtkTypeMacro(vtkPatchBoundaryMerge, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Patch growth (feasibility (b)), degrees: a triangle sharing one edge with the patch joins
+  /// when its normal is within PatchAngle of the patch normal (default 25) and within
+  /// NeighborAngle of the triangle it grows from (default 20); one sharing two edges uses
+  /// TwoEdgePatchAngle / TwoEdgeNeighborAngle (default 90 / 90).
+  vtkSetClampMacro(PatchAngle, double, 0.0, 180.0);
+  vtkGetMacro(PatchAngle, double);
+  vtkSetClampMacro(NeighborAngle, double, 0.0, 180.0);
+  vtkGetMacro(NeighborAngle, double);
+  vtkSetClampMacro(TwoEdgePatchAngle, double, 0.0, 180.0);
+  vtkGetMacro(TwoEdgePatchAngle, double);
+  vtkSetClampMacro(TwoEdgeNeighborAngle, double, 0.0, 180.0);
+  vtkGetMacro(TwoEdgeNeighborAngle, double);
+  ///@}
+
+  ///@{
+  /// Extension of feasibility (b) (not in the paper): a triangle joins a patch only when its new
+  /// vertex lies within this distance of the patch's running plane, relative to the bounding-box
+  /// diagonal (default 0.004; 0 = off, the paper's normal-only test). Patches are re-triangulated
+  /// from their boundary alone, so this bounds the error of flat patches on curved parts.
+  vtkSetClampMacro(PatchPlaneDistance, double, 0.0, 1.0);
+  vtkGetMacro(PatchPlaneDistance, double);
+  ///@}
+
+  ///@{
+  /// Area-weighted running patch normal (default on).
+  vtkSetMacro(AreaWeightedNormals, bool);
+  vtkGetMacro(AreaWeightedNormals, bool);
+  vtkBooleanMacro(AreaWeightedNormals, bool);
+  ///@}
+
+  ///@{
+  /// Chain tolerance epsilon: relative to the bounding-box diagonal when RelativeEpsilon is on
+  /// (default 0.005 relative), else absolute. Ignored when a target is set.
+  vtkSetClampMacro(Epsilon, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(Epsilon, double);
+  vtkSetMacro(RelativeEpsilon, bool);
+  vtkGetMacro(RelativeEpsilon, bool);
+  vtkBooleanMacro(RelativeEpsilon, bool);
+  ///@}
+
+  ///@{
+  /// alpha1, degrees: patches merge and chains collapse when the patch normals agree within it
+  /// (default 20). With a target it is the starting value (widened when needed).
+  vtkSetClampMacro(MergeAngle, double, 0.0, 180.0);
+  vtkGetMacro(MergeAngle, double);
+  ///@}
+
+  ///@{
+  /// Stages of patch merging (default on) and the chain-collapse length factor (default 0.2).
+  vtkSetMacro(MergePatches, bool);
+  vtkGetMacro(MergePatches, bool);
+  vtkBooleanMacro(MergePatches, bool);
+  vtkSetMacro(CollapseChains, bool);
+  vtkGetMacro(CollapseChains, bool);
+  vtkBooleanMacro(CollapseChains, bool);
+  vtkSetClampMacro(CollapseLengthFactor, double, 0.0, 1.0);
+  vtkGetMacro(CollapseLengthFactor, double);
+  ///@}
+
+  ///@{
+  /// Target output size (SurfaceLOD convention): a triangle count (0 = unused) or the fraction
+  /// of triangles to remove (0 = unused). The count wins when both are set.
+  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
+  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
+  vtkGetMacro(TargetReduction, double);
+  ///@}
+
+  ///@{
+  /// Optional error bound (SurfaceLOD convention; 0 = unused): the absolute chain tolerance
+  /// epsilon may not exceed it. Without a target it is the epsilon used; with a target the
+  /// filter stops at whichever is reached first (more triangles than the target if needed).
+  vtkSetClampMacro(MaximumError, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumError, double);
+  ///@}
+
+  ///@{
+  /// Fill output port 2 with the input coloured by patch (default off).
+  vtkSetMacro(GeneratePatchColoredInput, bool);
+  vtkGetMacro(GeneratePatchColoredInput, bool);
+  vtkBooleanMacro(GeneratePatchColoredInput, bool);
+  ///@}
+
+  ///@{
+  /// Output points in double precision (default: the input's precision).
+  vtkSetMacro(OutputDoublePrecision, bool);
+  vtkGetMacro(OutputDoublePrecision, bool);
+  vtkBooleanMacro(OutputDoublePrecision, bool);
+  ///@}
+
+  /// Drops the cached patchification (the next update recomputes it).
+  void ReleaseCache();
+
+  ///@{
+  /// Results of the last update.
+  vtkGetMacro(NumberOfPatches, vtkIdType);        // patchification
+  vtkGetMacro(NumberOfChains, vtkIdType);         // patchification
+  vtkGetMacro(NumberOfMergedPatches, vtkIdType);  // in the output level
+  vtkGetMacro(UsedEpsilon, double);               // absolute
+  vtkGetMacro(UsedMergeAngle, double);
+  // Fallbacks (in patches of the patchification) for boundaries that could not be triangulated
+  // validly: kept unmerged, refined (finer epsilon up to full resolution), original triangles.
+  vtkGetMacro(UnmergedPatches, vtkIdType);
+  vtkGetMacro(RefinedPatches, vtkIdType);
+  vtkGetMacro(OriginalPatches, vtkIdType);
+  vtkGetMacro(PatchificationReused, bool);        // the cache was hit
+  vtkGetMacro(PatchificationTime, double);        // seconds (input preparation + patches + hierarchy)
+  vtkGetMacro(LevelTime, double);                 // seconds (search + level generation + output)
+  vtkGetMacro(CacheMemory, vtkIdType);            // bytes held between updates
+  ///@}
+
+protected:
+  vtkPatchBoundaryMerge();
+  ~vtkPatchBoundaryMerge() override;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double PatchAngle = 25.0;
+  double NeighborAngle = 20.0;
+  double TwoEdgePatchAngle = 90.0;
+  double TwoEdgeNeighborAngle = 90.0;
+  bool AreaWeightedNormals = true;
+  double PatchPlaneDistance = 0.004;
+  double Epsilon = 0.005;
+  bool RelativeEpsilon = true;
+  double MergeAngle = 20.0;
+  bool MergePatches = true;
+  bool CollapseChains = true;
+  double CollapseLengthFactor = 0.2;
+  vtkIdType TargetNumberOfTriangles = 0;
+  double TargetReduction = 0.0;
+  double MaximumError = 0.0;
+  bool GeneratePatchColoredInput = false;
+  bool OutputDoublePrecision = false;
+
+  vtkIdType NumberOfPatches = 0;
+  vtkIdType NumberOfChains = 0;
+  vtkIdType NumberOfMergedPatches = 0;
+  double UsedEpsilon = 0.0;
+  double UsedMergeAngle = 0.0;
+  vtkIdType UnmergedPatches = 0;
+  vtkIdType RefinedPatches = 0;
+  vtkIdType OriginalPatches = 0;
+  bool PatchificationReused = false;
+  double PatchificationTime = 0.0;
+  double LevelTime = 0.0;
+  vtkIdType CacheMemory = 0;
+
+private:
+  vtkPatchBoundaryMerge(const vtkPatchBoundaryMerge&) = delete;
+  void operator=(const vtkPatchBoundaryMerge&) = delete;
+
+  struct Cache;
+  std::unique_ptr<Cache> Cached;
+};
+
+#endif
