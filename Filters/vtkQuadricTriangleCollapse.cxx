@@ -148,7 +148,21 @@ int vtkQuadricTriangleCollapse::RequestData(
     if (verbose)
     {
       const std::clock_t now = std::clock();
-      std::fprintf(stderr, "[vtkQuadricTriangleCollapse] %s: %.3f s CPU\n", what, double(now - clock) / CLOCKS_PER_SEC);
+      long peakKB = 0; // peak resident memory so far (Linux), to see which stage sets it
+      if (FILE* status = std::fopen("/proc/self/status", "r"))
+      {
+        char line[256];
+        while (std::fgets(line, sizeof(line), status))
+        {
+          if (std::sscanf(line, "VmHWM: %ld", &peakKB) == 1)
+          {
+            break;
+          }
+        }
+        std::fclose(status);
+      }
+      std::fprintf(stderr, "[vtkQuadricTriangleCollapse] %s: %.3f s CPU, peak RSS %.1f MB\n", what,
+        double(now - clock) / CLOCKS_PER_SEC, peakKB / 1024.0);
       clock = now;
     }
   };
