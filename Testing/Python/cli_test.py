@@ -100,6 +100,20 @@ def scenario_simplify(a):
     result = json_line(run(a.cli, "simplify", fandisk, out, "--method", method, "--target-reduction", 0.85, "--json"))
     check(abs(result["output_triangles"] - 1942) <= max(tolerance, 20),
           "%s: --target-reduction 0.85 gave %d triangles" % (method, result["output_triangles"]))
+    if method == "quadric-triangle-collapse":
+        # --max-error alone: stops at the bound; a tighter bound keeps more triangles.
+        diag = 1.4521458
+        # (The bound is on the RMS distance of each vertex to its original planes, not on the Hausdorff distance.)
+        loose_out = os.path.join(a.work, "fandisk_loose.vtp")
+        tight_out = os.path.join(a.work, "fandisk_tight.vtp")
+        loose = json_line(run(a.cli, "simplify", fandisk, loose_out, "--method", method, "--max-error", 0.01 * diag, "--json"))
+        tight = json_line(run(a.cli, "simplify", fandisk, tight_out, "--method", method, "--max-error", 0.001 * diag, "--json"))
+        check(tight["output_triangles"] > loose["output_triangles"] > 4,
+              "max-error: tight %d, loose %d triangles" % (tight["output_triangles"], loose["output_triangles"]))
+        d_loose = json_line(run(a.cli, "compare", fandisk, loose_out, "--samples", 20000, "--json"))
+        d_tight = json_line(run(a.cli, "compare", fandisk, tight_out, "--samples", 20000, "--json"))
+        check(d_tight["rms"] < d_loose["rms"] and d_tight["rms"] < 0.001,
+              "max-error: RMS %g (tight) vs %g (loose)" % (d_tight["rms"], d_loose["rms"]))
     if method in LEVEL_METHODS:
         # Levels: a deeper level has fewer triangles; a blended level lies between its neighbours.
         counts = {}

@@ -5,6 +5,7 @@
 
 // SurfaceLOD filters: add the include here and one line in the table below.
 #include "vtkPatchBoundaryMerge.h"
+#include "vtkQuadricTriangleCollapse.h"
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <algorithm>
@@ -121,6 +122,8 @@ const std::vector<Method>& Methods()
     { "vtk-decimate-pro", "VTK's vtkDecimatePro with PreserveTopologyOn (vertex removal)",
       true, &CreateVTKDecimatePro },
     // SurfaceLOD filters, one line each (and the header include above).
+    SurfaceLODMethod<vtkQuadricTriangleCollapse>("quadric-triangle-collapse",
+      "Pan, Zhou, Shi 2000: quadric-error triangle collapses (with edge collapses), original-surface error"),
     { "triangle-collapse-hierarchy", "Gieng et al. 1997: batches of triangle collapses on quadratic fits, "
       "levels M0..Mn with smooth blending (also --level i+t)", false, &CreateTriangleCollapseHierarchy, true },
     SurfaceLODMethod<vtkPatchBoundaryMerge>("patch-boundary-merge",

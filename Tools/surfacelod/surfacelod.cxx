@@ -141,9 +141,10 @@ MethodSettings TargetSettings(const ParsedArguments& args, vtkIdType inputTriang
   {
     throw CliError(ExitUsage, "surfacelod " + args.Command + ": give one of --target-triangles, --target-reduction, --level");
   }
-  if (!byCount && !byReduction && !byLevel && required)
+  const bool byError = args.Has("max-error");
+  if (!byCount && !byReduction && !byLevel && !byError && required)
   {
-    throw CliError(ExitUsage, "surfacelod " + args.Command + ": give --target-triangles N or --target-reduction R");
+    throw CliError(ExitUsage, "surfacelod " + args.Command + ": give --target-triangles N, --target-reduction R or --max-error E");
   }
   if (byLevel)
   {
@@ -153,9 +154,13 @@ MethodSettings TargetSettings(const ParsedArguments& args, vtkIdType inputTriang
   {
     settings.TargetTriangles = args.GetInteger("target-triangles", 0, 1, std::numeric_limits<long long>::max());
   }
-  else
+  else if (byReduction || !byError)
   {
     settings.TargetReduction = args.GetReal("target-reduction", defaultReduction, 0.0, 1.0);
+  }
+  else
+  {
+    settings.TargetReduction = 1.0; // --max-error alone: simplify until the error bound stops it
   }
   if (args.Has("max-error"))
   {
