@@ -48,44 +48,6 @@ void ResetPeak()
   std::ofstream("/proc/self/clear_refs") << "5";
 }
 
-// A smooth closed genus-1 surface: a bumpy torus, sampled on N x N x N/2 voxels.
-vtkSmartPointer<vtkPolyData> MarchingCubesMesh(int n)
-{
-  vtkNew<vtkImageData> image;
-  const int nz = n / 2;
-  image->SetDimensions(n, n, nz);
-  const double h = 2.6 / (n - 1);
-  image->SetSpacing(h, h, h);
-  image->SetOrigin(-1.3, -1.3, -0.5 * h * (nz - 1));
-  vtkNew<vtkFloatArray> values;
-  values->SetNumberOfTuples(vtkIdType(n) * n * nz);
-  vtkIdType id = 0;
-  for (int k = 0; k < nz; ++k)
-  {
-    for (int j = 0; j < n; ++j)
-    {
-      for (int i = 0; i < n; ++i, ++id)
-      {
-        const double x = -1.3 + i * h, y = -1.3 + j * h, z = -0.5 * h * (nz - 1) + k * h;
-        const double r = std::sqrt(x * x + y * y) - 0.85;
-        const double bump = 0.06 * std::sin(7 * x) * std::sin(5 * y) * std::cos(6 * z) + 0.04 * std::cos(9 * std::atan2(y, x));
-        values->SetValue(id, static_cast<float>(r * r + 1.3 * z * z - 0.1 + bump * 0.5));
-      }
-    }
-  }
-  image->GetPointData()->SetScalars(values);
-  vtkNew<vtkFlyingEdges3D> mc;
-  mc->SetInputData(image);
-  mc->SetValue(0, 0.0);
-  mc->ComputeNormalsOff();
-  mc->ComputeGradientsOff();
-  mc->ComputeScalarsOff();
-  mc->Update();
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->ShallowCopy(mc->GetOutput());
-  return out;
-}
-
 double CpuSeconds()
 {
   timespec ts;
@@ -147,7 +109,7 @@ void Write(vtkPolyData* mesh, const std::string& path)
 
 int main(int argc, char* argv[])
 {
-  int mcResolution = 400;
+  int mcResolution = 500; // vtkSyntheticIsosurfaceSource: 1,004,688 triangles (the demo mesh)
   int runs = 1;
   bool skipVtk = false;
   std::string writeDir;
@@ -188,7 +150,7 @@ int main(int argc, char* argv[])
     const size_t colon = c.find(':');
     const std::string name = c.substr(0, colon);
     const std::string spec = colon == std::string::npos ? "0.1" : c.substr(colon + 1);
-    vtkSmartPointer<vtkPolyData> input = name == "mc" ? MarchingCubesMesh(mcResolution) : slodtest::LoadTestMesh(name);
+    vtkSmartPointer<vtkPolyData> input = name == "mc" ? slodtest::SyntheticIsosurface(mcResolution) : slodtest::LoadTestMesh(name);
     const vtkIdType n = input->GetNumberOfPolys();
     const double value = std::atof(spec.c_str());
     const vtkIdType target = value < 1.0 ? static_cast<vtkIdType>(std::llround(value * n)) : static_cast<vtkIdType>(value);

@@ -1,6 +1,6 @@
 // Speed of the deviation measurement (a plain timed program, not a test).
 //
-// A = isosurface of a smooth rippled ring (vtkFlyingEdges3D) with about 1,000,000 triangles,
+// A = the demo's marching-cubes surface (vtkSyntheticIsosurfaceSource) with about 1,000,000 triangles,
 // B = the same surface extracted on a coarser grid (about 60,000 triangles).
 // Reported, wall clock:
 //  1. one side as every filter test uses it: TriangleBVH over A (build) + 300,000 area-weighted
@@ -15,8 +15,8 @@
 #include "slodSurfaceDeviation.h"
 #include "slodTriangleBVH.h"
 #include "vtkSurfaceDeviation.h"
+#include "vtkSyntheticIsosurfaceSource.h"
 
-#include "vtkFlyingEdges3D.h"
 #include "vtkFloatArray.h"
 #include "vtkHausdorffDistancePointSetFilter.h"
 #include "vtkImageData.h"
@@ -42,46 +42,20 @@ double Now()
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-// Implicit ring of radius 0.6 and tube 0.25 with a sinusoidal ripple, sampled on n^3 points of [-1,1]^3.
-vtkSmartPointer<vtkPolyData> RippledRing(int n)
+// The demo's marching-cubes surface at a given resolution (500: about 1,000,000 triangles).
+vtkSmartPointer<vtkPolyData> Isosurface(int resolution)
 {
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(n, n, n);
-  const double h = 2.0 / (n - 1);
-  image->SetOrigin(-1, -1, -1);
-  image->SetSpacing(h, h, h);
-  vtkNew<vtkFloatArray> values;
-  values->SetNumberOfTuples(vtkIdType(n) * n * n);
-  vtkSMPTools::For(0, n, [&](vtkIdType k0, vtkIdType k1) {
-    for (vtkIdType k = k0; k < k1; ++k)
-    {
-      for (int j = 0; j < n; ++j)
-      {
-        for (int i = 0; i < n; ++i)
-        {
-          const double x = -1 + i * h, y = -1 + j * h, z = -1 + k * h;
-          const double ring = std::sqrt(x * x + y * y) - 0.6;
-          const double ripple = 0.03 * std::sin(9 * x) * std::sin(11 * y) * std::sin(13 * z);
-          values->SetValue((k * n + j) * n + i, float(std::sqrt(ring * ring + z * z) - 0.25 + ripple));
-        }
-      }
-    }
-  });
-  image->GetPointData()->SetScalars(values);
-  vtkNew<vtkFlyingEdges3D> contour;
-  contour->SetInputData(image);
-  contour->SetValue(0, 0.0);
-  contour->ComputeNormalsOff();
-  contour->ComputeGradientsOff();
-  contour->ComputeScalarsOff();
-  contour->Update();
-  return contour->GetOutput();
+  vtkNew<vtkSyntheticIsosurfaceSource> source;
+  source->SetResolution(resolution);
+  source->Update();
+  vtkSmartPointer<vtkPolyData> out = source->GetOutput();
+  return out;
 }
 } // namespace
 
 int main(int argc, char* argv[])
 {
-  int resolution = 400;
+  int resolution = 500;
   long long samples = 300000;
   int threads = 0;
   bool runVtk = false;
@@ -122,8 +96,8 @@ int main(int argc, char* argv[])
   std::printf("SMP backend %s, %d threads\n", vtkSMPTools::GetBackend(), vtkSMPTools::GetEstimatedNumberOfThreads());
 
   double t = Now();
-  vtkSmartPointer<vtkPolyData> a = RippledRing(resolution);
-  vtkSmartPointer<vtkPolyData> b = RippledRing(resolution / 4);
+  vtkSmartPointer<vtkPolyData> a = Isosurface(resolution);
+  vtkSmartPointer<vtkPolyData> b = Isosurface(resolution / 4);
   std::printf("meshes: A %lld triangles, B %lld triangles (generated in %.2f s, untimed)\n",
     static_cast<long long>(a->GetNumberOfPolys()), static_cast<long long>(b->GetNumberOfPolys()), Now() - t);
 

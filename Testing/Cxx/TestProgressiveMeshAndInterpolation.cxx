@@ -25,25 +25,6 @@ using namespace slod;
 
 namespace
 {
-TriangleMesh RawMesh(vtkPolyData* pd)
-{
-  TriangleMesh mesh;
-  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    pd->GetPoint(i, p);
-    mesh.AddPoint({ p[0], p[1], p[2] });
-  }
-  vtkIdType n;
-  const vtkIdType* ids;
-  vtkCellArray* polys = pd->GetPolys();
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
-  {
-    mesh.AddTriangle(Index(ids[0]), Index(ids[1]), Index(ids[2]));
-  }
-  return mesh;
-}
-
 // Triangles as coordinate triples, rotated so the smallest corner comes first (orientation kept),
 // sorted: equal lists mean the same mesh up to point and triangle ordering.
 std::vector<std::array<double, 9>> CanonicalTriangles(const TriangleMesh& mesh)
@@ -96,7 +77,7 @@ TEST_P(ProgressiveMeshRoundTrip, CoarsePlusAllRecordsIsTheInput)
   ASSERT_EQ(records->GetNumberOfRows(), pm.Collapse->GetNumberOfCollapses());
   EXPECT_GT(records->GetNumberOfRows(), 0);
   EXPECT_EQ(pm.Reconstruction->GetAppliedVertexSplits(), records->GetNumberOfRows());
-  const TriangleMesh rebuilt = RawMesh(pm.Reconstruction->GetOutput());
+  const TriangleMesh rebuilt = slodtest::RawTriangleMesh(pm.Reconstruction->GetOutput());
   EXPECT_EQ(rebuilt.NumberOfTriangles(), prepared.NumberOfTriangles());
   EXPECT_EQ(rebuilt.NumberOfPoints(), prepared.NumberOfPoints());
   EXPECT_TRUE(CanonicalTriangles(rebuilt) == CanonicalTriangles(prepared)) << "the rebuilt mesh differs from the input";
@@ -125,7 +106,7 @@ TEST(ProgressiveMesh, AnyLevelInOrderKSplits)
     const vtkIdType now = pm.Reconstruction->GetAppliedVertexSplits();
     EXPECT_EQ(pm.Reconstruction->GetOperationsLastUpdate(), std::abs(now - level));
     level = now;
-    const MeshStatistics s = ComputeMeshStatistics(RawMesh(pm.Reconstruction->GetOutput()));
+    const MeshStatistics s = ComputeMeshStatistics(slodtest::RawTriangleMesh(pm.Reconstruction->GetOutput()));
     EXPECT_EQ(s.NonManifoldEdges, 0);
     EXPECT_EQ(s.InconsistentlyOrientedEdges, 0);
     EXPECT_EQ(s.Genus, base.Genus);
@@ -167,9 +148,9 @@ TEST(LODInterpolation, EndsReproduceTheInputs)
   collapse->SetTargetReduction(0.95);
   collapse->Update();
   vtkPolyData* coarse = collapse->GetOutput();
-  const TriangleMesh d = RawMesh(detailed), c = RawMesh(coarse);
-  EXPECT_TRUE(CanonicalTriangles(RawMesh(Interpolate(detailed, coarse, 0.0, 1e-3))) == CanonicalTriangles(d));
-  EXPECT_TRUE(CanonicalTriangles(RawMesh(Interpolate(detailed, coarse, 1.0, 1e-3))) == CanonicalTriangles(c));
+  const TriangleMesh d = slodtest::RawTriangleMesh(detailed), c = slodtest::RawTriangleMesh(coarse);
+  EXPECT_TRUE(CanonicalTriangles(slodtest::RawTriangleMesh(Interpolate(detailed, coarse, 0.0, 1e-3))) == CanonicalTriangles(d));
+  EXPECT_TRUE(CanonicalTriangles(slodtest::RawTriangleMesh(Interpolate(detailed, coarse, 1.0, 1e-3))) == CanonicalTriangles(c));
 }
 
 TEST(LODInterpolation, CorrespondencesAndInterpolationMatchBruteForce)
@@ -179,9 +160,9 @@ TEST(LODInterpolation, CorrespondencesAndInterpolationMatchBruteForce)
   collapse->SetInputData(detailed);
   collapse->SetTargetReduction(0.95);
   collapse->Update();
-  const TriangleMesh d = slodtest::ToTriangleMesh(detailed), c = RawMesh(collapse->GetOutput());
+  const TriangleMesh d = slodtest::ToTriangleMesh(detailed), c = slodtest::RawTriangleMesh(collapse->GetOutput());
   // Epsilon 0: no merging, so output vertex i is detailed vertex i moved halfway to its match.
-  const TriangleMesh out = RawMesh(Interpolate(detailed, collapse->GetOutput(), 0.5, 0.0));
+  const TriangleMesh out = slodtest::RawTriangleMesh(Interpolate(detailed, collapse->GetOutput(), 0.5, 0.0));
   ASSERT_EQ(out.NumberOfPoints(), d.NumberOfPoints());
   ASSERT_EQ(out.NumberOfTriangles(), d.NumberOfTriangles());
   auto nearest = [](const TriangleMesh& m, const Vec3& p) {
@@ -238,7 +219,7 @@ TEST(LODInterpolation, MergesCloseVerticesAndDropsDegenerateTriangles)
     filter->SetT(t);
     filter->SetEpsilon(2e-3);
     filter->Update();
-    const TriangleMesh out = RawMesh(filter->GetOutput());
+    const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
     EXPECT_EQ(filter->GetRemovedTriangles(), nd - out.NumberOfTriangles());
     // Closer to the coarse mesh, more vertices coincide: the count falls monotonically.
     EXPECT_LE(out.NumberOfTriangles(), previous);

@@ -35,27 +35,6 @@ using namespace slod;
 
 namespace
 {
-// The output exactly as stored (no preparation: orientation and duplicates must show).
-TriangleMesh RawMesh(vtkPolyData* pd)
-{
-  TriangleMesh mesh;
-  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    pd->GetPoint(i, p);
-    mesh.AddPoint({ p[0], p[1], p[2] });
-  }
-  vtkIdType n;
-  const vtkIdType* ids;
-  vtkCellArray* polys = pd->GetPolys();
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
-  {
-    EXPECT_EQ(n, 3);
-    mesh.AddTriangle(Index(ids[0]), Index(ids[1]), Index(ids[2]));
-  }
-  return mesh;
-}
-
 vtkSmartPointer<vtkPolyData> Collapse(vtkPolyData* input, vtkIdType target, double reduction = 0.0)
 {
   vtkNew<vtkQuadricTriangleCollapse> filter;
@@ -68,48 +47,11 @@ vtkSmartPointer<vtkPolyData> Collapse(vtkPolyData* input, vtkIdType target, doub
   return out;
 }
 
-// A smooth closed genus-1 marching-cubes surface (flying edges over a bumpy torus field).
-vtkSmartPointer<vtkPolyData> MarchingCubesMesh(int n)
-{
-  vtkNew<vtkImageData> image;
-  const int nz = n / 2;
-  image->SetDimensions(n, n, nz);
-  const double h = 2.6 / (n - 1);
-  image->SetSpacing(h, h, h);
-  image->SetOrigin(-1.3, -1.3, -0.5 * h * (nz - 1));
-  vtkNew<vtkFloatArray> values;
-  values->SetNumberOfTuples(vtkIdType(n) * n * nz);
-  vtkIdType id = 0;
-  for (int k = 0; k < nz; ++k)
-  {
-    for (int j = 0; j < n; ++j)
-    {
-      for (int i = 0; i < n; ++i, ++id)
-      {
-        const double x = -1.3 + i * h, y = -1.3 + j * h, z = -0.5 * h * (nz - 1) + k * h;
-        const double r = std::sqrt(x * x + y * y) - 0.85;
-        const double bump = 0.06 * std::sin(7 * x) * std::sin(5 * y) * std::cos(6 * z) + 0.04 * std::cos(9 * std::atan2(y, x));
-        values->SetValue(id, static_cast<float>(r * r + 1.3 * z * z - 0.1 + bump * 0.5));
-      }
-    }
-  }
-  image->GetPointData()->SetScalars(values);
-  vtkNew<vtkFlyingEdges3D> mc;
-  mc->SetInputData(image);
-  mc->SetValue(0, 0.0);
-  mc->ComputeNormalsOff();
-  mc->ComputeScalarsOff();
-  mc->Update();
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->ShallowCopy(mc->GetOutput());
-  return out;
-}
-
 vtkSmartPointer<vtkPolyData> Mesh(const std::string& name)
 {
   if (name == "marching-cubes")
   {
-    static vtkSmartPointer<vtkPolyData> mc = MarchingCubesMesh(120);
+    static vtkSmartPointer<vtkPolyData> mc = slodtest::SyntheticIsosurface(112);
     return mc;
   }
   return slodtest::LoadTestMesh(name);
@@ -174,7 +116,7 @@ TEST_P(TriangleCollapseOnMesh, KeepsTopologyOrientationAndHitsTarget)
   {
     const vtkIdType target = std::max<vtkIdType>(4, vtkIdType(fraction * in.NumberOfTriangles()));
     vtkSmartPointer<vtkPolyData> output = Collapse(input, target);
-    const TriangleMesh out = RawMesh(output);
+    const TriangleMesh out = slodtest::RawTriangleMesh(output);
     SCOPED_TRACE(std::string(GetParam()) + " to " + std::to_string(target));
     // The target is met within one collapse (at most 4 triangles per collapse).
     EXPECT_LE(out.NumberOfTriangles(), target);
@@ -199,7 +141,7 @@ TEST_P(TriangleCollapseOnMesh, KeepsTopologyOrientationAndHitsTarget)
     reference->SetTargetReduction(1.0 - double(target) / in.NumberOfTriangles());
     reference->Update();
     const double ours = FlippedAreaFraction(input, out);
-    const double theirs = FlippedAreaFraction(input, RawMesh(reference->GetOutput()));
+    const double theirs = FlippedAreaFraction(input, slodtest::RawTriangleMesh(reference->GetOutput()));
     std::printf("[flips] %s to %lld: flipped area fraction %.5f (vtkQuadricDecimation %.5f)\n", GetParam(),
       (long long)target, ours, theirs);
     EXPECT_LE(ours, 2.0 * theirs + 0.005);
@@ -221,7 +163,7 @@ TEST(QuadricTriangleCollapse, OpenGridKeepsItsBorder)
   }
   vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(grid);
   vtkSmartPointer<vtkPolyData> output = Collapse(input, grid.NumberOfTriangles() / 10);
-  const TriangleMesh out = RawMesh(output);
+  const TriangleMesh out = slodtest::RawTriangleMesh(output);
   const MeshStatistics s = ComputeMeshStatistics(out);
   EXPECT_EQ(s.BoundaryLoops, 1);
   EXPECT_EQ(s.Genus, 0);
@@ -248,7 +190,7 @@ TEST(QuadricTriangleCollapse, Deterministic)
 {
   vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("bunny00");
   vtkSmartPointer<vtkPolyData> a = Collapse(input, 2306), b = Collapse(input, 2306);
-  const TriangleMesh ma = RawMesh(a), mb = RawMesh(b);
+  const TriangleMesh ma = slodtest::RawTriangleMesh(a), mb = slodtest::RawTriangleMesh(b);
   EXPECT_EQ(ma.Points, mb.Points);
   EXPECT_EQ(ma.Triangles, mb.Triangles);
 }
@@ -385,7 +327,7 @@ TEST(QuadricTriangleCollapse, BadInputGivesDefinedOutput)
   filter->SetInputData(slodtest::ToPolyData(fan));
   filter->SetTargetReduction(0.8);
   filter->Update();
-  const TriangleMesh out = RawMesh(filter->GetOutput());
+  const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
   const MeshStatistics s = ComputeMeshStatistics(out);
   EXPECT_LT(out.NumberOfTriangles(), fan.NumberOfTriangles());
   EXPECT_LE(s.NonManifoldEdges, fanStats.NonManifoldEdges);
@@ -453,7 +395,9 @@ INSTANTIATE_TEST_SUITE_P(RealMeshes, TriangleCollapseQuality,
     // can shorten (vtkQuadricDecimation, without a link condition, removes whole rings).
     QualityCase{ "femur", 0.01, 1.15, 1.55 }, QualityCase{ "bunny00", 0.1 }, QualityCase{ "bunny00", 0.01 },
     QualityCase{ "armadillo", 0.1 }, QualityCase{ "armadillo", 0.01, 1.15, 1.01 },
-    QualityCase{ "marching-cubes", 0.1 }, QualityCase{ "marching-cubes", 0.01, 1.03, 1.01 }),
+    // The demo's isosurface (resolution 112): Hausdorff measured 1.025x at 10% (a sampled maximum:
+    // seeds alone move it by several percent), mean 0.994x.
+    QualityCase{ "marching-cubes", 0.1, 1.03, 1.01 }, QualityCase{ "marching-cubes", 0.01, 1.03, 1.01 }),
   [](const ::testing::TestParamInfo<QualityCase>& info) {
     std::string name = std::string(info.param.Mesh) + "_" + std::to_string(int(std::lround(1000 * info.param.Fraction)));
     std::replace(name.begin(), name.end(), '-', '_');
@@ -474,7 +418,7 @@ TEST(QuadricTriangleCollapse, AccumulatedQuadricsMatchExactUnionQuality)
     exact->ExactUnionOn();
     exact->Update();
     vtkSmartPointer<vtkPolyData> accumulated = Collapse(input, target);
-    const MeshStatistics s = ComputeMeshStatistics(RawMesh(exact->GetOutput()));
+    const MeshStatistics s = ComputeMeshStatistics(slodtest::RawTriangleMesh(exact->GetOutput()));
     EXPECT_EQ(s.NonManifoldEdges, 0);
     EXPECT_LE(exact->GetOutput()->GetNumberOfPolys(), target);
     double h[2], m[2];
@@ -594,7 +538,7 @@ TEST(QuadricTriangleCollapse, TopologyChangeOnlyWhenAllowed)
   filter->SetTargetNumberOfTriangles(in.NumberOfTriangles() / 50);
   filter->SetTargetReduction(0);
   filter->Update();
-  const MeshStatistics kept = ComputeMeshStatistics(RawMesh(filter->GetOutput()));
+  const MeshStatistics kept = ComputeMeshStatistics(slodtest::RawTriangleMesh(filter->GetOutput()));
   std::printf("[topology] input: loops %d, euler %lld, non-manifold vertices %d | output: loops %d, euler %lld, "
               "non-manifold vertices %d\n", int(before.BoundaryLoops), before.EulerCharacteristic,
     int(before.NonManifoldVertices), int(kept.BoundaryLoops), kept.EulerCharacteristic, int(kept.NonManifoldVertices));

@@ -2,6 +2,7 @@
 
 #include "slodInputPreparation.h"
 #include "vtkOFFMeshReader.h"
+#include "vtkSyntheticIsosurfaceSource.h"
 
 #include "vtkCellArray.h"
 #include "vtkErrorCode.h"
@@ -62,6 +63,38 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const slod::TriangleMesh& mesh)
 {
   auto out = vtkSmartPointer<vtkPolyData>::New();
   slod::MeshToPolyData(mesh, out, VTK_DOUBLE);
+  return out;
+}
+
+slod::TriangleMesh RawTriangleMesh(vtkPolyData* polyData)
+{
+  slod::TriangleMesh mesh;
+  for (vtkIdType i = 0; i < polyData->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    polyData->GetPoint(i, p);
+    mesh.AddPoint({ p[0], p[1], p[2] });
+  }
+  vtkIdType n;
+  const vtkIdType* ids;
+  vtkCellArray* polys = polyData->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
+  {
+    EXPECT_EQ(n, 3);
+    if (n == 3)
+    {
+      mesh.AddTriangle(slod::Index(ids[0]), slod::Index(ids[1]), slod::Index(ids[2]));
+    }
+  }
+  return mesh;
+}
+
+vtkSmartPointer<vtkPolyData> SyntheticIsosurface(int resolution)
+{
+  vtkNew<vtkSyntheticIsosurfaceSource> source;
+  source->SetResolution(resolution);
+  source->Update();
+  vtkSmartPointer<vtkPolyData> out = source->GetOutput();
   return out;
 }
 

@@ -20,6 +20,14 @@ std::string OutputPath(const std::string& fileName);
 slod::TriangleMesh ToTriangleMesh(vtkPolyData* polyData);
 vtkSmartPointer<vtkPolyData> ToPolyData(const slod::TriangleMesh& mesh);
 
+// The triangles of a vtkPolyData exactly as stored (no preparation: orientation, duplicates and
+// unused points show). Non-triangle cells fail the calling test.
+slod::TriangleMesh RawTriangleMesh(vtkPolyData* polyData);
+
+// The demo's deterministic marching-cubes surface (vtkSyntheticIsosurfaceSource): closed, genus 1;
+// about 50,000 triangles at resolution 112 and 1,000,000 at 500.
+vtkSmartPointer<vtkPolyData> SyntheticIsosurface(int resolution);
+
 // Known shapes.
 slod::TriangleMesh Tetrahedron();
 slod::TriangleMesh Torus(int majorSegments, int minorSegments, double majorRadius = 1.0, double minorRadius = 0.35);
