@@ -169,7 +169,9 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
       if (counter++ % stride == 0)
       {
         const Vec3 l = frame.ToLocal(this->Base.Point(o));
-        this->FitPoints.insert(this->FitPoints.end(), l.begin(), l.end());
+        this->FitPoints.push_back(l[0]);
+        this->FitPoints.push_back(l[1]);
+        this->FitPoints.push_back(l[2]);
       }
     }
   };
