@@ -152,61 +152,75 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   }
   e.Normal = frame.Normal;
 
-  // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
-  // collapses does not accumulate (section 7). Extended stencil when the system is singular.
-  // On coarse levels the ancestors number hundreds: a regular subsample of about
-  // MaximumFitPoints keeps the fit's cost bounded without biasing it.
-  Index total = 0;
-  for (Index v : this->StencilVertices)
-  {
-    total += this->AncestorCount[v];
-  }
-  const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
-  Index counter = 0;
-  auto addAncestors = [&](Index v) {
-    for (Index o = this->AncestorHead[v]; o != InvalidIndex; o = this->AncestorNext[o])
+  // The fitted quadratic gives the paper's collapse point and curvature. With the weight all
+  // quadric error and the quadric collapse point (the defaults) it is only the fallback point,
+  // so it is computed only when needed: the fit is most of the cost of an evaluation.
+  bool fitted = false;
+  Vec3 fitPoint = centroid;
+  auto fit = [&]() {
+    fitted = true;
+    // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
+    // collapses does not accumulate (section 7). Extended stencil when the system is singular.
+    // On coarse levels the ancestors number hundreds: a regular subsample of about
+    // MaximumFitPoints keeps the fit's cost bounded without biasing it.
+    Index total = 0;
+    for (Index v : this->StencilVertices)
     {
-      if (counter++ % stride == 0)
+      total += this->AncestorCount[v];
+    }
+    const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
+    Index counter = 0;
+    auto addAncestors = [&](Index v) {
+      for (Index o = this->AncestorHead[v]; o != InvalidIndex; o = this->AncestorNext[o])
       {
-        const Vec3 l = frame.ToLocal(this->Base.Point(o));
-        this->FitPoints.push_back(l[0]);
-        this->FitPoints.push_back(l[1]);
-        this->FitPoints.push_back(l[2]);
+        if (counter++ % stride == 0)
+        {
+          const Vec3 l = frame.ToLocal(this->Base.Point(o));
+          this->FitPoints.push_back(l[0]);
+          this->FitPoints.push_back(l[1]);
+          this->FitPoints.push_back(l[2]);
+        }
+      }
+    };
+    this->FitPoints.clear();
+    for (Index v : this->StencilVertices)
+    {
+      addAncestors(v);
+    }
+    QuadraticPatch patch = this->Fitter.Fit(this->FitPoints);
+    if (patch.Degree < 6)
+    {
+      const size_t ring = this->StencilVertices.size();
+      for (size_t i = 0; i < ring; ++i)
+      {
+        m.ForEachTriangle(this->StencilVertices[i], [&](Index x) {
+          const Index* q = m.Triangle(x);
+          for (int j = 0; j < 3; ++j)
+          {
+            if (this->VertexMark[q[j]] != epoch)
+            {
+              this->VertexMark[q[j]] = epoch;
+              this->StencilVertices.push_back(q[j]);
+              addAncestors(q[j]);
+            }
+          }
+        });
+      }
+      const QuadraticPatch extended = this->Fitter.Fit(this->FitPoints);
+      if (extended.Degree >= patch.Degree)
+      {
+        patch = extended;
       }
     }
+    e.Kappa = EvaluateCurvature(patch, 0, 0).Absolute();
+    fitPoint = frame.ToWorld(0, 0, patch.Evaluate(0, 0));
   };
-  this->FitPoints.clear();
-  for (Index v : this->StencilVertices)
+  e.Kappa = 0;
+  if (!(this->Parameters.ErrorWeight >= 1 && this->Parameters.QuadricCollapsePoint))
   {
-    addAncestors(v);
+    fit();
   }
-  QuadraticPatch patch = this->Fitter.Fit(this->FitPoints);
-  if (patch.Degree < 6)
-  {
-    const size_t ring = this->StencilVertices.size();
-    for (size_t i = 0; i < ring; ++i)
-    {
-      m.ForEachTriangle(this->StencilVertices[i], [&](Index x) {
-        const Index* q = m.Triangle(x);
-        for (int j = 0; j < 3; ++j)
-        {
-          if (this->VertexMark[q[j]] != epoch)
-          {
-            this->VertexMark[q[j]] = epoch;
-            this->StencilVertices.push_back(q[j]);
-            addAncestors(q[j]);
-          }
-        }
-      });
-    }
-    const QuadraticPatch extended = this->Fitter.Fit(this->FitPoints);
-    if (extended.Degree >= patch.Degree)
-    {
-      patch = extended;
-    }
-  }
-  e.Kappa = EvaluateCurvature(patch, 0, 0).Absolute();
-  e.Point = frame.ToWorld(0, 0, patch.Evaluate(0, 0));
+  e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
   {
     Quadric q = this->Quadrics[tri[0]];
@@ -238,6 +252,14 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
       if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && Norm(best - centroid) <= reach)
       {
         e.Point = best;
+      }
+      else
+      {
+        if (!fitted)
+        {
+          fit();
+        }
+        e.Point = fitPoint;
       }
       // When the optimum would fold the stencil, the cheapest valid alternative among the
       // corners and edge midpoints (a triangle collapse can still go there). The link edges

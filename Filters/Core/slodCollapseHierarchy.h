@@ -147,6 +147,7 @@ public:
   }
   // M0 (the input, or the input after cycle-removing swaps).
   const TriangleMesh& BaseMesh() const { return this->Base; }
+  // Largest curvature of M0 (1 when not computed: ErrorWeight 1 with QuadricCollapsePoint).
   double MaximumCurvature() const { return this->KappaMax; }
   double ValenceNormalizer() const { return this->Mv; }
 
