@@ -582,7 +582,11 @@ TEST(CollapseHierarchy, PaperSettingsReachFivePercentInFewLevels)
   // needed 29 of 48 levels to get below 5% of the triangles.
   const TriangleMesh input = ToTriangleMesh(LoadTestMesh("bunny00"));
   CollapseHierarchy h;
-  ASSERT_TRUE(h.Build(input, CollapseHierarchyParameters()));
+  const CollapseHierarchyParameters paper;
+  ASSERT_FALSE(paper.SwapBlockingEdges); // the core's defaults are the paper's rules
+  ASSERT_FALSE(paper.StarShapedInStencilPlane);
+  ASSERT_TRUE(h.Build(input, paper));
+  EXPECT_EQ(h.NumberOfSwaps(), 0);
   int level = 0;
   while (level < h.NumberOfLevels() && h.LevelTriangleCount(level) >= 0.05 * input.NumberOfTriangles())
   {
