@@ -48,7 +48,10 @@ struct vtkTriangleCollapseHierarchy::Internals
       a.ValenceWeight == b.ValenceWeight && a.BatchFraction == b.BatchFraction &&
       a.MaximumWeight == b.MaximumWeight && a.ValenceNormalizer == b.ValenceNormalizer &&
       a.RemoveCycles == b.RemoveCycles && a.MaximumNumberOfLevels == b.MaximumNumberOfLevels &&
-      a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.BatchSearchDepth == b.BatchSearchDepth &&
+      a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.SwapBlockingEdges == b.SwapBlockingEdges &&
+      a.StarShapedInStencilPlane == b.StarShapedInStencilPlane &&
+      a.SwapMinimumNormalDotWhenBlocked == b.SwapMinimumNormalDotWhenBlocked &&
+      a.SwapMinimumNormalDot == b.SwapMinimumNormalDot && a.BatchSearchDepth == b.BatchSearchDepth &&
       a.MinimumNumberOfTriangles == b.MinimumNumberOfTriangles && a.MinimumNormalDot == b.MinimumNormalDot &&
       a.ErrorWeight == b.ErrorWeight && a.QuadricCollapsePoint == b.QuadricCollapsePoint;
   }
@@ -235,6 +238,10 @@ int vtkTriangleCollapseHierarchy::RequestData(
   parameters.MinimumNormalDot = this->MinimumNormalDot;
   parameters.ErrorWeight = this->ErrorWeight;
   parameters.RelaxWhenBlocked = this->RelaxWhenBlocked;
+  parameters.SwapBlockingEdges = this->SwapBlockingEdges;
+  parameters.StarShapedInStencilPlane = this->StarShapedInStencilPlane;
+  parameters.SwapMinimumNormalDot = this->SwapMinimumNormalDot;
+  parameters.SwapMinimumNormalDotWhenBlocked = this->SwapMinimumNormalDotWhenBlocked;
   parameters.BatchSearchDepth = this->BatchSearchDepth;
   parameters.QuadricCollapsePoint = this->QuadricCollapsePoint;
 
@@ -357,6 +364,10 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ErrorWeight: " << this->ErrorWeight << "\n";
   os << indent << "QuadricCollapsePoint: " << this->QuadricCollapsePoint << "\n";
   os << indent << "RelaxWhenBlocked: " << this->RelaxWhenBlocked << "\n";
+  os << indent << "StarShapedInStencilPlane: " << this->StarShapedInStencilPlane << "\n";
+  os << indent << "SwapBlockingEdges: " << this->SwapBlockingEdges << "\n";
+  os << indent << "SwapMinimumNormalDot: " << this->SwapMinimumNormalDot << "\n";
+  os << indent << "SwapMinimumNormalDotWhenBlocked: " << this->SwapMinimumNormalDotWhenBlocked << "\n";
   os << indent << "BatchSearchDepth: " << this->BatchSearchDepth << "\n";
   os << indent << "BatchFraction: " << this->BatchFraction << "\n";
   os << indent << "MaximumWeight: " << this->MaximumWeight << "\n";

@@ -11,8 +11,11 @@
  * The defaults keep the paper's hierarchy, batches, stencil rules and blending but order by
  * geometric error, which is what makes the result competitive with vtkQuadricDecimation:
  * ErrorWeight 1 (quadric error of the collapse point), QuadricCollapsePoint on, RelaxWhenBlocked
- * on, BatchSearchDepth 4, MinimumNormalDot 0.5. The paper's configuration is ErrorWeight 0,
- * QuadricCollapsePoint off, RelaxWhenBlocked off, BatchSearchDepth 0, MinimumNormalDot 0.2.
+ * on, BatchSearchDepth 4, MinimumNormalDot 0.5, StarShapedInStencilPlane on, SwapBlockingEdges on
+ * (edge swaps between levels on flat hinges, SwapMinimumNormalDot 0.9999,
+ * SwapMinimumNormalDotWhenBlocked 0.5). The paper's configuration is ErrorWeight 0,
+ * QuadricCollapsePoint off, RelaxWhenBlocked off, BatchSearchDepth 0, MinimumNormalDot 0.2,
+ * StarShapedInStencilPlane off, SwapBlockingEdges off.
  *
  * Output 0 is one mesh of the hierarchy, chosen by (first that applies):
  *  - ContinuousLevel >= 0: M_i(t) for ContinuousLevel = i + t, where the triangles that collapse
@@ -130,6 +133,28 @@ public:
   /// When no triangle passes the paper's collapsibility rules, retry the level with the
   /// valence-four rule relaxed and star-shapedness also tried in the stencil's mean plane,
   /// instead of stopping (not in the paper).
+  /// Collapsibility rule (3) also passes when the stencil polygon is star-shaped in the plane of
+  /// the stencil's mean normal, not only in the triangle's own plane (tilted for long thin
+  /// triangles). Default on; off is the paper's rule.
+  vtkSetMacro(StarShapedInStencilPlane, bool);
+  vtkGetMacro(StarShapedInStencilPlane, bool);
+  vtkBooleanMacro(StarShapedInStencilPlane, bool);
+
+  /// Swap edges between levels so that vertices of valence 3 or 4 next to the new collapse points
+  /// reach valence 5 (the paper's Fig. 3 cycle removal, applied on every level): they block their
+  /// neighbours' collapses by rule (2). Only hinges whose normals agree to SwapMinimumNormalDot
+  /// are swapped. Default on with 0.9999 (flat parts only: on CAD parts they free the cheap collapses,
+  /// on smooth meshes swapping curved hinges was measured to cost accuracy); off is the paper.
+  vtkSetMacro(SwapBlockingEdges, bool);
+  vtkGetMacro(SwapBlockingEdges, bool);
+  vtkBooleanMacro(SwapBlockingEdges, bool);
+  vtkSetClampMacro(SwapMinimumNormalDot, double, -1.0, 1.0);
+  vtkGetMacro(SwapMinimumNormalDot, double);
+  /// When a level finds nothing to collapse (even relaxed), swap over the whole mesh with this
+  /// looser limit and retry the level (1 = never).
+  vtkSetClampMacro(SwapMinimumNormalDotWhenBlocked, double, -1.0, 1.0);
+  vtkGetMacro(SwapMinimumNormalDotWhenBlocked, double);
+
   vtkSetMacro(RelaxWhenBlocked, bool);
   vtkGetMacro(RelaxWhenBlocked, bool);
   vtkBooleanMacro(RelaxWhenBlocked, bool);
@@ -196,6 +221,10 @@ protected:
   double ValenceNormalizer = 0.0;
   bool RemoveCycles = false;
   bool RelaxWhenBlocked = true;
+  bool StarShapedInStencilPlane = true;
+  bool SwapBlockingEdges = true;
+  double SwapMinimumNormalDot = 0.9999;
+  double SwapMinimumNormalDotWhenBlocked = 0.5;
   int MaximumNumberOfLevels = 1000;
   vtkIdType MinimumNumberOfTriangles = 0;
   double MinimumNormalDot = 0.5;

@@ -152,59 +152,75 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   }
   e.Normal = frame.Normal;
 
-  // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
-  // collapses does not accumulate (section 7). Extended stencil when the system is singular.
-  // On coarse levels the ancestors number hundreds: a regular subsample of about
-  // MaximumFitPoints keeps the fit's cost bounded without biasing it.
-  Index total = 0;
-  for (Index v : this->StencilVertices)
-  {
-    total += this->AncestorCount[v];
-  }
-  const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
-  Index counter = 0;
-  auto addAncestors = [&](Index v) {
-    for (Index o = this->AncestorHead[v]; o != InvalidIndex; o = this->AncestorNext[o])
+  // The fitted quadratic gives the paper's collapse point and curvature. With the weight all
+  // quadric error and the quadric collapse point (the defaults) it is only the fallback point,
+  // so it is computed only when needed: the fit is most of the cost of an evaluation.
+  bool fitted = false;
+  Vec3 fitPoint = centroid;
+  auto fit = [&]() {
+    fitted = true;
+    // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
+    // collapses does not accumulate (section 7). Extended stencil when the system is singular.
+    // On coarse levels the ancestors number hundreds: a regular subsample of about
+    // MaximumFitPoints keeps the fit's cost bounded without biasing it.
+    Index total = 0;
+    for (Index v : this->StencilVertices)
     {
-      if (counter++ % stride == 0)
+      total += this->AncestorCount[v];
+    }
+    const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
+    Index counter = 0;
+    auto addAncestors = [&](Index v) {
+      for (Index o = this->AncestorHead[v]; o != InvalidIndex; o = this->AncestorNext[o])
       {
-        const Vec3 l = frame.ToLocal(this->Base.Point(o));
-        this->FitPoints.insert(this->FitPoints.end(), l.begin(), l.end());
+        if (counter++ % stride == 0)
+        {
+          const Vec3 l = frame.ToLocal(this->Base.Point(o));
+          this->FitPoints.push_back(l[0]);
+          this->FitPoints.push_back(l[1]);
+          this->FitPoints.push_back(l[2]);
+        }
+      }
+    };
+    this->FitPoints.clear();
+    for (Index v : this->StencilVertices)
+    {
+      addAncestors(v);
+    }
+    QuadraticPatch patch = this->Fitter.Fit(this->FitPoints);
+    if (patch.Degree < 6)
+    {
+      const size_t ring = this->StencilVertices.size();
+      for (size_t i = 0; i < ring; ++i)
+      {
+        m.ForEachTriangle(this->StencilVertices[i], [&](Index x) {
+          const Index* q = m.Triangle(x);
+          for (int j = 0; j < 3; ++j)
+          {
+            if (this->VertexMark[q[j]] != epoch)
+            {
+              this->VertexMark[q[j]] = epoch;
+              this->StencilVertices.push_back(q[j]);
+              addAncestors(q[j]);
+            }
+          }
+        });
+      }
+      const QuadraticPatch extended = this->Fitter.Fit(this->FitPoints);
+      if (extended.Degree >= patch.Degree)
+      {
+        patch = extended;
       }
     }
+    e.Kappa = EvaluateCurvature(patch, 0, 0).Absolute();
+    fitPoint = frame.ToWorld(0, 0, patch.Evaluate(0, 0));
   };
-  this->FitPoints.clear();
-  for (Index v : this->StencilVertices)
+  e.Kappa = 0;
+  if (!(this->Parameters.ErrorWeight >= 1 && this->Parameters.QuadricCollapsePoint))
   {
-    addAncestors(v);
+    fit();
   }
-  QuadraticPatch patch = this->Fitter.Fit(this->FitPoints);
-  if (patch.Degree < 6)
-  {
-    const size_t ring = this->StencilVertices.size();
-    for (size_t i = 0; i < ring; ++i)
-    {
-      m.ForEachTriangle(this->StencilVertices[i], [&](Index x) {
-        const Index* q = m.Triangle(x);
-        for (int j = 0; j < 3; ++j)
-        {
-          if (this->VertexMark[q[j]] != epoch)
-          {
-            this->VertexMark[q[j]] = epoch;
-            this->StencilVertices.push_back(q[j]);
-            addAncestors(q[j]);
-          }
-        }
-      });
-    }
-    const QuadraticPatch extended = this->Fitter.Fit(this->FitPoints);
-    if (extended.Degree >= patch.Degree)
-    {
-      patch = extended;
-    }
-  }
-  e.Kappa = EvaluateCurvature(patch, 0, 0).Absolute();
-  e.Point = frame.ToWorld(0, 0, patch.Evaluate(0, 0));
+  e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
   {
     Quadric q = this->Quadrics[tri[0]];
@@ -236,6 +252,14 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
       if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && Norm(best - centroid) <= reach)
       {
         e.Point = best;
+      }
+      else
+      {
+        if (!fitted)
+        {
+          fit();
+        }
+        e.Point = fitPoint;
       }
       // When the optimum would fold the stencil, the cheapest valid alternative among the
       // corners and edge midpoints (a triangle collapse can still go there). The link edges
@@ -419,6 +443,101 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
 }
 
 // ---------------------------------------------------------------------------------------------
+void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
+{
+  const Index k = this->NumberOfCollapses();
+  for (Index t : flip.Triangles)
+  {
+    this->EntryDeath[this->EntryOf[t]] = k;
+    const Index* q = this->Mesh.Triangle(t);
+    this->EntryOf[t] = static_cast<Index>(this->EntryBirth.size());
+    for (int j = 0; j < 3; ++j)
+    {
+      this->EntryVertices.push_back(this->GlobalOf[q[j]]);
+    }
+    this->EntryBirth.push_back(k);
+    this->EntryDeath.push_back(Never);
+    this->EntryTriangle.push_back(t);
+  }
+  this->Flips.push_back(flip);
+  this->FlipStamp.push_back(k);
+}
+
+int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>& touched)
+{
+  EditableMesh& m = this->Mesh;
+  const Index degree = m.VertexDegree(q);
+  if (!m.IsVertexAlive(q) || degree < 3 || degree > 4 || m.IsBoundaryVertex(q))
+  {
+    return 0;
+  }
+  // The best hinge among the edges opposite q: flattest, both ends keeping valence >= 5 (>= 4
+  // for a valence-3 q: a cycle is worse than a valence-4 vertex).
+  const Index keep = degree == 4 ? 6 : 5;
+  double bestDot = minimumDot;
+  Index bestX = InvalidIndex, bestY = InvalidIndex;
+  m.ForEachTriangle(q, [&](Index t) {
+    const Index* tri = m.Triangle(t);
+    const int c = tri[0] == q ? 0 : (tri[1] == q ? 1 : 2);
+    const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
+    if (m.VertexDegree(x) < keep || m.VertexDegree(y) < keep || m.IsBoundaryVertex(x) || m.IsBoundaryVertex(y))
+    {
+      return;
+    }
+    // The triangle across (x, y) runs y -> x -> z.
+    Index z = InvalidIndex, across = InvalidIndex;
+    m.ForEachTriangle(x, [&](Index o) {
+      const Index* u = m.Triangle(o);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (u[k] == y && u[(k + 1) % 3] == x)
+        {
+          z = u[(k + 2) % 3];
+          across = o;
+        }
+      }
+    });
+    if (z == InvalidIndex || z == q)
+    {
+      return;
+    }
+    const Vec3 px = m.Point(x), py = m.Point(y), pq = m.Point(q), pz = m.Point(z);
+    const Vec3 n0 = Normalized(Cross(py - px, pq - px)), n1 = Normalized(Cross(px - py, pz - py));
+    const double hinge = Dot(n0, n1);
+    if (!(hinge > bestDot) || IsDegenerate(px, pz, pq) || IsDegenerate(pz, py, pq))
+    {
+      return;
+    }
+    // The new triangles must face like the old pair (the quad is convex enough), to the limit
+    // reached so far (measured slightly better than the plain limit on fandisk).
+    const Vec3 m0 = Normalized(Cross(pz - px, pq - px)), m1 = Normalized(Cross(py - pz, pq - pz));
+    const Vec3 mean = Normalized(n0 + n1);
+    if (Dot(m0, mean) < bestDot || Dot(m1, mean) < bestDot)
+    {
+      return;
+    }
+    // Like the collapses: no triangle may face away from the M0 triangle of its id (t keeps its
+    // id as (x, z, q), the triangle across as (z, y, q)).
+    if (Dot(m0, this->Base.TriangleAreaVector(t)) <= 0 || Dot(m1, this->Base.TriangleAreaVector(across)) <= 0)
+    {
+      return;
+    }
+
+    bestDot = hinge;
+    bestX = x;
+    bestY = y;
+  });
+  FlipRecord flip;
+  if (bestX == InvalidIndex || !m.FlipEdge(bestX, bestY, &flip))
+  {
+    return 0;
+  }
+  this->RecordFlip(flip);
+  touched.insert(touched.end(), { flip.X, flip.Y, flip.Q, flip.Z });
+  return 1;
+}
+
+// ---------------------------------------------------------------------------------------------
 bool CollapseHierarchy::Build(
   const TriangleMesh& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
 {
@@ -473,6 +592,8 @@ bool CollapseHierarchy::Build(
   this->RecordChangedCorner.clear();
   this->RecordChangedFrom.clear();
   this->RecordChangedStart.assign(1, 0);
+  this->Flips.clear();
+  this->FlipStamp.clear();
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
   if (nt == 0)
@@ -526,7 +647,7 @@ bool CollapseHierarchy::Build(
 
   CollapseOptions& meshOptions = this->MeshOptions;
   std::vector<std::pair<double, Index>> candidates;
-  std::vector<Index> batch, affected;
+  std::vector<Index> batch, affected, touched, ring;
   std::vector<int> stencilMark(nt, -1);
   std::vector<std::uint32_t> affectedMark(nt, 0);
   std::uint32_t affectedEpoch = 0;
@@ -540,14 +661,17 @@ bool CollapseHierarchy::Build(
       break;
     }
     // Priority order of this level: live triangles by increasing weight (ties by id).
-    candidates.clear();
-    for (Index t = 0; t < nt; ++t)
-    {
-      if (this->Mesh.IsTriangleAlive(t) && this->Weights[t] <= maxWeight)
+    auto order = [&]() {
+      candidates.clear();
+      for (Index t = 0; t < nt; ++t)
       {
-        candidates.emplace_back(this->Weights[t], t);
+        if (this->Mesh.IsTriangleAlive(t) && this->Weights[t] <= maxWeight)
+        {
+          candidates.emplace_back(this->Weights[t], t);
+        }
       }
-    }
+    };
+    order();
     Index wanted = std::max<Index>(1, static_cast<Index>(std::floor(p.BatchFraction * live)));
     if (p.MinimumNumberOfTriangles > 0)
     {
@@ -555,6 +679,7 @@ bool CollapseHierarchy::Build(
     }
     CollapsibleOptions& rules = this->Rules;
     rules = CollapsibleOptions();
+    rules.StencilPlaneFallback = p.StarShapedInStencilPlane;
     // Search depth in the priority order (BatchSearchDepth x batch size; unlimited when 0).
     const size_t depth = p.BatchSearchDepth > 0
       ? static_cast<size_t>(std::ceil(p.BatchSearchDepth * wanted))
@@ -617,13 +742,53 @@ bool CollapseHierarchy::Build(
         sorted = std::min(candidates.size(), sorted + chunk);
       }
     };
-    select();
-    if (batch.empty() && p.RelaxWhenBlocked)
-    {
-      // The whole list is sorted by now (the first pass scanned it all).
-      rules.AllowNewCycles = true;
-      rules.StencilPlaneFallback = true;
+    auto selectOrRelax = [&]() {
       select();
+      if (batch.empty() && p.RelaxWhenBlocked)
+      {
+        // The whole list is sorted by now (the first pass scanned it all).
+        rules.AllowNewCycles = true;
+        rules.StencilPlaneFallback = true;
+        select();
+      }
+    };
+    selectOrRelax();
+    if (batch.empty() && p.SwapBlockingEdges && p.SwapMinimumNormalDotWhenBlocked < p.SwapMinimumNormalDot)
+    {
+      // Blocked everywhere: swap the blocking edges of every vertex of valence 3 or 4 with a
+      // looser flatness limit, reweigh around them and try the level again.
+      touched.clear();
+      for (Index q = 0; q < this->Mesh.NumberOfPoints(); ++q)
+      {
+        if (this->Mesh.IsVertexAlive(q))
+        {
+          this->SwapAround(q, p.SwapMinimumNormalDotWhenBlocked, touched);
+        }
+      }
+      if (!touched.empty())
+      {
+        ++affectedEpoch;
+        affected.clear();
+        for (Index v : touched)
+        {
+          this->Mesh.ForEachTriangle(v, [&](Index x) {
+            if (affectedMark[x] != affectedEpoch)
+            {
+              affectedMark[x] = affectedEpoch;
+              affected.push_back(x);
+            }
+          });
+        }
+        for (Index x : affected)
+        {
+          this->Evaluate(x, this->Evaluations[x]);
+          this->Weights[x] = this->WeightOf(this->Evaluations[x]);
+        }
+        rules = CollapsibleOptions();
+        rules.StencilPlaneFallback = p.StarShapedInStencilPlane;
+        order();
+        selectOrRelax();
+      }
     }
     // Collapse the batch. Earlier collapses of the batch can only have changed valences on the
     // shared stencil boundaries, so rule (2) is checked again.
@@ -648,12 +813,30 @@ bool CollapseHierarchy::Build(
     }
     this->LevelStarts.push_back(this->NumberOfCollapses());
 
-    // Recompute the weights of the triangles around the new vertices.
+    // Recompute the weights of the triangles around the new vertices (and swapped edges).
     affected.clear();
     ++affectedEpoch;
+    touched.clear();
     for (Index k = levelStart; k < this->NumberOfCollapses(); ++k)
     {
-      this->Mesh.ForEachTriangle(this->RecordKept[k], [&](Index x) {
+      touched.push_back(this->RecordKept[k]);
+    }
+    if (p.SwapBlockingEdges)
+    {
+      // The valences changed on the batch's stencil boundaries: the neighbours of the new vertices.
+      const size_t kept = touched.size();
+      for (size_t i = 0; i < kept; ++i)
+      {
+        this->Mesh.Neighbors(touched[i], ring);
+        for (Index q : ring)
+        {
+          this->SwapAround(q, p.SwapMinimumNormalDot, touched);
+        }
+      }
+    }
+    for (Index v : touched)
+    {
+      this->Mesh.ForEachTriangle(v, [&](Index x) {
         if (affectedMark[x] != affectedEpoch)
         {
           affectedMark[x] = affectedEpoch;
@@ -819,6 +1002,13 @@ void CollapseHierarchy::Refine(EditableMesh& mesh, Index k) const
   record.ChangedTriangles.assign(this->RecordChangedTriangle.begin() + c0, this->RecordChangedTriangle.begin() + c1);
   record.ChangedCorner.assign(this->RecordChangedCorner.begin() + c0, this->RecordChangedCorner.begin() + c1);
   record.ChangedFrom.assign(this->RecordChangedFrom.begin() + c0, this->RecordChangedFrom.begin() + c1);
+  // Swaps made after collapse k (before collapse k + 1), newest first.
+  const auto range = std::equal_range(this->FlipStamp.begin(), this->FlipStamp.end(), k + 1);
+  for (auto it = range.second; it != range.first;)
+  {
+    --it;
+    mesh.Undo(this->Flips[size_t(it - this->FlipStamp.begin())]);
+  }
   mesh.Undo(record);
 }
 } // namespace slod

@@ -27,6 +27,7 @@
 #include "slodQuadraticFit.h"
 #include "slodTriangleStencil.h"
 
+#include <algorithm>
 #include <functional>
 #include <limits>
 #include <vector>
@@ -61,6 +62,20 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   double ValenceNormalizer = 0.0;
   // Swap edges to remove stencil cycles (valence-3 vertices) from M0 before reducing (Fig. 3).
   bool RemoveCycles = false;
+  // Rule (3) also passes when the stencil polygon is star-shaped in the plane of the stencil's mean
+  // normal (not only in T's plane, which is tilted against its neighbourhood for long thin
+  // triangles and on coarse levels). Off: the paper's rule.
+  bool StarShapedInStencilPlane = false;
+  // Between levels, swap edges so that vertices of valence three or four around the new collapse
+  // points reach valence five (Fig. 3 applied on every level, not only to M0): such vertices block
+  // the collapses of their neighbours by rule (2). Only hinges whose triangles' normals agree to
+  // SwapMinimumNormalDot are swapped, so creases and curved parts keep their edges. M_(i+1) shows
+  // the swapped edges; M_i(t) blends the collapses in the triangulation before the swaps.
+  bool SwapBlockingEdges = false;
+  double SwapMinimumNormalDot = 0.95;
+  // When a level finds no collapsible triangle at all (even relaxed), swap with this looser limit
+  // over the whole mesh and retry the level (no effect when >= SwapMinimumNormalDot).
+  double SwapMinimumNormalDotWhenBlocked = 1.0;
   // When no triangle passes the paper's rules, retry the level with rule (2) relaxed (a valence-3
   // vertex may appear) and rule (3) also tried in the stencil's mean plane, instead of stopping.
   bool RelaxWhenBlocked = false;
@@ -107,6 +122,14 @@ public:
   // Meshes M0..Mn: NumberOfLevels() = n + 1.
   int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
   Index NumberOfCollapses() const { return static_cast<Index>(this->Collapses.size()); }
+  Index NumberOfSwaps() const { return static_cast<Index>(this->Flips.size()); }
+  // Edge swaps made after `collapses` collapses (between M_i(1) and M_i+1 when collapses =
+  // LevelStart(i + 1)); each changes two triangles.
+  Index SwapsAfter(Index collapses) const
+  {
+    const auto range = std::equal_range(this->FlipStamp.begin(), this->FlipStamp.end(), collapses);
+    return static_cast<Index>(range.second - range.first);
+  }
   Index LevelStart(int level) const { return this->LevelStarts[level]; }
   Index NumberOfTrianglesAfter(Index collapses) const { return this->TriangleCounts[collapses]; }
   Index LevelTriangleCount(int level) const { return this->TriangleCounts[this->LevelStarts[level]]; }
@@ -124,6 +147,7 @@ public:
   }
   // M0 (the input, or the input after cycle-removing swaps).
   const TriangleMesh& BaseMesh() const { return this->Base; }
+  // Largest curvature of M0 (1 when not computed: ErrorWeight 1 with QuadricCollapsePoint).
   double MaximumCurvature() const { return this->KappaMax; }
   double ValenceNormalizer() const { return this->Mv; }
 
@@ -134,7 +158,8 @@ public:
   void ExtractLevel(double level, HierarchyMesh& out) const;
 
   // Vertex splits: the coarsest mesh as an EditableMesh (M0 numbering), and the undo of
-  // collapse k (collapses must be refined newest first).
+  // collapse k (collapses must be refined newest first; the edge swaps made after collapse k are
+  // undone first).
   const EditableMesh& CoarsestMesh() const { return this->Mesh; }
   void Refine(EditableMesh& mesh, Index k) const;
 
@@ -149,6 +174,9 @@ private:
   double WeightOf(const Evaluation& e) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Vec3& p, int level);
+  // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
+  int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
+  void RecordFlip(const FlipRecord& flip);
   bool KeepsOrientation(Index t, const Vec3& p) const;
 
   CollapseHierarchyParameters Parameters;
@@ -165,6 +193,9 @@ private:
   std::vector<Index> RecordChangedStart, RecordChangedTriangle, RecordChangedFrom;
   std::vector<unsigned char> RecordChangedCorner;
   std::vector<double> RecordOldPositions;
+  // Edge swaps, in order, with the collapse count after which they happened.
+  std::vector<FlipRecord> Flips;
+  std::vector<Index> FlipStamp;
 
   std::vector<Evaluation> Evaluations;
   std::vector<Quadric> Quadrics; // per editable vertex: planes of its original triangles

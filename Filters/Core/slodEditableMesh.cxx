@@ -460,6 +460,104 @@ void EditableMesh::Undo(const CollapseRecord& record)
   this->CompactIfNeeded();
 }
 
+bool EditableMesh::FlipEdge(Index x, Index y, FlipRecord* record)
+{
+  if (x == y || !this->VertexAlive[x] || !this->VertexAlive[y])
+  {
+    return false;
+  }
+  Index t0 = InvalidIndex, t1 = InvalidIndex, q = InvalidIndex, z = InvalidIndex;
+  int count = 0;
+  this->ForEachTriangle(x, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (tri[k] == x && tri[(k + 1) % 3] == y)
+      {
+        t0 = t;
+        q = tri[(k + 2) % 3];
+        ++count;
+      }
+      else if (tri[k] == y && tri[(k + 1) % 3] == x)
+      {
+        t1 = t;
+        z = tri[(k + 2) % 3];
+        ++count;
+      }
+    }
+  });
+  if (count != 2 || t0 == InvalidIndex || t1 == InvalidIndex || q == z)
+  {
+    return false;
+  }
+  bool joined = false;
+  this->ForEachTriangle(q, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    joined = joined || tri[0] == z || tri[1] == z || tri[2] == z;
+  });
+  if (joined)
+  {
+    return false;
+  }
+  Index* a = &this->Triangles[3 * size_t(t0)];
+  Index* b = &this->Triangles[3 * size_t(t1)];
+  for (int k = 0; k < 3; ++k)
+  {
+    a[k] = a[k] == y ? z : a[k]; // (X, Y, Q) -> (X, Z, Q)
+    b[k] = b[k] == x ? q : b[k]; // (Y, X, Z) -> (Y, Q, Z) = (Z, Y, Q)
+  }
+  this->ReplaceInBlock(y, t0, InvalidIndex);
+  this->ReplaceInBlock(z, InvalidIndex, t0);
+  this->ReplaceInBlock(x, t1, InvalidIndex);
+  this->ReplaceInBlock(q, InvalidIndex, t1);
+  this->CompactIfNeeded();
+  if (record)
+  {
+    record->Triangles[0] = t0;
+    record->Triangles[1] = t1;
+    record->X = x;
+    record->Y = y;
+    record->Q = q;
+    record->Z = z;
+  }
+  return true;
+}
+
+void EditableMesh::Undo(const FlipRecord& record)
+{
+  const Index t0 = record.Triangles[0], t1 = record.Triangles[1];
+  Index* a = &this->Triangles[3 * size_t(t0)];
+  Index* b = &this->Triangles[3 * size_t(t1)];
+  for (int k = 0; k < 3; ++k)
+  {
+    a[k] = a[k] == record.Z ? record.Y : a[k];
+    b[k] = b[k] == record.Q ? record.X : b[k];
+  }
+  this->ReplaceInBlock(record.Z, t0, InvalidIndex);
+  this->ReplaceInBlock(record.Y, InvalidIndex, t0);
+  this->ReplaceInBlock(record.Q, t1, InvalidIndex);
+  this->ReplaceInBlock(record.X, InvalidIndex, t1);
+  this->CompactIfNeeded();
+}
+
+void EditableMesh::ReplaceInBlock(Index v, Index removed, Index added)
+{
+  const Index* refs = this->Refs.data() + this->RefStart[v];
+  this->ScratchBlock.clear();
+  for (Index i = 0, n = this->RefCount[v]; i < n; ++i)
+  {
+    if (refs[i] != removed)
+    {
+      this->ScratchBlock.push_back(refs[i]);
+    }
+  }
+  if (added != InvalidIndex)
+  {
+    this->ScratchBlock.push_back(added);
+  }
+  this->AppendBlock(v, this->ScratchBlock);
+}
+
 Index EditableMesh::AddTriangle(Index a, Index b, Index c)
 {
   const Index t = this->NumberOfTriangles();

@@ -64,6 +64,14 @@ struct SURFACELODFILTERS_EXPORT CollapseRecord
   void Clear();
 };
 
+// An edge flip (swap): triangles T0 = (X, Y, Q) and T1 = (Y, X, Z) around edge XY become
+// T0 = (X, Z, Q) and T1 = (Z, Y, Q) in place (same triangle ids), replacing XY by QZ.
+struct SURFACELODFILTERS_EXPORT FlipRecord
+{
+  Index Triangles[2] = { InvalidIndex, InvalidIndex };
+  Index X = InvalidIndex, Y = InvalidIndex, Q = InvalidIndex, Z = InvalidIndex;
+};
+
 class SURFACELODFILTERS_EXPORT EditableMesh
 {
 public:
@@ -122,6 +130,12 @@ public:
   // Reverts the most recent collapse whose record this is (records must be undone newest first).
   void Undo(const CollapseRecord& record);
 
+  // Flips the interior manifold edge (x, y) when its two triangles have distinct opposite vertices
+  // that are not yet joined by an edge; returns false (mesh unchanged) otherwise. Topological
+  // checks only: the caller judges the geometry. Undo(FlipRecord) restores the triangles exactly.
+  bool FlipEdge(Index x, Index y, FlipRecord* record = nullptr);
+  void Undo(const FlipRecord& record);
+
   // Triangles removed (ids) and the live triangles around v, for algorithms that recompute costs.
   void TrianglesAround(const Index* vertices, int count, std::vector<Index>& out) const;
 
@@ -139,6 +153,7 @@ public:
 private:
   void AppendBlock(Index v, const std::vector<Index>& triangles);
   void CompactIfNeeded();
+  void ReplaceInBlock(Index v, Index removed, Index added);
   // Collects the live triangles touching the set into Scratch (deduplicated).
   void GatherTriangles(const Index* vertices, int count) const;
 

@@ -1,7 +1,5 @@
 #include "slodQuadraticFit.h"
 
-#include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
 
@@ -33,21 +31,108 @@ bool LocalFrame::Set(const Vec3& origin, const Vec3& normal, const Vec3& directi
 
 namespace
 {
-// Solves min |A x - b| for the first `columns` columns of the row-major n x 6 design matrix.
-// Returns the rank found by the column-pivoting QR.
-int SolveLeastSquares(const double* design, const double* rhs, int rows, int columns, double* x)
+// Solves min |A x - b| for the first `columns` (<= 6) columns of the row-major n x 6 design
+// matrix by column-pivoting Householder QR, in place on column-major scratch (no allocation per
+// call: this runs for every triangle evaluation). Returns the rank: pivots |R_kk| at most 1e-9
+// |R_00| count as zero (the monomials are scaled to the unit disc, so this relative threshold,
+// well above round-off, separates genuinely degenerate point sets from thin ones).
+int SolveLeastSquares(const double* design, const double* rhs, int rows, int columns, double* x,
+  std::vector<double>& scratch)
 {
-  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  Eigen::Map<const Matrix, 0, Eigen::OuterStride<>> full(design, rows, columns, Eigen::OuterStride<>(6));
-  Eigen::Map<const Eigen::VectorXd> b(rhs, rows);
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(full);
-  // Monomials are scaled to the unit disc, so a relative threshold well above round-off
-  // separates genuinely degenerate point sets (collinear, too few) from thin ones.
-  qr.setThreshold(1e-9);
-  const int rank = static_cast<int>(qr.rank());
+  scratch.resize(size_t(rows) * (columns + 1));
+  double* a = scratch.data(); // column j at a + j * rows; column `columns` is b
+  for (int i = 0; i < rows; ++i)
+  {
+    for (int j = 0; j < columns; ++j)
+    {
+      a[size_t(j) * rows + i] = design[size_t(i) * 6 + j];
+    }
+    a[size_t(columns) * rows + i] = rhs[i];
+  }
+  double* b = a + size_t(columns) * rows;
+  int permutation[6] = { 0, 1, 2, 3, 4, 5 };
+  double diagonal[6] = { 0, 0, 0, 0, 0, 0 };
+  int rank = 0;
+  double first = 0;
+  for (int k = 0; k < columns; ++k)
+  {
+    // Pivot: the remaining column of largest norm below row k (recomputed: six columns only).
+    int best = k;
+    double bestNorm2 = -1;
+    for (int j = k; j < columns; ++j)
+    {
+      const double* c = a + size_t(j) * rows;
+      double n2 = 0;
+      for (int i = k; i < rows; ++i)
+      {
+        n2 += c[i] * c[i];
+      }
+      if (n2 > bestNorm2)
+      {
+        bestNorm2 = n2;
+        best = j;
+      }
+    }
+    if (best != k)
+    {
+      std::swap_ranges(a + size_t(k) * rows, a + size_t(k + 1) * rows, a + size_t(best) * rows);
+      std::swap(permutation[k], permutation[best]);
+    }
+    double* c = a + size_t(k) * rows;
+    const double norm = std::sqrt(bestNorm2);
+    if (k == 0)
+    {
+      first = norm;
+    }
+    if (!(norm > 1e-9 * first) || k >= rows)
+    {
+      break;
+    }
+    ++rank;
+    // Householder v = c[k..] + sign(c_k) |c| e_k, so that R_kk = -sign(c_k) |c|.
+    const double alpha = c[k] >= 0 ? -norm : norm;
+    c[k] -= alpha;
+    double vv = 0;
+    for (int i = k; i < rows; ++i)
+    {
+      vv += c[i] * c[i];
+    }
+    diagonal[k] = alpha;
+    if (vv > 0)
+    {
+      for (int j = k + 1; j <= columns; ++j)
+      {
+        double* d = a + size_t(j) * rows;
+        double dot = 0;
+        for (int i = k; i < rows; ++i)
+        {
+          dot += c[i] * d[i];
+        }
+        const double f = 2 * dot / vv;
+        for (int i = k; i < rows; ++i)
+        {
+          d[i] -= f * c[i];
+        }
+      }
+    }
+  }
   if (rank == columns)
   {
-    Eigen::Map<Eigen::VectorXd>(x, columns) = qr.solve(b);
+    // Back substitution R y = (Q^T b)[0..columns), then undo the column permutation.
+    double y[6];
+    for (int k = columns - 1; k >= 0; --k)
+    {
+      double sum = b[k];
+      for (int j = k + 1; j < columns; ++j)
+      {
+        sum -= a[size_t(j) * rows + k] * y[j];
+      }
+      y[k] = sum / diagonal[k];
+    }
+    for (int k = 0; k < columns; ++k)
+    {
+      x[permutation[k]] = y[k];
+    }
   }
   return rank;
 }
@@ -89,11 +174,11 @@ QuadraticPatch QuadraticFitter::Fit(const double* uvh, int count)
   }
   double x[6] = { 0, 0, 0, 0, 0, 0 };
   int degree = 0;
-  if (count >= 6 && SolveLeastSquares(this->Design.data(), this->Rhs.data(), count, 6, x) == 6)
+  if (count >= 6 && SolveLeastSquares(this->Design.data(), this->Rhs.data(), count, 6, x, this->Scratch) == 6)
   {
     degree = 6;
   }
-  else if (SolveLeastSquares(this->Design.data(), this->Rhs.data(), count, 3, x) == 3)
+  else if (SolveLeastSquares(this->Design.data(), this->Rhs.data(), count, 3, x, this->Scratch) == 3)
   {
     degree = 3;
     x[3] = x[4] = x[5] = 0;

@@ -71,7 +71,7 @@ public:
   QuadraticPatch Fit(const std::vector<double>& uvh) { return this->Fit(uvh.data(), int(uvh.size() / 3)); }
 
 private:
-  std::vector<double> Design, Rhs; // reused between calls
+  std::vector<double> Design, Rhs, Scratch; // reused between calls
 };
 
 SURFACELODFILTERS_EXPORT PatchCurvature EvaluateCurvature(const QuadraticPatch& patch, double u, double v);

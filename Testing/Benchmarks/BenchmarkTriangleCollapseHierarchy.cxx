@@ -84,6 +84,8 @@ void Run(const std::string& label, vtkPolyData* mesh, bool paper)
     filter->SetRelaxWhenBlocked(false);
     filter->SetMinimumNormalDot(0.2);
     filter->SetBatchSearchDepth(0.0);
+    filter->SetStarShapedInStencilPlane(false);
+    filter->SetSwapBlockingEdges(false);
   }
   filter->SetLevel(0);
   filter->Update();

@@ -234,6 +234,86 @@ TEST(EditableMesh, UndoRestoresExactly)
   }
 }
 
+TEST(EditableMesh, FlipEdgeAndUndoInterleavedWithCollapses)
+{
+  // A tetrahedron's opposite vertices are always joined: no flip.
+  EditableMesh tetra(Tetrahedron());
+  EXPECT_FALSE(tetra.FlipEdge(0, 1));
+  EXPECT_TRUE(tetra.CheckInvariants());
+
+  const TriangleMesh input = Torus(20, 10);
+  EditableMesh mesh(input);
+  const MeshStatistics before = ComputeMeshStatistics(input);
+  // Flip one edge and check the new diagonal replaced the old one.
+  const Index* t0 = input.Triangle(0);
+  FlipRecord first;
+  ASSERT_TRUE(mesh.FlipEdge(t0[0], t0[1], &first));
+  EXPECT_EQ(mesh.EdgeTriangleCount(first.X, first.Y), 0);
+  EXPECT_EQ(mesh.EdgeTriangleCount(first.Q, first.Z), 2);
+  EXPECT_TRUE(mesh.CheckInvariants());
+  // Interleave collapses and flips, then undo everything newest first.
+  struct Step
+  {
+    bool IsFlip;
+    CollapseRecord Collapse;
+    FlipRecord Flip;
+  };
+  std::vector<Step> steps;
+  steps.push_back({ true, {}, first });
+  for (int round = 0; round < 20; ++round)
+  {
+    std::vector<CollapseRecord> records;
+    CollapseTrianglesGreedily(mesh, 2, &records);
+    for (const CollapseRecord& r : records)
+    {
+      steps.push_back({ false, r, {} });
+    }
+    for (Index t = 0; t < mesh.NumberOfTriangles(); t += 7)
+    {
+      if (mesh.IsTriangleAlive(t))
+      {
+        const Index* tri = mesh.Triangle(t);
+        FlipRecord f;
+        if (mesh.FlipEdge(tri[1], tri[2], &f))
+        {
+          steps.push_back({ true, {}, f });
+          break;
+        }
+      }
+    }
+    ASSERT_TRUE(mesh.CheckInvariants());
+  }
+  TriangleMesh middle;
+  mesh.Extract(middle);
+  const MeshStatistics during = ComputeMeshStatistics(middle);
+  EXPECT_EQ(during.Genus, before.Genus);
+  EXPECT_EQ(during.NonManifoldEdges, 0);
+  EXPECT_EQ(during.InconsistentlyOrientedEdges, 0);
+  for (auto it = steps.rbegin(); it != steps.rend(); ++it)
+  {
+    if (it->IsFlip)
+    {
+      mesh.Undo(it->Flip);
+    }
+    else
+    {
+      mesh.Undo(it->Collapse);
+    }
+  }
+  ASSERT_TRUE(mesh.CheckInvariants());
+  TriangleMesh out;
+  std::vector<Index> newToOld;
+  mesh.Extract(out, &newToOld);
+  ASSERT_EQ(out.NumberOfTriangles(), input.NumberOfTriangles());
+  for (Index t = 0; t < out.NumberOfTriangles(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      ASSERT_EQ(newToOld[out.Triangle(t)[k]], input.Triangle(t)[k]);
+    }
+  }
+}
+
 TEST(Quadric, MinimizerOfThreePlanesIsTheirCorner)
 {
   Quadric q = Quadric::FromPointNormal({ 1, 2, 3 }, { 1, 0, 0 });

@@ -24,6 +24,8 @@
 #include "vtkQuadricDecimation.h"
 #include "vtkStaticCellLocator.h"
 #include "vtkSurfaceDeviation.h"
+
+#include <iterator>
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <gtest/gtest.h>
@@ -372,6 +374,10 @@ CollapseHierarchyParameters DefaultParameters()
   p.ErrorWeight = f->GetErrorWeight();
   p.QuadricCollapsePoint = f->GetQuadricCollapsePoint();
   p.RelaxWhenBlocked = f->GetRelaxWhenBlocked();
+  p.StarShapedInStencilPlane = f->GetStarShapedInStencilPlane();
+  p.SwapBlockingEdges = f->GetSwapBlockingEdges();
+  p.SwapMinimumNormalDot = f->GetSwapMinimumNormalDot();
+  p.SwapMinimumNormalDotWhenBlocked = f->GetSwapMinimumNormalDotWhenBlocked();
   p.BatchFraction = f->GetBatchFraction();
   p.BatchSearchDepth = f->GetBatchSearchDepth();
   p.MinimumNormalDot = f->GetMinimumNormalDot();
@@ -452,8 +458,13 @@ TEST_P(HierarchyOnMesh, LevelsAreManifoldSameGenusUnflippedAndExactlyReversible)
     ASSERT_EQ(level.PointGlobal[level.Triangles[i]], input.Triangles[i]);
   }
 
-  // Expanding every vertex of the coarsest mesh back (vertex splits, newest first) gives the
-  // input exactly: same triangles, same vertex ids, bitwise the same coordinates.
+  // Expanding every vertex of the coarsest mesh back (vertex splits, newest first, undoing the
+  // edge swaps between levels) gives the input exactly: same triangles, same vertex ids, bitwise
+  // the same coordinates.
+  if (std::string(GetParam()) == "fandisk")
+  {
+    EXPECT_GT(h.NumberOfSwaps(), 0); // its flat faces have blocking valence-4 vertices
+  }
   EditableMesh mesh = h.CoarsestMesh();
   for (Index k = h.NumberOfCollapses() - 1; k >= 0; --k)
   {
@@ -489,10 +500,24 @@ TEST_P(HierarchyOnMesh, BlendsMatchTheLevels)
     h.Extract(h.LevelStart(i), h.LevelStart(i + 1), 0.0, b);
     ASSERT_EQ(a.Points, b.Points);
     ASSERT_EQ(a.Triangles, b.Triangles);
-    // t = 1 is M_i+1 geometrically (collapsed triangles become degenerate and are dropped).
+    // t = 1 is M_i+1 geometrically (collapsed triangles become degenerate and are dropped),
+    // except for the edges swapped between the levels (two triangles each).
     h.Extract(h.LevelStart(i), h.LevelStart(i + 1), 1.0, a);
     h.ExtractLevel(i + 1, b);
-    ASSERT_EQ(CanonicalTriangles(a), CanonicalTriangles(b)) << GetParam() << " level " << i;
+    const std::vector<CanonicalTriangle> ca = CanonicalTriangles(a), cb = CanonicalTriangles(b);
+    const Index swaps = h.SwapsAfter(h.LevelStart(i + 1));
+    if (swaps == 0)
+    {
+      ASSERT_EQ(ca, cb) << GetParam() << " level " << i;
+    }
+    else
+    {
+      ASSERT_EQ(ca.size(), cb.size());
+      std::vector<CanonicalTriangle> common;
+      std::set_intersection(ca.begin(), ca.end(), cb.begin(), cb.end(), std::back_inserter(common));
+      ASSERT_LE(ca.size() - common.size(), size_t(2 * swaps)) << GetParam() << " level " << i;
+      ASSERT_GT(common.size(), 0u);
+    }
     // In between, every moving point lies on its segment, and the roles mark the batch.
     h.ExtractLevel(i + 0.25, a);
     int collapsing = 0;
@@ -557,7 +582,11 @@ TEST(CollapseHierarchy, PaperSettingsReachFivePercentInFewLevels)
   // needed 29 of 48 levels to get below 5% of the triangles.
   const TriangleMesh input = ToTriangleMesh(LoadTestMesh("bunny00"));
   CollapseHierarchy h;
-  ASSERT_TRUE(h.Build(input, CollapseHierarchyParameters()));
+  const CollapseHierarchyParameters paper;
+  ASSERT_FALSE(paper.SwapBlockingEdges); // the core's defaults are the paper's rules
+  ASSERT_FALSE(paper.StarShapedInStencilPlane);
+  ASSERT_TRUE(h.Build(input, paper));
+  EXPECT_EQ(h.NumberOfSwaps(), 0);
   int level = 0;
   while (level < h.NumberOfLevels() && h.LevelTriangleCount(level) >= 0.05 * input.NumberOfTriangles())
   {
@@ -817,10 +846,12 @@ std::map<std::string, std::vector<QualityBound>> QualityBounds()
   return {
     { "bunny00", { { 0.10, 1.5, true, 0.02 }, { 0.02, 1.5, true, 0.02 } } },
     { "armadillo", { { 0.10, 1.5, true, 0.02 }, { 0.02, 1.5, true, 0.02 } } },
-    // Goal not met (measured 6.4x and 31x).
-    { "fandisk", { { 0.10, 8.0, true, 0.02 }, { 0.02, 40.0, false, 0.02 } } },
-    // Goal not met (measured 2.0x at 10%; the hierarchy stops at about 7% of the triangles).
-    { "femur", { { 0.10, 2.5, false, 0.08 }, { 0.02, 0.0, false, 0.08 } } },
+    // Goal not met (measured 4.2x and 8.1x; 6.4x and 31x before edge swaps and the stencil-plane
+    // star test).
+    { "fandisk", { { 0.10, 5.0, true, 0.02 }, { 0.02, 10.0, false, 0.02 } } },
+    // 10%: goal met (measured 0.80x; 2.0x before the stencil-plane star test). 2%: not reached,
+    // the hierarchy stops at about 6% of the triangles.
+    { "femur", { { 0.10, 1.5, true, 0.08 }, { 0.02, 0.0, false, 0.08 } } },
   };
 }
 
