@@ -3,7 +3,7 @@
 //
 // Stages of one level:
 //  1. chain simplification (4.2.5): every chain is approximated by divide-and-conquer refinement
-//     (split at the middle index while the sub-chain is farther than epsilon from its segment).
+//     (split at the farthest vertex, Douglas-Peucker, while the sub-chain is farther than epsilon from its segment).
 //     The whole refinement tree is stored once as one tolerance per chain vertex ("keep me when
 //     epsilon < key"; keys decrease down the tree), so any epsilon is a threshold on stored keys
 //     and several levels come from one patchification (4.2.4);
@@ -59,6 +59,7 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   std::vector<Index> Triangles;     // 3 original vertex ids per triangle
   std::vector<Index> TrianglePatch; // merged patch of each triangle, 0..NumberOfPatches-1
   Index NumberOfPatches = 0;
+  std::vector<Index> MergedPatchOf; // per patch of the patchification: its merged patch (or -1)
   // Profile curves: the simplified chains as polylines of original vertex ids.
   std::vector<Index> CurveOffsets;
   std::vector<Index> CurveVertices;
@@ -96,9 +97,17 @@ public:
   // count not above the target. `predicted` gets the predicted count.
   SpbmLevelParameters FindParameters(Index target, const SpbmLevelParameters& base, Index* predicted = nullptr);
 
-  // FindParameters + Generate, re-aiming when fallbacks pushed the count above the target.
+  // FindParameters + Generate, re-aiming when fallbacks pushed the count above the target. The
+  // level budget can be spent on finer chains (smaller epsilon) or on fewer, flatter merges
+  // (smaller alpha1): when alpha1 did not have to be widened, the given alpha1 and its half and
+  // quarter are tried and the level with the smallest EstimateDeviation is kept.
   bool GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
     SpbmLevelParameters* used = nullptr, const std::function<bool()>& abort = nullptr);
+
+  // Deviation estimate of a level: the largest distance from samples of the original triangles
+  // (vertices and centroids, about `samples` of them) to the level (a BVH over the level, which
+  // is small). The one-sided Hausdorff distance from the input, sampled; compares candidates.
+  double EstimateDeviation(const SpbmLevel& level, Index samples = 20000) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
   double ChainVertexKey(Index c, Index i) const;
@@ -106,6 +115,8 @@ public:
 
 private:
   struct State;
+  bool GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
+    SpbmLevelParameters* used, const std::function<bool()>& abort);
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
 
   const TriangleMesh* Mesh = nullptr;
@@ -122,6 +133,7 @@ private:
     double MergeAngle;
     bool MergePatches, CollapseChains;
     double CollapseLengthFactor;
+    bool JoinWithinEpsilon, CollapseWithinEpsilon;
     Index Count;
   };
   std::vector<PredictionMemo> Memo;

@@ -405,18 +405,10 @@ TEST(PatchBoundaryMerge, FandiskTable1LevelsAreClosedManifoldGenusZero)
   {
     auto out = RunFilter(input, target, filter);
     ExpectValidClosedOutput(input, out, 0);
-    // The search meets the dissertation's counts closely; the smallest level may stay above
-    // (single-segment chains and alpha1 up to 90 degrees leave about 160-190 triangles with the
-    // default patch parameters).
-    if (target >= 266)
-    {
-      EXPECT_LE(out->GetNumberOfCells(), target);
-      EXPECT_GE(out->GetNumberOfCells(), target * 9 / 10);
-    }
-    else
-    {
-      EXPECT_LE(out->GetNumberOfCells(), target * 13 / 10);
-    }
+    // The search meets the dissertation's counts; the smallest level needs the relaxed joins and
+    // collapses (single-segment chains and alpha1 up to 90 degrees alone leave 188 triangles).
+    EXPECT_LE(out->GetNumberOfCells(), target);
+    EXPECT_GE(out->GetNumberOfCells(), target * 9 / 10);
     // Profile curves: polylines over output points.
     vtkPolyData* curves = filter->GetOutput(1);
     EXPECT_GT(curves->GetNumberOfLines(), 0);
@@ -645,10 +637,12 @@ TEST(PatchBoundaryMerge, FandiskSharpProfilesSurviveVersusPeers)
     const auto q = measure(quadric->GetOutput());
     const auto d = measure(pro->GetOutput());
     const auto o = measure(ours);
-    // Goal (issue 5): Hausdorff no worse than vtkDecimatePro's. Not met yet (measured ratios 1.67, 1.59
-    // and 4.2 at 460, 266 and 150 triangles): asserted here as a regression bound just above the
-    // measured ratio, and reported loudly, so that any improvement can tighten it to the goal.
-    const double regressionRatio = target == 150 ? 4.6 : 1.8;
+    // Goal (issue 5): Hausdorff no worse than vtkDecimatePro's. Not met yet (measured ratios 1.60, 1.59
+    // and 7.3 at 460, 266 and 150 triangles; 150 is now reached exactly by relaxing the epsilon bounds of
+    // joins and collapses, where it stayed at 188 triangles and 4.2x before): asserted here as a
+    // regression bound just above the measured ratio, and reported loudly, so that any improvement can
+    // tighten it to the goal.
+    const double regressionRatio = target == 150 ? 7.8 : 1.7;
     EXPECT_LE(o.first, regressionRatio * d.first)
       << "target " << target << ": SPBM Hausdorff " << o.first << " vs vtkDecimatePro " << d.first << " ("
       << pro->GetOutput()->GetNumberOfCells() << " triangles)";
