@@ -575,6 +575,36 @@ void SpbmLevelGenerator::RunMerging(
 
   const double cosMerge = std::cos(parameters.MergeAngle * DegreesToRadians);
   auto sideDot = [&](Index p, Index q) { return Dot(Normalized(s.Normal[p]), Normalized(s.Normal[q])); };
+  // Merge measure (larger = merge sooner) and its threshold. Plain: the cosine of the normals'
+  // angle against cos(alpha1). Size-weighted: flattening the smaller patch of the pair onto the
+  // union's plane moves it by about its extent times sin(angle), so the angle is weighted by the
+  // smaller patch's extent relative to an average patch: small patches merge at wider angles,
+  // large ones at narrower angles, for the same alpha1.
+  double meanSize = 0;
+  if (parameters.SizeWeightedMerge)
+  {
+    for (Index p = 0; p < np; ++p)
+    {
+      meanSize += Norm(s.Normal[p]);
+    }
+    meanSize = std::max(meanSize / std::max<Index>(1, np), std::numeric_limits<double>::min());
+  }
+  const double mergeThreshold = parameters.SizeWeightedMerge
+    ? -std::sin(std::min(90.0, parameters.MergeAngle) * DegreesToRadians)
+    : cosMerge;
+  auto mergeMeasure = [&](Index p, Index q) {
+    const double d = sideDot(p, q);
+    if (!parameters.SizeWeightedMerge)
+    {
+      return d;
+    }
+    if (d <= 0)
+    {
+      return -std::numeric_limits<double>::max();
+    }
+    const double weight = std::sqrt(std::min(Norm(s.Normal[p]), Norm(s.Normal[q])) / meanSize);
+    return -std::sqrt(std::max(0.0, 1.0 - d * d)) * weight;
+  };
   auto otherEnd = [&](Index c, Index e) { return s.A[c] == e ? s.B[c] : s.A[c]; };
   auto endpointPoint = [&](Index e) { return mesh.Point(P.EndpointVertex(e)); };
   auto movable = [&](Index c) {
@@ -590,8 +620,8 @@ void SpbmLevelGenerator::RunMerging(
     {
       return;
     }
-    const double d = sideDot(p, q);
-    if (d >= cosMerge)
+    const double d = mergeMeasure(p, q);
+    if (d >= mergeThreshold)
     {
       s.Heap.emplace_back(d, c);
       std::push_heap(s.Heap.begin(), s.Heap.end());
@@ -1217,7 +1247,7 @@ void SpbmLevelGenerator::RunMerging(
     {
       continue;
     }
-    const double d = sideDot(p, q);
+    const double d = mergeMeasure(p, q);
     if (d < entry.first - 1e-12)
     {
       pushCandidate(c); // normals changed since: requeue with the current value
@@ -1247,7 +1277,8 @@ Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parame
   {
     if (m.Epsilon == eps && m.MergeAngle == parameters.MergeAngle && m.MergePatches == parameters.MergePatches &&
       m.CollapseChains == parameters.CollapseChains && m.CollapseLengthFactor == parameters.CollapseLengthFactor &&
-      m.JoinWithinEpsilon == parameters.JoinWithinEpsilon && m.CollapseWithinEpsilon == parameters.CollapseWithinEpsilon)
+      m.JoinWithinEpsilon == parameters.JoinWithinEpsilon && m.CollapseWithinEpsilon == parameters.CollapseWithinEpsilon &&
+      m.SizeWeightedMerge == parameters.SizeWeightedMerge)
     {
       return m.Count;
     }
@@ -1261,7 +1292,7 @@ Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parame
   }
   this->Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
     parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon, parameters.CollapseWithinEpsilon,
-    static_cast<Index>(s.Total) });
+    parameters.SizeWeightedMerge, static_cast<Index>(s.Total) });
   return static_cast<Index>(s.Total);
 }
 
@@ -1895,37 +1926,50 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
   {
     *used = first;
   }
-  // When alpha1 had to be widened, narrower angles widen to the same one: nothing to compare.
-  if (!base.MergePatches || base.MergeAngle <= 0 || first.MergeAngle > base.MergeAngle)
+  if (!base.MergePatches || base.MergeAngle <= 0 || !base.CompareCandidates)
   {
     return true;
   }
+  // Candidates spending the same budget differently: the other merge measure, and (when alpha1
+  // did not have to be widened; narrower angles would widen to the same one) half and a quarter
+  // of alpha1, i.e. fewer merges and finer chains. The smallest sampled deviation wins.
   const Index count = static_cast<Index>(level.TrianglePatch.size());
   double bestDeviation = this->EstimateDeviation(level);
   SpbmLevel candidate;
-  for (const double factor : { 0.5, 0.25 })
+  for (const bool weighted : { base.SizeWeightedMerge, !base.SizeWeightedMerge })
   {
-    SpbmLevelParameters narrower = base;
-    narrower.MergeAngle = base.MergeAngle * factor;
-    SpbmLevelParameters parameters;
-    if (!this->GenerateForTargetAndAngle(target, narrower, candidate, &parameters, abort))
+    for (const double factor : { 1.0, 0.5, 0.25 })
     {
-      return false;
-    }
-    const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
-    // Same budget: not above the target (or the first level's count), not far below it.
-    if ((produced > target && produced > count) || produced < std::min(count, target) * 19 / 20)
-    {
-      continue;
-    }
-    const double deviation = this->EstimateDeviation(candidate);
-    if (deviation < bestDeviation)
-    {
-      bestDeviation = deviation;
-      std::swap(level, candidate);
-      if (used)
+      if (weighted == base.SizeWeightedMerge && factor == 1.0)
       {
-        *used = parameters;
+        continue; // the first level
+      }
+      SpbmLevelParameters other = base;
+      other.SizeWeightedMerge = weighted;
+      other.MergeAngle = base.MergeAngle * factor;
+      SpbmLevelParameters parameters;
+      if (!this->GenerateForTargetAndAngle(target, other, candidate, &parameters, abort))
+      {
+        return false;
+      }
+      const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
+      // Same budget: not above the target (or the first level's count), not far below it.
+      if (!((produced > target && produced > count) || produced < std::min(count, target) * 19 / 20))
+      {
+        const double deviation = this->EstimateDeviation(candidate);
+        if (deviation < bestDeviation)
+        {
+          bestDeviation = deviation;
+          std::swap(level, candidate);
+          if (used)
+          {
+            *used = parameters;
+          }
+        }
+      }
+      if (parameters.MergeAngle > other.MergeAngle)
+      {
+        break; // widened: narrower angles give the same level
       }
     }
   }

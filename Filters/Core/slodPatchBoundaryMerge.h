@@ -52,6 +52,13 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // bounded by alpha1 only); both are on by default because they bound the profile-curve error.
   bool JoinWithinEpsilon = true;
   bool CollapseWithinEpsilon = true;
+  // Merge threshold weighted by patch size: a pair merges when sin(angle) * sqrt(smaller patch
+  // area / mean patch area) <= sin(alpha1) (alpha1 <= 90), smallest first, instead of when
+  // angle <= alpha1, most parallel first.
+  bool SizeWeightedMerge = false;
+  // GenerateForTarget only: also try the other merge measure and narrower alpha1 values at the
+  // same target, and keep the level with the smallest EstimateDeviation.
+  bool CompareCandidates = true;
 };
 
 struct SURFACELODFILTERS_EXPORT SpbmLevel
@@ -99,8 +106,9 @@ public:
 
   // FindParameters + Generate, re-aiming when fallbacks pushed the count above the target. The
   // level budget can be spent on finer chains (smaller epsilon) or on fewer, flatter merges
-  // (smaller alpha1): when alpha1 did not have to be widened, the given alpha1 and its half and
-  // quarter are tried and the level with the smallest EstimateDeviation is kept.
+  // (smaller alpha1, size-weighted merging): with CompareCandidates, both merge measures and
+  // (when alpha1 did not have to be widened) half and a quarter of alpha1 are tried, and the
+  // level with the smallest EstimateDeviation is kept.
   bool GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
     SpbmLevelParameters* used = nullptr, const std::function<bool()>& abort = nullptr);
 
@@ -133,7 +141,7 @@ private:
     double MergeAngle;
     bool MergePatches, CollapseChains;
     double CollapseLengthFactor;
-    bool JoinWithinEpsilon, CollapseWithinEpsilon;
+    bool JoinWithinEpsilon, CollapseWithinEpsilon, SizeWeightedMerge;
     Index Count;
   };
   std::vector<PredictionMemo> Memo;
