@@ -394,6 +394,50 @@ TEST(SpbmLevel, PredictionMatchesGenerationAndLevelsAreValid)
   }
 }
 
+// Size-weighted merging gives valid levels whose count the prediction knows; comparing
+// candidates never increases the sampled deviation of the single search, at the same budget.
+TEST(SpbmLevel, SizeWeightedMergeAndCandidateComparison)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  auto pm = Patch(mesh);
+  SpbmLevelGenerator generator;
+  generator.Initialize(pm->Mesh, pm->Patches);
+  for (const Index target : { 460, 266, 150 })
+  {
+    SpbmLevelParameters single;
+    single.CompareCandidates = false;
+    SpbmLevel one, best;
+    ASSERT_TRUE(generator.GenerateForTarget(target, single, one));
+    SpbmLevelParameters compare;
+    SpbmLevelParameters used;
+    ASSERT_TRUE(generator.GenerateForTarget(target, compare, best, &used));
+    EXPECT_LE(Index(best.TrianglePatch.size()), target);
+    EXPECT_GE(Index(best.TrianglePatch.size()), target * 9 / 10);
+    EXPECT_LE(generator.EstimateDeviation(best), generator.EstimateDeviation(one));
+    // The chosen parameters regenerate the chosen level.
+    SpbmLevel again;
+    ASSERT_TRUE(generator.Generate(used, again));
+    EXPECT_EQ(again.Triangles, best.Triangles);
+
+    SpbmLevelParameters weighted = used;
+    weighted.SizeWeightedMerge = true;
+    const Index predicted = generator.PredictTriangleCount(weighted);
+    SpbmLevel level;
+    ASSERT_TRUE(generator.Generate(weighted, level));
+    EXPECT_EQ(level.PredictedTriangles, predicted);
+    TriangleMesh out;
+    out.Points = mesh.Points;
+    out.Triangles = level.Triangles;
+    out.RemoveUnusedPoints();
+    const MeshStatistics st = ComputeMeshStatistics(out);
+    EXPECT_EQ(st.BoundaryEdges, 0);
+    EXPECT_EQ(st.NonManifoldEdges, 0);
+    EXPECT_EQ(st.NonManifoldVertices, 0);
+    EXPECT_EQ(st.InconsistentlyOrientedEdges, 0);
+    EXPECT_EQ(st.Genus, 0);
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // The filter
 TEST(PatchBoundaryMerge, FandiskTable1LevelsAreClosedManifoldGenusZero)
