@@ -203,6 +203,7 @@ int vtkPatchBoundaryMerge::RequestData(
   level.MergePatches = this->MergePatches;
   level.CollapseChains = this->CollapseChains;
   level.CollapseLengthFactor = this->CollapseLengthFactor;
+  level.CompareCandidates = this->CompareCandidates;
   vtkIdType target = 0;
   if (this->TargetNumberOfTriangles > 0)
   {
@@ -359,6 +360,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MergePatches: " << this->MergePatches << "\n";
   os << indent << "CollapseChains: " << this->CollapseChains << "\n";
   os << indent << "CollapseLengthFactor: " << this->CollapseLengthFactor << "\n";
+  os << indent << "CompareCandidates: " << this->CompareCandidates << "\n";
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "MaximumError: " << this->MaximumError << "\n";

@@ -3,7 +3,7 @@
 //
 // Stages of one level:
 //  1. chain simplification (4.2.5): every chain is approximated by divide-and-conquer refinement
-//     (split at the middle index while the sub-chain is farther than epsilon from its segment).
+//     (split at the farthest vertex, Douglas-Peucker, while the sub-chain is farther than epsilon from its segment).
 //     The whole refinement tree is stored once as one tolerance per chain vertex ("keep me when
 //     epsilon < key"; keys decrease down the tree), so any epsilon is a threshold on stored keys
 //     and several levels come from one patchification (4.2.4);
@@ -52,6 +52,13 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // bounded by alpha1 only); both are on by default because they bound the profile-curve error.
   bool JoinWithinEpsilon = true;
   bool CollapseWithinEpsilon = true;
+  // Merge threshold weighted by patch size: a pair merges when sin(angle) * sqrt(smaller patch
+  // area / mean patch area) <= sin(alpha1) (alpha1 <= 90), smallest first, instead of when
+  // angle <= alpha1, most parallel first.
+  bool SizeWeightedMerge = false;
+  // GenerateForTarget only: also try the other merge measure and narrower alpha1 values at the
+  // same target, and keep the level with the smallest EstimateDeviation.
+  bool CompareCandidates = true;
 };
 
 struct SURFACELODFILTERS_EXPORT SpbmLevel
@@ -59,6 +66,7 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   std::vector<Index> Triangles;     // 3 original vertex ids per triangle
   std::vector<Index> TrianglePatch; // merged patch of each triangle, 0..NumberOfPatches-1
   Index NumberOfPatches = 0;
+  std::vector<Index> MergedPatchOf; // per patch of the patchification: its merged patch (or -1)
   // Profile curves: the simplified chains as polylines of original vertex ids.
   std::vector<Index> CurveOffsets;
   std::vector<Index> CurveVertices;
@@ -96,9 +104,18 @@ public:
   // count not above the target. `predicted` gets the predicted count.
   SpbmLevelParameters FindParameters(Index target, const SpbmLevelParameters& base, Index* predicted = nullptr);
 
-  // FindParameters + Generate, re-aiming when fallbacks pushed the count above the target.
+  // FindParameters + Generate, re-aiming when fallbacks pushed the count above the target. The
+  // level budget can be spent on finer chains (smaller epsilon) or on fewer, flatter merges
+  // (smaller alpha1, size-weighted merging): with CompareCandidates, both merge measures and
+  // (when alpha1 did not have to be widened) half and a quarter of alpha1 are tried, and the
+  // level with the smallest EstimateDeviation is kept.
   bool GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
     SpbmLevelParameters* used = nullptr, const std::function<bool()>& abort = nullptr);
+
+  // Deviation estimate of a level: the largest distance from samples of the original triangles
+  // (vertices and centroids, about `samples` of them) to the level (a BVH over the level, which
+  // is small). The one-sided Hausdorff distance from the input, sampled; compares candidates.
+  double EstimateDeviation(const SpbmLevel& level, Index samples = 6000) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
   double ChainVertexKey(Index c, Index i) const;
@@ -106,6 +123,8 @@ public:
 
 private:
   struct State;
+  bool GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
+    SpbmLevelParameters* used, const std::function<bool()>& abort);
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
 
   const TriangleMesh* Mesh = nullptr;
@@ -122,6 +141,7 @@ private:
     double MergeAngle;
     bool MergePatches, CollapseChains;
     double CollapseLengthFactor;
+    bool JoinWithinEpsilon, CollapseWithinEpsilon, SizeWeightedMerge;
     Index Count;
   };
   std::vector<PredictionMemo> Memo;

@@ -394,6 +394,50 @@ TEST(SpbmLevel, PredictionMatchesGenerationAndLevelsAreValid)
   }
 }
 
+// Size-weighted merging gives valid levels whose count the prediction knows; comparing
+// candidates never increases the sampled deviation of the single search, at the same budget.
+TEST(SpbmLevel, SizeWeightedMergeAndCandidateComparison)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  auto pm = Patch(mesh);
+  SpbmLevelGenerator generator;
+  generator.Initialize(pm->Mesh, pm->Patches);
+  for (const Index target : { 460, 266, 150 })
+  {
+    SpbmLevelParameters single;
+    single.CompareCandidates = false;
+    SpbmLevel one, best;
+    ASSERT_TRUE(generator.GenerateForTarget(target, single, one));
+    SpbmLevelParameters compare;
+    SpbmLevelParameters used;
+    ASSERT_TRUE(generator.GenerateForTarget(target, compare, best, &used));
+    EXPECT_LE(Index(best.TrianglePatch.size()), target);
+    EXPECT_GE(Index(best.TrianglePatch.size()), target * 9 / 10);
+    EXPECT_LE(generator.EstimateDeviation(best), generator.EstimateDeviation(one));
+    // The chosen parameters regenerate the chosen level.
+    SpbmLevel again;
+    ASSERT_TRUE(generator.Generate(used, again));
+    EXPECT_EQ(again.Triangles, best.Triangles);
+
+    SpbmLevelParameters weighted = used;
+    weighted.SizeWeightedMerge = true;
+    const Index predicted = generator.PredictTriangleCount(weighted);
+    SpbmLevel level;
+    ASSERT_TRUE(generator.Generate(weighted, level));
+    EXPECT_EQ(level.PredictedTriangles, predicted);
+    TriangleMesh out;
+    out.Points = mesh.Points;
+    out.Triangles = level.Triangles;
+    out.RemoveUnusedPoints();
+    const MeshStatistics st = ComputeMeshStatistics(out);
+    EXPECT_EQ(st.BoundaryEdges, 0);
+    EXPECT_EQ(st.NonManifoldEdges, 0);
+    EXPECT_EQ(st.NonManifoldVertices, 0);
+    EXPECT_EQ(st.InconsistentlyOrientedEdges, 0);
+    EXPECT_EQ(st.Genus, 0);
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // The filter
 TEST(PatchBoundaryMerge, FandiskTable1LevelsAreClosedManifoldGenusZero)
@@ -405,18 +449,10 @@ TEST(PatchBoundaryMerge, FandiskTable1LevelsAreClosedManifoldGenusZero)
   {
     auto out = RunFilter(input, target, filter);
     ExpectValidClosedOutput(input, out, 0);
-    // The search meets the dissertation's counts closely; the smallest level may stay above
-    // (single-segment chains and alpha1 up to 90 degrees leave about 160-190 triangles with the
-    // default patch parameters).
-    if (target >= 266)
-    {
-      EXPECT_LE(out->GetNumberOfCells(), target);
-      EXPECT_GE(out->GetNumberOfCells(), target * 9 / 10);
-    }
-    else
-    {
-      EXPECT_LE(out->GetNumberOfCells(), target * 13 / 10);
-    }
+    // The search meets the dissertation's counts; the smallest level needs the relaxed joins and
+    // collapses (single-segment chains and alpha1 up to 90 degrees alone leave 188 triangles).
+    EXPECT_LE(out->GetNumberOfCells(), target);
+    EXPECT_GE(out->GetNumberOfCells(), target * 9 / 10);
     // Profile curves: polylines over output points.
     vtkPolyData* curves = filter->GetOutput(1);
     EXPECT_GT(curves->GetNumberOfLines(), 0);
@@ -645,10 +681,11 @@ TEST(PatchBoundaryMerge, FandiskSharpProfilesSurviveVersusPeers)
     const auto q = measure(quadric->GetOutput());
     const auto d = measure(pro->GetOutput());
     const auto o = measure(ours);
-    // Goal (issue 5): Hausdorff no worse than vtkDecimatePro's. Not met yet (measured ratios 1.67, 1.59
-    // and 4.2 at 460, 266 and 150 triangles): asserted here as a regression bound just above the
-    // measured ratio, and reported loudly, so that any improvement can tighten it to the goal.
-    const double regressionRatio = target == 150 ? 4.6 : 1.8;
+    // Goal (issue 5): Hausdorff no worse than vtkDecimatePro's. Not met yet (measured ratios 1.29, 1.59
+    // and 4.8 at 460, 266 and 150 triangles; 150 is reached exactly now, where it stayed at 188
+    // triangles before): asserted here as a regression bound just above the measured ratio, and
+    // reported loudly, so that any improvement can tighten it to the goal.
+    const double regressionRatio = target == 150 ? 5.2 : target == 266 ? 1.7 : 1.4;
     EXPECT_LE(o.first, regressionRatio * d.first)
       << "target " << target << ": SPBM Hausdorff " << o.first << " vs vtkDecimatePro " << d.first << " ("
       << pro->GetOutput()->GetNumberOfCells() << " triangles)";
