@@ -5,16 +5,14 @@
 //
 // usage: BenchPatchBoundaryMerge [fandisk] [bunny00] [mc1m] [--samples N] [--repeat N] [--write DIR]
 // (no model argument: all three). Models are read from the CGAL demo meshes of the build
-// (SURFACELOD_MESH_DIR); mc1m is a ~1M-triangle vtkFlyingEdges3D isosurface of a smooth field
+// (SURFACELOD_MESH_DIR); mc1m is the demo's ~1M-triangle isosurface (vtkSyntheticIsosurfaceSource)
 // (a bumpy sphere).
 #include "vtkPatchBoundaryMerge.h"
 #include "vtkOFFMeshReader.h"
 #include "vtkSurfaceDeviation.h"
 
 #include "vtkDecimatePro.h"
-#include "vtkFlyingEdges3D.h"
-#include "vtkFloatArray.h"
-#include "vtkImageData.h"
+#include "vtkSyntheticIsosurfaceSource.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
@@ -59,46 +57,13 @@ void ResetPeak()
   std::ofstream("/proc/self/clear_refs") << "5"; // resets VmHWM to the current RSS
 }
 
-// A smooth closed isosurface with about 1M triangles: a gently bumpy sphere (radius 0.8, bumps of
-// 8 %), sampled on an n^3 grid over [-0.95, 0.95]^3 and extracted with vtkFlyingEdges3D.
-vtkSmartPointer<vtkPolyData> MarchingCubesMesh(int n)
+// The demo's marching-cubes surface (vtkSyntheticIsosurfaceSource; 500: about 1,000,000 triangles).
+vtkSmartPointer<vtkPolyData> MarchingCubesMesh(int resolution)
 {
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(n, n, n);
-  const double h = 1.9 / (n - 1);
-  image->SetOrigin(-0.95, -0.95, -0.95);
-  image->SetSpacing(h, h, h);
-  vtkNew<vtkFloatArray> field;
-  field->SetNumberOfValues(vtkIdType(n) * n * n);
-  std::vector<double> s(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i)
-  {
-    s[i] = std::sin(5.0 * (-0.95 + i * h));
-  }
-  vtkIdType i = 0;
-  for (int z = 0; z < n; ++z)
-  {
-    const double pz = -0.95 + z * h;
-    for (int y = 0; y < n; ++y)
-    {
-      const double py = -0.95 + y * h;
-      for (int x = 0; x < n; ++x, ++i)
-      {
-        const double px = -0.95 + x * h;
-        const double r = std::sqrt(px * px + py * py + pz * pz);
-        field->SetValue(i, static_cast<float>(r - 0.8 * (1.0 + 0.08 * s[x] * s[y] * s[z])));
-      }
-    }
-  }
-  image->GetPointData()->SetScalars(field);
-  vtkNew<vtkFlyingEdges3D> contour;
-  contour->SetInputData(image);
-  contour->SetValue(0, 0.0);
-  contour->ComputeNormalsOff();
-  contour->ComputeGradientsOff();
-  contour->ComputeScalarsOff();
-  contour->Update();
-  vtkSmartPointer<vtkPolyData> out = contour->GetOutput();
+  vtkNew<vtkSyntheticIsosurfaceSource> source;
+  source->SetResolution(resolution);
+  source->Update();
+  vtkSmartPointer<vtkPolyData> out = source->GetOutput();
   return out;
 }
 
@@ -106,7 +71,7 @@ vtkSmartPointer<vtkPolyData> LoadModel(const std::string& name)
 {
   if (name == "mc1m")
   {
-    return MarchingCubesMesh(386);
+    return MarchingCubesMesh(500);
   }
   vtkNew<vtkOFFMeshReader> reader;
   const std::string path = std::string(SURFACELOD_MESH_DIR) + "/" + name + ".off";

@@ -4,9 +4,8 @@
 // build time, the time of one blended level M_i(t) through the pipeline (the slider path), and
 // vtkQuadricDecimation's time to 5% on the same mesh, measured in the same run.
 //
-// Usage: BenchmarkTriangleCollapseHierarchy [mesh-directory] [marching-cubes grid size (default 230: about 1M triangles)]
-#include "vtkFlyingEdges3D.h"
-#include "vtkImageData.h"
+// Usage: BenchmarkTriangleCollapseHierarchy [mesh-directory] [demo isosurface resolution (default 500: about 1M triangles)]
+#include "vtkSyntheticIsosurfaceSource.h"
 #include "vtkNew.h"
 #include "vtkOFFMeshReader.h"
 #include "vtkPointData.h"
@@ -14,7 +13,6 @@
 #include "vtkQuadricDecimation.h"
 #include "vtkSmartPointer.h"
 #include "vtkTriangleCollapseHierarchy.h"
-#include "vtkFloatArray.h"
 
 #include <algorithm>
 #include <chrono>
@@ -30,43 +28,13 @@ double Seconds(std::chrono::steady_clock::time_point start)
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// A smooth implicit field sampled on n^3 points: a gyroid (period 0.5) closed off smoothly by a
-// radial term outside radius 0.8, so the surface is one closed, high-genus, curved sheet.
-vtkSmartPointer<vtkPolyData> MarchingCubesSurface(int n)
+// The demo's marching-cubes surface (vtkSyntheticIsosurfaceSource; 500: about 1,000,000 triangles).
+vtkSmartPointer<vtkPolyData> MarchingCubesSurface(int resolution)
 {
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(n, n, n);
-  image->SetSpacing(2.0 / (n - 1), 2.0 / (n - 1), 2.0 / (n - 1));
-  image->SetOrigin(-1, -1, -1);
-  vtkNew<vtkFloatArray> values;
-  values->SetName("field");
-  values->SetNumberOfValues(vtkIdType(n) * n * n);
-  const double a = 4 * M_PI;
-  vtkIdType i = 0;
-  for (int z = 0; z < n; ++z)
-  {
-    for (int y = 0; y < n; ++y)
-    {
-      for (int x = 0; x < n; ++x, ++i)
-      {
-        const double p[3] = { -1 + 2.0 * x / (n - 1), -1 + 2.0 * y / (n - 1), -1 + 2.0 * z / (n - 1) };
-        const double gyroid = std::sin(a * p[0]) * std::cos(a * p[1]) + std::sin(a * p[1]) * std::cos(a * p[2]) +
-          std::sin(a * p[2]) * std::cos(a * p[0]);
-        const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-        const double outside = r > 0.8 ? 60 * (r - 0.8) * (r - 0.8) : 0.0;
-        values->SetValue(i, static_cast<float>(gyroid + outside));
-      }
-    }
-  }
-  image->GetPointData()->SetScalars(values);
-  vtkNew<vtkFlyingEdges3D> contour;
-  contour->SetInputData(image);
-  contour->SetValue(0, 0.3);
-  contour->ComputeNormalsOff();
-  contour->ComputeGradientsOff();
-  contour->ComputeScalarsOff();
-  contour->Update();
-  vtkSmartPointer<vtkPolyData> out = contour->GetOutput();
+  vtkNew<vtkSyntheticIsosurfaceSource> source;
+  source->SetResolution(resolution);
+  source->Update();
+  vtkSmartPointer<vtkPolyData> out = source->GetOutput();
   return out;
 }
 
@@ -141,7 +109,7 @@ void RunQuadric(const std::string& label, vtkPolyData* mesh)
 int main(int argc, char* argv[])
 {
   const std::string dir = argc > 1 ? argv[1] : SURFACELOD_MESH_DIR;
-  const int grid = argc > 2 ? std::atoi(argv[2]) : 230;
+  const int grid = argc > 2 ? std::atoi(argv[2]) : 500;
   vtkNew<vtkOFFMeshReader> reader;
   reader->SetFileName((dir + "/bunny00.off").c_str());
   reader->Update();
@@ -157,7 +125,7 @@ int main(int argc, char* argv[])
 
   const auto start = std::chrono::steady_clock::now();
   vtkSmartPointer<vtkPolyData> mc = MarchingCubesSurface(grid);
-  std::printf("marching cubes %d^3: %lld triangles in %.2f s\n", grid,
+  std::printf("demo isosurface, resolution %d: %lld triangles in %.2f s\n", grid,
     static_cast<long long>(mc->GetNumberOfPolys()), Seconds(start));
   Run("mc", mc, true);
   Run("mc", mc, false);
