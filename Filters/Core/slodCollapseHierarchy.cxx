@@ -267,26 +267,11 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
       // star-shape test, without building the whole stencil.
       auto starShaped = [&](const Vec3& point) {
         bool ok = true;
-        for (int k = 0; k < 3 && ok; ++k)
-        {
-          m.ForEachTriangle(tri[k], [&](Index x) {
-            const Index* o = m.Triangle(x);
-            int members = 0, corner = 0;
-            for (int j = 0; j < 3; ++j)
-            {
-              if (o[j] == tri[0] || o[j] == tri[1] || o[j] == tri[2])
-              {
-                ++members;
-                corner = j;
-              }
-            }
-            if (members == 1)
-            {
-              const Vec3 u = m.Point(o[(corner + 1) % 3]) - point, w = m.Point(o[(corner + 2) % 3]) - point;
-              ok = ok && Dot(Cross(u, w), frame.Normal) > 1e-12 * (Dot(u, u) + Dot(w, w));
-            }
-          });
-        }
+        m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
+          const Index* o = m.Triangle(x);
+          const Vec3 u = m.Point(o[(corner + 1) % 3]) - point, w = m.Point(o[(corner + 2) % 3]) - point;
+          ok = ok && Dot(Cross(u, w), frame.Normal) > 1e-12 * (Dot(u, u) + Dot(w, w));
+        });
         return ok;
       };
       if (!starShaped(e.Point))
@@ -337,27 +322,12 @@ bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
   const EditableMesh& m = this->Mesh;
   const Index* tri = m.Triangle(t);
   bool ok = true;
-  for (int k = 0; k < 3 && ok; ++k)
-  {
-    m.ForEachTriangle(tri[k], [&](Index x) {
-      const Index* o = m.Triangle(x);
-      int members = 0, corner = 0;
-      for (int j = 0; j < 3; ++j)
-      {
-        if (o[j] == tri[0] || o[j] == tri[1] || o[j] == tri[2])
-        {
-          ++members;
-          corner = j;
-        }
-      }
-      if (members == 1)
-      {
-        Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
-        q[corner] = p;
-        ok = ok && Dot(Cross(q[1] - q[0], q[2] - q[0]), this->Base.TriangleAreaVector(x)) > 0;
-      }
-    });
-  }
+  m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
+    const Index* o = m.Triangle(x);
+    Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
+    q[corner] = p;
+    ok = ok && Dot(Cross(q[1] - q[0], q[2] - q[0]), this->Base.TriangleAreaVector(x)) > 0;
+  });
   return ok;
 }
 

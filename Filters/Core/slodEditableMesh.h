@@ -110,6 +110,34 @@ public:
       }
     }
   }
+  // The triangles that survive merging the set (2 or 3 vertices): those around it that hold exactly
+  // one of its vertices. f(t, corner) sees each once, with the corner (0..2) of that vertex.
+  template <typename Functor>
+  void ForEachSurvivingTriangle(const Index* vertices, int count, Functor&& f) const
+  {
+    for (int k = 0; k < count; ++k)
+    {
+      this->ForEachTriangle(vertices[k], [&](Index t) {
+        const Index* tri = this->Triangle(t);
+        int members = 0, corner = 0;
+        for (int j = 0; j < 3; ++j)
+        {
+          for (int i = 0; i < count; ++i)
+          {
+            if (tri[j] == vertices[i])
+            {
+              ++members;
+              corner = j;
+            }
+          }
+        }
+        if (members == 1)
+        {
+          f(t, corner);
+        }
+      });
+    }
+  }
   Index VertexDegree(Index v) const;
   // True when an edge at v has a single triangle.
   bool IsBoundaryVertex(Index v) const;
