@@ -8,7 +8,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${BUILD_DIR:-$here/build}"
 
 packages=(build-essential cmake ninja-build ccache pkg-config
-  libvtk9-dev python3-vtk9 libeigen3-dev libgtest-dev libbenchmark-dev
+  libvtk9-dev python3-vtk9 python3-dev libeigen3-dev libgtest-dev libbenchmark-dev
   libcgal-demo xvfb xauth)
 missing=()
 for p in "${packages[@]}"; do
@@ -19,7 +19,7 @@ if ((${#missing[@]})); then
   sudo_cmd=""
   [[ $(id -u) -ne 0 ]] && sudo_cmd="sudo"
   $sudo_cmd apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${missing[@]}"
 fi
 
 echo "== configuring and building in $build"
