@@ -17,6 +17,7 @@ const char* ToString(CollapseStatus status)
     case CollapseStatus::Flip: return "triangle flip";
     case CollapseStatus::Degenerate: return "degenerate triangle";
     case CollapseStatus::BadShape: return "bad triangle shape";
+    case CollapseStatus::IsolatedVertex: return "a vertex would lose all its triangles";
   }
   return "unknown";
 }
@@ -201,14 +202,16 @@ CollapseStatus EditableMesh::CheckCollapse(
 {
   assert(count >= 2 && count <= 3);
   bool anyBoundary = false;
+  bool onBoundary[3] = { false, false, false };
   for (int i = 0; i < count; ++i)
   {
     if (!this->IsVertexAlive(vertices[i]))
     {
       return CollapseStatus::DeadVertex;
     }
-    anyBoundary = anyBoundary ||
-      (options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]));
+    onBoundary[i] =
+      options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]);
+    anyBoundary = anyBoundary || onBoundary[i];
   }
   this->GatherTriangles(vertices, count);
 
@@ -301,6 +304,48 @@ CollapseStatus EditableMesh::CheckCollapse(
     if (!isPath && survivors < 3)
     {
       return CollapseStatus::TooSmall;
+    }
+    // Border vertices of the set must form one chain of border edges: merging two border vertices
+    // not joined along the border would close a hole or join two loops, which the link of the
+    // merged vertex alone does not always reveal.
+    const int borderVertices = int(onBoundary[0]) + int(onBoundary[1]) + int(onBoundary[2]);
+    if (borderVertices >= 2)
+    {
+      int borderEdges = 0;
+      for (int k = 0, edges = count == 3 ? 3 : 1; k < edges; ++k)
+      {
+        const int j = (k + 1) % count;
+        if (onBoundary[k] && onBoundary[j] && this->EdgeTriangleCount(vertices[k], vertices[j]) == 1)
+        {
+          ++borderEdges;
+        }
+      }
+      if (borderEdges < borderVertices - 1)
+      {
+        return CollapseStatus::BoundaryChange;
+      }
+    }
+    // No vertex outside the set may lose all its triangles (a border "ear" whose base collapses):
+    // it would vanish from the mesh.
+    for (Index t : this->Scratch)
+    {
+      int corner = 0;
+      const Index* tri = this->Triangle(t);
+      if (CountMembers(tri, vertices, count, corner) != 2)
+      {
+        continue;
+      }
+      auto outside = [&](Index v) { return std::find(vertices, vertices + count, v) == vertices + count; };
+      const Index x = outside(tri[0]) ? tri[0] : (outside(tri[1]) ? tri[1] : tri[2]);
+      bool keepsOne = false;
+      this->ForEachTriangle(x, [&](Index u) {
+        int c = 0;
+        keepsOne = keepsOne || CountMembers(this->Triangle(u), vertices, count, c) < 2;
+      });
+      if (!keepsOne)
+      {
+        return CollapseStatus::IsolatedVertex;
+      }
     }
   }
 

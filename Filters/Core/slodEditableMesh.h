@@ -45,7 +45,8 @@ enum class CollapseStatus
   TooSmall,        // the component would degenerate (fewer than 4 triangles around closed vertex)
   Flip,            // a triangle would turn over (normal deviation)
   Degenerate,      // a triangle would get zero area
-  BadShape         // a triangle would get a minimum angle below the limit
+  BadShape,        // a triangle would get a minimum angle below the limit
+  IsolatedVertex   // a vertex outside the set would lose all its triangles
 };
 SURFACELODFILTERS_EXPORT const char* ToString(CollapseStatus status);
 

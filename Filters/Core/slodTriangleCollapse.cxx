@@ -134,12 +134,6 @@ private:
   // Cost at pop time: the triangle operation is evaluated, the edges come from the cache and
   // only the winning edge is placed again.
   double PopCost(Index t, Vec3& local, double& error, int& operation) const;
-  // True when a vertex outside the set would lose all its triangles (a border "ear" whose base
-  // collapses): that vertex would vanish without a record, so such collapses are not done.
-  bool WouldIsolateVertex(const Index* set, int count) const;
-  // True when border vertices of the set are not joined by border edges of the set: merging them
-  // would close a hole or join two border loops, which the link test does not always see.
-  bool WouldJoinBorders(const Index* set, int count) const;
   // The cheapest valid one of the fallback placements of the set (world coordinates in p).
   bool AlternativePlacement(
     const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const;
@@ -169,7 +163,6 @@ private:
   std::vector<unsigned char> Rejected; // 1: failed validity, retried when the 2-ring changes
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
   Index PendingCount = 0;              // vertices with Pending set
-  bool HasBoundary = false;            // any border vertex (else no vertex can be isolated)
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
   BucketQueue Heap;
   // Exact mode: original planes and, per vertex, the sorted ids of its logical set.
@@ -306,7 +299,6 @@ void TriangleCollapser::InitializeQuadrics()
           continue;
         }
         this->Boundary[u] = this->Boundary[v] = 1;
-        this->HasBoundary = true;
         const Vec3 pu = this->Local(u), pv = this->Local(v);
         const Vec3 e = pv - pu;
         const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
@@ -499,71 +491,6 @@ bool TriangleCollapser::AlternativePlacement(
   return false;
 }
 
-bool TriangleCollapser::WouldJoinBorders(const Index* set, int count) const
-{
-  if (this->Options.AllowTopologyChange)
-  {
-    return false;
-  }
-  int border = 0;
-  for (int i = 0; i < count; ++i)
-  {
-    border += this->Boundary[set[i]] ? 1 : 0;
-  }
-  if (border < 2)
-  {
-    return false;
-  }
-  // Border edges among the set's edges that join two border vertices.
-  int borderEdges = 0;
-  const int edges = count == 3 ? 3 : 1;
-  for (int k = 0; k < edges; ++k)
-  {
-    const Index u = set[k], v = set[(k + 1) % count];
-    if (this->Boundary[u] && this->Boundary[v] && this->Mesh.EdgeTriangleCount(u, v) == 1)
-    {
-      ++borderEdges;
-    }
-  }
-  // The border vertices must form a chain along one border: 2 need their edge on the border,
-  // 3 need two of the triangle's edges on it.
-  return borderEdges < border - 1;
-}
-
-bool TriangleCollapser::WouldIsolateVertex(const Index* set, int count) const
-{
-  if (!this->HasBoundary && !this->Options.AllowTopologyChange)
-  {
-    return false; // closed manifold parts: checked by the link condition already
-  }
-  auto member = [&](Index v) { return v == set[0] || v == set[1] || (count == 3 && v == set[2]); };
-  bool isolated = false;
-  // A removed triangle holds at least two set vertices, so it is around set[0] or set[1].
-  for (int i = 0; i < 2 && !isolated; ++i)
-  {
-    this->Mesh.ForEachTriangle(set[i], [&](Index r) {
-      const Index* tri = this->Mesh.Triangle(r);
-      const int members = int(member(tri[0])) + int(member(tri[1])) + int(member(tri[2]));
-      if (members != 2 || isolated)
-      {
-        return;
-      }
-      const Index x = member(tri[0]) ? (member(tri[1]) ? tri[2] : tri[1]) : tri[0];
-      if (!this->Boundary[x] && !this->Options.AllowTopologyChange)
-      {
-        return; // an interior vertex keeps >= 3 triangles, at most 2 of which are removed
-      }
-      bool keepsOne = false;
-      this->Mesh.ForEachTriangle(x, [&](Index u) {
-        const Index* q = this->Mesh.Triangle(u);
-        keepsOne = keepsOne || int(member(q[0])) + int(member(q[1])) + int(member(q[2])) < 2;
-      });
-      isolated = !keepsOne;
-    });
-  }
-  return isolated;
-}
-
 double TriangleCollapser::PopCost(Index t, Vec3& local, double& error, int& operation) const
 {
   if (this->EdgeCost.empty())
@@ -718,8 +645,8 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   check.MinimumNormalDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
   CollapseRecord record;
   std::vector<Index> neighbors;
-  long long resets = 0, updates = 0, isolating = 0, replaced = 0;
-  long long statusCounts[8] = { 0, 0, 0, 0, 0, 0, 0, 0 };
+  long long resets = 0, updates = 0, replaced = 0;
+  long long statusCounts[static_cast<int>(CollapseStatus::IsolatedVertex) + 1] = {};
   const Index toRemove = std::max<Index>(1, this->Mesh.NumberOfLiveTriangles() - target);
   const Index progressStep = std::max<Index>(1, toRemove / 100);
   Index nextProgress = progressStep;
@@ -809,10 +736,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
         }
       }
     }
-    const bool isolates = status == CollapseStatus::Ok &&
-      (this->WouldIsolateVertex(set, count) || this->WouldJoinBorders(set, count));
-    isolating += isolates ? 1 : 0;
-    if (status != CollapseStatus::Ok || isolates)
+    if (status != CollapseStatus::Ok)
     {
       ++result.RejectedCollapses;
       // Requeue the triangle with its next best operation; when none is left it waits for a
@@ -951,11 +875,11 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   {
     std::fprintf(stderr, "[triangle collapse] %d collapses, %d rejected, %lld heap re-keys, %lld updates\n",
       int(result.Collapses), int(result.RejectedCollapses), resets, updates);
-    for (int k = 1; k < 8; ++k)
+    for (int k = 1; k <= static_cast<int>(CollapseStatus::IsolatedVertex); ++k)
     {
       std::fprintf(stderr, "  rejected: %s %lld\n", ToString(static_cast<CollapseStatus>(k)), statusCounts[k]);
     }
-    std::fprintf(stderr, "  rejected: would isolate a vertex %lld; placements replaced %lld\n", isolating, replaced);
+    std::fprintf(stderr, "  placements replaced %lld\n", replaced);
   }
 }
 

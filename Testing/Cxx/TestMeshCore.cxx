@@ -182,6 +182,7 @@ TEST(EditableMesh, TriangleCollapsesKeepTopology)
     EXPECT_EQ(after.NonManifoldVertices, 0);
     EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
     EXPECT_EQ(out.NumberOfTriangles(), mesh.NumberOfLiveTriangles());
+    EXPECT_EQ(out.NumberOfPoints(), mesh.NumberOfLiveVertices()); // no vertex left without triangles
     EXPECT_LT(out.NumberOfTriangles(), input.NumberOfTriangles());
   }
 }
@@ -498,4 +499,24 @@ TEST(PointAttributes, CarriedThroughMergesWithTypes)
   output->GetNormals()->GetTuple(1, n);
   EXPECT_NEAR(n[0], std::sqrt(0.5), 1e-12); // averaged and renormalised
   EXPECT_NEAR(n[1], std::sqrt(0.5), 1e-12);
+}
+
+TEST(EditableMesh, BorderEarIsNotCollapsedAway)
+{
+  // An ear (a, x, b) below the interior edge (a, b): collapsing (a, b) would leave x without
+  // triangles and shorten the border loop through x, so it is refused.
+  TriangleMesh m;
+  const Index a = m.AddPoint({ 0, 0, 0 }), b = m.AddPoint({ 1, 0, 0 }), x = m.AddPoint({ 0.5, -1, 0 });
+  const Index y = m.AddPoint({ 0.5, 1, 0 }), z = m.AddPoint({ -0.5, 1, 0 }), w = m.AddPoint({ 1.5, 1, 0 });
+  m.AddTriangle(a, x, b);
+  m.AddTriangle(a, b, y);
+  m.AddTriangle(a, y, z);
+  m.AddTriangle(b, w, y);
+  EditableMesh mesh(m);
+  const Index edge[2] = { a, b };
+  const CollapseStatus status = mesh.CheckCollapse(edge, 2, 0.5 * (m.Point(a) + m.Point(b)));
+  EXPECT_TRUE(status == CollapseStatus::BoundaryChange || status == CollapseStatus::IsolatedVertex) << ToString(status);
+  // Along the border edge (a, x) the collapse is fine.
+  const Index borderEdge[2] = { a, x };
+  EXPECT_EQ(mesh.CheckCollapse(borderEdge, 2, m.Point(a)), CollapseStatus::Ok);
 }
