@@ -712,6 +712,26 @@ bool CollapseHierarchy::Build(
         sorted = std::min(candidates.size(), sorted + chunk);
       }
     };
+    // Each triangle around the given vertices is evaluated and weighed again, once.
+    auto reweighAround = [&](const std::vector<Index>& vertices) {
+      ++affectedEpoch;
+      affected.clear();
+      for (Index v : vertices)
+      {
+        this->Mesh.ForEachTriangle(v, [&](Index x) {
+          if (affectedMark[x] != affectedEpoch)
+          {
+            affectedMark[x] = affectedEpoch;
+            affected.push_back(x);
+          }
+        });
+      }
+      for (Index x : affected)
+      {
+        this->Evaluate(x, this->Evaluations[x]);
+        this->Weights[x] = this->WeightOf(this->Evaluations[x]);
+      }
+    };
     auto selectOrRelax = [&]() {
       select();
       if (batch.empty() && p.RelaxWhenBlocked)
@@ -737,23 +757,7 @@ bool CollapseHierarchy::Build(
       }
       if (!touched.empty())
       {
-        ++affectedEpoch;
-        affected.clear();
-        for (Index v : touched)
-        {
-          this->Mesh.ForEachTriangle(v, [&](Index x) {
-            if (affectedMark[x] != affectedEpoch)
-            {
-              affectedMark[x] = affectedEpoch;
-              affected.push_back(x);
-            }
-          });
-        }
-        for (Index x : affected)
-        {
-          this->Evaluate(x, this->Evaluations[x]);
-          this->Weights[x] = this->WeightOf(this->Evaluations[x]);
-        }
+        reweighAround(touched);
         rules = CollapsibleOptions();
         rules.StencilPlaneFallback = p.StarShapedInStencilPlane;
         order();
@@ -784,8 +788,6 @@ bool CollapseHierarchy::Build(
     this->LevelStarts.push_back(this->NumberOfCollapses());
 
     // Recompute the weights of the triangles around the new vertices (and swapped edges).
-    affected.clear();
-    ++affectedEpoch;
     touched.clear();
     for (Index k = levelStart; k < this->NumberOfCollapses(); ++k)
     {
@@ -804,21 +806,7 @@ bool CollapseHierarchy::Build(
         }
       }
     }
-    for (Index v : touched)
-    {
-      this->Mesh.ForEachTriangle(v, [&](Index x) {
-        if (affectedMark[x] != affectedEpoch)
-        {
-          affectedMark[x] = affectedEpoch;
-          affected.push_back(x);
-        }
-      });
-    }
-    for (Index x : affected)
-    {
-      this->Evaluate(x, this->Evaluations[x]);
-      this->Weights[x] = this->WeightOf(this->Evaluations[x]);
-    }
+    reweighAround(touched);
     if (progress)
     {
       const double done = double(nt - this->Mesh.NumberOfLiveTriangles()) / (0.95 * nt);

@@ -464,10 +464,13 @@ void EditableMesh::Undo(const CollapseRecord& record)
     ++this->LiveTriangles;
   }
   // Candidates for the blocks of the set: kept's current triangles plus the revived ones.
-  std::vector<Index> candidates;
+  // Member scratch vectors: vertex splits run in long sequences (progressive meshes), so no
+  // allocation per split.
+  std::vector<Index>& candidates = this->Scratch;
+  std::vector<Index>& block = this->ScratchBlock;
+  candidates.clear();
   this->ForEachTriangle(kept, [&](Index t) { candidates.push_back(t); });
   candidates.insert(candidates.end(), record.RemovedTriangles.begin(), record.RemovedTriangles.end());
-  std::vector<Index> block;
   for (int i = 0; i < record.VertexCount; ++i)
   {
     const Index v = record.Vertices[i];
@@ -610,7 +613,7 @@ Index EditableMesh::AddTriangle(Index a, Index b, Index c)
   this->TriangleAlive.push_back(1);
   this->TriangleMark.push_back(0);
   ++this->LiveTriangles;
-  std::vector<Index> block;
+  std::vector<Index>& block = this->ScratchBlock;
   for (Index v : { a, b, c })
   {
     const Index* refs = this->Refs.data() + this->RefStart[v];

@@ -140,6 +140,21 @@ MeshStatistics RawStatistics(vtkPolyData* pd)
   return ComputeMeshStatistics(mesh);
 }
 
+// A level generated over `mesh`: closed, manifold, consistently oriented, genus 0.
+void ExpectClosedGenusZeroLevel(const TriangleMesh& mesh, const SpbmLevel& level)
+{
+  TriangleMesh out;
+  out.Points = mesh.Points;
+  out.Triangles = level.Triangles;
+  out.RemoveUnusedPoints();
+  const MeshStatistics st = ComputeMeshStatistics(out);
+  EXPECT_EQ(st.BoundaryEdges, 0);
+  EXPECT_EQ(st.NonManifoldEdges, 0);
+  EXPECT_EQ(st.NonManifoldVertices, 0);
+  EXPECT_EQ(st.InconsistentlyOrientedEdges, 0);
+  EXPECT_EQ(st.Genus, 0);
+}
+
 void ExpectValidClosedOutput(vtkPolyData* input, vtkPolyData* output, long long genus)
 {
   const MeshStatistics st = RawStatistics(output);
@@ -381,16 +396,7 @@ TEST(SpbmLevel, PredictionMatchesGenerationAndLevelsAreValid)
     }
     EXPECT_LE(produced, previousCount);
     previousCount = produced;
-    TriangleMesh out;
-    out.Points = mesh.Points;
-    out.Triangles = level.Triangles;
-    out.RemoveUnusedPoints();
-    const MeshStatistics st = ComputeMeshStatistics(out);
-    EXPECT_EQ(st.BoundaryEdges, 0);
-    EXPECT_EQ(st.NonManifoldEdges, 0);
-    EXPECT_EQ(st.NonManifoldVertices, 0);
-    EXPECT_EQ(st.InconsistentlyOrientedEdges, 0);
-    EXPECT_EQ(st.Genus, 0);
+    ExpectClosedGenusZeroLevel(mesh, level);
   }
 }
 
@@ -425,16 +431,7 @@ TEST(SpbmLevel, SizeWeightedMergeAndCandidateComparison)
     SpbmLevel level;
     ASSERT_TRUE(generator.Generate(weighted, level));
     EXPECT_EQ(level.PredictedTriangles, predicted);
-    TriangleMesh out;
-    out.Points = mesh.Points;
-    out.Triangles = level.Triangles;
-    out.RemoveUnusedPoints();
-    const MeshStatistics st = ComputeMeshStatistics(out);
-    EXPECT_EQ(st.BoundaryEdges, 0);
-    EXPECT_EQ(st.NonManifoldEdges, 0);
-    EXPECT_EQ(st.NonManifoldVertices, 0);
-    EXPECT_EQ(st.InconsistentlyOrientedEdges, 0);
-    EXPECT_EQ(st.Genus, 0);
+    ExpectClosedGenusZeroLevel(mesh, level);
   }
 }
 
