@@ -56,6 +56,28 @@ void Patchification::Build(const TriangleMesh& mesh, const MeshTopology& topolog
   this->ExtractChains(mesh, topology, adjacency);
 }
 
+void Patchification::BuildFromLabels(
+  const TriangleMesh& mesh, const MeshTopology& topology, const std::vector<Index>& patchOf, Index numberOfPatches)
+{
+  this->WasAborted = false;
+  const Adjacency adjacency(mesh, topology);
+  this->TrianglePatch = patchOf;
+  this->PatchAreaVector.assign(size_t(numberOfPatches), Vec3{ 0.0, 0.0, 0.0 });
+  this->PatchAreaOf.assign(size_t(numberOfPatches), 0.0);
+  this->PatchTriangleCountOf.assign(size_t(numberOfPatches), 0);
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    const Vec3 a = mesh.Point(tri[0]), b = mesh.Point(tri[1]), c = mesh.Point(tri[2]);
+    const Vec3 areaVector = 0.5 * Cross(b - a, c - a);
+    const Index p = patchOf[t];
+    this->PatchAreaVector[p] = this->PatchAreaVector[p] + areaVector;
+    this->PatchAreaOf[p] += Norm(areaVector);
+    ++this->PatchTriangleCountOf[p];
+  }
+  this->ExtractChains(mesh, topology, adjacency);
+}
+
 // Breadth-first growth with the four cases of section 4.2.2. The disk invariant is kept exactly:
 // a triangle sharing one edge with P joins only when its third vertex is not yet in P (no pinch,
 // feasibility test (a)); one sharing two edges closes a notch; one sharing three never joins; a

@@ -48,6 +48,14 @@ public:
     const ProgressFunction& progress = nullptr);
   bool Aborted() const { return this->WasAborted; }
 
+  // Patches given by the caller instead of grown (e.g. after the topology simplification of
+  // chapter 5 removed wall patches and merged the rest): patchOf[t] in [0, numberOfPatches) for
+  // every triangle; each patch should be a disk (an edge-connected, consistently oriented set with
+  // one simple boundary loop). Patch normals are area-weighted sums; chains, endpoints and the
+  // patch graph are extracted as in Build, so SpbmLevelGenerator can run on the result.
+  void BuildFromLabels(const TriangleMesh& mesh, const MeshTopology& topology, const std::vector<Index>& patchOf,
+    Index numberOfPatches);
+
   // --- Patches ---
   Index NumberOfPatches() const { return static_cast<Index>(this->PatchAreaVector.size()); }
   // Patch of each triangle (every triangle belongs to exactly one patch).

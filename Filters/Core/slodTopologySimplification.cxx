@@ -1,0 +1,1436 @@
+#include "slodTopologySimplification.h"
+
+#include "slodMeshTopology.h"
+#include "slodPolygonTriangulation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cmath>
+#include <numeric>
+#include <unordered_set>
+
+namespace slod
+{
+namespace
+{
+constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
+
+std::uint64_t EdgeKey(Index a, Index b)
+{
+  if (a > b)
+  {
+    std::swap(a, b);
+  }
+  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+}
+
+// Circumscribed circle diameter of a triangle (infinite when collinear).
+double CircumDiameter(const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  const double ab = Norm(b - a), bc = Norm(c - b), ca = Norm(a - c);
+  const double twiceArea = Norm(Cross(b - a, c - a));
+  return twiceArea > 0 ? ab * bc * ca / twiceArea : HUGE_VAL;
+}
+
+// A sharp chain oriented for traversal.
+struct Oriented
+{
+  Index Chain;
+  bool Reversed;
+};
+
+// Union-find with path halving.
+Index Find(std::vector<Index>& parent, Index x)
+{
+  while (parent[x] != x)
+  {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+} // namespace
+
+double EstimateLoopDiameter(const TriangleMesh& mesh, const std::vector<Index>& loop)
+{
+  const size_t n = loop.size();
+  if (n < 2)
+  {
+    return 0.0;
+  }
+  // Evenly spaced samples: pairs half a loop apart (the convex case) and triples a third apart
+  // (circumscribed circle); a few rotations so that the estimate does not hinge on the start.
+  double diameter = 0.0, circle = 0.0;
+  const size_t rotations = std::min<size_t>(n, 4);
+  for (size_t r = 0; r < rotations; ++r)
+  {
+    const size_t i = r * n / (2 * rotations);
+    const Vec3 a = mesh.Point(loop[i]);
+    diameter = std::max(diameter, Norm(mesh.Point(loop[(i + n / 2) % n]) - a));
+    if (n >= 3)
+    {
+      circle = std::max(circle, CircumDiameter(a, mesh.Point(loop[(i + n / 3) % n]), mesh.Point(loop[(i + 2 * n / 3) % n])));
+    }
+  }
+  // The circle of a near-collinear triple overshoots (slots): cap by the bounding box.
+  Vec3 lo = mesh.Point(loop[0]), hi = lo;
+  for (Index v : loop)
+  {
+    const Vec3 p = mesh.Point(v);
+    for (int k = 0; k < 3; ++k)
+    {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  }
+  return std::min(std::max(diameter, circle), Norm(hi - lo));
+}
+
+namespace
+{
+// The whole run as one object: every stage is a member working on the shared arrays.
+struct Simplification
+{
+  const TriangleMesh& Mesh;
+  const TopologySimplificationParameters& P;
+  TopologySimplificationResult& R;
+  MeshTopology Topology;
+  Patchification Patches;
+  std::vector<Vec3> Normal; // unit triangle normals
+
+  // Sharp chains: vertices [Offset[c], Offset[c+1]); edge i of chain c (between vertices i and
+  // i+1) has left triangle EdgeLeft[Offset[c] + i] and right triangle EdgeRight[...].
+  std::vector<Index> Offset{ 0 }, Vertex, EdgeLeft, EdgeRight, Left, Right;
+  std::vector<Vec3> LeftNormal, RightNormal; // length-weighted average normals along the chain
+  std::vector<signed char> FlatLeft;          // 1 left, 0 right, -1 undetermined
+  std::vector<unsigned char> Type, Convex, InLoop, Done;
+  std::vector<Index> IncidenceOffset, Incidence; // per vertex: 2*chain + end
+  std::vector<unsigned char> PatchChainSharp;    // per chain of the patchification
+  std::vector<std::vector<Oriented>> LoopChains;
+
+  std::vector<unsigned char> Removed; // per triangle
+  std::vector<Index> FillTriangles;   // 3 per triangle
+  std::vector<Index> FillPatch;       // per fill triangle: index of its fill polygon
+  std::vector<unsigned char> FillKind;
+  Index FillPolygons = 0;
+  std::unordered_set<std::uint64_t> FillEdges;
+
+  Simplification(const TriangleMesh& mesh, const TopologySimplificationParameters& p, TopologySimplificationResult& r)
+    : Mesh(mesh)
+    , P(p)
+    , R(r)
+    , Topology(mesh)
+  {
+  }
+
+  Index NumberOfChains() const { return static_cast<Index>(this->Left.size()); }
+  Index Size(Index c) const { return this->Offset[c + 1] - this->Offset[c]; }
+  Index At(const Oriented& o, Index i) const
+  {
+    return o.Reversed ? this->Vertex[this->Offset[o.Chain + 1] - 1 - i] : this->Vertex[this->Offset[o.Chain] + i];
+  }
+  Index First(const Oriented& o) const { return this->At(o, 0); }
+  Index Last(const Oriented& o) const { return this->At(o, this->Size(o.Chain) - 1); }
+  const Vec3& LeftOf(const Oriented& o) const
+  {
+    return o.Reversed ? this->RightNormal[o.Chain] : this->LeftNormal[o.Chain];
+  }
+  const Vec3& RightOf(const Oriented& o) const
+  {
+    return o.Reversed ? this->LeftNormal[o.Chain] : this->RightNormal[o.Chain];
+  }
+  Index LeftPatchOf(const Oriented& o) const { return o.Reversed ? this->Right[o.Chain] : this->Left[o.Chain]; }
+  Index RightPatchOf(const Oriented& o) const { return o.Reversed ? this->Left[o.Chain] : this->Right[o.Chain]; }
+  // Triangle on the left / right of edge i of an oriented chain.
+  Index LeftTriangle(const Oriented& o, Index i) const
+  {
+    const Index e = o.Reversed ? this->Offset[o.Chain + 1] - 2 - i : this->Offset[o.Chain] + i;
+    return o.Reversed ? this->EdgeRight[e] : this->EdgeLeft[e];
+  }
+  Index RightTriangle(const Oriented& o, Index i) const
+  {
+    const Index e = o.Reversed ? this->Offset[o.Chain + 1] - 2 - i : this->Offset[o.Chain] + i;
+    return o.Reversed ? this->EdgeLeft[e] : this->EdgeRight[e];
+  }
+
+  // The triangles left and right of the directed edge a -> b (InvalidIndex when missing).
+  void EdgeSides(Index a, Index b, Index& left, Index& right) const
+  {
+    left = right = InvalidIndex;
+    const Index e = this->Topology.FindEdge(a, b);
+    if (e == InvalidIndex || this->Topology.EdgeTriangleCount(e) != 2)
+    {
+      return;
+    }
+    for (const Index* t = this->Topology.EdgeTrianglesBegin(e); t != this->Topology.EdgeTrianglesEnd(e); ++t)
+    {
+      const Index* tri = this->Mesh.Triangle(*t);
+      bool forward = false;
+      for (int k = 0; k < 3; ++k)
+      {
+        forward = forward || (tri[k] == a && tri[(k + 1) % 3] == b);
+      }
+      (forward ? left : right) = *t;
+    }
+  }
+
+  // --- 2. Sharp edges and sharp chains ---
+  void BuildSharpChains()
+  {
+    const Index nt = this->Mesh.NumberOfTriangles();
+    this->Normal.resize(size_t(nt));
+    for (Index t = 0; t < nt; ++t)
+    {
+      this->Normal[t] = Normalized(this->Mesh.TriangleAreaVector(t));
+    }
+    const Patchification& pa = this->Patches;
+    this->PatchChainSharp.assign(size_t(pa.NumberOfChains()), 0);
+    for (Index c = 0; c < pa.NumberOfChains(); ++c)
+    {
+      if (pa.ChainRightPatch(c) == InvalidIndex || pa.ChainIsNonManifold(c))
+      {
+        continue;
+      }
+      const Index* v = pa.ChainVerticesBegin(c);
+      const Index n = pa.ChainSize(c);
+      bool open = false;
+      for (Index i = 0; i + 1 < n; ++i)
+      {
+        Index lt, rt;
+        this->EdgeSides(v[i], v[i + 1], lt, rt);
+        bool sharp = false;
+        if (lt != InvalidIndex && rt != InvalidIndex)
+        {
+          const double d = Dot(this->Normal[lt], this->Normal[rt]);
+          sharp = d > this->P.SharpMinimumDot && d < this->P.SharpMaximumDot;
+        }
+        if (sharp)
+        {
+          ++this->R.SharpEdges;
+          this->PatchChainSharp[c] = 1;
+          if (!open)
+          {
+            this->Vertex.push_back(v[i]);
+            this->Left.push_back(pa.ChainLeftPatch(c));
+            this->Right.push_back(pa.ChainRightPatch(c));
+            open = true;
+          }
+          // Edge slot = position of its first vertex.
+          this->EdgeLeft.resize(this->Vertex.size());
+          this->EdgeRight.resize(this->Vertex.size());
+          this->EdgeLeft.back() = lt;
+          this->EdgeRight.back() = rt;
+          this->Vertex.push_back(v[i + 1]);
+        }
+        if (open && (!sharp || i + 2 == n))
+        {
+          this->Offset.push_back(static_cast<Index>(this->Vertex.size()));
+          open = false;
+        }
+      }
+    }
+    this->EdgeLeft.resize(this->Vertex.size(), InvalidIndex);
+    this->EdgeRight.resize(this->Vertex.size(), InvalidIndex);
+    const Index nc = this->NumberOfChains();
+    this->R.SharpChains = nc;
+    this->LeftNormal.assign(size_t(nc), Vec3{ 0, 0, 0 });
+    this->RightNormal.assign(size_t(nc), Vec3{ 0, 0, 0 });
+    for (Index c = 0; c < nc; ++c)
+    {
+      for (Index e = this->Offset[c]; e + 1 < this->Offset[c + 1]; ++e)
+      {
+        const double length = Norm(this->Mesh.Point(this->Vertex[e + 1]) - this->Mesh.Point(this->Vertex[e]));
+        this->LeftNormal[c] = this->LeftNormal[c] + length * this->Normal[this->EdgeLeft[e]];
+        this->RightNormal[c] = this->RightNormal[c] + length * this->Normal[this->EdgeRight[e]];
+      }
+      this->LeftNormal[c] = Normalized(this->LeftNormal[c]);
+      this->RightNormal[c] = Normalized(this->RightNormal[c]);
+    }
+    // Incidence of chain ends on vertices (CSR).
+    const Index nv = this->Mesh.NumberOfPoints();
+    this->IncidenceOffset.assign(size_t(nv) + 1, 0);
+    for (Index c = 0; c < nc; ++c)
+    {
+      ++this->IncidenceOffset[this->Vertex[this->Offset[c]] + 1];
+      ++this->IncidenceOffset[this->Vertex[this->Offset[c + 1] - 1] + 1];
+    }
+    for (Index v = 0; v < nv; ++v)
+    {
+      this->IncidenceOffset[v + 1] += this->IncidenceOffset[v];
+    }
+    this->Incidence.resize(size_t(this->IncidenceOffset[nv]));
+    std::vector<Index> fill(this->IncidenceOffset.begin(), this->IncidenceOffset.end() - 1);
+    for (Index c = 0; c < nc; ++c)
+    {
+      this->Incidence[fill[this->Vertex[this->Offset[c]]]++] = 2 * c;
+      this->Incidence[fill[this->Vertex[this->Offset[c + 1] - 1]]++] = 2 * c + 1;
+    }
+  }
+
+  // --- 3. Flat and wall sides (5.3.1) ---
+  // Unit normal of the plane through the first non-collinear consecutive triple of `points`.
+  bool PlaneNormal(const std::vector<Index>& points, Vec3& normal) const
+  {
+    for (size_t i = 0; i + 2 < points.size(); ++i)
+    {
+      const Vec3 a = this->Mesh.Point(points[i]), b = this->Mesh.Point(points[i + 1]),
+                 c = this->Mesh.Point(points[i + 2]);
+      const Vec3 n = Cross(b - a, c - b);
+      if (Norm(n) > 0.1 * Norm(b - a) * Norm(c - b)) // not within ~6 degrees of collinear
+      {
+        normal = Normalized(n);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Flat side from the plane normal and the two sides' normals: the closer one, when decisive.
+  static signed char Side(const Vec3& plane, const Vec3& left, const Vec3& right)
+  {
+    const double l = std::fabs(Dot(plane, left)), r = std::fabs(Dot(plane, right));
+    if (std::max(l, r) < 0.9 || std::fabs(l - r) < 0.2)
+    {
+      return -1;
+    }
+    return l > r ? 1 : 0;
+  }
+
+  void ClassifySides()
+  {
+    const Index nc = this->NumberOfChains();
+    this->FlatLeft.assign(size_t(nc), -1);
+    this->Type.assign(size_t(nc), 2);
+    this->Convex.assign(size_t(nc), 0);
+    std::vector<Index> points;
+    for (Index c = 0; c < nc; ++c)
+    {
+      const Index b = this->Offset[c], n = this->Size(c);
+      // Type (1): the first three (else the last three) vertices span a plane.
+      for (int attempt = 0; attempt < 2 && this->FlatLeft[c] < 0 && n >= 3; ++attempt)
+      {
+        const Index s = attempt == 0 ? b : b + n - 3;
+        points.assign(this->Vertex.begin() + s, this->Vertex.begin() + s + 3);
+        Vec3 plane;
+        if (!this->PlaneNormal(points, plane))
+        {
+          continue;
+        }
+        const Vec3 left = Normalized(this->Normal[this->EdgeLeft[s]] + this->Normal[this->EdgeLeft[s + 1]]);
+        const Vec3 right = Normalized(this->Normal[this->EdgeRight[s]] + this->Normal[this->EdgeRight[s + 1]]);
+        this->FlatLeft[c] = Side(plane, left, right);
+        if (this->FlatLeft[c] >= 0)
+        {
+          this->Type[c] = 1;
+          // Convex hole chain: it turns toward the wall side, seen along the flat normal.
+          const Vec3 flat = this->FlatLeft[c] ? left : right;
+          const double turn = Dot(Cross(this->Mesh.Point(points[1]) - this->Mesh.Point(points[0]),
+                                    this->Mesh.Point(points[2]) - this->Mesh.Point(points[1])),
+            flat);
+          this->Convex[c] = this->FlatLeft[c] ? turn < 0 : turn > 0;
+        }
+      }
+      if (this->FlatLeft[c] >= 0)
+      {
+        continue;
+      }
+      // Type (2): continue with the sharp chains incident on either end, one by one. Each
+      // combination that spans a plane votes for a side; when they disagree (at a corner of a
+      // square hole the wall's vertical edge spans the wall plane) the combinations that make
+      // the chain a convex hole chain decide (the paper's preference), else it stays open.
+      int votes[2][2] = { { 0, 0 }, { 0, 0 } }; // [side][convex]
+      for (int end = 0; end < 2; ++end)
+      {
+        const Index v = end == 0 ? this->Vertex[b] : this->Vertex[b + n - 1];
+        for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
+        {
+          const Index other = this->Incidence[k] / 2;
+          if (other == c)
+          {
+            continue;
+          }
+          const Oriented away{ other, (this->Incidence[k] & 1) != 0 };
+          points.clear();
+          // This chain toward v, then the other chain away from v.
+          for (Index i = 0; i < n; ++i)
+          {
+            points.push_back(end == 1 ? this->Vertex[b + i] : this->Vertex[b + n - 1 - i]);
+          }
+          for (Index i = 1; i < this->Size(other); ++i)
+          {
+            points.push_back(this->At(away, i));
+          }
+          Vec3 plane;
+          if (!this->PlaneNormal(points, plane))
+          {
+            continue;
+          }
+          const signed char side = Side(plane, this->LeftNormal[c], this->RightNormal[c]);
+          if (side < 0)
+          {
+            continue;
+          }
+          // Turn at the junction, seen along the flat normal, in traversal order.
+          const Vec3 a = this->Mesh.Point(points[n - 2]), m = this->Mesh.Point(points[n - 1]),
+                     z = this->Mesh.Point(points[n]);
+          const Vec3 flat = side ? this->LeftNormal[c] : this->RightNormal[c];
+          const double turn = Dot(Cross(m - a, z - m), flat);
+          const bool flatOnTraversalLeft = (end == 1) == (side == 1);
+          const bool convex = flatOnTraversalLeft ? turn < 0 : turn > 0;
+          ++votes[side][convex ? 1 : 0];
+        }
+      }
+      const int left = votes[1][0] + votes[1][1], right = votes[0][0] + votes[0][1];
+      if (left > 0 && right == 0)
+      {
+        this->FlatLeft[c] = 1;
+        this->Convex[c] = votes[1][1] > 0;
+      }
+      else if (right > 0 && left == 0)
+      {
+        this->FlatLeft[c] = 0;
+        this->Convex[c] = votes[0][1] > 0;
+      }
+      else if ((votes[1][1] > 0) != (votes[0][1] > 0))
+      {
+        this->FlatLeft[c] = votes[1][1] > 0 ? 1 : 0;
+        this->Convex[c] = 1;
+      }
+    }
+  }
+
+  // --- 4. Loop search ---
+  // Depth-first extension of `seed` (flat side on its left) into a closed loop of sharp chains,
+  // avoiding chains in loops, vertices in `forbidden` (stamp == forbiddenStamp). `explored` gets
+  // every chain tried. Returns the loop's chains or an empty vector.
+  std::vector<Index> VertexStamp;
+  Index Stamp = 0;
+  std::vector<unsigned char> InSequence;
+
+  std::vector<Oriented> Search(const Oriented& seed, const std::vector<Index>* forbidden, Index forbiddenStamp,
+    std::vector<Index>& explored)
+  {
+    std::vector<Oriented> sequence{ seed };
+    struct Frame
+    {
+      std::vector<Oriented> Candidates;
+      size_t Next = 0;
+    };
+    std::vector<Frame> frames;
+    ++this->Stamp;
+    const Index stamp = this->Stamp;
+    const Index start = this->First(seed);
+    auto blocked = [&](Index v) {
+      return this->VertexStamp[v] == stamp || (forbidden && (*forbidden)[v] == forbiddenStamp);
+    };
+    auto occupy = [&](const Oriented& o, Index value) {
+      for (Index i = 1; i < this->Size(o.Chain); ++i)
+      {
+        this->VertexStamp[this->At(o, i)] = value;
+      }
+      this->InSequence[o.Chain] = value == stamp;
+    };
+    this->VertexStamp[start] = stamp;
+    occupy(seed, stamp);
+    explored.push_back(seed.Chain);
+    // A chain closing the loop ends on `start`, which is stamped: allowed only as the last vertex.
+    auto candidates = [&](const Oriented& current) {
+      std::vector<std::pair<double, Oriented>> scored;
+      const Index v = this->Last(current);
+      for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
+      {
+        const Index c = this->Incidence[k] / 2;
+        if (this->InSequence[c] || this->InLoop[c])
+        {
+          continue;
+        }
+        const Oriented o{ c, (this->Incidence[k] & 1) != 0 };
+        if (this->FlatLeft[c] >= 0 && (this->FlatLeft[c] == 1) == o.Reversed)
+        {
+          continue; // its flat side would be on the right
+        }
+        bool free = true;
+        for (Index i = 1; i + 1 < this->Size(c) && free; ++i)
+        {
+          free = !blocked(this->At(o, i));
+        }
+        const Index last = this->Last(o);
+        if (!free || (last != start && blocked(last)))
+        {
+          continue;
+        }
+        const double along = Dot(this->LeftOf(o), this->LeftOf(current));
+        if (along < 0.5 || Dot(this->LeftOf(o), this->LeftOf(current)) <= Dot(this->RightOf(o), this->LeftOf(current)))
+        {
+          continue; // the flat side does not continue
+        }
+        const double score = along + (this->LeftPatchOf(o) == this->LeftPatchOf(current) ? 2.0 : 0.0);
+        scored.emplace_back(score, o);
+      }
+      std::stable_sort(scored.begin(), scored.end(),
+        [](const std::pair<double, Oriented>& a, const std::pair<double, Oriented>& b) { return a.first > b.first; });
+      Frame frame;
+      for (const auto& s : scored)
+      {
+        frame.Candidates.push_back(s.second);
+      }
+      return frame;
+    };
+    frames.push_back(candidates(seed));
+    int budget = 4096;
+    bool closed = this->Last(seed) == start;
+    while (!closed && !frames.empty() && budget-- > 0)
+    {
+      Frame& top = frames.back();
+      if (top.Next >= top.Candidates.size())
+      {
+        frames.pop_back();
+        occupy(sequence.back(), 0);
+        sequence.pop_back();
+        if (sequence.empty())
+        {
+          break;
+        }
+        continue;
+      }
+      const Oriented next = top.Candidates[top.Next++];
+      sequence.push_back(next);
+      explored.push_back(next.Chain);
+      if (this->Last(next) == start)
+      {
+        closed = true;
+        break;
+      }
+      occupy(next, stamp);
+      frames.push_back(candidates(next));
+    }
+    for (const Oriented& o : sequence)
+    {
+      this->InSequence[o.Chain] = 0;
+    }
+    if (!closed || sequence.empty())
+    {
+      return {};
+    }
+    // A loop needs at least three distinct vertices.
+    Index vertices = 0;
+    for (const Oriented& o : sequence)
+    {
+      vertices += this->Size(o.Chain) - 1;
+    }
+    if (vertices < 3)
+    {
+      return {};
+    }
+    return sequence;
+  }
+
+  Index AddLoop(const std::vector<Oriented>& chains)
+  {
+    SharpLoop loop;
+    Vec3 flat{ 0, 0, 0 };
+    for (const Oriented& o : chains)
+    {
+      this->InLoop[o.Chain] = 1;
+      for (Index i = 0; i + 1 < this->Size(o.Chain); ++i)
+      {
+        loop.Vertices.push_back(this->At(o, i));
+        const double length = Norm(this->Mesh.Point(this->At(o, i + 1)) - this->Mesh.Point(this->At(o, i)));
+        flat = flat + length * this->Normal[this->LeftTriangle(o, i)];
+      }
+    }
+    std::vector<Vec3> polygon;
+    for (Index v : loop.Vertices)
+    {
+      polygon.push_back(this->Mesh.Point(v));
+    }
+    loop.Clockwise = Dot(PolygonNormal(polygon), flat) < 0;
+    loop.Diameter = EstimateLoopDiameter(this->Mesh, loop.Vertices);
+    this->R.Loops.push_back(std::move(loop));
+    this->LoopChains.push_back(chains);
+    return static_cast<Index>(this->R.Loops.size()) - 1;
+  }
+
+  void FindLoops()
+  {
+    const Index nc = this->NumberOfChains();
+    this->InLoop.assign(size_t(nc), 0);
+    this->Done.assign(size_t(nc), 0);
+    this->InSequence.assign(size_t(nc), 0);
+    this->VertexStamp.assign(size_t(this->Mesh.NumberOfPoints()), 0);
+    // Seeds: convex type (1) chains, then other type (1) chains, then type (2) ones.
+    std::vector<Index> order;
+    for (Index c = 0; c < nc; ++c)
+    {
+      if (this->FlatLeft[c] >= 0)
+      {
+        order.push_back(c);
+      }
+    }
+    auto rank = [&](Index c) { return (this->Type[c] == 1 ? 0 : 2) + (this->Convex[c] ? 0 : 1); };
+    std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return rank(a) < rank(b); });
+    std::vector<Index> explored;
+    for (Index c : order)
+    {
+      if (this->InLoop[c] || this->Done[c])
+      {
+        continue;
+      }
+      explored.clear();
+      const std::vector<Oriented> loop = this->Search({ c, this->FlatLeft[c] == 0 }, nullptr, 0, explored);
+      if (loop.empty())
+      {
+        for (Index e : explored)
+        {
+          this->Done[e] = 1; // never a start again (may still extend other searches)
+        }
+        continue;
+      }
+      this->AddLoop(loop);
+    }
+  }
+
+  // --- 5. Partner loops (5.3.2) ---
+  Index FindPartner(Index l)
+  {
+    const std::vector<Oriented>& chains = this->LoopChains[l];
+    const Patchification& pa = this->Patches;
+    // Wall patches: right of L, plus those joined to them by non-sharp chains.
+    std::vector<Index> wall;
+    std::vector<unsigned char> inWall(size_t(pa.NumberOfPatches()), 0);
+    for (const Oriented& o : chains)
+    {
+      const Index p = this->RightPatchOf(o);
+      if (p != InvalidIndex && !inWall[p])
+      {
+        inWall[p] = 1;
+        wall.push_back(p);
+      }
+    }
+    for (size_t i = 0; i < wall.size() && wall.size() < 512; ++i)
+    {
+      for (const Index* c = pa.PatchChainsBegin(wall[i]); c != pa.PatchChainsEnd(wall[i]); ++c)
+      {
+        if (this->PatchChainSharp[*c])
+        {
+          continue;
+        }
+        for (Index q : { pa.ChainLeftPatch(*c), pa.ChainRightPatch(*c) })
+        {
+          if (q != InvalidIndex && !inWall[q])
+          {
+            inWall[q] = 1;
+            wall.push_back(q);
+          }
+        }
+      }
+    }
+    // Vertices of L are forbidden in the partner.
+    ++this->Stamp;
+    const Index forbiddenStamp = this->Stamp;
+    std::vector<Index> forbidden(size_t(this->Mesh.NumberOfPoints()), 0);
+    for (Index v : this->R.Loops[l].Vertices)
+    {
+      forbidden[v] = forbiddenStamp;
+    }
+    auto disjoint = [&](Index other) {
+      for (Index v : this->R.Loops[other].Vertices)
+      {
+        if (forbidden[v] == forbiddenStamp)
+        {
+          return false;
+        }
+      }
+      return true;
+    };
+    auto onWall = [&](const std::vector<Oriented>& loopChains) {
+      for (const Oriented& o : loopChains)
+      {
+        if ((this->Left[o.Chain] != InvalidIndex && inWall[this->Left[o.Chain]]) ||
+          (this->Right[o.Chain] != InvalidIndex && inWall[this->Right[o.Chain]]))
+        {
+          return true;
+        }
+      }
+      return false;
+    };
+    // First among the loops already found, clockwise ones first (holes before bumps).
+    Index best = InvalidIndex;
+    for (Index other = 0; other < static_cast<Index>(this->R.Loops.size()); ++other)
+    {
+      if (other == l || this->R.Loops[other].Feature != InvalidIndex || !onWall(this->LoopChains[other]) ||
+        !disjoint(other))
+      {
+        continue;
+      }
+      if (best == InvalidIndex || (this->R.Loops[other].Clockwise && !this->R.Loops[best].Clockwise))
+      {
+        best = other;
+      }
+    }
+    if (best != InvalidIndex)
+    {
+      return best;
+    }
+    // Else a new search seeded by the wall patches' sharp chains.
+    std::vector<Index> explored;
+    for (Index c = 0; c < this->NumberOfChains(); ++c)
+    {
+      if (this->InLoop[c] || this->FlatLeft[c] < 0 ||
+        !((this->Left[c] != InvalidIndex && inWall[this->Left[c]]) ||
+          (this->Right[c] != InvalidIndex && inWall[this->Right[c]])))
+      {
+        continue;
+      }
+      bool touches = false;
+      for (Index i = this->Offset[c]; i < this->Offset[c + 1]; ++i)
+      {
+        touches = touches || forbidden[this->Vertex[i]] == forbiddenStamp;
+      }
+      if (touches)
+      {
+        continue;
+      }
+      explored.clear();
+      const std::vector<Oriented> loop = this->Search({ c, this->FlatLeft[c] == 0 }, &forbidden, forbiddenStamp, explored);
+      if (!loop.empty())
+      {
+        return this->AddLoop(loop);
+      }
+    }
+    return InvalidIndex;
+  }
+
+  // --- 6. Wall region and removal ---
+  // Triangles reached from the wall side of `loop` without crossing the barrier edges; empty
+  // when the region leaks (reaches a flat-side triangle, the border, a non-manifold edge, an
+  // already removed triangle) or is not the smaller part of its component.
+  bool WallRegion(Index loop, const std::vector<Index>& barrierLoops, std::vector<Index>& region,
+    std::vector<unsigned char>& mark, std::string& reason)
+  {
+    region.clear();
+    std::unordered_set<std::uint64_t> barrier;
+    for (Index b : barrierLoops)
+    {
+      const std::vector<Index>& v = this->R.Loops[b].Vertices;
+      for (size_t i = 0; i < v.size(); ++i)
+      {
+        barrier.insert(EdgeKey(v[i], v[(i + 1) % v.size()]));
+      }
+    }
+    // Flat-side triangles of the barrier loops: 2; region: 1.
+    std::vector<Index> flatSide;
+    for (Index b : barrierLoops)
+    {
+      for (const Oriented& o : this->LoopChains[b])
+      {
+        for (Index i = 0; i + 1 < this->Size(o.Chain); ++i)
+        {
+          const Index t = this->LeftTriangle(o, i);
+          if (!mark[t])
+          {
+            mark[t] = 2;
+            flatSide.push_back(t);
+          }
+        }
+      }
+    }
+    bool ok = true;
+    const Index nt = this->Mesh.NumberOfTriangles();
+    for (const Oriented& o : this->LoopChains[loop])
+    {
+      for (Index i = 0; i + 1 < this->Size(o.Chain) && ok; ++i)
+      {
+        const Index t = this->RightTriangle(o, i);
+        if (mark[t] == 2)
+        {
+          ok = false;
+          reason = "the wall touches the flat side";
+        }
+        else if (!mark[t])
+        {
+          mark[t] = 1;
+          region.push_back(t);
+        }
+      }
+    }
+    const std::vector<Index>& component = this->Topology.TriangleComponents();
+    Index componentSize = 0;
+    if (!region.empty())
+    {
+      const Index label = component[region[0]];
+      for (Index t = 0; t < nt; ++t)
+      {
+        componentSize += component[t] == label;
+      }
+    }
+    for (size_t i = 0; i < region.size() && ok; ++i)
+    {
+      const Index t = region[i];
+      if (this->Removed[t])
+      {
+        ok = false;
+        reason = "overlaps a removed feature";
+        break;
+      }
+      const Index* tri = this->Mesh.Triangle(t);
+      for (int k = 0; k < 3 && ok; ++k)
+      {
+        if (barrier.count(EdgeKey(tri[k], tri[(k + 1) % 3])))
+        {
+          continue;
+        }
+        const Index n = this->Topology.EdgeNeighbor(t, k);
+        if (n == InvalidIndex)
+        {
+          ok = false;
+          reason = "the wall reaches the mesh border or a non-manifold edge";
+        }
+        else if (mark[n] == 2)
+        {
+          ok = false;
+          reason = "the wall region is not closed by the loops";
+        }
+        else if (!mark[n])
+        {
+          mark[n] = 1;
+          region.push_back(n);
+        }
+      }
+      if (2 * static_cast<Index>(region.size()) > componentSize)
+      {
+        ok = false;
+        reason = "the wall region is not the smaller side of its component";
+      }
+    }
+    for (Index t : region)
+    {
+      mark[t] = 0;
+    }
+    for (Index t : flatSide)
+    {
+      mark[t] = 0;
+    }
+    if (!ok)
+    {
+      region.clear();
+    }
+    return ok;
+  }
+
+  // Ear clipping of a polygon (already in the orientation of the new triangles) as a new patch;
+  // refuses diagonals that are edges of the kept surface or of earlier fills and non-simple
+  // projections. On success the triangles are appended to the fill list.
+  bool Fill(const std::vector<Index>& polygon, const Vec3& normal, unsigned char kind,
+    const std::function<bool(Index, Index)>& edgeExists)
+  {
+    std::vector<Vec3> points;
+    for (Index v : polygon)
+    {
+      points.push_back(this->Mesh.Point(v));
+    }
+    PolygonTriangulationOptions options;
+    options.AllowFallback = false;
+    options.AcceptEar = [&](Index a, Index, Index c) {
+      const Index u = polygon[a], w = polygon[c];
+      return !edgeExists(u, w) && !this->FillEdges.count(EdgeKey(u, w));
+    };
+    const PolygonTriangulationResult triangulation = TriangulatePolygon(points, normal, options);
+    if (triangulation.Failed || triangulation.UsedFallback ||
+      triangulation.Triangles.size() + 2 != polygon.size())
+    {
+      return false;
+    }
+    for (const auto& t : triangulation.Triangles)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        this->FillTriangles.push_back(polygon[t[k]]);
+        this->FillEdges.insert(EdgeKey(polygon[t[k]], polygon[t[(k + 1) % 3]]));
+      }
+      this->FillPatch.push_back(this->FillPolygons);
+      this->FillKind.push_back(kind);
+    }
+    ++this->FillPolygons;
+    return true;
+  }
+
+  // The polygon that fills a clockwise loop: reversed (the loop has its flat side on the left).
+  std::vector<Index> FillPolygonOf(Index loop) const
+  {
+    std::vector<Index> polygon(this->R.Loops[loop].Vertices.rbegin(), this->R.Loops[loop].Vertices.rend());
+    return polygon;
+  }
+  Vec3 FlatNormalOf(Index loop) const
+  {
+    Vec3 flat{ 0, 0, 0 };
+    for (const Oriented& o : this->LoopChains[loop])
+    {
+      for (Index i = 0; i + 1 < this->Size(o.Chain); ++i)
+      {
+        flat = flat + this->Normal[this->LeftTriangle(o, i)];
+      }
+    }
+    return Normalized(flat);
+  }
+
+  void DetectAndRemove(const TopologySimplifier::ProgressFunction& progress)
+  {
+    const Index nt = this->Mesh.NumberOfTriangles();
+    this->Removed.assign(size_t(nt), 0);
+    std::vector<unsigned char> mark(size_t(nt), 0);
+    std::vector<Index> region;
+    auto edgeKept = [&](Index u, Index w) {
+      const Index e = this->Topology.FindEdge(u, w);
+      if (e == InvalidIndex)
+      {
+        return false;
+      }
+      for (const Index* t = this->Topology.EdgeTrianglesBegin(e); t != this->Topology.EdgeTrianglesEnd(e); ++t)
+      {
+        if (!this->Removed[*t])
+        {
+          return true;
+        }
+      }
+      return false;
+    };
+    const double alpha = this->P.MaximumFeatureSize;
+    for (Index l = 0; l < static_cast<Index>(this->R.Loops.size()); ++l)
+    {
+      if (progress && (l % 64) == 0 && progress(double(l) / double(this->R.Loops.size())))
+      {
+        return;
+      }
+      if (!this->R.Loops[l].Clockwise || this->R.Loops[l].Feature != InvalidIndex)
+      {
+        continue;
+      }
+      const Index partner = this->FindPartner(l);
+      TopologyFeature feature;
+      feature.Loops[0] = l;
+      feature.Loops[1] = partner;
+      const bool hole = partner != InvalidIndex && this->R.Loops[partner].Clockwise;
+      std::vector<Index> barrier{ l };
+      if (hole)
+      {
+        barrier.push_back(partner);
+      }
+      std::string reason;
+      if (!this->WallRegion(l, barrier, region, mark, reason))
+      {
+        if (std::getenv("SLOD_DEBUG"))
+        {
+          fprintf(stderr, "loop %d partner %d: %s\n", l, partner, reason.c_str());
+        }
+        continue; // not a feature: the loop does not cut off a small wall
+      }
+      if (hole)
+      {
+        feature.Kind = TopologyFeatureKind::Hole;
+      }
+      else
+      {
+        // Bump or cavity: the side of the flat plane on which the wall lies.
+        const std::vector<Index>& v = this->R.Loops[l].Vertices;
+        Vec3 centroid{ 0, 0, 0 };
+        for (Index i : v)
+        {
+          centroid = centroid + this->Mesh.Point(i);
+        }
+        centroid = (1.0 / double(v.size())) * centroid;
+        const Vec3 flat = this->FlatNormalOf(l);
+        double offset = 0;
+        for (Index t : region)
+        {
+          const Index* tri = this->Mesh.Triangle(t);
+          for (int k = 0; k < 3; ++k)
+          {
+            offset += Dot(this->Mesh.Point(tri[k]) - centroid, flat);
+          }
+        }
+        feature.Kind = offset >= 0 ? TopologyFeatureKind::Bump : TopologyFeatureKind::Cavity;
+      }
+      feature.Size = this->R.Loops[l].Diameter;
+      if (partner != InvalidIndex)
+      {
+        feature.Size = std::max(feature.Size, this->R.Loops[partner].Diameter);
+      }
+      const Index index = static_cast<Index>(this->R.Features.size());
+      this->R.Loops[l].Feature = index;
+      if (partner != InvalidIndex)
+      {
+        this->R.Loops[partner].Feature = index;
+      }
+      ++this->R.Detected[int(feature.Kind)];
+      const bool enabled = (feature.Kind == TopologyFeatureKind::Hole && this->P.RemoveHoles) ||
+        (feature.Kind == TopologyFeatureKind::Bump && this->P.RemoveBumps) ||
+        (feature.Kind == TopologyFeatureKind::Cavity && this->P.RemoveCavities);
+      if (!enabled)
+      {
+        feature.Reason = "removal of this kind is off";
+      }
+      else if (!(feature.Size < alpha))
+      {
+        feature.Reason = "larger than the maximum feature size";
+      }
+      else
+      {
+        for (Index t : region)
+        {
+          this->Removed[t] = 1;
+        }
+        const size_t fillMark = this->FillTriangles.size();
+        const Index polygonMark = this->FillPolygons;
+        const std::unordered_set<std::uint64_t> edgesMark = this->FillEdges;
+        bool filled = true;
+        for (Index b : barrier)
+        {
+          if (this->R.Loops[b].Clockwise)
+          {
+            filled = filled && this->Fill(this->FillPolygonOf(b), this->FlatNormalOf(b), 1, edgeKept);
+          }
+        }
+        if (filled)
+        {
+          feature.Removed = true;
+          feature.RemovedTriangles = static_cast<Index>(region.size());
+          feature.FillTriangles = static_cast<Index>((this->FillTriangles.size() - fillMark) / 3);
+          ++this->R.Removed[int(feature.Kind)];
+        }
+        else
+        {
+          for (Index t : region)
+          {
+            this->Removed[t] = 0;
+          }
+          this->FillTriangles.resize(fillMark);
+          this->FillPatch.resize(fillMark / 3);
+          this->FillKind.resize(fillMark / 3);
+          this->FillPolygons = polygonMark;
+          this->FillEdges = edgesMark;
+          feature.Reason = "its loops cannot be filled without folds or duplicate edges";
+        }
+      }
+      this->R.Features.push_back(std::move(feature));
+    }
+  }
+
+  // --- 7. Cracks (5.3.4) ---
+  void FillCracks(TriangleMesh& current)
+  {
+    const MeshTopology topology(current);
+    const double limit = this->P.MaximumCrackSize >= 0 ? this->P.MaximumCrackSize : this->P.MaximumFeatureSize;
+    auto edgeExists = [&](Index u, Index w) { return topology.FindEdge(u, w) != InvalidIndex; };
+    for (const std::vector<Index>& loop : topology.BoundaryLoops())
+    {
+      if (loop.size() < 3)
+      {
+        continue;
+      }
+      std::vector<Index> sorted(loop);
+      std::sort(sorted.begin(), sorted.end());
+      if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+      {
+        continue; // pinched border: not a simple crack
+      }
+      const double size = EstimateLoopDiameter(current, loop);
+      if (!(size < limit))
+      {
+        continue;
+      }
+      TopologyFeature feature;
+      feature.Kind = TopologyFeatureKind::Crack;
+      feature.Size = size;
+      // The border triangle runs the loop's first edge: if forwards, the fill runs it backwards.
+      std::vector<Index> polygon(loop);
+      const Index e = topology.FindEdge(loop[0], loop[1]);
+      const Index* tri = current.Triangle(*topology.EdgeTrianglesBegin(e));
+      bool forward = false;
+      for (int k = 0; k < 3; ++k)
+      {
+        forward = forward || (tri[k] == loop[0] && tri[(k + 1) % 3] == loop[1]);
+      }
+      if (forward)
+      {
+        std::reverse(polygon.begin(), polygon.end());
+      }
+      std::vector<Vec3> points;
+      for (Index v : polygon)
+      {
+        points.push_back(current.Point(v));
+      }
+      ++this->R.Detected[int(TopologyFeatureKind::Crack)];
+      const size_t fillMark = this->FillTriangles.size();
+      if (this->Fill(polygon, Normalized(PolygonNormal(points)), 2, edgeExists))
+      {
+        feature.Removed = true;
+        feature.FillTriangles = static_cast<Index>((this->FillTriangles.size() - fillMark) / 3);
+        ++this->R.Removed[int(TopologyFeatureKind::Crack)];
+        for (size_t i = fillMark; i < this->FillTriangles.size(); i += 3)
+        {
+          current.AddTriangle(this->FillTriangles[i], this->FillTriangles[i + 1], this->FillTriangles[i + 2]);
+        }
+      }
+      else
+      {
+        feature.Reason = "the crack cannot be closed without folds or duplicate edges";
+      }
+      feature.CrackLoop = std::move(polygon);
+      this->R.Features.push_back(std::move(feature));
+    }
+  }
+
+  // --- 8. Clean-up merge of nearly coplanar patches into disks ---
+  std::vector<Index> CleanUpMerge(const TriangleMesh& mesh, const Patchification& pa)
+  {
+    const Index np = pa.NumberOfPatches();
+    std::vector<Index> parent(static_cast<size_t>(np));
+    std::iota(parent.begin(), parent.end(), 0);
+    if (this->P.MergeAngle <= 0)
+    {
+      return parent;
+    }
+    const double cosLimit = std::cos(this->P.MergeAngle * DegreesToRadians);
+    std::vector<Vec3> normalSum(static_cast<size_t>(np));
+    std::vector<std::vector<Index>> chainsOf(static_cast<size_t>(np));
+    for (Index p = 0; p < np; ++p)
+    {
+      normalSum[p] = pa.PatchNormalSum(p);
+      chainsOf[p].assign(pa.PatchChainsBegin(p), pa.PatchChainsEnd(p));
+    }
+    std::vector<std::pair<double, Index>> candidates;
+    for (Index c = 0; c < pa.NumberOfChains(); ++c)
+    {
+      const Index a = pa.ChainLeftPatch(c), b = pa.ChainRightPatch(c);
+      if (b == InvalidIndex || pa.ChainIsNonManifold(c) || a == b)
+      {
+        continue;
+      }
+      const double d = Dot(pa.PatchNormal(a), pa.PatchNormal(b));
+      if (d >= cosLimit)
+      {
+        candidates.emplace_back(-d, c);
+      }
+    }
+    std::sort(candidates.begin(), candidates.end());
+    const Index nv = mesh.NumberOfPoints();
+    std::vector<Index> stampA(size_t(nv), -1), stampArc(size_t(nv), -1);
+    Index stamp = 0;
+    std::vector<Index> shared, ends;
+    for (const auto& candidate : candidates)
+    {
+      const Index c0 = candidate.second;
+      Index g1 = Find(parent, pa.ChainLeftPatch(c0)), g2 = Find(parent, pa.ChainRightPatch(c0));
+      if (g1 == g2 || Dot(Normalized(normalSum[g1]), Normalized(normalSum[g2])) < cosLimit)
+      {
+        continue;
+      }
+      if (chainsOf[g1].size() < chainsOf[g2].size())
+      {
+        std::swap(g1, g2);
+      }
+      // Drop chains internal to g2, collect those shared with g1.
+      shared.clear();
+      std::vector<Index>& list2 = chainsOf[g2];
+      list2.erase(std::remove_if(list2.begin(), list2.end(),
+                    [&](Index c) {
+                      const Index r = pa.ChainRightPatch(c);
+                      return r != InvalidIndex && Find(parent, pa.ChainLeftPatch(c)) == Find(parent, r);
+                    }),
+        list2.end());
+      for (Index c : list2)
+      {
+        const Index l = Find(parent, pa.ChainLeftPatch(c));
+        const Index r = pa.ChainRightPatch(c) == InvalidIndex ? InvalidIndex : Find(parent, pa.ChainRightPatch(c));
+        if ((l == g1 && r == g2) || (l == g2 && r == g1))
+        {
+          shared.push_back(c);
+        }
+      }
+      // One arc: endpoints form a single path (V - E == 1, degrees <= 2, connected).
+      ++stamp;
+      ends.clear();
+      for (Index c : shared)
+      {
+        ends.push_back(pa.ChainVerticesBegin(c)[0]);
+        ends.push_back(pa.ChainVerticesBegin(c)[pa.ChainSize(c) - 1]);
+      }
+      std::vector<Index> distinct(ends);
+      std::sort(distinct.begin(), distinct.end());
+      bool arc = !shared.empty();
+      Index degreeOne = 0;
+      for (size_t i = 0; i < distinct.size() && arc;)
+      {
+        size_t j = i;
+        while (j < distinct.size() && distinct[j] == distinct[i])
+        {
+          ++j;
+        }
+        arc = (j - i) <= 2;
+        degreeOne += (j - i) == 1;
+        i = j;
+      }
+      distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+      arc = arc && distinct.size() == shared.size() + 1 && degreeOne == 2;
+      if (arc)
+      {
+        // Connected: walk from a degree-one end.
+        Index at = InvalidIndex;
+        for (Index v : distinct)
+        {
+          if (std::count(ends.begin(), ends.end(), v) == 1)
+          {
+            at = v;
+            break;
+          }
+        }
+        std::vector<unsigned char> used(shared.size(), 0);
+        size_t walked = 0;
+        for (bool moved = true; moved;)
+        {
+          moved = false;
+          for (size_t k = 0; k < shared.size(); ++k)
+          {
+            if (!used[k] && (ends[2 * k] == at || ends[2 * k + 1] == at))
+            {
+              used[k] = 1;
+              at = ends[2 * k] == at ? ends[2 * k + 1] : ends[2 * k];
+              ++walked;
+              moved = true;
+              break;
+            }
+          }
+        }
+        arc = walked == shared.size();
+      }
+      if (!arc)
+      {
+        continue;
+      }
+      // No pinch: the two boundaries meet only along the arc.
+      for (Index c : shared)
+      {
+        for (Index i = 0; i < pa.ChainSize(c); ++i)
+        {
+          stampArc[pa.ChainVerticesBegin(c)[i]] = stamp;
+        }
+      }
+      std::vector<Index>& list1 = chainsOf[g1];
+      for (Index c : list1)
+      {
+        for (Index i = 0; i < pa.ChainSize(c); ++i)
+        {
+          stampA[pa.ChainVerticesBegin(c)[i]] = stamp;
+        }
+      }
+      bool pinch = false;
+      for (Index c : list2)
+      {
+        for (Index i = 0; i < pa.ChainSize(c) && !pinch; ++i)
+        {
+          const Index v = pa.ChainVerticesBegin(c)[i];
+          pinch = stampA[v] == stamp && stampArc[v] != stamp;
+        }
+      }
+      if (pinch)
+      {
+        continue;
+      }
+      parent[g2] = g1;
+      normalSum[g1] = normalSum[g1] + normalSum[g2];
+      list1.insert(list1.end(), list2.begin(), list2.end());
+      list2.clear();
+      list2.shrink_to_fit();
+      list1.erase(std::remove_if(list1.begin(), list1.end(),
+                    [&](Index c) {
+                      const Index r = pa.ChainRightPatch(c);
+                      return r != InvalidIndex && Find(parent, pa.ChainLeftPatch(c)) == Find(parent, r);
+                    }),
+        list1.end());
+    }
+    for (Index p = 0; p < np; ++p)
+    {
+      parent[p] = Find(parent, p);
+    }
+    return parent;
+  }
+};
+
+// Dense 0..n-1 labels in order of first appearance.
+Index Compact(std::vector<Index>& labels)
+{
+  std::vector<Index> map;
+  Index next = 0;
+  for (Index& l : labels)
+  {
+    if (size_t(l) >= map.size())
+    {
+      map.resize(size_t(l) + 1, InvalidIndex);
+    }
+    if (map[l] == InvalidIndex)
+    {
+      map[l] = next++;
+    }
+    l = map[l];
+  }
+  return next;
+}
+} // namespace
+
+bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificationParameters& parameters,
+  TopologySimplificationResult& result, const ProgressFunction& progress)
+{
+  using Clock = std::chrono::steady_clock;
+  result = TopologySimplificationResult();
+  auto report = [&](double f) { return progress && progress(f); };
+  const auto t0 = Clock::now();
+  Simplification run(mesh, parameters, result);
+  run.Patches.Build(mesh, run.Topology, parameters.Patches, [&](double f) { return report(0.4 * f); });
+  if (run.Patches.Aborted())
+  {
+    return false;
+  }
+  result.InitialPatches = run.Patches.NumberOfPatches();
+  const auto t1 = Clock::now();
+  result.PatchificationSeconds = std::chrono::duration<double>(t1 - t0).count();
+
+  run.BuildSharpChains();
+  run.ClassifySides();
+  run.FindLoops();
+  if (report(0.5))
+  {
+    return false;
+  }
+  bool aborted = false;
+  run.DetectAndRemove([&](double f) { return aborted = aborted || report(0.5 + 0.2 * f); });
+  if (aborted)
+  {
+    return false;
+  }
+
+  // The cleaned mesh: kept triangles + filled loops (+ filled cracks), over the input vertices.
+  TriangleMesh cleaned;
+  cleaned.Points = mesh.Points;
+  std::vector<Index> labels;
+  std::vector<unsigned char> fill;
+  const std::vector<Index>& patchOf = run.Patches.TrianglePatches();
+  const Index np = run.Patches.NumberOfPatches();
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    if (!run.Removed[t])
+    {
+      const Index* tri = mesh.Triangle(t);
+      cleaned.AddTriangle(tri[0], tri[1], tri[2]);
+      labels.push_back(patchOf[t]);
+      fill.push_back(0);
+    }
+  }
+  for (size_t i = 0; i < run.FillPatch.size(); ++i)
+  {
+    cleaned.AddTriangle(run.FillTriangles[3 * i], run.FillTriangles[3 * i + 1], run.FillTriangles[3 * i + 2]);
+    labels.push_back(np + run.FillPatch[i]);
+    fill.push_back(run.FillKind[i]);
+  }
+  if (parameters.FillCracks)
+  {
+    const size_t before = run.FillPatch.size();
+    run.FillCracks(cleaned); // adds the crack triangles to `cleaned` itself
+    for (size_t i = before; i < run.FillPatch.size(); ++i)
+    {
+      labels.push_back(np + run.FillPatch[i]);
+      fill.push_back(run.FillKind[i]);
+    }
+  }
+  Index labelCount = Compact(labels);
+  const auto t2 = Clock::now();
+  result.DetectionSeconds = std::chrono::duration<double>(t2 - t1).count();
+  if (report(0.75))
+  {
+    return false;
+  }
+
+  // Clean-up merge on the patchification of the cleaned mesh.
+  const MeshTopology cleanedTopology(cleaned);
+  Patchification cleanedPatches;
+  cleanedPatches.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
+  const std::vector<Index> group = run.CleanUpMerge(cleaned, cleanedPatches);
+  for (Index& l : labels)
+  {
+    l = group[l];
+  }
+  labelCount = Compact(labels);
+  result.MergedPatches = labelCount;
+  result.CleanedTriangles = cleaned.Triangles;
+  Patchification merged;
+  merged.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
+  std::vector<unsigned char> patchFill(size_t(labelCount), 0);
+  for (size_t t = 0; t < labels.size(); ++t)
+  {
+    patchFill[labels[t]] = std::max(patchFill[labels[t]], fill[t]);
+  }
+  if (report(0.8))
+  {
+    return false;
+  }
+
+  // Completion.
+  if (parameters.Completion == TopologyCompletion::KeepTriangles)
+  {
+    result.Triangles = cleaned.Triangles;
+    result.TrianglePatch = labels;
+    result.TriangleFill = fill;
+    result.NumberOfPatches = labelCount;
+  }
+  else
+  {
+    SpbmLevelGenerator generator;
+    generator.Initialize(cleaned, merged);
+    SpbmLevelParameters level = parameters.Spbm;
+    auto abort = [&]() { return report(0.85); };
+    bool ok = true;
+    if (parameters.Completion == TopologyCompletion::TriangulatePatches)
+    {
+      level.Epsilon = parameters.CollinearTolerance * mesh.BoundingBoxDiagonal();
+      level.MergePatches = false;
+      level.CollapseChains = false;
+      level.CompareCandidates = false;
+      ok = generator.Generate(level, result.Level, abort);
+    }
+    else if (parameters.SpbmTargetTriangles > 0)
+    {
+      ok = generator.GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
+    }
+    else
+    {
+      ok = generator.Generate(level, result.Level, abort);
+    }
+    if (!ok)
+    {
+      return false;
+    }
+    result.Triangles = result.Level.Triangles;
+    result.TrianglePatch = result.Level.TrianglePatch;
+    result.NumberOfPatches = result.Level.NumberOfPatches;
+    std::vector<unsigned char> levelFill(size_t(result.Level.NumberOfPatches), 0);
+    for (size_t p = 0; p < result.Level.MergedPatchOf.size(); ++p)
+    {
+      const Index q = result.Level.MergedPatchOf[p];
+      if (q != InvalidIndex)
+      {
+        levelFill[q] = std::max(levelFill[q], patchFill[p]);
+      }
+    }
+    result.TriangleFill.resize(result.TrianglePatch.size());
+    for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
+    {
+      result.TriangleFill[t] = levelFill[result.TrianglePatch[t]];
+    }
+  }
+  result.CompletionSeconds = std::chrono::duration<double>(Clock::now() - t2).count();
+  report(1.0);
+  return true;
+}
+} // namespace slod

@@ -1,0 +1,142 @@
+// SurfaceLOD shared core: topology simplification of Ho 1999, chapter 5 — removal of small
+// holes (tunnels), bumps and cavities bounded by sharp edges, and repair of cracks, on top of
+// the SPBM patchification (slodPatchification) and its level generator (slodPatchBoundaryMerge).
+//
+// Stages:
+//  1. patchification (4.2.1-4.2.3);
+//  2. sharp edges: patch-boundary edges whose two triangle normals have a dot product inside
+//     (SharpMinimumDot, SharpMaximumDot) (default (-0.3, 0.7): normals 45..107 degrees apart);
+//     sharp chains: runs of sharp edges along one patch chain (one patch on each side);
+//  3. flat / wall side of each sharp chain (5.3.1): type (1) chains compare the plane of their
+//     first (else last) three vertices with the normals on both sides; type (2) chains (one edge
+//     or collinear start) borrow the next vertices of incident sharp chains;
+//  4. sharp loops (5.3.1): searches start from type (1) "convex hole" chains, then other type (1),
+//     then type (2) chains; a search extends the chain sequence at its end by the incident sharp
+//     chain that keeps the flat side on the same side (depth first, backtracking), closes a loop
+//     or marks its chains DONE (never a start again); every loop is traversed with its flat side
+//     on the left and is clockwise when its flat side lies outside it (hole rim, bump base,
+//     cavity rim) and counter-clockwise otherwise (bump top, cavity bottom);
+//  5. partner loops (5.3.2): for a clockwise loop L the wall patches (those on its wall side and
+//     the patches joined to them by non-sharp chains) are searched for a loop L' disjoint from
+//     L (first among the loops found, else by a new search from their sharp chains);
+//     L and L' clockwise: a hole; L' counter-clockwise or none: a bump or a cavity (told apart
+//     by which side of L's flat side the removed wall lies);
+//  6. removal (5.3.3) when every loop of the feature is small (sampled diameter < alpha): the
+//     wall region (triangles reached from L's wall side without crossing the feature's loops;
+//     it must close there, touch no border and be the smaller part of its component) is
+//     discarded and each clockwise loop becomes a new patch, triangulated by the shared ear
+//     clipping (no diagonal that is already an edge, no non-simple projection: else the feature
+//     is kept);
+//  7. cracks (5.3.4): directed loops of border edges smaller than the crack size are closed as
+//     new patches the same way;
+//  8. clean-up merge: adjacent patches whose (area-weighted) group normals agree within alpha1
+//     merge when they share exactly one boundary arc (no islands, patches stay disks);
+//  9. completion: keep the triangles (only the features change), or option (2) of the chapter:
+//     triangulate every patch from its boundary keeping the profiles (only exactly collinear
+//     profile vertices go), or option (1): the SPBM phases (chain simplification within
+//     epsilon or to a triangle target, merging, triangulation) on the cleaned patchification.
+// Removing a hole lowers the genus by one; bumps, cavities and cracks keep it.
+#ifndef slodTopologySimplification_h
+#define slodTopologySimplification_h
+
+#include "slodPatchBoundaryMerge.h"
+#include "slodPatchification.h"
+#include "slodTriangleMesh.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace slod
+{
+enum class TopologyCompletion : int
+{
+  KeepTriangles = 0,      // only the removed features change
+  TriangulatePatches = 1, // option (2): patches re-triangulated from their exact boundaries
+  Spbm = 2                // option (1): SPBM simplification of the cleaned patches
+};
+
+struct SURFACELODFILTERS_EXPORT TopologySimplificationParameters
+{
+  PatchificationParameters Patches;
+  double SharpMinimumDot = -0.3; // an edge is sharp when the normals' dot product is inside
+  double SharpMaximumDot = 0.7;  // (SharpMinimumDot, SharpMaximumDot)
+  double MaximumFeatureSize = 0; // alpha (absolute): features whose loops are all smaller go
+  bool RemoveHoles = true;
+  bool RemoveBumps = true;
+  bool RemoveCavities = true;
+  bool FillCracks = true;
+  double MaximumCrackSize = -1; // crack loops with a smaller diameter are closed; < 0: alpha
+  double MergeAngle = 20.0;     // alpha1 of the clean-up merge (degrees); <= 0: no merge
+  TopologyCompletion Completion = TopologyCompletion::TriangulatePatches;
+  double CollinearTolerance = 1e-9; // TriangulatePatches: profile vertices within this (relative
+                                    // to the bbox diagonal) of the line of their neighbours go
+  SpbmLevelParameters Spbm;         // Completion == Spbm (Epsilon absolute)
+  Index SpbmTargetTriangles = 0;    // Completion == Spbm: > 0 aims at this count
+};
+
+enum class TopologyFeatureKind : int
+{
+  Hole = 0,
+  Bump = 1,
+  Cavity = 2,
+  Crack = 3
+};
+
+struct SharpLoop
+{
+  std::vector<Index> Vertices; // in order, flat side on the left (first vertex not repeated)
+  bool Clockwise = false;      // flat side outside the loop
+  double Diameter = 0;         // sampled estimate
+  Index Feature = InvalidIndex; // feature it bounds, if any
+};
+
+struct TopologyFeature
+{
+  TopologyFeatureKind Kind = TopologyFeatureKind::Hole;
+  Index Loops[2] = { InvalidIndex, InvalidIndex }; // sharp loops (cracks: none)
+  std::vector<Index> CrackLoop;                    // cracks: the border loop
+  double Size = 0;                                 // largest loop diameter
+  bool Removed = false;
+  std::string Reason; // why a detected feature was kept (empty when removed)
+  Index RemovedTriangles = 0;
+  Index FillTriangles = 0;
+};
+
+struct SURFACELODFILTERS_EXPORT TopologySimplificationResult
+{
+  // The output over the input mesh's vertex ids (no new vertices).
+  std::vector<Index> Triangles;
+  std::vector<Index> TrianglePatch; // final patch per triangle
+  std::vector<unsigned char> TriangleFill; // 0 original surface, 1 filled feature loop, 2 filled crack
+  Index NumberOfPatches = 0;
+
+  Index InitialPatches = 0, SharpEdges = 0, SharpChains = 0;
+  std::vector<SharpLoop> Loops;
+  std::vector<TopologyFeature> Features;
+  Index Detected[4] = { 0, 0, 0, 0 }; // per TopologyFeatureKind
+  Index Removed[4] = { 0, 0, 0, 0 };
+  Index MergedPatches = 0; // patches before completion (after the clean-up merge)
+  // The cleaned mesh before completion (features removed, patches merged): its triangles and
+  // patches; SpbmLevel fields of the completion.
+  std::vector<Index> CleanedTriangles;
+  SpbmLevel Level;
+  double PatchificationSeconds = 0, DetectionSeconds = 0, CompletionSeconds = 0;
+};
+
+class SURFACELODFILTERS_EXPORT TopologySimplifier
+{
+public:
+  // Progress in [0,1]; returning true aborts (Run then returns false).
+  using ProgressFunction = std::function<bool(double)>;
+  // mesh: consistently oriented; non-manifold edges are never part of a feature.
+  bool Run(const TriangleMesh& mesh, const TopologySimplificationParameters& parameters,
+    TopologySimplificationResult& result, const ProgressFunction& progress = nullptr);
+};
+
+// Diameter estimate of a closed vertex loop (section 5.3.3): evenly spaced sample pairs and
+// triples (circumscribed circle), capped by the bounding-box diagonal. O(1) samples.
+SURFACELODFILTERS_EXPORT double EstimateLoopDiameter(const TriangleMesh& mesh, const std::vector<Index>& loop);
+} // namespace slod
+
+#endif

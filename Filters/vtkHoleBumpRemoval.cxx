@@ -1,0 +1,274 @@
+#include "vtkHoleBumpRemoval.h"
+
+#include "slodInputPreparation.h"
+#include "slodMeshTopology.h"
+#include "slodTopologySimplification.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <cmath>
+
+vtkStandardNewMacro(vtkHoleBumpRemoval);
+
+namespace
+{
+void AddCount(vtkFieldData* fd, const char* name, int value)
+{
+  vtkNew<vtkIntArray> a;
+  a->SetName(name);
+  a->SetNumberOfValues(1);
+  a->SetValue(0, value);
+  fd->AddArray(a);
+}
+} // namespace
+
+vtkHoleBumpRemoval::vtkHoleBumpRemoval()
+{
+  this->SetNumberOfOutputPorts(2);
+}
+
+int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* loopsOutput = vtkPolyData::GetData(outputVector, 1);
+  if (!input || !output || !loopsOutput)
+  {
+    return 0;
+  }
+  this->NumberOfHolesDetected = this->NumberOfBumpsDetected = this->NumberOfCavitiesDetected = 0;
+  this->NumberOfCracksDetected = 0;
+  this->NumberOfHolesRemoved = this->NumberOfBumpsRemoved = this->NumberOfCavitiesRemoved = 0;
+  this->NumberOfCracksFilled = 0;
+  this->NumberOfSharpEdges = this->NumberOfSharpLoops = this->NumberOfPatches = this->NumberOfMergedPatches = 0;
+  this->InputGenus = this->OutputGenus = -1;
+  this->UsedFeatureSize = 0;
+
+  slod::TriangleMesh mesh;
+  std::vector<slod::Index> vertexToInput;
+  slod::PreparationReport report;
+  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report))
+  {
+    return 1; // error reported; empty output
+  }
+  if (mesh.NumberOfTriangles() == 0)
+  {
+    vtkWarningMacro("The input has no triangles: the output is empty.");
+    return 1;
+  }
+  if (report.NonManifoldEdges > 0)
+  {
+    vtkWarningMacro("Non-manifold edges are never part of a removed feature; features next to them are kept.");
+  }
+  const slod::MeshStatistics before = slod::MeshTopology(mesh).Statistics(mesh);
+  this->InputGenus = static_cast<int>(before.Genus);
+  this->UpdateProgress(0.05);
+
+  slod::TopologySimplificationParameters parameters;
+  parameters.Patches.OneEdgePatchAngle = this->PatchAngle;
+  parameters.Patches.OneEdgeNeighborAngle = this->NeighborAngle;
+  parameters.SharpMaximumDot = std::cos(vtkMath::RadiansFromDegrees(this->SharpAngle));
+  parameters.SharpMinimumDot = std::cos(vtkMath::RadiansFromDegrees(this->MaximumSharpAngle));
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  const double scale = this->RelativeFeatureSize ? diagonal : 1.0;
+  parameters.MaximumFeatureSize = this->MaximumFeatureSize * scale;
+  parameters.MaximumCrackSize = this->MaximumCrackSize < 0 ? -1.0 : this->MaximumCrackSize * scale;
+  parameters.FillCracks = this->FillCracks;
+  parameters.RemoveHoles = this->RemoveHoles;
+  parameters.RemoveBumps = this->RemoveBumps;
+  parameters.RemoveCavities = this->RemoveCavities;
+  parameters.MergeAngle = this->MergeAngle;
+  parameters.Completion = static_cast<slod::TopologyCompletion>(this->Completion);
+  parameters.Spbm.Epsilon = this->Epsilon * diagonal;
+  parameters.Spbm.MergeAngle = this->MergeAngle > 0 ? this->MergeAngle : 20.0;
+  vtkIdType target = this->TargetNumberOfTriangles;
+  if (target <= 0 && this->TargetReduction > 0)
+  {
+    target = static_cast<vtkIdType>(std::llround((1.0 - this->TargetReduction) * mesh.NumberOfTriangles()));
+  }
+  if (target > 0)
+  {
+    parameters.Completion = slod::TopologyCompletion::Spbm;
+    parameters.SpbmTargetTriangles = static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX));
+  }
+  this->UsedFeatureSize = parameters.MaximumFeatureSize;
+
+  slod::TopologySimplificationResult result;
+  slod::TopologySimplifier simplifier;
+  const bool done = simplifier.Run(mesh, parameters, result, [this](double f) {
+    this->UpdateProgress(0.05 + 0.85 * f);
+    return this->GetAbortExecute() != 0;
+  });
+  if (!done)
+  {
+    return 1; // aborted: empty output
+  }
+  using Kind = slod::TopologyFeatureKind;
+  this->NumberOfHolesDetected = result.Detected[int(Kind::Hole)];
+  this->NumberOfBumpsDetected = result.Detected[int(Kind::Bump)];
+  this->NumberOfCavitiesDetected = result.Detected[int(Kind::Cavity)];
+  this->NumberOfCracksDetected = result.Detected[int(Kind::Crack)];
+  this->NumberOfHolesRemoved = result.Removed[int(Kind::Hole)];
+  this->NumberOfBumpsRemoved = result.Removed[int(Kind::Bump)];
+  this->NumberOfCavitiesRemoved = result.Removed[int(Kind::Cavity)];
+  this->NumberOfCracksFilled = result.Removed[int(Kind::Crack)];
+  this->NumberOfSharpEdges = result.SharpEdges;
+  this->NumberOfSharpLoops = static_cast<int>(result.Loops.size());
+  this->NumberOfPatches = result.InitialPatches;
+  this->NumberOfMergedPatches = result.MergedPatches;
+
+  // Output over the used input vertices.
+  std::vector<slod::Index> outputOf(size_t(mesh.NumberOfPoints()), slod::InvalidIndex);
+  std::vector<slod::Index> used;
+  auto use = [&](slod::Index v) {
+    if (outputOf[v] == slod::InvalidIndex)
+    {
+      outputOf[v] = static_cast<slod::Index>(used.size());
+      used.push_back(v);
+    }
+    return static_cast<vtkIdType>(outputOf[v]);
+  };
+  const vtkIdType nt = static_cast<vtkIdType>(result.TrianglePatch.size());
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateExact(nt, 3 * nt);
+  vtkNew<vtkIntArray> patchIds;
+  patchIds->SetName("PatchId");
+  patchIds->SetNumberOfValues(nt);
+  vtkNew<vtkUnsignedCharArray> filled;
+  filled->SetName("FilledPatch");
+  filled->SetNumberOfValues(nt);
+  slod::TriangleMesh outMesh;
+  for (vtkIdType t = 0; t < nt; ++t)
+  {
+    const vtkIdType ids[3] = { use(result.Triangles[3 * t]), use(result.Triangles[3 * t + 1]),
+      use(result.Triangles[3 * t + 2]) };
+    polys->InsertNextCell(3, ids);
+    patchIds->SetValue(t, result.TrianglePatch[t]);
+    filled->SetValue(t, result.TriangleFill[t]);
+    outMesh.AddTriangle(static_cast<slod::Index>(ids[0]), static_cast<slod::Index>(ids[1]), static_cast<slod::Index>(ids[2]));
+  }
+  const int pointType =
+    this->OutputDoublePrecision || !input->GetPoints() ? VTK_DOUBLE : input->GetPoints()->GetDataType();
+  vtkNew<vtkPoints> points;
+  points->SetDataType(pointType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
+  points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
+  vtkPointData* inPD = input->GetPointData();
+  vtkPointData* outPD = output->GetPointData();
+  outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
+  outMesh.Points.resize(3 * used.size());
+  for (size_t i = 0; i < used.size(); ++i)
+  {
+    points->SetPoint(static_cast<vtkIdType>(i), &mesh.Points[3 * size_t(used[i])]);
+    outPD->CopyData(inPD, vertexToInput[used[i]], static_cast<vtkIdType>(i));
+    outMesh.SetPoint(static_cast<slod::Index>(i), mesh.Point(used[i]));
+  }
+  output->SetPoints(points);
+  output->SetPolys(polys);
+  output->GetCellData()->AddArray(patchIds);
+  output->GetCellData()->AddArray(filled);
+  vtkFieldData* fd = output->GetFieldData();
+  AddCount(fd, "HolesRemoved", this->NumberOfHolesRemoved);
+  AddCount(fd, "BumpsRemoved", this->NumberOfBumpsRemoved);
+  AddCount(fd, "CavitiesRemoved", this->NumberOfCavitiesRemoved);
+  AddCount(fd, "CracksFilled", this->NumberOfCracksFilled);
+  AddCount(fd, "HolesDetected", this->NumberOfHolesDetected);
+  AddCount(fd, "BumpsDetected", this->NumberOfBumpsDetected);
+  AddCount(fd, "CavitiesDetected", this->NumberOfCavitiesDetected);
+  AddCount(fd, "CracksDetected", this->NumberOfCracksDetected);
+
+  const slod::MeshStatistics after = slod::MeshTopology(outMesh).Statistics(outMesh);
+  this->OutputGenus = static_cast<int>(after.Genus);
+  if (before.Genus >= 0 && after.Genus >= 0 && before.Components == after.Components &&
+    after.Genus != before.Genus - this->NumberOfHolesRemoved)
+  {
+    vtkWarningMacro("Output genus " << after.Genus << " differs from input genus " << before.Genus << " minus "
+                                    << this->NumberOfHolesRemoved << " removed holes.");
+  }
+  if (after.NonManifoldEdges > before.NonManifoldEdges)
+  {
+    vtkWarningMacro("The output has " << after.NonManifoldEdges << " non-manifold edges.");
+  }
+
+  if (this->GenerateSharpLoops)
+  {
+    vtkNew<vtkPoints> loopPoints;
+    loopPoints->SetDataType(VTK_DOUBLE);
+    vtkNew<vtkCellArray> lines;
+    vtkNew<vtkIntArray> kind, removed, clockwise;
+    kind->SetName("FeatureKind");
+    removed->SetName("Removed");
+    clockwise->SetName("Clockwise");
+    auto addLine = [&](const std::vector<slod::Index>& loop, int k, int r, int cw) {
+      lines->InsertNextCell(static_cast<vtkIdType>(loop.size() + 1));
+      const vtkIdType first = loopPoints->GetNumberOfPoints();
+      for (slod::Index v : loop)
+      {
+        lines->InsertCellPoint(loopPoints->InsertNextPoint(&mesh.Points[3 * size_t(v)]));
+      }
+      lines->InsertCellPoint(first);
+      kind->InsertNextValue(k);
+      removed->InsertNextValue(r);
+      clockwise->InsertNextValue(cw);
+    };
+    for (const slod::SharpLoop& loop : result.Loops)
+    {
+      const slod::TopologyFeature* f = loop.Feature >= 0 ? &result.Features[loop.Feature] : nullptr;
+      addLine(loop.Vertices, f ? int(f->Kind) : -1, f && f->Removed, loop.Clockwise);
+    }
+    for (const slod::TopologyFeature& f : result.Features)
+    {
+      if (f.Kind == Kind::Crack)
+      {
+        addLine(f.CrackLoop, int(Kind::Crack), f.Removed, 0);
+      }
+    }
+    loopsOutput->SetPoints(loopPoints);
+    loopsOutput->SetLines(lines);
+    loopsOutput->GetCellData()->AddArray(kind);
+    loopsOutput->GetCellData()->AddArray(removed);
+    loopsOutput->GetCellData()->AddArray(clockwise);
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SharpAngle: " << this->SharpAngle << "\n";
+  os << indent << "MaximumSharpAngle: " << this->MaximumSharpAngle << "\n";
+  os << indent << "MaximumFeatureSize: " << this->MaximumFeatureSize
+     << (this->RelativeFeatureSize ? " (relative)" : " (absolute)") << "\n";
+  os << indent << "RemoveHoles: " << this->RemoveHoles << "\n";
+  os << indent << "RemoveBumps: " << this->RemoveBumps << "\n";
+  os << indent << "RemoveCavities: " << this->RemoveCavities << "\n";
+  os << indent << "FillCracks: " << this->FillCracks << "\n";
+  os << indent << "MaximumCrackSize: " << this->MaximumCrackSize << "\n";
+  os << indent << "MergeAngle: " << this->MergeAngle << "\n";
+  os << indent << "PatchAngle: " << this->PatchAngle << "\n";
+  os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
+  os << indent << "Completion: " << this->Completion << "\n";
+  os << indent << "Epsilon: " << this->Epsilon << "\n";
+  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
+  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
+  os << indent << "GenerateSharpLoops: " << this->GenerateSharpLoops << "\n";
+  os << indent << "OutputDoublePrecision: " << this->OutputDoublePrecision << "\n";
+  os << indent << "Holes detected/removed: " << this->NumberOfHolesDetected << "/" << this->NumberOfHolesRemoved << "\n";
+  os << indent << "Bumps detected/removed: " << this->NumberOfBumpsDetected << "/" << this->NumberOfBumpsRemoved << "\n";
+  os << indent << "Cavities detected/removed: " << this->NumberOfCavitiesDetected << "/"
+     << this->NumberOfCavitiesRemoved << "\n";
+  os << indent << "Cracks detected/filled: " << this->NumberOfCracksDetected << "/" << this->NumberOfCracksFilled << "\n";
+  os << indent << "InputGenus: " << this->InputGenus << "\n";
+  os << indent << "OutputGenus: " << this->OutputGenus << "\n";
+}
