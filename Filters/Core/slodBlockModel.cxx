@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <cmath>
 #include <tuple>
 
 namespace slod
@@ -146,5 +147,90 @@ TriangleMesh PlateWithHoles(int holesX, int holesY, double thickness, int subdiv
     }
   }
   return BlockModel(nx, ny, heights, 1.0, subdivisions);
+}
+
+TriangleMesh PlateWithRoundHoles(int tilesX, int tilesY, double radius, int segments, double thickness)
+{
+  TriangleMesh mesh;
+  const int q = std::max(2, segments / 4); // border steps per tile side
+  const int n = 4 * q;
+  std::map<std::tuple<int, int, int>, Index> lattice; // (x, y, top) in steps -> vertex
+  auto border = [&](int x, int y, int top) {
+    const auto key = std::make_tuple(x, y, top);
+    auto found = lattice.find(key);
+    if (found != lattice.end())
+    {
+      return found->second;
+    }
+    const Index v = mesh.AddPoint({ double(x) / q, double(y) / q, top ? thickness : 0.0 });
+    lattice.emplace(key, v);
+    return v;
+  };
+  // Border position i (0..n-1) of a tile, counter-clockwise from its lower-left corner.
+  auto step = [&](int i, int& dx, int& dy) {
+    const int side = i / q, k = i % q;
+    dx = side == 0 ? k : (side == 1 ? q : (side == 2 ? q - k : 0));
+    dy = side == 0 ? 0 : (side == 1 ? k : (side == 2 ? q : q - k));
+  };
+  const double pi = 3.14159265358979323846;
+  for (int ty = 0; ty < tilesY; ++ty)
+  {
+    for (int tx = 0; tx < tilesX; ++tx)
+    {
+      std::vector<Index> circle[2], square[2];
+      for (int i = 0; i < n; ++i)
+      {
+        const double angle = -0.75 * pi + 2.0 * pi * i / n;
+        int dx, dy;
+        step(i, dx, dy);
+        for (int top = 0; top < 2; ++top)
+        {
+          circle[top].push_back(mesh.AddPoint(
+            { tx + 0.5 + radius * std::cos(angle), ty + 0.5 + radius * std::sin(angle), top ? thickness : 0.0 }));
+          square[top].push_back(border(tx * q + dx, ty * q + dy, top));
+        }
+      }
+      for (int i = 0; i < n; ++i)
+      {
+        const int j = (i + 1) % n;
+        // Top ring (normal +z), bottom ring (normal -z), hole wall (normal toward the axis).
+        mesh.AddTriangle(square[1][i], square[1][j], circle[1][j]);
+        mesh.AddTriangle(square[1][i], circle[1][j], circle[1][i]);
+        mesh.AddTriangle(square[0][j], square[0][i], circle[0][i]);
+        mesh.AddTriangle(square[0][j], circle[0][i], circle[0][j]);
+        mesh.AddTriangle(circle[1][i], circle[1][j], circle[0][j]);
+        mesh.AddTriangle(circle[1][i], circle[0][j], circle[0][i]);
+      }
+    }
+  }
+  // Outer walls along the plate border, counter-clockwise seen from above (outward normals).
+  std::vector<std::pair<int, int>> perimeter;
+  const int w = tilesX * q, h = tilesY * q;
+  for (int x = 0; x < w; ++x)
+  {
+    perimeter.emplace_back(x, 0);
+  }
+  for (int y = 0; y < h; ++y)
+  {
+    perimeter.emplace_back(w, y);
+  }
+  for (int x = w; x > 0; --x)
+  {
+    perimeter.emplace_back(x, h);
+  }
+  for (int y = h; y > 0; --y)
+  {
+    perimeter.emplace_back(0, y);
+  }
+  for (size_t i = 0; i < perimeter.size(); ++i)
+  {
+    const auto& a = perimeter[i];
+    const auto& b = perimeter[(i + 1) % perimeter.size()];
+    const Index ta = border(a.first, a.second, 1), ba = border(a.first, a.second, 0);
+    const Index tb = border(b.first, b.second, 1), bb = border(b.first, b.second, 0);
+    mesh.AddTriangle(ta, ba, bb);
+    mesh.AddTriangle(ta, bb, tb);
+  }
+  return mesh;
 }
 } // namespace slod

@@ -24,6 +24,12 @@ SURFACELODFILTERS_EXPORT TriangleMesh BlockModel(
 // through-hole at every odd (i, j): genus holesX * holesY (like the dissertation's Fixture).
 SURFACELODFILTERS_EXPORT TriangleMesh PlateWithHoles(
   int holesX, int holesY, double thickness = 0.5, int subdivisions = 2);
+
+// A plate of tilesX x tilesY unit tiles, each with a round through-hole of the given radius
+// (< 0.5) approximated by `segments` facets (a multiple of 4, >= 8): the top and bottom faces are
+// rings between each tile's square border and its circle. Closed, genus tilesX * tilesY.
+SURFACELODFILTERS_EXPORT TriangleMesh PlateWithRoundHoles(
+  int tilesX, int tilesY, double radius = 0.25, int segments = 16, double thickness = 0.5);
 } // namespace slod
 
 #endif
