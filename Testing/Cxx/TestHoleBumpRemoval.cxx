@@ -13,6 +13,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDecimatePro.h"
 #include "vtkFieldData.h"
@@ -27,6 +28,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 using namespace slod;
 using namespace slodtest;
@@ -423,4 +425,229 @@ TEST(TopologySimplification, DemoMeshesWithHoles)
     EXPECT_EQ(s.Genus, c.Genus - c.Holes);
     EXPECT_LT(s.Triangles, mesh.NumberOfTriangles());
   }
+}
+
+// --- The VTK filter ---
+namespace
+{
+int FieldCount(vtkPolyData* pd, const char* name)
+{
+  vtkDataArray* a = pd->GetFieldData()->GetArray(name);
+  return a ? static_cast<int>(a->GetTuple1(0)) : -1;
+}
+
+vtkSmartPointer<vtkPolyData> RunFilter(vtkHoleBumpRemoval* filter, vtkPolyData* input)
+{
+  filter->SetInputData(input);
+  filter->Update();
+  vtkSmartPointer<vtkPolyData> out = vtkSmartPointer<vtkPolyData>::New();
+  out->DeepCopy(filter->GetOutput());
+  return out;
+}
+} // namespace
+
+TEST(HoleBumpRemovalFilter, CountsArraysLoopsAndGenus)
+{
+  vtkSmartPointer<vtkPolyData> plate = ToPolyData(PlateWithHoles(3, 3, 0.5, 2));
+  // A point array to carry through.
+  vtkNew<vtkIntArray> ids;
+  ids->SetName("InputId");
+  for (vtkIdType i = 0; i < plate->GetNumberOfPoints(); ++i)
+  {
+    ids->InsertNextValue(static_cast<int>(i));
+  }
+  plate->GetPointData()->AddArray(ids);
+  vtkNew<vtkHoleBumpRemoval> filter;
+  // Default alpha: 0.1 of the diagonal (~0.99) is below the holes' diameter (~1.41): all kept.
+  vtkSmartPointer<vtkPolyData> out= RunFilter(filter, plate);
+  EXPECT_EQ(filter->GetNumberOfHolesDetected(), 9);
+  EXPECT_EQ(filter->GetNumberOfHolesRemoved(), 0);
+  EXPECT_EQ(filter->GetInputGenus(), 9);
+  EXPECT_EQ(filter->GetOutputGenus(), 9);
+  filter->SetMaximumFeatureSize(0.2);
+  out= RunFilter(filter, plate);
+  EXPECT_EQ(filter->GetNumberOfHolesRemoved(), 9);
+  EXPECT_EQ(FieldCount(out, "HolesRemoved"), 9);
+  EXPECT_EQ(FieldCount(out, "HolesDetected"), 9);
+  EXPECT_EQ(FieldCount(out, "BumpsRemoved"), 0);
+  EXPECT_EQ(FieldCount(out, "CavitiesRemoved"), 0);
+  EXPECT_EQ(FieldCount(out, "CracksFilled"), 0);
+  EXPECT_EQ(filter->GetOutputGenus(), 0);
+  EXPECT_EQ(out->GetNumberOfPolys(), 12);
+  EXPECT_EQ(out->GetNumberOfPoints(), 8);
+  ASSERT_NE(out->GetCellData()->GetArray("PatchId"), nullptr);
+  ASSERT_NE(out->GetCellData()->GetArray("FilledPatch"), nullptr);
+  vtkDataArray* carried = out->GetPointData()->GetArray("InputId");
+  ASSERT_NE(carried, nullptr);
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    double p[3], q[3];
+    out->GetPoint(i, p);
+    plate->GetPoint(static_cast<vtkIdType>(carried->GetTuple1(i)), q);
+    EXPECT_EQ(p[0], q[0]);
+    EXPECT_EQ(p[1], q[1]);
+    EXPECT_EQ(p[2], q[2]);
+  }
+  // Patch ids: six faces.
+  double range[2];
+  out->GetCellData()->GetArray("PatchId")->GetRange(range);
+  EXPECT_EQ(range[0], 0);
+  EXPECT_EQ(range[1], 5);
+  // Second output: the 18 rims, all holes, all removed, all clockwise.
+  vtkPolyData* loops = filter->GetOutput(1);
+  EXPECT_EQ(loops->GetNumberOfLines(), 18);
+  vtkDataArray* kind = loops->GetCellData()->GetArray("FeatureKind");
+  vtkDataArray* removed = loops->GetCellData()->GetArray("Removed");
+  ASSERT_NE(kind, nullptr);
+  ASSERT_NE(removed, nullptr);
+  for (vtkIdType c = 0; c < loops->GetNumberOfCells(); ++c)
+  {
+    EXPECT_EQ(kind->GetTuple1(c), 0);
+    EXPECT_EQ(removed->GetTuple1(c), 1);
+  }
+  // Keep triangles: the filled patches are flagged.
+  filter->SetCompletionToKeepTriangles();
+  out= RunFilter(filter, plate);
+  vtkDataArray* filled = out->GetCellData()->GetArray("FilledPatch");
+  vtkIdType filledCount = 0;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    filledCount += filled->GetTuple1(c) == 1;
+  }
+  EXPECT_EQ(filledCount, 9 * 2 * 6); // two rims of 8 vertices per hole
+  std::ostringstream print;
+  filter->Print(print);
+  EXPECT_NE(print.str().find("MaximumFeatureSize: 0.2 (relative)"), std::string::npos);
+  EXPECT_NE(print.str().find("Holes detected/removed: 9/9"), std::string::npos);
+}
+
+TEST(HoleBumpRemovalFilter, AbsoluteSizeAndSpbmTarget)
+{
+  vtkSmartPointer<vtkPolyData> mesh = ToPolyData(LargeAndSmallHoles(2));
+  vtkNew<vtkHoleBumpRemoval> filter;
+  filter->RelativeFeatureSizeOff();
+  filter->SetMaximumFeatureSize(2.0);
+  vtkSmartPointer<vtkPolyData> out= RunFilter(filter, mesh);
+  EXPECT_EQ(filter->GetNumberOfHolesRemoved(), 4);
+  EXPECT_EQ(filter->GetOutputGenus(), 1);
+  EXPECT_DOUBLE_EQ(filter->GetUsedFeatureSize(), 2.0);
+  filter->SetTargetNumberOfTriangles(40);
+  out= RunFilter(filter, mesh);
+  EXPECT_LE(out->GetNumberOfPolys(), 40);
+  EXPECT_EQ(filter->GetOutputGenus(), 1);
+  const MeshStatistics s = Stats(ToTriangleMesh(out));
+  ExpectClosedManifold(s);
+}
+
+TEST(HoleBumpRemovalFilter, BadInputGivesDefinedOutput)
+{
+  vtkNew<vtkHoleBumpRemoval> filter;
+  // Empty.
+  vtkNew<vtkPolyData> empty;
+  filter->SetInputData(empty);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+  EXPECT_EQ(filter->GetNumberOfHolesRemoved(), 0);
+  // NaN: an error, empty output.
+  vtkSmartPointer<vtkPolyData> nan = ToPolyData(PlateWithHoles(1, 1, 0.5, 1));
+  nan->GetPoints()->SetPoint(0, std::numeric_limits<double>::quiet_NaN(), 0, 0);
+  vtkNew<vtkHoleBumpRemoval> nanFilter;
+  nanFilter->GlobalWarningDisplayOff();
+  nanFilter->SetInputData(nan);
+  nanFilter->Update();
+  EXPECT_EQ(nanFilter->GetOutput()->GetNumberOfCells(), 0);
+  // Non-manifold: the features away from the non-manifold edge are still removed.
+  const TriangleMesh plate = PlateWithHoles(2, 1, 0.5, 1);
+  TriangleMesh fan = NonManifoldFan(3);
+  for (size_t i = 0; i < fan.Points.size(); i += 3)
+  {
+    fan.Points[i + 2] += 10.0; // far from the plate
+  }
+  vtkSmartPointer<vtkPolyData> both = ToPolyData(Concatenate(plate, fan));
+  vtkNew<vtkHoleBumpRemoval> nm;
+  nm->GlobalWarningDisplayOff();
+  nm->RelativeFeatureSizeOff();
+  nm->SetMaximumFeatureSize(2.0);
+  nm->FillCracksOff();
+  vtkSmartPointer<vtkPolyData> out= RunFilter(nm, both);
+  EXPECT_EQ(nm->GetNumberOfHolesRemoved(), 2);
+  EXPECT_GT(out->GetNumberOfPolys(), 12);
+}
+
+TEST(HoleBumpRemovalFilter, AbortGivesEmptyOutput)
+{
+  vtkNew<vtkHoleBumpRemoval> filter;
+  filter->SetInputData(ToPolyData(PlateWithRoundHoles(4, 4, 0.3, 24, 0.3)));
+  struct Abort : vtkCommand
+  {
+    static Abort* New() { return new Abort; }
+    void Execute(vtkObject* caller, unsigned long, void*) override
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+    }
+  };
+  vtkNew<Abort> abort;
+  filter->AddObserver(vtkCommand::ProgressEvent, abort);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+}
+
+// Fig. 31 of the dissertation: vtkDecimatePro with PreserveTopologyOff (its topology-changing
+// mode) and vtkQuadricDecimation at the count our filter reaches on the Fixture-like plate.
+TEST(HoleBumpRemovalFilter, BetterThanDecimateProAndQuadricAtEqualCount)
+{
+  const TriangleMesh plateMesh = PlateWithHoles(4, 4, 0.5, 3);
+  vtkSmartPointer<vtkPolyData> plate = ToPolyData(plateMesh);
+  const TriangleMesh solid = BlockModel(9, 9, std::vector<double>(81, 0.5), 1.0, 1);
+  using Clock = std::chrono::steady_clock;
+  vtkNew<vtkHoleBumpRemoval> ours;
+  ours->SetMaximumFeatureSize(0.2);
+  auto t0 = Clock::now();
+  vtkSmartPointer<vtkPolyData> a= RunFilter(ours, plate);
+  const double oursTime = std::chrono::duration<double>(Clock::now() - t0).count();
+  ASSERT_EQ(ours->GetNumberOfHolesRemoved(), 16);
+  const vtkIdType count = a->GetNumberOfPolys();
+  ASSERT_EQ(count, 12);
+  const double reduction = 1.0 - double(count) / double(plate->GetNumberOfPolys());
+
+  vtkNew<vtkDecimatePro> pro;
+  pro->SetInputData(plate);
+  pro->SetTargetReduction(reduction);
+  pro->PreserveTopologyOff();
+  pro->SplittingOn();
+  pro->BoundaryVertexDeletionOn();
+  pro->SetMaximumError(VTK_DOUBLE_MAX);
+  t0 = Clock::now();
+  pro->Update();
+  const double proTime = std::chrono::duration<double>(Clock::now() - t0).count();
+  vtkNew<vtkQuadricDecimation> quadric;
+  quadric->SetInputData(plate);
+  quadric->SetTargetReduction(reduction);
+  t0 = Clock::now();
+  quadric->Update();
+  const double quadricTime = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  const TriangleMesh oursMesh = ToTriangleMesh(a);
+  const TriangleMesh proMesh = ToTriangleMesh(pro->GetOutput());
+  const TriangleMesh quadricMesh = ToTriangleMesh(quadric->GetOutput());
+  // Distance to the hole-free plate (what a topology simplification aims at) and to the input.
+  const double oursSolid = Hausdorff(solid, oursMesh), proSolid = Hausdorff(solid, proMesh),
+               quadricSolid = Hausdorff(solid, quadricMesh);
+  const double oursInput = Hausdorff(plateMesh, oursMesh), proInput = Hausdorff(plateMesh, proMesh),
+               quadricInput = Hausdorff(plateMesh, quadricMesh);
+  std::printf("plate %d tris, genus 16 -> ours %lld tris (%.4f s), DecimatePro %lld (%.4f s), Quadric %lld (%.4f s)\n",
+    plateMesh.NumberOfTriangles(), static_cast<long long>(count), oursTime,
+    static_cast<long long>(pro->GetOutput()->GetNumberOfPolys()), proTime,
+    static_cast<long long>(quadric->GetOutput()->GetNumberOfPolys()), quadricTime);
+  std::printf("Hausdorff to the solid plate: ours %.4g, DecimatePro %.4g, Quadric %.4g\n", oursSolid, proSolid,
+    quadricSolid);
+  std::printf("Hausdorff to the input:       ours %.4g, DecimatePro %.4g, Quadric %.4g\n", oursInput, proInput,
+    quadricInput);
+  std::printf("genus: ours %lld, DecimatePro %lld, Quadric %lld\n", Stats(oursMesh).Genus, Stats(proMesh).Genus,
+    Stats(quadricMesh).Genus);
+  EXPECT_LT(oursSolid, 1e-6);
+  EXPECT_LT(oursSolid, proSolid);
+  EXPECT_LT(oursSolid, quadricSolid);
+  EXPECT_LE(oursInput, proInput);
+  EXPECT_LE(oursInput, quadricInput);
 }
