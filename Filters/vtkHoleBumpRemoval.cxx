@@ -81,6 +81,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   parameters.SharpMaximumDot = std::cos(vtkMath::RadiansFromDegrees(this->SharpAngle));
   parameters.SharpMinimumDot = std::cos(vtkMath::RadiansFromDegrees(this->MaximumSharpAngle));
   const double diagonal = mesh.BoundingBoxDiagonal();
+  parameters.Patches.MaximumPlaneDistance = this->PatchPlaneDistance * diagonal;
   const double scale = this->RelativeFeatureSize ? diagonal : 1.0;
   parameters.MaximumFeatureSize = this->MaximumFeatureSize * scale;
   parameters.MaximumCrackSize = this->MaximumCrackSize < 0 ? -1.0 : this->MaximumCrackSize * scale;
@@ -97,7 +98,11 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   {
     target = static_cast<vtkIdType>(std::llround((1.0 - this->TargetReduction) * mesh.NumberOfTriangles()));
   }
-  if (target > 0)
+  if (target >= mesh.NumberOfTriangles())
+  {
+    parameters.Completion = slod::TopologyCompletion::KeepTriangles; // no reduction asked for
+  }
+  else if (target > 0)
   {
     parameters.Completion = slod::TopologyCompletion::Spbm;
     parameters.SpbmTargetTriangles = static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX));
@@ -258,6 +263,7 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
   os << indent << "PatchAngle: " << this->PatchAngle << "\n";
   os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
+  os << indent << "PatchPlaneDistance: " << this->PatchPlaneDistance << "\n";
   os << indent << "Completion: " << this->Completion << "\n";
   os << indent << "Epsilon: " << this->Epsilon << "\n";
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";

@@ -104,6 +104,10 @@ public:
   vtkGetMacro(PatchAngle, double);
   vtkSetClampMacro(NeighborAngle, double, 0.0, 180.0);
   vtkGetMacro(NeighborAngle, double);
+  /// Patches also stay within this distance of their running plane, relative to the bounding-box
+  /// diagonal (default 0.004 as in vtkPatchBoundaryMerge; 0 = the paper's normal-only growth).
+  vtkSetClampMacro(PatchPlaneDistance, double, 0.0, 1.0);
+  vtkGetMacro(PatchPlaneDistance, double);
   ///@}
 
   ///@{
@@ -175,6 +179,7 @@ protected:
   double MergeAngle = 20.0;
   double PatchAngle = 25.0;
   double NeighborAngle = 20.0;
+  double PatchPlaneDistance = 0.004;
   int Completion = TRIANGULATE_PATCHES;
   double Epsilon = 0.005;
   vtkIdType TargetNumberOfTriangles = 0;

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <cmath>
 #include <numeric>
 #include <unordered_set>
@@ -1356,6 +1357,8 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   const MeshTopology cleanedTopology(cleaned);
   Patchification cleanedPatches;
   cleanedPatches.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
+  const std::vector<Index> unmergedLabels = labels;
+  const Index unmergedCount = labelCount;
   const std::vector<Index> group = run.CleanUpMerge(cleaned, cleanedPatches);
   for (Index& l : labels)
   {
@@ -1364,13 +1367,14 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   labelCount = Compact(labels);
   result.MergedPatches = labelCount;
   result.CleanedTriangles = cleaned.Triangles;
-  Patchification merged;
-  merged.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
-  std::vector<unsigned char> patchFill(size_t(labelCount), 0);
-  for (size_t t = 0; t < labels.size(); ++t)
-  {
-    patchFill[labels[t]] = std::max(patchFill[labels[t]], fill[t]);
-  }
+  auto fillOfPatches = [&](const std::vector<Index>& patchLabels, Index count) {
+    std::vector<unsigned char> patchFill(size_t(count), 0);
+    for (size_t t = 0; t < patchLabels.size(); ++t)
+    {
+      patchFill[patchLabels[t]] = std::max(patchFill[patchLabels[t]], fill[t]);
+    }
+    return patchFill;
+  };
   if (report(0.8))
   {
     return false;
@@ -1386,8 +1390,11 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   }
   else
   {
-    SpbmLevelGenerator generator;
-    generator.Initialize(cleaned, merged);
+    Patchification merged;
+    merged.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
+    std::vector<unsigned char> patchFill = fillOfPatches(labels, labelCount);
+    auto generator = std::make_unique<SpbmLevelGenerator>();
+    generator->Initialize(cleaned, merged);
     SpbmLevelParameters level = parameters.Spbm;
     auto abort = [&]() { return report(0.85); };
     bool ok = true;
@@ -1397,15 +1404,28 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
       level.MergePatches = false;
       level.CollapseChains = false;
       level.CompareCandidates = false;
-      ok = generator.Generate(level, result.Level, abort);
+      ok = generator->Generate(level, result.Level, abort);
     }
     else if (parameters.SpbmTargetTriangles > 0)
     {
-      ok = generator.GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
+      // The clean-up merge may leave too few patch boundaries for the target (SPBM keeps no
+      // vertex inside a patch): then SPBM starts from the unmerged patches (it merges itself).
+      SpbmLevelParameters finest = level;
+      finest.Epsilon = -1.0;
+      finest.MergePatches = false;
+      finest.CollapseChains = false;
+      if (generator->PredictTriangleCount(finest) < parameters.SpbmTargetTriangles)
+      {
+        merged.BuildFromLabels(cleaned, cleanedTopology, unmergedLabels, unmergedCount);
+        patchFill = fillOfPatches(unmergedLabels, unmergedCount);
+        generator = std::make_unique<SpbmLevelGenerator>();
+        generator->Initialize(cleaned, merged);
+      }
+      ok = generator->GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
     }
     else
     {
-      ok = generator.Generate(level, result.Level, abort);
+      ok = generator->Generate(level, result.Level, abort);
     }
     if (!ok)
     {

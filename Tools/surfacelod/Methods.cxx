@@ -4,6 +4,7 @@
 #include "vtkQuadricDecimation.h"
 
 // SurfaceLOD filters: add the include here and one line in the table below.
+#include "vtkHoleBumpRemoval.h"
 #include "vtkPatchBoundaryMerge.h"
 #include "vtkQuadricTriangleCollapse.h"
 #include "vtkTriangleCollapseHierarchy.h"
@@ -128,6 +129,9 @@ const std::vector<Method>& Methods()
       "levels M0..Mn with smooth blending (also --level i+t)", false, &CreateTriangleCollapseHierarchy, true },
     SurfaceLODMethod<vtkPatchBoundaryMerge>("patch-boundary-merge",
       "Ho 1999 ch. 4 (SPBM): planar patches, simplified boundaries, ear-clipped; original vertices only"),
+    SurfaceLODMethod<vtkHoleBumpRemoval>("hole-bump-removal",
+      "Ho 1999 ch. 5: removes small holes, bumps, cavities (sharp loops below 0.1 of the diagonal) and "
+      "cracks, then SPBM to the target"),
   };
   // clang-format on
   return methods;
