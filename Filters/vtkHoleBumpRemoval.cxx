@@ -15,7 +15,6 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkUnsignedCharArray.h"
 
 #include <cmath>
 
@@ -150,7 +149,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   vtkNew<vtkIntArray> patchIds;
   patchIds->SetName("PatchId");
   patchIds->SetNumberOfValues(nt);
-  vtkNew<vtkUnsignedCharArray> filled;
+  vtkNew<vtkIntArray> filled; // int, not unsigned char: mappers would take 0/1 bytes as colours
   filled->SetName("FilledPatch");
   filled->SetNumberOfValues(nt);
   slod::TriangleMesh outMesh;
