@@ -61,7 +61,7 @@ public:
 
   ///@{
   /// alpha: features whose loops all have a smaller (sampled) diameter are removed. Relative to
-  /// the bounding-box diagonal when RelativeFeatureSize is on (default 0.1 relative).
+  /// the bounding-box diagonal when RelativeFeatureSize is on (default 0.05 relative).
   vtkSetClampMacro(MaximumFeatureSize, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MaximumFeatureSize, double);
   vtkSetMacro(RelativeFeatureSize, bool);
@@ -169,7 +169,7 @@ protected:
 
   double SharpAngle = 45.572996; // acos(0.7)
   double MaximumSharpAngle = 107.457603; // acos(-0.3)
-  double MaximumFeatureSize = 0.1;
+  double MaximumFeatureSize = 0.05;
   bool RelativeFeatureSize = true;
   bool RemoveHoles = true;
   bool RemoveBumps = true;

@@ -111,12 +111,15 @@ struct Simplification
   std::vector<unsigned char> PatchChainSharp;    // per chain of the patchification
   std::vector<std::vector<Oriented>> LoopChains;
 
+  std::vector<Index> ComponentSize;   // triangles per component
+  std::vector<Index> Forbidden;       // per vertex: stamp of the loop whose partner is searched
   std::vector<unsigned char> Removed; // per triangle
   std::vector<Index> FillTriangles;   // 3 per triangle
   std::vector<Index> FillPatch;       // per fill triangle: index of its fill polygon
   std::vector<unsigned char> FillKind;
   Index FillPolygons = 0;
   std::unordered_set<std::uint64_t> FillEdges;
+  std::vector<std::uint64_t> FillEdgeLog; // insertion order, to roll a feature back
 
   Simplification(const TriangleMesh& mesh, const TopologySimplificationParameters& p, TopologySimplificationResult& r)
     : Mesh(mesh)
@@ -631,7 +634,8 @@ struct Simplification
     // Vertices of L are forbidden in the partner.
     ++this->Stamp;
     const Index forbiddenStamp = this->Stamp;
-    std::vector<Index> forbidden(size_t(this->Mesh.NumberOfPoints()), 0);
+    std::vector<Index>& forbidden = this->Forbidden;
+    forbidden.resize(size_t(this->Mesh.NumberOfPoints()), 0);
     for (Index v : this->R.Loops[l].Vertices)
     {
       forbidden[v] = forbiddenStamp;
@@ -739,7 +743,6 @@ struct Simplification
       }
     }
     bool ok = true;
-    const Index nt = this->Mesh.NumberOfTriangles();
     for (const Oriented& o : this->LoopChains[loop])
     {
       for (Index i = 0; i + 1 < this->Size(o.Chain) && ok; ++i)
@@ -757,16 +760,15 @@ struct Simplification
         }
       }
     }
-    const std::vector<Index>& component = this->Topology.TriangleComponents();
-    Index componentSize = 0;
-    if (!region.empty())
+    if (this->ComponentSize.empty())
     {
-      const Index label = component[region[0]];
-      for (Index t = 0; t < nt; ++t)
+      this->ComponentSize.assign(size_t(this->Topology.NumberOfComponents()), 0);
+      for (Index c : this->Topology.TriangleComponents())
       {
-        componentSize += component[t] == label;
+        ++this->ComponentSize[c];
       }
     }
+    const Index componentSize = region.empty() ? 0 : this->ComponentSize[this->Topology.TriangleComponents()[region[0]]];
     for (size_t i = 0; i < region.size() && ok; ++i)
     {
       const Index t = region[i];
@@ -849,7 +851,10 @@ struct Simplification
       for (int k = 0; k < 3; ++k)
       {
         this->FillTriangles.push_back(polygon[t[k]]);
-        this->FillEdges.insert(EdgeKey(polygon[t[k]], polygon[t[(k + 1) % 3]]));
+        if (this->FillEdges.insert(EdgeKey(polygon[t[k]], polygon[t[(k + 1) % 3]])).second)
+        {
+          this->FillEdgeLog.push_back(EdgeKey(polygon[t[k]], polygon[t[(k + 1) % 3]]));
+        }
       }
       this->FillPatch.push_back(this->FillPolygons);
       this->FillKind.push_back(kind);
@@ -985,7 +990,7 @@ struct Simplification
         }
         const size_t fillMark = this->FillTriangles.size();
         const Index polygonMark = this->FillPolygons;
-        const std::unordered_set<std::uint64_t> edgesMark = this->FillEdges;
+        const size_t edgesMark = this->FillEdgeLog.size();
         bool filled = true;
         for (Index b : barrier)
         {
@@ -1011,7 +1016,11 @@ struct Simplification
           this->FillPatch.resize(fillMark / 3);
           this->FillKind.resize(fillMark / 3);
           this->FillPolygons = polygonMark;
-          this->FillEdges = edgesMark;
+          for (size_t e = edgesMark; e < this->FillEdgeLog.size(); ++e)
+          {
+            this->FillEdges.erase(this->FillEdgeLog[e]);
+          }
+          this->FillEdgeLog.resize(edgesMark);
           feature.Reason = "its loops cannot be filled without folds or duplicate edges";
         }
       }

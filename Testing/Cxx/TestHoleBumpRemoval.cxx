@@ -458,7 +458,7 @@ TEST(HoleBumpRemovalFilter, CountsArraysLoopsAndGenus)
   }
   plate->GetPointData()->AddArray(ids);
   vtkNew<vtkHoleBumpRemoval> filter;
-  // Default alpha: 0.1 of the diagonal (~0.99) is below the holes' diameter (~1.41): all kept.
+  // Default alpha: 0.05 of the diagonal (~0.5) is below the holes. diameter (~1.41): all kept.
   vtkSmartPointer<vtkPolyData> out= RunFilter(filter, plate);
   EXPECT_EQ(filter->GetNumberOfHolesDetected(), 9);
   EXPECT_EQ(filter->GetNumberOfHolesRemoved(), 0);

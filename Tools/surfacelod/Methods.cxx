@@ -130,7 +130,7 @@ const std::vector<Method>& Methods()
     SurfaceLODMethod<vtkPatchBoundaryMerge>("patch-boundary-merge",
       "Ho 1999 ch. 4 (SPBM): planar patches, simplified boundaries, ear-clipped; original vertices only"),
     SurfaceLODMethod<vtkHoleBumpRemoval>("hole-bump-removal",
-      "Ho 1999 ch. 5: removes small holes, bumps, cavities (sharp loops below 0.1 of the diagonal) and "
+      "Ho 1999 ch. 5: removes small holes, bumps, cavities (sharp loops below 0.05 of the diagonal) and "
       "cracks, then SPBM to the target"),
   };
   // clang-format on
