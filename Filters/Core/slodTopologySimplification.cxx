@@ -918,14 +918,23 @@ struct Simplification
       TopologyFeature feature;
       feature.Loops[0] = l;
       feature.Loops[1] = partner;
-      const bool hole = partner != InvalidIndex && this->R.Loops[partner].Clockwise;
+      bool hole = partner != InvalidIndex && this->R.Loops[partner].Clockwise;
       std::vector<Index> barrier{ l };
       if (hole)
       {
         barrier.push_back(partner);
       }
       std::string reason;
-      if (!this->WallRegion(l, barrier, region, mark, reason))
+      bool closed = this->WallRegion(l, barrier, region, mark, reason);
+      if (!closed && hole)
+      {
+        // Two clockwise loops that do not bound a tube: L may still close a bump or a cavity.
+        hole = false;
+        barrier.pop_back();
+        feature.Loops[1] = InvalidIndex;
+        closed = this->WallRegion(l, barrier, region, mark, reason);
+      }
+      if (!closed)
       {
         if (std::getenv("SLOD_DEBUG"))
         {
@@ -960,13 +969,13 @@ struct Simplification
         feature.Kind = offset >= 0 ? TopologyFeatureKind::Bump : TopologyFeatureKind::Cavity;
       }
       feature.Size = this->R.Loops[l].Diameter;
-      if (partner != InvalidIndex)
+      if (feature.Loops[1] != InvalidIndex)
       {
         feature.Size = std::max(feature.Size, this->R.Loops[partner].Diameter);
       }
       const Index index = static_cast<Index>(this->R.Features.size());
       this->R.Loops[l].Feature = index;
-      if (partner != InvalidIndex)
+      if (feature.Loops[1] != InvalidIndex)
       {
         this->R.Loops[partner].Feature = index;
       }
