@@ -823,6 +823,69 @@ struct Simplification
     return ok;
   }
 
+  // Whether the flat sides of loops a and b stay connected over the patches outside `region`
+  // (and outside removed features): removing the tube between them then lowers the genus instead
+  // of splitting the surface. Breadth-first over the patch graph, stopping when b is reached.
+  std::vector<Index> PatchStamp;
+  std::vector<unsigned char> PatchRemoved;
+  bool JoinedWithout(Index a, Index b, const std::vector<Index>& region)
+  {
+    const Patchification& pa = this->Patches;
+    const std::vector<Index>& patchOf = pa.TrianglePatches();
+    ++this->Stamp;
+    const Index blocked = this->Stamp;
+    for (Index t : region)
+    {
+      this->PatchStamp[patchOf[t]] = blocked;
+    }
+    ++this->Stamp;
+    const Index goal = this->Stamp;
+    for (const Oriented& o : this->LoopChains[b])
+    {
+      const Index p = this->LeftPatchOf(o);
+      if (this->PatchStamp[p] != blocked)
+      {
+        this->PatchStamp[p] = goal;
+      }
+    }
+    ++this->Stamp;
+    const Index seen = this->Stamp;
+    std::vector<Index> queue;
+    for (const Oriented& o : this->LoopChains[a])
+    {
+      const Index p = this->LeftPatchOf(o);
+      if (this->PatchStamp[p] == goal)
+      {
+        return true;
+      }
+      if (this->PatchStamp[p] != blocked && this->PatchStamp[p] != seen && !this->PatchRemoved[p])
+      {
+        this->PatchStamp[p] = seen;
+        queue.push_back(p);
+      }
+    }
+    for (size_t i = 0; i < queue.size(); ++i)
+    {
+      for (const Index* c = pa.PatchChainsBegin(queue[i]); c != pa.PatchChainsEnd(queue[i]); ++c)
+      {
+        for (Index q : { pa.ChainLeftPatch(*c), pa.ChainRightPatch(*c) })
+        {
+          if (q == InvalidIndex || this->PatchRemoved[q] || this->PatchStamp[q] == blocked || this->PatchStamp[q] == seen)
+          {
+            continue;
+          }
+          if (this->PatchStamp[q] == goal)
+          {
+            return true;
+          }
+          this->PatchStamp[q] = seen;
+          queue.push_back(q);
+        }
+      }
+    }
+    return false;
+  }
+
   // Ear clipping of a polygon (already in the orientation of the new triangles) as a new patch;
   // refuses diagonals that are edges of the kept surface or of earlier fills and non-simple
   // projections. On success the triangles are appended to the fill list.
@@ -886,6 +949,8 @@ struct Simplification
   {
     const Index nt = this->Mesh.NumberOfTriangles();
     this->Removed.assign(size_t(nt), 0);
+    this->PatchRemoved.assign(size_t(this->Patches.NumberOfPatches()), 0);
+    this->PatchStamp.assign(size_t(this->Patches.NumberOfPatches()), 0);
     std::vector<unsigned char> mark(size_t(nt), 0);
     std::vector<Index> region;
     auto edgeKept = [&](Index u, Index w) {
@@ -926,6 +991,10 @@ struct Simplification
       }
       std::string reason;
       bool closed = this->WallRegion(l, barrier, region, mark, reason);
+      if (closed && hole && !this->JoinedWithout(l, partner, region))
+      {
+        closed = false; // a tube that holds two parts together (a dumbbell's bar), not a handle
+      }
       if (!closed && hole)
       {
         // Two clockwise loops that do not bound a tube: L may still close a bump or a cavity.
@@ -1010,6 +1079,10 @@ struct Simplification
         }
         if (filled)
         {
+          for (Index t : region)
+          {
+            this->PatchRemoved[this->Patches.TrianglePatches()[t]] = 1;
+          }
           feature.Removed = true;
           feature.RemovedTriangles = static_cast<Index>(region.size());
           feature.FillTriangles = static_cast<Index>((this->FillTriangles.size() - fillMark) / 3);

@@ -425,6 +425,19 @@ TEST(TopologySimplification, DemoMeshesWithHoles)
     EXPECT_EQ(s.Genus, c.Genus - c.Holes);
     EXPECT_LT(s.Triangles, mesh.NumberOfTriangles());
   }
+  // The spool's axle joins two flanges by two clockwise rims: removing that tube would split the
+  // spool in two, so it is no hole (and no output ever has more components than the input).
+  const TriangleMesh spool = ToTriangleMesh(LoadTestMesh("spool"));
+  ASSERT_EQ(Stats(spool).Genus, 0);
+  for (double alpha : { 0.2, 0.5, 0.9 })
+  {
+    const TopologySimplificationResult r = Simplify(spool, alpha * spool.BoundingBoxDiagonal());
+    EXPECT_EQ(Count(r, TopologyFeatureKind::Hole, false), 0);
+    const MeshStatistics s = Stats(ResultMesh(spool, r));
+    ExpectClosedManifold(s);
+    EXPECT_EQ(s.Components, 1);
+    EXPECT_EQ(s.Genus, 0);
+  }
 }
 
 // --- The VTK filter ---
