@@ -364,6 +364,34 @@ TEST(TopologySimplification, CracksClosed)
   EXPECT_GT(Stats(ResultMesh(box, r)).BoundaryEdges, 0);
 }
 
+// CGAL's elephant-with-holes: an open scan-like mesh with many small holes in its surface.
+TEST(TopologySimplification, CracksOfARealMesh)
+{
+  const TriangleMesh elephant = ToTriangleMesh(LoadTestMesh("elephant-with-holes"));
+  const MeshStatistics before = Stats(elephant);
+  ASSERT_GT(before.BoundaryLoops, 60);
+  const TopologySimplificationResult r =
+    Simplify(elephant, 0.05 * elephant.BoundingBoxDiagonal(), TopologyCompletion::KeepTriangles);
+  const Index filled = Count(r, TopologyFeatureKind::Crack, true);
+  EXPECT_GE(filled, 60);
+  const MeshStatistics after = Stats(ResultMesh(elephant, r));
+  EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops - filled);
+  EXPECT_LT(after.BoundaryEdges, before.BoundaryEdges);
+  EXPECT_EQ(after.NonManifoldEdges, 0);
+  EXPECT_LE(after.NonManifoldVertices, before.NonManifoldVertices);
+  EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+  EXPECT_EQ(after.Components, before.Components);
+  // Only fills were added: every input triangle is still there.
+  EXPECT_EQ(after.Triangles, before.Triangles + [&] {
+    Index n = 0;
+    for (const TopologyFeature& f : r.Features)
+    {
+      n += f.FillTriangles;
+    }
+    return n;
+  }());
+}
+
 TEST(TopologySimplification, Deterministic)
 {
   const TriangleMesh mesh = PlateWithRoundHoles(3, 3, 0.3, 16, 0.4);
