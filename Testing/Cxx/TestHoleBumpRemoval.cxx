@@ -165,6 +165,19 @@ TEST(TopologySimplification, PlateHolesRemovedDownToTwelveTriangles)
   }
 }
 
+// Fixture2's scale: 400 holes.
+TEST(TopologySimplification, FourHundredHoles)
+{
+  const TriangleMesh plate = PlateWithHoles(20, 20, 0.5, 2);
+  ASSERT_EQ(Stats(plate).Genus, 400);
+  const TopologySimplificationResult r = Simplify(plate, 2.0);
+  EXPECT_EQ(Count(r, TopologyFeatureKind::Hole, true), 400);
+  const MeshStatistics s = Stats(ResultMesh(plate, r));
+  ExpectClosedManifold(s);
+  EXPECT_EQ(s.Genus, 0);
+  EXPECT_EQ(s.Triangles, 12);
+}
+
 TEST(TopologySimplification, RoundHolesRemoved)
 {
   const TriangleMesh plate = PlateWithRoundHoles(4, 4, 0.3, 24, 0.3);
