@@ -5,8 +5,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <cmath>
 #include <numeric>
@@ -1005,10 +1003,6 @@ struct Simplification
       }
       if (!closed)
       {
-        if (std::getenv("SLOD_DEBUG"))
-        {
-          fprintf(stderr, "loop %d partner %d: %s\n", l, partner, reason.c_str());
-        }
         continue; // not a feature: the loop does not cut off a small wall
       }
       if (hole)

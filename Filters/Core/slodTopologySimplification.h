@@ -135,7 +135,8 @@ public:
 };
 
 // Diameter estimate of a closed vertex loop (section 5.3.3): evenly spaced sample pairs and
-// triples (circumscribed circle), capped by the bounding-box diagonal. O(1) samples.
+// triples (circumscribed circle), capped by the loop's bounding-box diagonal (slots): O(1)
+// samples plus one O(n) pass for the box.
 SURFACELODFILTERS_EXPORT double EstimateLoopDiameter(const TriangleMesh& mesh, const std::vector<Index>& loop);
 } // namespace slod
 
