@@ -269,7 +269,36 @@ TEST(TopologySimplification, AlphaSelectsHoles)
   MeshStatistics s = Stats(ResultMesh(mesh, small));
   ExpectClosedManifold(s);
   EXPECT_EQ(s.Genus, 1);
-  // The large hole is kept exactly: its rim vertices are still there.
+  // The large hole is kept exactly: the result is the plate with only the large hole (to
+  // rounding), and (keeping the triangles) every vertex of the kept rims is still used.
+  std::vector<double> onlyLarge(81, 0.5);
+  for (int j = 3; j < 6; ++j)
+  {
+    for (int i = 3; i < 6; ++i)
+    {
+      onlyLarge[size_t(i) + 9 * size_t(j)] = 0;
+    }
+  }
+  EXPECT_LT(Hausdorff(BlockModel(9, 9, onlyLarge, 1.0, 1), ResultMesh(mesh, small)), 1e-6);
+  const TopologySimplificationResult kept = Simplify(mesh, 2.0, TopologyCompletion::KeepTriangles);
+  std::vector<unsigned char> used(size_t(mesh.NumberOfPoints()), 0);
+  for (Index v : kept.Triangles)
+  {
+    used[v] = 1;
+  }
+  for (const TopologyFeature& f : kept.Features)
+  {
+    for (Index l : f.Loops)
+    {
+      if (l != InvalidIndex && !f.Removed)
+      {
+        for (Index v : kept.Loops[l].Vertices)
+        {
+          EXPECT_TRUE(used[v]);
+        }
+      }
+    }
+  }
   const TopologySimplificationResult all = Simplify(mesh, 5.0);
   EXPECT_EQ(Count(all, TopologyFeatureKind::Hole, true), 5);
   s = Stats(ResultMesh(mesh, all));
