@@ -7,6 +7,7 @@
 
 #include "slodBlockModel.h"
 #include "slodMeshTopology.h"
+#include "slodPatchification.h"
 #include "slodTopologySimplification.h"
 #include "vtkHoleBumpRemoval.h"
 #include "vtkSurfaceDeviation.h"
@@ -25,6 +26,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -733,4 +735,33 @@ TEST(HoleBumpRemovalFilter, BetterThanDecimateProAndQuadricAtEqualCount)
   EXPECT_LT(oursSolid, quadricSolid);
   EXPECT_LE(oursInput, proInput);
   EXPECT_LE(oursInput, quadricInput);
+}
+
+// The shared patchification's entry point for given patches reproduces a grown patchification.
+TEST(PatchificationFromLabels, ReproducesGrownPatches)
+{
+  const TriangleMesh mesh = ToTriangleMesh(LoadTestMesh("fandisk"));
+  const MeshTopology topology(mesh);
+  Patchification grown;
+  grown.Build(mesh, topology, PatchificationParameters());
+  Patchification given;
+  given.BuildFromLabels(mesh, topology, grown.TrianglePatches(), grown.NumberOfPatches());
+  ASSERT_EQ(given.NumberOfPatches(), grown.NumberOfPatches());
+  ASSERT_EQ(given.NumberOfChains(), grown.NumberOfChains());
+  for (Index c = 0; c < grown.NumberOfChains(); ++c)
+  {
+    ASSERT_EQ(given.ChainSize(c), grown.ChainSize(c));
+    EXPECT_TRUE(std::equal(given.ChainVerticesBegin(c), given.ChainVerticesBegin(c) + given.ChainSize(c),
+      grown.ChainVerticesBegin(c)));
+    EXPECT_EQ(given.ChainLeftPatch(c), grown.ChainLeftPatch(c));
+    EXPECT_EQ(given.ChainRightPatch(c), grown.ChainRightPatch(c));
+  }
+  std::vector<Index> loop;
+  for (Index p = 0; p < grown.NumberOfPatches(); ++p)
+  {
+    EXPECT_EQ(given.PatchTriangleCount(p), grown.PatchTriangleCount(p));
+    EXPECT_NEAR(given.PatchArea(p), grown.PatchArea(p), 1e-12 * (1 + grown.PatchArea(p)));
+    EXPECT_GT(Dot(given.PatchNormal(p), grown.PatchNormal(p)), 1 - 1e-9);
+    EXPECT_TRUE(given.PatchBoundaryLoop(p, loop));
+  }
 }
