@@ -89,6 +89,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   parameters.RemoveBumps = this->RemoveBumps;
   parameters.RemoveCavities = this->RemoveCavities;
   parameters.MergeAngle = this->MergeAngle;
+  parameters.MaximumPasses = this->MaximumPasses;
   parameters.Completion = static_cast<slod::TopologyCompletion>(this->Completion);
   parameters.Spbm.Epsilon = this->Epsilon * diagonal;
   parameters.Spbm.MergeAngle = this->MergeAngle > 0 ? this->MergeAngle : 20.0;
@@ -260,6 +261,7 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FillCracks: " << this->FillCracks << "\n";
   os << indent << "MaximumCrackSize: " << this->MaximumCrackSize << "\n";
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
+  os << indent << "MaximumPasses: " << this->MaximumPasses << "\n";
   os << indent << "PatchAngle: " << this->PatchAngle << "\n";
   os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
   os << indent << "PatchPlaneDistance: " << this->PatchPlaneDistance << "\n";

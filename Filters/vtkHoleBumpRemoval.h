@@ -93,6 +93,14 @@ public:
   ///@}
 
   ///@{
+  /// Detection runs again on the cleaned surface while a pass removes something, at most this
+  /// many times (default 4): a removal can expose a feature (a stepped hole's counterbore is a
+  /// cavity once the hole is filled).
+  vtkSetClampMacro(MaximumPasses, int, 1, 100);
+  vtkGetMacro(MaximumPasses, int);
+  ///@}
+
+  ///@{
   /// alpha1 of the clean-up merge, degrees (default 20; 0 = no merge). Also SPBM's merge angle.
   vtkSetClampMacro(MergeAngle, double, 0.0, 90.0);
   vtkGetMacro(MergeAngle, double);
@@ -177,6 +185,7 @@ protected:
   bool FillCracks = true;
   double MaximumCrackSize = -1.0;
   double MergeAngle = 20.0;
+  int MaximumPasses = 4;
   double PatchAngle = 25.0;
   double NeighborAngle = 20.0;
   double PatchPlaneDistance = 0.004;

@@ -1170,16 +1170,17 @@ struct Simplification
   }
 
   // --- 8. Clean-up merge of nearly coplanar patches into disks ---
-  std::vector<Index> CleanUpMerge(const TriangleMesh& mesh, const Patchification& pa)
+  static std::vector<Index> CleanUpMerge(
+    const TopologySimplificationParameters& P, const TriangleMesh& mesh, const Patchification& pa)
   {
     const Index np = pa.NumberOfPatches();
     std::vector<Index> parent(static_cast<size_t>(np));
     std::iota(parent.begin(), parent.end(), 0);
-    if (this->P.MergeAngle <= 0)
+    if (P.MergeAngle <= 0)
     {
       return parent;
     }
-    const double cosLimit = std::cos(this->P.MergeAngle * DegreesToRadians);
+    const double cosLimit = std::cos(P.MergeAngle * DegreesToRadians);
     std::vector<Vec3> normalSum(static_cast<size_t>(np));
     std::vector<std::vector<Index>> chainsOf(static_cast<size_t>(np));
     for (Index p = 0; p < np; ++p)
@@ -1372,67 +1373,149 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   using Clock = std::chrono::steady_clock;
   result = TopologySimplificationResult();
   auto report = [&](double f) { return progress && progress(f); };
-  const auto t0 = Clock::now();
-  Simplification run(mesh, parameters, result);
-  run.Patches.Build(mesh, run.Topology, parameters.Patches, [&](double f) { return report(0.4 * f); });
-  if (run.Patches.Aborted())
-  {
-    return false;
-  }
-  result.InitialPatches = run.Patches.NumberOfPatches();
-  const auto t1 = Clock::now();
-  result.PatchificationSeconds = std::chrono::duration<double>(t1 - t0).count();
-
-  run.BuildSharpChains();
-  run.ClassifySides();
-  run.FindLoops();
-  if (report(0.5))
-  {
-    return false;
-  }
-  bool aborted = false;
-  run.DetectAndRemove([&](double f) { return aborted = aborted || report(0.5 + 0.2 * f); });
-  if (aborted)
-  {
-    return false;
-  }
-
-  // The cleaned mesh: kept triangles + filled loops (+ filled cracks), over the input vertices.
+  // Detection passes: a removal can expose a new feature (the counterbore of a stepped hole is a
+  // cavity once its hole is filled), so detection runs again on the cleaned surface while it
+  // removes something, at most MaximumPasses times. Cracks are closed in the first pass only.
+  TriangleMesh current = mesh;
+  std::vector<unsigned char> currentFill(size_t(mesh.NumberOfTriangles()), 0);
   TriangleMesh cleaned;
-  cleaned.Points = mesh.Points;
   std::vector<Index> labels;
   std::vector<unsigned char> fill;
-  const std::vector<Index>& patchOf = run.Patches.TrianglePatches();
-  const Index np = run.Patches.NumberOfPatches();
-  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  Index labelCount = 0;
+  const int passes = std::max(1, parameters.MaximumPasses);
+  auto t1 = Clock::now();
+  for (int pass = 0; pass < passes; ++pass)
   {
-    if (!run.Removed[t])
+    const auto t0 = Clock::now();
+    TopologySimplificationResult found;
+    Simplification run(current, parameters, found);
+    const double base = pass == 0 ? 0.0 : 0.7;
+    const double span = pass == 0 ? 0.4 : 0.02;
+    run.Patches.Build(current, run.Topology, parameters.Patches, [&](double f) { return report(base + span * f); });
+    if (run.Patches.Aborted())
     {
-      const Index* tri = mesh.Triangle(t);
-      cleaned.AddTriangle(tri[0], tri[1], tri[2]);
-      labels.push_back(patchOf[t]);
-      fill.push_back(0);
+      return false;
     }
-  }
-  for (size_t i = 0; i < run.FillPatch.size(); ++i)
-  {
-    cleaned.AddTriangle(run.FillTriangles[3 * i], run.FillTriangles[3 * i + 1], run.FillTriangles[3 * i + 2]);
-    labels.push_back(np + run.FillPatch[i]);
-    fill.push_back(run.FillKind[i]);
-  }
-  if (parameters.FillCracks)
-  {
-    const size_t before = run.FillPatch.size();
-    run.FillCracks(cleaned); // adds the crack triangles to `cleaned` itself
-    for (size_t i = before; i < run.FillPatch.size(); ++i)
+    t1 = Clock::now();
+    result.PatchificationSeconds += std::chrono::duration<double>(t1 - t0).count();
+    run.BuildSharpChains();
+    run.ClassifySides();
+    run.FindLoops();
+    if (report(pass == 0 ? 0.5 : 0.72))
     {
+      return false;
+    }
+    bool aborted = false;
+    run.DetectAndRemove(
+      [&](double f) { return aborted = aborted || report(pass == 0 ? 0.5 + 0.2 * f : 0.72); });
+    if (aborted)
+    {
+      return false;
+    }
+    if (pass == 0)
+    {
+      result.InitialPatches = run.Patches.NumberOfPatches();
+      result.SharpEdges = found.SharpEdges;
+      result.SharpChains = found.SharpChains;
+    }
+
+    // The cleaned mesh: kept triangles + filled loops (+ filled cracks), over the input vertices.
+    cleaned = TriangleMesh();
+    cleaned.Points = mesh.Points;
+    labels.clear();
+    fill.clear();
+    const std::vector<Index>& patchOf = run.Patches.TrianglePatches();
+    const Index np = run.Patches.NumberOfPatches();
+    for (Index t = 0; t < current.NumberOfTriangles(); ++t)
+    {
+      if (!run.Removed[t])
+      {
+        const Index* tri = current.Triangle(t);
+        cleaned.AddTriangle(tri[0], tri[1], tri[2]);
+        labels.push_back(patchOf[t]);
+        fill.push_back(currentFill[t]);
+      }
+    }
+    for (size_t i = 0; i < run.FillPatch.size(); ++i)
+    {
+      cleaned.AddTriangle(run.FillTriangles[3 * i], run.FillTriangles[3 * i + 1], run.FillTriangles[3 * i + 2]);
       labels.push_back(np + run.FillPatch[i]);
       fill.push_back(run.FillKind[i]);
     }
+    Index removedNow = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      removedNow += found.Removed[k];
+    }
+    if (pass == 0 && parameters.FillCracks)
+    {
+      const size_t before = run.FillPatch.size();
+      run.FillCracks(cleaned); // adds the crack triangles to `cleaned` itself
+      for (size_t i = before; i < run.FillPatch.size(); ++i)
+      {
+        labels.push_back(np + run.FillPatch[i]);
+        fill.push_back(run.FillKind[i]);
+      }
+    }
+    labelCount = Compact(labels);
+    const bool last = removedNow == 0 || pass + 1 == passes;
+
+    // Accumulate: removed features of every pass, detected-but-kept ones of the last pass only
+    // (with their loops; the last pass's loops all).
+    std::vector<Index> featureIndex(found.Features.size(), InvalidIndex);
+    Index nextFeature = static_cast<Index>(result.Features.size());
+    for (size_t f = 0; f < found.Features.size(); ++f)
+    {
+      if (found.Features[f].Removed || last)
+      {
+        featureIndex[f] = nextFeature++;
+      }
+    }
+    std::vector<Index> loopIndex(found.Loops.size(), InvalidIndex);
+    Index nextLoop = static_cast<Index>(result.Loops.size());
+    for (size_t l = 0; l < found.Loops.size(); ++l)
+    {
+      const Index f = found.Loops[l].Feature;
+      if (last || (f != InvalidIndex && featureIndex[f] != InvalidIndex))
+      {
+        loopIndex[l] = nextLoop++;
+      }
+    }
+    for (size_t f = 0; f < found.Features.size(); ++f)
+    {
+      if (featureIndex[f] != InvalidIndex)
+      {
+        TopologyFeature& feature = found.Features[f];
+        for (Index& l : feature.Loops)
+        {
+          l = l == InvalidIndex ? InvalidIndex : loopIndex[l];
+        }
+        result.Features.push_back(std::move(feature));
+      }
+    }
+    for (size_t l = 0; l < found.Loops.size(); ++l)
+    {
+      if (loopIndex[l] != InvalidIndex)
+      {
+        SharpLoop& loop = found.Loops[l];
+        loop.Feature = loop.Feature == InvalidIndex ? InvalidIndex : featureIndex[loop.Feature];
+        result.Loops.push_back(std::move(loop));
+      }
+    }
+    for (int k = 0; k < 4; ++k)
+    {
+      result.Removed[k] += found.Removed[k];
+      result.Detected[k] += last ? found.Detected[k] : found.Removed[k];
+    }
+    result.DetectionSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
+    if (last)
+    {
+      break;
+    }
+    current.Triangles = cleaned.Triangles;
+    currentFill = fill;
   }
-  Index labelCount = Compact(labels);
   const auto t2 = Clock::now();
-  result.DetectionSeconds = std::chrono::duration<double>(t2 - t1).count();
   if (report(0.75))
   {
     return false;
@@ -1444,7 +1527,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   cleanedPatches.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
   const std::vector<Index> unmergedLabels = labels;
   const Index unmergedCount = labelCount;
-  const std::vector<Index> group = run.CleanUpMerge(cleaned, cleanedPatches);
+  const std::vector<Index> group = Simplification::CleanUpMerge(parameters, cleaned, cleanedPatches);
   for (Index& l : labels)
   {
     l = group[l];

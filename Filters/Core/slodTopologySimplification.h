@@ -68,6 +68,9 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationParameters
   bool FillCracks = true;
   double MaximumCrackSize = -1; // crack loops with a smaller diameter are closed; < 0: alpha
   double MergeAngle = 20.0;     // alpha1 of the clean-up merge (degrees); <= 0: no merge
+  // Detection runs again on the cleaned surface while a pass removes something (a removal can
+  // expose a feature: a stepped hole's counterbore is a cavity once the hole is filled).
+  int MaximumPasses = 4;
   TopologyCompletion Completion = TopologyCompletion::TriangulatePatches;
   double CollinearTolerance = 1e-9; // TriangulatePatches: profile vertices within this (relative
                                     // to the bbox diagonal) of the line of their neighbours go

@@ -309,6 +309,47 @@ TEST(TopologySimplification, AlphaSelectsHoles)
   EXPECT_EQ(s.Triangles, 12);
 }
 
+// A stepped (counterbored) hole: the first pass removes the hole, the second the counterbore,
+// which has become a cavity.
+TEST(TopologySimplification, SteppedHoleNeedsTwoPasses)
+{
+  std::vector<double> h(81, 1.0);
+  for (int j = 3; j < 6; ++j)
+  {
+    for (int i = 3; i < 6; ++i)
+    {
+      h[size_t(i) + 9 * size_t(j)] = 0.5;
+    }
+  }
+  h[4 + 9 * 4] = 0.0;
+  const TriangleMesh mesh = BlockModel(9, 9, h, 1.0, 2);
+  ASSERT_EQ(Stats(mesh).Genus, 1);
+  TopologySimplificationParameters p;
+  p.MaximumFeatureSize = 5.0;
+  TopologySimplificationResult r;
+  ASSERT_TRUE(TopologySimplifier().Run(mesh, p, r));
+  EXPECT_EQ(Count(r, TopologyFeatureKind::Hole, true), 1);
+  EXPECT_EQ(Count(r, TopologyFeatureKind::Cavity, true), 1);
+  MeshStatistics s = Stats(ResultMesh(mesh, r));
+  ExpectClosedManifold(s);
+  EXPECT_EQ(s.Genus, 0);
+  EXPECT_EQ(s.Triangles, 12);
+  for (const TopologyFeature& f : r.Features)
+  {
+    ASSERT_NE(f.Loops[0], InvalidIndex);
+    EXPECT_EQ(r.Loops[f.Loops[0]].Feature, &f - r.Features.data());
+  }
+  // One pass: the hole only; the counterbore stays (and is not even a feature yet).
+  p.MaximumPasses = 1;
+  ASSERT_TRUE(TopologySimplifier().Run(mesh, p, r));
+  EXPECT_EQ(Count(r, TopologyFeatureKind::Hole, true), 1);
+  EXPECT_EQ(Count(r, TopologyFeatureKind::Cavity, true), 0);
+  s = Stats(ResultMesh(mesh, r));
+  ExpectClosedManifold(s);
+  EXPECT_EQ(s.Genus, 0);
+  EXPECT_GT(s.Triangles, 12);
+}
+
 // Keeping the triangles: the output is exactly the plate without holes (the outer profile is
 // kept to rounding), made of input triangles and the fills.
 TEST(TopologySimplification, KeepTrianglesMatchesTheSolidPlate)
