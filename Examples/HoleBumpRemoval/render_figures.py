@@ -132,7 +132,8 @@ def figure_set(name, source, alpha, out, loop_radius, direction=(1.0, -0.9, 1.1)
     print(name, original.GetNumberOfPolys(), "->", after.GetNumberOfPolys(), "triangles; genus",
           removal.GetInputGenus(), "->", removal.GetOutputGenus(), "; holes/bumps/cavities removed",
           removal.GetNumberOfHolesRemoved(), removal.GetNumberOfBumpsRemoved(), removal.GetNumberOfCavitiesRemoved())
-    render([surface_actor(original), loop_actor(loops, loop_radius)], os.path.join(out, "hbr_%s_loops.png" % name),
+    radius = loop_radius * original.GetLength()  # relative to the bounding-box diagonal
+    render([surface_actor(original), loop_actor(loops, radius)], os.path.join(out, "hbr_%s_loops.png" % name),
            direction)
     render([surface_actor(after)], os.path.join(out, "hbr_%s_after.png" % name), direction)
     removal.SetCompletionToKeepTriangles()
@@ -149,7 +150,7 @@ def main():
     plate.SetModelToPlateWithRoundHoles()
     plate.SetFeaturesX(4)
     plate.SetFeaturesY(3)
-    original, after = figure_set("plate", plate, 0.2, out, 0.02)
+    original, after = figure_set("plate", plate, 0.2, out, 0.004)
     # vtkDecimatePro's topology-changing mode at our count.
     pro = vtkDecimatePro()
     pro.SetInputData(original)
@@ -162,8 +163,8 @@ def main():
     render([surface_actor(copy(pro.GetOutput()))], os.path.join(out, "hbr_plate_decimatepro.png"))
     mixed = surfacelod.vtkBlockModelSource()
     mixed.SetModelToMixed()
-    figure_set("mixed", mixed, 0.2, out, 0.03)
-    for name, alpha, radius in (("anchor", 0.2, 0.004), ("couplingdown", 0.2, 0.15)):
+    figure_set("mixed", mixed, 0.2, out, 0.003)
+    for name, alpha, radius in (("anchor", 0.2, 0.003), ("couplingdown", 0.2, 0.003)):
         reader = surfacelod.vtkOFFMeshReader()
         reader.SetFileName(os.path.join(mesh_dir, name + ".off"))
         figure_set(name, reader, alpha, out, radius, (1.0, 0.8, 1.2))
