@@ -599,7 +599,19 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     if (verbose)
     {
       const auto now = std::clock();
-      std::fprintf(stderr, "[triangle collapse] %s: %.3f s CPU\n", what, double(now - clock) / CLOCKS_PER_SEC);
+      long rssKB = 0, peakKB = 0; // current and peak resident memory (Linux), per stage
+      if (FILE* status = std::fopen("/proc/self/status", "r"))
+      {
+        char line[256];
+        while (std::fgets(line, sizeof(line), status))
+        {
+          std::sscanf(line, "VmHWM: %ld", &peakKB);
+          std::sscanf(line, "VmRSS: %ld", &rssKB);
+        }
+        std::fclose(status);
+      }
+      std::fprintf(stderr, "[triangle collapse] %s: %.3f s CPU, RSS %.1f MB, peak %.1f MB\n", what,
+        double(now - clock) / CLOCKS_PER_SEC, rssKB / 1024.0, peakKB / 1024.0);
       clock = now;
     }
   };
@@ -611,13 +623,17 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     // Costs are area * distance^2 ~ length^4: normalise by the diagonal so float keys keep range.
     this->CostScale = diagonal > 0 ? 1.0 / (diagonal * diagonal * diagonal * diagonal) : 1.0;
   }
+  lap("start");
   this->Reorder(input);
+  lap("reorder");
   this->Mesh.Reset(input);
   // The editable mesh holds its own copy: release the input's arrays (peak memory).
   std::vector<double>().swap(input.Points);
   std::vector<Index>().swap(input.Triangles);
 
+  lap("editable mesh");
   this->InitializeQuadrics();
+  lap("quadrics");
   this->Rejected.assign(size_t(nt), 0);
   this->Excluded.assign(size_t(nt), 0);
   if (this->Options.EdgeCollapses && !this->Options.ExactUnion)
