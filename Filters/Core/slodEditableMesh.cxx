@@ -44,9 +44,7 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->LiveTriangles = nt;
   this->LiveVertices = np;
   this->TriangleMark.assign(nt, 0);
-  this->VertexMark.assign(np, 0);
-  this->LinkIn.assign(np, 0);
-  this->LinkOut.assign(np, 0);
+  this->VertexLink.assign(np, LinkEntry());
   this->Epoch = 0;
   this->RefStart.assign(np, 0);
   this->RefCount.assign(np, 0);
@@ -61,7 +59,10 @@ std::uint32_t EditableMesh::NextEpoch() const
   if (++this->Epoch == 0)
   {
     std::fill(this->TriangleMark.begin(), this->TriangleMark.end(), 0);
-    std::fill(this->VertexMark.begin(), this->VertexMark.end(), 0);
+    for (LinkEntry& e : this->VertexLink)
+    {
+      e.Mark = 0;
+    }
     this->Epoch = 1;
   }
   return this->Epoch;
@@ -98,11 +99,11 @@ bool EditableMesh::IsBoundaryVertex(Index v) const
   // border exactly when x has unequal numbers of incoming and outgoing link edges.
   const std::uint32_t epoch = this->NextEpoch();
   auto touch = [&](Index x) {
-    if (this->VertexMark[x] != epoch)
+    if (this->VertexLink[x].Mark != epoch)
     {
-      this->VertexMark[x] = epoch;
-      this->LinkIn[x] = 0;
-      this->LinkOut[x] = 0;
+      this->VertexLink[x].Mark = epoch;
+      this->VertexLink[x].In = 0;
+      this->VertexLink[x].Out = 0;
     }
   };
   this->ForEachTriangle(v, [&](Index t) {
@@ -111,15 +112,15 @@ bool EditableMesh::IsBoundaryVertex(Index v) const
     const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
     touch(x);
     touch(y);
-    ++this->LinkOut[x];
-    ++this->LinkIn[y];
+    ++this->VertexLink[x].Out;
+    ++this->VertexLink[y].In;
   });
   bool boundary = false;
   this->ForEachTriangle(v, [&](Index t) {
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
-      if (tri[k] != v && this->LinkIn[tri[k]] != this->LinkOut[tri[k]])
+      if (tri[k] != v && this->VertexLink[tri[k]].In != this->VertexLink[tri[k]].Out)
       {
         boundary = true;
       }
@@ -146,9 +147,9 @@ void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
-      if (tri[k] != v && this->VertexMark[tri[k]] != epoch)
+      if (tri[k] != v && this->VertexLink[tri[k]].Mark != epoch)
       {
-        this->VertexMark[tri[k]] = epoch;
+        this->VertexLink[tri[k]].Mark = epoch;
         out.push_back(tri[k]);
       }
     }
@@ -234,19 +235,19 @@ CollapseStatus EditableMesh::CheckCollapse(
       const Index x = tri[(corner + 1) % 3], y = tri[(corner + 2) % 3];
       for (Index w : { x, y })
       {
-        if (this->VertexMark[w] != epoch)
+        if (this->VertexLink[w].Mark != epoch)
         {
-          this->VertexMark[w] = epoch;
-          this->LinkIn[w] = InvalidIndex;
-          this->LinkOut[w] = InvalidIndex;
+          this->VertexLink[w].Mark = epoch;
+          this->VertexLink[w].In = InvalidIndex;
+          this->VertexLink[w].Out = InvalidIndex;
         }
       }
-      if (this->LinkOut[x] != InvalidIndex || this->LinkIn[y] != InvalidIndex)
+      if (this->VertexLink[x].Out != InvalidIndex || this->VertexLink[y].In != InvalidIndex)
       {
         return CollapseStatus::NonManifold;
       }
-      this->LinkOut[x] = y;
-      this->LinkIn[y] = x;
+      this->VertexLink[x].Out = y;
+      this->VertexLink[y].In = x;
       firstX = firstX == InvalidIndex ? x : firstX;
       ++survivors;
     }
@@ -263,7 +264,7 @@ CollapseStatus EditableMesh::CheckCollapse(
       for (int k = 0; k < 3; ++k)
       {
         const Index w = tri[k];
-        if (this->VertexMark[w] == epoch && this->LinkIn[w] == InvalidIndex && this->LinkOut[w] != InvalidIndex)
+        if (this->VertexLink[w].Mark == epoch && this->VertexLink[w].In == InvalidIndex && this->VertexLink[w].Out != InvalidIndex)
         {
           severalStarts = severalStarts || (start != InvalidIndex && w != start);
           start = w;
@@ -279,7 +280,7 @@ CollapseStatus EditableMesh::CheckCollapse(
     Index walked = 0;
     if (isPath)
     {
-      for (Index w = start; this->LinkOut[w] != InvalidIndex && walked <= survivors; w = this->LinkOut[w])
+      for (Index w = start; this->VertexLink[w].Out != InvalidIndex && walked <= survivors; w = this->VertexLink[w].Out)
       {
         ++walked;
       }
@@ -289,7 +290,7 @@ CollapseStatus EditableMesh::CheckCollapse(
       Index w = firstX;
       do
       {
-        w = this->LinkOut[w];
+        w = this->VertexLink[w].Out;
         ++walked;
       } while (w != InvalidIndex && w != firstX && walked <= survivors);
     }
@@ -337,6 +338,12 @@ CollapseStatus EditableMesh::CheckCollapse(
       }
       auto outside = [&](Index v) { return std::find(vertices, vertices + count, v) == vertices + count; };
       const Index x = outside(tri[0]) ? tri[0] : (outside(tri[1]) ? tri[1] : tri[2]);
+      if (options.BoundaryVertices && !options.BoundaryVertices[x])
+      {
+        // An interior vertex has a closed fan of at least three triangles; the link test above
+        // already rejected the only way to remove all of them (a closed tetrahedron).
+        continue;
+      }
       bool keepsOne = false;
       this->ForEachTriangle(x, [&](Index u) {
         int c = 0;
@@ -679,7 +686,10 @@ void EditableMesh::CompactIfNeeded()
       }
     }
   }
-  this->CompactThreshold = std::max<size_t>(2 * this->Refs.size(), 1024);
+  // Compact when garbage reaches half the live size; reserving that (plus room for the blocks
+  // appended before the next check) keeps the vector from doubling past it (peak memory).
+  this->CompactThreshold = std::max<size_t>(this->Refs.size() + this->Refs.size() / 2, 1024);
+  this->Refs.reserve(this->CompactThreshold + 4096);
 }
 
 void EditableMesh::Extract(TriangleMesh& out, std::vector<Index>* newToOld) const
