@@ -36,6 +36,12 @@ public:
 
   bool Empty() const { return this->Count == 0; }
   Index Size() const { return this->Count; }
+  // Hint: id's entry is about to be changed.
+  void Prefetch(Index id) const
+  {
+    __builtin_prefetch(&this->Slot[id]);
+    __builtin_prefetch(&this->BucketId[id]);
+  }
   bool Contains(Index id) const { return this->Slot[id] != InvalidIndex; }
 
   // Inserts id or changes its key (key >= 0; NaN is treated as +infinity).

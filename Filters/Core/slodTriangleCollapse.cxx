@@ -148,6 +148,7 @@ private:
   std::vector<Index> VertexInput, TriangleInput;
   Vec3 Origin{ 0, 0, 0 };
   double CostScale = 1.0; // makes float heap keys well scaled
+  double MeanArea = 1.0;
   // Accumulated mode: per vertex the sum of its logical set's planes and of their weights,
   // side by side (one cache line pair per vertex instead of two separate misses).
   struct WeightedQuadric
@@ -158,6 +159,7 @@ private:
   std::vector<WeightedQuadric> Vertex;
   mutable std::vector<float> EdgeCost; // per triangle edge: cached key of its edge collapse
   std::vector<Index> SpokeVertex;       // UpdateAround scratch: edges (kept, x) already costed
+  std::vector<Index> AroundScratch;     // UpdateAround scratch: the triangles around the new vertex
   std::vector<float> SpokeCost;
   std::vector<unsigned char> Excluded; // per triangle: bit k = operation k failed validity
   std::vector<unsigned char> Rejected; // 1: failed validity, retried when the 2-ring changes
@@ -272,6 +274,15 @@ void TriangleCollapser::InitializeQuadrics()
       this->Vertex[vertices[i]].W += w;
     }
   };
+  {
+    double total = 0;
+    for (Index t = 0; t < nt; ++t)
+    {
+      const Index* tri = this->Mesh.Triangle(t);
+      total += 0.5 * Norm(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
+    }
+    this->MeanArea = nt > 0 && total > 0 ? total / nt : 1.0;
+  }
   // Area-weighted planes: the quadric approximates the integral of the squared distance over the
   // surface, so large triangles count for the area they cover (Garland-Heckbert weighting).
   for (Index t = 0; t < nt; ++t)
@@ -282,7 +293,9 @@ void TriangleCollapser::InitializeQuadrics()
     const double len = Norm(n2);
     const double area = 0.5 * len;
     const Vec3 n = len > 0 ? (1.0 / len) * n2 : Vec3{ 0, 0, 0 };
-    addPlane(Quadric::FromPointNormal(a, n, area), area, tri, 3);
+    static const int mode = std::getenv("SLOD_QTC_WEIGHT") ? std::atoi(std::getenv("SLOD_QTC_WEIGHT")) : 0;
+    const double wgt = mode == 0 ? area : (mode == 1 ? this->MeanArea : std::sqrt(area * this->MeanArea));
+    addPlane(Quadric::FromPointNormal(a, n, wgt), wgt, tri, 3);
   }
   // Boundary planes (§2.3): through the boundary edge, perpendicular to its triangle, weighted
   // by the squared edge length (same units as the areas) times the user weight.
@@ -544,7 +557,30 @@ void TriangleCollapser::UpdateAround(Index kept)
   this->SpokeCost.clear();
   const Quadric& qk = this->Vertex[kept].Q;
   const double bias = this->Options.EdgeCollapseBias;
-  this->Mesh.ForEachTriangle(kept, [&](Index t) {
+  // Gather the triangles, then prefetch what their updates read (corners, vertex quadrics, cached
+  // edge costs, queue slots): the loop is bound by memory latency, and independent prefetches
+  // overlap where the loop's dependent loads would follow one another.
+  auto& around = this->AroundScratch;
+  around.clear();
+  this->Mesh.ForEachTriangle(kept, [&](Index t) { around.push_back(t); });
+  for (Index t : around)
+  {
+    __builtin_prefetch(this->Mesh.Triangle(t));
+    __builtin_prefetch(&this->EdgeCost[3 * size_t(t)]);
+    this->Heap.Prefetch(t);
+  }
+  for (Index t : around)
+  {
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const char* q = reinterpret_cast<const char*>(&this->Vertex[tri[k]]);
+      __builtin_prefetch(q);
+      __builtin_prefetch(q + 64);
+    }
+  }
+  for (Index t : around)
+  {
     this->Excluded[t] = 0;
     this->Rejected[t] = 0;
     const Index* tri = this->Mesh.Triangle(t);
@@ -576,7 +612,7 @@ void TriangleCollapser::UpdateAround(Index kept)
       best = std::min(best, double(cache[k]) / this->CostScale);
     }
     this->Heap.Set(t, static_cast<float>(best * this->CostScale));
-  });
+  }
 }
 
 void TriangleCollapser::Update(Index t)
