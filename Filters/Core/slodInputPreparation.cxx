@@ -249,16 +249,50 @@ void OrientConsistently(TriangleMesh& mesh, const VertexStar& star, PreparationR
   }
 }
 
-// Non-manifold edges (more than two triangles) and vertices (on such an edge, or whose triangles
-// form several fans), with the same definitions as MeshTopology.
-void CountNonManifold(const TriangleMesh& mesh, const VertexStar& star, PreparationReport& report)
+enum : unsigned char
+{
+  BoundaryFlag = 1,
+  NonManifoldFlag = 2
+};
+
+// Per vertex: on a border edge, on a non-manifold edge (more than two triangles, counted in the
+// report as MeshTopology does). Returns true when some edge with two triangles is traversed the
+// same way by both (inconsistent orientation): without one, orientation needs no repair.
+bool ClassifyEdges(const TriangleMesh& mesh, const VertexStar& star, PreparationReport& report,
+  std::vector<unsigned char>& flags)
 {
   const Index nv = mesh.NumberOfPoints();
-  enum : unsigned char { BoundaryFlag = 1, NonManifoldFlag = 2 };
-  std::vector<unsigned char> flags(size_t(nv), 0);
-  std::vector<Index> others;
+  flags.assign(size_t(nv), 0);
+  bool inconsistent = false;
+  std::vector<Index> others, outgoing;
   for (Index a = 0; a < nv; ++a)
   {
+    if (!inconsistent)
+    {
+      // Half-edges a -> b: the same one twice on an edge with two triangles is inconsistent.
+      outgoing.clear();
+      for (const Index* s = star.Begin(a); s != star.End(a); ++s)
+      {
+        const Index* tri = mesh.Triangle(*s);
+        const int c = tri[0] == a ? 0 : (tri[1] == a ? 1 : 2);
+        outgoing.push_back(tri[(c + 1) % 3]);
+      }
+      std::sort(outgoing.begin(), outgoing.end());
+      for (size_t i = 1; i < outgoing.size() && !inconsistent; ++i)
+      {
+        if (outgoing[i] == outgoing[i - 1])
+        {
+          const Index b = outgoing[i];
+          int count = 0;
+          for (const Index* s = star.Begin(a); s != star.End(a); ++s)
+          {
+            const Index* tri = mesh.Triangle(*s);
+            count += (tri[0] == b || tri[1] == b || tri[2] == b) ? 1 : 0;
+          }
+          inconsistent = count == 2;
+        }
+      }
+    }
     // Each triangle around a holding b > a contributes one to the edge (a, b).
     others.clear();
     for (const Index* s = star.Begin(a); s != star.End(a); ++s)
@@ -295,8 +329,16 @@ void CountNonManifold(const TriangleMesh& mesh, const VertexStar& star, Preparat
       i = j;
     }
   }
-  // Several fans: walking the fan from its start (as MeshTopology::OrderedOneRing does) does not
-  // reach every triangle of the vertex.
+  return inconsistent;
+}
+
+// Non-manifold vertices: on a non-manifold edge, or whose triangles form several fans (same
+// definition as MeshTopology): walking the fan from its start (as MeshTopology::OrderedOneRing
+// does) does not reach every triangle of the vertex.
+void CountNonManifoldVertices(
+  const TriangleMesh& mesh, const VertexStar& star, const std::vector<unsigned char>& flags, PreparationReport& report)
+{
+  const Index nv = mesh.NumberOfPoints();
   for (Index v = 0; v < nv; ++v)
   {
     const Index degree = star.Degree(v);
@@ -497,13 +539,18 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
   // Drop triangles with a repeated vertex (in place), then exact duplicates (same vertex set):
   // duplicates share their smallest vertex, so only triangles grouped by it are compared.
   Index nt = 0;
+  bool repeatedVertices = false; // kept degenerate triangles: always run the orientation repair
   for (size_t t = 0; 3 * t < triangles.size(); ++t)
   {
     const Index a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
-    if (options.RemoveDegenerateTriangles && (a == b || b == c || a == c))
+    if (a == b || b == c || a == c)
     {
-      ++report.RemovedDegenerateTriangles;
-      continue;
+      if (options.RemoveDegenerateTriangles)
+      {
+        ++report.RemovedDegenerateTriangles;
+        continue;
+      }
+      repeatedVertices = true;
     }
     triangles[3 * size_t(nt)] = a;
     triangles[3 * size_t(nt) + 1] = b;
@@ -616,11 +663,13 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
   // One adjacency serves both the orientation repair and the non-manifold counts (flipping
   // triangles changes neither edges nor fans).
   const VertexStar star(mesh);
-  if (options.MakeOrientationConsistent)
+  std::vector<unsigned char> flags;
+  const bool inconsistent = ClassifyEdges(mesh, star, report, flags);
+  if (options.MakeOrientationConsistent && (inconsistent || repeatedVertices))
   {
     OrientConsistently(mesh, star, report);
   }
-  CountNonManifold(mesh, star, report);
+  CountNonManifoldVertices(mesh, star, flags, report);
   return report;
 }
 
