@@ -43,7 +43,6 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->VertexAlive.assign(np, 1);
   this->LiveTriangles = nt;
   this->LiveVertices = np;
-  this->TriangleMark.assign(nt, 0);
   this->VertexLink.assign(np, LinkEntry());
   this->Epoch = 0;
   this->RefStart.assign(np, 0);
@@ -58,7 +57,6 @@ std::uint32_t EditableMesh::NextEpoch() const
 {
   if (++this->Epoch == 0)
   {
-    std::fill(this->TriangleMark.begin(), this->TriangleMark.end(), 0);
     for (LinkEntry& e : this->VertexLink)
     {
       e.Mark = 0;
@@ -158,16 +156,28 @@ void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
 
 void EditableMesh::GatherTriangles(const Index* vertices, int count) const
 {
+  // A triangle around vertices[i] was gathered already when it holds an earlier vertex of the set
+  // (no per-triangle mark array: one random access fewer per triangle, 4 bytes per triangle less).
+  // A triangle with a repeated vertex is listed once per corner in that vertex's block.
   this->Scratch.clear();
-  const std::uint32_t epoch = this->NextEpoch();
   for (int i = 0; i < count; ++i)
   {
-    this->ForEachTriangle(vertices[i], [&](Index t) {
-      if (this->TriangleMark[t] != epoch)
+    const Index v = vertices[i];
+    this->ForEachTriangle(v, [&](Index t) {
+      const Index* tri = this->Triangle(t);
+      for (int j = 0; j < i; ++j)
       {
-        this->TriangleMark[t] = epoch;
-        this->Scratch.push_back(t);
+        if (tri[0] == vertices[j] || tri[1] == vertices[j] || tri[2] == vertices[j])
+        {
+          return;
+        }
       }
+      if (int(tri[0] == v) + int(tri[1] == v) + int(tri[2] == v) > 1 &&
+        std::find(this->Scratch.begin(), this->Scratch.end(), t) != this->Scratch.end())
+      {
+        return;
+      }
+      this->Scratch.push_back(t);
     });
   }
 }
@@ -633,7 +643,6 @@ Index EditableMesh::AddTriangle(Index a, Index b, Index c)
   const Index t = this->NumberOfTriangles();
   this->Triangles.insert(this->Triangles.end(), { a, b, c });
   this->TriangleAlive.push_back(1);
-  this->TriangleMark.push_back(0);
   ++this->LiveTriangles;
   std::vector<Index>& block = this->ScratchBlock;
   for (Index v : { a, b, c })

@@ -195,7 +195,6 @@ private:
 
   // Scratch state reused across calls (mutable: checks are logically const).
   mutable std::vector<Index> Scratch, ScratchBlock;
-  mutable std::vector<std::uint32_t> TriangleMark;
   // Per vertex scratch of the link tests, side by side (one cache miss per vertex instead of three).
   struct LinkEntry
   {
