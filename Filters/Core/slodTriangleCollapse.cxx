@@ -678,14 +678,15 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   }
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
   {
-    this->Heap.Reset(nt);
+    std::vector<float> keys(static_cast<size_t>(nt));
     for (Index t = 0; t < nt; ++t)
     {
       Vec3 p;
       double error;
       int operation;
-      this->Heap.Set(t, static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale));
+      keys[t] = static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale);
     }
+    this->Heap.Build(keys.data(), nt);
   }
 
   lap("initialisation");
