@@ -4,6 +4,8 @@
 #include "slodPointAttributes.h"
 #include "slodQuadric.h"
 
+#include "vtkSMPTools.h"
+
 #include <algorithm>
 #include <ctime>
 #include <cstdio>
@@ -678,14 +680,18 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   }
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
   {
+    // Every triangle's cost depends only on its own vertices and writes only its own cache
+    // entries: computed in parallel (vtkSMPTools), the same result for any thread count.
     std::vector<float> keys(static_cast<size_t>(nt));
-    for (Index t = 0; t < nt; ++t)
-    {
-      Vec3 p;
-      double error;
-      int operation;
-      keys[t] = static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale);
-    }
+    vtkSMPTools::For(0, nt, 4096, [&](vtkIdType begin, vtkIdType end) {
+      for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
+      {
+        Vec3 p;
+        double error;
+        int operation;
+        keys[t] = static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale);
+      }
+    });
     this->Heap.Build(keys.data(), nt);
   }
 
