@@ -202,8 +202,6 @@ int vtkQuadricTriangleCollapse::RequestData(
   options.ExactUnion = this->ExactUnion;
   options.EdgeCollapses = this->EdgeCollapses;
   options.EdgeCollapseBias = this->EdgeCollapseBias;
-  if (const char* e = std::getenv("SLOD_QTC_BIAS")) options.EdgeCollapseBias = std::atof(e);
-  if (const char* e = std::getenv("SLOD_QTC_NORMAL")) options.MaximumNormalDeviation = std::atof(e);
   options.RecordHistory = this->GenerateProgressiveMesh;
   options.Progress = [this](double fraction) {
     this->UpdateProgress(fraction);

@@ -150,7 +150,6 @@ private:
   std::vector<Index> VertexInput, TriangleInput;
   Vec3 Origin{ 0, 0, 0 };
   double CostScale = 1.0; // makes float heap keys well scaled
-  double MeanArea = 1.0;
   // Accumulated mode: per vertex the sum of its logical set's planes and of their weights,
   // side by side (one cache line pair per vertex instead of two separate misses).
   struct WeightedQuadric
@@ -284,15 +283,6 @@ void TriangleCollapser::InitializeQuadrics()
       this->Vertex[vertices[i]].W += w;
     }
   };
-  {
-    double total = 0;
-    for (Index t = 0; t < nt; ++t)
-    {
-      const Index* tri = this->Mesh.Triangle(t);
-      total += 0.5 * Norm(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
-    }
-    this->MeanArea = nt > 0 && total > 0 ? total / nt : 1.0;
-  }
   // Area-weighted planes: the quadric approximates the integral of the squared distance over the
   // surface, so large triangles count for the area they cover (Garland-Heckbert weighting).
   for (Index t = 0; t < nt; ++t)
@@ -303,9 +293,7 @@ void TriangleCollapser::InitializeQuadrics()
     const double len = Norm(n2);
     const double area = 0.5 * len;
     const Vec3 n = len > 0 ? (1.0 / len) * n2 : Vec3{ 0, 0, 0 };
-    static const int mode = std::getenv("SLOD_QTC_WEIGHT") ? std::atoi(std::getenv("SLOD_QTC_WEIGHT")) : 0;
-    const double wgt = mode == 0 ? area : (mode == 1 ? this->MeanArea : std::sqrt(area * this->MeanArea));
-    addPlane(Quadric::FromPointNormal(a, n, wgt), wgt, tri, 3);
+    addPlane(Quadric::FromPointNormal(a, n, area), area, tri, 3);
   }
   // Boundary planes (§2.3): through the boundary edge, perpendicular to its triangle, weighted
   // by the squared edge length (same units as the areas) times the user weight.
