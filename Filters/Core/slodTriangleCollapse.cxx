@@ -920,6 +920,10 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
 
   result.PeakWorkingBytes = this->Heap.MemoryBytes() + this->Vertex.capacity() * sizeof(WeightedQuadric) + this->State.capacity() * sizeof(TriangleState) + result.History.MemoryBytes();
   lap("collapses");
+  // The queue and the per-triangle state are done: free them so that the output reuses their
+  // memory instead of raising the peak.
+  this->Heap = BucketQueue();
+  std::vector<TriangleState>().swap(this->State);
   this->ExtractResult(result);
   lap("extraction");
   if (verbose)
