@@ -710,9 +710,9 @@ void EditableMesh::CompactIfNeeded()
       }
     }
   }
-  // Compact when garbage reaches half the live size; reserving that (plus room for the blocks
+  // Compact when the garbage reaches the live size; reserving that (plus room for the blocks
   // appended before the next check) keeps the vector from doubling past it (peak memory).
-  this->CompactThreshold = std::max<size_t>(this->Refs.size() + this->Refs.size() / 2, 1024);
+  this->CompactThreshold = std::max<size_t>(2 * this->Refs.size(), 1024);
   this->Refs.reserve(this->CompactThreshold + 4096);
 }
 
