@@ -673,9 +673,10 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
   {
     // Every triangle's cost depends only on its own vertices and writes only its own cache
-    // entries: computed in parallel (vtkSMPTools), the same result for any thread count.
+    // entries: computed in parallel (vtkSMPTools), the same result for any thread count. The
+    // exact-union mode shares a scratch buffer: sequential.
     std::vector<float> keys(static_cast<size_t>(nt));
-    vtkSMPTools::For(0, nt, 4096, [&](vtkIdType begin, vtkIdType end) {
+    auto costs = [&](vtkIdType begin, vtkIdType end) {
       for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
       {
         Vec3 p;
@@ -683,7 +684,15 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
         int operation;
         keys[t] = static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale);
       }
-    });
+    };
+    if (this->Options.ExactUnion)
+    {
+      costs(0, nt);
+    }
+    else
+    {
+      vtkSMPTools::For(0, nt, 4096, costs);
+    }
     this->Heap.Build(keys.data(), nt);
   }
 
