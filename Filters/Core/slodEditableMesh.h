@@ -32,7 +32,8 @@ struct SURFACELODFILTERS_EXPORT CollapseOptions
   bool AllowTopologyChange = false;
   // Optional per-vertex flags (1 = on a border) kept up to date by the caller, used instead of
   // IsBoundaryVertex (which is the most expensive part of the check). Without topology changes
-  // a merged vertex is on the border exactly when one of its vertices was.
+  // a merged vertex is on the border exactly when one of its vertices was. The flags must be
+  // exact: an interior flag also skips the isolated-vertex walk for that vertex.
   const unsigned char* BoundaryVertices = nullptr;
 };
 
