@@ -43,10 +43,7 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->VertexAlive.assign(np, 1);
   this->LiveTriangles = nt;
   this->LiveVertices = np;
-  this->TriangleMark.assign(nt, 0);
-  this->VertexMark.assign(np, 0);
-  this->LinkIn.assign(np, 0);
-  this->LinkOut.assign(np, 0);
+  this->VertexLink.assign(np, LinkEntry());
   this->Epoch = 0;
   this->RefStart.assign(np, 0);
   this->RefCount.assign(np, 0);
@@ -60,8 +57,10 @@ std::uint32_t EditableMesh::NextEpoch() const
 {
   if (++this->Epoch == 0)
   {
-    std::fill(this->TriangleMark.begin(), this->TriangleMark.end(), 0);
-    std::fill(this->VertexMark.begin(), this->VertexMark.end(), 0);
+    for (LinkEntry& e : this->VertexLink)
+    {
+      e.Mark = 0;
+    }
     this->Epoch = 1;
   }
   return this->Epoch;
@@ -98,11 +97,11 @@ bool EditableMesh::IsBoundaryVertex(Index v) const
   // border exactly when x has unequal numbers of incoming and outgoing link edges.
   const std::uint32_t epoch = this->NextEpoch();
   auto touch = [&](Index x) {
-    if (this->VertexMark[x] != epoch)
+    if (this->VertexLink[x].Mark != epoch)
     {
-      this->VertexMark[x] = epoch;
-      this->LinkIn[x] = 0;
-      this->LinkOut[x] = 0;
+      this->VertexLink[x].Mark = epoch;
+      this->VertexLink[x].In = 0;
+      this->VertexLink[x].Out = 0;
     }
   };
   this->ForEachTriangle(v, [&](Index t) {
@@ -111,15 +110,15 @@ bool EditableMesh::IsBoundaryVertex(Index v) const
     const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
     touch(x);
     touch(y);
-    ++this->LinkOut[x];
-    ++this->LinkIn[y];
+    ++this->VertexLink[x].Out;
+    ++this->VertexLink[y].In;
   });
   bool boundary = false;
   this->ForEachTriangle(v, [&](Index t) {
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
-      if (tri[k] != v && this->LinkIn[tri[k]] != this->LinkOut[tri[k]])
+      if (tri[k] != v && this->VertexLink[tri[k]].In != this->VertexLink[tri[k]].Out)
       {
         boundary = true;
       }
@@ -146,9 +145,9 @@ void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
-      if (tri[k] != v && this->VertexMark[tri[k]] != epoch)
+      if (tri[k] != v && this->VertexLink[tri[k]].Mark != epoch)
       {
-        this->VertexMark[tri[k]] = epoch;
+        this->VertexLink[tri[k]].Mark = epoch;
         out.push_back(tri[k]);
       }
     }
@@ -157,16 +156,28 @@ void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
 
 void EditableMesh::GatherTriangles(const Index* vertices, int count) const
 {
+  // A triangle around vertices[i] was gathered already when it holds an earlier vertex of the set
+  // (no per-triangle mark array: one random access fewer per triangle, 4 bytes per triangle less).
+  // A triangle with a repeated vertex is listed once per corner in that vertex's block.
   this->Scratch.clear();
-  const std::uint32_t epoch = this->NextEpoch();
   for (int i = 0; i < count; ++i)
   {
-    this->ForEachTriangle(vertices[i], [&](Index t) {
-      if (this->TriangleMark[t] != epoch)
+    const Index v = vertices[i];
+    this->ForEachTriangle(v, [&](Index t) {
+      const Index* tri = this->Triangle(t);
+      for (int j = 0; j < i; ++j)
       {
-        this->TriangleMark[t] = epoch;
-        this->Scratch.push_back(t);
+        if (tri[0] == vertices[j] || tri[1] == vertices[j] || tri[2] == vertices[j])
+        {
+          return;
+        }
       }
+      if (int(tri[0] == v) + int(tri[1] == v) + int(tri[2] == v) > 1 &&
+        std::find(this->Scratch.begin(), this->Scratch.end(), t) != this->Scratch.end())
+      {
+        return;
+      }
+      this->Scratch.push_back(t);
     });
   }
 }
@@ -214,6 +225,21 @@ CollapseStatus EditableMesh::CheckCollapse(
     anyBoundary = anyBoundary || onBoundary[i];
   }
   this->GatherTriangles(vertices, count);
+  // The checks below read every gathered triangle's corners, their link scratch and points:
+  // prefetch them all first so that the misses overlap (the check is bound by memory latency).
+  for (Index t : this->Scratch)
+  {
+    __builtin_prefetch(this->Triangle(t));
+  }
+  for (Index t : this->Scratch)
+  {
+    const Index* tri = this->Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      __builtin_prefetch(&this->VertexLink[tri[k]]);
+      __builtin_prefetch(&this->Points[3 * size_t(tri[k])]);
+    }
+  }
 
   if (!options.AllowTopologyChange)
   {
@@ -234,19 +260,19 @@ CollapseStatus EditableMesh::CheckCollapse(
       const Index x = tri[(corner + 1) % 3], y = tri[(corner + 2) % 3];
       for (Index w : { x, y })
       {
-        if (this->VertexMark[w] != epoch)
+        if (this->VertexLink[w].Mark != epoch)
         {
-          this->VertexMark[w] = epoch;
-          this->LinkIn[w] = InvalidIndex;
-          this->LinkOut[w] = InvalidIndex;
+          this->VertexLink[w].Mark = epoch;
+          this->VertexLink[w].In = InvalidIndex;
+          this->VertexLink[w].Out = InvalidIndex;
         }
       }
-      if (this->LinkOut[x] != InvalidIndex || this->LinkIn[y] != InvalidIndex)
+      if (this->VertexLink[x].Out != InvalidIndex || this->VertexLink[y].In != InvalidIndex)
       {
         return CollapseStatus::NonManifold;
       }
-      this->LinkOut[x] = y;
-      this->LinkIn[y] = x;
+      this->VertexLink[x].Out = y;
+      this->VertexLink[y].In = x;
       firstX = firstX == InvalidIndex ? x : firstX;
       ++survivors;
     }
@@ -263,7 +289,7 @@ CollapseStatus EditableMesh::CheckCollapse(
       for (int k = 0; k < 3; ++k)
       {
         const Index w = tri[k];
-        if (this->VertexMark[w] == epoch && this->LinkIn[w] == InvalidIndex && this->LinkOut[w] != InvalidIndex)
+        if (this->VertexLink[w].Mark == epoch && this->VertexLink[w].In == InvalidIndex && this->VertexLink[w].Out != InvalidIndex)
         {
           severalStarts = severalStarts || (start != InvalidIndex && w != start);
           start = w;
@@ -279,7 +305,7 @@ CollapseStatus EditableMesh::CheckCollapse(
     Index walked = 0;
     if (isPath)
     {
-      for (Index w = start; this->LinkOut[w] != InvalidIndex && walked <= survivors; w = this->LinkOut[w])
+      for (Index w = start; this->VertexLink[w].Out != InvalidIndex && walked <= survivors; w = this->VertexLink[w].Out)
       {
         ++walked;
       }
@@ -289,7 +315,7 @@ CollapseStatus EditableMesh::CheckCollapse(
       Index w = firstX;
       do
       {
-        w = this->LinkOut[w];
+        w = this->VertexLink[w].Out;
         ++walked;
       } while (w != InvalidIndex && w != firstX && walked <= survivors);
     }
@@ -337,6 +363,12 @@ CollapseStatus EditableMesh::CheckCollapse(
       }
       auto outside = [&](Index v) { return std::find(vertices, vertices + count, v) == vertices + count; };
       const Index x = outside(tri[0]) ? tri[0] : (outside(tri[1]) ? tri[1] : tri[2]);
+      if (options.BoundaryVertices && !options.BoundaryVertices[x])
+      {
+        // An interior vertex has a closed fan of at least three triangles; the link test above
+        // already rejected the only way to remove all of them (a closed tetrahedron).
+        continue;
+      }
       bool keepsOne = false;
       this->ForEachTriangle(x, [&](Index u) {
         int c = 0;
@@ -611,7 +643,6 @@ Index EditableMesh::AddTriangle(Index a, Index b, Index c)
   const Index t = this->NumberOfTriangles();
   this->Triangles.insert(this->Triangles.end(), { a, b, c });
   this->TriangleAlive.push_back(1);
-  this->TriangleMark.push_back(0);
   ++this->LiveTriangles;
   std::vector<Index>& block = this->ScratchBlock;
   for (Index v : { a, b, c })
@@ -679,7 +710,10 @@ void EditableMesh::CompactIfNeeded()
       }
     }
   }
+  // Compact when the garbage reaches the live size; reserving that (plus room for the blocks
+  // appended before the next check) keeps the vector from doubling past it (peak memory).
   this->CompactThreshold = std::max<size_t>(2 * this->Refs.size(), 1024);
+  this->Refs.reserve(this->CompactThreshold + 4096);
 }
 
 void EditableMesh::Extract(TriangleMesh& out, std::vector<Index>* newToOld) const

@@ -1,10 +1,11 @@
 #include "slodInputPreparation.h"
 
-#include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkObject.h"
 #include "vtkPoints.h"
 #include "vtkNew.h"
@@ -14,6 +15,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -106,12 +109,70 @@ void CollectTriangles(vtkPolyData* input, const std::vector<double>& points, Pre
   }
 }
 
+// Lean adjacency for the preparation only: vertex -> triangles as one CSR array (int32), 16 bytes
+// per vertex for a closed mesh. Edge neighbours are found by scanning the (short) triangle list
+// of an edge's first vertex, which is cheaper than building an edge table.
+class VertexStar
+{
+public:
+  VertexStar(const TriangleMesh& mesh)
+    : Mesh(mesh)
+  {
+    const Index nv = mesh.NumberOfPoints(), nt = mesh.NumberOfTriangles();
+    this->Offsets.assign(size_t(nv) + 1, 0);
+    for (Index v : mesh.Triangles)
+    {
+      ++this->Offsets[size_t(v) + 1];
+    }
+    for (Index v = 0; v < nv; ++v)
+    {
+      this->Offsets[v + 1] += this->Offsets[v];
+    }
+    this->Refs.resize(mesh.Triangles.size());
+    std::vector<Index> fill(this->Offsets.begin(), this->Offsets.end() - 1);
+    for (Index t = 0; t < nt; ++t)
+    {
+      const Index* tri = mesh.Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        this->Refs[fill[tri[k]]++] = t;
+      }
+    }
+  }
+  const Index* Begin(Index v) const { return this->Refs.data() + this->Offsets[v]; }
+  const Index* End(Index v) const { return this->Refs.data() + this->Offsets[v + 1]; }
+  Index Degree(Index v) const { return this->Offsets[v + 1] - this->Offsets[v]; }
+  // The other triangle on edge k of t when the edge has exactly two triangles (as
+  // MeshTopology::EdgeNeighbor), else InvalidIndex.
+  Index EdgeNeighbor(Index t, int k) const
+  {
+    const Index* tri = this->Mesh.Triangle(t);
+    const Index a = tri[k], b = tri[(k + 1) % 3];
+    Index other = InvalidIndex;
+    int count = 0;
+    for (const Index* s = this->Begin(a); s != this->End(a); ++s)
+    {
+      const Index* u = this->Mesh.Triangle(*s);
+      if (u[0] == b || u[1] == b || u[2] == b)
+      {
+        ++count;
+        other = *s == t ? other : *s;
+      }
+    }
+    return count == 2 ? other : InvalidIndex;
+  }
+
+private:
+  const TriangleMesh& Mesh;
+  std::vector<Index> Offsets, Refs;
+};
+
 // Makes neighbouring triangles traverse shared manifold edges in opposite directions.
-void OrientConsistently(TriangleMesh& mesh, const MeshTopology& topology, PreparationReport& report)
+void OrientConsistently(TriangleMesh& mesh, const VertexStar& star, PreparationReport& report)
 {
   const Index nt = mesh.NumberOfTriangles();
   std::vector<signed char> flip(nt, -1); // -1 unvisited, 0 keep, 1 flip
-  std::vector<Index> queue, component;
+  std::vector<Index> queue;
   auto directionOf = [&](Index t, Index a, Index b) {
     // +1 when t runs a->b, -1 when b->a.
     const Index* tri = mesh.Triangle(t);
@@ -131,16 +192,14 @@ void OrientConsistently(TriangleMesh& mesh, const MeshTopology& topology, Prepar
       continue;
     }
     bool orientable = true;
-    component.clear();
     queue.assign(1, seed);
     flip[seed] = 0;
     for (size_t head = 0; head < queue.size(); ++head)
     {
       const Index t = queue[head];
-      component.push_back(t);
       for (int k = 0; k < 3; ++k)
       {
-        const Index u = topology.EdgeNeighbor(t, k);
+        const Index u = star.EdgeNeighbor(t, k);
         if (u == InvalidIndex)
         {
           continue;
@@ -161,19 +220,20 @@ void OrientConsistently(TriangleMesh& mesh, const MeshTopology& topology, Prepar
         }
       }
     }
+    // The queue holds the whole component.
     if (!orientable)
     {
       ++report.NonOrientableComponents;
-      for (Index t : component)
+      for (Index t : queue)
       {
         flip[t] = 0;
       }
       continue;
     }
-    const size_t flipped = std::count_if(component.begin(), component.end(), [&](Index t) { return flip[t] == 1; });
-    if (2 * flipped > component.size())
+    const size_t flipped = std::count_if(queue.begin(), queue.end(), [&](Index t) { return flip[t] == 1; });
+    if (2 * flipped > queue.size())
     {
-      for (Index t : component)
+      for (Index t : queue)
       {
         flip[t] = static_cast<signed char>(1 - flip[t]);
       }
@@ -188,8 +248,188 @@ void OrientConsistently(TriangleMesh& mesh, const MeshTopology& topology, Prepar
     }
   }
 }
+
+enum : unsigned char
+{
+  BoundaryFlag = 1,
+  NonManifoldFlag = 2
+};
+
+// Per vertex: on a border edge, on a non-manifold edge (more than two triangles, counted in the
+// report as MeshTopology does). Returns true when some edge with two triangles is traversed the
+// same way by both (inconsistent orientation): without one, orientation needs no repair.
+bool ClassifyEdges(const TriangleMesh& mesh, const VertexStar& star, PreparationReport& report,
+  std::vector<unsigned char>& flags)
+{
+  const Index nv = mesh.NumberOfPoints();
+  flags.assign(size_t(nv), 0);
+  bool inconsistent = false;
+  std::vector<Index> others, outgoing;
+  for (Index a = 0; a < nv; ++a)
+  {
+    if (!inconsistent)
+    {
+      // Half-edges a -> b: the same one twice on an edge with two triangles is inconsistent.
+      outgoing.clear();
+      for (const Index* s = star.Begin(a); s != star.End(a); ++s)
+      {
+        const Index* tri = mesh.Triangle(*s);
+        const int c = tri[0] == a ? 0 : (tri[1] == a ? 1 : 2);
+        outgoing.push_back(tri[(c + 1) % 3]);
+      }
+      std::sort(outgoing.begin(), outgoing.end());
+      for (size_t i = 1; i < outgoing.size() && !inconsistent; ++i)
+      {
+        if (outgoing[i] == outgoing[i - 1])
+        {
+          const Index b = outgoing[i];
+          int count = 0;
+          for (const Index* s = star.Begin(a); s != star.End(a); ++s)
+          {
+            const Index* tri = mesh.Triangle(*s);
+            count += (tri[0] == b || tri[1] == b || tri[2] == b) ? 1 : 0;
+          }
+          inconsistent = count == 2;
+        }
+      }
+    }
+    // Each triangle around a holding b > a contributes one to the edge (a, b).
+    others.clear();
+    for (const Index* s = star.Begin(a); s != star.End(a); ++s)
+    {
+      const Index* tri = mesh.Triangle(*s);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (tri[k] > a)
+        {
+          others.push_back(tri[k]);
+        }
+      }
+    }
+    std::sort(others.begin(), others.end());
+    for (size_t i = 0; i < others.size();)
+    {
+      size_t j = i;
+      while (j < others.size() && others[j] == others[i])
+      {
+        ++j;
+      }
+      const size_t count = j - i;
+      if (count == 1)
+      {
+        flags[a] |= BoundaryFlag;
+        flags[others[i]] |= BoundaryFlag;
+      }
+      else if (count > 2)
+      {
+        ++report.NonManifoldEdges;
+        flags[a] |= NonManifoldFlag;
+        flags[others[i]] |= NonManifoldFlag;
+      }
+      i = j;
+    }
+  }
+  return inconsistent;
+}
+
+// Non-manifold vertices: on a non-manifold edge, or whose triangles form several fans (same
+// definition as MeshTopology): walking the fan from its start (as MeshTopology::OrderedOneRing
+// does) does not reach every triangle of the vertex.
+void CountNonManifoldVertices(
+  const TriangleMesh& mesh, const VertexStar& star, const std::vector<unsigned char>& flags, PreparationReport& report)
+{
+  const Index nv = mesh.NumberOfPoints();
+  for (Index v = 0; v < nv; ++v)
+  {
+    const Index degree = star.Degree(v);
+    if (degree == 0 || (flags[v] & NonManifoldFlag))
+    {
+      report.NonManifoldVertices += (flags[v] & NonManifoldFlag) ? 1 : 0;
+      continue;
+    }
+    auto corner = [&](Index t) {
+      const Index* tri = mesh.Triangle(t);
+      return tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    };
+    Index start = *star.Begin(v);
+    if (flags[v] & BoundaryFlag)
+    {
+      Index t = start;
+      for (Index steps = 0; steps <= degree; ++steps)
+      {
+        const Index prev = star.EdgeNeighbor(t, corner(t));
+        if (prev == InvalidIndex)
+        {
+          break;
+        }
+        t = prev;
+        if (t == start)
+        {
+          break;
+        }
+      }
+      start = t;
+    }
+    Index fan = 0;
+    Index t = start;
+    for (Index steps = 0; steps < degree; ++steps)
+    {
+      ++fan;
+      const Index next = star.EdgeNeighbor(t, (corner(t) + 2) % 3);
+      if (next == InvalidIndex || next == start)
+      {
+        break;
+      }
+      t = next;
+    }
+    report.NonManifoldVertices += fan != degree ? 1 : 0;
+  }
+}
+
+// Point coordinates as doubles, read straight from float or double arrays.
+void ReadPoints(vtkPolyData* input, std::vector<double>& points)
+{
+  const vtkIdType np = input->GetNumberOfPoints();
+  points.resize(3 * size_t(np));
+  vtkDataArray* data = input->GetPoints()->GetData();
+  if (auto* f = vtkFloatArray::SafeDownCast(data))
+  {
+    std::copy(f->GetPointer(0), f->GetPointer(0) + 3 * np, points.begin());
+  }
+  else if (auto* d = vtkDoubleArray::SafeDownCast(data))
+  {
+    std::copy(d->GetPointer(0), d->GetPointer(0) + 3 * np, points.begin());
+  }
+  else
+  {
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      input->GetPoint(i, &points[3 * size_t(i)]);
+    }
+  }
+}
+
+// Hash of a point's exact coordinates (-0 and +0 hash alike: they compare equal).
+std::uint64_t PointHash(const double* p)
+{
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (int k = 0; k < 3; ++k)
+  {
+    const double x = p[k] + 0.0;
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    h ^= bits + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+    h *= 0xff51afd7ed558ccdULL;
+  }
+  return h ^ (h >> 33);
+}
 } // namespace
 
+// Memory: the working arrays are int32 and released as soon as a stage is done; the points are
+// read once and compacted in place into the output; coincident points are found by sorting
+// 64-bit hashes of their exact coordinates (16 bytes per point, transient), duplicate triangles
+// by grouping the triangles by their smallest vertex (4 bytes per triangle), and the adjacency of
+// the orientation / manifoldness checks is a single vertex->triangle CSR array.
 PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptions& options, TriangleMesh& mesh,
   std::vector<Index>& vertexToInputPoint)
 {
@@ -210,13 +450,16 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
   report.IgnoredVertexCells = input->GetVerts() ? input->GetVerts()->GetNumberOfCells() : 0;
   report.IgnoredLineCells = input->GetLines() ? input->GetLines()->GetNumberOfCells() : 0;
 
-  const vtkIdType np = input->GetNumberOfPoints();
-  std::vector<double> points(3 * size_t(np));
-  for (vtkIdType i = 0; i < np; ++i)
-  {
-    input->GetPoint(i, &points[3 * size_t(i)]);
-  }
+  const Index np = static_cast<Index>(input->GetNumberOfPoints());
+  std::vector<double> points;
+  ReadPoints(input, points);
   std::vector<Index> triangles;
+  {
+    vtkIdType reserve = 0;
+    reserve += input->GetPolys() ? input->GetPolys()->GetNumberOfConnectivityIds() : 0;
+    reserve += input->GetStrips() ? input->GetStrips()->GetNumberOfConnectivityIds() : 0;
+    triangles.reserve(size_t(reserve));
+  }
   CollectTriangles(input, points, report, triangles);
 
   // Non-finite coordinates on a used point make the input unusable.
@@ -235,43 +478,57 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
     return report;
   }
 
-  // Representative of each point: the first of the exactly coincident ones (by sorting).
-  std::vector<Index> representative(np);
+  // Representative of each point: the first (smallest id) of the exactly coincident ones.
+  std::vector<Index> representative(static_cast<size_t>(np));
   std::iota(representative.begin(), representative.end(), 0);
   if (options.MergeDuplicatePoints)
   {
-    std::vector<char> used(np, 0);
-    for (Index v : triangles)
+    std::vector<std::pair<std::uint64_t, Index>> keys;
     {
-      used[v] = 1;
-    }
-    std::vector<Index> order;
-    order.reserve(np);
-    for (Index v = 0; v < np; ++v)
-    {
-      if (used[v])
+      std::vector<unsigned char> used(size_t(np), 0);
+      for (Index v : triangles)
       {
-        order.push_back(v);
+        used[v] = 1;
+      }
+      size_t count = 0;
+      for (Index v = 0; v < np; ++v)
+      {
+        count += used[v];
+      }
+      keys.reserve(count);
+      for (Index v = 0; v < np; ++v)
+      {
+        if (used[v])
+        {
+          keys.emplace_back(PointHash(&points[3 * size_t(v)]), v);
+        }
       }
     }
-    auto less = [&](Index a, Index b) {
-      const double* p = &points[3 * size_t(a)];
-      const double* q = &points[3 * size_t(b)];
-      if (p[0] != q[0]) return p[0] < q[0];
-      if (p[1] != q[1]) return p[1] < q[1];
-      if (p[2] != q[2]) return p[2] < q[2];
-      return a < b;
-    };
-    std::sort(order.begin(), order.end(), less);
-    for (size_t i = 1; i < order.size(); ++i)
+    std::sort(keys.begin(), keys.end());
+    for (size_t i = 0; i < keys.size();)
     {
-      const double* p = &points[3 * size_t(order[i - 1])];
-      const double* q = &points[3 * size_t(order[i])];
-      if (p[0] == q[0] && p[1] == q[1] && p[2] == q[2])
+      size_t j = i + 1;
+      while (j < keys.size() && keys[j].first == keys[i].first)
       {
-        representative[order[i]] = representative[order[i - 1]];
-        ++report.MergedPoints;
+        ++j;
       }
+      // Within a run of equal hashes (ids ascending) compare exactly (collisions are possible).
+      for (size_t m = i + 1; m < j; ++m)
+      {
+        const double* q = &points[3 * size_t(keys[m].second)];
+        for (size_t l = i; l < m; ++l)
+        {
+          const Index r = keys[l].second;
+          const double* p = &points[3 * size_t(r)];
+          if (representative[r] == r && p[0] == q[0] && p[1] == q[1] && p[2] == q[2])
+          {
+            representative[keys[m].second] = r;
+            ++report.MergedPoints;
+            break;
+          }
+        }
+      }
+      i = j;
     }
   }
   for (Index& v : triangles)
@@ -279,89 +536,140 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
     v = representative[v];
   }
 
-  // Drop triangles with a repeated vertex, then exact duplicates (same vertex set).
-  std::vector<std::array<Index, 4>> keys; // sorted triple + triangle index
-  std::vector<Index> kept;
-  kept.reserve(triangles.size());
+  // Drop triangles with a repeated vertex (in place), then exact duplicates (same vertex set):
+  // duplicates share their smallest vertex, so only triangles grouped by it are compared.
+  Index nt = 0;
+  bool repeatedVertices = false; // kept degenerate triangles: always run the orientation repair
   for (size_t t = 0; 3 * t < triangles.size(); ++t)
   {
     const Index a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
-    if (options.RemoveDegenerateTriangles && (a == b || b == c || a == c))
+    if (a == b || b == c || a == c)
     {
-      ++report.RemovedDegenerateTriangles;
-      continue;
+      if (options.RemoveDegenerateTriangles)
+      {
+        ++report.RemovedDegenerateTriangles;
+        continue;
+      }
+      repeatedVertices = true;
     }
-    std::array<Index, 3> s{ a, b, c };
-    std::sort(s.begin(), s.end());
-    keys.push_back({ s[0], s[1], s[2], static_cast<Index>(t) });
+    triangles[3 * size_t(nt)] = a;
+    triangles[3 * size_t(nt) + 1] = b;
+    triangles[3 * size_t(nt) + 2] = c;
+    ++nt;
   }
-  std::vector<char> keep(triangles.size() / 3, 0);
-  std::sort(keys.begin(), keys.end());
-  for (size_t i = 0; i < keys.size(); ++i)
+  triangles.resize(3 * size_t(nt));
+  std::vector<unsigned char> keep(static_cast<size_t>(nt), 1);
+  if (options.RemoveDuplicateTriangles)
   {
-    const bool duplicate = options.RemoveDuplicateTriangles && i > 0 && keys[i][0] == keys[i - 1][0] &&
-      keys[i][1] == keys[i - 1][1] && keys[i][2] == keys[i - 1][2];
-    if (duplicate)
+    auto sorted = [&](Index t) {
+      std::array<Index, 3> s{ triangles[3 * size_t(t)], triangles[3 * size_t(t) + 1], triangles[3 * size_t(t) + 2] };
+      std::sort(s.begin(), s.end());
+      return s;
+    };
+    std::vector<Index> start(size_t(np) + 1, 0);
+    for (Index t = 0; t < nt; ++t)
     {
-      ++report.RemovedDuplicateTriangles;
+      ++start[size_t(sorted(t)[0]) + 1];
     }
-    else
+    for (Index v = 0; v < np; ++v)
     {
-      keep[keys[i][3]] = 1;
+      start[v + 1] += start[v];
+    }
+    std::vector<Index> byVertex(static_cast<size_t>(nt));
+    for (Index t = 0; t < nt; ++t)
+    {
+      byVertex[start[sorted(t)[0]]++] = t; // ascending t within each group
+    }
+    // start[v] is now the end of group v.
+    Index begin = 0;
+    std::vector<std::pair<std::array<Index, 3>, Index>> group;
+    for (Index v = 0; v < np; ++v)
+    {
+      const Index end = start[v];
+      if (end - begin > 1)
+      {
+        group.clear();
+        for (Index i = begin; i < end; ++i)
+        {
+          group.push_back({ sorted(byVertex[i]), byVertex[i] });
+        }
+        std::sort(group.begin(), group.end());
+        for (size_t i = 1; i < group.size(); ++i)
+        {
+          if (group[i].first == group[i - 1].first)
+          {
+            keep[group[i].second] = 0;
+            ++report.RemovedDuplicateTriangles;
+          }
+        }
+      }
+      begin = end;
     }
   }
 
-  // Compact: used points in input order, triangles in input order.
-  std::vector<Index> inputToMesh(np, InvalidIndex);
-  for (size_t t = 0; t < keep.size(); ++t)
+  // Compact: used points in input order (in place: a point only moves to a smaller slot),
+  // triangles in input order.
+  std::vector<Index>& inputToMesh = representative; // reused: representatives are applied
+  std::fill(inputToMesh.begin(), inputToMesh.end(), InvalidIndex);
+  for (Index t = 0; t < nt; ++t)
   {
-    if (!keep[t])
+    if (keep[t])
     {
-      continue;
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index v = triangles[3 * t + k];
-      if (inputToMesh[v] == InvalidIndex)
+      for (int k = 0; k < 3; ++k)
       {
-        inputToMesh[v] = 0;
+        inputToMesh[triangles[3 * size_t(t) + k]] = 0;
       }
     }
   }
+  Index used = 0;
+  for (Index v = 0; v < np; ++v)
+  {
+    used += inputToMesh[v] != InvalidIndex ? 1 : 0;
+  }
+  vertexToInputPoint.reserve(size_t(used));
   for (Index v = 0; v < np; ++v)
   {
     if (inputToMesh[v] != InvalidIndex)
     {
-      inputToMesh[v] = static_cast<Index>(vertexToInputPoint.size());
+      const Index i = static_cast<Index>(vertexToInputPoint.size());
+      inputToMesh[v] = i;
       vertexToInputPoint.push_back(v);
-      const double* p = &points[3 * size_t(v)];
-      mesh.Points.insert(mesh.Points.end(), p, p + 3);
+      std::copy(&points[3 * size_t(v)], &points[3 * size_t(v)] + 3, &points[3 * size_t(i)]);
     }
   }
-  for (size_t t = 0; t < keep.size(); ++t)
+  points.resize(3 * size_t(used));
+  if (used < np - np / 8)
+  {
+    points.shrink_to_fit(); // many unused points: worth a copy
+  }
+  mesh.Points.swap(points);
+  Index kept = 0;
+  for (Index t = 0; t < nt; ++t)
   {
     if (keep[t])
     {
-      mesh.AddTriangle(inputToMesh[triangles[3 * t]], inputToMesh[triangles[3 * t + 1]],
-        inputToMesh[triangles[3 * t + 2]]);
+      for (int k = 0; k < 3; ++k)
+      {
+        triangles[3 * size_t(kept) + k] = inputToMesh[triangles[3 * size_t(t) + k]];
+      }
+      ++kept;
     }
   }
+  triangles.resize(3 * size_t(kept));
+  mesh.Triangles.swap(triangles);
+  std::vector<Index>().swap(representative);
+  std::vector<unsigned char>().swap(keep);
 
-  // One adjacency build serves both the orientation repair and the non-manifold counts (flipping
+  // One adjacency serves both the orientation repair and the non-manifold counts (flipping
   // triangles changes neither edges nor fans).
-  const MeshTopology topology(mesh);
-  if (options.MakeOrientationConsistent)
+  const VertexStar star(mesh);
+  std::vector<unsigned char> flags;
+  const bool inconsistent = ClassifyEdges(mesh, star, report, flags);
+  if (options.MakeOrientationConsistent && (inconsistent || repeatedVertices))
   {
-    OrientConsistently(mesh, topology, report);
+    OrientConsistently(mesh, star, report);
   }
-  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
-  {
-    report.NonManifoldEdges += topology.IsNonManifoldEdge(e) ? 1 : 0;
-  }
-  for (Index v = 0; v < topology.NumberOfPoints(); ++v)
-  {
-    report.NonManifoldVertices += topology.IsNonManifoldVertex(v) ? 1 : 0;
-  }
+  CountNonManifoldVertices(mesh, star, flags, report);
   return report;
 }
 

@@ -455,6 +455,60 @@ TEST(InputPreparation, NonManifoldEdgesAreReported)
   EXPECT_EQ(report.NonManifoldEdges, 1);
 }
 
+// --- lean input preparation (qtc session 2) ---
+// The preparation's counts agree with MeshTopology's statistics of the prepared mesh, including
+// inputs whose orientation needed repair (shuffled meshes), holes and pinched vertices.
+TEST(InputPreparation, CountsMatchMeshStatistics)
+{
+  for (const char* name : { "cube-shuffled", "blobby-shuffled", "elephant-with-holes", "mech-holes-shark" })
+  {
+    SCOPED_TRACE(name);
+    auto pd = LoadTestMesh(name);
+    TriangleMesh mesh;
+    std::vector<Index> origin;
+    const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
+    ASSERT_TRUE(report.Valid);
+    const MeshStatistics stats = ComputeMeshStatistics(mesh);
+    EXPECT_EQ(report.NonManifoldEdges, stats.NonManifoldEdges);
+    EXPECT_EQ(report.NonManifoldVertices, stats.NonManifoldVertices);
+    if (report.NonOrientableComponents == 0)
+    {
+      EXPECT_EQ(stats.InconsistentlyOrientedEdges, 0);
+    }
+    ASSERT_EQ(origin.size(), size_t(mesh.NumberOfPoints()));
+    for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+    {
+      double p[3];
+      pd->GetPoint(origin[v], p);
+      EXPECT_EQ(mesh.Point(v), (Vec3{ p[0], p[1], p[2] }));
+    }
+  }
+  // A bow tie: two fans at one vertex.
+  auto bowTie = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, -1, 0, 0, -1, -1, 0 }, { { 0, 1, 2 }, { 0, 3, 4 } });
+  TriangleMesh mesh;
+  std::vector<Index> origin;
+  const PreparationReport report = PrepareTriangleMesh(bowTie, {}, mesh, origin);
+  EXPECT_EQ(report.NonManifoldVertices, 1);
+  EXPECT_EQ(report.NonManifoldEdges, 0);
+}
+
+// Coincident points merge to the first of them (+0 and -0 are the same point), distinct ones do
+// not; a duplicate triangle with the opposite winding is still a duplicate (the first is kept).
+TEST(InputPreparation, MergesExactlyCoincidentPointsOnly)
+{
+  auto pd = MakePolyData({ 0, 0, 0, 1, 0, 0, 0, 1, 0, -0.0, 0, -0.0, 1, 1e-7, 0, 0, 1, 0 },
+    { { 0, 1, 2 }, { 3, 2, 1 }, { 1, 4, 5 } });
+  TriangleMesh mesh;
+  std::vector<Index> origin;
+  const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
+  ASSERT_TRUE(report.Valid);
+  EXPECT_EQ(report.MergedPoints, 2); // 3 -> 0, 5 -> 2; 4 differs from 1 by 1e-7
+  EXPECT_EQ(report.RemovedDuplicateTriangles, 1);
+  EXPECT_EQ(mesh.NumberOfTriangles(), 2);
+  EXPECT_EQ(origin, (std::vector<Index>{ 0, 1, 2, 4 }));
+  EXPECT_EQ(std::vector<Index>(mesh.Triangles.begin(), mesh.Triangles.begin() + 3), (std::vector<Index>{ 0, 1, 2 }));
+}
+
 TEST(PointAttributes, CarriedThroughMergesWithTypes)
 {
   vtkNew<vtkPointData> input;

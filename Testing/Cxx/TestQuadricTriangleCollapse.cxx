@@ -21,6 +21,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkQuadricDecimation.h"
+#include "vtkSMPTools.h"
 #include "vtkStaticCellLocator.h"
 
 #include <gtest/gtest.h>
@@ -193,6 +194,20 @@ TEST(QuadricTriangleCollapse, Deterministic)
   const TriangleMesh ma = slodtest::RawTriangleMesh(a), mb = slodtest::RawTriangleMesh(b);
   EXPECT_EQ(ma.Points, mb.Points);
   EXPECT_EQ(ma.Triangles, mb.Triangles);
+}
+
+// The initial costs are computed in parallel: the output must not depend on the thread count.
+TEST(QuadricTriangleCollapse, SameOutputForAnyThreadCount)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("armadillo");
+  const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
+  vtkSMPTools::Initialize(1);
+  const TriangleMesh one = slodtest::RawTriangleMesh(Collapse(input, 5000));
+  vtkSMPTools::Initialize(4);
+  const TriangleMesh four = slodtest::RawTriangleMesh(Collapse(input, 5000));
+  vtkSMPTools::Initialize(threads);
+  EXPECT_EQ(one.Points, four.Points);
+  EXPECT_EQ(one.Triangles, four.Triangles);
 }
 
 TEST(QuadricTriangleCollapse, PointDataErrorArrayAndFieldData)
