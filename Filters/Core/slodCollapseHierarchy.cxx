@@ -358,6 +358,7 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
   }
   this->Collapses.push_back(collapse);
   this->GlobalOf[kept] = collapse.Point;
+  this->MarkChangedAround(kept);
 
   // Ancestors: the kept vertex now stands for the original points of all three.
   for (int i = 1; i < 3; ++i)
@@ -413,9 +414,48 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
 }
 
 // ---------------------------------------------------------------------------------------------
+void CollapseHierarchy::MarkChangedAround(Index v)
+{
+  // v moved or got new triangles; the vertices around it lost or gained triangles.
+  const Index stamp = ++this->ChangeCounter;
+  this->VertexChanged[v] = stamp;
+  this->Mesh.ForEachTriangle(v, [&](Index x) {
+    const Index* q = this->Mesh.Triangle(x);
+    for (int j = 0; j < 3; ++j)
+    {
+      this->VertexChanged[q[j]] = stamp;
+    }
+  });
+}
+
+bool CollapseHierarchy::StillBlocked(Index t, Index stamp) const
+{
+  if (stamp < 0)
+  {
+    return false;
+  }
+  const Index* tri = this->Mesh.Triangle(t);
+  bool same = true;
+  for (int k = 0; k < 3 && same; ++k)
+  {
+    this->Mesh.ForEachTriangle(tri[k], [&](Index x) {
+      const Index* q = this->Mesh.Triangle(x);
+      same = same && this->VertexChanged[q[0]] <= stamp && this->VertexChanged[q[1]] <= stamp &&
+        this->VertexChanged[q[2]] <= stamp;
+    });
+  }
+  return same;
+}
+
+// ---------------------------------------------------------------------------------------------
 void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
 {
   const Index k = this->NumberOfCollapses();
+  const Index stamp = ++this->ChangeCounter;
+  for (Index v : { flip.X, flip.Y, flip.Q, flip.Z })
+  {
+    this->VertexChanged[v] = stamp;
+  }
   for (Index t : flip.Triangles)
   {
     this->EntryDeath[this->EntryOf[t]] = k;
@@ -566,6 +606,10 @@ bool CollapseHierarchy::Build(
   this->FlipStamp.clear();
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
+  this->VertexChanged.assign(np, 0);
+  this->BlockedStrict.assign(nt, -1);
+  this->BlockedRelaxed.assign(nt, -1);
+  this->ChangeCounter = 0;
   if (nt == 0)
   {
     return true;
@@ -691,15 +735,20 @@ bool CollapseHierarchy::Build(
           {
             continue;
           }
-          const Evaluation& e = this->Evaluations[t];
-          this->Stencils.Build(this->Mesh, t, this->Stencil);
-          if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) !=
-            CollapsibleStatus::Ok)
+          // Blocked before and nothing changed around it since: still blocked (the rules
+          // depend only on the stencil region, the collapse point only on T's vertices).
+          std::vector<Index>& blocked = rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
+          if (this->StillBlocked(t, blocked[t]))
           {
             continue;
           }
-          if (!this->KeepsOrientation(t, e.Point))
+          const Evaluation& e = this->Evaluations[t];
+          this->Stencils.Build(this->Mesh, t, this->Stencil);
+          if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) !=
+              CollapsibleStatus::Ok ||
+            !this->KeepsOrientation(t, e.Point))
           {
+            blocked[t] = this->ChangeCounter;
             continue;
           }
           stencilMark[t] = level;

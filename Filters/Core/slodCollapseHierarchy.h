@@ -212,6 +212,14 @@ private:
   std::vector<double> FitPoints;
   std::vector<Index> StencilVertices;
   std::vector<std::uint32_t> VertexMark;
+  // Rule results that cannot change until the neighbourhood does: a triangle found not collapsible
+  // (by the stencil rules, the mesh check or the orientation test) is skipped until a vertex of
+  // its stencil region changes (position or triangles around it). One stamp per rule set (strict,
+  // relaxed); -1: not known to be blocked.
+  std::vector<Index> VertexChanged, BlockedStrict, BlockedRelaxed;
+  Index ChangeCounter = 0;
+  void MarkChangedAround(Index v);
+  bool StillBlocked(Index t, Index stamp) const;
   std::uint32_t MarkEpoch = 0;
   mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;
 };
