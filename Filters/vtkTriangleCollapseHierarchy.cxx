@@ -48,7 +48,8 @@ struct vtkTriangleCollapseHierarchy::Internals
       a.ValenceWeight == b.ValenceWeight && a.BatchFraction == b.BatchFraction &&
       a.MaximumWeight == b.MaximumWeight && a.ValenceNormalizer == b.ValenceNormalizer &&
       a.RemoveCycles == b.RemoveCycles && a.MaximumNumberOfLevels == b.MaximumNumberOfLevels &&
-      a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.SwapBlockingEdges == b.SwapBlockingEdges &&
+      a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.EdgeCollapses == b.EdgeCollapses &&
+      a.SwapBlockingEdges == b.SwapBlockingEdges &&
       a.StarShapedInStencilPlane == b.StarShapedInStencilPlane &&
       a.SwapMinimumNormalDotWhenBlocked == b.SwapMinimumNormalDotWhenBlocked &&
       a.SwapMinimumNormalDot == b.SwapMinimumNormalDot && a.BatchSearchDepth == b.BatchSearchDepth &&
@@ -238,6 +239,7 @@ int vtkTriangleCollapseHierarchy::RequestData(
   parameters.MinimumNormalDot = this->MinimumNormalDot;
   parameters.ErrorWeight = this->ErrorWeight;
   parameters.RelaxWhenBlocked = this->RelaxWhenBlocked;
+  parameters.EdgeCollapses = static_cast<slod::CollapseHierarchyParameters::EdgeFallback>(this->EdgeCollapses);
   parameters.SwapBlockingEdges = this->SwapBlockingEdges;
   parameters.StarShapedInStencilPlane = this->StarShapedInStencilPlane;
   parameters.SwapMinimumNormalDot = this->SwapMinimumNormalDot;
@@ -271,11 +273,12 @@ int vtkTriangleCollapseHierarchy::RequestData(
     in.Attributes.Load(input->GetPointData(), vertexToInputPoint);
     if (!in.Attributes.Empty())
     {
-      // Row g = global vertex g: collapse points are the mean of the three merged vertices.
-      const double third[3] = { 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0 };
+      // Row g = global vertex g: collapse points are the mean of the merged vertices.
+      const double third[3] = { 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0 }, half[2] = { 0.5, 0.5 };
       for (slod::Index k = 0; k < in.Hierarchy.NumberOfCollapses(); ++k)
       {
-        in.Attributes.AddInterpolated(in.Hierarchy.GetCollapse(k).Sources, third, 3);
+        const slod::HierarchyCollapse& c = in.Hierarchy.GetCollapse(k);
+        in.Attributes.AddInterpolated(c.Sources, c.Count == 2 ? half : third, c.Count);
       }
     }
     this->HierarchyBuildTime =
@@ -364,6 +367,7 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ErrorWeight: " << this->ErrorWeight << "\n";
   os << indent << "QuadricCollapsePoint: " << this->QuadricCollapsePoint << "\n";
   os << indent << "RelaxWhenBlocked: " << this->RelaxWhenBlocked << "\n";
+  os << indent << "EdgeCollapses: " << this->EdgeCollapses << "\n";
   os << indent << "StarShapedInStencilPlane: " << this->StarShapedInStencilPlane << "\n";
   os << indent << "SwapBlockingEdges: " << this->SwapBlockingEdges << "\n";
   os << indent << "SwapMinimumNormalDot: " << this->SwapMinimumNormalDot << "\n";

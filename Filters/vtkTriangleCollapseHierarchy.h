@@ -161,6 +161,23 @@ public:
   ///@}
 
   ///@{
+  /// Edge collapses where triangle collapses are blocked (not in the paper): a triangle that fails
+  /// the collapse rules collapses its cheapest valid edge instead (point of least quadric error of
+  /// the ancestral planes), in the same batches, records, blends and vertex splits.
+  /// EDGE_COLLAPSES_OFF: the paper; EDGE_COLLAPSES_WHEN_BLOCKED: only in levels where no triangle
+  /// collapse is possible (targets are reached on meshes with thin parts);
+  /// EDGE_COLLAPSES_EVERYWHERE: any blocked triangle, at its place in the priority order.
+  enum
+  {
+    EDGE_COLLAPSES_OFF = 0,
+    EDGE_COLLAPSES_WHEN_BLOCKED = 1,
+    EDGE_COLLAPSES_EVERYWHERE = 2
+  };
+  vtkSetClampMacro(EdgeCollapses, int, EDGE_COLLAPSES_OFF, EDGE_COLLAPSES_EVERYWHERE);
+  vtkGetMacro(EdgeCollapses, int);
+  ///@}
+
+  ///@{
   /// Upper bound on the number of meshes in the hierarchy (default 1000).
   vtkSetClampMacro(MaximumNumberOfLevels, int, 1, VTK_INT_MAX);
   vtkGetMacro(MaximumNumberOfLevels, int);
@@ -221,6 +238,7 @@ protected:
   double ValenceNormalizer = 0.0;
   bool RemoveCycles = false;
   bool RelaxWhenBlocked = true;
+  int EdgeCollapses = EDGE_COLLAPSES_EVERYWHERE;
   bool StarShapedInStencilPlane = true;
   bool SwapBlockingEdges = true;
   double SwapMinimumNormalDot = 0.9999;

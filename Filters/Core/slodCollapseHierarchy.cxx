@@ -13,6 +13,31 @@ namespace
 {
 constexpr Index Never = std::numeric_limits<Index>::max();
 constexpr Index MaximumFitPoints = 64;
+
+
+// Least quadric error nearest to c: pseudo-inverse of A around c, dropping directions the planes
+// do not constrain (flat: moves along the normal only; crease: onto the crease line; corner: onto
+// the corner).
+Vec3 QuadricPointNear(const Quadric& q, const Vec3& center)
+{
+  Eigen::Matrix3d A;
+  A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
+  const Eigen::Vector3d cc(center[0], center[1], center[2]);
+  const Eigen::Vector3d g = A * cc + Eigen::Vector3d(q.Bx, q.By, q.Bz);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(A);
+  const Eigen::Vector3d lambda = eigen.eigenvalues();
+  const double top = std::max(std::abs(lambda[0]), std::max(std::abs(lambda[1]), std::abs(lambda[2])));
+  Eigen::Vector3d x = cc;
+  for (int i = 0; i < 3; ++i)
+  {
+    if (lambda[i] > 1e-3 * top && top > 0)
+    {
+      const Eigen::Vector3d u = eigen.eigenvectors().col(i);
+      x -= (u.dot(g) / lambda[i]) * u;
+    }
+  }
+  return { x[0], x[1], x[2] };
+}
 }
 
 void HierarchyMesh::Clear()
@@ -228,28 +253,10 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
     q += this->Quadrics[tri[2]];
     if (this->Parameters.QuadricCollapsePoint)
     {
-      // Least quadric error nearest to the centroid: pseudo-inverse of A around c, dropping
-      // directions the planes do not constrain (flat: moves along the normal only; crease: onto
-      // the crease line; corner: onto the corner).
-      Eigen::Matrix3d A;
-      A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
-      const Eigen::Vector3d cc(centroid[0], centroid[1], centroid[2]);
-      const Eigen::Vector3d g = A * cc + Eigen::Vector3d(q.Bx, q.By, q.Bz);
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(A);
-      const Eigen::Vector3d lambda = eigen.eigenvalues();
-      const double top = std::max(std::abs(lambda[0]), std::max(std::abs(lambda[1]), std::abs(lambda[2])));
-      Eigen::Vector3d x = cc;
-      for (int i = 0; i < 3; ++i)
-      {
-        if (lambda[i] > 1e-3 * top && top > 0)
-        {
-          const Eigen::Vector3d u = eigen.eigenvectors().col(i);
-          x -= (u.dot(g) / lambda[i]) * u;
-        }
-      }
-      const Vec3 best{ x[0], x[1], x[2] };
+      // Least quadric error nearest to the centroid (crease line, corner, or along the normal).
+      const Vec3 best = QuadricPointNear(q, centroid);
       const double reach = Norm(a - centroid) + Norm(b - centroid) + Norm(c - centroid);
-      if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && Norm(best - centroid) <= reach)
+      if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) && Norm(best - centroid) <= reach)
       {
         e.Point = best;
       }
@@ -319,10 +326,14 @@ double CollapseHierarchy::WeightOf(const Evaluation& e) const
 // triangle may end up facing away from the M0 triangle it descends from.
 bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
 {
+  return this->KeepsOrientation(this->Mesh.Triangle(t), 3, p);
+}
+
+bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const Vec3& p) const
+{
   const EditableMesh& m = this->Mesh;
-  const Index* tri = m.Triangle(t);
   bool ok = true;
-  m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
+  m.ForEachSurvivingTriangle(vertices, count, [&](Index x, int corner) {
     const Index* o = m.Triangle(x);
     Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
     q[corner] = p;
@@ -331,37 +342,39 @@ bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
   return ok;
 }
 
-void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
+void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level)
 {
   EditableMesh& m = this->Mesh;
-  const Index* tri = m.Triangle(t);
-  const Index vertices[3] = { tri[0], tri[1], tri[2] };
   const Index kept = vertices[0];
   const Index k = static_cast<Index>(this->Collapses.size());
 
   HierarchyCollapse collapse;
+  collapse.Count = count;
   for (int i = 0; i < 3; ++i)
   {
-    collapse.Sources[i] = this->GlobalOf[vertices[i]];
+    collapse.Sources[i] = i < count ? this->GlobalOf[vertices[i]] : InvalidIndex;
   }
+  this->EdgeCollapseCount += count == 2 ? 1 : 0;
   collapse.Point = this->NumberOfVertices();
   collapse.Level = level;
   collapse.Triangle = t;
   collapse.Weight = this->Weights[t];
   this->GlobalPoints.insert(this->GlobalPoints.end(), p.begin(), p.end());
 
-  m.Collapse(vertices, 3, kept, p, &this->Record);
+  m.Collapse(vertices, count, kept, p, &this->Record);
   if (!this->Quadrics.empty())
   {
-    this->Quadrics[kept] += this->Quadrics[vertices[1]];
-    this->Quadrics[kept] += this->Quadrics[vertices[2]];
+    for (int i = 1; i < count; ++i)
+    {
+      this->Quadrics[kept] += this->Quadrics[vertices[i]];
+    }
   }
   this->Collapses.push_back(collapse);
   this->GlobalOf[kept] = collapse.Point;
   this->MarkChangedAround(kept);
 
-  // Ancestors: the kept vertex now stands for the original points of all three.
-  for (int i = 1; i < 3; ++i)
+  // Ancestors: the kept vertex now stands for the original points of all merged vertices.
+  for (int i = 1; i < count; ++i)
   {
     const Index v = vertices[i];
     if (this->AncestorHead[v] != InvalidIndex)
@@ -397,8 +410,8 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
   this->RecordKept.push_back(kept);
   for (int i = 0; i < 3; ++i)
   {
-    this->RecordVertices.push_back(vertices[i]);
-    const Vec3& old = this->Record.OldPositions[i];
+    this->RecordVertices.push_back(i < count ? vertices[i] : InvalidIndex);
+    const Vec3 old = i < count ? this->Record.OldPositions[i] : Vec3{ 0, 0, 0 };
     this->RecordOldPositions.insert(this->RecordOldPositions.end(), old.begin(), old.end());
   }
   this->RecordRemoved.insert(this->RecordRemoved.end(), this->Record.RemovedTriangles.begin(),
@@ -548,6 +561,57 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
 }
 
 // ---------------------------------------------------------------------------------------------
+bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point)
+{
+  const EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  // Candidates: per edge, the quadric's best point near the midpoint and the two end points;
+  // tried by increasing quadric error of the ancestral planes until one passes the checks.
+  struct Candidate
+  {
+    double Error;
+    int Edge;
+    Vec3 Point;
+  };
+  Candidate candidates[9];
+  int n = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const Index u = tri[k], v = tri[(k + 1) % 3];
+    if (m.IsBoundaryVertex(u) || m.IsBoundaryVertex(v))
+    {
+      continue; // boundaries keep their resolution, like the triangle collapses leave them
+    }
+    Quadric q = this->Quadrics[u];
+    q += this->Quadrics[v];
+    const Vec3 pu = m.Point(u), pv = m.Point(v), mid = 0.5 * (pu + pv);
+    const Vec3 best = QuadricPointNear(q, mid);
+    if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) &&
+      Norm(best - mid) <= Norm(pv - pu))
+    {
+      candidates[n++] = { q.Evaluate(best), k, best };
+    }
+    candidates[n++] = { q.Evaluate(pu), k, pu };
+    candidates[n++] = { q.Evaluate(pv), k, pv };
+  }
+  std::sort(candidates, candidates + n, [](const Candidate& a, const Candidate& b) {
+    return a.Error < b.Error || (a.Error == b.Error && a.Edge < b.Edge);
+  });
+  for (int i = 0; i < n; ++i)
+  {
+    const Index vertices[2] = { tri[candidates[i].Edge], tri[(candidates[i].Edge + 1) % 3] };
+    if (m.CheckCollapse(vertices, 2, candidates[i].Point, this->MeshOptions) == CollapseStatus::Ok &&
+      this->KeepsOrientation(vertices, 2, candidates[i].Point))
+    {
+      edge = candidates[i].Edge;
+      point = candidates[i].Point;
+      return true;
+    }
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------
 bool CollapseHierarchy::Build(
   const TriangleMesh& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
 {
@@ -609,6 +673,8 @@ bool CollapseHierarchy::Build(
   this->VertexChanged.assign(np, 0);
   this->BlockedStrict.assign(nt, -1);
   this->BlockedRelaxed.assign(nt, -1);
+  this->BlockedEdge.assign(nt, -1);
+  this->EdgeCollapseCount = 0;
   this->ChangeCounter = 0;
   if (nt == 0)
   {
@@ -616,7 +682,7 @@ bool CollapseHierarchy::Build(
   }
 
   this->Quadrics.clear();
-  if (p.ErrorWeight > 0)
+  if (p.ErrorWeight > 0 || p.EdgeCollapses != CollapseHierarchyParameters::EdgeFallback::Off)
   {
     this->Quadrics.assign(np, Quadric());
     for (Index t = 0; t < nt; ++t)
@@ -662,6 +728,10 @@ bool CollapseHierarchy::Build(
   CollapseOptions& meshOptions = this->MeshOptions;
   std::vector<std::pair<double, Index>> candidates;
   std::vector<Index> batch, affected, touched, ring;
+  // Per batch entry: -1 triangle collapse, else the edge (tri[k], tri[k+1]) collapsed to its point.
+  std::vector<int> batchEdge;
+  std::vector<Vec3> batchPoint;
+  bool edges = false; // edge collapses allowed for blocked triangles in this selection
   std::vector<int> stencilMark(nt, -1);
   std::vector<std::uint32_t> affectedMark(nt, 0);
   std::uint32_t affectedEpoch = 0;
@@ -702,6 +772,8 @@ bool CollapseHierarchy::Build(
     const Index minimumBatch = std::max<Index>(1, wanted / 4);
     auto select = [&]() {
       batch.clear();
+      batchEdge.clear();
+      batchPoint.clear();
       size_t sorted = 0;
       while (static_cast<Index>(batch.size()) < wanted && sorted < candidates.size())
       {
@@ -738,25 +810,47 @@ bool CollapseHierarchy::Build(
           // Blocked before and nothing changed around it since: still blocked (the rules
           // depend only on the stencil region, the collapse point only on T's vertices).
           std::vector<Index>& blocked = rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
-          if (this->StillBlocked(t, blocked[t]))
-          {
-            continue;
-          }
+          bool collapsible = !this->StillBlocked(t, blocked[t]);
           const Evaluation& e = this->Evaluations[t];
-          this->Stencils.Build(this->Mesh, t, this->Stencil);
-          if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) !=
-              CollapsibleStatus::Ok ||
-            !this->KeepsOrientation(t, e.Point))
+          if (collapsible)
           {
-            blocked[t] = this->ChangeCounter;
-            continue;
+            this->Stencils.Build(this->Mesh, t, this->Stencil);
+            collapsible =
+              this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) ==
+                CollapsibleStatus::Ok &&
+              this->KeepsOrientation(t, e.Point);
+            if (!collapsible)
+            {
+              blocked[t] = this->ChangeCounter;
+            }
           }
-          stencilMark[t] = level;
-          for (Index x : this->Stencil.Triangles)
+          int edge = -1;
+          Vec3 point = e.Point;
+          if (!collapsible)
           {
-            stencilMark[x] = level;
+            // Blocked: its cheapest edge collapse, when allowed and valid.
+            if (!edges || this->StillBlocked(t, this->BlockedEdge[t]))
+            {
+              continue;
+            }
+            if (!this->FindEdgeCollapse(t, edge, point))
+            {
+              this->BlockedEdge[t] = this->ChangeCounter;
+              continue;
+            }
+          }
+          // Mark the region (the stencil; for an edge, the triangles around its two vertices).
+          const Index* vertices = this->Mesh.Triangle(t);
+          for (int k = 0; k < 3; ++k)
+          {
+            if (edge < 0 || k == edge || k == (edge + 1) % 3)
+            {
+              this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { stencilMark[x] = level; });
+            }
           }
           batch.push_back(t);
+          batchEdge.push_back(edge);
+          batchPoint.push_back(point);
         }
         sorted = std::min(candidates.size(), sorted + chunk);
       }
@@ -782,12 +876,18 @@ bool CollapseHierarchy::Build(
       }
     };
     auto selectOrRelax = [&]() {
+      edges = p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
       select();
       if (batch.empty() && p.RelaxWhenBlocked)
       {
         // The whole list is sorted by now (the first pass scanned it all).
         rules.AllowNewCycles = true;
         rules.StencilPlaneFallback = true;
+        select();
+      }
+      if (batch.empty() && p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::WhenBlocked)
+      {
+        edges = true;
         select();
       }
     };
@@ -816,8 +916,20 @@ bool CollapseHierarchy::Build(
     // Collapse the batch. Earlier collapses of the batch can only have changed valences on the
     // shared stencil boundaries, so rule (2) is checked again.
     const Index levelStart = this->NumberOfCollapses();
-    for (Index t : batch)
+    for (size_t b = 0; b < batch.size(); ++b)
     {
+      const Index t = batch[b];
+      const Index* tri = this->Mesh.Triangle(t);
+      if (batchEdge[b] >= 0)
+      {
+        // Regions are disjoint, so nothing around the edge moved; checked again all the same.
+        const Index vertices[2] = { tri[batchEdge[b]], tri[(batchEdge[b] + 1) % 3] };
+        if (this->Mesh.CheckCollapse(vertices, 2, batchPoint[b], meshOptions) == CollapseStatus::Ok)
+        {
+          this->ApplyCollapse(t, vertices, 2, batchPoint[b], level);
+        }
+        continue;
+      }
       this->Stencils.Build(this->Mesh, t, this->Stencil);
       bool cycle = false;
       for (Index q : this->Stencil.OppositeVertices)
@@ -828,7 +940,8 @@ bool CollapseHierarchy::Build(
       {
         continue;
       }
-      this->ApplyCollapse(t, this->Evaluations[t].Point, level);
+      const Index vertices[3] = { tri[0], tri[1], tri[2] };
+      this->ApplyCollapse(t, vertices, 3, this->Evaluations[t].Point, level);
     }
     if (this->NumberOfCollapses() == levelStart)
     {
@@ -905,8 +1018,9 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   this->ScratchBatch.resize(ng, InvalidIndex);
   for (Index k = collapses; k < blendEnd; ++k)
   {
-    for (Index g : this->Collapses[k].Sources)
+    for (int j = 0; j < this->Collapses[k].Count; ++j)
     {
+      const Index g = this->Collapses[k].Sources[j];
       this->ScratchTarget[g] = this->Collapses[k].Point;
       this->ScratchBatch[g] = k - collapses;
     }
@@ -937,7 +1051,9 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
       }
     }
     out.TriangleBatch.push_back(batch);
-    out.TriangleRole.push_back(moving == 3 ? 2 : (moving > 0 ? 1 : 0));
+    // Collapsing: all merged vertices of its collapse are in it (T, or both edge triangles).
+    const int count = batch != InvalidIndex ? this->Collapses[collapses + batch].Count : 3;
+    out.TriangleRole.push_back(moving == count ? 2 : (moving > 0 ? 1 : 0));
     out.TriangleOrigin.push_back(this->EntryTriangle[e]);
     out.TriangleCollapseLevel.push_back(
       this->EntryDeath[e] == Never ? -1 : this->Collapses[this->EntryDeath[e] - 1].Level);
@@ -967,8 +1083,9 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   }
   for (Index k = collapses; k < blendEnd; ++k)
   {
-    for (Index g : this->Collapses[k].Sources)
+    for (int j = 0; j < this->Collapses[k].Count; ++j)
     {
+      const Index g = this->Collapses[k].Sources[j];
       this->ScratchTarget[g] = InvalidIndex;
       this->ScratchBatch[g] = InvalidIndex;
     }
@@ -994,9 +1111,9 @@ void CollapseHierarchy::ExtractLevel(double level, HierarchyMesh& out) const
 void CollapseHierarchy::Refine(EditableMesh& mesh, Index k) const
 {
   CollapseRecord record;
-  record.VertexCount = 3;
+  record.VertexCount = this->Collapses[k].Count;
   record.Kept = this->RecordKept[k];
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < record.VertexCount; ++i)
   {
     record.Vertices[i] = this->RecordVertices[3 * size_t(k) + i];
     const double* o = &this->RecordOldPositions[9 * size_t(k) + 3 * i];

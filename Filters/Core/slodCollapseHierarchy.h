@@ -79,6 +79,22 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // When no triangle passes the paper's rules, retry the level with rule (2) relaxed (a valence-3
   // vertex may appear) and rule (3) also tried in the stencil's mean plane, instead of stopping.
   bool RelaxWhenBlocked = false;
+  // Edge collapses where triangle collapses are blocked (not in the paper): a triangle that fails
+  // the rules (incomplete or cyclic stencil, valence-four rule, star shape, mesh check) collapses
+  // its cheapest edge instead (two vertices to the point of least quadric error on the edge or
+  // an end point, chosen by the quadric error of the ancestral planes; checked like any collapse),
+  // in the same batches, records and blends.
+  //  Off: triangle collapses only (paper).
+  //  WhenBlocked: only in levels where no triangle collapse is possible at all (the final levels of
+  //    meshes with thin parts), so that the targets are still reached.
+  //  Everywhere: any blocked triangle may take an edge collapse, in its place in the priority order.
+  enum class EdgeFallback
+  {
+    Off,
+    WhenBlocked,
+    Everywhere
+  };
+  EdgeFallback EdgeCollapses = EdgeFallback::Off;
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
   Index MinimumNumberOfTriangles = 0;
@@ -88,7 +104,8 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
 
 struct SURFACELODFILTERS_EXPORT HierarchyCollapse
 {
-  Index Sources[3];   // global ids of the collapsed triangle's vertices
+  Index Sources[3];   // global ids of the collapsed triangle's vertices (edge: Sources[2] = -1)
+  int Count = 3;      // 3 triangle collapse, 2 edge collapse (EdgeCollapses fallback)
   Index Point;        // global id of the collapse point
   int Level;          // M_Level -> M_Level+1
   Index Triangle;     // the triangle's id in M0 numbering
@@ -122,6 +139,7 @@ public:
   // Meshes M0..Mn: NumberOfLevels() = n + 1.
   int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
   Index NumberOfCollapses() const { return static_cast<Index>(this->Collapses.size()); }
+  Index NumberOfEdgeCollapses() const { return this->EdgeCollapseCount; }
   Index NumberOfSwaps() const { return static_cast<Index>(this->Flips.size()); }
   // Edge swaps made after `collapses` collapses (between M_i(1) and M_i+1 when collapses =
   // LevelStart(i + 1)); each changes two triangles.
@@ -173,7 +191,10 @@ private:
   void Evaluate(Index t, Evaluation& e);
   double WeightOf(const Evaluation& e) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
-  void ApplyCollapse(Index t, const Vec3& p, int level);
+  void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level);
+  // The cheapest valid edge collapse of triangle t (edge (tri[k], tri[k+1]) and its point).
+  bool FindEdgeCollapse(Index t, int& edge, Vec3& point);
+  bool KeepsOrientation(const Index* vertices, int count, const Vec3& p) const;
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
   int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
   void RecordFlip(const FlipRecord& flip);
@@ -216,7 +237,8 @@ private:
   // (by the stencil rules, the mesh check or the orientation test) is skipped until a vertex of
   // its stencil region changes (position or triangles around it). One stamp per rule set (strict,
   // relaxed); -1: not known to be blocked.
-  std::vector<Index> VertexChanged, BlockedStrict, BlockedRelaxed;
+  std::vector<Index> VertexChanged, BlockedStrict, BlockedRelaxed, BlockedEdge;
+  Index EdgeCollapseCount = 0;
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
   bool StillBlocked(Index t, Index stamp) const;
