@@ -49,6 +49,7 @@ struct vtkTriangleCollapseHierarchy::Internals
       a.MaximumWeight == b.MaximumWeight && a.ValenceNormalizer == b.ValenceNormalizer &&
       a.RemoveCycles == b.RemoveCycles && a.MaximumNumberOfLevels == b.MaximumNumberOfLevels &&
       a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.EdgeCollapses == b.EdgeCollapses &&
+      a.PreferEdgeFactor == b.PreferEdgeFactor && a.VertexErrorWeight == b.VertexErrorWeight &&
       a.SwapBlockingEdges == b.SwapBlockingEdges &&
       a.StarShapedInStencilPlane == b.StarShapedInStencilPlane &&
       a.SwapMinimumNormalDotWhenBlocked == b.SwapMinimumNormalDotWhenBlocked &&
@@ -239,6 +240,8 @@ int vtkTriangleCollapseHierarchy::RequestData(
   parameters.MinimumNormalDot = this->MinimumNormalDot;
   parameters.ErrorWeight = this->ErrorWeight;
   parameters.RelaxWhenBlocked = this->RelaxWhenBlocked;
+  parameters.PreferEdgeFactor = this->PreferEdgeFactor;
+  parameters.VertexErrorWeight = this->VertexErrorWeight;
   parameters.EdgeCollapses = static_cast<slod::CollapseHierarchyParameters::EdgeFallback>(this->EdgeCollapses);
   parameters.SwapBlockingEdges = this->SwapBlockingEdges;
   parameters.StarShapedInStencilPlane = this->StarShapedInStencilPlane;
@@ -368,6 +371,8 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "QuadricCollapsePoint: " << this->QuadricCollapsePoint << "\n";
   os << indent << "RelaxWhenBlocked: " << this->RelaxWhenBlocked << "\n";
   os << indent << "EdgeCollapses: " << this->EdgeCollapses << "\n";
+  os << indent << "PreferEdgeFactor: " << this->PreferEdgeFactor << "\n";
+  os << indent << "VertexErrorWeight: " << this->VertexErrorWeight << "\n";
   os << indent << "StarShapedInStencilPlane: " << this->StarShapedInStencilPlane << "\n";
   os << indent << "SwapBlockingEdges: " << this->SwapBlockingEdges << "\n";
   os << indent << "SwapMinimumNormalDot: " << this->SwapMinimumNormalDot << "\n";

@@ -175,6 +175,17 @@ public:
   };
   vtkSetClampMacro(EdgeCollapses, int, EDGE_COLLAPSES_OFF, EDGE_COLLAPSES_EVERYWHERE);
   vtkGetMacro(EdgeCollapses, int);
+  /// With EDGE_COLLAPSES_EVERYWHERE: a triangle whose cheapest edge collapse costs less than this
+  /// factor times its triangle collapse (quadric error) takes the edge collapse even when the
+  /// triangle collapse is allowed (0: edge collapses only where triangles are blocked).
+  vtkSetClampMacro(PreferEdgeFactor, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(PreferEdgeFactor, double);
+  /// Feature protection in the error (not in the paper; needs ErrorWeight > 0 or edge collapses):
+  /// adds this factor times the mean triangle area times the largest mean squared distance of the
+  /// collapse point to the original planes of one merged vertex, so crease and corner vertices
+  /// stay on their planes however small the faces around them (default 10; 0: the plain quadric).
+  vtkSetClampMacro(VertexErrorWeight, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(VertexErrorWeight, double);
   ///@}
 
   ///@{
@@ -239,6 +250,8 @@ protected:
   bool RemoveCycles = false;
   bool RelaxWhenBlocked = true;
   int EdgeCollapses = EDGE_COLLAPSES_EVERYWHERE;
+  double PreferEdgeFactor = 0.0;
+  double VertexErrorWeight = 10.0;
   bool StarShapedInStencilPlane = true;
   bool SwapBlockingEdges = true;
   double SwapMinimumNormalDot = 0.9999;

@@ -287,7 +287,7 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
         double bestError = std::numeric_limits<double>::infinity();
         for (const Vec3& o : options)
         {
-          const double error = q.Evaluate(o);
+          const double error = this->CollapseError(tri, 3, q, o);
           if (error < bestError && starShaped(o) &&
             m.CheckCollapse(tri, 3, o, this->MeshOptions) == CollapseStatus::Ok)
           {
@@ -297,7 +297,36 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
         }
       }
     }
-    e.Error = q.Evaluate(e.Point);
+    e.Error = this->CollapseError(tri, 3, q, e.Point);
+  }
+  e.PreferEdge = false;
+  if (this->Parameters.PreferEdgeFactor > 0 &&
+    this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere)
+  {
+    // The cheapest edge collapse of T by quadric error (validity is checked at selection).
+    e.EdgeError = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index u = tri[k], v = tri[(k + 1) % 3];
+      if (m.IsBoundaryVertex(u) || m.IsBoundaryVertex(v))
+      {
+        continue;
+      }
+      Quadric q = this->Quadrics[u];
+      q += this->Quadrics[v];
+      const Vec3 pu = m.Point(u), pv = m.Point(v), mid = 0.5 * (pu + pv);
+      const Vec3 best = QuadricPointNear(q, mid);
+      const Index uv[2] = { u, v };
+      if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) &&
+        Norm(best - mid) <= Norm(pv - pu))
+      {
+        e.EdgeError = std::min(e.EdgeError, this->CollapseError(uv, 2, q, best));
+      }
+      e.EdgeError = std::min(e.EdgeError,
+        std::min(this->CollapseError(uv, 2, q, pu), this->CollapseError(uv, 2, q, pv)));
+
+    }
+    e.PreferEdge = e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
   }
   // alpha = 2 (cos A + cos B + cos C - 1) = 2 r / R.
   double cosSum = 0;
@@ -311,13 +340,38 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   e.Alpha = std::min(1.0, std::max(0.0, 2.0 * (cosSum - 1.0)));
 }
 
+double CollapseHierarchy::CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const
+{
+  // Sum over the ancestral planes (area-weighted squared distances), plus the worst merged
+  // vertex's mean squared distance to its own ancestral planes times the mean triangle area:
+  // a crease or corner vertex is pinned by its own planes however small the faces around it
+  // are (narrow CAD strips are cheap for the sum alone, and flattening them was the largest
+  // deviation on fandisk).
+  double error = q.Evaluate(p);
+  if (this->Parameters.VertexErrorWeight > 0)
+  {
+    double worst = 0;
+    for (int k = 0; k < count; ++k)
+    {
+      const Quadric& own = this->Quadrics[vertices[k]];
+      const double weight = own.Axx + own.Ayy + own.Azz; // sum of the plane weights (unit normals)
+      if (weight > 0)
+      {
+        worst = std::max(worst, own.Evaluate(p) / weight);
+      }
+    }
+    error += this->Parameters.VertexErrorWeight * this->MeanArea * worst;
+  }
+  return error;
+}
+
 double CollapseHierarchy::WeightOf(const Evaluation& e) const
 {
   const CollapseHierarchyParameters& p = this->Parameters;
   const double term = p.CurvatureWeight * (e.Kappa / this->KappaMax) + p.AngleWeight * e.Alpha +
     p.ValenceWeight * (std::abs(e.Valence - 6) / this->Mv);
   const double paper = e.Area * term / (this->WeightSum * this->MeanArea);
-  const double error = e.Error / (this->MeanArea * this->MeanArea);
+  const double error = (e.PreferEdge ? e.EdgeError : e.Error) / (this->MeanArea * this->MeanArea);
   return (1 - p.ErrorWeight) * paper + p.ErrorWeight * error;
 }
 
@@ -561,7 +615,7 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
 }
 
 // ---------------------------------------------------------------------------------------------
-bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point)
+bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error)
 {
   const EditableMesh& m = this->Mesh;
   const Index* tri = m.Triangle(t);
@@ -586,13 +640,14 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point)
     q += this->Quadrics[v];
     const Vec3 pu = m.Point(u), pv = m.Point(v), mid = 0.5 * (pu + pv);
     const Vec3 best = QuadricPointNear(q, mid);
+    const Index uv[2] = { u, v };
     if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) &&
       Norm(best - mid) <= Norm(pv - pu))
     {
-      candidates[n++] = { q.Evaluate(best), k, best };
+      candidates[n++] = { this->CollapseError(uv, 2, q, best), k, best };
     }
-    candidates[n++] = { q.Evaluate(pu), k, pu };
-    candidates[n++] = { q.Evaluate(pv), k, pv };
+    candidates[n++] = { this->CollapseError(uv, 2, q, pu), k, pu };
+    candidates[n++] = { this->CollapseError(uv, 2, q, pv), k, pv };
   }
   std::sort(candidates, candidates + n, [](const Candidate& a, const Candidate& b) {
     return a.Error < b.Error || (a.Error == b.Error && a.Edge < b.Edge);
@@ -605,6 +660,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point)
     {
       edge = candidates[i].Edge;
       point = candidates[i].Point;
+      error = candidates[i].Error;
       return true;
     }
   }
@@ -681,6 +737,12 @@ bool CollapseHierarchy::Build(
     return true;
   }
 
+  double meanAreaGuess = 0;
+  for (Index t = 0; t < nt; ++t)
+  {
+    meanAreaGuess += 0.5 * Norm(this->Base.TriangleAreaVector(t)) / nt;
+  }
+  this->MeanArea = meanAreaGuess > 0 ? meanAreaGuess : 1.0;
   this->Quadrics.clear();
   if (p.ErrorWeight > 0 || p.EdgeCollapses != CollapseHierarchyParameters::EdgeFallback::Off)
   {
@@ -810,34 +872,55 @@ bool CollapseHierarchy::Build(
           // Blocked before and nothing changed around it since: still blocked (the rules
           // depend only on the stencil region, the collapse point only on T's vertices).
           std::vector<Index>& blocked = rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
-          bool collapsible = !this->StillBlocked(t, blocked[t]);
           const Evaluation& e = this->Evaluations[t];
-          if (collapsible)
-          {
-            this->Stencils.Build(this->Mesh, t, this->Stencil);
-            collapsible =
-              this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) ==
-                CollapsibleStatus::Ok &&
-              this->KeepsOrientation(t, e.Point);
-            if (!collapsible)
-            {
-              blocked[t] = this->ChangeCounter;
-            }
-          }
           int edge = -1;
           Vec3 point = e.Point;
-          if (!collapsible)
-          {
-            // Blocked: its cheapest edge collapse, when allowed and valid.
+          auto tryTriangle = [&]() {
+            if (this->StillBlocked(t, blocked[t]))
+            {
+              return false;
+            }
+            this->Stencils.Build(this->Mesh, t, this->Stencil);
+            if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) ==
+                CollapsibleStatus::Ok &&
+              this->KeepsOrientation(t, e.Point))
+            {
+              edge = -1;
+              point = e.Point;
+              return true;
+            }
+            blocked[t] = this->ChangeCounter;
+            return false;
+          };
+          // Its cheapest valid edge collapse, when allowed.
+          auto tryEdge = [&]() {
             if (!edges || this->StillBlocked(t, this->BlockedEdge[t]))
             {
-              continue;
+              return false;
             }
-            if (!this->FindEdgeCollapse(t, edge, point))
+            double error = 0;
+            if (this->FindEdgeCollapse(t, edge, point, error))
             {
-              this->BlockedEdge[t] = this->ChangeCounter;
-              continue;
+              // Taken at its own cost: when it is dearer than the triangle's place in the
+              // order, the triangle is put back with that cost (next level's order).
+              Evaluation edgeEvaluation = e;
+              edgeEvaluation.PreferEdge = false;
+              edgeEvaluation.Error = error;
+              const double weight = this->WeightOf(edgeEvaluation);
+              if (weight <= candidates[i].first * (1 + 1e-9) + 1e-300)
+              {
+                return true;
+              }
+              this->Weights[t] = weight;
+              return false;
             }
+            this->BlockedEdge[t] = this->ChangeCounter;
+            return false;
+          };
+          const bool found = e.PreferEdge && edges ? (tryEdge() || tryTriangle()) : (tryTriangle() || tryEdge());
+          if (!found)
+          {
+            continue;
           }
           // Mark the region (the stencil; for an edge, the triangles around its two vertices).
           const Index* vertices = this->Mesh.Triangle(t);

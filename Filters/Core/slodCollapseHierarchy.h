@@ -45,6 +45,11 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // triangles merged into T's vertices (quadric error), divided by the squared mean triangle area.
   // 0 gives the paper's weights exactly.
   double ErrorWeight = 0.0;
+  // Added to the quadric error E(T) (not in the paper): this factor times the mean triangle area
+  // times the largest mean squared distance of the collapse point to the ancestral planes of one
+  // merged vertex. Keeps crease and corner vertices on their planes even where the faces around
+  // them are small (the plain area-weighted sum makes narrow strips cheap to flatten). 0: off.
+  double VertexErrorWeight = 0.0;
   // Collapse point: the paper's c + f(0,0) n on the fitted quadratic (false), or the point of
   // least quadric error (true; needs ErrorWeight > 0): the quadric's minimum when it is well
   // conditioned and near T (creases, corners), else the minimum on the line c + s n.
@@ -95,6 +100,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
     Everywhere
   };
   EdgeFallback EdgeCollapses = EdgeFallback::Off;
+  // With EdgeCollapses Everywhere: a triangle whose cheapest edge collapse has less than this
+  // factor times the quadric error of its triangle collapse takes the edge collapse (and is
+  // ordered by its error) even when the triangle collapse is allowed. 0: edges only where blocked.
+  double PreferEdgeFactor = 0.0;
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
   Index MinimumNumberOfTriangles = 0;
@@ -185,15 +194,18 @@ private:
   struct Evaluation
   {
     double Kappa = 0, Alpha = 0, Area = 0, Error = 0;
+    double EdgeError = 0; // cheapest edge collapse of T (quadric error), when computed
+    bool PreferEdge = false;
     int Valence = 6;
     Vec3 Point{ 0, 0, 0 }, Normal{ 0, 0, 1 };
   };
   void Evaluate(Index t, Evaluation& e);
   double WeightOf(const Evaluation& e) const;
+  double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level);
   // The cheapest valid edge collapse of triangle t (edge (tri[k], tri[k+1]) and its point).
-  bool FindEdgeCollapse(Index t, int& edge, Vec3& point);
+  bool FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error);
   bool KeepsOrientation(const Index* vertices, int count, const Vec3& p) const;
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
   int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
