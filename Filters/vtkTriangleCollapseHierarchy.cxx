@@ -214,6 +214,11 @@ vtkIdType vtkTriangleCollapseHierarchy::GetNumberOfCollapses() const
   return this->Internal->Valid ? this->Internal->Hierarchy.NumberOfCollapses() : 0;
 }
 
+vtkIdType vtkTriangleCollapseHierarchy::GetNumberOfEdgeCollapses() const
+{
+  return this->Internal->Valid ? this->Internal->Hierarchy.NumberOfEdgeCollapses() : 0;
+}
+
 //------------------------------------------------------------------------------
 int vtkTriangleCollapseHierarchy::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)

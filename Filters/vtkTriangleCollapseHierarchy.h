@@ -222,6 +222,7 @@ public:
   int GetNumberOfLevels() const;                 ///< n + 1 meshes M0..Mn
   vtkIdType GetLevelNumberOfTriangles(int level) const;
   vtkIdType GetNumberOfCollapses() const;
+  vtkIdType GetNumberOfEdgeCollapses() const; ///< of which edge collapses (EdgeCollapses fallback)
   double GetShownLevel() const { return this->ShownLevel; } ///< level (i + t) of output 0
   int GetNumberOfHierarchyBuilds() const { return this->NumberOfHierarchyBuilds; }
   double GetHierarchyBuildTime() const { return this->HierarchyBuildTime; } ///< seconds
@@ -250,7 +251,7 @@ protected:
   bool RemoveCycles = false;
   bool RelaxWhenBlocked = true;
   int EdgeCollapses = EDGE_COLLAPSES_EVERYWHERE;
-  double PreferEdgeFactor = 0.0;
+  double PreferEdgeFactor = 0.05;
   double VertexErrorWeight = 10.0;
   bool StarShapedInStencilPlane = true;
   bool SwapBlockingEdges = true;

@@ -20,6 +20,13 @@ constexpr Index MaximumFitPoints = 64;
 // the corner).
 Vec3 QuadricPointNear(const Quadric& q, const Vec3& center)
 {
+  // Well conditioned (det > 1e-3 trace^3 implies every eigenvalue > 1e-3 of the largest): all
+  // directions are kept and the point is the plain minimum; the cofactor solve is much cheaper.
+  Vec3 minimum;
+  if (q.Minimize(minimum, 1e-3))
+  {
+    return minimum;
+  }
   Eigen::Matrix3d A;
   A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
   const Eigen::Vector3d cc(center[0], center[1], center[2]);
@@ -879,6 +886,18 @@ bool CollapseHierarchy::Build(
             if (this->StillBlocked(t, blocked[t]))
             {
               return false;
+            }
+            if (e.PreferEdge)
+            {
+              // Ordered by its edge collapse: the triangle collapse only at its own cost.
+              Evaluation triangleEvaluation = e;
+              triangleEvaluation.PreferEdge = false;
+              const double weight = this->WeightOf(triangleEvaluation);
+              if (weight > candidates[i].first * (1 + 1e-9) + 1e-300)
+              {
+                this->Weights[t] = std::max(this->Weights[t], weight);
+                return false;
+              }
             }
             this->Stencils.Build(this->Mesh, t, this->Stencil);
             if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) ==
