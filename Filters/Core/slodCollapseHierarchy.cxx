@@ -31,7 +31,8 @@ Vec3 QuadricPointNear(const Quadric& q, const Vec3& center)
   A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
   const Eigen::Vector3d cc(center[0], center[1], center[2]);
   const Eigen::Vector3d g = A * cc + Eigen::Vector3d(q.Bx, q.By, q.Bz);
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(A);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+  eigen.computeDirect(A); // closed form for 3x3 (the iterative solver was a quarter of the build)
   const Eigen::Vector3d lambda = eigen.eigenvalues();
   const double top = std::max(std::abs(lambda[0]), std::max(std::abs(lambda[1]), std::abs(lambda[2])));
   Eigen::Vector3d x = cc;
@@ -312,10 +313,15 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   {
     // The cheapest edge collapse of T by quadric error (validity is checked at selection).
     e.EdgeError = std::numeric_limits<double>::infinity();
+    bool boundary[3] = { false, false, false };
+    for (int k = 0; k < 3 && this->HasBoundary; ++k)
+    {
+      boundary[k] = m.IsBoundaryVertex(tri[k]);
+    }
     for (int k = 0; k < 3; ++k)
     {
       const Index u = tri[k], v = tri[(k + 1) % 3];
-      if (m.IsBoundaryVertex(u) || m.IsBoundaryVertex(v))
+      if (boundary[k] || boundary[(k + 1) % 3])
       {
         continue;
       }
@@ -639,7 +645,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   for (int k = 0; k < 3; ++k)
   {
     const Index u = tri[k], v = tri[(k + 1) % 3];
-    if (m.IsBoundaryVertex(u) || m.IsBoundaryVertex(v))
+    if (this->HasBoundary && (m.IsBoundaryVertex(u) || m.IsBoundaryVertex(v)))
     {
       continue; // boundaries keep their resolution, like the triangle collapses leave them
     }
@@ -738,6 +744,12 @@ bool CollapseHierarchy::Build(
   this->BlockedRelaxed.assign(nt, -1);
   this->BlockedEdge.assign(nt, -1);
   this->EdgeCollapseCount = 0;
+  // Collapses never open a closed mesh: without boundary edges at the start, none appear.
+  this->HasBoundary = false;
+  for (Index v = 0; v < np && !this->HasBoundary; ++v)
+  {
+    this->HasBoundary = this->Mesh.IsBoundaryVertex(v);
+  }
   this->ChangeCounter = 0;
   if (nt == 0)
   {

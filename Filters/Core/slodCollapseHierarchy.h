@@ -251,6 +251,7 @@ private:
   // relaxed); -1: not known to be blocked.
   std::vector<Index> VertexChanged, BlockedStrict, BlockedRelaxed, BlockedEdge;
   Index EdgeCollapseCount = 0;
+  bool HasBoundary = true;
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
   bool StillBlocked(Index t, Index stamp) const;
