@@ -251,7 +251,7 @@ protected:
   bool RemoveCycles = false;
   bool RelaxWhenBlocked = true;
   int EdgeCollapses = EDGE_COLLAPSES_EVERYWHERE;
-  double PreferEdgeFactor = 0.05;
+  double PreferEdgeFactor = 0.1;
   double VertexErrorWeight = 10.0;
   bool StarShapedInStencilPlane = true;
   bool SwapBlockingEdges = true;

@@ -856,7 +856,10 @@ bool CollapseHierarchy::Build(
       batchEdge.clear();
       batchPoint.clear();
       size_t sorted = 0;
-      while (static_cast<Index>(batch.size()) < wanted && sorted < candidates.size())
+      // The batch is counted in triangle collapses: an edge collapse (two triangles removed
+      // instead of four) counts half, so a level removes the same share of the mesh.
+      Index removed = 0;
+      while (removed < 4 * wanted && sorted < candidates.size())
       {
         // Sort the next chunk of the priority order only (usually a few times the batch size).
         const size_t chunk = std::min(candidates.size() - sorted, std::max<size_t>(8 * size_t(wanted), 1024));
@@ -865,9 +868,9 @@ bool CollapseHierarchy::Build(
           std::nth_element(candidates.begin() + sorted, candidates.begin() + sorted + chunk - 1, candidates.end());
           std::sort(candidates.begin() + sorted, candidates.begin() + sorted + chunk);
         }
-        for (size_t i = sorted; i < sorted + chunk && static_cast<Index>(batch.size()) < wanted; ++i)
+        for (size_t i = sorted; i < sorted + chunk && removed < 4 * wanted; ++i)
         {
-          if (i >= depth && static_cast<Index>(batch.size()) >= minimumBatch)
+          if (i >= depth && removed >= 4 * minimumBatch)
           {
             sorted = candidates.size(); // deeper candidates would force expensive collapses
             break;
@@ -963,6 +966,7 @@ bool CollapseHierarchy::Build(
             }
           }
           batch.push_back(t);
+          removed += edge < 0 ? 4 : 2;
           batchEdge.push_back(edge);
           batchPoint.push_back(point);
         }
@@ -999,11 +1003,6 @@ bool CollapseHierarchy::Build(
         rules.StencilPlaneFallback = true;
         select();
       }
-      if (batch.empty() && p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::WhenBlocked)
-      {
-        edges = true;
-        select();
-      }
     };
     selectOrRelax();
     if (batch.empty() && p.SwapBlockingEdges && p.SwapMinimumNormalDotWhenBlocked < p.SwapMinimumNormalDot)
@@ -1026,6 +1025,12 @@ bool CollapseHierarchy::Build(
         order();
         selectOrRelax();
       }
+    }
+    if (batch.empty() && p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::WhenBlocked)
+    {
+      // Still blocked everywhere: edge collapses for this level.
+      edges = true;
+      select();
     }
     // Collapse the batch. Earlier collapses of the batch can only have changed valences on the
     // shared stencil boundaries, so rule (2) is checked again.
