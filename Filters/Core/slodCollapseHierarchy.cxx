@@ -253,6 +253,39 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   {
     fit();
   }
+  const bool preferEdges = this->Parameters.PreferEdgeFactor > 0 &&
+    this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
+  e.EdgeError = std::numeric_limits<double>::infinity();
+  if (preferEdges)
+  {
+    // The cheapest edge collapse of T by quadric error (validity is checked at selection).
+    bool boundary[3] = { false, false, false };
+    for (int k = 0; k < 3 && this->HasBoundary; ++k)
+    {
+      boundary[k] = m.IsBoundaryVertex(tri[k]);
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index u = tri[k], v = tri[(k + 1) % 3];
+      if (boundary[k] || boundary[(k + 1) % 3])
+      {
+        continue;
+      }
+      Quadric q = this->Quadrics[u];
+      q += this->Quadrics[v];
+      const Vec3 pu = m.Point(u), pv = m.Point(v), mid = 0.5 * (pu + pv);
+      const Vec3 best = QuadricPointNear(q, mid);
+      const Index uv[2] = { u, v };
+      if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) &&
+        Norm(best - mid) <= Norm(pv - pu))
+      {
+        e.EdgeError = std::min(e.EdgeError, this->CollapseError(uv, 2, q, best));
+      }
+      e.EdgeError = std::min(e.EdgeError,
+        std::min(this->CollapseError(uv, 2, q, pu), this->CollapseError(uv, 2, q, pv)));
+
+    }
+  }
   e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
   {
@@ -289,7 +322,10 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
         });
         return ok;
       };
-      if (!starShaped(e.Point))
+      // (Not needed when T will be ordered by its much cheaper edge collapse anyway.)
+      const bool edgeFirst = preferEdges &&
+        e.EdgeError < this->Parameters.PreferEdgeFactor * this->CollapseError(tri, 3, q, e.Point);
+      if (!edgeFirst && !starShaped(e.Point))
       {
         const Vec3 options[6] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
         double bestError = std::numeric_limits<double>::infinity();
@@ -307,40 +343,7 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
     }
     e.Error = this->CollapseError(tri, 3, q, e.Point);
   }
-  e.PreferEdge = false;
-  if (this->Parameters.PreferEdgeFactor > 0 &&
-    this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere)
-  {
-    // The cheapest edge collapse of T by quadric error (validity is checked at selection).
-    e.EdgeError = std::numeric_limits<double>::infinity();
-    bool boundary[3] = { false, false, false };
-    for (int k = 0; k < 3 && this->HasBoundary; ++k)
-    {
-      boundary[k] = m.IsBoundaryVertex(tri[k]);
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index u = tri[k], v = tri[(k + 1) % 3];
-      if (boundary[k] || boundary[(k + 1) % 3])
-      {
-        continue;
-      }
-      Quadric q = this->Quadrics[u];
-      q += this->Quadrics[v];
-      const Vec3 pu = m.Point(u), pv = m.Point(v), mid = 0.5 * (pu + pv);
-      const Vec3 best = QuadricPointNear(q, mid);
-      const Index uv[2] = { u, v };
-      if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) &&
-        Norm(best - mid) <= Norm(pv - pu))
-      {
-        e.EdgeError = std::min(e.EdgeError, this->CollapseError(uv, 2, q, best));
-      }
-      e.EdgeError = std::min(e.EdgeError,
-        std::min(this->CollapseError(uv, 2, q, pu), this->CollapseError(uv, 2, q, pv)));
-
-    }
-    e.PreferEdge = e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
-  }
+  e.PreferEdge = preferEdges && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
   // alpha = 2 (cos A + cos B + cos C - 1) = 2 r / R.
   double cosSum = 0;
   const Vec3 corners[3] = { a, b, c };
