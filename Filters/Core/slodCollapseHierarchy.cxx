@@ -148,30 +148,42 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   }
   const std::uint32_t epoch = this->MarkEpoch;
   this->StencilVertices.clear();
-  Vec3 stencilNormal{ 0, 0, 0 };
+  // The stencil's vertices are only needed by the fit, which the defaults rarely run: gathered
+  // then (the marks stay valid for this evaluation's epoch).
+  auto gatherStencil = [&]() {
+    for (int k = 0; k < 3; ++k)
+    {
+      m.ForEachTriangle(tri[k], [&](Index x) {
+        const Index* q = m.Triangle(x);
+        for (int j = 0; j < 3; ++j)
+        {
+          if (this->VertexMark[q[j]] != epoch)
+          {
+            this->VertexMark[q[j]] = epoch;
+            this->StencilVertices.push_back(q[j]);
+          }
+        }
+      });
+    }
+  };
   int degree = 0;
   for (int k = 0; k < 3; ++k)
   {
-    m.ForEachTriangle(tri[k], [&](Index x) {
-      ++degree;
-      const Index* q = m.Triangle(x);
-      stencilNormal = stencilNormal +
-        Cross(m.Point(q[1]) - m.Point(q[0]), m.Point(q[2]) - m.Point(q[0]));
-      for (int j = 0; j < 3; ++j)
-      {
-        if (this->VertexMark[q[j]] != epoch)
-        {
-          this->VertexMark[q[j]] = epoch;
-          this->StencilVertices.push_back(q[j]);
-        }
-      }
-    });
+    degree += m.VertexDegree(tri[k]);
   }
   // Valence of the collapse point: the stencil boundary (interior case: sum of valences - 9).
   e.Valence = std::max(0, degree - 9);
   // A degenerate triangle has no plane of its own: use its stencil's.
   if (IsDegenerate(a, b, c))
   {
+    Vec3 stencilNormal{ 0, 0, 0 };
+    for (int k = 0; k < 3; ++k)
+    {
+      m.ForEachTriangle(tri[k], [&](Index x) {
+        const Index* q = m.Triangle(x);
+        stencilNormal = stencilNormal + Cross(m.Point(q[1]) - m.Point(q[0]), m.Point(q[2]) - m.Point(q[0]));
+      });
+    }
     areaVector = stencilNormal;
   }
   LocalFrame frame;
@@ -192,6 +204,7 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   Vec3 fitPoint = centroid;
   auto fit = [&]() {
     fitted = true;
+    gatherStencil();
     // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
     // collapses does not accumulate (section 7). Extended stencil when the system is singular.
     // On coarse levels the ancestors number hundreds: a regular subsample of about
