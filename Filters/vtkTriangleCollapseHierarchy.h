@@ -13,9 +13,12 @@
  * ErrorWeight 1 (quadric error of the collapse point), QuadricCollapsePoint on, RelaxWhenBlocked
  * on, BatchSearchDepth 4, MinimumNormalDot 0.5, StarShapedInStencilPlane on, SwapBlockingEdges on
  * (edge swaps between levels on flat hinges, SwapMinimumNormalDot 0.9999,
- * SwapMinimumNormalDotWhenBlocked 0.5). The paper's configuration is ErrorWeight 0,
+ * SwapMinimumNormalDotWhenBlocked 0.5), EdgeCollapses EDGE_COLLAPSES_EVERYWHERE with
+ * PreferEdgeFactor 0.1 (edge collapses, in the same batches, records and blends, where a triangle
+ * collapse is blocked or more than 10x dearer) and VertexErrorWeight 10 (crease and corner
+ * vertices pinned to their own planes). The paper's configuration is ErrorWeight 0,
  * QuadricCollapsePoint off, RelaxWhenBlocked off, BatchSearchDepth 0, MinimumNormalDot 0.2,
- * StarShapedInStencilPlane off, SwapBlockingEdges off.
+ * StarShapedInStencilPlane off, SwapBlockingEdges off, EdgeCollapses EDGE_COLLAPSES_OFF.
  *
  * Output 0 is one mesh of the hierarchy, chosen by (first that applies):
  *  - ContinuousLevel >= 0: M_i(t) for ContinuousLevel = i + t, where the triangles that collapse

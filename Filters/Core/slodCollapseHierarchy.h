@@ -10,7 +10,10 @@
 // in increasing weight order (a priority order rebuilt per level by partial sorting), keeps up to
 // BatchFraction of the live triangles that are collapsible (slodTriangleStencil) and have pairwise
 // disjoint stencils, collapses them together and refits the triangles around the new vertices.
-// This yields the levels M0 .. Mn.
+// This yields the levels M0 .. Mn. Beyond the paper (all optional, see the parameters): the
+// quadric error of the ancestral planes as weight and collapse point, edge swaps, and edge
+// collapses (two vertices to one point) where a triangle collapse is blocked or much dearer,
+// stored like the triangle collapses (HierarchyCollapse::Count = 2).
 //
 // Representation (compact, reversible, fast to blend):
 //  - global vertices: the input points followed by one collapse point per collapse;
