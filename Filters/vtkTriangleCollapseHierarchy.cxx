@@ -48,7 +48,9 @@ struct vtkTriangleCollapseHierarchy::Internals
       a.ValenceWeight == b.ValenceWeight && a.BatchFraction == b.BatchFraction &&
       a.MaximumWeight == b.MaximumWeight && a.ValenceNormalizer == b.ValenceNormalizer &&
       a.RemoveCycles == b.RemoveCycles && a.MaximumNumberOfLevels == b.MaximumNumberOfLevels &&
-      a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.SwapBlockingEdges == b.SwapBlockingEdges &&
+      a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.EdgeCollapses == b.EdgeCollapses &&
+      a.PreferEdgeFactor == b.PreferEdgeFactor && a.VertexErrorWeight == b.VertexErrorWeight &&
+      a.SwapBlockingEdges == b.SwapBlockingEdges &&
       a.StarShapedInStencilPlane == b.StarShapedInStencilPlane &&
       a.SwapMinimumNormalDotWhenBlocked == b.SwapMinimumNormalDotWhenBlocked &&
       a.SwapMinimumNormalDot == b.SwapMinimumNormalDot && a.BatchSearchDepth == b.BatchSearchDepth &&
@@ -212,6 +214,11 @@ vtkIdType vtkTriangleCollapseHierarchy::GetNumberOfCollapses() const
   return this->Internal->Valid ? this->Internal->Hierarchy.NumberOfCollapses() : 0;
 }
 
+vtkIdType vtkTriangleCollapseHierarchy::GetNumberOfEdgeCollapses() const
+{
+  return this->Internal->Valid ? this->Internal->Hierarchy.NumberOfEdgeCollapses() : 0;
+}
+
 //------------------------------------------------------------------------------
 int vtkTriangleCollapseHierarchy::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -238,6 +245,9 @@ int vtkTriangleCollapseHierarchy::RequestData(
   parameters.MinimumNormalDot = this->MinimumNormalDot;
   parameters.ErrorWeight = this->ErrorWeight;
   parameters.RelaxWhenBlocked = this->RelaxWhenBlocked;
+  parameters.PreferEdgeFactor = this->PreferEdgeFactor;
+  parameters.VertexErrorWeight = this->VertexErrorWeight;
+  parameters.EdgeCollapses = static_cast<slod::CollapseHierarchyParameters::EdgeFallback>(this->EdgeCollapses);
   parameters.SwapBlockingEdges = this->SwapBlockingEdges;
   parameters.StarShapedInStencilPlane = this->StarShapedInStencilPlane;
   parameters.SwapMinimumNormalDot = this->SwapMinimumNormalDot;
@@ -271,11 +281,12 @@ int vtkTriangleCollapseHierarchy::RequestData(
     in.Attributes.Load(input->GetPointData(), vertexToInputPoint);
     if (!in.Attributes.Empty())
     {
-      // Row g = global vertex g: collapse points are the mean of the three merged vertices.
-      const double third[3] = { 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0 };
+      // Row g = global vertex g: collapse points are the mean of the merged vertices.
+      const double third[3] = { 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0 }, half[2] = { 0.5, 0.5 };
       for (slod::Index k = 0; k < in.Hierarchy.NumberOfCollapses(); ++k)
       {
-        in.Attributes.AddInterpolated(in.Hierarchy.GetCollapse(k).Sources, third, 3);
+        const slod::HierarchyCollapse& c = in.Hierarchy.GetCollapse(k);
+        in.Attributes.AddInterpolated(c.Sources, c.Count == 2 ? half : third, c.Count);
       }
     }
     this->HierarchyBuildTime =
@@ -364,6 +375,9 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ErrorWeight: " << this->ErrorWeight << "\n";
   os << indent << "QuadricCollapsePoint: " << this->QuadricCollapsePoint << "\n";
   os << indent << "RelaxWhenBlocked: " << this->RelaxWhenBlocked << "\n";
+  os << indent << "EdgeCollapses: " << this->EdgeCollapses << "\n";
+  os << indent << "PreferEdgeFactor: " << this->PreferEdgeFactor << "\n";
+  os << indent << "VertexErrorWeight: " << this->VertexErrorWeight << "\n";
   os << indent << "StarShapedInStencilPlane: " << this->StarShapedInStencilPlane << "\n";
   os << indent << "SwapBlockingEdges: " << this->SwapBlockingEdges << "\n";
   os << indent << "SwapMinimumNormalDot: " << this->SwapMinimumNormalDot << "\n";

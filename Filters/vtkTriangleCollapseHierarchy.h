@@ -13,9 +13,12 @@
  * ErrorWeight 1 (quadric error of the collapse point), QuadricCollapsePoint on, RelaxWhenBlocked
  * on, BatchSearchDepth 4, MinimumNormalDot 0.5, StarShapedInStencilPlane on, SwapBlockingEdges on
  * (edge swaps between levels on flat hinges, SwapMinimumNormalDot 0.9999,
- * SwapMinimumNormalDotWhenBlocked 0.5). The paper's configuration is ErrorWeight 0,
+ * SwapMinimumNormalDotWhenBlocked 0.5), EdgeCollapses EDGE_COLLAPSES_EVERYWHERE with
+ * PreferEdgeFactor 0.1 (edge collapses, in the same batches, records and blends, where a triangle
+ * collapse is blocked or more than 10x dearer) and VertexErrorWeight 10 (crease and corner
+ * vertices pinned to their own planes). The paper's configuration is ErrorWeight 0,
  * QuadricCollapsePoint off, RelaxWhenBlocked off, BatchSearchDepth 0, MinimumNormalDot 0.2,
- * StarShapedInStencilPlane off, SwapBlockingEdges off.
+ * StarShapedInStencilPlane off, SwapBlockingEdges off, EdgeCollapses EDGE_COLLAPSES_OFF.
  *
  * Output 0 is one mesh of the hierarchy, chosen by (first that applies):
  *  - ContinuousLevel >= 0: M_i(t) for ContinuousLevel = i + t, where the triangles that collapse
@@ -161,6 +164,34 @@ public:
   ///@}
 
   ///@{
+  /// Edge collapses where triangle collapses are blocked (not in the paper): a triangle that fails
+  /// the collapse rules collapses its cheapest valid edge instead (point of least quadric error of
+  /// the ancestral planes), in the same batches, records, blends and vertex splits.
+  /// EDGE_COLLAPSES_OFF: the paper; EDGE_COLLAPSES_WHEN_BLOCKED: only in levels where no triangle
+  /// collapse is possible (targets are reached on meshes with thin parts);
+  /// EDGE_COLLAPSES_EVERYWHERE: any blocked triangle, at its place in the priority order.
+  enum
+  {
+    EDGE_COLLAPSES_OFF = 0,
+    EDGE_COLLAPSES_WHEN_BLOCKED = 1,
+    EDGE_COLLAPSES_EVERYWHERE = 2
+  };
+  vtkSetClampMacro(EdgeCollapses, int, EDGE_COLLAPSES_OFF, EDGE_COLLAPSES_EVERYWHERE);
+  vtkGetMacro(EdgeCollapses, int);
+  /// With EDGE_COLLAPSES_EVERYWHERE: a triangle whose cheapest edge collapse costs less than this
+  /// factor times its triangle collapse (quadric error) takes the edge collapse even when the
+  /// triangle collapse is allowed (0: edge collapses only where triangles are blocked).
+  vtkSetClampMacro(PreferEdgeFactor, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(PreferEdgeFactor, double);
+  /// Feature protection in the error (not in the paper; needs ErrorWeight > 0 or edge collapses):
+  /// adds this factor times the mean triangle area times the largest mean squared distance of the
+  /// collapse point to the original planes of one merged vertex, so crease and corner vertices
+  /// stay on their planes however small the faces around them (default 10; 0: the plain quadric).
+  vtkSetClampMacro(VertexErrorWeight, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(VertexErrorWeight, double);
+  ///@}
+
+  ///@{
   /// Upper bound on the number of meshes in the hierarchy (default 1000).
   vtkSetClampMacro(MaximumNumberOfLevels, int, 1, VTK_INT_MAX);
   vtkGetMacro(MaximumNumberOfLevels, int);
@@ -194,6 +225,7 @@ public:
   int GetNumberOfLevels() const;                 ///< n + 1 meshes M0..Mn
   vtkIdType GetLevelNumberOfTriangles(int level) const;
   vtkIdType GetNumberOfCollapses() const;
+  vtkIdType GetNumberOfEdgeCollapses() const; ///< of which edge collapses (EdgeCollapses fallback)
   double GetShownLevel() const { return this->ShownLevel; } ///< level (i + t) of output 0
   int GetNumberOfHierarchyBuilds() const { return this->NumberOfHierarchyBuilds; }
   double GetHierarchyBuildTime() const { return this->HierarchyBuildTime; } ///< seconds
@@ -221,6 +253,9 @@ protected:
   double ValenceNormalizer = 0.0;
   bool RemoveCycles = false;
   bool RelaxWhenBlocked = true;
+  int EdgeCollapses = EDGE_COLLAPSES_EVERYWHERE;
+  double PreferEdgeFactor = 0.1;
+  double VertexErrorWeight = 10.0;
   bool StarShapedInStencilPlane = true;
   bool SwapBlockingEdges = true;
   double SwapMinimumNormalDot = 0.9999;

@@ -13,6 +13,39 @@ namespace
 {
 constexpr Index Never = std::numeric_limits<Index>::max();
 constexpr Index MaximumFitPoints = 64;
+
+
+// Least quadric error nearest to c: pseudo-inverse of A around c, dropping directions the planes
+// do not constrain (flat: moves along the normal only; crease: onto the crease line; corner: onto
+// the corner).
+Vec3 QuadricPointNear(const Quadric& q, const Vec3& center)
+{
+  // Well conditioned (det > 1e-3 trace^3 implies every eigenvalue > 1e-3 of the largest): all
+  // directions are kept and the point is the plain minimum; the cofactor solve is much cheaper.
+  Vec3 minimum;
+  if (q.Minimize(minimum, 1e-3))
+  {
+    return minimum;
+  }
+  Eigen::Matrix3d A;
+  A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
+  const Eigen::Vector3d cc(center[0], center[1], center[2]);
+  const Eigen::Vector3d g = A * cc + Eigen::Vector3d(q.Bx, q.By, q.Bz);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+  eigen.computeDirect(A); // closed form for 3x3 (the iterative solver was a quarter of the build)
+  const Eigen::Vector3d lambda = eigen.eigenvalues();
+  const double top = std::max(std::abs(lambda[0]), std::max(std::abs(lambda[1]), std::abs(lambda[2])));
+  Eigen::Vector3d x = cc;
+  for (int i = 0; i < 3; ++i)
+  {
+    if (lambda[i] > 1e-3 * top && top > 0)
+    {
+      const Eigen::Vector3d u = eigen.eigenvectors().col(i);
+      x -= (u.dot(g) / lambda[i]) * u;
+    }
+  }
+  return { x[0], x[1], x[2] };
+}
 }
 
 void HierarchyMesh::Clear()
@@ -115,30 +148,42 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   }
   const std::uint32_t epoch = this->MarkEpoch;
   this->StencilVertices.clear();
-  Vec3 stencilNormal{ 0, 0, 0 };
+  // The stencil's vertices are only needed by the fit, which the defaults rarely run: gathered
+  // then (the marks stay valid for this evaluation's epoch).
+  auto gatherStencil = [&]() {
+    for (int k = 0; k < 3; ++k)
+    {
+      m.ForEachTriangle(tri[k], [&](Index x) {
+        const Index* q = m.Triangle(x);
+        for (int j = 0; j < 3; ++j)
+        {
+          if (this->VertexMark[q[j]] != epoch)
+          {
+            this->VertexMark[q[j]] = epoch;
+            this->StencilVertices.push_back(q[j]);
+          }
+        }
+      });
+    }
+  };
   int degree = 0;
   for (int k = 0; k < 3; ++k)
   {
-    m.ForEachTriangle(tri[k], [&](Index x) {
-      ++degree;
-      const Index* q = m.Triangle(x);
-      stencilNormal = stencilNormal +
-        Cross(m.Point(q[1]) - m.Point(q[0]), m.Point(q[2]) - m.Point(q[0]));
-      for (int j = 0; j < 3; ++j)
-      {
-        if (this->VertexMark[q[j]] != epoch)
-        {
-          this->VertexMark[q[j]] = epoch;
-          this->StencilVertices.push_back(q[j]);
-        }
-      }
-    });
+    degree += m.VertexDegree(tri[k]);
   }
   // Valence of the collapse point: the stencil boundary (interior case: sum of valences - 9).
   e.Valence = std::max(0, degree - 9);
   // A degenerate triangle has no plane of its own: use its stencil's.
   if (IsDegenerate(a, b, c))
   {
+    Vec3 stencilNormal{ 0, 0, 0 };
+    for (int k = 0; k < 3; ++k)
+    {
+      m.ForEachTriangle(tri[k], [&](Index x) {
+        const Index* q = m.Triangle(x);
+        stencilNormal = stencilNormal + Cross(m.Point(q[1]) - m.Point(q[0]), m.Point(q[2]) - m.Point(q[0]));
+      });
+    }
     areaVector = stencilNormal;
   }
   LocalFrame frame;
@@ -159,6 +204,7 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   Vec3 fitPoint = centroid;
   auto fit = [&]() {
     fitted = true;
+    gatherStencil();
     // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
     // collapses does not accumulate (section 7). Extended stencil when the system is singular.
     // On coarse levels the ancestors number hundreds: a regular subsample of about
@@ -220,6 +266,39 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   {
     fit();
   }
+  const bool preferEdges = this->Parameters.PreferEdgeFactor > 0 &&
+    this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
+  e.EdgeError = std::numeric_limits<double>::infinity();
+  if (preferEdges)
+  {
+    // The cheapest edge collapse of T by quadric error (validity is checked at selection).
+    bool boundary[3] = { false, false, false };
+    for (int k = 0; k < 3 && this->HasBoundary; ++k)
+    {
+      boundary[k] = m.IsBoundaryVertex(tri[k]);
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index u = tri[k], v = tri[(k + 1) % 3];
+      if (boundary[k] || boundary[(k + 1) % 3])
+      {
+        continue;
+      }
+      Quadric q = this->Quadrics[u];
+      q += this->Quadrics[v];
+      const Vec3 pu = m.Point(u), pv = m.Point(v), mid = 0.5 * (pu + pv);
+      const Vec3 best = QuadricPointNear(q, mid);
+      const Index uv[2] = { u, v };
+      if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) &&
+        Norm(best - mid) <= Norm(pv - pu))
+      {
+        e.EdgeError = std::min(e.EdgeError, this->CollapseError(uv, 2, q, best));
+      }
+      e.EdgeError = std::min(e.EdgeError,
+        std::min(this->CollapseError(uv, 2, q, pu), this->CollapseError(uv, 2, q, pv)));
+
+    }
+  }
   e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
   {
@@ -228,28 +307,10 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
     q += this->Quadrics[tri[2]];
     if (this->Parameters.QuadricCollapsePoint)
     {
-      // Least quadric error nearest to the centroid: pseudo-inverse of A around c, dropping
-      // directions the planes do not constrain (flat: moves along the normal only; crease: onto
-      // the crease line; corner: onto the corner).
-      Eigen::Matrix3d A;
-      A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
-      const Eigen::Vector3d cc(centroid[0], centroid[1], centroid[2]);
-      const Eigen::Vector3d g = A * cc + Eigen::Vector3d(q.Bx, q.By, q.Bz);
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(A);
-      const Eigen::Vector3d lambda = eigen.eigenvalues();
-      const double top = std::max(std::abs(lambda[0]), std::max(std::abs(lambda[1]), std::abs(lambda[2])));
-      Eigen::Vector3d x = cc;
-      for (int i = 0; i < 3; ++i)
-      {
-        if (lambda[i] > 1e-3 * top && top > 0)
-        {
-          const Eigen::Vector3d u = eigen.eigenvectors().col(i);
-          x -= (u.dot(g) / lambda[i]) * u;
-        }
-      }
-      const Vec3 best{ x[0], x[1], x[2] };
+      // Least quadric error nearest to the centroid (crease line, corner, or along the normal).
+      const Vec3 best = QuadricPointNear(q, centroid);
       const double reach = Norm(a - centroid) + Norm(b - centroid) + Norm(c - centroid);
-      if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && Norm(best - centroid) <= reach)
+      if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) && Norm(best - centroid) <= reach)
       {
         e.Point = best;
       }
@@ -274,13 +335,16 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
         });
         return ok;
       };
-      if (!starShaped(e.Point))
+      // (Not needed when T will be ordered by its much cheaper edge collapse anyway.)
+      const bool edgeFirst = preferEdges &&
+        e.EdgeError < this->Parameters.PreferEdgeFactor * this->CollapseError(tri, 3, q, e.Point);
+      if (!edgeFirst && !starShaped(e.Point))
       {
         const Vec3 options[6] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
         double bestError = std::numeric_limits<double>::infinity();
         for (const Vec3& o : options)
         {
-          const double error = q.Evaluate(o);
+          const double error = this->CollapseError(tri, 3, q, o);
           if (error < bestError && starShaped(o) &&
             m.CheckCollapse(tri, 3, o, this->MeshOptions) == CollapseStatus::Ok)
           {
@@ -290,8 +354,9 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
         }
       }
     }
-    e.Error = q.Evaluate(e.Point);
+    e.Error = this->CollapseError(tri, 3, q, e.Point);
   }
+  e.PreferEdge = preferEdges && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
   // alpha = 2 (cos A + cos B + cos C - 1) = 2 r / R.
   double cosSum = 0;
   const Vec3 corners[3] = { a, b, c };
@@ -304,13 +369,38 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   e.Alpha = std::min(1.0, std::max(0.0, 2.0 * (cosSum - 1.0)));
 }
 
+double CollapseHierarchy::CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const
+{
+  // Sum over the ancestral planes (area-weighted squared distances), plus the worst merged
+  // vertex's mean squared distance to its own ancestral planes times the mean triangle area:
+  // a crease or corner vertex is pinned by its own planes however small the faces around it
+  // are (narrow CAD strips are cheap for the sum alone, and flattening them was the largest
+  // deviation on fandisk).
+  double error = q.Evaluate(p);
+  if (this->Parameters.VertexErrorWeight > 0)
+  {
+    double worst = 0;
+    for (int k = 0; k < count; ++k)
+    {
+      const Quadric& own = this->Quadrics[vertices[k]];
+      const double weight = own.Axx + own.Ayy + own.Azz; // sum of the plane weights (unit normals)
+      if (weight > 0)
+      {
+        worst = std::max(worst, own.Evaluate(p) / weight);
+      }
+    }
+    error += this->Parameters.VertexErrorWeight * this->MeanArea * worst;
+  }
+  return error;
+}
+
 double CollapseHierarchy::WeightOf(const Evaluation& e) const
 {
   const CollapseHierarchyParameters& p = this->Parameters;
   const double term = p.CurvatureWeight * (e.Kappa / this->KappaMax) + p.AngleWeight * e.Alpha +
     p.ValenceWeight * (std::abs(e.Valence - 6) / this->Mv);
   const double paper = e.Area * term / (this->WeightSum * this->MeanArea);
-  const double error = e.Error / (this->MeanArea * this->MeanArea);
+  const double error = (e.PreferEdge ? e.EdgeError : e.Error) / (this->MeanArea * this->MeanArea);
   return (1 - p.ErrorWeight) * paper + p.ErrorWeight * error;
 }
 
@@ -319,10 +409,14 @@ double CollapseHierarchy::WeightOf(const Evaluation& e) const
 // triangle may end up facing away from the M0 triangle it descends from.
 bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
 {
+  return this->KeepsOrientation(this->Mesh.Triangle(t), 3, p);
+}
+
+bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const Vec3& p) const
+{
   const EditableMesh& m = this->Mesh;
-  const Index* tri = m.Triangle(t);
   bool ok = true;
-  m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
+  m.ForEachSurvivingTriangle(vertices, count, [&](Index x, int corner) {
     const Index* o = m.Triangle(x);
     Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
     q[corner] = p;
@@ -331,36 +425,39 @@ bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
   return ok;
 }
 
-void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
+void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level)
 {
   EditableMesh& m = this->Mesh;
-  const Index* tri = m.Triangle(t);
-  const Index vertices[3] = { tri[0], tri[1], tri[2] };
   const Index kept = vertices[0];
   const Index k = static_cast<Index>(this->Collapses.size());
 
   HierarchyCollapse collapse;
+  collapse.Count = count;
   for (int i = 0; i < 3; ++i)
   {
-    collapse.Sources[i] = this->GlobalOf[vertices[i]];
+    collapse.Sources[i] = i < count ? this->GlobalOf[vertices[i]] : InvalidIndex;
   }
+  this->EdgeCollapseCount += count == 2 ? 1 : 0;
   collapse.Point = this->NumberOfVertices();
   collapse.Level = level;
   collapse.Triangle = t;
   collapse.Weight = this->Weights[t];
   this->GlobalPoints.insert(this->GlobalPoints.end(), p.begin(), p.end());
 
-  m.Collapse(vertices, 3, kept, p, &this->Record);
+  m.Collapse(vertices, count, kept, p, &this->Record);
   if (!this->Quadrics.empty())
   {
-    this->Quadrics[kept] += this->Quadrics[vertices[1]];
-    this->Quadrics[kept] += this->Quadrics[vertices[2]];
+    for (int i = 1; i < count; ++i)
+    {
+      this->Quadrics[kept] += this->Quadrics[vertices[i]];
+    }
   }
   this->Collapses.push_back(collapse);
   this->GlobalOf[kept] = collapse.Point;
+  this->MarkChangedAround(kept);
 
-  // Ancestors: the kept vertex now stands for the original points of all three.
-  for (int i = 1; i < 3; ++i)
+  // Ancestors: the kept vertex now stands for the original points of all merged vertices.
+  for (int i = 1; i < count; ++i)
   {
     const Index v = vertices[i];
     if (this->AncestorHead[v] != InvalidIndex)
@@ -396,8 +493,8 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
   this->RecordKept.push_back(kept);
   for (int i = 0; i < 3; ++i)
   {
-    this->RecordVertices.push_back(vertices[i]);
-    const Vec3& old = this->Record.OldPositions[i];
+    this->RecordVertices.push_back(i < count ? vertices[i] : InvalidIndex);
+    const Vec3 old = i < count ? this->Record.OldPositions[i] : Vec3{ 0, 0, 0 };
     this->RecordOldPositions.insert(this->RecordOldPositions.end(), old.begin(), old.end());
   }
   this->RecordRemoved.insert(this->RecordRemoved.end(), this->Record.RemovedTriangles.begin(),
@@ -413,9 +510,48 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Vec3& p, int level)
 }
 
 // ---------------------------------------------------------------------------------------------
+void CollapseHierarchy::MarkChangedAround(Index v)
+{
+  // v moved or got new triangles; the vertices around it lost or gained triangles.
+  const Index stamp = ++this->ChangeCounter;
+  this->VertexChanged[v] = stamp;
+  this->Mesh.ForEachTriangle(v, [&](Index x) {
+    const Index* q = this->Mesh.Triangle(x);
+    for (int j = 0; j < 3; ++j)
+    {
+      this->VertexChanged[q[j]] = stamp;
+    }
+  });
+}
+
+bool CollapseHierarchy::StillBlocked(Index t, Index stamp) const
+{
+  if (stamp < 0)
+  {
+    return false;
+  }
+  const Index* tri = this->Mesh.Triangle(t);
+  bool same = true;
+  for (int k = 0; k < 3 && same; ++k)
+  {
+    this->Mesh.ForEachTriangle(tri[k], [&](Index x) {
+      const Index* q = this->Mesh.Triangle(x);
+      same = same && this->VertexChanged[q[0]] <= stamp && this->VertexChanged[q[1]] <= stamp &&
+        this->VertexChanged[q[2]] <= stamp;
+    });
+  }
+  return same;
+}
+
+// ---------------------------------------------------------------------------------------------
 void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
 {
   const Index k = this->NumberOfCollapses();
+  const Index stamp = ++this->ChangeCounter;
+  for (Index v : { flip.X, flip.Y, flip.Q, flip.Z })
+  {
+    this->VertexChanged[v] = stamp;
+  }
   for (Index t : flip.Triangles)
   {
     this->EntryDeath[this->EntryOf[t]] = k;
@@ -508,6 +644,59 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
 }
 
 // ---------------------------------------------------------------------------------------------
+bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error)
+{
+  const EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  // Candidates: per edge, the quadric's best point near the midpoint and the two end points;
+  // tried by increasing quadric error of the ancestral planes until one passes the checks.
+  struct Candidate
+  {
+    double Error;
+    int Edge;
+    Vec3 Point;
+  };
+  Candidate candidates[9];
+  int n = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const Index u = tri[k], v = tri[(k + 1) % 3];
+    if (this->HasBoundary && (m.IsBoundaryVertex(u) || m.IsBoundaryVertex(v)))
+    {
+      continue; // boundaries keep their resolution, like the triangle collapses leave them
+    }
+    Quadric q = this->Quadrics[u];
+    q += this->Quadrics[v];
+    const Vec3 pu = m.Point(u), pv = m.Point(v), mid = 0.5 * (pu + pv);
+    const Vec3 best = QuadricPointNear(q, mid);
+    const Index uv[2] = { u, v };
+    if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) &&
+      Norm(best - mid) <= Norm(pv - pu))
+    {
+      candidates[n++] = { this->CollapseError(uv, 2, q, best), k, best };
+    }
+    candidates[n++] = { this->CollapseError(uv, 2, q, pu), k, pu };
+    candidates[n++] = { this->CollapseError(uv, 2, q, pv), k, pv };
+  }
+  std::sort(candidates, candidates + n, [](const Candidate& a, const Candidate& b) {
+    return a.Error < b.Error || (a.Error == b.Error && a.Edge < b.Edge);
+  });
+  for (int i = 0; i < n; ++i)
+  {
+    const Index vertices[2] = { tri[candidates[i].Edge], tri[(candidates[i].Edge + 1) % 3] };
+    if (m.CheckCollapse(vertices, 2, candidates[i].Point, this->MeshOptions) == CollapseStatus::Ok &&
+      this->KeepsOrientation(vertices, 2, candidates[i].Point))
+    {
+      edge = candidates[i].Edge;
+      point = candidates[i].Point;
+      error = candidates[i].Error;
+      return true;
+    }
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------
 bool CollapseHierarchy::Build(
   const TriangleMesh& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
 {
@@ -566,13 +755,31 @@ bool CollapseHierarchy::Build(
   this->FlipStamp.clear();
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
+  this->VertexChanged.assign(np, 0);
+  this->BlockedStrict.assign(nt, -1);
+  this->BlockedRelaxed.assign(nt, -1);
+  this->BlockedEdge.assign(nt, -1);
+  this->EdgeCollapseCount = 0;
+  // Collapses never open a closed mesh: without boundary edges at the start, none appear.
+  this->HasBoundary = false;
+  for (Index v = 0; v < np && !this->HasBoundary; ++v)
+  {
+    this->HasBoundary = this->Mesh.IsBoundaryVertex(v);
+  }
+  this->ChangeCounter = 0;
   if (nt == 0)
   {
     return true;
   }
 
+  double meanAreaGuess = 0;
+  for (Index t = 0; t < nt; ++t)
+  {
+    meanAreaGuess += 0.5 * Norm(this->Base.TriangleAreaVector(t)) / nt;
+  }
+  this->MeanArea = meanAreaGuess > 0 ? meanAreaGuess : 1.0;
   this->Quadrics.clear();
-  if (p.ErrorWeight > 0)
+  if (p.ErrorWeight > 0 || p.EdgeCollapses != CollapseHierarchyParameters::EdgeFallback::Off)
   {
     this->Quadrics.assign(np, Quadric());
     for (Index t = 0; t < nt; ++t)
@@ -618,6 +825,10 @@ bool CollapseHierarchy::Build(
   CollapseOptions& meshOptions = this->MeshOptions;
   std::vector<std::pair<double, Index>> candidates;
   std::vector<Index> batch, affected, touched, ring;
+  // Per batch entry: -1 triangle collapse, else the edge (tri[k], tri[k+1]) collapsed to its point.
+  std::vector<int> batchEdge;
+  std::vector<Vec3> batchPoint;
+  bool edges = false; // edge collapses allowed for blocked triangles in this selection
   std::vector<int> stencilMark(nt, -1);
   std::vector<std::uint32_t> affectedMark(nt, 0);
   std::uint32_t affectedEpoch = 0;
@@ -658,8 +869,13 @@ bool CollapseHierarchy::Build(
     const Index minimumBatch = std::max<Index>(1, wanted / 4);
     auto select = [&]() {
       batch.clear();
+      batchEdge.clear();
+      batchPoint.clear();
       size_t sorted = 0;
-      while (static_cast<Index>(batch.size()) < wanted && sorted < candidates.size())
+      // The batch is counted in triangle collapses: an edge collapse (two triangles removed
+      // instead of four) counts half, so a level removes the same share of the mesh.
+      Index removed = 0;
+      while (removed < 4 * wanted && sorted < candidates.size())
       {
         // Sort the next chunk of the priority order only (usually a few times the batch size).
         const size_t chunk = std::min(candidates.size() - sorted, std::max<size_t>(8 * size_t(wanted), 1024));
@@ -668,9 +884,9 @@ bool CollapseHierarchy::Build(
           std::nth_element(candidates.begin() + sorted, candidates.begin() + sorted + chunk - 1, candidates.end());
           std::sort(candidates.begin() + sorted, candidates.begin() + sorted + chunk);
         }
-        for (size_t i = sorted; i < sorted + chunk && static_cast<Index>(batch.size()) < wanted; ++i)
+        for (size_t i = sorted; i < sorted + chunk && removed < 4 * wanted; ++i)
         {
-          if (i >= depth && static_cast<Index>(batch.size()) >= minimumBatch)
+          if (i >= depth && removed >= 4 * minimumBatch)
           {
             sorted = candidates.size(); // deeper candidates would force expensive collapses
             break;
@@ -691,23 +907,84 @@ bool CollapseHierarchy::Build(
           {
             continue;
           }
+          // Blocked before and nothing changed around it since: still blocked (the rules
+          // depend only on the stencil region, the collapse point only on T's vertices).
+          std::vector<Index>& blocked = rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
           const Evaluation& e = this->Evaluations[t];
-          this->Stencils.Build(this->Mesh, t, this->Stencil);
-          if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) !=
-            CollapsibleStatus::Ok)
+          int edge = -1;
+          Vec3 point = e.Point;
+          auto tryTriangle = [&]() {
+            if (this->StillBlocked(t, blocked[t]))
+            {
+              return false;
+            }
+            if (e.PreferEdge)
+            {
+              // Ordered by its edge collapse: the triangle collapse only at its own cost.
+              Evaluation triangleEvaluation = e;
+              triangleEvaluation.PreferEdge = false;
+              const double weight = this->WeightOf(triangleEvaluation);
+              if (weight > candidates[i].first * (1 + 1e-9) + 1e-300)
+              {
+                this->Weights[t] = std::max(this->Weights[t], weight);
+                return false;
+              }
+            }
+            this->Stencils.Build(this->Mesh, t, this->Stencil);
+            if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) ==
+                CollapsibleStatus::Ok &&
+              this->KeepsOrientation(t, e.Point))
+            {
+              edge = -1;
+              point = e.Point;
+              return true;
+            }
+            blocked[t] = this->ChangeCounter;
+            return false;
+          };
+          // Its cheapest valid edge collapse, when allowed.
+          auto tryEdge = [&]() {
+            if (!edges || this->StillBlocked(t, this->BlockedEdge[t]))
+            {
+              return false;
+            }
+            double error = 0;
+            if (this->FindEdgeCollapse(t, edge, point, error))
+            {
+              // Taken at its own cost: when it is dearer than the triangle's place in the
+              // order, the triangle is put back with that cost (next level's order).
+              Evaluation edgeEvaluation = e;
+              edgeEvaluation.PreferEdge = false;
+              edgeEvaluation.Error = error;
+              const double weight = this->WeightOf(edgeEvaluation);
+              if (weight <= candidates[i].first * (1 + 1e-9) + 1e-300)
+              {
+                return true;
+              }
+              this->Weights[t] = weight;
+              return false;
+            }
+            this->BlockedEdge[t] = this->ChangeCounter;
+            return false;
+          };
+          const bool found = e.PreferEdge && edges ? (tryEdge() || tryTriangle()) : (tryTriangle() || tryEdge());
+          if (!found)
           {
             continue;
           }
-          if (!this->KeepsOrientation(t, e.Point))
+          // Mark the region (the stencil; for an edge, the triangles around its two vertices).
+          const Index* vertices = this->Mesh.Triangle(t);
+          for (int k = 0; k < 3; ++k)
           {
-            continue;
-          }
-          stencilMark[t] = level;
-          for (Index x : this->Stencil.Triangles)
-          {
-            stencilMark[x] = level;
+            if (edge < 0 || k == edge || k == (edge + 1) % 3)
+            {
+              this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { stencilMark[x] = level; });
+            }
           }
           batch.push_back(t);
+          removed += edge < 0 ? 4 : 2;
+          batchEdge.push_back(edge);
+          batchPoint.push_back(point);
         }
         sorted = std::min(candidates.size(), sorted + chunk);
       }
@@ -733,6 +1010,7 @@ bool CollapseHierarchy::Build(
       }
     };
     auto selectOrRelax = [&]() {
+      edges = p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
       select();
       if (batch.empty() && p.RelaxWhenBlocked)
       {
@@ -764,11 +1042,29 @@ bool CollapseHierarchy::Build(
         selectOrRelax();
       }
     }
+    if (batch.empty() && p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::WhenBlocked)
+    {
+      // Still blocked everywhere: edge collapses for this level.
+      edges = true;
+      select();
+    }
     // Collapse the batch. Earlier collapses of the batch can only have changed valences on the
     // shared stencil boundaries, so rule (2) is checked again.
     const Index levelStart = this->NumberOfCollapses();
-    for (Index t : batch)
+    for (size_t b = 0; b < batch.size(); ++b)
     {
+      const Index t = batch[b];
+      const Index* tri = this->Mesh.Triangle(t);
+      if (batchEdge[b] >= 0)
+      {
+        // Regions are disjoint, so nothing around the edge moved; checked again all the same.
+        const Index vertices[2] = { tri[batchEdge[b]], tri[(batchEdge[b] + 1) % 3] };
+        if (this->Mesh.CheckCollapse(vertices, 2, batchPoint[b], meshOptions) == CollapseStatus::Ok)
+        {
+          this->ApplyCollapse(t, vertices, 2, batchPoint[b], level);
+        }
+        continue;
+      }
       this->Stencils.Build(this->Mesh, t, this->Stencil);
       bool cycle = false;
       for (Index q : this->Stencil.OppositeVertices)
@@ -779,7 +1075,8 @@ bool CollapseHierarchy::Build(
       {
         continue;
       }
-      this->ApplyCollapse(t, this->Evaluations[t].Point, level);
+      const Index vertices[3] = { tri[0], tri[1], tri[2] };
+      this->ApplyCollapse(t, vertices, 3, this->Evaluations[t].Point, level);
     }
     if (this->NumberOfCollapses() == levelStart)
     {
@@ -856,8 +1153,9 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   this->ScratchBatch.resize(ng, InvalidIndex);
   for (Index k = collapses; k < blendEnd; ++k)
   {
-    for (Index g : this->Collapses[k].Sources)
+    for (int j = 0; j < this->Collapses[k].Count; ++j)
     {
+      const Index g = this->Collapses[k].Sources[j];
       this->ScratchTarget[g] = this->Collapses[k].Point;
       this->ScratchBatch[g] = k - collapses;
     }
@@ -888,7 +1186,9 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
       }
     }
     out.TriangleBatch.push_back(batch);
-    out.TriangleRole.push_back(moving == 3 ? 2 : (moving > 0 ? 1 : 0));
+    // Collapsing: all merged vertices of its collapse are in it (T, or both edge triangles).
+    const int count = batch != InvalidIndex ? this->Collapses[collapses + batch].Count : 3;
+    out.TriangleRole.push_back(moving == count ? 2 : (moving > 0 ? 1 : 0));
     out.TriangleOrigin.push_back(this->EntryTriangle[e]);
     out.TriangleCollapseLevel.push_back(
       this->EntryDeath[e] == Never ? -1 : this->Collapses[this->EntryDeath[e] - 1].Level);
@@ -918,8 +1218,9 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   }
   for (Index k = collapses; k < blendEnd; ++k)
   {
-    for (Index g : this->Collapses[k].Sources)
+    for (int j = 0; j < this->Collapses[k].Count; ++j)
     {
+      const Index g = this->Collapses[k].Sources[j];
       this->ScratchTarget[g] = InvalidIndex;
       this->ScratchBatch[g] = InvalidIndex;
     }
@@ -945,9 +1246,9 @@ void CollapseHierarchy::ExtractLevel(double level, HierarchyMesh& out) const
 void CollapseHierarchy::Refine(EditableMesh& mesh, Index k) const
 {
   CollapseRecord record;
-  record.VertexCount = 3;
+  record.VertexCount = this->Collapses[k].Count;
   record.Kept = this->RecordKept[k];
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < record.VertexCount; ++i)
   {
     record.Vertices[i] = this->RecordVertices[3 * size_t(k) + i];
     const double* o = &this->RecordOldPositions[9 * size_t(k) + 3 * i];

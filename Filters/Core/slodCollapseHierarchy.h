@@ -10,7 +10,10 @@
 // in increasing weight order (a priority order rebuilt per level by partial sorting), keeps up to
 // BatchFraction of the live triangles that are collapsible (slodTriangleStencil) and have pairwise
 // disjoint stencils, collapses them together and refits the triangles around the new vertices.
-// This yields the levels M0 .. Mn.
+// This yields the levels M0 .. Mn. Beyond the paper (all optional, see the parameters): the
+// quadric error of the ancestral planes as weight and collapse point, edge swaps, and edge
+// collapses (two vertices to one point) where a triangle collapse is blocked or much dearer,
+// stored like the triangle collapses (HierarchyCollapse::Count = 2).
 //
 // Representation (compact, reversible, fast to blend):
 //  - global vertices: the input points followed by one collapse point per collapse;
@@ -45,6 +48,11 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // triangles merged into T's vertices (quadric error), divided by the squared mean triangle area.
   // 0 gives the paper's weights exactly.
   double ErrorWeight = 0.0;
+  // Added to the quadric error E(T) (not in the paper): this factor times the mean triangle area
+  // times the largest mean squared distance of the collapse point to the ancestral planes of one
+  // merged vertex. Keeps crease and corner vertices on their planes even where the faces around
+  // them are small (the plain area-weighted sum makes narrow strips cheap to flatten). 0: off.
+  double VertexErrorWeight = 0.0;
   // Collapse point: the paper's c + f(0,0) n on the fitted quadratic (false), or the point of
   // least quadric error (true; needs ErrorWeight > 0): the quadric's minimum when it is well
   // conditioned and near T (creases, corners), else the minimum on the line c + s n.
@@ -79,6 +87,26 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // When no triangle passes the paper's rules, retry the level with rule (2) relaxed (a valence-3
   // vertex may appear) and rule (3) also tried in the stencil's mean plane, instead of stopping.
   bool RelaxWhenBlocked = false;
+  // Edge collapses where triangle collapses are blocked (not in the paper): a triangle that fails
+  // the rules (incomplete or cyclic stencil, valence-four rule, star shape, mesh check) collapses
+  // its cheapest edge instead (two vertices to the point of least quadric error on the edge or
+  // an end point, chosen by the quadric error of the ancestral planes; checked like any collapse),
+  // in the same batches, records and blends.
+  //  Off: triangle collapses only (paper).
+  //  WhenBlocked: only in levels where no triangle collapse is possible at all (the final levels of
+  //    meshes with thin parts), so that the targets are still reached.
+  //  Everywhere: any blocked triangle may take an edge collapse, in its place in the priority order.
+  enum class EdgeFallback
+  {
+    Off,
+    WhenBlocked,
+    Everywhere
+  };
+  EdgeFallback EdgeCollapses = EdgeFallback::Off;
+  // With EdgeCollapses Everywhere: a triangle whose cheapest edge collapse has less than this
+  // factor times the quadric error of its triangle collapse takes the edge collapse (and is
+  // ordered by its error) even when the triangle collapse is allowed. 0: edges only where blocked.
+  double PreferEdgeFactor = 0.0;
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
   Index MinimumNumberOfTriangles = 0;
@@ -88,7 +116,8 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
 
 struct SURFACELODFILTERS_EXPORT HierarchyCollapse
 {
-  Index Sources[3];   // global ids of the collapsed triangle's vertices
+  Index Sources[3];   // global ids of the collapsed triangle's vertices (edge: Sources[2] = -1)
+  int Count = 3;      // 3 triangle collapse, 2 edge collapse (EdgeCollapses fallback)
   Index Point;        // global id of the collapse point
   int Level;          // M_Level -> M_Level+1
   Index Triangle;     // the triangle's id in M0 numbering
@@ -122,6 +151,7 @@ public:
   // Meshes M0..Mn: NumberOfLevels() = n + 1.
   int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
   Index NumberOfCollapses() const { return static_cast<Index>(this->Collapses.size()); }
+  Index NumberOfEdgeCollapses() const { return this->EdgeCollapseCount; }
   Index NumberOfSwaps() const { return static_cast<Index>(this->Flips.size()); }
   // Edge swaps made after `collapses` collapses (between M_i(1) and M_i+1 when collapses =
   // LevelStart(i + 1)); each changes two triangles.
@@ -167,13 +197,19 @@ private:
   struct Evaluation
   {
     double Kappa = 0, Alpha = 0, Area = 0, Error = 0;
+    double EdgeError = 0; // cheapest edge collapse of T (quadric error), when computed
+    bool PreferEdge = false;
     int Valence = 6;
     Vec3 Point{ 0, 0, 0 }, Normal{ 0, 0, 1 };
   };
   void Evaluate(Index t, Evaluation& e);
   double WeightOf(const Evaluation& e) const;
+  double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
-  void ApplyCollapse(Index t, const Vec3& p, int level);
+  void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level);
+  // The cheapest valid edge collapse of triangle t (edge (tri[k], tri[k+1]) and its point).
+  bool FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error);
+  bool KeepsOrientation(const Index* vertices, int count, const Vec3& p) const;
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
   int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
   void RecordFlip(const FlipRecord& flip);
@@ -212,6 +248,16 @@ private:
   std::vector<double> FitPoints;
   std::vector<Index> StencilVertices;
   std::vector<std::uint32_t> VertexMark;
+  // Rule results that cannot change until the neighbourhood does: a triangle found not collapsible
+  // (by the stencil rules, the mesh check or the orientation test) is skipped until a vertex of
+  // its stencil region changes (position or triangles around it). One stamp per rule set (strict,
+  // relaxed); -1: not known to be blocked.
+  std::vector<Index> VertexChanged, BlockedStrict, BlockedRelaxed, BlockedEdge;
+  Index EdgeCollapseCount = 0;
+  bool HasBoundary = true;
+  Index ChangeCounter = 0;
+  void MarkChangedAround(Index v);
+  bool StillBlocked(Index t, Index stamp) const;
   std::uint32_t MarkEpoch = 0;
   mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;
 };

@@ -1,6 +1,7 @@
 #include "slodTriangleStencil.h"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace slod
 {
@@ -83,19 +84,65 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
     return;
   }
 
-  // Edge adjacency inside the stencil as bit masks: connectivity and 3-cycles.
-  this->Adjacency.assign(n, 0ull);
-  for (size_t i = 0; i < n; ++i)
-  {
-    for (size_t j = i + 1; j < n; ++j)
+  // Directed edges of the region S u {T} (T's first), grouped by undirected edge by one sort:
+  // two triangles are edge neighbours when they share an undirected edge (sharing two vertices is
+  // sharing that edge), and a directed edge is on the region's boundary when its reverse is not in
+  // the region. Sorting keeps this O(m log m) where the pairwise loops were O(m^2).
+  this->EdgeFrom.clear();
+  this->EdgeTo.clear();
+  auto addEdges = [&](Index x) {
+    const Index* q = mesh.Triangle(x);
+    for (int k = 0; k < 3; ++k)
     {
-      if (SharedVertices(mesh.Triangle(s.Triangles[i]), mesh.Triangle(s.Triangles[j])) >= 2)
+      this->EdgeFrom.push_back(q[k]);
+      this->EdgeTo.push_back(q[(k + 1) % 3]);
+    }
+  };
+  addEdges(t);
+  for (Index x : s.Triangles)
+  {
+    addEdges(x);
+  }
+  const size_t m = this->EdgeFrom.size();
+  this->EdgeKeys.resize(m);
+  for (size_t i = 0; i < m; ++i)
+  {
+    const auto a = static_cast<std::uint32_t>(std::min(this->EdgeFrom[i], this->EdgeTo[i]));
+    const auto b = static_cast<std::uint32_t>(std::max(this->EdgeFrom[i], this->EdgeTo[i]));
+    this->EdgeKeys[i] = { (static_cast<std::uint64_t>(a) << 32) | b, static_cast<std::uint32_t>(i) };
+  }
+  std::sort(this->EdgeKeys.begin(), this->EdgeKeys.end());
+  this->EdgeBoundary.assign(m, 1);
+  this->Adjacency.assign(n, 0ull);
+  for (size_t g = 0; g < m;)
+  {
+    size_t h = g + 1;
+    while (h < m && this->EdgeKeys[h].first == this->EdgeKeys[g].first)
+    {
+      ++h;
+    }
+    for (size_t i = g; i < h; ++i)
+    {
+      for (size_t j = i + 1; j < h; ++j)
       {
-        this->Adjacency[i] |= 1ull << j;
-        this->Adjacency[j] |= 1ull << i;
+        const size_t ei = this->EdgeKeys[i].second, ej = this->EdgeKeys[j].second;
+        if (this->EdgeFrom[ei] == this->EdgeTo[ej] && this->EdgeTo[ei] == this->EdgeFrom[ej])
+        {
+          this->EdgeBoundary[ei] = this->EdgeBoundary[ej] = 0;
+        }
+        // Stencil triangle indices (edge / 3 - 1; T is 0).
+        const size_t ti = ei / 3, tj = ej / 3;
+        if (ti > 0 && tj > 0 && ti != tj)
+        {
+          this->Adjacency[ti - 1] |= 1ull << (tj - 1);
+          this->Adjacency[tj - 1] |= 1ull << (ti - 1);
+        }
       }
     }
+    g = h;
   }
+
+  // Connectivity and 3-cycles on the adjacency bit masks.
   unsigned long long reached = 1ull, frontier = 1ull;
   while (frontier)
   {
@@ -124,82 +171,53 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
     }
   }
 
-  // Boundary of the region S u {T}: directed edges whose reverse is not in the region.
-  this->EdgeFrom.clear();
-  this->EdgeTo.clear();
-  auto addEdges = [&](Index x) {
-    const Index* q = mesh.Triangle(x);
-    for (int k = 0; k < 3; ++k)
-    {
-      this->EdgeFrom.push_back(q[k]);
-      this->EdgeTo.push_back(q[(k + 1) % 3]);
-    }
-  };
-  addEdges(t);
-  for (Index x : s.Triangles)
-  {
-    addEdges(x);
-  }
-  const size_t m = this->EdgeFrom.size();
-  this->EdgeBoundary.assign(m, 1);
-  for (size_t i = 0; i < m; ++i)
-  {
-    for (size_t j = i + 1; j < m; ++j)
-    {
-      if (this->EdgeFrom[i] == this->EdgeTo[j] && this->EdgeTo[i] == this->EdgeFrom[j])
-      {
-        this->EdgeBoundary[i] = this->EdgeBoundary[j] = 0;
-      }
-    }
-  }
-  size_t boundaryCount = 0, first = m;
+  // Boundary edges sorted by their start vertex: one loop needs exactly one leaving each vertex.
   bool touchesT = false;
+  this->Outgoing.clear();
   for (size_t i = 0; i < m; ++i)
   {
     if (this->EdgeBoundary[i])
     {
-      ++boundaryCount;
-      first = std::min(first, i);
+      this->Outgoing.emplace_back(this->EdgeFrom[i], this->EdgeTo[i]);
       for (int k = 0; k < 3; ++k)
       {
         touchesT = touchesT || this->EdgeFrom[i] == tri[k] || this->EdgeTo[i] == tri[k];
       }
     }
   }
+  const size_t boundaryCount = this->Outgoing.size();
   if (boundaryCount < 3)
   {
     return; // closed region (the whole component) or degenerate
   }
-  // Walk the boundary: it must be one simple loop.
-  Index v = this->EdgeFrom[first];
-  const Index start = v;
+  std::sort(this->Outgoing.begin(), this->Outgoing.end());
   bool simple = true;
-  for (size_t step = 0; step < boundaryCount; ++step)
+  for (size_t i = 1; i < boundaryCount && simple; ++i)
   {
-    if (std::find(s.BoundaryPolygon.begin(), s.BoundaryPolygon.end(), v) != s.BoundaryPolygon.end())
-    {
-      simple = false;
-      break;
-    }
+    simple = this->Outgoing[i].first != this->Outgoing[i - 1].first; // else pinched
+  }
+  // Walk the boundary from the first edge found: with one edge leaving each vertex, getting back
+  // to the start after exactly boundaryCount steps means one simple loop through all of them.
+  Index v = InvalidIndex;
+  for (size_t i = 0; i < m && v == InvalidIndex; ++i)
+  {
+    v = this->EdgeBoundary[i] ? this->EdgeFrom[i] : InvalidIndex;
+  }
+  const Index start = v;
+  for (size_t step = 0; step < boundaryCount && simple; ++step)
+  {
     s.BoundaryPolygon.push_back(v);
-    size_t found = m;
-    for (size_t i = 0; i < m; ++i)
-    {
-      if (this->EdgeBoundary[i] && this->EdgeFrom[i] == v)
-      {
-        if (found != m)
-        {
-          simple = false; // two boundary edges leave v: pinched region
-        }
-        found = i;
-      }
-    }
-    if (found == m || !simple)
+    const auto it = std::lower_bound(this->Outgoing.begin(), this->Outgoing.end(), std::make_pair(v, Index(-2147483647 - 1)));
+    if (it == this->Outgoing.end() || it->first != v)
     {
       simple = false;
       break;
     }
-    v = this->EdgeTo[found];
+    v = it->second;
+    if (v == start && step + 1 < boundaryCount)
+    {
+      simple = false;
+    }
   }
   simple = simple && v == start && s.BoundaryPolygon.size() == boundaryCount;
   if (!simple)

@@ -15,6 +15,8 @@
 
 #include "slodEditableMesh.h"
 
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace slod
@@ -71,6 +73,8 @@ private:
   std::vector<Index> EdgeFrom, EdgeTo;
   std::vector<unsigned char> EdgeBoundary;
   std::vector<unsigned long long> Adjacency;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> EdgeKeys;
+  std::vector<std::pair<Index, Index>> Outgoing;
 };
 } // namespace slod
 

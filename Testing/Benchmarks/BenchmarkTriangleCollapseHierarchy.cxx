@@ -54,6 +54,7 @@ void Run(const std::string& label, vtkPolyData* mesh, bool paper)
     filter->SetBatchSearchDepth(0.0);
     filter->SetStarShapedInStencilPlane(false);
     filter->SetSwapBlockingEdges(false);
+    filter->SetEdgeCollapses(vtkTriangleCollapseHierarchy::EDGE_COLLAPSES_OFF);
   }
   filter->SetLevel(0);
   filter->Update();

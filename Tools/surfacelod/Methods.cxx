@@ -84,11 +84,15 @@ Method SurfaceLODMethod(const char* name, const char* description)
 // The hierarchy also shows a (real-valued) level: M_i(t) for --level i+t.
 vtkSmartPointer<vtkPolyDataAlgorithm> CreateTriangleCollapseHierarchy(const MethodSettings& settings)
 {
+  // The CLI writes output 0 only: no multiblock of every level (a copy of each level).
   if (settings.Level < 0)
   {
-    return CreateSurfaceLODFilter<vtkTriangleCollapseHierarchy>(settings);
+    vtkSmartPointer<vtkPolyDataAlgorithm> filter = CreateSurfaceLODFilter<vtkTriangleCollapseHierarchy>(settings);
+    vtkTriangleCollapseHierarchy::SafeDownCast(filter)->GenerateAllLevelsOff();
+    return filter;
   }
   auto filter = vtkSmartPointer<vtkTriangleCollapseHierarchy>::New();
+  filter->GenerateAllLevelsOff();
   filter->SetContinuousLevel(settings.Level);
   return filter;
 }
