@@ -33,6 +33,19 @@ double PointSegmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b)
   return Dot(d, d);
 }
 
+// Squared deviation of p from segment ab as the surface sees it: the offset's components along
+// the two adjacent patch normals (an offset within both patch planes moves the surface little),
+// but at least lambda times the full offset.
+double SurfaceWeightedDistance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& n1, const Vec3& n2, double lambda2)
+{
+  const Vec3 ab = b - a;
+  const double len2 = Dot(ab, ab);
+  const double t = len2 > 0 ? std::max(0.0, std::min(1.0, Dot(p - a, ab) / len2)) : 0.0;
+  const Vec3 d = p - (a + t * ab);
+  const double x = Dot(d, n1), y = Dot(d, n2);
+  return std::max(std::max(x * x, y * y), lambda2 * Dot(d, d));
+}
+
 // True when the closed polygon, projected on the plane orthogonal to `normal`, is simple and
 // counter-clockwise (the condition for a valid ear-clipping triangulation without flips). O(n^2):
 // used on merged patch boundaries, which are short at the levels where merging happens.
@@ -254,6 +267,7 @@ struct SpbmLevelGenerator::State
   // Patches (union-find over original patches).
   std::vector<Index> Parent, PatchHead, PatchSlotNext, Size, Version;
   std::vector<Index> TriedP, TriedQ; // per chain: patch versions of its last failed collapse
+  std::vector<Index> MergeTriedP, MergeTriedQ; // per chain: patch versions of its last failed merge
   std::vector<Vec3> Normal;
   std::vector<unsigned char> Frozen;
   long long Total = 0;
@@ -298,6 +312,11 @@ SpbmLevelGenerator::~SpbmLevelGenerator() = default;
 
 void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchification& patches)
 {
+  this->Initialize(mesh, patches, 1.0);
+}
+
+void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchification& patches, double inPlaneWeight)
+{
   this->Mesh = &mesh;
   this->Patches = &patches;
   this->Memo.clear();
@@ -316,6 +335,10 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
     float ParentKey;
   };
   std::vector<Node> stack;
+  // With inPlaneWeight < 1 a chain's deviation counts mostly along the normals of its two
+  // patches (SurfaceWeightedDistance2): an offset within both patch planes moves the surface
+  // little, so smooth boundaries get coarser and creases finer for the same vertex budget.
+  const double lambda2 = std::max(0.0, std::min(1.0, inPlaneWeight)) * std::max(0.0, std::min(1.0, inPlaneWeight));
   for (Index c = 0; c < nc; ++c)
   {
     if (P.ChainIsNonManifold(c))
@@ -325,6 +348,9 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
     const Index* v = P.ChainVerticesBegin(c);
     const size_t offset = size_t(v - P.ChainVerticesBegin(0));
     const Index n = P.ChainSize(c);
+    const bool surfaceWeighted = lambda2 < 1.0 && P.ChainRightPatch(c) != InvalidIndex;
+    const Vec3 n1 = P.PatchNormal(P.ChainLeftPatch(c));
+    const Vec3 n2 = surfaceWeighted ? P.PatchNormal(P.ChainRightPatch(c)) : n1;
     stack.clear();
     stack.push_back({ 0, n - 1, InfiniteKey });
     while (!stack.empty())
@@ -344,7 +370,7 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
       Index m = (node.I + node.J) / 2;
       for (Index k = node.I + 1; k < node.J; ++k)
       {
-        const double d2 = PointSegmentDistance2(mesh.Point(v[k]), a, b);
+        const double d2 = surfaceWeighted ? SurfaceWeightedDistance2(mesh.Point(v[k]), a, b, n1, n2, lambda2) : PointSegmentDistance2(mesh.Point(v[k]), a, b);
         if (d2 > worst)
         {
           worst = d2;
@@ -446,7 +472,7 @@ size_t SpbmLevelGenerator::MemoryUsage() const
   auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
     b(s.PartLast) + b(s.PartNext) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) + b(s.Degree) +
-    b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) + b(s.TriedQ) + b(s.Normal) + b(s.Frozen) +
+    b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) + b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.Normal) + b(s.Frozen) +
     b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.SeqOffsets) + b(s.SeqVertices) +
     b(s.SeqKeep) + s.Edges.MemoryUsage();
   return bytes;
@@ -488,6 +514,8 @@ void SpbmLevelGenerator::RunMerging(
   s.Alive.assign(size_t(nc), 1);
   s.TriedP.assign(size_t(nc), -1);
   s.TriedQ.assign(size_t(nc), -1);
+  s.MergeTriedP.assign(size_t(nc), -1);
+  s.MergeTriedQ.assign(size_t(nc), -1);
   s.Locked.resize(size_t(nc));
   s.PartFirst.resize(size_t(nc));
   s.PartLast.resize(size_t(nc));
@@ -1253,6 +1281,10 @@ void SpbmLevelGenerator::RunMerging(
       pushCandidate(c); // normals changed since: requeue with the current value
       continue;
     }
+    if (s.MergeTriedP[c] == s.Version[p] && s.MergeTriedQ[c] == s.Version[q])
+    {
+      continue; // a duplicate entry: tried before (collapses and merge) and neither patch changed since
+    }
     if (parameters.CollapseChains)
     {
       tryCollapses(p, c);
@@ -1262,6 +1294,8 @@ void SpbmLevelGenerator::RunMerging(
         continue;
       }
     }
+    s.MergeTriedP[c] = s.Version[p];
+    s.MergeTriedQ[c] = s.Version[q];
     if (parameters.MergePatches && tryMerge(c, p, q))
     {
       forPatchChains(p, [&](Index x) { pushCandidate(x); });

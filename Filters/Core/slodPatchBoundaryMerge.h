@@ -90,6 +90,13 @@ public:
 
   // Builds the chain hierarchy. Both objects must outlive the generator.
   void Initialize(const TriangleMesh& mesh, const Patchification& patches);
+  // The same with the chain deviation measured as the surface sees it (extension, not in the
+  // paper): the offset of a dropped vertex from its segment counts by its components along the
+  // normals of the chain's two patches, but at least `inPlaneWeight` (0..1) times its length
+  // (1 = plain Euclidean distance, the paper's measure; border chains always use it). An offset
+  // within both patch planes barely moves the surface, so the same vertex budget goes to creases.
+  // Keys (and epsilon) are then in this measure.
+  void Initialize(const TriangleMesh& mesh, const Patchification& patches, double inPlaneWeight);
 
   // Triangle count of the level (before fallbacks) without triangulating: cheap, for searches.
   Index PredictTriangleCount(const SpbmLevelParameters& parameters);
