@@ -1,3 +1,4 @@
+#include <cstdio> // DEBUG
 #include "slodPatchBoundaryMerge.h"
 
 #include "slodPolygonTriangulation.h"
@@ -62,11 +63,17 @@ bool ProjectsToSimplePolygon(const std::vector<Vec3>& polygon, const Vec3& norma
   const Vec3 helper = std::fabs(w[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
   const Vec3 u = Normalized(Cross(helper, w));
   const Vec3 v = Cross(w, u);
-  std::vector<std::array<double, 2>> p(n);
+  // Scratch reused across calls (this runs for every merge and collapse candidate).
+  thread_local std::vector<std::array<double, 2>> p;
+  thread_local std::vector<size_t> order;
+  p.resize(n);
   double area = 0;
+  double cx = 0, cy = 0;
   for (size_t i = 0; i < n; ++i)
   {
     p[i] = { Dot(polygon[i], u), Dot(polygon[i], v) };
+    cx += p[i][0];
+    cy += p[i][1];
   }
   for (size_t i = 0; i < n; ++i)
   {
@@ -82,6 +89,26 @@ bool ProjectsToSimplePolygon(const std::vector<Vec3>& polygon, const Vec3& norma
     const double d = (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
     return (d > 0) - (d < 0);
   };
+  {
+    // Fast accept in O(n): every edge turns strictly counter-clockwise around the vertex centroid
+    // and winds around it once, so the polygon is star-shaped from it, hence simple (most patch
+    // boundaries are; the general tests below run only for the others).
+    const std::array<double, 2> c = { cx / double(n), cy / double(n) };
+    bool star = true;
+    int winding = 0;
+    for (size_t i = 0; i < n && star; ++i)
+    {
+      const auto& a = p[i];
+      const auto& b = p[(i + 1) % n];
+      star = orient(c, a, b) > 0;
+      // With every edge CCW around c, an upward crossing of the line y = c.y passes angle 0.
+      winding += (a[1] < c[1] && b[1] >= c[1]) ? 1 : 0;
+    }
+    if (star && winding == 1)
+    {
+      return true;
+    }
+  }
   auto onSegment = [](const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& q) {
     return std::min(a[0], b[0]) <= q[0] && q[0] <= std::max(a[0], b[0]) && std::min(a[1], b[1]) <= q[1] &&
       q[1] <= std::max(a[1], b[1]);
@@ -124,7 +151,7 @@ bool ProjectsToSimplePolygon(const std::vector<Vec3>& polygon, const Vec3& norma
     return true;
   }
   // Sweep along x: only segments whose x-ranges overlap are compared.
-  std::vector<size_t> order(n);
+  order.resize(n);
   for (size_t i = 0; i < n; ++i)
   {
     order[i] = i;
@@ -655,15 +682,29 @@ void SpbmLevelGenerator::RunMerging(
       std::push_heap(s.Heap.begin(), s.Heap.end());
     }
   };
-  // Walk the alive chains of root patch p.
+  // Walk the alive chains of root patch p, unlinking dead ones on the way (merged patches would
+  // otherwise drag every chain they ever absorbed through each walk: quadratic on large merges).
+  // The order of the alive chains is kept. `f` must not relink patch lists.
   auto forPatchChains = [&](Index p, auto&& f) {
-    for (Index slot = s.PatchHead[p]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+    Index previous = InvalidIndex;
+    for (Index slot = s.PatchHead[p]; slot != InvalidIndex;)
     {
       const Index c = slot / 2;
+      const Index next = s.PatchSlotNext[slot];
       if (s.Alive[c])
       {
         f(c);
+        previous = slot;
       }
+      else if (previous == InvalidIndex)
+      {
+        s.PatchHead[p] = next;
+      }
+      else
+      {
+        s.PatchSlotNext[previous] = next;
+      }
+      slot = next;
     }
   };
   auto forEndChains = [&](Index e, auto&& f) {
@@ -1014,14 +1055,12 @@ void SpbmLevelGenerator::RunMerging(
   auto tryCollapses = [&](Index x, Index exclude) {
     double longest = 0;
     forPatchChains(x, [&](Index c) { longest = std::max(longest, Norm(endpointPoint(s.B[c]) - endpointPoint(s.A[c]))); });
-    for (Index slot = s.PatchHead[x]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
-    {
-      const Index c = slot / 2;
-      if (c != exclude && s.Alive[c])
+    forPatchChains(x, [&](Index c) {
+      if (c != exclude)
       {
         tryCollapse(c, longest);
       }
-    }
+    });
   };
   // An endpoint left between exactly two one-edge chains of the same two patches disappears.
   // All vertices of chain c from endpoint `from` to the other one, with kept flags.
@@ -1236,6 +1275,7 @@ void SpbmLevelGenerator::RunMerging(
     s.Normal[p] = s.Normal[p] + s.Normal[q];
     s.Size[p] += s.Size[q] - 2;
     // Splice q's chain list into p's.
+    forPatchChains(q, [](Index) {}); // drop q's dead chains before splicing
     if (s.PatchHead[q] != InvalidIndex)
     {
       Index tail = s.PatchHead[q];
@@ -1327,6 +1367,7 @@ Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parame
   this->Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
     parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon, parameters.CollapseWithinEpsilon,
     parameters.SizeWeightedMerge, static_cast<Index>(s.Total) });
+  if (getenv("SPBM_DEBUG")) fprintf(stderr, "Predict eps %g a1 %g sw %d j%d c%d f%g -> %lld\n", parameters.Epsilon, parameters.MergeAngle, int(parameters.SizeWeightedMerge), int(parameters.JoinWithinEpsilon), int(parameters.CollapseWithinEpsilon), parameters.CollapseLengthFactor, s.Total);
   return static_cast<Index>(s.Total);
 }
 
@@ -1344,6 +1385,9 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   };
   // 1. alpha1: the given one, or (when even single-segment chains give too many triangles) the
   // smallest wider one, up to 90 degrees, that reaches the target.
+  // Counts this close below the target are good enough: each evaluation is a whole merging run,
+  // and the epsilon search below fills the rest.
+  const Index countTolerance = std::max<Index>(2, target / 200);
   double angle = base.MergeAngle;
   if (countFor(0, angle) > target && (base.MergePatches || base.CollapseChains))
   {
@@ -1367,10 +1411,10 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
         params.JoinWithinEpsilon = base.JoinWithinEpsilon && relaxation.Join;
         params.CollapseWithinEpsilon = base.CollapseWithinEpsilon && relaxation.Collapse;
         params.CollapseLengthFactor = std::max(base.CollapseLengthFactor, relaxation.Factor);
-        countLo = countFor(0, lo);
         countHi = countFor(0, hi);
         if (countHi <= target)
         {
+          countLo = countFor(0, lo);
           break;
         }
       }
@@ -1381,9 +1425,26 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
     }
     else
     {
-      // Regula falsi (Illinois) on the count, bracketed: the count is nearly linear in alpha1.
+      // The count falls steeply at small angles and flattens toward 90 degrees: narrow the
+      // bracket by doubling alpha1 first, then regula falsi (Illinois) on the count.
+      while (lo > 1.0 && 2 * lo < hi && countHi < target - countTolerance)
+      {
+        const Index c = countFor(0, 2 * lo);
+        if (c > target)
+        {
+          lo = 2 * lo;
+          countLo = c;
+        }
+        else
+        {
+          hi = 2 * lo;
+          countHi = c;
+          break;
+        }
+      }
       int side = 0;
-      for (int iteration = 0; iteration < 8 && hi - lo > 0.05; ++iteration)
+      Index realHi = countHi; // countHi is scaled by the Illinois steps
+      for (int iteration = 0; iteration < 8 && hi - lo > 0.05 && realHi < target - countTolerance; ++iteration)
       {
         double mid = hi - (hi - lo) * double(countHi - target) / std::min(-1.0, double(countHi - countLo));
         mid = hi - (hi - lo) * double(target - countHi) / std::max(1.0, double(countLo - countHi));
@@ -1403,6 +1464,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
         {
           hi = mid;
           countHi = c;
+          realHi = c;
           if (side == 1)
           {
             countLo = target + (countLo - target) / 2;
@@ -1421,20 +1483,52 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   // 2. epsilon: the number of kept chain vertices (top keys) whose count comes closest to the
   // target from below.
   Index bestK = 0, bestCount = countFor(0, angle);
-  if (bestCount < target)
+  if (bestCount < target - countTolerance)
   {
     Index lo = 0, hi = nk;
-    Index countLo = bestCount, countHi = countFor(nk, angle);
-    if (countHi <= target)
+    Index countLo = bestCount, countHi = 0;
+    // Bracket from below: each kept chain vertex adds about two triangles (one on each side), so
+    // step by the missing count over the measured slope (2 at first); the full-resolution count
+    // is only needed when the target is beyond every step.
+    bool bracketed = false;
+    double slope = 2.0;
+    for (int step = 0; step < 8 && !bracketed && lo < nk && countLo < target - countTolerance; ++step)
     {
-      lo = nk;
+      const Index next = std::min<Index>(nk, lo + std::max<Index>(1, static_cast<Index>(double(target - countLo) / slope)));
+      const Index c = countFor(next, angle);
+      if (c > target)
+      {
+        hi = next;
+        countHi = c;
+        bracketed = true;
+      }
+      else
+      {
+        if (c > countLo)
+        {
+          slope = std::max(0.5, double(c - countLo) / double(next - lo));
+        }
+        lo = next;
+        countLo = c;
+      }
     }
-    else
+    if (!bracketed && lo < nk && countLo < target - countTolerance)
+    {
+      countHi = countFor(nk, angle);
+      bracketed = countHi > target;
+      if (!bracketed)
+      {
+        lo = nk;
+        countLo = countHi;
+      }
+    }
+    if (bracketed)
     {
       // Regula falsi (Illinois) over the number of kept vertices: the count grows about
       // linearly with it, so a few evaluations replace a binary search.
       int side = 0;
-      for (int iteration = 0; iteration < 40 && hi - lo > 1; ++iteration)
+      Index realLo = countLo; // countLo is scaled by the Illinois steps
+      for (int iteration = 0; iteration < 40 && hi - lo > 1 && realLo < target - countTolerance; ++iteration)
       {
         const double spread = std::max(1.0, double(countHi - countLo));
         Index mid = lo + static_cast<Index>(double(hi - lo) * double(target - countLo) / spread);
@@ -1454,6 +1548,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
         {
           lo = mid;
           countLo = c;
+          realLo = c;
           if (side == -1)
           {
             countHi = target + (countHi - target) / 2;
@@ -1466,8 +1561,11 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
         }
       }
     }
-    // The count is not strictly monotone (merges, refinements): look around.
-    for (Index k = std::max<Index>(0, lo - 2); k <= std::min<Index>(nk, lo + 2); ++k)
+    // The count is not strictly monotone (merges, refinements): look around, unless the count
+    // found is within the tolerance below the target.
+    const Index found = countFor(lo, angle);
+    const Index around = found <= target && found >= target - countTolerance ? 0 : 2;
+    for (Index k = std::max<Index>(0, lo - around); k <= std::min<Index>(nk, lo + around); ++k)
     {
       const Index c = countFor(k, angle);
       if (c <= target && (bestCount > target || c > bestCount))
@@ -1979,6 +2077,10 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       if ((weighted == base.SizeWeightedMerge && factor == 1.0) || (weighted && factor != 1.0))
       {
         continue;
+      }
+      if (factor != 1.0 && first.MergeAngle > base.MergeAngle)
+      {
+        continue; // alpha1 had to be widened: a narrower one would widen to the same level
       }
       SpbmLevelParameters other = base;
       other.SizeWeightedMerge = weighted;
