@@ -2136,7 +2136,8 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
   SpbmLevel candidate;
   for (int attempt = 0; attempt < 6; ++attempt)
   {
-    const SpbmLevelParameters parameters = this->FindParameters(aim, base);
+    Index predicted = 0;
+    const SpbmLevelParameters parameters = this->FindParameters(aim, base, &predicted);
     if (!this->Generate(parameters, candidate, abort))
     {
       return false;
@@ -2157,9 +2158,9 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
       }
       haveBest = true;
     }
-    if (produced <= target)
+    if (produced <= target || predicted > aim)
     {
-      break;
+      break; // reached, or even the coarsest level of the search is above the aim: re-aiming cannot help
     }
     const Index next = std::max<Index>(4, aim - (produced - target));
     if (next == aim)
