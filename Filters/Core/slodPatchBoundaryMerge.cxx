@@ -1,4 +1,3 @@
-#include <cstdio> // DEBUG
 #include "slodPatchBoundaryMerge.h"
 
 #include "slodPolygonTriangulation.h"
@@ -1367,7 +1366,6 @@ Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parame
   this->Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
     parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon, parameters.CollapseWithinEpsilon,
     parameters.SizeWeightedMerge, static_cast<Index>(s.Total) });
-  if (getenv("SPBM_DEBUG")) fprintf(stderr, "Predict eps %g a1 %g sw %d j%d c%d f%g -> %lld\n", parameters.Epsilon, parameters.MergeAngle, int(parameters.SizeWeightedMerge), int(parameters.JoinWithinEpsilon), int(parameters.CollapseWithinEpsilon), parameters.CollapseLengthFactor, s.Total);
   return static_cast<Index>(s.Total);
 }
 
@@ -1387,7 +1385,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   // smallest wider one, up to 90 degrees, that reaches the target.
   // Counts this close below the target are good enough: each evaluation is a whole merging run,
   // and the epsilon search below fills the rest.
-  const Index countTolerance = std::max<Index>(2, target / 200);
+  const Index countTolerance = std::max<Index>(2, target / 100);
   double angle = base.MergeAngle;
   if (countFor(0, angle) > target && (base.MergePatches || base.CollapseChains))
   {
@@ -1444,7 +1442,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
       }
       int side = 0;
       Index realHi = countHi; // countHi is scaled by the Illinois steps
-      for (int iteration = 0; iteration < 8 && hi - lo > 0.05 && realHi < target - countTolerance; ++iteration)
+      for (int iteration = 0; iteration < 6 && hi - lo > 0.05 && realHi < target - countTolerance; ++iteration)
       {
         double mid = hi - (hi - lo) * double(countHi - target) / std::min(-1.0, double(countHi - countLo));
         mid = hi - (hi - lo) * double(target - countHi) / std::max(1.0, double(countLo - countHi));
