@@ -374,6 +374,58 @@ TEST(SpbmLevel, ChainsStayWithinEpsilonAtEveryLevel)
   }
 }
 
+// ChainInPlaneWeight: the chain tolerance in the surface-aware measure (offset components along
+// the two patch normals, at least the weight times the offset), Euclidean on border chains; the
+// same epsilon keeps fewer vertices than the Euclidean hierarchy, never more.
+TEST(SpbmLevel, ChainsStayWithinEpsilonAlongPatchNormals)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  auto pm = Patch(mesh);
+  const Patchification& P = pm->Patches;
+  const double weight = 0.5;
+  SpbmLevelGenerator weighted, euclidean;
+  weighted.Initialize(pm->Mesh, P, weight);
+  euclidean.Initialize(pm->Mesh, P);
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  Index keptWeighted = 0, keptEuclidean = 0; // over all epsilons (the split points differ)
+  for (const double relative : { 0.001, 0.005, 0.02 })
+  {
+    const double eps = relative * diagonal;
+    for (Index c = 0; c < P.NumberOfChains(); ++c)
+    {
+      const Index* v = P.ChainVerticesBegin(c);
+      const bool border = P.ChainRightPatch(c) == InvalidIndex;
+      const Vec3 n1 = P.PatchNormal(P.ChainLeftPatch(c));
+      const Vec3 n2 = border ? n1 : P.PatchNormal(P.ChainRightPatch(c));
+      Index previous = 0;
+      for (Index i = 1; i < P.ChainSize(c); ++i)
+      {
+        keptEuclidean += i + 1 < P.ChainSize(c) && euclidean.ChainVertexKey(c, i) > float(eps);
+        if (!(weighted.ChainVertexKey(c, i) > float(eps)))
+        {
+          continue;
+        }
+        keptWeighted += i + 1 < P.ChainSize(c);
+        const Vec3 a = mesh.Point(v[previous]), b = mesh.Point(v[i]);
+        for (Index k = previous + 1; k < i; ++k)
+        {
+          const Vec3 ab = b - a;
+          const double t = std::max(0.0, std::min(1.0, Dot(mesh.Point(v[k]) - a, ab) / std::max(1e-300, Dot(ab, ab))));
+          const Vec3 d = mesh.Point(v[k]) - (a + t * ab);
+          const double measure = border
+            ? Norm(d)
+            : std::max({ std::fabs(Dot(d, n1)), std::fabs(Dot(d, n2)), weight * Norm(d) });
+          ASSERT_LE(measure, eps * (1 + 1e-5)) << "chain " << c << " vertex " << k;
+          ASSERT_LE(Norm(d), eps / weight * (1 + 1e-5));
+        }
+        previous = i;
+      }
+    }
+  }
+  EXPECT_LT(keptWeighted, keptEuclidean);
+  EXPECT_GT(keptWeighted, 0);
+}
+
 TEST(SpbmLevel, PredictionMatchesGenerationAndLevelsAreValid)
 {
   const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
