@@ -301,6 +301,7 @@ struct SpbmLevelGenerator::State
   std::vector<Index> PatchStamp, EndStamp, EndLocal, VertexStamp;
   Index Stamp = 0;
   std::vector<std::pair<double, Index>> Heap;
+  std::vector<double> HeapTop; // per chain: the highest value it has in the heap (or -infinity)
   std::vector<unsigned char> NoFreeze;
   // Generation buffers.
   std::vector<Index> SeqOffsets, SeqVertices;
@@ -499,7 +500,7 @@ size_t SpbmLevelGenerator::MemoryUsage() const
   bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
     b(s.PartLast) + b(s.PartNext) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) + b(s.Degree) +
     b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) + b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.Normal) + b(s.Frozen) +
-    b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.SeqOffsets) + b(s.SeqVertices) +
+    b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.SeqOffsets) + b(s.SeqVertices) +
     b(s.SeqKeep) + s.Edges.MemoryUsage();
   return bytes;
 }
@@ -675,10 +676,13 @@ void SpbmLevelGenerator::RunMerging(
       return;
     }
     const double d = mergeMeasure(p, q);
-    if (d >= mergeThreshold)
+    // An entry at least as high is already queued: it pops first and is re-evaluated then (merged
+    // patches re-push all their chains; this keeps the heap from filling with duplicates).
+    if (d >= mergeThreshold && d > s.HeapTop[c])
     {
       s.Heap.emplace_back(d, c);
       std::push_heap(s.Heap.begin(), s.Heap.end());
+      s.HeapTop[c] = d;
     }
   };
   // Walk the alive chains of root patch p, unlinking dead ones on the way (merged patches would
@@ -1295,6 +1299,7 @@ void SpbmLevelGenerator::RunMerging(
   };
 
   s.Heap.clear();
+  s.HeapTop.assign(size_t(nc), -std::numeric_limits<double>::infinity());
   for (Index c = 0; c < nc; ++c)
   {
     pushCandidate(c);
@@ -1305,6 +1310,10 @@ void SpbmLevelGenerator::RunMerging(
     const auto entry = s.Heap.back();
     s.Heap.pop_back();
     const Index c = entry.second;
+    if (entry.first >= s.HeapTop[c])
+    {
+      s.HeapTop[c] = -std::numeric_limits<double>::infinity();
+    }
     if (!movable(c))
     {
       continue;
