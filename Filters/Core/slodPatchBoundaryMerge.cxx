@@ -347,6 +347,8 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Mesh = &mesh;
   this->Patches = &patches;
   this->Memo.clear();
+  this->InputTree.reset();
+  this->Diagonal = mesh.BoundingBoxDiagonal();
   this->Work->RefinedValid = false;
   const Patchification& P = patches;
   const Index nc = P.NumberOfChains();
@@ -1924,7 +1926,57 @@ bool SpbmLevelGenerator::Generate(
           }
           return true;
         };
-        PolygonTriangulationResult result = TriangulatePolygon(points, normal, options);
+        PolygonTriangulationResult result;
+        result.Failed = true;
+        if (parameters.MinimumDeviationTriangulation && n > 3 && n <= parameters.MinimumDeviationMaxVertices)
+        {
+          // Non-planar boundary: the choice of diagonals decides how far the flat triangulation
+          // lies from the original patch; choose the diagonals closest to the original surface.
+          Vec3 centroid{ 0, 0, 0 };
+          for (const Vec3& x : points)
+          {
+            centroid = centroid + x;
+          }
+          centroid = (1.0 / n) * centroid;
+          double height = 0;
+          for (const Vec3& x : points)
+          {
+            height = std::max(height, std::fabs(Dot(x - centroid, normal)));
+          }
+          if (height > parameters.NonPlanarTolerance * this->Diagonal)
+          {
+            if (!this->InputTree)
+            {
+              this->InputTree.reset(new TriangleBVH(mesh));
+            }
+            const TriangleBVH& tree = *this->InputTree;
+            MinimumCostTriangulationOptions dp;
+            dp.AcceptDiagonal = [&](Index i, Index j) { return !s.Edges.Contains(polygon[i], polygon[j]); };
+            dp.DiagonalCost = [&](Index i, Index j) {
+              // Midpoint and quarter points; a quarter point is at most a quarter of the length
+              // farther than the midpoint's answer, which bounds (prunes) its query.
+              const double middle = std::sqrt(tree.ClosestPoint(0.5 * (points[i] + points[j])).Distance2);
+              const double bound = middle + 0.25 * Norm(points[j] - points[i]);
+              double worst = middle;
+              for (const double t : { 0.25, 0.75 })
+              {
+                const ClosestPointResult r = tree.ClosestPoint((1 - t) * points[i] + t * points[j], bound * bound);
+                if (r.Triangle != InvalidIndex)
+                {
+                  worst = std::max(worst, std::sqrt(r.Distance2));
+                }
+              }
+              return worst;
+            };
+            // Thin triangles cost about as much as a diagonal 1e-3 of the diagonal off the surface.
+            dp.AngleWeight = 1e-3 * this->Diagonal;
+            result = TriangulatePolygonMinimumCost(points, normal, dp);
+          }
+        }
+        if (result.Failed)
+        {
+          result = TriangulatePolygon(points, normal, options);
+        }
         if (result.Failed)
         {
           doubleEarRule = false; // the rule only chooses between sides; never fail because of it

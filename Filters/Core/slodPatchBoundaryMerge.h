@@ -39,6 +39,8 @@
 
 namespace slod
 {
+class TriangleBVH;
+
 struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
 {
   double Epsilon = 0.0;     // absolute chain tolerance; negative keeps every chain vertex
@@ -59,6 +61,16 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // GenerateForTarget only: also try the other merge measure and narrower alpha1 values at the
   // same target, and keep the level with the smallest EstimateDeviation.
   bool CompareCandidates = true;
+  // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
+  // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
+  // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices
+  // is triangulated by slod::TriangulatePolygonMinimumCost: among all valid triangulations, the
+  // one whose diagonals stay closest to the original surface (largest sampled distance, then
+  // the sum) instead of smallest-angle ear clipping. Planar patches and larger polygons keep the
+  // ear clipping. Does not change triangle counts.
+  bool MinimumDeviationTriangulation = true;
+  Index MinimumDeviationMaxVertices = 48;
+  double NonPlanarTolerance = 1e-4;
 };
 
 struct SURFACELODFILTERS_EXPORT SpbmLevel
@@ -153,6 +165,8 @@ private:
   };
   std::vector<PredictionMemo> Memo;
   std::unique_ptr<State> Work;
+  std::unique_ptr<TriangleBVH> InputTree; // over Mesh, built on first use (non-planar patches)
+  double Diagonal = 0;
 };
 } // namespace slod
 
