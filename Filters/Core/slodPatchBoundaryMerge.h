@@ -19,6 +19,9 @@
 //     to its normal, is ear-clipped smallest angle first (slod::TriangulatePolygon) with valid
 //     diagonals only, no diagonal that is already an edge elsewhere, and the double-ear normal
 //     rule (a corner that is an ear on both sides of its chain goes to the side whose normal fits).
+//     Extension: non-planar patches (up to MinimumDeviationMaxVertices boundary vertices) are
+//     triangulated with the valid diagonals closest to the original surface instead
+//     (slod::TriangulatePolygonMinimumCost, distances from a BVH over the input).
 // Method (3) of 4.2.8 keeps boundaries triangulable: a patch whose simplified boundary does not
 // project to a simple polygon gets finer chains (epsilon / 4 per round, then full resolution)
 // before merging, and merges, joins and collapses that would make a boundary non-simple are
