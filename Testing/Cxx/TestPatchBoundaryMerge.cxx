@@ -487,6 +487,31 @@ TEST(SpbmLevel, SizeWeightedMergeAndCandidateComparison)
   }
 }
 
+// The minimum-deviation triangulation changes only the diagonals inside non-planar patches: same
+// profile curves and counts as the ear clipping, still a closed genus-0 level, and its triangles
+// lie no farther from the input (sampled estimate) on the Fandisk levels.
+TEST(SpbmLevel, MinimumDeviationTriangulationKeepsCurvesAndCounts)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  auto pm = Patch(mesh);
+  SpbmLevelGenerator generator;
+  generator.Initialize(pm->Mesh, pm->Patches, 0.42);
+  for (const Index target : { 460, 266, 150 })
+  {
+    SpbmLevelParameters parameters;
+    SpbmLevelParameters used;
+    SpbmLevel dp, ears;
+    ASSERT_TRUE(generator.GenerateForTarget(target, parameters, dp, &used));
+    used.MinimumDeviationTriangulation = false;
+    ASSERT_TRUE(generator.Generate(used, ears));
+    EXPECT_EQ(dp.TrianglePatch.size(), ears.TrianglePatch.size());
+    EXPECT_EQ(dp.CurveVertices, ears.CurveVertices);
+    EXPECT_NE(dp.Triangles, ears.Triangles); // the curved faces are cut differently
+    ExpectClosedGenusZeroLevel(mesh, dp);
+    EXPECT_LE(generator.EstimateDeviation(dp), generator.EstimateDeviation(ears) * (1 + 1e-9)) << target;
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // The filter
 TEST(PatchBoundaryMerge, FandiskTable1LevelsAreClosedManifoldGenusZero)
