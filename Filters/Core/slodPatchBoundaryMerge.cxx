@@ -504,6 +504,12 @@ size_t SpbmLevelGenerator::MemoryUsage() const
     b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) + b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.Normal) + b(s.Frozen) +
     b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.SeqOffsets) + b(s.SeqVertices) +
     b(s.SeqKeep) + s.Edges.MemoryUsage();
+  if (this->InputTree)
+  {
+    // Nodes, leaf order and the 9 leaf-ordered corner coordinates per triangle.
+    const TriangleBVH& tree = *this->InputTree;
+    bytes += b(tree.GetNodes()) + b(tree.GetOrder()) + tree.GetOrder().size() * 9 * sizeof(double);
+  }
   return bytes;
 }
 
