@@ -69,6 +69,7 @@ struct vtkPatchBoundaryMerge::Cache
   std::vector<std::string> Warnings;
 
   double RelativePlaneDistance = 0;
+  double ChainInPlaneWeight = -1; // of the generator's chain hierarchy
 
   bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p, double relativePlaneDistance) const
   {
@@ -175,9 +176,13 @@ int vtkPatchBoundaryMerge::RequestData(
       this->Cached.reset();
       return 1;
     }
-    cache.Generator.Initialize(cache.Mesh, cache.Patches);
   }
   Cache& cache = *this->Cached;
+  if (cache.ChainInPlaneWeight != this->ChainInPlaneWeight)
+  {
+    cache.Generator.Initialize(cache.Mesh, cache.Patches, this->ChainInPlaneWeight);
+    cache.ChainInPlaneWeight = this->ChainInPlaneWeight;
+  }
   for (const std::string& warning : cache.Warnings)
   {
     vtkWarningMacro(<< warning);
@@ -204,6 +209,7 @@ int vtkPatchBoundaryMerge::RequestData(
   level.CollapseChains = this->CollapseChains;
   level.CollapseLengthFactor = this->CollapseLengthFactor;
   level.CompareCandidates = this->CompareCandidates;
+  level.MinimumDeviationTriangulation = this->MinimumDeviationTriangulation;
   vtkIdType target = 0;
   if (this->TargetNumberOfTriangles > 0)
   {
@@ -361,6 +367,8 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CollapseChains: " << this->CollapseChains << "\n";
   os << indent << "CollapseLengthFactor: " << this->CollapseLengthFactor << "\n";
   os << indent << "CompareCandidates: " << this->CompareCandidates << "\n";
+  os << indent << "ChainInPlaneWeight: " << this->ChainInPlaneWeight << "\n";
+  os << indent << "MinimumDeviationTriangulation: " << this->MinimumDeviationTriangulation << "\n";
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "MaximumError: " << this->MaximumError << "\n";

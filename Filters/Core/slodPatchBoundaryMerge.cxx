@@ -33,6 +33,19 @@ double PointSegmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b)
   return Dot(d, d);
 }
 
+// Squared deviation of p from segment ab as the surface sees it: the offset's components along
+// the two adjacent patch normals (an offset within both patch planes moves the surface little),
+// but at least lambda times the full offset.
+double SurfaceWeightedDistance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& n1, const Vec3& n2, double lambda2)
+{
+  const Vec3 ab = b - a;
+  const double len2 = Dot(ab, ab);
+  const double t = len2 > 0 ? std::max(0.0, std::min(1.0, Dot(p - a, ab) / len2)) : 0.0;
+  const Vec3 d = p - (a + t * ab);
+  const double x = Dot(d, n1), y = Dot(d, n2);
+  return std::max(std::max(x * x, y * y), lambda2 * Dot(d, d));
+}
+
 // True when the closed polygon, projected on the plane orthogonal to `normal`, is simple and
 // counter-clockwise (the condition for a valid ear-clipping triangulation without flips). O(n^2):
 // used on merged patch boundaries, which are short at the levels where merging happens.
@@ -49,11 +62,17 @@ bool ProjectsToSimplePolygon(const std::vector<Vec3>& polygon, const Vec3& norma
   const Vec3 helper = std::fabs(w[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
   const Vec3 u = Normalized(Cross(helper, w));
   const Vec3 v = Cross(w, u);
-  std::vector<std::array<double, 2>> p(n);
+  // Scratch reused across calls (this runs for every merge and collapse candidate).
+  thread_local std::vector<std::array<double, 2>> p;
+  thread_local std::vector<size_t> order;
+  p.resize(n);
   double area = 0;
+  double cx = 0, cy = 0;
   for (size_t i = 0; i < n; ++i)
   {
     p[i] = { Dot(polygon[i], u), Dot(polygon[i], v) };
+    cx += p[i][0];
+    cy += p[i][1];
   }
   for (size_t i = 0; i < n; ++i)
   {
@@ -69,6 +88,26 @@ bool ProjectsToSimplePolygon(const std::vector<Vec3>& polygon, const Vec3& norma
     const double d = (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
     return (d > 0) - (d < 0);
   };
+  {
+    // Fast accept in O(n): every edge turns strictly counter-clockwise around the vertex centroid
+    // and winds around it once, so the polygon is star-shaped from it, hence simple (most patch
+    // boundaries are; the general tests below run only for the others).
+    const std::array<double, 2> c = { cx / double(n), cy / double(n) };
+    bool star = true;
+    int winding = 0;
+    for (size_t i = 0; i < n && star; ++i)
+    {
+      const auto& a = p[i];
+      const auto& b = p[(i + 1) % n];
+      star = orient(c, a, b) > 0;
+      // With every edge CCW around c, an upward crossing of the line y = c.y passes angle 0.
+      winding += (a[1] < c[1] && b[1] >= c[1]) ? 1 : 0;
+    }
+    if (star && winding == 1)
+    {
+      return true;
+    }
+  }
   auto onSegment = [](const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& q) {
     return std::min(a[0], b[0]) <= q[0] && q[0] <= std::max(a[0], b[0]) && std::min(a[1], b[1]) <= q[1] &&
       q[1] <= std::max(a[1], b[1]);
@@ -111,7 +150,7 @@ bool ProjectsToSimplePolygon(const std::vector<Vec3>& polygon, const Vec3& norma
     return true;
   }
   // Sweep along x: only segments whose x-ranges overlap are compared.
-  std::vector<size_t> order(n);
+  order.resize(n);
   for (size_t i = 0; i < n; ++i)
   {
     order[i] = i;
@@ -254,6 +293,7 @@ struct SpbmLevelGenerator::State
   // Patches (union-find over original patches).
   std::vector<Index> Parent, PatchHead, PatchSlotNext, Size, Version;
   std::vector<Index> TriedP, TriedQ; // per chain: patch versions of its last failed collapse
+  std::vector<Index> MergeTriedP, MergeTriedQ; // per chain: patch versions of its last failed merge
   std::vector<Vec3> Normal;
   std::vector<unsigned char> Frozen;
   long long Total = 0;
@@ -261,6 +301,7 @@ struct SpbmLevelGenerator::State
   std::vector<Index> PatchStamp, EndStamp, EndLocal, VertexStamp;
   Index Stamp = 0;
   std::vector<std::pair<double, Index>> Heap;
+  std::vector<double> HeapTop; // per chain: the highest value it has in the heap (or -infinity)
   std::vector<unsigned char> NoFreeze;
   // Generation buffers.
   std::vector<Index> SeqOffsets, SeqVertices;
@@ -298,9 +339,16 @@ SpbmLevelGenerator::~SpbmLevelGenerator() = default;
 
 void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchification& patches)
 {
+  this->Initialize(mesh, patches, 1.0);
+}
+
+void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchification& patches, double inPlaneWeight)
+{
   this->Mesh = &mesh;
   this->Patches = &patches;
   this->Memo.clear();
+  this->InputTree.reset();
+  this->Diagonal = mesh.BoundingBoxDiagonal();
   this->Work->RefinedValid = false;
   const Patchification& P = patches;
   const Index nc = P.NumberOfChains();
@@ -316,6 +364,10 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
     float ParentKey;
   };
   std::vector<Node> stack;
+  // With inPlaneWeight < 1 a chain's deviation counts mostly along the normals of its two
+  // patches (SurfaceWeightedDistance2): an offset within both patch planes moves the surface
+  // little, so smooth boundaries get coarser and creases finer for the same vertex budget.
+  const double lambda2 = std::max(0.0, std::min(1.0, inPlaneWeight)) * std::max(0.0, std::min(1.0, inPlaneWeight));
   for (Index c = 0; c < nc; ++c)
   {
     if (P.ChainIsNonManifold(c))
@@ -325,6 +377,9 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
     const Index* v = P.ChainVerticesBegin(c);
     const size_t offset = size_t(v - P.ChainVerticesBegin(0));
     const Index n = P.ChainSize(c);
+    const bool surfaceWeighted = lambda2 < 1.0 && P.ChainRightPatch(c) != InvalidIndex;
+    const Vec3 n1 = P.PatchNormal(P.ChainLeftPatch(c));
+    const Vec3 n2 = surfaceWeighted ? P.PatchNormal(P.ChainRightPatch(c)) : n1;
     stack.clear();
     stack.push_back({ 0, n - 1, InfiniteKey });
     while (!stack.empty())
@@ -344,7 +399,7 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
       Index m = (node.I + node.J) / 2;
       for (Index k = node.I + 1; k < node.J; ++k)
       {
-        const double d2 = PointSegmentDistance2(mesh.Point(v[k]), a, b);
+        const double d2 = surfaceWeighted ? SurfaceWeightedDistance2(mesh.Point(v[k]), a, b, n1, n2, lambda2) : PointSegmentDistance2(mesh.Point(v[k]), a, b);
         if (d2 > worst)
         {
           worst = d2;
@@ -446,9 +501,15 @@ size_t SpbmLevelGenerator::MemoryUsage() const
   auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
     b(s.PartLast) + b(s.PartNext) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) + b(s.Degree) +
-    b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) + b(s.TriedQ) + b(s.Normal) + b(s.Frozen) +
-    b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.SeqOffsets) + b(s.SeqVertices) +
+    b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) + b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.Normal) + b(s.Frozen) +
+    b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.SeqOffsets) + b(s.SeqVertices) +
     b(s.SeqKeep) + s.Edges.MemoryUsage();
+  if (this->InputTree)
+  {
+    // Nodes, leaf order and the 9 leaf-ordered corner coordinates per triangle.
+    const TriangleBVH& tree = *this->InputTree;
+    bytes += b(tree.GetNodes()) + b(tree.GetOrder()) + tree.GetOrder().size() * 9 * sizeof(double);
+  }
   return bytes;
 }
 
@@ -488,6 +549,8 @@ void SpbmLevelGenerator::RunMerging(
   s.Alive.assign(size_t(nc), 1);
   s.TriedP.assign(size_t(nc), -1);
   s.TriedQ.assign(size_t(nc), -1);
+  s.MergeTriedP.assign(size_t(nc), -1);
+  s.MergeTriedQ.assign(size_t(nc), -1);
   s.Locked.resize(size_t(nc));
   s.PartFirst.resize(size_t(nc));
   s.PartLast.resize(size_t(nc));
@@ -621,21 +684,38 @@ void SpbmLevelGenerator::RunMerging(
       return;
     }
     const double d = mergeMeasure(p, q);
-    if (d >= mergeThreshold)
+    // An entry at least as high is already queued: it pops first and is re-evaluated then (merged
+    // patches re-push all their chains; this keeps the heap from filling with duplicates).
+    if (d >= mergeThreshold && d > s.HeapTop[c])
     {
       s.Heap.emplace_back(d, c);
       std::push_heap(s.Heap.begin(), s.Heap.end());
+      s.HeapTop[c] = d;
     }
   };
-  // Walk the alive chains of root patch p.
+  // Walk the alive chains of root patch p, unlinking dead ones on the way (merged patches would
+  // otherwise drag every chain they ever absorbed through each walk: quadratic on large merges).
+  // The order of the alive chains is kept. `f` must not relink patch lists.
   auto forPatchChains = [&](Index p, auto&& f) {
-    for (Index slot = s.PatchHead[p]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+    Index previous = InvalidIndex;
+    for (Index slot = s.PatchHead[p]; slot != InvalidIndex;)
     {
       const Index c = slot / 2;
+      const Index next = s.PatchSlotNext[slot];
       if (s.Alive[c])
       {
         f(c);
+        previous = slot;
       }
+      else if (previous == InvalidIndex)
+      {
+        s.PatchHead[p] = next;
+      }
+      else
+      {
+        s.PatchSlotNext[previous] = next;
+      }
+      slot = next;
     }
   };
   auto forEndChains = [&](Index e, auto&& f) {
@@ -986,14 +1066,12 @@ void SpbmLevelGenerator::RunMerging(
   auto tryCollapses = [&](Index x, Index exclude) {
     double longest = 0;
     forPatchChains(x, [&](Index c) { longest = std::max(longest, Norm(endpointPoint(s.B[c]) - endpointPoint(s.A[c]))); });
-    for (Index slot = s.PatchHead[x]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
-    {
-      const Index c = slot / 2;
-      if (c != exclude && s.Alive[c])
+    forPatchChains(x, [&](Index c) {
+      if (c != exclude)
       {
         tryCollapse(c, longest);
       }
-    }
+    });
   };
   // An endpoint left between exactly two one-edge chains of the same two patches disappears.
   // All vertices of chain c from endpoint `from` to the other one, with kept flags.
@@ -1208,6 +1286,7 @@ void SpbmLevelGenerator::RunMerging(
     s.Normal[p] = s.Normal[p] + s.Normal[q];
     s.Size[p] += s.Size[q] - 2;
     // Splice q's chain list into p's.
+    forPatchChains(q, [](Index) {}); // drop q's dead chains before splicing
     if (s.PatchHead[q] != InvalidIndex)
     {
       Index tail = s.PatchHead[q];
@@ -1228,6 +1307,7 @@ void SpbmLevelGenerator::RunMerging(
   };
 
   s.Heap.clear();
+  s.HeapTop.assign(size_t(nc), -std::numeric_limits<double>::infinity());
   for (Index c = 0; c < nc; ++c)
   {
     pushCandidate(c);
@@ -1238,6 +1318,10 @@ void SpbmLevelGenerator::RunMerging(
     const auto entry = s.Heap.back();
     s.Heap.pop_back();
     const Index c = entry.second;
+    if (entry.first >= s.HeapTop[c])
+    {
+      s.HeapTop[c] = -std::numeric_limits<double>::infinity();
+    }
     if (!movable(c))
     {
       continue;
@@ -1253,6 +1337,10 @@ void SpbmLevelGenerator::RunMerging(
       pushCandidate(c); // normals changed since: requeue with the current value
       continue;
     }
+    if (s.MergeTriedP[c] == s.Version[p] && s.MergeTriedQ[c] == s.Version[q])
+    {
+      continue; // a duplicate entry: tried before (collapses and merge) and neither patch changed since
+    }
     if (parameters.CollapseChains)
     {
       tryCollapses(p, c);
@@ -1262,6 +1350,8 @@ void SpbmLevelGenerator::RunMerging(
         continue;
       }
     }
+    s.MergeTriedP[c] = s.Version[p];
+    s.MergeTriedQ[c] = s.Version[q];
     if (parameters.MergePatches && tryMerge(c, p, q))
     {
       forPatchChains(p, [&](Index x) { pushCandidate(x); });
@@ -1310,6 +1400,9 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   };
   // 1. alpha1: the given one, or (when even single-segment chains give too many triangles) the
   // smallest wider one, up to 90 degrees, that reaches the target.
+  // Counts this close below the target are good enough: each evaluation is a whole merging run,
+  // and the epsilon search below fills the rest.
+  const Index countTolerance = std::max<Index>(2, target / 100);
   double angle = base.MergeAngle;
   if (countFor(0, angle) > target && (base.MergePatches || base.CollapseChains))
   {
@@ -1333,10 +1426,10 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
         params.JoinWithinEpsilon = base.JoinWithinEpsilon && relaxation.Join;
         params.CollapseWithinEpsilon = base.CollapseWithinEpsilon && relaxation.Collapse;
         params.CollapseLengthFactor = std::max(base.CollapseLengthFactor, relaxation.Factor);
-        countLo = countFor(0, lo);
         countHi = countFor(0, hi);
         if (countHi <= target)
         {
+          countLo = countFor(0, lo);
           break;
         }
       }
@@ -1347,9 +1440,26 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
     }
     else
     {
-      // Regula falsi (Illinois) on the count, bracketed: the count is nearly linear in alpha1.
+      // The count falls steeply at small angles and flattens toward 90 degrees: narrow the
+      // bracket by doubling alpha1 first, then regula falsi (Illinois) on the count.
+      while (lo > 1.0 && 2 * lo < hi && countHi < target - countTolerance)
+      {
+        const Index c = countFor(0, 2 * lo);
+        if (c > target)
+        {
+          lo = 2 * lo;
+          countLo = c;
+        }
+        else
+        {
+          hi = 2 * lo;
+          countHi = c;
+          break;
+        }
+      }
       int side = 0;
-      for (int iteration = 0; iteration < 8 && hi - lo > 0.05; ++iteration)
+      Index realHi = countHi; // countHi is scaled by the Illinois steps
+      for (int iteration = 0; iteration < 6 && hi - lo > 0.05 && realHi < target - countTolerance; ++iteration)
       {
         double mid = hi - (hi - lo) * double(countHi - target) / std::min(-1.0, double(countHi - countLo));
         mid = hi - (hi - lo) * double(target - countHi) / std::max(1.0, double(countLo - countHi));
@@ -1369,6 +1479,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
         {
           hi = mid;
           countHi = c;
+          realHi = c;
           if (side == 1)
           {
             countLo = target + (countLo - target) / 2;
@@ -1387,20 +1498,52 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   // 2. epsilon: the number of kept chain vertices (top keys) whose count comes closest to the
   // target from below.
   Index bestK = 0, bestCount = countFor(0, angle);
-  if (bestCount < target)
+  if (bestCount < target - countTolerance)
   {
     Index lo = 0, hi = nk;
-    Index countLo = bestCount, countHi = countFor(nk, angle);
-    if (countHi <= target)
+    Index countLo = bestCount, countHi = 0;
+    // Bracket from below: each kept chain vertex adds about two triangles (one on each side), so
+    // step by the missing count over the measured slope (2 at first); the full-resolution count
+    // is only needed when the target is beyond every step.
+    bool bracketed = false;
+    double slope = 2.0;
+    for (int step = 0; step < 8 && !bracketed && lo < nk && countLo < target - countTolerance; ++step)
     {
-      lo = nk;
+      const Index next = std::min<Index>(nk, lo + std::max<Index>(1, static_cast<Index>(double(target - countLo) / slope)));
+      const Index c = countFor(next, angle);
+      if (c > target)
+      {
+        hi = next;
+        countHi = c;
+        bracketed = true;
+      }
+      else
+      {
+        if (c > countLo)
+        {
+          slope = std::max(0.5, double(c - countLo) / double(next - lo));
+        }
+        lo = next;
+        countLo = c;
+      }
     }
-    else
+    if (!bracketed && lo < nk && countLo < target - countTolerance)
+    {
+      countHi = countFor(nk, angle);
+      bracketed = countHi > target;
+      if (!bracketed)
+      {
+        lo = nk;
+        countLo = countHi;
+      }
+    }
+    if (bracketed)
     {
       // Regula falsi (Illinois) over the number of kept vertices: the count grows about
       // linearly with it, so a few evaluations replace a binary search.
       int side = 0;
-      for (int iteration = 0; iteration < 40 && hi - lo > 1; ++iteration)
+      Index realLo = countLo; // countLo is scaled by the Illinois steps
+      for (int iteration = 0; iteration < 40 && hi - lo > 1 && realLo < target - countTolerance; ++iteration)
       {
         const double spread = std::max(1.0, double(countHi - countLo));
         Index mid = lo + static_cast<Index>(double(hi - lo) * double(target - countLo) / spread);
@@ -1420,6 +1563,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
         {
           lo = mid;
           countLo = c;
+          realLo = c;
           if (side == -1)
           {
             countHi = target + (countHi - target) / 2;
@@ -1432,8 +1576,11 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
         }
       }
     }
-    // The count is not strictly monotone (merges, refinements): look around.
-    for (Index k = std::max<Index>(0, lo - 2); k <= std::min<Index>(nk, lo + 2); ++k)
+    // The count is not strictly monotone (merges, refinements): look around, unless the count
+    // found is within the tolerance below the target.
+    const Index found = countFor(lo, angle);
+    const Index around = found <= target && found >= target - countTolerance ? 0 : 2;
+    for (Index k = std::max<Index>(0, lo - around); k <= std::min<Index>(nk, lo + around); ++k)
     {
       const Index c = countFor(k, angle);
       if (c <= target && (bestCount > target || c > bestCount))
@@ -1785,7 +1932,57 @@ bool SpbmLevelGenerator::Generate(
           }
           return true;
         };
-        PolygonTriangulationResult result = TriangulatePolygon(points, normal, options);
+        PolygonTriangulationResult result;
+        result.Failed = true;
+        if (parameters.MinimumDeviationTriangulation && n > 3 && n <= parameters.MinimumDeviationMaxVertices)
+        {
+          // Non-planar boundary: the choice of diagonals decides how far the flat triangulation
+          // lies from the original patch; choose the diagonals closest to the original surface.
+          Vec3 centroid{ 0, 0, 0 };
+          for (const Vec3& x : points)
+          {
+            centroid = centroid + x;
+          }
+          centroid = (1.0 / n) * centroid;
+          double height = 0;
+          for (const Vec3& x : points)
+          {
+            height = std::max(height, std::fabs(Dot(x - centroid, normal)));
+          }
+          if (height > parameters.NonPlanarTolerance * this->Diagonal)
+          {
+            if (!this->InputTree)
+            {
+              this->InputTree.reset(new TriangleBVH(mesh));
+            }
+            const TriangleBVH& tree = *this->InputTree;
+            MinimumCostTriangulationOptions dp;
+            dp.AcceptDiagonal = [&](Index i, Index j) { return !s.Edges.Contains(polygon[i], polygon[j]); };
+            dp.DiagonalCost = [&](Index i, Index j) {
+              // Midpoint and quarter points; a quarter point is at most a quarter of the length
+              // farther than the midpoint's answer, which bounds (prunes) its query.
+              const double middle = std::sqrt(tree.ClosestPoint(0.5 * (points[i] + points[j])).Distance2);
+              const double bound = middle + 0.25 * Norm(points[j] - points[i]);
+              double worst = middle;
+              for (const double t : { 0.25, 0.75 })
+              {
+                const ClosestPointResult r = tree.ClosestPoint((1 - t) * points[i] + t * points[j], bound * bound);
+                if (r.Triangle != InvalidIndex)
+                {
+                  worst = std::max(worst, std::sqrt(r.Distance2));
+                }
+              }
+              return worst;
+            };
+            // Thin triangles cost about as much as a diagonal 1e-3 of the diagonal off the surface.
+            dp.AngleWeight = 1e-3 * this->Diagonal;
+            result = TriangulatePolygonMinimumCost(points, normal, dp);
+          }
+        }
+        if (result.Failed)
+        {
+          result = TriangulatePolygon(points, normal, options);
+        }
         if (result.Failed)
         {
           doubleEarRule = false; // the rule only chooses between sides; never fail because of it
@@ -1946,6 +2143,10 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       {
         continue;
       }
+      if (factor != 1.0 && first.MergeAngle > base.MergeAngle)
+      {
+        continue; // alpha1 had to be widened: a narrower one would widen to the same level
+      }
       SpbmLevelParameters other = base;
       other.SizeWeightedMerge = weighted;
       other.MergeAngle = base.MergeAngle * factor;
@@ -2000,7 +2201,8 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
   SpbmLevel candidate;
   for (int attempt = 0; attempt < 6; ++attempt)
   {
-    const SpbmLevelParameters parameters = this->FindParameters(aim, base);
+    Index predicted = 0;
+    const SpbmLevelParameters parameters = this->FindParameters(aim, base, &predicted);
     if (!this->Generate(parameters, candidate, abort))
     {
       return false;
@@ -2021,9 +2223,9 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
       }
       haveBest = true;
     }
-    if (produced <= target)
+    if (produced <= target || predicted > aim)
     {
-      break;
+      break; // reached, or even the coarsest level of the search is above the aim: re-aiming cannot help
     }
     const Index next = std::max<Index>(4, aim - (produced - target));
     if (next == aim)

@@ -19,6 +19,9 @@
 //     to its normal, is ear-clipped smallest angle first (slod::TriangulatePolygon) with valid
 //     diagonals only, no diagonal that is already an edge elsewhere, and the double-ear normal
 //     rule (a corner that is an ear on both sides of its chain goes to the side whose normal fits).
+//     Extension: non-planar patches (up to MinimumDeviationMaxVertices boundary vertices) are
+//     triangulated with the valid diagonals closest to the original surface instead
+//     (slod::TriangulatePolygonMinimumCost, distances from a BVH over the input).
 // Method (3) of 4.2.8 keeps boundaries triangulable: a patch whose simplified boundary does not
 // project to a simple polygon gets finer chains (epsilon / 4 per round, then full resolution)
 // before merging, and merges, joins and collapses that would make a boundary non-simple are
@@ -39,6 +42,8 @@
 
 namespace slod
 {
+class TriangleBVH;
+
 struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
 {
   double Epsilon = 0.0;     // absolute chain tolerance; negative keeps every chain vertex
@@ -59,6 +64,16 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // GenerateForTarget only: also try the other merge measure and narrower alpha1 values at the
   // same target, and keep the level with the smallest EstimateDeviation.
   bool CompareCandidates = true;
+  // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
+  // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
+  // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices
+  // is triangulated by slod::TriangulatePolygonMinimumCost: among all valid triangulations, the
+  // one whose diagonals stay closest to the original surface (largest sampled distance, then
+  // the sum) instead of smallest-angle ear clipping. Planar patches and larger polygons keep the
+  // ear clipping. Does not change triangle counts.
+  bool MinimumDeviationTriangulation = true;
+  Index MinimumDeviationMaxVertices = 48;
+  double NonPlanarTolerance = 1e-4;
 };
 
 struct SURFACELODFILTERS_EXPORT SpbmLevel
@@ -90,6 +105,13 @@ public:
 
   // Builds the chain hierarchy. Both objects must outlive the generator.
   void Initialize(const TriangleMesh& mesh, const Patchification& patches);
+  // The same with the chain deviation measured as the surface sees it (extension, not in the
+  // paper): the offset of a dropped vertex from its segment counts by its components along the
+  // normals of the chain's two patches, but at least `inPlaneWeight` (0..1) times its length
+  // (1 = plain Euclidean distance, the paper's measure; border chains always use it). An offset
+  // within both patch planes barely moves the surface, so the same vertex budget goes to creases.
+  // Keys (and epsilon) are then in this measure.
+  void Initialize(const TriangleMesh& mesh, const Patchification& patches, double inPlaneWeight);
 
   // Triangle count of the level (before fallbacks) without triangulating: cheap, for searches.
   Index PredictTriangleCount(const SpbmLevelParameters& parameters);
@@ -146,6 +168,8 @@ private:
   };
   std::vector<PredictionMemo> Memo;
   std::unique_ptr<State> Work;
+  std::unique_ptr<TriangleBVH> InputTree; // over Mesh, built on first use (non-planar patches)
+  double Diagonal = 0;
 };
 } // namespace slod
 

@@ -250,4 +250,147 @@ PolygonTriangulationResult TriangulatePolygon(
   result.Triangles.push_back({ static_cast<Index>(a), static_cast<Index>(b), static_cast<Index>(c) });
   return result;
 }
+
+PolygonTriangulationResult TriangulatePolygonMinimumCost(
+  const std::vector<Vec3>& polygon, const Vec3& normal, const MinimumCostTriangulationOptions& options)
+{
+  PolygonTriangulationResult result;
+  const size_t n = polygon.size();
+  if (n < 3)
+  {
+    result.Failed = n > 0;
+    return result;
+  }
+  const Vec3 w = Normalized(normal);
+  const Vec3 helper = std::fabs(w[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
+  const Vec3 u = Normalized(Cross(helper, w));
+  const Vec3 v = Cross(w, u);
+  std::vector<Vec2> p(n);
+  double extent = 0;
+  for (size_t i = 0; i < n; ++i)
+  {
+    p[i] = { Dot(polygon[i], u), Dot(polygon[i], v) };
+    extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
+  }
+  const double tolerance = 1e-9 * extent;
+  auto at = [n](size_t i, size_t j) { return i * n + j; };
+  // Diagonal validity and cost (i < j); polygon edges are valid with cost 0.
+  std::vector<char> valid(n * n, 0);
+  std::vector<double> cost(n * n, 0.0);
+  auto inCone = [&](size_t i, size_t j) {
+    const Vec2& a = p[(i + n - 1) % n];
+    const Vec2& b = p[(i + 1) % n];
+    if (Cross2(a, p[i], b) >= 0) // convex corner
+    {
+      return Cross2(p[i], p[j], a) > 0 && Cross2(p[j], p[i], b) > 0;
+    }
+    return !(Cross2(p[i], p[j], b) >= 0 && Cross2(p[j], p[i], a) >= 0);
+  };
+  for (size_t i = 0; i < n; ++i)
+  {
+    valid[at(i, (i + 1) % n)] = valid[at((i + 1) % n, i)] = 1;
+  }
+  for (size_t i = 0; i + 2 < n; ++i)
+  {
+    for (size_t j = i + 2; j < n; ++j)
+    {
+      if (i == 0 && j == n - 1)
+      {
+        continue;
+      }
+      bool ok = inCone(i, j) && inCone(j, i);
+      for (size_t k = 0; k < n && ok; ++k)
+      {
+        const size_t k1 = (k + 1) % n;
+        if (k != i && k != j && NearSegment(p[k], p[i], p[j], tolerance))
+        {
+          ok = false;
+        }
+        else if (k != i && k != j && k1 != i && k1 != j && SegmentsCross(p[i], p[j], p[k], p[k1]))
+        {
+          ok = false;
+        }
+      }
+      ok = ok && (!options.AcceptDiagonal || options.AcceptDiagonal(static_cast<Index>(i), static_cast<Index>(j)));
+      if (ok)
+      {
+        valid[at(i, j)] = valid[at(j, i)] = 1;
+        cost[at(i, j)] = cost[at(j, i)] =
+          options.DiagonalCost ? options.DiagonalCost(static_cast<Index>(i), static_cast<Index>(j)) : 0.0;
+      }
+    }
+  }
+  // best[i][j]: triangulation of the sub-polygon i, i+1, ..., j closed by the edge (i, j).
+  const double infinity = std::numeric_limits<double>::infinity();
+  std::vector<double> bestMax(n * n, infinity), bestSum(n * n, infinity);
+  std::vector<Index> split(n * n, -1);
+  for (size_t i = 0; i + 1 < n; ++i)
+  {
+    bestMax[at(i, i + 1)] = bestSum[at(i, i + 1)] = 0;
+  }
+  auto thinness = [&](size_t a, size_t b, size_t c) {
+    const double area2 = Norm(Cross(polygon[b] - polygon[a], polygon[c] - polygon[a]));
+    const double l0 = Norm(polygon[b] - polygon[a]), l1 = Norm(polygon[c] - polygon[b]),
+                 l2 = Norm(polygon[a] - polygon[c]);
+    // sin of the smallest angle = area2 / (product of the two longest edges)
+    const double longest = std::max({ l0, l1, l2 });
+    const double middle = l0 + l1 + l2 - longest - std::min({ l0, l1, l2 });
+    return longest * middle > 0 ? 1.0 - area2 / (longest * middle) : 1.0;
+  };
+  for (size_t length = 2; length < n; ++length)
+  {
+    for (size_t i = 0; i + length < n; ++i)
+    {
+      const size_t j = i + length;
+      if (!valid[at(i, j)])
+      {
+        continue;
+      }
+      double& bm = bestMax[at(i, j)];
+      double& bs = bestSum[at(i, j)];
+      for (size_t k = i + 1; k < j; ++k)
+      {
+        if (!valid[at(i, k)] || !valid[at(k, j)] || bestMax[at(i, k)] == infinity ||
+          bestMax[at(k, j)] == infinity)
+        {
+          continue;
+        }
+        if (Cross2(p[i], p[k], p[j]) <= 0 || IsDegenerate(polygon[i], polygon[k], polygon[j]))
+        {
+          continue;
+        }
+        const double m = std::max({ bestMax[at(i, k)], bestMax[at(k, j)], cost[at(i, k)], cost[at(k, j)] });
+        const double sum = bestSum[at(i, k)] + bestSum[at(k, j)] + cost[at(i, k)] + cost[at(k, j)] +
+          options.AngleWeight * thinness(i, k, j);
+        const double slack = 1e-9 * std::max(m, bm == infinity ? 0.0 : bm);
+        if (m < bm - slack || (m <= bm + slack && sum < bs))
+        {
+          bm = m;
+          bs = sum;
+          split[at(i, j)] = static_cast<Index>(k);
+        }
+      }
+    }
+  }
+  if (split[at(0, n - 1)] < 0)
+  {
+    result.Failed = true;
+    return result;
+  }
+  std::vector<std::array<size_t, 2>> stack{ { 0, n - 1 } };
+  while (!stack.empty())
+  {
+    const auto [i, j] = stack.back();
+    stack.pop_back();
+    if (j - i < 2)
+    {
+      continue;
+    }
+    const size_t k = static_cast<size_t>(split[at(i, j)]);
+    result.Triangles.push_back({ static_cast<Index>(i), static_cast<Index>(k), static_cast<Index>(j) });
+    stack.push_back({ i, k });
+    stack.push_back({ k, j });
+  }
+  return result;
+}
 } // namespace slod

@@ -43,6 +43,23 @@ SURFACELODFILTERS_EXPORT PolygonTriangulationResult TriangulatePolygon(
   const std::vector<Vec3>& polygon, const Vec3& normal);
 SURFACELODFILTERS_EXPORT PolygonTriangulationResult TriangulatePolygon(
   const std::vector<Vec3>& polygon, const Vec3& normal, const PolygonTriangulationOptions& options);
+
+// Triangulation of a simple polygon that minimises a per-diagonal cost (dynamic programming over
+// all valid diagonals, O(n^3) time, O(n^2) memory: meant for small polygons). A diagonal is valid
+// when it lies inside the polygon in projection (cone test at both ends), crosses no polygon edge,
+// passes through no other vertex and AcceptDiagonal (optional) accepts it; every triangle must be
+// counter-clockwise in projection and not degenerate. The result minimises the largest cost of a
+// used diagonal, then the sum of the used diagonals' costs plus a small penalty for thin
+// triangles (AngleWeight times the sum of (1 - sin of the smallest angle), in cost units).
+// Strict: Failed (and no triangles) when no valid triangulation exists.
+struct MinimumCostTriangulationOptions
+{
+  std::function<bool(Index, Index)> AcceptDiagonal; // polygon indices i < j
+  std::function<double(Index, Index)> DiagonalCost; // polygon indices i < j; >= 0; null = 0
+  double AngleWeight = 0.0;
+};
+SURFACELODFILTERS_EXPORT PolygonTriangulationResult TriangulatePolygonMinimumCost(
+  const std::vector<Vec3>& polygon, const Vec3& normal, const MinimumCostTriangulationOptions& options);
 } // namespace slod
 
 #endif

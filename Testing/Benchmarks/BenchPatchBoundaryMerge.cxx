@@ -3,7 +3,7 @@
 // patchification and level-generation times separately), whole-filter speed ratios, peak memory
 // per vertex and quality at equal triangle count (vtkSurfaceDeviation).
 //
-// usage: BenchPatchBoundaryMerge [fandisk] [bunny00] [mc1m] [--samples N] [--repeat N] [--write DIR]
+// usage: BenchPatchBoundaryMerge [fandisk] [bunny00] [mc1m] [--samples N] [--repeat N] [--write DIR] [--ear-clipping]
 // (no model argument: all three). Models are read from the CGAL demo meshes of the build
 // (SURFACELOD_MESH_DIR); mc1m is the demo's ~1M-triangle isosurface (vtkSyntheticIsosurfaceSource)
 // (a bumpy sphere).
@@ -107,8 +107,14 @@ int main(int argc, char* argv[])
   vtkIdType samples = 100000;
   int repeat = 3;
   std::string writeDirectory;
+  bool earClipping = false; // --ear-clipping: MinimumDeviationTriangulation off (the paper's)
   for (int i = 1; i < argc; ++i)
   {
+    if (!std::strcmp(argv[i], "--ear-clipping"))
+    {
+      earClipping = true;
+      continue;
+    }
     if (!std::strcmp(argv[i], "--write") && i + 1 < argc)
     {
       writeDirectory = argv[++i];
@@ -161,6 +167,7 @@ int main(int argc, char* argv[])
       ResetPeak();
       const long before = StatusKB("VmRSS:");
       vtkNew<vtkPatchBoundaryMerge> probe;
+      probe->SetMinimumDeviationTriangulation(!earClipping);
       probe->SetInputData(input);
       probe->SetTargetNumberOfTriangles(targets[0]);
       probe->Update();
@@ -177,6 +184,7 @@ int main(int argc, char* argv[])
     {
       input->Modified(); // a new input for the cache: the first level recomputes the patches
       vtkNew<vtkPatchBoundaryMerge> filter;
+      filter->SetMinimumDeviationTriangulation(!earClipping);
       filter->SetInputData(input);
       for (size_t t = 0; t < targets.size(); ++t)
       {

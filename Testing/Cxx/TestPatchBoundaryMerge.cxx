@@ -374,6 +374,58 @@ TEST(SpbmLevel, ChainsStayWithinEpsilonAtEveryLevel)
   }
 }
 
+// ChainInPlaneWeight: the chain tolerance in the surface-aware measure (offset components along
+// the two patch normals, at least the weight times the offset), Euclidean on border chains; the
+// same epsilon keeps fewer vertices than the Euclidean hierarchy, never more.
+TEST(SpbmLevel, ChainsStayWithinEpsilonAlongPatchNormals)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  auto pm = Patch(mesh);
+  const Patchification& P = pm->Patches;
+  const double weight = 0.5;
+  SpbmLevelGenerator weighted, euclidean;
+  weighted.Initialize(pm->Mesh, P, weight);
+  euclidean.Initialize(pm->Mesh, P);
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  Index keptWeighted = 0, keptEuclidean = 0; // over all epsilons (the split points differ)
+  for (const double relative : { 0.001, 0.005, 0.02 })
+  {
+    const double eps = relative * diagonal;
+    for (Index c = 0; c < P.NumberOfChains(); ++c)
+    {
+      const Index* v = P.ChainVerticesBegin(c);
+      const bool border = P.ChainRightPatch(c) == InvalidIndex;
+      const Vec3 n1 = P.PatchNormal(P.ChainLeftPatch(c));
+      const Vec3 n2 = border ? n1 : P.PatchNormal(P.ChainRightPatch(c));
+      Index previous = 0;
+      for (Index i = 1; i < P.ChainSize(c); ++i)
+      {
+        keptEuclidean += i + 1 < P.ChainSize(c) && euclidean.ChainVertexKey(c, i) > float(eps);
+        if (!(weighted.ChainVertexKey(c, i) > float(eps)))
+        {
+          continue;
+        }
+        keptWeighted += i + 1 < P.ChainSize(c);
+        const Vec3 a = mesh.Point(v[previous]), b = mesh.Point(v[i]);
+        for (Index k = previous + 1; k < i; ++k)
+        {
+          const Vec3 ab = b - a;
+          const double t = std::max(0.0, std::min(1.0, Dot(mesh.Point(v[k]) - a, ab) / std::max(1e-300, Dot(ab, ab))));
+          const Vec3 d = mesh.Point(v[k]) - (a + t * ab);
+          const double measure = border
+            ? Norm(d)
+            : std::max({ std::fabs(Dot(d, n1)), std::fabs(Dot(d, n2)), weight * Norm(d) });
+          ASSERT_LE(measure, eps * (1 + 1e-5)) << "chain " << c << " vertex " << k;
+          ASSERT_LE(Norm(d), eps / weight * (1 + 1e-5));
+        }
+        previous = i;
+      }
+    }
+  }
+  EXPECT_LT(keptWeighted, keptEuclidean);
+  EXPECT_GT(keptWeighted, 0);
+}
+
 TEST(SpbmLevel, PredictionMatchesGenerationAndLevelsAreValid)
 {
   const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
@@ -432,6 +484,31 @@ TEST(SpbmLevel, SizeWeightedMergeAndCandidateComparison)
     ASSERT_TRUE(generator.Generate(weighted, level));
     EXPECT_EQ(level.PredictedTriangles, predicted);
     ExpectClosedGenusZeroLevel(mesh, level);
+  }
+}
+
+// The minimum-deviation triangulation changes only the diagonals inside non-planar patches: same
+// profile curves and counts as the ear clipping, still a closed genus-0 level, and its triangles
+// lie no farther from the input (sampled estimate) on the Fandisk levels.
+TEST(SpbmLevel, MinimumDeviationTriangulationKeepsCurvesAndCounts)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  auto pm = Patch(mesh);
+  SpbmLevelGenerator generator;
+  generator.Initialize(pm->Mesh, pm->Patches, 0.42);
+  for (const Index target : { 460, 266, 150 })
+  {
+    SpbmLevelParameters parameters;
+    SpbmLevelParameters used;
+    SpbmLevel dp, ears;
+    ASSERT_TRUE(generator.GenerateForTarget(target, parameters, dp, &used));
+    used.MinimumDeviationTriangulation = false;
+    ASSERT_TRUE(generator.Generate(used, ears));
+    EXPECT_EQ(dp.TrianglePatch.size(), ears.TrianglePatch.size());
+    EXPECT_EQ(dp.CurveVertices, ears.CurveVertices);
+    EXPECT_NE(dp.Triangles, ears.Triangles); // the curved faces are cut differently
+    ExpectClosedGenusZeroLevel(mesh, dp);
+    EXPECT_LE(generator.EstimateDeviation(dp), generator.EstimateDeviation(ears) * (1 + 1e-9)) << target;
   }
 }
 
@@ -678,11 +755,12 @@ TEST(PatchBoundaryMerge, FandiskSharpProfilesSurviveVersusPeers)
     const auto q = measure(quadric->GetOutput());
     const auto d = measure(pro->GetOutput());
     const auto o = measure(ours);
-    // Goal (issue 5): Hausdorff no worse than vtkDecimatePro's. Not met yet (measured ratios 1.29, 1.59
-    // and 4.8 at 460, 266 and 150 triangles; 150 is reached exactly now, where it stayed at 188
-    // triangles before): asserted here as a regression bound just above the measured ratio, and
-    // reported loudly, so that any improvement can tighten it to the goal.
-    const double regressionRatio = target == 150 ? 5.2 : target == 266 ? 1.7 : 1.4;
+    // Goal (issue 5): Hausdorff no worse than vtkDecimatePro's. Met at 460 and 266 triangles (chain
+    // deviations measured along the patch normals, ChainInPlaneWeight, and non-planar patches
+    // triangulated with the diagonals closest to the original surface): asserted there. Not met
+    // at 150 (4.8x; vtkDecimatePro stops at 242 there): a regression bound just above the
+    // measured ratio, reported loudly, so that any improvement can tighten it to the goal.
+    const double regressionRatio = target == 150 ? 5.2 : 1.0;
     EXPECT_LE(o.first, regressionRatio * d.first)
       << "target " << target << ": SPBM Hausdorff " << o.first << " vs vtkDecimatePro " << d.first << " ("
       << pro->GetOutput()->GetNumberOfCells() << " triangles)";
@@ -736,4 +814,47 @@ TEST(PolygonTriangulationExtension, AcceptEarAndStrictMode)
   result = TriangulatePolygon(kite, { 0, 0, 1 });
   ASSERT_EQ(result.Triangles.size(), 2u);
   EXPECT_EQ(result.Triangles[0][1] % 2, 0); // corner 0 or 2 (the sharp ones) clipped first
+}
+
+// Minimum-cost triangulation (dynamic programming over valid diagonals): picks the cheapest
+// diagonal, never an invalid one, and fails in strict fashion when nothing valid is left.
+TEST(PolygonTriangulationExtension, MinimumCostTriangulation)
+{
+  // Non-planar quad (a fold along 0-2): the cost says which diagonal lies on the surface.
+  const std::vector<Vec3> quad = { { 0, 0, 0 }, { 1, 0, 0.3 }, { 1, 1, 0 }, { 0, 1, 0.3 } };
+  for (const Index cheap : { 0, 1 })
+  {
+    MinimumCostTriangulationOptions options;
+    options.DiagonalCost = [&](Index i, Index j) { return i == cheap && j == cheap + 2 ? 0.0 : 1.0; };
+    const auto result = TriangulatePolygonMinimumCost(quad, { 0, 0, 1 }, options);
+    ASSERT_FALSE(result.Failed);
+    ASSERT_EQ(result.Triangles.size(), 2u);
+    for (const auto& t : result.Triangles)
+    {
+      EXPECT_TRUE(std::find(t.begin(), t.end(), cheap) != t.end() && std::find(t.begin(), t.end(), cheap + 2) != t.end());
+    }
+  }
+  // A concave polygon (an L): n - 2 counter-clockwise triangles covering its area, whatever the
+  // costs say (the cheap diagonal 1-4 leaves the polygon and must not be used).
+  const std::vector<Vec3> ell = { { 0, 0, 0 }, { 2, 0, 0 }, { 2, 1, 0 }, { 1, 1, 0 }, { 1, 2, 0 }, { 0, 2, 0 } };
+  MinimumCostTriangulationOptions options;
+  options.DiagonalCost = [](Index i, Index j) { return i == 1 && j == 4 ? 0.0 : 1.0 + i + j; };
+  auto result = TriangulatePolygonMinimumCost(ell, { 0, 0, 1 }, options);
+  ASSERT_FALSE(result.Failed);
+  ASSERT_EQ(result.Triangles.size(), 4u);
+  double area = 0;
+  for (const auto& t : result.Triangles)
+  {
+    const Vec3 n = Cross(ell[t[1]] - ell[t[0]], ell[t[2]] - ell[t[0]]);
+    EXPECT_GT(n[2], 0);
+    area += 0.5 * n[2];
+    EXPECT_FALSE((std::find(t.begin(), t.end(), 1) != t.end()) && (std::find(t.begin(), t.end(), 4) != t.end()));
+  }
+  EXPECT_NEAR(area, 3.0, 1e-12);
+  // The reflex corner 3 must be in a diagonal of every triangulation; forbid all of its diagonals.
+  options.AcceptDiagonal = [](Index i, Index j) { return i != 3 && j != 3; };
+  EXPECT_TRUE(TriangulatePolygonMinimumCost(ell, { 0, 0, 1 }, options).Failed);
+  // Bow-tie projection: no valid triangulation.
+  const std::vector<Vec3> bowtie = { { 0, 0, 0 }, { 1, 1, 0 }, { 1, 0, 0 }, { 0, 1, 0 } };
+  EXPECT_TRUE(TriangulatePolygonMinimumCost(bowtie, { 0, 0, 1 }, MinimumCostTriangulationOptions()).Failed);
 }
