@@ -493,6 +493,12 @@ bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::ve
           {
             return;
           }
+          // A neighbour facing the other way lies on another sheet (the far side of a thin
+          // part): it must not push, or thin parts are emptied of points.
+          if (Dot(faceNormal[points[j].Triangle], normal) < -0.3)
+          {
+            return;
+          }
           const double r = 0.5 * (radius[i] + radius[j]);
           Vec3 d = p - points[j].Position;
           // Fold the neighbour into the tangent plane (keeps its distance, drops the normal part).
@@ -805,9 +811,13 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   };
   std::vector<Index> neighbors, pending(n0);
   std::iota(pending.begin(), pending.end(), 0);
+  // Candidates moved onto an old vertex's position by phase 2 (InvalidIndex: not moved).
+  std::vector<Index> movedTo(np, InvalidIndex);
   // Phase 0: collapse onto candidate vertices only; phase 1 (for old vertices walled in by
-  // other old vertices): onto any neighbour, the target being removed later in turn.
-  for (int phase = 0; phase < 2 && !pending.empty(); ++phase)
+  // other old vertices): onto any neighbour, the target being removed later in turn; phase 2
+  // (last resort, keeps the vertex count exact): a neighbouring candidate moves onto the old
+  // vertex (still a point of the surface) and takes its place.
+  for (int phase = 0; phase < 3 && !pending.empty(); ++phase)
   {
     for (int pass = 0; pass < 32 && !pending.empty(); ++pass)
     {
@@ -833,8 +843,12 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
           {
             continue;
           }
+          if (phase == 2 && (c < n0 || movedTo[c - n0] != InvalidIndex))
+          {
+            continue;
+          }
           const Index pair[2] = { r, c };
-          const Vec3 position = edit.Point(c);
+          const Vec3 position = edit.Point(phase == 2 ? r : c);
           if (edit.CheckCollapse(pair, 2, position, collapseOptions) != CollapseStatus::Ok)
           {
             continue;
@@ -852,7 +866,12 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
           continue;
         }
         const Index pair[2] = { r, best };
-        edit.Collapse(pair, 2, best, edit.Point(best));
+        if (phase == 2)
+        {
+          movedTo[best - n0] = r;
+          reference[best] = reference[r];
+        }
+        edit.Collapse(pair, 2, best, edit.Point(phase == 2 ? r : best));
       }
       const bool progressed = next.size() < pending.size();
       pending.swap(next);
@@ -963,7 +982,17 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   for (size_t v = 0; v < nv; ++v)
   {
     const Index id = newToOld[v];
-    if (id >= n0)
+    if (id >= n0 && movedTo[id - n0] != InvalidIndex)
+    {
+      const Index old = movedTo[id - n0];
+      const Index t = firstTriangle[old];
+      result.HostTriangle[v] = t;
+      for (int k = 0; k < 3; ++k)
+      {
+        result.Barycentric[3 * v + k] = mesh.Triangle(t)[k] == old ? 1.0 : 0.0;
+      }
+    }
+    else if (id >= n0)
     {
       result.HostTriangle[v] = points[id - n0].Triangle;
       std::copy(&bary[3 * size_t(id - n0)], &bary[3 * size_t(id - n0)] + 3, &result.Barycentric[3 * v]);

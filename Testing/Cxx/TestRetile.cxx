@@ -143,6 +143,9 @@ struct RetileCase
   vtkIdType Points;
   double MaxHausdorff;   // relative to the diagonal
   double MaxFlippedFraction;
+  // Smallest Euclidean nearest-neighbour spacing over the mean, after repulsion. Points on the two
+  // sides of a thin part (bunny ears) are close in space but far apart on the surface.
+  double MinSpacingRatio;
 };
 
 class RetileOnMesh : public ::testing::TestWithParam<RetileCase>
@@ -187,7 +190,7 @@ TEST_P(RetileOnMesh, KeepsTopologyOrientationAndSurface)
   const double before = filter->GetMinimumSpacingBefore() / filter->GetMeanSpacingBefore();
   const double after = filter->GetMinimumSpacingAfter() / filter->GetMeanSpacingAfter();
   EXPECT_GT(after, 2.0 * before);
-  EXPECT_GT(after, 0.3);
+  EXPECT_GT(after, c.MinSpacingRatio);
 
   // Distance to the input, against vtkQuadricDecimation at the same triangle count.
   const double hausdorff = Hausdorff(input, output);
@@ -206,8 +209,8 @@ TEST_P(RetileOnMesh, KeepsTopologyOrientationAndSurface)
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, RetileOnMesh,
-  ::testing::Values(RetileCase{ "sphere", 500, 0.01, 0.0 }, RetileCase{ "torus", 1500, 0.01, 0.0 },
-    RetileCase{ "bunny00", 2000, 0.02, 0.002 }),
+  ::testing::Values(RetileCase{ "sphere", 500, 0.01, 0.0, 0.6 }, RetileCase{ "torus", 1500, 0.01, 0.0, 0.6 },
+    RetileCase{ "bunny00", 2000, 0.03, 0.002, 0.08 }),
   [](const ::testing::TestParamInfo<RetileCase>& info) { return std::string(info.param.Name); });
 
 TEST(Retile, TriangleTargetOnClosedSurface)
@@ -255,8 +258,8 @@ TEST(Retile, CurvatureConcentratesPoints)
     ellipsoid.SetPoint(v, p);
   }
   auto input = slodtest::ToPolyData(ellipsoid);
-  static bool (*tip)(const Vec3&) = [](const Vec3& p) { return std::abs(p[0]) > 1.2; };
-  static bool (*middle)(const Vec3&) = [](const Vec3& p) { return std::abs(p[0]) < 0.6; };
+  static bool (*tip)(const Vec3&) = [](const Vec3& p) { return std::abs(p[0]) > 1.35; };
+  static bool (*middle)(const Vec3&) = [](const Vec3& p) { return std::abs(p[0]) < 0.5; };
   const TriangleMesh uniform = slodtest::RawTriangleMesh(Retile(input, 800, 0.0));
   const TriangleMesh curved = slodtest::RawTriangleMesh(Retile(input, 800, 2.0));
   const double uniformRatio = VertexDensity(uniform, tip) / VertexDensity(uniform, middle);
