@@ -6,6 +6,7 @@
 // SurfaceLOD filters: add the include here and one line in the table below.
 #include "vtkPatchBoundaryMerge.h"
 #include "vtkQuadricTriangleCollapse.h"
+#include "vtkRetile.h"
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <algorithm>
@@ -128,6 +129,8 @@ const std::vector<Method>& Methods()
       "levels M0..Mn with smooth blending (also --level i+t)", false, &CreateTriangleCollapseHierarchy, true },
     SurfaceLODMethod<vtkPatchBoundaryMerge>("patch-boundary-merge",
       "Ho 1999 ch. 4 (SPBM): planar patches, simplified boundaries, ear-clipped; original vertices only"),
+    SurfaceLODMethod<vtkRetile>("retile",
+      "Turk 1992: re-tiling with evenly spread new vertices (point repulsion, mutual tessellation)"),
   };
   // clang-format on
   return methods;
