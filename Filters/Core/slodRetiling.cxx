@@ -450,7 +450,7 @@ void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& verte
 }
 
 bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<double>& vertexDensity,
-  int iterations, std::vector<SurfacePoint>& points, const std::function<bool(double)>& progress)
+  int iterations, std::vector<SurfacePoint>& points, const std::function<bool(double)>& progress, Index fixedCount)
 {
   const size_t n = points.size();
   if (n < 2 || iterations <= 0)
@@ -533,7 +533,7 @@ bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::ve
       for (vtkIdType i = begin; i < end; ++i)
       {
         const double s = Norm(move[i]);
-        if (!(s > 0))
+        if (!(s > 0) || i < fixedCount)
         {
           continue;
         }
@@ -624,6 +624,12 @@ void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, dou
   }
 }
 
+namespace
+{
+void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
+  RetilingResult& result);
+}
+
 void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingResult& result)
 {
   result = RetilingResult();
@@ -664,6 +670,24 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   }
   gather();
   NearestNeighborSpacing(xyz, result.MinSpacingAfter, result.MeanSpacingAfter);
+  TileWithPoints(mesh, points, options, result);
+}
+
+namespace
+{
+// Steps 4-6 on given candidate points (their positions may be adjusted: moved strictly inside
+// their triangle). Keeps the spacing figures already in result.
+void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
+  RetilingResult& result)
+{
+  const Index n0 = mesh.NumberOfPoints();
+  const Index nt = mesh.NumberOfTriangles();
+  const Index np = static_cast<Index>(points.size());
+  auto report = [&](double f) { return !options.Progress || options.Progress(f); };
+  auto abort = [&]() {
+    result = RetilingResult();
+    result.Aborted = true;
+  };
 
   // 4: mutual tessellation. Candidate points first go strictly inside their triangle so that no
   // original edge is split (the original edges stay the constraints).
@@ -686,7 +710,7 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   std::vector<double> bary(3 * size_t(np));
   TriangleMesh mutual;
   mutual.Points = mesh.Points;
-  mutual.Points.reserve(mesh.Points.size() + xyz.size());
+  mutual.Points.reserve(mesh.Points.size() + 3 * size_t(np));
   for (Index i = 0; i < np; ++i)
   {
     const Index* tri = mesh.Triangle(points[i].Triangle);
@@ -967,6 +991,29 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   // Output: candidate vertices (and any retained old vertex).
   std::vector<Index> newToOld;
   edit.Extract(result.Mesh, &newToOld);
+  {
+    // Candidate order first (output vertex i = candidate i), retained old vertices last: stable
+    // ids across seeds' levels and the nested levels' subset property.
+    const size_t count = newToOld.size();
+    std::vector<Index> perm(count), rank(count);
+    std::iota(perm.begin(), perm.end(), 0);
+    auto key = [&](Index v) { return newToOld[v] >= n0 ? newToOld[v] - n0 : np + newToOld[v]; };
+    std::sort(perm.begin(), perm.end(), [&](Index a, Index b) { return key(a) < key(b); });
+    std::vector<double> sortedPoints(3 * count);
+    std::vector<Index> sortedIds(count);
+    for (size_t i = 0; i < count; ++i)
+    {
+      rank[perm[i]] = static_cast<Index>(i);
+      std::copy(&result.Mesh.Points[3 * size_t(perm[i])], &result.Mesh.Points[3 * size_t(perm[i])] + 3, &sortedPoints[3 * i]);
+      sortedIds[i] = newToOld[perm[i]];
+    }
+    for (Index& v : result.Mesh.Triangles)
+    {
+      v = rank[v];
+    }
+    result.Mesh.Points.swap(sortedPoints);
+    newToOld.swap(sortedIds);
+  }
   std::vector<Index> firstTriangle(n0, InvalidIndex);
   for (Index t = nt - 1; t >= 0; --t)
   {
@@ -1009,5 +1056,52 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
     }
   }
   report(1.0);
+}
+} // namespace
+
+void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const RetilingOptions& options,
+  std::vector<RetilingResult>& levels)
+{
+  levels.clear();
+  std::sort(counts.begin(), counts.end());
+  counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+  counts.erase(std::remove_if(counts.begin(), counts.end(), [](Index c) { return c < 3; }), counts.end());
+  if (mesh.NumberOfTriangles() == 0 || counts.empty())
+  {
+    return;
+  }
+  std::vector<double> density;
+  CurvatureDensity(mesh, options.CurvatureWeight, density);
+  TriangleBVH bvh(mesh);
+  std::vector<SurfacePoint> points, added, level;
+  const double share = 1.0 / double(counts.size());
+  for (size_t k = 0; k < counts.size(); ++k)
+  {
+    // Section 6.1: the coarser points stay where they are (and keep pushing); only the added
+    // points are placed and relaxed, so every level's vertices are a subset of the next one's.
+    const Index fixed = static_cast<Index>(points.size());
+    DistributePoints(mesh, density, counts[k] - fixed, options.RandomSeed + k, added);
+    points.insert(points.end(), added.begin(), added.end());
+    auto progress = [&](double f) { return !options.Progress || options.Progress(share * (k + 0.6 * f)); };
+    if (!RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points, progress, fixed))
+    {
+      levels.assign(1, RetilingResult());
+      levels[0].Aborted = true;
+      return;
+    }
+    level = points;
+    RetilingResult result;
+    RetilingOptions levelOptions = options;
+    levelOptions.Progress = [&](double f) {
+      return !options.Progress || options.Progress(share * (k + 0.6 + 0.4 * f));
+    };
+    TileWithPoints(mesh, level, levelOptions, result);
+    if (result.Aborted)
+    {
+      levels.assign(1, result);
+      return;
+    }
+    levels.push_back(std::move(result));
+  }
 }
 } // namespace slod

@@ -76,10 +76,11 @@ SURFACELODFILTERS_EXPORT void CurvatureDensity(const TriangleMesh& mesh, double 
 SURFACELODFILTERS_EXPORT void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& vertexDensity,
   Index count, std::uint64_t seed, std::vector<SurfacePoint>& points);
 
-// Point repulsion restricted to the surface. Returns false when progress asked to abort.
+// Point repulsion restricted to the surface. The first fixedCount points push but do not move.
+// Returns false when progress asked to abort.
 SURFACELODFILTERS_EXPORT bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh,
   const std::vector<double>& vertexDensity, int iterations, std::vector<SurfacePoint>& points,
-  const std::function<bool(double)>& progress = nullptr);
+  const std::function<bool(double)>& progress = nullptr, Index fixedCount = 0);
 
 // Min and mean Euclidean nearest-neighbour distance of a point set (grid search).
 SURFACELODFILTERS_EXPORT void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, double& mean,
@@ -87,6 +88,14 @@ SURFACELODFILTERS_EXPORT void NearestNeighborSpacing(const std::vector<double>& 
 
 // The whole method.
 SURFACELODFILTERS_EXPORT void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingResult& result);
+
+// Nested re-tilings (section 6.1), one per vertex count (sorted ascending; counts below 3 are
+// dropped; options.NumberOfPoints is ignored): the candidate vertices of each level are the first
+// vertices of the next finer one, so with no retained old vertex, level k's output vertices are
+// exactly the first counts[k] output vertices of every finer level (same positions, same order).
+// Spacing figures are not computed per level.
+SURFACELODFILTERS_EXPORT void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts,
+  const RetilingOptions& options, std::vector<RetilingResult>& levels);
 } // namespace slod
 
 #endif

@@ -352,3 +352,39 @@ TEST(Retile, BadInput)
   filter->Print(print);
   EXPECT_NE(print.str().find("CurvatureWeight"), std::string::npos);
 }
+
+TEST(Retile, NestedLevelsAreSubsets)
+{
+  const TriangleMesh torus = slodtest::Torus(64, 32);
+  RetilingOptions options;
+  std::vector<RetilingResult> levels;
+  RetileNested(torus, { 800, 200, 400 }, options, levels);
+  ASSERT_EQ(levels.size(), 3u);
+  const Index counts[3] = { 200, 400, 800 };
+  for (int k = 0; k < 3; ++k)
+  {
+    const TriangleMesh& m = levels[k].Mesh;
+    ASSERT_EQ(levels[k].RetainedOldVertices, 0);
+    ASSERT_EQ(m.NumberOfPoints(), counts[k]);
+    EXPECT_EQ(m.NumberOfTriangles(), 2 * counts[k]); // genus 1
+    ExpectSameTopology(torus, m);
+    const SurfaceCheck check = CheckAgainstInput(torus, m);
+    EXPECT_EQ(check.Flipped, 0) << "level " << k;
+    EXPECT_LT(check.MaxVertexDistance, 1e-9);
+    if (k > 0)
+    {
+      // Section 6.1: the coarser vertices are the first vertices of the finer level.
+      const TriangleMesh& coarse = levels[k - 1].Mesh;
+      double worst = 0;
+      for (Index v = 0; v < coarse.NumberOfPoints(); ++v)
+      {
+        worst = std::max(worst, Norm(coarse.Point(v) - m.Point(v)));
+      }
+      EXPECT_LT(worst, 1e-12 * torus.BoundingBoxDiagonal());
+    }
+  }
+  // Finer levels are closer to the input surface.
+  const double coarse = Hausdorff(slodtest::ToPolyData(torus), slodtest::ToPolyData(levels[0].Mesh));
+  const double fine = Hausdorff(slodtest::ToPolyData(torus), slodtest::ToPolyData(levels[2].Mesh));
+  EXPECT_LT(fine, coarse);
+}
