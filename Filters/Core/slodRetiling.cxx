@@ -799,6 +799,7 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
   collapseOptions.MinimumNormalDot = 0.0;
   // Facing test of the triangles a collapse keeps; returns their smallest angle or -1 when one
   // would face against the original surface or degenerate.
+  double minimumFacing = 0.0;
   auto evaluate = [&](const Index* pair, const Vec3& position) {
     double worst = std::numeric_limits<double>::max();
     bool ok = true;
@@ -823,7 +824,7 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       }
       for (int k = 0; k < 3; ++k)
       {
-        if (Dot(nrm, reference[ids[k]]) <= 0.0)
+        if (Dot(nrm, reference[ids[k]]) <= minimumFacing)
         {
           ok = false;
           return;
@@ -841,8 +842,14 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
   // other old vertices): onto any neighbour, the target being removed later in turn; phase 2
   // (last resort, keeps the vertex count exact): a neighbouring candidate moves onto the old
   // vertex (still a point of the surface) and takes its place.
-  for (int phase = 0; phase < 3 && !pending.empty(); ++phase)
+  // Phases 3-5 repeat 0-2 for the few old vertices left where the surface curves strongly
+  // between candidates (thin parts): a new triangle may then face up to 60 degrees past
+  // perpendicular to the original normal at one of its vertices (never flip against the mesh
+  // it replaces: CheckCollapse still rejects turns beyond 90 degrees).
+  for (int step = 0; step < 6 && !pending.empty(); ++step)
   {
+    const int phase = step % 3;
+    minimumFacing = step < 3 ? 0.0 : -0.5;
     for (int pass = 0; pass < 32 && !pending.empty(); ++pass)
     {
       std::vector<Index> next;
