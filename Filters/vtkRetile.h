@@ -21,7 +21,7 @@
  * Vertex count: NumberOfPoints when > 0; else derived from the triangle target
  * (TargetNumberOfTriangles, or TargetReduction of the input triangle count, the larger count
  * when both are set) as triangles / 2 + Euler characteristic, exact for closed surfaces (open
- * surfaces get a few more triangles: one per output border edge). The output has exactly the
+ * surfaces get one triangle fewer per output border edge: F = 2V - 2 chi - B). The output has exactly the
  * requested vertex count plus the original vertices no check allowed to remove
  * (NumberOfRetainedVertices, normally 0; such vertices are kept, as in the paper).
  *
