@@ -73,6 +73,12 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     const slod::MeshStatistics stats = slod::ComputeMeshStatistics(mesh);
     options.NumberOfPoints = static_cast<slod::Index>(std::max<vtkIdType>(4, target / 2 + stats.EulerCharacteristic));
   }
+  if (options.NumberOfPoints < 4)
+  {
+    // The smallest closed surface (a tetrahedron) has 4 vertices.
+    vtkWarningMacro(<< "NumberOfPoints " << options.NumberOfPoints << " is too small; using 4.");
+    options.NumberOfPoints = 4;
+  }
   options.RepulsionIterations = this->RepulsionIterations;
   options.CurvatureWeight = this->CurvatureWeight;
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));

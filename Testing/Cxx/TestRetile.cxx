@@ -388,3 +388,22 @@ TEST(Retile, NestedLevelsAreSubsets)
   const double fine = Hausdorff(slodtest::ToPolyData(torus), slodtest::ToPolyData(levels[2].Mesh));
   EXPECT_LT(fine, coarse);
 }
+
+TEST(Retile, SeveralComponents)
+{
+  // Two disjoint spheres: every component keeps its topology (points land on both by area).
+  TriangleMesh second = slodtest::Sphere(32, 32);
+  for (Index v = 0; v < second.NumberOfPoints(); ++v)
+  {
+    second.SetPoint(v, second.Point(v) + Vec3{ 2.0, 0.0, 0.0 });
+  }
+  const TriangleMesh both = slodtest::Concatenate(slodtest::Sphere(32, 32), second);
+  auto input = slodtest::ToPolyData(both);
+  vtkRetile* filter = nullptr;
+  auto output = Retile(input, 400, 0.0, 1, &filter);
+  EXPECT_EQ(filter->GetNumberOfRetainedVertices(), 0);
+  EXPECT_EQ(output->GetNumberOfPoints(), 400);
+  ExpectSameTopology(both, slodtest::RawTriangleMesh(output));
+  EXPECT_EQ(CheckAgainstInput(both, slodtest::RawTriangleMesh(output)).Flipped, 0);
+  filter->Delete();
+}
