@@ -7,6 +7,8 @@
 
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -16,6 +18,26 @@
 #include <cmath>
 
 vtkStandardNewMacro(vtkRetile);
+
+vtkRetile::vtkRetile()
+{
+  this->SetNumberOfOutputPorts(2);
+}
+
+int vtkRetile::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkMultiBlockDataSet");
+    return 1;
+  }
+  return this->Superclass::FillOutputPortInformation(port, info);
+}
+
+vtkMultiBlockDataSet* vtkRetile::GetNestedLevels()
+{
+  return vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1));
+}
 
 int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -88,8 +110,31 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     return !this->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
   };
 
+  vtkMultiBlockDataSet* levelsOutput = vtkMultiBlockDataSet::GetData(outputVector, 1);
   slod::RetilingResult result;
-  slod::Retile(mesh, options, result);
+  std::vector<slod::RetilingResult> levels;
+  if (this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
+  {
+    std::vector<slod::Index> counts;
+    double count = options.NumberOfPoints;
+    for (int k = 0; k < this->NumberOfNestedLevels && count >= 4; ++k)
+    {
+      counts.push_back(static_cast<slod::Index>(std::lround(count)));
+      count /= this->NestedLevelRatio;
+    }
+    slod::RetileNested(mesh, counts, options, levels);
+    if (levels.empty() || levels.back().Aborted)
+    {
+      vtkWarningMacro(<< "Aborted: empty output.");
+      return 1;
+    }
+    // The finest level is output 0 (its spacing figures come from a plain run's statistics).
+    result = levels.back();
+  }
+  else
+  {
+    slod::Retile(mesh, options, result);
+  }
   if (result.Aborted)
   {
     vtkWarningMacro(<< "Aborted: empty output.");
@@ -113,15 +158,30 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
 
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
-  if (!attributes.Empty())
-  {
-    std::vector<slod::Index> rows(result.HostTriangle.size());
+  auto storeAttributes = [&](const slod::RetilingResult& r, vtkPolyData* polyData) {
+    if (attributes.Empty())
+    {
+      return;
+    }
+    std::vector<slod::Index> rows(r.HostTriangle.size());
     for (size_t v = 0; v < rows.size(); ++v)
     {
-      const slod::Index* tri = mesh.Triangle(result.HostTriangle[v]);
-      rows[v] = attributes.AddInterpolated(tri, &result.Barycentric[3 * v], 3);
+      const slod::Index* tri = mesh.Triangle(r.HostTriangle[v]);
+      rows[v] = attributes.AddInterpolated(tri, &r.Barycentric[3 * v], 3);
     }
-    attributes.Store(output->GetPointData(), rows);
+    attributes.Store(polyData->GetPointData(), rows);
+  };
+  storeAttributes(result, output);
+  if (levelsOutput && levels.size() > 1)
+  {
+    levelsOutput->SetNumberOfBlocks(static_cast<unsigned int>(levels.size()));
+    for (size_t k = 0; k < levels.size(); ++k)
+    {
+      vtkNew<vtkPolyData> level;
+      slod::MeshToPolyData(levels[k].Mesh, level, pointType);
+      storeAttributes(levels[k], level);
+      levelsOutput->SetBlock(static_cast<unsigned int>(k), level);
+    }
   }
 
   this->NumberOfRetainedVertices = result.RetainedOldVertices;
@@ -149,6 +209,9 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
   os << indent << "ShapeImprovementPasses: " << this->ShapeImprovementPasses << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
+  os << indent << "GenerateNestedLevels: " << this->GenerateNestedLevels << "\n";
+  os << indent << "NumberOfNestedLevels: " << this->NumberOfNestedLevels << "\n";
+  os << indent << "NestedLevelRatio: " << this->NestedLevelRatio << "\n";
   os << indent << "NumberOfRetainedVertices: " << this->NumberOfRetainedVertices << "\n";
   os << indent << "NumberOfFlips: " << this->NumberOfFlips << "\n";
   os << indent << "MinimumSpacingBefore: " << this->MinimumSpacingBefore << "\n";

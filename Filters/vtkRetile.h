@@ -29,12 +29,20 @@
  * interpolated (barycentric on the original triangle). The input must be a manifold triangle
  * surface (polygons and strips are triangulated, coincident points merged); non-manifold edges
  * or vertices are an error (empty output).
+ *
+ * Nested levels (section 6.1), with GenerateNestedLevels on: output port 1 is a
+ * vtkMultiBlockDataSet of NumberOfNestedLevels re-tilings, coarsest first, with
+ * n, n * NestedLevelRatio, ... vertices up to the requested count (the last block is output 0).
+ * The vertices of each level are the first vertices of every finer level (same positions): coarse
+ * points stay fixed while the added points are placed and relaxed around them.
  */
 #ifndef vtkRetile_h
 #define vtkRetile_h
 
 #include "SurfaceLODFiltersModule.h"
 #include "vtkPolyDataAlgorithm.h"
+
+class vtkMultiBlockDataSet;
 
 class SURFACELODFILTERS_EXPORT vtkRetile : public vtkPolyDataAlgorithm
 {
@@ -66,6 +74,16 @@ public:
   vtkSetClampMacro(ShapeImprovementPasses, int, 0, 100);
   vtkGetMacro(ShapeImprovementPasses, int);
 
+  vtkSetMacro(GenerateNestedLevels, bool);
+  vtkGetMacro(GenerateNestedLevels, bool);
+  vtkBooleanMacro(GenerateNestedLevels, bool);
+  vtkSetClampMacro(NumberOfNestedLevels, int, 1, 32);
+  vtkGetMacro(NumberOfNestedLevels, int);
+  vtkSetClampMacro(NestedLevelRatio, double, 1.01, VTK_DOUBLE_MAX);
+  vtkGetMacro(NestedLevelRatio, double);
+  // Output port 1 (empty unless GenerateNestedLevels).
+  vtkMultiBlockDataSet* GetNestedLevels();
+
   vtkSetMacro(OutputPointsPrecision, int);
   vtkGetMacro(OutputPointsPrecision, int);
 
@@ -79,9 +97,10 @@ public:
   vtkGetMacro(MeanSpacingAfter, double);
 
 protected:
-  vtkRetile() = default;
+  vtkRetile();
   ~vtkRetile() override = default;
 
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkIdType NumberOfPoints = 0;
@@ -92,6 +111,9 @@ protected:
   int RandomSeed = 1;
   int ShapeImprovementPasses = 2;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
+  bool GenerateNestedLevels = false;
+  int NumberOfNestedLevels = 3;
+  double NestedLevelRatio = 4.0;
 
   vtkIdType NumberOfRetainedVertices = 0;
   vtkIdType NumberOfFlips = 0;

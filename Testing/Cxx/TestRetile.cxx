@@ -12,6 +12,7 @@
 
 #include "vtkCommand.h"
 #include "vtkDoubleArray.h"
+#include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -406,4 +407,40 @@ TEST(Retile, SeveralComponents)
   ExpectSameTopology(both, slodtest::RawTriangleMesh(output));
   EXPECT_EQ(CheckAgainstInput(both, slodtest::RawTriangleMesh(output)).Flipped, 0);
   filter->Delete();
+}
+
+TEST(Retile, FilterNestedLevels)
+{
+  auto input = slodtest::ToPolyData(slodtest::Sphere(48, 48));
+  vtkNew<vtkRetile> filter;
+  filter->SetInputData(input);
+  filter->SetNumberOfPoints(640);
+  filter->GenerateNestedLevelsOn();
+  filter->SetNumberOfNestedLevels(3);
+  filter->SetNestedLevelRatio(4.0);
+  filter->Update();
+  vtkMultiBlockDataSet* levels = filter->GetNestedLevels();
+  ASSERT_EQ(levels->GetNumberOfBlocks(), 3u);
+  const vtkIdType counts[3] = { 40, 160, 640 };
+  for (unsigned int k = 0; k < 3; ++k)
+  {
+    auto* level = vtkPolyData::SafeDownCast(levels->GetBlock(k));
+    ASSERT_NE(level, nullptr);
+    EXPECT_EQ(level->GetNumberOfPoints(), counts[k]);
+    EXPECT_EQ(level->GetNumberOfPolys(), 2 * counts[k] - 4); // genus 0
+    if (k > 0)
+    {
+      auto* coarse = vtkPolyData::SafeDownCast(levels->GetBlock(k - 1));
+      for (vtkIdType v = 0; v < coarse->GetNumberOfPoints(); ++v)
+      {
+        double a[3], b[3];
+        coarse->GetPoint(v, a);
+        level->GetPoint(v, b);
+        ASSERT_EQ(a[0], b[0]);
+        ASSERT_EQ(a[1], b[1]);
+        ASSERT_EQ(a[2], b[2]);
+      }
+    }
+  }
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 640);
 }
