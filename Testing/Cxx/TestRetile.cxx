@@ -444,3 +444,38 @@ TEST(Retile, FilterNestedLevels)
   }
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 640);
 }
+
+namespace
+{
+class AbortOnProgress : public vtkCommand
+{
+public:
+  static AbortOnProgress* New() { return new AbortOnProgress; }
+  void Execute(vtkObject* caller, unsigned long, void* data) override
+  {
+    const double progress = *static_cast<double*>(data);
+    this->Calls++;
+    if (progress > 0.3)
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+    }
+  }
+  int Calls = 0;
+};
+} // namespace
+
+TEST(Retile, ReportsProgressAndAborts)
+{
+  auto input = slodtest::ToPolyData(slodtest::Torus(64, 32));
+  vtkNew<vtkRetile> filter;
+  vtkNew<AbortOnProgress> abort;
+  vtkNew<MessageCounter> messages;
+  filter->AddObserver(vtkCommand::ProgressEvent, abort);
+  filter->AddObserver(vtkCommand::WarningEvent, messages);
+  filter->SetInputData(input);
+  filter->SetNumberOfPoints(500);
+  filter->Update();
+  EXPECT_GT(abort->Calls, 3);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(messages->Warnings, 1);
+}
