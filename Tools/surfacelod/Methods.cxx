@@ -7,6 +7,7 @@
 #include "vtkHoleBumpRemoval.h"
 #include "vtkPatchBoundaryMerge.h"
 #include "vtkQuadricTriangleCollapse.h"
+#include "vtkRetile.h"
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <algorithm>
@@ -136,6 +137,8 @@ const std::vector<Method>& Methods()
     SurfaceLODMethod<vtkHoleBumpRemoval>("hole-bump-removal",
       "Ho 1999 ch. 5: removes small holes, bumps, cavities (sharp loops below 0.05 of the diagonal) and "
       "cracks, then SPBM to the target"),
+    SurfaceLODMethod<vtkRetile>("retile",
+      "Turk 1992: re-tiling with evenly spread new vertices (point repulsion, mutual tessellation)"),
   };
   // clang-format on
   return methods;

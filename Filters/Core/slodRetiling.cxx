@@ -1,0 +1,1114 @@
+#include "slodRetiling.h"
+
+#include "slodEditableMesh.h"
+#include "slodMeshTopology.h"
+#include "slodTriangleBVH.h"
+
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace slod
+{
+namespace
+{
+// Portable uniform random numbers: std distributions differ between standard libraries.
+struct Random
+{
+  std::uint64_t State;
+  explicit Random(std::uint64_t seed) : State(seed * 0x9E3779B97F4A7C15ull + 0x2545F4914F6CDD1Dull) {}
+  std::uint64_t Next() // splitmix64
+  {
+    std::uint64_t z = (this->State += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double Uniform() { return double(this->Next() >> 11) * (1.0 / 9007199254740992.0); } // [0,1)
+};
+
+// Barycentric coordinates of p (assumed in the plane) in triangle abc.
+Vec3 Barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  const Vec3 e0 = b - a, e1 = c - a, d = p - a;
+  const double d00 = Dot(e0, e0), d01 = Dot(e0, e1), d11 = Dot(e1, e1);
+  const double d20 = Dot(d, e0), d21 = Dot(d, e1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 0))
+  {
+    return { 1.0 / 3, 1.0 / 3, 1.0 / 3 };
+  }
+  const double v = (d11 * d20 - d01 * d21) / den;
+  const double w = (d00 * d21 - d01 * d20) / den;
+  return { 1.0 - v - w, v, w };
+}
+
+void VertexNormals(const TriangleMesh& mesh, std::vector<Vec3>& normals)
+{
+  normals.assign(mesh.NumberOfPoints(), Vec3{ 0, 0, 0 });
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Vec3 n = mesh.TriangleAreaVector(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      normals[mesh.Triangle(t)[k]] = normals[mesh.Triangle(t)[k]] + n;
+    }
+  }
+  for (Vec3& n : normals)
+  {
+    n = Normalized(n);
+  }
+}
+
+// Uniform grid over a point set for fixed-radius neighbour queries (dense cells, counting sort).
+class PointGrid
+{
+public:
+  void Build(const std::vector<double>& xyz, double cell)
+  {
+    const size_t n = xyz.size() / 3;
+    double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+      std::numeric_limits<double>::max() };
+    double hi[3] = { -lo[0], -lo[1], -lo[2] };
+    for (size_t i = 0; i < n; ++i)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        lo[k] = std::min(lo[k], xyz[3 * i + k]);
+        hi[k] = std::max(hi[k], xyz[3 * i + k]);
+      }
+    }
+    if (n == 0)
+    {
+      lo[0] = lo[1] = lo[2] = hi[0] = hi[1] = hi[2] = 0;
+    }
+    // Enough cells to be useful, never more than ~4 per point.
+    cell = std::max(cell, 1e-300);
+    for (;;)
+    {
+      size_t total = 1;
+      for (int k = 0; k < 3; ++k)
+      {
+        this->Dims[k] = static_cast<long long>(std::floor((hi[k] - lo[k]) / cell)) + 1;
+        total *= size_t(this->Dims[k]);
+      }
+      if (total <= 4 * n + 64)
+      {
+        break;
+      }
+      cell *= 1.5;
+    }
+    this->Cell = cell;
+    std::copy(lo, lo + 3, this->Origin);
+    const size_t cells = size_t(this->Dims[0] * this->Dims[1] * this->Dims[2]);
+    this->Start.assign(cells + 1, 0);
+    this->Ids.resize(n);
+    std::vector<size_t> key(n);
+    for (size_t i = 0; i < n; ++i)
+    {
+      key[i] = this->Key(&xyz[3 * i]);
+      ++this->Start[key[i] + 1];
+    }
+    for (size_t c = 0; c < cells; ++c)
+    {
+      this->Start[c + 1] += this->Start[c];
+    }
+    std::vector<Index> fill(this->Start.begin(), this->Start.end() - 1);
+    for (size_t i = 0; i < n; ++i)
+    {
+      this->Ids[fill[key[i]]++] = static_cast<Index>(i);
+    }
+  }
+  // f(j) for every point in the cells within `radius` (<= cell size gives the 27 cells) of p.
+  template <typename F>
+  void ForEachNear(const double* p, double radius, F&& f) const
+  {
+    long long c0[3], c1[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      c0[k] = std::max<long long>(0, static_cast<long long>(std::floor((p[k] - radius - this->Origin[k]) / this->Cell)));
+      c1[k] = std::min<long long>(this->Dims[k] - 1, static_cast<long long>(std::floor((p[k] + radius - this->Origin[k]) / this->Cell)));
+    }
+    for (long long z = c0[2]; z <= c1[2]; ++z)
+      for (long long y = c0[1]; y <= c1[1]; ++y)
+        for (long long x = c0[0]; x <= c1[0]; ++x)
+        {
+          const size_t c = size_t((z * this->Dims[1] + y) * this->Dims[0] + x);
+          for (Index i = this->Start[c]; i < this->Start[c + 1]; ++i)
+          {
+            f(this->Ids[i]);
+          }
+        }
+  }
+  double CellSize() const { return this->Cell; }
+
+private:
+  size_t Key(const double* p) const
+  {
+    long long c[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      c[k] = std::min<long long>(this->Dims[k] - 1,
+        std::max<long long>(0, static_cast<long long>(std::floor((p[k] - this->Origin[k]) / this->Cell))));
+    }
+    return size_t((c[2] * this->Dims[1] + c[1]) * this->Dims[0] + c[0]);
+  }
+  double Origin[3] = { 0, 0, 0 };
+  double Cell = 1;
+  long long Dims[3] = { 1, 1, 1 };
+  std::vector<Index> Start, Ids;
+};
+
+double PointDensity(const TriangleMesh& mesh, const std::vector<double>& vertexDensity, const SurfacePoint& p)
+{
+  if (vertexDensity.empty() || p.Triangle == InvalidIndex)
+  {
+    return 1.0;
+  }
+  const Index* t = mesh.Triangle(p.Triangle);
+  const Vec3 b = Barycentric(p.Position, mesh.Point(t[0]), mesh.Point(t[1]), mesh.Point(t[2]));
+  double d = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    d += std::max(0.0, b[k]) * vertexDensity[t[k]];
+  }
+  const double s = std::max(0.0, b[0]) + std::max(0.0, b[1]) + std::max(0.0, b[2]);
+  return s > 0 ? d / s : 1.0;
+}
+
+double WeightedArea(const TriangleMesh& mesh, const std::vector<double>& vertexDensity, Index t)
+{
+  double a = mesh.TriangleArea(t);
+  if (!vertexDensity.empty())
+  {
+    const Index* tri = mesh.Triangle(t);
+    a *= (vertexDensity[tri[0]] + vertexDensity[tri[1]] + vertexDensity[tri[2]]) / 3.0;
+  }
+  return a;
+}
+
+// Incircle test in 2D: > 0 when d lies inside the circumcircle of the counter-clockwise abc.
+double InCircle(const double* a, const double* b, const double* c, const double* d)
+{
+  const double adx = a[0] - d[0], ady = a[1] - d[1];
+  const double bdx = b[0] - d[0], bdy = b[1] - d[1];
+  const double cdx = c[0] - d[0], cdy = c[1] - d[1];
+  const double ad = adx * adx + ady * ady, bd = bdx * bdx + bdy * bdy, cd = cdx * cdx + cdy * cdy;
+  return adx * (bdy * cd - bd * cdy) - ady * (bdx * cd - bd * cdx) + ad * (bdx * cdy - bdy * cdx);
+}
+
+double Orient2D(const double* a, const double* b, const double* c)
+{
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+// Splits one original triangle at the candidate points inside it (section 4.2). Local vertices
+// 0..2 are the corners; points have already been moved strictly inside. Output triangles are
+// counter-clockwise in the triangle's own frame, so they keep the original orientation.
+struct TriangleSplitter
+{
+  std::vector<double> UV;         // 2 per local vertex
+  std::vector<Index> Local;       // 3 per local triangle
+  std::vector<std::array<Index, 4>> EdgeRefs; // (min, max, triangle, corner opposite)
+
+  void Run(const Vec3* corners, const Vec3* points, int count)
+  {
+    const Vec3 e1 = Normalized(corners[1] - corners[0]);
+    const Vec3 n = Normalized(Cross(corners[1] - corners[0], corners[2] - corners[0]));
+    const Vec3 e2 = Cross(n, e1);
+    this->UV.clear();
+    auto add = [&](const Vec3& p) {
+      const Vec3 d = p - corners[0];
+      this->UV.push_back(Dot(d, e1));
+      this->UV.push_back(Dot(d, e2));
+    };
+    for (int k = 0; k < 3; ++k)
+    {
+      add(corners[k]);
+    }
+    this->Local.assign({ 0, 1, 2 });
+    for (int i = 0; i < count; ++i)
+    {
+      add(points[i]);
+      const Index v = static_cast<Index>(this->UV.size() / 2 - 1);
+      this->Insert(v);
+    }
+    this->Delaunay();
+  }
+
+  const double* P(Index v) const { return &this->UV[2 * size_t(v)]; }
+
+  void Insert(Index v)
+  {
+    double* p = &this->UV[2 * size_t(v)];
+    size_t best = 0;
+    double bestMin = -std::numeric_limits<double>::max();
+    for (size_t t = 0; t < this->Local.size() / 3; ++t)
+    {
+      const Index* tri = &this->Local[3 * t];
+      const double area = Orient2D(this->P(tri[0]), this->P(tri[1]), this->P(tri[2]));
+      const double b0 = Orient2D(p, this->P(tri[1]), this->P(tri[2])) / area;
+      const double b1 = Orient2D(this->P(tri[0]), p, this->P(tri[2])) / area;
+      const double b2 = 1.0 - b0 - b1;
+      const double m = std::min(b0, std::min(b1, b2));
+      if (m > bestMin)
+      {
+        bestMin = m;
+        best = t;
+      }
+    }
+    Index* tri = &this->Local[3 * best];
+    if (bestMin < 1e-7)
+    {
+      // On an edge or a vertex of the local triangulation (coincident or collinear candidate
+      // points): nudge into the triangle so every split triangle has a positive area.
+      for (int k = 0; k < 2; ++k)
+      {
+        const double centre = (this->P(tri[0])[k] + this->P(tri[1])[k] + this->P(tri[2])[k]) / 3.0;
+        p[k] += 1e-5 * (centre - p[k]);
+      }
+    }
+    const Index a = tri[0], b = tri[1], c = tri[2];
+    tri[2] = v;                                    // (a, b, v)
+    this->Local.insert(this->Local.end(), { b, c, v });
+    this->Local.insert(this->Local.end(), { c, a, v });
+  }
+
+  // Lawson flips toward the Delaunay triangulation; the triangle's own edges are never flipped
+  // (they are the constraints: only corner pairs, which never form an interior edge).
+  void Delaunay()
+  {
+    const size_t nt = this->Local.size() / 3;
+    if (nt < 2)
+    {
+      return;
+    }
+    std::vector<unsigned char> touched(nt);
+    for (int pass = 0; pass < 64; ++pass)
+    {
+      this->EdgeRefs.clear();
+      for (size_t t = 0; t < nt; ++t)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          const Index u = this->Local[3 * t + (k + 1) % 3], w = this->Local[3 * t + (k + 2) % 3];
+          this->EdgeRefs.push_back({ std::min(u, w), std::max(u, w), Index(t), Index(k) });
+        }
+      }
+      std::sort(this->EdgeRefs.begin(), this->EdgeRefs.end());
+      std::fill(touched.begin(), touched.end(), 0);
+      int flips = 0;
+      for (size_t i = 0; i + 1 < this->EdgeRefs.size(); ++i)
+      {
+        const auto& r0 = this->EdgeRefs[i];
+        const auto& r1 = this->EdgeRefs[i + 1];
+        if (r0[0] != r1[0] || r0[1] != r1[1] || touched[r0[2]] || touched[r1[2]])
+        {
+          continue;
+        }
+        Index* t0 = &this->Local[3 * size_t(r0[2])];
+        Index* t1 = &this->Local[3 * size_t(r1[2])];
+        // t0 = (q, x, y) with q opposite; t1 holds (y, x, z).
+        const Index q = t0[r0[3]], x = t0[(r0[3] + 1) % 3], y = t0[(r0[3] + 2) % 3];
+        const Index z = t1[r1[3]];
+        const double scale = std::abs(Orient2D(this->P(q), this->P(x), this->P(y))) +
+          std::abs(Orient2D(this->P(z), this->P(y), this->P(x)));
+        if (InCircle(this->P(q), this->P(x), this->P(y), this->P(z)) <= 1e-12 * scale * scale)
+        {
+          continue;
+        }
+        // The quad must be strictly convex for the flip to keep both triangles positive.
+        if (Orient2D(this->P(q), this->P(x), this->P(z)) <= 0 || Orient2D(this->P(z), this->P(y), this->P(q)) <= 0)
+        {
+          continue;
+        }
+        t0[0] = q;
+        t0[1] = x;
+        t0[2] = z;
+        t1[0] = z;
+        t1[1] = y;
+        t1[2] = q;
+        touched[r0[2]] = touched[r1[2]] = 1;
+        ++flips;
+      }
+      if (flips == 0)
+      {
+        break;
+      }
+    }
+  }
+};
+
+double MinAngleOf(const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  return MinimumAngle(a, b, c);
+}
+} // namespace
+
+void EstimateCurvatureRadius(const TriangleMesh& mesh, std::vector<double>& radius)
+{
+  const Index n = mesh.NumberOfPoints();
+  std::vector<Vec3> normals;
+  VertexNormals(mesh, normals);
+  MeshTopology topology(mesh);
+  const double large = std::max(mesh.BoundingBoxDiagonal(), 1e-300);
+  std::vector<double> raw(n, large);
+  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    const Index u = topology.EdgeVertex(e, 0), w = topology.EdgeVertex(e, 1);
+    for (int side = 0; side < 2; ++side)
+    {
+      const Index p = side ? w : u, q = side ? u : w;
+      const Vec3 d = mesh.Point(q) - mesh.Point(p);
+      const double len = Norm(d);
+      if (len <= 0)
+      {
+        continue;
+      }
+      // theta = angle between the normal and the edge; r = |tan(theta)| |PQ| / 2.
+      const double c = std::min(1.0, std::abs(Dot(normals[p], d)) / len);
+      const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+      const double r = c > 0 ? 0.5 * len * s / c : large;
+      raw[p] = std::min(raw[p], std::min(r, large));
+    }
+  }
+  // One smoothing step: the mean over the vertex and its neighbours (the estimate is noisy).
+  radius = raw;
+  std::vector<int> count(n, 1);
+  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    const Index u = topology.EdgeVertex(e, 0), w = topology.EdgeVertex(e, 1);
+    radius[u] += raw[w];
+    radius[w] += raw[u];
+    ++count[u];
+    ++count[w];
+  }
+  for (Index v = 0; v < n; ++v)
+  {
+    radius[v] /= count[v];
+  }
+}
+
+void CurvatureDensity(const TriangleMesh& mesh, double curvatureWeight, std::vector<double>& vertexDensity)
+{
+  vertexDensity.clear();
+  if (!(curvatureWeight > 0) || mesh.NumberOfPoints() == 0)
+  {
+    return;
+  }
+  std::vector<double> radius;
+  EstimateCurvatureRadius(mesh, radius);
+  std::vector<double> curvature(radius.size());
+  for (size_t i = 0; i < radius.size(); ++i)
+  {
+    curvature[i] = 1.0 / std::max(radius[i], 1e-300);
+  }
+  std::vector<double> sorted = curvature;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = std::max(sorted[sorted.size() / 2], 1e-300);
+  vertexDensity.resize(curvature.size());
+  for (size_t i = 0; i < curvature.size(); ++i)
+  {
+    // Capped so a few spikes cannot take all points (and the repulsion radii stay comparable).
+    vertexDensity[i] = 1.0 + curvatureWeight * std::min(curvature[i] / median, 8.0);
+  }
+}
+
+void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& vertexDensity, Index count,
+  std::uint64_t seed, std::vector<SurfacePoint>& points)
+{
+  points.clear();
+  const Index nt = mesh.NumberOfTriangles();
+  if (nt == 0 || count <= 0)
+  {
+    return;
+  }
+  std::vector<double> cumulative(nt);
+  double total = 0;
+  for (Index t = 0; t < nt; ++t)
+  {
+    total += WeightedArea(mesh, vertexDensity, t);
+    cumulative[t] = total;
+  }
+  Random random(seed);
+  points.resize(count);
+  for (Index i = 0; i < count; ++i)
+  {
+    const double x = random.Uniform() * total;
+    Index t = static_cast<Index>(std::upper_bound(cumulative.begin(), cumulative.end(), x) - cumulative.begin());
+    t = std::min(t, nt - 1);
+    // Uniform point in the triangle (square-root parametrisation).
+    const double r1 = std::sqrt(random.Uniform()), r2 = random.Uniform();
+    const Index* tri = mesh.Triangle(t);
+    const Vec3 a = mesh.Point(tri[0]), b = mesh.Point(tri[1]), c = mesh.Point(tri[2]);
+    points[i].Position = (1 - r1) * a + (r1 * (1 - r2)) * b + (r1 * r2) * c;
+    points[i].Triangle = t;
+  }
+}
+
+bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<double>& vertexDensity,
+  int iterations, std::vector<SurfacePoint>& points, const std::function<bool(double)>& progress, Index fixedCount)
+{
+  const size_t n = points.size();
+  if (n < 2 || iterations <= 0)
+  {
+    return true;
+  }
+  // Turk 1991: radius 2 sqrt(A / n) for a uniform density; with a density, points repel within
+  // 2 sqrt(A_w / (n d)) where A_w is the density-weighted area (more points where d is larger).
+  double weightedArea = 0;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    weightedArea += WeightedArea(mesh, vertexDensity, t);
+  }
+  std::vector<double> radius(n), xyz(3 * n);
+  std::vector<Vec3> move(n);
+  std::vector<Vec3> faceNormal(mesh.NumberOfTriangles());
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    faceNormal[t] = Normalized(mesh.TriangleAreaVector(t));
+  }
+  PointGrid grid;
+  for (int it = 0; it < iterations; ++it)
+  {
+    double maxRadius = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+      radius[i] = 2.0 * std::sqrt(weightedArea / (double(n) * PointDensity(mesh, vertexDensity, points[i])));
+      maxRadius = std::max(maxRadius, radius[i]);
+      std::copy(points[i].Position.begin(), points[i].Position.end(), &xyz[3 * i]);
+    }
+    grid.Build(xyz, maxRadius);
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        const Vec3 p = points[i].Position;
+        const Vec3 normal = faceNormal[points[i].Triangle];
+        Vec3 force{ 0, 0, 0 };
+        grid.ForEachNear(&xyz[3 * i], maxRadius, [&](Index j) {
+          if (j == Index(i))
+          {
+            return;
+          }
+          // A neighbour facing the other way lies on another sheet (the far side of a thin
+          // part): it must not push, or thin parts are emptied of points.
+          if (Dot(faceNormal[points[j].Triangle], normal) < -0.3)
+          {
+            return;
+          }
+          const double r = 0.5 * (radius[i] + radius[j]);
+          Vec3 d = p - points[j].Position;
+          // Fold the neighbour into the tangent plane (keeps its distance, drops the normal part).
+          d = d - Dot(d, normal) * normal;
+          const double len = Norm(d);
+          if (len >= r)
+          {
+            return;
+          }
+          if (len <= 1e-12 * r)
+          {
+            // Coincident points: push apart along a deterministic tangent direction.
+            Vec3 axis = std::abs(normal[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
+            axis = Normalized(Cross(normal, axis));
+            force = force + ((Index(i) < j ? 1.0 : -1.0) * 0.5) * axis;
+            return;
+          }
+          force = force + ((r - len) / (r * len)) * d; // linear fall-off, zero at r
+        });
+        // Step: a fraction of the radius per unit force, capped (stable for any neighbour count).
+        Vec3 step = (0.2 * radius[i]) * force;
+        const double s = Norm(step);
+        const double cap = 0.25 * radius[i];
+        if (s > cap)
+        {
+          step = (cap / s) * step;
+        }
+        move[i] = step;
+      }
+    });
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        const double s = Norm(move[i]);
+        if (!(s > 0) || i < fixedCount)
+        {
+          continue;
+        }
+        const Vec3 q = points[i].Position + move[i];
+        // The closest surface point to q lies within |move| of q (points[i] is on the surface).
+        ClosestPointResult c = bvh.ClosestPoint(q, s * s * 1.0001 + 1e-300);
+        if (c.Triangle == InvalidIndex)
+        {
+          c = bvh.ClosestPoint(q);
+        }
+        // Never jump to a sheet facing the other way (thin parts folded back on themselves).
+        if (c.Triangle == InvalidIndex || Dot(faceNormal[c.Triangle], faceNormal[points[i].Triangle]) < -0.5)
+        {
+          continue;
+        }
+        points[i].Position = c.Point;
+        points[i].Triangle = c.Triangle;
+      }
+    });
+    if (progress && !progress(double(it + 1) / iterations))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, double& mean, std::vector<double>* perPoint)
+{
+  const size_t n = xyz.size() / 3;
+  minimum = mean = 0;
+  if (n < 2)
+  {
+    return;
+  }
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    lo[k] = hi[k] = xyz[k];
+  }
+  for (size_t i = 0; i < n; ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      lo[k] = std::min(lo[k], xyz[3 * i + k]);
+      hi[k] = std::max(hi[k], xyz[3 * i + k]);
+    }
+  }
+  const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  std::vector<double> nearest(n, std::numeric_limits<double>::max());
+  PointGrid grid;
+  // Start with a cell suited to a surface sample, widen for points that find nothing.
+  double cell = std::max(diag / std::sqrt(double(n)), 1e-300);
+  grid.Build(xyz, cell);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      double r = grid.CellSize();
+      for (;;)
+      {
+        double best2 = std::numeric_limits<double>::max();
+        grid.ForEachNear(&xyz[3 * i], r, [&](Index j) {
+          if (j == Index(i))
+          {
+            return;
+          }
+          double d2 = 0;
+          for (int k = 0; k < 3; ++k)
+          {
+            d2 += (xyz[3 * i + k] - xyz[3 * size_t(j) + k]) * (xyz[3 * i + k] - xyz[3 * size_t(j) + k]);
+          }
+          best2 = std::min(best2, d2);
+        });
+        if (best2 <= r * r || r > 2 * diag)
+        {
+          nearest[i] = std::sqrt(best2);
+          break;
+        }
+        r *= 2;
+      }
+    }
+  });
+  minimum = *std::min_element(nearest.begin(), nearest.end());
+  mean = std::accumulate(nearest.begin(), nearest.end(), 0.0) / double(n);
+  if (perPoint)
+  {
+    *perPoint = std::move(nearest);
+  }
+}
+
+namespace
+{
+void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
+  RetilingResult& result);
+}
+
+void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingResult& result)
+{
+  result = RetilingResult();
+  const Index n0 = mesh.NumberOfPoints();
+  const Index nt = mesh.NumberOfTriangles();
+  if (nt == 0 || options.NumberOfPoints < 3)
+  {
+    return;
+  }
+  auto report = [&](double f) { return !options.Progress || options.Progress(f); };
+  auto abort = [&]() {
+    result = RetilingResult();
+    result.Aborted = true;
+  };
+
+  // 1-3: candidate points.
+  std::vector<double> density;
+  CurvatureDensity(mesh, options.CurvatureWeight, density);
+  std::vector<SurfacePoint> points;
+  DistributePoints(mesh, density, options.NumberOfPoints, options.RandomSeed, points);
+  const Index np = static_cast<Index>(points.size());
+  std::vector<double> xyz(3 * size_t(np));
+  auto gather = [&]() {
+    for (Index i = 0; i < np; ++i)
+    {
+      std::copy(points[i].Position.begin(), points[i].Position.end(), &xyz[3 * size_t(i)]);
+    }
+  };
+  gather();
+  NearestNeighborSpacing(xyz, result.MinSpacingBefore, result.MeanSpacingBefore);
+  TriangleBVH bvh(mesh);
+  const bool relaxed = RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points,
+    [&](double f) { return report(0.6 * f); });
+  if (!relaxed)
+  {
+    abort();
+    return;
+  }
+  gather();
+  NearestNeighborSpacing(xyz, result.MinSpacingAfter, result.MeanSpacingAfter);
+  TileWithPoints(mesh, points, options, result);
+}
+
+namespace
+{
+// Steps 4-6 on given candidate points (their positions may be adjusted: moved strictly inside
+// their triangle). Keeps the spacing figures already in result.
+void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
+  RetilingResult& result)
+{
+  const Index n0 = mesh.NumberOfPoints();
+  const Index nt = mesh.NumberOfTriangles();
+  const Index np = static_cast<Index>(points.size());
+  auto report = [&](double f) { return !options.Progress || options.Progress(f); };
+  auto abort = [&]() {
+    result = RetilingResult();
+    result.Aborted = true;
+  };
+
+  // 4: mutual tessellation. Candidate points first go strictly inside their triangle so that no
+  // original edge is split (the original edges stay the constraints).
+  std::vector<Index> start(size_t(nt) + 1, 0), order(np);
+  for (Index i = 0; i < np; ++i)
+  {
+    ++start[points[i].Triangle + 1];
+  }
+  for (Index t = 0; t < nt; ++t)
+  {
+    start[t + 1] += start[t];
+  }
+  {
+    std::vector<Index> fill(start.begin(), start.end() - 1);
+    for (Index i = 0; i < np; ++i)
+    {
+      order[fill[points[i].Triangle]++] = i;
+    }
+  }
+  std::vector<double> bary(3 * size_t(np));
+  TriangleMesh mutual;
+  mutual.Points = mesh.Points;
+  mutual.Points.reserve(mesh.Points.size() + 3 * size_t(np));
+  for (Index i = 0; i < np; ++i)
+  {
+    const Index* tri = mesh.Triangle(points[i].Triangle);
+    const Vec3 a = mesh.Point(tri[0]), b = mesh.Point(tri[1]), c = mesh.Point(tri[2]);
+    Vec3 w = Barycentric(points[i].Position, a, b, c);
+    const double eps = 1e-4;
+    double sum = 0;
+    for (double& x : w)
+    {
+      x = std::max(x, eps);
+      sum += x;
+    }
+    w = (1.0 / sum) * w;
+    points[i].Position = w[0] * a + w[1] * b + w[2] * c;
+    mutual.AddPoint(points[i].Position);
+  }
+  mutual.Triangles.reserve(mesh.Triangles.size() + 6 * size_t(np));
+  TriangleSplitter splitter;
+  std::vector<Vec3> local;
+  for (Index t = 0; t < nt; ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    const Index k = start[t + 1] - start[t];
+    if (k == 0)
+    {
+      mutual.AddTriangle(tri[0], tri[1], tri[2]);
+      continue;
+    }
+    const Vec3 corners[3] = { mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]) };
+    local.clear();
+    for (Index j = start[t]; j < start[t + 1]; ++j)
+    {
+      local.push_back(points[order[j]].Position);
+    }
+    splitter.Run(corners, local.data(), k);
+    // Points nudged by the splitter: update their 3D position from the plane coordinates.
+    const Vec3 e1 = Normalized(corners[1] - corners[0]);
+    const Vec3 e2 = Cross(Normalized(Cross(corners[1] - corners[0], corners[2] - corners[0])), e1);
+    for (Index j = 0; j < k; ++j)
+    {
+      const Index id = order[start[t] + j];
+      const double* uv = splitter.P(3 + j);
+      const Vec3 p = corners[0] + uv[0] * e1 + uv[1] * e2;
+      points[id].Position = p;
+      mutual.SetPoint(n0 + id, p);
+      const Vec3 w = Barycentric(p, corners[0], corners[1], corners[2]);
+      std::copy(w.begin(), w.end(), &bary[3 * size_t(id)]);
+    }
+    auto global = [&](Index v) { return v < 3 ? tri[v] : n0 + order[start[t] + v - 3]; };
+    for (size_t s = 0; s < splitter.Local.size(); s += 3)
+    {
+      mutual.AddTriangle(global(splitter.Local[s]), global(splitter.Local[s + 1]), global(splitter.Local[s + 2]));
+    }
+  }
+  if (!report(0.65))
+  {
+    abort();
+    return;
+  }
+
+  // 5: old-vertex removal. Reference normals: what the original surface faces at each vertex
+  // (old vertices: their normal; candidates: the interpolated normal at their position).
+  std::vector<Vec3> vertexNormals, reference(size_t(n0) + np);
+  VertexNormals(mesh, vertexNormals);
+  for (Index v = 0; v < n0; ++v)
+  {
+    reference[v] = vertexNormals[v];
+  }
+  for (Index i = 0; i < np; ++i)
+  {
+    const Index* tri = mesh.Triangle(points[i].Triangle);
+    Vec3 nrm{ 0, 0, 0 };
+    for (int k = 0; k < 3; ++k)
+    {
+      nrm = nrm + bary[3 * size_t(i) + k] * vertexNormals[tri[k]];
+    }
+    nrm = Normalized(nrm);
+    if (Norm(nrm) == 0)
+    {
+      nrm = Normalized(mesh.TriangleAreaVector(points[i].Triangle));
+    }
+    reference[n0 + i] = nrm;
+  }
+  EditableMesh edit(mutual);
+  CollapseOptions collapseOptions;
+  collapseOptions.MinimumNormalDot = 0.0;
+  // Facing test of the triangles a collapse keeps; returns their smallest angle or -1 when one
+  // would face against the original surface or degenerate.
+  double minimumFacing = 0.0;
+  auto evaluate = [&](const Index* pair, const Vec3& position) {
+    double worst = std::numeric_limits<double>::max();
+    bool ok = true;
+    edit.ForEachSurvivingTriangle(pair, 2, [&](Index t, int corner) {
+      if (!ok)
+      {
+        return;
+      }
+      const Index* tri = edit.Triangle(t);
+      Vec3 p[3];
+      Index ids[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        ids[k] = k == corner ? pair[1] : tri[k];
+        p[k] = k == corner ? position : edit.Point(tri[k]);
+      }
+      const Vec3 nrm = TriangleNormal(p[0], p[1], p[2]);
+      if (Norm(nrm) == 0 || IsDegenerate(p[0], p[1], p[2]))
+      {
+        ok = false;
+        return;
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        if (Dot(nrm, reference[ids[k]]) <= minimumFacing)
+        {
+          ok = false;
+          return;
+        }
+      }
+      worst = std::min(worst, MinAngleOf(p[0], p[1], p[2]));
+    });
+    return ok ? worst : -1.0;
+  };
+  std::vector<Index> neighbors, pending(n0);
+  std::iota(pending.begin(), pending.end(), 0);
+  // Candidates moved onto an old vertex's position by phase 2 (InvalidIndex: not moved).
+  std::vector<Index> movedTo(np, InvalidIndex);
+  // Phase 0: collapse onto candidate vertices only; phase 1 (for old vertices walled in by
+  // other old vertices): onto any neighbour, the target being removed later in turn; phase 2
+  // (last resort, keeps the vertex count exact): a neighbouring candidate moves onto the old
+  // vertex (still a point of the surface) and takes its place.
+  // Phases 3-5 repeat 0-2 for the few old vertices left where the surface curves strongly
+  // between candidates (thin parts): a new triangle may then face up to 60 degrees past
+  // perpendicular to the original normal at one of its vertices (never flip against the mesh
+  // it replaces: CheckCollapse still rejects turns beyond 90 degrees).
+  for (int step = 0; step < 6 && !pending.empty(); ++step)
+  {
+    const int phase = step % 3;
+    minimumFacing = step < 3 ? 0.0 : -0.5;
+    for (int pass = 0; pass < 32 && !pending.empty(); ++pass)
+    {
+      std::vector<Index> next;
+      for (size_t i = 0; i < pending.size(); ++i)
+      {
+        const Index r = pending[i];
+        if ((i & 1023) == 0 && !report(0.65 + 0.25 * (1.0 - double(pending.size() - i) / std::max<Index>(n0, 1))))
+        {
+          abort();
+          return;
+        }
+        if (!edit.IsVertexAlive(r))
+        {
+          continue;
+        }
+        edit.Neighbors(r, neighbors);
+        Index best = InvalidIndex;
+        double bestScore = -1;
+        for (Index c : neighbors)
+        {
+          if (c < n0 && phase == 0)
+          {
+            continue;
+          }
+          if (phase == 2 && (c < n0 || movedTo[c - n0] != InvalidIndex))
+          {
+            continue;
+          }
+          const Index pair[2] = { r, c };
+          const Vec3 position = edit.Point(phase == 2 ? r : c);
+          if (edit.CheckCollapse(pair, 2, position, collapseOptions) != CollapseStatus::Ok)
+          {
+            continue;
+          }
+          const double score = evaluate(pair, position) + (c >= n0 ? 10.0 : 0.0);
+          if (score >= 0 && score > bestScore)
+          {
+            bestScore = score;
+            best = c;
+          }
+        }
+        if (best == InvalidIndex)
+        {
+          next.push_back(r);
+          continue;
+        }
+        const Index pair[2] = { r, best };
+        if (phase == 2)
+        {
+          movedTo[best - n0] = r;
+          reference[best] = reference[r];
+        }
+        edit.Collapse(pair, 2, best, edit.Point(phase == 2 ? r : best));
+      }
+      const bool progressed = next.size() < pending.size();
+      pending.swap(next);
+      if (!progressed)
+      {
+        break;
+      }
+    }
+  }
+
+  // 6: shape improvement by edge flips (section 4.5).
+  Index flips = 0;
+  for (int pass = 0; pass < options.ShapeImprovementPasses; ++pass)
+  {
+    Index passFlips = 0;
+    for (Index t = 0; t < edit.NumberOfTriangles(); ++t)
+    {
+      for (int k = 0; k < 3 && edit.IsTriangleAlive(t); ++k)
+      {
+        const Index* tri = edit.Triangle(t);
+        const Index x = tri[k], y = tri[(k + 1) % 3], q = tri[(k + 2) % 3];
+        if (x > y)
+        {
+          continue; // each edge once (the other triangle sees (y, x))
+        }
+        Index other = InvalidIndex, z = InvalidIndex;
+        int count = 0;
+        edit.ForEachTriangle(x, [&](Index u) {
+          if (u == t)
+          {
+            return;
+          }
+          const Index* o = edit.Triangle(u);
+          for (int j = 0; j < 3; ++j)
+          {
+            if (o[j] == y && o[(j + 1) % 3] == x)
+            {
+              other = u;
+              z = o[(j + 2) % 3];
+              ++count;
+            }
+            else if (o[j] == x && o[(j + 1) % 3] == y)
+            {
+              count += 2; // same orientation or more triangles: not a plain manifold edge
+            }
+          }
+        });
+        if (count != 1 || z == q)
+        {
+          continue;
+        }
+        const Vec3 X = edit.Point(x), Y = edit.Point(y), Q = edit.Point(q), Z = edit.Point(z);
+        const double before = std::min(MinimumAngle(X, Y, Q), MinimumAngle(Y, X, Z));
+        const double after = std::min(MinimumAngle(X, Z, Q), MinimumAngle(Z, Y, Q));
+        if (!(after > before + 1e-3))
+        {
+          continue;
+        }
+        const Vec3 n0o = TriangleNormal(X, Y, Q), n1o = TriangleNormal(Y, X, Z);
+        const Vec3 m0 = TriangleNormal(X, Z, Q), m1 = TriangleNormal(Z, Y, Q);
+        // Nearly planar quads only, and no turn against the original surface.
+        const double dihedralBefore = Dot(n0o, n1o), dihedralAfter = Dot(m0, m1);
+        if (dihedralAfter < std::min(dihedralBefore, 0.985) || Dot(m0, n0o + n1o) <= 0 || Dot(m1, n0o + n1o) <= 0)
+        {
+          continue;
+        }
+        const Index tri0[3] = { x, z, q }, tri1[3] = { z, y, q };
+        bool facing = true;
+        for (int j = 0; j < 3; ++j)
+        {
+          facing = facing && Dot(m0, reference[tri0[j]]) > 0 && Dot(m1, reference[tri1[j]]) > 0;
+        }
+        if (!facing || !edit.FlipEdge(x, y))
+        {
+          continue;
+        }
+        ++passFlips;
+      }
+    }
+    flips += passFlips;
+    if (passFlips == 0)
+    {
+      break;
+    }
+  }
+  result.Flips = flips;
+  if (!report(0.97))
+  {
+    abort();
+    return;
+  }
+
+  // Output: candidate vertices (and any retained old vertex).
+  std::vector<Index> newToOld;
+  edit.Extract(result.Mesh, &newToOld);
+  {
+    // Candidate order first (output vertex i = candidate i), retained old vertices last: stable
+    // ids across seeds' levels and the nested levels' subset property.
+    const size_t count = newToOld.size();
+    std::vector<Index> perm(count), rank(count);
+    std::iota(perm.begin(), perm.end(), 0);
+    auto key = [&](Index v) { return newToOld[v] >= n0 ? newToOld[v] - n0 : np + newToOld[v]; };
+    std::sort(perm.begin(), perm.end(), [&](Index a, Index b) { return key(a) < key(b); });
+    std::vector<double> sortedPoints(3 * count);
+    std::vector<Index> sortedIds(count);
+    for (size_t i = 0; i < count; ++i)
+    {
+      rank[perm[i]] = static_cast<Index>(i);
+      std::copy(&result.Mesh.Points[3 * size_t(perm[i])], &result.Mesh.Points[3 * size_t(perm[i])] + 3, &sortedPoints[3 * i]);
+      sortedIds[i] = newToOld[perm[i]];
+    }
+    for (Index& v : result.Mesh.Triangles)
+    {
+      v = rank[v];
+    }
+    result.Mesh.Points.swap(sortedPoints);
+    newToOld.swap(sortedIds);
+  }
+  std::vector<Index> firstTriangle(n0, InvalidIndex);
+  for (Index t = nt - 1; t >= 0; --t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      firstTriangle[mesh.Triangle(t)[k]] = t;
+    }
+  }
+  const size_t nv = newToOld.size();
+  result.HostTriangle.resize(nv);
+  result.Barycentric.assign(3 * nv, 0.0);
+  result.CandidatePoints = np;
+  for (size_t v = 0; v < nv; ++v)
+  {
+    const Index id = newToOld[v];
+    if (id >= n0 && movedTo[id - n0] != InvalidIndex)
+    {
+      const Index old = movedTo[id - n0];
+      const Index t = firstTriangle[old];
+      result.HostTriangle[v] = t;
+      for (int k = 0; k < 3; ++k)
+      {
+        result.Barycentric[3 * v + k] = mesh.Triangle(t)[k] == old ? 1.0 : 0.0;
+      }
+    }
+    else if (id >= n0)
+    {
+      result.HostTriangle[v] = points[id - n0].Triangle;
+      std::copy(&bary[3 * size_t(id - n0)], &bary[3 * size_t(id - n0)] + 3, &result.Barycentric[3 * v]);
+    }
+    else
+    {
+      ++result.RetainedOldVertices;
+      const Index t = firstTriangle[id];
+      result.HostTriangle[v] = t;
+      for (int k = 0; k < 3; ++k)
+      {
+        result.Barycentric[3 * v + k] = mesh.Triangle(t)[k] == id ? 1.0 : 0.0;
+      }
+    }
+  }
+  report(1.0);
+}
+} // namespace
+
+void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const RetilingOptions& options,
+  std::vector<RetilingResult>& levels)
+{
+  levels.clear();
+  std::sort(counts.begin(), counts.end());
+  counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+  counts.erase(std::remove_if(counts.begin(), counts.end(), [](Index c) { return c < 3; }), counts.end());
+  if (mesh.NumberOfTriangles() == 0 || counts.empty())
+  {
+    return;
+  }
+  std::vector<double> density;
+  CurvatureDensity(mesh, options.CurvatureWeight, density);
+  TriangleBVH bvh(mesh);
+  std::vector<SurfacePoint> points, added, level;
+  const double share = 1.0 / double(counts.size());
+  for (size_t k = 0; k < counts.size(); ++k)
+  {
+    // Section 6.1: the coarser points stay where they are (and keep pushing); only the added
+    // points are placed and relaxed, so every level's vertices are a subset of the next one's.
+    const Index fixed = static_cast<Index>(points.size());
+    DistributePoints(mesh, density, counts[k] - fixed, options.RandomSeed + k, added);
+    points.insert(points.end(), added.begin(), added.end());
+    auto progress = [&](double f) { return !options.Progress || options.Progress(share * (k + 0.6 * f)); };
+    if (!RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points, progress, fixed))
+    {
+      levels.assign(1, RetilingResult());
+      levels[0].Aborted = true;
+      return;
+    }
+    level = points;
+    RetilingResult result;
+    RetilingOptions levelOptions = options;
+    levelOptions.Progress = [&](double f) {
+      return !options.Progress || options.Progress(share * (k + 0.6 + 0.4 * f));
+    };
+    TileWithPoints(mesh, level, levelOptions, result);
+    if (result.Aborted)
+    {
+      levels.assign(1, result);
+      return;
+    }
+    levels.push_back(std::move(result));
+  }
+}
+} // namespace slod

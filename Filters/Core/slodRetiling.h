@@ -1,0 +1,101 @@
+// SurfaceLOD core: re-tiling of a triangle surface (Turk 1992, "Re-Tiling Polygonal Surfaces").
+//
+// Stages (each a named function, all deterministic for a given seed):
+//  1. EstimateCurvatureRadius: Turk's per-vertex minimum radius of curvature (section 5.1),
+//     r = min_i tan(theta_i) |P - Q_i| / 2, smoothed once over the one-ring.
+//  2. DistributePoints: N points at random over the surface, area-weighted (section 3.2), the
+//     stored areas scaled by a curvature density (section 5.2).
+//  3. RelaxPoints: point repulsion (section 3.2). Linear fall-off force within a radius (per
+//     point, smaller where the density is higher; a pair uses the mean radius), neighbours from a
+//     uniform grid, each move in the tangent plane then projected back to the closest point of the
+//     original surface (TriangleBVH), so points cross triangles. Jacobi updates: every move of an
+//     iteration uses the previous positions, which makes the result independent of threading.
+//  4. Mutual tessellation (section 4.2): each original triangle is split at the candidate points it
+//     holds (incremental insertion, then Delaunay flips inside the triangle, original edges kept).
+//  5. Old-vertex removal (sections 4.3/4.4/4.6): each old vertex is removed by collapsing it onto a
+//     neighbouring candidate vertex. EditableMesh::CheckCollapse is the topological consistency
+//     check (link condition = no edge shared by three triangles, no duplicated triangle, boundary
+//     loops kept); every surviving triangle must also face the way the original surface faces at its
+//     vertices. The neighbour giving the best smallest angle is chosen. Old vertices that no check
+//     lets go are retained (as in the paper); their number is reported.
+//  6. Shape improvement (section 4.5): edge flips toward max-min angle where the two triangles are
+//     nearly coplanar and the flip keeps the orientation relative to the original surface.
+#ifndef slodRetiling_h
+#define slodRetiling_h
+
+#include "slodTriangleMesh.h"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace slod
+{
+class TriangleBVH;
+
+struct SURFACELODFILTERS_EXPORT RetilingOptions
+{
+  Index NumberOfPoints = 1000;   // candidate vertices (the output vertex count)
+  int RepulsionIterations = 20;  // relaxation steps
+  double CurvatureWeight = 0.0;  // 0: uniform; > 0: density 1 + w * curvature / median curvature
+  std::uint64_t RandomSeed = 1;
+  int ShapeImprovementPasses = 2; // edge-flip passes after vertex removal
+  // Progress in [0,1]; return false to abort (the result is then empty, Aborted set).
+  std::function<bool(double)> Progress;
+};
+
+// Where a point lies on the original surface.
+struct SURFACELODFILTERS_EXPORT SurfacePoint
+{
+  Vec3 Position{ 0, 0, 0 };
+  Index Triangle = InvalidIndex;
+};
+
+struct SURFACELODFILTERS_EXPORT RetilingResult
+{
+  TriangleMesh Mesh;
+  // Per output vertex: the original triangle it lies on and its barycentric coordinates there
+  // (to interpolate point data). Retained old vertices get a triangle of theirs with weight 1.
+  std::vector<Index> HostTriangle;
+  std::vector<double> Barycentric; // 3 per output vertex
+  Index CandidatePoints = 0;
+  Index RetainedOldVertices = 0;   // old vertices no check allowed to remove (kept in the output)
+  Index Flips = 0;
+  // Nearest-neighbour spacing of the candidate points (Euclidean), before and after repulsion.
+  double MinSpacingBefore = 0, MeanSpacingBefore = 0, MinSpacingAfter = 0, MeanSpacingAfter = 0;
+  bool Aborted = false;
+};
+
+// Turk's minimum radius of curvature per vertex (+inf-free: flat vertices get a large radius).
+SURFACELODFILTERS_EXPORT void EstimateCurvatureRadius(const TriangleMesh& mesh, std::vector<double>& radius);
+
+// Density per triangle (1 + w * normalised curvature), the weights of the random placement.
+SURFACELODFILTERS_EXPORT void CurvatureDensity(const TriangleMesh& mesh, double curvatureWeight, std::vector<double>& vertexDensity);
+
+// N random points, triangle chosen with probability area * density (density per vertex, may be empty).
+SURFACELODFILTERS_EXPORT void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& vertexDensity,
+  Index count, std::uint64_t seed, std::vector<SurfacePoint>& points);
+
+// Point repulsion restricted to the surface. The first fixedCount points push but do not move.
+// Returns false when progress asked to abort.
+SURFACELODFILTERS_EXPORT bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh,
+  const std::vector<double>& vertexDensity, int iterations, std::vector<SurfacePoint>& points,
+  const std::function<bool(double)>& progress = nullptr, Index fixedCount = 0);
+
+// Min and mean Euclidean nearest-neighbour distance of a point set (grid search).
+SURFACELODFILTERS_EXPORT void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, double& mean,
+  std::vector<double>* perPoint = nullptr);
+
+// The whole method.
+SURFACELODFILTERS_EXPORT void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingResult& result);
+
+// Nested re-tilings (section 6.1), one per vertex count (sorted ascending; counts below 3 are
+// dropped; options.NumberOfPoints is ignored): the candidate vertices of each level are the first
+// vertices of the next finer one, so with no retained old vertex, level k's output vertices are
+// exactly the first counts[k] output vertices of every finer level (same positions, same order).
+// Spacing figures are not computed per level.
+SURFACELODFILTERS_EXPORT void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts,
+  const RetilingOptions& options, std::vector<RetilingResult>& levels);
+} // namespace slod
+
+#endif

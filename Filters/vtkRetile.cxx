@@ -1,0 +1,221 @@
+#include "vtkRetile.h"
+
+#include "slodInputPreparation.h"
+#include "slodMeshTopology.h"
+#include "slodPointAttributes.h"
+#include "slodRetiling.h"
+
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <algorithm>
+#include <cmath>
+
+vtkStandardNewMacro(vtkRetile);
+
+vtkRetile::vtkRetile()
+{
+  this->SetNumberOfOutputPorts(2);
+}
+
+int vtkRetile::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkMultiBlockDataSet");
+    return 1;
+  }
+  return this->Superclass::FillOutputPortInformation(port, info);
+}
+
+vtkMultiBlockDataSet* vtkRetile::GetNestedLevels()
+{
+  return vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1));
+}
+
+int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  this->NumberOfRetainedVertices = 0;
+  this->NumberOfFlips = 0;
+  this->MinimumSpacingBefore = this->MeanSpacingBefore = this->MinimumSpacingAfter = this->MeanSpacingAfter = 0;
+  if (!input || !output)
+  {
+    return 1;
+  }
+  slod::TriangleMesh mesh;
+  std::vector<slod::Index> vertexToInput;
+  slod::PreparationReport report;
+  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report))
+  {
+    return 1;
+  }
+  if (mesh.NumberOfTriangles() == 0)
+  {
+    vtkErrorMacro(<< "The input has no triangles: nothing to re-tile.");
+    return 1;
+  }
+  if (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0)
+  {
+    // Turk's method needs every edge on one or two triangles (section 3.1).
+    vtkErrorMacro(<< "Re-tiling needs a manifold surface; the input has " << report.NonManifoldEdges
+                  << " non-manifold edges and " << report.NonManifoldVertices << " non-manifold vertices.");
+    return 1;
+  }
+
+  slod::RetilingOptions options;
+  if (this->NumberOfPoints > 0)
+  {
+    options.NumberOfPoints = static_cast<slod::Index>(this->NumberOfPoints);
+  }
+  else
+  {
+    const vtkIdType inputTriangles = mesh.NumberOfTriangles();
+    vtkIdType target = 0;
+    if (this->TargetNumberOfTriangles > 0)
+    {
+      target = this->TargetNumberOfTriangles;
+    }
+    if (this->TargetReduction > 0)
+    {
+      target = std::max<vtkIdType>(target, static_cast<vtkIdType>(std::floor((1.0 - this->TargetReduction) * inputTriangles + 1e-9)));
+    }
+    if (target <= 0)
+    {
+      target = inputTriangles;
+    }
+    // V = F / 2 + chi on a closed surface.
+    const slod::MeshStatistics stats = slod::ComputeMeshStatistics(mesh);
+    options.NumberOfPoints = static_cast<slod::Index>(std::max<vtkIdType>(4, target / 2 + stats.EulerCharacteristic));
+  }
+  if (options.NumberOfPoints < 4)
+  {
+    // The smallest closed surface (a tetrahedron) has 4 vertices.
+    vtkWarningMacro(<< "NumberOfPoints " << options.NumberOfPoints << " is too small; using 4.");
+    options.NumberOfPoints = 4;
+  }
+  options.RepulsionIterations = this->RepulsionIterations;
+  options.CurvatureWeight = this->CurvatureWeight;
+  options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
+  options.ShapeImprovementPasses = this->ShapeImprovementPasses;
+  options.Progress = [this](double fraction) {
+    this->UpdateProgress(fraction);
+    return !this->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
+  };
+
+  vtkMultiBlockDataSet* levelsOutput = vtkMultiBlockDataSet::GetData(outputVector, 1);
+  slod::RetilingResult result;
+  std::vector<slod::RetilingResult> levels;
+  if (this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
+  {
+    std::vector<slod::Index> counts;
+    double count = options.NumberOfPoints;
+    for (int k = 0; k < this->NumberOfNestedLevels && count >= 4; ++k)
+    {
+      counts.push_back(static_cast<slod::Index>(std::lround(count)));
+      count /= this->NestedLevelRatio;
+    }
+    slod::RetileNested(mesh, counts, options, levels);
+    if (levels.empty() || levels.back().Aborted)
+    {
+      vtkWarningMacro(<< "Aborted: empty output.");
+      return 1;
+    }
+    // The finest level is output 0 (its spacing figures come from a plain run's statistics).
+    result = levels.back();
+  }
+  else
+  {
+    slod::Retile(mesh, options, result);
+  }
+  if (result.Aborted)
+  {
+    vtkWarningMacro(<< "Aborted: empty output.");
+    return 1;
+  }
+
+  int pointType = input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT;
+  if (this->OutputPointsPrecision == vtkAlgorithm::SINGLE_PRECISION)
+  {
+    pointType = VTK_FLOAT;
+  }
+  else if (this->OutputPointsPrecision == vtkAlgorithm::DOUBLE_PRECISION || pointType == VTK_DOUBLE)
+  {
+    pointType = VTK_DOUBLE;
+  }
+  else
+  {
+    pointType = VTK_FLOAT;
+  }
+  slod::MeshToPolyData(result.Mesh, output, pointType);
+
+  slod::PointAttributes attributes;
+  attributes.Load(input->GetPointData(), vertexToInput);
+  auto storeAttributes = [&](const slod::RetilingResult& r, vtkPolyData* polyData) {
+    if (attributes.Empty())
+    {
+      return;
+    }
+    std::vector<slod::Index> rows(r.HostTriangle.size());
+    for (size_t v = 0; v < rows.size(); ++v)
+    {
+      const slod::Index* tri = mesh.Triangle(r.HostTriangle[v]);
+      rows[v] = attributes.AddInterpolated(tri, &r.Barycentric[3 * v], 3);
+    }
+    attributes.Store(polyData->GetPointData(), rows);
+  };
+  storeAttributes(result, output);
+  if (levelsOutput && levels.size() > 1)
+  {
+    levelsOutput->SetNumberOfBlocks(static_cast<unsigned int>(levels.size()));
+    for (size_t k = 0; k < levels.size(); ++k)
+    {
+      vtkNew<vtkPolyData> level;
+      slod::MeshToPolyData(levels[k].Mesh, level, pointType);
+      storeAttributes(levels[k], level);
+      levelsOutput->SetBlock(static_cast<unsigned int>(k), level);
+    }
+  }
+
+  this->NumberOfRetainedVertices = result.RetainedOldVertices;
+  this->NumberOfFlips = result.Flips;
+  this->MinimumSpacingBefore = result.MinSpacingBefore;
+  this->MeanSpacingBefore = result.MeanSpacingBefore;
+  this->MinimumSpacingAfter = result.MinSpacingAfter;
+  this->MeanSpacingAfter = result.MeanSpacingAfter;
+  if (result.RetainedOldVertices > 0)
+  {
+    vtkWarningMacro(<< result.RetainedOldVertices
+                    << " original vertices could not be removed without changing the topology or folding the surface; they are kept.");
+  }
+  return 1;
+}
+
+void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfPoints: " << this->NumberOfPoints << "\n";
+  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
+  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
+  os << indent << "RepulsionIterations: " << this->RepulsionIterations << "\n";
+  os << indent << "CurvatureWeight: " << this->CurvatureWeight << "\n";
+  os << indent << "RandomSeed: " << this->RandomSeed << "\n";
+  os << indent << "ShapeImprovementPasses: " << this->ShapeImprovementPasses << "\n";
+  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
+  os << indent << "GenerateNestedLevels: " << this->GenerateNestedLevels << "\n";
+  os << indent << "NumberOfNestedLevels: " << this->NumberOfNestedLevels << "\n";
+  os << indent << "NestedLevelRatio: " << this->NestedLevelRatio << "\n";
+  os << indent << "NumberOfRetainedVertices: " << this->NumberOfRetainedVertices << "\n";
+  os << indent << "NumberOfFlips: " << this->NumberOfFlips << "\n";
+  os << indent << "MinimumSpacingBefore: " << this->MinimumSpacingBefore << "\n";
+  os << indent << "MeanSpacingBefore: " << this->MeanSpacingBefore << "\n";
+  os << indent << "MinimumSpacingAfter: " << this->MinimumSpacingAfter << "\n";
+  os << indent << "MeanSpacingAfter: " << this->MeanSpacingAfter << "\n";
+}

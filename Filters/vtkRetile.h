@@ -1,0 +1,127 @@
+/**
+ * @class   vtkRetile
+ * @brief   re-tiles a triangle surface with a given number of evenly spread vertices (Turk 1992)
+ *
+ * Greg Turk, "Re-Tiling Polygonal Surfaces", SIGGRAPH 1992. New vertices are placed at random
+ * on the surface (area weighted, seeded: the output is deterministic), spread by point repulsion
+ * restricted to the surface (RepulsionIterations steps: each point is pushed by its neighbours
+ * within a radius 2 sqrt(area / n), moves in its tangent plane and is projected back to the
+ * closest point of the original surface, so it can cross triangles), then inserted into the
+ * original triangles (the mutual tessellation). Every original vertex is then removed by
+ * collapsing it onto a neighbouring new vertex, only when the local re-triangulation keeps the
+ * topology (link condition: no edge shared by three triangles, no duplicate triangle, boundary
+ * loops kept) and every new triangle faces the way the original surface faces at its vertices;
+ * among the allowed neighbours the one giving the best smallest angle is chosen. Edge flips toward
+ * max-min angle (nearly planar quads only) improve the shape afterwards.
+ *
+ * With CurvatureWeight > 0 the density of new vertices grows with Turk's curvature estimate
+ * (minimum radius of curvature per vertex, smoothed): density 1 + CurvatureWeight * k / median(k),
+ * k capped at 8 times the median, used both in the random placement and in the repulsion radii.
+ *
+ * Vertex count: NumberOfPoints when > 0; else derived from the triangle target
+ * (TargetNumberOfTriangles, or TargetReduction of the input triangle count, the larger count
+ * when both are set) as triangles / 2 + Euler characteristic, exact for closed surfaces (open
+ * surfaces get one triangle fewer per output border edge: F = 2V - 2 chi - B). The output has exactly the
+ * requested vertex count plus the original vertices no check allowed to remove
+ * (NumberOfRetainedVertices, normally 0; such vertices are kept, as in the paper).
+ *
+ * Output vertices lie on the input surface (inside its triangles). All numeric point arrays are
+ * interpolated (barycentric on the original triangle). The input must be a manifold triangle
+ * surface (polygons and strips are triangulated, coincident points merged); non-manifold edges
+ * or vertices are an error (empty output).
+ *
+ * Nested levels (section 6.1), with GenerateNestedLevels on: output port 1 is a
+ * vtkMultiBlockDataSet of NumberOfNestedLevels re-tilings, coarsest first, with
+ * n, n * NestedLevelRatio, ... vertices up to the requested count (the last block is output 0).
+ * The vertices of each level are the first vertices of every finer level (same positions): coarse
+ * points stay fixed while the added points are placed and relaxed around them.
+ */
+#ifndef vtkRetile_h
+#define vtkRetile_h
+
+#include "SurfaceLODFiltersModule.h"
+#include "vtkPolyDataAlgorithm.h"
+
+class vtkMultiBlockDataSet;
+
+class SURFACELODFILTERS_EXPORT vtkRetile : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkRetile* New();
+  vtkTypeMacro(vtkRetile, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  // Number of new vertices (0 = derive it from the triangle target).
+  vtkSetClampMacro(NumberOfPoints, vtkIdType, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfPoints, vtkIdType);
+
+  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
+
+  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
+  vtkGetMacro(TargetReduction, double);
+
+  vtkSetClampMacro(RepulsionIterations, int, 0, VTK_INT_MAX);
+  vtkGetMacro(RepulsionIterations, int);
+
+  vtkSetClampMacro(CurvatureWeight, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(CurvatureWeight, double);
+
+  vtkSetMacro(RandomSeed, int);
+  vtkGetMacro(RandomSeed, int);
+
+  // Edge-flip passes for triangle shape after the old vertices are gone (0 = none).
+  vtkSetClampMacro(ShapeImprovementPasses, int, 0, 100);
+  vtkGetMacro(ShapeImprovementPasses, int);
+
+  vtkSetMacro(GenerateNestedLevels, bool);
+  vtkGetMacro(GenerateNestedLevels, bool);
+  vtkBooleanMacro(GenerateNestedLevels, bool);
+  vtkSetClampMacro(NumberOfNestedLevels, int, 1, 32);
+  vtkGetMacro(NumberOfNestedLevels, int);
+  vtkSetClampMacro(NestedLevelRatio, double, 1.01, VTK_DOUBLE_MAX);
+  vtkGetMacro(NestedLevelRatio, double);
+  // Output port 1 (empty unless GenerateNestedLevels).
+  vtkMultiBlockDataSet* GetNestedLevels();
+
+  vtkSetMacro(OutputPointsPrecision, int);
+  vtkGetMacro(OutputPointsPrecision, int);
+
+  // Results of the last run.
+  vtkGetMacro(NumberOfRetainedVertices, vtkIdType);
+  vtkGetMacro(NumberOfFlips, vtkIdType);
+  // Nearest-neighbour spacing of the new vertices (min / mean) before and after repulsion.
+  vtkGetMacro(MinimumSpacingBefore, double);
+  vtkGetMacro(MeanSpacingBefore, double);
+  vtkGetMacro(MinimumSpacingAfter, double);
+  vtkGetMacro(MeanSpacingAfter, double);
+
+protected:
+  vtkRetile();
+  ~vtkRetile() override = default;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  vtkIdType NumberOfPoints = 0;
+  vtkIdType TargetNumberOfTriangles = 0;
+  double TargetReduction = 0.9;
+  int RepulsionIterations = 20;
+  double CurvatureWeight = 0.0;
+  int RandomSeed = 1;
+  int ShapeImprovementPasses = 2;
+  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
+  bool GenerateNestedLevels = false;
+  int NumberOfNestedLevels = 3;
+  double NestedLevelRatio = 4.0;
+
+  vtkIdType NumberOfRetainedVertices = 0;
+  vtkIdType NumberOfFlips = 0;
+  double MinimumSpacingBefore = 0, MeanSpacingBefore = 0, MinimumSpacingAfter = 0, MeanSpacingAfter = 0;
+
+private:
+  vtkRetile(const vtkRetile&) = delete;
+  void operator=(const vtkRetile&) = delete;
+};
+
+#endif

@@ -1,0 +1,481 @@
+// vtkRetile (Turk 1992): counts, topology, orientation, vertices on the input surface, no folds,
+// distance to the input (Hausdorff) against vtkQuadricDecimation at the same triangle count in the
+// same run, point spacing before/after repulsion, curvature concentration, determinism, point
+// data, bad input.
+#include "TestSupport.h"
+
+#include "slodMeshTopology.h"
+#include "slodRetiling.h"
+#include "slodTriangleBVH.h"
+#include "vtkRetile.h"
+#include "vtkSurfaceDeviation.h"
+
+#include "vtkCommand.h"
+#include "vtkDoubleArray.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkQuadricDecimation.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+using namespace slod;
+
+namespace
+{
+class MessageCounter : public vtkCommand
+{
+public:
+  static MessageCounter* New() { return new MessageCounter; }
+  void Execute(vtkObject*, unsigned long event, void*) override
+  {
+    (event == vtkCommand::ErrorEvent ? this->Errors : this->Warnings)++;
+  }
+  int Errors = 0, Warnings = 0;
+};
+
+vtkSmartPointer<vtkPolyData> Retile(vtkPolyData* input, vtkIdType points, double curvatureWeight = 0.0,
+  int seed = 1, vtkRetile** keep = nullptr)
+{
+  vtkNew<vtkRetile> filter;
+  filter->SetInputData(input);
+  filter->SetNumberOfPoints(points);
+  filter->SetCurvatureWeight(curvatureWeight);
+  filter->SetRandomSeed(seed);
+  filter->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(filter->GetOutput());
+  if (keep)
+  {
+    *keep = filter;
+    filter->Register(nullptr);
+  }
+  return out;
+}
+
+double Hausdorff(vtkPolyData* a, vtkPolyData* b)
+{
+  vtkNew<vtkSurfaceDeviation> deviation;
+  deviation->SetReferenceData(a);
+  deviation->SetComparedData(b);
+  deviation->SetNumberOfSamples(100000);
+  deviation->Update();
+  return deviation->GetHausdorffRelative();
+}
+
+struct SurfaceCheck
+{
+  Index Flipped = 0;          // triangles facing against the input surface under them
+  double MaxVertexDistance = 0; // relative to the input's diagonal
+};
+
+// Orientation and position relative to the input: each output triangle's normal against the
+// input normal at the closest point of its centroid, each output vertex's distance to the input.
+SurfaceCheck CheckAgainstInput(const TriangleMesh& input, const TriangleMesh& output)
+{
+  SurfaceCheck check;
+  TriangleBVH bvh(input);
+  const double diagonal = input.BoundingBoxDiagonal();
+  for (Index v = 0; v < output.NumberOfPoints(); ++v)
+  {
+    check.MaxVertexDistance = std::max(check.MaxVertexDistance, std::sqrt(bvh.ClosestPoint(output.Point(v)).Distance2) / diagonal);
+  }
+  for (Index t = 0; t < output.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = output.Triangle(t);
+    const Vec3 a = output.Point(tri[0]), b = output.Point(tri[1]), c = output.Point(tri[2]);
+    const Vec3 centroid = (1.0 / 3.0) * (a + b + c);
+    const ClosestPointResult r = bvh.ClosestPoint(centroid);
+    if (Dot(TriangleNormal(a, b, c), Normalized(input.TriangleAreaVector(r.Triangle))) < 0)
+    {
+      ++check.Flipped;
+    }
+  }
+  return check;
+}
+
+void ExpectSameTopology(const TriangleMesh& input, const TriangleMesh& output)
+{
+  const MeshStatistics in = ComputeMeshStatistics(input);
+  const MeshStatistics out = ComputeMeshStatistics(output);
+  EXPECT_EQ(out.NonManifoldEdges, 0);
+  EXPECT_EQ(out.NonManifoldVertices, 0);
+  EXPECT_EQ(out.DegenerateTriangles, 0);
+  EXPECT_EQ(out.InconsistentlyOrientedEdges, 0);
+  EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+  EXPECT_EQ(out.Genus, in.Genus);
+  EXPECT_EQ(out.Components, in.Components);
+  EXPECT_EQ(out.BoundaryLoops, in.BoundaryLoops);
+}
+
+// Points per unit area of the output around the vertices where the predicate holds.
+double VertexDensity(const TriangleMesh& m, bool (*inside)(const Vec3&))
+{
+  double area = 0;
+  for (Index t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = m.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (inside(m.Point(tri[k])))
+      {
+        area += m.TriangleArea(t) / 3.0;
+      }
+    }
+  }
+  Index count = 0;
+  for (Index v = 0; v < m.NumberOfPoints(); ++v)
+  {
+    count += inside(m.Point(v)) ? 1 : 0;
+  }
+  return area > 0 ? count / area : 0.0;
+}
+} // namespace
+
+struct RetileCase
+{
+  const char* Name;
+  vtkIdType Points;
+  double MaxHausdorff;   // relative to the diagonal
+  double MaxFlippedFraction;
+  // Smallest Euclidean nearest-neighbour spacing over the mean, after repulsion. Points on the two
+  // sides of a thin part (bunny ears) are close in space but far apart on the surface.
+  double MinSpacingRatio;
+};
+
+class RetileOnMesh : public ::testing::TestWithParam<RetileCase>
+{
+};
+
+TEST_P(RetileOnMesh, KeepsTopologyOrientationAndSurface)
+{
+  const RetileCase c = GetParam();
+  vtkSmartPointer<vtkPolyData> input;
+  const std::string name = c.Name;
+  if (name == "sphere")
+  {
+    input = slodtest::ToPolyData(slodtest::Sphere(64, 64));
+  }
+  else if (name == "torus")
+  {
+    input = slodtest::ToPolyData(slodtest::Torus(96, 48));
+  }
+  else
+  {
+    input = slodtest::LoadTestMesh(c.Name);
+  }
+  const TriangleMesh in = slodtest::ToTriangleMesh(input);
+
+  vtkRetile* filter = nullptr;
+  const auto start = std::chrono::steady_clock::now();
+  auto output = Retile(input, c.Points, 0.0, 1, &filter);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const TriangleMesh out = slodtest::RawTriangleMesh(output);
+
+  // Count: exactly the requested vertices plus retained old ones (none on these surfaces).
+  EXPECT_EQ(filter->GetNumberOfRetainedVertices(), 0);
+  EXPECT_EQ(output->GetNumberOfPoints(), c.Points + filter->GetNumberOfRetainedVertices());
+  ExpectSameTopology(in, out);
+
+  const SurfaceCheck check = CheckAgainstInput(in, out);
+  EXPECT_LT(check.MaxVertexDistance, 1e-6) << "output vertices must lie on the input surface";
+  EXPECT_LE(check.Flipped, c.MaxFlippedFraction * out.NumberOfTriangles());
+
+  // Repulsion spreads the points: the smallest spacing grows toward the mean.
+  const double before = filter->GetMinimumSpacingBefore() / filter->GetMeanSpacingBefore();
+  const double after = filter->GetMinimumSpacingAfter() / filter->GetMeanSpacingAfter();
+  EXPECT_GT(after, 2.0 * before);
+  EXPECT_GT(after, c.MinSpacingRatio);
+
+  // Distance to the input, against vtkQuadricDecimation at the same triangle count.
+  const double hausdorff = Hausdorff(input, output);
+  vtkNew<vtkQuadricDecimation> quadric;
+  quadric->SetInputData(input);
+  quadric->SetTargetReduction(1.0 - double(out.NumberOfTriangles()) / in.NumberOfTriangles());
+  quadric->Update();
+  const double quadricHausdorff = Hausdorff(input, quadric->GetOutput());
+  std::printf("[retile] %s: %d -> %d triangles (%lld points) in %.3f s, spacing min/mean %.3f -> %.3f, "
+              "flipped %d, flips %lld, Hausdorff %.5f vs vtkQuadricDecimation %.5f (%lld triangles): ratio %.2f\n",
+    c.Name, in.NumberOfTriangles(), out.NumberOfTriangles(), (long long)output->GetNumberOfPoints(), seconds, before,
+    after, check.Flipped, (long long)filter->GetNumberOfFlips(), hausdorff, quadricHausdorff,
+    (long long)quadric->GetOutput()->GetNumberOfPolys(), hausdorff / quadricHausdorff);
+  EXPECT_LT(hausdorff, c.MaxHausdorff);
+  filter->Delete();
+}
+
+INSTANTIATE_TEST_SUITE_P(Shapes, RetileOnMesh,
+  ::testing::Values(RetileCase{ "sphere", 500, 0.01, 0.0, 0.6 }, RetileCase{ "torus", 1500, 0.01, 0.0, 0.6 },
+    RetileCase{ "bunny00", 2000, 0.03, 0.002, 0.08 }),
+  [](const ::testing::TestParamInfo<RetileCase>& info) { return std::string(info.param.Name); });
+
+TEST(Retile, TriangleTargetOnClosedSurface)
+{
+  auto input = slodtest::ToPolyData(slodtest::Torus(64, 32));
+  vtkNew<vtkRetile> filter;
+  filter->SetInputData(input);
+  filter->SetTargetNumberOfTriangles(1000);
+  filter->Update();
+  // Genus 1: V = F / 2, so exactly the target.
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPolys(), 1000);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 500);
+
+  filter->SetTargetNumberOfTriangles(0);
+  filter->SetTargetReduction(0.75);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPolys(), 4096 / 4);
+}
+
+TEST(Retile, OpenSurfaceKeepsItsBoundary)
+{
+  const TriangleMesh disk = slodtest::Disk(24, 64);
+  auto input = slodtest::ToPolyData(disk);
+  vtkRetile* filter = nullptr;
+  auto output = Retile(input, 300, 0.0, 3, &filter);
+  const TriangleMesh out = slodtest::RawTriangleMesh(output);
+  EXPECT_EQ(output->GetNumberOfPoints(), 300 + filter->GetNumberOfRetainedVertices());
+  ExpectSameTopology(disk, out);
+  const SurfaceCheck check = CheckAgainstInput(disk, out);
+  EXPECT_EQ(check.Flipped, 0);
+  EXPECT_LT(check.MaxVertexDistance, 1e-6);
+  std::printf("[retile] disk: retained %lld, Hausdorff %.4f\n", (long long)filter->GetNumberOfRetainedVertices(),
+    Hausdorff(input, output));
+  filter->Delete();
+}
+
+TEST(Retile, CurvatureConcentratesPoints)
+{
+  // An ellipsoid 3:1:1: the tips curve much more than the middle.
+  TriangleMesh ellipsoid = slodtest::Sphere(96, 96);
+  for (Index v = 0; v < ellipsoid.NumberOfPoints(); ++v)
+  {
+    Vec3 p = ellipsoid.Point(v);
+    p[0] *= 3.0;
+    ellipsoid.SetPoint(v, p);
+  }
+  auto input = slodtest::ToPolyData(ellipsoid);
+  static bool (*tip)(const Vec3&) = [](const Vec3& p) { return std::abs(p[0]) > 1.35; };
+  static bool (*middle)(const Vec3&) = [](const Vec3& p) { return std::abs(p[0]) < 0.5; };
+  const TriangleMesh uniform = slodtest::RawTriangleMesh(Retile(input, 800, 0.0));
+  const TriangleMesh curved = slodtest::RawTriangleMesh(Retile(input, 800, 2.0));
+  const double uniformRatio = VertexDensity(uniform, tip) / VertexDensity(uniform, middle);
+  const double curvedRatio = VertexDensity(curved, tip) / VertexDensity(curved, middle);
+  std::printf("[retile] ellipsoid tip/middle density: uniform %.2f, CurvatureWeight 2: %.2f\n", uniformRatio, curvedRatio);
+  EXPECT_NEAR(uniformRatio, 1.0, 0.25);
+  EXPECT_GT(curvedRatio, 1.5 * uniformRatio);
+  ExpectSameTopology(ellipsoid, curved);
+}
+
+TEST(Retile, DeterministicAndSeeded)
+{
+  auto input = slodtest::LoadTestMesh("bunny00");
+  const TriangleMesh a = slodtest::RawTriangleMesh(Retile(input, 700, 1.0, 5));
+  const TriangleMesh b = slodtest::RawTriangleMesh(Retile(input, 700, 1.0, 5));
+  const TriangleMesh c = slodtest::RawTriangleMesh(Retile(input, 700, 1.0, 6));
+  EXPECT_EQ(a.Points, b.Points);
+  EXPECT_EQ(a.Triangles, b.Triangles);
+  EXPECT_NE(a.Points, c.Points);
+}
+
+TEST(Retile, InterpolatesPointData)
+{
+  TriangleMesh sphere = slodtest::Sphere(48, 48);
+  auto input = slodtest::ToPolyData(sphere);
+  vtkNew<vtkDoubleArray> height;
+  height->SetName("Height");
+  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+  {
+    height->InsertNextValue(input->GetPoint(i)[2]);
+  }
+  input->GetPointData()->AddArray(height);
+  auto output = Retile(input, 300);
+  vtkDataArray* out = output->GetPointData()->GetArray("Height");
+  ASSERT_NE(out, nullptr);
+  ASSERT_EQ(out->GetNumberOfTuples(), output->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < output->GetNumberOfPoints(); ++i)
+  {
+    // Linear data interpolated on the input's planar triangles: exact up to float storage.
+    EXPECT_NEAR(out->GetTuple1(i), output->GetPoint(i)[2], 1e-5);
+  }
+}
+
+TEST(Retile, CoreSpacingImprovesWithIterations)
+{
+  const TriangleMesh torus = slodtest::Torus(64, 32);
+  TriangleBVH bvh(torus);
+  std::vector<SurfacePoint> points;
+  DistributePoints(torus, {}, 1000, 7, points);
+  auto spacing = [&]() {
+    std::vector<double> xyz;
+    for (const auto& p : points)
+    {
+      xyz.insert(xyz.end(), p.Position.begin(), p.Position.end());
+    }
+    double minimum = 0, mean = 0;
+    NearestNeighborSpacing(xyz, minimum, mean);
+    return minimum / mean;
+  };
+  const double r0 = spacing();
+  ASSERT_TRUE(RelaxPoints(torus, bvh, {}, 5, points));
+  const double r5 = spacing();
+  ASSERT_TRUE(RelaxPoints(torus, bvh, {}, 15, points));
+  const double r20 = spacing();
+  std::printf("[retile] torus min/mean spacing: random %.3f, 5 iterations %.3f, 20 iterations %.3f\n", r0, r5, r20);
+  EXPECT_GT(r5, r0);
+  EXPECT_GE(r20, r5 * 0.95);
+}
+
+TEST(Retile, BadInput)
+{
+  vtkNew<MessageCounter> messages;
+  vtkNew<vtkRetile> filter;
+  filter->AddObserver(vtkCommand::ErrorEvent, messages);
+  filter->AddObserver(vtkCommand::WarningEvent, messages);
+
+  vtkNew<vtkPolyData> empty;
+  filter->SetInputData(empty);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(messages->Errors, 1);
+
+  filter->SetInputData(slodtest::ToPolyData(slodtest::NonManifoldFan(4)));
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPolys(), 0);
+  EXPECT_EQ(messages->Errors, 2);
+
+  std::ostringstream print;
+  filter->Print(print);
+  EXPECT_NE(print.str().find("CurvatureWeight"), std::string::npos);
+}
+
+TEST(Retile, NestedLevelsAreSubsets)
+{
+  const TriangleMesh torus = slodtest::Torus(64, 32);
+  RetilingOptions options;
+  std::vector<RetilingResult> levels;
+  RetileNested(torus, { 800, 200, 400 }, options, levels);
+  ASSERT_EQ(levels.size(), 3u);
+  const Index counts[3] = { 200, 400, 800 };
+  for (int k = 0; k < 3; ++k)
+  {
+    const TriangleMesh& m = levels[k].Mesh;
+    ASSERT_EQ(levels[k].RetainedOldVertices, 0);
+    ASSERT_EQ(m.NumberOfPoints(), counts[k]);
+    EXPECT_EQ(m.NumberOfTriangles(), 2 * counts[k]); // genus 1
+    ExpectSameTopology(torus, m);
+    const SurfaceCheck check = CheckAgainstInput(torus, m);
+    EXPECT_EQ(check.Flipped, 0) << "level " << k;
+    EXPECT_LT(check.MaxVertexDistance, 1e-9);
+    if (k > 0)
+    {
+      // Section 6.1: the coarser vertices are the first vertices of the finer level.
+      const TriangleMesh& coarse = levels[k - 1].Mesh;
+      double worst = 0;
+      for (Index v = 0; v < coarse.NumberOfPoints(); ++v)
+      {
+        worst = std::max(worst, Norm(coarse.Point(v) - m.Point(v)));
+      }
+      EXPECT_LT(worst, 1e-12 * torus.BoundingBoxDiagonal());
+    }
+  }
+  // Finer levels are closer to the input surface.
+  const double coarse = Hausdorff(slodtest::ToPolyData(torus), slodtest::ToPolyData(levels[0].Mesh));
+  const double fine = Hausdorff(slodtest::ToPolyData(torus), slodtest::ToPolyData(levels[2].Mesh));
+  EXPECT_LT(fine, coarse);
+}
+
+TEST(Retile, SeveralComponents)
+{
+  // Two disjoint spheres: every component keeps its topology (points land on both by area).
+  TriangleMesh second = slodtest::Sphere(32, 32);
+  for (Index v = 0; v < second.NumberOfPoints(); ++v)
+  {
+    second.SetPoint(v, second.Point(v) + Vec3{ 2.0, 0.0, 0.0 });
+  }
+  const TriangleMesh both = slodtest::Concatenate(slodtest::Sphere(32, 32), second);
+  auto input = slodtest::ToPolyData(both);
+  vtkRetile* filter = nullptr;
+  auto output = Retile(input, 400, 0.0, 1, &filter);
+  EXPECT_EQ(filter->GetNumberOfRetainedVertices(), 0);
+  EXPECT_EQ(output->GetNumberOfPoints(), 400);
+  ExpectSameTopology(both, slodtest::RawTriangleMesh(output));
+  EXPECT_EQ(CheckAgainstInput(both, slodtest::RawTriangleMesh(output)).Flipped, 0);
+  filter->Delete();
+}
+
+TEST(Retile, FilterNestedLevels)
+{
+  auto input = slodtest::ToPolyData(slodtest::Sphere(48, 48));
+  vtkNew<vtkRetile> filter;
+  filter->SetInputData(input);
+  filter->SetNumberOfPoints(640);
+  filter->GenerateNestedLevelsOn();
+  filter->SetNumberOfNestedLevels(3);
+  filter->SetNestedLevelRatio(4.0);
+  filter->Update();
+  vtkMultiBlockDataSet* levels = filter->GetNestedLevels();
+  ASSERT_EQ(levels->GetNumberOfBlocks(), 3u);
+  const vtkIdType counts[3] = { 40, 160, 640 };
+  for (unsigned int k = 0; k < 3; ++k)
+  {
+    auto* level = vtkPolyData::SafeDownCast(levels->GetBlock(k));
+    ASSERT_NE(level, nullptr);
+    EXPECT_EQ(level->GetNumberOfPoints(), counts[k]);
+    EXPECT_EQ(level->GetNumberOfPolys(), 2 * counts[k] - 4); // genus 0
+    if (k > 0)
+    {
+      auto* coarse = vtkPolyData::SafeDownCast(levels->GetBlock(k - 1));
+      for (vtkIdType v = 0; v < coarse->GetNumberOfPoints(); ++v)
+      {
+        double a[3], b[3];
+        coarse->GetPoint(v, a);
+        level->GetPoint(v, b);
+        ASSERT_EQ(a[0], b[0]);
+        ASSERT_EQ(a[1], b[1]);
+        ASSERT_EQ(a[2], b[2]);
+      }
+    }
+  }
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 640);
+}
+
+namespace
+{
+class AbortOnProgress : public vtkCommand
+{
+public:
+  static AbortOnProgress* New() { return new AbortOnProgress; }
+  void Execute(vtkObject* caller, unsigned long, void* data) override
+  {
+    const double progress = *static_cast<double*>(data);
+    this->Calls++;
+    if (progress > 0.3)
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+    }
+  }
+  int Calls = 0;
+};
+} // namespace
+
+TEST(Retile, ReportsProgressAndAborts)
+{
+  auto input = slodtest::ToPolyData(slodtest::Torus(64, 32));
+  vtkNew<vtkRetile> filter;
+  vtkNew<AbortOnProgress> abort;
+  vtkNew<MessageCounter> messages;
+  filter->AddObserver(vtkCommand::ProgressEvent, abort);
+  filter->AddObserver(vtkCommand::WarningEvent, messages);
+  filter->SetInputData(input);
+  filter->SetNumberOfPoints(500);
+  filter->Update();
+  EXPECT_GT(abort->Calls, 3);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(messages->Warnings, 1);
+}
