@@ -62,6 +62,11 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   double EdgeCollapseBias = 2.0;
   // Exact union semantics of the interrelated sets (slow reference mode, see above).
   bool ExactUnion = false;
+  // Departure from the paper: after the collapses, the merged vertices of the regions with the
+  // largest deviation (original vertices far from the output, output surface far from the
+  // original) are moved within their one-ring to lower the local maximum distance (a few of the
+  // worst regions only; connectivity unchanged, no triangle turned beyond MaximumNormalDeviation).
+  bool RefineDeviation = true;
   // Record every collapse for progressive meshes (CollapseHistory).
   bool RecordHistory = false;
   // Called about every 1% of the work with the fraction done; return false to abort.
