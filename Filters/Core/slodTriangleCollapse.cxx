@@ -1076,7 +1076,7 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
   const Index live = this->Mesh.NumberOfLiveVertices();
   // Only a few of the worst regions: the pass must stay cheap next to the collapses.
   const size_t budget = static_cast<size_t>(16 + live / 2000);
-  std::vector<Index> fan, ring, ring2, near, nearOriginal;
+  std::vector<Index> fan, ring, ring2, near, nearOriginal, movedVertices;
   std::vector<Vec3> startNormal;
   std::vector<std::pair<double, Index>> screen;
   Vec3 closest;
@@ -1306,6 +1306,7 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
       if (!(current == start))
       {
         ++movedThisRound;
+        movedVertices.push_back(v);
       }
     }
     moved += movedThisRound;
@@ -1313,6 +1314,25 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
     {
       break;
     }
+    // The next round screens only where this one moved something (the rest is unchanged).
+    std::vector<Index> next;
+    for (Index v : movedVertices)
+    {
+      next.push_back(v);
+      this->Mesh.Neighbors(v, ring);
+      next.insert(next.end(), ring.begin(), ring.end());
+    }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    pool.clear();
+    for (Index v : next)
+    {
+      if (ancestorStart[v + 1] - ancestorStart[v] >= 2 && !this->Boundary[v])
+      {
+        pool.emplace_back(0.0, v);
+      }
+    }
+    movedVertices.clear();
   }
   if (std::getenv("SLOD_VERBOSE"))
   {
