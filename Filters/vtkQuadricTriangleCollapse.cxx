@@ -200,6 +200,7 @@ int vtkQuadricTriangleCollapse::RequestData(
   options.MaximumNormalDeviation = this->MaximumNormalDeviation;
   options.AllowTopologyChange = this->AllowTopologyChange;
   options.ExactUnion = this->ExactUnion;
+  options.RefineDeviation = this->DeviationRefinement;
   options.EdgeCollapses = this->EdgeCollapses;
   options.EdgeCollapseBias = this->EdgeCollapseBias;
   options.RecordHistory = this->GenerateProgressiveMesh;
@@ -275,6 +276,7 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumNormalDeviation: " << this->MaximumNormalDeviation << "\n";
   os << indent << "AllowTopologyChange: " << this->AllowTopologyChange << "\n";
   os << indent << "ExactUnion: " << this->ExactUnion << "\n";
+  os << indent << "DeviationRefinement: " << this->DeviationRefinement << "\n";
   os << indent << "EdgeCollapses: " << this->EdgeCollapses << "\n";
   os << indent << "EdgeCollapseBias: " << this->EdgeCollapseBias << "\n";
   os << indent << "GenerateProgressiveMesh: " << this->GenerateProgressiveMesh << "\n";

@@ -3,6 +3,7 @@
 #include "slodBucketQueue.h"
 #include "slodPointAttributes.h"
 #include "slodQuadric.h"
+#include "slodTriangleBVH.h"
 
 #include "vtkSMPTools.h"
 
@@ -140,6 +141,8 @@ private:
   bool AlternativePlacement(
     const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const;
   void ExtractResult(TriangleCollapseResult& result);
+  // The RefineDeviation pass (see the header); original = the input mesh in this mesh's ids.
+  void RefineDeviation(const TriangleMesh& original, TriangleCollapseResult& result);
 
   const TriangleCollapseOptions& Options;
   PointAttributes* Attributes;
@@ -172,6 +175,7 @@ private:
   std::vector<Index> SpokeVertex;       // UpdateAround scratch: edges (kept, x) already costed
   std::vector<Index> AroundScratch;     // UpdateAround scratch: the triangles around the new vertex
   std::vector<float> SpokeCost;
+  std::vector<Index> Parent;           // RefineDeviation: per vertex, the vertex it merged into
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
@@ -661,9 +665,22 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   this->Reorder(input);
   lap("reorder");
   this->Mesh.Reset(input);
-  // The editable mesh holds its own copy: release the input's arrays (peak memory).
-  std::vector<double>().swap(input.Points);
-  std::vector<Index>().swap(input.Triangles);
+  const bool refine = this->Options.RefineDeviation && !this->Options.ExactUnion;
+  if (refine)
+  {
+    // The refinement measures against the original surface: keep it, and who merged into whom.
+    this->Parent.resize(size_t(this->Mesh.NumberOfPoints()));
+    for (Index v = 0; v < this->Mesh.NumberOfPoints(); ++v)
+    {
+      this->Parent[v] = v;
+    }
+  }
+  else
+  {
+    // The editable mesh holds its own copy: release the input's arrays (peak memory).
+    std::vector<double>().swap(input.Points);
+    std::vector<Index>().swap(input.Triangles);
+  }
 
   lap("editable mesh");
   this->InitializeQuadrics();
@@ -850,6 +867,13 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
       this->Attributes->Merge(this->VertexInput[kept], rows, w, count);
     }
     this->Mesh.Collapse(set, count, kept, p, &record);
+    if (refine)
+    {
+      for (int i = 0; i < count; ++i)
+      {
+        this->Parent[set[i]] = kept;
+      }
+    }
     unsigned char boundary = 0;
     for (int i = 0; i < count; ++i)
     {
@@ -933,6 +957,14 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   // memory instead of raising the peak.
   this->Heap = BucketQueue();
   std::vector<TriangleState>().swap(this->State);
+  if (refine && !result.Aborted)
+  {
+    this->RefineDeviation(input, result);
+    lap("deviation refinement");
+  }
+  std::vector<double>().swap(input.Points);
+  std::vector<Index>().swap(input.Triangles);
+  std::vector<Index>().swap(this->Parent);
   this->ExtractResult(result);
   lap("extraction");
   if (verbose)
@@ -944,6 +976,393 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
       std::fprintf(stderr, "  rejected: %s %lld\n", ToString(static_cast<CollapseStatus>(k)), statusCounts[k]);
     }
     std::fprintf(stderr, "  placements replaced %lld\n", replaced);
+  }
+}
+
+void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCollapseResult& result)
+{
+  const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
+  if (nv == 0 || this->Mesh.NumberOfLiveTriangles() == 0)
+  {
+    return;
+  }
+  // Who descends from whom: each original vertex's surviving vertex (path-compressed), then the
+  // ancestors of every surviving vertex and the original triangles of every original vertex (CSR).
+  for (Index v = 0; v < nv; ++v)
+  {
+    Index r = v;
+    while (this->Parent[r] != r)
+    {
+      r = this->Parent[r];
+    }
+    for (Index w = v; this->Parent[w] != r && w != r;)
+    {
+      const Index next = this->Parent[w];
+      this->Parent[w] = r;
+      w = next;
+    }
+  }
+  std::vector<Index> ancestorStart(size_t(nv) + 1, 0), ancestors(static_cast<size_t>(nv));
+  for (Index v = 0; v < nv; ++v)
+  {
+    ++ancestorStart[this->Parent[v] + 1];
+  }
+  for (Index v = 0; v < nv; ++v)
+  {
+    ancestorStart[v + 1] += ancestorStart[v];
+  }
+  {
+    std::vector<Index> fill(ancestorStart.begin(), ancestorStart.end() - 1);
+    for (Index v = 0; v < nv; ++v)
+    {
+      ancestors[fill[this->Parent[v]]++] = v;
+    }
+  }
+  std::vector<Index> originalStart(size_t(nv) + 1, 0), originalTriangles(3 * size_t(nt));
+  for (Index i = 0; i < 3 * nt; ++i)
+  {
+    ++originalStart[original.Triangles[i] + 1];
+  }
+  for (Index v = 0; v < nv; ++v)
+  {
+    originalStart[v + 1] += originalStart[v];
+  }
+  {
+    std::vector<Index> fill(originalStart.begin(), originalStart.end() - 1);
+    for (Index i = 0; i < 3 * nt; ++i)
+    {
+      originalTriangles[fill[original.Triangles[i]]++] = i / 3;
+    }
+  }
+  auto originalPoint = [&](Index v) {
+    const double* p = &original.Points[3 * size_t(v)];
+    return Vec3{ p[0], p[1], p[2] };
+  };
+  auto distanceToOriginal = [&](const Vec3& q, const Index* tris, size_t n, Vec3& closest) {
+    double best = std::numeric_limits<double>::max();
+    for (size_t i = 0; i < n; ++i)
+    {
+      const Index* t = &original.Triangles[3 * size_t(tris[i])];
+      const Vec3 c = ClosestPointOnTriangle(q, originalPoint(t[0]), originalPoint(t[1]), originalPoint(t[2]));
+      const Vec3 d = q - c;
+      const double d2 = Dot(d, d);
+      if (d2 < best)
+      {
+        best = d2;
+        closest = c;
+      }
+    }
+    return best;
+  };
+  auto distanceToMesh = [&](const Vec3& q, const Index* tris, size_t n, Vec3& closest, Index& which) {
+    double best = std::numeric_limits<double>::max();
+    for (size_t i = 0; i < n; ++i)
+    {
+      const Index* t = this->Mesh.Triangle(tris[i]);
+      const Vec3 c = ClosestPointOnTriangle(q, this->Mesh.Point(t[0]), this->Mesh.Point(t[1]), this->Mesh.Point(t[2]));
+      const Vec3 d = q - c;
+      const double d2 = Dot(d, d);
+      if (d2 < best)
+      {
+        best = d2;
+        closest = c;
+        which = tris[i];
+      }
+    }
+    return best;
+  };
+
+  const double minimumDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
+  const Index live = this->Mesh.NumberOfLiveVertices();
+  // Only a few of the worst regions: the pass must stay cheap next to the collapses.
+  const size_t budget = static_cast<size_t>(16 + live / 2000);
+  std::vector<Index> fan, ring, ring2, near, nearOriginal, movedVertices;
+  std::vector<Vec3> startNormal;
+  std::vector<std::pair<double, Index>> screen;
+  Vec3 closest;
+  Index which;
+  Index moved = 0;
+  // Candidates: the merged interior vertices with the largest quadric error (RMS distance to
+  // their original planes), a small fraction of the output; only they are screened below.
+  std::vector<std::pair<double, Index>> pool;
+  for (Index v = 0; v < nv; ++v)
+  {
+    if (ancestorStart[v + 1] - ancestorStart[v] >= 2 && this->Mesh.IsVertexAlive(v) && !this->Boundary[v])
+    {
+      const double w = this->Vertex[v].W;
+      pool.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
+    }
+  }
+  auto worseFirst = [](const std::pair<double, Index>& a, const std::pair<double, Index>& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  };
+  const size_t poolSize = std::min(pool.size(), static_cast<size_t>(64 + live / 50));
+  std::partial_sort(pool.begin(), pool.begin() + poolSize, pool.end(), worseFirst);
+  pool.resize(poolSize);
+  for (int round = 0; round < 2; ++round)
+  {
+    // Screening (an upper bound of the local deviation): the ancestors of the vertex against its
+    // own triangles, and its triangles' centroid, edge midpoints and vertex against the original
+    // triangles of the ancestors of their vertices.
+    screen.clear();
+    double worst = 0;
+    for (const auto& candidate : pool)
+    {
+      const Index v = candidate.second;
+      const Index a0 = ancestorStart[v], a1 = ancestorStart[v + 1];
+      fan.clear();
+      this->Mesh.ForEachTriangle(v, [&](Index t) { fan.push_back(t); });
+      double e = 0;
+      for (Index i = a0; i < a1; ++i)
+      {
+        e = std::max(e, distanceToMesh(originalPoint(ancestors[i]), fan.data(), fan.size(), closest, which));
+      }
+      for (Index t : fan)
+      {
+        const Index* tri = this->Mesh.Triangle(t);
+        nearOriginal.clear();
+        for (int k = 0; k < 3; ++k)
+        {
+          for (Index i = ancestorStart[tri[k]]; i < ancestorStart[tri[k] + 1]; ++i)
+          {
+            nearOriginal.insert(nearOriginal.end(), originalTriangles.begin() + originalStart[ancestors[i]],
+              originalTriangles.begin() + originalStart[ancestors[i] + 1]);
+          }
+        }
+        std::sort(nearOriginal.begin(), nearOriginal.end());
+        nearOriginal.erase(std::unique(nearOriginal.begin(), nearOriginal.end()), nearOriginal.end());
+        const Vec3 x = this->Mesh.Point(tri[0]), y = this->Mesh.Point(tri[1]), z = this->Mesh.Point(tri[2]);
+        const Vec3 samples[5] = { this->Mesh.Point(v), (1.0 / 3) * (x + y + z), 0.5 * (x + y), 0.5 * (y + z), 0.5 * (z + x) };
+        for (const Vec3& q : samples)
+        {
+          e = std::max(e, distanceToOriginal(q, nearOriginal.data(), nearOriginal.size(), closest));
+        }
+      }
+      screen.emplace_back(e, v);
+      worst = std::max(worst, e);
+    }
+    if (screen.empty() || worst <= 0)
+    {
+      break;
+    }
+    const size_t count = std::min(budget, screen.size());
+    std::partial_sort(screen.begin(), screen.begin() + count, screen.end(), worseFirst);
+    Index movedThisRound = 0;
+    for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst; ++c)
+    {
+      const Index v = screen[c].second;
+      // The region whose distances the vertex changes: its ring's triangles, the ancestors of the
+      // vertex and of its neighbours, and their original triangles.
+      this->Mesh.Neighbors(v, ring);
+      fan.clear();
+      this->Mesh.ForEachTriangle(v, [&](Index t) { fan.push_back(t); });
+      near.assign(fan.begin(), fan.end());
+      ring2.assign(1, v);
+      for (Index w : ring)
+      {
+        this->Mesh.ForEachTriangle(w, [&](Index t) { near.push_back(t); });
+        ring2.push_back(w);
+      }
+      std::sort(near.begin(), near.end());
+      near.erase(std::unique(near.begin(), near.end()), near.end());
+      nearOriginal.clear();
+      for (Index w : ring2)
+      {
+        for (Index i = ancestorStart[w]; i < ancestorStart[w + 1]; ++i)
+        {
+          nearOriginal.insert(nearOriginal.end(), originalTriangles.begin() + originalStart[ancestors[i]],
+            originalTriangles.begin() + originalStart[ancestors[i] + 1]);
+        }
+      }
+      std::sort(nearOriginal.begin(), nearOriginal.end());
+      nearOriginal.erase(std::unique(nearOriginal.begin(), nearOriginal.end()), nearOriginal.end());
+      startNormal.clear();
+      for (Index t : fan)
+      {
+        startNormal.push_back(this->Mesh.TriangleNormal(t));
+      }
+      // Local maximum distance with v at p, and a direction that lowers the worst term (the
+      // correction of v that would bring the worst point onto the other surface).
+      auto evaluate = [&](const Vec3& p, Vec3& step, double& sum) {
+        this->Mesh.SetPoint(v, p);
+        double best = -1;
+        sum = 0;
+        for (Index w : ring2)
+        {
+          for (Index i = ancestorStart[w]; i < ancestorStart[w + 1]; ++i)
+          {
+            const Vec3 a = originalPoint(ancestors[i]);
+            const double d2 = distanceToMesh(a, near.data(), near.size(), closest, which);
+            sum += std::sqrt(d2);
+            if (d2 > best)
+            {
+              best = d2;
+              // Weight of v at the closest point (barycentric), when on one of v's triangles.
+              double weight = 0.3;
+              const Index* t = this->Mesh.Triangle(which);
+              for (int k = 0; k < 3; ++k)
+              {
+                if (t[k] == v)
+                {
+                  const Vec3 x = this->Mesh.Point(t[(k + 1) % 3]), y = this->Mesh.Point(t[(k + 2) % 3]);
+                  const Vec3 n = Cross(x - p, y - p);
+                  const double nn = Dot(n, n);
+                  weight = nn > 0 ? std::max(0.2, Dot(Cross(x - closest, y - closest), n) / nn) : 0.3;
+                }
+              }
+              step = (1.0 / weight) * (a - closest);
+            }
+          }
+        }
+        // Interior points of the original surface too (centroids of its triangles).
+        for (Index o : nearOriginal)
+        {
+          const Index* ot = &original.Triangles[3 * size_t(o)];
+          const Vec3 a = (1.0 / 3) * (originalPoint(ot[0]) + originalPoint(ot[1]) + originalPoint(ot[2]));
+          const double d2 = distanceToMesh(a, near.data(), near.size(), closest, which);
+          sum += std::sqrt(d2);
+            if (d2 > best)
+          {
+            best = d2;
+            step = (1.0 / 3) * (a - closest); // a rough weight: the full step is tried too
+          }
+        }
+        for (Index t : fan)
+        {
+          const Index* tri = this->Mesh.Triangle(t);
+          Vec3 others[2];
+          int k = 0;
+          for (int j = 0; j < 3; ++j)
+          {
+            if (tri[j] != v)
+            {
+              others[k++ & 1] = this->Mesh.Point(tri[j]);
+            }
+          }
+          const double third = 1.0 / 3;
+          const Vec3 samples[6] = { p, (2 * third) * p + third * others[0], (2 * third) * p + third * others[1],
+            third * p + (2 * third) * others[0], third * p + (2 * third) * others[1],
+            third * (p + others[0] + others[1]) };
+          const double weights[6] = { 1.0, 2 * third, 2 * third, third, third, third };
+          for (int s = 0; s < 6; ++s)
+          {
+            const double d2 = distanceToOriginal(samples[s], nearOriginal.data(), nearOriginal.size(), closest);
+            sum += std::sqrt(d2);
+            if (d2 > best)
+            {
+              best = d2;
+              step = (1.0 / weights[s]) * (closest - samples[s]);
+            }
+          }
+        }
+        return best;
+      };
+      auto valid = [&](const Vec3& p) {
+        this->Mesh.SetPoint(v, p);
+        for (size_t i = 0; i < fan.size(); ++i)
+        {
+          const Index* tri = this->Mesh.Triangle(fan[i]);
+          const Vec3 n = Cross(this->Mesh.Point(tri[1]) - this->Mesh.Point(tri[0]), this->Mesh.Point(tri[2]) - this->Mesh.Point(tri[0]));
+          const double length = Norm(n);
+          if (!(length > 0) || Dot(n, startNormal[i]) < minimumDot * length)
+          {
+            return false;
+          }
+        }
+        return true;
+      };
+      const Vec3 start = this->Mesh.Point(v);
+      Vec3 current = start, step;
+      double startSum = 0, sum = 0;
+      double value = evaluate(current, step, startSum);
+      for (int iteration = 0; iteration < 6; ++iteration)
+      {
+        const Vec3 direction = step;
+        Vec3 bestPoint = current, ignored;
+        double bestValue = value;
+        for (double s : { 1.0, 0.75, 0.5, 0.25, 0.125 })
+        {
+          const Vec3 p = current + s * direction;
+          if (!valid(p))
+          {
+            continue;
+          }
+          const double candidate = evaluate(p, ignored, sum);
+          // The mean distance must not pay for the maximum: the local sum may not grow.
+          if (candidate < bestValue && sum <= startSum)
+          {
+            bestValue = candidate;
+            bestPoint = p;
+          }
+        }
+        if (!(bestValue < value * (1.0 - 1e-3)))
+        {
+          break;
+        }
+        current = bestPoint;
+        value = evaluate(current, step, sum);
+      }
+      this->Mesh.SetPoint(v, current);
+      if (!(current == start))
+      {
+        ++movedThisRound;
+        movedVertices.push_back(v);
+      }
+    }
+    moved += movedThisRound;
+    if (movedThisRound == 0)
+    {
+      break;
+    }
+    // The next round screens only where this one moved something (the rest is unchanged).
+    std::vector<Index> next;
+    for (Index v : movedVertices)
+    {
+      next.push_back(v);
+      this->Mesh.Neighbors(v, ring);
+      next.insert(next.end(), ring.begin(), ring.end());
+    }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    pool.clear();
+    for (Index v : next)
+    {
+      if (ancestorStart[v + 1] - ancestorStart[v] >= 2 && !this->Boundary[v])
+      {
+        pool.emplace_back(0.0, v);
+      }
+    }
+    movedVertices.clear();
+  }
+  if (std::getenv("SLOD_VERBOSE"))
+  {
+    std::fprintf(stderr, "[triangle collapse] deviation refinement: %d vertex moves\n", int(moved));
+  }
+  // Progressive records: the last collapse that produced a moved vertex now places it there
+  // (records store input ids; re-collapsing to this level must give this mesh).
+  if (this->Options.RecordHistory && moved > 0)
+  {
+    auto& h = result.History;
+    std::vector<Index> inputToMesh(size_t(nv), InvalidIndex);
+    for (Index v = 0; v < nv; ++v)
+    {
+      inputToMesh[this->VertexInput[v]] = v;
+    }
+    std::vector<unsigned char> seen(size_t(nv), 0);
+    for (Index k = h.NumberOfCollapses() - 1; k >= 0; --k)
+    {
+      const Index v = inputToMesh[h.Vertices[3 * size_t(k)]];
+      if (seen[v])
+      {
+        continue;
+      }
+      seen[v] = 1;
+      if (this->Mesh.IsVertexAlive(v))
+      {
+        const Vec3 p = this->Mesh.Point(v);
+        std::copy(p.begin(), p.end(), &h.NewPositions[3 * size_t(k)]);
+      }
+    }
   }
 }
 

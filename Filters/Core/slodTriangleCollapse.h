@@ -24,6 +24,11 @@
 // performed. Triangle collapses alone cannot remove a vertex whose triangles all hold two feature
 // vertices without moving a feature, which costs accuracy at a given triangle count.
 //
+// Extension (RefineDeviation, default on): after the collapses the merged vertices of the regions
+// with the largest deviation are moved within their one-ring to lower the local maximum distance
+// (original vertices and triangle centroids to the output, output samples to the original), never
+// raising the local sum of distances; see Documentation/QuadricTriangleCollapse.md.
+//
 // Performance: the mesh is renumbered in Morton order; flat arrays; an O(1) bucket queue of
 // triangle costs (slod::BucketQueue); after a collapse only the operations touching the new
 // vertex are re-evaluated (edge costs are cached per triangle); a rejected operation is replaced
@@ -62,6 +67,11 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   double EdgeCollapseBias = 2.0;
   // Exact union semantics of the interrelated sets (slow reference mode, see above).
   bool ExactUnion = false;
+  // Departure from the paper: after the collapses, the merged vertices of the regions with the
+  // largest deviation (original vertices far from the output, output surface far from the
+  // original) are moved within their one-ring to lower the local maximum distance (a few of the
+  // worst regions only; connectivity unchanged, no triangle turned beyond MaximumNormalDeviation).
+  bool RefineDeviation = true;
   // Record every collapse for progressive meshes (CollapseHistory).
   bool RecordHistory = false;
   // Called about every 1% of the work with the fraction done; return false to abort.

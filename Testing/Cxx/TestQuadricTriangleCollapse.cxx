@@ -5,6 +5,7 @@
 
 #include "slodMeshTopology.h"
 #include "slodTriangleCollapse.h"
+#include "vtkProgressiveMeshReconstruction.h"
 #include "vtkQuadricTriangleCollapse.h"
 #include "vtkSurfaceDeviation.h"
 
@@ -405,14 +406,15 @@ TEST_P(TriangleCollapseQuality, NoWorseThanQuadricDecimation)
 
 INSTANTIATE_TEST_SUITE_P(RealMeshes, TriangleCollapseQuality,
   ::testing::Values(QualityCase{ "fandisk", 0.1 }, QualityCase{ "fandisk", 0.01 },
+    // femur 10%: mean measured 1.016x (GOAL NOT MET, bound kept visible).
     QualityCase{ "femur", 0.1, 1.01, 1.03 },
     // The femur shaft ends up as a tube of 3-vertex rings that no manifold-preserving collapse
-    // can shorten (vtkQuadricDecimation, without a link condition, removes whole rings).
-    QualityCase{ "femur", 0.01, 1.15, 1.55 }, QualityCase{ "bunny00", 0.1 }, QualityCase{ "bunny00", 0.01 },
-    QualityCase{ "armadillo", 0.1 }, QualityCase{ "armadillo", 0.01, 1.15, 1.01 },
-    // The demo's isosurface (resolution 112): Hausdorff measured 1.025x at 10% (a sampled maximum:
-    // seeds alone move it by several percent), mean 0.994x.
-    QualityCase{ "marching-cubes", 0.1, 1.03, 1.01 }, QualityCase{ "marching-cubes", 0.01, 1.03, 1.01 }),
+    // can shorten (vtkQuadricDecimation, without a link condition, removes whole rings): measured
+    // Hausdorff 1.042x, mean 1.405x (GOAL NOT MET, bounds kept visible).
+    QualityCase{ "femur", 0.01, 1.06, 1.45 }, QualityCase{ "bunny00", 0.1 }, QualityCase{ "bunny00", 0.01 },
+    QualityCase{ "armadillo", 0.1 }, QualityCase{ "armadillo", 0.01 },
+    // The demo's isosurface (resolution 112).
+    QualityCase{ "marching-cubes", 0.1 }, QualityCase{ "marching-cubes", 0.01 }),
   [](const ::testing::TestParamInfo<QualityCase>& info) {
     std::string name = std::string(info.param.Mesh) + "_" + std::to_string(int(std::lround(1000 * info.param.Fraction)));
     std::replace(name.begin(), name.end(), '-', '_');
@@ -465,6 +467,73 @@ TEST(QuadricTriangleCollapse, AccumulatedQuadricsMatchExactUnionQuality)
 #include "slodIndexedHeap.h"
 
 #include <random>
+
+// The deviation refinement (default on) moves a few vertices of the worst regions: on armadillo
+// at 1 % it lowers the Hausdorff distance, keeps the mean, the count and the topology, and the
+// paper's result is still available with DeviationRefinementOff().
+TEST(QuadricTriangleCollapse, DeviationRefinementLowersTheMaximum)
+{
+  vtkSmartPointer<vtkPolyData> input = Mesh("armadillo");
+  const vtkIdType target = input->GetNumberOfPolys() / 100;
+  auto run = [&](bool refine, double& hausdorff, double& mean) {
+    vtkNew<vtkQuadricTriangleCollapse> filter;
+    filter->SetInputData(input);
+    filter->SetTargetNumberOfTriangles(target);
+    filter->SetTargetReduction(0);
+    filter->SetDeviationRefinement(refine);
+    filter->Update();
+    vtkNew<vtkSurfaceDeviation> deviation;
+    deviation->SetReferenceData(input);
+    deviation->SetComparedData(filter->GetOutput());
+    deviation->SetNumberOfSamples(100000);
+    deviation->Update();
+    hausdorff = deviation->GetHausdorffRelative();
+    mean = deviation->GetMeanRelative();
+    return slodtest::RawTriangleMesh(filter->GetOutput());
+  };
+  double hOff, mOff, hOn, mOn;
+  const TriangleMesh off = run(false, hOff, mOff);
+  const TriangleMesh on = run(true, hOn, mOn);
+  std::printf("[refinement] armadillo 1%%: Hausdorff %.4e -> %.4e, mean %.4e -> %.4e\n", hOff, hOn, mOff, mOn);
+  EXPECT_EQ(on.NumberOfTriangles(), off.NumberOfTriangles());
+  EXPECT_LT(hOn, 0.9 * hOff);
+  EXPECT_LE(mOn, 1.01 * mOff);
+  const MeshStatistics a = ComputeMeshStatistics(off), b = ComputeMeshStatistics(on);
+  EXPECT_EQ(b.Genus, a.Genus);
+  EXPECT_EQ(b.NonManifoldEdges, 0);
+  EXPECT_EQ(b.DegenerateTriangles, 0);
+  EXPECT_EQ(b.InconsistentlyOrientedEdges, 0);
+  // Same connectivity: only positions move.
+  EXPECT_EQ(on.Triangles, off.Triangles);
+
+  // The progressive records place the moved vertices where the output has them: splitting
+  // everything and collapsing back gives the output again.
+  vtkNew<vtkQuadricTriangleCollapse> filter;
+  filter->SetInputData(input);
+  filter->SetTargetNumberOfTriangles(target);
+  filter->SetTargetReduction(0);
+  filter->GenerateProgressiveMeshOn();
+  vtkNew<vtkProgressiveMeshReconstruction> levels;
+  levels->SetCoarseMeshConnection(filter->GetOutputPort(0));
+  levels->SetRecordsConnection(filter->GetOutputPort(1));
+  levels->SetNumberOfVertexSplits(-1);
+  levels->Update();
+  EXPECT_EQ(levels->GetOutput()->GetNumberOfPolys(), input->GetNumberOfPolys());
+  levels->SetNumberOfVertexSplits(0);
+  levels->Update();
+  const TriangleMesh back = slodtest::RawTriangleMesh(levels->GetOutput());
+  auto sortedPoints = [](const TriangleMesh& m) {
+    std::vector<std::array<double, 3>> points;
+    for (Index v = 0; v < m.NumberOfPoints(); ++v)
+    {
+      points.push_back(m.Point(v));
+    }
+    std::sort(points.begin(), points.end());
+    return points;
+  };
+  EXPECT_EQ(back.NumberOfTriangles(), on.NumberOfTriangles());
+  EXPECT_TRUE(sortedPoints(back) == sortedPoints(on));
+}
 
 TEST(PriorityQueues, BucketQueueAndIndexedHeapPopInKeyOrder)
 {
