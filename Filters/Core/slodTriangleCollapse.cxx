@@ -99,6 +99,9 @@ size_t CollapseHistory::MemoryBytes() const
 
 namespace
 {
+// Budget of the deviation refinement in point-triangle distance tests per input triangle.
+constexpr double RefinementWorkPerInputTriangle = 160;
+
 // The working state of one simplification. Coordinates of quadrics are relative to Origin (the
 // bounding-box centre) so that plane offsets stay small and the 4x4 sums do not cancel.
 class TriangleCollapser
@@ -1038,7 +1041,12 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
     const double* p = &original.Points[3 * size_t(v)];
     return Vec3{ p[0], p[1], p[2] };
   };
+  // Point-triangle tests done so far: the pass stops when they exceed a budget proportional to the
+  // input, because a region's cost grows with the square of the reduction (ancestors x triangles).
+  size_t work = 0;
+  const size_t workBudget = static_cast<size_t>(RefinementWorkPerInputTriangle) * static_cast<size_t>(nt);
   auto distanceToOriginal = [&](const Vec3& q, const Index* tris, size_t n, Vec3& closest) {
+    work += n;
     double best = std::numeric_limits<double>::max();
     for (size_t i = 0; i < n; ++i)
     {
@@ -1055,6 +1063,7 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
     return best;
   };
   auto distanceToMesh = [&](const Vec3& q, const Index* tris, size_t n, Vec3& closest, Index& which) {
+    work += n;
     double best = std::numeric_limits<double>::max();
     for (size_t i = 0; i < n; ++i)
     {
@@ -1108,6 +1117,10 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
     double worst = 0;
     for (const auto& candidate : pool)
     {
+      if (work > workBudget)
+      {
+        break;
+      }
       const Index v = candidate.second;
       const Index a0 = ancestorStart[v], a1 = ancestorStart[v + 1];
       fan.clear();
@@ -1148,7 +1161,7 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
     const size_t count = std::min(budget, screen.size());
     std::partial_sort(screen.begin(), screen.begin() + count, screen.end(), worseFirst);
     Index movedThisRound = 0;
-    for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst; ++c)
+    for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst && work <= workBudget; ++c)
     {
       const Index v = screen[c].second;
       // The region whose distances the vertex changes: its ring's triangles, the ancestors of the
@@ -1275,7 +1288,7 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
       Vec3 current = start, step;
       double startSum = 0, sum = 0;
       double value = evaluate(current, step, startSum);
-      for (int iteration = 0; iteration < 6; ++iteration)
+      for (int iteration = 0; iteration < 6 && work <= workBudget; ++iteration)
       {
         const Vec3 direction = step;
         Vec3 bestPoint = current, ignored;
@@ -1336,7 +1349,8 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
   }
   if (std::getenv("SLOD_VERBOSE"))
   {
-    std::fprintf(stderr, "[triangle collapse] deviation refinement: %d vertex moves\n", int(moved));
+    std::fprintf(stderr, "[triangle collapse] deviation refinement: %d vertex moves, %zu point-triangle tests (%.1f per input triangle)\n",
+      int(moved), work, double(work) / std::max<Index>(nt, 1));
   }
   // Progressive records: the last collapse that produced a moved vertex now places it there
   // (records store input ids; re-collapsing to this level must give this mesh).
