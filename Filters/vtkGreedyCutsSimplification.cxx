@@ -34,7 +34,7 @@ int vtkGreedyCutsSimplification::RequestData(
   }
   this->UsedMaximumError = 0;
   this->NumberOfPatches = this->RefinedPatches = this->OriginalPatches = 0;
-  this->NumberOfEars = this->NumberOfBites = 0;
+  this->NumberOfEars = this->NumberOfBites = this->NumberOfRepairs = 0;
 
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput;
@@ -119,6 +119,7 @@ int vtkGreedyCutsSimplification::RequestData(
   this->OriginalPatches = result.OriginalPatches;
   this->NumberOfEars = result.Ears;
   this->NumberOfBites = result.Bites + result.WideBites;
+  this->NumberOfRepairs = result.Repairs;
 
   // 3. Output over the original vertices that are used (in order of first use).
   std::vector<slod::Index> outputOf(size_t(mesh.NumberOfPoints()), slod::InvalidIndex);
@@ -197,4 +198,5 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OriginalPatches: " << this->OriginalPatches << "\n";
   os << indent << "NumberOfEars: " << this->NumberOfEars << "\n";
   os << indent << "NumberOfBites: " << this->NumberOfBites << "\n";
+  os << indent << "NumberOfRepairs: " << this->NumberOfRepairs << "\n";
 }

@@ -99,6 +99,7 @@ public:
   vtkGetMacro(OriginalPatches, int);
   vtkGetMacro(NumberOfEars, vtkIdType);
   vtkGetMacro(NumberOfBites, vtkIdType);
+  vtkGetMacro(NumberOfRepairs, vtkIdType);
   ///@}
 
 protected:
@@ -126,6 +127,7 @@ protected:
   int OriginalPatches = 0;
   vtkIdType NumberOfEars = 0;
   vtkIdType NumberOfBites = 0;
+  vtkIdType NumberOfRepairs = 0;
 
 private:
   vtkGreedyCutsSimplification(const vtkGreedyCutsSimplification&) = delete;

@@ -7,11 +7,18 @@
 #include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
+#include <cstdio>
+#include <cstdlib>
+static const bool GcDebug = std::getenv("SLOD_GC_DEBUG") != nullptr;
 
 namespace slod
 {
 namespace
 {
+// Candidate triangles at more than about 75 degrees to the patch normal or to the surface at their
+// centroid are rejected: thin "standing" triangles can be within epsilon yet shade wrongly.
+constexpr double MinimumNormalCosine = 0.25;
+
 struct P2
 {
   double x, y;
@@ -217,6 +224,7 @@ struct GreedyCuts::Worker
   std::unordered_map<std::uint64_t, int> EdgeUse;
   std::vector<std::vector<Index>> PatchTris;
   std::vector<P2> Coord; // per mesh vertex, valid for the current patch
+  std::vector<Index> FrontNode; // per mesh vertex: its node on the current front (or -1)
 
   Worker(const GreedyCuts& g, const GreedyCutsParameters& prm, GreedyCutsResult& res)
     : G(g)
@@ -240,6 +248,7 @@ struct GreedyCuts::Worker
       this->PatchChains[p].assign(PP.PatchChainsBegin(p), PP.PatchChainsEnd(p));
     }
     this->Coord.resize(size_t(M.NumberOfPoints()));
+    this->FrontNode.assign(size_t(M.NumberOfPoints()), InvalidIndex);
     for (Index p = 0; p < np; ++p)
     {
       if (!G.LoopValid[p])
@@ -365,7 +374,7 @@ struct GreedyCuts::Worker
       return false;
     }
     const Vec3 nq = Normalized(Cross(B - A, C - A));
-    if (Dot(nq, s.Normal) <= 0)
+    if (Dot(nq, s.Normal) <= MinimumNormalCosine)
     {
       return false;
     }
@@ -410,6 +419,14 @@ struct GreedyCuts::Worker
         {
           return false;
         }
+      }
+    }
+    // The original surface nearest Q's centroid faces the same way.
+    {
+      const ClosestPointResult hit = G.Bvh.ClosestPoint((1.0 / 3.0) * (A + B + C));
+      if (hit.Triangle == InvalidIndex || Dot(Normalized(M.TriangleAreaVector(hit.Triangle)), nq) <= MinimumNormalCosine)
+      {
+        return false;
       }
     }
     // (a) Q within epsilon of the original surface (rigorous, adaptive).
@@ -536,6 +553,104 @@ struct GreedyCuts::Worker
   bool TriangulateGreedy(Index p, std::vector<Index>& tris)
   {
     PatchState s;
+    const bool ok = this->Greedy(p, s, tris);
+    for (Index v : s.Vert)
+    {
+      this->FrontNode[v] = InvalidIndex;
+    }
+    return ok;
+  }
+
+  // Front repair (section 3.4.3, simplified): the triangle cut last behind the longest front edge
+  // that is not a chain segment is put back (and never cut again), which frees the inner
+  // vertices it covered for bites and reopens the front there.
+  bool Repair(PatchState& s, std::vector<Index>& tris)
+  {
+    size_t bestTri = size_t(-1);
+    Index bestNode = InvalidIndex, bestX = InvalidIndex;
+    double bestLength = -1;
+    Index i = s.Head;
+    do
+    {
+      const Index u = s.Vert[i], w = s.Vert[s.Next[i]];
+      if (!this->Segments.count(EdgeKey(u, w)))
+      {
+        for (size_t t = 0; t < tris.size(); t += 3)
+        {
+          int shared = 0;
+          Index x = InvalidIndex;
+          for (int k = 0; k < 3; ++k)
+          {
+            if (tris[t + k] == u || tris[t + k] == w)
+            {
+              ++shared;
+            }
+            else
+            {
+              x = tris[t + k];
+            }
+          }
+          if (shared == 2 && x != InvalidIndex)
+          {
+            const Vec3 d = M.Point(w) - M.Point(u);
+            if (this->FrontNode[x] == InvalidIndex && Dot(d, d) > bestLength)
+            {
+              bestLength = Dot(d, d);
+              bestTri = t;
+              bestNode = i;
+              bestX = x;
+            }
+            break;
+          }
+        }
+      }
+      i = s.Next[i];
+    } while (i != s.Head);
+    if (bestNode == InvalidIndex)
+    {
+      return false;
+    }
+    const Index a = tris[bestTri], b = tris[bestTri + 1], c = tris[bestTri + 2];
+    s.Cache[MakeTriple(a, b, c)] = false; // never again
+    for (const auto& [u, v] : { std::pair<Index, Index>{ a, b }, { b, c }, { c, a } })
+    {
+      auto it = this->EdgeUse.find(EdgeKey(u, v));
+      if (it != this->EdgeUse.end() && --it->second == 0)
+      {
+        this->EdgeUse.erase(it);
+      }
+    }
+    tris.erase(tris.begin() + std::ptrdiff_t(bestTri), tris.begin() + std::ptrdiff_t(bestTri) + 3);
+    const P2 pa = this->Coord[a], pb = this->Coord[b], pc = this->Coord[c];
+    const double tol = 1e-9 * std::fabs(Orient(pa, pb, pc)) + s.Tol;
+    for (size_t k = 0; k < s.Inner.size(); ++k)
+    {
+      const Index v = s.Inner[k];
+      const P2 q = this->Coord[v];
+      if (s.Consumed[k] && this->FrontNode[v] == InvalidIndex && v != a && v != b && v != c &&
+        Orient(pa, pb, q) > tol && Orient(pb, pc, q) > tol && Orient(pc, pa, q) > tol)
+      {
+        s.Consumed[k] = 0;
+      }
+    }
+    const Index j = s.Next[bestNode];
+    const Index node = static_cast<Index>(s.Vert.size());
+    s.Vert.push_back(bestX);
+    s.Prev.push_back(bestNode);
+    s.Next.push_back(j);
+    s.EarState.push_back(-1);
+    s.EarArea.push_back(0);
+    s.Next[bestNode] = node;
+    s.Prev[j] = node;
+    this->FrontNode[bestX] = node;
+    ++s.Count;
+    std::fill(s.EarState.begin(), s.EarState.end(), -1);
+    ++this->Res.Repairs;
+    return true;
+  }
+
+  bool Greedy(Index p, PatchState& s, std::vector<Index>& tris)
+  {
     s.Patch = p;
     s.Normal = PP.PatchNormal(p);
     for (Index v : G.PatchLoops[p])
@@ -586,6 +701,7 @@ struct GreedyCuts::Worker
     }
     if (area2 <= 0)
     {
+      if (GcDebug) std::fprintf(stderr, "patch %d: negative area n=%d\n", p, n);
       return false;
     }
     for (Index i = 0; i < n; ++i)
@@ -599,6 +715,7 @@ struct GreedyCuts::Worker
         }
         if (ProperCross(a, b, this->Coord[s.Vert[j]], this->Coord[s.Vert[(j + 1) % n]]))
         {
+          if (GcDebug) std::fprintf(stderr, "patch %d: non-simple n=%d\n", p, n);
           return false;
         }
       }
@@ -612,6 +729,10 @@ struct GreedyCuts::Worker
     }
     s.EarState.assign(size_t(n), -1);
     s.EarArea.assign(size_t(n), 0);
+    for (Index i = 0; i < n; ++i)
+    {
+      this->FrontNode[s.Vert[i]] = i;
+    }
     s.Count = n;
     s.Head = 0;
     // Inner vertices inside the simplified polygon are bite candidates.
@@ -632,7 +753,9 @@ struct GreedyCuts::Worker
       s.Consumed[k] = inside ? 0 : 1;
     }
     std::vector<std::pair<double, Index>> candidates;
-    const long long guard = 4 * (static_cast<long long>(n) + static_cast<long long>(s.Inner.size())) + 16;
+    const long long size = static_cast<long long>(n) + static_cast<long long>(s.Inner.size());
+    const long long guard = 40 * size + 64;
+    long long repairs = 4 * size + 16;
     for (long long step = 0; step < guard; ++step)
     {
       if (s.Count == 3)
@@ -680,6 +803,7 @@ struct GreedyCuts::Worker
           const Index pi = s.Prev[best], ni = s.Next[best];
           this->Emit(s, tris, s.Vert[pi], s.Vert[best], s.Vert[ni]);
           ++this->Res.Ears;
+          this->FrontNode[s.Vert[best]] = InvalidIndex;
           s.Next[pi] = ni;
           s.Prev[ni] = pi;
           s.EarState[pi] = s.EarState[ni] = -1;
@@ -731,6 +855,11 @@ struct GreedyCuts::Worker
       }
       if (biteEdge == InvalidIndex)
       {
+        if (GcDebug) std::fprintf(stderr, "patch %d: stuck n=%d count=%d tris=%d inner=%d\n", p, n, s.Count, int(tris.size()/3), int(s.Inner.size()));
+        if (repairs-- > 0 && this->Repair(s, tris))
+        {
+          continue;
+        }
         return false; // stuck
       }
       const Index j = s.Next[biteEdge];
@@ -745,6 +874,7 @@ struct GreedyCuts::Worker
       s.Prev[j] = node;
       ++s.Count;
       s.Consumed[biteInner] = 1;
+      this->FrontNode[v] = node;
       this->Emit(s, tris, s.Vert[biteEdge], s.Vert[j], v);
       ++this->Res.Bites;
       std::fill(s.EarState.begin(), s.EarState.end(), -1);
@@ -931,6 +1061,7 @@ struct GreedyCuts::Worker
     {
       if (bad[p])
       {
+        if (GcDebug) std::fprintf(stderr, "patch %d: verification failed (original %d)\n", p, int(this->PatchOriginal[p]));
         this->Escalate(p, touched);
       }
     }

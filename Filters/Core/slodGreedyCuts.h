@@ -60,7 +60,7 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
   Index NumberOfPatches = 0;
   double ErrorBound = 0;            // the guaranteed two-sided Hausdorff bound (= epsilon)
   // Statistics.
-  long long Ears = 0, Bites = 0, WideBites = 0, FeasibilityTests = 0;
+  long long Ears = 0, Bites = 0, WideBites = 0, Repairs = 0, FeasibilityTests = 0;
   Index RefinedPatches = 0;  // patches re-run with full-resolution chains
   Index OriginalPatches = 0; // patches kept as their original triangles
   int Rounds = 0;

@@ -39,6 +39,7 @@ struct Figures
   double Bound = 0;
   double Hausdorff = 0; // measured, absolute
   double Seconds = 0;
+  std::string Statistics;
 };
 
 double MeasureHausdorff(vtkPolyData* reference, vtkPolyData* compared)
@@ -62,6 +63,11 @@ Figures Simplify(vtkPolyData* input, double relativeError, bool measure = true)
   f.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   f.Output = filter->GetOutput();
   f.Bound = filter->GetUsedMaximumError();
+  std::ostringstream stats;
+  stats << filter->GetNumberOfPatches() << " patches (" << filter->GetRefinedPatches() << " refined, "
+        << filter->GetOriginalPatches() << " original), " << filter->GetNumberOfEars() << " ears, "
+        << filter->GetNumberOfBites() << " bites, " << filter->GetNumberOfRepairs() << " repairs";
+  f.Statistics = stats.str();
   if (measure)
   {
     f.Hausdorff = MeasureHausdorff(input, f.Output);
@@ -103,6 +109,9 @@ int FlippedTriangles(const TriangleMesh& original, const TriangleMesh& simplifie
     const ClosestPointResult hit = bvh.ClosestPoint((1.0 / 3.0) * (a + b + c));
     if (Dot(Cross(b - a, c - a), original.TriangleAreaVector(hit.Triangle)) < 0)
     {
+      std::cout << "flipped: triangle " << t << " distance " << std::sqrt(hit.Distance2) << " cos "
+                << Dot(Normalized(Cross(b - a, c - a)), Normalized(original.TriangleAreaVector(hit.Triangle)))
+                << " min angle " << MinimumAngle(a, b, c) * 180 / 3.14159265 << "\n";
       ++flipped;
     }
   }
@@ -194,7 +203,7 @@ TEST(GreedyCutsSimplification, SphereAndTorus)
     vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(shape);
     const Figures f = Simplify(input, 0.01);
     std::cout << "[greedy-cuts] " << name << " " << input->GetNumberOfCells() << " -> "
-              << f.Output->GetNumberOfCells() << " tris, eps " << f.Bound << ", Hausdorff " << f.Hausdorff << "\n";
+              << f.Output->GetNumberOfCells() << " tris, eps " << f.Bound << ", Hausdorff " << f.Hausdorff << ", " << f.Statistics << "\n";
     ExpectValid(input, f, name);
     EXPECT_LT(f.Output->GetNumberOfCells(), input->GetNumberOfCells() / 3);
   }
@@ -219,7 +228,7 @@ TEST(GreedyCutsSimplification, RealMeshesRespectEpsilon)
       const Figures f = Simplify(input, eps);
       std::cout << "[greedy-cuts] " << name << " eps " << eps << " (" << f.Bound << "): " << input->GetNumberOfCells()
                 << " -> " << f.Output->GetNumberOfCells() << " tris, measured Hausdorff " << f.Hausdorff << " ("
-                << f.Hausdorff / f.Bound << " of eps), " << f.Seconds << " s\n";
+                << f.Hausdorff / f.Bound << " of eps), " << f.Seconds << " s, " << f.Statistics << "\n";
       ExpectValid(input, f, name + " eps " + std::to_string(eps));
       EXPECT_LT(f.Output->GetNumberOfCells(), previous);
       previous = f.Output->GetNumberOfCells();
