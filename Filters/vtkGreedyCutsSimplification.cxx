@@ -92,7 +92,7 @@ int vtkGreedyCutsSimplification::RequestData(
   auto stage = [&](double f) { return aborted(0.1 + 0.85 * f); };
   if (target > 0 && target < mesh.NumberOfTriangles())
   {
-    const double hi = bound > 0 ? bound : this->MaximumTargetError * diagonal;
+    const double hi = bound > 0 ? bound : 0.1 * diagonal;
     const double lo = std::min(hi, 1e-5 * diagonal);
     if (!cuts.RunForTarget(static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), parameters, lo, hi,
           this->TargetSearchSteps, result, stage))
@@ -184,7 +184,6 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "TargetSearchSteps: " << this->TargetSearchSteps << "\n";
-  os << indent << "MaximumTargetError: " << this->MaximumTargetError << "\n";
   os << indent << "PatchAngle: " << this->PatchAngle << "\n";
   os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
   os << indent << "TwoEdgePatchAngle: " << this->TwoEdgePatchAngle << "\n";

@@ -26,9 +26,10 @@
  * when MaximumErrorRelative is on, the default), the patch angle tolerances of
  * vtkPatchBoundaryMerge, and the project's target convention: SetTargetNumberOfTriangles (0 =
  * unused) or SetTargetReduction (fraction removed) searches epsilon by bisection on log(epsilon)
- * (TargetSearchSteps runs, epsilon up to MaximumTargetError of the diagonal) for the smallest
- * epsilon whose result has at most the target count; when MaximumError is set too (> 0), epsilon
- * never exceeds it (the bound wins over the target).
+ * between 1e-5 of the diagonal and MaximumError (TargetSearchSteps runs) for the smallest epsilon
+ * whose result has at most the target count: MaximumError still bounds the error (the bound wins
+ * over the target, with a warning); raise it (e.g. 0.1 relative) to let the target decide.
+ * MaximumError 0 with a target searches up to 0.1 of the diagonal.
  *
  * Output: the simplified mesh with cell data "PatchId" and the input's point data; invalid input
  * (empty, NaN/Inf coordinates, non-manifold) gives an error and an empty output.
@@ -63,8 +64,6 @@ public:
   vtkGetMacro(TargetReduction, double);
   vtkSetClampMacro(TargetSearchSteps, int, 1, 40);
   vtkGetMacro(TargetSearchSteps, int);
-  vtkSetClampMacro(MaximumTargetError, double, 1e-6, 1.0);
-  vtkGetMacro(MaximumTargetError, double);
   ///@}
 
   ///@{
@@ -112,7 +111,6 @@ protected:
   vtkIdType TargetNumberOfTriangles = 0;
   double TargetReduction = 0.0;
   int TargetSearchSteps = 12;
-  double MaximumTargetError = 0.1;
   double PatchAngle = 25.0;
   double NeighborAngle = 20.0;
   double TwoEdgePatchAngle = 90.0;

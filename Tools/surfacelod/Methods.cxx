@@ -4,6 +4,7 @@
 #include "vtkQuadricDecimation.h"
 
 // SurfaceLOD filters: add the include here and one line in the table below.
+#include "vtkGreedyCutsSimplification.h"
 #include "vtkHoleBumpRemoval.h"
 #include "vtkPatchBoundaryMerge.h"
 #include "vtkQuadricTriangleCollapse.h"
@@ -93,6 +94,24 @@ vtkSmartPointer<vtkPolyDataAlgorithm> CreateTriangleCollapseHierarchy(const Meth
   return filter;
 }
 
+// Greedy cuts: --max-error is absolute (the guaranteed Hausdorff bound); a target alone searches
+// epsilon up to 0.1 of the diagonal.
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateGreedyCuts(const MethodSettings& settings)
+{
+  auto generic = CreateSurfaceLODFilter<vtkGreedyCutsSimplification>(settings);
+  auto* filter = vtkGreedyCutsSimplification::SafeDownCast(generic);
+  if (settings.HasMaximumError)
+  {
+    filter->SetMaximumErrorRelative(false);
+  }
+  else
+  {
+    filter->SetMaximumErrorRelative(true);
+    filter->SetMaximumError(0.1);
+  }
+  return generic;
+}
+
 vtkSmartPointer<vtkPolyDataAlgorithm> CreateVTKQuadricDecimation(const MethodSettings& settings)
 {
   auto filter = vtkSmartPointer<vtkQuadricDecimation>::New();
@@ -132,6 +151,9 @@ const std::vector<Method>& Methods()
     SurfaceLODMethod<vtkHoleBumpRemoval>("hole-bump-removal",
       "Ho 1999 ch. 5: removes small holes, bumps, cavities (sharp loops below 0.05 of the diagonal) and "
       "cracks, then SPBM to the target"),
+    { "greedy-cuts", "Ho 1999 ch. 3: greedy cuts (ears, bites) per patch, output guaranteed within --max-error "
+      "(two-sided Hausdorff) of the input; a target searches the error; original vertices only",
+      true, &CreateGreedyCuts },
   };
   // clang-format on
   return methods;
