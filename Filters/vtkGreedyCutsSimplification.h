@@ -25,9 +25,11 @@
  * Parameters: MaximumError (epsilon; absolute, or relative to the input's bounding box diagonal
  * when MaximumErrorRelative is on, the default), the patch angle tolerances of
  * vtkPatchBoundaryMerge, and the project's target convention: SetTargetNumberOfTriangles (0 =
- * unused) or SetTargetReduction (fraction removed) searches epsilon by bisection on log(epsilon)
- * between 1e-5 of the diagonal and MaximumError (TargetSearchSteps runs) for the smallest epsilon
- * whose result has at most the target count: MaximumError still bounds the error (the bound wins
+ * unused) or SetTargetReduction (fraction removed) searches epsilon (TargetSearchSteps runs:
+ * halving from MaximumError while the count stays within the target, then bisection on
+ * log(epsilon); down to 1e-5 of the diagonal) for the smallest epsilon whose result has at most
+ * the target count (the count is not strictly monotone in epsilon, so this is a search, not an
+ * exact inverse): MaximumError still bounds the error (the bound wins
  * over the target, with a warning); raise it (e.g. 0.1 relative) to let the target decide.
  * MaximumError 0 with a target searches up to 0.1 of the diagonal.
  *
@@ -110,7 +112,7 @@ protected:
   bool MaximumErrorRelative = true;
   vtkIdType TargetNumberOfTriangles = 0;
   double TargetReduction = 0.0;
-  int TargetSearchSteps = 12;
+  int TargetSearchSteps = 10;
   double PatchAngle = 25.0;
   double NeighborAngle = 20.0;
   double TwoEdgePatchAngle = 90.0;

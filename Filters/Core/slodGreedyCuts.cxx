@@ -219,6 +219,9 @@ struct GreedyCuts::Worker
   GreedyCutsResult& Res;
   double Eps, EpsLocal, MinAngle;
   std::vector<unsigned char> ChainFull, PatchOriginal, Dirty, Kept, Refined;
+  // Careful mode (a patch's second attempt at each chain resolution): ears that would swallow an
+  // unused inner vertex wait until no bite is left, so the front keeps vertices to bite into.
+  std::vector<unsigned char> Careful;
   std::vector<std::vector<Index>> PatchChains; // chains around each patch
   std::unordered_set<std::uint64_t> Segments;
   std::unordered_map<std::uint64_t, int> EdgeUse;
@@ -240,6 +243,7 @@ struct GreedyCuts::Worker
     this->ChainFull.assign(size_t(PP.NumberOfChains()), 0);
     this->PatchOriginal.assign(size_t(np), 0);
     this->Refined.assign(size_t(np), 0);
+    this->Careful.assign(size_t(np), 0);
     this->Dirty.assign(size_t(np), 1);
     this->PatchTris.assign(size_t(np), {});
     this->PatchChains.assign(size_t(np), {});
@@ -350,6 +354,7 @@ struct GreedyCuts::Worker
     std::vector<unsigned char> Consumed;
     std::unordered_map<TripleKey, bool, TripleHash> Cache;
     double Tol = 0; // orientation tolerance (squared length scale)
+    bool Careful = false, Relaxed = false;
   };
 
   bool Feasible(PatchState& s, Index a, Index b, Index c)
@@ -473,6 +478,16 @@ struct GreedyCuts::Worker
         return false;
       }
     }
+    if (s.Careful && !s.Relaxed)
+    {
+      for (size_t k = 0; k < s.Inner.size(); ++k)
+      {
+        if (!s.Consumed[k] && InClosedTriangle(this->Coord[s.Inner[k]], pa, pb, pc, s.Tol))
+        {
+          return false;
+        }
+      }
+    }
     return true;
   }
 
@@ -528,7 +543,10 @@ struct GreedyCuts::Worker
       {
         continue;
       }
-      const double d = std::hypot(pv.x - apex.x, pv.y - apex.y);
+      // Near mode: aspect ratio near 1 (distance to the equilateral apex). Wide mode: the
+      // smallest triangles first (distance to the edge's midpoint): the likeliest to fit.
+      const double d = nearOnly ? std::hypot(pv.x - apex.x, pv.y - apex.y)
+                                : std::hypot(pv.x - 0.5 * (pa.x + pb.x), pv.y - 0.5 * (pa.y + pb.y));
       if (nearOnly && d > 1.5 * length)
       {
         continue;
@@ -565,6 +583,26 @@ struct GreedyCuts::Worker
   // that is not a chain segment is put back (and never cut again), which frees the inner
   // vertices it covered for bites and reopens the front there.
   bool Repair(PatchState& s, std::vector<Index>& tris)
+  {
+    // Put triangles back until one frees an inner vertex (a bite becomes possible) or none is left.
+    bool any = false;
+    for (int k = 0; k < 1; ++k)
+    {
+      bool freed = false;
+      if (!this->RepairOnce(s, tris, freed))
+      {
+        return any;
+      }
+      any = true;
+      if (freed)
+      {
+        return true;
+      }
+    }
+    return any;
+  }
+
+  bool RepairOnce(PatchState& s, std::vector<Index>& tris, bool& freed)
   {
     size_t bestTri = size_t(-1);
     Index bestNode = InvalidIndex, bestX = InvalidIndex;
@@ -631,6 +669,7 @@ struct GreedyCuts::Worker
         Orient(pa, pb, q) > tol && Orient(pb, pc, q) > tol && Orient(pc, pa, q) > tol)
       {
         s.Consumed[k] = 0;
+        freed = true;
       }
     }
     const Index j = s.Next[bestNode];
@@ -653,6 +692,7 @@ struct GreedyCuts::Worker
   {
     s.Patch = p;
     s.Normal = PP.PatchNormal(p);
+    s.Careful = this->Careful[p] != 0;
     for (Index v : G.PatchLoops[p])
     {
       if (this->Kept[v])
@@ -804,6 +844,11 @@ struct GreedyCuts::Worker
           this->Emit(s, tris, s.Vert[pi], s.Vert[best], s.Vert[ni]);
           ++this->Res.Ears;
           this->FrontNode[s.Vert[best]] = InvalidIndex;
+          if (s.Relaxed)
+          {
+            s.Relaxed = false;
+            std::fill(s.EarState.begin(), s.EarState.end(), -1);
+          }
           s.Next[pi] = ni;
           s.Prev[ni] = pi;
           s.EarState[pi] = s.EarState[ni] = -1;
@@ -855,7 +900,13 @@ struct GreedyCuts::Worker
       }
       if (biteEdge == InvalidIndex)
       {
-        if (GcDebug) std::fprintf(stderr, "patch %d: stuck n=%d count=%d tris=%d inner=%d\n", p, n, s.Count, int(tris.size()/3), int(s.Inner.size()));
+        if (GcDebug) std::fprintf(stderr, "patch %d: stuck n=%d count=%d tris=%d inner=%d\n", p, n, s.Count, int(tris.size()/3), int(std::count(s.Consumed.begin(), s.Consumed.end(), 0)));
+        if (s.Careful && !s.Relaxed)
+        {
+          s.Relaxed = true; // one ear may now swallow inner vertices
+          std::fill(s.EarState.begin(), s.EarState.end(), -1);
+          continue;
+        }
         if (repairs-- > 0 && this->Repair(s, tris))
         {
           continue;
@@ -882,12 +933,21 @@ struct GreedyCuts::Worker
     return false;
   }
 
+  // Escalation of a patch that got stuck or failed the verification: careful mode, then its
+  // chains at full resolution (normal, then careful), then its original triangles.
   void Escalate(Index p, std::vector<Index>& touched)
   {
     if (this->PatchOriginal[p])
     {
       return;
     }
+    touched.push_back(p);
+    if (!this->Careful[p])
+    {
+      this->Careful[p] = 1;
+      return;
+    }
+    this->Careful[p] = 0;
     bool refined = false;
     for (Index c : this->PatchChains[p])
     {
@@ -912,7 +972,6 @@ struct GreedyCuts::Worker
     {
       this->PatchOriginal[p] = 1;
     }
-    touched.push_back(p);
   }
 
   void Original(Index p, std::vector<Index>& tris)
@@ -1103,13 +1162,36 @@ bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, do
   {
     return true; // even the coarsest tolerance gives more triangles: its result
   }
-  double l = std::log(lo), h = std::log(hi);
+  // Descend from hi by halving while the count stays within the target (large tolerances are the
+  // fast runs), then bisect on log(epsilon) between the last two tolerances.
   GreedyCutsResult trial;
-  for (int s = 0; s < steps; ++s)
+  double h = hi, l = hi;
+  while (evaluation < steps && l > lo)
   {
     ++evaluation;
-    const double mid = 0.5 * (l + h);
-    prm.Epsilon = std::exp(mid);
+    l = std::max(lo, 0.5 * h);
+    prm.Epsilon = l;
+    if (!this->Run(prm, trial, stage))
+    {
+      return false;
+    }
+    if (Index(trial.Triangles.size() / 3) > target)
+    {
+      break;
+    }
+    result = std::move(trial);
+    trial = GreedyCutsResult();
+    h = l;
+  }
+  if (l >= h)
+  {
+    return true;
+  }
+  while (evaluation < steps)
+  {
+    ++evaluation;
+    const double mid = std::sqrt(l * h);
+    prm.Epsilon = mid;
     if (!this->Run(prm, trial, stage))
     {
       return false;

@@ -92,8 +92,9 @@ public:
   bool Run(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
     const ProgressFunction& progress = nullptr);
 
-  // Smallest epsilon (searched by bisection on log(epsilon) in [lo, hi], `steps` runs) whose
-  // result has at most `target` triangles; the result of that epsilon is returned.
+  // Smallest epsilon (searched in [lo, hi] with `steps` runs: halving from hi while the count stays
+  // within the target, then bisection on log(epsilon)) whose result has at most `target`
+  // triangles; the result of that epsilon is returned (that of hi when even hi gives more).
   bool RunForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress = nullptr);
 
