@@ -7,9 +7,6 @@
 #include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
-#include <cstdio>
-#include <cstdlib>
-static const bool GcDebug = std::getenv("SLOD_GC_DEBUG") != nullptr;
 
 namespace slod
 {
@@ -579,27 +576,15 @@ struct GreedyCuts::Worker
     return ok;
   }
 
-  // Front repair (section 3.4.3, simplified): the triangle cut last behind the longest front edge
-  // that is not a chain segment is put back (and never cut again), which frees the inner
+  // Front repair (section 3.4.3, simplified): the triangle behind the longest front edge that is
+  // not a chain segment is put back (and never cut again), which frees the inner
   // vertices it covered for bites and reopens the front there.
   bool Repair(PatchState& s, std::vector<Index>& tris)
   {
-    // Put triangles back until one frees an inner vertex (a bite becomes possible) or none is left.
-    bool any = false;
-    for (int k = 0; k < 1; ++k)
-    {
-      bool freed = false;
-      if (!this->RepairOnce(s, tris, freed))
-      {
-        return any;
-      }
-      any = true;
-      if (freed)
-      {
-        return true;
-      }
-    }
-    return any;
+    // One triangle per call: putting several back until an inner vertex is freed measured worse
+    // (bunny00 at 0.005: 5,126 triangles instead of 4,400).
+    bool freed = false;
+    return this->RepairOnce(s, tris, freed);
   }
 
   bool RepairOnce(PatchState& s, std::vector<Index>& tris, bool& freed)
@@ -741,7 +726,6 @@ struct GreedyCuts::Worker
     }
     if (area2 <= 0)
     {
-      if (GcDebug) std::fprintf(stderr, "patch %d: negative area n=%d\n", p, n);
       return false;
     }
     for (Index i = 0; i < n; ++i)
@@ -755,7 +739,6 @@ struct GreedyCuts::Worker
         }
         if (ProperCross(a, b, this->Coord[s.Vert[j]], this->Coord[s.Vert[(j + 1) % n]]))
         {
-          if (GcDebug) std::fprintf(stderr, "patch %d: non-simple n=%d\n", p, n);
           return false;
         }
       }
@@ -900,7 +883,6 @@ struct GreedyCuts::Worker
       }
       if (biteEdge == InvalidIndex)
       {
-        if (GcDebug) std::fprintf(stderr, "patch %d: stuck n=%d count=%d tris=%d inner=%d\n", p, n, s.Count, int(tris.size()/3), int(std::count(s.Consumed.begin(), s.Consumed.end(), 0)));
         if (s.Careful && !s.Relaxed)
         {
           s.Relaxed = true; // one ear may now swallow inner vertices
@@ -1120,7 +1102,6 @@ struct GreedyCuts::Worker
     {
       if (bad[p])
       {
-        if (GcDebug) std::fprintf(stderr, "patch %d: verification failed (original %d)\n", p, int(this->PatchOriginal[p]));
         this->Escalate(p, touched);
       }
     }

@@ -11,7 +11,9 @@
 #include "vtkGreedyCutsSimplification.h"
 #include "vtkSurfaceDeviation.h"
 
+#include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
+#include "vtkCommand.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDecimatePro.h"
@@ -326,4 +328,37 @@ TEST(GreedyCutsSimplification, AgainstVTKDecimatorsAtTheSameCount)
               << oursSeconds << " s vs quadric " << qSeconds << " s\n";
     EXPECT_LE(ours.Hausdorff, ours.Bound * (1 + 1e-6));
   }
+}
+
+TEST(GreedyCutsSimplification, ProgressAndAbort)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("fandisk");
+  struct State
+  {
+    int Events = 0;
+    bool Abort = false;
+  } state;
+  vtkNew<vtkCallbackCommand> callback;
+  callback->SetClientData(&state);
+  callback->SetCallback([](vtkObject* caller, unsigned long, void* clientData, void*) {
+    auto* s = static_cast<State*>(clientData);
+    ++s->Events;
+    if (s->Abort)
+    {
+      static_cast<vtkGreedyCutsSimplification*>(caller)->SetAbortExecute(1);
+    }
+  });
+  vtkNew<vtkGreedyCutsSimplification> filter;
+  filter->SetInputData(input);
+  filter->SetMaximumError(0.01);
+  filter->AddObserver(vtkCommand::ProgressEvent, callback);
+  filter->Update();
+  EXPECT_GT(state.Events, 10);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 798);
+  // Aborted at the first progress report: a defined (empty) output.
+  state = State{ 0, true };
+  filter->SetMaximumError(0.011);
+  filter->Update();
+  EXPECT_GE(state.Events, 1);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
 }
