@@ -38,7 +38,15 @@ def method_names(cli):
 
 
 # Triangle-count tolerance at a 1000-triangle target; methods not listed must be within 1%.
-TOLERANCE = {"vtk-quadric-decimation": 5, "vtk-decimate-pro": 50}
+TOLERANCE = {"vtk-quadric-decimation": 5, "vtk-decimate-pro": 50,
+             # Bound-driven: a target is met by searching the error bound, and the count is not
+             # continuous in it (it must stay at or below the target).
+             "greedy-cuts": 250}
+# Bound-driven methods reach a target by searching their error bound; the count jumps with it, so
+# only "at most the target, not far below" is asserted.
+BOUND_DRIVEN = {"greedy-cuts"}
+# Same for the demo's 10% target (fraction of the input's triangles); others: 0.02.
+DEMO_TOLERANCE = {"greedy-cuts": 0.06}
 
 
 def scenario_info(a):
@@ -88,7 +96,8 @@ def scenario_simplify(a):
     check(result["method"] == method, "method %r" % result["method"])
     check(result["input_triangles"] == 12946, "input_triangles %r" % result["input_triangles"])
     tolerance = TOLERANCE.get(method, 10)
-    check(abs(result["output_triangles"] - 1000) <= tolerance,
+    check(abs(result["output_triangles"] - 1000) <= tolerance if method not in BOUND_DRIVEN
+          else 300 <= result["output_triangles"] <= 1000,
           "%s: %d triangles for a target of 1000 (tolerance %d)" % (method, result["output_triangles"], tolerance))
     check(result["seconds"] > 0 and result["peak_rss_mb"] > 1, "seconds / peak_rss_mb: %r" % result)
     # The written file reads back with the reported triangle count, closed.
@@ -98,7 +107,8 @@ def scenario_simplify(a):
     check(info["boundary_edges"] == 0, "%s opened the closed fandisk: %d boundary edges" % (method, info["boundary_edges"]))
     # Reduction form: remove 85% (SPBM keeps no vertex inside its patches: it cannot keep 50%).
     result = json_line(run(a.cli, "simplify", fandisk, out, "--method", method, "--target-reduction", 0.85, "--json"))
-    check(abs(result["output_triangles"] - 1942) <= max(tolerance, 20),
+    check(abs(result["output_triangles"] - 1942) <= max(tolerance, 20) if method not in BOUND_DRIVEN
+          else 300 <= result["output_triangles"] <= 1942,
           "%s: --target-reduction 0.85 gave %d triangles" % (method, result["output_triangles"]))
     if method == "quadric-triangle-collapse":
         # --max-error alone: stops at the bound; a tighter bound keeps more triangles.
@@ -294,7 +304,7 @@ def scenario_demo(a):
         if os.path.exists(path):
             info = json_line(run(a.cli, "info", path, "--json"))
             synthetic = json_line(run(a.cli, "info", os.path.join(out_dir, "synthetic.vtp"), "--json"))
-            check(abs(info["triangles"] - 0.1 * synthetic["triangles"]) <= 0.02 * synthetic["triangles"],
+            check(abs(info["triangles"] - 0.1 * synthetic["triangles"]) <= DEMO_TOLERANCE.get(name, 0.02) * synthetic["triangles"],
                   "%s: %d of %d triangles" % (name, info["triangles"], synthetic["triangles"]))
     synthetic = json_line(run(a.cli, "info", os.path.join(out_dir, "synthetic.vtp"), "--json"))
     check(synthetic["genus"] == 1 and synthetic["boundary_edges"] == 0 and synthetic["components"] == 1,

@@ -4,6 +4,7 @@
 #include "vtkQuadricDecimation.h"
 
 // SurfaceLOD filters: add the include here and one line in the table below.
+#include "vtkGreedyCutsSimplification.h"
 #include "vtkHoleBumpRemoval.h"
 #include "vtkPatchBoundaryMerge.h"
 #include "vtkQuadricTriangleCollapse.h"
@@ -98,6 +99,24 @@ vtkSmartPointer<vtkPolyDataAlgorithm> CreateTriangleCollapseHierarchy(const Meth
   return filter;
 }
 
+// Greedy cuts: --max-error is absolute (the guaranteed Hausdorff bound); a target alone searches
+// epsilon up to 0.1 of the diagonal.
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateGreedyCuts(const MethodSettings& settings)
+{
+  auto generic = CreateSurfaceLODFilter<vtkGreedyCutsSimplification>(settings);
+  auto* filter = vtkGreedyCutsSimplification::SafeDownCast(generic);
+  if (settings.HasMaximumError)
+  {
+    filter->SetMaximumErrorRelative(false);
+  }
+  else
+  {
+    filter->SetMaximumErrorRelative(true);
+    filter->SetMaximumError(0.1);
+  }
+  return generic;
+}
+
 vtkSmartPointer<vtkPolyDataAlgorithm> CreateVTKQuadricDecimation(const MethodSettings& settings)
 {
   auto filter = vtkSmartPointer<vtkQuadricDecimation>::New();
@@ -139,6 +158,9 @@ const std::vector<Method>& Methods()
       "cracks, then SPBM to the target"),
     SurfaceLODMethod<vtkRetile>("retile",
       "Turk 1992: re-tiling with evenly spread new vertices (point repulsion, mutual tessellation)"),
+    { "greedy-cuts", "Ho 1999 ch. 3: greedy cuts (ears, bites) per patch, output guaranteed within --max-error "
+      "(two-sided Hausdorff) of the input; a target searches the error; original vertices only",
+      true, &CreateGreedyCuts },
   };
   // clang-format on
   return methods;

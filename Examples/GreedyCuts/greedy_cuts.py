@@ -1,0 +1,37 @@
+#!/usr/bin/env python3
+"""Greedy-cuts simplification with a guaranteed error bound, checked with vtkSurfaceDeviation.
+
+usage: greedy_cuts.py MESH.off [RELATIVE_ERROR] [OUTPUT.vtp]
+"""
+import sys
+
+from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+from surfacelod import vtkGreedyCutsSimplification, vtkOFFMeshReader, vtkSurfaceDeviation
+
+path = sys.argv[1]
+error = float(sys.argv[2]) if len(sys.argv) > 2 else 0.01
+reader = vtkOFFMeshReader()
+reader.SetFileName(path)
+reader.Update()
+
+cuts = vtkGreedyCutsSimplification()
+cuts.SetInputConnection(reader.GetOutputPort())
+cuts.SetMaximumError(error)  # relative to the bounding box diagonal (MaximumErrorRelative is on)
+cuts.Update()
+out = cuts.GetOutput()
+
+deviation = vtkSurfaceDeviation()
+deviation.SetReferenceConnection(reader.GetOutputPort())
+deviation.SetComparedConnection(cuts.GetOutputPort())
+deviation.Update()
+
+bound = out.GetFieldData().GetArray("MaximumErrorBound").GetValue(0)
+print(f"{reader.GetOutput().GetNumberOfCells()} -> {out.GetNumberOfCells()} triangles")
+print(f"guaranteed Hausdorff bound {bound:.6g}, measured {deviation.GetHausdorff():.6g}")
+print(f"{cuts.GetNumberOfPatches()} patches, {cuts.GetNumberOfEars()} ears, {cuts.GetNumberOfBites()} bites, "
+      f"{cuts.GetNumberOfRepairs()} repairs, {cuts.GetOriginalPatches()} patches kept original")
+if len(sys.argv) > 3:
+    writer = vtkXMLPolyDataWriter()
+    writer.SetFileName(sys.argv[3])
+    writer.SetInputData(out)
+    writer.Write()

@@ -1,0 +1,1193 @@
+#include "slodGreedyCuts.h"
+
+#include "slodChainSimplification.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace slod
+{
+namespace
+{
+// Candidate triangles at more than about 75 degrees to the patch normal or to the surface at their
+// centroid are rejected: thin "standing" triangles can be within epsilon yet shade wrongly.
+constexpr double MinimumNormalCosine = 0.25;
+
+struct P2
+{
+  double x, y;
+};
+inline double Orient(const P2& a, const P2& b, const P2& c)
+{
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+inline std::uint64_t EdgeKey(Index a, Index b)
+{
+  if (a > b)
+  {
+    std::swap(a, b);
+  }
+  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+}
+struct TripleKey
+{
+  Index v[3];
+  bool operator==(const TripleKey& o) const { return v[0] == o.v[0] && v[1] == o.v[1] && v[2] == o.v[2]; }
+};
+struct TripleHash
+{
+  size_t operator()(const TripleKey& k) const
+  {
+    std::uint64_t h = std::uint32_t(k.v[0]);
+    h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(k.v[1]);
+    h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(k.v[2]);
+    return size_t(h ^ (h >> 29));
+  }
+};
+TripleKey MakeTriple(Index a, Index b, Index c)
+{
+  TripleKey k{ { a, b, c } };
+  std::sort(k.v, k.v + 3);
+  return k;
+}
+// Closed triangle test with a tolerance relative to the triangle's size.
+inline bool InClosedTriangle(const P2& p, const P2& a, const P2& b, const P2& c, double tol)
+{
+  return Orient(a, b, p) >= -tol && Orient(b, c, p) >= -tol && Orient(c, a, p) >= -tol;
+}
+inline bool ProperCross(const P2& a, const P2& b, const P2& c, const P2& d)
+{
+  const double o1 = Orient(a, b, c), o2 = Orient(a, b, d), o3 = Orient(c, d, a), o4 = Orient(c, d, b);
+  return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
+}
+struct ClipVertex
+{
+  P2 p;
+  Vec3 x;
+};
+// Sutherland-Hodgman: keeps the part of `poly` left of the directed line a->b (3D carried along:
+// the projection is affine on a planar face, so interpolation is exact).
+void ClipHalfPlane(const std::vector<ClipVertex>& in, const P2& a, const P2& b, std::vector<ClipVertex>& out)
+{
+  out.clear();
+  const size_t n = in.size();
+  for (size_t i = 0; i < n; ++i)
+  {
+    const ClipVertex& s = in[i];
+    const ClipVertex& e = in[(i + 1) % n];
+    const double ds = Orient(a, b, s.p), de = Orient(a, b, e.p);
+    if (ds >= 0)
+    {
+      out.push_back(s);
+    }
+    if ((ds >= 0) != (de >= 0))
+    {
+      const double t = ds / (ds - de);
+      out.push_back({ { s.p.x + t * (e.p.x - s.p.x), s.p.y + t * (e.p.y - s.p.y) }, s.x + t * (e.x - s.x) });
+    }
+  }
+}
+double PolygonArea2(const std::vector<ClipVertex>& poly)
+{
+  double a = 0;
+  for (size_t i = 0, n = poly.size(); i < n; ++i)
+  {
+    const P2& p = poly[i].p;
+    const P2& q = poly[(i + 1) % n].p;
+    a += p.x * q.y - p.y * q.x;
+  }
+  return a;
+}
+} // namespace
+
+bool TriangleWithinDistance(
+  const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon, int depth)
+{
+  const Vec3 g = (1.0 / 3.0) * (a + b + c);
+  const double r2 = std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) });
+  const ClosestPointResult hit = bvh.ClosestPoint(g, epsilon * epsilon);
+  if (hit.Triangle == InvalidIndex)
+  {
+    return false; // the centroid itself is farther than epsilon
+  }
+  const double d = std::sqrt(hit.Distance2);
+  if (d + std::sqrt(r2) <= epsilon)
+  {
+    return true; // every point of the piece is within R of g (1-Lipschitz distance)
+  }
+  if (depth <= 0)
+  {
+    return false;
+  }
+  const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+  return TriangleWithinDistance(bvh, ab, bc, ca, epsilon, depth - 1) &&
+    TriangleWithinDistance(bvh, a, ab, ca, epsilon, depth - 1) &&
+    TriangleWithinDistance(bvh, ab, b, bc, epsilon, depth - 1) &&
+    TriangleWithinDistance(bvh, ca, bc, c, epsilon, depth - 1);
+}
+
+GreedyCuts::GreedyCuts() = default;
+GreedyCuts::~GreedyCuts() = default;
+
+void GreedyCuts::Initialize(
+  const TriangleMesh& mesh, const PatchificationParameters& parameters, const ProgressFunction& progress)
+{
+  this->Mesh = &mesh;
+  this->WasAborted = false;
+  this->Topology.Build(mesh);
+  this->Patches.Build(mesh, this->Topology, parameters,
+    progress ? ProgressFunction([&](double f) { return progress(0.8 * f); }) : ProgressFunction());
+  if (this->Patches.Aborted())
+  {
+    this->WasAborted = true;
+    return;
+  }
+  this->Bvh.Build(mesh);
+  const Index np = this->Patches.NumberOfPatches();
+  const Index nt = mesh.NumberOfTriangles();
+  const std::vector<Index>& patchOf = this->Patches.TrianglePatches();
+  // Triangles grouped by patch (counting sort: deterministic order).
+  this->PatchTriangleOffsets.assign(size_t(np) + 1, 0);
+  for (Index t = 0; t < nt; ++t)
+  {
+    ++this->PatchTriangleOffsets[size_t(patchOf[t]) + 1];
+  }
+  for (Index p = 0; p < np; ++p)
+  {
+    this->PatchTriangleOffsets[p + 1] += this->PatchTriangleOffsets[p];
+  }
+  this->PatchTriangleList.resize(size_t(nt));
+  {
+    std::vector<Index> fill(this->PatchTriangleOffsets.begin(), this->PatchTriangleOffsets.end() - 1);
+    for (Index t = 0; t < nt; ++t)
+    {
+      this->PatchTriangleList[fill[patchOf[t]]++] = t;
+    }
+  }
+  // Inner vertices: on no chain (a chain vertex is shared with the neighbouring patch, so biting
+  // it could pinch the surface).
+  std::vector<unsigned char> onChain(size_t(mesh.NumberOfPoints()), 0);
+  for (Index c = 0; c < this->Patches.NumberOfChains(); ++c)
+  {
+    const Index* v = this->Patches.ChainVerticesBegin(c);
+    for (Index i = 0; i < this->Patches.ChainSize(c); ++i)
+    {
+      onChain[v[i]] = 1;
+    }
+  }
+  std::vector<Index> stamp(size_t(mesh.NumberOfPoints()), InvalidIndex);
+  this->PatchInnerOffsets.assign(1, 0);
+  this->PatchInnerList.clear();
+  this->PatchLoops.assign(size_t(np), {});
+  this->LoopValid.assign(size_t(np), 0);
+  for (Index p = 0; p < np; ++p)
+  {
+    for (Index i = this->PatchTriangleOffsets[p]; i < this->PatchTriangleOffsets[p + 1]; ++i)
+    {
+      const Index* tri = mesh.Triangle(this->PatchTriangleList[i]);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (!onChain[tri[k]] && stamp[tri[k]] != p)
+        {
+          stamp[tri[k]] = p;
+          this->PatchInnerList.push_back(tri[k]);
+        }
+      }
+    }
+    this->PatchInnerOffsets.push_back(static_cast<Index>(this->PatchInnerList.size()));
+    this->LoopValid[p] = this->Patches.PatchBoundaryLoop(p, this->PatchLoops[p]) ? 1 : 0;
+  }
+  if (progress && progress(1.0))
+  {
+    this->WasAborted = true;
+  }
+}
+
+// State of one run.
+struct GreedyCuts::Worker
+{
+  const GreedyCuts& G;
+  const TriangleMesh& M;
+  const Patchification& PP;
+  GreedyCutsParameters Prm;
+  GreedyCutsResult& Res;
+  double Eps, EpsLocal, MinAngle;
+  std::vector<unsigned char> ChainFull, PatchOriginal, Dirty, Kept, Refined;
+  // Careful mode (a patch's second attempt at each chain resolution): ears that would swallow an
+  // unused inner vertex wait until no bite is left, so the front keeps vertices to bite into.
+  std::vector<unsigned char> Careful;
+  std::vector<std::vector<Index>> PatchChains; // chains around each patch
+  std::unordered_set<std::uint64_t> Segments;
+  std::unordered_map<std::uint64_t, int> EdgeUse;
+  std::vector<std::vector<Index>> PatchTris;
+  std::vector<P2> Coord; // per mesh vertex, valid for the current patch
+  std::vector<Index> FrontNode; // per mesh vertex: its node on the current front (or -1)
+
+  Worker(const GreedyCuts& g, const GreedyCutsParameters& prm, GreedyCutsResult& res)
+    : G(g)
+    , M(*g.Mesh)
+    , PP(g.Patches)
+    , Prm(prm)
+    , Res(res)
+  {
+    this->Eps = prm.Epsilon;
+    this->EpsLocal = prm.LocalTolerance * prm.Epsilon;
+    this->MinAngle = prm.MinimumAngle * M_PI / 180.0;
+    const Index np = PP.NumberOfPatches();
+    this->ChainFull.assign(size_t(PP.NumberOfChains()), 0);
+    this->PatchOriginal.assign(size_t(np), 0);
+    this->Refined.assign(size_t(np), 0);
+    this->Careful.assign(size_t(np), 0);
+    this->Dirty.assign(size_t(np), 1);
+    this->PatchTris.assign(size_t(np), {});
+    this->PatchChains.assign(size_t(np), {});
+    for (Index p = 0; p < np; ++p)
+    {
+      this->PatchChains[p].assign(PP.PatchChainsBegin(p), PP.PatchChainsEnd(p));
+    }
+    this->Coord.resize(size_t(M.NumberOfPoints()));
+    this->FrontNode.assign(size_t(M.NumberOfPoints()), InvalidIndex);
+    for (Index p = 0; p < np; ++p)
+    {
+      if (!G.LoopValid[p])
+      {
+        this->PatchOriginal[p] = 1;
+        for (Index c : this->PatchChains[p])
+        {
+          this->ChainFull[c] = 1;
+        }
+      }
+    }
+    for (Index c = 0; c < PP.NumberOfChains(); ++c)
+    {
+      if (PP.ChainIsNonManifold(c))
+      {
+        this->ChainFull[c] = 1;
+      }
+    }
+  }
+
+  void SimplifyChains()
+  {
+    this->Kept.assign(size_t(M.NumberOfPoints()), 0);
+    this->Segments.clear();
+    std::vector<unsigned char> keep;
+    std::vector<Index> positions;
+    for (Index c = 0; c < PP.NumberOfChains(); ++c)
+    {
+      const Index* v = PP.ChainVerticesBegin(c);
+      const Index n = PP.ChainSize(c);
+      SimplifyChain(M, v, n, this->ChainFull[c] ? -1.0 : Prm.ChainTolerance * this->Eps, keep);
+      // Two chains simplified to the same segment would make a non-manifold edge: keep a vertex
+      // apart (the farthest one), until every segment is new.
+      for (bool again = true; again;)
+      {
+        again = false;
+        positions.clear();
+        for (Index i = 0; i < n; ++i)
+        {
+          if (keep[i])
+          {
+            positions.push_back(i);
+          }
+        }
+        for (size_t k = 0; k + 1 < positions.size(); ++k)
+        {
+          const Index i = positions[k], j = positions[k + 1];
+          if (j - i >= 2 && (v[i] == v[j] || this->Segments.count(EdgeKey(v[i], v[j]))))
+          {
+            keep[FarthestChainVertex(M, v, i, j)] = 1;
+            again = true;
+          }
+        }
+      }
+      for (size_t k = 0; k < positions.size(); ++k)
+      {
+        this->Kept[v[positions[k]]] = 1;
+        if (k + 1 < positions.size())
+        {
+          this->Segments.insert(EdgeKey(v[positions[k]], v[positions[k + 1]]));
+        }
+      }
+    }
+  }
+
+  void AddEdges(const std::vector<Index>& tris, int delta)
+  {
+    for (size_t t = 0; t < tris.size(); t += 3)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const std::uint64_t key = EdgeKey(tris[t + k], tris[t + (k + 1) % 3]);
+        int& use = this->EdgeUse[key];
+        use += delta;
+        if (use == 0)
+        {
+          this->EdgeUse.erase(key);
+        }
+      }
+    }
+  }
+
+  bool EdgeExists(Index a, Index b) const
+  {
+    const std::uint64_t key = EdgeKey(a, b);
+    return this->Segments.count(key) || this->EdgeUse.count(key);
+  }
+
+  // --- Greedy cuts on one patch ---
+  struct PatchState
+  {
+    Index Patch;
+    Vec3 Normal;
+    std::vector<Index> Vert, Prev, Next;
+    std::vector<signed char> EarState; // -1 unknown, 0 not an ear, 1 feasible ear
+    std::vector<double> EarArea;
+    Index Head = 0, Count = 0;
+    std::vector<Index> Inner;
+    std::vector<unsigned char> Consumed;
+    std::unordered_map<TripleKey, bool, TripleHash> Cache;
+    double Tol = 0; // orientation tolerance (squared length scale)
+    bool Careful = false, Relaxed = false;
+  };
+
+  bool Feasible(PatchState& s, Index a, Index b, Index c)
+  {
+    const TripleKey key = MakeTriple(a, b, c);
+    auto it = s.Cache.find(key);
+    if (it != s.Cache.end())
+    {
+      return it->second;
+    }
+    ++this->Res.FeasibilityTests;
+    const bool ok = this->TestFeasible(s, a, b, c);
+    s.Cache.emplace(key, ok);
+    return ok;
+  }
+
+  bool TestFeasible(PatchState& s, Index ia, Index ib, Index ic)
+  {
+    const Vec3 A = M.Point(ia), B = M.Point(ib), C = M.Point(ic);
+    if (IsDegenerate(A, B, C) || MinimumAngle(A, B, C) < this->MinAngle)
+    {
+      return false;
+    }
+    const Vec3 nq = Normalized(Cross(B - A, C - A));
+    if (Dot(nq, s.Normal) <= MinimumNormalCosine)
+    {
+      return false;
+    }
+    // (b) the original surface under Q (the patch's triangles clipped to Q's prism) within
+    // epsilon of Q, and facing the same way.
+    const P2 a = this->Coord[ia], b = this->Coord[ib], c = this->Coord[ic];
+    const double qArea2 = Orient(a, b, c);
+    const double xmin = std::min({ a.x, b.x, c.x }), xmax = std::max({ a.x, b.x, c.x });
+    const double ymin = std::min({ a.y, b.y, c.y }), ymax = std::max({ a.y, b.y, c.y });
+    std::vector<ClipVertex> poly, tmp;
+    for (Index i = G.PatchTriangleOffsets[s.Patch]; i < G.PatchTriangleOffsets[s.Patch + 1]; ++i)
+    {
+      const Index t = G.PatchTriangleList[i];
+      const Index* tri = M.Triangle(t);
+      const P2 &p0 = this->Coord[tri[0]], &p1 = this->Coord[tri[1]], &p2 = this->Coord[tri[2]];
+      if (std::max({ p0.x, p1.x, p2.x }) < xmin || std::min({ p0.x, p1.x, p2.x }) > xmax ||
+        std::max({ p0.y, p1.y, p2.y }) < ymin || std::min({ p0.y, p1.y, p2.y }) > ymax)
+      {
+        continue;
+      }
+      poly = { { p0, M.Point(tri[0]) }, { p1, M.Point(tri[1]) }, { p2, M.Point(tri[2]) } };
+      ClipHalfPlane(poly, a, b, tmp);
+      ClipHalfPlane(tmp, b, c, poly);
+      ClipHalfPlane(poly, c, a, tmp);
+      if (tmp.size() < 3)
+      {
+        continue;
+      }
+      const double clipped = std::fabs(PolygonArea2(tmp));
+      if (clipped <= 1e-9 * qArea2)
+      {
+        continue;
+      }
+      if (clipped > 1e-6 * qArea2 && Dot(M.TriangleAreaVector(t), nq) <= 0)
+      {
+        return false; // Q would be flipped with respect to this original triangle
+      }
+      for (const ClipVertex& v : tmp)
+      {
+        const Vec3 d = v.x - ClosestPointOnTriangle(v.x, A, B, C);
+        if (Dot(d, d) > this->EpsLocal * this->EpsLocal)
+        {
+          return false;
+        }
+      }
+    }
+    // The original surface nearest Q's centroid faces the same way.
+    {
+      const ClosestPointResult hit = G.Bvh.ClosestPoint((1.0 / 3.0) * (A + B + C));
+      if (hit.Triangle == InvalidIndex || Dot(Normalized(M.TriangleAreaVector(hit.Triangle)), nq) <= MinimumNormalCosine)
+      {
+        return false;
+      }
+    }
+    // (a) Q within epsilon of the original surface (rigorous, adaptive).
+    return TriangleWithinDistance(G.Bvh, A, B, C, this->Eps, Prm.SubdivisionDepth);
+  }
+
+  void Emit(PatchState& s, std::vector<Index>& tris, Index a, Index b, Index c)
+  {
+    tris.push_back(a);
+    tris.push_back(b);
+    tris.push_back(c);
+    for (const auto& [u, v] : { std::pair<Index, Index>{ a, b }, { b, c }, { c, a } })
+    {
+      ++this->EdgeUse[EdgeKey(u, v)];
+    }
+    const P2 pa = this->Coord[a], pb = this->Coord[b], pc = this->Coord[c];
+    const double tol = 1e-12 * std::fabs(Orient(pa, pb, pc)) + s.Tol;
+    for (size_t k = 0; k < s.Inner.size(); ++k)
+    {
+      if (!s.Consumed[k] && InClosedTriangle(this->Coord[s.Inner[k]], pa, pb, pc, tol))
+      {
+        s.Consumed[k] = 1;
+      }
+    }
+  }
+
+  bool EarValid(PatchState& s, Index i)
+  {
+    const Index pi = s.Prev[i], ni = s.Next[i];
+    const Index a = s.Vert[pi], b = s.Vert[i], c = s.Vert[ni];
+    const P2 pa = this->Coord[a], pb = this->Coord[b], pc = this->Coord[c];
+    if (Orient(pa, pb, pc) <= s.Tol)
+    {
+      return false;
+    }
+    if (this->EdgeExists(a, c))
+    {
+      return false;
+    }
+    for (Index j = s.Next[ni]; j != pi; j = s.Next[j])
+    {
+      if (InClosedTriangle(this->Coord[s.Vert[j]], pa, pb, pc, s.Tol))
+      {
+        return false;
+      }
+    }
+    if (s.Careful && !s.Relaxed)
+    {
+      for (size_t k = 0; k < s.Inner.size(); ++k)
+      {
+        if (!s.Consumed[k] && InClosedTriangle(this->Coord[s.Inner[k]], pa, pb, pc, s.Tol))
+        {
+          return false;
+        }
+      }
+    }
+    return true;
+  }
+
+  bool BiteValid(PatchState& s, Index i, Index v)
+  {
+    const Index j = s.Next[i];
+    const P2 pa = this->Coord[s.Vert[i]], pb = this->Coord[s.Vert[j]], pv = this->Coord[v];
+    if (Orient(pa, pb, pv) <= s.Tol)
+    {
+      return false;
+    }
+    Index k = j;
+    do
+    {
+      const Index kn = s.Next[k];
+      const P2 pk = this->Coord[s.Vert[k]], pkn = this->Coord[s.Vert[kn]];
+      if (k != j && k != i && InClosedTriangle(pk, pa, pb, pv, s.Tol))
+      {
+        return false;
+      }
+      if (ProperCross(pa, pv, pk, pkn) || ProperCross(pv, pb, pk, pkn))
+      {
+        return false;
+      }
+      k = kn;
+    } while (k != j);
+    return true;
+  }
+
+  // Best bite on edge (node i -> next): candidates by distance to the equilateral apex.
+  bool BestBite(PatchState& s, Index i, size_t limit, bool nearOnly, Index& bestInner, double& area,
+    std::vector<std::pair<double, Index>>& candidates)
+  {
+    const Index a = s.Vert[i], b = s.Vert[s.Next[i]];
+    const P2 pa = this->Coord[a], pb = this->Coord[b];
+    const double dx = pb.x - pa.x, dy = pb.y - pa.y;
+    const double length = std::sqrt(dx * dx + dy * dy);
+    if (length <= 0)
+    {
+      return false;
+    }
+    const double h = 0.5 * std::sqrt(3.0);
+    const P2 apex{ 0.5 * (pa.x + pb.x) - h * dy, 0.5 * (pa.y + pb.y) + h * dx };
+    candidates.clear();
+    for (size_t k = 0; k < s.Inner.size(); ++k)
+    {
+      if (s.Consumed[k])
+      {
+        continue;
+      }
+      const P2 pv = this->Coord[s.Inner[k]];
+      if (Orient(pa, pb, pv) <= s.Tol)
+      {
+        continue;
+      }
+      // Near mode: aspect ratio near 1 (distance to the equilateral apex). Wide mode: the
+      // smallest triangles first (distance to the edge's midpoint): the likeliest to fit.
+      const double d = nearOnly ? std::hypot(pv.x - apex.x, pv.y - apex.y)
+                                : std::hypot(pv.x - 0.5 * (pa.x + pb.x), pv.y - 0.5 * (pa.y + pb.y));
+      if (nearOnly && d > 1.5 * length)
+      {
+        continue;
+      }
+      candidates.emplace_back(d, static_cast<Index>(k));
+    }
+    const size_t m = std::min(limit, candidates.size());
+    std::partial_sort(candidates.begin(), candidates.begin() + m, candidates.end());
+    for (size_t q = 0; q < m; ++q)
+    {
+      const Index v = s.Inner[candidates[q].second];
+      if (this->BiteValid(s, i, v) && this->Feasible(s, a, b, v))
+      {
+        bestInner = candidates[q].second;
+        area = 0.5 * Norm(Cross(M.Point(b) - M.Point(a), M.Point(v) - M.Point(a)));
+        return true;
+      }
+    }
+    return false;
+  }
+
+  bool TriangulateGreedy(Index p, std::vector<Index>& tris)
+  {
+    PatchState s;
+    const bool ok = this->Greedy(p, s, tris);
+    for (Index v : s.Vert)
+    {
+      this->FrontNode[v] = InvalidIndex;
+    }
+    return ok;
+  }
+
+  // Front repair (section 3.4.3, simplified): the triangle behind the longest front edge that is
+  // not a chain segment is put back (and never cut again), which frees the inner
+  // vertices it covered for bites and reopens the front there.
+  bool Repair(PatchState& s, std::vector<Index>& tris)
+  {
+    // One triangle per call: putting several back until an inner vertex is freed measured worse
+    // (bunny00 at 0.005: 5,126 triangles instead of 4,400).
+    bool freed = false;
+    return this->RepairOnce(s, tris, freed);
+  }
+
+  bool RepairOnce(PatchState& s, std::vector<Index>& tris, bool& freed)
+  {
+    size_t bestTri = size_t(-1);
+    Index bestNode = InvalidIndex, bestX = InvalidIndex;
+    double bestLength = -1;
+    Index i = s.Head;
+    do
+    {
+      const Index u = s.Vert[i], w = s.Vert[s.Next[i]];
+      if (!this->Segments.count(EdgeKey(u, w)))
+      {
+        for (size_t t = 0; t < tris.size(); t += 3)
+        {
+          int shared = 0;
+          Index x = InvalidIndex;
+          for (int k = 0; k < 3; ++k)
+          {
+            if (tris[t + k] == u || tris[t + k] == w)
+            {
+              ++shared;
+            }
+            else
+            {
+              x = tris[t + k];
+            }
+          }
+          if (shared == 2 && x != InvalidIndex)
+          {
+            const Vec3 d = M.Point(w) - M.Point(u);
+            if (this->FrontNode[x] == InvalidIndex && Dot(d, d) > bestLength)
+            {
+              bestLength = Dot(d, d);
+              bestTri = t;
+              bestNode = i;
+              bestX = x;
+            }
+            break;
+          }
+        }
+      }
+      i = s.Next[i];
+    } while (i != s.Head);
+    if (bestNode == InvalidIndex)
+    {
+      return false;
+    }
+    const Index a = tris[bestTri], b = tris[bestTri + 1], c = tris[bestTri + 2];
+    s.Cache[MakeTriple(a, b, c)] = false; // never again
+    for (const auto& [u, v] : { std::pair<Index, Index>{ a, b }, { b, c }, { c, a } })
+    {
+      auto it = this->EdgeUse.find(EdgeKey(u, v));
+      if (it != this->EdgeUse.end() && --it->second == 0)
+      {
+        this->EdgeUse.erase(it);
+      }
+    }
+    tris.erase(tris.begin() + std::ptrdiff_t(bestTri), tris.begin() + std::ptrdiff_t(bestTri) + 3);
+    const P2 pa = this->Coord[a], pb = this->Coord[b], pc = this->Coord[c];
+    const double tol = 1e-9 * std::fabs(Orient(pa, pb, pc)) + s.Tol;
+    for (size_t k = 0; k < s.Inner.size(); ++k)
+    {
+      const Index v = s.Inner[k];
+      const P2 q = this->Coord[v];
+      if (s.Consumed[k] && this->FrontNode[v] == InvalidIndex && v != a && v != b && v != c &&
+        Orient(pa, pb, q) > tol && Orient(pb, pc, q) > tol && Orient(pc, pa, q) > tol)
+      {
+        s.Consumed[k] = 0;
+        freed = true;
+      }
+    }
+    const Index j = s.Next[bestNode];
+    const Index node = static_cast<Index>(s.Vert.size());
+    s.Vert.push_back(bestX);
+    s.Prev.push_back(bestNode);
+    s.Next.push_back(j);
+    s.EarState.push_back(-1);
+    s.EarArea.push_back(0);
+    s.Next[bestNode] = node;
+    s.Prev[j] = node;
+    this->FrontNode[bestX] = node;
+    ++s.Count;
+    std::fill(s.EarState.begin(), s.EarState.end(), -1);
+    ++this->Res.Repairs;
+    return true;
+  }
+
+  bool Greedy(Index p, PatchState& s, std::vector<Index>& tris)
+  {
+    s.Patch = p;
+    s.Normal = PP.PatchNormal(p);
+    s.Careful = this->Careful[p] != 0;
+    for (Index v : G.PatchLoops[p])
+    {
+      if (this->Kept[v])
+      {
+        s.Vert.push_back(v);
+      }
+    }
+    const Index n = static_cast<Index>(s.Vert.size());
+    if (n < 3 || Norm(s.Normal) == 0)
+    {
+      return false;
+    }
+    // Plane frame and 2D coordinates of the patch's vertices.
+    const Vec3& nn = s.Normal;
+    const Vec3 axis = std::fabs(nn[0]) < 0.6 ? Vec3{ 1, 0, 0 } : (std::fabs(nn[1]) < 0.6 ? Vec3{ 0, 1, 0 } : Vec3{ 0, 0, 1 });
+    const Vec3 U = Normalized(Cross(axis, nn));
+    const Vec3 W = Cross(nn, U);
+    double scale = 0;
+    for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1]; ++i)
+    {
+      const Index* tri = M.Triangle(G.PatchTriangleList[i]);
+      for (int k = 0; k < 3; ++k)
+      {
+        const Vec3 x = M.Point(tri[k]);
+        this->Coord[tri[k]] = { Dot(x, U), Dot(x, W) };
+      }
+    }
+    {
+      double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+      for (Index v : s.Vert)
+      {
+        xmin = std::min(xmin, this->Coord[v].x);
+        xmax = std::max(xmax, this->Coord[v].x);
+        ymin = std::min(ymin, this->Coord[v].y);
+        ymax = std::max(ymax, this->Coord[v].y);
+      }
+      scale = std::max(xmax - xmin, ymax - ymin);
+    }
+    s.Tol = 1e-12 * scale * scale;
+    // The boundary must project to a simple, counter-clockwise polygon.
+    double area2 = 0;
+    for (Index i = 0; i < n; ++i)
+    {
+      const P2 &u = this->Coord[s.Vert[i]], &w = this->Coord[s.Vert[(i + 1) % n]];
+      area2 += u.x * w.y - u.y * w.x;
+    }
+    if (area2 <= 0)
+    {
+      return false;
+    }
+    for (Index i = 0; i < n; ++i)
+    {
+      const P2 a = this->Coord[s.Vert[i]], b = this->Coord[s.Vert[(i + 1) % n]];
+      for (Index j = i + 2; j < n; ++j)
+      {
+        if (i == 0 && j == n - 1)
+        {
+          continue;
+        }
+        if (ProperCross(a, b, this->Coord[s.Vert[j]], this->Coord[s.Vert[(j + 1) % n]]))
+        {
+          return false;
+        }
+      }
+    }
+    s.Prev.resize(size_t(n));
+    s.Next.resize(size_t(n));
+    for (Index i = 0; i < n; ++i)
+    {
+      s.Prev[i] = (i + n - 1) % n;
+      s.Next[i] = (i + 1) % n;
+    }
+    s.EarState.assign(size_t(n), -1);
+    s.EarArea.assign(size_t(n), 0);
+    for (Index i = 0; i < n; ++i)
+    {
+      this->FrontNode[s.Vert[i]] = i;
+    }
+    s.Count = n;
+    s.Head = 0;
+    // Inner vertices inside the simplified polygon are bite candidates.
+    s.Inner.assign(G.PatchInnerList.begin() + G.PatchInnerOffsets[p], G.PatchInnerList.begin() + G.PatchInnerOffsets[p + 1]);
+    s.Consumed.assign(s.Inner.size(), 0);
+    for (size_t k = 0; k < s.Inner.size(); ++k)
+    {
+      const P2 q = this->Coord[s.Inner[k]];
+      bool inside = false;
+      for (Index i = 0, j = n - 1; i < n; j = i++)
+      {
+        const P2 &a = this->Coord[s.Vert[i]], &b = this->Coord[s.Vert[j]];
+        if ((a.y > q.y) != (b.y > q.y) && q.x < (b.x - a.x) * (q.y - a.y) / (b.y - a.y) + a.x)
+        {
+          inside = !inside;
+        }
+      }
+      s.Consumed[k] = inside ? 0 : 1;
+    }
+    std::vector<std::pair<double, Index>> candidates;
+    const long long size = static_cast<long long>(n) + static_cast<long long>(s.Inner.size());
+    const long long guard = 40 * size + 64;
+    long long repairs = 4 * size + 16;
+    for (long long step = 0; step < guard; ++step)
+    {
+      if (s.Count == 3)
+      {
+        const Index a = s.Head, b = s.Next[a], c = s.Next[b];
+        const Index va = s.Vert[a], vb = s.Vert[b], vc = s.Vert[c];
+        if (Orient(this->Coord[va], this->Coord[vb], this->Coord[vc]) > s.Tol && this->Feasible(s, va, vb, vc))
+        {
+          this->Emit(s, tris, va, vb, vc);
+          ++this->Res.Ears;
+          return true;
+        }
+      }
+      else
+      {
+        // Ear cutting: the feasible ear of largest area (a rescan of non-ears before giving up).
+        Index best = InvalidIndex;
+        for (int pass = 0; pass < 2 && best == InvalidIndex; ++pass)
+        {
+          double bestArea = -1;
+          Index i = s.Head;
+          do
+          {
+            if (s.EarState[i] < 0 || (pass == 1 && s.EarState[i] == 0))
+            {
+              s.EarState[i] = 0;
+              if (this->EarValid(s, i) && this->Feasible(s, s.Vert[s.Prev[i]], s.Vert[i], s.Vert[s.Next[i]]))
+              {
+                s.EarState[i] = 1;
+                s.EarArea[i] = 0.5 *
+                  Norm(Cross(M.Point(s.Vert[i]) - M.Point(s.Vert[s.Prev[i]]),
+                    M.Point(s.Vert[s.Next[i]]) - M.Point(s.Vert[s.Prev[i]])));
+              }
+            }
+            if (s.EarState[i] == 1 && s.EarArea[i] > bestArea)
+            {
+              bestArea = s.EarArea[i];
+              best = i;
+            }
+            i = s.Next[i];
+          } while (i != s.Head);
+        }
+        if (best != InvalidIndex)
+        {
+          const Index pi = s.Prev[best], ni = s.Next[best];
+          this->Emit(s, tris, s.Vert[pi], s.Vert[best], s.Vert[ni]);
+          ++this->Res.Ears;
+          this->FrontNode[s.Vert[best]] = InvalidIndex;
+          if (s.Relaxed)
+          {
+            s.Relaxed = false;
+            std::fill(s.EarState.begin(), s.EarState.end(), -1);
+          }
+          s.Next[pi] = ni;
+          s.Prev[ni] = pi;
+          s.EarState[pi] = s.EarState[ni] = -1;
+          s.Head = pi;
+          --s.Count;
+          continue;
+        }
+      }
+      // Greedy biting: per edge the best-shaped feasible bite, the largest over the edges.
+      Index biteEdge = InvalidIndex, biteInner = InvalidIndex;
+      {
+        double bestArea = -1;
+        Index i = s.Head;
+        do
+        {
+          Index k = InvalidIndex;
+          double area = 0;
+          if (this->BestBite(s, i, size_t(std::max(1, Prm.BiteCandidates)), true, k, area, candidates) && area > bestArea)
+          {
+            bestArea = area;
+            biteEdge = i;
+            biteInner = k;
+          }
+          i = s.Next[i];
+        } while (i != s.Head);
+      }
+      if (biteEdge == InvalidIndex)
+      {
+        // Wide search (edge splitting without Steiner points): any inner vertex, longest edges first.
+        std::vector<std::pair<double, Index>> edges;
+        Index i = s.Head;
+        do
+        {
+          const Vec3 d = M.Point(s.Vert[s.Next[i]]) - M.Point(s.Vert[i]);
+          edges.emplace_back(-Dot(d, d), i);
+          i = s.Next[i];
+        } while (i != s.Head);
+        std::sort(edges.begin(), edges.end());
+        for (const auto& e : edges)
+        {
+          double area = 0;
+          if (this->BestBite(s, e.second, 64, false, biteInner, area, candidates))
+          {
+            biteEdge = e.second;
+            ++this->Res.WideBites;
+            break;
+          }
+        }
+      }
+      if (biteEdge == InvalidIndex)
+      {
+        if (s.Careful && !s.Relaxed)
+        {
+          s.Relaxed = true; // one ear may now swallow inner vertices
+          std::fill(s.EarState.begin(), s.EarState.end(), -1);
+          continue;
+        }
+        if (repairs-- > 0 && this->Repair(s, tris))
+        {
+          continue;
+        }
+        return false; // stuck
+      }
+      const Index j = s.Next[biteEdge];
+      const Index v = s.Inner[biteInner];
+      const Index node = static_cast<Index>(s.Vert.size());
+      s.Vert.push_back(v);
+      s.Prev.push_back(biteEdge);
+      s.Next.push_back(j);
+      s.EarState.push_back(-1);
+      s.EarArea.push_back(0);
+      s.Next[biteEdge] = node;
+      s.Prev[j] = node;
+      ++s.Count;
+      s.Consumed[biteInner] = 1;
+      this->FrontNode[v] = node;
+      this->Emit(s, tris, s.Vert[biteEdge], s.Vert[j], v);
+      ++this->Res.Bites;
+      std::fill(s.EarState.begin(), s.EarState.end(), -1);
+    }
+    return false;
+  }
+
+  // Escalation of a patch that got stuck or failed the verification: careful mode, then its
+  // chains at full resolution (normal, then careful), then its original triangles.
+  void Escalate(Index p, std::vector<Index>& touched)
+  {
+    if (this->PatchOriginal[p])
+    {
+      return;
+    }
+    touched.push_back(p);
+    if (!this->Careful[p])
+    {
+      this->Careful[p] = 1;
+      return;
+    }
+    this->Careful[p] = 0;
+    bool refined = false;
+    for (Index c : this->PatchChains[p])
+    {
+      if (!this->ChainFull[c])
+      {
+        this->ChainFull[c] = 1;
+        refined = true;
+        for (Index q : { PP.ChainLeftPatch(c), PP.ChainRightPatch(c) })
+        {
+          if (q != InvalidIndex)
+          {
+            touched.push_back(q);
+          }
+        }
+      }
+    }
+    if (refined)
+    {
+      this->Refined[p] = 1;
+    }
+    else
+    {
+      this->PatchOriginal[p] = 1;
+    }
+  }
+
+  void Original(Index p, std::vector<Index>& tris)
+  {
+    for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1]; ++i)
+    {
+      const Index* tri = M.Triangle(G.PatchTriangleList[i]);
+      tris.insert(tris.end(), tri, tri + 3);
+    }
+    this->AddEdges(tris, +1);
+  }
+
+  bool Execute(const ProgressFunction& progress)
+  {
+    const Index np = PP.NumberOfPatches();
+    std::vector<Index> touched;
+    for (int round = 0;; ++round)
+    {
+      this->Res.Rounds = round + 1;
+      if (round >= 64)
+      {
+        // Safety net (never expected): everything not yet settled keeps its original triangles.
+        std::fill(this->ChainFull.begin(), this->ChainFull.end(), 1);
+        std::fill(this->PatchOriginal.begin(), this->PatchOriginal.end(), 1);
+        std::fill(this->Dirty.begin(), this->Dirty.end(), 1);
+      }
+      this->SimplifyChains();
+      for (Index p = 0; p < np; ++p)
+      {
+        if (this->Dirty[p])
+        {
+          this->AddEdges(this->PatchTris[p], -1);
+          this->PatchTris[p].clear();
+        }
+      }
+      // Original patches first: their edges are fixed, greedy patches avoid them.
+      touched.clear();
+      Index done = 0, total = 0;
+      for (Index p = 0; p < np; ++p)
+      {
+        total += this->Dirty[p];
+      }
+      for (int originals = 1; originals >= 0; --originals)
+      {
+        for (Index p = 0; p < np; ++p)
+        {
+          if (!this->Dirty[p] || this->PatchOriginal[p] != originals)
+          {
+            continue;
+          }
+          if (progress && progress(double(++done) / double(std::max<Index>(total, 1))))
+          {
+            this->Res.Aborted = true;
+            return false;
+          }
+          std::vector<Index>& tris = this->PatchTris[p];
+          if (originals)
+          {
+            this->Original(p, tris);
+          }
+          else if (!this->TriangulateGreedy(p, tris))
+          {
+            this->AddEdges(tris, -1);
+            tris.clear();
+            this->Escalate(p, touched);
+          }
+        }
+      }
+      std::fill(this->Dirty.begin(), this->Dirty.end(), 0);
+      if (touched.empty())
+      {
+        this->Verify(touched);
+      }
+      if (touched.empty())
+      {
+        break;
+      }
+      for (Index p : touched)
+      {
+        this->Dirty[p] = 1;
+      }
+    }
+    // Result in patch order.
+    this->Res.Triangles.clear();
+    this->Res.TrianglePatch.clear();
+    for (Index p = 0; p < np; ++p)
+    {
+      this->Res.Triangles.insert(this->Res.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
+      this->Res.TrianglePatch.insert(this->Res.TrianglePatch.end(), this->PatchTris[p].size() / 3, p);
+      this->Res.OriginalPatches += this->PatchOriginal[p];
+      this->Res.RefinedPatches += this->Refined[p] && !this->PatchOriginal[p];
+    }
+    this->Res.NumberOfPatches = np;
+    this->Res.ErrorBound = this->Eps;
+    return true;
+  }
+
+  // Stage 4: manifold edges and the original surface within epsilon of the output.
+  void Verify(std::vector<Index>& touched)
+  {
+    const Index np = PP.NumberOfPatches();
+    std::vector<unsigned char> bad(size_t(np), 0);
+    for (const auto& [key, use] : this->EdgeUse)
+    {
+      if (use > 2)
+      {
+        const Index a = Index(key >> 32), b = Index(key & 0xffffffffu);
+        for (Index p = 0; p < np; ++p)
+        {
+          const std::vector<Index>& tris = this->PatchTris[p];
+          for (size_t t = 0; t < tris.size() && !bad[p]; t += 3)
+          {
+            for (int k = 0; k < 3; ++k)
+            {
+              if (EdgeKey(tris[t + k], tris[t + (k + 1) % 3]) == EdgeKey(a, b))
+              {
+                bad[p] = 1;
+              }
+            }
+          }
+        }
+      }
+    }
+    TriangleMesh output;
+    output.Points = M.Points;
+    for (Index p = 0; p < np; ++p)
+    {
+      output.Triangles.insert(output.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
+    }
+    TriangleBVH bvh(output);
+    const std::vector<Index>& patchOf = PP.TrianglePatches();
+    for (Index t = 0; t < M.NumberOfTriangles(); ++t)
+    {
+      const Index p = patchOf[t];
+      if (bad[p] || this->PatchOriginal[p])
+      {
+        continue;
+      }
+      const Index* tri = M.Triangle(t);
+      if (!TriangleWithinDistance(bvh, M.Point(tri[0]), M.Point(tri[1]), M.Point(tri[2]), this->Eps, Prm.SubdivisionDepth))
+      {
+        bad[p] = 1;
+      }
+    }
+    for (Index p = 0; p < np; ++p)
+    {
+      if (bad[p])
+      {
+        this->Escalate(p, touched);
+      }
+    }
+  }
+};
+
+bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress)
+{
+  result = GreedyCutsResult();
+  if (!this->Mesh || this->WasAborted || parameters.Epsilon <= 0)
+  {
+    // No tolerance: the input itself.
+    if (this->Mesh)
+    {
+      result.Triangles = this->Mesh->Triangles;
+      result.TrianglePatch = this->Patches.TrianglePatches();
+      result.NumberOfPatches = this->Patches.NumberOfPatches();
+    }
+    return !this->WasAborted;
+  }
+  GreedyCuts::Worker run(*this, parameters, result);
+  return run.Execute(progress);
+}
+
+bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
+  GreedyCutsResult& result, const ProgressFunction& progress)
+{
+  GreedyCutsParameters prm = base;
+  prm.Epsilon = hi;
+  int evaluation = 0;
+  auto stage = [&](double f) {
+    return progress ? progress((evaluation + f) / double(steps + 1)) : false;
+  };
+  if (!this->Run(prm, result, stage))
+  {
+    return false;
+  }
+  if (Index(result.Triangles.size() / 3) > target)
+  {
+    return true; // even the coarsest tolerance gives more triangles: its result
+  }
+  // Descend from hi by halving while the count stays within the target (large tolerances are the
+  // fast runs), then bisect on log(epsilon) between the last two tolerances.
+  GreedyCutsResult trial;
+  double h = hi, l = hi;
+  while (evaluation < steps && l > lo)
+  {
+    ++evaluation;
+    l = std::max(lo, 0.5 * h);
+    prm.Epsilon = l;
+    if (!this->Run(prm, trial, stage))
+    {
+      return false;
+    }
+    if (Index(trial.Triangles.size() / 3) > target)
+    {
+      break;
+    }
+    result = std::move(trial);
+    trial = GreedyCutsResult();
+    h = l;
+  }
+  if (l >= h)
+  {
+    return true;
+  }
+  while (evaluation < steps)
+  {
+    ++evaluation;
+    const double mid = std::sqrt(l * h);
+    prm.Epsilon = mid;
+    if (!this->Run(prm, trial, stage))
+    {
+      return false;
+    }
+    if (Index(trial.Triangles.size() / 3) <= target)
+    {
+      result = std::move(trial);
+      trial = GreedyCutsResult();
+      h = mid;
+    }
+    else
+    {
+      l = mid;
+    }
+  }
+  return true;
+}
+} // namespace slod

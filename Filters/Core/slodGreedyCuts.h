@@ -1,0 +1,118 @@
+// SurfaceLOD core: bounded-error simplification by greedy cuts (Ho 1999, chapter 3, after Silva et
+// al.'s terrain greedy cuts), on a patchification of the surface (chapter 4's slod::Patchification).
+//
+// Stages of one run at tolerance epsilon:
+//  1. the boundary chains between patches are simplified (Douglas-Peucker, slod::SimplifyChain) to
+//     ChainTolerance * epsilon; two chains that would give the same segment keep a vertex apart;
+//  2. each patch is triangulated inward from its simplified boundary polygon (in the plane
+//     orthogonal to its normal): repeatedly the feasible ear of largest area is cut; when no ear is
+//     feasible, greedy biting adds a triangle from a polygon edge to an original vertex inside the
+//     patch (the candidates nearest the apex of the equilateral triangle on the edge first, i.e.
+//     aspect ratio near 1; the bite of largest area over the edges wins); when no such bite is
+//     feasible either, every inner vertex is tried for the longest edges first (our stand-in for
+//     edge splitting: no Steiner points exist); when stuck, front repair (3.4.3, simplified): the
+//     triangle behind the longest front edge is put back (never cut again), freeing its vertices;
+//  3. a patch that stays stuck is retried in careful mode (ears may not swallow unused inner
+//     vertices while a bite exists), then with its chains at full resolution, then replaced by its
+//     original triangles (always feasible), so the run always terminates with a valid mesh;
+//  4. the whole result is verified: every original triangle within epsilon of the output
+//     (rigorous, see below) and every edge used by at most two triangles; patches of failing
+//     triangles are escalated as in 3 and the run repeats from there.
+//
+// Feasibility of a candidate triangle Q (section 3.3, a robust equivalent of the two-phase BFS):
+//  (a) d(Q, original) <= epsilon, rigorously: Q is subdivided adaptively; a piece whose centroid
+//      lies at distance d from the original surface (BVH closest point) and whose vertices lie
+//      within R of its centroid is accepted when d + R <= epsilon (the distance is 1-Lipschitz),
+//      rejected when d > epsilon, else split in four (depth limited: then rejected);
+//  (b) d(P, Q) <= epsilon for the part of every original triangle P of the patch that lies under
+//      Q (P clipped to Q's prism along the patch normal; the clipped polygon's corners are tested
+//      against Q, which bounds the whole piece because the distance to a convex set is convex),
+//      and no such P faces away from Q (no flipped triangle);
+//  the global verification of stage 4 makes (b) rigorous for the whole surface (every original
+//  triangle, subdivided adaptively, against a BVH of the output).
+// Hence the two-sided Hausdorff distance between input and output is at most epsilon.
+#ifndef slodGreedyCuts_h
+#define slodGreedyCuts_h
+
+#include "slodMeshTopology.h"
+#include "slodPatchification.h"
+#include "slodTriangleBVH.h"
+#include "slodTriangleMesh.h"
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace slod
+{
+struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
+{
+  double Epsilon = 0.0;          // absolute error bound (> 0)
+  double ChainTolerance = 0.8;   // chains are simplified to this fraction of epsilon
+  double LocalTolerance = 0.97;  // test (b) uses this fraction of epsilon (margin for stage 4)
+  int BiteCandidates = 8;        // inner vertices tried per edge in greedy biting
+  double MinimumAngle = 0.5;     // degrees: thinner candidate triangles are rejected
+  int SubdivisionDepth = 10;     // adaptive distance test depth
+};
+
+struct SURFACELODFILTERS_EXPORT GreedyCutsResult
+{
+  std::vector<Index> Triangles;     // 3 original vertex ids per triangle
+  std::vector<Index> TrianglePatch; // patch of each triangle
+  Index NumberOfPatches = 0;
+  double ErrorBound = 0;            // the guaranteed two-sided Hausdorff bound (= epsilon)
+  // Statistics.
+  long long Ears = 0, Bites = 0, WideBites = 0, Repairs = 0, FeasibilityTests = 0;
+  Index RefinedPatches = 0;  // patches re-run with full-resolution chains
+  Index OriginalPatches = 0; // patches kept as their original triangles
+  int Rounds = 0;
+  bool Aborted = false;
+};
+
+// Rigorous adaptive test: every point of triangle (a,b,c) within epsilon of the BVH's surface
+// (false also when depth runs out before a proof).
+SURFACELODFILTERS_EXPORT bool TriangleWithinDistance(
+  const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon, int depth);
+
+class SURFACELODFILTERS_EXPORT GreedyCuts
+{
+public:
+  using ProgressFunction = std::function<bool(double)>; // returns true to abort
+
+  GreedyCuts();
+  ~GreedyCuts();
+  GreedyCuts(const GreedyCuts&) = delete;
+  GreedyCuts& operator=(const GreedyCuts&) = delete;
+
+  // Patchifies the mesh (which must outlive this object; closed or with borders, manifold).
+  void Initialize(const TriangleMesh& mesh, const PatchificationParameters& patches,
+    const ProgressFunction& progress = nullptr);
+  bool Aborted() const { return this->WasAborted; }
+  const Patchification& GetPatches() const { return this->Patches; }
+
+  // One run at parameters.Epsilon. Returns false when aborted.
+  bool Run(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
+    const ProgressFunction& progress = nullptr);
+
+  // Smallest epsilon (searched in [lo, hi] with `steps` runs: halving from hi while the count stays
+  // within the target, then bisection on log(epsilon)) whose result has at most `target`
+  // triangles; the result of that epsilon is returned (that of hi when even hi gives more).
+  bool RunForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
+    GreedyCutsResult& result, const ProgressFunction& progress = nullptr);
+
+private:
+  struct Worker;
+  const TriangleMesh* Mesh = nullptr;
+  MeshTopology Topology;
+  Patchification Patches;
+  TriangleBVH Bvh;
+  bool WasAborted = false;
+  // Per patch: its triangles, its inner vertices (on no chain), its boundary loop.
+  std::vector<Index> PatchTriangleOffsets, PatchTriangleList;
+  std::vector<Index> PatchInnerOffsets, PatchInnerList;
+  std::vector<std::vector<Index>> PatchLoops;
+  std::vector<unsigned char> LoopValid;
+};
+} // namespace slod
+
+#endif

@@ -1,0 +1,201 @@
+#include "vtkGreedyCutsSimplification.h"
+
+#include "slodGreedyCuts.h"
+#include "slodInputPreparation.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <algorithm>
+#include <cmath>
+
+vtkStandardNewMacro(vtkGreedyCutsSimplification);
+
+vtkGreedyCutsSimplification::vtkGreedyCutsSimplification() = default;
+
+int vtkGreedyCutsSimplification::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  if (!input || !output)
+  {
+    return 0;
+  }
+  this->UsedMaximumError = 0;
+  this->NumberOfPatches = this->RefinedPatches = this->OriginalPatches = 0;
+  this->NumberOfEars = this->NumberOfBites = this->NumberOfRepairs = 0;
+
+  slod::TriangleMesh mesh;
+  std::vector<slod::Index> vertexToInput;
+  slod::PreparationReport report;
+  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report))
+  {
+    return 1;
+  }
+  if (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0)
+  {
+    vtkErrorMacro("Cannot simplify a non-manifold surface (" << report.NonManifoldEdges << " non-manifold edges, "
+                                                            << report.NonManifoldVertices
+                                                            << " non-manifold vertices): the output is empty.");
+    return 1;
+  }
+  if (mesh.NumberOfTriangles() == 0)
+  {
+    vtkErrorMacro("The input has no triangles: the output is empty.");
+    return 1;
+  }
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  auto aborted = [this](double f) {
+    this->UpdateProgress(f);
+    return this->GetAbortExecute() != 0;
+  };
+
+  // 1. Patchification.
+  slod::PatchificationParameters patchParameters;
+  patchParameters.OneEdgePatchAngle = this->PatchAngle;
+  patchParameters.OneEdgeNeighborAngle = this->NeighborAngle;
+  patchParameters.TwoEdgePatchAngle = this->TwoEdgePatchAngle;
+  patchParameters.TwoEdgeNeighborAngle = this->TwoEdgeNeighborAngle;
+  slod::GreedyCuts cuts;
+  cuts.Initialize(mesh, patchParameters, [&](double f) { return aborted(0.1 * f); });
+  if (cuts.Aborted())
+  {
+    return 1;
+  }
+
+  // 2. Greedy cuts at epsilon, or the epsilon search for a target.
+  slod::GreedyCutsParameters parameters;
+  parameters.BiteCandidates = this->BiteCandidates;
+  parameters.MinimumAngle = this->MinimumTriangleAngle;
+  const double bound = this->MaximumErrorRelative ? this->MaximumError * diagonal : this->MaximumError;
+  vtkIdType target = 0;
+  if (this->TargetNumberOfTriangles > 0)
+  {
+    target = this->TargetNumberOfTriangles;
+  }
+  else if (this->TargetReduction > 0)
+  {
+    target = static_cast<vtkIdType>(std::llround((1.0 - this->TargetReduction) * mesh.NumberOfTriangles()));
+  }
+  slod::GreedyCutsResult result;
+  auto stage = [&](double f) { return aborted(0.1 + 0.85 * f); };
+  if (target > 0 && target < mesh.NumberOfTriangles())
+  {
+    const double hi = bound > 0 ? bound : 0.1 * diagonal;
+    const double lo = std::min(hi, 1e-5 * diagonal);
+    if (!cuts.RunForTarget(static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), parameters, lo, hi,
+          this->TargetSearchSteps, result, stage))
+    {
+      return 1;
+    }
+    if (static_cast<vtkIdType>(result.Triangles.size() / 3) > target)
+    {
+      vtkWarningMacro(<< "Target of " << target << " triangles not reached within the error bound " << hi << ": "
+                      << result.Triangles.size() / 3 << " triangles.");
+    }
+  }
+  else
+  {
+    parameters.Epsilon = target >= mesh.NumberOfTriangles() ? 0.0 : bound;
+    if (!cuts.Run(parameters, result, stage))
+    {
+      return 1;
+    }
+  }
+  this->UsedMaximumError = result.ErrorBound;
+  this->NumberOfPatches = result.NumberOfPatches;
+  this->RefinedPatches = result.RefinedPatches;
+  this->OriginalPatches = result.OriginalPatches;
+  this->NumberOfEars = result.Ears;
+  this->NumberOfBites = result.Bites + result.WideBites;
+  this->NumberOfRepairs = result.Repairs;
+
+  // 3. Output over the original vertices that are used (in order of first use).
+  std::vector<slod::Index> outputOf(size_t(mesh.NumberOfPoints()), slod::InvalidIndex);
+  std::vector<slod::Index> used;
+  vtkNew<vtkCellArray> polys;
+  const vtkIdType nt = static_cast<vtkIdType>(result.TrianglePatch.size());
+  polys->AllocateExact(nt, 3 * nt);
+  for (vtkIdType t = 0; t < nt; ++t)
+  {
+    vtkIdType ids[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const slod::Index v = result.Triangles[3 * size_t(t) + k];
+      if (outputOf[v] == slod::InvalidIndex)
+      {
+        outputOf[v] = static_cast<slod::Index>(used.size());
+        used.push_back(v);
+      }
+      ids[k] = outputOf[v];
+    }
+    polys->InsertNextCell(3, ids);
+  }
+  vtkNew<vtkPoints> points;
+  const int inputType = input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT;
+  points->SetDataType(this->OutputDoublePrecision || inputType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
+  points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
+  vtkPointData* inPD = input->GetPointData();
+  vtkPointData* outPD = output->GetPointData();
+  outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
+  for (size_t i = 0; i < used.size(); ++i)
+  {
+    points->SetPoint(static_cast<vtkIdType>(i), &mesh.Points[3 * size_t(used[i])]);
+    outPD->CopyData(inPD, vertexToInput[used[i]], static_cast<vtkIdType>(i));
+  }
+  vtkNew<vtkIntArray> patchIds;
+  patchIds->SetName("PatchId");
+  patchIds->SetNumberOfValues(nt);
+  for (vtkIdType t = 0; t < nt; ++t)
+  {
+    patchIds->SetValue(t, result.TrianglePatch[size_t(t)]);
+  }
+  output->SetPoints(points);
+  output->SetPolys(polys);
+  output->GetCellData()->AddArray(patchIds);
+  vtkNew<vtkDoubleArray> boundArray;
+  boundArray->SetName("MaximumErrorBound");
+  boundArray->InsertNextValue(result.ErrorBound);
+  vtkNew<vtkDoubleArray> relativeArray;
+  relativeArray->SetName("MaximumErrorBoundRelative");
+  relativeArray->InsertNextValue(diagonal > 0 ? result.ErrorBound / diagonal : 0.0);
+  output->GetFieldData()->AddArray(boundArray);
+  output->GetFieldData()->AddArray(relativeArray);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "MaximumError: " << this->MaximumError << (this->MaximumErrorRelative ? " (relative)" : " (absolute)")
+     << "\n";
+  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
+  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
+  os << indent << "TargetSearchSteps: " << this->TargetSearchSteps << "\n";
+  os << indent << "PatchAngle: " << this->PatchAngle << "\n";
+  os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
+  os << indent << "TwoEdgePatchAngle: " << this->TwoEdgePatchAngle << "\n";
+  os << indent << "TwoEdgeNeighborAngle: " << this->TwoEdgeNeighborAngle << "\n";
+  os << indent << "BiteCandidates: " << this->BiteCandidates << "\n";
+  os << indent << "MinimumTriangleAngle: " << this->MinimumTriangleAngle << "\n";
+  os << indent << "OutputDoublePrecision: " << this->OutputDoublePrecision << "\n";
+  os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
+  os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
+  os << indent << "RefinedPatches: " << this->RefinedPatches << "\n";
+  os << indent << "OriginalPatches: " << this->OriginalPatches << "\n";
+  os << indent << "NumberOfEars: " << this->NumberOfEars << "\n";
+  os << indent << "NumberOfBites: " << this->NumberOfBites << "\n";
+  os << indent << "NumberOfRepairs: " << this->NumberOfRepairs << "\n";
+}

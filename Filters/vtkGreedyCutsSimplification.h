@@ -1,0 +1,137 @@
+/**
+ * @class   vtkGreedyCutsSimplification
+ * @brief   bounded-error simplification by greedy cuts (Ho 1999, chapter 3): the output is
+ *          guaranteed epsilon-close to the input (two-sided Hausdorff) and uses original
+ *          vertices only
+ *
+ * The surface is partitioned into terrain-like patches (disks whose normals stay within a cone,
+ * the shared slod::Patchification); the chains between patches are simplified to a fraction of
+ * epsilon; each patch is then triangulated inward from its simplified boundary by greedy cuts:
+ * the feasible ear of largest area is cut, else a feasible greedy bite (a triangle from a boundary
+ * edge to an original vertex inside the patch, the best-shaped candidates first) is taken, else
+ * every inner vertex is tried (edge splitting without Steiner points). A triangle is feasible when
+ * it lies within epsilon of the original surface (rigorous adaptive test against a BVH) and the
+ * original triangles under it lie within epsilon of it and face the same way. A patch that gets
+ * stuck is retried with full-resolution chains and finally kept as its original triangles, so the
+ * filter always terminates. A final verification proves that every original triangle lies within
+ * epsilon of the output. See slodGreedyCuts.h for the details.
+ *
+ * Guarantees: output vertices are a subset of the (prepared) input's; a closed manifold input
+ * gives a closed manifold output of the same genus; the two-sided Hausdorff distance between input
+ * and output is at most the used epsilon, stored in the output's field data
+ * ("MaximumErrorBound", absolute, and "MaximumErrorBoundRelative", divided by the input's bounding
+ * box diagonal) and returned by GetUsedMaximumError().
+ *
+ * Parameters: MaximumError (epsilon; absolute, or relative to the input's bounding box diagonal
+ * when MaximumErrorRelative is on, the default), the patch angle tolerances of
+ * vtkPatchBoundaryMerge, and the project's target convention: SetTargetNumberOfTriangles (0 =
+ * unused) or SetTargetReduction (fraction removed) searches epsilon (TargetSearchSteps runs:
+ * halving from MaximumError while the count stays within the target, then bisection on
+ * log(epsilon); down to 1e-5 of the diagonal) for the smallest epsilon whose result has at most
+ * the target count (the count is not strictly monotone in epsilon, so this is a search, not an
+ * exact inverse): MaximumError still bounds the error (the bound wins
+ * over the target, with a warning); raise it (e.g. 0.1 relative) to let the target decide.
+ * MaximumError 0 with a target searches up to 0.1 of the diagonal.
+ *
+ * Output: the simplified mesh with cell data "PatchId" and the input's point data; invalid input
+ * (empty, NaN/Inf coordinates, non-manifold) gives an error and an empty output.
+ */
+#ifndef vtkGreedyCutsSimplification_h
+#define vtkGreedyCutsSimplification_h
+
+#include "SurfaceLODFiltersModule.h"
+#include "vtkPolyDataAlgorithm.h"
+
+class SURFACELODFILTERS_EXPORT vtkGreedyCutsSimplification : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkGreedyCutsSimplification* New();
+  vtkTypeMacro(vtkGreedyCutsSimplification, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /** Error bound epsilon (default 0.005, relative to the bounding box diagonal). */
+  vtkSetClampMacro(MaximumError, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumError, double);
+  vtkSetMacro(MaximumErrorRelative, bool);
+  vtkGetMacro(MaximumErrorRelative, bool);
+  vtkBooleanMacro(MaximumErrorRelative, bool);
+  ///@}
+
+  ///@{
+  /** Target triangle count (0 = unused) or reduction (fraction removed): epsilon is searched. */
+  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
+  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
+  vtkGetMacro(TargetReduction, double);
+  vtkSetClampMacro(TargetSearchSteps, int, 1, 40);
+  vtkGetMacro(TargetSearchSteps, int);
+  ///@}
+
+  ///@{
+  /** Patch growth tolerances in degrees (see slod::PatchificationParameters). */
+  vtkSetClampMacro(PatchAngle, double, 0.0, 180.0);
+  vtkGetMacro(PatchAngle, double);
+  vtkSetClampMacro(NeighborAngle, double, 0.0, 180.0);
+  vtkGetMacro(NeighborAngle, double);
+  vtkSetClampMacro(TwoEdgePatchAngle, double, 0.0, 180.0);
+  vtkGetMacro(TwoEdgePatchAngle, double);
+  vtkSetClampMacro(TwoEdgeNeighborAngle, double, 0.0, 180.0);
+  vtkGetMacro(TwoEdgeNeighborAngle, double);
+  ///@}
+
+  ///@{
+  /** Greedy biting: inner vertices tried per edge; smallest angle of a created triangle (degrees). */
+  vtkSetClampMacro(BiteCandidates, int, 1, 1000);
+  vtkGetMacro(BiteCandidates, int);
+  vtkSetClampMacro(MinimumTriangleAngle, double, 0.0, 30.0);
+  vtkGetMacro(MinimumTriangleAngle, double);
+  ///@}
+
+  vtkSetMacro(OutputDoublePrecision, bool);
+  vtkGetMacro(OutputDoublePrecision, bool);
+  vtkBooleanMacro(OutputDoublePrecision, bool);
+
+  ///@{
+  /** Results of the last update. */
+  vtkGetMacro(UsedMaximumError, double); // absolute: the guaranteed Hausdorff bound
+  vtkGetMacro(NumberOfPatches, int);
+  vtkGetMacro(RefinedPatches, int);
+  vtkGetMacro(OriginalPatches, int);
+  vtkGetMacro(NumberOfEars, vtkIdType);
+  vtkGetMacro(NumberOfBites, vtkIdType);
+  vtkGetMacro(NumberOfRepairs, vtkIdType);
+  ///@}
+
+protected:
+  vtkGreedyCutsSimplification();
+  ~vtkGreedyCutsSimplification() override = default;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double MaximumError = 0.005;
+  bool MaximumErrorRelative = true;
+  vtkIdType TargetNumberOfTriangles = 0;
+  double TargetReduction = 0.0;
+  int TargetSearchSteps = 10;
+  double PatchAngle = 25.0;
+  double NeighborAngle = 20.0;
+  double TwoEdgePatchAngle = 90.0;
+  double TwoEdgeNeighborAngle = 90.0;
+  int BiteCandidates = 8;
+  double MinimumTriangleAngle = 0.5;
+  bool OutputDoublePrecision = false;
+
+  double UsedMaximumError = 0;
+  int NumberOfPatches = 0;
+  int RefinedPatches = 0;
+  int OriginalPatches = 0;
+  vtkIdType NumberOfEars = 0;
+  vtkIdType NumberOfBites = 0;
+  vtkIdType NumberOfRepairs = 0;
+
+private:
+  vtkGreedyCutsSimplification(const vtkGreedyCutsSimplification&) = delete;
+  void operator=(const vtkGreedyCutsSimplification&) = delete;
+};
+
+#endif

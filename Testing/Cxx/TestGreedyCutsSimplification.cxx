@@ -1,0 +1,364 @@
+// Tests of the greedy-cuts simplification (Ho 1999, chapter 3): the epsilon guarantee (two-sided
+// Hausdorff measured by vtkSurfaceDeviation), original vertices only, manifold, watertight, same
+// genus, no flipped triangles, monotone in epsilon, deterministic, the epsilon search for a target,
+// bad input, and the comparison with vtkQuadricDecimation / vtkDecimatePro at the same count.
+#include "TestSupport.h"
+
+#include "slodChainSimplification.h"
+#include "slodGreedyCuts.h"
+#include "slodMeshTopology.h"
+#include "slodTriangleBVH.h"
+#include "vtkGreedyCutsSimplification.h"
+#include "vtkSurfaceDeviation.h"
+
+#include "vtkCallbackCommand.h"
+#include "vtkCellArray.h"
+#include "vtkCommand.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDecimatePro.h"
+#include "vtkFieldData.h"
+#include "vtkNew.h"
+#include "vtkPoints.h"
+#include "vtkQuadricDecimation.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+using namespace slod;
+
+namespace
+{
+struct Figures
+{
+  vtkSmartPointer<vtkPolyData> Output;
+  double Bound = 0;
+  double Hausdorff = 0; // measured, absolute
+  double Seconds = 0;
+  std::string Statistics;
+};
+
+double MeasureHausdorff(vtkPolyData* reference, vtkPolyData* compared)
+{
+  vtkNew<vtkSurfaceDeviation> deviation;
+  deviation->SetReferenceData(reference);
+  deviation->SetComparedData(compared);
+  deviation->SetNumberOfSamples(100000);
+  deviation->Update();
+  return deviation->GetHausdorff();
+}
+
+Figures Simplify(vtkPolyData* input, double relativeError, bool measure = true)
+{
+  vtkNew<vtkGreedyCutsSimplification> filter;
+  filter->SetInputData(input);
+  filter->SetMaximumError(relativeError);
+  const auto start = std::chrono::steady_clock::now();
+  filter->Update();
+  Figures f;
+  f.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  f.Output = filter->GetOutput();
+  f.Bound = filter->GetUsedMaximumError();
+  std::ostringstream stats;
+  stats << filter->GetNumberOfPatches() << " patches (" << filter->GetRefinedPatches() << " refined, "
+        << filter->GetOriginalPatches() << " original), " << filter->GetNumberOfEars() << " ears, "
+        << filter->GetNumberOfBites() << " bites, " << filter->GetNumberOfRepairs() << " repairs";
+  f.Statistics = stats.str();
+  if (measure)
+  {
+    f.Hausdorff = MeasureHausdorff(input, f.Output);
+  }
+  return f;
+}
+
+// Every output point is an input point (exact coordinates).
+bool VerticesAreInputVertices(vtkPolyData* input, vtkPolyData* output)
+{
+  std::set<std::array<double, 3>> in;
+  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    input->GetPoint(i, p);
+    in.insert({ p[0], p[1], p[2] });
+  }
+  for (vtkIdType i = 0; i < output->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    output->GetPoint(i, p);
+    if (!in.count({ p[0], p[1], p[2] }))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Output triangles whose normal opposes the normal of the input surface at their centroid.
+int FlippedTriangles(const TriangleMesh& original, const TriangleMesh& simplified)
+{
+  TriangleBVH bvh(original);
+  int flipped = 0;
+  for (Index t = 0; t < simplified.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = simplified.Triangle(t);
+    const Vec3 a = simplified.Point(tri[0]), b = simplified.Point(tri[1]), c = simplified.Point(tri[2]);
+    const ClosestPointResult hit = bvh.ClosestPoint((1.0 / 3.0) * (a + b + c));
+    if (Dot(Cross(b - a, c - a), original.TriangleAreaVector(hit.Triangle)) < 0)
+    {
+      std::cout << "flipped: triangle " << t << " distance " << std::sqrt(hit.Distance2) << " cos "
+                << Dot(Normalized(Cross(b - a, c - a)), Normalized(original.TriangleAreaVector(hit.Triangle)))
+                << " min angle " << MinimumAngle(a, b, c) * 180 / 3.14159265 << "\n";
+      ++flipped;
+    }
+  }
+  return flipped;
+}
+
+void ExpectValid(vtkPolyData* input, const Figures& f, const std::string& name)
+{
+  SCOPED_TRACE(name);
+  const TriangleMesh in = slodtest::ToTriangleMesh(input);
+  const TriangleMesh out = slodtest::RawTriangleMesh(f.Output);
+  const MeshStatistics si = ComputeMeshStatistics(in);
+  const MeshStatistics so = ComputeMeshStatistics(out);
+  EXPECT_GT(out.NumberOfTriangles(), 0);
+  EXPECT_LE(out.NumberOfTriangles(), in.NumberOfTriangles());
+  EXPECT_EQ(so.NonManifoldEdges, 0);
+  EXPECT_EQ(so.NonManifoldVertices, 0);
+  EXPECT_EQ(so.BoundaryEdges, si.BoundaryEdges == 0 ? 0 : so.BoundaryEdges);
+  EXPECT_EQ(so.BoundaryLoops, si.BoundaryLoops);
+  EXPECT_EQ(so.Components, si.Components);
+  EXPECT_EQ(so.Genus, si.Genus);
+  EXPECT_EQ(so.EulerCharacteristic, si.EulerCharacteristic);
+  EXPECT_EQ(so.InconsistentlyOrientedEdges, 0);
+  EXPECT_EQ(so.DegenerateTriangles, 0);
+  EXPECT_TRUE(VerticesAreInputVertices(input, f.Output));
+  EXPECT_EQ(FlippedTriangles(in, out), 0);
+  // The guarantee: two-sided Hausdorff <= epsilon (sampling can only under-estimate it; the tiny
+  // slack is float storage of the measured surfaces).
+  EXPECT_LE(f.Hausdorff, f.Bound * (1 + 1e-6) + 1e-9 * in.BoundingBoxDiagonal());
+  vtkDataArray* patch = f.Output->GetCellData()->GetArray("PatchId");
+  ASSERT_NE(patch, nullptr);
+  EXPECT_EQ(patch->GetNumberOfTuples(), f.Output->GetNumberOfCells());
+  vtkDataArray* bound = f.Output->GetFieldData()->GetArray("MaximumErrorBound");
+  ASSERT_NE(bound, nullptr);
+  EXPECT_DOUBLE_EQ(bound->GetTuple1(0), f.Bound);
+}
+} // namespace
+
+TEST(ChainSimplification, DouglasPeuckerBound)
+{
+  TriangleMesh mesh;
+  std::vector<Index> chain;
+  for (int i = 0; i <= 100; ++i)
+  {
+    chain.push_back(mesh.AddPoint({ 0.01 * i, 0.05 * std::sin(0.2 * i), 0.0 }));
+  }
+  for (double eps : { 0.001, 0.01, 0.04 })
+  {
+    std::vector<unsigned char> keep;
+    SimplifyChain(mesh, chain.data(), Index(chain.size()), eps, keep);
+    EXPECT_TRUE(keep.front() && keep.back());
+    Index last = 0;
+    for (Index i = 1; i < Index(chain.size()); ++i)
+    {
+      if (keep[i])
+      {
+        for (Index j = last + 1; j < i; ++j)
+        {
+          EXPECT_LE(PointSegmentDistance(mesh.Point(chain[j]), mesh.Point(chain[last]), mesh.Point(chain[i])), eps);
+        }
+        last = i;
+      }
+    }
+  }
+}
+
+TEST(GreedyCuts, TriangleWithinDistanceIsRigorous)
+{
+  // A unit square as two triangles; a triangle lifted by h is within eps iff h <= eps.
+  TriangleMesh square;
+  square.AddPoint({ 0, 0, 0 });
+  square.AddPoint({ 1, 0, 0 });
+  square.AddPoint({ 1, 1, 0 });
+  square.AddPoint({ 0, 1, 0 });
+  square.AddTriangle(0, 1, 2);
+  square.AddTriangle(0, 2, 3);
+  TriangleBVH bvh(square);
+  EXPECT_TRUE(TriangleWithinDistance(bvh, { 0.1, 0.1, 0.05 }, { 0.9, 0.1, 0.05 }, { 0.5, 0.9, 0.05 }, 0.06, 10));
+  EXPECT_FALSE(TriangleWithinDistance(bvh, { 0.1, 0.1, 0.05 }, { 0.9, 0.1, 0.05 }, { 0.5, 0.9, 0.05 }, 0.049, 10));
+  // Sticking out over the border by 0.2: farther than 0.1 there.
+  EXPECT_FALSE(TriangleWithinDistance(bvh, { 0.1, 0.1, 0 }, { 1.2, 0.1, 0 }, { 0.5, 0.9, 0 }, 0.1, 10));
+}
+
+TEST(GreedyCutsSimplification, SphereAndTorus)
+{
+  for (const auto& [name, shape] : { std::pair<std::string, TriangleMesh>{ "sphere", slodtest::Sphere(48, 48) },
+         { "torus", slodtest::Torus(64, 32) } })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(shape);
+    const Figures f = Simplify(input, 0.01);
+    std::cout << "[greedy-cuts] " << name << " " << input->GetNumberOfCells() << " -> "
+              << f.Output->GetNumberOfCells() << " tris, eps " << f.Bound << ", Hausdorff " << f.Hausdorff << ", " << f.Statistics << "\n";
+    ExpectValid(input, f, name);
+    EXPECT_LT(f.Output->GetNumberOfCells(), input->GetNumberOfCells() / 3);
+  }
+}
+
+TEST(GreedyCutsSimplification, OpenDisk)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(slodtest::Disk(20, 48));
+  const Figures f = Simplify(input, 0.01);
+  ExpectValid(input, f, "disk");
+  EXPECT_LT(f.Output->GetNumberOfCells(), input->GetNumberOfCells());
+}
+
+TEST(GreedyCutsSimplification, RealMeshesRespectEpsilon)
+{
+  // Monotone in epsilon on these ranges. (Not in general: at large epsilon a big patch can exhaust
+  // its front repairs and fall back to its original triangles, e.g. bunny00 at 0.02.)
+  for (const auto& [name, epsilons] : { std::pair<std::string, std::vector<double>>{ "fandisk", { 0.005, 0.01, 0.02 } },
+         { "bunny00", { 0.005, 0.01 } } })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    vtkIdType previous = std::numeric_limits<vtkIdType>::max();
+    for (double eps : epsilons)
+    {
+      const Figures f = Simplify(input, eps);
+      std::cout << "[greedy-cuts] " << name << " eps " << eps << " (" << f.Bound << "): " << input->GetNumberOfCells()
+                << " -> " << f.Output->GetNumberOfCells() << " tris, measured Hausdorff " << f.Hausdorff << " ("
+                << f.Hausdorff / f.Bound << " of eps), " << f.Seconds << " s, " << f.Statistics << "\n";
+      ExpectValid(input, f, name + " eps " + std::to_string(eps));
+      EXPECT_LT(f.Output->GetNumberOfCells(), previous);
+      previous = f.Output->GetNumberOfCells();
+    }
+  }
+}
+
+TEST(GreedyCutsSimplification, Deterministic)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("fandisk");
+  const Figures a = Simplify(input, 0.01, false);
+  const Figures b = Simplify(input, 0.01, false);
+  ASSERT_EQ(a.Output->GetNumberOfCells(), b.Output->GetNumberOfCells());
+  ASSERT_EQ(a.Output->GetNumberOfPoints(), b.Output->GetNumberOfPoints());
+  const TriangleMesh ma = slodtest::RawTriangleMesh(a.Output), mb = slodtest::RawTriangleMesh(b.Output);
+  EXPECT_EQ(ma.Triangles, mb.Triangles);
+  EXPECT_EQ(ma.Points, mb.Points);
+}
+
+TEST(GreedyCutsSimplification, TargetSearchesEpsilon)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("fandisk");
+  vtkNew<vtkGreedyCutsSimplification> filter;
+  filter->SetInputData(input);
+  filter->SetMaximumError(0.05); // the search's upper end
+  filter->SetTargetNumberOfTriangles(1500);
+  filter->Update();
+  vtkPolyData* output = filter->GetOutput();
+  std::cout << "[greedy-cuts] fandisk target 1500: " << output->GetNumberOfCells() << " tris at eps "
+            << filter->GetUsedMaximumError() << "\n";
+  EXPECT_LE(output->GetNumberOfCells(), 1500);
+  EXPECT_GT(output->GetNumberOfCells(), 500);
+  EXPECT_LT(filter->GetUsedMaximumError(), 0.05 * slodtest::ToTriangleMesh(input).BoundingBoxDiagonal());
+  EXPECT_LE(MeasureHausdorff(input, output), filter->GetUsedMaximumError() * (1 + 1e-6));
+  // A reduction of 0 (target >= input) returns the input's triangles.
+  filter->SetTargetNumberOfTriangles(0);
+  filter->SetTargetReduction(0.0);
+  filter->SetMaximumError(0.0);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), input->GetNumberOfCells());
+  EXPECT_EQ(filter->GetUsedMaximumError(), 0.0);
+  std::ostringstream print;
+  filter->Print(print);
+  EXPECT_NE(print.str().find("MaximumError"), std::string::npos);
+  EXPECT_NE(print.str().find("BiteCandidates"), std::string::npos);
+}
+
+TEST(GreedyCutsSimplification, BadInputGivesErrorAndEmptyOutput)
+{
+  vtkNew<vtkPolyData> empty;
+  vtkSmartPointer<vtkPolyData> nan = slodtest::ToPolyData(slodtest::Sphere(8, 8));
+  nan->GetPoints()->SetPoint(3, std::numeric_limits<double>::quiet_NaN(), 0, 0);
+  vtkSmartPointer<vtkPolyData> fan = slodtest::ToPolyData(slodtest::NonManifoldFan(3));
+  for (vtkPolyData* input : { static_cast<vtkPolyData*>(empty), nan.Get(), fan.Get() })
+  {
+    vtkNew<vtkGreedyCutsSimplification> filter;
+    filter->SetInputData(input);
+    filter->GlobalWarningDisplayOff();
+    filter->Update();
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  }
+}
+
+TEST(GreedyCutsSimplification, AgainstVTKDecimatorsAtTheSameCount)
+{
+  for (const auto& [name, eps] : { std::pair<std::string, double>{ "fandisk", 0.01 }, { "bunny00", 0.005 } })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    const auto start = std::chrono::steady_clock::now();
+    const Figures ours = Simplify(input, eps);
+    const double oursSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const vtkIdType count = ours.Output->GetNumberOfCells();
+    const double reduction = 1.0 - double(count) / double(input->GetNumberOfCells());
+    vtkNew<vtkQuadricDecimation> quadric;
+    quadric->SetInputData(input);
+    quadric->SetTargetReduction(reduction);
+    const auto qStart = std::chrono::steady_clock::now();
+    quadric->Update();
+    const double qSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - qStart).count();
+    vtkNew<vtkDecimatePro> pro;
+    pro->SetInputData(input);
+    pro->SetTargetReduction(reduction);
+    pro->PreserveTopologyOn();
+    pro->Update();
+    const double hq = MeasureHausdorff(input, quadric->GetOutput());
+    const double hp = MeasureHausdorff(input, pro->GetOutput());
+    std::cout << "[greedy-cuts] " << name << " at " << count << " tris (eps " << ours.Bound << "): Hausdorff ours "
+              << ours.Hausdorff << ", vtkQuadricDecimation " << hq << " (" << quadric->GetOutput()->GetNumberOfCells()
+              << " tris, ratio ours/quadric " << ours.Hausdorff / hq << "), vtkDecimatePro " << hp << " ("
+              << pro->GetOutput()->GetNumberOfCells() << " tris, ratio " << ours.Hausdorff / hp << "); time ours "
+              << oursSeconds << " s vs quadric " << qSeconds << " s\n";
+    EXPECT_LE(ours.Hausdorff, ours.Bound * (1 + 1e-6));
+  }
+}
+
+TEST(GreedyCutsSimplification, ProgressAndAbort)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("fandisk");
+  struct State
+  {
+    int Events = 0;
+    bool Abort = false;
+  } state;
+  vtkNew<vtkCallbackCommand> callback;
+  callback->SetClientData(&state);
+  callback->SetCallback([](vtkObject* caller, unsigned long, void* clientData, void*) {
+    auto* s = static_cast<State*>(clientData);
+    ++s->Events;
+    if (s->Abort)
+    {
+      static_cast<vtkGreedyCutsSimplification*>(caller)->SetAbortExecute(1);
+    }
+  });
+  vtkNew<vtkGreedyCutsSimplification> filter;
+  filter->SetInputData(input);
+  filter->SetMaximumError(0.01);
+  filter->AddObserver(vtkCommand::ProgressEvent, callback);
+  filter->Update();
+  EXPECT_GT(state.Events, 10);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 798);
+  // Aborted at the first progress report: a defined (empty) output.
+  state = State{ 0, true };
+  filter->SetMaximumError(0.011);
+  filter->Update();
+  EXPECT_GE(state.Events, 1);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+}
