@@ -160,7 +160,7 @@ const std::vector<Method>& Methods()
       "Turk 1992: re-tiling with evenly spread new vertices (point repulsion, mutual tessellation)"),
     { "greedy-cuts", "Ho 1999 ch. 3: greedy cuts (ears, bites) per patch, output guaranteed within --max-error "
       "(two-sided Hausdorff) of the input; a target searches the error; original vertices only",
-      true, &CreateGreedyCuts },
+      true, &CreateGreedyCuts, false, /*InDefaultRuns=*/false },
   };
   // clang-format on
   return methods;

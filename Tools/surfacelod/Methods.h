@@ -32,6 +32,9 @@ struct Method
   // A configured filter; the caller sets the input and calls Update().
   vtkSmartPointer<vtkPolyDataAlgorithm> (*Create)(const MethodSettings&);
   bool SupportsLevel = false; // accepts --level (a level of a hierarchy) instead of a target
+  // Run by `demo` and `bench` when no --methods is given. Off for methods whose time grows with the
+  // accuracy asked (a bound-driven target search on a 1M-triangle surface takes many minutes).
+  bool InDefaultRuns = true;
 };
 
 const std::vector<Method>& Methods();

@@ -177,7 +177,10 @@ std::vector<const Method*> SelectMethods(const ParsedArguments& args)
   {
     for (const Method& m : Methods())
     {
-      selected.push_back(&m);
+      if (m.InDefaultRuns)
+      {
+        selected.push_back(&m);
+      }
     }
     return selected;
   }
@@ -403,7 +406,7 @@ CommandSpec DemoSpec()
   return { "demo", "[--resolution N] [--output-dir DIR] [--target-reduction R]",
     "Generate the synthetic test surface (vtkSyntheticIsosurfaceSource: a rippled ring of Gaussian\n"
     "blobs, genus 1, about 1,000,000 triangles at the default resolution 500), simplify it with every\n"
-    "method, print a table (time, symmetric Hausdorff and RMS distance relative to the bounding-box\n"
+    "method (those marked in `surfacelod methods` only when named in --methods), print a table (time, symmetric Hausdorff and RMS distance relative to the bounding-box\n"
     "diagonal), write each mesh as DIR/<method>.vtp and a side-by-side picture DIR/demo.png\n"
     "(needs an X display; run under `xvfb-run -a` on a headless machine).",
     {},
@@ -626,7 +629,7 @@ int ListMethods(const ParsedArguments&)
   for (const Method& m : Methods())
   {
     std::cout << Padded(m.Name, 30) << m.Description << (m.SupportsMaximumError ? "" : " [no --max-error]")
-              << "\n";
+              << (m.InDefaultRuns ? "" : " [demo/bench only with --methods]") << "\n";
   }
   return ExitSuccess;
 }
