@@ -122,8 +122,8 @@ int vtkGreedyCutsSimplification::RequestData(
   this->NumberOfRepairs = result.Repairs;
 
   // 3. Output over the original vertices that are used (in order of first use).
-  std::vector<slod::Index> outputOf(size_t(mesh.NumberOfPoints()), slod::InvalidIndex);
-  std::vector<slod::Index> used;
+  slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
+  const std::vector<slod::Index>& used = numbering.Used;
   vtkNew<vtkCellArray> polys;
   const vtkIdType nt = static_cast<vtkIdType>(result.TrianglePatch.size());
   polys->AllocateExact(nt, 3 * nt);
@@ -132,13 +132,7 @@ int vtkGreedyCutsSimplification::RequestData(
     vtkIdType ids[3];
     for (int k = 0; k < 3; ++k)
     {
-      const slod::Index v = result.Triangles[3 * size_t(t) + k];
-      if (outputOf[v] == slod::InvalidIndex)
-      {
-        outputOf[v] = static_cast<slod::Index>(used.size());
-        used.push_back(v);
-      }
-      ids[k] = outputOf[v];
+      ids[k] = numbering(result.Triangles[3 * size_t(t) + k]);
     }
     polys->InsertNextCell(3, ids);
   }

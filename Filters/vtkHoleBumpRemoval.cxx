@@ -134,16 +134,9 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   this->NumberOfMergedPatches = result.MergedPatches;
 
   // Output over the used input vertices.
-  std::vector<slod::Index> outputOf(size_t(mesh.NumberOfPoints()), slod::InvalidIndex);
-  std::vector<slod::Index> used;
-  auto use = [&](slod::Index v) {
-    if (outputOf[v] == slod::InvalidIndex)
-    {
-      outputOf[v] = static_cast<slod::Index>(used.size());
-      used.push_back(v);
-    }
-    return static_cast<vtkIdType>(outputOf[v]);
-  };
+  slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
+  const std::vector<slod::Index>& used = numbering.Used;
+  auto use = [&](slod::Index v) { return static_cast<vtkIdType>(numbering(v)); };
   const vtkIdType nt = static_cast<vtkIdType>(result.TrianglePatch.size());
   vtkNew<vtkCellArray> polys;
   polys->AllocateExact(nt, 3 * nt);

@@ -278,16 +278,9 @@ int vtkPatchBoundaryMerge::RequestData(
   this->UpdateProgress(0.9);
 
   // 3. Outputs over the original vertices that are used.
-  std::vector<slod::Index> outputOf(size_t(mesh.NumberOfPoints()), slod::InvalidIndex);
-  std::vector<slod::Index> used;
-  auto use = [&](slod::Index v) {
-    if (outputOf[v] == slod::InvalidIndex)
-    {
-      outputOf[v] = static_cast<slod::Index>(used.size());
-      used.push_back(v);
-    }
-    return static_cast<vtkIdType>(outputOf[v]);
-  };
+  slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
+  const std::vector<slod::Index>& used = numbering.Used;
+  auto use = [&](slod::Index v) { return static_cast<vtkIdType>(numbering(v)); };
   vtkNew<vtkCellArray> polys;
   polys->AllocateExact(static_cast<vtkIdType>(result.TrianglePatch.size()), static_cast<vtkIdType>(result.Triangles.size()));
   for (size_t t = 0; t < result.TrianglePatch.size(); ++t)

@@ -25,6 +25,21 @@ namespace
 {
 using Vec2 = std::array<double, 2>;
 
+// Coordinates in an orthonormal frame (u, v) of the plane orthogonal to the normal, oriented by it.
+std::vector<Vec2> ProjectOntoPlane(const std::vector<Vec3>& polygon, const Vec3& normal)
+{
+  const Vec3 w = Normalized(normal);
+  const Vec3 helper = std::fabs(w[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
+  const Vec3 u = Normalized(Cross(helper, w));
+  const Vec3 v = Cross(w, u);
+  std::vector<Vec2> p(polygon.size());
+  for (size_t i = 0; i < polygon.size(); ++i)
+  {
+    p[i] = { Dot(polygon[i], u), Dot(polygon[i], v) };
+  }
+  return p;
+}
+
 double Cross2(const Vec2& o, const Vec2& a, const Vec2& b)
 {
   return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
@@ -84,16 +99,7 @@ PolygonTriangulationResult TriangulatePolygon(
     result.Failed = n > 0;
     return result;
   }
-  // Orthonormal frame (u, v) of the projection plane, oriented by the normal.
-  const Vec3 w = Normalized(normal);
-  const Vec3 helper = std::fabs(w[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
-  const Vec3 u = Normalized(Cross(helper, w));
-  const Vec3 v = Cross(w, u);
-  std::vector<Vec2> p(n);
-  for (size_t i = 0; i < n; ++i)
-  {
-    p[i] = { Dot(polygon[i], u), Dot(polygon[i], v) };
-  }
+  const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
   // Doubly linked ring of remaining corners.
   std::vector<size_t> prev(n), next(n);
   for (size_t i = 0; i < n; ++i)
@@ -261,15 +267,10 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
     result.Failed = n > 0;
     return result;
   }
-  const Vec3 w = Normalized(normal);
-  const Vec3 helper = std::fabs(w[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
-  const Vec3 u = Normalized(Cross(helper, w));
-  const Vec3 v = Cross(w, u);
-  std::vector<Vec2> p(n);
+  const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
   double extent = 0;
   for (size_t i = 0; i < n; ++i)
   {
-    p[i] = { Dot(polygon[i], u), Dot(polygon[i], v) };
     extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
   }
   const double tolerance = 1e-9 * extent;

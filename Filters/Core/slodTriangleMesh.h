@@ -35,6 +35,28 @@ inline Vec3 Normalized(const Vec3& a)
   return n > 0 ? (1.0 / n) * a : Vec3{ 0, 0, 0 };
 }
 
+// Renumbers the vertices that a set of triangles uses, in order of first use: outputs made of
+// original vertices keep only those (Used[new] = old, NewIndexOf[old] = new or InvalidIndex).
+struct FirstUseNumbering
+{
+  std::vector<Index> NewIndexOf;
+  std::vector<Index> Used;
+
+  explicit FirstUseNumbering(Index numberOfPoints)
+    : NewIndexOf(static_cast<size_t>(numberOfPoints), InvalidIndex)
+  {
+  }
+  Index operator()(Index v)
+  {
+    if (this->NewIndexOf[v] == InvalidIndex)
+    {
+      this->NewIndexOf[v] = static_cast<Index>(this->Used.size());
+      this->Used.push_back(v);
+    }
+    return this->NewIndexOf[v];
+  }
+};
+
 struct SURFACELODFILTERS_EXPORT TriangleMesh
 {
   std::vector<double> Points;   // 3 per vertex
