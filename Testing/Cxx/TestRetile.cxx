@@ -29,16 +29,6 @@ using namespace slod;
 
 namespace
 {
-class MessageCounter : public vtkCommand
-{
-public:
-  static MessageCounter* New() { return new MessageCounter; }
-  void Execute(vtkObject*, unsigned long event, void*) override
-  {
-    (event == vtkCommand::ErrorEvent ? this->Errors : this->Warnings)++;
-  }
-  int Errors = 0, Warnings = 0;
-};
 
 vtkSmartPointer<vtkPolyData> Retile(vtkPolyData* input, vtkIdType points, double curvatureWeight = 0.0,
   int seed = 1, vtkRetile** keep = nullptr)
@@ -332,7 +322,7 @@ TEST(Retile, CoreSpacingImprovesWithIterations)
 
 TEST(Retile, BadInput)
 {
-  vtkNew<MessageCounter> messages;
+  vtkNew<slodtest::MessageCounter> messages;
   vtkNew<vtkRetile> filter;
   filter->AddObserver(vtkCommand::ErrorEvent, messages);
   filter->AddObserver(vtkCommand::WarningEvent, messages);
@@ -341,13 +331,13 @@ TEST(Retile, BadInput)
   filter->SetInputData(empty);
   filter->Update();
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
-  EXPECT_EQ(messages->Errors, 1);
+  EXPECT_EQ(messages->Errors.size(), 1u);
 
   filter->SetInputData(slodtest::ToPolyData(slodtest::NonManifoldFan(4)));
   filter->Update();
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPolys(), 0);
-  EXPECT_EQ(messages->Errors, 2);
+  EXPECT_EQ(messages->Errors.size(), 2u);
 
   std::ostringstream print;
   filter->Print(print);
@@ -469,7 +459,7 @@ TEST(Retile, ReportsProgressAndAborts)
   auto input = slodtest::ToPolyData(slodtest::Torus(64, 32));
   vtkNew<vtkRetile> filter;
   vtkNew<AbortOnProgress> abort;
-  vtkNew<MessageCounter> messages;
+  vtkNew<slodtest::MessageCounter> messages;
   filter->AddObserver(vtkCommand::ProgressEvent, abort);
   filter->AddObserver(vtkCommand::WarningEvent, messages);
   filter->SetInputData(input);
@@ -477,5 +467,5 @@ TEST(Retile, ReportsProgressAndAborts)
   filter->Update();
   EXPECT_GT(abort->Calls, 3);
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
-  EXPECT_EQ(messages->Warnings, 1);
+  EXPECT_EQ(messages->Warnings.size(), 1u);
 }

@@ -4,10 +4,12 @@
 
 #include "slodTriangleMesh.h"
 
+#include "vtkCommand.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 
 #include <string>
+#include <vector>
 
 namespace slodtest
 {
@@ -36,6 +38,19 @@ slod::TriangleMesh Disk(int rings, int segments);                    // open, on
 slod::TriangleMesh Grid(int nx, int ny, double z = 0.0);             // unit square, one boundary loop
 slod::TriangleMesh Concatenate(const slod::TriangleMesh& a, const slod::TriangleMesh& b);
 slod::TriangleMesh NonManifoldFan(int wings);                        // `wings` triangles on one edge
+
+// Collects (and so silences) the warnings and errors of a filter it observes.
+class MessageCounter : public vtkCommand
+{
+public:
+  static MessageCounter* New() { return new MessageCounter; }
+  void Execute(vtkObject*, unsigned long event, void* data) override
+  {
+    (event == vtkCommand::ErrorEvent ? this->Errors : this->Warnings)
+      .push_back(data ? static_cast<const char*>(data) : "");
+  }
+  std::vector<std::string> Warnings, Errors;
+};
 } // namespace slodtest
 
 #endif

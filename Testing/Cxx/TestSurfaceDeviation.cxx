@@ -107,23 +107,11 @@ void ExpectTreeMatchesBruteForce(const TriangleMesh& mesh, int queries, unsigned
   }
 }
 
-// Collects warnings and errors of a filter.
-class MessageCounter : public vtkCommand
-{
-public:
-  static MessageCounter* New() { return new MessageCounter; }
-  void Execute(vtkObject*, unsigned long event, void* data) override
-  {
-    (event == vtkCommand::ErrorEvent ? this->Errors : this->Warnings)
-      .push_back(data ? static_cast<const char*>(data) : "");
-  }
-  std::vector<std::string> Warnings, Errors;
-};
 
 struct Watched
 {
   vtkNew<vtkSurfaceDeviation> Filter;
-  vtkNew<MessageCounter> Messages;
+  vtkNew<slodtest::MessageCounter> Messages;
   Watched()
   {
     this->Filter->AddObserver(vtkCommand::WarningEvent, this->Messages);
