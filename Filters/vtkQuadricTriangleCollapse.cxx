@@ -201,6 +201,7 @@ int vtkQuadricTriangleCollapse::RequestData(
   options.AllowTopologyChange = this->AllowTopologyChange;
   options.ExactUnion = this->ExactUnion;
   options.RefineDeviation = this->DeviationRefinement;
+  options.FitToOriginal = this->FitToOriginal;
   options.EdgeCollapses = this->EdgeCollapses;
   options.EdgeCollapseBias = this->EdgeCollapseBias;
   options.RecordHistory = this->GenerateProgressiveMesh;
@@ -277,6 +278,7 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AllowTopologyChange: " << this->AllowTopologyChange << "\n";
   os << indent << "ExactUnion: " << this->ExactUnion << "\n";
   os << indent << "DeviationRefinement: " << this->DeviationRefinement << "\n";
+  os << indent << "FitToOriginal: " << this->FitToOriginal << "\n";
   os << indent << "EdgeCollapses: " << this->EdgeCollapses << "\n";
   os << indent << "EdgeCollapseBias: " << this->EdgeCollapseBias << "\n";
   os << indent << "GenerateProgressiveMesh: " << this->GenerateProgressiveMesh << "\n";

@@ -135,6 +135,18 @@ public:
   ///@}
 
   ///@{
+  /// Fit to the original surface (default on; a departure from the paper): after the collapses,
+  /// every merged interior vertex moves to the least-squares fit of the input surface around it
+  /// (distances of the input's vertices and triangle centroids to the output along its normals),
+  /// two sweeps, before the deviation refinement. It lowers the mean distance; connectivity, the
+  /// triangle count and the progressive records stay exact. Off with DeviationRefinement off:
+  /// the paper's result.
+  vtkSetMacro(FitToOriginal, bool);
+  vtkGetMacro(FitToOriginal, bool);
+  vtkBooleanMacro(FitToOriginal, bool);
+  ///@}
+
+  ///@{
   /// Exact union of the interrelated sets (each original plane once; slower reference mode).
   vtkSetMacro(ExactUnion, bool);
   vtkGetMacro(ExactUnion, bool);
@@ -181,6 +193,7 @@ protected:
   bool AllowTopologyChange = false;
   bool ExactUnion = false;
   bool DeviationRefinement = true;
+  bool FitToOriginal = true;
   bool EdgeCollapses = true;
   double EdgeCollapseBias = 2.0;
   bool GenerateProgressiveMesh = false;

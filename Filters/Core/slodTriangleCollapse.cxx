@@ -101,6 +101,33 @@ namespace
 {
 // Budget of the deviation refinement in point-triangle distance tests per input triangle.
 constexpr double RefinementWorkPerInputTriangle = 160;
+// ... plus a fixed allowance (about 0.1 s) so that small inputs get their worst regions done.
+constexpr double RefinementMinimumWork = 3.0e6;
+// Rounds of screening and moves, and how much a move may raise the local sum of distances.
+constexpr int RefinementRounds = 2;
+constexpr double RefinementSumSlack = 1.02;
+// Candidates screened: a tenth of the output vertices (the quadric error that picks them is only
+// loosely tied to the distance), at most this many.
+constexpr size_t RefinementPoolLimit = 2000;
+// The fit to the original surface: Gauss-Seidel sweeps, and the weight of the ridge term that
+// keeps vertices from sliding along the surface (relative to the data term's trace).
+constexpr int FitIterations = 2;
+// Its budget in point-triangle tests: a fixed allowance (about 0.1 s), enough for every vertex of
+// inputs up to a few 100,000 triangles, plus a share per input triangle; the worst vertices first.
+constexpr double FitWorkPerInputTriangle = 2;
+constexpr double FitMinimumWork = 1.0e6;
+constexpr double FitRidge = 0.02;
+// Up to this many input vertices the fit assigns every original vertex to its closest output
+// triangle (one BVH query each) to know exactly whom a move can affect.
+constexpr Index ExactScreeningLimit = 300000;
+
+// Who descends from whom, for the passes that measure against the original surface: the
+// original vertices merged into each surviving vertex and the original triangles of each
+// original vertex (both CSR).
+struct Ancestry
+{
+  std::vector<Index> AncestorStart, Ancestors, OriginalStart, OriginalTriangles;
+};
 
 // The working state of one simplification. Coordinates of quadrics are relative to Origin (the
 // bounding-box centre) so that plane offsets stay small and the 4x4 sums do not cancel.
@@ -144,8 +171,20 @@ private:
   bool AlternativePlacement(
     const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const;
   void ExtractResult(TriangleCollapseResult& result);
+  void BuildAncestry(const TriangleMesh& original, Ancestry& ancestry);
+  // The FitToOriginal pass (see the header): returns the number of vertices moved.
+  Index FitToOriginal(const TriangleMesh& original, const Ancestry& ancestry);
   // The RefineDeviation pass (see the header); original = the input mesh in this mesh's ids.
-  void RefineDeviation(const TriangleMesh& original, TriangleCollapseResult& result);
+  Index RefineDeviation(const TriangleMesh& original, const Ancestry& ancestry);
+  // A maximum error is a promise about every output vertex: the passes that move vertices keep it.
+  bool WithinMaximumError(Index v) const
+  {
+    const double w = this->Vertex[v].W;
+    return this->Options.MaximumError < 0 || !(w > 0) ||
+      std::sqrt(this->Vertex[v].Q.Evaluate(this->Local(v)) / w) <= this->Options.MaximumError;
+  }
+  // Progressive records: the last collapse that produced a moved vertex now places it there.
+  void StoreMovedPositions(TriangleCollapseResult& result);
 
   const TriangleCollapseOptions& Options;
   PointAttributes* Attributes;
@@ -668,7 +707,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   this->Reorder(input);
   lap("reorder");
   this->Mesh.Reset(input);
-  const bool refine = this->Options.RefineDeviation && !this->Options.ExactUnion;
+  const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
   if (refine)
   {
     // The refinement measures against the original surface: keep it, and who merged into whom.
@@ -962,8 +1001,23 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   std::vector<TriangleState>().swap(this->State);
   if (refine && !result.Aborted)
   {
-    this->RefineDeviation(input, result);
-    lap("deviation refinement");
+    Ancestry ancestry;
+    this->BuildAncestry(input, ancestry);
+    Index moved = 0;
+    if (this->Options.FitToOriginal)
+    {
+      moved += this->FitToOriginal(input, ancestry);
+      lap("fit to original");
+    }
+    if (this->Options.RefineDeviation)
+    {
+      moved += this->RefineDeviation(input, ancestry);
+      lap("deviation refinement");
+    }
+    if (this->Options.RecordHistory && moved > 0)
+    {
+      this->StoreMovedPositions(result);
+    }
   }
   std::vector<double>().swap(input.Points);
   std::vector<Index>().swap(input.Triangles);
@@ -982,15 +1036,10 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   }
 }
 
-void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCollapseResult& result)
+void TriangleCollapser::BuildAncestry(const TriangleMesh& original, Ancestry& ancestry)
 {
   const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
-  if (nv == 0 || this->Mesh.NumberOfLiveTriangles() == 0)
-  {
-    return;
-  }
-  // Who descends from whom: each original vertex's surviving vertex (path-compressed), then the
-  // ancestors of every surviving vertex and the original triangles of every original vertex (CSR).
+  // Each original vertex's surviving vertex (path-compressed), then CSR lists.
   for (Index v = 0; v < nv; ++v)
   {
     Index r = v;
@@ -1005,7 +1054,10 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
       w = next;
     }
   }
-  std::vector<Index> ancestorStart(size_t(nv) + 1, 0), ancestors(static_cast<size_t>(nv));
+  auto& ancestorStart = ancestry.AncestorStart;
+  auto& ancestors = ancestry.Ancestors;
+  ancestorStart.assign(size_t(nv) + 1, 0);
+  ancestors.resize(static_cast<size_t>(nv));
   for (Index v = 0; v < nv; ++v)
   {
     ++ancestorStart[this->Parent[v] + 1];
@@ -1021,7 +1073,10 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
       ancestors[fill[this->Parent[v]]++] = v;
     }
   }
-  std::vector<Index> originalStart(size_t(nv) + 1, 0), originalTriangles(3 * size_t(nt));
+  auto& originalStart = ancestry.OriginalStart;
+  auto& originalTriangles = ancestry.OriginalTriangles;
+  originalStart.assign(size_t(nv) + 1, 0);
+  originalTriangles.resize(3 * size_t(nt));
   for (Index i = 0; i < 3 * nt; ++i)
   {
     ++originalStart[original.Triangles[i] + 1];
@@ -1037,66 +1092,556 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
       originalTriangles[fill[original.Triangles[i]]++] = i / 3;
     }
   }
-  auto originalPoint = [&](Index v) {
-    const double* p = &original.Points[3 * size_t(v)];
-    return Vec3{ p[0], p[1], p[2] };
-  };
-  // Point-triangle tests done so far: the pass stops when they exceed a budget proportional to the
-  // input, because a region's cost grows with the square of the reduction (ancestors x triangles).
-  size_t work = 0;
-  const size_t workBudget = static_cast<size_t>(RefinementWorkPerInputTriangle) * static_cast<size_t>(nt);
-  auto distanceToOriginal = [&](const Vec3& q, const Index* tris, size_t n, Vec3& closest) {
-    work += n;
-    double best = std::numeric_limits<double>::max();
-    for (size_t i = 0; i < n; ++i)
-    {
-      const Index* t = &original.Triangles[3 * size_t(tris[i])];
-      const Vec3 c = ClosestPointOnTriangle(q, originalPoint(t[0]), originalPoint(t[1]), originalPoint(t[2]));
-      const Vec3 d = q - c;
-      const double d2 = Dot(d, d);
-      if (d2 < best)
-      {
-        best = d2;
-        closest = c;
-      }
-    }
-    return best;
-  };
-  auto distanceToMesh = [&](const Vec3& q, const Index* tris, size_t n, Vec3& closest, Index& which) {
-    work += n;
-    double best = std::numeric_limits<double>::max();
-    for (size_t i = 0; i < n; ++i)
-    {
-      const Index* t = this->Mesh.Triangle(tris[i]);
-      const Vec3 c = ClosestPointOnTriangle(q, this->Mesh.Point(t[0]), this->Mesh.Point(t[1]), this->Mesh.Point(t[2]));
-      const Vec3 d = q - c;
-      const double d2 = Dot(d, d);
-      if (d2 < best)
-      {
-        best = d2;
-        closest = c;
-        which = tris[i];
-      }
-    }
-    return best;
-  };
+}
 
+// The live triangles of an editable mesh as a TriangleMesh (all points kept, so vertex ids stay
+// the editable mesh's), and the editable triangle id of each: what a BVH is built on.
+void LiveTriangles(const EditableMesh& mesh, TriangleMesh& out, std::vector<Index>& toMesh)
+{
+  out.Points.resize(3 * size_t(mesh.NumberOfPoints()));
+  for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = mesh.Point(v);
+    std::copy(p.begin(), p.end(), &out.Points[3 * size_t(v)]);
+  }
+  out.Triangles.clear();
+  toMesh.clear();
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    if (mesh.IsTriangleAlive(t))
+    {
+      const Index* tri = mesh.Triangle(t);
+      out.Triangles.insert(out.Triangles.end(), tri, tri + 3);
+      toMesh.push_back(t);
+    }
+  }
+}
+
+// The neighbourhood of one output vertex v in which the passes after the collapses work: v's
+// fan, the triangles of its neighbours, the original vertices (and optionally the original
+// triangle centroids) that descend into v and its neighbours, and those original triangles.
+// Moving v changes only its fan, so each original sample's distance to the rest of the
+// neighbourhood is computed once (Freeze) and a candidate position costs tests against the fan
+// only; the original triangles carry bounding spheres that prune most point-triangle tests.
+class Neighbourhood
+{
+public:
+  Neighbourhood(const EditableMesh& mesh, const TriangleMesh& original, const Ancestry& ancestry)
+    : Mesh(mesh)
+    , Original(original)
+    , Lineage(ancestry)
+  {
+  }
+
+  Vec3 OriginalPoint(Index v) const
+  {
+    const double* p = &this->Original.Points[3 * size_t(v)];
+    return Vec3{ p[0], p[1], p[2] };
+  }
+
+  // v and its fan only (what the fit's step needs).
+  void GatherFan(Index v)
+  {
+    this->Center = v;
+    this->Fan.clear();
+    this->Mesh.ForEachTriangle(v, [&](Index t) { this->Fan.push_back(t); });
+  }
+
+  // The whole neighbourhood of v.
+  void Gather(Index v, bool withCentroids)
+  {
+    this->GatherFan(v);
+    this->GatherRest(withCentroids);
+  }
+
+  // The rest of the neighbourhood of the vertex of GatherFan.
+  void GatherRest(bool withCentroids)
+  {
+    const Index v = this->Center;
+    this->Mesh.Neighbors(v, this->Ring);
+    this->Ring.push_back(v);
+    this->Near.clear();
+    this->OriginalNear.clear();
+    this->Samples.clear();
+    this->SampleIsCentroid.clear();
+    for (Index w : this->Ring)
+    {
+      if (w == v)
+      {
+        this->OwnSamplesBegin = this->Samples.size();
+      }
+      if (w != v)
+      {
+        this->Mesh.ForEachTriangle(w, [&](Index t) {
+          const Index* tri = this->Mesh.Triangle(t);
+          if (tri[0] != v && tri[1] != v && tri[2] != v)
+          {
+            this->Near.push_back(t);
+          }
+        });
+      }
+      for (Index i = this->Lineage.AncestorStart[w]; i < this->Lineage.AncestorStart[w + 1]; ++i)
+      {
+        const Index a = this->Lineage.Ancestors[i];
+        this->Samples.push_back(this->OriginalPoint(a));
+        this->SampleIsCentroid.push_back(0);
+        this->OriginalNear.insert(this->OriginalNear.end(), this->Lineage.OriginalTriangles.begin() + this->Lineage.OriginalStart[a],
+          this->Lineage.OriginalTriangles.begin() + this->Lineage.OriginalStart[a + 1]);
+      }
+    }
+    this->OwnSamplesEnd = this->Samples.size();
+    std::sort(this->Near.begin(), this->Near.end());
+    this->Near.erase(std::unique(this->Near.begin(), this->Near.end()), this->Near.end());
+    std::sort(this->OriginalNear.begin(), this->OriginalNear.end());
+    this->OriginalNear.erase(std::unique(this->OriginalNear.begin(), this->OriginalNear.end()), this->OriginalNear.end());
+    this->SphereCenter.clear();
+    this->SphereRadius2.clear();
+    for (Index o : this->OriginalNear)
+    {
+      const Index* ot = &this->Original.Triangles[3 * size_t(o)];
+      const Vec3 x = this->OriginalPoint(ot[0]), y = this->OriginalPoint(ot[1]), z = this->OriginalPoint(ot[2]);
+      const Vec3 c = (1.0 / 3) * (x + y + z);
+      this->SphereCenter.push_back(c);
+      this->SphereRadius2.push_back(std::max({ Dot(x - c, x - c), Dot(y - c, y - c), Dot(z - c, z - c) }));
+      if (withCentroids)
+      {
+        this->Samples.push_back(c);
+        this->SampleIsCentroid.push_back(1);
+      }
+    }
+  }
+
+  // Each sample's distance to the triangles that do not touch v (they stay where they are).
+  void Freeze()
+  {
+    this->RestDistance2.resize(this->Samples.size());
+    this->RestClosest.resize(this->Samples.size());
+    for (size_t i = 0; i < this->Samples.size(); ++i)
+    {
+      Index ignored;
+      this->RestDistance2[i] = this->ToMesh(this->Samples[i], this->Near, this->RestClosest[i], ignored);
+    }
+  }
+
+  // Squared distance of sample i to the neighbourhood with v where it is now; `which` is the
+  // closest fan triangle, or InvalidIndex when the closest point is off the fan.
+  double SampleDistance2(size_t i, Vec3& closest, Index& which) const
+  {
+    const double d2 = this->ToMesh(this->Samples[i], this->Fan, closest, which);
+    if (this->RestDistance2[i] < d2)
+    {
+      closest = this->RestClosest[i];
+      which = InvalidIndex;
+      return this->RestDistance2[i];
+    }
+    return d2;
+  }
+
+  double ToMesh(const Vec3& q, const std::vector<Index>& tris, Vec3& closest, Index& which) const
+  {
+    this->Work += tris.size();
+    double best = std::numeric_limits<double>::max();
+    which = InvalidIndex;
+    for (Index t : tris)
+    {
+      const Index* tri = this->Mesh.Triangle(t);
+      const Vec3 c = ClosestPointOnTriangle(q, this->Mesh.Point(tri[0]), this->Mesh.Point(tri[1]), this->Mesh.Point(tri[2]));
+      const Vec3 d = q - c;
+      const double d2 = Dot(d, d);
+      if (d2 < best)
+      {
+        best = d2;
+        closest = c;
+        which = t;
+      }
+    }
+    return best;
+  }
+
+  // Squared distance of q to the original triangles of the neighbourhood (and which one).
+  double ToOriginal(const Vec3& q, Vec3& closest) const
+  {
+    Index ignored;
+    return this->ToOriginal(q, closest, ignored);
+  }
+  double ToOriginal(const Vec3& q, Vec3& closest, Index& which) const
+  {
+    which = InvalidIndex;
+    double best = std::numeric_limits<double>::max();
+    for (size_t i = 0; i < this->OriginalNear.size(); ++i)
+    {
+      // Lower bound from the bounding sphere: skip triangles that cannot be closer.
+      const Vec3 d = q - this->SphereCenter[i];
+      const double centre2 = Dot(d, d);
+      if (centre2 > this->SphereRadius2[i])
+      {
+        const double gap = std::sqrt(centre2) - std::sqrt(this->SphereRadius2[i]);
+        if (gap * gap >= best)
+        {
+          continue;
+        }
+      }
+      ++this->Work;
+      const Index* ot = &this->Original.Triangles[3 * size_t(this->OriginalNear[i])];
+      const Vec3 c = ClosestPointOnTriangle(q, this->OriginalPoint(ot[0]), this->OriginalPoint(ot[1]), this->OriginalPoint(ot[2]));
+      const Vec3 e = q - c;
+      const double d2 = Dot(e, e);
+      if (d2 < best)
+      {
+        best = d2;
+        closest = c;
+        which = this->OriginalNear[i];
+      }
+    }
+    return best;
+  }
+
+  // Per fan triangle, whether it faces the same way as the original triangle closest to its
+  // centroid (a move must not turn a triangle against the surface it stands for).
+  void Facing(std::vector<unsigned char>& out) const
+  {
+    out.clear();
+    for (Index t : this->Fan)
+    {
+      const Index* tri = this->Mesh.Triangle(t);
+      const Vec3 x = this->Mesh.Point(tri[0]), y = this->Mesh.Point(tri[1]), z = this->Mesh.Point(tri[2]);
+      Vec3 closest;
+      Index o;
+      this->ToOriginal((1.0 / 3) * (x + y + z), closest, o);
+      unsigned char facing = 1;
+      if (o != InvalidIndex)
+      {
+        const Index* ot = &this->Original.Triangles[3 * size_t(o)];
+        const Vec3 a = this->OriginalPoint(ot[0]);
+        facing = Dot(Cross(y - x, z - x), Cross(this->OriginalPoint(ot[1]) - a, this->OriginalPoint(ot[2]) - a)) > 0;
+      }
+      out.push_back(facing);
+    }
+  }
+
+  // v's barycentric weight at point c of its fan triangle t (0 when t is not v's).
+  double WeightOfCenter(Index t, const Vec3& c) const
+  {
+    if (t == InvalidIndex)
+    {
+      return 0.0;
+    }
+    const Index* tri = this->Mesh.Triangle(t);
+    const int k = tri[0] == this->Center ? 0 : (tri[1] == this->Center ? 1 : (tri[2] == this->Center ? 2 : -1));
+    if (k < 0)
+    {
+      return 0.0;
+    }
+    const Vec3 p = this->Mesh.Point(this->Center);
+    const Vec3 x = this->Mesh.Point(tri[(k + 1) % 3]), y = this->Mesh.Point(tri[(k + 2) % 3]);
+    const Vec3 n = Cross(x - p, y - p);
+    const double nn = Dot(n, n);
+    return nn > 0 ? Dot(Cross(x - c, y - c), n) / nn : 0.0;
+  }
+
+  // Whether no fan triangle turned by more than the limit since `Normals` were taken.
+  void TakeNormals()
+  {
+    this->StartNormal.clear();
+    for (Index t : this->Fan)
+    {
+      this->StartNormal.push_back(this->Mesh.TriangleNormal(t));
+    }
+  }
+  bool FanTurnsWithin(double minimumDot) const
+  {
+    for (size_t i = 0; i < this->Fan.size(); ++i)
+    {
+      const Index* tri = this->Mesh.Triangle(this->Fan[i]);
+      const Vec3 n = Cross(this->Mesh.Point(tri[1]) - this->Mesh.Point(tri[0]), this->Mesh.Point(tri[2]) - this->Mesh.Point(tri[0]));
+      const double length = Norm(n);
+      if (!(length > 0) || Dot(n, this->StartNormal[i]) < minimumDot * length)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // The fan's own samples (v, then per triangle points at thirds), and v's weight at each.
+  template <typename Functor>
+  void ForEachFanSample(Functor&& f) const
+  {
+    const Vec3 p = this->Mesh.Point(this->Center);
+    f(p, 1.0);
+    const double third = 1.0 / 3;
+    for (Index t : this->Fan)
+    {
+      const Index* tri = this->Mesh.Triangle(t);
+      const int k = tri[0] == this->Center ? 0 : (tri[1] == this->Center ? 1 : 2);
+      const Vec3 x = this->Mesh.Point(tri[(k + 1) % 3]), y = this->Mesh.Point(tri[(k + 2) % 3]);
+      f((2 * third) * p + third * x, 2 * third);
+      f(third * p + (2 * third) * x, third);
+      f(third * (p + x + y), third);
+    }
+  }
+
+  const EditableMesh& Mesh;
+  const TriangleMesh& Original;
+  const Ancestry& Lineage;
+  Index Center = InvalidIndex;
+  size_t OwnSamplesBegin = 0, OwnSamplesEnd = 0; // v's own original vertices among the samples
+  std::vector<Index> Fan, Ring, Near, OriginalNear;
+  std::vector<Vec3> Samples, RestClosest, SphereCenter, StartNormal;
+  std::vector<unsigned char> SampleIsCentroid;
+  std::vector<double> RestDistance2, SphereRadius2;
+  mutable size_t Work = 0;
+};
+Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ancestry& ancestry)
+{
+  const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
+  if (nv == 0 || this->Mesh.NumberOfLiveTriangles() == 0)
+  {
+    return 0;
+  }
+  const double minimumDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
+  // Point-triangle tests: the pass stops at its budget, the worst vertices first.
+  const size_t workBudget = static_cast<size_t>(std::max(FitMinimumWork, FitWorkPerInputTriangle * nt));
+  std::vector<std::pair<double, Index>> order;
+  for (Index v = 0; v < nv; ++v)
+  {
+    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v] && this->Mesh.IsVertexAlive(v))
+    {
+      const double w = this->Vertex[v].W;
+      order.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
+    }
+  }
+  std::sort(order.begin(), order.end(), [](const std::pair<double, Index>& a, const std::pair<double, Index>& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
+  Neighbourhood region(this->Mesh, original, ancestry);
+  // Which original vertices a move of v can take farther away: those whose closest output
+  // point is on v's fan. Exactly, from a closest-triangle assignment of every original vertex
+  // (a BVH query each) when the input is small enough for that to be cheap; otherwise among the
+  // original vertices of v's neighbourhood (an ancestor can be closest to a triangle farther
+  // away, mostly after topology changes, so this misses a few).
+  const bool exact = nv <= ExactScreeningLimit;
+  std::vector<Index> assignedStart, assigned;
+  if (exact)
+  {
+    TriangleMesh live;
+    std::vector<Index> liveToMesh;
+    LiveTriangles(this->Mesh, live, liveToMesh);
+    const TriangleBVH tree(live);
+    std::vector<Index> closestTriangle(static_cast<size_t>(nv));
+    assignedStart.assign(size_t(this->Mesh.NumberOfTriangles()) + 1, 0);
+    for (Index a = 0; a < nv; ++a)
+    {
+      closestTriangle[a] = liveToMesh[tree.ClosestPoint(region.OriginalPoint(a)).Triangle];
+      ++assignedStart[closestTriangle[a] + 1];
+    }
+    for (size_t t = 0; t + 1 < assignedStart.size(); ++t)
+    {
+      assignedStart[t + 1] += assignedStart[t];
+    }
+    assigned.resize(static_cast<size_t>(nv));
+    std::vector<Index> fill(assignedStart.begin(), assignedStart.end() - 1);
+    for (Index a = 0; a < nv; ++a)
+    {
+      assigned[fill[closestTriangle[a]]++] = a;
+    }
+  }
+  std::vector<Vec3> watched;
+  std::vector<double> watchedBefore, fanBefore;
+  std::vector<unsigned char> facingBefore, facingAfter;
+  std::vector<unsigned char> moved(size_t(nv), 0);
+  std::vector<unsigned char> dirty, nowDirty(size_t(nv), 0);
+  for (int iteration = 0; iteration < FitIterations && region.Work <= workBudget; ++iteration)
+  {
+    dirty.swap(nowDirty);
+    nowDirty.assign(size_t(nv), 0);
+    for (size_t next = 0; next < order.size() && region.Work <= workBudget; ++next)
+    {
+      const Index v = order[next].second;
+      // After the first sweep only where something moved nearby (the rest would not move).
+      if (iteration > 0 && !dirty[v])
+      {
+        continue;
+      }
+      region.GatherFan(v);
+      const Vec3 p = this->Mesh.Point(v);
+      // Least squares of the distances, along the output normals, of the original surface that v
+      // stands for (its original vertices weighted by a third of their triangles' area, and the
+      // centroids of the original triangles whose first corner merged into v, so that each
+      // original triangle counts once) as a function of v's displacement d with the closest points
+      // held: a sample at barycentric weight b of v moves by b * d.
+      Quadric fit;
+      double trace = 0, residual2 = 0, weightSum = 0;
+      auto addSample = [&](const Vec3& q, double weight) {
+        Vec3 closest;
+        Index which;
+        region.ToMesh(q, region.Fan, closest, which);
+        const double b = region.WeightOfCenter(which, closest);
+        if (b > 0.05)
+        {
+          const Vec3 u = this->Mesh.TriangleNormal(which);
+          fit += Quadric::FromPlane(b * u, -Dot(u, q - closest), weight);
+          trace += weight * b * b;
+          residual2 += weight * Dot(u, q - closest) * Dot(u, q - closest);
+          weightSum += weight;
+        }
+      };
+      for (Index i = ancestry.AncestorStart[v]; i < ancestry.AncestorStart[v + 1]; ++i)
+      {
+        const Index a = ancestry.Ancestors[i];
+        double around = 0;
+        for (Index j = ancestry.OriginalStart[a]; j < ancestry.OriginalStart[a + 1]; ++j)
+        {
+          const Index* ot = &original.Triangles[3 * size_t(ancestry.OriginalTriangles[j])];
+          const Vec3 x = region.OriginalPoint(ot[0]), y = region.OriginalPoint(ot[1]), z = region.OriginalPoint(ot[2]);
+          const double area = 0.5 * Norm(Cross(y - x, z - x));
+          around += area;
+          if (ot[0] == a)
+          {
+            addSample((1.0 / 3) * (x + y + z), area);
+          }
+        }
+        addSample(region.OriginalPoint(a), around / 3);
+      }
+      // The tangential directions are free when the samples' normals agree: a small ridge term
+      // keeps v where it is along them.
+      const double ridge = FitRidge * trace;
+      fit.Axx += ridge;
+      fit.Ayy += ridge;
+      fit.Azz += ridge;
+      Vec3 step;
+      // Steps below 1 % of the RMS residual are not worth their check.
+      if (!(trace > 0) || !fit.Minimize(step, 1e-12) || Dot(step, step) * weightSum < 1e-4 * residual2)
+      {
+        continue;
+      }
+      // What the move can make worse, both ways: the original vertices whose closest point is on
+      // v's fan (any other keeps or lowers its distance), and the fan's own samples against the
+      // original triangles of the neighbourhood. Values measured over a neighbourhood only can
+      // overestimate (the true closest part lies farther away): each may grow only up to a
+      // reliable local maximum, never up to another inflated value.
+      region.GatherRest(false);
+      watched.clear();
+      watchedBefore.clear();
+      double before = 0;
+      auto watch = [&](const Vec3& q, double d2) {
+        watched.push_back(q);
+        watchedBefore.push_back(d2);
+      };
+      if (exact)
+      {
+        for (Index t : region.Fan)
+        {
+          for (Index k = assignedStart[t]; k < assignedStart[t + 1]; ++k)
+          {
+            const Vec3 q = region.OriginalPoint(assigned[k]);
+            Vec3 closest;
+            Index which;
+            const double d2 = region.ToMesh(q, region.Fan, closest, which);
+            watch(q, d2);
+            before = std::max(before, d2);
+          }
+        }
+      }
+      else
+      {
+        // The reliable maximum: v's own original vertices (their closest parts are around v).
+        region.Freeze();
+        for (size_t i = 0; i < region.Samples.size(); ++i)
+        {
+          Vec3 closest;
+          Index which;
+          const double d2 = region.SampleDistance2(i, closest, which);
+          if (which != InvalidIndex)
+          {
+            watch(region.Samples[i], d2);
+          }
+          if (i >= region.OwnSamplesBegin && i < region.OwnSamplesEnd)
+          {
+            before = std::max(before, d2);
+          }
+        }
+      }
+      fanBefore.clear();
+      region.ForEachFanSample([&](const Vec3& q, double) {
+        Vec3 closest;
+        fanBefore.push_back(region.ToOriginal(q, closest));
+      });
+      region.TakeNormals();
+      region.Facing(facingBefore);
+      for (double s : { 1.0, 0.5 })
+      {
+        this->Mesh.SetPoint(v, p + s * step);
+        bool lower = region.FanTurnsWithin(minimumDot) && this->WithinMaximumError(v);
+        if (lower)
+        {
+          region.Facing(facingAfter);
+          for (size_t i = 0; i < facingAfter.size() && lower; ++i)
+          {
+            lower = facingAfter[i] >= facingBefore[i];
+          }
+        }
+        for (size_t k = 0; k < watched.size() && lower; ++k)
+        {
+          Vec3 closest;
+          Index which;
+          lower = region.ToMesh(watched[k], region.Fan, closest, which) <= std::max(before, watchedBefore[k]);
+        }
+        size_t sample = 0;
+        region.ForEachFanSample([&](const Vec3& q, double) {
+          if (lower)
+          {
+            Vec3 closest;
+            lower = region.ToOriginal(q, closest) <= std::max(before, fanBefore[sample]);
+          }
+          ++sample;
+        });
+        if (lower)
+        {
+          moved[v] = 1;
+          nowDirty[v] = 1;
+          for (Index w : region.Ring)
+          {
+            nowDirty[w] = 1;
+          }
+          break;
+        }
+        this->Mesh.SetPoint(v, p);
+      }
+    }
+  }
+  if (std::getenv("SLOD_VERBOSE"))
+  {
+    std::fprintf(stderr, "[triangle collapse] fit to original: %zu point-triangle tests (%.1f per input triangle)\n",
+      region.Work, double(region.Work) / std::max<Index>(nt, 1));
+  }
+  return static_cast<Index>(std::count(moved.begin(), moved.end(), 1));
+}
+
+Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Ancestry& ancestry)
+{
+  const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
+  if (nv == 0 || this->Mesh.NumberOfLiveTriangles() == 0)
+  {
+    return 0;
+  }
+  // Point-triangle tests: the pass stops at a budget (a fixed allowance plus a share per input
+  // triangle), because a region's cost grows with the reduction (ancestors x triangles).
+  const size_t workBudget = static_cast<size_t>(std::max(RefinementMinimumWork, RefinementWorkPerInputTriangle * nt));
   const double minimumDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
   const Index live = this->Mesh.NumberOfLiveVertices();
   // Only a few of the worst regions: the pass must stay cheap next to the collapses.
   const size_t budget = static_cast<size_t>(16 + live / 2000);
-  std::vector<Index> fan, ring, ring2, near, nearOriginal, movedVertices;
-  std::vector<Vec3> startNormal;
+  Neighbourhood region(this->Mesh, original, ancestry);
+  std::vector<Index> movedVertices, ring;
   std::vector<std::pair<double, Index>> screen;
-  Vec3 closest;
-  Index which;
   Index moved = 0;
   // Candidates: the merged interior vertices with the largest quadric error (RMS distance to
   // their original planes), a small fraction of the output; only they are screened below.
   std::vector<std::pair<double, Index>> pool;
   for (Index v = 0; v < nv; ++v)
   {
-    if (ancestorStart[v + 1] - ancestorStart[v] >= 2 && this->Mesh.IsVertexAlive(v) && !this->Boundary[v])
+    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && this->Mesh.IsVertexAlive(v) && !this->Boundary[v])
     {
       const double w = this->Vertex[v].W;
       pool.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
@@ -1105,52 +1650,34 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
   auto worseFirst = [](const std::pair<double, Index>& a, const std::pair<double, Index>& b) {
     return a.first > b.first || (a.first == b.first && a.second < b.second);
   };
-  const size_t poolSize = std::min(pool.size(), static_cast<size_t>(64 + live / 50));
+  const size_t poolSize = std::min(pool.size(), std::min<size_t>(RefinementPoolLimit, 64 + live / 10));
   std::partial_sort(pool.begin(), pool.begin() + poolSize, pool.end(), worseFirst);
   pool.resize(poolSize);
-  for (int round = 0; round < 2; ++round)
+  for (int round = 0; round < RefinementRounds; ++round)
   {
-    // Screening (an upper bound of the local deviation): the ancestors of the vertex against its
-    // own triangles, and its triangles' centroid, edge midpoints and vertex against the original
-    // triangles of the ancestors of their vertices.
+    // Screening: the local deviation both ways, v's own original vertices against the
+    // neighbourhood and v's fan against the neighbourhood's original triangles (v's own fan and
+    // ancestry alone overestimate, by 10x on smooth surfaces at 1 %: an original vertex can lie
+    // beyond v's fan, and a fan point's closest original part can be a neighbour's).
     screen.clear();
     double worst = 0;
     for (const auto& candidate : pool)
     {
-      if (work > workBudget)
+      if (region.Work > workBudget)
       {
         break;
       }
       const Index v = candidate.second;
-      const Index a0 = ancestorStart[v], a1 = ancestorStart[v + 1];
-      fan.clear();
-      this->Mesh.ForEachTriangle(v, [&](Index t) { fan.push_back(t); });
+      region.Gather(v, false);
       double e = 0;
-      for (Index i = a0; i < a1; ++i)
+      Vec3 closest;
+      Index which;
+      for (size_t i = region.OwnSamplesBegin; i < region.OwnSamplesEnd; ++i)
       {
-        e = std::max(e, distanceToMesh(originalPoint(ancestors[i]), fan.data(), fan.size(), closest, which));
+        e = std::max(e, std::min(region.ToMesh(region.Samples[i], region.Fan, closest, which),
+                          region.ToMesh(region.Samples[i], region.Near, closest, which)));
       }
-      for (Index t : fan)
-      {
-        const Index* tri = this->Mesh.Triangle(t);
-        nearOriginal.clear();
-        for (int k = 0; k < 3; ++k)
-        {
-          for (Index i = ancestorStart[tri[k]]; i < ancestorStart[tri[k] + 1]; ++i)
-          {
-            nearOriginal.insert(nearOriginal.end(), originalTriangles.begin() + originalStart[ancestors[i]],
-              originalTriangles.begin() + originalStart[ancestors[i] + 1]);
-          }
-        }
-        std::sort(nearOriginal.begin(), nearOriginal.end());
-        nearOriginal.erase(std::unique(nearOriginal.begin(), nearOriginal.end()), nearOriginal.end());
-        const Vec3 x = this->Mesh.Point(tri[0]), y = this->Mesh.Point(tri[1]), z = this->Mesh.Point(tri[2]);
-        const Vec3 samples[5] = { this->Mesh.Point(v), (1.0 / 3) * (x + y + z), 0.5 * (x + y), 0.5 * (y + z), 0.5 * (z + x) };
-        for (const Vec3& q : samples)
-        {
-          e = std::max(e, distanceToOriginal(q, nearOriginal.data(), nearOriginal.size(), closest));
-        }
-      }
+      region.ForEachFanSample([&](const Vec3& q, double) { e = std::max(e, region.ToOriginal(q, closest)); });
       screen.emplace_back(e, v);
       worst = std::max(worst, e);
     }
@@ -1161,134 +1688,52 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
     const size_t count = std::min(budget, screen.size());
     std::partial_sort(screen.begin(), screen.begin() + count, screen.end(), worseFirst);
     Index movedThisRound = 0;
-    for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst && work <= workBudget; ++c)
+    for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst && region.Work <= workBudget; ++c)
     {
       const Index v = screen[c].second;
-      // The region whose distances the vertex changes: its ring's triangles, the ancestors of the
-      // vertex and of its neighbours, and their original triangles.
-      this->Mesh.Neighbors(v, ring);
-      fan.clear();
-      this->Mesh.ForEachTriangle(v, [&](Index t) { fan.push_back(t); });
-      near.assign(fan.begin(), fan.end());
-      ring2.assign(1, v);
-      for (Index w : ring)
-      {
-        this->Mesh.ForEachTriangle(w, [&](Index t) { near.push_back(t); });
-        ring2.push_back(w);
-      }
-      std::sort(near.begin(), near.end());
-      near.erase(std::unique(near.begin(), near.end()), near.end());
-      nearOriginal.clear();
-      for (Index w : ring2)
-      {
-        for (Index i = ancestorStart[w]; i < ancestorStart[w + 1]; ++i)
-        {
-          nearOriginal.insert(nearOriginal.end(), originalTriangles.begin() + originalStart[ancestors[i]],
-            originalTriangles.begin() + originalStart[ancestors[i] + 1]);
-        }
-      }
-      std::sort(nearOriginal.begin(), nearOriginal.end());
-      nearOriginal.erase(std::unique(nearOriginal.begin(), nearOriginal.end()), nearOriginal.end());
-      startNormal.clear();
-      for (Index t : fan)
-      {
-        startNormal.push_back(this->Mesh.TriangleNormal(t));
-      }
+      // The region whose distances v changes (see Neighbourhood), with the original triangle
+      // centroids as samples of the original surface's interior.
+      region.Gather(v, true);
+      region.Freeze();
+      region.TakeNormals();
       // Local maximum distance with v at p, and a direction that lowers the worst term (the
       // correction of v that would bring the worst point onto the other surface).
       auto evaluate = [&](const Vec3& p, Vec3& step, double& sum) {
         this->Mesh.SetPoint(v, p);
         double best = -1;
         sum = 0;
-        for (Index w : ring2)
+        for (size_t i = 0; i < region.Samples.size(); ++i)
         {
-          for (Index i = ancestorStart[w]; i < ancestorStart[w + 1]; ++i)
-          {
-            const Vec3 a = originalPoint(ancestors[i]);
-            const double d2 = distanceToMesh(a, near.data(), near.size(), closest, which);
-            sum += std::sqrt(d2);
-            if (d2 > best)
-            {
-              best = d2;
-              // Weight of v at the closest point (barycentric), when on one of v's triangles.
-              double weight = 0.3;
-              const Index* t = this->Mesh.Triangle(which);
-              for (int k = 0; k < 3; ++k)
-              {
-                if (t[k] == v)
-                {
-                  const Vec3 x = this->Mesh.Point(t[(k + 1) % 3]), y = this->Mesh.Point(t[(k + 2) % 3]);
-                  const Vec3 n = Cross(x - p, y - p);
-                  const double nn = Dot(n, n);
-                  weight = nn > 0 ? std::max(0.2, Dot(Cross(x - closest, y - closest), n) / nn) : 0.3;
-                }
-              }
-              step = (1.0 / weight) * (a - closest);
-            }
-          }
-        }
-        // Interior points of the original surface too (centroids of its triangles).
-        for (Index o : nearOriginal)
-        {
-          const Index* ot = &original.Triangles[3 * size_t(o)];
-          const Vec3 a = (1.0 / 3) * (originalPoint(ot[0]) + originalPoint(ot[1]) + originalPoint(ot[2]));
-          const double d2 = distanceToMesh(a, near.data(), near.size(), closest, which);
+          Vec3 closest;
+          Index which;
+          const double d2 = region.SampleDistance2(i, closest, which);
           sum += std::sqrt(d2);
-            if (d2 > best)
+          if (d2 > best)
           {
             best = d2;
-            step = (1.0 / 3) * (a - closest); // a rough weight: the full step is tried too
+            // v's weight at the closest point (rough for centroids and off-fan points: the
+            // line search tries shorter steps too).
+            const double weight = region.SampleIsCentroid[i] ? 3.0 : (which == InvalidIndex ? 0.3 : std::max(0.2, region.WeightOfCenter(which, closest)));
+            step = (1.0 / weight) * (region.Samples[i] - closest);
           }
         }
-        for (Index t : fan)
-        {
-          const Index* tri = this->Mesh.Triangle(t);
-          Vec3 others[2];
-          int k = 0;
-          for (int j = 0; j < 3; ++j)
+        region.ForEachFanSample([&](const Vec3& q, double weight) {
+          Vec3 closest;
+          const double d2 = region.ToOriginal(q, closest);
+          sum += std::sqrt(d2);
+          if (d2 > best)
           {
-            if (tri[j] != v)
-            {
-              others[k++ & 1] = this->Mesh.Point(tri[j]);
-            }
+            best = d2;
+            step = (1.0 / weight) * (closest - q);
           }
-          const double third = 1.0 / 3;
-          const Vec3 samples[6] = { p, (2 * third) * p + third * others[0], (2 * third) * p + third * others[1],
-            third * p + (2 * third) * others[0], third * p + (2 * third) * others[1],
-            third * (p + others[0] + others[1]) };
-          const double weights[6] = { 1.0, 2 * third, 2 * third, third, third, third };
-          for (int s = 0; s < 6; ++s)
-          {
-            const double d2 = distanceToOriginal(samples[s], nearOriginal.data(), nearOriginal.size(), closest);
-            sum += std::sqrt(d2);
-            if (d2 > best)
-            {
-              best = d2;
-              step = (1.0 / weights[s]) * (closest - samples[s]);
-            }
-          }
-        }
+        });
         return best;
-      };
-      auto valid = [&](const Vec3& p) {
-        this->Mesh.SetPoint(v, p);
-        for (size_t i = 0; i < fan.size(); ++i)
-        {
-          const Index* tri = this->Mesh.Triangle(fan[i]);
-          const Vec3 n = Cross(this->Mesh.Point(tri[1]) - this->Mesh.Point(tri[0]), this->Mesh.Point(tri[2]) - this->Mesh.Point(tri[0]));
-          const double length = Norm(n);
-          if (!(length > 0) || Dot(n, startNormal[i]) < minimumDot * length)
-          {
-            return false;
-          }
-        }
-        return true;
       };
       const Vec3 start = this->Mesh.Point(v);
       Vec3 current = start, step;
       double startSum = 0, sum = 0;
       double value = evaluate(current, step, startSum);
-      for (int iteration = 0; iteration < 6 && work <= workBudget; ++iteration)
+      for (int iteration = 0; iteration < 6 && region.Work <= workBudget; ++iteration)
       {
         const Vec3 direction = step;
         Vec3 bestPoint = current, ignored;
@@ -1296,13 +1741,14 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
         for (double s : { 1.0, 0.75, 0.5, 0.25, 0.125 })
         {
           const Vec3 p = current + s * direction;
-          if (!valid(p))
+          this->Mesh.SetPoint(v, p);
+          if (!region.FanTurnsWithin(minimumDot) || !this->WithinMaximumError(v))
           {
             continue;
           }
           const double candidate = evaluate(p, ignored, sum);
-          // The mean distance must not pay for the maximum: the local sum may not grow.
-          if (candidate < bestValue && sum <= startSum)
+          // The mean distance must not pay for the maximum: the local sum may grow only a little.
+          if (candidate < bestValue && sum <= RefinementSumSlack * startSum)
           {
             bestValue = candidate;
             bestPoint = p;
@@ -1340,7 +1786,7 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
     pool.clear();
     for (Index v : next)
     {
-      if (ancestorStart[v + 1] - ancestorStart[v] >= 2 && !this->Boundary[v])
+      if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v])
       {
         pool.emplace_back(0.0, v);
       }
@@ -1350,32 +1796,35 @@ void TriangleCollapser::RefineDeviation(const TriangleMesh& original, TriangleCo
   if (std::getenv("SLOD_VERBOSE"))
   {
     std::fprintf(stderr, "[triangle collapse] deviation refinement: %d vertex moves, %zu point-triangle tests (%.1f per input triangle)\n",
-      int(moved), work, double(work) / std::max<Index>(nt, 1));
+      int(moved), region.Work, double(region.Work) / std::max<Index>(nt, 1));
   }
-  // Progressive records: the last collapse that produced a moved vertex now places it there
-  // (records store input ids; re-collapsing to this level must give this mesh).
-  if (this->Options.RecordHistory && moved > 0)
+  return moved;
+}
+
+void TriangleCollapser::StoreMovedPositions(TriangleCollapseResult& result)
+{
+  // Records store input ids; re-collapsing to this level must give this mesh. Only merged
+  // vertices move, so each has a last collapse that placed it.
+  const Index nv = this->Mesh.NumberOfPoints();
+  auto& h = result.History;
+  std::vector<Index> inputToMesh(size_t(nv), InvalidIndex);
+  for (Index v = 0; v < nv; ++v)
   {
-    auto& h = result.History;
-    std::vector<Index> inputToMesh(size_t(nv), InvalidIndex);
-    for (Index v = 0; v < nv; ++v)
+    inputToMesh[this->VertexInput[v]] = v;
+  }
+  std::vector<unsigned char> seen(size_t(nv), 0);
+  for (Index k = h.NumberOfCollapses() - 1; k >= 0; --k)
+  {
+    const Index v = inputToMesh[h.Vertices[3 * size_t(k)]];
+    if (seen[v])
     {
-      inputToMesh[this->VertexInput[v]] = v;
+      continue;
     }
-    std::vector<unsigned char> seen(size_t(nv), 0);
-    for (Index k = h.NumberOfCollapses() - 1; k >= 0; --k)
+    seen[v] = 1;
+    if (this->Mesh.IsVertexAlive(v))
     {
-      const Index v = inputToMesh[h.Vertices[3 * size_t(k)]];
-      if (seen[v])
-      {
-        continue;
-      }
-      seen[v] = 1;
-      if (this->Mesh.IsVertexAlive(v))
-      {
-        const Vec3 p = this->Mesh.Point(v);
-        std::copy(p.begin(), p.end(), &h.NewPositions[3 * size_t(k)]);
-      }
+      const Vec3 p = this->Mesh.Point(v);
+      std::copy(p.begin(), p.end(), &h.NewPositions[3 * size_t(k)]);
     }
   }
 }
@@ -1438,6 +1887,9 @@ void TriangleCollapser::ExtractResult(TriangleCollapseResult& result)
       w = this->Vertex[v].W;
     }
     result.VertexError[i] = w > 0 ? std::sqrt(q / w) : 0.0;
+    // The fit and the refinement move vertices after their collapse: the final error is the
+    // largest of the output's.
+    result.MaximumError = std::max(result.MaximumError, result.VertexError[i]);
   }
 }
 } // namespace
