@@ -101,8 +101,6 @@ namespace
 {
 // Budget of the deviation refinement in point-triangle distance tests per input triangle.
 constexpr double RefinementWorkPerInputTriangle = 160;
-// ... plus a fixed allowance (about 0.1 s) so that small inputs get their worst regions done.
-constexpr double RefinementMinimumWork = 3.0e6;
 // Rounds of screening and moves, and how much a move may raise the local sum of distances.
 constexpr int RefinementRounds = 2;
 constexpr double RefinementSumSlack = 1.02;
@@ -1625,9 +1623,9 @@ Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Anc
   {
     return 0;
   }
-  // Point-triangle tests: the pass stops at a budget (a fixed allowance plus a share per input
-  // triangle), because a region's cost grows with the reduction (ancestors x triangles).
-  const size_t workBudget = static_cast<size_t>(std::max(RefinementMinimumWork, RefinementWorkPerInputTriangle * nt));
+  // Point-triangle tests: the pass stops at a budget proportional to the input, because a
+  // region's cost grows with the reduction (ancestors x triangles).
+  const size_t workBudget = static_cast<size_t>(RefinementWorkPerInputTriangle * nt);
   const double minimumDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
   const Index live = this->Mesh.NumberOfLiveVertices();
   // Only a few of the worst regions: the pass must stay cheap next to the collapses.

@@ -471,6 +471,30 @@ TEST(QuadricTriangleCollapse, AccumulatedQuadricsMatchExactUnionQuality)
 #include <random>
 #include <tuple>
 
+namespace
+{
+// The filter at a count with the post-collapse passes chosen, and its deviation from the input.
+TriangleMesh CollapseWithPasses(vtkPolyData* input, vtkIdType target, bool fit, bool refine, vtkIdType samples,
+  double& hausdorff, double& mean)
+{
+  vtkNew<vtkQuadricTriangleCollapse> filter;
+  filter->SetInputData(input);
+  filter->SetTargetNumberOfTriangles(target);
+  filter->SetTargetReduction(0);
+  filter->SetFitToOriginal(fit);
+  filter->SetDeviationRefinement(refine);
+  filter->Update();
+  vtkNew<vtkSurfaceDeviation> deviation;
+  deviation->SetReferenceData(input);
+  deviation->SetComparedData(filter->GetOutput());
+  deviation->SetNumberOfSamples(samples);
+  deviation->Update();
+  hausdorff = deviation->GetHausdorffRelative();
+  mean = deviation->GetMeanRelative();
+  return slodtest::RawTriangleMesh(filter->GetOutput());
+}
+} // namespace
+
 // The deviation refinement (default on) moves a few vertices of the worst regions: on armadillo
 // at 1 % it lowers the Hausdorff distance, keeps the mean, the count and the topology, and the
 // paper's result is still available with DeviationRefinementOff() and FitToOriginalOff(). The
@@ -479,26 +503,10 @@ TEST(QuadricTriangleCollapse, DeviationRefinementLowersTheMaximum)
 {
   vtkSmartPointer<vtkPolyData> input = Mesh("armadillo");
   const vtkIdType target = input->GetNumberOfPolys() / 100;
-  auto run = [&](bool refine, double& hausdorff, double& mean) {
-    vtkNew<vtkQuadricTriangleCollapse> filter;
-    filter->SetInputData(input);
-    filter->SetTargetNumberOfTriangles(target);
-    filter->SetTargetReduction(0);
-    filter->SetDeviationRefinement(refine);
-    filter->FitToOriginalOff(); // the refinement's own effect
-    filter->Update();
-    vtkNew<vtkSurfaceDeviation> deviation;
-    deviation->SetReferenceData(input);
-    deviation->SetComparedData(filter->GetOutput());
-    deviation->SetNumberOfSamples(100000);
-    deviation->Update();
-    hausdorff = deviation->GetHausdorffRelative();
-    mean = deviation->GetMeanRelative();
-    return slodtest::RawTriangleMesh(filter->GetOutput());
-  };
+  // The refinement's own effect: the fit off in both runs.
   double hOff, mOff, hOn, mOn;
-  const TriangleMesh off = run(false, hOff, mOff);
-  const TriangleMesh on = run(true, hOn, mOn);
+  const TriangleMesh off = CollapseWithPasses(input, target, false, false, 100000, hOff, mOff);
+  const TriangleMesh on = CollapseWithPasses(input, target, false, true, 100000, hOn, mOn);
   std::printf("[refinement] armadillo 1%%: Hausdorff %.4e -> %.4e, mean %.4e -> %.4e\n", hOff, hOn, mOff, mOn);
   EXPECT_EQ(on.NumberOfTriangles(), off.NumberOfTriangles());
   EXPECT_LT(hOn, 0.9 * hOff);
@@ -545,34 +553,18 @@ TEST(QuadricTriangleCollapse, DeviationRefinementLowersTheMaximum)
 // maximum beyond the sampling noise, with the same connectivity and topology.
 TEST(QuadricTriangleCollapse, FitToOriginalLowersTheMeanNotTheMaximum)
 {
-  // Mesh, kept fraction, and the mean ratio to reach (measured 0.951, 0.910, 0.976).
-  const std::tuple<const char*, double, double> cases[] = { { "armadillo", 0.01, 0.97 }, { "femur", 0.1, 0.94 },
-    { "fandisk", 0.1, 0.99 } };
+  // Mesh, kept fraction, and the mean ratio to reach (measured 0.907, 0.916, 0.928).
+  const std::tuple<const char*, double, double> cases[] = { { "armadillo", 0.01, 0.95 }, { "femur", 0.1, 0.95 },
+    { "fandisk", 0.1, 0.96 } };
   for (const auto& tuple : cases)
   {
     const std::pair<const char*, double> c(std::get<0>(tuple), std::get<1>(tuple));
     vtkSmartPointer<vtkPolyData> input = Mesh(c.first);
     const vtkIdType target = static_cast<vtkIdType>(c.second * input->GetNumberOfPolys());
-    auto run = [&](bool fit, double& hausdorff, double& mean) {
-      vtkNew<vtkQuadricTriangleCollapse> filter;
-      filter->SetInputData(input);
-      filter->SetTargetNumberOfTriangles(target);
-      filter->SetTargetReduction(0);
-      filter->DeviationRefinementOff();
-      filter->SetFitToOriginal(fit);
-      filter->Update();
-      vtkNew<vtkSurfaceDeviation> deviation;
-      deviation->SetReferenceData(input);
-      deviation->SetComparedData(filter->GetOutput());
-      deviation->SetNumberOfSamples(300000);
-      deviation->Update();
-      hausdorff = deviation->GetHausdorffRelative();
-      mean = deviation->GetMeanRelative();
-      return slodtest::RawTriangleMesh(filter->GetOutput());
-    };
+    // The fit's own effect: the refinement off in both runs.
     double hOff, mOff, hOn, mOn;
-    const TriangleMesh off = run(false, hOff, mOff);
-    const TriangleMesh on = run(true, hOn, mOn);
+    const TriangleMesh off = CollapseWithPasses(input, target, false, false, 300000, hOff, mOff);
+    const TriangleMesh on = CollapseWithPasses(input, target, true, false, 300000, hOn, mOn);
     std::printf("[fit] %s %.0f%%: Hausdorff %.4e -> %.4e, mean %.4e -> %.4e (%.3f)\n", c.first, 100 * c.second, hOff,
       hOn, mOff, mOn, mOn / mOff);
     EXPECT_LT(mOn, std::get<2>(tuple) * mOff) << c.first;
