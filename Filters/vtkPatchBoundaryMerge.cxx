@@ -209,6 +209,7 @@ int vtkPatchBoundaryMerge::RequestData(
   level.CollapseChains = this->CollapseChains;
   level.CollapseLengthFactor = this->CollapseLengthFactor;
   level.CompareCandidates = this->CompareCandidates;
+  level.CostOrderedRemoval = this->CostOrderedRemoval;
   level.MinimumDeviationTriangulation = this->MinimumDeviationTriangulation;
   vtkIdType target = 0;
   if (this->TargetNumberOfTriangles > 0)
@@ -360,6 +361,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CollapseChains: " << this->CollapseChains << "\n";
   os << indent << "CollapseLengthFactor: " << this->CollapseLengthFactor << "\n";
   os << indent << "CompareCandidates: " << this->CompareCandidates << "\n";
+  os << indent << "CostOrderedRemoval: " << this->CostOrderedRemoval << "\n";
   os << indent << "ChainInPlaneWeight: " << this->ChainInPlaneWeight << "\n";
   os << indent << "MinimumDeviationTriangulation: " << this->MinimumDeviationTriangulation << "\n";
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";

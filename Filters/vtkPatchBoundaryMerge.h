@@ -113,6 +113,18 @@ public:
   ///@}
 
   ///@{
+  /// Extension [on]: when even alpha1 = 90 degrees leaves more triangles than the target, remove
+  /// patch corners (endpoints) cheapest first until the target is reached: chain collapses and
+  /// joins ordered by how far they move the surface (displacement along the adjacent patch
+  /// normals). With CompareCandidates, the merge measures (angle, size-weighted, flatness) and
+  /// several alpha1 values are then compared at the target. Off = the fixed relaxation ladder
+  /// (wider collapse length factor, then no epsilon bounds), as before.
+  vtkSetMacro(CostOrderedRemoval, bool);
+  vtkGetMacro(CostOrderedRemoval, bool);
+  vtkBooleanMacro(CostOrderedRemoval, bool);
+  ///@}
+
+  ///@{
   /// Extension (1 = the paper's Euclidean chain tolerance): a chain vertex's offset from its
   /// simplified segment counts by its components along the two adjacent patch normals, but at
   /// least this fraction of its length [0.42]. An offset within both patch planes barely moves the
@@ -206,6 +218,7 @@ protected:
   bool CollapseChains = true;
   double CollapseLengthFactor = 0.2;
   bool CompareCandidates = true;
+  bool CostOrderedRemoval = true;
   double ChainInPlaneWeight = 0.42;
   bool MinimumDeviationTriangulation = true;
   vtkIdType TargetNumberOfTriangles = 0;

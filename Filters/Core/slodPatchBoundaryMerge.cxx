@@ -5,14 +5,36 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 namespace slod
 {
 namespace
 {
+// SLOD_VERBOSE=1 in the environment prints the level's stage times (profiling aid).
+struct StageTimes
+{
+  double Merging = 0, Generate = 0, Tree = 0, Triangulation = 0, Estimate = 0;
+  int MergingRuns = 0, Estimates = 0;
+};
+StageTimes Times;
+using StageClock = std::chrono::steady_clock;
+double Since(StageClock::time_point start)
+{
+  return std::chrono::duration<double>(StageClock::now() - start).count();
+}
+// Support directions of the flatness measure: the 3 axes, 6 face and 4 body diagonals, both
+// signs (a 26-DOP). A patch keeps its extreme vertex in each; the thickness of a union along any
+// normal is then estimated from those 26 + 26 points.
+constexpr int SupportDirections = 13;
+constexpr int SupportSize = 2 * SupportDirections;
+const double SupportAxes[SupportDirections][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 1, 0 }, { 1, -1, 0 },
+  { 1, 0, 1 }, { 1, 0, -1 }, { 0, 1, 1 }, { 0, 1, -1 }, { 1, 1, 1 }, { 1, 1, -1 }, { 1, -1, 1 }, { -1, 1, 1 } };
 constexpr float InfiniteKey = std::numeric_limits<float>::infinity();
 constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
 // Fallback levels of a patch that could not be triangulated: 1 unmerged, 2..5 its chains with
@@ -295,6 +317,7 @@ struct SpbmLevelGenerator::State
   std::vector<Index> TriedP, TriedQ; // per chain: patch versions of its last failed collapse
   std::vector<Index> MergeTriedP, MergeTriedQ; // per chain: patch versions of its last failed merge
   std::vector<Vec3> Normal;
+  std::vector<Index> Support; // FlatnessMerge: per root patch, its extreme vertices (SupportSize)
   std::vector<unsigned char> Frozen;
   long long Total = 0;
   // Scratch.
@@ -349,7 +372,9 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Memo.clear();
   this->InputTree.reset();
   this->Diagonal = mesh.BoundingBoxDiagonal();
+  this->InPlaneWeight = std::max(0.0, std::min(1.0, inPlaneWeight));
   this->Work->RefinedValid = false;
+  this->PatchSupport.clear(); // built on first use (FlatnessMerge)
   const Patchification& P = patches;
   const Index nc = P.NumberOfChains();
   const Index ne = P.NumberOfEndpoints();
@@ -536,6 +561,40 @@ void SpbmLevelGenerator::RunMerging(
     s.Parent[p] = p;
     s.Normal[p] = P.PatchNormalSum(p);
   }
+  if (parameters.FlatnessMerge)
+  {
+    if (this->PatchSupport.size() != size_t(np) * SupportSize)
+    {
+      // Extreme vertices of every patch in the support directions (first use only).
+      this->PatchSupport.assign(size_t(np) * SupportSize, InvalidIndex);
+      std::vector<double> extreme(size_t(np) * SupportSize, -std::numeric_limits<double>::infinity());
+      const std::vector<Index>& patchOf = P.TrianglePatches();
+      for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+      {
+        const size_t base = size_t(patchOf[t]) * SupportSize;
+        for (int k = 0; k < 3; ++k)
+        {
+          const Index v = mesh.Triangle(t)[k];
+          const Vec3 x = mesh.Point(v);
+          for (int d = 0; d < SupportDirections; ++d)
+          {
+            const double h = x[0] * SupportAxes[d][0] + x[1] * SupportAxes[d][1] + x[2] * SupportAxes[d][2];
+            if (h > extreme[base + 2 * d])
+            {
+              extreme[base + 2 * d] = h;
+              this->PatchSupport[base + 2 * d] = v;
+            }
+            if (-h > extreme[base + 2 * d + 1])
+            {
+              extreme[base + 2 * d + 1] = -h;
+              this->PatchSupport[base + 2 * d + 1] = v;
+            }
+          }
+        }
+      }
+    }
+    s.Support = this->PatchSupport;
+  }
   s.EndHead.assign(size_t(ne), InvalidIndex);
   s.Degree.assign(size_t(ne), 0);
   s.EndStamp.resize(size_t(ne), 0);
@@ -652,11 +711,35 @@ void SpbmLevelGenerator::RunMerging(
     }
     meanSize = std::max(meanSize / std::max<Index>(1, np), std::numeric_limits<double>::min());
   }
-  const double mergeThreshold = parameters.SizeWeightedMerge
-    ? -std::sin(std::min(90.0, parameters.MergeAngle) * DegreesToRadians)
-    : cosMerge;
+  const bool flatness = parameters.FlatnessMerge;
+  const double mergeThreshold = flatness
+    ? (parameters.MergeAngle >= 90.0 ? -std::numeric_limits<double>::max() / 4
+                                     : -parameters.FlatnessScale * std::tan(std::max(0.0, parameters.MergeAngle) * DegreesToRadians))
+    : parameters.SizeWeightedMerge ? -std::sin(std::min(90.0, parameters.MergeAngle) * DegreesToRadians)
+                                   : cosMerge;
+  // Thickness of the union of root patches p and q along its normal, relative to the diagonal.
+  const double inverseDiagonal = this->Diagonal > 0 ? 1.0 / this->Diagonal : 1.0;
+  auto thickness = [&](Index p, Index q) {
+    const Vec3 n = Normalized(s.Normal[p] + s.Normal[q]);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Index root : { p, q })
+    {
+      const Index* support = s.Support.data() + size_t(root) * SupportSize;
+      for (int k = 0; k < SupportSize; ++k)
+      {
+        const double h = Dot(n, mesh.Point(support[k]));
+        lo = std::min(lo, h);
+        hi = std::max(hi, h);
+      }
+    }
+    return (hi - lo) * inverseDiagonal;
+  };
   auto mergeMeasure = [&](Index p, Index q) {
     const double d = sideDot(p, q);
+    if (flatness)
+    {
+      return d <= 0 ? -std::numeric_limits<double>::max() : -thickness(p, q);
+    }
     if (!parameters.SizeWeightedMerge)
     {
       return d;
@@ -941,13 +1024,17 @@ void SpbmLevelGenerator::RunMerging(
   }
 
   // Chain collapse (4.2.6 (a)-(c), 4.2.7): one-edge chain e of patch x shrinks to one endpoint.
+  // Cost-ordered removal (RemovalTarget): collapses without the length and epsilon bounds,
+  // toward a chosen end, and joins without the epsilon bound.
+  bool relaxed = false;
+  Index forcedKeep = InvalidIndex;
   auto tryCollapse = [&](Index e, double longest) {
     if (!movable(e))
     {
       return false;
     }
     const Index p = s.Find(s.L[e]), q = s.Find(s.R[e]);
-    if (p == q || s.Frozen[p] || s.Frozen[q] || sideDot(p, q) < cosMerge) // (b)
+    if (p == q || s.Frozen[p] || s.Frozen[q] || (!relaxed && sideDot(p, q) < cosMerge)) // (b)
     {
       return false;
     }
@@ -959,11 +1046,11 @@ void SpbmLevelGenerator::RunMerging(
     s.TriedQ[e] = s.Version[q];
     const Index a = s.A[e], b = s.B[e];
     const Vec3 pa = endpointPoint(a), pb = endpointPoint(b);
-    if (Norm(pb - pa) >= parameters.CollapseLengthFactor * longest) // (c)
+    if (!relaxed && Norm(pb - pa) >= parameters.CollapseLengthFactor * longest) // (c)
     {
       return false;
     }
-    if (parameters.CollapseWithinEpsilon && Norm(pb - pa) > std::min(s.Tolerance[e], float(parameters.Epsilon)))
+    if (!relaxed && parameters.CollapseWithinEpsilon && Norm(pb - pa) > std::min(s.Tolerance[e], float(parameters.Epsilon)))
     {
       return false; // moving an endpoint farther than epsilon would break the chain bound
     }
@@ -973,7 +1060,15 @@ void SpbmLevelGenerator::RunMerging(
       return false;
     }
     // Toward the border vertex, else toward the larger normal variation.
-    const Index keep = borderA ? a : (borderB ? b : (this->EndpointVariation[a] >= this->EndpointVariation[b] ? a : b));
+    Index keep = borderA ? a : (borderB ? b : (this->EndpointVariation[a] >= this->EndpointVariation[b] ? a : b));
+    if (forcedKeep != InvalidIndex)
+    {
+      if ((forcedKeep == a && borderB) || (forcedKeep == b && borderA))
+      {
+        return false;
+      }
+      keep = forcedKeep;
+    }
     const Index gone = keep == a ? b : a;
     if (s.Size[p] < 4 || s.Size[q] < 4)
     {
@@ -1180,7 +1275,7 @@ void SpbmLevelGenerator::RunMerging(
     }
     bool parallel = false;
     forEndChains(ox, [&](Index c) { parallel = parallel || otherEnd(c, ox) == oy; });
-    if (parallel || (parameters.JoinWithinEpsilon && !joinWithinTolerance(x, y, u)) ||
+    if (parallel || (parameters.JoinWithinEpsilon && !relaxed && !joinWithinTolerance(x, y, u)) ||
       !simpleAfter(xl, u, InvalidIndex) || !simpleAfter(xr, u, InvalidIndex))
     {
       return;
@@ -1281,6 +1376,24 @@ void SpbmLevelGenerator::RunMerging(
     {
       return false;
     }
+    if (flatness)
+    {
+      // The union's extreme vertices: the more extreme of the two in each direction.
+      Index* sp = s.Support.data() + size_t(p) * SupportSize;
+      const Index* sq = s.Support.data() + size_t(q) * SupportSize;
+      for (int d = 0; d < SupportDirections; ++d)
+      {
+        const Vec3 axis{ SupportAxes[d][0], SupportAxes[d][1], SupportAxes[d][2] };
+        if (Dot(axis, mesh.Point(sq[2 * d])) > Dot(axis, mesh.Point(sp[2 * d])))
+        {
+          sp[2 * d] = sq[2 * d];
+        }
+        if (Dot(axis, mesh.Point(sq[2 * d + 1])) < Dot(axis, mesh.Point(sp[2 * d + 1])))
+        {
+          sp[2 * d + 1] = sq[2 * d + 1];
+        }
+      }
+    }
     s.Parent[q] = p;
     s.Version[p] += s.Version[q] + 1;
     s.Normal[p] = s.Normal[p] + s.Normal[q];
@@ -1357,6 +1470,224 @@ void SpbmLevelGenerator::RunMerging(
       forPatchChains(p, [&](Index x) { pushCandidate(x); });
     }
   }
+  if (parameters.RemovalTarget > 0 && s.Total > parameters.RemovalTarget && parameters.CollapseChains)
+  {
+    this->RemoveCheapest(parameters, s, [&](Index e, Index keep) {
+      relaxed = true;
+      forcedKeep = keep;
+      s.TriedP[e] = s.TriedQ[e] = -1;
+      const bool done = tryCollapse(e, std::numeric_limits<double>::infinity());
+      forcedKeep = InvalidIndex;
+      relaxed = false;
+      return done;
+    }, [&](Index u) {
+      relaxed = true;
+      tryJoin(u);
+      relaxed = false;
+      return s.Degree[u] == 0;
+    }, [&](Index x, Index y, Index u) {
+      // Largest surface-weighted distance of the chain vertices between u's kept neighbours
+      // from the segment that replaces them.
+      chainPoints.clear();
+      chainKept.clear();
+      appendChain(x, otherEnd(x, u), false);
+      const size_t joint = chainPoints.size() - 1;
+      appendChain(y, u, true);
+      chainKept[joint] = 0;
+      size_t a = joint, b = joint;
+      while (!chainKept[a])
+      {
+        --a;
+      }
+      while (!chainKept[b])
+      {
+        ++b;
+      }
+      const Vec3 n1 = Normalized(s.Normal[s.Find(s.L[x])]), n2 = Normalized(s.Normal[s.Find(s.R[x])]);
+      const double w2 = this->InPlaneWeight * this->InPlaneWeight;
+      double worst = 0;
+      for (size_t i = a + 1; i < b; ++i)
+      {
+        worst = std::max(worst, SurfaceWeightedDistance2(chainPoints[i], chainPoints[a], chainPoints[b], n1, n2, w2));
+      }
+      return std::sqrt(worst);
+    });
+  }
+}
+
+void SpbmLevelGenerator::RemoveCheapest(const SpbmLevelParameters& parameters, State& s,
+  const std::function<bool(Index, Index)>& collapse, const std::function<bool(Index)>& join,
+  const std::function<double(Index, Index, Index)>& joinDeviation)
+{
+  const Patchification& P = *this->Patches;
+  const TriangleMesh& mesh = *this->Mesh;
+  const Index nc = P.NumberOfChains();
+  const Index ne = P.NumberOfEndpoints();
+  const double infinite = std::numeric_limits<double>::infinity();
+  auto point = [&](Index e) { return mesh.Point(P.EndpointVertex(e)); };
+  auto forEndChains = [&](Index e, auto&& f) {
+    for (Index slot = s.EndHead[e]; slot != InvalidIndex; slot = s.EndSlotNext[slot])
+    {
+      const Index c = slot / 2;
+      if (s.Alive[c] && (slot % 2 == 0 ? s.A[c] : s.B[c]) == e)
+      {
+        f(c);
+      }
+    }
+  };
+  auto movable = [&](Index c) {
+    return s.Alive[c] && !s.Locked[c] && s.Interior[c] == 0 && s.R[c] != InvalidIndex &&
+      s.Find(s.L[c]) != s.Find(s.R[c]) && !s.Frozen[s.Find(s.L[c])] && !s.Frozen[s.Find(s.R[c])];
+  };
+  // Moving endpoint `gone` onto `keep` moves the patches around `gone` by the displacement's
+  // component along their normals (and, weighted, along the surface).
+  auto collapseCost = [&](Index c, Index keep) {
+    if (!movable(c))
+    {
+      return infinite;
+    }
+    const Index gone = s.A[c] == keep ? s.B[c] : s.A[c];
+    if (P.EndpointOnBorder(gone))
+    {
+      return infinite;
+    }
+    const Vec3 d = point(gone) - point(keep);
+    double cost = this->InPlaneWeight * Norm(d);
+    forEndChains(gone, [&](Index x) {
+      for (const Index side : { s.L[x], s.R[x] })
+      {
+        if (side != InvalidIndex)
+        {
+          cost = std::max(cost, std::fabs(Dot(Normalized(s.Normal[s.Find(side)]), d)));
+        }
+      }
+    });
+    return cost;
+  };
+  auto joinCost = [&](Index u) {
+    if (s.Degree[u] != 2 || P.EndpointOnBorder(u))
+    {
+      return infinite;
+    }
+    Index pair[2] = { InvalidIndex, InvalidIndex };
+    int found = 0;
+    forEndChains(u, [&](Index c) {
+      if (found < 2)
+      {
+        pair[found] = c;
+      }
+      ++found;
+    });
+    if (found != 2 || s.Locked[pair[0]] || s.Locked[pair[1]] || s.R[pair[0]] == InvalidIndex ||
+      s.R[pair[1]] == InvalidIndex)
+    {
+      return infinite;
+    }
+    const Index xl = s.Find(s.L[pair[0]]), xr = s.Find(s.R[pair[0]]);
+    const Index yl = s.Find(s.L[pair[1]]), yr = s.Find(s.R[pair[1]]);
+    if (!((xl == yl && xr == yr) || (xl == yr && xr == yl)) || xl == xr)
+    {
+      return infinite;
+    }
+    return joinDeviation(pair[0], pair[1], u);
+  };
+  // Operations: 2c (collapse chain c into its start), 2c + 1 (into its end), 2 nc + u (join at u).
+  using Entry = std::pair<double, Index>;
+  std::vector<Entry> heap;
+  const Index joinBase = 2 * nc;
+  auto costOf = [&](Index op) {
+    if (op >= joinBase)
+    {
+      return joinCost(op - joinBase);
+    }
+    const Index c = op / 2;
+    return collapseCost(c, op % 2 == 0 ? s.A[c] : s.B[c]);
+  };
+  auto push = [&](Index op) {
+    const double cost = costOf(op);
+    if (cost < infinite)
+    {
+      heap.emplace_back(-cost, op);
+      std::push_heap(heap.begin(), heap.end());
+    }
+  };
+  for (Index c = 0; c < nc; ++c)
+  {
+    if (movable(c))
+    {
+      push(2 * c);
+      push(2 * c + 1);
+    }
+  }
+  for (Index u = 0; u < ne; ++u)
+  {
+    push(joinBase + u);
+  }
+  const long long target = parameters.RemovalTarget;
+  while (s.Total > target && !heap.empty())
+  {
+    std::pop_heap(heap.begin(), heap.end());
+    const Entry entry = heap.back();
+    heap.pop_back();
+    const Index op = entry.second;
+    const double cost = costOf(op);
+    if (cost == infinite)
+    {
+      continue;
+    }
+    if (cost > -entry.first * (1 + 1e-9) + 1e-300)
+    {
+      heap.emplace_back(-cost, op); // the neighbourhood changed: requeue at its current cost
+      std::push_heap(heap.begin(), heap.end());
+      continue;
+    }
+    Index touched[2] = { InvalidIndex, InvalidIndex };
+    if (op >= joinBase)
+    {
+      const Index u = op - joinBase;
+      Index ends[2] = { InvalidIndex, InvalidIndex };
+      int k = 0;
+      forEndChains(u, [&](Index c) {
+        if (k < 2)
+        {
+          ends[k++] = s.A[c] == u ? s.B[c] : s.A[c];
+        }
+      });
+      if (!join(u))
+      {
+        continue;
+      }
+      touched[0] = ends[0];
+      touched[1] = ends[1];
+    }
+    else
+    {
+      const Index c = op / 2;
+      const Index keep = op % 2 == 0 ? s.A[c] : s.B[c];
+      if (!collapse(c, keep))
+      {
+        continue;
+      }
+      touched[0] = keep;
+    }
+    // Requeue what the change can make possible or cheaper: the chains and joins around it.
+    for (const Index e : touched)
+    {
+      if (e == InvalidIndex)
+      {
+        continue;
+      }
+      push(joinBase + e);
+      forEndChains(e, [&](Index c) {
+        if (movable(c))
+        {
+          push(2 * c);
+          push(2 * c + 1);
+        }
+        push(joinBase + (s.A[c] == e ? s.B[c] : s.A[c]));
+      });
+    }
+  }
 }
 
 Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parameters)
@@ -1368,21 +1699,25 @@ Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parame
     if (m.Epsilon == eps && m.MergeAngle == parameters.MergeAngle && m.MergePatches == parameters.MergePatches &&
       m.CollapseChains == parameters.CollapseChains && m.CollapseLengthFactor == parameters.CollapseLengthFactor &&
       m.JoinWithinEpsilon == parameters.JoinWithinEpsilon && m.CollapseWithinEpsilon == parameters.CollapseWithinEpsilon &&
-      m.SizeWeightedMerge == parameters.SizeWeightedMerge)
+      m.SizeWeightedMerge == parameters.SizeWeightedMerge && m.FlatnessMerge == parameters.FlatnessMerge &&
+      m.RemovalTarget == parameters.RemovalTarget)
     {
       return m.Count;
     }
   }
   State& s = *this->Work;
   s.NoFreeze.assign(size_t(this->Patches->NumberOfPatches()), 0);
+  const auto started = StageClock::now();
   this->RunMerging(parameters, s.NoFreeze, s);
+  Times.Merging += Since(started);
+  ++Times.MergingRuns;
   if (this->Memo.size() > 256)
   {
     this->Memo.clear();
   }
   this->Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
     parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon, parameters.CollapseWithinEpsilon,
-    parameters.SizeWeightedMerge, static_cast<Index>(s.Total) });
+    parameters.SizeWeightedMerge, parameters.FlatnessMerge, parameters.RemovalTarget, static_cast<Index>(s.Total) });
   return static_cast<Index>(s.Total);
 }
 
@@ -1412,8 +1747,16 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
     // collapses (the paper's rule), collapse longer chains (condition (c) up to the patch's
     // longest chain), and last drop the epsilon bound on joins, until the target is reached.
     // The target count wins over the profile curves' epsilon bound here, at a cost in fidelity.
+    if (countHi > target && base.CollapseChains && base.CostOrderedRemoval)
+    {
+      // Remove endpoints cheapest first down to the target (the epsilon bounds stay on the rest).
+      params.RemovalTarget = target;
+      countHi = countFor(0, hi);
+      countLo = countFor(0, lo);
+    }
     if (countHi > target && base.CollapseChains)
     {
+      params.RemovalTarget = 0;
       struct Relaxation
       {
         bool Join, Collapse;
@@ -1953,7 +2296,9 @@ bool SpbmLevelGenerator::Generate(
           {
             if (!this->InputTree)
             {
+              const auto started = StageClock::now();
               this->InputTree.reset(new TriangleBVH(mesh));
+              Times.Tree += Since(started);
             }
             const TriangleBVH& tree = *this->InputTree;
             MinimumCostTriangulationOptions dp;
@@ -1976,7 +2321,9 @@ bool SpbmLevelGenerator::Generate(
             };
             // Thin triangles cost about as much as a diagonal 1e-3 of the diagonal off the surface.
             dp.AngleWeight = 1e-3 * this->Diagonal;
+            const auto started = StageClock::now();
             result = TriangulatePolygonMinimumCost(points, normal, dp);
+            Times.Triangulation += Since(started);
           }
         }
         if (result.Failed)
@@ -2079,6 +2426,16 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
   {
     return 0;
   }
+  const auto started = StageClock::now();
+  struct Count
+  {
+    StageClock::time_point Start;
+    ~Count()
+    {
+      Times.Estimate += Since(Start);
+      ++Times.Estimates;
+    }
+  } count{ started };
   // The level over its own vertices only (it is small), in a BVH.
   TriangleMesh simplified;
   std::vector<Index> local(size_t(mesh.NumberOfPoints()), InvalidIndex);
@@ -2114,6 +2471,22 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
 bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
   SpbmLevelParameters* used, const std::function<bool()>& abort)
 {
+  Times = StageTimes();
+  struct Report
+  {
+    StageClock::time_point Start = StageClock::now();
+    ~Report()
+    {
+      if (std::getenv("SLOD_VERBOSE"))
+      {
+        std::fprintf(stderr,
+          "[spbm] level %.4f s: %d merging runs %.4f s, generate %.4f s (input BVH %.4f s, minimum-deviation "
+          "triangulation %.4f s), %d estimates %.4f s\n",
+          Since(Start), Times.MergingRuns, Times.Merging, Times.Generate, Times.Tree, Times.Triangulation,
+          Times.Estimates, Times.Estimate);
+      }
+    }
+  } report;
   SpbmLevelParameters first;
   if (!this->GenerateForTargetAndAngle(target, base, level, &first, abort))
   {
@@ -2132,6 +2505,62 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
   // of alpha1, i.e. fewer merges and finer chains. The smallest sampled deviation wins.
   const Index count = static_cast<Index>(level.TrianglePatch.size());
   double bestDeviation = this->EstimateDeviation(level);
+  if (std::getenv("SLOD_VERBOSE"))
+  {
+    std::fprintf(stderr, "[spbm] first weighted %d flat %d alpha1 %.1f eps %.4g factor %.2f join %d collapse %d: %d tris, estimate %.4g\n",
+      int(first.SizeWeightedMerge), int(first.FlatnessMerge), first.MergeAngle, first.Epsilon / this->Diagonal,
+      first.CollapseLengthFactor, int(first.JoinWithinEpsilon), int(first.CollapseWithinEpsilon), int(count), bestDeviation / this->Diagonal);
+  }
+  if (first.RemovalTarget > 0)
+  {
+    // The count comes from cost-ordered removal: every merge measure and alpha1 reaches it, so
+    // they only decide which patches become flat. Try them directly (one merging run each, no
+    // search) and keep the level closest to the input.
+    SpbmLevel removal;
+    for (const int measure : { 0, 1, 2 })
+    {
+      for (const double angle : { 90.0, 60.0, 40.0, 25.0 })
+      {
+        SpbmLevelParameters other = first;
+        other.SizeWeightedMerge = measure == 1;
+        other.FlatnessMerge = measure == 2;
+        other.MergeAngle = angle;
+        if (measure == 0 && angle == first.MergeAngle && !first.SizeWeightedMerge && !first.FlatnessMerge)
+        {
+          continue;
+        }
+        if (!this->Generate(other, removal, abort))
+        {
+          return false;
+        }
+        const Index produced = static_cast<Index>(removal.TrianglePatch.size());
+        if (produced > std::max(target, count))
+        {
+          if (std::getenv("SLOD_VERBOSE"))
+          {
+            std::fprintf(stderr, "[spbm] removal candidate measure %d alpha1 %.1f: %d tris\n", measure, angle, int(produced));
+          }
+          continue;
+        }
+        const double deviation = this->EstimateDeviation(removal);
+        if (std::getenv("SLOD_VERBOSE"))
+        {
+          std::fprintf(stderr, "[spbm] removal candidate measure %d alpha1 %.1f: %d tris, estimate %.4g\n", measure, angle,
+            int(produced), deviation / this->Diagonal);
+        }
+        if (deviation < bestDeviation)
+        {
+          bestDeviation = deviation;
+          std::swap(level, removal);
+          if (used)
+          {
+            *used = other;
+          }
+        }
+      }
+    }
+    return true;
+  }
   SpbmLevel candidate;
   for (const bool weighted : { base.SizeWeightedMerge, !base.SizeWeightedMerge })
   {
@@ -2172,6 +2601,12 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       if (!((produced > target && produced > count) || produced < std::min(count, target) * 19 / 20))
       {
         const double deviation = this->EstimateDeviation(candidate);
+        if (std::getenv("SLOD_VERBOSE"))
+        {
+          std::fprintf(stderr, "[spbm] candidate weighted %d flat %d alpha1 %.1f eps %.4g factor %.2f join %d collapse %d: %d tris, estimate %.4g (best %.4g)\n",
+            int(parameters.SizeWeightedMerge), int(parameters.FlatnessMerge), parameters.MergeAngle, parameters.Epsilon / this->Diagonal,
+            parameters.CollapseLengthFactor, int(parameters.JoinWithinEpsilon), int(parameters.CollapseWithinEpsilon), int(produced), deviation / this->Diagonal, bestDeviation / this->Diagonal);
+        }
         if (deviation < bestDeviation)
         {
           bestDeviation = deviation;
@@ -2203,7 +2638,10 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
   {
     Index predicted = 0;
     const SpbmLevelParameters parameters = this->FindParameters(aim, base, &predicted);
-    if (!this->Generate(parameters, candidate, abort))
+    const auto started = StageClock::now();
+    const bool generated = this->Generate(parameters, candidate, abort);
+    Times.Generate += Since(started);
+    if (!generated)
     {
       return false;
     }

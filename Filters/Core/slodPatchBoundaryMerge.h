@@ -61,6 +61,26 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // area / mean patch area) <= sin(alpha1) (alpha1 <= 90), smallest first, instead of when
   // angle <= alpha1, most parallel first.
   bool SizeWeightedMerge = false;
+  // Extension: flatness-driven merging. A flat re-triangulation of a curved patch is what makes
+  // SPBM's error, so a pair merges in the order of the thickness of their union (its extent
+  // along the union's normal, from the patches' extreme vertices in 13 directions), thinnest
+  // first, while that thickness is at most FlatnessScale * diagonal * tan(alpha1) (unbounded at
+  // alpha1 = 90, so the target search over alpha1 still applies). Normals more than 90 degrees
+  // apart never merge. Takes precedence over SizeWeightedMerge.
+  bool FlatnessMerge = false;
+  double FlatnessScale = 0.03;
+  // Extension: cost-ordered endpoint removal. With RemovalTarget > 0, after merging, endpoints
+  // are removed cheapest first until the level has at most RemovalTarget triangles: chain
+  // collapses (conditions (a)-(b) only: no epsilon or length bound) and joins of degree-two
+  // endpoints (no epsilon bound). The cost is how far the surface moves: for a collapse, the
+  // displacement of the dropped endpoint along the normals of the patches around it (at least
+  // the chain in-plane weight times its length), toward whichever end costs less (the border
+  // rule still applies); for a join, the largest such distance of the chain vertices from the
+  // new segment. Set by the target search (FindParameters) when alpha1 = 90 alone does not reach
+  // the target and CostOrderedRemoval is on (off: the fixed relaxation ladder of conditions (c)
+  // and the epsilon bounds).
+  Index RemovalTarget = 0;
+  bool CostOrderedRemoval = true;
   // GenerateForTarget only: also try the other merge measure and narrower alpha1 values at the
   // same target, and keep the level with the smallest EstimateDeviation.
   bool CompareCandidates = true;
@@ -148,6 +168,8 @@ private:
   bool GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
     SpbmLevelParameters* used, const std::function<bool()>& abort);
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
+  void RemoveCheapest(const SpbmLevelParameters& parameters, State& s, const std::function<bool(Index, Index)>& collapse,
+    const std::function<bool(Index)>& join, const std::function<double(Index, Index, Index)>& joinDeviation);
 
   const TriangleMesh* Mesh = nullptr;
   const Patchification* Patches = nullptr;
@@ -157,19 +179,22 @@ private:
   std::vector<float> OrderedKeys;          // the keys in that order
   std::vector<unsigned char> MinimumInterior; // chains that must keep one interior vertex
   std::vector<double> EndpointVariation;   // normal variation around each endpoint
+  std::vector<Index> PatchSupport;         // per patch: its extreme vertices in the 26 support directions
   struct PredictionMemo
   {
     float Epsilon;
     double MergeAngle;
     bool MergePatches, CollapseChains;
     double CollapseLengthFactor;
-    bool JoinWithinEpsilon, CollapseWithinEpsilon, SizeWeightedMerge;
+    bool JoinWithinEpsilon, CollapseWithinEpsilon, SizeWeightedMerge, FlatnessMerge;
+    Index RemovalTarget;
     Index Count;
   };
   std::vector<PredictionMemo> Memo;
   std::unique_ptr<State> Work;
   std::unique_ptr<TriangleBVH> InputTree; // over Mesh, built on first use (non-planar patches)
   double Diagonal = 0;
+  double InPlaneWeight = 1.0;
 };
 } // namespace slod
 
