@@ -16,6 +16,8 @@
 #include "vtkPolyData.h"
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <memory>
 
@@ -145,6 +147,7 @@ int vtkPatchBoundaryMerge::RequestData(
     slod::PreparationOptions options;
     options.MakeOrientationConsistent = false;
     slod::PreparationReport report = slod::PrepareTriangleMesh(input, options, cache.Mesh, cache.VertexToInput);
+    const auto prepared = Clock::now();
     if (!report.Valid)
     {
       vtkErrorMacro("Cannot simplify this input: " << report.Error);
@@ -152,8 +155,10 @@ int vtkPatchBoundaryMerge::RequestData(
       return 1;
     }
     this->UpdateProgress(0.05);
+    Clock::time_point built;
     {
       auto topology = std::make_unique<slod::MeshTopology>(cache.Mesh); // only needed while growing patches
+      built = Clock::now();
       if (InconsistentEdges(cache.Mesh, *topology) > 0)
       {
         report = slod::PrepareTriangleMesh(input, slod::PreparationOptions(), cache.Mesh, cache.VertexToInput);
@@ -166,6 +171,11 @@ int vtkPatchBoundaryMerge::RequestData(
       }
       slod::PatchificationParameters growth = patchParameters;
       growth.MaximumPlaneDistance = this->PatchPlaneDistance * cache.Mesh.BoundingBoxDiagonal();
+      built = Clock::now(); // topology, orientation check
+      if (this->MinimumDeviationTriangulation && !std::getenv("SPBM_NOASYNC"))
+      {
+        cache.Generator.StartInputTree(cache.Mesh); // on another thread while the patches grow
+      }
       cache.Patches.Build(cache.Mesh, *topology, growth, [this](double f) {
         this->UpdateProgress(0.05 + 0.6 * f);
         return this->GetAbortExecute() != 0;
@@ -176,12 +186,23 @@ int vtkPatchBoundaryMerge::RequestData(
       this->Cached.reset();
       return 1;
     }
+    if (std::getenv("SLOD_VERBOSE"))
+    {
+      std::fprintf(stderr, "[spbm] preparation %.4f s, topology and orientation check %.4f s, patches %.4f s\n",
+        std::chrono::duration<double>(prepared - start).count(), std::chrono::duration<double>(built - prepared).count(),
+        std::chrono::duration<double>(Clock::now() - built).count());
+    }
   }
   Cache& cache = *this->Cached;
   if (cache.ChainInPlaneWeight != this->ChainInPlaneWeight)
   {
+    const auto initializing = Clock::now();
     cache.Generator.Initialize(cache.Mesh, cache.Patches, this->ChainInPlaneWeight);
     cache.ChainInPlaneWeight = this->ChainInPlaneWeight;
+    if (std::getenv("SLOD_VERBOSE"))
+    {
+      std::fprintf(stderr, "[spbm] chain hierarchy %.4f s\n", std::chrono::duration<double>(Clock::now() - initializing).count());
+    }
   }
   for (const std::string& warning : cache.Warnings)
   {

@@ -10,7 +10,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
+#include <thread>
 
 namespace slod
 {
@@ -19,10 +21,10 @@ namespace
 // SLOD_VERBOSE=1 in the environment prints the level's stage times (profiling aid).
 struct StageTimes
 {
-  double Merging = 0, Generate = 0, Tree = 0, Triangulation = 0, Estimate = 0;
+  double Merging = 0, Generate = 0, Tree = 0, Triangulation = 0, Estimate = 0, Refinement = 0;
   int MergingRuns = 0, Estimates = 0;
 };
-StageTimes Times;
+thread_local StageTimes Times; // of the calling thread
 using StageClock = std::chrono::steady_clock;
 double Since(StageClock::time_point start)
 {
@@ -253,6 +255,26 @@ public:
     }
     return false;
   }
+  // Value of (a,b) in `value` when present.
+  bool Find(Index a, Index b, Index& value) const
+  {
+    if (this->Keys.empty())
+    {
+      return false;
+    }
+    const uint64_t key = Key(a, b);
+    size_t slot = this->Slot(key);
+    while (this->Keys[slot] != Empty)
+    {
+      if (this->Keys[slot] == key)
+      {
+        value = this->Values[slot];
+        return true;
+      }
+      slot = (slot + 1) & (this->Keys.size() - 1);
+    }
+    return false;
+  }
   size_t MemoryUsage() const { return this->Keys.capacity() * 8 + this->Values.capacity() * sizeof(Index); }
 
 private:
@@ -330,6 +352,12 @@ struct SpbmLevelGenerator::State
   std::vector<Index> SeqOffsets, SeqVertices;
   std::vector<unsigned char> SeqKeep;
   EdgeMap Edges;
+  // Minimum-deviation triangulation: distance of each diagonal (vertex pair) from the input,
+  // as float bits. It depends on the two original vertices only, so it is kept across the
+  // levels and candidates of one chain hierarchy (most patches recur between them).
+  EdgeMap DiagonalCosts;
+  std::vector<uint64_t> SimpleSignature; // per patch: boundary signature last found simple (0: none)
+  std::vector<PredictionMemo> Memo; // predicted counts of the levels asked for (searches repeat them)
 
   Index Find(Index p)
   {
@@ -355,6 +383,7 @@ struct SpbmLevelGenerator::State
 
 SpbmLevelGenerator::SpbmLevelGenerator()
   : Work(new State)
+  , Helper(new State)
 {
 }
 
@@ -369,11 +398,25 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
 {
   this->Mesh = &mesh;
   this->Patches = &patches;
-  this->Memo.clear();
-  this->InputTree.reset();
+  this->Work->Memo.clear();
+  this->Helper->Memo.clear();
+  this->Helper->RefinedValid = false;
+  this->Helper->DiagonalCosts.Reset(0);
+  if (this->TreeMesh != &mesh)
+  {
+    if (this->PendingTree.valid())
+    {
+      this->PendingTree.get();
+    }
+    this->InputTree.reset();
+    this->TreeMesh = &mesh;
+  }
   this->Diagonal = mesh.BoundingBoxDiagonal();
   this->InPlaneWeight = std::max(0.0, std::min(1.0, inPlaneWeight));
   this->Work->RefinedValid = false;
+  this->Work->SimpleSignature.clear();
+  this->Helper->SimpleSignature.clear();
+  this->Work->DiagonalCosts.Reset(0);
   this->PatchSupport.clear(); // built on first use (FlatnessMerge)
   const Patchification& P = patches;
   const Index nc = P.NumberOfChains();
@@ -538,6 +581,37 @@ size_t SpbmLevelGenerator::MemoryUsage() const
   return bytes;
 }
 
+void SpbmLevelGenerator::StartInputTree(const TriangleMesh& mesh)
+{
+  std::lock_guard<std::mutex> lock(this->LazyMutex);
+  if (this->PendingTree.valid())
+  {
+    this->PendingTree.get();
+  }
+  this->InputTree.reset();
+  this->TreeMesh = &mesh;
+  this->PendingTree = std::async(std::launch::async, [&mesh]() { return std::make_unique<TriangleBVH>(mesh); });
+}
+
+const TriangleBVH& SpbmLevelGenerator::GetInputTree()
+{
+  // Built on first use (a non-planar patch), by whichever candidate thread needs it first.
+  std::lock_guard<std::mutex> lock(this->LazyMutex);
+  if (!this->InputTree && this->PendingTree.valid())
+  {
+    const auto started = StageClock::now();
+    this->InputTree = this->PendingTree.get();
+    Times.Tree += Since(started);
+  }
+  if (!this->InputTree)
+  {
+    const auto started = StageClock::now();
+    this->InputTree.reset(new TriangleBVH(*this->Mesh));
+    Times.Tree += Since(started);
+  }
+  return *this->InputTree;
+}
+
 void SpbmLevelGenerator::RunMerging(
   const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s)
 {
@@ -563,6 +637,7 @@ void SpbmLevelGenerator::RunMerging(
   }
   if (parameters.FlatnessMerge)
   {
+    std::lock_guard<std::mutex> lock(this->LazyMutex);
     if (this->PatchSupport.size() != size_t(np) * SupportSize)
     {
       // Extreme vertices of every patch in the support directions (first use only).
@@ -965,12 +1040,17 @@ void SpbmLevelGenerator::RunMerging(
   {
     anyFrozen = frozen[p] != 0;
   }
+  const auto refinementStart = StageClock::now();
   const bool reuse = !anyFrozen && s.RefinedValid && s.RefinedEpsilon == eps;
   if (reuse)
   {
     s.Tolerance = s.RefinedTolerance;
     s.Locked = s.RefinedLocked;
     rebuildKept();
+  }
+  if (s.SimpleSignature.size() != size_t(np))
+  {
+    s.SimpleSignature.assign(size_t(np), 0);
   }
   for (int round = 0; round < 8 && !reuse; ++round)
   {
@@ -981,8 +1061,23 @@ void SpbmLevelGenerator::RunMerging(
       {
         continue;
       }
+      // The boundary is determined by how many vertices each of its chains keeps (a prefix of the
+      // chain's key order, or all): remember the signatures of boundaries found simple, so that
+      // the searches' many runs at nearby epsilons test only the patches whose boundary changed.
+      uint64_t signature = 0;
+      forPatchChains(p, [&](Index c) {
+        uint64_t x = (uint64_t(uint32_t(c)) << 32) ^ (uint64_t(uint32_t(s.Interior[c])) << 1) ^ uint64_t(s.Locked[c]);
+        x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull; // splitmix64 finalizer
+        x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+        signature += x ^ (x >> 31);
+      });
+      if (s.SimpleSignature[p] == signature)
+      {
+        continue;
+      }
       if (boundaryPoints(p, InvalidIndex, InvalidIndex, checkPoints) && ProjectsToSimplePolygon(checkPoints, s.Normal[p]))
       {
+        s.SimpleSignature[p] = signature;
         continue;
       }
       forPatchChains(p, [&](Index c) {
@@ -1012,6 +1107,12 @@ void SpbmLevelGenerator::RunMerging(
     s.RefinedEpsilon = eps;
     s.RefinedTolerance = s.Tolerance;
     s.RefinedLocked = s.Locked;
+  }
+  Times.Refinement += Since(refinementStart);
+  static const bool traceRefinement = std::getenv("SPBM_TRACE") != nullptr; // EXPERIMENT
+  if (traceRefinement)
+  {
+    std::fprintf(stderr, "    refinement %.4f s reuse %d\n", Since(refinementStart), int(reuse));
   }
   s.Total = 0;
   for (Index p = 0; p < np; ++p)
@@ -1692,9 +1793,14 @@ void SpbmLevelGenerator::RemoveCheapest(const SpbmLevelParameters& parameters, S
 
 Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parameters)
 {
+  return this->PredictTriangleCountIn(parameters, *this->Work);
+}
+
+Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s)
+{
   // Searches (and re-aimed searches) ask for the same levels again: remember the answers.
   const float eps = static_cast<float>(parameters.Epsilon);
-  for (const PredictionMemo& m : this->Memo)
+  for (const PredictionMemo& m : s.Memo)
   {
     if (m.Epsilon == eps && m.MergeAngle == parameters.MergeAngle && m.MergePatches == parameters.MergePatches &&
       m.CollapseChains == parameters.CollapseChains && m.CollapseLengthFactor == parameters.CollapseLengthFactor &&
@@ -1705,17 +1811,21 @@ Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parame
       return m.Count;
     }
   }
-  State& s = *this->Work;
   s.NoFreeze.assign(size_t(this->Patches->NumberOfPatches()), 0);
   const auto started = StageClock::now();
   this->RunMerging(parameters, s.NoFreeze, s);
   Times.Merging += Since(started);
   ++Times.MergingRuns;
-  if (this->Memo.size() > 256)
+  static const bool trace = std::getenv("SPBM_TRACE") != nullptr; // EXPERIMENT
+  if (trace)
   {
-    this->Memo.clear();
+    std::fprintf(stderr, "  run w%d eps %.4g a1 %.2f removal %d -> %lld (%.4f s)\n", int(parameters.SizeWeightedMerge), parameters.Epsilon / this->Diagonal, parameters.MergeAngle, int(parameters.RemovalTarget), s.Total, Since(started));
   }
-  this->Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
+  if (s.Memo.size() > 256)
+  {
+    s.Memo.clear();
+  }
+  s.Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
     parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon, parameters.CollapseWithinEpsilon,
     parameters.SizeWeightedMerge, parameters.FlatnessMerge, parameters.RemovalTarget, static_cast<Index>(s.Total) });
   return static_cast<Index>(s.Total);
@@ -1724,6 +1834,12 @@ Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parame
 SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   Index target, const SpbmLevelParameters& base, Index* predicted)
 {
+  return this->FindParametersIn(target, base, predicted, *this->Work);
+}
+
+SpbmLevelParameters SpbmLevelGenerator::FindParametersIn(
+  Index target, const SpbmLevelParameters& base, Index* predicted, State& s)
+{
   SpbmLevelParameters params = base;
   const Index nk = static_cast<Index>(this->SortedKeys.size());
   auto epsilonFor = [&](Index k) { return k < nk ? double(this->SortedKeys[k]) : -1.0; };
@@ -1731,13 +1847,13 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
     SpbmLevelParameters p = params;
     p.Epsilon = epsilonFor(k);
     p.MergeAngle = angle;
-    return this->PredictTriangleCount(p);
+    return this->PredictTriangleCountIn(p, s);
   };
   // 1. alpha1: the given one, or (when even single-segment chains give too many triangles) the
   // smallest wider one, up to 90 degrees, that reaches the target.
   // Counts this close below the target are good enough: each evaluation is a whole merging run,
   // and the epsilon search below fills the rest.
-  const Index countTolerance = std::max<Index>(2, target / 100);
+  const Index countTolerance = std::max<Index>(2, target / 50);
   double angle = base.MergeAngle;
   if (countFor(0, angle) > target && (base.MergePatches || base.CollapseChains))
   {
@@ -1750,9 +1866,21 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
     if (countHi > target && base.CollapseChains && base.CostOrderedRemoval)
     {
       // Remove endpoints cheapest first down to the target (the epsilon bounds stay on the rest).
+      // The removal sets the count: alpha1 only bounds which unions become flat patches, and
+      // merging up to RemovalMergeAngle (not 90) keeps creases sharper than that as chains.
       params.RemovalTarget = target;
-      countHi = countFor(0, hi);
-      countLo = countFor(0, lo);
+      const double removalAngle = std::min(hi, std::max(lo, base.RemovalMergeAngle));
+      const Index c = countFor(0, removalAngle);
+      if (c <= target)
+      {
+        lo = hi = removalAngle;
+        countLo = countHi = c;
+      }
+      else
+      {
+        countHi = countFor(0, hi);
+        countLo = countFor(0, lo);
+      }
     }
     if (countHi > target && base.CollapseChains)
     {
@@ -1944,9 +2072,14 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
 bool SpbmLevelGenerator::Generate(
   const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort)
 {
+  return this->GenerateIn(parameters, level, abort, *this->Work);
+}
+
+bool SpbmLevelGenerator::GenerateIn(
+  const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s)
+{
   const Patchification& P = *this->Patches;
   const TriangleMesh& mesh = *this->Mesh;
-  State& s = *this->Work;
   const Index np = P.NumberOfPatches();
   const Index nc = P.NumberOfChains();
   const Index nv = mesh.NumberOfPoints();
@@ -2294,30 +2427,29 @@ bool SpbmLevelGenerator::Generate(
           }
           if (height > parameters.NonPlanarTolerance * this->Diagonal)
           {
-            if (!this->InputTree)
-            {
-              const auto started = StageClock::now();
-              this->InputTree.reset(new TriangleBVH(mesh));
-              Times.Tree += Since(started);
-            }
-            const TriangleBVH& tree = *this->InputTree;
+            const TriangleBVH& tree = this->GetInputTree();
             MinimumCostTriangulationOptions dp;
             dp.AcceptDiagonal = [&](Index i, Index j) { return !s.Edges.Contains(polygon[i], polygon[j]); };
+            auto diagonalCost = [&](Index i, Index j) {
+              // Distance of the diagonal's midpoint from the input. (Adding the quarter points
+              // tripled the queries, about half of the level's triangulation time, for the same
+              // Fandisk levels and 7% on bunny00 at 1500 triangles.)
+              return std::sqrt(tree.ClosestPoint(0.5 * (points[i] + points[j])).Distance2);
+            };
             dp.DiagonalCost = [&](Index i, Index j) {
-              // Midpoint and quarter points; a quarter point is at most a quarter of the length
-              // farther than the midpoint's answer, which bounds (prunes) its query.
-              const double middle = std::sqrt(tree.ClosestPoint(0.5 * (points[i] + points[j])).Distance2);
-              const double bound = middle + 0.25 * Norm(points[j] - points[i]);
-              double worst = middle;
-              for (const double t : { 0.25, 0.75 })
+              Index bits = 0;
+              float cached = 0;
+              if (s.DiagonalCosts.Find(polygon[i], polygon[j], bits))
               {
-                const ClosestPointResult r = tree.ClosestPoint((1 - t) * points[i] + t * points[j], bound * bound);
-                if (r.Triangle != InvalidIndex)
-                {
-                  worst = std::max(worst, std::sqrt(r.Distance2));
-                }
+                std::memcpy(&cached, &bits, sizeof(float));
+                return double(cached);
               }
-              return worst;
+              const double cost = diagonalCost(i, j);
+              cached = static_cast<float>(cost);
+              std::memcpy(&bits, &cached, sizeof(float));
+              Index ignored;
+              s.DiagonalCosts.Insert(polygon[i], polygon[j], bits, ignored);
+              return cost;
             };
             // Thin triangles cost about as much as a diagonal 1e-3 of the diagonal off the surface.
             dp.AngleWeight = 1e-3 * this->Diagonal;
@@ -2480,154 +2612,172 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       if (std::getenv("SLOD_VERBOSE"))
       {
         std::fprintf(stderr,
-          "[spbm] level %.4f s: %d merging runs %.4f s, generate %.4f s (input BVH %.4f s, minimum-deviation "
-          "triangulation %.4f s), %d estimates %.4f s\n",
-          Since(Start), Times.MergingRuns, Times.Merging, Times.Generate, Times.Tree, Times.Triangulation,
-          Times.Estimates, Times.Estimate);
+          "[spbm] level %.4f s; main thread: %d merging runs %.4f s (refinement %.4f s), generate %.4f s (input BVH "
+          "%.4f s, minimum-deviation triangulation %.4f s), %d estimates %.4f s\n",
+          Since(Start), Times.MergingRuns, Times.Merging, Times.Refinement, Times.Generate, Times.Tree,
+          Times.Triangulation, Times.Estimates, Times.Estimate);
       }
     }
   } report;
-  SpbmLevelParameters first;
-  if (!this->GenerateForTargetAndAngle(target, base, level, &first, abort))
+  const bool verbose = std::getenv("SLOD_VERBOSE") != nullptr;
+  auto describe = [&](const char* what, const SpbmLevelParameters& p, Index produced, double deviation) {
+    if (verbose)
+    {
+      std::fprintf(stderr,
+        "[spbm] %s: weighted %d flat %d alpha1 %.1f eps %.4g factor %.2f join %d collapse %d removal %d: %d tris, "
+        "estimate %.4g\n",
+        what, int(p.SizeWeightedMerge), int(p.FlatnessMerge), p.MergeAngle, p.Epsilon / this->Diagonal,
+        p.CollapseLengthFactor, int(p.JoinWithinEpsilon), int(p.CollapseWithinEpsilon), int(p.RemovalTarget),
+        int(produced), deviation / this->Diagonal);
+    }
+  };
+  const bool compare = base.MergePatches && base.MergeAngle > 0 && base.CompareCandidates;
+  // Candidates spend the same budget differently; the smallest sampled deviation from the input
+  // (EstimateDeviation) wins. The first two (the given merge measure and the other one of
+  // plain / size-weighted) run on two threads, each with its own working state.
+  SpbmLevelParameters first, second;
+  SpbmLevel secondLevel;
+  bool secondDone = true;
+  double secondDeviation = std::numeric_limits<double>::infinity();
+  std::thread helper;
+  if (compare)
+  {
+    SpbmLevelParameters other = base;
+    other.SizeWeightedMerge = !base.SizeWeightedMerge;
+    other.FlatnessMerge = false;
+    helper = std::thread([&, other]() {
+      secondDone = this->GenerateForTargetAndAngle(target, other, secondLevel, &second, abort, *this->Helper);
+      if (secondDone)
+      {
+        secondDeviation = this->EstimateDeviation(secondLevel);
+      }
+    });
+  }
+  bool done = this->GenerateForTargetAndAngle(target, base, level, &first, abort, *this->Work);
+  const Index count = static_cast<Index>(level.TrianglePatch.size());
+  double bestDeviation = done && compare ? this->EstimateDeviation(level) : 0.0;
+  describe("first", first, count, bestDeviation);
+  SpbmLevelParameters best = first;
+  // Same budget: not above the target (or the first level's count), not far below it.
+  auto sameBudget = [&](Index produced) {
+    return !((produced > target && produced > count) || produced < std::min(count, target) * 19 / 20);
+  };
+  // A narrower alpha1 for the plain measure (fewer merges, finer chains), when alpha1 did not
+  // have to be widened (a narrower one would widen to the same level) and no removal was needed.
+  SpbmLevel candidate;
+  if (done && compare && !base.SizeWeightedMerge && !base.FlatnessMerge && first.MergeAngle <= base.MergeAngle &&
+    first.RemovalTarget == 0)
+  {
+    SpbmLevelParameters narrower = base;
+    narrower.MergeAngle = 0.5 * base.MergeAngle;
+    SpbmLevelParameters parameters;
+    done = this->GenerateForTargetAndAngle(target, narrower, candidate, &parameters, abort, *this->Work);
+    if (done)
+    {
+      const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
+      const double deviation = sameBudget(produced) ? this->EstimateDeviation(candidate) : bestDeviation;
+      describe("narrower alpha1", parameters, produced, deviation);
+      if (deviation < bestDeviation)
+      {
+        bestDeviation = deviation;
+        std::swap(level, candidate);
+        best = parameters;
+      }
+    }
+  }
+  if (helper.joinable())
+  {
+    helper.join();
+  }
+  if (!done || !secondDone)
   {
     return false;
   }
-  if (used)
+  if (compare)
   {
-    *used = first;
+    const Index produced = static_cast<Index>(secondLevel.TrianglePatch.size());
+    describe("other measure", second, produced, secondDeviation);
+    if (sameBudget(produced) && secondDeviation < bestDeviation)
+    {
+      bestDeviation = secondDeviation;
+      std::swap(level, secondLevel);
+      best = second;
+    }
   }
-  if (!base.MergePatches || base.MergeAngle <= 0 || !base.CompareCandidates)
-  {
-    return true;
-  }
-  // Candidates spending the same budget differently: the other merge measure, and (when alpha1
-  // did not have to be widened; narrower angles would widen to the same one) half and a quarter
-  // of alpha1, i.e. fewer merges and finer chains. The smallest sampled deviation wins.
-  const Index count = static_cast<Index>(level.TrianglePatch.size());
-  double bestDeviation = this->EstimateDeviation(level);
-  if (std::getenv("SLOD_VERBOSE"))
-  {
-    std::fprintf(stderr, "[spbm] first weighted %d flat %d alpha1 %.1f eps %.4g factor %.2f join %d collapse %d: %d tris, estimate %.4g\n",
-      int(first.SizeWeightedMerge), int(first.FlatnessMerge), first.MergeAngle, first.Epsilon / this->Diagonal,
-      first.CollapseLengthFactor, int(first.JoinWithinEpsilon), int(first.CollapseWithinEpsilon), int(count), bestDeviation / this->Diagonal);
-  }
-  if (first.RemovalTarget > 0)
+  if (compare && (first.RemovalTarget > 0 || second.RemovalTarget > 0))
   {
     // The count comes from cost-ordered removal: every merge measure and alpha1 reaches it, so
-    // they only decide which patches become flat. Try them directly (one merging run each, no
-    // search) and keep the level closest to the input.
-    SpbmLevel removal;
+    // they only decide which patches become flat. Try the measures at a narrower alpha1 directly
+    // (one merging run each, no search), two at a time, and keep the level closest to the input.
+    const SpbmLevelParameters removalBase = first.RemovalTarget > 0 ? first : second;
+    std::vector<SpbmLevelParameters> tries;
     for (const int measure : { 0, 1, 2 })
     {
-      for (const double angle : { 90.0, 60.0, 40.0, 25.0 })
+      for (const double angle : { removalBase.MergeAngle })
       {
-        SpbmLevelParameters other = first;
+        SpbmLevelParameters other = removalBase;
         other.SizeWeightedMerge = measure == 1;
         other.FlatnessMerge = measure == 2;
         other.MergeAngle = angle;
-        if (measure == 0 && angle == first.MergeAngle && !first.SizeWeightedMerge && !first.FlatnessMerge)
+        bool seen = false;
+        for (const SpbmLevelParameters* known : { &first, &second })
         {
-          continue;
+          seen = seen ||
+            (known->RemovalTarget > 0 && known->SizeWeightedMerge == other.SizeWeightedMerge &&
+              known->FlatnessMerge == other.FlatnessMerge && known->MergeAngle == other.MergeAngle &&
+              known->Epsilon == other.Epsilon);
         }
-        if (!this->Generate(other, removal, abort))
+        if (!seen)
         {
-          return false;
-        }
-        const Index produced = static_cast<Index>(removal.TrianglePatch.size());
-        if (produced > std::max(target, count))
-        {
-          if (std::getenv("SLOD_VERBOSE"))
-          {
-            std::fprintf(stderr, "[spbm] removal candidate measure %d alpha1 %.1f: %d tris\n", measure, angle, int(produced));
-          }
-          continue;
-        }
-        const double deviation = this->EstimateDeviation(removal);
-        if (std::getenv("SLOD_VERBOSE"))
-        {
-          std::fprintf(stderr, "[spbm] removal candidate measure %d alpha1 %.1f: %d tris, estimate %.4g\n", measure, angle,
-            int(produced), deviation / this->Diagonal);
-        }
-        if (deviation < bestDeviation)
-        {
-          bestDeviation = deviation;
-          std::swap(level, removal);
-          if (used)
-          {
-            *used = other;
-          }
+          tries.push_back(other);
         }
       }
     }
-    return true;
-  }
-  SpbmLevel candidate;
-  for (const bool weighted : { base.SizeWeightedMerge, !base.SizeWeightedMerge })
-  {
-    for (const double factor : { 1.0, 0.5 })
+    std::vector<SpbmLevel> levels(tries.size());
+    std::vector<double> deviations(tries.size(), std::numeric_limits<double>::infinity());
+    std::vector<unsigned char> finished(tries.size(), 0);
+    auto work = [&](size_t from, State& state) {
+      for (size_t i = from; i < tries.size(); i += 2)
+      {
+        if (!this->GenerateIn(tries[i], levels[i], abort, state))
+        {
+          return;
+        }
+        finished[i] = 1;
+        const Index produced = static_cast<Index>(levels[i].TrianglePatch.size());
+        if (sameBudget(produced))
+        {
+          deviations[i] = this->EstimateDeviation(levels[i]);
+        }
+      }
+    };
+    std::thread second(work, size_t(1), std::ref(*this->Helper));
+    work(0, *this->Work);
+    second.join();
+    for (size_t i = 0; i < tries.size(); ++i)
     {
-      // The first level, and narrower angles for the plain measure only (measured on the Fandisk
-      // and bunny00: the size-weighted measure never won with a narrower alpha1).
-      if ((weighted == base.SizeWeightedMerge && factor == 1.0) || (weighted && factor != 1.0))
+      if (!finished[i])
       {
-        continue;
+        return false; // aborted
       }
-      if (factor != 1.0 && first.MergeAngle > base.MergeAngle)
+      describe("removal", tries[i], static_cast<Index>(levels[i].TrianglePatch.size()), deviations[i]);
+      if (deviations[i] < bestDeviation)
       {
-        continue; // alpha1 had to be widened: a narrower one would widen to the same level
-      }
-      SpbmLevelParameters other = base;
-      other.SizeWeightedMerge = weighted;
-      other.MergeAngle = base.MergeAngle * factor;
-      if (weighted != base.SizeWeightedMerge && first.CollapseWithinEpsilon == base.CollapseWithinEpsilon)
-      {
-        // The first level needed no relaxed collapses: skip a measure that would need them
-        // (its coarsest level without relaxation is above the target); saves its search.
-        SpbmLevelParameters coarsest = other;
-        coarsest.Epsilon = this->SortedKeys.empty() ? -1.0 : double(this->SortedKeys.front());
-        coarsest.MergeAngle = std::max(90.0, other.MergeAngle);
-        if (this->PredictTriangleCount(coarsest) > target)
-        {
-          continue;
-        }
-      }
-      SpbmLevelParameters parameters;
-      if (!this->GenerateForTargetAndAngle(target, other, candidate, &parameters, abort))
-      {
-        return false;
-      }
-      const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
-      // Same budget: not above the target (or the first level's count), not far below it.
-      if (!((produced > target && produced > count) || produced < std::min(count, target) * 19 / 20))
-      {
-        const double deviation = this->EstimateDeviation(candidate);
-        if (std::getenv("SLOD_VERBOSE"))
-        {
-          std::fprintf(stderr, "[spbm] candidate weighted %d flat %d alpha1 %.1f eps %.4g factor %.2f join %d collapse %d: %d tris, estimate %.4g (best %.4g)\n",
-            int(parameters.SizeWeightedMerge), int(parameters.FlatnessMerge), parameters.MergeAngle, parameters.Epsilon / this->Diagonal,
-            parameters.CollapseLengthFactor, int(parameters.JoinWithinEpsilon), int(parameters.CollapseWithinEpsilon), int(produced), deviation / this->Diagonal, bestDeviation / this->Diagonal);
-        }
-        if (deviation < bestDeviation)
-        {
-          bestDeviation = deviation;
-          std::swap(level, candidate);
-          if (used)
-          {
-            *used = parameters;
-          }
-        }
-      }
-      if (parameters.MergeAngle > other.MergeAngle)
-      {
-        break; // widened: narrower angles give the same level
+        bestDeviation = deviations[i];
+        std::swap(level, levels[i]);
+        best = tries[i];
       }
     }
+  }
+  if (used)
+  {
+    *used = best;
   }
   return true;
 }
 
 bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base,
-  SpbmLevel& level, SpbmLevelParameters* used, const std::function<bool()>& abort)
+  SpbmLevel& level, SpbmLevelParameters* used, const std::function<bool()>& abort, State& s)
 {
   // Fallbacks add triangles the prediction does not know about: aim lower by the overshoot and
   // keep the best level (closest count not above the target, else the smallest).
@@ -2637,9 +2787,9 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
   for (int attempt = 0; attempt < 6; ++attempt)
   {
     Index predicted = 0;
-    const SpbmLevelParameters parameters = this->FindParameters(aim, base, &predicted);
+    const SpbmLevelParameters parameters = this->FindParametersIn(aim, base, &predicted, s);
     const auto started = StageClock::now();
-    const bool generated = this->Generate(parameters, candidate, abort);
+    const bool generated = this->GenerateIn(parameters, candidate, abort, s);
     Times.Generate += Since(started);
     if (!generated)
     {
