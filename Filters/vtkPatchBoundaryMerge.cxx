@@ -172,7 +172,7 @@ int vtkPatchBoundaryMerge::RequestData(
       slod::PatchificationParameters growth = patchParameters;
       growth.MaximumPlaneDistance = this->PatchPlaneDistance * cache.Mesh.BoundingBoxDiagonal();
       built = Clock::now(); // topology, orientation check
-      if (this->MinimumDeviationTriangulation && !std::getenv("SPBM_NOASYNC"))
+      if (this->MinimumDeviationTriangulation)
       {
         cache.Generator.StartInputTree(cache.Mesh); // on another thread while the patches grow
       }

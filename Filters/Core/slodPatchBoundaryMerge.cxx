@@ -565,13 +565,20 @@ size_t SpbmLevelGenerator::MemoryUsage() const
 {
   size_t bytes = this->Keys.capacity() * 4 + this->SortedKeys.capacity() * 4 + this->KeyOrder.capacity() * 4 + this->OrderedKeys.capacity() * 4 + this->MinimumInterior.capacity() +
     this->EndpointVariation.capacity() * 8;
-  const State& s = *this->Work;
   auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
-    b(s.PartLast) + b(s.PartNext) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) + b(s.Degree) +
-    b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) + b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.Normal) + b(s.Frozen) +
-    b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.SeqOffsets) + b(s.SeqVertices) +
-    b(s.SeqKeep) + s.Edges.MemoryUsage();
+  bytes += b(this->PatchSupport);
+  for (const State* state : { this->Work.get(), this->Helper.get() }) // one working state per candidate thread
+  {
+    const State& s = *state;
+    bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Tolerance) + b(s.KeptOffsets) +
+      b(s.KeptPositions) + b(s.RefinedTolerance) + b(s.RefinedLocked) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
+      b(s.PartLast) + b(s.PartNext) + b(s.JointBefore) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) +
+      b(s.Degree) + b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) +
+      b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.Normal) + b(s.Support) + b(s.Frozen) +
+      b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.NoFreeze) +
+      b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
+      b(s.SimpleSignature) + b(s.Memo);
+  }
   if (this->InputTree)
   {
     // Nodes, leaf order and the 9 leaf-ordered corner coordinates per triangle.
@@ -1109,11 +1116,6 @@ void SpbmLevelGenerator::RunMerging(
     s.RefinedLocked = s.Locked;
   }
   Times.Refinement += Since(refinementStart);
-  static const bool traceRefinement = std::getenv("SPBM_TRACE") != nullptr; // EXPERIMENT
-  if (traceRefinement)
-  {
-    std::fprintf(stderr, "    refinement %.4f s reuse %d\n", Since(refinementStart), int(reuse));
-  }
   s.Total = 0;
   for (Index p = 0; p < np; ++p)
   {
@@ -1816,11 +1818,6 @@ Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& para
   this->RunMerging(parameters, s.NoFreeze, s);
   Times.Merging += Since(started);
   ++Times.MergingRuns;
-  static const bool trace = std::getenv("SPBM_TRACE") != nullptr; // EXPERIMENT
-  if (trace)
-  {
-    std::fprintf(stderr, "  run w%d eps %.4g a1 %.2f removal %d -> %lld (%.4f s)\n", int(parameters.SizeWeightedMerge), parameters.Epsilon / this->Diagonal, parameters.MergeAngle, int(parameters.RemovalTarget), s.Total, Since(started));
-  }
   if (s.Memo.size() > 256)
   {
     s.Memo.clear();
@@ -1858,7 +1855,24 @@ SpbmLevelParameters SpbmLevelGenerator::FindParametersIn(
   if (countFor(0, angle) > target && (base.MergePatches || base.CollapseChains))
   {
     double lo = angle, hi = std::max(90.0, angle);
-    Index countLo = countFor(0, lo), countHi = countFor(0, hi);
+    Index countLo = countFor(0, lo), countHi = 0;
+    // Bracket by doubling alpha1 (the count falls steeply at small angles and flattens toward
+    // 90 degrees), stopping at RemovalMergeAngle on the way: the widest (and slowest) merging
+    // run, at 90, is evaluated only when nothing narrower reaches the target.
+    for (double probe = lo;;)
+    {
+      const double next = probe <= 0 ? hi : std::min(hi, 2 * probe);
+      probe = probe < base.RemovalMergeAngle && next > base.RemovalMergeAngle ? base.RemovalMergeAngle : next;
+      const Index c = countFor(0, probe);
+      if (c <= target || probe >= hi)
+      {
+        hi = probe;
+        countHi = c;
+        break;
+      }
+      lo = probe;
+      countLo = c;
+    }
     // Even alpha1 = 90 leaves too many triangles (the Fandisk at 150): drop the epsilon bound on
     // collapses (the paper's rule), collapse longer chains (condition (c) up to the patch's
     // longest chain), and last drop the epsilon bound on joins, until the target is reached.
@@ -1869,7 +1883,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParametersIn(
       // The removal sets the count: alpha1 only bounds which unions become flat patches, and
       // merging up to RemovalMergeAngle (not 90) keeps creases sharper than that as chains.
       params.RemovalTarget = target;
-      const double removalAngle = std::min(hi, std::max(lo, base.RemovalMergeAngle));
+      const double removalAngle = std::min(hi, std::max(angle, base.RemovalMergeAngle));
       const Index c = countFor(0, removalAngle);
       if (c <= target)
       {
@@ -1882,6 +1896,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParametersIn(
         countLo = countFor(0, lo);
       }
     }
+
     if (countHi > target && base.CollapseChains)
     {
       params.RemovalTarget = 0;
@@ -1932,8 +1947,9 @@ SpbmLevelParameters SpbmLevelGenerator::FindParametersIn(
       Index realHi = countHi; // countHi is scaled by the Illinois steps
       for (int iteration = 0; iteration < 6 && hi - lo > 0.05 && realHi < target - countTolerance; ++iteration)
       {
-        double mid = hi - (hi - lo) * double(countHi - target) / std::min(-1.0, double(countHi - countLo));
-        mid = hi - (hi - lo) * double(target - countHi) / std::max(1.0, double(countLo - countHi));
+        // Interpolated in log(alpha1): the count is about linear in it (fewer evaluations).
+        const double logLo = std::log(std::max(lo, 1e-3)), logHi = std::log(std::max(hi, 1e-3));
+        double mid = std::exp(logHi - (logHi - logLo) * double(target - countHi) / std::max(1.0, double(countLo - countHi)));
         mid = std::min(hi - 0.01 * (hi - lo), std::max(lo + 0.01 * (hi - lo), mid));
         const Index c = countFor(0, mid);
         if (c > target)
@@ -2594,6 +2610,12 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
     const Vec3 queries[2] = { a, (1.0 / 3.0) * (a + b + c) };
     for (const Vec3& q : queries)
     {
+      // Only samples farther than the current worst matter: a query bounded by it prunes most
+      // of the tree and finds nothing exactly when the sample is farther (then measure it).
+      if (worst2 > 0 && bvh.ClosestPoint(q, worst2).Triangle != InvalidIndex)
+      {
+        continue;
+      }
       worst2 = std::max(worst2, bvh.ClosestPoint(q).Distance2);
     }
   }
@@ -2646,10 +2668,20 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
     other.SizeWeightedMerge = !base.SizeWeightedMerge;
     other.FlatnessMerge = false;
     helper = std::thread([&, other]() {
+      const auto helperStart = StageClock::now();
+      Times = StageTimes();
       secondDone = this->GenerateForTargetAndAngle(target, other, secondLevel, &second, abort, *this->Helper);
       if (secondDone)
       {
         secondDeviation = this->EstimateDeviation(secondLevel);
+      }
+      if (verbose)
+      {
+        std::fprintf(stderr,
+          "[spbm] helper thread %.4f s: %d merging runs %.4f s (refinement %.4f s), generate %.4f s (input BVH %.4f s, "
+          "minimum-deviation triangulation %.4f s), %d estimates %.4f s\n",
+          Since(helperStart), Times.MergingRuns, Times.Merging, Times.Refinement, Times.Generate, Times.Tree,
+          Times.Triangulation, Times.Estimates, Times.Estimate);
       }
     });
   }
