@@ -1864,8 +1864,11 @@ SpbmLevelParameters SpbmLevelGenerator::FindParametersIn(
       const double next = probe <= 0 ? hi : std::min(hi, 2 * probe);
       probe = probe < base.RemovalMergeAngle && next > base.RemovalMergeAngle ? base.RemovalMergeAngle : next;
       const Index c = countFor(0, probe);
-      if (c <= target || probe >= hi)
+      const bool removal = base.CostOrderedRemoval && base.CollapseChains && probe == base.RemovalMergeAngle;
+      if (c <= target || probe >= hi || removal)
       {
+        // (With the cost-ordered removal, alpha1 is not widened beyond RemovalMergeAngle: the
+        // removal below reaches the count with less flattening than wider merging.)
         hi = probe;
         countHi = c;
         break;
@@ -1892,6 +1895,7 @@ SpbmLevelParameters SpbmLevelGenerator::FindParametersIn(
       }
       else
       {
+        hi = std::max(90.0, angle); // the removal alone does not reach it: widest merging too
         countHi = countFor(0, hi);
         countLo = countFor(0, lo);
       }
@@ -2675,6 +2679,28 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       {
         secondDeviation = this->EstimateDeviation(secondLevel);
       }
+      if (secondDone && second.RemovalTarget > 0)
+      {
+        // The count comes from the cost-ordered removal, so any merge measure reaches it at the
+        // same parameters: also try the flatness measure (no search), keep the closer level.
+        SpbmLevelParameters flat = second;
+        flat.SizeWeightedMerge = false;
+        flat.FlatnessMerge = true;
+        SpbmLevel flatLevel;
+        secondDone = this->GenerateIn(flat, flatLevel, abort, *this->Helper);
+        const Index produced = static_cast<Index>(flatLevel.TrianglePatch.size());
+        if (secondDone && produced <= std::max<Index>(target, static_cast<Index>(secondLevel.TrianglePatch.size())))
+        {
+          const double deviation = this->EstimateDeviation(flatLevel);
+          describe("flatness measure (helper)", flat, produced, deviation);
+          if (deviation < secondDeviation)
+          {
+            secondDeviation = deviation;
+            std::swap(secondLevel, flatLevel);
+            second = flat;
+          }
+        }
+      }
       if (verbose)
       {
         std::fprintf(stderr,
@@ -2734,71 +2760,6 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       bestDeviation = secondDeviation;
       std::swap(level, secondLevel);
       best = second;
-    }
-  }
-  if (compare && (first.RemovalTarget > 0 || second.RemovalTarget > 0))
-  {
-    // The count comes from cost-ordered removal: every merge measure and alpha1 reaches it, so
-    // they only decide which patches become flat. Try the measures at a narrower alpha1 directly
-    // (one merging run each, no search), two at a time, and keep the level closest to the input.
-    const SpbmLevelParameters removalBase = first.RemovalTarget > 0 ? first : second;
-    std::vector<SpbmLevelParameters> tries;
-    for (const int measure : { 0, 1, 2 })
-    {
-      for (const double angle : { removalBase.MergeAngle })
-      {
-        SpbmLevelParameters other = removalBase;
-        other.SizeWeightedMerge = measure == 1;
-        other.FlatnessMerge = measure == 2;
-        other.MergeAngle = angle;
-        bool seen = false;
-        for (const SpbmLevelParameters* known : { &first, &second })
-        {
-          seen = seen ||
-            (known->RemovalTarget > 0 && known->SizeWeightedMerge == other.SizeWeightedMerge &&
-              known->FlatnessMerge == other.FlatnessMerge && known->MergeAngle == other.MergeAngle &&
-              known->Epsilon == other.Epsilon);
-        }
-        if (!seen)
-        {
-          tries.push_back(other);
-        }
-      }
-    }
-    std::vector<SpbmLevel> levels(tries.size());
-    std::vector<double> deviations(tries.size(), std::numeric_limits<double>::infinity());
-    std::vector<unsigned char> finished(tries.size(), 0);
-    auto work = [&](size_t from, State& state) {
-      for (size_t i = from; i < tries.size(); i += 2)
-      {
-        if (!this->GenerateIn(tries[i], levels[i], abort, state))
-        {
-          return;
-        }
-        finished[i] = 1;
-        const Index produced = static_cast<Index>(levels[i].TrianglePatch.size());
-        if (sameBudget(produced))
-        {
-          deviations[i] = this->EstimateDeviation(levels[i]);
-        }
-      }
-    };
-    std::thread second(work, size_t(1), std::ref(*this->Helper));
-    work(0, *this->Work);
-    second.join();
-    for (size_t i = 0; i < tries.size(); ++i)
-    {
-      if (!finished[i])
-      {
-        return false; // aborted
-      }
-      describe("removal", tries[i], static_cast<Index>(levels[i].TrianglePatch.size()), deviations[i]);
-      if (deviations[i] < bestDeviation)
-      {
-        bestDeviation = deviations[i];
-        std::swap(level, levels[i]);
-        best = tries[i];
-      }
     }
   }
   if (used)
