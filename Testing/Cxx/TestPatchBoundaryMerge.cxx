@@ -487,6 +487,49 @@ TEST(SpbmLevel, SizeWeightedMergeAndCandidateComparison)
   }
 }
 
+// Beyond what merging within alpha1 reaches (the Fandisk at 150 triangles), the cost-ordered
+// endpoint removal reaches the target exactly with every merge measure, the levels stay closed
+// genus-0 manifolds with the predicted counts, and the level is closer to the input than the
+// fixed relaxation ladder's (wider collapses, no epsilon bounds) at the same target.
+TEST(SpbmLevel, CostOrderedRemovalReachesTargetCloserThanRelaxationLadder)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  auto pm = Patch(mesh);
+  SpbmLevelGenerator generator;
+  generator.Initialize(pm->Mesh, pm->Patches, 0.42);
+  const Index target = 150;
+  SpbmLevelParameters base;
+  SpbmLevelParameters used;
+  SpbmLevel removal;
+  ASSERT_TRUE(generator.GenerateForTarget(target, base, removal, &used));
+  EXPECT_EQ(used.RemovalTarget, target);
+  EXPECT_LE(Index(removal.TrianglePatch.size()), target);
+  EXPECT_GE(Index(removal.TrianglePatch.size()), target - 2);
+  ExpectClosedGenusZeroLevel(mesh, removal);
+  for (const int measure : { 0, 1, 2 })
+  {
+    SpbmLevelParameters parameters = used;
+    parameters.SizeWeightedMerge = measure == 1;
+    parameters.FlatnessMerge = measure == 2;
+    const Index predicted = generator.PredictTriangleCount(parameters);
+    EXPECT_LE(predicted, target) << measure;
+    EXPECT_GE(predicted, target - 2) << measure;
+    SpbmLevel level;
+    ASSERT_TRUE(generator.Generate(parameters, level));
+    EXPECT_EQ(level.PredictedTriangles, predicted);
+    ExpectClosedGenusZeroLevel(mesh, level);
+  }
+  SpbmLevelParameters ladder = base;
+  ladder.CostOrderedRemoval = false;
+  SpbmLevel relaxed;
+  SpbmLevelParameters relaxedUsed;
+  ASSERT_TRUE(generator.GenerateForTarget(target, ladder, relaxed, &relaxedUsed));
+  EXPECT_EQ(relaxedUsed.RemovalTarget, 0);
+  EXPECT_LE(Index(relaxed.TrianglePatch.size()), target);
+  ExpectClosedGenusZeroLevel(mesh, relaxed);
+  EXPECT_LT(generator.EstimateDeviation(removal), 0.75 * generator.EstimateDeviation(relaxed));
+}
+
 // The minimum-deviation triangulation changes only the diagonals inside non-planar patches: same
 // profile curves and counts as the ear clipping, still a closed genus-0 level, and its triangles
 // lie no farther from the input (sampled estimate) on the Fandisk levels.
