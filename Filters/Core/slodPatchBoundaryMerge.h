@@ -169,7 +169,7 @@ public:
   // Deviation estimate of a level: the largest distance from samples of the original triangles
   // (vertices and centroids, about `samples` of them) to the level (a BVH over the level, which
   // is small). The one-sided Hausdorff distance from the input, sampled; compares candidates.
-  double EstimateDeviation(const SpbmLevel& level, Index samples = 6000) const;
+  double EstimateDeviation(const SpbmLevel& level, Index samples = 3000) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
   double ChainVertexKey(Index c, Index i) const;
