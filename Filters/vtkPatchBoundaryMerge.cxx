@@ -231,6 +231,7 @@ int vtkPatchBoundaryMerge::RequestData(
   level.CollapseLengthFactor = this->CollapseLengthFactor;
   level.CompareCandidates = this->CompareCandidates;
   level.CostOrderedRemoval = this->CostOrderedRemoval;
+  level.SizeWeightedMerge = this->SizeWeightedMerge;
   level.MinimumDeviationTriangulation = this->MinimumDeviationTriangulation;
   vtkIdType target = 0;
   if (this->TargetNumberOfTriangles > 0)
@@ -381,6 +382,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MergePatches: " << this->MergePatches << "\n";
   os << indent << "CollapseChains: " << this->CollapseChains << "\n";
   os << indent << "CollapseLengthFactor: " << this->CollapseLengthFactor << "\n";
+  os << indent << "SizeWeightedMerge: " << this->SizeWeightedMerge << "\n";
   os << indent << "CompareCandidates: " << this->CompareCandidates << "\n";
   os << indent << "CostOrderedRemoval: " << this->CostOrderedRemoval << "\n";
   os << indent << "ChainInPlaneWeight: " << this->ChainInPlaneWeight << "\n";

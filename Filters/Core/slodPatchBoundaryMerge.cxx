@@ -2762,6 +2762,51 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       best = second;
     }
   }
+  else if (first.RemovalTarget > 0 && base.MergePatches)
+  {
+    // The count came from the cost-ordered removal, so every merge measure reaches it at the
+    // same parameters without a search: try the two other measures (one per thread) and keep
+    // the level closest to the input. Cheap next to a search; it matters at the coarsest levels,
+    // where the measure decides which large patches become flat.
+    bestDeviation = this->EstimateDeviation(level);
+    describe("first", first, count, bestDeviation);
+    SpbmLevelParameters tries[2] = { first, first };
+    tries[0].SizeWeightedMerge = !first.SizeWeightedMerge || first.FlatnessMerge;
+    tries[0].FlatnessMerge = false;
+    tries[1].SizeWeightedMerge = false;
+    tries[1].FlatnessMerge = !first.FlatnessMerge;
+    if (!first.FlatnessMerge && !first.SizeWeightedMerge)
+    {
+      tries[1].FlatnessMerge = true; // plain first: weighted and flatness
+    }
+    SpbmLevel levels[2];
+    double deviations[2] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
+    bool finished[2] = { false, false };
+    auto work = [&](int i, State& state) {
+      finished[i] = this->GenerateIn(tries[i], levels[i], abort, state);
+      if (finished[i] && sameBudget(static_cast<Index>(levels[i].TrianglePatch.size())))
+      {
+        deviations[i] = this->EstimateDeviation(levels[i]);
+      }
+    };
+    std::thread other(work, 1, std::ref(*this->Helper));
+    work(0, *this->Work);
+    other.join();
+    for (int i = 0; i < 2; ++i)
+    {
+      if (!finished[i])
+      {
+        return false; // aborted
+      }
+      describe("removal, other measure", tries[i], static_cast<Index>(levels[i].TrianglePatch.size()), deviations[i]);
+      if (deviations[i] < bestDeviation)
+      {
+        bestDeviation = deviations[i];
+        std::swap(level, levels[i]);
+        best = tries[i];
+      }
+    }
+  }
   if (used)
   {
     *used = best;
