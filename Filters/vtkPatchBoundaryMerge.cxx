@@ -172,10 +172,6 @@ int vtkPatchBoundaryMerge::RequestData(
       slod::PatchificationParameters growth = patchParameters;
       growth.MaximumPlaneDistance = this->PatchPlaneDistance * cache.Mesh.BoundingBoxDiagonal();
       built = Clock::now(); // topology, orientation check
-      if (this->MinimumDeviationTriangulation)
-      {
-        cache.Generator.StartInputTree(cache.Mesh); // on another thread while the patches grow
-      }
       cache.Patches.Build(cache.Mesh, *topology, growth, [this](double f) {
         this->UpdateProgress(0.05 + 0.6 * f);
         return this->GetAbortExecute() != 0;
@@ -185,6 +181,13 @@ int vtkPatchBoundaryMerge::RequestData(
     {
       this->Cached.reset();
       return 1;
+    }
+    if (this->MinimumDeviationTriangulation)
+    {
+      // The input's BVH (for the first level's triangulation) is built on another thread while
+      // the level's search runs. Started after the topology is freed: the peak memory does not
+      // stack the two.
+      cache.Generator.StartInputTree(cache.Mesh);
     }
     if (std::getenv("SLOD_VERBOSE"))
     {
