@@ -2762,6 +2762,25 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       best = second;
     }
   }
+  else if (base.MergePatches && 20 * count > 21 * target)
+  {
+    // The target is beyond what this measure reaches (unreachable counts: the femur, armadillo
+    // at 1%): the other measure may merge further; keep the level closer to the target.
+    SpbmLevelParameters other = base;
+    other.SizeWeightedMerge = !base.SizeWeightedMerge;
+    other.FlatnessMerge = false;
+    SpbmLevelParameters parameters;
+    if (!this->GenerateForTargetAndAngle(target, other, candidate, &parameters, abort, *this->Work))
+    {
+      return false;
+    }
+    describe("other measure (target not reached)", parameters, static_cast<Index>(candidate.TrianglePatch.size()), 0.0);
+    if (candidate.TrianglePatch.size() < level.TrianglePatch.size())
+    {
+      std::swap(level, candidate);
+      best = parameters;
+    }
+  }
   else if (first.RemovalTarget > 0 && base.MergePatches)
   {
     // The count came from the cost-ordered removal, so every merge measure reaches it at the
