@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -2711,6 +2712,48 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       }
     });
   }
+  // Without CompareCandidates: when the count will come from the cost-ordered removal, every
+  // merge measure reaches it at the same parameters without a search, so the two other measures
+  // are generated there too (on the helper thread while this one generates the first level;
+  // whichever thread is free takes the next) and the level closest to the input is kept. Cheap
+  // next to a search; it matters at the coarsest levels, where the measure decides which large
+  // patches become flat. (The plan's search is memoized: the first level's search repeats it for free.)
+  SpbmLevelParameters tries[2];
+  SpbmLevel triedLevels[2];
+  double triedDeviations[2] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
+  bool triedFinished[2] = { false, false };
+  std::atomic<int> nextTry{ 2 }; // none
+  bool triesPlanned = false;
+  auto runTries = [&](State& state) {
+    for (int j = nextTry++; j < 2; j = nextTry++)
+    {
+      triedFinished[j] = this->GenerateIn(tries[j], triedLevels[j], abort, state);
+      if (triedFinished[j])
+      {
+        triedDeviations[j] = this->EstimateDeviation(triedLevels[j]);
+      }
+    }
+  };
+  if (!compare && base.MergePatches && base.CostOrderedRemoval)
+  {
+    Index predicted = 0;
+    const SpbmLevelParameters planned = this->FindParametersIn(target, base, &predicted, *this->Work);
+    if (planned.RemovalTarget > 0)
+    {
+      tries[0] = tries[1] = planned;
+      tries[0].SizeWeightedMerge = !planned.SizeWeightedMerge || planned.FlatnessMerge;
+      tries[0].FlatnessMerge = false;
+      tries[1].SizeWeightedMerge = false;
+      tries[1].FlatnessMerge = !planned.FlatnessMerge;
+      if (!planned.FlatnessMerge && !planned.SizeWeightedMerge)
+      {
+        tries[1].FlatnessMerge = true; // plain first: weighted and flatness
+      }
+      nextTry = 0;
+      triesPlanned = true;
+      helper = std::thread([&]() { runTries(*this->Helper); });
+    }
+  }
   bool done = this->GenerateForTargetAndAngle(target, base, level, &first, abort, *this->Work);
   const Index count = static_cast<Index>(level.TrianglePatch.size());
   double bestDeviation = done && compare ? this->EstimateDeviation(level) : 0.0;
@@ -2742,6 +2785,10 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
         best = parameters;
       }
     }
+  }
+  if (triesPlanned && done)
+  {
+    runTries(*this->Work); // take what the helper has not started
   }
   if (helper.joinable())
   {
@@ -2781,47 +2828,28 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
       best = parameters;
     }
   }
-  else if (first.RemovalTarget > 0 && base.MergePatches)
+  if (triesPlanned)
   {
-    // The count came from the cost-ordered removal, so every merge measure reaches it at the
-    // same parameters without a search: try the two other measures (one per thread) and keep
-    // the level closest to the input. Cheap next to a search; it matters at the coarsest levels,
-    // where the measure decides which large patches become flat.
-    bestDeviation = this->EstimateDeviation(level);
-    describe("first", first, count, bestDeviation);
-    SpbmLevelParameters tries[2] = { first, first };
-    tries[0].SizeWeightedMerge = !first.SizeWeightedMerge || first.FlatnessMerge;
-    tries[0].FlatnessMerge = false;
-    tries[1].SizeWeightedMerge = false;
-    tries[1].FlatnessMerge = !first.FlatnessMerge;
-    if (!first.FlatnessMerge && !first.SizeWeightedMerge)
-    {
-      tries[1].FlatnessMerge = true; // plain first: weighted and flatness
-    }
-    SpbmLevel levels[2];
-    double deviations[2] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
-    bool finished[2] = { false, false };
-    auto work = [&](int i, State& state) {
-      finished[i] = this->GenerateIn(tries[i], levels[i], abort, state);
-      if (finished[i] && sameBudget(static_cast<Index>(levels[i].TrianglePatch.size())))
-      {
-        deviations[i] = this->EstimateDeviation(levels[i]);
-      }
-    };
-    std::thread other(work, 1, std::ref(*this->Helper));
-    work(0, *this->Work);
-    other.join();
     for (int i = 0; i < 2; ++i)
     {
-      if (!finished[i])
+      if (!triedFinished[i])
       {
         return false; // aborted
       }
-      describe("removal, other measure", tries[i], static_cast<Index>(levels[i].TrianglePatch.size()), deviations[i]);
-      if (deviations[i] < bestDeviation)
+    }
+    if (!compare && bestDeviation == 0.0)
+    {
+      bestDeviation = this->EstimateDeviation(level);
+      describe("first", first, count, bestDeviation);
+    }
+    for (int i = 0; i < 2; ++i)
+    {
+      const Index produced = static_cast<Index>(triedLevels[i].TrianglePatch.size());
+      describe("removal, other measure", tries[i], produced, triedDeviations[i]);
+      if (sameBudget(produced) && triedDeviations[i] < bestDeviation)
       {
-        bestDeviation = deviations[i];
-        std::swap(level, levels[i]);
+        bestDeviation = triedDeviations[i];
+        std::swap(level, triedLevels[i]);
         best = tries[i];
       }
     }
