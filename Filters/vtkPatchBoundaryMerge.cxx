@@ -172,6 +172,14 @@ int vtkPatchBoundaryMerge::RequestData(
       slod::PatchificationParameters growth = patchParameters;
       growth.MaximumPlaneDistance = this->PatchPlaneDistance * cache.Mesh.BoundingBoxDiagonal();
       built = Clock::now(); // topology, orientation check
+      if (this->MinimumDeviationTriangulation)
+      {
+        // The input's BVH (for the first level's triangulation) is built on another thread while
+        // the patches grow and the level's search runs. (Started after the patch growth instead,
+        // the peak memory is about 150 bytes per vertex lower, but the first level of a short
+        // search waits for it: bunny00 at 525 triangles about 10% slower.)
+        cache.Generator.StartInputTree(cache.Mesh);
+      }
       cache.Patches.Build(cache.Mesh, *topology, growth, [this](double f) {
         this->UpdateProgress(0.05 + 0.6 * f);
         return this->GetAbortExecute() != 0;
@@ -181,13 +189,6 @@ int vtkPatchBoundaryMerge::RequestData(
     {
       this->Cached.reset();
       return 1;
-    }
-    if (this->MinimumDeviationTriangulation)
-    {
-      // The input's BVH (for the first level's triangulation) is built on another thread while
-      // the level's search runs. Started after the topology is freed: the peak memory does not
-      // stack the two.
-      cache.Generator.StartInputTree(cache.Mesh);
     }
     if (std::getenv("SLOD_VERBOSE"))
     {
