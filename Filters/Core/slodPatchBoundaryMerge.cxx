@@ -403,8 +403,10 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Helper->Memo.clear();
   this->Helper->RefinedValid = false;
   this->Helper->DiagonalCosts.Reset(0);
-  if (this->TreeMesh != &mesh)
+  if (!(this->PendingTree.valid() && this->TreeMesh == &mesh))
   {
+    // Only a tree being built by StartInputTree for this mesh is kept (the mesh may have
+    // changed in place since an older tree was built).
     if (this->PendingTree.valid())
     {
       this->PendingTree.get();
@@ -1809,6 +1811,7 @@ Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& para
       m.CollapseChains == parameters.CollapseChains && m.CollapseLengthFactor == parameters.CollapseLengthFactor &&
       m.JoinWithinEpsilon == parameters.JoinWithinEpsilon && m.CollapseWithinEpsilon == parameters.CollapseWithinEpsilon &&
       m.SizeWeightedMerge == parameters.SizeWeightedMerge && m.FlatnessMerge == parameters.FlatnessMerge &&
+      m.FlatnessScale == parameters.FlatnessScale &&
       m.RemovalTarget == parameters.RemovalTarget)
     {
       return m.Count;
@@ -1825,7 +1828,8 @@ Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& para
   }
   s.Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
     parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon, parameters.CollapseWithinEpsilon,
-    parameters.SizeWeightedMerge, parameters.FlatnessMerge, parameters.RemovalTarget, static_cast<Index>(s.Total) });
+    parameters.SizeWeightedMerge, parameters.FlatnessMerge, parameters.FlatnessScale, parameters.RemovalTarget,
+    static_cast<Index>(s.Total) });
   return static_cast<Index>(s.Total);
 }
 

@@ -12,7 +12,10 @@
 //     chains of the same two patches are dropped (when the joined chain stays within epsilon);
 //     short one-segment chains collapse into the endpoint with the larger normal variation when
 //     (a) no third patch has both endpoints, (b) the normals agree within alpha1, (c) the chain is
-//     shorter than a factor (1/5) of the patch's longest chain (and than epsilon);
+//     shorter than a factor (1/5) of the patch's longest chain (and than epsilon). Extensions:
+//     size-weighted and flatness merge measures; below the count that merging reaches, endpoints
+//     are removed cheapest first (by how far the surface moves) down to the target
+//     (SpbmLevelParameters::RemovalTarget, set by the target search);
 //  3. boundary preservation (4.2.7): chains with an endpoint on the mesh border collapse only
 //     toward it; chains on the border and endpoints on it are never removed;
 //  4. triangulation (4.2.8): each patch's simplified boundary, projected on the plane orthogonal
@@ -78,17 +81,18 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // displacement of the dropped endpoint along the normals of the patches around it (at least
   // the chain in-plane weight times its length), toward whichever end costs less (the border
   // rule still applies); for a join, the largest such distance of the chain vertices from the
-  // new segment. Set by the target search (FindParameters) when alpha1 = 90 alone does not reach
-  // the target and CostOrderedRemoval is on (off: the fixed relaxation ladder of conditions (c)
-  // and the epsilon bounds).
+  // new segment. Set by the target search (FindParameters) when merging up to RemovalMergeAngle
+  // does not reach the target and CostOrderedRemoval is on (off: alpha1 up to 90, then the fixed
+  // relaxation ladder of condition (c) and the epsilon bounds).
   Index RemovalTarget = 0;
   bool CostOrderedRemoval = true;
   // alpha1 used with the removal (when at least the given alpha1): merging across creases sharper
   // than this makes large flat patches, while the removal alone reaches the count. 60 measured
   // best of 25/40/60/90 on the Fandisk at 150 and bunny00 at 525 triangles.
   double RemovalMergeAngle = 60.0;
-  // GenerateForTarget only: also try the other merge measure and narrower alpha1 values at the
-  // same target, and keep the level with the smallest EstimateDeviation.
+  // GenerateForTarget only: also search the other merge measure (on a second thread) and half
+  // alpha1 at the same target, and keep the level with the smallest EstimateDeviation. Without
+  // it, the other measures are still compared when the count comes from the removal (no search).
   bool CompareCandidates = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
@@ -141,8 +145,8 @@ public:
 
   // Starts building the BVH of `mesh` used by the minimum-deviation triangulation on another
   // thread (it is needed by the first level; the caller's patchification can run meanwhile).
-  // `mesh` must not change until the generator is initialized with it; a later Initialize with
-  // the same mesh keeps the tree.
+  // `mesh` must not change while the generator uses it; the next Initialize with the same mesh
+  // keeps the tree being built (any other Initialize drops it).
   void StartInputTree(const TriangleMesh& mesh);
 
   // Triangle count of the level (before fallbacks) without triangulating: cheap, for searches.
@@ -168,7 +172,8 @@ public:
 
   // Deviation estimate of a level: the largest distance from samples of the original triangles
   // (vertices and centroids, about `samples` of them) to the level (a BVH over the level, which
-  // is small). The one-sided Hausdorff distance from the input, sampled; compares candidates.
+  // is small; each query bounded by the current maximum). The one-sided Hausdorff distance from
+  // the input, sampled; compares candidates.
   double EstimateDeviation(const SpbmLevel& level, Index samples = 3000) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
@@ -204,6 +209,7 @@ private:
     bool MergePatches, CollapseChains;
     double CollapseLengthFactor;
     bool JoinWithinEpsilon, CollapseWithinEpsilon, SizeWeightedMerge, FlatnessMerge;
+    double FlatnessScale;
     Index RemovalTarget;
     Index Count;
   };
