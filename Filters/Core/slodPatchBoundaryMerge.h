@@ -172,8 +172,9 @@ public:
 
   // Deviation estimate of a level: the largest distance from samples of the original triangles
   // (vertices and centroids, about `samples` of them) to the level (a BVH over the level, which
-  // is small; each query bounded by the current maximum). The one-sided Hausdorff distance from
-  // the input, sampled; compares candidates.
+  // is small; each query bounded by the current maximum), and, once the input's BVH exists, from
+  // points inside the level's 160 largest triangles (barycentric grid of step 1/3) to the input. The sampled
+  // two-sided Hausdorff distance; compares candidates.
   double EstimateDeviation(const SpbmLevel& level, Index samples = 3000) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
@@ -215,7 +216,7 @@ private:
   };
   std::unique_ptr<State> Work;
   std::unique_ptr<State> Helper; // second working state: candidates run on two threads
-  std::mutex LazyMutex;          // guards the lazily built InputTree and PatchSupport
+  mutable std::mutex LazyMutex;  // guards the lazily built InputTree and PatchSupport
   std::unique_ptr<TriangleBVH> InputTree; // over Mesh, built on first use (non-planar patches)
   std::future<std::unique_ptr<TriangleBVH>> PendingTree; // StartInputTree
   const TriangleMesh* TreeMesh = nullptr;
