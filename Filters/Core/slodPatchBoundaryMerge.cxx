@@ -1866,7 +1866,13 @@ SpbmLevelParameters SpbmLevelGenerator::FindParametersIn(
     // run, at 90, is evaluated only when nothing narrower reaches the target.
     for (double probe = lo;;)
     {
-      const double next = probe <= 0 ? hi : std::min(hi, 2 * probe);
+      double next = probe <= 0 ? hi : std::min(hi, 2 * probe);
+      if (base.CostOrderedRemoval && base.CollapseChains && probe < base.RemovalMergeAngle)
+      {
+        // With the removal, whether it is needed depends on RemovalMergeAngle's count only:
+        // probe it first (the regula falsi below narrows the bracket when it is not needed).
+        next = std::min(hi, base.RemovalMergeAngle);
+      }
       probe = probe < base.RemovalMergeAngle && next > base.RemovalMergeAngle ? base.RemovalMergeAngle : next;
       const Index c = countFor(0, probe);
       const bool removal = base.CostOrderedRemoval && base.CollapseChains && probe == base.RemovalMergeAngle;
