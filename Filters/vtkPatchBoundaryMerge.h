@@ -104,12 +104,37 @@ public:
   ///@}
 
   ///@{
-  /// With a target size: also generate the level with the size-weighted merge measure and with
-  /// half alpha1 (when alpha1 need not be widened), and keep the one with the smallest sampled
-  /// distance from the input [on]. About 2-3x the level time; off gives the single search.
+  /// Merge measure [on]: a pair merges when sin(angle) * sqrt(smaller patch area / mean patch
+  /// area) <= sin(alpha1), smallest first (flattening the smaller patch moves it by about its
+  /// extent times sin(angle)); off = the paper's angle <= alpha1, most parallel first. The
+  /// size-weighted measure was as close or closer to the input on every Fandisk and bunny00
+  /// Table 1 level except bunny00 at 525, where the cost-ordered removal compares the measures.
+  vtkSetMacro(SizeWeightedMerge, bool);
+  vtkGetMacro(SizeWeightedMerge, bool);
+  vtkBooleanMacro(SizeWeightedMerge, bool);
+  ///@}
+
+  ///@{
+  /// With a target size: also search the level with the other merge measure (on a second
+  /// thread) and with half alpha1 (when alpha1 need not be widened), and keep the one with the
+  /// smallest sampled distance from the input [off]. Costs a second search (about twice the
+  /// level's CPU time); on the Table 1 levels of the Fandisk and bunny00 it chose the same
+  /// levels as the default.
   vtkSetMacro(CompareCandidates, bool);
   vtkGetMacro(CompareCandidates, bool);
   vtkBooleanMacro(CompareCandidates, bool);
+  ///@}
+
+  ///@{
+  /// Extension [on]: when even alpha1 = 90 degrees leaves more triangles than the target, remove
+  /// patch corners (endpoints) cheapest first until the target is reached: chain collapses and
+  /// joins ordered by how far they move the surface (displacement along the adjacent patch
+  /// normals). With CompareCandidates, the merge measures (angle, size-weighted, flatness) and
+  /// several alpha1 values are then compared at the target. Off = the fixed relaxation ladder
+  /// (wider collapse length factor, then no epsilon bounds), as before.
+  vtkSetMacro(CostOrderedRemoval, bool);
+  vtkGetMacro(CostOrderedRemoval, bool);
+  vtkBooleanMacro(CostOrderedRemoval, bool);
   ///@}
 
   ///@{
@@ -205,7 +230,9 @@ protected:
   bool MergePatches = true;
   bool CollapseChains = true;
   double CollapseLengthFactor = 0.2;
-  bool CompareCandidates = true;
+  bool SizeWeightedMerge = true;
+  bool CompareCandidates = false;
+  bool CostOrderedRemoval = true;
   double ChainInPlaneWeight = 0.42;
   bool MinimumDeviationTriangulation = true;
   vtkIdType TargetNumberOfTriangles = 0;

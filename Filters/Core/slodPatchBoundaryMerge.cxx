@@ -5,14 +5,39 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
+#include <thread>
 
 namespace slod
 {
 namespace
 {
+// SLOD_VERBOSE=1 in the environment prints the level's stage times (profiling aid).
+struct StageTimes
+{
+  double Merging = 0, Generate = 0, Tree = 0, Triangulation = 0, Estimate = 0, Refinement = 0;
+  int MergingRuns = 0, Estimates = 0;
+};
+thread_local StageTimes Times; // of the calling thread
+using StageClock = std::chrono::steady_clock;
+double Since(StageClock::time_point start)
+{
+  return std::chrono::duration<double>(StageClock::now() - start).count();
+}
+// Support directions of the flatness measure: the 3 axes, 6 face and 4 body diagonals, both
+// signs (a 26-DOP). A patch keeps its extreme vertex in each; the thickness of a union along any
+// normal is then estimated from those 26 + 26 points.
+constexpr int SupportDirections = 13;
+constexpr int SupportSize = 2 * SupportDirections;
+const double SupportAxes[SupportDirections][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 1, 0 }, { 1, -1, 0 },
+  { 1, 0, 1 }, { 1, 0, -1 }, { 0, 1, 1 }, { 0, 1, -1 }, { 1, 1, 1 }, { 1, 1, -1 }, { 1, -1, 1 }, { -1, 1, 1 } };
 constexpr float InfiniteKey = std::numeric_limits<float>::infinity();
 constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
 // Fallback levels of a patch that could not be triangulated: 1 unmerged, 2..5 its chains with
@@ -231,6 +256,26 @@ public:
     }
     return false;
   }
+  // Value of (a,b) in `value` when present.
+  bool Find(Index a, Index b, Index& value) const
+  {
+    if (this->Keys.empty())
+    {
+      return false;
+    }
+    const uint64_t key = Key(a, b);
+    size_t slot = this->Slot(key);
+    while (this->Keys[slot] != Empty)
+    {
+      if (this->Keys[slot] == key)
+      {
+        value = this->Values[slot];
+        return true;
+      }
+      slot = (slot + 1) & (this->Keys.size() - 1);
+    }
+    return false;
+  }
   size_t MemoryUsage() const { return this->Keys.capacity() * 8 + this->Values.capacity() * sizeof(Index); }
 
 private:
@@ -295,6 +340,7 @@ struct SpbmLevelGenerator::State
   std::vector<Index> TriedP, TriedQ; // per chain: patch versions of its last failed collapse
   std::vector<Index> MergeTriedP, MergeTriedQ; // per chain: patch versions of its last failed merge
   std::vector<Vec3> Normal;
+  std::vector<Index> Support; // FlatnessMerge: per root patch, its extreme vertices (SupportSize)
   std::vector<unsigned char> Frozen;
   long long Total = 0;
   // Scratch.
@@ -307,6 +353,12 @@ struct SpbmLevelGenerator::State
   std::vector<Index> SeqOffsets, SeqVertices;
   std::vector<unsigned char> SeqKeep;
   EdgeMap Edges;
+  // Minimum-deviation triangulation: distance of each diagonal (vertex pair) from the input,
+  // as float bits. It depends on the two original vertices only, so it is kept across the
+  // levels and candidates of one chain hierarchy (most patches recur between them).
+  EdgeMap DiagonalCosts;
+  std::vector<uint64_t> SimpleSignature; // per patch: boundary signature last found simple (0: none)
+  std::vector<PredictionMemo> Memo; // predicted counts of the levels asked for (searches repeat them)
 
   Index Find(Index p)
   {
@@ -332,6 +384,7 @@ struct SpbmLevelGenerator::State
 
 SpbmLevelGenerator::SpbmLevelGenerator()
   : Work(new State)
+  , Helper(new State)
 {
 }
 
@@ -346,10 +399,28 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
 {
   this->Mesh = &mesh;
   this->Patches = &patches;
-  this->Memo.clear();
-  this->InputTree.reset();
+  this->Work->Memo.clear();
+  this->Helper->Memo.clear();
+  this->Helper->RefinedValid = false;
+  this->Helper->DiagonalCosts.Reset(0);
+  if (!(this->PendingTree.valid() && this->TreeMesh == &mesh))
+  {
+    // Only a tree being built by StartInputTree for this mesh is kept (the mesh may have
+    // changed in place since an older tree was built).
+    if (this->PendingTree.valid())
+    {
+      this->PendingTree.get();
+    }
+    this->InputTree.reset();
+    this->TreeMesh = &mesh;
+  }
   this->Diagonal = mesh.BoundingBoxDiagonal();
+  this->InPlaneWeight = std::max(0.0, std::min(1.0, inPlaneWeight));
   this->Work->RefinedValid = false;
+  this->Work->SimpleSignature.clear();
+  this->Helper->SimpleSignature.clear();
+  this->Work->DiagonalCosts.Reset(0);
+  this->PatchSupport.clear(); // built on first use (FlatnessMerge)
   const Patchification& P = patches;
   const Index nc = P.NumberOfChains();
   const Index ne = P.NumberOfEndpoints();
@@ -497,13 +568,20 @@ size_t SpbmLevelGenerator::MemoryUsage() const
 {
   size_t bytes = this->Keys.capacity() * 4 + this->SortedKeys.capacity() * 4 + this->KeyOrder.capacity() * 4 + this->OrderedKeys.capacity() * 4 + this->MinimumInterior.capacity() +
     this->EndpointVariation.capacity() * 8;
-  const State& s = *this->Work;
   auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
-    b(s.PartLast) + b(s.PartNext) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) + b(s.Degree) +
-    b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) + b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.Normal) + b(s.Frozen) +
-    b(s.PatchStamp) + b(s.EndStamp) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.SeqOffsets) + b(s.SeqVertices) +
-    b(s.SeqKeep) + s.Edges.MemoryUsage();
+  bytes += b(this->PatchSupport);
+  for (const State* state : { this->Work.get(), this->Helper.get() }) // one working state per candidate thread
+  {
+    const State& s = *state;
+    bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Tolerance) + b(s.KeptOffsets) +
+      b(s.KeptPositions) + b(s.RefinedTolerance) + b(s.RefinedLocked) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
+      b(s.PartLast) + b(s.PartNext) + b(s.JointBefore) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) +
+      b(s.Degree) + b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) +
+      b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.Normal) + b(s.Support) + b(s.Frozen) +
+      b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.NoFreeze) +
+      b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
+      b(s.SimpleSignature) + b(s.Memo);
+  }
   if (this->InputTree)
   {
     // Nodes, leaf order and the 9 leaf-ordered corner coordinates per triangle.
@@ -511,6 +589,37 @@ size_t SpbmLevelGenerator::MemoryUsage() const
     bytes += b(tree.GetNodes()) + b(tree.GetOrder()) + tree.GetOrder().size() * 9 * sizeof(double);
   }
   return bytes;
+}
+
+void SpbmLevelGenerator::StartInputTree(const TriangleMesh& mesh)
+{
+  std::lock_guard<std::mutex> lock(this->LazyMutex);
+  if (this->PendingTree.valid())
+  {
+    this->PendingTree.get();
+  }
+  this->InputTree.reset();
+  this->TreeMesh = &mesh;
+  this->PendingTree = std::async(std::launch::async, [&mesh]() { return std::make_unique<TriangleBVH>(mesh); });
+}
+
+const TriangleBVH& SpbmLevelGenerator::GetInputTree()
+{
+  // Built on first use (a non-planar patch), by whichever candidate thread needs it first.
+  std::lock_guard<std::mutex> lock(this->LazyMutex);
+  if (!this->InputTree && this->PendingTree.valid())
+  {
+    const auto started = StageClock::now();
+    this->InputTree = this->PendingTree.get();
+    Times.Tree += Since(started);
+  }
+  if (!this->InputTree)
+  {
+    const auto started = StageClock::now();
+    this->InputTree.reset(new TriangleBVH(*this->Mesh));
+    Times.Tree += Since(started);
+  }
+  return *this->InputTree;
 }
 
 void SpbmLevelGenerator::RunMerging(
@@ -535,6 +644,41 @@ void SpbmLevelGenerator::RunMerging(
   {
     s.Parent[p] = p;
     s.Normal[p] = P.PatchNormalSum(p);
+  }
+  if (parameters.FlatnessMerge)
+  {
+    std::lock_guard<std::mutex> lock(this->LazyMutex);
+    if (this->PatchSupport.size() != size_t(np) * SupportSize)
+    {
+      // Extreme vertices of every patch in the support directions (first use only).
+      this->PatchSupport.assign(size_t(np) * SupportSize, InvalidIndex);
+      std::vector<double> extreme(size_t(np) * SupportSize, -std::numeric_limits<double>::infinity());
+      const std::vector<Index>& patchOf = P.TrianglePatches();
+      for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+      {
+        const size_t base = size_t(patchOf[t]) * SupportSize;
+        for (int k = 0; k < 3; ++k)
+        {
+          const Index v = mesh.Triangle(t)[k];
+          const Vec3 x = mesh.Point(v);
+          for (int d = 0; d < SupportDirections; ++d)
+          {
+            const double h = x[0] * SupportAxes[d][0] + x[1] * SupportAxes[d][1] + x[2] * SupportAxes[d][2];
+            if (h > extreme[base + 2 * d])
+            {
+              extreme[base + 2 * d] = h;
+              this->PatchSupport[base + 2 * d] = v;
+            }
+            if (-h > extreme[base + 2 * d + 1])
+            {
+              extreme[base + 2 * d + 1] = -h;
+              this->PatchSupport[base + 2 * d + 1] = v;
+            }
+          }
+        }
+      }
+    }
+    s.Support = this->PatchSupport;
   }
   s.EndHead.assign(size_t(ne), InvalidIndex);
   s.Degree.assign(size_t(ne), 0);
@@ -652,11 +796,35 @@ void SpbmLevelGenerator::RunMerging(
     }
     meanSize = std::max(meanSize / std::max<Index>(1, np), std::numeric_limits<double>::min());
   }
-  const double mergeThreshold = parameters.SizeWeightedMerge
-    ? -std::sin(std::min(90.0, parameters.MergeAngle) * DegreesToRadians)
-    : cosMerge;
+  const bool flatness = parameters.FlatnessMerge;
+  const double mergeThreshold = flatness
+    ? (parameters.MergeAngle >= 90.0 ? -std::numeric_limits<double>::max() / 4
+                                     : -parameters.FlatnessScale * std::tan(std::max(0.0, parameters.MergeAngle) * DegreesToRadians))
+    : parameters.SizeWeightedMerge ? -std::sin(std::min(90.0, parameters.MergeAngle) * DegreesToRadians)
+                                   : cosMerge;
+  // Thickness of the union of root patches p and q along its normal, relative to the diagonal.
+  const double inverseDiagonal = this->Diagonal > 0 ? 1.0 / this->Diagonal : 1.0;
+  auto thickness = [&](Index p, Index q) {
+    const Vec3 n = Normalized(s.Normal[p] + s.Normal[q]);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Index root : { p, q })
+    {
+      const Index* support = s.Support.data() + size_t(root) * SupportSize;
+      for (int k = 0; k < SupportSize; ++k)
+      {
+        const double h = Dot(n, mesh.Point(support[k]));
+        lo = std::min(lo, h);
+        hi = std::max(hi, h);
+      }
+    }
+    return (hi - lo) * inverseDiagonal;
+  };
   auto mergeMeasure = [&](Index p, Index q) {
     const double d = sideDot(p, q);
+    if (flatness)
+    {
+      return d <= 0 ? -std::numeric_limits<double>::max() : -thickness(p, q);
+    }
     if (!parameters.SizeWeightedMerge)
     {
       return d;
@@ -882,12 +1050,17 @@ void SpbmLevelGenerator::RunMerging(
   {
     anyFrozen = frozen[p] != 0;
   }
+  const auto refinementStart = StageClock::now();
   const bool reuse = !anyFrozen && s.RefinedValid && s.RefinedEpsilon == eps;
   if (reuse)
   {
     s.Tolerance = s.RefinedTolerance;
     s.Locked = s.RefinedLocked;
     rebuildKept();
+  }
+  if (s.SimpleSignature.size() != size_t(np))
+  {
+    s.SimpleSignature.assign(size_t(np), 0);
   }
   for (int round = 0; round < 8 && !reuse; ++round)
   {
@@ -898,8 +1071,23 @@ void SpbmLevelGenerator::RunMerging(
       {
         continue;
       }
+      // The boundary is determined by how many vertices each of its chains keeps (a prefix of the
+      // chain's key order, or all): remember the signatures of boundaries found simple, so that
+      // the searches' many runs at nearby epsilons test only the patches whose boundary changed.
+      uint64_t signature = 0;
+      forPatchChains(p, [&](Index c) {
+        uint64_t x = (uint64_t(uint32_t(c)) << 32) ^ (uint64_t(uint32_t(s.Interior[c])) << 1) ^ uint64_t(s.Locked[c]);
+        x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull; // splitmix64 finalizer
+        x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+        signature += x ^ (x >> 31);
+      });
+      if (s.SimpleSignature[p] == signature)
+      {
+        continue;
+      }
       if (boundaryPoints(p, InvalidIndex, InvalidIndex, checkPoints) && ProjectsToSimplePolygon(checkPoints, s.Normal[p]))
       {
+        s.SimpleSignature[p] = signature;
         continue;
       }
       forPatchChains(p, [&](Index c) {
@@ -930,6 +1118,7 @@ void SpbmLevelGenerator::RunMerging(
     s.RefinedTolerance = s.Tolerance;
     s.RefinedLocked = s.Locked;
   }
+  Times.Refinement += Since(refinementStart);
   s.Total = 0;
   for (Index p = 0; p < np; ++p)
   {
@@ -941,13 +1130,17 @@ void SpbmLevelGenerator::RunMerging(
   }
 
   // Chain collapse (4.2.6 (a)-(c), 4.2.7): one-edge chain e of patch x shrinks to one endpoint.
+  // Cost-ordered removal (RemovalTarget): collapses without the length and epsilon bounds,
+  // toward a chosen end, and joins without the epsilon bound.
+  bool relaxed = false;
+  Index forcedKeep = InvalidIndex;
   auto tryCollapse = [&](Index e, double longest) {
     if (!movable(e))
     {
       return false;
     }
     const Index p = s.Find(s.L[e]), q = s.Find(s.R[e]);
-    if (p == q || s.Frozen[p] || s.Frozen[q] || sideDot(p, q) < cosMerge) // (b)
+    if (p == q || s.Frozen[p] || s.Frozen[q] || (!relaxed && sideDot(p, q) < cosMerge)) // (b)
     {
       return false;
     }
@@ -959,11 +1152,11 @@ void SpbmLevelGenerator::RunMerging(
     s.TriedQ[e] = s.Version[q];
     const Index a = s.A[e], b = s.B[e];
     const Vec3 pa = endpointPoint(a), pb = endpointPoint(b);
-    if (Norm(pb - pa) >= parameters.CollapseLengthFactor * longest) // (c)
+    if (!relaxed && Norm(pb - pa) >= parameters.CollapseLengthFactor * longest) // (c)
     {
       return false;
     }
-    if (parameters.CollapseWithinEpsilon && Norm(pb - pa) > std::min(s.Tolerance[e], float(parameters.Epsilon)))
+    if (!relaxed && parameters.CollapseWithinEpsilon && Norm(pb - pa) > std::min(s.Tolerance[e], float(parameters.Epsilon)))
     {
       return false; // moving an endpoint farther than epsilon would break the chain bound
     }
@@ -973,7 +1166,15 @@ void SpbmLevelGenerator::RunMerging(
       return false;
     }
     // Toward the border vertex, else toward the larger normal variation.
-    const Index keep = borderA ? a : (borderB ? b : (this->EndpointVariation[a] >= this->EndpointVariation[b] ? a : b));
+    Index keep = borderA ? a : (borderB ? b : (this->EndpointVariation[a] >= this->EndpointVariation[b] ? a : b));
+    if (forcedKeep != InvalidIndex)
+    {
+      if ((forcedKeep == a && borderB) || (forcedKeep == b && borderA))
+      {
+        return false;
+      }
+      keep = forcedKeep;
+    }
     const Index gone = keep == a ? b : a;
     if (s.Size[p] < 4 || s.Size[q] < 4)
     {
@@ -1180,7 +1381,7 @@ void SpbmLevelGenerator::RunMerging(
     }
     bool parallel = false;
     forEndChains(ox, [&](Index c) { parallel = parallel || otherEnd(c, ox) == oy; });
-    if (parallel || (parameters.JoinWithinEpsilon && !joinWithinTolerance(x, y, u)) ||
+    if (parallel || (parameters.JoinWithinEpsilon && !relaxed && !joinWithinTolerance(x, y, u)) ||
       !simpleAfter(xl, u, InvalidIndex) || !simpleAfter(xr, u, InvalidIndex))
     {
       return;
@@ -1281,6 +1482,24 @@ void SpbmLevelGenerator::RunMerging(
     {
       return false;
     }
+    if (flatness)
+    {
+      // The union's extreme vertices: the more extreme of the two in each direction.
+      Index* sp = s.Support.data() + size_t(p) * SupportSize;
+      const Index* sq = s.Support.data() + size_t(q) * SupportSize;
+      for (int d = 0; d < SupportDirections; ++d)
+      {
+        const Vec3 axis{ SupportAxes[d][0], SupportAxes[d][1], SupportAxes[d][2] };
+        if (Dot(axis, mesh.Point(sq[2 * d])) > Dot(axis, mesh.Point(sp[2 * d])))
+        {
+          sp[2 * d] = sq[2 * d];
+        }
+        if (Dot(axis, mesh.Point(sq[2 * d + 1])) < Dot(axis, mesh.Point(sp[2 * d + 1])))
+        {
+          sp[2 * d + 1] = sq[2 * d + 1];
+        }
+      }
+    }
     s.Parent[q] = p;
     s.Version[p] += s.Version[q] + 1;
     s.Normal[p] = s.Normal[p] + s.Normal[q];
@@ -1357,37 +1576,271 @@ void SpbmLevelGenerator::RunMerging(
       forPatchChains(p, [&](Index x) { pushCandidate(x); });
     }
   }
+  if (parameters.RemovalTarget > 0 && s.Total > parameters.RemovalTarget && parameters.CollapseChains)
+  {
+    this->RemoveCheapest(parameters, s, [&](Index e, Index keep) {
+      relaxed = true;
+      forcedKeep = keep;
+      s.TriedP[e] = s.TriedQ[e] = -1;
+      const bool done = tryCollapse(e, std::numeric_limits<double>::infinity());
+      forcedKeep = InvalidIndex;
+      relaxed = false;
+      return done;
+    }, [&](Index u) {
+      relaxed = true;
+      tryJoin(u);
+      relaxed = false;
+      return s.Degree[u] == 0;
+    }, [&](Index x, Index y, Index u) {
+      // Largest surface-weighted distance of the chain vertices between u's kept neighbours
+      // from the segment that replaces them.
+      chainPoints.clear();
+      chainKept.clear();
+      appendChain(x, otherEnd(x, u), false);
+      const size_t joint = chainPoints.size() - 1;
+      appendChain(y, u, true);
+      chainKept[joint] = 0;
+      size_t a = joint, b = joint;
+      while (!chainKept[a])
+      {
+        --a;
+      }
+      while (!chainKept[b])
+      {
+        ++b;
+      }
+      const Vec3 n1 = Normalized(s.Normal[s.Find(s.L[x])]), n2 = Normalized(s.Normal[s.Find(s.R[x])]);
+      const double w2 = this->InPlaneWeight * this->InPlaneWeight;
+      double worst = 0;
+      for (size_t i = a + 1; i < b; ++i)
+      {
+        worst = std::max(worst, SurfaceWeightedDistance2(chainPoints[i], chainPoints[a], chainPoints[b], n1, n2, w2));
+      }
+      return std::sqrt(worst);
+    });
+  }
+}
+
+void SpbmLevelGenerator::RemoveCheapest(const SpbmLevelParameters& parameters, State& s,
+  const std::function<bool(Index, Index)>& collapse, const std::function<bool(Index)>& join,
+  const std::function<double(Index, Index, Index)>& joinDeviation)
+{
+  const Patchification& P = *this->Patches;
+  const TriangleMesh& mesh = *this->Mesh;
+  const Index nc = P.NumberOfChains();
+  const Index ne = P.NumberOfEndpoints();
+  const double infinite = std::numeric_limits<double>::infinity();
+  auto point = [&](Index e) { return mesh.Point(P.EndpointVertex(e)); };
+  auto forEndChains = [&](Index e, auto&& f) {
+    for (Index slot = s.EndHead[e]; slot != InvalidIndex; slot = s.EndSlotNext[slot])
+    {
+      const Index c = slot / 2;
+      if (s.Alive[c] && (slot % 2 == 0 ? s.A[c] : s.B[c]) == e)
+      {
+        f(c);
+      }
+    }
+  };
+  auto movable = [&](Index c) {
+    return s.Alive[c] && !s.Locked[c] && s.Interior[c] == 0 && s.R[c] != InvalidIndex &&
+      s.Find(s.L[c]) != s.Find(s.R[c]) && !s.Frozen[s.Find(s.L[c])] && !s.Frozen[s.Find(s.R[c])];
+  };
+  // Moving endpoint `gone` onto `keep` moves the patches around `gone` by the displacement's
+  // component along their normals (and, weighted, along the surface).
+  auto collapseCost = [&](Index c, Index keep) {
+    if (!movable(c))
+    {
+      return infinite;
+    }
+    const Index gone = s.A[c] == keep ? s.B[c] : s.A[c];
+    if (P.EndpointOnBorder(gone))
+    {
+      return infinite;
+    }
+    const Vec3 d = point(gone) - point(keep);
+    double cost = this->InPlaneWeight * Norm(d);
+    forEndChains(gone, [&](Index x) {
+      for (const Index side : { s.L[x], s.R[x] })
+      {
+        if (side != InvalidIndex)
+        {
+          cost = std::max(cost, std::fabs(Dot(Normalized(s.Normal[s.Find(side)]), d)));
+        }
+      }
+    });
+    return cost;
+  };
+  auto joinCost = [&](Index u) {
+    if (s.Degree[u] != 2 || P.EndpointOnBorder(u))
+    {
+      return infinite;
+    }
+    Index pair[2] = { InvalidIndex, InvalidIndex };
+    int found = 0;
+    forEndChains(u, [&](Index c) {
+      if (found < 2)
+      {
+        pair[found] = c;
+      }
+      ++found;
+    });
+    if (found != 2 || s.Locked[pair[0]] || s.Locked[pair[1]] || s.R[pair[0]] == InvalidIndex ||
+      s.R[pair[1]] == InvalidIndex)
+    {
+      return infinite;
+    }
+    const Index xl = s.Find(s.L[pair[0]]), xr = s.Find(s.R[pair[0]]);
+    const Index yl = s.Find(s.L[pair[1]]), yr = s.Find(s.R[pair[1]]);
+    if (!((xl == yl && xr == yr) || (xl == yr && xr == yl)) || xl == xr)
+    {
+      return infinite;
+    }
+    return joinDeviation(pair[0], pair[1], u);
+  };
+  // Operations: 2c (collapse chain c into its start), 2c + 1 (into its end), 2 nc + u (join at u).
+  using Entry = std::pair<double, Index>;
+  std::vector<Entry> heap;
+  const Index joinBase = 2 * nc;
+  auto costOf = [&](Index op) {
+    if (op >= joinBase)
+    {
+      return joinCost(op - joinBase);
+    }
+    const Index c = op / 2;
+    return collapseCost(c, op % 2 == 0 ? s.A[c] : s.B[c]);
+  };
+  auto push = [&](Index op) {
+    const double cost = costOf(op);
+    if (cost < infinite)
+    {
+      heap.emplace_back(-cost, op);
+      std::push_heap(heap.begin(), heap.end());
+    }
+  };
+  for (Index c = 0; c < nc; ++c)
+  {
+    if (movable(c))
+    {
+      push(2 * c);
+      push(2 * c + 1);
+    }
+  }
+  for (Index u = 0; u < ne; ++u)
+  {
+    push(joinBase + u);
+  }
+  const long long target = parameters.RemovalTarget;
+  while (s.Total > target && !heap.empty())
+  {
+    std::pop_heap(heap.begin(), heap.end());
+    const Entry entry = heap.back();
+    heap.pop_back();
+    const Index op = entry.second;
+    const double cost = costOf(op);
+    if (cost == infinite)
+    {
+      continue;
+    }
+    if (cost > -entry.first * (1 + 1e-9) + 1e-300)
+    {
+      heap.emplace_back(-cost, op); // the neighbourhood changed: requeue at its current cost
+      std::push_heap(heap.begin(), heap.end());
+      continue;
+    }
+    Index touched[2] = { InvalidIndex, InvalidIndex };
+    if (op >= joinBase)
+    {
+      const Index u = op - joinBase;
+      Index ends[2] = { InvalidIndex, InvalidIndex };
+      int k = 0;
+      forEndChains(u, [&](Index c) {
+        if (k < 2)
+        {
+          ends[k++] = s.A[c] == u ? s.B[c] : s.A[c];
+        }
+      });
+      if (!join(u))
+      {
+        continue;
+      }
+      touched[0] = ends[0];
+      touched[1] = ends[1];
+    }
+    else
+    {
+      const Index c = op / 2;
+      const Index keep = op % 2 == 0 ? s.A[c] : s.B[c];
+      if (!collapse(c, keep))
+      {
+        continue;
+      }
+      touched[0] = keep;
+    }
+    // Requeue what the change can make possible or cheaper: the chains and joins around it.
+    for (const Index e : touched)
+    {
+      if (e == InvalidIndex)
+      {
+        continue;
+      }
+      push(joinBase + e);
+      forEndChains(e, [&](Index c) {
+        if (movable(c))
+        {
+          push(2 * c);
+          push(2 * c + 1);
+        }
+        push(joinBase + (s.A[c] == e ? s.B[c] : s.A[c]));
+      });
+    }
+  }
 }
 
 Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parameters)
 {
+  return this->PredictTriangleCountIn(parameters, *this->Work);
+}
+
+Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s)
+{
   // Searches (and re-aimed searches) ask for the same levels again: remember the answers.
   const float eps = static_cast<float>(parameters.Epsilon);
-  for (const PredictionMemo& m : this->Memo)
+  for (const PredictionMemo& m : s.Memo)
   {
     if (m.Epsilon == eps && m.MergeAngle == parameters.MergeAngle && m.MergePatches == parameters.MergePatches &&
       m.CollapseChains == parameters.CollapseChains && m.CollapseLengthFactor == parameters.CollapseLengthFactor &&
       m.JoinWithinEpsilon == parameters.JoinWithinEpsilon && m.CollapseWithinEpsilon == parameters.CollapseWithinEpsilon &&
-      m.SizeWeightedMerge == parameters.SizeWeightedMerge)
+      m.SizeWeightedMerge == parameters.SizeWeightedMerge && m.FlatnessMerge == parameters.FlatnessMerge &&
+      m.FlatnessScale == parameters.FlatnessScale &&
+      m.RemovalTarget == parameters.RemovalTarget)
     {
       return m.Count;
     }
   }
-  State& s = *this->Work;
   s.NoFreeze.assign(size_t(this->Patches->NumberOfPatches()), 0);
+  const auto started = StageClock::now();
   this->RunMerging(parameters, s.NoFreeze, s);
-  if (this->Memo.size() > 256)
+  Times.Merging += Since(started);
+  ++Times.MergingRuns;
+  if (s.Memo.size() > 256)
   {
-    this->Memo.clear();
+    s.Memo.clear();
   }
-  this->Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
+  s.Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
     parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon, parameters.CollapseWithinEpsilon,
-    parameters.SizeWeightedMerge, static_cast<Index>(s.Total) });
+    parameters.SizeWeightedMerge, parameters.FlatnessMerge, parameters.FlatnessScale, parameters.RemovalTarget,
+    static_cast<Index>(s.Total) });
   return static_cast<Index>(s.Total);
 }
 
 SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   Index target, const SpbmLevelParameters& base, Index* predicted)
+{
+  return this->FindParametersIn(target, base, predicted, *this->Work);
+}
+
+SpbmLevelParameters SpbmLevelGenerator::FindParametersIn(
+  Index target, const SpbmLevelParameters& base, Index* predicted, State& s)
 {
   SpbmLevelParameters params = base;
   const Index nk = static_cast<Index>(this->SortedKeys.size());
@@ -1396,24 +1849,72 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
     SpbmLevelParameters p = params;
     p.Epsilon = epsilonFor(k);
     p.MergeAngle = angle;
-    return this->PredictTriangleCount(p);
+    return this->PredictTriangleCountIn(p, s);
   };
   // 1. alpha1: the given one, or (when even single-segment chains give too many triangles) the
   // smallest wider one, up to 90 degrees, that reaches the target.
   // Counts this close below the target are good enough: each evaluation is a whole merging run,
   // and the epsilon search below fills the rest.
-  const Index countTolerance = std::max<Index>(2, target / 100);
+  const Index countTolerance = std::max<Index>(2, target / 50);
   double angle = base.MergeAngle;
   if (countFor(0, angle) > target && (base.MergePatches || base.CollapseChains))
   {
     double lo = angle, hi = std::max(90.0, angle);
-    Index countLo = countFor(0, lo), countHi = countFor(0, hi);
+    Index countLo = countFor(0, lo), countHi = 0;
+    // Bracket by doubling alpha1 (the count falls steeply at small angles and flattens toward
+    // 90 degrees), stopping at RemovalMergeAngle on the way: the widest (and slowest) merging
+    // run, at 90, is evaluated only when nothing narrower reaches the target.
+    for (double probe = lo;;)
+    {
+      double next = probe <= 0 ? hi : std::min(hi, 2 * probe);
+      if (base.CostOrderedRemoval && base.CollapseChains && probe < base.RemovalMergeAngle)
+      {
+        // With the removal, whether it is needed depends on RemovalMergeAngle's count only:
+        // probe it first (the regula falsi below narrows the bracket when it is not needed).
+        next = std::min(hi, base.RemovalMergeAngle);
+      }
+      probe = probe < base.RemovalMergeAngle && next > base.RemovalMergeAngle ? base.RemovalMergeAngle : next;
+      const Index c = countFor(0, probe);
+      const bool removal = base.CostOrderedRemoval && base.CollapseChains && probe == base.RemovalMergeAngle;
+      if (c <= target || probe >= hi || removal)
+      {
+        // (With the cost-ordered removal, alpha1 is not widened beyond RemovalMergeAngle: the
+        // removal below reaches the count with less flattening than wider merging.)
+        hi = probe;
+        countHi = c;
+        break;
+      }
+      lo = probe;
+      countLo = c;
+    }
     // Even alpha1 = 90 leaves too many triangles (the Fandisk at 150): drop the epsilon bound on
     // collapses (the paper's rule), collapse longer chains (condition (c) up to the patch's
     // longest chain), and last drop the epsilon bound on joins, until the target is reached.
     // The target count wins over the profile curves' epsilon bound here, at a cost in fidelity.
+    if (countHi > target && base.CollapseChains && base.CostOrderedRemoval)
+    {
+      // Remove endpoints cheapest first down to the target (the epsilon bounds stay on the rest).
+      // The removal sets the count: alpha1 only bounds which unions become flat patches, and
+      // merging up to RemovalMergeAngle (not 90) keeps creases sharper than that as chains.
+      params.RemovalTarget = target;
+      const double removalAngle = std::min(hi, std::max(angle, base.RemovalMergeAngle));
+      const Index c = countFor(0, removalAngle);
+      if (c <= target)
+      {
+        lo = hi = removalAngle;
+        countLo = countHi = c;
+      }
+      else
+      {
+        hi = std::max(90.0, angle); // the removal alone does not reach it: widest merging too
+        countHi = countFor(0, hi);
+        countLo = countFor(0, lo);
+      }
+    }
+
     if (countHi > target && base.CollapseChains)
     {
+      params.RemovalTarget = 0;
       struct Relaxation
       {
         bool Join, Collapse;
@@ -1461,8 +1962,9 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
       Index realHi = countHi; // countHi is scaled by the Illinois steps
       for (int iteration = 0; iteration < 6 && hi - lo > 0.05 && realHi < target - countTolerance; ++iteration)
       {
-        double mid = hi - (hi - lo) * double(countHi - target) / std::min(-1.0, double(countHi - countLo));
-        mid = hi - (hi - lo) * double(target - countHi) / std::max(1.0, double(countLo - countHi));
+        // Interpolated in log(alpha1): the count is about linear in it (fewer evaluations).
+        const double logLo = std::log(std::max(lo, 1e-3)), logHi = std::log(std::max(hi, 1e-3));
+        double mid = std::exp(logHi - (logHi - logLo) * double(target - countHi) / std::max(1.0, double(countLo - countHi)));
         mid = std::min(hi - 0.01 * (hi - lo), std::max(lo + 0.01 * (hi - lo), mid));
         const Index c = countFor(0, mid);
         if (c > target)
@@ -1601,9 +2103,14 @@ SpbmLevelParameters SpbmLevelGenerator::FindParameters(
 bool SpbmLevelGenerator::Generate(
   const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort)
 {
+  return this->GenerateIn(parameters, level, abort, *this->Work);
+}
+
+bool SpbmLevelGenerator::GenerateIn(
+  const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s)
+{
   const Patchification& P = *this->Patches;
   const TriangleMesh& mesh = *this->Mesh;
-  State& s = *this->Work;
   const Index np = P.NumberOfPatches();
   const Index nc = P.NumberOfChains();
   const Index nv = mesh.NumberOfPoints();
@@ -1951,32 +2458,35 @@ bool SpbmLevelGenerator::Generate(
           }
           if (height > parameters.NonPlanarTolerance * this->Diagonal)
           {
-            if (!this->InputTree)
-            {
-              this->InputTree.reset(new TriangleBVH(mesh));
-            }
-            const TriangleBVH& tree = *this->InputTree;
+            const TriangleBVH& tree = this->GetInputTree();
             MinimumCostTriangulationOptions dp;
             dp.AcceptDiagonal = [&](Index i, Index j) { return !s.Edges.Contains(polygon[i], polygon[j]); };
+            auto diagonalCost = [&](Index i, Index j) {
+              // Distance of the diagonal's midpoint from the input. (Adding the quarter points
+              // tripled the queries, about half of the level's triangulation time, for the same
+              // Fandisk levels and 7% on bunny00 at 1500 triangles.)
+              return std::sqrt(tree.ClosestPoint(0.5 * (points[i] + points[j])).Distance2);
+            };
             dp.DiagonalCost = [&](Index i, Index j) {
-              // Midpoint and quarter points; a quarter point is at most a quarter of the length
-              // farther than the midpoint's answer, which bounds (prunes) its query.
-              const double middle = std::sqrt(tree.ClosestPoint(0.5 * (points[i] + points[j])).Distance2);
-              const double bound = middle + 0.25 * Norm(points[j] - points[i]);
-              double worst = middle;
-              for (const double t : { 0.25, 0.75 })
+              Index bits = 0;
+              float cached = 0;
+              if (s.DiagonalCosts.Find(polygon[i], polygon[j], bits))
               {
-                const ClosestPointResult r = tree.ClosestPoint((1 - t) * points[i] + t * points[j], bound * bound);
-                if (r.Triangle != InvalidIndex)
-                {
-                  worst = std::max(worst, std::sqrt(r.Distance2));
-                }
+                std::memcpy(&cached, &bits, sizeof(float));
+                return double(cached);
               }
-              return worst;
+              const double cost = diagonalCost(i, j);
+              cached = static_cast<float>(cost);
+              std::memcpy(&bits, &cached, sizeof(float));
+              Index ignored;
+              s.DiagonalCosts.Insert(polygon[i], polygon[j], bits, ignored);
+              return cost;
             };
             // Thin triangles cost about as much as a diagonal 1e-3 of the diagonal off the surface.
             dp.AngleWeight = 1e-3 * this->Diagonal;
+            const auto started = StageClock::now();
             result = TriangulatePolygonMinimumCost(points, normal, dp);
+            Times.Triangulation += Since(started);
           }
         }
         if (result.Failed)
@@ -2079,6 +2589,16 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
   {
     return 0;
   }
+  const auto started = StageClock::now();
+  struct Count
+  {
+    StageClock::time_point Start;
+    ~Count()
+    {
+      Times.Estimate += Since(Start);
+      ++Times.Estimates;
+    }
+  } count{ started };
   // The level over its own vertices only (it is small), in a BVH.
   TriangleMesh simplified;
   std::vector<Index> local(size_t(mesh.NumberOfPoints()), InvalidIndex);
@@ -2105,7 +2625,54 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
     const Vec3 queries[2] = { a, (1.0 / 3.0) * (a + b + c) };
     for (const Vec3& q : queries)
     {
+      // Only samples farther than the current worst matter: a query bounded by it prunes most
+      // of the tree and finds nothing exactly when the sample is farther (then measure it).
+      if (worst2 > 0 && bvh.ClosestPoint(q, worst2).Triangle != InvalidIndex)
+      {
+        continue;
+      }
       worst2 = std::max(worst2, bvh.ClosestPoint(q).Distance2);
+    }
+  }
+  // The other side, when the input's BVH exists (the minimum-deviation triangulation builds it):
+  // the level's largest triangles sampled on the barycentric grid of step 1/3 (the edge thirds
+  // and the centroid; the corners are input vertices) against the input. A flat triangle across a
+  // concave region can lie far from the input while every input sample is close to some other
+  // part of the level (the Fandisk at 150: 0.032 one-sided, 0.041 both ways).
+  const TriangleBVH* input = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(this->LazyMutex);
+    input = this->InputTree.get();
+  }
+  if (input)
+  {
+    // Budget: the 160 largest triangles (a flat triangle strays the farther the larger it is).
+    const size_t count = level.Triangles.size() / 3;
+    std::vector<std::pair<double, Index>> bySize(count);
+    for (size_t t = 0; t < count; ++t)
+    {
+      const Vec3 a = mesh.Point(level.Triangles[3 * t]), b = mesh.Point(level.Triangles[3 * t + 1]),
+                 c = mesh.Point(level.Triangles[3 * t + 2]);
+      bySize[t] = { -Norm(Cross(b - a, c - a)), static_cast<Index>(t) };
+    }
+    const size_t budget = std::min<size_t>(count, 160);
+    std::nth_element(bySize.begin(), bySize.begin() + std::ptrdiff_t(budget) - (budget > 0 ? 1 : 0), bySize.end());
+    for (size_t k = 0; k < budget; ++k)
+    {
+      const size_t t = 3 * size_t(bySize[k].second);
+      const Vec3 a = mesh.Point(level.Triangles[t]), b = mesh.Point(level.Triangles[t + 1]),
+                 c = mesh.Point(level.Triangles[t + 2]);
+      const Vec3 queries[7] = { (1.0 / 3.0) * (a + b + c), (2.0 / 3.0) * a + (1.0 / 3.0) * b,
+        (1.0 / 3.0) * a + (2.0 / 3.0) * b, (2.0 / 3.0) * b + (1.0 / 3.0) * c, (1.0 / 3.0) * b + (2.0 / 3.0) * c,
+        (2.0 / 3.0) * c + (1.0 / 3.0) * a, (1.0 / 3.0) * c + (2.0 / 3.0) * a };
+      for (const Vec3& q : queries)
+      {
+        if (worst2 > 0 && input->ClosestPoint(q, worst2).Triangle != InvalidIndex)
+        {
+          continue;
+        }
+        worst2 = std::max(worst2, input->ClosestPoint(q).Distance2);
+      }
     }
   }
   return std::sqrt(worst2);
@@ -2114,85 +2681,239 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
 bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
   SpbmLevelParameters* used, const std::function<bool()>& abort)
 {
-  SpbmLevelParameters first;
-  if (!this->GenerateForTargetAndAngle(target, base, level, &first, abort))
+  Times = StageTimes();
+  struct Report
   {
-    return false;
-  }
-  if (used)
-  {
-    *used = first;
-  }
-  if (!base.MergePatches || base.MergeAngle <= 0 || !base.CompareCandidates)
-  {
-    return true;
-  }
-  // Candidates spending the same budget differently: the other merge measure, and (when alpha1
-  // did not have to be widened; narrower angles would widen to the same one) half and a quarter
-  // of alpha1, i.e. fewer merges and finer chains. The smallest sampled deviation wins.
-  const Index count = static_cast<Index>(level.TrianglePatch.size());
-  double bestDeviation = this->EstimateDeviation(level);
-  SpbmLevel candidate;
-  for (const bool weighted : { base.SizeWeightedMerge, !base.SizeWeightedMerge })
-  {
-    for (const double factor : { 1.0, 0.5 })
+    StageClock::time_point Start = StageClock::now();
+    ~Report()
     {
-      // The first level, and narrower angles for the plain measure only (measured on the Fandisk
-      // and bunny00: the size-weighted measure never won with a narrower alpha1).
-      if ((weighted == base.SizeWeightedMerge && factor == 1.0) || (weighted && factor != 1.0))
+      if (std::getenv("SLOD_VERBOSE"))
       {
-        continue;
+        std::fprintf(stderr,
+          "[spbm] level %.4f s; main thread: %d merging runs %.4f s (refinement %.4f s), generate %.4f s (input BVH "
+          "%.4f s, minimum-deviation triangulation %.4f s), %d estimates %.4f s\n",
+          Since(Start), Times.MergingRuns, Times.Merging, Times.Refinement, Times.Generate, Times.Tree,
+          Times.Triangulation, Times.Estimates, Times.Estimate);
       }
-      if (factor != 1.0 && first.MergeAngle > base.MergeAngle)
+    }
+  } report;
+  const bool verbose = std::getenv("SLOD_VERBOSE") != nullptr;
+  auto describe = [&](const char* what, const SpbmLevelParameters& p, Index produced, double deviation) {
+    if (verbose)
+    {
+      std::fprintf(stderr,
+        "[spbm] %s: weighted %d flat %d alpha1 %.1f eps %.4g factor %.2f join %d collapse %d removal %d: %d tris, "
+        "estimate %.4g\n",
+        what, int(p.SizeWeightedMerge), int(p.FlatnessMerge), p.MergeAngle, p.Epsilon / this->Diagonal,
+        p.CollapseLengthFactor, int(p.JoinWithinEpsilon), int(p.CollapseWithinEpsilon), int(p.RemovalTarget),
+        int(produced), deviation / this->Diagonal);
+    }
+  };
+  const bool compare = base.MergePatches && base.MergeAngle > 0 && base.CompareCandidates;
+  // Candidates spend the same budget differently; the smallest sampled deviation from the input
+  // (EstimateDeviation) wins. The first two (the given merge measure and the other one of
+  // plain / size-weighted) run on two threads, each with its own working state.
+  SpbmLevelParameters first, second;
+  SpbmLevel secondLevel;
+  bool secondDone = true;
+  double secondDeviation = std::numeric_limits<double>::infinity();
+  std::thread helper;
+  if (compare)
+  {
+    SpbmLevelParameters other = base;
+    other.SizeWeightedMerge = !base.SizeWeightedMerge;
+    other.FlatnessMerge = false;
+    helper = std::thread([&, other]() {
+      const auto helperStart = StageClock::now();
+      Times = StageTimes();
+      secondDone = this->GenerateForTargetAndAngle(target, other, secondLevel, &second, abort, *this->Helper);
+      if (secondDone)
       {
-        continue; // alpha1 had to be widened: a narrower one would widen to the same level
+        secondDeviation = this->EstimateDeviation(secondLevel);
       }
-      SpbmLevelParameters other = base;
-      other.SizeWeightedMerge = weighted;
-      other.MergeAngle = base.MergeAngle * factor;
-      if (weighted != base.SizeWeightedMerge && first.CollapseWithinEpsilon == base.CollapseWithinEpsilon)
+      if (secondDone && second.RemovalTarget > 0)
       {
-        // The first level needed no relaxed collapses: skip a measure that would need them
-        // (its coarsest level without relaxation is above the target); saves its search.
-        SpbmLevelParameters coarsest = other;
-        coarsest.Epsilon = this->SortedKeys.empty() ? -1.0 : double(this->SortedKeys.front());
-        coarsest.MergeAngle = std::max(90.0, other.MergeAngle);
-        if (this->PredictTriangleCount(coarsest) > target)
+        // The count comes from the cost-ordered removal, so any merge measure reaches it at the
+        // same parameters: also try the flatness measure (no search), keep the closer level.
+        SpbmLevelParameters flat = second;
+        flat.SizeWeightedMerge = false;
+        flat.FlatnessMerge = true;
+        SpbmLevel flatLevel;
+        secondDone = this->GenerateIn(flat, flatLevel, abort, *this->Helper);
+        const Index produced = static_cast<Index>(flatLevel.TrianglePatch.size());
+        if (secondDone && produced <= std::max<Index>(target, static_cast<Index>(secondLevel.TrianglePatch.size())))
         {
-          continue;
-        }
-      }
-      SpbmLevelParameters parameters;
-      if (!this->GenerateForTargetAndAngle(target, other, candidate, &parameters, abort))
-      {
-        return false;
-      }
-      const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
-      // Same budget: not above the target (or the first level's count), not far below it.
-      if (!((produced > target && produced > count) || produced < std::min(count, target) * 19 / 20))
-      {
-        const double deviation = this->EstimateDeviation(candidate);
-        if (deviation < bestDeviation)
-        {
-          bestDeviation = deviation;
-          std::swap(level, candidate);
-          if (used)
+          const double deviation = this->EstimateDeviation(flatLevel);
+          describe("flatness measure (helper)", flat, produced, deviation);
+          if (deviation < secondDeviation)
           {
-            *used = parameters;
+            secondDeviation = deviation;
+            std::swap(secondLevel, flatLevel);
+            second = flat;
           }
         }
       }
-      if (parameters.MergeAngle > other.MergeAngle)
+      if (verbose)
       {
-        break; // widened: narrower angles give the same level
+        std::fprintf(stderr,
+          "[spbm] helper thread %.4f s: %d merging runs %.4f s (refinement %.4f s), generate %.4f s (input BVH %.4f s, "
+          "minimum-deviation triangulation %.4f s), %d estimates %.4f s\n",
+          Since(helperStart), Times.MergingRuns, Times.Merging, Times.Refinement, Times.Generate, Times.Tree,
+          Times.Triangulation, Times.Estimates, Times.Estimate);
+      }
+    });
+  }
+  // Without CompareCandidates: when the count will come from the cost-ordered removal, every
+  // merge measure reaches it at the same parameters without a search, so the two other measures
+  // are generated there too (on the helper thread while this one generates the first level;
+  // whichever thread is free takes the next) and the level closest to the input is kept. Cheap
+  // next to a search; it matters at the coarsest levels, where the measure decides which large
+  // patches become flat. (The plan's search is memoized: the first level's search repeats it for free.)
+  SpbmLevelParameters tries[2];
+  SpbmLevel triedLevels[2];
+  double triedDeviations[2] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
+  bool triedFinished[2] = { false, false };
+  std::atomic<int> nextTry{ 2 }; // none
+  bool triesPlanned = false;
+  auto runTries = [&](State& state) {
+    for (int j = nextTry++; j < 2; j = nextTry++)
+    {
+      triedFinished[j] = this->GenerateIn(tries[j], triedLevels[j], abort, state);
+      if (triedFinished[j])
+      {
+        triedDeviations[j] = this->EstimateDeviation(triedLevels[j]);
       }
     }
+  };
+  if (!compare && base.MergePatches && base.CostOrderedRemoval)
+  {
+    Index predicted = 0;
+    const SpbmLevelParameters planned = this->FindParametersIn(target, base, &predicted, *this->Work);
+    if (planned.RemovalTarget > 0)
+    {
+      tries[0] = tries[1] = planned;
+      tries[0].SizeWeightedMerge = !planned.SizeWeightedMerge || planned.FlatnessMerge;
+      tries[0].FlatnessMerge = false;
+      tries[1].SizeWeightedMerge = false;
+      tries[1].FlatnessMerge = !planned.FlatnessMerge;
+      if (!planned.FlatnessMerge && !planned.SizeWeightedMerge)
+      {
+        tries[1].FlatnessMerge = true; // plain first: weighted and flatness
+      }
+      nextTry = 0;
+      triesPlanned = true;
+      helper = std::thread([&]() { runTries(*this->Helper); });
+    }
+  }
+  bool done = this->GenerateForTargetAndAngle(target, base, level, &first, abort, *this->Work);
+  const Index count = static_cast<Index>(level.TrianglePatch.size());
+  double bestDeviation = done && compare ? this->EstimateDeviation(level) : 0.0;
+  describe("first", first, count, bestDeviation);
+  SpbmLevelParameters best = first;
+  // Same budget: not above the target (or the first level's count), not far below it.
+  auto sameBudget = [&](Index produced) {
+    return !((produced > target && produced > count) || produced < std::min(count, target) * 19 / 20);
+  };
+  // A narrower alpha1 for the plain measure (fewer merges, finer chains), when alpha1 did not
+  // have to be widened (a narrower one would widen to the same level) and no removal was needed.
+  SpbmLevel candidate;
+  if (done && compare && !base.SizeWeightedMerge && !base.FlatnessMerge && first.MergeAngle <= base.MergeAngle &&
+    first.RemovalTarget == 0)
+  {
+    SpbmLevelParameters narrower = base;
+    narrower.MergeAngle = 0.5 * base.MergeAngle;
+    SpbmLevelParameters parameters;
+    done = this->GenerateForTargetAndAngle(target, narrower, candidate, &parameters, abort, *this->Work);
+    if (done)
+    {
+      const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
+      const double deviation = sameBudget(produced) ? this->EstimateDeviation(candidate) : bestDeviation;
+      describe("narrower alpha1", parameters, produced, deviation);
+      if (deviation < bestDeviation)
+      {
+        bestDeviation = deviation;
+        std::swap(level, candidate);
+        best = parameters;
+      }
+    }
+  }
+  if (triesPlanned && done)
+  {
+    runTries(*this->Work); // take what the helper has not started
+  }
+  if (helper.joinable())
+  {
+    helper.join();
+  }
+  if (!done || !secondDone)
+  {
+    return false;
+  }
+  if (compare)
+  {
+    const Index produced = static_cast<Index>(secondLevel.TrianglePatch.size());
+    describe("other measure", second, produced, secondDeviation);
+    if (sameBudget(produced) && secondDeviation < bestDeviation)
+    {
+      bestDeviation = secondDeviation;
+      std::swap(level, secondLevel);
+      best = second;
+    }
+  }
+  else if (base.MergePatches && 20 * count > 21 * target)
+  {
+    // The target is beyond what this measure reaches (unreachable counts: the femur, armadillo
+    // at 1%): the other measure may merge further; keep the level closer to the target.
+    SpbmLevelParameters other = base;
+    other.SizeWeightedMerge = !base.SizeWeightedMerge;
+    other.FlatnessMerge = false;
+    SpbmLevelParameters parameters;
+    if (!this->GenerateForTargetAndAngle(target, other, candidate, &parameters, abort, *this->Work))
+    {
+      return false;
+    }
+    describe("other measure (target not reached)", parameters, static_cast<Index>(candidate.TrianglePatch.size()), 0.0);
+    if (candidate.TrianglePatch.size() < level.TrianglePatch.size())
+    {
+      std::swap(level, candidate);
+      best = parameters;
+    }
+  }
+  if (triesPlanned)
+  {
+    for (int i = 0; i < 2; ++i)
+    {
+      if (!triedFinished[i])
+      {
+        return false; // aborted
+      }
+    }
+    if (!compare && bestDeviation == 0.0)
+    {
+      bestDeviation = this->EstimateDeviation(level);
+      describe("first", first, count, bestDeviation);
+    }
+    for (int i = 0; i < 2; ++i)
+    {
+      const Index produced = static_cast<Index>(triedLevels[i].TrianglePatch.size());
+      describe("removal, other measure", tries[i], produced, triedDeviations[i]);
+      if (sameBudget(produced) && triedDeviations[i] < bestDeviation)
+      {
+        bestDeviation = triedDeviations[i];
+        std::swap(level, triedLevels[i]);
+        best = tries[i];
+      }
+    }
+  }
+  if (used)
+  {
+    *used = best;
   }
   return true;
 }
 
 bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base,
-  SpbmLevel& level, SpbmLevelParameters* used, const std::function<bool()>& abort)
+  SpbmLevel& level, SpbmLevelParameters* used, const std::function<bool()>& abort, State& s)
 {
   // Fallbacks add triangles the prediction does not know about: aim lower by the overshoot and
   // keep the best level (closest count not above the target, else the smallest).
@@ -2202,8 +2923,11 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
   for (int attempt = 0; attempt < 6; ++attempt)
   {
     Index predicted = 0;
-    const SpbmLevelParameters parameters = this->FindParameters(aim, base, &predicted);
-    if (!this->Generate(parameters, candidate, abort))
+    const SpbmLevelParameters parameters = this->FindParametersIn(aim, base, &predicted, s);
+    const auto started = StageClock::now();
+    const bool generated = this->GenerateIn(parameters, candidate, abort, s);
+    Times.Generate += Since(started);
+    if (!generated)
     {
       return false;
     }

@@ -12,7 +12,10 @@
 //     chains of the same two patches are dropped (when the joined chain stays within epsilon);
 //     short one-segment chains collapse into the endpoint with the larger normal variation when
 //     (a) no third patch has both endpoints, (b) the normals agree within alpha1, (c) the chain is
-//     shorter than a factor (1/5) of the patch's longest chain (and than epsilon);
+//     shorter than a factor (1/5) of the patch's longest chain (and than epsilon). Extensions:
+//     size-weighted and flatness merge measures; below the count that merging reaches, endpoints
+//     are removed cheapest first (by how far the surface moves) down to the target
+//     (SpbmLevelParameters::RemovalTarget, set by the target search);
 //  3. boundary preservation (4.2.7): chains with an endpoint on the mesh border collapse only
 //     toward it; chains on the border and endpoints on it are never removed;
 //  4. triangulation (4.2.8): each patch's simplified boundary, projected on the plane orthogonal
@@ -37,7 +40,9 @@
 #include "slodTriangleMesh.h"
 
 #include <functional>
+#include <future>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace slod
@@ -61,8 +66,33 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // area / mean patch area) <= sin(alpha1) (alpha1 <= 90), smallest first, instead of when
   // angle <= alpha1, most parallel first.
   bool SizeWeightedMerge = false;
-  // GenerateForTarget only: also try the other merge measure and narrower alpha1 values at the
-  // same target, and keep the level with the smallest EstimateDeviation.
+  // Extension: flatness-driven merging. A flat re-triangulation of a curved patch is what makes
+  // SPBM's error, so a pair merges in the order of the thickness of their union (its extent
+  // along the union's normal, from the patches' extreme vertices in 13 directions), thinnest
+  // first, while that thickness is at most FlatnessScale * diagonal * tan(alpha1) (unbounded at
+  // alpha1 = 90, so the target search over alpha1 still applies). Normals more than 90 degrees
+  // apart never merge. Takes precedence over SizeWeightedMerge.
+  bool FlatnessMerge = false;
+  double FlatnessScale = 0.03;
+  // Extension: cost-ordered endpoint removal. With RemovalTarget > 0, after merging, endpoints
+  // are removed cheapest first until the level has at most RemovalTarget triangles: chain
+  // collapses (conditions (a)-(b) only: no epsilon or length bound) and joins of degree-two
+  // endpoints (no epsilon bound). The cost is how far the surface moves: for a collapse, the
+  // displacement of the dropped endpoint along the normals of the patches around it (at least
+  // the chain in-plane weight times its length), toward whichever end costs less (the border
+  // rule still applies); for a join, the largest such distance of the chain vertices from the
+  // new segment. Set by the target search (FindParameters) when merging up to RemovalMergeAngle
+  // does not reach the target and CostOrderedRemoval is on (off: alpha1 up to 90, then the fixed
+  // relaxation ladder of condition (c) and the epsilon bounds).
+  Index RemovalTarget = 0;
+  bool CostOrderedRemoval = true;
+  // alpha1 used with the removal (when at least the given alpha1): merging across creases sharper
+  // than this makes large flat patches, while the removal alone reaches the count. 60 measured
+  // best of 25/40/60/90 on the Fandisk at 150 and bunny00 at 525 triangles.
+  double RemovalMergeAngle = 60.0;
+  // GenerateForTarget only: also search the other merge measure (on a second thread) and half
+  // alpha1 at the same target, and keep the level with the smallest EstimateDeviation. Without
+  // it, the other measures are still compared when the count comes from the removal (no search).
   bool CompareCandidates = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
@@ -113,6 +143,12 @@ public:
   // Keys (and epsilon) are then in this measure.
   void Initialize(const TriangleMesh& mesh, const Patchification& patches, double inPlaneWeight);
 
+  // Starts building the BVH of `mesh` used by the minimum-deviation triangulation on another
+  // thread (it is needed by the first level; the caller's patchification can run meanwhile).
+  // `mesh` must not change while the generator uses it; the next Initialize with the same mesh
+  // keeps the tree being built (any other Initialize drops it).
+  void StartInputTree(const TriangleMesh& mesh);
+
   // Triangle count of the level (before fallbacks) without triangulating: cheap, for searches.
   Index PredictTriangleCount(const SpbmLevelParameters& parameters);
 
@@ -136,8 +172,10 @@ public:
 
   // Deviation estimate of a level: the largest distance from samples of the original triangles
   // (vertices and centroids, about `samples` of them) to the level (a BVH over the level, which
-  // is small). The one-sided Hausdorff distance from the input, sampled; compares candidates.
-  double EstimateDeviation(const SpbmLevel& level, Index samples = 6000) const;
+  // is small; each query bounded by the current maximum), and, once the input's BVH exists, from
+  // points inside the level's 160 largest triangles (barycentric grid of step 1/3) to the input. The sampled
+  // two-sided Hausdorff distance; compares candidates.
+  double EstimateDeviation(const SpbmLevel& level, Index samples = 3000) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
   double ChainVertexKey(Index c, Index i) const;
@@ -146,8 +184,15 @@ public:
 private:
   struct State;
   bool GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
-    SpbmLevelParameters* used, const std::function<bool()>& abort);
+    SpbmLevelParameters* used, const std::function<bool()>& abort, State& s);
+  // The same as the public functions, on a given working state (one per candidate thread).
+  Index PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s);
+  SpbmLevelParameters FindParametersIn(Index target, const SpbmLevelParameters& base, Index* predicted, State& s);
+  bool GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s);
+  const TriangleBVH& GetInputTree();
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
+  void RemoveCheapest(const SpbmLevelParameters& parameters, State& s, const std::function<bool(Index, Index)>& collapse,
+    const std::function<bool(Index)>& join, const std::function<double(Index, Index, Index)>& joinDeviation);
 
   const TriangleMesh* Mesh = nullptr;
   const Patchification* Patches = nullptr;
@@ -157,19 +202,26 @@ private:
   std::vector<float> OrderedKeys;          // the keys in that order
   std::vector<unsigned char> MinimumInterior; // chains that must keep one interior vertex
   std::vector<double> EndpointVariation;   // normal variation around each endpoint
+  std::vector<Index> PatchSupport;         // per patch: its extreme vertices in the 26 support directions
   struct PredictionMemo
   {
     float Epsilon;
     double MergeAngle;
     bool MergePatches, CollapseChains;
     double CollapseLengthFactor;
-    bool JoinWithinEpsilon, CollapseWithinEpsilon, SizeWeightedMerge;
+    bool JoinWithinEpsilon, CollapseWithinEpsilon, SizeWeightedMerge, FlatnessMerge;
+    double FlatnessScale;
+    Index RemovalTarget;
     Index Count;
   };
-  std::vector<PredictionMemo> Memo;
   std::unique_ptr<State> Work;
+  std::unique_ptr<State> Helper; // second working state: candidates run on two threads
+  mutable std::mutex LazyMutex;  // guards the lazily built InputTree and PatchSupport
   std::unique_ptr<TriangleBVH> InputTree; // over Mesh, built on first use (non-planar patches)
+  std::future<std::unique_ptr<TriangleBVH>> PendingTree; // StartInputTree
+  const TriangleMesh* TreeMesh = nullptr;
   double Diagonal = 0;
+  double InPlaneWeight = 1.0;
 };
 } // namespace slod
 
