@@ -113,14 +113,14 @@ struct PassBudget
   }
 };
 constexpr PassBudget RefinementBudget{ 40, 3.0e6, 10 };
-constexpr PassBudget FitBudget{ 40, 1.0e6, 1 };
+constexpr PassBudget FitBudget{ 40, 1.0e6, 0 };
 // Refinement: rounds of screening and moves, and how much a move may raise the local sum of
 // distances.
 constexpr int RefinementRounds = 4;
 constexpr double RefinementSumSlack = 1.05;
 // Candidates screened: a tenth of the output vertices (the quadric error that picks them is only
 // loosely tied to the distance), at most this many.
-constexpr size_t RefinementPoolLimit = 2000;
+constexpr size_t RefinementPoolLimit = 1000;
 // The fit to the original surface: Gauss-Seidel sweeps, and the weight of the ridge term that
 // keeps vertices from sliding along the surface (relative to the data term's trace).
 constexpr int FitIterations = 2;
