@@ -125,9 +125,6 @@ constexpr size_t RefinementPoolLimit = 1000;
 // keeps vertices from sliding along the surface (relative to the data term's trace).
 constexpr int FitIterations = 2;
 constexpr double FitRidge = 0.02;
-// Up to this many input vertices the fit assigns every original vertex to its closest output
-// triangle (one BVH query each) to know exactly whom a move can affect.
-constexpr Index ExactScreeningLimit = 300000;
 
 // Who descends from whom, for the passes that measure against the original surface: the
 // original vertices merged into each surviving vertex and the original triangles of each
@@ -1426,7 +1423,7 @@ Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ances
   // (a BVH query each) when the input is small enough for that to be cheap; otherwise among the
   // original vertices of v's neighbourhood (an ancestor can be closest to a triangle farther
   // away, mostly after topology changes, so this misses a few).
-  const bool exact = nv <= ExactScreeningLimit;
+  const bool exact = nv <= this->Options.FitExactAssignmentLimit;
   std::vector<Index> assignedStart, assigned;
   if (exact)
   {

@@ -77,6 +77,10 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // triangle centroids to the output along its normals, closest points held fixed, two sweeps).
   // It lowers the mean distance; connectivity and records are unchanged.
   bool FitToOriginal = true;
+  // Up to this many input vertices the fit assigns every original vertex to its closest output
+  // triangle (one BVH query each) to know exactly whom a move can affect; above, it watches the
+  // original vertices of the moved vertex's neighbourhood (cheaper, may miss a few).
+  Index FitExactAssignmentLimit = 300000;
   // Record every collapse for progressive meshes (CollapseHistory).
   bool RecordHistory = false;
   // Called about every 1% of the work with the fraction done; return false to abort.
