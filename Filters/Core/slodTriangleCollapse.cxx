@@ -347,33 +347,42 @@ void TriangleCollapser::InitializeQuadrics()
     addPlane(Quadric::FromPointNormal(a, n, area), area, tri, 3);
   }
   // Boundary planes (§2.3): through the boundary edge, perpendicular to its triangle, weighted
-  // by the squared edge length (same units as the areas) times the user weight.
+  // by the squared edge length (same units as the areas) times the user weight. An edge (u, v) is
+  // on the border when v is a neighbour of u through one triangle only; each border edge is met
+  // once, from its tail u in its triangle's order (the fan of u is read twice instead of walking
+  // it for every edge).
   this->Boundary.assign(size_t(nv), 0);
+  std::vector<Index> around;
+  for (Index u = 0; u < nv; ++u)
   {
-    for (Index t = 0; t < nt; ++t)
-    {
+    around.clear();
+    this->Mesh.ForEachTriangle(u, [&](Index t) {
       const Index* tri = this->Mesh.Triangle(t);
-      for (int k = 0; k < 3; ++k)
+      const int k = tri[0] == u ? 0 : (tri[1] == u ? 1 : 2);
+      around.push_back(tri[(k + 1) % 3]);
+      around.push_back(tri[(k + 2) % 3]);
+    });
+    this->Mesh.ForEachTriangle(u, [&](Index t) {
+      const Index* tri = this->Mesh.Triangle(t);
+      const int k = tri[0] == u ? 0 : (tri[1] == u ? 1 : 2);
+      const Index v = tri[(k + 1) % 3];
+      if (std::count(around.begin(), around.end(), v) != 1)
       {
-        const Index u = tri[k], v = tri[(k + 1) % 3];
-        if (this->Mesh.EdgeTriangleCount(u, v) != 1)
-        {
-          continue;
-        }
-        this->Boundary[u] = this->Boundary[v] = 1;
-        const Vec3 pu = this->Local(u), pv = this->Local(v);
-        const Vec3 e = pv - pu;
-        const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
-        const Vec3 n = Normalized(Cross(e, tn));
-        const double w = this->Options.BoundaryWeight * Dot(e, e);
-        if (!(w > 0))
-        {
-          continue;
-        }
-        const Index ends[2] = { u, v };
-        addPlane(Quadric::FromPointNormal(pu, n, w), 0.0, ends, 2);
+        return;
       }
-    }
+      this->Boundary[u] = this->Boundary[v] = 1;
+      const Vec3 pu = this->Local(u), pv = this->Local(v);
+      const Vec3 e = pv - pu;
+      const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
+      const Vec3 n = Normalized(Cross(e, tn));
+      const double w = this->Options.BoundaryWeight * Dot(e, e);
+      if (!(w > 0))
+      {
+        return;
+      }
+      const Index ends[2] = { u, v };
+      addPlane(Quadric::FromPointNormal(pu, n, w), 0.0, ends, 2);
+    });
   }
   if (exact)
   {
