@@ -244,17 +244,8 @@ public:
   }
   bool Contains(Index a, Index b) const
   {
-    const uint64_t key = Key(a, b);
-    size_t slot = this->Slot(key);
-    while (this->Keys[slot] != Empty)
-    {
-      if (this->Keys[slot] == key)
-      {
-        return true;
-      }
-      slot = (slot + 1) & (this->Keys.size() - 1);
-    }
-    return false;
+    Index ignored;
+    return this->Find(a, b, ignored);
   }
   // Value of (a,b) in `value` when present.
   bool Find(Index a, Index b, Index& value) const
@@ -1317,16 +1308,17 @@ void SpbmLevelGenerator::RunMerging(
       chainKept.erase(chainKept.begin() + std::ptrdiff_t(start));
     }
   };
-  // Dropping endpoint u between chains x and y keeps the chain within its tolerance: every
-  // vertex between the kept neighbours of u stays within epsilon of the new segment.
-  auto joinWithinTolerance = [&](Index x, Index y, Index u) {
+  // The chains x and y joined at their common endpoint u (dropped), and the kept vertices a < b
+  // that become the ends of the segment replacing u.
+  auto joinAround = [&](Index x, Index y, Index u, size_t& a, size_t& b) {
     chainPoints.clear();
     chainKept.clear();
     appendChain(x, otherEnd(x, u), false);
     const size_t joint = chainPoints.size() - 1;
     appendChain(y, u, true);
     chainKept[joint] = 0;
-    size_t a = joint, b = joint;
+    a = joint;
+    b = joint;
     while (!chainKept[a])
     {
       --a;
@@ -1335,6 +1327,12 @@ void SpbmLevelGenerator::RunMerging(
     {
       ++b;
     }
+  };
+  // Dropping endpoint u between chains x and y keeps the chain within its tolerance: every
+  // vertex between the kept neighbours of u stays within epsilon of the new segment.
+  auto joinWithinTolerance = [&](Index x, Index y, Index u) {
+    size_t a, b;
+    joinAround(x, y, u, a, b);
     const double tolerance = std::min(s.Tolerance[x], s.Tolerance[y]);
     for (size_t i = a + 1; i < b; ++i)
     {
@@ -1594,21 +1592,8 @@ void SpbmLevelGenerator::RunMerging(
     }, [&](Index x, Index y, Index u) {
       // Largest surface-weighted distance of the chain vertices between u's kept neighbours
       // from the segment that replaces them.
-      chainPoints.clear();
-      chainKept.clear();
-      appendChain(x, otherEnd(x, u), false);
-      const size_t joint = chainPoints.size() - 1;
-      appendChain(y, u, true);
-      chainKept[joint] = 0;
-      size_t a = joint, b = joint;
-      while (!chainKept[a])
-      {
-        --a;
-      }
-      while (!chainKept[b])
-      {
-        ++b;
-      }
+      size_t a, b;
+      joinAround(x, y, u, a, b);
       const Vec3 n1 = Normalized(s.Normal[s.Find(s.L[x])]), n2 = Normalized(s.Normal[s.Find(s.R[x])]);
       const double w2 = this->InPlaneWeight * this->InPlaneWeight;
       double worst = 0;
