@@ -360,6 +360,33 @@ struct SpbmLevelGenerator::State
     }
     return p;
   }
+  // Calls f(c) for every live chain that ends at endpoint e.
+  template <typename Functor>
+  void ForEndChains(Index e, Functor&& f) const
+  {
+    for (Index slot = this->EndHead[e]; slot != InvalidIndex; slot = this->EndSlotNext[slot])
+    {
+      const Index c = slot / 2;
+      if (this->Alive[c] && (slot % 2 == 0 ? this->A[c] : this->B[c]) == e)
+      {
+        f(c);
+      }
+    }
+  }
+  // The two chains ending at u, when exactly two do.
+  bool TwoChainsAt(Index u, Index (&pair)[2]) const
+  {
+    pair[0] = pair[1] = InvalidIndex;
+    int found = 0;
+    this->ForEndChains(u, [&](Index c) {
+      if (found < 2)
+      {
+        pair[found] = c;
+      }
+      ++found;
+    });
+    return found == 2;
+  }
   Index NextStamp()
   {
     if (++this->Stamp == std::numeric_limits<Index>::max())
@@ -877,16 +904,7 @@ void SpbmLevelGenerator::RunMerging(
       slot = next;
     }
   };
-  auto forEndChains = [&](Index e, auto&& f) {
-    for (Index slot = s.EndHead[e]; slot != InvalidIndex; slot = s.EndSlotNext[slot])
-    {
-      const Index c = slot / 2;
-      if (s.Alive[c] && (slot % 2 == 0 ? s.A[c] : s.B[c]) == e)
-      {
-        f(c);
-      }
-    }
-  };
+  auto forEndChains = [&](Index e, auto&& f) { s.ForEndChains(e, f); };
   auto spliceEndList = [&](Index from, Index to) {
     if (s.EndHead[from] == InvalidIndex)
     {
@@ -1349,20 +1367,13 @@ void SpbmLevelGenerator::RunMerging(
     {
       return;
     }
-    Index pair[2] = { InvalidIndex, InvalidIndex };
-    int found = 0;
-    forEndChains(u, [&](Index c) {
-      if (found < 2)
-      {
-        pair[found] = c;
-      }
-      ++found;
-    });
+    Index pair[2];
+    const bool two = s.TwoChainsAt(u, pair);
     auto joinable = [&](Index c) {
       return s.Alive[c] && !s.Locked[c] && s.R[c] != InvalidIndex && !s.Frozen[s.Find(s.L[c])] &&
         !s.Frozen[s.Find(s.R[c])];
     };
-    if (found != 2 || !joinable(pair[0]) || !joinable(pair[1]))
+    if (!two || !joinable(pair[0]) || !joinable(pair[1]))
     {
       return;
     }
@@ -1616,16 +1627,7 @@ void SpbmLevelGenerator::RemoveCheapest(const SpbmLevelParameters& parameters, S
   const Index ne = P.NumberOfEndpoints();
   const double infinite = std::numeric_limits<double>::infinity();
   auto point = [&](Index e) { return mesh.Point(P.EndpointVertex(e)); };
-  auto forEndChains = [&](Index e, auto&& f) {
-    for (Index slot = s.EndHead[e]; slot != InvalidIndex; slot = s.EndSlotNext[slot])
-    {
-      const Index c = slot / 2;
-      if (s.Alive[c] && (slot % 2 == 0 ? s.A[c] : s.B[c]) == e)
-      {
-        f(c);
-      }
-    }
-  };
+  auto forEndChains = [&](Index e, auto&& f) { s.ForEndChains(e, f); };
   auto movable = [&](Index c) {
     return s.Alive[c] && !s.Locked[c] && s.Interior[c] == 0 && s.R[c] != InvalidIndex &&
       s.Find(s.L[c]) != s.Find(s.R[c]) && !s.Frozen[s.Find(s.L[c])] && !s.Frozen[s.Find(s.R[c])];
@@ -1656,20 +1658,8 @@ void SpbmLevelGenerator::RemoveCheapest(const SpbmLevelParameters& parameters, S
     return cost;
   };
   auto joinCost = [&](Index u) {
-    if (s.Degree[u] != 2 || P.EndpointOnBorder(u))
-    {
-      return infinite;
-    }
-    Index pair[2] = { InvalidIndex, InvalidIndex };
-    int found = 0;
-    forEndChains(u, [&](Index c) {
-      if (found < 2)
-      {
-        pair[found] = c;
-      }
-      ++found;
-    });
-    if (found != 2 || s.Locked[pair[0]] || s.Locked[pair[1]] || s.R[pair[0]] == InvalidIndex ||
+    Index pair[2];
+    if (s.Degree[u] != 2 || P.EndpointOnBorder(u) || !s.TwoChainsAt(u, pair) || s.Locked[pair[0]] || s.Locked[pair[1]] || s.R[pair[0]] == InvalidIndex ||
       s.R[pair[1]] == InvalidIndex)
     {
       return infinite;
