@@ -120,7 +120,7 @@ constexpr int RefinementRounds = 4;
 constexpr double RefinementSumSlack = 1.05;
 // Candidates screened: a tenth of the output vertices (the quadric error that picks them is only
 // loosely tied to the distance), at most this many.
-constexpr size_t RefinementPoolLimit = 1000;
+constexpr size_t RefinementPoolLimit = 600;
 // The fit to the original surface: Gauss-Seidel sweeps, and the weight of the ridge term that
 // keeps vertices from sliding along the surface (relative to the data term's trace).
 constexpr int FitIterations = 2;
