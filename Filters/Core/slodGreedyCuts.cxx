@@ -118,6 +118,23 @@ bool TriangleWithinDistance(
   {
     return true; // every point of the piece is within R of g (1-Lipschitz distance)
   }
+  // The distance to one triangle of the surface is convex (distance to a convex set), so over
+  // the piece it is largest at a corner: corners within epsilon of the triangle closest to g prove
+  // the whole piece. Without this, a piece lying on the surface (a flat region) was subdivided
+  // until its radius fell below epsilon: 4^depth tests, minutes on a 72-triangle grid.
+  if (const TriangleMesh* mesh = bvh.GetMesh())
+  {
+    const Index* t = &mesh->Triangles[3 * size_t(hit.Triangle)];
+    const Vec3 p0 = mesh->Point(t[0]), p1 = mesh->Point(t[1]), p2 = mesh->Point(t[2]);
+    auto within = [&](const Vec3& x) {
+      const Vec3 e = x - ClosestPointOnTriangle(x, p0, p1, p2);
+      return Dot(e, e) <= epsilon * epsilon;
+    };
+    if (within(a) && within(b) && within(c))
+    {
+      return true;
+    }
+  }
   if (depth <= 0)
   {
     return false;

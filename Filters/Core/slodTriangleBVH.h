@@ -50,6 +50,8 @@ public:
   };
 
   const std::vector<Node>& GetNodes() const { return this->Nodes; }
+  // The mesh the tree was built on (nullptr before Build).
+  const TriangleMesh* GetMesh() const { return this->Mesh; }
   // Triangle ids in leaf order.
   const std::vector<Index>& GetOrder() const { return this->Order; }
   int GetDepth() const { return this->Depth; }
