@@ -147,15 +147,24 @@ FuzzCase MakeCase(unsigned seed)
 struct FilterUnderTest
 {
   const char* Name;
-  std::function<vtkSmartPointer<vtkPolyDataAlgorithm>()> Make;
+  std::function<vtkSmartPointer<vtkPolyDataAlgorithm>(unsigned)> Make;
 };
 
+// Seeds alternate between a reduction of a half and extreme targets (1 or 4 triangles).
 template <typename Filter>
 FilterUnderTest Simplifier(const char* name)
 {
-  return { name, [] {
+  return { name, [](unsigned seed) {
             vtkSmartPointer<Filter> filter = vtkSmartPointer<Filter>::New();
-            filter->SetTargetReduction(0.5);
+            if (seed % 3 == 0)
+            {
+              filter->SetTargetNumberOfTriangles(seed % 2 ? 1 : 4);
+              filter->SetTargetReduction(0);
+            }
+            else
+            {
+              filter->SetTargetReduction(0.5);
+            }
             return vtkSmartPointer<vtkPolyDataAlgorithm>(filter);
           } };
 }
@@ -183,7 +192,7 @@ TEST(RobustnessFuzz, EveryFilterGivesADefinedOutputOnCorruptedInput)
     for (const auto& f : filters)
     {
       SCOPED_TRACE(std::string(f.Name) + " on " + c.Description);
-      vtkSmartPointer<vtkPolyDataAlgorithm> filter = f.Make();
+      vtkSmartPointer<vtkPolyDataAlgorithm> filter = f.Make(seed);
       vtkNew<Messages> messages;
       filter->AddObserver(vtkCommand::ErrorEvent, messages);
       filter->AddObserver(vtkCommand::WarningEvent, messages);
