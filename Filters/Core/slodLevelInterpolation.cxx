@@ -1,0 +1,659 @@
+#include "slodLevelInterpolation.h"
+
+#include "slodMeshTopology.h"
+#include "slodTriangleBVH.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace slod
+{
+namespace
+{
+// A point of the low-detail surface: on a vertex, on an edge, or inside a triangle.
+struct SurfaceLocation
+{
+  Vec3 Point{ 0, 0, 0 };
+  Index Triangle = InvalidIndex;
+  Index Vertex = InvalidIndex;
+  Index Edge = InvalidIndex;
+};
+
+struct Crossing
+{
+  Index Edge;   // low-detail edge crossed
+  Vec3 Point;   // on that edge
+  double Along; // path length from the start to here
+};
+
+// Barycentric coordinates of p (projected into the triangle's plane), least squares.
+void Barycentric(const TriangleMesh& mesh, Index t, const Vec3& p, double b[3], bool direction)
+{
+  const Index* tri = mesh.Triangle(t);
+  const Vec3 v0 = mesh.Point(tri[0]);
+  const Vec3 e1 = mesh.Point(tri[1]) - v0;
+  const Vec3 e2 = mesh.Point(tri[2]) - v0;
+  const Vec3 w = direction ? p : p - v0;
+  const double d11 = Dot(e1, e1), d12 = Dot(e1, e2), d22 = Dot(e2, e2);
+  const double r1 = Dot(w, e1), r2 = Dot(w, e2);
+  const double det = d11 * d22 - d12 * d12;
+  if (!(std::abs(det) > 0))
+  {
+    b[0] = b[1] = b[2] = direction ? 0.0 : 1.0 / 3.0;
+    return;
+  }
+  b[1] = (d22 * r1 - d12 * r2) / det;
+  b[2] = (d11 * r2 - d12 * r1) / det;
+  b[0] = (direction ? 0.0 : 1.0) - b[1] - b[2];
+}
+
+Vec3 FromBarycentric(const TriangleMesh& mesh, Index t, const double b[3])
+{
+  const Index* tri = mesh.Triangle(t);
+  return b[0] * mesh.Point(tri[0]) + b[1] * mesh.Point(tri[1]) + b[2] * mesh.Point(tri[2]);
+}
+
+class LowSurface
+{
+public:
+  LowSurface(const TriangleMesh& mesh)
+    : Mesh(mesh)
+    , Topology(mesh)
+  {
+  }
+
+  // The triangles a location belongs to (several on an edge or a vertex).
+  void Containing(const SurfaceLocation& loc, std::vector<Index>& out) const
+  {
+    out.clear();
+    if (loc.Vertex != InvalidIndex)
+    {
+      out.assign(this->Topology.VertexTrianglesBegin(loc.Vertex), this->Topology.VertexTrianglesEnd(loc.Vertex));
+    }
+    else if (loc.Edge != InvalidIndex)
+    {
+      out.assign(this->Topology.EdgeTrianglesBegin(loc.Edge), this->Topology.EdgeTrianglesEnd(loc.Edge));
+    }
+    else
+    {
+      out.push_back(loc.Triangle);
+    }
+  }
+
+  // Location of a point known to lie in triangle t (within rounding): snapped to an edge or a
+  // vertex when a barycentric coordinate is (relatively) zero.
+  SurfaceLocation Locate(Index t, const Vec3& p) const
+  {
+    const double snap = 1e-9;
+    double b[3];
+    Barycentric(this->Mesh, t, p, b, false);
+    int small = 0;
+    for (double& x : b)
+    {
+      if (x < snap)
+      {
+        x = 0;
+        ++small;
+      }
+    }
+    const double sum = b[0] + b[1] + b[2];
+    for (double& x : b)
+    {
+      x /= sum;
+    }
+    SurfaceLocation loc;
+    loc.Triangle = t;
+    const Index* tri = this->Mesh.Triangle(t);
+    if (small >= 2)
+    {
+      const int k = b[0] > 0.5 ? 0 : (b[1] > 0.5 ? 1 : 2);
+      loc.Vertex = tri[k];
+      loc.Point = this->Mesh.Point(tri[k]);
+      return loc;
+    }
+    if (small == 1)
+    {
+      const int opposite = b[0] == 0 ? 0 : (b[1] == 0 ? 1 : 2);
+      loc.Edge = this->Topology.TriangleEdge(t, (opposite + 1) % 3);
+    }
+    loc.Point = FromBarycentric(this->Mesh, t, b);
+    return loc;
+  }
+
+  // Walks from `from` to `to` on the surface; appends the crossed low edges in order. Returns the
+  // path length, or -1 when the walk fails.
+  double Trace(const SurfaceLocation& from, const SurfaceLocation& to, std::vector<Crossing>& crossings,
+    std::vector<Index>& scratchA, std::vector<Index>& scratchB) const
+  {
+    std::vector<Index>& startSet = scratchA;
+    std::vector<Index>& targetSet = scratchB;
+    this->Containing(from, startSet);
+    this->Containing(to, targetSet);
+    auto inTarget = [&](Index t) { return std::find(targetSet.begin(), targetSet.end(), t) != targetSet.end(); };
+    for (Index t : startSet)
+    {
+      if (inTarget(t))
+      {
+        return Norm(to.Point - from.Point);
+      }
+    }
+    // Start triangle: the one the direction to the target enters.
+    Index current = InvalidIndex;
+    double lambda[3] = { 0, 0, 0 };
+    double bestScore = -HUGE_VAL;
+    for (Index t : startSet)
+    {
+      double b[3], d[3];
+      Barycentric(this->Mesh, t, from.Point, b, false);
+      Barycentric(this->Mesh, t, to.Point - from.Point, d, true);
+      const double scale = std::max({ std::abs(d[0]), std::abs(d[1]), std::abs(d[2]) });
+      double score = HUGE_VAL;
+      for (int i = 0; i < 3; ++i)
+      {
+        if (b[i] < 1e-9)
+        {
+          score = std::min(score, d[i] / (scale > 0 ? scale : 1.0));
+        }
+      }
+      if (score > bestScore)
+      {
+        bestScore = score;
+        current = t;
+        std::copy(b, b + 3, lambda);
+      }
+    }
+    Vec3 point = from.Point;
+    double length = 0;
+    const size_t firstCrossing = crossings.size();
+    const int maxSteps = 4096;
+    for (int step = 0; step < maxSteps; ++step)
+    {
+      double d[3];
+      Barycentric(this->Mesh, current, to.Point - point, d, true);
+      int exitCorner = -1;
+      double exitT = HUGE_VAL;
+      for (int i = 0; i < 3; ++i)
+      {
+        if (d[i] < 0 && lambda[i] > 1e-12)
+        {
+          const double t = lambda[i] / -d[i];
+          if (t < exitT)
+          {
+            exitT = t;
+            exitCorner = i;
+          }
+        }
+      }
+      if (exitCorner < 0)
+      {
+        break;
+      }
+      // Exit point on the edge opposite exitCorner, as a parameter along that edge.
+      const int k = (exitCorner + 1) % 3; // edge k joins corners k and k+1
+      const int k1 = (k + 1) % 3;
+      double a = lambda[k] + exitT * d[k];
+      double c = lambda[k1] + exitT * d[k1];
+      a = std::max(a, 0.0);
+      c = std::max(c, 0.0);
+      const double s = (a + c) > 0 ? c / (a + c) : 0.5; // 0 at corner k, 1 at corner k+1
+      const Index* tri = this->Mesh.Triangle(current);
+      const Index u = tri[k], w = tri[k1];
+      const Vec3 exitPoint = (1 - s) * this->Mesh.Point(u) + s * this->Mesh.Point(w);
+      length += Norm(exitPoint - point);
+      const Index edge = this->Topology.TriangleEdge(current, k);
+      crossings.push_back({ edge, exitPoint, length });
+      const Index next = this->Topology.EdgeNeighbor(current, k);
+      if (next == InvalidIndex)
+      {
+        break;
+      }
+      if (inTarget(next))
+      {
+        return length + Norm(to.Point - exitPoint);
+      }
+      const Index* ntri = this->Mesh.Triangle(next);
+      for (int i = 0; i < 3; ++i)
+      {
+        lambda[i] = ntri[i] == u ? 1 - s : (ntri[i] == w ? s : 0.0);
+      }
+      current = next;
+      point = exitPoint;
+    }
+    crossings.resize(firstCrossing);
+    return -1;
+  }
+
+  const TriangleMesh& Mesh;
+  MeshTopology Topology;
+};
+
+struct PointKey
+{
+  double X, Y, Z;
+  bool operator==(const PointKey& o) const { return X == o.X && Y == o.Y && Z == o.Z; }
+};
+struct PointKeyHash
+{
+  size_t operator()(const PointKey& k) const
+  {
+    const std::hash<double> h;
+    size_t s = h(k.X);
+    s ^= h(k.Y) + 0x9e3779b97f4a7c15ULL + (s << 6) + (s >> 2);
+    s ^= h(k.Z) + 0x9e3779b97f4a7c15ULL + (s << 6) + (s >> 2);
+    return s;
+  }
+};
+
+// One point of a high triangle's boundary: a corner or a crossing.
+struct BoundaryEvent
+{
+  Index Vertex;    // output vertex
+  Index LowVertex; // corner flattened onto a low vertex, else InvalidIndex
+  Index LowEdge;   // crossing: the low edge, else InvalidIndex
+  Index OnEdge;    // corner flattened onto a low edge (inside it), else InvalidIndex
+};
+// Inserts a new high vertex at the closest point of `high` to q (splitting the triangle, or the edge
+// it lands on, or reusing a vertex it lands on); the new vertex is tied to low vertex `lowVertex`.
+void InsertVertex(TriangleMesh& high, std::vector<Index>& parent, const Vec3& q, std::vector<Index>& lowVertexOf,
+  Index lowVertex)
+{
+  const TriangleBVH bvh(high);
+  const ClosestPointResult closest = bvh.ClosestPoint(q);
+  const Index t = closest.Triangle;
+  double b[3];
+  Barycentric(high, t, closest.Point, b, false);
+  Index tri[3] = { high.Triangle(t)[0], high.Triangle(t)[1], high.Triangle(t)[2] };
+  int small = 0, opposite = -1, big = 0;
+  for (int i = 0; i < 3; ++i)
+  {
+    if (b[i] < 1e-9)
+    {
+      ++small;
+      opposite = i;
+    }
+    if (b[i] > b[big])
+    {
+      big = i;
+    }
+  }
+  if (small >= 2 && lowVertexOf[tri[big]] == InvalidIndex)
+  {
+    lowVertexOf[tri[big]] = lowVertex; // lands on a high-only vertex: that one is flattened onto q
+    return;
+  }
+  const Index p = high.AddPoint(closest.Point);
+  lowVertexOf.push_back(lowVertex);
+  auto replace = [&](Index triangle, Index a, Index c, Index d) {
+    Index* x = &high.Triangles[3 * static_cast<size_t>(triangle)];
+    x[0] = a;
+    x[1] = c;
+    x[2] = d;
+  };
+  if (small == 1)
+  {
+    // Split edge (u, w) opposite corner `opposite` in t and in the triangle across it.
+    const Index u = tri[(opposite + 1) % 3], w = tri[(opposite + 2) % 3];
+    for (Index s = 0; s < high.NumberOfTriangles(); ++s)
+    {
+      const Index* x = high.Triangle(s);
+      for (int k = 0; k < 3 && s != t; ++k)
+      {
+        if (x[k] == w && x[(k + 1) % 3] == u)
+        {
+          const Index d = x[(k + 2) % 3];
+          replace(s, w, p, d);
+          high.AddTriangle(p, u, d);
+          parent.push_back(parent[s]);
+          break;
+        }
+      }
+    }
+    replace(t, tri[opposite], u, p);
+    high.AddTriangle(tri[opposite], p, w);
+    parent.push_back(parent[t]);
+    return;
+  }
+  replace(t, tri[0], tri[1], p);
+  high.AddTriangle(tri[1], tri[2], p);
+  high.AddTriangle(tri[2], tri[0], p);
+  parent.push_back(parent[t]);
+  parent.push_back(parent[t]);
+}
+
+} // namespace
+
+void LevelInterpolation::Evaluate(double t, TriangleMesh& mesh) const
+{
+  mesh.Points.resize(this->LowPositions.size());
+  for (size_t i = 0; i < this->LowPositions.size(); ++i)
+  {
+    mesh.Points[i] = (1 - t) * this->LowPositions[i] + t * this->HighPositions[i];
+  }
+  mesh.Triangles = this->Triangles;
+}
+
+void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, LevelInterpolation& result)
+{
+  result = LevelInterpolation();
+  if (highInput.NumberOfTriangles() == 0 || low.NumberOfTriangles() == 0)
+  {
+    result.Error = "both levels need triangles";
+    return;
+  }
+  // Stage 1: which high vertices are low vertices (nesting), and the flattened location of every vertex.
+  TriangleMesh high = highInput;
+  std::vector<Index> parent(static_cast<size_t>(high.NumberOfTriangles()));
+  for (Index t = 0; t < high.NumberOfTriangles(); ++t)
+  {
+    parent[t] = t;
+  }
+  std::unordered_map<PointKey, Index, PointKeyHash> highVertexAt;
+  highVertexAt.reserve(static_cast<size_t>(high.NumberOfPoints()));
+  for (Index v = 0; v < high.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = high.Point(v);
+    highVertexAt.emplace(PointKey{ p[0], p[1], p[2] }, v);
+  }
+  std::vector<Index> lowVertexOf(static_cast<size_t>(high.NumberOfPoints()), InvalidIndex);
+  std::vector<char> lowUsed(static_cast<size_t>(low.NumberOfPoints()), 0);
+  for (Index t : low.Triangles)
+  {
+    lowUsed[t] = 1;
+  }
+  std::vector<Index> missing;
+  Index usedLow = 0;
+  for (Index v = 0; v < low.NumberOfPoints(); ++v)
+  {
+    if (!lowUsed[v])
+    {
+      continue;
+    }
+    ++usedLow;
+    const Vec3 p = low.Point(v);
+    const auto it = highVertexAt.find(PointKey{ p[0], p[1], p[2] });
+    if (it == highVertexAt.end() || lowVertexOf[it->second] != InvalidIndex)
+    {
+      missing.push_back(v);
+    }
+    else
+    {
+      lowVertexOf[it->second] = v;
+    }
+  }
+  // A few low vertices missing from the high level (vtkRetile moves a candidate onto an old vertex
+  // as a last resort, which breaks the nesting there) are inserted into the high level at their
+  // closest point on it: the high shape is unchanged and the levels become nested. Mostly
+  // unrelated meshes are an error.
+  if (2 * static_cast<size_t>(missing.size()) > static_cast<size_t>(usedLow))
+  {
+    result.Error = "the levels are not nested: " + std::to_string(missing.size()) + " of the " +
+      std::to_string(usedLow) + " low-detail vertices are not vertices of the high-detail level";
+    return;
+  }
+  for (Index v : missing)
+  {
+    InsertVertex(high, parent, low.Point(v), lowVertexOf, v);
+  }
+  result.InsertedVertices = static_cast<Index>(missing.size());
+  const Index nHigh = high.NumberOfPoints();
+
+  LowSurface surface(low);
+  for (Index e = 0; e < surface.Topology.NumberOfEdges(); ++e)
+  {
+    if (surface.Topology.IsNonManifoldEdge(e))
+    {
+      result.Error = "the low-detail level has non-manifold edges";
+      return;
+    }
+  }
+  TriangleBVH bvh(low);
+  std::vector<SurfaceLocation> flat(static_cast<size_t>(nHigh));
+  for (Index v = 0; v < nHigh; ++v)
+  {
+    SurfaceLocation& loc = flat[v];
+    if (lowVertexOf[v] != InvalidIndex)
+    {
+      loc.Vertex = lowVertexOf[v];
+      loc.Point = low.Point(loc.Vertex);
+      loc.Triangle = *surface.Topology.VertexTrianglesBegin(loc.Vertex);
+      ++result.SharedVertices;
+    }
+    else
+    {
+      const ClosestPointResult closest = bvh.ClosestPoint(high.Point(v));
+      loc = surface.Locate(closest.Triangle, closest.Point);
+      ++result.FlattenedVertices;
+    }
+  }
+
+  // Stage 2: the path of every high edge on the low surface (from its lower-numbered vertex).
+  MeshTopology highTopology(high);
+  const Index nEdges = highTopology.NumberOfEdges();
+  std::vector<Index> crossingOffset(static_cast<size_t>(nEdges) + 1, 0);
+  std::vector<Crossing> crossings;
+  std::vector<double> pathLength(static_cast<size_t>(nEdges), 0);
+  std::vector<Index> scratchA, scratchB;
+  for (Index e = 0; e < nEdges; ++e)
+  {
+    const Index u = highTopology.EdgeVertex(e, 0), w = highTopology.EdgeVertex(e, 1);
+    const double length = surface.Trace(flat[u], flat[w], crossings, scratchA, scratchB);
+    if (length < 0)
+    {
+      ++result.UntracedEdges;
+    }
+    pathLength[e] = length;
+    crossingOffset[e + 1] = static_cast<Index>(crossings.size());
+  }
+  result.Crossings = static_cast<Index>(crossings.size());
+
+  // Output vertices: high vertices, then crossings (a crossing at fraction f of the path sits at
+  // fraction f of the high edge).
+  const size_t nOut = static_cast<size_t>(nHigh) + crossings.size();
+  result.LowPositions.resize(3 * nOut);
+  result.HighPositions.resize(3 * nOut);
+  auto store = [&](size_t i, const Vec3& lowP, const Vec3& highP) {
+    std::copy(lowP.begin(), lowP.end(), result.LowPositions.begin() + 3 * i);
+    std::copy(highP.begin(), highP.end(), result.HighPositions.begin() + 3 * i);
+  };
+  for (Index v = 0; v < nHigh; ++v)
+  {
+    store(v, flat[v].Point, high.Point(v));
+  }
+  for (Index e = 0; e < nEdges; ++e)
+  {
+    const Vec3 a = high.Point(highTopology.EdgeVertex(e, 0));
+    const Vec3 b = high.Point(highTopology.EdgeVertex(e, 1));
+    for (Index c = crossingOffset[e]; c < crossingOffset[e + 1]; ++c)
+    {
+      const double f = pathLength[e] > 0 ? std::min(1.0, crossings[c].Along / pathLength[e]) : 0.5;
+      store(static_cast<size_t>(nHigh) + c, crossings[c].Point, (1 - f) * a + f * b);
+    }
+  }
+
+  // Stage 3: cut each high triangle along the chords (low edges) and fan-triangulate the fragments.
+  std::vector<BoundaryEvent> events;
+  std::vector<std::pair<int, int>> chords;
+  std::vector<std::vector<int>> stack;
+  std::vector<Index> common, set, ring;
+  auto pointOf = [](const std::vector<double>& xyz, Index v) {
+    const double* p = &xyz[3 * static_cast<size_t>(v)];
+    return Vec3{ p[0], p[1], p[2] };
+  };
+  for (Index t = 0; t < high.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = high.Triangle(t);
+    events.clear();
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index a = tri[k];
+      events.push_back({ a, flat[a].Vertex, InvalidIndex, flat[a].Edge });
+      const Index e = highTopology.TriangleEdge(t, k);
+      const Index first = crossingOffset[e], last = crossingOffset[e + 1];
+      if (highTopology.EdgeVertex(e, 0) == a)
+      {
+        for (Index c = first; c < last; ++c)
+        {
+          events.push_back({ nHigh + c, InvalidIndex, crossings[c].Edge, InvalidIndex });
+        }
+      }
+      else
+      {
+        for (Index c = last - 1; c >= first; --c)
+        {
+          events.push_back({ nHigh + c, InvalidIndex, crossings[c].Edge, InvalidIndex });
+        }
+      }
+    }
+    const int n = static_cast<int>(events.size());
+    // Chords: crossings of the same low edge in boundary order, paired two by two; a lone crossing
+    // pairs with the corner that is an end of its low edge.
+    chords.clear();
+    std::vector<char> paired(static_cast<size_t>(n), 0);
+    for (int i = 0; i < n; ++i)
+    {
+      if (events[i].LowEdge == InvalidIndex || paired[i])
+      {
+        continue;
+      }
+      int partner = -1;
+      for (int j = i + 1; j < n && partner < 0; ++j)
+      {
+        if (!paired[j] && events[j].LowEdge == events[i].LowEdge)
+        {
+          partner = j;
+        }
+      }
+      if (partner < 0)
+      {
+        const Index e = events[i].LowEdge;
+        const Index u = surface.Topology.EdgeVertex(e, 0), w = surface.Topology.EdgeVertex(e, 1);
+        for (int j = 0; j < n && partner < 0; ++j)
+        {
+          if ((events[j].LowVertex != InvalidIndex && (events[j].LowVertex == u || events[j].LowVertex == w)) ||
+            events[j].OnEdge == e)
+          {
+            partner = j;
+          }
+        }
+      }
+      paired[i] = 1;
+      if (partner >= 0)
+      {
+        if (events[partner].LowEdge != InvalidIndex)
+        {
+          paired[partner] = 1;
+        }
+        chords.emplace_back(std::min(i, partner), std::max(i, partner));
+      }
+    }
+    // Recursive split of the boundary polygon by the chords.
+    stack.clear();
+    stack.emplace_back();
+    for (int i = 0; i < n; ++i)
+    {
+      stack.back().push_back(i);
+    }
+    while (!stack.empty())
+    {
+      std::vector<int> polygon = std::move(stack.back());
+      stack.pop_back();
+      const int m = static_cast<int>(polygon.size());
+      bool split = false;
+      for (const auto& chord : chords)
+      {
+        const auto pi = std::find(polygon.begin(), polygon.end(), chord.first);
+        const auto pj = std::find(polygon.begin(), polygon.end(), chord.second);
+        if (pi == polygon.end() || pj == polygon.end())
+        {
+          continue;
+        }
+        const int i = static_cast<int>(pi - polygon.begin()), j = static_cast<int>(pj - polygon.begin());
+        const int gap = std::abs(i - j);
+        if (gap <= 1 || gap >= m - 1)
+        {
+          continue; // already an edge of this polygon
+        }
+        const int lo = std::min(i, j), hi = std::max(i, j);
+        std::vector<int> inner(polygon.begin() + lo, polygon.begin() + hi + 1);
+        std::vector<int> outer(polygon.begin(), polygon.begin() + lo + 1);
+        outer.insert(outer.end(), polygon.begin() + hi, polygon.end());
+        stack.push_back(std::move(inner));
+        stack.push_back(std::move(outer));
+        split = true;
+        break;
+      }
+      if (split)
+      {
+        continue;
+      }
+      // A final fragment: find the low triangle holding all its vertices.
+      Index lowTriangle = InvalidIndex;
+      for (int k = 0; k < m; ++k)
+      {
+        const BoundaryEvent& ev = events[polygon[k]];
+        if (ev.LowEdge != InvalidIndex)
+        {
+          set.assign(surface.Topology.EdgeTrianglesBegin(ev.LowEdge), surface.Topology.EdgeTrianglesEnd(ev.LowEdge));
+        }
+        else
+        {
+          surface.Containing(flat[ev.Vertex], set);
+        }
+        if (k == 0)
+        {
+          common = set;
+        }
+        else
+        {
+          common.erase(std::remove_if(common.begin(), common.end(),
+                         [&](Index x) { return std::find(set.begin(), set.end(), x) == set.end(); }),
+            common.end());
+        }
+      }
+      if (common.empty())
+      {
+        ++result.InconsistentFragments;
+      }
+      else
+      {
+        lowTriangle = common.front();
+      }
+      const Index fragment = result.Fragments++;
+      // The fragment is convex on the high triangle but has collinear vertices (crossings on its
+      // sides), so no fixed fan works: clip the best-shaped ear (smallest angle at both ends) first.
+      ring.clear();
+      for (int k = 0; k < m; ++k)
+      {
+        ring.push_back(events[polygon[k]].Vertex);
+      }
+      while (ring.size() >= 3)
+      {
+        const size_t r = ring.size();
+        size_t best = 0;
+        double bestAngle = -1;
+        for (size_t k = 0; k < r && r > 3; ++k)
+        {
+          const Index p = ring[(k + r - 1) % r], q = ring[k], s = ring[(k + 1) % r];
+          const double angle = std::min(MinimumAngle(pointOf(result.HighPositions, p), pointOf(result.HighPositions, q),
+                                          pointOf(result.HighPositions, s)),
+            MinimumAngle(pointOf(result.LowPositions, p), pointOf(result.LowPositions, q), pointOf(result.LowPositions, s)));
+          if (angle > bestAngle)
+          {
+            bestAngle = angle;
+            best = k;
+          }
+        }
+        result.Triangles.push_back(ring[(best + r - 1) % r]);
+        result.Triangles.push_back(ring[best]);
+        result.Triangles.push_back(ring[(best + 1) % r]);
+        result.HighTriangle.push_back(parent[t]);
+        result.LowTriangle.push_back(lowTriangle);
+        result.Fragment.push_back(fragment);
+        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(best));
+      }
+    }
+  }
+  result.Valid = true;
+}
+} // namespace slod
