@@ -167,8 +167,77 @@ public:
     double length = 0;
     const size_t firstCrossing = crossings.size();
     const int maxSteps = 4096;
+    Index atVertex = from.Vertex;
     for (int step = 0; step < maxSteps; ++step)
     {
+      if (atVertex == InvalidIndex)
+      {
+        int zeros = 0, corner = 0;
+        for (int i = 0; i < 3; ++i)
+        {
+          zeros += lambda[i] <= 1e-12 ? 1 : 0;
+          corner = lambda[i] > lambda[corner] ? i : corner;
+        }
+        if (zeros >= 2)
+        {
+          atVertex = this->Mesh.Triangle(current)[corner];
+        }
+      }
+      if (atVertex != InvalidIndex)
+      {
+        // On a low vertex the straight direction is ill-defined (the angles around it need not add
+        // up to 360 degrees): leave through the opposite edge of the incident triangle that comes
+        // closest to the target, a little away from that edge's ends.
+        double best = HUGE_VAL, bestS = 0.5;
+        Index bestTriangle = InvalidIndex;
+        int bestEdge = 0;
+        for (const Index* c = this->Topology.VertexTrianglesBegin(atVertex);
+             c != this->Topology.VertexTrianglesEnd(atVertex); ++c)
+        {
+          if (inTarget(*c))
+          {
+            return length + Norm(to.Point - point);
+          }
+          const Index* tri = this->Mesh.Triangle(*c);
+          const int k = tri[0] == atVertex ? 1 : (tri[1] == atVertex ? 2 : 0); // opposite edge: corners k, k+1
+          const Vec3 y = this->Mesh.Point(tri[k]), z = this->Mesh.Point(tri[(k + 1) % 3]);
+          const Vec3 yz = z - y;
+          const double yz2 = Dot(yz, yz);
+          double sParam = yz2 > 0 ? Dot(to.Point - y, yz) / yz2 : 0.5;
+          sParam = std::min(1 - 1e-6, std::max(1e-6, sParam));
+          const double dist = Norm(to.Point - (y + sParam * yz));
+          if (dist < best)
+          {
+            best = dist;
+            bestS = sParam;
+            bestTriangle = *c;
+            bestEdge = k;
+          }
+        }
+        const Index* tri = this->Mesh.Triangle(bestTriangle);
+        const Index u = tri[bestEdge], w = tri[(bestEdge + 1) % 3];
+        const Vec3 exitPoint = (1 - bestS) * this->Mesh.Point(u) + bestS * this->Mesh.Point(w);
+        length += Norm(exitPoint - point);
+        crossings.push_back({ this->Topology.TriangleEdge(bestTriangle, bestEdge), exitPoint, length });
+        const Index next = this->Topology.EdgeNeighbor(bestTriangle, bestEdge);
+        if (next == InvalidIndex)
+        {
+          break;
+        }
+        if (inTarget(next))
+        {
+          return length + Norm(to.Point - exitPoint);
+        }
+        const Index* ntri = this->Mesh.Triangle(next);
+        for (int i = 0; i < 3; ++i)
+        {
+          lambda[i] = ntri[i] == u ? 1 - bestS : (ntri[i] == w ? bestS : 0.0);
+        }
+        current = next;
+        point = exitPoint;
+        atVertex = InvalidIndex;
+        continue;
+      }
       double d[3];
       Barycentric(this->Mesh, current, to.Point - point, d, true);
       int exitCorner = -1;
@@ -185,19 +254,48 @@ public:
           }
         }
       }
-      if (exitCorner < 0)
-      {
-        break;
-      }
-      // Exit point on the edge opposite exitCorner, as a parameter along that edge.
-      const int k = (exitCorner + 1) % 3; // edge k joins corners k and k+1
-      const int k1 = (k + 1) % 3;
-      double a = lambda[k] + exitT * d[k];
-      double c = lambda[k1] + exitT * d[k1];
-      a = std::max(a, 0.0);
-      c = std::max(c, 0.0);
-      const double s = (a + c) > 0 ? c / (a + c) : 0.5; // 0 at corner k, 1 at corner k+1
       const Index* tri = this->Mesh.Triangle(current);
+      int k = 0;
+      double s = 0.5; // exit at this fraction of edge k (0 at corner k, 1 at corner k+1)
+      if (exitCorner >= 0)
+      {
+        k = (exitCorner + 1) % 3; // edge k joins corners k and k+1, opposite exitCorner
+        const int k1 = (k + 1) % 3;
+        const double a = std::max(lambda[k] + exitT * d[k], 0.0);
+        const double c = std::max(lambda[k1] + exitT * d[k1], 0.0);
+        s = (a + c) > 0 ? c / (a + c) : 0.5;
+      }
+      else
+      {
+        // The target lies back across the edge we came in by (a sharp fold between the two
+        // triangles): leave through the other edge point closest to the target instead, a little
+        // away from the corners so that the path does not run through a low vertex.
+        double best = HUGE_VAL;
+        for (int e = 0; e < 3; ++e)
+        {
+          const int opposite = (e + 2) % 3;
+          if (lambda[opposite] <= 1e-12)
+          {
+            continue; // the edge the point is on
+          }
+          const Vec3 y = this->Mesh.Point(tri[e]), yz = this->Mesh.Point(tri[(e + 1) % 3]) - y;
+          const double yz2 = Dot(yz, yz);
+          double sParam = yz2 > 0 ? Dot(to.Point - y, yz) / yz2 : 0.5;
+          sParam = std::min(1 - 1e-6, std::max(1e-6, sParam));
+          const double dist = Norm(to.Point - (y + sParam * yz));
+          if (dist < best)
+          {
+            best = dist;
+            k = e;
+            s = sParam;
+          }
+        }
+        if (!(best < HUGE_VAL))
+        {
+          break;
+        }
+      }
+      const int k1 = (k + 1) % 3;
       const Index u = tri[k], w = tri[k1];
       const Vec3 exitPoint = (1 - s) * this->Mesh.Point(u) + s * this->Mesh.Point(w);
       length += Norm(exitPoint - point);
@@ -252,6 +350,7 @@ struct BoundaryEvent
   Index LowVertex; // corner flattened onto a low vertex, else InvalidIndex
   Index LowEdge;   // crossing: the low edge, else InvalidIndex
   Index OnEdge;    // corner flattened onto a low edge (inside it), else InvalidIndex
+  int Sides;       // bit k: on edge k of the high triangle (corner k is on edges k and k-1)
 };
 // Inserts a new high vertex at the closest point of `high` to q (splitting the triangle, or the edge
 // it lands on, or reusing a vertex it lands on); the new vertex is tied to low vertex `lowVertex`.
@@ -475,7 +574,8 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
   std::vector<BoundaryEvent> events;
   std::vector<std::pair<int, int>> chords;
   std::vector<std::vector<int>> stack;
-  std::vector<Index> common, set, ring;
+  std::vector<Index> common, set, ring, centerOf;
+  std::vector<int> lone, ringSides;
   auto pointOf = [](const std::vector<double>& xyz, Index v) {
     const double* p = &xyz[3 * static_cast<size_t>(v)];
     return Vec3{ p[0], p[1], p[2] };
@@ -487,21 +587,21 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
     for (int k = 0; k < 3; ++k)
     {
       const Index a = tri[k];
-      events.push_back({ a, flat[a].Vertex, InvalidIndex, flat[a].Edge });
+      events.push_back({ a, flat[a].Vertex, InvalidIndex, flat[a].Edge, (1 << k) | (1 << ((k + 2) % 3)) });
       const Index e = highTopology.TriangleEdge(t, k);
       const Index first = crossingOffset[e], last = crossingOffset[e + 1];
       if (highTopology.EdgeVertex(e, 0) == a)
       {
         for (Index c = first; c < last; ++c)
         {
-          events.push_back({ nHigh + c, InvalidIndex, crossings[c].Edge, InvalidIndex });
+          events.push_back({ nHigh + c, InvalidIndex, crossings[c].Edge, InvalidIndex, 1 << k });
         }
       }
       else
       {
         for (Index c = last - 1; c >= first; --c)
         {
-          events.push_back({ nHigh + c, InvalidIndex, crossings[c].Edge, InvalidIndex });
+          events.push_back({ nHigh + c, InvalidIndex, crossings[c].Edge, InvalidIndex, 1 << k });
         }
       }
     }
@@ -509,6 +609,7 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
     // Chords: crossings of the same low edge in boundary order, paired two by two; a lone crossing
     // pairs with the corner that is an end of its low edge.
     chords.clear();
+    lone.clear();
     std::vector<char> paired(static_cast<size_t>(n), 0);
     for (int i = 0; i < n; ++i)
     {
@@ -544,7 +645,46 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
         {
           paired[partner] = 1;
         }
-        chords.emplace_back(std::min(i, partner), std::max(i, partner));
+        // Both ends on one side of the high triangle: the low edge doubles back across it (a fold);
+        // cutting there would give a flat fragment that both triangles of that side share.
+        if ((events[i].Sides & events[partner].Sides) == 0)
+        {
+          chords.emplace_back(std::min(i, partner), std::max(i, partner));
+        }
+      }
+      else
+      {
+        lone.push_back(i);
+      }
+    }
+    // Lone crossings: where the flattening folds, a low vertex can fall inside the image of a high
+    // triangle, and the low edges around it cross the boundary once each. Such a vertex becomes an
+    // interior vertex of the triangle (flattened onto the low vertex, at the mean of its crossings on
+    // the high triangle), joined to those crossings.
+    centerOf.assign(static_cast<size_t>(n), InvalidIndex);
+    for (int i : lone)
+    {
+      const Index e = events[i].LowEdge;
+      Index best = InvalidIndex;
+      int bestCount = 0;
+      for (int end = 0; end < 2; ++end)
+      {
+        const Index x = surface.Topology.EdgeVertex(e, end);
+        int count = 0;
+        for (int j : lone)
+        {
+          const Index f = events[j].LowEdge;
+          count += (surface.Topology.EdgeVertex(f, 0) == x || surface.Topology.EdgeVertex(f, 1) == x) ? 1 : 0;
+        }
+        if (count > bestCount)
+        {
+          bestCount = count;
+          best = x;
+        }
+      }
+      if (bestCount >= 2)
+      {
+        centerOf[i] = best;
       }
     }
     // Recursive split of the boundary polygon by the chords.
@@ -587,6 +727,66 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
       {
         continue;
       }
+      // Star split around a low vertex inside the triangle (see above).
+      for (int k = 0; k < m && !split; ++k)
+      {
+        const Index x = polygon[k] < n ? centerOf[polygon[k]] : InvalidIndex;
+        if (x == InvalidIndex)
+        {
+          continue;
+        }
+        std::vector<int> fan;
+        for (int j = 0; j < m; ++j)
+        {
+          if (polygon[j] < n && centerOf[polygon[j]] == x)
+          {
+            fan.push_back(j);
+          }
+        }
+        if (fan.size() < 2)
+        {
+          continue;
+        }
+        // The interior vertex.
+        Vec3 lowP = low.Point(x), highP{ 0, 0, 0 };
+        for (int j : fan)
+        {
+          highP = highP + (1.0 / static_cast<double>(fan.size())) * pointOf(result.HighPositions, events[polygon[j]].Vertex);
+        }
+        const Index id = static_cast<Index>(result.LowPositions.size() / 3);
+        result.LowPositions.insert(result.LowPositions.end(), lowP.begin(), lowP.end());
+        result.HighPositions.insert(result.HighPositions.end(), highP.begin(), highP.end());
+        ++result.InteriorVertices;
+        const int center = static_cast<int>(events.size());
+        events.push_back({ id, x, InvalidIndex, InvalidIndex, 0 });
+        for (size_t f = 0; f < fan.size(); ++f)
+        {
+          const int from = fan[f], to = fan[(f + 1) % fan.size()];
+          std::vector<int> piece;
+          for (int j = from;; j = (j + 1) % m)
+          {
+            piece.push_back(polygon[j]);
+            if (j == to)
+            {
+              break;
+            }
+          }
+          piece.push_back(center);
+          if (piece.size() >= 3)
+          {
+            stack.push_back(std::move(piece));
+          }
+        }
+        for (int j : fan)
+        {
+          centerOf[polygon[j]] = InvalidIndex; // done: the pieces are final
+        }
+        split = true;
+      }
+      if (split)
+      {
+        continue;
+      }
       // A final fragment: find the low triangle holding all its vertices.
       Index lowTriangle = InvalidIndex;
       for (int k = 0; k < m; ++k)
@@ -595,6 +795,10 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
         if (ev.LowEdge != InvalidIndex)
         {
           set.assign(surface.Topology.EdgeTrianglesBegin(ev.LowEdge), surface.Topology.EdgeTrianglesEnd(ev.LowEdge));
+        }
+        else if (ev.Vertex >= nHigh) // interior vertex on a low vertex
+        {
+          set.assign(surface.Topology.VertexTrianglesBegin(ev.LowVertex), surface.Topology.VertexTrianglesEnd(ev.LowVertex));
         }
         else
         {
@@ -623,10 +827,13 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
       // The fragment is convex on the high triangle but has collinear vertices (crossings on its
       // sides), so no fixed fan works: clip the best-shaped ear (smallest angle at both ends) first.
       ring.clear();
+      ringSides.clear();
       for (int k = 0; k < m; ++k)
       {
         ring.push_back(events[polygon[k]].Vertex);
+        ringSides.push_back(events[polygon[k]].Sides);
       }
+      const Vec3 normal = TriangleNormal(high.Point(tri[0]), high.Point(tri[1]), high.Point(tri[2]));
       while (ring.size() >= 3)
       {
         const size_t r = ring.size();
@@ -634,10 +841,20 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
         double bestAngle = -1;
         for (size_t k = 0; k < r && r > 3; ++k)
         {
-          const Index p = ring[(k + r - 1) % r], q = ring[k], s = ring[(k + 1) % r];
-          const double angle = std::min(MinimumAngle(pointOf(result.HighPositions, p), pointOf(result.HighPositions, q),
-                                          pointOf(result.HighPositions, s)),
-            MinimumAngle(pointOf(result.LowPositions, p), pointOf(result.LowPositions, q), pointOf(result.LowPositions, s)));
+          const size_t kp = (k + r - 1) % r, kn = (k + 1) % r;
+          const Index p = ring[kp], q = ring[k], s = ring[kn];
+          const Vec3 hp = pointOf(result.HighPositions, p), hq = pointOf(result.HighPositions, q),
+                     hs = pointOf(result.HighPositions, s);
+          // A valid ear on the high triangle: convex there, not flat, and its diagonal not along a
+          // side of the triangle (that side holds other fragment vertices: a T-junction).
+          const double highAngle = MinimumAngle(hp, hq, hs);
+          const bool valid = highAngle > 1e-9 && Dot(Cross(hq - hp, hs - hq), normal) > 0 &&
+            (ringSides[kp] & ringSides[kn]) == 0;
+          const double angle = valid
+            ? std::min(highAngle,
+                MinimumAngle(pointOf(result.LowPositions, p), pointOf(result.LowPositions, q), pointOf(result.LowPositions, s))) +
+              1e-6
+            : 0.0;
           if (angle > bestAngle)
           {
             bestAngle = angle;
@@ -651,6 +868,7 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
         result.LowTriangle.push_back(lowTriangle);
         result.Fragment.push_back(fragment);
         ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(best));
+        ringSides.erase(ringSides.begin() + static_cast<std::ptrdiff_t>(best));
       }
     }
   }

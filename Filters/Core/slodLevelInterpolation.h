@@ -37,7 +37,7 @@ struct SURFACELODFILTERS_EXPORT LevelInterpolation
   std::string Error;
 
   // Output vertices: the high-detail vertices first (same order), then the low vertices inserted
-  // into the high level (see InsertedVertices), then the edge crossings.
+  // into the high level (see InsertedVertices), then the edge crossings, then interior vertices.
   std::vector<double> LowPositions;  // 3 per vertex: flattened on the low-detail surface
   std::vector<double> HighPositions; // 3 per vertex: on the high-detail surface
   std::vector<Index> Triangles;      // 3 per output triangle, oriented as the high triangle
@@ -49,6 +49,7 @@ struct SURFACELODFILTERS_EXPORT LevelInterpolation
   Index InsertedVertices = 0;      // low vertices missing from the high level, inserted into it
   Index FlattenedVertices = 0;     // high-only vertices flattened onto the low surface
   Index Crossings = 0;             // new vertices where high edges cross low edges
+  Index InteriorVertices = 0;      // low vertices that fall inside a high triangle's image (fold), added inside it
   Index Fragments = 0;             // polygon fragments
   Index UntracedEdges = 0;         // high edges whose path could not be walked (should be 0)
   Index InconsistentFragments = 0; // fragments not inside a single low triangle (should be 0)
