@@ -526,8 +526,8 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
     }
   }
 
-  // Stage 2: the path of every high edge on the low surface (from its lower-numbered vertex).
   MeshTopology highTopology(high);
+  // Stage 2: the path of every high edge on the low surface (from its lower-numbered vertex).
   const Index nEdges = highTopology.NumberOfEdges();
   std::vector<Index> crossingOffset(static_cast<size_t>(nEdges) + 1, 0);
   std::vector<Crossing> crossings;

@@ -252,6 +252,11 @@ TEST(RetileLevelInterpolation, TorusGenusOne)
   CheckInterpolation("torus", NestedLevels(slodtest::ToPolyData(slodtest::Torus(64, 24)), 800), true);
 }
 
+TEST(RetileLevelInterpolation, SphereExact)
+{
+  CheckInterpolation("sphere", NestedLevels(slodtest::ToPolyData(slodtest::Sphere(64, 64)), 2000), true);
+}
+
 TEST(RetileLevelInterpolation, SyntheticIsosurface)
 {
   CheckInterpolation("synthetic:60", NestedLevels(slodtest::SyntheticIsosurface(60), 2400), false);
