@@ -21,8 +21,10 @@
  *
  * Departure from the paper: Turk tracks the fragments through the vertex removals of the
  * re-tiling; here the correspondence is computed from the two meshes alone (closest point on the
- * low surface, then the paths of the high edges walked across the low triangles), so any pair of
- * nested meshes can be interpolated. Errors (empty input, levels not nested, non-manifold low
+ * low surface, then each high edge's path as the shortest strip of low triangles between its ends),
+ * so any pair of nested meshes can be interpolated. Where that flattening folds (the low level
+ * bends sharply relative to its vertex spacing) a few fragments are not inside one low triangle
+ * (NumberOfInconsistentFragments) and the T = 0 shape departs from the low level there. Errors (empty input, levels not nested, non-manifold low
  * level) give an empty output.
  */
 #ifndef vtkRetileLevelInterpolation_h

@@ -121,8 +121,8 @@ public:
     return loc;
   }
 
-  // Walks from `from` to `to` on the surface; appends the crossed low edges in order. Returns the
-  // path length, or -1 when the walk fails.
+  // A path from `from` to `to` on the surface; appends the crossed low edges in order. Returns the
+  // path length, or -1 when none is found.
   double Trace(const SurfaceLocation& from, const SurfaceLocation& to, std::vector<Crossing>& crossings,
     std::vector<Index>& scratchA, std::vector<Index>& scratchB) const
   {
@@ -138,192 +138,130 @@ public:
         return Norm(to.Point - from.Point);
       }
     }
-    // Start triangle: the one the direction to the target enters.
-    Index current = InvalidIndex;
-    double lambda[3] = { 0, 0, 0 };
-    double bestScore = -HUGE_VAL;
+    return this->TraceStrip(from, to, startSet, targetSet, crossings);
+  }
+
+  // The path is the shortest strip of edge-adjacent triangles from the start to the target
+  // (Dijkstra over triangle centroids, bounded), crossed on each shared edge at the point closest to
+  // the straight segment between the two ends (a little away from the edge's ends, so that no path
+  // runs through a low vertex). A walk re-aimed at the target in each triangle was tried first: it
+  // cycles between sharply folded triangles and goes round low vertices on the wrong side 3-4
+  // times as often.
+  double TraceStrip(const SurfaceLocation& from, const SurfaceLocation& to, const std::vector<Index>& startSet,
+    const std::vector<Index>& targetSet, std::vector<Crossing>& crossings) const
+  {
+    const size_t limit = 4096;
+    std::vector<Index>& queue = this->Queue;
+    queue.clear();
+    if (this->Parent.size() != static_cast<size_t>(this->Mesh.NumberOfTriangles()))
+    {
+      this->Parent.assign(static_cast<size_t>(this->Mesh.NumberOfTriangles()), InvalidIndex);
+      this->Cost.assign(static_cast<size_t>(this->Mesh.NumberOfTriangles()), 0.0);
+    }
     for (Index t : startSet)
     {
-      double b[3], d[3];
-      Barycentric(this->Mesh, t, from.Point, b, false);
-      Barycentric(this->Mesh, t, to.Point - from.Point, d, true);
-      const double scale = std::max({ std::abs(d[0]), std::abs(d[1]), std::abs(d[2]) });
-      double score = HUGE_VAL;
-      for (int i = 0; i < 3; ++i)
+      this->Parent[t] = t;
+      queue.push_back(t);
+    }
+    Index found = InvalidIndex;
+    {
+      // Dijkstra over triangle centroids (ties by triangle id: deterministic).
+      auto centroid = [&](Index t) {
+        const Index* x = this->Mesh.Triangle(t);
+        return (1.0 / 3.0) * (this->Mesh.Point(x[0]) + this->Mesh.Point(x[1]) + this->Mesh.Point(x[2]));
+      };
+      std::vector<std::pair<double, Index>> heap;
+      for (Index t : startSet)
       {
-        if (b[i] < 1e-9)
+        this->Cost[t] = Norm(centroid(t) - from.Point);
+        heap.emplace_back(-this->Cost[t], -t);
+      }
+      std::make_heap(heap.begin(), heap.end());
+      while (!heap.empty() && queue.size() < limit)
+      {
+        std::pop_heap(heap.begin(), heap.end());
+        const double cost = -heap.back().first;
+        const Index t = -heap.back().second;
+        heap.pop_back();
+        if (cost > this->Cost[t])
         {
-          score = std::min(score, d[i] / (scale > 0 ? scale : 1.0));
+          continue;
+        }
+        if (std::find(targetSet.begin(), targetSet.end(), t) != targetSet.end())
+        {
+          found = t;
+          break;
+        }
+        const Vec3 ct = centroid(t);
+        for (int k = 0; k < 3; ++k)
+        {
+          const Index n = this->Topology.EdgeNeighbor(t, k);
+          if (n == InvalidIndex)
+          {
+            continue;
+          }
+          const double c = cost + Norm(centroid(n) - ct);
+          if (this->Parent[n] == InvalidIndex || c < this->Cost[n])
+          {
+            if (this->Parent[n] == InvalidIndex)
+            {
+              queue.push_back(n);
+            }
+            if (this->Parent[n] != n)
+            {
+              this->Parent[n] = t;
+              this->Cost[n] = c;
+              heap.emplace_back(-c, -n);
+              std::push_heap(heap.begin(), heap.end());
+            }
+          }
         }
       }
-      if (score > bestScore)
-      {
-        bestScore = score;
-        current = t;
-        std::copy(b, b + 3, lambda);
-      }
     }
+    std::vector<Index> strip;
+    for (Index t = found; t != InvalidIndex; t = this->Parent[t] == t ? InvalidIndex : this->Parent[t])
+    {
+      strip.push_back(t);
+    }
+    for (Index t : queue)
+    {
+      this->Parent[t] = InvalidIndex;
+    }
+    if (found == InvalidIndex)
+    {
+      return -1;
+    }
+    std::reverse(strip.begin(), strip.end());
     Vec3 point = from.Point;
     double length = 0;
-    const size_t firstCrossing = crossings.size();
-    const int maxSteps = 4096;
-    Index atVertex = from.Vertex;
-    for (int step = 0; step < maxSteps; ++step)
+    const Vec3 pq = to.Point - from.Point;
+    for (size_t i = 0; i + 1 < strip.size(); ++i)
     {
-      if (atVertex == InvalidIndex)
-      {
-        int zeros = 0, corner = 0;
-        for (int i = 0; i < 3; ++i)
-        {
-          zeros += lambda[i] <= 1e-12 ? 1 : 0;
-          corner = lambda[i] > lambda[corner] ? i : corner;
-        }
-        if (zeros >= 2)
-        {
-          atVertex = this->Mesh.Triangle(current)[corner];
-        }
-      }
-      if (atVertex != InvalidIndex)
-      {
-        // On a low vertex the straight direction is ill-defined (the angles around it need not add
-        // up to 360 degrees): leave through the opposite edge of the incident triangle that comes
-        // closest to the target, a little away from that edge's ends.
-        double best = HUGE_VAL, bestS = 0.5;
-        Index bestTriangle = InvalidIndex;
-        int bestEdge = 0;
-        for (const Index* c = this->Topology.VertexTrianglesBegin(atVertex);
-             c != this->Topology.VertexTrianglesEnd(atVertex); ++c)
-        {
-          if (inTarget(*c))
-          {
-            return length + Norm(to.Point - point);
-          }
-          const Index* tri = this->Mesh.Triangle(*c);
-          const int k = tri[0] == atVertex ? 1 : (tri[1] == atVertex ? 2 : 0); // opposite edge: corners k, k+1
-          const Vec3 y = this->Mesh.Point(tri[k]), z = this->Mesh.Point(tri[(k + 1) % 3]);
-          const Vec3 yz = z - y;
-          const double yz2 = Dot(yz, yz);
-          double sParam = yz2 > 0 ? Dot(to.Point - y, yz) / yz2 : 0.5;
-          sParam = std::min(1 - 1e-6, std::max(1e-6, sParam));
-          const double dist = Norm(to.Point - (y + sParam * yz));
-          if (dist < best)
-          {
-            best = dist;
-            bestS = sParam;
-            bestTriangle = *c;
-            bestEdge = k;
-          }
-        }
-        const Index* tri = this->Mesh.Triangle(bestTriangle);
-        const Index u = tri[bestEdge], w = tri[(bestEdge + 1) % 3];
-        const Vec3 exitPoint = (1 - bestS) * this->Mesh.Point(u) + bestS * this->Mesh.Point(w);
-        length += Norm(exitPoint - point);
-        crossings.push_back({ this->Topology.TriangleEdge(bestTriangle, bestEdge), exitPoint, length });
-        const Index next = this->Topology.EdgeNeighbor(bestTriangle, bestEdge);
-        if (next == InvalidIndex)
-        {
-          break;
-        }
-        if (inTarget(next))
-        {
-          return length + Norm(to.Point - exitPoint);
-        }
-        const Index* ntri = this->Mesh.Triangle(next);
-        for (int i = 0; i < 3; ++i)
-        {
-          lambda[i] = ntri[i] == u ? 1 - bestS : (ntri[i] == w ? bestS : 0.0);
-        }
-        current = next;
-        point = exitPoint;
-        atVertex = InvalidIndex;
-        continue;
-      }
-      double d[3];
-      Barycentric(this->Mesh, current, to.Point - point, d, true);
-      int exitCorner = -1;
-      double exitT = HUGE_VAL;
-      for (int i = 0; i < 3; ++i)
-      {
-        if (d[i] < 0 && lambda[i] > 1e-12)
-        {
-          const double t = lambda[i] / -d[i];
-          if (t < exitT)
-          {
-            exitT = t;
-            exitCorner = i;
-          }
-        }
-      }
-      const Index* tri = this->Mesh.Triangle(current);
+      const Index* tri = this->Mesh.Triangle(strip[i]);
       int k = 0;
-      double s = 0.5; // exit at this fraction of edge k (0 at corner k, 1 at corner k+1)
-      if (exitCorner >= 0)
+      while (k < 3 && this->Topology.EdgeNeighbor(strip[i], k) != strip[i + 1])
       {
-        k = (exitCorner + 1) % 3; // edge k joins corners k and k+1, opposite exitCorner
-        const int k1 = (k + 1) % 3;
-        const double a = std::max(lambda[k] + exitT * d[k], 0.0);
-        const double c = std::max(lambda[k1] + exitT * d[k1], 0.0);
-        s = (a + c) > 0 ? c / (a + c) : 0.5;
+        ++k;
       }
-      else
-      {
-        // The target lies back across the edge we came in by (a sharp fold between the two
-        // triangles): leave through the other edge point closest to the target instead, a little
-        // away from the corners so that the path does not run through a low vertex.
-        double best = HUGE_VAL;
-        for (int e = 0; e < 3; ++e)
-        {
-          const int opposite = (e + 2) % 3;
-          if (lambda[opposite] <= 1e-12)
-          {
-            continue; // the edge the point is on
-          }
-          const Vec3 y = this->Mesh.Point(tri[e]), yz = this->Mesh.Point(tri[(e + 1) % 3]) - y;
-          const double yz2 = Dot(yz, yz);
-          double sParam = yz2 > 0 ? Dot(to.Point - y, yz) / yz2 : 0.5;
-          sParam = std::min(1 - 1e-6, std::max(1e-6, sParam));
-          const double dist = Norm(to.Point - (y + sParam * yz));
-          if (dist < best)
-          {
-            best = dist;
-            k = e;
-            s = sParam;
-          }
-        }
-        if (!(best < HUGE_VAL))
-        {
-          break;
-        }
-      }
-      const int k1 = (k + 1) % 3;
-      const Index u = tri[k], w = tri[k1];
-      const Vec3 exitPoint = (1 - s) * this->Mesh.Point(u) + s * this->Mesh.Point(w);
-      length += Norm(exitPoint - point);
-      const Index edge = this->Topology.TriangleEdge(current, k);
-      crossings.push_back({ edge, exitPoint, length });
-      const Index next = this->Topology.EdgeNeighbor(current, k);
-      if (next == InvalidIndex)
-      {
-        break;
-      }
-      if (inTarget(next))
-      {
-        return length + Norm(to.Point - exitPoint);
-      }
-      const Index* ntri = this->Mesh.Triangle(next);
-      for (int i = 0; i < 3; ++i)
-      {
-        lambda[i] = ntri[i] == u ? 1 - s : (ntri[i] == w ? s : 0.0);
-      }
-      current = next;
-      point = exitPoint;
+      const Vec3 y = this->Mesh.Point(tri[k]), yz = this->Mesh.Point(tri[(k + 1) % 3]) - y;
+      // Closest points of the lines y + s yz and from + r pq (s clamped inside the edge).
+      const double a = Dot(yz, yz), b = Dot(yz, pq), c = Dot(pq, pq), d = Dot(yz, from.Point - y),
+                   e = Dot(pq, from.Point - y);
+      const double det = a * c - b * b;
+      double sParam = det > 1e-300 ? (d * c - b * e) / det : (a > 0 ? d / a : 0.5);
+      sParam = std::min(1 - 1e-6, std::max(1e-6, sParam));
+      const Vec3 x = y + sParam * yz;
+      length += Norm(x - point);
+      crossings.push_back({ this->Topology.TriangleEdge(strip[i], k), x, length });
+      point = x;
     }
-    crossings.resize(firstCrossing);
-    return -1;
+    return length + Norm(to.Point - point);
   }
 
   const TriangleMesh& Mesh;
   MeshTopology Topology;
+  mutable std::vector<Index> Parent, Queue;
+  mutable std::vector<double> Cost;
 };
 
 struct PointKey

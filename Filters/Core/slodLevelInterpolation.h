@@ -12,11 +12,11 @@
 //  1. FlattenVertices: a vertex shared with the low level maps to itself; a high-only vertex maps to
 //     its closest point on the low-detail surface (TriangleBVH), snapped onto an edge or vertex when
 //     it lies on one.
-//  2. TraceEdges: the image of each high-detail edge on the low-detail surface is a path walked from
-//     the lower-numbered end's image to the other's, straight inside each low triangle and re-aimed
-//     at the target in every triangle it enters; each low edge it crosses gives a crossing point
-//     (one shared vertex of the two high triangles on that edge), placed on the high edge at the
-//     same fraction of the path length.
+//  2. Edge paths: the image of each high-detail edge on the low-detail surface is the shortest
+//     strip of low triangles between its ends' images (Dijkstra over triangle centroids), crossed on
+//     each shared edge at the point closest to the straight segment between the ends; each low edge
+//     crossed gives a crossing point (one vertex shared by the two high triangles of that edge),
+//     placed on the high edge at the same fraction of the path length.
 //  3. SplitTriangles: in each high triangle the low edges crossing it are chords joining two
 //     crossings of the same low edge (or a crossing and the low vertex at a corner); since every low
 //     vertex is a high vertex, no low vertex lies inside a high triangle and the chords cut the
