@@ -28,24 +28,24 @@ struct Crossing
 };
 
 // Barycentric coordinates of p (projected into the triangle's plane), least squares.
-void Barycentric(const TriangleMesh& mesh, Index t, const Vec3& p, double b[3], bool direction)
+void Barycentric(const TriangleMesh& mesh, Index t, const Vec3& p, double b[3])
 {
   const Index* tri = mesh.Triangle(t);
   const Vec3 v0 = mesh.Point(tri[0]);
   const Vec3 e1 = mesh.Point(tri[1]) - v0;
   const Vec3 e2 = mesh.Point(tri[2]) - v0;
-  const Vec3 w = direction ? p : p - v0;
+  const Vec3 w = p - v0;
   const double d11 = Dot(e1, e1), d12 = Dot(e1, e2), d22 = Dot(e2, e2);
   const double r1 = Dot(w, e1), r2 = Dot(w, e2);
   const double det = d11 * d22 - d12 * d12;
   if (!(std::abs(det) > 0))
   {
-    b[0] = b[1] = b[2] = direction ? 0.0 : 1.0 / 3.0;
+    b[0] = b[1] = b[2] = 1.0 / 3.0;
     return;
   }
   b[1] = (d22 * r1 - d12 * r2) / det;
   b[2] = (d11 * r2 - d12 * r1) / det;
-  b[0] = (direction ? 0.0 : 1.0) - b[1] - b[2];
+  b[0] = 1.0 - b[1] - b[2];
 }
 
 Vec3 FromBarycentric(const TriangleMesh& mesh, Index t, const double b[3])
@@ -57,7 +57,7 @@ Vec3 FromBarycentric(const TriangleMesh& mesh, Index t, const double b[3])
 class LowSurface
 {
 public:
-  LowSurface(const TriangleMesh& mesh)
+  explicit LowSurface(const TriangleMesh& mesh)
     : Mesh(mesh)
     , Topology(mesh)
   {
@@ -87,7 +87,7 @@ public:
   {
     const double snap = 1e-9;
     double b[3];
-    Barycentric(this->Mesh, t, p, b, false);
+    Barycentric(this->Mesh, t, p, b);
     int small = 0;
     for (double& x : b)
     {
@@ -150,7 +150,7 @@ public:
   double TraceStrip(const SurfaceLocation& from, const SurfaceLocation& to, const std::vector<Index>& startSet,
     const std::vector<Index>& targetSet, std::vector<Crossing>& crossings) const
   {
-    const size_t limit = 4096;
+    const size_t limit = 4096; // triangles visited: a path is a few triangles long; beyond, give up
     std::vector<Index>& queue = this->Queue;
     queue.clear();
     if (this->Parent.size() != static_cast<size_t>(this->Mesh.NumberOfTriangles()))
@@ -299,7 +299,7 @@ void InsertVertex(TriangleMesh& high, std::vector<Index>& parent, const Vec3& q,
   const ClosestPointResult closest = bvh.ClosestPoint(q);
   const Index t = closest.Triangle;
   double b[3];
-  Barycentric(high, t, closest.Point, b, false);
+  Barycentric(high, t, closest.Point, b);
   Index tri[3] = { high.Triangle(t)[0], high.Triangle(t)[1], high.Triangle(t)[2] };
   int small = 0, opposite = -1, big = 0;
   for (int i = 0; i < 3; ++i)
