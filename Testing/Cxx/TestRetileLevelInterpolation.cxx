@@ -1,0 +1,337 @@
+// vtkRetileLevelInterpolation (Turk 1992 sections 6.2-6.3): between two nested levels of vtkRetile,
+// the fragment mesh has exactly the high-detail shape at T = 1 and the low-detail shape at T = 0
+// (vtkSurfaceDeviation), stays a consistently oriented closed manifold of the same Euler
+// characteristic for every T, moves continuously with T, tiles each high triangle; bad input.
+#include "TestSupport.h"
+
+#include "slodLevelInterpolation.h"
+#include "slodMeshTopology.h"
+#include "vtkRetile.h"
+#include "vtkRetileLevelInterpolation.h"
+#include "vtkSurfaceDeviation.h"
+
+#include "vtkCellData.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkMath.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+using namespace slod;
+
+namespace
+{
+struct Levels
+{
+  vtkSmartPointer<vtkPolyData> Low, High;
+};
+
+// Two nested levels of vtkRetile (lowCount and 4 * lowCount vertices).
+Levels NestedLevels(vtkPolyData* input, vtkIdType highCount)
+{
+  vtkNew<vtkRetile> retile;
+  retile->SetInputData(input);
+  retile->SetNumberOfPoints(highCount);
+  retile->GenerateNestedLevelsOn();
+  retile->SetNumberOfNestedLevels(2);
+  retile->SetNestedLevelRatio(4.0);
+  retile->Update();
+  Levels levels;
+  vtkMultiBlockDataSet* blocks = retile->GetNestedLevels();
+  if (blocks->GetNumberOfBlocks() == 2)
+  {
+    levels.Low = vtkPolyData::SafeDownCast(blocks->GetBlock(0));
+    levels.High = vtkPolyData::SafeDownCast(blocks->GetBlock(1));
+  }
+  return levels;
+}
+
+vtkSmartPointer<vtkPolyData> Interpolate(const Levels& levels, double t, vtkRetileLevelInterpolation* filter)
+{
+  filter->SetHighDetailData(levels.High);
+  filter->SetLowDetailData(levels.Low);
+  filter->SetT(t);
+  filter->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->DeepCopy(filter->GetOutput());
+  return out;
+}
+
+// Symmetric Hausdorff distance relative to a's bounding-box diagonal.
+double Hausdorff(vtkPolyData* a, vtkPolyData* b, double* ab = nullptr, double* ba = nullptr, double* mean = nullptr)
+{
+  vtkNew<vtkSurfaceDeviation> deviation;
+  deviation->SetReferenceData(a);
+  deviation->SetComparedData(b);
+  deviation->SetNumberOfSamples(100000);
+  deviation->Update();
+  if (ab)
+  {
+    *ab = deviation->GetHausdorffABRelative();
+  }
+  if (ba)
+  {
+    *ba = deviation->GetHausdorffBARelative();
+  }
+  if (mean)
+  {
+    *mean = deviation->GetMeanRelative();
+  }
+  return deviation->GetHausdorffRelative();
+}
+
+// Both ends exact, every T a consistently oriented manifold with the input's Euler
+// characteristic, continuous in T, each high triangle tiled by its fragments.
+// exactLow: the T = 0 shape must equal the low level (no fold of the flattening). Otherwise the
+// goal is reported as not met and regression bounds apply (see Documentation/Retile.md).
+void CheckInterpolation(const char* name, const Levels& levels, bool exactLow)
+{
+  ASSERT_TRUE(levels.Low && levels.High) << name;
+  const TriangleMesh high = slodtest::ToTriangleMesh(levels.High);
+  const MeshStatistics highStats = ComputeMeshStatistics(high);
+
+  vtkNew<vtkRetileLevelInterpolation> filter;
+  vtkNew<slodtest::MessageCounter> messages;
+  filter->AddObserver(vtkCommand::ErrorEvent, messages);
+  filter->AddObserver(vtkCommand::WarningEvent, messages);
+  const auto start = std::chrono::steady_clock::now();
+  auto atOne = Interpolate(levels, 1.0, filter);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_TRUE(messages->Errors.empty()) << name << ": " << messages->Errors.front();
+  ASSERT_GT(atOne->GetNumberOfPolys(), 0) << name;
+  const vtkIdType fragments = filter->GetNumberOfFragments();
+  const vtkIdType inconsistent = filter->GetNumberOfInconsistentFragments();
+  const vtkIdType untraced = filter->GetNumberOfUntracedEdges();
+  if (exactLow)
+  {
+    EXPECT_EQ(untraced, 0) << name;
+    EXPECT_EQ(inconsistent, 0) << name;
+  }
+  else
+  {
+    // Regression bounds (measured 2026-11-22: inconsistent fragments bunny00 8 of 8633, synthetic:60
+    // 1 of 10208; 0 untraced edges).
+    EXPECT_LE(inconsistent, fragments / 100) << name;
+    EXPECT_LE(untraced, levels.High->GetNumberOfPolys() / 500) << name;
+  }
+  EXPECT_EQ(filter->GetNumberOfSharedVertices(), levels.Low->GetNumberOfPoints()) << name;
+  EXPECT_EQ(filter->GetNumberOfSharedVertices() + filter->GetNumberOfFlattenedVertices(),
+    levels.High->GetNumberOfPoints() + filter->GetNumberOfInsertedVertices())
+    << name;
+  EXPECT_LE(filter->GetNumberOfInsertedVertices(), levels.Low->GetNumberOfPoints() / 50) << name;
+  EXPECT_GE(filter->GetNumberOfFragments(), levels.High->GetNumberOfPolys()) << name;
+  std::printf("%s: low %lld / high %lld triangles -> %lld fragments, %lld output triangles, %lld crossings, "
+              "%lld flattened vertices, %lld inserted, %.3f s\n",
+    name, static_cast<long long>(levels.Low->GetNumberOfPolys()),
+    static_cast<long long>(levels.High->GetNumberOfPolys()),
+    static_cast<long long>(filter->GetNumberOfFragments()), static_cast<long long>(atOne->GetNumberOfPolys()),
+    static_cast<long long>(filter->GetNumberOfCrossings()),
+    static_cast<long long>(filter->GetNumberOfFlattenedVertices()),
+    static_cast<long long>(filter->GetNumberOfInsertedVertices()), seconds);
+
+  // T = 1: the high-detail shape; T = 0: the low-detail shape (both ways).
+  double ab = 0, ba = 0;
+  const double atHigh = Hausdorff(levels.High, atOne, &ab, &ba);
+  std::printf("%s: T=1 Hausdorff to high %.3g (high->out %.3g, out->high %.3g)\n", name, atHigh, ab, ba);
+  EXPECT_LT(atHigh, 1e-9) << name;
+  auto atZero = Interpolate(levels, 0.0, filter);
+  double mean = 0;
+  const double atLow = Hausdorff(levels.Low, atZero, &ab, &ba, &mean);
+  const double highVsLow = Hausdorff(levels.High, levels.Low);
+  std::printf("%s: T=0 Hausdorff to low %.3g (low->out %.3g, out->low %.3g), mean %.3g; high vs low %.3g; "
+              "%lld inconsistent fragments, %lld untraced edges\n",
+    name, atLow, ab, ba, mean, highVsLow, static_cast<long long>(inconsistent), static_cast<long long>(untraced));
+  if (exactLow)
+  {
+    EXPECT_LT(atLow, 1e-9) << name;
+  }
+  else
+  {
+    if (atLow >= 1e-9)
+    {
+      std::printf("GOAL NOT MET (%s): T=0 Hausdorff to the low level %.3g, goal < 1e-9 (folds of the "
+                  "closest-point flattening)\n",
+        name, atLow);
+    }
+    EXPECT_LT(atLow, highVsLow) << name; // closer to the low level than the high level is
+    EXPECT_LT(mean, 1e-4) << name;       // the departure is local
+  }
+
+  // Fragments tile each high triangle: at T = 1 their areas add up to its area.
+  const TriangleMesh one = slodtest::RawTriangleMesh(atOne);
+  auto* highTriangle = vtkIdTypeArray::SafeDownCast(atOne->GetCellData()->GetArray("HighTriangle"));
+  ASSERT_NE(highTriangle, nullptr);
+  ASSERT_EQ(highTriangle->GetNumberOfTuples(), one.NumberOfTriangles());
+  std::vector<double> area(static_cast<size_t>(high.NumberOfTriangles()), 0.0);
+  for (Index c = 0; c < one.NumberOfTriangles(); ++c)
+  {
+    area[highTriangle->GetValue(c)] += one.TriangleArea(c);
+  }
+  double worst = 0;
+  for (Index t = 0; t < high.NumberOfTriangles(); ++t)
+  {
+    worst = std::max(worst, std::abs(area[t] - high.TriangleArea(t)) / high.TriangleArea(t));
+  }
+  EXPECT_LT(worst, 1e-9) << name;
+  // Every output triangle's LowTriangle is valid (it lies on one low triangle at T = 0).
+  auto* lowTriangle = vtkIdTypeArray::SafeDownCast(atOne->GetCellData()->GetArray("LowTriangle"));
+  ASSERT_NE(lowTriangle, nullptr);
+  if (inconsistent == 0)
+  {
+    EXPECT_GE(lowTriangle->GetRange()[0], 0) << name;
+  }
+  ASSERT_NE(atOne->GetPointData()->GetArray("LowPosition"), nullptr);
+  ASSERT_NE(atOne->GetPointData()->GetArray("HighPosition"), nullptr);
+
+  // Intermediate T: closed, manifold, consistently oriented, same Euler characteristic and genus.
+  for (double t : { 0.0, 0.25, 0.5, 0.75, 1.0 })
+  {
+    auto mid = Interpolate(levels, t, filter);
+    const TriangleMesh mesh = slodtest::RawTriangleMesh(mid);
+    ASSERT_EQ(mesh.NumberOfPoints(), one.NumberOfPoints()) << name << " T=" << t;
+    ASSERT_EQ(mesh.Triangles, one.Triangles) << name << " T=" << t; // same connectivity for every T
+    const MeshStatistics stats = ComputeMeshStatistics(mesh);
+    EXPECT_EQ(stats.NonManifoldEdges, 0) << name << " T=" << t;
+    EXPECT_EQ(stats.NonManifoldVertices, 0) << name << " T=" << t;
+    EXPECT_EQ(stats.BoundaryEdges, highStats.BoundaryEdges) << name << " T=" << t;
+    EXPECT_EQ(stats.InconsistentlyOrientedEdges, 0) << name << " T=" << t;
+    EXPECT_EQ(stats.EulerCharacteristic, highStats.EulerCharacteristic) << name << " T=" << t;
+    EXPECT_EQ(stats.Genus, highStats.Genus) << name << " T=" << t;
+    EXPECT_EQ(stats.Components, highStats.Components) << name << " T=" << t;
+  }
+
+  // Continuity: a step of 0.01 in T moves no vertex more than 0.01 of the largest end-to-end move.
+  vtkDataArray* lowPos = atOne->GetPointData()->GetArray("LowPosition");
+  vtkDataArray* highPos = atOne->GetPointData()->GetArray("HighPosition");
+  double largest = 0;
+  for (vtkIdType i = 0; i < lowPos->GetNumberOfTuples(); ++i)
+  {
+    double a[3], b[3];
+    lowPos->GetTuple(i, a);
+    highPos->GetTuple(i, b);
+    largest = std::max(largest, std::sqrt(vtkMath::Distance2BetweenPoints(a, b)));
+  }
+  EXPECT_GT(largest, 0) << name;
+  double worstStep = 0;
+  auto previous = Interpolate(levels, 0.0, filter);
+  for (int k = 1; k <= 100; k += 11)
+  {
+    auto before = Interpolate(levels, 0.01 * (k - 1), filter);
+    auto after = Interpolate(levels, 0.01 * k, filter);
+    for (vtkIdType i = 0; i < after->GetNumberOfPoints(); ++i)
+    {
+      double a[3], b[3];
+      before->GetPoint(i, a);
+      after->GetPoint(i, b);
+      worstStep = std::max(worstStep, std::sqrt(vtkMath::Distance2BetweenPoints(a, b)));
+    }
+  }
+  std::printf("%s: largest end-to-end move %.3g (relative %.3g), largest move per 0.01 step %.3g\n", name, largest,
+    largest / high.BoundingBoxDiagonal(), worstStep);
+  EXPECT_LE(worstStep, 0.01 * largest * (1 + 1e-9)) << name;
+}
+} // namespace
+
+TEST(RetileLevelInterpolation, Bunny00)
+{
+  CheckInterpolation("bunny00", NestedLevels(slodtest::LoadTestMesh("bunny00"), 2000), false);
+}
+
+TEST(RetileLevelInterpolation, TorusGenusOne)
+{
+  CheckInterpolation("torus", NestedLevels(slodtest::ToPolyData(slodtest::Torus(64, 24)), 800), true);
+}
+
+TEST(RetileLevelInterpolation, SphereExact)
+{
+  CheckInterpolation("sphere", NestedLevels(slodtest::ToPolyData(slodtest::Sphere(64, 64)), 2000), true);
+}
+
+TEST(RetileLevelInterpolation, SyntheticIsosurface)
+{
+  CheckInterpolation("synthetic:60", NestedLevels(slodtest::SyntheticIsosurface(60), 2400), false);
+}
+
+TEST(RetileLevelInterpolation, SameLevelIsIdentity)
+{
+  // Interpolating a level with itself: no vertex flattened, no crossing, one fragment per triangle.
+  Levels levels = NestedLevels(slodtest::ToPolyData(slodtest::Sphere(32, 32)), 400);
+  ASSERT_TRUE(levels.High);
+  levels.Low = levels.High;
+  vtkNew<vtkRetileLevelInterpolation> filter;
+  auto out = Interpolate(levels, 0.0, filter);
+  EXPECT_EQ(filter->GetNumberOfFlattenedVertices(), 0);
+  EXPECT_EQ(filter->GetNumberOfCrossings(), 0);
+  EXPECT_EQ(filter->GetNumberOfFragments(), levels.High->GetNumberOfPolys());
+  EXPECT_EQ(out->GetNumberOfPolys(), levels.High->GetNumberOfPolys());
+}
+
+TEST(RetileLevelInterpolation, Deterministic)
+{
+  const Levels levels = NestedLevels(slodtest::ToPolyData(slodtest::Torus(48, 16)), 600);
+  ASSERT_TRUE(levels.High);
+  LevelInterpolation a, b;
+  InterpolateLevels(slodtest::ToTriangleMesh(levels.High), slodtest::ToTriangleMesh(levels.Low), a);
+  InterpolateLevels(slodtest::ToTriangleMesh(levels.High), slodtest::ToTriangleMesh(levels.Low), b);
+  ASSERT_TRUE(a.Valid);
+  EXPECT_EQ(a.Triangles, b.Triangles);
+  EXPECT_EQ(a.LowPositions, b.LowPositions);
+  EXPECT_EQ(a.HighPositions, b.HighPositions);
+  // Evaluate gives the same mesh as the filter's arithmetic at the ends.
+  TriangleMesh atOne;
+  a.Evaluate(1.0, atOne);
+  EXPECT_EQ(atOne.Points, a.HighPositions);
+}
+
+TEST(RetileLevelInterpolation, CoreRejectsBadInput)
+{
+  LevelInterpolation result;
+  InterpolateLevels(TriangleMesh(), slodtest::Tetrahedron(), result);
+  EXPECT_FALSE(result.Valid);
+  EXPECT_FALSE(result.Error.empty());
+  InterpolateLevels(slodtest::Sphere(16, 16), slodtest::Tetrahedron(), result);
+  EXPECT_FALSE(result.Valid);
+  EXPECT_NE(result.Error.find("not nested"), std::string::npos) << result.Error;
+}
+
+TEST(RetileLevelInterpolation, FilterBadInputGivesErrorAndEmptyOutput)
+{
+  const Levels levels = NestedLevels(slodtest::ToPolyData(slodtest::Sphere(32, 32)), 400);
+  ASSERT_TRUE(levels.High);
+  auto other = slodtest::ToPolyData(slodtest::Torus(32, 12));
+  vtkNew<vtkPolyData> empty;
+  const std::pair<vtkPolyData*, vtkPolyData*> cases[] = { { empty, levels.Low }, { levels.High, empty },
+    { levels.High, other }, { levels.Low, levels.High } };
+  for (const auto& c : cases)
+  {
+    vtkNew<vtkRetileLevelInterpolation> filter;
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::ErrorEvent, messages);
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->SetHighDetailData(c.first);
+    filter->SetLowDetailData(c.second);
+    filter->SetT(0.5);
+    filter->Update();
+    EXPECT_EQ(messages->Errors.size(), 1u);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+  }
+  // Missing input on port 1.
+  vtkNew<vtkRetileLevelInterpolation> filter;
+  vtkNew<slodtest::MessageCounter> messages;
+  filter->AddObserver(vtkCommand::ErrorEvent, messages);
+  filter->SetHighDetailData(levels.High);
+  filter->Update(); // the pipeline reports the missing connection
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+}
