@@ -80,7 +80,10 @@ struct SURFACELODFILTERS_EXPORT TriangleMesh
   const Index* Triangle(Index t) const { return &this->Triangles[3 * static_cast<size_t>(t)]; }
   Index AddPoint(const Vec3& p)
   {
-    this->Points.insert(this->Points.end(), p.begin(), p.end());
+    // Three push_backs, not a range insert: GCC 12 warns falsely (stringop-overflow) on the latter.
+    this->Points.push_back(p[0]);
+    this->Points.push_back(p[1]);
+    this->Points.push_back(p[2]);
     return this->NumberOfPoints() - 1;
   }
   Index AddTriangle(Index a, Index b, Index c)
