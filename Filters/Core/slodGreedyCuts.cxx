@@ -1164,6 +1164,10 @@ bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, do
   // fast runs), then bisect on log(epsilon) between the last two tolerances.
   GreedyCutsResult trial;
   double h = hi, l = hi;
+  // The same triangles at three tolerances in a row: the result no longer depends on epsilon
+  // there (a flat region, a patch at its coarsest), and smaller tolerances only cost more (the
+  // proofs subdivide deeper): stop with the smallest one tried.
+  int unchanged = 0;
   while (evaluation < steps && l > lo)
   {
     ++evaluation;
@@ -1177,9 +1181,14 @@ bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, do
     {
       break;
     }
+    unchanged = trial.Triangles == result.Triangles ? unchanged + 1 : 0;
     result = std::move(trial);
     trial = GreedyCutsResult();
     h = l;
+    if (unchanged >= 2)
+    {
+      return true;
+    }
   }
   if (l >= h)
   {
