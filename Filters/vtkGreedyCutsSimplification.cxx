@@ -136,18 +136,7 @@ int vtkGreedyCutsSimplification::RequestData(
     }
     polys->InsertNextCell(3, ids);
   }
-  vtkNew<vtkPoints> points;
-  const int inputType = input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT;
-  points->SetDataType(this->OutputDoublePrecision || inputType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
-  points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
-  vtkPointData* inPD = input->GetPointData();
-  vtkPointData* outPD = output->GetPointData();
-  outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
-  for (size_t i = 0; i < used.size(); ++i)
-  {
-    points->SetPoint(static_cast<vtkIdType>(i), &mesh.Points[3 * size_t(used[i])]);
-    outPD->CopyData(inPD, vertexToInput[used[i]], static_cast<vtkIdType>(i));
-  }
+  slod::StoreUsedPoints(input, mesh, used, vertexToInput, this->OutputDoublePrecision, output);
   vtkNew<vtkIntArray> patchIds;
   patchIds->SetName("PatchId");
   patchIds->SetNumberOfValues(nt);
@@ -155,7 +144,6 @@ int vtkGreedyCutsSimplification::RequestData(
   {
     patchIds->SetValue(t, result.TrianglePatch[size_t(t)]);
   }
-  output->SetPoints(points);
   output->SetPolys(polys);
   output->GetCellData()->AddArray(patchIds);
   vtkNew<vtkDoubleArray> boundArray;

@@ -156,22 +156,12 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
     filled->SetValue(t, result.TriangleFill[t]);
     outMesh.AddTriangle(static_cast<slod::Index>(ids[0]), static_cast<slod::Index>(ids[1]), static_cast<slod::Index>(ids[2]));
   }
-  const int pointType =
-    this->OutputDoublePrecision || !input->GetPoints() ? VTK_DOUBLE : input->GetPoints()->GetDataType();
-  vtkNew<vtkPoints> points;
-  points->SetDataType(pointType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
-  points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
-  vtkPointData* inPD = input->GetPointData();
-  vtkPointData* outPD = output->GetPointData();
-  outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
+  slod::StoreUsedPoints(input, mesh, used, vertexToInput, this->OutputDoublePrecision, output);
   outMesh.Points.resize(3 * used.size());
   for (size_t i = 0; i < used.size(); ++i)
   {
-    points->SetPoint(static_cast<vtkIdType>(i), &mesh.Points[3 * size_t(used[i])]);
-    outPD->CopyData(inPD, vertexToInput[used[i]], static_cast<vtkIdType>(i));
     outMesh.SetPoint(static_cast<slod::Index>(i), mesh.Point(used[i]));
   }
-  output->SetPoints(points);
   output->SetPolys(polys);
   output->GetCellData()->AddArray(patchIds);
   output->GetCellData()->AddArray(filled);

@@ -324,20 +324,7 @@ int vtkPatchBoundaryMerge::RequestData(
       lines->InsertCellPoint(use(result.CurveVertices[i]));
     }
   }
-  const int pointType = this->OutputDoublePrecision || !input->GetPoints()
-    ? VTK_DOUBLE
-    : input->GetPoints()->GetDataType();
-  vtkNew<vtkPoints> points;
-  points->SetDataType(pointType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
-  points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
-  vtkPointData* inPD = input->GetPointData();
-  vtkPointData* outPD = output->GetPointData();
-  outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
-  for (size_t i = 0; i < used.size(); ++i)
-  {
-    points->SetPoint(static_cast<vtkIdType>(i), &mesh.Points[3 * size_t(used[i])]);
-    outPD->CopyData(inPD, cache.VertexToInput[used[i]], static_cast<vtkIdType>(i));
-  }
+  slod::StoreUsedPoints(input, mesh, used, cache.VertexToInput, this->OutputDoublePrecision, output);
   vtkNew<vtkIntArray> patchIds;
   patchIds->SetName("PatchId");
   patchIds->SetNumberOfValues(static_cast<vtkIdType>(result.TrianglePatch.size()));
@@ -345,16 +332,15 @@ int vtkPatchBoundaryMerge::RequestData(
   {
     patchIds->SetValue(static_cast<vtkIdType>(t), result.TrianglePatch[t]);
   }
-  output->SetPoints(points);
   output->SetPolys(polys);
   output->GetCellData()->AddArray(patchIds);
-  curves->SetPoints(points);
-  curves->GetPointData()->ShallowCopy(outPD);
+  curves->SetPoints(output->GetPoints());
+  curves->GetPointData()->ShallowCopy(output->GetPointData());
   curves->SetLines(lines);
 
   if (this->GeneratePatchColoredInput)
   {
-    slod::MeshToPolyData(mesh, colored, points->GetDataType());
+    slod::MeshToPolyData(mesh, colored, output->GetPoints()->GetDataType());
     vtkNew<vtkIntArray> inputPatch;
     inputPatch->SetName("PatchId");
     inputPatch->SetNumberOfValues(mesh.NumberOfTriangles());

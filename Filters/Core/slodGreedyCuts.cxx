@@ -369,6 +369,22 @@ struct GreedyCuts::Worker
     std::unordered_map<TripleKey, bool, TripleHash> Cache;
     double Tol = 0; // orientation tolerance (squared length scale)
     bool Careful = false, Relaxed = false;
+
+    // Inserts original vertex v into the front after node `after`; returns its node.
+    Index InsertAfter(Index after, Index v)
+    {
+      const Index j = this->Next[after];
+      const Index node = static_cast<Index>(this->Vert.size());
+      this->Vert.push_back(v);
+      this->Prev.push_back(after);
+      this->Next.push_back(j);
+      this->EarState.push_back(-1);
+      this->EarArea.push_back(0);
+      this->Next[after] = node;
+      this->Prev[j] = node;
+      ++this->Count;
+      return node;
+    }
   };
 
   bool Feasible(PatchState& s, Index a, Index b, Index c)
@@ -674,17 +690,7 @@ struct GreedyCuts::Worker
         freed = true;
       }
     }
-    const Index j = s.Next[bestNode];
-    const Index node = static_cast<Index>(s.Vert.size());
-    s.Vert.push_back(bestX);
-    s.Prev.push_back(bestNode);
-    s.Next.push_back(j);
-    s.EarState.push_back(-1);
-    s.EarArea.push_back(0);
-    s.Next[bestNode] = node;
-    s.Prev[j] = node;
-    this->FrontNode[bestX] = node;
-    ++s.Count;
+    this->FrontNode[bestX] = s.InsertAfter(bestNode, bestX);
     std::fill(s.EarState.begin(), s.EarState.end(), -1);
     ++this->Res.Repairs;
     return true;
@@ -914,17 +920,8 @@ struct GreedyCuts::Worker
       }
       const Index j = s.Next[biteEdge];
       const Index v = s.Inner[biteInner];
-      const Index node = static_cast<Index>(s.Vert.size());
-      s.Vert.push_back(v);
-      s.Prev.push_back(biteEdge);
-      s.Next.push_back(j);
-      s.EarState.push_back(-1);
-      s.EarArea.push_back(0);
-      s.Next[biteEdge] = node;
-      s.Prev[j] = node;
-      ++s.Count;
       s.Consumed[biteInner] = 1;
-      this->FrontNode[v] = node;
+      this->FrontNode[v] = s.InsertAfter(biteEdge, v);
       this->Emit(s, tris, s.Vert[biteEdge], s.Vert[j], v);
       ++this->Res.Bites;
       std::fill(s.EarState.begin(), s.EarState.end(), -1);

@@ -7,6 +7,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkObject.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
@@ -715,5 +716,23 @@ void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointData
   }
   output->SetPoints(points);
   output->SetPolys(polys);
+}
+
+void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh, const std::vector<Index>& used,
+  const std::vector<Index>& vertexToInputPoint, bool forceDouble, vtkPolyData* output)
+{
+  const bool inputDouble = !input->GetPoints() || input->GetPoints()->GetDataType() == VTK_DOUBLE;
+  vtkNew<vtkPoints> points;
+  points->SetDataType(forceDouble || inputDouble ? VTK_DOUBLE : VTK_FLOAT);
+  points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
+  vtkPointData* inPD = input->GetPointData();
+  vtkPointData* outPD = output->GetPointData();
+  outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
+  for (size_t i = 0; i < used.size(); ++i)
+  {
+    points->SetPoint(static_cast<vtkIdType>(i), &mesh.Points[3 * size_t(used[i])]);
+    outPD->CopyData(inPD, vertexToInputPoint[used[i]], static_cast<vtkIdType>(i));
+  }
+  output->SetPoints(points);
 }
 } // namespace slod

@@ -66,6 +66,12 @@ SURFACELODFILTERS_EXPORT bool PrepareFilterInput(vtkObject* filter, vtkPolyData*
 
 // Writes the mesh as points (same precision as `pointsLike` when given, else float) + triangles.
 SURFACELODFILTERS_EXPORT void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointDataType = 10 /*VTK_FLOAT*/);
+
+// Output points over the mesh vertices `used` (output point i is mesh vertex used[i]), with the
+// input's point data copied from input point vertexToInputPoint[used[i]]; float or double as the
+// input's points (double when forceDouble). For filters whose outputs keep original vertices only.
+SURFACELODFILTERS_EXPORT void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh,
+  const std::vector<Index>& used, const std::vector<Index>& vertexToInputPoint, bool forceDouble, vtkPolyData* output);
 } // namespace slod
 
 #endif
