@@ -46,6 +46,15 @@ Vec3 QuadricPointNear(const Quadric& q, const Vec3& center)
   }
   return { x[0], x[1], x[2] };
 }
+
+// The quadric's point nearest the midpoint of edge (pu, pv), accepted when finite and within an
+// edge length of the midpoint (farther is a poorly constrained extrapolation).
+bool EdgeOptimum(const Quadric& q, const Vec3& pu, const Vec3& pv, Vec3& best)
+{
+  const Vec3 mid = 0.5 * (pu + pv);
+  best = QuadricPointNear(q, mid);
+  return std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) && Norm(best - mid) <= Norm(pv - pu);
+}
 }
 
 void HierarchyMesh::Clear()
@@ -286,11 +295,10 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
       }
       Quadric q = this->Quadrics[u];
       q += this->Quadrics[v];
-      const Vec3 pu = m.Point(u), pv = m.Point(v), mid = 0.5 * (pu + pv);
-      const Vec3 best = QuadricPointNear(q, mid);
+      const Vec3 pu = m.Point(u), pv = m.Point(v);
+      Vec3 best;
       const Index uv[2] = { u, v };
-      if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) &&
-        Norm(best - mid) <= Norm(pv - pu))
+      if (EdgeOptimum(q, pu, pv, best))
       {
         e.EdgeError = std::min(e.EdgeError, this->CollapseError(uv, 2, q, best));
       }
@@ -667,11 +675,10 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     }
     Quadric q = this->Quadrics[u];
     q += this->Quadrics[v];
-    const Vec3 pu = m.Point(u), pv = m.Point(v), mid = 0.5 * (pu + pv);
-    const Vec3 best = QuadricPointNear(q, mid);
+    const Vec3 pu = m.Point(u), pv = m.Point(v);
+    Vec3 best;
     const Index uv[2] = { u, v };
-    if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) &&
-      Norm(best - mid) <= Norm(pv - pu))
+    if (EdgeOptimum(q, pu, pv, best))
     {
       candidates[n++] = { this->CollapseError(uv, 2, q, best), k, best };
     }
