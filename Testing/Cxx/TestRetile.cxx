@@ -90,19 +90,6 @@ SurfaceCheck CheckAgainstInput(const TriangleMesh& input, const TriangleMesh& ou
   return check;
 }
 
-void ExpectSameTopology(const TriangleMesh& input, const TriangleMesh& output)
-{
-  const MeshStatistics in = ComputeMeshStatistics(input);
-  const MeshStatistics out = ComputeMeshStatistics(output);
-  EXPECT_EQ(out.NonManifoldEdges, 0);
-  EXPECT_EQ(out.NonManifoldVertices, 0);
-  EXPECT_EQ(out.DegenerateTriangles, 0);
-  EXPECT_EQ(out.InconsistentlyOrientedEdges, 0);
-  EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
-  EXPECT_EQ(out.Genus, in.Genus);
-  EXPECT_EQ(out.Components, in.Components);
-  EXPECT_EQ(out.BoundaryLoops, in.BoundaryLoops);
-}
 
 // Points per unit area of the output around the vertices where the predicate holds.
 double VertexDensity(const TriangleMesh& m, bool (*inside)(const Vec3&))
@@ -171,7 +158,7 @@ TEST_P(RetileOnMesh, KeepsTopologyOrientationAndSurface)
   // Count: exactly the requested vertices plus retained old ones (none on these surfaces).
   EXPECT_EQ(filter->GetNumberOfRetainedVertices(), 0);
   EXPECT_EQ(output->GetNumberOfPoints(), c.Points + filter->GetNumberOfRetainedVertices());
-  ExpectSameTopology(in, out);
+  slodtest::ExpectSameTopology(in, out);
 
   const SurfaceCheck check = CheckAgainstInput(in, out);
   EXPECT_LT(check.MaxVertexDistance, 1e-6) << "output vertices must lie on the input surface";
@@ -229,7 +216,7 @@ TEST(Retile, OpenSurfaceKeepsItsBoundary)
   auto output = Retile(input, 300, 0.0, 3, &filter);
   const TriangleMesh out = slodtest::RawTriangleMesh(output);
   EXPECT_EQ(output->GetNumberOfPoints(), 300 + filter->GetNumberOfRetainedVertices());
-  ExpectSameTopology(disk, out);
+  slodtest::ExpectSameTopology(disk, out);
   const SurfaceCheck check = CheckAgainstInput(disk, out);
   EXPECT_EQ(check.Flipped, 0);
   EXPECT_LT(check.MaxVertexDistance, 1e-6);
@@ -258,7 +245,7 @@ TEST(Retile, CurvatureConcentratesPoints)
   std::printf("[retile] ellipsoid tip/middle density: uniform %.2f, CurvatureWeight 2: %.2f\n", uniformRatio, curvedRatio);
   EXPECT_NEAR(uniformRatio, 1.0, 0.25);
   EXPECT_GT(curvedRatio, 1.5 * uniformRatio);
-  ExpectSameTopology(ellipsoid, curved);
+  slodtest::ExpectSameTopology(ellipsoid, curved);
 }
 
 TEST(Retile, DeterministicAndSeeded)
@@ -358,7 +345,7 @@ TEST(Retile, NestedLevelsAreSubsets)
     ASSERT_EQ(levels[k].RetainedOldVertices, 0);
     ASSERT_EQ(m.NumberOfPoints(), counts[k]);
     EXPECT_EQ(m.NumberOfTriangles(), 2 * counts[k]); // genus 1
-    ExpectSameTopology(torus, m);
+    slodtest::ExpectSameTopology(torus, m);
     const SurfaceCheck check = CheckAgainstInput(torus, m);
     EXPECT_EQ(check.Flipped, 0) << "level " << k;
     EXPECT_LT(check.MaxVertexDistance, 1e-9);
@@ -394,7 +381,7 @@ TEST(Retile, SeveralComponents)
   auto output = Retile(input, 400, 0.0, 1, &filter);
   EXPECT_EQ(filter->GetNumberOfRetainedVertices(), 0);
   EXPECT_EQ(output->GetNumberOfPoints(), 400);
-  ExpectSameTopology(both, slodtest::RawTriangleMesh(output));
+  slodtest::ExpectSameTopology(both, slodtest::RawTriangleMesh(output));
   EXPECT_EQ(CheckAgainstInput(both, slodtest::RawTriangleMesh(output)).Flipped, 0);
   filter->Delete();
 }

@@ -1,6 +1,7 @@
 #include "TestSupport.h"
 
 #include "slodInputPreparation.h"
+#include "slodMeshTopology.h"
 #include "vtkOFFMeshReader.h"
 #include "vtkSyntheticIsosurfaceSource.h"
 
@@ -216,5 +217,18 @@ slod::TriangleMesh NonManifoldFan(int wings)
     m.AddTriangle(0, v, 1);
   }
   return m;
+}
+void ExpectSameTopology(const slod::TriangleMesh& input, const slod::TriangleMesh& output)
+{
+  const slod::MeshStatistics in = slod::ComputeMeshStatistics(input);
+  const slod::MeshStatistics out = slod::ComputeMeshStatistics(output);
+  EXPECT_EQ(out.NonManifoldEdges, 0);
+  EXPECT_EQ(out.NonManifoldVertices, 0);
+  EXPECT_EQ(out.DegenerateTriangles, 0);
+  EXPECT_EQ(out.InconsistentlyOrientedEdges, 0);
+  EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+  EXPECT_EQ(out.Genus, in.Genus);
+  EXPECT_EQ(out.Components, in.Components);
+  EXPECT_EQ(out.BoundaryLoops, in.BoundaryLoops);
 }
 } // namespace slodtest

@@ -37,6 +37,10 @@ slod::TriangleMesh Sphere(int thetaResolution, int phiResolution); // vtkSphereS
 slod::TriangleMesh Disk(int rings, int segments);                    // open, one boundary loop
 slod::TriangleMesh Grid(int nx, int ny, double z = 0.0);             // unit square, one boundary loop
 slod::TriangleMesh Concatenate(const slod::TriangleMesh& a, const slod::TriangleMesh& b);
+
+// gtest expectations: `output` is a clean manifold (no non-manifold edge or vertex, no degenerate
+// or misoriented triangle) with the Euler characteristic, genus, components and boundary loops of `input`.
+void ExpectSameTopology(const slod::TriangleMesh& input, const slod::TriangleMesh& output);
 slod::TriangleMesh NonManifoldFan(int wings);                        // `wings` triangles on one edge
 
 // Collects (and so silences) the warnings and errors of a filter it observes.
