@@ -233,6 +233,13 @@ JsonLine& JsonLine::Add(const std::string& key, long long value)
   return *this;
 }
 
+JsonLine& JsonLine::Add(const std::string& key, bool value)
+{
+  this->Key(key);
+  this->Body += value ? "true" : "false";
+  return *this;
+}
+
 JsonLine& JsonLine::Add(const std::string& key, double value)
 {
   this->Key(key);

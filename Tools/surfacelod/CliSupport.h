@@ -76,6 +76,7 @@ public:
   JsonLine& Add(const std::string& key, const char* value) { return this->Add(key, std::string(value)); }
   JsonLine& Add(const std::string& key, long long value);
   JsonLine& Add(const std::string& key, double value); // NaN/Inf -> null
+  JsonLine& Add(const std::string& key, bool value);
   JsonLine& AddNull(const std::string& key);
   std::string Str() const { return "{" + this->Body + "}"; }
   void Print() const; // to stdout, with newline, flushed

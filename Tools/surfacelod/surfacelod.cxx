@@ -269,12 +269,14 @@ int Simplify(const ParsedArguments& args)
   WriteMesh(result.Output, outputPath);
 
   const vtkIdType outputTriangles = result.Output->GetNumberOfPolys();
+  const bool targetReached = TargetReached(result.Output, settings);
   if (args.Has("json"))
   {
     JsonLine()
       .Add("method", method->Name)
       .Add("input_triangles", static_cast<long long>(settings.InputTriangles))
       .Add("output_triangles", static_cast<long long>(outputTriangles))
+      .Add("target_reached", targetReached)
       .Add("seconds", result.Seconds)
       .Add("peak_rss_mb", PeakResidentMegabytes())
       .Print();
@@ -283,7 +285,7 @@ int Simplify(const ParsedArguments& args)
   {
     std::cout << method->Name << ": " << settings.InputTriangles << " -> " << outputTriangles << " triangles in "
               << Fixed(result.Seconds, 3) << " s (peak RSS " << Fixed(PeakResidentMegabytes(), 1)
-              << " MB), wrote " << outputPath << "\n";
+              << " MB), wrote " << outputPath << (targetReached ? "" : " (target not reached)") << "\n";
   }
   return ExitSuccess;
 }
