@@ -387,6 +387,40 @@ void CountNonManifoldVertices(
   }
 }
 
+// Every point id of a polygon or strip must name an existing point: anything else would read
+// outside the point array. Vertex and line cells are ignored by the filters, so not checked.
+bool ValidateCellIds(vtkPolyData* input, PreparationReport& report)
+{
+  const vtkIdType np = input->GetNumberOfPoints();
+  vtkIdType cellIndex = 0;
+  for (vtkCellArray* cells : { input->GetPolys(), input->GetStrips() })
+  {
+    if (!cells)
+    {
+      continue;
+    }
+    auto it = vtk::TakeSmartPointer(cells->NewIterator());
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellIndex)
+    {
+      it->GetCurrentCell(n, ids);
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        if (ids[i] < 0 || ids[i] >= np)
+        {
+          std::ostringstream s;
+          s << "cell " << cellIndex << " refers to point id " << ids[i] << ", outside 0.." << np - 1;
+          report.Valid = false;
+          report.Error = s.str();
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
 // Point coordinates as doubles, read straight from float or double arrays.
 void ReadPoints(vtkPolyData* input, std::vector<double>& points)
 {
@@ -438,7 +472,22 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
   mesh.Points.clear();
   mesh.Triangles.clear();
   vertexToInputPoint.clear();
-  if (!input || input->GetNumberOfPoints() == 0)
+  if (!input)
+  {
+    return report;
+  }
+  const vtkIdType surfaceCells = (input->GetPolys() ? input->GetPolys()->GetNumberOfCells() : 0) +
+    (input->GetStrips() ? input->GetStrips()->GetNumberOfCells() : 0);
+  if (input->GetNumberOfPoints() == 0 || !input->GetPoints())
+  {
+    if (surfaceCells > 0)
+    {
+      report.Valid = false;
+      report.Error = "polygons or strips but no points";
+    }
+    return report;
+  }
+  if (!ValidateCellIds(input, report))
   {
     return report;
   }

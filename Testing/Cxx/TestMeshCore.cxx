@@ -401,6 +401,49 @@ TEST(InputPreparation, NaNIsRejected)
   EXPECT_EQ(report.NonFinitePoints, 1);
 }
 
+// Point ids outside the point array (too large or negative, in polygons or strips) make the input
+// unusable: an error naming the cell, never a read outside the array.
+TEST(InputPreparation, OutOfRangeCellIdsAreRejected)
+{
+  const std::vector<double> points{ 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0 };
+  for (vtkIdType bad : { vtkIdType(4), vtkIdType(1000000), vtkIdType(-1) })
+  {
+    for (bool strip : { false, true })
+    {
+      SCOPED_TRACE(std::to_string(bad) + (strip ? " strip" : " polygon"));
+      auto pd = MakePolyData(points, { { 0, 1, 2 } });
+      vtkNew<vtkCellArray> cells;
+      const vtkIdType ids[4] = { 1, 3, 2, bad };
+      cells->InsertNextCell(strip ? 4 : 3, strip ? ids : ids + 1);
+      if (!strip)
+      {
+        cells->InsertNextCell(3, ids + 1);
+        cells->ReplaceCellAtId(1, 3, std::vector<vtkIdType>{ 1, bad, 2 }.data());
+        pd->SetPolys(cells);
+      }
+      else
+      {
+        pd->SetStrips(cells);
+      }
+      TriangleMesh mesh;
+      std::vector<Index> origin;
+      const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
+      EXPECT_FALSE(report.Valid);
+      EXPECT_NE(report.Error.find(std::to_string(bad)), std::string::npos) << report.Error;
+      EXPECT_EQ(mesh.NumberOfTriangles(), 0);
+    }
+  }
+  // Polygons without points.
+  vtkNew<vtkPolyData> noPoints;
+  vtkNew<vtkCellArray> cells;
+  const vtkIdType tri[3] = { 0, 1, 2 };
+  cells->InsertNextCell(3, tri);
+  noPoints->SetPolys(cells);
+  TriangleMesh mesh;
+  std::vector<Index> origin;
+  EXPECT_FALSE(PrepareTriangleMesh(noPoints, {}, mesh, origin).Valid);
+}
+
 TEST(InputPreparation, PolygonsLinesDuplicatesDegenerates)
 {
   // A quad, a triangle duplicating one of the quad's points, a degenerate triangle, a repeated
