@@ -322,6 +322,21 @@ def scenario_bench_real(a):
     check(off["input_euler"] == 2 and off["input_border_loops"] == 0, "fandisk input topology: %r" % off)
 
 
+def scenario_bench_scaling(a):
+    """--scaling at tiny resolutions: three inputs, then one ratio line per method."""
+    proc = run(a.cli, "bench", "--scaling", "--scaling-resolutions", "24,32,48", "--methods",
+               "vtk-quadric-decimation", "--no-deviation", "--json")
+    lines = [json.loads(l) for l in proc.stdout.splitlines() if l.strip()]
+    rows = [l for l in lines if "scaling" not in l]
+    ratios = [l for l in lines if "scaling" in l]
+    check([r["input"] for r in rows] == ["noisy:24", "noisy:32", "noisy:48"], "scaling inputs: %r" % rows)
+    check(rows[0]["input_triangles"] < rows[1]["input_triangles"] < rows[2]["input_triangles"],
+          "the triangle count does not grow with the resolution: %r" % rows)
+    check(len(ratios) == 1 and ratios[0]["ratio_of"] == "noisy:48 / noisy:32", "ratio line: %r" % ratios)
+    expected = rows[2]["seconds"] / rows[1]["seconds"]
+    check(abs(ratios[0]["time_ratio"] - expected) <= 1e-6 * expected, "ratio %r, times %r" % (ratios, rows))
+
+
 def scenario_bench_timeout(a):
     """A method over the time-out is killed and reported, and the bench goes on."""
     proc = run(a.cli, "bench", "--inputs", "noisy:40,fandisk", "--mesh-dir", a.mesh_dir, "--methods",

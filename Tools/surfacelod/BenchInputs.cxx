@@ -117,9 +117,28 @@ std::vector<std::string> RealInputSet()
     "openscan:" + std::to_string(OpenScanResolutionMillion) };
 }
 
-std::vector<std::string> ScalingInputSet()
+std::vector<std::string> ScalingInputSet(const std::vector<std::string>& resolutions)
 {
-  return { "noisy:" + std::to_string(NoisyResolutionQuarterMillion), "noisy:" + std::to_string(NoisyResolutionMillion),
-    "noisy:" + std::to_string(NoisyResolutionFourMillion) };
+  if (resolutions.empty())
+  {
+    return { "noisy:" + std::to_string(NoisyResolutionQuarterMillion), "noisy:" + std::to_string(NoisyResolutionMillion),
+      "noisy:" + std::to_string(NoisyResolutionFourMillion) };
+  }
+  if (resolutions.size() != 3)
+  {
+    throw CliError(ExitUsage, "surfacelod bench: --scaling-resolutions takes three resolutions (small, middle, large)");
+  }
+  std::vector<std::string> names;
+  for (const std::string& r : resolutions)
+  {
+    names.push_back("noisy:" + r); // validated when the input is generated
+  }
+  return names;
+}
+
+std::string DefaultScalingResolutions()
+{
+  return std::to_string(NoisyResolutionQuarterMillion) + "," + std::to_string(NoisyResolutionMillion) + "," +
+    std::to_string(NoisyResolutionFourMillion);
 }
 } // namespace slodcli

@@ -23,8 +23,10 @@ std::string GeneratedInputHelp();
 
 // `--set real`: the scan-like generated surfaces at about one million triangles each.
 std::vector<std::string> RealInputSet();
-// `--scaling`: the noisy isosurface at about 0.25M, 1M and 4M triangles (in that order).
-std::vector<std::string> ScalingInputSet();
+// `--scaling`: the noisy isosurface at about 0.25M, 1M and 4M triangles (in that order), or at
+// the three resolutions given (--scaling-resolutions, for quick checks).
+std::vector<std::string> ScalingInputSet(const std::vector<std::string>& resolutions = {});
+std::string DefaultScalingResolutions(); // "137,273,546"
 } // namespace slodcli
 
 #endif

@@ -499,6 +499,8 @@ CommandSpec BenchSpec()
       { "set", "real", "the scan-like input set (noisy, mask, openscan at ~1M triangles)" },
       { "input", "FILE", "a mesh file to add to the inputs (repeatable)" },
       { "scaling", "", "noisy isosurface at ~0.25M, 1M, 4M triangles; prints time(4M)/time(1M)" },
+      { "scaling-resolutions", "A,B,C", "--scaling at these noisy:N resolutions (default " + DefaultScalingResolutions() +
+          ")" },
       { "target-reduction", "R", "fraction of the triangles to remove (default 0.9)" },
       { "target-triangles", "N", "number of triangles to keep (instead of --target-reduction)" },
       { "methods", "a,b,...", "methods to run (default: all)" },
@@ -774,40 +776,46 @@ std::vector<BenchRow> BenchInput(const BenchOptions& options, const ParsedArgume
   return rows;
 }
 
-// time(last input) / time(middle input) per method, after a --scaling run.
+// time(third input) / time(second input) per method after a --scaling run (4M / 1M triangles).
 void PrintScaling(const std::vector<std::vector<BenchRow>>& perInput, const BenchOptions& options)
 {
   if (perInput.size() != 3)
   {
     return;
   }
+  const std::string& middleName = perInput[1].front().Input;
+  const std::string& largeName = perInput[2].front().Input;
   if (!options.Json)
   {
-    std::cout << "\n" << Padded("method", 28) << Padded("T(0.25M)", 12, true) << Padded("T(1M)", 12, true)
-              << Padded("T(4M)", 12, true) << Padded("t(4M)/t(1M)", 13, true) << "\n";
+    std::cout << "\nscaling: ratio = time on " << largeName << " (" << perInput[2].front().InputTriangles
+              << " triangles) / time on " << middleName << " (" << perInput[1].front().InputTriangles << ")\n"
+              << Padded("method", 28);
+    for (const std::vector<BenchRow>& rows : perInput)
+    {
+      std::cout << Padded(rows.front().Input, 14, true);
+    }
+    std::cout << Padded("ratio", 8, true) << "\n";
   }
   for (size_t m = 0; m < options.Methods.size(); ++m)
   {
-    std::string times[3];
-    for (int i = 0; i < 3; ++i)
-    {
-      const BenchRow& row = perInput[i][m];
-      times[i] = row.Status == "ok" ? Fixed(row.Seconds, 3) : row.Status;
-    }
-    const BenchRow& large = perInput[2][m];
     const BenchRow& middle = perInput[1][m];
-    const bool both = large.Status == "ok" && middle.Status == "ok";
-    const double ratio = both ? RatioTo(large.Seconds, middle.Seconds) : std::numeric_limits<double>::quiet_NaN();
+    const BenchRow& large = perInput[2][m];
+    const double ratio = large.Status == "ok" && middle.Status == "ok" ? RatioTo(large.Seconds, middle.Seconds)
+                                                                        : std::numeric_limits<double>::quiet_NaN();
     if (options.Json)
     {
       JsonLine line;
-      line.Add("scaling", options.Methods[m]->Name).Add("inputs", perInput[1][m].Input + "," + large.Input);
-      AddOrNull(line, "time_ratio_4m_1m", ratio);
+      line.Add("scaling", options.Methods[m]->Name).Add("ratio_of", largeName + " / " + middleName);
+      AddOrNull(line, "time_ratio", ratio);
       line.Print();
       continue;
     }
-    std::cout << Padded(options.Methods[m]->Name, 28) << Padded(times[0], 12, true) << Padded(times[1], 12, true)
-              << Padded(times[2], 12, true) << Padded(RatioText(ratio), 13, true) << "\n";
+    std::cout << Padded(options.Methods[m]->Name, 28);
+    for (const std::vector<BenchRow>& rows : perInput)
+    {
+      std::cout << Padded(rows[m].Status == "ok" ? Fixed(rows[m].Seconds, 3) : rows[m].Status, 14, true);
+    }
+    std::cout << Padded(RatioText(ratio), 8, true) << "\n";
   }
 }
 
@@ -817,7 +825,7 @@ std::vector<std::string> BenchInputNames(const ParsedArguments& args)
   std::vector<std::string> names;
   if (args.Has("scaling"))
   {
-    names = ScalingInputSet();
+    names = ScalingInputSet(SplitList(args.Get("scaling-resolutions")));
   }
   else if (args.Has("set"))
   {
@@ -864,6 +872,10 @@ BenchOptions ParseBenchOptions(const ParsedArguments& args)
   if (int(args.Has("scaling")) + int(args.Has("set")) + int(args.Has("inputs")) > 1)
   {
     throw CliError(ExitUsage, "surfacelod bench: give one of --inputs, --set, --scaling");
+  }
+  if (args.Has("scaling-resolutions") && !args.Has("scaling"))
+  {
+    throw CliError(ExitUsage, "surfacelod bench: --scaling-resolutions goes with --scaling");
   }
   BenchOptions options;
   options.Repeat = static_cast<int>(args.GetInteger("repeat", 1, 1, 1000));
