@@ -24,6 +24,7 @@ import vtk
 
 
 def label_mask(image_port, first, last):
+    """The 0/1 mask of labels first..last (the filter: a port alone does not keep it alive)."""
     threshold = vtk.vtkImageThreshold()
     threshold.SetInputConnection(image_port)
     threshold.ThresholdBetween(first, last)
@@ -32,7 +33,7 @@ def label_mask(image_port, first, last):
     threshold.ReplaceInOn()
     threshold.ReplaceOutOn()
     threshold.SetOutputScalarTypeToUnsignedChar()
-    return threshold.GetOutputPort()
+    return threshold
 
 
 def isosurface(volume_port, iso, largest_only):
@@ -78,7 +79,8 @@ def main():
             first, last = (int(v) for v in args.labels.split("-"))
         except ValueError:
             sys.exit("--labels: expected LO-HI, e.g. 1-4")
-        port, iso = label_mask(port, first, last), 0.5
+        mask = label_mask(port, first, last)
+        port, iso = mask.GetOutputPort(), 0.5
 
     surface = isosurface(port, iso, not args.all_regions)
     if surface.GetNumberOfPolys() == 0:
