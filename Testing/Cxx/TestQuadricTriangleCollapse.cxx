@@ -18,6 +18,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkScanSurfaceSource.h"
 #include "vtkXMLPolyDataWriter.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -751,15 +752,18 @@ TEST(QuadricTriangleCollapse, NoisyScanIsosurfaceKeepsItsTopology)
   for (unsigned seed : { 1u, 2u, 3u })
   {
     SCOPED_TRACE(seed);
-    vtkSmartPointer<vtkPolyData> input = slodtest::NoisyScanIsosurface(44, seed);
+    vtkNew<vtkScanSurfaceSource> source;
+    source->SetResolution(55);
+    source->SetSeed(seed);
+    source->Update();
+    vtkSmartPointer<vtkPolyData> input = source->GetOutput();
     const TriangleMesh in = slodtest::ToTriangleMesh(input);
     const MeshStatistics before = ComputeMeshStatistics(in);
     const Index borderBefore = BorderComponents(in);
     // The case must be what it claims: otherwise the test proves nothing.
     ASSERT_GT(before.NonManifoldEdges + before.NonManifoldVertices, 0);
     ASSERT_GT(before.BoundaryLoops, 0);
-    ASSERT_GT(before.Components, 1);
-    ASSERT_NE(before.EulerCharacteristic, 2 * before.Components - before.BoundaryLoops); // some handles
+    ASSERT_LT(before.EulerCharacteristic, 0); // handles
     for (double reduction : { 0.9, 0.97 })
     {
       vtkNew<vtkQuadricTriangleCollapse> filter;
