@@ -373,6 +373,34 @@ struct GreedyCuts::Worker
     }
   }
 
+  // A chain's simplification also depends on the chains simplified before it (no two may give the
+  // same segment): refining one chain can drop a vertex another chain kept apart. Both patches of
+  // every chain whose kept vertices changed are triangulated again, else the untouched side keeps
+  // triangles on the dropped vertex and the surface opens there.
+  void MarkChangedChainPatches(const std::vector<unsigned char>& keptBefore)
+  {
+    if (keptBefore.size() != this->Kept.size())
+    {
+      return; // first round: every patch is dirty
+    }
+    for (Index c = 0; c < PP.NumberOfChains(); ++c)
+    {
+      const Index* v = PP.ChainVerticesBegin(c);
+      bool changed = false;
+      for (Index i = 0; i < PP.ChainSize(c) && !changed; ++i)
+      {
+        changed = this->Kept[v[i]] != keptBefore[v[i]];
+      }
+      for (Index p : { PP.ChainLeftPatch(c), PP.ChainRightPatch(c) })
+      {
+        if (changed && p != InvalidIndex)
+        {
+          this->Dirty[p] = 1;
+        }
+      }
+    }
+  }
+
   void AddEdges(const std::vector<Index>& tris, int delta)
   {
     for (size_t t = 0; t < tris.size(); t += 3)
@@ -1035,7 +1063,9 @@ struct GreedyCuts::Worker
         std::fill(this->PatchOriginal.begin(), this->PatchOriginal.end(), 1);
         std::fill(this->Dirty.begin(), this->Dirty.end(), 1);
       }
+      const std::vector<unsigned char> keptBefore = this->Kept;
       this->SimplifyChains();
+      this->MarkChangedChainPatches(keptBefore);
       for (Index p = 0; p < np; ++p)
       {
         if (this->Dirty[p])
