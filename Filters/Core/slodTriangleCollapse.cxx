@@ -779,7 +779,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   CollapseRecord record;
   std::vector<Index> neighbors;
   long long resets = 0, updates = 0, replaced = 0;
-  long long statusCounts[static_cast<int>(CollapseStatus::IsolatedVertex) + 1] = {};
+  long long statusCounts[static_cast<int>(CollapseStatus::Locked) + 1] = {};
   const Index toRemove = std::max<Index>(1, this->Mesh.NumberOfLiveTriangles() - target);
   const Index progressStep = std::max<Index>(1, toRemove / 100);
   Index nextProgress = progressStep;
@@ -1042,7 +1042,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   {
     std::fprintf(stderr, "[triangle collapse] %d collapses, %d rejected, %lld heap re-keys, %lld updates\n",
       int(result.Collapses), int(result.RejectedCollapses), resets, updates);
-    for (int k = 1; k <= static_cast<int>(CollapseStatus::IsolatedVertex); ++k)
+    for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
     {
       std::fprintf(stderr, "  rejected: %s %lld\n", ToString(static_cast<CollapseStatus>(k)), statusCounts[k]);
     }
