@@ -88,6 +88,24 @@ void HierarchyMesh::Clear()
 }
 
 // ---------------------------------------------------------------------------------------------
+// A collapse of a non-manifold edge (or next to a pinched vertex) can pass the link condition
+// and cut the sheets around it apart (new border loops, another Euler characteristic): such
+// vertices are locked, the edge stays as it is in every level.
+void CollapseHierarchy::LockNonManifoldVertices()
+{
+  const MeshTopology topology(this->Base);
+  const Index np = this->Base.NumberOfPoints();
+  this->LockedVertices.assign(size_t(np), 0);
+  bool any = false;
+  for (Index v = 0; v < np; ++v)
+  {
+    this->LockedVertices[v] = topology.IsNonManifoldVertex(v) ? 1 : 0;
+    any = any || this->LockedVertices[v];
+  }
+  this->MeshOptions.LockedVertices = any ? this->LockedVertices.data() : nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------
 // Cycle removal (Fig. 3): a valence-3 interior vertex q makes its three triangles a cycle; swapping
 // the edge of one of them opposite q raises q's valence to four.
 void CollapseHierarchy::RemoveCyclesBySwapping(TriangleMesh& mesh) const
@@ -787,6 +805,7 @@ bool CollapseHierarchy::Build(
   this->Mesh.Reset(this->Base);
   const Index np = this->Base.NumberOfPoints();
   const Index nt = this->Base.NumberOfTriangles();
+  this->LockNonManifoldVertices();
   this->GlobalPoints = this->Base.Points;
   this->GlobalOf.resize(np);
   std::iota(this->GlobalOf.begin(), this->GlobalOf.end(), 0);

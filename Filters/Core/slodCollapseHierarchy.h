@@ -26,6 +26,7 @@
 #define slodCollapseHierarchy_h
 
 #include "slodEditableMesh.h"
+#include "slodMeshTopology.h"
 #include "slodQuadric.h"
 #include "slodQuadraticFit.h"
 #include "slodTriangleStencil.h"
@@ -213,6 +214,7 @@ private:
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
   int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
   void RecordFlip(const FlipRecord& flip);
+  void LockNonManifoldVertices();
   bool KeepsOrientation(Index t, const Vec3& p) const;
 
   CollapseHierarchyParameters Parameters;
@@ -244,6 +246,9 @@ private:
   TriangleStencil Stencil;
   CollapseRecord Record;
   CollapseOptions MeshOptions;
+  // Vertices of non-manifold edges and pinched vertices of M0: never collapsed, so that such an
+  // edge stays one edge with all its sheets (MeshOptions.LockedVertices points here).
+  std::vector<unsigned char> LockedVertices;
   CollapsibleOptions Rules;
   std::vector<double> FitPoints;
   std::vector<Index> StencilVertices;

@@ -901,6 +901,30 @@ TEST(vtkTriangleCollapseHierarchy, LevelsTargetsCachingAndArrays)
   EXPECT_EQ(filter->GetNumberOfHierarchyBuilds(), 3);
 }
 
+TEST(vtkTriangleCollapseHierarchy, NoisyScanKeepsNonManifoldEdgesBordersAndHandles)
+{
+  // Like an MRI isosurface: handles, a border, non-manifold edges. A collapse of a non-manifold
+  // edge passes the link condition yet cuts the sheets apart (fewer non-manifold edges, more
+  // border loops, another Euler characteristic): such an edge must stay one edge in every level.
+  for (const unsigned seed : { 1u, 2u, 3u })
+  {
+    SCOPED_TRACE(seed);
+    const vtkSmartPointer<vtkPolyData> input = slodtest::NoisyScanIsosurface(40, seed);
+    vtkNew<vtkTriangleCollapseHierarchy> filter;
+    filter->SetInputData(input);
+    filter->SetTargetReduction(0.9);
+    filter->Update();
+    vtkPolyData* output = filter->GetOutput();
+    const MeshStatistics in = slodtest::ExpectPreparedInputTopology(input, output);
+    ASSERT_GT(in.NonManifoldEdges, 0) << "the test surface must have non-manifold edges";
+    ASSERT_GT(in.BoundaryLoops, 0) << "the test surface must have a border";
+    ASSERT_LT(in.EulerCharacteristic, 2 * in.Components - in.BoundaryLoops) << "the test surface must have handles";
+    // The border stays at full resolution: a cut-open edge or a new hole would add border edges.
+    EXPECT_EQ(ComputeMeshStatistics(slodtest::RawTriangleMesh(output)).BoundaryEdges, in.BoundaryEdges);
+    EXPECT_LT(output->GetNumberOfPolys(), in.Triangles / 5); // locked vertices leave most of it collapsible
+  }
+}
+
 TEST(vtkTriangleCollapseHierarchy, InvalidAndEmptyInputs)
 {
   vtkNew<vtkTriangleCollapseHierarchy> filter;
