@@ -432,6 +432,11 @@ TEST(MeshFileChecks, SoundPlyFilesPassAndReadBack)
     PlyFile ply;
     ply.Format = format;
     EXPECT_EQ(slodcli::CheckPLY(ply.Bytes()).Problem, "") << format;
+    EXPECT_EQ(slodcli::CheckPLY(ply.Bytes()).Warning, "") << format;
+    // Data after the last element: read as announced, with a warning.
+    const slodcli::FileCheck trailing = slodcli::CheckPLY(ply.Bytes() + "3 0 1 2\n");
+    EXPECT_EQ(trailing.Problem, "") << format;
+    EXPECT_NE(trailing.Warning.find("8 bytes after"), std::string::npos) << format << ": " << trailing.Warning;
     const std::string path = WriteText(std::string("tetra_") + format + ".ply", ply.Bytes());
     ASSERT_EQ(ReadProblem(path), "") << format;
     vtkSmartPointer<vtkPolyData> mesh = slodcli::ReadMesh(path);

@@ -458,14 +458,17 @@ std::string CheckPlyList(PlyBodyReader& body, const PlyElement& e, long long i, 
   return std::string();
 }
 
-std::string CheckPlyBody(const std::string& bytes, const PlyHeader& header, long long vertexCount)
+// The elements' data; warns about data after the last element (the reader ignores it).
+std::string CheckPlyBody(const std::string& bytes, const PlyHeader& header, long long vertexCount, std::string& warning)
 {
   PlyBodyReader body(bytes, header);
   for (const PlyElement& e : header.Elements)
   {
-    // Every element takes at least one byte (binary) or one line (ASCII): the count must fit.
-    const long long minimum = body.Binary() ? e.MinimumBinarySize() : 2;
-    if (e.Count > 0 && static_cast<unsigned long long>(e.Count) > body.Remaining() / static_cast<unsigned long long>(minimum))
+    // Every element takes at least one byte (binary) or one line of at least one character (ASCII;
+    // the last line may lack its '\n'): the count must fit.
+    const unsigned long long room = body.Binary() ? body.Remaining() : body.Remaining() + 1;
+    const unsigned long long minimum = body.Binary() ? static_cast<unsigned long long>(e.MinimumBinarySize()) : 2;
+    if (e.Count > 0 && static_cast<unsigned long long>(e.Count) > room / minimum)
     {
       return "the header announces " + std::to_string(e.Count) + " " + e.Name + " elements, more than the " +
         std::to_string(body.Remaining()) + " bytes left can hold";
@@ -489,6 +492,10 @@ std::string CheckPlyBody(const std::string& bytes, const PlyHeader& header, long
       }
     }
   }
+  if (body.HasTrailingData())
+  {
+    warning = std::to_string(body.Remaining()) + " bytes after the elements the header announces are ignored";
+  }
   return std::string();
 }
 } // namespace
@@ -505,7 +512,7 @@ FileCheck CheckPLY(const std::string& bytes)
   }
   if (result.Problem.empty())
   {
-    result.Problem = CheckPlyBody(bytes, header, vertexCount);
+    result.Problem = CheckPlyBody(bytes, header, vertexCount, result.Warning);
   }
   return result;
 }

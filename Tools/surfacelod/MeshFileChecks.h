@@ -15,7 +15,8 @@ struct FileCheck
 };
 
 // Whole PLY file: header syntax, element counts the file can hold, every element and list present,
-// list lengths, and every face / strip index within the vertex count.
+// list lengths, and every face / strip index within the vertex count; data after the last element
+// is a warning.
 FileCheck CheckPLY(const std::string& bytes);
 
 // STL: binary size against the announced triangle count (short: problem; longer by whole facets:

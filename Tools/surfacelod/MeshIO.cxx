@@ -286,47 +286,24 @@ struct VTKReadResult
   std::vector<std::string> Warnings; // the reader's own, each starting with the path
 };
 
+template <typename Reader>
+vtkSmartPointer<vtkAlgorithm> NewReader(const std::string& path)
+{
+  auto reader = vtkSmartPointer<Reader>::New();
+  reader->SetFileName(path.c_str());
+  return reader;
+}
+
 // The VTK reader of the extension, its errors and warnings captured.
 VTKReadResult ReadWithVTK(const std::string& path, const std::string& ext)
 {
   VTKReadResult result;
-  vtkSmartPointer<vtkAlgorithm> reader;
-  if (ext == ".off")
-  {
-    auto r = vtkSmartPointer<vtkOFFMeshReader>::New();
-    r->SetFileName(path.c_str());
-    reader = r;
-  }
-  else if (ext == ".ply")
-  {
-    auto r = vtkSmartPointer<vtkPLYReader>::New();
-    r->SetFileName(path.c_str());
-    reader = r;
-  }
-  else if (ext == ".stl")
-  {
-    auto r = vtkSmartPointer<vtkSTLReader>::New();
-    r->SetFileName(path.c_str());
-    reader = r;
-  }
-  else if (ext == ".obj")
-  {
-    auto r = vtkSmartPointer<vtkOBJReader>::New();
-    r->SetFileName(path.c_str());
-    reader = r;
-  }
-  else if (ext == ".vtp")
-  {
-    auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-    r->SetFileName(path.c_str());
-    reader = r;
-  }
-  else
-  {
-    auto r = vtkSmartPointer<vtkPolyDataReader>::New();
-    r->SetFileName(path.c_str());
-    reader = r;
-  }
+  const vtkSmartPointer<vtkAlgorithm> reader = ext == ".off" ? NewReader<vtkOFFMeshReader>(path)
+    : ext == ".ply"                                           ? NewReader<vtkPLYReader>(path)
+    : ext == ".stl"                                           ? NewReader<vtkSTLReader>(path)
+    : ext == ".obj"                                           ? NewReader<vtkOBJReader>(path)
+    : ext == ".vtp"                                           ? NewReader<vtkXMLPolyDataReader>(path)
+                                                              : NewReader<vtkPolyDataReader>(path);
   MessageCapture capture;
   reader->Update();
   if (auto* off = vtkOFFMeshReader::SafeDownCast(reader))
