@@ -1,5 +1,7 @@
 #include "MeshFileChecks.h"
 
+#include <vtksys/SystemTools.hxx>
+
 #include <cerrno>
 #include <climits>
 #include <cmath>
@@ -239,6 +241,13 @@ std::string ParsePlyHeader(const std::string& bytes, PlyHeader& header)
   return "PLY header has no end_header";
 }
 
+// The list of a face's vertex indices as vtkPLYReader reads it (checked against the vertex count).
+bool IsFaceIndexList(const PlyElement& element, const PlyProperty& property)
+{
+  return element.Name == "face" && property.IsList() &&
+    (property.Name == "vertex_indices" || property.Name == "vertex_index");
+}
+
 // The structure vtkPLYReader relies on: a vertex element with scalar x, y, z; elements with data.
 std::string CheckPlyStructure(const PlyHeader& header, long long& vertexCount)
 {
@@ -248,6 +257,19 @@ std::string CheckPlyStructure(const PlyHeader& header, long long& vertexCount)
     if (e.Count > 0 && e.Properties.empty())
     {
       return "PLY element '" + e.Name + "' has " + std::to_string(e.Count) + " items but no properties";
+    }
+    if (e.Name == "face" && e.Count > 0)
+    {
+      bool hasIndices = false;
+      for (const PlyProperty& p : e.Properties)
+      {
+        hasIndices = hasIndices || IsFaceIndexList(e, p);
+      }
+      if (!hasIndices)
+      {
+        // vtkPLYReader then frees an index list it never read (a crash).
+        return "PLY face element has no vertex_indices list";
+      }
     }
     if (e.Name != "vertex")
     {
@@ -273,28 +295,6 @@ std::string CheckPlyStructure(const PlyHeader& header, long long& vertexCount)
     return "PLY file has no vertex element";
   }
   return std::string();
-}
-
-// What the values of a list property are: vertex indices of a face (checked against the vertex
-// count), of a triangle strip (-1 separates strips), or anything else.
-enum class IndexRole
-{
-  None,
-  Face,
-  Strip
-};
-
-IndexRole RoleOf(const PlyElement& element, const PlyProperty& property)
-{
-  if (!property.IsList() || (property.Name != "vertex_indices" && property.Name != "vertex_index"))
-  {
-    return IndexRole::None;
-  }
-  if (element.Name == "face")
-  {
-    return IndexRole::Face;
-  }
-  return element.Name == "tristrips" ? IndexRole::Strip : IndexRole::None;
 }
 
 // Reads PLY values of the body, ASCII or binary, with bounds.
@@ -423,13 +423,13 @@ std::string CheckPlyList(PlyBodyReader& body, const PlyElement& e, long long i, 
   {
     return "file ends inside " + Item(e, i);
   }
-  const IndexRole role = RoleOf(e, p);
-  if (length < 0 || (role == IndexRole::Face && length > MaximumFaceVertices))
+  const bool indices = IsFaceIndexList(e, p);
+  if (length < 0 || (indices && length > MaximumFaceVertices))
   {
     return Item(e, i) + " has a list of " + std::to_string(static_cast<long long>(length)) + " values";
   }
   const long long count = static_cast<long long>(length);
-  if (role == IndexRole::None && body.Binary())
+  if (!indices && body.Binary())
   {
     return body.SkipBinary(p.Value, count) ? std::string() : "file ends inside " + Item(e, i);
   }
@@ -444,12 +444,7 @@ std::string CheckPlyList(PlyBodyReader& body, const PlyElement& e, long long i, 
     {
       return "file ends inside " + Item(e, i) + " (or a value is malformed)";
     }
-    if (role == IndexRole::None)
-    {
-      continue;
-    }
-    const bool separator = role == IndexRole::Strip && value == -1;
-    if (!p.Value.Integer || (!separator && (value < 0 || value >= static_cast<double>(vertexCount))))
+    if (indices && (!p.Value.Integer || value < 0 || value >= static_cast<double>(vertexCount)))
     {
       return Item(e, i) + " refers to vertex " + std::to_string(static_cast<long long>(value)) + " but the file has " +
         std::to_string(vertexCount) + " vertices";
@@ -517,16 +512,16 @@ FileCheck CheckPLY(const std::string& bytes)
   return result;
 }
 
-FileCheck CheckSTL(const std::string& bytes)
+FileCheck CheckSTL(const std::string& bytes, bool binary)
 {
   FileCheck result;
-  const bool startsWithSolid = bytes.compare(0, 5, "solid") == 0;
+  if (!binary)
+  {
+    return result; // VTK's ASCII parser reports its own errors
+  }
   if (bytes.size() < 84)
   {
-    if (!startsWithSolid)
-    {
-      result.Problem = "not an STL file (too short)";
-    }
+    result.Problem = "not an STL file (too short for a binary STL, not text)";
     return result;
   }
   const unsigned char* count = reinterpret_cast<const unsigned char*>(bytes.data()) + 80;
@@ -534,10 +529,7 @@ FileCheck CheckSTL(const std::string& bytes)
     (static_cast<unsigned long long>(count[3]) << 24);
   const unsigned long long expected = 84 + 50 * announced;
   const unsigned long long size = bytes.size();
-  if (startsWithSolid && size != expected)
-  {
-    return result; // ASCII (a binary file whose header starts with "solid" has exactly its size)
-  }
+  // vtkSTLReader allocates for the announced count whatever the file holds.
   if (size < expected)
   {
     result.Problem = "truncated binary STL: the header announces " + std::to_string(announced) + " triangles (" +
@@ -581,6 +573,12 @@ FileCheck CheckOBJ(const std::string& bytes)
     }
   }
   return result;
+}
+
+bool IsBinarySTL(const std::string& path)
+{
+  // The test vtkSTLReader::GetSTLFileType makes (unknown: it attempts binary).
+  return vtksys::SystemTools::DetectFileType(path.c_str()) != vtksys::SystemTools::FileTypeText;
 }
 
 bool ReadFileBytes(const std::string& path, std::string& bytes)

@@ -19,10 +19,14 @@ struct FileCheck
 // is a warning.
 FileCheck CheckPLY(const std::string& bytes);
 
-// STL: binary size against the announced triangle count (short: problem; longer by whole facets:
-// warning, VTK's reader reads every facet up to the end of the file); ASCII when it starts with
-// "solid".
-FileCheck CheckSTL(const std::string& bytes);
+// STL: a binary file's size against the announced triangle count (short: problem, VTK's reader
+// would allocate for the count; longer by whole facets: warning, it reads every facet up to the end
+// of the file). `binary` must be VTK's own verdict (IsBinarySTL), not a guess from "solid": a file
+// that starts with "solid" but holds binary bytes is read as binary.
+FileCheck CheckSTL(const std::string& bytes, bool binary);
+
+// vtkSTLReader's choice between its binary and ASCII parsers for the file at path.
+bool IsBinarySTL(const std::string& path);
 
 // OBJ vertex lines: VTK's OBJ reader turns a coordinate it cannot parse ("nan", "1,5") into a
 // number without a word, so every "v" line must hold three to seven finite numbers.

@@ -276,7 +276,7 @@ FileCheck CheckFileBytes(const std::string& path, const std::string& ext)
   {
     return { std::string("cannot read file (") + std::strerror(errno) + ")", std::string() };
   }
-  return ext == ".ply" ? CheckPLY(bytes) : ext == ".stl" ? CheckSTL(bytes) : CheckOBJ(bytes);
+  return ext == ".ply" ? CheckPLY(bytes) : ext == ".stl" ? CheckSTL(bytes, IsBinarySTL(path)) : CheckOBJ(bytes);
 }
 
 struct VTKReadResult
