@@ -18,6 +18,7 @@ const char* ToString(CollapseStatus status)
     case CollapseStatus::Degenerate: return "degenerate triangle";
     case CollapseStatus::BadShape: return "bad triangle shape";
     case CollapseStatus::IsolatedVertex: return "a vertex would lose all its triangles";
+    case CollapseStatus::Locked: return "locked vertex";
   }
   return "unknown";
 }
@@ -219,6 +220,10 @@ CollapseStatus EditableMesh::CheckCollapse(
     if (!this->IsVertexAlive(vertices[i]))
     {
       return CollapseStatus::DeadVertex;
+    }
+    if (options.LockedVertices && options.LockedVertices[vertices[i]])
+    {
+      return CollapseStatus::Locked;
     }
     onBoundary[i] =
       options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]);

@@ -35,6 +35,11 @@ struct SURFACELODFILTERS_EXPORT CollapseOptions
   // a merged vertex is on the border exactly when one of its vertices was. The flags must be
   // exact: an interior flag also skips the isolated-vertex walk for that vertex.
   const unsigned char* BoundaryVertices = nullptr;
+  // Optional per-vertex flags (1 = locked): a set holding a locked vertex is rejected. Filters lock
+  // the input's non-manifold vertices (on an edge with more than two triangles, or joining several
+  // fans): the link condition assumes one fan per vertex, and a collapse there could remove a
+  // whole component or open the surface.
+  const unsigned char* LockedVertices = nullptr;
 };
 
 enum class CollapseStatus
@@ -47,7 +52,8 @@ enum class CollapseStatus
   Flip,            // a triangle would turn over (normal deviation)
   Degenerate,      // a triangle would get zero area
   BadShape,        // a triangle would get a minimum angle below the limit
-  IsolatedVertex   // a vertex outside the set would lose all its triangles
+  IsolatedVertex,  // a vertex outside the set would lose all its triangles
+  Locked           // a vertex of the set is locked (CollapseOptions::LockedVertices)
 };
 SURFACELODFILTERS_EXPORT const char* ToString(CollapseStatus status);
 

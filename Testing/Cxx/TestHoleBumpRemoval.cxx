@@ -458,7 +458,10 @@ TEST(TopologySimplification, CracksOfARealMesh)
   const TopologySimplificationResult r =
     Simplify(elephant, 0.05 * elephant.BoundingBoxDiagonal(), TopologyCompletion::KeepTriangles);
   const Index filled = Count(r, TopologyFeatureKind::Crack, true);
-  EXPECT_GE(filled, 60);
+  // Most of its 106 holes are narrow slits below 5 % of the diagonal. (Before the input
+  // preparation stopped merging coincident points across holes, it pinched 65 of them together
+  // and counted 134 loops.)
+  EXPECT_GE(filled, before.BoundaryLoops / 3);
   const MeshStatistics after = Stats(ResultMesh(elephant, r));
   EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops - filled);
   EXPECT_LT(after.BoundaryEdges, before.BoundaryEdges);

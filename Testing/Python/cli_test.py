@@ -385,6 +385,63 @@ def scenario_bench(a):
     check(all(r["input_triangles"] == 12946 for r in fandisk_rows), "fandisk rows: %r" % fandisk_rows)
 
 
+def scenario_bench_real(a):
+    """The scan-like inputs at tiny sizes, one fast method, a file given with --input."""
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    proc = run(a.cli, "bench", "--inputs", "noisy:40,mask:32,openscan:48", "--input", fandisk, "--methods",
+               "vtk-quadric-decimation", "--target-reduction", "0.9", "--samples", "2000", "--timeout", "300",
+               "--json")
+    rows = [json.loads(l) for l in proc.stdout.splitlines() if l.strip()]
+    check([r["input"] for r in rows] == ["noisy:40", "mask:32", "openscan:48", fandisk], "inputs: %r" % rows)
+    for row in rows:
+        check(row["status"] == "ok", "bench row failed: %r" % row)
+        check(row["target_reached"] == 1 and row["output_triangles"] <= row["target_triangles"] * 1.01 + 1,
+              "target not reached: %r" % row)
+        check(row["hausdorff"] is not None and 0 < row["hausdorff"] < 0.2, "hausdorff: %r" % row)
+        check(abs(row["hausdorff_ratio_vs_vtk_quadric"] - 1.0) < 1e-12, "baseline ratio: %r" % row)
+        check(row["load_average"] is not None and row["load_average"] >= 0, "load: %r" % row)
+        for key in ("output_euler", "output_border_loops", "output_nonmanifold_edges"):
+            check(isinstance(row[key], int), "%s missing: %r" % (key, row))
+    noisy, mask, scan, off = rows
+    # The inputs' topology as promised: the noisy isosurface has handles, border loops and
+    # non-manifold edges; the mask one handle and one border loop; the scan holes; fandisk none.
+    check(noisy["input_euler"] < -10 and noisy["input_border_loops"] > 0 and noisy["input_nonmanifold_edges"] > 0,
+          "noisy input topology: %r" % noisy)
+    check(mask["input_euler"] == -1 and mask["input_border_loops"] == 1, "mask input topology: %r" % mask)
+    check(scan["input_border_loops"] > 1 and scan["input_nonmanifold_edges"] == 0, "scan input topology: %r" % scan)
+    check(off["input_euler"] == 2 and off["input_border_loops"] == 0, "fandisk input topology: %r" % off)
+
+
+def scenario_bench_scaling(a):
+    """--scaling at tiny resolutions: three inputs, then one ratio line per method."""
+    proc = run(a.cli, "bench", "--scaling", "--scaling-resolutions", "24,32,48", "--methods",
+               "vtk-quadric-decimation", "--no-deviation", "--json")
+    lines = [json.loads(l) for l in proc.stdout.splitlines() if l.strip()]
+    rows = [l for l in lines if "scaling" not in l]
+    ratios = [l for l in lines if "scaling" in l]
+    check([r["input"] for r in rows] == ["noisy:24", "noisy:32", "noisy:48"], "scaling inputs: %r" % rows)
+    check(rows[0]["input_triangles"] < rows[1]["input_triangles"] < rows[2]["input_triangles"],
+          "the triangle count does not grow with the resolution: %r" % rows)
+    check(len(ratios) == 1 and ratios[0]["ratio_of"] == "noisy:48 / noisy:32", "ratio line: %r" % ratios)
+    expected = rows[2]["seconds"] / rows[1]["seconds"]
+    check(abs(ratios[0]["time_ratio"] - expected) <= 1e-6 * expected, "ratio %r, times %r" % (ratios, rows))
+
+
+def scenario_bench_timeout(a):
+    """A method over the time-out is killed and reported, and the bench goes on."""
+    proc = run(a.cli, "bench", "--inputs", "noisy:40,fandisk", "--mesh-dir", a.mesh_dir, "--methods",
+               "quadric-triangle-collapse", "--timeout", "0.001", "--json")
+    rows = [json.loads(l) for l in proc.stdout.splitlines() if l.strip()]
+    check(len(rows) == 4, "expected 4 rows, got %r" % rows)
+    for row in rows:
+        check(row["status"] == "timeout" and row["seconds"] is None and row["output_triangles"] is None,
+              "not reported as a time-out: %r" % row)
+    text = run(a.cli, "bench", "--inputs", "fandisk", "--mesh-dir", a.mesh_dir, "--methods",
+               "vtk-quadric-decimation", "--timeout", "0.001").stdout
+    check("load average" in text.splitlines()[0], "no load average in the header: %r" % text)
+    check("timeout" in text, "no timeout in the table: %r" % text)
+
+
 def scenario_demo(a):
     out_dir = os.path.join(a.work, "demo")
     env = dict(os.environ)

@@ -24,6 +24,10 @@ struct MethodSettings
   double ReductionFraction() const;
 };
 
+// Whether `output` (of a method run with `settings`) reached its target: the filter's own
+// "TargetReached" field data when it has it, else output triangles <= the count target.
+bool TargetReached(vtkPolyData* output, const MethodSettings& settings);
+
 struct Method
 {
   const char* Name;
