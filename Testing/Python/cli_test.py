@@ -210,6 +210,8 @@ def scenario_errors(a):
     run(a.cli, "simplify", fandisk, binary_ply, "--method", "vtk-quadric-decimation", "--target-triangles", 100)
     with open(binary_ply, "rb") as f:
         ply_bytes = f.read()
+    ply_header, ply_body = split_ply(ply_bytes)
+    first_face = 12 * ply_vertex_count(ply_header)  # float x y z per vertex, then "uchar 3, int a b c"
     cases = {
         "bad header": write("bad_header.off", b"OFX\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
         "truncated": write("truncated.off", b"OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n"),
@@ -232,6 +234,22 @@ def scenario_errors(a):
         "garbage vtp": write("garbage.vtp", b"this is not xml\n"),
         "garbage vtk": write("garbage.vtk", b"this is not a legacy file\n"),
         "nan coordinate": write("nan.off", b"OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"),
+        # VTK's PLY reader crashed on these (the index is used unchecked).
+        "binary ply index out of range": write("range_binary.ply", ply_header + patch_int(ply_body, first_face + 1, 10**6)),
+        "binary ply negative index": write("negative_binary.ply", ply_header + patch_int(ply_body, first_face + 1, -5)),
+        "binary ply wrong byte order": write("byte_order.ply", ply_header.replace(b"binary_little_endian",
+                                                                                 b"binary_big_endian") + ply_body),
+        "binary ply count beyond the file": write("huge_count.ply", ply_header.replace(
+            b"element face %d" % ply_element_count(ply_header, b"face"), b"element face 2000000000") + ply_body),
+        "binary ply face list beyond the file": write("long_list.ply", ply_header + patch_byte(ply_body, first_face, 200)),
+        # vtkOBJReader read "nan" as a finite number.
+        "obj nan coordinate": write("nan.obj", b"v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        # Allocated 2e9 points (std::bad_alloc, exit 3) before reading them.
+        "off count beyond the file": write("huge_count.off", b"OFF\n2000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        # Read as an empty surface (exit 0, empty output) before.
+        "off faces of two vertices": write("two_vertex_faces.off", b"OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n2 1 2\n"),
+        # Compared as a surface at distance 0 before.
+        "only collapsed triangles": write("collapsed.off", b"OFF\n4 2 0\n0 0 0\n0 0 0\n0 1 0\n0 1 0\n3 0 1 2\n3 2 3 0\n"),
     }
     for what, path in cases.items():
         for args in (["info", path, "--json"],
@@ -251,6 +269,78 @@ def scenario_errors(a):
                                "--target-triangles", "100"], capture_output=True, text=True, timeout=120)
         check(proc.returncode == 2 and bad in proc.stderr and len(proc.stderr.strip().splitlines()) == 1,
               "unwritable %s: exit %d, stderr %r" % (bad, proc.returncode, proc.stderr))
+
+
+def split_ply(data):
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    return data[:end], data[end:]
+
+
+def ply_element_count(header, name):
+    for line in header.splitlines():
+        words = line.split()
+        if len(words) == 3 and words[0] == b"element" and words[1] == name:
+            return int(words[2])
+    raise AssertionError("no element %r in %r" % (name, header))
+
+
+def ply_vertex_count(header):
+    properties = [l for l in header.splitlines() if l.startswith(b"property")]
+    if properties[:3] != [b"property float x", b"property float y", b"property float z"] or len(properties) != 4:
+        raise AssertionError("unexpected PLY layout written by the tool: %r" % header)
+    return ply_element_count(header, b"vertex")
+
+
+def patch_int(body, offset, value):
+    return body[:offset] + value.to_bytes(4, "little", signed=True) + body[offset + 4:]
+
+
+def patch_byte(body, offset, value):
+    return body[:offset] + bytes([value]) + body[offset + 1:]
+
+
+def scenario_warnings(a):
+    """What a reader would drop silently is read as announced, with a warning naming the file."""
+    w = a.work
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    more_faces = os.path.join(w, "more_faces.off")
+    with open(more_faces, "w") as f:
+        f.write("OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n")
+    stl = os.path.join(w, "count.stl")
+    run(a.cli, "simplify", fandisk, stl, "--method", "vtk-quadric-decimation", "--target-triangles", 100)
+    with open(stl, "rb") as f:
+        data = bytearray(f.read())
+    announced = int.from_bytes(data[80:84], "little")
+    data[80:84] = (announced - 10).to_bytes(4, "little")
+    low_count = os.path.join(w, "low_count.stl")
+    with open(low_count, "wb") as f:
+        f.write(bytes(data))
+    for path, triangles in ((more_faces, 1), (low_count, announced)):
+        proc = run(a.cli, "info", path, "--json")
+        warnings = [l for l in proc.stderr.splitlines() if l.startswith("surfacelod: warning: ")]
+        check(len(warnings) == 1 and path in warnings[0], "%s: expected one warning naming the file, got %r"
+              % (path, proc.stderr))
+        check(json_line(proc)["triangles"] == triangles, "%s: %r triangles, expected %d"
+              % (path, json_line(proc)["triangles"], triangles))
+
+
+def scenario_full_disk(a):
+    """Every writer's failure is reported: an output on /dev/full is exit 2 naming it, never a success."""
+    if not os.path.exists("/dev/full"):
+        raise AssertionError("/dev/full is missing: cannot test writes to a full disk")
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk"]:
+        out = os.path.join(a.work, "full.%s" % ext)
+        if os.path.lexists(out):
+            os.remove(out)
+        os.symlink("/dev/full", out)
+        proc = subprocess.run([a.cli, "simplify", fandisk, out, "--method", "vtk-quadric-decimation",
+                               "--target-triangles", "100"], capture_output=True, text=True, timeout=120)
+        lines = proc.stderr.strip().splitlines()
+        check(proc.returncode == 2, "%s on a full disk: exit %d, stderr %r" % (ext, proc.returncode, proc.stderr))
+        check(len(lines) == 1 and out in lines[0] and "cannot write" in lines[0],
+              "%s on a full disk: expected one line naming %s, got %r" % (ext, out, proc.stderr))
+        check(proc.stdout == "", "%s on a full disk: a success line on stdout: %r" % (ext, proc.stdout))
 
 
 def scenario_usage(a):
