@@ -349,11 +349,120 @@ def scenario_demo_png(a):
                   % (row, panel, 100 * fraction))
 
 
+# Methods whose purpose is to change the topology: they may open a closed surface.
+TOPOLOGY_METHODS = {"hole-bump-removal"}
+CORPUS_TIMEOUT = 30  # seconds per run of the tool on a small corpus file
+
+
+def corpus_files(a):
+    """Writes the bad-input corpus with the C++ generator: [(kind, path)], kind category/unusable/broken."""
+    directory = os.path.join(a.work, "corpus")
+    os.makedirs(directory, exist_ok=True)
+    proc = subprocess.run([a.corpus_tool, "--write-corpus", directory], capture_output=True, text=True, timeout=120)
+    if proc.returncode != 0:
+        raise AssertionError("corpus writer failed: %s" % proc.stderr)
+    files = [tuple(line.split(" ", 1)) for line in proc.stdout.splitlines() if line.strip()]
+    if len(files) < 60:
+        raise AssertionError("corpus writer wrote only %d files" % len(files))
+    return files
+
+
+def run_on_corpus_file(a, args, path, kind, output=None):
+    """One run of the tool on a corpus file: the verdict ("ok", "crash", "hang", "invalid") and why."""
+    if output and os.path.exists(output):
+        os.remove(output)
+    try:
+        proc = subprocess.run([a.cli] + args, capture_output=True, text=True, timeout=CORPUS_TIMEOUT)
+    except subprocess.TimeoutExpired:
+        return "hang", "no result after %d s" % CORPUS_TIMEOUT
+    # Warnings about what the input preparation repaired may come before the one error line.
+    lines = [l for l in proc.stderr.strip().splitlines() if not l.startswith("surfacelod: warning:")]
+    if proc.returncode < 0 or proc.returncode not in (0, 2, 3):
+        return "crash", "exit %d; stderr %r" % (proc.returncode, proc.stderr[-400:])
+    if proc.returncode == 0:
+        if kind != "category":
+            return "invalid", "accepted (exit 0) a %s file" % kind
+        if not output:
+            return "ok", ""
+        category = os.path.splitext(os.path.basename(path))[0]
+        check_args = [a.corpus_tool, "--check-output", category, output]
+        check_args += ["--may-open"] if a.arg in TOPOLOGY_METHODS else []
+        checked = subprocess.run(check_args, capture_output=True, text=True, timeout=120)
+        return ("ok", "") if checked.returncode == 0 else ("invalid", checked.stdout.strip().replace("\n", "; "))
+    problems = []
+    if kind != "category" and proc.returncode != 2:
+        problems.append("exit %d, expected 2 (unusable file)" % proc.returncode)
+    if len(lines) != 1:
+        problems.append("%d error lines on stderr, expected one: %r" % (len(lines), proc.stderr[-400:]))
+    if proc.returncode == 2 and path not in proc.stderr:
+        problems.append("the message does not name the file: %r" % proc.stderr[-400:])
+    if proc.stdout:
+        problems.append("unexpected stdout %r" % proc.stdout[-200:])
+    if output and os.path.exists(output):
+        problems.append("an output file was written despite the error")
+    return ("invalid", "; ".join(problems)) if problems else ("ok", "")
+
+
+def report_corpus(label, verdicts):
+    counts = {v: sum(1 for r in verdicts if r[1] == v) for v in ("crash", "hang", "invalid")}
+    for name, verdict, detail in verdicts:
+        check(verdict == "ok", "%s x %s: %s: %s" % (label, name, verdict.upper(), detail))
+    print("[corpus] %s: %d runs, %d crashes, %d hangs, %d invalid outputs"
+          % (label, len(verdicts), counts["crash"], counts["hang"], counts["invalid"]))
+
+
+def scenario_corpus(a):
+    """Every corpus surface through `simplify --method METHOD`: an error naming the file, or a valid output.
+    (The broken files fail before any method runs: corpus-info runs them.)"""
+    verdicts = []
+    for kind, path in corpus_files(a):
+        if kind == "broken":
+            continue
+        out = os.path.join(a.work, "corpus_out.vtp")
+        verdict, detail = run_on_corpus_file(
+            a, ["simplify", path, out, "--method", a.arg, "--target-reduction", "0.5"], path, kind, out)
+        verdicts.append((os.path.basename(path), verdict, detail))
+    report_corpus(a.arg, verdicts)
+
+
+def scenario_corpus_info(a):
+    """Every corpus file through `info` and `compare` (with itself), the broken files also through `simplify`."""
+    verdicts = []
+    out = os.path.join(a.work, "corpus_out.vtp")
+    for kind, path in corpus_files(a):
+        commands = [["info", path, "--json"], ["compare", path, path, "--samples", "500", "--json"]]
+        if kind == "broken":
+            commands.append(["simplify", path, out, "--method", "vtk-quadric-decimation", "--target-reduction", "0.5"])
+        for command in commands:
+            verdict, detail = run_on_corpus_file(a, command, path, kind, out if command[0] == "simplify" else None)
+            verdicts.append(("%s %s" % (command[0], os.path.basename(path)), verdict, detail))
+    report_corpus("info/compare", verdicts)
+
+
+def scenario_output_full(a):
+    """Writing to a full disk (/dev/full) is an error naming the output, never a silent success."""
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk"]:
+        full = os.path.join(a.work, "full." + ext)
+        if not os.path.islink(full):
+            os.symlink("/dev/full", full)
+        try:
+            proc = subprocess.run([a.cli, "simplify", fandisk, full, "--method", "vtk-quadric-decimation",
+                                   "--target-triangles", "1000"], capture_output=True, text=True, timeout=120)
+        except subprocess.TimeoutExpired:
+            check(False, "%s: no result after 120 s" % full)
+            continue
+        lines = proc.stderr.strip().splitlines()
+        check(proc.returncode == 2 and len(lines) == 1 and full in proc.stderr,
+              "writing to a full disk (%s): exit %d, stderr %r" % (full, proc.returncode, proc.stderr[-400:]))
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--cli", required=True)
     parser.add_argument("--mesh-dir", required=True)
     parser.add_argument("--work", required=True)
+    parser.add_argument("--corpus-tool", help="TestBadInputCorpus (writes and checks the corpus files)")
     parser.add_argument("scenario")
     parser.add_argument("arg", nargs="?")
     a = parser.parse_args()
