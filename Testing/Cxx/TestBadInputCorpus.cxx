@@ -6,7 +6,7 @@
 // The same program serves the command-line test (Testing/Python/cli_test.py):
 //   TestBadInputCorpus --run FILTER CATEGORY      one run (what the test's children do)
 //   TestBadInputCorpus --write-corpus DIRECTORY   writes the corpus files, prints "KIND PATH" lines
-//   TestBadInputCorpus --check-output CATEGORY FILE [--may-open]   checks a tool's output file
+//   TestBadInputCorpus --check-outputs [--may-open] CATEGORY FILE...  checks a tool's output files
 #include "BadInputCorpus.h"
 #include "TestSupport.h"
 
@@ -388,22 +388,26 @@ int WriteCorpus(const std::string& directory)
   return 0;
 }
 
-// A command-line tool's output file for a category: a valid surface (no point data required).
-int CheckOutputFile(const std::string& category, const std::string& path, bool mayOpen)
+// Output files of a command-line tool, one per category: valid surfaces (no point data required).
+// Prints "CATEGORY: problem" lines.
+int CheckOutputFiles(const std::vector<std::string>& categoryFilePairs, bool mayOpen)
 {
-  vtkNew<vtkXMLPolyDataReader> reader;
-  reader->SetFileName(path.c_str());
-  reader->Update();
   OutputExpectations expect;
   expect.CarriesPointData = false;
   expect.MayOpen = mayOpen;
-  const std::vector<std::string> problems =
-    slodtest::CheckFilterOutput(slodtest::MakeBadInput(category), reader->GetOutput(), 0, expect);
-  for (const std::string& p : problems)
+  bool ok = true;
+  for (size_t i = 0; i + 1 < categoryFilePairs.size(); i += 2)
   {
-    std::cout << p << "\n";
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName(categoryFilePairs[i + 1].c_str());
+    reader->Update();
+    for (const std::string& p : slodtest::CheckFilterOutput(slodtest::MakeBadInput(categoryFilePairs[i]), reader->GetOutput(), 0, expect))
+    {
+      std::cout << categoryFilePairs[i] << ": " << p << "\n";
+      ok = false;
+    }
   }
-  return problems.empty() ? 0 : 1;
+  return ok ? 0 : 1;
 }
 } // namespace
 
@@ -420,9 +424,10 @@ int main(int argc, char** argv)
   {
     return WriteCorpus(argv[2]);
   }
-  if ((argc == 4 || argc == 5) && std::strcmp(argv[1], "--check-output") == 0)
+  if (argc >= 2 && std::strcmp(argv[1], "--check-outputs") == 0)
   {
-    return CheckOutputFile(argv[2], argv[3], argc == 5 && std::strcmp(argv[4], "--may-open") == 0);
+    const bool mayOpen = argc >= 3 && std::strcmp(argv[2], "--may-open") == 0;
+    return CheckOutputFiles(std::vector<std::string>(argv + (mayOpen ? 3 : 2), argv + argc), mayOpen);
   }
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
