@@ -126,7 +126,9 @@ public:
     }
     const float top = this->TopKey();
     const Index b = BucketOf(key);
-    return b < this->Lowest || (b == this->Lowest && (this->Buckets[b].size() > size_t(ScanLimit) || key <= top));
+    // Judged by the bucket's size once the key is in it, as Pop will judge it: a key inserted into
+    // a bucket that then exceeds ScanLimit is served first (last in), so it is first.
+    return b < this->Lowest || (b == this->Lowest && (this->Buckets[b].size() + 1 > size_t(ScanLimit) || key <= top));
   }
 
   // Removes and returns the element of smallest key (call only when not Empty).
