@@ -35,6 +35,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <set>
 #include <stdexcept>
 
@@ -508,16 +509,19 @@ BadInput HighValenceClosedCone() // apex and base centre of valence 5,000: close
   return { "", Surface(m) };
 }
 
-BadInput FlatNgon() // one 1000-gon
+// One polygon through all `points` in order.
+BadInput OnePolygon(const std::vector<std::array<double, 3>>& points)
 {
-  BadInput c{ "", FromPoints(Circle(1000, 1.0)) };
-  Cell polygon;
-  for (vtkIdType i = 0; i < 1000; ++i)
-  {
-    polygon.push_back(i);
-  }
+  BadInput c{ "", FromPoints(points) };
+  Cell polygon(points.size());
+  std::iota(polygon.begin(), polygon.end(), 0);
   c.Surface->SetPolys(Cells({ polygon }));
   return c;
+}
+
+BadInput FlatNgon() // one 1000-gon
+{
+  return OnePolygon(Circle(1000, 1.0));
 }
 
 BadInput ConcaveStarNgon() // one flat 200-gon with 100 spikes
@@ -528,14 +532,7 @@ BadInput ConcaveStarNgon() // one flat 200-gon with 100 spikes
     points[i][0] *= 0.3;
     points[i][1] *= 0.3;
   }
-  BadInput c{ "", FromPoints(points) };
-  Cell polygon;
-  for (vtkIdType i = 0; i < 200; ++i)
-  {
-    polygon.push_back(i);
-  }
-  c.Surface->SetPolys(Cells({ polygon }));
-  return c;
+  return OnePolygon(points);
 }
 
 BadInput NonPlanarNgon() // one 300-gon zig-zagging up and down
@@ -545,14 +542,7 @@ BadInput NonPlanarNgon() // one 300-gon zig-zagging up and down
   {
     points[i][2] = (i % 2) ? 0.5 : -0.5;
   }
-  BadInput c{ "", FromPoints(points) };
-  Cell polygon;
-  for (vtkIdType i = 0; i < 300; ++i)
-  {
-    polygon.push_back(i);
-  }
-  c.Surface->SetPolys(Cells({ polygon }));
-  return c;
+  return OnePolygon(points);
 }
 
 BadInput FlatFanDisk()
