@@ -1,5 +1,5 @@
 // Every category of the bad-input corpus (BadInputCorpus.h) through every filter, each run in a
-// child process under a time-out: no crash, no hang, and either a clear error (vtkErrorMacro) with
+// child process under a CPU-time limit: no crash, no hang, and either a clear error (vtkErrorMacro) with
 // an empty output or a valid output (see slodtest::CheckFilterOutput). One test per filter; each
 // prints its runs, crashes, hangs and invalid outputs, and fails naming every failing category.
 //
@@ -28,6 +28,7 @@
 
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -235,10 +236,13 @@ struct Outcome
   double Seconds = 0;
 };
 
-double TimeoutSeconds()
+// A run is a hang when it uses more than this much CPU time (not wall time: the verdict must not
+// depend on how loaded the machine is); a run blocked without using the CPU is stopped after six times
+// as long in wall time.
+double CPULimitSeconds()
 {
-  const char* value = std::getenv("SURFACELOD_CORPUS_TIMEOUT");
-  return value ? std::atof(value) : 20.0;
+  const char* value = std::getenv("SURFACELOD_CORPUS_CPU_LIMIT");
+  return value ? std::atof(value) : 10.0;
 }
 
 std::string SelfPath()
@@ -304,6 +308,10 @@ Outcome RunInChild(const std::string& filter, const std::string& category)
   const pid_t pid = fork();
   if (pid == 0)
   {
+    // SIGXCPU at the limit, SIGKILL a second later if it is ignored.
+    const rlim_t limit = static_cast<rlim_t>(std::ceil(CPULimitSeconds()));
+    const rlimit cpu = { limit, limit + 1 };
+    setrlimit(RLIMIT_CPU, &cpu);
     dup2(pipeFds[1], STDOUT_FILENO);
     dup2(pipeFds[1], STDERR_FILENO);
     close(pipeFds[0]);
@@ -313,7 +321,7 @@ Outcome RunInChild(const std::string& filter, const std::string& category)
   }
   close(pipeFds[1]);
   std::string text;
-  const auto deadline = start + std::chrono::duration<double>(TimeoutSeconds());
+  const auto deadline = start + std::chrono::duration<double>(6 * CPULimitSeconds());
   const bool finished = ReadUntil(pipeFds[0], std::chrono::time_point_cast<std::chrono::steady_clock::duration>(deadline), text);
   if (!finished)
   {
@@ -322,7 +330,12 @@ Outcome RunInChild(const std::string& filter, const std::string& category)
   int status = 0;
   waitpid(pid, &status, 0);
   close(pipeFds[0]);
-  Outcome outcome = finished ? Judge(text, status) : Outcome{ Verdict::Hang, "no result after " + std::to_string(TimeoutSeconds()) + " s", 0 };
+  Outcome outcome = finished ? Judge(text, status)
+                             : Outcome{ Verdict::Hang, "no result after " + std::to_string(6 * CPULimitSeconds()) + " s", 0 };
+  if (finished && WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL))
+  {
+    outcome = { Verdict::Hang, "more than " + std::to_string(CPULimitSeconds()) + " s of CPU time", 0 };
+  }
   outcome.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return outcome;
 }

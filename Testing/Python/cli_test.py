@@ -6,6 +6,7 @@ usage: cli_test.py --cli PATH --mesh-dir DIR --work DIR SCENARIO [ARG]
 import argparse
 import json
 import os
+import signal
 import subprocess
 import sys
 
@@ -352,7 +353,14 @@ def scenario_demo_png(a):
 # Methods that may open a closed surface: hole-bump-removal changes the topology on purpose, and
 # vtkQuadricDecimation has no topology constraint (it collapses a tetrahedron into two triangles).
 TOPOLOGY_METHODS = {"hole-bump-removal", "vtk-quadric-decimation"}
-CORPUS_TIMEOUT = 20  # seconds per run of the tool on a small corpus file (a hang past it)
+# A run of the tool on a small corpus file is a hang past this much CPU time (not wall time: the
+# verdict must not depend on the machine's load); one blocked without using the CPU, past six times as long.
+CORPUS_CPU_LIMIT = 10
+
+
+def limit_cpu_time():
+    import resource
+    resource.setrlimit(resource.RLIMIT_CPU, (CORPUS_CPU_LIMIT, CORPUS_CPU_LIMIT + 1))
 
 
 def corpus_files(a):
@@ -373,9 +381,12 @@ def run_on_corpus_file(a, args, path, kind, output=None):
     if output and os.path.exists(output):
         os.remove(output)
     try:
-        proc = subprocess.run([a.cli] + args, capture_output=True, text=True, timeout=CORPUS_TIMEOUT)
+        proc = subprocess.run([a.cli] + args, capture_output=True, text=True, timeout=6 * CORPUS_CPU_LIMIT,
+                              preexec_fn=limit_cpu_time)
     except subprocess.TimeoutExpired:
-        return "hang", "no result after %d s" % CORPUS_TIMEOUT
+        return "hang", "no result after %d s" % (6 * CORPUS_CPU_LIMIT)
+    if proc.returncode in (-signal.SIGXCPU, -signal.SIGKILL):
+        return "hang", "more than %d s of CPU time" % CORPUS_CPU_LIMIT
     # Warnings about what the input preparation repaired may come before the one error line.
     lines = [l for l in proc.stderr.strip().splitlines() if not l.startswith("surfacelod: warning:")]
     if proc.returncode < 0 or proc.returncode not in (0, 2, 3):
