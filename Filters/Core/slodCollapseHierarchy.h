@@ -26,6 +26,7 @@
 #define slodCollapseHierarchy_h
 
 #include "slodEditableMesh.h"
+#include "slodMeshTopology.h"
 #include "slodQuadric.h"
 #include "slodQuadraticFit.h"
 #include "slodTriangleStencil.h"
@@ -213,6 +214,7 @@ private:
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
   int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
   void RecordFlip(const FlipRecord& flip);
+  void LockNonManifoldVertices();
   bool KeepsOrientation(Index t, const Vec3& p) const;
 
   CollapseHierarchyParameters Parameters;
@@ -244,6 +246,9 @@ private:
   TriangleStencil Stencil;
   CollapseRecord Record;
   CollapseOptions MeshOptions;
+  // Vertices of non-manifold edges and pinched vertices of M0: never collapsed, so that such an
+  // edge stays one edge with all its sheets (MeshOptions.LockedVertices points here).
+  std::vector<unsigned char> LockedVertices;
   CollapsibleOptions Rules;
   std::vector<double> FitPoints;
   std::vector<Index> StencilVertices;
@@ -257,7 +262,16 @@ private:
   bool HasBoundary = true;
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
-  bool StillBlocked(Index t, Index stamp) const;
+  // The stars of the vertices of t not in skipMask (bit k: tri[k]) are unchanged since stamp.
+  bool StillBlocked(Index t, Index stamp, int skipMask = 0) const;
+  // Hubs: vertices on more than HubValence triangles. Every check of a collapse merging a hub costs
+  // its valence, and a hub touches that many candidates: such collapses are no candidates (the
+  // hub triangles' other edge still collapses, which lowers the hub's valence). Valences are
+  // cached until the vertex's neighbourhood changes (VertexChanged).
+  Index Degree(Index v) const;
+  int HubMask(Index t) const; // bit k: tri[k] is a hub
+  double CheapestEdgeError(const Index* tri) const; // over edges with no hub or border end
+  mutable std::vector<Index> CachedDegree, CachedDegreeStamp;
   std::uint32_t MarkEpoch = 0;
   mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;
 };

@@ -925,7 +925,23 @@ void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh, const std::ve
   vtkNew<vtkPoints> points;
   points->SetDataType(forceDouble || inputDouble ? VTK_DOUBLE : VTK_FLOAT);
   points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
-  vtkPointData* inPD = input->GetPointData();
+  // Arrays of fewer tuples than points cannot be copied from every point, and a second array of the
+  // same name would be copied into the first: both are left out.
+  vtkNew<vtkPointData> inPD;
+  inPD->ShallowCopy(input->GetPointData());
+  for (int a = inPD->GetNumberOfArrays() - 1; a >= 0; --a)
+  {
+    vtkAbstractArray* array = inPD->GetAbstractArray(a);
+    int sameName = -1;
+    if (array->GetName())
+    {
+      inPD->GetAbstractArray(array->GetName(), sameName);
+    }
+    if (array->GetNumberOfTuples() < input->GetNumberOfPoints() || (sameName >= 0 && sameName < a))
+    {
+      inPD->RemoveArray(a);
+    }
+  }
   vtkPointData* outPD = output->GetPointData();
   outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
   for (size_t i = 0; i < used.size(); ++i)

@@ -2198,7 +2198,10 @@ bool SpbmLevelGenerator::GenerateIn(
             continue;
           }
           Index existing;
-          if (!s.Edges.Insert(s.SeqVertices[previous], s.SeqVertices[i], c, existing))
+          // A non-manifold input edge lies on the (full-resolution) chain of every patch around
+          // it: the same segment on several non-manifold chains is that one edge, kept as is.
+          if (!s.Edges.Insert(s.SeqVertices[previous], s.SeqVertices[i], c, existing) &&
+            !(existing >= 0 && P.ChainIsNonManifold(c) && P.ChainIsNonManifold(existing)))
           {
             if (i - previous >= 2)
             {

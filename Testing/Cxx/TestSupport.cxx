@@ -6,6 +6,9 @@
 #include "vtkSyntheticIsosurfaceSource.h"
 
 #include "vtkCellArray.h"
+#include "vtkCleanPolyData.h"
+#include "vtkFlyingEdges3D.h"
+#include "vtkImageData.h"
 #include "vtkErrorCode.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
@@ -13,7 +16,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <stdexcept>
 
@@ -99,6 +104,47 @@ vtkSmartPointer<vtkPolyData> SyntheticIsosurface(int resolution)
   return out;
 }
 
+vtkSmartPointer<vtkPolyData> NoisyScanIsosurface(int resolution, unsigned seed)
+{
+  // A blob cut by the volume's top face, plus hashed noise, quantised to unsigned char as a scan
+  // is: marching cubes then gives handles, specks, pinched vertices, non-manifold edges, a border
+  // where the surface leaves the volume, and exact ties of an integer-valued volume.
+  vtkNew<vtkImageData> volume;
+  volume->SetDimensions(resolution, resolution, resolution);
+  const double h = 2.0 / (resolution - 1);
+  volume->SetSpacing(h, h, h);
+  volume->SetOrigin(-1, -1, -1);
+  volume->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* values = static_cast<unsigned char*>(volume->GetScalarPointer());
+  for (int k = 0, i = 0; k < resolution; ++k)
+  {
+    for (int j = 0; j < resolution; ++j)
+    {
+      for (int l = 0; l < resolution; ++l, ++i)
+      {
+        const double x = -1 + l * h, y = -1 + j * h, z = -1 + k * h;
+        const double r = std::sqrt(x * x + y * y + (z + 0.35) * (z + 0.35));
+        std::uint32_t u = static_cast<std::uint32_t>(i) * 2654435761u ^ seed * 40503u;
+        u ^= u >> 15;
+        u *= 2246822519u;
+        u ^= u >> 13;
+        const double noise = (u & 0xffff) / 65535.0 - 0.5;
+        values[i] = static_cast<unsigned char>(std::min(255.0, std::max(0.0, 128 + 160 * (0.95 - r) + 36 * noise)));
+      }
+    }
+  }
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputData(volume);
+  contour->SetValue(0, 128);
+  contour->ComputeNormalsOff();
+  contour->ComputeScalarsOff();
+  vtkNew<vtkCleanPolyData> clean;
+  clean->SetInputConnection(contour->GetOutputPort());
+  clean->Update();
+  vtkSmartPointer<vtkPolyData> out = clean->GetOutput();
+  return out;
+}
+
 slod::TriangleMesh Tetrahedron()
 {
   slod::TriangleMesh m;
@@ -171,6 +217,24 @@ slod::TriangleMesh Disk(int rings, int segments)
   return m;
 }
 
+slod::TriangleMesh Cone(int segments, double height)
+{
+  slod::TriangleMesh m;
+  const slod::Index apex = m.AddPoint({ 0, 0, height }), centre = m.AddPoint({ 0, 0, 0 });
+  for (int s = 0; s < segments; ++s)
+  {
+    const double a = 2 * M_PI * s / segments;
+    m.AddPoint({ std::cos(a), std::sin(a), 0 });
+  }
+  for (int s = 0; s < segments; ++s)
+  {
+    const slod::Index r0 = 2 + s, r1 = 2 + (s + 1) % segments;
+    m.AddTriangle(apex, r0, r1);
+    m.AddTriangle(centre, r1, r0);
+  }
+  return m;
+}
+
 slod::TriangleMesh Grid(int nx, int ny, double z)
 {
   slod::TriangleMesh m;
@@ -230,5 +294,22 @@ void ExpectSameTopology(const slod::TriangleMesh& input, const slod::TriangleMes
   EXPECT_EQ(out.Genus, in.Genus);
   EXPECT_EQ(out.Components, in.Components);
   EXPECT_EQ(out.BoundaryLoops, in.BoundaryLoops);
+}
+
+slod::MeshStatistics ExpectPreparedInputTopology(vtkPolyData* input, vtkPolyData* output)
+{
+  slod::TriangleMesh prepared;
+  std::vector<slod::Index> vertexToInputPoint;
+  const slod::PreparationReport report =
+    slod::PrepareTriangleMesh(input, slod::PreparationOptions(), prepared, vertexToInputPoint);
+  EXPECT_TRUE(report.Valid) << report.Error;
+  const slod::MeshStatistics in = slod::ComputeMeshStatistics(prepared);
+  const slod::TriangleMesh simplified = RawTriangleMesh(output);
+  const slod::MeshStatistics out = slod::ComputeMeshStatistics(simplified);
+  EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+  EXPECT_EQ(out.Components, in.Components);
+  EXPECT_EQ(out.NonManifoldEdges, in.NonManifoldEdges);
+  EXPECT_EQ(out.DegenerateTriangles, 0);
+  return in;
 }
 } // namespace slodtest

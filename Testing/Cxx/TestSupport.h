@@ -2,6 +2,7 @@
 #ifndef SurfaceLODTestSupport_h
 #define SurfaceLODTestSupport_h
 
+#include "slodMeshTopology.h"
 #include "slodTriangleMesh.h"
 
 #include "vtkCommand.h"
@@ -29,6 +30,9 @@ slod::TriangleMesh RawTriangleMesh(vtkPolyData* polyData);
 // The demo's deterministic marching-cubes surface (vtkSyntheticIsosurfaceSource): closed, genus 1;
 // about 50,000 triangles at resolution 112 and 1,000,000 at 500.
 vtkSmartPointer<vtkPolyData> SyntheticIsosurface(int resolution);
+// Marching cubes of a noisy integer-valued volume (resolution^3 samples), like a scan: many
+// handles and components, pinched vertices, non-manifold edges, a border; deterministic per seed.
+vtkSmartPointer<vtkPolyData> NoisyScanIsosurface(int resolution, unsigned seed);
 
 // Known shapes.
 slod::TriangleMesh Tetrahedron();
@@ -36,12 +40,21 @@ slod::TriangleMesh Torus(int majorSegments, int minorSegments, double majorRadiu
 slod::TriangleMesh Sphere(int thetaResolution, int phiResolution); // vtkSphereSource, cleaned
 slod::TriangleMesh Disk(int rings, int segments);                    // open, one boundary loop
 slod::TriangleMesh Grid(int nx, int ny, double z = 0.0);             // unit square, one boundary loop
+// Closed cone: apex (0,0,height) and base centre (0,0,0) each on `segments` triangles (valence).
+slod::TriangleMesh Cone(int segments, double height);
 slod::TriangleMesh Concatenate(const slod::TriangleMesh& a, const slod::TriangleMesh& b);
 
 // gtest expectations: `output` is a clean manifold (no non-manifold edge or vertex, no degenerate
 // or misoriented triangle) with the Euler characteristic, genus, components and boundary loops of `input`.
 void ExpectSameTopology(const slod::TriangleMesh& input, const slod::TriangleMesh& output);
 slod::TriangleMesh NonManifoldFan(int wings);                        // `wings` triangles on one edge
+
+// A filter's output keeps the topology of its input as the filter sees it (after the input
+// preparation): Euler characteristic, components and non-manifold edges (each one edge still,
+// none cut open, none added). Returns the prepared input's statistics. (Border loops are not
+// compared here: where several loops touch at a pinched vertex, their count depends on how the
+// border edges there are paired; filters that keep the border check its edges instead.)
+slod::MeshStatistics ExpectPreparedInputTopology(vtkPolyData* input, vtkPolyData* output);
 
 // Collects (and so silences) the warnings and errors of a filter it observes.
 class MessageCounter : public vtkCommand

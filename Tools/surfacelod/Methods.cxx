@@ -164,9 +164,9 @@ const std::vector<Method>& Methods()
   // clang-format off
   static const std::vector<Method> methods = {
     { "vtk-quadric-decimation", "VTK's vtkQuadricDecimation (Garland-Heckbert edge collapse), the baseline",
-      false, &CreateVTKQuadricDecimation },
+      false, &CreateVTKQuadricDecimation, false, true, /*PreparesItsInput=*/false },
     { "vtk-decimate-pro", "VTK's vtkDecimatePro with PreserveTopologyOn (vertex removal)",
-      true, &CreateVTKDecimatePro },
+      true, &CreateVTKDecimatePro, false, true, /*PreparesItsInput=*/false },
     // SurfaceLOD filters, one line each (and the header include above).
     SurfaceLODMethod<vtkQuadricTriangleCollapse>("quadric-triangle-collapse",
       "Pan, Zhou, Shi 2000: quadric-error triangle collapses (with edge collapses), original-surface error"),

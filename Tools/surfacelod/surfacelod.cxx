@@ -29,6 +29,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <thread>
 
 #ifndef SURFACELOD_VERSION
@@ -53,15 +54,33 @@ struct RunResult
   double Seconds = 0.0;
 };
 
+// The input every SurfaceLOD filter works on (coincident points merged, triangles with a repeated
+// vertex and duplicates removed, orientation made consistent), with its point data, for a filter
+// that takes its input as it is; its warnings and errors are reported on `filter`.
+vtkSmartPointer<vtkPolyData> PreparedInput(vtkPolyDataAlgorithm* filter, vtkPolyData* triangles)
+{
+  slod::TriangleMesh mesh;
+  std::vector<slod::Index> vertexToInput;
+  auto prepared = vtkSmartPointer<vtkPolyData>::New();
+  if (slod::PrepareFilterInput(filter, triangles, slod::PreparationOptions(), mesh, vertexToInput))
+  {
+    slod::MeshToPolyData(mesh, prepared);
+    std::vector<slod::Index> everyVertex(static_cast<size_t>(mesh.NumberOfPoints()));
+    std::iota(everyVertex.begin(), everyVertex.end(), 0);
+    slod::StoreUsedPoints(triangles, mesh, everyVertex, vertexToInput, false, prepared);
+  }
+  return prepared;
+}
+
 // Runs one method on a triangle mesh; times the filter's Update() alone.
 RunResult RunMethod(const Method& method, vtkPolyData* triangles, const MethodSettings& settings)
 {
   vtkSmartPointer<vtkPolyDataAlgorithm> filter = method.Create(settings);
-  filter->SetInputData(triangles);
   RunResult result;
   std::string error;
   {
     MessageCapture capture(/*swallowWarnings=*/false);
+    filter->SetInputData(method.PreparesItsInput ? vtkSmartPointer<vtkPolyData>(triangles) : PreparedInput(filter, triangles));
     ProgressBar progress(filter, method.Name);
     Stopwatch watch;
     filter->Update();
