@@ -19,11 +19,13 @@ def check(condition, message):
         print("FAIL: " + message)
 
 
-def run(cli, *args, expect=0):
-    proc = subprocess.run([cli] + [str(a) for a in args], capture_output=True, text=True, timeout=600)
+def run(cli, *args, expect=0, env=None):
+    """Runs a program (the CLI unless another is given) with `env` (default: this process's)."""
+    proc = subprocess.run([str(cli)] + [str(a) for a in args], capture_output=True, text=True, timeout=600, env=env)
     if proc.returncode != expect:
-        raise AssertionError("surfacelod %s: exit %d (expected %d)\nstdout: %s\nstderr: %s"
-                             % (" ".join(map(str, args)), proc.returncode, expect, proc.stdout, proc.stderr))
+        raise AssertionError("%s %s: exit %d (expected %d)\nstdout: %s\nstderr: %s"
+                             % (os.path.basename(str(cli)), " ".join(map(str, args)), proc.returncode, expect,
+                                proc.stdout, proc.stderr))
     return proc
 
 

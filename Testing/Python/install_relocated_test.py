@@ -7,28 +7,20 @@ Installs the build into a staging prefix, moves that prefix elsewhere, then runs
 The SurfaceLOD libraries actually loaded must come from the moved prefix, and no installed file
 may still name the staging prefix.
 
-usage: install_relocated_test.py --source DIR --build DIR --work DIR [--python-site REL]
+usage: install_relocated_test.py [--cmake CMAKE] --source DIR --build DIR --work DIR [--python-site REL]
 """
 import argparse
-import json
 import os
 import shutil
-import subprocess
 import sys
 
-FAILURES = []
+from cli_test import FAILURES, check, json_line, run
 
 # The generated test surface: a torus of RING x TUBE quads split into triangles (closed, genus 1).
 RING, TUBE = 48, 24
 TORUS_VERTICES = RING * TUBE
 TORUS_TRIANGLES = 2 * RING * TUBE
 TARGET_TRIANGLES = TORUS_TRIANGLES // 4
-
-
-def check(condition, message):
-    if not condition:
-        FAILURES.append(message)
-        print("FAIL: " + message)
 
 
 def clean_environment(python_path=None):
@@ -39,21 +31,6 @@ def clean_environment(python_path=None):
     if python_path:
         env["PYTHONPATH"] = python_path
     return env
-
-
-def run(command, env, expect=0):
-    proc = subprocess.run([str(c) for c in command], capture_output=True, text=True, env=env, timeout=600)
-    if proc.returncode != expect:
-        raise AssertionError("%s: exit %d (expected %d)\nstdout: %s\nstderr: %s"
-                             % (" ".join(map(str, command)), proc.returncode, expect, proc.stdout, proc.stderr))
-    return proc
-
-
-def json_line(proc):
-    lines = [l for l in proc.stdout.splitlines() if l.strip()]
-    if len(lines) != 1:
-        raise AssertionError("expected exactly one JSON line, got: %r" % proc.stdout)
-    return json.loads(lines[0])
 
 
 def write_torus_off(path, major=2.0, minor=0.6):
@@ -73,11 +50,11 @@ def write_torus_off(path, major=2.0, minor=0.6):
                 f.write("3 %d %d %d\n3 %d %d %d\n" % (a, c, d, a, d, b))
 
 
-def install_and_move(build, work):
+def install_and_move(cmake, build, work):
     """Returns (staging prefix, moved prefix); the staging prefix no longer exists afterwards."""
     staged = os.path.join(work, "staged-prefix")
     moved = os.path.join(work, "elsewhere", "moved-prefix")
-    run(["cmake", "--install", build, "--prefix", staged], clean_environment())
+    run(cmake, "--install", build, "--prefix", staged, env=clean_environment())
     os.makedirs(os.path.dirname(moved))
     shutil.move(staged, moved)
     check(not os.path.exists(staged), "staging prefix still exists after the move")
@@ -106,10 +83,10 @@ def check_license_installed(source, prefix):
 
 def surfacelod_libraries_loaded_by(cli, env):
     """The SurfaceLOD shared libraries the dynamic loader resolves for the installed CLI."""
-    listing = run(["ldd", cli], env).stdout
+    listing = run("ldd", cli, env=env).stdout
     check("not found" not in listing, "unresolved libraries of %s:\n%s" % (cli, listing))
     return [line.split("=>")[1].split("(")[0].strip() for line in listing.splitlines()
-            if "SurfaceLOD" in line and "=>" in line]
+            if "SurfaceLOD" in line and "=>" in line and "not found" not in line]
 
 
 def check_installed_cli(build, prefix, work):
@@ -120,27 +97,27 @@ def check_installed_cli(build, prefix, work):
     for library in libraries:
         check(library.startswith(prefix + os.sep), "the installed CLI loads %s, outside %s" % (library, prefix))
 
-    methods = run([cli, "methods"], env).stdout
+    methods = run(cli, "methods", env=env).stdout
     names = [line.split()[0] for line in methods.splitlines() if line.strip()]
     check("quadric-triangle-collapse" in names, "installed `surfacelod methods` lists: %r" % names)
-    built = run([os.path.join(build, "bin", "surfacelod"), "methods"], env).stdout
+    built = run(os.path.join(build, "bin", "surfacelod"), "methods", env=env).stdout
     check(methods == built, "installed and built `surfacelod methods` differ")
 
     torus = os.path.join(work, "torus.off")
     write_torus_off(torus)
-    info = json_line(run([cli, "info", torus, "--json"], env))
+    info = json_line(run(cli, "info", torus, "--json", env=env))
     expected = {"vertices": TORUS_VERTICES, "triangles": TORUS_TRIANGLES, "boundary_edges": 0,
                 "nonmanifold_edges": 0, "components": 1, "euler_characteristic": 0, "genus": 1}
     for key, value in expected.items():
         check(info.get(key) == value, "torus %s = %r, expected %r" % (key, info.get(key), value))
 
     simplified = os.path.join(work, "torus_simplified.ply")
-    result = json_line(run([cli, "simplify", torus, simplified, "--method", "quadric-triangle-collapse",
-                            "--target-triangles", TARGET_TRIANGLES, "--json"], env))
+    result = json_line(run(cli, "simplify", torus, simplified, "--method", "quadric-triangle-collapse",
+                            "--target-triangles", TARGET_TRIANGLES, "--json", env=env))
     check(result.get("input_triangles") == TORUS_TRIANGLES, "simplify read %r triangles" % result.get("input_triangles"))
     check(abs(result.get("output_triangles", -1) - TARGET_TRIANGLES) <= TARGET_TRIANGLES // 100,
           "simplify gave %r triangles for a target of %d" % (result.get("output_triangles"), TARGET_TRIANGLES))
-    info = json_line(run([cli, "info", simplified, "--json"], env))
+    info = json_line(run(cli, "info", simplified, "--json", env=env))
     check(info.get("triangles") == result.get("output_triangles"),
           "written file has %r triangles, simplify said %r" % (info.get("triangles"), result.get("output_triangles")))
     check(info.get("boundary_edges") == 0 and info.get("genus") == 1,
@@ -169,7 +146,7 @@ print(json.dumps({"package": surfacelod.__file__, "version": surfacelod.__versio
 def check_installed_python(prefix, site, work):
     env = clean_environment(python_path=os.path.join(prefix, site))
     torus = os.path.join(work, "torus.off")
-    probe = json_line(run(["/usr/bin/python3", "-c", PYTHON_PROBE, torus, TARGET_TRIANGLES], env))
+    probe = json_line(run("/usr/bin/python3", "-c", PYTHON_PROBE, torus, TARGET_TRIANGLES, env=env))
     check(probe["package"].startswith(os.path.join(prefix, site) + os.sep), "surfacelod imported from %s" % probe["package"])
     check(probe["input"] == TORUS_TRIANGLES, "Python read %r triangles" % probe["input"])
     check(abs(probe["output"] - TARGET_TRIANGLES) <= TARGET_TRIANGLES // 100,
@@ -182,6 +159,7 @@ def check_installed_python(prefix, site, work):
 
 def main():
     parser = argparse.ArgumentParser()
+    parser.add_argument("--cmake", default="cmake")
     parser.add_argument("--source", required=True)
     parser.add_argument("--build", required=True)
     parser.add_argument("--work", required=True)
@@ -190,7 +168,7 @@ def main():
     build, work = os.path.realpath(a.build), os.path.realpath(a.work)
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
-    staged, moved = install_and_move(build, work)
+    staged, moved = install_and_move(a.cmake, build, work)
     check_no_file_names(moved, staged)
     check_license_installed(a.source, moved)
     check_installed_cli(build, moved, work)
