@@ -17,8 +17,8 @@
  * the averages of the two sides.
  * The results are also available through getters after Update().
  *
- * A side without a usable triangle (empty, or every triangle collapsed by merging coincident
- * points), an invalid input (NaN/Inf on a used point) or an abort is an error (vtkErrorMacro,
+ * A side without a usable triangle (empty, or every triangle degenerate: a repeated vertex after
+ * the input preparation), an invalid input (NaN/Inf on a used point) or an abort is an error (vtkErrorMacro,
  * except abort): the results are NaN and the output is empty. A 0 therefore always means a
  * measured 0.
  */

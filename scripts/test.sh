@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Command 2 of the README: build (if needed) and run the whole test suite, image tests included,
-# under a virtual X server. Exits non-zero on any failure.
+# under a virtual X server; in CI (CI=true) or with SANITIZERS=1 also the AddressSanitizer /
+# UndefinedBehaviorSanitizer build with the core tests, the bad-input corpus and libFuzzer
+# (scripts/sanitizers.sh, a second build: about 15 more minutes on 2 cores). Exits non-zero on any
+# failure.
 #   BUILD_DIR   build directory (default: build)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -11,3 +14,6 @@ fi
 cmake --build "$build" -j "$(nproc)"
 cd "$build"
 xvfb-run -a ctest --output-on-failure -j 2 --timeout 1200
+if [[ "${CI:-}" == "true" || "${SANITIZERS:-0}" == "1" ]]; then
+  SANITIZER_BUILD_DIR="${SANITIZER_BUILD_DIR:-$build-sanitizers}" bash "$here/scripts/sanitizers.sh"
+fi

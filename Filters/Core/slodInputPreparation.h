@@ -3,12 +3,15 @@
 // vtkPolyData with the point data carried through.
 //
 // What preparation does, in order:
+//  - point ids outside the points (or negative) in a polygon or strip, or cells without points:
+//    error, nothing else is done;
 //  - non-finite (NaN/Inf) coordinates used by a cell: error, nothing else is done;
 //  - vertices and lines: ignored (counted); polygons (> 3 points) and strips: triangulated (counted);
 //  - exactly coincident points: merged only where they seal an open border (two border edges
 //    with pairwise coincident ends); elsewhere kept apart (counted), so merging never makes a
 //    non-manifold vertex or edge, joins components or closes a handle;
-//  - degenerate triangles (repeated vertex after merging, or zero area): removed (counted);
+//  - triangles with a repeated vertex (after merging): removed (counted); zero-area triangles
+//    without one are kept;
 //  - repeated triangles (same three vertices, same winding): removed (counted); a triangle and
 //    its mirror image are both kept (two sides of a sheet touching itself);
 //  - orientation: made consistent across manifold edges per component, keeping the majority

@@ -38,6 +38,10 @@ struct SurfaceCensus
 {
   long long Triangles = 0;
   long long TrianglesWithArea = 0; // of them, those of non-zero area
+  // Triangles of three distinct point ids, exact repeats (the same cycle) once, points not merged:
+  // what the input contract may keep (coincident points stay apart unless they seal a border, a
+  // triangle and its mirror image are both kept), the bound on an output's triangle count.
+  long long DistinctTriangles = 0;
   long long BorderEdges = 0;      // edges of one triangle
   long long NonManifoldEdges = 0; // edges of three or more triangles
   bool Closed() const { return this->Triangles > 0 && this->BorderEdges == 0; }

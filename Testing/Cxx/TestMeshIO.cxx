@@ -569,8 +569,11 @@ TEST(MeshIO, FilesWithoutAUsableTriangleAreRefused)
   EXPECT_NE(ReadProblem(WriteText("collapsed.off", "OFF\n4 2 0\n0 0 0\n0 0 0\n0 1 0\n0 1 0\n3 0 1 2\n3 2 3 0\n"))
               .find("no usable triangles"),
     std::string::npos);
-  // One good triangle among collapsed ones is enough.
+  // One good triangle among collapsed ones is enough; so is a polygon whose first corners coincide.
   EXPECT_EQ(ReadProblem(WriteText("one_good.off", "OFF\n4 2 0\n0 0 0\n0 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 2 3\n")), "");
+  EXPECT_EQ(ReadProblem(WriteText("quad.off", "OFF\n4 1 0\n0 0 0\n0 0 0\n0 1 0\n1 1 0\n4 0 1 2 3\n")), "");
+  // Huge but finite coordinates are usable (their sum overflows, each is finite).
+  EXPECT_EQ(ReadProblem(WriteText("huge.off", "OFF\n3 1 0\n1e308 1e308 1e308\n-1e308 0 0\n0 1e308 0\n3 0 1 2\n")), "");
 }
 
 TEST(MeshIO, EveryWriterReportsAFullDisk)

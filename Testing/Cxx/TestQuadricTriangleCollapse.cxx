@@ -18,7 +18,6 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
-#include "vtkScanSurfaceSource.h"
 #include "vtkXMLPolyDataWriter.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -752,11 +751,7 @@ TEST(QuadricTriangleCollapse, NoisyScanIsosurfaceKeepsItsTopology)
   for (unsigned seed : { 1u, 2u, 3u })
   {
     SCOPED_TRACE(seed);
-    vtkNew<vtkScanSurfaceSource> source;
-    source->SetResolution(55);
-    source->SetSeed(seed);
-    source->Update();
-    vtkSmartPointer<vtkPolyData> input = source->GetOutput();
+    vtkSmartPointer<vtkPolyData> input = slodtest::NoisyScanIsosurface(55, seed);
     const TriangleMesh in = slodtest::ToTriangleMesh(input);
     const MeshStatistics before = ComputeMeshStatistics(in);
     const Index borderBefore = BorderComponents(in);

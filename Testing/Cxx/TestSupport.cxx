@@ -3,12 +3,10 @@
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "vtkOFFMeshReader.h"
+#include "vtkScanSurfaceSource.h"
 #include "vtkSyntheticIsosurfaceSource.h"
 
 #include "vtkCellArray.h"
-#include "vtkCleanPolyData.h"
-#include "vtkFlyingEdges3D.h"
-#include "vtkImageData.h"
 #include "vtkErrorCode.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
@@ -106,42 +104,12 @@ vtkSmartPointer<vtkPolyData> SyntheticIsosurface(int resolution)
 
 vtkSmartPointer<vtkPolyData> NoisyScanIsosurface(int resolution, unsigned seed)
 {
-  // A blob cut by the volume's top face, plus hashed noise, quantised to unsigned char as a scan
-  // is: marching cubes then gives handles, specks, pinched vertices, non-manifold edges, a border
-  // where the surface leaves the volume, and exact ties of an integer-valued volume.
-  vtkNew<vtkImageData> volume;
-  volume->SetDimensions(resolution, resolution, resolution);
-  const double h = 2.0 / (resolution - 1);
-  volume->SetSpacing(h, h, h);
-  volume->SetOrigin(-1, -1, -1);
-  volume->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
-  auto* values = static_cast<unsigned char*>(volume->GetScalarPointer());
-  for (int k = 0, i = 0; k < resolution; ++k)
-  {
-    for (int j = 0; j < resolution; ++j)
-    {
-      for (int l = 0; l < resolution; ++l, ++i)
-      {
-        const double x = -1 + l * h, y = -1 + j * h, z = -1 + k * h;
-        const double r = std::sqrt(x * x + y * y + (z + 0.35) * (z + 0.35));
-        std::uint32_t u = static_cast<std::uint32_t>(i) * 2654435761u ^ seed * 40503u;
-        u ^= u >> 15;
-        u *= 2246822519u;
-        u ^= u >> 13;
-        const double noise = (u & 0xffff) / 65535.0 - 0.5;
-        values[i] = static_cast<unsigned char>(std::min(255.0, std::max(0.0, 128 + 160 * (0.95 - r) + 36 * noise)));
-      }
-    }
-  }
-  vtkNew<vtkFlyingEdges3D> contour;
-  contour->SetInputData(volume);
-  contour->SetValue(0, 128);
-  contour->ComputeNormalsOff();
-  contour->ComputeScalarsOff();
-  vtkNew<vtkCleanPolyData> clean;
-  clean->SetInputConnection(contour->GetOutputPort());
-  clean->Update();
-  vtkSmartPointer<vtkPolyData> out = clean->GetOutput();
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKindToNoisyIsosurface();
+  source->SetResolution(resolution);
+  source->SetSeed(seed);
+  source->Update();
+  vtkSmartPointer<vtkPolyData> out = source->GetOutput();
   return out;
 }
 

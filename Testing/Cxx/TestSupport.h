@@ -30,8 +30,8 @@ slod::TriangleMesh RawTriangleMesh(vtkPolyData* polyData);
 // The demo's deterministic marching-cubes surface (vtkSyntheticIsosurfaceSource): closed, genus 1;
 // about 50,000 triangles at resolution 112 and 1,000,000 at 500.
 vtkSmartPointer<vtkPolyData> SyntheticIsosurface(int resolution);
-// Marching cubes of a noisy integer-valued volume (resolution^3 samples), like a scan: many
-// handles and components, pinched vertices, non-manifold edges, a border; deterministic per seed.
+// vtkScanSurfaceSource's noisy isosurface (resolution^3 samples, about 13 resolution^2 triangles),
+// like a scan: handles, pinched vertices, non-manifold edges, a border; deterministic per seed.
 vtkSmartPointer<vtkPolyData> NoisyScanIsosurface(int resolution, unsigned seed);
 
 // Known shapes.

@@ -588,14 +588,14 @@ TEST(SurfaceDeviation, AgreesWithMeshdistOnSpheres)
 }
 
 // A 0 must always be a measured 0: a side without a usable triangle (empty, or every triangle
-// collapsed by merging coincident points) is an error with undefined results and an empty output.
+// degenerate: a repeated vertex) is an error with undefined results and an empty output.
 TEST(SurfaceDeviation, NoUsableTriangleIsAnErrorWithUndefinedResults)
 {
   vtkNew<vtkPolyData> empty;
   slod::TriangleMesh collapsedMesh = Tetrahedron();
-  for (size_t k = 0; k < collapsedMesh.Points.size(); ++k)
+  for (size_t t = 0; 3 * t < collapsedMesh.Triangles.size(); ++t)
   {
-    collapsedMesh.Points[k] = 0.25; // every vertex at one position
+    collapsedMesh.Triangles[3 * t + 2] = collapsedMesh.Triangles[3 * t]; // every triangle repeats a vertex
   }
   vtkSmartPointer<vtkPolyData> collapsed = ToPolyData(collapsedMesh);
   vtkSmartPointer<vtkPolyData> sphere = ToPolyData(Sphere(10, 10));

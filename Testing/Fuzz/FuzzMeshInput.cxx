@@ -69,7 +69,7 @@ void CheckPreparedMesh(vtkPolyData* input)
   }
   for (slod::Index o : origin)
   {
-    if (static_cast<vtkIdType>(o) >= input->GetNumberOfPoints())
+    if (o < 0 || static_cast<vtkIdType>(o) >= input->GetNumberOfPoints())
     {
       Finding("prepared vertex maps to input point " + std::to_string(o));
     }

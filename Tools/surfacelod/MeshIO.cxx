@@ -150,8 +150,13 @@ std::string CheckUsedCoordinates(vtkPolyData* mesh, const std::vector<char>& use
   vtkDataArray* coordinates = mesh->GetPoints()->GetData();
   for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
   {
+    if (!used[static_cast<size_t>(i)])
+    {
+      continue;
+    }
     double p[3];
-    if (used[static_cast<size_t>(i)] && (coordinates->GetTuple(i, p), !std::isfinite(p[0] + p[1] + p[2])))
+    coordinates->GetTuple(i, p);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
     {
       return "vertex " + std::to_string(i) + " has a NaN or infinite coordinate";
     }
@@ -163,27 +168,22 @@ std::string CheckUsedCoordinates(vtkPolyData* mesh, const std::vector<char>& use
 // filters' merging of coincident points and removal of collapsed triangles.
 bool HasDistinctTriangle(vtkPoints* points, vtkIdType n, const vtkIdType* ids)
 {
-  if (n < 3)
-  {
-    return false;
-  }
+  auto same = [](const double* a, const double* b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; };
   double first[3], second[3], p[3];
-  points->GetPoint(ids[0], first);
-  vtkIdType k = 1;
-  for (; k < n && (points->GetPoint(ids[k], second), second[0] == first[0] && second[1] == first[1] &&
-                    second[2] == first[2]);
-       ++k)
+  bool haveSecond = false;
+  for (vtkIdType k = 0; k < n; ++k)
   {
-  }
-  for (++k; k < n; ++k)
-  {
-    points->GetPoint(ids[k], p);
-    const bool likeFirst = p[0] == first[0] && p[1] == first[1] && p[2] == first[2];
-    const bool likeSecond = p[0] == second[0] && p[1] == second[1] && p[2] == second[2];
-    if (!likeFirst && !likeSecond)
+    points->GetPoint(ids[k], k == 0 ? first : p);
+    if (k == 0 || same(p, first) || (haveSecond && same(p, second)))
     {
-      return true;
+      continue;
     }
+    if (haveSecond)
+    {
+      return true; // a third position
+    }
+    std::copy(p, p + 3, second);
+    haveSecond = true;
   }
   return false;
 }
