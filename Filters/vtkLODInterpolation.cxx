@@ -127,8 +127,12 @@ int vtkLODInterpolation::RequestData(
     mesh.SetPoint(h, t * coarse.Point(match[h]) + (1.0 - t) * detailed.Point(h));
   }
 
-  // Step 4: merge adjacent vertices closer than epsilon, drop the triangles that degenerate.
+  // Step 4: merge adjacent vertices closer than epsilon, drop the triangles that degenerate. An
+  // edge whose two ends sit on their coarse matches already does not move: it is detail the coarse
+  // mesh shares, and merging it would drop triangles as soon as T leaves 0 (all of a mesh made of
+  // triangles smaller than epsilon, e.g. many small components).
   const double eps = this->Epsilon * detailed.BoundingBoxDiagonal();
+  auto staysInPlace = [&](slod::Index h) { return coarse.Point(match[h]) == detailed.Point(h); };
   std::vector<slod::Index> parent(static_cast<size_t>(nh));
   std::iota(parent.begin(), parent.end(), 0);
   for (slod::Index f = 0; f < detailed.NumberOfTriangles(); ++f)
@@ -138,7 +142,7 @@ int vtkLODInterpolation::RequestData(
     {
       const slod::Index u = tri[k], v = tri[(k + 1) % 3];
       const slod::Vec3 d = mesh.Point(u) - mesh.Point(v);
-      if (slod::Dot(d, d) < eps * eps)
+      if (slod::Dot(d, d) < eps * eps && !(staysInPlace(u) && staysInPlace(v)))
       {
         const slod::Index ru = Find(parent, u), rv = Find(parent, v);
         if (ru != rv)

@@ -9,7 +9,9 @@
  *     vertex matched by several coarse vertices keeps the nearest of them);
  *  3. each detailed vertex P_h moves to P = t * P_l + (1 - t) * P_h, P_l its coarse match;
  *  4. adjacent vertices closer than Epsilon (relative to the detailed mesh's bounding-box
- *     diagonal) are merged and the triangles that degenerate are removed.
+ *     diagonal) are merged and the triangles that degenerate are removed (not when both already
+ *     sit on their coarse matches: an edge that does not move is kept, so small triangles the
+ *     coarse mesh shares do not vanish as soon as t leaves 0).
  * Nearest vertices are found with vtkStaticPointLocator (both directions). As in the paper, t = 0
  * is the detailed mesh and t = 1 the coarse one; at the two ends the output is exactly the
  * corresponding input (the merged detailed mesh at t = 1 has the coarse vertices but may differ

@@ -84,22 +84,160 @@ void vtkOFFMeshReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FileName: " << this->FileName << "\n";
 }
 
+namespace
+{
+// A failure of one stage: message, VTK error code and line (0: none).
+struct OffProblem
+{
+  std::string Message;
+  unsigned long Code = vtkErrorCode::NoError;
+  long long Line = 0;
+  explicit operator bool() const { return this->Code != vtkErrorCode::NoError; }
+};
+
+struct OffHeader
+{
+  long long NumberOfPoints = 0;
+  long long NumberOfFaces = 0;
+  size_t VertexColumns = 3; // coordinates, then normals / texture coordinates the keyword announces
+};
+
+OffProblem ReadOffHeader(OffTokenizer& tokenizer, OffHeader& header)
+{
+  std::vector<std::string> tokens;
+  if (!tokenizer.NextLine(tokens))
+  {
+    return { "empty file, expected an OFF header", vtkErrorCode::PrematureEndOfFileError, 0 };
+  }
+  // Header keyword: [ST][C][N][4][n]OFF; we accept the 3D variants.
+  const std::string keyword = tokens[0];
+  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0)
+  {
+    return { "not an OFF file (header '" + keyword + "')", vtkErrorCode::UnrecognizedFileTypeError,
+      tokenizer.LineNumber };
+  }
+  if (keyword.find('4') != std::string::npos || keyword.find('n') != std::string::npos)
+  {
+    return { "only 3D OFF files are supported (header '" + keyword + "')", vtkErrorCode::UnrecognizedFileTypeError,
+      tokenizer.LineNumber };
+  }
+  header.VertexColumns = 3 + (keyword.find('N') != std::string::npos ? 3 : 0) +
+    (keyword.find("ST") != std::string::npos ? 2 : 0);
+  size_t countsAt = 1;
+  if (tokens.size() == 1)
+  {
+    if (!tokenizer.NextLine(tokens))
+    {
+      return { "missing vertex/face counts", vtkErrorCode::PrematureEndOfFileError, tokenizer.LineNumber };
+    }
+    countsAt = 0;
+  }
+  if (tokens.size() < countsAt + 2 || !ParseInteger(tokens[countsAt], header.NumberOfPoints) ||
+    !ParseInteger(tokens[countsAt + 1], header.NumberOfFaces) || header.NumberOfPoints < 0 ||
+    header.NumberOfFaces < 0)
+  {
+    return { "bad vertex/face counts", vtkErrorCode::FileFormatError, tokenizer.LineNumber };
+  }
+  return {};
+}
+
+// A vertex line holds at least VertexColumns one-character numbers and separators, a face line
+// at least "1 0": counts the rest of the file cannot hold are refused before anything is allocated.
+OffProblem CheckOffCountsFit(const OffHeader& header, long long bytesLeft, long long line)
+{
+  const double needed = static_cast<double>(header.NumberOfPoints) * 2.0 * static_cast<double>(header.VertexColumns) +
+    static_cast<double>(header.NumberOfFaces) * 4.0;
+  if (needed > static_cast<double>(bytesLeft) + 1.0)
+  {
+    return { "the header announces " + std::to_string(header.NumberOfPoints) + " vertices and " +
+        std::to_string(header.NumberOfFaces) + " faces, more than the " + std::to_string(bytesLeft) +
+        " bytes after it can hold",
+      vtkErrorCode::PrematureEndOfFileError, line };
+  }
+  return {};
+}
+
+OffProblem ReadOffVertices(OffTokenizer& tokenizer, const OffHeader& header, vtkPoints* points)
+{
+  std::vector<std::string> tokens;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(header.NumberOfPoints);
+  for (long long i = 0; i < header.NumberOfPoints; ++i)
+  {
+    if (!tokenizer.NextLine(tokens))
+    {
+      return { "file ends after " + std::to_string(i) + " of " + std::to_string(header.NumberOfPoints) + " vertices",
+        vtkErrorCode::PrematureEndOfFileError, tokenizer.LineNumber };
+    }
+    double xyz[3];
+    if (tokens.size() < header.VertexColumns || !ParseReal(tokens[0], xyz[0]) || !ParseReal(tokens[1], xyz[1]) ||
+      !ParseReal(tokens[2], xyz[2]))
+    {
+      return { "malformed vertex line", vtkErrorCode::FileFormatError, tokenizer.LineNumber };
+    }
+    points->SetPoint(i, xyz);
+  }
+  return {};
+}
+
+// Faces of three or more vertices are polygons; faces of two are lines and of one vertices (kept,
+// so nothing in the file is lost; the filters ignore them).
+OffProblem ReadOffFaces(OffTokenizer& tokenizer, const OffHeader& header, vtkCellArray* polys, vtkCellArray* lines,
+  vtkCellArray* verts)
+{
+  std::vector<std::string> tokens;
+  std::vector<vtkIdType> ids;
+  for (long long f = 0; f < header.NumberOfFaces; ++f)
+  {
+    if (!tokenizer.NextLine(tokens))
+    {
+      return { "file ends after " + std::to_string(f) + " of " + std::to_string(header.NumberOfFaces) + " faces",
+        vtkErrorCode::PrematureEndOfFileError, tokenizer.LineNumber };
+    }
+    long long count = 0;
+    if (!ParseInteger(tokens[0], count) || count < 1 || tokens.size() < size_t(count) + 1)
+    {
+      return { "malformed face line", vtkErrorCode::FileFormatError, tokenizer.LineNumber };
+    }
+    ids.resize(size_t(count));
+    for (long long k = 0; k < count; ++k)
+    {
+      long long id = 0;
+      if (!ParseInteger(tokens[size_t(k) + 1], id) || id < 0 || id >= header.NumberOfPoints)
+      {
+        return { "face refers to a vertex that does not exist", vtkErrorCode::FileFormatError, tokenizer.LineNumber };
+      }
+      ids[size_t(k)] = static_cast<vtkIdType>(id);
+    }
+    // Columns after the indices are colors: ignored.
+    vtkCellArray* cells = count >= 3 ? polys : count == 2 ? lines : verts;
+    cells->InsertNextCell(count, ids.data());
+  }
+  return {};
+}
+
+long long BytesLeft(std::ifstream& in)
+{
+  const std::streamoff here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff end = in.tellg();
+  in.seekg(here);
+  return here >= 0 && end >= here ? static_cast<long long>(end - here) : 0;
+}
+} // namespace
+
 int vtkOFFMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   this->LastError.clear();
   this->SetErrorCode(vtkErrorCode::NoError);
-  auto fail = [&](const std::string& message, unsigned long code, long long line) {
-    std::ostringstream s;
-    s << this->FileName;
-    if (line > 0)
-    {
-      s << ':' << line;
-    }
-    s << ": " << message;
-    this->LastError = s.str();
+  auto where = [&](long long line) {
+    return this->FileName + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": ";
+  };
+  auto fail = [&](const OffProblem& problem) {
+    this->LastError = where(problem.Line) + problem.Message;
     vtkErrorMacro(<< this->LastError);
-    this->SetErrorCode(code);
+    this->SetErrorCode(problem.Code);
     output->Initialize();
     return 1; // a defined (empty) output; the error code tells callers
   };
@@ -107,92 +245,38 @@ int vtkOFFMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   std::ifstream in(this->FileName, std::ios::binary);
   if (this->FileName.empty() || !in)
   {
-    return fail("cannot open file", vtkErrorCode::CannotOpenFileError, 0);
+    return fail({ "cannot open file", vtkErrorCode::CannotOpenFileError, 0 });
   }
   OffTokenizer tokenizer(in);
-  std::vector<std::string> tokens;
-  if (!tokenizer.NextLine(tokens))
-  {
-    return fail("empty file, expected an OFF header", vtkErrorCode::PrematureEndOfFileError, 0);
-  }
-  // Header keyword: [ST][C][N][4][n]OFF; we accept the 3D variants.
-  std::string keyword = tokens[0];
-  size_t countsAt = 1;
-  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0)
-  {
-    return fail("not an OFF file (header '" + keyword + "')", vtkErrorCode::UnrecognizedFileTypeError,
-      tokenizer.LineNumber);
-  }
-  if (keyword.find('4') != std::string::npos || keyword.find('n') != std::string::npos)
-  {
-    return fail("only 3D OFF files are supported (header '" + keyword + "')",
-      vtkErrorCode::UnrecognizedFileTypeError, tokenizer.LineNumber);
-  }
-  const bool hasNormals = keyword.find('N') != std::string::npos;
-  const bool hasTexture = keyword.find("ST") != std::string::npos;
-  if (tokens.size() == 1)
-  {
-    if (!tokenizer.NextLine(tokens))
-    {
-      return fail("missing vertex/face counts", vtkErrorCode::PrematureEndOfFileError, tokenizer.LineNumber);
-    }
-    countsAt = 0;
-  }
-  long long numPoints = 0, numFaces = 0;
-  if (tokens.size() < countsAt + 2 || !ParseInteger(tokens[countsAt], numPoints) ||
-    !ParseInteger(tokens[countsAt + 1], numFaces) || numPoints < 0 || numFaces < 0)
-  {
-    return fail("bad vertex/face counts", vtkErrorCode::FileFormatError, tokenizer.LineNumber);
-  }
-  const size_t minimumColumns = 3 + (hasNormals ? 3 : 0) + (hasTexture ? 2 : 0);
-
+  OffHeader header;
   vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(numPoints);
-  for (long long i = 0; i < numPoints; ++i)
+  vtkNew<vtkCellArray> polys, lines, verts;
+  OffProblem problem = ReadOffHeader(tokenizer, header);
+  if (!problem)
   {
-    if (!tokenizer.NextLine(tokens))
-    {
-      return fail("file ends after " + std::to_string(i) + " of " + std::to_string(numPoints) + " vertices",
-        vtkErrorCode::PrematureEndOfFileError, tokenizer.LineNumber);
-    }
-    double xyz[3];
-    if (tokens.size() < minimumColumns || !ParseReal(tokens[0], xyz[0]) || !ParseReal(tokens[1], xyz[1]) ||
-      !ParseReal(tokens[2], xyz[2]))
-    {
-      return fail("malformed vertex line", vtkErrorCode::FileFormatError, tokenizer.LineNumber);
-    }
-    points->SetPoint(i, xyz);
+    problem = CheckOffCountsFit(header, BytesLeft(in), tokenizer.LineNumber);
   }
-  vtkNew<vtkCellArray> polys;
-  std::vector<vtkIdType> ids;
-  for (long long f = 0; f < numFaces; ++f)
+  if (!problem)
   {
-    if (!tokenizer.NextLine(tokens))
-    {
-      return fail("file ends after " + std::to_string(f) + " of " + std::to_string(numFaces) + " faces",
-        vtkErrorCode::PrematureEndOfFileError, tokenizer.LineNumber);
-    }
-    long long count = 0;
-    if (!ParseInteger(tokens[0], count) || count < 1 || tokens.size() < size_t(count) + 1)
-    {
-      return fail("malformed face line", vtkErrorCode::FileFormatError, tokenizer.LineNumber);
-    }
-    ids.resize(size_t(count));
-    for (long long k = 0; k < count; ++k)
-    {
-      long long id = 0;
-      if (!ParseInteger(tokens[size_t(k) + 1], id) || id < 0 || id >= numPoints)
-      {
-        return fail("face refers to a vertex that does not exist", vtkErrorCode::FileFormatError,
-          tokenizer.LineNumber);
-      }
-      ids[size_t(k)] = static_cast<vtkIdType>(id);
-    }
-    // Columns after the indices are colors: ignored.
-    polys->InsertNextCell(count, ids.data());
+    problem = ReadOffVertices(tokenizer, header, points);
+  }
+  if (!problem)
+  {
+    problem = ReadOffFaces(tokenizer, header, polys, lines, verts);
+  }
+  if (problem)
+  {
+    return fail(problem);
+  }
+  std::vector<std::string> tokens;
+  if (tokenizer.NextLine(tokens))
+  {
+    vtkWarningMacro(<< where(tokenizer.LineNumber) << "data after the " << header.NumberOfFaces
+                    << " faces the header announces; it is ignored (a wrong face count?)");
   }
   output->SetPoints(points);
   output->SetPolys(polys);
+  output->SetLines(lines);
+  output->SetVerts(verts);
   return 1;
 }

@@ -263,6 +263,14 @@ int vtkQuadricTriangleCollapse::RequestData(
   {
     vtkWarningMacro(<< "Aborted after " << result.Collapses << " collapses.");
   }
+  if (result.WorkBoundReached)
+  {
+    vtkWarningMacro(<< "Stopped by the bound on the collapse loop's work after " << result.Collapses << " collapses.");
+  }
+  // A maximum error that stops the collapses first is a target met, not missed.
+  const bool stoppedByError = options.MaximumError >= 0 && result.StoppedByError;
+  slod::ReportTarget(this, output, target, result.Mesh.NumberOfTriangles() <= target || stoppedByError || result.Aborted,
+    "every further collapse would change the topology, fold a triangle or leave a locked non-manifold vertex");
   return 1;
 }
 

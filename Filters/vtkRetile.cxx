@@ -16,8 +16,113 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 vtkStandardNewMacro(vtkRetile);
+
+namespace
+{
+// Re-tiling computes in the coordinates' own precision: a surface whose extent is this many times
+// its median edge length (a vertex at 1e30 among unit edges) leaves the edges below the rounding
+// of the positions, and the tiles degenerate.
+using slod::operator-;
+
+constexpr double MaximumExtentPerEdge = 1e12;
+// Re-tilings with fewer points tried when one has more triangles than allowed.
+constexpr int MaximumRetileAttempts = 4;
+
+// Bounding-box diagonal divided by the median edge length (0 for a mesh without edges).
+double ExtentPerEdge(const slod::TriangleMesh& mesh)
+{
+  std::vector<double> lengths;
+  lengths.reserve(3 * size_t(mesh.NumberOfTriangles()));
+  for (slod::Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const slod::Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      lengths.push_back(slod::Norm(mesh.Point(tri[(k + 1) % 3]) - mesh.Point(tri[k])));
+    }
+  }
+  if (lengths.empty())
+  {
+    return 0;
+  }
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  const double median = lengths[lengths.size() / 2];
+  return median > 0 ? mesh.BoundingBoxDiagonal() / median : std::numeric_limits<double>::infinity();
+}
+
+// The vertex count: numberOfPoints when > 0, else from the triangle target (the larger of
+// TargetNumberOfTriangles and the reduction's count; the input's count when neither), which also
+// lowers `limit` to that target.
+slod::Index PointsForTarget(const slod::TriangleMesh& mesh, vtkIdType numberOfPoints, vtkIdType targetTriangles,
+  double targetReduction, slod::Index& limit)
+{
+  if (numberOfPoints > 0)
+  {
+    return static_cast<slod::Index>(numberOfPoints);
+  }
+  const vtkIdType inputTriangles = mesh.NumberOfTriangles();
+  vtkIdType target = std::max<vtkIdType>(0, targetTriangles);
+  if (targetReduction > 0)
+  {
+    target = std::max<vtkIdType>(target, static_cast<vtkIdType>(std::floor((1.0 - targetReduction) * inputTriangles + 1e-9)));
+  }
+  if (target <= 0)
+  {
+    target = inputTriangles;
+  }
+  limit = static_cast<slod::Index>(std::min<vtkIdType>(limit, target));
+  // V = F / 2 + chi on a closed surface.
+  const slod::MeshStatistics stats = slod::ComputeMeshStatistics(mesh);
+  return static_cast<slod::Index>(std::max<vtkIdType>(4, target / 2 + stats.EulerCharacteristic));
+}
+
+// The input itself as a re-tiling result (every vertex its own host, weight 1 at its corner).
+slod::RetilingResult InputAsResult(const slod::TriangleMesh& mesh)
+{
+  slod::RetilingResult result;
+  result.Mesh = mesh;
+  result.HostTriangle.assign(size_t(mesh.NumberOfPoints()), 0);
+  result.Barycentric.assign(3 * size_t(mesh.NumberOfPoints()), 0.0);
+  for (slod::Index t = mesh.NumberOfTriangles() - 1; t >= 0; --t)
+  {
+    const slod::Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      result.HostTriangle[tri[k]] = t;
+      std::fill_n(&result.Barycentric[3 * size_t(tri[k])], 3, 0.0);
+      result.Barycentric[3 * size_t(tri[k]) + k] = 1.0;
+    }
+  }
+  return result;
+}
+
+// Re-tiles with options.NumberOfPoints, then with proportionally fewer points while the result has
+// more than `limit` triangles (retained old vertices and borders add triangles); returns the last
+// attempt and leaves the point count used in options.
+slod::RetilingResult RetileWithin(const slod::TriangleMesh& mesh, slod::RetilingOptions& options, slod::Index limit)
+{
+  slod::RetilingResult result;
+  for (int attempt = 0; attempt < MaximumRetileAttempts; ++attempt)
+  {
+    slod::Retile(mesh, options, result);
+    const slod::Index triangles = result.Mesh.NumberOfTriangles();
+    if (result.Aborted || triangles <= limit)
+    {
+      break;
+    }
+    const auto fewer = static_cast<slod::Index>(std::floor(double(options.NumberOfPoints) * limit / triangles));
+    if (fewer >= options.NumberOfPoints || fewer < 4)
+    {
+      break;
+    }
+    options.NumberOfPoints = fewer;
+  }
+  return result;
+}
+} // namespace
 
 vtkRetile::vtkRetile()
 {
@@ -70,31 +175,18 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     return 1;
   }
 
+  const double extent = ExtentPerEdge(mesh);
+  if (!(extent <= MaximumExtentPerEdge))
+  {
+    vtkErrorMacro(<< "The input's extent is " << extent << " times its median edge length (more than "
+                  << MaximumExtentPerEdge << "): re-tiling cannot resolve its edges at that scale "
+                  << "(a vertex far away from the others?).");
+    return 1;
+  }
+  // Never more triangles than asked for, nor than the input has.
+  slod::Index limit = mesh.NumberOfTriangles();
   slod::RetilingOptions options;
-  if (this->NumberOfPoints > 0)
-  {
-    options.NumberOfPoints = static_cast<slod::Index>(this->NumberOfPoints);
-  }
-  else
-  {
-    const vtkIdType inputTriangles = mesh.NumberOfTriangles();
-    vtkIdType target = 0;
-    if (this->TargetNumberOfTriangles > 0)
-    {
-      target = this->TargetNumberOfTriangles;
-    }
-    if (this->TargetReduction > 0)
-    {
-      target = std::max<vtkIdType>(target, static_cast<vtkIdType>(std::floor((1.0 - this->TargetReduction) * inputTriangles + 1e-9)));
-    }
-    if (target <= 0)
-    {
-      target = inputTriangles;
-    }
-    // V = F / 2 + chi on a closed surface.
-    const slod::MeshStatistics stats = slod::ComputeMeshStatistics(mesh);
-    options.NumberOfPoints = static_cast<slod::Index>(std::max<vtkIdType>(4, target / 2 + stats.EulerCharacteristic));
-  }
+  options.NumberOfPoints = PointsForTarget(mesh, this->NumberOfPoints, this->TargetNumberOfTriangles, this->TargetReduction, limit);
   if (options.NumberOfPoints < 4)
   {
     // The smallest closed surface (a tetrahedron) has 4 vertices.
@@ -111,9 +203,20 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   };
 
   vtkMultiBlockDataSet* levelsOutput = vtkMultiBlockDataSet::GetData(outputVector, 1);
-  slod::RetilingResult result;
+  slod::RetilingResult result = RetileWithin(mesh, options, limit);
+  const bool retiled = result.Mesh.NumberOfTriangles() <= limit;
+  if (!result.Aborted && !retiled)
+  {
+    const bool input = mesh.NumberOfTriangles() <= limit;
+    vtkWarningMacro(<< "Re-tiling gives " << result.Mesh.NumberOfTriangles() << " triangles at least, more than the "
+                    << limit << " allowed: " << (input ? "the input is returned." : "the smallest re-tiling is returned."));
+    if (input)
+    {
+      result = InputAsResult(mesh);
+    }
+  }
   std::vector<slod::RetilingResult> levels;
-  if (this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
+  if (!result.Aborted && retiled && this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
   {
     std::vector<slod::Index> counts;
     double count = options.NumberOfPoints;
@@ -130,10 +233,6 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     }
     // The finest level is output 0 (its spacing figures come from a plain run's statistics).
     result = levels.back();
-  }
-  else
-  {
-    slod::Retile(mesh, options, result);
   }
   if (result.Aborted)
   {

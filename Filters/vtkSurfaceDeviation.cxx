@@ -23,6 +23,15 @@ vtkStandardNewMacro(vtkSurfaceDeviation);
 vtkSurfaceDeviation::vtkSurfaceDeviation()
 {
   this->SetNumberOfInputPorts(2);
+  this->ClearResults();
+}
+
+void vtkSurfaceDeviation::ClearResults()
+{
+  const double undefined = std::numeric_limits<double>::quiet_NaN();
+  this->Hausdorff = this->HausdorffAB = this->HausdorffBA = undefined;
+  this->Mean = this->RMS = this->MeanAB = this->MeanBA = this->RMSAB = this->RMSBA = undefined;
+  this->BoundingBoxDiagonal = 0;
 }
 
 int vtkSurfaceDeviation::FillInputPortInformation(int, vtkInformation* info)
@@ -44,15 +53,6 @@ void vtkSurfaceDeviation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundingBoxDiagonal: " << this->BoundingBoxDiagonal << "\n";
 }
 
-namespace
-{
-// Bounding-box diagonal of the points the triangles use (the prepared mesh keeps only those).
-double UsedBoundingBoxDiagonal(const slod::TriangleMesh& mesh)
-{
-  return mesh.NumberOfTriangles() > 0 ? mesh.BoundingBoxDiagonal() : 0.0;
-}
-} // namespace
-
 int vtkSurfaceDeviation::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -60,9 +60,8 @@ int vtkSurfaceDeviation::RequestData(
   vtkPolyData* inputB = vtkPolyData::GetData(inputVector[1], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
 
-  this->Hausdorff = this->HausdorffAB = this->HausdorffBA = 0;
-  this->Mean = this->RMS = this->MeanAB = this->MeanBA = this->RMSAB = this->RMSBA = 0;
-  this->BoundingBoxDiagonal = 0;
+  // Undefined until measured: a failed or empty comparison must never read as "identical".
+  this->ClearResults();
   if (!inputA || !inputB)
   {
     vtkErrorMacro("Both the reference (port 0) and the compared surface (port 1) are required.");
@@ -89,6 +88,13 @@ int vtkSurfaceDeviation::RequestData(
       vtkWarningMacro(<< "Input " << side.first << ": " << warning << ".");
     }
   }
+  if (meshA.NumberOfTriangles() == 0 || meshB.NumberOfTriangles() == 0)
+  {
+    vtkErrorMacro(<< (meshA.NumberOfTriangles() == 0 ? "The reference surface (port 0)" : "The compared surface (port 1)")
+                  << " has no triangles: the deviations are undefined (NaN) and the output is empty.");
+    output->Initialize();
+    return 1;
+  }
   this->UpdateProgress(0.05);
 
   output->ShallowCopy(inputB);
@@ -100,7 +106,8 @@ int vtkSurfaceDeviation::RequestData(
   }
   output->SetFieldData(fieldData);
 
-  this->BoundingBoxDiagonal = UsedBoundingBoxDiagonal(meshA);
+  // Of the points the triangles use (the prepared mesh keeps only those).
+  this->BoundingBoxDiagonal = meshA.BoundingBoxDiagonal();
   const vtkIdType numberOfPointsB = inputB->GetNumberOfPoints();
   vtkNew<vtkDoubleArray> distanceArray;
   distanceArray->SetName("Distance");
@@ -108,12 +115,6 @@ int vtkSurfaceDeviation::RequestData(
   distanceArray->Fill(0.0);
 
   bool aborted = false;
-  if (meshA.NumberOfTriangles() == 0 || meshB.NumberOfTriangles() == 0)
-  {
-    vtkWarningMacro(<< (meshA.NumberOfTriangles() == 0 ? "The reference surface (port 0)" : "The compared surface (port 1)")
-                    << " has no triangles: all deviations are reported as 0.");
-  }
-  else
   {
     slod::TriangleBVH treeA(meshA), treeB(meshB);
     this->UpdateProgress(0.15);

@@ -16,12 +16,19 @@
  * (unbiased surface averages); the maxima include the vertices. The symmetric Mean / RMS are
  * the averages of the two sides.
  * The results are also available through getters after Update().
+ *
+ * A side without a usable triangle (empty, or every triangle collapsed by merging coincident
+ * points), an invalid input (NaN/Inf on a used point) or an abort is an error (vtkErrorMacro,
+ * except abort): the results are NaN and the output is empty. A 0 therefore always means a
+ * measured 0.
  */
 #ifndef vtkSurfaceDeviation_h
 #define vtkSurfaceDeviation_h
 
 #include "SurfaceLODFiltersModule.h"
 #include "vtkPolyDataAlgorithm.h"
+
+#include <cmath>
 
 class SURFACELODFILTERS_EXPORT vtkSurfaceDeviation : public vtkPolyDataAlgorithm
 {
@@ -69,7 +76,7 @@ public:
   vtkGetMacro(BoundingBoxDiagonal, double);
   ///@}
 
-  /// The same divided by A's bounding-box diagonal (0 when the diagonal is 0).
+  /// The same divided by A's bounding-box diagonal (0 when the diagonal is 0; NaN stays NaN).
   double GetHausdorffRelative() const { return this->Relative(this->Hausdorff); }
   double GetHausdorffABRelative() const { return this->Relative(this->HausdorffAB); }
   double GetHausdorffBARelative() const { return this->Relative(this->HausdorffBA); }
@@ -81,19 +88,21 @@ protected:
   ~vtkSurfaceDeviation() override = default;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  void ClearResults();
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double Relative(double value) const
   {
-    return this->BoundingBoxDiagonal > 0 ? value / this->BoundingBoxDiagonal : 0.0;
+    return this->BoundingBoxDiagonal > 0 || std::isnan(value) ? value / this->BoundingBoxDiagonal : 0.0;
   }
 
   vtkIdType NumberOfSamples = 300000;
   unsigned int Seed = 12345;
   bool SampleVertices = true;
 
-  double Hausdorff = 0, HausdorffAB = 0, HausdorffBA = 0;
-  double Mean = 0, RMS = 0, MeanAB = 0, MeanBA = 0, RMSAB = 0, RMSBA = 0;
+  // NaN until a comparison succeeds (set in the constructor and at the start of every update).
+  double Hausdorff, HausdorffAB, HausdorffBA;
+  double Mean, RMS, MeanAB, MeanBA, RMSAB, RMSBA;
   double BoundingBoxDiagonal = 0;
 
 private:

@@ -13,6 +13,23 @@ namespace
 {
 constexpr Index Never = std::numeric_limits<Index>::max();
 constexpr Index MaximumFitPoints = 64;
+// Far above the valences collapses leave on ordinary meshes (about 3 to 20); a fan's centre or a
+// cone's apex has thousands.
+constexpr Index HubValence = 64;
+
+// Gieng et al.'s alpha = 2 (cos A + cos B + cos C - 1) = 2 r / R: 1 equilateral, 0 degenerate.
+double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  double cosSum = 0;
+  const Vec3 corners[3] = { a, b, c };
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec3 u = corners[(k + 1) % 3] - corners[k], w = corners[(k + 2) % 3] - corners[k];
+    const double nu = Norm(u), nw = Norm(w);
+    cosSum += (nu > 0 && nw > 0) ? Dot(u, w) / (nu * nw) : 1.0;
+  }
+  return std::min(1.0, std::max(0.0, 2.0 * (cosSum - 1.0)));
+}
 
 
 // Least quadric error nearest to c: pseudo-inverse of A around c, dropping directions the planes
@@ -193,13 +210,25 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
       });
     }
   };
-  int degree = 0;
+  Index degree = 0;
   for (int k = 0; k < 3; ++k)
   {
-    degree += m.VertexDegree(tri[k]);
+    degree += this->Degree(tri[k]);
   }
   // Valence of the collapse point: the stencil boundary (interior case: sum of valences - 9).
-  e.Valence = std::max(0, degree - 9);
+  e.Valence = static_cast<int>(std::max<Index>(0, degree - 9));
+  e.Alpha = Roundness(a, b, c);
+  if (this->HubMask(t) != 0)
+  {
+    // Only its edge away from the hubs can collapse: ordered by that edge (no fit, no stencil).
+    e.Normal = Norm(areaVector) > 0 ? Normalized(areaVector) : Vec3{ 0, 0, 0 };
+    e.Point = centroid;
+    e.Kappa = 0;
+    e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(tri);
+    e.Error = e.EdgeError;
+    e.PreferEdge = true;
+    return;
+  }
   // A degenerate triangle has no plane of its own: use its stencil's.
   if (IsDegenerate(a, b, c))
   {
@@ -220,6 +249,7 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
     e.Point = centroid;
     e.Kappa = 0;
     e.Alpha = 0;
+    e.PreferEdge = false;
     return;
   }
   e.Normal = frame.Normal;
@@ -299,31 +329,7 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   if (preferEdges)
   {
     // The cheapest edge collapse of T by quadric error (validity is checked at selection).
-    bool boundary[3] = { false, false, false };
-    for (int k = 0; k < 3 && this->HasBoundary; ++k)
-    {
-      boundary[k] = m.IsBoundaryVertex(tri[k]);
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index u = tri[k], v = tri[(k + 1) % 3];
-      if (boundary[k] || boundary[(k + 1) % 3])
-      {
-        continue;
-      }
-      Quadric q = this->Quadrics[u];
-      q += this->Quadrics[v];
-      const Vec3 pu = m.Point(u), pv = m.Point(v);
-      Vec3 best;
-      const Index uv[2] = { u, v };
-      if (EdgeOptimum(q, pu, pv, best))
-      {
-        e.EdgeError = std::min(e.EdgeError, this->CollapseError(uv, 2, q, best));
-      }
-      e.EdgeError = std::min(e.EdgeError,
-        std::min(this->CollapseError(uv, 2, q, pu), this->CollapseError(uv, 2, q, pv)));
-
-    }
+    e.EdgeError = this->CheapestEdgeError(tri);
   }
   e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
@@ -383,16 +389,57 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
     e.Error = this->CollapseError(tri, 3, q, e.Point);
   }
   e.PreferEdge = preferEdges && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
-  // alpha = 2 (cos A + cos B + cos C - 1) = 2 r / R.
-  double cosSum = 0;
-  const Vec3 corners[3] = { a, b, c };
+}
+
+double CollapseHierarchy::CheapestEdgeError(const Index* tri) const
+{
+  const EditableMesh& m = this->Mesh;
+  bool fixed[3] = { false, false, false };
   for (int k = 0; k < 3; ++k)
   {
-    const Vec3 u = corners[(k + 1) % 3] - corners[k], w = corners[(k + 2) % 3] - corners[k];
-    const double nu = Norm(u), nw = Norm(w);
-    cosSum += (nu > 0 && nw > 0) ? Dot(u, w) / (nu * nw) : 1.0;
+    fixed[k] = this->Degree(tri[k]) > HubValence || (this->HasBoundary && m.IsBoundaryVertex(tri[k]));
   }
-  e.Alpha = std::min(1.0, std::max(0.0, 2.0 * (cosSum - 1.0)));
+  double cheapest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k)
+  {
+    const Index u = tri[k], v = tri[(k + 1) % 3];
+    if (fixed[k] || fixed[(k + 1) % 3])
+    {
+      continue;
+    }
+    Quadric q = this->Quadrics[u];
+    q += this->Quadrics[v];
+    const Vec3 pu = m.Point(u), pv = m.Point(v);
+    Vec3 best;
+    const Index uv[2] = { u, v };
+    if (EdgeOptimum(q, pu, pv, best))
+    {
+      cheapest = std::min(cheapest, this->CollapseError(uv, 2, q, best));
+    }
+    cheapest = std::min(cheapest, std::min(this->CollapseError(uv, 2, q, pu), this->CollapseError(uv, 2, q, pv)));
+  }
+  return cheapest;
+}
+
+Index CollapseHierarchy::Degree(Index v) const
+{
+  if (this->CachedDegreeStamp[v] < this->VertexChanged[v] || this->CachedDegreeStamp[v] < 0)
+  {
+    this->CachedDegree[v] = this->Mesh.VertexDegree(v);
+    this->CachedDegreeStamp[v] = this->ChangeCounter;
+  }
+  return this->CachedDegree[v];
+}
+
+int CollapseHierarchy::HubMask(Index t) const
+{
+  const Index* tri = this->Mesh.Triangle(t);
+  int mask = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    mask |= this->Degree(tri[k]) > HubValence ? 1 << k : 0;
+  }
+  return mask;
 }
 
 double CollapseHierarchy::CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const
@@ -550,7 +597,7 @@ void CollapseHierarchy::MarkChangedAround(Index v)
   });
 }
 
-bool CollapseHierarchy::StillBlocked(Index t, Index stamp) const
+bool CollapseHierarchy::StillBlocked(Index t, Index stamp, int skipMask) const
 {
   if (stamp < 0)
   {
@@ -560,6 +607,10 @@ bool CollapseHierarchy::StillBlocked(Index t, Index stamp) const
   bool same = true;
   for (int k = 0; k < 3 && same; ++k)
   {
+    if ((skipMask >> k) & 1)
+    {
+      continue;
+    }
     this->Mesh.ForEachTriangle(tri[k], [&](Index x) {
       const Index* q = this->Mesh.Triangle(x);
       same = same && this->VertexChanged[q[0]] <= stamp && this->VertexChanged[q[1]] <= stamp &&
@@ -598,7 +649,7 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
 int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>& touched)
 {
   EditableMesh& m = this->Mesh;
-  const Index degree = m.VertexDegree(q);
+  const Index degree = this->Degree(q);
   if (!m.IsVertexAlive(q) || degree < 3 || degree > 4 || m.IsBoundaryVertex(q))
   {
     return 0;
@@ -612,7 +663,7 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
     const Index* tri = m.Triangle(t);
     const int c = tri[0] == q ? 0 : (tri[1] == q ? 1 : 2);
     const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
-    if (m.VertexDegree(x) < keep || m.VertexDegree(y) < keep || m.IsBoundaryVertex(x) || m.IsBoundaryVertex(y))
+    if (this->Degree(x) < keep || this->Degree(y) < keep || m.IsBoundaryVertex(x) || m.IsBoundaryVertex(y))
     {
       return;
     }
@@ -687,6 +738,10 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   for (int k = 0; k < 3; ++k)
   {
     const Index u = tri[k], v = tri[(k + 1) % 3];
+    if (this->Degree(u) > HubValence || this->Degree(v) > HubValence)
+    {
+      continue; // a hub's checks would cost its valence (see HubMask)
+    }
     if (this->HasBoundary && (m.IsBoundaryVertex(u) || m.IsBoundaryVertex(v)))
     {
       continue; // boundaries keep their resolution, like the triangle collapses leave them
@@ -782,6 +837,8 @@ bool CollapseHierarchy::Build(
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
   this->VertexChanged.assign(np, 0);
+  this->CachedDegree.assign(np, 0);
+  this->CachedDegreeStamp.assign(np, -1);
   this->BlockedStrict.assign(nt, -1);
   this->BlockedRelaxed.assign(nt, -1);
   this->BlockedEdge.assign(nt, -1);
@@ -923,10 +980,21 @@ bool CollapseHierarchy::Build(
           {
             continue;
           }
+          // A hub triangle can only collapse its edge away from the hubs: its region is that
+          // edge's, and nothing it does reads the hubs' stars.
+          const int hubs = this->HubMask(t);
+          if (hubs != 0 && !edges)
+          {
+            continue;
+          }
           bool free = true;
           const Index* tri = this->Mesh.Triangle(t);
           for (int k = 0; k < 3 && free; ++k)
           {
+            if ((hubs >> k) & 1)
+            {
+              continue;
+            }
             this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && stencilMark[x] != level; });
           }
           if (!free)
@@ -970,7 +1038,7 @@ bool CollapseHierarchy::Build(
           };
           // Its cheapest valid edge collapse, when allowed.
           auto tryEdge = [&]() {
-            if (!edges || this->StillBlocked(t, this->BlockedEdge[t]))
+            if (!edges || this->StillBlocked(t, this->BlockedEdge[t], hubs))
             {
               return false;
             }
@@ -993,7 +1061,8 @@ bool CollapseHierarchy::Build(
             this->BlockedEdge[t] = this->ChangeCounter;
             return false;
           };
-          const bool found = e.PreferEdge && edges ? (tryEdge() || tryTriangle()) : (tryTriangle() || tryEdge());
+          const bool found = hubs != 0 ? tryEdge()
+                                       : (e.PreferEdge && edges ? (tryEdge() || tryTriangle()) : (tryTriangle() || tryEdge()));
           if (!found)
           {
             continue;
@@ -1095,7 +1164,7 @@ bool CollapseHierarchy::Build(
       bool cycle = false;
       for (Index q : this->Stencil.OppositeVertices)
       {
-        cycle = cycle || (!rules.AllowNewCycles && this->Mesh.VertexDegree(q) == 4);
+        cycle = cycle || (!rules.AllowNewCycles && this->Degree(q) == 4);
       }
       if (cycle)
       {

@@ -262,7 +262,16 @@ private:
   bool HasBoundary = true;
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
-  bool StillBlocked(Index t, Index stamp) const;
+  // The stars of the vertices of t not in skipMask (bit k: tri[k]) are unchanged since stamp.
+  bool StillBlocked(Index t, Index stamp, int skipMask = 0) const;
+  // Hubs: vertices on more than HubValence triangles. Every check of a collapse merging a hub costs
+  // its valence, and a hub touches that many candidates: such collapses are no candidates (the
+  // hub triangles' other edge still collapses, which lowers the hub's valence). Valences are
+  // cached until the vertex's neighbourhood changes (VertexChanged).
+  Index Degree(Index v) const;
+  int HubMask(Index t) const; // bit k: tri[k] is a hub
+  double CheapestEdgeError(const Index* tri) const; // over edges with no hub or border end
+  mutable std::vector<Index> CachedDegree, CachedDegreeStamp;
   std::uint32_t MarkEpoch = 0;
   mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;
 };

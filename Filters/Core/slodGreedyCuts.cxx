@@ -103,25 +103,36 @@ double PolygonArea2(const std::vector<ClipVertex>& poly)
 }
 } // namespace
 
-bool TriangleWithinDistance(
-  const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon, int depth)
+namespace
+{
+// Pieces one distance proof may examine: past it the triangle counts as not proved (the callers
+// then keep finer triangles), so a proof costs at most this many closest-point queries.
+constexpr int MaximumDistancePieces = 4096;
+
+enum class PieceDistance
+{
+  Within,  // proved: every point of the piece within epsilon
+  Outside, // a point of the piece (its centroid) farther than epsilon
+  Unknown  // neither: split it
+};
+
+PieceDistance ClassifyPiece(const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon)
 {
   const Vec3 g = (1.0 / 3.0) * (a + b + c);
   const double r2 = std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) });
   const ClosestPointResult hit = bvh.ClosestPoint(g, epsilon * epsilon);
   if (hit.Triangle == InvalidIndex)
   {
-    return false; // the centroid itself is farther than epsilon
+    return PieceDistance::Outside;
   }
-  const double d = std::sqrt(hit.Distance2);
-  if (d + std::sqrt(r2) <= epsilon)
+  if (std::sqrt(hit.Distance2) + std::sqrt(r2) <= epsilon)
   {
-    return true; // every point of the piece is within R of g (1-Lipschitz distance)
+    return PieceDistance::Within; // every point of the piece is within R of g (1-Lipschitz distance)
   }
   // The distance to one triangle of the surface is convex (distance to a convex set), so over
   // the piece it is largest at a corner: corners within epsilon of the triangle closest to g prove
   // the whole piece. Without this, a piece lying on the surface (a flat region) was subdivided
-  // until its radius fell below epsilon: 4^depth tests, minutes on a 72-triangle grid.
+  // until its radius fell below epsilon.
   if (const TriangleMesh* mesh = bvh.GetMesh())
   {
     const Index* t = &mesh->Triangles[3 * size_t(hit.Triangle)];
@@ -132,18 +143,48 @@ bool TriangleWithinDistance(
     };
     if (within(a) && within(b) && within(c))
     {
-      return true;
+      return PieceDistance::Within;
     }
   }
-  if (depth <= 0)
+  return PieceDistance::Unknown;
+}
+} // namespace
+
+bool TriangleWithinDistance(
+  const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon, int depth)
+{
+  // Unproved pieces are split in four (midpoint subdivision) down to `depth` generations.
+  struct Piece
   {
-    return false;
+    Vec3 Corner[3];
+    int Generations;
+  };
+  std::vector<Piece> pending{ { { a, b, c }, depth } };
+  for (int examined = 0; !pending.empty(); ++examined)
+  {
+    if (examined >= MaximumDistancePieces)
+    {
+      return false;
+    }
+    const Piece piece = pending.back();
+    pending.pop_back();
+    const Vec3* x = piece.Corner;
+    const PieceDistance d = ClassifyPiece(bvh, x[0], x[1], x[2], epsilon);
+    if (d == PieceDistance::Outside || (d == PieceDistance::Unknown && piece.Generations <= 0))
+    {
+      return false;
+    }
+    if (d == PieceDistance::Unknown)
+    {
+      const Vec3 ab = 0.5 * (x[0] + x[1]), bc = 0.5 * (x[1] + x[2]), ca = 0.5 * (x[2] + x[0]);
+      const int g = piece.Generations - 1;
+      pending.push_back({ { ca, bc, x[2] }, g });
+      pending.push_back({ { ab, x[1], bc }, g });
+      pending.push_back({ { x[0], ab, ca }, g });
+      pending.push_back({ { ab, bc, ca }, g });
+    }
   }
-  const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
-  return TriangleWithinDistance(bvh, ab, bc, ca, epsilon, depth - 1) &&
-    TriangleWithinDistance(bvh, a, ab, ca, epsilon, depth - 1) &&
-    TriangleWithinDistance(bvh, ab, b, bc, epsilon, depth - 1) &&
-    TriangleWithinDistance(bvh, ca, bc, c, epsilon, depth - 1);
+  return true;
 }
 
 GreedyCuts::GreedyCuts() = default;
@@ -327,6 +368,34 @@ struct GreedyCuts::Worker
         if (k + 1 < positions.size())
         {
           this->Segments.insert(EdgeKey(v[positions[k]], v[positions[k + 1]]));
+        }
+      }
+    }
+  }
+
+  // A chain's simplification also depends on the chains simplified before it (no two may give the
+  // same segment): refining one chain can drop a vertex another chain kept apart. Both patches of
+  // every chain whose kept vertices changed are triangulated again, else the untouched side keeps
+  // triangles on the dropped vertex and the surface opens there.
+  void MarkChangedChainPatches(const std::vector<unsigned char>& keptBefore)
+  {
+    if (keptBefore.size() != this->Kept.size())
+    {
+      return; // first round: every patch is dirty
+    }
+    for (Index c = 0; c < PP.NumberOfChains(); ++c)
+    {
+      const Index* v = PP.ChainVerticesBegin(c);
+      bool changed = false;
+      for (Index i = 0; i < PP.ChainSize(c) && !changed; ++i)
+      {
+        changed = this->Kept[v[i]] != keptBefore[v[i]];
+      }
+      for (Index p : { PP.ChainLeftPatch(c), PP.ChainRightPatch(c) })
+      {
+        if (changed && p != InvalidIndex)
+        {
+          this->Dirty[p] = 1;
         }
       }
     }
@@ -994,7 +1063,9 @@ struct GreedyCuts::Worker
         std::fill(this->PatchOriginal.begin(), this->PatchOriginal.end(), 1);
         std::fill(this->Dirty.begin(), this->Dirty.end(), 1);
       }
+      const std::vector<unsigned char> keptBefore = this->Kept;
       this->SimplifyChains();
+      this->MarkChangedChainPatches(keptBefore);
       for (Index p = 0; p < np; ++p)
       {
         if (this->Dirty[p])

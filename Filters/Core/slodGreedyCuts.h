@@ -23,7 +23,8 @@
 //  (a) d(Q, original) <= epsilon, rigorously: Q is subdivided adaptively; a piece whose centroid
 //      lies at distance d from the original surface (BVH closest point) and whose vertices lie
 //      within R of its centroid is accepted when d + R <= epsilon (the distance is 1-Lipschitz),
-//      rejected when d > epsilon, else split in four (depth limited: then rejected);
+//      rejected when d > epsilon, else split in four (depth and number of pieces limited: then
+//      rejected);
 //  (b) d(P, Q) <= epsilon for the part of every original triangle P of the patch that lies under
 //      Q (P clipped to Q's prism along the patch normal; the clipped polygon's corners are tested
 //      against Q, which bounds the whole piece because the distance to a convex set is convex),
@@ -70,7 +71,7 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
 };
 
 // Rigorous adaptive test: every point of triangle (a,b,c) within epsilon of the BVH's surface
-// (false also when depth runs out before a proof).
+// (false also when depth runs out, or a bounded number of pieces is examined, before a proof).
 SURFACELODFILTERS_EXPORT bool TriangleWithinDistance(
   const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon, int depth);
 

@@ -1,11 +1,14 @@
 #include "slodInputPreparation.h"
 
 #include "slodPolygonTriangulation.h"
+#include "slodUnionFind.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkObject.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -39,9 +42,11 @@ std::vector<std::string> PreparationReport::Warnings() const
   say(this->IgnoredLineCells, "line cell(s) ignored: only surfaces are simplified");
   say(this->TriangulatedPolygons, "polygon(s) with more than three points triangulated");
   say(this->TriangulatedStrips, "triangle strip(s) converted to triangles");
-  say(this->MergedPoints, "coincident point(s) merged");
+  say(this->MergedPoints, "coincident point(s) merged where they seal an open border");
+  say(this->CoincidentPointsKeptApart,
+    "coincident point(s) kept apart: merging them would create a non-manifold vertex or edge, or join components");
   say(this->RemovedDegenerateTriangles, "degenerate triangle(s) (repeated vertex) removed");
-  say(this->RemovedDuplicateTriangles, "duplicate triangle(s) removed");
+  say(this->RemovedDuplicateTriangles, "repeated triangle(s) (same vertices and winding) removed");
   say(this->FlippedTriangles, "triangle(s) flipped to make the orientation consistent");
   say(this->NonOrientableComponents, "non-orientable component(s): orientation left as given");
   say(this->NonManifoldEdges, "non-manifold edge(s) (more than two triangles)");
@@ -333,19 +338,20 @@ bool ClassifyEdges(const TriangleMesh& mesh, const VertexStar& star, Preparation
   return inconsistent;
 }
 
-// Non-manifold vertices: on a non-manifold edge, or whose triangles form several fans (same
-// definition as MeshTopology): walking the fan from its start (as MeshTopology::OrderedOneRing
-// does) does not reach every triangle of the vertex.
-void CountNonManifoldVertices(
-  const TriangleMesh& mesh, const VertexStar& star, const std::vector<unsigned char>& flags, PreparationReport& report)
+// Non-manifold vertices: on a non-manifold edge (flagged by ClassifyEdges), or whose triangles
+// form several fans (same definition as MeshTopology): walking the fan from its start (as
+// MeshTopology::OrderedOneRing does) does not reach every triangle of the vertex. Flags them all
+// with NonManifoldFlag and returns their number.
+long long MarkNonManifoldVertices(const TriangleMesh& mesh, const VertexStar& star, std::vector<unsigned char>& flags)
 {
   const Index nv = mesh.NumberOfPoints();
+  long long count = 0;
   for (Index v = 0; v < nv; ++v)
   {
     const Index degree = star.Degree(v);
     if (degree == 0 || (flags[v] & NonManifoldFlag))
     {
-      report.NonManifoldVertices += (flags[v] & NonManifoldFlag) ? 1 : 0;
+      count += (flags[v] & NonManifoldFlag) ? 1 : 0;
       continue;
     }
     auto corner = [&](Index t) {
@@ -383,8 +389,13 @@ void CountNonManifoldVertices(
       }
       t = next;
     }
-    report.NonManifoldVertices += fan != degree ? 1 : 0;
+    if (fan != degree)
+    {
+      flags[v] |= NonManifoldFlag;
+      ++count;
+    }
   }
+  return count;
 }
 
 // Every point id of a polygon or strip must name an existing point: anything else would read
@@ -458,224 +469,252 @@ std::uint64_t PointHash(const double* p)
   }
   return h ^ (h >> 33);
 }
-} // namespace
 
-// Memory: the working arrays are int32 and released as soon as a stage is done; the points are
-// read once and compacted in place into the output; coincident points are found by sorting
-// 64-bit hashes of their exact coordinates (16 bytes per point, transient), duplicate triangles
-// by grouping the triangles by their smallest vertex (4 bytes per triangle), and the adjacency of
-// the orientation / manifoldness checks is a single vertex->triangle CSR array.
-PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptions& options, TriangleMesh& mesh,
-  std::vector<Index>& vertexToInputPoint)
+// Classes of exactly coincident used points: coincident[v] is the smallest id of v's class.
+std::vector<Index> CoincidentClasses(const std::vector<double>& points, const std::vector<Index>& triangles, Index np)
 {
-  PreparationReport report;
-  mesh.Points.clear();
-  mesh.Triangles.clear();
-  vertexToInputPoint.clear();
-  if (!input)
+  std::vector<Index> coincident(static_cast<size_t>(np));
+  std::iota(coincident.begin(), coincident.end(), 0);
+  std::vector<std::pair<std::uint64_t, Index>> keys;
   {
-    return report;
-  }
-  const vtkIdType surfaceCells = (input->GetPolys() ? input->GetPolys()->GetNumberOfCells() : 0) +
-    (input->GetStrips() ? input->GetStrips()->GetNumberOfCells() : 0);
-  if (input->GetNumberOfPoints() == 0 || !input->GetPoints())
-  {
-    if (surfaceCells > 0)
+    std::vector<unsigned char> used(size_t(np), 0);
+    for (Index v : triangles)
     {
-      report.Valid = false;
-      report.Error = "polygons or strips but no points";
+      used[v] = 1;
     }
-    return report;
-  }
-  if (!ValidateCellIds(input, report))
-  {
-    return report;
-  }
-  if (input->GetNumberOfPoints() >= std::numeric_limits<Index>::max() / 2)
-  {
-    report.Valid = false;
-    report.Error = "too many points for 32-bit indices";
-    return report;
-  }
-  report.IgnoredVertexCells = input->GetVerts() ? input->GetVerts()->GetNumberOfCells() : 0;
-  report.IgnoredLineCells = input->GetLines() ? input->GetLines()->GetNumberOfCells() : 0;
-
-  const Index np = static_cast<Index>(input->GetNumberOfPoints());
-  std::vector<double> points;
-  ReadPoints(input, points);
-  std::vector<Index> triangles;
-  {
-    vtkIdType reserve = 0;
-    reserve += input->GetPolys() ? input->GetPolys()->GetNumberOfConnectivityIds() : 0;
-    reserve += input->GetStrips() ? input->GetStrips()->GetNumberOfConnectivityIds() : 0;
-    triangles.reserve(size_t(reserve));
-  }
-  CollectTriangles(input, points, report, triangles);
-
-  // Non-finite coordinates on a used point make the input unusable.
-  for (Index v : triangles)
-  {
-    const double* p = &points[3 * size_t(v)];
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+    keys.reserve(static_cast<size_t>(std::count(used.begin(), used.end(), 1)));
+    for (Index v = 0; v < np; ++v)
     {
-      ++report.NonFinitePoints;
+      if (used[v])
+      {
+        keys.emplace_back(PointHash(&points[3 * size_t(v)]), v);
+      }
     }
   }
-  if (report.NonFinitePoints > 0)
+  std::sort(keys.begin(), keys.end());
+  for (size_t i = 0; i < keys.size();)
   {
-    report.Valid = false;
-    report.Error = "input has points with NaN or infinite coordinates";
-    return report;
+    size_t j = i + 1;
+    while (j < keys.size() && keys[j].first == keys[i].first)
+    {
+      ++j;
+    }
+    // Within a run of equal hashes (ids ascending) compare exactly (collisions are possible).
+    for (size_t m = i + 1; m < j; ++m)
+    {
+      const double* q = &points[3 * size_t(keys[m].second)];
+      for (size_t l = i; l < m; ++l)
+      {
+        const Index r = keys[l].second;
+        const double* p = &points[3 * size_t(r)];
+        if (coincident[r] == r && p[0] == q[0] && p[1] == q[1] && p[2] == q[2])
+        {
+          coincident[keys[m].second] = r;
+          break;
+        }
+      }
+    }
+    i = j;
   }
+  return coincident;
+}
 
-  // Representative of each point: the first (smallest id) of the exactly coincident ones.
+std::uint64_t EdgeKey(Index a, Index b)
+{
+  return std::uint64_t(std::uint32_t(std::min(a, b))) << 32 | std::uint32_t(std::max(a, b));
+}
+
+// The border edges (one triangle) among the edges whose two ends both have coincident partners:
+// the only edges a sealing merge can join. Each as (class pair key, a, b).
+std::vector<std::array<std::uint64_t, 3>> SealableBorderEdges(
+  const std::vector<Index>& triangles, const std::vector<Index>& coincident, const std::vector<unsigned char>& partner)
+{
+  std::vector<std::uint64_t> edges;
+  for (size_t t = 0; 3 * t < triangles.size(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index a = triangles[3 * t + k], b = triangles[3 * t + (k + 1) % 3];
+      if (a != b && partner[a] && partner[b] && coincident[a] != coincident[b])
+      {
+        edges.push_back(EdgeKey(a, b));
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::array<std::uint64_t, 3>> border;
+  for (size_t i = 0; i < edges.size();)
+  {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i])
+    {
+      ++j;
+    }
+    if (j == i + 1)
+    {
+      const Index a = static_cast<Index>(edges[i] >> 32), b = static_cast<Index>(edges[i] & 0xffffffffu);
+      border.push_back({ EdgeKey(coincident[a], coincident[b]), std::uint64_t(a), std::uint64_t(b) });
+    }
+    i = j;
+  }
+  std::sort(border.begin(), border.end());
+  return border;
+}
+
+// Which coincident points are merged: only those that seal an open border, i.e. the ends of two
+// border edges whose ends are pairwise coincident, with no third border edge at that place (an
+// edge cut open, as in STL files and split seams). Elsewhere coincident points stay apart: merging
+// a pinch, two touching components or a sheet touching itself would create a non-manifold vertex
+// or edge, join components or close a handle. Returns each point's representative.
+std::vector<Index> SealingRepresentatives(
+  const std::vector<double>& points, const std::vector<Index>& triangles, Index np, PreparationReport& report)
+{
+  const std::vector<Index> coincident = CoincidentClasses(points, triangles, np);
+  std::vector<Index> classSize(static_cast<size_t>(np), 0);
+  for (Index v = 0; v < np; ++v)
+  {
+    ++classSize[coincident[v]];
+  }
+  std::vector<unsigned char> partner(static_cast<size_t>(np), 0);
+  bool any = false;
+  for (Index v = 0; v < np; ++v)
+  {
+    partner[v] = classSize[coincident[v]] > 1 ? 1 : 0;
+    any = any || partner[v];
+  }
   std::vector<Index> representative(static_cast<size_t>(np));
   std::iota(representative.begin(), representative.end(), 0);
-  if (options.MergeDuplicatePoints)
+  if (!any)
   {
-    std::vector<std::pair<std::uint64_t, Index>> keys;
-    {
-      std::vector<unsigned char> used(size_t(np), 0);
-      for (Index v : triangles)
-      {
-        used[v] = 1;
-      }
-      size_t count = 0;
-      for (Index v = 0; v < np; ++v)
-      {
-        count += used[v];
-      }
-      keys.reserve(count);
-      for (Index v = 0; v < np; ++v)
-      {
-        if (used[v])
-        {
-          keys.emplace_back(PointHash(&points[3 * size_t(v)]), v);
-        }
-      }
-    }
-    std::sort(keys.begin(), keys.end());
-    for (size_t i = 0; i < keys.size();)
-    {
-      size_t j = i + 1;
-      while (j < keys.size() && keys[j].first == keys[i].first)
-      {
-        ++j;
-      }
-      // Within a run of equal hashes (ids ascending) compare exactly (collisions are possible).
-      for (size_t m = i + 1; m < j; ++m)
-      {
-        const double* q = &points[3 * size_t(keys[m].second)];
-        for (size_t l = i; l < m; ++l)
-        {
-          const Index r = keys[l].second;
-          const double* p = &points[3 * size_t(r)];
-          if (representative[r] == r && p[0] == q[0] && p[1] == q[1] && p[2] == q[2])
-          {
-            representative[keys[m].second] = r;
-            ++report.MergedPoints;
-            break;
-          }
-        }
-      }
-      i = j;
-    }
+    return representative;
   }
-  for (Index& v : triangles)
+  const auto border = SealableBorderEdges(triangles, coincident, partner);
+  UnionFind merged(np);
+  for (size_t i = 0; i < border.size();)
   {
-    v = representative[v];
+    size_t j = i + 1;
+    while (j < border.size() && border[j][0] == border[i][0])
+    {
+      ++j;
+    }
+    if (j == i + 2)
+    {
+      const Index a1 = Index(border[i][1]), b1 = Index(border[i][2]);
+      const Index a2 = Index(border[i + 1][1]), b2 = Index(border[i + 1][2]);
+      const bool straight = coincident[a1] == coincident[a2];
+      merged.Union(a1, straight ? a2 : b2);
+      merged.Union(b1, straight ? b2 : a2);
+    }
+    i = j;
   }
+  std::vector<unsigned char> used(static_cast<size_t>(np), 0);
+  for (Index v : triangles)
+  {
+    used[v] = 1;
+  }
+  for (Index v = 0; v < np; ++v)
+  {
+    representative[v] = merged.Find(v);
+    report.MergedPoints += representative[v] != v ? 1 : 0;
+    report.CoincidentPointsKeptApart += used[v] && partner[v] && representative[v] == v && coincident[v] != v ? 1 : 0;
+  }
+  return representative;
+}
 
-  // Drop triangles with a repeated vertex (in place), then exact duplicates (same vertex set):
-  // duplicates share their smallest vertex, so only triangles grouped by it are compared.
-  Index nt = 0;
-  bool repeatedVertices = false; // kept degenerate triangles: always run the orientation repair
+// Drops triangles with a repeated vertex (in place; kept when options say so, then returns true).
+bool RemoveRepeatedVertexTriangles(std::vector<Index>& triangles, bool remove, PreparationReport& report)
+{
+  size_t nt = 0;
+  bool kept = false;
   for (size_t t = 0; 3 * t < triangles.size(); ++t)
   {
     const Index a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
     if (a == b || b == c || a == c)
     {
-      if (options.RemoveDegenerateTriangles)
+      if (remove)
       {
         ++report.RemovedDegenerateTriangles;
         continue;
       }
-      repeatedVertices = true;
+      kept = true;
     }
-    triangles[3 * size_t(nt)] = a;
-    triangles[3 * size_t(nt) + 1] = b;
-    triangles[3 * size_t(nt) + 2] = c;
+    triangles[3 * nt] = a;
+    triangles[3 * nt + 1] = b;
+    triangles[3 * nt + 2] = c;
     ++nt;
   }
-  triangles.resize(3 * size_t(nt));
-  std::vector<unsigned char> keep(static_cast<size_t>(nt), 1);
-  if (options.RemoveDuplicateTriangles)
-  {
-    auto sorted = [&](Index t) {
-      std::array<Index, 3> s{ triangles[3 * size_t(t)], triangles[3 * size_t(t) + 1], triangles[3 * size_t(t) + 2] };
-      std::sort(s.begin(), s.end());
-      return s;
-    };
-    std::vector<Index> start(size_t(np) + 1, 0);
-    for (Index t = 0; t < nt; ++t)
-    {
-      ++start[size_t(sorted(t)[0]) + 1];
-    }
-    for (Index v = 0; v < np; ++v)
-    {
-      start[v + 1] += start[v];
-    }
-    std::vector<Index> byVertex(static_cast<size_t>(nt));
-    for (Index t = 0; t < nt; ++t)
-    {
-      byVertex[start[sorted(t)[0]]++] = t; // ascending t within each group
-    }
-    // start[v] is now the end of group v.
-    Index begin = 0;
-    std::vector<std::pair<std::array<Index, 3>, Index>> group;
-    for (Index v = 0; v < np; ++v)
-    {
-      const Index end = start[v];
-      if (end - begin > 1)
-      {
-        group.clear();
-        for (Index i = begin; i < end; ++i)
-        {
-          group.push_back({ sorted(byVertex[i]), byVertex[i] });
-        }
-        std::sort(group.begin(), group.end());
-        for (size_t i = 1; i < group.size(); ++i)
-        {
-          if (group[i].first == group[i - 1].first)
-          {
-            keep[group[i].second] = 0;
-            ++report.RemovedDuplicateTriangles;
-          }
-        }
-      }
-      begin = end;
-    }
-  }
+  triangles.resize(3 * nt);
+  return kept;
+}
 
-  // Compact: used points in input order (in place: a point only moves to a smaller slot),
-  // triangles in input order.
-  std::vector<Index>& inputToMesh = representative; // reused: representatives are applied
-  std::fill(inputToMesh.begin(), inputToMesh.end(), InvalidIndex);
+// Exact repeats (same three vertices, same winding) are removed: the first is kept. A triangle and
+// its mirror (same vertices, opposite winding) are both kept: they are the two sides of a sheet
+// that touches itself (as marching cubes makes them), and removing one would open the surface.
+// Repeats share their smallest vertex, so only triangles grouped by it are compared.
+void MarkRepeatedTriangles(const std::vector<Index>& triangles, Index np, std::vector<unsigned char>& keep,
+  PreparationReport& report)
+{
+  const Index nt = static_cast<Index>(triangles.size() / 3);
+  // Rotated so that the smallest vertex comes first: same winding <=> same rotated triple.
+  auto rotated = [&](Index t) {
+    const Index* tri = &triangles[3 * size_t(t)];
+    const int k = tri[0] < tri[1] ? (tri[0] < tri[2] ? 0 : 2) : (tri[1] < tri[2] ? 1 : 2);
+    return std::array<Index, 3>{ tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3] };
+  };
+  std::vector<Index> start(size_t(np) + 1, 0);
   for (Index t = 0; t < nt; ++t)
   {
-    if (keep[t])
+    ++start[size_t(rotated(t)[0]) + 1];
+  }
+  for (Index v = 0; v < np; ++v)
+  {
+    start[v + 1] += start[v];
+  }
+  std::vector<Index> byVertex(static_cast<size_t>(nt));
+  for (Index t = 0; t < nt; ++t)
+  {
+    byVertex[start[rotated(t)[0]]++] = t; // ascending t within each group
+  }
+  // start[v] is now the end of group v.
+  std::vector<std::pair<std::array<Index, 3>, Index>> group;
+  for (Index v = 0, begin = 0; v < np; begin = start[v], ++v)
+  {
+    if (start[v] - begin < 2)
     {
-      for (int k = 0; k < 3; ++k)
+      continue;
+    }
+    group.clear();
+    for (Index i = begin; i < start[v]; ++i)
+    {
+      group.push_back({ rotated(byVertex[i]), byVertex[i] });
+    }
+    std::sort(group.begin(), group.end());
+    for (size_t i = 1; i < group.size(); ++i)
+    {
+      if (group[i].first == group[i - 1].first)
       {
-        inputToMesh[triangles[3 * size_t(t) + k]] = 0;
+        keep[group[i].second] = 0;
+        ++report.RemovedDuplicateTriangles;
       }
     }
   }
-  Index used = 0;
-  for (Index v = 0; v < np; ++v)
+}
+
+// Compaction: the used points in input order (in place: a point only moves to a smaller slot) and
+// the kept triangles in input order, renumbered.
+void CompactInto(std::vector<double>& points, std::vector<Index>& triangles, const std::vector<unsigned char>& keep,
+  Index np, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint)
+{
+  const Index nt = static_cast<Index>(triangles.size() / 3);
+  std::vector<Index> inputToMesh(static_cast<size_t>(np), InvalidIndex);
+  for (Index t = 0; t < nt; ++t)
   {
-    used += inputToMesh[v] != InvalidIndex ? 1 : 0;
+    for (int k = 0; k < 3 && keep[t]; ++k)
+    {
+      inputToMesh[triangles[3 * size_t(t) + k]] = 0;
+    }
   }
+  const Index used = static_cast<Index>(np - std::count(inputToMesh.begin(), inputToMesh.end(), InvalidIndex));
   vertexToInputPoint.reserve(size_t(used));
   for (Index v = 0; v < np; ++v)
   {
@@ -707,8 +746,88 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
   }
   triangles.resize(3 * size_t(kept));
   mesh.Triangles.swap(triangles);
-  std::vector<Index>().swap(representative);
-  std::vector<unsigned char>().swap(keep);
+}
+
+// Reads the input's polygons and strips as triangles over its points; false (report says why)
+// when the input cannot be used.
+bool ReadSurface(vtkPolyData* input, PreparationReport& report, std::vector<double>& points, std::vector<Index>& triangles)
+{
+  const vtkIdType surfaceCells = (input->GetPolys() ? input->GetPolys()->GetNumberOfCells() : 0) +
+    (input->GetStrips() ? input->GetStrips()->GetNumberOfCells() : 0);
+  if (input->GetNumberOfPoints() == 0 || !input->GetPoints())
+  {
+    report.Valid = surfaceCells == 0;
+    report.Error = report.Valid ? "" : "polygons or strips but no points";
+    return false;
+  }
+  if (input->GetNumberOfPoints() >= std::numeric_limits<Index>::max() / 2)
+  {
+    report.Valid = false;
+    report.Error = "too many points for 32-bit indices";
+    return false;
+  }
+  if (!ValidateCellIds(input, report))
+  {
+    return false;
+  }
+  report.IgnoredVertexCells = input->GetVerts() ? input->GetVerts()->GetNumberOfCells() : 0;
+  report.IgnoredLineCells = input->GetLines() ? input->GetLines()->GetNumberOfCells() : 0;
+  ReadPoints(input, points);
+  vtkIdType reserve = 0;
+  reserve += input->GetPolys() ? input->GetPolys()->GetNumberOfConnectivityIds() : 0;
+  reserve += input->GetStrips() ? input->GetStrips()->GetNumberOfConnectivityIds() : 0;
+  triangles.reserve(size_t(reserve));
+  CollectTriangles(input, points, report, triangles);
+  // Non-finite coordinates on a used point make the input unusable.
+  for (Index v : triangles)
+  {
+    const double* p = &points[3 * size_t(v)];
+    report.NonFinitePoints += std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) ? 0 : 1;
+  }
+  if (report.NonFinitePoints > 0)
+  {
+    report.Valid = false;
+    report.Error = "input has points with NaN or infinite coordinates";
+    return false;
+  }
+  return true;
+}
+} // namespace
+
+// Memory: the working arrays are int32 and released as soon as a stage is done; the points are
+// read once and compacted in place into the output; coincident points are found by sorting
+// 64-bit hashes of their exact coordinates (16 bytes per point, transient), repeated triangles
+// by grouping the triangles by their smallest vertex (4 bytes per triangle), and the adjacency of
+// the orientation / manifoldness checks is a single vertex->triangle CSR array.
+PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptions& options, TriangleMesh& mesh,
+  std::vector<Index>& vertexToInputPoint)
+{
+  PreparationReport report;
+  mesh.Points.clear();
+  mesh.Triangles.clear();
+  vertexToInputPoint.clear();
+  std::vector<double> points;
+  std::vector<Index> triangles;
+  if (!input || !ReadSurface(input, report, points, triangles))
+  {
+    return report;
+  }
+  const Index np = static_cast<Index>(input->GetNumberOfPoints());
+  if (options.MergeDuplicatePoints)
+  {
+    const std::vector<Index> representative = SealingRepresentatives(points, triangles, np, report);
+    for (Index& v : triangles)
+    {
+      v = representative[v];
+    }
+  }
+  const bool repeatedVertices = RemoveRepeatedVertexTriangles(triangles, options.RemoveDegenerateTriangles, report);
+  std::vector<unsigned char> keep(triangles.size() / 3, 1);
+  if (options.RemoveDuplicateTriangles)
+  {
+    MarkRepeatedTriangles(triangles, np, keep, report);
+  }
+  CompactInto(points, triangles, keep, np, mesh, vertexToInputPoint);
 
   // One adjacency serves both the orientation repair and the non-manifold counts (flipping
   // triangles changes neither edges nor fans).
@@ -719,8 +838,22 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
   {
     OrientConsistently(mesh, star, report);
   }
-  CountNonManifoldVertices(mesh, star, flags, report);
+  report.NonManifoldVertices = MarkNonManifoldVertices(mesh, star, flags);
   return report;
+}
+
+std::vector<unsigned char> NonManifoldVertexFlags(const TriangleMesh& mesh)
+{
+  const VertexStar star(mesh);
+  PreparationReport unused;
+  std::vector<unsigned char> flags;
+  ClassifyEdges(mesh, star, unused, flags);
+  MarkNonManifoldVertices(mesh, star, flags);
+  for (unsigned char& f : flags)
+  {
+    f = (f & NonManifoldFlag) ? 1 : 0;
+  }
+  return flags;
 }
 
 bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const PreparationOptions& options,
@@ -744,6 +877,24 @@ bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const Preparation
     vtkWarningWithObjectMacro(filter, << "Input: " << warning << ".");
   }
   return true;
+}
+
+void ReportTarget(vtkObject* filter, vtkPolyData* output, long long targetTriangles, bool reached, const char* reason)
+{
+  vtkFieldData* fieldData = output->GetFieldData();
+  for (const auto& entry : { std::make_pair("TargetNumberOfTriangles", targetTriangles),
+         std::make_pair("TargetReached", reached ? 1LL : 0LL) })
+  {
+    vtkNew<vtkIdTypeArray> array;
+    array->SetName(entry.first);
+    array->InsertNextValue(static_cast<vtkIdType>(entry.second));
+    fieldData->AddArray(array);
+  }
+  if (!reached)
+  {
+    vtkWarningWithObjectMacro(filter, << "Target of " << targetTriangles << " triangles not reached: "
+                                      << output->GetNumberOfPolys() << " remain (" << reason << ").");
+  }
 }
 
 void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointDataType)
@@ -774,7 +925,23 @@ void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh, const std::ve
   vtkNew<vtkPoints> points;
   points->SetDataType(forceDouble || inputDouble ? VTK_DOUBLE : VTK_FLOAT);
   points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
-  vtkPointData* inPD = input->GetPointData();
+  // Arrays of fewer tuples than points cannot be copied from every point, and a second array of the
+  // same name would be copied into the first: both are left out.
+  vtkNew<vtkPointData> inPD;
+  inPD->ShallowCopy(input->GetPointData());
+  for (int a = inPD->GetNumberOfArrays() - 1; a >= 0; --a)
+  {
+    vtkAbstractArray* array = inPD->GetAbstractArray(a);
+    int sameName = -1;
+    if (array->GetName())
+    {
+      inPD->GetAbstractArray(array->GetName(), sameName);
+    }
+    if (array->GetNumberOfTuples() < input->GetNumberOfPoints() || (sameName >= 0 && sameName < a))
+    {
+      inPD->RemoveArray(a);
+    }
+  }
   vtkPointData* outPD = output->GetPointData();
   outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
   for (size_t i = 0; i < used.size(); ++i)

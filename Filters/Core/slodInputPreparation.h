@@ -5,9 +5,12 @@
 // What preparation does, in order:
 //  - non-finite (NaN/Inf) coordinates used by a cell: error, nothing else is done;
 //  - vertices and lines: ignored (counted); polygons (> 3 points) and strips: triangulated (counted);
-//  - exactly coincident points: merged (counted);
+//  - exactly coincident points: merged only where they seal an open border (two border edges
+//    with pairwise coincident ends); elsewhere kept apart (counted), so merging never makes a
+//    non-manifold vertex or edge, joins components or closes a handle;
 //  - degenerate triangles (repeated vertex after merging, or zero area): removed (counted);
-//  - duplicate triangles (same three vertices): removed (counted);
+//  - repeated triangles (same three vertices, same winding): removed (counted); a triangle and
+//    its mirror image are both kept (two sides of a sheet touching itself);
 //  - orientation: made consistent across manifold edges per component, keeping the majority
 //    orientation of each component (counted); non-orientable components are reported;
 //  - non-manifold edges and vertices: counted; each filter says what it does with them.
@@ -43,6 +46,7 @@ struct SURFACELODFILTERS_EXPORT PreparationReport
   long long TriangulatedPolygons = 0;
   long long TriangulatedStrips = 0;
   long long MergedPoints = 0;
+  long long CoincidentPointsKeptApart = 0; // coincident with another point, not merged (see below)
   long long RemovedDegenerateTriangles = 0;
   long long RemovedDuplicateTriangles = 0;
   long long FlippedTriangles = 0;
@@ -57,12 +61,23 @@ struct SURFACELODFILTERS_EXPORT PreparationReport
 SURFACELODFILTERS_EXPORT PreparationReport PrepareTriangleMesh(vtkPolyData* input,
   const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint);
 
+// Per vertex of a prepared mesh: 1 when it is non-manifold (on an edge with more than two
+// triangles, or joining several fans), else 0. Collapse filters lock these vertices.
+SURFACELODFILTERS_EXPORT std::vector<unsigned char> NonManifoldVertexFlags(const TriangleMesh& mesh);
+
 // PrepareTriangleMesh for a filter: reports each warning with vtkWarningWithObjectMacro and an invalid
 // input with vtkErrorWithObjectMacro on `filter`. Returns false when the input cannot be used (the
 // filter then produces an empty output).
 SURFACELODFILTERS_EXPORT bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input,
   const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint,
   PreparationReport* report = nullptr);
+
+// The honest-target contract of every simplifier: field data "TargetNumberOfTriangles" (the
+// resolved count target, -1 when only an error bound was given) and "TargetReached" (1/0) on the
+// output, and a warning naming the count reached and why when the target was missed (e.g. the
+// topology that is kept needs more triangles).
+SURFACELODFILTERS_EXPORT void ReportTarget(vtkObject* filter, vtkPolyData* output, long long targetTriangles,
+  bool reached, const char* reason);
 
 // Writes the mesh as points (same precision as `pointsLike` when given, else float) + triangles.
 SURFACELODFILTERS_EXPORT void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointDataType = 10 /*VTK_FLOAT*/);

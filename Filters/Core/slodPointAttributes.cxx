@@ -18,14 +18,24 @@ void PointAttributes::Load(vtkPointData* input, const std::vector<Index>& rowToI
   {
     return;
   }
+  const Index rowsRead =
+    rowToInputPoint.empty() ? 0 : 1 + *std::max_element(rowToInputPoint.begin(), rowToInputPoint.end());
   for (int a = 0; a < input->GetNumberOfArrays(); ++a)
   {
     vtkDataArray* array = input->GetArray(a);
-    if (!array || !array->GetName())
+    int sameName = -1;
+    if (array && array->GetName())
     {
-      continue; // string arrays and unnamed arrays are not interpolated
+      input->GetAbstractArray(array->GetName(), sameName);
+    }
+    if (!array || !array->GetName() || array->GetNumberOfTuples() < rowsRead || sameName < a)
+    {
+      // String arrays, unnamed arrays, arrays of too few tuples and a second array of the same name
+      // (an output can hold only one) are not interpolated.
+      continue;
     }
     ArrayInfo info;
+    info.InputIndex = a;
     info.Name = array->GetName();
     info.DataType = array->GetDataType();
     info.Components = array->GetNumberOfComponents();
@@ -41,7 +51,7 @@ void PointAttributes::Load(vtkPointData* input, const std::vector<Index>& rowToI
   this->Values.resize(rowToInputPoint.size() * size_t(this->Width));
   for (const ArrayInfo& info : this->Arrays)
   {
-    vtkDataArray* array = input->GetArray(info.Name.c_str());
+    vtkDataArray* array = input->GetArray(info.InputIndex);
     for (size_t r = 0; r < rowToInputPoint.size(); ++r)
     {
       for (int c = 0; c < info.Components; ++c)

@@ -1,6 +1,7 @@
 // SurfaceLOD shared core: point data carried through simplification.
 //
-// All numeric point arrays of the input are copied into one flat double buffer (one row per
+// All named numeric point arrays of the input (with a value for every point; the first of several
+// of one name) are copied into one flat double buffer (one row per
 // mesh vertex), merged as vertices merge (weighted average), and written back to VTK arrays of
 // the original types for the output vertices.
 #ifndef slodPointAttributes_h
@@ -37,6 +38,7 @@ private:
   struct ArrayInfo
   {
     std::string Name;
+    int InputIndex = 0;
     int DataType = 0;
     int Components = 0;
     int Offset = 0;

@@ -1,5 +1,7 @@
 #include "slodSurfaceDeviation.h"
 
+#include "slodCounterHash.h"
+
 #include "vtkSMPTools.h"
 
 #include <algorithm>
@@ -10,22 +12,6 @@ namespace slod
 {
 namespace
 {
-constexpr std::uint64_t Golden = 0x9E3779B97F4A7C15ull;
-
-// splitmix64 finaliser: a counter-based generator (value i of a stream = Finalise(key + i * Golden)),
-// so any sample can be drawn independently of the others, in parallel, reproducibly.
-inline std::uint64_t Finalise(std::uint64_t z)
-{
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-inline double Uniform(std::uint64_t key, std::uint64_t counter)
-{
-  return double(Finalise(key + (counter + 1) * Golden) >> 11) * 0x1.0p-53; // [0, 1)
-}
-
 // Interleaves the low 10 bits of x, y, z (30-bit Morton code).
 inline std::uint64_t Spread10(std::uint64_t v)
 {

@@ -4,7 +4,9 @@
 #include "slodPolygonTriangulation.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <limits>
 #include <memory>
 #include <cmath>
 #include <numeric>
@@ -1105,11 +1107,63 @@ struct Simplification
   }
 
   // --- 7. Cracks (5.3.4) ---
+  // Bounding box (low, high) of each edge-connected component.
+  static std::vector<std::array<Vec3, 2>> ComponentBoxes(const TriangleMesh& mesh, const MeshTopology& topology)
+  {
+    const double huge = std::numeric_limits<double>::infinity();
+    std::vector<std::array<Vec3, 2>> boxes(size_t(topology.NumberOfComponents()),
+      std::array<Vec3, 2>{ Vec3{ huge, huge, huge }, Vec3{ -huge, -huge, -huge } });
+    const std::vector<Index>& component = topology.TriangleComponents();
+    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    {
+      std::array<Vec3, 2>& box = boxes[component[t]];
+      for (int k = 0; k < 3; ++k)
+      {
+        const Vec3 x = mesh.Point(mesh.Triangles[3 * size_t(t) + k]);
+        for (int j = 0; j < 3; ++j)
+        {
+          box[0][j] = std::min(box[0][j], x[j]);
+          box[1][j] = std::max(box[1][j], x[j]);
+        }
+      }
+    }
+    return boxes;
+  }
+
+  // A crack is a gap in a surface that goes on beyond it. A loop whose component lies within the
+  // loop's own bounding box (a separate triangle, a small flat piece) is that piece's outline:
+  // closing it would lay a second copy of the piece over it (10,000 separate triangles became
+  // 20,000).
+  static bool IsOutlineOfItsComponent(const TriangleMesh& mesh, const std::array<Vec3, 2>& componentBox,
+    const std::vector<Index>& loop)
+  {
+    Vec3 low = mesh.Point(loop[0]), high = low;
+    for (Index v : loop)
+    {
+      const Vec3 x = mesh.Point(v);
+      for (int j = 0; j < 3; ++j)
+      {
+        low[j] = std::min(low[j], x[j]);
+        high[j] = std::max(high[j], x[j]);
+      }
+    }
+    const double slack = 1e-9 * Norm(high - low);
+    for (int j = 0; j < 3; ++j)
+    {
+      if (componentBox[0][j] < low[j] - slack || componentBox[1][j] > high[j] + slack)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
   void FillCracks(TriangleMesh& current)
   {
     const MeshTopology topology(current);
     const double limit = this->P.MaximumCrackSize >= 0 ? this->P.MaximumCrackSize : this->P.MaximumFeatureSize;
     auto edgeExists = [&](Index u, Index w) { return topology.FindEdge(u, w) != InvalidIndex; };
+    const std::vector<std::array<Vec3, 2>> componentBoxes = ComponentBoxes(current, topology);
     for (const std::vector<Index>& loop : topology.BoundaryLoops())
     {
       if (loop.size() < 3)
@@ -1123,7 +1177,8 @@ struct Simplification
         continue; // pinched border: not a simple crack
       }
       const double size = EstimateLoopDiameter(current, loop);
-      if (!(size < limit))
+      if (!(size < limit) || IsOutlineOfItsComponent(current,
+            componentBoxes[topology.TriangleComponents()[*topology.VertexTrianglesBegin(loop[0])]], loop))
       {
         continue;
       }

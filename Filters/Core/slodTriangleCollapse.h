@@ -121,6 +121,8 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   Index Collapses = 0;
   Index RejectedCollapses = 0;       // validity test failures (each retried later)
   bool Aborted = false;
+  bool StoppedByError = false;       // a collapse was refused for exceeding MaximumError
+  bool WorkBoundReached = false;     // stopped by the bound on queue pops (see MaximumPopsPerTriangle)
   size_t PeakWorkingBytes = 0;       // bytes of the algorithm's own arrays (estimate)
   CollapseHistory History;           // when RecordHistory
 };

@@ -10,6 +10,7 @@
 #include "slodTriangleBVH.h"
 #include "vtkGreedyCutsSimplification.h"
 #include "vtkSurfaceDeviation.h"
+#include "vtkTriangleFilter.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
@@ -279,6 +280,67 @@ TEST(GreedyCutsSimplification, TargetSearchesEpsilon)
   filter->Print(print);
   EXPECT_NE(print.str().find("MaximumError"), std::string::npos);
   EXPECT_NE(print.str().find("BiteCandidates"), std::string::npos);
+}
+
+// Flat inputs made of slivers: a 1000-gon given as one polygon (triangulated by the input
+// preparation) and a fan of 5,000 triangles around one centre. The distance proofs subdivided
+// their candidates four ways down to the tolerance, each piece's closest-point query visiting
+// hundreds of slivers: the target search never finished. Now each proof examines a bounded number
+// of pieces; the result keeps every guarantee.
+TEST(GreedyCutsSimplification, FlatSliverInputsFinishWithinTheBound)
+{
+  const int corners = 1000;
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> polygon;
+  polygon->InsertNextCell(corners);
+  for (int i = 0; i < corners; ++i)
+  {
+    const double a = 2 * M_PI * i / corners;
+    polygon->InsertCellPoint(points->InsertNextPoint(std::cos(a), std::sin(a), 0));
+  }
+  vtkNew<vtkPolyData> ngon;
+  ngon->SetPoints(points);
+  ngon->SetPolys(polygon);
+  const vtkSmartPointer<vtkPolyData> fan = slodtest::ToPolyData(slodtest::Disk(1, 5000));
+  for (vtkPolyData* input : { static_cast<vtkPolyData*>(ngon), fan.Get() })
+  {
+    // As the command line runs it: half the triangles, epsilon searched below 0.1 of the diagonal.
+    vtkNew<vtkGreedyCutsSimplification> filter;
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->SetInputData(input);
+    filter->SetTargetReduction(0.5);
+    filter->SetMaximumError(0.1);
+    filter->Update();
+    Figures f;
+    f.Output = filter->GetOutput();
+    f.Bound = filter->GetUsedMaximumError();
+    f.Hausdorff = MeasureHausdorff(input, f.Output);
+    vtkNew<vtkTriangleFilter> triangles; // the reference for ExpectValid: the polygon's triangles
+    triangles->SetInputData(input);
+    triangles->Update();
+    ExpectValid(triangles->GetOutput(), f, input == fan.Get() ? "fan" : "1000-gon");
+    EXPECT_LE(f.Output->GetNumberOfCells(), triangles->GetOutput()->GetNumberOfCells() / 2);
+  }
+}
+
+// elephant (closed, genus 3) as the command line runs it: the target search's rounds refine chains
+// (full resolution), which lets a neighbouring chain drop a vertex it had kept apart; the patch on
+// its other side kept triangles on that vertex and a 3-edge hole opened. Closed stays closed.
+TEST(GreedyCutsSimplification, ClosedInputStaysClosedWhenChainsChange)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("elephant");
+  vtkNew<vtkGreedyCutsSimplification> filter;
+  filter->SetInputData(input);
+  filter->SetTargetReduction(0.5);
+  filter->SetMaximumError(0.1);
+  filter->Update();
+  Figures f;
+  f.Output = filter->GetOutput();
+  f.Bound = filter->GetUsedMaximumError();
+  f.Hausdorff = MeasureHausdorff(input, f.Output);
+  ExpectValid(input, f, "elephant");
+  EXPECT_GT(filter->GetRefinedPatches(), 0); // the case above happened
 }
 
 TEST(GreedyCutsSimplification, BadInputGivesErrorAndEmptyOutput)

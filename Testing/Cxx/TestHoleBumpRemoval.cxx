@@ -458,7 +458,10 @@ TEST(TopologySimplification, CracksOfARealMesh)
   const TopologySimplificationResult r =
     Simplify(elephant, 0.05 * elephant.BoundingBoxDiagonal(), TopologyCompletion::KeepTriangles);
   const Index filled = Count(r, TopologyFeatureKind::Crack, true);
-  EXPECT_GE(filled, 60);
+  // Most of its 106 holes are narrow slits below 5 % of the diagonal. (Before the input
+  // preparation stopped merging coincident points across holes, it pinched 65 of them together
+  // and counted 134 loops.)
+  EXPECT_GE(filled, before.BoundaryLoops / 3);
   const MeshStatistics after = Stats(ResultMesh(elephant, r));
   EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops - filled);
   EXPECT_LT(after.BoundaryEdges, before.BoundaryEdges);
@@ -698,6 +701,32 @@ TEST(HoleBumpRemovalFilter, BadInputGivesDefinedOutput)
   vtkSmartPointer<vtkPolyData> out= RunFilter(nm, both);
   EXPECT_EQ(nm->GetNumberOfHolesRemoved(), 2);
   EXPECT_GT(out->GetNumberOfPolys(), 12);
+}
+
+// 10,000 separate triangles: each one's border is a small loop, but it is the triangle's own
+// outline, not a crack in a surface going on beyond it. Closing them doubled every triangle.
+TEST(HoleBumpRemovalFilter, SeparateTrianglesAreNotCracks)
+{
+  TriangleMesh pieces;
+  for (int k = 0; k < 10000; ++k)
+  {
+    const double x = 2.0 * (k % 100), y = 2.0 * (k / 100);
+    const Index a = pieces.AddPoint({ x, y, 0 }), b = pieces.AddPoint({ x + 1, y, 0 }), c = pieces.AddPoint({ x, y + 1, 0.3 });
+    pieces.AddTriangle(a, b, c);
+  }
+  vtkSmartPointer<vtkPolyData> input = ToPolyData(pieces);
+  for (double reduction : { 0.0, 0.5 })
+  {
+    vtkNew<vtkHoleBumpRemoval> filter;
+    filter->GlobalWarningDisplayOff();
+    filter->SetTargetReduction(reduction);
+    vtkSmartPointer<vtkPolyData> out = RunFilter(filter, input);
+    EXPECT_LE(out->GetNumberOfPolys(), input->GetNumberOfPolys()) << "reduction " << reduction;
+    EXPECT_EQ(FieldCount(out, "CracksFilled"), 0) << "reduction " << reduction;
+    const MeshStatistics s = Stats(RawTriangleMesh(out));
+    EXPECT_EQ(s.Components, 10000);
+    EXPECT_EQ(s.BoundaryLoops, 10000);
+  }
 }
 
 TEST(HoleBumpRemovalFilter, AbortGivesEmptyOutput)

@@ -446,17 +446,17 @@ TEST(InputPreparation, OutOfRangeCellIdsAreRejected)
 
 TEST(InputPreparation, PolygonsLinesDuplicatesDegenerates)
 {
-  // A quad, a triangle duplicating one of the quad's points, a degenerate triangle, a repeated
-  // triangle and a line.
-  auto pd = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, /*dup of 1*/ 1, 0, 0, 2, 0, 0 },
-    { { 0, 1, 2, 3 }, { 4, 5, 2 }, { 0, 0, 1 }, { 1, 5, 2 } }, { { 0, 2 } });
+  // A quad, a triangle beside it, a degenerate triangle, the same triangle repeated with the same
+  // winding, and a line.
+  auto pd = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 0, 0 },
+    { { 0, 1, 2, 3 }, { 1, 4, 2 }, { 0, 0, 1 }, { 4, 2, 1 } }, { { 0, 2 } });
   TriangleMesh mesh;
   std::vector<Index> origin;
   const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
   ASSERT_TRUE(report.Valid);
   EXPECT_EQ(report.TriangulatedPolygons, 1);
   EXPECT_EQ(report.IgnoredLineCells, 1);
-  EXPECT_EQ(report.MergedPoints, 1);
+  EXPECT_EQ(report.MergedPoints, 0);
   EXPECT_EQ(report.RemovedDegenerateTriangles, 1);
   EXPECT_EQ(report.RemovedDuplicateTriangles, 1);
   EXPECT_EQ(mesh.NumberOfTriangles(), 3);
@@ -535,21 +535,88 @@ TEST(InputPreparation, CountsMatchMeshStatistics)
   EXPECT_EQ(report.NonManifoldEdges, 0);
 }
 
-// Coincident points merge to the first of them (+0 and -0 are the same point), distinct ones do
-// not; a duplicate triangle with the opposite winding is still a duplicate (the first is kept).
-TEST(InputPreparation, MergesExactlyCoincidentPointsOnly)
+namespace
 {
-  auto pd = MakePolyData({ 0, 0, 0, 1, 0, 0, 0, 1, 0, -0.0, 0, -0.0, 1, 1e-7, 0, 0, 1, 0 },
-    { { 0, 1, 2 }, { 3, 2, 1 }, { 1, 4, 5 } });
+// Every triangle of `triangles` with its own three copies of its corners (as an STL file has them).
+vtkSmartPointer<vtkPolyData> Soup(const std::vector<double>& xyz, const std::vector<std::vector<vtkIdType>>& triangles)
+{
+  std::vector<double> points;
+  std::vector<std::vector<vtkIdType>> cells;
+  for (const auto& tri : triangles)
+  {
+    cells.push_back({});
+    for (vtkIdType v : tri)
+    {
+      cells.back().push_back(static_cast<vtkIdType>(points.size() / 3));
+      points.insert(points.end(), { xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2] });
+    }
+  }
+  return MakePolyData(points, cells);
+}
+
+MeshStatistics Prepared(vtkPolyData* pd, PreparationReport& report)
+{
   TriangleMesh mesh;
   std::vector<Index> origin;
-  const PreparationReport report = PrepareTriangleMesh(pd, {}, mesh, origin);
+  report = PrepareTriangleMesh(pd, {}, mesh, origin);
+  return ComputeMeshStatistics(mesh);
+}
+} // namespace
+
+// Coincident points are merged only where they seal an open border: a triangle soup (every edge
+// cut open) becomes the closed surface it describes; -0 and +0 are the same point.
+TEST(InputPreparation, CoincidentPointsSealOpenBorders)
+{
+  const std::vector<double> octahedron{ 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1 };
+  const std::vector<std::vector<vtkIdType>> faces{ { 0, 2, 4 }, { 2, 1, 4 }, { 1, 3, 4 }, { 3, 0, 4 }, { 2, 0, 5 },
+    { 1, 2, 5 }, { 3, 1, 5 }, { 0, 3, 5 } };
+  auto soup = Soup(octahedron, faces);
+  soup->GetPoints()->SetPoint(1, -0.0, 1, -0.0); // the first copy of vertex 2, with -0
+  PreparationReport report;
+  const MeshStatistics stats = Prepared(soup, report);
   ASSERT_TRUE(report.Valid);
-  EXPECT_EQ(report.MergedPoints, 2); // 3 -> 0, 5 -> 2; 4 differs from 1 by 1e-7
+  EXPECT_EQ(report.MergedPoints, 24 - 6);
+  EXPECT_EQ(stats.Vertices, 6);
+  EXPECT_EQ(stats.BoundaryEdges, 0);
+  EXPECT_EQ(stats.NonManifoldEdges, 0);
+  EXPECT_EQ(stats.EulerCharacteristic, 2);
+  // A copy that differs by 1e-7 is another point: that seam stays open.
+  soup->GetPoints()->SetPoint(0, 1, 1e-7, 0);
+  const MeshStatistics open = Prepared(soup, report);
+  EXPECT_EQ(report.MergedPoints, 24 - 7);
+  EXPECT_EQ(open.BoundaryLoops, 1);
+}
+
+// Two closed surfaces touching at one point (cow.off has such a pair) and a sheet touching itself
+// stay as they are: merging would make a non-manifold vertex and change the Euler characteristic.
+TEST(InputPreparation, CoincidentPointsAwayFromBordersStayApart)
+{
+  // Two tetrahedra whose apexes coincide (points 3 and 7).
+  auto pd = MakePolyData({ 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 2, 1, 0, 2, 0, 1, 2, 0, 0, 1 },
+    { { 0, 2, 1 }, { 0, 1, 3 }, { 1, 2, 3 }, { 2, 0, 3 }, { 4, 5, 6 }, { 4, 7, 5 }, { 5, 7, 6 }, { 6, 7, 4 } });
+  PreparationReport report;
+  const MeshStatistics stats = Prepared(pd, report);
+  ASSERT_TRUE(report.Valid);
+  EXPECT_EQ(report.MergedPoints, 0);
+  EXPECT_EQ(report.CoincidentPointsKeptApart, 1);
+  EXPECT_EQ(stats.Vertices, 8);
+  EXPECT_EQ(stats.NonManifoldVertices, 0);
+  EXPECT_EQ(stats.EulerCharacteristic, 4);
+  EXPECT_FALSE(report.Warnings().empty());
+}
+
+// A triangle and its mirror image are two sides of a closed sheet: both are kept; an exact repeat
+// (same winding) is removed.
+TEST(InputPreparation, MirrorTrianglesAreKeptRepeatsRemoved)
+{
+  auto pd = MakePolyData({ 0, 0, 0, 1, 0, 0, 0, 1, 0 }, { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 2, 0 } });
+  PreparationReport report;
+  const MeshStatistics stats = Prepared(pd, report);
+  ASSERT_TRUE(report.Valid);
   EXPECT_EQ(report.RemovedDuplicateTriangles, 1);
-  EXPECT_EQ(mesh.NumberOfTriangles(), 2);
-  EXPECT_EQ(origin, (std::vector<Index>{ 0, 1, 2, 4 }));
-  EXPECT_EQ(std::vector<Index>(mesh.Triangles.begin(), mesh.Triangles.begin() + 3), (std::vector<Index>{ 0, 1, 2 }));
+  EXPECT_EQ(stats.Triangles, 2);
+  EXPECT_EQ(stats.BoundaryEdges, 0);
+  EXPECT_EQ(stats.EulerCharacteristic, 2);
 }
 
 TEST(PointAttributes, CarriedThroughMergesWithTypes)

@@ -18,6 +18,8 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkScanSurfaceSource.h"
+#include "vtkXMLPolyDataWriter.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -28,10 +30,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
+#include <set>
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <map>
 
 using namespace slod;
 
@@ -495,6 +498,7 @@ TEST(QuadricTriangleCollapse, AccumulatedQuadricsMatchExactUnionQuality)
 }
 
 #include "slodBucketQueue.h"
+#include "slodUnionFind.h"
 #include "slodIndexedHeap.h"
 
 #include <random>
@@ -702,6 +706,94 @@ TEST(PriorityQueues, WouldBeFirstAgreesWithPopAtEveryBucketSize)
     const bool first = queue.WouldBeFirst(later);
     queue.Set(popped, later);
     EXPECT_EQ(first, queue.Pop() == popped);
+  }
+}
+
+namespace
+{
+// Connected sets of border edges (joined at shared vertices): unlike a count of loops walked
+// through pinched border vertices, it does not depend on how a walk leaves a pinch.
+Index BorderComponents(const TriangleMesh& mesh)
+{
+  std::map<std::pair<Index, Index>, int> edges;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      ++edges[{ std::min(tri[k], tri[(k + 1) % 3]), std::max(tri[k], tri[(k + 1) % 3]) }];
+    }
+  }
+  UnionFind sets(mesh.NumberOfPoints());
+  std::set<Index> onBorder;
+  for (const auto& e : edges)
+  {
+    if (e.second == 1)
+    {
+      sets.Union(e.first.first, e.first.second);
+      onBorder.insert(e.first.first);
+      onBorder.insert(e.first.second);
+    }
+  }
+  std::set<Index> roots;
+  for (Index v : onBorder)
+  {
+    roots.insert(sets.Find(v));
+  }
+  return static_cast<Index>(roots.size());
+}
+} // namespace
+
+// A scan-like isosurface (noisy integer-valued volume): its non-manifold edges and pinched vertices
+// stay as they are (never cut open, never collapsed away with a small component), so the output
+// has the input's Euler characteristic, border loops, components and non-manifold edges.
+TEST(QuadricTriangleCollapse, NoisyScanIsosurfaceKeepsItsTopology)
+{
+  for (unsigned seed : { 1u, 2u, 3u })
+  {
+    SCOPED_TRACE(seed);
+    vtkNew<vtkScanSurfaceSource> source;
+    source->SetResolution(55);
+    source->SetSeed(seed);
+    source->Update();
+    vtkSmartPointer<vtkPolyData> input = source->GetOutput();
+    const TriangleMesh in = slodtest::ToTriangleMesh(input);
+    const MeshStatistics before = ComputeMeshStatistics(in);
+    const Index borderBefore = BorderComponents(in);
+    // The case must be what it claims: otherwise the test proves nothing.
+    ASSERT_GT(before.NonManifoldEdges + before.NonManifoldVertices, 0);
+    ASSERT_GT(before.BoundaryLoops, 0);
+    ASSERT_LT(before.EulerCharacteristic, 0); // handles
+    for (double reduction : { 0.9, 0.97 })
+    {
+      vtkNew<vtkQuadricTriangleCollapse> filter;
+      filter->SetInputData(input);
+      filter->SetGlobalWarningDisplay(0);
+      filter->SetTargetReduction(reduction);
+      filter->Update();
+      const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+      const MeshStatistics after = ComputeMeshStatistics(out);
+      std::printf("[noisy scan %u, %.2f] %d -> %d triangles; euler %lld -> %lld, loops %d -> %d, non-manifold "
+                  "edges %d -> %d, components %d -> %d\n", seed, reduction, int(before.Triangles), int(after.Triangles),
+        before.EulerCharacteristic, after.EulerCharacteristic, int(before.BoundaryLoops), int(after.BoundaryLoops),
+        int(before.NonManifoldEdges), int(after.NonManifoldEdges), int(before.Components), int(after.Components));
+      EXPECT_LT(after.Triangles, before.Triangles / 2);
+      EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
+      EXPECT_EQ(BorderComponents(out), borderBefore);
+      if (BorderComponents(out) != borderBefore || after.EulerCharacteristic != before.EulerCharacteristic)
+      {
+        vtkNew<vtkXMLPolyDataWriter> writer; // for a look at the failure
+        writer->SetInputData(input);
+        writer->SetFileName(slodtest::OutputPath("noisy-scan-input.vtp").c_str());
+        writer->Write();
+        writer->SetInputData(filter->GetOutput());
+        writer->SetFileName(slodtest::OutputPath("noisy-scan-output.vtp").c_str());
+        writer->Write();
+      }
+      EXPECT_EQ(after.NonManifoldEdges, before.NonManifoldEdges);
+      EXPECT_EQ(after.Components, before.Components);
+      EXPECT_EQ(after.DegenerateTriangles, 0);
+    }
   }
 }
 

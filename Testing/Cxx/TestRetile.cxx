@@ -331,6 +331,48 @@ TEST(Retile, BadInput)
   EXPECT_NE(print.str().find("CurvatureWeight"), std::string::npos);
 }
 
+// Never more triangles than asked for nor than the input has, and no degenerate ones: a single
+// triangle (re-tiled with 4 points it had 3), a sphere asked for as many triangles as it has or
+// for more points than it has (retained vertices added triangles), and a sphere with one vertex
+// at 1e30 (its tiles degenerated below the rounding of the positions: now an error).
+TEST(Retile, NeverMoreTrianglesThanAskedOrGivenNorDegenerateOnes)
+{
+  auto expectWithin = [](vtkPolyData* input, vtkRetile* filter, vtkIdType limit, const char* what) {
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->SetInputData(input);
+    filter->Update();
+    const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+    EXPECT_GT(out.NumberOfTriangles(), 0) << what;
+    EXPECT_LE(out.NumberOfTriangles(), limit) << what;
+    EXPECT_EQ(ComputeMeshStatistics(out).DegenerateTriangles, 0) << what;
+  };
+  TriangleMesh single;
+  single.AddTriangle(single.AddPoint({ 0, 0, 0 }), single.AddPoint({ 1, 0, 0 }), single.AddPoint({ 0, 1, 0 }));
+  vtkNew<vtkRetile> one;
+  one->SetTargetNumberOfTriangles(1);
+  expectWithin(slodtest::ToPolyData(single), one, 1, "one triangle");
+
+  const TriangleMesh sphere = slodtest::Sphere(16, 12);
+  vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(sphere);
+  vtkNew<vtkRetile> same;
+  same->SetTargetNumberOfTriangles(sphere.NumberOfTriangles());
+  expectWithin(input, same, sphere.NumberOfTriangles(), "sphere, target = input");
+  vtkNew<vtkRetile> morePoints;
+  morePoints->SetNumberOfPoints(2 * sphere.NumberOfPoints());
+  expectWithin(input, morePoints, sphere.NumberOfTriangles(), "sphere, more points than the input");
+
+  TriangleMesh far = sphere;
+  far.Points[2] = 1e30;
+  vtkNew<slodtest::MessageCounter> messages;
+  vtkNew<vtkRetile> farFilter;
+  farFilter->AddObserver(vtkCommand::ErrorEvent, messages);
+  farFilter->SetInputData(slodtest::ToPolyData(far));
+  farFilter->Update();
+  EXPECT_EQ(messages->Errors.size(), 1u);
+  EXPECT_EQ(farFilter->GetOutput()->GetNumberOfPolys(), 0);
+}
+
 TEST(Retile, NestedLevelsAreSubsets)
 {
   const TriangleMesh torus = slodtest::Torus(64, 32);

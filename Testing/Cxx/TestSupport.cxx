@@ -217,6 +217,24 @@ slod::TriangleMesh Disk(int rings, int segments)
   return m;
 }
 
+slod::TriangleMesh Cone(int segments, double height)
+{
+  slod::TriangleMesh m;
+  const slod::Index apex = m.AddPoint({ 0, 0, height }), centre = m.AddPoint({ 0, 0, 0 });
+  for (int s = 0; s < segments; ++s)
+  {
+    const double a = 2 * M_PI * s / segments;
+    m.AddPoint({ std::cos(a), std::sin(a), 0 });
+  }
+  for (int s = 0; s < segments; ++s)
+  {
+    const slod::Index r0 = 2 + s, r1 = 2 + (s + 1) % segments;
+    m.AddTriangle(apex, r0, r1);
+    m.AddTriangle(centre, r1, r0);
+  }
+  return m;
+}
+
 slod::TriangleMesh Grid(int nx, int ny, double z)
 {
   slod::TriangleMesh m;

@@ -41,6 +41,8 @@ slod::TriangleMesh Torus(int majorSegments, int minorSegments, double majorRadiu
 slod::TriangleMesh Sphere(int thetaResolution, int phiResolution); // vtkSphereSource, cleaned
 slod::TriangleMesh Disk(int rings, int segments);                    // open, one boundary loop
 slod::TriangleMesh Grid(int nx, int ny, double z = 0.0);             // unit square, one boundary loop
+// Closed cone: apex (0,0,height) and base centre (0,0,0) each on `segments` triangles (valence).
+slod::TriangleMesh Cone(int segments, double height);
 slod::TriangleMesh Concatenate(const slod::TriangleMesh& a, const slod::TriangleMesh& b);
 
 // gtest expectations: `output` is a clean manifold (no non-manifold edge or vertex, no degenerate

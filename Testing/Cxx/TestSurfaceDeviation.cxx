@@ -587,25 +587,48 @@ TEST(SurfaceDeviation, AgreesWithMeshdistOnSpheres)
   EXPECT_NEAR(f->GetRMSBA() / diag, 2.136837e-03, 1e-3 * 2.136837e-03);
 }
 
-TEST(SurfaceDeviation, EmptyInputsGiveZerosAndAWarning)
+// A 0 must always be a measured 0: a side without a usable triangle (empty, or every triangle
+// collapsed by merging coincident points) is an error with undefined results and an empty output.
+TEST(SurfaceDeviation, NoUsableTriangleIsAnErrorWithUndefinedResults)
 {
   vtkNew<vtkPolyData> empty;
-  vtkSmartPointer<vtkPolyData> sphere = ToPolyData(Sphere(10, 10));
-  for (int emptySide = 0; emptySide < 2; ++emptySide)
+  slod::TriangleMesh collapsedMesh = Tetrahedron();
+  for (size_t k = 0; k < collapsedMesh.Points.size(); ++k)
   {
-    Watched w;
-    w.Filter->SetReferenceData(emptySide == 0 ? empty.GetPointer() : sphere.GetPointer());
-    w.Filter->SetComparedData(emptySide == 1 ? empty.GetPointer() : sphere.GetPointer());
-    w.Filter->Update();
-    EXPECT_EQ(w.Messages->Errors.size(), 0u);
-    EXPECT_EQ(w.Messages->Warnings.size(), 1u);
-    EXPECT_EQ(w.Filter->GetHausdorff(), 0.0);
-    EXPECT_EQ(w.Filter->GetRMS(), 0.0);
-    vtkPolyData* out = w.Filter->GetOutput();
-    EXPECT_EQ(out->GetNumberOfPoints(), emptySide == 1 ? 0 : sphere->GetNumberOfPoints());
-    ASSERT_NE(out->GetPointData()->GetArray("Distance"), nullptr);
-    EXPECT_EQ(FieldValue(out, "Hausdorff"), 0.0);
+    collapsedMesh.Points[k] = 0.25; // every vertex at one position
   }
+  vtkSmartPointer<vtkPolyData> collapsed = ToPolyData(collapsedMesh);
+  vtkSmartPointer<vtkPolyData> sphere = ToPolyData(Sphere(10, 10));
+  for (vtkPolyData* unusable : { static_cast<vtkPolyData*>(empty), collapsed.GetPointer() })
+  {
+    for (int side = 0; side < 2; ++side)
+    {
+      Watched w;
+      w.Filter->SetReferenceData(side == 0 ? unusable : sphere.GetPointer());
+      w.Filter->SetComparedData(side == 1 ? unusable : sphere.GetPointer());
+      w.Filter->SetNumberOfSamples(1000);
+      w.Filter->Update();
+      EXPECT_EQ(w.Messages->Errors.size(), 1u) << "side " << side;
+      vtkSurfaceDeviation* f = w.Filter;
+      for (double value : { f->GetHausdorff(), f->GetHausdorffAB(), f->GetHausdorffBA(), f->GetMean(), f->GetRMS(),
+             f->GetMeanAB(), f->GetMeanBA(), f->GetRMSAB(), f->GetRMSBA(), f->GetHausdorffRelative(),
+             f->GetRMSRelative() })
+      {
+        EXPECT_TRUE(std::isnan(value)) << "side " << side << ": " << value;
+      }
+      EXPECT_EQ(f->GetOutput()->GetNumberOfPoints(), 0);
+      EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("Distance"), nullptr);
+    }
+  }
+  // A usable pair afterwards is measured again (the filter keeps no stale state).
+  Watched w;
+  w.Filter->SetReferenceData(empty);
+  w.Filter->SetComparedData(sphere);
+  w.Filter->SetNumberOfSamples(1000);
+  w.Filter->Update();
+  w.Filter->SetReferenceData(sphere);
+  w.Filter->Update();
+  EXPECT_LT(w.Filter->GetHausdorff(), 1e-12);
 }
 
 TEST(SurfaceDeviation, InvalidInputIsAnError)
@@ -617,7 +640,7 @@ TEST(SurfaceDeviation, InvalidInputIsAnError)
   w.Filter->SetComparedData(bad);
   w.Filter->Update();
   EXPECT_EQ(w.Messages->Errors.size(), 1u);
-  EXPECT_EQ(w.Filter->GetHausdorff(), 0.0);
+  EXPECT_TRUE(std::isnan(w.Filter->GetHausdorff()));
   EXPECT_EQ(w.Filter->GetOutput()->GetNumberOfPoints(), 0);
 }
 
@@ -679,6 +702,6 @@ TEST(SurfaceDeviation, AbortStopsWithEmptyOutput)
   });
   w.Filter->AddObserver(vtkCommand::ProgressEvent, abortOnProgress);
   w.Filter->Update();
-  EXPECT_EQ(w.Filter->GetHausdorff(), 0.0);
+  EXPECT_TRUE(std::isnan(w.Filter->GetHausdorff()));
   EXPECT_EQ(w.Filter->GetOutput()->GetNumberOfPoints(), 0);
 }

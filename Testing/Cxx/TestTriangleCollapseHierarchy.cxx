@@ -757,6 +757,41 @@ TEST(CollapseHierarchy, SmallOpenAndNonManifoldMeshes)
 // ---------------------------------------------------------------------------------------------
 // The VTK filter.
 
+// A closed cone whose apex and base centre are on 5,000 triangles each: every triangle touches one
+// of them. Collapses merging such a hub are no candidates (each check would cost 5,000); the rim
+// edges still collapse in full batches, so the levels keep their size (before, the hubs' stencils
+// overlapped every candidate: one collapse per level, 45 s) and the surface stays on the cone.
+TEST(CollapseHierarchy, HighValenceVerticesKeepTheBatchesFull)
+{
+  const int segments = 5000;
+  const TriangleMesh input = Cone(segments, 1.0);
+  const CollapseHierarchyParameters p = DefaultParameters();
+  CollapseHierarchy h;
+  ASSERT_TRUE(h.Build(input, p));
+  // A level removes at least a quarter of its batch (4 x BatchFraction of the triangles) while
+  // disjoint candidates remain, and a third of the rim edges have disjoint regions.
+  const int halving = static_cast<int>(std::ceil(std::log(2.0) / -std::log(1.0 - p.BatchFraction)));
+  int level = 0;
+  while (level < h.NumberOfLevels() && h.LevelTriangleCount(level) > input.NumberOfTriangles() / 2)
+  {
+    ++level;
+  }
+  ASSERT_LT(level, h.NumberOfLevels());
+  EXPECT_LE(level, halving + 1);
+  HierarchyMesh m;
+  h.ExtractLevel(level, m);
+  const TriangleMesh output = ToMesh(m);
+  ExpectSameTopology(input, output);
+  for (Index v = 0; v < output.NumberOfPoints(); ++v)
+  {
+    const Vec3 x = output.Point(v);
+    const double r = std::hypot(x[0], x[1]);
+    const bool onBase = std::abs(x[2]) < 1e-6 && r < 1 + 1e-6;
+    const bool onSide = std::abs(r - (1 - x[2])) < 1e-6 && x[2] > -1e-6 && x[2] < 1 + 1e-6;
+    ASSERT_TRUE(onBase || onSide) << "vertex " << v << " off the cone";
+  }
+}
+
 TEST(vtkTriangleCollapseHierarchy, LevelsTargetsCachingAndArrays)
 {
   vtkSmartPointer<vtkPolyData> bunny = LoadTestMesh("bunny00");

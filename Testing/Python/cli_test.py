@@ -6,6 +6,7 @@ usage: cli_test.py --cli PATH --mesh-dir DIR --work DIR SCENARIO [ARG]
 import argparse
 import json
 import os
+import signal
 import subprocess
 import sys
 
@@ -210,6 +211,8 @@ def scenario_errors(a):
     run(a.cli, "simplify", fandisk, binary_ply, "--method", "vtk-quadric-decimation", "--target-triangles", 100)
     with open(binary_ply, "rb") as f:
         ply_bytes = f.read()
+    ply_header, ply_body = split_ply(ply_bytes)
+    first_face = 12 * ply_vertex_count(ply_header)  # float x y z per vertex, then "uchar 3, int a b c"
     cases = {
         "bad header": write("bad_header.off", b"OFX\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
         "truncated": write("truncated.off", b"OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n"),
@@ -232,6 +235,22 @@ def scenario_errors(a):
         "garbage vtp": write("garbage.vtp", b"this is not xml\n"),
         "garbage vtk": write("garbage.vtk", b"this is not a legacy file\n"),
         "nan coordinate": write("nan.off", b"OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"),
+        # VTK's PLY reader crashed on these (the index is used unchecked).
+        "binary ply index out of range": write("range_binary.ply", ply_header + patch_int(ply_body, first_face + 1, 10**6)),
+        "binary ply negative index": write("negative_binary.ply", ply_header + patch_int(ply_body, first_face + 1, -5)),
+        "binary ply wrong byte order": write("byte_order.ply", ply_header.replace(b"binary_little_endian",
+                                                                                 b"binary_big_endian") + ply_body),
+        "binary ply count beyond the file": write("huge_count.ply", ply_header.replace(
+            b"element face %d" % ply_element_count(ply_header, b"face"), b"element face 2000000000") + ply_body),
+        "binary ply face list beyond the file": write("long_list.ply", ply_header + patch_byte(ply_body, first_face, 200)),
+        # vtkOBJReader read "nan" as a finite number.
+        "obj nan coordinate": write("nan.obj", b"v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        # Allocated 2e9 points (std::bad_alloc, exit 3) before reading them.
+        "off count beyond the file": write("huge_count.off", b"OFF\n2000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        # Read as an empty surface (exit 0, empty output) before.
+        "off faces of two vertices": write("two_vertex_faces.off", b"OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n2 1 2\n"),
+        # Compared as a surface at distance 0 before.
+        "only collapsed triangles": write("collapsed.off", b"OFF\n4 2 0\n0 0 0\n0 0 0\n0 1 0\n0 1 0\n3 0 1 2\n3 2 3 0\n"),
     }
     for what, path in cases.items():
         for args in (["info", path, "--json"],
@@ -251,6 +270,78 @@ def scenario_errors(a):
                                "--target-triangles", "100"], capture_output=True, text=True, timeout=120)
         check(proc.returncode == 2 and bad in proc.stderr and len(proc.stderr.strip().splitlines()) == 1,
               "unwritable %s: exit %d, stderr %r" % (bad, proc.returncode, proc.stderr))
+
+
+def split_ply(data):
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    return data[:end], data[end:]
+
+
+def ply_element_count(header, name):
+    for line in header.splitlines():
+        words = line.split()
+        if len(words) == 3 and words[0] == b"element" and words[1] == name:
+            return int(words[2])
+    raise AssertionError("no element %r in %r" % (name, header))
+
+
+def ply_vertex_count(header):
+    properties = [l for l in header.splitlines() if l.startswith(b"property")]
+    if properties[:3] != [b"property float x", b"property float y", b"property float z"] or len(properties) != 4:
+        raise AssertionError("unexpected PLY layout written by the tool: %r" % header)
+    return ply_element_count(header, b"vertex")
+
+
+def patch_int(body, offset, value):
+    return body[:offset] + value.to_bytes(4, "little", signed=True) + body[offset + 4:]
+
+
+def patch_byte(body, offset, value):
+    return body[:offset] + bytes([value]) + body[offset + 1:]
+
+
+def scenario_warnings(a):
+    """What a reader would drop silently is read as announced, with a warning naming the file."""
+    w = a.work
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    more_faces = os.path.join(w, "more_faces.off")
+    with open(more_faces, "w") as f:
+        f.write("OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n")
+    stl = os.path.join(w, "count.stl")
+    run(a.cli, "simplify", fandisk, stl, "--method", "vtk-quadric-decimation", "--target-triangles", 100)
+    with open(stl, "rb") as f:
+        data = bytearray(f.read())
+    announced = int.from_bytes(data[80:84], "little")
+    data[80:84] = (announced - 10).to_bytes(4, "little")
+    low_count = os.path.join(w, "low_count.stl")
+    with open(low_count, "wb") as f:
+        f.write(bytes(data))
+    for path, triangles in ((more_faces, 1), (low_count, announced)):
+        proc = run(a.cli, "info", path, "--json")
+        warnings = [l for l in proc.stderr.splitlines() if l.startswith("surfacelod: warning: ")]
+        check(len(warnings) == 1 and path in warnings[0], "%s: expected one warning naming the file, got %r"
+              % (path, proc.stderr))
+        check(json_line(proc)["triangles"] == triangles, "%s: %r triangles, expected %d"
+              % (path, json_line(proc)["triangles"], triangles))
+
+
+def scenario_full_disk(a):
+    """Every writer's failure is reported: an output on /dev/full is exit 2 naming it, never a success."""
+    if not os.path.exists("/dev/full"):
+        raise AssertionError("/dev/full is missing: cannot test writes to a full disk")
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk"]:
+        out = os.path.join(a.work, "full.%s" % ext)
+        if os.path.lexists(out):
+            os.remove(out)
+        os.symlink("/dev/full", out)
+        proc = subprocess.run([a.cli, "simplify", fandisk, out, "--method", "vtk-quadric-decimation",
+                               "--target-triangles", "100"], capture_output=True, text=True, timeout=120)
+        lines = proc.stderr.strip().splitlines()
+        check(proc.returncode == 2, "%s on a full disk: exit %d, stderr %r" % (ext, proc.returncode, proc.stderr))
+        check(len(lines) == 1 and out in lines[0] and "cannot write" in lines[0],
+              "%s on a full disk: expected one line naming %s, got %r" % (ext, out, proc.stderr))
+        check(proc.stdout == "", "%s on a full disk: a success line on stdout: %r" % (ext, proc.stdout))
 
 
 def scenario_usage(a):
@@ -293,6 +384,63 @@ def scenario_bench(a):
             check(abs(row["speedup_vs_vtk_quadric"] - 1.0) < 1e-9, "baseline speedup %r" % row)
     fandisk_rows = [r for r in rows if r["input"] == "fandisk"]
     check(all(r["input_triangles"] == 12946 for r in fandisk_rows), "fandisk rows: %r" % fandisk_rows)
+
+
+def scenario_bench_real(a):
+    """The scan-like inputs at tiny sizes, one fast method, a file given with --input."""
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    proc = run(a.cli, "bench", "--inputs", "noisy:40,mask:32,openscan:48", "--input", fandisk, "--methods",
+               "vtk-quadric-decimation", "--target-reduction", "0.9", "--samples", "2000", "--timeout", "300",
+               "--json")
+    rows = [json.loads(l) for l in proc.stdout.splitlines() if l.strip()]
+    check([r["input"] for r in rows] == ["noisy:40", "mask:32", "openscan:48", fandisk], "inputs: %r" % rows)
+    for row in rows:
+        check(row["status"] == "ok", "bench row failed: %r" % row)
+        check(row["target_reached"] == 1 and row["output_triangles"] <= row["target_triangles"] * 1.01 + 1,
+              "target not reached: %r" % row)
+        check(row["hausdorff"] is not None and 0 < row["hausdorff"] < 0.2, "hausdorff: %r" % row)
+        check(abs(row["hausdorff_ratio_vs_vtk_quadric"] - 1.0) < 1e-12, "baseline ratio: %r" % row)
+        check(row["load_average"] is not None and row["load_average"] >= 0, "load: %r" % row)
+        for key in ("output_euler", "output_border_loops", "output_nonmanifold_edges"):
+            check(isinstance(row[key], int), "%s missing: %r" % (key, row))
+    noisy, mask, scan, off = rows
+    # The inputs' topology as promised: the noisy isosurface has handles, border loops and
+    # non-manifold edges; the mask one handle and one border loop; the scan holes; fandisk none.
+    check(noisy["input_euler"] < -10 and noisy["input_border_loops"] > 0 and noisy["input_nonmanifold_edges"] > 0,
+          "noisy input topology: %r" % noisy)
+    check(mask["input_euler"] == -1 and mask["input_border_loops"] == 1, "mask input topology: %r" % mask)
+    check(scan["input_border_loops"] > 1 and scan["input_nonmanifold_edges"] == 0, "scan input topology: %r" % scan)
+    check(off["input_euler"] == 2 and off["input_border_loops"] == 0, "fandisk input topology: %r" % off)
+
+
+def scenario_bench_scaling(a):
+    """--scaling at tiny resolutions: three inputs, then one ratio line per method."""
+    proc = run(a.cli, "bench", "--scaling", "--scaling-resolutions", "24,32,48", "--methods",
+               "vtk-quadric-decimation", "--no-deviation", "--json")
+    lines = [json.loads(l) for l in proc.stdout.splitlines() if l.strip()]
+    rows = [l for l in lines if "scaling" not in l]
+    ratios = [l for l in lines if "scaling" in l]
+    check([r["input"] for r in rows] == ["noisy:24", "noisy:32", "noisy:48"], "scaling inputs: %r" % rows)
+    check(rows[0]["input_triangles"] < rows[1]["input_triangles"] < rows[2]["input_triangles"],
+          "the triangle count does not grow with the resolution: %r" % rows)
+    check(len(ratios) == 1 and ratios[0]["ratio_of"] == "noisy:48 / noisy:32", "ratio line: %r" % ratios)
+    expected = rows[2]["seconds"] / rows[1]["seconds"]
+    check(abs(ratios[0]["time_ratio"] - expected) <= 1e-6 * expected, "ratio %r, times %r" % (ratios, rows))
+
+
+def scenario_bench_timeout(a):
+    """A method over the time-out is killed and reported, and the bench goes on."""
+    proc = run(a.cli, "bench", "--inputs", "noisy:40,fandisk", "--mesh-dir", a.mesh_dir, "--methods",
+               "quadric-triangle-collapse", "--timeout", "0.001", "--json")
+    rows = [json.loads(l) for l in proc.stdout.splitlines() if l.strip()]
+    check(len(rows) == 4, "expected 4 rows, got %r" % rows)
+    for row in rows:
+        check(row["status"] == "timeout" and row["seconds"] is None and row["output_triangles"] is None,
+              "not reported as a time-out: %r" % row)
+    text = run(a.cli, "bench", "--inputs", "fandisk", "--mesh-dir", a.mesh_dir, "--methods",
+               "vtk-quadric-decimation", "--timeout", "0.001").stdout
+    check("load average" in text.splitlines()[0], "no load average in the header: %r" % text)
+    check("timeout" in text, "no timeout in the table: %r" % text)
 
 
 def scenario_demo(a):
@@ -349,11 +497,147 @@ def scenario_demo_png(a):
                   % (row, panel, 100 * fraction))
 
 
+# Methods that may open a closed surface: hole-bump-removal changes the topology on purpose, and
+# vtkQuadricDecimation has no topology constraint (it collapses a tetrahedron into two triangles).
+TOPOLOGY_METHODS = {"hole-bump-removal", "vtk-quadric-decimation"}
+# A run of the tool on a small corpus file is a hang past this much CPU time (not wall time: the
+# verdict must not depend on the machine's load); one blocked without using the CPU, past six times as long.
+CORPUS_CPU_LIMIT = 10
+
+
+def limit_cpu_time():
+    import resource
+    resource.setrlimit(resource.RLIMIT_CPU, (CORPUS_CPU_LIMIT, CORPUS_CPU_LIMIT + 1))
+
+
+def corpus_files(a):
+    """Writes the bad-input corpus with the C++ generator: [(kind, path)], kind category/unusable/broken."""
+    directory = os.path.join(a.work, "corpus")
+    os.makedirs(directory, exist_ok=True)
+    proc = subprocess.run([a.corpus_tool, "--write-corpus", directory], capture_output=True, text=True, timeout=120)
+    if proc.returncode != 0:
+        raise AssertionError("corpus writer failed: %s" % proc.stderr)
+    files = [tuple(line.split(" ", 1)) for line in proc.stdout.splitlines() if line.strip()]
+    if len(files) < 60:
+        raise AssertionError("corpus writer wrote only %d files" % len(files))
+    return files
+
+
+def run_on_corpus_file(a, args, path, kind, output=None):
+    """One run of the tool on a corpus file: the verdict ("ok", "crash", "hang", "invalid") and why."""
+    if output and os.path.exists(output):
+        os.remove(output)
+    try:
+        proc = subprocess.run([a.cli] + args, capture_output=True, text=True, timeout=6 * CORPUS_CPU_LIMIT,
+                              preexec_fn=limit_cpu_time)
+    except subprocess.TimeoutExpired:
+        return "hang", "no result after %d s" % (6 * CORPUS_CPU_LIMIT)
+    if proc.returncode in (-signal.SIGXCPU, -signal.SIGKILL):
+        return "hang", "more than %d s of CPU time" % CORPUS_CPU_LIMIT
+    # Warnings about what the input preparation repaired may come before the one error line.
+    lines = [l for l in proc.stderr.strip().splitlines() if not l.startswith("surfacelod: warning:")]
+    if proc.returncode < 0 or proc.returncode not in (0, 2, 3):
+        return "crash", "exit %d; stderr %r" % (proc.returncode, proc.stderr[-400:])
+    if proc.returncode == 0:
+        if kind != "category":
+            return "invalid", "accepted (exit 0) a %s file" % kind
+        return "ok", ""  # outputs are checked together by check_outputs
+    problems = []
+    if kind != "category" and proc.returncode != 2:
+        problems.append("exit %d, expected 2 (unusable file)" % proc.returncode)
+    if len(lines) != 1:
+        problems.append("%d error lines on stderr, expected one: %r" % (len(lines), proc.stderr[-400:]))
+    if proc.returncode == 2 and path not in proc.stderr:
+        problems.append("the message does not name the file: %r" % proc.stderr[-400:])
+    if proc.stdout:
+        problems.append("unexpected stdout %r" % proc.stdout[-200:])
+    if output and os.path.exists(output):
+        problems.append("an output file was written despite the error")
+    return ("invalid", "; ".join(problems)) if problems else ("ok", "")
+
+
+def report_corpus(label, verdicts):
+    counts = {v: sum(1 for r in verdicts if r[1] == v) for v in ("crash", "hang", "invalid")}
+    for name, verdict, detail in verdicts:
+        check(verdict == "ok", "%s x %s: %s: %s" % (label, name, verdict.upper(), detail))
+    print("[corpus] %s: %d runs, %d crashes, %d hangs, %d invalid outputs"
+          % (label, len(verdicts), counts["crash"], counts["hang"], counts["invalid"]))
+
+
+def check_outputs(a, outputs):
+    """The written outputs {category: file} checked by the corpus tool in one run: {category: problems}."""
+    args = [a.corpus_tool, "--check-outputs"] + (["--may-open"] if a.arg in TOPOLOGY_METHODS else [])
+    for category, path in outputs.items():
+        args += [category, path]
+    proc = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    problems = {}
+    for line in proc.stdout.splitlines():
+        category, _, problem = line.partition(": ")
+        problems.setdefault(category, []).append(problem)
+    if proc.returncode not in (0, 1) or (proc.returncode == 1 and not problems):
+        raise AssertionError("output checker failed: exit %d, %s" % (proc.returncode, proc.stderr[-400:]))
+    return problems
+
+
+def scenario_corpus(a):
+    """Every corpus surface through `simplify --method METHOD`: an error naming the file, or a valid output.
+    (The broken files fail before any method runs: corpus-info runs them.)"""
+    verdicts, outputs = [], {}
+    for kind, path in corpus_files(a):
+        if kind == "broken":
+            continue
+        category = os.path.splitext(os.path.basename(path))[0]
+        out = os.path.join(a.work, "out_%s.vtp" % category)
+        verdict, detail = run_on_corpus_file(
+            a, ["simplify", path, out, "--method", a.arg, "--target-reduction", "0.5"], path, kind, out)
+        if verdict == "ok" and os.path.exists(out):
+            outputs[category] = out
+        verdicts.append([category, verdict, detail])
+    problems = check_outputs(a, outputs)
+    for row in verdicts:
+        if row[0] in problems:
+            row[1:] = ["invalid", "; ".join(problems[row[0]])]
+    report_corpus(a.arg, verdicts)
+
+
+def scenario_corpus_info(a):
+    """Every corpus file through `info` and `compare` (with itself), the broken files also through `simplify`."""
+    verdicts = []
+    out = os.path.join(a.work, "corpus_out.vtp")
+    for kind, path in corpus_files(a):
+        commands = [["info", path, "--json"], ["compare", path, path, "--samples", "500", "--json"]]
+        if kind == "broken":
+            commands.append(["simplify", path, out, "--method", "vtk-quadric-decimation", "--target-reduction", "0.5"])
+        for command in commands:
+            verdict, detail = run_on_corpus_file(a, command, path, kind, out if command[0] == "simplify" else None)
+            verdicts.append(("%s %s" % (command[0], os.path.basename(path)), verdict, detail))
+    report_corpus("info/compare", verdicts)
+
+
+def scenario_output_full(a):
+    """Writing to a full disk (/dev/full) is an error naming the output, never a silent success."""
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk"]:
+        full = os.path.join(a.work, "full." + ext)
+        if not os.path.islink(full):
+            os.symlink("/dev/full", full)
+        try:
+            proc = subprocess.run([a.cli, "simplify", fandisk, full, "--method", "vtk-quadric-decimation",
+                                   "--target-triangles", "1000"], capture_output=True, text=True, timeout=120)
+        except subprocess.TimeoutExpired:
+            check(False, "%s: no result after 120 s" % full)
+            continue
+        lines = proc.stderr.strip().splitlines()
+        check(proc.returncode == 2 and len(lines) == 1 and full in proc.stderr,
+              "writing to a full disk (%s): exit %d, stderr %r" % (full, proc.returncode, proc.stderr[-400:]))
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--cli", required=True)
     parser.add_argument("--mesh-dir", required=True)
     parser.add_argument("--work", required=True)
+    parser.add_argument("--corpus-tool", help="TestBadInputCorpus (writes and checks the corpus files)")
     parser.add_argument("scenario")
     parser.add_argument("arg", nargs="?")
     a = parser.parse_args()

@@ -25,6 +25,12 @@ std::string ParsedArguments::Get(const std::string& name, const std::string& fal
   return it == this->Values.end() ? fallback : it->second;
 }
 
+std::vector<std::string> ParsedArguments::GetAll(const std::string& name) const
+{
+  auto it = this->AllValues.find(name);
+  return it == this->AllValues.end() ? std::vector<std::string>() : it->second;
+}
+
 long long ParsedArguments::GetInteger(
   const std::string& name, long long fallback, long long minimum, long long maximum) const
 {
@@ -145,6 +151,7 @@ bool ParseArguments(const CommandSpec& spec, int argc, char* argv[], int first, 
         value = argv[++i];
       }
       out.Values[name] = value;
+      out.AllValues[name].push_back(value);
     }
     else
     {
@@ -230,6 +237,13 @@ JsonLine& JsonLine::Add(const std::string& key, long long value)
 {
   this->Key(key);
   this->Body += std::to_string(value);
+  return *this;
+}
+
+JsonLine& JsonLine::Add(const std::string& key, bool value)
+{
+  this->Key(key);
+  this->Body += value ? "true" : "false";
   return *this;
 }
 

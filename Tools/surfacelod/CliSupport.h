@@ -54,10 +54,14 @@ class ParsedArguments
 public:
   std::vector<std::string> Positionals;
   bool Has(const std::string& name) const { return this->Values.count(name) > 0; }
+  // The value of an option (the last one when it was given several times).
   std::string Get(const std::string& name, const std::string& fallback = std::string()) const;
+  // Every value of an option given several times, in order (--input A --input B).
+  std::vector<std::string> GetAll(const std::string& name) const;
   long long GetInteger(const std::string& name, long long fallback, long long minimum, long long maximum) const;
   double GetReal(const std::string& name, double fallback, double minimum, double maximum) const;
   std::map<std::string, std::string> Values;
+  std::map<std::string, std::vector<std::string>> AllValues;
   std::string Command;
 };
 
@@ -76,6 +80,7 @@ public:
   JsonLine& Add(const std::string& key, const char* value) { return this->Add(key, std::string(value)); }
   JsonLine& Add(const std::string& key, long long value);
   JsonLine& Add(const std::string& key, double value); // NaN/Inf -> null
+  JsonLine& Add(const std::string& key, bool value);
   JsonLine& AddNull(const std::string& key);
   std::string Str() const { return "{" + this->Body + "}"; }
   void Print() const; // to stdout, with newline, flushed

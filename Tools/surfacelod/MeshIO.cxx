@@ -1,6 +1,7 @@
 #include "MeshIO.h"
 
 #include "CliSupport.h"
+#include "MeshFileChecks.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -9,9 +10,9 @@
 #include "vtkLogger.h"
 #include "vtkNew.h"
 #include "vtkOBJReader.h"
-#include "vtkOBJWriter.h"
 #include "vtkOFFMeshReader.h"
 #include "vtkOFFMeshWriter.h"
+#include "vtkPointData.h"
 #include "vtkObjectFactory.h"
 #include "vtkOutputWindow.h"
 #include "vtkPLYReader.h"
@@ -35,8 +36,11 @@
 #include <functional>
 #include <fstream>
 #include <iostream>
+#include <iomanip>
+#include <locale>
 #include <regex>
 #include <sstream>
+#include <unistd.h>
 
 namespace slodcli
 {
@@ -63,6 +67,7 @@ std::string CleanVTKMessage(const std::string& text)
 }
 
 std::vector<std::string> CapturedMessages;
+std::vector<std::string> HeldWarningTexts; // warnings of an active capture that swallows them
 size_t CaptureDepth = 0;
 bool SwallowWarnings = false;
 
@@ -91,6 +96,7 @@ private:
       }
       if (SwallowWarnings)
       {
+        HeldWarningTexts.push_back(message);
         return;
       }
     }
@@ -106,17 +112,12 @@ std::string Extension(const std::string& path)
   return ext;
 }
 
-// Cell point ids in range and finite coordinates of the used points: readers do not all check this, and a bad id
-// would crash a filter later.
-std::string ValidateSurface(vtkPolyData* mesh)
+// Cell point ids in range (readers do not all check this, and a bad id would crash a filter later);
+// marks the points the cells use.
+std::string CheckCellIds(vtkPolyData* mesh, std::vector<char>& used)
 {
   const vtkIdType numPoints = mesh->GetNumberOfPoints();
-  const vtkIdType numSurfaceCells = mesh->GetNumberOfPolys() + mesh->GetNumberOfStrips();
-  if (numSurfaceCells == 0)
-  {
-    return "no surface in the file (0 polygons)";
-  }
-  std::vector<char> used(static_cast<size_t>(numPoints), 0);
+  used.assign(static_cast<size_t>(numPoints), 0);
   for (vtkCellArray* cells : { mesh->GetVerts(), mesh->GetLines(), mesh->GetPolys(), mesh->GetStrips() })
   {
     if (!cells)
@@ -140,16 +141,17 @@ std::string ValidateSurface(vtkPolyData* mesh)
       }
     }
   }
+  return std::string();
+}
+
+// Finite coordinates on every used point (an unused point cannot harm: the filters never look at it).
+std::string CheckUsedCoordinates(vtkPolyData* mesh, const std::vector<char>& used)
+{
   vtkDataArray* coordinates = mesh->GetPoints()->GetData();
-  for (vtkIdType i = 0; i < numPoints; ++i)
+  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
   {
-    if (!used[static_cast<size_t>(i)])
-    {
-      continue; // an unused point cannot harm: the filters never look at it
-    }
     double p[3];
-    coordinates->GetTuple(i, p);
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+    if (used[static_cast<size_t>(i)] && (coordinates->GetTuple(i, p), !std::isfinite(p[0] + p[1] + p[2])))
     {
       return "vertex " + std::to_string(i) + " has a NaN or infinite coordinate";
     }
@@ -157,233 +159,347 @@ std::string ValidateSurface(vtkPolyData* mesh)
   return std::string();
 }
 
-// vtkPLYReader reads past the end of truncated files (and crashes): check the structure first.
-// Returns "" when the header is sound and the body holds every element the header announces.
-std::string ValidatePLY(const std::string& path)
+// True when the cell has three points at pairwise different positions: a triangle that survives the
+// filters' merging of coincident points and removal of collapsed triangles.
+bool HasDistinctTriangle(vtkPoints* points, vtkIdType n, const vtkIdType* ids)
 {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  auto nextHeaderLine = [&]() -> bool {
-    if (!std::getline(in, line))
-    {
-      return false;
-    }
-    if (!line.empty() && line.back() == '\r')
-    {
-      line.pop_back();
-    }
-    return true;
-  };
-  if (!nextHeaderLine() || line != "ply")
+  if (n < 3)
   {
-    return "not a PLY file (first line is not 'ply')";
+    return false;
   }
-  struct Property
+  double first[3], second[3], p[3];
+  points->GetPoint(ids[0], first);
+  vtkIdType k = 1;
+  for (; k < n && (points->GetPoint(ids[k], second), second[0] == first[0] && second[1] == first[1] &&
+                    second[2] == first[2]);
+       ++k)
   {
-    int Size = 0;      // scalar size, or item size of a list
-    int CountSize = 0; // > 0 for lists
-    std::string Name;
-  };
-  struct Element
+  }
+  for (++k; k < n; ++k)
   {
-    std::string Name;
-    long long Count = 0;
-    std::vector<Property> Properties;
-  };
-  auto typeSize = [](const std::string& t) -> int {
-    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
-    if (t == "double" || t == "float64") return 8;
-    return 0;
-  };
-  std::string format;
-  std::vector<Element> elements;
-  bool ended = false;
-  while (nextHeaderLine())
-  {
-    std::istringstream words(line);
-    std::string keyword;
-    words >> keyword;
-    if (keyword == "end_header")
+    points->GetPoint(ids[k], p);
+    const bool likeFirst = p[0] == first[0] && p[1] == first[1] && p[2] == first[2];
+    const bool likeSecond = p[0] == second[0] && p[1] == second[1] && p[2] == second[2];
+    if (!likeFirst && !likeSecond)
     {
-      ended = true;
-      break;
-    }
-    if (keyword == "format")
-    {
-      words >> format;
-    }
-    else if (keyword == "element")
-    {
-      Element e;
-      if (!(words >> e.Name >> e.Count) || e.Count < 0)
-      {
-        return "bad PLY element line '" + line + "'";
-      }
-      elements.push_back(e);
-    }
-    else if (keyword == "property")
-    {
-      if (elements.empty())
-      {
-        return "PLY property before any element";
-      }
-      Property p;
-      std::string type;
-      words >> type;
-      if (type == "list")
-      {
-        std::string countType, itemType;
-        words >> countType >> itemType;
-        p.CountSize = typeSize(countType);
-        p.Size = typeSize(itemType);
-        if (p.CountSize == 0 || p.Size == 0)
-        {
-          return "bad PLY property line '" + line + "'";
-        }
-      }
-      else if ((p.Size = typeSize(type)) == 0)
-      {
-        return "bad PLY property line '" + line + "'";
-      }
-      if (!(words >> p.Name))
-      {
-        return "bad PLY property line '" + line + "'";
-      }
-      elements.back().Properties.push_back(p);
-    }
-    else if (keyword != "comment" && keyword != "obj_info" && !keyword.empty())
-    {
-      return "unknown PLY header line '" + line + "'";
+      return true;
     }
   }
-  if (!ended)
+  return false;
+}
+
+// At least one polygon or strip with a triangle the filters can use; else what the file holds.
+std::string CheckUsableSurface(vtkPolyData* mesh)
+{
+  const vtkIdType surfaceCells = mesh->GetNumberOfPolys() + mesh->GetNumberOfStrips();
+  for (vtkCellArray* cells : { mesh->GetPolys(), mesh->GetStrips() })
   {
-    return "PLY header has no end_header";
-  }
-  bool hasVertex = false;
-  for (const Element& e : elements)
-  {
-    if (e.Name == "vertex")
+    auto it = vtk::TakeSmartPointer(cells->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
     {
-      int xyz = 0;
-      for (const Property& p : e.Properties)
+      vtkIdType n;
+      const vtkIdType* ids;
+      it->GetCurrentCell(n, ids);
+      if (HasDistinctTriangle(mesh->GetPoints(), n, ids))
       {
-        xyz += p.CountSize == 0 && (p.Name == "x" || p.Name == "y" || p.Name == "z");
-      }
-      hasVertex = xyz == 3;
-    }
-  }
-  if (!hasVertex)
-  {
-    return "PLY file has no vertex element with x, y, z";
-  }
-  if (format == "ascii")
-  {
-    for (const Element& e : elements)
-    {
-      for (long long i = 0; i < e.Count; ++i)
-      {
-        if (!std::getline(in, line))
-        {
-          return "file ends after " + std::to_string(i) + " of " + std::to_string(e.Count) + " " + e.Name +
-            " elements";
-        }
-        std::istringstream words(line);
-        for (const Property& p : e.Properties)
-        {
-          double value;
-          long long count = 1;
-          if (p.CountSize > 0 && (!(words >> count) || count < 0))
-          {
-            return "malformed " + e.Name + " " + std::to_string(i) + " (bad list count)";
-          }
-          for (long long k = 0; k < count; ++k)
-          {
-            if (!(words >> value))
-            {
-              return "malformed " + e.Name + " " + std::to_string(i) + " (too few values)";
-            }
-          }
-        }
+        return std::string();
       }
     }
-    return std::string();
   }
-  const bool little = format == "binary_little_endian";
-  if (!little && format != "binary_big_endian")
+  if (surfaceCells > 0)
   {
-    return "unknown PLY format '" + format + "'";
+    return "no usable triangles: every one of the " + std::to_string(surfaceCells) +
+      " faces has fewer than three distinct vertex positions";
   }
-  for (const Element& e : elements)
+  return "no surface in the file (0 polygons, " + std::to_string(mesh->GetNumberOfLines()) + " lines, " +
+    std::to_string(mesh->GetNumberOfVerts()) + " vertex cells)";
+}
+
+std::string ValidateSurface(vtkPolyData* mesh)
+{
+  if (!mesh || !mesh->GetPoints() || mesh->GetNumberOfPoints() == 0)
   {
-    for (long long i = 0; i < e.Count; ++i)
-    {
-      for (const Property& p : e.Properties)
-      {
-        long long count = 1;
-        if (p.CountSize > 0)
-        {
-          unsigned char bytes[8] = {};
-          if (!in.read(reinterpret_cast<char*>(bytes), p.CountSize))
-          {
-            return "file ends inside " + e.Name + " " + std::to_string(i) + " of " + std::to_string(e.Count);
-          }
-          unsigned long long value = 0;
-          for (int b = 0; b < p.CountSize; ++b)
-          {
-            const int shift = 8 * (little ? b : p.CountSize - 1 - b);
-            value |= static_cast<unsigned long long>(bytes[b]) << shift;
-          }
-          count = static_cast<long long>(value);
-        }
-        in.seekg(count * p.Size, std::ios::cur);
-        if (!in || in.peek() == std::ifstream::traits_type::eof())
-        {
-          in.clear();
-          // The last value of the last element may end exactly at the end of the file.
-          const std::streamoff position = in.tellg();
-          in.seekg(0, std::ios::end);
-          if (!in || position < 0 || position > in.tellg())
-          {
-            return "file ends inside " + e.Name + " " + std::to_string(i) + " of " + std::to_string(e.Count);
-          }
-          in.seekg(position);
-        }
-      }
-    }
+    return "no surface in the file (0 vertices)";
+  }
+  std::vector<char> used;
+  std::string problem = CheckCellIds(mesh, used);
+  if (problem.empty())
+  {
+    problem = CheckUsedCoordinates(mesh, used);
+  }
+  return problem.empty() ? CheckUsableSurface(mesh) : problem;
+}
+
+const std::vector<std::string>& KnownExtensions()
+{
+  static const std::vector<std::string> known = { ".off", ".ply", ".stl", ".obj", ".vtp", ".vtk" };
+  return known;
+}
+
+// Exists, is a readable non-empty file of a known type; throws the CliError otherwise.
+void CheckReadableFile(const std::string& path, const std::string& ext)
+{
+  auto fail = [&](const std::string& problem) { return CliError(ExitData, path + ": " + problem); };
+  if (std::find(KnownExtensions().begin(), KnownExtensions().end(), ext) == KnownExtensions().end())
+  {
+    throw fail("unsupported file type '" + ext + "' (readable: " + ReadableExtensions() + ")");
+  }
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+  {
+    throw fail("no such file");
+  }
+  if (std::filesystem::is_directory(path, ec))
+  {
+    throw fail("is a directory, not a mesh file");
+  }
+  std::ifstream probe(path, std::ios::binary);
+  if (!probe)
+  {
+    throw fail(std::string("cannot open file (") + std::strerror(errno) + ")");
+  }
+  if (probe.peek() == std::ifstream::traits_type::eof())
+  {
+    throw fail("empty file");
+  }
+}
+
+// The byte-level check of the formats whose VTK reader needs one (PLY, STL, OBJ).
+FileCheck CheckFileBytes(const std::string& path, const std::string& ext)
+{
+  if (ext != ".ply" && ext != ".stl" && ext != ".obj")
+  {
+    return FileCheck();
+  }
+  std::string bytes;
+  if (!ReadFileBytes(path, bytes))
+  {
+    return { std::string("cannot read file (") + std::strerror(errno) + ")", std::string() };
+  }
+  return ext == ".ply" ? CheckPLY(bytes) : ext == ".stl" ? CheckSTL(bytes, IsBinarySTL(path)) : CheckOBJ(bytes);
+}
+
+struct VTKReadResult
+{
+  vtkSmartPointer<vtkPolyData> Mesh;
+  std::string Problem;               // "" when the reader succeeded; else starts with the path
+  std::vector<std::string> Warnings; // the reader's own, each starting with the path
+};
+
+template <typename Reader>
+vtkSmartPointer<vtkAlgorithm> NewReader(const std::string& path)
+{
+  auto reader = vtkSmartPointer<Reader>::New();
+  reader->SetFileName(path.c_str());
+  return reader;
+}
+
+// The VTK reader of the extension, its errors and warnings captured.
+VTKReadResult ReadWithVTK(const std::string& path, const std::string& ext)
+{
+  VTKReadResult result;
+  const vtkSmartPointer<vtkAlgorithm> reader = ext == ".off" ? NewReader<vtkOFFMeshReader>(path)
+    : ext == ".ply"                                           ? NewReader<vtkPLYReader>(path)
+    : ext == ".stl"                                           ? NewReader<vtkSTLReader>(path)
+    : ext == ".obj"                                           ? NewReader<vtkOBJReader>(path)
+    : ext == ".vtp"                                           ? NewReader<vtkXMLPolyDataReader>(path)
+                                                              : NewReader<vtkPolyDataReader>(path);
+  MessageCapture capture;
+  reader->Update();
+  if (auto* off = vtkOFFMeshReader::SafeDownCast(reader))
+  {
+    result.Problem = off->GetLastError(); // already starts with the path (and line number)
+  }
+  else if (!capture.FirstError().empty())
+  {
+    result.Problem = path + ": " + capture.FirstError();
+  }
+  else if (reader->GetErrorCode() != vtkErrorCode::NoError)
+  {
+    result.Problem = path + ": read error: " + vtkErrorCode::GetStringFromErrorCode(reader->GetErrorCode());
+  }
+  for (const std::string& warning : capture.HeldWarnings())
+  {
+    result.Warnings.push_back(warning.compare(0, path.size(), path) == 0 ? warning : path + ": " + warning);
+  }
+  result.Mesh = vtkPolyData::SafeDownCast(reader->GetOutputDataObject(0));
+  return result;
+}
+
+// Writers that check their own writes (OFF: vtkOFFMeshWriter; STL: vtkSTLWriter, binary). Returns
+// the problem, "" on success.
+std::string WriteFileWithVTK(vtkPolyData* mesh, const std::string& path, const std::string& ext)
+{
+  vtkSmartPointer<vtkWriter> writer;
+  if (ext == ".off")
+  {
+    auto w = vtkSmartPointer<vtkOFFMeshWriter>::New();
+    w->SetFileName(path.c_str());
+    writer = w;
+  }
+  else
+  {
+    auto w = vtkSmartPointer<vtkSTLWriter>::New();
+    w->SetFileName(path.c_str());
+    w->SetFileTypeToBinary();
+    writer = w;
+  }
+  MessageCapture capture;
+  writer->SetInputData(mesh);
+  const int ok = writer->Write();
+  if (!capture.FirstError().empty())
+  {
+    return capture.FirstError();
+  }
+  if (!ok || writer->GetErrorCode() != vtkErrorCode::NoError)
+  {
+    return writer->GetErrorCode() != vtkErrorCode::NoError
+      ? vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode())
+      : "writer failed";
   }
   return std::string();
 }
 
-// vtkSTLReader silently reads a truncated binary STL: compare the size with the announced count.
-std::string ValidateSTL(const std::string& path)
+// VTP (appended) and legacy VTK (binary) files made in memory by VTK's writers.
+std::string SerializeWithVTK(vtkPolyData* mesh, const std::string& ext, std::string& bytes)
 {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char header[84] = {};
-  in.read(reinterpret_cast<char*>(header), sizeof(header));
-  const std::streamsize got = in.gcount();
-  in.clear();
-  in.seekg(0, std::ios::end);
-  const unsigned long long size = static_cast<unsigned long long>(in.tellg());
-  const bool startsWithSolid = got >= 5 && std::string(reinterpret_cast<char*>(header), 5) == "solid";
-  if (got == 84)
+  MessageCapture capture;
+  if (ext == ".vtp")
   {
-    const unsigned long long count = header[80] | (header[81] << 8) | (header[82] << 16) |
-      (static_cast<unsigned long long>(header[83]) << 24);
-    const unsigned long long expected = 84 + 50 * count;
-    if (size >= expected && (!startsWithSolid || size == expected))
-    {
-      return std::string(); // binary
-    }
-    if (!startsWithSolid)
-    {
-      return "truncated binary STL: the header announces " + std::to_string(count) + " triangles (" +
-        std::to_string(expected) + " bytes), the file has " + std::to_string(size) + " bytes";
-    }
+    vtkNew<vtkXMLPolyDataWriter> w;
+    w->SetDataModeToAppended();
+    w->WriteToOutputStringOn();
+    w->SetInputData(mesh);
+    w->Write();
+    bytes = w->GetOutputString();
   }
-  return startsWithSolid ? std::string() : std::string("not an STL file (too short)");
+  else if (ext == ".vtk")
+  {
+    vtkNew<vtkPolyDataWriter> w;
+    w->SetFileTypeToBinary();
+    w->WriteToOutputStringOn();
+    w->SetInputData(mesh);
+    w->Write();
+    bytes = w->GetOutputStdString();
+  }
+  else
+  {
+    return "unsupported file type '" + ext + "' (writable: " + WritableExtensions() + ")";
+  }
+  if (!capture.FirstError().empty())
+  {
+    return capture.FirstError();
+  }
+  return bytes.empty() ? "the writer produced nothing" : std::string();
+}
+
+// A binary PLY file in memory. vtkPLYWriter ignores write errors and its in-memory output stays
+// empty in VTK 9.1: it writes a temporary file beside the output, which must hold the whole PLY its
+// header describes (CheckPLY) before its bytes are taken.
+std::string PlyBytes(vtkPolyData* mesh, const std::string& path, std::string& bytes)
+{
+  std::filesystem::path temporary(path);
+  // Ends with ".ply": VTK's PLY library appends it to any other name.
+  temporary.replace_filename(".surfacelod-" + std::to_string(static_cast<long>(getpid())) + "-" +
+    temporary.stem().string() + ".tmp.ply");
+  MessageCapture capture;
+  vtkNew<vtkPLYWriter> writer;
+  writer->SetFileName(temporary.string().c_str());
+  writer->SetFileTypeToBinary();
+  writer->SetInputData(mesh);
+  writer->Write();
+  std::string problem = capture.FirstError();
+  if (problem.empty() && writer->GetErrorCode() != vtkErrorCode::NoError)
+  {
+    problem = vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode());
+  }
+  if (problem.empty() && !ReadFileBytes(temporary.string(), bytes))
+  {
+    problem = "cannot read back " + temporary.string() + " (" + std::strerror(errno) + ")";
+  }
+  if (problem.empty() && !CheckPLY(bytes).Problem.empty())
+  {
+    problem = "the PLY written to " + temporary.string() + " is incomplete (" + CheckPLY(bytes).Problem +
+      "; disk full?)";
+  }
+  std::error_code ec;
+  std::filesystem::remove(temporary, ec);
+  return problem;
+}
+
+// OBJ text: "v" lines (9 or 17 significant digits: float or double points read back exactly), "vn"
+// when the points have normals, "f" lines (1-based) for polygons and for the triangles of strips.
+std::string ObjText(vtkPolyData* mesh, std::string& bytes)
+{
+  vtkSmartPointer<vtkPolyData> surface = mesh;
+  if (mesh->GetNumberOfStrips() > 0)
+  {
+    surface = TriangulatedSurface(mesh);
+  }
+  std::ostringstream out;
+  out.imbue(std::locale::classic());
+  const bool floatPoints = surface->GetPoints() && surface->GetPoints()->GetDataType() == VTK_FLOAT;
+  out << std::setprecision(floatPoints ? 9 : 17);
+  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    surface->GetPoint(i, p);
+    out << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+  }
+  vtkDataArray* normals = surface->GetPointData()->GetNormals();
+  out << std::setprecision(9);
+  for (vtkIdType i = 0; normals && i < surface->GetNumberOfPoints(); ++i)
+  {
+    double n[3];
+    normals->GetTuple(i, n);
+    out << "vn " << n[0] << ' ' << n[1] << ' ' << n[2] << '\n';
+  }
+  const char* normalSeparator = normals ? "//" : nullptr;
+  auto it = vtk::TakeSmartPointer(surface->GetPolys()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    out << 'f';
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      out << ' ' << ids[k] + 1;
+      if (normalSeparator)
+      {
+        out << normalSeparator << ids[k] + 1;
+      }
+    }
+    out << '\n';
+  }
+  bytes = out.str();
+  return std::string();
+}
+
+// Writes bytes to path, checking the open, every write, the flush and the close; a partial regular
+// file is removed. Returns the problem, "" on success.
+std::string WriteBytesChecked(const std::string& path, const std::string& bytes)
+{
+  FILE* file = std::fopen(path.c_str(), "wb");
+  if (!file)
+  {
+    return std::string("cannot open for writing (") + std::strerror(errno) + ")";
+  }
+  bool ok = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
+  ok = std::fflush(file) == 0 && ok;
+  const int error = ok ? 0 : errno;
+  const bool closed = std::fclose(file) == 0;
+  if (ok && closed)
+  {
+    return std::string();
+  }
+  const std::string reason = std::strerror(ok ? errno : error);
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec))
+  {
+    std::filesystem::remove(path, ec);
+  }
+  return "write failed (" + reason + ")";
 }
 } // namespace
 
@@ -397,6 +513,7 @@ void InstallMessageHandler()
 
 MessageCapture::MessageCapture(bool swallowWarnings)
   : Depth(CapturedMessages.size())
+  , WarningDepth(HeldWarningTexts.size())
   , PreviousSwallow(SwallowWarnings)
 {
   ++CaptureDepth;
@@ -408,6 +525,18 @@ MessageCapture::~MessageCapture()
   --CaptureDepth;
   SwallowWarnings = this->PreviousSwallow;
   CapturedMessages.resize(this->Depth);
+  HeldWarningTexts.resize(this->WarningDepth);
+}
+
+std::vector<std::string> MessageCapture::HeldWarnings() const
+{
+  return std::vector<std::string>(
+    HeldWarningTexts.begin() + static_cast<std::ptrdiff_t>(this->WarningDepth), HeldWarningTexts.end());
+}
+
+void PrintWarning(const std::string& message)
+{
+  std::cerr << "surfacelod: warning: " << message << std::endl;
 }
 
 const std::vector<std::string>& MessageCapture::Errors() const
@@ -432,117 +561,33 @@ std::string WritableExtensions()
 
 vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path)
 {
-  auto fail = [&](const std::string& problem) { return CliError(ExitData, path + ": " + problem); };
   const std::string ext = Extension(path);
-  static const std::vector<std::string> known = { ".off", ".ply", ".stl", ".obj", ".vtp", ".vtk" };
-  if (std::find(known.begin(), known.end(), ext) == known.end())
+  CheckReadableFile(path, ext);
+  const FileCheck check = CheckFileBytes(path, ext);
+  if (!check.Problem.empty())
   {
-    throw fail("unsupported file type '" + ext + "' (readable: " + ReadableExtensions() + ")");
+    throw CliError(ExitData, path + ": " + check.Problem);
   }
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec))
+  VTKReadResult read = ReadWithVTK(path, ext);
+  if (!read.Problem.empty())
   {
-    throw fail("no such file");
+    throw CliError(ExitData, read.Problem);
   }
-  if (std::filesystem::is_directory(path, ec))
-  {
-    throw fail("is a directory, not a mesh file");
-  }
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe)
-    {
-      throw fail(std::string("cannot open file (") + std::strerror(errno) + ")");
-    }
-    if (probe.peek() == std::ifstream::traits_type::eof())
-    {
-      throw fail("empty file");
-    }
-  }
-
-  MessageCapture capture;
-  vtkSmartPointer<vtkPolyData> mesh;
-  std::string problem;
-  if (ext == ".off")
-  {
-    vtkNew<vtkOFFMeshReader> reader;
-    reader->SetFileName(path.c_str());
-    reader->Update();
-    if (reader->GetErrorCode() != vtkErrorCode::NoError)
-    {
-      // The reader's message already starts with the path (and line number).
-      throw CliError(ExitData, reader->GetLastError());
-    }
-    mesh = reader->GetOutput();
-  }
-  else
-  {
-    vtkSmartPointer<vtkAlgorithm> reader;
-    if (ext == ".ply")
-    {
-      const std::string plyProblem = ValidatePLY(path);
-      if (!plyProblem.empty())
-      {
-        throw fail(plyProblem);
-      }
-      auto r = vtkSmartPointer<vtkPLYReader>::New();
-      r->SetFileName(path.c_str());
-      reader = r;
-    }
-    else if (ext == ".stl")
-    {
-      const std::string stlProblem = ValidateSTL(path);
-      if (!stlProblem.empty())
-      {
-        throw fail(stlProblem);
-      }
-      auto r = vtkSmartPointer<vtkSTLReader>::New();
-      r->SetFileName(path.c_str());
-      reader = r;
-    }
-    else if (ext == ".obj")
-    {
-      auto r = vtkSmartPointer<vtkOBJReader>::New();
-      r->SetFileName(path.c_str());
-      reader = r;
-    }
-    else if (ext == ".vtp")
-    {
-      auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-      r->SetFileName(path.c_str());
-      reader = r;
-    }
-    else
-    {
-      auto r = vtkSmartPointer<vtkPolyDataReader>::New();
-      r->SetFileName(path.c_str());
-      reader = r;
-    }
-    reader->Update();
-    mesh = vtkPolyData::SafeDownCast(reader->GetOutputDataObject(0));
-    if (!capture.FirstError().empty())
-    {
-      problem = capture.FirstError();
-    }
-    else if (reader->GetErrorCode() != vtkErrorCode::NoError)
-    {
-      problem = std::string("read error: ") + vtkErrorCode::GetStringFromErrorCode(reader->GetErrorCode());
-    }
-  }
-  if (problem.empty() && (!mesh || !mesh->GetPoints()))
-  {
-    problem = "no surface in the file (0 vertices)";
-  }
-  if (problem.empty())
-  {
-    problem = ValidateSurface(mesh);
-  }
+  const std::string problem = ValidateSurface(read.Mesh);
   if (!problem.empty())
   {
-    throw fail(problem);
+    throw CliError(ExitData, path + ": " + problem);
+  }
+  if (!check.Warning.empty())
+  {
+    read.Warnings.push_back(path + ": " + check.Warning);
+  }
+  for (const std::string& warning : read.Warnings)
+  {
+    PrintWarning(warning);
   }
   auto result = vtkSmartPointer<vtkPolyData>::New();
-  result->ShallowCopy(mesh);
+  result->ShallowCopy(read.Mesh);
   return result;
 }
 
@@ -564,74 +609,30 @@ void CheckWritablePath(const std::string& path)
 
 void WriteMesh(vtkPolyData* mesh, const std::string& path)
 {
-  auto fail = [&](const std::string& problem) { return CliError(ExitData, path + ": " + problem); };
   const std::string ext = Extension(path);
-  // vtkXMLWriter is not a vtkWriter: keep the algorithm and its Write().
-  vtkSmartPointer<vtkAlgorithm> writer;
-  std::function<int()> write;
-  if (ext == ".off")
+  CheckWritablePath(path);
+  MessageCapture capture;
+  std::string problem;
+  if (ext == ".off" || ext == ".stl")
   {
-    auto w = vtkSmartPointer<vtkOFFMeshWriter>::New();
-    w->SetFileName(path.c_str());
-    writer = w;
-    write = [w]() { return w->Write(); };
-  }
-  else if (ext == ".ply")
-  {
-    auto w = vtkSmartPointer<vtkPLYWriter>::New();
-    w->SetFileName(path.c_str());
-    w->SetFileTypeToBinary();
-    writer = w;
-    write = [w]() { return w->Write(); };
-  }
-  else if (ext == ".stl")
-  {
-    auto w = vtkSmartPointer<vtkSTLWriter>::New();
-    w->SetFileName(path.c_str());
-    w->SetFileTypeToBinary();
-    writer = w;
-    write = [w]() { return w->Write(); };
-  }
-  else if (ext == ".obj")
-  {
-    auto w = vtkSmartPointer<vtkOBJWriter>::New();
-    w->SetFileName(path.c_str());
-    writer = w;
-    write = [w]() { return w->Write(); };
-  }
-  else if (ext == ".vtp")
-  {
-    auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-    w->SetFileName(path.c_str());
-    w->SetDataModeToAppended();
-    writer = w;
-    write = [w]() { return w->Write(); };
-  }
-  else if (ext == ".vtk")
-  {
-    auto w = vtkSmartPointer<vtkPolyDataWriter>::New();
-    w->SetFileName(path.c_str());
-    w->SetFileTypeToBinary();
-    writer = w;
-    write = [w]() { return w->Write(); };
+    problem = WriteFileWithVTK(mesh, path, ext);
   }
   else
   {
-    throw fail("unsupported file type '" + ext + "' (writable: " + WritableExtensions() + ")");
+    // VTK's PLY and OBJ writers do not check their writes (a full disk went unnoticed): the file is
+    // made in memory and written here, every step checked.
+    std::string bytes;
+    problem = ext == ".obj" ? ObjText(mesh, bytes)
+      : ext == ".ply"       ? PlyBytes(mesh, path, bytes)
+                            : SerializeWithVTK(mesh, ext, bytes);
+    if (problem.empty())
+    {
+      problem = WriteBytesChecked(path, bytes);
+    }
   }
-  CheckWritablePath(path);
-  MessageCapture capture;
-  writer->SetInputDataObject(0, mesh);
-  const int ok = write();
-  if (!capture.FirstError().empty())
+  if (!problem.empty())
   {
-    throw fail("cannot write: " + capture.FirstError());
-  }
-  if (!ok || writer->GetErrorCode() != vtkErrorCode::NoError)
-  {
-    throw fail(std::string("cannot write: ") +
-      (writer->GetErrorCode() != vtkErrorCode::NoError ? vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode())
-                                                        : "writer failed"));
+    throw CliError(ExitData, path + ": cannot write: " + problem);
   }
 }
 

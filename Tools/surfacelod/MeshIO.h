@@ -27,15 +27,24 @@ public:
   const std::vector<std::string>& Errors() const;
   // First error, or "" when none.
   std::string FirstError() const;
+  // The warnings swallowed during its lifetime (to show once their subject is known to be usable).
+  std::vector<std::string> HeldWarnings() const;
 
 private:
   size_t Depth;
+  size_t WarningDepth;
   bool PreviousSwallow;
 };
 
+// Prints "surfacelod: warning: MESSAGE" on stderr.
+void PrintWarning(const std::string& message);
+
 // Reads .off .ply .stl .obj .vtp .vtk. Throws CliError(ExitData, "PATH: problem") when the file
-// is missing, unreadable, of an unsupported type, malformed, has no surface cells, refers to
-// missing vertices or has non-finite coordinates.
+// is missing, unreadable, of an unsupported type, malformed (checked on its bytes before VTK's
+// PLY, STL and OBJ readers see it), refers to missing vertices, has non-finite coordinates on a
+// used vertex, or has no triangle with three distinct vertex positions. What a reader would drop
+// silently (data after the announced OFF faces, STL facets beyond the announced count) is printed
+// as a warning naming the file.
 vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path);
 
 // Throws CliError(ExitData) unless PATH has a writable extension and its directory exists.

@@ -1,6 +1,9 @@
 #include "Methods.h"
 
+#include "vtkDataArray.h"
 #include "vtkDecimatePro.h"
+#include "vtkFieldData.h"
+#include "vtkPolyData.h"
 #include "vtkQuadricDecimation.h"
 
 // SurfaceLOD filters: add the include here and one line in the table below.
@@ -12,11 +15,29 @@
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <algorithm>
+#include <cmath>
 #include <type_traits>
 #include <utility>
 
 namespace slodcli
 {
+bool TargetReached(vtkPolyData* output, const MethodSettings& settings)
+{
+  // A filter of the project says it in its field data (it knows when an error bound stopped it
+  // first); for the others a count target is reached when the count is at most the target.
+  if (vtkDataArray* reached = output->GetFieldData()->GetArray("TargetReached"))
+  {
+    return reached->GetNumberOfTuples() > 0 && reached->GetTuple1(0) != 0;
+  }
+  if (settings.Level >= 0 || (settings.HasMaximumError && settings.TargetTriangles <= 0 && settings.TargetReduction < 0))
+  {
+    return true;
+  }
+  const double target = settings.TargetTriangles > 0 ? double(settings.TargetTriangles)
+                                                     : std::floor((1.0 - settings.ReductionFraction()) * settings.InputTriangles + 1e-9);
+  return double(output->GetNumberOfPolys()) <= target;
+}
+
 double MethodSettings::ReductionFraction() const
 {
   if (this->TargetTriangles > 0)
@@ -143,9 +164,9 @@ const std::vector<Method>& Methods()
   // clang-format off
   static const std::vector<Method> methods = {
     { "vtk-quadric-decimation", "VTK's vtkQuadricDecimation (Garland-Heckbert edge collapse), the baseline",
-      false, &CreateVTKQuadricDecimation },
+      false, &CreateVTKQuadricDecimation, false, true, /*PreparesItsInput=*/false },
     { "vtk-decimate-pro", "VTK's vtkDecimatePro with PreserveTopologyOn (vertex removal)",
-      true, &CreateVTKDecimatePro },
+      true, &CreateVTKDecimatePro, false, true, /*PreparesItsInput=*/false },
     // SurfaceLOD filters, one line each (and the header include above).
     SurfaceLODMethod<vtkQuadricTriangleCollapse>("quadric-triangle-collapse",
       "Pan, Zhou, Shi 2000: quadric-error triangle collapses (with edge collapses), original-surface error"),

@@ -24,6 +24,10 @@ struct MethodSettings
   double ReductionFraction() const;
 };
 
+// Whether `output` (of a method run with `settings`) reached its target: the filter's own
+// "TargetReached" field data when it has it, else output triangles <= the count target.
+bool TargetReached(vtkPolyData* output, const MethodSettings& settings);
+
 struct Method
 {
   const char* Name;
@@ -35,6 +39,9 @@ struct Method
   // Run by `demo` and `bench` when no --methods is given. Off for methods whose time grows with the
   // accuracy asked (a bound-driven target search on a 1M-triangle surface takes many minutes).
   bool InDefaultRuns = true;
+  // False for VTK's filters: they take their input as it is (vtkQuadricDecimation crashes on a
+  // triangle with a repeated vertex), so the tool gives them the input SurfaceLOD's filters prepare.
+  bool PreparesItsInput = true;
 };
 
 const std::vector<Method>& Methods();
