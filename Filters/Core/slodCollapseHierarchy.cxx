@@ -1,5 +1,7 @@
 #include "slodCollapseHierarchy.h"
 
+#include "slodInputPreparation.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -93,15 +95,8 @@ void HierarchyMesh::Clear()
 // vertices are locked, the edge stays as it is in every level.
 void CollapseHierarchy::LockNonManifoldVertices()
 {
-  const MeshTopology topology(this->Base);
-  const Index np = this->Base.NumberOfPoints();
-  this->LockedVertices.assign(size_t(np), 0);
-  bool any = false;
-  for (Index v = 0; v < np; ++v)
-  {
-    this->LockedVertices[v] = topology.IsNonManifoldVertex(v) ? 1 : 0;
-    any = any || this->LockedVertices[v];
-  }
+  this->LockedVertices = NonManifoldVertexFlags(this->Base);
+  const bool any = std::find(this->LockedVertices.begin(), this->LockedVertices.end(), 1) != this->LockedVertices.end();
   this->MeshOptions.LockedVertices = any ? this->LockedVertices.data() : nullptr;
 }
 

@@ -26,7 +26,6 @@
 #define slodCollapseHierarchy_h
 
 #include "slodEditableMesh.h"
-#include "slodMeshTopology.h"
 #include "slodQuadric.h"
 #include "slodQuadraticFit.h"
 #include "slodTriangleStencil.h"

@@ -280,4 +280,16 @@ slod::MeshStatistics ExpectPreparedInputTopology(vtkPolyData* input, vtkPolyData
   EXPECT_EQ(out.DegenerateTriangles, 0);
   return in;
 }
+
+slod::MeshStatistics SimplifyNoisyScan(vtkPolyDataAlgorithm* filter, int resolution, unsigned seed)
+{
+  const vtkSmartPointer<vtkPolyData> input = NoisyScanIsosurface(resolution, seed);
+  filter->SetInputData(input);
+  filter->Update();
+  const slod::MeshStatistics in = ExpectPreparedInputTopology(input, filter->GetOutput());
+  EXPECT_GT(in.NonManifoldEdges, 0) << "the test surface must have non-manifold edges";
+  EXPECT_GT(in.BoundaryLoops, 0) << "the test surface must have a border";
+  EXPECT_LT(in.EulerCharacteristic, 2 * in.Components - in.BoundaryLoops) << "the test surface must have handles";
+  return in;
+}
 } // namespace slodtest

@@ -7,6 +7,7 @@
 
 #include "vtkCommand.h"
 #include "vtkPolyData.h"
+#include "vtkPolyDataAlgorithm.h"
 #include "vtkSmartPointer.h"
 
 #include <string>
@@ -55,6 +56,11 @@ slod::TriangleMesh NonManifoldFan(int wings);                        // `wings` 
 // compared here: where several loops touch at a pinched vertex, their count depends on how the
 // border edges there are paired; filters that keep the border check its edges instead.)
 slod::MeshStatistics ExpectPreparedInputTopology(vtkPolyData* input, vtkPolyData* output);
+
+// Runs `filter` (its target already set) on NoisyScanIsosurface(resolution, seed), checks that the
+// surface has what such a test needs (non-manifold edges, a border, handles) and that the output
+// keeps its topology (ExpectPreparedInputTopology). Returns the prepared input's statistics.
+slod::MeshStatistics SimplifyNoisyScan(vtkPolyDataAlgorithm* filter, int resolution, unsigned seed);
 
 // Collects (and so silences) the warnings and errors of a filter it observes.
 class MessageCounter : public vtkCommand

@@ -909,16 +909,10 @@ TEST(vtkTriangleCollapseHierarchy, NoisyScanKeepsNonManifoldEdgesBordersAndHandl
   for (const unsigned seed : { 1u, 2u, 3u })
   {
     SCOPED_TRACE(seed);
-    const vtkSmartPointer<vtkPolyData> input = slodtest::NoisyScanIsosurface(40, seed);
     vtkNew<vtkTriangleCollapseHierarchy> filter;
-    filter->SetInputData(input);
     filter->SetTargetReduction(0.9);
-    filter->Update();
+    const MeshStatistics in = slodtest::SimplifyNoisyScan(filter, 40, seed);
     vtkPolyData* output = filter->GetOutput();
-    const MeshStatistics in = slodtest::ExpectPreparedInputTopology(input, output);
-    ASSERT_GT(in.NonManifoldEdges, 0) << "the test surface must have non-manifold edges";
-    ASSERT_GT(in.BoundaryLoops, 0) << "the test surface must have a border";
-    ASSERT_LT(in.EulerCharacteristic, 2 * in.Components - in.BoundaryLoops) << "the test surface must have handles";
     // The border stays at full resolution: a cut-open edge or a new hole would add border edges.
     EXPECT_EQ(ComputeMeshStatistics(slodtest::RawTriangleMesh(output)).BoundaryEdges, in.BoundaryEdges);
     EXPECT_LT(output->GetNumberOfPolys(), in.Triangles / 5); // locked vertices leave most of it collapsible
