@@ -301,6 +301,10 @@ int vtkTriangleCollapseHierarchy::RequestData(
   const int lastLevel = h.NumberOfLevels() - 1;
 
   // Output 0: the selected mesh.
+  const slod::Index n0 = h.LevelTriangleCount(0);
+  const slod::Index target = this->TargetNumberOfTriangles > 0
+    ? static_cast<slod::Index>(std::min<vtkIdType>(this->TargetNumberOfTriangles, n0))
+    : static_cast<slod::Index>(std::llround((1.0 - this->TargetReduction) * n0));
   if (this->ContinuousLevel >= 0)
   {
     this->ShownLevel = std::min<double>(this->ContinuousLevel, lastLevel);
@@ -313,10 +317,6 @@ int vtkTriangleCollapseHierarchy::RequestData(
   }
   else
   {
-    const slod::Index n0 = h.LevelTriangleCount(0);
-    const slod::Index target = this->TargetNumberOfTriangles > 0
-      ? static_cast<slod::Index>(std::min<vtkIdType>(this->TargetNumberOfTriangles, n0))
-      : static_cast<slod::Index>(std::llround((1.0 - this->TargetReduction) * n0));
     const slod::Index k = h.CollapsesForTriangleCount(target);
     h.Extract(k, k, 0.0, in.Scratch);
     // Level shown: the level containing the cut, as a fraction of its batch.
@@ -332,6 +332,11 @@ int vtkTriangleCollapseHierarchy::RequestData(
     }
   }
   in.ToPolyData(in.Scratch, this->ShownLevel, output);
+  if (this->ContinuousLevel < 0 && this->Level < 0)
+  {
+    slod::ReportTarget(this, output, target, output->GetNumberOfPolys() <= target,
+      "the hierarchy's coarsest level keeps more: further collapses would change the topology or fold a triangle");
+  }
 
   // Output 1: every level (cached with the hierarchy).
   if (levels)

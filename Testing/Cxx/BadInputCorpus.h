@@ -51,6 +51,7 @@ SurfaceCensus CountSurface(vtkPolyData* surface);
 struct OutputExpectations
 {
   bool MayOpen = false;              // the filter may cut a closed surface open (topology simplification)
+  bool MayAddNonManifoldEdges = false; // a VTK baseline (vtkQuadricDecimation) that makes no topology promise
   bool CarriesPointData = true;      // every named numeric point array of the input must be in the output
   bool MayNotGrow = true;            // at most as many triangles as the input
 };

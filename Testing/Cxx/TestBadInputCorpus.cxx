@@ -6,7 +6,8 @@
 // The same program serves the command-line test (Testing/Python/cli_test.py):
 //   TestBadInputCorpus --run FILTER CATEGORY      one run (what the test's children do)
 //   TestBadInputCorpus --write-corpus DIRECTORY   writes the corpus files, prints "KIND PATH" lines
-//   TestBadInputCorpus --check-outputs [--may-open] CATEGORY FILE...  checks a tool's output files
+//   TestBadInputCorpus --check-outputs [--may-open|--baseline] CATEGORY FILE...  checks a tool's output files
+//     (--baseline: a VTK filter the tool compares with; no topology promise, the rest is checked)
 #include "BadInputCorpus.h"
 #include "TestSupport.h"
 
@@ -403,11 +404,12 @@ int WriteCorpus(const std::string& directory)
 
 // Output files of a command-line tool, one per category: valid surfaces (no point data required).
 // Prints "CATEGORY: problem" lines.
-int CheckOutputFiles(const std::vector<std::string>& categoryFilePairs, bool mayOpen)
+int CheckOutputFiles(const std::vector<std::string>& categoryFilePairs, const std::string& mode)
 {
   OutputExpectations expect;
   expect.CarriesPointData = false;
-  expect.MayOpen = mayOpen;
+  expect.MayOpen = mode == "--may-open" || mode == "--baseline";
+  expect.MayAddNonManifoldEdges = mode == "--baseline";
   bool ok = true;
   for (size_t i = 0; i + 1 < categoryFilePairs.size(); i += 2)
   {
@@ -439,8 +441,8 @@ int main(int argc, char** argv)
   }
   if (argc >= 2 && std::strcmp(argv[1], "--check-outputs") == 0)
   {
-    const bool mayOpen = argc >= 3 && std::strcmp(argv[2], "--may-open") == 0;
-    return CheckOutputFiles(std::vector<std::string>(argv + (mayOpen ? 3 : 2), argv + argc), mayOpen);
+    const std::string mode = argc >= 3 && std::strncmp(argv[2], "--", 2) == 0 ? argv[2] : "";
+    return CheckOutputFiles(std::vector<std::string>(argv + (mode.empty() ? 2 : 3), argv + argc), mode);
   }
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
