@@ -193,7 +193,8 @@ bool FlatNeighbourhoodProof(const TriangleMesh& mesh, const TriangleBVH& bvh, In
   }
   // Net use of every edge (u < w counts +1 as u->w, -1 as w->u) by the triangles lying flat in P
   // and facing its side.
-  std::unordered_map<std::uint64_t, int> netUse;
+  std::vector<std::pair<std::uint64_t, int>> uses; // sorted and summed below: no hashing per piece
+  uses.reserve(3 * near.size());
   auto key = [](Index u, Index w) { return (std::uint64_t(std::uint32_t(u)) << 32) | std::uint32_t(w); };
   for (Index q : near)
   {
@@ -203,11 +204,18 @@ bool FlatNeighbourhoodProof(const TriangleMesh& mesh, const TriangleBVH& bvh, In
     for (int k = 0; flat && k < 3; ++k)
     {
       const Index u = v[k], w = v[(k + 1) % 3];
-      netUse[u < w ? key(u, w) : key(w, u)] += u < w ? 1 : -1;
+      uses.emplace_back(u < w ? key(u, w) : key(w, u), u < w ? 1 : -1);
     }
   }
-  for (const auto& [edge, use] : netUse)
+  std::sort(uses.begin(), uses.end());
+  for (size_t i = 0, j = 0; i < uses.size(); i = j)
   {
+    int use = 0;
+    for (j = i; j < uses.size() && uses[j].first == uses[i].first; ++j)
+    {
+      use += uses[j].second;
+    }
+    const std::uint64_t edge = uses[i].first;
     const Vec3 u = project(mesh.Point(Index(edge >> 32))), w = project(mesh.Point(Index(edge & 0xffffffffu)));
     if (use != 0 && SegmentEntersTriangle(u, w, piece, n, tolerance))
     {
