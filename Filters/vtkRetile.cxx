@@ -207,7 +207,9 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   const bool retiled = result.Mesh.NumberOfTriangles() <= limit;
   if (!result.Aborted && !retiled)
   {
-    const bool input = mesh.NumberOfTriangles() <= limit;
+    // `limit` is the target by now, which the input may exceed too: the smaller of the two is
+    // returned, so the output never has more triangles than the input.
+    const bool input = mesh.NumberOfTriangles() <= result.Mesh.NumberOfTriangles();
     vtkWarningMacro(<< "Re-tiling gives " << result.Mesh.NumberOfTriangles() << " triangles at least, more than the "
                     << limit << " allowed: " << (input ? "the input is returned." : "the smallest re-tiling is returned."));
     if (input)

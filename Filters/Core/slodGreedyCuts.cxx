@@ -116,6 +116,115 @@ enum class PieceDistance
   Unknown  // neither: split it
 };
 
+// Original triangles one flat-neighbourhood proof may gather (beyond: no proof, split the piece).
+constexpr size_t MaximumFlatNeighbourhood = 8192;
+
+// Whether segment u-w (in the plane of triangle p) enters the open triangle p[0..2] (counter-
+// clockwise seen along n): the segment clipped to the three open half-planes keeps a length.
+bool SegmentEntersTriangle(const Vec3& u, const Vec3& w, const Vec3* p, const Vec3& n, double tolerance)
+{
+  double enter = 0, leave = 1;
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec3 inward = Cross(n, p[(k + 1) % 3] - p[k]);
+    const double scale = Norm(inward);
+    const double su = Dot(u - p[k], inward) / scale - tolerance, sw = Dot(w - p[k], inward) / scale - tolerance;
+    if (su <= 0 && sw <= 0)
+    {
+      return false;
+    }
+    if (su < 0 || sw < 0)
+    {
+      const double t = su / (su - sw);
+      (su < 0 ? enter : leave) = su < 0 ? std::max(enter, t) : std::min(leave, t);
+    }
+  }
+  return enter < leave;
+}
+
+// A piece lying in the plane of a flat neighbourhood, proved at once instead of subdivided down to
+// the size of epsilon. The plane P is that of the original triangle `seed` closest to the piece's
+// centroid. The original triangles within delta of P facing P's side project onto P as a covering
+// whose count is constant away from their unmatched edges (an edge a->b without b->a); when no
+// unmatched edge enters the projected piece and the seed's closest point lies inside it, the whole
+// projected piece is covered: a point x of the piece is within |x - P| + delta of the surface, at
+// most epsilon when the corners are within epsilon - delta of P (the distance to a plane is convex).
+bool FlatNeighbourhoodProof(const TriangleMesh& mesh, const TriangleBVH& bvh, Index seed, const Vec3& seedPoint,
+  const Vec3* corner, const Vec3& g, double epsilon)
+{
+  const Index* t = mesh.Triangle(seed);
+  const Vec3 origin = mesh.Point(t[0]);
+  const Vec3 n = Normalized(mesh.TriangleAreaVector(seed));
+  const double delta = 0.25 * epsilon;
+  auto height = [&](const Vec3& x) { return Dot(x - origin, n); };
+  auto project = [&](const Vec3& x) { return x - height(x) * n; };
+  const Vec3 piece[3] = { project(corner[0]), project(corner[1]), project(corner[2]) };
+  const Vec3 pieceNormal = Cross(piece[1] - piece[0], piece[2] - piece[0]);
+  if (Dot(n, n) == 0 || Dot(pieceNormal, n) <= 0)
+  {
+    return false;
+  }
+  const Vec3 center = project(g);
+  double radius2 = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec3 d = piece[k] - center;
+    radius2 = std::max(radius2, Dot(d, d));
+  }
+  // Unmatched edges within `tolerance` of the piece's border (a border edge of the surface under
+  // a piece edge) do not count: the corners' margin in height pays for that sliver.
+  const double tolerance = 1e-9 * std::sqrt(radius2);
+  for (int k = 0; k < 3; ++k)
+  {
+    if (std::fabs(height(corner[k])) > epsilon - delta - tolerance)
+    {
+      return false;
+    }
+  }
+  const Vec3 seedFoot = project(seedPoint);
+  if (!SegmentEntersTriangle(seedFoot, seedFoot, piece, n, tolerance))
+  {
+    return false; // the covered point is not inside the piece
+  }
+  std::vector<Index> near;
+  if (!bvh.TrianglesNear(center, std::sqrt(radius2) + delta, MaximumFlatNeighbourhood, near))
+  {
+    return false;
+  }
+  // Net use of every edge (u < w counts +1 as u->w, -1 as w->u) by the triangles lying flat in P
+  // and facing its side.
+  std::vector<std::pair<std::uint64_t, int>> uses; // sorted and summed below: no hashing per piece
+  uses.reserve(3 * near.size());
+  auto key = [](Index u, Index w) { return (std::uint64_t(std::uint32_t(u)) << 32) | std::uint32_t(w); };
+  for (Index q : near)
+  {
+    const Index* v = mesh.Triangle(q);
+    const bool flat = std::fabs(height(mesh.Point(v[0]))) <= delta && std::fabs(height(mesh.Point(v[1]))) <= delta &&
+      std::fabs(height(mesh.Point(v[2]))) <= delta && Dot(mesh.TriangleAreaVector(q), n) > 0;
+    for (int k = 0; flat && k < 3; ++k)
+    {
+      const Index u = v[k], w = v[(k + 1) % 3];
+      uses.emplace_back(u < w ? key(u, w) : key(w, u), u < w ? 1 : -1);
+    }
+  }
+  std::sort(uses.begin(), uses.end());
+  for (size_t i = 0, j = 0; i < uses.size(); i = j)
+  {
+    int use = 0;
+    for (j = i; j < uses.size() && uses[j].first == uses[i].first; ++j)
+    {
+      use += uses[j].second;
+    }
+    const std::uint64_t edge = uses[i].first;
+    const Vec3 u = project(mesh.Point(Index(edge >> 32))), w = project(mesh.Point(Index(edge & 0xffffffffu)));
+    if (use != 0 && SegmentEntersTriangle(u, w, piece, n, tolerance))
+    {
+      return false; // the covering may end inside the piece
+    }
+  }
+  return true;
+}
+
 PieceDistance ClassifyPiece(const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon)
 {
   const Vec3 g = (1.0 / 3.0) * (a + b + c);
@@ -141,7 +250,9 @@ PieceDistance ClassifyPiece(const TriangleBVH& bvh, const Vec3& a, const Vec3& b
       const Vec3 e = x - ClosestPointOnTriangle(x, p0, p1, p2);
       return Dot(e, e) <= epsilon * epsilon;
     };
-    if (within(a) && within(b) && within(c))
+    const Vec3 corners[3] = { a, b, c };
+    if ((within(a) && within(b) && within(c)) ||
+      FlatNeighbourhoodProof(*mesh, bvh, hit.Triangle, hit.Point, corners, g, epsilon))
     {
       return PieceDistance::Within;
     }

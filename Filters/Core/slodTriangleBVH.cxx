@@ -466,6 +466,42 @@ ClosestPointResult TriangleBVH::ClosestPoint(const Vec3& query, double maxDistan
   return result;
 }
 
+bool TriangleBVH::TrianglesNear(const Vec3& query, double radius, size_t limit, std::vector<Index>& triangles) const
+{
+  const double q[3] = { query[0], query[1], query[2] };
+  const double radius2 = radius * radius;
+  std::vector<Index> pending;
+  if (!this->Nodes.empty())
+  {
+    pending.push_back(0);
+  }
+  const size_t start = triangles.size();
+  while (!pending.empty())
+  {
+    const Node& node = this->Nodes[size_t(pending.back())];
+    pending.pop_back();
+    if (BoxDistance2(node.Bounds, q) > radius2)
+    {
+      continue;
+    }
+    if (node.Count == 0)
+    {
+      pending.push_back(node.First);
+      pending.push_back(node.First + 1);
+      continue;
+    }
+    if (triangles.size() - start + size_t(node.Count) > limit)
+    {
+      return false; // each node is visited once, so the work is bounded by the tree size
+    }
+    for (Index i = node.First, e = node.First + node.Count; i < e; ++i)
+    {
+      triangles.push_back(this->Order[size_t(i)]);
+    }
+  }
+  return true;
+}
+
 Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c)
 {
   Vec3 out;

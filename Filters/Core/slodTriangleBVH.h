@@ -42,6 +42,10 @@ public:
   // Points at exactly maxDistance2 are found.
   ClosestPointResult ClosestPoint(const Vec3& q, double maxDistance2 = -1) const;
 
+  // Ids of the triangles whose box lies within `radius` of q (a superset of those within the
+  // ball) appended to `triangles`; false, with the list incomplete, once more than `limit` are found.
+  bool TrianglesNear(const Vec3& q, double radius, size_t limit, std::vector<Index>& triangles) const;
+
   struct Node
   {
     float Bounds[6]; // xmin,xmax,ymin,ymax,zmin,zmax

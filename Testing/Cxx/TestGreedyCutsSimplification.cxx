@@ -198,6 +198,51 @@ TEST(GreedyCuts, TriangleWithinDistanceIsRigorous)
   EXPECT_FALSE(TriangleWithinDistance(bvh, { 0.1, 0.1, 0 }, { 1.2, 0.1, 0 }, { 0.5, 0.9, 0 }, 0.1, 10));
 }
 
+// A flat 40x40 grid of unit squares, optionally without the two triangles of cell (20, 20).
+TriangleMesh FlatGrid(bool withHole)
+{
+  TriangleMesh grid;
+  const Index n = 41;
+  for (Index j = 0; j < n; ++j)
+  {
+    for (Index i = 0; i < n; ++i)
+    {
+      grid.AddPoint({ double(i), double(j), 0 });
+    }
+  }
+  for (Index j = 0; j + 1 < n; ++j)
+  {
+    for (Index i = 0; i + 1 < n; ++i)
+    {
+      if (!(withHole && i == 20 && j == 20))
+      {
+        const Index v = j * n + i;
+        grid.AddTriangle(v, v + 1, v + n + 1);
+        grid.AddTriangle(v, v + n + 1, v + n);
+      }
+    }
+  }
+  return grid;
+}
+
+TEST(GreedyCuts, TriangleOverAFlatRegionIsProvedAtATinyTolerance)
+{
+  // The piece spans hundreds of grid triangles and epsilon is 1e-5 of its size: subdividing until
+  // the pieces are smaller than epsilon cannot finish within the bounded number of pieces.
+  const double eps = 1e-4;
+  const Vec3 a{ 1, 1, 0.5 * eps }, b{ 39, 1, 0.5 * eps }, c{ 20, 39, 0.5 * eps };
+  const TriangleMesh grid = FlatGrid(false);
+  const TriangleBVH bvh(grid);
+  EXPECT_TRUE(TriangleWithinDistance(bvh, a, b, c, eps, 10));
+  EXPECT_FALSE(TriangleWithinDistance(bvh, { 1, 1, 2 * eps }, { 39, 1, 2 * eps }, { 20, 39, 2 * eps }, eps, 10));
+  // Over a missing cell the piece is farther than epsilon from the surface: never proved.
+  const TriangleMesh holed = FlatGrid(true);
+  const TriangleBVH holedBvh(holed);
+  EXPECT_FALSE(TriangleWithinDistance(holedBvh, a, b, c, eps, 10));
+  // Sticking out over the grid's border.
+  EXPECT_FALSE(TriangleWithinDistance(bvh, { 1, 1, 0 }, { 40.5, 1, 0 }, { 20, 39, 0 }, eps, 10));
+}
+
 TEST(GreedyCutsSimplification, SphereAndTorus)
 {
   for (const auto& [name, shape] : { std::pair<std::string, TriangleMesh>{ "sphere", slodtest::Sphere(48, 48) },

@@ -2,6 +2,7 @@
 // distance to the input (Hausdorff) against vtkQuadricDecimation at the same triangle count in the
 // same run, point spacing before/after repulsion, curvature concentration, determinism, point
 // data, bad input.
+#include "BadInputCorpus.h"
 #include "TestSupport.h"
 
 #include "slodMeshTopology.h"
@@ -352,6 +353,11 @@ TEST(Retile, NeverMoreTrianglesThanAskedOrGivenNorDegenerateOnes)
   vtkNew<vtkRetile> one;
   one->SetTargetNumberOfTriangles(1);
   expectWithin(slodtest::ToPolyData(single), one, 1, "one triangle");
+  // Asked for fewer triangles than any re-tiling reaches, below the input too: the corpus's
+  // two-sided sheet (a triangle and its mirror image) re-tiled had 4 triangles.
+  vtkNew<vtkRetile> belowInput;
+  belowInput->SetTargetReduction(0.5);
+  expectWithin(slodtest::MakeBadInput("two-sided-pillow").Surface, belowInput, 2, "two-sided triangle, half asked for");
 
   const TriangleMesh sphere = slodtest::Sphere(16, 12);
   vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(sphere);
