@@ -22,36 +22,10 @@ vtkStandardNewMacro(vtkRetile);
 
 namespace
 {
-// Re-tiling computes in the coordinates' own precision: a surface whose extent is this many times
-// its median edge length (a vertex at 1e30 among unit edges) leaves the edges below the rounding
-// of the positions, and the tiles degenerate.
 using slod::operator-;
 
-constexpr double MaximumExtentPerEdge = 1e12;
 // Re-tilings with fewer points tried when one has more triangles than allowed.
 constexpr int MaximumRetileAttempts = 4;
-
-// Bounding-box diagonal divided by the median edge length (0 for a mesh without edges).
-double ExtentPerEdge(const slod::TriangleMesh& mesh)
-{
-  std::vector<double> lengths;
-  lengths.reserve(3 * size_t(mesh.NumberOfTriangles()));
-  for (slod::Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-  {
-    const slod::Index* tri = mesh.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      lengths.push_back(slod::Norm(mesh.Point(tri[(k + 1) % 3]) - mesh.Point(tri[k])));
-    }
-  }
-  if (lengths.empty())
-  {
-    return 0;
-  }
-  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
-  const double median = lengths[lengths.size() / 2];
-  return median > 0 ? mesh.BoundingBoxDiagonal() / median : std::numeric_limits<double>::infinity();
-}
 
 // The vertex count: numberOfPoints when > 0, else from the triangle target (the larger of
 // TargetNumberOfTriangles and the reduction's count; the input's count when neither), which also
@@ -175,11 +149,11 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     return 1;
   }
 
-  const double extent = ExtentPerEdge(mesh);
-  if (!(extent <= MaximumExtentPerEdge))
+  const double extent = slod::ExtentPerMedianEdge(mesh);
+  if (!(extent <= slod::MaximumRetilingExtentPerEdge))
   {
     vtkErrorMacro(<< "The input's extent is " << extent << " times its median edge length (more than "
-                  << MaximumExtentPerEdge << "): re-tiling cannot resolve its edges at that scale "
+                  << slod::MaximumRetilingExtentPerEdge << "): re-tiling cannot resolve its edges at that scale "
                   << "(a vertex far away from the others?).");
     return 1;
   }

@@ -2,6 +2,7 @@
 
 #include "slodInputPreparation.h"
 #include "slodLevelInterpolation.h"
+#include "slodRetiling.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -49,6 +50,17 @@ int vtkRetileLevelInterpolation::RequestData(
     !slod::PrepareFilterInput(this, lowInput, slod::PreparationOptions(), low, lowToInput))
   {
     return 1;
+  }
+  for (const slod::TriangleMesh* level : { &high, &low })
+  {
+    const double extent = slod::ExtentPerMedianEdge(*level);
+    if (!(extent <= slod::MaximumRetilingExtentPerEdge))
+    {
+      vtkErrorMacro(<< "A level's extent is " << extent << " times its median edge length (more than "
+                    << slod::MaximumRetilingExtentPerEdge << "): its edges cannot be traced at that scale "
+                    << "(a part far away from the others?).");
+      return 1;
+    }
   }
   this->UpdateProgress(0.1);
   slod::LevelInterpolation result;

@@ -13,7 +13,10 @@ if [[ ! -f "$build/CMakeCache.txt" ]]; then
 fi
 cmake --build "$build" -j "$(nproc)"
 cd "$build"
-xvfb-run -a ctest --output-on-failure -j 2 --timeout 1200
+# Both parts run even when the first fails, so that one run shows every failure.
+status=0
+xvfb-run -a ctest --output-on-failure -j 2 --timeout 1200 || status=$?
 if [[ "${CI:-}" == "true" || "${SANITIZERS:-0}" == "1" ]]; then
-  SANITIZER_BUILD_DIR="${SANITIZER_BUILD_DIR:-$build-sanitizers}" bash "$here/scripts/sanitizers.sh"
+  SANITIZER_BUILD_DIR="${SANITIZER_BUILD_DIR:-$build-sanitizers}" bash "$here/scripts/sanitizers.sh" || status=$?
 fi
+exit "$status"

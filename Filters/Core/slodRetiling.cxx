@@ -1111,4 +1111,25 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
     levels.push_back(std::move(result));
   }
 }
+
+double ExtentPerMedianEdge(const TriangleMesh& mesh)
+{
+  std::vector<double> lengths;
+  lengths.reserve(3 * size_t(mesh.NumberOfTriangles()));
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      lengths.push_back(Norm(mesh.Point(tri[(k + 1) % 3]) - mesh.Point(tri[k])));
+    }
+  }
+  if (lengths.empty())
+  {
+    return 0;
+  }
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  const double median = lengths[lengths.size() / 2];
+  return median > 0 ? mesh.BoundingBoxDiagonal() / median : std::numeric_limits<double>::infinity();
+}
 } // namespace slod

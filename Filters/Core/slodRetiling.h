@@ -96,6 +96,14 @@ SURFACELODFILTERS_EXPORT void Retile(const TriangleMesh& mesh, const RetilingOpt
 // Spacing figures are not computed per level.
 SURFACELODFILTERS_EXPORT void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts,
   const RetilingOptions& options, std::vector<RetilingResult>& levels);
+// Re-tiling and the level interpolation compute in the coordinates' own precision: a surface whose
+// extent is more than this many times its median edge length (a vertex at 1e30 among unit edges,
+// a copy 1e15 away) leaves its edges below the rounding of the positions, and tiles degenerate.
+constexpr double MaximumRetilingExtentPerEdge = 1e12;
+
+// Bounding-box diagonal divided by the median edge length (0 without edges, +inf when the median
+// edge has zero length).
+SURFACELODFILTERS_EXPORT double ExtentPerMedianEdge(const TriangleMesh& mesh);
 } // namespace slod
 
 #endif
