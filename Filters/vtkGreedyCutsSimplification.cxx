@@ -99,6 +99,11 @@ int vtkGreedyCutsSimplification::RequestData(
     {
       return 1;
     }
+    if (cuts.WorkBoundReached())
+    {
+      vtkWarningMacro(<< "The search for the target's tolerance stopped at its work bound; the smallest tolerance "
+                      << "tried within the target is used.");
+    }
     if (static_cast<vtkIdType>(result.Triangles.size() / 3) > target)
     {
       vtkWarningMacro(<< "Target of " << target << " triangles not reached within the error bound " << hi << ": "

@@ -72,8 +72,9 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
 
 // Rigorous adaptive test: every point of triangle (a,b,c) within epsilon of the BVH's surface
 // (false also when depth runs out, or a bounded number of pieces is examined, before a proof).
-SURFACELODFILTERS_EXPORT bool TriangleWithinDistance(
-  const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon, int depth);
+// The pieces examined are added to *examinedPieces when given (the caller's work account).
+SURFACELODFILTERS_EXPORT bool TriangleWithinDistance(const TriangleBVH& bvh, const Vec3& a, const Vec3& b,
+  const Vec3& c, double epsilon, int depth, long long* examinedPieces = nullptr);
 
 class SURFACELODFILTERS_EXPORT GreedyCuts
 {
@@ -89,6 +90,7 @@ public:
   void Initialize(const TriangleMesh& mesh, const PatchificationParameters& patches,
     const ProgressFunction& progress = nullptr);
   bool Aborted() const { return this->WasAborted; }
+  bool WorkBoundReached() const { return this->SearchStoppedByWorkBound; }
   const Patchification& GetPatches() const { return this->Patches; }
 
   // One run at parameters.Epsilon. Returns false when aborted.
@@ -97,7 +99,10 @@ public:
 
   // Smallest epsilon (searched in [lo, hi] with `steps` runs: halving from hi while the count stays
   // within the target, then bisection on log(epsilon)) whose result has at most `target`
-  // triangles; the result of that epsilon is returned (that of hi when even hi gives more).
+  // triangles; the result of that epsilon is returned (that of hi when even hi gives more). The
+  // search's work is bounded: once its distance proofs have examined MaximumProofPiecesPerTriangle
+  // pieces per input triangle, no further tolerance is tried and the best result so far is returned
+  // (WorkBoundReached() tells).
   bool RunForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress = nullptr);
 
@@ -108,6 +113,8 @@ private:
   Patchification Patches;
   TriangleBVH Bvh;
   bool WasAborted = false;
+  mutable long long ProofPieces = 0; // pieces examined by the distance proofs (work account)
+  bool SearchStoppedByWorkBound = false;
   // Per patch: its triangles, its inner vertices (on no chain), its boundary loop.
   std::vector<Index> PatchTriangleOffsets, PatchTriangleList;
   std::vector<Index> PatchInnerOffsets, PatchInnerList;
