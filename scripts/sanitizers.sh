@@ -45,7 +45,7 @@ cd "$build"
 core_suites="ClosestPointOnTriangle|EditableMesh|InputPreparation|MeshTopology|PointAttributes|PolygonTriangulation"
 core_suites+="|Quadric|TriangleBVH|SurfaceSampling|SurfaceDeviation|OFFMeshIO|MeshFileChecks|MeshIO|RobustnessFuzz"
 core_suites+="|Filters/BadInputCorpus"
-ctest --output-on-failure --timeout 1800 \
+ctest --output-on-failure -j "$(nproc)" --timeout 1800 \
   -R "^(${core_suites})\\.|^cli\\.(errors|warnings|full-disk)$|^Fuzz\\."
 echo "sanitizers.sh: tests done at $(( $(date +%s) - start )) s"
 
