@@ -66,12 +66,12 @@ struct vtkTriangleCollapseHierarchy::Internals
     vtkNew<vtkPoints> points;
     points->SetDataType(this->PointDataType);
     points->SetNumberOfPoints(np);
-    if (this->PointDataType == VTK_DOUBLE)
+    if (this->PointDataType == VTK_DOUBLE && np > 0) // memcpy from/to a null pointer is undefined even for 0 bytes
     {
       double* dst = static_cast<vtkDoubleArray*>(points->GetData())->GetPointer(0);
       std::memcpy(dst, m.Points.data(), sizeof(double) * m.Points.size());
     }
-    else
+    else if (np > 0)
     {
       float* dst = static_cast<vtkFloatArray*>(points->GetData())->GetPointer(0);
       for (size_t i = 0; i < m.Points.size(); ++i)
