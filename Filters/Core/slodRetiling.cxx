@@ -89,13 +89,16 @@ public:
     cell = std::max(cell, 1e-300);
     for (;;)
     {
-      size_t total = 1;
+      // Counted in double: an extent over a tiny cell does not fit an integer (converting it would
+      // be undefined) and the product could wrap; such a grid is never small enough anyway.
+      double total = 1;
       for (int k = 0; k < 3; ++k)
       {
-        this->Dims[k] = static_cast<long long>(std::floor((hi[k] - lo[k]) / cell)) + 1;
-        total *= size_t(this->Dims[k]);
+        const double cells = std::floor((hi[k] - lo[k]) / cell) + 1;
+        this->Dims[k] = cells < 1e9 ? static_cast<long long>(cells) : 1000000000LL;
+        total *= cells < 1e9 ? cells : std::numeric_limits<double>::infinity();
       }
-      if (total <= 4 * n + 64)
+      if (total <= double(4 * n + 64))
       {
         break;
       }
