@@ -24,14 +24,6 @@ inline double Orient(const P2& a, const P2& b, const P2& c)
 {
   return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
 }
-inline std::uint64_t EdgeKey(Index a, Index b)
-{
-  if (a > b)
-  {
-    std::swap(a, b);
-  }
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-}
 struct TripleKey
 {
   Index v[3];

@@ -519,11 +519,6 @@ std::vector<Index> CoincidentClasses(const std::vector<double>& points, const st
   return coincident;
 }
 
-std::uint64_t EdgeKey(Index a, Index b)
-{
-  return std::uint64_t(std::uint32_t(std::min(a, b))) << 32 | std::uint32_t(std::max(a, b));
-}
-
 // The border edges (one triangle) among the edges whose two ends both have coincident partners:
 // the only edges a sealing merge can join. Each as (class pair key, a, b).
 std::vector<std::array<std::uint64_t, 3>> SealableBorderEdges(

@@ -18,15 +18,6 @@ namespace
 {
 constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
 
-std::uint64_t EdgeKey(Index a, Index b)
-{
-  if (a > b)
-  {
-    std::swap(a, b);
-  }
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-}
-
 // Circumscribed circle diameter of a triangle (infinite when collinear).
 double CircumDiameter(const Vec3& a, const Vec3& b, const Vec3& c)
 {

@@ -35,6 +35,12 @@ inline Vec3 Normalized(const Vec3& a)
   return n > 0 ? (1.0 / n) * a : Vec3{ 0, 0, 0 };
 }
 
+// One 64-bit key per undirected edge (smaller vertex id in the high half), for hash sets and sorts.
+inline std::uint64_t EdgeKey(Index a, Index b)
+{
+  return (std::uint64_t(std::uint32_t(a < b ? a : b)) << 32) | std::uint32_t(a < b ? b : a);
+}
+
 // Renumbers the vertices that a set of triangles uses, in order of first use: outputs made of
 // original vertices keep only those (Used[new] = old, NewIndexOf[old] = new or InvalidIndex).
 struct FirstUseNumbering
