@@ -2,6 +2,8 @@
 
 #include "slodInputPreparation.h"
 
+#include "vtkLogger.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -429,7 +431,7 @@ double CollapseHierarchy::CheapestEdgeError(const Index* tri) const
   bool fixed[3] = { false, false, false };
   for (int k = 0; k < 3; ++k)
   {
-    fixed[k] = this->Degree(tri[k]) > HubValence || (this->HasBoundary && m.IsBoundaryVertex(tri[k]));
+    fixed[k] = this->Degree(tri[k]) > HubValence || this->OnBorder[tri[k]];
   }
   double cheapest = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 3; ++k)
@@ -550,6 +552,10 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   this->GlobalPoints.insert(this->GlobalPoints.end(), p.begin(), p.end());
 
   m.Collapse(vertices, count, kept, p, &this->Record);
+  for (int i = 1; i < count; ++i)
+  {
+    this->OnBorder[kept] |= this->OnBorder[vertices[i]];
+  }
   if (!this->Quadrics.empty())
   {
     for (int i = 1; i < count; ++i)
@@ -682,7 +688,7 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
 {
   EditableMesh& m = this->Mesh;
   const Index degree = this->Degree(q);
-  if (!m.IsVertexAlive(q) || degree < 3 || degree > 4 || m.IsBoundaryVertex(q))
+  if (!m.IsVertexAlive(q) || degree < 3 || degree > 4 || this->OnBorder[q])
   {
     return 0;
   }
@@ -695,7 +701,7 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
     const Index* tri = m.Triangle(t);
     const int c = tri[0] == q ? 0 : (tri[1] == q ? 1 : 2);
     const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
-    if (this->Degree(x) < keep || this->Degree(y) < keep || m.IsBoundaryVertex(x) || m.IsBoundaryVertex(y))
+    if (this->Degree(x) < keep || this->Degree(y) < keep || this->OnBorder[x] || this->OnBorder[y])
     {
       return;
     }
@@ -774,7 +780,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     {
       continue; // a hub's checks would cost its valence (see HubMask)
     }
-    if (this->HasBoundary && (m.IsBoundaryVertex(u) || m.IsBoundaryVertex(v)))
+    if (this->OnBorder[u] || this->OnBorder[v])
     {
       continue; // boundaries keep their resolution, like the triangle collapses leave them
     }
@@ -938,12 +944,15 @@ void CollapseHierarchy::Reset(const TriangleMesh& input)
   this->BlockedRelaxed.assign(nt, -1);
   this->BlockedEdge.assign(nt, -1);
   this->EdgeCollapseCount = 0;
-  // Collapses never open a closed mesh: without boundary edges at the start, none appear.
-  this->HasBoundary = false;
-  for (Index v = 0; v < np && !this->HasBoundary; ++v)
+  // Border flags, computed once (EditableMesh::IsBoundaryVertex was a fifth of the build when
+  // asked at every check): collapses keep the topology, so a merged vertex is on the border
+  // exactly when one of its vertices was, and swaps only turn interior edges.
+  this->OnBorder.resize(np);
+  for (Index v = 0; v < np; ++v)
   {
-    this->HasBoundary = this->Mesh.IsBoundaryVertex(v);
+    this->OnBorder[v] = this->Mesh.IsBoundaryVertex(v) ? 1 : 0;
   }
+  this->MeshOptions.BoundaryVertices = this->OnBorder.data();
   this->ChangeCounter = 0;
 }
 
@@ -1066,6 +1075,9 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
     this->SwapAroundNewVertices(state);
   }
   this->ReweighAround(state.Touched, state);
+  vtkLogF(TRACE, "collapse hierarchy level %d: %lld collapses, %lld triangles left, %zu candidates, %zu re-evaluated",
+    level, static_cast<long long>(this->NumberOfCollapses() - levelStart),
+    static_cast<long long>(this->Mesh.NumberOfLiveTriangles()), state.Candidates.size(), state.Affected.size());
   return true;
 }
 

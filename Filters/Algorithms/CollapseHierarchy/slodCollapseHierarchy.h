@@ -293,7 +293,8 @@ private:
   // relaxed); -1: not known to be blocked.
   std::vector<Index> VertexChanged, BlockedStrict, BlockedRelaxed, BlockedEdge;
   Index EdgeCollapseCount = 0;
-  bool HasBoundary = true;
+  // Per editable vertex: on a border of the mesh (MeshOptions.BoundaryVertices points here).
+  std::vector<unsigned char> OnBorder;
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
   // The stars of the vertices of t not in skipMask (bit k: tri[k]) are unchanged since stamp.
