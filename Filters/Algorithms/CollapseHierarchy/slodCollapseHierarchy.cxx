@@ -868,7 +868,9 @@ bool CollapseHierarchy::Build(
   }
   for (int level = 0; level + 1 < this->Parameters.MaximumNumberOfLevels; ++level)
   {
-    if (this->Mesh.NumberOfLiveTriangles() <= this->Parameters.MinimumNumberOfTriangles ||
+    const Index live = this->Mesh.NumberOfLiveTriangles();
+    if (live <= this->Parameters.MinimumNumberOfTriangles ||
+      (this->Parameters.StopAtTriangles > 0 && live <= this->Parameters.StopAtTriangles) ||
       !this->ReduceLevel(level, state))
     {
       break;

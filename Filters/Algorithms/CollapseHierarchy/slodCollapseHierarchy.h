@@ -110,6 +110,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
   Index MinimumNumberOfTriangles = 0;
+  // Stop once a level has at most this many triangles, with the batches unchanged (unlike
+  // MinimumNumberOfTriangles, which shrinks the last batches to land on it): the levels built are
+  // those of the whole hierarchy, so a cut at this count is the same. 0: no stop.
+  Index StopAtTriangles = 0;
   // Flip guard of the collapse (EditableMesh::CheckCollapse MinimumNormalDot).
   double MinimumNormalDot = 0.2;
 };

@@ -214,9 +214,32 @@ struct vtkTriangleCollapseHierarchy::Internals
     return parameters;
   }
 
+  // The triangle count asked for, of n0 input triangles.
+  static slod::Index TargetOf(const vtkTriangleCollapseHierarchy& f, slod::Index n0)
+  {
+    return f.TargetNumberOfTriangles > 0 ? static_cast<slod::Index>(std::min<vtkIdType>(f.TargetNumberOfTriangles, n0))
+                                         : static_cast<slod::Index>(std::llround((1.0 - f.TargetReduction) * n0));
+  }
+
+  // Only the target mesh is asked for (no level, no blend, no multiblock of the levels): the
+  // hierarchy is built down to the target only (the levels below it were most of the build on
+  // MRI isosurfaces and nobody would see them).
+  static bool OnlyToTarget(const vtkTriangleCollapseHierarchy& f)
+  {
+    return !f.GenerateAllLevels && f.Level < 0 && f.ContinuousLevel < 0;
+  }
+
+  // The cached hierarchy was built only down to an earlier target: not enough for a lower target
+  // or for the levels.
+  bool StoppedTooEarly(const vtkTriangleCollapseHierarchy& f) const
+  {
+    const slod::Index stop = this->Parameters.StopAtTriangles;
+    return stop > 0 && (!OnlyToTarget(f) || TargetOf(f, this->Hierarchy.LevelTriangleCount(0)) < stop);
+  }
+
   // The hierarchy of input and its point data (one row per global vertex); false when the input
   // is refused or the build aborted.
-  bool Rebuild(vtkTriangleCollapseHierarchy* filter, vtkPolyData* input, const slod::CollapseHierarchyParameters& parameters)
+  bool Rebuild(vtkTriangleCollapseHierarchy* filter, vtkPolyData* input, slod::CollapseHierarchyParameters parameters)
   {
     this->Valid = false;
     this->Levels = nullptr;
@@ -226,6 +249,7 @@ struct vtkTriangleCollapseHierarchy::Internals
     {
       return false;
     }
+    parameters.StopAtTriangles = OnlyToTarget(*filter) ? TargetOf(*filter, mesh.NumberOfTriangles()) : 0;
     const auto start = std::chrono::steady_clock::now();
     const bool done = this->Hierarchy.Build(mesh, parameters, [filter](double progress) {
       filter->UpdateProgress(0.9 * progress);
@@ -365,17 +389,14 @@ int vtkTriangleCollapseHierarchy::RequestData(
   }
   const slod::CollapseHierarchyParameters parameters = Internals::ParametersOf(*this);
   const bool rebuild = !in.Valid || in.Input != input || in.InputTime != input->GetMTime() ||
-    !Internals::Same(in.Parameters, parameters);
+    !Internals::Same(in.Parameters, parameters) || in.StoppedTooEarly(*this);
   if (rebuild && !in.Rebuild(this, input, parameters))
   {
     return 1;
   }
 
   // Output 0: the selected mesh.
-  const slod::Index n0 = in.Hierarchy.LevelTriangleCount(0);
-  const slod::Index target = this->TargetNumberOfTriangles > 0
-    ? static_cast<slod::Index>(std::min<vtkIdType>(this->TargetNumberOfTriangles, n0))
-    : static_cast<slod::Index>(std::llround((1.0 - this->TargetReduction) * n0));
+  const slod::Index target = Internals::TargetOf(*this, in.Hierarchy.LevelTriangleCount(0));
   this->ShownLevel = in.ExtractShown(*this, target);
   in.ToPolyData(in.Scratch, this->ShownLevel, output);
   if (this->ContinuousLevel < 0 && this->Level < 0)
