@@ -127,22 +127,14 @@ int vtkSurfaceDeviation::RequestData(
     {
       vtkWarningMacro("NumberOfSamples is 0 and SampleVertices is off: the vertices are used as samples.");
     }
-    // Progress from the calling thread between parallel steps; abort stops the measurement.
-    auto progressIn = [this](double from, double to) {
-      return [this, from, to](double fraction) {
-        this->UpdateProgress(from + fraction * (to - from));
-        return !this->GetAbortExecute();
-      };
-    };
-
     slod::OneSidedDeviation ab, ba;
     std::vector<double> vertexDistancesB;
     deviationOptions.Stream = 0;
-    aborted = !slod::MeasureDeviation(meshA, treeB, deviationOptions, ab, nullptr, progressIn(0.15, 0.55));
+    aborted = !slod::MeasureDeviation(meshA, treeB, deviationOptions, ab, nullptr, slod::FilterProgress(this, 0.15, 0.55));
     if (!aborted)
     {
       deviationOptions.Stream = 1;
-      aborted = !slod::MeasureDeviation(meshB, treeA, deviationOptions, ba, &vertexDistancesB, progressIn(0.55, 0.95));
+      aborted = !slod::MeasureDeviation(meshB, treeA, deviationOptions, ba, &vertexDistancesB, slod::FilterProgress(this, 0.55, 0.95));
     }
     if (!aborted)
     {
@@ -186,7 +178,7 @@ int vtkSurfaceDeviation::RequestData(
   }
   if (aborted)
   {
-    output->Initialize();
+    slod::ReportAbort(this, output);
     return 1;
   }
   output->GetPointData()->AddArray(distanceArray);
