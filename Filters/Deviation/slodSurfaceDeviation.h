@@ -1,4 +1,4 @@
-// SurfaceLOD shared core: one-sided surface deviation (samples on one mesh measured to another).
+// SurfaceLOD deviation: one-sided surface deviation (samples on one mesh measured to another).
 // The algorithm behind vtkSurfaceDeviation, usable by any filter or test without VTK data objects.
 //
 // Samples = the mesh's vertices and/or deterministic area-weighted random points. Distances are
