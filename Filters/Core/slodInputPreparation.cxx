@@ -2,6 +2,7 @@
 
 #include "vtkAlgorithm.h"
 
+#include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
 #include "slodUnionFind.h"
 
@@ -364,21 +365,7 @@ long long MarkNonManifoldVertices(const TriangleMesh& mesh, const VertexStar& st
     Index start = *star.Begin(v);
     if (flags[v] & BoundaryFlag)
     {
-      Index t = start;
-      for (Index steps = 0; steps <= degree; ++steps)
-      {
-        const Index prev = star.EdgeNeighbor(t, corner(t));
-        if (prev == InvalidIndex)
-        {
-          break;
-        }
-        t = prev;
-        if (t == start)
-        {
-          break;
-        }
-      }
-      start = t;
+      start = FanStart(start, degree, [&](Index t) { return star.EdgeNeighbor(t, corner(t)); });
     }
     Index fan = 0;
     Index t = start;
