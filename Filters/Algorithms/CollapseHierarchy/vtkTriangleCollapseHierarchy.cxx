@@ -217,8 +217,7 @@ struct vtkTriangleCollapseHierarchy::Internals
   // The triangle count asked for, of n0 input triangles.
   static slod::Index TargetOf(const vtkTriangleCollapseHierarchy& f, slod::Index n0)
   {
-    return f.TargetNumberOfTriangles > 0 ? static_cast<slod::Index>(std::min<vtkIdType>(f.TargetNumberOfTriangles, n0))
-                                         : static_cast<slod::Index>(std::llround((1.0 - f.TargetReduction) * n0));
+    return slod::TargetTriangleCount(n0, f.TargetNumberOfTriangles, f.TargetReduction, false);
   }
 
   // Only the target mesh is asked for (no level, no blend, no multiblock of the levels): the
@@ -251,10 +250,7 @@ struct vtkTriangleCollapseHierarchy::Internals
     }
     parameters.StopAtTriangles = OnlyToTarget(*filter) ? TargetOf(*filter, mesh.NumberOfTriangles()) : 0;
     const auto start = std::chrono::steady_clock::now();
-    const bool done = this->Hierarchy.Build(mesh, parameters, [filter](double progress) {
-      filter->UpdateProgress(0.9 * progress);
-      return !filter->GetAbortExecute();
-    });
+    const bool done = this->Hierarchy.Build(mesh, parameters, slod::FilterProgress(filter, 0.0, 0.9));
     if (!done)
     {
       return false;
@@ -392,6 +388,10 @@ int vtkTriangleCollapseHierarchy::RequestData(
     !Internals::Same(in.Parameters, parameters) || in.StoppedTooEarly(*this);
   if (rebuild && !in.Rebuild(this, input, parameters))
   {
+    if (this->GetAbortExecute())
+    {
+      slod::ReportAbort(this, output);
+    }
     return 1;
   }
 

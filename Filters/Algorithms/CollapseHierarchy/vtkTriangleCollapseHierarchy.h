@@ -27,9 +27,10 @@
  *    hierarchy: it is cached, keyed on the input and the hierarchy parameters, and a blend costs
  *    one pass over the stored triangles (a few ms for 100k triangles), so a slider can drive it;
  *  - Level >= 0: M_Level;
- *  - TargetNumberOfTriangles > 0: the mesh after the number of collapses that gives the closest
- *    triangle count (collapses of a batch are independent, so a batch may be cut);
- *  - TargetReduction (default 0.9): the same with (1 - TargetReduction) x input triangles.
+ *  - otherwise the targets of every SurfaceLOD filter (slodFilterContract.h): TargetNumberOfTriangles
+ *    and TargetReduction (each unused at 0; of both, the larger count; neither: a reduction of 0.9);
+ *    the mesh after the number of collapses that gives the closest triangle count (collapses of a
+ *    batch are independent, so a batch may be cut).
  * When only the target is asked for (GenerateAllLevels off, no Level, no ContinuousLevel), the
  * hierarchy is built only down to the level that reaches the target (the same levels as the
  * whole hierarchy's, so the same mesh; the levels below are not built, and "CollapseLevel" is -1
@@ -247,7 +248,7 @@ protected:
   double ContinuousLevel = -1;
   int Level = -1;
   vtkIdType TargetNumberOfTriangles = 0;
-  double TargetReduction = 0.9;
+  double TargetReduction = 0.0;
   double CurvatureWeight = 1.0 / 3.0;
   double AngleWeight = 1.0 / 3.0;
   double ValenceWeight = 1.0 / 3.0;
