@@ -2,6 +2,9 @@
 
 #include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
+#include "slodUnionFind.h"
+
+#include "vtkMath.h"
 
 #include <algorithm>
 #include <array>
@@ -9,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <unordered_set>
 
@@ -16,8 +20,6 @@ namespace slod
 {
 namespace
 {
-constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
-
 // Circumscribed circle diameter of a triangle (infinite when collinear).
 double CircumDiameter(const Vec3& a, const Vec3& b, const Vec3& c)
 {
@@ -33,16 +35,6 @@ struct Oriented
   bool Reversed;
 };
 
-// Union-find with path halving.
-Index Find(std::vector<Index>& parent, Index x)
-{
-  while (parent[x] != x)
-  {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
 } // namespace
 
 double EstimateLoopDiameter(const TriangleMesh& mesh, const std::vector<Index>& loop)
@@ -1214,183 +1206,225 @@ struct Simplification
       this->R.Features.push_back(std::move(feature));
     }
   }
-
-  // --- 8. Clean-up merge of nearly coplanar patches into disks ---
-  static std::vector<Index> CleanUpMerge(
-    const TopologySimplificationParameters& P, const TriangleMesh& mesh, const Patchification& pa)
-  {
-    const Index np = pa.NumberOfPatches();
-    std::vector<Index> parent(static_cast<size_t>(np));
-    std::iota(parent.begin(), parent.end(), 0);
-    if (P.MergeAngle <= 0)
-    {
-      return parent;
-    }
-    const double cosLimit = std::cos(P.MergeAngle * DegreesToRadians);
-    std::vector<Vec3> normalSum(static_cast<size_t>(np));
-    std::vector<std::vector<Index>> chainsOf(static_cast<size_t>(np));
-    for (Index p = 0; p < np; ++p)
-    {
-      normalSum[p] = pa.PatchNormalSum(p);
-      chainsOf[p].assign(pa.PatchChainsBegin(p), pa.PatchChainsEnd(p));
-    }
-    std::vector<std::pair<double, Index>> candidates;
-    for (Index c = 0; c < pa.NumberOfChains(); ++c)
-    {
-      const Index a = pa.ChainLeftPatch(c), b = pa.ChainRightPatch(c);
-      if (b == InvalidIndex || pa.ChainIsNonManifold(c) || a == b)
-      {
-        continue;
-      }
-      const double d = Dot(pa.PatchNormal(a), pa.PatchNormal(b));
-      if (d >= cosLimit)
-      {
-        candidates.emplace_back(-d, c);
-      }
-    }
-    std::sort(candidates.begin(), candidates.end());
-    const Index nv = mesh.NumberOfPoints();
-    std::vector<Index> stampA(size_t(nv), -1), stampArc(size_t(nv), -1);
-    Index stamp = 0;
-    std::vector<Index> shared, ends;
-    for (const auto& candidate : candidates)
-    {
-      const Index c0 = candidate.second;
-      Index g1 = Find(parent, pa.ChainLeftPatch(c0)), g2 = Find(parent, pa.ChainRightPatch(c0));
-      if (g1 == g2 || Dot(Normalized(normalSum[g1]), Normalized(normalSum[g2])) < cosLimit)
-      {
-        continue;
-      }
-      if (chainsOf[g1].size() < chainsOf[g2].size())
-      {
-        std::swap(g1, g2);
-      }
-      // Drop chains internal to g2, collect those shared with g1.
-      shared.clear();
-      std::vector<Index>& list2 = chainsOf[g2];
-      list2.erase(std::remove_if(list2.begin(), list2.end(),
-                    [&](Index c) {
-                      const Index r = pa.ChainRightPatch(c);
-                      return r != InvalidIndex && Find(parent, pa.ChainLeftPatch(c)) == Find(parent, r);
-                    }),
-        list2.end());
-      for (Index c : list2)
-      {
-        const Index l = Find(parent, pa.ChainLeftPatch(c));
-        const Index r = pa.ChainRightPatch(c) == InvalidIndex ? InvalidIndex : Find(parent, pa.ChainRightPatch(c));
-        if ((l == g1 && r == g2) || (l == g2 && r == g1))
-        {
-          shared.push_back(c);
-        }
-      }
-      // One arc: endpoints form a single path (V - E == 1, degrees <= 2, connected).
-      ++stamp;
-      ends.clear();
-      for (Index c : shared)
-      {
-        ends.push_back(pa.ChainVerticesBegin(c)[0]);
-        ends.push_back(pa.ChainVerticesBegin(c)[pa.ChainSize(c) - 1]);
-      }
-      std::vector<Index> distinct(ends);
-      std::sort(distinct.begin(), distinct.end());
-      bool arc = !shared.empty();
-      Index degreeOne = 0;
-      for (size_t i = 0; i < distinct.size() && arc;)
-      {
-        size_t j = i;
-        while (j < distinct.size() && distinct[j] == distinct[i])
-        {
-          ++j;
-        }
-        arc = (j - i) <= 2;
-        degreeOne += (j - i) == 1;
-        i = j;
-      }
-      distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
-      arc = arc && distinct.size() == shared.size() + 1 && degreeOne == 2;
-      if (arc)
-      {
-        // Connected: walk from a degree-one end.
-        Index at = InvalidIndex;
-        for (Index v : distinct)
-        {
-          if (std::count(ends.begin(), ends.end(), v) == 1)
-          {
-            at = v;
-            break;
-          }
-        }
-        std::vector<unsigned char> used(shared.size(), 0);
-        size_t walked = 0;
-        for (bool moved = true; moved;)
-        {
-          moved = false;
-          for (size_t k = 0; k < shared.size(); ++k)
-          {
-            if (!used[k] && (ends[2 * k] == at || ends[2 * k + 1] == at))
-            {
-              used[k] = 1;
-              at = ends[2 * k] == at ? ends[2 * k + 1] : ends[2 * k];
-              ++walked;
-              moved = true;
-              break;
-            }
-          }
-        }
-        arc = walked == shared.size();
-      }
-      if (!arc)
-      {
-        continue;
-      }
-      // No pinch: the two boundaries meet only along the arc.
-      for (Index c : shared)
-      {
-        for (Index i = 0; i < pa.ChainSize(c); ++i)
-        {
-          stampArc[pa.ChainVerticesBegin(c)[i]] = stamp;
-        }
-      }
-      std::vector<Index>& list1 = chainsOf[g1];
-      for (Index c : list1)
-      {
-        for (Index i = 0; i < pa.ChainSize(c); ++i)
-        {
-          stampA[pa.ChainVerticesBegin(c)[i]] = stamp;
-        }
-      }
-      bool pinch = false;
-      for (Index c : list2)
-      {
-        for (Index i = 0; i < pa.ChainSize(c) && !pinch; ++i)
-        {
-          const Index v = pa.ChainVerticesBegin(c)[i];
-          pinch = stampA[v] == stamp && stampArc[v] != stamp;
-        }
-      }
-      if (pinch)
-      {
-        continue;
-      }
-      parent[g2] = g1;
-      normalSum[g1] = normalSum[g1] + normalSum[g2];
-      list1.insert(list1.end(), list2.begin(), list2.end());
-      list2.clear();
-      list2.shrink_to_fit();
-      list1.erase(std::remove_if(list1.begin(), list1.end(),
-                    [&](Index c) {
-                      const Index r = pa.ChainRightPatch(c);
-                      return r != InvalidIndex && Find(parent, pa.ChainLeftPatch(c)) == Find(parent, r);
-                    }),
-        list1.end());
-    }
-    for (Index p = 0; p < np; ++p)
-    {
-      parent[p] = Find(parent, p);
-    }
-    return parent;
-  }
 };
+
+// --- 8. Clean-up merge of nearly coplanar patches into disks ---
+// The chains between two patches whose normals are within the limit, most parallel first.
+std::vector<std::pair<double, Index>> MergeCandidates(const Patchification& pa, double cosLimit)
+{
+  std::vector<std::pair<double, Index>> candidates;
+  for (Index c = 0; c < pa.NumberOfChains(); ++c)
+  {
+    const Index a = pa.ChainLeftPatch(c), b = pa.ChainRightPatch(c);
+    if (b == InvalidIndex || pa.ChainIsNonManifold(c) || a == b)
+    {
+      continue;
+    }
+    const double d = Dot(pa.PatchNormal(a), pa.PatchNormal(b));
+    if (d >= cosLimit)
+    {
+      candidates.emplace_back(-d, c);
+    }
+  }
+  std::sort(candidates.begin(), candidates.end());
+  return candidates;
+}
+
+// The state of the clean-up merge: the groups of patches, and per group (at its root) its
+// normal sum and its boundary chains.
+struct PatchGroups
+{
+  PatchGroups(const Patchification& pa, Index nv)
+    : Patches(pa)
+    , Groups(pa.NumberOfPatches())
+    , NormalSum(size_t(pa.NumberOfPatches()))
+    , ChainsOf(size_t(pa.NumberOfPatches()))
+    , StampA(size_t(nv), -1)
+    , StampArc(size_t(nv), -1)
+  {
+    for (Index p = 0; p < pa.NumberOfPatches(); ++p)
+    {
+      this->NormalSum[p] = pa.PatchNormalSum(p);
+      this->ChainsOf[p].assign(pa.PatchChainsBegin(p), pa.PatchChainsEnd(p));
+    }
+  }
+
+  // Whether chain c now lies inside one group.
+  bool IsInternal(Index c)
+  {
+    const Index r = this->Patches.ChainRightPatch(c);
+    return r != InvalidIndex && this->Groups.Find(this->Patches.ChainLeftPatch(c)) == this->Groups.Find(r);
+  }
+  void DropInternalChains(std::vector<Index>& chains)
+  {
+    chains.erase(std::remove_if(chains.begin(), chains.end(), [&](Index c) { return this->IsInternal(c); }), chains.end());
+  }
+
+  // The chains of g2 between g1 and g2.
+  void SharedChains(Index g1, Index g2, std::vector<Index>& shared)
+  {
+    shared.clear();
+    for (Index c : this->ChainsOf[g2])
+    {
+      const Index l = this->Groups.Find(this->Patches.ChainLeftPatch(c));
+      const Index r =
+        this->Patches.ChainRightPatch(c) == InvalidIndex ? InvalidIndex : this->Groups.Find(this->Patches.ChainRightPatch(c));
+      if ((l == g1 && r == g2) || (l == g2 && r == g1))
+      {
+        shared.push_back(c);
+      }
+    }
+  }
+
+  // Whether the shared chains form one arc: their endpoints make a single path (V - E == 1,
+  // degrees <= 2, connected).
+  bool IsSingleArc(const std::vector<Index>& shared)
+  {
+    auto& ends = this->Ends;
+    ends.clear();
+    for (Index c : shared)
+    {
+      ends.push_back(this->Patches.ChainVerticesBegin(c)[0]);
+      ends.push_back(this->Patches.ChainVerticesBegin(c)[this->Patches.ChainSize(c) - 1]);
+    }
+    std::vector<Index> distinct(ends);
+    std::sort(distinct.begin(), distinct.end());
+    bool arc = !shared.empty();
+    Index degreeOne = 0;
+    for (size_t i = 0; i < distinct.size() && arc;)
+    {
+      size_t j = i;
+      while (j < distinct.size() && distinct[j] == distinct[i])
+      {
+        ++j;
+      }
+      arc = (j - i) <= 2;
+      degreeOne += (j - i) == 1;
+      i = j;
+    }
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    if (!(arc && distinct.size() == shared.size() + 1 && degreeOne == 2))
+    {
+      return false;
+    }
+    // Connected: walk from a degree-one end (each step uses one chain: at most shared.size()).
+    Index at = *std::find_if(distinct.begin(), distinct.end(), [&](Index v) { return std::count(ends.begin(), ends.end(), v) == 1; });
+    std::vector<unsigned char> used(shared.size(), 0);
+    size_t walked = 0;
+    for (bool moved = true; moved;)
+    {
+      moved = false;
+      for (size_t k = 0; k < shared.size(); ++k)
+      {
+        if (!used[k] && (ends[2 * k] == at || ends[2 * k + 1] == at))
+        {
+          used[k] = 1;
+          at = ends[2 * k] == at ? ends[2 * k + 1] : ends[2 * k];
+          ++walked;
+          moved = true;
+          break;
+        }
+      }
+    }
+    return walked == shared.size();
+  }
+
+  // Whether the boundaries of g1 and g2 meet anywhere off the shared arc.
+  bool Pinches(Index g1, Index g2, const std::vector<Index>& shared)
+  {
+    ++this->Stamp;
+    auto mark = [&](const std::vector<Index>& chains, std::vector<Index>& stamps) {
+      for (Index c : chains)
+      {
+        for (Index i = 0; i < this->Patches.ChainSize(c); ++i)
+        {
+          stamps[this->Patches.ChainVerticesBegin(c)[i]] = this->Stamp;
+        }
+      }
+    };
+    mark(shared, this->StampArc);
+    mark(this->ChainsOf[g1], this->StampA);
+    for (Index c : this->ChainsOf[g2])
+    {
+      for (Index i = 0; i < this->Patches.ChainSize(c); ++i)
+      {
+        const Index v = this->Patches.ChainVerticesBegin(c)[i];
+        if (this->StampA[v] == this->Stamp && this->StampArc[v] != this->Stamp)
+        {
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  // g2 joins g1; the group's data moves to the root of the union.
+  void Join(Index g1, Index g2)
+  {
+    std::vector<Index>& list1 = this->ChainsOf[g1];
+    std::vector<Index>& list2 = this->ChainsOf[g2];
+    this->NormalSum[g1] = this->NormalSum[g1] + this->NormalSum[g2];
+    list1.insert(list1.end(), list2.begin(), list2.end());
+    std::vector<Index>().swap(list2);
+    this->Groups.Union(g1, g2);
+    const Index root = this->Groups.Find(g1);
+    if (root != g1)
+    {
+      std::swap(this->NormalSum[root], this->NormalSum[g1]);
+      this->ChainsOf[root].swap(this->ChainsOf[g1]);
+    }
+    this->DropInternalChains(this->ChainsOf[root]);
+  }
+
+  const Patchification& Patches;
+  UnionFind Groups;
+  std::vector<Vec3> NormalSum;
+  std::vector<std::vector<Index>> ChainsOf;
+  std::vector<Index> StampA, StampArc, Ends;
+  Index Stamp = 0;
+};
+
+// Per patch, the group it merges into: neighbouring patches within MergeAngle of each other
+// join, the most parallel first, when their common boundary is one arc and they touch nowhere
+// else (the union stays a disk).
+std::vector<Index> CleanUpMerge(const TopologySimplificationParameters& P, const TriangleMesh& mesh, const Patchification& pa)
+{
+  const Index np = pa.NumberOfPatches();
+  std::vector<Index> group(static_cast<size_t>(np));
+  std::iota(group.begin(), group.end(), 0);
+  if (P.MergeAngle <= 0)
+  {
+    return group;
+  }
+  const double cosLimit = std::cos(vtkMath::RadiansFromDegrees(P.MergeAngle));
+  PatchGroups groups(pa, mesh.NumberOfPoints());
+  std::vector<Index> shared;
+  for (const auto& candidate : MergeCandidates(pa, cosLimit))
+  {
+    const Index c0 = candidate.second;
+    Index g1 = groups.Groups.Find(pa.ChainLeftPatch(c0)), g2 = groups.Groups.Find(pa.ChainRightPatch(c0));
+    if (g1 == g2 || Dot(Normalized(groups.NormalSum[g1]), Normalized(groups.NormalSum[g2])) < cosLimit)
+    {
+      continue;
+    }
+    if (groups.ChainsOf[g1].size() < groups.ChainsOf[g2].size())
+    {
+      std::swap(g1, g2);
+    }
+    groups.DropInternalChains(groups.ChainsOf[g2]);
+    groups.SharedChains(g1, g2, shared);
+    if (groups.IsSingleArc(shared) && !groups.Pinches(g1, g2, shared))
+    {
+      groups.Join(g1, g2);
+    }
+  }
+  for (Index p = 0; p < np; ++p)
+  {
+    group[p] = groups.Groups.Find(p);
+  }
+  return group;
+}
+
 
 // Dense 0..n-1 labels in order of first appearance.
 Index Compact(std::vector<Index>& labels)
@@ -1411,6 +1445,244 @@ Index Compact(std::vector<Index>& labels)
   }
   return next;
 }
+// The cleaned surface of a detection pass: kept triangles, filled loops and filled cracks over
+// the input vertices, with a patch label and a fill kind per triangle.
+struct CleanedSurface
+{
+  TriangleMesh Mesh;
+  std::vector<Index> Labels;
+  std::vector<unsigned char> Fill; // 0 original surface, 1 filled feature loop, 2 filled crack
+  Index LabelCount = 0;
+};
+
+using ReportFunction = std::function<bool(double)>;
+
+// The cleaned mesh of one pass: the triangles the pass kept and the fills it made.
+void CollectCleaned(const Simplification& run, const TriangleMesh& current, const std::vector<unsigned char>& currentFill,
+  const std::vector<double>& points, CleanedSurface& cleaned)
+{
+  cleaned.Mesh = TriangleMesh();
+  cleaned.Mesh.Points = points;
+  cleaned.Labels.clear();
+  cleaned.Fill.clear();
+  const std::vector<Index>& patchOf = run.Patches.TrianglePatches();
+  const Index np = run.Patches.NumberOfPatches();
+  for (Index t = 0; t < current.NumberOfTriangles(); ++t)
+  {
+    if (!run.Removed[t])
+    {
+      const Index* tri = current.Triangle(t);
+      cleaned.Mesh.AddTriangle(tri[0], tri[1], tri[2]);
+      cleaned.Labels.push_back(patchOf[t]);
+      cleaned.Fill.push_back(currentFill[t]);
+    }
+  }
+  for (size_t i = 0; i < run.FillPatch.size(); ++i)
+  {
+    cleaned.Mesh.AddTriangle(run.FillTriangles[3 * i], run.FillTriangles[3 * i + 1], run.FillTriangles[3 * i + 2]);
+    cleaned.Labels.push_back(np + run.FillPatch[i]);
+    cleaned.Fill.push_back(run.FillKind[i]);
+  }
+}
+
+// The cracks of the cleaned mesh, closed (first pass only).
+void CloseCracks(Simplification& run, CleanedSurface& cleaned)
+{
+  const Index np = run.Patches.NumberOfPatches();
+  const size_t before = run.FillPatch.size();
+  run.FillCracks(cleaned.Mesh); // adds the crack triangles to the cleaned mesh itself
+  for (size_t i = before; i < run.FillPatch.size(); ++i)
+  {
+    cleaned.Labels.push_back(np + run.FillPatch[i]);
+    cleaned.Fill.push_back(run.FillKind[i]);
+  }
+}
+
+// Accumulate: removed features of every pass, detected-but-kept ones of the last pass only
+// (with their loops; the last pass's loops all).
+void AccumulateFindings(TopologySimplificationResult& found, bool last, TopologySimplificationResult& result)
+{
+  std::vector<Index> featureIndex(found.Features.size(), InvalidIndex);
+  Index nextFeature = static_cast<Index>(result.Features.size());
+  for (size_t f = 0; f < found.Features.size(); ++f)
+  {
+    if (found.Features[f].Removed || last)
+    {
+      featureIndex[f] = nextFeature++;
+    }
+  }
+  std::vector<Index> loopIndex(found.Loops.size(), InvalidIndex);
+  Index nextLoop = static_cast<Index>(result.Loops.size());
+  for (size_t l = 0; l < found.Loops.size(); ++l)
+  {
+    const Index f = found.Loops[l].Feature;
+    if (last || (f != InvalidIndex && featureIndex[f] != InvalidIndex))
+    {
+      loopIndex[l] = nextLoop++;
+    }
+  }
+  for (size_t f = 0; f < found.Features.size(); ++f)
+  {
+    if (featureIndex[f] != InvalidIndex)
+    {
+      TopologyFeature& feature = found.Features[f];
+      for (Index& l : feature.Loops)
+      {
+        l = l == InvalidIndex ? InvalidIndex : loopIndex[l];
+      }
+      result.Features.push_back(std::move(feature));
+    }
+  }
+  for (size_t l = 0; l < found.Loops.size(); ++l)
+  {
+    if (loopIndex[l] != InvalidIndex)
+    {
+      SharpLoop& loop = found.Loops[l];
+      loop.Feature = loop.Feature == InvalidIndex ? InvalidIndex : featureIndex[loop.Feature];
+      result.Loops.push_back(std::move(loop));
+    }
+  }
+  for (int k = 0; k < 4; ++k)
+  {
+    result.Removed[k] += found.Removed[k];
+    result.Detected[k] += last ? found.Detected[k] : found.Removed[k];
+  }
+}
+
+enum class PassOutcome
+{
+  Aborted,
+  Again, // something was removed: detect again on the cleaned surface
+  Last
+};
+
+// One detection pass over `current` (the input's vertices, the previous pass's triangles).
+PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const TriangleMesh& current,
+  const std::vector<unsigned char>& currentFill, const TopologySimplificationParameters& parameters,
+  const ReportFunction& report, TopologySimplificationResult& result, CleanedSurface& cleaned)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  TopologySimplificationResult found;
+  Simplification run(current, parameters, found);
+  const double base = pass == 0 ? 0.0 : 0.7;
+  const double span = pass == 0 ? 0.4 : 0.02;
+  run.Patches.Build(current, run.Topology, parameters.Patches, [&](double f) { return report(base + span * f); });
+  if (run.Patches.Aborted())
+  {
+    return PassOutcome::Aborted;
+  }
+  const auto t1 = Clock::now();
+  result.PatchificationSeconds += std::chrono::duration<double>(t1 - t0).count();
+  run.BuildSharpChains();
+  run.ClassifySides();
+  run.FindLoops();
+  if (report(pass == 0 ? 0.5 : 0.72))
+  {
+    return PassOutcome::Aborted;
+  }
+  bool aborted = false;
+  run.DetectAndRemove([&](double f) { return aborted = aborted || report(pass == 0 ? 0.5 + 0.2 * f : 0.72); });
+  if (aborted)
+  {
+    return PassOutcome::Aborted;
+  }
+  if (pass == 0)
+  {
+    result.InitialPatches = run.Patches.NumberOfPatches();
+    result.SharpEdges = found.SharpEdges;
+    result.SharpChains = found.SharpChains;
+  }
+  CollectCleaned(run, current, currentFill, input.Points, cleaned);
+  const Index removedNow = found.Removed[0] + found.Removed[1] + found.Removed[2];
+  if (pass == 0 && parameters.FillCracks)
+  {
+    CloseCracks(run, cleaned);
+  }
+  cleaned.LabelCount = Compact(cleaned.Labels);
+  const bool last = removedNow == 0 || pass + 1 == passes;
+  AccumulateFindings(found, last, result);
+  result.DetectionSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
+  return last ? PassOutcome::Last : PassOutcome::Again;
+}
+
+// The fill kind of each patch: the largest of its triangles'.
+std::vector<unsigned char> FillOfPatches(
+  const std::vector<Index>& patchLabels, Index count, const std::vector<unsigned char>& fill)
+{
+  std::vector<unsigned char> patchFill(size_t(count), 0);
+  for (size_t t = 0; t < patchLabels.size(); ++t)
+  {
+    patchFill[patchLabels[t]] = std::max(patchFill[patchLabels[t]], fill[t]);
+  }
+  return patchFill;
+}
+
+// Completion by SPBM (TriangulatePatches or Spbm): the level's triangles, patches and fills.
+bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParameters& parameters,
+  const CleanedSurface& cleaned, const MeshTopology& cleanedTopology, const CleanedSurface& unmerged /* labels only */,
+  const ReportFunction& report, TopologySimplificationResult& result)
+{
+  Patchification merged;
+  merged.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount);
+  std::vector<unsigned char> patchFill = FillOfPatches(cleaned.Labels, cleaned.LabelCount, cleaned.Fill);
+  auto generator = std::make_unique<SpbmLevelGenerator>();
+  generator->Initialize(cleaned.Mesh, merged);
+  SpbmLevelParameters level = parameters.Spbm;
+  auto abort = [&]() { return report(0.85); };
+  bool ok = true;
+  if (parameters.Completion == TopologyCompletion::TriangulatePatches)
+  {
+    level.Epsilon = parameters.CollinearTolerance * input.BoundingBoxDiagonal();
+    level.MergePatches = false;
+    level.CollapseChains = false;
+    level.CompareCandidates = false;
+    ok = generator->Generate(level, result.Level, abort);
+  }
+  else if (parameters.SpbmTargetTriangles > 0)
+  {
+    // The clean-up merge may leave too few patch boundaries for the target (SPBM keeps no
+    // vertex inside a patch): then SPBM starts from the unmerged patches (it merges itself).
+    SpbmLevelParameters finest = level;
+    finest.Epsilon = -1.0;
+    finest.MergePatches = false;
+    finest.CollapseChains = false;
+    if (generator->PredictTriangleCount(finest) < parameters.SpbmTargetTriangles)
+    {
+      merged.BuildFromLabels(cleaned.Mesh, cleanedTopology, unmerged.Labels, unmerged.LabelCount);
+      patchFill = FillOfPatches(unmerged.Labels, unmerged.LabelCount, cleaned.Fill);
+      generator = std::make_unique<SpbmLevelGenerator>();
+      generator->Initialize(cleaned.Mesh, merged);
+    }
+    ok = generator->GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
+  }
+  else
+  {
+    ok = generator->Generate(level, result.Level, abort);
+  }
+  if (!ok)
+  {
+    return false;
+  }
+  result.Triangles = result.Level.Triangles;
+  result.TrianglePatch = result.Level.TrianglePatch;
+  result.NumberOfPatches = result.Level.NumberOfPatches;
+  std::vector<unsigned char> levelFill(size_t(result.Level.NumberOfPatches), 0);
+  for (size_t p = 0; p < result.Level.MergedPatchOf.size(); ++p)
+  {
+    const Index q = result.Level.MergedPatchOf[p];
+    if (q != InvalidIndex)
+    {
+      levelFill[q] = std::max(levelFill[q], patchFill[p]);
+    }
+  }
+  result.TriangleFill.resize(result.TrianglePatch.size());
+  for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
+  {
+    result.TriangleFill[t] = levelFill[result.TrianglePatch[t]];
+  }
+  return true;
+}
 } // namespace
 
 bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificationParameters& parameters,
@@ -1418,148 +1690,27 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
 {
   using Clock = std::chrono::steady_clock;
   result = TopologySimplificationResult();
-  auto report = [&](double f) { return progress && progress(f); };
+  const ReportFunction report = [&](double f) { return progress && progress(f); };
   // Detection passes: a removal can expose a new feature (the counterbore of a stepped hole is a
   // cavity once its hole is filled), so detection runs again on the cleaned surface while it
   // removes something, at most MaximumPasses times. Cracks are closed in the first pass only.
   TriangleMesh current = mesh;
   std::vector<unsigned char> currentFill(size_t(mesh.NumberOfTriangles()), 0);
-  TriangleMesh cleaned;
-  std::vector<Index> labels;
-  std::vector<unsigned char> fill;
-  Index labelCount = 0;
+  CleanedSurface cleaned;
   const int passes = std::max(1, parameters.MaximumPasses);
-  auto t1 = Clock::now();
   for (int pass = 0; pass < passes; ++pass)
   {
-    const auto t0 = Clock::now();
-    TopologySimplificationResult found;
-    Simplification run(current, parameters, found);
-    const double base = pass == 0 ? 0.0 : 0.7;
-    const double span = pass == 0 ? 0.4 : 0.02;
-    run.Patches.Build(current, run.Topology, parameters.Patches, [&](double f) { return report(base + span * f); });
-    if (run.Patches.Aborted())
+    const PassOutcome outcome = DetectionPass(pass, passes, mesh, current, currentFill, parameters, report, result, cleaned);
+    if (outcome == PassOutcome::Aborted)
     {
       return false;
     }
-    t1 = Clock::now();
-    result.PatchificationSeconds += std::chrono::duration<double>(t1 - t0).count();
-    run.BuildSharpChains();
-    run.ClassifySides();
-    run.FindLoops();
-    if (report(pass == 0 ? 0.5 : 0.72))
-    {
-      return false;
-    }
-    bool aborted = false;
-    run.DetectAndRemove(
-      [&](double f) { return aborted = aborted || report(pass == 0 ? 0.5 + 0.2 * f : 0.72); });
-    if (aborted)
-    {
-      return false;
-    }
-    if (pass == 0)
-    {
-      result.InitialPatches = run.Patches.NumberOfPatches();
-      result.SharpEdges = found.SharpEdges;
-      result.SharpChains = found.SharpChains;
-    }
-
-    // The cleaned mesh: kept triangles + filled loops (+ filled cracks), over the input vertices.
-    cleaned = TriangleMesh();
-    cleaned.Points = mesh.Points;
-    labels.clear();
-    fill.clear();
-    const std::vector<Index>& patchOf = run.Patches.TrianglePatches();
-    const Index np = run.Patches.NumberOfPatches();
-    for (Index t = 0; t < current.NumberOfTriangles(); ++t)
-    {
-      if (!run.Removed[t])
-      {
-        const Index* tri = current.Triangle(t);
-        cleaned.AddTriangle(tri[0], tri[1], tri[2]);
-        labels.push_back(patchOf[t]);
-        fill.push_back(currentFill[t]);
-      }
-    }
-    for (size_t i = 0; i < run.FillPatch.size(); ++i)
-    {
-      cleaned.AddTriangle(run.FillTriangles[3 * i], run.FillTriangles[3 * i + 1], run.FillTriangles[3 * i + 2]);
-      labels.push_back(np + run.FillPatch[i]);
-      fill.push_back(run.FillKind[i]);
-    }
-    Index removedNow = 0;
-    for (int k = 0; k < 3; ++k)
-    {
-      removedNow += found.Removed[k];
-    }
-    if (pass == 0 && parameters.FillCracks)
-    {
-      const size_t before = run.FillPatch.size();
-      run.FillCracks(cleaned); // adds the crack triangles to `cleaned` itself
-      for (size_t i = before; i < run.FillPatch.size(); ++i)
-      {
-        labels.push_back(np + run.FillPatch[i]);
-        fill.push_back(run.FillKind[i]);
-      }
-    }
-    labelCount = Compact(labels);
-    const bool last = removedNow == 0 || pass + 1 == passes;
-
-    // Accumulate: removed features of every pass, detected-but-kept ones of the last pass only
-    // (with their loops; the last pass's loops all).
-    std::vector<Index> featureIndex(found.Features.size(), InvalidIndex);
-    Index nextFeature = static_cast<Index>(result.Features.size());
-    for (size_t f = 0; f < found.Features.size(); ++f)
-    {
-      if (found.Features[f].Removed || last)
-      {
-        featureIndex[f] = nextFeature++;
-      }
-    }
-    std::vector<Index> loopIndex(found.Loops.size(), InvalidIndex);
-    Index nextLoop = static_cast<Index>(result.Loops.size());
-    for (size_t l = 0; l < found.Loops.size(); ++l)
-    {
-      const Index f = found.Loops[l].Feature;
-      if (last || (f != InvalidIndex && featureIndex[f] != InvalidIndex))
-      {
-        loopIndex[l] = nextLoop++;
-      }
-    }
-    for (size_t f = 0; f < found.Features.size(); ++f)
-    {
-      if (featureIndex[f] != InvalidIndex)
-      {
-        TopologyFeature& feature = found.Features[f];
-        for (Index& l : feature.Loops)
-        {
-          l = l == InvalidIndex ? InvalidIndex : loopIndex[l];
-        }
-        result.Features.push_back(std::move(feature));
-      }
-    }
-    for (size_t l = 0; l < found.Loops.size(); ++l)
-    {
-      if (loopIndex[l] != InvalidIndex)
-      {
-        SharpLoop& loop = found.Loops[l];
-        loop.Feature = loop.Feature == InvalidIndex ? InvalidIndex : featureIndex[loop.Feature];
-        result.Loops.push_back(std::move(loop));
-      }
-    }
-    for (int k = 0; k < 4; ++k)
-    {
-      result.Removed[k] += found.Removed[k];
-      result.Detected[k] += last ? found.Detected[k] : found.Removed[k];
-    }
-    result.DetectionSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
-    if (last)
+    if (outcome == PassOutcome::Last)
     {
       break;
     }
-    current.Triangles = cleaned.Triangles;
-    currentFill = fill;
+    current.Triangles = cleaned.Mesh.Triangles;
+    currentFill = cleaned.Fill;
   }
   const auto t2 = Clock::now();
   if (report(0.75))
@@ -1568,27 +1719,20 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   }
 
   // Clean-up merge on the patchification of the cleaned mesh.
-  const MeshTopology cleanedTopology(cleaned);
+  const MeshTopology cleanedTopology(cleaned.Mesh);
   Patchification cleanedPatches;
-  cleanedPatches.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
-  const std::vector<Index> unmergedLabels = labels;
-  const Index unmergedCount = labelCount;
-  const std::vector<Index> group = Simplification::CleanUpMerge(parameters, cleaned, cleanedPatches);
-  for (Index& l : labels)
+  cleanedPatches.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount);
+  CleanedSurface unmerged;
+  unmerged.Labels = cleaned.Labels;
+  unmerged.LabelCount = cleaned.LabelCount;
+  const std::vector<Index> group = CleanUpMerge(parameters, cleaned.Mesh, cleanedPatches);
+  for (Index& l : cleaned.Labels)
   {
     l = group[l];
   }
-  labelCount = Compact(labels);
-  result.MergedPatches = labelCount;
-  result.CleanedTriangles = cleaned.Triangles;
-  auto fillOfPatches = [&](const std::vector<Index>& patchLabels, Index count) {
-    std::vector<unsigned char> patchFill(size_t(count), 0);
-    for (size_t t = 0; t < patchLabels.size(); ++t)
-    {
-      patchFill[patchLabels[t]] = std::max(patchFill[patchLabels[t]], fill[t]);
-    }
-    return patchFill;
-  };
+  cleaned.LabelCount = Compact(cleaned.Labels);
+  result.MergedPatches = cleaned.LabelCount;
+  result.CleanedTriangles = cleaned.Mesh.Triangles;
   if (report(0.8))
   {
     return false;
@@ -1597,71 +1741,14 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   // Completion.
   if (parameters.Completion == TopologyCompletion::KeepTriangles)
   {
-    result.Triangles = cleaned.Triangles;
-    result.TrianglePatch = labels;
-    result.TriangleFill = fill;
-    result.NumberOfPatches = labelCount;
+    result.Triangles = cleaned.Mesh.Triangles;
+    result.TrianglePatch = cleaned.Labels;
+    result.TriangleFill = cleaned.Fill;
+    result.NumberOfPatches = cleaned.LabelCount;
   }
-  else
+  else if (!CompleteBySpbm(mesh, parameters, cleaned, cleanedTopology, unmerged, report, result))
   {
-    Patchification merged;
-    merged.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
-    std::vector<unsigned char> patchFill = fillOfPatches(labels, labelCount);
-    auto generator = std::make_unique<SpbmLevelGenerator>();
-    generator->Initialize(cleaned, merged);
-    SpbmLevelParameters level = parameters.Spbm;
-    auto abort = [&]() { return report(0.85); };
-    bool ok = true;
-    if (parameters.Completion == TopologyCompletion::TriangulatePatches)
-    {
-      level.Epsilon = parameters.CollinearTolerance * mesh.BoundingBoxDiagonal();
-      level.MergePatches = false;
-      level.CollapseChains = false;
-      level.CompareCandidates = false;
-      ok = generator->Generate(level, result.Level, abort);
-    }
-    else if (parameters.SpbmTargetTriangles > 0)
-    {
-      // The clean-up merge may leave too few patch boundaries for the target (SPBM keeps no
-      // vertex inside a patch): then SPBM starts from the unmerged patches (it merges itself).
-      SpbmLevelParameters finest = level;
-      finest.Epsilon = -1.0;
-      finest.MergePatches = false;
-      finest.CollapseChains = false;
-      if (generator->PredictTriangleCount(finest) < parameters.SpbmTargetTriangles)
-      {
-        merged.BuildFromLabels(cleaned, cleanedTopology, unmergedLabels, unmergedCount);
-        patchFill = fillOfPatches(unmergedLabels, unmergedCount);
-        generator = std::make_unique<SpbmLevelGenerator>();
-        generator->Initialize(cleaned, merged);
-      }
-      ok = generator->GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
-    }
-    else
-    {
-      ok = generator->Generate(level, result.Level, abort);
-    }
-    if (!ok)
-    {
-      return false;
-    }
-    result.Triangles = result.Level.Triangles;
-    result.TrianglePatch = result.Level.TrianglePatch;
-    result.NumberOfPatches = result.Level.NumberOfPatches;
-    std::vector<unsigned char> levelFill(size_t(result.Level.NumberOfPatches), 0);
-    for (size_t p = 0; p < result.Level.MergedPatchOf.size(); ++p)
-    {
-      const Index q = result.Level.MergedPatchOf[p];
-      if (q != InvalidIndex)
-      {
-        levelFill[q] = std::max(levelFill[q], patchFill[p]);
-      }
-    }
-    result.TriangleFill.resize(result.TrianglePatch.size());
-    for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
-    {
-      result.TriangleFill[t] = levelFill[result.TrianglePatch[t]];
-    }
+    return false;
   }
   result.CompletionSeconds = std::chrono::duration<double>(Clock::now() - t2).count();
   report(1.0);
