@@ -396,22 +396,72 @@ struct Simplification
   Index Stamp = 0;
   std::vector<unsigned char> InSequence;
 
+  // One level of the depth-first search: the chains that may follow `current`, best first.
+  struct SearchFrame
+  {
+    std::vector<Oriented> Candidates;
+    size_t Next = 0;
+  };
+  bool Blocked(Index v, Index stamp, const std::vector<Index>* forbidden, Index forbiddenStamp) const
+  {
+    return this->VertexStamp[v] == stamp || (forbidden && (*forbidden)[v] == forbiddenStamp);
+  }
+  // A chain closing the loop ends on `start`, which is stamped: allowed only as the last vertex.
+  // Candidates keep the flat side on the left and continue it (score: alignment, +2 on the
+  // same flat patch).
+  SearchFrame Continuations(const Oriented& current, Index start, Index stamp, const std::vector<Index>* forbidden,
+    Index forbiddenStamp) const
+  {
+    std::vector<std::pair<double, Oriented>> scored;
+    const Index v = this->Last(current);
+    for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
+    {
+      const Index c = this->Incidence[k] / 2;
+      if (this->InSequence[c] || this->InLoop[c])
+      {
+        continue;
+      }
+      const Oriented o{ c, (this->Incidence[k] & 1) != 0 };
+      if (this->FlatLeft[c] >= 0 && (this->FlatLeft[c] == 1) == o.Reversed)
+      {
+        continue; // its flat side would be on the right
+      }
+      bool free = true;
+      for (Index i = 1; i + 1 < this->Size(c) && free; ++i)
+      {
+        free = !this->Blocked(this->At(o, i), stamp, forbidden, forbiddenStamp);
+      }
+      const Index last = this->Last(o);
+      if (!free || (last != start && this->Blocked(last, stamp, forbidden, forbiddenStamp)))
+      {
+        continue;
+      }
+      const double along = Dot(this->LeftOf(o), this->LeftOf(current));
+      if (along < 0.5 || Dot(this->LeftOf(o), this->LeftOf(current)) <= Dot(this->RightOf(o), this->LeftOf(current)))
+      {
+        continue; // the flat side does not continue
+      }
+      const double score = along + (this->LeftPatchOf(o) == this->LeftPatchOf(current) ? 2.0 : 0.0);
+      scored.emplace_back(score, o);
+    }
+    std::stable_sort(scored.begin(), scored.end(),
+      [](const std::pair<double, Oriented>& a, const std::pair<double, Oriented>& b) { return a.first > b.first; });
+    SearchFrame frame;
+    for (const auto& candidate : scored)
+    {
+      frame.Candidates.push_back(candidate.second);
+    }
+    return frame;
+  }
+
   std::vector<Oriented> Search(const Oriented& seed, const std::vector<Index>* forbidden, Index forbiddenStamp,
     std::vector<Index>& explored)
   {
     std::vector<Oriented> sequence{ seed };
-    struct Frame
-    {
-      std::vector<Oriented> Candidates;
-      size_t Next = 0;
-    };
-    std::vector<Frame> frames;
+    std::vector<SearchFrame> frames;
     ++this->Stamp;
     const Index stamp = this->Stamp;
     const Index start = this->First(seed);
-    auto blocked = [&](Index v) {
-      return this->VertexStamp[v] == stamp || (forbidden && (*forbidden)[v] == forbiddenStamp);
-    };
     auto occupy = [&](const Oriented& o, Index value) {
       for (Index i = 1; i < this->Size(o.Chain); ++i)
       {
@@ -422,55 +472,15 @@ struct Simplification
     this->VertexStamp[start] = stamp;
     occupy(seed, stamp);
     explored.push_back(seed.Chain);
-    // A chain closing the loop ends on `start`, which is stamped: allowed only as the last vertex.
     auto candidates = [&](const Oriented& current) {
-      std::vector<std::pair<double, Oriented>> scored;
-      const Index v = this->Last(current);
-      for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
-      {
-        const Index c = this->Incidence[k] / 2;
-        if (this->InSequence[c] || this->InLoop[c])
-        {
-          continue;
-        }
-        const Oriented o{ c, (this->Incidence[k] & 1) != 0 };
-        if (this->FlatLeft[c] >= 0 && (this->FlatLeft[c] == 1) == o.Reversed)
-        {
-          continue; // its flat side would be on the right
-        }
-        bool free = true;
-        for (Index i = 1; i + 1 < this->Size(c) && free; ++i)
-        {
-          free = !blocked(this->At(o, i));
-        }
-        const Index last = this->Last(o);
-        if (!free || (last != start && blocked(last)))
-        {
-          continue;
-        }
-        const double along = Dot(this->LeftOf(o), this->LeftOf(current));
-        if (along < 0.5 || Dot(this->LeftOf(o), this->LeftOf(current)) <= Dot(this->RightOf(o), this->LeftOf(current)))
-        {
-          continue; // the flat side does not continue
-        }
-        const double score = along + (this->LeftPatchOf(o) == this->LeftPatchOf(current) ? 2.0 : 0.0);
-        scored.emplace_back(score, o);
-      }
-      std::stable_sort(scored.begin(), scored.end(),
-        [](const std::pair<double, Oriented>& a, const std::pair<double, Oriented>& b) { return a.first > b.first; });
-      Frame frame;
-      for (const auto& s : scored)
-      {
-        frame.Candidates.push_back(s.second);
-      }
-      return frame;
+      return this->Continuations(current, start, stamp, forbidden, forbiddenStamp);
     };
     frames.push_back(candidates(seed));
     int budget = 4096;
     bool closed = this->Last(seed) == start;
     while (!closed && !frames.empty() && budget-- > 0)
     {
-      Frame& top = frames.back();
+      SearchFrame& top = frames.back();
       if (top.Next >= top.Candidates.size())
       {
         frames.pop_back();
@@ -580,13 +590,14 @@ struct Simplification
   }
 
   // --- 5. Partner loops (5.3.2) ---
-  Index FindPartner(Index l)
+  // The wall patches of loop l (inWall per patch): right of l, plus those joined to them by
+  // non-sharp chains (at most about 512).
+  void WallPatches(Index l, std::vector<unsigned char>& inWall) const
   {
     const std::vector<Oriented>& chains = this->LoopChains[l];
     const Patchification& pa = this->Patches;
-    // Wall patches: right of L, plus those joined to them by non-sharp chains.
     std::vector<Index> wall;
-    std::vector<unsigned char> inWall(size_t(pa.NumberOfPatches()), 0);
+    inWall.assign(size_t(pa.NumberOfPatches()), 0);
     for (const Oriented& o : chains)
     {
       const Index p = this->RightPatchOf(o);
@@ -614,6 +625,46 @@ struct Simplification
         }
       }
     }
+  }
+
+  // A new loop seeded by a sharp chain of the wall patches that avoids the forbidden vertices.
+  Index SearchPartner(const std::vector<unsigned char>& inWall, Index forbiddenStamp)
+  {
+    const std::vector<Index>& forbidden = this->Forbidden;
+    std::vector<Index> explored;
+    for (Index c = 0; c < this->NumberOfChains(); ++c)
+    {
+      if (this->InLoop[c] || this->FlatLeft[c] < 0 ||
+        !((this->Left[c] != InvalidIndex && inWall[this->Left[c]]) ||
+          (this->Right[c] != InvalidIndex && inWall[this->Right[c]])))
+      {
+        continue;
+      }
+      bool touches = false;
+      for (Index i = this->Offset[c]; i < this->Offset[c + 1]; ++i)
+      {
+        touches = touches || forbidden[this->Vertex[i]] == forbiddenStamp;
+      }
+      if (touches)
+      {
+        continue;
+      }
+      explored.clear();
+      const std::vector<Oriented> loop = this->Search({ c, this->FlatLeft[c] == 0 }, &forbidden, forbiddenStamp, explored);
+      if (!loop.empty())
+      {
+        return this->AddLoop(loop);
+      }
+    }
+    return InvalidIndex;
+  }
+
+  // The loop that bounds the other end of l's wall: among the loops already found (clockwise
+  // ones first: holes before bumps), else a new search over the wall's sharp chains.
+  Index FindPartner(Index l)
+  {
+    std::vector<unsigned char> inWall;
+    this->WallPatches(l, inWall);
     // Vertices of L are forbidden in the partner.
     ++this->Stamp;
     const Index forbiddenStamp = this->Stamp;
@@ -658,47 +709,15 @@ struct Simplification
         best = other;
       }
     }
-    if (best != InvalidIndex)
-    {
-      return best;
-    }
-    // Else a new search seeded by the wall patches' sharp chains.
-    std::vector<Index> explored;
-    for (Index c = 0; c < this->NumberOfChains(); ++c)
-    {
-      if (this->InLoop[c] || this->FlatLeft[c] < 0 ||
-        !((this->Left[c] != InvalidIndex && inWall[this->Left[c]]) ||
-          (this->Right[c] != InvalidIndex && inWall[this->Right[c]])))
-      {
-        continue;
-      }
-      bool touches = false;
-      for (Index i = this->Offset[c]; i < this->Offset[c + 1]; ++i)
-      {
-        touches = touches || forbidden[this->Vertex[i]] == forbiddenStamp;
-      }
-      if (touches)
-      {
-        continue;
-      }
-      explored.clear();
-      const std::vector<Oriented> loop = this->Search({ c, this->FlatLeft[c] == 0 }, &forbidden, forbiddenStamp, explored);
-      if (!loop.empty())
-      {
-        return this->AddLoop(loop);
-      }
-    }
-    return InvalidIndex;
+    return best != InvalidIndex ? best : this->SearchPartner(inWall, forbiddenStamp);
   }
 
   // --- 6. Wall region and removal ---
   // Triangles reached from the wall side of `loop` without crossing the barrier edges; empty
   // when the region leaks (reaches a flat-side triangle, the border, a non-manifold edge, an
   // already removed triangle) or is not the smaller part of its component.
-  bool WallRegion(Index loop, const std::vector<Index>& barrierLoops, std::vector<Index>& region,
-    std::vector<unsigned char>& mark, std::string& reason)
+  std::unordered_set<std::uint64_t> BarrierEdges(const std::vector<Index>& barrierLoops) const
   {
-    region.clear();
     std::unordered_set<std::uint64_t> barrier;
     for (Index b : barrierLoops)
     {
@@ -708,8 +727,12 @@ struct Simplification
         barrier.insert(EdgeKey(v[i], v[(i + 1) % v.size()]));
       }
     }
-    // Flat-side triangles of the barrier loops: 2; region: 1.
-    std::vector<Index> flatSide;
+    return barrier;
+  }
+
+  // Marks the flat-side triangles of the barrier loops with 2 (listed in flatSide).
+  void MarkFlatSide(const std::vector<Index>& barrierLoops, std::vector<unsigned char>& mark, std::vector<Index>& flatSide) const
+  {
     for (Index b : barrierLoops)
     {
       for (const Oriented& o : this->LoopChains[b])
@@ -725,6 +748,16 @@ struct Simplification
         }
       }
     }
+  }
+
+  bool WallRegion(Index loop, const std::vector<Index>& barrierLoops, std::vector<Index>& region,
+    std::vector<unsigned char>& mark, std::string& reason)
+  {
+    region.clear();
+    const std::unordered_set<std::uint64_t> barrier = this->BarrierEdges(barrierLoops);
+    // Flat-side triangles of the barrier loops: 2; region: 1.
+    std::vector<Index> flatSide;
+    this->MarkFlatSide(barrierLoops, mark, flatSide);
     bool ok = true;
     for (const Oriented& o : this->LoopChains[loop])
     {
@@ -928,6 +961,148 @@ struct Simplification
     return Normalized(flat);
   }
 
+  // Whether the kept surface has the edge (u, w): a triangle of it that is not removed.
+  bool EdgeKept(Index u, Index w) const
+  {
+    const Index e = this->Topology.FindEdge(u, w);
+    if (e == InvalidIndex)
+    {
+      return false;
+    }
+    for (const Index* t = this->Topology.EdgeTrianglesBegin(e); t != this->Topology.EdgeTrianglesEnd(e); ++t)
+    {
+      if (!this->Removed[*t])
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // The wall that clockwise loop l cuts off (a hole's tube between l and its partner, or a bump's
+  // or cavity's wall behind l alone) into region; barrier gets the loops that bound it. False
+  // when l bounds no small wall.
+  bool FindWall(Index l, TopologyFeature& feature, std::vector<Index>& barrier, std::vector<Index>& region,
+    std::vector<unsigned char>& mark)
+  {
+    const Index partner = this->FindPartner(l);
+    feature.Loops[0] = l;
+    feature.Loops[1] = partner;
+    bool hole = partner != InvalidIndex && this->R.Loops[partner].Clockwise;
+    barrier.assign(1, l);
+    if (hole)
+    {
+      barrier.push_back(partner);
+    }
+    std::string reason;
+    bool closed = this->WallRegion(l, barrier, region, mark, reason);
+    if (closed && hole && !this->JoinedWithout(l, partner, region))
+    {
+      closed = false; // a tube that holds two parts together (a dumbbell's bar), not a handle
+    }
+    if (!closed && hole)
+    {
+      // Two clockwise loops that do not bound a tube: L may still close a bump or a cavity.
+      hole = false;
+      barrier.pop_back();
+      feature.Loops[1] = InvalidIndex;
+      closed = this->WallRegion(l, barrier, region, mark, reason);
+    }
+    if (closed)
+    {
+      feature.Kind = hole ? TopologyFeatureKind::Hole : this->BumpOrCavity(l, region);
+    }
+    return closed;
+  }
+
+  // Bump or cavity: the side of the flat plane on which the wall lies.
+  TopologyFeatureKind BumpOrCavity(Index l, const std::vector<Index>& region) const
+  {
+    const std::vector<Index>& v = this->R.Loops[l].Vertices;
+    Vec3 centroid{ 0, 0, 0 };
+    for (Index i : v)
+    {
+      centroid = centroid + this->Mesh.Point(i);
+    }
+    centroid = (1.0 / double(v.size())) * centroid;
+    const Vec3 flat = this->FlatNormalOf(l);
+    double offset = 0;
+    for (Index t : region)
+    {
+      const Index* tri = this->Mesh.Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        offset += Dot(this->Mesh.Point(tri[k]) - centroid, flat);
+      }
+    }
+    return offset >= 0 ? TopologyFeatureKind::Bump : TopologyFeatureKind::Cavity;
+  }
+
+  // Why a detected feature is kept, or nothing when it may be removed.
+  const char* KeepReason(const TopologyFeature& feature) const
+  {
+    const bool enabled = (feature.Kind == TopologyFeatureKind::Hole && this->P.RemoveHoles) ||
+      (feature.Kind == TopologyFeatureKind::Bump && this->P.RemoveBumps) ||
+      (feature.Kind == TopologyFeatureKind::Cavity && this->P.RemoveCavities);
+    if (!enabled)
+    {
+      return "removal of this kind is off";
+    }
+    if (!(feature.Size < this->P.MaximumFeatureSize))
+    {
+      return "larger than the maximum feature size";
+    }
+    return nullptr;
+  }
+
+  // Removes the wall and fills its clockwise loops; when a loop cannot be filled, everything is
+  // put back as it was and false is returned.
+  bool RemoveWall(const std::vector<Index>& barrier, const std::vector<Index>& region, TopologyFeature& feature)
+  {
+    for (Index t : region)
+    {
+      this->Removed[t] = 1;
+    }
+    const size_t fillMark = this->FillTriangles.size();
+    const Index polygonMark = this->FillPolygons;
+    const size_t edgesMark = this->FillEdgeLog.size();
+    const auto edgeKept = [this](Index u, Index w) { return this->EdgeKept(u, w); };
+    bool filled = true;
+    for (Index b : barrier)
+    {
+      if (this->R.Loops[b].Clockwise)
+      {
+        filled = filled && this->Fill(this->FillPolygonOf(b), this->FlatNormalOf(b), 1, edgeKept);
+      }
+    }
+    if (filled)
+    {
+      for (Index t : region)
+      {
+        this->PatchRemoved[this->Patches.TrianglePatches()[t]] = 1;
+      }
+      feature.RemovedTriangles = static_cast<Index>(region.size());
+      feature.FillTriangles = static_cast<Index>((this->FillTriangles.size() - fillMark) / 3);
+      return true;
+    }
+    for (Index t : region)
+    {
+      this->Removed[t] = 0;
+    }
+    this->FillTriangles.resize(fillMark);
+    this->FillPatch.resize(fillMark / 3);
+    this->FillKind.resize(fillMark / 3);
+    this->FillPolygons = polygonMark;
+    for (size_t e = edgesMark; e < this->FillEdgeLog.size(); ++e)
+    {
+      this->FillEdges.erase(this->FillEdgeLog[e]);
+    }
+    this->FillEdgeLog.resize(edgesMark);
+    return false;
+  }
+
+  // Section 5.3: every unclaimed clockwise loop that cuts off a small wall is a feature (hole,
+  // bump or cavity); the enabled ones below the size limit are removed and their loops filled.
   void DetectAndRemove(const TopologySimplifier::ProgressFunction& progress)
   {
     const Index nt = this->Mesh.NumberOfTriangles();
@@ -935,23 +1110,7 @@ struct Simplification
     this->PatchRemoved.assign(size_t(this->Patches.NumberOfPatches()), 0);
     this->PatchStamp.assign(size_t(this->Patches.NumberOfPatches()), 0);
     std::vector<unsigned char> mark(size_t(nt), 0);
-    std::vector<Index> region;
-    auto edgeKept = [&](Index u, Index w) {
-      const Index e = this->Topology.FindEdge(u, w);
-      if (e == InvalidIndex)
-      {
-        return false;
-      }
-      for (const Index* t = this->Topology.EdgeTrianglesBegin(e); t != this->Topology.EdgeTrianglesEnd(e); ++t)
-      {
-        if (!this->Removed[*t])
-        {
-          return true;
-        }
-      }
-      return false;
-    };
-    const double alpha = this->P.MaximumFeatureSize;
+    std::vector<Index> region, barrier;
     for (Index l = 0; l < static_cast<Index>(this->R.Loops.size()); ++l)
     {
       if (progress && (l % 64) == 0 && progress(double(l) / double(this->R.Loops.size())))
@@ -962,128 +1121,36 @@ struct Simplification
       {
         continue;
       }
-      const Index partner = this->FindPartner(l);
       TopologyFeature feature;
-      feature.Loops[0] = l;
-      feature.Loops[1] = partner;
-      bool hole = partner != InvalidIndex && this->R.Loops[partner].Clockwise;
-      std::vector<Index> barrier{ l };
-      if (hole)
-      {
-        barrier.push_back(partner);
-      }
-      std::string reason;
-      bool closed = this->WallRegion(l, barrier, region, mark, reason);
-      if (closed && hole && !this->JoinedWithout(l, partner, region))
-      {
-        closed = false; // a tube that holds two parts together (a dumbbell's bar), not a handle
-      }
-      if (!closed && hole)
-      {
-        // Two clockwise loops that do not bound a tube: L may still close a bump or a cavity.
-        hole = false;
-        barrier.pop_back();
-        feature.Loops[1] = InvalidIndex;
-        closed = this->WallRegion(l, barrier, region, mark, reason);
-      }
-      if (!closed)
+      if (!this->FindWall(l, feature, barrier, region, mark))
       {
         continue; // not a feature: the loop does not cut off a small wall
       }
-      if (hole)
-      {
-        feature.Kind = TopologyFeatureKind::Hole;
-      }
-      else
-      {
-        // Bump or cavity: the side of the flat plane on which the wall lies.
-        const std::vector<Index>& v = this->R.Loops[l].Vertices;
-        Vec3 centroid{ 0, 0, 0 };
-        for (Index i : v)
-        {
-          centroid = centroid + this->Mesh.Point(i);
-        }
-        centroid = (1.0 / double(v.size())) * centroid;
-        const Vec3 flat = this->FlatNormalOf(l);
-        double offset = 0;
-        for (Index t : region)
-        {
-          const Index* tri = this->Mesh.Triangle(t);
-          for (int k = 0; k < 3; ++k)
-          {
-            offset += Dot(this->Mesh.Point(tri[k]) - centroid, flat);
-          }
-        }
-        feature.Kind = offset >= 0 ? TopologyFeatureKind::Bump : TopologyFeatureKind::Cavity;
-      }
+      const Index partner = feature.Loops[1];
       feature.Size = this->R.Loops[l].Diameter;
-      if (feature.Loops[1] != InvalidIndex)
+      if (partner != InvalidIndex)
       {
         feature.Size = std::max(feature.Size, this->R.Loops[partner].Diameter);
       }
       const Index index = static_cast<Index>(this->R.Features.size());
       this->R.Loops[l].Feature = index;
-      if (feature.Loops[1] != InvalidIndex)
+      if (partner != InvalidIndex)
       {
         this->R.Loops[partner].Feature = index;
       }
       ++this->R.Detected[int(feature.Kind)];
-      const bool enabled = (feature.Kind == TopologyFeatureKind::Hole && this->P.RemoveHoles) ||
-        (feature.Kind == TopologyFeatureKind::Bump && this->P.RemoveBumps) ||
-        (feature.Kind == TopologyFeatureKind::Cavity && this->P.RemoveCavities);
-      if (!enabled)
+      if (const char* reason = this->KeepReason(feature))
       {
-        feature.Reason = "removal of this kind is off";
+        feature.Reason = reason;
       }
-      else if (!(feature.Size < alpha))
+      else if (this->RemoveWall(barrier, region, feature))
       {
-        feature.Reason = "larger than the maximum feature size";
+        feature.Removed = true;
+        ++this->R.Removed[int(feature.Kind)];
       }
       else
       {
-        for (Index t : region)
-        {
-          this->Removed[t] = 1;
-        }
-        const size_t fillMark = this->FillTriangles.size();
-        const Index polygonMark = this->FillPolygons;
-        const size_t edgesMark = this->FillEdgeLog.size();
-        bool filled = true;
-        for (Index b : barrier)
-        {
-          if (this->R.Loops[b].Clockwise)
-          {
-            filled = filled && this->Fill(this->FillPolygonOf(b), this->FlatNormalOf(b), 1, edgeKept);
-          }
-        }
-        if (filled)
-        {
-          for (Index t : region)
-          {
-            this->PatchRemoved[this->Patches.TrianglePatches()[t]] = 1;
-          }
-          feature.Removed = true;
-          feature.RemovedTriangles = static_cast<Index>(region.size());
-          feature.FillTriangles = static_cast<Index>((this->FillTriangles.size() - fillMark) / 3);
-          ++this->R.Removed[int(feature.Kind)];
-        }
-        else
-        {
-          for (Index t : region)
-          {
-            this->Removed[t] = 0;
-          }
-          this->FillTriangles.resize(fillMark);
-          this->FillPatch.resize(fillMark / 3);
-          this->FillKind.resize(fillMark / 3);
-          this->FillPolygons = polygonMark;
-          for (size_t e = edgesMark; e < this->FillEdgeLog.size(); ++e)
-          {
-            this->FillEdges.erase(this->FillEdgeLog[e]);
-          }
-          this->FillEdgeLog.resize(edgesMark);
-          feature.Reason = "its loops cannot be filled without folds or duplicate edges";
-        }
+        feature.Reason = "its loops cannot be filled without folds or duplicate edges";
       }
       this->R.Features.push_back(std::move(feature));
     }
