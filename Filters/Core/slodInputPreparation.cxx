@@ -1,8 +1,11 @@
 #include "slodInputPreparation.h"
 
+#include "vtkAlgorithm.h"
+
 #include "slodPolygonTriangulation.h"
 #include "slodUnionFind.h"
 
+#include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDoubleArray.h"
@@ -872,6 +875,20 @@ bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const Preparation
     vtkWarningWithObjectMacro(filter, << "Input: " << warning << ".");
   }
   return true;
+}
+
+ProgressFunction FilterProgress(vtkAlgorithm* filter, double from, double to)
+{
+  return [filter, from, to](double fraction) {
+    filter->UpdateProgress(from + std::min(1.0, std::max(0.0, fraction)) * (to - from));
+    return !filter->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
+  };
+}
+
+void ReportAbort(vtkAlgorithm* filter, vtkPolyData* output)
+{
+  output->Initialize();
+  vtkWarningWithObjectMacro(filter, << "Aborted: the output is empty.");
 }
 
 void ReportTarget(vtkObject* filter, vtkPolyData* output, long long targetTriangles, bool reached, const char* reason)
