@@ -285,6 +285,8 @@ struct Simplification
     return l > r ? 1 : 0;
   }
 
+  // Which side of each sharp chain is flat (FlatLeft: 1 left, 0 right, -1 open), its type and
+  // whether it is a convex hole chain.
   void ClassifySides()
   {
     const Index nc = this->NumberOfChains();
@@ -294,97 +296,107 @@ struct Simplification
     std::vector<Index> points;
     for (Index c = 0; c < nc; ++c)
     {
-      const Index b = this->Offset[c], n = this->Size(c);
-      // Type (1): the first three (else the last three) vertices span a plane.
-      for (int attempt = 0; attempt < 2 && this->FlatLeft[c] < 0 && n >= 3; ++attempt)
+      this->ClassifyByOwnPlane(c, points);
+      if (this->FlatLeft[c] < 0)
       {
-        const Index s = attempt == 0 ? b : b + n - 3;
-        points.assign(this->Vertex.begin() + s, this->Vertex.begin() + s + 3);
+        this->ClassifyByNeighbours(c, points);
+      }
+    }
+  }
+
+  // Type (1): the first three (else the last three) vertices span a plane.
+  void ClassifyByOwnPlane(Index c, std::vector<Index>& points)
+  {
+    const Index b = this->Offset[c], n = this->Size(c);
+    for (int attempt = 0; attempt < 2 && this->FlatLeft[c] < 0 && n >= 3; ++attempt)
+    {
+      const Index s = attempt == 0 ? b : b + n - 3;
+      points.assign(this->Vertex.begin() + s, this->Vertex.begin() + s + 3);
+      Vec3 plane;
+      if (!this->PlaneNormal(points, plane))
+      {
+        continue;
+      }
+      const Vec3 left = Normalized(this->Normal[this->EdgeLeft[s]] + this->Normal[this->EdgeLeft[s + 1]]);
+      const Vec3 right = Normalized(this->Normal[this->EdgeRight[s]] + this->Normal[this->EdgeRight[s + 1]]);
+      this->FlatLeft[c] = Side(plane, left, right);
+      if (this->FlatLeft[c] >= 0)
+      {
+        this->Type[c] = 1;
+        // Convex hole chain: it turns toward the wall side, seen along the flat normal.
+        const Vec3 flat = this->FlatLeft[c] ? left : right;
+        const double turn = Dot(Cross(this->Mesh.Point(points[1]) - this->Mesh.Point(points[0]),
+                                  this->Mesh.Point(points[2]) - this->Mesh.Point(points[1])),
+          flat);
+        this->Convex[c] = this->FlatLeft[c] ? turn < 0 : turn > 0;
+      }
+    }
+  }
+
+  void ClassifyByNeighbours(Index c, std::vector<Index>& points)
+  {
+    const Index b = this->Offset[c], n = this->Size(c);
+    // Type (2): continue with the sharp chains incident on either end, one by one. Each
+    // combination that spans a plane votes for a side; when they disagree (at a corner of a
+    // square hole the wall's vertical edge spans the wall plane) the combinations that make
+    // the chain a convex hole chain decide (the paper's preference), else it stays open.
+    int votes[2][2] = { { 0, 0 }, { 0, 0 } }; // [side][convex]
+    for (int end = 0; end < 2; ++end)
+    {
+      const Index v = end == 0 ? this->Vertex[b] : this->Vertex[b + n - 1];
+      for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
+      {
+        const Index other = this->Incidence[k] / 2;
+        if (other == c)
+        {
+          continue;
+        }
+        const Oriented away{ other, (this->Incidence[k] & 1) != 0 };
+        points.clear();
+        // This chain toward v, then the other chain away from v.
+        for (Index i = 0; i < n; ++i)
+        {
+          points.push_back(end == 1 ? this->Vertex[b + i] : this->Vertex[b + n - 1 - i]);
+        }
+        for (Index i = 1; i < this->Size(other); ++i)
+        {
+          points.push_back(this->At(away, i));
+        }
         Vec3 plane;
         if (!this->PlaneNormal(points, plane))
         {
           continue;
         }
-        const Vec3 left = Normalized(this->Normal[this->EdgeLeft[s]] + this->Normal[this->EdgeLeft[s + 1]]);
-        const Vec3 right = Normalized(this->Normal[this->EdgeRight[s]] + this->Normal[this->EdgeRight[s + 1]]);
-        this->FlatLeft[c] = Side(plane, left, right);
-        if (this->FlatLeft[c] >= 0)
+        const signed char side = Side(plane, this->LeftNormal[c], this->RightNormal[c]);
+        if (side < 0)
         {
-          this->Type[c] = 1;
-          // Convex hole chain: it turns toward the wall side, seen along the flat normal.
-          const Vec3 flat = this->FlatLeft[c] ? left : right;
-          const double turn = Dot(Cross(this->Mesh.Point(points[1]) - this->Mesh.Point(points[0]),
-                                    this->Mesh.Point(points[2]) - this->Mesh.Point(points[1])),
-            flat);
-          this->Convex[c] = this->FlatLeft[c] ? turn < 0 : turn > 0;
+          continue;
         }
+        // Turn at the junction, seen along the flat normal, in traversal order.
+        const Vec3 a = this->Mesh.Point(points[n - 2]), m = this->Mesh.Point(points[n - 1]),
+                   z = this->Mesh.Point(points[n]);
+        const Vec3 flat = side ? this->LeftNormal[c] : this->RightNormal[c];
+        const double turn = Dot(Cross(m - a, z - m), flat);
+        const bool flatOnTraversalLeft = (end == 1) == (side == 1);
+        const bool convex = flatOnTraversalLeft ? turn < 0 : turn > 0;
+        ++votes[side][convex ? 1 : 0];
       }
-      if (this->FlatLeft[c] >= 0)
-      {
-        continue;
-      }
-      // Type (2): continue with the sharp chains incident on either end, one by one. Each
-      // combination that spans a plane votes for a side; when they disagree (at a corner of a
-      // square hole the wall's vertical edge spans the wall plane) the combinations that make
-      // the chain a convex hole chain decide (the paper's preference), else it stays open.
-      int votes[2][2] = { { 0, 0 }, { 0, 0 } }; // [side][convex]
-      for (int end = 0; end < 2; ++end)
-      {
-        const Index v = end == 0 ? this->Vertex[b] : this->Vertex[b + n - 1];
-        for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
-        {
-          const Index other = this->Incidence[k] / 2;
-          if (other == c)
-          {
-            continue;
-          }
-          const Oriented away{ other, (this->Incidence[k] & 1) != 0 };
-          points.clear();
-          // This chain toward v, then the other chain away from v.
-          for (Index i = 0; i < n; ++i)
-          {
-            points.push_back(end == 1 ? this->Vertex[b + i] : this->Vertex[b + n - 1 - i]);
-          }
-          for (Index i = 1; i < this->Size(other); ++i)
-          {
-            points.push_back(this->At(away, i));
-          }
-          Vec3 plane;
-          if (!this->PlaneNormal(points, plane))
-          {
-            continue;
-          }
-          const signed char side = Side(plane, this->LeftNormal[c], this->RightNormal[c]);
-          if (side < 0)
-          {
-            continue;
-          }
-          // Turn at the junction, seen along the flat normal, in traversal order.
-          const Vec3 a = this->Mesh.Point(points[n - 2]), m = this->Mesh.Point(points[n - 1]),
-                     z = this->Mesh.Point(points[n]);
-          const Vec3 flat = side ? this->LeftNormal[c] : this->RightNormal[c];
-          const double turn = Dot(Cross(m - a, z - m), flat);
-          const bool flatOnTraversalLeft = (end == 1) == (side == 1);
-          const bool convex = flatOnTraversalLeft ? turn < 0 : turn > 0;
-          ++votes[side][convex ? 1 : 0];
-        }
-      }
-      const int left = votes[1][0] + votes[1][1], right = votes[0][0] + votes[0][1];
-      if (left > 0 && right == 0)
-      {
-        this->FlatLeft[c] = 1;
-        this->Convex[c] = votes[1][1] > 0;
-      }
-      else if (right > 0 && left == 0)
-      {
-        this->FlatLeft[c] = 0;
-        this->Convex[c] = votes[0][1] > 0;
-      }
-      else if ((votes[1][1] > 0) != (votes[0][1] > 0))
-      {
-        this->FlatLeft[c] = votes[1][1] > 0 ? 1 : 0;
-        this->Convex[c] = 1;
-      }
+    }
+    const int left = votes[1][0] + votes[1][1], right = votes[0][0] + votes[0][1];
+    if (left > 0 && right == 0)
+    {
+      this->FlatLeft[c] = 1;
+      this->Convex[c] = votes[1][1] > 0;
+    }
+    else if (right > 0 && left == 0)
+    {
+      this->FlatLeft[c] = 0;
+      this->Convex[c] = votes[0][1] > 0;
+    }
+    else if ((votes[1][1] > 0) != (votes[0][1] > 0))
+    {
+      this->FlatLeft[c] = votes[1][1] > 0 ? 1 : 0;
+      this->Convex[c] = 1;
     }
   }
 
