@@ -209,29 +209,10 @@ inline int CountMembers(const Index* tri, const Index* set, int count, int& corn
 }
 } // namespace
 
-CollapseStatus EditableMesh::CheckCollapse(
-  const Index* vertices, int count, const Vec3& p, const CollapseOptions& options) const
+void EditableMesh::PrefetchGathered() const
 {
-  assert(count >= 2 && count <= 3);
-  bool anyBoundary = false;
-  bool onBoundary[3] = { false, false, false };
-  for (int i = 0; i < count; ++i)
-  {
-    if (!this->IsVertexAlive(vertices[i]))
-    {
-      return CollapseStatus::DeadVertex;
-    }
-    if (options.LockedVertices && options.LockedVertices[vertices[i]])
-    {
-      return CollapseStatus::Locked;
-    }
-    onBoundary[i] =
-      options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]);
-    anyBoundary = anyBoundary || onBoundary[i];
-  }
-  this->GatherTriangles(vertices, count);
-  // The checks below read every gathered triangle's corners, their link scratch and points:
-  // prefetch them all first so that the misses overlap (the check is bound by memory latency).
+  // The checks read every gathered triangle's corners, their link scratch and points: prefetch
+  // them all first so that the misses overlap (the check is bound by memory latency).
   for (Index t : this->Scratch)
   {
     __builtin_prefetch(this->Triangle(t));
@@ -245,148 +226,158 @@ CollapseStatus EditableMesh::CheckCollapse(
       __builtin_prefetch(&this->Points[3 * size_t(tri[k])]);
     }
   }
+}
 
-  if (!options.AllowTopologyChange)
+CollapseStatus EditableMesh::CheckLink(const Index* vertices, int count, bool anyBoundary) const
+{
+  // Generalised link condition: the link of the merged vertex, made of the link edges x -> y of
+  // the surviving triangles, must be one simple cycle (interior) or one simple path (border),
+  // and no neighbour may get two incoming or outgoing link edges (an edge with > 2 triangles).
+  const std::uint32_t epoch = this->NextEpoch();
+  Index survivors = 0;
+  Index firstX = InvalidIndex;
+  for (Index t : this->Scratch)
   {
-    // Generalised link condition: the link of the merged vertex, made of the link edges x -> y of
-    // the surviving triangles, must be one simple cycle (interior) or one simple path (border),
-    // and no neighbour may get two incoming or outgoing link edges (an edge with > 2 triangles).
-    const std::uint32_t epoch = this->NextEpoch();
-    Index survivors = 0;
-    Index firstX = InvalidIndex;
-    for (Index t : this->Scratch)
+    int corner = 0;
+    if (CountMembers(this->Triangle(t), vertices, count, corner) >= 2)
     {
-      int corner = 0;
-      if (CountMembers(this->Triangle(t), vertices, count, corner) >= 2)
-      {
-        continue;
-      }
-      const Index* tri = this->Triangle(t);
-      const Index x = tri[(corner + 1) % 3], y = tri[(corner + 2) % 3];
-      for (Index w : { x, y })
-      {
-        if (this->VertexLink[w].Mark != epoch)
-        {
-          this->VertexLink[w].Mark = epoch;
-          this->VertexLink[w].In = InvalidIndex;
-          this->VertexLink[w].Out = InvalidIndex;
-        }
-      }
-      if (this->VertexLink[x].Out != InvalidIndex || this->VertexLink[y].In != InvalidIndex)
-      {
-        return CollapseStatus::NonManifold;
-      }
-      this->VertexLink[x].Out = y;
-      this->VertexLink[y].In = x;
-      firstX = firstX == InvalidIndex ? x : firstX;
-      ++survivors;
+      continue;
     }
-    if (survivors == 0)
+    const Index* tri = this->Triangle(t);
+    const Index x = tri[(corner + 1) % 3], y = tri[(corner + 2) % 3];
+    for (Index w : { x, y })
     {
-      return CollapseStatus::TooSmall;
-    }
-    // Find the path start, if any; more than one means several fans (a pinched vertex).
-    Index start = InvalidIndex;
-    bool severalStarts = false;
-    for (Index t : this->Scratch)
-    {
-      const Index* tri = this->Triangle(t);
-      for (int k = 0; k < 3; ++k)
+      if (this->VertexLink[w].Mark != epoch)
       {
-        const Index w = tri[k];
-        if (this->VertexLink[w].Mark == epoch && this->VertexLink[w].In == InvalidIndex && this->VertexLink[w].Out != InvalidIndex)
-        {
-          severalStarts = severalStarts || (start != InvalidIndex && w != start);
-          start = w;
-        }
+        this->VertexLink[w].Mark = epoch;
+        this->VertexLink[w].In = InvalidIndex;
+        this->VertexLink[w].Out = InvalidIndex;
       }
     }
-    if (severalStarts)
+    if (this->VertexLink[x].Out != InvalidIndex || this->VertexLink[y].In != InvalidIndex)
     {
       return CollapseStatus::NonManifold;
     }
-    const bool isPath = start != InvalidIndex;
-    // Walk the link: it must use every surviving triangle's link edge exactly once.
-    Index walked = 0;
-    if (isPath)
+    this->VertexLink[x].Out = y;
+    this->VertexLink[y].In = x;
+    firstX = firstX == InvalidIndex ? x : firstX;
+    ++survivors;
+  }
+  if (survivors == 0)
+  {
+    return CollapseStatus::TooSmall;
+  }
+  // Find the path start, if any; more than one means several fans (a pinched vertex).
+  Index start = InvalidIndex;
+  bool severalStarts = false;
+  for (Index t : this->Scratch)
+  {
+    const Index* tri = this->Triangle(t);
+    for (int k = 0; k < 3; ++k)
     {
-      for (Index w = start; this->VertexLink[w].Out != InvalidIndex && walked <= survivors; w = this->VertexLink[w].Out)
+      const Index w = tri[k];
+      if (this->VertexLink[w].Mark == epoch && this->VertexLink[w].In == InvalidIndex && this->VertexLink[w].Out != InvalidIndex)
       {
-        ++walked;
-      }
-    }
-    else
-    {
-      Index w = firstX;
-      do
-      {
-        w = this->VertexLink[w].Out;
-        ++walked;
-      } while (w != InvalidIndex && w != firstX && walked <= survivors);
-    }
-    if (walked != survivors)
-    {
-      return CollapseStatus::NonManifold;
-    }
-    if (isPath != anyBoundary)
-    {
-      return CollapseStatus::BoundaryChange;
-    }
-    if (!isPath && survivors < 3)
-    {
-      return CollapseStatus::TooSmall;
-    }
-    // Border vertices of the set must form one chain of border edges: merging two border vertices
-    // not joined along the border would close a hole or join two loops, which the link of the
-    // merged vertex alone does not always reveal.
-    const int borderVertices = int(onBoundary[0]) + int(onBoundary[1]) + int(onBoundary[2]);
-    if (borderVertices >= 2)
-    {
-      int borderEdges = 0;
-      for (int k = 0, edges = count == 3 ? 3 : 1; k < edges; ++k)
-      {
-        const int j = (k + 1) % count;
-        if (onBoundary[k] && onBoundary[j] && this->EdgeTriangleCount(vertices[k], vertices[j]) == 1)
-        {
-          ++borderEdges;
-        }
-      }
-      if (borderEdges < borderVertices - 1)
-      {
-        return CollapseStatus::BoundaryChange;
-      }
-    }
-    // No vertex outside the set may lose all its triangles (a border "ear" whose base collapses):
-    // it would vanish from the mesh.
-    for (Index t : this->Scratch)
-    {
-      int corner = 0;
-      const Index* tri = this->Triangle(t);
-      if (CountMembers(tri, vertices, count, corner) != 2)
-      {
-        continue;
-      }
-      auto outside = [&](Index v) { return std::find(vertices, vertices + count, v) == vertices + count; };
-      const Index x = outside(tri[0]) ? tri[0] : (outside(tri[1]) ? tri[1] : tri[2]);
-      if (options.BoundaryVertices && !options.BoundaryVertices[x])
-      {
-        // An interior vertex has a closed fan of at least three triangles; the link test above
-        // already rejected the only way to remove all of them (a closed tetrahedron).
-        continue;
-      }
-      bool keepsOne = false;
-      this->ForEachTriangle(x, [&](Index u) {
-        int c = 0;
-        keepsOne = keepsOne || CountMembers(this->Triangle(u), vertices, count, c) < 2;
-      });
-      if (!keepsOne)
-      {
-        return CollapseStatus::IsolatedVertex;
+        severalStarts = severalStarts || (start != InvalidIndex && w != start);
+        start = w;
       }
     }
   }
+  if (severalStarts)
+  {
+    return CollapseStatus::NonManifold;
+  }
+  const bool isPath = start != InvalidIndex;
+  // Walk the link: it must use every surviving triangle's link edge exactly once.
+  Index walked = 0;
+  if (isPath)
+  {
+    for (Index w = start; this->VertexLink[w].Out != InvalidIndex && walked <= survivors; w = this->VertexLink[w].Out)
+    {
+      ++walked;
+    }
+  }
+  else
+  {
+    Index w = firstX;
+    do
+    {
+      w = this->VertexLink[w].Out;
+      ++walked;
+    } while (w != InvalidIndex && w != firstX && walked <= survivors);
+  }
+  if (walked != survivors)
+  {
+    return CollapseStatus::NonManifold;
+  }
+  if (isPath != anyBoundary)
+  {
+    return CollapseStatus::BoundaryChange;
+  }
+  if (!isPath && survivors < 3)
+  {
+    return CollapseStatus::TooSmall;
+  }
+  return CollapseStatus::Ok;
+}
 
-  // Geometry of the surviving triangles with the set moved to p.
+bool EditableMesh::BorderVerticesFormChain(const Index* vertices, int count, const bool* onBoundary) const
+{
+  // Merging two border vertices not joined along the border would close a hole or join two
+  // loops, which the link of the merged vertex alone does not always reveal.
+  const int borderVertices = int(onBoundary[0]) + int(onBoundary[1]) + int(onBoundary[2]);
+  if (borderVertices < 2)
+  {
+    return true;
+  }
+  int borderEdges = 0;
+  for (int k = 0, edges = count == 3 ? 3 : 1; k < edges; ++k)
+  {
+    const int j = (k + 1) % count;
+    if (onBoundary[k] && onBoundary[j] && this->EdgeTriangleCount(vertices[k], vertices[j]) == 1)
+    {
+      ++borderEdges;
+    }
+  }
+  return borderEdges >= borderVertices - 1;
+}
+
+bool EditableMesh::IsolatesVertex(const Index* vertices, int count, const CollapseOptions& options) const
+{
+  // A vertex outside the set loses all its triangles when every one of them holds two of the
+  // set (a border "ear" whose base collapses): it would vanish from the mesh.
+  for (Index t : this->Scratch)
+  {
+    int corner = 0;
+    const Index* tri = this->Triangle(t);
+    if (CountMembers(tri, vertices, count, corner) != 2)
+    {
+      continue;
+    }
+    auto outside = [&](Index v) { return std::find(vertices, vertices + count, v) == vertices + count; };
+    const Index x = outside(tri[0]) ? tri[0] : (outside(tri[1]) ? tri[1] : tri[2]);
+    if (options.BoundaryVertices && !options.BoundaryVertices[x])
+    {
+      // An interior vertex has a closed fan of at least three triangles; the link test already
+      // rejected the only way to remove all of them (a closed tetrahedron).
+      continue;
+    }
+    bool keepsOne = false;
+    this->ForEachTriangle(x, [&](Index u) {
+      int c = 0;
+      keepsOne = keepsOne || CountMembers(this->Triangle(u), vertices, count, c) < 2;
+    });
+    if (!keepsOne)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options) const
+{
+  // The surviving triangles with the set moved to p.
   for (Index t : this->Scratch)
   {
     int corner = 0;
@@ -419,6 +410,47 @@ CollapseStatus EditableMesh::CheckCollapse(
     }
   }
   return CollapseStatus::Ok;
+}
+
+CollapseStatus EditableMesh::CheckCollapse(
+  const Index* vertices, int count, const Vec3& p, const CollapseOptions& options) const
+{
+  assert(count >= 2 && count <= 3);
+  bool anyBoundary = false;
+  bool onBoundary[3] = { false, false, false };
+  for (int i = 0; i < count; ++i)
+  {
+    if (!this->IsVertexAlive(vertices[i]))
+    {
+      return CollapseStatus::DeadVertex;
+    }
+    if (options.LockedVertices && options.LockedVertices[vertices[i]])
+    {
+      return CollapseStatus::Locked;
+    }
+    onBoundary[i] =
+      options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]);
+    anyBoundary = anyBoundary || onBoundary[i];
+  }
+  this->GatherTriangles(vertices, count);
+  this->PrefetchGathered();
+  if (!options.AllowTopologyChange)
+  {
+    const CollapseStatus link = this->CheckLink(vertices, count, anyBoundary);
+    if (link != CollapseStatus::Ok)
+    {
+      return link;
+    }
+    if (!this->BorderVerticesFormChain(vertices, count, onBoundary))
+    {
+      return CollapseStatus::BoundaryChange;
+    }
+    if (this->IsolatesVertex(vertices, count, options))
+    {
+      return CollapseStatus::IsolatedVertex;
+    }
+  }
+  return this->CheckGeometry(vertices, count, p, options);
 }
 
 void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p, CollapseRecord* record)

@@ -192,6 +192,12 @@ private:
   void ReplaceInBlock(Index v, Index removed, Index added);
   // Collects the live triangles touching the set into Scratch (deduplicated).
   void GatherTriangles(const Index* vertices, int count) const;
+  // The steps of CheckCollapse, over the triangles gathered in Scratch.
+  void PrefetchGathered() const;
+  CollapseStatus CheckLink(const Index* vertices, int count, bool anyBoundary) const;
+  bool BorderVerticesFormChain(const Index* vertices, int count, const bool* onBoundary) const;
+  bool IsolatesVertex(const Index* vertices, int count, const CollapseOptions& options) const;
+  CollapseStatus CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options) const;
 
   std::vector<double> Points;
   std::vector<Index> Triangles;

@@ -2,6 +2,9 @@
 
 #include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
+#include "slodUnionFind.h"
+
+#include "vtkMath.h"
 
 #include <algorithm>
 #include <array>
@@ -9,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <unordered_set>
 
@@ -16,8 +20,6 @@ namespace slod
 {
 namespace
 {
-constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
-
 // Circumscribed circle diameter of a triangle (infinite when collinear).
 double CircumDiameter(const Vec3& a, const Vec3& b, const Vec3& c)
 {
@@ -33,16 +35,6 @@ struct Oriented
   bool Reversed;
 };
 
-// Union-find with path halving.
-Index Find(std::vector<Index>& parent, Index x)
-{
-  while (parent[x] != x)
-  {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
 } // namespace
 
 double EstimateLoopDiameter(const TriangleMesh& mesh, const std::vector<Index>& loop)
@@ -293,6 +285,8 @@ struct Simplification
     return l > r ? 1 : 0;
   }
 
+  // Which side of each sharp chain is flat (FlatLeft: 1 left, 0 right, -1 open), its type and
+  // whether it is a convex hole chain.
   void ClassifySides()
   {
     const Index nc = this->NumberOfChains();
@@ -302,97 +296,107 @@ struct Simplification
     std::vector<Index> points;
     for (Index c = 0; c < nc; ++c)
     {
-      const Index b = this->Offset[c], n = this->Size(c);
-      // Type (1): the first three (else the last three) vertices span a plane.
-      for (int attempt = 0; attempt < 2 && this->FlatLeft[c] < 0 && n >= 3; ++attempt)
+      this->ClassifyByOwnPlane(c, points);
+      if (this->FlatLeft[c] < 0)
       {
-        const Index s = attempt == 0 ? b : b + n - 3;
-        points.assign(this->Vertex.begin() + s, this->Vertex.begin() + s + 3);
+        this->ClassifyByNeighbours(c, points);
+      }
+    }
+  }
+
+  // Type (1): the first three (else the last three) vertices span a plane.
+  void ClassifyByOwnPlane(Index c, std::vector<Index>& points)
+  {
+    const Index b = this->Offset[c], n = this->Size(c);
+    for (int attempt = 0; attempt < 2 && this->FlatLeft[c] < 0 && n >= 3; ++attempt)
+    {
+      const Index s = attempt == 0 ? b : b + n - 3;
+      points.assign(this->Vertex.begin() + s, this->Vertex.begin() + s + 3);
+      Vec3 plane;
+      if (!this->PlaneNormal(points, plane))
+      {
+        continue;
+      }
+      const Vec3 left = Normalized(this->Normal[this->EdgeLeft[s]] + this->Normal[this->EdgeLeft[s + 1]]);
+      const Vec3 right = Normalized(this->Normal[this->EdgeRight[s]] + this->Normal[this->EdgeRight[s + 1]]);
+      this->FlatLeft[c] = Side(plane, left, right);
+      if (this->FlatLeft[c] >= 0)
+      {
+        this->Type[c] = 1;
+        // Convex hole chain: it turns toward the wall side, seen along the flat normal.
+        const Vec3 flat = this->FlatLeft[c] ? left : right;
+        const double turn = Dot(Cross(this->Mesh.Point(points[1]) - this->Mesh.Point(points[0]),
+                                  this->Mesh.Point(points[2]) - this->Mesh.Point(points[1])),
+          flat);
+        this->Convex[c] = this->FlatLeft[c] ? turn < 0 : turn > 0;
+      }
+    }
+  }
+
+  void ClassifyByNeighbours(Index c, std::vector<Index>& points)
+  {
+    const Index b = this->Offset[c], n = this->Size(c);
+    // Type (2): continue with the sharp chains incident on either end, one by one. Each
+    // combination that spans a plane votes for a side; when they disagree (at a corner of a
+    // square hole the wall's vertical edge spans the wall plane) the combinations that make
+    // the chain a convex hole chain decide (the paper's preference), else it stays open.
+    int votes[2][2] = { { 0, 0 }, { 0, 0 } }; // [side][convex]
+    for (int end = 0; end < 2; ++end)
+    {
+      const Index v = end == 0 ? this->Vertex[b] : this->Vertex[b + n - 1];
+      for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
+      {
+        const Index other = this->Incidence[k] / 2;
+        if (other == c)
+        {
+          continue;
+        }
+        const Oriented away{ other, (this->Incidence[k] & 1) != 0 };
+        points.clear();
+        // This chain toward v, then the other chain away from v.
+        for (Index i = 0; i < n; ++i)
+        {
+          points.push_back(end == 1 ? this->Vertex[b + i] : this->Vertex[b + n - 1 - i]);
+        }
+        for (Index i = 1; i < this->Size(other); ++i)
+        {
+          points.push_back(this->At(away, i));
+        }
         Vec3 plane;
         if (!this->PlaneNormal(points, plane))
         {
           continue;
         }
-        const Vec3 left = Normalized(this->Normal[this->EdgeLeft[s]] + this->Normal[this->EdgeLeft[s + 1]]);
-        const Vec3 right = Normalized(this->Normal[this->EdgeRight[s]] + this->Normal[this->EdgeRight[s + 1]]);
-        this->FlatLeft[c] = Side(plane, left, right);
-        if (this->FlatLeft[c] >= 0)
+        const signed char side = Side(plane, this->LeftNormal[c], this->RightNormal[c]);
+        if (side < 0)
         {
-          this->Type[c] = 1;
-          // Convex hole chain: it turns toward the wall side, seen along the flat normal.
-          const Vec3 flat = this->FlatLeft[c] ? left : right;
-          const double turn = Dot(Cross(this->Mesh.Point(points[1]) - this->Mesh.Point(points[0]),
-                                    this->Mesh.Point(points[2]) - this->Mesh.Point(points[1])),
-            flat);
-          this->Convex[c] = this->FlatLeft[c] ? turn < 0 : turn > 0;
+          continue;
         }
+        // Turn at the junction, seen along the flat normal, in traversal order.
+        const Vec3 a = this->Mesh.Point(points[n - 2]), m = this->Mesh.Point(points[n - 1]),
+                   z = this->Mesh.Point(points[n]);
+        const Vec3 flat = side ? this->LeftNormal[c] : this->RightNormal[c];
+        const double turn = Dot(Cross(m - a, z - m), flat);
+        const bool flatOnTraversalLeft = (end == 1) == (side == 1);
+        const bool convex = flatOnTraversalLeft ? turn < 0 : turn > 0;
+        ++votes[side][convex ? 1 : 0];
       }
-      if (this->FlatLeft[c] >= 0)
-      {
-        continue;
-      }
-      // Type (2): continue with the sharp chains incident on either end, one by one. Each
-      // combination that spans a plane votes for a side; when they disagree (at a corner of a
-      // square hole the wall's vertical edge spans the wall plane) the combinations that make
-      // the chain a convex hole chain decide (the paper's preference), else it stays open.
-      int votes[2][2] = { { 0, 0 }, { 0, 0 } }; // [side][convex]
-      for (int end = 0; end < 2; ++end)
-      {
-        const Index v = end == 0 ? this->Vertex[b] : this->Vertex[b + n - 1];
-        for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
-        {
-          const Index other = this->Incidence[k] / 2;
-          if (other == c)
-          {
-            continue;
-          }
-          const Oriented away{ other, (this->Incidence[k] & 1) != 0 };
-          points.clear();
-          // This chain toward v, then the other chain away from v.
-          for (Index i = 0; i < n; ++i)
-          {
-            points.push_back(end == 1 ? this->Vertex[b + i] : this->Vertex[b + n - 1 - i]);
-          }
-          for (Index i = 1; i < this->Size(other); ++i)
-          {
-            points.push_back(this->At(away, i));
-          }
-          Vec3 plane;
-          if (!this->PlaneNormal(points, plane))
-          {
-            continue;
-          }
-          const signed char side = Side(plane, this->LeftNormal[c], this->RightNormal[c]);
-          if (side < 0)
-          {
-            continue;
-          }
-          // Turn at the junction, seen along the flat normal, in traversal order.
-          const Vec3 a = this->Mesh.Point(points[n - 2]), m = this->Mesh.Point(points[n - 1]),
-                     z = this->Mesh.Point(points[n]);
-          const Vec3 flat = side ? this->LeftNormal[c] : this->RightNormal[c];
-          const double turn = Dot(Cross(m - a, z - m), flat);
-          const bool flatOnTraversalLeft = (end == 1) == (side == 1);
-          const bool convex = flatOnTraversalLeft ? turn < 0 : turn > 0;
-          ++votes[side][convex ? 1 : 0];
-        }
-      }
-      const int left = votes[1][0] + votes[1][1], right = votes[0][0] + votes[0][1];
-      if (left > 0 && right == 0)
-      {
-        this->FlatLeft[c] = 1;
-        this->Convex[c] = votes[1][1] > 0;
-      }
-      else if (right > 0 && left == 0)
-      {
-        this->FlatLeft[c] = 0;
-        this->Convex[c] = votes[0][1] > 0;
-      }
-      else if ((votes[1][1] > 0) != (votes[0][1] > 0))
-      {
-        this->FlatLeft[c] = votes[1][1] > 0 ? 1 : 0;
-        this->Convex[c] = 1;
-      }
+    }
+    const int left = votes[1][0] + votes[1][1], right = votes[0][0] + votes[0][1];
+    if (left > 0 && right == 0)
+    {
+      this->FlatLeft[c] = 1;
+      this->Convex[c] = votes[1][1] > 0;
+    }
+    else if (right > 0 && left == 0)
+    {
+      this->FlatLeft[c] = 0;
+      this->Convex[c] = votes[0][1] > 0;
+    }
+    else if ((votes[1][1] > 0) != (votes[0][1] > 0))
+    {
+      this->FlatLeft[c] = votes[1][1] > 0 ? 1 : 0;
+      this->Convex[c] = 1;
     }
   }
 
@@ -404,22 +408,72 @@ struct Simplification
   Index Stamp = 0;
   std::vector<unsigned char> InSequence;
 
+  // One level of the depth-first search: the chains that may follow `current`, best first.
+  struct SearchFrame
+  {
+    std::vector<Oriented> Candidates;
+    size_t Next = 0;
+  };
+  bool Blocked(Index v, Index stamp, const std::vector<Index>* forbidden, Index forbiddenStamp) const
+  {
+    return this->VertexStamp[v] == stamp || (forbidden && (*forbidden)[v] == forbiddenStamp);
+  }
+  // A chain closing the loop ends on `start`, which is stamped: allowed only as the last vertex.
+  // Candidates keep the flat side on the left and continue it (score: alignment, +2 on the
+  // same flat patch).
+  SearchFrame Continuations(const Oriented& current, Index start, Index stamp, const std::vector<Index>* forbidden,
+    Index forbiddenStamp) const
+  {
+    std::vector<std::pair<double, Oriented>> scored;
+    const Index v = this->Last(current);
+    for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
+    {
+      const Index c = this->Incidence[k] / 2;
+      if (this->InSequence[c] || this->InLoop[c])
+      {
+        continue;
+      }
+      const Oriented o{ c, (this->Incidence[k] & 1) != 0 };
+      if (this->FlatLeft[c] >= 0 && (this->FlatLeft[c] == 1) == o.Reversed)
+      {
+        continue; // its flat side would be on the right
+      }
+      bool free = true;
+      for (Index i = 1; i + 1 < this->Size(c) && free; ++i)
+      {
+        free = !this->Blocked(this->At(o, i), stamp, forbidden, forbiddenStamp);
+      }
+      const Index last = this->Last(o);
+      if (!free || (last != start && this->Blocked(last, stamp, forbidden, forbiddenStamp)))
+      {
+        continue;
+      }
+      const double along = Dot(this->LeftOf(o), this->LeftOf(current));
+      if (along < 0.5 || Dot(this->LeftOf(o), this->LeftOf(current)) <= Dot(this->RightOf(o), this->LeftOf(current)))
+      {
+        continue; // the flat side does not continue
+      }
+      const double score = along + (this->LeftPatchOf(o) == this->LeftPatchOf(current) ? 2.0 : 0.0);
+      scored.emplace_back(score, o);
+    }
+    std::stable_sort(scored.begin(), scored.end(),
+      [](const std::pair<double, Oriented>& a, const std::pair<double, Oriented>& b) { return a.first > b.first; });
+    SearchFrame frame;
+    for (const auto& candidate : scored)
+    {
+      frame.Candidates.push_back(candidate.second);
+    }
+    return frame;
+  }
+
   std::vector<Oriented> Search(const Oriented& seed, const std::vector<Index>* forbidden, Index forbiddenStamp,
     std::vector<Index>& explored)
   {
     std::vector<Oriented> sequence{ seed };
-    struct Frame
-    {
-      std::vector<Oriented> Candidates;
-      size_t Next = 0;
-    };
-    std::vector<Frame> frames;
+    std::vector<SearchFrame> frames;
     ++this->Stamp;
     const Index stamp = this->Stamp;
     const Index start = this->First(seed);
-    auto blocked = [&](Index v) {
-      return this->VertexStamp[v] == stamp || (forbidden && (*forbidden)[v] == forbiddenStamp);
-    };
     auto occupy = [&](const Oriented& o, Index value) {
       for (Index i = 1; i < this->Size(o.Chain); ++i)
       {
@@ -430,55 +484,15 @@ struct Simplification
     this->VertexStamp[start] = stamp;
     occupy(seed, stamp);
     explored.push_back(seed.Chain);
-    // A chain closing the loop ends on `start`, which is stamped: allowed only as the last vertex.
     auto candidates = [&](const Oriented& current) {
-      std::vector<std::pair<double, Oriented>> scored;
-      const Index v = this->Last(current);
-      for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
-      {
-        const Index c = this->Incidence[k] / 2;
-        if (this->InSequence[c] || this->InLoop[c])
-        {
-          continue;
-        }
-        const Oriented o{ c, (this->Incidence[k] & 1) != 0 };
-        if (this->FlatLeft[c] >= 0 && (this->FlatLeft[c] == 1) == o.Reversed)
-        {
-          continue; // its flat side would be on the right
-        }
-        bool free = true;
-        for (Index i = 1; i + 1 < this->Size(c) && free; ++i)
-        {
-          free = !blocked(this->At(o, i));
-        }
-        const Index last = this->Last(o);
-        if (!free || (last != start && blocked(last)))
-        {
-          continue;
-        }
-        const double along = Dot(this->LeftOf(o), this->LeftOf(current));
-        if (along < 0.5 || Dot(this->LeftOf(o), this->LeftOf(current)) <= Dot(this->RightOf(o), this->LeftOf(current)))
-        {
-          continue; // the flat side does not continue
-        }
-        const double score = along + (this->LeftPatchOf(o) == this->LeftPatchOf(current) ? 2.0 : 0.0);
-        scored.emplace_back(score, o);
-      }
-      std::stable_sort(scored.begin(), scored.end(),
-        [](const std::pair<double, Oriented>& a, const std::pair<double, Oriented>& b) { return a.first > b.first; });
-      Frame frame;
-      for (const auto& s : scored)
-      {
-        frame.Candidates.push_back(s.second);
-      }
-      return frame;
+      return this->Continuations(current, start, stamp, forbidden, forbiddenStamp);
     };
     frames.push_back(candidates(seed));
     int budget = 4096;
     bool closed = this->Last(seed) == start;
     while (!closed && !frames.empty() && budget-- > 0)
     {
-      Frame& top = frames.back();
+      SearchFrame& top = frames.back();
       if (top.Next >= top.Candidates.size())
       {
         frames.pop_back();
@@ -588,13 +602,14 @@ struct Simplification
   }
 
   // --- 5. Partner loops (5.3.2) ---
-  Index FindPartner(Index l)
+  // The wall patches of loop l (inWall per patch): right of l, plus those joined to them by
+  // non-sharp chains (at most about 512).
+  void WallPatches(Index l, std::vector<unsigned char>& inWall) const
   {
     const std::vector<Oriented>& chains = this->LoopChains[l];
     const Patchification& pa = this->Patches;
-    // Wall patches: right of L, plus those joined to them by non-sharp chains.
     std::vector<Index> wall;
-    std::vector<unsigned char> inWall(size_t(pa.NumberOfPatches()), 0);
+    inWall.assign(size_t(pa.NumberOfPatches()), 0);
     for (const Oriented& o : chains)
     {
       const Index p = this->RightPatchOf(o);
@@ -622,6 +637,46 @@ struct Simplification
         }
       }
     }
+  }
+
+  // A new loop seeded by a sharp chain of the wall patches that avoids the forbidden vertices.
+  Index SearchPartner(const std::vector<unsigned char>& inWall, Index forbiddenStamp)
+  {
+    const std::vector<Index>& forbidden = this->Forbidden;
+    std::vector<Index> explored;
+    for (Index c = 0; c < this->NumberOfChains(); ++c)
+    {
+      if (this->InLoop[c] || this->FlatLeft[c] < 0 ||
+        !((this->Left[c] != InvalidIndex && inWall[this->Left[c]]) ||
+          (this->Right[c] != InvalidIndex && inWall[this->Right[c]])))
+      {
+        continue;
+      }
+      bool touches = false;
+      for (Index i = this->Offset[c]; i < this->Offset[c + 1]; ++i)
+      {
+        touches = touches || forbidden[this->Vertex[i]] == forbiddenStamp;
+      }
+      if (touches)
+      {
+        continue;
+      }
+      explored.clear();
+      const std::vector<Oriented> loop = this->Search({ c, this->FlatLeft[c] == 0 }, &forbidden, forbiddenStamp, explored);
+      if (!loop.empty())
+      {
+        return this->AddLoop(loop);
+      }
+    }
+    return InvalidIndex;
+  }
+
+  // The loop that bounds the other end of l's wall: among the loops already found (clockwise
+  // ones first: holes before bumps), else a new search over the wall's sharp chains.
+  Index FindPartner(Index l)
+  {
+    std::vector<unsigned char> inWall;
+    this->WallPatches(l, inWall);
     // Vertices of L are forbidden in the partner.
     ++this->Stamp;
     const Index forbiddenStamp = this->Stamp;
@@ -666,47 +721,15 @@ struct Simplification
         best = other;
       }
     }
-    if (best != InvalidIndex)
-    {
-      return best;
-    }
-    // Else a new search seeded by the wall patches' sharp chains.
-    std::vector<Index> explored;
-    for (Index c = 0; c < this->NumberOfChains(); ++c)
-    {
-      if (this->InLoop[c] || this->FlatLeft[c] < 0 ||
-        !((this->Left[c] != InvalidIndex && inWall[this->Left[c]]) ||
-          (this->Right[c] != InvalidIndex && inWall[this->Right[c]])))
-      {
-        continue;
-      }
-      bool touches = false;
-      for (Index i = this->Offset[c]; i < this->Offset[c + 1]; ++i)
-      {
-        touches = touches || forbidden[this->Vertex[i]] == forbiddenStamp;
-      }
-      if (touches)
-      {
-        continue;
-      }
-      explored.clear();
-      const std::vector<Oriented> loop = this->Search({ c, this->FlatLeft[c] == 0 }, &forbidden, forbiddenStamp, explored);
-      if (!loop.empty())
-      {
-        return this->AddLoop(loop);
-      }
-    }
-    return InvalidIndex;
+    return best != InvalidIndex ? best : this->SearchPartner(inWall, forbiddenStamp);
   }
 
   // --- 6. Wall region and removal ---
   // Triangles reached from the wall side of `loop` without crossing the barrier edges; empty
   // when the region leaks (reaches a flat-side triangle, the border, a non-manifold edge, an
   // already removed triangle) or is not the smaller part of its component.
-  bool WallRegion(Index loop, const std::vector<Index>& barrierLoops, std::vector<Index>& region,
-    std::vector<unsigned char>& mark, std::string& reason)
+  std::unordered_set<std::uint64_t> BarrierEdges(const std::vector<Index>& barrierLoops) const
   {
-    region.clear();
     std::unordered_set<std::uint64_t> barrier;
     for (Index b : barrierLoops)
     {
@@ -716,8 +739,12 @@ struct Simplification
         barrier.insert(EdgeKey(v[i], v[(i + 1) % v.size()]));
       }
     }
-    // Flat-side triangles of the barrier loops: 2; region: 1.
-    std::vector<Index> flatSide;
+    return barrier;
+  }
+
+  // Marks the flat-side triangles of the barrier loops with 2 (listed in flatSide).
+  void MarkFlatSide(const std::vector<Index>& barrierLoops, std::vector<unsigned char>& mark, std::vector<Index>& flatSide) const
+  {
     for (Index b : barrierLoops)
     {
       for (const Oriented& o : this->LoopChains[b])
@@ -733,6 +760,16 @@ struct Simplification
         }
       }
     }
+  }
+
+  bool WallRegion(Index loop, const std::vector<Index>& barrierLoops, std::vector<Index>& region,
+    std::vector<unsigned char>& mark, std::string& reason)
+  {
+    region.clear();
+    const std::unordered_set<std::uint64_t> barrier = this->BarrierEdges(barrierLoops);
+    // Flat-side triangles of the barrier loops: 2; region: 1.
+    std::vector<Index> flatSide;
+    this->MarkFlatSide(barrierLoops, mark, flatSide);
     bool ok = true;
     for (const Oriented& o : this->LoopChains[loop])
     {
@@ -936,6 +973,148 @@ struct Simplification
     return Normalized(flat);
   }
 
+  // Whether the kept surface has the edge (u, w): a triangle of it that is not removed.
+  bool EdgeKept(Index u, Index w) const
+  {
+    const Index e = this->Topology.FindEdge(u, w);
+    if (e == InvalidIndex)
+    {
+      return false;
+    }
+    for (const Index* t = this->Topology.EdgeTrianglesBegin(e); t != this->Topology.EdgeTrianglesEnd(e); ++t)
+    {
+      if (!this->Removed[*t])
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // The wall that clockwise loop l cuts off (a hole's tube between l and its partner, or a bump's
+  // or cavity's wall behind l alone) into region; barrier gets the loops that bound it. False
+  // when l bounds no small wall.
+  bool FindWall(Index l, TopologyFeature& feature, std::vector<Index>& barrier, std::vector<Index>& region,
+    std::vector<unsigned char>& mark)
+  {
+    const Index partner = this->FindPartner(l);
+    feature.Loops[0] = l;
+    feature.Loops[1] = partner;
+    bool hole = partner != InvalidIndex && this->R.Loops[partner].Clockwise;
+    barrier.assign(1, l);
+    if (hole)
+    {
+      barrier.push_back(partner);
+    }
+    std::string reason;
+    bool closed = this->WallRegion(l, barrier, region, mark, reason);
+    if (closed && hole && !this->JoinedWithout(l, partner, region))
+    {
+      closed = false; // a tube that holds two parts together (a dumbbell's bar), not a handle
+    }
+    if (!closed && hole)
+    {
+      // Two clockwise loops that do not bound a tube: L may still close a bump or a cavity.
+      hole = false;
+      barrier.pop_back();
+      feature.Loops[1] = InvalidIndex;
+      closed = this->WallRegion(l, barrier, region, mark, reason);
+    }
+    if (closed)
+    {
+      feature.Kind = hole ? TopologyFeatureKind::Hole : this->BumpOrCavity(l, region);
+    }
+    return closed;
+  }
+
+  // Bump or cavity: the side of the flat plane on which the wall lies.
+  TopologyFeatureKind BumpOrCavity(Index l, const std::vector<Index>& region) const
+  {
+    const std::vector<Index>& v = this->R.Loops[l].Vertices;
+    Vec3 centroid{ 0, 0, 0 };
+    for (Index i : v)
+    {
+      centroid = centroid + this->Mesh.Point(i);
+    }
+    centroid = (1.0 / double(v.size())) * centroid;
+    const Vec3 flat = this->FlatNormalOf(l);
+    double offset = 0;
+    for (Index t : region)
+    {
+      const Index* tri = this->Mesh.Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        offset += Dot(this->Mesh.Point(tri[k]) - centroid, flat);
+      }
+    }
+    return offset >= 0 ? TopologyFeatureKind::Bump : TopologyFeatureKind::Cavity;
+  }
+
+  // Why a detected feature is kept, or nothing when it may be removed.
+  const char* KeepReason(const TopologyFeature& feature) const
+  {
+    const bool enabled = (feature.Kind == TopologyFeatureKind::Hole && this->P.RemoveHoles) ||
+      (feature.Kind == TopologyFeatureKind::Bump && this->P.RemoveBumps) ||
+      (feature.Kind == TopologyFeatureKind::Cavity && this->P.RemoveCavities);
+    if (!enabled)
+    {
+      return "removal of this kind is off";
+    }
+    if (!(feature.Size < this->P.MaximumFeatureSize))
+    {
+      return "larger than the maximum feature size";
+    }
+    return nullptr;
+  }
+
+  // Removes the wall and fills its clockwise loops; when a loop cannot be filled, everything is
+  // put back as it was and false is returned.
+  bool RemoveWall(const std::vector<Index>& barrier, const std::vector<Index>& region, TopologyFeature& feature)
+  {
+    for (Index t : region)
+    {
+      this->Removed[t] = 1;
+    }
+    const size_t fillMark = this->FillTriangles.size();
+    const Index polygonMark = this->FillPolygons;
+    const size_t edgesMark = this->FillEdgeLog.size();
+    const auto edgeKept = [this](Index u, Index w) { return this->EdgeKept(u, w); };
+    bool filled = true;
+    for (Index b : barrier)
+    {
+      if (this->R.Loops[b].Clockwise)
+      {
+        filled = filled && this->Fill(this->FillPolygonOf(b), this->FlatNormalOf(b), 1, edgeKept);
+      }
+    }
+    if (filled)
+    {
+      for (Index t : region)
+      {
+        this->PatchRemoved[this->Patches.TrianglePatches()[t]] = 1;
+      }
+      feature.RemovedTriangles = static_cast<Index>(region.size());
+      feature.FillTriangles = static_cast<Index>((this->FillTriangles.size() - fillMark) / 3);
+      return true;
+    }
+    for (Index t : region)
+    {
+      this->Removed[t] = 0;
+    }
+    this->FillTriangles.resize(fillMark);
+    this->FillPatch.resize(fillMark / 3);
+    this->FillKind.resize(fillMark / 3);
+    this->FillPolygons = polygonMark;
+    for (size_t e = edgesMark; e < this->FillEdgeLog.size(); ++e)
+    {
+      this->FillEdges.erase(this->FillEdgeLog[e]);
+    }
+    this->FillEdgeLog.resize(edgesMark);
+    return false;
+  }
+
+  // Section 5.3: every unclaimed clockwise loop that cuts off a small wall is a feature (hole,
+  // bump or cavity); the enabled ones below the size limit are removed and their loops filled.
   void DetectAndRemove(const TopologySimplifier::ProgressFunction& progress)
   {
     const Index nt = this->Mesh.NumberOfTriangles();
@@ -943,23 +1122,7 @@ struct Simplification
     this->PatchRemoved.assign(size_t(this->Patches.NumberOfPatches()), 0);
     this->PatchStamp.assign(size_t(this->Patches.NumberOfPatches()), 0);
     std::vector<unsigned char> mark(size_t(nt), 0);
-    std::vector<Index> region;
-    auto edgeKept = [&](Index u, Index w) {
-      const Index e = this->Topology.FindEdge(u, w);
-      if (e == InvalidIndex)
-      {
-        return false;
-      }
-      for (const Index* t = this->Topology.EdgeTrianglesBegin(e); t != this->Topology.EdgeTrianglesEnd(e); ++t)
-      {
-        if (!this->Removed[*t])
-        {
-          return true;
-        }
-      }
-      return false;
-    };
-    const double alpha = this->P.MaximumFeatureSize;
+    std::vector<Index> region, barrier;
     for (Index l = 0; l < static_cast<Index>(this->R.Loops.size()); ++l)
     {
       if (progress && (l % 64) == 0 && progress(double(l) / double(this->R.Loops.size())))
@@ -970,128 +1133,36 @@ struct Simplification
       {
         continue;
       }
-      const Index partner = this->FindPartner(l);
       TopologyFeature feature;
-      feature.Loops[0] = l;
-      feature.Loops[1] = partner;
-      bool hole = partner != InvalidIndex && this->R.Loops[partner].Clockwise;
-      std::vector<Index> barrier{ l };
-      if (hole)
-      {
-        barrier.push_back(partner);
-      }
-      std::string reason;
-      bool closed = this->WallRegion(l, barrier, region, mark, reason);
-      if (closed && hole && !this->JoinedWithout(l, partner, region))
-      {
-        closed = false; // a tube that holds two parts together (a dumbbell's bar), not a handle
-      }
-      if (!closed && hole)
-      {
-        // Two clockwise loops that do not bound a tube: L may still close a bump or a cavity.
-        hole = false;
-        barrier.pop_back();
-        feature.Loops[1] = InvalidIndex;
-        closed = this->WallRegion(l, barrier, region, mark, reason);
-      }
-      if (!closed)
+      if (!this->FindWall(l, feature, barrier, region, mark))
       {
         continue; // not a feature: the loop does not cut off a small wall
       }
-      if (hole)
-      {
-        feature.Kind = TopologyFeatureKind::Hole;
-      }
-      else
-      {
-        // Bump or cavity: the side of the flat plane on which the wall lies.
-        const std::vector<Index>& v = this->R.Loops[l].Vertices;
-        Vec3 centroid{ 0, 0, 0 };
-        for (Index i : v)
-        {
-          centroid = centroid + this->Mesh.Point(i);
-        }
-        centroid = (1.0 / double(v.size())) * centroid;
-        const Vec3 flat = this->FlatNormalOf(l);
-        double offset = 0;
-        for (Index t : region)
-        {
-          const Index* tri = this->Mesh.Triangle(t);
-          for (int k = 0; k < 3; ++k)
-          {
-            offset += Dot(this->Mesh.Point(tri[k]) - centroid, flat);
-          }
-        }
-        feature.Kind = offset >= 0 ? TopologyFeatureKind::Bump : TopologyFeatureKind::Cavity;
-      }
+      const Index partner = feature.Loops[1];
       feature.Size = this->R.Loops[l].Diameter;
-      if (feature.Loops[1] != InvalidIndex)
+      if (partner != InvalidIndex)
       {
         feature.Size = std::max(feature.Size, this->R.Loops[partner].Diameter);
       }
       const Index index = static_cast<Index>(this->R.Features.size());
       this->R.Loops[l].Feature = index;
-      if (feature.Loops[1] != InvalidIndex)
+      if (partner != InvalidIndex)
       {
         this->R.Loops[partner].Feature = index;
       }
       ++this->R.Detected[int(feature.Kind)];
-      const bool enabled = (feature.Kind == TopologyFeatureKind::Hole && this->P.RemoveHoles) ||
-        (feature.Kind == TopologyFeatureKind::Bump && this->P.RemoveBumps) ||
-        (feature.Kind == TopologyFeatureKind::Cavity && this->P.RemoveCavities);
-      if (!enabled)
+      if (const char* reason = this->KeepReason(feature))
       {
-        feature.Reason = "removal of this kind is off";
+        feature.Reason = reason;
       }
-      else if (!(feature.Size < alpha))
+      else if (this->RemoveWall(barrier, region, feature))
       {
-        feature.Reason = "larger than the maximum feature size";
+        feature.Removed = true;
+        ++this->R.Removed[int(feature.Kind)];
       }
       else
       {
-        for (Index t : region)
-        {
-          this->Removed[t] = 1;
-        }
-        const size_t fillMark = this->FillTriangles.size();
-        const Index polygonMark = this->FillPolygons;
-        const size_t edgesMark = this->FillEdgeLog.size();
-        bool filled = true;
-        for (Index b : barrier)
-        {
-          if (this->R.Loops[b].Clockwise)
-          {
-            filled = filled && this->Fill(this->FillPolygonOf(b), this->FlatNormalOf(b), 1, edgeKept);
-          }
-        }
-        if (filled)
-        {
-          for (Index t : region)
-          {
-            this->PatchRemoved[this->Patches.TrianglePatches()[t]] = 1;
-          }
-          feature.Removed = true;
-          feature.RemovedTriangles = static_cast<Index>(region.size());
-          feature.FillTriangles = static_cast<Index>((this->FillTriangles.size() - fillMark) / 3);
-          ++this->R.Removed[int(feature.Kind)];
-        }
-        else
-        {
-          for (Index t : region)
-          {
-            this->Removed[t] = 0;
-          }
-          this->FillTriangles.resize(fillMark);
-          this->FillPatch.resize(fillMark / 3);
-          this->FillKind.resize(fillMark / 3);
-          this->FillPolygons = polygonMark;
-          for (size_t e = edgesMark; e < this->FillEdgeLog.size(); ++e)
-          {
-            this->FillEdges.erase(this->FillEdgeLog[e]);
-          }
-          this->FillEdgeLog.resize(edgesMark);
-          feature.Reason = "its loops cannot be filled without folds or duplicate edges";
-        }
+        feature.Reason = "its loops cannot be filled without folds or duplicate edges";
       }
       this->R.Features.push_back(std::move(feature));
     }
@@ -1214,183 +1285,225 @@ struct Simplification
       this->R.Features.push_back(std::move(feature));
     }
   }
-
-  // --- 8. Clean-up merge of nearly coplanar patches into disks ---
-  static std::vector<Index> CleanUpMerge(
-    const TopologySimplificationParameters& P, const TriangleMesh& mesh, const Patchification& pa)
-  {
-    const Index np = pa.NumberOfPatches();
-    std::vector<Index> parent(static_cast<size_t>(np));
-    std::iota(parent.begin(), parent.end(), 0);
-    if (P.MergeAngle <= 0)
-    {
-      return parent;
-    }
-    const double cosLimit = std::cos(P.MergeAngle * DegreesToRadians);
-    std::vector<Vec3> normalSum(static_cast<size_t>(np));
-    std::vector<std::vector<Index>> chainsOf(static_cast<size_t>(np));
-    for (Index p = 0; p < np; ++p)
-    {
-      normalSum[p] = pa.PatchNormalSum(p);
-      chainsOf[p].assign(pa.PatchChainsBegin(p), pa.PatchChainsEnd(p));
-    }
-    std::vector<std::pair<double, Index>> candidates;
-    for (Index c = 0; c < pa.NumberOfChains(); ++c)
-    {
-      const Index a = pa.ChainLeftPatch(c), b = pa.ChainRightPatch(c);
-      if (b == InvalidIndex || pa.ChainIsNonManifold(c) || a == b)
-      {
-        continue;
-      }
-      const double d = Dot(pa.PatchNormal(a), pa.PatchNormal(b));
-      if (d >= cosLimit)
-      {
-        candidates.emplace_back(-d, c);
-      }
-    }
-    std::sort(candidates.begin(), candidates.end());
-    const Index nv = mesh.NumberOfPoints();
-    std::vector<Index> stampA(size_t(nv), -1), stampArc(size_t(nv), -1);
-    Index stamp = 0;
-    std::vector<Index> shared, ends;
-    for (const auto& candidate : candidates)
-    {
-      const Index c0 = candidate.second;
-      Index g1 = Find(parent, pa.ChainLeftPatch(c0)), g2 = Find(parent, pa.ChainRightPatch(c0));
-      if (g1 == g2 || Dot(Normalized(normalSum[g1]), Normalized(normalSum[g2])) < cosLimit)
-      {
-        continue;
-      }
-      if (chainsOf[g1].size() < chainsOf[g2].size())
-      {
-        std::swap(g1, g2);
-      }
-      // Drop chains internal to g2, collect those shared with g1.
-      shared.clear();
-      std::vector<Index>& list2 = chainsOf[g2];
-      list2.erase(std::remove_if(list2.begin(), list2.end(),
-                    [&](Index c) {
-                      const Index r = pa.ChainRightPatch(c);
-                      return r != InvalidIndex && Find(parent, pa.ChainLeftPatch(c)) == Find(parent, r);
-                    }),
-        list2.end());
-      for (Index c : list2)
-      {
-        const Index l = Find(parent, pa.ChainLeftPatch(c));
-        const Index r = pa.ChainRightPatch(c) == InvalidIndex ? InvalidIndex : Find(parent, pa.ChainRightPatch(c));
-        if ((l == g1 && r == g2) || (l == g2 && r == g1))
-        {
-          shared.push_back(c);
-        }
-      }
-      // One arc: endpoints form a single path (V - E == 1, degrees <= 2, connected).
-      ++stamp;
-      ends.clear();
-      for (Index c : shared)
-      {
-        ends.push_back(pa.ChainVerticesBegin(c)[0]);
-        ends.push_back(pa.ChainVerticesBegin(c)[pa.ChainSize(c) - 1]);
-      }
-      std::vector<Index> distinct(ends);
-      std::sort(distinct.begin(), distinct.end());
-      bool arc = !shared.empty();
-      Index degreeOne = 0;
-      for (size_t i = 0; i < distinct.size() && arc;)
-      {
-        size_t j = i;
-        while (j < distinct.size() && distinct[j] == distinct[i])
-        {
-          ++j;
-        }
-        arc = (j - i) <= 2;
-        degreeOne += (j - i) == 1;
-        i = j;
-      }
-      distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
-      arc = arc && distinct.size() == shared.size() + 1 && degreeOne == 2;
-      if (arc)
-      {
-        // Connected: walk from a degree-one end.
-        Index at = InvalidIndex;
-        for (Index v : distinct)
-        {
-          if (std::count(ends.begin(), ends.end(), v) == 1)
-          {
-            at = v;
-            break;
-          }
-        }
-        std::vector<unsigned char> used(shared.size(), 0);
-        size_t walked = 0;
-        for (bool moved = true; moved;)
-        {
-          moved = false;
-          for (size_t k = 0; k < shared.size(); ++k)
-          {
-            if (!used[k] && (ends[2 * k] == at || ends[2 * k + 1] == at))
-            {
-              used[k] = 1;
-              at = ends[2 * k] == at ? ends[2 * k + 1] : ends[2 * k];
-              ++walked;
-              moved = true;
-              break;
-            }
-          }
-        }
-        arc = walked == shared.size();
-      }
-      if (!arc)
-      {
-        continue;
-      }
-      // No pinch: the two boundaries meet only along the arc.
-      for (Index c : shared)
-      {
-        for (Index i = 0; i < pa.ChainSize(c); ++i)
-        {
-          stampArc[pa.ChainVerticesBegin(c)[i]] = stamp;
-        }
-      }
-      std::vector<Index>& list1 = chainsOf[g1];
-      for (Index c : list1)
-      {
-        for (Index i = 0; i < pa.ChainSize(c); ++i)
-        {
-          stampA[pa.ChainVerticesBegin(c)[i]] = stamp;
-        }
-      }
-      bool pinch = false;
-      for (Index c : list2)
-      {
-        for (Index i = 0; i < pa.ChainSize(c) && !pinch; ++i)
-        {
-          const Index v = pa.ChainVerticesBegin(c)[i];
-          pinch = stampA[v] == stamp && stampArc[v] != stamp;
-        }
-      }
-      if (pinch)
-      {
-        continue;
-      }
-      parent[g2] = g1;
-      normalSum[g1] = normalSum[g1] + normalSum[g2];
-      list1.insert(list1.end(), list2.begin(), list2.end());
-      list2.clear();
-      list2.shrink_to_fit();
-      list1.erase(std::remove_if(list1.begin(), list1.end(),
-                    [&](Index c) {
-                      const Index r = pa.ChainRightPatch(c);
-                      return r != InvalidIndex && Find(parent, pa.ChainLeftPatch(c)) == Find(parent, r);
-                    }),
-        list1.end());
-    }
-    for (Index p = 0; p < np; ++p)
-    {
-      parent[p] = Find(parent, p);
-    }
-    return parent;
-  }
 };
+
+// --- 8. Clean-up merge of nearly coplanar patches into disks ---
+// The chains between two patches whose normals are within the limit, most parallel first.
+std::vector<std::pair<double, Index>> MergeCandidates(const Patchification& pa, double cosLimit)
+{
+  std::vector<std::pair<double, Index>> candidates;
+  for (Index c = 0; c < pa.NumberOfChains(); ++c)
+  {
+    const Index a = pa.ChainLeftPatch(c), b = pa.ChainRightPatch(c);
+    if (b == InvalidIndex || pa.ChainIsNonManifold(c) || a == b)
+    {
+      continue;
+    }
+    const double d = Dot(pa.PatchNormal(a), pa.PatchNormal(b));
+    if (d >= cosLimit)
+    {
+      candidates.emplace_back(-d, c);
+    }
+  }
+  std::sort(candidates.begin(), candidates.end());
+  return candidates;
+}
+
+// The state of the clean-up merge: the groups of patches, and per group (at its root) its
+// normal sum and its boundary chains.
+struct PatchGroups
+{
+  PatchGroups(const Patchification& pa, Index nv)
+    : Patches(pa)
+    , Groups(pa.NumberOfPatches())
+    , NormalSum(size_t(pa.NumberOfPatches()))
+    , ChainsOf(size_t(pa.NumberOfPatches()))
+    , StampA(size_t(nv), -1)
+    , StampArc(size_t(nv), -1)
+  {
+    for (Index p = 0; p < pa.NumberOfPatches(); ++p)
+    {
+      this->NormalSum[p] = pa.PatchNormalSum(p);
+      this->ChainsOf[p].assign(pa.PatchChainsBegin(p), pa.PatchChainsEnd(p));
+    }
+  }
+
+  // Whether chain c now lies inside one group.
+  bool IsInternal(Index c)
+  {
+    const Index r = this->Patches.ChainRightPatch(c);
+    return r != InvalidIndex && this->Groups.Find(this->Patches.ChainLeftPatch(c)) == this->Groups.Find(r);
+  }
+  void DropInternalChains(std::vector<Index>& chains)
+  {
+    chains.erase(std::remove_if(chains.begin(), chains.end(), [&](Index c) { return this->IsInternal(c); }), chains.end());
+  }
+
+  // The chains of g2 between g1 and g2.
+  void SharedChains(Index g1, Index g2, std::vector<Index>& shared)
+  {
+    shared.clear();
+    for (Index c : this->ChainsOf[g2])
+    {
+      const Index l = this->Groups.Find(this->Patches.ChainLeftPatch(c));
+      const Index r =
+        this->Patches.ChainRightPatch(c) == InvalidIndex ? InvalidIndex : this->Groups.Find(this->Patches.ChainRightPatch(c));
+      if ((l == g1 && r == g2) || (l == g2 && r == g1))
+      {
+        shared.push_back(c);
+      }
+    }
+  }
+
+  // Whether the shared chains form one arc: their endpoints make a single path (V - E == 1,
+  // degrees <= 2, connected).
+  bool IsSingleArc(const std::vector<Index>& shared)
+  {
+    auto& ends = this->Ends;
+    ends.clear();
+    for (Index c : shared)
+    {
+      ends.push_back(this->Patches.ChainVerticesBegin(c)[0]);
+      ends.push_back(this->Patches.ChainVerticesBegin(c)[this->Patches.ChainSize(c) - 1]);
+    }
+    std::vector<Index> distinct(ends);
+    std::sort(distinct.begin(), distinct.end());
+    bool arc = !shared.empty();
+    Index degreeOne = 0;
+    for (size_t i = 0; i < distinct.size() && arc;)
+    {
+      size_t j = i;
+      while (j < distinct.size() && distinct[j] == distinct[i])
+      {
+        ++j;
+      }
+      arc = (j - i) <= 2;
+      degreeOne += (j - i) == 1;
+      i = j;
+    }
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    if (!(arc && distinct.size() == shared.size() + 1 && degreeOne == 2))
+    {
+      return false;
+    }
+    // Connected: walk from a degree-one end (each step uses one chain: at most shared.size()).
+    Index at = *std::find_if(distinct.begin(), distinct.end(), [&](Index v) { return std::count(ends.begin(), ends.end(), v) == 1; });
+    std::vector<unsigned char> used(shared.size(), 0);
+    size_t walked = 0;
+    for (bool moved = true; moved;)
+    {
+      moved = false;
+      for (size_t k = 0; k < shared.size(); ++k)
+      {
+        if (!used[k] && (ends[2 * k] == at || ends[2 * k + 1] == at))
+        {
+          used[k] = 1;
+          at = ends[2 * k] == at ? ends[2 * k + 1] : ends[2 * k];
+          ++walked;
+          moved = true;
+          break;
+        }
+      }
+    }
+    return walked == shared.size();
+  }
+
+  // Whether the boundaries of g1 and g2 meet anywhere off the shared arc.
+  bool Pinches(Index g1, Index g2, const std::vector<Index>& shared)
+  {
+    ++this->Stamp;
+    auto mark = [&](const std::vector<Index>& chains, std::vector<Index>& stamps) {
+      for (Index c : chains)
+      {
+        for (Index i = 0; i < this->Patches.ChainSize(c); ++i)
+        {
+          stamps[this->Patches.ChainVerticesBegin(c)[i]] = this->Stamp;
+        }
+      }
+    };
+    mark(shared, this->StampArc);
+    mark(this->ChainsOf[g1], this->StampA);
+    for (Index c : this->ChainsOf[g2])
+    {
+      for (Index i = 0; i < this->Patches.ChainSize(c); ++i)
+      {
+        const Index v = this->Patches.ChainVerticesBegin(c)[i];
+        if (this->StampA[v] == this->Stamp && this->StampArc[v] != this->Stamp)
+        {
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  // g2 joins g1; the group's data moves to the root of the union.
+  void Join(Index g1, Index g2)
+  {
+    std::vector<Index>& list1 = this->ChainsOf[g1];
+    std::vector<Index>& list2 = this->ChainsOf[g2];
+    this->NormalSum[g1] = this->NormalSum[g1] + this->NormalSum[g2];
+    list1.insert(list1.end(), list2.begin(), list2.end());
+    std::vector<Index>().swap(list2);
+    this->Groups.Union(g1, g2);
+    const Index root = this->Groups.Find(g1);
+    if (root != g1)
+    {
+      std::swap(this->NormalSum[root], this->NormalSum[g1]);
+      this->ChainsOf[root].swap(this->ChainsOf[g1]);
+    }
+    this->DropInternalChains(this->ChainsOf[root]);
+  }
+
+  const Patchification& Patches;
+  UnionFind Groups;
+  std::vector<Vec3> NormalSum;
+  std::vector<std::vector<Index>> ChainsOf;
+  std::vector<Index> StampA, StampArc, Ends;
+  Index Stamp = 0;
+};
+
+// Per patch, the group it merges into: neighbouring patches within MergeAngle of each other
+// join, the most parallel first, when their common boundary is one arc and they touch nowhere
+// else (the union stays a disk).
+std::vector<Index> CleanUpMerge(const TopologySimplificationParameters& P, const TriangleMesh& mesh, const Patchification& pa)
+{
+  const Index np = pa.NumberOfPatches();
+  std::vector<Index> group(static_cast<size_t>(np));
+  std::iota(group.begin(), group.end(), 0);
+  if (P.MergeAngle <= 0)
+  {
+    return group;
+  }
+  const double cosLimit = std::cos(vtkMath::RadiansFromDegrees(P.MergeAngle));
+  PatchGroups groups(pa, mesh.NumberOfPoints());
+  std::vector<Index> shared;
+  for (const auto& candidate : MergeCandidates(pa, cosLimit))
+  {
+    const Index c0 = candidate.second;
+    Index g1 = groups.Groups.Find(pa.ChainLeftPatch(c0)), g2 = groups.Groups.Find(pa.ChainRightPatch(c0));
+    if (g1 == g2 || Dot(Normalized(groups.NormalSum[g1]), Normalized(groups.NormalSum[g2])) < cosLimit)
+    {
+      continue;
+    }
+    if (groups.ChainsOf[g1].size() < groups.ChainsOf[g2].size())
+    {
+      std::swap(g1, g2);
+    }
+    groups.DropInternalChains(groups.ChainsOf[g2]);
+    groups.SharedChains(g1, g2, shared);
+    if (groups.IsSingleArc(shared) && !groups.Pinches(g1, g2, shared))
+    {
+      groups.Join(g1, g2);
+    }
+  }
+  for (Index p = 0; p < np; ++p)
+  {
+    group[p] = groups.Groups.Find(p);
+  }
+  return group;
+}
+
 
 // Dense 0..n-1 labels in order of first appearance.
 Index Compact(std::vector<Index>& labels)
@@ -1411,6 +1524,244 @@ Index Compact(std::vector<Index>& labels)
   }
   return next;
 }
+// The cleaned surface of a detection pass: kept triangles, filled loops and filled cracks over
+// the input vertices, with a patch label and a fill kind per triangle.
+struct CleanedSurface
+{
+  TriangleMesh Mesh;
+  std::vector<Index> Labels;
+  std::vector<unsigned char> Fill; // 0 original surface, 1 filled feature loop, 2 filled crack
+  Index LabelCount = 0;
+};
+
+using ReportFunction = std::function<bool(double)>;
+
+// The cleaned mesh of one pass: the triangles the pass kept and the fills it made.
+void CollectCleaned(const Simplification& run, const TriangleMesh& current, const std::vector<unsigned char>& currentFill,
+  const std::vector<double>& points, CleanedSurface& cleaned)
+{
+  cleaned.Mesh = TriangleMesh();
+  cleaned.Mesh.Points = points;
+  cleaned.Labels.clear();
+  cleaned.Fill.clear();
+  const std::vector<Index>& patchOf = run.Patches.TrianglePatches();
+  const Index np = run.Patches.NumberOfPatches();
+  for (Index t = 0; t < current.NumberOfTriangles(); ++t)
+  {
+    if (!run.Removed[t])
+    {
+      const Index* tri = current.Triangle(t);
+      cleaned.Mesh.AddTriangle(tri[0], tri[1], tri[2]);
+      cleaned.Labels.push_back(patchOf[t]);
+      cleaned.Fill.push_back(currentFill[t]);
+    }
+  }
+  for (size_t i = 0; i < run.FillPatch.size(); ++i)
+  {
+    cleaned.Mesh.AddTriangle(run.FillTriangles[3 * i], run.FillTriangles[3 * i + 1], run.FillTriangles[3 * i + 2]);
+    cleaned.Labels.push_back(np + run.FillPatch[i]);
+    cleaned.Fill.push_back(run.FillKind[i]);
+  }
+}
+
+// The cracks of the cleaned mesh, closed (first pass only).
+void CloseCracks(Simplification& run, CleanedSurface& cleaned)
+{
+  const Index np = run.Patches.NumberOfPatches();
+  const size_t before = run.FillPatch.size();
+  run.FillCracks(cleaned.Mesh); // adds the crack triangles to the cleaned mesh itself
+  for (size_t i = before; i < run.FillPatch.size(); ++i)
+  {
+    cleaned.Labels.push_back(np + run.FillPatch[i]);
+    cleaned.Fill.push_back(run.FillKind[i]);
+  }
+}
+
+// Accumulate: removed features of every pass, detected-but-kept ones of the last pass only
+// (with their loops; the last pass's loops all).
+void AccumulateFindings(TopologySimplificationResult& found, bool last, TopologySimplificationResult& result)
+{
+  std::vector<Index> featureIndex(found.Features.size(), InvalidIndex);
+  Index nextFeature = static_cast<Index>(result.Features.size());
+  for (size_t f = 0; f < found.Features.size(); ++f)
+  {
+    if (found.Features[f].Removed || last)
+    {
+      featureIndex[f] = nextFeature++;
+    }
+  }
+  std::vector<Index> loopIndex(found.Loops.size(), InvalidIndex);
+  Index nextLoop = static_cast<Index>(result.Loops.size());
+  for (size_t l = 0; l < found.Loops.size(); ++l)
+  {
+    const Index f = found.Loops[l].Feature;
+    if (last || (f != InvalidIndex && featureIndex[f] != InvalidIndex))
+    {
+      loopIndex[l] = nextLoop++;
+    }
+  }
+  for (size_t f = 0; f < found.Features.size(); ++f)
+  {
+    if (featureIndex[f] != InvalidIndex)
+    {
+      TopologyFeature& feature = found.Features[f];
+      for (Index& l : feature.Loops)
+      {
+        l = l == InvalidIndex ? InvalidIndex : loopIndex[l];
+      }
+      result.Features.push_back(std::move(feature));
+    }
+  }
+  for (size_t l = 0; l < found.Loops.size(); ++l)
+  {
+    if (loopIndex[l] != InvalidIndex)
+    {
+      SharpLoop& loop = found.Loops[l];
+      loop.Feature = loop.Feature == InvalidIndex ? InvalidIndex : featureIndex[loop.Feature];
+      result.Loops.push_back(std::move(loop));
+    }
+  }
+  for (int k = 0; k < 4; ++k)
+  {
+    result.Removed[k] += found.Removed[k];
+    result.Detected[k] += last ? found.Detected[k] : found.Removed[k];
+  }
+}
+
+enum class PassOutcome
+{
+  Aborted,
+  Again, // something was removed: detect again on the cleaned surface
+  Last
+};
+
+// One detection pass over `current` (the input's vertices, the previous pass's triangles).
+PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const TriangleMesh& current,
+  const std::vector<unsigned char>& currentFill, const TopologySimplificationParameters& parameters,
+  const ReportFunction& report, TopologySimplificationResult& result, CleanedSurface& cleaned)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  TopologySimplificationResult found;
+  Simplification run(current, parameters, found);
+  const double base = pass == 0 ? 0.0 : 0.7;
+  const double span = pass == 0 ? 0.4 : 0.02;
+  run.Patches.Build(current, run.Topology, parameters.Patches, [&](double f) { return report(base + span * f); });
+  if (run.Patches.Aborted())
+  {
+    return PassOutcome::Aborted;
+  }
+  const auto t1 = Clock::now();
+  result.PatchificationSeconds += std::chrono::duration<double>(t1 - t0).count();
+  run.BuildSharpChains();
+  run.ClassifySides();
+  run.FindLoops();
+  if (report(pass == 0 ? 0.5 : 0.72))
+  {
+    return PassOutcome::Aborted;
+  }
+  bool aborted = false;
+  run.DetectAndRemove([&](double f) { return aborted = aborted || report(pass == 0 ? 0.5 + 0.2 * f : 0.72); });
+  if (aborted)
+  {
+    return PassOutcome::Aborted;
+  }
+  if (pass == 0)
+  {
+    result.InitialPatches = run.Patches.NumberOfPatches();
+    result.SharpEdges = found.SharpEdges;
+    result.SharpChains = found.SharpChains;
+  }
+  CollectCleaned(run, current, currentFill, input.Points, cleaned);
+  const Index removedNow = found.Removed[0] + found.Removed[1] + found.Removed[2];
+  if (pass == 0 && parameters.FillCracks)
+  {
+    CloseCracks(run, cleaned);
+  }
+  cleaned.LabelCount = Compact(cleaned.Labels);
+  const bool last = removedNow == 0 || pass + 1 == passes;
+  AccumulateFindings(found, last, result);
+  result.DetectionSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
+  return last ? PassOutcome::Last : PassOutcome::Again;
+}
+
+// The fill kind of each patch: the largest of its triangles'.
+std::vector<unsigned char> FillOfPatches(
+  const std::vector<Index>& patchLabels, Index count, const std::vector<unsigned char>& fill)
+{
+  std::vector<unsigned char> patchFill(size_t(count), 0);
+  for (size_t t = 0; t < patchLabels.size(); ++t)
+  {
+    patchFill[patchLabels[t]] = std::max(patchFill[patchLabels[t]], fill[t]);
+  }
+  return patchFill;
+}
+
+// Completion by SPBM (TriangulatePatches or Spbm): the level's triangles, patches and fills.
+bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParameters& parameters,
+  const CleanedSurface& cleaned, const MeshTopology& cleanedTopology, const CleanedSurface& unmerged /* labels only */,
+  const ReportFunction& report, TopologySimplificationResult& result)
+{
+  Patchification merged;
+  merged.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount);
+  std::vector<unsigned char> patchFill = FillOfPatches(cleaned.Labels, cleaned.LabelCount, cleaned.Fill);
+  auto generator = std::make_unique<SpbmLevelGenerator>();
+  generator->Initialize(cleaned.Mesh, merged);
+  SpbmLevelParameters level = parameters.Spbm;
+  auto abort = [&]() { return report(0.85); };
+  bool ok = true;
+  if (parameters.Completion == TopologyCompletion::TriangulatePatches)
+  {
+    level.Epsilon = parameters.CollinearTolerance * input.BoundingBoxDiagonal();
+    level.MergePatches = false;
+    level.CollapseChains = false;
+    level.CompareCandidates = false;
+    ok = generator->Generate(level, result.Level, abort);
+  }
+  else if (parameters.SpbmTargetTriangles > 0)
+  {
+    // The clean-up merge may leave too few patch boundaries for the target (SPBM keeps no
+    // vertex inside a patch): then SPBM starts from the unmerged patches (it merges itself).
+    SpbmLevelParameters finest = level;
+    finest.Epsilon = -1.0;
+    finest.MergePatches = false;
+    finest.CollapseChains = false;
+    if (generator->PredictTriangleCount(finest) < parameters.SpbmTargetTriangles)
+    {
+      merged.BuildFromLabels(cleaned.Mesh, cleanedTopology, unmerged.Labels, unmerged.LabelCount);
+      patchFill = FillOfPatches(unmerged.Labels, unmerged.LabelCount, cleaned.Fill);
+      generator = std::make_unique<SpbmLevelGenerator>();
+      generator->Initialize(cleaned.Mesh, merged);
+    }
+    ok = generator->GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
+  }
+  else
+  {
+    ok = generator->Generate(level, result.Level, abort);
+  }
+  if (!ok)
+  {
+    return false;
+  }
+  result.Triangles = result.Level.Triangles;
+  result.TrianglePatch = result.Level.TrianglePatch;
+  result.NumberOfPatches = result.Level.NumberOfPatches;
+  std::vector<unsigned char> levelFill(size_t(result.Level.NumberOfPatches), 0);
+  for (size_t p = 0; p < result.Level.MergedPatchOf.size(); ++p)
+  {
+    const Index q = result.Level.MergedPatchOf[p];
+    if (q != InvalidIndex)
+    {
+      levelFill[q] = std::max(levelFill[q], patchFill[p]);
+    }
+  }
+  result.TriangleFill.resize(result.TrianglePatch.size());
+  for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
+  {
+    result.TriangleFill[t] = levelFill[result.TrianglePatch[t]];
+  }
+  return true;
+}
 } // namespace
 
 bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificationParameters& parameters,
@@ -1418,148 +1769,27 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
 {
   using Clock = std::chrono::steady_clock;
   result = TopologySimplificationResult();
-  auto report = [&](double f) { return progress && progress(f); };
+  const ReportFunction report = [&](double f) { return progress && progress(f); };
   // Detection passes: a removal can expose a new feature (the counterbore of a stepped hole is a
   // cavity once its hole is filled), so detection runs again on the cleaned surface while it
   // removes something, at most MaximumPasses times. Cracks are closed in the first pass only.
   TriangleMesh current = mesh;
   std::vector<unsigned char> currentFill(size_t(mesh.NumberOfTriangles()), 0);
-  TriangleMesh cleaned;
-  std::vector<Index> labels;
-  std::vector<unsigned char> fill;
-  Index labelCount = 0;
+  CleanedSurface cleaned;
   const int passes = std::max(1, parameters.MaximumPasses);
-  auto t1 = Clock::now();
   for (int pass = 0; pass < passes; ++pass)
   {
-    const auto t0 = Clock::now();
-    TopologySimplificationResult found;
-    Simplification run(current, parameters, found);
-    const double base = pass == 0 ? 0.0 : 0.7;
-    const double span = pass == 0 ? 0.4 : 0.02;
-    run.Patches.Build(current, run.Topology, parameters.Patches, [&](double f) { return report(base + span * f); });
-    if (run.Patches.Aborted())
+    const PassOutcome outcome = DetectionPass(pass, passes, mesh, current, currentFill, parameters, report, result, cleaned);
+    if (outcome == PassOutcome::Aborted)
     {
       return false;
     }
-    t1 = Clock::now();
-    result.PatchificationSeconds += std::chrono::duration<double>(t1 - t0).count();
-    run.BuildSharpChains();
-    run.ClassifySides();
-    run.FindLoops();
-    if (report(pass == 0 ? 0.5 : 0.72))
-    {
-      return false;
-    }
-    bool aborted = false;
-    run.DetectAndRemove(
-      [&](double f) { return aborted = aborted || report(pass == 0 ? 0.5 + 0.2 * f : 0.72); });
-    if (aborted)
-    {
-      return false;
-    }
-    if (pass == 0)
-    {
-      result.InitialPatches = run.Patches.NumberOfPatches();
-      result.SharpEdges = found.SharpEdges;
-      result.SharpChains = found.SharpChains;
-    }
-
-    // The cleaned mesh: kept triangles + filled loops (+ filled cracks), over the input vertices.
-    cleaned = TriangleMesh();
-    cleaned.Points = mesh.Points;
-    labels.clear();
-    fill.clear();
-    const std::vector<Index>& patchOf = run.Patches.TrianglePatches();
-    const Index np = run.Patches.NumberOfPatches();
-    for (Index t = 0; t < current.NumberOfTriangles(); ++t)
-    {
-      if (!run.Removed[t])
-      {
-        const Index* tri = current.Triangle(t);
-        cleaned.AddTriangle(tri[0], tri[1], tri[2]);
-        labels.push_back(patchOf[t]);
-        fill.push_back(currentFill[t]);
-      }
-    }
-    for (size_t i = 0; i < run.FillPatch.size(); ++i)
-    {
-      cleaned.AddTriangle(run.FillTriangles[3 * i], run.FillTriangles[3 * i + 1], run.FillTriangles[3 * i + 2]);
-      labels.push_back(np + run.FillPatch[i]);
-      fill.push_back(run.FillKind[i]);
-    }
-    Index removedNow = 0;
-    for (int k = 0; k < 3; ++k)
-    {
-      removedNow += found.Removed[k];
-    }
-    if (pass == 0 && parameters.FillCracks)
-    {
-      const size_t before = run.FillPatch.size();
-      run.FillCracks(cleaned); // adds the crack triangles to `cleaned` itself
-      for (size_t i = before; i < run.FillPatch.size(); ++i)
-      {
-        labels.push_back(np + run.FillPatch[i]);
-        fill.push_back(run.FillKind[i]);
-      }
-    }
-    labelCount = Compact(labels);
-    const bool last = removedNow == 0 || pass + 1 == passes;
-
-    // Accumulate: removed features of every pass, detected-but-kept ones of the last pass only
-    // (with their loops; the last pass's loops all).
-    std::vector<Index> featureIndex(found.Features.size(), InvalidIndex);
-    Index nextFeature = static_cast<Index>(result.Features.size());
-    for (size_t f = 0; f < found.Features.size(); ++f)
-    {
-      if (found.Features[f].Removed || last)
-      {
-        featureIndex[f] = nextFeature++;
-      }
-    }
-    std::vector<Index> loopIndex(found.Loops.size(), InvalidIndex);
-    Index nextLoop = static_cast<Index>(result.Loops.size());
-    for (size_t l = 0; l < found.Loops.size(); ++l)
-    {
-      const Index f = found.Loops[l].Feature;
-      if (last || (f != InvalidIndex && featureIndex[f] != InvalidIndex))
-      {
-        loopIndex[l] = nextLoop++;
-      }
-    }
-    for (size_t f = 0; f < found.Features.size(); ++f)
-    {
-      if (featureIndex[f] != InvalidIndex)
-      {
-        TopologyFeature& feature = found.Features[f];
-        for (Index& l : feature.Loops)
-        {
-          l = l == InvalidIndex ? InvalidIndex : loopIndex[l];
-        }
-        result.Features.push_back(std::move(feature));
-      }
-    }
-    for (size_t l = 0; l < found.Loops.size(); ++l)
-    {
-      if (loopIndex[l] != InvalidIndex)
-      {
-        SharpLoop& loop = found.Loops[l];
-        loop.Feature = loop.Feature == InvalidIndex ? InvalidIndex : featureIndex[loop.Feature];
-        result.Loops.push_back(std::move(loop));
-      }
-    }
-    for (int k = 0; k < 4; ++k)
-    {
-      result.Removed[k] += found.Removed[k];
-      result.Detected[k] += last ? found.Detected[k] : found.Removed[k];
-    }
-    result.DetectionSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
-    if (last)
+    if (outcome == PassOutcome::Last)
     {
       break;
     }
-    current.Triangles = cleaned.Triangles;
-    currentFill = fill;
+    current.Triangles = cleaned.Mesh.Triangles;
+    currentFill = cleaned.Fill;
   }
   const auto t2 = Clock::now();
   if (report(0.75))
@@ -1568,27 +1798,20 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   }
 
   // Clean-up merge on the patchification of the cleaned mesh.
-  const MeshTopology cleanedTopology(cleaned);
+  const MeshTopology cleanedTopology(cleaned.Mesh);
   Patchification cleanedPatches;
-  cleanedPatches.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
-  const std::vector<Index> unmergedLabels = labels;
-  const Index unmergedCount = labelCount;
-  const std::vector<Index> group = Simplification::CleanUpMerge(parameters, cleaned, cleanedPatches);
-  for (Index& l : labels)
+  cleanedPatches.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount);
+  CleanedSurface unmerged;
+  unmerged.Labels = cleaned.Labels;
+  unmerged.LabelCount = cleaned.LabelCount;
+  const std::vector<Index> group = CleanUpMerge(parameters, cleaned.Mesh, cleanedPatches);
+  for (Index& l : cleaned.Labels)
   {
     l = group[l];
   }
-  labelCount = Compact(labels);
-  result.MergedPatches = labelCount;
-  result.CleanedTriangles = cleaned.Triangles;
-  auto fillOfPatches = [&](const std::vector<Index>& patchLabels, Index count) {
-    std::vector<unsigned char> patchFill(size_t(count), 0);
-    for (size_t t = 0; t < patchLabels.size(); ++t)
-    {
-      patchFill[patchLabels[t]] = std::max(patchFill[patchLabels[t]], fill[t]);
-    }
-    return patchFill;
-  };
+  cleaned.LabelCount = Compact(cleaned.Labels);
+  result.MergedPatches = cleaned.LabelCount;
+  result.CleanedTriangles = cleaned.Mesh.Triangles;
   if (report(0.8))
   {
     return false;
@@ -1597,71 +1820,14 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   // Completion.
   if (parameters.Completion == TopologyCompletion::KeepTriangles)
   {
-    result.Triangles = cleaned.Triangles;
-    result.TrianglePatch = labels;
-    result.TriangleFill = fill;
-    result.NumberOfPatches = labelCount;
+    result.Triangles = cleaned.Mesh.Triangles;
+    result.TrianglePatch = cleaned.Labels;
+    result.TriangleFill = cleaned.Fill;
+    result.NumberOfPatches = cleaned.LabelCount;
   }
-  else
+  else if (!CompleteBySpbm(mesh, parameters, cleaned, cleanedTopology, unmerged, report, result))
   {
-    Patchification merged;
-    merged.BuildFromLabels(cleaned, cleanedTopology, labels, labelCount);
-    std::vector<unsigned char> patchFill = fillOfPatches(labels, labelCount);
-    auto generator = std::make_unique<SpbmLevelGenerator>();
-    generator->Initialize(cleaned, merged);
-    SpbmLevelParameters level = parameters.Spbm;
-    auto abort = [&]() { return report(0.85); };
-    bool ok = true;
-    if (parameters.Completion == TopologyCompletion::TriangulatePatches)
-    {
-      level.Epsilon = parameters.CollinearTolerance * mesh.BoundingBoxDiagonal();
-      level.MergePatches = false;
-      level.CollapseChains = false;
-      level.CompareCandidates = false;
-      ok = generator->Generate(level, result.Level, abort);
-    }
-    else if (parameters.SpbmTargetTriangles > 0)
-    {
-      // The clean-up merge may leave too few patch boundaries for the target (SPBM keeps no
-      // vertex inside a patch): then SPBM starts from the unmerged patches (it merges itself).
-      SpbmLevelParameters finest = level;
-      finest.Epsilon = -1.0;
-      finest.MergePatches = false;
-      finest.CollapseChains = false;
-      if (generator->PredictTriangleCount(finest) < parameters.SpbmTargetTriangles)
-      {
-        merged.BuildFromLabels(cleaned, cleanedTopology, unmergedLabels, unmergedCount);
-        patchFill = fillOfPatches(unmergedLabels, unmergedCount);
-        generator = std::make_unique<SpbmLevelGenerator>();
-        generator->Initialize(cleaned, merged);
-      }
-      ok = generator->GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
-    }
-    else
-    {
-      ok = generator->Generate(level, result.Level, abort);
-    }
-    if (!ok)
-    {
-      return false;
-    }
-    result.Triangles = result.Level.Triangles;
-    result.TrianglePatch = result.Level.TrianglePatch;
-    result.NumberOfPatches = result.Level.NumberOfPatches;
-    std::vector<unsigned char> levelFill(size_t(result.Level.NumberOfPatches), 0);
-    for (size_t p = 0; p < result.Level.MergedPatchOf.size(); ++p)
-    {
-      const Index q = result.Level.MergedPatchOf[p];
-      if (q != InvalidIndex)
-      {
-        levelFill[q] = std::max(levelFill[q], patchFill[p]);
-      }
-    }
-    result.TriangleFill.resize(result.TrianglePatch.size());
-    for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
-    {
-      result.TriangleFill[t] = levelFill[result.TrianglePatch[t]];
-    }
+    return false;
   }
   result.CompletionSeconds = std::chrono::duration<double>(Clock::now() - t2).count();
   report(1.0);

@@ -30,6 +30,138 @@ void AddCount(vtkFieldData* fd, const char* name, int value)
   a->SetValue(0, value);
   fd->AddArray(a);
 }
+
+// The parameters of the simplification from the filter's settings; the size parameters are
+// relative to the mesh's diagonal where the filter says so.
+slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemoval* filter, const slod::TriangleMesh& mesh)
+{
+  slod::TopologySimplificationParameters parameters;
+  parameters.Patches.OneEdgePatchAngle = filter->GetPatchAngle();
+  parameters.Patches.OneEdgeNeighborAngle = filter->GetNeighborAngle();
+  parameters.SharpMaximumDot = std::cos(vtkMath::RadiansFromDegrees(filter->GetSharpAngle()));
+  parameters.SharpMinimumDot = std::cos(vtkMath::RadiansFromDegrees(filter->GetMaximumSharpAngle()));
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  parameters.Patches.MaximumPlaneDistance = filter->GetPatchPlaneDistance() * diagonal;
+  const double scale = filter->GetRelativeFeatureSize() ? diagonal : 1.0;
+  parameters.MaximumFeatureSize = filter->GetMaximumFeatureSize() * scale;
+  parameters.MaximumCrackSize = filter->GetMaximumCrackSize() < 0 ? -1.0 : filter->GetMaximumCrackSize() * scale;
+  parameters.FillCracks = filter->GetFillCracks();
+  parameters.RemoveHoles = filter->GetRemoveHoles();
+  parameters.RemoveBumps = filter->GetRemoveBumps();
+  parameters.RemoveCavities = filter->GetRemoveCavities();
+  parameters.MergeAngle = filter->GetMergeAngle();
+  parameters.MaximumPasses = filter->GetMaximumPasses();
+  parameters.Completion = static_cast<slod::TopologyCompletion>(filter->GetCompletion());
+  parameters.Spbm.Epsilon = filter->GetEpsilon() * diagonal;
+  parameters.Spbm.MergeAngle = filter->GetMergeAngle() > 0 ? filter->GetMergeAngle() : 20.0;
+  vtkIdType target = filter->GetTargetNumberOfTriangles();
+  if (target <= 0 && filter->GetTargetReduction() > 0)
+  {
+    target = static_cast<vtkIdType>(std::llround((1.0 - filter->GetTargetReduction()) * mesh.NumberOfTriangles()));
+  }
+  if (target >= mesh.NumberOfTriangles())
+  {
+    parameters.Completion = slod::TopologyCompletion::KeepTriangles; // no reduction asked for
+  }
+  else if (target > 0)
+  {
+    parameters.Completion = slod::TopologyCompletion::Spbm;
+    parameters.SpbmTargetTriangles = static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX));
+  }
+  return parameters;
+}
+
+// The result's triangles over the used input vertices, with their patch and fill arrays; outMesh
+// gets the same triangles (for the topology check).
+void StoreTriangles(const slod::TopologySimplificationResult& result, const slod::TriangleMesh& mesh, vtkPolyData* input,
+  const std::vector<slod::Index>& vertexToInput, bool doublePrecision, vtkPolyData* output, slod::TriangleMesh& outMesh)
+{
+  slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
+  const std::vector<slod::Index>& used = numbering.Used;
+  auto use = [&](slod::Index v) { return static_cast<vtkIdType>(numbering(v)); };
+  const vtkIdType nt = static_cast<vtkIdType>(result.TrianglePatch.size());
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateExact(nt, 3 * nt);
+  vtkNew<vtkIntArray> patchIds;
+  patchIds->SetName("PatchId");
+  patchIds->SetNumberOfValues(nt);
+  vtkNew<vtkIntArray> filled; // int, not unsigned char: mappers would take 0/1 bytes as colours
+  filled->SetName("FilledPatch");
+  filled->SetNumberOfValues(nt);
+  for (vtkIdType t = 0; t < nt; ++t)
+  {
+    const vtkIdType ids[3] = { use(result.Triangles[3 * t]), use(result.Triangles[3 * t + 1]),
+      use(result.Triangles[3 * t + 2]) };
+    polys->InsertNextCell(3, ids);
+    patchIds->SetValue(t, result.TrianglePatch[t]);
+    filled->SetValue(t, result.TriangleFill[t]);
+    outMesh.AddTriangle(static_cast<slod::Index>(ids[0]), static_cast<slod::Index>(ids[1]), static_cast<slod::Index>(ids[2]));
+  }
+  slod::StoreUsedPoints(input, mesh, used, vertexToInput, doublePrecision, output);
+  outMesh.Points.resize(3 * used.size());
+  for (size_t i = 0; i < used.size(); ++i)
+  {
+    outMesh.SetPoint(static_cast<slod::Index>(i), mesh.Point(used[i]));
+  }
+  output->SetPolys(polys);
+  output->GetCellData()->AddArray(patchIds);
+  output->GetCellData()->AddArray(filled);
+}
+
+void AddFeatureCounts(vtkHoleBumpRemoval* filter, vtkFieldData* fd)
+{
+  AddCount(fd, "HolesRemoved", filter->GetNumberOfHolesRemoved());
+  AddCount(fd, "BumpsRemoved", filter->GetNumberOfBumpsRemoved());
+  AddCount(fd, "CavitiesRemoved", filter->GetNumberOfCavitiesRemoved());
+  AddCount(fd, "CracksFilled", filter->GetNumberOfCracksFilled());
+  AddCount(fd, "HolesDetected", filter->GetNumberOfHolesDetected());
+  AddCount(fd, "BumpsDetected", filter->GetNumberOfBumpsDetected());
+  AddCount(fd, "CavitiesDetected", filter->GetNumberOfCavitiesDetected());
+  AddCount(fd, "CracksDetected", filter->GetNumberOfCracksDetected());
+}
+
+// Output port 1: the sharp loops and the crack loops as closed polylines with their feature's
+// kind, whether it was removed, and the loop's orientation.
+void StoreSharpLoops(const slod::TopologySimplificationResult& result, const slod::TriangleMesh& mesh, vtkPolyData* loopsOutput)
+{
+  using Kind = slod::TopologyFeatureKind;
+  vtkNew<vtkPoints> loopPoints;
+  loopPoints->SetDataType(VTK_DOUBLE);
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> kind, removed, clockwise;
+  kind->SetName("FeatureKind");
+  removed->SetName("Removed");
+  clockwise->SetName("Clockwise");
+  auto addLine = [&](const std::vector<slod::Index>& loop, int k, int r, int cw) {
+    lines->InsertNextCell(static_cast<vtkIdType>(loop.size() + 1));
+    const vtkIdType first = loopPoints->GetNumberOfPoints();
+    for (slod::Index v : loop)
+    {
+      lines->InsertCellPoint(loopPoints->InsertNextPoint(&mesh.Points[3 * size_t(v)]));
+    }
+    lines->InsertCellPoint(first);
+    kind->InsertNextValue(k);
+    removed->InsertNextValue(r);
+    clockwise->InsertNextValue(cw);
+  };
+  for (const slod::SharpLoop& loop : result.Loops)
+  {
+    const slod::TopologyFeature* f = loop.Feature >= 0 ? &result.Features[loop.Feature] : nullptr;
+    addLine(loop.Vertices, f ? int(f->Kind) : -1, f && f->Removed, loop.Clockwise);
+  }
+  for (const slod::TopologyFeature& f : result.Features)
+  {
+    if (f.Kind == Kind::Crack)
+    {
+      addLine(f.CrackLoop, int(Kind::Crack), f.Removed, 0);
+    }
+  }
+  loopsOutput->SetPoints(loopPoints);
+  loopsOutput->SetLines(lines);
+  loopsOutput->GetCellData()->AddArray(kind);
+  loopsOutput->GetCellData()->AddArray(removed);
+  loopsOutput->GetCellData()->AddArray(clockwise);
+}
 } // namespace
 
 vtkHoleBumpRemoval::vtkHoleBumpRemoval()
@@ -74,39 +206,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   this->InputGenus = static_cast<int>(before.Genus);
   this->UpdateProgress(0.05);
 
-  slod::TopologySimplificationParameters parameters;
-  parameters.Patches.OneEdgePatchAngle = this->PatchAngle;
-  parameters.Patches.OneEdgeNeighborAngle = this->NeighborAngle;
-  parameters.SharpMaximumDot = std::cos(vtkMath::RadiansFromDegrees(this->SharpAngle));
-  parameters.SharpMinimumDot = std::cos(vtkMath::RadiansFromDegrees(this->MaximumSharpAngle));
-  const double diagonal = mesh.BoundingBoxDiagonal();
-  parameters.Patches.MaximumPlaneDistance = this->PatchPlaneDistance * diagonal;
-  const double scale = this->RelativeFeatureSize ? diagonal : 1.0;
-  parameters.MaximumFeatureSize = this->MaximumFeatureSize * scale;
-  parameters.MaximumCrackSize = this->MaximumCrackSize < 0 ? -1.0 : this->MaximumCrackSize * scale;
-  parameters.FillCracks = this->FillCracks;
-  parameters.RemoveHoles = this->RemoveHoles;
-  parameters.RemoveBumps = this->RemoveBumps;
-  parameters.RemoveCavities = this->RemoveCavities;
-  parameters.MergeAngle = this->MergeAngle;
-  parameters.MaximumPasses = this->MaximumPasses;
-  parameters.Completion = static_cast<slod::TopologyCompletion>(this->Completion);
-  parameters.Spbm.Epsilon = this->Epsilon * diagonal;
-  parameters.Spbm.MergeAngle = this->MergeAngle > 0 ? this->MergeAngle : 20.0;
-  vtkIdType target = this->TargetNumberOfTriangles;
-  if (target <= 0 && this->TargetReduction > 0)
-  {
-    target = static_cast<vtkIdType>(std::llround((1.0 - this->TargetReduction) * mesh.NumberOfTriangles()));
-  }
-  if (target >= mesh.NumberOfTriangles())
-  {
-    parameters.Completion = slod::TopologyCompletion::KeepTriangles; // no reduction asked for
-  }
-  else if (target > 0)
-  {
-    parameters.Completion = slod::TopologyCompletion::Spbm;
-    parameters.SpbmTargetTriangles = static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX));
-  }
+  const slod::TopologySimplificationParameters parameters = SimplificationParameters(this, mesh);
   this->UsedFeatureSize = parameters.MaximumFeatureSize;
 
   slod::TopologySimplificationResult result;
@@ -134,46 +234,9 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   this->NumberOfMergedPatches = result.MergedPatches;
 
   // Output over the used input vertices.
-  slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
-  const std::vector<slod::Index>& used = numbering.Used;
-  auto use = [&](slod::Index v) { return static_cast<vtkIdType>(numbering(v)); };
-  const vtkIdType nt = static_cast<vtkIdType>(result.TrianglePatch.size());
-  vtkNew<vtkCellArray> polys;
-  polys->AllocateExact(nt, 3 * nt);
-  vtkNew<vtkIntArray> patchIds;
-  patchIds->SetName("PatchId");
-  patchIds->SetNumberOfValues(nt);
-  vtkNew<vtkIntArray> filled; // int, not unsigned char: mappers would take 0/1 bytes as colours
-  filled->SetName("FilledPatch");
-  filled->SetNumberOfValues(nt);
   slod::TriangleMesh outMesh;
-  for (vtkIdType t = 0; t < nt; ++t)
-  {
-    const vtkIdType ids[3] = { use(result.Triangles[3 * t]), use(result.Triangles[3 * t + 1]),
-      use(result.Triangles[3 * t + 2]) };
-    polys->InsertNextCell(3, ids);
-    patchIds->SetValue(t, result.TrianglePatch[t]);
-    filled->SetValue(t, result.TriangleFill[t]);
-    outMesh.AddTriangle(static_cast<slod::Index>(ids[0]), static_cast<slod::Index>(ids[1]), static_cast<slod::Index>(ids[2]));
-  }
-  slod::StoreUsedPoints(input, mesh, used, vertexToInput, this->OutputDoublePrecision, output);
-  outMesh.Points.resize(3 * used.size());
-  for (size_t i = 0; i < used.size(); ++i)
-  {
-    outMesh.SetPoint(static_cast<slod::Index>(i), mesh.Point(used[i]));
-  }
-  output->SetPolys(polys);
-  output->GetCellData()->AddArray(patchIds);
-  output->GetCellData()->AddArray(filled);
-  vtkFieldData* fd = output->GetFieldData();
-  AddCount(fd, "HolesRemoved", this->NumberOfHolesRemoved);
-  AddCount(fd, "BumpsRemoved", this->NumberOfBumpsRemoved);
-  AddCount(fd, "CavitiesRemoved", this->NumberOfCavitiesRemoved);
-  AddCount(fd, "CracksFilled", this->NumberOfCracksFilled);
-  AddCount(fd, "HolesDetected", this->NumberOfHolesDetected);
-  AddCount(fd, "BumpsDetected", this->NumberOfBumpsDetected);
-  AddCount(fd, "CavitiesDetected", this->NumberOfCavitiesDetected);
-  AddCount(fd, "CracksDetected", this->NumberOfCracksDetected);
+  StoreTriangles(result, mesh, input, vertexToInput, this->OutputDoublePrecision, output, outMesh);
+  AddFeatureCounts(this, output->GetFieldData());
 
   const slod::MeshStatistics after = slod::MeshTopology(outMesh).Statistics(outMesh);
   this->OutputGenus = static_cast<int>(after.Genus);
@@ -190,42 +253,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
 
   if (this->GenerateSharpLoops)
   {
-    vtkNew<vtkPoints> loopPoints;
-    loopPoints->SetDataType(VTK_DOUBLE);
-    vtkNew<vtkCellArray> lines;
-    vtkNew<vtkIntArray> kind, removed, clockwise;
-    kind->SetName("FeatureKind");
-    removed->SetName("Removed");
-    clockwise->SetName("Clockwise");
-    auto addLine = [&](const std::vector<slod::Index>& loop, int k, int r, int cw) {
-      lines->InsertNextCell(static_cast<vtkIdType>(loop.size() + 1));
-      const vtkIdType first = loopPoints->GetNumberOfPoints();
-      for (slod::Index v : loop)
-      {
-        lines->InsertCellPoint(loopPoints->InsertNextPoint(&mesh.Points[3 * size_t(v)]));
-      }
-      lines->InsertCellPoint(first);
-      kind->InsertNextValue(k);
-      removed->InsertNextValue(r);
-      clockwise->InsertNextValue(cw);
-    };
-    for (const slod::SharpLoop& loop : result.Loops)
-    {
-      const slod::TopologyFeature* f = loop.Feature >= 0 ? &result.Features[loop.Feature] : nullptr;
-      addLine(loop.Vertices, f ? int(f->Kind) : -1, f && f->Removed, loop.Clockwise);
-    }
-    for (const slod::TopologyFeature& f : result.Features)
-    {
-      if (f.Kind == Kind::Crack)
-      {
-        addLine(f.CrackLoop, int(Kind::Crack), f.Removed, 0);
-      }
-    }
-    loopsOutput->SetPoints(loopPoints);
-    loopsOutput->SetLines(lines);
-    loopsOutput->GetCellData()->AddArray(kind);
-    loopsOutput->GetCellData()->AddArray(removed);
-    loopsOutput->GetCellData()->AddArray(clockwise);
+    StoreSharpLoops(result, mesh, loopsOutput);
   }
   this->UpdateProgress(1.0);
   return 1;

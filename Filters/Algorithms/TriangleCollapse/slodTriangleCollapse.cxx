@@ -6,12 +6,11 @@
 #include "slodQuadric.h"
 #include "slodTriangleBVH.h"
 
+#include "vtkLogger.h"
 #include "vtkSMPTools.h"
 
 #include <algorithm>
 #include <ctime>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -137,6 +136,39 @@ struct Ancestry
   std::vector<Index> AncestorStart, Ancestors, OriginalStart, OriginalTriangles;
 };
 
+// Candidates of the passes after the collapses: the larger value first, ties by vertex id.
+bool WorseFirst(const std::pair<double, Index>& a, const std::pair<double, Index>& b)
+{
+  return a.first > b.first || (a.first == b.first && a.second < b.second);
+}
+
+class Neighbourhood;
+struct ClosestAssignment;
+struct MoveGuard;
+
+// The collapse loop's settings and counters (see TriangleCollapser::CollapseToTarget).
+struct CollapseLoop
+{
+  CollapseOptions Check;      // the validity test, with the current normal limit
+  double Deviation = 0.0;     // the current normal limit, degrees (relaxed when nothing is left)
+  Index Target = 0, StartTriangles = 0, ToRemove = 1, ProgressStep = 1, NextProgress = 1;
+  long long MaximumPops = 0, Pops = 0, Replaced = 0;
+  long long StatusCounts[static_cast<int>(CollapseStatus::Locked) + 1] = {};
+  CollapseRecord Record;      // the last collapse
+  std::vector<Index> Neighbors; // the link of the last collapse's vertex (when needed)
+};
+
+// The operation picked for a popped triangle: the set of 2 or 3 vertices and where they go.
+struct Candidate
+{
+  Index Triangle = InvalidIndex;
+  Index Set[3] = { InvalidIndex, InvalidIndex, InvalidIndex };
+  int Count = 0;
+  int Operation = -1; // 0 = triangle collapse, k = 1..3 = edge k-1 of the triangle
+  Vec3 Local{ 0, 0, 0 }, Position{ 0, 0, 0 }; // the placement, relative to Origin and in world
+  double Error = 0.0;
+};
+
 // The working state of one simplification. Coordinates of quadrics are relative to Origin (the
 // bounding-box centre) so that plane offsets stay small and the 4x4 sums do not cancel.
 class TriangleCollapser
@@ -151,6 +183,27 @@ public:
   void Run(TriangleMesh& mesh, TriangleCollapseResult& result);
 
 private:
+  // The stages of Run, in order.
+  void Prepare(TriangleMesh& input, bool refine);
+  void InitializeQueue();
+  void StartLoop(CollapseLoop& loop) const;
+  void CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result);
+  void MoveTowardOriginal(const TriangleMesh& original, TriangleCollapseResult& result);
+  // The steps of one pass of the collapse loop.
+  bool RelaxNormalLimit(CollapseLoop& loop, const TriangleCollapseResult& result);
+  bool PickOperation(Index t, Candidate& c, TriangleCollapseResult& result);
+  enum class Validity { Valid, Invalid, Deferred };
+  Validity Validate(Candidate& c, CollapseLoop& loop);
+  void Reject(const Candidate& c, TriangleCollapseResult& result);
+  Index Perform(const Candidate& c, CollapseLoop& loop, TriangleCollapseResult& result);
+  void MergeAttributes(const Candidate& c, Index kept);
+  void MergeVertexState(const Candidate& c, Index kept);
+  void RetryPendingAround(Index kept, CollapseLoop& loop);
+  void AppendHistory(const CollapseLoop& loop, TriangleCollapseResult& result) const;
+  bool ReportProgress(CollapseLoop& loop, TriangleCollapseResult& result) const;
+  // Diagnostics (vtkLogF at TRACE verbosity).
+  void TraceStage(const char* stage);
+  void TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const;
   Vec3 Local(Index v) const { return this->Mesh.Point(v) - this->Origin; }
   void InitializeQuadrics();
   // Quadric of the interrelated set of 2 (edge) or 3 (triangle) vertices.
@@ -182,8 +235,20 @@ private:
   void BuildAncestry(const TriangleMesh& original, Ancestry& ancestry);
   // The FitToOriginal pass (see the header): returns the number of vertices moved.
   Index FitToOriginal(const TriangleMesh& original, const Ancestry& ancestry);
+  std::vector<std::pair<double, Index>> FitOrder(const Ancestry& ancestry) const;
+  void AssignClosest(const TriangleMesh& original, ClosestAssignment& assignment) const;
+  bool FitStep(const Neighbourhood& region, const TriangleMesh& original, const Ancestry& ancestry, Index v, Vec3& step) const;
+  void WatchMove(Neighbourhood& region, const ClosestAssignment& assignment, MoveGuard& guard) const;
+  bool MoveKeepsBounds(const Neighbourhood& region, Index v, double reach, double minimumDot, MoveGuard& guard) const;
   // The RefineDeviation pass (see the header); original = the input mesh in this mesh's ids.
   Index RefineDeviation(const TriangleMesh& original, const Ancestry& ancestry);
+  std::vector<std::pair<double, Index>> RefinementPool(const Ancestry& ancestry) const;
+  double ScreenDeviation(Neighbourhood& region, const std::vector<std::pair<double, Index>>& pool, size_t workBudget,
+    std::vector<std::pair<double, Index>>& screen) const;
+  double LocalDeviation(const Neighbourhood& region, Index v, const Vec3& p, Vec3& step, double& sum);
+  bool RefineVertex(Neighbourhood& region, Index v, double minimumDot, size_t workBudget);
+  void PoolAroundMoved(const std::vector<Index>& movedVertices, const Ancestry& ancestry,
+    std::vector<std::pair<double, Index>>& pool) const;
   // A maximum error is a promise about every output vertex: the passes that move vertices keep it.
   bool WithinMaximumError(Index v) const
   {
@@ -202,6 +267,7 @@ private:
   // The mesh is renumbered in spatial (Morton) order for cache locality; these map back.
   std::vector<Index> VertexInput, TriangleInput;
   Vec3 Origin{ 0, 0, 0 };
+  std::clock_t StageClock = 0; // CPU time at the end of the last stage (TraceStage)
   double CostScale = 1.0; // makes float heap keys well scaled
   // Accumulated mode: per vertex the sum of its logical set's planes and of their weights,
   // side by side (one cache line pair per vertex instead of two separate misses).
@@ -688,48 +754,32 @@ void TriangleCollapser::Update(Index t)
   this->State[t].Rejected = 0;
 }
 
-void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
+double NormalLimitDot(double degrees)
 {
-  result = TriangleCollapseResult();
-  const bool verbose = std::getenv("SLOD_VERBOSE") != nullptr;
-  auto clock = std::clock();
-  auto lap = [&](const char* what) {
-    if (verbose)
-    {
-      const auto now = std::clock();
-      long rssKB = 0, peakKB = 0; // current and peak resident memory (Linux), per stage
-      if (FILE* status = std::fopen("/proc/self/status", "r"))
-      {
-        char line[256];
-        while (std::fgets(line, sizeof(line), status))
-        {
-          std::sscanf(line, "VmHWM: %ld", &peakKB);
-          std::sscanf(line, "VmRSS: %ld", &rssKB);
-        }
-        std::fclose(status);
-      }
-      std::fprintf(stderr, "[triangle collapse] %s: %.3f s CPU, RSS %.1f MB, peak %.1f MB\n", what,
-        double(now - clock) / CLOCKS_PER_SEC, rssKB / 1024.0, peakKB / 1024.0);
-      clock = now;
-    }
-  };
-  const Index nt = input.NumberOfTriangles();
-  {
-    const auto bounds = input.Bounds();
-    this->Origin = { 0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5]) };
-    const double diagonal = input.BoundingBoxDiagonal();
-    // Costs are area * distance^2 ~ length^4: normalise by the diagonal so float keys keep range.
-    this->CostScale = diagonal > 0 ? 1.0 / (diagonal * diagonal * diagonal * diagonal) : 1.0;
-  }
-  lap("start");
+  return std::cos(std::min(90.0, std::max(0.0, degrees)) * 3.14159265358979323846 / 180.0);
+}
+
+void TriangleCollapser::TraceStage(const char* stage)
+{
+  const std::clock_t now = std::clock();
+  vtkLogF(TRACE, "triangle collapse: %s took %.3f s CPU", stage, double(now - this->StageClock) / CLOCKS_PER_SEC);
+  this->StageClock = now;
+}
+
+void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
+{
+  const auto bounds = input.Bounds();
+  this->Origin = { 0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5]) };
+  const double diagonal = input.BoundingBoxDiagonal();
+  // Costs are area * distance^2 ~ length^4: normalise by the diagonal so float keys keep range.
+  this->CostScale = diagonal > 0 ? 1.0 / (diagonal * diagonal * diagonal * diagonal) : 1.0;
   this->Reorder(input);
-  lap("reorder");
+  this->TraceStage("reorder");
   if (!this->Options.AllowTopologyChange)
   {
     this->Locked = NonManifoldVertexFlags(input);
   }
   this->Mesh.Reset(input);
-  const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
   if (refine)
   {
     // The refinement measures against the original surface: keep it, and who merged into whom.
@@ -745,330 +795,414 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     std::vector<double>().swap(input.Points);
     std::vector<Index>().swap(input.Triangles);
   }
+  this->TraceStage("editable mesh");
+}
 
-  lap("editable mesh");
-  this->InitializeQuadrics();
-  lap("quadrics");
+void TriangleCollapser::InitializeQueue()
+{
+  const Index nt = this->Mesh.NumberOfTriangles();
   this->State.assign(size_t(nt), TriangleState());
   this->CacheEdges = this->Options.EdgeCollapses && !this->Options.ExactUnion;
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
+  // Every triangle's cost depends only on its own vertices and writes only its own cache
+  // entries: computed in parallel (vtkSMPTools), the same result for any thread count. The
+  // exact-union mode shares a scratch buffer: sequential.
+  std::vector<float> keys(static_cast<size_t>(nt));
+  auto costs = [&](vtkIdType begin, vtkIdType end) {
+    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
+    {
+      Vec3 p;
+      double error;
+      int operation;
+      keys[t] = static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale);
+    }
+  };
+  if (this->Options.ExactUnion)
   {
-    // Every triangle's cost depends only on its own vertices and writes only its own cache
-    // entries: computed in parallel (vtkSMPTools), the same result for any thread count. The
-    // exact-union mode shares a scratch buffer: sequential.
-    std::vector<float> keys(static_cast<size_t>(nt));
-    auto costs = [&](vtkIdType begin, vtkIdType end) {
-      for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
-      {
-        Vec3 p;
-        double error;
-        int operation;
-        keys[t] = static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale);
-      }
-    };
-    if (this->Options.ExactUnion)
-    {
-      costs(0, nt);
-    }
-    else
-    {
-      vtkSMPTools::For(0, nt, 4096, costs);
-    }
-    this->Heap.Build(keys.data(), nt);
+    costs(0, nt);
   }
+  else
+  {
+    vtkSMPTools::For(0, nt, 4096, costs);
+  }
+  this->Heap.Build(keys.data(), nt);
+}
 
-  lap("initialisation");
-  const Index target = std::max<Index>(this->Options.TargetTriangles, 0);
-  const double maxError = this->Options.MaximumError;
-  CollapseOptions check;
-  check.AllowTopologyChange = this->Options.AllowTopologyChange;
-  check.BoundaryVertices = this->Options.AllowTopologyChange ? nullptr : this->Boundary.data();
-  check.LockedVertices = this->Options.AllowTopologyChange ? nullptr : this->Locked.data();
-  check.MinimumNormalDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
-  CollapseRecord record;
-  std::vector<Index> neighbors;
-  long long resets = 0, updates = 0, replaced = 0;
-  long long statusCounts[static_cast<int>(CollapseStatus::Locked) + 1] = {};
-  const Index toRemove = std::max<Index>(1, this->Mesh.NumberOfLiveTriangles() - target);
-  const Index progressStep = std::max<Index>(1, toRemove / 100);
-  Index nextProgress = progressStep;
-  const Index startTriangles = this->Mesh.NumberOfLiveTriangles();
+void TriangleCollapser::StartLoop(CollapseLoop& loop) const
+{
+  loop.Target = std::max<Index>(this->Options.TargetTriangles, 0);
+  loop.Check.AllowTopologyChange = this->Options.AllowTopologyChange;
+  loop.Check.BoundaryVertices = this->Options.AllowTopologyChange ? nullptr : this->Boundary.data();
+  loop.Check.LockedVertices = this->Options.AllowTopologyChange ? nullptr : this->Locked.data();
+  loop.Deviation = std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation));
+  loop.Check.MinimumNormalDot = NormalLimitDot(loop.Deviation);
+  loop.StartTriangles = this->Mesh.NumberOfLiveTriangles();
+  loop.ToRemove = std::max<Index>(1, loop.StartTriangles - loop.Target);
+  loop.ProgressStep = std::max<Index>(1, loop.ToRemove / 100);
+  loop.NextProgress = loop.ProgressStep;
   // A bound on the work of the loop, whatever the costs' ties: each pop either collapses, excludes
   // one of a triangle's four operations until its neighbourhood changes, or defers a placement
   // once. Measured at 10 %: 0.49 pops per input triangle on two MRI isosurfaces (2.1M and 1.8M
   // triangles), 0.70-0.75 on fandisk at 10 % and 1 %; the bound is 100.
-  const long long maximumPops = MaximumPopsPerTriangle * static_cast<long long>(startTriangles) + 1024;
-  long long pops = 0;
+  loop.MaximumPops = MaximumPopsPerTriangle * static_cast<long long>(loop.StartTriangles) + 1024;
+}
 
+bool TriangleCollapser::RelaxNormalLimit(CollapseLoop& loop, const TriangleCollapseResult& result)
+{
   // When every remaining collapse fails the normal test, the limit is relaxed step by step (up
   // to 90 degrees, beyond which a triangle would turn over) so that the target is still reached;
   // the strict limit applies as long as it can.
-  double deviation = std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation));
+  if (this->Mesh.NumberOfLiveTriangles() <= loop.Target || loop.Deviation >= 90.0 || result.Aborted)
+  {
+    return false;
+  }
+  loop.Deviation = std::min(90.0, loop.Deviation + 20.0);
+  loop.Check.MinimumNormalDot = NormalLimitDot(loop.Deviation);
+  for (Index s = 0; s < this->Mesh.NumberOfTriangles(); ++s)
+  {
+    if (this->State[s].Rejected == 1 && this->Mesh.IsTriangleAlive(s))
+    {
+      this->Update(s);
+    }
+  }
+  return true;
+}
+
+bool TriangleCollapser::PickOperation(Index t, Candidate& c, TriangleCollapseResult& result)
+{
+  c.Triangle = t;
+  this->PopCost(t, c.Local, c.Error, c.Operation);
+  const Index* tri = this->Mesh.Triangle(t);
+  if (c.Operation < 0)
+  {
+    this->State[t].Rejected = 1;
+    return false;
+  }
+  c.Count = c.Operation == 0 ? 3 : 2;
+  if (c.Operation == 0)
+  {
+    std::copy(tri, tri + 3, c.Set);
+  }
+  else
+  {
+    c.Set[0] = tri[c.Operation - 1];
+    c.Set[1] = tri[c.Operation % 3];
+    c.Set[2] = InvalidIndex;
+  }
+  if (this->Options.MaximumError >= 0 && c.Error > this->Options.MaximumError)
+  {
+    this->State[t].Rejected = 2; // retried only when one of its vertices changes
+    result.StoppedByError = true;
+    return false;
+  }
+  c.Position = c.Local + this->Origin;
+  return true;
+}
+
+TriangleCollapser::Validity TriangleCollapser::Validate(Candidate& c, CollapseLoop& loop)
+{
+  CollapseStatus status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, loop.Check);
+  ++loop.StatusCounts[static_cast<int>(status)];
+  if (status == CollapseStatus::Flip || status == CollapseStatus::Degenerate || status == CollapseStatus::BadShape)
+  {
+    // The optimum folds a triangle: try the paper's other placements (vertices, midpoints,
+    // centroid) of the same set, cheapest first.
+    Vec3 alternative;
+    double alternativeError = 0, alternativeCost = 0;
+    const double maxError = this->Options.MaximumError;
+    if (this->AlternativePlacement(c.Set, c.Count, loop.Check, alternative, alternativeError, alternativeCost) &&
+      !(maxError >= 0 && alternativeError > maxError))
+    {
+      // Keep the greedy order: do it now only if it is still the cheapest operation left.
+      const double bias = c.Count == 2 ? this->Options.EdgeCollapseBias : 1.0;
+      const float key = static_cast<float>(alternativeCost * bias * this->CostScale);
+      if (!this->Heap.WouldBeFirst(key))
+      {
+        this->Heap.Set(c.Triangle, key);
+        return Validity::Deferred;
+      }
+      c.Position = alternative;
+      c.Error = alternativeError;
+      c.Local = c.Position - this->Origin;
+      ++loop.Replaced;
+      return Validity::Valid;
+    }
+  }
+  return status == CollapseStatus::Ok ? Validity::Valid : Validity::Invalid;
+}
+
+void TriangleCollapser::Reject(const Candidate& c, TriangleCollapseResult& result)
+{
+  ++result.RejectedCollapses;
+  // Requeue the triangle with its next best operation; when none is left it waits for a change
+  // of its neighbourhood.
+  const Index t = c.Triangle;
+  this->State[t].Excluded |= static_cast<unsigned char>(1u << c.Operation);
+  Vec3 next;
+  double nextError;
+  int nextOperation;
+  const double nextCost = this->Cost(t, next, nextError, nextOperation);
+  if (nextOperation >= 0)
+  {
+    this->Heap.Set(t, static_cast<float>(nextCost * this->CostScale));
+  }
+  else
+  {
+    this->State[t].Rejected = 1;
+    this->MarkPending(this->Mesh.Triangle(t));
+  }
+}
+
+void TriangleCollapser::MergeAttributes(const Candidate& c, Index kept)
+{
+  // Point data: barycentric weights of the new vertex projected onto the triangle (edge).
+  double w[3] = { 1.0 / 3, 1.0 / 3, 1.0 / 3 };
+  const Vec3 a = this->Local(c.Set[0]), b = this->Local(c.Set[1]);
+  const Vec3& local = c.Local;
+  if (c.Count == 3)
+  {
+    const Vec3 d = this->Local(c.Set[2]);
+    const Vec3 n = Cross(b - a, d - a);
+    const double nn = Dot(n, n);
+    if (nn > 0)
+    {
+      w[0] = std::max(0.0, Dot(Cross(d - b, local - b), n) / nn);
+      w[1] = std::max(0.0, Dot(Cross(a - d, local - d), n) / nn);
+      w[2] = std::max(0.0, Dot(Cross(b - a, local - a), n) / nn);
+    }
+  }
+  else
+  {
+    const double ll = Dot(b - a, b - a);
+    const double s01 = ll > 0 ? std::min(1.0, std::max(0.0, Dot(local - a, b - a) / ll)) : 0.5;
+    w[0] = 1.0 - s01;
+    w[1] = s01;
+  }
+  Index rows[3];
+  for (int i = 0; i < c.Count; ++i)
+  {
+    rows[i] = this->VertexInput[c.Set[i]];
+  }
+  this->Attributes->Merge(this->VertexInput[kept], rows, w, c.Count);
+}
+
+void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept)
+{
+  if (!this->Parent.empty()) // kept only for the passes after the collapses
+  {
+    for (int i = 0; i < c.Count; ++i)
+    {
+      this->Parent[c.Set[i]] = kept;
+    }
+  }
+  unsigned char boundary = 0;
+  for (int i = 0; i < c.Count; ++i)
+  {
+    boundary |= this->Boundary[c.Set[i]];
+  }
+  this->Boundary[kept] = boundary;
+  if (!this->Options.ExactUnion)
+  {
+    double weight = 0;
+    this->Vertex[kept].Q = this->SetQuadric(c.Set, c.Count, weight);
+    this->Vertex[kept].W = weight;
+    return;
+  }
+  auto& s = this->LogicalSet[kept];
+  for (int i = 0; i < c.Count; ++i)
+  {
+    const Index v = c.Set[i];
+    if (v != kept)
+    {
+      s.insert(s.end(), this->LogicalSet[v].begin(), this->LogicalSet[v].end());
+      std::vector<Index>().swap(this->LogicalSet[v]);
+    }
+  }
+  std::sort(s.begin(), s.end());
+  s.erase(std::unique(s.begin(), s.end()), s.end());
+}
+
+Index TriangleCollapser::Perform(const Candidate& c, CollapseLoop& loop, TriangleCollapseResult& result)
+{
+  const Index kept = *std::min_element(c.Set, c.Set + c.Count);
+  if (this->Attributes)
+  {
+    this->MergeAttributes(c, kept);
+  }
+  this->Mesh.Collapse(c.Set, c.Count, kept, c.Position, &loop.Record);
+  this->MergeVertexState(c, kept);
+  result.MaximumError = std::max(result.MaximumError, c.Error);
+  ++result.Collapses;
+  for (Index r : loop.Record.RemovedTriangles)
+  {
+    this->Heap.Remove(r);
+  }
+  // Error propagation: the triangles around v0 get the quadric of their new logical sets.
+  this->UpdateAround(kept);
+  return kept;
+}
+
+void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
+{
+  // Collapses rejected for validity may have become valid: retry those in the 2-ring.
+  // (Skipped while no vertex is pending, the common case.)
+  loop.Neighbors.clear();
+  if (this->PendingCount > 0 || this->Options.RecordHistory)
+  {
+    this->Mesh.Neighbors(kept, loop.Neighbors);
+  }
+  for (Index w : loop.Neighbors)
+  {
+    if (this->Pending[w])
+    {
+      this->Pending[w] = 0;
+      --this->PendingCount;
+      this->Mesh.ForEachTriangle(w, [&](Index s) {
+        if (this->State[s].Rejected == 1)
+        {
+          this->Update(s);
+        }
+      });
+    }
+  }
+}
+
+void TriangleCollapser::AppendHistory(const CollapseLoop& loop, TriangleCollapseResult& result) const
+{
+  result.History.Append(loop.Record, this->Mesh, this->VertexInput.data(), this->TriangleInput.data());
+  for (Index w : loop.Neighbors)
+  {
+    result.History.Surrounding.push_back(this->VertexInput[w]);
+  }
+  result.History.SurroundingOffsets.push_back(static_cast<Index>(result.History.Surrounding.size()));
+}
+
+bool TriangleCollapser::ReportProgress(CollapseLoop& loop, TriangleCollapseResult& result) const
+{
+  const Index removed = loop.StartTriangles - this->Mesh.NumberOfLiveTriangles();
+  if (removed >= loop.NextProgress)
+  {
+    loop.NextProgress = removed + loop.ProgressStep;
+    if (this->Options.Progress && !this->Options.Progress(double(removed) / double(loop.ToRemove)))
+    {
+      result.Aborted = true;
+      return false;
+    }
+  }
+  return true;
+}
+
+void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result)
+{
   for (;;)
   {
     if (this->Heap.Empty())
     {
-      if (this->Mesh.NumberOfLiveTriangles() <= target || deviation >= 90.0 || result.Aborted)
+      if (!this->RelaxNormalLimit(loop, result))
       {
         break;
       }
-      deviation = std::min(90.0, deviation + 20.0);
-      check.MinimumNormalDot = std::cos(deviation * 3.14159265358979323846 / 180.0);
-      for (Index s = 0; s < nt; ++s)
-      {
-        if (this->State[s].Rejected == 1 && this->Mesh.IsTriangleAlive(s))
-        {
-          this->Update(s);
-        }
-      }
       continue;
     }
-    if (this->Mesh.NumberOfLiveTriangles() <= target)
+    if (this->Mesh.NumberOfLiveTriangles() <= loop.Target)
     {
       break;
     }
-    if (++pops > maximumPops)
+    if (++loop.Pops > loop.MaximumPops)
     {
       result.WorkBoundReached = true;
       break;
     }
-    const Index t = this->Heap.Pop();
-    Vec3 local;
-    double error;
-    int operation;
-    this->PopCost(t, local, error, operation);
-    Index set[3];
-    const Index* tri = this->Mesh.Triangle(t);
-    if (operation < 0)
+    Candidate c;
+    if (!this->PickOperation(this->Heap.Pop(), c, result))
     {
-      this->State[t].Rejected = 1;
       continue;
     }
-    const int count = operation == 0 ? 3 : 2;
-    if (operation == 0)
+    const Validity validity = this->Validate(c, loop);
+    if (validity == Validity::Deferred)
     {
-      std::copy(tri, tri + 3, set);
-    }
-    else
-    {
-      set[0] = tri[operation - 1];
-      set[1] = tri[operation % 3];
-      set[2] = InvalidIndex;
-    }
-    if (maxError >= 0 && error > maxError)
-    {
-      this->State[t].Rejected = 2; // retried only when one of its vertices changes
-      result.StoppedByError = true;
       continue;
     }
-    Vec3 p = local + this->Origin;
-    CollapseStatus status = this->Mesh.CheckCollapse(set, count, p, check);
-    ++statusCounts[static_cast<int>(status)];
-    if (status == CollapseStatus::Flip || status == CollapseStatus::Degenerate || status == CollapseStatus::BadShape)
+    if (validity == Validity::Invalid)
     {
-      // The optimum folds a triangle: try the paper's other placements (vertices, midpoints,
-      // centroid) of the same set, cheapest first.
-      Vec3 alternative;
-      double alternativeError = 0, alternativeCost = 0;
-      if (this->AlternativePlacement(set, count, check, alternative, alternativeError, alternativeCost) &&
-        !(maxError >= 0 && alternativeError > maxError))
-      {
-        // Keep the greedy order: do it now only if it is still the cheapest operation left.
-        const float key = static_cast<float>(alternativeCost * (count == 2 ? this->Options.EdgeCollapseBias : 1.0) * this->CostScale);
-        if (this->Heap.WouldBeFirst(key))
-        {
-          status = CollapseStatus::Ok;
-          p = alternative;
-          error = alternativeError;
-          local = p - this->Origin;
-          ++replaced;
-        }
-        else
-        {
-          this->Heap.Set(t, key);
-          continue;
-        }
-      }
-    }
-    if (status != CollapseStatus::Ok)
-    {
-      ++result.RejectedCollapses;
-      // Requeue the triangle with its next best operation; when none is left it waits for a
-      // change of its neighbourhood.
-      this->State[t].Excluded |= static_cast<unsigned char>(1u << operation);
-      Vec3 next;
-      double nextError;
-      int nextOperation;
-      const double nextCost = this->Cost(t, next, nextError, nextOperation);
-      if (nextOperation >= 0)
-      {
-        this->Heap.Set(t, static_cast<float>(nextCost * this->CostScale));
-      }
-      else
-      {
-        this->State[t].Rejected = 1;
-        this->MarkPending(tri);
-      }
+      this->Reject(c, result);
       continue;
     }
-    const Index kept = *std::min_element(set, set + count);
-    // Point data: barycentric weights of the new vertex projected onto the triangle (edge).
-    if (this->Attributes)
-    {
-      double w[3] = { 1.0 / 3, 1.0 / 3, 1.0 / 3 };
-      const Vec3 a = this->Local(set[0]), b = this->Local(set[1]);
-      if (count == 3)
-      {
-        const Vec3 c = this->Local(set[2]);
-        const Vec3 n = Cross(b - a, c - a);
-        const double nn = Dot(n, n);
-        if (nn > 0)
-        {
-          w[0] = std::max(0.0, Dot(Cross(c - b, local - b), n) / nn);
-          w[1] = std::max(0.0, Dot(Cross(a - c, local - c), n) / nn);
-          w[2] = std::max(0.0, Dot(Cross(b - a, local - a), n) / nn);
-        }
-      }
-      else
-      {
-        const double ll = Dot(b - a, b - a);
-        const double s01 = ll > 0 ? std::min(1.0, std::max(0.0, Dot(local - a, b - a) / ll)) : 0.5;
-        w[0] = 1.0 - s01;
-        w[1] = s01;
-      }
-      Index rows[3];
-      for (int i = 0; i < count; ++i)
-      {
-        rows[i] = this->VertexInput[set[i]];
-      }
-      this->Attributes->Merge(this->VertexInput[kept], rows, w, count);
-    }
-    this->Mesh.Collapse(set, count, kept, p, &record);
-    if (refine)
-    {
-      for (int i = 0; i < count; ++i)
-      {
-        this->Parent[set[i]] = kept;
-      }
-    }
-    unsigned char boundary = 0;
-    for (int i = 0; i < count; ++i)
-    {
-      boundary |= this->Boundary[set[i]];
-    }
-    this->Boundary[kept] = boundary;
-    if (this->Options.ExactUnion)
-    {
-      auto& s = this->LogicalSet[kept];
-      for (int i = 0; i < count; ++i)
-      {
-        const Index v = set[i];
-        if (v != kept)
-        {
-          s.insert(s.end(), this->LogicalSet[v].begin(), this->LogicalSet[v].end());
-          std::vector<Index>().swap(this->LogicalSet[v]);
-        }
-      }
-      std::sort(s.begin(), s.end());
-      s.erase(std::unique(s.begin(), s.end()), s.end());
-    }
-    else
-    {
-      double weight = 0;
-      this->Vertex[kept].Q = this->SetQuadric(set, count, weight);
-      this->Vertex[kept].W = weight;
-    }
-    result.MaximumError = std::max(result.MaximumError, error);
-    ++result.Collapses;
-    for (Index r : record.RemovedTriangles)
-    {
-      this->Heap.Remove(r);
-    }
-    // Error propagation: the triangles around v0 get the quadric of their new logical sets.
-    this->UpdateAround(kept);
-    // Collapses rejected for validity may have become valid: retry those in the 2-ring.
-    // (Skipped while no vertex is pending, the common case.)
-    neighbors.clear();
-    if (this->PendingCount > 0 || this->Options.RecordHistory)
-    {
-      this->Mesh.Neighbors(kept, neighbors);
-    }
-    for (Index w : neighbors)
-    {
-      if (this->Pending[w])
-      {
-        this->Pending[w] = 0;
-        --this->PendingCount;
-        this->Mesh.ForEachTriangle(w, [&](Index s) {
-          if (this->State[s].Rejected == 1)
-          {
-            this->Update(s);
-          }
-        });
-      }
-    }
+    const Index kept = this->Perform(c, loop, result);
+    this->RetryPendingAround(kept, loop);
     if (this->Options.RecordHistory)
     {
-      result.History.Append(record, this->Mesh, this->VertexInput.data(), this->TriangleInput.data());
-      for (Index w : neighbors)
-      {
-        result.History.Surrounding.push_back(this->VertexInput[w]);
-      }
-      result.History.SurroundingOffsets.push_back(static_cast<Index>(result.History.Surrounding.size()));
+      this->AppendHistory(loop, result);
     }
-    const Index removed = startTriangles - this->Mesh.NumberOfLiveTriangles();
-    if (removed >= nextProgress)
+    if (!this->ReportProgress(loop, result))
     {
-      nextProgress = removed + progressStep;
-      if (this->Options.Progress && !this->Options.Progress(double(removed) / double(toRemove)))
-      {
-        result.Aborted = true;
-        break;
-      }
+      break;
     }
   }
+}
 
-  result.PeakWorkingBytes = this->Heap.MemoryBytes() + this->Vertex.capacity() * sizeof(WeightedQuadric) + this->State.capacity() * sizeof(TriangleState) + result.History.MemoryBytes();
-  lap("collapses");
+void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const
+{
+  vtkLogF(TRACE, "triangle collapse: %d collapses, %d rejected, %lld placements replaced, %.2f pops per input triangle",
+    int(result.Collapses), int(result.RejectedCollapses), loop.Replaced,
+    double(loop.Pops) / std::max<Index>(1, loop.StartTriangles));
+  for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
+  {
+    vtkLogF(TRACE, "triangle collapse: rejected %s %lld", ToString(static_cast<CollapseStatus>(k)), loop.StatusCounts[k]);
+  }
+}
+
+void TriangleCollapser::MoveTowardOriginal(const TriangleMesh& original, TriangleCollapseResult& result)
+{
+  Ancestry ancestry;
+  this->BuildAncestry(original, ancestry);
+  Index moved = 0;
+  if (this->Options.FitToOriginal)
+  {
+    moved += this->FitToOriginal(original, ancestry);
+    this->TraceStage("fit to original");
+  }
+  if (this->Options.RefineDeviation)
+  {
+    moved += this->RefineDeviation(original, ancestry);
+    this->TraceStage("deviation refinement");
+  }
+  if (this->Options.RecordHistory && moved > 0)
+  {
+    this->StoreMovedPositions(result);
+  }
+}
+
+void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
+{
+  result = TriangleCollapseResult();
+  this->StageClock = std::clock();
+  const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
+  this->Prepare(input, refine);
+  this->InitializeQuadrics();
+  this->TraceStage("quadrics");
+  this->InitializeQueue();
+  this->TraceStage("queue");
+  CollapseLoop loop;
+  this->StartLoop(loop);
+  this->CollapseToTarget(loop, result);
+  result.PeakWorkingBytes = this->Heap.MemoryBytes() + this->Vertex.capacity() * sizeof(WeightedQuadric) +
+    this->State.capacity() * sizeof(TriangleState) + result.History.MemoryBytes();
+  this->TraceStage("collapses");
   // The queue and the per-triangle state are done: free them so that the output reuses their
   // memory instead of raising the peak.
   this->Heap = BucketQueue();
   std::vector<TriangleState>().swap(this->State);
   if (refine && !result.Aborted)
   {
-    Ancestry ancestry;
-    this->BuildAncestry(input, ancestry);
-    Index moved = 0;
-    if (this->Options.FitToOriginal)
-    {
-      moved += this->FitToOriginal(input, ancestry);
-      lap("fit to original");
-    }
-    if (this->Options.RefineDeviation)
-    {
-      moved += this->RefineDeviation(input, ancestry);
-      lap("deviation refinement");
-    }
-    if (this->Options.RecordHistory && moved > 0)
-    {
-      this->StoreMovedPositions(result);
-    }
+    this->MoveTowardOriginal(input, result);
   }
   std::vector<double>().swap(input.Points);
   std::vector<Index>().swap(input.Triangles);
   std::vector<Index>().swap(this->Parent);
   this->ExtractResult(result);
-  lap("extraction");
-  if (verbose)
-  {
-    std::fprintf(stderr, "[triangle collapse] %d collapses, %d rejected, %lld heap re-keys, %lld updates, %.2f pops per input triangle\n",
-      int(result.Collapses), int(result.RejectedCollapses), resets, updates, double(pops) / std::max<Index>(1, startTriangles));
-    for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
-    {
-      std::fprintf(stderr, "  rejected: %s %lld\n", ToString(static_cast<CollapseStatus>(k)), statusCounts[k]);
-    }
-    std::fprintf(stderr, "  placements replaced %lld\n", replaced);
-  }
+  this->TraceStage("extraction");
+  this->TraceStatistics(loop, result);
 }
 
 void TriangleCollapser::BuildAncestry(const TriangleMesh& original, Ancestry& ancestry)
@@ -1425,17 +1559,30 @@ public:
   std::vector<double> RestDistance2, SphereRadius;
   mutable size_t Work = 0;
 };
-Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ancestry& ancestry)
+// Which original vertices a move of an output vertex can take farther away: per output triangle,
+// the original vertices whose closest output point lies on it (CSR), when computed exactly.
+struct ClosestAssignment
 {
-  const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
-  if (nv == 0 || this->Mesh.NumberOfLiveTriangles() == 0)
-  {
-    return 0;
-  }
-  const double minimumDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
-  // Point-triangle tests: the pass stops at its budget, the worst vertices first.
-  const size_t workBudget = FitBudget.For(nt);
+  bool Exact = false;
+  std::vector<Index> Start, Members;
+};
+
+// What a move of one vertex must not make worse (see TriangleCollapser::WatchMove).
+struct MoveGuard
+{
+  std::vector<Vec3> Watched;         // original points whose distance the move may raise
+  std::vector<double> WatchedBefore; // and their squared distances before it
+  std::vector<double> FanBefore;     // squared distances of the fan's samples to the original
+  double Before = 0.0;               // the reliable local maximum (squared)
+  double FanMaximum = 0.0;           // the largest of FanBefore
+  std::vector<unsigned char> FacingBefore, FacingAfter;
+};
+
+std::vector<std::pair<double, Index>> TriangleCollapser::FitOrder(const Ancestry& ancestry) const
+{
+  // Merged interior vertices, the largest quadric error first.
   std::vector<std::pair<double, Index>> order;
+  const Index nv = static_cast<Index>(ancestry.AncestorStart.size()) - 1;
   for (Index v = 0; v < nv; ++v)
   {
     if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v] && this->Mesh.IsVertexAlive(v))
@@ -1444,44 +1591,215 @@ Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ances
       order.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
     }
   }
-  std::sort(order.begin(), order.end(), [](const std::pair<double, Index>& a, const std::pair<double, Index>& b) {
-    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  std::sort(order.begin(), order.end(), WorseFirst);
+  return order;
+}
+
+void TriangleCollapser::AssignClosest(const TriangleMesh& original, ClosestAssignment& assignment) const
+{
+  const Index nv = original.NumberOfPoints();
+  TriangleMesh live;
+  std::vector<Index> liveToMesh;
+  LiveTriangles(this->Mesh, live, liveToMesh);
+  const TriangleBVH tree(live);
+  std::vector<Index> closestTriangle(static_cast<size_t>(nv));
+  auto& start = assignment.Start;
+  start.assign(size_t(this->Mesh.NumberOfTriangles()) + 1, 0);
+  for (Index a = 0; a < nv; ++a)
+  {
+    const double* p = &original.Points[3 * size_t(a)];
+    closestTriangle[a] = liveToMesh[tree.ClosestPoint(Vec3{ p[0], p[1], p[2] }).Triangle];
+    ++start[closestTriangle[a] + 1];
+  }
+  for (size_t t = 0; t + 1 < start.size(); ++t)
+  {
+    start[t + 1] += start[t];
+  }
+  assignment.Members.resize(static_cast<size_t>(nv));
+  std::vector<Index> fill(start.begin(), start.end() - 1);
+  for (Index a = 0; a < nv; ++a)
+  {
+    assignment.Members[fill[closestTriangle[a]]++] = a;
+  }
+}
+
+bool TriangleCollapser::FitStep(
+  const Neighbourhood& region, const TriangleMesh& original, const Ancestry& ancestry, Index v, Vec3& step) const
+{
+  // Least squares of the distances, along the output normals, of the original surface that v
+  // stands for (its original vertices weighted by a third of their triangles' area, and the
+  // centroids of the original triangles whose first corner merged into v, so that each
+  // original triangle counts once) as a function of v's displacement d with the closest points
+  // held: a sample at barycentric weight b of v moves by b * d.
+  Quadric fit;
+  double trace = 0, residual2 = 0, weightSum = 0;
+  auto addSample = [&](const Vec3& q, double weight) {
+    Vec3 closest;
+    Index which;
+    region.ToMesh(q, region.Fan, closest, which);
+    const double b = region.WeightOfCenter(which, closest);
+    if (b > 0.05)
+    {
+      const Vec3 u = this->Mesh.TriangleNormal(which);
+      fit += Quadric::FromPlane(b * u, -Dot(u, q - closest), weight);
+      trace += weight * b * b;
+      residual2 += weight * Dot(u, q - closest) * Dot(u, q - closest);
+      weightSum += weight;
+    }
+  };
+  for (Index i = ancestry.AncestorStart[v]; i < ancestry.AncestorStart[v + 1]; ++i)
+  {
+    const Index a = ancestry.Ancestors[i];
+    double around = 0;
+    for (Index j = ancestry.OriginalStart[a]; j < ancestry.OriginalStart[a + 1]; ++j)
+    {
+      const Index* ot = &original.Triangles[3 * size_t(ancestry.OriginalTriangles[j])];
+      const Vec3 x = region.OriginalPoint(ot[0]), y = region.OriginalPoint(ot[1]), z = region.OriginalPoint(ot[2]);
+      const double area = 0.5 * Norm(Cross(y - x, z - x));
+      around += area;
+      if (ot[0] == a)
+      {
+        addSample((1.0 / 3) * (x + y + z), area);
+      }
+    }
+    addSample(region.OriginalPoint(a), around / 3);
+  }
+  // The tangential directions are free when the samples' normals agree: a small ridge term
+  // keeps v where it is along them.
+  const double ridge = FitRidge * trace;
+  fit.Axx += ridge;
+  fit.Ayy += ridge;
+  fit.Azz += ridge;
+  // Steps below 1 % of the RMS residual are not worth their check.
+  return trace > 0 && fit.Minimize(step, 1e-12) && !(Dot(step, step) * weightSum < 1e-4 * residual2);
+}
+
+void TriangleCollapser::WatchMove(Neighbourhood& region, const ClosestAssignment& assignment, MoveGuard& guard) const
+{
+  // What the move can make worse, both ways: the original vertices whose closest point is on
+  // v's fan (any other keeps or lowers its distance), and the fan's own samples against the
+  // original triangles of the neighbourhood. Values measured over a neighbourhood only can
+  // overestimate (the true closest part lies farther away): each may grow only up to a
+  // reliable local maximum, never up to another inflated value.
+  region.GatherRest(false);
+  guard.Watched.clear();
+  guard.WatchedBefore.clear();
+  guard.Before = 0;
+  auto watch = [&](const Vec3& q, double d2) {
+    guard.Watched.push_back(q);
+    guard.WatchedBefore.push_back(d2);
+  };
+  if (assignment.Exact)
+  {
+    for (Index t : region.Fan)
+    {
+      for (Index k = assignment.Start[t]; k < assignment.Start[t + 1]; ++k)
+      {
+        const Vec3 q = region.OriginalPoint(assignment.Members[k]);
+        Vec3 closest;
+        Index which;
+        const double d2 = region.ToMesh(q, region.Fan, closest, which);
+        watch(q, d2);
+        guard.Before = std::max(guard.Before, d2);
+      }
+    }
+  }
+  else
+  {
+    // The reliable maximum: v's own original vertices (their closest parts are around v).
+    region.Freeze();
+    for (size_t i = 0; i < region.Samples.size(); ++i)
+    {
+      Vec3 closest;
+      Index which;
+      const double d2 = region.SampleDistance2(i, closest, which);
+      if (which != InvalidIndex)
+      {
+        watch(region.Samples[i], d2);
+      }
+      if (i >= region.OwnSamplesBegin && i < region.OwnSamplesEnd)
+      {
+        guard.Before = std::max(guard.Before, d2);
+      }
+    }
+  }
+  guard.FanBefore.clear();
+  region.ForEachFanSample([&](const Vec3& q, double) {
+    Vec3 closest;
+    guard.FanBefore.push_back(region.ToOriginal(q, closest));
   });
+  // The fan's own points may not rise above the fan's largest distance either: the output
+  // side is measured at samples only, and the original side's maximum says nothing of it.
+  guard.FanMaximum = *std::max_element(guard.FanBefore.begin(), guard.FanBefore.end());
+  region.TakeNormals();
+  region.Facing(guard.FacingBefore);
+}
+
+bool TriangleCollapser::MoveKeepsBounds(
+  const Neighbourhood& region, Index v, double reach, double minimumDot, MoveGuard& guard) const
+{
+  bool lower = region.FanTurnsWithin(minimumDot) && this->WithinMaximumError(v);
+  if (lower)
+  {
+    region.Facing(guard.FacingAfter);
+    for (size_t i = 0; i < guard.FacingAfter.size() && lower; ++i)
+    {
+      lower = guard.FacingAfter[i] >= guard.FacingBefore[i];
+    }
+  }
+  // A point of the fan at weight w of v moves by w * |d|, so no distance changes by more:
+  // only the values that could cross their limit are measured again.
+  auto mayCross = [&](double before2, double limit2, double weight) {
+    const double bound = std::sqrt(before2) + weight * reach;
+    return bound * bound > limit2;
+  };
+  for (size_t k = 0; k < guard.Watched.size() && lower; ++k)
+  {
+    const double limit = std::max(guard.Before, guard.WatchedBefore[k]);
+    if (mayCross(guard.WatchedBefore[k], limit, 1.0))
+    {
+      Vec3 closest;
+      Index which;
+      lower = region.ToMesh(guard.Watched[k], region.Fan, closest, which) <= limit;
+    }
+  }
+  size_t sample = 0;
+  region.ForEachFanSample([&](const Vec3& q, double weight) {
+    const double limit = std::max(guard.FanBefore[sample], std::min(guard.Before, guard.FanMaximum));
+    if (lower && mayCross(guard.FanBefore[sample], limit, weight))
+    {
+      Vec3 closest;
+      lower = region.ToOriginal(q, closest) <= limit;
+    }
+    ++sample;
+  });
+  return lower;
+}
+
+Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ancestry& ancestry)
+{
+  const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
+  if (nv == 0 || this->Mesh.NumberOfLiveTriangles() == 0)
+  {
+    return 0;
+  }
+  const double minimumDot = NormalLimitDot(this->Options.MaximumNormalDeviation);
+  // Point-triangle tests: the pass stops at its budget, the worst vertices first.
+  const size_t workBudget = FitBudget.For(nt);
+  const std::vector<std::pair<double, Index>> order = this->FitOrder(ancestry);
   Neighbourhood region(this->Mesh, original, ancestry);
   // Which original vertices a move of v can take farther away: those whose closest output
   // point is on v's fan. Exactly, from a closest-triangle assignment of every original vertex
   // (a BVH query each) when the input is small enough for that to be cheap; otherwise among the
   // original vertices of v's neighbourhood (an ancestor can be closest to a triangle farther
   // away, mostly after topology changes, so this misses a few).
-  const bool exact = nv <= this->Options.FitExactAssignmentLimit;
-  std::vector<Index> assignedStart, assigned;
-  if (exact)
+  ClosestAssignment assignment;
+  assignment.Exact = nv <= this->Options.FitExactAssignmentLimit;
+  if (assignment.Exact)
   {
-    TriangleMesh live;
-    std::vector<Index> liveToMesh;
-    LiveTriangles(this->Mesh, live, liveToMesh);
-    const TriangleBVH tree(live);
-    std::vector<Index> closestTriangle(static_cast<size_t>(nv));
-    assignedStart.assign(size_t(this->Mesh.NumberOfTriangles()) + 1, 0);
-    for (Index a = 0; a < nv; ++a)
-    {
-      closestTriangle[a] = liveToMesh[tree.ClosestPoint(region.OriginalPoint(a)).Triangle];
-      ++assignedStart[closestTriangle[a] + 1];
-    }
-    for (size_t t = 0; t + 1 < assignedStart.size(); ++t)
-    {
-      assignedStart[t + 1] += assignedStart[t];
-    }
-    assigned.resize(static_cast<size_t>(nv));
-    std::vector<Index> fill(assignedStart.begin(), assignedStart.end() - 1);
-    for (Index a = 0; a < nv; ++a)
-    {
-      assigned[fill[closestTriangle[a]]++] = a;
-    }
+    this->AssignClosest(original, assignment);
   }
-  std::vector<Vec3> watched;
-  std::vector<double> watchedBefore, fanBefore;
-  std::vector<unsigned char> facingBefore, facingAfter;
+  MoveGuard guard;
   std::vector<unsigned char> moved(size_t(nv), 0);
   std::vector<unsigned char> dirty, nowDirty(size_t(nv), 0);
   for (int iteration = 0; iteration < FitIterations && region.Work <= workBudget; ++iteration)
@@ -1498,153 +1816,16 @@ Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ances
       }
       region.GatherFan(v);
       const Vec3 p = this->Mesh.Point(v);
-      // Least squares of the distances, along the output normals, of the original surface that v
-      // stands for (its original vertices weighted by a third of their triangles' area, and the
-      // centroids of the original triangles whose first corner merged into v, so that each
-      // original triangle counts once) as a function of v's displacement d with the closest points
-      // held: a sample at barycentric weight b of v moves by b * d.
-      Quadric fit;
-      double trace = 0, residual2 = 0, weightSum = 0;
-      auto addSample = [&](const Vec3& q, double weight) {
-        Vec3 closest;
-        Index which;
-        region.ToMesh(q, region.Fan, closest, which);
-        const double b = region.WeightOfCenter(which, closest);
-        if (b > 0.05)
-        {
-          const Vec3 u = this->Mesh.TriangleNormal(which);
-          fit += Quadric::FromPlane(b * u, -Dot(u, q - closest), weight);
-          trace += weight * b * b;
-          residual2 += weight * Dot(u, q - closest) * Dot(u, q - closest);
-          weightSum += weight;
-        }
-      };
-      for (Index i = ancestry.AncestorStart[v]; i < ancestry.AncestorStart[v + 1]; ++i)
-      {
-        const Index a = ancestry.Ancestors[i];
-        double around = 0;
-        for (Index j = ancestry.OriginalStart[a]; j < ancestry.OriginalStart[a + 1]; ++j)
-        {
-          const Index* ot = &original.Triangles[3 * size_t(ancestry.OriginalTriangles[j])];
-          const Vec3 x = region.OriginalPoint(ot[0]), y = region.OriginalPoint(ot[1]), z = region.OriginalPoint(ot[2]);
-          const double area = 0.5 * Norm(Cross(y - x, z - x));
-          around += area;
-          if (ot[0] == a)
-          {
-            addSample((1.0 / 3) * (x + y + z), area);
-          }
-        }
-        addSample(region.OriginalPoint(a), around / 3);
-      }
-      // The tangential directions are free when the samples' normals agree: a small ridge term
-      // keeps v where it is along them.
-      const double ridge = FitRidge * trace;
-      fit.Axx += ridge;
-      fit.Ayy += ridge;
-      fit.Azz += ridge;
       Vec3 step;
-      // Steps below 1 % of the RMS residual are not worth their check.
-      if (!(trace > 0) || !fit.Minimize(step, 1e-12) || Dot(step, step) * weightSum < 1e-4 * residual2)
+      if (!this->FitStep(region, original, ancestry, v, step))
       {
         continue;
       }
-      // What the move can make worse, both ways: the original vertices whose closest point is on
-      // v's fan (any other keeps or lowers its distance), and the fan's own samples against the
-      // original triangles of the neighbourhood. Values measured over a neighbourhood only can
-      // overestimate (the true closest part lies farther away): each may grow only up to a
-      // reliable local maximum, never up to another inflated value.
-      region.GatherRest(false);
-      watched.clear();
-      watchedBefore.clear();
-      double before = 0;
-      auto watch = [&](const Vec3& q, double d2) {
-        watched.push_back(q);
-        watchedBefore.push_back(d2);
-      };
-      if (exact)
-      {
-        for (Index t : region.Fan)
-        {
-          for (Index k = assignedStart[t]; k < assignedStart[t + 1]; ++k)
-          {
-            const Vec3 q = region.OriginalPoint(assigned[k]);
-            Vec3 closest;
-            Index which;
-            const double d2 = region.ToMesh(q, region.Fan, closest, which);
-            watch(q, d2);
-            before = std::max(before, d2);
-          }
-        }
-      }
-      else
-      {
-        // The reliable maximum: v's own original vertices (their closest parts are around v).
-        region.Freeze();
-        for (size_t i = 0; i < region.Samples.size(); ++i)
-        {
-          Vec3 closest;
-          Index which;
-          const double d2 = region.SampleDistance2(i, closest, which);
-          if (which != InvalidIndex)
-          {
-            watch(region.Samples[i], d2);
-          }
-          if (i >= region.OwnSamplesBegin && i < region.OwnSamplesEnd)
-          {
-            before = std::max(before, d2);
-          }
-        }
-      }
-      fanBefore.clear();
-      region.ForEachFanSample([&](const Vec3& q, double) {
-        Vec3 closest;
-        fanBefore.push_back(region.ToOriginal(q, closest));
-      });
-      // The fan's own points may not rise above the fan's largest distance either: the output
-      // side is measured at samples only, and the original side's maximum says nothing of it.
-      const double fanMaximum = *std::max_element(fanBefore.begin(), fanBefore.end());
-      region.TakeNormals();
-      region.Facing(facingBefore);
+      this->WatchMove(region, assignment, guard);
       for (double s : { 1.0, 0.5 })
       {
         this->Mesh.SetPoint(v, p + s * step);
-        bool lower = region.FanTurnsWithin(minimumDot) && this->WithinMaximumError(v);
-        if (lower)
-        {
-          region.Facing(facingAfter);
-          for (size_t i = 0; i < facingAfter.size() && lower; ++i)
-          {
-            lower = facingAfter[i] >= facingBefore[i];
-          }
-        }
-        // A point of the fan at weight w of v moves by w * |d|, so no distance changes by more:
-        // only the values that could cross their limit are measured again.
-        const double reach = s * Norm(step);
-        auto mayCross = [&](double before2, double limit2, double weight) {
-          const double bound = std::sqrt(before2) + weight * reach;
-          return bound * bound > limit2;
-        };
-        for (size_t k = 0; k < watched.size() && lower; ++k)
-        {
-          const double limit = std::max(before, watchedBefore[k]);
-          if (mayCross(watchedBefore[k], limit, 1.0))
-          {
-            Vec3 closest;
-            Index which;
-            lower = region.ToMesh(watched[k], region.Fan, closest, which) <= limit;
-          }
-        }
-        size_t sample = 0;
-        region.ForEachFanSample([&](const Vec3& q, double weight) {
-          const double limit = std::max(fanBefore[sample], std::min(before, fanMaximum));
-          if (lower && mayCross(fanBefore[sample], limit, weight))
-          {
-            Vec3 closest;
-            lower = region.ToOriginal(q, closest) <= limit;
-          }
-          ++sample;
-        });
-        if (lower)
+        if (this->MoveKeepsBounds(region, v, s * Norm(step), minimumDot, guard))
         {
           moved[v] = 1;
           nowDirty[v] = 1;
@@ -1658,12 +1839,164 @@ Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ances
       }
     }
   }
-  if (std::getenv("SLOD_VERBOSE"))
-  {
-    std::fprintf(stderr, "[triangle collapse] fit to original: %zu point-triangle tests (%.1f per input triangle)\n",
-      region.Work, double(region.Work) / std::max<Index>(nt, 1));
-  }
+  vtkLogF(TRACE, "triangle collapse: fit to original: %zu point-triangle tests (%.1f per input triangle)", region.Work,
+    double(region.Work) / std::max<Index>(nt, 1));
   return static_cast<Index>(std::count(moved.begin(), moved.end(), 1));
+}
+
+std::vector<std::pair<double, Index>> TriangleCollapser::RefinementPool(const Ancestry& ancestry) const
+{
+  // Candidates: the merged interior vertices with the largest quadric error (RMS distance to
+  // their original planes), a small fraction of the output; only they are screened.
+  const Index nv = static_cast<Index>(ancestry.AncestorStart.size()) - 1;
+  const Index live = this->Mesh.NumberOfLiveVertices();
+  std::vector<std::pair<double, Index>> pool;
+  for (Index v = 0; v < nv; ++v)
+  {
+    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && this->Mesh.IsVertexAlive(v) && !this->Boundary[v])
+    {
+      const double w = this->Vertex[v].W;
+      pool.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
+    }
+  }
+  const size_t poolSize = std::min(pool.size(), std::min<size_t>(RefinementPoolLimit, 64 + live / 10));
+  std::partial_sort(pool.begin(), pool.begin() + poolSize, pool.end(), WorseFirst);
+  pool.resize(poolSize);
+  return pool;
+}
+
+double TriangleCollapser::ScreenDeviation(Neighbourhood& region, const std::vector<std::pair<double, Index>>& pool,
+  size_t workBudget, std::vector<std::pair<double, Index>>& screen) const
+{
+  // The local deviation both ways, v's own original vertices against the neighbourhood and v's
+  // fan against the neighbourhood's original triangles (v's own fan and ancestry alone
+  // overestimate, by 10x on smooth surfaces at 1 %: an original vertex can lie beyond v's fan,
+  // and a fan point's closest original part can be a neighbour's).
+  screen.clear();
+  double worst = 0;
+  for (const auto& candidate : pool)
+  {
+    if (region.Work > workBudget)
+    {
+      break;
+    }
+    const Index v = candidate.second;
+    region.Gather(v, false);
+    double e = 0;
+    Vec3 closest;
+    Index which;
+    for (size_t i = region.OwnSamplesBegin; i < region.OwnSamplesEnd; ++i)
+    {
+      e = std::max(e, std::min(region.ToMesh(region.Samples[i], region.Fan, closest, which),
+                        region.ToMesh(region.Samples[i], region.Near, closest, which)));
+    }
+    region.ForEachFanSample([&](const Vec3& q, double) { e = std::max(e, region.ToOriginal(q, closest)); });
+    screen.emplace_back(e, v);
+    worst = std::max(worst, e);
+  }
+  return worst;
+}
+
+double TriangleCollapser::LocalDeviation(const Neighbourhood& region, Index v, const Vec3& p, Vec3& step, double& sum)
+{
+  // The local maximum distance with v at p, and a direction that lowers the worst term (the
+  // correction of v that would bring the worst point onto the other surface).
+  this->Mesh.SetPoint(v, p);
+  double best = -1;
+  sum = 0;
+  for (size_t i = 0; i < region.Samples.size(); ++i)
+  {
+    Vec3 closest;
+    Index which;
+    const double d2 = region.SampleDistance2(i, closest, which);
+    sum += std::sqrt(d2);
+    if (d2 > best)
+    {
+      best = d2;
+      // v's weight at the closest point (rough for centroids and off-fan points: the line
+      // search tries shorter steps too).
+      const double weight = region.SampleIsCentroid[i] ? 3.0 : (which == InvalidIndex ? 0.3 : std::max(0.2, region.WeightOfCenter(which, closest)));
+      step = (1.0 / weight) * (region.Samples[i] - closest);
+    }
+  }
+  region.ForEachFanSample([&](const Vec3& q, double weight) {
+    Vec3 closest;
+    const double d2 = region.ToOriginal(q, closest);
+    sum += std::sqrt(d2);
+    if (d2 > best)
+    {
+      best = d2;
+      step = (1.0 / weight) * (closest - q);
+    }
+  });
+  return best;
+}
+
+bool TriangleCollapser::RefineVertex(Neighbourhood& region, Index v, double minimumDot, size_t workBudget)
+{
+  // The region whose distances v changes (see Neighbourhood), with the original triangle
+  // centroids as samples of the original surface's interior.
+  region.Gather(v, true);
+  region.Freeze();
+  region.TakeNormals();
+  const Vec3 start = this->Mesh.Point(v);
+  Vec3 current = start, step;
+  double startSum = 0, sum = 0;
+  double value = this->LocalDeviation(region, v, current, step, startSum);
+  // A line search along the direction of the worst term, a few steps.
+  for (int iteration = 0; iteration < 6 && region.Work <= workBudget; ++iteration)
+  {
+    const Vec3 direction = step;
+    Vec3 bestPoint = current, ignored;
+    double bestValue = value;
+    for (double s : { 1.0, 0.75, 0.5, 0.25, 0.125 })
+    {
+      const Vec3 p = current + s * direction;
+      this->Mesh.SetPoint(v, p);
+      if (!region.FanTurnsWithin(minimumDot) || !this->WithinMaximumError(v))
+      {
+        continue;
+      }
+      const double candidate = this->LocalDeviation(region, v, p, ignored, sum);
+      // The mean distance must not pay for the maximum: the local sum may grow only a little.
+      if (candidate < bestValue && sum <= RefinementSumSlack * startSum)
+      {
+        bestValue = candidate;
+        bestPoint = p;
+      }
+    }
+    if (!(bestValue < value * (1.0 - 1e-3)))
+    {
+      break;
+    }
+    current = bestPoint;
+    value = this->LocalDeviation(region, v, current, step, sum);
+  }
+  this->Mesh.SetPoint(v, current);
+  return !(current == start);
+}
+
+void TriangleCollapser::PoolAroundMoved(
+  const std::vector<Index>& movedVertices, const Ancestry& ancestry, std::vector<std::pair<double, Index>>& pool) const
+{
+  // The next round screens only where this one moved something (the rest is unchanged).
+  std::vector<Index> next, ring;
+  for (Index v : movedVertices)
+  {
+    next.push_back(v);
+    this->Mesh.Neighbors(v, ring);
+    next.insert(next.end(), ring.begin(), ring.end());
+  }
+  std::sort(next.begin(), next.end());
+  next.erase(std::unique(next.begin(), next.end()), next.end());
+  pool.clear();
+  for (Index v : next)
+  {
+    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v])
+    {
+      pool.emplace_back(0.0, v);
+    }
+  }
 }
 
 Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Ancestry& ancestry)
@@ -1676,176 +2009,40 @@ Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Anc
   // Point-triangle tests: the pass stops at a budget proportional to the input, because a
   // region's cost grows with the reduction (ancestors x triangles).
   const size_t workBudget = RefinementBudget.For(nt);
-  const double minimumDot = std::cos(std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation)) * 3.14159265358979323846 / 180.0);
-  const Index live = this->Mesh.NumberOfLiveVertices();
+  const double minimumDot = NormalLimitDot(this->Options.MaximumNormalDeviation);
   // Only a few of the worst regions: the pass must stay cheap next to the collapses.
-  const size_t budget = static_cast<size_t>(16 + live / 2000);
+  const size_t budget = static_cast<size_t>(16 + this->Mesh.NumberOfLiveVertices() / 2000);
   Neighbourhood region(this->Mesh, original, ancestry);
-  std::vector<Index> movedVertices, ring;
+  std::vector<Index> movedVertices;
   std::vector<std::pair<double, Index>> screen;
+  std::vector<std::pair<double, Index>> pool = this->RefinementPool(ancestry);
   Index moved = 0;
-  // Candidates: the merged interior vertices with the largest quadric error (RMS distance to
-  // their original planes), a small fraction of the output; only they are screened below.
-  std::vector<std::pair<double, Index>> pool;
-  for (Index v = 0; v < nv; ++v)
-  {
-    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && this->Mesh.IsVertexAlive(v) && !this->Boundary[v])
-    {
-      const double w = this->Vertex[v].W;
-      pool.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
-    }
-  }
-  auto worseFirst = [](const std::pair<double, Index>& a, const std::pair<double, Index>& b) {
-    return a.first > b.first || (a.first == b.first && a.second < b.second);
-  };
-  const size_t poolSize = std::min(pool.size(), std::min<size_t>(RefinementPoolLimit, 64 + live / 10));
-  std::partial_sort(pool.begin(), pool.begin() + poolSize, pool.end(), worseFirst);
-  pool.resize(poolSize);
   for (int round = 0; round < RefinementRounds; ++round)
   {
-    // Screening: the local deviation both ways, v's own original vertices against the
-    // neighbourhood and v's fan against the neighbourhood's original triangles (v's own fan and
-    // ancestry alone overestimate, by 10x on smooth surfaces at 1 %: an original vertex can lie
-    // beyond v's fan, and a fan point's closest original part can be a neighbour's).
-    screen.clear();
-    double worst = 0;
-    for (const auto& candidate : pool)
-    {
-      if (region.Work > workBudget)
-      {
-        break;
-      }
-      const Index v = candidate.second;
-      region.Gather(v, false);
-      double e = 0;
-      Vec3 closest;
-      Index which;
-      for (size_t i = region.OwnSamplesBegin; i < region.OwnSamplesEnd; ++i)
-      {
-        e = std::max(e, std::min(region.ToMesh(region.Samples[i], region.Fan, closest, which),
-                          region.ToMesh(region.Samples[i], region.Near, closest, which)));
-      }
-      region.ForEachFanSample([&](const Vec3& q, double) { e = std::max(e, region.ToOriginal(q, closest)); });
-      screen.emplace_back(e, v);
-      worst = std::max(worst, e);
-    }
+    const double worst = this->ScreenDeviation(region, pool, workBudget, screen);
     if (screen.empty() || worst <= 0)
     {
       break;
     }
     const size_t count = std::min(budget, screen.size());
-    std::partial_sort(screen.begin(), screen.begin() + count, screen.end(), worseFirst);
-    Index movedThisRound = 0;
+    std::partial_sort(screen.begin(), screen.begin() + count, screen.end(), WorseFirst);
     for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst && region.Work <= workBudget; ++c)
     {
-      const Index v = screen[c].second;
-      // The region whose distances v changes (see Neighbourhood), with the original triangle
-      // centroids as samples of the original surface's interior.
-      region.Gather(v, true);
-      region.Freeze();
-      region.TakeNormals();
-      // Local maximum distance with v at p, and a direction that lowers the worst term (the
-      // correction of v that would bring the worst point onto the other surface).
-      auto evaluate = [&](const Vec3& p, Vec3& step, double& sum) {
-        this->Mesh.SetPoint(v, p);
-        double best = -1;
-        sum = 0;
-        for (size_t i = 0; i < region.Samples.size(); ++i)
-        {
-          Vec3 closest;
-          Index which;
-          const double d2 = region.SampleDistance2(i, closest, which);
-          sum += std::sqrt(d2);
-          if (d2 > best)
-          {
-            best = d2;
-            // v's weight at the closest point (rough for centroids and off-fan points: the
-            // line search tries shorter steps too).
-            const double weight = region.SampleIsCentroid[i] ? 3.0 : (which == InvalidIndex ? 0.3 : std::max(0.2, region.WeightOfCenter(which, closest)));
-            step = (1.0 / weight) * (region.Samples[i] - closest);
-          }
-        }
-        region.ForEachFanSample([&](const Vec3& q, double weight) {
-          Vec3 closest;
-          const double d2 = region.ToOriginal(q, closest);
-          sum += std::sqrt(d2);
-          if (d2 > best)
-          {
-            best = d2;
-            step = (1.0 / weight) * (closest - q);
-          }
-        });
-        return best;
-      };
-      const Vec3 start = this->Mesh.Point(v);
-      Vec3 current = start, step;
-      double startSum = 0, sum = 0;
-      double value = evaluate(current, step, startSum);
-      for (int iteration = 0; iteration < 6 && region.Work <= workBudget; ++iteration)
+      if (this->RefineVertex(region, screen[c].second, minimumDot, workBudget))
       {
-        const Vec3 direction = step;
-        Vec3 bestPoint = current, ignored;
-        double bestValue = value;
-        for (double s : { 1.0, 0.75, 0.5, 0.25, 0.125 })
-        {
-          const Vec3 p = current + s * direction;
-          this->Mesh.SetPoint(v, p);
-          if (!region.FanTurnsWithin(minimumDot) || !this->WithinMaximumError(v))
-          {
-            continue;
-          }
-          const double candidate = evaluate(p, ignored, sum);
-          // The mean distance must not pay for the maximum: the local sum may grow only a little.
-          if (candidate < bestValue && sum <= RefinementSumSlack * startSum)
-          {
-            bestValue = candidate;
-            bestPoint = p;
-          }
-        }
-        if (!(bestValue < value * (1.0 - 1e-3)))
-        {
-          break;
-        }
-        current = bestPoint;
-        value = evaluate(current, step, sum);
-      }
-      this->Mesh.SetPoint(v, current);
-      if (!(current == start))
-      {
-        ++movedThisRound;
-        movedVertices.push_back(v);
+        movedVertices.push_back(screen[c].second);
       }
     }
-    moved += movedThisRound;
-    if (movedThisRound == 0)
+    if (movedVertices.empty())
     {
       break;
     }
-    // The next round screens only where this one moved something (the rest is unchanged).
-    std::vector<Index> next;
-    for (Index v : movedVertices)
-    {
-      next.push_back(v);
-      this->Mesh.Neighbors(v, ring);
-      next.insert(next.end(), ring.begin(), ring.end());
-    }
-    std::sort(next.begin(), next.end());
-    next.erase(std::unique(next.begin(), next.end()), next.end());
-    pool.clear();
-    for (Index v : next)
-    {
-      if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v])
-      {
-        pool.emplace_back(0.0, v);
-      }
-    }
+    moved += static_cast<Index>(movedVertices.size());
+    this->PoolAroundMoved(movedVertices, ancestry, pool);
     movedVertices.clear();
   }
-  if (std::getenv("SLOD_VERBOSE"))
-  {
-    std::fprintf(stderr, "[triangle collapse] deviation refinement: %d vertex moves, %zu point-triangle tests (%.1f per input triangle)\n",
-      int(moved), region.Work, double(region.Work) / std::max<Index>(nt, 1));
-  }
+  vtkLogF(TRACE, "triangle collapse: deviation refinement: %d vertex moves, %zu point-triangle tests (%.1f per input triangle)",
+    int(moved), region.Work, double(region.Work) / std::max<Index>(nt, 1));
   return moved;
 }
 

@@ -33,7 +33,8 @@
 // triangle costs (slod::BucketQueue); after a collapse only the operations touching the new
 // vertex are re-evaluated (edge costs are cached per triangle); a rejected operation is replaced
 // by the triangle's next best one, and triangles with no valid operation are retried when their
-// 2-ring changes. Run with SLOD_VERBOSE=1 in the environment to print stage times and counts.
+// 2-ring changes. Stage times and counts are logged at TRACE verbosity
+// (vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_TRACE)).
 #ifndef slodTriangleCollapse_h
 #define slodTriangleCollapse_h
 

@@ -2,6 +2,7 @@
 
 #include "slodInputPreparation.h"
 #include "slodPointAttributes.h"
+#include "slodUnionFind.h"
 
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -13,7 +14,6 @@
 #include "vtkStaticPointLocator.h"
 
 #include <limits>
-#include <numeric>
 
 vtkStandardNewMacro(vtkLODInterpolation);
 
@@ -24,6 +24,8 @@ vtkLODInterpolation::vtkLODInterpolation()
 
 namespace
 {
+using slod::operator-; // Vec3 differences
+
 vtkSmartPointer<vtkPolyData> PointsOnly(const slod::TriangleMesh& mesh)
 {
   vtkNew<vtkPoints> points;
@@ -38,14 +40,81 @@ vtkSmartPointer<vtkPolyData> PointsOnly(const slod::TriangleMesh& mesh)
   return pd;
 }
 
-slod::Index Find(std::vector<slod::Index>& parent, slod::Index v)
+// Steps 1-2 of the morph: per detailed vertex its coarse vertex. A coarse vertex claims its
+// closest detailed vertex (the closest claimant wins); every other detailed vertex takes its
+// closest coarse vertex (point locators both ways).
+std::vector<slod::Index> MatchToCoarse(const slod::TriangleMesh& detailed, const slod::TriangleMesh& coarse)
 {
-  while (parent[v] != v)
+  const slod::Index nh = detailed.NumberOfPoints(), nl = coarse.NumberOfPoints();
+  vtkSmartPointer<vtkPolyData> detailedPoints = PointsOnly(detailed), coarsePoints = PointsOnly(coarse);
+  vtkNew<vtkStaticPointLocator> detailedLocator, coarseLocator;
+  detailedLocator->SetDataSet(detailedPoints);
+  detailedLocator->BuildLocator();
+  coarseLocator->SetDataSet(coarsePoints);
+  coarseLocator->BuildLocator();
+  std::vector<slod::Index> match(size_t(nh), slod::InvalidIndex);
+  std::vector<double> matchDistance(size_t(nh), std::numeric_limits<double>::infinity());
+  for (slod::Index l = 0; l < nl; ++l)
   {
-    parent[v] = parent[parent[v]];
-    v = parent[v];
+    const slod::Vec3 p = coarse.Point(l);
+    const auto h = static_cast<slod::Index>(detailedLocator->FindClosestPoint(p.data()));
+    const slod::Vec3 d = p - detailed.Point(h);
+    const double d2 = slod::Dot(d, d);
+    if (d2 < matchDistance[h])
+    {
+      matchDistance[h] = d2;
+      match[h] = l;
+    }
   }
-  return v;
+  for (slod::Index h = 0; h < nh; ++h)
+  {
+    if (match[h] == slod::InvalidIndex)
+    {
+      const slod::Vec3 p = detailed.Point(h);
+      match[h] = static_cast<slod::Index>(coarseLocator->FindClosestPoint(p.data()));
+    }
+  }
+  return match;
+}
+
+// Step 4: merges the ends of the detailed edges shorter than eps in the morphed mesh (the smaller
+// id represents a group) and adds the triangles that do not degenerate. An edge whose two ends
+// sit on their coarse matches already does not move: it is detail the coarse mesh shares, and
+// merging it would drop triangles as soon as T leaves 0 (all of a mesh made of triangles smaller
+// than epsilon, e.g. many small components). Returns the merges; removed counts the dropped
+// triangles.
+vtkIdType MergeShortEdges(const slod::TriangleMesh& detailed, const slod::TriangleMesh& coarse,
+  const std::vector<slod::Index>& match, double eps, slod::TriangleMesh& mesh, vtkIdType& removed)
+{
+  auto staysInPlace = [&](slod::Index h) { return coarse.Point(match[h]) == detailed.Point(h); };
+  slod::UnionFind groups(detailed.NumberOfPoints());
+  vtkIdType merged = 0;
+  for (slod::Index f = 0; f < detailed.NumberOfTriangles(); ++f)
+  {
+    const slod::Index* tri = detailed.Triangle(f);
+    for (int k = 0; k < 3; ++k)
+    {
+      const slod::Index u = tri[k], v = tri[(k + 1) % 3];
+      const slod::Vec3 d = mesh.Point(u) - mesh.Point(v);
+      if (slod::Dot(d, d) < eps * eps && !(staysInPlace(u) && staysInPlace(v)) && groups.Union(u, v))
+      {
+        ++merged;
+      }
+    }
+  }
+  removed = 0;
+  for (slod::Index f = 0; f < detailed.NumberOfTriangles(); ++f)
+  {
+    const slod::Index* tri = detailed.Triangle(f);
+    const slod::Index a = groups.Find(tri[0]), b = groups.Find(tri[1]), c = groups.Find(tri[2]);
+    if (a == b || b == c || c == a)
+    {
+      ++removed;
+      continue;
+    }
+    mesh.AddTriangle(a, b, c);
+  }
+  return merged;
 }
 } // namespace
 
@@ -88,35 +157,7 @@ int vtkLODInterpolation::RequestData(
     return 1;
   }
 
-  // Steps 1-2: correspondences both ways through point locators.
-  vtkSmartPointer<vtkPolyData> detailedPoints = PointsOnly(detailed), coarsePoints = PointsOnly(coarse);
-  vtkNew<vtkStaticPointLocator> detailedLocator, coarseLocator;
-  detailedLocator->SetDataSet(detailedPoints);
-  detailedLocator->BuildLocator();
-  coarseLocator->SetDataSet(coarsePoints);
-  coarseLocator->BuildLocator();
-  std::vector<slod::Index> match(size_t(nh), slod::InvalidIndex);
-  std::vector<double> matchDistance(size_t(nh), std::numeric_limits<double>::infinity());
-  for (slod::Index l = 0; l < nl; ++l)
-  {
-    const slod::Vec3 p = coarse.Point(l);
-    const auto h = static_cast<slod::Index>(detailedLocator->FindClosestPoint(p.data()));
-    const slod::Vec3 d = p - detailed.Point(h);
-    const double d2 = slod::Dot(d, d);
-    if (d2 < matchDistance[h])
-    {
-      matchDistance[h] = d2;
-      match[h] = l;
-    }
-  }
-  for (slod::Index h = 0; h < nh; ++h)
-  {
-    if (match[h] == slod::InvalidIndex)
-    {
-      const slod::Vec3 p = detailed.Point(h);
-      match[h] = static_cast<slod::Index>(coarseLocator->FindClosestPoint(p.data()));
-    }
-  }
+  const std::vector<slod::Index> match = MatchToCoarse(detailed, coarse);
 
   // Step 3: linear interpolation.
   const double t = this->T;
@@ -126,44 +167,8 @@ int vtkLODInterpolation::RequestData(
   {
     mesh.SetPoint(h, t * coarse.Point(match[h]) + (1.0 - t) * detailed.Point(h));
   }
-
-  // Step 4: merge adjacent vertices closer than epsilon, drop the triangles that degenerate. An
-  // edge whose two ends sit on their coarse matches already does not move: it is detail the coarse
-  // mesh shares, and merging it would drop triangles as soon as T leaves 0 (all of a mesh made of
-  // triangles smaller than epsilon, e.g. many small components).
   const double eps = this->Epsilon * detailed.BoundingBoxDiagonal();
-  auto staysInPlace = [&](slod::Index h) { return coarse.Point(match[h]) == detailed.Point(h); };
-  std::vector<slod::Index> parent(static_cast<size_t>(nh));
-  std::iota(parent.begin(), parent.end(), 0);
-  for (slod::Index f = 0; f < detailed.NumberOfTriangles(); ++f)
-  {
-    const slod::Index* tri = detailed.Triangle(f);
-    for (int k = 0; k < 3; ++k)
-    {
-      const slod::Index u = tri[k], v = tri[(k + 1) % 3];
-      const slod::Vec3 d = mesh.Point(u) - mesh.Point(v);
-      if (slod::Dot(d, d) < eps * eps && !(staysInPlace(u) && staysInPlace(v)))
-      {
-        const slod::Index ru = Find(parent, u), rv = Find(parent, v);
-        if (ru != rv)
-        {
-          parent[std::max(ru, rv)] = std::min(ru, rv); // the smaller id represents the group
-          ++this->MergedVertices;
-        }
-      }
-    }
-  }
-  for (slod::Index f = 0; f < detailed.NumberOfTriangles(); ++f)
-  {
-    const slod::Index* tri = detailed.Triangle(f);
-    const slod::Index a = Find(parent, tri[0]), b = Find(parent, tri[1]), c = Find(parent, tri[2]);
-    if (a == b || b == c || c == a)
-    {
-      ++this->RemovedTriangles;
-      continue;
-    }
-    mesh.AddTriangle(a, b, c);
-  }
+  this->MergedVertices = MergeShortEdges(detailed, coarse, match, eps, mesh, this->RemovedTriangles);
   std::vector<slod::Index> newToOld;
   mesh.RemoveUnusedPoints(&newToOld);
 

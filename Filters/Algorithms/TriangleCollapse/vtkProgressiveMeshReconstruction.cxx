@@ -132,6 +132,68 @@ bool TableToHistory(vtkTable* table, slod::CollapseHistory& h, vtkIdType& points
   }
   return true;
 }
+
+// The coarse level over the input's ids: the coarse points at their original vertex ids, the
+// removed triangles as they were when removed (their storage is what a split revives), the live
+// ones from the coarse cells. Returns an error message, or nullptr.
+const char* CoarseLevel(vtkPolyData* coarse, const slod::CollapseHistory& h, vtkIdType np, vtkIdType nt,
+  slod::TriangleMesh& mesh, std::vector<unsigned char>& live)
+{
+  vtkDataArray* vertexIds = coarse->GetPointData()->GetArray("OriginalVertexId");
+  vtkDataArray* triangleIds = coarse->GetCellData()->GetArray("OriginalTriangleId");
+  if (!vertexIds || !triangleIds || !coarse->GetPolys())
+  {
+    return "The coarse mesh lacks OriginalVertexId / OriginalTriangleId (turn GenerateProgressiveMesh on).";
+  }
+  mesh.Points.assign(3 * size_t(np), 0.0);
+  mesh.Triangles.assign(3 * size_t(nt), 0);
+  live.assign(size_t(nt), 0);
+  for (vtkIdType i = 0; i < coarse->GetNumberOfPoints(); ++i)
+  {
+    const auto v = static_cast<vtkIdType>(vertexIds->GetComponent(i, 0));
+    if (v < 0 || v >= np)
+    {
+      return "OriginalVertexId out of range.";
+    }
+    coarse->GetPoint(i, &mesh.Points[3 * size_t(v)]);
+  }
+  for (size_t r = 0; r < h.RemovedTriangles.size(); r += 4)
+  {
+    std::copy(&h.RemovedTriangles[r + 1], &h.RemovedTriangles[r + 4], &mesh.Triangles[3 * size_t(h.RemovedTriangles[r])]);
+  }
+  vtkCellArray* polys = coarse->GetPolys();
+  vtkIdType cell = 0;
+  vtkIdType npts;
+  const vtkIdType* pts;
+  for (polys->InitTraversal(); polys->GetNextCell(npts, pts); ++cell)
+  {
+    const auto t = static_cast<vtkIdType>(triangleIds->GetComponent(cell, 0));
+    if (npts != 3 || t < 0 || t >= nt)
+    {
+      return "The coarse mesh is not the collapse filter's output (bad cell or OriginalTriangleId).";
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      mesh.Triangles[3 * size_t(t) + k] = static_cast<slod::Index>(vertexIds->GetComponent(pts[k], 0));
+    }
+    live[t] = 1;
+  }
+  return nullptr;
+}
+
+// The triangle count after s vertex splits, for every s.
+std::vector<vtkIdType> TrianglesAtLevels(const slod::CollapseHistory& h, vtkIdType coarseTriangles)
+{
+  const slod::Index n = h.NumberOfCollapses();
+  std::vector<vtkIdType> count(size_t(n) + 1);
+  count[0] = coarseTriangles;
+  for (slod::Index s = 1; s <= n; ++s)
+  {
+    const slod::Index k = n - s; // record undone by split s
+    count[s] = count[s - 1] + h.RemovedOffsets[k + 1] - h.RemovedOffsets[k];
+  }
+  return count;
+}
 } // namespace
 
 int vtkProgressiveMeshReconstruction::RequestData(
@@ -159,50 +221,12 @@ int vtkProgressiveMeshReconstruction::RequestData(
       vtkErrorMacro(<< "The collapse records are malformed (see vtkQuadricTriangleCollapse, output port 1).");
       return 1;
     }
-    vtkDataArray* vertexIds = coarse->GetPointData()->GetArray("OriginalVertexId");
-    vtkDataArray* triangleIds = coarse->GetCellData()->GetArray("OriginalTriangleId");
-    if (!vertexIds || !triangleIds || !coarse->GetPolys())
-    {
-      vtkErrorMacro(<< "The coarse mesh lacks OriginalVertexId / OriginalTriangleId (turn GenerateProgressiveMesh on).");
-      return 1;
-    }
     slod::TriangleMesh mesh;
-    mesh.Points.assign(3 * size_t(np), 0.0);
-    mesh.Triangles.assign(3 * size_t(nt), 0);
-    std::vector<unsigned char> live(size_t(nt), 0);
-    for (vtkIdType i = 0; i < coarse->GetNumberOfPoints(); ++i)
+    std::vector<unsigned char> live;
+    if (const char* error = CoarseLevel(coarse, state->History, np, nt, mesh, live))
     {
-      const auto v = static_cast<vtkIdType>(vertexIds->GetComponent(i, 0));
-      if (v < 0 || v >= np)
-      {
-        vtkErrorMacro(<< "OriginalVertexId out of range.");
-        return 1;
-      }
-      coarse->GetPoint(i, &mesh.Points[3 * size_t(v)]);
-    }
-    // Removed triangles as they were when removed (their storage is what a split revives).
-    const auto& h = state->History;
-    for (size_t r = 0; r < h.RemovedTriangles.size(); r += 4)
-    {
-      std::copy(&h.RemovedTriangles[r + 1], &h.RemovedTriangles[r + 4], &mesh.Triangles[3 * size_t(h.RemovedTriangles[r])]);
-    }
-    vtkCellArray* polys = coarse->GetPolys();
-    vtkIdType cell = 0;
-    vtkIdType npts;
-    const vtkIdType* pts;
-    for (polys->InitTraversal(); polys->GetNextCell(npts, pts); ++cell)
-    {
-      const auto t = static_cast<vtkIdType>(triangleIds->GetComponent(cell, 0));
-      if (npts != 3 || t < 0 || t >= nt)
-      {
-        vtkErrorMacro(<< "The coarse mesh is not the collapse filter's output (bad cell or OriginalTriangleId).");
-        return 1;
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        mesh.Triangles[3 * size_t(t) + k] = static_cast<slod::Index>(vertexIds->GetComponent(pts[k], 0));
-      }
-      live[t] = 1;
+      vtkErrorMacro(<< error);
+      return 1;
     }
     state->Mesh.Reset(mesh);
     for (slod::Index t = 0; t < nt; ++t)
@@ -212,14 +236,7 @@ int vtkProgressiveMeshReconstruction::RequestData(
         state->Mesh.RemoveTriangle(t);
       }
     }
-    const slod::Index n = h.NumberOfCollapses();
-    state->TrianglesAtLevel.resize(size_t(n) + 1);
-    state->TrianglesAtLevel[0] = coarse->GetNumberOfPolys();
-    for (slod::Index s = 1; s <= n; ++s)
-    {
-      const slod::Index k = n - s; // record undone by split s
-      state->TrianglesAtLevel[s] = state->TrianglesAtLevel[s - 1] + h.RemovedOffsets[k + 1] - h.RemovedOffsets[k];
-    }
+    state->TrianglesAtLevel = TrianglesAtLevels(state->History, coarse->GetNumberOfPolys());
     state->PointType = coarse->GetPoints() ? coarse->GetPoints()->GetDataType() : VTK_DOUBLE;
     state->CoarseData = coarse;
     state->RecordsData = table;

@@ -10,6 +10,7 @@
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkLogger.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -18,9 +19,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <ctime>
 
 vtkStandardNewMacro(vtkQuadricTriangleCollapse);
 
@@ -106,6 +104,91 @@ void HistoryToTable(const slod::CollapseHistory& h, slod::Index inputPoints, slo
   tcounts->SetValue(0, inputTriangles);
   fd->AddArray(tcounts);
 }
+
+// Stop criteria: the larger triangle count is reached first.
+slod::Index TargetTriangles(vtkQuadricTriangleCollapse* filter, slod::Index inputTriangles)
+{
+  slod::Index target = 0;
+  if (filter->GetTargetNumberOfTriangles() > 0)
+  {
+    target = static_cast<slod::Index>(std::min<vtkIdType>(filter->GetTargetNumberOfTriangles(), inputTriangles));
+  }
+  if (filter->GetTargetReduction() > 0)
+  {
+    const auto byReduction = static_cast<slod::Index>(std::floor((1.0 - filter->GetTargetReduction()) * inputTriangles + 1e-9));
+    target = std::max(target, byReduction);
+  }
+  return target;
+}
+
+slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter, slod::Index target, double diagonal)
+{
+  slod::TriangleCollapseOptions options;
+  options.TargetTriangles = target;
+  const double maximumError = filter->GetMaximumError();
+  options.MaximumError =
+    maximumError < 0 ? -1.0 : (filter->GetMaximumErrorIsRelative() ? maximumError * diagonal : maximumError);
+  options.BoundaryWeight = filter->GetBoundaryWeight();
+  options.MaximumNormalDeviation = filter->GetMaximumNormalDeviation();
+  options.AllowTopologyChange = filter->GetAllowTopologyChange();
+  options.ExactUnion = filter->GetExactUnion();
+  options.RefineDeviation = filter->GetDeviationRefinement();
+  options.FitToOriginal = filter->GetFitToOriginal();
+  options.EdgeCollapses = filter->GetEdgeCollapses();
+  options.EdgeCollapseBias = filter->GetEdgeCollapseBias();
+  options.RecordHistory = filter->GetGenerateProgressiveMesh();
+  options.Progress = [filter](double fraction) {
+    filter->UpdateProgress(fraction);
+    return !filter->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
+  };
+  return options;
+}
+
+// The input's point type unless the precision setting asks for another (float or double only).
+int OutputPointType(vtkPolyData* input, int precision)
+{
+  if (precision == vtkAlgorithm::SINGLE_PRECISION)
+  {
+    return VTK_FLOAT;
+  }
+  if (precision == vtkAlgorithm::DOUBLE_PRECISION)
+  {
+    return VTK_DOUBLE;
+  }
+  const int inputType = input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT;
+  return inputType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT;
+}
+
+// The simplified mesh, its merged point data and the per-vertex and maximum errors.
+void StoreSimplifiedMesh(const slod::TriangleCollapseResult& result, const slod::PointAttributes& attributes,
+  int pointType, double diagonal, vtkPolyData* output)
+{
+  vtkLogScopeF(TRACE, "vtkQuadricTriangleCollapse: output");
+  slod::MeshToPolyData(result.Mesh, output, pointType);
+  attributes.Store(output->GetPointData(), result.OutputToInput);
+  const vtkIdType outPoints = static_cast<vtkIdType>(result.OutputToInput.size());
+  auto error = MakeDoubleArray("SimplificationError", 1, outPoints);
+  std::copy(result.VertexError.begin(), result.VertexError.end(), error->GetPointer(0));
+  output->GetPointData()->AddArray(error);
+  AddScalar(output->GetFieldData(), "MaximumSimplificationError", result.MaximumError);
+  AddScalar(output->GetFieldData(), "MaximumSimplificationErrorRelative", diagonal > 0 ? result.MaximumError / diagonal : 0.0);
+}
+
+// The ids that tie the output to the input, and the collapse records (port 1).
+void StoreProgressiveMesh(const slod::TriangleCollapseResult& result, slod::Index inputPoints,
+  slod::Index inputTriangles, vtkPolyData* output, vtkTable* records)
+{
+  auto vertexIds = MakeIdArray("OriginalVertexId", 1, static_cast<vtkIdType>(result.OutputToInput.size()));
+  std::copy(result.OutputToInput.begin(), result.OutputToInput.end(), vertexIds->GetPointer(0));
+  output->GetPointData()->AddArray(vertexIds);
+  auto triangleIds = MakeIdArray("OriginalTriangleId", 1, static_cast<vtkIdType>(result.OutputTriangleIds.size()));
+  std::copy(result.OutputTriangleIds.begin(), result.OutputTriangleIds.end(), triangleIds->GetPointer(0));
+  output->GetCellData()->AddArray(triangleIds);
+  if (records)
+  {
+    HistoryToTable(result.History, inputPoints, inputTriangles, records);
+  }
+}
 } // namespace
 
 vtkQuadricTriangleCollapse::vtkQuadricTriangleCollapse()
@@ -141,89 +224,24 @@ int vtkQuadricTriangleCollapse::RequestData(
   {
     return 1;
   }
-
-  const bool verbose = std::getenv("SLOD_VERBOSE") != nullptr;
-  std::clock_t clock = std::clock();
-  auto lap = [&](const char* what) {
-    if (verbose)
-    {
-      const std::clock_t now = std::clock();
-      long peakKB = 0; // peak resident memory so far (Linux), to see which stage sets it
-      if (FILE* status = std::fopen("/proc/self/status", "r"))
-      {
-        char line[256];
-        while (std::fgets(line, sizeof(line), status))
-        {
-          if (std::sscanf(line, "VmHWM: %ld", &peakKB) == 1)
-          {
-            break;
-          }
-        }
-        std::fclose(status);
-      }
-      std::fprintf(stderr, "[vtkQuadricTriangleCollapse] %s: %.3f s CPU, peak RSS %.1f MB\n", what,
-        double(now - clock) / CLOCKS_PER_SEC, peakKB / 1024.0);
-      clock = now;
-    }
-  };
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput;
-  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput))
   {
-    return 1;
+    vtkLogScopeF(TRACE, "vtkQuadricTriangleCollapse: input preparation");
+    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput))
+    {
+      return 1;
+    }
   }
-  lap("input preparation");
   const slod::Index inputTriangles = mesh.NumberOfTriangles();
   const slod::Index inputPoints = mesh.NumberOfPoints();
   if (inputTriangles == 0)
   {
     return 1;
   }
-
-  // Stop criteria: the larger triangle count is reached first.
-  slod::TriangleCollapseOptions options;
-  slod::Index target = 0;
-  if (this->TargetNumberOfTriangles > 0)
-  {
-    target = static_cast<slod::Index>(std::min<vtkIdType>(this->TargetNumberOfTriangles, inputTriangles));
-  }
-  if (this->TargetReduction > 0)
-  {
-    const auto byReduction = static_cast<slod::Index>(std::floor((1.0 - this->TargetReduction) * inputTriangles + 1e-9));
-    target = std::max(target, byReduction);
-  }
+  const slod::Index target = TargetTriangles(this, inputTriangles);
   const double diagonal = mesh.BoundingBoxDiagonal();
-  options.TargetTriangles = target;
-  options.MaximumError = this->MaximumError < 0 ? -1.0
-    : (this->MaximumErrorIsRelative ? this->MaximumError * diagonal : this->MaximumError);
-  options.BoundaryWeight = this->BoundaryWeight;
-  options.MaximumNormalDeviation = this->MaximumNormalDeviation;
-  options.AllowTopologyChange = this->AllowTopologyChange;
-  options.ExactUnion = this->ExactUnion;
-  options.RefineDeviation = this->DeviationRefinement;
-  options.FitToOriginal = this->FitToOriginal;
-  options.EdgeCollapses = this->EdgeCollapses;
-  options.EdgeCollapseBias = this->EdgeCollapseBias;
-  options.RecordHistory = this->GenerateProgressiveMesh;
-  options.Progress = [this](double fraction) {
-    this->UpdateProgress(fraction);
-    return !this->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
-  };
-
-  int pointType = input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT;
-  if (this->OutputPointsPrecision == vtkAlgorithm::SINGLE_PRECISION)
-  {
-    pointType = VTK_FLOAT;
-  }
-  else if (this->OutputPointsPrecision == vtkAlgorithm::DOUBLE_PRECISION)
-  {
-    pointType = VTK_DOUBLE;
-  }
-  else if (pointType != VTK_DOUBLE)
-  {
-    pointType = VTK_FLOAT;
-  }
-
+  const slod::TriangleCollapseOptions options = CollapseOptions(this, target, diagonal);
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
   std::vector<slod::Index>().swap(vertexToInput);
@@ -231,31 +249,11 @@ int vtkQuadricTriangleCollapse::RequestData(
   slod::TriangleCollapseResult result;
   slod::SimplifyByTriangleCollapse(mesh, options, result, &attributes);
 
-  lap("simplification");
-  slod::MeshToPolyData(result.Mesh, output, pointType);
-  attributes.Store(output->GetPointData(), result.OutputToInput);
-  const vtkIdType outPoints = static_cast<vtkIdType>(result.OutputToInput.size());
-  auto error = MakeDoubleArray("SimplificationError", 1, outPoints);
-  std::copy(result.VertexError.begin(), result.VertexError.end(), error->GetPointer(0));
-  output->GetPointData()->AddArray(error);
-  AddScalar(output->GetFieldData(), "MaximumSimplificationError", result.MaximumError);
-  AddScalar(output->GetFieldData(), "MaximumSimplificationErrorRelative", diagonal > 0 ? result.MaximumError / diagonal : 0.0);
-
+  StoreSimplifiedMesh(result, attributes, OutputPointType(input, this->OutputPointsPrecision), diagonal, output);
   if (this->GenerateProgressiveMesh)
   {
-    auto vertexIds = MakeIdArray("OriginalVertexId", 1, outPoints);
-    std::copy(result.OutputToInput.begin(), result.OutputToInput.end(), vertexIds->GetPointer(0));
-    output->GetPointData()->AddArray(vertexIds);
-    auto triangleIds = MakeIdArray("OriginalTriangleId", 1, static_cast<vtkIdType>(result.OutputTriangleIds.size()));
-    std::copy(result.OutputTriangleIds.begin(), result.OutputTriangleIds.end(), triangleIds->GetPointer(0));
-    output->GetCellData()->AddArray(triangleIds);
-    if (records)
-    {
-      HistoryToTable(result.History, inputPoints, inputTriangles, records);
-    }
+    StoreProgressiveMesh(result, inputPoints, inputTriangles, output, records);
   }
-
-  lap("output");
   this->NumberOfCollapses = result.Collapses;
   this->MaximumSimplificationError = result.MaximumError;
   this->ActualReduction = 1.0 - double(result.Mesh.NumberOfTriangles()) / double(inputTriangles);

@@ -5,6 +5,7 @@
 
 #include "slodMeshTopology.h"
 #include "slodTriangleCollapse.h"
+#include "slodUnionFind.h"
 #include "vtkProgressiveMeshReconstruction.h"
 #include "vtkQuadricTriangleCollapse.h"
 #include "vtkSurfaceDeviation.h"
@@ -34,6 +35,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <tuple>
 
 using namespace slod;
 
@@ -496,13 +498,6 @@ TEST(QuadricTriangleCollapse, AccumulatedQuadricsMatchExactUnionQuality)
   }
 }
 
-#include "slodBucketQueue.h"
-#include "slodUnionFind.h"
-#include "slodIndexedHeap.h"
-
-#include <random>
-#include <tuple>
-
 namespace
 {
 // The filter at a count with the post-collapse passes chosen, and its deviation from the input.
@@ -607,104 +602,6 @@ TEST(QuadricTriangleCollapse, FitToOriginalLowersTheMeanNotTheMaximum)
     EXPECT_EQ(b.NonManifoldEdges, 0);
     EXPECT_EQ(b.DegenerateTriangles, 0);
     EXPECT_EQ(b.InconsistentlyOrientedEdges, 0);
-  }
-}
-
-TEST(PriorityQueues, BucketQueueAndIndexedHeapPopInKeyOrder)
-{
-  std::mt19937 random(7);
-  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-  const Index n = 5000;
-  std::vector<float> keys(n);
-  BucketQueue buckets;
-  IndexedHeap<float> heap;
-  buckets.Reset(n);
-  heap.Reset(n);
-  for (Index i = 0; i < n; ++i)
-  {
-    keys[i] = std::pow(uniform(random), 4.0f) * 1e-6f; // many octaves
-    buckets.Set(i, keys[i]);
-    heap.Set(i, keys[i]);
-  }
-  // Updates and removals.
-  for (Index i = 0; i < n; i += 7)
-  {
-    keys[i] *= 3.0f;
-    buckets.Set(i, keys[i]);
-    heap.Set(i, keys[i]);
-  }
-  for (Index i = 3; i < n; i += 11)
-  {
-    buckets.Remove(i);
-    heap.Remove(i);
-    keys[i] = -1;
-  }
-  std::vector<std::pair<float, Index>> expected;
-  for (Index i = 0; i < n; ++i)
-  {
-    if (keys[i] >= 0)
-    {
-      expected.push_back({ keys[i], i });
-    }
-  }
-  std::sort(expected.begin(), expected.end());
-  ASSERT_EQ(buckets.Size(), Index(expected.size()));
-  for (const auto& e : expected)
-  {
-    EXPECT_TRUE(buckets.WouldBeFirst(e.first));
-    float key;
-    ASSERT_EQ(buckets.Pop(&key), e.second);
-    ASSERT_EQ(heap.Pop(), e.second);
-  }
-  EXPECT_TRUE(buckets.Empty());
-  EXPECT_TRUE(heap.Empty());
-}
-
-TEST(PriorityQueues, LargeTieBucketTerminates)
-{
-  // More equal keys than a bucket scan covers: served last-in first, and a re-inserted element
-  // counts as first so that a caller's "still the cheapest?" test cannot requeue it forever.
-  BucketQueue queue;
-  const Index n = 3 * BucketQueue::ScanLimit;
-  queue.Reset(n + 1);
-  for (Index i = 0; i < n; ++i)
-  {
-    queue.Set(i, 0.5f);
-  }
-  const Index first = queue.Pop();
-  EXPECT_TRUE(queue.WouldBeFirst(0.5f));
-  EXPECT_FALSE(queue.WouldBeFirst(0.75f));
-  queue.Set(first, 0.5f);
-  Index count = 0;
-  while (!queue.Empty())
-  {
-    queue.Pop();
-    ++count;
-  }
-  EXPECT_EQ(count, n);
-}
-
-// WouldBeFirst must agree with Pop at every bucket size, in particular when re-inserting the
-// popped element makes the bucket cross ScanLimit (Pop then serves it last-in without a scan). A
-// "not first" answer followed by Pop returning the same element is a livelock of a caller that
-// defers it (seen on a 2.1M-triangle MRI isosurface).
-TEST(PriorityQueues, WouldBeFirstAgreesWithPopAtEveryBucketSize)
-{
-  for (Index size = BucketQueue::ScanLimit - 2; size <= BucketQueue::ScanLimit + 2; ++size)
-  {
-    SCOPED_TRACE(size);
-    BucketQueue queue;
-    queue.Reset(size + 1);
-    // Distinct keys within one bucket (relative spacing far below a bucket's width).
-    for (Index i = 0; i < size + 1; ++i)
-    {
-      queue.Set(i, 1.0f + 1e-6f * static_cast<float>(size + 1 - i));
-    }
-    const Index popped = queue.Pop();
-    const float later = 1.0f + 1e-6f * static_cast<float>(size + 2);
-    const bool first = queue.WouldBeFirst(later);
-    queue.Set(popped, later);
-    EXPECT_EQ(first, queue.Pop() == popped);
   }
 }
 
