@@ -21,7 +21,9 @@ Index TargetTriangleCount(Index inputTriangles, long long targetNumberOfTriangle
   if (targetReduction > 0)
   {
     const double kept = (1.0 - std::min(targetReduction, 1.0)) * static_cast<double>(inputTriangles);
-    count = std::max(count, static_cast<long long>(std::llround(kept)));
+    // At least the requested fraction is removed, as vtkQuadricDecimation does (the small margin
+    // absorbs the rounding of 1 - reduction, e.g. 0.9 -> 0.09999999999999998).
+    count = std::max(count, static_cast<long long>(std::floor(kept + 1e-6)));
   }
   return static_cast<Index>(std::min<long long>(count, inputTriangles));
 }

@@ -9,7 +9,8 @@
 //  - vertices and lines: ignored (counted); polygons (> 3 points) and strips: triangulated (counted);
 //  - exactly coincident points: merged only where they seal an open border (two border edges
 //    with pairwise coincident ends); elsewhere kept apart (counted), so merging never makes a
-//    non-manifold vertex or edge, joins components or closes a handle;
+//    non-manifold vertex or edge, joins components or closes a handle; points whose point data
+//    differ (an attribute seam: texture coordinates, normals of a crease) are never merged;
 //  - triangles with a repeated vertex (after merging): removed (counted); zero-area triangles
 //    without one are kept;
 //  - repeated triangles (same three vertices, same winding): removed (counted); a triangle and
@@ -52,6 +53,7 @@ struct SURFACELODFILTERS_EXPORT PreparationReport
   long long TriangulatedStrips = 0;
   long long MergedPoints = 0;
   long long CoincidentPointsKeptApart = 0; // coincident with another point, not merged (see below)
+  long long AttributeSeamPoints = 0;       // coincident with another point but other point data: kept apart
   long long RemovedDegenerateTriangles = 0;
   long long RemovedDuplicateTriangles = 0;
   long long FlippedTriangles = 0;

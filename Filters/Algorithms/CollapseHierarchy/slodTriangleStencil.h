@@ -70,6 +70,12 @@ public:
     const CollapsibleOptions& options = CollapsibleOptions());
 
 private:
+  // Build's stages over the region S u {T}.
+  void MatchRegionEdges(const EditableMesh& mesh, const TriangleStencil& stencil);
+  void MatchEdgePair(size_t ei, size_t ej);
+  void ClassifyAdjacency(TriangleStencil& stencil) const;
+  bool TraceBoundaryPolygon(TriangleStencil& stencil, bool& touchesT);
+
   std::vector<Index> EdgeFrom, EdgeTo;
   std::vector<unsigned char> EdgeBoundary;
   std::vector<unsigned long long> Adjacency;

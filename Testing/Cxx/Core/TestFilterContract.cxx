@@ -14,11 +14,12 @@ TEST(FilterContract, CountAloneGivesThatCount)
   EXPECT_EQ(slod::TargetTriangleCount(Input, 500, 0.0, true), 500);
 }
 
-TEST(FilterContract, ReductionAloneKeepsTheRestRounded)
+TEST(FilterContract, ReductionAloneRemovesAtLeastThatFraction)
 {
   EXPECT_EQ(slod::TargetTriangleCount(Input, 0, 0.9, false), 7920);
-  // 12946 * 0.1 = 1294.6: the nearest whole number.
-  EXPECT_EQ(slod::TargetTriangleCount(12946, 0, 0.9, false), 1295);
+  // 12946 * 0.1 = 1294.6: 1294 triangles remove at least 90%.
+  EXPECT_EQ(slod::TargetTriangleCount(12946, 0, 0.9, false), 1294);
+  EXPECT_EQ(slod::TargetTriangleCount(4015000, 0, 0.9, false), 401500);
   EXPECT_EQ(slod::TargetTriangleCount(Input, 0, 1.0, false), 0);
 }
 
@@ -31,8 +32,7 @@ TEST(FilterContract, WhicheverIsReachedFirstIsTheLargerCount)
 TEST(FilterContract, DefaultsAndErrorBound)
 {
   // No target at all: the default reduction, as vtkQuadricDecimation.
-  EXPECT_EQ(slod::TargetTriangleCount(Input, 0, 0.0, false),
-    static_cast<slod::Index>(Input * (1.0 - slod::DefaultTargetReduction) + 0.5));
+  EXPECT_EQ(slod::TargetTriangleCount(Input, 0, 0.0, false), slod::TargetTriangleCount(Input, 0, 0.9, false));
   // Only an error bound: no count target.
   EXPECT_EQ(slod::TargetTriangleCount(Input, 0, 0.0, true), 0);
 }
