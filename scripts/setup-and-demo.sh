@@ -8,7 +8,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${BUILD_DIR:-$here/build}"
 
 packages=(build-essential cmake ninja-build ccache pkg-config
-  libvtk9-dev python3-vtk9 python3-dev libeigen3-dev libgtest-dev libbenchmark-dev
+  libvtk9-dev python3-vtk9 python3-dev libeigen3-dev libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   libcgal-demo xvfb xauth)
 missing=()
 for p in "${packages[@]}"; do

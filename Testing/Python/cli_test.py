@@ -173,12 +173,39 @@ def scenario_formats(a):
         check(again["input_triangles"] == info["triangles"], "%s: re-read %d" % (ext, again["input_triangles"]))
 
 
+DISTANCE_KEYS = ("hausdorff", "hausdorff_ab", "hausdorff_ba", "mean", "rms")
+
+
+def off_diagonal(path):
+    """The bounding-box diagonal of an OFF file's vertices, computed here (not by the tool)."""
+    with open(path) as f:
+        words = f.read().split()
+    if words[0] != "OFF":
+        raise AssertionError("%s: not an OFF file" % path)
+    count = int(words[1])
+    xyz = [float(w) for w in words[4:4 + 3 * count]]
+    return sum((max(xyz[k::3]) - min(xyz[k::3])) ** 2 for k in range(3)) ** 0.5
+
+
+def check_absolute(d, diagonal, what):
+    """compare --json: each absolute value is the relative one times A's diagonal."""
+    check(abs(d["diagonal"] - diagonal) <= 1e-6 * diagonal, "%s: diagonal %r, expected %r" % (what, d["diagonal"], diagonal))
+    for key in DISTANCE_KEYS:
+        check(abs(d[key + "_absolute"] - d[key] * d["diagonal"]) <= 1e-9 * max(d[key + "_absolute"], 1e-300),
+              "%s: %s_absolute %r is not %s %r x diagonal %r" % (what, key, d[key + "_absolute"], key, d[key],
+                                                                  d["diagonal"]))
+
+
 def scenario_compare_self(a):
     fandisk = os.path.join(a.mesh_dir, "fandisk.off")
     result = json_line(run(a.cli, "compare", fandisk, fandisk, "--samples", 20000, "--json"))
-    check(set(result) == {"hausdorff", "hausdorff_ab", "hausdorff_ba", "mean", "rms"}, "keys %r" % sorted(result))
-    for key, value in result.items():
-        check(value is not None and 0 <= value < 1e-9, "compare with itself: %s = %r" % (key, value))
+    check(set(result) == set(DISTANCE_KEYS) | {k + "_absolute" for k in DISTANCE_KEYS} | {"diagonal"},
+          "keys %r" % sorted(result))
+    for key in DISTANCE_KEYS:
+        for name in (key, key + "_absolute"):
+            check(result[name] is not None and 0 <= result[name] < 1e-9, "compare with itself: %s = %r"
+                  % (name, result[name]))
+    check_absolute(result, off_diagonal(fandisk), "fandisk with itself")
 
 
 def scenario_compare_simplified(a):
@@ -195,6 +222,13 @@ def scenario_compare_simplified(a):
     e = json_line(run(a.cli, "compare", out, fandisk, "--samples", 50000, "--json"))
     check(abs(e["hausdorff"] * 1.0 - d["hausdorff"]) < 0.2 * d["hausdorff"],
           "swapped hausdorff %r vs %r" % (e["hausdorff"], d["hausdorff"]))
+    # Absolute values: relative x the diagonal of A (fandisk's, computed here; the swapped run uses the
+    # simplified mesh's, so its absolute Hausdorff, not its relative one, matches the first run's).
+    check_absolute(d, off_diagonal(fandisk), "fandisk vs simplified")
+    check(0 < d["hausdorff_absolute"] and abs(e["hausdorff_absolute"] - d["hausdorff_absolute"]) < 0.2 * d["hausdorff_absolute"],
+          "swapped absolute hausdorff %r vs %r" % (e["hausdorff_absolute"], d["hausdorff_absolute"]))
+    text = run(a.cli, "compare", fandisk, out, "-n", 2000).stdout
+    check("diagonal" in text and "absolute" in text, "plain compare output lacks the absolute values: %r" % text)
 
 
 def scenario_errors(a):
@@ -359,6 +393,18 @@ def scenario_usage(a):
         ["simplify", fandisk, out, "--method", "vtk-quadric-decimation", "--target-triangles", "ten"],
         ["simplify", fandisk, "--method", "vtk-quadric-decimation", "--target-triangles", "10"],
         ["info", fandisk, "--bogus"],
+        ["simplify", fandisk, out, "-m", "vtk-quadric-decimation", "-t", "10", "-r", "0.5"],  # short forms too
+        ["simplify", fandisk, out, "-m", "vtk-quadric-decimation", "-t", "0"],
+        ["simplify", fandisk, out, "-m", "vtk-quadric-decimation", "-r", "-0.1"],
+        ["simplify", fandisk, out, "-m", "quadric-triangle-collapse", "-e", "-1"],
+        ["simplify", fandisk, out, "-m", "vtk-quadric-decimation", "-e", "0.1"],             # no --max-error
+        ["simplify", fandisk, out, "-m", "triangle-collapse-hierarchy", "-l", "2", "-t", "10"],
+        ["compare", fandisk, fandisk, "-n", "many"],
+        ["bench", "--inputs", "fandisk", "--set", "real"],
+        ["bench", "--scaling-resolutions", "24,32,48"],                                      # without --scaling
+        ["bench", "-m", "vtk-quadric-decimation,nope"],
+        ["demo", "--resolution", "8"],
+        ["methods", "--verbose", "extra"],
         ["frobnicate"],
         [],
     ]
@@ -366,12 +412,186 @@ def scenario_usage(a):
         proc = subprocess.run([a.cli] + args, capture_output=True, text=True, timeout=120)
         check(proc.returncode == 1, "%r: exit %d, expected 1 (usage); stderr %r" % (args, proc.returncode, proc.stderr))
         check(proc.stderr.strip() != "", "%r: no message" % args)
+        check(len(proc.stderr.strip().splitlines()) <= (1 if args and args[0] != "frobnicate" else 20),
+              "%r: more than one error line: %r" % (args, proc.stderr))
+        check(proc.stdout == "", "%r: unexpected stdout %r" % (args, proc.stdout))
     for command in ["simplify", "compare", "info", "demo", "bench", "methods"]:
         proc = run(a.cli, command, "--help")
         check(proc.stdout.startswith("usage: surfacelod " + command), "%s --help: %r" % (command, proc.stdout[:80]))
     help_text = run(a.cli, "simplify", "--help").stdout
     for name in method_names(a.cli):
         check(name in help_text, "simplify --help does not list %s" % name)
+
+
+def scenario_short_flags(a):
+    """The short flags give what the long ones give (the filters are deterministic)."""
+    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
+    long_out, short_out = os.path.join(a.work, "long.vtp"), os.path.join(a.work, "short.vtp")
+    for long_args, short_args in (
+            (["--method", "quadric-triangle-collapse", "--target-triangles", 1000],
+             ["-m", "quadric-triangle-collapse", "-t", 1000]),
+            (["--method", "quadric-triangle-collapse", "--target-reduction", 0.8],
+             ["-m", "quadric-triangle-collapse", "-r", 0.8]),
+            (["--method", "quadric-triangle-collapse", "--max-error", 0.005],
+             ["-e", 0.005, "-m", "quadric-triangle-collapse"]),
+            (["--method", "triangle-collapse-hierarchy", "--level", 2.5],
+             ["-m", "triangle-collapse-hierarchy", "-l", 2.5]),
+            (["--method", "vtk-decimate-pro", "--target-triangles", 1000, "--set", "PreserveTopology=0"],
+             ["-m", "vtk-decimate-pro", "-t", 1000, "-s", "PreserveTopology=0"])):
+        by_long = json_line(run(a.cli, "simplify", fandisk, long_out, *long_args, "--json"))
+        by_short = json_line(run(a.cli, "simplify", fandisk, short_out, *short_args, "-j"))
+        check(by_short["output_triangles"] == by_long["output_triangles"] and by_short["method"] == by_long["method"],
+              "%r gave %r, %r gave %r" % (short_args, by_short, long_args, by_long))
+        check(same_file(long_out, short_out), "%r and %r wrote different files" % (short_args, long_args))
+    info = json_line(run(a.cli, "info", short_out, "-j"))
+    check(info["triangles"] == by_short["output_triangles"], "info -j: %r" % info)
+    rows = [json.loads(l) for l in run(a.cli, "bench", "--inputs", "fandisk", "--mesh-dir", a.mesh_dir, "-m",
+                                       "vtk-quadric-decimation", "-t", 500, "-n", 500, "-j").stdout.splitlines()]
+    check(len(rows) == 1 and rows[0]["target_triangles"] == 500 and rows[0]["status"] == "ok", "bench -t: %r" % rows)
+
+
+def same_file(path_a, path_b):
+    with open(path_a, "rb") as f, open(path_b, "rb") as g:
+        return f.read() == g.read()
+
+
+def parameter_listing(a):
+    """`methods --verbose`: {method: [(name, type, default text)]}."""
+    listing, method = {}, None
+    for line in run(a.cli, "methods", "--verbose").stdout.splitlines():
+        if not line.strip():
+            continue
+        if not line.startswith(" "):
+            method = line.split()[0]
+            listing[method] = []
+        else:
+            words = line.split()
+            check(len(words) == 3, "parameter line %r: expected NAME TYPE DEFAULT" % line)
+            listing[method].append(tuple(words[:3]))
+    return listing
+
+
+def parse_default(kind, text):
+    """A listed default as the Python value of its type; AssertionError when it is not one."""
+    if kind == "bool":
+        if text not in ("true", "false"):
+            raise AssertionError("bool default %r" % text)
+        return text == "true"
+    return int(text) if kind == "int" else float(text)
+
+
+def scenario_methods_verbose(a):
+    listing = parameter_listing(a)
+    check(sorted(listing) == sorted(method_names(a.cli)), "verbose lists %r" % sorted(listing))
+    for method, parameters in listing.items():
+        check(len(parameters) >= 3, "%s: only %d parameters listed" % (method, len(parameters)))
+        check(len({p[0] for p in parameters}) == len(parameters), "%s: a parameter listed twice" % method)
+        for name, kind, default in parameters:
+            check(kind in ("bool", "int", "double"), "%s %s: type %r" % (method, name, kind))
+            try:
+                parse_default(kind, default)
+            except (AssertionError, ValueError) as e:
+                check(False, "%s %s: default %r is not a %s (%s)" % (method, name, default, kind, e))
+            check(name not in ("TargetReduction", "TargetNumberOfTriangles"), "%s lists %s (that is -t/-r)" % (method, name))
+    # VTK's own filters: the listed defaults are the getters of a new filter (Debian's python3-vtk9),
+    # except what the tool sets on purpose (vtk-decimate-pro keeps the topology).
+    import vtk
+    for method, cls, changed in (("vtk-quadric-decimation", vtk.vtkQuadricDecimation, {}),
+                                 ("vtk-decimate-pro", vtk.vtkDecimatePro, {"PreserveTopology": True})):
+        fresh = cls()
+        for name, kind, default in listing.get(method, []):
+            expected = changed.get(name, getattr(fresh, "Get" + name)())
+            check(parse_default(kind, default) == expected, "%s %s: listed %r, VTK's default %r"
+                  % (method, name, default, expected))
+
+
+# Per method: a --set that must change the output of a 1000-triangle run on fandisk with float points
+# ("Precision": the points become double), and a value out of the parameter's range (None when no
+# parameter has one).
+SET_EFFECT = {
+    "vtk-quadric-decimation": ("VolumePreservation=1", None),
+    "vtk-decimate-pro": ("OutputPointsPrecision=1", "Degree=3"),
+    "quadric-triangle-collapse": ("OutputPointsPrecision=1", "MaximumNormalDeviation=91"),
+    "triangle-collapse-hierarchy": ("CurvatureWeight=0", "CurvatureWeight=1.5"),
+    "patch-boundary-merge": ("OutputDoublePrecision=true", "PatchAngle=181"),
+    "hole-bump-removal": ("OutputDoublePrecision=on", "MaximumPasses=0"),
+    "retile": ("RandomSeed=7", "ShapeImprovementPasses=101"),
+    "greedy-cuts": ("OutputDoublePrecision=yes", "BiteCandidates=0"),
+}
+
+
+def float_fandisk(a):
+    """fandisk.off as a VTP file with float points, written here (not by the tool)."""
+    import vtk
+    with open(os.path.join(a.mesh_dir, "fandisk.off")) as f:
+        words = f.read().split()
+    vertices, faces = int(words[1]), int(words[2])
+    points = vtk.vtkPoints()
+    points.SetDataTypeToFloat()
+    for v in range(vertices):
+        points.InsertNextPoint(*[float(w) for w in words[4 + 3 * v:7 + 3 * v]])
+    polys = vtk.vtkCellArray()
+    at = 4 + 3 * vertices
+    for _ in range(faces):
+        n = int(words[at])
+        polys.InsertNextCell(n, [int(w) for w in words[at + 1:at + 1 + n]])
+        at += 1 + n
+    mesh = vtk.vtkPolyData()
+    mesh.SetPoints(points)
+    mesh.SetPolys(polys)
+    path = os.path.join(a.work, "fandisk_float.vtp")
+    writer = vtk.vtkXMLPolyDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(mesh)
+    if not writer.Write():
+        raise AssertionError("cannot write " + path)
+    return path
+
+
+def points_are_double(path):
+    import vtk
+    reader = vtk.vtkXMLPolyDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    return reader.GetOutput().GetPoints().GetDataType() == vtk.VTK_DOUBLE
+
+
+def scenario_set(a):
+    """--set: every listed parameter at its listed default changes nothing; one changes the output;
+    an unknown name, a value of the wrong type or out of range is a usage error naming it."""
+    method = a.arg
+    fandisk = float_fandisk(a)
+    parameters = parameter_listing(a)[method]
+    plain, defaults, changed = (os.path.join(a.work, n + ".vtp") for n in ("plain", "defaults", "changed"))
+    target = ["-m", method, "-t", 1000, "-j"]
+    base = json_line(run(a.cli, "simplify", fandisk, plain, *target))
+    every_default = [arg for name, _, default in parameters for arg in ("--set", "%s=%s" % (name, default))]
+    same = json_line(run(a.cli, "simplify", fandisk, defaults, *target, *every_default))
+    check(same["output_triangles"] == base["output_triangles"] and same_file(plain, defaults),
+          "%s: every parameter at its listed default changed the output (%d vs %d triangles)"
+          % (method, same["output_triangles"], base["output_triangles"]))
+    effect, out_of_range = SET_EFFECT[method]
+    other = json_line(run(a.cli, "simplify", fandisk, changed, *target, "-s", effect))
+    if "Precision" in effect:
+        check(points_are_double(changed) and not points_are_double(plain), "%s --set %s: points not double" % (method, effect))
+    else:
+        d = json_line(run(a.cli, "compare", plain, changed, "-n", 1000, "-j"))
+        check(d["hausdorff"] > 0 or other["output_triangles"] != base["output_triangles"],
+              "%s --set %s did not change the output" % (method, effect))
+    name = effect.split("=")[0]
+    kind = dict((p[0], p[1]) for p in parameters)[name]
+    bad = [("NoSuchParameter=1", "NoSuchParameter"), ("%s" % name, name),
+           ("%s=%s" % (name, {"bool": "maybe", "int": "1.5", "double": "abc"}[kind]), name)]
+    bad += [(p[0] + "=" + {"bool": "2", "int": "x", "double": "1e999"}[p[1]], p[0]) for p in parameters[:3]]
+    if out_of_range:
+        bad.append((out_of_range, out_of_range.split("=")[0]))
+    for assignment, named in bad:
+        proc = subprocess.run([a.cli, "simplify", fandisk, os.path.join(a.work, "bad.vtp"), "-m", method, "-t", "1000",
+                               "--set", assignment], capture_output=True, text=True, timeout=120)
+        lines = proc.stderr.strip().splitlines()
+        check(proc.returncode == 1 and len(lines) == 1 and named in lines[0] and proc.stdout == "",
+              "%s --set %s: exit %d, stderr %r (expected exit 1, one line naming %s)"
+              % (method, assignment, proc.returncode, proc.stderr, named))
 
 
 def scenario_bench(a):

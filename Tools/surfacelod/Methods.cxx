@@ -1,5 +1,7 @@
 #include "Methods.h"
 
+#include "CliSupport.h"
+
 #include "vtkDataArray.h"
 #include "vtkDecimatePro.h"
 #include "vtkFieldData.h"
@@ -15,8 +17,13 @@
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <strings.h>
 #include <type_traits>
+#include <limits>
 #include <utility>
 
 namespace slodcli
@@ -63,6 +70,190 @@ struct HasMaximumError<Filter, std::void_t<decltype(std::declval<Filter&>().SetM
 {
 };
 
+// --- What `--set` may change, one line per parameter: SLOD_PARAMETER(filter class, type, property).
+// The type is what the property means (a vtkTypeBool flag is Bool); the default shown by `methods
+// --verbose` is read from the tool's filter. Left out: the target and error bound (-t, -r, -e, -l),
+// and switches that add outputs the tool does not write (GenerateAllLevels, GenerateProgressiveMesh...).
+// value in the property's type; an integer out of the type's range becomes its nearest bound (so
+// that the read-back of ParseAssignments sees the difference) instead of an undefined conversion.
+template <typename Value>
+Value ToPropertyValue(double value)
+{
+  if constexpr (std::is_integral<Value>::value && !std::is_same<Value, bool>::value)
+  {
+    return static_cast<Value>(std::clamp(value, double(std::numeric_limits<Value>::lowest()),
+      double(std::numeric_limits<Value>::max())));
+  }
+  return static_cast<Value>(value);
+}
+
+#define SLOD_PARAMETER(FilterClass, Kind, Property)                                                      \
+  Parameter                                                                                              \
+  {                                                                                                      \
+    #Property, ParameterType::Kind,                                                                      \
+      [](vtkPolyDataAlgorithm* filter) { return double(static_cast<FilterClass*>(filter)->Get##Property()); }, \
+      [](vtkPolyDataAlgorithm* filter, double value) {                                                   \
+        auto* typed = static_cast<FilterClass*>(filter);                                                 \
+        typed->Set##Property(ToPropertyValue<decltype(typed->Get##Property())>(value));                  \
+      }                                                                                                  \
+  }
+
+// clang-format off
+std::vector<Parameter> QuadricDecimationParameters()
+{
+  return {
+    SLOD_PARAMETER(vtkQuadricDecimation, Bool, AttributeErrorMetric),
+    SLOD_PARAMETER(vtkQuadricDecimation, Bool, VolumePreservation),
+    SLOD_PARAMETER(vtkQuadricDecimation, Bool, ScalarsAttribute),
+    SLOD_PARAMETER(vtkQuadricDecimation, Bool, VectorsAttribute),
+    SLOD_PARAMETER(vtkQuadricDecimation, Bool, NormalsAttribute),
+    SLOD_PARAMETER(vtkQuadricDecimation, Bool, TCoordsAttribute),
+    SLOD_PARAMETER(vtkQuadricDecimation, Bool, TensorsAttribute),
+    SLOD_PARAMETER(vtkQuadricDecimation, Double, ScalarsWeight),
+    SLOD_PARAMETER(vtkQuadricDecimation, Double, VectorsWeight),
+    SLOD_PARAMETER(vtkQuadricDecimation, Double, NormalsWeight),
+    SLOD_PARAMETER(vtkQuadricDecimation, Double, TCoordsWeight),
+    SLOD_PARAMETER(vtkQuadricDecimation, Double, TensorsWeight),
+  };
+}
+
+std::vector<Parameter> DecimateProParameters()
+{
+  return {
+    SLOD_PARAMETER(vtkDecimatePro, Bool, PreserveTopology),
+    SLOD_PARAMETER(vtkDecimatePro, Double, FeatureAngle),
+    SLOD_PARAMETER(vtkDecimatePro, Bool, Splitting),
+    SLOD_PARAMETER(vtkDecimatePro, Double, SplitAngle),
+    SLOD_PARAMETER(vtkDecimatePro, Bool, PreSplitMesh),
+    SLOD_PARAMETER(vtkDecimatePro, Double, MaximumError),
+    SLOD_PARAMETER(vtkDecimatePro, Bool, AccumulateError),
+    SLOD_PARAMETER(vtkDecimatePro, Bool, ErrorIsAbsolute),
+    SLOD_PARAMETER(vtkDecimatePro, Bool, BoundaryVertexDeletion),
+    SLOD_PARAMETER(vtkDecimatePro, Int, Degree),
+    SLOD_PARAMETER(vtkDecimatePro, Double, InflectionPointRatio),
+    SLOD_PARAMETER(vtkDecimatePro, Int, OutputPointsPrecision),
+  };
+}
+
+std::vector<Parameter> QuadricTriangleCollapseParameters()
+{
+  return {
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, MaximumErrorIsRelative),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, BoundaryWeight),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, MaximumNormalDeviation),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, AllowTopologyChange),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, EdgeCollapses),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, EdgeCollapseBias),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, DeviationRefinement),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, FitToOriginal),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, ExactUnion),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Int, OutputPointsPrecision),
+  };
+}
+
+std::vector<Parameter> TriangleCollapseHierarchyParameters()
+{
+  return {
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, CurvatureWeight),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, AngleWeight),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, ValenceWeight),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, ErrorWeight),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, QuadricCollapsePoint),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, BatchFraction),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, BatchSearchDepth),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, MaximumWeight),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, ValenceNormalizer),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, RemoveCycles),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, StarShapedInStencilPlane),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, SwapBlockingEdges),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, SwapMinimumNormalDot),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, SwapMinimumNormalDotWhenBlocked),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, RelaxWhenBlocked),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, EdgeCollapses),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, PreferEdgeFactor),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, VertexErrorWeight),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MaximumNumberOfLevels),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MinimumNumberOfTriangles),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, MinimumNormalDot),
+  };
+}
+
+std::vector<Parameter> PatchBoundaryMergeParameters()
+{
+  return {
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchAngle),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, NeighborAngle),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, TwoEdgePatchAngle),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, TwoEdgeNeighborAngle),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchPlaneDistance),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, AreaWeightedNormals),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, Epsilon),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, RelativeEpsilon),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, MergeAngle),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, MergePatches),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, CollapseChains),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, CollapseLengthFactor),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, SizeWeightedMerge),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, CompareCandidates),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, CostOrderedRemoval),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, ChainInPlaneWeight),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, MinimumDeviationTriangulation),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, OutputDoublePrecision),
+  };
+}
+
+std::vector<Parameter> HoleBumpRemovalParameters()
+{
+  return {
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, SharpAngle),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, MaximumSharpAngle),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, MaximumFeatureSize),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RelativeFeatureSize),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RemoveHoles),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RemoveBumps),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RemoveCavities),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, FillCracks),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, MaximumCrackSize),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Int, MaximumPasses),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, MergeAngle),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, PatchAngle),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, NeighborAngle),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, PatchPlaneDistance),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Int, Completion),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, Epsilon),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, OutputDoublePrecision),
+  };
+}
+
+std::vector<Parameter> RetileParameters()
+{
+  return {
+    SLOD_PARAMETER(vtkRetile, Int, NumberOfPoints),
+    SLOD_PARAMETER(vtkRetile, Int, RepulsionIterations),
+    SLOD_PARAMETER(vtkRetile, Double, CurvatureWeight),
+    SLOD_PARAMETER(vtkRetile, Int, RandomSeed),
+    SLOD_PARAMETER(vtkRetile, Int, ShapeImprovementPasses),
+    SLOD_PARAMETER(vtkRetile, Int, OutputPointsPrecision),
+  };
+}
+
+std::vector<Parameter> GreedyCutsParameters()
+{
+  return {
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, MaximumErrorRelative),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, TargetSearchSteps),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, PatchAngle),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, NeighborAngle),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, TwoEdgePatchAngle),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, TwoEdgeNeighborAngle),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, BiteCandidates),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, MinimumTriangleAngle),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, OutputDoublePrecision),
+  };
+}
+// clang-format on
+#undef SLOD_PARAMETER
+
 // Every SurfaceLOD filter follows one convention (SetTargetNumberOfTriangles, SetTargetReduction,
 // SetMaximumError), so one factory serves them all.
 template <typename Filter>
@@ -99,9 +290,9 @@ vtkSmartPointer<vtkPolyDataAlgorithm> CreateSurfaceLODFilter(const MethodSetting
 
 // One registry entry for a SurfaceLOD filter; --max-error is offered when it has SetMaximumError.
 template <typename Filter>
-Method SurfaceLODMethod(const char* name, const char* description)
+Method SurfaceLODMethod(const char* name, const char* description, std::vector<Parameter> parameters)
 {
-  return { name, description, HasMaximumError<Filter>::value, &CreateSurfaceLODFilter<Filter> };
+  return { name, description, HasMaximumError<Filter>::value, &CreateSurfaceLODFilter<Filter>, parameters };
 }
 
 // The hierarchy also shows a (real-valued) level: M_i(t) for --level i+t.
@@ -164,24 +355,25 @@ const std::vector<Method>& Methods()
   // clang-format off
   static const std::vector<Method> methods = {
     { "vtk-quadric-decimation", "VTK's vtkQuadricDecimation (Garland-Heckbert edge collapse), the baseline",
-      false, &CreateVTKQuadricDecimation, false, true, /*PreparesItsInput=*/false },
+      false, &CreateVTKQuadricDecimation, QuadricDecimationParameters(), false, true, /*PreparesItsInput=*/false },
     { "vtk-decimate-pro", "VTK's vtkDecimatePro with PreserveTopologyOn (vertex removal)",
-      true, &CreateVTKDecimatePro, false, true, /*PreparesItsInput=*/false },
+      true, &CreateVTKDecimatePro, DecimateProParameters(), false, true, /*PreparesItsInput=*/false },
     // SurfaceLOD filters, one line each (and the header include above).
     SurfaceLODMethod<vtkQuadricTriangleCollapse>("quadric-triangle-collapse",
-      "Pan, Zhou, Shi 2000: quadric-error triangle collapses (with edge collapses), original-surface error"),
+      "Pan, Zhou, Shi 2000: quadric-error triangle collapses (with edge collapses), original-surface error", QuadricTriangleCollapseParameters()),
     { "triangle-collapse-hierarchy", "Gieng et al. 1997: batches of triangle collapses on quadratic fits, "
-      "levels M0..Mn with smooth blending (also --level i+t)", false, &CreateTriangleCollapseHierarchy, true },
+      "levels M0..Mn with smooth blending (also --level i+t)", false, &CreateTriangleCollapseHierarchy,
+      TriangleCollapseHierarchyParameters(), true },
     SurfaceLODMethod<vtkPatchBoundaryMerge>("patch-boundary-merge",
-      "Ho 1999 ch. 4 (SPBM): planar patches, simplified boundaries, ear-clipped; original vertices only"),
+      "Ho 1999 ch. 4 (SPBM): planar patches, simplified boundaries, ear-clipped; original vertices only", PatchBoundaryMergeParameters()),
     SurfaceLODMethod<vtkHoleBumpRemoval>("hole-bump-removal",
       "Ho 1999 ch. 5: removes small holes, bumps, cavities (sharp loops below 0.05 of the diagonal) and "
-      "cracks, then SPBM to the target"),
+      "cracks, then SPBM to the target", HoleBumpRemovalParameters()),
     SurfaceLODMethod<vtkRetile>("retile",
-      "Turk 1992: re-tiling with evenly spread new vertices (point repulsion, mutual tessellation)"),
+      "Turk 1992: re-tiling with evenly spread new vertices (point repulsion, mutual tessellation)", RetileParameters()),
     { "greedy-cuts", "Ho 1999 ch. 3: greedy cuts (ears, bites) per patch, output guaranteed within --max-error "
       "(two-sided Hausdorff) of the input; a target searches the error; original vertices only",
-      true, &CreateGreedyCuts, false, /*InDefaultRuns=*/false },
+      true, &CreateGreedyCuts, GreedyCutsParameters(), false, /*InDefaultRuns=*/false },
   };
   // clang-format on
   return methods;
@@ -207,5 +399,128 @@ std::string MethodNames(const std::string& separator)
     names += (names.empty() ? "" : separator) + std::string(m.Name);
   }
   return names;
+}
+} // namespace slodcli
+
+namespace slodcli
+{
+namespace
+{
+// A --set value as the parameter's type: false when the text is not one.
+bool ParseParameterValue(ParameterType type, const std::string& text, double& value)
+{
+  if (type == ParameterType::Bool)
+  {
+    for (const char* word : { "1", "true", "on", "yes" })
+    {
+      if (strcasecmp(text.c_str(), word) == 0)
+      {
+        value = 1.0;
+        return true;
+      }
+    }
+    for (const char* word : { "0", "false", "off", "no" })
+    {
+      if (strcasecmp(text.c_str(), word) == 0)
+      {
+        value = 0.0;
+        return true;
+      }
+    }
+    return false;
+  }
+  char* end = nullptr;
+  errno = 0;
+  if (type == ParameterType::Int)
+  {
+    const long long integer = std::strtoll(text.c_str(), &end, 10);
+    value = double(integer);
+    return !text.empty() && *end == '\0' && errno != ERANGE && std::llabs(integer) < (1LL << 53);
+  }
+  value = std::strtod(text.c_str(), &end);
+  return !text.empty() && *end == '\0' && std::isfinite(value);
+}
+
+std::string FormatParameterValue(ParameterType type, double value)
+{
+  if (type == ParameterType::Bool)
+  {
+    return value != 0.0 ? "true" : "false";
+  }
+  if (type == ParameterType::Int)
+  {
+    return std::to_string(static_cast<long long>(value));
+  }
+  char text[64]; // the shortest text that reads back as the same double
+  return std::string(text, std::to_chars(text, text + sizeof(text), value).ptr);
+}
+
+// The filter the tool makes for a method before any --set (its defaults are what --set changes).
+vtkSmartPointer<vtkPolyDataAlgorithm> ToolDefaultFilter(const Method& method)
+{
+  MethodSettings settings;
+  settings.TargetReduction = 0.5;
+  return method.Create(settings);
+}
+} // namespace
+
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateFilter(
+  const Method& method, const MethodSettings& settings, const std::vector<ParameterAssignment>& assignments)
+{
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = method.Create(settings);
+  for (const ParameterAssignment& assignment : assignments)
+  {
+    assignment.Target->Set(filter, assignment.Value);
+  }
+  return filter;
+}
+
+std::vector<ParameterAssignment> ParseAssignments(const Method& method, const std::vector<std::string>& texts)
+{
+  const std::vector<Parameter>& parameters = method.Parameters;
+  vtkSmartPointer<vtkPolyDataAlgorithm> probe = ToolDefaultFilter(method);
+  std::vector<ParameterAssignment> assignments;
+  for (const std::string& text : texts)
+  {
+    const size_t equals = text.find('=');
+    const std::string name = text.substr(0, equals);
+    auto found = std::find_if(parameters.begin(), parameters.end(),
+      [&name](const Parameter& p) { return name == p.Name; });
+    const std::string context = "surfacelod simplify: --set " + text + ": ";
+    if (equals == std::string::npos || found == parameters.end())
+    {
+      throw CliError(ExitUsage, context + (equals == std::string::npos ? "expected Name=Value" :
+          "method " + std::string(method.Name) + " has no parameter '" + name + "' (`surfacelod methods --verbose` lists them)"));
+    }
+    double value = 0.0;
+    if (!ParseParameterValue(found->Type, text.substr(equals + 1), value))
+    {
+      throw CliError(ExitUsage, context + "'" + text.substr(equals + 1) + "' is not a " + ParameterTypeName(found->Type));
+    }
+    // The filters clamp a value out of their range silently: refuse it instead.
+    found->Set(probe, value);
+    if (found->Get(probe) != value)
+    {
+      throw CliError(ExitUsage, context + "out of the parameter's range (the filter would use " +
+          FormatParameterValue(found->Type, found->Get(probe)) + ")");
+    }
+    assignments.push_back({ &*found, value });
+  }
+  return assignments;
+}
+
+std::string ParameterDefault(const Method& method, const Parameter& parameter)
+{
+  return FormatParameterValue(parameter.Type, parameter.Get(ToolDefaultFilter(method)));
+}
+
+const char* ParameterTypeName(ParameterType type)
+{
+  switch (type)
+  {
+    case ParameterType::Bool: return "bool";
+    case ParameterType::Int: return "int";
+    default: return "double";
+  }
 }
 } // namespace slodcli

@@ -28,6 +28,29 @@ struct MethodSettings
 // "TargetReached" field data when it has it, else output triangles <= the count target.
 bool TargetReached(vtkPolyData* output, const MethodSettings& settings);
 
+// A parameter of a method's filter that `--set Name=Value` may change (see Methods.cxx).
+enum class ParameterType
+{
+  Bool,
+  Int,
+  Double
+};
+
+struct Parameter
+{
+  const char* Name; // the filter's property: Set<Name> / Get<Name>
+  ParameterType Type;
+  double (*Get)(vtkPolyDataAlgorithm* filter);
+  void (*Set)(vtkPolyDataAlgorithm* filter, double value);
+};
+
+// A parsed `--set Name=Value`.
+struct ParameterAssignment
+{
+  const Parameter* Target;
+  double Value;
+};
+
 struct Method
 {
   const char* Name;
@@ -35,6 +58,8 @@ struct Method
   bool SupportsMaximumError;
   // A configured filter; the caller sets the input and calls Update().
   vtkSmartPointer<vtkPolyDataAlgorithm> (*Create)(const MethodSettings&);
+  // What --set may change; the target and error bound have their own options.
+  std::vector<Parameter> Parameters;
   bool SupportsLevel = false; // accepts --level (a level of a hierarchy) instead of a target
   // Run by `demo` and `bench` when no --methods is given. Off for methods whose time grows with the
   // accuracy asked (a bound-driven target search on a 1M-triangle surface takes many minutes).
@@ -45,6 +70,16 @@ struct Method
 };
 
 const std::vector<Method>& Methods();
+// The method's filter configured by `settings`, then by `assignments` (which may override the tool's
+// own choices, e.g. --set PreserveTopology=0 for vtk-decimate-pro).
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateFilter(
+  const Method& method, const MethodSettings& settings, const std::vector<ParameterAssignment>& assignments);
+// Parses "Name=Value" texts against the method's parameters. Throws CliError(ExitUsage) naming an
+// unknown parameter, a value of the wrong type or one the filter clamps (out of its range).
+std::vector<ParameterAssignment> ParseAssignments(const Method& method, const std::vector<std::string>& texts);
+// A parameter's value as the tool's filter has it before any --set: "true", "3", "0.25".
+std::string ParameterDefault(const Method& method, const Parameter& parameter);
+const char* ParameterTypeName(ParameterType type);
 const Method* FindMethod(const std::string& name); // nullptr when unknown
 std::string MethodNames(const std::string& separator = ", ");
 

@@ -1,6 +1,6 @@
 // surfacelod: command-line front end of the SurfaceLOD filters.
 //
-//   surfacelod simplify INPUT OUTPUT --method NAME (--target-triangles N | --target-reduction R)
+//   surfacelod simplify INPUT OUTPUT -m NAME (-t TRIANGLES | -r REDUCTION | -e MAX_ERROR) [-s Name=Value]...
 //   surfacelod compare A B           surfacelod info FILE
 //   surfacelod demo                  surfacelod bench            surfacelod methods
 //
@@ -21,14 +21,18 @@
 #include "vtkNew.h"
 #include "vtkVersion.h"
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <limits>
-#include <map>
+#include <memory>
 #include <numeric>
 #include <thread>
 
@@ -40,10 +44,16 @@
 #endif
 
 using namespace slodcli;
+using Json = nlohmann::ordered_json; // keys in the order written
 
 namespace
 {
 constexpr long long MaxCount = std::numeric_limits<int>::max();
+
+void PrintJson(const Json& line)
+{
+  std::cout << line.dump() << std::endl; // NaN and infinities are written as null
+}
 
 // ---------------------------------------------------------------------------------------------
 // Shared stages
@@ -73,9 +83,10 @@ vtkSmartPointer<vtkPolyData> PreparedInput(vtkPolyDataAlgorithm* filter, vtkPoly
 }
 
 // Runs one method on a triangle mesh; times the filter's Update() alone.
-RunResult RunMethod(const Method& method, vtkPolyData* triangles, const MethodSettings& settings)
+RunResult RunMethod(const Method& method, vtkPolyData* triangles, const MethodSettings& settings,
+  const std::vector<ParameterAssignment>& assignments = {})
 {
-  vtkSmartPointer<vtkPolyDataAlgorithm> filter = method.Create(settings);
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = CreateFilter(method, settings, assignments);
   RunResult result;
   std::string error;
   {
@@ -97,9 +108,15 @@ RunResult RunMethod(const Method& method, vtkPolyData* triangles, const MethodSe
   return result;
 }
 
-struct Deviation
+struct DeviationValues
 {
-  double Hausdorff = 0, HausdorffAB = 0, HausdorffBA = 0, Mean = 0, RMS = 0; // relative to A's diagonal
+  double Hausdorff = 0, HausdorffAB = 0, HausdorffBA = 0, Mean = 0, RMS = 0;
+};
+
+struct Deviation : DeviationValues // relative to A's bounding-box diagonal
+{
+  DeviationValues Absolute; // in the meshes' units
+  double Diagonal = 0;
 };
 
 // quiet: drop the deviation filter's warnings about its inputs (demo and bench tables; `compare`
@@ -130,6 +147,9 @@ Deviation MeasureDeviation(vtkPolyData* reference, vtkPolyData* compared, vtkIdT
   d.HausdorffBA = deviation->GetHausdorffBARelative();
   d.Mean = deviation->GetMeanRelative();
   d.RMS = deviation->GetRMSRelative();
+  d.Absolute = { deviation->GetHausdorff(), deviation->GetHausdorffAB(), deviation->GetHausdorffBA(),
+    deviation->GetMean(), deviation->GetRMS() };
+  d.Diagonal = deviation->GetBoundingBoxDiagonal();
   return d;
 }
 
@@ -156,72 +176,96 @@ slod::MeshStatistics SurfaceStatistics(vtkPolyData* surface, const std::string& 
   return slod::ComputeMeshStatistics(mesh);
 }
 
-// Settings from --target-triangles / --target-reduction / --max-error.
-MethodSettings TargetSettings(const ParsedArguments& args, vtkIdType inputTriangles, bool required,
-  double defaultReduction)
+// -t / -r / -e / -l as given; a value below its option's range means "not given".
+struct TargetArguments
+{
+  long long Triangles = 0;
+  double Reduction = -1.0;
+  double MaximumError = -1.0;
+  double Level = -1.0;
+};
+
+// -t and -r (one of them); with withErrorAndLevel also -e and -l (not with -t, -r).
+void AddTargetOptions(CLI::App& app, TargetArguments& target, bool withErrorAndLevel, const std::string& reductionHelp)
+{
+  CLI::Option* triangles = app.add_option("-t,--target-triangles", target.Triangles, "number of triangles to keep")
+                             ->type_name("N")->check(CLI::Range(1LL, std::numeric_limits<long long>::max()));
+  CLI::Option* reduction = app.add_option("-r,--target-reduction", target.Reduction, reductionHelp)
+                             ->type_name("R")->check(CLI::Range(0.0, 1.0))->excludes(triangles);
+  if (withErrorAndLevel)
+  {
+    app.add_option("-e,--max-error", target.MaximumError,
+      "stop before the surface moves more than E (absolute, mesh units)")
+      ->type_name("E")->check(CLI::NonNegativeNumber);
+    app.add_option("-l,--level", target.Level,
+      "level i+t of a hierarchy method (triangle-collapse-hierarchy): M_i blended by t")
+      ->type_name("L")->check(CLI::NonNegativeNumber)->excludes(triangles)->excludes(reduction);
+  }
+}
+
+// Settings from the target options; command: for the messages.
+MethodSettings TargetSettings(const TargetArguments& target, vtkIdType inputTriangles, bool required,
+  double defaultReduction, const std::string& command)
 {
   MethodSettings settings;
   settings.InputTriangles = inputTriangles;
-  const bool byCount = args.Has("target-triangles");
-  const bool byReduction = args.Has("target-reduction");
-  const bool byLevel = args.Has("level");
-  if (int(byCount) + int(byReduction) + int(byLevel) > 1)
+  const bool byError = target.MaximumError >= 0;
+  if (target.Level >= 0)
   {
-    throw CliError(ExitUsage, "surfacelod " + args.Command + ": give one of --target-triangles, --target-reduction, --level");
+    settings.Level = target.Level;
   }
-  const bool byError = args.Has("max-error");
-  if (!byCount && !byReduction && !byLevel && !byError && required)
+  else if (target.Triangles > 0)
   {
-    throw CliError(ExitUsage, "surfacelod " + args.Command + ": give --target-triangles N, --target-reduction R or --max-error E");
+    settings.TargetTriangles = target.Triangles;
   }
-  if (byLevel)
+  else if (target.Reduction >= 0 || !byError)
   {
-    settings.Level = args.GetReal("level", 0.0, 0.0, std::numeric_limits<double>::max());
-  }
-  else if (byCount)
-  {
-    settings.TargetTriangles = args.GetInteger("target-triangles", 0, 1, std::numeric_limits<long long>::max());
-  }
-  else if (byReduction || !byError)
-  {
-    settings.TargetReduction = args.GetReal("target-reduction", defaultReduction, 0.0, 1.0);
+    if (target.Reduction < 0 && !byError && required)
+    {
+      throw CliError(ExitUsage, "surfacelod " + command + ": give -t/--target-triangles N, -r/--target-reduction R "
+        "or -e/--max-error E");
+    }
+    settings.TargetReduction = target.Reduction >= 0 ? target.Reduction : defaultReduction;
   }
   else
   {
     settings.TargetReduction = 1.0; // --max-error alone: simplify until the error bound stops it
   }
-  if (args.Has("max-error"))
-  {
-    settings.HasMaximumError = true;
-    settings.MaximumError = args.GetReal("max-error", 0.0, 0.0, std::numeric_limits<double>::max());
-  }
+  settings.HasMaximumError = byError;
+  settings.MaximumError = byError ? target.MaximumError : 0.0;
   return settings;
 }
 
-std::vector<const Method*> SelectMethods(const ParsedArguments& args)
+// The methods named (all those of the default runs when none is).
+std::vector<const Method*> SelectMethods(const std::vector<std::string>& names)
 {
   std::vector<const Method*> selected;
-  if (!args.Has("methods"))
+  for (const Method& m : Methods())
   {
-    for (const Method& m : Methods())
+    if (names.empty() ? m.InDefaultRuns : std::find(names.begin(), names.end(), m.Name) != names.end())
     {
-      if (m.InDefaultRuns)
-      {
-        selected.push_back(&m);
-      }
+      selected.push_back(&m);
     }
-    return selected;
-  }
-  for (const std::string& name : SplitList(args.Get("methods")))
-  {
-    const Method* m = FindMethod(name);
-    if (!m)
-    {
-      throw CliError(ExitUsage, "surfacelod " + args.Command + ": unknown method '" + name + "' (known: " + MethodNames() + ")");
-    }
-    selected.push_back(m);
   }
   return selected;
+}
+
+// The registry's method names, for CLI11's check of -m.
+CLI::IsMember KnownMethod()
+{
+  std::vector<std::string> known;
+  for (const Method& m : Methods())
+  {
+    known.push_back(m.Name);
+  }
+  return CLI::IsMember(known);
+}
+
+// -m/--methods a,b,...: one comma-separated word.
+void AddMethodsOption(CLI::App& app, std::vector<std::string>& names, const std::string& help)
+{
+  app.add_option("-m,--methods", names, help)
+    ->type_name("A,B,...")->delimiter(',')->allow_extra_args(false)->check(KnownMethod());
 }
 
 std::string Padded(const std::string& text, size_t width, bool right = false)
@@ -251,69 +295,79 @@ std::string Scientific(double value)
 // ---------------------------------------------------------------------------------------------
 // simplify
 
-CommandSpec SimplifySpec()
+struct SimplifyArguments
 {
-  return { "simplify", "INPUT OUTPUT --method NAME (--target-triangles N | --target-reduction R) [options]",
-    "Simplify the surface in INPUT and write it to OUTPUT.\n"
-    "Readable: " + ReadableExtensions() + "; writable: " + WritableExtensions() + " (chosen by extension).\n"
-    "Polygons and strips are triangulated first. Methods: " + MethodNames() + "\n"
-    "(`surfacelod methods` describes them).",
-    { "INPUT", "OUTPUT" },
-    { { "method", "NAME", "simplification method (required)" },
-      { "target-triangles", "N", "number of triangles to keep" },
-      { "target-reduction", "R", "fraction of the triangles to remove, 0..1 (0.9 keeps 10%)" },
-      { "max-error", "E", "stop before the surface moves more than E (absolute, mesh units)" },
-      { "level", "L", "level i+t of a hierarchy method (triangle-collapse-hierarchy): M_i blended by t" },
-      { "json", "", "print one JSON line: method, input_triangles, output_triangles, seconds, peak_rss_mb" } } };
+  std::string Input, Output, MethodName;
+  TargetArguments Target;
+  std::vector<std::string> Assignments; // --set Name=Value
+  bool Json = false;
+};
+
+std::string SimplifyDescription()
+{
+  return "Simplify the surface in INPUT and write it to OUTPUT.\n"
+         "Readable: " + ReadableExtensions() + "; writable: " + WritableExtensions() + " (chosen by extension).\n"
+         "Polygons and strips are triangulated first. Methods: " + MethodNames() + "\n"
+         "(`surfacelod methods --verbose` describes them and lists the parameters --set changes).";
 }
 
-int Simplify(const ParsedArguments& args)
+int Simplify(const SimplifyArguments& args);
+
+std::function<int()> DefineSimplify(CLI::App& app)
 {
-  const std::string& inputPath = args.Positionals[0];
-  const std::string& outputPath = args.Positionals[1];
-  if (!args.Has("method"))
-  {
-    throw CliError(ExitUsage, "surfacelod simplify: --method NAME is required (known: " + MethodNames() + ")");
-  }
-  const Method* method = FindMethod(args.Get("method"));
-  if (!method)
-  {
-    throw CliError(ExitUsage, "surfacelod simplify: unknown method '" + args.Get("method") + "' (known: " + MethodNames() + ")");
-  }
-  if (args.Has("max-error") && !method->SupportsMaximumError)
+  auto args = std::make_shared<SimplifyArguments>();
+  app.add_option("INPUT", args->Input, "input mesh file")->required();
+  app.add_option("OUTPUT", args->Output, "output mesh file")->required();
+  app.add_option("-m,--method", args->MethodName, "simplification method (required)")
+    ->type_name("NAME")->required()->check(KnownMethod());
+  AddTargetOptions(app, args->Target, true, "fraction of the triangles to remove, 0..1 (0.9 keeps 10%)");
+  app.add_option("-s,--set", args->Assignments, "set a parameter of the method's filter (repeatable)")
+    ->type_name("Name=Value")->allow_extra_args(false); // one word per --set, never the positionals
+  app.add_flag("-j,--json", args->Json,
+    "print one JSON line: method, input_triangles, output_triangles, target_reached, seconds, peak_rss_mb");
+  return [args] { return Simplify(*args); };
+}
+
+// The method asked for, checked against the other options before a large file is read.
+const Method& CheckedMethod(const SimplifyArguments& args)
+{
+  const Method* method = FindMethod(args.MethodName);
+  if (args.Target.MaximumError >= 0 && !method->SupportsMaximumError)
   {
     throw CliError(ExitUsage, std::string("surfacelod simplify: method ") + method->Name + " does not support --max-error");
   }
-  if (args.Has("level") && !method->SupportsLevel)
+  if (args.Target.Level >= 0 && !method->SupportsLevel)
   {
     throw CliError(ExitUsage, std::string("surfacelod simplify: method ") + method->Name + " has no levels (--level)");
   }
-  TargetSettings(args, 0, true, 0.0); // validate the options before reading a large file
-  CheckWritablePath(outputPath);
+  TargetSettings(args.Target, 0, true, 0.0, "simplify");
+  return *method;
+}
 
-  vtkSmartPointer<vtkPolyData> input = TriangulatedSurface(ReadMesh(inputPath));
-  const MethodSettings settings = TargetSettings(args, CountTriangles(input), true, 0.0);
-  const RunResult result = RunMethod(*method, input, settings);
-  WriteMesh(result.Output, outputPath);
+int Simplify(const SimplifyArguments& args)
+{
+  const Method& method = CheckedMethod(args);
+  const std::vector<ParameterAssignment> assignments = ParseAssignments(method, args.Assignments);
+  CheckWritablePath(args.Output);
+
+  vtkSmartPointer<vtkPolyData> input = TriangulatedSurface(ReadMesh(args.Input));
+  const MethodSettings settings = TargetSettings(args.Target, CountTriangles(input), true, 0.0, "simplify");
+  const RunResult result = RunMethod(method, input, settings, assignments);
+  WriteMesh(result.Output, args.Output);
 
   const vtkIdType outputTriangles = result.Output->GetNumberOfPolys();
   const bool targetReached = TargetReached(result.Output, settings);
-  if (args.Has("json"))
+  if (args.Json)
   {
-    JsonLine()
-      .Add("method", method->Name)
-      .Add("input_triangles", static_cast<long long>(settings.InputTriangles))
-      .Add("output_triangles", static_cast<long long>(outputTriangles))
-      .Add("target_reached", targetReached)
-      .Add("seconds", result.Seconds)
-      .Add("peak_rss_mb", PeakResidentMegabytes())
-      .Print();
+    PrintJson({ { "method", method.Name }, { "input_triangles", settings.InputTriangles },
+      { "output_triangles", outputTriangles }, { "target_reached", targetReached }, { "seconds", result.Seconds },
+      { "peak_rss_mb", PeakResidentMegabytes() } });
   }
   else
   {
-    std::cout << method->Name << ": " << settings.InputTriangles << " -> " << outputTriangles << " triangles in "
+    std::cout << method.Name << ": " << settings.InputTriangles << " -> " << outputTriangles << " triangles in "
               << Fixed(result.Seconds, 3) << " s (peak RSS " << Fixed(PeakResidentMegabytes(), 1)
-              << " MB), wrote " << outputPath << (targetReached ? "" : " (target not reached)") << "\n";
+              << " MB), wrote " << args.Output << (targetReached ? "" : " (target not reached)") << "\n";
   }
   return ExitSuccess;
 }
@@ -321,81 +375,100 @@ int Simplify(const ParsedArguments& args)
 // ---------------------------------------------------------------------------------------------
 // compare
 
-CommandSpec CompareSpec()
+struct CompareArguments
 {
-  return { "compare", "A B [--samples N] [--json]",
-    "Two-sided distance between surface A (reference) and surface B, with vtkSurfaceDeviation:\n"
-    "all vertices plus N random area-weighted samples on each surface. Results are relative to the\n"
-    "bounding-box diagonal of A: hausdorff (symmetric), hausdorff_ab (A's samples to B),\n"
-    "hausdorff_ba, mean and rms (averages of both sides).",
-    { "A", "B" },
-    { { "samples", "N", "random samples per surface (default 300000)" },
-      { "json", "", "print one JSON line" } } };
+  std::string A, B;
+  long long Samples = -1; // the deviation filter's default
+  bool Json = false;
+};
+
+std::string CompareDescription()
+{
+  return "Two-sided distance between surface A (reference) and surface B, with vtkSurfaceDeviation:\n"
+         "all vertices plus N random area-weighted samples on each surface: hausdorff (symmetric),\n"
+         "hausdorff_ab (A's samples to B), hausdorff_ba, mean and rms (averages of both sides), each\n"
+         "relative to the bounding-box diagonal of A and absolute (in the meshes' units, *_absolute).";
 }
 
-int Compare(const ParsedArguments& args)
+int Compare(const CompareArguments& args);
+
+std::function<int()> DefineCompare(CLI::App& app)
 {
-  const vtkIdType samples = args.GetInteger("samples", -1, 0, MaxCount);
-  vtkSmartPointer<vtkPolyData> a = TriangulatedSurface(ReadMesh(args.Positionals[0]));
-  vtkSmartPointer<vtkPolyData> b = TriangulatedSurface(ReadMesh(args.Positionals[1]));
-  const Deviation d = MeasureDeviation(a, b, samples, false);
-  if (args.Has("json"))
+  auto args = std::make_shared<CompareArguments>();
+  app.add_option("A", args->A, "reference mesh file")->required();
+  app.add_option("B", args->B, "compared mesh file")->required();
+  app.add_option("-n,--samples", args->Samples, "random samples per surface (default 300000)")
+    ->type_name("N")->check(CLI::Range(0LL, MaxCount));
+  app.add_flag("-j,--json", args->Json, "print one JSON line (relative and absolute values, the diagonal)");
+  return [args] { return Compare(*args); };
+}
+
+int Compare(const CompareArguments& args)
+{
+  vtkSmartPointer<vtkPolyData> a = TriangulatedSurface(ReadMesh(args.A));
+  vtkSmartPointer<vtkPolyData> b = TriangulatedSurface(ReadMesh(args.B));
+  const Deviation d = MeasureDeviation(a, b, args.Samples, false);
+  if (args.Json)
   {
-    JsonLine()
-      .Add("hausdorff", d.Hausdorff)
-      .Add("hausdorff_ab", d.HausdorffAB)
-      .Add("hausdorff_ba", d.HausdorffBA)
-      .Add("mean", d.Mean)
-      .Add("rms", d.RMS)
-      .Print();
+    PrintJson({ { "hausdorff", d.Hausdorff }, { "hausdorff_ab", d.HausdorffAB }, { "hausdorff_ba", d.HausdorffBA },
+      { "mean", d.Mean }, { "rms", d.RMS }, { "hausdorff_absolute", d.Absolute.Hausdorff },
+      { "hausdorff_ab_absolute", d.Absolute.HausdorffAB }, { "hausdorff_ba_absolute", d.Absolute.HausdorffBA },
+      { "mean_absolute", d.Absolute.Mean }, { "rms_absolute", d.Absolute.RMS }, { "diagonal", d.Diagonal } });
+    return ExitSuccess;
   }
-  else
-  {
-    std::cout << "relative to the bounding-box diagonal of " << args.Positionals[0] << ":\n"
-              << "  hausdorff    " << Scientific(d.Hausdorff) << "\n"
-              << "  hausdorff_ab " << Scientific(d.HausdorffAB) << "  (A to B)\n"
-              << "  hausdorff_ba " << Scientific(d.HausdorffBA) << "  (B to A)\n"
-              << "  mean         " << Scientific(d.Mean) << "\n"
-              << "  rms          " << Scientific(d.RMS) << "\n";
-  }
+  auto row = [&](const char* name, double relative, double absolute, const char* note) {
+    std::cout << "  " << Padded(name, 13) << Padded(Scientific(relative), 11, true)
+              << Padded(Scientific(absolute), 12, true) << note << "\n";
+  };
+  std::cout << "relative to the bounding-box diagonal of " << args.A << " (" << Scientific(d.Diagonal)
+            << "), and absolute:\n";
+  row("hausdorff", d.Hausdorff, d.Absolute.Hausdorff, "");
+  row("hausdorff_ab", d.HausdorffAB, d.Absolute.HausdorffAB, "  (A to B)");
+  row("hausdorff_ba", d.HausdorffBA, d.Absolute.HausdorffBA, "  (B to A)");
+  row("mean", d.Mean, d.Absolute.Mean, "");
+  row("rms", d.RMS, d.Absolute.RMS, "");
   return ExitSuccess;
 }
 
 // ---------------------------------------------------------------------------------------------
 // info
 
-CommandSpec InfoSpec()
+struct InfoArguments
 {
-  return { "info", "FILE [--json]",
-    "Topology of the surface in FILE, as read, with exactly coincident points merged (so that STL\n"
-    "and OFF triangle soups count correctly); polygons are triangulated, nothing else is changed.\n"
-    "genus is -1 (\"undefined\") unless the surface is an orientable manifold.",
-    { "FILE" }, { { "json", "", "print one JSON line" } } };
+  std::string File;
+  bool Json = false;
+};
+
+std::string InfoDescription()
+{
+  return "Topology of the surface in FILE, as read, with exactly coincident points merged (so that STL\n"
+         "and OFF triangle soups count correctly); polygons are triangulated, nothing else is changed.\n"
+         "genus is -1 (\"undefined\") unless the surface is an orientable manifold.";
 }
 
-int Info(const ParsedArguments& args)
+int Info(const InfoArguments& args);
+
+std::function<int()> DefineInfo(CLI::App& app)
 {
-  const std::string& path = args.Positionals[0];
+  auto args = std::make_shared<InfoArguments>();
+  app.add_option("FILE", args->File, "mesh file")->required();
+  app.add_flag("-j,--json", args->Json, "print one JSON line");
+  return [args] { return Info(*args); };
+}
+
+int Info(const InfoArguments& args)
+{
+  const std::string& path = args.File;
   long long mergedPoints = 0;
   const slod::MeshStatistics s = SurfaceStatistics(ReadMesh(path), path, &mergedPoints);
-  if (args.Has("json"))
+  if (args.Json)
   {
-    JsonLine()
-      .Add("file", path)
-      .Add("vertices", static_cast<long long>(s.Vertices))
-      .Add("triangles", static_cast<long long>(s.Triangles))
-      .Add("edges", static_cast<long long>(s.Edges))
-      .Add("boundary_edges", static_cast<long long>(s.BoundaryEdges))
-      .Add("boundary_loops", static_cast<long long>(s.BoundaryLoops))
-      .Add("nonmanifold_edges", static_cast<long long>(s.NonManifoldEdges))
-      .Add("nonmanifold_vertices", static_cast<long long>(s.NonManifoldVertices))
-      .Add("components", static_cast<long long>(s.Components))
-      .Add("euler_characteristic", s.EulerCharacteristic)
-      .Add("genus", s.Genus)
-      .Add("degenerate_triangles", static_cast<long long>(s.DegenerateTriangles))
-      .Add("inconsistently_oriented_edges", static_cast<long long>(s.InconsistentlyOrientedEdges))
-      .Add("merged_points", mergedPoints)
-      .Print();
+    PrintJson({ { "file", path }, { "vertices", s.Vertices }, { "triangles", s.Triangles }, { "edges", s.Edges },
+      { "boundary_edges", s.BoundaryEdges }, { "boundary_loops", s.BoundaryLoops },
+      { "nonmanifold_edges", s.NonManifoldEdges }, { "nonmanifold_vertices", s.NonManifoldVertices },
+      { "components", s.Components }, { "euler_characteristic", s.EulerCharacteristic }, { "genus", s.Genus },
+      { "degenerate_triangles", s.DegenerateTriangles },
+      { "inconsistently_oriented_edges", s.InconsistentlyOrientedEdges }, { "merged_points", mergedPoints } });
   }
   else
   {
@@ -419,29 +492,51 @@ int Info(const ParsedArguments& args)
 // ---------------------------------------------------------------------------------------------
 // demo
 
-CommandSpec DemoSpec()
+struct DemoArguments
 {
-  return { "demo", "[--resolution N] [--output-dir DIR] [--target-reduction R]",
-    "Generate the synthetic test surface (vtkSyntheticIsosurfaceSource: a rippled ring of Gaussian\n"
-    "blobs, genus 1, about 1,000,000 triangles at the default resolution 500), simplify it with every\n"
-    "method (those marked in `surfacelod methods` only when named in --methods), print a table (time, symmetric Hausdorff and RMS distance relative to the bounding-box\n"
-    "diagonal), write each mesh as DIR/<method>.vtp and a side-by-side picture DIR/demo.png\n"
-    "(needs an X display; run under `xvfb-run -a` on a headless machine).",
-    {},
-    { { "resolution", "N", "samples per axis of the synthetic field (default 500)" },
-      { "output-dir", "DIR", "where meshes and the picture go (default ./surfacelod-demo)" },
-      { "target-reduction", "R", "fraction of the triangles to remove (default 0.9: keep 10%)" },
-      { "methods", "A,B,...", "methods to run (default: all)" },
-      { "samples", "N", "deviation samples per surface (default 300000)" } } };
+  int Resolution = 500;
+  std::string OutputDirectory = "surfacelod-demo";
+  double Reduction = 0.9;
+  std::vector<std::string> MethodNames;
+  long long Samples = -1;
+};
+
+std::string DemoDescription()
+{
+  return "Generate the synthetic test surface (vtkSyntheticIsosurfaceSource: a rippled ring of Gaussian\n"
+         "blobs, genus 1, about 1,000,000 triangles at the default resolution 500), simplify it with every\n"
+         "method (those marked in `surfacelod methods` only when named in --methods), print a table (time,\n"
+         "symmetric Hausdorff and RMS distance relative to the bounding-box diagonal), write each mesh as\n"
+         "DIR/<method>.vtp and a side-by-side picture DIR/demo.png (needs an X display; run under\n"
+         "`xvfb-run -a` on a headless machine).";
 }
 
-int Demo(const ParsedArguments& args)
+int Demo(const DemoArguments& args);
+
+std::function<int()> DefineDemo(CLI::App& app)
 {
-  const int resolution = static_cast<int>(args.GetInteger("resolution", 500, 16, 4000));
-  const double reduction = args.GetReal("target-reduction", 0.9, 0.0, 1.0);
-  const vtkIdType samples = args.GetInteger("samples", -1, 0, MaxCount);
-  const std::string outputDir = args.Get("output-dir", "surfacelod-demo");
-  const std::vector<const Method*> methods = SelectMethods(args);
+  auto args = std::make_shared<DemoArguments>();
+  app.add_option("--resolution", args->Resolution, "samples per axis of the synthetic field (default 500)")
+    ->type_name("N")->check(CLI::Range(16, 4000));
+  app.add_option("-o,--output-dir", args->OutputDirectory,
+    "where meshes and the picture go (default ./surfacelod-demo)")
+    ->type_name("DIR");
+  app.add_option("-r,--target-reduction", args->Reduction,
+    "fraction of the triangles to remove (default 0.9: keep 10%)")
+    ->type_name("R")->check(CLI::Range(0.0, 1.0));
+  AddMethodsOption(app, args->MethodNames, "methods to run (default: all)");
+  app.add_option("-n,--samples", args->Samples, "deviation samples per surface (default 300000)")
+    ->type_name("N")->check(CLI::Range(0LL, MaxCount));
+  return [args] { return Demo(*args); };
+}
+
+int Demo(const DemoArguments& args)
+{
+  const int resolution = args.Resolution;
+  const double reduction = args.Reduction;
+  const vtkIdType samples = args.Samples;
+  const std::string& outputDir = args.OutputDirectory;
+  const std::vector<const Method*> methods = SelectMethods(args.MethodNames);
   std::error_code ec;
   std::filesystem::create_directories(outputDir, ec);
   if (ec || !std::filesystem::is_directory(outputDir))
@@ -498,11 +593,9 @@ int Demo(const ParsedArguments& args)
 // ---------------------------------------------------------------------------------------------
 // bench
 
-CommandSpec BenchSpec()
+std::string BenchDescription()
 {
-  return { "bench",
-    "[--inputs a,b,... | --set real | --scaling] [--input FILE]... [--methods a,b,...] [--timeout S] [--json]",
-    "Time methods on inputs. Each method runs in a child process (`surfacelod simplify`) that is killed\n"
+  return "Time methods on inputs. Each method runs in a child process (`surfacelod simplify`) that is killed\n"
     "after --timeout seconds (reported as \"timeout\"), so a slow method cannot hold up the run.\n"
     "An input is " + GeneratedInputHelp() + ",\n"
     "a mesh file path, or the name of a CGAL demo mesh (e.g. fandisk) looked up as <name>.off in --mesh-dir.\n"
@@ -514,23 +607,56 @@ CommandSpec BenchSpec()
     "and Hausdorff divided by the baseline's in the same run; hausdorff: relative to the input's\n"
     "bounding-box diagonal; target: at most 1% (+1) more triangles than asked; chi, loops, nm-e: Euler\n"
     "characteristic, border loops and non-manifold edges of the output (the input's on its header line).\n"
-    "The header gives the load average.",
-    {},
-    { { "inputs", "a,b,...", "inputs (default synthetic:500 unless --set, --scaling or --input is given)" },
-      { "set", "real", "the scan-like input set (noisy, mask, openscan at ~1M triangles)" },
-      { "input", "FILE", "a mesh file to add to the inputs (repeatable)" },
-      { "scaling", "", "noisy isosurface at ~0.25M, 1M, 4M triangles; prints time(4M)/time(1M)" },
-      { "scaling-resolutions", "A,B,C", "--scaling at these noisy:N resolutions (default " + DefaultScalingResolutions() +
-          ")" },
-      { "target-reduction", "R", "fraction of the triangles to remove (default 0.9)" },
-      { "target-triangles", "N", "number of triangles to keep (instead of --target-reduction)" },
-      { "methods", "a,b,...", "methods to run (default: all)" },
-      { "repeat", "N", "runs per method, the fastest counts (default 1)" },
-      { "timeout", "S", "seconds a method may take (per run, default 600)" },
-      { "mesh-dir", "DIR", "where named meshes are (default $SURFACELOD_MESH_DIR or the build's TestData)" },
-      { "samples", "N", "deviation samples per surface (default 300000)" },
-      { "no-deviation", "", "skip the Hausdorff/RMS measurement" },
-      { "json", "", "one JSON line per input and method (and per method with --scaling)" } } };
+    "The header gives the load average.";
+}
+
+// What the bench command line says, as given.
+struct BenchArguments
+{
+  std::vector<std::string> Inputs, Files, ScalingResolutions, MethodNames;
+  std::string InputSet, MeshDirectory;
+  bool Scaling = false, NoDeviation = false, Json = false;
+  TargetArguments Target;
+  int Repeat = 1;
+  double TimeoutSeconds = 600.0;
+  long long Samples = -1;
+};
+
+int Bench(const BenchArguments& args);
+
+// The options choosing the inputs: one of --inputs, --set, --scaling; any number of --input.
+void AddBenchInputOptions(CLI::App& app, BenchArguments& args)
+{
+  CLI::Option* inputs = app.add_option("--inputs", args.Inputs,
+    "inputs (default synthetic:500 unless --set, --scaling or --input is given)")
+    ->type_name("a,b,...")->delimiter(',')->allow_extra_args(false);
+  CLI::Option* set = app.add_option("--set", args.InputSet, "the scan-like input set (noisy, mask, openscan at ~1M "
+    "triangles)")->type_name("real")->check(CLI::IsMember({ "real" }))->excludes(inputs);
+  app.add_option("-i,--input", args.Files, "a mesh file to add to the inputs (repeatable)")
+    ->type_name("FILE")->allow_extra_args(false);
+  CLI::Option* scaling = app.add_flag("--scaling", args.Scaling,
+    "noisy isosurface at ~0.25M, 1M, 4M triangles; prints time(4M)/time(1M)")->excludes(inputs)->excludes(set);
+  app.add_option("--scaling-resolutions", args.ScalingResolutions, "--scaling at these noisy:N resolutions (default "
+    + DefaultScalingResolutions() + ")")->type_name("A,B,C")->delimiter(',')->allow_extra_args(false)->needs(scaling);
+}
+
+std::function<int()> DefineBench(CLI::App& app)
+{
+  auto args = std::make_shared<BenchArguments>();
+  AddBenchInputOptions(app, *args);
+  AddTargetOptions(app, args->Target, false, "fraction of the triangles to remove (default 0.9)");
+  AddMethodsOption(app, args->MethodNames, "methods to run (default: all)");
+  app.add_option("--repeat", args->Repeat, "runs per method, the fastest counts (default 1)")
+    ->type_name("N")->check(CLI::Range(1, 1000));
+  app.add_option("--timeout", args->TimeoutSeconds, "seconds a method may take (per run, default 600)")
+    ->type_name("S")->check(CLI::Range(0.001, 1e7));
+  app.add_option("--mesh-dir", args->MeshDirectory,
+    "where named meshes are (default $SURFACELOD_MESH_DIR or the build's TestData)")->type_name("DIR");
+  app.add_option("-n,--samples", args->Samples, "deviation samples per surface (default 300000)")
+    ->type_name("N")->check(CLI::Range(0LL, MaxCount));
+  app.add_flag("--no-deviation", args->NoDeviation, "skip the Hausdorff/RMS measurement");
+  app.add_flag("-j,--json", args->Json, "one JSON line per input and method (and per method with --scaling)");
+  return [args] { return Bench(*args); };
 }
 
 struct BenchOptions
@@ -573,13 +699,12 @@ struct BenchRow
   TopologySummary Topology;
 };
 
-// A number after "key": in a JSON line (the child's `simplify --json` output); NaN when absent.
-double JsonNumber(const std::string& line, const std::string& key)
+// A number of the child's `simplify --json` line; NaN when the output is not that line or lacks it.
+double JsonNumber(const std::string& output, const std::string& key)
 {
-  const std::string quoted = "\"" + key + "\":";
-  const size_t at = line.find(quoted);
-  return at == std::string::npos ? std::numeric_limits<double>::quiet_NaN()
-                                 : std::strtod(line.c_str() + at + quoted.size(), nullptr);
+  const Json line = Json::parse(output, nullptr, /*allow_exceptions=*/false);
+  return line.is_object() && line.contains(key) && line[key].is_number() ? line[key].get<double>()
+                                                                         : std::numeric_limits<double>::quiet_NaN();
 }
 
 // The last non-empty line of a child's stderr: the tool's one-line error comes after any warnings.
@@ -725,58 +850,53 @@ void PrintRowText(const BenchRow& row, const BenchRow& baseline)
             << Padded(std::to_string(row.Topology.NonManifoldEdges), 7, true) << std::endl;
 }
 
-// Adds value, or null when it is not finite / not measured.
-void AddOrNull(JsonLine& line, const std::string& key, double value, bool measured = true)
+// value, or null when it is not finite / not measured.
+Json NumberOrNull(double value, bool measured = true)
 {
-  if (measured && std::isfinite(value))
-  {
-    line.Add(key, value);
-  }
-  else
-  {
-    line.AddNull(key);
-  }
+  return measured && std::isfinite(value) ? Json(value) : Json(nullptr);
+}
+
+// An integer when measured, else null (as the topology of a failed run).
+Json CountOrNull(long long value, bool measured)
+{
+  return measured ? Json(value) : Json(nullptr);
 }
 
 void PrintRowJson(const BenchRow& row, const BenchRow& baseline, const TopologySummary& input)
 {
   const bool ok = row.Status == "ok";
   const double baselineSeconds = baseline.Status == "ok" ? baseline.Seconds : 0.0;
-  JsonLine line;
-  line.Add("input", row.Input).Add("method", row.Run->Name).Add("status", row.Status);
-  line.Add("input_triangles", static_cast<long long>(row.InputTriangles))
-    .Add("target_triangles", static_cast<long long>(row.TargetTriangles));
-  AddOrNull(line, "output_triangles", double(row.OutputTriangles), ok);
-  line.Add("target_reached", static_cast<long long>(ok && row.TargetReached));
-  AddOrNull(line, "seconds", row.Seconds, ok);
-  AddOrNull(line, "input_triangles_per_second", double(row.InputTriangles) / row.Seconds, ok && row.Seconds > 0);
-  AddOrNull(line, "baseline_seconds", baselineSeconds, baselineSeconds > 0);
-  AddOrNull(line, "speedup_vs_vtk_quadric", RatioTo(baselineSeconds, row.Seconds), ok);
-  AddOrNull(line, "time_ratio_vs_vtk_quadric", RatioTo(row.Seconds, baselineSeconds), ok);
-  AddOrNull(line, "hausdorff", row.Distance.Hausdorff, row.HasDeviation);
-  AddOrNull(line, "rms", row.Distance.RMS, row.HasDeviation);
-  AddOrNull(line, "hausdorff_ratio_vs_vtk_quadric", RatioTo(row.Distance.Hausdorff, baseline.Distance.Hausdorff),
-    row.HasDeviation && baseline.HasDeviation);
-  line.Add("input_euler", input.Euler).Add("input_border_loops", input.BorderLoops)
-    .Add("input_nonmanifold_edges", input.NonManifoldEdges);
-  AddOrNull(line, "output_euler", double(row.Topology.Euler), ok);
-  AddOrNull(line, "output_border_loops", double(row.Topology.BorderLoops), ok);
-  AddOrNull(line, "output_nonmanifold_edges", double(row.Topology.NonManifoldEdges), ok);
-  AddOrNull(line, "peak_rss_mb", row.PeakMegabytes, ok);
-  AddOrNull(line, "load_average", OneMinuteLoad());
+  Json line = { { "input", row.Input }, { "method", row.Run->Name }, { "status", row.Status },
+    { "input_triangles", row.InputTriangles }, { "target_triangles", row.TargetTriangles },
+    { "output_triangles", CountOrNull(row.OutputTriangles, ok) }, { "target_reached", int(ok && row.TargetReached) },
+    { "seconds", NumberOrNull(row.Seconds, ok) },
+    { "input_triangles_per_second", NumberOrNull(double(row.InputTriangles) / row.Seconds, ok && row.Seconds > 0) },
+    { "baseline_seconds", NumberOrNull(baselineSeconds, baselineSeconds > 0) },
+    { "speedup_vs_vtk_quadric", NumberOrNull(RatioTo(baselineSeconds, row.Seconds), ok) },
+    { "time_ratio_vs_vtk_quadric", NumberOrNull(RatioTo(row.Seconds, baselineSeconds), ok) },
+    { "hausdorff", NumberOrNull(row.Distance.Hausdorff, row.HasDeviation) },
+    { "rms", NumberOrNull(row.Distance.RMS, row.HasDeviation) },
+    { "hausdorff_ratio_vs_vtk_quadric", NumberOrNull(RatioTo(row.Distance.Hausdorff, baseline.Distance.Hausdorff),
+      row.HasDeviation && baseline.HasDeviation) },
+    { "input_euler", input.Euler }, { "input_border_loops", input.BorderLoops },
+    { "input_nonmanifold_edges", input.NonManifoldEdges },
+    { "output_euler", CountOrNull(row.Topology.Euler, ok) },
+    { "output_border_loops", CountOrNull(row.Topology.BorderLoops, ok) },
+    { "output_nonmanifold_edges", CountOrNull(row.Topology.NonManifoldEdges, ok) },
+    { "peak_rss_mb", NumberOrNull(row.PeakMegabytes, ok) }, { "load_average", NumberOrNull(OneMinuteLoad()) } };
   if (!ok)
   {
-    line.Add("message", row.Message);
+    line["message"] = row.Message;
   }
-  line.Print();
+  PrintJson(line);
 }
 
 // Every method on one input; returns the rows (the baseline's first).
-std::vector<BenchRow> BenchInput(const BenchOptions& options, const ParsedArguments& args, const std::string& name,
+std::vector<BenchRow> BenchInput(const BenchOptions& options, const TargetArguments& target, const std::string& name,
   const std::string& meshDir)
 {
   vtkSmartPointer<vtkPolyData> input = ResolveBenchInput(name, meshDir);
-  const MethodSettings settings = TargetSettings(args, CountTriangles(input), false, 0.9);
+  const MethodSettings settings = TargetSettings(target, CountTriangles(input), false, 0.9, "bench");
   const TopologySummary topology = SummarizeTopology(input, name);
   PrintInputLine(name, topology, options);
   const std::string inputPath = options.WorkDirectory + "/input.vtp";
@@ -825,10 +945,8 @@ void PrintScaling(const std::vector<std::vector<BenchRow>>& perInput, const Benc
                                                                         : std::numeric_limits<double>::quiet_NaN();
     if (options.Json)
     {
-      JsonLine line;
-      line.Add("scaling", options.Methods[m]->Name).Add("ratio_of", largeName + " / " + middleName);
-      AddOrNull(line, "time_ratio", ratio);
-      line.Print();
+      PrintJson({ { "scaling", options.Methods[m]->Name }, { "ratio_of", largeName + " / " + middleName },
+        { "time_ratio", NumberOrNull(ratio) } });
       continue;
     }
     std::cout << Padded(options.Methods[m]->Name, 28);
@@ -841,29 +959,22 @@ void PrintScaling(const std::vector<std::vector<BenchRow>>& perInput, const Benc
 }
 
 // The inputs asked for: --scaling, --set, --inputs (or the default), then every --input.
-std::vector<std::string> BenchInputNames(const ParsedArguments& args)
+std::vector<std::string> BenchInputNames(const BenchArguments& args)
 {
   std::vector<std::string> names;
-  if (args.Has("scaling"))
+  if (args.Scaling)
   {
-    names = ScalingInputSet(SplitList(args.Get("scaling-resolutions")));
+    names = ScalingInputSet(args.ScalingResolutions);
   }
-  else if (args.Has("set"))
+  else if (!args.InputSet.empty())
   {
-    if (args.Get("set") != "real")
-    {
-      throw CliError(ExitUsage, "surfacelod bench: unknown set '" + args.Get("set") + "' (known: real)");
-    }
-    names = RealInputSet();
+    names = RealInputSet(); // the only set (checked by the option)
   }
-  else if (args.Has("inputs") || !args.Has("input"))
+  else if (!args.Inputs.empty() || args.Files.empty())
   {
-    names = SplitList(args.Get("inputs", "synthetic:500"));
+    names = args.Inputs.empty() ? std::vector<std::string>{ "synthetic:500" } : args.Inputs;
   }
-  for (const std::string& file : args.GetAll("input"))
-  {
-    names.push_back(file);
-  }
+  names.insert(names.end(), args.Files.begin(), args.Files.end());
   return names;
 }
 
@@ -888,27 +999,19 @@ struct TemporaryDirectory
   }
 };
 
-BenchOptions ParseBenchOptions(const ParsedArguments& args)
+BenchOptions MakeBenchOptions(const BenchArguments& args)
 {
-  if (int(args.Has("scaling")) + int(args.Has("set")) + int(args.Has("inputs")) > 1)
-  {
-    throw CliError(ExitUsage, "surfacelod bench: give one of --inputs, --set, --scaling");
-  }
-  if (args.Has("scaling-resolutions") && !args.Has("scaling"))
-  {
-    throw CliError(ExitUsage, "surfacelod bench: --scaling-resolutions goes with --scaling");
-  }
   BenchOptions options;
-  options.Repeat = static_cast<int>(args.GetInteger("repeat", 1, 1, 1000));
-  options.TimeoutSeconds = args.GetReal("timeout", 600.0, 0.001, 1e7);
-  options.Samples = args.GetInteger("samples", -1, 0, MaxCount);
-  options.Deviation = !args.Has("no-deviation");
-  options.Json = args.Has("json");
-  TargetSettings(args, 0, false, 0.9); // validates the target options before the work starts
-  options.TargetArguments = args.Has("target-triangles")
-    ? std::vector<std::string>{ "--target-triangles", args.Get("target-triangles") }
-    : std::vector<std::string>{ "--target-reduction", args.Get("target-reduction", "0.9") };
-  options.Methods = SelectMethods(args);
+  options.Repeat = args.Repeat;
+  options.TimeoutSeconds = args.TimeoutSeconds;
+  options.Samples = args.Samples;
+  options.Deviation = !args.NoDeviation;
+  options.Json = args.Json;
+  options.TargetArguments = args.Target.Triangles > 0
+    ? std::vector<std::string>{ "--target-triangles", std::to_string(args.Target.Triangles) }
+    : std::vector<std::string>{ "--target-reduction",
+        FormatReal(args.Target.Reduction >= 0 ? args.Target.Reduction : 0.9, 17) };
+  options.Methods = SelectMethods(args.MethodNames);
   // The baseline runs first so every ratio is measured in the same run.
   const Method* baseline = FindMethod(BaselineMethod);
   options.Methods.erase(std::remove(options.Methods.begin(), options.Methods.end(), baseline), options.Methods.end());
@@ -916,11 +1019,11 @@ BenchOptions ParseBenchOptions(const ParsedArguments& args)
   return options;
 }
 
-int Bench(const ParsedArguments& args)
+int Bench(const BenchArguments& args)
 {
-  BenchOptions options = ParseBenchOptions(args);
+  BenchOptions options = MakeBenchOptions(args);
   const std::vector<std::string> inputs = BenchInputNames(args);
-  std::string meshDir = args.Get("mesh-dir");
+  std::string meshDir = args.MeshDirectory;
   if (meshDir.empty() && std::getenv("SURFACELOD_MESH_DIR"))
   {
     meshDir = std::getenv("SURFACELOD_MESH_DIR");
@@ -938,9 +1041,9 @@ int Bench(const ParsedArguments& args)
   std::vector<std::vector<BenchRow>> perInput;
   for (const std::string& name : inputs)
   {
-    perInput.push_back(BenchInput(options, args, name, meshDir));
+    perInput.push_back(BenchInput(options, args.Target, name, meshDir));
   }
-  if (args.Has("scaling"))
+  if (args.Scaling)
   {
     PrintScaling(perInput, options);
   }
@@ -950,39 +1053,111 @@ int Bench(const ParsedArguments& args)
 // ---------------------------------------------------------------------------------------------
 // methods, help, dispatch
 
-CommandSpec MethodsSpec()
+std::string MethodsDescription()
 {
-  return { "methods", "", "List the simplification methods.", {}, {} };
+  return "List the simplification methods; with --verbose, each one's parameters (type and the tool's\n"
+         "default) that `surfacelod simplify ... --set Name=Value` changes.";
 }
 
-int ListMethods(const ParsedArguments&)
+int ListMethods(bool verbose)
 {
   for (const Method& m : Methods())
   {
     std::cout << Padded(m.Name, 30) << m.Description << (m.SupportsMaximumError ? "" : " [no --max-error]")
               << (m.InDefaultRuns ? "" : " [demo/bench only with --methods]") << "\n";
+    for (const Parameter& p : verbose ? m.Parameters : std::vector<Parameter>())
+    {
+      std::cout << "    " << Padded(p.Name, 34) << Padded(ParameterTypeName(p.Type), 8) << ParameterDefault(m, p)
+                << "\n";
+    }
   }
   return ExitSuccess;
 }
 
+std::function<int()> DefineMethods(CLI::App& app)
+{
+  auto verbose = std::make_shared<bool>(false);
+  app.add_flag("-v,--verbose", *verbose, "also list each method's parameters: name, type (bool, int, double), default");
+  return [verbose] { return ListMethods(*verbose); };
+}
+
 struct Command
 {
-  CommandSpec (*Spec)();
-  int (*Run)(const ParsedArguments&);
+  const char* Name;
+  const char* Usage; // after "surfacelod NAME"
   const char* Summary;
+  std::string (*Description)();
+  std::function<int()> (*Define)(CLI::App&); // adds the options; returns the run
 };
 
 const std::vector<Command>& Commands()
 {
   static const std::vector<Command> commands = {
-    { &SimplifySpec, &Simplify, "simplify a mesh file with a chosen method and target" },
-    { &CompareSpec, &Compare, "Hausdorff / mean / RMS distance between two surfaces" },
-    { &InfoSpec, &Info, "vertices, triangles, boundary, manifoldness, components, genus of a mesh" },
-    { &DemoSpec, &Demo, "simplify a synthetic 1M-triangle surface with every method, table + picture" },
-    { &BenchSpec, &Bench, "time methods against vtkQuadricDecimation on named inputs" },
-    { &MethodsSpec, &ListMethods, "list the simplification methods" },
+    { "simplify", "INPUT OUTPUT -m NAME (-t N | -r R | -e E | -l L) [-s Name=Value]... [options]",
+      "simplify a mesh file with a chosen method and target", &SimplifyDescription, &DefineSimplify },
+    { "compare", "A B [-n N] [-j]", "Hausdorff / mean / RMS distance between two surfaces", &CompareDescription,
+      &DefineCompare },
+    { "info", "FILE [-j]", "vertices, triangles, boundary, manifoldness, components, genus of a mesh",
+      &InfoDescription, &DefineInfo },
+    { "demo", "[--resolution N] [-o DIR] [-r R] [-m A,B,...] [-n N]",
+      "simplify a synthetic 1M-triangle surface with every method, table + picture", &DemoDescription, &DefineDemo },
+    { "bench", "[--inputs a,b,... | --set real | --scaling] [-i FILE]... [-m a,b,...] [--timeout S] [-j]",
+      "time methods against vtkQuadricDecimation on named inputs", &BenchDescription, &DefineBench },
+    { "methods", "[-v]", "list the simplification methods (-v: their parameters)", &MethodsDescription,
+      &DefineMethods },
   };
   return commands;
+}
+
+// `surfacelod COMMAND --help`: "usage: surfacelod COMMAND ...", the description, then the options.
+class CommandHelp : public CLI::Formatter
+{
+public:
+  explicit CommandHelp(const Command& command)
+    : TheCommand(command)
+  {
+    this->column_width(34);
+  }
+  std::string make_help(const CLI::App* app, std::string, CLI::AppFormatMode mode) const override
+  {
+    return std::string("usage: surfacelod ") + this->TheCommand.Name + " " + this->TheCommand.Usage + "\n\n" +
+      app->get_description() + "\n" + this->make_groups(app, mode);
+  }
+  // "-t,--target-triangles N": the value's name only (the ranges, choices and exclusions are in the
+  // option's own help text and in the one-line error).
+  std::string make_option_opts(const CLI::Option* option) const override
+  {
+    const std::string name = option->get_type_name();
+    return option->get_type_size() == 0 || name.empty() ? std::string() : " " + name.substr(0, name.find(':'));
+  }
+
+private:
+  const Command& TheCommand;
+};
+
+// Parses the command's arguments and runs it; --help prints the help. A parse error is a
+// CliError(ExitUsage) of one line.
+int RunCommand(const Command& command, int argc, char* argv[])
+{
+  CLI::App app(command.Description(), command.Name);
+  app.formatter(std::make_shared<CommandHelp>(command));
+  const std::function<int()> run = command.Define(app);
+  try
+  {
+    app.parse(argc, argv);
+  }
+  catch (const CLI::CallForHelp&)
+  {
+    std::cout << app.help();
+    return ExitSuccess;
+  }
+  catch (const CLI::ParseError& e)
+  {
+    std::string message = e.what();
+    std::replace(message.begin(), message.end(), '\n', ' ');
+    throw CliError(ExitUsage, "surfacelod " + std::string(command.Name) + ": " + message + " (see --help)");
+  }
+  return run();
 }
 
 void PrintUsage(std::ostream& out)
@@ -990,12 +1165,11 @@ void PrintUsage(std::ostream& out)
   out << "usage: surfacelod COMMAND [ARGS] (surfacelod COMMAND --help for details)\n\ncommands:\n";
   for (const Command& c : Commands())
   {
-    out << "  " << Padded(c.Spec().Name, 10) << c.Summary << "\n";
+    out << "  " << Padded(c.Name, 10) << c.Summary << "\n";
   }
   out << "\nexit codes: 0 success, 1 wrong usage, 2 unusable file, 3 a filter failed\n";
 }
 } // namespace
-
 int main(int argc, char* argv[])
 {
   InstallMessageHandler();
@@ -1019,15 +1193,9 @@ int main(int argc, char* argv[])
   {
     for (const Command& command : Commands())
     {
-      const CommandSpec spec = command.Spec();
-      if (spec.Name == name)
+      if (name == command.Name)
       {
-        ParsedArguments args;
-        if (!ParseArguments(spec, argc, argv, 2, args))
-        {
-          return ExitSuccess; // --help
-        }
-        return command.Run(args);
+        return RunCommand(command, argc - 1, argv + 1); // argv[1], the command, as the program name
       }
     }
     std::cerr << "surfacelod: unknown command '" << name << "'\n";
