@@ -10,14 +10,13 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkLogger.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <memory>
 
@@ -189,12 +188,9 @@ int vtkPatchBoundaryMerge::RequestData(
       this->Cached.reset();
       return 1;
     }
-    if (std::getenv("SLOD_VERBOSE"))
-    {
-      std::fprintf(stderr, "[spbm] preparation %.4f s, topology and orientation check %.4f s, patches %.4f s\n",
-        std::chrono::duration<double>(prepared - start).count(), std::chrono::duration<double>(built - prepared).count(),
-        std::chrono::duration<double>(Clock::now() - built).count());
-    }
+    vtkLogF(TRACE, "[spbm] preparation %.4f s, topology and orientation check %.4f s, patches %.4f s",
+      std::chrono::duration<double>(prepared - start).count(), std::chrono::duration<double>(built - prepared).count(),
+      std::chrono::duration<double>(Clock::now() - built).count());
   }
   Cache& cache = *this->Cached;
   if (cache.ChainInPlaneWeight != this->ChainInPlaneWeight)
@@ -202,10 +198,7 @@ int vtkPatchBoundaryMerge::RequestData(
     const auto initializing = Clock::now();
     cache.Generator.Initialize(cache.Mesh, cache.Patches, this->ChainInPlaneWeight);
     cache.ChainInPlaneWeight = this->ChainInPlaneWeight;
-    if (std::getenv("SLOD_VERBOSE"))
-    {
-      std::fprintf(stderr, "[spbm] chain hierarchy %.4f s\n", std::chrono::duration<double>(Clock::now() - initializing).count());
-    }
+    vtkLogF(TRACE, "[spbm] chain hierarchy %.4f s", std::chrono::duration<double>(Clock::now() - initializing).count());
   }
   for (const std::string& warning : cache.Warnings)
   {
