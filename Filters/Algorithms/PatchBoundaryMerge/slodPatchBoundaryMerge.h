@@ -198,6 +198,8 @@ private:
   const TriangleBVH& GetInputTree(StageTimes& times);
   // One merging run (slodSpbmMerging.cxx) leaves the level's chain graph in `s`.
   class MergingRun;
+  // Triangulation passes of a level (slodSpbmTriangulation.cxx).
+  class LevelTriangulation;
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
 
   const TriangleMesh* Mesh = nullptr;
