@@ -200,6 +200,8 @@ private:
   class MergingRun;
   // Triangulation passes of a level (slodSpbmTriangulation.cxx).
   class LevelTriangulation;
+  // The search of FindParameters (slodSpbmTargetSearch.cxx).
+  class TargetSearch;
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
 
   const TriangleMesh* Mesh = nullptr;
