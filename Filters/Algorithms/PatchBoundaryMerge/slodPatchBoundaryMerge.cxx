@@ -364,6 +364,9 @@ bool SpbmLevelGenerator::GenerateIn(
     }
   }
   triangulation.Finish(frozen);
+  vtkLogF(TRACE, "[spbm] generated %d triangles (predicted %d) in %d passes; fallback patches: %d unmerged, %d refined, %d original",
+    int(level.TrianglePatch.size()), int(level.PredictedTriangles), level.Passes, int(level.UnmergedPatches),
+    int(level.RefinedPatches), int(level.OriginalPatches));
   return true;
 }
 

@@ -411,14 +411,12 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
       // signatures of boundaries found simple, so that the searches' many runs
       // at nearby epsilons test only the patches whose boundary changed.
       uint64_t signature = 0;
-      this->ForPatchChains(p,
-        [&](Index c)
-        {
-          uint64_t x = (uint64_t(uint32_t(c)) << 32) ^ (uint64_t(uint32_t(s.Interior[c])) << 1) ^ uint64_t(s.Locked[c]);
-          x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull; // splitmix64 finalizer
-          x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-          signature += x ^ (x >> 31);
-        });
+      this->ForPatchChains(p, [&](Index c) {
+        uint64_t x = (uint64_t(uint32_t(c)) << 32) ^ (uint64_t(uint32_t(s.Interior[c])) << 1) ^ uint64_t(s.Locked[c]);
+        x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull; // splitmix64 finalizer
+        x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+        signature += x ^ (x >> 31);
+      });
       if (s.SimpleSignature[p] == signature)
       {
         continue;
@@ -429,22 +427,20 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
         s.SimpleSignature[p] = signature;
         continue;
       }
-      this->ForPatchChains(p,
-        [&](Index c)
+      this->ForPatchChains(p, [&](Index c) {
+        if (!s.Locked[c])
         {
-          if (!s.Locked[c])
+          refined = true;
+          if (round >= 5 || s.Tolerance[c] <= 0)
           {
-            refined = true;
-            if (round >= 5 || s.Tolerance[c] <= 0)
-            {
-              s.Locked[c] = 1; // full resolution
-            }
-            else
-            {
-              s.Tolerance[c] *= 0.25f;
-            }
+            s.Locked[c] = 1; // full resolution
           }
-        });
+          else
+          {
+            s.Tolerance[c] *= 0.25f;
+          }
+        }
+      });
     }
     if (!refined)
     {
@@ -859,42 +855,38 @@ bool SpbmLevelGenerator::MergingRun::TryCollapse(Index e, double longest)
 bool SpbmLevelGenerator::MergingRun::CollapseKeepsTopology(Index e, Index p, Index q, Index keep, Index gone)
 {
   const Index stamp = s.NextStamp();
-  s.ForEndChains(keep,
-    [&](Index c)
+  s.ForEndChains(keep, [&](Index c) {
+    s.PatchStamp[s.Find(s.L[c])] = stamp;
+    if (s.R[c] != InvalidIndex)
     {
-      s.PatchStamp[s.Find(s.L[c])] = stamp;
-      if (s.R[c] != InvalidIndex)
-      {
-        s.PatchStamp[s.Find(s.R[c])] = stamp;
-      }
-      s.EndStamp[this->OtherEnd(c, keep)] = stamp;
-    });
+      s.PatchStamp[s.Find(s.R[c])] = stamp;
+    }
+    s.EndStamp[this->OtherEnd(c, keep)] = stamp;
+  });
   bool ok = true;
-  s.ForEndChains(gone,
-    [&](Index c)
+  s.ForEndChains(gone, [&](Index c) {
+    if (c == e || !ok)
     {
-      if (c == e || !ok)
+      return;
+    }
+    const Index sides[2] = { s.Find(s.L[c]), s.R[c] == InvalidIndex ? InvalidIndex : s.Find(s.R[c]) };
+    for (const Index side : sides)
+    {
+      if (side == InvalidIndex)
       {
-        return;
+        continue;
       }
-      const Index sides[2] = { s.Find(s.L[c]), s.R[c] == InvalidIndex ? InvalidIndex : s.Find(s.R[c]) };
-      for (const Index side : sides)
-      {
-        if (side == InvalidIndex)
-        {
-          continue;
-        }
-        if (s.Frozen[side] || (side != p && side != q && s.PatchStamp[side] == stamp)) // (a)
-        {
-          ok = false;
-        }
-      }
-      const Index o = this->OtherEnd(c, gone);
-      if (s.Locked[c] || o == keep || s.EndStamp[o] == stamp) // would make parallel edges
+      if (s.Frozen[side] || (side != p && side != q && s.PatchStamp[side] == stamp)) // (a)
       {
         ok = false;
       }
-    });
+    }
+    const Index o = this->OtherEnd(c, gone);
+    if (s.Locked[c] || o == keep || s.EndStamp[o] == stamp) // would make parallel edges
+    {
+      ok = false;
+    }
+  });
   return ok;
 }
 
@@ -908,45 +900,39 @@ bool SpbmLevelGenerator::MergingRun::CollapseKeepsSimple(Index p, Index q, Index
   bool ok = true;
   const Index around = s.NextStamp();
   s.PatchStamp[p] = s.PatchStamp[q] = around;
-  s.ForEndChains(gone,
-    [&](Index c)
+  s.ForEndChains(gone, [&](Index c) {
+    for (const Index side : { s.L[c], s.R[c] })
     {
-      for (const Index side : { s.L[c], s.R[c] })
+      if (ok && side != InvalidIndex && s.PatchStamp[s.Find(side)] != around)
       {
-        if (ok && side != InvalidIndex && s.PatchStamp[s.Find(side)] != around)
-        {
-          s.PatchStamp[s.Find(side)] = around;
-          ok = this->SimpleAfter(s.Find(side), gone, keep);
-        }
+        s.PatchStamp[s.Find(side)] = around;
+        ok = this->SimpleAfter(s.Find(side), gone, keep);
       }
-    });
+    }
+  });
   return ok;
 }
 
 void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, Index keep, Index gone)
 {
   s.Alive[e] = 0;
-  s.ForEndChains(gone,
-    [&](Index c)
+  s.ForEndChains(gone, [&](Index c) {
+    if (s.A[c] == gone)
     {
-      if (s.A[c] == gone)
-      {
-        s.A[c] = keep;
-      }
-      if (s.B[c] == gone)
-      {
-        s.B[c] = keep;
-      }
-    });
-  s.ForEndChains(gone,
-    [&](Index c)
+      s.A[c] = keep;
+    }
+    if (s.B[c] == gone)
     {
-      ++s.Version[s.Find(s.L[c])];
-      if (s.R[c] != InvalidIndex)
-      {
-        ++s.Version[s.Find(s.R[c])];
-      }
-    });
+      s.B[c] = keep;
+    }
+  });
+  s.ForEndChains(gone, [&](Index c) {
+    ++s.Version[s.Find(s.L[c])];
+    if (s.R[c] != InvalidIndex)
+    {
+      ++s.Version[s.Find(s.R[c])];
+    }
+  });
   this->SpliceEndList(gone, keep);
   s.Degree[keep] += s.Degree[gone] - 2;
   s.Degree[gone] = 0;
@@ -960,14 +946,12 @@ void SpbmLevelGenerator::MergingRun::TryCollapses(Index x, Index exclude)
   double longest = 0;
   this->ForPatchChains(
     x, [&](Index c) { longest = std::max(longest, Norm(this->EndpointPoint(s.B[c]) - this->EndpointPoint(s.A[c]))); });
-  this->ForPatchChains(x,
-    [&](Index c)
+  this->ForPatchChains(x, [&](Index c) {
+    if (c != exclude)
     {
-      if (c != exclude)
-      {
-        this->TryCollapse(c, longest);
-      }
-    });
+      this->TryCollapse(c, longest);
+    }
+  });
 }
 
 // All vertices of chain c from endpoint `from` to the other one, with kept
@@ -1063,8 +1047,7 @@ void SpbmLevelGenerator::MergingRun::TryJoin(Index u)
   }
   Index pair[2];
   const bool two = s.TwoChainsAt(u, pair);
-  auto joinable = [&](Index c)
-  {
+  auto joinable = [&](Index c) {
     return s.Alive[c] && !s.Locked[c] && s.R[c] != InvalidIndex && !s.Frozen[s.Find(s.L[c])] &&
       !s.Frozen[s.Find(s.R[c])];
   };
@@ -1181,36 +1164,32 @@ bool SpbmLevelGenerator::MergingRun::SharesOnlyChain(Index c, Index p, Index q)
 {
   const Index stamp = s.NextStamp();
   bool ok = true;
-  this->ForPatchChains(q,
-    [&](Index x)
+  this->ForPatchChains(q, [&](Index x) {
+    if (x != c)
     {
-      if (x != c)
-      {
-        const Index other =
-          s.Find(s.L[x]) == q ? (s.R[x] == InvalidIndex ? InvalidIndex : s.Find(s.R[x])) : s.Find(s.L[x]);
-        ok = ok && other != p;
-        s.EndStamp[s.A[x]] = stamp;
-        s.EndStamp[s.B[x]] = stamp;
-      }
-    });
+      const Index other =
+        s.Find(s.L[x]) == q ? (s.R[x] == InvalidIndex ? InvalidIndex : s.Find(s.R[x])) : s.Find(s.L[x]);
+      ok = ok && other != p;
+      s.EndStamp[s.A[x]] = stamp;
+      s.EndStamp[s.B[x]] = stamp;
+    }
+  });
   if (!ok)
   {
     return false;
   }
-  this->ForPatchChains(p,
-    [&](Index x)
+  this->ForPatchChains(p, [&](Index x) {
+    if (x != c)
     {
-      if (x != c)
+      for (const Index e : { s.A[x], s.B[x] })
       {
-        for (const Index e : { s.A[x], s.B[x] })
+        if (e != s.A[c] && e != s.B[c] && s.EndStamp[e] == stamp)
         {
-          if (e != s.A[c] && e != s.B[c] && s.EndStamp[e] == stamp)
-          {
-            ok = false;
-          }
+          ok = false;
         }
       }
-    });
+    }
+  });
   return ok;
 }
 
@@ -1319,16 +1298,14 @@ void SpbmLevelGenerator::MergingRun::RemoveCheapest()
         continue;
       }
       this->PushRemoval(joinBase + e);
-      s.ForEndChains(e,
-        [&](Index c)
+      s.ForEndChains(e, [&](Index c) {
+        if (this->RemovableChain(c))
         {
-          if (this->RemovableChain(c))
-          {
-            this->PushRemoval(2 * c);
-            this->PushRemoval(2 * c + 1);
-          }
-          this->PushRemoval(joinBase + (s.A[c] == e ? s.B[c] : s.A[c]));
-        });
+          this->PushRemoval(2 * c);
+          this->PushRemoval(2 * c + 1);
+        }
+        this->PushRemoval(joinBase + (s.A[c] == e ? s.B[c] : s.A[c]));
+      });
     }
   }
 }
@@ -1342,14 +1319,12 @@ bool SpbmLevelGenerator::MergingRun::ApplyRemoval(Index op, Index (&touched)[2])
     const Index u = op - joinBase;
     Index ends[2] = { InvalidIndex, InvalidIndex };
     int k = 0;
-    s.ForEndChains(u,
-      [&](Index c)
+    s.ForEndChains(u, [&](Index c) {
+      if (k < 2)
       {
-        if (k < 2)
-        {
-          ends[k++] = s.A[c] == u ? s.B[c] : s.A[c];
-        }
-      });
+        ends[k++] = s.A[c] == u ? s.B[c] : s.A[c];
+      }
+    });
     if (!this->RemovalJoin(u))
     {
       return false;
@@ -1391,17 +1366,15 @@ double SpbmLevelGenerator::MergingRun::CollapseCost(Index c, Index keep)
   }
   const Vec3 d = this->EndpointPoint(gone) - this->EndpointPoint(keep);
   double cost = generator.InPlaneWeight * Norm(d);
-  s.ForEndChains(gone,
-    [&](Index x)
+  s.ForEndChains(gone, [&](Index x) {
+    for (const Index side : { s.L[x], s.R[x] })
     {
-      for (const Index side : { s.L[x], s.R[x] })
+      if (side != InvalidIndex)
       {
-        if (side != InvalidIndex)
-        {
-          cost = std::max(cost, std::fabs(Dot(Normalized(s.Normal[s.Find(side)]), d)));
-        }
+        cost = std::max(cost, std::fabs(Dot(Normalized(s.Normal[s.Find(side)]), d)));
       }
-    });
+    }
+  });
   return cost;
 }
 

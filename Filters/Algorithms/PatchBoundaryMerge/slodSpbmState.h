@@ -269,15 +269,13 @@ struct SpbmLevelGenerator::State
   {
     pair[0] = pair[1] = InvalidIndex;
     int found = 0;
-    this->ForEndChains(u,
-      [&](Index c)
+    this->ForEndChains(u, [&](Index c) {
+      if (found < 2)
       {
-        if (found < 2)
-        {
-          pair[found] = c;
-        }
-        ++found;
-      });
+        pair[found] = c;
+      }
+      ++found;
+    });
     return found == 2;
   }
   Index NextStamp()

@@ -343,8 +343,7 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulateBoundary(Index p)
   PolygonTriangulationOptions options;
   options.AllowFallback = false;
   bool doubleEarRule = true;
-  options.AcceptEar = [&](Index ia, Index k, Index ic)
-  {
+  options.AcceptEar = [&](Index ia, Index k, Index ic) {
     if (s.Edges.Contains(polygon[ia], polygon[ic]))
     {
       return false; // the diagonal is already an edge: would be non-manifold
@@ -420,15 +419,13 @@ void SpbmLevelGenerator::LevelTriangulation::TriangulateMinimumDeviation(
   const TriangleBVH& tree = generator.GetInputTree(s.Times);
   MinimumCostTriangulationOptions dp;
   dp.AcceptDiagonal = [&](Index i, Index j) { return !s.Edges.Contains(polygon[i], polygon[j]); };
-  auto diagonalCost = [&](Index i, Index j)
-  {
+  auto diagonalCost = [&](Index i, Index j) {
     // Distance of the diagonal's midpoint from the input. (Adding the quarter points
     // tripled the queries, about half of the level's triangulation time, for the same
     // Fandisk levels and 7% on bunny00 at 1500 triangles.)
     return std::sqrt(tree.ClosestPoint(0.5 * (points[i] + points[j])).Distance2);
   };
-  dp.DiagonalCost = [&](Index i, Index j)
-  {
+  dp.DiagonalCost = [&](Index i, Index j) {
     Index bits = 0;
     float cached = 0;
     if (s.DiagonalCosts.Find(polygon[i], polygon[j], bits))
