@@ -425,20 +425,20 @@ void SpbmLevelGenerator::LevelTriangulation::TriangulateMinimumDeviation(
     // Fandisk levels and 7% on bunny00 at 1500 triangles.)
     return std::sqrt(tree.ClosestPoint(0.5 * (points[i] + points[j])).Distance2);
   };
+  // Cached as float, and used as float also when just measured: the level then does not depend
+  // on which working state (candidate thread) measured a diagonal first.
   dp.DiagonalCost = [&](Index i, Index j) {
     Index bits = 0;
     float cached = 0;
-    if (s.DiagonalCosts.Find(polygon[i], polygon[j], bits))
+    if (!s.DiagonalCosts.Find(polygon[i], polygon[j], bits))
     {
-      std::memcpy(&cached, &bits, sizeof(float));
-      return double(cached);
+      cached = static_cast<float>(diagonalCost(i, j));
+      std::memcpy(&bits, &cached, sizeof(float));
+      Index ignored;
+      s.DiagonalCosts.Insert(polygon[i], polygon[j], bits, ignored);
     }
-    const double cost = diagonalCost(i, j);
-    cached = static_cast<float>(cost);
-    std::memcpy(&bits, &cached, sizeof(float));
-    Index ignored;
-    s.DiagonalCosts.Insert(polygon[i], polygon[j], bits, ignored);
-    return cost;
+    std::memcpy(&cached, &bits, sizeof(float));
+    return double(cached);
   };
   // Thin triangles cost about as much as a diagonal 1e-3 of the diagonal off the surface.
   dp.AngleWeight = 1e-3 * generator.Diagonal;
