@@ -73,12 +73,21 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->PatchSupport.clear(); // built on first use (FlatnessMerge)
   const Patchification& P = patches;
   const Index nc = P.NumberOfChains();
-  const Index ne = P.NumberOfEndpoints();
   const size_t totalVertices = nc > 0 ? size_t(P.ChainVerticesBegin(nc - 1) + P.ChainSize(nc - 1) - P.ChainVerticesBegin(0)) : 0;
+  this->BuildChainKeys(totalVertices);
+  this->OrderChainKeys(totalVertices);
+  this->MarkParallelChains();
+  this->MeasureEndpointVariation();
+}
+
+// The divide-and-conquer refinement tree of every chain, stored as one key per chain vertex.
+void SpbmLevelGenerator::BuildChainKeys(size_t totalVertices)
+{
+  const TriangleMesh& mesh = *this->Mesh;
+  const Patchification& P = *this->Patches;
+  const Index nc = P.NumberOfChains();
   this->Keys.assign(totalVertices, InfiniteKey);
   this->SortedKeys.clear();
-
-  // Divide-and-conquer refinement tree of every chain, stored as one key per vertex.
   struct Node
   {
     Index I, J;
@@ -88,7 +97,7 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   // With inPlaneWeight < 1 a chain's deviation counts mostly along the normals of its two
   // patches (SurfaceWeightedDistance2): an offset within both patch planes moves the surface
   // little, so smooth boundaries get coarser and creases finer for the same vertex budget.
-  const double lambda2 = std::max(0.0, std::min(1.0, inPlaneWeight)) * std::max(0.0, std::min(1.0, inPlaneWeight));
+  const double lambda2 = this->InPlaneWeight * this->InPlaneWeight;
   for (Index c = 0; c < nc; ++c)
   {
     if (P.ChainIsNonManifold(c))
@@ -136,6 +145,12 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
     }
   }
   std::sort(this->SortedKeys.begin(), this->SortedKeys.end(), std::greater<float>());
+}
+
+void SpbmLevelGenerator::OrderChainKeys(size_t totalVertices)
+{
+  const Patchification& P = *this->Patches;
+  const Index nc = P.NumberOfChains();
   // Per chain, its interior positions by decreasing key: the vertices kept for any epsilon are a
   // prefix (found by binary search).
   this->KeyOrder.assign(totalVertices, 0);
@@ -156,7 +171,12 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
       this->OrderedKeys[offset + i] = keys[order[i]];
     }
   }
+}
 
+void SpbmLevelGenerator::MarkParallelChains()
+{
+  const Patchification& P = *this->Patches;
+  const Index nc = P.NumberOfChains();
   // Parallel chains (same two endpoints) bound a lens; all but one keep an interior vertex so
   // that no patch degenerates to two vertices and no two chains become the same edge.
   this->MinimumInterior.assign(size_t(nc), 0);
@@ -191,7 +211,13 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
       i = j;
     }
   }
+}
 
+void SpbmLevelGenerator::MeasureEndpointVariation()
+{
+  const Patchification& P = *this->Patches;
+  const Index nc = P.NumberOfChains();
+  const Index ne = P.NumberOfEndpoints();
   // Normal variation around each endpoint: the largest angle between the patches meeting there.
   this->EndpointVariation.assign(size_t(ne), 0.0);
   for (Index c = 0; c < nc; ++c)

@@ -196,6 +196,11 @@ private:
   SpbmLevelParameters FindParametersIn(Index target, const SpbmLevelParameters& base, Index* predicted, State& s);
   bool GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s);
   const TriangleBVH& GetInputTree(StageTimes& times);
+  // Stages of Initialize.
+  void BuildChainKeys(size_t totalVertices);
+  void OrderChainKeys(size_t totalVertices);
+  void MarkParallelChains();
+  void MeasureEndpointVariation();
   // One merging run (slodSpbmMerging.cxx) leaves the level's chain graph in `s`.
   class MergingRun;
   // Triangulation passes of a level (slodSpbmTriangulation.cxx).
