@@ -1,8 +1,12 @@
 #include "slodInputPreparation.h"
 
+#include "vtkAlgorithm.h"
+
+#include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
 #include "slodUnionFind.h"
 
+#include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDoubleArray.h"
@@ -45,6 +49,7 @@ std::vector<std::string> PreparationReport::Warnings() const
   say(this->MergedPoints, "coincident point(s) merged where they seal an open border");
   say(this->CoincidentPointsKeptApart,
     "coincident point(s) kept apart: merging them would create a non-manifold vertex or edge, or join components");
+  say(this->AttributeSeamPoints, "coincident point(s) with other point data kept apart (attribute seams are never welded)");
   say(this->RemovedDegenerateTriangles, "degenerate triangle(s) (repeated vertex) removed");
   say(this->RemovedDuplicateTriangles, "repeated triangle(s) (same vertices and winding) removed");
   say(this->FlippedTriangles, "triangle(s) flipped to make the orientation consistent");
@@ -361,21 +366,7 @@ long long MarkNonManifoldVertices(const TriangleMesh& mesh, const VertexStar& st
     Index start = *star.Begin(v);
     if (flags[v] & BoundaryFlag)
     {
-      Index t = start;
-      for (Index steps = 0; steps <= degree; ++steps)
-      {
-        const Index prev = star.EdgeNeighbor(t, corner(t));
-        if (prev == InvalidIndex)
-        {
-          break;
-        }
-        t = prev;
-        if (t == start)
-        {
-          break;
-        }
-      }
-      start = t;
+      start = FanStart(start, degree, [&](Index t) { return star.EdgeNeighbor(t, corner(t)); });
     }
     Index fan = 0;
     Index t = start;
@@ -470,8 +461,33 @@ std::uint64_t PointHash(const double* p)
   return h ^ (h >> 33);
 }
 
-// Classes of exactly coincident used points: coincident[v] is the smallest id of v's class.
-std::vector<Index> CoincidentClasses(const std::vector<double>& points, const std::vector<Index>& triangles, Index np)
+// Whether two points carry the same values in every data array of the input's point data (points
+// that coincide but differ there are an attribute seam, e.g. a texture seam: never welded).
+bool SamePointData(vtkPointData* pointData, Index a, Index b)
+{
+  for (int i = 0; pointData && i < pointData->GetNumberOfArrays(); ++i)
+  {
+    vtkDataArray* array = pointData->GetArray(i);
+    if (!array || array->GetNumberOfTuples() <= std::max(a, b))
+    {
+      continue;
+    }
+    for (int c = 0; c < array->GetNumberOfComponents(); ++c)
+    {
+      const double x = array->GetComponent(a, c), y = array->GetComponent(b, c);
+      if (!(x == y || (std::isnan(x) && std::isnan(y))))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// Classes of exactly coincident used points with the same point data: coincident[v] is the smallest
+// id of v's class. Coincident points whose point data differ are counted as attribute seams.
+std::vector<Index> CoincidentClasses(const std::vector<double>& points, const std::vector<Index>& triangles, Index np,
+  vtkPointData* pointData, PreparationReport& report)
 {
   std::vector<Index> coincident(static_cast<size_t>(np));
   std::iota(coincident.begin(), coincident.end(), 0);
@@ -503,16 +519,23 @@ std::vector<Index> CoincidentClasses(const std::vector<double>& points, const st
     for (size_t m = i + 1; m < j; ++m)
     {
       const double* q = &points[3 * size_t(keys[m].second)];
+      bool seam = false;
       for (size_t l = i; l < m; ++l)
       {
         const Index r = keys[l].second;
         const double* p = &points[3 * size_t(r)];
         if (coincident[r] == r && p[0] == q[0] && p[1] == q[1] && p[2] == q[2])
         {
-          coincident[keys[m].second] = r;
-          break;
+          if (SamePointData(pointData, r, keys[m].second))
+          {
+            coincident[keys[m].second] = r;
+            seam = false;
+            break;
+          }
+          seam = true;
         }
       }
+      report.AttributeSeamPoints += seam ? 1 : 0;
     }
     i = j;
   }
@@ -561,10 +584,10 @@ std::vector<std::array<std::uint64_t, 3>> SealableBorderEdges(
 // edge cut open, as in STL files and split seams). Elsewhere coincident points stay apart: merging
 // a pinch, two touching components or a sheet touching itself would create a non-manifold vertex
 // or edge, join components or close a handle. Returns each point's representative.
-std::vector<Index> SealingRepresentatives(
-  const std::vector<double>& points, const std::vector<Index>& triangles, Index np, PreparationReport& report)
+std::vector<Index> SealingRepresentatives(const std::vector<double>& points, const std::vector<Index>& triangles,
+  Index np, vtkPointData* pointData, PreparationReport& report)
 {
-  const std::vector<Index> coincident = CoincidentClasses(points, triangles, np);
+  const std::vector<Index> coincident = CoincidentClasses(points, triangles, np, pointData, report);
   std::vector<Index> classSize(static_cast<size_t>(np), 0);
   for (Index v = 0; v < np; ++v)
   {
@@ -810,7 +833,7 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
   const Index np = static_cast<Index>(input->GetNumberOfPoints());
   if (options.MergeDuplicatePoints)
   {
-    const std::vector<Index> representative = SealingRepresentatives(points, triangles, np, report);
+    const std::vector<Index> representative = SealingRepresentatives(points, triangles, np, input->GetPointData(), report);
     for (Index& v : triangles)
     {
       v = representative[v];
@@ -872,6 +895,20 @@ bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const Preparation
     vtkWarningWithObjectMacro(filter, << "Input: " << warning << ".");
   }
   return true;
+}
+
+ProgressFunction FilterProgress(vtkAlgorithm* filter, double from, double to)
+{
+  return [filter, from, to](double fraction) {
+    filter->UpdateProgress(from + std::min(1.0, std::max(0.0, fraction)) * (to - from));
+    return !filter->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
+  };
+}
+
+void ReportAbort(vtkAlgorithm* filter, vtkPolyData* output)
+{
+  output->Initialize();
+  vtkWarningWithObjectMacro(filter, << "Aborted: the output is empty.");
 }
 
 void ReportTarget(vtkObject* filter, vtkPolyData* output, long long targetTriangles, bool reached, const char* reason)

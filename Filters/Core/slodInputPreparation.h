@@ -9,7 +9,8 @@
 //  - vertices and lines: ignored (counted); polygons (> 3 points) and strips: triangulated (counted);
 //  - exactly coincident points: merged only where they seal an open border (two border edges
 //    with pairwise coincident ends); elsewhere kept apart (counted), so merging never makes a
-//    non-manifold vertex or edge, joins components or closes a handle;
+//    non-manifold vertex or edge, joins components or closes a handle; points whose point data
+//    differ (an attribute seam: texture coordinates, normals of a crease) are never merged;
 //  - triangles with a repeated vertex (after merging): removed (counted); zero-area triangles
 //    without one are kept;
 //  - repeated triangles (same three vertices, same winding): removed (counted); a triangle and
@@ -20,11 +21,13 @@
 #ifndef slodInputPreparation_h
 #define slodInputPreparation_h
 
+#include "slodFilterContract.h"
 #include "slodTriangleMesh.h"
 
 #include <string>
 #include <vector>
 
+class vtkAlgorithm;
 class vtkObject;
 class vtkPolyData;
 class vtkPointData;
@@ -50,6 +53,7 @@ struct SURFACELODFILTERS_EXPORT PreparationReport
   long long TriangulatedStrips = 0;
   long long MergedPoints = 0;
   long long CoincidentPointsKeptApart = 0; // coincident with another point, not merged (see below)
+  long long AttributeSeamPoints = 0;       // coincident with another point but other point data: kept apart
   long long RemovedDegenerateTriangles = 0;
   long long RemovedDuplicateTriangles = 0;
   long long FlippedTriangles = 0;
@@ -74,6 +78,13 @@ SURFACELODFILTERS_EXPORT std::vector<unsigned char> NonManifoldVertexFlags(const
 SURFACELODFILTERS_EXPORT bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input,
   const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint,
   PreparationReport* report = nullptr);
+
+// The progress of `filter` from `from` to `to` as a ProgressFunction (slodFilterContract.h): each
+// call updates the filter's progress and returns false once the filter was asked to abort.
+SURFACELODFILTERS_EXPORT ProgressFunction FilterProgress(vtkAlgorithm* filter, double from = 0.0, double to = 1.0);
+
+// The result of an aborted filter, the same in every filter: a warning and an empty output.
+SURFACELODFILTERS_EXPORT void ReportAbort(vtkAlgorithm* filter, vtkPolyData* output);
 
 // The honest-target contract of every simplifier: field data "TargetNumberOfTriangles" (the
 // resolved count target, -1 when only an error bound was given) and "TargetReached" (1/0) on the

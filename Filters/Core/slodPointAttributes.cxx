@@ -28,15 +28,17 @@ void PointAttributes::Load(vtkPointData* input, const std::vector<Index>& rowToI
     {
       input->GetAbstractArray(array->GetName(), sameName);
     }
-    if (!array || !array->GetName() || array->GetNumberOfTuples() < rowsRead || sameName < a)
+    if (!array || array->GetNumberOfTuples() < rowsRead || (array->GetName() && sameName < a))
     {
-      // String arrays, unnamed arrays, arrays of too few tuples and a second array of the same name
-      // (an output can hold only one) are not interpolated.
+      // String arrays, arrays of too few tuples and a second array of the same name (an output can
+      // hold only one) are not interpolated. Unnamed arrays are (sources such as
+      // vtkTexturedSphereSource leave their normals and texture coordinates unnamed).
       continue;
     }
     ArrayInfo info;
     info.InputIndex = a;
-    info.Name = array->GetName();
+    info.Named = array->GetName() != nullptr;
+    info.Name = info.Named ? array->GetName() : "";
     info.DataType = array->GetDataType();
     info.Components = array->GetNumberOfComponents();
     info.Offset = this->Width;
@@ -99,7 +101,10 @@ void PointAttributes::Store(vtkPointData* output, const std::vector<Index>& outp
   for (const ArrayInfo& info : this->Arrays)
   {
     vtkSmartPointer<vtkDataArray> array = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(info.DataType));
-    array->SetName(info.Name.c_str());
+    if (info.Named)
+    {
+      array->SetName(info.Name.c_str());
+    }
     array->SetNumberOfComponents(info.Components);
     array->SetNumberOfTuples(static_cast<vtkIdType>(outputToRow.size()));
     for (size_t i = 0; i < outputToRow.size(); ++i)

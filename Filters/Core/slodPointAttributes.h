@@ -1,7 +1,7 @@
 // SurfaceLOD shared core: point data carried through simplification.
 //
-// All named numeric point arrays of the input (with a value for every point; the first of several
-// of one name) are copied into one flat double buffer (one row per
+// All numeric point arrays of the input, named or not (with a value for every point; the first of
+// several of one name), keeping their attribute role (normals, texture coordinates...), are copied into one flat double buffer (one row per
 // mesh vertex), merged as vertices merge (weighted average), and written back to VTK arrays of
 // the original types for the output vertices.
 #ifndef slodPointAttributes_h
@@ -38,6 +38,7 @@ private:
   struct ArrayInfo
   {
     std::string Name;
+    bool Named = true;
     int InputIndex = 0;
     int DataType = 0;
     int Components = 0;

@@ -2,6 +2,8 @@
 
 #include "slodInputPreparation.h"
 
+#include "vtkLogger.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -171,6 +173,8 @@ void CollapseHierarchy::RemoveCyclesBySwapping(TriangleMesh& mesh) const
 }
 
 // ---------------------------------------------------------------------------------------------
+// The weight terms of triangle t (section 4): area, roundness, valence of the collapse point,
+// curvature of the fitted quadratic and, beyond the paper, the quadric error of the collapse point.
 void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
 {
   const EditableMesh& m = this->Mesh;
@@ -179,67 +183,22 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   const Vec3 centroid = (1.0 / 3.0) * (a + b + c);
   Vec3 areaVector = Cross(b - a, c - a);
   e.Area = 0.5 * Norm(areaVector);
-  // Gather the stencil vertices (T's vertices and the stencil boundary).
-  if (++this->MarkEpoch == 0)
-  {
-    std::fill(this->VertexMark.begin(), this->VertexMark.end(), 0);
-    this->MarkEpoch = 1;
-  }
-  const std::uint32_t epoch = this->MarkEpoch;
-  this->StencilVertices.clear();
-  // The stencil's vertices are only needed by the fit, which the defaults rarely run: gathered
-  // then (the marks stay valid for this evaluation's epoch).
-  auto gatherStencil = [&]() {
-    for (int k = 0; k < 3; ++k)
-    {
-      m.ForEachTriangle(tri[k], [&](Index x) {
-        const Index* q = m.Triangle(x);
-        for (int j = 0; j < 3; ++j)
-        {
-          if (this->VertexMark[q[j]] != epoch)
-          {
-            this->VertexMark[q[j]] = epoch;
-            this->StencilVertices.push_back(q[j]);
-          }
-        }
-      });
-    }
-  };
-  Index degree = 0;
-  for (int k = 0; k < 3; ++k)
-  {
-    degree += this->Degree(tri[k]);
-  }
-  // Valence of the collapse point: the stencil boundary (interior case: sum of valences - 9).
-  e.Valence = static_cast<int>(std::max<Index>(0, degree - 9));
+  e.Valence = this->CollapsePointValence(tri);
   e.Alpha = Roundness(a, b, c);
   if (this->HubMask(t) != 0)
   {
-    // Only its edge away from the hubs can collapse: ordered by that edge (no fit, no stencil).
-    e.Normal = Norm(areaVector) > 0 ? Normalized(areaVector) : Vec3{ 0, 0, 0 };
-    e.Point = centroid;
-    e.Kappa = 0;
-    e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(tri);
-    e.Error = e.EdgeError;
-    e.PreferEdge = true;
+    this->EvaluateHubTriangle(tri, areaVector, centroid, e);
     return;
   }
   // A degenerate triangle has no plane of its own: use its stencil's.
   if (IsDegenerate(a, b, c))
   {
-    Vec3 stencilNormal{ 0, 0, 0 };
-    for (int k = 0; k < 3; ++k)
-    {
-      m.ForEachTriangle(tri[k], [&](Index x) {
-        const Index* q = m.Triangle(x);
-        stencilNormal = stencilNormal + Cross(m.Point(q[1]) - m.Point(q[0]), m.Point(q[2]) - m.Point(q[0]));
-      });
-    }
-    areaVector = stencilNormal;
+    areaVector = this->StencilAreaVector(tri);
   }
   LocalFrame frame;
   if (!frame.Set(centroid, areaVector, b - a))
   {
+    // No plane at all: never collapsed as a triangle (the error terms keep their last values).
     e.Normal = { 0, 0, 0 };
     e.Point = centroid;
     e.Kappa = 0;
@@ -254,78 +213,16 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   // so it is computed only when needed: the fit is most of the cost of an evaluation.
   bool fitted = false;
   Vec3 fitPoint = centroid;
-  auto fit = [&]() {
-    fitted = true;
-    gatherStencil();
-    // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
-    // collapses does not accumulate (section 7). Extended stencil when the system is singular.
-    // On coarse levels the ancestors number hundreds: a regular subsample of about
-    // MaximumFitPoints keeps the fit's cost bounded without biasing it.
-    Index total = 0;
-    for (Index v : this->StencilVertices)
-    {
-      total += this->AncestorCount[v];
-    }
-    const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
-    Index counter = 0;
-    auto addAncestors = [&](Index v) {
-      for (Index o = this->AncestorHead[v]; o != InvalidIndex; o = this->AncestorNext[o])
-      {
-        if (counter++ % stride == 0)
-        {
-          const Vec3 l = frame.ToLocal(this->Base.Point(o));
-          this->FitPoints.push_back(l[0]);
-          this->FitPoints.push_back(l[1]);
-          this->FitPoints.push_back(l[2]);
-        }
-      }
-    };
-    this->FitPoints.clear();
-    for (Index v : this->StencilVertices)
-    {
-      addAncestors(v);
-    }
-    QuadraticPatch patch = this->Fitter.Fit(this->FitPoints);
-    if (patch.Degree < 6)
-    {
-      const size_t ring = this->StencilVertices.size();
-      for (size_t i = 0; i < ring; ++i)
-      {
-        m.ForEachTriangle(this->StencilVertices[i], [&](Index x) {
-          const Index* q = m.Triangle(x);
-          for (int j = 0; j < 3; ++j)
-          {
-            if (this->VertexMark[q[j]] != epoch)
-            {
-              this->VertexMark[q[j]] = epoch;
-              this->StencilVertices.push_back(q[j]);
-              addAncestors(q[j]);
-            }
-          }
-        });
-      }
-      const QuadraticPatch extended = this->Fitter.Fit(this->FitPoints);
-      if (extended.Degree >= patch.Degree)
-      {
-        patch = extended;
-      }
-    }
-    e.Kappa = EvaluateCurvature(patch, 0, 0).Absolute();
-    fitPoint = frame.ToWorld(0, 0, patch.Evaluate(0, 0));
-  };
   e.Kappa = 0;
   if (!(this->Parameters.ErrorWeight >= 1 && this->Parameters.QuadricCollapsePoint))
   {
-    fit();
+    fitPoint = this->FitStencil(tri, frame, e.Kappa);
+    fitted = true;
   }
   const bool preferEdges = this->Parameters.PreferEdgeFactor > 0 &&
     this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
-  e.EdgeError = std::numeric_limits<double>::infinity();
-  if (preferEdges)
-  {
-    // The cheapest edge collapse of T by quadric error (validity is checked at selection).
-    e.EdgeError = this->CheapestEdgeError(tri);
-  }
+  // The cheapest edge collapse of T by quadric error (validity is checked at selection).
+  e.EdgeError = preferEdges ? this->CheapestEdgeError(tri) : std::numeric_limits<double>::infinity();
   e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
   {
@@ -334,56 +231,198 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
     q += this->Quadrics[tri[2]];
     if (this->Parameters.QuadricCollapsePoint)
     {
-      // Least quadric error nearest to the centroid (crease line, corner, or along the normal).
-      const Vec3 best = QuadricPointNear(q, centroid);
-      const double reach = Norm(a - centroid) + Norm(b - centroid) + Norm(c - centroid);
-      if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) && Norm(best - centroid) <= reach)
+      if (!this->QuadricPointNearCentroid(tri, q, centroid, e.Point))
       {
-        e.Point = best;
+        e.Point = fitted ? fitPoint : this->FitStencil(tri, frame, e.Kappa);
       }
-      else
-      {
-        if (!fitted)
-        {
-          fit();
-        }
-        e.Point = fitPoint;
-      }
-      // When the optimum would fold the stencil, the cheapest valid alternative among the
-      // corners and edge midpoints (a triangle collapse can still go there). The link edges
-      // (opposite edges of the triangles holding exactly one of T's vertices) suffice for the
-      // star-shape test, without building the whole stencil.
-      auto starShaped = [&](const Vec3& point) {
-        bool ok = true;
-        m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
-          const Index* o = m.Triangle(x);
-          const Vec3 u = m.Point(o[(corner + 1) % 3]) - point, w = m.Point(o[(corner + 2) % 3]) - point;
-          ok = ok && Dot(Cross(u, w), frame.Normal) > 1e-12 * (Dot(u, u) + Dot(w, w));
-        });
-        return ok;
-      };
       // (Not needed when T will be ordered by its much cheaper edge collapse anyway.)
       const bool edgeFirst = preferEdges &&
         e.EdgeError < this->Parameters.PreferEdgeFactor * this->CollapseError(tri, 3, q, e.Point);
-      if (!edgeFirst && !starShaped(e.Point))
+      if (!edgeFirst && !this->StarShapedAround(tri, e.Point, frame.Normal))
       {
-        const Vec3 options[6] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
-        double bestError = std::numeric_limits<double>::infinity();
-        for (const Vec3& o : options)
-        {
-          const double error = this->CollapseError(tri, 3, q, o);
-          if (error < bestError && starShaped(o) &&
-            m.CheckCollapse(tri, 3, o, this->MeshOptions) == CollapseStatus::Ok)
-          {
-            bestError = error;
-            e.Point = o;
-          }
-        }
+        this->CheapestUnfoldedPoint(tri, q, frame.Normal, e.Point);
       }
     }
     e.Error = this->CollapseError(tri, 3, q, e.Point);
   }
   e.PreferEdge = preferEdges && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
+}
+
+// Valence of the collapse point: the stencil boundary (interior case: sum of valences - 9).
+int CollapseHierarchy::CollapsePointValence(const Index* tri) const
+{
+  Index degree = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    degree += this->Degree(tri[k]);
+  }
+  return static_cast<int>(std::max<Index>(0, degree - 9));
+}
+
+// Only its edge away from the hubs can collapse: ordered by that edge (no fit, no stencil).
+void CollapseHierarchy::EvaluateHubTriangle(const Index* tri, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const
+{
+  e.Normal = Norm(areaVector) > 0 ? Normalized(areaVector) : Vec3{ 0, 0, 0 };
+  e.Point = centroid;
+  e.Kappa = 0;
+  e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(tri);
+  e.Error = e.EdgeError;
+  e.PreferEdge = true;
+}
+
+// Sum of the (unnormalised) normals of the triangles around T's vertices.
+Vec3 CollapseHierarchy::StencilAreaVector(const Index* tri) const
+{
+  const EditableMesh& m = this->Mesh;
+  Vec3 sum{ 0, 0, 0 };
+  for (int k = 0; k < 3; ++k)
+  {
+    m.ForEachTriangle(tri[k], [&](Index x) {
+      const Index* q = m.Triangle(x);
+      sum = sum + Cross(m.Point(q[1]) - m.Point(q[0]), m.Point(q[2]) - m.Point(q[0]));
+    });
+  }
+  return sum;
+}
+
+// T's vertices and the stencil boundary, into StencilVertices (marked with a new epoch).
+void CollapseHierarchy::GatherStencilVertices(const Index* tri)
+{
+  if (++this->MarkEpoch == 0)
+  {
+    std::fill(this->VertexMark.begin(), this->VertexMark.end(), 0);
+    this->MarkEpoch = 1;
+  }
+  this->StencilVertices.clear();
+  for (int k = 0; k < 3; ++k)
+  {
+    this->Mesh.ForEachTriangle(tri[k], [&](Index x) { this->AddUnmarkedVertices(x); });
+  }
+}
+
+void CollapseHierarchy::AddUnmarkedVertices(Index x)
+{
+  const Index* q = this->Mesh.Triangle(x);
+  for (int j = 0; j < 3; ++j)
+  {
+    if (this->VertexMark[q[j]] != this->MarkEpoch)
+    {
+      this->VertexMark[q[j]] = this->MarkEpoch;
+      this->StencilVertices.push_back(q[j]);
+    }
+  }
+}
+
+// Every stride-th original point merged into v (counted over the calls by counter), in the local
+// frame, onto FitPoints.
+void CollapseHierarchy::AddAncestorPoints(Index v, const LocalFrame& frame, Index stride, Index& counter)
+{
+  for (Index o = this->AncestorHead[v]; o != InvalidIndex; o = this->AncestorNext[o])
+  {
+    if (counter++ % stride == 0)
+    {
+      const Vec3 l = frame.ToLocal(this->Base.Point(o));
+      this->FitPoints.insert(this->FitPoints.end(), { l[0], l[1], l[2] });
+    }
+  }
+}
+
+// The least-squares quadratic over T's plane (section 5): returns the paper's collapse point
+// c + f(0,0) n and sets kappa to |k1| + |k2| at the centroid.
+Vec3 CollapseHierarchy::FitStencil(const Index* tri, const LocalFrame& frame, double& kappa)
+{
+  this->GatherStencilVertices(tri);
+  // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
+  // collapses does not accumulate (section 7). Extended stencil when the system is singular.
+  // On coarse levels the ancestors number hundreds: a regular subsample of about
+  // MaximumFitPoints keeps the fit's cost bounded without biasing it.
+  Index total = 0;
+  for (Index v : this->StencilVertices)
+  {
+    total += this->AncestorCount[v];
+  }
+  const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
+  Index counter = 0;
+  this->FitPoints.clear();
+  for (Index v : this->StencilVertices)
+  {
+    this->AddAncestorPoints(v, frame, stride, counter);
+  }
+  QuadraticPatch patch = this->Fitter.Fit(this->FitPoints);
+  if (patch.Degree < 6)
+  {
+    // The next ring: vertices of the triangles around the stencil vertices.
+    const size_t ring = this->StencilVertices.size();
+    for (size_t i = 0; i < ring; ++i)
+    {
+      const size_t before = this->StencilVertices.size();
+      this->Mesh.ForEachTriangle(this->StencilVertices[i], [&](Index x) { this->AddUnmarkedVertices(x); });
+      for (size_t j = before; j < this->StencilVertices.size(); ++j)
+      {
+        this->AddAncestorPoints(this->StencilVertices[j], frame, stride, counter);
+      }
+    }
+    const QuadraticPatch extended = this->Fitter.Fit(this->FitPoints);
+    if (extended.Degree >= patch.Degree)
+    {
+      patch = extended;
+    }
+  }
+  kappa = EvaluateCurvature(patch, 0, 0).Absolute();
+  return frame.ToWorld(0, 0, patch.Evaluate(0, 0));
+}
+
+// Least quadric error nearest to the centroid (crease line, corner, or along the normal), when it
+// is finite and within reach of T.
+bool CollapseHierarchy::QuadricPointNearCentroid(const Index* tri, const Quadric& q, const Vec3& centroid, Vec3& point) const
+{
+  const Vec3 best = QuadricPointNear(q, centroid);
+  double reach = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    reach += Norm(this->Mesh.Point(tri[k]) - centroid);
+  }
+  if (std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) && Norm(best - centroid) <= reach)
+  {
+    point = best;
+    return true;
+  }
+  return false;
+}
+
+// The link edges (opposite edges of the triangles holding exactly one of T's vertices) turn
+// around point in the plane of normal: the fan of the collapse cannot fold. They suffice for the
+// star-shape test, without building the whole stencil.
+bool CollapseHierarchy::StarShapedAround(const Index* tri, const Vec3& point, const Vec3& normal) const
+{
+  const EditableMesh& m = this->Mesh;
+  bool ok = true;
+  m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
+    const Index* o = m.Triangle(x);
+    const Vec3 u = m.Point(o[(corner + 1) % 3]) - point, w = m.Point(o[(corner + 2) % 3]) - point;
+    ok = ok && Dot(Cross(u, w), normal) > 1e-12 * (Dot(u, u) + Dot(w, w));
+  });
+  return ok;
+}
+
+// When the optimum would fold the stencil: the cheapest valid alternative among the corners and
+// edge midpoints (a triangle collapse can still go there); point is unchanged when none is valid.
+void CollapseHierarchy::CheapestUnfoldedPoint(const Index* tri, const Quadric& q, const Vec3& normal, Vec3& point) const
+{
+  const EditableMesh& m = this->Mesh;
+  const Vec3 a = m.Point(tri[0]), b = m.Point(tri[1]), c = m.Point(tri[2]);
+  const Vec3 options[6] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
+  double bestError = std::numeric_limits<double>::infinity();
+  for (const Vec3& o : options)
+  {
+    const double error = this->CollapseError(tri, 3, q, o);
+    if (error < bestError && this->StarShapedAround(tri, o, normal) &&
+      m.CheckCollapse(tri, 3, o, this->MeshOptions) == CollapseStatus::Ok)
+    {
+      bestError = error;
+      point = o;
+    }
+  }
 }
 
 double CollapseHierarchy::CheapestEdgeError(const Index* tri) const
@@ -392,7 +431,7 @@ double CollapseHierarchy::CheapestEdgeError(const Index* tri) const
   bool fixed[3] = { false, false, false };
   for (int k = 0; k < 3; ++k)
   {
-    fixed[k] = this->Degree(tri[k]) > HubValence || (this->HasBoundary && m.IsBoundaryVertex(tri[k]));
+    fixed[k] = this->Degree(tri[k]) > HubValence || this->OnBorder[tri[k]];
   }
   double cheapest = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 3; ++k)
@@ -513,6 +552,10 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   this->GlobalPoints.insert(this->GlobalPoints.end(), p.begin(), p.end());
 
   m.Collapse(vertices, count, kept, p, &this->Record);
+  for (int i = 1; i < count; ++i)
+  {
+    this->OnBorder[kept] |= this->OnBorder[vertices[i]];
+  }
   if (!this->Quadrics.empty())
   {
     for (int i = 1; i < count; ++i)
@@ -645,7 +688,7 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
 {
   EditableMesh& m = this->Mesh;
   const Index degree = this->Degree(q);
-  if (!m.IsVertexAlive(q) || degree < 3 || degree > 4 || m.IsBoundaryVertex(q))
+  if (!m.IsVertexAlive(q) || degree < 3 || degree > 4 || this->OnBorder[q])
   {
     return 0;
   }
@@ -658,7 +701,7 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
     const Index* tri = m.Triangle(t);
     const int c = tri[0] == q ? 0 : (tri[1] == q ? 1 : 2);
     const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
-    if (this->Degree(x) < keep || this->Degree(y) < keep || m.IsBoundaryVertex(x) || m.IsBoundaryVertex(y))
+    if (this->Degree(x) < keep || this->Degree(y) < keep || this->OnBorder[x] || this->OnBorder[y])
     {
       return;
     }
@@ -737,7 +780,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     {
       continue; // a hub's checks would cost its valence (see HubMask)
     }
-    if (this->HasBoundary && (m.IsBoundaryVertex(u) || m.IsBoundaryVertex(v)))
+    if (this->OnBorder[u] || this->OnBorder[v])
     {
       continue; // boundaries keep their resolution, like the triangle collapses leave them
     }
@@ -772,8 +815,81 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
 }
 
 // ---------------------------------------------------------------------------------------------
+// The batch selection's data over one Build (reused from level to level).
+struct CollapseHierarchy::LevelState
+{
+  // Priority order of the level: (weight, triangle), sorted chunk by chunk as the selection goes.
+  std::vector<std::pair<double, Index>> Candidates;
+  // The batch: triangle, -1 for its triangle collapse or the edge (tri[k], tri[k+1]) collapsed,
+  // and the collapse point.
+  std::vector<Index> Batch;
+  std::vector<int> BatchEdge;
+  std::vector<Vec3> BatchPoint;
+  // Per triangle: the last level whose batch region (stencil, or the triangles around a collapsed
+  // edge) holds it; regions of one batch are disjoint.
+  std::vector<int> RegionLevel;
+  // Triangles to evaluate again, gathered once each.
+  std::vector<Index> Affected;
+  std::vector<std::uint32_t> AffectedMark;
+  std::uint32_t AffectedEpoch = 0;
+  std::vector<Index> Touched, Ring;
+  double MaximumWeight = std::numeric_limits<double>::infinity();
+  // Per level: edge collapses allowed for blocked triangles, batch size in triangle collapses,
+  // search depth in the priority order and the batch below which the search goes on.
+  bool Edges = false;
+  Index Wanted = 1;
+  size_t Depth = std::numeric_limits<size_t>::max();
+  Index MinimumBatch = 1;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Build: M0 -> M1 -> ... by batches of collapses (section 6).
 bool CollapseHierarchy::Build(
   const TriangleMesh& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
+{
+  this->SetParameters(parameters);
+  this->Reset(input);
+  const Index nt = this->Base.NumberOfTriangles();
+  if (nt == 0)
+  {
+    return true;
+  }
+  this->InitializeQuadrics();
+  if (!this->EvaluateAllTriangles(progress))
+  {
+    return false;
+  }
+  LevelState state;
+  state.RegionLevel.assign(nt, -1);
+  state.AffectedMark.assign(nt, 0);
+  if (this->Parameters.MaximumWeight > 0)
+  {
+    state.MaximumWeight = this->Parameters.MaximumWeight;
+  }
+  for (int level = 0; level + 1 < this->Parameters.MaximumNumberOfLevels; ++level)
+  {
+    const Index live = this->Mesh.NumberOfLiveTriangles();
+    if (live <= this->Parameters.MinimumNumberOfTriangles ||
+      (this->Parameters.StopAtTriangles > 0 && live <= this->Parameters.StopAtTriangles) ||
+      !this->ReduceLevel(level, state))
+    {
+      break;
+    }
+    if (progress)
+    {
+      const double done = double(nt - this->Mesh.NumberOfLiveTriangles()) / (0.95 * nt);
+      if (!progress(0.1 + 0.9 * std::min(1.0, done)))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// The parameters with the weights made non-negative (normalised by their sum) and the fractions
+// clamped.
+void CollapseHierarchy::SetParameters(const CollapseHierarchyParameters& parameters)
 {
   this->Parameters = parameters;
   CollapseHierarchyParameters& p = this->Parameters;
@@ -788,12 +904,17 @@ bool CollapseHierarchy::Build(
   }
   p.ErrorWeight = std::min(1.0, std::max(0.0, p.ErrorWeight));
   p.BatchFraction = std::min(1.0, std::max(1e-6, p.BatchFraction));
-
   this->MeshOptions = CollapseOptions();
   this->MeshOptions.MinimumNormalDot = p.MinimumNormalDot;
   this->Rules = CollapsibleOptions();
+}
+
+// M0 and the empty hierarchy over it: every input point its own global vertex and ancestor,
+// every triangle a version born at 0.
+void CollapseHierarchy::Reset(const TriangleMesh& input)
+{
   this->Base = input;
-  if (p.RemoveCycles)
+  if (this->Parameters.RemoveCycles)
   {
     this->RemoveCyclesBySwapping(this->Base);
   }
@@ -815,9 +936,33 @@ bool CollapseHierarchy::Build(
   std::iota(this->EntryTriangle.begin(), this->EntryTriangle.end(), 0);
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
+  this->ResetRecords();
+  this->VertexMark.assign(np, 0);
+  this->MarkEpoch = 0;
+  this->VertexChanged.assign(np, 0);
+  this->CachedDegree.assign(np, 0);
+  this->CachedDegreeStamp.assign(np, -1);
+  this->BlockedStrict.assign(nt, -1);
+  this->BlockedRelaxed.assign(nt, -1);
+  this->BlockedEdge.assign(nt, -1);
+  this->EdgeCollapseCount = 0;
+  // Border flags, computed once (EditableMesh::IsBoundaryVertex was a fifth of the build when
+  // asked at every check): collapses keep the topology, so a merged vertex is on the border
+  // exactly when one of its vertices was, and swaps only turn interior edges.
+  this->OnBorder.resize(np);
+  for (Index v = 0; v < np; ++v)
+  {
+    this->OnBorder[v] = this->Mesh.IsBoundaryVertex(v) ? 1 : 0;
+  }
+  this->MeshOptions.BoundaryVertices = this->OnBorder.data();
+  this->ChangeCounter = 0;
+}
+
+void CollapseHierarchy::ResetRecords()
+{
   this->Collapses.clear();
   this->LevelStarts.assign(1, 0);
-  this->TriangleCounts.assign(1, nt);
+  this->TriangleCounts.assign(1, this->Base.NumberOfTriangles());
   this->RecordKept.clear();
   this->RecordVertices.clear();
   this->RecordOldPositions.clear();
@@ -829,27 +974,13 @@ bool CollapseHierarchy::Build(
   this->RecordChangedStart.assign(1, 0);
   this->Flips.clear();
   this->FlipStamp.clear();
-  this->VertexMark.assign(np, 0);
-  this->MarkEpoch = 0;
-  this->VertexChanged.assign(np, 0);
-  this->CachedDegree.assign(np, 0);
-  this->CachedDegreeStamp.assign(np, -1);
-  this->BlockedStrict.assign(nt, -1);
-  this->BlockedRelaxed.assign(nt, -1);
-  this->BlockedEdge.assign(nt, -1);
-  this->EdgeCollapseCount = 0;
-  // Collapses never open a closed mesh: without boundary edges at the start, none appear.
-  this->HasBoundary = false;
-  for (Index v = 0; v < np && !this->HasBoundary; ++v)
-  {
-    this->HasBoundary = this->Mesh.IsBoundaryVertex(v);
-  }
-  this->ChangeCounter = 0;
-  if (nt == 0)
-  {
-    return true;
-  }
+}
 
+// Per vertex: the area-weighted planes of its input triangles (only when the error or the edge
+// collapses need them). Also a first mean area (the vertex error term of the evaluation uses it).
+void CollapseHierarchy::InitializeQuadrics()
+{
+  const Index nt = this->Base.NumberOfTriangles();
   double meanAreaGuess = 0;
   for (Index t = 0; t < nt; ++t)
   {
@@ -857,26 +988,31 @@ bool CollapseHierarchy::Build(
   }
   this->MeanArea = meanAreaGuess > 0 ? meanAreaGuess : 1.0;
   this->Quadrics.clear();
-  if (p.ErrorWeight > 0 || p.EdgeCollapses != CollapseHierarchyParameters::EdgeFallback::Off)
+  if (this->Parameters.ErrorWeight <= 0 && this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Off)
   {
-    this->Quadrics.assign(np, Quadric());
-    for (Index t = 0; t < nt; ++t)
+    return;
+  }
+  this->Quadrics.assign(this->Base.NumberOfPoints(), Quadric());
+  for (Index t = 0; t < nt; ++t)
+  {
+    const Index* tri = this->Base.Triangle(t);
+    const Vec3 areaVector = this->Base.TriangleAreaVector(t);
+    const double area = 0.5 * Norm(areaVector);
+    if (area > 0)
     {
-      const Index* tri = this->Base.Triangle(t);
-      const Vec3 a = this->Base.Point(tri[0]);
-      const Vec3 areaVector = this->Base.TriangleAreaVector(t);
-      const double area = 0.5 * Norm(areaVector);
-      if (area > 0)
+      const Quadric q = Quadric::FromPointNormal(this->Base.Point(tri[0]), Normalized(areaVector), area);
+      for (int k = 0; k < 3; ++k)
       {
-        const Quadric q = Quadric::FromPointNormal(a, Normalized(areaVector), area);
-        for (int k = 0; k < 3; ++k)
-        {
-          this->Quadrics[tri[k]] += q;
-        }
+        this->Quadrics[tri[k]] += q;
       }
     }
   }
-  // Initial evaluation; the curvature and valence normalisers come from M0.
+}
+
+// The initial evaluation of every triangle; the curvature and valence normalisers come from M0.
+bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
+{
+  const Index nt = this->Base.NumberOfTriangles();
   this->Evaluations.assign(nt, Evaluation());
   this->Weights.assign(nt, 0.0);
   double totalArea = 0, kappaMax = 0;
@@ -894,316 +1030,378 @@ bool CollapseHierarchy::Build(
   }
   this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
   this->KappaMax = kappaMax > 0 ? kappaMax : 1.0;
-  this->Mv = p.ValenceNormalizer > 0 ? p.ValenceNormalizer : std::max(1, valenceMax);
+  this->Mv = this->Parameters.ValenceNormalizer > 0 ? this->Parameters.ValenceNormalizer : std::max(1, valenceMax);
   for (Index t = 0; t < nt; ++t)
   {
     this->Weights[t] = this->WeightOf(this->Evaluations[t]);
   }
+  return true;
+}
 
-  CollapseOptions& meshOptions = this->MeshOptions;
-  std::vector<std::pair<double, Index>> candidates;
-  std::vector<Index> batch, affected, touched, ring;
-  // Per batch entry: -1 triangle collapse, else the edge (tri[k], tri[k+1]) collapsed to its point.
-  std::vector<int> batchEdge;
-  std::vector<Vec3> batchPoint;
-  bool edges = false; // edge collapses allowed for blocked triangles in this selection
-  std::vector<int> stencilMark(nt, -1);
-  std::vector<std::uint32_t> affectedMark(nt, 0);
-  std::uint32_t affectedEpoch = 0;
-  const double maxWeight = p.MaximumWeight > 0 ? p.MaximumWeight : std::numeric_limits<double>::infinity();
-
-  for (int level = 0; level + 1 < p.MaximumNumberOfLevels; ++level)
+// ---------------------------------------------------------------------------------------------
+// One level M_level -> M_level+1: select a batch (relaxing, swapping or allowing edge collapses
+// when blocked), collapse it, record the level, swap blocking edges and reweigh around the new
+// vertices. False when no collapse was possible (the hierarchy is complete).
+bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
+{
+  const CollapseHierarchyParameters& p = this->Parameters;
+  this->PlanLevel(state);
+  this->OrderCandidates(state);
+  this->SelectOrRelax(level, state);
+  if (state.Batch.empty() && p.SwapBlockingEdges && p.SwapMinimumNormalDotWhenBlocked < p.SwapMinimumNormalDot)
   {
-    const Index live = this->Mesh.NumberOfLiveTriangles();
-    if (live <= p.MinimumNumberOfTriangles)
+    this->SwapEverywhereAndRetry(level, state);
+  }
+  if (state.Batch.empty() && p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::WhenBlocked)
+  {
+    // Still blocked everywhere: edge collapses for this level.
+    state.Edges = true;
+    this->SelectBatch(level, state);
+  }
+  const Index levelStart = this->NumberOfCollapses();
+  this->CollapseBatch(level, state);
+  if (this->NumberOfCollapses() == levelStart)
+  {
+    return false;
+  }
+  this->LevelStarts.push_back(this->NumberOfCollapses());
+
+  // Recompute the weights of the triangles around the new vertices (and swapped edges).
+  state.Touched.clear();
+  for (Index k = levelStart; k < this->NumberOfCollapses(); ++k)
+  {
+    state.Touched.push_back(this->RecordKept[k]);
+  }
+  if (p.SwapBlockingEdges)
+  {
+    this->SwapAroundNewVertices(state);
+  }
+  this->ReweighAround(state.Touched, state);
+  vtkLogF(TRACE, "collapse hierarchy level %d: %lld collapses, %lld triangles left, %zu candidates, %zu re-evaluated",
+    level, static_cast<long long>(this->NumberOfCollapses() - levelStart),
+    static_cast<long long>(this->Mesh.NumberOfLiveTriangles()), state.Candidates.size(), state.Affected.size());
+  return true;
+}
+
+// The level's batch size, search depth and rules (the paper's, or with the stencil plane).
+void CollapseHierarchy::PlanLevel(LevelState& state)
+{
+  const CollapseHierarchyParameters& p = this->Parameters;
+  const Index live = this->Mesh.NumberOfLiveTriangles();
+  state.Wanted = std::max<Index>(1, static_cast<Index>(std::floor(p.BatchFraction * live)));
+  if (p.MinimumNumberOfTriangles > 0)
+  {
+    state.Wanted = std::min<Index>(state.Wanted, std::max<Index>(1, (live - p.MinimumNumberOfTriangles + 3) / 4));
+  }
+  this->Rules = CollapsibleOptions();
+  this->Rules.StencilPlaneFallback = p.StarShapedInStencilPlane;
+  // Search depth in the priority order (BatchSearchDepth x batch size; unlimited when 0).
+  state.Depth = p.BatchSearchDepth > 0 ? static_cast<size_t>(std::ceil(p.BatchSearchDepth * state.Wanted))
+                                       : std::numeric_limits<size_t>::max();
+  // Below a quarter of the batch the search goes on: levels must keep making progress.
+  state.MinimumBatch = std::max<Index>(1, state.Wanted / 4);
+}
+
+// Priority order of this level: live triangles by increasing weight (ties by id), unsorted yet.
+void CollapseHierarchy::OrderCandidates(LevelState& state) const
+{
+  state.Candidates.clear();
+  const Index nt = this->Base.NumberOfTriangles();
+  for (Index t = 0; t < nt; ++t)
+  {
+    if (this->Mesh.IsTriangleAlive(t) && this->Weights[t] <= state.MaximumWeight)
     {
-      break;
+      state.Candidates.emplace_back(this->Weights[t], t);
     }
-    // Priority order of this level: live triangles by increasing weight (ties by id).
-    auto order = [&]() {
-      candidates.clear();
-      for (Index t = 0; t < nt; ++t)
-      {
-        if (this->Mesh.IsTriangleAlive(t) && this->Weights[t] <= maxWeight)
-        {
-          candidates.emplace_back(this->Weights[t], t);
-        }
-      }
-    };
-    order();
-    Index wanted = std::max<Index>(1, static_cast<Index>(std::floor(p.BatchFraction * live)));
-    if (p.MinimumNumberOfTriangles > 0)
+  }
+}
+
+// The paper's rules first; when nothing passes them, the relaxed rules (RelaxWhenBlocked).
+void CollapseHierarchy::SelectOrRelax(int level, LevelState& state)
+{
+  state.Edges = this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
+  this->SelectBatch(level, state);
+  if (state.Batch.empty() && this->Parameters.RelaxWhenBlocked)
+  {
+    // The whole list is sorted by now (the first pass scanned it all).
+    this->Rules.AllowNewCycles = true;
+    this->Rules.StencilPlaneFallback = true;
+    this->SelectBatch(level, state);
+  }
+}
+
+// Blocked everywhere: swap the blocking edges of every vertex of valence 3 or 4 with a looser
+// flatness limit, reweigh around them and try the level again.
+void CollapseHierarchy::SwapEverywhereAndRetry(int level, LevelState& state)
+{
+  state.Touched.clear();
+  for (Index q = 0; q < this->Mesh.NumberOfPoints(); ++q)
+  {
+    if (this->Mesh.IsVertexAlive(q))
     {
-      wanted = std::min<Index>(wanted, std::max<Index>(1, (live - p.MinimumNumberOfTriangles + 3) / 4));
+      this->SwapAround(q, this->Parameters.SwapMinimumNormalDotWhenBlocked, state.Touched);
     }
-    CollapsibleOptions& rules = this->Rules;
-    rules = CollapsibleOptions();
-    rules.StencilPlaneFallback = p.StarShapedInStencilPlane;
-    // Search depth in the priority order (BatchSearchDepth x batch size; unlimited when 0).
-    const size_t depth = p.BatchSearchDepth > 0
-      ? static_cast<size_t>(std::ceil(p.BatchSearchDepth * wanted))
-      : std::numeric_limits<size_t>::max();
-    // Below a quarter of the batch the search goes on: levels must keep making progress.
-    const Index minimumBatch = std::max<Index>(1, wanted / 4);
-    auto select = [&]() {
-      batch.clear();
-      batchEdge.clear();
-      batchPoint.clear();
-      size_t sorted = 0;
-      // The batch is counted in triangle collapses: an edge collapse (two triangles removed
-      // instead of four) counts half, so a level removes the same share of the mesh.
-      Index removed = 0;
-      while (removed < 4 * wanted && sorted < candidates.size())
-      {
-        // Sort the next chunk of the priority order only (usually a few times the batch size).
-        const size_t chunk = std::min(candidates.size() - sorted, std::max<size_t>(8 * size_t(wanted), 1024));
-        if (!rules.AllowNewCycles)
-        {
-          std::nth_element(candidates.begin() + sorted, candidates.begin() + sorted + chunk - 1, candidates.end());
-          std::sort(candidates.begin() + sorted, candidates.begin() + sorted + chunk);
-        }
-        for (size_t i = sorted; i < sorted + chunk && removed < 4 * wanted; ++i)
-        {
-          if (i >= depth && removed >= 4 * minimumBatch)
-          {
-            sorted = candidates.size(); // deeper candidates would force expensive collapses
-            break;
-          }
-          const Index t = candidates[i].second;
-          // Stencils of one batch must be pairwise disjoint.
-          if (stencilMark[t] == level)
-          {
-            continue;
-          }
-          // A hub triangle can only collapse its edge away from the hubs: its region is that
-          // edge's, and nothing it does reads the hubs' stars.
-          const int hubs = this->HubMask(t);
-          if (hubs != 0 && !edges)
-          {
-            continue;
-          }
-          bool free = true;
-          const Index* tri = this->Mesh.Triangle(t);
-          for (int k = 0; k < 3 && free; ++k)
-          {
-            if ((hubs >> k) & 1)
-            {
-              continue;
-            }
-            this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && stencilMark[x] != level; });
-          }
-          if (!free)
-          {
-            continue;
-          }
-          // Blocked before and nothing changed around it since: still blocked (the rules
-          // depend only on the stencil region, the collapse point only on T's vertices).
-          std::vector<Index>& blocked = rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
-          const Evaluation& e = this->Evaluations[t];
-          int edge = -1;
-          Vec3 point = e.Point;
-          auto tryTriangle = [&]() {
-            if (this->StillBlocked(t, blocked[t]))
-            {
-              return false;
-            }
-            if (e.PreferEdge)
-            {
-              // Ordered by its edge collapse: the triangle collapse only at its own cost.
-              Evaluation triangleEvaluation = e;
-              triangleEvaluation.PreferEdge = false;
-              const double weight = this->WeightOf(triangleEvaluation);
-              if (weight > candidates[i].first * (1 + 1e-9) + 1e-300)
-              {
-                this->Weights[t] = std::max(this->Weights[t], weight);
-                return false;
-              }
-            }
-            this->Stencils.Build(this->Mesh, t, this->Stencil);
-            if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &meshOptions, rules) ==
-                CollapsibleStatus::Ok &&
-              this->KeepsOrientation(t, e.Point))
-            {
-              edge = -1;
-              point = e.Point;
-              return true;
-            }
-            blocked[t] = this->ChangeCounter;
-            return false;
-          };
-          // Its cheapest valid edge collapse, when allowed.
-          auto tryEdge = [&]() {
-            if (!edges || this->StillBlocked(t, this->BlockedEdge[t], hubs))
-            {
-              return false;
-            }
-            double error = 0;
-            if (this->FindEdgeCollapse(t, edge, point, error))
-            {
-              // Taken at its own cost: when it is dearer than the triangle's place in the
-              // order, the triangle is put back with that cost (next level's order).
-              Evaluation edgeEvaluation = e;
-              edgeEvaluation.PreferEdge = false;
-              edgeEvaluation.Error = error;
-              const double weight = this->WeightOf(edgeEvaluation);
-              if (weight <= candidates[i].first * (1 + 1e-9) + 1e-300)
-              {
-                return true;
-              }
-              this->Weights[t] = weight;
-              return false;
-            }
-            this->BlockedEdge[t] = this->ChangeCounter;
-            return false;
-          };
-          const bool found = hubs != 0 ? tryEdge()
-                                       : (e.PreferEdge && edges ? (tryEdge() || tryTriangle()) : (tryTriangle() || tryEdge()));
-          if (!found)
-          {
-            continue;
-          }
-          // Mark the region (the stencil; for an edge, the triangles around its two vertices).
-          const Index* vertices = this->Mesh.Triangle(t);
-          for (int k = 0; k < 3; ++k)
-          {
-            if (edge < 0 || k == edge || k == (edge + 1) % 3)
-            {
-              this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { stencilMark[x] = level; });
-            }
-          }
-          batch.push_back(t);
-          removed += edge < 0 ? 4 : 2;
-          batchEdge.push_back(edge);
-          batchPoint.push_back(point);
-        }
-        sorted = std::min(candidates.size(), sorted + chunk);
-      }
-    };
-    // Each triangle around the given vertices is evaluated and weighed again, once.
-    auto reweighAround = [&](const std::vector<Index>& vertices) {
-      ++affectedEpoch;
-      affected.clear();
-      for (Index v : vertices)
-      {
-        this->Mesh.ForEachTriangle(v, [&](Index x) {
-          if (affectedMark[x] != affectedEpoch)
-          {
-            affectedMark[x] = affectedEpoch;
-            affected.push_back(x);
-          }
-        });
-      }
-      for (Index x : affected)
-      {
-        this->Evaluate(x, this->Evaluations[x]);
-        this->Weights[x] = this->WeightOf(this->Evaluations[x]);
-      }
-    };
-    auto selectOrRelax = [&]() {
-      edges = p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
-      select();
-      if (batch.empty() && p.RelaxWhenBlocked)
-      {
-        // The whole list is sorted by now (the first pass scanned it all).
-        rules.AllowNewCycles = true;
-        rules.StencilPlaneFallback = true;
-        select();
-      }
-    };
-    selectOrRelax();
-    if (batch.empty() && p.SwapBlockingEdges && p.SwapMinimumNormalDotWhenBlocked < p.SwapMinimumNormalDot)
+  }
+  if (state.Touched.empty())
+  {
+    return;
+  }
+  this->ReweighAround(state.Touched, state);
+  this->Rules = CollapsibleOptions();
+  this->Rules.StencilPlaneFallback = this->Parameters.StarShapedInStencilPlane;
+  this->OrderCandidates(state);
+  this->SelectOrRelax(level, state);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Independent batch (section 6): candidates in increasing weight, each taken when its collapse is
+// allowed and its region is disjoint from the regions taken before, until the batch is full (in
+// triangle collapses; an edge collapse removes two triangles instead of four and counts half).
+// The priority order is sorted chunk by chunk: a batch usually needs a few times its size.
+void CollapseHierarchy::SelectBatch(int level, LevelState& state)
+{
+  state.Batch.clear();
+  state.BatchEdge.clear();
+  state.BatchPoint.clear();
+  std::vector<std::pair<double, Index>>& candidates = state.Candidates;
+  const Index full = 4 * state.Wanted;
+  size_t sorted = 0;
+  Index removed = 0;
+  while (removed < full && sorted < candidates.size())
+  {
+    const size_t chunk = std::min(candidates.size() - sorted, std::max<size_t>(8 * size_t(state.Wanted), 1024));
+    if (!this->Rules.AllowNewCycles)
     {
-      // Blocked everywhere: swap the blocking edges of every vertex of valence 3 or 4 with a
-      // looser flatness limit, reweigh around them and try the level again.
-      touched.clear();
-      for (Index q = 0; q < this->Mesh.NumberOfPoints(); ++q)
-      {
-        if (this->Mesh.IsVertexAlive(q))
-        {
-          this->SwapAround(q, p.SwapMinimumNormalDotWhenBlocked, touched);
-        }
-      }
-      if (!touched.empty())
-      {
-        reweighAround(touched);
-        rules = CollapsibleOptions();
-        rules.StencilPlaneFallback = p.StarShapedInStencilPlane;
-        order();
-        selectOrRelax();
-      }
+      std::nth_element(candidates.begin() + sorted, candidates.begin() + sorted + chunk - 1, candidates.end());
+      std::sort(candidates.begin() + sorted, candidates.begin() + sorted + chunk);
     }
-    if (batch.empty() && p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::WhenBlocked)
+    for (size_t i = sorted; i < sorted + chunk && removed < full; ++i)
     {
-      // Still blocked everywhere: edge collapses for this level.
-      edges = true;
-      select();
-    }
-    // Collapse the batch. Earlier collapses of the batch can only have changed valences on the
-    // shared stencil boundaries, so rule (2) is checked again.
-    const Index levelStart = this->NumberOfCollapses();
-    for (size_t b = 0; b < batch.size(); ++b)
-    {
-      const Index t = batch[b];
-      const Index* tri = this->Mesh.Triangle(t);
-      if (batchEdge[b] >= 0)
+      if (i >= state.Depth && removed >= 4 * state.MinimumBatch)
       {
-        // Regions are disjoint, so nothing around the edge moved; checked again all the same.
-        const Index vertices[2] = { tri[batchEdge[b]], tri[(batchEdge[b] + 1) % 3] };
-        if (this->Mesh.CheckCollapse(vertices, 2, batchPoint[b], meshOptions) == CollapseStatus::Ok)
-        {
-          this->ApplyCollapse(t, vertices, 2, batchPoint[b], level);
-        }
-        continue;
+        sorted = candidates.size(); // deeper candidates would force expensive collapses
+        break;
       }
-      this->Stencils.Build(this->Mesh, t, this->Stencil);
-      bool cycle = false;
-      for (Index q : this->Stencil.OppositeVertices)
-      {
-        cycle = cycle || (!rules.AllowNewCycles && this->Degree(q) == 4);
-      }
-      if (cycle)
+      const Index t = candidates[i].second;
+      int edge = -1;
+      Vec3 point;
+      if (!this->RegionIsFree(t, level, state) || !this->ChooseCollapse(t, candidates[i].first, state.Edges, edge, point))
       {
         continue;
       }
+      this->MarkRegion(t, edge, level, state);
+      state.Batch.push_back(t);
+      state.BatchEdge.push_back(edge);
+      state.BatchPoint.push_back(point);
+      removed += edge < 0 ? 4 : 2;
+    }
+    sorted = std::min(candidates.size(), sorted + chunk);
+  }
+}
+
+// No triangle of t's region is in the region of a collapse taken for this level. A hub triangle
+// can only collapse its edge away from the hubs: its region is that edge's, and nothing it does
+// reads the hubs' stars (without edge collapses it is no candidate).
+bool CollapseHierarchy::RegionIsFree(Index t, int level, const LevelState& state) const
+{
+  if (state.RegionLevel[t] == level)
+  {
+    return false;
+  }
+  const int hubs = this->HubMask(t);
+  if (hubs != 0 && !state.Edges)
+  {
+    return false;
+  }
+  bool free = true;
+  const Index* tri = this->Mesh.Triangle(t);
+  for (int k = 0; k < 3 && free; ++k)
+  {
+    if (!((hubs >> k) & 1))
+    {
+      this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && state.RegionLevel[x] != level; });
+    }
+  }
+  return free;
+}
+
+// The region of the collapse (the stencil; for an edge, the triangles around its two vertices).
+void CollapseHierarchy::MarkRegion(Index t, int edge, int level, LevelState& state) const
+{
+  const Index* vertices = this->Mesh.Triangle(t);
+  for (int k = 0; k < 3; ++k)
+  {
+    if (edge < 0 || k == edge || k == (edge + 1) % 3)
+    {
+      this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { state.RegionLevel[x] = level; });
+    }
+  }
+}
+
+// The collapse triangle t takes at its place (weight) in the priority order: its triangle
+// collapse, or (edges allowed) its cheapest valid edge collapse; a hub triangle only the latter,
+// a triangle ordered by its edge collapse that first. Sets edge (-1: triangle) and point.
+bool CollapseHierarchy::ChooseCollapse(Index t, double orderWeight, bool edges, int& edge, Vec3& point)
+{
+  const int hubs = this->HubMask(t);
+  auto triangle = [&]() {
+    if (!this->TriangleCollapseAllowed(t, orderWeight))
+    {
+      return false;
+    }
+    edge = -1;
+    point = this->Evaluations[t].Point;
+    return true;
+  };
+  auto edgeCollapse = [&]() { return edges && this->EdgeCollapseAllowed(t, orderWeight, hubs, edge, point); };
+  if (hubs != 0)
+  {
+    return edgeCollapse();
+  }
+  return this->Evaluations[t].PreferEdge && edges ? (edgeCollapse() || triangle()) : (triangle() || edgeCollapse());
+}
+
+// Rules (1)-(3), the mesh check and the orientation test for t's triangle collapse. Blocked
+// before and nothing changed around it since: still blocked (the rules depend only on the stencil
+// region, the collapse point only on T's vertices).
+bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
+{
+  std::vector<Index>& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
+  const Evaluation& e = this->Evaluations[t];
+  if (this->StillBlocked(t, blocked[t]))
+  {
+    return false;
+  }
+  if (e.PreferEdge)
+  {
+    // Ordered by its edge collapse: the triangle collapse only at its own cost.
+    Evaluation triangleEvaluation = e;
+    triangleEvaluation.PreferEdge = false;
+    const double weight = this->WeightOf(triangleEvaluation);
+    if (weight > orderWeight * (1 + 1e-9) + 1e-300)
+    {
+      this->Weights[t] = std::max(this->Weights[t], weight);
+      return false;
+    }
+  }
+  this->Stencils.Build(this->Mesh, t, this->Stencil);
+  if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &this->MeshOptions, this->Rules) ==
+      CollapsibleStatus::Ok &&
+    this->KeepsOrientation(t, e.Point))
+  {
+    return true;
+  }
+  blocked[t] = this->ChangeCounter;
+  return false;
+}
+
+// t's cheapest valid edge collapse, taken at its own cost: when it is dearer than the triangle's
+// place in the order, the triangle is put back with that cost (next level's order).
+bool CollapseHierarchy::EdgeCollapseAllowed(Index t, double orderWeight, int hubs, int& edge, Vec3& point)
+{
+  if (this->StillBlocked(t, this->BlockedEdge[t], hubs))
+  {
+    return false;
+  }
+  double error = 0;
+  if (!this->FindEdgeCollapse(t, edge, point, error))
+  {
+    this->BlockedEdge[t] = this->ChangeCounter;
+    return false;
+  }
+  Evaluation edgeEvaluation = this->Evaluations[t];
+  edgeEvaluation.PreferEdge = false;
+  edgeEvaluation.Error = error;
+  const double weight = this->WeightOf(edgeEvaluation);
+  if (weight <= orderWeight * (1 + 1e-9) + 1e-300)
+  {
+    return true;
+  }
+  this->Weights[t] = weight;
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The batch's collapses. Earlier collapses of the batch can only have changed valences on the
+// shared stencil boundaries, so rule (2) is checked again.
+void CollapseHierarchy::CollapseBatch(int level, const LevelState& state)
+{
+  for (size_t b = 0; b < state.Batch.size(); ++b)
+  {
+    const Index t = state.Batch[b];
+    const Index* tri = this->Mesh.Triangle(t);
+    const int edge = state.BatchEdge[b];
+    if (edge >= 0)
+    {
+      // Regions are disjoint, so nothing around the edge moved; checked again all the same.
+      const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
+      if (this->Mesh.CheckCollapse(vertices, 2, state.BatchPoint[b], this->MeshOptions) == CollapseStatus::Ok)
+      {
+        this->ApplyCollapse(t, vertices, 2, state.BatchPoint[b], level);
+      }
+      continue;
+    }
+    if (!this->CreatesCycle(t))
+    {
       const Index vertices[3] = { tri[0], tri[1], tri[2] };
       this->ApplyCollapse(t, vertices, 3, this->Evaluations[t].Point, level);
     }
-    if (this->NumberOfCollapses() == levelStart)
-    {
-      break;
-    }
-    this->LevelStarts.push_back(this->NumberOfCollapses());
+  }
+}
 
-    // Recompute the weights of the triangles around the new vertices (and swapped edges).
-    touched.clear();
-    for (Index k = levelStart; k < this->NumberOfCollapses(); ++k)
+// Rule (2) under the level's rules: an opposite vertex of T's edge neighbours has valence four.
+bool CollapseHierarchy::CreatesCycle(Index t)
+{
+  if (this->Rules.AllowNewCycles)
+  {
+    return false;
+  }
+  this->Stencils.Build(this->Mesh, t, this->Stencil);
+  for (Index q : this->Stencil.OppositeVertices)
+  {
+    if (this->Degree(q) == 4)
     {
-      touched.push_back(this->RecordKept[k]);
-    }
-    if (p.SwapBlockingEdges)
-    {
-      // The valences changed on the batch's stencil boundaries: the neighbours of the new vertices.
-      const size_t kept = touched.size();
-      for (size_t i = 0; i < kept; ++i)
-      {
-        this->Mesh.Neighbors(touched[i], ring);
-        for (Index q : ring)
-        {
-          this->SwapAround(q, p.SwapMinimumNormalDot, touched);
-        }
-      }
-    }
-    reweighAround(touched);
-    if (progress)
-    {
-      const double done = double(nt - this->Mesh.NumberOfLiveTriangles()) / (0.95 * nt);
-      if (!progress(0.1 + 0.9 * std::min(1.0, done)))
-      {
-        return false;
-      }
+      return true;
     }
   }
-  return true;
+  return false;
+}
+
+// The valences changed on the batch's stencil boundaries: swap around the neighbours of the new
+// vertices (state.Touched), adding the swapped edges' vertices to it.
+void CollapseHierarchy::SwapAroundNewVertices(LevelState& state)
+{
+  const size_t kept = state.Touched.size();
+  for (size_t i = 0; i < kept; ++i)
+  {
+    this->Mesh.Neighbors(state.Touched[i], state.Ring);
+    for (Index q : state.Ring)
+    {
+      this->SwapAround(q, this->Parameters.SwapMinimumNormalDot, state.Touched);
+    }
+  }
+}
+
+// Each triangle around the given vertices is evaluated and weighed again, once.
+void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelState& state)
+{
+  ++state.AffectedEpoch;
+  state.Affected.clear();
+  for (Index v : vertices)
+  {
+    this->Mesh.ForEachTriangle(v, [&](Index x) {
+      if (state.AffectedMark[x] != state.AffectedEpoch)
+      {
+        state.AffectedMark[x] = state.AffectedEpoch;
+        state.Affected.push_back(x);
+      }
+    });
+  }
+  for (Index x : state.Affected)
+  {
+    this->Evaluate(x, this->Evaluations[x]);
+    this->Weights[x] = this->WeightOf(this->Evaluations[x]);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-// SurfaceLOD core: smooth hierarchical surface triangulations by triangle collapse
+// SurfaceLOD algorithm CollapseHierarchy: smooth hierarchical surface triangulations by triangle collapse
 // (Gieng, Hamann, Joy, Schussman, Trotts, IEEE Visualization 1997).
 //
 // Build() reduces a closed or open manifold triangle mesh M0 by batches of triangle collapses:
@@ -110,6 +110,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
   Index MinimumNumberOfTriangles = 0;
+  // Stop once a level has at most this many triangles, with the batches unchanged (unlike
+  // MinimumNumberOfTriangles, which shrinks the last batches to land on it): the levels built are
+  // those of the whole hierarchy, so a cut at this count is the same. 0: no stop.
+  Index StopAtTriangles = 0;
   // Flip guard of the collapse (EditableMesh::CheckCollapse MinimumNormalDot).
   double MinimumNormalDot = 0.2;
 };
@@ -202,7 +206,42 @@ private:
     int Valence = 6;
     Vec3 Point{ 0, 0, 0 }, Normal{ 0, 0, 1 };
   };
+  struct LevelState; // the batch selection's data over one Build (in the .cxx)
+
+  // Build's stages: set up M0, weigh every triangle, then reduce level by level.
+  void SetParameters(const CollapseHierarchyParameters& parameters);
+  void Reset(const TriangleMesh& input);
+  void ResetRecords();
+  void InitializeQuadrics();
+  bool EvaluateAllTriangles(const ProgressFunction& progress);
+  bool ReduceLevel(int level, LevelState& state);
+  void PlanLevel(LevelState& state);
+  void OrderCandidates(LevelState& state) const;
+  void SelectOrRelax(int level, LevelState& state);
+  void SwapEverywhereAndRetry(int level, LevelState& state);
+  void SelectBatch(int level, LevelState& state);
+  bool RegionIsFree(Index t, int level, const LevelState& state) const;
+  void MarkRegion(Index t, int edge, int level, LevelState& state) const;
+  bool ChooseCollapse(Index t, double orderWeight, bool edges, int& edge, Vec3& point);
+  bool TriangleCollapseAllowed(Index t, double orderWeight);
+  bool EdgeCollapseAllowed(Index t, double orderWeight, int hubs, int& edge, Vec3& point);
+  void CollapseBatch(int level, const LevelState& state);
+  bool CreatesCycle(Index t);
+  void SwapAroundNewVertices(LevelState& state);
+  void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
+
+  // Evaluate's stages: the weight terms of one triangle and its collapse point.
   void Evaluate(Index t, Evaluation& e);
+  int CollapsePointValence(const Index* tri) const;
+  void EvaluateHubTriangle(const Index* tri, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const;
+  Vec3 StencilAreaVector(const Index* tri) const;
+  void GatherStencilVertices(const Index* tri);
+  void AddUnmarkedVertices(Index triangle);
+  void AddAncestorPoints(Index v, const LocalFrame& frame, Index stride, Index& counter);
+  Vec3 FitStencil(const Index* tri, const LocalFrame& frame, double& kappa);
+  bool QuadricPointNearCentroid(const Index* tri, const Quadric& q, const Vec3& centroid, Vec3& point) const;
+  bool StarShapedAround(const Index* tri, const Vec3& point, const Vec3& normal) const;
+  void CheapestUnfoldedPoint(const Index* tri, const Quadric& q, const Vec3& normal, Vec3& point) const;
   double WeightOf(const Evaluation& e) const;
   double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
@@ -258,7 +297,8 @@ private:
   // relaxed); -1: not known to be blocked.
   std::vector<Index> VertexChanged, BlockedStrict, BlockedRelaxed, BlockedEdge;
   Index EdgeCollapseCount = 0;
-  bool HasBoundary = true;
+  // Per editable vertex: on a border of the mesh (MeshOptions.BoundaryVertices points here).
+  std::vector<unsigned char> OnBorder;
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
   // The stars of the vertices of t not in skipMask (bit k: tri[k]) are unchanged since stamp.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 
 namespace slod
 {
@@ -41,28 +42,21 @@ inline int SharedVertices(const Index* a, const Index* b)
   }
   return n;
 }
-} // namespace
 
-void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s)
+// The other triangles around T's vertices (first seen first), and the ones sharing an edge with T
+// with their vertex not in T.
+void GatherStencil(const EditableMesh& mesh, TriangleStencil& s)
 {
-  s.Clear();
-  s.Triangle = t;
-  if (!mesh.IsTriangleAlive(t))
-  {
-    return;
-  }
-  const Index* tri = mesh.Triangle(t);
-  std::copy(tri, tri + 3, s.Vertices);
+  const Index* tri = s.Vertices;
   for (int k = 0; k < 3; ++k)
   {
     mesh.ForEachTriangle(tri[k], [&](Index x) {
-      if (x != t && std::find(s.Triangles.begin(), s.Triangles.end(), x) == s.Triangles.end())
+      if (x != s.Triangle && std::find(s.Triangles.begin(), s.Triangles.end(), x) == s.Triangles.end())
       {
         s.Triangles.push_back(x);
       }
     });
   }
-  const size_t n = s.Triangles.size();
   for (Index x : s.Triangles)
   {
     const Index* q = mesh.Triangle(x);
@@ -78,16 +72,42 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
       }
     }
   }
+}
+} // namespace
+
+// The stencil of t (gathered, its edge neighbours and their opposite vertices) and its
+// classification: connected, cyclic, complete.
+void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s)
+{
+  s.Clear();
+  s.Triangle = t;
+  if (!mesh.IsTriangleAlive(t))
+  {
+    return;
+  }
+  const Index* tri = mesh.Triangle(t);
+  std::copy(tri, tri + 3, s.Vertices);
+  GatherStencil(mesh, s);
+  const size_t n = s.Triangles.size();
   if (n == 0 || n > 64)
   {
     // Isolated triangle, or a neighbourhood too irregular to collapse (valence > ~60).
     return;
   }
+  this->MatchRegionEdges(mesh, s);
+  this->ClassifyAdjacency(s);
+  bool touchesT = false;
+  const bool simple = this->TraceBoundaryPolygon(s, touchesT);
+  s.Complete = s.Connected && !s.Cyclic && simple && !touchesT;
+}
 
-  // Directed edges of the region S u {T} (T's first), grouped by undirected edge by one sort:
-  // two triangles are edge neighbours when they share an undirected edge (sharing two vertices is
-  // sharing that edge), and a directed edge is on the region's boundary when its reverse is not in
-  // the region. Sorting keeps this O(m log m) where the pairwise loops were O(m^2).
+// Directed edges of the region S u {T} (T's first), grouped by undirected edge by one sort: two
+// triangles are edge neighbours when they share an undirected edge (sharing two vertices is
+// sharing that edge), and a directed edge is on the region's boundary when its reverse is not in
+// the region. Sorting keeps this O(m log m) where the pairwise loops were O(m^2). Fills EdgeFrom,
+// EdgeTo, EdgeBoundary and the stencil triangles' Adjacency bit masks.
+void StencilBuilder::MatchRegionEdges(const EditableMesh& mesh, const TriangleStencil& s)
+{
   this->EdgeFrom.clear();
   this->EdgeTo.clear();
   auto addEdges = [&](Index x) {
@@ -98,7 +118,7 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
       this->EdgeTo.push_back(q[(k + 1) % 3]);
     }
   };
-  addEdges(t);
+  addEdges(s.Triangle);
   for (Index x : s.Triangles)
   {
     addEdges(x);
@@ -113,7 +133,7 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
   }
   std::sort(this->EdgeKeys.begin(), this->EdgeKeys.end());
   this->EdgeBoundary.assign(m, 1);
-  this->Adjacency.assign(n, 0ull);
+  this->Adjacency.assign(s.Triangles.size(), 0ull);
   for (size_t g = 0; g < m;)
   {
     size_t h = g + 1;
@@ -125,26 +145,36 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
     {
       for (size_t j = i + 1; j < h; ++j)
       {
-        const size_t ei = this->EdgeKeys[i].second, ej = this->EdgeKeys[j].second;
-        if (this->EdgeFrom[ei] == this->EdgeTo[ej] && this->EdgeTo[ei] == this->EdgeFrom[ej])
-        {
-          this->EdgeBoundary[ei] = this->EdgeBoundary[ej] = 0;
-        }
-        // Stencil triangle indices (edge / 3 - 1; T is 0).
-        const size_t ti = ei / 3, tj = ej / 3;
-        if (ti > 0 && tj > 0 && ti != tj)
-        {
-          this->Adjacency[ti - 1] |= 1ull << (tj - 1);
-          this->Adjacency[tj - 1] |= 1ull << (ti - 1);
-        }
+        this->MatchEdgePair(this->EdgeKeys[i].second, this->EdgeKeys[j].second);
       }
     }
     g = h;
   }
+}
 
-  // Connectivity and 3-cycles on the adjacency bit masks.
+// Two directed edges on one undirected edge: opposite directions are interior to the region; two
+// different stencil triangles on it are edge neighbours.
+void StencilBuilder::MatchEdgePair(size_t ei, size_t ej)
+{
+  if (this->EdgeFrom[ei] == this->EdgeTo[ej] && this->EdgeTo[ei] == this->EdgeFrom[ej])
+  {
+    this->EdgeBoundary[ei] = this->EdgeBoundary[ej] = 0;
+  }
+  // Stencil triangle indices (edge / 3 - 1; T is 0).
+  const size_t ti = ei / 3, tj = ej / 3;
+  if (ti > 0 && tj > 0 && ti != tj)
+  {
+    this->Adjacency[ti - 1] |= 1ull << (tj - 1);
+    this->Adjacency[tj - 1] |= 1ull << (ti - 1);
+  }
+}
+
+// Connectivity and 3-cycles on the adjacency bit masks (at most 64 stencil triangles).
+void StencilBuilder::ClassifyAdjacency(TriangleStencil& s) const
+{
+  const size_t n = s.Triangles.size();
   unsigned long long reached = 1ull, frontier = 1ull;
-  while (frontier)
+  while (frontier) // each round adds a triangle at least: at most n rounds
   {
     unsigned long long next = 0;
     for (size_t i = 0; i < n; ++i)
@@ -170,9 +200,16 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
       }
     }
   }
+}
 
+// The region's boundary as one simple loop into s.BoundaryPolygon (emptied when it is not one);
+// touchesT: a boundary edge has an end at a vertex of T.
+bool StencilBuilder::TraceBoundaryPolygon(TriangleStencil& s, bool& touchesT)
+{
   // Boundary edges sorted by their start vertex: one loop needs exactly one leaving each vertex.
-  bool touchesT = false;
+  const Index* tri = s.Vertices;
+  const size_t m = this->EdgeFrom.size();
+  touchesT = false;
   this->Outgoing.clear();
   for (size_t i = 0; i < m; ++i)
   {
@@ -188,7 +225,7 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
   const size_t boundaryCount = this->Outgoing.size();
   if (boundaryCount < 3)
   {
-    return; // closed region (the whole component) or degenerate
+    return false; // closed region (the whole component) or degenerate
   }
   std::sort(this->Outgoing.begin(), this->Outgoing.end());
   bool simple = true;
@@ -207,7 +244,7 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
   for (size_t step = 0; step < boundaryCount && simple; ++step)
   {
     s.BoundaryPolygon.push_back(v);
-    const auto it = std::lower_bound(this->Outgoing.begin(), this->Outgoing.end(), std::make_pair(v, Index(-2147483647 - 1)));
+    const auto it = std::lower_bound(this->Outgoing.begin(), this->Outgoing.end(), std::make_pair(v, std::numeric_limits<Index>::min()));
     if (it == this->Outgoing.end() || it->first != v)
     {
       simple = false;
@@ -224,7 +261,7 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
   {
     s.BoundaryPolygon.clear();
   }
-  s.Complete = s.Connected && !s.Cyclic && simple && !touchesT;
+  return simple;
 }
 
 CollapsibleStatus StencilBuilder::CheckCollapsible(const EditableMesh& mesh, const TriangleStencil& s,

@@ -1,4 +1,4 @@
-// SurfaceLOD shared core: stencils of triangles and the triangle-collapse rules of
+// SurfaceLOD algorithm CollapseHierarchy: stencils of triangles and the triangle-collapse rules of
 // Gieng, Hamann, Joy, Schussman, Trotts, "Smooth hierarchical surface triangulations" (1997).
 //
 // The stencil S_T of a triangle T is the set of the other triangles sharing a vertex with T.
@@ -70,6 +70,12 @@ public:
     const CollapsibleOptions& options = CollapsibleOptions());
 
 private:
+  // Build's stages over the region S u {T}.
+  void MatchRegionEdges(const EditableMesh& mesh, const TriangleStencil& stencil);
+  void MatchEdgePair(size_t ei, size_t ej);
+  void ClassifyAdjacency(TriangleStencil& stencil) const;
+  bool TraceBoundaryPolygon(TriangleStencil& stencil, bool& touchesT);
+
   std::vector<Index> EdgeFrom, EdgeTo;
   std::vector<unsigned char> EdgeBoundary;
   std::vector<unsigned long long> Adjacency;

@@ -61,6 +61,18 @@ struct vtkTriangleCollapseHierarchy::Internals
   // Hierarchy mesh -> polydata with cell arrays and interpolated point data.
   void ToPolyData(const slod::HierarchyMesh& m, double shownLevel, vtkPolyData* out)
   {
+    out->Initialize();
+    this->SetPointsAndTriangles(m, out);
+    AddCellArrays(m, shownLevel, out);
+    if (!this->Attributes.Empty())
+    {
+      this->AddPointData(m, out->GetPointData());
+    }
+  }
+
+  // Points in the input's precision; one triangle per 3 ids.
+  void SetPointsAndTriangles(const slod::HierarchyMesh& m, vtkPolyData* out) const
+  {
     const vtkIdType np = static_cast<vtkIdType>(m.PointGlobal.size());
     const vtkIdType nt = static_cast<vtkIdType>(m.Triangles.size() / 3);
     vtkNew<vtkPoints> points;
@@ -94,10 +106,14 @@ struct vtkTriangleCollapseHierarchy::Internals
     }
     vtkNew<vtkCellArray> polys;
     polys->SetData(offsets, connectivity);
-    out->Initialize();
     out->SetPoints(points);
     out->SetPolys(polys);
+  }
 
+  // Per triangle its collapse level, batch and role; the level shown as field data.
+  static void AddCellArrays(const slod::HierarchyMesh& m, double shownLevel, vtkPolyData* out)
+  {
+    const vtkIdType nt = static_cast<vtkIdType>(m.Triangles.size() / 3);
     vtkNew<vtkIntArray> level;
     level->SetName("CollapseLevel");
     level->SetNumberOfValues(nt);
@@ -122,52 +138,192 @@ struct vtkTriangleCollapseHierarchy::Internals
     shown->SetNumberOfValues(1);
     shown->SetValue(0, shownLevel);
     out->GetFieldData()->AddArray(shown);
+  }
 
-    if (!this->Attributes.Empty())
+  // Rows of the points, then the rows of the blend targets, interpolated and cut off.
+  void AddPointData(const slod::HierarchyMesh& m, vtkPointData* pd)
+  {
+    const vtkIdType np = static_cast<vtkIdType>(m.PointGlobal.size());
+    this->Rows.assign(m.PointGlobal.begin(), m.PointGlobal.end());
+    const bool blending = m.BlendT > 0;
+    if (blending)
     {
-      // Rows of the points, then the rows of the blend targets, interpolated and cut off.
-      this->Rows.assign(m.PointGlobal.begin(), m.PointGlobal.end());
-      const bool blending = m.BlendT > 0;
-      if (blending)
+      for (vtkIdType i = 0; i < np; ++i)
       {
-        for (vtkIdType i = 0; i < np; ++i)
+        if (m.PointTarget[i] != slod::InvalidIndex)
         {
-          if (m.PointTarget[i] != slod::InvalidIndex)
-          {
-            this->Rows.push_back(m.PointTarget[i]);
-          }
-        }
-      }
-      vtkPointData* pd = out->GetPointData();
-      this->Attributes.Store(pd, this->Rows);
-      if (blending && static_cast<vtkIdType>(this->Rows.size()) > np)
-      {
-        vtkIdType extra = np;
-        for (vtkIdType i = 0; i < np; ++i)
-        {
-          if (m.PointTarget[i] == slod::InvalidIndex)
-          {
-            continue;
-          }
-          for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
-          {
-            vtkDataArray* array = pd->GetArray(a);
-            if (array)
-            {
-              array->InterpolateTuple(i, i, array, extra, array, m.BlendT);
-            }
-          }
-          ++extra;
-        }
-        for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
-        {
-          if (vtkAbstractArray* array = pd->GetAbstractArray(a))
-          {
-            array->SetNumberOfTuples(np);
-          }
+          this->Rows.push_back(m.PointTarget[i]);
         }
       }
     }
+    this->Attributes.Store(pd, this->Rows);
+    if (!blending || static_cast<vtkIdType>(this->Rows.size()) <= np)
+    {
+      return;
+    }
+    vtkIdType extra = np;
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      if (m.PointTarget[i] == slod::InvalidIndex)
+      {
+        continue;
+      }
+      for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+      {
+        vtkDataArray* array = pd->GetArray(a);
+        if (array)
+        {
+          array->InterpolateTuple(i, i, array, extra, array, m.BlendT);
+        }
+      }
+      ++extra;
+    }
+    for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+    {
+      if (vtkAbstractArray* array = pd->GetAbstractArray(a))
+      {
+        array->SetNumberOfTuples(np);
+      }
+    }
+  }
+
+  static slod::CollapseHierarchyParameters ParametersOf(const vtkTriangleCollapseHierarchy& f)
+  {
+    slod::CollapseHierarchyParameters parameters;
+    parameters.CurvatureWeight = f.CurvatureWeight;
+    parameters.AngleWeight = f.AngleWeight;
+    parameters.ValenceWeight = f.ValenceWeight;
+    parameters.BatchFraction = f.BatchFraction;
+    parameters.MaximumWeight = f.MaximumWeight;
+    parameters.ValenceNormalizer = f.ValenceNormalizer;
+    parameters.RemoveCycles = f.RemoveCycles;
+    parameters.MaximumNumberOfLevels = f.MaximumNumberOfLevels;
+    parameters.MinimumNumberOfTriangles = static_cast<slod::Index>(f.MinimumNumberOfTriangles);
+    parameters.MinimumNormalDot = f.MinimumNormalDot;
+    parameters.ErrorWeight = f.ErrorWeight;
+    parameters.RelaxWhenBlocked = f.RelaxWhenBlocked;
+    parameters.PreferEdgeFactor = f.PreferEdgeFactor;
+    parameters.VertexErrorWeight = f.VertexErrorWeight;
+    parameters.EdgeCollapses = static_cast<slod::CollapseHierarchyParameters::EdgeFallback>(f.EdgeCollapses);
+    parameters.SwapBlockingEdges = f.SwapBlockingEdges;
+    parameters.StarShapedInStencilPlane = f.StarShapedInStencilPlane;
+    parameters.SwapMinimumNormalDot = f.SwapMinimumNormalDot;
+    parameters.SwapMinimumNormalDotWhenBlocked = f.SwapMinimumNormalDotWhenBlocked;
+    parameters.BatchSearchDepth = f.BatchSearchDepth;
+    parameters.QuadricCollapsePoint = f.QuadricCollapsePoint;
+    return parameters;
+  }
+
+  // The triangle count asked for, of n0 input triangles.
+  static slod::Index TargetOf(const vtkTriangleCollapseHierarchy& f, slod::Index n0)
+  {
+    return f.TargetNumberOfTriangles > 0 ? static_cast<slod::Index>(std::min<vtkIdType>(f.TargetNumberOfTriangles, n0))
+                                         : static_cast<slod::Index>(std::llround((1.0 - f.TargetReduction) * n0));
+  }
+
+  // Only the target mesh is asked for (no level, no blend, no multiblock of the levels): the
+  // hierarchy is built down to the target only (the levels below it were most of the build on
+  // MRI isosurfaces and nobody would see them).
+  static bool OnlyToTarget(const vtkTriangleCollapseHierarchy& f)
+  {
+    return !f.GenerateAllLevels && f.Level < 0 && f.ContinuousLevel < 0;
+  }
+
+  // The cached hierarchy was built only down to an earlier target: not enough for a lower target
+  // or for the levels.
+  bool StoppedTooEarly(const vtkTriangleCollapseHierarchy& f) const
+  {
+    const slod::Index stop = this->Parameters.StopAtTriangles;
+    return stop > 0 && (!OnlyToTarget(f) || TargetOf(f, this->Hierarchy.LevelTriangleCount(0)) < stop);
+  }
+
+  // The hierarchy of input and its point data (one row per global vertex); false when the input
+  // is refused or the build aborted.
+  bool Rebuild(vtkTriangleCollapseHierarchy* filter, vtkPolyData* input, slod::CollapseHierarchyParameters parameters)
+  {
+    this->Valid = false;
+    this->Levels = nullptr;
+    slod::TriangleMesh mesh;
+    std::vector<slod::Index> vertexToInputPoint;
+    if (!slod::PrepareFilterInput(filter, input, slod::PreparationOptions(), mesh, vertexToInputPoint))
+    {
+      return false;
+    }
+    parameters.StopAtTriangles = OnlyToTarget(*filter) ? TargetOf(*filter, mesh.NumberOfTriangles()) : 0;
+    const auto start = std::chrono::steady_clock::now();
+    const bool done = this->Hierarchy.Build(mesh, parameters, [filter](double progress) {
+      filter->UpdateProgress(0.9 * progress);
+      return !filter->GetAbortExecute();
+    });
+    if (!done)
+    {
+      return false;
+    }
+    this->PointDataType =
+      input->GetPoints() && input->GetPoints()->GetDataType() == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT;
+    this->Attributes.Load(input->GetPointData(), vertexToInputPoint);
+    if (!this->Attributes.Empty())
+    {
+      // Row g = global vertex g: collapse points are the mean of the merged vertices.
+      const double third[3] = { 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0 }, half[2] = { 0.5, 0.5 };
+      for (slod::Index k = 0; k < this->Hierarchy.NumberOfCollapses(); ++k)
+      {
+        const slod::HierarchyCollapse& c = this->Hierarchy.GetCollapse(k);
+        this->Attributes.AddInterpolated(c.Sources, c.Count == 2 ? half : third, c.Count);
+      }
+    }
+    filter->HierarchyBuildTime = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++filter->NumberOfHierarchyBuilds;
+    this->Valid = true;
+    this->Input = input;
+    this->InputTime = input->GetMTime();
+    this->Parameters = parameters;
+    return true;
+  }
+
+  // Output 0's mesh into Scratch: M_i(t) for ContinuousLevel, M_i for Level, else the cut closest
+  // to target triangles. Returns the level shown (i + t; for a cut, the fraction of its batch).
+  double ExtractShown(const vtkTriangleCollapseHierarchy& f, slod::Index target)
+  {
+    const slod::CollapseHierarchy& h = this->Hierarchy;
+    const int lastLevel = h.NumberOfLevels() - 1;
+    if (f.ContinuousLevel >= 0 || f.Level >= 0)
+    {
+      const double shown = f.ContinuousLevel >= 0 ? std::min<double>(f.ContinuousLevel, lastLevel) : std::min(f.Level, lastLevel);
+      h.ExtractLevel(shown, this->Scratch);
+      return shown;
+    }
+    const slod::Index k = h.CollapsesForTriangleCount(target);
+    h.Extract(k, k, 0.0, this->Scratch);
+    const int level = k < h.NumberOfCollapses() ? h.LevelOfCollapse(k) : lastLevel;
+    if (level >= lastLevel)
+    {
+      return lastLevel;
+    }
+    const double span = h.LevelStart(level + 1) - h.LevelStart(level);
+    return level + (span > 0 ? (k - h.LevelStart(level)) / span : 0.0);
+  }
+
+  // Output 1: every level M_i as a block (cached with the hierarchy).
+  void FillLevels(vtkMultiBlockDataSet* levels)
+  {
+    const slod::CollapseHierarchy& h = this->Hierarchy;
+    if (!this->Levels)
+    {
+      this->Levels = vtkSmartPointer<vtkMultiBlockDataSet>::New();
+      this->Levels->SetNumberOfBlocks(h.NumberOfLevels());
+      slod::HierarchyMesh m;
+      for (int i = 0; i < h.NumberOfLevels(); ++i)
+      {
+        h.Extract(h.LevelStart(i), h.LevelStart(i), 0.0, m);
+        vtkNew<vtkPolyData> block;
+        this->ToPolyData(m, i, block);
+        this->Levels->SetBlock(i, block);
+        this->Levels->GetMetaData(static_cast<unsigned int>(i))
+          ->Set(vtkCompositeDataSet::NAME(), ("Level " + std::to_string(i)).c_str());
+      }
+    }
+    levels->ShallowCopy(this->Levels);
   }
 };
 
@@ -231,135 +387,29 @@ int vtkTriangleCollapseHierarchy::RequestData(
   {
     return 1;
   }
-
-  slod::CollapseHierarchyParameters parameters;
-  parameters.CurvatureWeight = this->CurvatureWeight;
-  parameters.AngleWeight = this->AngleWeight;
-  parameters.ValenceWeight = this->ValenceWeight;
-  parameters.BatchFraction = this->BatchFraction;
-  parameters.MaximumWeight = this->MaximumWeight;
-  parameters.ValenceNormalizer = this->ValenceNormalizer;
-  parameters.RemoveCycles = this->RemoveCycles;
-  parameters.MaximumNumberOfLevels = this->MaximumNumberOfLevels;
-  parameters.MinimumNumberOfTriangles = static_cast<slod::Index>(this->MinimumNumberOfTriangles);
-  parameters.MinimumNormalDot = this->MinimumNormalDot;
-  parameters.ErrorWeight = this->ErrorWeight;
-  parameters.RelaxWhenBlocked = this->RelaxWhenBlocked;
-  parameters.PreferEdgeFactor = this->PreferEdgeFactor;
-  parameters.VertexErrorWeight = this->VertexErrorWeight;
-  parameters.EdgeCollapses = static_cast<slod::CollapseHierarchyParameters::EdgeFallback>(this->EdgeCollapses);
-  parameters.SwapBlockingEdges = this->SwapBlockingEdges;
-  parameters.StarShapedInStencilPlane = this->StarShapedInStencilPlane;
-  parameters.SwapMinimumNormalDot = this->SwapMinimumNormalDot;
-  parameters.SwapMinimumNormalDotWhenBlocked = this->SwapMinimumNormalDotWhenBlocked;
-  parameters.BatchSearchDepth = this->BatchSearchDepth;
-  parameters.QuadricCollapsePoint = this->QuadricCollapsePoint;
-
+  const slod::CollapseHierarchyParameters parameters = Internals::ParametersOf(*this);
   const bool rebuild = !in.Valid || in.Input != input || in.InputTime != input->GetMTime() ||
-    !Internals::Same(in.Parameters, parameters);
-  if (rebuild)
+    !Internals::Same(in.Parameters, parameters) || in.StoppedTooEarly(*this);
+  if (rebuild && !in.Rebuild(this, input, parameters))
   {
-    in.Valid = false;
-    in.Levels = nullptr;
-    slod::TriangleMesh mesh;
-    std::vector<slod::Index> vertexToInputPoint;
-    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInputPoint))
-    {
-      return 1;
-    }
-    const auto start = std::chrono::steady_clock::now();
-    const bool done = in.Hierarchy.Build(mesh, parameters, [this](double progress) {
-      this->UpdateProgress(0.9 * progress);
-      return !this->GetAbortExecute();
-    });
-    if (!done)
-    {
-      return 1;
-    }
-    in.PointDataType =
-      input->GetPoints() && input->GetPoints()->GetDataType() == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT;
-    in.Attributes.Load(input->GetPointData(), vertexToInputPoint);
-    if (!in.Attributes.Empty())
-    {
-      // Row g = global vertex g: collapse points are the mean of the merged vertices.
-      const double third[3] = { 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0 }, half[2] = { 0.5, 0.5 };
-      for (slod::Index k = 0; k < in.Hierarchy.NumberOfCollapses(); ++k)
-      {
-        const slod::HierarchyCollapse& c = in.Hierarchy.GetCollapse(k);
-        in.Attributes.AddInterpolated(c.Sources, c.Count == 2 ? half : third, c.Count);
-      }
-    }
-    this->HierarchyBuildTime =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    ++this->NumberOfHierarchyBuilds;
-    in.Valid = true;
-    in.Input = input;
-    in.InputTime = input->GetMTime();
-    in.Parameters = parameters;
+    return 1;
   }
-  const slod::CollapseHierarchy& h = in.Hierarchy;
-  const int lastLevel = h.NumberOfLevels() - 1;
 
   // Output 0: the selected mesh.
-  const slod::Index n0 = h.LevelTriangleCount(0);
-  const slod::Index target = this->TargetNumberOfTriangles > 0
-    ? static_cast<slod::Index>(std::min<vtkIdType>(this->TargetNumberOfTriangles, n0))
-    : static_cast<slod::Index>(std::llround((1.0 - this->TargetReduction) * n0));
-  if (this->ContinuousLevel >= 0)
-  {
-    this->ShownLevel = std::min<double>(this->ContinuousLevel, lastLevel);
-    h.ExtractLevel(this->ShownLevel, in.Scratch);
-  }
-  else if (this->Level >= 0)
-  {
-    this->ShownLevel = std::min(this->Level, lastLevel);
-    h.ExtractLevel(this->ShownLevel, in.Scratch);
-  }
-  else
-  {
-    const slod::Index k = h.CollapsesForTriangleCount(target);
-    h.Extract(k, k, 0.0, in.Scratch);
-    // Level shown: the level containing the cut, as a fraction of its batch.
-    int level = k < h.NumberOfCollapses() ? h.LevelOfCollapse(k) : lastLevel;
-    if (level < lastLevel)
-    {
-      const double span = h.LevelStart(level + 1) - h.LevelStart(level);
-      this->ShownLevel = level + (span > 0 ? (k - h.LevelStart(level)) / span : 0.0);
-    }
-    else
-    {
-      this->ShownLevel = lastLevel;
-    }
-  }
+  const slod::Index target = Internals::TargetOf(*this, in.Hierarchy.LevelTriangleCount(0));
+  this->ShownLevel = in.ExtractShown(*this, target);
   in.ToPolyData(in.Scratch, this->ShownLevel, output);
   if (this->ContinuousLevel < 0 && this->Level < 0)
   {
     slod::ReportTarget(this, output, target, output->GetNumberOfPolys() <= target,
       "the hierarchy's coarsest level keeps more: further collapses would change the topology or fold a triangle");
   }
-
-  // Output 1: every level (cached with the hierarchy).
   if (levels)
   {
     levels->Initialize();
     if (this->GenerateAllLevels)
     {
-      if (!in.Levels)
-      {
-        in.Levels = vtkSmartPointer<vtkMultiBlockDataSet>::New();
-        in.Levels->SetNumberOfBlocks(h.NumberOfLevels());
-        slod::HierarchyMesh m;
-        for (int i = 0; i < h.NumberOfLevels(); ++i)
-        {
-          h.Extract(h.LevelStart(i), h.LevelStart(i), 0.0, m);
-          vtkNew<vtkPolyData> block;
-          in.ToPolyData(m, i, block);
-          in.Levels->SetBlock(i, block);
-          in.Levels->GetMetaData(static_cast<unsigned int>(i))
-            ->Set(vtkCompositeDataSet::NAME(), ("Level " + std::to_string(i)).c_str());
-        }
-      }
-      levels->ShallowCopy(in.Levels);
+      in.FillLevels(levels);
     }
   }
   this->UpdateProgress(1.0);

@@ -30,6 +30,11 @@
  *  - TargetNumberOfTriangles > 0: the mesh after the number of collapses that gives the closest
  *    triangle count (collapses of a batch are independent, so a batch may be cut);
  *  - TargetReduction (default 0.9): the same with (1 - TargetReduction) x input triangles.
+ * When only the target is asked for (GenerateAllLevels off, no Level, no ContinuousLevel), the
+ * hierarchy is built only down to the level that reaches the target (the same levels as the
+ * whole hierarchy's, so the same mesh; the levels below are not built, and "CollapseLevel" is -1
+ * for the triangles that only they would collapse). Asking for a lower target or a level
+ * afterwards rebuilds it.
  * Cell arrays: "CollapseLevel" (level at which the triangle disappears or changes, -1 never),
  * "CollapseBatch" (for a blended level: index of the collapse whose stencil holds the triangle,
  * -1 otherwise; colour by it like the paper's figures) and "CollapseRole" (2 collapsing triangle,
@@ -211,7 +216,8 @@ public:
   ///@}
 
   ///@{
-  /// Produce every level on output port 1 (default on).
+  /// Produce every level on output port 1 (default on). Off, with no Level and no
+  /// ContinuousLevel, the hierarchy is built only down to the target.
   vtkSetMacro(GenerateAllLevels, bool);
   vtkGetMacro(GenerateAllLevels, bool);
   vtkBooleanMacro(GenerateAllLevels, bool);

@@ -587,6 +587,43 @@ TEST(InputPreparation, CoincidentPointsSealOpenBorders)
   EXPECT_EQ(open.BoundaryLoops, 1);
 }
 
+// A texture seam: the octahedron soup with texture coordinates that differ between its two halves
+// (the triangles around vertex 3 against those around vertex 2), as a sphere's texture seam. The
+// copies of a vertex on the seam are never welded across it (each half keeps its coordinates: the
+// seam is a border of two loops), while copies with equal coordinates still merge.
+TEST(InputPreparation, AttributeSeamsAreNotWelded)
+{
+  const std::vector<double> octahedron{ 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1 };
+  const std::vector<std::vector<vtkIdType>> faces{ { 0, 2, 4 }, { 2, 1, 4 }, { 1, 3, 4 }, { 3, 0, 4 }, { 2, 0, 5 },
+    { 1, 2, 5 }, { 3, 1, 5 }, { 0, 3, 5 } };
+  auto soup = Soup(octahedron, faces);
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName("TextureCoordinates");
+  tcoords->SetNumberOfComponents(2);
+  tcoords->SetNumberOfTuples(soup->GetNumberOfPoints());
+  tcoords->Fill(0.5);
+  soup->GetPointData()->SetTCoords(tcoords);
+  PreparationReport report;
+  MeshStatistics stats = Prepared(soup, report);
+  ASSERT_TRUE(report.Valid);
+  EXPECT_EQ(report.MergedPoints, 24 - 6);
+  EXPECT_EQ(report.AttributeSeamPoints, 0);
+  EXPECT_EQ(stats.BoundaryEdges, 0);
+  // Triangles 2, 3, 6, 7 (soup points 6-11 and 18-23) are the half around vertex 3.
+  for (vtkIdType p : { 6, 7, 8, 9, 10, 11, 18, 19, 20, 21, 22, 23 })
+  {
+    tcoords->SetComponent(p, 0, 1.0);
+  }
+  stats = Prepared(soup, report);
+  EXPECT_EQ(report.AttributeSeamPoints, 4); // vertices 0, 1, 4 and 5 are on the seam
+  EXPECT_EQ(stats.Vertices, 10);
+  EXPECT_EQ(report.MergedPoints, 24 - 10);
+  EXPECT_EQ(stats.Components, 2);
+  EXPECT_EQ(stats.BoundaryLoops, 2);
+  EXPECT_EQ(stats.BoundaryEdges, 8);
+  EXPECT_EQ(stats.NonManifoldVertices, 0);
+}
+
 // Two closed surfaces touching at one point (cow.off has such a pair) and a sheet touching itself
 // stay as they are: merging would make a non-manifold vertex and change the Euler characteristic.
 TEST(InputPreparation, CoincidentPointsAwayFromBordersStayApart)

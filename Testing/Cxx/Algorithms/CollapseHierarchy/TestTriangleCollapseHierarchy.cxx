@@ -901,6 +901,55 @@ TEST(vtkTriangleCollapseHierarchy, LevelsTargetsCachingAndArrays)
   EXPECT_EQ(filter->GetNumberOfHierarchyBuilds(), 3);
 }
 
+TEST(vtkTriangleCollapseHierarchy, TargetOnlyBuildsDownToTheTargetWithTheSameMesh)
+{
+  // Without the levels output, a level or a blend, only the target is asked for: the hierarchy
+  // stops at the level reaching it, and the mesh is the whole hierarchy's cut (same levels).
+  vtkSmartPointer<vtkPolyData> input = LoadTestMesh("fandisk");
+  vtkNew<vtkTriangleCollapseHierarchy> whole;
+  whole->SetInputData(input);
+  whole->SetTargetReduction(0.8);
+  whole->Update();
+  vtkNew<vtkTriangleCollapseHierarchy> toTarget;
+  toTarget->SetInputData(input);
+  toTarget->GenerateAllLevelsOff();
+  toTarget->SetTargetReduction(0.8);
+  toTarget->Update();
+  EXPECT_LT(toTarget->GetNumberOfLevels(), whole->GetNumberOfLevels() / 2);
+  vtkPolyData* a = whole->GetOutput();
+  vtkPolyData* b = toTarget->GetOutput();
+  ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints());
+  ASSERT_EQ(a->GetNumberOfPolys(), b->GetNumberOfPolys());
+  for (vtkIdType i = 0; i < a->GetNumberOfPoints(); ++i)
+  {
+    for (int j = 0; j < 3; ++j)
+    {
+      ASSERT_EQ(a->GetPoint(i)[j], b->GetPoint(i)[j]);
+    }
+  }
+  vtkIdType na = 0, nb = 0;
+  const vtkIdType *pa = nullptr, *pb = nullptr;
+  for (vtkIdType c = 0; c < a->GetNumberOfPolys(); ++c)
+  {
+    a->GetCellPoints(c, na, pa);
+    b->GetCellPoints(c, nb, pb);
+    ASSERT_TRUE(na == 3 && nb == 3 && std::equal(pa, pa + 3, pb));
+  }
+  // A higher target uses the cache; a lower one or a level rebuilds.
+  EXPECT_EQ(toTarget->GetNumberOfHierarchyBuilds(), 1);
+  toTarget->SetTargetReduction(0.7);
+  toTarget->Update();
+  EXPECT_EQ(toTarget->GetNumberOfHierarchyBuilds(), 1);
+  toTarget->SetTargetReduction(0.95);
+  toTarget->Update();
+  EXPECT_EQ(toTarget->GetNumberOfHierarchyBuilds(), 2);
+  EXPECT_NEAR(double(toTarget->GetOutput()->GetNumberOfPolys()), 0.05 * input->GetNumberOfPolys(), 2.0);
+  toTarget->SetLevel(3);
+  toTarget->Update();
+  EXPECT_EQ(toTarget->GetNumberOfHierarchyBuilds(), 3);
+  EXPECT_EQ(toTarget->GetNumberOfLevels(), whole->GetNumberOfLevels());
+}
+
 TEST(vtkTriangleCollapseHierarchy, NoisyScanKeepsNonManifoldEdgesBordersAndHandles)
 {
   // Like an MRI isosurface: handles, a border, non-manifold edges. A collapse of a non-manifold
