@@ -182,6 +182,12 @@ public:
   size_t MemoryUsage() const;
 
 private:
+  struct StageTimes // of one working state (logged at verbosity TRACE)
+  {
+    double Merging = 0, Generate = 0, Tree = 0, Triangulation = 0, Refinement = 0;
+    int MergingRuns = 0;
+  };
+  static void LogStageTimes(const char* what, double seconds, const StageTimes& times);
   struct State;
   bool GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
     SpbmLevelParameters* used, const std::function<bool()>& abort, State& s);
@@ -189,10 +195,19 @@ private:
   Index PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s);
   SpbmLevelParameters FindParametersIn(Index target, const SpbmLevelParameters& base, Index* predicted, State& s);
   bool GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s);
-  const TriangleBVH& GetInputTree();
+  const TriangleBVH& GetInputTree(StageTimes& times);
+  // Stages of Initialize.
+  void BuildChainKeys(size_t totalVertices);
+  void OrderChainKeys(size_t totalVertices);
+  void MarkParallelChains();
+  void MeasureEndpointVariation();
+  // One merging run (slodSpbmMerging.cxx) leaves the level's chain graph in `s`.
+  class MergingRun;
+  // Triangulation passes of a level (slodSpbmTriangulation.cxx).
+  class LevelTriangulation;
+  // The search of FindParameters (slodSpbmTargetSearch.cxx).
+  class TargetSearch;
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
-  void RemoveCheapest(const SpbmLevelParameters& parameters, State& s, const std::function<bool(Index, Index)>& collapse,
-    const std::function<bool(Index)>& join, const std::function<double(Index, Index, Index)>& joinDeviation);
 
   const TriangleMesh* Mesh = nullptr;
   const Patchification* Patches = nullptr;

@@ -10,14 +10,13 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkLogger.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <memory>
 
@@ -82,6 +81,11 @@ struct vtkPatchBoundaryMerge::Cache
       this->Parameters.TwoEdgeNeighborAngle == p.TwoEdgeNeighborAngle &&
       this->Parameters.AreaWeighted == p.AreaWeighted && this->RelativePlaneDistance == relativePlaneDistance;
   }
+  // Stages of RequestData (the cache is a nested struct: it reads the filter's settings).
+  bool Build(vtkPatchBoundaryMerge* self, vtkPolyData* input, const slod::PatchificationParameters& patchParameters);
+  bool GenerateLevel(vtkPatchBoundaryMerge* self, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
+  void WriteOutputs(vtkPatchBoundaryMerge* self, vtkPolyData* input, const slod::SpbmLevel& result,
+    vtkPolyData* output, vtkPolyData* curves, vtkPolyData* colored);
   size_t MemoryUsage() const
   {
     return this->Mesh.Points.capacity() * sizeof(double) + this->Mesh.Triangles.capacity() * sizeof(slod::Index) +
@@ -89,6 +93,195 @@ struct vtkPatchBoundaryMerge::Cache
       this->Generator.MemoryUsage();
   }
 };
+
+// Prepares the input (orientation repair only when needed), builds the patchification (and
+// starts the input's BVH). False on invalid input or abort.
+bool vtkPatchBoundaryMerge::Cache::Build(
+  vtkPatchBoundaryMerge* self, vtkPolyData* input, const slod::PatchificationParameters& patchParameters)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  this->Input = input;
+  this->InputTime = input->GetMTime();
+  this->Parameters = patchParameters;
+  this->RelativePlaneDistance = self->PatchPlaneDistance;
+  // Orientation repair is the costliest part of the preparation and most inputs do not need
+  // it: prepare without it, and again with it only when an inconsistent edge shows up.
+  slod::PreparationOptions options;
+  options.MakeOrientationConsistent = false;
+  slod::PreparationReport report = slod::PrepareTriangleMesh(input, options, this->Mesh, this->VertexToInput);
+  const auto prepared = Clock::now();
+  if (!report.Valid)
+  {
+    vtkErrorWithObjectMacro(self, "Cannot simplify this input: " << report.Error);
+    return false;
+  }
+  self->UpdateProgress(0.05);
+  Clock::time_point built;
+  {
+    auto topology = std::make_unique<slod::MeshTopology>(this->Mesh); // only needed while growing patches
+    if (InconsistentEdges(this->Mesh, *topology) > 0)
+    {
+      report = slod::PrepareTriangleMesh(input, slod::PreparationOptions(), this->Mesh, this->VertexToInput);
+      topology = std::make_unique<slod::MeshTopology>(this->Mesh);
+    }
+    this->Warnings = report.Warnings();
+    if (report.NonManifoldEdges > 0)
+    {
+      this->Warnings.push_back("non-manifold edges are kept as patch borders at full resolution");
+    }
+    slod::PatchificationParameters growth = patchParameters;
+    growth.MaximumPlaneDistance = self->PatchPlaneDistance * this->Mesh.BoundingBoxDiagonal();
+    built = Clock::now(); // topology, orientation check
+    if (self->MinimumDeviationTriangulation)
+    {
+      // The input's BVH (for the first level's triangulation) is built on another thread while
+      // the patches grow and the level's search runs. (Started after the patch growth instead,
+      // the peak memory is about 150 bytes per vertex lower, but the first level of a short
+      // search, e.g. bunny00 at 525 triangles, waits for it.)
+      this->Generator.StartInputTree(this->Mesh);
+    }
+    this->Patches.Build(this->Mesh, *topology, growth, [self](double f) {
+      self->UpdateProgress(0.05 + 0.6 * f);
+      return self->GetAbortExecute() != 0;
+    });
+  }
+  if (this->Patches.Aborted())
+  {
+    return false;
+  }
+  vtkLogF(TRACE, "[spbm] preparation %.4f s, topology and orientation check %.4f s, patches %.4f s",
+    std::chrono::duration<double>(prepared - start).count(), std::chrono::duration<double>(built - prepared).count(),
+    std::chrono::duration<double>(Clock::now() - built).count());
+  return true;
+}
+
+// The level for the filter's target, error bound or epsilon. False when aborted.
+bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
+  vtkPatchBoundaryMerge* self, slod::SpbmLevel& result, slod::SpbmLevelParameters& level)
+{
+  const slod::TriangleMesh& mesh = this->Mesh;
+  level.Epsilon = self->RelativeEpsilon ? self->Epsilon * mesh.BoundingBoxDiagonal() : self->Epsilon;
+  level.MergeAngle = self->MergeAngle;
+  level.MergePatches = self->MergePatches;
+  level.CollapseChains = self->CollapseChains;
+  level.CollapseLengthFactor = self->CollapseLengthFactor;
+  level.CompareCandidates = self->CompareCandidates;
+  level.CostOrderedRemoval = self->CostOrderedRemoval;
+  level.SizeWeightedMerge = self->SizeWeightedMerge;
+  level.MinimumDeviationTriangulation = self->MinimumDeviationTriangulation;
+  vtkIdType target = 0;
+  if (self->TargetNumberOfTriangles > 0)
+  {
+    target = self->TargetNumberOfTriangles;
+  }
+  else if (self->TargetReduction > 0)
+  {
+    target = static_cast<vtkIdType>(std::llround((1.0 - self->TargetReduction) * mesh.NumberOfTriangles()));
+  }
+  if (self->MaximumError > 0)
+  {
+    level.Epsilon = self->MaximumError;
+  }
+  auto abort = [self]() { return self->GetAbortExecute() != 0; };
+  if (target >= mesh.NumberOfTriangles())
+  {
+    // No reduction asked for: the (prepared) input itself, with its patches and chains.
+    result.Triangles = mesh.Triangles;
+    result.TrianglePatch = this->Patches.TrianglePatches();
+    result.NumberOfPatches = this->Patches.NumberOfPatches();
+    result.CurveOffsets.assign(1, 0);
+    for (slod::Index c = 0; c < this->Patches.NumberOfChains(); ++c)
+    {
+      const slod::Index* v = this->Patches.ChainVerticesBegin(c);
+      result.CurveVertices.insert(result.CurveVertices.end(), v, v + this->Patches.ChainSize(c));
+      result.CurveOffsets.push_back(static_cast<slod::Index>(result.CurveVertices.size()));
+    }
+    level.Epsilon = 0;
+  }
+  else if (target > 0)
+  {
+    const slod::SpbmLevelParameters base = level;
+    if (!this->Generator.GenerateForTarget(
+          static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), base, result, &level, abort))
+    {
+      return false;
+    }
+    const vtkIdType produced = static_cast<vtkIdType>(result.Triangles.size() / 3);
+    if (produced < target && 10 * (target - produced) > target)
+    {
+      // SPBM keeps no vertex inside a patch, so even its finest level is far below the input count.
+      vtkWarningWithObjectMacro(self, << "Target of " << target << " triangles is beyond SPBM's finest level for these patch "
+                      << "parameters; produced " << produced << " triangles (lower the angle tolerances for more).");
+    }
+    if (self->MaximumError > 0 && level.Epsilon > self->MaximumError)
+    {
+      // The error bound is reached before the target: stop there.
+      level = base;
+      if (!this->Generator.Generate(level, result, abort))
+      {
+        return false;
+      }
+    }
+  }
+  else if (!this->Generator.Generate(level, result, abort))
+  {
+    return false;
+  }  return true;
+}
+
+// The simplified mesh with patch ids, the profile curves and (optionally) the input colored by patch.
+void vtkPatchBoundaryMerge::Cache::WriteOutputs(vtkPatchBoundaryMerge* self, vtkPolyData* input,
+  const slod::SpbmLevel& result, vtkPolyData* output, vtkPolyData* curves, vtkPolyData* colored)
+{
+  const slod::TriangleMesh& mesh = this->Mesh;
+  slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
+  const std::vector<slod::Index>& used = numbering.Used;
+  auto use = [&](slod::Index v) { return static_cast<vtkIdType>(numbering(v)); };
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateExact(static_cast<vtkIdType>(result.TrianglePatch.size()), static_cast<vtkIdType>(result.Triangles.size()));
+  for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
+  {
+    const vtkIdType ids[3] = { use(result.Triangles[3 * t]), use(result.Triangles[3 * t + 1]),
+      use(result.Triangles[3 * t + 2]) };
+    polys->InsertNextCell(3, ids);
+  }
+  vtkNew<vtkCellArray> lines;
+  for (size_t c = 0; c + 1 < result.CurveOffsets.size(); ++c)
+  {
+    lines->InsertNextCell(result.CurveOffsets[c + 1] - result.CurveOffsets[c]);
+    for (slod::Index i = result.CurveOffsets[c]; i < result.CurveOffsets[c + 1]; ++i)
+    {
+      lines->InsertCellPoint(use(result.CurveVertices[i]));
+    }
+  }
+  slod::StoreUsedPoints(input, mesh, used, this->VertexToInput, self->OutputDoublePrecision, output);
+  vtkNew<vtkIntArray> patchIds;
+  patchIds->SetName("PatchId");
+  patchIds->SetNumberOfValues(static_cast<vtkIdType>(result.TrianglePatch.size()));
+  for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
+  {
+    patchIds->SetValue(static_cast<vtkIdType>(t), result.TrianglePatch[t]);
+  }
+  output->SetPolys(polys);
+  output->GetCellData()->AddArray(patchIds);
+  curves->SetPoints(output->GetPoints());
+  curves->GetPointData()->ShallowCopy(output->GetPointData());
+  curves->SetLines(lines);
+
+  if (self->GeneratePatchColoredInput)
+  {
+    slod::MeshToPolyData(mesh, colored, output->GetPoints()->GetDataType());
+    vtkNew<vtkIntArray> inputPatch;
+    inputPatch->SetName("PatchId");
+    inputPatch->SetNumberOfValues(mesh.NumberOfTriangles());
+    const std::vector<slod::Index>& patchOf = this->Patches.TrianglePatches();
+    for (slod::Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    {
+      inputPatch->SetValue(t, patchOf[t]);
+    }
+    colored->GetCellData()->AddArray(inputPatch);
+  }}
 
 vtkPatchBoundaryMerge::vtkPatchBoundaryMerge()
 {
@@ -137,63 +330,10 @@ int vtkPatchBoundaryMerge::RequestData(
   if (!this->PatchificationReused)
   {
     this->Cached.reset(new Cache);
-    Cache& cache = *this->Cached;
-    cache.Input = input;
-    cache.InputTime = input->GetMTime();
-    cache.Parameters = patchParameters;
-    cache.RelativePlaneDistance = this->PatchPlaneDistance;
-    // Orientation repair is the costliest part of the preparation and most inputs do not need
-    // it: prepare without it, and again with it only when an inconsistent edge shows up.
-    slod::PreparationOptions options;
-    options.MakeOrientationConsistent = false;
-    slod::PreparationReport report = slod::PrepareTriangleMesh(input, options, cache.Mesh, cache.VertexToInput);
-    const auto prepared = Clock::now();
-    if (!report.Valid)
-    {
-      vtkErrorMacro("Cannot simplify this input: " << report.Error);
-      this->Cached.reset();
-      return 1;
-    }
-    this->UpdateProgress(0.05);
-    Clock::time_point built;
-    {
-      auto topology = std::make_unique<slod::MeshTopology>(cache.Mesh); // only needed while growing patches
-      if (InconsistentEdges(cache.Mesh, *topology) > 0)
-      {
-        report = slod::PrepareTriangleMesh(input, slod::PreparationOptions(), cache.Mesh, cache.VertexToInput);
-        topology = std::make_unique<slod::MeshTopology>(cache.Mesh);
-      }
-      cache.Warnings = report.Warnings();
-      if (report.NonManifoldEdges > 0)
-      {
-        cache.Warnings.push_back("non-manifold edges are kept as patch borders at full resolution");
-      }
-      slod::PatchificationParameters growth = patchParameters;
-      growth.MaximumPlaneDistance = this->PatchPlaneDistance * cache.Mesh.BoundingBoxDiagonal();
-      built = Clock::now(); // topology, orientation check
-      if (this->MinimumDeviationTriangulation)
-      {
-        // The input's BVH (for the first level's triangulation) is built on another thread while
-        // the patches grow and the level's search runs. (Started after the patch growth instead,
-        // the peak memory is about 150 bytes per vertex lower, but the first level of a short
-        // search, e.g. bunny00 at 525 triangles, waits for it.)
-        cache.Generator.StartInputTree(cache.Mesh);
-      }
-      cache.Patches.Build(cache.Mesh, *topology, growth, [this](double f) {
-        this->UpdateProgress(0.05 + 0.6 * f);
-        return this->GetAbortExecute() != 0;
-      });
-    }
-    if (cache.Patches.Aborted())
+    if (!this->Cached->Build(this, input, patchParameters))
     {
       this->Cached.reset();
       return 1;
-    }
-    if (std::getenv("SLOD_VERBOSE"))
-    {
-      std::fprintf(stderr, "[spbm] preparation %.4f s, topology and orientation check %.4f s, patches %.4f s\n",
-        std::chrono::duration<double>(prepared - start).count(), std::chrono::duration<double>(built - prepared).count(),
-        std::chrono::duration<double>(Clock::now() - built).count());
     }
   }
   Cache& cache = *this->Cached;
@@ -202,10 +342,7 @@ int vtkPatchBoundaryMerge::RequestData(
     const auto initializing = Clock::now();
     cache.Generator.Initialize(cache.Mesh, cache.Patches, this->ChainInPlaneWeight);
     cache.ChainInPlaneWeight = this->ChainInPlaneWeight;
-    if (std::getenv("SLOD_VERBOSE"))
-    {
-      std::fprintf(stderr, "[spbm] chain hierarchy %.4f s\n", std::chrono::duration<double>(Clock::now() - initializing).count());
-    }
+    vtkLogF(TRACE, "[spbm] chain hierarchy %.4f s", std::chrono::duration<double>(Clock::now() - initializing).count());
   }
   for (const std::string& warning : cache.Warnings)
   {
@@ -227,71 +364,8 @@ int vtkPatchBoundaryMerge::RequestData(
 
   // 2. The level.
   slod::SpbmLevelParameters level;
-  level.Epsilon = this->RelativeEpsilon ? this->Epsilon * mesh.BoundingBoxDiagonal() : this->Epsilon;
-  level.MergeAngle = this->MergeAngle;
-  level.MergePatches = this->MergePatches;
-  level.CollapseChains = this->CollapseChains;
-  level.CollapseLengthFactor = this->CollapseLengthFactor;
-  level.CompareCandidates = this->CompareCandidates;
-  level.CostOrderedRemoval = this->CostOrderedRemoval;
-  level.SizeWeightedMerge = this->SizeWeightedMerge;
-  level.MinimumDeviationTriangulation = this->MinimumDeviationTriangulation;
-  vtkIdType target = 0;
-  if (this->TargetNumberOfTriangles > 0)
-  {
-    target = this->TargetNumberOfTriangles;
-  }
-  else if (this->TargetReduction > 0)
-  {
-    target = static_cast<vtkIdType>(std::llround((1.0 - this->TargetReduction) * mesh.NumberOfTriangles()));
-  }
-  if (this->MaximumError > 0)
-  {
-    level.Epsilon = this->MaximumError;
-  }
   slod::SpbmLevel result;
-  auto abort = [this]() { return this->GetAbortExecute() != 0; };
-  if (target >= mesh.NumberOfTriangles())
-  {
-    // No reduction asked for: the (prepared) input itself, with its patches and chains.
-    result.Triangles = mesh.Triangles;
-    result.TrianglePatch = cache.Patches.TrianglePatches();
-    result.NumberOfPatches = cache.Patches.NumberOfPatches();
-    result.CurveOffsets.assign(1, 0);
-    for (slod::Index c = 0; c < cache.Patches.NumberOfChains(); ++c)
-    {
-      const slod::Index* v = cache.Patches.ChainVerticesBegin(c);
-      result.CurveVertices.insert(result.CurveVertices.end(), v, v + cache.Patches.ChainSize(c));
-      result.CurveOffsets.push_back(static_cast<slod::Index>(result.CurveVertices.size()));
-    }
-    level.Epsilon = 0;
-  }
-  else if (target > 0)
-  {
-    const slod::SpbmLevelParameters base = level;
-    if (!cache.Generator.GenerateForTarget(
-          static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), base, result, &level, abort))
-    {
-      return 1;
-    }
-    const vtkIdType produced = static_cast<vtkIdType>(result.Triangles.size() / 3);
-    if (produced < target && 10 * (target - produced) > target)
-    {
-      // SPBM keeps no vertex inside a patch, so even its finest level is far below the input count.
-      vtkWarningMacro(<< "Target of " << target << " triangles is beyond SPBM's finest level for these patch "
-                      << "parameters; produced " << produced << " triangles (lower the angle tolerances for more).");
-    }
-    if (this->MaximumError > 0 && level.Epsilon > this->MaximumError)
-    {
-      // The error bound is reached before the target: stop there.
-      level = base;
-      if (!cache.Generator.Generate(level, result, abort))
-      {
-        return 1;
-      }
-    }
-  }
-  else if (!cache.Generator.Generate(level, result, abort))
+  if (!cache.GenerateLevel(this, result, level))
   {
     return 1;
   }
@@ -304,53 +378,7 @@ int vtkPatchBoundaryMerge::RequestData(
   this->UpdateProgress(0.9);
 
   // 3. Outputs over the original vertices that are used.
-  slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
-  const std::vector<slod::Index>& used = numbering.Used;
-  auto use = [&](slod::Index v) { return static_cast<vtkIdType>(numbering(v)); };
-  vtkNew<vtkCellArray> polys;
-  polys->AllocateExact(static_cast<vtkIdType>(result.TrianglePatch.size()), static_cast<vtkIdType>(result.Triangles.size()));
-  for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
-  {
-    const vtkIdType ids[3] = { use(result.Triangles[3 * t]), use(result.Triangles[3 * t + 1]),
-      use(result.Triangles[3 * t + 2]) };
-    polys->InsertNextCell(3, ids);
-  }
-  vtkNew<vtkCellArray> lines;
-  for (size_t c = 0; c + 1 < result.CurveOffsets.size(); ++c)
-  {
-    lines->InsertNextCell(result.CurveOffsets[c + 1] - result.CurveOffsets[c]);
-    for (slod::Index i = result.CurveOffsets[c]; i < result.CurveOffsets[c + 1]; ++i)
-    {
-      lines->InsertCellPoint(use(result.CurveVertices[i]));
-    }
-  }
-  slod::StoreUsedPoints(input, mesh, used, cache.VertexToInput, this->OutputDoublePrecision, output);
-  vtkNew<vtkIntArray> patchIds;
-  patchIds->SetName("PatchId");
-  patchIds->SetNumberOfValues(static_cast<vtkIdType>(result.TrianglePatch.size()));
-  for (size_t t = 0; t < result.TrianglePatch.size(); ++t)
-  {
-    patchIds->SetValue(static_cast<vtkIdType>(t), result.TrianglePatch[t]);
-  }
-  output->SetPolys(polys);
-  output->GetCellData()->AddArray(patchIds);
-  curves->SetPoints(output->GetPoints());
-  curves->GetPointData()->ShallowCopy(output->GetPointData());
-  curves->SetLines(lines);
-
-  if (this->GeneratePatchColoredInput)
-  {
-    slod::MeshToPolyData(mesh, colored, output->GetPoints()->GetDataType());
-    vtkNew<vtkIntArray> inputPatch;
-    inputPatch->SetName("PatchId");
-    inputPatch->SetNumberOfValues(mesh.NumberOfTriangles());
-    const std::vector<slod::Index>& patchOf = cache.Patches.TrianglePatches();
-    for (slod::Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-    {
-      inputPatch->SetValue(t, patchOf[t]);
-    }
-    colored->GetCellData()->AddArray(inputPatch);
-  }
+  cache.WriteOutputs(this, input, result, output, curves, colored);
   this->CacheMemory = static_cast<vtkIdType>(cache.MemoryUsage());
   this->LevelTime = std::chrono::duration<double>(Clock::now() - patched).count();
   this->UpdateProgress(1.0);

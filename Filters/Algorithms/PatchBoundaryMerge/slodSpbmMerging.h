@@ -1,0 +1,112 @@
+// SurfaceLOD patch boundary merge (internal, not installed): one merging run of
+// an SPBM level (Ho 1999, sections 4.2.5-4.2.7) over a working state. Stages,
+// in order:
+//  1. ResetChainGraph: the patchification's chains, patches and endpoints as
+//  linked lists, chain
+//     tolerances from epsilon and the patches frozen by the triangulation
+//     fallback;
+//  2. RebuildKept + RefineNonSimplePatches: the chain vertices each tolerance
+//  keeps, finer chains
+//     around patches whose boundary would not project to a simple polygon;
+//  3. MergeInMeasureOrder: patch merges in merge-measure order, with the chain
+//  collapses and
+//     endpoint joins they make possible;
+//  4. RemoveCheapest (RemovalTarget only): endpoints removed cheapest first
+//  down to the target.
+// The run object holds the run's constants, its scratch and the relaxation
+// flags of stage 4; all results are in the working state.
+#ifndef slodSpbmMerging_h
+#define slodSpbmMerging_h
+
+#include "slodSpbmState.h"
+
+namespace slod
+{
+class SpbmLevelGenerator::MergingRun
+{
+public:
+  MergingRun(SpbmLevelGenerator& generator, const SpbmLevelParameters& parameters, State& s);
+  void Run(const std::vector<unsigned char>& frozen);
+
+private:
+  // Stages.
+  void ResetChainGraph(const std::vector<unsigned char>& frozen);
+  void CopyPatchSupport();
+  void RebuildKept();
+  void RefineNonSimplePatches(const std::vector<unsigned char>& frozen);
+  void ComputeMergeThreshold();
+  void MergeInMeasureOrder();
+  void RemoveCheapest();
+
+  // Chain graph walks and edits.
+  template<typename Functor>
+  void ForPatchChains(Index p, Functor&& f);
+  Index OtherEnd(Index c, Index e);
+  Vec3 EndpointPoint(Index e);
+  void SpliceEndList(Index from, Index to);
+  void ReverseParts(Index c);
+  bool BoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points);
+  bool SimpleAfter(Index x, Index gone, Index replace);
+
+  // Merging (4.2.6).
+  double SideDot(Index p, Index q);
+  double Thickness(Index p, Index q);
+  double MergeMeasure(Index p, Index q);
+  bool Movable(Index c);
+  void PushCandidate(Index c);
+  bool TryMerge(Index c, Index p, Index q);
+  bool SharesOnlyChain(Index c, Index p, Index q);
+  void UniteSupport(Index p, Index q);
+  void UnitePatches(Index c, Index p, Index q);
+
+  // Chain collapses and endpoint joins (4.2.6 (a)-(c), 4.2.7).
+  bool TryCollapse(Index e, double longest);
+  bool CollapseKeepsTopology(Index e, Index p, Index q, Index keep, Index gone);
+  bool CollapseKeepsSimple(Index p, Index q, Index keep, Index gone);
+  void ApplyCollapse(Index e, Index p, Index q, Index keep, Index gone);
+  void TryCollapses(Index x, Index exclude);
+  void AppendChain(Index c, Index from, bool skipFirst);
+  void JoinAround(Index x, Index y, Index u, size_t& a, size_t& b);
+  bool JoinWithinTolerance(Index x, Index y, Index u);
+  void TryJoin(Index u);
+  void ApplyJoin(Index x, Index y, Index u, Index oy, Index xl, Index xr, Index yl);
+
+  // Cost-ordered removal.
+  bool RemovableChain(Index c);
+  double CollapseCost(Index c, Index keep);
+  double JoinCost(Index u);
+  double JoinDeviation(Index x, Index y, Index u);
+  double RemovalCost(Index op);
+  void PushRemoval(Index op);
+  bool ApplyRemoval(Index op, Index (&touched)[2]);
+  bool RemovalCollapse(Index e, Index keep);
+  bool RemovalJoin(Index u);
+
+  SpbmLevelGenerator& generator;
+  const SpbmLevelParameters& parameters;
+  State& s;
+  const Patchification& P;
+  const TriangleMesh& mesh;
+  const Index np, nc, ne;
+  const float eps;
+  const Index* const base; // first chain vertex: chain offsets into the generator's key arrays
+  const bool flatness;
+  const double cosMerge;
+  const double inverseDiagonal;
+  double meanSize = 0;       // size-weighted measure: mean patch normal-sum length
+  double mergeThreshold = 0; // merge measure threshold
+  // Stage 4 relaxes the collapse and join conditions and chooses the kept
+  // endpoint.
+  bool relaxed = false;
+  Index forcedKeep = InvalidIndex;
+  // Scratch.
+  std::vector<Index> orientedChains;
+  std::vector<Vec3> chainForward, checkPoints, chainPoints, mergedPoints;
+  std::vector<unsigned char> chainKept;
+  std::vector<std::pair<double, Index>> removalHeap; // (-cost, operation)
+  Index joinBase = 0;                                // removal operations: 2c / 2c + 1 collapse chain c,
+                                                     // joinBase + u joins at u
+};
+} // namespace slod
+
+#endif

@@ -1,0 +1,295 @@
+// SurfaceLOD patch boundary merge (internal, not installed): the working state
+// of one SPBM level and the constants and small helpers that its stages share
+// (slodPatchBoundaryMerge.cxx: chain hierarchy, triangulation and target
+// search; slodSpbmMerging.cxx: the merging run).
+#ifndef slodSpbmState_h
+#define slodSpbmState_h
+
+#include "slodPatchBoundaryMerge.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace slod
+{
+namespace spbm
+{
+using StageClock = std::chrono::steady_clock;
+inline double Since(StageClock::time_point start)
+{
+  return std::chrono::duration<double>(StageClock::now() - start).count();
+}
+// Support directions of the flatness measure: the 3 axes, 6 face and 4 body
+// diagonals, both signs (a 26-DOP). A patch keeps its extreme vertex in each;
+// the thickness of a union along any normal is then estimated from those 26 +
+// 26 points.
+inline constexpr int SupportDirections = 13;
+inline constexpr int SupportSize = 2 * SupportDirections;
+inline const double SupportAxes[SupportDirections][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 1, 0 },
+  { 1, -1, 0 }, { 1, 0, 1 }, { 1, 0, -1 }, { 0, 1, 1 }, { 0, 1, -1 }, { 1, 1, 1 }, { 1, 1, -1 }, { 1, -1, 1 },
+  { -1, 1, 1 } };
+inline constexpr float InfiniteKey = std::numeric_limits<float>::infinity();
+// Fallback levels of a patch that could not be triangulated: 1 unmerged, 2..5
+// its chains with epsilon / 4^(level-1), 6 full resolution, 7 its original
+// triangles.
+inline constexpr int FullResolutionLevel = 6;
+inline constexpr int OriginalLevel = 7;
+// Longer patch boundaries are not checked for simplicity while merging (left to
+// the fallback).
+inline constexpr Index MaximumCheckedBoundary = 1 << 16;
+
+inline double PointSegmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+  const Vec3 ab = b - a;
+  const Vec3 ap = p - a;
+  const double len2 = Dot(ab, ab);
+  double t = len2 > 0 ? Dot(ap, ab) / len2 : 0.0;
+  t = std::min(1.0, std::max(0.0, t));
+  const Vec3 d = ap - t * ab;
+  return Dot(d, d);
+}
+
+// Squared deviation of p from segment ab as the surface sees it: the offset's
+// components along the two adjacent patch normals (an offset within both patch
+// planes moves the surface little), but at least lambda times the full offset.
+inline double SurfaceWeightedDistance2(
+  const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& n1, const Vec3& n2, double lambda2)
+{
+  const Vec3 ab = b - a;
+  const double len2 = Dot(ab, ab);
+  const double t = len2 > 0 ? std::max(0.0, std::min(1.0, Dot(p - a, ab) / len2)) : 0.0;
+  const Vec3 d = p - (a + t * ab);
+  const double x = Dot(d, n1), y = Dot(d, n2);
+  return std::max(std::max(x * x, y * y), lambda2 * Dot(d, d));
+}
+
+// Scratch of ProjectsToSimplePolygon, kept in the working state (it runs for
+// every merge and collapse candidate).
+struct PolygonScratch
+{
+  std::vector<std::array<double, 2>> Projected;
+  std::vector<size_t> Order;
+};
+
+// True when the closed polygon, projected on the plane orthogonal to `normal`,
+// is simple and counter-clockwise (the condition for a valid ear-clipping
+// triangulation without flips). With `changed` set, the polygon is known to
+// have been simple before vertex `changed` moved or its neighbour was removed:
+// only the segments at `changed` are tested against the others (O(n)).
+bool ProjectsToSimplePolygon(
+  const std::vector<Vec3>& polygon, const Vec3& normal, PolygonScratch& scratch, size_t changed = size_t(-1));
+
+// Open-addressing map from undirected edges to a small value (the chain that
+// owns the edge, or a negative tag). One flat array, no per-element allocation.
+class EdgeMap
+{
+public:
+  void Reset(size_t expected)
+  {
+    size_t capacity = 64;
+    while (capacity < 2 * expected + 64)
+    {
+      capacity <<= 1;
+    }
+    this->Keys.assign(capacity, Empty);
+    this->Values.resize(capacity);
+    this->Count = 0;
+  }
+  // Inserts (a,b) -> value; when present returns false and leaves `existing`
+  // with its value.
+  bool Insert(Index a, Index b, Index value, Index& existing)
+  {
+    if (2 * (this->Count + 1) > this->Keys.size())
+    {
+      this->Grow();
+    }
+    const uint64_t key = Key(a, b);
+    size_t slot = this->Slot(key);
+    while (this->Keys[slot] != Empty)
+    {
+      if (this->Keys[slot] == key)
+      {
+        existing = this->Values[slot];
+        return false;
+      }
+      slot = (slot + 1) & (this->Keys.size() - 1);
+    }
+    this->Keys[slot] = key;
+    this->Values[slot] = value;
+    ++this->Count;
+    return true;
+  }
+  bool Contains(Index a, Index b) const
+  {
+    Index ignored;
+    return this->Find(a, b, ignored);
+  }
+  // Value of (a,b) in `value` when present.
+  bool Find(Index a, Index b, Index& value) const
+  {
+    if (this->Keys.empty())
+    {
+      return false;
+    }
+    const uint64_t key = Key(a, b);
+    size_t slot = this->Slot(key);
+    while (this->Keys[slot] != Empty)
+    {
+      if (this->Keys[slot] == key)
+      {
+        value = this->Values[slot];
+        return true;
+      }
+      slot = (slot + 1) & (this->Keys.size() - 1);
+    }
+    return false;
+  }
+  size_t MemoryUsage() const { return this->Keys.capacity() * 8 + this->Values.capacity() * sizeof(Index); }
+
+private:
+  static constexpr uint64_t Empty = ~uint64_t(0);
+  static uint64_t Key(Index a, Index b)
+  {
+    if (a > b)
+    {
+      std::swap(a, b);
+    }
+    return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+  }
+  size_t Slot(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & (this->Keys.size() - 1); }
+  void Grow()
+  {
+    std::vector<uint64_t> keys;
+    std::vector<Index> values;
+    keys.swap(this->Keys);
+    values.swap(this->Values);
+    this->Reset(keys.size());
+    Index ignored;
+    for (size_t i = 0; i < keys.size(); ++i)
+    {
+      if (keys[i] != Empty)
+      {
+        this->Insert(Index(keys[i] >> 32), Index(keys[i] & 0xffffffffu), values[i], ignored);
+      }
+    }
+  }
+  std::vector<uint64_t> Keys;
+  std::vector<Index> Values;
+  size_t Count = 0;
+};
+} // namespace spbm
+
+// Working state of one level: the chain graph after simplification, merging and
+// collapses. Chains keep their Patchification ids; patch and endpoint
+// memberships are intrusive linked lists of "slots" (2c = left side / start
+// end, 2c+1 = right side / end end) so merges and collapses splice in O(1) plus
+// one walk.
+struct SpbmLevelGenerator::State
+{
+  StageTimes Times;
+  // Chains.
+  std::vector<Index> A, B, L, R, Interior;
+  std::vector<float> Tolerance; // per chain: epsilon, finer next to refined (frozen) patches
+  std::vector<Index> KeptOffsets,
+    KeptPositions; // per chain: kept interior positions, ascending
+  // Chain tolerances after refining non-simple patches, for the last epsilon
+  // (no fallbacks).
+  bool RefinedValid = false;
+  float RefinedEpsilon = 0;
+  std::vector<float> RefinedTolerance;
+  std::vector<unsigned char> RefinedLocked;
+  std::vector<unsigned char> Alive, Locked;
+  std::vector<Index> PartFirst, PartLast,
+    PartNext;                     // joined chains: list of original chains
+  std::vector<Index> JointBefore; // endpoint between a part and the previous one
+  std::vector<unsigned char> PartReversed;
+  // Endpoints.
+  std::vector<Index> EndHead, EndSlotNext, Degree;
+  // Patches (union-find over original patches).
+  std::vector<Index> Parent, PatchHead, PatchSlotNext, Size, Version;
+  std::vector<Index> TriedP,
+    TriedQ; // per chain: patch versions of its last failed collapse
+  std::vector<Index> MergeTriedP,
+    MergeTriedQ; // per chain: patch versions of its last failed merge
+  std::vector<Vec3> Normal;
+  std::vector<Index> Support; // FlatnessMerge: per root patch, its extreme
+                              // vertices (SupportSize)
+  std::vector<unsigned char> Frozen;
+  long long Total = 0;
+  // Scratch.
+  std::vector<Index> PatchStamp, EndStamp, EndLocal, VertexStamp;
+  Index Stamp = 0;
+  std::vector<std::pair<double, Index>> Heap;
+  spbm::PolygonScratch SimplePolygonScratch;
+  std::vector<double> HeapTop; // per chain: the highest value it has in the heap (or -infinity)
+  std::vector<unsigned char> NoFreeze;
+  // Generation buffers.
+  std::vector<Index> SeqOffsets, SeqVertices;
+  std::vector<unsigned char> SeqKeep;
+  spbm::EdgeMap Edges;
+  // Minimum-deviation triangulation: distance of each diagonal (vertex pair)
+  // from the input, as float bits. It depends on the two original vertices
+  // only, so it is kept across the levels and candidates of one chain hierarchy
+  // (most patches recur between them).
+  spbm::EdgeMap DiagonalCosts;
+  std::vector<uint64_t> SimpleSignature; // per patch: boundary signature last
+                                         // found simple (0: none)
+  std::vector<PredictionMemo> Memo;      // predicted counts of the levels asked for (searches repeat them)
+
+  Index Find(Index p)
+  {
+    while (this->Parent[p] != p)
+    {
+      this->Parent[p] = this->Parent[this->Parent[p]];
+      p = this->Parent[p];
+    }
+    return p;
+  }
+  // Calls f(c) for every live chain that ends at endpoint e.
+  template<typename Functor>
+  void ForEndChains(Index e, Functor&& f) const
+  {
+    for (Index slot = this->EndHead[e]; slot != InvalidIndex; slot = this->EndSlotNext[slot])
+    {
+      const Index c = slot / 2;
+      if (this->Alive[c] && (slot % 2 == 0 ? this->A[c] : this->B[c]) == e)
+      {
+        f(c);
+      }
+    }
+  }
+  // The two chains ending at u, when exactly two do.
+  bool TwoChainsAt(Index u, Index (&pair)[2]) const
+  {
+    pair[0] = pair[1] = InvalidIndex;
+    int found = 0;
+    this->ForEndChains(u, [&](Index c) {
+      if (found < 2)
+      {
+        pair[found] = c;
+      }
+      ++found;
+    });
+    return found == 2;
+  }
+  Index NextStamp()
+  {
+    if (++this->Stamp == std::numeric_limits<Index>::max())
+    {
+      std::fill(this->PatchStamp.begin(), this->PatchStamp.end(), 0);
+      std::fill(this->EndStamp.begin(), this->EndStamp.end(), 0);
+      std::fill(this->VertexStamp.begin(), this->VertexStamp.end(), 0);
+      this->Stamp = 1;
+    }
+    return this->Stamp;
+  }
+};
+} // namespace slod
+
+#endif

@@ -1,0 +1,325 @@
+#include "slodSpbmTargetSearch.h"
+
+namespace slod
+{
+using namespace spbm;
+
+SpbmLevelGenerator::TargetSearch::TargetSearch(
+  SpbmLevelGenerator& generator_, Index target_, const SpbmLevelParameters& base_, State& state)
+  : generator(generator_)
+  , s(state)
+  , base(base_)
+  , target(target_)
+  , params(base_)
+  , nk(static_cast<Index>(generator_.SortedKeys.size()))
+  , countTolerance(std::max<Index>(2, target_ / 50))
+{
+}
+
+double SpbmLevelGenerator::TargetSearch::EpsilonFor(Index k) const
+{
+  return k < nk ? double(generator.SortedKeys[k]) : -1.0;
+}
+
+Index SpbmLevelGenerator::TargetSearch::CountFor(Index k, double angle)
+{
+  SpbmLevelParameters p = params;
+  p.Epsilon = this->EpsilonFor(k);
+  p.MergeAngle = angle;
+  return generator.PredictTriangleCountIn(p, s);
+}
+
+SpbmLevelParameters SpbmLevelGenerator::TargetSearch::Run(Index* predicted)
+{
+  const double angle = this->SearchMergeAngle();
+  params.MergeAngle = angle;
+  Index bestCount = 0;
+  const Index bestK = this->SearchKeptVertices(angle, bestCount);
+  params.Epsilon = this->EpsilonFor(bestK);
+  if (predicted)
+  {
+    *predicted = bestCount;
+  }
+  return params;
+}
+
+// alpha1: the given one, or (when even single-segment chains give too many triangles) the
+// smallest wider one, up to 90 degrees, that reaches the target.
+double SpbmLevelGenerator::TargetSearch::SearchMergeAngle()
+{
+  double angle = base.MergeAngle;
+  if (!(this->CountFor(0, angle) > target && (base.MergePatches || base.CollapseChains)))
+  {
+    return angle;
+  }
+  angleLo = angle;
+  angleHi = std::max(90.0, angle);
+  countAngleLo = this->CountFor(0, angleLo);
+  countAngleHi = 0;
+  this->BracketMergeAngle();
+  // Even alpha1 = 90 leaves too many triangles (the Fandisk at 150): drop the epsilon bound on
+  // collapses (the paper's rule), collapse longer chains (condition (c) up to the patch's
+  // longest chain), and last drop the epsilon bound on joins, until the target is reached.
+  // The target count wins over the profile curves' epsilon bound here, at a cost in fidelity.
+  if (countAngleHi > target && base.CollapseChains && base.CostOrderedRemoval)
+  {
+    this->ReachWithRemoval(angle);
+  }
+  if (countAngleHi > target && base.CollapseChains)
+  {
+    this->ReachWithRelaxations();
+  }
+  if (countAngleHi <= target)
+  {
+    this->NarrowMergeAngle();
+  }
+  return angleHi;
+}
+
+void SpbmLevelGenerator::TargetSearch::BracketMergeAngle()
+{
+  // Bracket by doubling alpha1 (the count falls steeply at small angles and flattens toward
+  // 90 degrees), stopping at RemovalMergeAngle on the way: the widest (and slowest) merging
+  // run, at 90, is evaluated only when nothing narrower reaches the target.
+  for (double probe = angleLo;;)
+  {
+    double next = probe <= 0 ? angleHi : std::min(angleHi, 2 * probe);
+    if (base.CostOrderedRemoval && base.CollapseChains && probe < base.RemovalMergeAngle)
+    {
+      // With the removal, whether it is needed depends on RemovalMergeAngle's count only:
+      // probe it first (the regula falsi below narrows the bracket when it is not needed).
+      next = std::min(angleHi, base.RemovalMergeAngle);
+    }
+    probe = probe < base.RemovalMergeAngle && next > base.RemovalMergeAngle ? base.RemovalMergeAngle : next;
+    const Index c = this->CountFor(0, probe);
+    const bool removal = base.CostOrderedRemoval && base.CollapseChains && probe == base.RemovalMergeAngle;
+    if (c <= target || probe >= angleHi || removal)
+    {
+      // (With the cost-ordered removal, alpha1 is not widened beyond RemovalMergeAngle: the
+      // removal below reaches the count with less flattening than wider merging.)
+      angleHi = probe;
+      countAngleHi = c;
+      break;
+    }
+    angleLo = probe;
+    countAngleLo = c;
+  }
+}
+
+void SpbmLevelGenerator::TargetSearch::ReachWithRemoval(double angle)
+{
+  // Remove endpoints cheapest first down to the target (the epsilon bounds stay on the rest).
+  // The removal sets the count: alpha1 only bounds which unions become flat patches, and
+  // merging up to RemovalMergeAngle (not 90) keeps creases sharper than that as chains.
+  params.RemovalTarget = target;
+  const double removalAngle = std::min(angleHi, std::max(angle, base.RemovalMergeAngle));
+  const Index c = this->CountFor(0, removalAngle);
+  if (c <= target)
+  {
+    angleLo = angleHi = removalAngle;
+    countAngleLo = countAngleHi = c;
+  }
+  else
+  {
+    angleHi = std::max(90.0, angle); // the removal alone does not reach it: widest merging too
+    countAngleHi = this->CountFor(0, angleHi);
+    countAngleLo = this->CountFor(0, angleLo);
+  }
+}
+
+void SpbmLevelGenerator::TargetSearch::ReachWithRelaxations()
+{
+  params.RemovalTarget = 0;
+  struct Relaxation
+  {
+    bool Join, Collapse;
+    double Factor;
+  };
+  const Relaxation relaxations[] = { { true, false, base.CollapseLengthFactor }, { true, false, 0.35 },
+    { true, false, 0.5 }, { true, false, 0.75 }, { true, false, 1.0 }, { false, false, 1.0 } };
+  for (const Relaxation& relaxation : relaxations)
+  {
+    params.JoinWithinEpsilon = base.JoinWithinEpsilon && relaxation.Join;
+    params.CollapseWithinEpsilon = base.CollapseWithinEpsilon && relaxation.Collapse;
+    params.CollapseLengthFactor = std::max(base.CollapseLengthFactor, relaxation.Factor);
+    countAngleHi = this->CountFor(0, angleHi);
+    if (countAngleHi <= target)
+    {
+      countAngleLo = this->CountFor(0, angleLo);
+      break;
+    }
+  }
+}
+
+// The count falls steeply at small angles and flattens toward 90 degrees: narrow the bracket by
+// doubling alpha1 first, then regula falsi (Illinois) on the count (at most 6 evaluations).
+void SpbmLevelGenerator::TargetSearch::NarrowMergeAngle()
+{
+  while (angleLo > 1.0 && 2 * angleLo < angleHi && countAngleHi < target - countTolerance)
+  {
+    const Index c = this->CountFor(0, 2 * angleLo);
+    if (c > target)
+    {
+      angleLo = 2 * angleLo;
+      countAngleLo = c;
+    }
+    else
+    {
+      angleHi = 2 * angleLo;
+      countAngleHi = c;
+      break;
+    }
+  }
+  int side = 0;
+  Index realHi = countAngleHi; // countAngleHi is scaled by the Illinois steps
+  for (int iteration = 0; iteration < 6 && angleHi - angleLo > 0.05 && realHi < target - countTolerance; ++iteration)
+  {
+    // Interpolated in log(alpha1): the count is about linear in it (fewer evaluations).
+    const double logLo = std::log(std::max(angleLo, 1e-3)), logHi = std::log(std::max(angleHi, 1e-3));
+    double mid = std::exp(
+      logHi - (logHi - logLo) * double(target - countAngleHi) / std::max(1.0, double(countAngleLo - countAngleHi)));
+    mid = std::min(angleHi - 0.01 * (angleHi - angleLo), std::max(angleLo + 0.01 * (angleHi - angleLo), mid));
+    const Index c = this->CountFor(0, mid);
+    if (c > target)
+    {
+      angleLo = mid;
+      countAngleLo = c;
+      if (side == -1)
+      {
+        countAngleHi = target + (countAngleHi - target) / 2;
+      }
+      side = -1;
+    }
+    else
+    {
+      angleHi = mid;
+      countAngleHi = c;
+      realHi = c;
+      if (side == 1)
+      {
+        countAngleLo = target + (countAngleLo - target) / 2;
+      }
+      side = 1;
+      if (c == target)
+      {
+        break;
+      }
+    }
+  }
+}
+
+// epsilon: the number of kept chain vertices (top keys) whose count comes closest to the target
+// from below.
+Index SpbmLevelGenerator::TargetSearch::SearchKeptVertices(double angle, Index& bestCount)
+{
+  Index bestK = 0;
+  bestCount = this->CountFor(0, angle);
+  if (bestCount >= target - countTolerance)
+  {
+    return bestK;
+  }
+  Index lo = 0, hi = nk;
+  Index countLo = bestCount, countHi = 0;
+  if (this->BracketKeptVertices(angle, lo, hi, countLo, countHi))
+  {
+    this->NarrowKeptVertices(angle, lo, hi, countLo, countHi);
+  }
+  // The count is not strictly monotone (merges, refinements): look around, unless the count
+  // found is within the tolerance below the target.
+  const Index found = this->CountFor(lo, angle);
+  const Index around = found <= target && found >= target - countTolerance ? 0 : 2;
+  for (Index k = std::max<Index>(0, lo - around); k <= std::min<Index>(nk, lo + around); ++k)
+  {
+    const Index c = this->CountFor(k, angle);
+    if (c <= target && (bestCount > target || c > bestCount))
+    {
+      bestK = k;
+      bestCount = c;
+    }
+  }
+  return bestK;
+}
+
+// Bracket from below: each kept chain vertex adds about two triangles (one on each side), so
+// step by the missing count over the measured slope (2 at first); the full-resolution count is
+// only needed when the target is beyond every step.
+bool SpbmLevelGenerator::TargetSearch::BracketKeptVertices(
+  double angle, Index& lo, Index& hi, Index& countLo, Index& countHi)
+{
+  bool bracketed = false;
+  double slope = 2.0;
+  for (int step = 0; step < 8 && !bracketed && lo < nk && countLo < target - countTolerance; ++step)
+  {
+    const Index next =
+      std::min<Index>(nk, lo + std::max<Index>(1, static_cast<Index>(double(target - countLo) / slope)));
+    const Index c = this->CountFor(next, angle);
+    if (c > target)
+    {
+      hi = next;
+      countHi = c;
+      bracketed = true;
+    }
+    else
+    {
+      if (c > countLo)
+      {
+        slope = std::max(0.5, double(c - countLo) / double(next - lo));
+      }
+      lo = next;
+      countLo = c;
+    }
+  }
+  if (!bracketed && lo < nk && countLo < target - countTolerance)
+  {
+    countHi = this->CountFor(nk, angle);
+    bracketed = countHi > target;
+    if (!bracketed)
+    {
+      lo = nk;
+      countLo = countHi;
+    }
+  }
+  return bracketed;
+}
+
+// Regula falsi (Illinois) over the number of kept vertices: the count grows about linearly with
+// it, so a few evaluations (at most 40) replace a binary search.
+void SpbmLevelGenerator::TargetSearch::NarrowKeptVertices(
+  double angle, Index& lo, Index& hi, Index& countLo, Index& countHi)
+{
+  int side = 0;
+  Index realLo = countLo; // countLo is scaled by the Illinois steps
+  for (int iteration = 0; iteration < 40 && hi - lo > 1 && realLo < target - countTolerance; ++iteration)
+  {
+    const double spread = std::max(1.0, double(countHi - countLo));
+    Index mid = lo + static_cast<Index>(double(hi - lo) * double(target - countLo) / spread);
+    mid = std::min(hi - 1, std::max(lo + 1, mid));
+    const Index c = this->CountFor(mid, angle);
+    if (c > target)
+    {
+      hi = mid;
+      countHi = c;
+      if (side == 1)
+      {
+        countLo = target - (target - countLo) / 2;
+      }
+      side = 1;
+    }
+    else
+    {
+      lo = mid;
+      countLo = c;
+      realLo = c;
+      if (side == -1)
+      {
+        countHi = target + (countHi - target) / 2;
+      }
+      side = -1;
+      if (c == target)
+      {
+        break;
+      }
+    }
+  }
+}
+} // namespace slod

@@ -1,0 +1,47 @@
+// SurfaceLOD patch boundary merge (internal, not installed): the target search of an SPBM level.
+// Finds parameters whose level has about `target` triangles from predicted counts (one merging
+// run each, memoized): first alpha1 (the given one, or the smallest wider one that reaches the
+// target, else the cost-ordered removal or the relaxed collapse conditions), then epsilon as the
+// number of kept chain vertices whose count comes closest to the target from below.
+#ifndef slodSpbmTargetSearch_h
+#define slodSpbmTargetSearch_h
+
+#include "slodSpbmState.h"
+
+namespace slod
+{
+class SpbmLevelGenerator::TargetSearch
+{
+public:
+  TargetSearch(SpbmLevelGenerator& generator, Index target, const SpbmLevelParameters& base, State& s);
+  SpbmLevelParameters Run(Index* predicted);
+
+private:
+  double EpsilonFor(Index k) const;
+  Index CountFor(Index k, double angle);
+  // alpha1.
+  double SearchMergeAngle();
+  void BracketMergeAngle();
+  void ReachWithRemoval(double angle);
+  void ReachWithRelaxations();
+  void NarrowMergeAngle();
+  // epsilon: k = the number of kept chain vertices (top keys).
+  Index SearchKeptVertices(double angle, Index& bestCount);
+  bool BracketKeptVertices(double angle, Index& lo, Index& hi, Index& countLo, Index& countHi);
+  void NarrowKeptVertices(double angle, Index& lo, Index& hi, Index& countLo, Index& countHi);
+
+  SpbmLevelGenerator& generator;
+  State& s;
+  const SpbmLevelParameters& base;
+  const Index target;
+  SpbmLevelParameters params;
+  const Index nk; // finite keys
+  // Counts this close below the target are good enough: each evaluation is a whole merging run.
+  const Index countTolerance;
+  // alpha1 bracket: count at angleLo above the target, at angleHi (when reached) not above.
+  double angleLo = 0, angleHi = 0;
+  Index countAngleLo = 0, countAngleHi = 0;
+};
+} // namespace slod
+
+#endif

@@ -1,0 +1,508 @@
+#include "slodSpbmTriangulation.h"
+
+#include "slodPolygonTriangulation.h"
+#include "slodTriangleBVH.h"
+
+#include <cstring>
+
+namespace slod
+{
+using namespace spbm;
+
+SpbmLevelGenerator::LevelTriangulation::LevelTriangulation(
+  SpbmLevelGenerator& generator_, const SpbmLevelParameters& parameters_, State& state, SpbmLevel& level_)
+  : generator(generator_)
+  , parameters(parameters_)
+  , s(state)
+  , level(level_)
+  , P(*generator_.Patches)
+  , mesh(*generator_.Mesh)
+  , np(P.NumberOfPatches())
+  , nc(P.NumberOfChains())
+  , base(nc > 0 ? P.ChainVerticesBegin(0) : nullptr)
+{
+}
+
+bool SpbmLevelGenerator::LevelTriangulation::RunPass(
+  const std::vector<unsigned char>& frozen, const std::function<bool()>& abort)
+{
+  failed.assign(size_t(np), 0);
+  this->BuildVertexSequences();
+  this->MakeSegmentsUnique();
+  this->AddOriginalPatches(frozen);
+  return this->TriangulatePatches(frozen, abort);
+}
+
+// Vertex sequences of the alive chains (all vertices, with keep flags).
+void SpbmLevelGenerator::LevelTriangulation::BuildVertexSequences()
+{
+  s.SeqOffsets.assign(size_t(nc) + 1, 0);
+  s.SeqVertices.clear();
+  s.SeqKeep.clear();
+  for (Index c = 0; c < nc; ++c)
+  {
+    s.SeqOffsets[c] = static_cast<Index>(s.SeqVertices.size());
+    if (!s.Alive[c])
+    {
+      continue;
+    }
+    const bool single = s.PartFirst[c] == s.PartLast[c];
+    s.SeqVertices.push_back(P.EndpointVertex(s.A[c]));
+    s.SeqKeep.push_back(1);
+    for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
+    {
+      if (part != s.PartFirst[c])
+      {
+        // Joint between parts: the endpoint dropped when they were joined.
+        s.SeqVertices.push_back(P.EndpointVertex(s.JointBefore[part]));
+        s.SeqKeep.push_back(0);
+      }
+      const Index* v = P.ChainVerticesBegin(part);
+      const Index n = P.ChainSize(part);
+      const bool reversed = s.PartReversed[part];
+      const size_t partStart = s.SeqVertices.size();
+      for (Index i = 1; i + 1 < n; ++i)
+      {
+        s.SeqVertices.push_back(v[reversed ? n - 1 - i : i]);
+        s.SeqKeep.push_back(0);
+      }
+      for (Index j = s.KeptOffsets[part]; j < s.KeptOffsets[part + 1]; ++j)
+      {
+        const Index k = s.KeptPositions[j];
+        s.SeqKeep[partStart + size_t(reversed ? n - 1 - k : k) - 1] = 1;
+      }
+    }
+    s.SeqVertices.push_back(P.EndpointVertex(s.B[c]));
+    s.SeqKeep.push_back(1);
+    // Forced vertex (lens rule): the top of the hierarchy, or the middle of a joined chain.
+    const Index first = s.SeqOffsets[c], count = static_cast<Index>(s.SeqVertices.size()) - first;
+    Index kept = 0;
+    for (Index i = 1; i + 1 < count; ++i)
+    {
+      kept += s.SeqKeep[first + i];
+    }
+    if (kept < s.Interior[c] && count > 2)
+    {
+      Index best = count / 2;
+      if (single)
+      {
+        const float* keys = generator.Keys.data() + (P.ChainVerticesBegin(c) - base);
+        for (Index i = 1; i + 1 < count; ++i)
+        {
+          if (keys[i] > keys[best])
+          {
+            best = i;
+          }
+        }
+      }
+      s.SeqKeep[first + best] = 1;
+    }
+  }
+  s.SeqOffsets[nc] = static_cast<Index>(s.SeqVertices.size());
+}
+
+// Segments must be unique: refine a chain whose shortcut duplicates another edge (bounded: 64
+// rounds, each adding at least one kept vertex or giving up on a pair of patches).
+void SpbmLevelGenerator::LevelTriangulation::MakeSegmentsUnique()
+{
+  for (int round = 0; round < 64; ++round)
+  {
+    bool changed = false;
+    s.Edges.Reset(s.SeqVertices.size());
+    for (Index c = 0; c < nc && !changed; ++c)
+    {
+      Index previous = s.SeqOffsets[c];
+      for (Index i = s.SeqOffsets[c] + 1; i < s.SeqOffsets[c + 1]; ++i)
+      {
+        if (!s.SeqKeep[i])
+        {
+          continue;
+        }
+        Index existing;
+        // A non-manifold input edge lies on the (full-resolution) chain of every patch around
+        // it: the same segment on several non-manifold chains is that one edge, kept as is.
+        if (!s.Edges.Insert(s.SeqVertices[previous], s.SeqVertices[i], c, existing) &&
+          !(existing >= 0 && P.ChainIsNonManifold(c) && P.ChainIsNonManifold(existing)))
+        {
+          if (i - previous >= 2)
+          {
+            s.SeqKeep[(previous + i) / 2] = 1;
+            changed = true;
+          }
+          else
+          {
+            // Refine the other one (find its segment), else give up on both patches.
+            bool refined = false;
+            Index prevOther = s.SeqOffsets[existing];
+            for (Index j = s.SeqOffsets[existing] + 1; j < s.SeqOffsets[existing + 1] && !refined; ++j)
+            {
+              if (!s.SeqKeep[j])
+              {
+                continue;
+              }
+              const Index x = s.SeqVertices[prevOther], y = s.SeqVertices[j];
+              if (((x == s.SeqVertices[previous] && y == s.SeqVertices[i]) ||
+                    (y == s.SeqVertices[previous] && x == s.SeqVertices[i])) &&
+                j - prevOther >= 2)
+              {
+                s.SeqKeep[(prevOther + j) / 2] = 1;
+                refined = true;
+              }
+              prevOther = j;
+            }
+            if (refined)
+            {
+              changed = true;
+            }
+            else
+            {
+              for (const Index x : { c, existing })
+              {
+                failed[s.Find(s.L[x])] = 1;
+                if (s.R[x] != InvalidIndex)
+                {
+                  failed[s.Find(s.R[x])] = 1;
+                }
+              }
+            }
+          }
+        }
+        previous = i;
+      }
+    }
+    if (!changed)
+    {
+      break;
+    }
+  }
+}
+
+// Edges and triangles of patches kept as original triangles.
+void SpbmLevelGenerator::LevelTriangulation::AddOriginalPatches(const std::vector<unsigned char>& frozen)
+{
+  level.Triangles.clear();
+  level.TrianglePatch.clear();
+  bool anyOriginal = false;
+  for (Index p = 0; p < np; ++p)
+  {
+    anyOriginal = anyOriginal || frozen[p] == OriginalLevel;
+  }
+  if (anyOriginal)
+  {
+    const std::vector<Index>& patchOf = P.TrianglePatches();
+    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    {
+      const Index p = patchOf[t];
+      if (frozen[p] != OriginalLevel)
+      {
+        continue;
+      }
+      const Index* tri = mesh.Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        Index existing;
+        if (!s.Edges.Insert(tri[k], tri[(k + 1) % 3], -1 - p, existing) && existing >= 0)
+        {
+          const Index x = existing;
+          if (s.Find(s.L[x]) != p && (s.R[x] == InvalidIndex || s.Find(s.R[x]) != p))
+          {
+            failed[s.Find(s.L[x])] = 1;
+            if (s.R[x] != InvalidIndex)
+            {
+              failed[s.Find(s.R[x])] = 1;
+            }
+          }
+        }
+      }
+      level.Triangles.insert(level.Triangles.end(), tri, tri + 3);
+      level.TrianglePatch.push_back(p);
+    }
+  }
+}
+
+// Every other patch from its simplified boundary, smallest boundaries first: they have the
+// fewest alternative diagonals, large ones can avoid the edges already taken.
+bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
+  const std::vector<unsigned char>& frozen, const std::function<bool()>& abort)
+{
+  std::vector<Index> patches;
+  for (Index p = 0; p < np; ++p)
+  {
+    if (s.Parent[p] == p && frozen[p] != OriginalLevel && !failed[p])
+    {
+      patches.push_back(p);
+    }
+  }
+  std::stable_sort(patches.begin(), patches.end(), [&](Index x, Index y) { return s.Size[x] < s.Size[y]; });
+  for (size_t index = 0; index < patches.size(); ++index)
+  {
+    const Index p = patches[index];
+    if ((index & 255) == 0 && abort && abort())
+    {
+      return false;
+    }
+    if (!this->BoundaryPolygon(p) || !this->TriangulateBoundary(p))
+    {
+      failed[p] = 1;
+    }
+  }
+  return true;
+}
+
+// The boundary polygon of root patch p (polygon, other): its oriented chains linked end to
+// start, the kept vertices of each. False when they do not form one simple loop.
+bool SpbmLevelGenerator::LevelTriangulation::BoundaryPolygon(Index p)
+{
+  // Oriented chains of p, linked end to start.
+  ring.clear();
+  const Index stamp = s.NextStamp();
+  for (Index slot = s.PatchHead[p]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+  {
+    const Index c = slot / 2;
+    if (!s.Alive[c])
+    {
+      continue;
+    }
+    const bool reversed = s.Find(s.L[c]) != p;
+    const Index startEnd = reversed ? s.B[c] : s.A[c];
+    if (s.EndStamp[startEnd] == stamp)
+    {
+      ring.clear();
+      break; // two chains leave the same vertex: not a simple loop
+    }
+    s.EndStamp[startEnd] = stamp;
+    ring.push_back(reversed ? -1 - c : c);
+  }
+  polygon.clear();
+  other.clear();
+  bool ok = !ring.empty();
+  if (ok)
+  {
+    // Order: follow end -> start through a small search (patch degrees are small).
+    order.assign(ring.begin(), ring.end());
+    auto startOf = [&](Index o) { return o >= 0 ? s.A[o] : s.B[-1 - o]; };
+    auto endOf = [&](Index o) { return o >= 0 ? s.B[o] : s.A[-1 - o]; };
+    for (size_t i = 0; i + 1 < order.size() && ok; ++i)
+    {
+      size_t j = i + 1;
+      while (j < order.size() && startOf(order[j]) != endOf(order[i]))
+      {
+        ++j;
+      }
+      if (j == order.size())
+      {
+        ok = false;
+      }
+      else
+      {
+        std::swap(order[i + 1], order[j]);
+      }
+    }
+    ok = ok && endOf(order.back()) == startOf(order.front());
+    for (size_t i = 0; i < order.size() && ok; ++i)
+    {
+      const Index c = order[i] >= 0 ? order[i] : -1 - order[i];
+      const bool reversed = order[i] < 0;
+      const Index otherSide = s.R[c] == InvalidIndex ? InvalidIndex : (reversed ? s.Find(s.L[c]) : s.Find(s.R[c]));
+      const Index first = s.SeqOffsets[c], last = s.SeqOffsets[c + 1] - 1;
+      for (Index k = 0; k < last - first; ++k) // all but the final vertex
+      {
+        const Index pos = reversed ? last - k : first + k;
+        if (!s.SeqKeep[pos])
+        {
+          continue;
+        }
+        polygon.push_back(s.SeqVertices[pos]);
+        other.push_back(k == 0 ? InvalidIndex : otherSide);
+      }
+    }
+  }
+  // Distinct vertices.
+  const Index vstamp = s.NextStamp();
+  for (const Index v : polygon)
+  {
+    ok = ok && s.VertexStamp[v] != vstamp;
+    s.VertexStamp[v] = vstamp;
+  }
+  ok = ok && polygon.size() >= 3;
+  return ok;
+}
+
+// Triangulates the boundary polygon of patch p into the level: the minimum-deviation
+// triangulation for small non-planar boundaries, else ear clipping (smallest angle first) with
+// the double-ear normal rule, then without it. No diagonal may duplicate an existing edge.
+bool SpbmLevelGenerator::LevelTriangulation::TriangulateBoundary(Index p)
+{
+  points.resize(polygon.size());
+  for (size_t i = 0; i < polygon.size(); ++i)
+  {
+    points[i] = mesh.Point(polygon[i]);
+  }
+  const Vec3 normal = Normalized(s.Normal[p]);
+  const Index n = static_cast<Index>(polygon.size());
+  PolygonTriangulationOptions options;
+  options.AllowFallback = false;
+  bool doubleEarRule = true;
+  options.AcceptEar = [&](Index ia, Index k, Index ic) {
+    if (s.Edges.Contains(polygon[ia], polygon[ic]))
+    {
+      return false; // the diagonal is already an edge: would be non-manifold
+    }
+    if (doubleEarRule && other[k] != InvalidIndex && ia == (k + n - 1) % n && ic == (k + 1) % n)
+    {
+      // Double ear: the mirrored triangle would also be an ear of the patch across; keep
+      // the one whose normal is closer to its patch normal.
+      const Vec3 nt = Cross(points[k] - points[ia], points[ic] - points[ia]);
+      if (Dot(nt, normal + Normalized(s.Normal[other[k]])) < 0)
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  PolygonTriangulationResult result;
+  result.Failed = true;
+  if (parameters.MinimumDeviationTriangulation && n > 3 && n <= parameters.MinimumDeviationMaxVertices)
+  {
+    this->TriangulateMinimumDeviation(normal, result);
+  }
+  if (result.Failed)
+  {
+    result = TriangulatePolygon(points, normal, options);
+  }
+  if (result.Failed)
+  {
+    doubleEarRule = false; // the rule only chooses between sides; never fail because of it
+    result = TriangulatePolygon(points, normal, options);
+  }
+  if (result.Failed || result.Triangles.size() + 2 != polygon.size())
+  {
+    return false;
+  }
+  for (const auto& t : result.Triangles)
+  {
+    Index ignored;
+    for (int k = 0; k < 3; ++k)
+    {
+      s.Edges.Insert(polygon[t[k]], polygon[t[(k + 1) % 3]], -1, ignored);
+    }
+    level.Triangles.push_back(polygon[t[0]]);
+    level.Triangles.push_back(polygon[t[1]]);
+    level.Triangles.push_back(polygon[t[2]]);
+    level.TrianglePatch.push_back(p);
+  }
+  return true;
+}
+
+// Non-planar boundary: the choice of diagonals decides how far the flat triangulation lies from
+// the original patch; choose the diagonals closest to the original surface. Leaves `result`
+// failed for a planar boundary.
+void SpbmLevelGenerator::LevelTriangulation::TriangulateMinimumDeviation(
+  const Vec3& normal, PolygonTriangulationResult& result)
+{
+  const Index n = static_cast<Index>(polygon.size());
+  Vec3 centroid{ 0, 0, 0 };
+  for (const Vec3& x : points)
+  {
+    centroid = centroid + x;
+  }
+  centroid = (1.0 / n) * centroid;
+  double height = 0;
+  for (const Vec3& x : points)
+  {
+    height = std::max(height, std::fabs(Dot(x - centroid, normal)));
+  }
+  if (height <= parameters.NonPlanarTolerance * generator.Diagonal)
+  {
+    return;
+  }
+  const TriangleBVH& tree = generator.GetInputTree(s.Times);
+  MinimumCostTriangulationOptions dp;
+  dp.AcceptDiagonal = [&](Index i, Index j) { return !s.Edges.Contains(polygon[i], polygon[j]); };
+  auto diagonalCost = [&](Index i, Index j) {
+    // Distance of the diagonal's midpoint from the input. (Adding the quarter points
+    // tripled the queries, about half of the level's triangulation time, for the same
+    // Fandisk levels and 7% on bunny00 at 1500 triangles.)
+    return std::sqrt(tree.ClosestPoint(0.5 * (points[i] + points[j])).Distance2);
+  };
+  // Cached as float, and used as float also when just measured: the level then does not depend
+  // on which working state (candidate thread) measured a diagonal first.
+  dp.DiagonalCost = [&](Index i, Index j) {
+    Index bits = 0;
+    float cached = 0;
+    if (!s.DiagonalCosts.Find(polygon[i], polygon[j], bits))
+    {
+      cached = static_cast<float>(diagonalCost(i, j));
+      std::memcpy(&bits, &cached, sizeof(float));
+      Index ignored;
+      s.DiagonalCosts.Insert(polygon[i], polygon[j], bits, ignored);
+    }
+    std::memcpy(&cached, &bits, sizeof(float));
+    return double(cached);
+  };
+  // Thin triangles cost about as much as a diagonal 1e-3 of the diagonal off the surface.
+  dp.AngleWeight = 1e-3 * generator.Diagonal;
+  const auto started = StageClock::now();
+  result = TriangulatePolygonMinimumCost(points, normal, dp);
+  s.Times.Triangulation += Since(started);
+}
+
+bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<unsigned char>& frozen)
+{
+  bool anyFailed = false;
+  for (Index q = 0; q < np; ++q)
+  {
+    if (failed[s.Find(q)] && frozen[q] < OriginalLevel)
+    {
+      ++frozen[q];
+      anyFailed = true;
+    }
+  }
+  return anyFailed;
+}
+
+// Compact patch ids and the profile curves.
+void SpbmLevelGenerator::LevelTriangulation::Finish(const std::vector<unsigned char>& frozen)
+{
+  std::vector<Index> compact(size_t(np), InvalidIndex);
+  Index next = 0;
+  for (Index& p : level.TrianglePatch)
+  {
+    if (compact[p] == InvalidIndex)
+    {
+      compact[p] = next++;
+    }
+    p = compact[p];
+  }
+  level.NumberOfPatches = next;
+  level.MergedPatchOf.assign(size_t(np), InvalidIndex);
+  for (Index p = 0; p < np; ++p)
+  {
+    const Index root = s.Find(p);
+    level.MergedPatchOf[p] = compact[root] != InvalidIndex ? compact[root] : compact[p];
+  }
+  for (Index p = 0; p < np; ++p)
+  {
+    level.UnmergedPatches += frozen[p] == 1;
+    level.RefinedPatches += frozen[p] >= 2 && frozen[p] < OriginalLevel;
+    level.OriginalPatches += frozen[p] == OriginalLevel;
+  }
+  level.CurveOffsets.assign(1, 0);
+  level.CurveVertices.clear();
+  for (Index c = 0; c < nc; ++c)
+  {
+    if (!s.Alive[c])
+    {
+      continue;
+    }
+    for (Index i = s.SeqOffsets[c]; i < s.SeqOffsets[c + 1]; ++i)
+    {
+      if (s.SeqKeep[i])
+      {
+        level.CurveVertices.push_back(s.SeqVertices[i]);
+      }
+    }
+    level.CurveOffsets.push_back(static_cast<Index>(level.CurveVertices.size()));
+  }
+}
+} // namespace slod

@@ -1,0 +1,56 @@
+// SurfaceLOD patch boundary merge (internal, not installed): triangulation of an SPBM level
+// (Ho 1999, section 4.2.8) from the chain graph a merging run left in the working state.
+// Stages of one pass:
+//  1. BuildVertexSequences: every alive chain as its original vertices with keep flags;
+//  2. MakeSegmentsUnique: a chain whose shortcut duplicates another edge keeps one more vertex;
+//  3. AddOriginalPatches: patches frozen at the last fallback level as their input triangles;
+//  4. TriangulatePatches: every other patch from its simplified boundary (ear clipping, or the
+//     minimum-deviation triangulation for small non-planar boundaries);
+//  5. FreezeFailedPatches: the patches that failed go one fallback level further for the next pass.
+// Finish compacts the patch ids and writes the profile curves.
+#ifndef slodSpbmTriangulation_h
+#define slodSpbmTriangulation_h
+
+#include "slodPolygonTriangulation.h"
+#include "slodSpbmState.h"
+
+#include <functional>
+
+namespace slod
+{
+class SpbmLevelGenerator::LevelTriangulation
+{
+public:
+  LevelTriangulation(SpbmLevelGenerator& generator, const SpbmLevelParameters& parameters, State& s, SpbmLevel& level);
+  // One pass over the current chain graph. False when aborted.
+  bool RunPass(const std::vector<unsigned char>& frozen, const std::function<bool()>& abort);
+  // Moves the failed patches one fallback level further; false when none failed.
+  bool FreezeFailedPatches(std::vector<unsigned char>& frozen);
+  void Finish(const std::vector<unsigned char>& frozen);
+
+private:
+  void BuildVertexSequences();
+  void MakeSegmentsUnique();
+  void AddOriginalPatches(const std::vector<unsigned char>& frozen);
+  bool TriangulatePatches(const std::vector<unsigned char>& frozen, const std::function<bool()>& abort);
+  bool BoundaryPolygon(Index p);
+  bool TriangulateBoundary(Index p);
+  void TriangulateMinimumDeviation(const Vec3& normal, PolygonTriangulationResult& result);
+
+  SpbmLevelGenerator& generator;
+  const SpbmLevelParameters& parameters;
+  State& s;
+  SpbmLevel& level;
+  const Patchification& P;
+  const TriangleMesh& mesh;
+  const Index np, nc;
+  const Index* const base;           // first chain vertex: chain offsets into the generator's key arrays
+  std::vector<unsigned char> failed; // per patch of the pass
+  // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each
+  // polygon corner's outgoing chain (or InvalidIndex), its oriented chains, the corner points.
+  std::vector<Index> polygon, other, ring, order;
+  std::vector<Vec3> points;
+};
+} // namespace slod
+
+#endif
