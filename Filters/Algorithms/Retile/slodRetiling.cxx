@@ -678,47 +678,54 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
 
 namespace
 {
-// Steps 4-6 on given candidate points (their positions may be adjusted: moved strictly inside
-// their triangle). Keeps the spacing figures already in result.
-void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
-  RetilingResult& result)
+bool ReportProgress(const RetilingOptions& options, double fraction)
 {
-  const Index n0 = mesh.NumberOfPoints();
-  const Index nt = mesh.NumberOfTriangles();
-  const Index np = static_cast<Index>(points.size());
-  auto report = [&](double f) { return !options.Progress || options.Progress(f); };
-  auto abort = [&]() {
-    result = RetilingResult();
-    result.Aborted = true;
-  };
+  return !options.Progress || options.Progress(fraction);
+}
 
-  // 4: mutual tessellation. Candidate points first go strictly inside their triangle so that no
-  // original edge is split (the original edges stay the constraints).
-  std::vector<Index> start(size_t(nt) + 1, 0), order(np);
+void AbortResult(RetilingResult& result)
+{
+  result = RetilingResult();
+  result.Aborted = true;
+}
+
+// The candidates of each input triangle: order[start[t]] .. order[start[t + 1] - 1] (counting sort).
+struct CandidatesByTriangle
+{
+  std::vector<Index> Start, Order;
+};
+
+CandidatesByTriangle BucketCandidates(const std::vector<SurfacePoint>& points, Index numberOfTriangles)
+{
+  const Index np = static_cast<Index>(points.size());
+  CandidatesByTriangle buckets;
+  buckets.Start.assign(size_t(numberOfTriangles) + 1, 0);
+  buckets.Order.resize(np);
   for (Index i = 0; i < np; ++i)
   {
-    ++start[points[i].Triangle + 1];
+    ++buckets.Start[points[i].Triangle + 1];
   }
-  for (Index t = 0; t < nt; ++t)
+  for (Index t = 0; t < numberOfTriangles; ++t)
   {
-    start[t + 1] += start[t];
+    buckets.Start[t + 1] += buckets.Start[t];
   }
-  {
-    std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index i = 0; i < np; ++i)
-    {
-      order[fill[points[i].Triangle]++] = i;
-    }
-  }
-  std::vector<double> bary(3 * size_t(np));
-  TriangleMesh mutual;
-  mutual.Points = mesh.Points;
-  mutual.Points.reserve(mesh.Points.size() + 3 * size_t(np));
+  std::vector<Index> fill(buckets.Start.begin(), buckets.Start.end() - 1);
   for (Index i = 0; i < np; ++i)
   {
-    const Index* tri = mesh.Triangle(points[i].Triangle);
+    buckets.Order[fill[points[i].Triangle]++] = i;
+  }
+  return buckets;
+}
+
+// Candidate points go strictly inside their triangle so that no original edge is split (the
+// original edges stay the constraints of the mutual tessellation).
+void MoveCandidatesInside(const TriangleMesh& mesh, std::vector<SurfacePoint>& points)
+{
+  for (SurfacePoint& point : points)
+  {
+    const Index* tri = mesh.Triangle(point.Triangle);
     const Vec3 a = mesh.Point(tri[0]), b = mesh.Point(tri[1]), c = mesh.Point(tri[2]);
-    Vec3 w = Barycentric(points[i].Position, a, b, c);
+    Vec3 w = Barycentric(point.Position, a, b, c);
     const double eps = 1e-4;
     double sum = 0;
     for (double& x : w)
@@ -727,8 +734,25 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       sum += x;
     }
     w = (1.0 / sum) * w;
-    points[i].Position = w[0] * a + w[1] * b + w[2] * c;
-    mutual.AddPoint(points[i].Position);
+    point.Position = w[0] * a + w[1] * b + w[2] * c;
+  }
+}
+
+// Step 4 (section 4.2): the mutual tessellation. Vertices: the old ones, then candidate i at
+// n0 + i; every old triangle holding candidates is split around them. Fills the candidates'
+// barycentric coordinates in their triangle (after the splitter's nudges).
+void MutualTessellation(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const CandidatesByTriangle& buckets,
+  TriangleMesh& mutual, std::vector<double>& bary)
+{
+  const Index n0 = mesh.NumberOfPoints();
+  const Index nt = mesh.NumberOfTriangles();
+  const Index np = static_cast<Index>(points.size());
+  bary.assign(3 * size_t(np), 0.0);
+  mutual.Points = mesh.Points;
+  mutual.Points.reserve(mesh.Points.size() + 3 * size_t(np));
+  for (const SurfacePoint& point : points)
+  {
+    mutual.AddPoint(point.Position);
   }
   mutual.Triangles.reserve(mesh.Triangles.size() + 6 * size_t(np));
   TriangleSplitter splitter;
@@ -736,7 +760,8 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
   for (Index t = 0; t < nt; ++t)
   {
     const Index* tri = mesh.Triangle(t);
-    const Index k = start[t + 1] - start[t];
+    const Index first = buckets.Start[t];
+    const Index k = buckets.Start[t + 1] - first;
     if (k == 0)
     {
       mutual.AddTriangle(tri[0], tri[1], tri[2]);
@@ -744,9 +769,9 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
     }
     const Vec3 corners[3] = { mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]) };
     local.clear();
-    for (Index j = start[t]; j < start[t + 1]; ++j)
+    for (Index j = first; j < first + k; ++j)
     {
-      local.push_back(points[order[j]].Position);
+      local.push_back(points[buckets.Order[j]].Position);
     }
     splitter.Run(corners, local.data(), k);
     // Points nudged by the splitter: update their 3D position from the plane coordinates.
@@ -754,7 +779,7 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
     const Vec3 e2 = Cross(Normalized(Cross(corners[1] - corners[0], corners[2] - corners[0])), e1);
     for (Index j = 0; j < k; ++j)
     {
-      const Index id = order[start[t] + j];
+      const Index id = buckets.Order[first + j];
       const double* uv = splitter.P(3 + j);
       const Vec3 p = corners[0] + uv[0] * e1 + uv[1] * e2;
       points[id].Position = p;
@@ -762,20 +787,21 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       const Vec3 w = Barycentric(p, corners[0], corners[1], corners[2]);
       std::copy(w.begin(), w.end(), &bary[3 * size_t(id)]);
     }
-    auto global = [&](Index v) { return v < 3 ? tri[v] : n0 + order[start[t] + v - 3]; };
+    auto global = [&](Index v) { return v < 3 ? tri[v] : n0 + buckets.Order[first + v - 3]; };
     for (size_t s = 0; s < splitter.Local.size(); s += 3)
     {
       mutual.AddTriangle(global(splitter.Local[s]), global(splitter.Local[s + 1]), global(splitter.Local[s + 2]));
     }
   }
-  if (!report(0.65))
-  {
-    abort();
-    return;
-  }
+}
 
-  // 5: old-vertex removal. Reference normals: what the original surface faces at each vertex
-  // (old vertices: their normal; candidates: the interpolated normal at their position).
+// What the original surface faces at each vertex of the mutual tessellation: old vertices their
+// normal, candidates the interpolated normal at their position.
+std::vector<Vec3> ReferenceNormals(
+  const TriangleMesh& mesh, const std::vector<SurfacePoint>& points, const std::vector<double>& bary)
+{
+  const Index n0 = mesh.NumberOfPoints();
+  const Index np = static_cast<Index>(points.size());
   std::vector<Vec3> vertexNormals, reference(size_t(n0) + np);
   VertexNormals(mesh, vertexNormals);
   for (Index v = 0; v < n0; ++v)
@@ -797,27 +823,47 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
     }
     reference[n0 + i] = nrm;
   }
-  EditableMesh edit(mutual);
-  CollapseOptions collapseOptions;
-  collapseOptions.MinimumNormalDot = 0.0;
+  return reference;
+}
+
+// Step 5 (section 4.3): removal of the old vertices by collapses onto neighbours.
+struct OldVertexRemoval
+{
+  EditableMesh& Edit;
+  std::vector<Vec3>& Reference;
+  Index OldVertices;
+  // Candidates moved onto an old vertex's position by phase 2 (InvalidIndex: not moved).
+  std::vector<Index> MovedTo;
+  CollapseOptions Collapse;
+  double MinimumFacing = 0.0;
+
+  OldVertexRemoval(EditableMesh& edit, std::vector<Vec3>& reference, Index oldVertices, Index candidates)
+    : Edit(edit)
+    , Reference(reference)
+    , OldVertices(oldVertices)
+    , MovedTo(candidates, InvalidIndex)
+  {
+    this->Collapse.MinimumNormalDot = 0.0;
+  }
+
   // Facing test of the triangles a collapse keeps; returns their smallest angle or -1 when one
   // would face against the original surface or degenerate.
-  double minimumFacing = 0.0;
-  auto evaluate = [&](const Index* pair, const Vec3& position) {
+  double Evaluate(const Index* pair, const Vec3& position) const
+  {
     double worst = std::numeric_limits<double>::max();
     bool ok = true;
-    edit.ForEachSurvivingTriangle(pair, 2, [&](Index t, int corner) {
+    this->Edit.ForEachSurvivingTriangle(pair, 2, [&](Index t, int corner) {
       if (!ok)
       {
         return;
       }
-      const Index* tri = edit.Triangle(t);
+      const Index* tri = this->Edit.Triangle(t);
       Vec3 p[3];
       Index ids[3];
       for (int k = 0; k < 3; ++k)
       {
         ids[k] = k == corner ? pair[1] : tri[k];
-        p[k] = k == corner ? position : edit.Point(tri[k]);
+        p[k] = k == corner ? position : this->Edit.Point(tri[k]);
       }
       const Vec3 nrm = TriangleNormal(p[0], p[1], p[2]);
       if (Norm(nrm) == 0 || IsDegenerate(p[0], p[1], p[2]))
@@ -827,7 +873,7 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       }
       for (int k = 0; k < 3; ++k)
       {
-        if (Dot(nrm, reference[ids[k]]) <= minimumFacing)
+        if (Dot(nrm, this->Reference[ids[k]]) <= this->MinimumFacing)
         {
           ok = false;
           return;
@@ -836,11 +882,52 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       worst = std::min(worst, MinAngleOf(p[0], p[1], p[2]));
     });
     return ok ? worst : -1.0;
-  };
-  std::vector<Index> neighbors, pending(n0);
-  std::iota(pending.begin(), pending.end(), 0);
-  // Candidates moved onto an old vertex's position by phase 2 (InvalidIndex: not moved).
-  std::vector<Index> movedTo(np, InvalidIndex);
+  }
+
+  // The best neighbour of old vertex r to collapse with in this phase (InvalidIndex: none).
+  Index ChooseTarget(Index r, int phase, std::vector<Index>& neighbors) const
+  {
+    const Index n0 = this->OldVertices;
+    this->Edit.Neighbors(r, neighbors);
+    Index best = InvalidIndex;
+    double bestScore = -1;
+    for (Index c : neighbors)
+    {
+      if (c < n0 && phase == 0)
+      {
+        continue;
+      }
+      if (phase == 2 && (c < n0 || this->MovedTo[c - n0] != InvalidIndex))
+      {
+        continue;
+      }
+      const Index pair[2] = { r, c };
+      const Vec3 position = this->Edit.Point(phase == 2 ? r : c);
+      if (this->Edit.CheckCollapse(pair, 2, position, this->Collapse) != CollapseStatus::Ok)
+      {
+        continue;
+      }
+      const double score = this->Evaluate(pair, position) + (c >= n0 ? 10.0 : 0.0);
+      if (score >= 0 && score > bestScore)
+      {
+        bestScore = score;
+        best = c;
+      }
+    }
+    return best;
+  }
+
+  void Perform(Index r, Index target, int phase)
+  {
+    const Index pair[2] = { r, target };
+    if (phase == 2)
+    {
+      this->MovedTo[target - this->OldVertices] = r;
+      this->Reference[target] = this->Reference[r];
+    }
+    this->Edit.Collapse(pair, 2, target, this->Edit.Point(phase == 2 ? r : target));
+  }
+
   // Phase 0: collapse onto candidate vertices only; phase 1 (for old vertices walled in by
   // other old vertices): onto any neighbour, the target being removed later in turn; phase 2
   // (last resort, keeps the vertex count exact): a neighbouring candidate moves onto the old
@@ -849,76 +936,112 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
   // between candidates (thin parts): a new triangle may then face up to 60 degrees past
   // perpendicular to the original normal at one of its vertices (never flip against the mesh
   // it replaces: CheckCollapse still rejects turns beyond 90 degrees).
-  for (int step = 0; step < 6 && !pending.empty(); ++step)
+  // Returns false when aborted.
+  bool Run(const RetilingOptions& options)
   {
-    const int phase = step % 3;
-    minimumFacing = step < 3 ? 0.0 : -0.5;
-    for (int pass = 0; pass < 32 && !pending.empty(); ++pass)
+    const Index n0 = this->OldVertices;
+    std::vector<Index> neighbors, pending(n0);
+    std::iota(pending.begin(), pending.end(), 0);
+    for (int step = 0; step < 6 && !pending.empty(); ++step)
     {
-      std::vector<Index> next;
-      for (size_t i = 0; i < pending.size(); ++i)
+      const int phase = step % 3;
+      this->MinimumFacing = step < 3 ? 0.0 : -0.5;
+      for (int pass = 0; pass < 32 && !pending.empty(); ++pass)
       {
-        const Index r = pending[i];
-        if ((i & 1023) == 0 && !report(0.65 + 0.25 * (1.0 - double(pending.size() - i) / std::max<Index>(n0, 1))))
+        std::vector<Index> next;
+        for (size_t i = 0; i < pending.size(); ++i)
         {
-          abort();
-          return;
-        }
-        if (!edit.IsVertexAlive(r))
-        {
-          continue;
-        }
-        edit.Neighbors(r, neighbors);
-        Index best = InvalidIndex;
-        double bestScore = -1;
-        for (Index c : neighbors)
-        {
-          if (c < n0 && phase == 0)
+          const Index r = pending[i];
+          if ((i & 1023) == 0 &&
+            !ReportProgress(options, 0.65 + 0.25 * (1.0 - double(pending.size() - i) / std::max<Index>(n0, 1))))
+          {
+            return false;
+          }
+          if (!this->Edit.IsVertexAlive(r))
           {
             continue;
           }
-          if (phase == 2 && (c < n0 || movedTo[c - n0] != InvalidIndex))
+          const Index best = this->ChooseTarget(r, phase, neighbors);
+          if (best == InvalidIndex)
           {
+            next.push_back(r);
             continue;
           }
-          const Index pair[2] = { r, c };
-          const Vec3 position = edit.Point(phase == 2 ? r : c);
-          if (edit.CheckCollapse(pair, 2, position, collapseOptions) != CollapseStatus::Ok)
-          {
-            continue;
-          }
-          const double score = evaluate(pair, position) + (c >= n0 ? 10.0 : 0.0);
-          if (score >= 0 && score > bestScore)
-          {
-            bestScore = score;
-            best = c;
-          }
+          this->Perform(r, best, phase);
         }
-        if (best == InvalidIndex)
+        const bool progressed = next.size() < pending.size();
+        pending.swap(next);
+        if (!progressed)
         {
-          next.push_back(r);
-          continue;
+          break;
         }
-        const Index pair[2] = { r, best };
-        if (phase == 2)
-        {
-          movedTo[best - n0] = r;
-          reference[best] = reference[r];
-        }
-        edit.Collapse(pair, 2, best, edit.Point(phase == 2 ? r : best));
-      }
-      const bool progressed = next.size() < pending.size();
-      pending.swap(next);
-      if (!progressed)
-      {
-        break;
       }
     }
+    return true;
   }
+};
 
-  // 6: shape improvement by edge flips (section 4.5).
+// Whether flipping edge (x, y) of triangle (x, y, q) to (q, z) improves the triangle shapes
+// without folding a nearly planar quad or turning against the original surface.
+bool FlipImprovesShape(const EditableMesh& edit, const std::vector<Vec3>& reference, Index x, Index y, Index q, Index z)
+{
+  const Vec3 X = edit.Point(x), Y = edit.Point(y), Q = edit.Point(q), Z = edit.Point(z);
+  const double before = std::min(MinimumAngle(X, Y, Q), MinimumAngle(Y, X, Z));
+  const double after = std::min(MinimumAngle(X, Z, Q), MinimumAngle(Z, Y, Q));
+  if (!(after > before + 1e-3))
+  {
+    return false;
+  }
+  const Vec3 n0o = TriangleNormal(X, Y, Q), n1o = TriangleNormal(Y, X, Z);
+  const Vec3 m0 = TriangleNormal(X, Z, Q), m1 = TriangleNormal(Z, Y, Q);
+  // Nearly planar quads only, and no turn against the original surface.
+  const double dihedralBefore = Dot(n0o, n1o), dihedralAfter = Dot(m0, m1);
+  if (dihedralAfter < std::min(dihedralBefore, 0.985) || Dot(m0, n0o + n1o) <= 0 || Dot(m1, n0o + n1o) <= 0)
+  {
+    return false;
+  }
+  const Index tri0[3] = { x, z, q }, tri1[3] = { z, y, q };
+  bool facing = true;
+  for (int j = 0; j < 3; ++j)
+  {
+    facing = facing && Dot(m0, reference[tri0[j]]) > 0 && Dot(m1, reference[tri1[j]]) > 0;
+  }
+  return facing;
+}
+
+// The apex z of the triangle across plain manifold edge (x, y) from triangle t (InvalidIndex when
+// the edge has another number of triangles or they are inconsistently oriented).
+Index OppositeApex(const EditableMesh& edit, Index t, Index x, Index y)
+{
+  Index z = InvalidIndex;
+  int count = 0;
+  edit.ForEachTriangle(x, [&](Index u) {
+    if (u == t)
+    {
+      return;
+    }
+    const Index* o = edit.Triangle(u);
+    for (int j = 0; j < 3; ++j)
+    {
+      if (o[j] == y && o[(j + 1) % 3] == x)
+      {
+        z = o[(j + 2) % 3];
+        ++count;
+      }
+      else if (o[j] == x && o[(j + 1) % 3] == y)
+      {
+        count += 2; // same orientation or more triangles: not a plain manifold edge
+      }
+    }
+  });
+  return count == 1 ? z : InvalidIndex;
+}
+
+// Step 6 (section 4.5): shape improvement by edge flips. Returns the number of flips.
+Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference, int passes)
+{
   Index flips = 0;
-  for (int pass = 0; pass < options.ShapeImprovementPasses; ++pass)
+  for (int pass = 0; pass < passes; ++pass)
   {
     Index passFlips = 0;
     for (Index t = 0; t < edit.NumberOfTriangles(); ++t)
@@ -931,54 +1054,8 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
         {
           continue; // each edge once (the other triangle sees (y, x))
         }
-        Index other = InvalidIndex, z = InvalidIndex;
-        int count = 0;
-        edit.ForEachTriangle(x, [&](Index u) {
-          if (u == t)
-          {
-            return;
-          }
-          const Index* o = edit.Triangle(u);
-          for (int j = 0; j < 3; ++j)
-          {
-            if (o[j] == y && o[(j + 1) % 3] == x)
-            {
-              other = u;
-              z = o[(j + 2) % 3];
-              ++count;
-            }
-            else if (o[j] == x && o[(j + 1) % 3] == y)
-            {
-              count += 2; // same orientation or more triangles: not a plain manifold edge
-            }
-          }
-        });
-        if (count != 1 || z == q)
-        {
-          continue;
-        }
-        const Vec3 X = edit.Point(x), Y = edit.Point(y), Q = edit.Point(q), Z = edit.Point(z);
-        const double before = std::min(MinimumAngle(X, Y, Q), MinimumAngle(Y, X, Z));
-        const double after = std::min(MinimumAngle(X, Z, Q), MinimumAngle(Z, Y, Q));
-        if (!(after > before + 1e-3))
-        {
-          continue;
-        }
-        const Vec3 n0o = TriangleNormal(X, Y, Q), n1o = TriangleNormal(Y, X, Z);
-        const Vec3 m0 = TriangleNormal(X, Z, Q), m1 = TriangleNormal(Z, Y, Q);
-        // Nearly planar quads only, and no turn against the original surface.
-        const double dihedralBefore = Dot(n0o, n1o), dihedralAfter = Dot(m0, m1);
-        if (dihedralAfter < std::min(dihedralBefore, 0.985) || Dot(m0, n0o + n1o) <= 0 || Dot(m1, n0o + n1o) <= 0)
-        {
-          continue;
-        }
-        const Index tri0[3] = { x, z, q }, tri1[3] = { z, y, q };
-        bool facing = true;
-        for (int j = 0; j < 3; ++j)
-        {
-          facing = facing && Dot(m0, reference[tri0[j]]) > 0 && Dot(m1, reference[tri1[j]]) > 0;
-        }
-        if (!facing || !edit.FlipEdge(x, y))
+        const Index z = OppositeApex(edit, t, x, y);
+        if (z == InvalidIndex || z == q || !FlipImprovesShape(edit, reference, x, y, q, z) || !edit.FlipEdge(x, y))
         {
           continue;
         }
@@ -991,39 +1068,43 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       break;
     }
   }
-  result.Flips = flips;
-  if (!report(0.97))
-  {
-    abort();
-    return;
-  }
+  return flips;
+}
 
-  // Output: candidate vertices (and any retained old vertex).
-  std::vector<Index> newToOld;
-  edit.Extract(result.Mesh, &newToOld);
+// Candidate order first (output vertex i = candidate i), retained old vertices last: stable ids
+// across seeds' levels and the nested levels' subset property. newToOld: mutual-tessellation id
+// of every output vertex.
+void SortCandidatesFirst(Index n0, Index np, TriangleMesh& output, std::vector<Index>& newToOld)
+{
+  const size_t count = newToOld.size();
+  std::vector<Index> perm(count), rank(count);
+  std::iota(perm.begin(), perm.end(), 0);
+  auto key = [&](Index v) { return newToOld[v] >= n0 ? newToOld[v] - n0 : np + newToOld[v]; };
+  std::sort(perm.begin(), perm.end(), [&](Index a, Index b) { return key(a) < key(b); });
+  std::vector<double> sortedPoints(3 * count);
+  std::vector<Index> sortedIds(count);
+  for (size_t i = 0; i < count; ++i)
   {
-    // Candidate order first (output vertex i = candidate i), retained old vertices last: stable
-    // ids across seeds' levels and the nested levels' subset property.
-    const size_t count = newToOld.size();
-    std::vector<Index> perm(count), rank(count);
-    std::iota(perm.begin(), perm.end(), 0);
-    auto key = [&](Index v) { return newToOld[v] >= n0 ? newToOld[v] - n0 : np + newToOld[v]; };
-    std::sort(perm.begin(), perm.end(), [&](Index a, Index b) { return key(a) < key(b); });
-    std::vector<double> sortedPoints(3 * count);
-    std::vector<Index> sortedIds(count);
-    for (size_t i = 0; i < count; ++i)
-    {
-      rank[perm[i]] = static_cast<Index>(i);
-      std::copy(&result.Mesh.Points[3 * size_t(perm[i])], &result.Mesh.Points[3 * size_t(perm[i])] + 3, &sortedPoints[3 * i]);
-      sortedIds[i] = newToOld[perm[i]];
-    }
-    for (Index& v : result.Mesh.Triangles)
-    {
-      v = rank[v];
-    }
-    result.Mesh.Points.swap(sortedPoints);
-    newToOld.swap(sortedIds);
+    rank[perm[i]] = static_cast<Index>(i);
+    std::copy(&output.Points[3 * size_t(perm[i])], &output.Points[3 * size_t(perm[i])] + 3, &sortedPoints[3 * i]);
+    sortedIds[i] = newToOld[perm[i]];
   }
+  for (Index& v : output.Triangles)
+  {
+    v = rank[v];
+  }
+  output.Points.swap(sortedPoints);
+  newToOld.swap(sortedIds);
+}
+
+// Where every output vertex lies on the input (host triangle and barycentric coordinates), for
+// interpolating point attributes.
+void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoint>& points,
+  const std::vector<double>& bary, const std::vector<Index>& movedTo, const std::vector<Index>& newToOld,
+  RetilingResult& result)
+{
+  const Index n0 = mesh.NumberOfPoints();
+  const Index nt = mesh.NumberOfTriangles();
   std::vector<Index> firstTriangle(n0, InvalidIndex);
   for (Index t = nt - 1; t >= 0; --t)
   {
@@ -1032,22 +1113,25 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       firstTriangle[mesh.Triangle(t)[k]] = t;
     }
   }
+  // An old vertex's location: a corner of its first triangle.
+  auto atOldVertex = [&](size_t v, Index old) {
+    const Index t = firstTriangle[old];
+    result.HostTriangle[v] = t;
+    for (int k = 0; k < 3; ++k)
+    {
+      result.Barycentric[3 * v + k] = mesh.Triangle(t)[k] == old ? 1.0 : 0.0;
+    }
+  };
   const size_t nv = newToOld.size();
   result.HostTriangle.resize(nv);
   result.Barycentric.assign(3 * nv, 0.0);
-  result.CandidatePoints = np;
+  result.CandidatePoints = static_cast<Index>(points.size());
   for (size_t v = 0; v < nv; ++v)
   {
     const Index id = newToOld[v];
     if (id >= n0 && movedTo[id - n0] != InvalidIndex)
     {
-      const Index old = movedTo[id - n0];
-      const Index t = firstTriangle[old];
-      result.HostTriangle[v] = t;
-      for (int k = 0; k < 3; ++k)
-      {
-        result.Barycentric[3 * v + k] = mesh.Triangle(t)[k] == old ? 1.0 : 0.0;
-      }
+      atOldVertex(v, movedTo[id - n0]);
     }
     else if (id >= n0)
     {
@@ -1057,15 +1141,47 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
     else
     {
       ++result.RetainedOldVertices;
-      const Index t = firstTriangle[id];
-      result.HostTriangle[v] = t;
-      for (int k = 0; k < 3; ++k)
-      {
-        result.Barycentric[3 * v + k] = mesh.Triangle(t)[k] == id ? 1.0 : 0.0;
-      }
+      atOldVertex(v, id);
     }
   }
-  report(1.0);
+}
+
+// Steps 4-6 on given candidate points (their positions may be adjusted: moved strictly inside
+// their triangle). Keeps the spacing figures already in result.
+void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
+  RetilingResult& result)
+{
+  const Index n0 = mesh.NumberOfPoints();
+  const Index np = static_cast<Index>(points.size());
+  const CandidatesByTriangle buckets = BucketCandidates(points, mesh.NumberOfTriangles());
+  MoveCandidatesInside(mesh, points);
+  TriangleMesh mutual;
+  std::vector<double> bary;
+  MutualTessellation(mesh, points, buckets, mutual, bary);
+  if (!ReportProgress(options, 0.65))
+  {
+    AbortResult(result);
+    return;
+  }
+  std::vector<Vec3> reference = ReferenceNormals(mesh, points, bary);
+  EditableMesh edit(mutual);
+  OldVertexRemoval removal(edit, reference, n0, np);
+  if (!removal.Run(options))
+  {
+    AbortResult(result);
+    return;
+  }
+  result.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses);
+  if (!ReportProgress(options, 0.97))
+  {
+    AbortResult(result);
+    return;
+  }
+  std::vector<Index> newToOld;
+  edit.Extract(result.Mesh, &newToOld);
+  SortCandidatesFirst(n0, np, result.Mesh, newToOld);
+  RecordHostLocations(mesh, points, bary, removal.MovedTo, newToOld, result);
+  ReportProgress(options, 1.0);
 }
 } // namespace
 
