@@ -82,6 +82,218 @@ bool SegmentsCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d)
   const double d1 = Cross2(a, b, c), d2 = Cross2(a, b, d), d3 = Cross2(c, d, a), d4 = Cross2(c, d, b);
   return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
 }
+// Ear clipping of a polygon projected onto its plane: the ear of smallest angle first (a heap
+// validated by per-corner versions), a rescan when the heap runs dry, and in fallback mode the
+// most convex corner when no ear is left.
+class EarClipper
+{
+public:
+  EarClipper(const std::vector<Vec3>& polygon, const Vec3& normal, const PolygonTriangulationOptions& options,
+    PolygonTriangulationResult& result)
+    : Polygon(polygon)
+    , Options(options)
+    , Result(result)
+    , P(ProjectOntoPlane(polygon, normal))
+    , Size(polygon.size())
+    , Prev(polygon.size())
+    , Next(polygon.size())
+    , Removed(polygon.size(), 0)
+    , Remaining(polygon.size())
+    , Version(polygon.size(), 0)
+  {
+    const size_t n = this->Size;
+    // Doubly linked ring of remaining corners.
+    for (size_t i = 0; i < n; ++i)
+    {
+      this->Prev[i] = (i + n - 1) % n;
+      this->Next[i] = (i + 1) % n;
+    }
+    // Distances below this (relative to the polygon's size) count as zero in strict mode.
+    double extent = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+      extent = std::max({ extent, std::fabs(this->P[i][0] - this->P[0][0]), std::fabs(this->P[i][1] - this->P[0][1]) });
+    }
+    this->Tolerance = 1e-9 * extent;
+  }
+
+  // Fills the result; false when strict mode fails.
+  bool Run()
+  {
+    this->Rescan();
+    bool rescanned = true;
+    while (this->Remaining > 3)
+    {
+      size_t best = this->PopBestEar();
+      if (best == this->Size)
+      {
+        if (!rescanned)
+        {
+          this->Rescan(); // far corners may have become ears since their last test
+          rescanned = true;
+          continue;
+        }
+        if (!this->Options.AllowFallback)
+        {
+          return false;
+        }
+        // Not simple in projection: clip the most convex corner anyway.
+        this->Result.UsedFallback = true;
+        best = this->MostConvexCorner();
+      }
+      const size_t a = this->Prev[best], c = this->Next[best];
+      this->Clip(best);
+      rescanned = false;
+      this->Refresh(a);
+      this->Refresh(c);
+    }
+    return this->AddLastTriangle();
+  }
+
+private:
+  bool IsEar(size_t k) const
+  {
+    const std::vector<Vec2>& p = this->P;
+    const size_t ia = this->Prev[k], ic = this->Next[k];
+    const Vec2& a = p[ia];
+    const Vec2& b = p[k];
+    const Vec2& c = p[ic];
+    if (Cross2(a, b, c) <= 0)
+    {
+      return false; // reflex or flat corner
+    }
+    const bool strict = !this->Options.AllowFallback;
+    if (strict && IsDegenerate(this->Polygon[ia], this->Polygon[k], this->Polygon[ic]))
+    {
+      return false; // strict mode: no (numerically) zero-area triangle
+    }
+    for (size_t j = this->Next[ic]; j != ia; j = this->Next[j])
+    {
+      const Vec2& q = p[j];
+      const bool repeated =
+        (q[0] == a[0] && q[1] == a[1]) || (q[0] == b[0] && q[1] == b[1]) || (q[0] == c[0] && q[1] == c[1]);
+      // A repeated point of the boundary does not block the ear. In strict mode a point (almost)
+      // on the diagonal blocks it too: clipping there would leave a collinear, unclippable rest.
+      if (!repeated && (InsideTriangle(q, a, b, c) || (strict && NearSegment(q, a, c, this->Tolerance))))
+      {
+        return false;
+      }
+      // The diagonal a-c must not cross an edge of the remaining polygon.
+      if (SegmentsCross(a, c, q, p[this->Next[j]]))
+      {
+        return false;
+      }
+    }
+    return !this->Options.AcceptEar ||
+      this->Options.AcceptEar(static_cast<Index>(ia), static_cast<Index>(k), static_cast<Index>(ic));
+  }
+
+  double AngleOf(size_t k) const { return CornerAngle(this->P[this->Prev[k]], this->P[k], this->P[this->Next[k]]); }
+
+  void Refresh(size_t k)
+  {
+    ++this->Version[k];
+    if (this->IsEar(k))
+    {
+      this->Heap.push_back({ this->AngleOf(k), k, this->Version[k] });
+      std::push_heap(this->Heap.begin(), this->Heap.end());
+    }
+  }
+
+  void Rescan()
+  {
+    this->Heap.clear();
+    size_t k = this->Start;
+    for (size_t i = 0; i < this->Remaining; ++i, k = this->Next[k])
+    {
+      this->Refresh(k);
+    }
+  }
+
+  // The valid ear of smallest angle (Size: none in the heap).
+  size_t PopBestEar()
+  {
+    while (!this->Heap.empty())
+    {
+      std::pop_heap(this->Heap.begin(), this->Heap.end());
+      const Entry e = this->Heap.back();
+      this->Heap.pop_back();
+      if (!this->Removed[e.Corner] && e.Version == this->Version[e.Corner])
+      {
+        return e.Corner;
+      }
+    }
+    return this->Size;
+  }
+
+  // The corner of largest signed area.
+  size_t MostConvexCorner() const
+  {
+    size_t best = this->Size;
+    double bestArea = -std::numeric_limits<double>::infinity();
+    size_t k = this->Start;
+    for (size_t i = 0; i < this->Remaining; ++i, k = this->Next[k])
+    {
+      const double area = Cross2(this->P[this->Prev[k]], this->P[k], this->P[this->Next[k]]);
+      if (area > bestArea)
+      {
+        bestArea = area;
+        best = k;
+      }
+    }
+    return best;
+  }
+
+  void Clip(size_t k)
+  {
+    this->Result.Triangles.push_back(
+      { static_cast<Index>(this->Prev[k]), static_cast<Index>(k), static_cast<Index>(this->Next[k]) });
+    this->Next[this->Prev[k]] = this->Next[k];
+    this->Prev[this->Next[k]] = this->Prev[k];
+    this->Removed[k] = 1;
+    this->Start = this->Next[k];
+    --this->Remaining;
+  }
+
+  // The last triangle adds no diagonal; in strict mode it must still be counter-clockwise.
+  bool AddLastTriangle()
+  {
+    const size_t a = this->Start, b = this->Next[a], c = this->Next[b];
+    if (!this->Options.AllowFallback &&
+      (Cross2(this->P[a], this->P[b], this->P[c]) <= 0 ||
+        IsDegenerate(this->Polygon[a], this->Polygon[b], this->Polygon[c])))
+    {
+      return false;
+    }
+    this->Result.Triangles.push_back({ static_cast<Index>(a), static_cast<Index>(b), static_cast<Index>(c) });
+    return true;
+  }
+
+  // Ears ordered by angle; entries are validated against a per-corner version when popped.
+  struct Entry
+  {
+    double Angle;
+    size_t Corner;
+    unsigned Version;
+    bool operator<(const Entry& o) const
+    {
+      return this->Angle > o.Angle || (this->Angle == o.Angle && this->Corner > o.Corner);
+    }
+  };
+
+  const std::vector<Vec3>& Polygon;
+  const PolygonTriangulationOptions& Options;
+  PolygonTriangulationResult& Result;
+  const std::vector<Vec2> P;
+  const size_t Size;
+  std::vector<size_t> Prev, Next;
+  std::vector<char> Removed;
+  size_t Remaining;
+  size_t Start = 0; // some remaining corner
+  double Tolerance = 0;
+  std::vector<Entry> Heap;
+  std::vector<unsigned> Version;
+};
 } // namespace
 
 PolygonTriangulationResult TriangulatePolygon(const std::vector<Vec3>& polygon, const Vec3& normal)
@@ -99,161 +311,8 @@ PolygonTriangulationResult TriangulatePolygon(
     result.Failed = n > 0;
     return result;
   }
-  const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
-  // Doubly linked ring of remaining corners.
-  std::vector<size_t> prev(n), next(n);
-  for (size_t i = 0; i < n; ++i)
-  {
-    prev[i] = (i + n - 1) % n;
-    next[i] = (i + 1) % n;
-  }
-  // Distances below this (relative to the polygon's size) count as zero in strict mode.
-  double extent = 0;
-  for (size_t i = 0; i < n; ++i)
-  {
-    extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
-  }
-  const double tolerance = 1e-9 * extent;
-  std::vector<char> removed(n, 0);
-  size_t remaining = n;
-  size_t start = 0; // some remaining corner
-
-  auto isEar = [&](size_t k) {
-    const size_t ia = prev[k], ic = next[k];
-    const Vec2& a = p[ia];
-    const Vec2& b = p[k];
-    const Vec2& c = p[ic];
-    if (Cross2(a, b, c) <= 0)
-    {
-      return false; // reflex or flat corner
-    }
-    if (!options.AllowFallback && IsDegenerate(polygon[ia], polygon[k], polygon[ic]))
-    {
-      return false; // strict mode: no (numerically) zero-area triangle
-    }
-    size_t j = next[ic];
-    while (j != ia)
-    {
-      const Vec2& q = p[j];
-      const bool repeated =
-        (q[0] == a[0] && q[1] == a[1]) || (q[0] == b[0] && q[1] == b[1]) || (q[0] == c[0] && q[1] == c[1]);
-      // A repeated point of the boundary does not block the ear. In strict mode a point (almost)
-      // on the diagonal blocks it too: clipping there would leave a collinear, unclippable rest.
-      if (!repeated && (InsideTriangle(q, a, b, c) || (!options.AllowFallback && NearSegment(q, a, c, tolerance))))
-      {
-        return false;
-      }
-      // The diagonal a-c must not cross an edge of the remaining polygon.
-      if (SegmentsCross(a, c, q, p[next[j]]))
-      {
-        return false;
-      }
-      j = next[j];
-    }
-    if (options.AcceptEar &&
-      !options.AcceptEar(static_cast<Index>(ia), static_cast<Index>(k), static_cast<Index>(ic)))
-    {
-      return false;
-    }
-    return true;
-  };
-  auto angleOf = [&](size_t k) { return CornerAngle(p[prev[k]], p[k], p[next[k]]); };
-
-  // Ears ordered by angle; entries are validated against a per-corner version when popped.
-  struct Entry
-  {
-    double Angle;
-    size_t Corner;
-    unsigned Version;
-    bool operator<(const Entry& o) const
-    {
-      return this->Angle > o.Angle || (this->Angle == o.Angle && this->Corner > o.Corner);
-    }
-  };
-  std::vector<Entry> heap;
-  std::vector<unsigned> version(n, 0);
-  auto refresh = [&](size_t k) {
-    ++version[k];
-    if (isEar(k))
-    {
-      heap.push_back({ angleOf(k), k, version[k] });
-      std::push_heap(heap.begin(), heap.end());
-    }
-  };
-  auto rescan = [&]() {
-    heap.clear();
-    size_t k = start;
-    for (size_t i = 0; i < remaining; ++i, k = next[k])
-    {
-      refresh(k);
-    }
-  };
-  auto clip = [&](size_t k) {
-    result.Triangles.push_back({ static_cast<Index>(prev[k]), static_cast<Index>(k), static_cast<Index>(next[k]) });
-    next[prev[k]] = next[k];
-    prev[next[k]] = prev[k];
-    removed[k] = 1;
-    start = next[k];
-    --remaining;
-  };
-
-  rescan();
-  bool rescanned = true;
-  while (remaining > 3)
-  {
-    size_t best = n;
-    while (!heap.empty())
-    {
-      std::pop_heap(heap.begin(), heap.end());
-      const Entry e = heap.back();
-      heap.pop_back();
-      if (!removed[e.Corner] && e.Version == version[e.Corner])
-      {
-        best = e.Corner;
-        break;
-      }
-    }
-    if (best == n)
-    {
-      if (!rescanned)
-      {
-        rescan(); // far corners may have become ears since their last test
-        rescanned = true;
-        continue;
-      }
-      if (!options.AllowFallback)
-      {
-        result.Failed = true;
-        return result;
-      }
-      // Not simple in projection: clip the most convex corner (largest signed area) anyway.
-      result.UsedFallback = true;
-      double bestArea = -std::numeric_limits<double>::infinity();
-      size_t k = start;
-      for (size_t i = 0; i < remaining; ++i, k = next[k])
-      {
-        const double area = Cross2(p[prev[k]], p[k], p[next[k]]);
-        if (area > bestArea)
-        {
-          bestArea = area;
-          best = k;
-        }
-      }
-    }
-    const size_t a = prev[best], c = next[best];
-    clip(best);
-    rescanned = false;
-    refresh(a);
-    refresh(c);
-  }
-  const size_t a = start, b = next[a], c = next[b];
-  // The last triangle adds no diagonal; in strict mode it must still be counter-clockwise.
-  if (!options.AllowFallback && (Cross2(p[a], p[b], p[c]) <= 0 || IsDegenerate(polygon[a], polygon[b], polygon[c])))
-  {
-    result.Failed = true;
-    return result;
-  }
-  result.Triangles.push_back({ static_cast<Index>(a), static_cast<Index>(b), static_cast<Index>(c) });
+  EarClipper clipper(polygon, normal, options, result);
+  result.Failed = !clipper.Run();
   return result;
 }
 
