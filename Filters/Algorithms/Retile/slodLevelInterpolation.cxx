@@ -904,8 +904,8 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
   std::iota(parent.begin(), parent.end(), 0);
   std::vector<Index> lowVertexOf, missing;
   const Index usedLow = MatchSharedVertices(high, low, lowVertexOf, missing);
-  // A few low vertices missing from the high level (vtkRetile moves a candidate onto an old vertex
-  // as a last resort, which breaks the nesting there) are inserted into the high level at their
+  // A few low vertices missing from the high level (levels that are not quite nested, e.g. made by
+  // another tool; vtkRetile's nested levels have none) are inserted into the high level at their
   // closest point on it: the high shape is unchanged and the levels become nested. Mostly
   // unrelated meshes are an error.
   if (2 * static_cast<size_t>(missing.size()) > static_cast<size_t>(usedLow))

@@ -629,8 +629,20 @@ void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, dou
 
 namespace
 {
+// The vertices of a coarser nested level, which a finer level must keep exactly (section 6.1).
+struct CoarserLevel
+{
+  // Points [0, FixedCount) keep their given positions (no nudge inside their triangle).
+  Index FixedCount = 0;
+  // Per point (empty: none): the input vertex it stands for, which is then kept as it is instead
+  // of inserting the point (a vertex a coarser level retained or moved a candidate onto).
+  std::vector<Index> PinnedTo;
+
+  bool IsPinned(Index i) const { return !this->PinnedTo.empty() && this->PinnedTo[i] != InvalidIndex; }
+};
+
 void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
-  RetilingResult& result);
+  const CoarserLevel& coarser, RetilingResult& result);
 }
 
 void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingResult& result)
@@ -673,7 +685,7 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   }
   gather();
   NearestNeighborSpacing(xyz, result.MinSpacingAfter, result.MeanSpacingAfter);
-  TileWithPoints(mesh, points, options, result);
+  TileWithPoints(mesh, points, options, CoarserLevel(), result);
 }
 
 namespace
@@ -695,7 +707,8 @@ struct CandidatesByTriangle
   std::vector<Index> Start, Order;
 };
 
-CandidatesByTriangle BucketCandidates(const std::vector<SurfacePoint>& points, Index numberOfTriangles)
+CandidatesByTriangle BucketCandidates(
+  const std::vector<SurfacePoint>& points, Index numberOfTriangles, const CoarserLevel& coarser)
 {
   const Index np = static_cast<Index>(points.size());
   CandidatesByTriangle buckets;
@@ -703,7 +716,10 @@ CandidatesByTriangle BucketCandidates(const std::vector<SurfacePoint>& points, I
   buckets.Order.resize(np);
   for (Index i = 0; i < np; ++i)
   {
-    ++buckets.Start[points[i].Triangle + 1];
+    if (!coarser.IsPinned(i))
+    {
+      ++buckets.Start[points[i].Triangle + 1];
+    }
   }
   for (Index t = 0; t < numberOfTriangles; ++t)
   {
@@ -712,17 +728,23 @@ CandidatesByTriangle BucketCandidates(const std::vector<SurfacePoint>& points, I
   std::vector<Index> fill(buckets.Start.begin(), buckets.Start.end() - 1);
   for (Index i = 0; i < np; ++i)
   {
-    buckets.Order[fill[points[i].Triangle]++] = i;
+    if (!coarser.IsPinned(i))
+    {
+      buckets.Order[fill[points[i].Triangle]++] = i;
+    }
   }
+  buckets.Order.resize(buckets.Start[numberOfTriangles]);
   return buckets;
 }
 
 // Candidate points go strictly inside their triangle so that no original edge is split (the
-// original edges stay the constraints of the mutual tessellation).
-void MoveCandidatesInside(const TriangleMesh& mesh, std::vector<SurfacePoint>& points)
+// original edges stay the constraints of the mutual tessellation). A coarser level's points are
+// inside already and stay where they are.
+void MoveCandidatesInside(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const CoarserLevel& coarser)
 {
-  for (SurfacePoint& point : points)
+  for (Index i = coarser.FixedCount; i < static_cast<Index>(points.size()); ++i)
   {
+    SurfacePoint& point = points[i];
     const Index* tri = mesh.Triangle(point.Triangle);
     const Vec3 a = mesh.Point(tri[0]), b = mesh.Point(tri[1]), c = mesh.Point(tri[2]);
     Vec3 w = Barycentric(point.Position, a, b, c);
@@ -740,9 +762,11 @@ void MoveCandidatesInside(const TriangleMesh& mesh, std::vector<SurfacePoint>& p
 
 // Step 4 (section 4.2): the mutual tessellation. Vertices: the old ones, then candidate i at
 // n0 + i; every old triangle holding candidates is split around them. Fills the candidates'
-// barycentric coordinates in their triangle (after the splitter's nudges).
+// barycentric coordinates in their triangle (after the splitter's nudges). A coarser level's
+// points keep their exact position (a nudge only moves them in the splitter's plane coordinates);
+// pinned points are left out (isolated vertices, dropped by the extraction).
 void MutualTessellation(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const CandidatesByTriangle& buckets,
-  TriangleMesh& mutual, std::vector<double>& bary)
+  Index fixedCount, TriangleMesh& mutual, std::vector<double>& bary)
 {
   const Index n0 = mesh.NumberOfPoints();
   const Index nt = mesh.NumberOfTriangles();
@@ -781,7 +805,7 @@ void MutualTessellation(const TriangleMesh& mesh, std::vector<SurfacePoint>& poi
     {
       const Index id = buckets.Order[first + j];
       const double* uv = splitter.P(3 + j);
-      const Vec3 p = corners[0] + uv[0] * e1 + uv[1] * e2;
+      const Vec3 p = id < fixedCount ? points[id].Position : corners[0] + uv[0] * e1 + uv[1] * e2;
       points[id].Position = p;
       mutual.SetPoint(n0 + id, p);
       const Vec3 w = Barycentric(p, corners[0], corners[1], corners[2]);
@@ -834,16 +858,30 @@ struct OldVertexRemoval
   Index OldVertices;
   // Candidates moved onto an old vertex's position by phase 2 (InvalidIndex: not moved).
   std::vector<Index> MovedTo;
+  // Per old vertex: the coarser level's point it stands for (kept as it is), else InvalidIndex.
+  std::vector<Index> KeptFor;
+  // Candidates [0, FixedCount) belong to a coarser level: phase 2 never moves them.
+  Index FixedCount = 0;
   CollapseOptions Collapse;
   double MinimumFacing = 0.0;
 
-  OldVertexRemoval(EditableMesh& edit, std::vector<Vec3>& reference, Index oldVertices, Index candidates)
+  OldVertexRemoval(EditableMesh& edit, std::vector<Vec3>& reference, Index oldVertices, Index candidates,
+    const CoarserLevel& coarser)
     : Edit(edit)
     , Reference(reference)
     , OldVertices(oldVertices)
     , MovedTo(candidates, InvalidIndex)
+    , KeptFor(oldVertices, InvalidIndex)
+    , FixedCount(coarser.FixedCount)
   {
     this->Collapse.MinimumNormalDot = 0.0;
+    for (Index i = 0; i < candidates; ++i)
+    {
+      if (coarser.IsPinned(i))
+      {
+        this->KeptFor[coarser.PinnedTo[i]] = i;
+      }
+    }
   }
 
   // Facing test of the triangles a collapse keeps; returns their smallest angle or -1 when one
@@ -897,7 +935,7 @@ struct OldVertexRemoval
       {
         continue;
       }
-      if (phase == 2 && (c < n0 || this->MovedTo[c - n0] != InvalidIndex))
+      if (phase == 2 && (c < n0 || c - n0 < this->FixedCount || this->MovedTo[c - n0] != InvalidIndex))
       {
         continue;
       }
@@ -940,8 +978,15 @@ struct OldVertexRemoval
   bool Run(const RetilingOptions& options)
   {
     const Index n0 = this->OldVertices;
-    std::vector<Index> neighbors, pending(n0);
-    std::iota(pending.begin(), pending.end(), 0);
+    std::vector<Index> neighbors, pending;
+    pending.reserve(n0);
+    for (Index v = 0; v < n0; ++v)
+    {
+      if (this->KeptFor[v] == InvalidIndex)
+      {
+        pending.push_back(v);
+      }
+    }
     for (int step = 0; step < 6 && !pending.empty(); ++step)
     {
       const int phase = step % 3;
@@ -1071,15 +1116,19 @@ Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference
   return flips;
 }
 
-// Candidate order first (output vertex i = candidate i), retained old vertices last: stable ids
-// across seeds' levels and the nested levels' subset property. newToOld: mutual-tessellation id
-// of every output vertex.
-void SortCandidatesFirst(Index n0, Index np, TriangleMesh& output, std::vector<Index>& newToOld)
+// Candidate order first (output vertex i = candidate i; a pinned candidate's slot holds the old
+// vertex it stands for), retained old vertices last: stable ids across seeds' levels and the
+// nested levels' subset property. newToOld: mutual-tessellation id of every output vertex.
+void SortCandidatesFirst(
+  Index n0, Index np, const std::vector<Index>& keptFor, TriangleMesh& output, std::vector<Index>& newToOld)
 {
   const size_t count = newToOld.size();
   std::vector<Index> perm(count), rank(count);
   std::iota(perm.begin(), perm.end(), 0);
-  auto key = [&](Index v) { return newToOld[v] >= n0 ? newToOld[v] - n0 : np + newToOld[v]; };
+  auto key = [&](Index v) {
+    const Index id = newToOld[v];
+    return id >= n0 ? id - n0 : (keptFor[id] != InvalidIndex ? keptFor[id] : np + id);
+  };
   std::sort(perm.begin(), perm.end(), [&](Index a, Index b) { return key(a) < key(b); });
   std::vector<double> sortedPoints(3 * count);
   std::vector<Index> sortedIds(count);
@@ -1100,9 +1149,10 @@ void SortCandidatesFirst(Index n0, Index np, TriangleMesh& output, std::vector<I
 // Where every output vertex lies on the input (host triangle and barycentric coordinates), for
 // interpolating point attributes.
 void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoint>& points,
-  const std::vector<double>& bary, const std::vector<Index>& movedTo, const std::vector<Index>& newToOld,
+  const std::vector<double>& bary, const OldVertexRemoval& removal, const std::vector<Index>& newToOld,
   RetilingResult& result)
 {
+  const std::vector<Index>& movedTo = removal.MovedTo;
   const Index n0 = mesh.NumberOfPoints();
   const Index nt = mesh.NumberOfTriangles();
   std::vector<Index> firstTriangle(n0, InvalidIndex);
@@ -1115,6 +1165,7 @@ void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoin
   }
   // An old vertex's location: a corner of its first triangle.
   auto atOldVertex = [&](size_t v, Index old) {
+    result.InputVertex[v] = old;
     const Index t = firstTriangle[old];
     result.HostTriangle[v] = t;
     for (int k = 0; k < 3; ++k)
@@ -1125,6 +1176,7 @@ void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoin
   const size_t nv = newToOld.size();
   result.HostTriangle.resize(nv);
   result.Barycentric.assign(3 * nv, 0.0);
+  result.InputVertex.assign(nv, InvalidIndex);
   result.CandidatePoints = static_cast<Index>(points.size());
   for (size_t v = 0; v < nv; ++v)
   {
@@ -1140,7 +1192,7 @@ void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoin
     }
     else
     {
-      ++result.RetainedOldVertices;
+      result.RetainedOldVertices += removal.KeptFor[id] == InvalidIndex ? 1 : 0;
       atOldVertex(v, id);
     }
   }
@@ -1149,15 +1201,15 @@ void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoin
 // Steps 4-6 on given candidate points (their positions may be adjusted: moved strictly inside
 // their triangle). Keeps the spacing figures already in result.
 void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
-  RetilingResult& result)
+  const CoarserLevel& coarser, RetilingResult& result)
 {
   const Index n0 = mesh.NumberOfPoints();
   const Index np = static_cast<Index>(points.size());
-  const CandidatesByTriangle buckets = BucketCandidates(points, mesh.NumberOfTriangles());
-  MoveCandidatesInside(mesh, points);
+  const CandidatesByTriangle buckets = BucketCandidates(points, mesh.NumberOfTriangles(), coarser);
+  MoveCandidatesInside(mesh, points, coarser);
   TriangleMesh mutual;
   std::vector<double> bary;
-  MutualTessellation(mesh, points, buckets, mutual, bary);
+  MutualTessellation(mesh, points, buckets, coarser.FixedCount, mutual, bary);
   if (!ReportProgress(options, 0.65))
   {
     AbortResult(result);
@@ -1165,7 +1217,7 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
   }
   std::vector<Vec3> reference = ReferenceNormals(mesh, points, bary);
   EditableMesh edit(mutual);
-  OldVertexRemoval removal(edit, reference, n0, np);
+  OldVertexRemoval removal(edit, reference, n0, np, coarser);
   if (!removal.Run(options))
   {
     AbortResult(result);
@@ -1179,9 +1231,30 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
   }
   std::vector<Index> newToOld;
   edit.Extract(result.Mesh, &newToOld);
-  SortCandidatesFirst(n0, np, result.Mesh, newToOld);
-  RecordHostLocations(mesh, points, bary, removal.MovedTo, newToOld, result);
+  SortCandidatesFirst(n0, np, removal.KeptFor, result.Mesh, newToOld);
+  RecordHostLocations(mesh, points, bary, removal, newToOld, result);
   ReportProgress(options, 1.0);
+}
+} // namespace
+
+namespace
+{
+// The vertices of a level as the fixed points of the next finer one, in output order: a vertex on
+// an input vertex (retained, or a candidate moved onto it) is pinned to that vertex; the others
+// keep their exact output position and host triangle.
+void CoarserPoints(
+  const TriangleMesh& mesh, const RetilingResult& level, std::vector<SurfacePoint>& points, CoarserLevel& coarser)
+{
+  const Index nv = level.Mesh.NumberOfPoints();
+  points.resize(size_t(nv));
+  coarser.PinnedTo.assign(size_t(nv), InvalidIndex);
+  for (Index v = 0; v < nv; ++v)
+  {
+    const Index input = level.InputVertex[v];
+    points[v].Position = input != InvalidIndex ? mesh.Point(input) : level.Mesh.Point(v);
+    points[v].Triangle = level.HostTriangle[v];
+    coarser.PinnedTo[v] = input;
+  }
 }
 } // namespace
 
@@ -1200,14 +1273,18 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
   CurvatureDensity(mesh, options.CurvatureWeight, density);
   TriangleBVH bvh(mesh);
   std::vector<SurfacePoint> points, added, level;
+  CoarserLevel coarser;
   const double share = 1.0 / double(counts.size());
   for (size_t k = 0; k < counts.size(); ++k)
   {
-    // Section 6.1: the coarser points stay where they are (and keep pushing); only the added
-    // points are placed and relaxed, so every level's vertices are a subset of the next one's.
+    // Section 6.1: the coarser level's vertices stay where they are (and keep pushing); only the
+    // added points are placed and relaxed, so every level's vertices are the first vertices of
+    // the next one's.
     const Index fixed = static_cast<Index>(points.size());
     DistributePoints(mesh, density, counts[k] - fixed, options.RandomSeed + k, added);
     points.insert(points.end(), added.begin(), added.end());
+    coarser.FixedCount = fixed;
+    coarser.PinnedTo.resize(points.size(), InvalidIndex);
     auto progress = [&](double f) { return !options.Progress || options.Progress(share * (k + 0.6 * f)); };
     if (!RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points, progress, fixed))
     {
@@ -1221,12 +1298,13 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
     levelOptions.Progress = [&](double f) {
       return !options.Progress || options.Progress(share * (k + 0.6 + 0.4 * f));
     };
-    TileWithPoints(mesh, level, levelOptions, result);
+    TileWithPoints(mesh, level, levelOptions, coarser, result);
     if (result.Aborted)
     {
       levels.assign(1, result);
       return;
     }
+    CoarserPoints(mesh, result, points, coarser);
     levels.push_back(std::move(result));
   }
 }

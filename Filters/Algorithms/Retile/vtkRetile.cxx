@@ -73,29 +73,71 @@ slod::RetilingResult InputAsResult(const slod::TriangleMesh& mesh)
   return result;
 }
 
-// Re-tiles with options.NumberOfPoints, then with proportionally fewer points while the result has
-// more than `limit` triangles (retained old vertices and borders add triangles); returns the last
-// attempt and leaves the point count used in options.
+// Runs retile(points) (returns the triangle count, negative when aborted) with `points`, then with
+// proportionally fewer points while the result has more than `limit` triangles (retained old
+// vertices and borders add triangles); leaves the point count of the last attempt in `points`.
+template <typename RetileFunction>
+void ShrinkWhileOverLimit(slod::Index& points, slod::Index limit, RetileFunction&& retile)
+{
+  for (int attempt = 0; attempt < MaximumRetileAttempts; ++attempt)
+  {
+    const slod::Index triangles = retile(points);
+    if (triangles < 0 || triangles <= limit)
+    {
+      break;
+    }
+    const auto fewer = static_cast<slod::Index>(std::floor(double(points) * limit / triangles));
+    if (fewer >= points || fewer < 4)
+    {
+      break;
+    }
+    points = fewer;
+  }
+}
+
+// Re-tiles within `limit` triangles if it can (ShrinkWhileOverLimit); returns the last attempt and
+// leaves the point count used in options.
 slod::RetilingResult RetileWithin(const slod::TriangleMesh& mesh, slod::RetilingOptions& options, slod::Index limit)
 {
   slod::RetilingResult result;
-  for (int attempt = 0; attempt < MaximumRetileAttempts; ++attempt)
-  {
+  ShrinkWhileOverLimit(options.NumberOfPoints, limit, [&](slod::Index points) {
+    options.NumberOfPoints = points;
     slod::Retile(mesh, options, result);
-    const slod::Index triangles = result.Mesh.NumberOfTriangles();
-    if (result.Aborted || triangles <= limit)
-    {
-      break;
-    }
-    const auto fewer = static_cast<slod::Index>(std::floor(double(options.NumberOfPoints) * limit / triangles));
-    if (fewer >= options.NumberOfPoints || fewer < 4)
-    {
-      break;
-    }
-    options.NumberOfPoints = fewer;
-  }
+    return result.Aborted ? slod::Index(-1) : result.Mesh.NumberOfTriangles();
+  });
   return result;
 }
+
+// The vertex counts of the nested levels, finest first: each NestedLevelRatio times smaller, at
+// least 4.
+std::vector<slod::Index> NestedLevelCounts(slod::Index finest, int numberOfLevels, double ratio)
+{
+  std::vector<slod::Index> counts;
+  double count = finest;
+  for (int k = 0; k < numberOfLevels && count >= 4; ++k)
+  {
+    counts.push_back(static_cast<slod::Index>(std::lround(count)));
+    count /= ratio;
+  }
+  return counts;
+}
+
+// Nested levels whose finest level has at most `limit` triangles if it can: the vertices the
+// coarser levels retain stay in the finer ones and add triangles there.
+void RetileNestedWithin(const slod::TriangleMesh& mesh, const slod::RetilingOptions& options, int numberOfLevels,
+  double ratio, slod::Index limit, std::vector<slod::RetilingResult>& levels)
+{
+  slod::Index finest = options.NumberOfPoints;
+  ShrinkWhileOverLimit(finest, limit, [&](slod::Index points) {
+    slod::RetileNested(mesh, NestedLevelCounts(points, numberOfLevels, ratio), options, levels);
+    if (levels.empty() || levels.back().Aborted)
+    {
+      return slod::Index(-1);
+    }
+    return levels.back().Mesh.NumberOfTriangles();
+  });
+}
+
 // Turk's method needs a manifold surface (every edge on one or two triangles, section 3.1) whose
 // edges can be resolved at the scale of the whole surface.
 bool CheckRetilable(vtkAlgorithm* filter, const slod::TriangleMesh& mesh, const slod::PreparationReport& report)
@@ -122,20 +164,6 @@ bool CheckRetilable(vtkAlgorithm* filter, const slod::TriangleMesh& mesh, const 
     return false;
   }
   return true;
-}
-
-// The vertex counts of the nested levels, finest first: each NestedLevelRatio times smaller, at
-// least 4.
-std::vector<slod::Index> NestedLevelCounts(slod::Index finest, int numberOfLevels, double ratio)
-{
-  std::vector<slod::Index> counts;
-  double count = finest;
-  for (int k = 0; k < numberOfLevels && count >= 4; ++k)
-  {
-    counts.push_back(static_cast<slod::Index>(std::lround(count)));
-    count /= ratio;
-  }
-  return counts;
 }
 
 int OutputPointType(vtkPolyData* input, int precision)
@@ -243,12 +271,17 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   std::vector<slod::RetilingResult> levels;
   if (!result.Aborted && retiled && this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
   {
-    slod::RetileNested(
-      mesh, NestedLevelCounts(options.NumberOfPoints, this->NumberOfNestedLevels, this->NestedLevelRatio), options, levels);
+    RetileNestedWithin(mesh, options, this->NumberOfNestedLevels, this->NestedLevelRatio, limit, levels);
     if (levels.empty() || levels.back().Aborted)
     {
       vtkWarningMacro(<< "Aborted: empty output.");
       return 1;
+    }
+    if (levels.back().Mesh.NumberOfTriangles() > limit)
+    {
+      vtkWarningMacro(<< "The finest nested level has " << levels.back().Mesh.NumberOfTriangles()
+                      << " triangles, more than the " << limit
+                      << " allowed: the vertices the coarser levels retain add triangles.");
     }
     // The finest level is output 0 (its spacing figures come from a plain run's statistics).
     result = levels.back();
