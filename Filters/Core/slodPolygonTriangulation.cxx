@@ -76,6 +76,17 @@ bool NearSegment(const Vec2& q, const Vec2& a, const Vec2& b, double tolerance)
   return cross * cross <= tolerance * tolerance * length2;
 }
 
+// Distances below this count as zero: 1e-9 of the projected polygon's extent.
+double ProjectedTolerance(const std::vector<Vec2>& p)
+{
+  double extent = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+  {
+    extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
+  }
+  return 1e-9 * extent;
+}
+
 // Proper crossing of segments ab and cd (touching at shared endpoints does not count).
 bool SegmentsCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d)
 {
@@ -109,12 +120,7 @@ public:
       this->Next[i] = (i + 1) % n;
     }
     // Distances below this (relative to the polygon's size) count as zero in strict mode.
-    double extent = 0;
-    for (size_t i = 0; i < n; ++i)
-    {
-      extent = std::max({ extent, std::fabs(this->P[i][0] - this->P[0][0]), std::fabs(this->P[i][1] - this->P[0][1]) });
-    }
-    this->Tolerance = 1e-9 * extent;
+    this->Tolerance = ProjectedTolerance(this->P);
   }
 
   // Fills the result; false when strict mode fails.
@@ -316,39 +322,49 @@ PolygonTriangulationResult TriangulatePolygon(
   return result;
 }
 
-PolygonTriangulationResult TriangulatePolygonMinimumCost(
-  const std::vector<Vec3>& polygon, const Vec3& normal, const MinimumCostTriangulationOptions& options)
+namespace
 {
-  PolygonTriangulationResult result;
-  const size_t n = polygon.size();
-  if (n < 3)
+// Diagonal validity and cost of a polygon, an n x n table (symmetric); polygon edges are valid with
+// cost 0.
+struct DiagonalTable
+{
+  size_t N;
+  std::vector<char> Valid;
+  std::vector<double> Cost;
+
+  explicit DiagonalTable(size_t n)
+    : N(n)
+    , Valid(n * n, 0)
+    , Cost(n * n, 0.0)
   {
-    result.Failed = n > 0;
-    return result;
   }
-  const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
-  double extent = 0;
+  size_t At(size_t i, size_t j) const { return i * this->N + j; }
+};
+
+// Whether the diagonal from corner i towards corner j starts inside the polygon (within the cone of
+// its two edges at i).
+bool InCone(const std::vector<Vec2>& p, size_t i, size_t j)
+{
+  const size_t n = p.size();
+  const Vec2& a = p[(i + n - 1) % n];
+  const Vec2& b = p[(i + 1) % n];
+  if (Cross2(a, p[i], b) >= 0) // convex corner
+  {
+    return Cross2(p[i], p[j], a) > 0 && Cross2(p[j], p[i], b) > 0;
+  }
+  return !(Cross2(p[i], p[j], b) >= 0 && Cross2(p[j], p[i], a) >= 0);
+}
+
+// A diagonal is valid inside the polygon, passes near no other corner, crosses no edge and is
+// accepted by the caller.
+DiagonalTable ValidDiagonals(const std::vector<Vec2>& p, const MinimumCostTriangulationOptions& options)
+{
+  const size_t n = p.size();
+  const double tolerance = ProjectedTolerance(p);
+  DiagonalTable table(n);
   for (size_t i = 0; i < n; ++i)
   {
-    extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
-  }
-  const double tolerance = 1e-9 * extent;
-  auto at = [n](size_t i, size_t j) { return i * n + j; };
-  // Diagonal validity and cost (i < j); polygon edges are valid with cost 0.
-  std::vector<char> valid(n * n, 0);
-  std::vector<double> cost(n * n, 0.0);
-  auto inCone = [&](size_t i, size_t j) {
-    const Vec2& a = p[(i + n - 1) % n];
-    const Vec2& b = p[(i + 1) % n];
-    if (Cross2(a, p[i], b) >= 0) // convex corner
-    {
-      return Cross2(p[i], p[j], a) > 0 && Cross2(p[j], p[i], b) > 0;
-    }
-    return !(Cross2(p[i], p[j], b) >= 0 && Cross2(p[j], p[i], a) >= 0);
-  };
-  for (size_t i = 0; i < n; ++i)
-  {
-    valid[at(i, (i + 1) % n)] = valid[at((i + 1) % n, i)] = 1;
+    table.Valid[table.At(i, (i + 1) % n)] = table.Valid[table.At((i + 1) % n, i)] = 1;
   }
   for (size_t i = 0; i + 2 < n; ++i)
   {
@@ -358,7 +374,7 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
       {
         continue;
       }
-      bool ok = inCone(i, j) && inCone(j, i);
+      bool ok = InCone(p, i, j) && InCone(p, j, i);
       for (size_t k = 0; k < n && ok; ++k)
       {
         const size_t k1 = (k + 1) % n;
@@ -374,13 +390,34 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
       ok = ok && (!options.AcceptDiagonal || options.AcceptDiagonal(static_cast<Index>(i), static_cast<Index>(j)));
       if (ok)
       {
-        valid[at(i, j)] = valid[at(j, i)] = 1;
-        cost[at(i, j)] = cost[at(j, i)] =
+        table.Valid[table.At(i, j)] = table.Valid[table.At(j, i)] = 1;
+        table.Cost[table.At(i, j)] = table.Cost[table.At(j, i)] =
           options.DiagonalCost ? options.DiagonalCost(static_cast<Index>(i), static_cast<Index>(j)) : 0.0;
       }
     }
   }
-  // best[i][j]: triangulation of the sub-polygon i, i+1, ..., j closed by the edge (i, j).
+  return table;
+}
+
+// 1 - sin of the smallest angle of triangle abc (sin = twice the area over the product of the two
+// longest edges): 0 for an equilateral triangle, 1 for a flat one.
+double Thinness(const std::vector<Vec3>& polygon, size_t a, size_t b, size_t c)
+{
+  const double area2 = Norm(Cross(polygon[b] - polygon[a], polygon[c] - polygon[a]));
+  const double l0 = Norm(polygon[b] - polygon[a]), l1 = Norm(polygon[c] - polygon[b]), l2 = Norm(polygon[a] - polygon[c]);
+  const double longest = std::max({ l0, l1, l2 });
+  const double middle = l0 + l1 + l2 - longest - std::min({ l0, l1, l2 });
+  return longest * middle > 0 ? 1.0 - area2 / (longest * middle) : 1.0;
+}
+
+// Dynamic programme over sub-polygons i, i+1, ..., j closed by the edge (i, j): the smallest
+// maximum diagonal cost, then the smallest sum (costs plus weighted thinness). Returns the best
+// apex k of every (i, j) (-1: none).
+std::vector<Index> MinimumCostSplits(const std::vector<Vec3>& polygon, const std::vector<Vec2>& p,
+  const DiagonalTable& table, double angleWeight)
+{
+  const size_t n = p.size();
+  auto at = [&table](size_t i, size_t j) { return table.At(i, j); };
   const double infinity = std::numeric_limits<double>::infinity();
   std::vector<double> bestMax(n * n, infinity), bestSum(n * n, infinity);
   std::vector<Index> split(n * n, -1);
@@ -388,21 +425,12 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
   {
     bestMax[at(i, i + 1)] = bestSum[at(i, i + 1)] = 0;
   }
-  auto thinness = [&](size_t a, size_t b, size_t c) {
-    const double area2 = Norm(Cross(polygon[b] - polygon[a], polygon[c] - polygon[a]));
-    const double l0 = Norm(polygon[b] - polygon[a]), l1 = Norm(polygon[c] - polygon[b]),
-                 l2 = Norm(polygon[a] - polygon[c]);
-    // sin of the smallest angle = area2 / (product of the two longest edges)
-    const double longest = std::max({ l0, l1, l2 });
-    const double middle = l0 + l1 + l2 - longest - std::min({ l0, l1, l2 });
-    return longest * middle > 0 ? 1.0 - area2 / (longest * middle) : 1.0;
-  };
   for (size_t length = 2; length < n; ++length)
   {
     for (size_t i = 0; i + length < n; ++i)
     {
       const size_t j = i + length;
-      if (!valid[at(i, j)])
+      if (!table.Valid[at(i, j)])
       {
         continue;
       }
@@ -410,7 +438,7 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
       double& bs = bestSum[at(i, j)];
       for (size_t k = i + 1; k < j; ++k)
       {
-        if (!valid[at(i, k)] || !valid[at(k, j)] || bestMax[at(i, k)] == infinity ||
+        if (!table.Valid[at(i, k)] || !table.Valid[at(k, j)] || bestMax[at(i, k)] == infinity ||
           bestMax[at(k, j)] == infinity)
         {
           continue;
@@ -419,9 +447,9 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
         {
           continue;
         }
-        const double m = std::max({ bestMax[at(i, k)], bestMax[at(k, j)], cost[at(i, k)], cost[at(k, j)] });
-        const double sum = bestSum[at(i, k)] + bestSum[at(k, j)] + cost[at(i, k)] + cost[at(k, j)] +
-          options.AngleWeight * thinness(i, k, j);
+        const double cik = table.Cost[at(i, k)], ckj = table.Cost[at(k, j)];
+        const double m = std::max({ bestMax[at(i, k)], bestMax[at(k, j)], cik, ckj });
+        const double sum = bestSum[at(i, k)] + bestSum[at(k, j)] + cik + ckj + angleWeight * Thinness(polygon, i, k, j);
         const double slack = 1e-9 * std::max(m, bm == infinity ? 0.0 : bm);
         if (m < bm - slack || (m <= bm + slack && sum < bs))
         {
@@ -432,7 +460,24 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
       }
     }
   }
-  if (split[at(0, n - 1)] < 0)
+  return split;
+}
+} // namespace
+
+PolygonTriangulationResult TriangulatePolygonMinimumCost(
+  const std::vector<Vec3>& polygon, const Vec3& normal, const MinimumCostTriangulationOptions& options)
+{
+  PolygonTriangulationResult result;
+  const size_t n = polygon.size();
+  if (n < 3)
+  {
+    result.Failed = n > 0;
+    return result;
+  }
+  const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
+  const DiagonalTable table = ValidDiagonals(p, options);
+  const std::vector<Index> split = MinimumCostSplits(polygon, p, table, options.AngleWeight);
+  if (split[table.At(0, n - 1)] < 0)
   {
     result.Failed = true;
     return result;
@@ -446,7 +491,7 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
     {
       continue;
     }
-    const size_t k = static_cast<size_t>(split[at(i, j)]);
+    const size_t k = static_cast<size_t>(split[table.At(i, j)]);
     result.Triangles.push_back({ static_cast<Index>(i), static_cast<Index>(k), static_cast<Index>(j) });
     stack.push_back({ i, k });
     stack.push_back({ k, j });
