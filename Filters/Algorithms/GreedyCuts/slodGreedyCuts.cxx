@@ -2,6 +2,8 @@
 
 #include "slodChainSimplification.h"
 
+#include "vtkMath.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -415,7 +417,7 @@ struct GreedyCuts::Worker
   {
     this->Eps = prm.Epsilon;
     this->EpsLocal = prm.LocalTolerance * prm.Epsilon;
-    this->MinAngle = prm.MinimumAngle * M_PI / 180.0;
+    this->MinAngle = vtkMath::RadiansFromDegrees(prm.MinimumAngle);
     const Index np = PP.NumberOfPatches();
     this->ChainFull.assign(size_t(PP.NumberOfChains()), 0);
     this->PatchOriginal.assign(size_t(np), 0);
