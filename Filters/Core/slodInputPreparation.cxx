@@ -1,8 +1,12 @@
 #include "slodInputPreparation.h"
 
+#include "vtkAlgorithm.h"
+
+#include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
 #include "slodUnionFind.h"
 
+#include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDoubleArray.h"
@@ -361,21 +365,7 @@ long long MarkNonManifoldVertices(const TriangleMesh& mesh, const VertexStar& st
     Index start = *star.Begin(v);
     if (flags[v] & BoundaryFlag)
     {
-      Index t = start;
-      for (Index steps = 0; steps <= degree; ++steps)
-      {
-        const Index prev = star.EdgeNeighbor(t, corner(t));
-        if (prev == InvalidIndex)
-        {
-          break;
-        }
-        t = prev;
-        if (t == start)
-        {
-          break;
-        }
-      }
-      start = t;
+      start = FanStart(start, degree, [&](Index t) { return star.EdgeNeighbor(t, corner(t)); });
     }
     Index fan = 0;
     Index t = start;
@@ -872,6 +862,20 @@ bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const Preparation
     vtkWarningWithObjectMacro(filter, << "Input: " << warning << ".");
   }
   return true;
+}
+
+ProgressFunction FilterProgress(vtkAlgorithm* filter, double from, double to)
+{
+  return [filter, from, to](double fraction) {
+    filter->UpdateProgress(from + std::min(1.0, std::max(0.0, fraction)) * (to - from));
+    return !filter->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
+  };
+}
+
+void ReportAbort(vtkAlgorithm* filter, vtkPolyData* output)
+{
+  output->Initialize();
+  vtkWarningWithObjectMacro(filter, << "Aborted: the output is empty.");
 }
 
 void ReportTarget(vtkObject* filter, vtkPolyData* output, long long targetTriangles, bool reached, const char* reason)

@@ -20,11 +20,13 @@
 #ifndef slodInputPreparation_h
 #define slodInputPreparation_h
 
+#include "slodFilterContract.h"
 #include "slodTriangleMesh.h"
 
 #include <string>
 #include <vector>
 
+class vtkAlgorithm;
 class vtkObject;
 class vtkPolyData;
 class vtkPointData;
@@ -74,6 +76,13 @@ SURFACELODFILTERS_EXPORT std::vector<unsigned char> NonManifoldVertexFlags(const
 SURFACELODFILTERS_EXPORT bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input,
   const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint,
   PreparationReport* report = nullptr);
+
+// The progress of `filter` from `from` to `to` as a ProgressFunction (slodFilterContract.h): each
+// call updates the filter's progress and returns false once the filter was asked to abort.
+SURFACELODFILTERS_EXPORT ProgressFunction FilterProgress(vtkAlgorithm* filter, double from = 0.0, double to = 1.0);
+
+// The result of an aborted filter, the same in every filter: a warning and an empty output.
+SURFACELODFILTERS_EXPORT void ReportAbort(vtkAlgorithm* filter, vtkPolyData* output);
 
 // The honest-target contract of every simplifier: field data "TargetNumberOfTriangles" (the
 // resolved count target, -1 when only an error bound was given) and "TargetReached" (1/0) on the

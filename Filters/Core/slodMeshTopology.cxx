@@ -226,21 +226,8 @@ bool MeshTopology::OrderedOneRing(
   Index start = *this->VertexTrianglesBegin(v);
   if (this->IsBoundaryVertex(v))
   {
-    Index t = start;
-    for (Index steps = 0; steps <= degree; ++steps)
-    {
-      const Index prev = this->EdgeNeighbor(t, corner(t)); // across the edge (v, next)
-      if (prev == InvalidIndex)
-      {
-        break;
-      }
-      t = prev;
-      if (t == start)
-      {
-        break;
-      }
-    }
-    start = t;
+    // Across the edge (v, next).
+    start = FanStart(start, degree, [&](Index t) { return this->EdgeNeighbor(t, corner(t)); });
   }
   // Walk counter-clockwise across the edge after v: ring[i] is the vertex after v in triangles[i].
   Index t = start;

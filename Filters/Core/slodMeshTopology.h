@@ -29,6 +29,29 @@ struct SURFACELODFILTERS_EXPORT MeshStatistics
   long long Genus = -1;
 };
 
+// The first triangle of an open fan around a vertex: from `start`, steps across the edge before
+// the vertex (acrossPrevious(t) gives the neighbour there, or InvalidIndex at a border) until the
+// border, at most `degree` steps (a closed fan returns to `start`).
+template <class AcrossPrevious>
+Index FanStart(Index start, Index degree, AcrossPrevious acrossPrevious)
+{
+  Index t = start;
+  for (Index steps = 0; steps <= degree; ++steps)
+  {
+    const Index previous = acrossPrevious(t);
+    if (previous == InvalidIndex)
+    {
+      break;
+    }
+    t = previous;
+    if (t == start)
+    {
+      break;
+    }
+  }
+  return t;
+}
+
 class SURFACELODFILTERS_EXPORT MeshTopology
 {
 public:

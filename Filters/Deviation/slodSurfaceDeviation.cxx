@@ -87,7 +87,7 @@ void SampleSurface(const TriangleMesh& mesh, std::int64_t count, std::uint64_t s
 }
 
 bool ComputeDistances(const TriangleBVH& tree, const std::vector<double>& points, std::vector<double>& distances,
-  const ProgressCallback& progress)
+  const ProgressFunction& progress)
 {
   const std::int64_t n = static_cast<std::int64_t>(points.size() / 3);
   distances.assign(size_t(n), std::numeric_limits<double>::quiet_NaN());
@@ -187,7 +187,7 @@ bool ComputeDistances(const TriangleBVH& tree, const std::vector<double>& points
 }
 
 bool MeasureDeviation(const TriangleMesh& from, const TriangleBVH& to, const DeviationOptions& options,
-  OneSidedDeviation& result, std::vector<double>* vertexDistances, const ProgressCallback& progress)
+  OneSidedDeviation& result, std::vector<double>* vertexDistances, const ProgressFunction& progress)
 {
   result = OneSidedDeviation{};
   if (to.Empty())

@@ -1,4 +1,4 @@
-// SurfaceLOD shared core: one-sided surface deviation (samples on one mesh measured to another).
+// SurfaceLOD deviation: one-sided surface deviation (samples on one mesh measured to another).
 // The algorithm behind vtkSurfaceDeviation, usable by any filter or test without VTK data objects.
 //
 // Samples = the mesh's vertices and/or deterministic area-weighted random points. Distances are
@@ -8,6 +8,7 @@
 #ifndef slodSurfaceDeviation_h
 #define slodSurfaceDeviation_h
 
+#include "slodFilterContract.h"
 #include "slodTriangleBVH.h"
 
 #include <cstdint>
@@ -17,7 +18,6 @@
 namespace slod
 {
 // Called on the calling thread with the fraction done (0..1); return false to abort.
-using ProgressCallback = std::function<bool(double)>;
 
 // `count` area-weighted random points on the mesh (3 doubles each, appended to points).
 // Deterministic: a counter-based generator seeded with (seed, stream); zero-area triangles are never
@@ -28,7 +28,7 @@ SURFACELODFILTERS_EXPORT void SampleSurface(const TriangleMesh& mesh, std::int64
 // Unsigned distance of each point (3 doubles each) to the surface of the tree (which must not be
 // empty). Non-finite points get NaN. Returns false when aborted by the callback.
 SURFACELODFILTERS_EXPORT bool ComputeDistances(const TriangleBVH& tree, const std::vector<double>& points,
-  std::vector<double>& distances, const ProgressCallback& progress = {});
+  std::vector<double>& distances, const ProgressFunction& progress = {});
 
 struct SURFACELODFILTERS_EXPORT DeviationOptions
 {
@@ -53,7 +53,7 @@ struct SURFACELODFILTERS_EXPORT OneSidedDeviation
 // Returns false when aborted.
 SURFACELODFILTERS_EXPORT bool MeasureDeviation(const TriangleMesh& from, const TriangleBVH& to,
   const DeviationOptions& options, OneSidedDeviation& result, std::vector<double>* vertexDistances = nullptr,
-  const ProgressCallback& progress = {});
+  const ProgressFunction& progress = {});
 } // namespace slod
 
 #endif

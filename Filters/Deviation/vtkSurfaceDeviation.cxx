@@ -12,7 +12,9 @@
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -53,6 +55,108 @@ void vtkSurfaceDeviation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundingBoxDiagonal: " << this->BoundingBoxDiagonal << "\n";
 }
 
+namespace
+{
+// Both inputs prepared (orientation does not change distances, so that part is skipped); false with
+// an error when one cannot be used or has no triangles: the deviations are then undefined.
+bool PrepareBoth(vtkSurfaceDeviation* filter, vtkPolyData* inputA, vtkPolyData* inputB, slod::TriangleMesh& meshA,
+  slod::TriangleMesh& meshB, std::vector<slod::Index>& vertexToInputB)
+{
+  slod::PreparationOptions options;
+  options.MakeOrientationConsistent = false;
+  std::vector<slod::Index> vertexToInputA;
+  const slod::PreparationReport reportA = slod::PrepareTriangleMesh(inputA, options, meshA, vertexToInputA);
+  const slod::PreparationReport reportB = slod::PrepareTriangleMesh(inputB, options, meshB, vertexToInputB);
+  for (const auto& side : { std::make_pair("reference (port 0)", &reportA), std::make_pair("compared (port 1)", &reportB) })
+  {
+    if (!side.second->Valid)
+    {
+      vtkErrorWithObjectMacro(filter, "Invalid " << side.first << " input: " << side.second->Error << "; the output is empty.");
+      return false;
+    }
+    for (const std::string& warning : side.second->Warnings())
+    {
+      vtkWarningWithObjectMacro(filter, << "Input " << side.first << ": " << warning << ".");
+    }
+  }
+  if (meshA.NumberOfTriangles() == 0 || meshB.NumberOfTriangles() == 0)
+  {
+    vtkErrorWithObjectMacro(filter, << (meshA.NumberOfTriangles() == 0 ? "The reference surface (port 0)" : "The compared surface (port 1)")
+                  << " has no triangles: the deviations are undefined (NaN) and the output is empty.");
+    return false;
+  }
+  return true;
+}
+
+// Distance to A of every input point of B: mesh vertices carry their measured distance; the other
+// points (merged duplicates, points of vertex or line cells, unused points) are measured directly.
+vtkSmartPointer<vtkDoubleArray> PointDistances(vtkPolyData* inputB, const std::vector<slod::Index>& vertexToInputB,
+  const std::vector<double>& vertexDistancesB, const slod::TriangleBVH& treeA)
+{
+  const vtkIdType numberOfPointsB = inputB->GetNumberOfPoints();
+  vtkNew<vtkDoubleArray> distances;
+  distances->SetName("Distance");
+  distances->SetNumberOfTuples(numberOfPointsB);
+  distances->Fill(0.0);
+  std::vector<char> done(size_t(numberOfPointsB), 0);
+  for (size_t v = 0; v < vertexToInputB.size(); ++v)
+  {
+    distances->SetValue(vertexToInputB[v], vertexDistancesB[v]);
+    done[size_t(vertexToInputB[v])] = 1;
+  }
+  std::vector<vtkIdType> rest;
+  std::vector<double> restPoints;
+  for (vtkIdType i = 0; i < numberOfPointsB; ++i)
+  {
+    if (!done[size_t(i)])
+    {
+      double p[3];
+      inputB->GetPoint(i, p);
+      rest.push_back(i);
+      restPoints.insert(restPoints.end(), p, p + 3);
+    }
+  }
+  std::vector<double> restDistances;
+  slod::ComputeDistances(treeA, restPoints, restDistances);
+  for (size_t k = 0; k < rest.size(); ++k)
+  {
+    distances->SetValue(rest[k], restDistances[k]);
+  }
+  return distances;
+}
+
+// Samples of A measured to B (ab) and of B to A (ba, with B's vertex distances). False when aborted.
+bool MeasureBothWays(vtkSurfaceDeviation* filter, const slod::TriangleMesh& meshA, const slod::TriangleMesh& meshB,
+  const slod::TriangleBVH& treeA, const slod::TriangleBVH& treeB, slod::OneSidedDeviation& ab,
+  slod::OneSidedDeviation& ba, std::vector<double>& vertexDistancesB)
+{
+  slod::DeviationOptions options;
+  options.NumberOfSamples = filter->GetNumberOfSamples();
+  options.Seed = filter->GetSeed();
+  options.SampleVertices = filter->GetSampleVertices();
+  if (options.NumberOfSamples == 0 && !options.SampleVertices)
+  {
+    vtkWarningWithObjectMacro(filter, "NumberOfSamples is 0 and SampleVertices is off: the vertices are used as samples.");
+  }
+  options.Stream = 0;
+  if (!slod::MeasureDeviation(meshA, treeB, options, ab, nullptr, slod::FilterProgress(filter, 0.15, 0.55)))
+  {
+    return false;
+  }
+  options.Stream = 1;
+  return slod::MeasureDeviation(meshB, treeA, options, ba, &vertexDistancesB, slod::FilterProgress(filter, 0.55, 0.95));
+}
+
+void AddValue(vtkFieldData* fieldData, const std::string& name, double value)
+{
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name.c_str());
+  array->SetNumberOfTuples(1);
+  array->SetValue(0, value);
+  fieldData->AddArray(array);
+}
+} // namespace
+
 int vtkSurfaceDeviation::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -67,37 +171,44 @@ int vtkSurfaceDeviation::RequestData(
     vtkErrorMacro("Both the reference (port 0) and the compared surface (port 1) are required.");
     return 1;
   }
-
-  // Orientation does not change distances: skip that part of the preparation.
-  slod::PreparationOptions options;
-  options.MakeOrientationConsistent = false;
   slod::TriangleMesh meshA, meshB;
-  std::vector<slod::Index> vertexToInputA, vertexToInputB;
-  const slod::PreparationReport reportA = slod::PrepareTriangleMesh(inputA, options, meshA, vertexToInputA);
-  const slod::PreparationReport reportB = slod::PrepareTriangleMesh(inputB, options, meshB, vertexToInputB);
-  for (const auto& side : { std::make_pair("reference (port 0)", &reportA), std::make_pair("compared (port 1)", &reportB) })
+  std::vector<slod::Index> vertexToInputB;
+  if (!PrepareBoth(this, inputA, inputB, meshA, meshB, vertexToInputB))
   {
-    if (!side.second->Valid)
-    {
-      vtkErrorMacro("Invalid " << side.first << " input: " << side.second->Error << "; the output is empty.");
-      output->Initialize();
-      return 1;
-    }
-    for (const std::string& warning : side.second->Warnings())
-    {
-      vtkWarningMacro(<< "Input " << side.first << ": " << warning << ".");
-    }
-  }
-  if (meshA.NumberOfTriangles() == 0 || meshB.NumberOfTriangles() == 0)
-  {
-    vtkErrorMacro(<< (meshA.NumberOfTriangles() == 0 ? "The reference surface (port 0)" : "The compared surface (port 1)")
-                  << " has no triangles: the deviations are undefined (NaN) and the output is empty.");
     output->Initialize();
     return 1;
   }
   this->UpdateProgress(0.05);
+  // Of the points the triangles use (the prepared mesh keeps only those).
+  this->BoundingBoxDiagonal = meshA.BoundingBoxDiagonal();
 
+  slod::TriangleBVH treeA(meshA), treeB(meshB);
+  this->UpdateProgress(0.15);
+  std::vector<double> vertexDistancesB;
+  slod::OneSidedDeviation ab, ba;
+  if (!MeasureBothWays(this, meshA, meshB, treeA, treeB, ab, ba, vertexDistancesB))
+  {
+    slod::ReportAbort(this, output);
+    return 1;
+  }
+  this->HausdorffAB = ab.Max;
+  this->HausdorffBA = ba.Max;
+  this->Hausdorff = std::max(ab.Max, ba.Max);
+  this->MeanAB = ab.Mean;
+  this->MeanBA = ba.Mean;
+  this->RMSAB = ab.RMS;
+  this->RMSBA = ba.RMS;
+  this->Mean = 0.5 * (ab.Mean + ba.Mean);
+  this->RMS = 0.5 * (ab.RMS + ba.RMS);
   output->ShallowCopy(inputB);
+  output->GetPointData()->AddArray(PointDistances(inputB, vertexToInputB, vertexDistancesB, treeA));
+  this->StoreResults(inputB, output);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkSurfaceDeviation::StoreResults(vtkPolyData* inputB, vtkPolyData* output)
+{
   // Fresh containers so adding arrays never touches the input's.
   vtkNew<vtkFieldData> fieldData;
   if (inputB->GetFieldData())
@@ -105,118 +216,14 @@ int vtkSurfaceDeviation::RequestData(
     fieldData->ShallowCopy(inputB->GetFieldData());
   }
   output->SetFieldData(fieldData);
-
-  // Of the points the triangles use (the prepared mesh keeps only those).
-  this->BoundingBoxDiagonal = meshA.BoundingBoxDiagonal();
-  const vtkIdType numberOfPointsB = inputB->GetNumberOfPoints();
-  vtkNew<vtkDoubleArray> distanceArray;
-  distanceArray->SetName("Distance");
-  distanceArray->SetNumberOfTuples(numberOfPointsB);
-  distanceArray->Fill(0.0);
-
-  bool aborted = false;
+  const std::pair<const char*, double> values[] = { { "Hausdorff", this->Hausdorff },
+    { "HausdorffAB", this->HausdorffAB }, { "HausdorffBA", this->HausdorffBA }, { "Mean", this->Mean },
+    { "RMS", this->RMS }, { "MeanAB", this->MeanAB }, { "MeanBA", this->MeanBA }, { "RMSAB", this->RMSAB },
+    { "RMSBA", this->RMSBA } };
+  for (const auto& value : values)
   {
-    slod::TriangleBVH treeA(meshA), treeB(meshB);
-    this->UpdateProgress(0.15);
-
-    slod::DeviationOptions deviationOptions;
-    deviationOptions.NumberOfSamples = this->NumberOfSamples;
-    deviationOptions.Seed = this->Seed;
-    deviationOptions.SampleVertices = this->SampleVertices;
-    if (this->NumberOfSamples == 0 && !this->SampleVertices)
-    {
-      vtkWarningMacro("NumberOfSamples is 0 and SampleVertices is off: the vertices are used as samples.");
-    }
-    // Progress from the calling thread between parallel steps; abort stops the measurement.
-    auto progressIn = [this](double from, double to) {
-      return [this, from, to](double fraction) {
-        this->UpdateProgress(from + fraction * (to - from));
-        return !this->GetAbortExecute();
-      };
-    };
-
-    slod::OneSidedDeviation ab, ba;
-    std::vector<double> vertexDistancesB;
-    deviationOptions.Stream = 0;
-    aborted = !slod::MeasureDeviation(meshA, treeB, deviationOptions, ab, nullptr, progressIn(0.15, 0.55));
-    if (!aborted)
-    {
-      deviationOptions.Stream = 1;
-      aborted = !slod::MeasureDeviation(meshB, treeA, deviationOptions, ba, &vertexDistancesB, progressIn(0.55, 0.95));
-    }
-    if (!aborted)
-    {
-      this->HausdorffAB = ab.Max;
-      this->HausdorffBA = ba.Max;
-      this->Hausdorff = std::max(ab.Max, ba.Max);
-      this->MeanAB = ab.Mean;
-      this->MeanBA = ba.Mean;
-      this->RMSAB = ab.RMS;
-      this->RMSBA = ba.RMS;
-      this->Mean = 0.5 * (ab.Mean + ba.Mean);
-      this->RMS = 0.5 * (ab.RMS + ba.RMS);
-
-      // Per input point of B: mesh vertices carry their distance; other points (merged duplicates,
-      // points of vertex/line cells or unused points) are measured directly.
-      std::vector<char> done(size_t(numberOfPointsB), 0);
-      for (size_t v = 0; v < vertexToInputB.size(); ++v)
-      {
-        distanceArray->SetValue(vertexToInputB[v], vertexDistancesB[v]);
-        done[size_t(vertexToInputB[v])] = 1;
-      }
-      std::vector<vtkIdType> rest;
-      std::vector<double> restPoints;
-      for (vtkIdType i = 0; i < numberOfPointsB; ++i)
-      {
-        if (!done[size_t(i)])
-        {
-          double p[3];
-          inputB->GetPoint(i, p);
-          rest.push_back(i);
-          restPoints.insert(restPoints.end(), p, p + 3);
-        }
-      }
-      std::vector<double> restDistances;
-      slod::ComputeDistances(treeA, restPoints, restDistances);
-      for (size_t k = 0; k < rest.size(); ++k)
-      {
-        distanceArray->SetValue(rest[k], restDistances[k]);
-      }
-    }
+    AddValue(fieldData, value.first, value.second);
+    AddValue(fieldData, std::string(value.first) + "Relative", this->Relative(value.second));
   }
-  if (aborted)
-  {
-    output->Initialize();
-    return 1;
-  }
-  output->GetPointData()->AddArray(distanceArray);
-
-  auto addValue = [&](const char* name, double value) {
-    vtkNew<vtkDoubleArray> array;
-    array->SetName(name);
-    array->SetNumberOfTuples(1);
-    array->SetValue(0, value);
-    fieldData->AddArray(array);
-    vtkNew<vtkDoubleArray> relative;
-    relative->SetName((std::string(name) + "Relative").c_str());
-    relative->SetNumberOfTuples(1);
-    relative->SetValue(0, this->Relative(value));
-    fieldData->AddArray(relative);
-  };
-  addValue("Hausdorff", this->Hausdorff);
-  addValue("HausdorffAB", this->HausdorffAB);
-  addValue("HausdorffBA", this->HausdorffBA);
-  addValue("Mean", this->Mean);
-  addValue("RMS", this->RMS);
-  addValue("MeanAB", this->MeanAB);
-  addValue("MeanBA", this->MeanBA);
-  addValue("RMSAB", this->RMSAB);
-  addValue("RMSBA", this->RMSBA);
-  vtkNew<vtkDoubleArray> diagonal;
-  diagonal->SetName("BoundingBoxDiagonal");
-  diagonal->SetNumberOfTuples(1);
-  diagonal->SetValue(0, this->BoundingBoxDiagonal);
-  fieldData->AddArray(diagonal);
-  this->UpdateProgress(1.0);
-  return 1;
+  AddValue(fieldData, "BoundingBoxDiagonal", this->BoundingBoxDiagonal);
 }

@@ -89,6 +89,8 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   void ClearResults();
+  // The deviations as field data of the output (values and their "...Relative" twins).
+  void StoreResults(vtkPolyData* inputB, vtkPolyData* output);
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double Relative(double value) const

@@ -1,4 +1,4 @@
-// SurfaceLOD shared core: closed "block" models for topology simplification (tests, examples,
+// SurfaceLOD sources: closed "block" models for topology simplification (tests, examples,
 // documentation pictures), in the spirit of Ho 1999's Disk, Box, Battery and Fixture models.
 //
 // A block model is a height field of columns over a grid of nx x ny cells: cell (i, j) is a

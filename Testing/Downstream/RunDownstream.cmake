@@ -1,6 +1,6 @@
 # Installs this build into a scratch prefix, moves that prefix elsewhere (the install tree is
 # relocatable), then configures, builds and runs the downstream example against the moved package
-# (find_package(SurfaceLOD)). Any failure fails the test.
+# (find_package(SurfaceLOD)), and builds Examples/ standalone against it. Any failure fails the test.
 foreach (var BUILD_DIR SOURCE_DIR WORK_DIR)
   if (NOT DEFINED ${var})
     message(FATAL_ERROR "${var} not set")
@@ -30,3 +30,7 @@ run(${CMAKE_COMMAND} -S "${SOURCE_DIR}/Examples/Downstream" -B "${WORK_DIR}/buil
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 run("${WORK_DIR}/build/measure_decimation")
 # (The installed CLI and Python package are run from a moved prefix by Install.RelocatedPrefix.)
+# The examples build standalone against the moved package with the same CMakeLists as in the tree.
+run(${CMAKE_COMMAND} -S "${SOURCE_DIR}/Examples" -B "${WORK_DIR}/examples" -G Ninja
+  -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${prefix}")
+run(${CMAKE_COMMAND} --build "${WORK_DIR}/examples")

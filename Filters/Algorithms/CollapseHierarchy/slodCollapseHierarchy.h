@@ -1,4 +1,4 @@
-// SurfaceLOD core: smooth hierarchical surface triangulations by triangle collapse
+// SurfaceLOD algorithm CollapseHierarchy: smooth hierarchical surface triangulations by triangle collapse
 // (Gieng, Hamann, Joy, Schussman, Trotts, IEEE Visualization 1997).
 //
 // Build() reduces a closed or open manifold triangle mesh M0 by batches of triangle collapses:

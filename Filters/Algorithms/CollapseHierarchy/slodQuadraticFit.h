@@ -1,4 +1,4 @@
-// SurfaceLOD shared core: least-squares quadratic height fields and their curvature.
+// SurfaceLOD algorithm CollapseHierarchy: least-squares quadratic height fields and their curvature.
 //
 // A surface patch near a point is written as a graph z = f(u, v) over a local orthonormal frame
 // (origin, U, V, N), with f = c00 + c10 u + c01 v + c20 u^2 + c11 uv + c02 v^2. The fit is solved

@@ -1,4 +1,4 @@
-// SurfaceLOD shared core: stencils of triangles and the triangle-collapse rules of
+// SurfaceLOD algorithm CollapseHierarchy: stencils of triangles and the triangle-collapse rules of
 // Gieng, Hamann, Joy, Schussman, Trotts, "Smooth hierarchical surface triangulations" (1997).
 //
 // The stencil S_T of a triangle T is the set of the other triangles sharing a vertex with T.

@@ -1,4 +1,4 @@
-// SurfaceLOD shared core: simplification of a polyline (a boundary chain) to a tolerance.
+// SurfaceLOD algorithm GreedyCuts: simplification of a polyline (a boundary chain) to a tolerance.
 //
 // Douglas-Peucker refinement in 3D: a sub-chain is split at its vertex farthest from the segment
 // joining its ends while that distance exceeds epsilon. Every dropped vertex, hence (distance to a

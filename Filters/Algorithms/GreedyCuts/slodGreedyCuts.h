@@ -1,4 +1,4 @@
-// SurfaceLOD core: bounded-error simplification by greedy cuts (Ho 1999, chapter 3, after Silva et
+// SurfaceLOD algorithm GreedyCuts: bounded-error simplification by greedy cuts (Ho 1999, chapter 3, after Silva et
 // al.'s terrain greedy cuts), on a patchification of the surface (chapter 4's slod::Patchification).
 //
 // Stages of one run at tolerance epsilon:

@@ -1,4 +1,4 @@
-// SurfaceLOD shared core: level-of-detail generation of the Simplified Patch Boundary Merging
+// SurfaceLOD algorithm PatchBoundaryMerge: level-of-detail generation of the Simplified Patch Boundary Merging
 // method (Ho 1999, sections 4.2.4-4.2.8) on top of a slod::Patchification.
 //
 // Stages of one level:

@@ -1,4 +1,4 @@
-// SurfaceLOD core: interpolation between two nested levels of detail (Turk 1992, section 6).
+// SurfaceLOD algorithm Retile: interpolation between two nested levels of detail (Turk 1992, section 6).
 //
 // Input: a high-detail and a low-detail triangle mesh of the same surface where every low-detail
 // vertex is also a high-detail vertex (same position), as vtkRetile's nested levels are.

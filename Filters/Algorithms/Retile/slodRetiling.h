@@ -1,4 +1,4 @@
-// SurfaceLOD core: re-tiling of a triangle surface (Turk 1992, "Re-Tiling Polygonal Surfaces").
+// SurfaceLOD algorithm Retile: re-tiling of a triangle surface (Turk 1992, "Re-Tiling Polygonal Surfaces").
 //
 // Stages (each a named function, all deterministic for a given seed):
 //  1. EstimateCurvatureRadius: Turk's per-vertex minimum radius of curvature (section 5.1),

@@ -1,4 +1,4 @@
-// SurfaceLOD core: quadric-error triangle collapse simplification (Pan, Zhou, Shi 2000).
+// SurfaceLOD algorithm TriangleCollapse: quadric-error triangle collapse simplification (Pan, Zhou, Shi 2000).
 //
 // The operation merges the three vertices of a triangle into one new vertex, removing the
 // triangle and its (up to three) edge neighbours. Each triangle's cost is the quadric of the
