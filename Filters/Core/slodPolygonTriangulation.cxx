@@ -76,6 +76,17 @@ bool NearSegment(const Vec2& q, const Vec2& a, const Vec2& b, double tolerance)
   return cross * cross <= tolerance * tolerance * length2;
 }
 
+// No triangle for fewer than 3 corners: a failure unless the polygon is empty.
+bool FewerThanThreeCorners(const std::vector<Vec3>& polygon, PolygonTriangulationResult& result)
+{
+  if (polygon.size() >= 3)
+  {
+    return false;
+  }
+  result.Failed = !polygon.empty();
+  return true;
+}
+
 // Distances below this count as zero: 1e-9 of the projected polygon's extent.
 double ProjectedTolerance(const std::vector<Vec2>& p)
 {
@@ -311,10 +322,8 @@ PolygonTriangulationResult TriangulatePolygon(
   const std::vector<Vec3>& polygon, const Vec3& normal, const PolygonTriangulationOptions& options)
 {
   PolygonTriangulationResult result;
-  const size_t n = polygon.size();
-  if (n < 3)
+  if (FewerThanThreeCorners(polygon, result))
   {
-    result.Failed = n > 0;
     return result;
   }
   EarClipper clipper(polygon, normal, options, result);
@@ -468,12 +477,11 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
   const std::vector<Vec3>& polygon, const Vec3& normal, const MinimumCostTriangulationOptions& options)
 {
   PolygonTriangulationResult result;
-  const size_t n = polygon.size();
-  if (n < 3)
+  if (FewerThanThreeCorners(polygon, result))
   {
-    result.Failed = n > 0;
     return result;
   }
+  const size_t n = polygon.size();
   const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
   const DiagonalTable table = ValidDiagonals(p, options);
   const std::vector<Index> split = MinimumCostSplits(polygon, p, table, options.AngleWeight);
