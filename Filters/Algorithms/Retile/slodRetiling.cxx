@@ -452,6 +452,93 @@ void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& verte
   }
 }
 
+// One repulsion step per point (Jacobi: from the positions of the previous iteration): the
+// force of the neighbours within the mean of both radii, in the tangent plane, capped.
+void RepulsionMoves(const std::vector<SurfacePoint>& points, const std::vector<double>& radius, double maxRadius,
+  const std::vector<double>& xyz, const PointGrid& grid, const std::vector<Vec3>& faceNormal, std::vector<Vec3>& move)
+{
+  const size_t n = points.size();
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const Vec3 p = points[i].Position;
+      const Vec3 normal = faceNormal[points[i].Triangle];
+      Vec3 force{ 0, 0, 0 };
+      grid.ForEachNear(&xyz[3 * i], maxRadius, [&](Index j) {
+        if (j == Index(i))
+        {
+          return;
+        }
+        // A neighbour facing the other way lies on another sheet (the far side of a thin
+        // part): it must not push, or thin parts are emptied of points.
+        if (Dot(faceNormal[points[j].Triangle], normal) < -0.3)
+        {
+          return;
+        }
+        const double r = 0.5 * (radius[i] + radius[j]);
+        Vec3 d = p - points[j].Position;
+        // Fold the neighbour into the tangent plane (keeps its distance, drops the normal part).
+        d = d - Dot(d, normal) * normal;
+        const double len = Norm(d);
+        if (len >= r)
+        {
+          return;
+        }
+        if (len <= 1e-12 * r)
+        {
+          // Coincident points: push apart along a deterministic tangent direction.
+          Vec3 axis = std::abs(normal[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
+          axis = Normalized(Cross(normal, axis));
+          force = force + ((Index(i) < j ? 1.0 : -1.0) * 0.5) * axis;
+          return;
+        }
+        force = force + ((r - len) / (r * len)) * d; // linear fall-off, zero at r
+      });
+      // Step: a fraction of the radius per unit force, capped (stable for any neighbour count).
+      Vec3 step = (0.2 * radius[i]) * force;
+      const double s = Norm(step);
+      const double cap = 0.25 * radius[i];
+      if (s > cap)
+      {
+        step = (cap / s) * step;
+      }
+      move[i] = step;
+    }
+  });
+}
+
+// Each moved point (not the first fixedCount) goes to the closest point of the surface to its
+// moved position, never onto a sheet facing the other way.
+void ProjectMoves(const TriangleBVH& bvh, const std::vector<Vec3>& faceNormal, const std::vector<Vec3>& move,
+  Index fixedCount, std::vector<SurfacePoint>& points)
+{
+  const size_t n = points.size();
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const double s = Norm(move[i]);
+      if (!(s > 0) || i < fixedCount)
+      {
+        continue;
+      }
+      const Vec3 q = points[i].Position + move[i];
+      // The closest surface point to q lies within |move| of q (points[i] is on the surface).
+      ClosestPointResult c = bvh.ClosestPoint(q, s * s * 1.0001 + 1e-300);
+      if (c.Triangle == InvalidIndex)
+      {
+        c = bvh.ClosestPoint(q);
+      }
+      // Never jump to a sheet facing the other way (thin parts folded back on themselves).
+      if (c.Triangle == InvalidIndex || Dot(faceNormal[c.Triangle], faceNormal[points[i].Triangle]) < -0.5)
+      {
+        continue;
+      }
+      points[i].Position = c.Point;
+      points[i].Triangle = c.Triangle;
+    }
+  });
+}
+
 bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<double>& vertexDensity,
   int iterations, std::vector<SurfacePoint>& points, const std::function<bool(double)>& progress, Index fixedCount)
 {
@@ -485,77 +572,8 @@ bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::ve
       std::copy(points[i].Position.begin(), points[i].Position.end(), &xyz[3 * i]);
     }
     grid.Build(xyz, maxRadius);
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        const Vec3 p = points[i].Position;
-        const Vec3 normal = faceNormal[points[i].Triangle];
-        Vec3 force{ 0, 0, 0 };
-        grid.ForEachNear(&xyz[3 * i], maxRadius, [&](Index j) {
-          if (j == Index(i))
-          {
-            return;
-          }
-          // A neighbour facing the other way lies on another sheet (the far side of a thin
-          // part): it must not push, or thin parts are emptied of points.
-          if (Dot(faceNormal[points[j].Triangle], normal) < -0.3)
-          {
-            return;
-          }
-          const double r = 0.5 * (radius[i] + radius[j]);
-          Vec3 d = p - points[j].Position;
-          // Fold the neighbour into the tangent plane (keeps its distance, drops the normal part).
-          d = d - Dot(d, normal) * normal;
-          const double len = Norm(d);
-          if (len >= r)
-          {
-            return;
-          }
-          if (len <= 1e-12 * r)
-          {
-            // Coincident points: push apart along a deterministic tangent direction.
-            Vec3 axis = std::abs(normal[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
-            axis = Normalized(Cross(normal, axis));
-            force = force + ((Index(i) < j ? 1.0 : -1.0) * 0.5) * axis;
-            return;
-          }
-          force = force + ((r - len) / (r * len)) * d; // linear fall-off, zero at r
-        });
-        // Step: a fraction of the radius per unit force, capped (stable for any neighbour count).
-        Vec3 step = (0.2 * radius[i]) * force;
-        const double s = Norm(step);
-        const double cap = 0.25 * radius[i];
-        if (s > cap)
-        {
-          step = (cap / s) * step;
-        }
-        move[i] = step;
-      }
-    });
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        const double s = Norm(move[i]);
-        if (!(s > 0) || i < fixedCount)
-        {
-          continue;
-        }
-        const Vec3 q = points[i].Position + move[i];
-        // The closest surface point to q lies within |move| of q (points[i] is on the surface).
-        ClosestPointResult c = bvh.ClosestPoint(q, s * s * 1.0001 + 1e-300);
-        if (c.Triangle == InvalidIndex)
-        {
-          c = bvh.ClosestPoint(q);
-        }
-        // Never jump to a sheet facing the other way (thin parts folded back on themselves).
-        if (c.Triangle == InvalidIndex || Dot(faceNormal[c.Triangle], faceNormal[points[i].Triangle]) < -0.5)
-        {
-          continue;
-        }
-        points[i].Position = c.Point;
-        points[i].Triangle = c.Triangle;
-      }
-    });
+    RepulsionMoves(points, radius, maxRadius, xyz, grid, faceNormal, move);
+    ProjectMoves(bvh, faceNormal, move, fixedCount, points);
     if (progress && !progress(double(it + 1) / iterations))
     {
       return false;
