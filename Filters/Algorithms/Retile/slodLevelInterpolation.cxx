@@ -151,6 +151,19 @@ public:
   double TraceStrip(const SurfaceLocation& from, const SurfaceLocation& to, const std::vector<Index>& startSet,
     const std::vector<Index>& targetSet, std::vector<Crossing>& crossings) const
   {
+    std::vector<Index> strip;
+    if (!this->ShortestStrip(from, startSet, targetSet, strip))
+    {
+      return -1;
+    }
+    return this->CrossStrip(from, to, strip, crossings);
+  }
+
+  // The strip of edge-adjacent triangles from a start triangle to a target triangle, shortest over
+  // the centroids, from start to target; false when none is found within the bound.
+  bool ShortestStrip(const SurfaceLocation& from, const std::vector<Index>& startSet,
+    const std::vector<Index>& targetSet, std::vector<Index>& strip) const
+  {
     const size_t limit = 4096; // triangles visited: a path is a few triangles long; beyond, give up
     std::vector<Index>& queue = this->Queue;
     queue.clear();
@@ -219,7 +232,7 @@ public:
         }
       }
     }
-    std::vector<Index> strip;
+    strip.clear();
     for (Index t = found; t != InvalidIndex; t = this->Parent[t] == t ? InvalidIndex : this->Parent[t])
     {
       strip.push_back(t);
@@ -230,9 +243,17 @@ public:
     }
     if (found == InvalidIndex)
     {
-      return -1;
+      return false;
     }
     std::reverse(strip.begin(), strip.end());
+    return true;
+  }
+
+  // Crosses each shared edge of the strip at the point closest to the straight segment between the
+  // ends; appends the crossings, returns the path length.
+  double CrossStrip(const SurfaceLocation& from, const SurfaceLocation& to, const std::vector<Index>& strip,
+    std::vector<Crossing>& crossings) const
+  {
     Vec3 point = from.Point;
     double length = 0;
     const Vec3 pq = to.Point - from.Point;
