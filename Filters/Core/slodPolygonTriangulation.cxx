@@ -76,50 +76,102 @@ bool NearSegment(const Vec2& q, const Vec2& a, const Vec2& b, double tolerance)
   return cross * cross <= tolerance * tolerance * length2;
 }
 
+// No triangle for fewer than 3 corners: a failure unless the polygon is empty.
+bool FewerThanThreeCorners(const std::vector<Vec3>& polygon, PolygonTriangulationResult& result)
+{
+  if (polygon.size() >= 3)
+  {
+    return false;
+  }
+  result.Failed = !polygon.empty();
+  return true;
+}
+
+// Distances below this count as zero: 1e-9 of the projected polygon's extent.
+double ProjectedTolerance(const std::vector<Vec2>& p)
+{
+  double extent = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+  {
+    extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
+  }
+  return 1e-9 * extent;
+}
+
 // Proper crossing of segments ab and cd (touching at shared endpoints does not count).
 bool SegmentsCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d)
 {
   const double d1 = Cross2(a, b, c), d2 = Cross2(a, b, d), d3 = Cross2(c, d, a), d4 = Cross2(c, d, b);
   return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
 }
-} // namespace
-
-PolygonTriangulationResult TriangulatePolygon(const std::vector<Vec3>& polygon, const Vec3& normal)
+// Ear clipping of a polygon projected onto its plane: the ear of smallest angle first (a heap
+// validated by per-corner versions), a rescan when the heap runs dry, and in fallback mode the
+// most convex corner when no ear is left.
+class EarClipper
 {
-  return TriangulatePolygon(polygon, normal, PolygonTriangulationOptions());
-}
+public:
+  EarClipper(const std::vector<Vec3>& polygon, const Vec3& normal, const PolygonTriangulationOptions& options,
+    PolygonTriangulationResult& result)
+    : Polygon(polygon)
+    , Options(options)
+    , Result(result)
+    , P(ProjectOntoPlane(polygon, normal))
+    , Size(polygon.size())
+    , Prev(polygon.size())
+    , Next(polygon.size())
+    , Removed(polygon.size(), 0)
+    , Remaining(polygon.size())
+    , Version(polygon.size(), 0)
+  {
+    const size_t n = this->Size;
+    // Doubly linked ring of remaining corners.
+    for (size_t i = 0; i < n; ++i)
+    {
+      this->Prev[i] = (i + n - 1) % n;
+      this->Next[i] = (i + 1) % n;
+    }
+    // Distances below this (relative to the polygon's size) count as zero in strict mode.
+    this->Tolerance = ProjectedTolerance(this->P);
+  }
 
-PolygonTriangulationResult TriangulatePolygon(
-  const std::vector<Vec3>& polygon, const Vec3& normal, const PolygonTriangulationOptions& options)
-{
-  PolygonTriangulationResult result;
-  const size_t n = polygon.size();
-  if (n < 3)
+  // Fills the result; false when strict mode fails.
+  bool Run()
   {
-    result.Failed = n > 0;
-    return result;
+    this->Rescan();
+    bool rescanned = true;
+    while (this->Remaining > 3)
+    {
+      size_t best = this->PopBestEar();
+      if (best == this->Size)
+      {
+        if (!rescanned)
+        {
+          this->Rescan(); // far corners may have become ears since their last test
+          rescanned = true;
+          continue;
+        }
+        if (!this->Options.AllowFallback)
+        {
+          return false;
+        }
+        // Not simple in projection: clip the most convex corner anyway.
+        this->Result.UsedFallback = true;
+        best = this->MostConvexCorner();
+      }
+      const size_t a = this->Prev[best], c = this->Next[best];
+      this->Clip(best);
+      rescanned = false;
+      this->Refresh(a);
+      this->Refresh(c);
+    }
+    return this->AddLastTriangle();
   }
-  const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
-  // Doubly linked ring of remaining corners.
-  std::vector<size_t> prev(n), next(n);
-  for (size_t i = 0; i < n; ++i)
-  {
-    prev[i] = (i + n - 1) % n;
-    next[i] = (i + 1) % n;
-  }
-  // Distances below this (relative to the polygon's size) count as zero in strict mode.
-  double extent = 0;
-  for (size_t i = 0; i < n; ++i)
-  {
-    extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
-  }
-  const double tolerance = 1e-9 * extent;
-  std::vector<char> removed(n, 0);
-  size_t remaining = n;
-  size_t start = 0; // some remaining corner
 
-  auto isEar = [&](size_t k) {
-    const size_t ia = prev[k], ic = next[k];
+private:
+  bool IsEar(size_t k) const
+  {
+    const std::vector<Vec2>& p = this->P;
+    const size_t ia = this->Prev[k], ic = this->Next[k];
     const Vec2& a = p[ia];
     const Vec2& b = p[k];
     const Vec2& c = p[ic];
@@ -127,37 +179,112 @@ PolygonTriangulationResult TriangulatePolygon(
     {
       return false; // reflex or flat corner
     }
-    if (!options.AllowFallback && IsDegenerate(polygon[ia], polygon[k], polygon[ic]))
+    const bool strict = !this->Options.AllowFallback;
+    if (strict && IsDegenerate(this->Polygon[ia], this->Polygon[k], this->Polygon[ic]))
     {
       return false; // strict mode: no (numerically) zero-area triangle
     }
-    size_t j = next[ic];
-    while (j != ia)
+    for (size_t j = this->Next[ic]; j != ia; j = this->Next[j])
     {
       const Vec2& q = p[j];
       const bool repeated =
         (q[0] == a[0] && q[1] == a[1]) || (q[0] == b[0] && q[1] == b[1]) || (q[0] == c[0] && q[1] == c[1]);
       // A repeated point of the boundary does not block the ear. In strict mode a point (almost)
       // on the diagonal blocks it too: clipping there would leave a collinear, unclippable rest.
-      if (!repeated && (InsideTriangle(q, a, b, c) || (!options.AllowFallback && NearSegment(q, a, c, tolerance))))
+      if (!repeated && (InsideTriangle(q, a, b, c) || (strict && NearSegment(q, a, c, this->Tolerance))))
       {
         return false;
       }
       // The diagonal a-c must not cross an edge of the remaining polygon.
-      if (SegmentsCross(a, c, q, p[next[j]]))
+      if (SegmentsCross(a, c, q, p[this->Next[j]]))
       {
         return false;
       }
-      j = next[j];
     }
-    if (options.AcceptEar &&
-      !options.AcceptEar(static_cast<Index>(ia), static_cast<Index>(k), static_cast<Index>(ic)))
+    return !this->Options.AcceptEar ||
+      this->Options.AcceptEar(static_cast<Index>(ia), static_cast<Index>(k), static_cast<Index>(ic));
+  }
+
+  double AngleOf(size_t k) const { return CornerAngle(this->P[this->Prev[k]], this->P[k], this->P[this->Next[k]]); }
+
+  void Refresh(size_t k)
+  {
+    ++this->Version[k];
+    if (this->IsEar(k))
+    {
+      this->Heap.push_back({ this->AngleOf(k), k, this->Version[k] });
+      std::push_heap(this->Heap.begin(), this->Heap.end());
+    }
+  }
+
+  void Rescan()
+  {
+    this->Heap.clear();
+    size_t k = this->Start;
+    for (size_t i = 0; i < this->Remaining; ++i, k = this->Next[k])
+    {
+      this->Refresh(k);
+    }
+  }
+
+  // The valid ear of smallest angle (Size: none in the heap).
+  size_t PopBestEar()
+  {
+    while (!this->Heap.empty())
+    {
+      std::pop_heap(this->Heap.begin(), this->Heap.end());
+      const Entry e = this->Heap.back();
+      this->Heap.pop_back();
+      if (!this->Removed[e.Corner] && e.Version == this->Version[e.Corner])
+      {
+        return e.Corner;
+      }
+    }
+    return this->Size;
+  }
+
+  // The corner of largest signed area.
+  size_t MostConvexCorner() const
+  {
+    size_t best = this->Size;
+    double bestArea = -std::numeric_limits<double>::infinity();
+    size_t k = this->Start;
+    for (size_t i = 0; i < this->Remaining; ++i, k = this->Next[k])
+    {
+      const double area = Cross2(this->P[this->Prev[k]], this->P[k], this->P[this->Next[k]]);
+      if (area > bestArea)
+      {
+        bestArea = area;
+        best = k;
+      }
+    }
+    return best;
+  }
+
+  void Clip(size_t k)
+  {
+    this->Result.Triangles.push_back(
+      { static_cast<Index>(this->Prev[k]), static_cast<Index>(k), static_cast<Index>(this->Next[k]) });
+    this->Next[this->Prev[k]] = this->Next[k];
+    this->Prev[this->Next[k]] = this->Prev[k];
+    this->Removed[k] = 1;
+    this->Start = this->Next[k];
+    --this->Remaining;
+  }
+
+  // The last triangle adds no diagonal; in strict mode it must still be counter-clockwise.
+  bool AddLastTriangle()
+  {
+    const size_t a = this->Start, b = this->Next[a], c = this->Next[b];
+    if (!this->Options.AllowFallback &&
+      (Cross2(this->P[a], this->P[b], this->P[c]) <= 0 ||
+        IsDegenerate(this->Polygon[a], this->Polygon[b], this->Polygon[c])))
     {
       return false;
     }
+    this->Result.Triangles.push_back({ static_cast<Index>(a), static_cast<Index>(b), static_cast<Index>(c) });
     return true;
-  };
-  auto angleOf = [&](size_t k) { return CornerAngle(p[prev[k]], p[k], p[next[k]]); };
+  }
 
   // Ears ordered by angle; entries are validated against a per-corner version when popped.
   struct Entry
@@ -170,126 +297,83 @@ PolygonTriangulationResult TriangulatePolygon(
       return this->Angle > o.Angle || (this->Angle == o.Angle && this->Corner > o.Corner);
     }
   };
-  std::vector<Entry> heap;
-  std::vector<unsigned> version(n, 0);
-  auto refresh = [&](size_t k) {
-    ++version[k];
-    if (isEar(k))
-    {
-      heap.push_back({ angleOf(k), k, version[k] });
-      std::push_heap(heap.begin(), heap.end());
-    }
-  };
-  auto rescan = [&]() {
-    heap.clear();
-    size_t k = start;
-    for (size_t i = 0; i < remaining; ++i, k = next[k])
-    {
-      refresh(k);
-    }
-  };
-  auto clip = [&](size_t k) {
-    result.Triangles.push_back({ static_cast<Index>(prev[k]), static_cast<Index>(k), static_cast<Index>(next[k]) });
-    next[prev[k]] = next[k];
-    prev[next[k]] = prev[k];
-    removed[k] = 1;
-    start = next[k];
-    --remaining;
-  };
 
-  rescan();
-  bool rescanned = true;
-  while (remaining > 3)
+  const std::vector<Vec3>& Polygon;
+  const PolygonTriangulationOptions& Options;
+  PolygonTriangulationResult& Result;
+  const std::vector<Vec2> P;
+  const size_t Size;
+  std::vector<size_t> Prev, Next;
+  std::vector<char> Removed;
+  size_t Remaining;
+  size_t Start = 0; // some remaining corner
+  double Tolerance = 0;
+  std::vector<Entry> Heap;
+  std::vector<unsigned> Version;
+};
+} // namespace
+
+PolygonTriangulationResult TriangulatePolygon(const std::vector<Vec3>& polygon, const Vec3& normal)
+{
+  return TriangulatePolygon(polygon, normal, PolygonTriangulationOptions());
+}
+
+PolygonTriangulationResult TriangulatePolygon(
+  const std::vector<Vec3>& polygon, const Vec3& normal, const PolygonTriangulationOptions& options)
+{
+  PolygonTriangulationResult result;
+  if (FewerThanThreeCorners(polygon, result))
   {
-    size_t best = n;
-    while (!heap.empty())
-    {
-      std::pop_heap(heap.begin(), heap.end());
-      const Entry e = heap.back();
-      heap.pop_back();
-      if (!removed[e.Corner] && e.Version == version[e.Corner])
-      {
-        best = e.Corner;
-        break;
-      }
-    }
-    if (best == n)
-    {
-      if (!rescanned)
-      {
-        rescan(); // far corners may have become ears since their last test
-        rescanned = true;
-        continue;
-      }
-      if (!options.AllowFallback)
-      {
-        result.Failed = true;
-        return result;
-      }
-      // Not simple in projection: clip the most convex corner (largest signed area) anyway.
-      result.UsedFallback = true;
-      double bestArea = -std::numeric_limits<double>::infinity();
-      size_t k = start;
-      for (size_t i = 0; i < remaining; ++i, k = next[k])
-      {
-        const double area = Cross2(p[prev[k]], p[k], p[next[k]]);
-        if (area > bestArea)
-        {
-          bestArea = area;
-          best = k;
-        }
-      }
-    }
-    const size_t a = prev[best], c = next[best];
-    clip(best);
-    rescanned = false;
-    refresh(a);
-    refresh(c);
-  }
-  const size_t a = start, b = next[a], c = next[b];
-  // The last triangle adds no diagonal; in strict mode it must still be counter-clockwise.
-  if (!options.AllowFallback && (Cross2(p[a], p[b], p[c]) <= 0 || IsDegenerate(polygon[a], polygon[b], polygon[c])))
-  {
-    result.Failed = true;
     return result;
   }
-  result.Triangles.push_back({ static_cast<Index>(a), static_cast<Index>(b), static_cast<Index>(c) });
+  EarClipper clipper(polygon, normal, options, result);
+  result.Failed = !clipper.Run();
   return result;
 }
 
-PolygonTriangulationResult TriangulatePolygonMinimumCost(
-  const std::vector<Vec3>& polygon, const Vec3& normal, const MinimumCostTriangulationOptions& options)
+namespace
 {
-  PolygonTriangulationResult result;
-  const size_t n = polygon.size();
-  if (n < 3)
+// Diagonal validity and cost of a polygon, an n x n table (symmetric); polygon edges are valid with
+// cost 0.
+struct DiagonalTable
+{
+  size_t N;
+  std::vector<char> Valid;
+  std::vector<double> Cost;
+
+  explicit DiagonalTable(size_t n)
+    : N(n)
+    , Valid(n * n, 0)
+    , Cost(n * n, 0.0)
   {
-    result.Failed = n > 0;
-    return result;
   }
-  const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
-  double extent = 0;
+  size_t At(size_t i, size_t j) const { return i * this->N + j; }
+};
+
+// Whether the diagonal from corner i towards corner j starts inside the polygon (within the cone of
+// its two edges at i).
+bool InCone(const std::vector<Vec2>& p, size_t i, size_t j)
+{
+  const size_t n = p.size();
+  const Vec2& a = p[(i + n - 1) % n];
+  const Vec2& b = p[(i + 1) % n];
+  if (Cross2(a, p[i], b) >= 0) // convex corner
+  {
+    return Cross2(p[i], p[j], a) > 0 && Cross2(p[j], p[i], b) > 0;
+  }
+  return !(Cross2(p[i], p[j], b) >= 0 && Cross2(p[j], p[i], a) >= 0);
+}
+
+// A diagonal is valid inside the polygon, passes near no other corner, crosses no edge and is
+// accepted by the caller.
+DiagonalTable ValidDiagonals(const std::vector<Vec2>& p, const MinimumCostTriangulationOptions& options)
+{
+  const size_t n = p.size();
+  const double tolerance = ProjectedTolerance(p);
+  DiagonalTable table(n);
   for (size_t i = 0; i < n; ++i)
   {
-    extent = std::max({ extent, std::fabs(p[i][0] - p[0][0]), std::fabs(p[i][1] - p[0][1]) });
-  }
-  const double tolerance = 1e-9 * extent;
-  auto at = [n](size_t i, size_t j) { return i * n + j; };
-  // Diagonal validity and cost (i < j); polygon edges are valid with cost 0.
-  std::vector<char> valid(n * n, 0);
-  std::vector<double> cost(n * n, 0.0);
-  auto inCone = [&](size_t i, size_t j) {
-    const Vec2& a = p[(i + n - 1) % n];
-    const Vec2& b = p[(i + 1) % n];
-    if (Cross2(a, p[i], b) >= 0) // convex corner
-    {
-      return Cross2(p[i], p[j], a) > 0 && Cross2(p[j], p[i], b) > 0;
-    }
-    return !(Cross2(p[i], p[j], b) >= 0 && Cross2(p[j], p[i], a) >= 0);
-  };
-  for (size_t i = 0; i < n; ++i)
-  {
-    valid[at(i, (i + 1) % n)] = valid[at((i + 1) % n, i)] = 1;
+    table.Valid[table.At(i, (i + 1) % n)] = table.Valid[table.At((i + 1) % n, i)] = 1;
   }
   for (size_t i = 0; i + 2 < n; ++i)
   {
@@ -299,7 +383,7 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
       {
         continue;
       }
-      bool ok = inCone(i, j) && inCone(j, i);
+      bool ok = InCone(p, i, j) && InCone(p, j, i);
       for (size_t k = 0; k < n && ok; ++k)
       {
         const size_t k1 = (k + 1) % n;
@@ -315,13 +399,34 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
       ok = ok && (!options.AcceptDiagonal || options.AcceptDiagonal(static_cast<Index>(i), static_cast<Index>(j)));
       if (ok)
       {
-        valid[at(i, j)] = valid[at(j, i)] = 1;
-        cost[at(i, j)] = cost[at(j, i)] =
+        table.Valid[table.At(i, j)] = table.Valid[table.At(j, i)] = 1;
+        table.Cost[table.At(i, j)] = table.Cost[table.At(j, i)] =
           options.DiagonalCost ? options.DiagonalCost(static_cast<Index>(i), static_cast<Index>(j)) : 0.0;
       }
     }
   }
-  // best[i][j]: triangulation of the sub-polygon i, i+1, ..., j closed by the edge (i, j).
+  return table;
+}
+
+// 1 - sin of the smallest angle of triangle abc (sin = twice the area over the product of the two
+// longest edges): 0 for an equilateral triangle, 1 for a flat one.
+double Thinness(const std::vector<Vec3>& polygon, size_t a, size_t b, size_t c)
+{
+  const double area2 = Norm(Cross(polygon[b] - polygon[a], polygon[c] - polygon[a]));
+  const double l0 = Norm(polygon[b] - polygon[a]), l1 = Norm(polygon[c] - polygon[b]), l2 = Norm(polygon[a] - polygon[c]);
+  const double longest = std::max({ l0, l1, l2 });
+  const double middle = l0 + l1 + l2 - longest - std::min({ l0, l1, l2 });
+  return longest * middle > 0 ? 1.0 - area2 / (longest * middle) : 1.0;
+}
+
+// Dynamic programme over sub-polygons i, i+1, ..., j closed by the edge (i, j): the smallest
+// maximum diagonal cost, then the smallest sum (costs plus weighted thinness). Returns the best
+// apex k of every (i, j) (-1: none).
+std::vector<Index> MinimumCostSplits(const std::vector<Vec3>& polygon, const std::vector<Vec2>& p,
+  const DiagonalTable& table, double angleWeight)
+{
+  const size_t n = p.size();
+  auto at = [&table](size_t i, size_t j) { return table.At(i, j); };
   const double infinity = std::numeric_limits<double>::infinity();
   std::vector<double> bestMax(n * n, infinity), bestSum(n * n, infinity);
   std::vector<Index> split(n * n, -1);
@@ -329,21 +434,12 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
   {
     bestMax[at(i, i + 1)] = bestSum[at(i, i + 1)] = 0;
   }
-  auto thinness = [&](size_t a, size_t b, size_t c) {
-    const double area2 = Norm(Cross(polygon[b] - polygon[a], polygon[c] - polygon[a]));
-    const double l0 = Norm(polygon[b] - polygon[a]), l1 = Norm(polygon[c] - polygon[b]),
-                 l2 = Norm(polygon[a] - polygon[c]);
-    // sin of the smallest angle = area2 / (product of the two longest edges)
-    const double longest = std::max({ l0, l1, l2 });
-    const double middle = l0 + l1 + l2 - longest - std::min({ l0, l1, l2 });
-    return longest * middle > 0 ? 1.0 - area2 / (longest * middle) : 1.0;
-  };
   for (size_t length = 2; length < n; ++length)
   {
     for (size_t i = 0; i + length < n; ++i)
     {
       const size_t j = i + length;
-      if (!valid[at(i, j)])
+      if (!table.Valid[at(i, j)])
       {
         continue;
       }
@@ -351,7 +447,7 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
       double& bs = bestSum[at(i, j)];
       for (size_t k = i + 1; k < j; ++k)
       {
-        if (!valid[at(i, k)] || !valid[at(k, j)] || bestMax[at(i, k)] == infinity ||
+        if (!table.Valid[at(i, k)] || !table.Valid[at(k, j)] || bestMax[at(i, k)] == infinity ||
           bestMax[at(k, j)] == infinity)
         {
           continue;
@@ -360,9 +456,9 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
         {
           continue;
         }
-        const double m = std::max({ bestMax[at(i, k)], bestMax[at(k, j)], cost[at(i, k)], cost[at(k, j)] });
-        const double sum = bestSum[at(i, k)] + bestSum[at(k, j)] + cost[at(i, k)] + cost[at(k, j)] +
-          options.AngleWeight * thinness(i, k, j);
+        const double cik = table.Cost[at(i, k)], ckj = table.Cost[at(k, j)];
+        const double m = std::max({ bestMax[at(i, k)], bestMax[at(k, j)], cik, ckj });
+        const double sum = bestSum[at(i, k)] + bestSum[at(k, j)] + cik + ckj + angleWeight * Thinness(polygon, i, k, j);
         const double slack = 1e-9 * std::max(m, bm == infinity ? 0.0 : bm);
         if (m < bm - slack || (m <= bm + slack && sum < bs))
         {
@@ -373,7 +469,23 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
       }
     }
   }
-  if (split[at(0, n - 1)] < 0)
+  return split;
+}
+} // namespace
+
+PolygonTriangulationResult TriangulatePolygonMinimumCost(
+  const std::vector<Vec3>& polygon, const Vec3& normal, const MinimumCostTriangulationOptions& options)
+{
+  PolygonTriangulationResult result;
+  if (FewerThanThreeCorners(polygon, result))
+  {
+    return result;
+  }
+  const size_t n = polygon.size();
+  const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
+  const DiagonalTable table = ValidDiagonals(p, options);
+  const std::vector<Index> split = MinimumCostSplits(polygon, p, table, options.AngleWeight);
+  if (split[table.At(0, n - 1)] < 0)
   {
     result.Failed = true;
     return result;
@@ -387,7 +499,7 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
     {
       continue;
     }
-    const size_t k = static_cast<size_t>(split[at(i, j)]);
+    const size_t k = static_cast<size_t>(split[table.At(i, j)]);
     result.Triangles.push_back({ static_cast<Index>(i), static_cast<Index>(k), static_cast<Index>(j) });
     stack.push_back({ i, k });
     stack.push_back({ k, j });

@@ -219,23 +219,12 @@ struct MortonEntry
   Index Id;
   bool operator<(const MortonEntry& o) const { return this->Code < o.Code || (this->Code == o.Code && this->Id < o.Id); }
 };
-} // namespace
-
-void TriangleBVH::Build(const TriangleMesh& mesh)
+// Per triangle: its box (float, rounded outwards) and the centre of that box.
+void TriangleBoxesAndCentres(const TriangleMesh& mesh, std::vector<float>& boxes, std::vector<double>& centres)
 {
-  this->Mesh = &mesh;
-  this->Nodes.clear();
-  this->Order.clear();
-  this->Corners.clear();
-  this->Depth = 0;
   const Index nt = mesh.NumberOfTriangles();
-  if (nt == 0)
-  {
-    return;
-  }
-  // Triangle boxes (float, rounded outwards) and centres.
-  std::vector<float> boxes(6 * size_t(nt));
-  std::vector<double> centres(3 * size_t(nt));
+  boxes.resize(6 * size_t(nt));
+  centres.resize(3 * size_t(nt));
   vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
     for (vtkIdType t = first; t < last; ++t)
     {
@@ -255,6 +244,13 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
       }
     }
   });
+}
+
+// Morton order of the centres: spatially coherent, and splitting at the highest differing bit
+// of a sorted range halves its cell (a linear BVH, built in O(n) after the sort).
+std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres)
+{
+  const Index nt = static_cast<Index>(centres.size() / 3);
   double lo[3] = { Infinity, Infinity, Infinity }, hi[3] = { -Infinity, -Infinity, -Infinity };
   for (size_t i = 0; i < centres.size(); i += 3)
   {
@@ -273,8 +269,6 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
     const double extent = hi[k] - lo[k];
     scale[k] = extent > 0 && std::isfinite(extent) ? double((1 << 21) - 1) / extent : 0.0;
   }
-  // Morton order of the centres: spatially coherent, and splitting at the highest differing bit
-  // of a sorted range halves its cell (a linear BVH, built in O(n) after the sort).
   std::vector<MortonEntry> entries(static_cast<size_t>(nt));
   vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
     for (vtkIdType t = first; t < last; ++t)
@@ -290,9 +284,16 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
     }
   });
   vtkSMPTools::Sort(entries.begin(), entries.end());
+  return entries;
+}
 
-  this->Nodes.reserve(size_t(nt) + 16);
-  this->Nodes.push_back(Node{});
+// The tree's nodes over the sorted entries (children after their parent); returns the depth.
+int BuildHierarchy(const std::vector<MortonEntry>& entries, std::vector<TriangleBVH::Node>& nodes)
+{
+  const Index nt = static_cast<Index>(entries.size());
+  int depth = 0;
+  nodes.reserve(size_t(nt) + 16);
+  nodes.push_back(TriangleBVH::Node{});
   struct Task
   {
     Index NodeIndex, Begin, End;
@@ -304,8 +305,8 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
   {
     const Task task = tasks.back();
     tasks.pop_back();
-    this->Depth = std::max(this->Depth, task.Depth);
-    Node& node = this->Nodes[size_t(task.NodeIndex)];
+    depth = std::max(depth, task.Depth);
+    TriangleBVH::Node& node = nodes[size_t(task.NodeIndex)];
     const Index count = task.End - task.Begin;
     if (count <= TriangleBVH::LeafSize)
     {
@@ -326,19 +327,24 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
         [bit](const MortonEntry& e) { return !((e.Code >> bit) & 1); });
       split = static_cast<Index>(it - entries.begin());
     }
-    const Index left = static_cast<Index>(this->Nodes.size());
+    const Index left = static_cast<Index>(nodes.size());
     node.First = left;
     node.Count = 0;
-    this->Nodes.push_back(Node{});
-    this->Nodes.push_back(Node{});
+    nodes.push_back(TriangleBVH::Node{});
+    nodes.push_back(TriangleBVH::Node{});
     tasks.push_back({ left + 1, split, task.End, task.Depth + 1 });
     tasks.push_back({ left, task.Begin, split, task.Depth + 1 });
   }
+  return depth;
+}
 
-  // Bounds bottom-up: children always come after their parent.
-  for (size_t n = this->Nodes.size(); n-- > 0;)
+// Bounds bottom-up: children always come after their parent.
+void ComputeNodeBounds(
+  const std::vector<MortonEntry>& entries, const std::vector<float>& boxes, std::vector<TriangleBVH::Node>& nodes)
+{
+  for (size_t n = nodes.size(); n-- > 0;)
   {
-    Node& node = this->Nodes[n];
+    TriangleBVH::Node& node = nodes[n];
     Box box;
     if (node.Count > 0)
     {
@@ -349,12 +355,33 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
     }
     else
     {
-      box.Grow(this->Nodes[size_t(node.First)].Bounds);
-      box.Grow(this->Nodes[size_t(node.First) + 1].Bounds);
+      box.Grow(nodes[size_t(node.First)].Bounds);
+      box.Grow(nodes[size_t(node.First) + 1].Bounds);
     }
     std::copy(box.B, box.B + 6, node.Bounds);
   }
+}
+} // namespace
 
+void TriangleBVH::Build(const TriangleMesh& mesh)
+{
+  this->Mesh = &mesh;
+  this->Nodes.clear();
+  this->Order.clear();
+  this->Corners.clear();
+  this->Depth = 0;
+  const Index nt = mesh.NumberOfTriangles();
+  if (nt == 0)
+  {
+    return;
+  }
+  std::vector<float> boxes;
+  std::vector<double> centres;
+  TriangleBoxesAndCentres(mesh, boxes, centres);
+  const std::vector<MortonEntry> entries = MortonOrder(centres);
+  this->Depth = BuildHierarchy(entries, this->Nodes);
+  ComputeNodeBounds(entries, boxes, this->Nodes);
+  // Leaf order and the triangles' corners in that order (coherent memory for the queries).
   this->Order.resize(size_t(nt));
   this->Corners.resize(9 * size_t(nt));
   vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {

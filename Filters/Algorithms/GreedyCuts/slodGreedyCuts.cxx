@@ -2,6 +2,8 @@
 
 #include "slodChainSimplification.h"
 
+#include "vtkMath.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -415,7 +417,7 @@ struct GreedyCuts::Worker
   {
     this->Eps = prm.Epsilon;
     this->EpsLocal = prm.LocalTolerance * prm.Epsilon;
-    this->MinAngle = prm.MinimumAngle * M_PI / 180.0;
+    this->MinAngle = vtkMath::RadiansFromDegrees(prm.MinimumAngle);
     const Index np = PP.NumberOfPatches();
     this->ChainFull.assign(size_t(PP.NumberOfChains()), 0);
     this->PatchOriginal.assign(size_t(np), 0);
@@ -887,7 +889,9 @@ struct GreedyCuts::Worker
     return true;
   }
 
-  bool Greedy(Index p, PatchState& s, std::vector<Index>& tris)
+  // The patch's kept boundary vertices, projected to the patch plane (section 3.4.1: a patch is
+  // nearly planar). Fails when the patch has no plane.
+  bool ProjectPatch(Index p, PatchState& s)
   {
     s.Patch = p;
     s.Normal = PP.PatchNormal(p);
@@ -899,8 +903,7 @@ struct GreedyCuts::Worker
         s.Vert.push_back(v);
       }
     }
-    const Index n = static_cast<Index>(s.Vert.size());
-    if (n < 3 || Norm(s.Normal) == 0)
+    if (s.Vert.size() < 3 || Norm(s.Normal) == 0)
     {
       return false;
     }
@@ -909,7 +912,6 @@ struct GreedyCuts::Worker
     const Vec3 axis = std::fabs(nn[0]) < 0.6 ? Vec3{ 1, 0, 0 } : (std::fabs(nn[1]) < 0.6 ? Vec3{ 0, 1, 0 } : Vec3{ 0, 0, 1 });
     const Vec3 U = Normalized(Cross(axis, nn));
     const Vec3 W = Cross(nn, U);
-    double scale = 0;
     for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1]; ++i)
     {
       const Index* tri = M.Triangle(G.PatchTriangleList[i]);
@@ -919,19 +921,23 @@ struct GreedyCuts::Worker
         this->Coord[tri[k]] = { Dot(x, U), Dot(x, W) };
       }
     }
+    double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+    for (Index v : s.Vert)
     {
-      double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
-      for (Index v : s.Vert)
-      {
-        xmin = std::min(xmin, this->Coord[v].x);
-        xmax = std::max(xmax, this->Coord[v].x);
-        ymin = std::min(ymin, this->Coord[v].y);
-        ymax = std::max(ymax, this->Coord[v].y);
-      }
-      scale = std::max(xmax - xmin, ymax - ymin);
+      xmin = std::min(xmin, this->Coord[v].x);
+      xmax = std::max(xmax, this->Coord[v].x);
+      ymin = std::min(ymin, this->Coord[v].y);
+      ymax = std::max(ymax, this->Coord[v].y);
     }
+    const double scale = std::max(xmax - xmin, ymax - ymin);
     s.Tol = 1e-12 * scale * scale;
-    // The boundary must project to a simple, counter-clockwise polygon.
+    return true;
+  }
+
+  // The boundary must project to a simple, counter-clockwise polygon.
+  bool FrontIsSimpleCounterClockwise(const PatchState& s) const
+  {
+    const Index n = static_cast<Index>(s.Vert.size());
     double area2 = 0;
     for (Index i = 0; i < n; ++i)
     {
@@ -957,6 +963,14 @@ struct GreedyCuts::Worker
         }
       }
     }
+    return true;
+  }
+
+  // The front starts as the boundary polygon (a doubly linked ring); the inner vertices inside it
+  // are bite candidates, those outside count as consumed.
+  void InitializeFront(Index p, PatchState& s)
+  {
+    const Index n = static_cast<Index>(s.Vert.size());
     s.Prev.resize(size_t(n));
     s.Next.resize(size_t(n));
     for (Index i = 0; i < n; ++i)
@@ -972,7 +986,6 @@ struct GreedyCuts::Worker
     }
     s.Count = n;
     s.Head = 0;
-    // Inner vertices inside the simplified polygon are bite candidates.
     s.Inner.assign(G.PatchInnerList.begin() + G.PatchInnerOffsets[p], G.PatchInnerList.begin() + G.PatchInnerOffsets[p + 1]);
     s.Consumed.assign(s.Inner.size(), 0);
     for (size_t k = 0; k < s.Inner.size(); ++k)
@@ -989,8 +1002,128 @@ struct GreedyCuts::Worker
       }
       s.Consumed[k] = inside ? 0 : 1;
     }
+  }
+
+  // Ear cutting: the feasible ear of largest area (a rescan of non-ears before giving up).
+  // Returns whether an ear was cut.
+  bool CutBestEar(PatchState& s, std::vector<Index>& tris)
+  {
+    Index best = InvalidIndex;
+    for (int pass = 0; pass < 2 && best == InvalidIndex; ++pass)
+    {
+      double bestArea = -1;
+      Index i = s.Head;
+      do
+      {
+        if (s.EarState[i] < 0 || (pass == 1 && s.EarState[i] == 0))
+        {
+          s.EarState[i] = 0;
+          if (this->EarValid(s, i) && this->Feasible(s, s.Vert[s.Prev[i]], s.Vert[i], s.Vert[s.Next[i]]))
+          {
+            s.EarState[i] = 1;
+            s.EarArea[i] = 0.5 *
+              Norm(Cross(M.Point(s.Vert[i]) - M.Point(s.Vert[s.Prev[i]]),
+                M.Point(s.Vert[s.Next[i]]) - M.Point(s.Vert[s.Prev[i]])));
+          }
+        }
+        if (s.EarState[i] == 1 && s.EarArea[i] > bestArea)
+        {
+          bestArea = s.EarArea[i];
+          best = i;
+        }
+        i = s.Next[i];
+      } while (i != s.Head);
+    }
+    if (best == InvalidIndex)
+    {
+      return false;
+    }
+    const Index pi = s.Prev[best], ni = s.Next[best];
+    this->Emit(s, tris, s.Vert[pi], s.Vert[best], s.Vert[ni]);
+    ++this->Res.Ears;
+    this->FrontNode[s.Vert[best]] = InvalidIndex;
+    if (s.Relaxed)
+    {
+      s.Relaxed = false;
+      std::fill(s.EarState.begin(), s.EarState.end(), -1);
+    }
+    s.Next[pi] = ni;
+    s.Prev[ni] = pi;
+    s.EarState[pi] = s.EarState[ni] = -1;
+    s.Head = pi;
+    --s.Count;
+    return true;
+  }
+
+  // Greedy biting: per front edge the best-shaped feasible bite, the largest over the edges; else
+  // the wide search (edge splitting without Steiner points): any inner vertex, longest edges
+  // first. Returns whether a bite was found (front node biteEdge, inner candidate biteInner).
+  bool FindBite(PatchState& s, std::vector<std::pair<double, Index>>& candidates, Index& biteEdge, Index& biteInner)
+  {
+    biteEdge = biteInner = InvalidIndex;
+    double bestArea = -1;
+    Index i = s.Head;
+    do
+    {
+      Index k = InvalidIndex;
+      double area = 0;
+      if (this->BestBite(s, i, size_t(std::max(1, Prm.BiteCandidates)), true, k, area, candidates) && area > bestArea)
+      {
+        bestArea = area;
+        biteEdge = i;
+        biteInner = k;
+      }
+      i = s.Next[i];
+    } while (i != s.Head);
+    if (biteEdge != InvalidIndex)
+    {
+      return true;
+    }
+    std::vector<std::pair<double, Index>> edges;
+    i = s.Head;
+    do
+    {
+      const Vec3 d = M.Point(s.Vert[s.Next[i]]) - M.Point(s.Vert[i]);
+      edges.emplace_back(-Dot(d, d), i);
+      i = s.Next[i];
+    } while (i != s.Head);
+    std::sort(edges.begin(), edges.end());
+    for (const auto& e : edges)
+    {
+      double area = 0;
+      if (this->BestBite(s, e.second, 64, false, biteInner, area, candidates))
+      {
+        biteEdge = e.second;
+        ++this->Res.WideBites;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // The bite: inner vertex v joins the front between node biteEdge and its successor.
+  void PerformBite(PatchState& s, std::vector<Index>& tris, Index biteEdge, Index biteInner)
+  {
+    const Index j = s.Next[biteEdge];
+    const Index v = s.Inner[biteInner];
+    s.Consumed[biteInner] = 1;
+    this->FrontNode[v] = s.InsertAfter(biteEdge, v);
+    this->Emit(s, tris, s.Vert[biteEdge], s.Vert[j], v);
+    ++this->Res.Bites;
+    std::fill(s.EarState.begin(), s.EarState.end(), -1);
+  }
+
+  // Section 3.4.2: the patch is triangulated from its boundary inwards by ears and bites, each
+  // triangle checked against the error bound (Feasible). Returns false when stuck.
+  bool Greedy(Index p, PatchState& s, std::vector<Index>& tris)
+  {
+    if (!this->ProjectPatch(p, s) || !this->FrontIsSimpleCounterClockwise(s))
+    {
+      return false;
+    }
+    this->InitializeFront(p, s);
     std::vector<std::pair<double, Index>> candidates;
-    const long long size = static_cast<long long>(n) + static_cast<long long>(s.Inner.size());
+    const long long size = static_cast<long long>(s.Vert.size()) + static_cast<long long>(s.Inner.size());
     const long long guard = 40 * size + 64;
     long long repairs = 4 * size + 16;
     for (long long step = 0; step < guard; ++step)
@@ -1006,116 +1139,27 @@ struct GreedyCuts::Worker
           return true;
         }
       }
-      else
+      else if (this->CutBestEar(s, tris))
       {
-        // Ear cutting: the feasible ear of largest area (a rescan of non-ears before giving up).
-        Index best = InvalidIndex;
-        for (int pass = 0; pass < 2 && best == InvalidIndex; ++pass)
-        {
-          double bestArea = -1;
-          Index i = s.Head;
-          do
-          {
-            if (s.EarState[i] < 0 || (pass == 1 && s.EarState[i] == 0))
-            {
-              s.EarState[i] = 0;
-              if (this->EarValid(s, i) && this->Feasible(s, s.Vert[s.Prev[i]], s.Vert[i], s.Vert[s.Next[i]]))
-              {
-                s.EarState[i] = 1;
-                s.EarArea[i] = 0.5 *
-                  Norm(Cross(M.Point(s.Vert[i]) - M.Point(s.Vert[s.Prev[i]]),
-                    M.Point(s.Vert[s.Next[i]]) - M.Point(s.Vert[s.Prev[i]])));
-              }
-            }
-            if (s.EarState[i] == 1 && s.EarArea[i] > bestArea)
-            {
-              bestArea = s.EarArea[i];
-              best = i;
-            }
-            i = s.Next[i];
-          } while (i != s.Head);
-        }
-        if (best != InvalidIndex)
-        {
-          const Index pi = s.Prev[best], ni = s.Next[best];
-          this->Emit(s, tris, s.Vert[pi], s.Vert[best], s.Vert[ni]);
-          ++this->Res.Ears;
-          this->FrontNode[s.Vert[best]] = InvalidIndex;
-          if (s.Relaxed)
-          {
-            s.Relaxed = false;
-            std::fill(s.EarState.begin(), s.EarState.end(), -1);
-          }
-          s.Next[pi] = ni;
-          s.Prev[ni] = pi;
-          s.EarState[pi] = s.EarState[ni] = -1;
-          s.Head = pi;
-          --s.Count;
-          continue;
-        }
+        continue;
       }
-      // Greedy biting: per edge the best-shaped feasible bite, the largest over the edges.
       Index biteEdge = InvalidIndex, biteInner = InvalidIndex;
+      if (this->FindBite(s, candidates, biteEdge, biteInner))
       {
-        double bestArea = -1;
-        Index i = s.Head;
-        do
-        {
-          Index k = InvalidIndex;
-          double area = 0;
-          if (this->BestBite(s, i, size_t(std::max(1, Prm.BiteCandidates)), true, k, area, candidates) && area > bestArea)
-          {
-            bestArea = area;
-            biteEdge = i;
-            biteInner = k;
-          }
-          i = s.Next[i];
-        } while (i != s.Head);
+        this->PerformBite(s, tris, biteEdge, biteInner);
+        continue;
       }
-      if (biteEdge == InvalidIndex)
+      if (s.Careful && !s.Relaxed)
       {
-        // Wide search (edge splitting without Steiner points): any inner vertex, longest edges first.
-        std::vector<std::pair<double, Index>> edges;
-        Index i = s.Head;
-        do
-        {
-          const Vec3 d = M.Point(s.Vert[s.Next[i]]) - M.Point(s.Vert[i]);
-          edges.emplace_back(-Dot(d, d), i);
-          i = s.Next[i];
-        } while (i != s.Head);
-        std::sort(edges.begin(), edges.end());
-        for (const auto& e : edges)
-        {
-          double area = 0;
-          if (this->BestBite(s, e.second, 64, false, biteInner, area, candidates))
-          {
-            biteEdge = e.second;
-            ++this->Res.WideBites;
-            break;
-          }
-        }
+        s.Relaxed = true; // one ear may now swallow inner vertices
+        std::fill(s.EarState.begin(), s.EarState.end(), -1);
+        continue;
       }
-      if (biteEdge == InvalidIndex)
+      if (repairs-- > 0 && this->Repair(s, tris))
       {
-        if (s.Careful && !s.Relaxed)
-        {
-          s.Relaxed = true; // one ear may now swallow inner vertices
-          std::fill(s.EarState.begin(), s.EarState.end(), -1);
-          continue;
-        }
-        if (repairs-- > 0 && this->Repair(s, tris))
-        {
-          continue;
-        }
-        return false; // stuck
+        continue;
       }
-      const Index j = s.Next[biteEdge];
-      const Index v = s.Inner[biteInner];
-      s.Consumed[biteInner] = 1;
-      this->FrontNode[v] = s.InsertAfter(biteEdge, v);
-      this->Emit(s, tris, s.Vert[biteEdge], s.Vert[j], v);
-      ++this->Res.Bites;
-      std::fill(s.EarState.begin(), s.EarState.end(), -1);
+      return false; // stuck
     }
     return false;
   }

@@ -21,6 +21,50 @@
 
 vtkStandardNewMacro(vtkGreedyCutsSimplification);
 
+namespace
+{
+// The simplified surface over the original vertices that are used (in order of first use), its
+// triangles' patch ids and the error bound (absolute and relative to the bounding-box diagonal).
+void StoreSimplification(vtkPolyData* input, const slod::TriangleMesh& mesh,
+  const std::vector<slod::Index>& vertexToInput, const slod::GreedyCutsResult& result, bool doublePrecision,
+  vtkPolyData* output)
+{
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
+  const std::vector<slod::Index>& used = numbering.Used;
+  vtkNew<vtkCellArray> polys;
+  const vtkIdType nt = static_cast<vtkIdType>(result.TrianglePatch.size());
+  polys->AllocateExact(nt, 3 * nt);
+  for (vtkIdType t = 0; t < nt; ++t)
+  {
+    vtkIdType ids[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      ids[k] = numbering(result.Triangles[3 * size_t(t) + k]);
+    }
+    polys->InsertNextCell(3, ids);
+  }
+  slod::StoreUsedPoints(input, mesh, used, vertexToInput, doublePrecision, output);
+  vtkNew<vtkIntArray> patchIds;
+  patchIds->SetName("PatchId");
+  patchIds->SetNumberOfValues(nt);
+  for (vtkIdType t = 0; t < nt; ++t)
+  {
+    patchIds->SetValue(t, result.TrianglePatch[size_t(t)]);
+  }
+  output->SetPolys(polys);
+  output->GetCellData()->AddArray(patchIds);
+  vtkNew<vtkDoubleArray> boundArray;
+  boundArray->SetName("MaximumErrorBound");
+  boundArray->InsertNextValue(result.ErrorBound);
+  vtkNew<vtkDoubleArray> relativeArray;
+  relativeArray->SetName("MaximumErrorBoundRelative");
+  relativeArray->InsertNextValue(diagonal > 0 ? result.ErrorBound / diagonal : 0.0);
+  output->GetFieldData()->AddArray(boundArray);
+  output->GetFieldData()->AddArray(relativeArray);
+}
+} // namespace
+
 vtkGreedyCutsSimplification::vtkGreedyCutsSimplification() = default;
 
 int vtkGreedyCutsSimplification::RequestData(
@@ -126,39 +170,8 @@ int vtkGreedyCutsSimplification::RequestData(
   this->NumberOfBites = result.Bites + result.WideBites;
   this->NumberOfRepairs = result.Repairs;
 
-  // 3. Output over the original vertices that are used (in order of first use).
-  slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
-  const std::vector<slod::Index>& used = numbering.Used;
-  vtkNew<vtkCellArray> polys;
-  const vtkIdType nt = static_cast<vtkIdType>(result.TrianglePatch.size());
-  polys->AllocateExact(nt, 3 * nt);
-  for (vtkIdType t = 0; t < nt; ++t)
-  {
-    vtkIdType ids[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      ids[k] = numbering(result.Triangles[3 * size_t(t) + k]);
-    }
-    polys->InsertNextCell(3, ids);
-  }
-  slod::StoreUsedPoints(input, mesh, used, vertexToInput, this->OutputDoublePrecision, output);
-  vtkNew<vtkIntArray> patchIds;
-  patchIds->SetName("PatchId");
-  patchIds->SetNumberOfValues(nt);
-  for (vtkIdType t = 0; t < nt; ++t)
-  {
-    patchIds->SetValue(t, result.TrianglePatch[size_t(t)]);
-  }
-  output->SetPolys(polys);
-  output->GetCellData()->AddArray(patchIds);
-  vtkNew<vtkDoubleArray> boundArray;
-  boundArray->SetName("MaximumErrorBound");
-  boundArray->InsertNextValue(result.ErrorBound);
-  vtkNew<vtkDoubleArray> relativeArray;
-  relativeArray->SetName("MaximumErrorBoundRelative");
-  relativeArray->InsertNextValue(diagonal > 0 ? result.ErrorBound / diagonal : 0.0);
-  output->GetFieldData()->AddArray(boundArray);
-  output->GetFieldData()->AddArray(relativeArray);
+  // 3. Output.
+  StoreSimplification(input, mesh, vertexToInput, result, this->OutputDoublePrecision, output);
   this->UpdateProgress(1.0);
   return 1;
 }

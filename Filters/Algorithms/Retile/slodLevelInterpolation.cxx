@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <unordered_map>
 
 namespace slod
@@ -150,6 +151,19 @@ public:
   double TraceStrip(const SurfaceLocation& from, const SurfaceLocation& to, const std::vector<Index>& startSet,
     const std::vector<Index>& targetSet, std::vector<Crossing>& crossings) const
   {
+    std::vector<Index> strip;
+    if (!this->ShortestStrip(from, startSet, targetSet, strip))
+    {
+      return -1;
+    }
+    return this->CrossStrip(from, to, strip, crossings);
+  }
+
+  // The strip of edge-adjacent triangles from a start triangle to a target triangle, shortest over
+  // the centroids, from start to target; false when none is found within the bound.
+  bool ShortestStrip(const SurfaceLocation& from, const std::vector<Index>& startSet,
+    const std::vector<Index>& targetSet, std::vector<Index>& strip) const
+  {
     const size_t limit = 4096; // triangles visited: a path is a few triangles long; beyond, give up
     std::vector<Index>& queue = this->Queue;
     queue.clear();
@@ -218,7 +232,7 @@ public:
         }
       }
     }
-    std::vector<Index> strip;
+    strip.clear();
     for (Index t = found; t != InvalidIndex; t = this->Parent[t] == t ? InvalidIndex : this->Parent[t])
     {
       strip.push_back(t);
@@ -229,9 +243,17 @@ public:
     }
     if (found == InvalidIndex)
     {
-      return -1;
+      return false;
     }
     std::reverse(strip.begin(), strip.end());
+    return true;
+  }
+
+  // Crosses each shared edge of the strip at the point closest to the straight segment between the
+  // ends; appends the crossings, returns the path length.
+  double CrossStrip(const SurfaceLocation& from, const SurfaceLocation& to, const std::vector<Index>& strip,
+    std::vector<Crossing>& crossings) const
+  {
     Vec3 point = from.Point;
     double length = 0;
     const Vec3 pq = to.Point - from.Point;
@@ -358,6 +380,525 @@ void InsertVertex(TriangleMesh& high, std::vector<Index>& parent, const Vec3& q,
   parent.push_back(parent[t]);
 }
 
+Vec3 PositionOf(const std::vector<double>& xyz, Index v)
+{
+  const double* p = &xyz[3 * static_cast<size_t>(v)];
+  return Vec3{ p[0], p[1], p[2] };
+}
+
+// Stage 1a, nesting: ties every high vertex at the exact position of a used low vertex to that low
+// vertex (lowVertexOf); lists the used low vertices with no such high vertex (missing).
+Index MatchSharedVertices(
+  const TriangleMesh& high, const TriangleMesh& low, std::vector<Index>& lowVertexOf, std::vector<Index>& missing)
+{
+  std::unordered_map<PointKey, Index, PointKeyHash> highVertexAt;
+  highVertexAt.reserve(static_cast<size_t>(high.NumberOfPoints()));
+  for (Index v = 0; v < high.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = high.Point(v);
+    highVertexAt.emplace(PointKey{ p[0], p[1], p[2] }, v);
+  }
+  lowVertexOf.assign(static_cast<size_t>(high.NumberOfPoints()), InvalidIndex);
+  std::vector<char> lowUsed(static_cast<size_t>(low.NumberOfPoints()), 0);
+  for (Index t : low.Triangles)
+  {
+    lowUsed[t] = 1;
+  }
+  Index usedLow = 0;
+  for (Index v = 0; v < low.NumberOfPoints(); ++v)
+  {
+    if (!lowUsed[v])
+    {
+      continue;
+    }
+    ++usedLow;
+    const Vec3 p = low.Point(v);
+    const auto it = highVertexAt.find(PointKey{ p[0], p[1], p[2] });
+    if (it == highVertexAt.end() || lowVertexOf[it->second] != InvalidIndex)
+    {
+      missing.push_back(v);
+    }
+    else
+    {
+      lowVertexOf[it->second] = v;
+    }
+  }
+  return usedLow;
+}
+
+// Stage 1c: the flattened location of every high vertex on the low surface: a shared vertex maps
+// to itself, a high-only vertex to its closest point.
+void FlattenVertices(const TriangleMesh& high, const LowSurface& surface, const std::vector<Index>& lowVertexOf,
+  std::vector<SurfaceLocation>& flat, LevelInterpolation& result)
+{
+  const TriangleBVH bvh(surface.Mesh);
+  flat.assign(static_cast<size_t>(high.NumberOfPoints()), SurfaceLocation());
+  for (Index v = 0; v < high.NumberOfPoints(); ++v)
+  {
+    SurfaceLocation& loc = flat[v];
+    if (lowVertexOf[v] != InvalidIndex)
+    {
+      loc.Vertex = lowVertexOf[v];
+      loc.Point = surface.Mesh.Point(loc.Vertex);
+      loc.Triangle = *surface.Topology.VertexTrianglesBegin(loc.Vertex);
+      ++result.SharedVertices;
+    }
+    else
+    {
+      const ClosestPointResult closest = bvh.ClosestPoint(high.Point(v));
+      loc = surface.Locate(closest.Triangle, closest.Point);
+      ++result.FlattenedVertices;
+    }
+  }
+}
+
+// Stage 2: the path of every high edge on the low surface (from its lower-numbered vertex):
+// crossings of edge e are Crossings[Offset[e]] .. Crossings[Offset[e + 1] - 1].
+struct EdgePaths
+{
+  std::vector<Index> Offset;
+  std::vector<Crossing> Crossings;
+  std::vector<double> Length;
+};
+
+void TraceHighEdges(const MeshTopology& highTopology, const LowSurface& surface,
+  const std::vector<SurfaceLocation>& flat, EdgePaths& paths, LevelInterpolation& result)
+{
+  const Index nEdges = highTopology.NumberOfEdges();
+  paths.Offset.assign(static_cast<size_t>(nEdges) + 1, 0);
+  paths.Length.assign(static_cast<size_t>(nEdges), 0);
+  std::vector<Index> scratchA, scratchB;
+  for (Index e = 0; e < nEdges; ++e)
+  {
+    const Index u = highTopology.EdgeVertex(e, 0), w = highTopology.EdgeVertex(e, 1);
+    const double length = surface.Trace(flat[u], flat[w], paths.Crossings, scratchA, scratchB);
+    if (length < 0)
+    {
+      ++result.UntracedEdges;
+    }
+    paths.Length[e] = length;
+    paths.Offset[e + 1] = static_cast<Index>(paths.Crossings.size());
+  }
+  result.Crossings = static_cast<Index>(paths.Crossings.size());
+}
+
+// Output vertices: high vertices, then crossings (a crossing at fraction f of the path sits at
+// fraction f of the high edge).
+void StoreVertexPositions(const TriangleMesh& high, const MeshTopology& highTopology,
+  const std::vector<SurfaceLocation>& flat, const EdgePaths& paths, LevelInterpolation& result)
+{
+  const Index nHigh = high.NumberOfPoints();
+  const size_t nOut = static_cast<size_t>(nHigh) + paths.Crossings.size();
+  result.LowPositions.resize(3 * nOut);
+  result.HighPositions.resize(3 * nOut);
+  auto store = [&](size_t i, const Vec3& lowP, const Vec3& highP) {
+    std::copy(lowP.begin(), lowP.end(), result.LowPositions.begin() + 3 * i);
+    std::copy(highP.begin(), highP.end(), result.HighPositions.begin() + 3 * i);
+  };
+  for (Index v = 0; v < nHigh; ++v)
+  {
+    store(v, flat[v].Point, high.Point(v));
+  }
+  for (Index e = 0; e < highTopology.NumberOfEdges(); ++e)
+  {
+    const Vec3 a = high.Point(highTopology.EdgeVertex(e, 0));
+    const Vec3 b = high.Point(highTopology.EdgeVertex(e, 1));
+    for (Index c = paths.Offset[e]; c < paths.Offset[e + 1]; ++c)
+    {
+      const double f = paths.Length[e] > 0 ? std::min(1.0, paths.Crossings[c].Along / paths.Length[e]) : 0.5;
+      store(static_cast<size_t>(nHigh) + c, paths.Crossings[c].Point, (1 - f) * a + f * b);
+    }
+  }
+}
+
+// Stage 3: cuts each high triangle along the chords (low edges) into fragments, each inside one
+// low triangle, and triangulates the fragments.
+class FragmentCutter
+{
+public:
+  FragmentCutter(const TriangleMesh& high, const MeshTopology& highTopology, const std::vector<Index>& parent,
+    const LowSurface& surface, const std::vector<SurfaceLocation>& flat, const EdgePaths& paths,
+    LevelInterpolation& result)
+    : High(high)
+    , HighTopology(highTopology)
+    , Parent(parent)
+    , Surface(surface)
+    , Flat(flat)
+    , Paths(paths)
+    , Result(result)
+    , NumberOfHighVertices(high.NumberOfPoints())
+  {
+  }
+
+  void Cut(Index t)
+  {
+    this->CollectBoundaryEvents(t);
+    this->PairChords();
+    this->FindLoneCenters();
+    this->SplitIntoFragments(t);
+  }
+
+private:
+  // The boundary of high triangle t: its corners and, between them, the crossings of its edges.
+  void CollectBoundaryEvents(Index t)
+  {
+    const Index* tri = this->High.Triangle(t);
+    this->Events.clear();
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index a = tri[k];
+      this->Events.push_back(
+        { a, this->Flat[a].Vertex, InvalidIndex, this->Flat[a].Edge, (1 << k) | (1 << ((k + 2) % 3)) });
+      const Index e = this->HighTopology.TriangleEdge(t, k);
+      const Index first = this->Paths.Offset[e], last = this->Paths.Offset[e + 1];
+      const std::vector<Crossing>& crossings = this->Paths.Crossings;
+      if (this->HighTopology.EdgeVertex(e, 0) == a)
+      {
+        for (Index c = first; c < last; ++c)
+        {
+          this->Events.push_back({ this->NumberOfHighVertices + c, InvalidIndex, crossings[c].Edge, InvalidIndex, 1 << k });
+        }
+      }
+      else
+      {
+        for (Index c = last - 1; c >= first; --c)
+        {
+          this->Events.push_back({ this->NumberOfHighVertices + c, InvalidIndex, crossings[c].Edge, InvalidIndex, 1 << k });
+        }
+      }
+    }
+  }
+
+  // Chords: crossings of the same low edge in boundary order, paired two by two; a lone crossing
+  // pairs with the corner that is an end of its low edge.
+  void PairChords()
+  {
+    const std::vector<BoundaryEvent>& events = this->Events;
+    const int n = static_cast<int>(events.size());
+    this->Chords.clear();
+    this->Lone.clear();
+    std::vector<char> paired(static_cast<size_t>(n), 0);
+    for (int i = 0; i < n; ++i)
+    {
+      if (events[i].LowEdge == InvalidIndex || paired[i])
+      {
+        continue;
+      }
+      int partner = -1;
+      for (int j = i + 1; j < n && partner < 0; ++j)
+      {
+        if (!paired[j] && events[j].LowEdge == events[i].LowEdge)
+        {
+          partner = j;
+        }
+      }
+      if (partner < 0)
+      {
+        const Index e = events[i].LowEdge;
+        const Index u = this->Surface.Topology.EdgeVertex(e, 0), w = this->Surface.Topology.EdgeVertex(e, 1);
+        for (int j = 0; j < n && partner < 0; ++j)
+        {
+          if ((events[j].LowVertex != InvalidIndex && (events[j].LowVertex == u || events[j].LowVertex == w)) ||
+            events[j].OnEdge == e)
+          {
+            partner = j;
+          }
+        }
+      }
+      paired[i] = 1;
+      if (partner < 0)
+      {
+        this->Lone.push_back(i);
+        continue;
+      }
+      if (events[partner].LowEdge != InvalidIndex)
+      {
+        paired[partner] = 1;
+      }
+      // Both ends on one side of the high triangle: the low edge doubles back across it (a fold);
+      // cutting there would give a flat fragment that both triangles of that side share.
+      if ((events[i].Sides & events[partner].Sides) == 0)
+      {
+        this->Chords.emplace_back(std::min(i, partner), std::max(i, partner));
+      }
+    }
+  }
+
+  // Lone crossings: where the flattening folds, a low vertex can fall inside the image of a high
+  // triangle, and the low edges around it cross the boundary once each. Such a vertex becomes an
+  // interior vertex of the triangle (flattened onto the low vertex, at the mean of its crossings on
+  // the high triangle), joined to those crossings.
+  void FindLoneCenters()
+  {
+    const MeshTopology& lowTopology = this->Surface.Topology;
+    this->CenterOf.assign(this->Events.size(), InvalidIndex);
+    for (int i : this->Lone)
+    {
+      const Index e = this->Events[i].LowEdge;
+      Index best = InvalidIndex;
+      int bestCount = 0;
+      for (int end = 0; end < 2; ++end)
+      {
+        const Index x = lowTopology.EdgeVertex(e, end);
+        int count = 0;
+        for (int j : this->Lone)
+        {
+          const Index f = this->Events[j].LowEdge;
+          count += (lowTopology.EdgeVertex(f, 0) == x || lowTopology.EdgeVertex(f, 1) == x) ? 1 : 0;
+        }
+        if (count > bestCount)
+        {
+          bestCount = count;
+          best = x;
+        }
+      }
+      if (bestCount >= 2)
+      {
+        this->CenterOf[i] = best;
+      }
+    }
+  }
+
+  // Recursive split of the boundary polygon by the chords, then around the interior low vertices;
+  // what remains are the fragments.
+  void SplitIntoFragments(Index t)
+  {
+    const int n = static_cast<int>(this->Events.size());
+    this->Stack.clear();
+    this->Stack.emplace_back();
+    for (int i = 0; i < n; ++i)
+    {
+      this->Stack.back().push_back(i);
+    }
+    while (!this->Stack.empty())
+    {
+      std::vector<int> polygon = std::move(this->Stack.back());
+      this->Stack.pop_back();
+      if (!this->SplitByChord(polygon) && !this->SplitAroundCenter(polygon, n))
+      {
+        this->EmitFragment(t, polygon);
+      }
+    }
+  }
+
+  bool SplitByChord(const std::vector<int>& polygon)
+  {
+    const int m = static_cast<int>(polygon.size());
+    for (const auto& chord : this->Chords)
+    {
+      const auto pi = std::find(polygon.begin(), polygon.end(), chord.first);
+      const auto pj = std::find(polygon.begin(), polygon.end(), chord.second);
+      if (pi == polygon.end() || pj == polygon.end())
+      {
+        continue;
+      }
+      const int i = static_cast<int>(pi - polygon.begin()), j = static_cast<int>(pj - polygon.begin());
+      const int gap = std::abs(i - j);
+      if (gap <= 1 || gap >= m - 1)
+      {
+        continue; // already an edge of this polygon
+      }
+      const int lo = std::min(i, j), hi = std::max(i, j);
+      std::vector<int> inner(polygon.begin() + lo, polygon.begin() + hi + 1);
+      std::vector<int> outer(polygon.begin(), polygon.begin() + lo + 1);
+      outer.insert(outer.end(), polygon.begin() + hi, polygon.end());
+      this->Stack.push_back(std::move(inner));
+      this->Stack.push_back(std::move(outer));
+      return true;
+    }
+    return false;
+  }
+
+  // Star split around a low vertex inside the triangle (see FindLoneCenters). n: the number of
+  // boundary events (interior vertices come after them).
+  bool SplitAroundCenter(const std::vector<int>& polygon, int n)
+  {
+    const int m = static_cast<int>(polygon.size());
+    for (int k = 0; k < m; ++k)
+    {
+      const Index x = polygon[k] < n ? this->CenterOf[polygon[k]] : InvalidIndex;
+      if (x == InvalidIndex)
+      {
+        continue;
+      }
+      std::vector<int> fan;
+      for (int j = 0; j < m; ++j)
+      {
+        if (polygon[j] < n && this->CenterOf[polygon[j]] == x)
+        {
+          fan.push_back(j);
+        }
+      }
+      if (fan.size() < 2)
+      {
+        continue;
+      }
+      const int center = this->AddInteriorVertex(polygon, fan, x);
+      for (size_t f = 0; f < fan.size(); ++f)
+      {
+        const int from = fan[f], to = fan[(f + 1) % fan.size()];
+        std::vector<int> piece;
+        for (int j = from;; j = (j + 1) % m)
+        {
+          piece.push_back(polygon[j]);
+          if (j == to)
+          {
+            break;
+          }
+        }
+        piece.push_back(center);
+        if (piece.size() >= 3)
+        {
+          this->Stack.push_back(std::move(piece));
+        }
+      }
+      for (int j : fan)
+      {
+        this->CenterOf[polygon[j]] = InvalidIndex; // done: the pieces are final
+      }
+      return true;
+    }
+    return false;
+  }
+
+  // The interior vertex on low vertex x, at the mean of its crossings on the high triangle; returns
+  // its event.
+  int AddInteriorVertex(const std::vector<int>& polygon, const std::vector<int>& fan, Index x)
+  {
+    LevelInterpolation& result = this->Result;
+    Vec3 lowP = this->Surface.Mesh.Point(x), highP{ 0, 0, 0 };
+    for (int j : fan)
+    {
+      highP = highP +
+        (1.0 / static_cast<double>(fan.size())) * PositionOf(result.HighPositions, this->Events[polygon[j]].Vertex);
+    }
+    const Index id = static_cast<Index>(result.LowPositions.size() / 3);
+    result.LowPositions.insert(result.LowPositions.end(), lowP.begin(), lowP.end());
+    result.HighPositions.insert(result.HighPositions.end(), highP.begin(), highP.end());
+    ++result.InteriorVertices;
+    const int center = static_cast<int>(this->Events.size());
+    this->Events.push_back({ id, x, InvalidIndex, InvalidIndex, 0 });
+    return center;
+  }
+
+  // The low triangle holding all the vertices of a fragment (InvalidIndex: none).
+  Index LowTriangleOf(const std::vector<int>& polygon)
+  {
+    const MeshTopology& lowTopology = this->Surface.Topology;
+    for (size_t k = 0; k < polygon.size(); ++k)
+    {
+      const BoundaryEvent& ev = this->Events[polygon[k]];
+      if (ev.LowEdge != InvalidIndex)
+      {
+        this->Set.assign(lowTopology.EdgeTrianglesBegin(ev.LowEdge), lowTopology.EdgeTrianglesEnd(ev.LowEdge));
+      }
+      else if (ev.Vertex >= this->NumberOfHighVertices) // interior vertex on a low vertex
+      {
+        this->Set.assign(lowTopology.VertexTrianglesBegin(ev.LowVertex), lowTopology.VertexTrianglesEnd(ev.LowVertex));
+      }
+      else
+      {
+        this->Surface.Containing(this->Flat[ev.Vertex], this->Set);
+      }
+      if (k == 0)
+      {
+        this->Common = this->Set;
+      }
+      else
+      {
+        const std::vector<Index>& set = this->Set;
+        this->Common.erase(std::remove_if(this->Common.begin(), this->Common.end(),
+                             [&](Index x) { return std::find(set.begin(), set.end(), x) == set.end(); }),
+          this->Common.end());
+      }
+    }
+    return this->Common.empty() ? InvalidIndex : this->Common.front();
+  }
+
+  void EmitFragment(Index t, const std::vector<int>& polygon)
+  {
+    const Index lowTriangle = this->LowTriangleOf(polygon);
+    if (lowTriangle == InvalidIndex)
+    {
+      ++this->Result.InconsistentFragments;
+    }
+    const Index fragment = this->Result.Fragments++;
+    this->Ring.clear();
+    this->RingSides.clear();
+    for (int k : polygon)
+    {
+      this->Ring.push_back(this->Events[k].Vertex);
+      this->RingSides.push_back(this->Events[k].Sides);
+    }
+    const Index* tri = this->High.Triangle(t);
+    const Vec3 normal = TriangleNormal(this->High.Point(tri[0]), this->High.Point(tri[1]), this->High.Point(tri[2]));
+    this->ClipEars(normal, this->Parent[t], lowTriangle, fragment);
+  }
+
+  // The fragment is convex on the high triangle but has collinear vertices (crossings on its
+  // sides), so no fixed fan works: clip the best-shaped ear (smallest angle at both ends) first.
+  void ClipEars(const Vec3& normal, Index highTriangle, Index lowTriangle, Index fragment)
+  {
+    LevelInterpolation& result = this->Result;
+    std::vector<Index>& ring = this->Ring;
+    std::vector<int>& ringSides = this->RingSides;
+    while (ring.size() >= 3)
+    {
+      const size_t r = ring.size();
+      size_t best = 0;
+      double bestAngle = -1;
+      for (size_t k = 0; k < r && r > 3; ++k)
+      {
+        const size_t kp = (k + r - 1) % r, kn = (k + 1) % r;
+        const Index p = ring[kp], q = ring[k], s = ring[kn];
+        const Vec3 hp = PositionOf(result.HighPositions, p), hq = PositionOf(result.HighPositions, q),
+                   hs = PositionOf(result.HighPositions, s);
+        // A valid ear on the high triangle: convex there, not flat, and its diagonal not along a
+        // side of the triangle (that side holds other fragment vertices: a T-junction).
+        const double highAngle = MinimumAngle(hp, hq, hs);
+        const bool valid =
+          highAngle > 1e-9 && Dot(Cross(hq - hp, hs - hq), normal) > 0 && (ringSides[kp] & ringSides[kn]) == 0;
+        double angle = 0.0;
+        if (valid)
+        {
+          const double lowAngle = MinimumAngle(
+            PositionOf(result.LowPositions, p), PositionOf(result.LowPositions, q), PositionOf(result.LowPositions, s));
+          angle = std::min(highAngle, lowAngle) + 1e-6;
+        }
+        if (angle > bestAngle)
+        {
+          bestAngle = angle;
+          best = k;
+        }
+      }
+      result.Triangles.push_back(ring[(best + r - 1) % r]);
+      result.Triangles.push_back(ring[best]);
+      result.Triangles.push_back(ring[(best + 1) % r]);
+      result.HighTriangle.push_back(highTriangle);
+      result.LowTriangle.push_back(lowTriangle);
+      result.Fragment.push_back(fragment);
+      ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(best));
+      ringSides.erase(ringSides.begin() + static_cast<std::ptrdiff_t>(best));
+    }
+  }
+
+  const TriangleMesh& High;
+  const MeshTopology& HighTopology;
+  const std::vector<Index>& Parent;
+  const LowSurface& Surface;
+  const std::vector<SurfaceLocation>& Flat;
+  const EdgePaths& Paths;
+  LevelInterpolation& Result;
+  const Index NumberOfHighVertices;
+  // Per high triangle (kept to reuse their memory).
+  std::vector<BoundaryEvent> Events;
+  std::vector<std::pair<int, int>> Chords;
+  std::vector<int> Lone;
+  std::vector<Index> CenterOf;
+  std::vector<std::vector<int>> Stack;
+  std::vector<Index> Common, Set, Ring;
+  std::vector<int> RingSides;
+};
 } // namespace
 
 void LevelInterpolation::Evaluate(double t, TriangleMesh& mesh) const
@@ -381,45 +922,11 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
   // Stage 1: which high vertices are low vertices (nesting), and the flattened location of every vertex.
   TriangleMesh high = highInput;
   std::vector<Index> parent(static_cast<size_t>(high.NumberOfTriangles()));
-  for (Index t = 0; t < high.NumberOfTriangles(); ++t)
-  {
-    parent[t] = t;
-  }
-  std::unordered_map<PointKey, Index, PointKeyHash> highVertexAt;
-  highVertexAt.reserve(static_cast<size_t>(high.NumberOfPoints()));
-  for (Index v = 0; v < high.NumberOfPoints(); ++v)
-  {
-    const Vec3 p = high.Point(v);
-    highVertexAt.emplace(PointKey{ p[0], p[1], p[2] }, v);
-  }
-  std::vector<Index> lowVertexOf(static_cast<size_t>(high.NumberOfPoints()), InvalidIndex);
-  std::vector<char> lowUsed(static_cast<size_t>(low.NumberOfPoints()), 0);
-  for (Index t : low.Triangles)
-  {
-    lowUsed[t] = 1;
-  }
-  std::vector<Index> missing;
-  Index usedLow = 0;
-  for (Index v = 0; v < low.NumberOfPoints(); ++v)
-  {
-    if (!lowUsed[v])
-    {
-      continue;
-    }
-    ++usedLow;
-    const Vec3 p = low.Point(v);
-    const auto it = highVertexAt.find(PointKey{ p[0], p[1], p[2] });
-    if (it == highVertexAt.end() || lowVertexOf[it->second] != InvalidIndex)
-    {
-      missing.push_back(v);
-    }
-    else
-    {
-      lowVertexOf[it->second] = v;
-    }
-  }
-  // A few low vertices missing from the high level (vtkRetile moves a candidate onto an old vertex
-  // as a last resort, which breaks the nesting there) are inserted into the high level at their
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<Index> lowVertexOf, missing;
+  const Index usedLow = MatchSharedVertices(high, low, lowVertexOf, missing);
+  // A few low vertices missing from the high level (levels that are not quite nested, e.g. made by
+  // another tool; vtkRetile's nested levels have none) are inserted into the high level at their
   // closest point on it: the high shape is unchanged and the levels become nested. Mostly
   // unrelated meshes are an error.
   if (2 * static_cast<size_t>(missing.size()) > static_cast<size_t>(usedLow))
@@ -433,7 +940,6 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
     InsertVertex(high, parent, low.Point(v), lowVertexOf, v);
   }
   result.InsertedVertices = static_cast<Index>(missing.size());
-  const Index nHigh = high.NumberOfPoints();
 
   LowSurface surface(low);
   for (Index e = 0; e < surface.Topology.NumberOfEdges(); ++e)
@@ -444,371 +950,18 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
       return;
     }
   }
-  TriangleBVH bvh(low);
-  std::vector<SurfaceLocation> flat(static_cast<size_t>(nHigh));
-  for (Index v = 0; v < nHigh; ++v)
-  {
-    SurfaceLocation& loc = flat[v];
-    if (lowVertexOf[v] != InvalidIndex)
-    {
-      loc.Vertex = lowVertexOf[v];
-      loc.Point = low.Point(loc.Vertex);
-      loc.Triangle = *surface.Topology.VertexTrianglesBegin(loc.Vertex);
-      ++result.SharedVertices;
-    }
-    else
-    {
-      const ClosestPointResult closest = bvh.ClosestPoint(high.Point(v));
-      loc = surface.Locate(closest.Triangle, closest.Point);
-      ++result.FlattenedVertices;
-    }
-  }
+  std::vector<SurfaceLocation> flat;
+  FlattenVertices(high, surface, lowVertexOf, flat, result);
 
-  MeshTopology highTopology(high);
-  // Stage 2: the path of every high edge on the low surface (from its lower-numbered vertex).
-  const Index nEdges = highTopology.NumberOfEdges();
-  std::vector<Index> crossingOffset(static_cast<size_t>(nEdges) + 1, 0);
-  std::vector<Crossing> crossings;
-  std::vector<double> pathLength(static_cast<size_t>(nEdges), 0);
-  std::vector<Index> scratchA, scratchB;
-  for (Index e = 0; e < nEdges; ++e)
-  {
-    const Index u = highTopology.EdgeVertex(e, 0), w = highTopology.EdgeVertex(e, 1);
-    const double length = surface.Trace(flat[u], flat[w], crossings, scratchA, scratchB);
-    if (length < 0)
-    {
-      ++result.UntracedEdges;
-    }
-    pathLength[e] = length;
-    crossingOffset[e + 1] = static_cast<Index>(crossings.size());
-  }
-  result.Crossings = static_cast<Index>(crossings.size());
+  const MeshTopology highTopology(high);
+  EdgePaths paths;
+  TraceHighEdges(highTopology, surface, flat, paths, result);
+  StoreVertexPositions(high, highTopology, flat, paths, result);
 
-  // Output vertices: high vertices, then crossings (a crossing at fraction f of the path sits at
-  // fraction f of the high edge).
-  const size_t nOut = static_cast<size_t>(nHigh) + crossings.size();
-  result.LowPositions.resize(3 * nOut);
-  result.HighPositions.resize(3 * nOut);
-  auto store = [&](size_t i, const Vec3& lowP, const Vec3& highP) {
-    std::copy(lowP.begin(), lowP.end(), result.LowPositions.begin() + 3 * i);
-    std::copy(highP.begin(), highP.end(), result.HighPositions.begin() + 3 * i);
-  };
-  for (Index v = 0; v < nHigh; ++v)
-  {
-    store(v, flat[v].Point, high.Point(v));
-  }
-  for (Index e = 0; e < nEdges; ++e)
-  {
-    const Vec3 a = high.Point(highTopology.EdgeVertex(e, 0));
-    const Vec3 b = high.Point(highTopology.EdgeVertex(e, 1));
-    for (Index c = crossingOffset[e]; c < crossingOffset[e + 1]; ++c)
-    {
-      const double f = pathLength[e] > 0 ? std::min(1.0, crossings[c].Along / pathLength[e]) : 0.5;
-      store(static_cast<size_t>(nHigh) + c, crossings[c].Point, (1 - f) * a + f * b);
-    }
-  }
-
-  // Stage 3: cut each high triangle along the chords (low edges) and fan-triangulate the fragments.
-  std::vector<BoundaryEvent> events;
-  std::vector<std::pair<int, int>> chords;
-  std::vector<std::vector<int>> stack;
-  std::vector<Index> common, set, ring, centerOf;
-  std::vector<int> lone, ringSides;
-  auto pointOf = [](const std::vector<double>& xyz, Index v) {
-    const double* p = &xyz[3 * static_cast<size_t>(v)];
-    return Vec3{ p[0], p[1], p[2] };
-  };
+  FragmentCutter cutter(high, highTopology, parent, surface, flat, paths, result);
   for (Index t = 0; t < high.NumberOfTriangles(); ++t)
   {
-    const Index* tri = high.Triangle(t);
-    events.clear();
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index a = tri[k];
-      events.push_back({ a, flat[a].Vertex, InvalidIndex, flat[a].Edge, (1 << k) | (1 << ((k + 2) % 3)) });
-      const Index e = highTopology.TriangleEdge(t, k);
-      const Index first = crossingOffset[e], last = crossingOffset[e + 1];
-      if (highTopology.EdgeVertex(e, 0) == a)
-      {
-        for (Index c = first; c < last; ++c)
-        {
-          events.push_back({ nHigh + c, InvalidIndex, crossings[c].Edge, InvalidIndex, 1 << k });
-        }
-      }
-      else
-      {
-        for (Index c = last - 1; c >= first; --c)
-        {
-          events.push_back({ nHigh + c, InvalidIndex, crossings[c].Edge, InvalidIndex, 1 << k });
-        }
-      }
-    }
-    const int n = static_cast<int>(events.size());
-    // Chords: crossings of the same low edge in boundary order, paired two by two; a lone crossing
-    // pairs with the corner that is an end of its low edge.
-    chords.clear();
-    lone.clear();
-    std::vector<char> paired(static_cast<size_t>(n), 0);
-    for (int i = 0; i < n; ++i)
-    {
-      if (events[i].LowEdge == InvalidIndex || paired[i])
-      {
-        continue;
-      }
-      int partner = -1;
-      for (int j = i + 1; j < n && partner < 0; ++j)
-      {
-        if (!paired[j] && events[j].LowEdge == events[i].LowEdge)
-        {
-          partner = j;
-        }
-      }
-      if (partner < 0)
-      {
-        const Index e = events[i].LowEdge;
-        const Index u = surface.Topology.EdgeVertex(e, 0), w = surface.Topology.EdgeVertex(e, 1);
-        for (int j = 0; j < n && partner < 0; ++j)
-        {
-          if ((events[j].LowVertex != InvalidIndex && (events[j].LowVertex == u || events[j].LowVertex == w)) ||
-            events[j].OnEdge == e)
-          {
-            partner = j;
-          }
-        }
-      }
-      paired[i] = 1;
-      if (partner >= 0)
-      {
-        if (events[partner].LowEdge != InvalidIndex)
-        {
-          paired[partner] = 1;
-        }
-        // Both ends on one side of the high triangle: the low edge doubles back across it (a fold);
-        // cutting there would give a flat fragment that both triangles of that side share.
-        if ((events[i].Sides & events[partner].Sides) == 0)
-        {
-          chords.emplace_back(std::min(i, partner), std::max(i, partner));
-        }
-      }
-      else
-      {
-        lone.push_back(i);
-      }
-    }
-    // Lone crossings: where the flattening folds, a low vertex can fall inside the image of a high
-    // triangle, and the low edges around it cross the boundary once each. Such a vertex becomes an
-    // interior vertex of the triangle (flattened onto the low vertex, at the mean of its crossings on
-    // the high triangle), joined to those crossings.
-    centerOf.assign(static_cast<size_t>(n), InvalidIndex);
-    for (int i : lone)
-    {
-      const Index e = events[i].LowEdge;
-      Index best = InvalidIndex;
-      int bestCount = 0;
-      for (int end = 0; end < 2; ++end)
-      {
-        const Index x = surface.Topology.EdgeVertex(e, end);
-        int count = 0;
-        for (int j : lone)
-        {
-          const Index f = events[j].LowEdge;
-          count += (surface.Topology.EdgeVertex(f, 0) == x || surface.Topology.EdgeVertex(f, 1) == x) ? 1 : 0;
-        }
-        if (count > bestCount)
-        {
-          bestCount = count;
-          best = x;
-        }
-      }
-      if (bestCount >= 2)
-      {
-        centerOf[i] = best;
-      }
-    }
-    // Recursive split of the boundary polygon by the chords.
-    stack.clear();
-    stack.emplace_back();
-    for (int i = 0; i < n; ++i)
-    {
-      stack.back().push_back(i);
-    }
-    while (!stack.empty())
-    {
-      std::vector<int> polygon = std::move(stack.back());
-      stack.pop_back();
-      const int m = static_cast<int>(polygon.size());
-      bool split = false;
-      for (const auto& chord : chords)
-      {
-        const auto pi = std::find(polygon.begin(), polygon.end(), chord.first);
-        const auto pj = std::find(polygon.begin(), polygon.end(), chord.second);
-        if (pi == polygon.end() || pj == polygon.end())
-        {
-          continue;
-        }
-        const int i = static_cast<int>(pi - polygon.begin()), j = static_cast<int>(pj - polygon.begin());
-        const int gap = std::abs(i - j);
-        if (gap <= 1 || gap >= m - 1)
-        {
-          continue; // already an edge of this polygon
-        }
-        const int lo = std::min(i, j), hi = std::max(i, j);
-        std::vector<int> inner(polygon.begin() + lo, polygon.begin() + hi + 1);
-        std::vector<int> outer(polygon.begin(), polygon.begin() + lo + 1);
-        outer.insert(outer.end(), polygon.begin() + hi, polygon.end());
-        stack.push_back(std::move(inner));
-        stack.push_back(std::move(outer));
-        split = true;
-        break;
-      }
-      if (split)
-      {
-        continue;
-      }
-      // Star split around a low vertex inside the triangle (see above).
-      for (int k = 0; k < m && !split; ++k)
-      {
-        const Index x = polygon[k] < n ? centerOf[polygon[k]] : InvalidIndex;
-        if (x == InvalidIndex)
-        {
-          continue;
-        }
-        std::vector<int> fan;
-        for (int j = 0; j < m; ++j)
-        {
-          if (polygon[j] < n && centerOf[polygon[j]] == x)
-          {
-            fan.push_back(j);
-          }
-        }
-        if (fan.size() < 2)
-        {
-          continue;
-        }
-        // The interior vertex.
-        Vec3 lowP = low.Point(x), highP{ 0, 0, 0 };
-        for (int j : fan)
-        {
-          highP = highP + (1.0 / static_cast<double>(fan.size())) * pointOf(result.HighPositions, events[polygon[j]].Vertex);
-        }
-        const Index id = static_cast<Index>(result.LowPositions.size() / 3);
-        result.LowPositions.insert(result.LowPositions.end(), lowP.begin(), lowP.end());
-        result.HighPositions.insert(result.HighPositions.end(), highP.begin(), highP.end());
-        ++result.InteriorVertices;
-        const int center = static_cast<int>(events.size());
-        events.push_back({ id, x, InvalidIndex, InvalidIndex, 0 });
-        for (size_t f = 0; f < fan.size(); ++f)
-        {
-          const int from = fan[f], to = fan[(f + 1) % fan.size()];
-          std::vector<int> piece;
-          for (int j = from;; j = (j + 1) % m)
-          {
-            piece.push_back(polygon[j]);
-            if (j == to)
-            {
-              break;
-            }
-          }
-          piece.push_back(center);
-          if (piece.size() >= 3)
-          {
-            stack.push_back(std::move(piece));
-          }
-        }
-        for (int j : fan)
-        {
-          centerOf[polygon[j]] = InvalidIndex; // done: the pieces are final
-        }
-        split = true;
-      }
-      if (split)
-      {
-        continue;
-      }
-      // A final fragment: find the low triangle holding all its vertices.
-      Index lowTriangle = InvalidIndex;
-      for (int k = 0; k < m; ++k)
-      {
-        const BoundaryEvent& ev = events[polygon[k]];
-        if (ev.LowEdge != InvalidIndex)
-        {
-          set.assign(surface.Topology.EdgeTrianglesBegin(ev.LowEdge), surface.Topology.EdgeTrianglesEnd(ev.LowEdge));
-        }
-        else if (ev.Vertex >= nHigh) // interior vertex on a low vertex
-        {
-          set.assign(surface.Topology.VertexTrianglesBegin(ev.LowVertex), surface.Topology.VertexTrianglesEnd(ev.LowVertex));
-        }
-        else
-        {
-          surface.Containing(flat[ev.Vertex], set);
-        }
-        if (k == 0)
-        {
-          common = set;
-        }
-        else
-        {
-          common.erase(std::remove_if(common.begin(), common.end(),
-                         [&](Index x) { return std::find(set.begin(), set.end(), x) == set.end(); }),
-            common.end());
-        }
-      }
-      if (common.empty())
-      {
-        ++result.InconsistentFragments;
-      }
-      else
-      {
-        lowTriangle = common.front();
-      }
-      const Index fragment = result.Fragments++;
-      // The fragment is convex on the high triangle but has collinear vertices (crossings on its
-      // sides), so no fixed fan works: clip the best-shaped ear (smallest angle at both ends) first.
-      ring.clear();
-      ringSides.clear();
-      for (int k = 0; k < m; ++k)
-      {
-        ring.push_back(events[polygon[k]].Vertex);
-        ringSides.push_back(events[polygon[k]].Sides);
-      }
-      const Vec3 normal = TriangleNormal(high.Point(tri[0]), high.Point(tri[1]), high.Point(tri[2]));
-      while (ring.size() >= 3)
-      {
-        const size_t r = ring.size();
-        size_t best = 0;
-        double bestAngle = -1;
-        for (size_t k = 0; k < r && r > 3; ++k)
-        {
-          const size_t kp = (k + r - 1) % r, kn = (k + 1) % r;
-          const Index p = ring[kp], q = ring[k], s = ring[kn];
-          const Vec3 hp = pointOf(result.HighPositions, p), hq = pointOf(result.HighPositions, q),
-                     hs = pointOf(result.HighPositions, s);
-          // A valid ear on the high triangle: convex there, not flat, and its diagonal not along a
-          // side of the triangle (that side holds other fragment vertices: a T-junction).
-          const double highAngle = MinimumAngle(hp, hq, hs);
-          const bool valid = highAngle > 1e-9 && Dot(Cross(hq - hp, hs - hq), normal) > 0 &&
-            (ringSides[kp] & ringSides[kn]) == 0;
-          const double angle = valid
-            ? std::min(highAngle,
-                MinimumAngle(pointOf(result.LowPositions, p), pointOf(result.LowPositions, q), pointOf(result.LowPositions, s))) +
-              1e-6
-            : 0.0;
-          if (angle > bestAngle)
-          {
-            bestAngle = angle;
-            best = k;
-          }
-        }
-        result.Triangles.push_back(ring[(best + r - 1) % r]);
-        result.Triangles.push_back(ring[best]);
-        result.Triangles.push_back(ring[(best + 1) % r]);
-        result.HighTriangle.push_back(parent[t]);
-        result.LowTriangle.push_back(lowTriangle);
-        result.Fragment.push_back(fragment);
-        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(best));
-        ringSides.erase(ringSides.begin() + static_cast<std::ptrdiff_t>(best));
-      }
-    }
+    cutter.Cut(t);
   }
   result.Valid = true;
 }

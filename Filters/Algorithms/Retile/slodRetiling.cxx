@@ -452,6 +452,93 @@ void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& verte
   }
 }
 
+// One repulsion step per point (Jacobi: from the positions of the previous iteration): the
+// force of the neighbours within the mean of both radii, in the tangent plane, capped.
+void RepulsionMoves(const std::vector<SurfacePoint>& points, const std::vector<double>& radius, double maxRadius,
+  const std::vector<double>& xyz, const PointGrid& grid, const std::vector<Vec3>& faceNormal, std::vector<Vec3>& move)
+{
+  const size_t n = points.size();
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const Vec3 p = points[i].Position;
+      const Vec3 normal = faceNormal[points[i].Triangle];
+      Vec3 force{ 0, 0, 0 };
+      grid.ForEachNear(&xyz[3 * i], maxRadius, [&](Index j) {
+        if (j == Index(i))
+        {
+          return;
+        }
+        // A neighbour facing the other way lies on another sheet (the far side of a thin
+        // part): it must not push, or thin parts are emptied of points.
+        if (Dot(faceNormal[points[j].Triangle], normal) < -0.3)
+        {
+          return;
+        }
+        const double r = 0.5 * (radius[i] + radius[j]);
+        Vec3 d = p - points[j].Position;
+        // Fold the neighbour into the tangent plane (keeps its distance, drops the normal part).
+        d = d - Dot(d, normal) * normal;
+        const double len = Norm(d);
+        if (len >= r)
+        {
+          return;
+        }
+        if (len <= 1e-12 * r)
+        {
+          // Coincident points: push apart along a deterministic tangent direction.
+          Vec3 axis = std::abs(normal[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
+          axis = Normalized(Cross(normal, axis));
+          force = force + ((Index(i) < j ? 1.0 : -1.0) * 0.5) * axis;
+          return;
+        }
+        force = force + ((r - len) / (r * len)) * d; // linear fall-off, zero at r
+      });
+      // Step: a fraction of the radius per unit force, capped (stable for any neighbour count).
+      Vec3 step = (0.2 * radius[i]) * force;
+      const double s = Norm(step);
+      const double cap = 0.25 * radius[i];
+      if (s > cap)
+      {
+        step = (cap / s) * step;
+      }
+      move[i] = step;
+    }
+  });
+}
+
+// Each moved point (not the first fixedCount) goes to the closest point of the surface to its
+// moved position, never onto a sheet facing the other way.
+void ProjectMoves(const TriangleBVH& bvh, const std::vector<Vec3>& faceNormal, const std::vector<Vec3>& move,
+  Index fixedCount, std::vector<SurfacePoint>& points)
+{
+  const size_t n = points.size();
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const double s = Norm(move[i]);
+      if (!(s > 0) || i < fixedCount)
+      {
+        continue;
+      }
+      const Vec3 q = points[i].Position + move[i];
+      // The closest surface point to q lies within |move| of q (points[i] is on the surface).
+      ClosestPointResult c = bvh.ClosestPoint(q, s * s * 1.0001 + 1e-300);
+      if (c.Triangle == InvalidIndex)
+      {
+        c = bvh.ClosestPoint(q);
+      }
+      // Never jump to a sheet facing the other way (thin parts folded back on themselves).
+      if (c.Triangle == InvalidIndex || Dot(faceNormal[c.Triangle], faceNormal[points[i].Triangle]) < -0.5)
+      {
+        continue;
+      }
+      points[i].Position = c.Point;
+      points[i].Triangle = c.Triangle;
+    }
+  });
+}
+
 bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<double>& vertexDensity,
   int iterations, std::vector<SurfacePoint>& points, const std::function<bool(double)>& progress, Index fixedCount)
 {
@@ -485,77 +572,8 @@ bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::ve
       std::copy(points[i].Position.begin(), points[i].Position.end(), &xyz[3 * i]);
     }
     grid.Build(xyz, maxRadius);
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        const Vec3 p = points[i].Position;
-        const Vec3 normal = faceNormal[points[i].Triangle];
-        Vec3 force{ 0, 0, 0 };
-        grid.ForEachNear(&xyz[3 * i], maxRadius, [&](Index j) {
-          if (j == Index(i))
-          {
-            return;
-          }
-          // A neighbour facing the other way lies on another sheet (the far side of a thin
-          // part): it must not push, or thin parts are emptied of points.
-          if (Dot(faceNormal[points[j].Triangle], normal) < -0.3)
-          {
-            return;
-          }
-          const double r = 0.5 * (radius[i] + radius[j]);
-          Vec3 d = p - points[j].Position;
-          // Fold the neighbour into the tangent plane (keeps its distance, drops the normal part).
-          d = d - Dot(d, normal) * normal;
-          const double len = Norm(d);
-          if (len >= r)
-          {
-            return;
-          }
-          if (len <= 1e-12 * r)
-          {
-            // Coincident points: push apart along a deterministic tangent direction.
-            Vec3 axis = std::abs(normal[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
-            axis = Normalized(Cross(normal, axis));
-            force = force + ((Index(i) < j ? 1.0 : -1.0) * 0.5) * axis;
-            return;
-          }
-          force = force + ((r - len) / (r * len)) * d; // linear fall-off, zero at r
-        });
-        // Step: a fraction of the radius per unit force, capped (stable for any neighbour count).
-        Vec3 step = (0.2 * radius[i]) * force;
-        const double s = Norm(step);
-        const double cap = 0.25 * radius[i];
-        if (s > cap)
-        {
-          step = (cap / s) * step;
-        }
-        move[i] = step;
-      }
-    });
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        const double s = Norm(move[i]);
-        if (!(s > 0) || i < fixedCount)
-        {
-          continue;
-        }
-        const Vec3 q = points[i].Position + move[i];
-        // The closest surface point to q lies within |move| of q (points[i] is on the surface).
-        ClosestPointResult c = bvh.ClosestPoint(q, s * s * 1.0001 + 1e-300);
-        if (c.Triangle == InvalidIndex)
-        {
-          c = bvh.ClosestPoint(q);
-        }
-        // Never jump to a sheet facing the other way (thin parts folded back on themselves).
-        if (c.Triangle == InvalidIndex || Dot(faceNormal[c.Triangle], faceNormal[points[i].Triangle]) < -0.5)
-        {
-          continue;
-        }
-        points[i].Position = c.Point;
-        points[i].Triangle = c.Triangle;
-      }
-    });
+    RepulsionMoves(points, radius, maxRadius, xyz, grid, faceNormal, move);
+    ProjectMoves(bvh, faceNormal, move, fixedCount, points);
     if (progress && !progress(double(it + 1) / iterations))
     {
       return false;
@@ -629,8 +647,20 @@ void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, dou
 
 namespace
 {
+// The vertices of a coarser nested level, which a finer level must keep exactly (section 6.1).
+struct CoarserLevel
+{
+  // Points [0, FixedCount) keep their given positions (no nudge inside their triangle).
+  Index FixedCount = 0;
+  // Per point (empty: none): the input vertex it stands for, which is then kept as it is instead
+  // of inserting the point (a vertex a coarser level retained or moved a candidate onto).
+  std::vector<Index> PinnedTo;
+
+  bool IsPinned(Index i) const { return !this->PinnedTo.empty() && this->PinnedTo[i] != InvalidIndex; }
+};
+
 void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
-  RetilingResult& result);
+  const CoarserLevel& coarser, RetilingResult& result);
 }
 
 void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingResult& result)
@@ -673,52 +703,69 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   }
   gather();
   NearestNeighborSpacing(xyz, result.MinSpacingAfter, result.MeanSpacingAfter);
-  TileWithPoints(mesh, points, options, result);
+  TileWithPoints(mesh, points, options, CoarserLevel(), result);
 }
 
 namespace
 {
-// Steps 4-6 on given candidate points (their positions may be adjusted: moved strictly inside
-// their triangle). Keeps the spacing figures already in result.
-void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
-  RetilingResult& result)
+bool ReportProgress(const RetilingOptions& options, double fraction)
 {
-  const Index n0 = mesh.NumberOfPoints();
-  const Index nt = mesh.NumberOfTriangles();
-  const Index np = static_cast<Index>(points.size());
-  auto report = [&](double f) { return !options.Progress || options.Progress(f); };
-  auto abort = [&]() {
-    result = RetilingResult();
-    result.Aborted = true;
-  };
+  return !options.Progress || options.Progress(fraction);
+}
 
-  // 4: mutual tessellation. Candidate points first go strictly inside their triangle so that no
-  // original edge is split (the original edges stay the constraints).
-  std::vector<Index> start(size_t(nt) + 1, 0), order(np);
+void AbortResult(RetilingResult& result)
+{
+  result = RetilingResult();
+  result.Aborted = true;
+}
+
+// The candidates of each input triangle: order[start[t]] .. order[start[t + 1] - 1] (counting sort).
+struct CandidatesByTriangle
+{
+  std::vector<Index> Start, Order;
+};
+
+CandidatesByTriangle BucketCandidates(
+  const std::vector<SurfacePoint>& points, Index numberOfTriangles, const CoarserLevel& coarser)
+{
+  const Index np = static_cast<Index>(points.size());
+  CandidatesByTriangle buckets;
+  buckets.Start.assign(size_t(numberOfTriangles) + 1, 0);
+  buckets.Order.resize(np);
   for (Index i = 0; i < np; ++i)
   {
-    ++start[points[i].Triangle + 1];
-  }
-  for (Index t = 0; t < nt; ++t)
-  {
-    start[t + 1] += start[t];
-  }
-  {
-    std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index i = 0; i < np; ++i)
+    if (!coarser.IsPinned(i))
     {
-      order[fill[points[i].Triangle]++] = i;
+      ++buckets.Start[points[i].Triangle + 1];
     }
   }
-  std::vector<double> bary(3 * size_t(np));
-  TriangleMesh mutual;
-  mutual.Points = mesh.Points;
-  mutual.Points.reserve(mesh.Points.size() + 3 * size_t(np));
+  for (Index t = 0; t < numberOfTriangles; ++t)
+  {
+    buckets.Start[t + 1] += buckets.Start[t];
+  }
+  std::vector<Index> fill(buckets.Start.begin(), buckets.Start.end() - 1);
   for (Index i = 0; i < np; ++i)
   {
-    const Index* tri = mesh.Triangle(points[i].Triangle);
+    if (!coarser.IsPinned(i))
+    {
+      buckets.Order[fill[points[i].Triangle]++] = i;
+    }
+  }
+  buckets.Order.resize(buckets.Start[numberOfTriangles]);
+  return buckets;
+}
+
+// Candidate points go strictly inside their triangle so that no original edge is split (the
+// original edges stay the constraints of the mutual tessellation). A coarser level's points are
+// inside already and stay where they are.
+void MoveCandidatesInside(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const CoarserLevel& coarser)
+{
+  for (Index i = coarser.FixedCount; i < static_cast<Index>(points.size()); ++i)
+  {
+    SurfacePoint& point = points[i];
+    const Index* tri = mesh.Triangle(point.Triangle);
     const Vec3 a = mesh.Point(tri[0]), b = mesh.Point(tri[1]), c = mesh.Point(tri[2]);
-    Vec3 w = Barycentric(points[i].Position, a, b, c);
+    Vec3 w = Barycentric(point.Position, a, b, c);
     const double eps = 1e-4;
     double sum = 0;
     for (double& x : w)
@@ -727,8 +774,27 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       sum += x;
     }
     w = (1.0 / sum) * w;
-    points[i].Position = w[0] * a + w[1] * b + w[2] * c;
-    mutual.AddPoint(points[i].Position);
+    point.Position = w[0] * a + w[1] * b + w[2] * c;
+  }
+}
+
+// Step 4 (section 4.2): the mutual tessellation. Vertices: the old ones, then candidate i at
+// n0 + i; every old triangle holding candidates is split around them. Fills the candidates'
+// barycentric coordinates in their triangle (after the splitter's nudges). A coarser level's
+// points keep their exact position (a nudge only moves them in the splitter's plane coordinates);
+// pinned points are left out (isolated vertices, dropped by the extraction).
+void MutualTessellation(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const CandidatesByTriangle& buckets,
+  Index fixedCount, TriangleMesh& mutual, std::vector<double>& bary)
+{
+  const Index n0 = mesh.NumberOfPoints();
+  const Index nt = mesh.NumberOfTriangles();
+  const Index np = static_cast<Index>(points.size());
+  bary.assign(3 * size_t(np), 0.0);
+  mutual.Points = mesh.Points;
+  mutual.Points.reserve(mesh.Points.size() + 3 * size_t(np));
+  for (const SurfacePoint& point : points)
+  {
+    mutual.AddPoint(point.Position);
   }
   mutual.Triangles.reserve(mesh.Triangles.size() + 6 * size_t(np));
   TriangleSplitter splitter;
@@ -736,7 +802,8 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
   for (Index t = 0; t < nt; ++t)
   {
     const Index* tri = mesh.Triangle(t);
-    const Index k = start[t + 1] - start[t];
+    const Index first = buckets.Start[t];
+    const Index k = buckets.Start[t + 1] - first;
     if (k == 0)
     {
       mutual.AddTriangle(tri[0], tri[1], tri[2]);
@@ -744,9 +811,9 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
     }
     const Vec3 corners[3] = { mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]) };
     local.clear();
-    for (Index j = start[t]; j < start[t + 1]; ++j)
+    for (Index j = first; j < first + k; ++j)
     {
-      local.push_back(points[order[j]].Position);
+      local.push_back(points[buckets.Order[j]].Position);
     }
     splitter.Run(corners, local.data(), k);
     // Points nudged by the splitter: update their 3D position from the plane coordinates.
@@ -754,28 +821,29 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
     const Vec3 e2 = Cross(Normalized(Cross(corners[1] - corners[0], corners[2] - corners[0])), e1);
     for (Index j = 0; j < k; ++j)
     {
-      const Index id = order[start[t] + j];
+      const Index id = buckets.Order[first + j];
       const double* uv = splitter.P(3 + j);
-      const Vec3 p = corners[0] + uv[0] * e1 + uv[1] * e2;
+      const Vec3 p = id < fixedCount ? points[id].Position : corners[0] + uv[0] * e1 + uv[1] * e2;
       points[id].Position = p;
       mutual.SetPoint(n0 + id, p);
       const Vec3 w = Barycentric(p, corners[0], corners[1], corners[2]);
       std::copy(w.begin(), w.end(), &bary[3 * size_t(id)]);
     }
-    auto global = [&](Index v) { return v < 3 ? tri[v] : n0 + order[start[t] + v - 3]; };
+    auto global = [&](Index v) { return v < 3 ? tri[v] : n0 + buckets.Order[first + v - 3]; };
     for (size_t s = 0; s < splitter.Local.size(); s += 3)
     {
       mutual.AddTriangle(global(splitter.Local[s]), global(splitter.Local[s + 1]), global(splitter.Local[s + 2]));
     }
   }
-  if (!report(0.65))
-  {
-    abort();
-    return;
-  }
+}
 
-  // 5: old-vertex removal. Reference normals: what the original surface faces at each vertex
-  // (old vertices: their normal; candidates: the interpolated normal at their position).
+// What the original surface faces at each vertex of the mutual tessellation: old vertices their
+// normal, candidates the interpolated normal at their position.
+std::vector<Vec3> ReferenceNormals(
+  const TriangleMesh& mesh, const std::vector<SurfacePoint>& points, const std::vector<double>& bary)
+{
+  const Index n0 = mesh.NumberOfPoints();
+  const Index np = static_cast<Index>(points.size());
   std::vector<Vec3> vertexNormals, reference(size_t(n0) + np);
   VertexNormals(mesh, vertexNormals);
   for (Index v = 0; v < n0; ++v)
@@ -797,27 +865,61 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
     }
     reference[n0 + i] = nrm;
   }
-  EditableMesh edit(mutual);
-  CollapseOptions collapseOptions;
-  collapseOptions.MinimumNormalDot = 0.0;
+  return reference;
+}
+
+// Step 5 (section 4.3): removal of the old vertices by collapses onto neighbours.
+struct OldVertexRemoval
+{
+  EditableMesh& Edit;
+  std::vector<Vec3>& Reference;
+  Index OldVertices;
+  // Candidates moved onto an old vertex's position by phase 2 (InvalidIndex: not moved).
+  std::vector<Index> MovedTo;
+  // Per old vertex: the coarser level's point it stands for (kept as it is), else InvalidIndex.
+  std::vector<Index> KeptFor;
+  // Candidates [0, FixedCount) belong to a coarser level: phase 2 never moves them.
+  Index FixedCount = 0;
+  CollapseOptions Collapse;
+  double MinimumFacing = 0.0;
+
+  OldVertexRemoval(EditableMesh& edit, std::vector<Vec3>& reference, Index oldVertices, Index candidates,
+    const CoarserLevel& coarser)
+    : Edit(edit)
+    , Reference(reference)
+    , OldVertices(oldVertices)
+    , MovedTo(candidates, InvalidIndex)
+    , KeptFor(oldVertices, InvalidIndex)
+    , FixedCount(coarser.FixedCount)
+  {
+    this->Collapse.MinimumNormalDot = 0.0;
+    for (Index i = 0; i < candidates; ++i)
+    {
+      if (coarser.IsPinned(i))
+      {
+        this->KeptFor[coarser.PinnedTo[i]] = i;
+      }
+    }
+  }
+
   // Facing test of the triangles a collapse keeps; returns their smallest angle or -1 when one
   // would face against the original surface or degenerate.
-  double minimumFacing = 0.0;
-  auto evaluate = [&](const Index* pair, const Vec3& position) {
+  double Evaluate(const Index* pair, const Vec3& position) const
+  {
     double worst = std::numeric_limits<double>::max();
     bool ok = true;
-    edit.ForEachSurvivingTriangle(pair, 2, [&](Index t, int corner) {
+    this->Edit.ForEachSurvivingTriangle(pair, 2, [&](Index t, int corner) {
       if (!ok)
       {
         return;
       }
-      const Index* tri = edit.Triangle(t);
+      const Index* tri = this->Edit.Triangle(t);
       Vec3 p[3];
       Index ids[3];
       for (int k = 0; k < 3; ++k)
       {
         ids[k] = k == corner ? pair[1] : tri[k];
-        p[k] = k == corner ? position : edit.Point(tri[k]);
+        p[k] = k == corner ? position : this->Edit.Point(tri[k]);
       }
       const Vec3 nrm = TriangleNormal(p[0], p[1], p[2]);
       if (Norm(nrm) == 0 || IsDegenerate(p[0], p[1], p[2]))
@@ -827,7 +929,7 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       }
       for (int k = 0; k < 3; ++k)
       {
-        if (Dot(nrm, reference[ids[k]]) <= minimumFacing)
+        if (Dot(nrm, this->Reference[ids[k]]) <= this->MinimumFacing)
         {
           ok = false;
           return;
@@ -836,11 +938,52 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       worst = std::min(worst, MinAngleOf(p[0], p[1], p[2]));
     });
     return ok ? worst : -1.0;
-  };
-  std::vector<Index> neighbors, pending(n0);
-  std::iota(pending.begin(), pending.end(), 0);
-  // Candidates moved onto an old vertex's position by phase 2 (InvalidIndex: not moved).
-  std::vector<Index> movedTo(np, InvalidIndex);
+  }
+
+  // The best neighbour of old vertex r to collapse with in this phase (InvalidIndex: none).
+  Index ChooseTarget(Index r, int phase, std::vector<Index>& neighbors) const
+  {
+    const Index n0 = this->OldVertices;
+    this->Edit.Neighbors(r, neighbors);
+    Index best = InvalidIndex;
+    double bestScore = -1;
+    for (Index c : neighbors)
+    {
+      if (c < n0 && phase == 0)
+      {
+        continue;
+      }
+      if (phase == 2 && (c < n0 || c - n0 < this->FixedCount || this->MovedTo[c - n0] != InvalidIndex))
+      {
+        continue;
+      }
+      const Index pair[2] = { r, c };
+      const Vec3 position = this->Edit.Point(phase == 2 ? r : c);
+      if (this->Edit.CheckCollapse(pair, 2, position, this->Collapse) != CollapseStatus::Ok)
+      {
+        continue;
+      }
+      const double score = this->Evaluate(pair, position) + (c >= n0 ? 10.0 : 0.0);
+      if (score >= 0 && score > bestScore)
+      {
+        bestScore = score;
+        best = c;
+      }
+    }
+    return best;
+  }
+
+  void Perform(Index r, Index target, int phase)
+  {
+    const Index pair[2] = { r, target };
+    if (phase == 2)
+    {
+      this->MovedTo[target - this->OldVertices] = r;
+      this->Reference[target] = this->Reference[r];
+    }
+    this->Edit.Collapse(pair, 2, target, this->Edit.Point(phase == 2 ? r : target));
+  }
+
   // Phase 0: collapse onto candidate vertices only; phase 1 (for old vertices walled in by
   // other old vertices): onto any neighbour, the target being removed later in turn; phase 2
   // (last resort, keeps the vertex count exact): a neighbouring candidate moves onto the old
@@ -849,76 +992,119 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
   // between candidates (thin parts): a new triangle may then face up to 60 degrees past
   // perpendicular to the original normal at one of its vertices (never flip against the mesh
   // it replaces: CheckCollapse still rejects turns beyond 90 degrees).
-  for (int step = 0; step < 6 && !pending.empty(); ++step)
+  // Returns false when aborted.
+  bool Run(const RetilingOptions& options)
   {
-    const int phase = step % 3;
-    minimumFacing = step < 3 ? 0.0 : -0.5;
-    for (int pass = 0; pass < 32 && !pending.empty(); ++pass)
+    const Index n0 = this->OldVertices;
+    std::vector<Index> neighbors, pending;
+    pending.reserve(n0);
+    for (Index v = 0; v < n0; ++v)
     {
-      std::vector<Index> next;
-      for (size_t i = 0; i < pending.size(); ++i)
+      if (this->KeptFor[v] == InvalidIndex)
       {
-        const Index r = pending[i];
-        if ((i & 1023) == 0 && !report(0.65 + 0.25 * (1.0 - double(pending.size() - i) / std::max<Index>(n0, 1))))
-        {
-          abort();
-          return;
-        }
-        if (!edit.IsVertexAlive(r))
-        {
-          continue;
-        }
-        edit.Neighbors(r, neighbors);
-        Index best = InvalidIndex;
-        double bestScore = -1;
-        for (Index c : neighbors)
-        {
-          if (c < n0 && phase == 0)
-          {
-            continue;
-          }
-          if (phase == 2 && (c < n0 || movedTo[c - n0] != InvalidIndex))
-          {
-            continue;
-          }
-          const Index pair[2] = { r, c };
-          const Vec3 position = edit.Point(phase == 2 ? r : c);
-          if (edit.CheckCollapse(pair, 2, position, collapseOptions) != CollapseStatus::Ok)
-          {
-            continue;
-          }
-          const double score = evaluate(pair, position) + (c >= n0 ? 10.0 : 0.0);
-          if (score >= 0 && score > bestScore)
-          {
-            bestScore = score;
-            best = c;
-          }
-        }
-        if (best == InvalidIndex)
-        {
-          next.push_back(r);
-          continue;
-        }
-        const Index pair[2] = { r, best };
-        if (phase == 2)
-        {
-          movedTo[best - n0] = r;
-          reference[best] = reference[r];
-        }
-        edit.Collapse(pair, 2, best, edit.Point(phase == 2 ? r : best));
-      }
-      const bool progressed = next.size() < pending.size();
-      pending.swap(next);
-      if (!progressed)
-      {
-        break;
+        pending.push_back(v);
       }
     }
+    for (int step = 0; step < 6 && !pending.empty(); ++step)
+    {
+      const int phase = step % 3;
+      this->MinimumFacing = step < 3 ? 0.0 : -0.5;
+      for (int pass = 0; pass < 32 && !pending.empty(); ++pass)
+      {
+        std::vector<Index> next;
+        for (size_t i = 0; i < pending.size(); ++i)
+        {
+          const Index r = pending[i];
+          if ((i & 1023) == 0 &&
+            !ReportProgress(options, 0.65 + 0.25 * (1.0 - double(pending.size() - i) / std::max<Index>(n0, 1))))
+          {
+            return false;
+          }
+          if (!this->Edit.IsVertexAlive(r))
+          {
+            continue;
+          }
+          const Index best = this->ChooseTarget(r, phase, neighbors);
+          if (best == InvalidIndex)
+          {
+            next.push_back(r);
+            continue;
+          }
+          this->Perform(r, best, phase);
+        }
+        const bool progressed = next.size() < pending.size();
+        pending.swap(next);
+        if (!progressed)
+        {
+          break;
+        }
+      }
+    }
+    return true;
   }
+};
 
-  // 6: shape improvement by edge flips (section 4.5).
+// Whether flipping edge (x, y) of triangle (x, y, q) to (q, z) improves the triangle shapes
+// without folding a nearly planar quad or turning against the original surface.
+bool FlipImprovesShape(const EditableMesh& edit, const std::vector<Vec3>& reference, Index x, Index y, Index q, Index z)
+{
+  const Vec3 X = edit.Point(x), Y = edit.Point(y), Q = edit.Point(q), Z = edit.Point(z);
+  const double before = std::min(MinimumAngle(X, Y, Q), MinimumAngle(Y, X, Z));
+  const double after = std::min(MinimumAngle(X, Z, Q), MinimumAngle(Z, Y, Q));
+  if (!(after > before + 1e-3))
+  {
+    return false;
+  }
+  const Vec3 n0o = TriangleNormal(X, Y, Q), n1o = TriangleNormal(Y, X, Z);
+  const Vec3 m0 = TriangleNormal(X, Z, Q), m1 = TriangleNormal(Z, Y, Q);
+  // Nearly planar quads only, and no turn against the original surface.
+  const double dihedralBefore = Dot(n0o, n1o), dihedralAfter = Dot(m0, m1);
+  if (dihedralAfter < std::min(dihedralBefore, 0.985) || Dot(m0, n0o + n1o) <= 0 || Dot(m1, n0o + n1o) <= 0)
+  {
+    return false;
+  }
+  const Index tri0[3] = { x, z, q }, tri1[3] = { z, y, q };
+  bool facing = true;
+  for (int j = 0; j < 3; ++j)
+  {
+    facing = facing && Dot(m0, reference[tri0[j]]) > 0 && Dot(m1, reference[tri1[j]]) > 0;
+  }
+  return facing;
+}
+
+// The apex z of the triangle across plain manifold edge (x, y) from triangle t (InvalidIndex when
+// the edge has another number of triangles or they are inconsistently oriented).
+Index OppositeApex(const EditableMesh& edit, Index t, Index x, Index y)
+{
+  Index z = InvalidIndex;
+  int count = 0;
+  edit.ForEachTriangle(x, [&](Index u) {
+    if (u == t)
+    {
+      return;
+    }
+    const Index* o = edit.Triangle(u);
+    for (int j = 0; j < 3; ++j)
+    {
+      if (o[j] == y && o[(j + 1) % 3] == x)
+      {
+        z = o[(j + 2) % 3];
+        ++count;
+      }
+      else if (o[j] == x && o[(j + 1) % 3] == y)
+      {
+        count += 2; // same orientation or more triangles: not a plain manifold edge
+      }
+    }
+  });
+  return count == 1 ? z : InvalidIndex;
+}
+
+// Step 6 (section 4.5): shape improvement by edge flips. Returns the number of flips.
+Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference, int passes)
+{
   Index flips = 0;
-  for (int pass = 0; pass < options.ShapeImprovementPasses; ++pass)
+  for (int pass = 0; pass < passes; ++pass)
   {
     Index passFlips = 0;
     for (Index t = 0; t < edit.NumberOfTriangles(); ++t)
@@ -931,54 +1117,8 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
         {
           continue; // each edge once (the other triangle sees (y, x))
         }
-        Index other = InvalidIndex, z = InvalidIndex;
-        int count = 0;
-        edit.ForEachTriangle(x, [&](Index u) {
-          if (u == t)
-          {
-            return;
-          }
-          const Index* o = edit.Triangle(u);
-          for (int j = 0; j < 3; ++j)
-          {
-            if (o[j] == y && o[(j + 1) % 3] == x)
-            {
-              other = u;
-              z = o[(j + 2) % 3];
-              ++count;
-            }
-            else if (o[j] == x && o[(j + 1) % 3] == y)
-            {
-              count += 2; // same orientation or more triangles: not a plain manifold edge
-            }
-          }
-        });
-        if (count != 1 || z == q)
-        {
-          continue;
-        }
-        const Vec3 X = edit.Point(x), Y = edit.Point(y), Q = edit.Point(q), Z = edit.Point(z);
-        const double before = std::min(MinimumAngle(X, Y, Q), MinimumAngle(Y, X, Z));
-        const double after = std::min(MinimumAngle(X, Z, Q), MinimumAngle(Z, Y, Q));
-        if (!(after > before + 1e-3))
-        {
-          continue;
-        }
-        const Vec3 n0o = TriangleNormal(X, Y, Q), n1o = TriangleNormal(Y, X, Z);
-        const Vec3 m0 = TriangleNormal(X, Z, Q), m1 = TriangleNormal(Z, Y, Q);
-        // Nearly planar quads only, and no turn against the original surface.
-        const double dihedralBefore = Dot(n0o, n1o), dihedralAfter = Dot(m0, m1);
-        if (dihedralAfter < std::min(dihedralBefore, 0.985) || Dot(m0, n0o + n1o) <= 0 || Dot(m1, n0o + n1o) <= 0)
-        {
-          continue;
-        }
-        const Index tri0[3] = { x, z, q }, tri1[3] = { z, y, q };
-        bool facing = true;
-        for (int j = 0; j < 3; ++j)
-        {
-          facing = facing && Dot(m0, reference[tri0[j]]) > 0 && Dot(m1, reference[tri1[j]]) > 0;
-        }
-        if (!facing || !edit.FlipEdge(x, y))
+        const Index z = OppositeApex(edit, t, x, y);
+        if (z == InvalidIndex || z == q || !FlipImprovesShape(edit, reference, x, y, q, z) || !edit.FlipEdge(x, y))
         {
           continue;
         }
@@ -991,39 +1131,48 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       break;
     }
   }
-  result.Flips = flips;
-  if (!report(0.97))
-  {
-    abort();
-    return;
-  }
+  return flips;
+}
 
-  // Output: candidate vertices (and any retained old vertex).
-  std::vector<Index> newToOld;
-  edit.Extract(result.Mesh, &newToOld);
+// Candidate order first (output vertex i = candidate i; a pinned candidate's slot holds the old
+// vertex it stands for), retained old vertices last: stable ids across seeds' levels and the
+// nested levels' subset property. newToOld: mutual-tessellation id of every output vertex.
+void SortCandidatesFirst(
+  Index n0, Index np, const std::vector<Index>& keptFor, TriangleMesh& output, std::vector<Index>& newToOld)
+{
+  const size_t count = newToOld.size();
+  std::vector<Index> perm(count), rank(count);
+  std::iota(perm.begin(), perm.end(), 0);
+  auto key = [&](Index v) {
+    const Index id = newToOld[v];
+    return id >= n0 ? id - n0 : (keptFor[id] != InvalidIndex ? keptFor[id] : np + id);
+  };
+  std::sort(perm.begin(), perm.end(), [&](Index a, Index b) { return key(a) < key(b); });
+  std::vector<double> sortedPoints(3 * count);
+  std::vector<Index> sortedIds(count);
+  for (size_t i = 0; i < count; ++i)
   {
-    // Candidate order first (output vertex i = candidate i), retained old vertices last: stable
-    // ids across seeds' levels and the nested levels' subset property.
-    const size_t count = newToOld.size();
-    std::vector<Index> perm(count), rank(count);
-    std::iota(perm.begin(), perm.end(), 0);
-    auto key = [&](Index v) { return newToOld[v] >= n0 ? newToOld[v] - n0 : np + newToOld[v]; };
-    std::sort(perm.begin(), perm.end(), [&](Index a, Index b) { return key(a) < key(b); });
-    std::vector<double> sortedPoints(3 * count);
-    std::vector<Index> sortedIds(count);
-    for (size_t i = 0; i < count; ++i)
-    {
-      rank[perm[i]] = static_cast<Index>(i);
-      std::copy(&result.Mesh.Points[3 * size_t(perm[i])], &result.Mesh.Points[3 * size_t(perm[i])] + 3, &sortedPoints[3 * i]);
-      sortedIds[i] = newToOld[perm[i]];
-    }
-    for (Index& v : result.Mesh.Triangles)
-    {
-      v = rank[v];
-    }
-    result.Mesh.Points.swap(sortedPoints);
-    newToOld.swap(sortedIds);
+    rank[perm[i]] = static_cast<Index>(i);
+    std::copy(&output.Points[3 * size_t(perm[i])], &output.Points[3 * size_t(perm[i])] + 3, &sortedPoints[3 * i]);
+    sortedIds[i] = newToOld[perm[i]];
   }
+  for (Index& v : output.Triangles)
+  {
+    v = rank[v];
+  }
+  output.Points.swap(sortedPoints);
+  newToOld.swap(sortedIds);
+}
+
+// Where every output vertex lies on the input (host triangle and barycentric coordinates), for
+// interpolating point attributes.
+void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoint>& points,
+  const std::vector<double>& bary, const OldVertexRemoval& removal, const std::vector<Index>& newToOld,
+  RetilingResult& result)
+{
+  const std::vector<Index>& movedTo = removal.MovedTo;
+  const Index n0 = mesh.NumberOfPoints();
+  const Index nt = mesh.NumberOfTriangles();
   std::vector<Index> firstTriangle(n0, InvalidIndex);
   for (Index t = nt - 1; t >= 0; --t)
   {
@@ -1032,22 +1181,27 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
       firstTriangle[mesh.Triangle(t)[k]] = t;
     }
   }
+  // An old vertex's location: a corner of its first triangle.
+  auto atOldVertex = [&](size_t v, Index old) {
+    result.InputVertex[v] = old;
+    const Index t = firstTriangle[old];
+    result.HostTriangle[v] = t;
+    for (int k = 0; k < 3; ++k)
+    {
+      result.Barycentric[3 * v + k] = mesh.Triangle(t)[k] == old ? 1.0 : 0.0;
+    }
+  };
   const size_t nv = newToOld.size();
   result.HostTriangle.resize(nv);
   result.Barycentric.assign(3 * nv, 0.0);
-  result.CandidatePoints = np;
+  result.InputVertex.assign(nv, InvalidIndex);
+  result.CandidatePoints = static_cast<Index>(points.size());
   for (size_t v = 0; v < nv; ++v)
   {
     const Index id = newToOld[v];
     if (id >= n0 && movedTo[id - n0] != InvalidIndex)
     {
-      const Index old = movedTo[id - n0];
-      const Index t = firstTriangle[old];
-      result.HostTriangle[v] = t;
-      for (int k = 0; k < 3; ++k)
-      {
-        result.Barycentric[3 * v + k] = mesh.Triangle(t)[k] == old ? 1.0 : 0.0;
-      }
+      atOldVertex(v, movedTo[id - n0]);
     }
     else if (id >= n0)
     {
@@ -1056,16 +1210,69 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
     }
     else
     {
-      ++result.RetainedOldVertices;
-      const Index t = firstTriangle[id];
-      result.HostTriangle[v] = t;
-      for (int k = 0; k < 3; ++k)
-      {
-        result.Barycentric[3 * v + k] = mesh.Triangle(t)[k] == id ? 1.0 : 0.0;
-      }
+      result.RetainedOldVertices += removal.KeptFor[id] == InvalidIndex ? 1 : 0;
+      atOldVertex(v, id);
     }
   }
-  report(1.0);
+}
+
+// Steps 4-6 on given candidate points (their positions may be adjusted: moved strictly inside
+// their triangle). Keeps the spacing figures already in result.
+void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
+  const CoarserLevel& coarser, RetilingResult& result)
+{
+  const Index n0 = mesh.NumberOfPoints();
+  const Index np = static_cast<Index>(points.size());
+  const CandidatesByTriangle buckets = BucketCandidates(points, mesh.NumberOfTriangles(), coarser);
+  MoveCandidatesInside(mesh, points, coarser);
+  TriangleMesh mutual;
+  std::vector<double> bary;
+  MutualTessellation(mesh, points, buckets, coarser.FixedCount, mutual, bary);
+  if (!ReportProgress(options, 0.65))
+  {
+    AbortResult(result);
+    return;
+  }
+  std::vector<Vec3> reference = ReferenceNormals(mesh, points, bary);
+  EditableMesh edit(mutual);
+  OldVertexRemoval removal(edit, reference, n0, np, coarser);
+  if (!removal.Run(options))
+  {
+    AbortResult(result);
+    return;
+  }
+  result.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses);
+  if (!ReportProgress(options, 0.97))
+  {
+    AbortResult(result);
+    return;
+  }
+  std::vector<Index> newToOld;
+  edit.Extract(result.Mesh, &newToOld);
+  SortCandidatesFirst(n0, np, removal.KeptFor, result.Mesh, newToOld);
+  RecordHostLocations(mesh, points, bary, removal, newToOld, result);
+  ReportProgress(options, 1.0);
+}
+} // namespace
+
+namespace
+{
+// The vertices of a level as the fixed points of the next finer one, in output order: a vertex on
+// an input vertex (retained, or a candidate moved onto it) is pinned to that vertex; the others
+// keep their exact output position and host triangle.
+void CoarserPoints(
+  const TriangleMesh& mesh, const RetilingResult& level, std::vector<SurfacePoint>& points, CoarserLevel& coarser)
+{
+  const Index nv = level.Mesh.NumberOfPoints();
+  points.resize(size_t(nv));
+  coarser.PinnedTo.assign(size_t(nv), InvalidIndex);
+  for (Index v = 0; v < nv; ++v)
+  {
+    const Index input = level.InputVertex[v];
+    points[v].Position = input != InvalidIndex ? mesh.Point(input) : level.Mesh.Point(v);
+    points[v].Triangle = level.HostTriangle[v];
+    coarser.PinnedTo[v] = input;
+  }
 }
 } // namespace
 
@@ -1084,14 +1291,18 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
   CurvatureDensity(mesh, options.CurvatureWeight, density);
   TriangleBVH bvh(mesh);
   std::vector<SurfacePoint> points, added, level;
+  CoarserLevel coarser;
   const double share = 1.0 / double(counts.size());
   for (size_t k = 0; k < counts.size(); ++k)
   {
-    // Section 6.1: the coarser points stay where they are (and keep pushing); only the added
-    // points are placed and relaxed, so every level's vertices are a subset of the next one's.
+    // Section 6.1: the coarser level's vertices stay where they are (and keep pushing); only the
+    // added points are placed and relaxed, so every level's vertices are the first vertices of
+    // the next one's.
     const Index fixed = static_cast<Index>(points.size());
     DistributePoints(mesh, density, counts[k] - fixed, options.RandomSeed + k, added);
     points.insert(points.end(), added.begin(), added.end());
+    coarser.FixedCount = fixed;
+    coarser.PinnedTo.resize(points.size(), InvalidIndex);
     auto progress = [&](double f) { return !options.Progress || options.Progress(share * (k + 0.6 * f)); };
     if (!RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points, progress, fixed))
     {
@@ -1105,12 +1316,13 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
     levelOptions.Progress = [&](double f) {
       return !options.Progress || options.Progress(share * (k + 0.6 + 0.4 * f));
     };
-    TileWithPoints(mesh, level, levelOptions, result);
+    TileWithPoints(mesh, level, levelOptions, coarser, result);
     if (result.Aborted)
     {
       levels.assign(1, result);
       return;
     }
+    CoarserPoints(mesh, result, points, coarser);
     levels.push_back(std::move(result));
   }
 }

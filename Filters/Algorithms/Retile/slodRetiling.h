@@ -58,6 +58,9 @@ struct SURFACELODFILTERS_EXPORT RetilingResult
   // (to interpolate point data). Retained old vertices get a triangle of theirs with weight 1.
   std::vector<Index> HostTriangle;
   std::vector<double> Barycentric; // 3 per output vertex
+  // Per output vertex: the input vertex it sits on (a retained old vertex, or a candidate moved
+  // onto one as a last resort), else InvalidIndex.
+  std::vector<Index> InputVertex;
   Index CandidatePoints = 0;
   Index RetainedOldVertices = 0;   // old vertices no check allowed to remove (kept in the output)
   Index Flips = 0;
@@ -90,10 +93,11 @@ SURFACELODFILTERS_EXPORT void NearestNeighborSpacing(const std::vector<double>& 
 SURFACELODFILTERS_EXPORT void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingResult& result);
 
 // Nested re-tilings (section 6.1), one per vertex count (sorted ascending; counts below 3 are
-// dropped; options.NumberOfPoints is ignored): the candidate vertices of each level are the first
-// vertices of the next finer one, so with no retained old vertex, level k's output vertices are
-// exactly the first counts[k] output vertices of every finer level (same positions, same order).
-// Spacing figures are not computed per level.
+// dropped; options.NumberOfPoints is ignored): the vertices of each level are the first vertices
+// of every finer level, at the same positions and in the same order (a vertex a coarser level
+// retained or moved a candidate onto is an input vertex, which the finer levels keep). A level
+// has more vertices than its count when it retains old vertices, so its count is then reached
+// with fewer added points. Spacing figures are not computed per level.
 SURFACELODFILTERS_EXPORT void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts,
   const RetilingOptions& options, std::vector<RetilingResult>& levels);
 // Re-tiling and the level interpolation compute in the coordinates' own precision: a surface whose

@@ -73,28 +73,126 @@ slod::RetilingResult InputAsResult(const slod::TriangleMesh& mesh)
   return result;
 }
 
-// Re-tiles with options.NumberOfPoints, then with proportionally fewer points while the result has
-// more than `limit` triangles (retained old vertices and borders add triangles); returns the last
-// attempt and leaves the point count used in options.
+// Runs retile(points) (returns the triangle count, negative when aborted) with `points`, then with
+// proportionally fewer points while the result has more than `limit` triangles (retained old
+// vertices and borders add triangles); leaves the point count of the last attempt in `points`.
+template <typename RetileFunction>
+void ShrinkWhileOverLimit(slod::Index& points, slod::Index limit, RetileFunction&& retile)
+{
+  for (int attempt = 0; attempt < MaximumRetileAttempts; ++attempt)
+  {
+    const slod::Index triangles = retile(points);
+    if (triangles < 0 || triangles <= limit)
+    {
+      break;
+    }
+    const auto fewer = static_cast<slod::Index>(std::floor(double(points) * limit / triangles));
+    if (fewer >= points || fewer < 4)
+    {
+      break;
+    }
+    points = fewer;
+  }
+}
+
+// Re-tiles within `limit` triangles if it can (ShrinkWhileOverLimit); returns the last attempt and
+// leaves the point count used in options.
 slod::RetilingResult RetileWithin(const slod::TriangleMesh& mesh, slod::RetilingOptions& options, slod::Index limit)
 {
   slod::RetilingResult result;
-  for (int attempt = 0; attempt < MaximumRetileAttempts; ++attempt)
-  {
+  ShrinkWhileOverLimit(options.NumberOfPoints, limit, [&](slod::Index points) {
+    options.NumberOfPoints = points;
     slod::Retile(mesh, options, result);
-    const slod::Index triangles = result.Mesh.NumberOfTriangles();
-    if (result.Aborted || triangles <= limit)
-    {
-      break;
-    }
-    const auto fewer = static_cast<slod::Index>(std::floor(double(options.NumberOfPoints) * limit / triangles));
-    if (fewer >= options.NumberOfPoints || fewer < 4)
-    {
-      break;
-    }
-    options.NumberOfPoints = fewer;
-  }
+    return result.Aborted ? slod::Index(-1) : result.Mesh.NumberOfTriangles();
+  });
   return result;
+}
+
+// The vertex counts of the nested levels, finest first: each NestedLevelRatio times smaller, at
+// least 4.
+std::vector<slod::Index> NestedLevelCounts(slod::Index finest, int numberOfLevels, double ratio)
+{
+  std::vector<slod::Index> counts;
+  double count = finest;
+  for (int k = 0; k < numberOfLevels && count >= 4; ++k)
+  {
+    counts.push_back(static_cast<slod::Index>(std::lround(count)));
+    count /= ratio;
+  }
+  return counts;
+}
+
+// Nested levels whose finest level has at most `limit` triangles if it can: the vertices the
+// coarser levels retain stay in the finer ones and add triangles there.
+void RetileNestedWithin(const slod::TriangleMesh& mesh, const slod::RetilingOptions& options, int numberOfLevels,
+  double ratio, slod::Index limit, std::vector<slod::RetilingResult>& levels)
+{
+  slod::Index finest = options.NumberOfPoints;
+  ShrinkWhileOverLimit(finest, limit, [&](slod::Index points) {
+    slod::RetileNested(mesh, NestedLevelCounts(points, numberOfLevels, ratio), options, levels);
+    if (levels.empty() || levels.back().Aborted)
+    {
+      return slod::Index(-1);
+    }
+    return levels.back().Mesh.NumberOfTriangles();
+  });
+}
+
+// Turk's method needs a manifold surface (every edge on one or two triangles, section 3.1) whose
+// edges can be resolved at the scale of the whole surface.
+bool CheckRetilable(vtkAlgorithm* filter, const slod::TriangleMesh& mesh, const slod::PreparationReport& report)
+{
+  if (mesh.NumberOfTriangles() == 0)
+  {
+    vtkErrorWithObjectMacro(filter, << "The input has no triangles: nothing to re-tile.");
+    return false;
+  }
+  if (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0)
+  {
+    vtkErrorWithObjectMacro(filter, << "Re-tiling needs a manifold surface; the input has " << report.NonManifoldEdges
+                                    << " non-manifold edges and " << report.NonManifoldVertices
+                                    << " non-manifold vertices.");
+    return false;
+  }
+  const double extent = slod::ExtentPerMedianEdge(mesh);
+  if (!(extent <= slod::MaximumRetilingExtentPerEdge))
+  {
+    vtkErrorWithObjectMacro(filter, << "The input's extent is " << extent << " times its median edge length (more than "
+                                    << slod::MaximumRetilingExtentPerEdge
+                                    << "): re-tiling cannot resolve its edges at that scale "
+                                    << "(a vertex far away from the others?).");
+    return false;
+  }
+  return true;
+}
+
+int OutputPointType(vtkPolyData* input, int precision)
+{
+  const int inputType = input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT;
+  if (precision == vtkAlgorithm::SINGLE_PRECISION)
+  {
+    return VTK_FLOAT;
+  }
+  return precision == vtkAlgorithm::DOUBLE_PRECISION || inputType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT;
+}
+
+// A re-tiling as poly data, its point attributes interpolated from the input at each vertex's
+// host location.
+void StoreRetiling(const slod::RetilingResult& retiling, const slod::TriangleMesh& mesh,
+  slod::PointAttributes& attributes, int pointType, vtkPolyData* polyData)
+{
+  slod::MeshToPolyData(retiling.Mesh, polyData, pointType);
+  if (attributes.Empty())
+  {
+    return;
+  }
+  std::vector<slod::Index> rows(retiling.HostTriangle.size());
+  for (size_t v = 0; v < rows.size(); ++v)
+  {
+    const slod::Index* tri = mesh.Triangle(retiling.HostTriangle[v]);
+    rows[v] = attributes.AddInterpolated(tri, &retiling.Barycentric[3 * v], 3);
+  }
+  attributes.Store(polyData->GetPointData(), rows);
 }
 } // namespace
 
@@ -132,29 +230,9 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput;
   slod::PreparationReport report;
-  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report))
+  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report) ||
+    !CheckRetilable(this, mesh, report))
   {
-    return 1;
-  }
-  if (mesh.NumberOfTriangles() == 0)
-  {
-    vtkErrorMacro(<< "The input has no triangles: nothing to re-tile.");
-    return 1;
-  }
-  if (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0)
-  {
-    // Turk's method needs every edge on one or two triangles (section 3.1).
-    vtkErrorMacro(<< "Re-tiling needs a manifold surface; the input has " << report.NonManifoldEdges
-                  << " non-manifold edges and " << report.NonManifoldVertices << " non-manifold vertices.");
-    return 1;
-  }
-
-  const double extent = slod::ExtentPerMedianEdge(mesh);
-  if (!(extent <= slod::MaximumRetilingExtentPerEdge))
-  {
-    vtkErrorMacro(<< "The input's extent is " << extent << " times its median edge length (more than "
-                  << slod::MaximumRetilingExtentPerEdge << "): re-tiling cannot resolve its edges at that scale "
-                  << "(a vertex far away from the others?).");
     return 1;
   }
   // Never more triangles than asked for, nor than the input has.
@@ -175,18 +253,17 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     this->UpdateProgress(fraction);
     return !this->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
   };
-
-  vtkMultiBlockDataSet* levelsOutput = vtkMultiBlockDataSet::GetData(outputVector, 1);
   slod::RetilingResult result = RetileWithin(mesh, options, limit);
   const bool retiled = result.Mesh.NumberOfTriangles() <= limit;
   if (!result.Aborted && !retiled)
   {
     // `limit` is the target by now, which the input may exceed too: the smaller of the two is
     // returned, so the output never has more triangles than the input.
-    const bool input = mesh.NumberOfTriangles() <= result.Mesh.NumberOfTriangles();
+    const bool returnInput = mesh.NumberOfTriangles() <= result.Mesh.NumberOfTriangles();
     vtkWarningMacro(<< "Re-tiling gives " << result.Mesh.NumberOfTriangles() << " triangles at least, more than the "
-                    << limit << " allowed: " << (input ? "the input is returned." : "the smallest re-tiling is returned."));
-    if (input)
+                    << limit << " allowed: "
+                    << (returnInput ? "the input is returned." : "the smallest re-tiling is returned."));
+    if (returnInput)
     {
       result = InputAsResult(mesh);
     }
@@ -194,18 +271,17 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   std::vector<slod::RetilingResult> levels;
   if (!result.Aborted && retiled && this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
   {
-    std::vector<slod::Index> counts;
-    double count = options.NumberOfPoints;
-    for (int k = 0; k < this->NumberOfNestedLevels && count >= 4; ++k)
-    {
-      counts.push_back(static_cast<slod::Index>(std::lround(count)));
-      count /= this->NestedLevelRatio;
-    }
-    slod::RetileNested(mesh, counts, options, levels);
+    RetileNestedWithin(mesh, options, this->NumberOfNestedLevels, this->NestedLevelRatio, limit, levels);
     if (levels.empty() || levels.back().Aborted)
     {
       vtkWarningMacro(<< "Aborted: empty output.");
       return 1;
+    }
+    if (levels.back().Mesh.NumberOfTriangles() > limit)
+    {
+      vtkWarningMacro(<< "The finest nested level has " << levels.back().Mesh.NumberOfTriangles()
+                      << " triangles, more than the " << limit
+                      << " allowed: the vertices the coarser levels retain add triangles.");
     }
     // The finest level is output 0 (its spacing figures come from a plain run's statistics).
     result = levels.back();
@@ -216,49 +292,21 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     return 1;
   }
 
-  int pointType = input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT;
-  if (this->OutputPointsPrecision == vtkAlgorithm::SINGLE_PRECISION)
-  {
-    pointType = VTK_FLOAT;
-  }
-  else if (this->OutputPointsPrecision == vtkAlgorithm::DOUBLE_PRECISION || pointType == VTK_DOUBLE)
-  {
-    pointType = VTK_DOUBLE;
-  }
-  else
-  {
-    pointType = VTK_FLOAT;
-  }
-  slod::MeshToPolyData(result.Mesh, output, pointType);
-
+  const int pointType = OutputPointType(input, this->OutputPointsPrecision);
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
-  auto storeAttributes = [&](const slod::RetilingResult& r, vtkPolyData* polyData) {
-    if (attributes.Empty())
-    {
-      return;
-    }
-    std::vector<slod::Index> rows(r.HostTriangle.size());
-    for (size_t v = 0; v < rows.size(); ++v)
-    {
-      const slod::Index* tri = mesh.Triangle(r.HostTriangle[v]);
-      rows[v] = attributes.AddInterpolated(tri, &r.Barycentric[3 * v], 3);
-    }
-    attributes.Store(polyData->GetPointData(), rows);
-  };
-  storeAttributes(result, output);
+  StoreRetiling(result, mesh, attributes, pointType, output);
+  vtkMultiBlockDataSet* levelsOutput = vtkMultiBlockDataSet::GetData(outputVector, 1);
   if (levelsOutput && levels.size() > 1)
   {
     levelsOutput->SetNumberOfBlocks(static_cast<unsigned int>(levels.size()));
     for (size_t k = 0; k < levels.size(); ++k)
     {
       vtkNew<vtkPolyData> level;
-      slod::MeshToPolyData(levels[k].Mesh, level, pointType);
-      storeAttributes(levels[k], level);
+      StoreRetiling(levels[k], mesh, attributes, pointType, level);
       levelsOutput->SetBlock(static_cast<unsigned int>(k), level);
     }
   }
-
   this->NumberOfRetainedVertices = result.RetainedOldVertices;
   this->NumberOfFlips = result.Flips;
   this->MinimumSpacingBefore = result.MinSpacingBefore;

@@ -34,7 +34,10 @@
  * vtkMultiBlockDataSet of NumberOfNestedLevels re-tilings, coarsest first, with
  * n, n * NestedLevelRatio, ... vertices up to the requested count (the last block is output 0).
  * The vertices of each level are the first vertices of every finer level (same positions): coarse
- * points stay fixed while the added points are placed and relaxed around them.
+ * points stay fixed while the added points are placed and relaxed around them, and an input vertex
+ * a coarse level keeps (retained, or a candidate moved onto it) is kept by the finer levels too.
+ * Those kept vertices add triangles: the counts shrink (as for a single re-tiling) while the
+ * finest level has more triangles than allowed; a warning says when it still has.
  */
 #ifndef vtkRetile_h
 #define vtkRetile_h

@@ -18,6 +18,67 @@
 
 vtkStandardNewMacro(vtkRetileLevelInterpolation);
 
+namespace
+{
+// The points at t (exact ends at 0 and 1) with their low and high positions as point data.
+void StorePoints(const slod::LevelInterpolation& result, double t, int precision, vtkPolyData* output)
+{
+  const vtkIdType n = result.NumberOfPoints();
+  vtkNew<vtkPoints> points;
+  points->SetDataType(precision == vtkAlgorithm::SINGLE_PRECISION ? VTK_FLOAT : VTK_DOUBLE);
+  points->SetNumberOfPoints(n);
+  vtkNew<vtkDoubleArray> lowPositions, highPositions;
+  lowPositions->SetName("LowPosition");
+  highPositions->SetName("HighPosition");
+  lowPositions->SetNumberOfComponents(3);
+  highPositions->SetNumberOfComponents(3);
+  lowPositions->SetNumberOfTuples(n);
+  highPositions->SetNumberOfTuples(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const double* lo = &result.LowPositions[3 * i];
+    const double* hi = &result.HighPositions[3 * i];
+    // Exact ends: no rounding of (1 - t) * a + t * b at t = 0 or 1.
+    const double p[3] = { t == 0 ? lo[0] : (t == 1 ? hi[0] : (1 - t) * lo[0] + t * hi[0]),
+      t == 0 ? lo[1] : (t == 1 ? hi[1] : (1 - t) * lo[1] + t * hi[1]),
+      t == 0 ? lo[2] : (t == 1 ? hi[2] : (1 - t) * lo[2] + t * hi[2]) };
+    points->SetPoint(i, p);
+    lowPositions->SetTypedTuple(i, lo);
+    highPositions->SetTypedTuple(i, hi);
+  }
+  output->SetPoints(points);
+  output->GetPointData()->AddArray(lowPositions);
+  output->GetPointData()->AddArray(highPositions);
+}
+
+// The triangles with their high-detail triangle, low-detail triangle and fragment as cell data.
+void StoreTriangles(const slod::LevelInterpolation& result, vtkPolyData* output)
+{
+  const vtkIdType m = result.NumberOfTriangles();
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateExact(m, 3 * m);
+  vtkNew<vtkIdTypeArray> highTriangle, lowTriangle, fragment;
+  highTriangle->SetName("HighTriangle");
+  lowTriangle->SetName("LowTriangle");
+  fragment->SetName("Fragment");
+  highTriangle->SetNumberOfTuples(m);
+  lowTriangle->SetNumberOfTuples(m);
+  fragment->SetNumberOfTuples(m);
+  for (vtkIdType c = 0; c < m; ++c)
+  {
+    const vtkIdType ids[3] = { result.Triangles[3 * c], result.Triangles[3 * c + 1], result.Triangles[3 * c + 2] };
+    polys->InsertNextCell(3, ids);
+    highTriangle->SetValue(c, result.HighTriangle[c]);
+    lowTriangle->SetValue(c, result.LowTriangle[c]);
+    fragment->SetValue(c, result.Fragment[c]);
+  }
+  output->SetPolys(polys);
+  output->GetCellData()->AddArray(highTriangle);
+  output->GetCellData()->AddArray(lowTriangle);
+  output->GetCellData()->AddArray(fragment);
+}
+} // namespace
+
 vtkRetileLevelInterpolation::vtkRetileLevelInterpolation()
 {
   this->SetNumberOfInputPorts(2);
@@ -85,55 +146,8 @@ int vtkRetileLevelInterpolation::RequestData(
                     << " fragments are not inside one low-detail triangle: the T = 0 shape departs from the low level there.");
   }
 
-  const vtkIdType n = result.NumberOfPoints();
-  vtkNew<vtkPoints> points;
-  points->SetDataType(this->OutputPointsPrecision == vtkAlgorithm::SINGLE_PRECISION ? VTK_FLOAT : VTK_DOUBLE);
-  points->SetNumberOfPoints(n);
-  vtkNew<vtkDoubleArray> lowPositions, highPositions;
-  lowPositions->SetName("LowPosition");
-  highPositions->SetName("HighPosition");
-  lowPositions->SetNumberOfComponents(3);
-  highPositions->SetNumberOfComponents(3);
-  lowPositions->SetNumberOfTuples(n);
-  highPositions->SetNumberOfTuples(n);
-  const double t = this->T;
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    const double* lo = &result.LowPositions[3 * i];
-    const double* hi = &result.HighPositions[3 * i];
-    // Exact ends: no rounding of (1 - t) * a + t * b at t = 0 or 1.
-    const double p[3] = { t == 0 ? lo[0] : (t == 1 ? hi[0] : (1 - t) * lo[0] + t * hi[0]),
-      t == 0 ? lo[1] : (t == 1 ? hi[1] : (1 - t) * lo[1] + t * hi[1]),
-      t == 0 ? lo[2] : (t == 1 ? hi[2] : (1 - t) * lo[2] + t * hi[2]) };
-    points->SetPoint(i, p);
-    lowPositions->SetTypedTuple(i, lo);
-    highPositions->SetTypedTuple(i, hi);
-  }
-  const vtkIdType m = result.NumberOfTriangles();
-  vtkNew<vtkCellArray> polys;
-  polys->AllocateExact(m, 3 * m);
-  vtkNew<vtkIdTypeArray> highTriangle, lowTriangle, fragment;
-  highTriangle->SetName("HighTriangle");
-  lowTriangle->SetName("LowTriangle");
-  fragment->SetName("Fragment");
-  highTriangle->SetNumberOfTuples(m);
-  lowTriangle->SetNumberOfTuples(m);
-  fragment->SetNumberOfTuples(m);
-  for (vtkIdType c = 0; c < m; ++c)
-  {
-    const vtkIdType ids[3] = { result.Triangles[3 * c], result.Triangles[3 * c + 1], result.Triangles[3 * c + 2] };
-    polys->InsertNextCell(3, ids);
-    highTriangle->SetValue(c, result.HighTriangle[c]);
-    lowTriangle->SetValue(c, result.LowTriangle[c]);
-    fragment->SetValue(c, result.Fragment[c]);
-  }
-  output->SetPoints(points);
-  output->SetPolys(polys);
-  output->GetPointData()->AddArray(lowPositions);
-  output->GetPointData()->AddArray(highPositions);
-  output->GetCellData()->AddArray(highTriangle);
-  output->GetCellData()->AddArray(lowTriangle);
-  output->GetCellData()->AddArray(fragment);
+  StorePoints(result, this->T, this->OutputPointsPrecision, output);
+  StoreTriangles(result, output);
   return 1;
 }
 

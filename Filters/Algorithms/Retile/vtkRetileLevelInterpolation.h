@@ -56,8 +56,9 @@ public:
   // Results of the last run.
   vtkGetMacro(NumberOfSharedVertices, vtkIdType);
   vtkGetMacro(NumberOfFlattenedVertices, vtkIdType);
-  // Low vertices missing from the high level, inserted into it at their closest point (a few where
-  // vtkRetile had to move a coarse vertex; the output then starts with the high vertices, then these).
+  // Low vertices missing from the high level, inserted into it at their closest point (levels that
+  // are not quite nested, e.g. made by other tools; vtkRetile's nested levels need none; the
+  // output then starts with the high vertices, then these).
   vtkGetMacro(NumberOfInsertedVertices, vtkIdType);
   vtkGetMacro(NumberOfCrossings, vtkIdType);
   vtkGetMacro(NumberOfFragments, vtkIdType);

@@ -9,6 +9,7 @@
 #include "slodRetiling.h"
 #include "slodTriangleBVH.h"
 #include "vtkRetile.h"
+#include "vtkRetileLevelInterpolation.h"
 #include "vtkSurfaceDeviation.h"
 
 #include "vtkCommand.h"
@@ -413,6 +414,57 @@ TEST(Retile, NestedLevelsAreSubsets)
   const double coarse = Hausdorff(slodtest::ToPolyData(torus), slodtest::ToPolyData(levels[0].Mesh));
   const double fine = Hausdorff(slodtest::ToPolyData(torus), slodtest::ToPolyData(levels[2].Mesh));
   EXPECT_LT(fine, coarse);
+}
+
+// The nested levels are nested (the header's promise) on a CGAL mesh with thin legs, where the
+// coarse levels retain old vertices and move candidates onto old vertices as a last resort:
+// every vertex of a level is the vertex of the same id, at the same position, of every finer
+// level, and the level interpolation then needs no inserted vertex.
+TEST(Retile, NestedLevelsKeepRetainedAndMovedVerticesOnACamel)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("camel");
+  vtkNew<vtkRetile> filter;
+  filter->SetInputData(input);
+  filter->SetTargetReduction(0.8);
+  filter->GenerateNestedLevelsOn();
+  vtkNew<slodtest::MessageCounter> messages;
+  filter->AddObserver(vtkCommand::WarningEvent, messages);
+  filter->Update();
+  vtkMultiBlockDataSet* levels = filter->GetNestedLevels();
+  ASSERT_EQ(levels->GetNumberOfBlocks(), 3u);
+  for (unsigned int coarse = 0; coarse + 1 < levels->GetNumberOfBlocks(); ++coarse)
+  {
+    auto* low = vtkPolyData::SafeDownCast(levels->GetBlock(coarse));
+    ASSERT_NE(low, nullptr);
+    ASSERT_GT(low->GetNumberOfPolys(), 0);
+    for (unsigned int fine = coarse + 1; fine < levels->GetNumberOfBlocks(); ++fine)
+    {
+      auto* high = vtkPolyData::SafeDownCast(levels->GetBlock(fine));
+      ASSERT_NE(high, nullptr);
+      ASSERT_GT(high->GetNumberOfPoints(), low->GetNumberOfPoints());
+      vtkIdType moved = 0;
+      for (vtkIdType v = 0; v < low->GetNumberOfPoints(); ++v)
+      {
+        double a[3], b[3];
+        low->GetPoint(v, a);
+        high->GetPoint(v, b);
+        moved += (a[0] != b[0] || a[1] != b[1] || a[2] != b[2]) ? 1 : 0;
+      }
+      EXPECT_EQ(moved, 0) << "of the " << low->GetNumberOfPoints() << " vertices of level " << coarse
+                          << " are not vertices of level " << fine;
+    }
+  }
+  auto* finest = vtkPolyData::SafeDownCast(levels->GetBlock(levels->GetNumberOfBlocks() - 1));
+  EXPECT_EQ(finest->GetNumberOfPoints(), filter->GetOutput()->GetNumberOfPoints());
+  EXPECT_EQ(finest->GetNumberOfPolys(), filter->GetOutput()->GetNumberOfPolys());
+
+  vtkNew<vtkRetileLevelInterpolation> morph;
+  morph->SetHighDetailData(finest);
+  morph->SetLowDetailData(levels->GetBlock(0));
+  morph->Update();
+  EXPECT_GT(morph->GetOutput()->GetNumberOfPolys(), finest->GetNumberOfPolys());
+  EXPECT_EQ(morph->GetNumberOfInsertedVertices(), 0);
+  EXPECT_EQ(morph->GetNumberOfSharedVertices(), vtkPolyData::SafeDownCast(levels->GetBlock(0))->GetNumberOfPoints());
 }
 
 TEST(Retile, SeveralComponents)
