@@ -105,20 +105,11 @@ void HistoryToTable(const slod::CollapseHistory& h, slod::Index inputPoints, slo
   fd->AddArray(tcounts);
 }
 
-// Stop criteria: the larger triangle count is reached first.
+// Stop criteria of the filter contract (slodFilterContract.h): whichever target is reached first.
 slod::Index TargetTriangles(vtkQuadricTriangleCollapse* filter, slod::Index inputTriangles)
 {
-  slod::Index target = 0;
-  if (filter->GetTargetNumberOfTriangles() > 0)
-  {
-    target = static_cast<slod::Index>(std::min<vtkIdType>(filter->GetTargetNumberOfTriangles(), inputTriangles));
-  }
-  if (filter->GetTargetReduction() > 0)
-  {
-    const auto byReduction = static_cast<slod::Index>(std::floor((1.0 - filter->GetTargetReduction()) * inputTriangles + 1e-9));
-    target = std::max(target, byReduction);
-  }
-  return target;
+  return slod::TargetTriangleCount(inputTriangles, filter->GetTargetNumberOfTriangles(), filter->GetTargetReduction(),
+    filter->GetMaximumError() > 0);
 }
 
 slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter, slod::Index target, double diagonal)
@@ -127,7 +118,7 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   options.TargetTriangles = target;
   const double maximumError = filter->GetMaximumError();
   options.MaximumError =
-    maximumError < 0 ? -1.0 : (filter->GetMaximumErrorIsRelative() ? maximumError * diagonal : maximumError);
+    maximumError <= 0 ? -1.0 : (filter->GetMaximumErrorIsRelative() ? maximumError * diagonal : maximumError);
   options.BoundaryWeight = filter->GetBoundaryWeight();
   options.MaximumNormalDeviation = filter->GetMaximumNormalDeviation();
   options.AllowTopologyChange = filter->GetAllowTopologyChange();
@@ -137,10 +128,7 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   options.EdgeCollapses = filter->GetEdgeCollapses();
   options.EdgeCollapseBias = filter->GetEdgeCollapseBias();
   options.RecordHistory = filter->GetGenerateProgressiveMesh();
-  options.Progress = [filter](double fraction) {
-    filter->UpdateProgress(fraction);
-    return !filter->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
-  };
+  options.Progress = slod::FilterProgress(filter);
   return options;
 }
 
@@ -248,6 +236,11 @@ int vtkQuadricTriangleCollapse::RequestData(
 
   slod::TriangleCollapseResult result;
   slod::SimplifyByTriangleCollapse(mesh, options, result, &attributes);
+  if (result.Aborted)
+  {
+    slod::ReportAbort(this, output);
+    return 1;
+  }
 
   StoreSimplifiedMesh(result, attributes, OutputPointType(input, this->OutputPointsPrecision), diagonal, output);
   if (this->GenerateProgressiveMesh)
@@ -257,17 +250,13 @@ int vtkQuadricTriangleCollapse::RequestData(
   this->NumberOfCollapses = result.Collapses;
   this->MaximumSimplificationError = result.MaximumError;
   this->ActualReduction = 1.0 - double(result.Mesh.NumberOfTriangles()) / double(inputTriangles);
-  if (result.Aborted)
-  {
-    vtkWarningMacro(<< "Aborted after " << result.Collapses << " collapses.");
-  }
   if (result.WorkBoundReached)
   {
     vtkWarningMacro(<< "Stopped by the bound on the collapse loop's work after " << result.Collapses << " collapses.");
   }
   // A maximum error that stops the collapses first is a target met, not missed.
   const bool stoppedByError = options.MaximumError >= 0 && result.StoppedByError;
-  slod::ReportTarget(this, output, target, result.Mesh.NumberOfTriangles() <= target || stoppedByError || result.Aborted,
+  slod::ReportTarget(this, output, target, result.Mesh.NumberOfTriangles() <= target || stoppedByError,
     "every further collapse would change the topology, fold a triangle or leave a locked non-manifold vertex");
   return 1;
 }

@@ -33,11 +33,12 @@
  * they are; a mesh whose topology forbids further collapses (e.g. many small holes, each kept
  * with at least 3 border vertices) stops above the target.
  *
- * Stop criteria, whichever is reached first: TargetNumberOfTriangles (0 = unused),
- * TargetReduction (fraction of triangles to remove, 0 = unused), and MaximumError (collapses
- * whose error exceeds it are never performed; absolute, or relative to the bounding-box diagonal
- * when MaximumErrorIsRelative). A triangle target is met within one collapse (the output has at
- * most the target count and at most 3 fewer).
+ * Stop criteria, the targets of every SurfaceLOD filter (slodFilterContract.h), whichever is
+ * reached first: TargetNumberOfTriangles (0 = unused), TargetReduction (fraction of triangles to
+ * remove, 0 = unused) and MaximumError (0 = unused; collapses whose error exceeds it are never
+ * performed; absolute, or relative to the bounding-box diagonal when MaximumErrorIsRelative); with
+ * none set, a reduction of 0.9. A triangle target is met within one collapse (the output has at
+ * most the target count and at most 3 fewer). Abort gives an empty output with a warning.
  *
  * Output 0: the simplified mesh with all numeric point arrays interpolated onto the new vertices,
  * a point array "SimplificationError" (RMS distance of each vertex to its original planes) and
@@ -76,13 +77,13 @@ public:
   ///@}
 
   ///@{
-  /// Fraction of the triangles to remove, 0..1 (default 0.9; 0 = unused).
+  /// Fraction of the triangles to remove, 0..1 (0 = unused, the default).
   vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
   vtkGetMacro(TargetReduction, double);
   ///@}
 
   ///@{
-  /// Largest allowed collapse error (negative = unused, default). Relative to the bounding-box
+  /// Largest allowed collapse error (0 = unused, the default). Relative to the bounding-box
   /// diagonal when MaximumErrorIsRelative (default off: absolute).
   vtkSetMacro(MaximumError, double);
   vtkGetMacro(MaximumError, double);
@@ -185,8 +186,8 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkIdType TargetNumberOfTriangles = 0;
-  double TargetReduction = 0.9;
-  double MaximumError = -1.0;
+  double TargetReduction = 0.0;
+  double MaximumError = 0.0;
   bool MaximumErrorIsRelative = false;
   double BoundaryWeight = 1.0;
   double MaximumNormalDeviation = 45.0;
