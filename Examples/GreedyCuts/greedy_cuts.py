@@ -16,7 +16,7 @@ reader.Update()
 
 cuts = vtkGreedyCutsSimplification()
 cuts.SetInputConnection(reader.GetOutputPort())
-cuts.SetMaximumError(error)  # relative to the bounding box diagonal (MaximumErrorRelative is on)
+cuts.SetMaximumError(error)  # relative to the bounding box diagonal (MaximumErrorIsRelative is on)
 cuts.Update()
 out = cuts.GetOutput()
 

@@ -950,12 +950,24 @@ void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointData
   output->SetPolys(polys);
 }
 
-void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh, const std::vector<Index>& used,
-  const std::vector<Index>& vertexToInputPoint, bool forceDouble, vtkPolyData* output)
+int OutputPointType(vtkPolyData* input, int outputPointsPrecision)
 {
-  const bool inputDouble = !input->GetPoints() || input->GetPoints()->GetDataType() == VTK_DOUBLE;
+  if (outputPointsPrecision == vtkAlgorithm::SINGLE_PRECISION)
+  {
+    return VTK_FLOAT;
+  }
+  if (outputPointsPrecision == vtkAlgorithm::DOUBLE_PRECISION)
+  {
+    return VTK_DOUBLE;
+  }
+  return input->GetPoints() && input->GetPoints()->GetDataType() == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT;
+}
+
+void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh, const std::vector<Index>& used,
+  const std::vector<Index>& vertexToInputPoint, int outputPointsPrecision, vtkPolyData* output)
+{
   vtkNew<vtkPoints> points;
-  points->SetDataType(forceDouble || inputDouble ? VTK_DOUBLE : VTK_FLOAT);
+  points->SetDataType(OutputPointType(input, outputPointsPrecision));
   points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
   // Arrays of fewer tuples than points cannot be copied from every point, and a second array of the
   // same name would be copied into the first: both are left out.

@@ -97,10 +97,15 @@ SURFACELODFILTERS_EXPORT void ReportTarget(vtkObject* filter, vtkPolyData* outpu
 SURFACELODFILTERS_EXPORT void MeshToPolyData(const TriangleMesh& mesh, vtkPolyData* output, int pointDataType = 10 /*VTK_FLOAT*/);
 
 // Output points over the mesh vertices `used` (output point i is mesh vertex used[i]), with the
-// input's point data copied from input point vertexToInputPoint[used[i]]; float or double as the
-// input's points (double when forceDouble). For filters whose outputs keep original vertices only.
+// input's point data copied from input point vertexToInputPoint[used[i]], of the type
+// OutputPointType gives. For filters whose outputs keep original vertices only.
 SURFACELODFILTERS_EXPORT void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh,
-  const std::vector<Index>& used, const std::vector<Index>& vertexToInputPoint, bool forceDouble, vtkPolyData* output);
+  const std::vector<Index>& used, const std::vector<Index>& vertexToInputPoint, int outputPointsPrecision,
+  vtkPolyData* output);
+
+// The output's point type (VTK_FLOAT or VTK_DOUBLE) for a filter's OutputPointsPrecision
+// (vtkAlgorithm::DEFAULT_PRECISION: the input's type, float unless double).
+SURFACELODFILTERS_EXPORT int OutputPointType(vtkPolyData* input, int outputPointsPrecision);
 } // namespace slod
 
 #endif

@@ -513,10 +513,10 @@ SET_EFFECT = {
     "vtk-decimate-pro": ("OutputPointsPrecision=1", "Degree=3"),
     "quadric-triangle-collapse": ("OutputPointsPrecision=1", "MaximumNormalDeviation=91"),
     "triangle-collapse-hierarchy": ("CurvatureWeight=0", "CurvatureWeight=1.5"),
-    "patch-boundary-merge": ("OutputDoublePrecision=true", "PatchAngle=181"),
-    "hole-bump-removal": ("OutputDoublePrecision=on", "MaximumPasses=0"),
+    "patch-boundary-merge": ("OutputPointsPrecision=1", "PatchAngle=181"),
+    "hole-bump-removal": ("OutputPointsPrecision=1", "MaximumPasses=0"),
     "retile": ("RandomSeed=7", "ShapeImprovementPasses=101"),
-    "greedy-cuts": ("OutputDoublePrecision=yes", "BiteCandidates=0"),
+    "greedy-cuts": ("OutputPointsPrecision=1", "BiteCandidates=0"),
 }
 
 

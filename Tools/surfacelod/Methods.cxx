@@ -198,7 +198,7 @@ std::vector<Parameter> PatchBoundaryMergeParameters()
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, CostOrderedRemoval),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, ChainInPlaneWeight),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, MinimumDeviationTriangulation),
-    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, OutputDoublePrecision),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Int, OutputPointsPrecision),
   };
 }
 
@@ -221,7 +221,7 @@ std::vector<Parameter> HoleBumpRemovalParameters()
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, PatchPlaneDistance),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Int, Completion),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, Epsilon),
-    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, OutputDoublePrecision),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Int, OutputPointsPrecision),
   };
 }
 
@@ -240,7 +240,7 @@ std::vector<Parameter> RetileParameters()
 std::vector<Parameter> GreedyCutsParameters()
 {
   return {
-    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, MaximumErrorRelative),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, MaximumErrorIsRelative),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, TargetSearchSteps),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, PatchAngle),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, NeighborAngle),
@@ -248,7 +248,7 @@ std::vector<Parameter> GreedyCutsParameters()
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, TwoEdgeNeighborAngle),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, BiteCandidates),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, MinimumTriangleAngle),
-    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, OutputDoublePrecision),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, OutputPointsPrecision),
   };
 }
 // clang-format on
@@ -319,11 +319,11 @@ vtkSmartPointer<vtkPolyDataAlgorithm> CreateGreedyCuts(const MethodSettings& set
   auto* filter = vtkGreedyCutsSimplification::SafeDownCast(generic);
   if (settings.HasMaximumError)
   {
-    filter->SetMaximumErrorRelative(false);
+    filter->SetMaximumErrorIsRelative(false);
   }
   else
   {
-    filter->SetMaximumErrorRelative(true);
+    filter->SetMaximumErrorIsRelative(true);
     filter->SetMaximumError(0.1);
   }
   return generic;

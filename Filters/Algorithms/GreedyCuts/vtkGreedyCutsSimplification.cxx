@@ -26,7 +26,7 @@ namespace
 // The simplified surface over the original vertices that are used (in order of first use), its
 // triangles' patch ids and the error bound (absolute and relative to the bounding-box diagonal).
 void StoreSimplification(vtkPolyData* input, const slod::TriangleMesh& mesh,
-  const std::vector<slod::Index>& vertexToInput, const slod::GreedyCutsResult& result, bool doublePrecision,
+  const std::vector<slod::Index>& vertexToInput, const slod::GreedyCutsResult& result, int outputPointsPrecision,
   vtkPolyData* output)
 {
   const double diagonal = mesh.BoundingBoxDiagonal();
@@ -44,7 +44,7 @@ void StoreSimplification(vtkPolyData* input, const slod::TriangleMesh& mesh,
     }
     polys->InsertNextCell(3, ids);
   }
-  slod::StoreUsedPoints(input, mesh, used, vertexToInput, doublePrecision, output);
+  slod::StoreUsedPoints(input, mesh, used, vertexToInput, outputPointsPrecision, output);
   vtkNew<vtkIntArray> patchIds;
   patchIds->SetName("PatchId");
   patchIds->SetNumberOfValues(nt);
@@ -122,7 +122,7 @@ int vtkGreedyCutsSimplification::RequestData(
   slod::GreedyCutsParameters parameters;
   parameters.BiteCandidates = this->BiteCandidates;
   parameters.MinimumAngle = this->MinimumTriangleAngle;
-  const double bound = this->MaximumErrorRelative ? this->MaximumError * diagonal : this->MaximumError;
+  const double bound = this->MaximumErrorIsRelative ? this->MaximumError * diagonal : this->MaximumError;
   vtkIdType target = 0;
   if (this->TargetNumberOfTriangles > 0)
   {
@@ -171,7 +171,7 @@ int vtkGreedyCutsSimplification::RequestData(
   this->NumberOfRepairs = result.Repairs;
 
   // 3. Output.
-  StoreSimplification(input, mesh, vertexToInput, result, this->OutputDoublePrecision, output);
+  StoreSimplification(input, mesh, vertexToInput, result, this->OutputPointsPrecision, output);
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -179,7 +179,7 @@ int vtkGreedyCutsSimplification::RequestData(
 void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "MaximumError: " << this->MaximumError << (this->MaximumErrorRelative ? " (relative)" : " (absolute)")
+  os << indent << "MaximumError: " << this->MaximumError << (this->MaximumErrorIsRelative ? " (relative)" : " (absolute)")
      << "\n";
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
@@ -190,7 +190,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TwoEdgeNeighborAngle: " << this->TwoEdgeNeighborAngle << "\n";
   os << indent << "BiteCandidates: " << this->BiteCandidates << "\n";
   os << indent << "MinimumTriangleAngle: " << this->MinimumTriangleAngle << "\n";
-  os << indent << "OutputDoublePrecision: " << this->OutputDoublePrecision << "\n";
+  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
   os << indent << "RefinedPatches: " << this->RefinedPatches << "\n";

@@ -23,7 +23,7 @@
  * box diagonal) and returned by GetUsedMaximumError().
  *
  * Parameters: MaximumError (epsilon; absolute, or relative to the input's bounding box diagonal
- * when MaximumErrorRelative is on, the default), the patch angle tolerances of
+ * when MaximumErrorIsRelative is on, the default), the patch angle tolerances of
  * vtkPatchBoundaryMerge, and the project's target convention: SetTargetNumberOfTriangles (0 =
  * unused) or SetTargetReduction (fraction removed) searches epsilon (TargetSearchSteps runs:
  * halving from MaximumError while the count stays within the target, then bisection on
@@ -53,9 +53,9 @@ public:
   /** Error bound epsilon (default 0.005, relative to the bounding box diagonal). */
   vtkSetClampMacro(MaximumError, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MaximumError, double);
-  vtkSetMacro(MaximumErrorRelative, bool);
-  vtkGetMacro(MaximumErrorRelative, bool);
-  vtkBooleanMacro(MaximumErrorRelative, bool);
+  vtkSetMacro(MaximumErrorIsRelative, bool);
+  vtkGetMacro(MaximumErrorIsRelative, bool);
+  vtkBooleanMacro(MaximumErrorIsRelative, bool);
   ///@}
 
   ///@{
@@ -87,10 +87,9 @@ public:
   vtkSetClampMacro(MinimumTriangleAngle, double, 0.0, 30.0);
   vtkGetMacro(MinimumTriangleAngle, double);
   ///@}
-
-  vtkSetMacro(OutputDoublePrecision, bool);
-  vtkGetMacro(OutputDoublePrecision, bool);
-  vtkBooleanMacro(OutputDoublePrecision, bool);
+  /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
+  vtkSetMacro(OutputPointsPrecision, int);
+  vtkGetMacro(OutputPointsPrecision, int);
 
   ///@{
   /** Results of the last update. */
@@ -109,7 +108,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double MaximumError = 0.005;
-  bool MaximumErrorRelative = true;
+  bool MaximumErrorIsRelative = true;
   vtkIdType TargetNumberOfTriangles = 0;
   double TargetReduction = 0.0;
   int TargetSearchSteps = 10;
@@ -119,7 +118,7 @@ protected:
   double TwoEdgeNeighborAngle = 90.0;
   int BiteCandidates = 8;
   double MinimumTriangleAngle = 0.5;
-  bool OutputDoublePrecision = false;
+  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double UsedMaximumError = 0;
   int NumberOfPatches = 0;

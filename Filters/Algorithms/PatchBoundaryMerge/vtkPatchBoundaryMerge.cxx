@@ -255,7 +255,7 @@ void vtkPatchBoundaryMerge::Cache::WriteOutputs(vtkPatchBoundaryMerge* self, vtk
       lines->InsertCellPoint(use(result.CurveVertices[i]));
     }
   }
-  slod::StoreUsedPoints(input, mesh, used, this->VertexToInput, self->OutputDoublePrecision, output);
+  slod::StoreUsedPoints(input, mesh, used, this->VertexToInput, self->OutputPointsPrecision, output);
   vtkNew<vtkIntArray> patchIds;
   patchIds->SetName("PatchId");
   patchIds->SetNumberOfValues(static_cast<vtkIdType>(result.TrianglePatch.size()));
@@ -408,7 +408,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "MaximumError: " << this->MaximumError << "\n";
   os << indent << "GeneratePatchColoredInput: " << this->GeneratePatchColoredInput << "\n";
-  os << indent << "OutputDoublePrecision: " << this->OutputDoublePrecision << "\n";
+  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
   os << indent << "NumberOfMergedPatches: " << this->NumberOfMergedPatches << "\n";
   os << indent << "UsedEpsilon: " << this->UsedEpsilon << "\n";

@@ -185,10 +185,9 @@ public:
   ///@}
 
   ///@{
-  /// Output points in double precision (default: the input's precision).
-  vtkSetMacro(OutputDoublePrecision, bool);
-  vtkGetMacro(OutputDoublePrecision, bool);
-  vtkBooleanMacro(OutputDoublePrecision, bool);
+  /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
+  vtkSetMacro(OutputPointsPrecision, int);
+  vtkGetMacro(OutputPointsPrecision, int);
   ///@}
 
   /// Drops the cached patchification (the next update recomputes it).
@@ -239,7 +238,7 @@ protected:
   double TargetReduction = 0.0;
   double MaximumError = 0.0;
   bool GeneratePatchColoredInput = false;
-  bool OutputDoublePrecision = false;
+  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   vtkIdType NumberOfPatches = 0;
   vtkIdType NumberOfChains = 0;

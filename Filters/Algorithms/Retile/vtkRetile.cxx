@@ -166,16 +166,6 @@ bool CheckRetilable(vtkAlgorithm* filter, const slod::TriangleMesh& mesh, const 
   return true;
 }
 
-int OutputPointType(vtkPolyData* input, int precision)
-{
-  const int inputType = input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT;
-  if (precision == vtkAlgorithm::SINGLE_PRECISION)
-  {
-    return VTK_FLOAT;
-  }
-  return precision == vtkAlgorithm::DOUBLE_PRECISION || inputType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT;
-}
-
 // A re-tiling as poly data, its point attributes interpolated from the input at each vertex's
 // host location.
 void StoreRetiling(const slod::RetilingResult& retiling, const slod::TriangleMesh& mesh,
@@ -292,7 +282,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     return 1;
   }
 
-  const int pointType = OutputPointType(input, this->OutputPointsPrecision);
+  const int pointType = slod::OutputPointType(input, this->OutputPointsPrecision);
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
   StoreRetiling(result, mesh, attributes, pointType, output);

@@ -74,7 +74,7 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
 // The result's triangles over the used input vertices, with their patch and fill arrays; outMesh
 // gets the same triangles (for the topology check).
 void StoreTriangles(const slod::TopologySimplificationResult& result, const slod::TriangleMesh& mesh, vtkPolyData* input,
-  const std::vector<slod::Index>& vertexToInput, bool doublePrecision, vtkPolyData* output, slod::TriangleMesh& outMesh)
+  const std::vector<slod::Index>& vertexToInput, int outputPointsPrecision, vtkPolyData* output, slod::TriangleMesh& outMesh)
 {
   slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
   const std::vector<slod::Index>& used = numbering.Used;
@@ -97,7 +97,7 @@ void StoreTriangles(const slod::TopologySimplificationResult& result, const slod
     filled->SetValue(t, result.TriangleFill[t]);
     outMesh.AddTriangle(static_cast<slod::Index>(ids[0]), static_cast<slod::Index>(ids[1]), static_cast<slod::Index>(ids[2]));
   }
-  slod::StoreUsedPoints(input, mesh, used, vertexToInput, doublePrecision, output);
+  slod::StoreUsedPoints(input, mesh, used, vertexToInput, outputPointsPrecision, output);
   outMesh.Points.resize(3 * used.size());
   for (size_t i = 0; i < used.size(); ++i)
   {
@@ -235,7 +235,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
 
   // Output over the used input vertices.
   slod::TriangleMesh outMesh;
-  StoreTriangles(result, mesh, input, vertexToInput, this->OutputDoublePrecision, output, outMesh);
+  StoreTriangles(result, mesh, input, vertexToInput, this->OutputPointsPrecision, output, outMesh);
   AddFeatureCounts(this, output->GetFieldData());
 
   const slod::MeshStatistics after = slod::MeshTopology(outMesh).Statistics(outMesh);
@@ -281,7 +281,7 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "GenerateSharpLoops: " << this->GenerateSharpLoops << "\n";
-  os << indent << "OutputDoublePrecision: " << this->OutputDoublePrecision << "\n";
+  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "Holes detected/removed: " << this->NumberOfHolesDetected << "/" << this->NumberOfHolesRemoved << "\n";
   os << indent << "Bumps detected/removed: " << this->NumberOfBumpsDetected << "/" << this->NumberOfBumpsRemoved << "\n";
   os << indent << "Cavities detected/removed: " << this->NumberOfCavitiesDetected << "/"

@@ -146,9 +146,9 @@ public:
   vtkSetMacro(GenerateSharpLoops, bool);
   vtkGetMacro(GenerateSharpLoops, bool);
   vtkBooleanMacro(GenerateSharpLoops, bool);
-  vtkSetMacro(OutputDoublePrecision, bool);
-  vtkGetMacro(OutputDoublePrecision, bool);
-  vtkBooleanMacro(OutputDoublePrecision, bool);
+  /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
+  vtkSetMacro(OutputPointsPrecision, int);
+  vtkGetMacro(OutputPointsPrecision, int);
   ///@}
 
   ///@{
@@ -194,7 +194,7 @@ protected:
   vtkIdType TargetNumberOfTriangles = 0;
   double TargetReduction = 0.0;
   bool GenerateSharpLoops = true;
-  bool OutputDoublePrecision = false;
+  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   int NumberOfHolesDetected = 0, NumberOfBumpsDetected = 0, NumberOfCavitiesDetected = 0, NumberOfCracksDetected = 0;
   int NumberOfHolesRemoved = 0, NumberOfBumpsRemoved = 0, NumberOfCavitiesRemoved = 0, NumberOfCracksFilled = 0;

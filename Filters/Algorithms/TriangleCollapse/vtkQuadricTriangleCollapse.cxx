@@ -132,21 +132,6 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   return options;
 }
 
-// The input's point type unless the precision setting asks for another (float or double only).
-int OutputPointType(vtkPolyData* input, int precision)
-{
-  if (precision == vtkAlgorithm::SINGLE_PRECISION)
-  {
-    return VTK_FLOAT;
-  }
-  if (precision == vtkAlgorithm::DOUBLE_PRECISION)
-  {
-    return VTK_DOUBLE;
-  }
-  const int inputType = input->GetPoints() ? input->GetPoints()->GetDataType() : VTK_FLOAT;
-  return inputType == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT;
-}
-
 // The simplified mesh, its merged point data and the per-vertex and maximum errors.
 void StoreSimplifiedMesh(const slod::TriangleCollapseResult& result, const slod::PointAttributes& attributes,
   int pointType, double diagonal, vtkPolyData* output)
@@ -242,7 +227,7 @@ int vtkQuadricTriangleCollapse::RequestData(
     return 1;
   }
 
-  StoreSimplifiedMesh(result, attributes, OutputPointType(input, this->OutputPointsPrecision), diagonal, output);
+  StoreSimplifiedMesh(result, attributes, slod::OutputPointType(input, this->OutputPointsPrecision), diagonal, output);
   if (this->GenerateProgressiveMesh)
   {
     StoreProgressiveMesh(result, inputPoints, inputTriangles, output, records);
