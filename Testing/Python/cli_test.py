@@ -48,6 +48,9 @@ def default_method_names(cli):
 
 # Triangle-count tolerance at a 1000-triangle target; methods not listed must be within 1%.
 TOLERANCE = {"vtk-quadric-decimation": 5, "vtk-decimate-pro": 50,
+             # SPBM's count jumps with its two parameters (epsilon, alpha1) that the target search
+             # sets: within 2.5% of the target.
+             "patch-boundary-merge": 25,
              # Bound-driven: a target is met by searching the error bound, and the count is not
              # continuous in it (it must stay at or below the target).
              "greedy-cuts": 250}
@@ -116,8 +119,9 @@ def scenario_simplify(a):
     check(info["boundary_edges"] == 0, "%s opened the closed fandisk: %d boundary edges" % (method, info["boundary_edges"]))
     # Reduction form: remove 85% (SPBM keeps no vertex inside its patches: it cannot keep 50%).
     result = json_line(run(a.cli, "simplify", fandisk, out, "--method", method, "--target-reduction", 0.85, "--json"))
-    check(abs(result["output_triangles"] - 1942) <= max(tolerance, 20) if method not in BOUND_DRIVEN
-          else 300 <= result["output_triangles"] <= 1942,
+    # The filter contract: at least 85% removed, 1941 triangles (tolerances as for 1000, scaled).
+    check(abs(result["output_triangles"] - 1941) <= max(tolerance * 1.941, 20) if method not in BOUND_DRIVEN
+          else 300 <= result["output_triangles"] <= 1941,
           "%s: --target-reduction 0.85 gave %d triangles" % (method, result["output_triangles"]))
     if method == "quadric-triangle-collapse":
         # --max-error alone: stops at the bound; a tighter bound keeps more triangles.

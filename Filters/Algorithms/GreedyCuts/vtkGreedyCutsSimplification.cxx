@@ -124,14 +124,9 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.MinimumAngle = this->MinimumTriangleAngle;
   const double bound = this->MaximumErrorIsRelative ? this->MaximumError * diagonal : this->MaximumError;
   vtkIdType target = 0;
-  if (this->TargetNumberOfTriangles > 0)
-  {
-    target = this->TargetNumberOfTriangles;
-  }
-  else if (this->TargetReduction > 0)
-  {
-    target = static_cast<vtkIdType>(std::llround((1.0 - this->TargetReduction) * mesh.NumberOfTriangles()));
-  }
+  // The filter contract's targets (slodFilterContract.h); MaximumError is always a bound here, so
+  // no target at all means the simplification within it (the paper's use).
+  target = slod::TargetTriangleCount(mesh.NumberOfTriangles(), this->TargetNumberOfTriangles, this->TargetReduction, true);
   slod::GreedyCutsResult result;
   auto stage = [&](double f) { return aborted(0.1 + 0.85 * f); };
   if (target > 0 && target < mesh.NumberOfTriangles())

@@ -170,15 +170,10 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
   level.CostOrderedRemoval = self->CostOrderedRemoval;
   level.SizeWeightedMerge = self->SizeWeightedMerge;
   level.MinimumDeviationTriangulation = self->MinimumDeviationTriangulation;
-  vtkIdType target = 0;
-  if (self->TargetNumberOfTriangles > 0)
-  {
-    target = self->TargetNumberOfTriangles;
-  }
-  else if (self->TargetReduction > 0)
-  {
-    target = static_cast<vtkIdType>(std::llround((1.0 - self->TargetReduction) * mesh.NumberOfTriangles()));
-  }
+  // The filter contract's targets (slodFilterContract.h); Epsilon is always an error bound, so no
+  // target at all means the level of that epsilon (the paper's use), not a default reduction.
+  const vtkIdType target = slod::TargetTriangleCount(
+    mesh.NumberOfTriangles(), self->TargetNumberOfTriangles, self->TargetReduction, true);
   if (self->MaximumError > 0)
   {
     level.Epsilon = self->MaximumError;

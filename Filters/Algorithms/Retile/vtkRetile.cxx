@@ -37,16 +37,9 @@ slod::Index PointsForTarget(const slod::TriangleMesh& mesh, vtkIdType numberOfPo
   {
     return static_cast<slod::Index>(numberOfPoints);
   }
-  const vtkIdType inputTriangles = mesh.NumberOfTriangles();
-  vtkIdType target = std::max<vtkIdType>(0, targetTriangles);
-  if (targetReduction > 0)
-  {
-    target = std::max<vtkIdType>(target, static_cast<vtkIdType>(std::floor((1.0 - targetReduction) * inputTriangles + 1e-9)));
-  }
-  if (target <= 0)
-  {
-    target = inputTriangles;
-  }
+  // The filter contract's targets (slodFilterContract.h): whichever is reached first; none: 0.9.
+  const vtkIdType target =
+    std::max<vtkIdType>(1, slod::TargetTriangleCount(mesh.NumberOfTriangles(), targetTriangles, targetReduction, false));
   limit = static_cast<slod::Index>(std::min<vtkIdType>(limit, target));
   // V = F / 2 + chi on a closed surface.
   const slod::MeshStatistics stats = slod::ComputeMeshStatistics(mesh);

@@ -19,8 +19,8 @@
  * k capped at 8 times the median, used both in the random placement and in the repulsion radii.
  *
  * Vertex count: NumberOfPoints when > 0; else derived from the triangle target
- * (TargetNumberOfTriangles, or TargetReduction of the input triangle count, the larger count
- * when both are set) as triangles / 2 + Euler characteristic, exact for closed surfaces (open
+ * (the filter contract's TargetNumberOfTriangles and TargetReduction, each unused at 0: the larger
+ * count when both are set, a reduction of 0.9 when neither is) as triangles / 2 + Euler characteristic, exact for closed surfaces (open
  * surfaces get one triangle fewer per output border edge: F = 2V - 2 chi - B). The output has exactly the
  * requested vertex count plus the original vertices no check allowed to remove
  * (NumberOfRetainedVertices, normally 0; such vertices are kept, as in the paper).
@@ -108,7 +108,7 @@ protected:
 
   vtkIdType NumberOfPoints = 0;
   vtkIdType TargetNumberOfTriangles = 0;
-  double TargetReduction = 0.9;
+  double TargetReduction = 0.0;
   int RepulsionIterations = 20;
   double CurvatureWeight = 0.0;
   int RandomSeed = 1;

@@ -54,11 +54,10 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
   parameters.Completion = static_cast<slod::TopologyCompletion>(filter->GetCompletion());
   parameters.Spbm.Epsilon = filter->GetEpsilon() * diagonal;
   parameters.Spbm.MergeAngle = filter->GetMergeAngle() > 0 ? filter->GetMergeAngle() : 20.0;
-  vtkIdType target = filter->GetTargetNumberOfTriangles();
-  if (target <= 0 && filter->GetTargetReduction() > 0)
-  {
-    target = static_cast<vtkIdType>(std::llround((1.0 - filter->GetTargetReduction()) * mesh.NumberOfTriangles()));
-  }
+  // The filter contract's targets (slodFilterContract.h) for the SPBM completion; without one the
+  // completion uses Epsilon (removing features is the filter's purpose, not a reduction).
+  const vtkIdType target = slod::TargetTriangleCount(
+    mesh.NumberOfTriangles(), filter->GetTargetNumberOfTriangles(), filter->GetTargetReduction(), true);
   if (target >= mesh.NumberOfTriangles())
   {
     parameters.Completion = slod::TopologyCompletion::KeepTriangles; // no reduction asked for
