@@ -78,6 +78,287 @@ void Patchification::BuildFromLabels(
   this->ExtractChains(mesh, topology, adjacency);
 }
 
+namespace
+{
+// State of the patch growth (Ho 1999, section 4.2.2): the patch of each triangle, the running sums
+// of the patch being grown, and the seed candidates. Neighbours come from Patchification's
+// consistently oriented adjacency (`across`, three entries per triangle).
+struct PatchGrowth
+{
+  const TriangleMesh& Mesh;
+  const std::vector<Index>& Across;
+  const PatchificationParameters& Parameters;
+  std::vector<Index>& TrianglePatch;
+  double CosOnePatch, CosOneNeighbor, CosTwoPatch, CosTwoNeighbor;
+
+  // Membership of vertices in the patch being grown: stamp + number of its triangles there.
+  std::vector<Index> VertexStamp, VertexCount;
+  // Patch that last owned a triangle: a triangle removed from P never rejoins P (termination).
+  std::vector<Index> TriedStamp;
+  std::vector<Index> Queue;
+  std::vector<Index> Rejected;   // free neighbours met by the current patch: next seeds
+  std::vector<Index> Candidates; // older seed candidates
+  Index Scan = 0;
+  Index Assigned = 0;
+
+  // The patch being grown.
+  Index Patch = InvalidIndex;
+  Index Seed = InvalidIndex;
+  Vec3 Sum{ 0, 0, 0 };
+  Vec3 CentroidSum{ 0, 0, 0 }; // area-weighted
+  double Area = 0;
+  Index Count = 0;
+
+  PatchGrowth(const TriangleMesh& mesh, const std::vector<Index>& across, const PatchificationParameters& parameters,
+    std::vector<Index>& trianglePatch)
+    : Mesh(mesh)
+    , Across(across)
+    , Parameters(parameters)
+    , TrianglePatch(trianglePatch)
+    , CosOnePatch(std::cos(parameters.OneEdgePatchAngle * DegreesToRadians))
+    , CosOneNeighbor(std::cos(parameters.OneEdgeNeighborAngle * DegreesToRadians))
+    , CosTwoPatch(std::cos(parameters.TwoEdgePatchAngle * DegreesToRadians))
+    , CosTwoNeighbor(std::cos(parameters.TwoEdgeNeighborAngle * DegreesToRadians))
+    , VertexStamp(size_t(mesh.NumberOfPoints()), InvalidIndex)
+    , VertexCount(size_t(mesh.NumberOfPoints()), 0)
+    , TriedStamp(size_t(mesh.NumberOfTriangles()), InvalidIndex)
+  {
+  }
+
+  Index Neighbor(Index t, int k) const { return this->Across[3 * size_t(t) + k]; }
+  Vec3 WeightOf(Index t, Vec3& areaVector) const
+  {
+    areaVector = this->Mesh.TriangleAreaVector(t);
+    return this->Parameters.AreaWeighted ? areaVector : Normalized(areaVector);
+  }
+  bool InPatch(Index v) const { return this->VertexStamp[v] == this->Patch && this->VertexCount[v] > 0; }
+  bool IsFree(Index t) const { return this->TrianglePatch[t] == InvalidIndex; }
+
+  void Add(Index t)
+  {
+    this->TrianglePatch[t] = this->Patch;
+    this->TriedStamp[t] = this->Patch;
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (this->VertexStamp[tri[k]] != this->Patch)
+      {
+        this->VertexStamp[tri[k]] = this->Patch;
+        this->VertexCount[tri[k]] = 0;
+      }
+      ++this->VertexCount[tri[k]];
+    }
+    Vec3 av;
+    this->Sum = this->Sum + this->WeightOf(t, av);
+    this->Area += 0.5 * Norm(av);
+    this->CentroidSum = this->CentroidSum +
+      (Norm(av) / 6.0) * (this->Mesh.Point(tri[0]) + this->Mesh.Point(tri[1]) + this->Mesh.Point(tri[2]));
+    ++this->Count;
+    ++this->Assigned;
+    this->Queue.push_back(t);
+  }
+
+  void Remove(Index t)
+  {
+    this->TrianglePatch[t] = InvalidIndex;
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      --this->VertexCount[tri[k]];
+    }
+    Vec3 av;
+    this->Sum = this->Sum - this->WeightOf(t, av);
+    this->Area -= 0.5 * Norm(av);
+    this->CentroidSum = this->CentroidSum -
+      (Norm(av) / 6.0) * (this->Mesh.Point(tri[0]) + this->Mesh.Point(tri[1]) + this->Mesh.Point(tri[2]));
+    --this->Count;
+    --this->Assigned;
+  }
+
+  // Edges of t shared with the current patch; `opposite` gets the vertex opposite the shared
+  // edge when there is exactly one.
+  int SharedEdges(Index t, Index& opposite) const
+  {
+    int shared = 0;
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index n = this->Neighbor(t, k);
+      if (n != InvalidIndex && this->TrianglePatch[n] == this->Patch)
+      {
+        ++shared;
+        opposite = tri[(k + 2) % 3];
+      }
+    }
+    return shared;
+  }
+
+  // Feasibility tests (a) and (b) of section 4.2.2 (and the plane-distance extension) for the
+  // free triangle `candidate` next to t in the current patch.
+  bool Feasible(Index t, Index candidate) const
+  {
+    Index opposite = InvalidIndex;
+    const int shared = this->SharedEdges(candidate, opposite);
+    if (shared >= 3 || shared == 0)
+    {
+      return false;
+    }
+    if (this->TriedStamp[candidate] == this->Patch && shared < 2)
+    {
+      // Removed from this patch before: it may come back only to fill a notch (two shared
+      // edges), after which it can never be removed again (termination).
+      return false;
+    }
+    if (shared == 1 && this->InPatch(opposite))
+    {
+      return false; // (a) would pinch the patch boundary
+    }
+    const Vec3 nc = Normalized(this->Mesh.TriangleAreaVector(candidate));
+    const Vec3 nt = Normalized(this->Mesh.TriangleAreaVector(t));
+    const Vec3 np = Normalized(this->Sum);
+    const double maximumDistance = this->Parameters.MaximumPlaneDistance;
+    if (maximumDistance > 0 && shared == 1 && this->Area > 0)
+    {
+      const Vec3 centroid = (1.0 / this->Area) * this->CentroidSum;
+      if (std::fabs(Dot(this->Mesh.Point(opposite) - centroid, np)) > maximumDistance)
+      {
+        return false; // the patch would bend away from its plane
+      }
+    }
+    const double cosPatch = shared == 1 ? this->CosOnePatch : this->CosTwoPatch;
+    const double cosNeighbor = shared == 1 ? this->CosOneNeighbor : this->CosTwoNeighbor;
+    return Dot(nc, np) >= cosPatch && Dot(nc, nt) >= cosNeighbor; // (b)
+  }
+
+  // One step of the growth front: the free neighbours of t in the current patch are added or
+  // rejected (the four cases of section 4.2.2).
+  void Expand(Index t)
+  {
+    Index freeNeighbors[3];
+    int freeCount = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index n = this->Neighbor(t, k);
+      if (n != InvalidIndex && this->IsFree(n))
+      {
+        freeNeighbors[freeCount++] = n;
+      }
+    }
+    if (freeCount == 1 || freeCount == 3 || t == this->Seed)
+    {
+      // One free neighbour; or a seed (three free neighbours in the paper's first patch; a
+      // later seed next to a finished patch has one or two): add each feasible one. Treating
+      // a two-neighbour seed like the paper's case 2 would leave it alone, and its rejected
+      // neighbour would seed the next single-triangle patch along every crease.
+      bool ok[3];
+      for (int i = 0; i < freeCount; ++i)
+      {
+        ok[i] = this->Feasible(t, freeNeighbors[i]);
+      }
+      for (int i = 0; i < freeCount; ++i)
+      {
+        if (ok[i] && this->IsFree(freeNeighbors[i]))
+        {
+          this->Add(freeNeighbors[i]);
+        }
+        else
+        {
+          this->Rejected.push_back(freeNeighbors[i]);
+        }
+      }
+    }
+    else if (freeCount == 2)
+    {
+      this->ExpandTwo(t, freeNeighbors[0], freeNeighbors[1]);
+    }
+  }
+
+  // Two free neighbours: both join or neither does.
+  void ExpandTwo(Index t, Index first, Index second)
+  {
+    if (this->Feasible(t, first) && this->Feasible(t, second))
+    {
+      this->Add(first);
+      this->Add(second);
+      return;
+    }
+    this->Rejected.push_back(first);
+    this->Rejected.push_back(second);
+    // Neither: drop T itself to keep the patch fat, when that keeps it a disk.
+    Index opposite = InvalidIndex;
+    if (t != this->Seed && this->SharedEdges(t, opposite) == 1 && this->VertexCount[opposite] == 1)
+    {
+      this->Remove(t);
+      this->Rejected.push_back(t);
+    }
+  }
+
+  // Grows patch `patch` breadth-first from `seed` until its front is exhausted. Each triangle
+  // is queued once per join, and a removed triangle rejoins only through a notch (never removed
+  // again), so the queue is bounded.
+  void GrowPatch(Index patch, Index seed)
+  {
+    this->Patch = patch;
+    this->Seed = seed;
+    this->Sum = { 0, 0, 0 };
+    this->CentroidSum = { 0, 0, 0 };
+    this->Area = 0;
+    this->Count = 0;
+    this->Queue.clear();
+    this->Rejected.clear();
+    this->Add(seed);
+    for (size_t head = 0; head < this->Queue.size(); ++head)
+    {
+      const Index t = this->Queue[head];
+      if (this->TrianglePatch[t] == this->Patch) // else removed meanwhile
+      {
+        this->Expand(t);
+      }
+    }
+  }
+
+  // Next seed: a free triangle next to the patch just finished, else an older candidate, else
+  // the next free triangle in index order (a new component); InvalidIndex when none is left.
+  Index NextSeed()
+  {
+    Index seed = InvalidIndex;
+    for (const Index t : this->Rejected)
+    {
+      if (this->IsFree(t))
+      {
+        if (seed == InvalidIndex)
+        {
+          seed = t;
+        }
+        else
+        {
+          this->Candidates.push_back(t);
+        }
+      }
+    }
+    while (seed == InvalidIndex && !this->Candidates.empty())
+    {
+      const Index t = this->Candidates.back();
+      this->Candidates.pop_back();
+      if (this->IsFree(t))
+      {
+        seed = t;
+      }
+    }
+    const Index nt = this->Mesh.NumberOfTriangles();
+    while (seed == InvalidIndex && this->Scan < nt)
+    {
+      if (this->IsFree(this->Scan))
+      {
+        seed = this->Scan;
+      }
+      ++this->Scan;
+    }
+    return seed;
+  }
+};
+} // namespace
+
 // Breadth-first growth with the four cases of section 4.2.2. The disk invariant is kept exactly:
 // a triangle sharing one edge with P joins only when its third vertex is not yet in P (no pinch,
 // feasibility test (a)); one sharing two edges closes a notch; one sharing three never joins; a
@@ -88,355 +369,180 @@ void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
   const PatchificationParameters& parameters, const ProgressFunction& progress)
 {
   const Index nt = mesh.NumberOfTriangles();
-  const Index nv = mesh.NumberOfPoints();
   this->TrianglePatch.assign(size_t(nt), InvalidIndex);
   this->PatchAreaVector.clear();
   this->PatchAreaOf.clear();
   this->PatchTriangleCountOf.clear();
 
-  const double cosOnePatch = std::cos(parameters.OneEdgePatchAngle * DegreesToRadians);
-  const double cosOneNeighbor = std::cos(parameters.OneEdgeNeighborAngle * DegreesToRadians);
-  const double cosTwoPatch = std::cos(parameters.TwoEdgePatchAngle * DegreesToRadians);
-  const double cosTwoNeighbor = std::cos(parameters.TwoEdgeNeighborAngle * DegreesToRadians);
-
-  // Membership of vertices in the patch being grown: stamp + number of its triangles there.
-  std::vector<Index> vertexStamp(size_t(nv), InvalidIndex);
-  std::vector<Index> vertexCount(size_t(nv), 0);
-  // Patch that last owned a triangle: a triangle removed from P never rejoins P (termination).
-  std::vector<Index> triedStamp(size_t(nt), InvalidIndex);
-  std::vector<Index> queue;
-  std::vector<Index> rejected;   // free neighbours met by the current patch: next seeds
-  std::vector<Index> candidates; // older seed candidates
-  Index scan = 0;
-  Index assigned = 0;
+  PatchGrowth growth(mesh, adjacency.Across, parameters, this->TrianglePatch);
   Index nextReport = 65536;
-
-  Index patch = InvalidIndex;
-  Vec3 sum{ 0, 0, 0 };
-  Vec3 centroidSum{ 0, 0, 0 }; // area-weighted
-  double area = 0;
-  const double maximumDistance = parameters.MaximumPlaneDistance;
-  Index count = 0;
-
-  auto weightOf = [&](Index t, Vec3& areaVector) {
-    areaVector = mesh.TriangleAreaVector(t);
-    return parameters.AreaWeighted ? areaVector : Normalized(areaVector);
-  };
-  auto inPatch = [&](Index v) { return vertexStamp[v] == patch && vertexCount[v] > 0; };
-  auto add = [&](Index t) {
-    this->TrianglePatch[t] = patch;
-    triedStamp[t] = patch;
-    const Index* tri = mesh.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      if (vertexStamp[tri[k]] != patch)
-      {
-        vertexStamp[tri[k]] = patch;
-        vertexCount[tri[k]] = 0;
-      }
-      ++vertexCount[tri[k]];
-    }
-    Vec3 av;
-    sum = sum + weightOf(t, av);
-    area += 0.5 * Norm(av);
-    centroidSum = centroidSum + (Norm(av) / 6.0) * (mesh.Point(tri[0]) + mesh.Point(tri[1]) + mesh.Point(tri[2]));
-    ++count;
-    ++assigned;
-    queue.push_back(t);
-  };
-  auto remove = [&](Index t) {
-    this->TrianglePatch[t] = InvalidIndex;
-    const Index* tri = mesh.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      --vertexCount[tri[k]];
-    }
-    Vec3 av;
-    sum = sum - weightOf(t, av);
-    area -= 0.5 * Norm(av);
-    centroidSum = centroidSum - (Norm(av) / 6.0) * (mesh.Point(tri[0]) + mesh.Point(tri[1]) + mesh.Point(tri[2]));
-    --count;
-    --assigned;
-  };
-  // Edges of t shared with the current patch; `opposite` gets the vertex opposite the shared
-  // edge when there is exactly one.
-  auto sharedEdges = [&](Index t, Index& opposite) {
-    int shared = 0;
-    const Index* tri = mesh.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index n = adjacency.Neighbor(t, k);
-      if (n != InvalidIndex && this->TrianglePatch[n] == patch)
-      {
-        ++shared;
-        opposite = tri[(k + 2) % 3];
-      }
-    }
-    return shared;
-  };
-  auto feasible = [&](Index t, Index candidate) {
-    Index opposite = InvalidIndex;
-    const int shared = sharedEdges(candidate, opposite);
-    if (shared >= 3 || shared == 0)
-    {
-      return false;
-    }
-    if (triedStamp[candidate] == patch && shared < 2)
-    {
-      // Removed from this patch before: it may come back only to fill a notch (two shared
-      // edges), after which it can never be removed again (termination).
-      return false;
-    }
-    if (shared == 1 && inPatch(opposite))
-    {
-      return false; // (a) would pinch the patch boundary
-    }
-    const Vec3 nc = Normalized(mesh.TriangleAreaVector(candidate));
-    const Vec3 nt = Normalized(mesh.TriangleAreaVector(t));
-    const Vec3 np = Normalized(sum);
-    if (maximumDistance > 0 && shared == 1 && area > 0)
-    {
-      const Vec3 centroid = (1.0 / area) * centroidSum;
-      if (std::fabs(Dot(mesh.Point(opposite) - centroid, np)) > maximumDistance)
-      {
-        return false; // the patch would bend away from its plane
-      }
-    }
-    const double cosPatch = shared == 1 ? cosOnePatch : cosTwoPatch;
-    const double cosNeighbor = shared == 1 ? cosOneNeighbor : cosTwoNeighbor;
-    return Dot(nc, np) >= cosPatch && Dot(nc, nt) >= cosNeighbor; // (b)
-  };
-
   Index seed = nt > 0 ? 0 : InvalidIndex;
   while (seed != InvalidIndex)
   {
-    patch = static_cast<Index>(this->PatchAreaVector.size());
-    sum = { 0, 0, 0 };
-    centroidSum = { 0, 0, 0 };
-    area = 0;
-    count = 0;
-    queue.clear();
-    rejected.clear();
-    add(seed);
-    for (size_t head = 0; head < queue.size(); ++head)
-    {
-      const Index t = queue[head];
-      if (this->TrianglePatch[t] != patch)
-      {
-        continue; // removed meanwhile
-      }
-      Index freeNeighbors[3];
-      int freeCount = 0;
-      for (int k = 0; k < 3; ++k)
-      {
-        const Index n = adjacency.Neighbor(t, k);
-        if (n != InvalidIndex && this->TrianglePatch[n] == InvalidIndex)
-        {
-          freeNeighbors[freeCount++] = n;
-        }
-      }
-      if (freeCount == 1 || freeCount == 3 || t == seed)
-      {
-        // One free neighbour; or a seed (three free neighbours in the paper's first patch; a
-        // later seed next to a finished patch has one or two): add each feasible one. Treating
-        // a two-neighbour seed like the paper's case 2 would leave it alone, and its rejected
-        // neighbour would seed the next single-triangle patch along every crease.
-        bool ok[3];
-        for (int i = 0; i < freeCount; ++i)
-        {
-          ok[i] = feasible(t, freeNeighbors[i]);
-        }
-        for (int i = 0; i < freeCount; ++i)
-        {
-          if (ok[i] && this->TrianglePatch[freeNeighbors[i]] == InvalidIndex)
-          {
-            add(freeNeighbors[i]);
-          }
-          else
-          {
-            rejected.push_back(freeNeighbors[i]);
-          }
-        }
-      }
-      else if (freeCount == 2)
-      {
-        if (feasible(t, freeNeighbors[0]) && feasible(t, freeNeighbors[1]))
-        {
-          add(freeNeighbors[0]);
-          add(freeNeighbors[1]);
-        }
-        else
-        {
-          rejected.push_back(freeNeighbors[0]);
-          rejected.push_back(freeNeighbors[1]);
-          // Both or neither: drop T itself to keep the patch fat, when that keeps it a disk.
-          Index opposite = InvalidIndex;
-          if (t != seed && sharedEdges(t, opposite) == 1 && vertexCount[opposite] == 1)
-          {
-            remove(t);
-            rejected.push_back(t);
-          }
-        }
-      }
-    }
-    this->PatchAreaVector.push_back(sum);
-    this->PatchAreaOf.push_back(area);
-    this->PatchTriangleCountOf.push_back(count);
+    growth.GrowPatch(this->NumberOfPatches(), seed);
+    this->PatchAreaVector.push_back(growth.Sum);
+    this->PatchAreaOf.push_back(growth.Area);
+    this->PatchTriangleCountOf.push_back(growth.Count);
 
-    if (progress && assigned >= nextReport)
+    if (progress && growth.Assigned >= nextReport)
     {
-      nextReport = assigned + 65536;
-      if (progress(0.9 * double(assigned) / double(nt)))
+      nextReport = growth.Assigned + 65536;
+      if (progress(0.9 * double(growth.Assigned) / double(nt)))
       {
         this->WasAborted = true;
         return;
       }
     }
-    // Next seed: a free triangle next to the patch just finished, else an older candidate, else
-    // the next free triangle in index order (a new component).
-    seed = InvalidIndex;
-    for (const Index t : rejected)
-    {
-      if (this->TrianglePatch[t] == InvalidIndex)
-      {
-        if (seed == InvalidIndex)
-        {
-          seed = t;
-        }
-        else
-        {
-          candidates.push_back(t);
-        }
-      }
-    }
-    while (seed == InvalidIndex && !candidates.empty())
-    {
-      const Index t = candidates.back();
-      candidates.pop_back();
-      if (this->TrianglePatch[t] == InvalidIndex)
-      {
-        seed = t;
-      }
-    }
-    while (seed == InvalidIndex && scan < nt)
-    {
-      if (this->TrianglePatch[scan] == InvalidIndex)
-      {
-        seed = scan;
-      }
-      ++scan;
-    }
+    seed = growth.NextSeed();
   }
 }
 
-// Chains: boundary half-edges of each patch (edges whose other side is another patch, the border
-// or a non-manifold edge) are followed counter-clockwise around the patch; a chain ends where the
-// patch on the other side changes. Closed loops without such a vertex (e.g. a patch inside a
-// single other patch's hole... on a sphere cut in two) are cut into three chains.
-void Patchification::ExtractChains(
-  const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency)
+namespace
 {
-  const Index nt = mesh.NumberOfTriangles();
-  const Index nv = mesh.NumberOfPoints();
-  const std::vector<Index>& patchOf = this->TrianglePatch;
+// Half-edge h = 3 t + k is edge k of triangle t. The walk sees the patch boundaries: a half-edge
+// is on a boundary when the triangle across (in the oriented adjacency) is missing or in
+// another patch.
+struct BoundaryWalk
+{
+  const TriangleMesh& Mesh;
+  const MeshTopology& Topology;
+  const std::vector<Index>& Across;
+  const std::vector<Index>& PatchOf;
 
-  auto isBoundary = [&](Index h) {
-    const Index n = adjacency.Neighbor(h / 3, h % 3);
-    return n == InvalidIndex || patchOf[n] != patchOf[h / 3];
-  };
-  auto rightOf = [&](Index h) {
-    const Index n = adjacency.Neighbor(h / 3, h % 3);
-    return n == InvalidIndex ? InvalidIndex : patchOf[n];
-  };
-  auto nonManifold = [&](Index h) { return topology.IsNonManifoldEdge(topology.TriangleEdge(h / 3, h % 3)); };
-  auto origin = [&](Index h) { return mesh.Triangles[size_t(h)]; };
-  auto target = [&](Index h) { return mesh.Triangles[size_t(h - h % 3 + (h % 3 + 1) % 3)]; };
-  // Next boundary half-edge of the same patch, leaving the target of h (rotate inside the patch).
-  auto next = [&](Index h) {
-    const Index b = target(h);
+  Index Neighbor(Index h) const { return this->Across[size_t(h)]; }
+  bool IsBoundary(Index h) const
+  {
+    const Index n = this->Neighbor(h);
+    return n == InvalidIndex || this->PatchOf[n] != this->PatchOf[h / 3];
+  }
+  // The patch across h (InvalidIndex on the border or along a non-manifold edge).
+  Index RightOf(Index h) const
+  {
+    const Index n = this->Neighbor(h);
+    return n == InvalidIndex ? InvalidIndex : this->PatchOf[n];
+  }
+  bool NonManifold(Index h) const
+  {
+    return this->Topology.IsNonManifoldEdge(this->Topology.TriangleEdge(h / 3, h % 3));
+  }
+  Index Origin(Index h) const { return this->Mesh.Triangles[size_t(h)]; }
+  Index Target(Index h) const { return this->Mesh.Triangles[size_t(h - h % 3 + (h % 3 + 1) % 3)]; }
+  // Each two-sided chain is emitted once, from its lower patch.
+  bool Owns(Index h) const
+  {
+    const Index r = this->RightOf(h);
+    return r == InvalidIndex || this->PatchOf[h / 3] < r;
+  }
+  // Next boundary half-edge of the same patch, leaving the target of h (rotate inside the patch;
+  // at most the vertex degree steps).
+  Index Next(Index h) const
+  {
+    const Index b = this->Target(h);
     Index g = h - h % 3 + (h % 3 + 1) % 3;
-    for (Index guard = topology.VertexDegree(b) + 1; guard > 0; --guard)
+    for (Index guard = this->Topology.VertexDegree(b) + 1; guard > 0; --guard)
     {
-      if (isBoundary(g))
+      if (this->IsBoundary(g))
       {
         return g;
       }
-      const Index n = adjacency.Neighbor(g / 3, g % 3);
-      const Index* tri = mesh.Triangle(n);
+      const Index n = this->Neighbor(g);
+      const Index* tri = this->Mesh.Triangle(n);
       const int j = tri[0] == b ? 0 : (tri[1] == b ? 1 : 2);
       g = 3 * n + j;
     }
     return InvalidIndex; // not a fan (cannot happen for a disk patch of an oriented mesh)
-  };
+  }
+};
 
-  // Endpoints: where the patch across changes along a patch boundary, plus non-manifold vertices.
+// Endpoints: where the patch across changes along a patch boundary, plus non-manifold vertices.
+std::vector<unsigned char> MarkChainEnds(const BoundaryWalk& walk)
+{
+  const Index nv = walk.Mesh.NumberOfPoints();
   std::vector<unsigned char> isEnd(size_t(nv), 0);
   for (Index v = 0; v < nv; ++v)
   {
-    if (topology.IsNonManifoldVertex(v))
+    if (walk.Topology.IsNonManifoldVertex(v))
     {
       isEnd[v] = 1;
     }
   }
-  const Index nh = 3 * nt;
+  const Index nh = 3 * walk.Mesh.NumberOfTriangles();
   for (Index h = 0; h < nh; ++h)
   {
-    if (!isBoundary(h))
+    if (!walk.IsBoundary(h))
     {
       continue;
     }
-    const Index g = next(h);
-    if (g == InvalidIndex || rightOf(g) != rightOf(h) || nonManifold(g) != nonManifold(h))
+    const Index g = walk.Next(h);
+    if (g == InvalidIndex || walk.RightOf(g) != walk.RightOf(h) || walk.NonManifold(g) != walk.NonManifold(h))
     {
-      isEnd[target(h)] = 1;
+      isEnd[walk.Target(h)] = 1;
     }
   }
+  return isEnd;
+}
 
-  this->ChainOffsets.assign(1, 0);
-  this->ChainVertexList.clear();
-  this->ChainLeft.clear();
-  this->ChainRight.clear();
-  this->ChainFlags.clear();
-  std::vector<unsigned char> visited(size_t(nh), 0);
-  auto owns = [&](Index h) {
-    // Each two-sided chain is emitted once, from its lower patch.
-    const Index r = rightOf(h);
-    return r == InvalidIndex || patchOf[h / 3] < r;
-  };
-  auto emit = [&](Index left, Index right, bool nm) {
-    this->ChainOffsets.push_back(static_cast<Index>(this->ChainVertexList.size()));
-    this->ChainLeft.push_back(left);
-    this->ChainRight.push_back(right);
-    this->ChainFlags.push_back(nm ? NonManifoldChain : 0);
-  };
+// The chain lists being filled (Patchification's members): a chain's vertices are appended to
+// Vertices, then Emit closes it.
+struct ChainLists
+{
+  std::vector<Index>& Offsets;
+  std::vector<Index>& Vertices;
+  std::vector<Index>& Left;
+  std::vector<Index>& Right;
+  std::vector<unsigned char>& Flags;
+  unsigned char NonManifoldFlag;
+
+  void Emit(Index left, Index right, bool nonManifold)
+  {
+    this->Offsets.push_back(static_cast<Index>(this->Vertices.size()));
+    this->Left.push_back(left);
+    this->Right.push_back(right);
+    this->Flags.push_back(nonManifold ? this->NonManifoldFlag : 0);
+  }
+};
+
+// Chains that start at an endpoint: follow the boundary until the next endpoint. Every
+// half-edge is visited at most once.
+void TraceChainsFromEnds(const BoundaryWalk& walk, const std::vector<unsigned char>& isEnd,
+  std::vector<unsigned char>& visited, ChainLists& chains)
+{
+  const Index nh = static_cast<Index>(visited.size());
   for (Index h0 = 0; h0 < nh; ++h0)
   {
-    if (visited[h0] || !isEnd[origin(h0)] || !isBoundary(h0) || !owns(h0))
+    if (visited[h0] || !isEnd[walk.Origin(h0)] || !walk.IsBoundary(h0) || !walk.Owns(h0))
     {
       continue;
     }
-    const Index left = patchOf[h0 / 3], right = rightOf(h0);
-    const bool nm = nonManifold(h0);
-    this->ChainVertexList.push_back(origin(h0));
+    const Index left = walk.PatchOf[h0 / 3], right = walk.RightOf(h0);
+    const bool nm = walk.NonManifold(h0);
+    chains.Vertices.push_back(walk.Origin(h0));
     Index h = h0;
     while (h != InvalidIndex && !visited[h])
     {
       visited[h] = 1;
-      const Index b = target(h);
-      this->ChainVertexList.push_back(b);
+      const Index b = walk.Target(h);
+      chains.Vertices.push_back(b);
       if (isEnd[b])
       {
         break;
       }
-      h = next(h);
+      h = walk.Next(h);
     }
-    emit(left, right, nm);
+    chains.Emit(left, right, nm);
   }
-  // Closed loops without endpoints: cut at three vertices.
+}
+
+// Closed boundary loops without endpoints (e.g. a sphere cut in two): cut at three vertices,
+// which become endpoints.
+void CutClosedLoops(
+  const BoundaryWalk& walk, std::vector<unsigned char>& isEnd, std::vector<unsigned char>& visited, ChainLists& chains)
+{
+  const Index nh = static_cast<Index>(visited.size());
   std::vector<Index> loop;
   for (Index h0 = 0; h0 < nh; ++h0)
   {
-    if (visited[h0] || !isBoundary(h0) || !owns(h0))
+    if (visited[h0] || !walk.IsBoundary(h0) || !walk.Owns(h0))
     {
       continue;
     }
@@ -445,11 +551,11 @@ void Patchification::ExtractChains(
     while (h != InvalidIndex && !visited[h])
     {
       visited[h] = 1;
-      loop.push_back(origin(h));
-      h = next(h);
+      loop.push_back(walk.Origin(h));
+      h = walk.Next(h);
     }
-    const Index left = patchOf[h0 / 3], right = rightOf(h0);
-    const bool nm = nonManifold(h0);
+    const Index left = walk.PatchOf[h0 / 3], right = walk.RightOf(h0);
+    const bool nm = walk.NonManifold(h0);
     const size_t n = loop.size();
     const size_t cut[4] = { 0, n / 3, (2 * n) / 3, n };
     for (int part = 0; part < 3; ++part)
@@ -461,14 +567,43 @@ void Patchification::ExtractChains(
       isEnd[loop[cut[part]]] = 1;
       for (size_t i = cut[part]; i <= cut[part + 1]; ++i)
       {
-        this->ChainVertexList.push_back(loop[i % n]);
+        chains.Vertices.push_back(loop[i % n]);
       }
-      emit(left, right, nm);
+      chains.Emit(left, right, nm);
     }
   }
+}
+} // namespace
 
-  // Endpoint ids.
-  std::vector<Index> endpointOf(size_t(nv), InvalidIndex);
+// Chains: boundary half-edges of each patch (edges whose other side is another patch, the border
+// or a non-manifold edge) are followed counter-clockwise around the patch; a chain ends where the
+// patch on the other side changes. Closed loops without such a vertex (e.g. a patch inside a
+// single other patch's hole... on a sphere cut in two) are cut into three chains.
+void Patchification::ExtractChains(
+  const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency)
+{
+  const BoundaryWalk walk{ mesh, topology, adjacency.Across, this->TrianglePatch };
+  std::vector<unsigned char> isEnd = MarkChainEnds(walk);
+
+  this->ChainOffsets.assign(1, 0);
+  this->ChainVertexList.clear();
+  this->ChainLeft.clear();
+  this->ChainRight.clear();
+  this->ChainFlags.clear();
+  ChainLists chains{ this->ChainOffsets, this->ChainVertexList, this->ChainLeft, this->ChainRight, this->ChainFlags,
+    NonManifoldChain };
+  std::vector<unsigned char> visited(3 * size_t(mesh.NumberOfTriangles()), 0);
+  TraceChainsFromEnds(walk, isEnd, visited, chains);
+  CutClosedLoops(walk, isEnd, visited, chains);
+
+  this->NumberEndpoints(mesh, topology);
+  this->BuildPatchGraph();
+}
+
+// Endpoint ids, in the order chains first reach them.
+void Patchification::NumberEndpoints(const TriangleMesh& mesh, const MeshTopology& topology)
+{
+  std::vector<Index> endpointOf(size_t(mesh.NumberOfPoints()), InvalidIndex);
   this->EndpointVertices.clear();
   this->EndpointBorder.clear();
   const Index nc = this->NumberOfChains();
@@ -488,8 +623,12 @@ void Patchification::ExtractChains(
       this->ChainEndpoints[2 * size_t(c) + end] = endpointOf[v];
     }
   }
+}
 
-  // Patch graph (CSR): the chains around each patch.
+// Patch graph (CSR): the chains around each patch.
+void Patchification::BuildPatchGraph()
+{
+  const Index nc = this->NumberOfChains();
   const Index np = this->NumberOfPatches();
   this->PatchChainOffsets.assign(size_t(np) + 1, 0);
   for (Index c = 0; c < nc; ++c)

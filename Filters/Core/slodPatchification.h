@@ -108,6 +108,8 @@ private:
   void Grow(const TriangleMesh& mesh, const Adjacency& adjacency, const PatchificationParameters& parameters,
     const ProgressFunction& progress);
   void ExtractChains(const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency);
+  void NumberEndpoints(const TriangleMesh& mesh, const MeshTopology& topology);
+  void BuildPatchGraph();
 
   bool WasAborted = false;
   std::vector<Index> TrianglePatch;

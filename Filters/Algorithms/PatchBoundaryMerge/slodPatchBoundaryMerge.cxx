@@ -483,6 +483,238 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
   return std::sqrt(worst2);
 }
 
+// The candidate levels of one GenerateForTarget call and the one kept so far. While the helper
+// thread runs, it writes only the Second* fields (CompareCandidates) or the tries it takes from
+// NextTry; the calling thread reads them after joining it.
+struct SpbmLevelGenerator::TargetCandidates
+{
+  TargetCandidates(Index target, const std::function<bool()>& abort)
+    : Target(target)
+    , Abort(abort)
+  {
+  }
+  const Index Target;
+  const std::function<bool()>& Abort;
+  bool Compare = false; // CompareCandidates applies
+
+  // The other merge measure of plain / size-weighted (CompareCandidates), on the helper thread.
+  SpbmLevelParameters Second;
+  SpbmLevel SecondLevel;
+  bool SecondDone = true;
+  double SecondDeviation = std::numeric_limits<double>::infinity();
+
+  // The two other merge measures at the planned removal parameters (without CompareCandidates):
+  // whichever thread is free takes the next.
+  SpbmLevelParameters Tries[2];
+  SpbmLevel TriedLevels[2];
+  double TriedDeviations[2] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
+  bool TriedFinished[2] = { false, false };
+  std::atomic<int> NextTry{ 2 }; // none
+  bool TriesPlanned = false;
+
+  // The first level's triangle count and the level kept so far.
+  Index FirstCount = 0;
+  SpbmLevelParameters Best;
+  double BestDeviation = 0.0;
+
+  // Same budget: not above the target (or the first level's count), not far below it.
+  bool SameBudget(Index produced) const
+  {
+    return !((produced > this->Target && produced > this->FirstCount) ||
+      produced < std::min(this->FirstCount, this->Target) * 19 / 20);
+  }
+};
+
+void SpbmLevelGenerator::DescribeCandidate(
+  const char* what, const SpbmLevelParameters& p, Index produced, double deviation) const
+{
+  vtkLogF(TRACE,
+    "[spbm] %s: weighted %d flat %d alpha1 %.1f eps %.4g factor %.2f join %d collapse %d removal %d: %d tris, "
+    "estimate %.4g",
+    what, int(p.SizeWeightedMerge), int(p.FlatnessMerge), p.MergeAngle, p.Epsilon / this->Diagonal,
+    p.CollapseLengthFactor, int(p.JoinWithinEpsilon), int(p.CollapseWithinEpsilon), int(p.RemovalTarget),
+    int(produced), deviation / this->Diagonal);
+}
+
+// Helper thread, CompareCandidates: the other one of plain / size-weighted, and when its count
+// comes from the removal also the flatness measure; keeps the closer of the two in Second*.
+void SpbmLevelGenerator::GenerateOtherMeasure(const SpbmLevelParameters& base, TargetCandidates& run)
+{
+  const auto helperStart = StageClock::now();
+  this->Helper->Times = StageTimes();
+  SpbmLevelParameters other = base;
+  other.SizeWeightedMerge = !base.SizeWeightedMerge;
+  other.FlatnessMerge = false;
+  run.SecondDone =
+    this->GenerateForTargetAndAngle(run.Target, other, run.SecondLevel, &run.Second, run.Abort, *this->Helper);
+  if (run.SecondDone)
+  {
+    run.SecondDeviation = this->EstimateDeviation(run.SecondLevel);
+  }
+  if (run.SecondDone && run.Second.RemovalTarget > 0)
+  {
+    // The count comes from the cost-ordered removal, so any merge measure reaches it at the
+    // same parameters: also try the flatness measure (no search), keep the closer level.
+    SpbmLevelParameters flat = run.Second;
+    flat.SizeWeightedMerge = false;
+    flat.FlatnessMerge = true;
+    SpbmLevel flatLevel;
+    run.SecondDone = this->GenerateIn(flat, flatLevel, run.Abort, *this->Helper);
+    const Index produced = static_cast<Index>(flatLevel.TrianglePatch.size());
+    if (run.SecondDone &&
+      produced <= std::max<Index>(run.Target, static_cast<Index>(run.SecondLevel.TrianglePatch.size())))
+    {
+      const double deviation = this->EstimateDeviation(flatLevel);
+      this->DescribeCandidate("flatness measure (helper)", flat, produced, deviation);
+      if (deviation < run.SecondDeviation)
+      {
+        run.SecondDeviation = deviation;
+        std::swap(run.SecondLevel, flatLevel);
+        run.Second = flat;
+      }
+    }
+  }
+  LogStageTimes("candidates, second working state", Since(helperStart), this->Helper->Times);
+}
+
+// Without CompareCandidates: when the count will come from the cost-ordered removal, every merge
+// measure reaches it at the same parameters without a search, so the two other measures are
+// planned there too (the plan's search is memoized: the first level's search repeats it for
+// free). Cheap next to a search; it matters at the coarsest levels, where the measure decides
+// which large patches become flat. Returns whether tries were planned.
+bool SpbmLevelGenerator::PlanRemovalTries(const SpbmLevelParameters& base, TargetCandidates& run)
+{
+  if (!base.MergePatches || !base.CostOrderedRemoval)
+  {
+    return false;
+  }
+  Index predicted = 0;
+  const SpbmLevelParameters planned = this->FindParametersIn(run.Target, base, &predicted, *this->Work);
+  if (!(planned.RemovalTarget > 0))
+  {
+    return false;
+  }
+  SpbmLevelParameters* tries = run.Tries;
+  tries[0] = tries[1] = planned;
+  tries[0].SizeWeightedMerge = !planned.SizeWeightedMerge || planned.FlatnessMerge;
+  tries[0].FlatnessMerge = false;
+  tries[1].SizeWeightedMerge = false;
+  tries[1].FlatnessMerge = !planned.FlatnessMerge;
+  if (!planned.FlatnessMerge && !planned.SizeWeightedMerge)
+  {
+    tries[1].FlatnessMerge = true; // plain first: weighted and flatness
+  }
+  run.NextTry = 0;
+  run.TriesPlanned = true;
+  return true;
+}
+
+// Generates the planned tries not yet taken by the other thread, in working state s.
+void SpbmLevelGenerator::RunPlannedTries(TargetCandidates& run, State& s)
+{
+  for (int j = run.NextTry++; j < 2; j = run.NextTry++)
+  {
+    run.TriedFinished[j] = this->GenerateIn(run.Tries[j], run.TriedLevels[j], run.Abort, s);
+    if (run.TriedFinished[j])
+    {
+      run.TriedDeviations[j] = this->EstimateDeviation(run.TriedLevels[j]);
+    }
+  }
+}
+
+// A narrower alpha1 for the plain measure (fewer merges, finer chains). Returns false when aborted.
+bool SpbmLevelGenerator::TryNarrowerAngle(const SpbmLevelParameters& base, SpbmLevel& level, TargetCandidates& run)
+{
+  SpbmLevelParameters narrower = base;
+  narrower.MergeAngle = 0.5 * base.MergeAngle;
+  SpbmLevelParameters parameters;
+  SpbmLevel candidate;
+  if (!this->GenerateForTargetAndAngle(run.Target, narrower, candidate, &parameters, run.Abort, *this->Work))
+  {
+    return false;
+  }
+  const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
+  const double deviation = run.SameBudget(produced) ? this->EstimateDeviation(candidate) : run.BestDeviation;
+  this->DescribeCandidate("narrower alpha1", parameters, produced, deviation);
+  if (deviation < run.BestDeviation)
+  {
+    run.BestDeviation = deviation;
+    std::swap(level, candidate);
+    run.Best = parameters;
+  }
+  return true;
+}
+
+// CompareCandidates: keeps the helper's level when it has the same budget and is closer.
+void SpbmLevelGenerator::KeepOtherMeasure(SpbmLevel& level, TargetCandidates& run)
+{
+  const Index produced = static_cast<Index>(run.SecondLevel.TrianglePatch.size());
+  this->DescribeCandidate("other measure", run.Second, produced, run.SecondDeviation);
+  if (run.SameBudget(produced) && run.SecondDeviation < run.BestDeviation)
+  {
+    run.BestDeviation = run.SecondDeviation;
+    std::swap(level, run.SecondLevel);
+    run.Best = run.Second;
+  }
+}
+
+// The target is beyond what this measure reaches (unreachable counts: the femur, armadillo at
+// 1%): the other measure may merge further; keeps the level closer to the target. Returns false
+// when aborted.
+bool SpbmLevelGenerator::TryOtherMeasureForUnreachedTarget(
+  const SpbmLevelParameters& base, SpbmLevel& level, TargetCandidates& run)
+{
+  SpbmLevelParameters other = base;
+  other.SizeWeightedMerge = !base.SizeWeightedMerge;
+  other.FlatnessMerge = false;
+  SpbmLevelParameters parameters;
+  SpbmLevel candidate;
+  if (!this->GenerateForTargetAndAngle(run.Target, other, candidate, &parameters, run.Abort, *this->Work))
+  {
+    return false;
+  }
+  this->DescribeCandidate(
+    "other measure (target not reached)", parameters, static_cast<Index>(candidate.TrianglePatch.size()), 0.0);
+  if (candidate.TrianglePatch.size() < level.TrianglePatch.size())
+  {
+    std::swap(level, candidate);
+    run.Best = parameters;
+  }
+  return true;
+}
+
+// The planned tries: keeps the closest level of the same budget. Returns false when aborted.
+bool SpbmLevelGenerator::KeepClosestTry(const SpbmLevelParameters& first, SpbmLevel& level, TargetCandidates& run)
+{
+  for (int i = 0; i < 2; ++i)
+  {
+    if (!run.TriedFinished[i])
+    {
+      return false; // aborted
+    }
+  }
+  if (!run.Compare && run.BestDeviation == 0.0)
+  {
+    run.BestDeviation = this->EstimateDeviation(level);
+    this->DescribeCandidate("first", first, run.FirstCount, run.BestDeviation);
+  }
+  for (int i = 0; i < 2; ++i)
+  {
+    const Index produced = static_cast<Index>(run.TriedLevels[i].TrianglePatch.size());
+    this->DescribeCandidate("removal, other measure", run.Tries[i], produced, run.TriedDeviations[i]);
+    if (run.SameBudget(produced) && run.TriedDeviations[i] < run.BestDeviation)
+    {
+      run.BestDeviation = run.TriedDeviations[i];
+      std::swap(level, run.TriedLevels[i]);
+      run.Best = run.Tries[i];
+    }
+  }
+  return true;
+}
+
+// Candidates spend the same budget differently; the smallest sampled deviation from the input
+// (EstimateDeviation) wins. The first level (the given merge measure) runs on this thread; the
+// other measures run on a helper thread with its own working state (Helper) meanwhile.
 bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
   SpbmLevelParameters* used, const std::function<bool()>& abort)
 {
@@ -493,206 +725,58 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
     StageClock::time_point Start = StageClock::now();
     ~Report() { LogStageTimes("level, first working state", Since(this->Start), this->Times); }
   } report{ this->Work->Times };
-  auto describe = [&](const char* what, const SpbmLevelParameters& p, Index produced, double deviation) {
-    vtkLogF(TRACE,
-      "[spbm] %s: weighted %d flat %d alpha1 %.1f eps %.4g factor %.2f join %d collapse %d removal %d: %d tris, "
-      "estimate %.4g",
-      what, int(p.SizeWeightedMerge), int(p.FlatnessMerge), p.MergeAngle, p.Epsilon / this->Diagonal,
-      p.CollapseLengthFactor, int(p.JoinWithinEpsilon), int(p.CollapseWithinEpsilon), int(p.RemovalTarget),
-      int(produced), deviation / this->Diagonal);
-  };
-  const bool compare = base.MergePatches && base.MergeAngle > 0 && base.CompareCandidates;
-  // Candidates spend the same budget differently; the smallest sampled deviation from the input
-  // (EstimateDeviation) wins. The first two (the given merge measure and the other one of
-  // plain / size-weighted) run on two threads, each with its own working state.
-  SpbmLevelParameters first, second;
-  SpbmLevel secondLevel;
-  bool secondDone = true;
-  double secondDeviation = std::numeric_limits<double>::infinity();
+  TargetCandidates run(target, abort);
+  run.Compare = base.MergePatches && base.MergeAngle > 0 && base.CompareCandidates;
   std::thread helper;
-  if (compare)
+  if (run.Compare)
   {
-    SpbmLevelParameters other = base;
-    other.SizeWeightedMerge = !base.SizeWeightedMerge;
-    other.FlatnessMerge = false;
-    helper = std::thread([&, other]() {
-      const auto helperStart = StageClock::now();
-      this->Helper->Times = StageTimes();
-      secondDone = this->GenerateForTargetAndAngle(target, other, secondLevel, &second, abort, *this->Helper);
-      if (secondDone)
-      {
-        secondDeviation = this->EstimateDeviation(secondLevel);
-      }
-      if (secondDone && second.RemovalTarget > 0)
-      {
-        // The count comes from the cost-ordered removal, so any merge measure reaches it at the
-        // same parameters: also try the flatness measure (no search), keep the closer level.
-        SpbmLevelParameters flat = second;
-        flat.SizeWeightedMerge = false;
-        flat.FlatnessMerge = true;
-        SpbmLevel flatLevel;
-        secondDone = this->GenerateIn(flat, flatLevel, abort, *this->Helper);
-        const Index produced = static_cast<Index>(flatLevel.TrianglePatch.size());
-        if (secondDone && produced <= std::max<Index>(target, static_cast<Index>(secondLevel.TrianglePatch.size())))
-        {
-          const double deviation = this->EstimateDeviation(flatLevel);
-          describe("flatness measure (helper)", flat, produced, deviation);
-          if (deviation < secondDeviation)
-          {
-            secondDeviation = deviation;
-            std::swap(secondLevel, flatLevel);
-            second = flat;
-          }
-        }
-      }
-      LogStageTimes("candidates, second working state", Since(helperStart), this->Helper->Times);
-    });
+    helper = std::thread([this, &base, &run]() { this->GenerateOtherMeasure(base, run); });
   }
-  // Without CompareCandidates: when the count will come from the cost-ordered removal, every
-  // merge measure reaches it at the same parameters without a search, so the two other measures
-  // are generated there too (on the helper thread while this one generates the first level;
-  // whichever thread is free takes the next) and the level closest to the input is kept. Cheap
-  // next to a search; it matters at the coarsest levels, where the measure decides which large
-  // patches become flat. (The plan's search is memoized: the first level's search repeats it for free.)
-  SpbmLevelParameters tries[2];
-  SpbmLevel triedLevels[2];
-  double triedDeviations[2] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
-  bool triedFinished[2] = { false, false };
-  std::atomic<int> nextTry{ 2 }; // none
-  bool triesPlanned = false;
-  auto runTries = [&](State& state) {
-    for (int j = nextTry++; j < 2; j = nextTry++)
-    {
-      triedFinished[j] = this->GenerateIn(tries[j], triedLevels[j], abort, state);
-      if (triedFinished[j])
-      {
-        triedDeviations[j] = this->EstimateDeviation(triedLevels[j]);
-      }
-    }
-  };
-  if (!compare && base.MergePatches && base.CostOrderedRemoval)
+  else if (this->PlanRemovalTries(base, run))
   {
-    Index predicted = 0;
-    const SpbmLevelParameters planned = this->FindParametersIn(target, base, &predicted, *this->Work);
-    if (planned.RemovalTarget > 0)
-    {
-      tries[0] = tries[1] = planned;
-      tries[0].SizeWeightedMerge = !planned.SizeWeightedMerge || planned.FlatnessMerge;
-      tries[0].FlatnessMerge = false;
-      tries[1].SizeWeightedMerge = false;
-      tries[1].FlatnessMerge = !planned.FlatnessMerge;
-      if (!planned.FlatnessMerge && !planned.SizeWeightedMerge)
-      {
-        tries[1].FlatnessMerge = true; // plain first: weighted and flatness
-      }
-      nextTry = 0;
-      triesPlanned = true;
-      helper = std::thread([&]() { runTries(*this->Helper); });
-    }
+    helper = std::thread([this, &run]() { this->RunPlannedTries(run, *this->Helper); });
   }
+  SpbmLevelParameters first;
   bool done = this->GenerateForTargetAndAngle(target, base, level, &first, abort, *this->Work);
-  const Index count = static_cast<Index>(level.TrianglePatch.size());
-  double bestDeviation = done && compare ? this->EstimateDeviation(level) : 0.0;
-  describe("first", first, count, bestDeviation);
-  SpbmLevelParameters best = first;
-  // Same budget: not above the target (or the first level's count), not far below it.
-  auto sameBudget = [&](Index produced) {
-    return !((produced > target && produced > count) || produced < std::min(count, target) * 19 / 20);
-  };
-  // A narrower alpha1 for the plain measure (fewer merges, finer chains), when alpha1 did not
-  // have to be widened (a narrower one would widen to the same level) and no removal was needed.
-  SpbmLevel candidate;
-  if (done && compare && !base.SizeWeightedMerge && !base.FlatnessMerge && first.MergeAngle <= base.MergeAngle &&
+  run.FirstCount = static_cast<Index>(level.TrianglePatch.size());
+  run.BestDeviation = done && run.Compare ? this->EstimateDeviation(level) : 0.0;
+  this->DescribeCandidate("first", first, run.FirstCount, run.BestDeviation);
+  run.Best = first;
+  // A narrower alpha1 only when alpha1 did not have to be widened (a narrower one would widen
+  // to the same level) and no removal was needed.
+  if (done && run.Compare && !base.SizeWeightedMerge && !base.FlatnessMerge && first.MergeAngle <= base.MergeAngle &&
     first.RemovalTarget == 0)
   {
-    SpbmLevelParameters narrower = base;
-    narrower.MergeAngle = 0.5 * base.MergeAngle;
-    SpbmLevelParameters parameters;
-    done = this->GenerateForTargetAndAngle(target, narrower, candidate, &parameters, abort, *this->Work);
-    if (done)
-    {
-      const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
-      const double deviation = sameBudget(produced) ? this->EstimateDeviation(candidate) : bestDeviation;
-      describe("narrower alpha1", parameters, produced, deviation);
-      if (deviation < bestDeviation)
-      {
-        bestDeviation = deviation;
-        std::swap(level, candidate);
-        best = parameters;
-      }
-    }
+    done = this->TryNarrowerAngle(base, level, run);
   }
-  if (triesPlanned && done)
+  if (run.TriesPlanned && done)
   {
-    runTries(*this->Work); // take what the helper has not started
+    this->RunPlannedTries(run, *this->Work); // take what the helper has not started
   }
   if (helper.joinable())
   {
     helper.join();
   }
-  if (!done || !secondDone)
+  if (!done || !run.SecondDone)
   {
     return false;
   }
-  if (compare)
+  if (run.Compare)
   {
-    const Index produced = static_cast<Index>(secondLevel.TrianglePatch.size());
-    describe("other measure", second, produced, secondDeviation);
-    if (sameBudget(produced) && secondDeviation < bestDeviation)
-    {
-      bestDeviation = secondDeviation;
-      std::swap(level, secondLevel);
-      best = second;
-    }
+    this->KeepOtherMeasure(level, run);
   }
-  else if (base.MergePatches && 20 * count > 21 * target)
+  else if (base.MergePatches && 20 * run.FirstCount > 21 * target &&
+    !this->TryOtherMeasureForUnreachedTarget(base, level, run))
   {
-    // The target is beyond what this measure reaches (unreachable counts: the femur, armadillo
-    // at 1%): the other measure may merge further; keep the level closer to the target.
-    SpbmLevelParameters other = base;
-    other.SizeWeightedMerge = !base.SizeWeightedMerge;
-    other.FlatnessMerge = false;
-    SpbmLevelParameters parameters;
-    if (!this->GenerateForTargetAndAngle(target, other, candidate, &parameters, abort, *this->Work))
-    {
-      return false;
-    }
-    describe("other measure (target not reached)", parameters, static_cast<Index>(candidate.TrianglePatch.size()), 0.0);
-    if (candidate.TrianglePatch.size() < level.TrianglePatch.size())
-    {
-      std::swap(level, candidate);
-      best = parameters;
-    }
+    return false;
   }
-  if (triesPlanned)
+  if (run.TriesPlanned && !this->KeepClosestTry(first, level, run))
   {
-    for (int i = 0; i < 2; ++i)
-    {
-      if (!triedFinished[i])
-      {
-        return false; // aborted
-      }
-    }
-    if (!compare && bestDeviation == 0.0)
-    {
-      bestDeviation = this->EstimateDeviation(level);
-      describe("first", first, count, bestDeviation);
-    }
-    for (int i = 0; i < 2; ++i)
-    {
-      const Index produced = static_cast<Index>(triedLevels[i].TrianglePatch.size());
-      describe("removal, other measure", tries[i], produced, triedDeviations[i]);
-      if (sameBudget(produced) && triedDeviations[i] < bestDeviation)
-      {
-        bestDeviation = triedDeviations[i];
-        std::swap(level, triedLevels[i]);
-        best = tries[i];
-      }
-    }
+    return false;
   }
   if (used)
   {
-    *used = best;
+    *used = run.Best;
   }
   return true;
 }

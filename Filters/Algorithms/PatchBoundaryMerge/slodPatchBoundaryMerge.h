@@ -189,6 +189,16 @@ private:
   };
   static void LogStageTimes(const char* what, double seconds, const StageTimes& times);
   struct State;
+  // Stages of GenerateForTarget over the candidates of one call (defined in the .cxx).
+  struct TargetCandidates;
+  void DescribeCandidate(const char* what, const SpbmLevelParameters& p, Index produced, double deviation) const;
+  void GenerateOtherMeasure(const SpbmLevelParameters& base, TargetCandidates& run);
+  bool PlanRemovalTries(const SpbmLevelParameters& base, TargetCandidates& run);
+  void RunPlannedTries(TargetCandidates& run, State& s);
+  bool TryNarrowerAngle(const SpbmLevelParameters& base, SpbmLevel& level, TargetCandidates& run);
+  void KeepOtherMeasure(SpbmLevel& level, TargetCandidates& run);
+  bool TryOtherMeasureForUnreachedTarget(const SpbmLevelParameters& base, SpbmLevel& level, TargetCandidates& run);
+  bool KeepClosestTry(const SpbmLevelParameters& first, SpbmLevel& level, TargetCandidates& run);
   bool GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
     SpbmLevelParameters* used, const std::function<bool()>& abort, State& s);
   // The same as the public functions, on a given working state (one per candidate thread).
