@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """List the longest C++ functions of the library, and fail when one is over the limit.
 
   python3 scripts/function-lengths.py [--limit 150] [--top 20] [PATH ...]   (default PATH: Filters)

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Marching-cubes isosurface of a NIfTI volume, as a real-input benchmark mesh for `surfacelod bench`.
 
 The MRI templates come from Debian's mricron-data package (no root needed):

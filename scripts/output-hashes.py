@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Print a SHA-256 of every SurfaceLOD filter's output on a fixed set of meshes.
 
 Used to prove that a refactoring changes no output: run it on the commit before and the commit

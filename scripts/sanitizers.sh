@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Sanitizer and fuzzing run: configures a separate clang build with AddressSanitizer and
 # UndefinedBehaviorSanitizer (every project target; VTK itself is Debian's, not instrumented) and
 # libFuzzer, builds what it runs, then

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Command 1 of the README: install every Debian dependency, configure, build, and run the main job
 # (`surfacelod demo` on its built-in synthetic marching-cubes isosurface of about a million triangles).
 #   BUILD_DIR   build directory (default: build)

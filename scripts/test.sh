@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Command 2 of the README: build (if needed) and run the whole test suite, image tests included,
 # under a virtual X server; in CI (CI=true) or with SANITIZERS=1 also the AddressSanitizer /
 # UndefinedBehaviorSanitizer build with the core tests, the bad-input corpus and libFuzzer

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Downstream example: decimate a sphere with VTK and measure how far the result is from the
 // original with SurfaceLOD's vtkSurfaceDeviation. Prints the relative Hausdorff distance.
 #include "vtkSurfaceDeviation.h"

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Greedy-cuts simplification with a guaranteed error bound, checked with vtkSurfaceDeviation.
 
 usage: greedy_cuts.py MESH.off [RELATIVE_ERROR] [OUTPUT.vtp]

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Renders the pictures of Documentation/GreedyCuts.md (run under xvfb-run -a).
 
 usage: render_figures.py MESH_DIR OUTPUT_DIR

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Topology simplification (Ho 1999, chapter 5): small holes, bumps, cavities and cracks go, the
 // outer profile stays.
 //

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Renders the pictures of Documentation/HoleBumpRemoval.md (run under xvfb-run -a):
 
     PYTHONPATH=<build>/lib/python3/dist-packages xvfb-run -a /usr/bin/python3 render_figures.py <mesh_dir> <out_dir>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Several levels of detail of one surface from a single patchification (SPBM, Ho 1999).
 //
 //   patch_boundary_merge input.off output_prefix [triangles...]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Renders the pictures of Documentation/PatchBoundaryMerge.md (run under xvfb-run -a):
 the Fandisk coloured by patch, its profile curves, and the results at three levels.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Simplify a mesh by quadric-error triangle collapses, keep the progressive mesh, and rebuild an
 // intermediate level from it.
 //

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Renders the pictures of Documentation/QuadricTriangleCollapse.md with the project's filter.
 
     xvfb-run -a python3 render_images.py <mesh dir> <output dir>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Re-tile a surface with a given number of evenly spread vertices (Turk 1992) and write it.
 //
 //   Retile input.(off|vtp) output.vtp [points=2000] [curvature-weight=0]

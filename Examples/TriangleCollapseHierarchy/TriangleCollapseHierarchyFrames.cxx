@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Renders a smooth sweep through a triangle-collapse hierarchy (Gieng et al. 1997) as PNG frames:
 // frame f shows M_i(t) for the continuous level at which the triangle count is
 // N0 (Nn / N0)^(f / (frames - 1)), from the input M0 to the coarsest mesh Mn. The hierarchy is built once; each frame only changes SetContinuousLevel, which

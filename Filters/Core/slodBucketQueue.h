@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: an addressable min-priority queue of non-negative float costs with
 // O(1) insert, remove and update, for collapse algorithms on large meshes.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: counter-based pseudo-random numbers (splitmix64 finaliser).
 //
 // Value i of a stream is Finalise(key + i * Golden): any value can be drawn on its own, in any

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: a triangle mesh that collapse algorithms edit in place.
 //
 // Flat arrays only: each vertex owns a block [RefStart, RefStart+RefCount) of the global Refs

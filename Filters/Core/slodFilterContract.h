@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: the one contract of every simplification filter (stop targets, progress
 // and abort). Documentation/Architecture.md states it for users; the VTK side (progress to
 // vtkAlgorithm, the abort warning, the target report) is in slodInputPreparation.h.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: an addressable binary min-heap over dense element ids.
 //
 // Collapse algorithms keep one cost per element (edge, triangle) and change a few of them after

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: the VTK edge. Turns any vtkPolyData into a clean slod::TriangleMesh
 // (with a report of what was changed, for the filter to warn about) and meshes back into
 // vtkPolyData with the point data carried through.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: static adjacency of a triangle mesh, built in linear time.
 //
 // Vertex -> triangles and edge -> triangles in compressed (offset + list) arrays, unique edges,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: patchification of a triangle mesh (Ho 1999, sections 4.2.1-4.2.3).
 //
 // The surface is partitioned into patches, each a simply connected set of triangles (a disk:

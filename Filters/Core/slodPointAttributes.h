@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: point data carried through simplification.
 //
 // All numeric point arrays of the input, named or not (with a value for every point; the first of

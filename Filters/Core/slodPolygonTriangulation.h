@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: triangulation of simple polygons in 3D by ear clipping.
 //
 // The polygon is projected on the plane orthogonal to a given normal (pass the Newell normal for a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: symmetric 4x4 error quadrics (sum of squared distances to planes).
 //
 // Q(p) = p^T A p + 2 b^T p + c for the homogeneous point (p, 1); stored as the 10 unique terms.

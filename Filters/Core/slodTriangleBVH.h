@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: bounding-volume hierarchy over triangles for closest-point queries.
 // Used by vtkSurfaceDeviation and by any filter that needs distances to the original surface.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: the plain triangle mesh every algorithm works on.
 //
 // Flat arrays, no VTK types: points as xyz doubles, triangles as vertex-index triples.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD shared core: disjoint sets over 0..n-1 with path halving; the root of a set is its
 // smallest member, so results do not depend on the order of the unions.
 #ifndef slodUnionFind_h

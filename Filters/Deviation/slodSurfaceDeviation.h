@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD deviation: one-sided surface deviation (samples on one mesh measured to another).
 // The algorithm behind vtkSurfaceDeviation, usable by any filter or test without VTK data objects.
 //

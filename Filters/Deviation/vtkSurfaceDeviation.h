@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSurfaceDeviation
  * @brief   two-sided point-to-surface distance between two triangle meshes

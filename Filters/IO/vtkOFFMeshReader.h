@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkOFFMeshReader
  * @brief   reads Object File Format (OFF) surface meshes into vtkPolyData

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkOFFMeshWriter
  * @brief   writes the surface of a vtkPolyData as an Object File Format (OFF) file

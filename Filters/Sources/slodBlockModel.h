@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD sources: closed "block" models for topology simplification (tests, examples,
 // documentation pictures), in the spirit of Ho 1999's Disk, Box, Battery and Fixture models.
 //

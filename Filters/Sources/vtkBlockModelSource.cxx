@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "vtkBlockModelSource.h"
 
 #include "slodBlockModel.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkBlockModelSource
  * @brief   Closed CAD-like test models with small holes, bumps and cavities (for

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkScanSurfaceSource
  * @brief   deterministic scan-like test surfaces: noisy isosurface, segmentation mask, open scan

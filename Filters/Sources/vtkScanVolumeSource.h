@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkScanVolumeSource
  * @brief   deterministic scan-like test volumes: a noisy intensity volume or a label map

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSyntheticIsosurfaceSource
  * @brief   deterministic closed test surface: isosurface of a smooth synthetic scalar field

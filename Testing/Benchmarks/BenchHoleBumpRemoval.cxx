@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Benchmark of vtkHoleBumpRemoval (Ho 1999, chapter 5) against vtkQuadricDecimation and
 // vtkDecimatePro in its topology-changing mode (PreserveTopologyOff, the dissertation's Fig. 31),
 // measured in the same run at the triangle count our filter reaches (not part of ctest).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Benchmark of vtkPatchBoundaryMerge (SPBM) against vtkQuadricDecimation and vtkDecimatePro,
 // measured in the same run (not part of ctest): Table 1 of Ho 1999 (three levels per model,
 // patchification and level-generation times separately), whole-filter speed ratios, peak memory

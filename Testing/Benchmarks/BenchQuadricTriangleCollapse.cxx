@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Benchmark (not a test): vtkQuadricTriangleCollapse vs vtkQuadricDecimation, same inputs, same
 // run. Reports wall time of the filter update, input triangles per second, the time ratio and the
 // peak memory growth per input vertex (VmHWM reset through /proc/self/clear_refs).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Speed of the deviation measurement (a plain timed program, not a test).
 //
 // A = the demo's marching-cubes surface (vtkSyntheticIsosurfaceSource) with about 1,000,000 triangles,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Benchmark of vtkTriangleCollapseHierarchy (not a test): the paper's figures on bunny00 and on a
 // ~1M-triangle marching-cubes surface. Prints, per mesh and configuration: the number of levels
 // needed to get below 5% of the triangles with 2.5% per batch, the levels in all, the hierarchy

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The bad-input corpus of the SurfaceLOD test suite: deterministic vtkPolyData inputs of every kind
 // of bad or awkward surface users feed in (empty, no triangles, polygons and strips, non-manifold
 // and non-orientable surfaces, NaN / huge / tiny coordinates, 10,000 components, valence 5,000,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "RenderTestSupport.h"
 
 #include "vtkActor.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Baseline-image regression testing shared by every filter's image test.
 #ifndef SurfaceLODRenderTestSupport_h
 #define SurfaceLODRenderTestSupport_h

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Shared helpers of the SurfaceLOD test suite: test meshes, synthetic shapes, property checks.
 #ifndef SurfaceLODTestSupport_h
 #define SurfaceLODTestSupport_h

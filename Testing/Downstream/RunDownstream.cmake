@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs this build into a scratch prefix, moves that prefix elsewhere (the install tree is
 # relocatable), then configures, builds and runs the downstream example against the moved package
 # (find_package(SurfaceLOD)), and builds Examples/ standalone against it. Any failure fails the test.

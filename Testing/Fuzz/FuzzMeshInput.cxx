@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer target: mesh files from bytes through exactly what `surfacelod` does with a file
 // (slodcli::ReadMesh: byte checks, VTK reader, validation), then the shared input preparation
 // (slod::PrepareTriangleMesh); and arbitrary vtkPolyData straight into the preparation.

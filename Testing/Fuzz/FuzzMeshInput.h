@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The libFuzzer entry point of the mesh input fuzz target (FuzzMeshInput.cxx), shared by the
 // libFuzzer build, the replay driver and the seed generator.
 #ifndef SurfaceLODFuzzMeshInput_h

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Runs the fuzz target's entry point on files (or on every file of directories) without libFuzzer:
 // the seed corpus and the inputs the fuzzer once found are replayed by ctest in every build, with
 // any compiler. Exit 0 when every input ran (a finding aborts the process).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Writes the seed corpus of the mesh input fuzz target into a directory: small sound files of every
 // format (written by the project's and VTK's writers, ASCII and binary) and one raw vtkPolyData,
 // each prefixed with the fuzz target's selector byte. Generated, never downloaded.

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """End-to-end tests of the `surfacelod` command-line tool (run by ctest, one scenario per test).
 
 usage: cli_test.py --cli PATH --mesh-dir DIR --work DIR SCENARIO [ARG]

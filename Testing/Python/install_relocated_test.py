@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """An installed SurfaceLOD works after its prefix is moved (run by ctest as Install.RelocatedPrefix).
 
 Installs the build into a staging prefix, moves that prefix elsewhere, then runs the *installed*

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """vtkHoleBumpRemoval from Python (run with Debian's /usr/bin/python3): the wrapped class in a
 pipeline with vtkBlockModelSource, counts in the getters and the field data, the sharp-loop
 output, and a CGAL demo CAD model whose genus drops by the holes removed."""

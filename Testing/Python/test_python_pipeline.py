@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The wrapped SurfaceLOD filters in a real VTK Python pipeline (run with Debian's /usr/bin/python3)."""
 import os
 import sys

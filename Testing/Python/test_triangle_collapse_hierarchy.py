@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """vtkTriangleCollapseHierarchy from Python: a pipeline, a slider-like sweep of the continuous
 level without rebuilding, and the all-levels output (run with Debian's /usr/bin/python3)."""
 import os

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The inputs of `surfacelod demo` and `surfacelod bench`: generated surfaces by name
 // (synthetic:N, noisy:N, mask:N, openscan:N), mesh files, CGAL demo meshes, and the named sets.
 #ifndef surfacelodBenchInputs_h

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Runs a program as a child process with a wall-clock limit (the bench runs every method this
 // way, so that a slow or hanging method is stopped and reported instead of stalling the run).
 #ifndef surfacelodChildProcess_h

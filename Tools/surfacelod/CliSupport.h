@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Small helpers of the `surfacelod` tool: errors with exit codes, number formatting, timing, peak
 // memory and a terminal progress bar. (Options are parsed by CLI11, JSON written by nlohmann-json.)
 #ifndef surfacelodCliSupport_h

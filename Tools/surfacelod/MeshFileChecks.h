@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Checks of mesh files made on their bytes before a VTK reader sees them: VTK's PLY reader crashes
 // on out-of-range face indices and on truncated or oversized data, and its STL reader reads a
 // binary file whose triangle count disagrees with its size without a word.

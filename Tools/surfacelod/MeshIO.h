@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Mesh files of the `surfacelod` tool: reader/writer chosen by extension, with every failure
 // turned into one clean line (VTK's own error messages are captured, not printed).
 #ifndef surfacelodMeshIO_h

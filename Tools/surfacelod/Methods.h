@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The simplification methods the `surfacelod` tool can run: one registry, one entry per method.
 #ifndef surfacelodMethods_h
 #define surfacelodMethods_h

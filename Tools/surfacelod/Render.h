@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Side-by-side offscreen rendering of meshes into a PNG (for `surfacelod demo`).
 #ifndef surfacelodRender_h
 #define surfacelodRender_h

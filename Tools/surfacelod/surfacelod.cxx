@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // surfacelod: command-line front end of the SurfaceLOD filters.
 //
 //   surfacelod simplify INPUT OUTPUT -m NAME (-t TRIANGLES | -r REDUCTION | -e MAX_ERROR) [-s Name=Value]...

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm CollapseHierarchy: smooth hierarchical surface triangulations by triangle collapse
 // (Gieng, Hamann, Joy, Schussman, Trotts, IEEE Visualization 1997).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm CollapseHierarchy: least-squares quadratic height fields and their curvature.
 //
 // A surface patch near a point is written as a graph z = f(u, v) over a local orthonormal frame

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "slodTriangleStencil.h"
 
 #include <algorithm>

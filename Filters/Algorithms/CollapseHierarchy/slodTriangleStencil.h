@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm CollapseHierarchy: stencils of triangles and the triangle-collapse rules of
 // Gieng, Hamann, Joy, Schussman, Trotts, "Smooth hierarchical surface triangulations" (1997).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkTriangleCollapseHierarchy
  * @brief   smooth hierarchical triangulations by triangle collapse (Gieng et al. 1997)

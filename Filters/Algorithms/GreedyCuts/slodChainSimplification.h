@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm GreedyCuts: simplification of a polyline (a boundary chain) to a tolerance.
 //
 // Douglas-Peucker refinement in 3D: a sub-chain is split at its vertex farthest from the segment

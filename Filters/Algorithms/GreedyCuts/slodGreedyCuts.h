@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm GreedyCuts: bounded-error simplification by greedy cuts (Ho 1999, chapter 3, after Silva et
 // al.'s terrain greedy cuts), on a patchification of the surface (chapter 4's slod::Patchification).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkGreedyCutsSimplification
  * @brief   bounded-error simplification by greedy cuts (Ho 1999, chapter 3): the output is

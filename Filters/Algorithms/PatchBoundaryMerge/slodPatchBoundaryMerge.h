@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm PatchBoundaryMerge: level-of-detail generation of the Simplified Patch Boundary Merging
 // method (Ho 1999, sections 4.2.4-4.2.8) on top of a slod::Patchification.
 //

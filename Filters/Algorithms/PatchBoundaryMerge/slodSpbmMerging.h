@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD patch boundary merge (internal, not installed): one merging run of
 // an SPBM level (Ho 1999, sections 4.2.5-4.2.7) over a working state. Stages,
 // in order:

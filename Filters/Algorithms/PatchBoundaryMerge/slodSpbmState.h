@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD patch boundary merge (internal, not installed): the working state
 // of one SPBM level and the constants and small helpers that its stages share
 // (slodPatchBoundaryMerge.cxx: chain hierarchy, triangulation and target

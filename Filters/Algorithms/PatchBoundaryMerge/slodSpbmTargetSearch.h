@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD patch boundary merge (internal, not installed): the target search of an SPBM level.
 // Finds parameters whose level has about `target` triangles from predicted counts (one merging
 // run each, memoized): first alpha1 (the given one, or the smallest wider one that reaches the

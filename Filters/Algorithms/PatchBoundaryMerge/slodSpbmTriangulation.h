@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD patch boundary merge (internal, not installed): triangulation of an SPBM level
 // (Ho 1999, section 4.2.8) from the chain graph a merging run left in the working state.
 // Stages of one pass:

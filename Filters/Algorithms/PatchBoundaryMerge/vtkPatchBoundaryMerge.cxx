@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "vtkPatchBoundaryMerge.h"
 
 #include "slodInputPreparation.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkPatchBoundaryMerge
  * @brief   Simplified Patch Boundary Merging (SPBM, Ho 1999, chapter 4): fast level-of-detail

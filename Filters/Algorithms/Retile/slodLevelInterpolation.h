@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm Retile: interpolation between two nested levels of detail (Turk 1992, section 6).
 //
 // Input: a high-detail and a low-detail triangle mesh of the same surface where every low-detail

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm Retile: re-tiling of a triangle surface (Turk 1992, "Re-Tiling Polygonal Surfaces").
 //
 // Stages (each a named function, all deterministic for a given seed):

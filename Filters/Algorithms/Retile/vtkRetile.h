@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkRetile
  * @brief   re-tiles a triangle surface with a given number of evenly spread vertices (Turk 1992)

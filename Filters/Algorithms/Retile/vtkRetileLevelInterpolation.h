@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkRetileLevelInterpolation
  * @brief   smooth interpolation between two nested levels of detail (Turk 1992, section 6)

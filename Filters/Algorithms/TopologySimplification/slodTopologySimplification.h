@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm TopologySimplification: topology simplification of Ho 1999, chapter 5 — removal of small
 // holes (tunnels), bumps and cavities bounded by sharp edges, and repair of cracks, on top of
 // the SPBM patchification (slodPatchification) and its level generator (slodPatchBoundaryMerge).

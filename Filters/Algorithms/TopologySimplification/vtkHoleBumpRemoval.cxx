@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "vtkHoleBumpRemoval.h"
 
 #include "slodInputPreparation.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkHoleBumpRemoval
  * @brief   Topology simplification (Ho 1999, chapter 5): removes small holes (tunnels), bumps

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SurfaceLOD algorithm TriangleCollapse: quadric-error triangle collapse simplification (Pan, Zhou, Shi 2000).
 //
 // The operation merges the three vertices of a triangle into one new vertex, removing the

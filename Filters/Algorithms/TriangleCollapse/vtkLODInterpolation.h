@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkLODInterpolation
  * @brief   in-between mesh of a detailed and a coarse level of detail (Pan, Zhou, Shi 2000, §4)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkProgressiveMeshReconstruction
  * @brief   any level of a progressive mesh from a coarse mesh and its collapse records

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkQuadricTriangleCollapse
  * @brief   quadric-error simplification by triangle collapses (Pan, Zhou, Shi 2000)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Every category of the bad-input corpus (BadInputCorpus.h) through every filter, each run in a
 // child process under a CPU-time limit: no crash, no hang, and either a clear error (vtkErrorMacro) with
 // an empty output or a valid output (see slodtest::CheckFilterOutput). One test per filter; each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The shared filter contract (slodFilterContract.h): how the three stop targets resolve to a count.
 #include "slodFilterContract.h"
 

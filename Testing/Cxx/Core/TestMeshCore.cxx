@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Shared mesh core: adjacency, statistics, editing with the link condition, quadrics,
 // polygon triangulation and input preparation on known shapes and bad inputs.
 #include "TestSupport.h"

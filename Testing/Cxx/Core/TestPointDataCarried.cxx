@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Point data through every simplifier: a textured sphere (vtkTexturedSphereSource leaves its normals
 // and texture coordinates unnamed) with a named scalar array. Every array comes out, named or not,
 // with its attribute role; normals are unit length, texture coordinates stay in the input's range;

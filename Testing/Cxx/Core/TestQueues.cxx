@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Shared priority queues (slod::BucketQueue, slod::IndexedHeap): pop order against a sorted
 // reference under updates and removals, termination with large buckets of equal keys, and
 // WouldBeFirst agreeing with Pop at the bucket scan limit.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The baseline-image pattern every filter's image test follows: render a real mesh offscreen and
 // compare with a stored baseline through vtkTesting.
 #include "RenderTestSupport.h"

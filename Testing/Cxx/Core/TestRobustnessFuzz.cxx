@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Randomised robustness test of every simplification filter (a deterministic fuzzer): small
 // meshes corrupted by random combinations of the defects users feed in (duplicate and coincident
 // points, degenerate and duplicate triangles, flipped triangles, holes, non-manifold edges, lines,

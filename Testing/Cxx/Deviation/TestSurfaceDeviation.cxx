@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Deviation measurement: exact closest point on a triangle, the triangle BVH against brute force,
 // vtkSurfaceDeviation on cases with known answers, determinism, and agreement with the external
 // reference tool `meshdist` (anchorbench, CGAL AABB tree).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // OFF reading and writing: exact round trips, header variants, colour columns, polygons of any
 // size, and clean failures. The tool's file checks and writers: files VTK's readers crashed on or
 // misread are refused with one line naming them, and every writer reports a full disk.

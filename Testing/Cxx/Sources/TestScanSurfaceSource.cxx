@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The scan-like benchmark inputs (vtkScanVolumeSource, vtkScanSurfaceSource): the defects of real
 // scans where they are promised (and not on the smooth surface the noise is added to), counts
 // bounded by what marching cubes and the construction allow at a resolution, identical output

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The synthetic benchmark surface: closed, manifold, one component, genus 1, deterministic.
 #include "TestSupport.h"
 

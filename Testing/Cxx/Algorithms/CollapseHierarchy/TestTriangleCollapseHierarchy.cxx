@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkTriangleCollapseHierarchy and its core (Gieng et al. 1997): quadratic fits and curvature on
 // analytic surfaces, stencil classification and collapsibility rules, hierarchy invariants on real
 // meshes (manifold, genus, no flips, exact vertex splits, blends), the filter's caching and

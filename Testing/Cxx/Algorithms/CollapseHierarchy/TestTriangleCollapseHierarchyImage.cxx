@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Baseline image of a blended level of the triangle-collapse hierarchy: the bunny at level 30.5
 // (M_30 with its collapsing triangles half collapsed), coloured by CollapseRole (collapsing
 // triangles, their stencils, the rest), like the paper's figures 14-16.

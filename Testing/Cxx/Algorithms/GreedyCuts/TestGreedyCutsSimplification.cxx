@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Tests of the greedy-cuts simplification (Ho 1999, chapter 3): the epsilon guarantee (two-sided
 // Hausdorff measured by vtkSurfaceDeviation), original vertices only, manifold, watertight, same
 // genus, no flipped triangles, monotone in epsilon, deterministic, the epsilon search for a target,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Baseline-image regression test of vtkGreedyCutsSimplification: the Fandisk at epsilon 0.01 of
 // the diagonal coloured by patch (catches changes in chains, ears, bites and repairs at once).
 #include "RenderTestSupport.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Tests of the SPBM method: the shared patchification (disks, normal cones, chains, patch graph),
 // the chain hierarchy (epsilon bound), the level generator and the vtkPatchBoundaryMerge filter
 // (manifold, watertight, genus, original vertices only, PatchId, profile curves, reuse of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Baseline-image regression test of vtkPatchBoundaryMerge: the Fandisk at 460 triangles coloured
 // by merged patch (catches changes in patchification, merging and triangulation at once).
 #include "RenderTestSupport.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkRetile (Turk 1992): counts, topology, orientation, vertices on the input surface, no folds,
 // distance to the input (Hausdorff) against vtkQuadricDecimation at the same triangle count in the
 // same run, point spacing before/after repulsion, curvature concentration, determinism, point

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Baseline-image regression test: bunny00 re-tiled with 1500 vertices (curvature-weighted),
 // rendered offscreen and compared with Testing/Data/Baseline/TestRetileBunny.png.
 #include "RenderTestSupport.h"

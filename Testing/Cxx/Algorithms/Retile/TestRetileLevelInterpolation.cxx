@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkRetileLevelInterpolation (Turk 1992 sections 6.2-6.3): between two nested levels of vtkRetile,
 // the fragment mesh has exactly the high-detail shape at T = 1 and the low-detail shape at T = 0
 // (vtkSurfaceDeviation), stays a consistently oriented closed manifold of the same Euler

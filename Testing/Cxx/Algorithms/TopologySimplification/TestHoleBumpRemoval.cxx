@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Tests of the topology simplification of Ho 1999, chapter 5 (slodTopologySimplification and
 // vtkHoleBumpRemoval): holes, bumps, cavities and cracks on programmatic block models (counted
 // exactly), genus after removal, manifold and watertight output, triangle counts (a plate with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Baseline-image regression test of vtkHoleBumpRemoval: the mixed block model (bumps, cavities,
 // a hole) with its features removed keeping the other triangles, coloured by FilledPatch (catches
 // changes in the loop search, the wall regions and the fills at once).

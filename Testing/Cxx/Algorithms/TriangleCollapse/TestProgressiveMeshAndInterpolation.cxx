@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Progressive meshes from triangle collapses (vtkQuadricTriangleCollapse records +
 // vtkProgressiveMeshReconstruction) and interpolation between two levels (vtkLODInterpolation).
 #include "TestSupport.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkQuadricTriangleCollapse: properties on real meshes (counts, topology, orientation, flips,
 // borders, determinism, point data, error arrays, stop criteria), bad input, and quality against
 // vtkQuadricDecimation measured in the same run with vtkSurfaceDeviation.

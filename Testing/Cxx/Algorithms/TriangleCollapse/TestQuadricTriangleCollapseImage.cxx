@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Baseline-image regression test: bunny00 simplified by triangle collapses to 97 % reduction,
 // rendered offscreen and compared with Testing/Data/Baseline/TestQuadricTriangleCollapseBunny.png.
 #include "RenderTestSupport.h"
