@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Every source file of the project starts with its SPDX license line (BSD-3-Clause, as LICENSE).
 
   python3 scripts/spdx.py [--fix] [ROOT]
