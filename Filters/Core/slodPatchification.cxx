@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodPatchification.h"
 
+#include "vtkMath.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,7 +10,6 @@ namespace slod
 {
 namespace
 {
-constexpr double DegreesToRadians = 3.14159265358979323846 / 180.0;
 
 } // namespace
 
@@ -116,10 +117,10 @@ struct PatchGrowth
     , Across(across)
     , Parameters(parameters)
     , TrianglePatch(trianglePatch)
-    , CosOnePatch(std::cos(parameters.OneEdgePatchAngle * DegreesToRadians))
-    , CosOneNeighbor(std::cos(parameters.OneEdgeNeighborAngle * DegreesToRadians))
-    , CosTwoPatch(std::cos(parameters.TwoEdgePatchAngle * DegreesToRadians))
-    , CosTwoNeighbor(std::cos(parameters.TwoEdgeNeighborAngle * DegreesToRadians))
+    , CosOnePatch(std::cos(vtkMath::RadiansFromDegrees(parameters.OneEdgePatchAngle)))
+    , CosOneNeighbor(std::cos(vtkMath::RadiansFromDegrees(parameters.OneEdgeNeighborAngle)))
+    , CosTwoPatch(std::cos(vtkMath::RadiansFromDegrees(parameters.TwoEdgePatchAngle)))
+    , CosTwoNeighbor(std::cos(vtkMath::RadiansFromDegrees(parameters.TwoEdgeNeighborAngle)))
     , VertexStamp(size_t(mesh.NumberOfPoints()), InvalidIndex)
     , VertexCount(size_t(mesh.NumberOfPoints()), 0)
     , TriedStamp(size_t(mesh.NumberOfTriangles()), InvalidIndex)

@@ -203,17 +203,6 @@ struct Box
 constexpr int MaxStack = 160;
 
 // Spreads the low 21 bits of v to every third bit (63-bit Morton codes).
-inline std::uint64_t Spread21(std::uint64_t v)
-{
-  v &= 0x1fffff;
-  v = (v | (v << 32)) & 0x1f00000000ffffull;
-  v = (v | (v << 16)) & 0x1f0000ff0000ffull;
-  v = (v | (v << 8)) & 0x100f00f00f00f00full;
-  v = (v | (v << 4)) & 0x10c30c30c30c30c3ull;
-  v = (v | (v << 2)) & 0x1249249249249249ull;
-  return v;
-}
-
 struct MortonEntry
 {
   std::uint64_t Code;
@@ -279,7 +268,7 @@ std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres)
       {
         const double c = centres[3 * size_t(t) + k];
         const double u = std::isfinite(c) ? std::max(0.0, std::min(double((1 << 21) - 1), (c - lo[k]) * scale[k])) : 0.0;
-        code |= Spread21(static_cast<std::uint64_t>(u)) << (2 - k);
+        code |= SpreadBits21(static_cast<std::uint64_t>(u)) << (2 - k);
       }
       entries[size_t(t)] = { code, Index(t) };
     }

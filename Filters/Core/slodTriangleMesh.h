@@ -36,6 +36,19 @@ inline Vec3 Normalized(const Vec3& a)
   return n > 0 ? (1.0 / n) * a : Vec3{ 0, 0, 0 };
 }
 
+// The low 21 bits of x spread to every third bit: three of them interleaved (x | y << 1 | z << 2)
+// make a 63-bit Morton (Z-order) code, the spatial order of the BVH and of the collapse's vertices.
+inline std::uint64_t SpreadBits21(std::uint64_t x)
+{
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+
 // One 64-bit key per undirected edge (smaller vertex id in the high half), for hash sets and sorts.
 inline std::uint64_t EdgeKey(Index a, Index b)
 {

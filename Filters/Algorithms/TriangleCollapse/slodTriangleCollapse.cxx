@@ -305,20 +305,6 @@ private:
   mutable std::vector<Index> UnionScratch;
 };
 
-namespace
-{
-std::uint64_t SpreadBits(std::uint64_t x)
-{
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
-} // namespace
-
 void TriangleCollapser::Reorder(TriangleMesh& mesh)
 {
   // Vertices in Morton order of their position, triangles by their smallest new vertex id: the
@@ -332,7 +318,7 @@ void TriangleCollapser::Reorder(TriangleMesh& mesh)
   {
     const double* p = &mesh.Points[3 * size_t(v)];
     const auto q = [&](int k) { return static_cast<std::uint64_t>(std::max(0.0, (p[k] - b[2 * k]) * scale)); };
-    keys[v] = { SpreadBits(q(0)) | SpreadBits(q(1)) << 1 | SpreadBits(q(2)) << 2, v };
+    keys[v] = { SpreadBits21(q(0)) | SpreadBits21(q(1)) << 1 | SpreadBits21(q(2)) << 2, v };
   }
   std::sort(keys.begin(), keys.end());
   this->VertexInput.resize(static_cast<size_t>(nv));
