@@ -233,10 +233,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.CurvatureWeight = this->CurvatureWeight;
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
-  options.Progress = [this](double fraction) {
-    this->UpdateProgress(fraction);
-    return !this->GetAbortExecute(); // VTK 9.1 has no CheckAbort()
-  };
+  options.Progress = slod::FilterProgress(this);
   slod::RetilingResult result = RetileWithin(mesh, options, limit);
   const bool retiled = result.Mesh.NumberOfTriangles() <= limit;
   if (!result.Aborted && !retiled)
@@ -258,7 +255,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     RetileNestedWithin(mesh, options, this->NumberOfNestedLevels, this->NestedLevelRatio, limit, levels);
     if (levels.empty() || levels.back().Aborted)
     {
-      vtkWarningMacro(<< "Aborted: empty output.");
+      slod::ReportAbort(this, output);
       return 1;
     }
     if (levels.back().Mesh.NumberOfTriangles() > limit)
@@ -272,7 +269,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   }
   if (result.Aborted)
   {
-    vtkWarningMacro(<< "Aborted: empty output.");
+    slod::ReportAbort(this, output);
     return 1;
   }
 
