@@ -417,8 +417,6 @@ CollapseStatus EditableMesh::CheckCollapse(
   const Index* vertices, int count, const Vec3& p, const CollapseOptions& options) const
 {
   assert(count >= 2 && count <= 3);
-  bool anyBoundary = false;
-  bool onBoundary[3] = { false, false, false };
   for (int i = 0; i < count; ++i)
   {
     if (!this->IsVertexAlive(vertices[i]))
@@ -429,29 +427,48 @@ CollapseStatus EditableMesh::CheckCollapse(
     {
       return CollapseStatus::Locked;
     }
+  }
+  this->GatherTriangles(vertices, count);
+  if (options.GeometryFirst)
+  {
+    const CollapseStatus geometry = this->CheckGeometry(vertices, count, p, options);
+    if (geometry != CollapseStatus::Ok)
+    {
+      return geometry;
+    }
+  }
+  this->PrefetchGathered();
+  if (!options.AllowTopologyChange)
+  {
+    const CollapseStatus topology = this->CheckTopology(vertices, count, options);
+    if (topology != CollapseStatus::Ok)
+    {
+      return topology;
+    }
+  }
+  return options.GeometryFirst ? CollapseStatus::Ok : this->CheckGeometry(vertices, count, p, options);
+}
+
+CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, const CollapseOptions& options) const
+{
+  bool anyBoundary = false;
+  bool onBoundary[3] = { false, false, false };
+  for (int i = 0; i < count; ++i)
+  {
     onBoundary[i] =
       options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]);
     anyBoundary = anyBoundary || onBoundary[i];
   }
-  this->GatherTriangles(vertices, count);
-  this->PrefetchGathered();
-  if (!options.AllowTopologyChange)
+  const CollapseStatus link = this->CheckLink(vertices, count, anyBoundary);
+  if (link != CollapseStatus::Ok)
   {
-    const CollapseStatus link = this->CheckLink(vertices, count, anyBoundary);
-    if (link != CollapseStatus::Ok)
-    {
-      return link;
-    }
-    if (!this->BorderVerticesFormChain(vertices, count, onBoundary))
-    {
-      return CollapseStatus::BoundaryChange;
-    }
-    if (this->IsolatesVertex(vertices, count, options))
-    {
-      return CollapseStatus::IsolatedVertex;
-    }
+    return link;
   }
-  return this->CheckGeometry(vertices, count, p, options);
+  if (!this->BorderVerticesFormChain(vertices, count, onBoundary))
+  {
+    return CollapseStatus::BoundaryChange;
+  }
+  return this->IsolatesVertex(vertices, count, options) ? CollapseStatus::IsolatedVertex : CollapseStatus::Ok;
 }
 
 void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p, CollapseRecord* record)

@@ -882,6 +882,9 @@ struct OldVertexRemoval
   // Candidates [0, FixedCount) belong to a coarser level: phase 2 never moves them.
   Index FixedCount = 0;
   CollapseOptions Collapse;
+  // Border flags of every vertex, kept exact through the collapses (a merged vertex is on the
+  // border when one of the pair was): IsBoundaryVertex walks a whole fan twice per check.
+  std::vector<unsigned char> OnBorder;
   double MinimumFacing = 0.0;
 
   OldVertexRemoval(EditableMesh& edit, std::vector<Vec3>& reference, Index oldVertices, Index candidates,
@@ -894,6 +897,15 @@ struct OldVertexRemoval
     , FixedCount(coarser.FixedCount)
   {
     this->Collapse.MinimumNormalDot = 0.0;
+    // Most candidates of a high-valence old vertex fold its fan: reject those at the first
+    // folding triangle instead of after a walk of the whole link.
+    this->Collapse.GeometryFirst = true;
+    this->OnBorder.resize(edit.NumberOfPoints());
+    for (Index v = 0; v < edit.NumberOfPoints(); ++v)
+    {
+      this->OnBorder[v] = edit.IsVertexAlive(v) && edit.IsBoundaryVertex(v) ? 1 : 0;
+    }
+    this->Collapse.BoundaryVertices = this->OnBorder.data();
     for (Index i = 0; i < candidates; ++i)
     {
       if (coarser.IsPinned(i))
@@ -982,6 +994,7 @@ struct OldVertexRemoval
       this->MovedTo[target - this->OldVertices] = r;
       this->Reference[target] = this->Reference[r];
     }
+    this->OnBorder[target] = this->OnBorder[target] | this->OnBorder[r];
     this->Edit.Collapse(pair, 2, target, this->Edit.Point(phase == 2 ? r : target));
   }
 
