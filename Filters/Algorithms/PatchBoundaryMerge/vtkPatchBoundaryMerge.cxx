@@ -142,10 +142,7 @@ bool vtkPatchBoundaryMerge::Cache::Build(
       // search, e.g. bunny00 at 525 triangles, waits for it.)
       this->Generator.StartInputTree(this->Mesh);
     }
-    this->Patches.Build(this->Mesh, *topology, growth, [self](double f) {
-      self->UpdateProgress(0.05 + 0.6 * f);
-      return self->GetAbortExecute() != 0;
-    });
+    this->Patches.Build(this->Mesh, *topology, growth, slod::FilterProgress(self, 0.05, 0.65));
   }
   if (this->Patches.Aborted())
   {
