@@ -326,6 +326,10 @@ int vtkPatchBoundaryMerge::RequestData(
     if (!this->Cached->Build(this, input, patchParameters))
     {
       this->Cached.reset();
+      if (this->GetAbortExecute())
+      {
+        slod::ReportAbort(this, output);
+      }
       return 1;
     }
   }
@@ -360,6 +364,7 @@ int vtkPatchBoundaryMerge::RequestData(
   slod::SpbmLevel result;
   if (!cache.GenerateLevel(this, result, level))
   {
+    slod::ReportAbort(this, output); // the level's generation fails only when aborted
     return 1;
   }
   this->UsedEpsilon = level.Epsilon < 0 ? 0.0 : level.Epsilon;
