@@ -43,7 +43,7 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
   parameters.SharpMinimumDot = std::cos(vtkMath::RadiansFromDegrees(filter->GetMaximumSharpAngle()));
   const double diagonal = mesh.BoundingBoxDiagonal();
   parameters.Patches.MaximumPlaneDistance = filter->GetPatchPlaneDistance() * diagonal;
-  const double scale = filter->GetRelativeFeatureSize() ? diagonal : 1.0;
+  const double scale = filter->GetMaximumFeatureSizeIsRelative() ? diagonal : 1.0;
   parameters.MaximumFeatureSize = filter->GetMaximumFeatureSize() * scale;
   parameters.MaximumCrackSize = filter->GetMaximumCrackSize() < 0 ? -1.0 : filter->GetMaximumCrackSize() * scale;
   parameters.FillCracks = filter->GetFillCracks();
@@ -268,7 +268,7 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SharpAngle: " << this->SharpAngle << "\n";
   os << indent << "MaximumSharpAngle: " << this->MaximumSharpAngle << "\n";
   os << indent << "MaximumFeatureSize: " << this->MaximumFeatureSize
-     << (this->RelativeFeatureSize ? " (relative)" : " (absolute)") << "\n";
+     << (this->MaximumFeatureSizeIsRelative ? " (relative)" : " (absolute)") << "\n";
   os << indent << "RemoveHoles: " << this->RemoveHoles << "\n";
   os << indent << "RemoveBumps: " << this->RemoveBumps << "\n";
   os << indent << "RemoveCavities: " << this->RemoveCavities << "\n";
