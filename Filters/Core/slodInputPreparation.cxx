@@ -858,6 +858,11 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
     OrientConsistently(mesh, star, report);
   }
   report.NonManifoldVertices = MarkNonManifoldVertices(mesh, star, flags);
+  for (unsigned char& f : flags)
+  {
+    f = (f & NonManifoldFlag) ? 1 : 0;
+  }
+  report.NonManifoldVertexFlags = std::move(flags);
   return report;
 }
 

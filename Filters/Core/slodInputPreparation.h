@@ -61,6 +61,9 @@ struct SURFACELODFILTERS_EXPORT PreparationReport
   long long NonOrientableComponents = 0;
   long long NonManifoldEdges = 0;
   long long NonManifoldVertices = 0;
+  // Per vertex of the prepared mesh: 1 when non-manifold (as NonManifoldVertexFlags), handed to
+  // the collapse filters so that they need not classify the mesh a second time.
+  std::vector<unsigned char> NonManifoldVertexFlags;
   // One human-readable sentence per non-zero count above (for vtkWarningMacro).
   std::vector<std::string> Warnings() const;
 };

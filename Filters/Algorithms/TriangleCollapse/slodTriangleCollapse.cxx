@@ -766,11 +766,28 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
   const double diagonal = input.BoundingBoxDiagonal();
   // Costs are area * distance^2 ~ length^4: normalise by the diagonal so float keys keep range.
   this->CostScale = diagonal > 0 ? 1.0 / (diagonal * diagonal * diagonal * diagonal) : 1.0;
+  const std::vector<unsigned char>* given = this->Options.NonManifoldVertices;
+  if (given && given->size() != size_t(input.NumberOfPoints()))
+  {
+    given = nullptr; // not this mesh's flags: classify it here
+  }
   this->Reorder(input);
   this->TraceStage("reorder");
   if (!this->Options.AllowTopologyChange)
   {
-    this->Locked = NonManifoldVertexFlags(input);
+    if (given)
+    {
+      // Vertex i of the reordered mesh is input vertex VertexInput[i].
+      this->Locked.resize(size_t(input.NumberOfPoints()));
+      for (Index v = 0; v < input.NumberOfPoints(); ++v)
+      {
+        this->Locked[v] = (*given)[this->VertexInput[v]];
+      }
+    }
+    else
+    {
+      this->Locked = NonManifoldVertexFlags(input);
+    }
   }
   this->Mesh.Reset(input);
   if (refine)

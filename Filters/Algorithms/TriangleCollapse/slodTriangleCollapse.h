@@ -85,6 +85,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   Index FitExactAssignmentLimit = 300000;
   // Record every collapse for progressive meshes (CollapseHistory).
   bool RecordHistory = false;
+  // Optional: per vertex of the input mesh, 1 when non-manifold (the input preparation's
+  // PreparationReport::NonManifoldVertexFlags); computed here when null.
+  const std::vector<unsigned char>* NonManifoldVertices = nullptr;
   // Called about every 1% of the work with the fraction done; return false to abort.
   std::function<bool(double)> Progress;
 };

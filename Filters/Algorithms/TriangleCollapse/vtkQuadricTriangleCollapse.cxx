@@ -200,9 +200,10 @@ int vtkQuadricTriangleCollapse::RequestData(
   }
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput;
+  slod::PreparationReport report;
   {
     vtkLogScopeF(TRACE, "vtkQuadricTriangleCollapse: input preparation");
-    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput))
+    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report))
     {
       return 1;
     }
@@ -215,7 +216,8 @@ int vtkQuadricTriangleCollapse::RequestData(
   }
   const slod::Index target = TargetTriangles(this, inputTriangles);
   const double diagonal = mesh.BoundingBoxDiagonal();
-  const slod::TriangleCollapseOptions options = CollapseOptions(this, target, diagonal);
+  slod::TriangleCollapseOptions options = CollapseOptions(this, target, diagonal);
+  options.NonManifoldVertices = &report.NonManifoldVertexFlags;
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
   std::vector<slod::Index>().swap(vertexToInput);
