@@ -1020,6 +1020,9 @@ void CollapseHierarchy::SetParameters(const CollapseHierarchyParameters& paramet
   p.BatchFraction = std::min(1.0, std::max(1e-6, p.BatchFraction));
   this->MeshOptions = CollapseOptions();
   this->MeshOptions.MinimumNormalDot = p.MinimumNormalDot;
+  // Folding candidates are rejected before the link walk. Every caller here only asks whether a
+  // collapse is valid, never which test failed, so the order changes no result.
+  this->MeshOptions.GeometryFirst = true;
   this->Rules = CollapsibleOptions();
 }
 
@@ -1056,6 +1059,15 @@ void CollapseHierarchy::Reset(const TriangleMesh& input)
   std::iota(this->EntryTriangle.begin(), this->EntryTriangle.end(), 0);
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
+  // Reserved at once instead of grown by doubling copies: a collapse adds a point and new
+  // versions of the ten or so triangles around it, about three versions per input triangle in all
+  // (and at most one collapse per two input triangles).
+  const size_t versions = 3 * size_t(nt);
+  this->EntryVertices.reserve(3 * versions);
+  this->EntryBirth.reserve(versions);
+  this->EntryDeath.reserve(versions);
+  this->EntryTriangle.reserve(versions);
+  this->GlobalPoints.reserve(3 * (size_t(np) + size_t(nt) / 2));
   this->ResetRecords();
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
