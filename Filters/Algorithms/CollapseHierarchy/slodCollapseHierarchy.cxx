@@ -180,13 +180,14 @@ void CollapseHierarchy::RemoveCyclesBySwapping(TriangleMesh& mesh) const
 // curvature of the fitted quadratic and, beyond the paper, the quadric error of the collapse point.
 void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
 {
-  const EvaluationRest rest = this->EvaluateConcurrently(t, e, this->Link);
-  this->FinishEvaluation(t, e, rest);
+  Alternatives alternatives;
+  const EvaluationRest rest = this->EvaluateConcurrently(t, e, this->Link, alternatives);
+  this->FinishEvaluation(t, e, rest, alternatives);
 }
 
 // The serial rest of an evaluation: the stencil fit (its scratch is shared) or the search for a
 // point that does not fold (EditableMesh::CheckCollapse uses the mesh's scratch).
-void CollapseHierarchy::FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest)
+void CollapseHierarchy::FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest, const Alternatives& alternatives)
 {
   if (rest == EvaluationRest::Fit)
   {
@@ -196,15 +197,15 @@ void CollapseHierarchy::FinishEvaluation(Index t, Evaluation& e, EvaluationRest 
   {
     const Index* tri = this->Mesh.Triangle(t);
     const Quadric q = this->TriangleQuadric(tri);
-    this->GatherLinkEdges(tri, this->Link);
-    this->CheapestUnfoldedPoint(tri, q, e.Normal, this->Link, e.Point);
+    this->TakeCheapestValidAlternative(tri, alternatives, e.Point);
     this->SetCollapseError(tri, q, e);
   }
 }
 
 // Everything of an evaluation that reads the mesh only (safe to run for many triangles at once,
 // with one LinkEdges per thread); what remains is returned for FinishEvaluation.
-CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(Index t, Evaluation& e, LinkEdges& link) const
+CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
+  Index t, Evaluation& e, LinkEdges& link, Alternatives& alternatives) const
 {
   const EditableMesh& m = this->Mesh;
   const Index* tri = m.Triangle(t);
@@ -233,6 +234,7 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(Index 
     this->GatherLinkEdges(tri, link);
     if (!StarShaped(link, e.Point, frame.Normal))
     {
+      alternatives = this->RankAlternatives(tri, q, frame.Normal, link);
       return EvaluationRest::Unfold;
     }
   }
@@ -304,7 +306,7 @@ void CollapseHierarchy::EvaluateWithFit(Index t, Evaluation& e)
         this->GatherLinkEdges(tri, this->Link);
         if (!StarShaped(this->Link, e.Point, frame.Normal))
         {
-          this->CheapestUnfoldedPoint(tri, q, frame.Normal, this->Link, e.Point);
+          this->TakeCheapestValidAlternative(tri, this->RankAlternatives(tri, q, frame.Normal, this->Link), e.Point);
         }
       }
     }
@@ -511,29 +513,58 @@ bool CollapseHierarchy::StarShaped(const LinkEdges& link, const Vec3& point, con
   return true;
 }
 
-// When the optimum would fold the stencil: the cheapest valid alternative among the corners and
-// edge midpoints (a triangle collapse can still go there); point is unchanged when none is valid.
-void CollapseHierarchy::CheapestUnfoldedPoint(
-  const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link, Vec3& point) const
+// When the optimum would fold the stencil, the alternatives are T's corners and edge midpoints (a
+// triangle collapse can still go there).
+void CollapseHierarchy::AlternativePoints(const Index* tri, Vec3 (&points)[6]) const
 {
   const EditableMesh& m = this->Mesh;
   const Vec3 a = m.Point(tri[0]), b = m.Point(tri[1]), c = m.Point(tri[2]);
-  const Vec3 options[6] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
-  // Tried by increasing error (ties in the order above), so the first valid one is the answer:
-  // the validity tests are the expensive part and most options never need them.
+  points[0] = a;
+  points[1] = b;
+  points[2] = c;
+  points[3] = 0.5 * (a + b);
+  points[4] = 0.5 * (b + c);
+  points[5] = 0.5 * (c + a);
+}
+
+// The alternatives by increasing error (ties in the order above, infinite errors left out) and
+// which of them keep the fan star-shaped: everything but the mesh check, so it runs in parallel.
+CollapseHierarchy::Alternatives CollapseHierarchy::RankAlternatives(
+  const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link) const
+{
+  Vec3 points[6];
+  this->AlternativePoints(tri, points);
   std::pair<double, int> byError[6];
   for (int i = 0; i < 6; ++i)
   {
-    byError[i] = { this->CollapseError(tri, 3, q, options[i]), i };
+    byError[i] = { this->CollapseError(tri, 3, q, points[i]), i };
   }
   std::sort(byError, byError + 6);
+  Alternatives ranked;
   for (const auto& option : byError)
   {
-    const Vec3& o = options[option.second];
-    if (option.first < std::numeric_limits<double>::infinity() && StarShaped(link, o, normal) &&
-      m.CheckCollapse(tri, 3, o, this->MeshOptions) == CollapseStatus::Ok)
+    if (option.first < std::numeric_limits<double>::infinity())
     {
-      point = o;
+      ranked.Order[ranked.Count++] = static_cast<unsigned char>(option.second);
+      ranked.StarShaped |= StarShaped(link, points[option.second], normal) ? 1 << option.second : 0;
+    }
+  }
+  return ranked;
+}
+
+// The cheapest ranked alternative that keeps the fan star-shaped and passes the mesh check;
+// point is unchanged when none does. Serial: EditableMesh::CheckCollapse uses the mesh's scratch.
+void CollapseHierarchy::TakeCheapestValidAlternative(const Index* tri, const Alternatives& ranked, Vec3& point) const
+{
+  Vec3 points[6];
+  this->AlternativePoints(tri, points);
+  for (int i = 0; i < ranked.Count; ++i)
+  {
+    const int option = ranked.Order[i];
+    if (((ranked.StarShaped >> option) & 1) &&
+      this->Mesh.CheckCollapse(tri, 3, points[option], this->MeshOptions) == CollapseStatus::Ok)
+    {
+      point = points[option];
       return;
     }
   }
@@ -1555,6 +1586,7 @@ struct CollapseHierarchy::ConcurrentEvaluation
   Index First;
   std::vector<Evaluation>& Evaluations;
   std::vector<EvaluationRest>& Rests;
+  std::vector<Alternatives>& PendingAlternatives;
   vtkSMPThreadLocal<LinkEdges> Links;
 
   void operator()(vtkIdType begin, vtkIdType end)
@@ -1563,7 +1595,8 @@ struct CollapseHierarchy::ConcurrentEvaluation
     for (vtkIdType i = begin; i < end; ++i)
     {
       const Index t = this->Triangles ? this->Triangles[i] : this->First + static_cast<Index>(i);
-      this->Rests[i] = this->Hierarchy->EvaluateConcurrently(t, this->Evaluations[t], link);
+      this->Rests[i] =
+        this->Hierarchy->EvaluateConcurrently(t, this->Evaluations[t], link, this->PendingAlternatives[i]);
     }
   }
 };
@@ -1592,11 +1625,13 @@ void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, I
     }
   }
   this->Rests.resize(static_cast<size_t>(count));
-  ConcurrentEvaluation evaluation{ this, triangles ? triangles + first : nullptr, first, this->Evaluations, this->Rests, {} };
+  this->PendingAlternatives.resize(static_cast<size_t>(count));
+  ConcurrentEvaluation evaluation{ this, triangles ? triangles + first : nullptr, first, this->Evaluations,
+    this->Rests, this->PendingAlternatives, {} };
   vtkSMPTools::For(0, static_cast<vtkIdType>(count), evaluation);
   for (Index i = 0; i < count; ++i)
   {
-    this->FinishEvaluation(triangleAt(i), this->Evaluations[triangleAt(i)], this->Rests[i]);
+    this->FinishEvaluation(triangleAt(i), this->Evaluations[triangleAt(i)], this->Rests[i], this->PendingAlternatives[i]);
   }
 }
 

@@ -239,14 +239,22 @@ private:
   {
     None,
     Fit,   // the whole evaluation needs the stencil fit (EvaluateWithFit)
-    Unfold // the quadric point folds the fan: CheapestUnfoldedPoint, then the error
+    Unfold // the quadric point folds the fan: TakeCheapestValidAlternative, then the error
+  };
+  // T's corners and edge midpoints ranked by error (positions 0..5 of AlternativePoints), and a
+  // bit per point that keeps the fan star-shaped.
+  struct Alternatives
+  {
+    unsigned char Order[6] = { 0, 0, 0, 0, 0, 0 };
+    unsigned char Count = 0;
+    unsigned char StarShaped = 0;
   };
   using LinkEdges = std::vector<std::pair<Vec3, Vec3>>;
   struct ConcurrentEvaluation; // the vtkSMPTools functor (in the .cxx)
   void EvaluateTriangles(const Index* triangles, Index first, Index count);
   void Evaluate(Index t, Evaluation& e);
-  EvaluationRest EvaluateConcurrently(Index t, Evaluation& e, LinkEdges& link) const;
-  void FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest);
+  EvaluationRest EvaluateConcurrently(Index t, Evaluation& e, LinkEdges& link, Alternatives& alternatives) const;
+  void FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest, const Alternatives& alternatives);
   bool EvaluateShape(Index t, Evaluation& e, LocalFrame& frame) const;
   void EvaluateWithFit(Index t, Evaluation& e);
   bool PreferringEdges() const;
@@ -263,8 +271,9 @@ private:
   void AddAncestorPoints(Index v, const LocalFrame& frame, Index stride, Index& counter);
   Vec3 FitStencil(const Index* tri, const LocalFrame& frame, double& kappa);
   bool QuadricPointNearCentroid(const Index* tri, const Quadric& q, const Vec3& centroid, Vec3& point) const;
-  void CheapestUnfoldedPoint(
-    const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link, Vec3& point) const;
+  void AlternativePoints(const Index* tri, Vec3 (&points)[6]) const;
+  Alternatives RankAlternatives(const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link) const;
+  void TakeCheapestValidAlternative(const Index* tri, const Alternatives& ranked, Vec3& point) const;
   double WeightOf(const Evaluation& e) const;
   double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
@@ -316,6 +325,7 @@ private:
   std::vector<double> FitPoints;
   LinkEdges Link;
   std::vector<EvaluationRest> Rests; // of the triangles evaluated together
+  std::vector<Alternatives> PendingAlternatives; // of those whose rest is Unfold
   std::vector<Index> StencilVertices;
   std::vector<std::uint32_t> VertexMark;
   // Rule results that cannot change until the neighbourhood does: a triangle found not collapsible
