@@ -4,6 +4,8 @@
 #include "slodInputPreparation.h"
 
 #include "vtkLogger.h"
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
 
 #include <Eigen/Dense>
 
@@ -178,6 +180,72 @@ void CollapseHierarchy::RemoveCyclesBySwapping(TriangleMesh& mesh) const
 // curvature of the fitted quadratic and, beyond the paper, the quadric error of the collapse point.
 void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
 {
+  Alternatives alternatives;
+  const EvaluationRest rest = this->EvaluateConcurrently(t, e, this->Link, alternatives);
+  this->FinishEvaluation(t, e, rest, alternatives);
+}
+
+// The serial rest of an evaluation: the stencil fit (its scratch is shared) or the search for a
+// point that does not fold (EditableMesh::CheckCollapse uses the mesh's scratch).
+void CollapseHierarchy::FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest, const Alternatives& alternatives)
+{
+  if (rest == EvaluationRest::Fit)
+  {
+    this->EvaluateWithFit(t, e);
+  }
+  else if (rest == EvaluationRest::Unfold)
+  {
+    const Index* tri = this->Mesh.Triangle(t);
+    const Quadric q = this->TriangleQuadric(tri);
+    this->TakeCheapestValidAlternative(tri, alternatives, e.Point);
+    this->SetCollapseError(tri, q, e);
+  }
+}
+
+// Everything of an evaluation that reads the mesh only (safe to run for many triangles at once,
+// with one LinkEdges per thread); what remains is returned for FinishEvaluation.
+CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
+  Index t, Evaluation& e, LinkEdges& link, Alternatives& alternatives) const
+{
+  const EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  LocalFrame frame;
+  if (!this->EvaluateShape(t, e, frame))
+  {
+    return EvaluationRest::None;
+  }
+  // The fitted quadratic gives the paper's collapse point and curvature. With the weight all
+  // quadric error and the quadric collapse point (the defaults) it is only the fallback point,
+  // so it is computed only when needed: the fit is most of the cost of an evaluation.
+  if (!(this->Parameters.ErrorWeight >= 1 && this->Parameters.QuadricCollapsePoint))
+  {
+    return EvaluationRest::Fit;
+  }
+  const Vec3 centroid = frame.Origin;
+  e.Kappa = 0;
+  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(tri) : std::numeric_limits<double>::infinity();
+  const Quadric q = this->TriangleQuadric(tri);
+  if (!this->QuadricPointNearCentroid(tri, q, centroid, e.Point))
+  {
+    return EvaluationRest::Fit;
+  }
+  if (!this->OrderedByEdge(tri, q, e))
+  {
+    this->GatherLinkEdges(tri, link);
+    if (!StarShaped(link, e.Point, frame.Normal))
+    {
+      alternatives = this->RankAlternatives(tri, q, frame.Normal, link);
+      return EvaluationRest::Unfold;
+    }
+  }
+  this->SetCollapseError(tri, q, e);
+  return EvaluationRest::None;
+}
+
+// Area, valence, roundness and T's frame (centroid, normal); false when that is all there is (a
+// hub triangle, ordered by its edge, or no plane at all).
+bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame) const
+{
   const EditableMesh& m = this->Mesh;
   const Index* tri = m.Triangle(t);
   const Vec3 a = m.Point(tri[0]), b = m.Point(tri[1]), c = m.Point(tri[2]);
@@ -189,14 +257,13 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
   if (this->HubMask(t) != 0)
   {
     this->EvaluateHubTriangle(tri, areaVector, centroid, e);
-    return;
+    return false;
   }
   // A degenerate triangle has no plane of its own: use its stencil's.
   if (IsDegenerate(a, b, c))
   {
     areaVector = this->StencilAreaVector(tri);
   }
-  LocalFrame frame;
   if (!frame.Set(centroid, areaVector, b - a))
   {
     // No plane at all: never collapsed as a triangle (the error terms keep their last values).
@@ -205,48 +272,76 @@ void CollapseHierarchy::Evaluate(Index t, Evaluation& e)
     e.Kappa = 0;
     e.Alpha = 0;
     e.PreferEdge = false;
-    return;
+    return false;
   }
   e.Normal = frame.Normal;
+  return true;
+}
 
-  // The fitted quadratic gives the paper's collapse point and curvature. With the weight all
-  // quadric error and the quadric collapse point (the defaults) it is only the fallback point,
-  // so it is computed only when needed: the fit is most of the cost of an evaluation.
-  bool fitted = false;
-  Vec3 fitPoint = centroid;
-  e.Kappa = 0;
-  if (!(this->Parameters.ErrorWeight >= 1 && this->Parameters.QuadricCollapsePoint))
+// The evaluation with the stencil fit: the paper's weights and point, or the fallback point of
+// the quadric collapse point.
+void CollapseHierarchy::EvaluateWithFit(Index t, Evaluation& e)
+{
+  const Index* tri = this->Mesh.Triangle(t);
+  LocalFrame frame;
+  if (!this->EvaluateShape(t, e, frame))
   {
-    fitPoint = this->FitStencil(tri, frame, e.Kappa);
-    fitted = true;
+    return;
   }
-  const bool preferEdges = this->Parameters.PreferEdgeFactor > 0 &&
-    this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
-  // The cheapest edge collapse of T by quadric error (validity is checked at selection).
-  e.EdgeError = preferEdges ? this->CheapestEdgeError(tri) : std::numeric_limits<double>::infinity();
+  const Vec3 fitPoint = this->FitStencil(tri, frame, e.Kappa);
+  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(tri) : std::numeric_limits<double>::infinity();
   e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
   {
-    Quadric q = this->Quadrics[tri[0]];
-    q += this->Quadrics[tri[1]];
-    q += this->Quadrics[tri[2]];
+    const Quadric q = this->TriangleQuadric(tri);
     if (this->Parameters.QuadricCollapsePoint)
     {
-      if (!this->QuadricPointNearCentroid(tri, q, centroid, e.Point))
+      if (!this->QuadricPointNearCentroid(tri, q, frame.Origin, e.Point))
       {
-        e.Point = fitted ? fitPoint : this->FitStencil(tri, frame, e.Kappa);
+        e.Point = fitPoint;
       }
       // (Not needed when T will be ordered by its much cheaper edge collapse anyway.)
-      const bool edgeFirst = preferEdges &&
-        e.EdgeError < this->Parameters.PreferEdgeFactor * this->CollapseError(tri, 3, q, e.Point);
-      if (!edgeFirst && !this->StarShapedAround(tri, e.Point, frame.Normal))
+      if (!this->OrderedByEdge(tri, q, e))
       {
-        this->CheapestUnfoldedPoint(tri, q, frame.Normal, e.Point);
+        this->GatherLinkEdges(tri, this->Link);
+        if (!StarShaped(this->Link, e.Point, frame.Normal))
+        {
+          this->TakeCheapestValidAlternative(tri, this->RankAlternatives(tri, q, frame.Normal, this->Link), e.Point);
+        }
       }
     }
-    e.Error = this->CollapseError(tri, 3, q, e.Point);
+    this->SetCollapseError(tri, q, e);
+    return;
   }
-  e.PreferEdge = preferEdges && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
+  e.PreferEdge = this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
+}
+
+bool CollapseHierarchy::PreferringEdges() const
+{
+  return this->Parameters.PreferEdgeFactor > 0 &&
+    this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
+}
+
+Quadric CollapseHierarchy::TriangleQuadric(const Index* tri) const
+{
+  Quadric q = this->Quadrics[tri[0]];
+  q += this->Quadrics[tri[1]];
+  q += this->Quadrics[tri[2]];
+  return q;
+}
+
+// T will be ordered by its much cheaper edge collapse (its point then needs no fold test).
+bool CollapseHierarchy::OrderedByEdge(const Index* tri, const Quadric& q, const Evaluation& e) const
+{
+  return this->PreferringEdges() &&
+    e.EdgeError < this->Parameters.PreferEdgeFactor * this->CollapseError(tri, 3, q, e.Point);
+}
+
+// The quadric error of T's collapse point, and whether T is ordered by its edge collapse.
+void CollapseHierarchy::SetCollapseError(const Index* tri, const Quadric& q, Evaluation& e) const
+{
+  e.Error = this->CollapseError(tri, 3, q, e.Point);
+  e.PreferEdge = this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
 }
 
 // Valence of the collapse point: the stencil boundary (interior case: sum of valences - 9).
@@ -391,37 +486,86 @@ bool CollapseHierarchy::QuadricPointNearCentroid(const Index* tri, const Quadric
   return false;
 }
 
-// The link edges (opposite edges of the triangles holding exactly one of T's vertices) turn
-// around point in the plane of normal: the fan of the collapse cannot fold. They suffice for the
-// star-shape test, without building the whole stencil.
-bool CollapseHierarchy::StarShapedAround(const Index* tri, const Vec3& point, const Vec3& normal) const
+// The link edges of T (the far edges of the triangles holding exactly one of T's vertices): the
+// collapse joins them to the new point. They suffice for the star-shape test, without building the
+// whole stencil, and one gathering serves every point tried.
+void CollapseHierarchy::GatherLinkEdges(const Index* tri, LinkEdges& link) const
 {
   const EditableMesh& m = this->Mesh;
-  bool ok = true;
+  link.clear();
   m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
     const Index* o = m.Triangle(x);
-    const Vec3 u = m.Point(o[(corner + 1) % 3]) - point, w = m.Point(o[(corner + 2) % 3]) - point;
-    ok = ok && Dot(Cross(u, w), normal) > 1e-12 * (Dot(u, u) + Dot(w, w));
+    link.push_back({ m.Point(o[(corner + 1) % 3]), m.Point(o[(corner + 2) % 3]) });
   });
-  return ok;
 }
 
-// When the optimum would fold the stencil: the cheapest valid alternative among the corners and
-// edge midpoints (a triangle collapse can still go there); point is unchanged when none is valid.
-void CollapseHierarchy::CheapestUnfoldedPoint(const Index* tri, const Quadric& q, const Vec3& normal, Vec3& point) const
+// The link edges turn around point in the plane of normal: the fan of the collapse cannot fold.
+bool CollapseHierarchy::StarShaped(const LinkEdges& link, const Vec3& point, const Vec3& normal)
+{
+  for (const auto& edge : link)
+  {
+    const Vec3 u = edge.first - point, w = edge.second - point;
+    if (!(Dot(Cross(u, w), normal) > 1e-12 * (Dot(u, u) + Dot(w, w))))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// When the optimum would fold the stencil, the alternatives are T's corners and edge midpoints (a
+// triangle collapse can still go there).
+void CollapseHierarchy::AlternativePoints(const Index* tri, Vec3 (&points)[6]) const
 {
   const EditableMesh& m = this->Mesh;
   const Vec3 a = m.Point(tri[0]), b = m.Point(tri[1]), c = m.Point(tri[2]);
-  const Vec3 options[6] = { a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a) };
-  double bestError = std::numeric_limits<double>::infinity();
-  for (const Vec3& o : options)
+  points[0] = a;
+  points[1] = b;
+  points[2] = c;
+  points[3] = 0.5 * (a + b);
+  points[4] = 0.5 * (b + c);
+  points[5] = 0.5 * (c + a);
+}
+
+// The alternatives by increasing error (ties in the order above, infinite errors left out) and
+// which of them keep the fan star-shaped: everything but the mesh check, so it runs in parallel.
+CollapseHierarchy::Alternatives CollapseHierarchy::RankAlternatives(
+  const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link) const
+{
+  Vec3 points[6];
+  this->AlternativePoints(tri, points);
+  std::pair<double, int> byError[6];
+  for (int i = 0; i < 6; ++i)
   {
-    const double error = this->CollapseError(tri, 3, q, o);
-    if (error < bestError && this->StarShapedAround(tri, o, normal) &&
-      m.CheckCollapse(tri, 3, o, this->MeshOptions) == CollapseStatus::Ok)
+    byError[i] = { this->CollapseError(tri, 3, q, points[i]), i };
+  }
+  std::sort(byError, byError + 6);
+  Alternatives ranked;
+  for (const auto& option : byError)
+  {
+    if (option.first < std::numeric_limits<double>::infinity())
     {
-      bestError = error;
-      point = o;
+      ranked.Order[ranked.Count++] = static_cast<unsigned char>(option.second);
+      ranked.StarShaped |= StarShaped(link, points[option.second], normal) ? 1 << option.second : 0;
+    }
+  }
+  return ranked;
+}
+
+// The cheapest ranked alternative that keeps the fan star-shaped and passes the mesh check;
+// point is unchanged when none does. Serial: EditableMesh::CheckCollapse uses the mesh's scratch.
+void CollapseHierarchy::TakeCheapestValidAlternative(const Index* tri, const Alternatives& ranked, Vec3& point) const
+{
+  Vec3 points[6];
+  this->AlternativePoints(tri, points);
+  for (int i = 0; i < ranked.Count; ++i)
+  {
+    const int option = ranked.Order[i];
+    if (((ranked.StarShaped >> option) & 1) &&
+      this->Mesh.CheckCollapse(tri, 3, points[option], this->MeshOptions) == CollapseStatus::Ok)
+    {
+      point = points[option];
+      return;
     }
   }
 }
@@ -528,7 +672,7 @@ bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const
     const Index* o = m.Triangle(x);
     Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
     q[corner] = p;
-    ok = ok && Dot(Cross(q[1] - q[0], q[2] - q[0]), this->Base.TriangleAreaVector(x)) > 0;
+    ok = ok && Dot(Cross(q[1] - q[0], q[2] - q[0]), this->BaseAreaVector(x)) > 0;
   });
   return ok;
 }
@@ -740,7 +884,7 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
     }
     // Like the collapses: no triangle may face away from the M0 triangle of its id (t keeps its
     // id as (x, z, q), the triangle across as (z, y, q)).
-    if (Dot(m0, this->Base.TriangleAreaVector(t)) <= 0 || Dot(m1, this->Base.TriangleAreaVector(across)) <= 0)
+    if (Dot(m0, this->BaseAreaVector(t)) <= 0 || Dot(m1, this->BaseAreaVector(across)) <= 0)
     {
       return;
     }
@@ -907,6 +1051,9 @@ void CollapseHierarchy::SetParameters(const CollapseHierarchyParameters& paramet
   p.BatchFraction = std::min(1.0, std::max(1e-6, p.BatchFraction));
   this->MeshOptions = CollapseOptions();
   this->MeshOptions.MinimumNormalDot = p.MinimumNormalDot;
+  // Folding candidates are rejected before the link walk. Every caller here only asks whether a
+  // collapse is valid, never which test failed, so the order changes no result.
+  this->MeshOptions.GeometryFirst = true;
   this->Rules = CollapsibleOptions();
 }
 
@@ -922,6 +1069,12 @@ void CollapseHierarchy::Reset(const TriangleMesh& input)
   this->Mesh.Reset(this->Base);
   const Index np = this->Base.NumberOfPoints();
   const Index nt = this->Base.NumberOfTriangles();
+  // The orientation tests read them at every check (computing them was a twentieth of the build).
+  this->BaseAreaVectors.resize(nt);
+  for (Index t = 0; t < nt; ++t)
+  {
+    this->BaseAreaVectors[t] = this->Base.TriangleAreaVector(t);
+  }
   this->LockNonManifoldVertices();
   this->GlobalPoints = this->Base.Points;
   this->GlobalOf.resize(np);
@@ -937,6 +1090,15 @@ void CollapseHierarchy::Reset(const TriangleMesh& input)
   std::iota(this->EntryTriangle.begin(), this->EntryTriangle.end(), 0);
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
+  // Reserved at once instead of grown by doubling copies: a collapse adds a point and new
+  // versions of the ten or so triangles around it, about three versions per input triangle in all
+  // (and at most one collapse per two input triangles).
+  const size_t versions = 3 * size_t(nt);
+  this->EntryVertices.reserve(3 * versions);
+  this->EntryBirth.reserve(versions);
+  this->EntryDeath.reserve(versions);
+  this->EntryTriangle.reserve(versions);
+  this->GlobalPoints.reserve(3 * (size_t(np) + size_t(nt) / 2));
   this->ResetRecords();
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
@@ -985,7 +1147,7 @@ void CollapseHierarchy::InitializeQuadrics()
   double meanAreaGuess = 0;
   for (Index t = 0; t < nt; ++t)
   {
-    meanAreaGuess += 0.5 * Norm(this->Base.TriangleAreaVector(t)) / nt;
+    meanAreaGuess += 0.5 * Norm(this->BaseAreaVector(t)) / nt;
   }
   this->MeanArea = meanAreaGuess > 0 ? meanAreaGuess : 1.0;
   this->Quadrics.clear();
@@ -997,7 +1159,7 @@ void CollapseHierarchy::InitializeQuadrics()
   for (Index t = 0; t < nt; ++t)
   {
     const Index* tri = this->Base.Triangle(t);
-    const Vec3 areaVector = this->Base.TriangleAreaVector(t);
+    const Vec3 areaVector = this->BaseAreaVector(t);
     const double area = 0.5 * Norm(areaVector);
     if (area > 0)
     {
@@ -1018,16 +1180,21 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
   this->Weights.assign(nt, 0.0);
   double totalArea = 0, kappaMax = 0;
   int valenceMax = 0;
-  for (Index t = 0; t < nt; ++t)
+  constexpr Index Slice = Index(1) << 16; // evaluated at once between progress reports
+  for (Index first = 0; first < nt; first += Slice)
   {
-    this->Evaluate(t, this->Evaluations[t]);
-    totalArea += this->Evaluations[t].Area;
-    kappaMax = std::max(kappaMax, this->Evaluations[t].Kappa);
-    valenceMax = std::max(valenceMax, std::abs(this->Evaluations[t].Valence - 6));
-    if (progress && (t & 4095) == 0 && !progress(0.1 * t / nt))
+    const Index count = std::min(Slice, nt - first);
+    this->EvaluateTriangles(nullptr, first, count);
+    if (progress && !progress(0.1 * (first + count) / nt))
     {
       return false;
     }
+  }
+  for (Index t = 0; t < nt; ++t)
+  {
+    totalArea += this->Evaluations[t].Area;
+    kappaMax = std::max(kappaMax, this->Evaluations[t].Kappa);
+    valenceMax = std::max(valenceMax, std::abs(this->Evaluations[t].Valence - 6));
   }
   this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
   this->KappaMax = kappaMax > 0 ? kappaMax : 1.0;
@@ -1398,10 +1565,73 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
       }
     });
   }
+  // In id order (the input's, spatially coherent) rather than the batch's (by weight, scattered):
+  // neighbouring evaluations then share cached triangles and points. The results do not depend
+  // on the order.
+  std::sort(state.Affected.begin(), state.Affected.end());
+  this->EvaluateTriangles(state.Affected.data(), 0, static_cast<Index>(state.Affected.size()));
   for (Index x : state.Affected)
   {
-    this->Evaluate(x, this->Evaluations[x]);
     this->Weights[x] = this->WeightOf(this->Evaluations[x]);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The evaluations of a list of triangles run in parallel: each reads the mesh only and writes its
+// own Evaluation, so the result does not depend on the number of threads or the order.
+struct CollapseHierarchy::ConcurrentEvaluation
+{
+  const CollapseHierarchy* Hierarchy;
+  const Index* Triangles; // nullptr: the triangles First, First + 1, ...
+  Index First;
+  std::vector<Evaluation>& Evaluations;
+  std::vector<EvaluationRest>& Rests;
+  std::vector<Alternatives>& PendingAlternatives;
+  vtkSMPThreadLocal<LinkEdges> Links;
+
+  void operator()(vtkIdType begin, vtkIdType end)
+  {
+    LinkEdges& link = this->Links.Local();
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const Index t = this->Triangles ? this->Triangles[i] : this->First + static_cast<Index>(i);
+      this->Rests[i] =
+        this->Hierarchy->EvaluateConcurrently(t, this->Evaluations[t], link, this->PendingAlternatives[i]);
+    }
+  }
+};
+
+// Evaluates triangles[first, first + count) (or the ids first, ... when triangles is null): the
+// read-only part in parallel (vtkSMPTools), then in list order what needs shared scratch. With
+// the stencil fit in every evaluation (the paper's weights) all of it is serial.
+void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, Index count)
+{
+  auto triangleAt = [&](Index i) { return triangles ? triangles[first + i] : first + i; };
+  if (!(this->Parameters.ErrorWeight >= 1 && this->Parameters.QuadricCollapsePoint))
+  {
+    for (Index i = 0; i < count; ++i)
+    {
+      this->Evaluate(triangleAt(i), this->Evaluations[triangleAt(i)]);
+    }
+    return;
+  }
+  // Degree() caches lazily; filled here, the parallel part only reads the cache.
+  for (Index i = 0; i < count; ++i)
+  {
+    const Index* tri = this->Mesh.Triangle(triangleAt(i));
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Degree(tri[k]);
+    }
+  }
+  this->Rests.resize(static_cast<size_t>(count));
+  this->PendingAlternatives.resize(static_cast<size_t>(count));
+  ConcurrentEvaluation evaluation{ this, triangles ? triangles + first : nullptr, first, this->Evaluations,
+    this->Rests, this->PendingAlternatives, {} };
+  vtkSMPTools::For(0, static_cast<vtkIdType>(count), evaluation);
+  for (Index i = 0; i < count; ++i)
+  {
+    this->FinishEvaluation(triangleAt(i), this->Evaluations[triangleAt(i)], this->Rests[i], this->PendingAlternatives[i]);
   }
 }
 

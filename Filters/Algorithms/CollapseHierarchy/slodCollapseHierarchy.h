@@ -34,6 +34,7 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace slod
@@ -231,8 +232,37 @@ private:
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
 
-  // Evaluate's stages: the weight terms of one triangle and its collapse point.
+  // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only
+  // reads the mesh (EvaluateConcurrently) runs for many triangles at once; FinishEvaluation does
+  // what needs shared scratch (the stencil fit, EditableMesh::CheckCollapse), in serial.
+  enum class EvaluationRest
+  {
+    None,
+    Fit,   // the whole evaluation needs the stencil fit (EvaluateWithFit)
+    Unfold // the quadric point folds the fan: TakeCheapestValidAlternative, then the error
+  };
+  // T's corners and edge midpoints ranked by error (positions 0..5 of AlternativePoints), and a
+  // bit per point that keeps the fan star-shaped.
+  struct Alternatives
+  {
+    unsigned char Order[6] = { 0, 0, 0, 0, 0, 0 };
+    unsigned char Count = 0;
+    unsigned char StarShaped = 0;
+  };
+  using LinkEdges = std::vector<std::pair<Vec3, Vec3>>;
+  struct ConcurrentEvaluation; // the vtkSMPTools functor (in the .cxx)
+  void EvaluateTriangles(const Index* triangles, Index first, Index count);
   void Evaluate(Index t, Evaluation& e);
+  EvaluationRest EvaluateConcurrently(Index t, Evaluation& e, LinkEdges& link, Alternatives& alternatives) const;
+  void FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest, const Alternatives& alternatives);
+  bool EvaluateShape(Index t, Evaluation& e, LocalFrame& frame) const;
+  void EvaluateWithFit(Index t, Evaluation& e);
+  bool PreferringEdges() const;
+  Quadric TriangleQuadric(const Index* tri) const;
+  bool OrderedByEdge(const Index* tri, const Quadric& q, const Evaluation& e) const;
+  void SetCollapseError(const Index* tri, const Quadric& q, Evaluation& e) const;
+  void GatherLinkEdges(const Index* tri, LinkEdges& link) const;
+  static bool StarShaped(const LinkEdges& link, const Vec3& point, const Vec3& normal);
   int CollapsePointValence(const Index* tri) const;
   void EvaluateHubTriangle(const Index* tri, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const;
   Vec3 StencilAreaVector(const Index* tri) const;
@@ -241,8 +271,9 @@ private:
   void AddAncestorPoints(Index v, const LocalFrame& frame, Index stride, Index& counter);
   Vec3 FitStencil(const Index* tri, const LocalFrame& frame, double& kappa);
   bool QuadricPointNearCentroid(const Index* tri, const Quadric& q, const Vec3& centroid, Vec3& point) const;
-  bool StarShapedAround(const Index* tri, const Vec3& point, const Vec3& normal) const;
-  void CheapestUnfoldedPoint(const Index* tri, const Quadric& q, const Vec3& normal, Vec3& point) const;
+  void AlternativePoints(const Index* tri, Vec3 (&points)[6]) const;
+  Alternatives RankAlternatives(const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link) const;
+  void TakeCheapestValidAlternative(const Index* tri, const Alternatives& ranked, Vec3& point) const;
   double WeightOf(const Evaluation& e) const;
   double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
@@ -258,6 +289,8 @@ private:
 
   CollapseHierarchyParameters Parameters;
   TriangleMesh Base;
+  std::vector<Vec3> BaseAreaVectors; // of M0's triangles (the orientation reference)
+  const Vec3& BaseAreaVector(Index t) const { return this->BaseAreaVectors[t]; }
   EditableMesh Mesh;
   std::vector<double> GlobalPoints;
   std::vector<Index> GlobalOf;                  // editable vertex -> current global id
@@ -290,6 +323,9 @@ private:
   std::vector<unsigned char> LockedVertices;
   CollapsibleOptions Rules;
   std::vector<double> FitPoints;
+  LinkEdges Link;
+  std::vector<EvaluationRest> Rests; // of the triangles evaluated together
+  std::vector<Alternatives> PendingAlternatives; // of those whose rest is Unfold
   std::vector<Index> StencilVertices;
   std::vector<std::uint32_t> VertexMark;
   // Rule results that cannot change until the neighbourhood does: a triangle found not collapsible

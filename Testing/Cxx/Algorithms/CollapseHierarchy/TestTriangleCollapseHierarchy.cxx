@@ -23,6 +23,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkQuadricDecimation.h"
+#include "vtkSMPTools.h"
 #include "vtkStaticCellLocator.h"
 #include "vtkSurfaceDeviation.h"
 
@@ -683,6 +684,38 @@ TEST(CollapseHierarchy, Deterministic)
   b.ExtractLevel(b.NumberOfLevels() - 1, mb);
   EXPECT_EQ(ma.Points, mb.Points);
   EXPECT_EQ(ma.Triangles, mb.Triangles);
+}
+
+// The evaluations run in parallel (vtkSMPTools): one thread and two must build the same hierarchy,
+// bit for bit (every collapse, its point and level, every level's mesh).
+TEST(CollapseHierarchy, SameHierarchyOnOneAndTwoThreads)
+{
+  const TriangleMesh input = ToTriangleMesh(LoadTestMesh("bunny00"));
+  CollapseHierarchy serial, parallel;
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ 1 }, [&]() { ASSERT_TRUE(serial.Build(input, DefaultParameters())); });
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ 2 }, [&]() { ASSERT_TRUE(parallel.Build(input, DefaultParameters())); });
+  ASSERT_EQ(serial.NumberOfLevels(), parallel.NumberOfLevels());
+  ASSERT_EQ(serial.NumberOfCollapses(), parallel.NumberOfCollapses());
+  ASSERT_GT(serial.NumberOfCollapses(), input.NumberOfTriangles() / 4);
+  EXPECT_EQ(serial.NumberOfSwaps(), parallel.NumberOfSwaps());
+  for (Index k = 0; k < serial.NumberOfCollapses(); ++k)
+  {
+    const HierarchyCollapse& a = serial.GetCollapse(k);
+    const HierarchyCollapse& b = parallel.GetCollapse(k);
+    ASSERT_EQ(a.Count, b.Count) << "collapse " << k;
+    ASSERT_EQ(a.Level, b.Level) << "collapse " << k;
+    ASSERT_EQ(a.Triangle, b.Triangle) << "collapse " << k;
+    ASSERT_EQ(a.Weight, b.Weight) << "collapse " << k;
+    ASSERT_EQ(serial.Vertex(a.Point), parallel.Vertex(b.Point)) << "collapse " << k;
+  }
+  for (int level = 0; level < serial.NumberOfLevels(); level += 7)
+  {
+    HierarchyMesh a, b;
+    serial.ExtractLevel(level + 0.5, a);
+    parallel.ExtractLevel(level + 0.5, b);
+    EXPECT_EQ(a.Points, b.Points) << "level " << level;
+    EXPECT_EQ(a.Triangles, b.Triangles) << "level " << level;
+  }
 }
 
 TEST(CollapseHierarchy, CycleRemovalBySwapping)
