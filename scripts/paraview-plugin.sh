@@ -69,10 +69,11 @@ install_dependencies() {
     DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-remove "${missing[@]}"
   fi
   # Every library pvpython and pvbatch need must now resolve.
-  local program
+  local program unresolved
   for program in pvpython pvbatch; do
-    if ldd "$root/usr/bin/$program" | grep -q "not found"; then
-      ldd "$root/usr/bin/$program" | grep "not found" >&2
+    unresolved="$(ldd "$root/usr/bin/$program" | grep "not found" || true)"
+    if [[ -n "$unresolved" ]]; then
+      echo "$unresolved" >&2
       echo "error: $program misses libraries (above)" >&2
       exit 1
     fi

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Every public class of the module has a ParaView proxy (its own or one of a ParaView/Extensions
-subclass), and every proxy property calls a method the class declares (run by the system Python,
-no ParaView needed).
+subclass), every proxy property calls a method the class declares, and every default in the XML
+is the class's own (its member initialiser), so the panels start where the filters do (run by the
+system Python, no ParaView needed).
 
   python3 xml_coverage_test.py <source dir>
 """
@@ -34,6 +35,43 @@ def declared_methods(header, headers):
     return methods
 
 
+def initial_values(header, headers):
+    """Member initialisers `type Name = value;` of a class and its SurfaceLOD bases, evaluated
+    (numbers, true/false, arithmetic, the class's enumerators, vtkAlgorithm's precisions)."""
+    text = header.read_text()
+    names = {"true": 1, "false": 0, "vtkAlgorithm::SINGLE_PRECISION": 0,
+             "vtkAlgorithm::DOUBLE_PRECISION": 1, "vtkAlgorithm::DEFAULT_PRECISION": 2}
+    for body in re.findall(r"enum\s*\w*\s*\{([^}]*)\}", text):
+        for name, value in re.findall(r"(\w+)\s*=\s*(-?\d+)", body):
+            names[name] = int(value)
+    values = {}
+    base = re.search(r"class \w+ (\w+) : public (\w+)", text)
+    if base and base.group(2) in headers:
+        values.update(initial_values(headers[base.group(2)], headers))
+    for name, expression in re.findall(r"^\s+[\w:]+ (\w+) = ([^;]+);", text, re.MULTILINE):
+        for symbol, value in names.items():
+            expression = expression.replace(symbol, str(value))
+        if re.fullmatch(r"[-+*/. 0-9e()]+", expression):
+            values[name] = eval(expression)  # arithmetic on literals only (checked above)
+    return values
+
+
+def default_mismatches(name, proxy, header, headers, checked):
+    initial = initial_values(header, headers)
+    failures = []
+    for prop in proxy:
+        command = prop.get("command") or ""
+        member = command[3:] if command.startswith("Set") else None
+        if member not in initial or prop.get("default_values") is None:
+            continue
+        checked.append(member)
+        xml_value = float(prop.get("default_values"))
+        if abs(xml_value - initial[member]) > 1e-9 * max(1.0, abs(initial[member])):
+            failures.append("%s: %s defaults to %s in the XML, %s in the class"
+                            % (name, prop.get("name"), prop.get("default_values"), initial[member]))
+    return failures
+
+
 def main():
     source = pathlib.Path(sys.argv[1])
     headers = public_classes(source)
@@ -50,13 +88,16 @@ def main():
                     proxied.setdefault(base.group(1), proxy)
     failures = ["%s has no ParaView proxy" % name for name in sorted(set(headers) - set(proxied))]
     generic = {"SetInputConnection"}
+    checked = []
     for name, proxy in sorted(proxied.items()):
         methods = declared_methods(every_header[proxy.get("class")], every_header) | generic
         for prop in proxy.iter():
             command = prop.get("command")
             if command and command not in methods:
                 failures.append("%s: property %s calls %s, which the class does not declare" % (name, prop.get("name"), command))
-    print("%d public classes, %d with a proxy" % (len(headers), len(set(headers) & set(proxied))))
+        failures += default_mismatches(name, proxy, every_header[proxy.get("class")], every_header, checked)
+    print("%d public classes, %d with a proxy; %d defaults compared with the classes' initialisers"
+          % (len(headers), len(set(headers) & set(proxied)), len(checked)))
     for failure in failures:
         print("FAIL  " + failure)
     return 1 if failures else 0
