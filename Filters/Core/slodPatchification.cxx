@@ -389,7 +389,7 @@ void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
     if (progress && growth.Assigned >= nextReport)
     {
       nextReport = growth.Assigned + 65536;
-      if (progress(0.9 * double(growth.Assigned) / double(nt)))
+      if (!progress(0.9 * double(growth.Assigned) / double(nt)))
       {
         this->WasAborted = true;
         return;

@@ -14,6 +14,7 @@
 #define slodPatchification_h
 
 #include "slodMeshTopology.h"
+#include "slodFilterContract.h"
 #include "slodTriangleMesh.h"
 
 #include <functional>
@@ -41,10 +42,8 @@ struct SURFACELODFILTERS_EXPORT PatchificationParameters
 class SURFACELODFILTERS_EXPORT Patchification
 {
 public:
-  // Optional progress callback (fraction in [0,1]); returning true aborts (the result is then
+  // Optional progress (slodFilterContract.h): returning false aborts (the result is then
   // incomplete and Aborted() is true).
-  using ProgressFunction = std::function<bool(double)>;
-
   void Build(const TriangleMesh& mesh, const MeshTopology& topology, const PatchificationParameters& parameters,
     const ProgressFunction& progress = nullptr);
   bool Aborted() const { return this->WasAborted; }

@@ -209,7 +209,7 @@ std::vector<Parameter> HoleBumpRemovalParameters()
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, SharpAngle),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, MaximumSharpAngle),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, MaximumFeatureSize),
-    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RelativeFeatureSize),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, MaximumFeatureSizeIsRelative),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RemoveHoles),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RemoveBumps),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RemoveCavities),

@@ -383,7 +383,7 @@ void GreedyCuts::Initialize(
     this->PatchInnerOffsets.push_back(static_cast<Index>(this->PatchInnerList.size()));
     this->LoopValid[p] = this->Patches.PatchBoundaryLoop(p, this->PatchLoops[p]) ? 1 : 0;
   }
-  if (progress && progress(1.0))
+  if (progress && !progress(1.0))
   {
     this->WasAborted = true;
   }
@@ -1256,7 +1256,7 @@ struct GreedyCuts::Worker
           {
             continue;
           }
-          if (progress && progress(double(++done) / double(std::max<Index>(total, 1))))
+          if (progress && !progress(double(++done) / double(std::max<Index>(total, 1))))
           {
             this->Res.Aborted = true;
             return false;
@@ -1393,7 +1393,7 @@ bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, do
     return this->SearchStoppedByWorkBound;
   };
   auto stage = [&](double f) {
-    return progress ? progress((evaluation + f) / double(steps + 1)) : false;
+    return progress ? progress((evaluation + f) / double(steps + 1)) : true;
   };
   if (!this->Run(prm, result, stage))
   {

@@ -80,8 +80,7 @@ SURFACELODFILTERS_EXPORT bool TriangleWithinDistance(const TriangleBVH& bvh, con
 class SURFACELODFILTERS_EXPORT GreedyCuts
 {
 public:
-  using ProgressFunction = std::function<bool(double)>; // returns true to abort
-
+  // Progress (slodFilterContract.h): returning false aborts.
   GreedyCuts();
   ~GreedyCuts();
   GreedyCuts(const GreedyCuts&) = delete;

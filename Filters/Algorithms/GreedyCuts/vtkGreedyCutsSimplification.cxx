@@ -101,10 +101,6 @@ int vtkGreedyCutsSimplification::RequestData(
     return 1;
   }
   const double diagonal = mesh.BoundingBoxDiagonal();
-  auto aborted = [this](double f) {
-    this->UpdateProgress(f);
-    return this->GetAbortExecute() != 0;
-  };
 
   // 1. Patchification.
   slod::PatchificationParameters patchParameters;
@@ -113,9 +109,10 @@ int vtkGreedyCutsSimplification::RequestData(
   patchParameters.TwoEdgePatchAngle = this->TwoEdgePatchAngle;
   patchParameters.TwoEdgeNeighborAngle = this->TwoEdgeNeighborAngle;
   slod::GreedyCuts cuts;
-  cuts.Initialize(mesh, patchParameters, [&](double f) { return aborted(0.1 * f); });
+  cuts.Initialize(mesh, patchParameters, slod::FilterProgress(this, 0.0, 0.1));
   if (cuts.Aborted())
   {
+    slod::ReportAbort(this, output);
     return 1;
   }
 
@@ -129,7 +126,7 @@ int vtkGreedyCutsSimplification::RequestData(
   // no target at all means the simplification within it (the paper's use).
   target = slod::TargetTriangleCount(mesh.NumberOfTriangles(), this->TargetNumberOfTriangles, this->TargetReduction, true);
   slod::GreedyCutsResult result;
-  auto stage = [&](double f) { return aborted(0.1 + 0.85 * f); };
+  const slod::ProgressFunction stage = slod::FilterProgress(this, 0.1, 0.95);
   if (target > 0 && target < mesh.NumberOfTriangles())
   {
     const double hi = bound > 0 ? bound : 0.1 * diagonal;
@@ -137,6 +134,7 @@ int vtkGreedyCutsSimplification::RequestData(
     if (!cuts.RunForTarget(static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), parameters, lo, hi,
           this->TargetSearchSteps, result, stage))
     {
+      slod::ReportAbort(this, output);
       return 1;
     }
     if (cuts.WorkBoundReached())
@@ -144,17 +142,13 @@ int vtkGreedyCutsSimplification::RequestData(
       vtkWarningMacro(<< "The search for the target's tolerance stopped at its work bound; the smallest tolerance "
                       << "tried within the target is used.");
     }
-    if (static_cast<vtkIdType>(result.Triangles.size() / 3) > target)
-    {
-      vtkWarningMacro(<< "Target of " << target << " triangles not reached within the error bound " << hi << ": "
-                      << result.Triangles.size() / 3 << " triangles.");
-    }
   }
   else
   {
     parameters.Epsilon = target >= mesh.NumberOfTriangles() ? 0.0 : bound;
     if (!cuts.Run(parameters, result, stage))
     {
+      slod::ReportAbort(this, output);
       return 1;
     }
   }
@@ -168,6 +162,12 @@ int vtkGreedyCutsSimplification::RequestData(
 
   // 3. Output.
   StoreSimplification(input, mesh, vertexToInput, result, this->OutputPointsPrecision, output);
+  if (target > 0 && target < mesh.NumberOfTriangles())
+  {
+    // The error bound wins over the target: the search never tries a larger tolerance.
+    slod::ReportTarget(this, output, target, output->GetNumberOfPolys() <= target,
+      "the error bound (MaximumError, the upper end of the tolerance search) allows no coarser result");
+  }
   this->UpdateProgress(1.0);
   return 1;
 }

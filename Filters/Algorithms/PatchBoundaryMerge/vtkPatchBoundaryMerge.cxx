@@ -142,10 +142,7 @@ bool vtkPatchBoundaryMerge::Cache::Build(
       // search, e.g. bunny00 at 525 triangles, waits for it.)
       this->Generator.StartInputTree(this->Mesh);
     }
-    this->Patches.Build(this->Mesh, *topology, growth, [self](double f) {
-      self->UpdateProgress(0.05 + 0.6 * f);
-      return self->GetAbortExecute() != 0;
-    });
+    this->Patches.Build(this->Mesh, *topology, growth, slod::FilterProgress(self, 0.05, 0.65));
   }
   if (this->Patches.Aborted())
   {
@@ -329,6 +326,10 @@ int vtkPatchBoundaryMerge::RequestData(
     if (!this->Cached->Build(this, input, patchParameters))
     {
       this->Cached.reset();
+      if (this->GetAbortExecute())
+      {
+        slod::ReportAbort(this, output);
+      }
       return 1;
     }
   }
@@ -363,6 +364,7 @@ int vtkPatchBoundaryMerge::RequestData(
   slod::SpbmLevel result;
   if (!cache.GenerateLevel(this, result, level))
   {
+    slod::ReportAbort(this, output); // the level's generation fails only when aborted
     return 1;
   }
   this->UsedEpsilon = level.Epsilon < 0 ? 0.0 : level.Epsilon;

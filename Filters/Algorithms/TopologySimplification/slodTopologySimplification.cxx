@@ -21,6 +21,10 @@ namespace slod
 {
 namespace
 {
+// Internal progress report: the fraction done -> true when the run is aborted (the inverse of the
+// public ProgressFunction, so that stages read `if (aborted(f)) return`).
+using AbortCheck = std::function<bool(double)>;
+
 // Circumscribed circle diameter of a triangle (infinite when collinear).
 double CircumDiameter(const Vec3& a, const Vec3& b, const Vec3& c)
 {
@@ -1116,7 +1120,7 @@ struct Simplification
 
   // Section 5.3: every unclaimed clockwise loop that cuts off a small wall is a feature (hole,
   // bump or cavity); the enabled ones below the size limit are removed and their loops filled.
-  void DetectAndRemove(const TopologySimplifier::ProgressFunction& progress)
+  void DetectAndRemove(const AbortCheck& progress)
   {
     const Index nt = this->Mesh.NumberOfTriangles();
     this->Removed.assign(size_t(nt), 0);
@@ -1535,8 +1539,6 @@ struct CleanedSurface
   Index LabelCount = 0;
 };
 
-using ReportFunction = std::function<bool(double)>;
-
 // The cleaned mesh of one pass: the triangles the pass kept and the fills it made.
 void CollectCleaned(const Simplification& run, const TriangleMesh& current, const std::vector<unsigned char>& currentFill,
   const std::vector<double>& points, CleanedSurface& cleaned)
@@ -1639,7 +1641,7 @@ enum class PassOutcome
 // One detection pass over `current` (the input's vertices, the previous pass's triangles).
 PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const TriangleMesh& current,
   const std::vector<unsigned char>& currentFill, const TopologySimplificationParameters& parameters,
-  const ReportFunction& report, TopologySimplificationResult& result, CleanedSurface& cleaned)
+  const AbortCheck& report, TopologySimplificationResult& result, CleanedSurface& cleaned)
 {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
@@ -1647,7 +1649,7 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
   Simplification run(current, parameters, found);
   const double base = pass == 0 ? 0.0 : 0.7;
   const double span = pass == 0 ? 0.4 : 0.02;
-  run.Patches.Build(current, run.Topology, parameters.Patches, [&](double f) { return report(base + span * f); });
+  run.Patches.Build(current, run.Topology, parameters.Patches, [&](double f) { return !report(base + span * f); });
   if (run.Patches.Aborted())
   {
     return PassOutcome::Aborted;
@@ -1701,7 +1703,7 @@ std::vector<unsigned char> FillOfPatches(
 // Completion by SPBM (TriangulatePatches or Spbm): the level's triangles, patches and fills.
 bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParameters& parameters,
   const CleanedSurface& cleaned, const MeshTopology& cleanedTopology, const CleanedSurface& unmerged /* labels only */,
-  const ReportFunction& report, TopologySimplificationResult& result)
+  const AbortCheck& report, TopologySimplificationResult& result)
 {
   Patchification merged;
   merged.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount);
@@ -1770,7 +1772,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
 {
   using Clock = std::chrono::steady_clock;
   result = TopologySimplificationResult();
-  const ReportFunction report = [&](double f) { return progress && progress(f); };
+  const AbortCheck report = [&](double f) { return progress && !progress(f); };
   // Detection passes: a removal can expose a new feature (the counterbore of a stepped hole is a
   // cavity once its hole is filled), so detection runs again on the cleaned surface while it
   // removes something, at most MaximumPasses times. Cracks are closed in the first pass only.

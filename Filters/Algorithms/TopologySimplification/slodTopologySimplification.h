@@ -131,8 +131,7 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationResult
 class SURFACELODFILTERS_EXPORT TopologySimplifier
 {
 public:
-  // Progress in [0,1]; returning true aborts (Run then returns false).
-  using ProgressFunction = std::function<bool(double)>;
+  // Progress (slodFilterContract.h): returning false aborts (Run then returns false).
   // mesh: consistently oriented; non-manifold edges are never part of a feature.
   bool Run(const TriangleMesh& mesh, const TopologySimplificationParameters& parameters,
     TopologySimplificationResult& result, const ProgressFunction& progress = nullptr);

@@ -43,7 +43,7 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
   parameters.SharpMinimumDot = std::cos(vtkMath::RadiansFromDegrees(filter->GetMaximumSharpAngle()));
   const double diagonal = mesh.BoundingBoxDiagonal();
   parameters.Patches.MaximumPlaneDistance = filter->GetPatchPlaneDistance() * diagonal;
-  const double scale = filter->GetRelativeFeatureSize() ? diagonal : 1.0;
+  const double scale = filter->GetMaximumFeatureSizeIsRelative() ? diagonal : 1.0;
   parameters.MaximumFeatureSize = filter->GetMaximumFeatureSize() * scale;
   parameters.MaximumCrackSize = filter->GetMaximumCrackSize() < 0 ? -1.0 : filter->GetMaximumCrackSize() * scale;
   parameters.FillCracks = filter->GetFillCracks();
@@ -211,13 +211,10 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
 
   slod::TopologySimplificationResult result;
   slod::TopologySimplifier simplifier;
-  const bool done = simplifier.Run(mesh, parameters, result, [this](double f) {
-    this->UpdateProgress(0.05 + 0.85 * f);
-    return this->GetAbortExecute() != 0;
-  });
-  if (!done)
+  if (!simplifier.Run(mesh, parameters, result, slod::FilterProgress(this, 0.05, 0.9)))
   {
-    return 1; // aborted: empty output
+    slod::ReportAbort(this, output);
+    return 1;
   }
   using Kind = slod::TopologyFeatureKind;
   this->NumberOfHolesDetected = result.Detected[int(Kind::Hole)];
@@ -237,6 +234,12 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   slod::TriangleMesh outMesh;
   StoreTriangles(result, mesh, input, vertexToInput, this->OutputPointsPrecision, output, outMesh);
   AddFeatureCounts(this, output->GetFieldData());
+  if (parameters.Completion == slod::TopologyCompletion::Spbm && parameters.SpbmTargetTriangles > 0)
+  {
+    slod::ReportTarget(this, output, parameters.SpbmTargetTriangles,
+      output->GetNumberOfPolys() <= parameters.SpbmTargetTriangles,
+      "the completion keeps the borders of the removed features and the remaining topology");
+  }
 
   const slod::MeshStatistics after = slod::MeshTopology(outMesh).Statistics(outMesh);
   this->OutputGenus = static_cast<int>(after.Genus);
@@ -265,7 +268,7 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SharpAngle: " << this->SharpAngle << "\n";
   os << indent << "MaximumSharpAngle: " << this->MaximumSharpAngle << "\n";
   os << indent << "MaximumFeatureSize: " << this->MaximumFeatureSize
-     << (this->RelativeFeatureSize ? " (relative)" : " (absolute)") << "\n";
+     << (this->MaximumFeatureSizeIsRelative ? " (relative)" : " (absolute)") << "\n";
   os << indent << "RemoveHoles: " << this->RemoveHoles << "\n";
   os << indent << "RemoveBumps: " << this->RemoveBumps << "\n";
   os << indent << "RemoveCavities: " << this->RemoveCavities << "\n";

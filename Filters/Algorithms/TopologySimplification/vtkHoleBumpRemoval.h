@@ -62,12 +62,12 @@ public:
 
   ///@{
   /// alpha: features whose loops all have a smaller (sampled) diameter are removed. Relative to
-  /// the bounding-box diagonal when RelativeFeatureSize is on (default 0.05 relative).
+  /// the bounding-box diagonal when MaximumFeatureSizeIsRelative is on (default 0.05 relative).
   vtkSetClampMacro(MaximumFeatureSize, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MaximumFeatureSize, double);
-  vtkSetMacro(RelativeFeatureSize, bool);
-  vtkGetMacro(RelativeFeatureSize, bool);
-  vtkBooleanMacro(RelativeFeatureSize, bool);
+  vtkSetMacro(MaximumFeatureSizeIsRelative, bool);
+  vtkGetMacro(MaximumFeatureSizeIsRelative, bool);
+  vtkBooleanMacro(MaximumFeatureSizeIsRelative, bool);
   ///@}
 
   ///@{
@@ -179,7 +179,7 @@ protected:
   double SharpAngle = 45.572996; // acos(0.7)
   double MaximumSharpAngle = 107.457603; // acos(-0.3)
   double MaximumFeatureSize = 0.05;
-  bool RelativeFeatureSize = true;
+  bool MaximumFeatureSizeIsRelative = true;
   bool RemoveHoles = true;
   bool RemoveBumps = true;
   bool RemoveCavities = true;

@@ -1,8 +1,23 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The shared filter contract (slodFilterContract.h): how the three stop targets resolve to a count.
+// The shared filter contract (slodFilterContract.h): how the three stop targets resolve to a count,
+// and what every simplification filter gives when aborted.
 #include "slodFilterContract.h"
 
+#include "vtkCommand.h"
+#include "vtkGreedyCutsSimplification.h"
+#include "vtkHoleBumpRemoval.h"
+#include "vtkNew.h"
+#include "vtkPatchBoundaryMerge.h"
+#include "vtkPolyData.h"
+#include "vtkQuadricTriangleCollapse.h"
+#include "vtkRetile.h"
+#include "vtkSmartPointer.h"
+#include "vtkSphereSource.h"
+#include "vtkTriangleCollapseHierarchy.h"
+
 #include <gtest/gtest.h>
+
+#include <string>
 
 namespace
 {
@@ -43,3 +58,68 @@ TEST(FilterContract, NeverAboveTheInput)
   EXPECT_EQ(slod::TargetTriangleCount(100, 500, 0.0, false), 100);
   EXPECT_EQ(slod::TargetTriangleCount(0, 0, 0.5, false), 0);
 }
+
+namespace
+{
+// Sets AbortExecute at the first progress event and counts the warnings that mention the abort.
+struct AbortAtFirstProgress : vtkCommand
+{
+  static AbortAtFirstProgress* New() { return new AbortAtFirstProgress; }
+  void Execute(vtkObject* caller, unsigned long event, void* data) override
+  {
+    if (event == vtkCommand::ProgressEvent)
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+    }
+    else if (event == vtkCommand::WarningEvent && data &&
+      std::string(static_cast<const char*>(data)).find("Aborted") != std::string::npos)
+    {
+      ++this->AbortWarnings;
+    }
+  }
+  int AbortWarnings = 0;
+};
+
+vtkSmartPointer<vtkPolyDataAlgorithm> MakeSimplifier(const std::string& name)
+{
+  if (name == "vtkQuadricTriangleCollapse")
+    return vtkSmartPointer<vtkQuadricTriangleCollapse>::New();
+  if (name == "vtkTriangleCollapseHierarchy")
+    return vtkSmartPointer<vtkTriangleCollapseHierarchy>::New();
+  if (name == "vtkPatchBoundaryMerge")
+    return vtkSmartPointer<vtkPatchBoundaryMerge>::New();
+  if (name == "vtkHoleBumpRemoval")
+    return vtkSmartPointer<vtkHoleBumpRemoval>::New();
+  if (name == "vtkRetile")
+    return vtkSmartPointer<vtkRetile>::New();
+  return vtkSmartPointer<vtkGreedyCutsSimplification>::New();
+}
+
+class AbortContract : public ::testing::TestWithParam<std::string>
+{
+};
+}
+
+// The contract's one abort result: every simplification filter, aborted at its first progress
+// report, gives an empty output and says so in a warning.
+TEST_P(AbortContract, EmptyOutputAndAWarning)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(48);
+  sphere->SetPhiResolution(48);
+  sphere->Update();
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = MakeSimplifier(GetParam());
+  filter->SetInputData(sphere->GetOutput());
+  vtkNew<AbortAtFirstProgress> observer;
+  filter->AddObserver(vtkCommand::ProgressEvent, observer);
+  filter->AddObserver(vtkCommand::WarningEvent, observer);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0) << GetParam();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0) << GetParam();
+  EXPECT_EQ(observer->AbortWarnings, 1) << GetParam();
+}
+
+INSTANTIATE_TEST_SUITE_P(EverySimplifier, AbortContract,
+  ::testing::Values("vtkQuadricTriangleCollapse", "vtkTriangleCollapseHierarchy", "vtkPatchBoundaryMerge",
+    "vtkHoleBumpRemoval", "vtkRetile", "vtkGreedyCutsSimplification"),
+  [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });

@@ -655,7 +655,7 @@ TEST(HoleBumpRemovalFilter, AbsoluteSizeAndSpbmTarget)
 {
   vtkSmartPointer<vtkPolyData> mesh = ToPolyData(LargeAndSmallHoles(2));
   vtkNew<vtkHoleBumpRemoval> filter;
-  filter->RelativeFeatureSizeOff();
+  filter->MaximumFeatureSizeIsRelativeOff();
   filter->SetMaximumFeatureSize(2.0);
   vtkSmartPointer<vtkPolyData> out= RunFilter(filter, mesh);
   EXPECT_EQ(filter->GetNumberOfHolesRemoved(), 4);
@@ -696,7 +696,7 @@ TEST(HoleBumpRemovalFilter, BadInputGivesDefinedOutput)
   vtkSmartPointer<vtkPolyData> both = ToPolyData(Concatenate(plate, fan));
   vtkNew<vtkHoleBumpRemoval> nm;
   nm->GlobalWarningDisplayOff();
-  nm->RelativeFeatureSizeOff();
+  nm->MaximumFeatureSizeIsRelativeOff();
   nm->SetMaximumFeatureSize(2.0);
   nm->FillCracksOff();
   vtkSmartPointer<vtkPolyData> out= RunFilter(nm, both);
