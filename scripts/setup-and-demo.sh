@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# Command 1 of the README: install every Debian dependency, configure, build, and run the main job
-# (`surfacelod demo` on its built-in synthetic marching-cubes isosurface of about a million triangles).
+# Command 1 of the README: install every Debian dependency, configure, build, build the ParaView
+# plugin (scripts/paraview-plugin.sh), and run the main job (`surfacelod demo` on its built-in
+# synthetic marching-cubes isosurface of about a million triangles).
 #   BUILD_DIR   build directory (default: build)
 #   DEMO_ARGS   extra arguments for `surfacelod demo`
 set -euo pipefail
@@ -26,6 +27,9 @@ fi
 echo "== configuring and building in $build"
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build" -j "$(nproc)"
+
+echo "== ParaView plugin"
+BUILD_DIR="$build" bash "$here/scripts/paraview-plugin.sh"
 
 echo "== surfacelod demo"
 mkdir -p "$build/demo"
