@@ -2,6 +2,7 @@
 #include "vtkQuadricTriangleCollapse.h"
 
 #include "slodInputPreparation.h"
+#include "slodAttributeTransfer.h"
 #include "slodPointAttributes.h"
 #include "slodTriangleCollapse.h"
 
@@ -199,10 +200,11 @@ int vtkQuadricTriangleCollapse::RequestData(
     return 1;
   }
   slod::TriangleMesh mesh;
-  std::vector<slod::Index> vertexToInput;
+  std::vector<slod::Index> vertexToInput, triangleToCell;
   {
     vtkLogScopeF(TRACE, "vtkQuadricTriangleCollapse: input preparation");
-    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput))
+    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, nullptr,
+          slod::CellMapIfNeeded(input, triangleToCell)))
     {
       return 1;
     }
@@ -229,6 +231,8 @@ int vtkQuadricTriangleCollapse::RequestData(
   }
 
   StoreSimplifiedMesh(result, attributes, slod::OutputPointType(input, this->OutputPointsPrecision), diagonal, output);
+  // Each surviving triangle keeps its own input cell's data.
+  slod::StoreCellData(input, triangleToCell, result.OutputTriangleIds, output);
   if (this->GenerateProgressiveMesh)
   {
     StoreProgressiveMesh(result, inputPoints, inputTriangles, output, records);
