@@ -13,6 +13,7 @@
 
 #include "slodTriangleBVH.h"
 #include "vtkLODInterpolation.h"
+#include "vtkProgressiveMeshReconstruction.h"
 #include "vtkRetileLevelInterpolation.h"
 
 #include "vtkGreedyCutsSimplification.h"
@@ -36,6 +37,7 @@
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 #include "vtkStripper.h"
+#include "vtkTable.h"
 #include "vtkTexturedSphereSource.h"
 #include "vtkTriangleFilter.h"
 
@@ -451,6 +453,7 @@ struct CellDataCase
   std::function<vtkSmartPointer<vtkPolyData>(vtkPolyData*)> Run;
   bool OriginalVertices;
   RegionRule Rule;
+  bool PointData = true; // the filter carries the input's point data
 };
 
 template <class Filter>
@@ -491,6 +494,23 @@ double LongestEdge(vtkPolyData* mesh, vtkIdType cell)
     longest = std::max(longest, std::sqrt(vtkMath::Distance2BetweenPoints(p, q)));
   }
   return longest;
+}
+
+// Half way back from the coarse mesh to the input, with the original mesh on input 2.
+vtkSmartPointer<vtkPolyData> RunProgressiveMeshReconstruction(vtkPolyData* input)
+{
+  vtkNew<vtkQuadricTriangleCollapse> coarse;
+  coarse->SetTargetReduction(0.75);
+  coarse->GenerateProgressiveMeshOn();
+  coarse->SetInputData(input);
+  vtkNew<vtkProgressiveMeshReconstruction> reconstruct;
+  reconstruct->SetCoarseMeshConnection(coarse->GetOutputPort(0));
+  reconstruct->SetRecordsConnection(coarse->GetOutputPort(1));
+  reconstruct->SetInputData(2, input);
+  coarse->Update();
+  reconstruct->SetNumberOfVertexSplits(coarse->GetCollapseRecords()->GetNumberOfRows() / 2);
+  reconstruct->Update();
+  return reconstruct->GetOutput();
 }
 
 // At T = 1 (the finer level's shape), with the test's "ParentLongestEdge" per fragment.
@@ -541,7 +561,8 @@ TEST(CellDataCarried, EveryFilterEveryTriangleFromOneInputCellOfItsRegion)
     { "vtkRetile", RunReducing<vtkRetile>, false, RegionRule::Nearest },
     { "vtkLODInterpolation", RunLODInterpolation, false, RegionRule::Morphed },
     // Fragments of the finer level's triangles, which carry the input's nearest cells.
-    { "vtkRetileLevelInterpolation", RunRetileLevelInterpolation, false, RegionRule::Fragment },
+    { "vtkRetileLevelInterpolation", RunRetileLevelInterpolation, false, RegionRule::Fragment, false },
+    { "vtkProgressiveMeshReconstruction", RunProgressiveMeshReconstruction, false, RegionRule::Descendant, false },
   };
   for (vtkPolyData* input : { triangles.Get(), strips.Get() })
   {
@@ -559,10 +580,31 @@ TEST(CellDataCarried, EveryFilterEveryTriangleFromOneInputCellOfItsRegion)
       }
       std::cout << c.Name << (input == strips ? " (strips)" : "") << ": " << output->GetNumberOfCells()
                 << " triangles, largest region excess distance " << excess << " of the diagonal\n";
-      if (c.Name != std::string("vtkRetileLevelInterpolation")) // its points are the blend's, not the input's
+      if (c.PointData)
       {
         ExpectIntegerPointArraysKept(input, output, c.OriginalVertices, c.Rule != RegionRule::Morphed);
       }
     }
   }
+}
+
+// Without the original mesh only the coarse triangles would have cell data: none is carried, and
+// the filter says so.
+TEST(CellDataCarried, ProgressiveMeshWithoutTheOriginalMeshWarns)
+{
+  const vtkSmartPointer<vtkPolyData> input = WithCellAndPointData(slodtest::LoadTestMesh("fandisk"));
+  vtkNew<vtkQuadricTriangleCollapse> coarse;
+  coarse->SetTargetReduction(0.75);
+  coarse->GenerateProgressiveMeshOn();
+  coarse->SetInputData(input);
+  vtkNew<vtkProgressiveMeshReconstruction> reconstruct;
+  reconstruct->SetCoarseMeshConnection(coarse->GetOutputPort(0));
+  reconstruct->SetRecordsConnection(coarse->GetOutputPort(1));
+  vtkNew<slodtest::MessageCounter> messages;
+  reconstruct->AddObserver(vtkCommand::WarningEvent, messages);
+  reconstruct->Update();
+  EXPECT_GT(reconstruct->GetOutput()->GetNumberOfCells(), coarse->GetOutput()->GetNumberOfCells());
+  EXPECT_EQ(reconstruct->GetOutput()->GetCellData()->GetArray("Region"), nullptr);
+  ASSERT_EQ(messages->Warnings.size(), 1u);
+  EXPECT_NE(messages->Warnings[0].find("input 2"), std::string::npos) << messages->Warnings[0];
 }
