@@ -496,21 +496,31 @@ double LongestEdge(vtkPolyData* mesh, vtkIdType cell)
   return longest;
 }
 
+// A coarse mesh of `input` (a quarter of its triangles) with its collapse records, and the filter
+// that rebuilds the levels from them.
+struct ProgressiveMesh
+{
+  vtkNew<vtkQuadricTriangleCollapse> Coarse;
+  vtkNew<vtkProgressiveMeshReconstruction> Reconstruct;
+  explicit ProgressiveMesh(vtkPolyData* input)
+  {
+    this->Coarse->SetTargetReduction(0.75);
+    this->Coarse->GenerateProgressiveMeshOn();
+    this->Coarse->SetInputData(input);
+    this->Reconstruct->SetCoarseMeshConnection(this->Coarse->GetOutputPort(0));
+    this->Reconstruct->SetRecordsConnection(this->Coarse->GetOutputPort(1));
+  }
+};
+
 // Half way back from the coarse mesh to the input, with the original mesh on input 2.
 vtkSmartPointer<vtkPolyData> RunProgressiveMeshReconstruction(vtkPolyData* input)
 {
-  vtkNew<vtkQuadricTriangleCollapse> coarse;
-  coarse->SetTargetReduction(0.75);
-  coarse->GenerateProgressiveMeshOn();
-  coarse->SetInputData(input);
-  vtkNew<vtkProgressiveMeshReconstruction> reconstruct;
-  reconstruct->SetCoarseMeshConnection(coarse->GetOutputPort(0));
-  reconstruct->SetRecordsConnection(coarse->GetOutputPort(1));
-  reconstruct->SetInputData(2, input);
-  coarse->Update();
-  reconstruct->SetNumberOfVertexSplits(coarse->GetCollapseRecords()->GetNumberOfRows() / 2);
-  reconstruct->Update();
-  return reconstruct->GetOutput();
+  ProgressiveMesh progressive(input);
+  progressive.Reconstruct->SetInputData(2, input);
+  progressive.Coarse->Update();
+  progressive.Reconstruct->SetNumberOfVertexSplits(progressive.Coarse->GetCollapseRecords()->GetNumberOfRows() / 2);
+  progressive.Reconstruct->Update();
+  return progressive.Reconstruct->GetOutput();
 }
 
 // At T = 1 (the finer level's shape), with the test's "ParentLongestEdge" per fragment.
@@ -593,18 +603,13 @@ TEST(CellDataCarried, EveryFilterEveryTriangleFromOneInputCellOfItsRegion)
 TEST(CellDataCarried, ProgressiveMeshWithoutTheOriginalMeshWarns)
 {
   const vtkSmartPointer<vtkPolyData> input = WithCellAndPointData(slodtest::LoadTestMesh("fandisk"));
-  vtkNew<vtkQuadricTriangleCollapse> coarse;
-  coarse->SetTargetReduction(0.75);
-  coarse->GenerateProgressiveMeshOn();
-  coarse->SetInputData(input);
-  vtkNew<vtkProgressiveMeshReconstruction> reconstruct;
-  reconstruct->SetCoarseMeshConnection(coarse->GetOutputPort(0));
-  reconstruct->SetRecordsConnection(coarse->GetOutputPort(1));
+  ProgressiveMesh progressive(input);
   vtkNew<slodtest::MessageCounter> messages;
-  reconstruct->AddObserver(vtkCommand::WarningEvent, messages);
-  reconstruct->Update();
-  EXPECT_GT(reconstruct->GetOutput()->GetNumberOfCells(), coarse->GetOutput()->GetNumberOfCells());
-  EXPECT_EQ(reconstruct->GetOutput()->GetCellData()->GetArray("Region"), nullptr);
+  progressive.Reconstruct->AddObserver(vtkCommand::WarningEvent, messages);
+  progressive.Reconstruct->Update();
+  vtkPolyData* output = progressive.Reconstruct->GetOutput();
+  EXPECT_GT(output->GetNumberOfCells(), progressive.Coarse->GetOutput()->GetNumberOfCells());
+  EXPECT_EQ(output->GetCellData()->GetArray("Region"), nullptr);
   ASSERT_EQ(messages->Warnings.size(), 1u);
   EXPECT_NE(messages->Warnings[0].find("input 2"), std::string::npos) << messages->Warnings[0];
 }
