@@ -720,9 +720,9 @@ TEST(PointAttributes, IdsAreTakenFromTheHeaviestSourceAndIntegersRounded)
   ids->SetName("Ids");
   for (int i = 0; i < 3; ++i)
   {
-    label->InsertNextValue(10 * i); // 0, 10, 20
-    global->InsertNextValue(100 + i);
-    ids->InsertNextValue(200 + i);
+    label->InsertNextValue(i);           // 0, 1, 2
+    global->InsertNextValue(100 + 400 * i); // 100, 500, 900: an average would be none of them
+    ids->InsertNextValue(200 + 400 * i);
   }
   input->AddArray(label);
   input->SetGlobalIds(global);
@@ -737,14 +737,14 @@ TEST(PointAttributes, IdsAreTakenFromTheHeaviestSourceAndIntegersRounded)
   attributes.Store(output, { first, middle });
   ASSERT_NE(output->GetGlobalIds(), nullptr) << "global ids left out (VTK's default for interpolation)";
   EXPECT_EQ(output->GetGlobalIds()->GetComponent(0, 0), 100);
-  EXPECT_EQ(output->GetGlobalIds()->GetComponent(1, 0), 101);
+  EXPECT_EQ(output->GetGlobalIds()->GetComponent(1, 0), 500);
   ASSERT_NE(output->GetArray("Ids"), nullptr) << "vtkIdType array left out (VTK never interpolates them)";
   EXPECT_EQ(output->GetArray("Ids")->GetDataType(), VTK_ID_TYPE);
   EXPECT_EQ(output->GetArray("Ids")->GetComponent(0, 0), 200);
-  EXPECT_EQ(output->GetArray("Ids")->GetComponent(1, 0), 201);
+  EXPECT_EQ(output->GetArray("Ids")->GetComponent(1, 0), 600);
   ASSERT_NE(vtkIntArray::SafeDownCast(output->GetArray("Label")), nullptr);
-  EXPECT_EQ(output->GetArray("Label")->GetComponent(0, 0), 7);  // 0.3 * 10 + 0.2 * 20 = 7
-  EXPECT_EQ(output->GetArray("Label")->GetComponent(1, 0), 12); // 6 + 6 = 12
+  EXPECT_EQ(output->GetArray("Label")->GetComponent(0, 0), 1); // 0.3 * 1 + 0.2 * 2 = 0.7, rounded
+  EXPECT_EQ(output->GetArray("Label")->GetComponent(1, 0), 1); // 0.6 + 0.6 = 1.2
 }
 
 // Each prepared triangle names the input cell it comes from: vtkPolyData numbers vertices and
