@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodInputPreparation.h"
 
-#include "vtkAlgorithm.h"
-
+#include "slodAttributeTransfer.h"
 #include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
 #include "slodUnionFind.h"
@@ -62,16 +61,25 @@ std::vector<std::string> PreparationReport::Warnings() const
 
 namespace
 {
+// cells (when given) gets the input cell id of each triangle: vtkPolyData numbers its cells vertices
+// first, then lines, polygons and strips.
 void CollectTriangles(vtkPolyData* input, const std::vector<double>& points, PreparationReport& report,
-  std::vector<Index>& triangles)
+  std::vector<Index>& triangles, std::vector<Index>* cells)
 {
   vtkIdType n = 0;
   const vtkIdType* ids = nullptr;
+  vtkIdType cell = report.IgnoredVertexCells + report.IgnoredLineCells;
+  auto recordCell = [&]() {
+    if (cells)
+    {
+      cells->resize(triangles.size() / 3, static_cast<Index>(cell));
+    }
+  };
   if (vtkCellArray* polys = input->GetPolys())
   {
     auto it = vtk::TakeSmartPointer(polys->NewIterator());
     std::vector<Vec3> polygon;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), recordCell(), ++cell)
     {
       it->GetCurrentCell(n, ids);
       if (n == 3)
@@ -101,7 +109,7 @@ void CollectTriangles(vtkPolyData* input, const std::vector<double>& points, Pre
   if (vtkCellArray* strips = input->GetStrips())
   {
     auto it = vtk::TakeSmartPointer(strips->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), recordCell(), ++cell)
     {
       it->GetCurrentCell(n, ids);
       ++report.TriangulatedStrips;
@@ -641,7 +649,8 @@ std::vector<Index> SealingRepresentatives(const std::vector<double>& points, con
 }
 
 // Drops triangles with a repeated vertex (in place; kept when options say so, then returns true).
-bool RemoveRepeatedVertexTriangles(std::vector<Index>& triangles, bool remove, PreparationReport& report)
+bool RemoveRepeatedVertexTriangles(
+  std::vector<Index>& triangles, std::vector<Index>* cells, bool remove, PreparationReport& report)
 {
   size_t nt = 0;
   bool kept = false;
@@ -660,9 +669,17 @@ bool RemoveRepeatedVertexTriangles(std::vector<Index>& triangles, bool remove, P
     triangles[3 * nt] = a;
     triangles[3 * nt + 1] = b;
     triangles[3 * nt + 2] = c;
+    if (cells)
+    {
+      (*cells)[nt] = (*cells)[t];
+    }
     ++nt;
   }
   triangles.resize(3 * nt);
+  if (cells)
+  {
+    cells->resize(nt);
+  }
   return kept;
 }
 
@@ -722,7 +739,7 @@ void MarkRepeatedTriangles(const std::vector<Index>& triangles, Index np, std::v
 // Compaction: the used points in input order (in place: a point only moves to a smaller slot) and
 // the kept triangles in input order, renumbered.
 void CompactInto(std::vector<double>& points, std::vector<Index>& triangles, const std::vector<unsigned char>& keep,
-  Index np, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint)
+  Index np, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint, std::vector<Index>* cells)
 {
   const Index nt = static_cast<Index>(triangles.size() / 3);
   std::vector<Index> inputToMesh(static_cast<size_t>(np), InvalidIndex);
@@ -760,16 +777,25 @@ void CompactInto(std::vector<double>& points, std::vector<Index>& triangles, con
       {
         triangles[3 * size_t(kept) + k] = inputToMesh[triangles[3 * size_t(t) + k]];
       }
+      if (cells)
+      {
+        (*cells)[kept] = (*cells)[t];
+      }
       ++kept;
     }
   }
   triangles.resize(3 * size_t(kept));
   mesh.Triangles.swap(triangles);
+  if (cells)
+  {
+    cells->resize(size_t(kept));
+  }
 }
 
 // Reads the input's polygons and strips as triangles over its points; false (report says why)
 // when the input cannot be used.
-bool ReadSurface(vtkPolyData* input, PreparationReport& report, std::vector<double>& points, std::vector<Index>& triangles)
+bool ReadSurface(vtkPolyData* input, PreparationReport& report, std::vector<double>& points, std::vector<Index>& triangles,
+  std::vector<Index>* cells)
 {
   const vtkIdType surfaceCells = (input->GetPolys() ? input->GetPolys()->GetNumberOfCells() : 0) +
     (input->GetStrips() ? input->GetStrips()->GetNumberOfCells() : 0);
@@ -796,7 +822,7 @@ bool ReadSurface(vtkPolyData* input, PreparationReport& report, std::vector<doub
   reserve += input->GetPolys() ? input->GetPolys()->GetNumberOfConnectivityIds() : 0;
   reserve += input->GetStrips() ? input->GetStrips()->GetNumberOfConnectivityIds() : 0;
   triangles.reserve(size_t(reserve));
-  CollectTriangles(input, points, report, triangles);
+  CollectTriangles(input, points, report, triangles, cells);
   // Non-finite coordinates on a used point make the input unusable.
   for (Index v : triangles)
   {
@@ -819,15 +845,19 @@ bool ReadSurface(vtkPolyData* input, PreparationReport& report, std::vector<doub
 // by grouping the triangles by their smallest vertex (4 bytes per triangle), and the adjacency of
 // the orientation / manifoldness checks is a single vertex->triangle CSR array.
 PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptions& options, TriangleMesh& mesh,
-  std::vector<Index>& vertexToInputPoint)
+  std::vector<Index>& vertexToInputPoint, std::vector<Index>* triangleToInputCell)
 {
   PreparationReport report;
   mesh.Points.clear();
   mesh.Triangles.clear();
   vertexToInputPoint.clear();
+  if (triangleToInputCell)
+  {
+    triangleToInputCell->clear();
+  }
   std::vector<double> points;
   std::vector<Index> triangles;
-  if (!input || !ReadSurface(input, report, points, triangles))
+  if (!input || !ReadSurface(input, report, points, triangles, triangleToInputCell))
   {
     return report;
   }
@@ -840,13 +870,13 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
       v = representative[v];
     }
   }
-  const bool repeatedVertices = RemoveRepeatedVertexTriangles(triangles, options.RemoveDegenerateTriangles, report);
+  const bool repeatedVertices = RemoveRepeatedVertexTriangles(triangles, triangleToInputCell, options.RemoveDegenerateTriangles, report);
   std::vector<unsigned char> keep(triangles.size() / 3, 1);
   if (options.RemoveDuplicateTriangles)
   {
     MarkRepeatedTriangles(triangles, np, keep, report);
   }
-  CompactInto(points, triangles, keep, np, mesh, vertexToInputPoint);
+  CompactInto(points, triangles, keep, np, mesh, vertexToInputPoint, triangleToInputCell);
 
   // One adjacency serves both the orientation repair and the non-manifold counts (flipping
   // triangles changes neither edges nor fans).
@@ -881,9 +911,10 @@ std::vector<unsigned char> NonManifoldVertexFlags(const TriangleMesh& mesh)
 }
 
 bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const PreparationOptions& options,
-  TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint, PreparationReport* reportOut)
+  TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint, PreparationReport* reportOut,
+  std::vector<Index>* triangleToInputCell)
 {
-  const PreparationReport report = PrepareTriangleMesh(input, options, mesh, vertexToInputPoint);
+  const PreparationReport report = PrepareTriangleMesh(input, options, mesh, vertexToInputPoint, triangleToInputCell);
   if (reportOut)
   {
     *reportOut = report;
@@ -894,6 +925,10 @@ bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const Preparation
     mesh.Points.clear();
     mesh.Triangles.clear();
     vertexToInputPoint.clear();
+    if (triangleToInputCell)
+    {
+      triangleToInputCell->clear();
+    }
     return false;
   }
   for (const std::string& warning : report.Warnings())
@@ -975,30 +1010,13 @@ void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh, const std::ve
   vtkNew<vtkPoints> points;
   points->SetDataType(OutputPointType(input, outputPointsPrecision));
   points->SetNumberOfPoints(static_cast<vtkIdType>(used.size()));
-  // Arrays of fewer tuples than points cannot be copied from every point, and a second array of the
-  // same name would be copied into the first: both are left out.
-  vtkNew<vtkPointData> inPD;
-  inPD->ShallowCopy(input->GetPointData());
-  for (int a = inPD->GetNumberOfArrays() - 1; a >= 0; --a)
-  {
-    vtkAbstractArray* array = inPD->GetAbstractArray(a);
-    int sameName = -1;
-    if (array->GetName())
-    {
-      inPD->GetAbstractArray(array->GetName(), sameName);
-    }
-    if (array->GetNumberOfTuples() < input->GetNumberOfPoints() || (sameName >= 0 && sameName < a))
-    {
-      inPD->RemoveArray(a);
-    }
-  }
-  vtkPointData* outPD = output->GetPointData();
-  outPD->CopyAllocate(inPD, static_cast<vtkIdType>(used.size()));
+  std::vector<Index> outputToInputPoint(used.size());
   for (size_t i = 0; i < used.size(); ++i)
   {
     points->SetPoint(static_cast<vtkIdType>(i), &mesh.Points[3 * size_t(used[i])]);
-    outPD->CopyData(inPD, vertexToInputPoint[used[i]], static_cast<vtkIdType>(i));
+    outputToInputPoint[i] = vertexToInputPoint[used[i]];
   }
+  CopyAttributeTuples(input->GetPointData(), input->GetNumberOfPoints(), outputToInputPoint, output->GetPointData());
   output->SetPoints(points);
 }
 } // namespace slod

@@ -69,8 +69,11 @@ struct SURFACELODFILTERS_EXPORT PreparationReport
 };
 
 // vertexToInputPoint[i] is the input point id of mesh vertex i (the first of merged duplicates).
+// triangleToInputCell (when given) gets the input cell id of each mesh triangle (the polygon or
+// strip it was cut from; ids count vertices and lines first, as vtkPolyData does).
 SURFACELODFILTERS_EXPORT PreparationReport PrepareTriangleMesh(vtkPolyData* input,
-  const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint);
+  const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint,
+  std::vector<Index>* triangleToInputCell = nullptr);
 
 // Per vertex of a prepared mesh: 1 when it is non-manifold (on an edge with more than two
 // triangles, or joining several fans), else 0. Collapse filters lock these vertices.
@@ -81,7 +84,7 @@ SURFACELODFILTERS_EXPORT std::vector<unsigned char> NonManifoldVertexFlags(const
 // filter then produces an empty output).
 SURFACELODFILTERS_EXPORT bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input,
   const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint,
-  PreparationReport* report = nullptr);
+  PreparationReport* report = nullptr, std::vector<Index>* triangleToInputCell = nullptr);
 
 // The progress of `filter` from `from` to `to` as a ProgressFunction (slodFilterContract.h): each
 // call updates the filter's progress and returns false once the filter was asked to abort.

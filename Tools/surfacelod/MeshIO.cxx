@@ -6,6 +6,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkErrorCode.h"
 #include "vtkLogger.h"
@@ -608,6 +609,86 @@ void CheckWritablePath(const std::string& path)
   }
 }
 
+namespace
+{
+// The point attribute roles each writer above keeps; no format but VTP and legacy VTK keeps any cell
+// data or other point arrays. (Change this with the writers: TestMeshIO reads every format back.)
+std::vector<int> KeptPointRoles(const std::string& ext)
+{
+  if (ext == ".obj")
+  {
+    return { vtkDataSetAttributes::NORMALS }; // "vn" lines
+  }
+  if (ext == ".ply")
+  {
+    return { vtkDataSetAttributes::TCOORDS }; // vtkPLYWriter's u, v
+  }
+  return {};
+}
+
+// "'Name'" or, for an unnamed array, its role ("unnamed normals").
+std::string ArrayLabel(vtkDataSetAttributes* data, int index)
+{
+  const char* name = data->GetArrayName(index);
+  const int role = data->IsArrayAnAttribute(index);
+  if (name)
+  {
+    return "'" + std::string(name) + "'";
+  }
+  return role >= 0 ? "unnamed " + std::string(vtkDataSetAttributes::GetAttributeTypeAsString(role)) : "unnamed";
+}
+
+// The arrays of `data` whose role is not one of keptRoles, as labels.
+std::vector<std::string> DroppedArrays(vtkDataSetAttributes* data, const std::vector<int>& keptRoles)
+{
+  std::vector<std::string> dropped;
+  for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+  {
+    const int role = data->IsArrayAnAttribute(a);
+    if (std::find(keptRoles.begin(), keptRoles.end(), role) == keptRoles.end())
+    {
+      dropped.push_back(ArrayLabel(data, a));
+    }
+  }
+  return dropped;
+}
+
+std::string JoinLabels(const std::vector<std::string>& labels)
+{
+  std::string joined;
+  for (const std::string& label : labels)
+  {
+    joined += (joined.empty() ? "" : ", ") + label;
+  }
+  return joined;
+}
+} // namespace
+
+void WarnAboutDroppedArrays(vtkPolyData* mesh, const std::string& path)
+{
+  const std::string ext = Extension(path);
+  if (ext == ".vtp" || ext == ".vtk")
+  {
+    return; // both keep every array
+  }
+  const std::vector<std::string> points = DroppedArrays(mesh->GetPointData(), KeptPointRoles(ext));
+  const std::vector<std::string> cells = DroppedArrays(mesh->GetCellData(), {});
+  if (points.empty() && cells.empty())
+  {
+    return;
+  }
+  std::string message = path + ": a " + ext.substr(1) + " file does not keep";
+  if (!points.empty())
+  {
+    message += " the point array(s) " + JoinLabels(points);
+  }
+  if (!cells.empty())
+  {
+    message += std::string(points.empty() ? "" : " nor") + " the cell array(s) " + JoinLabels(cells);
+  }
+  PrintWarning(message + " (.vtp and .vtk keep them).");
+}
+
 void WriteMesh(vtkPolyData* mesh, const std::string& path)
 {
   const std::string ext = Extension(path);
@@ -635,6 +716,7 @@ void WriteMesh(vtkPolyData* mesh, const std::string& path)
   {
     throw CliError(ExitData, path + ": cannot write: " + problem);
   }
+  WarnAboutDroppedArrays(mesh, path);
 }
 
 vtkSmartPointer<vtkPolyData> TriangulatedSurface(vtkPolyData* mesh)

@@ -51,8 +51,14 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path);
 // Throws CliError(ExitData) unless PATH has a writable extension and its directory exists.
 void CheckWritablePath(const std::string& path);
 
-// Writes .off .ply .stl .obj .vtp .vtk. Throws CliError(ExitData, "PATH: problem").
+// Writes .off .ply .stl .obj .vtp .vtk. Throws CliError(ExitData, "PATH: problem"). Point or cell
+// arrays the format does not keep are named in one warning (WarnAboutDroppedArrays).
 void WriteMesh(vtkPolyData* mesh, const std::string& path);
+
+// Prints one warning naming the point and cell arrays of `mesh` that a file of PATH's type does
+// not keep (OBJ keeps the point normals, PLY the texture coordinates, OFF and STL nothing, VTP and
+// legacy VTK everything); nothing when all are kept.
+void WarnAboutDroppedArrays(vtkPolyData* mesh, const std::string& path);
 
 // Supported extensions, for messages and --help.
 std::string ReadableExtensions();

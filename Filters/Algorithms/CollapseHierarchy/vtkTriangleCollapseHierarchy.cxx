@@ -2,6 +2,7 @@
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include "slodCollapseHierarchy.h"
+#include "slodAttributeTransfer.h"
 #include "slodInputPreparation.h"
 #include "slodPointAttributes.h"
 
@@ -39,6 +40,7 @@ struct vtkTriangleCollapseHierarchy::Internals
 
   slod::CollapseHierarchy Hierarchy;
   slod::PointAttributes Attributes; // one row per global vertex
+  std::vector<slod::Index> TriangleToCell; // input cell of each M0 triangle (empty: no cell data)
   vtkSmartPointer<vtkMultiBlockDataSet> Levels;
   slod::HierarchyMesh Scratch;
   std::vector<slod::Index> Rows;
@@ -64,6 +66,8 @@ struct vtkTriangleCollapseHierarchy::Internals
   {
     out->Initialize();
     this->SetPointsAndTriangles(m, out);
+    // Each triangle carries the data of the input cell of the M0 triangle it descends from.
+    slod::StoreCellData(this->Input, this->TriangleToCell, m.TriangleOrigin, out);
     AddCellArrays(m, shownLevel, out);
     if (!this->Attributes.Empty())
     {
@@ -141,51 +145,26 @@ struct vtkTriangleCollapseHierarchy::Internals
     out->GetFieldData()->AddArray(shown);
   }
 
-  // Rows of the points, then the rows of the blend targets, interpolated and cut off.
+  // Rows of the points; a point blending towards its collapse point gets a row interpolated
+  // between the two for BlendT, added for this output only.
   void AddPointData(const slod::HierarchyMesh& m, vtkPointData* pd)
   {
-    const vtkIdType np = static_cast<vtkIdType>(m.PointGlobal.size());
+    const slod::Index globalRows = this->Attributes.NumberOfRows();
     this->Rows.assign(m.PointGlobal.begin(), m.PointGlobal.end());
-    const bool blending = m.BlendT > 0;
-    if (blending)
+    if (m.BlendT > 0)
     {
-      for (vtkIdType i = 0; i < np; ++i)
+      const double weights[2] = { 1.0 - m.BlendT, m.BlendT };
+      for (size_t i = 0; i < this->Rows.size(); ++i)
       {
         if (m.PointTarget[i] != slod::InvalidIndex)
         {
-          this->Rows.push_back(m.PointTarget[i]);
+          const slod::Index ends[2] = { m.PointGlobal[i], m.PointTarget[i] };
+          this->Rows[i] = this->Attributes.AddInterpolated(ends, weights, 2);
         }
       }
     }
     this->Attributes.Store(pd, this->Rows);
-    if (!blending || static_cast<vtkIdType>(this->Rows.size()) <= np)
-    {
-      return;
-    }
-    vtkIdType extra = np;
-    for (vtkIdType i = 0; i < np; ++i)
-    {
-      if (m.PointTarget[i] == slod::InvalidIndex)
-      {
-        continue;
-      }
-      for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
-      {
-        vtkDataArray* array = pd->GetArray(a);
-        if (array)
-        {
-          array->InterpolateTuple(i, i, array, extra, array, m.BlendT);
-        }
-      }
-      ++extra;
-    }
-    for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
-    {
-      if (vtkAbstractArray* array = pd->GetAbstractArray(a))
-      {
-        array->SetNumberOfTuples(np);
-      }
-    }
+    this->Attributes.RemoveRowsFrom(globalRows);
   }
 
   static slod::CollapseHierarchyParameters ParametersOf(const vtkTriangleCollapseHierarchy& f)
@@ -245,7 +224,8 @@ struct vtkTriangleCollapseHierarchy::Internals
     this->Levels = nullptr;
     slod::TriangleMesh mesh;
     std::vector<slod::Index> vertexToInputPoint;
-    if (!slod::PrepareFilterInput(filter, input, slod::PreparationOptions(), mesh, vertexToInputPoint))
+    if (!slod::PrepareFilterInput(filter, input, slod::PreparationOptions(), mesh, vertexToInputPoint, nullptr,
+          slod::CellMapIfNeeded(input, this->TriangleToCell)))
     {
       return false;
     }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkGreedyCutsSimplification.h"
 
+#include "slodAttributeTransfer.h"
 #include "slodGreedyCuts.h"
 #include "slodInputPreparation.h"
 
@@ -27,8 +28,8 @@ namespace
 // The simplified surface over the original vertices that are used (in order of first use), its
 // triangles' patch ids and the error bound (absolute and relative to the bounding-box diagonal).
 void StoreSimplification(vtkPolyData* input, const slod::TriangleMesh& mesh,
-  const std::vector<slod::Index>& vertexToInput, const slod::GreedyCutsResult& result, int outputPointsPrecision,
-  vtkPolyData* output)
+  const std::vector<slod::Index>& vertexToInput, const std::vector<slod::Index>& triangleToCell,
+  const slod::GreedyCutsResult& result, int outputPointsPrecision, vtkPolyData* output)
 {
   const double diagonal = mesh.BoundingBoxDiagonal();
   slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
@@ -54,6 +55,7 @@ void StoreSimplification(vtkPolyData* input, const slod::TriangleMesh& mesh,
     patchIds->SetValue(t, result.TrianglePatch[size_t(t)]);
   }
   output->SetPolys(polys);
+  slod::StoreNearestCellData(input, triangleToCell, mesh, mesh.Points, result.Triangles, output);
   output->GetCellData()->AddArray(patchIds);
   vtkNew<vtkDoubleArray> boundArray;
   boundArray->SetName("MaximumErrorBound");
@@ -82,9 +84,10 @@ int vtkGreedyCutsSimplification::RequestData(
   this->NumberOfEars = this->NumberOfBites = this->NumberOfRepairs = 0;
 
   slod::TriangleMesh mesh;
-  std::vector<slod::Index> vertexToInput;
+  std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
-  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report))
+  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+        slod::CellMapIfNeeded(input, triangleToCell)))
   {
     return 1;
   }
@@ -161,7 +164,7 @@ int vtkGreedyCutsSimplification::RequestData(
   this->NumberOfRepairs = result.Repairs;
 
   // 3. Output.
-  StoreSimplification(input, mesh, vertexToInput, result, this->OutputPointsPrecision, output);
+  StoreSimplification(input, mesh, vertexToInput, triangleToCell, result, this->OutputPointsPrecision, output);
   if (target > 0 && target < mesh.NumberOfTriangles())
   {
     // The error bound wins over the target: the search never tries a larger tolerance.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkPatchBoundaryMerge.h"
 
+#include "slodAttributeTransfer.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodPatchBoundaryMerge.h"
@@ -18,6 +19,7 @@
 #include "vtkPolyData.h"
 
 #include <chrono>
+#include <numeric>
 #include <cmath>
 #include <memory>
 
@@ -66,6 +68,7 @@ struct vtkPatchBoundaryMerge::Cache
   slod::PatchificationParameters Parameters;
   slod::TriangleMesh Mesh;
   std::vector<slod::Index> VertexToInput;
+  std::vector<slod::Index> TriangleToCell; // input cell of each prepared triangle (empty: no cell data)
   slod::Patchification Patches;
   slod::SpbmLevelGenerator Generator;
   std::vector<std::string> Warnings;
@@ -90,7 +93,8 @@ struct vtkPatchBoundaryMerge::Cache
   size_t MemoryUsage() const
   {
     return this->Mesh.Points.capacity() * sizeof(double) + this->Mesh.Triangles.capacity() * sizeof(slod::Index) +
-      this->VertexToInput.capacity() * sizeof(slod::Index) + this->Patches.MemoryUsage() +
+      (this->VertexToInput.capacity() + this->TriangleToCell.capacity()) * sizeof(slod::Index) +
+      this->Patches.MemoryUsage() +
       this->Generator.MemoryUsage();
   }
 };
@@ -110,7 +114,8 @@ bool vtkPatchBoundaryMerge::Cache::Build(
   // it: prepare without it, and again with it only when an inconsistent edge shows up.
   slod::PreparationOptions options;
   options.MakeOrientationConsistent = false;
-  slod::PreparationReport report = slod::PrepareTriangleMesh(input, options, this->Mesh, this->VertexToInput);
+  slod::PreparationReport report = slod::PrepareTriangleMesh(
+    input, options, this->Mesh, this->VertexToInput, slod::CellMapIfNeeded(input, this->TriangleToCell));
   const auto prepared = Clock::now();
   if (!report.Valid)
   {
@@ -123,7 +128,8 @@ bool vtkPatchBoundaryMerge::Cache::Build(
     auto topology = std::make_unique<slod::MeshTopology>(this->Mesh); // only needed while growing patches
     if (InconsistentEdges(this->Mesh, *topology) > 0)
     {
-      report = slod::PrepareTriangleMesh(input, slod::PreparationOptions(), this->Mesh, this->VertexToInput);
+      report = slod::PrepareTriangleMesh(input, slod::PreparationOptions(), this->Mesh, this->VertexToInput,
+        slod::CellMapIfNeeded(input, this->TriangleToCell));
       topology = std::make_unique<slod::MeshTopology>(this->Mesh);
     }
     this->Warnings = report.Warnings();
@@ -257,6 +263,7 @@ void vtkPatchBoundaryMerge::Cache::WriteOutputs(vtkPatchBoundaryMerge* self, vtk
     patchIds->SetValue(static_cast<vtkIdType>(t), result.TrianglePatch[t]);
   }
   output->SetPolys(polys);
+  slod::StoreNearestCellData(input, this->TriangleToCell, mesh, mesh.Points, result.Triangles, output);
   output->GetCellData()->AddArray(patchIds);
   curves->SetPoints(output->GetPoints());
   curves->GetPointData()->ShallowCopy(output->GetPointData());
@@ -265,6 +272,9 @@ void vtkPatchBoundaryMerge::Cache::WriteOutputs(vtkPatchBoundaryMerge* self, vtk
   if (self->GeneratePatchColoredInput)
   {
     slod::MeshToPolyData(mesh, colored, output->GetPoints()->GetDataType());
+    std::vector<slod::Index> itself(size_t(mesh.NumberOfTriangles()));
+    std::iota(itself.begin(), itself.end(), 0);
+    slod::StoreCellData(input, this->TriangleToCell, itself, colored);
     vtkNew<vtkIntArray> inputPatch;
     inputPatch->SetName("PatchId");
     inputPatch->SetNumberOfValues(mesh.NumberOfTriangles());

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkRetile.h"
 
+#include "slodAttributeTransfer.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodPointAttributes.h"
@@ -160,12 +161,23 @@ bool CheckRetilable(vtkAlgorithm* filter, const slod::TriangleMesh& mesh, const 
   return true;
 }
 
-// A re-tiling as poly data, its point attributes interpolated from the input at each vertex's
-// host location.
+// The input's attributes as a re-tiling carries them: point data interpolated at each vertex's host
+// location, each triangle the cell data of the input triangle closest to its centroid.
+struct InputAttributes
+{
+  vtkPolyData* Input;
+  const std::vector<slod::Index>& TriangleToCell;
+  slod::PointAttributes& Points;
+};
+
+// A re-tiling as poly data with the input's attributes.
 void StoreRetiling(const slod::RetilingResult& retiling, const slod::TriangleMesh& mesh,
-  slod::PointAttributes& attributes, int pointType, vtkPolyData* polyData)
+  const InputAttributes& inputAttributes, int pointType, vtkPolyData* polyData)
 {
   slod::MeshToPolyData(retiling.Mesh, polyData, pointType);
+  slod::StoreNearestCellData(inputAttributes.Input, inputAttributes.TriangleToCell, mesh, retiling.Mesh.Points,
+    retiling.Mesh.Triangles, polyData);
+  slod::PointAttributes& attributes = inputAttributes.Points;
   if (attributes.Empty())
   {
     return;
@@ -212,9 +224,10 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     return 1;
   }
   slod::TriangleMesh mesh;
-  std::vector<slod::Index> vertexToInput;
+  std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
-  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report) ||
+  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+        slod::CellMapIfNeeded(input, triangleToCell)) ||
     !CheckRetilable(this, mesh, report))
   {
     return 1;
@@ -276,7 +289,8 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   const int pointType = slod::OutputPointType(input, this->OutputPointsPrecision);
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
-  StoreRetiling(result, mesh, attributes, pointType, output);
+  const InputAttributes inputAttributes{ input, triangleToCell, attributes };
+  StoreRetiling(result, mesh, inputAttributes, pointType, output);
   vtkMultiBlockDataSet* levelsOutput = vtkMultiBlockDataSet::GetData(outputVector, 1);
   if (levelsOutput && levels.size() > 1)
   {
@@ -284,7 +298,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     for (size_t k = 0; k < levels.size(); ++k)
     {
       vtkNew<vtkPolyData> level;
-      StoreRetiling(levels[k], mesh, attributes, pointType, level);
+      StoreRetiling(levels[k], mesh, inputAttributes, pointType, level);
       levelsOutput->SetBlock(static_cast<unsigned int>(k), level);
     }
   }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkRetileLevelInterpolation.h"
 
+#include "slodAttributeTransfer.h"
 #include "slodInputPreparation.h"
 #include "slodLevelInterpolation.h"
 #include "slodRetiling.h"
@@ -107,8 +108,9 @@ int vtkRetileLevelInterpolation::RequestData(
     return 1;
   }
   slod::TriangleMesh high, low;
-  std::vector<slod::Index> highToInput, lowToInput;
-  if (!slod::PrepareFilterInput(this, highInput, slod::PreparationOptions(), high, highToInput) ||
+  std::vector<slod::Index> highToInput, lowToInput, highTriangleToCell;
+  if (!slod::PrepareFilterInput(this, highInput, slod::PreparationOptions(), high, highToInput, nullptr,
+        slod::CellMapIfNeeded(highInput, highTriangleToCell)) ||
     !slod::PrepareFilterInput(this, lowInput, slod::PreparationOptions(), low, lowToInput))
   {
     return 1;
@@ -148,6 +150,8 @@ int vtkRetileLevelInterpolation::RequestData(
   }
 
   StorePoints(result, this->T, this->OutputPointsPrecision, output);
+  // Each fragment carries the cell data of the high-detail triangle it is part of.
+  slod::StoreCellData(highInput, highTriangleToCell, result.HighTriangle, output);
   StoreTriangles(result, output);
   return 1;
 }

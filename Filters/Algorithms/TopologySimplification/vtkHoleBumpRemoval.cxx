@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkHoleBumpRemoval.h"
 
+#include "slodAttributeTransfer.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodTopologySimplification.h"
@@ -74,7 +75,8 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
 // The result's triangles over the used input vertices, with their patch and fill arrays; outMesh
 // gets the same triangles (for the topology check).
 void StoreTriangles(const slod::TopologySimplificationResult& result, const slod::TriangleMesh& mesh, vtkPolyData* input,
-  const std::vector<slod::Index>& vertexToInput, int outputPointsPrecision, vtkPolyData* output, slod::TriangleMesh& outMesh)
+  const std::vector<slod::Index>& vertexToInput, const std::vector<slod::Index>& triangleToCell, int outputPointsPrecision,
+  vtkPolyData* output, slod::TriangleMesh& outMesh)
 {
   slod::FirstUseNumbering numbering(mesh.NumberOfPoints());
   const std::vector<slod::Index>& used = numbering.Used;
@@ -104,6 +106,7 @@ void StoreTriangles(const slod::TopologySimplificationResult& result, const slod
     outMesh.SetPoint(static_cast<slod::Index>(i), mesh.Point(used[i]));
   }
   output->SetPolys(polys);
+  slod::StoreNearestCellData(input, triangleToCell, mesh, mesh.Points, result.Triangles, output);
   output->GetCellData()->AddArray(patchIds);
   output->GetCellData()->AddArray(filled);
 }
@@ -187,9 +190,10 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   this->UsedFeatureSize = 0;
 
   slod::TriangleMesh mesh;
-  std::vector<slod::Index> vertexToInput;
+  std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
-  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report))
+  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+        slod::CellMapIfNeeded(input, triangleToCell)))
   {
     return 1; // error reported; empty output
   }
@@ -232,7 +236,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
 
   // Output over the used input vertices.
   slod::TriangleMesh outMesh;
-  StoreTriangles(result, mesh, input, vertexToInput, this->OutputPointsPrecision, output, outMesh);
+  StoreTriangles(result, mesh, input, vertexToInput, triangleToCell, this->OutputPointsPrecision, output, outMesh);
   AddFeatureCounts(this, output->GetFieldData());
   if (parameters.Completion == slod::TopologyCompletion::Spbm && parameters.SpbmTargetTriangles > 0)
   {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkLODInterpolation.h"
 
+#include "slodAttributeTransfer.h"
 #include "slodInputPreparation.h"
 #include "slodPointAttributes.h"
 #include "slodUnionFind.h"
@@ -83,9 +84,10 @@ std::vector<slod::Index> MatchToCoarse(const slod::TriangleMesh& detailed, const
 // sit on their coarse matches already does not move: it is detail the coarse mesh shares, and
 // merging it would drop triangles as soon as T leaves 0 (all of a mesh made of triangles smaller
 // than epsilon, e.g. many small components). Returns the merges; removed counts the dropped
-// triangles.
+// triangles, kept[i] is the detailed triangle that mesh triangle i is.
 vtkIdType MergeShortEdges(const slod::TriangleMesh& detailed, const slod::TriangleMesh& coarse,
-  const std::vector<slod::Index>& match, double eps, slod::TriangleMesh& mesh, vtkIdType& removed)
+  const std::vector<slod::Index>& match, double eps, slod::TriangleMesh& mesh, vtkIdType& removed,
+  std::vector<slod::Index>& kept)
 {
   auto staysInPlace = [&](slod::Index h) { return coarse.Point(match[h]) == detailed.Point(h); };
   slod::UnionFind groups(detailed.NumberOfPoints());
@@ -114,6 +116,7 @@ vtkIdType MergeShortEdges(const slod::TriangleMesh& detailed, const slod::Triang
       continue;
     }
     mesh.AddTriangle(a, b, c);
+    kept.push_back(f);
   }
   return merged;
 }
@@ -146,8 +149,9 @@ int vtkLODInterpolation::RequestData(
   }
 
   slod::TriangleMesh detailed, coarse;
-  std::vector<slod::Index> detailedToInput, coarseToInput;
-  if (!slod::PrepareFilterInput(this, detailedInput, slod::PreparationOptions(), detailed, detailedToInput) ||
+  std::vector<slod::Index> detailedToInput, coarseToInput, detailedTriangleToCell;
+  if (!slod::PrepareFilterInput(this, detailedInput, slod::PreparationOptions(), detailed, detailedToInput, nullptr,
+        slod::CellMapIfNeeded(detailedInput, detailedTriangleToCell)) ||
     !slod::PrepareFilterInput(this, coarseInput, slod::PreparationOptions(), coarse, coarseToInput))
   {
     return 1;
@@ -169,7 +173,8 @@ int vtkLODInterpolation::RequestData(
     mesh.SetPoint(h, t * coarse.Point(match[h]) + (1.0 - t) * detailed.Point(h));
   }
   const double eps = this->Epsilon * detailed.BoundingBoxDiagonal();
-  this->MergedVertices = MergeShortEdges(detailed, coarse, match, eps, mesh, this->RemovedTriangles);
+  std::vector<slod::Index> keptTriangles;
+  this->MergedVertices = MergeShortEdges(detailed, coarse, match, eps, mesh, this->RemovedTriangles, keptTriangles);
   std::vector<slod::Index> newToOld;
   mesh.RemoveUnusedPoints(&newToOld);
 
@@ -178,6 +183,8 @@ int vtkLODInterpolation::RequestData(
   slod::PointAttributes attributes;
   attributes.Load(detailedInput->GetPointData(), detailedToInput);
   attributes.Store(output->GetPointData(), newToOld);
+  // Each triangle is a detailed triangle that did not degenerate: it keeps its own cell data.
+  slod::StoreCellData(detailedInput, detailedTriangleToCell, keptTriangles, output);
   return 1;
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkProgressiveMeshReconstruction.h"
 
+#include "slodAttributeTransfer.h"
 #include "slodEditableMesh.h"
 #include "slodInputPreparation.h"
 #include "slodTriangleCollapse.h"
@@ -22,6 +23,17 @@
 
 vtkStandardNewMacro(vtkProgressiveMeshReconstruction);
 
+namespace
+{
+// The original mesh's input cell of each prepared triangle (empty: no cell data to carry), cached.
+struct OriginalCells
+{
+  std::vector<slod::Index> TriangleToCell;
+  const void* Data = nullptr;
+  vtkMTimeType Time = 0;
+};
+} // namespace
+
 struct vtkProgressiveMeshReconstruction::State
 {
   slod::EditableMesh Mesh;
@@ -32,11 +44,13 @@ struct vtkProgressiveMeshReconstruction::State
   const void* CoarseData = nullptr;
   const void* RecordsData = nullptr;
   int PointType = VTK_DOUBLE;
+  vtkIdType InputTriangles = 0; // of the prepared input the records refer to
+  OriginalCells Original;
 };
 
 vtkProgressiveMeshReconstruction::vtkProgressiveMeshReconstruction()
 {
-  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfInputPorts(3);
 }
 
 vtkProgressiveMeshReconstruction::~vtkProgressiveMeshReconstruction() = default;
@@ -47,6 +61,10 @@ int vtkProgressiveMeshReconstruction::FillInputPortInformation(int port, vtkInfo
   {
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkTable");
     return 1;
+  }
+  if (port == 2)
+  {
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   }
   return this->Superclass::FillInputPortInformation(port, info);
 }
@@ -182,6 +200,55 @@ const char* CoarseLevel(vtkPolyData* coarse, const slod::CollapseHistory& h, vtk
   return nullptr;
 }
 
+// The input cell of each prepared triangle of `original` into cells (cached), or nothing with a
+// warning when it is not the mesh the records were made from (inputTriangles triangles).
+void MapOriginalCells(vtkObject* filter, vtkPolyData* original, vtkIdType inputTriangles, OriginalCells& cells)
+{
+  if (cells.Data == original && cells.Time == original->GetMTime())
+  {
+    return;
+  }
+  cells.Data = original;
+  cells.Time = original->GetMTime();
+  slod::TriangleMesh mesh;
+  std::vector<slod::Index> vertexToInput;
+  slod::PrepareTriangleMesh(
+    original, slod::PreparationOptions(), mesh, vertexToInput, slod::CellMapIfNeeded(original, cells.TriangleToCell));
+  if (!cells.TriangleToCell.empty() && mesh.NumberOfTriangles() != inputTriangles)
+  {
+    vtkWarningWithObjectMacro(filter, << "The original mesh (input 2) has " << mesh.NumberOfTriangles()
+                                      << " triangles, the records " << inputTriangles
+                                      << ": it is not their input, its cell data is not carried.");
+    cells.TriangleToCell.clear();
+  }
+}
+
+// Output triangle i is the i-th live triangle of `mesh` (EditableMesh::Extract): its cell data is
+// that of its own input cell, when the original mesh is given.
+void StoreOriginalCellData(vtkObject* filter, vtkPolyData* coarse, vtkPolyData* original, const slod::EditableMesh& mesh,
+  vtkIdType inputTriangles, OriginalCells& cells, vtkPolyData* output)
+{
+  if (!original)
+  {
+    if (coarse->GetCellData()->GetNumberOfArrays() > 1) // more than OriginalTriangleId
+    {
+      vtkWarningWithObjectMacro(filter, << "The coarse mesh has cell data: connect the original mesh to input 2 "
+                                           "(SetOriginalMeshConnection) to carry it to every triangle.");
+    }
+    return;
+  }
+  MapOriginalCells(filter, original, inputTriangles, cells);
+  std::vector<slod::Index> liveTriangles;
+  for (slod::Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    if (mesh.IsTriangleAlive(t))
+    {
+      liveTriangles.push_back(t);
+    }
+  }
+  slod::StoreCellData(original, cells.TriangleToCell, liveTriangles, output);
+}
+
 // The triangle count after s vertex splits, for every s.
 std::vector<vtkIdType> TrianglesAtLevels(const slod::CollapseHistory& h, vtkIdType coarseTriangles)
 {
@@ -239,6 +306,7 @@ int vtkProgressiveMeshReconstruction::RequestData(
     }
     state->TrianglesAtLevel = TrianglesAtLevels(state->History, coarse->GetNumberOfPolys());
     state->PointType = coarse->GetPoints() ? coarse->GetPoints()->GetDataType() : VTK_DOUBLE;
+    state->InputTriangles = nt;
     state->CoarseData = coarse;
     state->RecordsData = table;
     state->CoarseTime = coarse->GetMTime();
@@ -281,6 +349,8 @@ int vtkProgressiveMeshReconstruction::RequestData(
   ids->SetNumberOfTuples(static_cast<vtkIdType>(newToOld.size()));
   std::copy(newToOld.begin(), newToOld.end(), ids->GetPointer(0));
   output->GetPointData()->AddArray(ids);
+  StoreOriginalCellData(this, coarse, vtkPolyData::GetData(inputVector[2], 0), state.Mesh, state.InputTriangles,
+    state.Original, output);
   return 1;
 }
 

@@ -18,6 +18,11 @@
  * rebuilds the state (linear in the input size).
  *
  * The output carries the point array "OriginalVertexId" (prepared input vertex ids).
+ *
+ * Cell data: with the original mesh (the collapse filter's input) on the optional input 2, each
+ * output triangle carries the cell data of its own input cell (slodAttributeTransfer.h). Without
+ * it only the coarse triangles would have theirs, so none is carried (with a warning when the
+ * coarse mesh has cell data).
  */
 #ifndef vtkProgressiveMeshReconstruction_h
 #define vtkProgressiveMeshReconstruction_h
@@ -37,6 +42,8 @@ public:
   /// Convenience: the coarse mesh (port 0) and the collapse records (port 1).
   void SetCoarseMeshConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(0, output); }
   void SetRecordsConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+  /// Optional: the original mesh (the collapse filter's input, port 2), whose cell data is carried.
+  void SetOriginalMeshConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(2, output); }
 
   ///@{
   /// Number of vertex splits applied to the coarse mesh (-1 = all, default).

@@ -2,6 +2,7 @@
 #include "vtkQuadricTriangleCollapse.h"
 
 #include "slodInputPreparation.h"
+#include "slodAttributeTransfer.h"
 #include "slodPointAttributes.h"
 #include "slodTriangleCollapse.h"
 
@@ -199,11 +200,12 @@ int vtkQuadricTriangleCollapse::RequestData(
     return 1;
   }
   slod::TriangleMesh mesh;
-  std::vector<slod::Index> vertexToInput;
+  std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
   {
     vtkLogScopeF(TRACE, "vtkQuadricTriangleCollapse: input preparation");
-    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report))
+    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+          slod::CellMapIfNeeded(input, triangleToCell)))
     {
       return 1;
     }
@@ -231,6 +233,8 @@ int vtkQuadricTriangleCollapse::RequestData(
   }
 
   StoreSimplifiedMesh(result, attributes, slod::OutputPointType(input, this->OutputPointsPrecision), diagonal, output);
+  // Each surviving triangle keeps its own input cell's data.
+  slod::StoreCellData(input, triangleToCell, result.OutputTriangleIds, output);
   if (this->GenerateProgressiveMesh)
   {
     StoreProgressiveMesh(result, inputPoints, inputTriangles, output, records);

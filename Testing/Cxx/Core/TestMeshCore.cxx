@@ -13,6 +13,7 @@
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkPointData.h"
 #include "vtkNew.h"
@@ -682,7 +683,7 @@ TEST(PointAttributes, CarriedThroughMergesWithTypes)
 
   PointAttributes attributes;
   attributes.Load(input, { 3, 0, 1 }); // rows: input points 3, 0, 1
-  EXPECT_EQ(attributes.GetWidth(), 5);
+  EXPECT_EQ(attributes.GetNumberOfArrays(), 3);
   const Index sources[2] = { 1, 2 };
   const double weights[2] = { 1, 1 };
   attributes.Merge(1, sources, weights, 2); // row 1 := mean of input points 0 and 1
@@ -701,6 +702,96 @@ TEST(PointAttributes, CarriedThroughMergesWithTypes)
   output->GetNormals()->GetTuple(1, n);
   EXPECT_NEAR(n[0], std::sqrt(0.5), 1e-12); // averaged and renormalised
   EXPECT_NEAR(n[1], std::sqrt(0.5), 1e-12);
+  int normalsIndex = -1;
+  output->GetAbstractArray("Normals", normalsIndex);
+  EXPECT_EQ(output->IsArrayAnAttribute(normalsIndex), vtkDataSetAttributes::NORMALS) << "role lost";
+}
+
+// VTK's conventions: integer arrays are rounded, never fractional; ids (global ids, vtkIdType
+// arrays) are labels taken from the heaviest source, whatever the order of the sources.
+TEST(PointAttributes, IdsAreTakenFromTheHeaviestSourceAndIntegersRounded)
+{
+  vtkNew<vtkPointData> input;
+  vtkNew<vtkIntArray> label;
+  label->SetName("Label");
+  vtkNew<vtkIntArray> global;
+  global->SetName("Global");
+  vtkNew<vtkIdTypeArray> ids;
+  ids->SetName("Ids");
+  for (int i = 0; i < 3; ++i)
+  {
+    label->InsertNextValue(i);           // 0, 1, 2
+    global->InsertNextValue(100 + 400 * i); // 100, 500, 900: an average would be none of them
+    ids->InsertNextValue(200 + 400 * i);
+  }
+  input->AddArray(label);
+  input->SetGlobalIds(global);
+  input->AddArray(ids);
+  PointAttributes attributes;
+  attributes.Load(input, { 0, 1, 2 });
+  const Index sources[3] = { 0, 1, 2 };
+  const double heaviestFirst[3] = { 0.5, 0.3, 0.2 }, heaviestInMiddle[3] = { 0.1, 0.6, 0.3 };
+  const Index first = attributes.AddInterpolated(sources, heaviestFirst, 3);
+  const Index middle = attributes.AddInterpolated(sources, heaviestInMiddle, 3);
+  vtkNew<vtkPointData> output;
+  attributes.Store(output, { first, middle });
+  ASSERT_NE(output->GetGlobalIds(), nullptr) << "global ids left out (VTK's default for interpolation)";
+  EXPECT_EQ(output->GetGlobalIds()->GetComponent(0, 0), 100);
+  EXPECT_EQ(output->GetGlobalIds()->GetComponent(1, 0), 500);
+  ASSERT_NE(output->GetArray("Ids"), nullptr) << "vtkIdType array left out (VTK never interpolates them)";
+  EXPECT_EQ(output->GetArray("Ids")->GetDataType(), VTK_ID_TYPE);
+  EXPECT_EQ(output->GetArray("Ids")->GetComponent(0, 0), 200);
+  EXPECT_EQ(output->GetArray("Ids")->GetComponent(1, 0), 600);
+  ASSERT_NE(vtkIntArray::SafeDownCast(output->GetArray("Label")), nullptr);
+  EXPECT_EQ(output->GetArray("Label")->GetComponent(0, 0), 1); // 0.3 * 1 + 0.2 * 2 = 0.7, rounded
+  EXPECT_EQ(output->GetArray("Label")->GetComponent(1, 0), 1); // 0.6 + 0.6 = 1.2
+}
+
+// Each prepared triangle names the input cell it comes from: vtkPolyData numbers vertices and
+// lines first, then polygons, then strips; a triangulated polygon or strip gives all its triangles
+// its own id, and removed triangles leave no entry.
+TEST(InputPreparation, EachTriangleNamesItsInputCell)
+{
+  vtkNew<vtkPoints> points;
+  for (int i = 0; i < 12; ++i)
+  {
+    points->InsertNextPoint(i % 4, i / 4, 0.1 * (i % 3)); // a 4 x 3 grid, gently bent
+  }
+  vtkNew<vtkPolyData> input;
+  input->SetPoints(points);
+  vtkNew<vtkCellArray> verts, lines, polys, strips;
+  const vtkIdType vertex[1] = { 0 }, line[2] = { 0, 1 };
+  verts->InsertNextCell(1, vertex);                  // cell 0
+  lines->InsertNextCell(2, line);                    // cell 1
+  const vtkIdType quad[4] = { 0, 1, 5, 4 }, triangle[3] = { 1, 2, 6 }, repeated[3] = { 2, 2, 6 };
+  const vtkIdType pentagon[5] = { 2, 3, 7, 11, 10 };
+  polys->InsertNextCell(4, quad);                    // cell 2: two triangles
+  polys->InsertNextCell(3, repeated);                // cell 3: removed (repeated vertex)
+  polys->InsertNextCell(3, triangle);                // cell 4
+  polys->InsertNextCell(5, pentagon);                // cell 5: three triangles
+  const vtkIdType strip[5] = { 4, 8, 5, 9, 6 };
+  strips->InsertNextCell(5, strip);                  // cell 6: three triangles
+  input->SetVerts(verts);
+  input->SetLines(lines);
+  input->SetPolys(polys);
+  input->SetStrips(strips);
+  TriangleMesh mesh;
+  std::vector<Index> vertexToInput, triangleToCell;
+  const PreparationReport report = PrepareTriangleMesh(input, PreparationOptions(), mesh, vertexToInput, &triangleToCell);
+  ASSERT_TRUE(report.Valid);
+  EXPECT_EQ(triangleToCell, (std::vector<Index>{ 2, 2, 4, 5, 5, 5, 6, 6, 6 }));
+  ASSERT_EQ(static_cast<Index>(triangleToCell.size()), mesh.NumberOfTriangles());
+  // Each triangle's corners are points of its cell.
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    input->GetCellPoints(triangleToCell[t], n, ids);
+    for (int k = 0; k < 3; ++k)
+    {
+      EXPECT_NE(std::find(ids, ids + n, vertexToInput[mesh.Triangle(t)[k]]), ids + n) << "triangle " << t;
+    }
+  }
 }
 
 TEST(EditableMesh, BorderEarIsNotCollapsedAway)

@@ -10,15 +10,21 @@
 
 #include "vtkOFFMeshReader.h"
 #include "vtkOFFMeshWriter.h"
+#include "vtkQuadricTriangleCollapse.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
 #include "vtkCommand.h"
 #include "vtkDoubleArray.h"
 #include "vtkErrorCode.h"
 #include "vtkFloatArray.h"
+#include "vtkIdFilter.h"
+#include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkObject.h"
+#include "vtkPointData.h"
+#include "vtkPolyDataNormals.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
@@ -621,5 +627,103 @@ TEST(MeshIO, ObjFilesReadBackExactly)
         EXPECT_EQ(static_cast<float>(p[a]), static_cast<float>(q[a])) << i << " " << a;
       }
     }
+  }
+}
+
+namespace
+{
+// fandisk simplified by vtkQuadricTriangleCollapse from an input with cell data (vtkIdFilter ids, an
+// int region), point normals and texture coordinates: a filter output as the tool writes it.
+vtkSmartPointer<vtkPolyData> SimplifiedWithAttributes()
+{
+  vtkNew<vtkIdFilter> ids;
+  ids->SetInputData(slodtest::LoadTestMesh("fandisk"));
+  ids->PointIdsOff();
+  ids->CellIdsOn();
+  vtkNew<vtkPolyDataNormals> normals;
+  normals->SetInputConnection(ids->GetOutputPort());
+  normals->SplittingOff();
+  normals->ComputeCellNormalsOff();
+  normals->Update();
+  auto input = vtkSmartPointer<vtkPolyData>::New();
+  input->DeepCopy(normals->GetOutput());
+  vtkNew<vtkIntArray> region;
+  region->SetName("Region");
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName("UV");
+  tcoords->SetNumberOfComponents(2);
+  for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+  {
+    region->InsertNextValue(static_cast<int>(c % 5));
+  }
+  for (vtkIdType p = 0; p < input->GetNumberOfPoints(); ++p)
+  {
+    const double* x = input->GetPoint(p);
+    tcoords->InsertNextTuple2(x[0], x[1]);
+  }
+  input->GetCellData()->AddArray(region);
+  input->GetPointData()->SetTCoords(tcoords);
+  vtkNew<vtkQuadricTriangleCollapse> simplify;
+  simplify->SetInputData(input);
+  simplify->SetTargetReduction(0.5);
+  simplify->Update();
+  auto output = vtkSmartPointer<vtkPolyData>::New();
+  output->ShallowCopy(simplify->GetOutput());
+  return output;
+}
+
+// Whether `back` (a file read back) has `array` of `written`: by its role when it has one the
+// reader gives too, else by name.
+bool ReadBack(vtkDataSetAttributes* written, int index, vtkDataSetAttributes* back)
+{
+  const int role = written->IsArrayAnAttribute(index);
+  if (role >= 0 && back->GetAttribute(role))
+  {
+    return true;
+  }
+  const char* name = written->GetArrayName(index);
+  return name && back->GetAbstractArray(name);
+}
+} // namespace
+
+// Every writer of the tool either keeps a point or cell array (it reads back) or names it in its
+// warning; VTP keeps all of them, values and roles included.
+TEST(MeshIO, WritersKeepEveryArrayOrSayWhichTheyDrop)
+{
+  const vtkSmartPointer<vtkPolyData> mesh = SimplifiedWithAttributes();
+  ASSERT_NE(mesh->GetCellData()->GetArray("Region"), nullptr) << "premise: the simplifier carries cell data";
+  ASSERT_NE(mesh->GetPointData()->GetNormals(), nullptr);
+  ASSERT_NE(mesh->GetPointData()->GetTCoords(), nullptr);
+  for (const char* ext : { "vtp", "vtk", "ply", "obj", "off", "stl" })
+  {
+    SCOPED_TRACE(ext);
+    const std::string path = slodtest::OutputPath(std::string("attributes.") + ext);
+    testing::internal::CaptureStderr();
+    slodcli::WriteMesh(mesh, path);
+    const std::string warnings = testing::internal::GetCapturedStderr();
+    EXPECT_LE(std::count(warnings.begin(), warnings.end(), '\n'), 1) << "one warning at most: " << warnings;
+    const vtkSmartPointer<vtkPolyData> back = slodcli::ReadMesh(path);
+    for (vtkDataSetAttributes* written : { static_cast<vtkDataSetAttributes*>(mesh->GetPointData()),
+           static_cast<vtkDataSetAttributes*>(mesh->GetCellData()) })
+    {
+      vtkDataSetAttributes* read = written == mesh->GetPointData()
+        ? static_cast<vtkDataSetAttributes*>(back->GetPointData())
+        : static_cast<vtkDataSetAttributes*>(back->GetCellData());
+      for (int a = 0; a < written->GetNumberOfArrays(); ++a)
+      {
+        const std::string label = "'" + std::string(written->GetArrayName(a)) + "'";
+        const bool kept = ReadBack(written, a, read);
+        EXPECT_NE(kept, warnings.find(label) != std::string::npos)
+          << label << (kept ? " is kept but named as dropped: " : " is dropped silently: ") << warnings;
+      }
+    }
+  }
+  const vtkSmartPointer<vtkPolyData> vtp = slodcli::ReadMesh(slodtest::OutputPath("attributes.vtp"));
+  vtkDataArray* region = vtp->GetCellData()->GetArray("Region");
+  ASSERT_NE(region, nullptr);
+  ASSERT_NE(vtp->GetCellData()->GetScalars(), nullptr) << "vtkIdFilter's cell ids lost their role";
+  for (vtkIdType c = 0; c < vtp->GetNumberOfCells(); ++c)
+  {
+    ASSERT_EQ(region->GetComponent(c, 0), mesh->GetCellData()->GetArray("Region")->GetComponent(c, 0));
   }
 }
