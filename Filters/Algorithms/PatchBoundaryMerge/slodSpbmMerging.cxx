@@ -278,6 +278,8 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
   s.TriedQ.assign(size_t(nc), -1);
   s.MergeTriedP.assign(size_t(nc), -1);
   s.MergeTriedQ.assign(size_t(nc), -1);
+  s.CollapsesWalkedSize.assign(size_t(np), 0);
+  s.CandidatesPushedSize.assign(size_t(np), 0);
   s.Locked.resize(size_t(nc));
   s.PartFirst.resize(size_t(nc));
   s.PartLast.resize(size_t(nc));
@@ -461,7 +463,9 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
 // Patch merging (4.2.6) in merge-measure order; before a chain's patches merge,
 // the short chains of both patches try to collapse. Work bound: a chain is
 // pushed when its patches merge or its measure changed, and a popped entry is
-// tried at most once per pair of patch versions.
+// tried at most once per pair of patch versions; the smaller patch of a merge
+// joins the larger (union by size), and a large patch walks all its chains
+// again only after its boundary grew by half (WalkDue).
 void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
 {
   s.Heap.clear();
@@ -502,8 +506,13 @@ void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
     }
     if (parameters.CollapseChains)
     {
-      this->TryCollapses(p, c);
-      this->TryCollapses(q, c);
+      for (const Index x : { p, q })
+      {
+        if (this->WalkDue(x, s.CollapsesWalkedSize))
+        {
+          this->TryCollapses(x, c);
+        }
+      }
       if (!this->Movable(c))
       {
         continue;
@@ -511,11 +520,40 @@ void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
     }
     s.MergeTriedP[c] = s.Version[p];
     s.MergeTriedQ[c] = s.Version[q];
+    if (s.Size[p] < s.Size[q])
+    {
+      std::swap(p, q); // q joins p
+    }
+    absorbedChains.clear();
+    this->ForPatchChains(q, [&](Index x) { absorbedChains.push_back(x); });
     if (parameters.MergePatches && this->TryMerge(c, p, q))
     {
-      this->ForPatchChains(p, [&](Index x) { this->PushCandidate(x); });
+      // The union's normal changed the measure of all its chains; requeue those of the absorbed
+      // patch, and all of them when the union is small or has grown enough since the last time.
+      if (this->WalkDue(p, s.CandidatesPushedSize))
+      {
+        this->ForPatchChains(p, [&](Index x) { this->PushCandidate(x); });
+      }
+      else
+      {
+        for (const Index x : absorbedChains)
+        {
+          this->PushCandidate(x);
+        }
+      }
     }
   }
+}
+
+// Whether root patch x walks all its chains again (see FullRetryBoundary); records the walk.
+bool SpbmLevelGenerator::MergingRun::WalkDue(Index x, std::vector<Index>& walkedSize)
+{
+  if (s.Size[x] > FullRetryBoundary && 2 * s.Size[x] < 3 * walkedSize[x])
+  {
+    return false;
+  }
+  walkedSize[x] = s.Size[x];
+  return true;
 }
 
 void SpbmLevelGenerator::MergingRun::RebuildKept()

@@ -54,6 +54,7 @@ private:
   double Thickness(Index p, Index q);
   double MergeMeasure(Index p, Index q);
   bool Movable(Index c);
+  bool WalkDue(Index x, std::vector<Index>& walkedSize);
   void PushCandidate(Index c);
   bool TryMerge(Index c, Index p, Index q);
   bool SharesOnlyChain(Index c, Index p, Index q);
@@ -101,7 +102,7 @@ private:
   bool relaxed = false;
   Index forcedKeep = InvalidIndex;
   // Scratch.
-  std::vector<Index> orientedChains;
+  std::vector<Index> orientedChains, absorbedChains;
   std::vector<Vec3> chainForward, checkPoints, chainPoints, mergedPoints;
   std::vector<unsigned char> chainKept;
   std::vector<std::pair<double, Index>> removalHeap; // (-cost, operation)
