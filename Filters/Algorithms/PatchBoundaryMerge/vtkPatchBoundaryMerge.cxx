@@ -142,10 +142,8 @@ bool vtkPatchBoundaryMerge::Cache::Build(
       // search, e.g. bunny00 at 525 triangles, waits for it.)
       this->Generator.StartInputTree(this->Mesh);
     }
-    this->Patches.Build(this->Mesh, *topology, growth, [self](double f) {
-      self->UpdateProgress(0.05 + 0.6 * f);
-      return self->GetAbortExecute() != 0;
-    });
+    const slod::ProgressFunction progress = slod::FilterProgress(self, 0.05, 0.65);
+    this->Patches.Build(this->Mesh, *topology, growth, [&progress](double f) { return !progress(f); });
   }
   if (this->Patches.Aborted())
   {
@@ -328,7 +326,12 @@ int vtkPatchBoundaryMerge::RequestData(
     this->Cached.reset(new Cache);
     if (!this->Cached->Build(this, input, patchParameters))
     {
+      const bool aborted = this->Cached->Patches.Aborted();
       this->Cached.reset();
+      if (aborted)
+      {
+        slod::ReportAbort(this, output);
+      }
       return 1;
     }
   }
@@ -363,6 +366,7 @@ int vtkPatchBoundaryMerge::RequestData(
   slod::SpbmLevel result;
   if (!cache.GenerateLevel(this, result, level))
   {
+    slod::ReportAbort(this, output); // GenerateLevel fails only when aborted
     return 1;
   }
   this->UsedEpsilon = level.Epsilon < 0 ? 0.0 : level.Epsilon;
