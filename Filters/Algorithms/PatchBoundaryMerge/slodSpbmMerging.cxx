@@ -558,6 +558,7 @@ bool SpbmLevelGenerator::MergingRun::WalkDue(Index x, std::vector<Index>& walked
 
 void SpbmLevelGenerator::MergingRun::RebuildKept()
 {
+  ++graphEdits; // the kept boundary walks are stale
   s.KeptPositions.clear();
   std::fill(s.Size.begin(), s.Size.end(), 0);
   for (Index c = 0; c < nc; ++c)
@@ -721,8 +722,32 @@ void SpbmLevelGenerator::MergingRun::ReverseParts(Index c)
 
 // Boundary points of root patch `x` (plus `y` when merging along chain `skip`),
 // in order, with the chain vertices the current tolerances keep. False when
-// they do not close.
+// they do not close. The walk follows linked chain lists into the mesh's
+// points; between two edits of the chain graph the same boundaries are asked
+// for again and again (every collapse try checks the patches on both sides),
+// so the last few walks are kept until the next edit.
 bool SpbmLevelGenerator::MergingRun::BoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points)
+{
+  for (BoundaryWalk& walk : boundaryWalks)
+  {
+    if (walk.Edit == graphEdits && walk.X == x && walk.Y == y && walk.Skip == skip)
+    {
+      points.assign(walk.Points.begin(), walk.Points.end());
+      return walk.Closed;
+    }
+  }
+  BoundaryWalk& walk = boundaryWalks[nextBoundaryWalk];
+  nextBoundaryWalk = (nextBoundaryWalk + 1) % boundaryWalks.size();
+  walk.Closed = this->WalkBoundaryPoints(x, y, skip, points);
+  walk.Points.assign(points.begin(), points.end());
+  walk.X = x;
+  walk.Y = y;
+  walk.Skip = skip;
+  walk.Edit = graphEdits;
+  return walk.Closed;
+}
+
+bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points)
 {
   points.clear();
   orientedChains.clear();
@@ -954,6 +979,7 @@ bool SpbmLevelGenerator::MergingRun::CollapseKeepsSimple(Index p, Index q, Index
 
 void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, Index keep, Index gone)
 {
+  ++graphEdits; // the kept boundary walks are stale
   s.Alive[e] = 0;
   s.ForEndChains(gone, [&](Index c) {
     if (s.A[c] == gone)
@@ -1119,6 +1145,7 @@ void SpbmLevelGenerator::MergingRun::TryJoin(Index u)
 // disappears.
 void SpbmLevelGenerator::MergingRun::ApplyJoin(Index x, Index y, Index u, Index oy, Index xl, Index xr, Index yl)
 {
+  ++graphEdits; // the kept boundary walks are stale
   if (s.B[x] == u)
   {
     // x runs ox -> u; append y oriented u -> oy.
@@ -1256,6 +1283,7 @@ void SpbmLevelGenerator::MergingRun::UniteSupport(Index p, Index q)
 // joins.
 void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
 {
+  ++graphEdits; // the kept boundary walks are stale
   s.Parent[q] = p;
   s.Version[p] += s.Version[q] + 1;
   s.Normal[p] = s.Normal[p] + s.Normal[q];
