@@ -63,6 +63,26 @@ public:
     __builtin_prefetch(&this->Slot[id]);
     __builtin_prefetch(&this->BucketId[id]);
   }
+  // Second hint, once Prefetch(id) has landed: the bucket header of id's entry.
+  void PrefetchBucket(Index id) const
+  {
+    if (this->Slot[id] != InvalidIndex)
+    {
+      __builtin_prefetch(&this->Buckets[this->BucketId[id]]);
+    }
+  }
+  // Third hint, once PrefetchBucket(id) has landed: the entries a Set or Remove of id moves (its
+  // own and the last of its bucket, which takes its place).
+  void PrefetchEntries(Index id) const
+  {
+    const Index s = this->Slot[id];
+    if (s != InvalidIndex)
+    {
+      const auto& bucket = this->Buckets[this->BucketId[id]];
+      __builtin_prefetch(bucket.data() + s, 1);
+      __builtin_prefetch(bucket.data() + bucket.size() - 1);
+    }
+  }
   bool Contains(Index id) const { return this->Slot[id] != InvalidIndex; }
 
   // Inserts id or changes its key (key >= 0; NaN is treated as +infinity).

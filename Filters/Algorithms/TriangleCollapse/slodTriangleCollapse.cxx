@@ -693,9 +693,15 @@ void TriangleCollapser::UpdateAround(Index kept)
       __builtin_prefetch(q);
       __builtin_prefetch(q + 64);
     }
+    this->Heap.PrefetchBucket(t);
   }
-  for (Index t : around)
+  for (size_t i = 0; i < around.size(); ++i)
   {
+    const Index t = around[i];
+    if (i + 1 < around.size())
+    {
+      this->Heap.PrefetchEntries(around[i + 1]);
+    }
     this->State[t].Excluded = 0;
     this->State[t].Rejected = 0;
     const Index* tri = this->Mesh.Triangle(t);
