@@ -254,7 +254,7 @@ size_t SpbmLevelGenerator::MemoryUsage() const
       b(s.KeptPositions) + b(s.RefinedTolerance) + b(s.RefinedLocked) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
       b(s.PartLast) + b(s.PartNext) + b(s.JointBefore) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) +
       b(s.Degree) + b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) +
-      b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.Normal) + b(s.Support) + b(s.Frozen) +
+      b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Normal) + b(s.Support) + b(s.Frozen) +
       b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.NoFreeze) +
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
       b(s.SimpleSignature) + b(s.Memo);
@@ -354,8 +354,8 @@ bool SpbmLevelGenerator::Generate(
   return this->GenerateIn(parameters, level, abort, *this->Work);
 }
 
-bool SpbmLevelGenerator::GenerateIn(
-  const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s)
+bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level,
+  const std::function<bool()>& abort, State& s, Index budget)
 {
   const Index np = this->Patches->NumberOfPatches();
   s.VertexStamp.resize(size_t(this->Mesh->NumberOfPoints()), 0);
@@ -380,6 +380,14 @@ bool SpbmLevelGenerator::GenerateIn(
     if (pass == 1)
     {
       level.PredictedTriangles = static_cast<Index>(s.Total);
+    }
+    if (budget > 0 && s.Total > budget)
+    {
+      vtkLogF(TRACE, "[spbm] candidate abandoned in pass %d: %lld triangles over the budget of %d", pass, s.Total,
+        int(budget));
+      level.Triangles.clear();
+      level.TrianglePatch.clear();
+      return true;
     }
     if (!triangulation.RunPass(frozen, abort))
     {
@@ -560,9 +568,10 @@ void SpbmLevelGenerator::GenerateOtherMeasure(const SpbmLevelParameters& base, T
     flat.SizeWeightedMerge = false;
     flat.FlatnessMerge = true;
     SpbmLevel flatLevel;
-    run.SecondDone = this->GenerateIn(flat, flatLevel, run.Abort, *this->Helper);
+    run.SecondDone = this->GenerateIn(flat, flatLevel, run.Abort, *this->Helper,
+      std::max<Index>(run.Target, static_cast<Index>(run.SecondLevel.TrianglePatch.size())));
     const Index produced = static_cast<Index>(flatLevel.TrianglePatch.size());
-    if (run.SecondDone &&
+    if (run.SecondDone && produced > 0 &&
       produced <= std::max<Index>(run.Target, static_cast<Index>(run.SecondLevel.TrianglePatch.size())))
     {
       const double deviation = this->EstimateDeviation(flatLevel);
@@ -615,8 +624,10 @@ void SpbmLevelGenerator::RunPlannedTries(TargetCandidates& run, State& s)
 {
   for (int j = run.NextTry++; j < 2; j = run.NextTry++)
   {
-    run.TriedFinished[j] = this->GenerateIn(run.Tries[j], run.TriedLevels[j], run.Abort, s);
-    if (run.TriedFinished[j])
+    // Above the target a try cannot be kept (SameBudget) unless the first level overshoots too;
+    // that count is not known yet on this thread, so the target bounds it (deterministically).
+    run.TriedFinished[j] = this->GenerateIn(run.Tries[j], run.TriedLevels[j], run.Abort, s, run.Target);
+    if (run.TriedFinished[j] && !run.TriedLevels[j].TrianglePatch.empty())
     {
       run.TriedDeviations[j] = this->EstimateDeviation(run.TriedLevels[j]);
     }

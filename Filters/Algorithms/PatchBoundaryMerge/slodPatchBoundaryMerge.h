@@ -205,7 +205,10 @@ private:
   // The same as the public functions, on a given working state (one per candidate thread).
   Index PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s);
   SpbmLevelParameters FindParametersIn(Index target, const SpbmLevelParameters& base, Index* predicted, State& s);
-  bool GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s);
+  // With a budget (> 0), a candidate whose count after a pass's merging is above it is abandoned:
+  // `level` is left without triangles (fallback passes only add triangles).
+  bool GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s,
+    Index budget = 0);
   const TriangleBVH& GetInputTree(StageTimes& times);
   // Stages of Initialize.
   void BuildChainKeys(size_t totalVertices);

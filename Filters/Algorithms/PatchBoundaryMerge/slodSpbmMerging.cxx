@@ -278,6 +278,8 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
   s.TriedQ.assign(size_t(nc), -1);
   s.MergeTriedP.assign(size_t(nc), -1);
   s.MergeTriedQ.assign(size_t(nc), -1);
+  s.CollapsesWalkedSize.assign(size_t(np), 0);
+  s.CandidatesPushedSize.assign(size_t(np), 0);
   s.Locked.resize(size_t(nc));
   s.PartFirst.resize(size_t(nc));
   s.PartLast.resize(size_t(nc));
@@ -461,7 +463,9 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
 // Patch merging (4.2.6) in merge-measure order; before a chain's patches merge,
 // the short chains of both patches try to collapse. Work bound: a chain is
 // pushed when its patches merge or its measure changed, and a popped entry is
-// tried at most once per pair of patch versions.
+// tried at most once per pair of patch versions; the smaller patch of a merge
+// joins the larger (union by size), and a large patch walks all its chains
+// again only after its boundary grew by half (WalkDue).
 void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
 {
   s.Heap.clear();
@@ -502,8 +506,13 @@ void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
     }
     if (parameters.CollapseChains)
     {
-      this->TryCollapses(p, c);
-      this->TryCollapses(q, c);
+      for (const Index x : { p, q })
+      {
+        if (this->WalkDue(x, s.CollapsesWalkedSize))
+        {
+          this->TryCollapses(x, c);
+        }
+      }
       if (!this->Movable(c))
       {
         continue;
@@ -511,15 +520,45 @@ void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
     }
     s.MergeTriedP[c] = s.Version[p];
     s.MergeTriedQ[c] = s.Version[q];
+    if (s.Size[p] < s.Size[q])
+    {
+      std::swap(p, q); // q joins p
+    }
+    absorbedChains.clear();
+    this->ForPatchChains(q, [&](Index x) { absorbedChains.push_back(x); });
     if (parameters.MergePatches && this->TryMerge(c, p, q))
     {
-      this->ForPatchChains(p, [&](Index x) { this->PushCandidate(x); });
+      // The union's normal changed the measure of all its chains; requeue those of the absorbed
+      // patch, and all of them when the union is small or has grown enough since the last time.
+      if (this->WalkDue(p, s.CandidatesPushedSize))
+      {
+        this->ForPatchChains(p, [&](Index x) { this->PushCandidate(x); });
+      }
+      else
+      {
+        for (const Index x : absorbedChains)
+        {
+          this->PushCandidate(x);
+        }
+      }
     }
   }
 }
 
+// Whether root patch x walks all its chains again (see FullRetryBoundary); records the walk.
+bool SpbmLevelGenerator::MergingRun::WalkDue(Index x, std::vector<Index>& walkedSize)
+{
+  if (s.Size[x] > FullRetryBoundary && 2 * s.Size[x] < 3 * walkedSize[x])
+  {
+    return false;
+  }
+  walkedSize[x] = s.Size[x];
+  return true;
+}
+
 void SpbmLevelGenerator::MergingRun::RebuildKept()
 {
+  ++graphEdits; // the kept boundary walks are stale
   s.KeptPositions.clear();
   std::fill(s.Size.begin(), s.Size.end(), 0);
   for (Index c = 0; c < nc; ++c)
@@ -683,8 +722,32 @@ void SpbmLevelGenerator::MergingRun::ReverseParts(Index c)
 
 // Boundary points of root patch `x` (plus `y` when merging along chain `skip`),
 // in order, with the chain vertices the current tolerances keep. False when
-// they do not close.
+// they do not close. The walk follows linked chain lists into the mesh's
+// points; between two edits of the chain graph the same boundaries are asked
+// for again and again (every collapse try checks the patches on both sides),
+// so the last few walks are kept until the next edit.
 bool SpbmLevelGenerator::MergingRun::BoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points)
+{
+  for (BoundaryWalk& walk : boundaryWalks)
+  {
+    if (walk.Edit == graphEdits && walk.X == x && walk.Y == y && walk.Skip == skip)
+    {
+      points.assign(walk.Points.begin(), walk.Points.end());
+      return walk.Closed;
+    }
+  }
+  BoundaryWalk& walk = boundaryWalks[nextBoundaryWalk];
+  nextBoundaryWalk = (nextBoundaryWalk + 1) % boundaryWalks.size();
+  walk.Closed = this->WalkBoundaryPoints(x, y, skip, points);
+  walk.Points.assign(points.begin(), points.end());
+  walk.X = x;
+  walk.Y = y;
+  walk.Skip = skip;
+  walk.Edit = graphEdits;
+  return walk.Closed;
+}
+
+bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points)
 {
   points.clear();
   orientedChains.clear();
@@ -916,6 +979,7 @@ bool SpbmLevelGenerator::MergingRun::CollapseKeepsSimple(Index p, Index q, Index
 
 void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, Index keep, Index gone)
 {
+  ++graphEdits; // the kept boundary walks are stale
   s.Alive[e] = 0;
   s.ForEndChains(gone, [&](Index c) {
     if (s.A[c] == gone)
@@ -1081,6 +1145,7 @@ void SpbmLevelGenerator::MergingRun::TryJoin(Index u)
 // disappears.
 void SpbmLevelGenerator::MergingRun::ApplyJoin(Index x, Index y, Index u, Index oy, Index xl, Index xr, Index yl)
 {
+  ++graphEdits; // the kept boundary walks are stale
   if (s.B[x] == u)
   {
     // x runs ox -> u; append y oriented u -> oy.
@@ -1218,6 +1283,7 @@ void SpbmLevelGenerator::MergingRun::UniteSupport(Index p, Index q)
 // joins.
 void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
 {
+  ++graphEdits; // the kept boundary walks are stale
   s.Parent[q] = p;
   s.Version[p] += s.Version[q] + 1;
   s.Normal[p] = s.Normal[p] + s.Normal[q];

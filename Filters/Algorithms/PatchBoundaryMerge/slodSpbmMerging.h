@@ -47,6 +47,7 @@ private:
   void SpliceEndList(Index from, Index to);
   void ReverseParts(Index c);
   bool BoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points);
+  bool WalkBoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points);
   bool SimpleAfter(Index x, Index gone, Index replace);
 
   // Merging (4.2.6).
@@ -54,6 +55,7 @@ private:
   double Thickness(Index p, Index q);
   double MergeMeasure(Index p, Index q);
   bool Movable(Index c);
+  bool WalkDue(Index x, std::vector<Index>& walkedSize);
   void PushCandidate(Index c);
   bool TryMerge(Index c, Index p, Index q);
   bool SharesOnlyChain(Index c, Index p, Index q);
@@ -101,10 +103,21 @@ private:
   bool relaxed = false;
   Index forcedKeep = InvalidIndex;
   // Scratch.
-  std::vector<Index> orientedChains;
+  std::vector<Index> orientedChains, absorbedChains;
   std::vector<Vec3> chainForward, checkPoints, chainPoints, mergedPoints;
   std::vector<unsigned char> chainKept;
   std::vector<std::pair<double, Index>> removalHeap; // (-cost, operation)
+  // The last boundary walks (BoundaryPoints), valid while no edit of the chain graph happened.
+  struct BoundaryWalk
+  {
+    Index X = InvalidIndex, Y = InvalidIndex, Skip = InvalidIndex;
+    long long Edit = -1;
+    bool Closed = false;
+    std::vector<Vec3> Points;
+  };
+  std::array<BoundaryWalk, 4> boundaryWalks;
+  size_t nextBoundaryWalk = 0;
+  long long graphEdits = 0;
   Index joinBase = 0;                                // removal operations: 2c / 2c + 1 collapse chain c,
                                                      // joinBase + u joins at u
 };

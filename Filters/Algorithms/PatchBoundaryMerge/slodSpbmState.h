@@ -44,6 +44,12 @@ inline constexpr int OriginalLevel = 7;
 // Longer patch boundaries are not checked for simplicity while merging (left to
 // the fallback).
 inline constexpr Index MaximumCheckedBoundary = 1 << 16;
+// Patches with at most this many boundary vertices redo the walks over all their chains after
+// every change of the patch (collapse tries, merge candidates); larger ones only once their
+// boundary has grown by half since the last walk. Without the bound, a patch that absorbs n small
+// ones walks its n chains after each merge and retries every collapse (each a check of its whole
+// boundary): cubic in the patch size, which rough surfaces reach (real scan isosurfaces).
+inline constexpr Index FullRetryBoundary = 64;
 
 inline double PointSegmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b)
 {
@@ -218,6 +224,9 @@ struct SpbmLevelGenerator::State
     TriedQ; // per chain: patch versions of its last failed collapse
   std::vector<Index> MergeTriedP,
     MergeTriedQ; // per chain: patch versions of its last failed merge
+  // Per root patch: its boundary size when all its chains last tried to collapse / were requeued
+  // as merge candidates (a large patch redoes either only once it has grown by half).
+  std::vector<Index> CollapsesWalkedSize, CandidatesPushedSize;
   std::vector<Vec3> Normal;
   std::vector<Index> Support; // FlatnessMerge: per root patch, its extreme
                               // vertices (SupportSize)

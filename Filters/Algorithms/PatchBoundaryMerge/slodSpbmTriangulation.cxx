@@ -102,15 +102,18 @@ void SpbmLevelGenerator::LevelTriangulation::BuildVertexSequences()
   s.SeqOffsets[nc] = static_cast<Index>(s.SeqVertices.size());
 }
 
-// Segments must be unique: refine a chain whose shortcut duplicates another edge (bounded: 64
-// rounds, each adding at least one kept vertex or giving up on a pair of patches).
+// Segments must be unique: refine a chain whose shortcut duplicates another edge. Each round
+// refines every duplicate it finds (adding a kept vertex, or giving up on a pair of patches), so
+// the rounds (at most 64, each linear) follow the depth of the refinement, not the number of
+// duplicates: stopping at the first duplicate left all but 64 of them unrefined on large rough
+// surfaces.
 void SpbmLevelGenerator::LevelTriangulation::MakeSegmentsUnique()
 {
   for (int round = 0; round < 64; ++round)
   {
     bool changed = false;
     s.Edges.Reset(s.SeqVertices.size());
-    for (Index c = 0; c < nc && !changed; ++c)
+    for (Index c = 0; c < nc; ++c)
     {
       Index previous = s.SeqOffsets[c];
       for (Index i = s.SeqOffsets[c] + 1; i < s.SeqOffsets[c + 1]; ++i)

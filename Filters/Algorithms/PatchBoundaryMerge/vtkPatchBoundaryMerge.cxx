@@ -335,8 +335,9 @@ int vtkPatchBoundaryMerge::RequestData(
     this->Cached.reset(new Cache);
     if (!this->Cached->Build(this, input, patchParameters))
     {
+      const bool aborted = this->Cached->Patches.Aborted();
       this->Cached.reset();
-      if (this->GetAbortExecute())
+      if (aborted)
       {
         slod::ReportAbort(this, output);
       }

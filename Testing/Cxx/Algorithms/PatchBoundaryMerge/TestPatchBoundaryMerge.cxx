@@ -14,6 +14,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDecimatePro.h"
 #include "vtkIdList.h"
@@ -604,6 +605,49 @@ TEST(PatchBoundaryMerge, TorusKeepsGenusOne)
   {
     auto out = RunFilter(input, target);
     ExpectValidClosedOutput(input, out, 1);
+  }
+}
+
+namespace
+{
+// Asks the filter to abort once its progress passes a threshold.
+class AbortAfterProgress : public vtkCommand
+{
+public:
+  static AbortAfterProgress* New() { return new AbortAfterProgress; }
+  void Execute(vtkObject* caller, unsigned long, void* data) override
+  {
+    ++this->Calls;
+    if (*static_cast<double*>(data) > this->Threshold)
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+    }
+  }
+  double Threshold = 1.0;
+  int Calls = 0;
+};
+} // namespace
+
+// The filter contract: progress through slod::FilterProgress, and an abort (during the patch
+// growth or during the level) gives an empty output with one warning (slod::ReportAbort).
+TEST(PatchBoundaryMerge, ReportsProgressAndAborts)
+{
+  auto input = slodtest::ToPolyData(slodtest::Torus(128, 64));
+  for (const double threshold : { 0.1, 0.69 })
+  {
+    vtkNew<vtkPatchBoundaryMerge> filter;
+    vtkNew<AbortAfterProgress> abort;
+    abort->Threshold = threshold;
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::ProgressEvent, abort);
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->SetInputData(input);
+    filter->SetTargetNumberOfTriangles(400);
+    filter->Update();
+    EXPECT_GT(abort->Calls, 2) << "threshold " << threshold;
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0) << "threshold " << threshold;
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0) << "threshold " << threshold;
+    EXPECT_EQ(messages->Warnings.size(), 1u) << "threshold " << threshold;
   }
 }
 
