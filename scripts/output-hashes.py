@@ -122,7 +122,7 @@ def simplifiers(slod):
         ("TriangleCollapseHierarchy.AllLevels",
          with_reduction(slod.vtkTriangleCollapseHierarchy, GenerateAllLevels=1, ContinuousLevel=1.5)),
         ("PatchBoundaryMerge", with_reduction(slod.vtkPatchBoundaryMerge)),
-        ("PatchBoundaryMerge.Epsilon", with_reduction(slod.vtkPatchBoundaryMerge, 0.0, Epsilon=0.01)),
+        ("PatchBoundaryMerge.Epsilon", with_reduction(slod.vtkPatchBoundaryMerge, 0.0, MaximumError=0.01, MaximumErrorIsRelative=1)),
         ("GreedyCutsSimplification", with_reduction(slod.vtkGreedyCutsSimplification, 0.8)),
         ("HoleBumpRemoval", with_reduction(slod.vtkHoleBumpRemoval, 0.0)),
         ("Retile", with_reduction(slod.vtkRetile, 0.8)),

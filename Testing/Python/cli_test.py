@@ -517,7 +517,7 @@ SET_EFFECT = {
     "vtk-quadric-decimation": ("VolumePreservation=1", None),
     "vtk-decimate-pro": ("OutputPointsPrecision=1", "Degree=3"),
     "quadric-triangle-collapse": ("OutputPointsPrecision=1", "MaximumNormalDeviation=91"),
-    "triangle-collapse-hierarchy": ("CurvatureWeight=0", "CurvatureWeight=1.5"),
+    "triangle-collapse-hierarchy": ("OutputPointsPrecision=1", "CurvatureWeight=1.5"),
     "patch-boundary-merge": ("OutputPointsPrecision=1", "PatchAngle=181"),
     "hole-bump-removal": ("OutputPointsPrecision=1", "MaximumPasses=0"),
     "retile": ("RandomSeed=7", "ShapeImprovementPasses=101"),

@@ -176,6 +176,7 @@ std::vector<Parameter> TriangleCollapseHierarchyParameters()
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MaximumNumberOfLevels),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MinimumNumberOfTriangles),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, MinimumNormalDot),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, OutputPointsPrecision),
   };
 }
 
@@ -188,8 +189,7 @@ std::vector<Parameter> PatchBoundaryMergeParameters()
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, TwoEdgeNeighborAngle),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchPlaneDistance),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, AreaWeightedNormals),
-    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, Epsilon),
-    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, RelativeEpsilon),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, MaximumErrorIsRelative),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, MergeAngle),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, MergePatches),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, CollapseChains),

@@ -236,8 +236,6 @@ struct vtkTriangleCollapseHierarchy::Internals
     {
       return false;
     }
-    this->PointDataType =
-      input->GetPoints() && input->GetPoints()->GetDataType() == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT;
     this->Attributes.Load(input->GetPointData(), vertexToInputPoint);
     if (!this->Attributes.Empty())
     {
@@ -376,6 +374,7 @@ int vtkTriangleCollapseHierarchy::RequestData(
     return 1;
   }
 
+  in.PointDataType = slod::OutputPointType(input, this->OutputPointsPrecision);
   // Output 0: the selected mesh.
   const slod::Index target = Internals::TargetOf(*this, in.Hierarchy.LevelTriangleCount(0));
   this->ShownLevel = in.ExtractShown(*this, target);
@@ -405,6 +404,7 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Level: " << this->Level << "\n";
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
+  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "CurvatureWeight: " << this->CurvatureWeight << "\n";
   os << indent << "AngleWeight: " << this->AngleWeight << "\n";
   os << indent << "ValenceWeight: " << this->ValenceWeight << "\n";

@@ -225,6 +225,13 @@ public:
   vtkBooleanMacro(GenerateAllLevels, bool);
   ///@}
 
+  ///@{
+  /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float
+  /// unless double), for output 0 and every level. Changing it does not rebuild the hierarchy.
+  vtkSetMacro(OutputPointsPrecision, int);
+  vtkGetMacro(OutputPointsPrecision, int);
+  ///@}
+
   /// All levels (output port 1).
   vtkMultiBlockDataSet* GetLevelsOutput();
 
@@ -272,6 +279,7 @@ protected:
   vtkIdType MinimumNumberOfTriangles = 0;
   double MinimumNormalDot = 0.5;
   bool GenerateAllLevels = true;
+  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double ShownLevel = 0;
   int NumberOfHierarchyBuilds = 0;

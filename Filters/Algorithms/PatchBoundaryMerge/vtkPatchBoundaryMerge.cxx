@@ -165,7 +165,10 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
   vtkPatchBoundaryMerge* self, slod::SpbmLevel& result, slod::SpbmLevelParameters& level)
 {
   const slod::TriangleMesh& mesh = this->Mesh;
-  level.Epsilon = self->RelativeEpsilon ? self->Epsilon * mesh.BoundingBoxDiagonal() : self->Epsilon;
+  // The error bound is the chain tolerance epsilon (the paper's parameter); the target search
+  // sets its own epsilon.
+  const double bound = self->MaximumErrorIsRelative ? self->MaximumError * mesh.BoundingBoxDiagonal() : self->MaximumError;
+  level.Epsilon = bound;
   level.MergeAngle = self->MergeAngle;
   level.MergePatches = self->MergePatches;
   level.CollapseChains = self->CollapseChains;
@@ -174,14 +177,10 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
   level.CostOrderedRemoval = self->CostOrderedRemoval;
   level.SizeWeightedMerge = self->SizeWeightedMerge;
   level.MinimumDeviationTriangulation = self->MinimumDeviationTriangulation;
-  // The filter contract's targets (slodFilterContract.h); Epsilon is always an error bound, so no
-  // target at all means the level of that epsilon (the paper's use), not a default reduction.
+  // The filter contract's targets (slodFilterContract.h): an error bound alone is the level of that
+  // epsilon (the paper's use); nothing set is the default reduction.
   const vtkIdType target = slod::TargetTriangleCount(
-    mesh.NumberOfTriangles(), self->TargetNumberOfTriangles, self->TargetReduction, true);
-  if (self->MaximumError > 0)
-  {
-    level.Epsilon = self->MaximumError;
-  }
+    mesh.NumberOfTriangles(), self->TargetNumberOfTriangles, self->TargetReduction, bound > 0);
   auto abort = [self]() { return self->GetAbortExecute() != 0; };
   if (target >= mesh.NumberOfTriangles())
   {
@@ -213,7 +212,7 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
       vtkWarningWithObjectMacro(self, << "Target of " << target << " triangles is beyond SPBM's finest level for these patch "
                       << "parameters; produced " << produced << " triangles (lower the angle tolerances for more).");
     }
-    if (self->MaximumError > 0 && level.Epsilon > self->MaximumError)
+    if (bound > 0 && level.Epsilon > bound)
     {
       // The error bound is reached before the target: stop there.
       level = base;
@@ -226,7 +225,8 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
   else if (!this->Generator.Generate(level, result, abort))
   {
     return false;
-  }  return true;
+  }
+  return true;
 }
 
 // The simplified mesh with patch ids, the profile curves and (optionally) the input colored by patch.
@@ -403,7 +403,6 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TwoEdgeNeighborAngle: " << this->TwoEdgeNeighborAngle << "\n";
   os << indent << "AreaWeightedNormals: " << this->AreaWeightedNormals << "\n";
   os << indent << "PatchPlaneDistance: " << this->PatchPlaneDistance << "\n";
-  os << indent << "Epsilon: " << this->Epsilon << (this->RelativeEpsilon ? " (relative)" : " (absolute)") << "\n";
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
   os << indent << "MergePatches: " << this->MergePatches << "\n";
   os << indent << "CollapseChains: " << this->CollapseChains << "\n";
@@ -415,7 +414,8 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinimumDeviationTriangulation: " << this->MinimumDeviationTriangulation << "\n";
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
-  os << indent << "MaximumError: " << this->MaximumError << "\n";
+  os << indent << "MaximumError: " << this->MaximumError << (this->MaximumErrorIsRelative ? " (relative)" : " (absolute)")
+     << "\n";
   os << indent << "GeneratePatchColoredInput: " << this->GeneratePatchColoredInput << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";

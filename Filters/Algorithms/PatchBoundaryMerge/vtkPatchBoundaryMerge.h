@@ -15,7 +15,7 @@
  * back to their full-resolution boundary, then to their original triangles).
  *
  * The patchification is cached (keyed on the input's modification time and the patch
- * parameters): changing Epsilon, MergeAngle or the target re-generates a level in a small fraction
+ * parameters): changing MaximumError, MergeAngle or the target re-generates a level in a small fraction
  * of the first run's time.
  *
  * Outputs:
@@ -26,7 +26,7 @@
  *
  * Target: SetTargetNumberOfTriangles (0 = unused) or SetTargetReduction (fraction removed) search
  * epsilon over the stored chain hierarchy (and widen alpha1 when needed) without repeating the
- * patchification; otherwise Epsilon (or MaximumError) and MergeAngle are used as given. A target
+ * patchification; otherwise MaximumError (epsilon) and MergeAngle are used as given. A target
  * of at least the input's triangle count returns the (prepared) input unchanged.
  */
 #ifndef vtkPatchBoundaryMerge_h
@@ -73,16 +73,6 @@ public:
   vtkSetMacro(AreaWeightedNormals, bool);
   vtkGetMacro(AreaWeightedNormals, bool);
   vtkBooleanMacro(AreaWeightedNormals, bool);
-  ///@}
-
-  ///@{
-  /// Chain tolerance epsilon: relative to the bounding-box diagonal when RelativeEpsilon is on
-  /// (default 0.005 relative), else absolute. Ignored when a target is set.
-  vtkSetClampMacro(Epsilon, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(Epsilon, double);
-  vtkSetMacro(RelativeEpsilon, bool);
-  vtkGetMacro(RelativeEpsilon, bool);
-  vtkBooleanMacro(RelativeEpsilon, bool);
   ///@}
 
   ///@{
@@ -143,7 +133,7 @@ public:
   /// simplified segment counts by its components along the two adjacent patch normals, but at
   /// least this fraction of its length [0.42]. An offset within both patch planes barely moves the
   /// surface, so the vertex budget goes to creases (Fandisk at 460 triangles: Hausdorff 7.4e-3 ->
-  /// 4.4e-3, with MinimumDeviationTriangulation). Epsilon is then a bound in this measure. Changing it rebuilds only the chain
+  /// 4.4e-3, with MinimumDeviationTriangulation). MaximumError is then a bound in this measure. Changing it rebuilds only the chain
   /// hierarchy, not the patchification.
   vtkSetClampMacro(ChainInPlaneWeight, double, 0.0, 1.0);
   vtkGetMacro(ChainInPlaneWeight, double);
@@ -171,11 +161,16 @@ public:
   ///@}
 
   ///@{
-  /// Optional error bound (SurfaceLOD convention; 0 = unused): the absolute chain tolerance
-  /// epsilon may not exceed it. Without a target it is the epsilon used; with a target the
-  /// filter stops at whichever is reached first (more triangles than the target if needed).
+  /// Error bound: the chain tolerance epsilon, the paper's parameter (0 = unused, the default);
+  /// relative to the bounding-box diagonal when MaximumErrorIsRelative (default off: absolute).
+  /// Alone it is the epsilon used (the paper's configuration: 0.005 relative); with a target the
+  /// filter stops at whichever is reached first (more triangles than the target if needed). With
+  /// no target and no bound, the SurfaceLOD default reduction (0.9) applies.
   vtkSetClampMacro(MaximumError, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MaximumError, double);
+  vtkSetMacro(MaximumErrorIsRelative, bool);
+  vtkGetMacro(MaximumErrorIsRelative, bool);
+  vtkBooleanMacro(MaximumErrorIsRelative, bool);
   ///@}
 
   ///@{
@@ -224,8 +219,6 @@ protected:
   double TwoEdgeNeighborAngle = 90.0;
   bool AreaWeightedNormals = true;
   double PatchPlaneDistance = 0.004;
-  double Epsilon = 0.005;
-  bool RelativeEpsilon = true;
   double MergeAngle = 20.0;
   bool MergePatches = true;
   bool CollapseChains = true;
@@ -238,6 +231,7 @@ protected:
   vtkIdType TargetNumberOfTriangles = 0;
   double TargetReduction = 0.0;
   double MaximumError = 0.0;
+  bool MaximumErrorIsRelative = false;
   bool GeneratePatchColoredInput = false;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 

@@ -123,3 +123,32 @@ INSTANTIATE_TEST_SUITE_P(EverySimplifier, AbortContract,
   ::testing::Values("vtkQuadricTriangleCollapse", "vtkTriangleCollapseHierarchy", "vtkPatchBoundaryMerge",
     "vtkHoleBumpRemoval", "vtkRetile", "vtkGreedyCutsSimplification"),
   [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+namespace
+{
+class DefaultTargetContract : public ::testing::TestWithParam<std::string>
+{
+};
+}
+
+// Nothing set (no count, no reduction, no error bound): the contract's default reduction in every
+// simplifier that counts triangles (patch-boundary-merge used its chain tolerance 0.005 instead).
+TEST_P(DefaultTargetContract, NothingSetIsTheDefaultReduction)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(60);
+  sphere->SetPhiResolution(60);
+  sphere->Update();
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = MakeSimplifier(GetParam());
+  filter->SetInputData(sphere->GetOutput());
+  filter->Update();
+  const vtkIdType input = sphere->GetOutput()->GetNumberOfPolys();
+  const vtkIdType target = slod::TargetTriangleCount(input, 0, slod::DefaultTargetReduction, false);
+  const vtkIdType output = filter->GetOutput()->GetNumberOfPolys();
+  EXPECT_LE(output, target + target / 50) << GetParam();
+  EXPECT_GE(output, target / 2) << GetParam();
+}
+
+INSTANTIATE_TEST_SUITE_P(CountingSimplifiers, DefaultTargetContract,
+  ::testing::Values("vtkQuadricTriangleCollapse", "vtkTriangleCollapseHierarchy", "vtkPatchBoundaryMerge"),
+  [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });

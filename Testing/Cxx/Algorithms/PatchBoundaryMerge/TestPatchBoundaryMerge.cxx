@@ -662,9 +662,10 @@ TEST(PatchBoundaryMerge, PatchificationIsReusedAcrossLevels)
   EXPECT_TRUE(filter->GetPatchificationReused());
   EXPECT_EQ(filter->GetNumberOfPatches(), patches);
   EXPECT_LT(second->GetNumberOfCells(), first->GetNumberOfCells());
-  // Epsilon given directly: also reused; a patch parameter change recomputes.
+  // The bound (epsilon) given directly: also reused; a patch parameter change recomputes.
   filter->SetTargetNumberOfTriangles(0);
-  filter->SetEpsilon(0.01);
+  filter->SetMaximumError(0.01);
+  filter->MaximumErrorIsRelativeOn();
   filter->Update();
   EXPECT_TRUE(filter->GetPatchificationReused());
   filter->SetPatchAngle(15);
