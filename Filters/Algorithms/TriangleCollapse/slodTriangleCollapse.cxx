@@ -8,10 +8,11 @@
 #include "slodTriangleBVH.h"
 
 #include "vtkLogger.h"
+#include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 
 #include <algorithm>
-#include <ctime>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -207,6 +208,16 @@ private:
   void TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const;
   Vec3 Local(Index v) const { return this->Mesh.Point(v) - this->Origin; }
   void InitializeQuadrics();
+  // A border edge as it runs in its triangle.
+  struct BorderEdge
+  {
+    Index Tail, Head, Triangle;
+  };
+  struct VertexQuadricsFunctor;
+  double TrianglePlane(Index t, Quadric& q) const;
+  bool BorderPlane(const BorderEdge& edge, Quadric& q) const;
+  void BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const;
+  void InitializePlaneSets();
   // Quadric of the interrelated set of 2 (edge) or 3 (triangle) vertices.
   Quadric SetQuadric(const Index* v, int count, double& weight) const;
   // Best placement (local coordinates) and its cost for the set's quadric.
@@ -268,7 +279,9 @@ private:
   // The mesh is renumbered in spatial (Morton) order for cache locality; these map back.
   std::vector<Index> VertexInput, TriangleInput;
   Vec3 Origin{ 0, 0, 0 };
-  std::clock_t StageClock = 0; // CPU time at the end of the last stage (TraceStage)
+  // Wall time at the end of the last stage (TraceStage): CPU time would add up the threads of
+  // the parallel stages.
+  std::chrono::steady_clock::time_point StageClock;
   double CostScale = 1.0; // makes float heap keys well scaled
   // Accumulated mode: per vertex the sum of its logical set's planes and of their weights,
   // side by side (one cache line pair per vertex instead of two separate misses).
@@ -314,13 +327,17 @@ void TriangleCollapser::Reorder(TriangleMesh& mesh)
   const double extent = std::max({ b[1] - b[0], b[3] - b[2], b[5] - b[4], 1e-300 });
   const double scale = double((1 << 21) - 1) / extent;
   std::vector<std::pair<std::uint64_t, Index>> keys(static_cast<size_t>(nv));
-  for (Index v = 0; v < nv; ++v)
-  {
-    const double* p = &mesh.Points[3 * size_t(v)];
-    const auto q = [&](int k) { return static_cast<std::uint64_t>(std::max(0.0, (p[k] - b[2 * k]) * scale)); };
-    keys[v] = { SpreadBits21(q(0)) | SpreadBits21(q(1)) << 1 | SpreadBits21(q(2)) << 2, v };
-  }
-  std::sort(keys.begin(), keys.end());
+  // Independent per vertex, and the keys are distinct (they hold the id): the same order for
+  // any thread count.
+  vtkSMPTools::For(0, nv, 16384, [&](vtkIdType begin, vtkIdType end) {
+    for (Index v = static_cast<Index>(begin); v < static_cast<Index>(end); ++v)
+    {
+      const double* p = &mesh.Points[3 * size_t(v)];
+      const auto q = [&](int k) { return static_cast<std::uint64_t>(std::max(0.0, (p[k] - b[2 * k]) * scale)); };
+      keys[v] = { SpreadBits21(q(0)) | SpreadBits21(q(1)) << 1 | SpreadBits21(q(2)) << 2, v };
+    }
+  });
+  vtkSMPTools::Sort(keys.begin(), keys.end());
   this->VertexInput.resize(static_cast<size_t>(nv));
   std::vector<Index> newId(static_cast<size_t>(nv));
   std::vector<double> points(mesh.Points.size());
@@ -360,94 +377,160 @@ void TriangleCollapser::Reorder(TriangleMesh& mesh)
   mesh.Triangles.swap(triangles);
 }
 
+// Area-weighted plane of triangle t: the quadric approximates the integral of the squared
+// distance over the surface, so large triangles count for the area they cover (Garland-Heckbert
+// weighting). Returns the weight (the area).
+double TriangleCollapser::TrianglePlane(Index t, Quadric& q) const
+{
+  const Index* tri = this->Mesh.Triangle(t);
+  const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = this->Local(tri[2]);
+  const Vec3 n2 = Cross(b - a, c - a);
+  const double len = Norm(n2);
+  const double area = 0.5 * len;
+  const Vec3 n = len > 0 ? (1.0 / len) * n2 : Vec3{ 0, 0, 0 };
+  q = Quadric::FromPointNormal(a, n, area);
+  return area;
+}
+
+// Boundary plane (paper 2.3) of the border edge (tail, head) of triangle t: through the edge,
+// perpendicular to its triangle, weighted by the squared edge length (same units as the areas)
+// times the user weight. False when the weight vanishes.
+bool TriangleCollapser::BorderPlane(const BorderEdge& edge, Quadric& q) const
+{
+  const Index* tri = this->Mesh.Triangle(edge.Triangle);
+  const Vec3 pu = this->Local(edge.Tail), pv = this->Local(edge.Head);
+  const Vec3 e = pv - pu;
+  const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
+  const Vec3 n = Normalized(Cross(e, tn));
+  const double w = this->Options.BoundaryWeight * Dot(e, e);
+  if (!(w > 0))
+  {
+    return false;
+  }
+  q = Quadric::FromPointNormal(pu, n, w);
+  return true;
+}
+
+// The border edges at x (directed as in their triangle), ordered by (tail, triangle): the order
+// in which a sweep over the tails in id order meets them. An edge (u, v) is on the border when
+// v is a neighbour of u through one triangle only.
+void TriangleCollapser::BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const
+{
+  around.clear();
+  out.clear();
+  this->Mesh.ForEachTriangle(x, [&](Index t) {
+    const Index* tri = this->Mesh.Triangle(t);
+    const int k = tri[0] == x ? 0 : (tri[1] == x ? 1 : 2);
+    around.push_back(tri[(k + 1) % 3]);
+    around.push_back(tri[(k + 2) % 3]);
+  });
+  this->Mesh.ForEachTriangle(x, [&](Index t) {
+    const Index* tri = this->Mesh.Triangle(t);
+    const int k = tri[0] == x ? 0 : (tri[1] == x ? 1 : 2);
+    const Index next = tri[(k + 1) % 3], previous = tri[(k + 2) % 3];
+    if (std::count(around.begin(), around.end(), next) == 1)
+    {
+      out.push_back({ x, next, t });
+    }
+    if (std::count(around.begin(), around.end(), previous) == 1)
+    {
+      out.push_back({ previous, x, t });
+    }
+  });
+  std::sort(out.begin(), out.end(),
+    [](const BorderEdge& a, const BorderEdge& b) { return a.Tail < b.Tail || (a.Tail == b.Tail && a.Triangle < b.Triangle); });
+}
+
+// Accumulated mode, one vertex range: each vertex sums the planes of its triangles and of its
+// border edges itself (in the order a sweep over triangles, then border tails, would add them),
+// so vertices are independent and the sums are the same for any thread count.
+struct TriangleCollapser::VertexQuadricsFunctor
+{
+  TriangleCollapser& Self;
+  vtkSMPThreadLocal<std::vector<Index>> Around;
+  vtkSMPThreadLocal<std::vector<BorderEdge>> Edges;
+  void operator()(vtkIdType begin, vtkIdType end)
+  {
+    auto& around = this->Around.Local();
+    auto& edges = this->Edges.Local();
+    for (Index x = static_cast<Index>(begin); x < static_cast<Index>(end); ++x)
+    {
+      WeightedQuadric sum;
+      this->Self.Mesh.ForEachTriangle(x, [&](Index t) {
+        Quadric q;
+        sum.W += this->Self.TrianglePlane(t, q);
+        sum.Q += q;
+      });
+      this->Self.BorderEdgesAt(x, around, edges);
+      this->Self.Boundary[x] = edges.empty() ? 0 : 1;
+      for (const BorderEdge& edge : edges)
+      {
+        Quadric q;
+        if (this->Self.BorderPlane(edge, q))
+        {
+          sum.Q += q;
+        }
+      }
+      this->Self.Vertex[x] = sum;
+    }
+  }
+};
+
+// Exact mode: every plane gets an id (in triangle order, then border tails in id order) and the
+// sorted ids of each vertex's logical set. Sequential: the ids are shared by the vertices.
+void TriangleCollapser::InitializePlaneSets()
+{
+  const Index nv = this->Mesh.NumberOfPoints(), nt = this->Mesh.NumberOfTriangles();
+  this->LogicalSet.assign(size_t(nv), {});
+  auto addPlane = [&](const Quadric& q, double w, const Index* vertices, int count) {
+    const Index id = static_cast<Index>(this->PlaneQuadric.size());
+    this->PlaneQuadric.push_back(q);
+    this->PlaneWeight.push_back(w);
+    for (int i = 0; i < count; ++i)
+    {
+      this->LogicalSet[vertices[i]].push_back(id);
+    }
+  };
+  for (Index t = 0; t < nt; ++t)
+  {
+    Quadric q;
+    const double area = this->TrianglePlane(t, q);
+    addPlane(q, area, this->Mesh.Triangle(t), 3);
+  }
+  std::vector<Index> around;
+  std::vector<BorderEdge> edges;
+  for (Index u = 0; u < nv; ++u)
+  {
+    this->BorderEdgesAt(u, around, edges);
+    this->Boundary[u] = edges.empty() ? 0 : 1;
+    for (const BorderEdge& edge : edges)
+    {
+      Quadric q;
+      if (edge.Tail == u && this->BorderPlane(edge, q))
+      {
+        const Index ends[2] = { edge.Tail, edge.Head };
+        addPlane(q, 0.0, ends, 2);
+      }
+    }
+  }
+  for (auto& set : this->LogicalSet)
+  {
+    std::sort(set.begin(), set.end());
+  }
+}
+
 void TriangleCollapser::InitializeQuadrics()
 {
   const Index nv = this->Mesh.NumberOfPoints();
-  const Index nt = this->Mesh.NumberOfTriangles();
-  const bool exact = this->Options.ExactUnion;
-  if (exact)
-  {
-    this->LogicalSet.assign(size_t(nv), {});
-  }
-  else
-  {
-    this->Vertex.assign(size_t(nv), WeightedQuadric());
-  }
-  auto addPlane = [&](const Quadric& q, double w, const Index* vertices, int count) {
-    if (exact)
-    {
-      const Index id = static_cast<Index>(this->PlaneQuadric.size());
-      this->PlaneQuadric.push_back(q);
-      this->PlaneWeight.push_back(w);
-      for (int i = 0; i < count; ++i)
-      {
-        this->LogicalSet[vertices[i]].push_back(id);
-      }
-      return;
-    }
-    for (int i = 0; i < count; ++i)
-    {
-      this->Vertex[vertices[i]].Q += q;
-      this->Vertex[vertices[i]].W += w;
-    }
-  };
-  // Area-weighted planes: the quadric approximates the integral of the squared distance over the
-  // surface, so large triangles count for the area they cover (Garland-Heckbert weighting).
-  for (Index t = 0; t < nt; ++t)
-  {
-    const Index* tri = this->Mesh.Triangle(t);
-    const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = this->Local(tri[2]);
-    const Vec3 n2 = Cross(b - a, c - a);
-    const double len = Norm(n2);
-    const double area = 0.5 * len;
-    const Vec3 n = len > 0 ? (1.0 / len) * n2 : Vec3{ 0, 0, 0 };
-    addPlane(Quadric::FromPointNormal(a, n, area), area, tri, 3);
-  }
-  // Boundary planes (§2.3): through the boundary edge, perpendicular to its triangle, weighted
-  // by the squared edge length (same units as the areas) times the user weight. An edge (u, v) is
-  // on the border when v is a neighbour of u through one triangle only; each border edge is met
-  // once, from its tail u in its triangle's order (the fan of u is read twice instead of walking
-  // it for every edge).
   this->Boundary.assign(size_t(nv), 0);
-  std::vector<Index> around;
-  for (Index u = 0; u < nv; ++u)
+  if (this->Options.ExactUnion)
   {
-    around.clear();
-    this->Mesh.ForEachTriangle(u, [&](Index t) {
-      const Index* tri = this->Mesh.Triangle(t);
-      const int k = tri[0] == u ? 0 : (tri[1] == u ? 1 : 2);
-      around.push_back(tri[(k + 1) % 3]);
-      around.push_back(tri[(k + 2) % 3]);
-    });
-    this->Mesh.ForEachTriangle(u, [&](Index t) {
-      const Index* tri = this->Mesh.Triangle(t);
-      const int k = tri[0] == u ? 0 : (tri[1] == u ? 1 : 2);
-      const Index v = tri[(k + 1) % 3];
-      if (std::count(around.begin(), around.end(), v) != 1)
-      {
-        return;
-      }
-      this->Boundary[u] = this->Boundary[v] = 1;
-      const Vec3 pu = this->Local(u), pv = this->Local(v);
-      const Vec3 e = pv - pu;
-      const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
-      const Vec3 n = Normalized(Cross(e, tn));
-      const double w = this->Options.BoundaryWeight * Dot(e, e);
-      if (!(w > 0))
-      {
-        return;
-      }
-      const Index ends[2] = { u, v };
-      addPlane(Quadric::FromPointNormal(pu, n, w), 0.0, ends, 2);
-    });
+    this->InitializePlaneSets();
+    return;
   }
-  if (exact)
-  {
-    for (auto& set : this->LogicalSet)
-    {
-      std::sort(set.begin(), set.end());
-    }
-  }
+  this->Vertex.assign(size_t(nv), WeightedQuadric());
+  VertexQuadricsFunctor functor{ *this, {}, {} };
+  vtkSMPTools::For(0, nv, 4096, functor);
 }
 
 Quadric TriangleCollapser::SetQuadric(const Index* tri, int count, double& weight) const
@@ -754,8 +837,8 @@ double NormalLimitDot(double degrees)
 
 void TriangleCollapser::TraceStage(const char* stage)
 {
-  const std::clock_t now = std::clock();
-  vtkLogF(TRACE, "triangle collapse: %s took %.3f s CPU", stage, double(now - this->StageClock) / CLOCKS_PER_SEC);
+  const auto now = std::chrono::steady_clock::now();
+  vtkLogF(TRACE, "triangle collapse: %s took %.3f s", stage, std::chrono::duration<double>(now - this->StageClock).count());
   this->StageClock = now;
 }
 
@@ -1186,7 +1269,7 @@ void TriangleCollapser::MoveTowardOriginal(const TriangleMesh& original, Triangl
 void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
 {
   result = TriangleCollapseResult();
-  this->StageClock = std::clock();
+  this->StageClock = std::chrono::steady_clock::now();
   const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
   this->Prepare(input, refine);
   this->InitializeQuadrics();
