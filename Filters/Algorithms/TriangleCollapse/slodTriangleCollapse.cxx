@@ -127,6 +127,9 @@ constexpr size_t RefinementPoolLimit = 600;
 // keeps vertices from sliding along the surface (relative to the data term's trace).
 // Bound on the collapse loop's queue pops, per input triangle (see the loop).
 constexpr long long MaximumPopsPerTriangle = 100;
+// Largest batch of disjoint collapses (TriangleCollapseOptions::BatchCollapses): enough entries to
+// keep the threads busy between two sequential phases, few enough that the queue stays fresh.
+constexpr size_t MaximumBatchSize = 1024;
 constexpr int FitIterations = 2;
 constexpr double FitRidge = 0.02;
 
@@ -154,10 +157,33 @@ struct CollapseLoop
   CollapseOptions Check;      // the validity test, with the current normal limit
   double Deviation = 0.0;     // the current normal limit, degrees (relaxed when nothing is left)
   Index Target = 0, StartTriangles = 0, ToRemove = 1, ProgressStep = 1, NextProgress = 1;
-  long long MaximumPops = 0, Pops = 0, Replaced = 0;
+  long long MaximumPops = 0, Pops = 0, Replaced = 0, Batches = 0, Selected = 0;
+  double PhaseSeconds[3] = { 0, 0, 0 }; // wall time of the batches' select, evaluate, apply phases
   long long StatusCounts[static_cast<int>(CollapseStatus::Locked) + 1] = {};
   CollapseRecord Record;      // the last collapse
   std::vector<Index> Neighbors; // the link of the last collapse's vertex (when needed)
+};
+
+// Adds the wall time of consecutive phases to their totals (diagnostics of the batch loop).
+class PhaseClock
+{
+public:
+  explicit PhaseClock(double* totals)
+    : Totals(totals)
+    , Start(std::chrono::steady_clock::now())
+  {
+  }
+  void Next()
+  {
+    const auto now = std::chrono::steady_clock::now();
+    this->Totals[this->Phase++] += std::chrono::duration<double>(now - this->Start).count();
+    this->Start = now;
+  }
+
+private:
+  double* Totals;
+  std::chrono::steady_clock::time_point Start;
+  int Phase = 0;
 };
 
 // The operation picked for a popped triangle: the set of 2 or 3 vertices and where they go.
@@ -169,6 +195,41 @@ struct Candidate
   int Operation = -1; // 0 = triangle collapse, k = 1..3 = edge k-1 of the triangle
   Vec3 Local{ 0, 0, 0 }, Position{ 0, 0, 0 }; // the placement, relative to Origin and in world
   double Error = 0.0;
+};
+
+// One operation of a batch: picked and checked in parallel (EvaluateEntry), settled and performed
+// in selection order (ApplyBatch).
+struct BatchEntry
+{
+  enum class Outcome : unsigned char
+  {
+    NoOperation, // every operation of the triangle is excluded
+    OverError,   // the cheapest operation exceeds MaximumError
+    Valid,
+    Alternative, // the optimum folds a triangle; an alternative placement passes
+    Invalid
+  };
+  Candidate C;
+  Outcome Result = Outcome::NoOperation;
+  CollapseStatus Status = CollapseStatus::Ok;
+  Vec3 Alternative{ 0, 0, 0 };
+  double AlternativeError = 0.0, AlternativeCost = 0.0;
+  bool Runs = false; // no earlier entry of the batch overlaps it
+};
+
+// The batches of the collapse loop: the popped entries and their queue keys, per vertex the
+// smallest stamp of an entry whose ring holds it (see ClaimRingsFunctor), and a check scratch
+// per thread.
+struct CollapseBatch
+{
+  size_t MaximumSize = 1;
+  double CostTolerance = 0.0;
+  std::vector<BatchEntry> Entries;
+  std::vector<float> Keys;
+  std::vector<std::uint64_t> Owner;
+  std::uint32_t Number = 0;
+  vtkSMPThreadLocal<std::vector<Index>> Scratch;
+  std::uint64_t Stamp(size_t entry) const;
 };
 
 // The working state of one simplification. Coordinates of quadrics are relative to Origin (the
@@ -193,9 +254,16 @@ private:
   void MoveTowardOriginal(const TriangleMesh& original, TriangleCollapseResult& result);
   // The steps of one pass of the collapse loop.
   bool RelaxNormalLimit(CollapseLoop& loop, const TriangleCollapseResult& result);
-  bool PickOperation(Index t, Candidate& c, TriangleCollapseResult& result);
+  template <typename Functor>
+  void ForEachRingVertex(Index t, Functor&& f) const;
+  struct ClaimRingsFunctor;
+  void SelectBatch(CollapseLoop& loop, CollapseBatch& batch);
+  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch) const;
+  struct EvaluateBatchFunctor;
+  void EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch);
   enum class Validity { Valid, Invalid, Deferred };
-  Validity Validate(Candidate& c, CollapseLoop& loop);
+  Validity Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result);
+  bool ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
   void Reject(const Candidate& c, TriangleCollapseResult& result);
   Index Perform(const Candidate& c, CollapseLoop& loop, TriangleCollapseResult& result);
   void MergeAttributes(const Candidate& c, Index kept);
@@ -241,8 +309,8 @@ private:
   // only the winning edge is placed again.
   double PopCost(Index t, Vec3& local, double& error, int& operation) const;
   // The cheapest valid one of the fallback placements of the set (world coordinates in p).
-  bool AlternativePlacement(
-    const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const;
+  bool AlternativePlacement(const Index* set, int count, const CollapseOptions& check, std::vector<Index>& scratch,
+    Vec3& p, double& error, double& cost) const;
   void ExtractResult(TriangleCollapseResult& result);
   void BuildAncestry(const TriangleMesh& original, Ancestry& ancestry);
   // The FitToOriginal pass (see the header): returns the number of vertices moved.
@@ -670,8 +738,8 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
   return finish();
 }
 
-bool TriangleCollapser::AlternativePlacement(
-  const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const
+bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const CollapseOptions& check,
+  std::vector<Index>& scratch, Vec3& p, double& error, double& cost) const
 {
   double weight = 0;
   const Quadric q = this->SetQuadric(set, count, weight);
@@ -691,7 +759,7 @@ bool TriangleCollapser::AlternativePlacement(
   for (int i = 0; i < n; ++i)
   {
     const Vec3 world = candidates[i].second + this->Origin;
-    if (this->Mesh.CheckCollapse(set, count, world, check) == CollapseStatus::Ok)
+    if (this->Mesh.CheckCollapse(set, count, world, check, scratch) == CollapseStatus::Ok)
     {
       p = world;
       cost = candidates[i].first;
@@ -961,69 +1029,6 @@ bool TriangleCollapser::RelaxNormalLimit(CollapseLoop& loop, const TriangleColla
   return true;
 }
 
-bool TriangleCollapser::PickOperation(Index t, Candidate& c, TriangleCollapseResult& result)
-{
-  c.Triangle = t;
-  this->PopCost(t, c.Local, c.Error, c.Operation);
-  const Index* tri = this->Mesh.Triangle(t);
-  if (c.Operation < 0)
-  {
-    this->State[t].Rejected = 1;
-    return false;
-  }
-  c.Count = c.Operation == 0 ? 3 : 2;
-  if (c.Operation == 0)
-  {
-    std::copy(tri, tri + 3, c.Set);
-  }
-  else
-  {
-    c.Set[0] = tri[c.Operation - 1];
-    c.Set[1] = tri[c.Operation % 3];
-    c.Set[2] = InvalidIndex;
-  }
-  if (this->Options.MaximumError >= 0 && c.Error > this->Options.MaximumError)
-  {
-    this->State[t].Rejected = 2; // retried only when one of its vertices changes
-    result.StoppedByError = true;
-    return false;
-  }
-  c.Position = c.Local + this->Origin;
-  return true;
-}
-
-TriangleCollapser::Validity TriangleCollapser::Validate(Candidate& c, CollapseLoop& loop)
-{
-  CollapseStatus status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, loop.Check);
-  ++loop.StatusCounts[static_cast<int>(status)];
-  if (status == CollapseStatus::Flip || status == CollapseStatus::Degenerate || status == CollapseStatus::BadShape)
-  {
-    // The optimum folds a triangle: try the paper's other placements (vertices, midpoints,
-    // centroid) of the same set, cheapest first.
-    Vec3 alternative;
-    double alternativeError = 0, alternativeCost = 0;
-    const double maxError = this->Options.MaximumError;
-    if (this->AlternativePlacement(c.Set, c.Count, loop.Check, alternative, alternativeError, alternativeCost) &&
-      !(maxError >= 0 && alternativeError > maxError))
-    {
-      // Keep the greedy order: do it now only if it is still the cheapest operation left.
-      const double bias = c.Count == 2 ? this->Options.EdgeCollapseBias : 1.0;
-      const float key = static_cast<float>(alternativeCost * bias * this->CostScale);
-      if (!this->Heap.WouldBeFirst(key))
-      {
-        this->Heap.Set(c.Triangle, key);
-        return Validity::Deferred;
-      }
-      c.Position = alternative;
-      c.Error = alternativeError;
-      c.Local = c.Position - this->Origin;
-      ++loop.Replaced;
-      return Validity::Valid;
-    }
-  }
-  return status == CollapseStatus::Ok ? Validity::Valid : Validity::Invalid;
-}
-
 void TriangleCollapser::Reject(const Candidate& c, TriangleCollapseResult& result)
 {
   ++result.RejectedCollapses;
@@ -1185,8 +1190,262 @@ bool TriangleCollapser::ReportProgress(CollapseLoop& loop, TriangleCollapseResul
   return true;
 }
 
+void TriangleCollapser::SelectBatch(CollapseLoop& loop, CollapseBatch& batch)
+{
+  // The cheapest operations in cost order, up to a cost bound relative to the first and to a
+  // quarter of the triangles still to remove (a collapse removes up to four), so that the batches
+  // shrink to single operations near the target as the strict order would end.
+  batch.Entries.clear();
+  batch.Keys.clear();
+  if (++batch.Number == 0)
+  {
+    std::fill(batch.Owner.begin(), batch.Owner.end(), ~std::uint64_t(0));
+    batch.Number = 1;
+  }
+  const Index room = std::max<Index>(1, (this->Mesh.NumberOfLiveTriangles() - loop.Target) / 4);
+  const size_t limit = std::min<size_t>(size_t(room), batch.MaximumSize);
+  float bound = 0.0f;
+  while (batch.Entries.size() < limit && !this->Heap.Empty() && loop.Pops < loop.MaximumPops)
+  {
+    float key = 0.0f;
+    const Index t = this->Heap.Pop(&key);
+    ++loop.Pops;
+    if (!batch.Entries.empty() && key > bound)
+    {
+      this->Heap.Set(t, key);
+      break;
+    }
+    bound = batch.Entries.empty() ? static_cast<float>(key * (1.0 + batch.CostTolerance)) : bound;
+    batch.Entries.emplace_back();
+    batch.Entries.back().C.Triangle = t;
+    batch.Keys.push_back(key);
+  }
+}
+
+// Which entries of a batch run: an entry claims the closed one-ring of its triangle's vertices
+// (every vertex of their triangles) by an atomic minimum of its stamp per vertex, and runs when it
+// holds all of them, i.e. when no earlier entry of the batch overlaps it. Operations with
+// disjoint rings neither read nor write each other's triangles, vertices or queue entries, so
+// they are checked concurrently and their order does not change the result. The minimum does
+// not depend on the order of the writes: the same selection for any thread count.
+std::uint64_t CollapseBatch::Stamp(size_t entry) const
+{
+  // Later batches get smaller stamps, so a stale stamp never wins.
+  return (std::uint64_t(~this->Number) << 32) | std::uint64_t(entry);
+}
+
+template <typename Functor>
+void TriangleCollapser::ForEachRingVertex(Index t, Functor&& f) const
+{
+  const Index* tri = this->Mesh.Triangle(t);
+  for (int k = 0; k < 3; ++k)
+  {
+    this->Mesh.ForEachTriangle(tri[k], [&](Index s) {
+      const Index* around = this->Mesh.Triangle(s);
+      f(around[0]);
+      f(around[1]);
+      f(around[2]);
+    });
+  }
+}
+
+struct TriangleCollapser::ClaimRingsFunctor
+{
+  const TriangleCollapser& Self;
+  CollapseBatch& Batch;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
+      this->Self.ForEachRingVertex(this->Batch.Entries[size_t(i)].C.Triangle, [&](Index w) {
+        std::uint64_t* owner = &this->Batch.Owner[w];
+        std::uint64_t seen = __atomic_load_n(owner, __ATOMIC_RELAXED);
+        while (stamp < seen && !__atomic_compare_exchange_n(owner, &seen, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+        {
+        }
+      });
+    }
+  }
+};
+
+void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch) const
+{
+  // Read-only on the mesh and the queue (and on this triangle's own state): safe for the
+  // entries of a batch in parallel.
+  Candidate& c = entry.C;
+  const Index t = c.Triangle;
+  this->PopCost(t, c.Local, c.Error, c.Operation);
+  if (c.Operation < 0)
+  {
+    entry.Result = BatchEntry::Outcome::NoOperation;
+    return;
+  }
+  const Index* tri = this->Mesh.Triangle(t);
+  c.Count = c.Operation == 0 ? 3 : 2;
+  c.Set[0] = c.Operation == 0 ? tri[0] : tri[c.Operation - 1];
+  c.Set[1] = c.Operation == 0 ? tri[1] : tri[c.Operation % 3];
+  c.Set[2] = c.Operation == 0 ? tri[2] : InvalidIndex;
+  if (this->Options.MaximumError >= 0 && c.Error > this->Options.MaximumError)
+  {
+    entry.Result = BatchEntry::Outcome::OverError;
+    return;
+  }
+  c.Position = c.Local + this->Origin;
+  entry.Status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, check, scratch);
+  entry.Result = entry.Status == CollapseStatus::Ok ? BatchEntry::Outcome::Valid : BatchEntry::Outcome::Invalid;
+  if (entry.Status == CollapseStatus::Flip || entry.Status == CollapseStatus::Degenerate ||
+    entry.Status == CollapseStatus::BadShape)
+  {
+    // The optimum folds a triangle: try the paper's other placements (vertices, midpoints,
+    // centroid) of the same set, cheapest first.
+    const double maxError = this->Options.MaximumError;
+    if (this->AlternativePlacement(c.Set, c.Count, check, scratch, entry.Alternative, entry.AlternativeError,
+          entry.AlternativeCost) &&
+      !(maxError >= 0 && entry.AlternativeError > maxError))
+    {
+      entry.Result = BatchEntry::Outcome::Alternative;
+    }
+  }
+}
+
+// The parallel part of a batch: every entry evaluated and checked with a scratch per thread.
+struct TriangleCollapser::EvaluateBatchFunctor
+{
+  const TriangleCollapser& Self;
+  CollapseBatch& Batch;
+  const CollapseOptions& Check;
+  vtkSMPThreadLocal<std::vector<Index>>& Scratch;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    auto& scratch = this->Scratch.Local();
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      BatchEntry& entry = this->Batch.Entries[size_t(i)];
+      const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
+      entry.Runs = this->Batch.Entries.size() == 1;
+      if (!entry.Runs)
+      {
+        entry.Runs = true;
+        this->Self.ForEachRingVertex(entry.C.Triangle, [&](Index w) { entry.Runs = entry.Runs && this->Batch.Owner[w] == stamp; });
+      }
+      if (entry.Runs)
+      {
+        this->Self.EvaluateEntry(entry, this->Check, scratch);
+      }
+    }
+  }
+};
+
+void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
+{
+  const vtkIdType n = static_cast<vtkIdType>(batch.Entries.size());
+  // An entry takes up to eight checks (the optimum and seven alternative placements).
+  this->Mesh.ReserveEpochs(static_cast<std::uint32_t>(8 * n));
+  EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
+  if (n > 1)
+  {
+    ClaimRingsFunctor claim{ *this, batch };
+    vtkSMPTools::For(0, n, 16, claim);
+  }
+  // The exact-union mode shares a union buffer between evaluations: sequential.
+  if (n == 1 || this->Options.ExactUnion)
+  {
+    functor(0, n);
+  }
+  else
+  {
+    vtkSMPTools::For(0, n, 16, functor);
+  }
+  // The entries that overlap an earlier one go back to the queue unchanged, before the others are
+  // performed (an alternative placement is judged against the queue as it would be).
+  for (size_t i = 0; i < batch.Entries.size(); ++i)
+  {
+    if (!batch.Entries[i].Runs)
+    {
+      this->Heap.Set(batch.Entries[i].C.Triangle, batch.Keys[i]);
+    }
+  }
+}
+
+TriangleCollapser::Validity TriangleCollapser::Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result)
+{
+  // The sequential decisions, in selection order: exclusions, the error bound, and whether an
+  // alternative placement is still the cheapest operation left.
+  Candidate& c = entry.C;
+  switch (entry.Result)
+  {
+    case BatchEntry::Outcome::NoOperation:
+      this->State[c.Triangle].Rejected = 1;
+      return Validity::Deferred;
+    case BatchEntry::Outcome::OverError:
+      this->State[c.Triangle].Rejected = 2; // retried only when one of its vertices changes
+      result.StoppedByError = true;
+      return Validity::Deferred;
+    default:
+      break;
+  }
+  ++loop.StatusCounts[static_cast<int>(entry.Status)];
+  if (entry.Result == BatchEntry::Outcome::Alternative)
+  {
+    // Keep the greedy order: do it now only if it is still the cheapest operation left.
+    const double bias = c.Count == 2 ? this->Options.EdgeCollapseBias : 1.0;
+    const float key = static_cast<float>(entry.AlternativeCost * bias * this->CostScale);
+    if (!this->Heap.WouldBeFirst(key))
+    {
+      this->Heap.Set(c.Triangle, key);
+      return Validity::Deferred;
+    }
+    c.Position = entry.Alternative;
+    c.Error = entry.AlternativeError;
+    c.Local = c.Position - this->Origin;
+    ++loop.Replaced;
+    return Validity::Valid;
+  }
+  return entry.Result == BatchEntry::Outcome::Valid ? Validity::Valid : Validity::Invalid;
+}
+
+bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result)
+{
+  for (BatchEntry& entry : batch.Entries)
+  {
+    if (!entry.Runs)
+    {
+      continue;
+    }
+    if (this->Mesh.NumberOfLiveTriangles() <= loop.Target)
+    {
+      return false;
+    }
+    const Validity validity = this->Settle(entry, loop, result);
+    if (validity == Validity::Invalid)
+    {
+      this->Reject(entry.C, result);
+    }
+    if (validity != Validity::Valid)
+    {
+      continue;
+    }
+    const Index kept = this->Perform(entry.C, loop, result);
+    this->RetryPendingAround(kept, loop);
+    if (this->Options.RecordHistory)
+    {
+      this->AppendHistory(loop, result);
+    }
+    if (!this->ReportProgress(loop, result))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result)
 {
+  CollapseBatch batch;
+  batch.MaximumSize = this->Options.BatchCollapses ? MaximumBatchSize : 1;
+  batch.CostTolerance = this->Options.BatchCollapses ? std::max(0.0, this->Options.BatchCostTolerance) : 0.0;
+  batch.Owner.assign(batch.MaximumSize > 1 ? size_t(this->Mesh.NumberOfPoints()) : 0, ~std::uint64_t(0));
   for (;;)
   {
     if (this->Heap.Empty())
@@ -1201,33 +1460,21 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
     {
       break;
     }
-    if (++loop.Pops > loop.MaximumPops)
+    if (loop.Pops >= loop.MaximumPops)
     {
       result.WorkBoundReached = true;
       break;
     }
-    Candidate c;
-    if (!this->PickOperation(this->Heap.Pop(), c, result))
-    {
-      continue;
-    }
-    const Validity validity = this->Validate(c, loop);
-    if (validity == Validity::Deferred)
-    {
-      continue;
-    }
-    if (validity == Validity::Invalid)
-    {
-      this->Reject(c, result);
-      continue;
-    }
-    const Index kept = this->Perform(c, loop, result);
-    this->RetryPendingAround(kept, loop);
-    if (this->Options.RecordHistory)
-    {
-      this->AppendHistory(loop, result);
-    }
-    if (!this->ReportProgress(loop, result))
+    PhaseClock clock(loop.PhaseSeconds);
+    this->SelectBatch(loop, batch);
+    ++loop.Batches;
+    loop.Selected += static_cast<long long>(batch.Entries.size());
+    clock.Next();
+    this->EvaluateBatch(loop, batch);
+    clock.Next();
+    const bool more = this->ApplyBatch(batch, loop, result);
+    clock.Next();
+    if (!more)
     {
       break;
     }
@@ -1239,6 +1486,9 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
   vtkLogF(TRACE, "triangle collapse: %d collapses, %d rejected, %lld placements replaced, %.2f pops per input triangle",
     int(result.Collapses), int(result.RejectedCollapses), loop.Replaced,
     double(loop.Pops) / std::max<Index>(1, loop.StartTriangles));
+  vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch; select %.3f s, evaluate %.3f s, apply %.3f s",
+    loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)), loop.PhaseSeconds[0],
+    loop.PhaseSeconds[1], loop.PhaseSeconds[2]);
   for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
   {
     vtkLogF(TRACE, "triangle collapse: rejected %s %lld", ToString(static_cast<CollapseStatus>(k)), loop.StatusCounts[k]);
