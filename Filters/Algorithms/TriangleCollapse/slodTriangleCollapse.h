@@ -34,7 +34,9 @@
 // triangle costs (slod::BucketQueue); after a collapse only the operations touching the new
 // vertex are re-evaluated (edge costs are cached per triangle); a rejected operation is replaced
 // by the triangle's next best one, and triangles with no valid operation are retried when their
-// 2-ring changes. Stage times and counts are logged at TRACE verbosity
+// 2-ring changes. The initial quadrics and costs are computed per vertex / triangle in parallel;
+// with BatchCollapses the checks of disjoint operations run in parallel too (same output for any
+// thread count). Stage times and counts are logged at TRACE verbosity
 // (vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_TRACE)).
 #ifndef slodTriangleCollapse_h
 #define slodTriangleCollapse_h
