@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
 
 namespace slod
 {
@@ -57,15 +58,33 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
 
 std::uint32_t EditableMesh::NextEpoch() const
 {
-  if (++this->Epoch == 0)
+  // Atomic: concurrent checks (see CheckCollapse with a scratch) each need their own epoch. The
+  // wrap-around clears the marks, which only a sequential caller may do (ReserveEpochs).
+  const std::uint32_t epoch = __atomic_add_fetch(&this->Epoch, 1u, __ATOMIC_RELAXED);
+  if (epoch == 0)
   {
-    for (LinkEntry& e : this->VertexLink)
-    {
-      e.Mark = 0;
-    }
-    this->Epoch = 1;
+    this->ClearMarks();
+    return this->Epoch;
   }
-  return this->Epoch;
+  return epoch;
+}
+
+void EditableMesh::ClearMarks() const
+{
+  for (LinkEntry& e : this->VertexLink)
+  {
+    e.Mark = 0;
+  }
+  this->Epoch = 1;
+}
+
+void EditableMesh::ReserveEpochs(std::uint32_t checks) const
+{
+  // A check takes at most two epochs (the link test and IsBoundaryVertex); margin for Neighbors.
+  if (this->Epoch > std::numeric_limits<std::uint32_t>::max() - 4 * checks - 16)
+  {
+    this->ClearMarks();
+  }
 }
 
 void EditableMesh::SetPoint(Index v, const Vec3& p)
@@ -156,12 +175,12 @@ void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
   });
 }
 
-void EditableMesh::GatherTriangles(const Index* vertices, int count) const
+void EditableMesh::GatherTriangles(const Index* vertices, int count, std::vector<Index>& gathered) const
 {
   // A triangle around vertices[i] was gathered already when it holds an earlier vertex of the set
   // (no per-triangle mark array: one random access fewer per triangle, 4 bytes per triangle less).
   // A triangle with a repeated vertex is listed once per corner in that vertex's block.
-  this->Scratch.clear();
+  gathered.clear();
   for (int i = 0; i < count; ++i)
   {
     const Index v = vertices[i];
@@ -175,18 +194,18 @@ void EditableMesh::GatherTriangles(const Index* vertices, int count) const
         }
       }
       if (int(tri[0] == v) + int(tri[1] == v) + int(tri[2] == v) > 1 &&
-        std::find(this->Scratch.begin(), this->Scratch.end(), t) != this->Scratch.end())
+        std::find(gathered.begin(), gathered.end(), t) != gathered.end())
       {
         return;
       }
-      this->Scratch.push_back(t);
+      gathered.push_back(t);
     });
   }
 }
 
 void EditableMesh::TrianglesAround(const Index* vertices, int count, std::vector<Index>& out) const
 {
-  this->GatherTriangles(vertices, count);
+  this->GatherTriangles(vertices, count, this->Scratch);
   out.assign(this->Scratch.begin(), this->Scratch.end());
 }
 
@@ -210,15 +229,15 @@ inline int CountMembers(const Index* tri, const Index* set, int count, int& corn
 }
 } // namespace
 
-void EditableMesh::PrefetchGathered() const
+void EditableMesh::PrefetchGathered(const std::vector<Index>& gathered) const
 {
   // The checks read every gathered triangle's corners, their link scratch and points: prefetch
   // them all first so that the misses overlap (the check is bound by memory latency).
-  for (Index t : this->Scratch)
+  for (Index t : gathered)
   {
     __builtin_prefetch(this->Triangle(t));
   }
-  for (Index t : this->Scratch)
+  for (Index t : gathered)
   {
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)
@@ -229,7 +248,8 @@ void EditableMesh::PrefetchGathered() const
   }
 }
 
-CollapseStatus EditableMesh::CheckLink(const Index* vertices, int count, bool anyBoundary) const
+CollapseStatus EditableMesh::CheckLink(
+  const Index* vertices, int count, bool anyBoundary, const std::vector<Index>& gathered) const
 {
   // Generalised link condition: the link of the merged vertex, made of the link edges x -> y of
   // the surviving triangles, must be one simple cycle (interior) or one simple path (border),
@@ -237,7 +257,7 @@ CollapseStatus EditableMesh::CheckLink(const Index* vertices, int count, bool an
   const std::uint32_t epoch = this->NextEpoch();
   Index survivors = 0;
   Index firstX = InvalidIndex;
-  for (Index t : this->Scratch)
+  for (Index t : gathered)
   {
     int corner = 0;
     if (CountMembers(this->Triangle(t), vertices, count, corner) >= 2)
@@ -271,7 +291,7 @@ CollapseStatus EditableMesh::CheckLink(const Index* vertices, int count, bool an
   // Find the path start, if any; more than one means several fans (a pinched vertex).
   Index start = InvalidIndex;
   bool severalStarts = false;
-  for (Index t : this->Scratch)
+  for (Index t : gathered)
   {
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)
@@ -343,11 +363,12 @@ bool EditableMesh::BorderVerticesFormChain(const Index* vertices, int count, con
   return borderEdges >= borderVertices - 1;
 }
 
-bool EditableMesh::IsolatesVertex(const Index* vertices, int count, const CollapseOptions& options) const
+bool EditableMesh::IsolatesVertex(
+  const Index* vertices, int count, const CollapseOptions& options, const std::vector<Index>& gathered) const
 {
   // A vertex outside the set loses all its triangles when every one of them holds two of the
   // set (a border "ear" whose base collapses): it would vanish from the mesh.
-  for (Index t : this->Scratch)
+  for (Index t : gathered)
   {
     int corner = 0;
     const Index* tri = this->Triangle(t);
@@ -376,10 +397,11 @@ bool EditableMesh::IsolatesVertex(const Index* vertices, int count, const Collap
   return false;
 }
 
-CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options) const
+CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
+  const std::vector<Index>& gathered) const
 {
   // The surviving triangles with the set moved to p.
-  for (Index t : this->Scratch)
+  for (Index t : gathered)
   {
     int corner = 0;
     const Index* tri = this->Triangle(t);
@@ -416,6 +438,12 @@ CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, con
 CollapseStatus EditableMesh::CheckCollapse(
   const Index* vertices, int count, const Vec3& p, const CollapseOptions& options) const
 {
+  return this->CheckCollapse(vertices, count, p, options, this->Scratch);
+}
+
+CollapseStatus EditableMesh::CheckCollapse(const Index* vertices, int count, const Vec3& p,
+  const CollapseOptions& options, std::vector<Index>& scratch) const
+{
   assert(count >= 2 && count <= 3);
   for (int i = 0; i < count; ++i)
   {
@@ -428,28 +456,29 @@ CollapseStatus EditableMesh::CheckCollapse(
       return CollapseStatus::Locked;
     }
   }
-  this->GatherTriangles(vertices, count);
+  this->GatherTriangles(vertices, count, scratch);
   if (options.GeometryFirst)
   {
-    const CollapseStatus geometry = this->CheckGeometry(vertices, count, p, options);
+    const CollapseStatus geometry = this->CheckGeometry(vertices, count, p, options, scratch);
     if (geometry != CollapseStatus::Ok)
     {
       return geometry;
     }
   }
-  this->PrefetchGathered();
+  this->PrefetchGathered(scratch);
   if (!options.AllowTopologyChange)
   {
-    const CollapseStatus topology = this->CheckTopology(vertices, count, options);
+    const CollapseStatus topology = this->CheckTopology(vertices, count, options, scratch);
     if (topology != CollapseStatus::Ok)
     {
       return topology;
     }
   }
-  return options.GeometryFirst ? CollapseStatus::Ok : this->CheckGeometry(vertices, count, p, options);
+  return options.GeometryFirst ? CollapseStatus::Ok : this->CheckGeometry(vertices, count, p, options, scratch);
 }
 
-CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, const CollapseOptions& options) const
+CollapseStatus EditableMesh::CheckTopology(
+  const Index* vertices, int count, const CollapseOptions& options, const std::vector<Index>& gathered) const
 {
   bool anyBoundary = false;
   bool onBoundary[3] = { false, false, false };
@@ -459,7 +488,7 @@ CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, con
       options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]);
     anyBoundary = anyBoundary || onBoundary[i];
   }
-  const CollapseStatus link = this->CheckLink(vertices, count, anyBoundary);
+  const CollapseStatus link = this->CheckLink(vertices, count, anyBoundary, gathered);
   if (link != CollapseStatus::Ok)
   {
     return link;
@@ -468,12 +497,12 @@ CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, con
   {
     return CollapseStatus::BoundaryChange;
   }
-  return this->IsolatesVertex(vertices, count, options) ? CollapseStatus::IsolatedVertex : CollapseStatus::Ok;
+  return this->IsolatesVertex(vertices, count, options, gathered) ? CollapseStatus::IsolatedVertex : CollapseStatus::Ok;
 }
 
 void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p, CollapseRecord* record)
 {
-  this->GatherTriangles(vertices, count);
+  this->GatherTriangles(vertices, count, this->Scratch);
   if (record)
   {
     record->Clear();

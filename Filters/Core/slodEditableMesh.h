@@ -165,6 +165,12 @@ public:
   // at position p keep the mesh valid?
   CollapseStatus CheckCollapse(const Index* vertices, int count, const Vec3& p,
     const CollapseOptions& options = CollapseOptions()) const;
+  // The same with the caller's scratch: concurrent calls are safe for sets whose closed one-rings
+  // (the vertices of the triangles around them) are pairwise disjoint, when no edit runs meanwhile
+  // and ReserveEpochs(number of calls) was called before (sequentially).
+  CollapseStatus CheckCollapse(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
+    std::vector<Index>& scratch) const;
+  void ReserveEpochs(std::uint32_t checks) const;
 
   // Merges the vertices into `kept` (one of them) placed at p. Triangles with two or more of the
   // vertices disappear. Call CheckCollapse first. The record, when given, allows Undo.
@@ -197,15 +203,18 @@ private:
   void AppendBlock(Index v, const std::vector<Index>& triangles);
   void CompactIfNeeded();
   void ReplaceInBlock(Index v, Index removed, Index added);
-  // Collects the live triangles touching the set into Scratch (deduplicated).
-  void GatherTriangles(const Index* vertices, int count) const;
-  // The steps of CheckCollapse, over the triangles gathered in Scratch.
-  void PrefetchGathered() const;
-  CollapseStatus CheckTopology(const Index* vertices, int count, const CollapseOptions& options) const;
-  CollapseStatus CheckLink(const Index* vertices, int count, bool anyBoundary) const;
+  // Collects the live triangles touching the set into gathered (deduplicated).
+  void GatherTriangles(const Index* vertices, int count, std::vector<Index>& gathered) const;
+  // The steps of CheckCollapse, over the gathered triangles.
+  void PrefetchGathered(const std::vector<Index>& gathered) const;
+  CollapseStatus CheckTopology(
+    const Index* vertices, int count, const CollapseOptions& options, const std::vector<Index>& gathered) const;
+  CollapseStatus CheckLink(const Index* vertices, int count, bool anyBoundary, const std::vector<Index>& gathered) const;
   bool BorderVerticesFormChain(const Index* vertices, int count, const bool* onBoundary) const;
-  bool IsolatesVertex(const Index* vertices, int count, const CollapseOptions& options) const;
-  CollapseStatus CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options) const;
+  bool IsolatesVertex(
+    const Index* vertices, int count, const CollapseOptions& options, const std::vector<Index>& gathered) const;
+  CollapseStatus CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
+    const std::vector<Index>& gathered) const;
 
   std::vector<double> Points;
   std::vector<Index> Triangles;
@@ -225,6 +234,7 @@ private:
   mutable std::vector<LinkEntry> VertexLink;
   mutable std::uint32_t Epoch = 0;
   std::uint32_t NextEpoch() const;
+  void ClearMarks() const;
 };
 } // namespace slod
 

@@ -148,6 +148,8 @@ std::vector<Parameter> QuadricTriangleCollapseParameters()
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, DeviationRefinement),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, FitToOriginal),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, ExactUnion),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, BatchCollapses),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, BatchCostTolerance),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Int, OutputPointsPrecision),
   };
 }

@@ -8,10 +8,11 @@
 #include "slodTriangleBVH.h"
 
 #include "vtkLogger.h"
+#include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 
 #include <algorithm>
-#include <ctime>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -126,6 +127,9 @@ constexpr size_t RefinementPoolLimit = 600;
 // keeps vertices from sliding along the surface (relative to the data term's trace).
 // Bound on the collapse loop's queue pops, per input triangle (see the loop).
 constexpr long long MaximumPopsPerTriangle = 100;
+// Largest batch of disjoint collapses (TriangleCollapseOptions::BatchCollapses): enough entries to
+// keep the threads busy between two sequential phases, few enough that the queue stays fresh.
+constexpr size_t MaximumBatchSize = 1024;
 constexpr int FitIterations = 2;
 constexpr double FitRidge = 0.02;
 
@@ -153,10 +157,33 @@ struct CollapseLoop
   CollapseOptions Check;      // the validity test, with the current normal limit
   double Deviation = 0.0;     // the current normal limit, degrees (relaxed when nothing is left)
   Index Target = 0, StartTriangles = 0, ToRemove = 1, ProgressStep = 1, NextProgress = 1;
-  long long MaximumPops = 0, Pops = 0, Replaced = 0;
+  long long MaximumPops = 0, Pops = 0, Replaced = 0, Batches = 0, Selected = 0;
+  double PhaseSeconds[3] = { 0, 0, 0 }; // wall time of the batches' select, evaluate, apply phases
   long long StatusCounts[static_cast<int>(CollapseStatus::Locked) + 1] = {};
   CollapseRecord Record;      // the last collapse
   std::vector<Index> Neighbors; // the link of the last collapse's vertex (when needed)
+};
+
+// Adds the wall time of consecutive phases to their totals (diagnostics of the batch loop).
+class PhaseClock
+{
+public:
+  explicit PhaseClock(double* totals)
+    : Totals(totals)
+    , Start(std::chrono::steady_clock::now())
+  {
+  }
+  void Next()
+  {
+    const auto now = std::chrono::steady_clock::now();
+    this->Totals[this->Phase++] += std::chrono::duration<double>(now - this->Start).count();
+    this->Start = now;
+  }
+
+private:
+  double* Totals;
+  std::chrono::steady_clock::time_point Start;
+  int Phase = 0;
 };
 
 // The operation picked for a popped triangle: the set of 2 or 3 vertices and where they go.
@@ -168,6 +195,41 @@ struct Candidate
   int Operation = -1; // 0 = triangle collapse, k = 1..3 = edge k-1 of the triangle
   Vec3 Local{ 0, 0, 0 }, Position{ 0, 0, 0 }; // the placement, relative to Origin and in world
   double Error = 0.0;
+};
+
+// One operation of a batch: picked and checked in parallel (EvaluateEntry), settled and performed
+// in selection order (ApplyBatch).
+struct BatchEntry
+{
+  enum class Outcome : unsigned char
+  {
+    NoOperation, // every operation of the triangle is excluded
+    OverError,   // the cheapest operation exceeds MaximumError
+    Valid,
+    Alternative, // the optimum folds a triangle; an alternative placement passes
+    Invalid
+  };
+  Candidate C;
+  Outcome Result = Outcome::NoOperation;
+  CollapseStatus Status = CollapseStatus::Ok;
+  Vec3 Alternative{ 0, 0, 0 };
+  double AlternativeError = 0.0, AlternativeCost = 0.0;
+  bool Runs = false; // no earlier entry of the batch overlaps it
+};
+
+// The batches of the collapse loop: the popped entries and their queue keys, per vertex the
+// smallest stamp of an entry whose ring holds it (see ClaimRingsFunctor), and a check scratch
+// per thread.
+struct CollapseBatch
+{
+  size_t MaximumSize = 1;
+  double CostTolerance = 0.0;
+  std::vector<BatchEntry> Entries;
+  std::vector<float> Keys;
+  std::vector<std::uint64_t> Owner;
+  std::uint32_t Number = 0;
+  vtkSMPThreadLocal<std::vector<Index>> Scratch;
+  std::uint64_t Stamp(size_t entry) const;
 };
 
 // The working state of one simplification. Coordinates of quadrics are relative to Origin (the
@@ -192,9 +254,16 @@ private:
   void MoveTowardOriginal(const TriangleMesh& original, TriangleCollapseResult& result);
   // The steps of one pass of the collapse loop.
   bool RelaxNormalLimit(CollapseLoop& loop, const TriangleCollapseResult& result);
-  bool PickOperation(Index t, Candidate& c, TriangleCollapseResult& result);
+  template <typename Functor>
+  void ForEachRingVertex(Index t, Functor&& f) const;
+  struct ClaimRingsFunctor;
+  void SelectBatch(CollapseLoop& loop, CollapseBatch& batch);
+  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch) const;
+  struct EvaluateBatchFunctor;
+  void EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch);
   enum class Validity { Valid, Invalid, Deferred };
-  Validity Validate(Candidate& c, CollapseLoop& loop);
+  Validity Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result);
+  bool ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
   void Reject(const Candidate& c, TriangleCollapseResult& result);
   Index Perform(const Candidate& c, CollapseLoop& loop, TriangleCollapseResult& result);
   void MergeAttributes(const Candidate& c, Index kept);
@@ -207,6 +276,16 @@ private:
   void TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const;
   Vec3 Local(Index v) const { return this->Mesh.Point(v) - this->Origin; }
   void InitializeQuadrics();
+  // A border edge as it runs in its triangle.
+  struct BorderEdge
+  {
+    Index Tail, Head, Triangle;
+  };
+  struct VertexQuadricsFunctor;
+  double TrianglePlane(Index t, Quadric& q) const;
+  bool BorderPlane(const BorderEdge& edge, Quadric& q) const;
+  void BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const;
+  void InitializePlaneSets();
   // Quadric of the interrelated set of 2 (edge) or 3 (triangle) vertices.
   Quadric SetQuadric(const Index* v, int count, double& weight) const;
   // Best placement (local coordinates) and its cost for the set's quadric.
@@ -230,8 +309,8 @@ private:
   // only the winning edge is placed again.
   double PopCost(Index t, Vec3& local, double& error, int& operation) const;
   // The cheapest valid one of the fallback placements of the set (world coordinates in p).
-  bool AlternativePlacement(
-    const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const;
+  bool AlternativePlacement(const Index* set, int count, const CollapseOptions& check, std::vector<Index>& scratch,
+    Vec3& p, double& error, double& cost) const;
   void ExtractResult(TriangleCollapseResult& result);
   void BuildAncestry(const TriangleMesh& original, Ancestry& ancestry);
   // The FitToOriginal pass (see the header): returns the number of vertices moved.
@@ -268,7 +347,9 @@ private:
   // The mesh is renumbered in spatial (Morton) order for cache locality; these map back.
   std::vector<Index> VertexInput, TriangleInput;
   Vec3 Origin{ 0, 0, 0 };
-  std::clock_t StageClock = 0; // CPU time at the end of the last stage (TraceStage)
+  // Wall time at the end of the last stage (TraceStage): CPU time would add up the threads of
+  // the parallel stages.
+  std::chrono::steady_clock::time_point StageClock;
   double CostScale = 1.0; // makes float heap keys well scaled
   // Accumulated mode: per vertex the sum of its logical set's planes and of their weights,
   // side by side (one cache line pair per vertex instead of two separate misses).
@@ -314,13 +395,17 @@ void TriangleCollapser::Reorder(TriangleMesh& mesh)
   const double extent = std::max({ b[1] - b[0], b[3] - b[2], b[5] - b[4], 1e-300 });
   const double scale = double((1 << 21) - 1) / extent;
   std::vector<std::pair<std::uint64_t, Index>> keys(static_cast<size_t>(nv));
-  for (Index v = 0; v < nv; ++v)
-  {
-    const double* p = &mesh.Points[3 * size_t(v)];
-    const auto q = [&](int k) { return static_cast<std::uint64_t>(std::max(0.0, (p[k] - b[2 * k]) * scale)); };
-    keys[v] = { SpreadBits21(q(0)) | SpreadBits21(q(1)) << 1 | SpreadBits21(q(2)) << 2, v };
-  }
-  std::sort(keys.begin(), keys.end());
+  // Independent per vertex, and the keys are distinct (they hold the id): the same order for
+  // any thread count.
+  vtkSMPTools::For(0, nv, 16384, [&](vtkIdType begin, vtkIdType end) {
+    for (Index v = static_cast<Index>(begin); v < static_cast<Index>(end); ++v)
+    {
+      const double* p = &mesh.Points[3 * size_t(v)];
+      const auto q = [&](int k) { return static_cast<std::uint64_t>(std::max(0.0, (p[k] - b[2 * k]) * scale)); };
+      keys[v] = { SpreadBits21(q(0)) | SpreadBits21(q(1)) << 1 | SpreadBits21(q(2)) << 2, v };
+    }
+  });
+  vtkSMPTools::Sort(keys.begin(), keys.end());
   this->VertexInput.resize(static_cast<size_t>(nv));
   std::vector<Index> newId(static_cast<size_t>(nv));
   std::vector<double> points(mesh.Points.size());
@@ -360,94 +445,160 @@ void TriangleCollapser::Reorder(TriangleMesh& mesh)
   mesh.Triangles.swap(triangles);
 }
 
+// Area-weighted plane of triangle t: the quadric approximates the integral of the squared
+// distance over the surface, so large triangles count for the area they cover (Garland-Heckbert
+// weighting). Returns the weight (the area).
+double TriangleCollapser::TrianglePlane(Index t, Quadric& q) const
+{
+  const Index* tri = this->Mesh.Triangle(t);
+  const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = this->Local(tri[2]);
+  const Vec3 n2 = Cross(b - a, c - a);
+  const double len = Norm(n2);
+  const double area = 0.5 * len;
+  const Vec3 n = len > 0 ? (1.0 / len) * n2 : Vec3{ 0, 0, 0 };
+  q = Quadric::FromPointNormal(a, n, area);
+  return area;
+}
+
+// Boundary plane (paper 2.3) of the border edge (tail, head) of triangle t: through the edge,
+// perpendicular to its triangle, weighted by the squared edge length (same units as the areas)
+// times the user weight. False when the weight vanishes.
+bool TriangleCollapser::BorderPlane(const BorderEdge& edge, Quadric& q) const
+{
+  const Index* tri = this->Mesh.Triangle(edge.Triangle);
+  const Vec3 pu = this->Local(edge.Tail), pv = this->Local(edge.Head);
+  const Vec3 e = pv - pu;
+  const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
+  const Vec3 n = Normalized(Cross(e, tn));
+  const double w = this->Options.BoundaryWeight * Dot(e, e);
+  if (!(w > 0))
+  {
+    return false;
+  }
+  q = Quadric::FromPointNormal(pu, n, w);
+  return true;
+}
+
+// The border edges at x (directed as in their triangle), ordered by (tail, triangle): the order
+// in which a sweep over the tails in id order meets them. An edge (u, v) is on the border when
+// v is a neighbour of u through one triangle only.
+void TriangleCollapser::BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const
+{
+  around.clear();
+  out.clear();
+  this->Mesh.ForEachTriangle(x, [&](Index t) {
+    const Index* tri = this->Mesh.Triangle(t);
+    const int k = tri[0] == x ? 0 : (tri[1] == x ? 1 : 2);
+    around.push_back(tri[(k + 1) % 3]);
+    around.push_back(tri[(k + 2) % 3]);
+  });
+  this->Mesh.ForEachTriangle(x, [&](Index t) {
+    const Index* tri = this->Mesh.Triangle(t);
+    const int k = tri[0] == x ? 0 : (tri[1] == x ? 1 : 2);
+    const Index next = tri[(k + 1) % 3], previous = tri[(k + 2) % 3];
+    if (std::count(around.begin(), around.end(), next) == 1)
+    {
+      out.push_back({ x, next, t });
+    }
+    if (std::count(around.begin(), around.end(), previous) == 1)
+    {
+      out.push_back({ previous, x, t });
+    }
+  });
+  std::sort(out.begin(), out.end(),
+    [](const BorderEdge& a, const BorderEdge& b) { return a.Tail < b.Tail || (a.Tail == b.Tail && a.Triangle < b.Triangle); });
+}
+
+// Accumulated mode, one vertex range: each vertex sums the planes of its triangles and of its
+// border edges itself (in the order a sweep over triangles, then border tails, would add them),
+// so vertices are independent and the sums are the same for any thread count.
+struct TriangleCollapser::VertexQuadricsFunctor
+{
+  TriangleCollapser& Self;
+  vtkSMPThreadLocal<std::vector<Index>> Around;
+  vtkSMPThreadLocal<std::vector<BorderEdge>> Edges;
+  void operator()(vtkIdType begin, vtkIdType end)
+  {
+    auto& around = this->Around.Local();
+    auto& edges = this->Edges.Local();
+    for (Index x = static_cast<Index>(begin); x < static_cast<Index>(end); ++x)
+    {
+      WeightedQuadric sum;
+      this->Self.Mesh.ForEachTriangle(x, [&](Index t) {
+        Quadric q;
+        sum.W += this->Self.TrianglePlane(t, q);
+        sum.Q += q;
+      });
+      this->Self.BorderEdgesAt(x, around, edges);
+      this->Self.Boundary[x] = edges.empty() ? 0 : 1;
+      for (const BorderEdge& edge : edges)
+      {
+        Quadric q;
+        if (this->Self.BorderPlane(edge, q))
+        {
+          sum.Q += q;
+        }
+      }
+      this->Self.Vertex[x] = sum;
+    }
+  }
+};
+
+// Exact mode: every plane gets an id (in triangle order, then border tails in id order) and the
+// sorted ids of each vertex's logical set. Sequential: the ids are shared by the vertices.
+void TriangleCollapser::InitializePlaneSets()
+{
+  const Index nv = this->Mesh.NumberOfPoints(), nt = this->Mesh.NumberOfTriangles();
+  this->LogicalSet.assign(size_t(nv), {});
+  auto addPlane = [&](const Quadric& q, double w, const Index* vertices, int count) {
+    const Index id = static_cast<Index>(this->PlaneQuadric.size());
+    this->PlaneQuadric.push_back(q);
+    this->PlaneWeight.push_back(w);
+    for (int i = 0; i < count; ++i)
+    {
+      this->LogicalSet[vertices[i]].push_back(id);
+    }
+  };
+  for (Index t = 0; t < nt; ++t)
+  {
+    Quadric q;
+    const double area = this->TrianglePlane(t, q);
+    addPlane(q, area, this->Mesh.Triangle(t), 3);
+  }
+  std::vector<Index> around;
+  std::vector<BorderEdge> edges;
+  for (Index u = 0; u < nv; ++u)
+  {
+    this->BorderEdgesAt(u, around, edges);
+    this->Boundary[u] = edges.empty() ? 0 : 1;
+    for (const BorderEdge& edge : edges)
+    {
+      Quadric q;
+      if (edge.Tail == u && this->BorderPlane(edge, q))
+      {
+        const Index ends[2] = { edge.Tail, edge.Head };
+        addPlane(q, 0.0, ends, 2);
+      }
+    }
+  }
+  for (auto& set : this->LogicalSet)
+  {
+    std::sort(set.begin(), set.end());
+  }
+}
+
 void TriangleCollapser::InitializeQuadrics()
 {
   const Index nv = this->Mesh.NumberOfPoints();
-  const Index nt = this->Mesh.NumberOfTriangles();
-  const bool exact = this->Options.ExactUnion;
-  if (exact)
-  {
-    this->LogicalSet.assign(size_t(nv), {});
-  }
-  else
-  {
-    this->Vertex.assign(size_t(nv), WeightedQuadric());
-  }
-  auto addPlane = [&](const Quadric& q, double w, const Index* vertices, int count) {
-    if (exact)
-    {
-      const Index id = static_cast<Index>(this->PlaneQuadric.size());
-      this->PlaneQuadric.push_back(q);
-      this->PlaneWeight.push_back(w);
-      for (int i = 0; i < count; ++i)
-      {
-        this->LogicalSet[vertices[i]].push_back(id);
-      }
-      return;
-    }
-    for (int i = 0; i < count; ++i)
-    {
-      this->Vertex[vertices[i]].Q += q;
-      this->Vertex[vertices[i]].W += w;
-    }
-  };
-  // Area-weighted planes: the quadric approximates the integral of the squared distance over the
-  // surface, so large triangles count for the area they cover (Garland-Heckbert weighting).
-  for (Index t = 0; t < nt; ++t)
-  {
-    const Index* tri = this->Mesh.Triangle(t);
-    const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = this->Local(tri[2]);
-    const Vec3 n2 = Cross(b - a, c - a);
-    const double len = Norm(n2);
-    const double area = 0.5 * len;
-    const Vec3 n = len > 0 ? (1.0 / len) * n2 : Vec3{ 0, 0, 0 };
-    addPlane(Quadric::FromPointNormal(a, n, area), area, tri, 3);
-  }
-  // Boundary planes (§2.3): through the boundary edge, perpendicular to its triangle, weighted
-  // by the squared edge length (same units as the areas) times the user weight. An edge (u, v) is
-  // on the border when v is a neighbour of u through one triangle only; each border edge is met
-  // once, from its tail u in its triangle's order (the fan of u is read twice instead of walking
-  // it for every edge).
   this->Boundary.assign(size_t(nv), 0);
-  std::vector<Index> around;
-  for (Index u = 0; u < nv; ++u)
+  if (this->Options.ExactUnion)
   {
-    around.clear();
-    this->Mesh.ForEachTriangle(u, [&](Index t) {
-      const Index* tri = this->Mesh.Triangle(t);
-      const int k = tri[0] == u ? 0 : (tri[1] == u ? 1 : 2);
-      around.push_back(tri[(k + 1) % 3]);
-      around.push_back(tri[(k + 2) % 3]);
-    });
-    this->Mesh.ForEachTriangle(u, [&](Index t) {
-      const Index* tri = this->Mesh.Triangle(t);
-      const int k = tri[0] == u ? 0 : (tri[1] == u ? 1 : 2);
-      const Index v = tri[(k + 1) % 3];
-      if (std::count(around.begin(), around.end(), v) != 1)
-      {
-        return;
-      }
-      this->Boundary[u] = this->Boundary[v] = 1;
-      const Vec3 pu = this->Local(u), pv = this->Local(v);
-      const Vec3 e = pv - pu;
-      const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
-      const Vec3 n = Normalized(Cross(e, tn));
-      const double w = this->Options.BoundaryWeight * Dot(e, e);
-      if (!(w > 0))
-      {
-        return;
-      }
-      const Index ends[2] = { u, v };
-      addPlane(Quadric::FromPointNormal(pu, n, w), 0.0, ends, 2);
-    });
+    this->InitializePlaneSets();
+    return;
   }
-  if (exact)
-  {
-    for (auto& set : this->LogicalSet)
-    {
-      std::sort(set.begin(), set.end());
-    }
-  }
+  this->Vertex.assign(size_t(nv), WeightedQuadric());
+  VertexQuadricsFunctor functor{ *this, {}, {} };
+  vtkSMPTools::For(0, nv, 4096, functor);
 }
 
 Quadric TriangleCollapser::SetQuadric(const Index* tri, int count, double& weight) const
@@ -587,8 +738,8 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
   return finish();
 }
 
-bool TriangleCollapser::AlternativePlacement(
-  const Index* set, int count, const CollapseOptions& check, Vec3& p, double& error, double& cost) const
+bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const CollapseOptions& check,
+  std::vector<Index>& scratch, Vec3& p, double& error, double& cost) const
 {
   double weight = 0;
   const Quadric q = this->SetQuadric(set, count, weight);
@@ -608,7 +759,7 @@ bool TriangleCollapser::AlternativePlacement(
   for (int i = 0; i < n; ++i)
   {
     const Vec3 world = candidates[i].second + this->Origin;
-    if (this->Mesh.CheckCollapse(set, count, world, check) == CollapseStatus::Ok)
+    if (this->Mesh.CheckCollapse(set, count, world, check, scratch) == CollapseStatus::Ok)
     {
       p = world;
       cost = candidates[i].first;
@@ -754,8 +905,8 @@ double NormalLimitDot(double degrees)
 
 void TriangleCollapser::TraceStage(const char* stage)
 {
-  const std::clock_t now = std::clock();
-  vtkLogF(TRACE, "triangle collapse: %s took %.3f s CPU", stage, double(now - this->StageClock) / CLOCKS_PER_SEC);
+  const auto now = std::chrono::steady_clock::now();
+  vtkLogF(TRACE, "triangle collapse: %s took %.3f s", stage, std::chrono::duration<double>(now - this->StageClock).count());
   this->StageClock = now;
 }
 
@@ -876,69 +1027,6 @@ bool TriangleCollapser::RelaxNormalLimit(CollapseLoop& loop, const TriangleColla
     }
   }
   return true;
-}
-
-bool TriangleCollapser::PickOperation(Index t, Candidate& c, TriangleCollapseResult& result)
-{
-  c.Triangle = t;
-  this->PopCost(t, c.Local, c.Error, c.Operation);
-  const Index* tri = this->Mesh.Triangle(t);
-  if (c.Operation < 0)
-  {
-    this->State[t].Rejected = 1;
-    return false;
-  }
-  c.Count = c.Operation == 0 ? 3 : 2;
-  if (c.Operation == 0)
-  {
-    std::copy(tri, tri + 3, c.Set);
-  }
-  else
-  {
-    c.Set[0] = tri[c.Operation - 1];
-    c.Set[1] = tri[c.Operation % 3];
-    c.Set[2] = InvalidIndex;
-  }
-  if (this->Options.MaximumError >= 0 && c.Error > this->Options.MaximumError)
-  {
-    this->State[t].Rejected = 2; // retried only when one of its vertices changes
-    result.StoppedByError = true;
-    return false;
-  }
-  c.Position = c.Local + this->Origin;
-  return true;
-}
-
-TriangleCollapser::Validity TriangleCollapser::Validate(Candidate& c, CollapseLoop& loop)
-{
-  CollapseStatus status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, loop.Check);
-  ++loop.StatusCounts[static_cast<int>(status)];
-  if (status == CollapseStatus::Flip || status == CollapseStatus::Degenerate || status == CollapseStatus::BadShape)
-  {
-    // The optimum folds a triangle: try the paper's other placements (vertices, midpoints,
-    // centroid) of the same set, cheapest first.
-    Vec3 alternative;
-    double alternativeError = 0, alternativeCost = 0;
-    const double maxError = this->Options.MaximumError;
-    if (this->AlternativePlacement(c.Set, c.Count, loop.Check, alternative, alternativeError, alternativeCost) &&
-      !(maxError >= 0 && alternativeError > maxError))
-    {
-      // Keep the greedy order: do it now only if it is still the cheapest operation left.
-      const double bias = c.Count == 2 ? this->Options.EdgeCollapseBias : 1.0;
-      const float key = static_cast<float>(alternativeCost * bias * this->CostScale);
-      if (!this->Heap.WouldBeFirst(key))
-      {
-        this->Heap.Set(c.Triangle, key);
-        return Validity::Deferred;
-      }
-      c.Position = alternative;
-      c.Error = alternativeError;
-      c.Local = c.Position - this->Origin;
-      ++loop.Replaced;
-      return Validity::Valid;
-    }
-  }
-  return status == CollapseStatus::Ok ? Validity::Valid : Validity::Invalid;
 }
 
 void TriangleCollapser::Reject(const Candidate& c, TriangleCollapseResult& result)
@@ -1102,8 +1190,262 @@ bool TriangleCollapser::ReportProgress(CollapseLoop& loop, TriangleCollapseResul
   return true;
 }
 
+void TriangleCollapser::SelectBatch(CollapseLoop& loop, CollapseBatch& batch)
+{
+  // The cheapest operations in cost order, up to a cost bound relative to the first and to a
+  // quarter of the triangles still to remove (a collapse removes up to four), so that the batches
+  // shrink to single operations near the target as the strict order would end.
+  batch.Entries.clear();
+  batch.Keys.clear();
+  if (++batch.Number == 0)
+  {
+    std::fill(batch.Owner.begin(), batch.Owner.end(), ~std::uint64_t(0));
+    batch.Number = 1;
+  }
+  const Index room = std::max<Index>(1, (this->Mesh.NumberOfLiveTriangles() - loop.Target) / 4);
+  const size_t limit = std::min<size_t>(size_t(room), batch.MaximumSize);
+  float bound = 0.0f;
+  while (batch.Entries.size() < limit && !this->Heap.Empty() && loop.Pops < loop.MaximumPops)
+  {
+    float key = 0.0f;
+    const Index t = this->Heap.Pop(&key);
+    ++loop.Pops;
+    if (!batch.Entries.empty() && key > bound)
+    {
+      this->Heap.Set(t, key);
+      break;
+    }
+    bound = batch.Entries.empty() ? static_cast<float>(key * (1.0 + batch.CostTolerance)) : bound;
+    batch.Entries.emplace_back();
+    batch.Entries.back().C.Triangle = t;
+    batch.Keys.push_back(key);
+  }
+}
+
+// Which entries of a batch run: an entry claims the closed one-ring of its triangle's vertices
+// (every vertex of their triangles) by an atomic minimum of its stamp per vertex, and runs when it
+// holds all of them, i.e. when no earlier entry of the batch overlaps it. Operations with
+// disjoint rings neither read nor write each other's triangles, vertices or queue entries, so
+// they are checked concurrently and their order does not change the result. The minimum does
+// not depend on the order of the writes: the same selection for any thread count.
+std::uint64_t CollapseBatch::Stamp(size_t entry) const
+{
+  // Later batches get smaller stamps, so a stale stamp never wins.
+  return (std::uint64_t(~this->Number) << 32) | std::uint64_t(entry);
+}
+
+template <typename Functor>
+void TriangleCollapser::ForEachRingVertex(Index t, Functor&& f) const
+{
+  const Index* tri = this->Mesh.Triangle(t);
+  for (int k = 0; k < 3; ++k)
+  {
+    this->Mesh.ForEachTriangle(tri[k], [&](Index s) {
+      const Index* around = this->Mesh.Triangle(s);
+      f(around[0]);
+      f(around[1]);
+      f(around[2]);
+    });
+  }
+}
+
+struct TriangleCollapser::ClaimRingsFunctor
+{
+  const TriangleCollapser& Self;
+  CollapseBatch& Batch;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
+      this->Self.ForEachRingVertex(this->Batch.Entries[size_t(i)].C.Triangle, [&](Index w) {
+        std::uint64_t* owner = &this->Batch.Owner[w];
+        std::uint64_t seen = __atomic_load_n(owner, __ATOMIC_RELAXED);
+        while (stamp < seen && !__atomic_compare_exchange_n(owner, &seen, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+        {
+        }
+      });
+    }
+  }
+};
+
+void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch) const
+{
+  // Read-only on the mesh and the queue (and on this triangle's own state): safe for the
+  // entries of a batch in parallel.
+  Candidate& c = entry.C;
+  const Index t = c.Triangle;
+  this->PopCost(t, c.Local, c.Error, c.Operation);
+  if (c.Operation < 0)
+  {
+    entry.Result = BatchEntry::Outcome::NoOperation;
+    return;
+  }
+  const Index* tri = this->Mesh.Triangle(t);
+  c.Count = c.Operation == 0 ? 3 : 2;
+  c.Set[0] = c.Operation == 0 ? tri[0] : tri[c.Operation - 1];
+  c.Set[1] = c.Operation == 0 ? tri[1] : tri[c.Operation % 3];
+  c.Set[2] = c.Operation == 0 ? tri[2] : InvalidIndex;
+  if (this->Options.MaximumError >= 0 && c.Error > this->Options.MaximumError)
+  {
+    entry.Result = BatchEntry::Outcome::OverError;
+    return;
+  }
+  c.Position = c.Local + this->Origin;
+  entry.Status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, check, scratch);
+  entry.Result = entry.Status == CollapseStatus::Ok ? BatchEntry::Outcome::Valid : BatchEntry::Outcome::Invalid;
+  if (entry.Status == CollapseStatus::Flip || entry.Status == CollapseStatus::Degenerate ||
+    entry.Status == CollapseStatus::BadShape)
+  {
+    // The optimum folds a triangle: try the paper's other placements (vertices, midpoints,
+    // centroid) of the same set, cheapest first.
+    const double maxError = this->Options.MaximumError;
+    if (this->AlternativePlacement(c.Set, c.Count, check, scratch, entry.Alternative, entry.AlternativeError,
+          entry.AlternativeCost) &&
+      !(maxError >= 0 && entry.AlternativeError > maxError))
+    {
+      entry.Result = BatchEntry::Outcome::Alternative;
+    }
+  }
+}
+
+// The parallel part of a batch: every entry evaluated and checked with a scratch per thread.
+struct TriangleCollapser::EvaluateBatchFunctor
+{
+  const TriangleCollapser& Self;
+  CollapseBatch& Batch;
+  const CollapseOptions& Check;
+  vtkSMPThreadLocal<std::vector<Index>>& Scratch;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    auto& scratch = this->Scratch.Local();
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      BatchEntry& entry = this->Batch.Entries[size_t(i)];
+      const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
+      entry.Runs = this->Batch.Entries.size() == 1;
+      if (!entry.Runs)
+      {
+        entry.Runs = true;
+        this->Self.ForEachRingVertex(entry.C.Triangle, [&](Index w) { entry.Runs = entry.Runs && this->Batch.Owner[w] == stamp; });
+      }
+      if (entry.Runs)
+      {
+        this->Self.EvaluateEntry(entry, this->Check, scratch);
+      }
+    }
+  }
+};
+
+void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
+{
+  const vtkIdType n = static_cast<vtkIdType>(batch.Entries.size());
+  // An entry takes up to eight checks (the optimum and seven alternative placements).
+  this->Mesh.ReserveEpochs(static_cast<std::uint32_t>(8 * n));
+  EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
+  if (n > 1)
+  {
+    ClaimRingsFunctor claim{ *this, batch };
+    vtkSMPTools::For(0, n, 16, claim);
+  }
+  // The exact-union mode shares a union buffer between evaluations: sequential.
+  if (n == 1 || this->Options.ExactUnion)
+  {
+    functor(0, n);
+  }
+  else
+  {
+    vtkSMPTools::For(0, n, 16, functor);
+  }
+  // The entries that overlap an earlier one go back to the queue unchanged, before the others are
+  // performed (an alternative placement is judged against the queue as it would be).
+  for (size_t i = 0; i < batch.Entries.size(); ++i)
+  {
+    if (!batch.Entries[i].Runs)
+    {
+      this->Heap.Set(batch.Entries[i].C.Triangle, batch.Keys[i]);
+    }
+  }
+}
+
+TriangleCollapser::Validity TriangleCollapser::Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result)
+{
+  // The sequential decisions, in selection order: exclusions, the error bound, and whether an
+  // alternative placement is still the cheapest operation left.
+  Candidate& c = entry.C;
+  switch (entry.Result)
+  {
+    case BatchEntry::Outcome::NoOperation:
+      this->State[c.Triangle].Rejected = 1;
+      return Validity::Deferred;
+    case BatchEntry::Outcome::OverError:
+      this->State[c.Triangle].Rejected = 2; // retried only when one of its vertices changes
+      result.StoppedByError = true;
+      return Validity::Deferred;
+    default:
+      break;
+  }
+  ++loop.StatusCounts[static_cast<int>(entry.Status)];
+  if (entry.Result == BatchEntry::Outcome::Alternative)
+  {
+    // Keep the greedy order: do it now only if it is still the cheapest operation left.
+    const double bias = c.Count == 2 ? this->Options.EdgeCollapseBias : 1.0;
+    const float key = static_cast<float>(entry.AlternativeCost * bias * this->CostScale);
+    if (!this->Heap.WouldBeFirst(key))
+    {
+      this->Heap.Set(c.Triangle, key);
+      return Validity::Deferred;
+    }
+    c.Position = entry.Alternative;
+    c.Error = entry.AlternativeError;
+    c.Local = c.Position - this->Origin;
+    ++loop.Replaced;
+    return Validity::Valid;
+  }
+  return entry.Result == BatchEntry::Outcome::Valid ? Validity::Valid : Validity::Invalid;
+}
+
+bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result)
+{
+  for (BatchEntry& entry : batch.Entries)
+  {
+    if (!entry.Runs)
+    {
+      continue;
+    }
+    if (this->Mesh.NumberOfLiveTriangles() <= loop.Target)
+    {
+      return false;
+    }
+    const Validity validity = this->Settle(entry, loop, result);
+    if (validity == Validity::Invalid)
+    {
+      this->Reject(entry.C, result);
+    }
+    if (validity != Validity::Valid)
+    {
+      continue;
+    }
+    const Index kept = this->Perform(entry.C, loop, result);
+    this->RetryPendingAround(kept, loop);
+    if (this->Options.RecordHistory)
+    {
+      this->AppendHistory(loop, result);
+    }
+    if (!this->ReportProgress(loop, result))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result)
 {
+  CollapseBatch batch;
+  batch.MaximumSize = this->Options.BatchCollapses ? MaximumBatchSize : 1;
+  batch.CostTolerance = this->Options.BatchCollapses ? std::max(0.0, this->Options.BatchCostTolerance) : 0.0;
+  batch.Owner.assign(batch.MaximumSize > 1 ? size_t(this->Mesh.NumberOfPoints()) : 0, ~std::uint64_t(0));
   for (;;)
   {
     if (this->Heap.Empty())
@@ -1118,33 +1460,21 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
     {
       break;
     }
-    if (++loop.Pops > loop.MaximumPops)
+    if (loop.Pops >= loop.MaximumPops)
     {
       result.WorkBoundReached = true;
       break;
     }
-    Candidate c;
-    if (!this->PickOperation(this->Heap.Pop(), c, result))
-    {
-      continue;
-    }
-    const Validity validity = this->Validate(c, loop);
-    if (validity == Validity::Deferred)
-    {
-      continue;
-    }
-    if (validity == Validity::Invalid)
-    {
-      this->Reject(c, result);
-      continue;
-    }
-    const Index kept = this->Perform(c, loop, result);
-    this->RetryPendingAround(kept, loop);
-    if (this->Options.RecordHistory)
-    {
-      this->AppendHistory(loop, result);
-    }
-    if (!this->ReportProgress(loop, result))
+    PhaseClock clock(loop.PhaseSeconds);
+    this->SelectBatch(loop, batch);
+    ++loop.Batches;
+    loop.Selected += static_cast<long long>(batch.Entries.size());
+    clock.Next();
+    this->EvaluateBatch(loop, batch);
+    clock.Next();
+    const bool more = this->ApplyBatch(batch, loop, result);
+    clock.Next();
+    if (!more)
     {
       break;
     }
@@ -1156,6 +1486,9 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
   vtkLogF(TRACE, "triangle collapse: %d collapses, %d rejected, %lld placements replaced, %.2f pops per input triangle",
     int(result.Collapses), int(result.RejectedCollapses), loop.Replaced,
     double(loop.Pops) / std::max<Index>(1, loop.StartTriangles));
+  vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch; select %.3f s, evaluate %.3f s, apply %.3f s",
+    loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)), loop.PhaseSeconds[0],
+    loop.PhaseSeconds[1], loop.PhaseSeconds[2]);
   for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
   {
     vtkLogF(TRACE, "triangle collapse: rejected %s %lld", ToString(static_cast<CollapseStatus>(k)), loop.StatusCounts[k]);
@@ -1186,7 +1519,7 @@ void TriangleCollapser::MoveTowardOriginal(const TriangleMesh& original, Triangl
 void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
 {
   result = TriangleCollapseResult();
-  this->StageClock = std::clock();
+  this->StageClock = std::chrono::steady_clock::now();
   const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
   this->Prepare(input, refine);
   this->InitializeQuadrics();

@@ -130,6 +130,8 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   options.EdgeCollapses = filter->GetEdgeCollapses();
   options.EdgeCollapseBias = filter->GetEdgeCollapseBias();
   options.RecordHistory = filter->GetGenerateProgressiveMesh();
+  options.BatchCollapses = filter->GetBatchCollapses();
+  options.BatchCostTolerance = filter->GetBatchCostTolerance();
   options.Progress = slod::FilterProgress(filter);
   return options;
 }
@@ -269,6 +271,8 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EdgeCollapses: " << this->EdgeCollapses << "\n";
   os << indent << "EdgeCollapseBias: " << this->EdgeCollapseBias << "\n";
   os << indent << "GenerateProgressiveMesh: " << this->GenerateProgressiveMesh << "\n";
+  os << indent << "BatchCollapses: " << this->BatchCollapses << "\n";
+  os << indent << "BatchCostTolerance: " << this->BatchCostTolerance << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "ActualReduction: " << this->ActualReduction << "\n";
   os << indent << "NumberOfCollapses: " << this->NumberOfCollapses << "\n";

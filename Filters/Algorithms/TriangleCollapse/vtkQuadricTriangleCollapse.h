@@ -156,6 +156,18 @@ public:
   ///@}
 
   ///@{
+  /// Collapse in batches (default off): the cheapest operations whose costs are within
+  /// BatchCostTolerance (relative, default 0.01) of the cheapest and whose one-rings are pairwise
+  /// disjoint are checked in parallel (vtkSMPTools) and performed in cost order. The output is the
+  /// same for any number of threads. Off: the strict greedy order, one collapse at a time.
+  vtkSetMacro(BatchCollapses, bool);
+  vtkGetMacro(BatchCollapses, bool);
+  vtkBooleanMacro(BatchCollapses, bool);
+  vtkSetClampMacro(BatchCostTolerance, double, 0.0, 1.0);
+  vtkGetMacro(BatchCostTolerance, double);
+  ///@}
+
+  ///@{
   /// Record every collapse (output 1) and add the id arrays to output 0 (default off).
   vtkSetMacro(GenerateProgressiveMesh, bool);
   vtkGetMacro(GenerateProgressiveMesh, bool);
@@ -199,6 +211,8 @@ protected:
   bool EdgeCollapses = true;
   double EdgeCollapseBias = 2.0;
   bool GenerateProgressiveMesh = false;
+  bool BatchCollapses = false;
+  double BatchCostTolerance = 0.01;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double ActualReduction = 0.0;

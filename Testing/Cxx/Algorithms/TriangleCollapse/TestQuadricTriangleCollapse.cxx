@@ -196,6 +196,38 @@ TEST(QuadricTriangleCollapse, SameOutputForAnyThreadCount)
   EXPECT_EQ(one.Triangles, four.Triangles);
 }
 
+// Batches are selected, checked and performed so that the thread count cannot change them: the
+// same output for 1, 2 and 8 threads on a mesh whose batches are large enough to be split among
+// threads, and the batches keep the topology.
+TEST(QuadricTriangleCollapse, BatchCollapsesSameOutputForOneTwoAndEightThreads)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("armadillo");
+  const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
+  std::vector<TriangleMesh> outputs;
+  for (int n : { 1, 2, 8 })
+  {
+    vtkSMPTools::Initialize(n);
+    vtkNew<vtkQuadricTriangleCollapse> filter;
+    filter->SetInputData(input);
+    filter->SetTargetNumberOfTriangles(5000);
+    filter->BatchCollapsesOn();
+    filter->Update();
+    outputs.push_back(slodtest::RawTriangleMesh(filter->GetOutput()));
+  }
+  vtkSMPTools::Initialize(threads);
+  for (size_t i = 1; i < outputs.size(); ++i)
+  {
+    EXPECT_EQ(outputs[0].Points, outputs[i].Points);
+    EXPECT_EQ(outputs[0].Triangles, outputs[i].Triangles);
+  }
+  const MeshStatistics before = ComputeMeshStatistics(slodtest::ToTriangleMesh(input));
+  const MeshStatistics after = ComputeMeshStatistics(outputs[0]);
+  EXPECT_LE(outputs[0].NumberOfTriangles(), 5000);
+  EXPECT_EQ(after.NonManifoldEdges, 0);
+  EXPECT_EQ(after.Genus, before.Genus);
+  EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops);
+}
+
 TEST(QuadricTriangleCollapse, PointDataErrorArrayAndFieldData)
 {
   // A linear field f = x + 2y - z is reproduced (up to the clamped barycentric weights).
