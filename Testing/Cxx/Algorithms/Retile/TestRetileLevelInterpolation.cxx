@@ -249,6 +249,13 @@ TEST(RetileLevelInterpolation, Bunny00)
   CheckInterpolation("bunny00", NestedLevels(slodtest::LoadTestMesh("bunny00"), 2000), false);
 }
 
+// Creases: every T manifold (a non-manifold edge appeared there before crowded candidates were
+// separated in the re-tiling).
+TEST(RetileLevelInterpolation, FandiskCreases)
+{
+  CheckInterpolation("fandisk", NestedLevels(slodtest::LoadTestMesh("fandisk"), 2000), false);
+}
+
 TEST(RetileLevelInterpolation, TorusGenusOne)
 {
   CheckInterpolation("torus", NestedLevels(slodtest::ToPolyData(slodtest::Torus(64, 24)), 800), true);
