@@ -247,12 +247,9 @@ bool CuttableMesh::CutAndFill(const std::vector<Index>& loop, std::vector<Index>
   }
   // Left triangles hold loop[i] -> loop[i + 1], so the left fill runs the loop backwards; the
   // right triangles hold the reverse, so the right fill runs it forwards (over the copies).
-  const std::vector<Index> backwards(loop.rbegin(), loop.rend());
+  std::vector<Index> backwards(loop.rbegin(), loop.rend());
   std::vector<std::array<Index, 3>> leftFill, rightFill;
-  if (!this->PlanFill(backwards, leftFill) || !this->PlanFill(loop, rightFill))
-  {
-    return false; // no disk without a non-manifold edge: the loop is left alone
-  }
+  const bool leftClipped = this->PlanFill(backwards, leftFill), rightClipped = this->PlanFill(loop, rightFill);
   std::vector<Index> copies(n);
   for (size_t i = 0; i < n; ++i)
   {
@@ -268,10 +265,19 @@ bool CuttableMesh::CutAndFill(const std::vector<Index>& loop, std::vector<Index>
     }
     this->Overlay[copies[i]] = fans[i];
   }
-  changed = loop;
-  changed.insert(changed.end(), copies.begin(), copies.end());
+  if (!leftClipped)
+  {
+    leftFill = this->CentreFan(backwards);
+  }
+  if (!rightClipped)
+  {
+    rightFill = this->CentreFan(copies);
+  }
+  this->CentreFans += (leftClipped ? 0 : 1) + (rightClipped ? 0 : 1);
   this->AddFill(backwards, leftFill, sides.Left[0]);
   this->AddFill(copies, rightFill, sides.Right[0]);
+  changed = backwards;
+  changed.insert(changed.end(), copies.begin(), copies.end());
   return true;
 }
 
@@ -291,6 +297,33 @@ bool CuttableMesh::PlanFill(const std::vector<Index>& polygon, std::vector<std::
   PolygonTriangulationResult result = TriangulatePolygon(points, PolygonNormal(points), options);
   fill = std::move(result.Triangles);
   return !result.Failed;
+}
+
+// When ear clipping finds no disk (a loop far from planar, or whose diagonals are all edges
+// already): a fan around a new vertex at the loop's centroid, which can join no existing edge.
+// Appends that vertex to `polygon` (it copies the data of the loop vertex nearest to it).
+std::vector<std::array<Index, 3>> CuttableMesh::CentreFan(std::vector<Index>& polygon)
+{
+  Vec3 centre{ 0, 0, 0 };
+  for (Index v : polygon)
+  {
+    centre = centre + (1.0 / polygon.size()) * this->Point(v);
+  }
+  Index nearest = polygon[0];
+  for (Index v : polygon)
+  {
+    nearest = Norm(this->Point(v) - centre) < Norm(this->Point(nearest) - centre) ? v : nearest;
+  }
+  const Index n = static_cast<Index>(polygon.size());
+  polygon.push_back(this->Mesh.AddPoint(centre));
+  this->VertexSource.push_back(this->VertexSource[nearest]);
+  this->Overlay[polygon.back()];
+  std::vector<std::array<Index, 3>> fan;
+  for (Index i = 0; i < n; ++i)
+  {
+    fan.push_back({ i, (i + 1) % n, n });
+  }
+  return fan;
 }
 
 void CuttableMesh::AddFill(const std::vector<Index>& polygon, const std::vector<std::array<Index, 3>>& fill, Index source)

@@ -84,6 +84,8 @@ public:
   const TriangleMesh& Result() const { return this->Mesh; }
   const std::vector<Index>& VertexSources() const { return this->VertexSource; }
   const std::vector<Index>& TriangleSources() const { return this->TriangleSource; }
+  // Fills made as a fan around a new centre vertex (ear clipping found no disk).
+  Index NumberOfCentreFans() const { return this->CentreFans; }
 
 private:
   static bool HasVertex(const Index* tri, Index v) { return tri[0] == v || tri[1] == v || tri[2] == v; }
@@ -92,6 +94,7 @@ private:
   bool RightFan(const std::vector<Index>& loop, size_t i, Index start, Index avoid, std::vector<Index>& fan) const;
   std::vector<Index>& EditableTriangles(Index v);
   bool PlanFill(const std::vector<Index>& polygon, std::vector<std::array<Index, 3>>& fill) const;
+  std::vector<std::array<Index, 3>> CentreFan(std::vector<Index>& polygon);
   void AddFill(const std::vector<Index>& polygon, const std::vector<std::array<Index, 3>>& fill, Index source);
 
   TriangleMesh Mesh;
@@ -101,6 +104,7 @@ private:
   Index LockedCount = 0;
   std::unordered_map<Index, std::vector<Index>> Overlay;
   std::vector<Index> VertexSource, TriangleSource;
+  Index CentreFans = 0;
   // Scratch of the separation search: the side (1 left, 2 right) of each triangle reached, valid
   // where VisitStamp equals the current search's stamp.
   mutable std::vector<std::uint32_t> VisitStamp;

@@ -4,6 +4,8 @@
 #include "slodHandleDetection.h"
 #include "slodMeshTopology.h"
 
+#include "vtkLogger.h"
+
 #include <algorithm>
 #include <array>
 #include <limits>
@@ -179,10 +181,16 @@ std::vector<Index> CutHandles(CuttableMesh& mesh, const std::vector<std::vector<
     const CandidateLoop& loop = loops[ranked.Seed][ranked.Index];
     if (marks.Any(marks.Changed, loop.Vertices) || marks.Any(marks.Reported, loop.Vertices))
     {
+      ++result.Outdated;
       continue; // outdated by a cut (its seed grows again next pass) or a copy of a kept loop
     }
     const LoopSeparation separation = mesh.TestSeparation(loop.Vertices, budget);
-    if (separation == LoopSeparation::NonSeparating && mesh.CutAndFill(loop.Vertices, changed))
+    ++result.Tests[int(separation)];
+    if (separation == LoopSeparation::NonSeparating && !mesh.CutAndFill(loop.Vertices, changed))
+    {
+      ++result.CutsRefused;
+    }
+    else if (separation == LoopSeparation::NonSeparating)
     {
       ++result.HandlesRemoved;
       result.Loops.push_back(RecordLoop(mesh, loop, true));
@@ -216,6 +224,7 @@ void StoreResult(const CuttableMesh& mesh, const std::vector<Index>& keptTriangl
     result.TriangleSource[t] = keptTriangles[mesh.TriangleSources()[t]];
   }
   result.LockedVertices = mesh.NumberOfLockedVertices();
+  result.CentreFans = mesh.NumberOfCentreFans();
 }
 } // namespace
 
@@ -251,8 +260,11 @@ bool RemoveTopologicalNoise(const TriangleMesh& input, const TopologicalNoisePar
       {
         result.CandidateLoops += static_cast<Index>(l.size());
       }
+      const Index cutsBefore = result.HandlesRemoved;
       const std::vector<Index> changed = CutHandles(mesh, loops, budget, result);
       ++result.Passes;
+      vtkLogF(TRACE, "pass %d: %zu seeds, %d candidates so far, %d cuts", result.Passes, active.size(),
+        int(result.CandidateLoops), int(result.HandlesRemoved - cutsBefore));
       if (progress && !progress(0.1 + 0.85 * result.Passes / parameters.MaximumPasses))
       {
         return false;

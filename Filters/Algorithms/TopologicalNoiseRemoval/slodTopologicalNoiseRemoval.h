@@ -55,7 +55,11 @@ struct TopologicalNoiseResult
   Index CavitiesRemoved = 0;
   Index LoopsKept = 0;
   Index LockedVertices = 0;       // border and non-manifold vertices, never cut
+  Index CentreFans = 0;           // fills around a new centre vertex (ear clipping found no disk)
   Index CandidateLoops = 0;       // recorded by the region growths, all passes
+  Index Tests[4] = { 0, 0, 0, 0 }; // separation tests by LoopSeparation value
+  Index Outdated = 0;             // candidates through a vertex a cut of the same pass changed
+  Index CutsRefused = 0;         // non-separating loops whose vertices do not split into two sides
   int Passes = 0;
   std::vector<NoiseLoop> Loops;
 };

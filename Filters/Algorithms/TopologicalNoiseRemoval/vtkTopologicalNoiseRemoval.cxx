@@ -181,9 +181,12 @@ int vtkTopologicalNoiseRemoval::RequestData(
   {
     StoreLoops(result, loopsOutput);
   }
-  vtkLogF(TRACE, "topological noise removal: %d handles cut in %d passes, %d candidate loops, chi %lld -> %lld",
-    this->NumberOfHandlesRemoved, result.Passes, int(result.CandidateLoops), before.EulerCharacteristic,
-    after.EulerCharacteristic);
+  vtkLogF(TRACE,
+    "topological noise removal: %d handles cut in %d passes, %d candidate loops (%d outdated; tests: %d "
+    "non-separating, %d separating, %d undetermined, %d invalid; %d cuts refused, %d centre fans), chi %lld -> %lld",
+    this->NumberOfHandlesRemoved, result.Passes, int(result.CandidateLoops), int(result.Outdated),
+    int(result.Tests[0]), int(result.Tests[1]), int(result.Tests[2]), int(result.Tests[3]), int(result.CutsRefused),
+    int(result.CentreFans), before.EulerCharacteristic, after.EulerCharacteristic);
   this->UpdateProgress(1.0);
   return 1;
 }
