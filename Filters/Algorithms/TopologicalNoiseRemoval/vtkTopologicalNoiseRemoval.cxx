@@ -18,28 +18,24 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
+#include <initializer_list>
 #include <numeric>
+#include <utility>
 
 vtkStandardNewMacro(vtkTopologicalNoiseRemoval);
 
 namespace
 {
-void AddFieldValue(vtkFieldData* fd, const char* name, double value)
+// The filter's counts as one-value integer arrays of the output's field data.
+void StoreCounts(vtkFieldData* fd, std::initializer_list<std::pair<const char*, int>> counts)
 {
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->SetNumberOfValues(1);
-  a->SetValue(0, value);
-  fd->AddArray(a);
-}
-
-void AddCount(vtkFieldData* fd, const char* name, int value)
-{
-  vtkNew<vtkIntArray> a;
-  a->SetName(name);
-  a->SetNumberOfValues(1);
-  a->SetValue(0, value);
-  fd->AddArray(a);
+  for (const auto& count : counts)
+  {
+    vtkNew<vtkIntArray> array;
+    array->SetName(count.first);
+    array->InsertNextValue(count.second);
+    fd->AddArray(array);
+  }
 }
 
 // The cleaned mesh as the output: every vertex copies an input point (with its point data), every
@@ -170,13 +166,14 @@ int vtkTopologicalNoiseRemoval::RequestData(
     vtkWarningMacro("The output has " << after.NonManifoldEdges << " non-manifold edges (input "
                                       << before.NonManifoldEdges << ").");
   }
-  vtkFieldData* fd = output->GetFieldData();
-  AddCount(fd, "HandlesRemoved", this->NumberOfHandlesRemoved);
-  AddCount(fd, "ComponentsRemoved", this->NumberOfComponentsRemoved);
-  AddCount(fd, "CavitiesRemoved", this->NumberOfCavitiesRemoved);
-  AddCount(fd, "LoopsKept", this->NumberOfLoopsKept);
-  AddCount(fd, "HandlesKept", this->OutputGenus);
-  AddFieldValue(fd, "FeatureSize", this->UsedFeatureSize);
+  StoreCounts(output->GetFieldData(),
+    { { "HandlesRemoved", this->NumberOfHandlesRemoved }, { "ComponentsRemoved", this->NumberOfComponentsRemoved },
+      { "CavitiesRemoved", this->NumberOfCavitiesRemoved }, { "LoopsKept", this->NumberOfLoopsKept },
+      { "HandlesKept", this->OutputGenus } });
+  vtkNew<vtkDoubleArray> featureSize;
+  featureSize->SetName("FeatureSize");
+  featureSize->InsertNextValue(this->UsedFeatureSize);
+  output->GetFieldData()->AddArray(featureSize);
   if (this->GenerateCutLoops)
   {
     StoreLoops(result, loopsOutput);
