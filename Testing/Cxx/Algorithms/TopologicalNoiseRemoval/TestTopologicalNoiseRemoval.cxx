@@ -301,3 +301,27 @@ TEST(TopologicalNoiseRemoval, NoisyScanWithNonManifoldParts)
   EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
   EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic + 2 * FieldCount(run.Surface, "HandlesRemoved"));
 }
+
+// Asked to abort at its first progress report: a warning and an empty output (the filter contract).
+TEST(TopologicalNoiseRemoval, AbortGivesEmptyOutput)
+{
+  struct AbortAtProgress : vtkCommand
+  {
+    static AbortAtProgress* New() { return new AbortAtProgress; }
+    void Execute(vtkObject* caller, unsigned long, void*) override
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+    }
+  };
+  vtkNew<vtkTopologicalNoiseRemoval> filter;
+  filter->SetInputData(ToPolyData(Torus(64, 32, 1.0, 0.35)));
+  filter->SetFeatureSize(0.8);
+  filter->FeatureSizeIsRelativeOff();
+  vtkNew<AbortAtProgress> abort;
+  vtkNew<MessageCounter> messages;
+  filter->AddObserver(vtkCommand::ProgressEvent, abort);
+  filter->AddObserver(vtkCommand::WarningEvent, messages);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+  EXPECT_FALSE(messages->Warnings.empty());
+}
