@@ -345,6 +345,20 @@ def hole_bump_removal(checks, meshes, work):
 
 
 @case
+def topological_noise_removal(checks, meshes, work):
+    # cheese: genus 133; at 0.06 of the diagonal some handles go, each raising the Euler
+    # characteristic by 2, and the surface stays closed and manifold.
+    source = read(meshes, "cheese")
+    removal = simple.TopologicalNoiseRemoval(Input=source, FeatureSize=0.06)
+    result = fetch(removal)
+    removed = field_value(result, "HandlesRemoved")
+    checks.expect(0 < removed < 133, "%d handles removed" % removed)
+    expect_topology(checks, "cheese", topology(result), closed_manifold(-264 + 2 * int(removed)))
+    loops = fetch(removal, 1)
+    checks.expect(loops.GetNumberOfLines() == removed, "Cut Loops output: %d loops" % loops.GetNumberOfLines())
+
+
+@case
 def retile(checks, meshes, work):
     # elephant is closed, genus 3: V = 700 new vertices give F = 2 V - 2 chi = 1408 triangles.
     source = read(meshes, "elephant")

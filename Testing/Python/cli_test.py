@@ -99,8 +99,37 @@ def scenario_info(a):
 LEVEL_METHODS = {"triangle-collapse-hierarchy"}
 
 
+# Methods that remove features below --feature-size instead of reaching a triangle target.
+FEATURE_METHODS = {"topological-noise-removal"}
+
+
+def simplify_by_feature_size(a, method):
+    """A feature-removal method: no target needed; on cheese (genus 133) a larger --feature-size
+    removes more handles, each raising the Euler characteristic by 2, and the surface stays closed."""
+    cheese = os.path.join(a.mesh_dir, "cheese.off")
+    out = os.path.join(a.work, "cheese_%s.vtp" % method)
+    genus = []
+    for size in (0.005, 0.012):  # absolute; cheese's bounding-box diagonal is 0.173
+        result = json_line(run(a.cli, "simplify", cheese, out, "--method", method, "--feature-size", size, "--json"))
+        check(result["input_triangles"] == 17786, "input_triangles %r" % result["input_triangles"])
+        info = json_line(run(a.cli, "info", out, "--json"))
+        check(info["triangles"] == result["output_triangles"], "file has %d triangles, JSON said %d"
+              % (info["triangles"], result["output_triangles"]))
+        check(info["boundary_edges"] == 0 and info["nonmanifold_edges"] == 0 and info["components"] == 1,
+              "%s --feature-size %g: not a closed connected manifold: %r" % (method, size, info))
+        check(info["euler_characteristic"] == 2 - 2 * info["genus"], "Euler and genus disagree: %r" % info)
+        genus.append(info["genus"])
+    check(133 >= genus[0] > genus[1], "%s: genus %r at --feature-size 0.005 and 0.012" % (method, genus))
+    # --set works as for the other methods: a relative size of 0.01 is 0.0017 here, below every hole.
+    result = json_line(run(a.cli, "simplify", cheese, out, "--method", method, "--set", "FeatureSize=0.01", "--json"))
+    check(json_line(run(a.cli, "info", out, "--json"))["genus"] >= genus[0], "--set FeatureSize=0.01 removed more")
+
+
 def scenario_simplify(a):
     method = a.arg
+    if method in FEATURE_METHODS:
+        simplify_by_feature_size(a, method)
+        return
     fandisk = os.path.join(a.mesh_dir, "fandisk.off")
     out = os.path.join(a.work, "fandisk_%s.vtp" % method)
     result = json_line(run(a.cli, "simplify", fandisk, out, "--method", method, "--target-triangles", 1000, "--json"))
@@ -522,6 +551,7 @@ SET_EFFECT = {
     "hole-bump-removal": ("OutputPointsPrecision=1", "MaximumPasses=0"),
     "retile": ("RandomSeed=7", "ShapeImprovementPasses=101"),
     "greedy-cuts": ("OutputPointsPrecision=1", "BiteCandidates=0"),
+    "topological-noise-removal": ("OutputPointsPrecision=1", "MaximumPasses=0"),
 }
 
 
@@ -724,10 +754,10 @@ def scenario_demo_png(a):
                   % (row, panel, 100 * fraction))
 
 
-# Methods that may open a closed surface: hole-bump-removal changes the topology on purpose. The VTK
-# filters the tool compares with make no topology promise at all (vtkQuadricDecimation collapses a
+# Methods that may open a closed surface or change its topology on purpose (hole-bump-removal,
+# topological-noise-removal). The VTK filters the tool compares with make no topology promise at all (vtkQuadricDecimation collapses a
 # tetrahedron into two triangles and adds non-manifold edges): every other check still applies.
-TOPOLOGY_METHODS = {"hole-bump-removal"}
+TOPOLOGY_METHODS = {"hole-bump-removal", "topological-noise-removal"}
 BASELINE_METHODS = {"vtk-quadric-decimation", "vtk-decimate-pro"}
 # A run of the tool on a small corpus file is a hang past this much CPU time (not wall time: the
 # verdict must not depend on the machine's load); one blocked without using the CPU, past six times as long.

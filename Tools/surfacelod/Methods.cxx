@@ -15,6 +15,7 @@
 #include "vtkPatchBoundaryMerge.h"
 #include "vtkQuadricTriangleCollapse.h"
 #include "vtkRetile.h"
+#include "vtkTopologicalNoiseRemoval.h"
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <algorithm>
@@ -228,6 +229,19 @@ std::vector<Parameter> HoleBumpRemovalParameters()
   };
 }
 
+std::vector<Parameter> TopologicalNoiseRemovalParameters()
+{
+  return {
+    SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Double, FeatureSize),
+    SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Bool, FeatureSizeIsRelative),
+    SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Bool, RemoveHandles),
+    SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Bool, RemoveComponents),
+    SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Int, MaximumPasses),
+    SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Int, SeparationSearchBudget),
+    SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Int, OutputPointsPrecision),
+  };
+}
+
 std::vector<Parameter> RetileParameters()
 {
   return {
@@ -332,6 +346,19 @@ vtkSmartPointer<vtkPolyDataAlgorithm> CreateGreedyCuts(const MethodSettings& set
   return generic;
 }
 
+// Topological noise removal takes a feature size, not a target: --feature-size F is absolute
+// (FeatureSizeIsRelative off); without it the filter's default (0.01 of the diagonal) applies.
+vtkSmartPointer<vtkPolyDataAlgorithm> CreateTopologicalNoiseRemoval(const MethodSettings& settings)
+{
+  auto filter = vtkSmartPointer<vtkTopologicalNoiseRemoval>::New();
+  if (settings.FeatureSize >= 0)
+  {
+    filter->SetFeatureSize(settings.FeatureSize);
+    filter->FeatureSizeIsRelativeOff();
+  }
+  return filter;
+}
+
 vtkSmartPointer<vtkPolyDataAlgorithm> CreateVTKQuadricDecimation(const MethodSettings& settings)
 {
   auto filter = vtkSmartPointer<vtkQuadricDecimation>::New();
@@ -374,6 +401,10 @@ const std::vector<Method>& Methods()
       "cracks, then SPBM to the target", HoleBumpRemovalParameters()),
     SurfaceLODMethod<vtkRetile>("retile",
       "Turk 1992: re-tiling with evenly spread new vertices (point repulsion, mutual tessellation)", RetileParameters()),
+    { "topological-noise-removal", "Guskov & Wood 2001: cuts and fills handles and tunnels whose shortest loop "
+      "is at most pi * --feature-size long, removes smaller components and cavities (no target)",
+      false, &CreateTopologicalNoiseRemoval, TopologicalNoiseRemovalParameters(), false, /*InDefaultRuns=*/false,
+      /*PreparesItsInput=*/true, /*NeedsTarget=*/false },
     { "greedy-cuts", "Ho 1999 ch. 3: greedy cuts (ears, bites) per patch, output guaranteed within --max-error "
       "(two-sided Hausdorff) of the input; a target searches the error; original vertices only",
       true, &CreateGreedyCuts, GreedyCutsParameters(), false, /*InDefaultRuns=*/false },

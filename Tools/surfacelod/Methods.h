@@ -20,6 +20,7 @@ struct MethodSettings
   double MaximumError = 0.0; // absolute distance, in the mesh's units
   vtkIdType InputTriangles = 0;
   double Level = -1.0; // hierarchy level (i + t) instead of a target, for methods that have levels
+  double FeatureSize = -1.0; // --feature-size (absolute, mesh units) for methods that remove features; < 0: not given
 
   // The target as a reduction fraction (for filters that only take that).
   double ReductionFraction() const;
@@ -68,6 +69,8 @@ struct Method
   // False for VTK's filters: they take their input as it is (vtkQuadricDecimation crashes on a
   // triangle with a repeated vertex), so the tool gives them the input SurfaceLOD's filters prepare.
   bool PreparesItsInput = true;
+  // False for methods that remove features instead of reaching a triangle count (no -t/-r needed).
+  bool NeedsTarget = true;
 };
 
 const std::vector<Method>& Methods();

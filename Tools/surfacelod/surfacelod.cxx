@@ -301,6 +301,7 @@ struct SimplifyArguments
   std::string Input, Output, MethodName;
   TargetArguments Target;
   std::vector<std::string> Assignments; // --set Name=Value
+  double FeatureSize = -1.0;             // --feature-size
   bool Json = false;
 };
 
@@ -324,6 +325,9 @@ std::function<int()> DefineSimplify(CLI::App& app)
   AddTargetOptions(app, args->Target, true, "fraction of the triangles to remove, 0..1 (0.9 keeps 10%)");
   app.add_option("-s,--set", args->Assignments, "set a parameter of the method's filter (repeatable)")
     ->type_name("Name=Value")->allow_extra_args(false); // one word per --set, never the positionals
+  app.add_option("--feature-size", args->FeatureSize,
+    "size below which features go (absolute, mesh units), for feature-removal methods (topological-noise-removal)")
+    ->type_name("F")->check(CLI::NonNegativeNumber);
   app.add_flag("-j,--json", args->Json,
     "print one JSON line: method, input_triangles, output_triangles, target_reached, seconds, peak_rss_mb");
   return [args] { return Simplify(*args); };
@@ -341,7 +345,7 @@ const Method& CheckedMethod(const SimplifyArguments& args)
   {
     throw CliError(ExitUsage, std::string("surfacelod simplify: method ") + method->Name + " has no levels (--level)");
   }
-  TargetSettings(args.Target, 0, true, 0.0, "simplify");
+  TargetSettings(args.Target, 0, method->NeedsTarget, 0.0, "simplify");
   return *method;
 }
 
@@ -352,7 +356,8 @@ int Simplify(const SimplifyArguments& args)
   CheckWritablePath(args.Output);
 
   vtkSmartPointer<vtkPolyData> input = TriangulatedSurface(ReadMesh(args.Input));
-  const MethodSettings settings = TargetSettings(args.Target, CountTriangles(input), true, 0.0, "simplify");
+  MethodSettings settings = TargetSettings(args.Target, CountTriangles(input), method.NeedsTarget, 0.0, "simplify");
+  settings.FeatureSize = args.FeatureSize;
   const RunResult result = RunMethod(method, input, settings, assignments);
   WriteMesh(result.Output, args.Output);
 

@@ -1,0 +1,112 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""Pictures of Documentation/TopologicalNoiseRemoval.md (run under xvfb-run -a):
+
+    PYTHONPATH=<build>/lib/python3/dist-packages xvfb-run -a /usr/bin/python3 render_figures.py <mesh_dir> <out_dir> [mri.vtp]
+
+CGAL's cheese (genus 133) before and after vtkTopologicalNoiseRemoval at two feature sizes, with
+the cut loops as red tubes; with the MRI surface, a close-up of the loops cut at 3 mm.
+"""
+import os
+import sys
+
+from vtkmodules.vtkFiltersCore import vtkTubeFilter
+from vtkmodules.vtkIOImage import vtkPNGWriter
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow,
+                                         vtkWindowToImageFilter)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (rendering backend)
+
+import surfacelod
+
+
+def snapshot(window, actors, path, view, focus=None, zoom=1.0):
+    renderer = window.GetRenderers().GetFirstRenderer()
+    renderer.RemoveAllViewProps()
+    renderer.SetBackground(1, 1, 1)
+    for actor in actors:
+        renderer.AddActor(actor)
+    renderer.ResetCamera()
+    camera = renderer.GetActiveCamera()
+    if focus is not None:
+        camera.SetFocalPoint(*focus)
+    centre = camera.GetFocalPoint()
+    camera.SetPosition(*[c + d for c, d in zip(centre, view)])
+    camera.SetViewUp(0, 0, 1)
+    renderer.ResetCameraClippingRange()
+    camera.Zoom(zoom)
+    window.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    writer = vtkPNGWriter()
+    writer.SetFileName(path)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    print("wrote", path)
+
+
+def mesh_actor(mesh):
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputData(mesh)
+    mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(0.85, 0.8, 0.65)
+    return actor
+
+
+def loops_actor(loops, radius):
+    tubes = vtkTubeFilter()
+    tubes.SetInputData(loops)
+    tubes.SetRadius(radius)
+    tubes.SetNumberOfSides(8)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(tubes.GetOutputPort())
+    mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(0.85, 0.1, 0.1)
+    return actor
+
+
+def clean(mesh, size, relative):
+    removal = surfacelod.vtkTopologicalNoiseRemoval()
+    removal.SetInputData(mesh)
+    removal.SetFeatureSize(size)
+    removal.SetFeatureSizeIsRelative(relative)
+    removal.Update()
+    print("size", size, "handles removed", removal.GetNumberOfHandlesRemoved(), "genus",
+          removal.GetInputGenus(), "->", removal.GetOutputGenus())
+    return removal.GetOutput(0), removal.GetOutput(1)
+
+
+def main(mesh_dir, out_dir, mri=None):
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetSize(560, 420)
+    window.AddRenderer(vtkRenderer())
+    reader = surfacelod.vtkOFFMeshReader()
+    reader.SetFileName(os.path.join(mesh_dir, "cheese.off"))
+    reader.Update()
+    cheese = reader.GetOutput()
+    view = (0.25, -0.3, 0.2)
+    snapshot(window, [mesh_actor(cheese)], os.path.join(out_dir, "tnr_cheese_input.png"), view, zoom=1.5)
+    for size in (0.04, 0.06):
+        cleaned, loops = clean(cheese, size, True)
+        name = "tnr_cheese_%s" % str(size).replace(".", "")
+        snapshot(window, [mesh_actor(cheese), loops_actor(loops, 0.0006)], os.path.join(out_dir, name + "_loops.png"), view,
+                 zoom=1.5)
+        snapshot(window, [mesh_actor(cleaned)], os.path.join(out_dir, name + "_after.png"), view, zoom=1.5)
+    if mri:
+        mri_reader = vtkXMLPolyDataReader()
+        mri_reader.SetFileName(mri)
+        mri_reader.Update()
+        cleaned, loops = clean(mri_reader.GetOutput(), 3.0, False)
+        focus = loops.GetPoint(0) if loops.GetNumberOfPoints() else None
+        snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(loops, 0.25)],
+                 os.path.join(out_dir, "tnr_mri_loops.png"), (0, -300, 80))
+        snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(loops, 0.15)],
+                 os.path.join(out_dir, "tnr_mri_loops_closeup.png"), (0, -60, 20), focus, 1.0)
+
+
+if __name__ == "__main__":
+    main(*sys.argv[1:])

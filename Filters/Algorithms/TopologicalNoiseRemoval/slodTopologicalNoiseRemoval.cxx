@@ -1,0 +1,278 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "slodTopologicalNoiseRemoval.h"
+
+#include "slodHandleDetection.h"
+#include "slodMeshTopology.h"
+
+#include "vtkLogger.h"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <tuple>
+
+namespace slod
+{
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+using Box = std::array<double, 6>;
+
+Box EmptyBox()
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  return { inf, -inf, inf, -inf, inf, -inf };
+}
+
+void AddToBox(Box& box, const Vec3& p)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    box[2 * k] = std::min(box[2 * k], p[k]);
+    box[2 * k + 1] = std::max(box[2 * k + 1], p[k]);
+  }
+}
+
+double Diagonal(const Box& box)
+{
+  return Norm({ box[1] - box[0], box[3] - box[2], box[5] - box[4] });
+}
+
+bool Inside(const Box& inner, const Box& outer)
+{
+  return inner[0] >= outer[0] && inner[1] <= outer[1] && inner[2] >= outer[2] && inner[3] <= outer[3] &&
+    inner[4] >= outer[4] && inner[5] <= outer[5];
+}
+
+// Per component: its box, triangle count and whether it is closed.
+struct ComponentSummary
+{
+  Box Bounds = EmptyBox();
+  Index Triangles = 0;
+  bool Closed = true;
+};
+
+std::vector<ComponentSummary> SummarizeComponents(const TriangleMesh& mesh, const MeshTopology& topology)
+{
+  std::vector<ComponentSummary> components(size_t(topology.NumberOfComponents()));
+  const std::vector<Index>& label = topology.TriangleComponents();
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    ComponentSummary& c = components[label[t]];
+    ++c.Triangles;
+    for (int k = 0; k < 3; ++k)
+    {
+      AddToBox(c.Bounds, mesh.Point(mesh.Triangle(t)[k]));
+      c.Closed = c.Closed && !topology.IsBoundaryEdge(topology.TriangleEdge(t, k));
+    }
+  }
+  return components;
+}
+
+// Stage 1: the mesh without its components smaller than alpha (never the largest); keptTriangles
+// maps the new triangles to the input's.
+TriangleMesh RemoveSmallComponents(const TriangleMesh& mesh, double alpha, bool remove,
+  std::vector<Index>& keptTriangles, TopologicalNoiseResult& result)
+{
+  const MeshTopology topology(mesh);
+  const std::vector<ComponentSummary> components = SummarizeComponents(mesh, topology);
+  size_t largest = 0;
+  for (size_t c = 1; c < components.size(); ++c)
+  {
+    largest = components[c].Triangles > components[largest].Triangles ? c : largest;
+  }
+  std::vector<unsigned char> dropped(components.size(), 0);
+  for (size_t c = 0; remove && c < components.size(); ++c)
+  {
+    if (c != largest && Diagonal(components[c].Bounds) < alpha)
+    {
+      dropped[c] = 1;
+      const bool cavity = components[c].Closed && Inside(components[c].Bounds, components[largest].Bounds);
+      ++(cavity ? result.CavitiesRemoved : result.ComponentsRemoved);
+    }
+  }
+  TriangleMesh kept;
+  kept.Points = mesh.Points;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    if (!dropped[topology.TriangleComponents()[t]])
+    {
+      const Index* tri = mesh.Triangle(t);
+      kept.AddTriangle(tri[0], tri[1], tri[2]);
+      keptTriangles.push_back(t);
+    }
+  }
+  return kept;
+}
+
+// One candidate of a pass, ordered shortest first (then by seed, for determinism).
+struct RankedLoop
+{
+  double Length;
+  size_t Seed, Index;
+  bool operator<(const RankedLoop& o) const
+  {
+    return std::tie(this->Length, this->Seed, this->Index) < std::tie(o.Length, o.Seed, o.Index);
+  }
+};
+
+std::vector<RankedLoop> RankLoops(const std::vector<std::vector<CandidateLoop>>& loops)
+{
+  std::vector<RankedLoop> ranked;
+  for (size_t s = 0; s < loops.size(); ++s)
+  {
+    for (size_t i = 0; i < loops[s].size(); ++i)
+    {
+      ranked.push_back({ loops[s][i].Length, s, i });
+    }
+  }
+  std::sort(ranked.begin(), ranked.end());
+  return ranked;
+}
+
+NoiseLoop RecordLoop(const CuttableMesh& mesh, const CandidateLoop& loop, bool removed)
+{
+  NoiseLoop record;
+  for (Index v : loop.Vertices)
+  {
+    record.Points.push_back(mesh.Point(v));
+  }
+  record.Length = loop.Length;
+  record.Removed = removed;
+  return record;
+}
+
+// Marks of one pass: vertices a cut changed (a later candidate through them is outdated) and
+// vertices of loops already reported as kept (their near-copies from other seeds are not).
+struct PassMarks
+{
+  std::vector<unsigned char> Changed, Reported;
+  bool Any(const std::vector<unsigned char>& marks, const std::vector<Index>& vertices) const
+  {
+    for (Index v : vertices)
+    {
+      if (size_t(v) < marks.size() && marks[v])
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+  static void Set(std::vector<unsigned char>& marks, const std::vector<Index>& vertices)
+  {
+    for (Index v : vertices)
+    {
+      marks.resize(std::max(marks.size(), size_t(v) + 1), 0);
+      marks[v] = 1;
+    }
+  }
+};
+
+// Stage 3b: cuts the pass's candidates that are still valid and do not separate the mesh,
+// shortest first. Returns the vertices changed (for the next pass's seeds).
+std::vector<Index> CutHandles(CuttableMesh& mesh, const std::vector<std::vector<CandidateLoop>>& loops,
+  Index budget, TopologicalNoiseResult& result)
+{
+  PassMarks marks;
+  std::vector<Index> changedAll, changed;
+  for (const RankedLoop& ranked : RankLoops(loops))
+  {
+    const CandidateLoop& loop = loops[ranked.Seed][ranked.Index];
+    if (marks.Any(marks.Changed, loop.Vertices) || marks.Any(marks.Reported, loop.Vertices))
+    {
+      ++result.Outdated;
+      continue; // outdated by a cut (its seed grows again next pass) or a copy of a kept loop
+    }
+    const LoopSeparation separation = mesh.TestSeparation(loop.Vertices, budget);
+    ++result.Tests[int(separation)];
+    if (separation == LoopSeparation::NonSeparating && !mesh.CutAndFill(loop.Vertices, changed))
+    {
+      ++result.CutsRefused;
+    }
+    else if (separation == LoopSeparation::NonSeparating)
+    {
+      ++result.HandlesRemoved;
+      result.Loops.push_back(RecordLoop(mesh, loop, true));
+      PassMarks::Set(marks.Changed, changed);
+      changedAll.insert(changedAll.end(), changed.begin(), changed.end());
+    }
+    else if (separation == LoopSeparation::Undetermined)
+    {
+      ++result.LoopsKept;
+      result.Loops.push_back(RecordLoop(mesh, loop, false));
+      PassMarks::Set(marks.Reported, loop.Vertices);
+    }
+  }
+  return changedAll;
+}
+
+// Stage 4: the edited mesh without unused vertices, with sources mapped to the input.
+void StoreResult(const CuttableMesh& mesh, const std::vector<Index>& keptTriangles, TopologicalNoiseResult& result)
+{
+  result.Mesh = mesh.Result();
+  std::vector<Index> newToOld;
+  result.Mesh.RemoveUnusedPoints(&newToOld);
+  result.VertexSource.resize(newToOld.size());
+  for (size_t i = 0; i < newToOld.size(); ++i)
+  {
+    result.VertexSource[i] = mesh.VertexSources()[newToOld[i]];
+  }
+  result.TriangleSource.resize(mesh.TriangleSources().size());
+  for (size_t t = 0; t < result.TriangleSource.size(); ++t)
+  {
+    result.TriangleSource[t] = keptTriangles[mesh.TriangleSources()[t]];
+  }
+  result.LockedVertices = mesh.NumberOfLockedVertices();
+  result.CentreFans = mesh.NumberOfCentreFans();
+}
+} // namespace
+
+bool RemoveTopologicalNoise(const TriangleMesh& input, const TopologicalNoiseParameters& parameters,
+  TopologicalNoiseResult& result, const ProgressFunction& progress)
+{
+  result = TopologicalNoiseResult();
+  const double alpha = std::max(0.0, parameters.FeatureSize);
+  std::vector<Index> keptTriangles;
+  CuttableMesh mesh(RemoveSmallComponents(input, alpha, parameters.RemoveComponents, keptTriangles, result));
+  if (progress && !progress(0.1))
+  {
+    return false;
+  }
+  if (parameters.RemoveHandles && alpha > 0 && mesh.NumberOfTriangles() > 0)
+  {
+    // A loop of length L lies within L / 2 of each of its vertices, so a region of radius
+    // spacing + L / 2 around a seed within `spacing` of the loop holds it whole. The work is
+    // seeds x region area ~ (spacing + L / 2)^2 / spacing^2, smallest for large spacings: a
+    // spacing of L / 2 costs a quarter of the work of L / 6.
+    RegionGrowthLimits limits;
+    limits.MaximumLoopLength = Pi * alpha;
+    const double spacing = 0.5 * limits.MaximumLoopLength;
+    limits.Radius = 0.5 * limits.MaximumLoopLength + spacing;
+    const Index budget = parameters.SeparationSearchBudget > 0 ? parameters.SeparationSearchBudget
+                                                                : std::numeric_limits<Index>::max();
+    const std::vector<Index> seeds = CoveringSeeds(mesh, spacing);
+    std::vector<Index> active = seeds;
+    while (!active.empty() && result.Passes < parameters.MaximumPasses)
+    {
+      const std::vector<std::vector<CandidateLoop>> loops = FindCandidateLoops(mesh, active, limits);
+      for (const auto& l : loops)
+      {
+        result.CandidateLoops += static_cast<Index>(l.size());
+      }
+      const Index cutsBefore = result.HandlesRemoved;
+      const std::vector<Index> changed = CutHandles(mesh, loops, budget, result);
+      ++result.Passes;
+      vtkLogF(TRACE, "pass %d: %zu seeds, %d candidates so far, %d cuts", result.Passes, active.size(),
+        int(result.CandidateLoops), int(result.HandlesRemoved - cutsBefore));
+      if (progress && !progress(0.1 + 0.85 * result.Passes / parameters.MaximumPasses))
+      {
+        return false;
+      }
+      active = changed.empty() ? std::vector<Index>() : SeedsNear(mesh, seeds, changed, limits.Radius);
+    }
+  }
+  StoreResult(mesh, keptTriangles, result);
+  return true;
+}
+} // namespace slod

@@ -1,0 +1,327 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// vtkTopologicalNoiseRemoval (Guskov & Wood 2001): handles below the feature size cut and filled,
+// those above kept (torus, block plates with square holes of known sizes, CGAL's cheese at several
+// sizes), Euler characteristic and genus before/after, manifold and consistently oriented output,
+// Hausdorff distance to the input within the feature size, field-data counts, small components
+// and cavities, point data, determinism, bad and non-manifold input.
+#include "TestSupport.h"
+
+#include "slodBlockModel.h"
+#include "slodMeshTopology.h"
+#include "vtkSurfaceDeviation.h"
+#include "vtkTopologicalNoiseRemoval.h"
+
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace slod;
+using namespace slodtest;
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+struct CleanRun
+{
+  vtkSmartPointer<vtkPolyData> Surface, Loops;
+  vtkSmartPointer<MessageCounter> Messages;
+};
+
+CleanRun Clean(vtkPolyData* input, double alpha, bool relative = false, bool removeComponents = true)
+{
+  vtkNew<vtkTopologicalNoiseRemoval> filter;
+  filter->SetInputData(input);
+  filter->SetRemoveComponents(removeComponents);
+  filter->SetFeatureSize(alpha);
+  filter->SetFeatureSizeIsRelative(relative);
+  CleanRun run;
+  run.Messages = vtkSmartPointer<MessageCounter>::New();
+  filter->AddObserver(vtkCommand::WarningEvent, run.Messages);
+  filter->AddObserver(vtkCommand::ErrorEvent, run.Messages);
+  filter->Update();
+  run.Surface = filter->GetOutput(0);
+  run.Loops = filter->GetOutput(1);
+  return run;
+}
+
+int FieldCount(vtkPolyData* pd, const char* name)
+{
+  vtkDataArray* a = pd->GetFieldData()->GetArray(name);
+  EXPECT_NE(a, nullptr) << name;
+  return a ? static_cast<int>(a->GetTuple1(0)) : -1000;
+}
+
+MeshStatistics Stats(vtkPolyData* pd)
+{
+  const TriangleMesh mesh = RawTriangleMesh(pd);
+  return MeshTopology(mesh).Statistics(mesh);
+}
+
+void ExpectCleanManifold(const MeshStatistics& s)
+{
+  EXPECT_EQ(s.NonManifoldEdges, 0);
+  EXPECT_EQ(s.NonManifoldVertices, 0);
+  EXPECT_EQ(s.InconsistentlyOrientedEdges, 0);
+}
+
+// Symmetric Hausdorff distance (absolute), sampled by vtkSurfaceDeviation.
+double Hausdorff(vtkPolyData* a, vtkPolyData* b)
+{
+  vtkNew<vtkSurfaceDeviation> d;
+  d->SetReferenceData(a);
+  d->SetComparedData(b);
+  d->SetNumberOfSamples(20000);
+  d->Update();
+  return d->GetHausdorff();
+}
+
+// Every loop of port 1 that was cut is at most pi alpha long.
+void ExpectShortCutLoops(vtkPolyData* loops, double alpha)
+{
+  vtkDataArray* removed = loops->GetCellData()->GetArray("Removed");
+  vtkDataArray* length = loops->GetCellData()->GetArray("Length");
+  ASSERT_NE(removed, nullptr);
+  ASSERT_NE(length, nullptr);
+  for (vtkIdType c = 0; c < loops->GetNumberOfCells(); ++c)
+  {
+    if (removed->GetTuple1(c) == 1)
+    {
+      EXPECT_LE(length->GetTuple1(c), Pi * alpha * (1 + 1e-9));
+    }
+  }
+}
+
+// A 17 x 17 cell plate (thickness 0.5) with a 3 x 3 hole in the middle and four 1 x 1 holes three
+// cells from the border and from the large hole: genus 5. The shortest loop around a small hole
+// runs around its wall (length 4, size 4 / pi = 1.27), around the large one 12 (size 3.82); a loop
+// around a bar between holes or around the border is at least 2 (3 + 0.5) = 7 long (size 2.23).
+TriangleMesh PlateWithSmallAndLargeHoles()
+{
+  const int n = 17;
+  std::vector<double> heights(size_t(n) * n, 0.5);
+  for (int j = 7; j < 10; ++j)
+  {
+    for (int i = 7; i < 10; ++i)
+    {
+      heights[size_t(i) + n * size_t(j)] = 0;
+    }
+  }
+  for (int j : { 3, 13 })
+  {
+    for (int i : { 3, 13 })
+    {
+      heights[size_t(i) + n * size_t(j)] = 0;
+    }
+  }
+  return BlockModel(n, n, heights, 1.0, 2);
+}
+} // namespace
+
+TEST(TopologicalNoiseRemoval, TorusCutBelowItsMeridianKeptAbove)
+{
+  // Minor radius 0.35: the meridian is 2 pi 0.35 = 2.2 long (size 0.7), the inner equator 4.1 (1.3).
+  vtkSmartPointer<vtkPolyData> torus = ToPolyData(Torus(64, 32, 1.0, 0.35));
+  const MeshStatistics before = Stats(torus);
+  ASSERT_EQ(before.EulerCharacteristic, 0);
+
+  const CleanRun kept = Clean(torus, 0.6);
+  EXPECT_EQ(FieldCount(kept.Surface, "HandlesRemoved"), 0);
+  EXPECT_EQ(Stats(kept.Surface).EulerCharacteristic, 0);
+  EXPECT_EQ(kept.Surface->GetNumberOfPolys(), torus->GetNumberOfPolys());
+
+  const CleanRun cut = Clean(torus, 0.8);
+  const MeshStatistics after = Stats(cut.Surface);
+  EXPECT_EQ(FieldCount(cut.Surface, "HandlesRemoved"), 1);
+  EXPECT_EQ(FieldCount(cut.Surface, "HandlesKept"), 0);
+  EXPECT_EQ(after.EulerCharacteristic, 2);
+  EXPECT_EQ(after.Genus, 0);
+  EXPECT_EQ(after.Components, 1);
+  EXPECT_EQ(after.BoundaryEdges, 0);
+  ExpectCleanManifold(after);
+  EXPECT_EQ(cut.Loops->GetNumberOfCells(), 1);
+  ExpectShortCutLoops(cut.Loops, 0.8);
+  // The fills are disks spanning a meridian: they stay within its radius of the torus.
+  EXPECT_LE(Hausdorff(torus, cut.Surface), 0.35 + 1e-3);
+  EXPECT_TRUE(cut.Messages->Warnings.empty());
+}
+
+TEST(TopologicalNoiseRemoval, PlateSmallHolesRemovedLargeKept)
+{
+  vtkSmartPointer<vtkPolyData> plate = ToPolyData(PlateWithSmallAndLargeHoles());
+  const MeshStatistics before = Stats(plate);
+  ASSERT_EQ(before.Genus, 5);
+
+  const CleanRun none = Clean(plate, 1.0); // every loop is longer than pi
+  EXPECT_EQ(FieldCount(none.Surface, "HandlesRemoved"), 0);
+  EXPECT_EQ(Stats(none.Surface).Genus, 5);
+
+  const double alpha = 1.8; // between the small holes (1.27) and the bars (2.23), large hole 3.82
+  const CleanRun small = Clean(plate, alpha);
+  const MeshStatistics after = Stats(small.Surface);
+  EXPECT_EQ(FieldCount(small.Surface, "HandlesRemoved"), 4);
+  EXPECT_EQ(FieldCount(small.Surface, "HandlesKept"), 1);
+  EXPECT_EQ(after.Genus, 1);
+  EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic + 8);
+  ExpectCleanManifold(after);
+  ExpectShortCutLoops(small.Loops, alpha);
+  // A filled 1 x 1 hole is at most half a cell from the walls it spans.
+  EXPECT_LE(Hausdorff(plate, small.Surface), 0.5 * std::sqrt(2.0) + 1e-3);
+
+  const CleanRun all = Clean(plate, 4.5); // every loop around a hole is at most 12 < 4.5 pi
+  const MeshStatistics allStats = Stats(all.Surface);
+  EXPECT_EQ(FieldCount(all.Surface, "HandlesRemoved"), 5);
+  EXPECT_EQ(allStats.Genus, 0);
+  EXPECT_EQ(allStats.EulerCharacteristic, 2);
+  ExpectCleanManifold(allStats);
+  EXPECT_LE(Hausdorff(plate, all.Surface), 4.5);
+}
+
+// CGAL's cheese (genus 133, smooth round through-holes): the genus drops by exactly the loops
+// cut, every cut loop is short, more goes at a larger size, and cleaning again at the same size
+// finds nothing left (no loop within the size remains).
+TEST(TopologicalNoiseRemoval, CheeseAtTwoSizes)
+{
+  vtkSmartPointer<vtkPolyData> cheese = LoadTestMesh("cheese");
+  const MeshStatistics before = Stats(cheese);
+  ASSERT_EQ(before.Genus, 133);
+  const double diagonal = std::sqrt(std::pow(cheese->GetBounds()[1] - cheese->GetBounds()[0], 2) +
+    std::pow(cheese->GetBounds()[3] - cheese->GetBounds()[2], 2) +
+    std::pow(cheese->GetBounds()[5] - cheese->GetBounds()[4], 2));
+  int previousRemoved = 0;
+  // Two sizes inside the range of the hole sizes (relative to the diagonal): some holes go, some stay.
+  for (double relative : { 0.04, 0.06 })
+  {
+    const double alpha = relative * diagonal;
+    const CleanRun run = Clean(cheese, relative, true);
+    const MeshStatistics after = Stats(run.Surface);
+    const int removed = FieldCount(run.Surface, "HandlesRemoved");
+    EXPECT_GT(removed, previousRemoved) << relative;
+    EXPECT_GT(after.Genus, 0) << relative; // the large holes stay
+    EXPECT_EQ(after.Genus, before.Genus - removed) << relative;
+    EXPECT_EQ(FieldCount(run.Surface, "HandlesKept"), after.Genus);
+    ExpectCleanManifold(after);
+    EXPECT_EQ(after.Components, 1);
+    ExpectShortCutLoops(run.Loops, alpha);
+    EXPECT_LE(Hausdorff(cheese, run.Surface), alpha);
+    const CleanRun again = Clean(run.Surface, alpha);
+    EXPECT_EQ(FieldCount(again.Surface, "HandlesRemoved"), 0) << relative;
+    previousRemoved = removed;
+  }
+}
+
+TEST(TopologicalNoiseRemoval, SmallComponentsAndCavitiesRemoved)
+{
+  // A unit-diameter sphere, a speck of diameter 0.05 outside it and one inside it (a cavity).
+  const TriangleMesh big = Sphere(24, 24);
+  TriangleMesh speck = Sphere(8, 8), cavity = Sphere(8, 8);
+  for (Index v = 0; v < speck.NumberOfPoints(); ++v)
+  {
+    speck.SetPoint(v, 0.1 * speck.Point(v) + Vec3{ 2.0, 0.0, 0.0 });
+    cavity.SetPoint(v, 0.1 * cavity.Point(v));
+  }
+  vtkSmartPointer<vtkPolyData> input = ToPolyData(Concatenate(Concatenate(big, speck), cavity));
+  ASSERT_EQ(Stats(input).Components, 3);
+  const CleanRun run = Clean(input, 0.2);
+  EXPECT_EQ(FieldCount(run.Surface, "ComponentsRemoved"), 1);
+  EXPECT_EQ(FieldCount(run.Surface, "CavitiesRemoved"), 1);
+  EXPECT_EQ(run.Surface->GetNumberOfPolys(), ToPolyData(big)->GetNumberOfPolys());
+  EXPECT_EQ(Stats(run.Surface).Components, 1);
+  const CleanRun keep = Clean(input, 0.05); // both are 0.1 wide (diagonal 0.17): kept
+  EXPECT_EQ(Stats(keep.Surface).Components, 3);
+}
+
+TEST(TopologicalNoiseRemoval, PointDataFollowTheCopiedVertices)
+{
+  vtkSmartPointer<vtkPolyData> torus = ToPolyData(Torus(64, 32, 1.0, 0.35));
+  vtkNew<vtkDoubleArray> xs;
+  xs->SetName("x");
+  for (vtkIdType i = 0; i < torus->GetNumberOfPoints(); ++i)
+  {
+    xs->InsertNextValue(torus->GetPoint(i)[0]);
+  }
+  torus->GetPointData()->AddArray(xs);
+  const CleanRun run = Clean(torus, 0.8);
+  ASSERT_EQ(FieldCount(run.Surface, "HandlesRemoved"), 1);
+  EXPECT_GT(run.Surface->GetNumberOfPoints(), torus->GetNumberOfPoints()); // the cut's copies
+  vtkDataArray* out = run.Surface->GetPointData()->GetArray("x");
+  ASSERT_NE(out, nullptr);
+  for (vtkIdType i = 0; i < run.Surface->GetNumberOfPoints(); ++i)
+  {
+    EXPECT_NEAR(out->GetTuple1(i), run.Surface->GetPoint(i)[0], 1e-6);
+  }
+}
+
+TEST(TopologicalNoiseRemoval, Deterministic)
+{
+  vtkSmartPointer<vtkPolyData> cheese = LoadTestMesh("cheese");
+  const CleanRun a = Clean(cheese, 0.05, true), b = Clean(cheese, 0.05, true);
+  ASSERT_EQ(a.Surface->GetNumberOfPolys(), b.Surface->GetNumberOfPolys());
+  const TriangleMesh ma = RawTriangleMesh(a.Surface), mb = RawTriangleMesh(b.Surface);
+  EXPECT_EQ(ma.Triangles, mb.Triangles);
+  EXPECT_EQ(ma.Points, mb.Points);
+}
+
+TEST(TopologicalNoiseRemoval, BadInputGivesDefinedOutput)
+{
+  vtkNew<vtkPolyData> empty;
+  const CleanRun e = Clean(empty, 1.0);
+  EXPECT_EQ(e.Surface->GetNumberOfPolys(), 0);
+  EXPECT_FALSE(e.Messages->Warnings.empty() && e.Messages->Errors.empty());
+
+  // Non-manifold edge: a warning, the fan is left alone.
+  vtkSmartPointer<vtkPolyData> fan = ToPolyData(NonManifoldFan(3));
+  const CleanRun f = Clean(fan, 10.0);
+  EXPECT_FALSE(f.Messages->Warnings.empty());
+  EXPECT_EQ(f.Surface->GetNumberOfPolys(), fan->GetNumberOfPolys());
+}
+
+// A noisy scan-like isosurface (handles, pinched vertices, non-manifold edges, a border): a
+// warning, no new non-manifold edge, the border kept, the genus never raised, every cut short.
+TEST(TopologicalNoiseRemoval, NoisyScanWithNonManifoldParts)
+{
+  vtkSmartPointer<vtkPolyData> scan = NoisyScanIsosurface(40, 3);
+  const TriangleMesh prepared = ToTriangleMesh(scan); // as the filter sees it
+  const MeshStatistics before = MeshTopology(prepared).Statistics(prepared);
+  ASSERT_GT(before.NonManifoldEdges, 0);
+  const CleanRun run = Clean(scan, 0.03, true, /*removeComponents=*/false);
+  const MeshStatistics after = Stats(run.Surface);
+  EXPECT_FALSE(run.Messages->Warnings.empty());
+  EXPECT_LE(after.NonManifoldEdges, before.NonManifoldEdges);
+  EXPECT_EQ(after.BoundaryEdges, before.BoundaryEdges);
+  EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+  EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic + 2 * FieldCount(run.Surface, "HandlesRemoved"));
+}
+
+// Asked to abort at its first progress report: a warning and an empty output (the filter contract).
+TEST(TopologicalNoiseRemoval, AbortGivesEmptyOutput)
+{
+  struct AbortAtProgress : vtkCommand
+  {
+    static AbortAtProgress* New() { return new AbortAtProgress; }
+    void Execute(vtkObject* caller, unsigned long, void*) override
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+    }
+  };
+  vtkNew<vtkTopologicalNoiseRemoval> filter;
+  filter->SetInputData(ToPolyData(Torus(64, 32, 1.0, 0.35)));
+  filter->SetFeatureSize(0.8);
+  filter->FeatureSizeIsRelativeOff();
+  vtkNew<AbortAtProgress> abort;
+  vtkNew<MessageCounter> messages;
+  filter->AddObserver(vtkCommand::ProgressEvent, abort);
+  filter->AddObserver(vtkCommand::WarningEvent, messages);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+  EXPECT_FALSE(messages->Warnings.empty());
+}
