@@ -68,6 +68,9 @@ struct Method
   // False for VTK's filters: they take their input as it is (vtkQuadricDecimation crashes on a
   // triangle with a repeated vertex), so the tool gives them the input SurfaceLOD's filters prepare.
   bool PreparesItsInput = true;
+  // Its filter has a Controller and keeps the seams of distributed pieces: `mpiexec -n N surfacelod
+  // simplify` may run it on N pieces (Distributed.h).
+  bool SimplifiesPieces = false;
 };
 
 const std::vector<Method>& Methods();
