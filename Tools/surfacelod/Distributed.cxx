@@ -8,6 +8,7 @@
 #include "vtkCellData.h"
 #include "vtkIdList.h"
 #include "vtkMPIController.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
