@@ -11,7 +11,7 @@ build="${BUILD_DIR:-$here/build}"
 
 packages=(build-essential cmake ninja-build ccache pkg-config
   libvtk9-dev python3-vtk9 python3-dev libeigen3-dev libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
-  libcgal-demo xvfb xauth)
+  libcgal-demo xvfb xauth openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -21,6 +21,8 @@ status=0
 if [[ -f "$build/paraview-plugin/CMakeCache.txt" ]]; then
   cmake --build "$build/paraview-plugin" -j "$(nproc)" || status=$?
 fi
+# Every label runs, `mpi` included: the distributed tests start mpiexec themselves (openmpi-bin, from
+# the set-up command) and fail, never skip, when it is missing.
 xvfb-run -a ctest --output-on-failure -j 2 --timeout 1200 || status=$?
 if [[ "${CI:-}" == "true" || "${SANITIZERS:-0}" == "1" ]]; then
   SANITIZER_BUILD_DIR="${SANITIZER_BUILD_DIR:-$build-sanitizers}" bash "$here/scripts/sanitizers.sh" || status=$?

@@ -892,12 +892,50 @@ def scenario_output_full(a):
               "writing to a full disk (%s): exit %d, stderr %r" % (full, proc.returncode, proc.stderr[-400:]))
 
 
+def scenario_distributed(a):
+    """`mpiexec -n N surfacelod simplify`: the union of the pieces against the input and against one
+    process's result (same topology, no seam left open or unmerged, the count on target), and the
+    clear failures of what does not run distributed."""
+    processes = int(a.arg)
+    mpiexec = a.mpiexec.split() + ["-n", str(processes)]
+    for name in ("bunny00", "blade"):  # closed; two border loops
+        mesh = os.path.join(a.mesh_dir, name + ".off")
+        one, many = os.path.join(a.work, name + "_one.vtp"), os.path.join(a.work, name + "_many.vtp")
+        run(a.cli, "simplify", mesh, one, "-m", "quadric-triangle-collapse", "-r", "0.9")
+        report = json_line(run(mpiexec[0], *(mpiexec[1:] + [a.cli, "simplify", mesh, many, "-m",
+                                                          "quadric-triangle-collapse", "-r", "0.9", "--json"])))
+        check(report.get("processes") == processes and len(report.get("peak_rss_mb_per_process", [])) == processes,
+              "%s: the report names %d processes: %r" % (name, processes, report))
+        info = {what: json_line(run(a.cli, "info", path, "--json"))
+                for what, path in (("input", mesh), ("one", one), ("many", many))}
+        for key in ("euler_characteristic", "boundary_loops", "nonmanifold_edges", "components"):
+            check(info["many"][key] == info["input"][key] == info["one"][key],
+                  "%s %s: input %r, one process %r, %d processes %r"
+                  % (name, key, info["input"][key], info["one"][key], processes, info["many"][key]))
+        # Seam points left apart would be merged (and counted) by `info`'s preparation.
+        check(info["many"]["merged_points"] == 0, "%s: %d seam points left unmerged" % (name, info["many"]["merged_points"]))
+        target = int(0.1 * info["input"]["triangles"] + 1e-6)
+        check(abs(info["many"]["triangles"] - target) <= 0.01 * target,
+              "%s: %d triangles, target %d" % (name, info["many"]["triangles"], target))
+    mesh = os.path.join(a.mesh_dir, "blade.off")
+    for args, expected in ((["simplify", mesh, os.path.join(a.work, "x.vtp"), "-m", "retile", "-r", "0.9"],
+                            "does not simplify distributed pieces"),
+                           (["info", mesh], "only `simplify` runs on several processes"),
+                           (["simplify", os.path.join(a.work, "missing.off"), os.path.join(a.work, "x.vtp"), "-m",
+                             "quadric-triangle-collapse", "-r", "0.9"], "missing.off")):
+        proc = subprocess.run(mpiexec + [a.cli] + args, capture_output=True, text=True, timeout=300)
+        check(proc.returncode != 0 and proc.stderr.count(expected) == 1,
+              "%s on %d processes: exit %d, stderr %r (expected one line with %r)"
+              % (args[0], processes, proc.returncode, proc.stderr[-400:], expected))
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--cli", required=True)
     parser.add_argument("--mesh-dir", required=True)
     parser.add_argument("--work", required=True)
     parser.add_argument("--corpus-tool", help="TestBadInputCorpus (writes and checks the corpus files)")
+    parser.add_argument("--mpiexec", help="the MPI launcher and its flags, one string (scenario distributed)")
     parser.add_argument("scenario")
     parser.add_argument("arg", nargs="?")
     a = parser.parse_args()

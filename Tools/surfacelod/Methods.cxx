@@ -72,6 +72,16 @@ struct HasMaximumError<Filter, std::void_t<decltype(std::declval<Filter&>().SetM
 {
 };
 
+template <typename Filter, typename = void>
+struct HasController : std::false_type
+{
+};
+template <typename Filter>
+struct HasController<Filter, std::void_t<decltype(std::declval<Filter&>().SetController(nullptr))>>
+  : std::true_type
+{
+};
+
 // --- What `--set` may change, one line per parameter: SLOD_PARAMETER(filter class, type, property).
 // The type is what the property means (a vtkTypeBool flag is Bool); the default shown by `methods
 // --verbose` is read from the tool's filter. Left out: the target and error bound (-t, -r, -e, -l),
@@ -309,7 +319,9 @@ vtkSmartPointer<vtkPolyDataAlgorithm> CreateSurfaceLODFilter(const MethodSetting
 template <typename Filter>
 Method SurfaceLODMethod(const char* name, const char* description, std::vector<Parameter> parameters)
 {
-  return { name, description, HasMaximumError<Filter>::value, &CreateSurfaceLODFilter<Filter>, parameters };
+  Method method{ name, description, HasMaximumError<Filter>::value, &CreateSurfaceLODFilter<Filter>, parameters };
+  method.SimplifiesPieces = HasController<Filter>::value;
+  return method;
 }
 
 // The hierarchy also shows a (real-valued) level: M_i(t) for --level i+t.

@@ -71,6 +71,9 @@ struct Method
   bool PreparesItsInput = true;
   // False for methods that remove features instead of reaching a triangle count (no -t/-r needed).
   bool NeedsTarget = true;
+  // Its filter has a Controller and keeps the seams of distributed pieces: `mpiexec -n N surfacelod
+  // simplify` may run it on N pieces (Distributed.h).
+  bool SimplifiesPieces = false;
 };
 
 const std::vector<Method>& Methods();

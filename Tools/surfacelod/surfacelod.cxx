@@ -2,6 +2,7 @@
 // surfacelod: command-line front end of the SurfaceLOD filters.
 //
 //   surfacelod simplify INPUT OUTPUT -m NAME (-t TRIANGLES | -r REDUCTION | -e MAX_ERROR) [-s Name=Value]...
+//   mpiexec -n N surfacelod simplify ...   (the surface in N pieces, one per process: Distributed.h)
 //   surfacelod compare A B           surfacelod info FILE
 //   surfacelod demo                  surfacelod bench            surfacelod methods
 //
@@ -10,6 +11,7 @@
 #include "BenchInputs.h"
 #include "ChildProcess.h"
 #include "CliSupport.h"
+#include "Distributed.h"
 #include "MeshIO.h"
 #include "Methods.h"
 #include "Render.h"
@@ -18,7 +20,9 @@
 #include "slodMeshTopology.h"
 #include "vtkSurfaceDeviation.h"
 
+#include "vtkCommunicator.h"
 #include "vtkErrorCode.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkVersion.h"
 
@@ -349,10 +353,43 @@ const Method& CheckedMethod(const SimplifyArguments& args)
   return *method;
 }
 
+// The line `simplify` prints; `distributed` adds the figures of a run on several processes.
+void PrintSimplified(const SimplifyArguments& args, const Method& method, const MethodSettings& settings,
+  vtkPolyData* output, double seconds, const Json& distributed = Json())
+{
+  const vtkIdType outputTriangles = output->GetNumberOfPolys();
+  const bool targetReached = TargetReached(output, settings);
+  if (args.Json)
+  {
+    Json line = { { "method", method.Name }, { "input_triangles", settings.InputTriangles },
+      { "output_triangles", outputTriangles }, { "target_reached", targetReached }, { "seconds", seconds },
+      { "peak_rss_mb", PeakResidentMegabytes() } };
+    if (!distributed.is_null())
+    {
+      line.update(distributed);
+    }
+    PrintJson(line);
+  }
+  else
+  {
+    std::cout << method.Name << ": " << settings.InputTriangles << " -> " << outputTriangles << " triangles in "
+              << Fixed(seconds, 3) << " s (peak RSS " << Fixed(PeakResidentMegabytes(), 1) << " MB"
+              << (distributed.is_null() ? std::string() : "; " + distributed.dump()) << "), wrote " << args.Output
+              << (targetReached ? "" : " (target not reached)") << "\n";
+  }
+}
+
+int SimplifyDistributed(const SimplifyArguments& args, const Method& method,
+  const std::vector<ParameterAssignment>& assignments, vtkMultiProcessController* controller);
+
 int Simplify(const SimplifyArguments& args)
 {
   const Method& method = CheckedMethod(args);
   const std::vector<ParameterAssignment> assignments = ParseAssignments(method, args.Assignments);
+  if (vtkMultiProcessController* controller = DistributedController())
+  {
+    return SimplifyDistributed(args, method, assignments, controller);
+  }
   CheckWritablePath(args.Output);
 
   vtkSmartPointer<vtkPolyData> input = TriangulatedSurface(ReadMesh(args.Input));
@@ -360,21 +397,100 @@ int Simplify(const SimplifyArguments& args)
   settings.FeatureSize = args.FeatureSize;
   const RunResult result = RunMethod(method, input, settings, assignments);
   WriteMesh(result.Output, args.Output);
+  PrintSimplified(args, method, settings, result.Output, result.Seconds);
+  return ExitSuccess;
+}
 
-  const vtkIdType outputTriangles = result.Output->GetNumberOfPolys();
-  const bool targetReached = TargetReached(result.Output, settings);
-  if (args.Json)
+// ---------------------------------------------------------------------------------------------
+// simplify on several processes (mpiexec): every stage between collectives catches its own
+// failures and shares them, so that all processes leave together instead of waiting for each other.
+
+// The worst exit code of all processes; throws it (with this process's message, or a generic one).
+void FailTogether(vtkMultiProcessController* controller, int code, const std::string& message)
+{
+  int worst = ExitSuccess;
+  controller->AllReduce(&code, &worst, 1, vtkCommunicator::MAX_OP);
+  if (worst != ExitSuccess)
   {
-    PrintJson({ { "method", method.Name }, { "input_triangles", settings.InputTriangles },
-      { "output_triangles", outputTriangles }, { "target_reached", targetReached }, { "seconds", result.Seconds },
-      { "peak_rss_mb", PeakResidentMegabytes() } });
+    throw CliError(worst, message.empty() ? "surfacelod simplify: another process failed" : message);
   }
-  else
+}
+
+// Rank 0 reads the input (nullptr on the other ranks); every rank learns its triangle count.
+vtkSmartPointer<vtkPolyData> ReadOnRankZero(
+  vtkMultiProcessController* controller, const SimplifyArguments& args, vtkIdType& inputTriangles)
+{
+  vtkSmartPointer<vtkPolyData> input;
+  int code = ExitSuccess;
+  std::string message;
+  long long triangles = 0;
+  if (controller->GetLocalProcessId() == 0)
   {
-    std::cout << method.Name << ": " << settings.InputTriangles << " -> " << outputTriangles << " triangles in "
-              << Fixed(result.Seconds, 3) << " s (peak RSS " << Fixed(PeakResidentMegabytes(), 1)
-              << " MB), wrote " << args.Output << (targetReached ? "" : " (target not reached)") << "\n";
+    try
+    {
+      CheckWritablePath(args.Output);
+      input = TriangulatedSurface(ReadMesh(args.Input));
+      triangles = CountTriangles(input);
+    }
+    catch (const CliError& e)
+    {
+      code = e.Code;
+      message = e.what();
+    }
   }
+  FailTogether(controller, code, message);
+  controller->Broadcast(&triangles, 1, 0);
+  inputTriangles = static_cast<vtkIdType>(triangles);
+  return input;
+}
+
+RunResult SimplifyPiece(vtkMultiProcessController* controller, const Method& method, vtkPolyData* piece,
+  const MethodSettings& settings, const std::vector<ParameterAssignment>& assignments)
+{
+  RunResult result;
+  int code = ExitSuccess;
+  std::string message;
+  try
+  {
+    result = RunMethod(method, piece, settings, assignments); // collective inside the filter's Update
+  }
+  catch (const CliError& e)
+  {
+    code = e.Code;
+    message = e.what();
+  }
+  FailTogether(controller, code, message);
+  return result;
+}
+
+int SimplifyDistributed(const SimplifyArguments& args, const Method& method,
+  const std::vector<ParameterAssignment>& assignments, vtkMultiProcessController* controller)
+{
+  if (!method.SimplifiesPieces)
+  {
+    throw CliError(ExitUsage, std::string("surfacelod simplify: method ") + method.Name +
+        " does not simplify distributed pieces; run it without mpiexec");
+  }
+  const Stopwatch wall;
+  vtkIdType inputTriangles = 0;
+  vtkSmartPointer<vtkPolyData> piece = ScatterPieces(controller, ReadOnRankZero(controller, args, inputTriangles));
+  const MethodSettings settings = TargetSettings(args.Target, inputTriangles, true, 0.0, "simplify");
+  const RunResult result = SimplifyPiece(controller, method, piece, settings, assignments);
+  piece = nullptr;
+  const vtkSmartPointer<vtkPolyData> merged = GatherPieces(controller, result.Output);
+
+  const int processes = controller->GetNumberOfProcesses();
+  double slowest = 0.0, peak = PeakResidentMegabytes();
+  std::vector<double> peaks(static_cast<size_t>(processes));
+  controller->Reduce(&result.Seconds, &slowest, 1, vtkCommunicator::MAX_OP, 0);
+  controller->Gather(&peak, peaks.data(), 1, 0);
+  if (controller->GetLocalProcessId() != 0)
+  {
+    return ExitSuccess;
+  }
+  WriteMesh(merged, args.Output);
+  PrintSimplified(args, method, settings, merged, slowest,
+    { { "processes", processes }, { "wall_seconds", wall.Seconds() }, { "peak_rss_mb_per_process", peaks } });
   return ExitSuccess;
 }
 
@@ -1178,6 +1294,7 @@ void PrintUsage(std::ostream& out)
 } // namespace
 int main(int argc, char* argv[])
 {
+  const MpiSession mpi(&argc, &argv); // several processes only when started by mpiexec
   InstallMessageHandler();
   if (argc < 2)
   {
@@ -1197,6 +1314,10 @@ int main(int argc, char* argv[])
   }
   try
   {
+    if (DistributedController() && name != "simplify")
+    {
+      throw CliError(ExitUsage, "surfacelod " + name + ": only `simplify` runs on several processes (mpiexec)");
+    }
     for (const Command& command : Commands())
     {
       if (name == command.Name)
@@ -1211,6 +1332,10 @@ int main(int argc, char* argv[])
   catch (const CliError& e)
   {
     std::cout.flush();
+    if (ProcessRank() != 0) // every process fails together; rank 0 says why
+    {
+      return e.Code;
+    }
     std::cerr << (std::string(e.what()).compare(0, 11, "surfacelod ") == 0 ? "" : "surfacelod: ") << e.what()
               << std::endl;
     return e.Code;

@@ -248,6 +248,8 @@ public:
 private:
   // The stages of Run, in order.
   void Prepare(TriangleMesh& input, bool refine);
+  // Adds the caller's TriangleCollapseOptions::LockedVertices to Locked (after Reorder).
+  void LockCallersVertices(Index numberOfPoints);
   void InitializeQueue();
   void StartLoop(CollapseLoop& loop) const;
   void CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result);
@@ -375,7 +377,7 @@ private:
   std::vector<float> SpokeCost;
   std::vector<Index> Parent;           // RefineDeviation: per vertex, the vertex it merged into
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
-  std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input, never collapsed
+  std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input or locked by the caller, never collapsed
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
   BucketQueue Heap;
@@ -940,6 +942,7 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
       this->Locked = NonManifoldVertexFlags(input);
     }
   }
+  this->LockCallersVertices(input.NumberOfPoints());
   this->Mesh.Reset(input);
   if (refine)
   {
@@ -957,6 +960,21 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
     std::vector<Index>().swap(input.Triangles);
   }
   this->TraceStage("editable mesh");
+}
+
+void TriangleCollapser::LockCallersVertices(Index numberOfPoints)
+{
+  const std::vector<unsigned char>* given = this->Options.LockedVertices;
+  if (!given || given->size() != size_t(numberOfPoints))
+  {
+    return;
+  }
+  this->Locked.resize(size_t(numberOfPoints), 0);
+  for (Index v = 0; v < numberOfPoints; ++v)
+  {
+    // Vertex v of the reordered mesh is input vertex VertexInput[v].
+    this->Locked[v] |= (*given)[this->VertexInput[v]];
+  }
 }
 
 void TriangleCollapser::InitializeQueue()
@@ -994,7 +1012,7 @@ void TriangleCollapser::StartLoop(CollapseLoop& loop) const
   loop.Target = std::max<Index>(this->Options.TargetTriangles, 0);
   loop.Check.AllowTopologyChange = this->Options.AllowTopologyChange;
   loop.Check.BoundaryVertices = this->Options.AllowTopologyChange ? nullptr : this->Boundary.data();
-  loop.Check.LockedVertices = this->Options.AllowTopologyChange ? nullptr : this->Locked.data();
+  loop.Check.LockedVertices = this->Locked.empty() ? nullptr : this->Locked.data();
   loop.Deviation = std::min(90.0, std::max(0.0, this->Options.MaximumNormalDeviation));
   loop.Check.MinimumNormalDot = NormalLimitDot(loop.Deviation);
   loop.StartTriangles = this->Mesh.NumberOfLiveTriangles();

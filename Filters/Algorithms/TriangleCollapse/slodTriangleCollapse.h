@@ -97,6 +97,10 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // Optional: per vertex of the input mesh, 1 when non-manifold (the input preparation's
   // PreparationReport::NonManifoldVertexFlags); computed here when null.
   const std::vector<unsigned char>* NonManifoldVertices = nullptr;
+  // Optional: per vertex of the input mesh, 1 when the vertex must stay exactly as it is (never
+  // removed, never moved), whatever AllowTopologyChange says: e.g. the seam of a piece of a
+  // distributed surface, shared with other pieces. Ignored when its size is not the mesh's.
+  const std::vector<unsigned char>* LockedVertices = nullptr;
   // Called about every 1% of the work with the fraction done; return false to abort.
   std::function<bool(double)> Progress;
 };

@@ -3,6 +3,7 @@
 
 #include "slodInputPreparation.h"
 #include "slodAttributeTransfer.h"
+#include "slodPieceSeams.h"
 #include "slodPointAttributes.h"
 #include "slodTriangleCollapse.h"
 
@@ -13,6 +14,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLogger.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -114,6 +116,30 @@ slod::Index TargetTriangles(vtkQuadricTriangleCollapse* filter, slod::Index inpu
     filter->GetMaximumError() > 0);
 }
 
+// What the other pieces of a distributed surface impose on this process's piece (see the header);
+// for a single process, the filter's own target and the mesh's diagonal.
+struct PieceSetting
+{
+  slod::Index Target = 0;
+  double Diagonal = 0.0;
+  slod::PieceSeam Seam;
+};
+
+// Collective when the controller runs several processes: every process calls it, whatever its piece.
+PieceSetting SettleWithOtherPieces(vtkQuadricTriangleCollapse* filter, const slod::TriangleMesh& mesh)
+{
+  vtkMultiProcessController* controller = filter->GetController();
+  PieceSetting setting;
+  setting.Target = slod::PieceShareOfTarget(
+    controller, mesh.NumberOfTriangles(), [filter](slod::Index total) { return TargetTriangles(filter, total); });
+  setting.Diagonal = slod::UnionBoundingBoxDiagonal(mesh, controller);
+  if (slod::IsDistributed(controller))
+  {
+    setting.Seam = slod::FindPieceSeam(mesh, controller);
+  }
+  return setting;
+}
+
 slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter, slod::Index target, double diagonal)
 {
   slod::TriangleCollapseOptions options;
@@ -171,7 +197,15 @@ void StoreProgressiveMesh(const slod::TriangleCollapseResult& result, slod::Inde
 vtkQuadricTriangleCollapse::vtkQuadricTriangleCollapse()
 {
   this->SetNumberOfOutputPorts(2);
+  this->SetController(vtkMultiProcessController::GetGlobalController());
 }
+
+vtkQuadricTriangleCollapse::~vtkQuadricTriangleCollapse()
+{
+  this->SetController(nullptr);
+}
+
+vtkCxxSetObjectMacro(vtkQuadricTriangleCollapse, Controller, vtkMultiProcessController);
 
 int vtkQuadricTriangleCollapse::FillOutputPortInformation(int port, vtkInformation* info)
 {
@@ -191,7 +225,7 @@ vtkTable* vtkQuadricTriangleCollapse::GetCollapseRecords()
 int vtkQuadricTriangleCollapse::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkSmartPointer<vtkPolyData> input = vtkPolyData::GetData(inputVector[0], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   vtkTable* records = vtkTable::GetData(outputVector, 1);
   this->ActualReduction = 0.0;
@@ -201,27 +235,32 @@ int vtkQuadricTriangleCollapse::RequestData(
   {
     return 1;
   }
+  // A piece of a distributed surface: the cells other pieces own are theirs to simplify.
+  if (slod::IsDistributed(this->Controller))
+  {
+    input = slod::WithoutGhostCells(input);
+  }
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
+  bool prepared = false;
   {
     vtkLogScopeF(TRACE, "vtkQuadricTriangleCollapse: input preparation");
-    if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
-          slod::CellMapIfNeeded(input, triangleToCell)))
-    {
-      return 1;
-    }
+    prepared = slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+      slod::CellMapIfNeeded(input, triangleToCell));
   }
+  const PieceSetting piece = SettleWithOtherPieces(this, mesh); // collective: before any return
   const slod::Index inputTriangles = mesh.NumberOfTriangles();
   const slod::Index inputPoints = mesh.NumberOfPoints();
-  if (inputTriangles == 0)
+  if (!prepared || inputTriangles == 0)
   {
     return 1;
   }
-  const slod::Index target = TargetTriangles(this, inputTriangles);
-  const double diagonal = mesh.BoundingBoxDiagonal();
+  const slod::Index target = piece.Target;
+  const double diagonal = piece.Diagonal;
   slod::TriangleCollapseOptions options = CollapseOptions(this, target, diagonal);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
+  options.LockedVertices = piece.Seam.SharedVertices.empty() ? nullptr : &piece.Seam.SharedVertices;
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
   std::vector<slod::Index>().swap(vertexToInput);
@@ -274,6 +313,7 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BatchCollapses: " << this->BatchCollapses << "\n";
   os << indent << "BatchCostTolerance: " << this->BatchCostTolerance << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
+  os << indent << "Controller: " << this->Controller << "\n";
   os << indent << "ActualReduction: " << this->ActualReduction << "\n";
   os << indent << "NumberOfCollapses: " << this->NumberOfCollapses << "\n";
   os << indent << "MaximumSimplificationError: " << this->MaximumSimplificationError << "\n";

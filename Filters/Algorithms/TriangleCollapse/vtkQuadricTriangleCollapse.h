@@ -55,6 +55,15 @@
  * corner) and "Surrounding" (the paper's surrounding vertices)), with field data
  * "NumberOfInputPoints" and "NumberOfInputTriangles" (of the prepared input mesh).
  * vtkProgressiveMeshReconstruction rebuilds any level from output 0 + output 1.
+ *
+ * Distributed pieces: when the Controller (default: the global controller) runs more than one
+ * process, each process simplifies its own piece of one surface. Cells marked as ghosts in
+ * vtkGhostType are dropped first; the piece's vertices that another piece also has on its border
+ * (the seam, found by exact coordinates with the controller's collectives, slodPieceSeams.h) are
+ * locked: never removed or moved, so the union of the outputs has no crack. A triangle target
+ * (TargetNumberOfTriangles or TargetReduction) is set for the union: each piece aims at its share,
+ * proportional to its triangles, and a relative MaximumError is relative to the union's diagonal.
+ * RequestData is then collective: every process must update the filter.
  */
 #ifndef vtkQuadricTriangleCollapse_h
 #define vtkQuadricTriangleCollapse_h
@@ -62,6 +71,7 @@
 #include "SurfaceLODFiltersModule.h"
 #include "vtkPolyDataAlgorithm.h"
 
+class vtkMultiProcessController;
 class vtkTable;
 
 class SURFACELODFILTERS_EXPORT vtkQuadricTriangleCollapse : public vtkPolyDataAlgorithm
@@ -191,9 +201,16 @@ public:
   /// The collapse records (output port 1).
   vtkTable* GetCollapseRecords();
 
+  ///@{
+  /// The processes over which the input's pieces are spread (default: the global controller;
+  /// nullptr or one process: the input is the whole surface).
+  virtual void SetController(vtkMultiProcessController*);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  ///@}
+
 protected:
   vtkQuadricTriangleCollapse();
-  ~vtkQuadricTriangleCollapse() override = default;
+  ~vtkQuadricTriangleCollapse() override;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -214,6 +231,7 @@ protected:
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
+  vtkMultiProcessController* Controller = nullptr;
 
   double ActualReduction = 0.0;
   vtkIdType NumberOfCollapses = 0;

@@ -354,6 +354,47 @@ TEST(QuadricTriangleCollapse, FitGuardsExactAndLocal)
   EXPECT_EQ(local.Triangles, off.Triangles);
 }
 
+// Locked vertices (the seams of distributed pieces) stay exactly where they are, with or without
+// topology changes, while the count target is still met by collapsing around them.
+TEST(QuadricTriangleCollapse, LockedVerticesStayExactly)
+{
+  const TriangleMesh sphere = slodtest::Sphere(64, 48);
+  std::vector<unsigned char> locked(size_t(sphere.NumberOfPoints()), 0);
+  std::set<std::tuple<double, double, double>> lockedPositions;
+  for (Index v = 0; v < sphere.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = sphere.Point(v);
+    if (p[1] == 0.0 && p[0] >= 0.0) // one meridian, pole to pole: a seam
+    {
+      locked[v] = 1;
+      lockedPositions.emplace(p[0], p[1], p[2]);
+    }
+  }
+  ASSERT_GE(lockedPositions.size(), 40u);
+  for (const bool allowTopologyChange : { false, true })
+  {
+    TriangleMesh mesh = sphere;
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    options.AllowTopologyChange = allowTopologyChange;
+    options.LockedVertices = &locked;
+    TriangleCollapseResult result;
+    SimplifyByTriangleCollapse(mesh, options, result);
+    std::set<std::tuple<double, double, double>> kept;
+    for (Index v = 0; v < result.Mesh.NumberOfPoints(); ++v)
+    {
+      const Vec3 p = result.Mesh.Point(v);
+      if (lockedPositions.count({ p[0], p[1], p[2] }))
+      {
+        kept.emplace(p[0], p[1], p[2]);
+        EXPECT_TRUE(locked[result.OutputToInput[v]]) << "a vertex moved onto a locked position";
+      }
+    }
+    EXPECT_EQ(kept, lockedPositions) << "allowTopologyChange " << allowTopologyChange;
+    EXPECT_LE(result.Mesh.NumberOfTriangles(), options.TargetTriangles);
+  }
+}
+
 TEST(QuadricTriangleCollapse, BadInputGivesDefinedOutput)
 {
   vtkNew<slodtest::MessageCounter> messages;
