@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkOBJMeshReader.h"
 
+#include "slodMeshFileSupport.h"
+
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkErrorCode.h"
@@ -25,14 +27,7 @@ vtkStandardNewMacro(vtkOBJMeshReader);
 
 namespace
 {
-// A failure: message, VTK error code and line (0: none).
-struct ObjProblem
-{
-  std::string Message;
-  unsigned long Code = vtkErrorCode::NoError;
-  long long Line = 0;
-  explicit operator bool() const { return this->Code != vtkErrorCode::NoError; }
-};
+using ObjProblem = slod::MeshFileProblem;
 
 // One corner of a face: 0-based position, texture coordinate and normal numbers (-1: none).
 struct ObjCorner
@@ -311,29 +306,17 @@ std::string UnreadSummary(const ObjContent& content)
 }
 } // namespace
 
-vtkOBJMeshReader::vtkOBJMeshReader()
-{
-  this->SetNumberOfInputPorts(0);
-}
-
 void vtkOBJMeshReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << this->FileName << "\n";
 }
 
 int vtkOBJMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  this->LastError.clear();
-  this->SetErrorCode(vtkErrorCode::NoError);
+  this->StartRead();
   auto fail = [&](const ObjProblem& problem) {
-    this->LastError =
-      this->FileName + (problem.Line > 0 ? ":" + std::to_string(problem.Line) : std::string()) + ": " + problem.Message;
-    vtkErrorMacro(<< this->LastError);
-    this->SetErrorCode(problem.Code);
-    output->Initialize();
-    return 1; // a defined (empty) output; the error code tells callers
+    return this->FailRead(output, problem.Message, problem.Code, problem.Line);
   };
   std::ifstream in(this->FileName, std::ios::binary);
   if (this->FileName.empty() || !in)
@@ -359,7 +342,7 @@ int vtkOBJMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   const std::string unread = UnreadSummary(content);
   if (!unread.empty())
   {
-    vtkWarningMacro(<< this->FileName << ": " << unread);
+    this->WarnNotRead(unread);
   }
   BuildOutput(content, output);
   return 1;

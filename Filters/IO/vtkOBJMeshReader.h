@@ -20,30 +20,19 @@
 #define vtkOBJMeshReader_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkMeshFileReader.h"
 
-#include <string>
-
-class SURFACELODFILTERS_EXPORT vtkOBJMeshReader : public vtkPolyDataAlgorithm
+class SURFACELODFILTERS_EXPORT vtkOBJMeshReader : public vtkMeshFileReader
 {
 public:
   static vtkOBJMeshReader* New();
-  vtkTypeMacro(vtkOBJMeshReader, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkOBJMeshReader, vtkMeshFileReader);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  vtkSetStdStringFromCharMacro(FileName);
-  vtkGetCharFromStdStringMacro(FileName);
-
-  /// Description of the last failure ("" when the last read succeeded).
-  const char* GetLastError() const { return this->LastError.c_str(); }
-
 protected:
-  vtkOBJMeshReader();
+  vtkOBJMeshReader() = default;
   ~vtkOBJMeshReader() override = default;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-
-  std::string FileName;
-  std::string LastError;
 
 private:
   vtkOBJMeshReader(const vtkOBJMeshReader&) = delete;

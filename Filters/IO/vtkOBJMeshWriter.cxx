@@ -2,11 +2,9 @@
 #include "vtkOBJMeshWriter.h"
 
 #include "slodCheckedFile.h"
-#include "slodMeshFileArrays.h"
+#include "slodMeshFileSupport.h"
 
 #include "vtkDataArray.h"
-#include "vtkErrorCode.h"
-#include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -63,48 +61,17 @@ void WriteFace(slod::CheckedFileWriter& file, vtkIdType n, const vtkIdType* ids,
 void vtkOBJMeshWriter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << this->FileName << "\n";
 }
 
-int vtkOBJMeshWriter::FillInputPortInformation(int, vtkInformation* info)
+std::string vtkOBJMeshWriter::WriteMesh(vtkPolyData* input, slod::CheckedFileWriter& file)
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  return 1;
-}
-
-vtkPolyData* vtkOBJMeshWriter::GetInput()
-{
-  return vtkPolyData::SafeDownCast(this->Superclass::GetInput());
-}
-
-void vtkOBJMeshWriter::WriteData()
-{
-  this->LastError.clear();
-  this->SetErrorCode(vtkErrorCode::NoError);
-  auto fail = [&](const std::string& message, unsigned long code) {
-    this->LastError = this->FileName + ": " + message;
-    vtkErrorMacro(<< this->LastError);
-    this->SetErrorCode(code);
-  };
-  vtkPolyData* input = this->GetInput();
-  if (!input || !input->GetPoints())
-  {
-    return fail("no input (or no points) to write", vtkErrorCode::UnknownError);
-  }
-  if (this->FileName.empty())
-  {
-    return fail("no file name", vtkErrorCode::NoFileNameError);
-  }
-  slod::CheckedFileWriter file;
-  std::string problem = file.Open(this->FileName);
-  if (!problem.empty())
-  {
-    return fail(problem, vtkErrorCode::CannotOpenFileError);
-  }
   vtkDataArray* tcoords = slod::FileTextureCoordinates(input->GetPointData());
   vtkDataArray* normals = slod::FileNormals(input->GetPointData());
   file.WriteText("# written by SurfaceLOD vtkOBJMeshWriter\n");
-  WriteTupleLines(file, "v", input->GetPoints()->GetData());
+  if (input->GetPoints())
+  {
+    WriteTupleLines(file, "v", input->GetPoints()->GetData());
+  }
   if (tcoords)
   {
     WriteTupleLines(file, "vt", tcoords);
@@ -116,9 +83,5 @@ void vtkOBJMeshWriter::WriteData()
   slod::ForEachSurfaceFace(input, [&](vtkIdType n, const vtkIdType* ids, vtkIdType) {
     WriteFace(file, n, ids, tcoords != nullptr, normals != nullptr);
   });
-  problem = file.Close();
-  if (!problem.empty())
-  {
-    fail(problem, vtkErrorCode::OutOfDiskSpaceError);
-  }
+  return std::string();
 }

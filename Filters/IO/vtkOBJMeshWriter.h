@@ -15,35 +15,21 @@
 #define vtkOBJMeshWriter_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkWriter.h"
+#include "vtkMeshFileWriter.h"
 
 #include <string>
 
-class vtkPolyData;
-
-class SURFACELODFILTERS_EXPORT vtkOBJMeshWriter : public vtkWriter
+class SURFACELODFILTERS_EXPORT vtkOBJMeshWriter : public vtkMeshFileWriter
 {
 public:
   static vtkOBJMeshWriter* New();
-  vtkTypeMacro(vtkOBJMeshWriter, vtkWriter);
+  vtkTypeMacro(vtkOBJMeshWriter, vtkMeshFileWriter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  vtkSetStdStringFromCharMacro(FileName);
-  vtkGetCharFromStdStringMacro(FileName);
-
-  /// Description of the last failure ("" when the last write succeeded).
-  const char* GetLastError() const { return this->LastError.c_str(); }
-
-  vtkPolyData* GetInput();
 
 protected:
   vtkOBJMeshWriter() = default;
   ~vtkOBJMeshWriter() override = default;
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  void WriteData() override;
-
-  std::string FileName;
-  std::string LastError;
+  std::string WriteMesh(vtkPolyData* mesh, slod::CheckedFileWriter& file) override;
 
 private:
   vtkOBJMeshWriter(const vtkOBJMeshWriter&) = delete;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkOFFMeshReader.h"
 
+#include "slodMeshFileSupport.h"
+
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkErrorCode.h"
@@ -78,27 +80,14 @@ bool ParseReal(const std::string& token, double& value)
 }
 } // namespace
 
-vtkOFFMeshReader::vtkOFFMeshReader()
-{
-  this->SetNumberOfInputPorts(0);
-}
-
 void vtkOFFMeshReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << this->FileName << "\n";
 }
 
 namespace
 {
-// A failure of one stage: message, VTK error code and line (0: none).
-struct OffProblem
-{
-  std::string Message;
-  unsigned long Code = vtkErrorCode::NoError;
-  long long Line = 0;
-  explicit operator bool() const { return this->Code != vtkErrorCode::NoError; }
-};
+using OffProblem = slod::MeshFileProblem;
 
 struct OffHeader
 {
@@ -344,17 +333,9 @@ long long BytesLeft(std::ifstream& in)
 int vtkOFFMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  this->LastError.clear();
-  this->SetErrorCode(vtkErrorCode::NoError);
-  auto where = [&](long long line) {
-    return this->FileName + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": ";
-  };
+  this->StartRead();
   auto fail = [&](const OffProblem& problem) {
-    this->LastError = where(problem.Line) + problem.Message;
-    vtkErrorMacro(<< this->LastError);
-    this->SetErrorCode(problem.Code);
-    output->Initialize();
-    return 1; // a defined (empty) output; the error code tells callers
+    return this->FailRead(output, problem.Message, problem.Code, problem.Line);
   };
 
   std::ifstream in(this->FileName, std::ios::binary);
@@ -392,8 +373,9 @@ int vtkOFFMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   std::vector<std::string> tokens;
   if (tokenizer.NextLine(tokens))
   {
-    vtkWarningMacro(<< where(tokenizer.LineNumber) << "data after the " << header.NumberOfFaces
-                    << " faces the header announces; it is ignored (a wrong face count?)");
+    this->WarnNotRead("data after the " + std::to_string(header.NumberOfFaces) +
+        " faces the header announces; it is ignored (a wrong face count?)",
+      tokenizer.LineNumber);
   }
   output->SetPoints(points);
   output->SetPolys(polys);

@@ -2,13 +2,11 @@
 #include "vtkOFFMeshWriter.h"
 
 #include "slodCheckedFile.h"
-#include "slodMeshFileArrays.h"
+#include "slodMeshFileSupport.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDataArray.h"
-#include "vtkErrorCode.h"
-#include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -122,57 +120,14 @@ void WriteFace(slod::CheckedFileWriter& file, vtkIdType n, const vtkIdType* ids)
 void vtkOFFMeshWriter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << this->FileName << "\n";
 }
 
-int vtkOFFMeshWriter::FillInputPortInformation(int, vtkInformation* info)
+std::string vtkOFFMeshWriter::WriteMesh(vtkPolyData* input, slod::CheckedFileWriter& file)
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  return 1;
-}
-
-vtkPolyData* vtkOFFMeshWriter::GetInput()
-{
-  return vtkPolyData::SafeDownCast(this->Superclass::GetInput());
-}
-
-void vtkOFFMeshWriter::WriteData()
-{
-  this->LastError.clear();
-  this->SetErrorCode(vtkErrorCode::NoError);
-  auto fail = [&](const std::string& message, unsigned long code) {
-    this->LastError = this->FileName + ": " + message;
-    vtkErrorMacro(<< this->LastError);
-    this->SetErrorCode(code);
-  };
-
-  vtkPolyData* input = this->GetInput();
-  if (!input)
-  {
-    fail("no input to write", vtkErrorCode::UnknownError);
-    return;
-  }
-  if (this->FileName.empty())
-  {
-    fail("no file name", vtkErrorCode::NoFileNameError);
-    return;
-  }
-  slod::CheckedFileWriter file;
-  std::string problem = file.Open(this->FileName);
-  if (!problem.empty())
-  {
-    fail(problem, vtkErrorCode::CannotOpenFileError);
-    return;
-  }
   const OffVertexArrays arrays = FindOffVertexArrays(input);
-  const vtkIdType numFaces = slod::CountSurfaceFaces(input);
   file.WriteText(arrays.Keyword() + "\n" + std::to_string(input->GetNumberOfPoints()) + " " +
-    std::to_string(numFaces) + " 0\n");
+    std::to_string(slod::CountSurfaceFaces(input)) + " 0\n");
   WriteVertices(file, input, arrays);
   slod::ForEachSurfaceFace(input, [&](vtkIdType n, const vtkIdType* ids, vtkIdType) { WriteFace(file, n, ids); });
-  problem = file.Close();
-  if (!problem.empty())
-  {
-    fail(problem, vtkErrorCode::OutOfDiskSpaceError);
-  }
+  return std::string();
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkPLYMeshReader.h"
 
+#include "slodMeshFileSupport.h"
 #include "slodPlyFormat.h"
 
 #include "vtkCellArray.h"
@@ -32,13 +33,7 @@ namespace
 using slod::PlyEncoding;
 using slod::PlyScalarType;
 
-// A failure of one stage: message and VTK error code.
-struct PlyProblem
-{
-  std::string Message;
-  unsigned long Code = vtkErrorCode::NoError;
-  explicit operator bool() const { return this->Code != vtkErrorCode::NoError; }
-};
+using PlyProblem = slod::MeshFileProblem;
 
 PlyProblem FormatProblem(const std::string& message)
 {
@@ -742,19 +737,6 @@ PlyProblem CheckPlyStructure(const PlyHeader& header)
   return vertexSeen ? PlyProblem() : FormatProblem("PLY file has no vertex element");
 }
 
-bool ReadWholeFile(const std::string& path, std::string& bytes)
-{
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-  {
-    return false;
-  }
-  std::ostringstream contents;
-  contents << in.rdbuf();
-  bytes = contents.str();
-  return !in.bad();
-}
-
 void AddArrays(vtkDataSetAttributes* data, const ElementArrays& arrays)
 {
   if (arrays.Normals)
@@ -804,31 +786,18 @@ std::string UnreadSummary(const PlyContent& content, bool trailingData)
 }
 } // namespace
 
-vtkPLYMeshReader::vtkPLYMeshReader()
-{
-  this->SetNumberOfInputPorts(0);
-}
-
 void vtkPLYMeshReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << this->FileName << "\n";
 }
 
 int vtkPLYMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  this->LastError.clear();
-  this->SetErrorCode(vtkErrorCode::NoError);
-  auto fail = [&](const PlyProblem& problem) {
-    this->LastError = this->FileName + ": " + problem.Message;
-    vtkErrorMacro(<< this->LastError);
-    this->SetErrorCode(problem.Code);
-    output->Initialize();
-    return 1; // a defined (empty) output; the error code tells callers
-  };
+  this->StartRead();
+  auto fail = [&](const PlyProblem& problem) { return this->FailRead(output, problem.Message, problem.Code); };
   std::string bytes;
-  if (this->FileName.empty() || !ReadWholeFile(this->FileName, bytes))
+  if (this->FileName.empty() || !slod::ReadWholeFile(this->FileName, bytes))
   {
     return fail({ std::string("cannot open file (") + std::strerror(errno) + ")", vtkErrorCode::CannotOpenFileError });
   }
@@ -848,7 +817,7 @@ int vtkPLYMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   const std::string unread = UnreadSummary(content, values.HasTrailingData());
   if (!unread.empty())
   {
-    vtkWarningMacro(<< this->FileName << ": " << unread);
+    this->WarnNotRead(unread);
   }
   vtkNew<vtkPoints> points;
   points->SetData(content.Vertices.Points);

@@ -23,30 +23,19 @@
 #define vtkPLYMeshReader_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkMeshFileReader.h"
 
-#include <string>
-
-class SURFACELODFILTERS_EXPORT vtkPLYMeshReader : public vtkPolyDataAlgorithm
+class SURFACELODFILTERS_EXPORT vtkPLYMeshReader : public vtkMeshFileReader
 {
 public:
   static vtkPLYMeshReader* New();
-  vtkTypeMacro(vtkPLYMeshReader, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkPLYMeshReader, vtkMeshFileReader);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  vtkSetStdStringFromCharMacro(FileName);
-  vtkGetCharFromStdStringMacro(FileName);
-
-  /// Description of the last failure ("" when the last read succeeded).
-  const char* GetLastError() const { return this->LastError.c_str(); }
-
 protected:
-  vtkPLYMeshReader();
+  vtkPLYMeshReader() = default;
   ~vtkPLYMeshReader() override = default;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-
-  std::string FileName;
-  std::string LastError;
 
 private:
   vtkPLYMeshReader(const vtkPLYMeshReader&) = delete;

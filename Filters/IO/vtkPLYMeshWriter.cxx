@@ -2,7 +2,7 @@
 #include "vtkPLYMeshWriter.h"
 
 #include "slodCheckedFile.h"
-#include "slodMeshFileArrays.h"
+#include "slodMeshFileSupport.h"
 #include "slodPlyFormat.h"
 
 #include "vtkBitArray.h"
@@ -10,8 +10,6 @@
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
-#include "vtkErrorCode.h"
-#include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -321,54 +319,24 @@ bool vtkPLYMeshWriter::CanWriteArray(vtkAbstractArray* array)
 void vtkPLYMeshWriter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << this->FileName << "\n";
   os << indent << "FileType: " << (this->FileType == VTK_ASCII ? "ASCII" : "Binary") << "\n";
   os << indent << "BigEndian: " << this->BigEndian << "\n";
 }
 
-int vtkPLYMeshWriter::FillInputPortInformation(int, vtkInformation* info)
+std::string vtkPLYMeshWriter::WriteMesh(vtkPolyData* input, slod::CheckedFileWriter& file)
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  return 1;
-}
-
-vtkPolyData* vtkPLYMeshWriter::GetInput()
-{
-  return vtkPolyData::SafeDownCast(this->Superclass::GetInput());
-}
-
-void vtkPLYMeshWriter::WriteData()
-{
-  this->LastError.clear();
-  this->SetErrorCode(vtkErrorCode::NoError);
-  auto fail = [&](const std::string& message, unsigned long code) {
-    this->LastError = this->FileName + ": " + message;
-    vtkErrorMacro(<< this->LastError);
-    this->SetErrorCode(code);
-  };
-  vtkPolyData* input = this->GetInput();
-  if (!input || !input->GetPoints())
+  if (!input->GetPoints())
   {
-    return fail("no input (or no points) to write", vtkErrorCode::UnknownError);
-  }
-  if (this->FileName.empty())
-  {
-    return fail("no file name", vtkErrorCode::NoFileNameError);
+    return "no points to write";
   }
   if (input->GetNumberOfPoints() > INT_MAX)
   {
-    return fail("more points than PLY's int vertex indices can refer to", vtkErrorCode::UnknownError);
+    return "more points than PLY's int vertex indices can refer to";
   }
   PlyFaces faces;
   CollectFaces(input, faces);
   const std::vector<PlyColumn> vertexColumns = ElementColumns(input->GetPointData(), input->GetPoints());
   const std::vector<PlyColumn> faceColumns = ElementColumns(input->GetCellData(), nullptr);
-  slod::CheckedFileWriter file;
-  std::string problem = file.Open(this->FileName);
-  if (!problem.empty())
-  {
-    return fail(problem, vtkErrorCode::CannotOpenFileError);
-  }
   const bool ascii = this->FileType == VTK_ASCII;
   file.WriteText(HeaderText(ascii, this->BigEndian, input->GetNumberOfPoints(), vertexColumns, faces, faceColumns));
   PlyValueWriter values(file, ascii, this->BigEndian);
@@ -377,9 +345,5 @@ void vtkPLYMeshWriter::WriteData()
     WriteRow(values, vertexColumns, i);
   }
   WriteFaces(values, faces, faceColumns);
-  problem = file.Close();
-  if (!problem.empty())
-  {
-    fail(problem, vtkErrorCode::OutOfDiskSpaceError);
-  }
+  return std::string();
 }

@@ -20,22 +20,17 @@
 #define vtkPLYMeshWriter_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkWriter.h"
+#include "vtkMeshFileWriter.h"
 
 #include <string>
 
 class vtkAbstractArray;
-class vtkPolyData;
-
-class SURFACELODFILTERS_EXPORT vtkPLYMeshWriter : public vtkWriter
+class SURFACELODFILTERS_EXPORT vtkPLYMeshWriter : public vtkMeshFileWriter
 {
 public:
   static vtkPLYMeshWriter* New();
-  vtkTypeMacro(vtkPLYMeshWriter, vtkWriter);
+  vtkTypeMacro(vtkPLYMeshWriter, vtkMeshFileWriter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  vtkSetStdStringFromCharMacro(FileName);
-  vtkGetCharFromStdStringMacro(FileName);
 
   /// VTK_BINARY (default) or VTK_ASCII.
   vtkSetClampMacro(FileType, int, VTK_ASCII, VTK_BINARY);
@@ -51,19 +46,10 @@ public:
   /// Whether the writer keeps an array (numeric arrays of any type and component count).
   static bool CanWriteArray(vtkAbstractArray* array);
 
-  /// Description of the last failure ("" when the last write succeeded).
-  const char* GetLastError() const { return this->LastError.c_str(); }
-
-  vtkPolyData* GetInput();
-
 protected:
   vtkPLYMeshWriter() = default;
   ~vtkPLYMeshWriter() override = default;
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  void WriteData() override;
-
-  std::string FileName;
-  std::string LastError;
+  std::string WriteMesh(vtkPolyData* mesh, slod::CheckedFileWriter& file) override;
   int FileType = VTK_BINARY;
   bool BigEndian = false;
 

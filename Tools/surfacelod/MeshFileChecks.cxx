@@ -3,15 +3,7 @@
 
 #include <vtksys/SystemTools.hxx>
 
-#include <cerrno>
-#include <climits>
-#include <cmath>
-#include <cstdint>
-#include <cstdlib>
-#include <cstring>
-#include <fstream>
-#include <sstream>
-#include <vector>
+#include <string>
 
 namespace slodcli
 {
@@ -50,22 +42,5 @@ bool IsBinarySTL(const std::string& path)
 {
   // The test vtkSTLReader::GetSTLFileType makes (unknown: it attempts binary).
   return vtksys::SystemTools::DetectFileType(path.c_str()) != vtksys::SystemTools::FileTypeText;
-}
-
-bool ReadFileBytes(const std::string& path, std::string& bytes)
-{
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-  {
-    return false;
-  }
-  std::ostringstream contents;
-  contents << in.rdbuf();
-  if (in.bad())
-  {
-    return false;
-  }
-  bytes = contents.str();
-  return true;
 }
 } // namespace slodcli

@@ -23,9 +23,6 @@ FileCheck CheckSTL(const std::string& bytes, bool binary);
 
 // vtkSTLReader's choice between its binary and ASCII parsers for the file at path.
 bool IsBinarySTL(const std::string& path);
-
-// Reads a whole file into memory; false (and errno set) when it cannot be read.
-bool ReadFileBytes(const std::string& path, std::string& bytes);
 } // namespace slodcli
 
 #endif

@@ -11,7 +11,7 @@
 #include "vtkErrorCode.h"
 #include "vtkLogger.h"
 #include "vtkNew.h"
-#include "slodMeshFileArrays.h"
+#include "slodMeshFileSupport.h"
 #include "vtkOBJMeshReader.h"
 #include "vtkOBJMeshWriter.h"
 #include "vtkOFFMeshReader.h"
@@ -274,7 +274,7 @@ FileCheck CheckFileBytes(const std::string& path, const std::string& ext)
     return FileCheck();
   }
   std::string bytes;
-  if (!ReadFileBytes(path, bytes))
+  if (!slod::ReadWholeFile(path, bytes))
   {
     return { std::string("cannot read file (") + std::strerror(errno) + ")", std::string() };
   }

@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "slodMeshFileArrays.h"
+#include "slodMeshFileSupport.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkPolyData.h"
+
+#include <fstream>
+#include <sstream>
 
 namespace slod
 {
@@ -66,5 +69,22 @@ vtkIdType CountSurfaceFaces(vtkPolyData* mesh)
     faces += n > 2 ? n - 2 : 0;
   }
   return faces;
+}
+
+bool ReadWholeFile(const std::string& path, std::string& bytes)
+{
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+  {
+    return false;
+  }
+  std::ostringstream contents;
+  contents << in.rdbuf();
+  if (in.bad())
+  {
+    return false;
+  }
+  bytes = contents.str();
+  return true;
 }
 } // namespace slod

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The point / cell arrays the mesh file writers of Filters/IO give a role in their format
+// What the mesh file readers and writers of Filters/IO share. The point / cell arrays the writers of Filters/IO give a role in their format
 // (OFF's N, C and ST columns, PLY's nx / red / u properties, OBJ's vn and vt lines): one rule,
 // so the writers and the tool's warning about dropped arrays agree.
-#ifndef slodMeshFileArrays_h
-#define slodMeshFileArrays_h
+#ifndef slodMeshFileSupport_h
+#define slodMeshFileSupport_h
 
 #include "vtkType.h"
 
 #include <functional>
+#include <string>
 
 class vtkDataArray;
 class vtkDataSetAttributes;
@@ -15,6 +16,15 @@ class vtkPolyData;
 
 namespace slod
 {
+// A failure of one stage of a mesh file reader: message, VTK error code (vtkErrorCode), line (0: none).
+struct MeshFileProblem
+{
+  std::string Message;
+  unsigned long Code = 0; // vtkErrorCode::NoError
+  long long Line = 0;
+  explicit operator bool() const { return this->Code != 0; }
+};
+
 // The normals of three components, or nullptr.
 vtkDataArray* FileNormals(vtkDataSetAttributes* data);
 // The texture coordinates of two components, or nullptr.
@@ -28,6 +38,9 @@ vtkDataArray* FileColors(vtkDataSetAttributes* data);
 using FaceVisitor = std::function<void(vtkIdType size, const vtkIdType* ids, vtkIdType cell)>;
 void ForEachSurfaceFace(vtkPolyData* mesh, const FaceVisitor& visit);
 vtkIdType CountSurfaceFaces(vtkPolyData* mesh);
+
+// Reads a whole file into memory; false (and errno set) when it cannot be read.
+bool ReadWholeFile(const std::string& path, std::string& bytes);
 } // namespace slod
 
 #endif
