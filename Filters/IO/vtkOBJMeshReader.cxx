@@ -99,7 +99,7 @@ bool ParseIndex(const std::string& text, long long definedSoFar, long long& inde
     return false;
   }
   index = value > 0 ? value - 1 : definedSoFar + value;
-  return true;
+  return index >= 0; // a negative number reaching before the first item is malformed
 }
 
 // "v", "v/vt", "v//vn" or "v/vt/vn".
@@ -305,11 +305,6 @@ std::string UnreadSummary(const ObjContent& content)
   return summary;
 }
 } // namespace
-
-void vtkOBJMeshReader::PrintSelf(ostream& os, vtkIndent indent)
-{
-  this->Superclass::PrintSelf(os, indent);
-}
 
 int vtkOBJMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {

@@ -27,7 +27,6 @@ class SURFACELODFILTERS_EXPORT vtkOBJMeshReader : public vtkMeshFileReader
 public:
   static vtkOBJMeshReader* New();
   vtkTypeMacro(vtkOBJMeshReader, vtkMeshFileReader);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
 
 protected:
   vtkOBJMeshReader() = default;

@@ -58,11 +58,6 @@ void WriteFace(slod::CheckedFileWriter& file, vtkIdType n, const vtkIdType* ids,
 }
 } // namespace
 
-void vtkOBJMeshWriter::PrintSelf(ostream& os, vtkIndent indent)
-{
-  this->Superclass::PrintSelf(os, indent);
-}
-
 std::string vtkOBJMeshWriter::WriteMesh(vtkPolyData* input, slod::CheckedFileWriter& file)
 {
   vtkDataArray* tcoords = slod::FileTextureCoordinates(input->GetPointData());

@@ -24,7 +24,6 @@ class SURFACELODFILTERS_EXPORT vtkOBJMeshWriter : public vtkMeshFileWriter
 public:
   static vtkOBJMeshWriter* New();
   vtkTypeMacro(vtkOBJMeshWriter, vtkMeshFileWriter);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
 
 protected:
   vtkOBJMeshWriter() = default;

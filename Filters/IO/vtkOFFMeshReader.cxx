@@ -80,11 +80,6 @@ bool ParseReal(const std::string& token, double& value)
 }
 } // namespace
 
-void vtkOFFMeshReader::PrintSelf(ostream& os, vtkIndent indent)
-{
-  this->Superclass::PrintSelf(os, indent);
-}
-
 namespace
 {
 using OffProblem = slod::MeshFileProblem;

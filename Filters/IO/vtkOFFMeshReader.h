@@ -23,7 +23,6 @@ class SURFACELODFILTERS_EXPORT vtkOFFMeshReader : public vtkMeshFileReader
 public:
   static vtkOFFMeshReader* New();
   vtkTypeMacro(vtkOFFMeshReader, vtkMeshFileReader);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
 
 protected:
   vtkOFFMeshReader() = default;

@@ -117,11 +117,6 @@ void WriteFace(slod::CheckedFileWriter& file, vtkIdType n, const vtkIdType* ids)
 
 } // namespace
 
-void vtkOFFMeshWriter::PrintSelf(ostream& os, vtkIndent indent)
-{
-  this->Superclass::PrintSelf(os, indent);
-}
-
 std::string vtkOFFMeshWriter::WriteMesh(vtkPolyData* input, slod::CheckedFileWriter& file)
 {
   const OffVertexArrays arrays = FindOffVertexArrays(input);

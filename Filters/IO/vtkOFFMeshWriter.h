@@ -24,7 +24,6 @@ class SURFACELODFILTERS_EXPORT vtkOFFMeshWriter : public vtkMeshFileWriter
 public:
   static vtkOFFMeshWriter* New();
   vtkTypeMacro(vtkOFFMeshWriter, vtkMeshFileWriter);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
 
 protected:
   vtkOFFMeshWriter() = default;

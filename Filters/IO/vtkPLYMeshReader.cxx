@@ -18,6 +18,7 @@
 #include "vtkSmartPointer.h"
 
 #include <cerrno>
+#include <cfloat>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -223,6 +224,18 @@ PlyProblem ReadPlyHeader(const std::string& bytes, PlyHeader& header)
   return { "PLY header has no end_header", vtkErrorCode::PrematureEndOfFileError };
 }
 
+// A whole number within the range of the PLY integer type (binary values are by construction).
+bool IsIntegerOfType(double value, const PlyScalarType& type)
+{
+  if (!std::isfinite(value) || value != std::floor(value))
+  {
+    return false;
+  }
+  const bool isSigned = type.VTKType == VTK_SIGNED_CHAR || type.VTKType == VTK_SHORT || type.VTKType == VTK_INT;
+  const double span = std::ldexp(1.0, 8 * type.Size); // 2^bits
+  return isSigned ? value >= -span / 2 && value < span / 2 : value >= 0 && value < span;
+}
+
 // The values of the body in file order, ASCII tokens or binary scalars of either byte order.
 class PlyValueStream
 {
@@ -237,6 +250,7 @@ public:
   // False at the end of the data (AtEnd()) or on a malformed ASCII value (MalformedToken()).
   bool Read(const PlyScalarType& type, double& value)
   {
+    this->LastTypeRead = type.VTKType;
     if (this->Encoding != PlyEncoding::Ascii)
     {
       if (this->Remaining() < size_t(type.Size))
@@ -253,7 +267,10 @@ public:
     }
     const auto parsed = std::from_chars(this->Token.data(), this->Token.data() + this->Token.size(), value);
     const bool number = parsed.ec == std::errc() && parsed.ptr == this->Token.data() + this->Token.size();
-    this->Malformed = !number || (type.IsInteger() && (!std::isfinite(value) || value != std::floor(value)));
+    // A value its type cannot hold is malformed (float: beyond FLT_MAX, but inf and nan are values).
+    const bool fits = type.IsInteger() ? IsIntegerOfType(value, type)
+                                       : type.VTKType != VTK_FLOAT || !std::isfinite(value) || std::fabs(value) <= FLT_MAX;
+    this->Malformed = !number || !fits;
     return !this->Malformed;
   }
 
@@ -285,6 +302,7 @@ public:
   size_t Remaining() const { return this->Bytes.size() - this->Offset; }
   bool MalformedToken() const { return this->Malformed; }
   const std::string& LastToken() const { return this->Token; }
+  int LastType() const { return this->LastTypeRead; }
   // Data after the last element (ASCII: anything but white space).
   bool HasTrailingData() const
   {
@@ -341,6 +359,7 @@ private:
   size_t Offset;
   std::string Token;
   bool Malformed = false;
+  int LastTypeRead = VTK_VOID;
 };
 
 // Where each property of an element goes: a component of an output array, or nowhere.
@@ -531,7 +550,7 @@ PlyProblem ReadFailure(const PlyValueStream& values, const PlyElement& element, 
 {
   if (values.MalformedToken())
   {
-    return FormatProblem(Item(element, i) + ": malformed " + slod::PlyScalarTypeName(p.Value.VTKType) + " value '" +
+    return FormatProblem(Item(element, i) + ": malformed " + slod::PlyScalarTypeName(values.LastType()) + " value '" +
       values.LastToken().substr(0, 40) + "' for property '" + p.Name + "'");
   }
   return { "file ends inside " + Item(element, i) + " (property '" + p.Name + "')",
@@ -575,6 +594,11 @@ PlyProblem ReadFaceIndices(PlyValueStream& values, const PlyElement& element, lo
       vtkErrorCode::PrematureEndOfFileError };
   }
   ids.clear();
+  if (!list.Value.IsInteger())
+  {
+    return FormatProblem(Item(element, i) + ": the vertex index list holds " +
+      slod::PlyScalarTypeName(list.Value.VTKType) + " values, not integers");
+  }
   for (long long k = 0; k < count; ++k)
   {
     double id = 0;
@@ -582,7 +606,7 @@ PlyProblem ReadFaceIndices(PlyValueStream& values, const PlyElement& element, lo
     {
       return ReadFailure(values, element, i, list);
     }
-    if (!list.Value.IsInteger() || id < 0 || id >= static_cast<double>(vertexCount))
+    if (id < 0 || id >= static_cast<double>(vertexCount))
     {
       return FormatProblem(Item(element, i) + " refers to vertex " + std::to_string(static_cast<long long>(id)) +
         " but the file has " + std::to_string(vertexCount) + " vertices" + ByteOrderHint(values));
@@ -785,11 +809,6 @@ std::string UnreadSummary(const PlyContent& content, bool trailingData)
   return summary.empty() ? summary : "not read: " + summary;
 }
 } // namespace
-
-void vtkPLYMeshReader::PrintSelf(ostream& os, vtkIndent indent)
-{
-  this->Superclass::PrintSelf(os, indent);
-}
 
 int vtkPLYMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {

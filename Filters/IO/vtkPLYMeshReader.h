@@ -30,7 +30,6 @@ class SURFACELODFILTERS_EXPORT vtkPLYMeshReader : public vtkMeshFileReader
 public:
   static vtkPLYMeshReader* New();
   vtkTypeMacro(vtkPLYMeshReader, vtkMeshFileReader);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
 
 protected:
   vtkPLYMeshReader() = default;

@@ -42,16 +42,7 @@ namespace
 {
 std::vector<std::vector<vtkIdType>> Faces(vtkCellArray* cells)
 {
-  std::vector<std::vector<vtkIdType>> faces;
-  auto it = vtk::TakeSmartPointer(cells->NewIterator());
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    it->GetCurrentCell(n, ids);
-    faces.emplace_back(ids, ids + n);
-  }
-  return faces;
+  return slodtest::CellPointIds(cells);
 }
 
 template <typename Array>
@@ -345,7 +336,7 @@ TEST(AttributeRoundTrip, ObjPositionsAreSplitWhereTheirAttributesDiffer)
 
 TEST(AttributeRoundTrip, ObjIndicesOutOfRangeAreRefusedNamingTheLine)
 {
-  for (const char* face : { "f 1/1 2/2 3/5\n", "f 1//2 2//1 3//1\n", "f 1 2 0\n", "f 1 2\n", "f 1/x 2 3\n" })
+  for (const char* face : { "f 1/1 2/2 3/5\n", "f 1//2 2//1 3//1\n", "f 1 2 0\n", "f 1 2\n", "f 1/x 2 3\n", "f -4 2 3\n" })
   {
     const std::string path = WriteText("bad_face.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n") + face);
     vtkNew<vtkOBJMeshReader> reader;

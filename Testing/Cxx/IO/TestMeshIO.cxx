@@ -45,16 +45,7 @@ using Polygon = std::vector<vtkIdType>;
 
 std::vector<Polygon> Polygons(vtkCellArray* cells)
 {
-  std::vector<Polygon> result;
-  auto it = vtk::TakeSmartPointer(cells->NewIterator());
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    it->GetCurrentCell(n, ids);
-    result.emplace_back(ids, ids + n);
-  }
-  return result;
+  return slodtest::CellPointIds(cells);
 }
 
 std::string WriteText(const std::string& name, const std::string& text)
@@ -525,6 +516,21 @@ TEST(PLYMeshIO, UnsoundPlyFilesAreRefusedNamingTheProblem)
       "more than the" },
     { "truncated.ply", variant("binary_little_endian", [](PlyFile& p) { p.AnnouncedFaces = 5; }), "file ends" },
     { "ascii_truncated.ply", variant("ascii", [](PlyFile& p) { p.AnnouncedFaces = 5; }), "file ends" },
+    // An ASCII value outside its type (the cast to a count or index was undefined behaviour).
+    { "ascii_uchar_count_300.ply",
+      []() {
+        return std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                           "0 0 0\n1 0 0\n0 1 0\n300 0 1 2\n");
+      },
+      "malformed uchar value '300'" },
+    { "ascii_index_1e300.ply",
+      []() {
+        return std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                           "0 0 0\n1 0 0\n0 1 0\n3 0 1 1e300\n");
+      },
+      "malformed int value '1e300'" },
     { "no_end_header.ply", []() { return std::string("ply\nformat ascii 1.0\nelement vertex 1\n"); }, "end_header" },
     { "no_xyz.ply", []() { return std::string("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n"); },
       "x, y, z" },
