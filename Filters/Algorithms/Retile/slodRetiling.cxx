@@ -2,6 +2,7 @@
 #include "slodRetiling.h"
 
 #include "slodEditableMesh.h"
+#include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodTriangleBVH.h"
 
@@ -648,6 +649,83 @@ void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, dou
 
 namespace
 {
+std::vector<double> PointCoordinates(const std::vector<SurfacePoint>& points)
+{
+  std::vector<double> xyz(3 * points.size());
+  for (size_t i = 0; i < points.size(); ++i)
+  {
+    std::copy(points[i].Position.begin(), points[i].Position.end(), &xyz[3 * i]);
+  }
+  return xyz;
+}
+
+// Points closer to another point than this share of the mean spacing are crowded: repulsion keeps
+// relaxed points near the mean spacing, so only an artefact of the projection comes this close.
+constexpr double CrowdedSpacingShare = 0.02;
+
+// Repulsion projects every move to the closest point of the surface, which at a pinched vertex
+// or a sharp concave fold maps points from both sides onto the same spot: they would make needle
+// or zero-area tiles. A crowded point (not one of the first fixedCount) goes back to where it was
+// placed at random; one still crowded there is dropped. Returns the number dropped.
+Index SeparateCrowdedPoints(std::vector<SurfacePoint>& points, const std::vector<SurfacePoint>& placed, Index fixedCount)
+{
+  double minimum = 0, mean = 0;
+  std::vector<double> nearest;
+  NearestNeighborSpacing(PointCoordinates(points), minimum, mean, &nearest);
+  if (!(minimum < CrowdedSpacingShare * mean))
+  {
+    return 0;
+  }
+  const double limit = CrowdedSpacingShare * mean;
+  for (size_t i = size_t(fixedCount); i < points.size(); ++i)
+  {
+    if (nearest[i] < limit)
+    {
+      points[i] = placed[i];
+    }
+  }
+  NearestNeighborSpacing(PointCoordinates(points), minimum, mean, &nearest);
+  Index kept = fixedCount;
+  for (size_t i = size_t(fixedCount); i < points.size(); ++i)
+  {
+    if (!(nearest[i] < limit))
+    {
+      points[size_t(kept++)] = points[i];
+    }
+  }
+  const Index dropped = static_cast<Index>(points.size()) - kept;
+  points.resize(size_t(kept));
+  return dropped;
+}
+
+// Triangles with two or more non-manifold vertices (those on a non-manifold edge, a sheet and its
+// mirror image) are kept as they are: a candidate inside would split the triangles of one edge
+// differently on each sheet and add non-manifold edges. Candidates there (not one of the first
+// fixedCount) are dropped; returns how many.
+Index DropPointsOnNonManifoldTriangles(const TriangleMesh& mesh, const std::vector<unsigned char>& nonManifoldVertices,
+  std::vector<SurfacePoint>& points, Index fixedCount)
+{
+  if (std::find(nonManifoldVertices.begin(), nonManifoldVertices.end(), 1) == nonManifoldVertices.end())
+  {
+    return 0;
+  }
+  Index kept = fixedCount;
+  for (size_t i = size_t(fixedCount); i < points.size(); ++i)
+  {
+    const Index* tri = mesh.Triangle(points[i].Triangle);
+    if (nonManifoldVertices[tri[0]] + nonManifoldVertices[tri[1]] + nonManifoldVertices[tri[2]] < 2)
+    {
+      points[size_t(kept++)] = points[i];
+    }
+  }
+  const Index dropped = static_cast<Index>(points.size()) - kept;
+  points.resize(size_t(kept));
+  return dropped;
+}
+} // namespace
+
+namespace
+{
 // The vertices of a coarser nested level, which a finer level must keep exactly (section 6.1).
 struct CoarserLevel
 {
@@ -684,17 +762,9 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   CurvatureDensity(mesh, options.CurvatureWeight, density);
   std::vector<SurfacePoint> points;
   DistributePoints(mesh, density, options.NumberOfPoints, options.RandomSeed, points);
-  const Index np = static_cast<Index>(points.size());
-  std::vector<double> xyz(3 * size_t(np));
-  auto gather = [&]() {
-    for (Index i = 0; i < np; ++i)
-    {
-      std::copy(points[i].Position.begin(), points[i].Position.end(), &xyz[3 * size_t(i)]);
-    }
-  };
-  gather();
-  NearestNeighborSpacing(xyz, result.MinSpacingBefore, result.MeanSpacingBefore);
+  NearestNeighborSpacing(PointCoordinates(points), result.MinSpacingBefore, result.MeanSpacingBefore);
   TriangleBVH bvh(mesh);
+  const std::vector<SurfacePoint> placed = points;
   const bool relaxed = RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points,
     [&](double f) { return report(0.6 * f); });
   if (!relaxed)
@@ -702,9 +772,15 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
     abort();
     return;
   }
-  gather();
-  NearestNeighborSpacing(xyz, result.MinSpacingAfter, result.MeanSpacingAfter);
-  TileWithPoints(mesh, points, options, CoarserLevel(), result);
+  RetilingOptions withFlags = options;
+  const std::vector<unsigned char> computedFlags =
+    options.NonManifoldVertices ? std::vector<unsigned char>() : NonManifoldVertexFlags(mesh);
+  withFlags.NonManifoldVertices = options.NonManifoldVertices ? options.NonManifoldVertices : &computedFlags;
+  const Index dropped = SeparateCrowdedPoints(points, placed, 0) +
+    DropPointsOnNonManifoldTriangles(mesh, *withFlags.NonManifoldVertices, points, 0);
+  NearestNeighborSpacing(PointCoordinates(points), result.MinSpacingAfter, result.MeanSpacingAfter);
+  result.DroppedCandidates = dropped;
+  TileWithPoints(mesh, points, withFlags, CoarserLevel(), result);
 }
 
 namespace
@@ -885,10 +961,13 @@ struct OldVertexRemoval
   // Border flags of every vertex, kept exact through the collapses (a merged vertex is on the
   // border when one of the pair was): IsBoundaryVertex walks a whole fan twice per check.
   std::vector<unsigned char> OnBorder;
+  // Per vertex of the mutual tessellation: 1 for the input's non-manifold vertices, which no
+  // collapse may touch (candidates lie strictly inside triangles, so they are all manifold).
+  std::vector<unsigned char> Locked;
   double MinimumFacing = 0.0;
 
   OldVertexRemoval(EditableMesh& edit, std::vector<Vec3>& reference, Index oldVertices, Index candidates,
-    const CoarserLevel& coarser)
+    const CoarserLevel& coarser, const std::vector<unsigned char>& nonManifoldVertices)
     : Edit(edit)
     , Reference(reference)
     , OldVertices(oldVertices)
@@ -897,6 +976,9 @@ struct OldVertexRemoval
     , FixedCount(coarser.FixedCount)
   {
     this->Collapse.MinimumNormalDot = 0.0;
+    this->Locked.assign(size_t(edit.NumberOfPoints()), 0);
+    std::copy_n(nonManifoldVertices.begin(), std::min(nonManifoldVertices.size(), this->Locked.size()), this->Locked.begin());
+    this->Collapse.LockedVertices = this->Locked.data();
     // Most candidates of a high-valence old vertex fold its fan: reject those at the first
     // folding triangle instead of after a walk of the whole link.
     this->Collapse.GeometryFirst = true;
@@ -1014,7 +1096,7 @@ struct OldVertexRemoval
     pending.reserve(n0);
     for (Index v = 0; v < n0; ++v)
     {
-      if (this->KeptFor[v] == InvalidIndex)
+      if (this->KeptFor[v] == InvalidIndex && !this->Locked[v])
       {
         pending.push_back(v);
       }
@@ -1249,7 +1331,13 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
   }
   std::vector<Vec3> reference = ReferenceNormals(mesh, points, bary);
   EditableMesh edit(mutual);
-  OldVertexRemoval removal(edit, reference, n0, np, coarser);
+  std::vector<unsigned char> computedFlags;
+  if (!options.NonManifoldVertices)
+  {
+    computedFlags = NonManifoldVertexFlags(mesh);
+  }
+  OldVertexRemoval removal(
+    edit, reference, n0, np, coarser, options.NonManifoldVertices ? *options.NonManifoldVertices : computedFlags);
   if (!removal.Run(options))
   {
     AbortResult(result);
@@ -1304,6 +1392,9 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
   std::vector<double> density;
   CurvatureDensity(mesh, options.CurvatureWeight, density);
   TriangleBVH bvh(mesh);
+  const std::vector<unsigned char> computedFlags =
+    options.NonManifoldVertices ? std::vector<unsigned char>() : NonManifoldVertexFlags(mesh);
+  const std::vector<unsigned char>& nonManifold = options.NonManifoldVertices ? *options.NonManifoldVertices : computedFlags;
   std::vector<SurfacePoint> points, added, level;
   CoarserLevel coarser;
   const double share = 1.0 / double(counts.size());
@@ -1318,15 +1409,21 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
     coarser.FixedCount = fixed;
     coarser.PinnedTo.resize(points.size(), InvalidIndex);
     auto progress = [&](double f) { return !options.Progress || options.Progress(share * (k + 0.6 * f)); };
+    const std::vector<SurfacePoint> placed = points;
     if (!RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points, progress, fixed))
     {
       levels.assign(1, RetilingResult());
       levels[0].Aborted = true;
       return;
     }
+    const Index dropped = SeparateCrowdedPoints(points, placed, fixed) +
+      DropPointsOnNonManifoldTriangles(mesh, nonManifold, points, fixed);
+    coarser.PinnedTo.resize(points.size());
     level = points;
     RetilingResult result;
+    result.DroppedCandidates = dropped;
     RetilingOptions levelOptions = options;
+    levelOptions.NonManifoldVertices = &nonManifold;
     levelOptions.Progress = [&](double f) {
       return !options.Progress || options.Progress(share * (k + 0.6 + 0.4 * f));
     };

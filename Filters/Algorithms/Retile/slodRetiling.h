@@ -18,7 +18,9 @@
 //     check (link condition = no edge shared by three triangles, no duplicated triangle, boundary
 //     loops kept); every surviving triangle must also face the way the original surface faces at its
 //     vertices. The neighbour giving the best smallest angle is chosen. Old vertices that no check
-//     lets go are retained (as in the paper); their number is reported.
+//     lets go are retained (as in the paper); their number is reported. Non-manifold vertices of
+//     the input (Turk assumes a manifold, section 3.1) are always retained, so a non-manifold edge
+//     stays one edge and the surface is not cut open there.
 //  6. Shape improvement (section 4.5): edge flips toward max-min angle where the two triangles are
 //     nearly coplanar and the flip keeps the orientation relative to the original surface.
 #ifndef slodRetiling_h
@@ -41,6 +43,10 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   double CurvatureWeight = 0.0;  // 0: uniform; > 0: density 1 + w * curvature / median curvature
   std::uint64_t RandomSeed = 1;
   int ShapeImprovementPasses = 2; // edge-flip passes after vertex removal
+  // Optional: per input vertex, 1 when non-manifold (the input preparation's
+  // PreparationReport::NonManifoldVertexFlags); computed when null. These vertices are kept as
+  // they are (retained old vertices): the removal's link condition assumes one fan per vertex.
+  const std::vector<unsigned char>* NonManifoldVertices = nullptr;
   // Progress in [0,1]; return false to abort (the result is then empty, Aborted set).
   std::function<bool(double)> Progress;
 };
@@ -64,6 +70,7 @@ struct SURFACELODFILTERS_EXPORT RetilingResult
   std::vector<Index> InputVertex;
   Index CandidatePoints = 0;
   Index RetainedOldVertices = 0;   // old vertices no check allowed to remove (kept in the output)
+  Index DroppedCandidates = 0;     // candidates repulsion crowded onto another (at pinches, folds)
   Index Flips = 0;
   // Nearest-neighbour spacing of the candidate points (Euclidean), before and after repulsion.
   double MinSpacingBefore = 0, MeanSpacingBefore = 0, MinSpacingAfter = 0, MeanSpacingAfter = 0;

@@ -133,8 +133,9 @@ void RetileNestedWithin(const slod::TriangleMesh& mesh, const slod::RetilingOpti
   });
 }
 
-// Turk's method needs a manifold surface (every edge on one or two triangles, section 3.1) whose
-// edges can be resolved at the scale of the whole surface.
+// Turk's method assumes a manifold surface (every edge on one or two triangles, section 3.1): the
+// input's non-manifold vertices are kept as they are (so non-manifold edges stay single edges and
+// the surface is not cut open there). Its edges must be resolvable at the scale of the surface.
 bool CheckRetilable(vtkAlgorithm* filter, const slod::TriangleMesh& mesh, const slod::PreparationReport& report)
 {
   if (mesh.NumberOfTriangles() == 0)
@@ -142,12 +143,11 @@ bool CheckRetilable(vtkAlgorithm* filter, const slod::TriangleMesh& mesh, const 
     vtkErrorWithObjectMacro(filter, << "The input has no triangles: nothing to re-tile.");
     return false;
   }
-  if (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0)
+  if (report.NonManifoldVertices > 0)
   {
-    vtkErrorWithObjectMacro(filter, << "Re-tiling needs a manifold surface; the input has " << report.NonManifoldEdges
-                                    << " non-manifold edges and " << report.NonManifoldVertices
-                                    << " non-manifold vertices.");
-    return false;
+    vtkWarningWithObjectMacro(filter, << "The input has " << report.NonManifoldEdges << " non-manifold edges and "
+                                      << report.NonManifoldVertices
+                                      << " non-manifold vertices: those vertices are kept in the output as they are.");
   }
   const double extent = slod::ExtentPerMedianEdge(mesh);
   if (!(extent <= slod::MaximumRetilingExtentPerEdge))
@@ -247,6 +247,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
   options.Progress = slod::FilterProgress(this);
+  options.NonManifoldVertices = &report.NonManifoldVertexFlags;
   slod::RetilingResult result = RetileWithin(mesh, options, limit);
   const bool retiled = result.Mesh.NumberOfTriangles() <= limit;
   if (!result.Aborted && !retiled)
@@ -308,6 +309,12 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   this->MeanSpacingBefore = result.MeanSpacingBefore;
   this->MinimumSpacingAfter = result.MinSpacingAfter;
   this->MeanSpacingAfter = result.MeanSpacingAfter;
+  if (result.DroppedCandidates > 0)
+  {
+    vtkWarningMacro(<< result.DroppedCandidates
+                    << " candidate points were dropped: the repulsion's projection onto the surface crowded them onto "
+                       "others (at pinched vertices or sharp concave folds).");
+  }
   if (result.RetainedOldVertices > 0)
   {
     vtkWarningMacro(<< result.RetainedOldVertices

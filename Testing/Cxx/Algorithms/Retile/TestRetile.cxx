@@ -22,6 +22,8 @@
 #include "vtkPolyData.h"
 #include "vtkQuadricDecimation.h"
 
+#include <algorithm>
+#include <limits>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -323,15 +325,66 @@ TEST(Retile, BadInput)
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
   EXPECT_EQ(messages->Errors.size(), 1u);
 
+  // Four triangles on one edge: re-tiled around the non-manifold edge, which stays one edge
+  // (its two vertices are kept); a warning says so.
   filter->SetInputData(slodtest::ToPolyData(slodtest::NonManifoldFan(4)));
+  filter->SetNumberOfPoints(4);
   filter->Update();
-  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
-  EXPECT_EQ(filter->GetOutput()->GetNumberOfPolys(), 0);
-  EXPECT_EQ(messages->Errors.size(), 2u);
+  EXPECT_EQ(messages->Errors.size(), 1u);
+  EXPECT_TRUE(std::any_of(messages->Warnings.begin(), messages->Warnings.end(),
+    [](const std::string& w) { return w.find("non-manifold vertices: those vertices are kept") != std::string::npos; }));
+  const slod::MeshStatistics fan = ComputeMeshStatistics(slodtest::RawTriangleMesh(filter->GetOutput()));
+  EXPECT_EQ(fan.NonManifoldEdges, 1);
+  EXPECT_GE(filter->GetOutput()->GetNumberOfPoints(), 2);
 
   std::ostringstream print;
   filter->Print(print);
   EXPECT_NE(print.str().find("CurvatureWeight"), std::string::npos);
+}
+
+// A noisy scan-like isosurface (handles, a border, non-manifold edges): Turk assumes a manifold,
+// so the non-manifold vertices are kept and every non-manifold edge stays one edge; the rest is
+// re-tiled with the Euler characteristic and components of the input.
+TEST(Retile, NoisyScanKeepsNonManifoldEdgesAndHandles)
+{
+  for (const unsigned seed : { 1u, 2u })
+  {
+    SCOPED_TRACE(seed);
+    vtkNew<vtkRetile> filter;
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->SetTargetReduction(0.8);
+    const slod::MeshStatistics in = slodtest::SimplifyNoisyScan(filter, 40, seed);
+    EXPECT_LT(filter->GetOutput()->GetNumberOfPolys(), in.Triangles / 2);
+    EXPECT_GE(messages->Warnings.size(), 1u); // the kept non-manifold vertices are reported
+  }
+}
+
+// At sharp concave creases the repulsion's projection onto the surface crowds points onto the
+// same spot; such points must not become vertices a few 1e-8 of the diagonal apart (they made
+// needle tiles on fandisk and elephant). Every output edge stays above 1e-5 of the diagonal.
+TEST(Retile, NoNearCoincidentVerticesAtCreases)
+{
+  for (const char* name : { "fandisk", "elephant" })
+  {
+    SCOPED_TRACE(name);
+    vtkNew<vtkRetile> filter;
+    filter->SetInputData(slodtest::LoadTestMesh(name));
+    filter->SetTargetReduction(0.8);
+    filter->Update();
+    const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+    ASSERT_GT(out.NumberOfTriangles(), 0);
+    double shortest = std::numeric_limits<double>::max();
+    for (Index t = 0; t < out.NumberOfTriangles(); ++t)
+    {
+      const Index* tri = out.Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        shortest = std::min(shortest, Norm(out.Point(tri[(k + 1) % 3]) - out.Point(tri[k])));
+      }
+    }
+    EXPECT_GT(shortest, 1e-5 * filter->GetOutput()->GetLength());
+  }
 }
 
 // Never more triangles than asked for nor than the input has, and no degenerate ones: a single
