@@ -54,6 +54,13 @@ def textured_sphere(vtk, resolution):
     return with_normals(vtk, producer.GetOutputPort())
 
 
+def updated_copy(vtk, algorithm):
+    algorithm.Update()
+    mesh = vtk.vtkPolyData()
+    mesh.DeepCopy(algorithm.GetOutput())
+    return mesh
+
+
 def with_normals(vtk, port):
     triangles = vtk.vtkTriangleFilter()
     triangles.SetInputConnection(port)
@@ -62,10 +69,7 @@ def with_normals(vtk, port):
     normals.SplittingOff()
     normals.ConsistencyOn()
     normals.ComputeCellNormalsOff()
-    normals.Update()
-    mesh = vtk.vtkPolyData()
-    mesh.DeepCopy(normals.GetOutput())
-    return mesh
+    return updated_copy(vtk, normals)
 
 
 def real_mesh(vtk, surfacelod, path):
@@ -78,10 +82,7 @@ def real_mesh(vtk, surfacelod, path):
     mapper.SetInputData(mesh)
     mapper.AutomaticSphereGenerationOn()
     mapper.PreventSeamOn()
-    mapper.Update()
-    result = vtk.vtkPolyData()
-    result.DeepCopy(mapper.GetOutput())
-    return result
+    return updated_copy(vtk, mapper)
 
 
 def quadric_decimation(vtk, mesh, reduction, attribute_metric):

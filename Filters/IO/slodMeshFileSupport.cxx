@@ -71,6 +71,18 @@ vtkIdType CountSurfaceFaces(vtkPolyData* mesh)
   return faces;
 }
 
+std::vector<std::string> SplitWords(const std::string& line)
+{
+  std::vector<std::string> words;
+  std::istringstream in(line);
+  std::string word;
+  while (in >> word)
+  {
+    words.push_back(word);
+  }
+  return words;
+}
+
 bool ReadWholeFile(const std::string& path, std::string& bytes)
 {
   std::ifstream in(path, std::ios::binary);

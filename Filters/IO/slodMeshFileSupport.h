@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 class vtkDataArray;
 class vtkDataSetAttributes;
@@ -38,6 +39,9 @@ vtkDataArray* FileColors(vtkDataSetAttributes* data);
 using FaceVisitor = std::function<void(vtkIdType size, const vtkIdType* ids, vtkIdType cell)>;
 void ForEachSurfaceFace(vtkPolyData* mesh, const FaceVisitor& visit);
 vtkIdType CountSurfaceFaces(vtkPolyData* mesh);
+
+// The white-space separated words of a line of a text mesh file.
+std::vector<std::string> SplitWords(const std::string& line);
 
 // Reads a whole file into memory; false (and errno set) when it cannot be read.
 bool ReadWholeFile(const std::string& path, std::string& bytes);

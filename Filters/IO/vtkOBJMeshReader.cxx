@@ -20,7 +20,6 @@
 #include <fstream>
 #include <map>
 #include <tuple>
-#include <sstream>
 #include <vector>
 
 vtkStandardNewMacro(vtkOBJMeshReader);
@@ -52,18 +51,6 @@ struct ObjContent
   std::vector<long long> FaceLines;
   std::map<std::string, long long> Unread; // statements not read, by keyword
 };
-
-std::vector<std::string> Words(const std::string& line)
-{
-  std::vector<std::string> words;
-  std::istringstream in(line);
-  std::string word;
-  while (in >> word)
-  {
-    words.push_back(word);
-  }
-  return words;
-}
 
 // A finite decimal number (a leading '+' allowed; no "nan", "inf" or hexadecimal forms).
 bool ParseFinite(const std::string& word, double& value)
@@ -323,7 +310,7 @@ int vtkOBJMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   for (long long number = 1; std::getline(in, line); ++number)
   {
     const size_t hash = line.find('#');
-    const std::vector<std::string> words = Words(hash == std::string::npos ? line : line.substr(0, hash));
+    const std::vector<std::string> words = slod::SplitWords(hash == std::string::npos ? line : line.substr(0, hash));
     const ObjProblem problem = words.empty() ? ObjProblem() : ReadStatement(words, number, content);
     if (problem)
     {

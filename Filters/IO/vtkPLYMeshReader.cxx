@@ -23,8 +23,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 vtkStandardNewMacro(vtkPLYMeshReader);
@@ -74,18 +72,6 @@ struct PlyHeader
   std::vector<PlyElement> Elements;
   size_t BodyOffset = 0;
 };
-
-std::vector<std::string> Words(const std::string& line)
-{
-  std::vector<std::string> words;
-  std::istringstream in(line);
-  std::string word;
-  while (in >> word)
-  {
-    words.push_back(word);
-  }
-  return words;
-}
 
 // Next '\n'-terminated line from offset (a trailing '\r' removed); false at the end of the bytes.
 bool NextLine(const std::string& bytes, size_t& offset, std::string& line)
@@ -188,7 +174,7 @@ PlyProblem ReadPlyHeader(const std::string& bytes, PlyHeader& header)
   bool formatSeen = false;
   while (NextLine(bytes, offset, line))
   {
-    const std::vector<std::string> words = Words(line);
+    const std::vector<std::string> words = slod::SplitWords(line);
     PlyProblem problem;
     if (words.empty() || words[0] == "comment" || words[0] == "obj_info")
     {
