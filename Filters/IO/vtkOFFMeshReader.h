@@ -16,30 +16,18 @@
 #define vtkOFFMeshReader_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkMeshFileReader.h"
 
-#include <string>
-
-class SURFACELODFILTERS_EXPORT vtkOFFMeshReader : public vtkPolyDataAlgorithm
+class SURFACELODFILTERS_EXPORT vtkOFFMeshReader : public vtkMeshFileReader
 {
 public:
   static vtkOFFMeshReader* New();
-  vtkTypeMacro(vtkOFFMeshReader, vtkPolyDataAlgorithm);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  vtkSetStdStringFromCharMacro(FileName);
-  vtkGetCharFromStdStringMacro(FileName);
-
-  /// Description of the last failure ("" when the last read succeeded).
-  const char* GetLastError() const { return this->LastError.c_str(); }
+  vtkTypeMacro(vtkOFFMeshReader, vtkMeshFileReader);
 
 protected:
-  vtkOFFMeshReader();
+  vtkOFFMeshReader() = default;
   ~vtkOFFMeshReader() override = default;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-
-  std::string FileName;
-  std::string LastError;
 
 private:
   vtkOFFMeshReader(const vtkOFFMeshReader&) = delete;

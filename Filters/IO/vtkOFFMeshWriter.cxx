@@ -1,189 +1,128 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkOFFMeshWriter.h"
 
+#include "slodCheckedFile.h"
+#include "slodMeshFileSupport.h"
+
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDataArray.h"
-#include "vtkErrorCode.h"
-#include "vtkInformation.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
-#include <charconv>
-#include <cstdio>
-#include <memory>
-#include <vector>
+#include <algorithm>
+#include <string>
 
 vtkStandardNewMacro(vtkOFFMeshWriter);
 
 namespace
 {
-// Appends the shortest round-trip decimal form of a value.
-template <typename Real>
-char* AppendReal(char* out, char* end, Real value)
+// The optional vertex columns of the file: normals (N), colours (C), texture coordinates (ST).
+struct OffVertexArrays
 {
-  return std::to_chars(out, end, value).ptr;
-}
+  vtkDataArray* Normals = nullptr;
+  vtkDataArray* Colors = nullptr;
+  vtkDataArray* TCoords = nullptr;
+  bool FractionalColors = false; // every colour value is 0 or 1: written as floats 0-1 (see the reader)
 
-char* AppendInteger(char* out, char* end, long long value)
-{
-  return std::to_chars(out, end, value).ptr;
-}
-
-struct FileCloser
-{
-  void operator()(FILE* f) const
+  std::string Keyword() const
   {
-    if (f)
-    {
-      std::fclose(f);
-    }
+    return std::string(this->TCoords ? "ST" : "") + (this->Colors ? "C" : "") + (this->Normals ? "N" : "") + "OFF";
   }
 };
-} // namespace
 
-void vtkOFFMeshWriter::PrintSelf(ostream& os, vtkIndent indent)
+OffVertexArrays FindOffVertexArrays(vtkPolyData* input)
 {
-  this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << this->FileName << "\n";
+  OffVertexArrays arrays;
+  arrays.Normals = slod::FileNormals(input->GetPointData());
+  arrays.Colors = slod::FileColors(input->GetPointData());
+  arrays.TCoords = slod::FileTextureCoordinates(input->GetPointData());
+  if (arrays.Colors)
+  {
+    double largest = 0;
+    for (int c = 0; c < arrays.Colors->GetNumberOfComponents(); ++c)
+    {
+      largest = std::max(largest, arrays.Colors->GetRange(c)[1]);
+    }
+    arrays.FractionalColors = largest <= 1;
+  }
+  return arrays;
 }
 
-int vtkOFFMeshWriter::FillInputPortInformation(int, vtkInformation* info)
+// The components of one tuple, each after a space, in the array's precision.
+void WriteTuple(slod::CheckedFileWriter& file, vtkDataArray* array, vtkIdType i)
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  return 1;
+  for (int c = 0; c < array->GetNumberOfComponents(); ++c)
+  {
+    file.WriteChar(' ');
+    const double value = array->GetComponent(i, c);
+    array->GetDataType() == VTK_FLOAT ? file.WriteReal(static_cast<float>(value)) : file.WriteReal(value);
+  }
 }
 
-vtkPolyData* vtkOFFMeshWriter::GetInput()
+void WriteColor(slod::CheckedFileWriter& file, const OffVertexArrays& arrays, vtkIdType i)
 {
-  return vtkPolyData::SafeDownCast(this->Superclass::GetInput());
+  for (int c = 0; c < arrays.Colors->GetNumberOfComponents(); ++c)
+  {
+    file.WriteChar(' ');
+    const double value = arrays.Colors->GetComponent(i, c);
+    arrays.FractionalColors ? file.WriteReal(value / 255.0) : file.WriteInteger(static_cast<long long>(value));
+  }
 }
 
-void vtkOFFMeshWriter::WriteData()
+void WriteVertices(slod::CheckedFileWriter& file, vtkPolyData* input, const OffVertexArrays& arrays)
 {
-  this->LastError.clear();
-  this->SetErrorCode(vtkErrorCode::NoError);
-  auto fail = [&](const std::string& message, unsigned long code) {
-    this->LastError = this->FileName + ": " + message;
-    vtkErrorMacro(<< this->LastError);
-    this->SetErrorCode(code);
-  };
-
-  vtkPolyData* input = this->GetInput();
-  if (!input)
-  {
-    fail("no input to write", vtkErrorCode::UnknownError);
-    return;
-  }
-  if (this->FileName.empty())
-  {
-    fail("no file name", vtkErrorCode::NoFileNameError);
-    return;
-  }
-  std::unique_ptr<FILE, FileCloser> file(std::fopen(this->FileName.c_str(), "wb"));
-  if (!file)
-  {
-    fail("cannot open file for writing", vtkErrorCode::CannotOpenFileError);
-    return;
-  }
-
-  const vtkIdType numPoints = input->GetNumberOfPoints();
   vtkDataArray* coordinates = input->GetPoints() ? input->GetPoints()->GetData() : nullptr;
   const bool floatPoints = coordinates && coordinates->GetDataType() == VTK_FLOAT;
-
-  // Faces: polygons as they are, strips split into triangles.
-  vtkCellArray* polys = input->GetPolys();
-  vtkCellArray* strips = input->GetStrips();
-  vtkIdType stripTriangles = 0;
-  {
-    auto it = vtk::TakeSmartPointer(strips->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      stripTriangles += n > 2 ? n - 2 : 0;
-    }
-  }
-  const vtkIdType numFaces = polys->GetNumberOfCells() + stripTriangles;
-
-  std::vector<char> buffer(1 << 16);
-  char* const begin = buffer.data();
-  char* const limit = begin + buffer.size() - 256; // room for one more record
-  char* const end = begin + buffer.size();
-  char* out = begin;
-  bool ok = true;
-  auto flush = [&](bool force) {
-    if (force || out >= limit)
-    {
-      const size_t size = static_cast<size_t>(out - begin);
-      ok = ok && std::fwrite(begin, 1, size, file.get()) == size;
-      out = begin;
-    }
-  };
-
-  out += std::snprintf(out, 128, "OFF\n%lld %lld 0\n", static_cast<long long>(numPoints),
-    static_cast<long long>(numFaces));
-  for (vtkIdType i = 0; i < numPoints; ++i)
+  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
   {
     double p[3];
     coordinates->GetTuple(i, p);
     for (int a = 0; a < 3; ++a)
     {
-      out = floatPoints ? AppendReal(out, end, static_cast<float>(p[a])) : AppendReal(out, end, p[a]);
-      *out++ = a < 2 ? ' ' : '\n';
-    }
-    flush(false);
-  }
-  auto writeFace = [&](vtkIdType n, const vtkIdType* ids) {
-    out = AppendInteger(out, end, n);
-    for (vtkIdType k = 0; k < n; ++k)
-    {
-      *out++ = ' ';
-      out = AppendInteger(out, end, ids[k]);
-      if (out >= limit)
+      if (a > 0)
       {
-        flush(true); // very large polygons
+        file.WriteChar(' ');
       }
+      floatPoints ? file.WriteReal(static_cast<float>(p[a])) : file.WriteReal(p[a]);
     }
-    *out++ = '\n';
-    flush(false);
-  };
-  {
-    auto it = vtk::TakeSmartPointer(polys->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    if (arrays.Normals)
     {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      writeFace(n, ids);
+      WriteTuple(file, arrays.Normals, i);
     }
-  }
-  {
-    auto it = vtk::TakeSmartPointer(strips->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    if (arrays.Colors)
     {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      for (vtkIdType k = 0; k + 2 < n; ++k)
-      {
-        // Alternate the winding so every strip triangle keeps the strip's orientation.
-        const vtkIdType tri[3] = { ids[k], ids[k + 1 + (k & 1)], ids[k + 2 - (k & 1)] };
-        writeFace(3, tri);
-      }
+      WriteColor(file, arrays, i);
     }
+    if (arrays.TCoords)
+    {
+      WriteTuple(file, arrays.TCoords, i);
+    }
+    file.WriteChar('\n');
   }
-  flush(true);
-  ok = ok && std::fflush(file.get()) == 0;
-  if (!ok)
+}
+
+void WriteFace(slod::CheckedFileWriter& file, vtkIdType n, const vtkIdType* ids)
+{
+  file.WriteInteger(n);
+  for (vtkIdType k = 0; k < n; ++k)
   {
-    fail("write failed (disk full?)", vtkErrorCode::OutOfDiskSpaceError);
-    return;
+    file.WriteChar(' ');
+    file.WriteInteger(ids[k]);
   }
-  if (std::fclose(file.release()) != 0)
-  {
-    fail("write failed while closing the file", vtkErrorCode::OutOfDiskSpaceError);
-  }
+  file.WriteChar('\n');
+}
+
+} // namespace
+
+std::string vtkOFFMeshWriter::WriteMesh(vtkPolyData* input, slod::CheckedFileWriter& file)
+{
+  const OffVertexArrays arrays = FindOffVertexArrays(input);
+  file.WriteText(arrays.Keyword() + "\n" + std::to_string(input->GetNumberOfPoints()) + " " +
+    std::to_string(slod::CountSurfaceFaces(input)) + " 0\n");
+  WriteVertices(file, input, arrays);
+  slod::ForEachSurfaceFace(input, [&](vtkIdType n, const vtkIdType* ids, vtkIdType) { WriteFace(file, n, ids); });
+  return std::string();
 }

@@ -15,35 +15,20 @@
 #define vtkOFFMeshWriter_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkWriter.h"
+#include "vtkMeshFileWriter.h"
 
 #include <string>
 
-class vtkPolyData;
-
-class SURFACELODFILTERS_EXPORT vtkOFFMeshWriter : public vtkWriter
+class SURFACELODFILTERS_EXPORT vtkOFFMeshWriter : public vtkMeshFileWriter
 {
 public:
   static vtkOFFMeshWriter* New();
-  vtkTypeMacro(vtkOFFMeshWriter, vtkWriter);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  vtkSetStdStringFromCharMacro(FileName);
-  vtkGetCharFromStdStringMacro(FileName);
-
-  /// Description of the last failure ("" when the last write succeeded).
-  const char* GetLastError() const { return this->LastError.c_str(); }
-
-  vtkPolyData* GetInput();
+  vtkTypeMacro(vtkOFFMeshWriter, vtkMeshFileWriter);
 
 protected:
   vtkOFFMeshWriter() = default;
   ~vtkOFFMeshWriter() override = default;
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  void WriteData() override;
-
-  std::string FileName;
-  std::string LastError;
+  std::string WriteMesh(vtkPolyData* mesh, slod::CheckedFileWriter& file) override;
 
 private:
   vtkOFFMeshWriter(const vtkOFFMeshWriter&) = delete;

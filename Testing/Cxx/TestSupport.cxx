@@ -8,6 +8,7 @@
 #include "vtkSyntheticIsosurfaceSource.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkErrorCode.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
@@ -31,6 +32,20 @@ std::string TestMeshPath(const std::string& name)
 std::string OutputPath(const std::string& fileName)
 {
   return std::string(SURFACELOD_TEST_OUTPUT_DIR) + "/" + fileName;
+}
+
+std::vector<std::vector<vtkIdType>> CellPointIds(vtkCellArray* cells)
+{
+  std::vector<std::vector<vtkIdType>> result;
+  auto it = vtk::TakeSmartPointer(cells->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    result.emplace_back(ids, ids + n);
+  }
+  return result;
 }
 
 vtkSmartPointer<vtkPolyData> LoadTestMesh(const std::string& name)

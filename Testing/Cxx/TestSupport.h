@@ -6,6 +6,7 @@
 #include "slodMeshTopology.h"
 #include "slodTriangleMesh.h"
 
+#include "vtkCellArray.h"
 #include "vtkCommand.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataAlgorithm.h"
@@ -20,6 +21,8 @@ namespace slodtest
 vtkSmartPointer<vtkPolyData> LoadTestMesh(const std::string& name);
 std::string TestMeshPath(const std::string& name);
 std::string OutputPath(const std::string& fileName);
+// The point ids of every cell of a cell array, in order (polygons, lines, ... as written or read).
+std::vector<std::vector<vtkIdType>> CellPointIds(vtkCellArray* cells);
 
 // Prepared triangle mesh of a vtkPolyData (the filters' own input preparation).
 slod::TriangleMesh ToTriangleMesh(vtkPolyData* polyData);

@@ -6,6 +6,7 @@ usage: cli_test.py --cli PATH --mesh-dir DIR --work DIR SCENARIO [ARG]
 """
 import argparse
 import json
+import math
 import os
 import signal
 import subprocess
@@ -205,6 +206,84 @@ def scenario_formats(a):
         again = json_line(run(a.cli, "simplify", out, os.path.join(a.work, "formats_again.off"),
                               "--method", "vtk-quadric-decimation", "--target-triangles", 500, "--json"))
         check(again["input_triangles"] == info["triangles"], "%s: re-read %d" % (ext, again["input_triangles"]))
+
+
+def attributed_grid_ply(path, n=30):
+    """An ASCII PLY height field with double coordinates, normals, RGB, texture coordinates and an
+    int face property 'region' (every attribute kind a PLY file carries)."""
+    vertices, faces = [], []
+    for j in range(n):
+        for i in range(n):
+            x, y = i / (n - 1.0), j / (n - 1.0)
+            z = 0.1 * math.sin(3 * x) * math.cos(2 * y) + 1e-12 * i
+            gx, gy = 0.3 * math.cos(3 * x) * math.cos(2 * y), -0.2 * math.sin(3 * x) * math.sin(2 * y)
+            length = math.sqrt(1 + gx * gx + gy * gy)
+            vertices.append("%r %r %r %r %r %r %d %d %d %r %r" % (x, y, z, -gx / length, -gy / length, 1 / length,
+                            int(255 * x), int(255 * y), 128, x, y))
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a = j * n + i
+            faces.append("3 %d %d %d %d" % (a, a + 1, a + n + 1, (i // 10) + 3 * (j // 10)))
+            faces.append("3 %d %d %d %d" % (a, a + n + 1, a + n, (i // 10) + 3 * (j // 10)))
+    header = ["ply", "format ascii 1.0", "element vertex %d" % len(vertices)]
+    header += ["property double %s" % p for p in ("x", "y", "z", "nx", "ny", "nz")]
+    header += ["property uchar %s" % p for p in ("red", "green", "blue")]
+    header += ["property float u", "property float v", "element face %d" % len(faces),
+               "property list uchar int vertex_indices", "property int region", "end_header"]
+    with open(path, "w") as f:
+        f.write("\n".join(header + vertices + faces) + "\n")
+
+
+def ply_header_lines(path):
+    with open(path, "rb") as f:
+        header, _ = split_ply(f.read())
+    return [l.decode() for l in header.splitlines()]
+
+
+def kept_attributes(path):
+    """The attribute kinds a written file holds, from its text / header."""
+    ext = os.path.splitext(path)[1]
+    if ext == ".ply":
+        lines = ply_header_lines(path)
+        kinds = {kind for kind, name in (("normals", "nx"), ("colours", "red"), ("tcoords", "u"))
+                 if any(l.startswith("property ") and l.endswith(" " + name) for l in lines)}
+        kinds |= {kind for kind, line in (("double", "property double x"), ("colours", "property uchar red"),
+                                          ("cell ints", "property int region")) if line in lines}
+        return kinds
+    with open(path) as f:
+        text = f.read()
+    if ext == ".obj":
+        starts = {line.split(" ")[0] for line in text.splitlines() if line}
+        return {kind for kind, key in (("normals", "vn"), ("tcoords", "vt")) if key in starts}
+    keyword = text.split("\n", 1)[0]
+    return {kind for kind, letter in (("normals", "N"), ("colours", "C"), ("tcoords", "ST")) if letter in keyword[:-3]}
+
+
+def scenario_attributes(a):
+    """`simplify` on PLY / OBJ / OFF files with attributes keeps what each format can hold, and
+    warns only about what it cannot (OBJ: colours, cell data; OFF: cell data)."""
+    source = os.path.join(a.work, "attributes_in.ply")
+    attributed_grid_ply(source)
+    expected = {".ply": {"double", "normals", "colours", "tcoords", "cell ints"},
+                ".obj": {"normals", "tcoords"}, ".off": {"normals", "colours", "tcoords"}}
+    for method in ("quadric-triangle-collapse", "retile"):
+        for ext, kinds in expected.items():
+            out = os.path.join(a.work, "attributes_%s%s" % (method, ext))
+            proc = run(a.cli, "simplify", source, out, "--method", method, "--target-triangles", 400)
+            warnings = [l for l in proc.stderr.splitlines() if "does not keep" in l]
+            check(kept_attributes(out) == kinds, "%s %s: the file holds %r, expected %r"
+                  % (method, ext, sorted(kept_attributes(out)), sorted(kinds)))
+            dropped = {".ply": [], ".obj": ["'RGB'", "'region'"], ".off": ["'region'"]}[ext]
+            check(len(warnings) == (1 if dropped else 0) and all(d in " ".join(warnings) for d in dropped),
+                  "%s %s: dropped-array warnings %r, expected one naming %r" % (method, ext, warnings, dropped))
+            for kept in ("'Normals'", "'TCoords'"):
+                check(kept not in " ".join(warnings), "%s %s: %s is kept but named as dropped" % (method, ext, kept))
+            # Read again: the attributes of the OBJ / OFF file go on into a PLY.
+            again = os.path.join(a.work, "attributes_again_%s%s.ply" % (method, ext[1:]))
+            run(a.cli, "simplify", out, again, "--method", method, "--target-triangles", 200)
+            carried = kept_attributes(again) & {"normals", "colours", "tcoords"}
+            check(carried == kinds & {"normals", "colours", "tcoords"}, "%s %s read again: %r carried on"
+                  % (method, ext, sorted(carried)))
 
 
 DISTANCE_KEYS = ("hausdorff", "hausdorff_ab", "hausdorff_ba", "mean", "rms")

@@ -11,14 +11,16 @@
 #include "vtkErrorCode.h"
 #include "vtkLogger.h"
 #include "vtkNew.h"
-#include "vtkOBJReader.h"
+#include "slodMeshFileSupport.h"
+#include "vtkOBJMeshReader.h"
+#include "vtkOBJMeshWriter.h"
 #include "vtkOFFMeshReader.h"
 #include "vtkOFFMeshWriter.h"
+#include "vtkPLYMeshReader.h"
+#include "vtkPLYMeshWriter.h"
 #include "vtkPointData.h"
 #include "vtkObjectFactory.h"
 #include "vtkOutputWindow.h"
-#include "vtkPLYReader.h"
-#include "vtkPLYWriter.h"
 #include "vtkPoints.h"
 #include "vtkPolyDataReader.h"
 #include "vtkPolyDataWriter.h"
@@ -38,11 +40,8 @@
 #include <functional>
 #include <fstream>
 #include <iostream>
-#include <iomanip>
-#include <locale>
 #include <regex>
 #include <sstream>
-#include <unistd.h>
 
 namespace slodcli
 {
@@ -266,19 +265,20 @@ void CheckReadableFile(const std::string& path, const std::string& ext)
   }
 }
 
-// The byte-level check of the formats whose VTK reader needs one (PLY, STL, OBJ).
+// The byte-level check of the format whose VTK reader needs one (STL; the project's own OFF, PLY and
+// OBJ readers check everything themselves).
 FileCheck CheckFileBytes(const std::string& path, const std::string& ext)
 {
-  if (ext != ".ply" && ext != ".stl" && ext != ".obj")
+  if (ext != ".stl")
   {
     return FileCheck();
   }
   std::string bytes;
-  if (!ReadFileBytes(path, bytes))
+  if (!slod::ReadWholeFile(path, bytes))
   {
     return { std::string("cannot read file (") + std::strerror(errno) + ")", std::string() };
   }
-  return ext == ".ply" ? CheckPLY(bytes) : ext == ".stl" ? CheckSTL(bytes, IsBinarySTL(path)) : CheckOBJ(bytes);
+  return CheckSTL(bytes, IsBinarySTL(path));
 }
 
 struct VTKReadResult
@@ -301,16 +301,20 @@ VTKReadResult ReadWithVTK(const std::string& path, const std::string& ext)
 {
   VTKReadResult result;
   const vtkSmartPointer<vtkAlgorithm> reader = ext == ".off" ? NewReader<vtkOFFMeshReader>(path)
-    : ext == ".ply"                                           ? NewReader<vtkPLYReader>(path)
+    : ext == ".ply"                                           ? NewReader<vtkPLYMeshReader>(path)
     : ext == ".stl"                                           ? NewReader<vtkSTLReader>(path)
-    : ext == ".obj"                                           ? NewReader<vtkOBJReader>(path)
+    : ext == ".obj"                                           ? NewReader<vtkOBJMeshReader>(path)
     : ext == ".vtp"                                           ? NewReader<vtkXMLPolyDataReader>(path)
                                                               : NewReader<vtkPolyDataReader>(path);
   MessageCapture capture;
   reader->Update();
-  if (auto* off = vtkOFFMeshReader::SafeDownCast(reader))
+  const char* ownError = vtkOFFMeshReader::SafeDownCast(reader) ? vtkOFFMeshReader::SafeDownCast(reader)->GetLastError()
+    : vtkPLYMeshReader::SafeDownCast(reader)                    ? vtkPLYMeshReader::SafeDownCast(reader)->GetLastError()
+    : vtkOBJMeshReader::SafeDownCast(reader)                    ? vtkOBJMeshReader::SafeDownCast(reader)->GetLastError()
+                                                                : nullptr;
+  if (ownError)
   {
-    result.Problem = off->GetLastError(); // already starts with the path (and line number)
+    result.Problem = ownError; // already starts with the path (and line number)
   }
   else if (!capture.FirstError().empty())
   {
@@ -328,23 +332,25 @@ VTKReadResult ReadWithVTK(const std::string& path, const std::string& ext)
   return result;
 }
 
-// Writers that check their own writes (OFF: vtkOFFMeshWriter; STL: vtkSTLWriter, binary). Returns
-// the problem, "" on success.
+template <typename Writer>
+vtkSmartPointer<vtkWriter> NewWriter(const std::string& path)
+{
+  auto writer = vtkSmartPointer<Writer>::New();
+  writer->SetFileName(path.c_str());
+  return writer;
+}
+
+// Writers that check their own writes: the project's OFF, PLY (binary) and OBJ writers, and
+// vtkSTLWriter (binary). Returns the problem, "" on success.
 std::string WriteFileWithVTK(vtkPolyData* mesh, const std::string& path, const std::string& ext)
 {
-  vtkSmartPointer<vtkWriter> writer;
-  if (ext == ".off")
+  vtkSmartPointer<vtkWriter> writer = ext == ".off" ? NewWriter<vtkOFFMeshWriter>(path)
+    : ext == ".ply"                                 ? NewWriter<vtkPLYMeshWriter>(path)
+    : ext == ".obj"                                 ? NewWriter<vtkOBJMeshWriter>(path)
+                                                    : NewWriter<vtkSTLWriter>(path);
+  if (auto* stl = vtkSTLWriter::SafeDownCast(writer))
   {
-    auto w = vtkSmartPointer<vtkOFFMeshWriter>::New();
-    w->SetFileName(path.c_str());
-    writer = w;
-  }
-  else
-  {
-    auto w = vtkSmartPointer<vtkSTLWriter>::New();
-    w->SetFileName(path.c_str());
-    w->SetFileTypeToBinary();
-    writer = w;
+    stl->SetFileTypeToBinary();
   }
   MessageCapture capture;
   writer->SetInputData(mesh);
@@ -393,89 +399,6 @@ std::string SerializeWithVTK(vtkPolyData* mesh, const std::string& ext, std::str
     return capture.FirstError();
   }
   return bytes.empty() ? "the writer produced nothing" : std::string();
-}
-
-// A binary PLY file in memory. vtkPLYWriter ignores write errors and its in-memory output stays
-// empty in VTK 9.1: it writes a temporary file beside the output, which must hold the whole PLY its
-// header describes (CheckPLY) before its bytes are taken.
-std::string PlyBytes(vtkPolyData* mesh, const std::string& path, std::string& bytes)
-{
-  std::filesystem::path temporary(path);
-  // Ends with ".ply": VTK's PLY library appends it to any other name.
-  temporary.replace_filename(".surfacelod-" + std::to_string(static_cast<long>(getpid())) + "-" +
-    temporary.stem().string() + ".tmp.ply");
-  MessageCapture capture;
-  vtkNew<vtkPLYWriter> writer;
-  writer->SetFileName(temporary.string().c_str());
-  writer->SetFileTypeToBinary();
-  writer->SetInputData(mesh);
-  writer->Write();
-  std::string problem = capture.FirstError();
-  if (problem.empty() && writer->GetErrorCode() != vtkErrorCode::NoError)
-  {
-    problem = vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode());
-  }
-  if (problem.empty() && !ReadFileBytes(temporary.string(), bytes))
-  {
-    problem = "cannot read back " + temporary.string() + " (" + std::strerror(errno) + ")";
-  }
-  if (problem.empty() && !CheckPLY(bytes).Problem.empty())
-  {
-    problem = "the PLY written to " + temporary.string() + " is incomplete (" + CheckPLY(bytes).Problem +
-      "; disk full?)";
-  }
-  std::error_code ec;
-  std::filesystem::remove(temporary, ec);
-  return problem;
-}
-
-// OBJ text: "v" lines (9 or 17 significant digits: float or double points read back exactly), "vn"
-// when the points have normals, "f" lines (1-based) for polygons and for the triangles of strips.
-std::string ObjText(vtkPolyData* mesh, std::string& bytes)
-{
-  vtkSmartPointer<vtkPolyData> surface = mesh;
-  if (mesh->GetNumberOfStrips() > 0)
-  {
-    surface = TriangulatedSurface(mesh);
-  }
-  std::ostringstream out;
-  out.imbue(std::locale::classic());
-  const bool floatPoints = surface->GetPoints() && surface->GetPoints()->GetDataType() == VTK_FLOAT;
-  out << std::setprecision(floatPoints ? 9 : 17);
-  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    surface->GetPoint(i, p);
-    out << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
-  }
-  vtkDataArray* normals = surface->GetPointData()->GetNormals();
-  out << std::setprecision(9);
-  for (vtkIdType i = 0; normals && i < surface->GetNumberOfPoints(); ++i)
-  {
-    double n[3];
-    normals->GetTuple(i, n);
-    out << "vn " << n[0] << ' ' << n[1] << ' ' << n[2] << '\n';
-  }
-  const char* normalSeparator = normals ? "//" : nullptr;
-  auto it = vtk::TakeSmartPointer(surface->GetPolys()->NewIterator());
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    it->GetCurrentCell(n, ids);
-    out << 'f';
-    for (vtkIdType k = 0; k < n; ++k)
-    {
-      out << ' ' << ids[k] + 1;
-      if (normalSeparator)
-      {
-        out << normalSeparator << ids[k] + 1;
-      }
-    }
-    out << '\n';
-  }
-  bytes = out.str();
-  return std::string();
 }
 
 // Writes bytes to path, checking the open, every write, the flush and the close; a partial regular
@@ -611,19 +534,24 @@ void CheckWritablePath(const std::string& path)
 
 namespace
 {
-// The point attribute roles each writer above keeps; no format but VTP and legacy VTK keeps any cell
-// data or other point arrays. (Change this with the writers: TestMeshIO reads every format back.)
-std::vector<int> KeptPointRoles(const std::string& ext)
+// Whether a file of type `ext` keeps the array: PLY every numeric array (points and cells); OFF the
+// point normals, colours and texture coordinates; OBJ the point normals and texture coordinates;
+// STL nothing. (Change this with the writers: TestMeshIO reads every format back.)
+bool FormatKeepsArray(const std::string& ext, vtkDataSetAttributes* data, int index, bool pointData)
 {
-  if (ext == ".obj")
-  {
-    return { vtkDataSetAttributes::NORMALS }; // "vn" lines
-  }
+  vtkAbstractArray* array = data->GetAbstractArray(index);
   if (ext == ".ply")
   {
-    return { vtkDataSetAttributes::TCOORDS }; // vtkPLYWriter's u, v
+    return vtkPLYMeshWriter::CanWriteArray(array);
   }
-  return {};
+  const bool normals = array == slod::FileNormals(data);
+  const bool tcoords = array == slod::FileTextureCoordinates(data);
+  const bool colors = array == slod::FileColors(data);
+  if (!pointData || !array)
+  {
+    return false;
+  }
+  return ext == ".off" ? normals || tcoords || colors : ext == ".obj" ? normals || tcoords : false;
 }
 
 // "'Name'" or, for an unnamed array, its role ("unnamed normals").
@@ -638,14 +566,13 @@ std::string ArrayLabel(vtkDataSetAttributes* data, int index)
   return role >= 0 ? "unnamed " + std::string(vtkDataSetAttributes::GetAttributeTypeAsString(role)) : "unnamed";
 }
 
-// The arrays of `data` whose role is not one of keptRoles, as labels.
-std::vector<std::string> DroppedArrays(vtkDataSetAttributes* data, const std::vector<int>& keptRoles)
+// The arrays of `data` a file of type `ext` does not keep, as labels.
+std::vector<std::string> DroppedArrays(vtkDataSetAttributes* data, const std::string& ext, bool pointData)
 {
   std::vector<std::string> dropped;
   for (int a = 0; a < data->GetNumberOfArrays(); ++a)
   {
-    const int role = data->IsArrayAnAttribute(a);
-    if (std::find(keptRoles.begin(), keptRoles.end(), role) == keptRoles.end())
+    if (!FormatKeepsArray(ext, data, a, pointData))
     {
       dropped.push_back(ArrayLabel(data, a));
     }
@@ -671,8 +598,8 @@ void WarnAboutDroppedArrays(vtkPolyData* mesh, const std::string& path)
   {
     return; // both keep every array
   }
-  const std::vector<std::string> points = DroppedArrays(mesh->GetPointData(), KeptPointRoles(ext));
-  const std::vector<std::string> cells = DroppedArrays(mesh->GetCellData(), {});
+  const std::vector<std::string> points = DroppedArrays(mesh->GetPointData(), ext, true);
+  const std::vector<std::string> cells = DroppedArrays(mesh->GetCellData(), ext, false);
   if (points.empty() && cells.empty())
   {
     return;
@@ -695,18 +622,16 @@ void WriteMesh(vtkPolyData* mesh, const std::string& path)
   CheckWritablePath(path);
   MessageCapture capture;
   std::string problem;
-  if (ext == ".off" || ext == ".stl")
+  if (ext != ".vtp" && ext != ".vtk")
   {
     problem = WriteFileWithVTK(mesh, path, ext);
   }
   else
   {
-    // VTK's PLY and OBJ writers do not check their writes (a full disk went unnoticed): the file is
-    // made in memory and written here, every step checked.
+    // VTK's XML and legacy writers do not check their writes (a full disk went unnoticed): the file
+    // is made in memory and written here, every step checked.
     std::string bytes;
-    problem = ext == ".obj" ? ObjText(mesh, bytes)
-      : ext == ".ply"       ? PlyBytes(mesh, path, bytes)
-                            : SerializeWithVTK(mesh, ext, bytes);
+    problem = SerializeWithVTK(mesh, ext, bytes);
     if (problem.empty())
     {
       problem = WriteBytesChecked(path, bytes);

@@ -45,16 +45,7 @@ using Polygon = std::vector<vtkIdType>;
 
 std::vector<Polygon> Polygons(vtkCellArray* cells)
 {
-  std::vector<Polygon> result;
-  auto it = vtk::TakeSmartPointer(cells->NewIterator());
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    it->GetCurrentCell(n, ids);
-    result.emplace_back(ids, ids + n);
-  }
-  return result;
+  return slodtest::CellPointIds(cells);
 }
 
 std::string WriteText(const std::string& name, const std::string& text)
@@ -219,9 +210,9 @@ TEST(OFFMeshIO, CommentsBlankLinesAndCountsOnTheHeaderLine)
   EXPECT_EQ(p[2], 1.0);
 }
 
-TEST(OFFMeshIO, ColourAndNormalColumnsAreIgnored)
+TEST(OFFMeshIO, ColourAndNormalColumnsAreRead)
 {
-  // COFF: vertex colours (RGBA); per-face colours; polygons of 3, 4 and 5 vertices.
+  // COFF: vertex colours (RGBA, integers 0-255); per-face colours (ignored); polygons of 3, 4 and 5 vertices.
   const std::string coff = WriteText("colours.coff.off",
     "COFF\n5 3 0\n"
     "0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n1 1 0 0 0 255 255\n0 1 0 10 20 30 255\n0.5 1.5 0 1 1 1 1\n"
@@ -236,13 +227,19 @@ TEST(OFFMeshIO, ColourAndNormalColumnsAreIgnored)
   mesh->GetPoint(4, p);
   EXPECT_EQ(p[0], 0.5);
   EXPECT_EQ(p[1], 1.5);
+  vtkDataArray* colors = mesh->GetPointData()->GetScalars();
+  ASSERT_NE(colors, nullptr);
+  ASSERT_EQ(colors->GetDataType(), VTK_UNSIGNED_CHAR);
+  ASSERT_EQ(colors->GetNumberOfComponents(), 4);
+  EXPECT_EQ(colors->GetTuple4(3)[1], 20.0);
+  EXPECT_EQ(colors->GetTuple4(4)[0], 1.0); // integers 0-255: the file has values above 1
 
-  // CNOFF: colour and normal columns per vertex.
+  // CNOFF: normal and colour columns per vertex (floats 0-1: no value above 1).
   const std::string cnoff = WriteText("colours.cnoff.off",
     "CNOFF\n3 1 0\n"
     "0 0 0  0 0 1  1 0 0 1\n"
-    "2 0 0  0 0 1  0 1 0 1\n"
-    "0 3 0  0 0 1  0 0 1 1\n"
+    "2 0 0  0 0.6 0.8  0 1 0 1\n"
+    "0 3 0  0 0 1  0 0 0.5 1\n"
     "3 2 1 0\n");
   mesh = Read(cnoff, &code);
   ASSERT_EQ(code, vtkErrorCode::NoError);
@@ -250,6 +247,37 @@ TEST(OFFMeshIO, ColourAndNormalColumnsAreIgnored)
   mesh->GetPoint(2, p);
   EXPECT_EQ(p[1], 3.0);
   EXPECT_EQ(Polygons(mesh->GetPolys()), std::vector<Polygon>({ { 2, 1, 0 } }));
+  ASSERT_NE(mesh->GetPointData()->GetNormals(), nullptr);
+  EXPECT_EQ(mesh->GetPointData()->GetNormals()->GetComponent(1, 2), 0.8);
+  ASSERT_NE(mesh->GetPointData()->GetScalars(), nullptr);
+  EXPECT_EQ(mesh->GetPointData()->GetScalars()->GetComponent(0, 0), 255.0);
+  EXPECT_EQ(mesh->GetPointData()->GetScalars()->GetComponent(2, 2), 128.0); // 0.5 * 255 rounded
+}
+
+TEST(OFFMeshIO, InconsistentColourColumnsAreRefused)
+{
+  vtkObject::GlobalWarningDisplayOff();
+  const struct
+  {
+    const char* Text;
+    const char* Problem;
+  } cases[] = {
+    { "COFF\n3 1 0\n0 0 0 1 2 3\n1 0 0 1 2 3 4\n0 1 0 1 2 3\n3 0 1 2\n", ":4: vertex line has 4 colour values" },
+    { "COFF\n3 1 0\n0 0 0 1 2\n1 0 0 1 2 3\n0 1 0 1 2 3\n3 0 1 2\n", ":3: vertex line has 2 colour values" },
+    { "COFF\n3 1 0\n0 0 0 10 20 300\n1 0 0 1 2 3\n0 1 0 1 2 3\n3 0 1 2\n", ":3: colour value not an integer" },
+    { "COFF\n3 1 0\n0 0 0 0.5 0.5 1.5\n1 0 0 1 2 3\n0 1 0 1 2 3\n3 0 1 2\n", ":3: colour value outside 0-1" },
+    { "NOFF\n3 1 0\n0 0 0 0 0 x\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n", ":3: malformed vertex line" },
+  };
+  for (const auto& c : cases)
+  {
+    unsigned long code = 0;
+    std::string error;
+    vtkSmartPointer<vtkPolyData> mesh = Read(WriteText("bad_colours.off", c.Text), &code, &error);
+    EXPECT_EQ(code, vtkErrorCode::FileFormatError) << c.Text;
+    EXPECT_NE(error.find(c.Problem), std::string::npos) << error;
+    EXPECT_EQ(mesh->GetNumberOfPoints(), 0);
+  }
+  vtkObject::GlobalWarningDisplayOn();
 }
 
 TEST(OFFMeshIO, MalformedFilesFailWithTheFileNameAndAnEmptyOutput)
@@ -432,27 +460,27 @@ TEST(OFFMeshIO, FacesOfOneOrTwoVerticesAreVertexAndLineCells)
   EXPECT_NE(ReadProblem(path).find("no surface"), std::string::npos);
 }
 
-TEST(MeshFileChecks, SoundPlyFilesPassAndReadBack)
+TEST(PLYMeshIO, SoundPlyFilesReadBack)
 {
   for (const char* format : { "ascii", "binary_little_endian", "binary_big_endian" })
   {
     PlyFile ply;
     ply.Format = format;
-    EXPECT_EQ(slodcli::CheckPLY(ply.Bytes()).Problem, "") << format;
-    EXPECT_EQ(slodcli::CheckPLY(ply.Bytes()).Warning, "") << format;
-    // Data after the last element: read as announced, with a warning.
-    const slodcli::FileCheck trailing = slodcli::CheckPLY(ply.Bytes() + "3 0 1 2\n");
-    EXPECT_EQ(trailing.Problem, "") << format;
-    EXPECT_NE(trailing.Warning.find("8 bytes after"), std::string::npos) << format << ": " << trailing.Warning;
     const std::string path = WriteText(std::string("tetra_") + format + ".ply", ply.Bytes());
     ASSERT_EQ(ReadProblem(path), "") << format;
     vtkSmartPointer<vtkPolyData> mesh = slodcli::ReadMesh(path);
     EXPECT_EQ(mesh->GetNumberOfPoints(), 4);
     EXPECT_EQ(Polygons(mesh->GetPolys()), std::vector<Polygon>({ { 0, 2, 1 }, { 0, 1, 3 }, { 1, 2, 3 }, { 0, 3, 2 } }));
+    // Data after the last element: read as announced, with a warning naming the file.
+    const std::string trailing = WriteText(std::string("trailing_") + format + ".ply", ply.Bytes() + "3 0 1 2\n");
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(ReadProblem(trailing), "") << format;
+    const std::string warnings = testing::internal::GetCapturedStderr();
+    EXPECT_NE(warnings.find(trailing + ": not read: data after the elements"), std::string::npos) << warnings;
   }
 }
 
-TEST(MeshFileChecks, UnsoundPlyFilesAreRefusedBeforeVTKReadsThem)
+TEST(PLYMeshIO, UnsoundPlyFilesAreRefusedNamingTheProblem)
 {
   struct Case
   {
@@ -485,29 +513,33 @@ TEST(MeshFileChecks, UnsoundPlyFilesAreRefusedBeforeVTKReadsThem)
     { "count_beyond_file.ply", variant("binary_little_endian", [](PlyFile& p) { p.AnnouncedFaces = 2000000000; }),
       "more than the" },
     { "count_beyond_int.ply", variant("binary_little_endian", [](PlyFile& p) { p.AnnouncedFaces = 5000000000LL; }),
-      "more than a PLY reader can count" },
+      "more than the" },
     { "truncated.ply", variant("binary_little_endian", [](PlyFile& p) { p.AnnouncedFaces = 5; }), "file ends" },
     { "ascii_truncated.ply", variant("ascii", [](PlyFile& p) { p.AnnouncedFaces = 5; }), "file ends" },
-    { "face_of_300.ply",
+    // An ASCII value outside its type (the cast to a count or index was undefined behaviour).
+    { "ascii_uchar_count_300.ply",
       []() {
-        std::string bytes = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                            "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n"
-                            "0 0 0\n1 0 0\n0 1 0\n300";
-        for (int k = 0; k < 300; ++k)
-        {
-          bytes += " " + std::to_string(k % 3);
-        }
-        return bytes + "\n";
+        return std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                           "0 0 0\n1 0 0\n0 1 0\n300 0 1 2\n");
       },
-      "list of 300" },
+      "malformed uchar value '300'" },
+    { "ascii_index_1e300.ply",
+      []() {
+        return std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                           "0 0 0\n1 0 0\n0 1 0\n3 0 1 1e300\n");
+      },
+      "malformed int value '1e300'" },
     { "no_end_header.ply", []() { return std::string("ply\nformat ascii 1.0\nelement vertex 1\n"); }, "end_header" },
     { "no_xyz.ply", []() { return std::string("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n"); },
       "x, y, z" },
     { "element_without_properties.ply",
       []() { return std::string("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
                                 "property float z\nelement face 99999999\nend_header\n"); },
-      "no properties" },
-    // Found by the fuzzer: vtkPLYReader freed the index list of a face element that has none.
+      "no vertex_indices list" },
+    // Found by the fuzzer when VTK's PLY reader read the files: it freed the index list of a face
+    // element that has none.
     { "face_without_indices.ply",
       []() {
         std::string bytes = PlyFile().Bytes();
@@ -520,10 +552,8 @@ TEST(MeshFileChecks, UnsoundPlyFilesAreRefusedBeforeVTKReadsThem)
   };
   for (const Case& c : cases)
   {
-    const std::string bytes = c.Bytes();
-    const std::string problem = slodcli::CheckPLY(bytes).Problem;
+    const std::string problem = ReadProblem(WriteText(c.Name, c.Bytes()));
     EXPECT_NE(problem.find(c.Problem), std::string::npos) << c.Name << ": '" << problem << "'";
-    EXPECT_NE(ReadProblem(WriteText(c.Name, bytes)), "") << c.Name;
   }
 }
 
@@ -557,16 +587,15 @@ TEST(MeshFileChecks, StlCountAgainstTheFileSize)
   EXPECT_FALSE(slodcli::IsBinarySTL(WriteText("ascii.stl", "solid x\nendsolid x\n")));
 }
 
-TEST(MeshFileChecks, ObjCoordinatesMustBeFiniteDecimalNumbers)
+TEST(OBJMeshIO, CoordinatesMustBeFiniteDecimalNumbers)
 {
   const std::string faces = "v 1 0 0\nv 0 1 0\nf 1 2 3\n";
-  EXPECT_EQ(slodcli::CheckOBJ("# comment\nv 0 0 0\n" + faces).Problem, "");
-  EXPECT_EQ(slodcli::CheckOBJ("v 0 0 0 1 0.5 0.25\n" + faces).Problem, ""); // with colours
+  EXPECT_EQ(ReadProblem(WriteText("good.obj", "# comment\nv 0 0 0\n" + faces)), "");
+  EXPECT_EQ(ReadProblem(WriteText("colours.obj", "v 0 0 0 1 0.5 0.25\n" + faces)), ""); // with colours
   for (const char* bad : { "v nan 0 0\n", "v 0 inf 0\n", "v 0 0 1e999\n", "v 0x10 0 0\n", "v 1,5 0 0\n", "v 0 0\n" })
   {
-    const std::string problem = slodcli::CheckOBJ(bad + faces).Problem;
-    EXPECT_NE(problem.find("line 1"), std::string::npos) << bad << ": " << problem;
-    EXPECT_NE(ReadProblem(WriteText("bad_vertex.obj", bad + faces)), "") << bad;
+    const std::string path = WriteText("bad_vertex.obj", bad + faces);
+    EXPECT_NE(ReadProblem(path).find(path + ":1: vertex does not hold finite numbers"), std::string::npos) << bad;
   }
 }
 
@@ -623,8 +652,15 @@ TEST(MeshIO, ObjFilesReadBackExactly)
       back->GetPoint(i, q);
       for (int a = 0; a < 3; ++a)
       {
-        // vtkOBJReader keeps float points: exact for float input, to float precision for double.
-        EXPECT_EQ(static_cast<float>(p[a]), static_cast<float>(q[a])) << i << " " << a;
+        // Shortest decimals of the points' precision, read as doubles: exact in that precision.
+        if (pointType == VTK_FLOAT)
+        {
+          EXPECT_EQ(static_cast<float>(p[a]), static_cast<float>(q[a])) << i << " " << a;
+        }
+        else
+        {
+          EXPECT_EQ(p[a], q[a]) << i << " " << a;
+        }
       }
     }
   }

@@ -1,0 +1,331 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkOBJMeshReader.h"
+
+#include "slodMeshFileSupport.h"
+
+#include "vtkCellArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkErrorCode.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <tuple>
+#include <vector>
+
+vtkStandardNewMacro(vtkOBJMeshReader);
+
+namespace
+{
+using ObjProblem = slod::MeshFileProblem;
+
+// One corner of a face: 0-based position, texture coordinate and normal numbers (-1: none).
+struct ObjCorner
+{
+  long long Position = -1, Texture = -1, Normal = -1;
+  bool operator<(const ObjCorner& o) const
+  {
+    return std::tie(this->Position, this->Texture, this->Normal) < std::tie(o.Position, o.Texture, o.Normal);
+  }
+  bool operator==(const ObjCorner& o) const
+  {
+    return this->Position == o.Position && this->Texture == o.Texture && this->Normal == o.Normal;
+  }
+};
+
+// The file as read: the three index spaces and the faces' corners.
+struct ObjContent
+{
+  std::vector<double> Positions, Textures, Normals; // 3, 2 and 3 values per item
+  std::vector<ObjCorner> Corners;
+  std::vector<vtkIdType> FaceSizes;
+  std::vector<long long> FaceLines;
+  std::map<std::string, long long> Unread; // statements not read, by keyword
+};
+
+// A finite decimal number (a leading '+' allowed; no "nan", "inf" or hexadecimal forms).
+bool ParseFinite(const std::string& word, double& value)
+{
+  const char* first = word.data() + (!word.empty() && word[0] == '+' ? 1 : 0);
+  const char* last = word.data() + word.size();
+  const auto parsed = std::from_chars(first, last, value);
+  return parsed.ec == std::errc() && parsed.ptr == last && std::isfinite(value);
+}
+
+// Numbers words[1..count] appended to `values` (the missing ones of an optional tail as 0).
+bool AppendNumbers(const std::vector<std::string>& words, size_t count, std::vector<double>& values)
+{
+  for (size_t k = 1; k <= count; ++k)
+  {
+    double value = 0;
+    if (k < words.size() && !ParseFinite(words[k], value))
+    {
+      return false;
+    }
+    values.push_back(value);
+  }
+  return true;
+}
+
+// An OBJ index (1-based, or negative: counted back from the items defined so far) as 0-based.
+bool ParseIndex(const std::string& text, long long definedSoFar, long long& index)
+{
+  long long value = 0;
+  const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (parsed.ec != std::errc() || parsed.ptr != text.data() + text.size() || value == 0)
+  {
+    return false;
+  }
+  index = value > 0 ? value - 1 : definedSoFar + value;
+  return index >= 0; // a negative number reaching before the first item is malformed
+}
+
+// "v", "v/vt", "v//vn" or "v/vt/vn".
+bool ParseCorner(const std::string& word, const ObjContent& content, ObjCorner& corner)
+{
+  const size_t slash = word.find('/');
+  const size_t second = slash == std::string::npos ? std::string::npos : word.find('/', slash + 1);
+  const std::string position = word.substr(0, slash);
+  const std::string texture =
+    slash == std::string::npos ? "" : word.substr(slash + 1, second == std::string::npos ? std::string::npos : second - slash - 1);
+  const std::string normal = second == std::string::npos ? "" : word.substr(second + 1);
+  bool ok = ParseIndex(position, static_cast<long long>(content.Positions.size() / 3), corner.Position);
+  ok = ok && (texture.empty() || ParseIndex(texture, static_cast<long long>(content.Textures.size() / 2), corner.Texture));
+  ok = ok && (normal.empty() || ParseIndex(normal, static_cast<long long>(content.Normals.size() / 3), corner.Normal));
+  // "v/" or "v//" without a normal is malformed.
+  return ok && !(slash != std::string::npos && texture.empty() && normal.empty());
+}
+
+ObjProblem ReadFace(const std::vector<std::string>& words, long long line, ObjContent& content)
+{
+  if (words.size() < 4)
+  {
+    return { "face of fewer than three corners", vtkErrorCode::FileFormatError, line };
+  }
+  for (size_t k = 1; k < words.size(); ++k)
+  {
+    ObjCorner corner;
+    if (!ParseCorner(words[k], content, corner))
+    {
+      return { "malformed face corner '" + words[k].substr(0, 40) + "'", vtkErrorCode::FileFormatError, line };
+    }
+    content.Corners.push_back(corner);
+  }
+  content.FaceSizes.push_back(static_cast<vtkIdType>(words.size() - 1));
+  content.FaceLines.push_back(line);
+  return {};
+}
+
+ObjProblem ReadStatement(const std::vector<std::string>& words, long long line, ObjContent& content)
+{
+  const std::string& keyword = words[0];
+  auto malformed = [&](const char* what) {
+    return ObjProblem{ std::string(what) + " does not hold finite numbers", vtkErrorCode::FileFormatError, line };
+  };
+  if (keyword == "v")
+  {
+    // x y z, then an optional w or a colour r g b [a] (colours are not read).
+    if (words.size() < 4 || words.size() > 8 || !AppendNumbers(words, 3, content.Positions))
+    {
+      return malformed("vertex");
+    }
+    content.Unread["vertex colours"] += words.size() >= 7 ? 1 : 0;
+    return {};
+  }
+  if (keyword == "vt")
+  {
+    return words.size() >= 2 && words.size() <= 4 && AppendNumbers(words, 2, content.Textures)
+      ? ObjProblem()
+      : malformed("texture coordinate");
+  }
+  if (keyword == "vn")
+  {
+    return words.size() == 4 && AppendNumbers(words, 3, content.Normals) ? ObjProblem() : malformed("normal");
+  }
+  if (keyword == "f")
+  {
+    return ReadFace(words, line, content);
+  }
+  static const char* const withoutGeometry[] = { "g", "o", "s", "usemtl", "mtllib", "mg" };
+  for (const char* silent : withoutGeometry)
+  {
+    if (keyword == silent)
+    {
+      return {};
+    }
+  }
+  ++content.Unread["'" + keyword + "' statements"];
+  return {};
+}
+
+// Every corner refers to an item the file defines.
+ObjProblem CheckCornerIndices(const ObjContent& content)
+{
+  const long long counts[3] = { static_cast<long long>(content.Positions.size() / 3),
+    static_cast<long long>(content.Textures.size() / 2), static_cast<long long>(content.Normals.size() / 3) };
+  size_t corner = 0;
+  for (size_t f = 0; f < content.FaceSizes.size(); ++f)
+  {
+    for (vtkIdType k = 0; k < content.FaceSizes[f]; ++k, ++corner)
+    {
+      const ObjCorner& c = content.Corners[corner];
+      const long long indices[3] = { c.Position, c.Texture, c.Normal };
+      static const char* const kinds[3] = { "vertex", "texture coordinate", "normal" };
+      for (int kind = 0; kind < 3; ++kind)
+      {
+        const bool absent = kind > 0 && indices[kind] == -1;
+        if (!absent && (indices[kind] < 0 || indices[kind] >= counts[kind]))
+        {
+          return { std::string("face refers to ") + kinds[kind] + " " + std::to_string(indices[kind] + 1) +
+              " but the file has " + std::to_string(counts[kind]),
+            vtkErrorCode::FileFormatError, content.FaceLines[f] };
+        }
+      }
+    }
+  }
+  return {};
+}
+
+// One output point per distinct (position, texture, normal) combination: the first combination of a
+// position keeps its number, the others are appended. Returns the point id of every corner.
+std::vector<vtkIdType> AssignPoints(const ObjContent& content, std::vector<ObjCorner>& pointCorners)
+{
+  const size_t positions = content.Positions.size() / 3;
+  pointCorners.assign(positions, ObjCorner());
+  std::map<ObjCorner, vtkIdType> extra;
+  std::vector<vtkIdType> ids;
+  ids.reserve(content.Corners.size());
+  for (const ObjCorner& corner : content.Corners)
+  {
+    ObjCorner& first = pointCorners[size_t(corner.Position)];
+    if (first.Position < 0 || first == corner)
+    {
+      first = corner;
+      ids.push_back(static_cast<vtkIdType>(corner.Position));
+      continue;
+    }
+    auto inserted = extra.emplace(corner, static_cast<vtkIdType>(pointCorners.size()));
+    if (inserted.second)
+    {
+      pointCorners.push_back(corner);
+    }
+    ids.push_back(inserted.first->second);
+  }
+  return ids;
+}
+
+// The output: points (double), polygons, and texture coordinates / normals when any corner has them.
+void BuildOutput(const ObjContent& content, vtkPolyData* output)
+{
+  std::vector<ObjCorner> pointCorners;
+  const std::vector<vtkIdType> ids = AssignPoints(content, pointCorners);
+  bool anyTexture = false, anyNormal = false;
+  for (const ObjCorner& corner : content.Corners)
+  {
+    anyTexture = anyTexture || corner.Texture >= 0;
+    anyNormal = anyNormal || corner.Normal >= 0;
+  }
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(pointCorners.size()));
+  vtkNew<vtkDoubleArray> tcoords, normals;
+  tcoords->SetName("TCoords");
+  tcoords->SetNumberOfComponents(2);
+  tcoords->SetNumberOfTuples(anyTexture ? points->GetNumberOfPoints() : 0);
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(anyNormal ? points->GetNumberOfPoints() : 0);
+  for (size_t p = 0; p < pointCorners.size(); ++p)
+  {
+    // A position no face uses keeps its own number and no attributes (zeros).
+    const size_t position = p < content.Positions.size() / 3 ? p : size_t(pointCorners[p].Position);
+    const ObjCorner& corner = pointCorners[p];
+    points->SetPoint(static_cast<vtkIdType>(p), &content.Positions[3 * position]);
+    const double none[3] = { 0, 0, 0 };
+    if (anyTexture)
+    {
+      tcoords->SetTypedTuple(static_cast<vtkIdType>(p), corner.Texture >= 0 ? &content.Textures[2 * size_t(corner.Texture)] : none);
+    }
+    if (anyNormal)
+    {
+      normals->SetTypedTuple(static_cast<vtkIdType>(p), corner.Normal >= 0 ? &content.Normals[3 * size_t(corner.Normal)] : none);
+    }
+  }
+  vtkNew<vtkCellArray> polys;
+  size_t at = 0;
+  for (vtkIdType size : content.FaceSizes)
+  {
+    polys->InsertNextCell(size, ids.data() + at);
+    at += size_t(size);
+  }
+  output->SetPoints(points);
+  output->SetPolys(polys);
+  if (anyTexture)
+  {
+    output->GetPointData()->SetTCoords(tcoords);
+  }
+  if (anyNormal)
+  {
+    output->GetPointData()->SetNormals(normals);
+  }
+}
+
+std::string UnreadSummary(const ObjContent& content)
+{
+  std::string summary;
+  for (const auto& unread : content.Unread)
+  {
+    if (unread.second > 0)
+    {
+      summary += (summary.empty() ? "not read: " : ", ") + std::to_string(unread.second) + " " + unread.first;
+    }
+  }
+  return summary;
+}
+} // namespace
+
+int vtkOBJMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  this->StartRead();
+  auto fail = [&](const ObjProblem& problem) {
+    return this->FailRead(output, problem.Message, problem.Code, problem.Line);
+  };
+  std::ifstream in(this->FileName, std::ios::binary);
+  if (this->FileName.empty() || !in)
+  {
+    return fail({ "cannot open file", vtkErrorCode::CannotOpenFileError, 0 });
+  }
+  ObjContent content;
+  std::string line;
+  for (long long number = 1; std::getline(in, line); ++number)
+  {
+    const size_t hash = line.find('#');
+    const std::vector<std::string> words = slod::SplitWords(hash == std::string::npos ? line : line.substr(0, hash));
+    const ObjProblem problem = words.empty() ? ObjProblem() : ReadStatement(words, number, content);
+    if (problem)
+    {
+      return fail(problem);
+    }
+  }
+  if (const ObjProblem problem = CheckCornerIndices(content))
+  {
+    return fail(problem);
+  }
+  const std::string unread = UnreadSummary(content);
+  if (!unread.empty())
+  {
+    this->WarnNotRead(unread);
+  }
+  BuildOutput(content, output);
+  return 1;
+}
