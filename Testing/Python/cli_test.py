@@ -113,6 +113,7 @@ def simplify_by_feature_size(a, method):
     for size in (0.005, 0.012):  # absolute; cheese's bounding-box diagonal is 0.173
         result = json_line(run(a.cli, "simplify", cheese, out, "--method", method, "--feature-size", size, "--json"))
         check(result["input_triangles"] == 17786, "input_triangles %r" % result["input_triangles"])
+        check(result["target_reached"] is None, "no target was asked, target_reached %r" % result["target_reached"])
         info = json_line(run(a.cli, "info", out, "--json"))
         check(info["triangles"] == result["output_triangles"], "file has %d triangles, JSON said %d"
               % (info["triangles"], result["output_triangles"]))

@@ -358,11 +358,17 @@ void PrintSimplified(const SimplifyArguments& args, const Method& method, const 
   vtkPolyData* output, double seconds, const Json& distributed = Json())
 {
   const vtkIdType outputTriangles = output->GetNumberOfPolys();
-  const bool targetReached = TargetReached(output, settings);
+  // A method that removes features of a size needs no target: with none given there is none to
+  // reach (null in the JSON).
+  const TargetArguments& target = args.Target;
+  const bool hasTarget = method.NeedsTarget || target.Triangles > 0 || target.Reduction >= 0 ||
+    target.MaximumError >= 0 || target.Level >= 0;
+  const bool targetReached = !hasTarget || TargetReached(output, settings);
   if (args.Json)
   {
     Json line = { { "method", method.Name }, { "input_triangles", settings.InputTriangles },
-      { "output_triangles", outputTriangles }, { "target_reached", targetReached }, { "seconds", seconds },
+      { "output_triangles", outputTriangles }, { "target_reached", hasTarget ? Json(targetReached) : Json() },
+      { "seconds", seconds },
       { "peak_rss_mb", PeakResidentMegabytes() } };
     if (!distributed.is_null())
     {
