@@ -938,6 +938,29 @@ bool PrepareFilterInput(vtkObject* filter, vtkPolyData* input, const Preparation
   return true;
 }
 
+bool PrepareFilterTriangles(vtkObject* filter, vtkPolyData* input, const PreparationOptions& options,
+  TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint, PreparationReport* report,
+  std::vector<Index>* triangleToInputCell, const NoTrianglesMessage& noTriangles)
+{
+  if (!PrepareFilterInput(filter, input, options, mesh, vertexToInputPoint, report, triangleToInputCell))
+  {
+    return false;
+  }
+  if (mesh.NumberOfTriangles() > 0)
+  {
+    return true;
+  }
+  if (noTriangles.IsError)
+  {
+    vtkErrorWithObjectMacro(filter, << noTriangles.Text);
+  }
+  else
+  {
+    vtkWarningWithObjectMacro(filter, << noTriangles.Text);
+  }
+  return false;
+}
+
 ProgressFunction FilterProgress(vtkAlgorithm* filter, double from, double to)
 {
   return [filter, from, to](double fraction) {

@@ -86,6 +86,21 @@ SURFACELODFILTERS_EXPORT bool PrepareFilterInput(vtkObject* filter, vtkPolyData*
   const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint,
   PreparationReport* report = nullptr, std::vector<Index>* triangleToInputCell = nullptr);
 
+// How a filter that needs triangles answers a prepared input without any: an error or a warning
+// on the filter, with the filter's own sentence.
+struct SURFACELODFILTERS_EXPORT NoTrianglesMessage
+{
+  bool IsError = false;
+  const char* Text = "The input has no triangles: the output is empty.";
+};
+
+// PrepareFilterInput, then `noTriangles` reported and false when the prepared mesh has no
+// triangles (the filter then produces an empty output).
+SURFACELODFILTERS_EXPORT bool PrepareFilterTriangles(vtkObject* filter, vtkPolyData* input,
+  const PreparationOptions& options, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint,
+  PreparationReport* report, std::vector<Index>* triangleToInputCell,
+  const NoTrianglesMessage& noTriangles = NoTrianglesMessage());
+
 // The progress of `filter` from `from` to `to` as a ProgressFunction (slodFilterContract.h): each
 // call updates the filter's progress and returns false once the filter was asked to abort.
 SURFACELODFILTERS_EXPORT ProgressFunction FilterProgress(vtkAlgorithm* filter, double from = 0.0, double to = 1.0);

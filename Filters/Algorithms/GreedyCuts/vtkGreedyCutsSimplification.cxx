@@ -86,8 +86,9 @@ int vtkGreedyCutsSimplification::RequestData(
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
-  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
-        slod::CellMapIfNeeded(input, triangleToCell)))
+  // A mesh without triangles has no non-manifold parts either, so refusing it first changes nothing.
+  if (!slod::PrepareFilterTriangles(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+        slod::CellMapIfNeeded(input, triangleToCell), { /*IsError=*/true }))
   {
     return 1;
   }
@@ -96,11 +97,6 @@ int vtkGreedyCutsSimplification::RequestData(
     vtkErrorMacro("Cannot simplify a non-manifold surface (" << report.NonManifoldEdges << " non-manifold edges, "
                                                             << report.NonManifoldVertices
                                                             << " non-manifold vertices): the output is empty.");
-    return 1;
-  }
-  if (mesh.NumberOfTriangles() == 0)
-  {
-    vtkErrorMacro("The input has no triangles: the output is empty.");
     return 1;
   }
   const double diagonal = mesh.BoundingBoxDiagonal();

@@ -138,11 +138,6 @@ void RetileNestedWithin(const slod::TriangleMesh& mesh, const slod::RetilingOpti
 // the surface is not cut open there). Its edges must be resolvable at the scale of the surface.
 bool CheckRetilable(vtkAlgorithm* filter, const slod::TriangleMesh& mesh, const slod::PreparationReport& report)
 {
-  if (mesh.NumberOfTriangles() == 0)
-  {
-    vtkErrorWithObjectMacro(filter, << "The input has no triangles: nothing to re-tile.");
-    return false;
-  }
   if (report.NonManifoldVertices > 0)
   {
     vtkWarningWithObjectMacro(filter, << "The input has " << report.NonManifoldEdges << " non-manifold edges and "
@@ -226,8 +221,9 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
-  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
-        slod::CellMapIfNeeded(input, triangleToCell)) ||
+  if (!slod::PrepareFilterTriangles(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+        slod::CellMapIfNeeded(input, triangleToCell),
+        { /*IsError=*/true, "The input has no triangles: nothing to re-tile." }) ||
     !CheckRetilable(this, mesh, report))
   {
     return 1;

@@ -121,15 +121,10 @@ int vtkTopologicalNoiseRemoval::RequestData(
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
-  if (!slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+  if (!slod::PrepareFilterTriangles(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
         slod::CellMapIfNeeded(input, triangleToCell)))
   {
-    return 1; // error reported; empty output
-  }
-  if (mesh.NumberOfTriangles() == 0)
-  {
-    vtkWarningMacro("The input has no triangles: the output is empty.");
-    return 1;
+    return 1; // error or warning reported; empty output
   }
   if (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0)
   {
