@@ -325,3 +325,31 @@ TEST(TopologicalNoiseRemoval, AbortGivesEmptyOutput)
   EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
   EXPECT_FALSE(messages->Warnings.empty());
 }
+
+// A separation search with a budget too small to decide (one triangle per side): the torus's
+// meridian loop is kept and reported (LoopsKept, port 1 with Removed = 0), and nothing is cut.
+TEST(TopologicalNoiseRemoval, UndecidedSeparationKeepsAndReportsTheLoop)
+{
+  vtkNew<vtkTopologicalNoiseRemoval> filter;
+  vtkSmartPointer<vtkPolyData> torus = ToPolyData(Torus(64, 32, 1.0, 0.35));
+  filter->SetInputData(torus);
+  filter->SetFeatureSize(0.8);
+  filter->FeatureSizeIsRelativeOff();
+  filter->SetSeparationSearchBudget(1);
+  filter->Update();
+  vtkPolyData* surface = filter->GetOutput(0);
+  vtkPolyData* loops = filter->GetOutput(1);
+  EXPECT_EQ(filter->GetNumberOfHandlesRemoved(), 0);
+  EXPECT_GE(filter->GetNumberOfLoopsKept(), 1);
+  EXPECT_EQ(FieldCount(surface, "LoopsKept"), filter->GetNumberOfLoopsKept());
+  EXPECT_EQ(Stats(surface).EulerCharacteristic, 0);
+  EXPECT_EQ(surface->GetNumberOfPolys(), torus->GetNumberOfPolys());
+  ASSERT_EQ(loops->GetNumberOfCells(), filter->GetNumberOfLoopsKept());
+  vtkDataArray* removed = loops->GetCellData()->GetArray("Removed");
+  ASSERT_NE(removed, nullptr);
+  for (vtkIdType c = 0; c < loops->GetNumberOfCells(); ++c)
+  {
+    EXPECT_EQ(removed->GetTuple1(c), 0);
+  }
+  ExpectShortCutLoops(loops, 0.8);
+}
