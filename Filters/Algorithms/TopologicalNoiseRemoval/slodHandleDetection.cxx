@@ -8,6 +8,7 @@
 #include <array>
 #include <functional>
 #include <limits>
+#include <utility>
 
 namespace slod
 {
@@ -98,20 +99,28 @@ Index GeodesicRegion::Grow(const CuttableMesh& mesh, const std::vector<Index>& s
 // cycle. Returns a settled neighbour on another arc than v's parent, or InvalidIndex.
 Index GeodesicRegion::FrontMeeting(const CuttableMesh& mesh, Index v)
 {
-  this->Link.clear();
-  int arcs = 0;
-  mesh.ForEachTriangle(v, [&](Index t) {
-    const Index* tri = mesh.Triangle(t);
-    const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-    const Index a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
-    this->Link.emplace_back(a, b);
-    arcs += (!this->Settled(a) && this->Settled(b)) ? 1 : 0;
-  });
   const Index parent = this->Parent[v];
-  if (arcs < 2 || parent == InvalidIndex)
+  if (parent == InvalidIndex)
   {
     return InvalidIndex;
   }
+  // Nearly every settled vertex has one arc: count the arcs first and store the link only at a
+  // meeting (this runs for every vertex of every region).
+  auto farEdge = [v](const Index* tri) {
+    const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    return std::make_pair(tri[(k + 1) % 3], tri[(k + 2) % 3]);
+  };
+  int arcs = 0;
+  mesh.ForEachTriangle(v, [&](Index t) {
+    const std::pair<Index, Index> edge = farEdge(mesh.Triangle(t));
+    arcs += (!this->Settled(edge.first) && this->Settled(edge.second)) ? 1 : 0;
+  });
+  if (arcs < 2)
+  {
+    return InvalidIndex;
+  }
+  this->Link.clear();
+  mesh.ForEachTriangle(v, [&](Index t) { this->Link.push_back(farEdge(mesh.Triangle(t))); });
   // Mark the parent's arc by walking the link both ways from it (at most its length each way).
   auto step = [&](Index from, bool forward) {
     for (const auto& edge : this->Link)
