@@ -46,6 +46,18 @@ CuttableMesh::CuttableMesh(TriangleMesh mesh)
   : Mesh(std::move(mesh))
 {
   this->Base.Build(this->Mesh);
+  this->LockAndIndex();
+}
+
+CuttableMesh::CuttableMesh(TriangleMesh mesh, MeshTopology topology)
+  : Mesh(std::move(mesh))
+  , Base(std::move(topology))
+{
+  this->LockAndIndex();
+}
+
+void CuttableMesh::LockAndIndex()
+{
   this->BaseVertices = this->Mesh.NumberOfPoints();
   this->Locked.assign(size_t(this->BaseVertices), 0);
   this->HasOverlay.assign(size_t(this->BaseVertices), 0);

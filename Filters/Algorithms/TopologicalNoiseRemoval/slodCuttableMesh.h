@@ -33,6 +33,9 @@ class SURFACELODFILTERS_EXPORT CuttableMesh
 public:
   // Takes the mesh; vertices on a border or non-manifold are locked (never on a cut loop).
   explicit CuttableMesh(TriangleMesh mesh);
+  // The same with the topology of an equal mesh already built (it is then not built again; only
+  // its vertex adjacency and classification are read, never its BoundaryLoops).
+  CuttableMesh(TriangleMesh mesh, MeshTopology topology);
 
   Index NumberOfPoints() const { return this->Mesh.NumberOfPoints(); }
   Index NumberOfTriangles() const { return this->Mesh.NumberOfTriangles(); }
@@ -89,6 +92,7 @@ public:
 
 private:
   static bool HasVertex(const Index* tri, Index v) { return tri[0] == v || tri[1] == v || tri[2] == v; }
+  void LockAndIndex();
   struct LoopSides;
   bool FindLoopSides(const std::vector<Index>& loop, LoopSides& sides) const;
   bool RightFan(const std::vector<Index>& loop, size_t i, Index start, Index avoid, std::vector<Index>& fan) const;

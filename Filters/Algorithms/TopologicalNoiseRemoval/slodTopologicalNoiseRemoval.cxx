@@ -72,10 +72,9 @@ std::vector<ComponentSummary> SummarizeComponents(const TriangleMesh& mesh, cons
 
 // Stage 1: the mesh without its components smaller than alpha (never the largest); keptTriangles
 // maps the new triangles to the input's.
-TriangleMesh RemoveSmallComponents(const TriangleMesh& mesh, double alpha, bool remove,
-  std::vector<Index>& keptTriangles, TopologicalNoiseResult& result)
+TriangleMesh RemoveSmallComponents(const TriangleMesh& mesh, const MeshTopology& topology, double alpha,
+  bool remove, std::vector<Index>& keptTriangles, TopologicalNoiseResult& result)
 {
-  const MeshTopology topology(mesh);
   const std::vector<ComponentSummary> components = SummarizeComponents(mesh, topology);
   size_t largest = 0;
   for (size_t c = 1; c < components.size(); ++c)
@@ -234,7 +233,14 @@ bool RemoveTopologicalNoise(const TriangleMesh& input, const TopologicalNoisePar
   result = TopologicalNoiseResult();
   const double alpha = std::max(0.0, parameters.FeatureSize);
   std::vector<Index> keptTriangles;
-  CuttableMesh mesh(RemoveSmallComponents(input, alpha, parameters.RemoveComponents, keptTriangles, result));
+  // One topology of the input serves its statistics, the component stage and, when that removed
+  // nothing (the kept mesh is then the input), the cuttable mesh: each build scans the whole mesh.
+  MeshTopology topology(input);
+  result.InputStatistics = topology.Statistics(input);
+  TriangleMesh kept = RemoveSmallComponents(input, topology, alpha, parameters.RemoveComponents, keptTriangles, result);
+  const bool keptAll = kept.NumberOfTriangles() == input.NumberOfTriangles();
+  CuttableMesh mesh = keptAll ? CuttableMesh(std::move(kept), std::move(topology)) : CuttableMesh(std::move(kept));
+  topology = MeshTopology(); // (when not moved: the input's adjacency is not needed any more)
   if (progress && !progress(0.1))
   {
     return false;

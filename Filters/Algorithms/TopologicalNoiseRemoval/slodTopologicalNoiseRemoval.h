@@ -20,6 +20,7 @@
 #define slodTopologicalNoiseRemoval_h
 
 #include "slodCuttableMesh.h"
+#include "slodMeshTopology.h"
 #include "slodFilterContract.h"
 #include "slodTriangleMesh.h"
 
@@ -48,6 +49,7 @@ struct NoiseLoop
 struct TopologicalNoiseResult
 {
   TriangleMesh Mesh;
+  MeshStatistics InputStatistics; // of the input mesh, before anything is removed
   std::vector<Index> VertexSource;   // per output vertex: the input vertex it copies
   std::vector<Index> TriangleSource; // per output triangle: its input triangle (fills: one next to the loop)
   Index HandlesRemoved = 0;

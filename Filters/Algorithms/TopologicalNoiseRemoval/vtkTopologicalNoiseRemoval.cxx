@@ -130,10 +130,6 @@ int vtkTopologicalNoiseRemoval::RequestData(
   {
     vtkWarningMacro("Non-manifold edges and vertices are left alone: no loop through them is cut.");
   }
-  const slod::MeshStatistics before = Statistics(mesh);
-  this->InputEulerCharacteristic = before.EulerCharacteristic;
-  this->InputGenus = static_cast<int>(before.Genus);
-
   slod::TopologicalNoiseParameters parameters;
   this->UsedFeatureSize = this->FeatureSize * (this->FeatureSizeIsRelative ? mesh.BoundingBoxDiagonal() : 1.0);
   parameters.FeatureSize = this->UsedFeatureSize;
@@ -142,7 +138,11 @@ int vtkTopologicalNoiseRemoval::RequestData(
   parameters.MaximumPasses = this->MaximumPasses;
   parameters.SeparationSearchBudget = static_cast<slod::Index>(this->SeparationSearchBudget);
   slod::TopologicalNoiseResult result;
-  if (!slod::RemoveTopologicalNoise(mesh, parameters, result, slod::FilterProgress(this, 0.05, 0.95)))
+  const bool done = slod::RemoveTopologicalNoise(mesh, parameters, result, slod::FilterProgress(this, 0.05, 0.95));
+  const slod::MeshStatistics& before = result.InputStatistics;
+  this->InputEulerCharacteristic = before.EulerCharacteristic;
+  this->InputGenus = static_cast<int>(before.Genus);
+  if (!done)
   {
     slod::ReportAbort(this, output);
     return 1;
