@@ -149,9 +149,10 @@ LoopSeparation CuttableMesh::TestSeparation(const std::vector<Index>& loop, Inde
       }
     }
   }
-  // Both sides advance one triangle in turn, so the work is about twice the smaller search.
+  // Both sides advance one triangle in turn, so the work is about twice the smaller search. A
+  // triangle is queued at most once (its stamp), so neither side pops more than every triangle.
   size_t head[2] = { 0, 0 };
-  while (true)
+  for (Index round = 0; round <= this->NumberOfTriangles(); ++round)
   {
     for (unsigned char s = 0; s < 2; ++s)
     {
@@ -189,6 +190,7 @@ LoopSeparation CuttableMesh::TestSeparation(const std::vector<Index>& loop, Inde
       }
     }
   }
+  return LoopSeparation::Undetermined; // not reached: a side runs out of triangles first
 }
 
 // The triangles around loop[i] on the loop's right: a flood through the vertex's fan from
