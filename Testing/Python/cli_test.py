@@ -748,6 +748,13 @@ def scenario_bench_real(a):
     check(mask["input_euler"] == -1 and mask["input_border_loops"] == 1, "mask input topology: %r" % mask)
     check(scan["input_border_loops"] > 1 and scan["input_nonmanifold_edges"] == 0, "scan input topology: %r" % scan)
     check(off["input_euler"] == 2 and off["input_border_loops"] == 0, "fandisk input topology: %r" % off)
+    # A feature-removal method has no count target: its rows say null, not "not reached".
+    proc = run(a.cli, "bench", "--inputs", "noisy:40", "--methods", "topological-noise-removal", "--samples", "2000",
+               "--timeout", "300", "--json")
+    rows = [json.loads(l) for l in proc.stdout.splitlines() if l.strip()]
+    feature = [r for r in rows if r["method"] == "topological-noise-removal"]
+    check(len(feature) == 1 and feature[0]["status"] == "ok" and feature[0]["target_reached"] is None,
+          "feature-removal bench row: %r" % rows)
 
 
 def scenario_bench_scaling(a):

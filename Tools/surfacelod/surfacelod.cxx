@@ -821,6 +821,7 @@ struct BenchRow
   double Seconds = 0.0;
   double PeakMegabytes = 0.0; // of the child process
   vtkIdType InputTriangles = 0, TargetTriangles = 0, OutputTriangles = 0;
+  bool HasTarget = true; // false for a method that removes features of a size (no count to reach)
   bool TargetReached = false;
   bool HasDeviation = false;
   Deviation Distance;
@@ -888,6 +889,7 @@ BenchRow BenchMethod(const BenchOptions& options, const std::string& inputName, 
   row.Input = inputName;
   row.Run = &method;
   row.InputTriangles = settings.InputTriangles;
+  row.HasTarget = method.NeedsTarget;
   row.TargetTriangles = settings.TargetTriangles > 0
     ? settings.TargetTriangles
     : vtkIdType(std::llround(double(settings.InputTriangles) * (1.0 - settings.ReductionFraction())));
@@ -966,7 +968,7 @@ void PrintRowText(const BenchRow& row, const BenchRow& baseline)
     return;
   }
   const bool deviation = row.HasDeviation;
-  std::cout << Padded(std::to_string(row.OutputTriangles), 9, true) << Padded(row.TargetReached ? "yes" : "no", 7, true)
+  std::cout << Padded(std::to_string(row.OutputTriangles), 9, true) << Padded(!row.HasTarget ? "-" : row.TargetReached ? "yes" : "no", 7, true)
             << Padded(Fixed(row.Seconds, 3), 9, true)
             << Padded(row.Seconds > 0 ? Fixed(1e-6 * double(row.InputTriangles) / row.Seconds, 2) : "-", 8, true)
             << Padded(RatioText(RatioTo(row.Seconds, baseline.Status == "ok" ? baseline.Seconds : 0)), 8, true)
@@ -996,7 +998,7 @@ void PrintRowJson(const BenchRow& row, const BenchRow& baseline, const TopologyS
   const double baselineSeconds = baseline.Status == "ok" ? baseline.Seconds : 0.0;
   Json line = { { "input", row.Input }, { "method", row.Run->Name }, { "status", row.Status },
     { "input_triangles", row.InputTriangles }, { "target_triangles", row.TargetTriangles },
-    { "output_triangles", CountOrNull(row.OutputTriangles, ok) }, { "target_reached", int(ok && row.TargetReached) },
+    { "output_triangles", CountOrNull(row.OutputTriangles, ok) }, { "target_reached", row.HasTarget ? Json(int(ok && row.TargetReached)) : Json() },
     { "seconds", NumberOrNull(row.Seconds, ok) },
     { "input_triangles_per_second", NumberOrNull(double(row.InputTriangles) / row.Seconds, ok && row.Seconds > 0) },
     { "baseline_seconds", NumberOrNull(baselineSeconds, baselineSeconds > 0) },
