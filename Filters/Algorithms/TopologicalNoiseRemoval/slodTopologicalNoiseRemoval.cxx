@@ -277,6 +277,7 @@ bool RemoveTopologicalNoise(const TriangleMesh& input, const TopologicalNoisePar
       }
       active = changed.empty() ? std::vector<Index>() : SeedsNear(mesh, seeds, changed, limits.Radius);
     }
+    result.PassLimitReached = !active.empty();
   }
   StoreResult(mesh, keptTriangles, result);
   return true;

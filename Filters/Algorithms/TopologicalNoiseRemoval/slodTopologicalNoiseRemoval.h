@@ -63,6 +63,7 @@ struct TopologicalNoiseResult
   Index Outdated = 0;             // candidates through a vertex a cut of the same pass changed
   Index CutsRefused = 0;         // non-separating loops whose vertices do not split into two sides
   int Passes = 0;
+  bool PassLimitReached = false;  // the last pass still cut: seeds near its cuts were not grown again
   std::vector<NoiseLoop> Loops;
 };
 

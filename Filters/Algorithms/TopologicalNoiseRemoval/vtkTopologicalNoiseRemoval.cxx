@@ -151,6 +151,12 @@ int vtkTopologicalNoiseRemoval::RequestData(
   this->NumberOfComponentsRemoved = static_cast<int>(result.ComponentsRemoved);
   this->NumberOfCavitiesRemoved = static_cast<int>(result.CavitiesRemoved);
   this->NumberOfLoopsKept = static_cast<int>(result.LoopsKept);
+  if (result.PassLimitReached)
+  {
+    vtkWarningMacro("MaximumPasses (" << this->MaximumPasses
+                                      << ") reached while the last pass still cut handles: handles below the "
+                                         "feature size may remain near its cuts.");
+  }
   StoreSurface(input, result, vertexToInput, triangleToCell, this->OutputPointsPrecision, output);
 
   const slod::MeshStatistics after = Statistics(result.Mesh);

@@ -355,3 +355,23 @@ TEST(TopologicalNoiseRemoval, UndecidedSeparationKeepsAndReportsTheLoop)
   }
   ExpectShortCutLoops(loops, 0.8);
 }
+
+// One pass that cuts: the regions near its cut are not grown again, which the filter must say (a
+// warning) instead of reporting a finished clean-up; with passes to spare it says nothing.
+TEST(TopologicalNoiseRemoval, PassLimitReachedIsReported)
+{
+  vtkSmartPointer<vtkPolyData> torus = ToPolyData(Torus(64, 32, 1.0, 0.35));
+  for (int passes : { 1, 2 })
+  {
+    vtkNew<vtkTopologicalNoiseRemoval> filter;
+    filter->SetInputData(torus);
+    filter->SetFeatureSize(0.8);
+    filter->FeatureSizeIsRelativeOff();
+    filter->SetMaximumPasses(passes);
+    vtkNew<MessageCounter> messages;
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->Update();
+    EXPECT_EQ(filter->GetNumberOfHandlesRemoved(), 1) << passes;
+    EXPECT_EQ(messages->Warnings.size(), passes == 1 ? 1u : 0u) << passes;
+  }
+}
