@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodPieceSeams.h"
 
+#include "slodMeshTopology.h"
+
 #include "vtkCellData.h"
 #include "vtkCommunicator.h"
 #include "vtkDataSetAttributes.h"
@@ -18,38 +20,6 @@ namespace slod
 namespace
 {
 using Position = std::array<double, 3>;
-
-// Per vertex: 1 when it ends an edge that only one triangle of the piece uses.
-std::vector<unsigned char> BorderVertexFlags(const TriangleMesh& piece)
-{
-  std::vector<std::uint64_t> edges;
-  edges.reserve(piece.Triangles.size());
-  for (Index t = 0; t < piece.NumberOfTriangles(); ++t)
-  {
-    const Index* tri = piece.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      edges.push_back(EdgeKey(tri[k], tri[(k + 1) % 3]));
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  std::vector<unsigned char> border(size_t(piece.NumberOfPoints()), 0);
-  for (size_t i = 0; i < edges.size();)
-  {
-    size_t j = i + 1;
-    while (j < edges.size() && edges[j] == edges[i])
-    {
-      ++j;
-    }
-    if (j - i == 1)
-    {
-      border[edges[i] >> 32] = 1;
-      border[edges[i] & 0xffffffffu] = 1;
-    }
-    i = j;
-  }
-  return border;
-}
 
 // Every process's border-vertex coordinates, except this process's own (3 doubles each, sorted).
 std::vector<Position> OtherPiecesBorderPositions(
@@ -89,33 +59,15 @@ std::vector<Position> OtherPiecesBorderPositions(
   return others;
 }
 
-Index CountSeamEdges(const TriangleMesh& piece, const std::vector<unsigned char>& border,
-  const std::vector<unsigned char>& shared)
+// Border edges of the piece (used by one triangle) whose two ends another piece shares.
+Index CountSeamEdges(const MeshTopology& topology, const std::vector<unsigned char>& shared)
 {
-  // A border edge is used once: count the edges of triangles with both ends shared and on the border,
-  // then keep those seen once.
-  std::vector<std::uint64_t> candidates;
-  for (Index t = 0; t < piece.NumberOfTriangles(); ++t)
+  Index seamEdges = 0;
+  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
   {
-    const Index* tri = piece.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index u = tri[k], v = tri[(k + 1) % 3];
-      if (shared[u] && shared[v] && border[u] && border[v])
-      {
-        candidates.push_back(EdgeKey(u, v));
-      }
-    }
+    seamEdges += topology.IsBoundaryEdge(e) && shared[topology.EdgeVertex(e, 0)] && shared[topology.EdgeVertex(e, 1)];
   }
-  std::sort(candidates.begin(), candidates.end());
-  Index once = 0;
-  for (size_t i = 0; i < candidates.size(); ++i)
-  {
-    const bool sameAsPrevious = i > 0 && candidates[i - 1] == candidates[i];
-    const bool sameAsNext = i + 1 < candidates.size() && candidates[i + 1] == candidates[i];
-    once += (!sameAsPrevious && !sameAsNext) ? 1 : 0;
-  }
-  return once;
+  return seamEdges;
 }
 } // namespace
 
@@ -132,7 +84,12 @@ PieceSeam FindPieceSeam(const TriangleMesh& piece, vtkMultiProcessController* co
   {
     return seam;
   }
-  const std::vector<unsigned char> border = BorderVertexFlags(piece);
+  const MeshTopology topology(piece);
+  std::vector<unsigned char> border(size_t(piece.NumberOfPoints()));
+  for (Index v = 0; v < piece.NumberOfPoints(); ++v)
+  {
+    border[v] = topology.IsBoundaryVertex(v) ? 1 : 0;
+  }
   const std::vector<Position> others = OtherPiecesBorderPositions(piece, border, controller);
   // Any vertex, not only a border one: a piece may hold an edge as interior that another piece has
   // on its border (a non-manifold edge split between pieces).
@@ -145,7 +102,7 @@ PieceSeam FindPieceSeam(const TriangleMesh& piece, vtkMultiProcessController* co
       ++seam.SharedVertexCount;
     }
   }
-  seam.SeamEdges = CountSeamEdges(piece, border, seam.SharedVertices);
+  seam.SeamEdges = CountSeamEdges(topology, seam.SharedVertices);
   vtkLogF(TRACE, "piece %d: %lld shared vertices, %lld seam edges (%zu border vertices of other pieces)",
     controller->GetLocalProcessId(), static_cast<long long>(seam.SharedVertexCount),
     static_cast<long long>(seam.SeamEdges), others.size());

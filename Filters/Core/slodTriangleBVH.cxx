@@ -202,13 +202,6 @@ struct Box
 // Depth <= 63 Morton bits + 31 halvings of identical codes: the traversal stack cannot overflow.
 constexpr int MaxStack = 160;
 
-// Spreads the low 21 bits of v to every third bit (63-bit Morton codes).
-struct MortonEntry
-{
-  std::uint64_t Code;
-  Index Id;
-  bool operator<(const MortonEntry& o) const { return this->Code < o.Code || (this->Code == o.Code && this->Id < o.Id); }
-};
 // Per triangle: its box (float, rounded outwards) and the centre of that box.
 void TriangleBoxesAndCentres(const TriangleMesh& mesh, std::vector<float>& boxes, std::vector<double>& centres)
 {
@@ -234,47 +227,6 @@ void TriangleBoxesAndCentres(const TriangleMesh& mesh, std::vector<float>& boxes
       }
     }
   });
-}
-
-// Morton order of the centres: spatially coherent, and splitting at the highest differing bit
-// of a sorted range halves its cell (a linear BVH, built in O(n) after the sort).
-std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres)
-{
-  const Index nt = static_cast<Index>(centres.size() / 3);
-  double lo[3] = { Infinity, Infinity, Infinity }, hi[3] = { -Infinity, -Infinity, -Infinity };
-  for (size_t i = 0; i < centres.size(); i += 3)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      if (std::isfinite(centres[i + k]))
-      {
-        lo[k] = std::min(lo[k], centres[i + k]);
-        hi[k] = std::max(hi[k], centres[i + k]);
-      }
-    }
-  }
-  double scale[3];
-  for (int k = 0; k < 3; ++k)
-  {
-    const double extent = hi[k] - lo[k];
-    scale[k] = extent > 0 && std::isfinite(extent) ? double((1 << 21) - 1) / extent : 0.0;
-  }
-  std::vector<MortonEntry> entries(static_cast<size_t>(nt));
-  vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
-    for (vtkIdType t = first; t < last; ++t)
-    {
-      std::uint64_t code = 0;
-      for (int k = 0; k < 3; ++k)
-      {
-        const double c = centres[3 * size_t(t) + k];
-        const double u = std::isfinite(c) ? std::max(0.0, std::min(double((1 << 21) - 1), (c - lo[k]) * scale[k])) : 0.0;
-        code |= SpreadBits21(static_cast<std::uint64_t>(u)) << (2 - k);
-      }
-      entries[size_t(t)] = { code, Index(t) };
-    }
-  });
-  vtkSMPTools::Sort(entries.begin(), entries.end());
-  return entries;
 }
 
 // The tree's nodes over the sorted entries (children after their parent); returns the depth.

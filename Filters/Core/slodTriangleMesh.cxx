@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodTriangleMesh.h"
 
+#include "vtkSMPTools.h"
+
 #include <algorithm>
 #include <limits>
 
@@ -111,5 +113,45 @@ bool IsDegenerate(const Vec3& a, const Vec3& b, const Vec3& c, double relativeTo
   const double l2 = std::max({ Dot(b - a, b - a), Dot(c - b, c - b), Dot(a - c, a - c) });
   const double twiceArea = Norm(Cross(b - a, c - a));
   return l2 == 0 || twiceArea <= relativeTolerance * l2;
+}
+
+std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres)
+{
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const Index nt = static_cast<Index>(centres.size() / 3);
+  double lo[3] = { inf, inf, inf }, hi[3] = { -inf, -inf, -inf };
+  for (size_t i = 0; i < centres.size(); i += 3)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      if (std::isfinite(centres[i + k]))
+      {
+        lo[k] = std::min(lo[k], centres[i + k]);
+        hi[k] = std::max(hi[k], centres[i + k]);
+      }
+    }
+  }
+  double scale[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    const double extent = hi[k] - lo[k];
+    scale[k] = extent > 0 && std::isfinite(extent) ? double((1 << 21) - 1) / extent : 0.0;
+  }
+  std::vector<MortonEntry> entries(static_cast<size_t>(nt));
+  vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType t = first; t < last; ++t)
+    {
+      std::uint64_t code = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double c = centres[3 * size_t(t) + k];
+        const double u = std::isfinite(c) ? std::max(0.0, std::min(double((1 << 21) - 1), (c - lo[k]) * scale[k])) : 0.0;
+        code |= SpreadBits21(static_cast<std::uint64_t>(u)) << (2 - k);
+      }
+      entries[size_t(t)] = { code, Index(t) };
+    }
+  });
+  vtkSMPTools::Sort(entries.begin(), entries.end());
+  return entries;
 }
 } // namespace slod

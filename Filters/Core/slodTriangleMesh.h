@@ -49,6 +49,21 @@ inline std::uint64_t SpreadBits21(std::uint64_t x)
   return x;
 }
 
+// A Morton code and the id it belongs to; ordered by code, then id (a total order: the same
+// sort for any thread count).
+struct MortonEntry
+{
+  std::uint64_t Code;
+  Index Id;
+  bool operator<(const MortonEntry& o) const { return this->Code < o.Code || (this->Code == o.Code && this->Id < o.Id); }
+};
+
+// The positions `centres` (3 doubles each) in Morton order, each axis quantised to 21 bits over
+// the box of the finite coordinates (a non-finite one counts as the box's low side): spatially
+// coherent, and splitting a sorted range at its highest differing bit halves its cell (the linear
+// BVH's build order; the distributed split's pieces).
+SURFACELODFILTERS_EXPORT std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres);
+
 // One 64-bit key per undirected edge (smaller vertex id in the high half), for hash sets and sorts.
 inline std::uint64_t EdgeKey(Index a, Index b)
 {

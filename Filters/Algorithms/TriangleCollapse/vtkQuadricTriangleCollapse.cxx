@@ -290,7 +290,8 @@ int vtkQuadricTriangleCollapse::RequestData(
   // A maximum error that stops the collapses first is a target met, not missed.
   const bool stoppedByError = options.MaximumError >= 0 && result.StoppedByError;
   slod::ReportTarget(this, output, target, result.Mesh.NumberOfTriangles() <= target || stoppedByError,
-    "every further collapse would change the topology, fold a triangle or leave a locked non-manifold vertex");
+    "every further collapse would change the topology, fold a triangle or touch a locked vertex (non-manifold, or "
+    "on the seam with another piece)");
   return 1;
 }
 
