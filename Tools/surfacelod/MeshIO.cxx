@@ -270,16 +270,7 @@ void CheckReadableFile(const std::string& path, const std::string& ext)
 // OBJ readers check everything themselves).
 FileCheck CheckFileBytes(const std::string& path, const std::string& ext)
 {
-  if (ext != ".stl")
-  {
-    return FileCheck();
-  }
-  std::string bytes;
-  if (!slod::ReadWholeFile(path, bytes))
-  {
-    return { std::string("cannot read file (") + std::strerror(errno) + ")", std::string() };
-  }
-  return CheckSTL(bytes, IsBinarySTL(path));
+  return ext == ".stl" ? CheckSTLFile(path) : FileCheck();
 }
 
 struct VTKReadResult

@@ -612,6 +612,11 @@ TEST(MeshFileChecks, StlCountAgainstTheFileSize)
   announce(1);
   EXPECT_EQ(slodcli::CheckSTL(stl, true).Problem, "");
   EXPECT_NE(slodcli::CheckSTL(stl, true).Warning.find("2 more triangles"), std::string::npos);
+  // The file check reads the header and the size only: the same verdicts on files.
+  EXPECT_NE(slodcli::CheckSTLFile(WriteText("one_of_three.stl", stl)).Warning.find("2 more triangles"), std::string::npos);
+  announce(4);
+  EXPECT_NE(slodcli::CheckSTLFile(WriteText("four_of_three.stl", stl)).Problem.find("truncated"), std::string::npos);
+  EXPECT_NE(slodcli::CheckSTLFile(WriteText("short.stl", stl.substr(0, 60))).Problem.find("too short"), std::string::npos);
   EXPECT_EQ(slodcli::CheckSTL("solid x\nendsolid x\n", false).Problem, "");
   // Found by the fuzzer: a file that starts like an ASCII STL but holds binary bytes is read as
   // binary by VTK, which allocated for the count bytes 80-83 happen to hold (text: ~1e9).
