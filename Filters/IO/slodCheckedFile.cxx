@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <filesystem>
 
 namespace slod
 {
@@ -103,5 +104,31 @@ std::string CheckedFileWriter::Close()
     return std::string("write failed (") + std::strerror(this->Failed ? this->FailureErrno : closeErrno) + ")";
   }
   return std::string();
+}
+
+void RemovePartialFile(const std::string& path)
+{
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec))
+  {
+    std::filesystem::remove(path, ec);
+  }
+}
+
+std::string WriteWholeFile(const std::string& path, const std::string& bytes)
+{
+  CheckedFileWriter file;
+  std::string problem = file.Open(path);
+  if (!problem.empty())
+  {
+    return problem;
+  }
+  file.WriteBytes(bytes.data(), bytes.size());
+  problem = file.Close();
+  if (!problem.empty())
+  {
+    RemovePartialFile(path);
+  }
+  return problem;
 }
 } // namespace slod

@@ -41,6 +41,14 @@ private:
   bool Failed = false;
   int FailureErrno = 0;
 };
+
+// Removes what a failed write left at path when it is a regular file (a device or a symbolic link
+// to /dev/full stays): no partial file behind a reported failure.
+void RemovePartialFile(const std::string& path);
+
+// Writes bytes made in memory to path through a CheckedFileWriter, a partial file removed on
+// failure; "" on success, else the problem.
+std::string WriteWholeFile(const std::string& path, const std::string& bytes);
 } // namespace slod
 
 #endif

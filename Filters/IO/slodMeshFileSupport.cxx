@@ -7,8 +7,10 @@
 #include "vtkDataSetAttributes.h"
 #include "vtkPolyData.h"
 
-#include <fstream>
-#include <sstream>
+#include <cerrno>
+#include <charconv>
+#include <cstdio>
+#include <filesystem>
 
 namespace slod
 {
@@ -71,32 +73,90 @@ vtkIdType CountSurfaceFaces(vtkPolyData* mesh)
   return faces;
 }
 
-std::vector<std::string> SplitWords(const std::string& line)
+namespace
 {
-  std::vector<std::string> words;
-  std::istringstream in(line);
-  std::string word;
-  while (in >> word)
+bool IsWordSeparator(char c)
+{
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
+}
+
+// The number of from_chars without its one refusal that files use: a leading '+'.
+template <typename T>
+bool ParseWhole(std::string_view word, T& value)
+{
+  const char* first = word.data() + (!word.empty() && word[0] == '+' ? 1 : 0);
+  const char* last = word.data() + word.size();
+  if (first == last || (*first == '-' && first != word.data()))
   {
-    words.push_back(word);
+    return false; // "+" alone, "+-1"
   }
-  return words;
+  const auto parsed = std::from_chars(first, last, value);
+  return parsed.ec == std::errc() && parsed.ptr == last;
+}
+} // namespace
+
+void SplitWords(std::string_view line, std::vector<std::string_view>& words)
+{
+  words.clear();
+  size_t at = 0;
+  while (at < line.size())
+  {
+    while (at < line.size() && IsWordSeparator(line[at]))
+    {
+      ++at;
+    }
+    const size_t start = at;
+    while (at < line.size() && !IsWordSeparator(line[at]))
+    {
+      ++at;
+    }
+    if (at > start)
+    {
+      words.push_back(line.substr(start, at - start));
+    }
+  }
+}
+
+bool ParseInteger(std::string_view word, long long& value)
+{
+  return ParseWhole(word, value);
+}
+
+bool ParseReal(std::string_view word, double& value)
+{
+  return ParseWhole(word, value);
 }
 
 bool ReadWholeFile(const std::string& path, std::string& bytes)
 {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
+  // One allocation of the file's size and one read: a string stream would hold the file twice.
+  FILE* file = std::fopen(path.c_str(), "rb");
+  if (!file)
   {
     return false;
   }
-  std::ostringstream contents;
-  contents << in.rdbuf();
-  if (in.bad())
+  std::string contents;
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec))
   {
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    contents.reserve(ec ? 0 : static_cast<size_t>(size));
+  }
+  char chunk[1 << 16];
+  size_t got;
+  while ((got = std::fread(chunk, 1, sizeof(chunk), file)) > 0)
+  {
+    contents.append(chunk, got);
+  }
+  const bool failed = std::ferror(file) != 0;
+  const int readErrno = errno;
+  std::fclose(file);
+  if (failed)
+  {
+    errno = readErrno;
     return false;
   }
-  bytes = contents.str();
+  bytes.swap(contents);
   return true;
 }
 } // namespace slod

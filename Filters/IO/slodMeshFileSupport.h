@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 class vtkDataArray;
@@ -40,8 +41,15 @@ using FaceVisitor = std::function<void(vtkIdType size, const vtkIdType* ids, vtk
 void ForEachSurfaceFace(vtkPolyData* mesh, const FaceVisitor& visit);
 vtkIdType CountSurfaceFaces(vtkPolyData* mesh);
 
-// The white-space separated words of a line of a text mesh file.
-std::vector<std::string> SplitWords(const std::string& line);
+// The white-space separated words of a line of a text mesh file, as views into the line (no copies:
+// the readers split millions of lines). `words` is cleared first.
+void SplitWords(std::string_view line, std::vector<std::string_view>& words);
+
+// A whole decimal number / a decimal real number (an optional leading '+'; "nan" and "inf" are
+// reals, hexadecimal forms are not), the whole word or false. Independent of the C locale, unlike
+// strtod, which reads "0,5" for one half in a German locale.
+bool ParseInteger(std::string_view word, long long& value);
+bool ParseReal(std::string_view word, double& value);
 
 // Reads a whole file into memory; false (and errno set) when it cannot be read.
 bool ReadWholeFile(const std::string& path, std::string& bytes);

@@ -7,8 +7,6 @@
 #include "vtkInformation.h"
 #include "vtkPolyData.h"
 
-#include <cstdio>
-#include <filesystem>
 
 void vtkMeshFileWriter::PrintSelf(ostream& os, vtkIndent indent)
 {
@@ -57,11 +55,7 @@ void vtkMeshFileWriter::WriteData()
   {
     return;
   }
-  std::error_code ec;
-  if (std::filesystem::is_regular_file(this->FileName, ec))
-  {
-    std::filesystem::remove(this->FileName, ec); // no partial file left behind
-  }
+  slod::RemovePartialFile(this->FileName);
   fail(unwritable.empty() ? problem : unwritable,
     unwritable.empty() ? vtkErrorCode::OutOfDiskSpaceError : vtkErrorCode::UnknownError);
 }

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <string_view>
 #include <tuple>
 #include <vector>
 
@@ -49,20 +50,20 @@ struct ObjContent
   std::vector<ObjCorner> Corners;
   std::vector<vtkIdType> FaceSizes;
   std::vector<long long> FaceLines;
-  std::map<std::string, long long> Unread; // statements not read, by keyword
+  long long VertexColours = 0;              // "v" lines with a colour (counted apart: one per vertex)
+  std::map<std::string, long long> Unread; // other statements not read, by keyword
 };
 
+using Words = std::vector<std::string_view>;
+
 // A finite decimal number (a leading '+' allowed; no "nan", "inf" or hexadecimal forms).
-bool ParseFinite(const std::string& word, double& value)
+bool ParseFinite(std::string_view word, double& value)
 {
-  const char* first = word.data() + (!word.empty() && word[0] == '+' ? 1 : 0);
-  const char* last = word.data() + word.size();
-  const auto parsed = std::from_chars(first, last, value);
-  return parsed.ec == std::errc() && parsed.ptr == last && std::isfinite(value);
+  return slod::ParseReal(word, value) && std::isfinite(value);
 }
 
 // Numbers words[1..count] appended to `values` (the missing ones of an optional tail as 0).
-bool AppendNumbers(const std::vector<std::string>& words, size_t count, std::vector<double>& values)
+bool AppendNumbers(const Words& words, size_t count, std::vector<double>& values)
 {
   for (size_t k = 1; k <= count; ++k)
   {
@@ -77,7 +78,7 @@ bool AppendNumbers(const std::vector<std::string>& words, size_t count, std::vec
 }
 
 // An OBJ index (1-based, or negative: counted back from the items defined so far) as 0-based.
-bool ParseIndex(const std::string& text, long long definedSoFar, long long& index)
+bool ParseIndex(std::string_view text, long long definedSoFar, long long& index)
 {
   long long value = 0;
   const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
@@ -90,22 +91,23 @@ bool ParseIndex(const std::string& text, long long definedSoFar, long long& inde
 }
 
 // "v", "v/vt", "v//vn" or "v/vt/vn".
-bool ParseCorner(const std::string& word, const ObjContent& content, ObjCorner& corner)
+bool ParseCorner(std::string_view word, const ObjContent& content, ObjCorner& corner)
 {
   const size_t slash = word.find('/');
-  const size_t second = slash == std::string::npos ? std::string::npos : word.find('/', slash + 1);
-  const std::string position = word.substr(0, slash);
-  const std::string texture =
-    slash == std::string::npos ? "" : word.substr(slash + 1, second == std::string::npos ? std::string::npos : second - slash - 1);
-  const std::string normal = second == std::string::npos ? "" : word.substr(second + 1);
+  const size_t second = slash == std::string_view::npos ? std::string_view::npos : word.find('/', slash + 1);
+  const std::string_view position = word.substr(0, slash);
+  const std::string_view texture = slash == std::string_view::npos
+    ? std::string_view()
+    : word.substr(slash + 1, second == std::string_view::npos ? std::string_view::npos : second - slash - 1);
+  const std::string_view normal = second == std::string_view::npos ? std::string_view() : word.substr(second + 1);
   bool ok = ParseIndex(position, static_cast<long long>(content.Positions.size() / 3), corner.Position);
   ok = ok && (texture.empty() || ParseIndex(texture, static_cast<long long>(content.Textures.size() / 2), corner.Texture));
   ok = ok && (normal.empty() || ParseIndex(normal, static_cast<long long>(content.Normals.size() / 3), corner.Normal));
   // "v/" or "v//" without a normal is malformed.
-  return ok && !(slash != std::string::npos && texture.empty() && normal.empty());
+  return ok && !(slash != std::string_view::npos && texture.empty() && normal.empty());
 }
 
-ObjProblem ReadFace(const std::vector<std::string>& words, long long line, ObjContent& content)
+ObjProblem ReadFace(const Words& words, long long line, ObjContent& content)
 {
   if (words.size() < 4)
   {
@@ -116,7 +118,8 @@ ObjProblem ReadFace(const std::vector<std::string>& words, long long line, ObjCo
     ObjCorner corner;
     if (!ParseCorner(words[k], content, corner))
     {
-      return { "malformed face corner '" + words[k].substr(0, 40) + "'", vtkErrorCode::FileFormatError, line };
+      return { "malformed face corner '" + std::string(words[k].substr(0, 40)) + "'", vtkErrorCode::FileFormatError,
+        line };
     }
     content.Corners.push_back(corner);
   }
@@ -125,9 +128,9 @@ ObjProblem ReadFace(const std::vector<std::string>& words, long long line, ObjCo
   return {};
 }
 
-ObjProblem ReadStatement(const std::vector<std::string>& words, long long line, ObjContent& content)
+ObjProblem ReadStatement(const Words& words, long long line, ObjContent& content)
 {
-  const std::string& keyword = words[0];
+  const std::string_view keyword = words[0];
   auto malformed = [&](const char* what) {
     return ObjProblem{ std::string(what) + " does not hold finite numbers", vtkErrorCode::FileFormatError, line };
   };
@@ -138,7 +141,7 @@ ObjProblem ReadStatement(const std::vector<std::string>& words, long long line, 
     {
       return malformed("vertex");
     }
-    content.Unread["vertex colours"] += words.size() >= 7 ? 1 : 0;
+    content.VertexColours += words.size() >= 7 ? 1 : 0;
     return {};
   }
   if (keyword == "vt")
@@ -163,7 +166,7 @@ ObjProblem ReadStatement(const std::vector<std::string>& words, long long line, 
       return {};
     }
   }
-  ++content.Unread["'" + keyword + "' statements"];
+  ++content.Unread["'" + std::string(keyword) + "' statements"];
   return {};
 }
 
@@ -281,8 +284,10 @@ void BuildOutput(const ObjContent& content, vtkPolyData* output)
 
 std::string UnreadSummary(const ObjContent& content)
 {
+  std::map<std::string, long long> unreadByName = content.Unread;
+  unreadByName["vertex colours"] = content.VertexColours;
   std::string summary;
-  for (const auto& unread : content.Unread)
+  for (const auto& unread : unreadByName)
   {
     if (unread.second > 0)
     {
@@ -307,10 +312,10 @@ int vtkOBJMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   }
   ObjContent content;
   std::string line;
+  Words words;
   for (long long number = 1; std::getline(in, line); ++number)
   {
-    const size_t hash = line.find('#');
-    const std::vector<std::string> words = slod::SplitWords(hash == std::string::npos ? line : line.substr(0, hash));
+    slod::SplitWords(std::string_view(line).substr(0, line.find('#')), words);
     const ObjProblem problem = words.empty() ? ObjProblem() : ReadStatement(words, number, content);
     if (problem)
     {

@@ -18,13 +18,17 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <sstream>
+#include <string_view>
 #include <vector>
 
 vtkStandardNewMacro(vtkOFFMeshReader);
 
 namespace
 {
+using slod::ParseInteger;
+using slod::ParseReal;
+using Tokens = std::vector<std::string_view>;
+
 // Reads whitespace-separated tokens line by line, skipping comments and blank lines.
 class OffTokenizer
 {
@@ -33,25 +37,14 @@ public:
     : In(in)
   {
   }
-  // Next non-empty line with comments stripped, split into tokens. False at end of file.
-  bool NextLine(std::vector<std::string>& tokens)
+  // Next non-empty line with comments stripped, split into tokens (views into the tokenizer's
+  // line, valid until the next call). False at end of file.
+  bool NextLine(Tokens& tokens)
   {
-    std::string line;
-    while (std::getline(this->In, line))
+    while (std::getline(this->In, this->Line))
     {
       ++this->LineNumber;
-      const size_t hash = line.find('#');
-      if (hash != std::string::npos)
-      {
-        line.erase(hash);
-      }
-      std::istringstream s(line);
-      tokens.clear();
-      std::string token;
-      while (s >> token)
-      {
-        tokens.push_back(token);
-      }
+      slod::SplitWords(std::string_view(this->Line).substr(0, this->Line.find('#')), tokens);
       if (!tokens.empty())
       {
         return true;
@@ -63,25 +56,9 @@ public:
 
 private:
   std::istream& In;
+  std::string Line;
 };
 
-bool ParseInteger(const std::string& token, long long& value)
-{
-  char* end = nullptr;
-  value = std::strtoll(token.c_str(), &end, 10);
-  return end && *end == '\0' && !token.empty();
-}
-
-bool ParseReal(const std::string& token, double& value)
-{
-  char* end = nullptr;
-  value = std::strtod(token.c_str(), &end);
-  return end && *end == '\0' && !token.empty();
-}
-} // namespace
-
-namespace
-{
 using OffProblem = slod::MeshFileProblem;
 
 struct OffHeader
@@ -97,13 +74,13 @@ struct OffHeader
 
 OffProblem ReadOffHeader(OffTokenizer& tokenizer, OffHeader& header)
 {
-  std::vector<std::string> tokens;
+  Tokens tokens;
   if (!tokenizer.NextLine(tokens))
   {
     return { "empty file, expected an OFF header", vtkErrorCode::PrematureEndOfFileError, 0 };
   }
   // Header keyword: [ST][C][N][4][n]OFF; we accept the 3D variants.
-  const std::string keyword = tokens[0];
+  const std::string keyword(tokens[0]);
   if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0)
   {
     return { "not an OFF file (header '" + keyword + "')", vtkErrorCode::UnrecognizedFileTypeError,
@@ -166,13 +143,13 @@ struct OffVertexAttributes
   long long FirstLineAbove1 = 0, FirstLineOutside255 = 0; // 0: none
 };
 
-bool LooksFractional(const std::string& token)
+bool LooksFractional(std::string_view token)
 {
-  return token.find_first_of(".eE") != std::string::npos;
+  return token.find_first_of(".eE") != std::string_view::npos;
 }
 
 // Columns of one vertex line after the coordinates: normals, colours, texture coordinates.
-OffProblem ReadOffVertexAttributes(const std::vector<std::string>& tokens, const OffHeader& header, long long line,
+OffProblem ReadOffVertexAttributes(const Tokens& tokens, const OffHeader& header, long long line,
   vtkIdType vertex, OffVertexAttributes& attributes)
 {
   const size_t colorColumns = tokens.size() - header.VertexColumns();
@@ -249,7 +226,7 @@ OffProblem MakeOffColors(const OffVertexAttributes& attributes, vtkUnsignedCharA
 OffProblem ReadOffVertices(OffTokenizer& tokenizer, const OffHeader& header, vtkPoints* points,
   OffVertexAttributes& attributes)
 {
-  std::vector<std::string> tokens;
+  Tokens tokens;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(header.NumberOfPoints);
   attributes.Normals->SetNumberOfComponents(3);
@@ -284,7 +261,7 @@ OffProblem ReadOffVertices(OffTokenizer& tokenizer, const OffHeader& header, vtk
 OffProblem ReadOffFaces(OffTokenizer& tokenizer, const OffHeader& header, vtkCellArray* polys, vtkCellArray* lines,
   vtkCellArray* verts)
 {
-  std::vector<std::string> tokens;
+  Tokens tokens;
   std::vector<vtkIdType> ids;
   for (long long f = 0; f < header.NumberOfFaces; ++f)
   {
@@ -365,7 +342,7 @@ int vtkOFFMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   {
     return fail(problem);
   }
-  std::vector<std::string> tokens;
+  Tokens tokens;
   if (tokenizer.NextLine(tokens))
   {
     this->WarnNotRead("data after the " + std::to_string(header.NumberOfFaces) +

@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <string_view>
 #include <vector>
 
 vtkStandardNewMacro(vtkPLYMeshReader);
@@ -172,9 +173,11 @@ PlyProblem ReadPlyHeader(const std::string& bytes, PlyHeader& header)
     return { "not a PLY file (first line is not 'ply')", vtkErrorCode::UnrecognizedFileTypeError };
   }
   bool formatSeen = false;
+  std::vector<std::string_view> views;
   while (NextLine(bytes, offset, line))
   {
-    const std::vector<std::string> words = slod::SplitWords(line);
+    slod::SplitWords(line, views);
+    const std::vector<std::string> words(views.begin(), views.end());
     PlyProblem problem;
     if (words.empty() || words[0] == "comment" || words[0] == "obj_info")
     {
@@ -287,7 +290,7 @@ public:
   bool Binary() const { return this->Encoding != PlyEncoding::Ascii; }
   size_t Remaining() const { return this->Bytes.size() - this->Offset; }
   bool MalformedToken() const { return this->Malformed; }
-  const std::string& LastToken() const { return this->Token; }
+  std::string LastToken() const { return std::string(this->Token); }
   int LastType() const { return this->LastTypeRead; }
   // Data after the last element (ASCII: anything but white space).
   bool HasTrailingData() const
@@ -297,19 +300,25 @@ public:
   }
 
 private:
+  static bool IsSeparator(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+
+  // The next value's characters, a view into the file (no copy per value).
   bool NextToken()
   {
-    const size_t start = this->Bytes.find_first_not_of(" \t\r\n", this->Offset);
-    if (start == std::string::npos)
+    const size_t size = this->Bytes.size();
+    size_t start = this->Offset;
+    while (start < size && IsSeparator(this->Bytes[start]))
     {
-      this->Offset = this->Bytes.size();
-      return false;
+      ++start;
     }
-    size_t stop = this->Bytes.find_first_of(" \t\r\n", start);
-    stop = stop == std::string::npos ? this->Bytes.size() : stop;
-    this->Token.assign(this->Bytes, start, stop - start);
+    size_t stop = start;
+    while (stop < size && !IsSeparator(this->Bytes[stop]))
+    {
+      ++stop;
+    }
     this->Offset = stop;
-    return true;
+    this->Token = std::string_view(this->Bytes).substr(start, stop - start);
+    return stop > start;
   }
 
   double DecodeBinary(const PlyScalarType& type) const
@@ -343,7 +352,7 @@ private:
   const std::string& Bytes;
   PlyEncoding Encoding;
   size_t Offset;
-  std::string Token;
+  std::string_view Token;
   bool Malformed = false;
   int LastTypeRead = VTK_VOID;
 };

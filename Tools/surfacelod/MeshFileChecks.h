@@ -20,6 +20,11 @@ struct FileCheck
 // of the file). `binary` must be VTK's own verdict (IsBinarySTL), not a guess from "solid": a file
 // that starts with "solid" but holds binary bytes is read as binary.
 FileCheck CheckSTL(const std::string& bytes, bool binary);
+// The same from the file's first 84 bytes (or all of a shorter file) and its size: the tool need
+// not read a large file whole before VTK's reader reads it again.
+FileCheck CheckSTL(const std::string& head, unsigned long long fileSize, bool binary);
+// The same for the file at path ("cannot read file (...)" when it cannot).
+FileCheck CheckSTLFile(const std::string& path);
 
 // vtkSTLReader's choice between its binary and ASCII parsers for the file at path.
 bool IsBinarySTL(const std::string& path);

@@ -11,6 +11,7 @@
 #include "vtkErrorCode.h"
 #include "vtkLogger.h"
 #include "vtkNew.h"
+#include "slodCheckedFile.h"
 #include "slodMeshFileSupport.h"
 #include "vtkOBJMeshReader.h"
 #include "vtkOBJMeshWriter.h"
@@ -269,16 +270,7 @@ void CheckReadableFile(const std::string& path, const std::string& ext)
 // OBJ readers check everything themselves).
 FileCheck CheckFileBytes(const std::string& path, const std::string& ext)
 {
-  if (ext != ".stl")
-  {
-    return FileCheck();
-  }
-  std::string bytes;
-  if (!slod::ReadWholeFile(path, bytes))
-  {
-    return { std::string("cannot read file (") + std::strerror(errno) + ")", std::string() };
-  }
-  return CheckSTL(bytes, IsBinarySTL(path));
+  return ext == ".stl" ? CheckSTLFile(path) : FileCheck();
 }
 
 struct VTKReadResult
@@ -401,31 +393,6 @@ std::string SerializeWithVTK(vtkPolyData* mesh, const std::string& ext, std::str
   return bytes.empty() ? "the writer produced nothing" : std::string();
 }
 
-// Writes bytes to path, checking the open, every write, the flush and the close; a partial regular
-// file is removed. Returns the problem, "" on success.
-std::string WriteBytesChecked(const std::string& path, const std::string& bytes)
-{
-  FILE* file = std::fopen(path.c_str(), "wb");
-  if (!file)
-  {
-    return std::string("cannot open for writing (") + std::strerror(errno) + ")";
-  }
-  bool ok = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
-  ok = std::fflush(file) == 0 && ok;
-  const int error = ok ? 0 : errno;
-  const bool closed = std::fclose(file) == 0;
-  if (ok && closed)
-  {
-    return std::string();
-  }
-  const std::string reason = std::strerror(ok ? errno : error);
-  std::error_code ec;
-  if (std::filesystem::is_regular_file(path, ec))
-  {
-    std::filesystem::remove(path, ec);
-  }
-  return "write failed (" + reason + ")";
-}
 } // namespace
 
 void InstallMessageHandler()
@@ -634,7 +601,7 @@ void WriteMesh(vtkPolyData* mesh, const std::string& path)
     problem = SerializeWithVTK(mesh, ext, bytes);
     if (problem.empty())
     {
-      problem = WriteBytesChecked(path, bytes);
+      problem = slod::WriteWholeFile(path, bytes);
     }
   }
   if (!problem.empty())

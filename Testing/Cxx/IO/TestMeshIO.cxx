@@ -433,6 +433,44 @@ TEST(OFFMeshIO, CountsTheFileCannotHoldAreRefusedBeforeAllocating)
   vtkObject::GlobalWarningDisplayOn();
 }
 
+TEST(OFFMeshIO, NumbersAreDecimalAndWithinRange)
+{
+  // A count beyond 64 bits is a malformed count (strtoll made it the largest long long), a
+  // hexadecimal coordinate is not an OFF number (strtod read it); a leading '+' is one.
+  vtkObject::GlobalWarningDisplayOff();
+  const struct
+  {
+    const char* Text;
+    unsigned long Code;
+    const char* Problem;
+  } cases[] = {
+    { "OFF\n99999999999999999999 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", vtkErrorCode::FileFormatError,
+      ":2: bad vertex/face counts" },
+    { "OFF\n3 1 0\n0 0 0\n0x1p0 0 0\n0 1 0\n3 0 1 2\n", vtkErrorCode::FileFormatError, ":4: malformed vertex line" },
+    { "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 99999999999999999999\n", vtkErrorCode::FileFormatError,
+      ":6: face refers to a vertex that does not exist" },
+  };
+  for (const auto& c : cases)
+  {
+    unsigned long code = 0;
+    std::string error;
+    vtkSmartPointer<vtkPolyData> mesh = Read(WriteText("bad_numbers.off", c.Text), &code, &error);
+    EXPECT_EQ(code, c.Code) << c.Text;
+    EXPECT_NE(error.find(c.Problem), std::string::npos) << error;
+    EXPECT_EQ(mesh->GetNumberOfPoints(), 0);
+  }
+  vtkObject::GlobalWarningDisplayOn();
+  unsigned long code = 0;
+  vtkSmartPointer<vtkPolyData> mesh = Read(WriteText("plus_signs.off", "OFF\n+3 1 0\n0 0 0\n+1 0 0\n0 1.5e+0 0\n3 0 1 +2\n"), &code);
+  ASSERT_EQ(code, vtkErrorCode::NoError);
+  double p[3];
+  mesh->GetPoint(1, p);
+  EXPECT_EQ(p[0], 1.0);
+  mesh->GetPoint(2, p);
+  EXPECT_EQ(p[1], 1.5);
+  EXPECT_EQ(Polygons(mesh->GetPolys()), std::vector<Polygon>({ { 0, 1, 2 } }));
+}
+
 TEST(OFFMeshIO, DataAfterTheAnnouncedFacesIsAWarning)
 {
   const std::string path = WriteText("more_faces.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n");
@@ -574,6 +612,11 @@ TEST(MeshFileChecks, StlCountAgainstTheFileSize)
   announce(1);
   EXPECT_EQ(slodcli::CheckSTL(stl, true).Problem, "");
   EXPECT_NE(slodcli::CheckSTL(stl, true).Warning.find("2 more triangles"), std::string::npos);
+  // The file check reads the header and the size only: the same verdicts on files.
+  EXPECT_NE(slodcli::CheckSTLFile(WriteText("one_of_three.stl", stl)).Warning.find("2 more triangles"), std::string::npos);
+  announce(4);
+  EXPECT_NE(slodcli::CheckSTLFile(WriteText("four_of_three.stl", stl)).Problem.find("truncated"), std::string::npos);
+  EXPECT_NE(slodcli::CheckSTLFile(WriteText("short.stl", stl.substr(0, 60))).Problem.find("too short"), std::string::npos);
   EXPECT_EQ(slodcli::CheckSTL("solid x\nendsolid x\n", false).Problem, "");
   // Found by the fuzzer: a file that starts like an ASCII STL but holds binary bytes is read as
   // binary by VTK, which allocated for the count bytes 80-83 happen to hold (text: ~1e9).
