@@ -83,6 +83,22 @@ public:
       __builtin_prefetch(bucket.data() + bucket.size() - 1);
     }
   }
+  // Fourth hint, once PrefetchEntries(id) has landed: the slot of the last entry of id's bucket,
+  // which a Remove of id rewrites (the entry that fills the gap).
+  void PrefetchMoved(Index id) const
+  {
+    if (this->Slot[id] != InvalidIndex)
+    {
+      __builtin_prefetch(&this->Slot[this->Buckets[this->BucketId[id]].back().Id], 1);
+    }
+  }
+  // Hints for the insertion of a key: the header of its bucket, then (once landed) its end.
+  void PrefetchBucketOf(float key) const { __builtin_prefetch(&this->Buckets[BucketOf(key)]); }
+  void PrefetchEnd(float key) const
+  {
+    const auto& bucket = this->Buckets[BucketOf(key)];
+    __builtin_prefetch(bucket.data() + bucket.size(), 1);
+  }
   bool Contains(Index id) const { return this->Slot[id] != InvalidIndex; }
 
   // Inserts id or changes its key (key >= 0; NaN is treated as +infinity).

@@ -503,6 +503,12 @@ CollapseStatus EditableMesh::CheckTopology(
 void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p, CollapseRecord* record)
 {
   this->GatherTriangles(vertices, count, this->Scratch);
+  this->Collapse(vertices, count, kept, p, this->Scratch, record);
+}
+
+void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p,
+  const std::vector<Index>& gathered, CollapseRecord* record)
+{
   if (record)
   {
     record->Clear();
@@ -516,7 +522,7 @@ void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const 
     }
   }
   this->ScratchBlock.clear();
-  for (Index t : this->Scratch)
+  for (Index t : gathered)
   {
     int corner = 0;
     const int members = CountMembers(this->Triangle(t), vertices, count, corner);

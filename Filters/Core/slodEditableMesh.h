@@ -165,7 +165,7 @@ public:
   // at position p keep the mesh valid?
   CollapseStatus CheckCollapse(const Index* vertices, int count, const Vec3& p,
     const CollapseOptions& options = CollapseOptions()) const;
-  // The same with the caller's scratch: concurrent calls are safe for sets whose closed one-rings
+  // The same with the caller's scratch (which then holds the set's triangles, for Collapse): concurrent calls are safe for sets whose closed one-rings
   // (the vertices of the triangles around them) are pairwise disjoint, when no edit runs meanwhile
   // and ReserveEpochs(number of calls) was called before (sequentially).
   CollapseStatus CheckCollapse(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
@@ -175,6 +175,11 @@ public:
   // Merges the vertices into `kept` (one of them) placed at p. Triangles with two or more of the
   // vertices disappear. Call CheckCollapse first. The record, when given, allows Undo.
   void Collapse(const Index* vertices, int count, Index kept, const Vec3& p, CollapseRecord* record = nullptr);
+  // The same with the set's triangles already gathered: the scratch of the CheckCollapse that
+  // just accepted this set, with no edit since (collapse loops check then collapse at once; the
+  // neighbourhood is not walked twice).
+  void Collapse(const Index* vertices, int count, Index kept, const Vec3& p, const std::vector<Index>& gathered,
+    CollapseRecord* record);
 
   // Reverts the most recent collapse whose record this is (records must be undone newest first).
   void Undo(const CollapseRecord& record);

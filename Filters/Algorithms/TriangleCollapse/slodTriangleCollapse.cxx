@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 
 namespace slod
 {
@@ -123,6 +124,8 @@ constexpr double RefinementSumSlack = 1.05;
 // Candidates screened: a tenth of the output vertices (the quadric error that picks them is only
 // loosely tied to the distance), at most this many.
 constexpr size_t RefinementPoolLimit = 600;
+// Candidates screened per parallel step (the budget is checked between steps).
+constexpr size_t ScreenChunk = 64;
 // The fit to the original surface: Gauss-Seidel sweeps, and the weight of the ridge term that
 // keeps vertices from sliding along the surface (relative to the data term's trace).
 // Bound on the collapse loop's queue pops, per input triangle (see the loop).
@@ -271,7 +274,8 @@ private:
   Validity Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result);
   bool ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
   void Reject(const Candidate& c, TriangleCollapseResult& result);
-  Index Perform(const Candidate& c, CollapseLoop& loop, TriangleCollapseResult& result);
+  // gathered: the set's triangles from its check (null: gathered again).
+  Index Perform(const Candidate& c, const std::vector<Index>* gathered, CollapseLoop& loop, TriangleCollapseResult& result);
   void MergeAttributes(const Candidate& c, Index kept);
   void MergeVertexState(const Candidate& c, Index kept);
   void RetryPendingAround(Index kept, CollapseLoop& loop);
@@ -311,6 +315,7 @@ private:
   // Update of every triangle around the new vertex v0: only the operations that involve v0 are
   // re-evaluated (each edge (v0, x) once); the edge opposite v0 keeps its cached cost.
   void UpdateAround(Index kept);
+  void RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys);
   // Cost at pop time: the triangle operation is evaluated, the edges come from the cache and
   // only the winning edge is placed again.
   double PopCost(Index t, Vec3& local, double& error, int& operation) const;
@@ -331,6 +336,7 @@ private:
   std::vector<std::pair<double, Index>> RefinementPool(const Ancestry& ancestry) const;
   double ScreenDeviation(Neighbourhood& region, const std::vector<std::pair<double, Index>>& pool, size_t workBudget,
     std::vector<std::pair<double, Index>>& screen) const;
+  double ScreenVertex(Neighbourhood& region, Index v) const;
   double LocalDeviation(const Neighbourhood& region, Index v, const Vec3& p, Vec3& step, double& sum);
   bool RefineVertex(Neighbourhood& region, Index v, double minimumDot, size_t workBudget);
   void PoolAroundMoved(const std::vector<Index>& movedVertices, const Ancestry& ancestry,
@@ -379,6 +385,7 @@ private:
   std::vector<Index> SpokeVertex;       // UpdateAround scratch: edges (kept, x) already costed
   std::vector<Index> AroundScratch;     // UpdateAround scratch: the triangles around the new vertex
   std::vector<float> SpokeCost;
+  std::vector<float> AroundKeys;        // UpdateAround scratch: the new keys of those triangles
   std::vector<Index> Parent;           // RefineDeviation: per vertex, the vertex it merged into
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
   std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input or locked by the caller, never collapsed
@@ -852,13 +859,11 @@ void TriangleCollapser::UpdateAround(Index kept)
     }
     this->Heap.PrefetchBucket(t);
   }
+  auto& keys = this->AroundKeys;
+  keys.clear();
   for (size_t i = 0; i < around.size(); ++i)
   {
     const Index t = around[i];
-    if (i + 1 < around.size())
-    {
-      this->Heap.PrefetchEntries(around[i + 1]);
-    }
     this->State[t].Excluded = 0;
     this->State[t].Rejected = 0;
     const Index* tri = this->Mesh.Triangle(t);
@@ -889,7 +894,29 @@ void TriangleCollapser::UpdateAround(Index kept)
       }
       best = std::min(best, double(cache[k]) / this->CostScale);
     }
-    this->Heap.Set(t, static_cast<float>(best * this->CostScale));
+    keys.push_back(static_cast<float>(best * this->CostScale));
+  }
+  this->RequeueAround(around, keys);
+}
+
+void TriangleCollapser::RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys)
+{
+  // The queue updates come after all the costs, in the same order: each removal swaps in the
+  // last entry of its bucket and rewrites that entry's slot (dependent misses at random places),
+  // so the chain is prefetched one level at a time for all the triangles before any update.
+  for (size_t i = 0; i < around.size(); ++i)
+  {
+    this->Heap.PrefetchEntries(around[i]);
+    this->Heap.PrefetchBucketOf(keys[i]);
+  }
+  for (size_t i = 0; i < around.size(); ++i)
+  {
+    this->Heap.PrefetchMoved(around[i]);
+    this->Heap.PrefetchEnd(keys[i]);
+  }
+  for (size_t i = 0; i < around.size(); ++i)
+  {
+    this->Heap.Set(around[i], keys[i]);
   }
 }
 
@@ -1142,14 +1169,22 @@ void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept)
   s.erase(std::unique(s.begin(), s.end()), s.end());
 }
 
-Index TriangleCollapser::Perform(const Candidate& c, CollapseLoop& loop, TriangleCollapseResult& result)
+Index TriangleCollapser::Perform(
+  const Candidate& c, const std::vector<Index>* gathered, CollapseLoop& loop, TriangleCollapseResult& result)
 {
   const Index kept = *std::min_element(c.Set, c.Set + c.Count);
   if (this->Attributes)
   {
     this->MergeAttributes(c, kept);
   }
-  this->Mesh.Collapse(c.Set, c.Count, kept, c.Position, &loop.Record);
+  if (gathered)
+  {
+    this->Mesh.Collapse(c.Set, c.Count, kept, c.Position, *gathered, &loop.Record);
+  }
+  else
+  {
+    this->Mesh.Collapse(c.Set, c.Count, kept, c.Position, &loop.Record);
+  }
   this->MergeVertexState(c, kept);
   result.MaximumError = std::max(result.MaximumError, c.Error);
   ++result.Collapses;
@@ -1450,6 +1485,10 @@ TriangleCollapser::Validity TriangleCollapser::Settle(BatchEntry& entry, Collaps
 
 bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result)
 {
+  // A lone entry was checked on this thread and its scratch still lists the set's triangles (the
+  // last check, optimum or alternative placement, was of the same set); in a larger batch the
+  // scratch of each thread was reused by later entries.
+  const std::vector<Index>* gathered = batch.Entries.size() == 1 ? &batch.Scratch.Local() : nullptr;
   for (BatchEntry& entry : batch.Entries)
   {
     if (!entry.Runs)
@@ -1469,7 +1508,7 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
     {
       continue;
     }
-    const Index kept = this->Perform(entry.C, loop, result);
+    const Index kept = this->Perform(entry.C, gathered, loop, result);
     this->RetryPendingAround(kept, loop);
     if (this->Options.RecordHistory)
     {
@@ -1710,11 +1749,29 @@ public:
     this->GatherRest(withCentroids);
   }
 
+  // v's distinct neighbours in the order EditableMesh::Neighbors lists them, without its shared
+  // marks (a fan is small), so that neighbourhoods can be gathered concurrently.
+  void GatherRing()
+  {
+    this->Ring.clear();
+    for (Index t : this->Fan)
+    {
+      const Index* tri = this->Mesh.Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (tri[k] != this->Center && std::find(this->Ring.begin(), this->Ring.end(), tri[k]) == this->Ring.end())
+        {
+          this->Ring.push_back(tri[k]);
+        }
+      }
+    }
+  }
+
   // The rest of the neighbourhood of the vertex of GatherFan.
   void GatherRest(bool withCentroids)
   {
     const Index v = this->Center;
-    this->Mesh.Neighbors(v, this->Ring);
+    this->GatherRing();
     this->Ring.push_back(v);
     this->Near.clear();
     this->OriginalNear.clear();
@@ -1990,12 +2047,19 @@ void TriangleCollapser::AssignClosest(const TriangleMesh& original, ClosestAssig
   LiveTriangles(this->Mesh, live, liveToMesh);
   const TriangleBVH tree(live);
   std::vector<Index> closestTriangle(static_cast<size_t>(nv));
+  // One independent query per original vertex (the tree is read-only): in parallel, the same
+  // assignment for any thread count.
+  vtkSMPTools::For(0, nv, 1024, [&](vtkIdType begin, vtkIdType end) {
+    for (Index a = static_cast<Index>(begin); a < static_cast<Index>(end); ++a)
+    {
+      const double* p = &original.Points[3 * size_t(a)];
+      closestTriangle[a] = liveToMesh[tree.ClosestPoint(Vec3{ p[0], p[1], p[2] }).Triangle];
+    }
+  });
   auto& start = assignment.Start;
   start.assign(size_t(this->Mesh.NumberOfTriangles()) + 1, 0);
   for (Index a = 0; a < nv; ++a)
   {
-    const double* p = &original.Points[3 * size_t(a)];
-    closestTriangle[a] = liveToMesh[tree.ClosestPoint(Vec3{ p[0], p[1], p[2] }).Triangle];
     ++start[closestTriangle[a] + 1];
   }
   for (size_t t = 0; t + 1 < start.size(); ++t)
@@ -2255,33 +2319,60 @@ std::vector<std::pair<double, Index>> TriangleCollapser::RefinementPool(const An
 double TriangleCollapser::ScreenDeviation(Neighbourhood& region, const std::vector<std::pair<double, Index>>& pool,
   size_t workBudget, std::vector<std::pair<double, Index>>& screen) const
 {
+  // Each candidate is screened on its own (read-only, its own neighbourhood and test count), so
+  // chunks of the pool run in parallel with a neighbourhood per thread; the budget is then
+  // applied in pool order exactly as one sweep would apply it (the same screen for any thread
+  // count), and a chunk past the budget is the only work wasted.
+  screen.clear();
+  double worst = 0;
+  std::vector<double> deviation;
+  std::vector<size_t> work;
+  vtkSMPThreadLocal<std::shared_ptr<Neighbourhood>> regions;
+  for (size_t first = 0; first < pool.size() && region.Work <= workBudget; first += ScreenChunk)
+  {
+    const size_t n = std::min(ScreenChunk, pool.size() - first);
+    deviation.assign(n, 0.0);
+    work.assign(n, 0);
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n), 4, [&](vtkIdType begin, vtkIdType end) {
+      std::shared_ptr<Neighbourhood>& local = regions.Local();
+      if (!local)
+      {
+        local = std::make_shared<Neighbourhood>(this->Mesh, region.Original, region.Lineage);
+      }
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        const size_t before = local->Work;
+        deviation[size_t(i)] = this->ScreenVertex(*local, pool[first + size_t(i)].second);
+        work[size_t(i)] = local->Work - before;
+      }
+    });
+    for (size_t i = 0; i < n && region.Work <= workBudget; ++i)
+    {
+      region.Work += work[i];
+      screen.emplace_back(deviation[i], pool[first + i].second);
+      worst = std::max(worst, deviation[i]);
+    }
+  }
+  return worst;
+}
+
+double TriangleCollapser::ScreenVertex(Neighbourhood& region, Index v) const
+{
   // The local deviation both ways, v's own original vertices against the neighbourhood and v's
   // fan against the neighbourhood's original triangles (v's own fan and ancestry alone
   // overestimate, by 10x on smooth surfaces at 1 %: an original vertex can lie beyond v's fan,
   // and a fan point's closest original part can be a neighbour's).
-  screen.clear();
-  double worst = 0;
-  for (const auto& candidate : pool)
+  region.Gather(v, false);
+  double e = 0;
+  Vec3 closest;
+  Index which;
+  for (size_t i = region.OwnSamplesBegin; i < region.OwnSamplesEnd; ++i)
   {
-    if (region.Work > workBudget)
-    {
-      break;
-    }
-    const Index v = candidate.second;
-    region.Gather(v, false);
-    double e = 0;
-    Vec3 closest;
-    Index which;
-    for (size_t i = region.OwnSamplesBegin; i < region.OwnSamplesEnd; ++i)
-    {
-      e = std::max(e, std::min(region.ToMesh(region.Samples[i], region.Fan, closest, which),
-                        region.ToMesh(region.Samples[i], region.Near, closest, which)));
-    }
-    region.ForEachFanSample([&](const Vec3& q, double) { e = std::max(e, region.ToOriginal(q, closest)); });
-    screen.emplace_back(e, v);
-    worst = std::max(worst, e);
+    e = std::max(e, std::min(region.ToMesh(region.Samples[i], region.Fan, closest, which),
+                      region.ToMesh(region.Samples[i], region.Near, closest, which)));
   }
-  return worst;
+  region.ForEachFanSample([&](const Vec3& q, double) { e = std::max(e, region.ToOriginal(q, closest)); });
+  return e;
 }
 
 double TriangleCollapser::LocalDeviation(const Neighbourhood& region, Index v, const Vec3& p, Vec3& step, double& sum)
