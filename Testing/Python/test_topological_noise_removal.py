@@ -33,11 +33,23 @@ class TopologicalNoiseRemovalTest(unittest.TestCase):
         self.assertEqual(field(out, "HandlesKept"), removal.GetOutputGenus())
         self.assertAlmostEqual(field(out, "FeatureSize"), removal.GetUsedFeatureSize())
         loops = removal.GetOutput(1)
-        self.assertEqual(loops.GetNumberOfLines(), removed)
+        removed_flags = loops.GetCellData().GetArray("Removed")
         lengths = loops.GetCellData().GetArray("Length")
-        for i in range(loops.GetNumberOfLines()):
-            self.assertLessEqual(lengths.GetTuple1(i), 3.14159266 * removal.GetUsedFeatureSize())
-
+        alpha = removal.GetUsedFeatureSize()
+        cut = [i for i in range(loops.GetNumberOfLines()) if removed_flags.GetTuple1(i) == 1]
+        self.assertEqual(len(cut), removed)
+        for i in cut:
+            self.assertLessEqual(lengths.GetTuple1(i), 3.14159266 * alpha)
+        # The handles kept are surveyed up to twice the feature size and reported with their sizes.
+        sizes = out.GetFieldData().GetArray("KeptHandleSizes")
+        kept = removal.GetNumberOfHandlesKeptAboveFeatureSize()
+        self.assertGreater(kept, 0)
+        self.assertLessEqual(kept, removal.GetOutputGenus())
+        self.assertEqual(sizes.GetNumberOfTuples(), kept)
+        self.assertEqual(loops.GetNumberOfLines() - len(cut), kept + removal.GetNumberOfLoopsKept())
+        for i in range(kept):
+            self.assertGreater(sizes.GetTuple1(i), alpha)
+            self.assertLessEqual(sizes.GetTuple1(i), 2 * alpha * (1 + 1e-9))
 
 if __name__ == "__main__":
     unittest.main()

@@ -248,6 +248,8 @@ std::vector<Parameter> TopologicalNoiseRemovalParameters()
     SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Bool, RemoveComponents),
     SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Int, MaximumPasses),
     SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Int, SeparationSearchBudget),
+    SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Bool, SplitNonManifold),
+    SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Double, KeptHandleSurveyFactor),
     SLOD_PARAMETER(vtkTopologicalNoiseRemoval, Int, OutputPointsPrecision),
   };
 }

@@ -21,7 +21,9 @@
 #include "vtkSurfaceDeviation.h"
 
 #include "vtkCommunicator.h"
+#include "vtkDataArray.h"
 #include "vtkErrorCode.h"
+#include "vtkFieldData.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkVersion.h"
@@ -627,6 +629,12 @@ struct DemoArguments
   double Reduction = 0.9;
   std::vector<std::string> MethodNames;
   long long Samples = -1;
+  // The cleaning step: a noisy scan-like isosurface (or a file, e.g. an MRI isosurface) cleaned
+  // by topological-noise-removal, then simplified before and after cleaning.
+  bool Cleaning = true;
+  int NoisyResolution = 100;
+  std::string NoisyInput;
+  double FeatureSize = -1.0;
 };
 
 std::string DemoDescription()
@@ -636,7 +644,9 @@ std::string DemoDescription()
          "method (those marked in `surfacelod methods` only when named in --methods), print a table (time,\n"
          "symmetric Hausdorff and RMS distance relative to the bounding-box diagonal), write each mesh as\n"
          "DIR/<method>.vtp and a side-by-side picture DIR/demo.png (needs an X display; run under\n"
-         "`xvfb-run -a` on a headless machine).";
+         "`xvfb-run -a` on a headless machine). Then the cleaning step: a noisy scan-like isosurface\n"
+         "(vtkScanSurfaceSource, or --noisy-input FILE such as an MRI isosurface) cleaned by\n"
+         "topological-noise-removal, and quadric-triangle-collapse on it before and after cleaning.";
 }
 
 int Demo(const DemoArguments& args);
@@ -655,7 +665,68 @@ std::function<int()> DefineDemo(CLI::App& app)
   AddMethodsOption(app, args->MethodNames, "methods to run (default: all)");
   app.add_option("-n,--samples", args->Samples, "deviation samples per surface (default 300000)")
     ->type_name("N")->check(CLI::Range(0LL, MaxCount));
+  app.add_flag("!--no-cleaning", args->Cleaning, "skip the cleaning step");
+  app.add_option("--noisy-resolution", args->NoisyResolution,
+    "resolution of the cleaning step's noisy isosurface (default 100: about 134,000 triangles)")
+    ->type_name("N")->check(CLI::Range(16, 2000));
+  app.add_option("--noisy-input", args->NoisyInput, "a mesh file for the cleaning step instead (e.g. an MRI isosurface)")
+    ->type_name("FILE");
+  app.add_option("--feature-size", args->FeatureSize,
+    "the cleaning step's feature size, absolute (default: 1% of the diagonal)")
+    ->type_name("F")->check(CLI::PositiveNumber);
   return [args] { return Demo(*args); };
+}
+
+// One row of the cleaning step: a surface's triangles, time, distance to the noisy input and topology.
+void PrintCleaningRow(const std::string& name, vtkPolyData* noisy, vtkPolyData* surface, double seconds,
+  vtkIdType samples)
+{
+  const Deviation d = MeasureDeviation(noisy, surface, samples, true);
+  const slod::MeshStatistics s = SurfaceStatistics(surface, name);
+  std::cout << Padded(name, 40) << Padded(std::to_string(s.Triangles), 11, true) << Padded(Fixed(seconds, 3), 10, true)
+            << Padded(Scientific(d.Hausdorff), 12, true) << Padded(Scientific(d.RMS), 12, true)
+            << Padded(std::to_string(s.EulerCharacteristic), 8, true) << Padded(std::to_string(s.NonManifoldEdges), 7, true)
+            << std::endl;
+}
+
+// The cleaning step: topological-noise-removal on a noisy surface, then quadric-triangle-collapse
+// to the demo's reduction on the noisy and on the cleaned surface, both measured against the noisy one.
+void DemoCleaning(const DemoArguments& args)
+{
+  const std::string name = args.NoisyInput.empty() ? "noisy:" + std::to_string(args.NoisyResolution) : args.NoisyInput;
+  vtkSmartPointer<vtkPolyData> noisy = ResolveBenchInput(name, "");
+  WriteMesh(noisy, args.OutputDirectory + "/noisy.vtp");
+  const slod::MeshStatistics before = SurfaceStatistics(noisy, name);
+  std::cout << "\ncleaning step: " << name << ": " << before.Triangles << " triangles, chi " << before.EulerCharacteristic
+            << ", " << before.NonManifoldEdges << " non-manifold edges, " << before.BoundaryLoops << " border loops\n";
+  MethodSettings settings;
+  settings.InputTriangles = before.Triangles;
+  settings.FeatureSize = args.FeatureSize;
+  const RunResult cleaned = RunMethod(*FindMethod("topological-noise-removal"), noisy, settings);
+  vtkFieldData* fd = cleaned.Output->GetFieldData();
+  vtkDataArray* sizes = fd->GetArray("KeptHandleSizes");
+  std::cout << "  topological-noise-removal, feature size " << FormatReal(fd->GetArray("FeatureSize")->GetTuple1(0))
+            << ": " << fd->GetArray("HandlesRemoved")->GetTuple1(0) << " handles cut, "
+            << fd->GetArray("NonManifoldEdgesSplit")->GetTuple1(0) << " non-manifold edges split, "
+            << (sizes ? sizes->GetNumberOfTuples() : 0) << " kept handles sized up to "
+            << FormatReal(fd->GetArray("KeptHandleSurveySize")->GetTuple1(0)) << ", output genus "
+            << fd->GetArray("HandlesKept")->GetTuple1(0) << "\n\n"
+            << Padded("surface", 40) << Padded("triangles", 11, true) << Padded("seconds", 10, true)
+            << Padded("hausdorff", 12, true) << Padded("rms", 12, true) << Padded("chi", 8, true) << Padded("nm-e", 7, true)
+            << "\n";
+  PrintCleaningRow("topological-noise-removal", noisy, cleaned.Output, cleaned.Seconds, args.Samples);
+  WriteMesh(cleaned.Output, args.OutputDirectory + "/cleaned.vtp");
+  settings.TargetTriangles = std::max<vtkIdType>(1, std::llround((1.0 - args.Reduction) * before.Triangles));
+  const Method& collapse = *FindMethod("quadric-triangle-collapse");
+  for (const bool clean : { false, true })
+  {
+    const RunResult simplified = RunMethod(collapse, clean ? cleaned.Output.Get() : noisy.Get(), settings);
+    const std::string label = std::string("quadric-triangle-collapse on the ") + (clean ? "cleaned" : "noisy");
+    PrintCleaningRow(label, noisy, simplified.Output, simplified.Seconds, args.Samples);
+    WriteMesh(simplified.Output, args.OutputDirectory + (clean ? "/cleaned-simplified.vtp" : "/noisy-simplified.vtp"));
+  }
+  std::cout << "(distances to the noisy surface, relative to its diagonal; chi: Euler characteristic; nm-e:\n"
+            << "non-manifold edges)\n";
 }
 
 int Demo(const DemoArguments& args)
@@ -703,8 +774,12 @@ int Demo(const DemoArguments& args)
     panels.push_back({ result.Output, std::string(method->Name) + "\n" + std::to_string(triangles) +
         " triangles, " + Fixed(result.Seconds, 2) + " s\nHausdorff " + Scientific(d.Hausdorff) });
   }
-  std::cout << "\n(hausdorff, rms: relative to the bounding-box diagonal; seconds: filter only)\n"
-            << "meshes written to " << outputDir << "/\n";
+  std::cout << "\n(hausdorff, rms: relative to the bounding-box diagonal; seconds: filter only)\n";
+  if (args.Cleaning)
+  {
+    DemoCleaning(args);
+  }
+  std::cout << "meshes written to " << outputDir << "/\n";
 
   std::string reason;
   if (!CanRender(reason))
@@ -1229,8 +1304,8 @@ const std::vector<Command>& Commands()
       &DefineCompare },
     { "info", "FILE [-j]", "vertices, triangles, boundary, manifoldness, components, genus of a mesh",
       &InfoDescription, &DefineInfo },
-    { "demo", "[--resolution N] [-o DIR] [-r R] [-m A,B,...] [-n N]",
-      "simplify a synthetic 1M-triangle surface with every method, table + picture", &DemoDescription, &DefineDemo },
+    { "demo", "[--resolution N] [-o DIR] [-r R] [-m A,B,...] [-n N] [--no-cleaning] [--noisy-input FILE] [...]",
+      "simplify a synthetic 1M-triangle surface with every method, table + picture; clean a noisy one", &DemoDescription, &DefineDemo },
     { "bench", "[--inputs a,b,... | --set real | --scaling] [-i FILE]... [-m a,b,...] [--timeout S] [-j]",
       "time methods against vtkQuadricDecimation on named inputs", &BenchDescription, &DefineBench },
     { "methods", "[-v]", "list the simplification methods (-v: their parameters)", &MethodsDescription,

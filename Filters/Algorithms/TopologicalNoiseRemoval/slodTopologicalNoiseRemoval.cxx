@@ -2,6 +2,7 @@
 #include "slodTopologicalNoiseRemoval.h"
 
 #include "slodHandleDetection.h"
+#include "slodManifoldSplit.h"
 #include "slodMeshTopology.h"
 
 #include "vtkLogger.h"
@@ -133,6 +134,7 @@ std::vector<RankedLoop> RankLoops(const std::vector<std::vector<CandidateLoop>>&
 NoiseLoop RecordLoop(const CuttableMesh& mesh, const CandidateLoop& loop, bool removed)
 {
   NoiseLoop record;
+  record.Vertices = loop.Vertices;
   for (Index v : loop.Vertices)
   {
     record.Points.push_back(mesh.Point(v));
@@ -200,14 +202,132 @@ std::vector<Index> CutHandles(CuttableMesh& mesh, const std::vector<std::vector<
     {
       ++result.LoopsKept;
       result.Loops.push_back(RecordLoop(mesh, loop, false));
+      result.Loops.back().Undetermined = true;
       PassMarks::Set(marks.Reported, loop.Vertices);
     }
   }
   return changedAll;
 }
 
-// Stage 4: the edited mesh without unused vertices, with sources mapped to the input.
-void StoreResult(const CuttableMesh& mesh, const std::vector<Index>& keptTriangles, TopologicalNoiseResult& result)
+Index SearchBudget(const TopologicalNoiseParameters& parameters)
+{
+  return parameters.SeparationSearchBudget > 0 ? parameters.SeparationSearchBudget : std::numeric_limits<Index>::max();
+}
+
+// Stage 0 (SplitNonManifold): the mesh with its non-manifold edges and vertices split into
+// sheets, and the topology rebuilt for it; nothing when the input is manifold.
+void SplitIntoSheets(const TriangleMesh& input, MeshTopology& topology, const TopologicalNoiseParameters& parameters,
+  ManifoldSplitResult& split, TopologicalNoiseResult& result)
+{
+  const MeshStatistics& stats = result.InputStatistics;
+  if (!parameters.SplitNonManifold || (stats.NonManifoldEdges == 0 && stats.NonManifoldVertices == 0))
+  {
+    return;
+  }
+  split = SplitNonManifold(input, topology);
+  result.NonManifoldEdgesSplit = split.EdgesSplit;
+  result.NonManifoldEdgesLeft = split.EdgesLeft;
+  result.NonManifoldVerticesSplit = split.VerticesSplit;
+  topology = MeshTopology(split.Mesh);
+}
+
+// Stage 3: passes of region growth and cuts with feature size alpha, from every seed first and
+// then from the seeds near the last pass's cuts. False when aborted.
+bool CutPasses(CuttableMesh& mesh, double alpha, const TopologicalNoiseParameters& parameters,
+  TopologicalNoiseResult& result, const ProgressFunction& progress, double progressStart, double progressSpan)
+{
+  // A loop of length L lies within L / 2 of each of its vertices, so a region of radius
+  // spacing + L / 2 around a seed within `spacing` of the loop holds it whole. The work is
+  // seeds x region area ~ (spacing + L / 2)^2 / spacing^2, smallest for large spacings: a
+  // spacing of L / 2 costs a quarter of the work of L / 6.
+  RegionGrowthLimits limits;
+  limits.MaximumLoopLength = Pi * alpha;
+  const double spacing = 0.5 * limits.MaximumLoopLength;
+  limits.Radius = 0.5 * limits.MaximumLoopLength + spacing;
+  const Index budget = SearchBudget(parameters);
+  const std::vector<Index> seeds = CoveringSeeds(mesh, spacing);
+  std::vector<Index> active = seeds;
+  while (!active.empty() && result.Passes < parameters.MaximumPasses)
+  {
+    const std::vector<std::vector<CandidateLoop>> loops = FindCandidateLoops(mesh, active, limits);
+    for (const auto& l : loops)
+    {
+      result.CandidateLoops += static_cast<Index>(l.size());
+    }
+    const Index cutsBefore = result.HandlesRemoved;
+    const std::vector<Index> changed = CutHandles(mesh, loops, budget, result);
+    ++result.Passes;
+    vtkLogF(TRACE, "pass %d (alpha %g): %zu seeds, %d candidates so far, %d cuts", result.Passes, alpha,
+      active.size(), int(result.CandidateLoops), int(result.HandlesRemoved - cutsBefore));
+    if (progress && !progress(progressStart + progressSpan * result.Passes / parameters.MaximumPasses))
+    {
+      return false;
+    }
+    active = changed.empty() ? std::vector<Index>() : SeedsNear(mesh, seeds, changed, limits.Radius);
+  }
+  result.PassLimitReached = !active.empty();
+  return true;
+}
+
+// A loop found on a copy of `mesh` cut on `mesh` itself, when its vertices are there and it is
+// still a handle's loop.
+bool CutOnMesh(CuttableMesh& mesh, const NoiseLoop& loop, Index budget)
+{
+  for (Index v : loop.Vertices)
+  {
+    if (v >= mesh.NumberOfPoints())
+    {
+      return false; // a vertex a cut of the copy made
+    }
+  }
+  std::vector<Index> changed;
+  return mesh.TestSeparation(loop.Vertices, budget) == LoopSeparation::NonSeparating &&
+    mesh.CutAndFill(loop.Vertices, changed);
+}
+
+// Stage 4 (KeptHandleSurveyFactor): the handles the cuts kept, up to the survey size, found by
+// cutting a copy of the result. Their loops and sizes are reported; those within pi alpha (a
+// shorter loop than the passes found) are cut on the result too.
+bool SurveyKeptHandles(CuttableMesh& mesh, double alpha, const TopologicalNoiseParameters& parameters,
+  TopologicalNoiseResult& result, const ProgressFunction& progress)
+{
+  if (parameters.KeptHandleSurveyFactor <= 1.0 || !parameters.RemoveHandles || alpha <= 0)
+  {
+    return true;
+  }
+  result.SurveySize = alpha * parameters.KeptHandleSurveyFactor;
+  CuttableMesh copy = mesh;
+  TopologicalNoiseResult survey;
+  if (!CutPasses(copy, result.SurveySize, parameters, survey, progress, 0.55, 0.4))
+  {
+    return false;
+  }
+  const Index budget = SearchBudget(parameters);
+  for (NoiseLoop& loop : survey.Loops)
+  {
+    if (!loop.Removed)
+    {
+      continue;
+    }
+    loop.Removed = loop.Length <= Pi * alpha && CutOnMesh(mesh, loop, budget);
+    if (loop.Removed)
+    {
+      ++result.HandlesRemoved;
+      ++result.HandlesRemovedBySurvey;
+    }
+    else
+    {
+      result.KeptHandleSizes.push_back(loop.Length / Pi);
+    }
+    result.Loops.push_back(std::move(loop));
+  }
+  std::sort(result.KeptHandleSizes.begin(), result.KeptHandleSizes.end());
+  return true;
+}
+
+// Stage 5: the edited mesh without unused vertices, with sources mapped to the input.
+void StoreResult(const CuttableMesh& mesh, const std::vector<Index>& keptTriangles,
+  const std::vector<Index>& splitSource, TopologicalNoiseResult& result)
 {
   result.Mesh = mesh.Result();
   std::vector<Index> newToOld;
@@ -215,7 +335,8 @@ void StoreResult(const CuttableMesh& mesh, const std::vector<Index>& keptTriangl
   result.VertexSource.resize(newToOld.size());
   for (size_t i = 0; i < newToOld.size(); ++i)
   {
-    result.VertexSource[i] = mesh.VertexSources()[newToOld[i]];
+    const Index source = mesh.VertexSources()[newToOld[i]];
+    result.VertexSource[i] = splitSource.empty() ? source : splitSource[source];
   }
   result.TriangleSource.resize(mesh.TriangleSources().size());
   for (size_t t = 0; t < result.TriangleSource.size(); ++t)
@@ -233,53 +354,31 @@ bool RemoveTopologicalNoise(const TriangleMesh& input, const TopologicalNoisePar
   result = TopologicalNoiseResult();
   const double alpha = std::max(0.0, parameters.FeatureSize);
   std::vector<Index> keptTriangles;
-  // One topology of the input serves its statistics, the component stage and, when that removed
-  // nothing (the kept mesh is then the input), the cuttable mesh: each build scans the whole mesh.
+  // One topology of the input serves its statistics, the split, the component stage and, when
+  // that removed nothing (the kept mesh is then the input), the cuttable mesh: each build scans
+  // the whole mesh.
   MeshTopology topology(input);
   result.InputStatistics = topology.Statistics(input);
-  TriangleMesh kept = RemoveSmallComponents(input, topology, alpha, parameters.RemoveComponents, keptTriangles, result);
-  const bool keptAll = kept.NumberOfTriangles() == input.NumberOfTriangles();
+  ManifoldSplitResult split;
+  SplitIntoSheets(input, topology, parameters, split, result);
+  const TriangleMesh& sheets = split.VertexSource.empty() ? input : split.Mesh;
+  TriangleMesh kept = RemoveSmallComponents(sheets, topology, alpha, parameters.RemoveComponents, keptTriangles, result);
+  const bool keptAll = kept.NumberOfTriangles() == sheets.NumberOfTriangles();
   CuttableMesh mesh = keptAll ? CuttableMesh(std::move(kept), std::move(topology)) : CuttableMesh(std::move(kept));
   topology = MeshTopology(); // (when not moved: the input's adjacency is not needed any more)
+  split.Mesh = TriangleMesh();
   if (progress && !progress(0.1))
   {
     return false;
   }
-  if (parameters.RemoveHandles && alpha > 0 && mesh.NumberOfTriangles() > 0)
+  const bool surveyed = parameters.KeptHandleSurveyFactor > 1.0;
+  if (parameters.RemoveHandles && alpha > 0 && mesh.NumberOfTriangles() > 0 &&
+    !(CutPasses(mesh, alpha, parameters, result, progress, 0.1, surveyed ? 0.45 : 0.85) &&
+      SurveyKeptHandles(mesh, alpha, parameters, result, progress)))
   {
-    // A loop of length L lies within L / 2 of each of its vertices, so a region of radius
-    // spacing + L / 2 around a seed within `spacing` of the loop holds it whole. The work is
-    // seeds x region area ~ (spacing + L / 2)^2 / spacing^2, smallest for large spacings: a
-    // spacing of L / 2 costs a quarter of the work of L / 6.
-    RegionGrowthLimits limits;
-    limits.MaximumLoopLength = Pi * alpha;
-    const double spacing = 0.5 * limits.MaximumLoopLength;
-    limits.Radius = 0.5 * limits.MaximumLoopLength + spacing;
-    const Index budget = parameters.SeparationSearchBudget > 0 ? parameters.SeparationSearchBudget
-                                                                : std::numeric_limits<Index>::max();
-    const std::vector<Index> seeds = CoveringSeeds(mesh, spacing);
-    std::vector<Index> active = seeds;
-    while (!active.empty() && result.Passes < parameters.MaximumPasses)
-    {
-      const std::vector<std::vector<CandidateLoop>> loops = FindCandidateLoops(mesh, active, limits);
-      for (const auto& l : loops)
-      {
-        result.CandidateLoops += static_cast<Index>(l.size());
-      }
-      const Index cutsBefore = result.HandlesRemoved;
-      const std::vector<Index> changed = CutHandles(mesh, loops, budget, result);
-      ++result.Passes;
-      vtkLogF(TRACE, "pass %d: %zu seeds, %d candidates so far, %d cuts", result.Passes, active.size(),
-        int(result.CandidateLoops), int(result.HandlesRemoved - cutsBefore));
-      if (progress && !progress(0.1 + 0.85 * result.Passes / parameters.MaximumPasses))
-      {
-        return false;
-      }
-      active = changed.empty() ? std::vector<Index>() : SeedsNear(mesh, seeds, changed, limits.Radius);
-    }
-    result.PassLimitReached = !active.empty();
+    return false;
   }
-  StoreResult(mesh, keptTriangles, result);
+  StoreResult(mesh, keptTriangles, split.VertexSource, result);
   return true;
 }
 } // namespace slod

@@ -37,13 +37,24 @@ struct TopologicalNoiseParameters
   // Triangles searched on each side of a loop before its separation is left undetermined (and
   // the loop kept); 0: no limit.
   Index SeparationSearchBudget = 0;
+  // Non-manifold edges and vertices split into manifold sheets first (slodManifoldSplit.h), so
+  // that loops through them can be cut too; off: they are locked and left as they are.
+  bool SplitNonManifold = true;
+  // After the cuts, handles up to this multiple of alpha are searched for on a copy of the result
+  // (and cut there only) to report the sizes of the handles kept; 0 or <= 1: no survey. Its wider
+  // regions can find a shorter loop around a handle than the cut passes did (they measure a loop
+  // through the point where a front met itself): a surveyed loop within pi alpha is then cut on
+  // the result too.
+  double KeptHandleSurveyFactor = 2.0;
 };
 
 struct NoiseLoop
 {
+  std::vector<Index> Vertices; // in the mesh it was found on
   std::vector<Vec3> Points;
   double Length = 0.0;
-  bool Removed = false; // cut and filled; false: kept (its separation test was undetermined)
+  bool Removed = false; // cut and filled; false: kept (see Undetermined)
+  bool Undetermined = false; // kept because its separation test ran out (else: above alpha, surveyed)
 };
 
 struct TopologicalNoiseResult
@@ -53,10 +64,18 @@ struct TopologicalNoiseResult
   std::vector<Index> VertexSource;   // per output vertex: the input vertex it copies
   std::vector<Index> TriangleSource; // per output triangle: its input triangle (fills: one next to the loop)
   Index HandlesRemoved = 0;
+  Index HandlesRemovedBySurvey = 0; // of HandlesRemoved: found within alpha by the survey
   Index ComponentsRemoved = 0;
   Index CavitiesRemoved = 0;
   Index LoopsKept = 0;
   Index LockedVertices = 0;       // border and non-manifold vertices, never cut
+  Index NonManifoldEdgesSplit = 0;    // resolved into pairs of sheets before the search
+  Index NonManifoldEdgesLeft = 0;     // left non-manifold (odd or not alternating): locked
+  Index NonManifoldVerticesSplit = 0; // input vertices given copies by the split
+  // Handles larger than alpha found by the survey (KeptHandleSurveyFactor): their sizes
+  // (shortest loop length / pi) ascending; their loops are in Loops with Removed false.
+  std::vector<double> KeptHandleSizes;
+  double SurveySize = 0.0; // alpha times the survey factor (0: no survey)
   Index CentreFans = 0;           // fills around a new centre vertex (ear clipping found no disk)
   Index CandidateLoops = 0;       // recorded by the region growths, all passes
   Index Tests[4] = { 0, 0, 0, 0 }; // separation tests by LoopSeparation value

@@ -14,9 +14,11 @@
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkLogger.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
 
 #include <initializer_list>
 #include <numeric>
@@ -73,6 +75,8 @@ void StoreLoops(const slod::TopologicalNoiseResult& result, vtkPolyData* loopsOu
   removed->SetName("Removed");
   vtkNew<vtkDoubleArray> length;
   length->SetName("Length");
+  vtkNew<vtkDoubleArray> size;
+  size->SetName("Size");
   for (const slod::NoiseLoop& loop : result.Loops)
   {
     const vtkIdType first = points->GetNumberOfPoints();
@@ -84,11 +88,24 @@ void StoreLoops(const slod::TopologicalNoiseResult& result, vtkPolyData* loopsOu
     lines->InsertCellPoint(first);
     removed->InsertNextValue(loop.Removed ? 1 : 0);
     length->InsertNextValue(loop.Length);
+    size->InsertNextValue(loop.Length / vtkMath::Pi());
   }
   loopsOutput->SetPoints(points);
   loopsOutput->SetLines(lines);
   loopsOutput->GetCellData()->AddArray(removed);
   loopsOutput->GetCellData()->AddArray(length);
+  loopsOutput->GetCellData()->AddArray(size);
+}
+
+vtkSmartPointer<vtkDoubleArray> DoubleArray(const char* name, const std::vector<double>& values)
+{
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName(name);
+  for (double value : values)
+  {
+    array->InsertNextValue(value);
+  }
+  return array;
 }
 
 slod::MeshStatistics Statistics(const slod::TriangleMesh& mesh)
@@ -114,6 +131,8 @@ int vtkTopologicalNoiseRemoval::RequestData(
   }
   this->NumberOfHandlesRemoved = this->NumberOfComponentsRemoved = this->NumberOfCavitiesRemoved = 0;
   this->NumberOfLoopsKept = 0;
+  this->NumberOfNonManifoldEdgesSplit = this->NumberOfNonManifoldVerticesSplit = 0;
+  this->NumberOfHandlesKeptAboveFeatureSize = 0;
   this->InputEulerCharacteristic = this->OutputEulerCharacteristic = 0;
   this->InputGenus = this->OutputGenus = -1;
   this->UsedFeatureSize = 0.0;
@@ -126,9 +145,10 @@ int vtkTopologicalNoiseRemoval::RequestData(
   {
     return 1; // error or warning reported; empty output
   }
-  if (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0)
+  if (!this->SplitNonManifold && (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0))
   {
-    vtkWarningMacro("Non-manifold edges and vertices are left alone: no loop through them is cut.");
+    vtkWarningMacro("Non-manifold edges and vertices are left alone (SplitNonManifold is off): no loop "
+                    "through them is cut.");
   }
   slod::TopologicalNoiseParameters parameters;
   this->UsedFeatureSize = this->FeatureSize * (this->FeatureSizeIsRelative ? mesh.BoundingBoxDiagonal() : 1.0);
@@ -137,6 +157,8 @@ int vtkTopologicalNoiseRemoval::RequestData(
   parameters.RemoveComponents = this->RemoveComponents;
   parameters.MaximumPasses = this->MaximumPasses;
   parameters.SeparationSearchBudget = static_cast<slod::Index>(this->SeparationSearchBudget);
+  parameters.SplitNonManifold = this->SplitNonManifold;
+  parameters.KeptHandleSurveyFactor = this->KeptHandleSurveyFactor;
   slod::TopologicalNoiseResult result;
   const bool done = slod::RemoveTopologicalNoise(mesh, parameters, result, slod::FilterProgress(this, 0.05, 0.95));
   const slod::MeshStatistics& before = result.InputStatistics;
@@ -151,6 +173,15 @@ int vtkTopologicalNoiseRemoval::RequestData(
   this->NumberOfComponentsRemoved = static_cast<int>(result.ComponentsRemoved);
   this->NumberOfCavitiesRemoved = static_cast<int>(result.CavitiesRemoved);
   this->NumberOfLoopsKept = static_cast<int>(result.LoopsKept);
+  this->NumberOfNonManifoldEdgesSplit = static_cast<int>(result.NonManifoldEdgesSplit);
+  this->NumberOfNonManifoldVerticesSplit = static_cast<int>(result.NonManifoldVerticesSplit);
+  this->NumberOfHandlesKeptAboveFeatureSize = static_cast<int>(result.KeptHandleSizes.size());
+  if (result.NonManifoldEdgesLeft > 0)
+  {
+    vtkWarningMacro(<< result.NonManifoldEdgesLeft
+                    << " non-manifold edges could not be split into sheets (an odd number of triangles, or "
+                       "orientations that do not alternate around them): no loop through them is cut.");
+  }
   if (result.PassLimitReached)
   {
     vtkWarningMacro("MaximumPasses (" << this->MaximumPasses
@@ -170,19 +201,19 @@ int vtkTopologicalNoiseRemoval::RequestData(
   StoreCounts(output->GetFieldData(),
     { { "HandlesRemoved", this->NumberOfHandlesRemoved }, { "ComponentsRemoved", this->NumberOfComponentsRemoved },
       { "CavitiesRemoved", this->NumberOfCavitiesRemoved }, { "LoopsKept", this->NumberOfLoopsKept },
-      { "HandlesKept", this->OutputGenus } });
-  vtkNew<vtkDoubleArray> featureSize;
-  featureSize->SetName("FeatureSize");
-  featureSize->InsertNextValue(this->UsedFeatureSize);
-  output->GetFieldData()->AddArray(featureSize);
+      { "HandlesKept", this->OutputGenus }, { "NonManifoldEdgesSplit", this->NumberOfNonManifoldEdgesSplit },
+      { "NonManifoldVerticesSplit", this->NumberOfNonManifoldVerticesSplit } });
+  output->GetFieldData()->AddArray(DoubleArray("FeatureSize", { this->UsedFeatureSize }));
+  output->GetFieldData()->AddArray(DoubleArray("KeptHandleSurveySize", { result.SurveySize }));
+  output->GetFieldData()->AddArray(DoubleArray("KeptHandleSizes", result.KeptHandleSizes));
   if (this->GenerateCutLoops)
   {
     StoreLoops(result, loopsOutput);
   }
   vtkLogF(TRACE,
-    "topological noise removal: %d handles cut in %d passes, %d candidate loops (%d outdated; tests: %d "
+    "topological noise removal: %d handles cut (%d found by the survey) in %d passes, %d candidate loops (%d outdated; tests: %d "
     "non-separating, %d separating, %d undetermined, %d invalid; %d cuts refused, %d centre fans), chi %lld -> %lld",
-    this->NumberOfHandlesRemoved, result.Passes, int(result.CandidateLoops), int(result.Outdated),
+    this->NumberOfHandlesRemoved, int(result.HandlesRemovedBySurvey), result.Passes, int(result.CandidateLoops), int(result.Outdated),
     int(result.Tests[0]), int(result.Tests[1]), int(result.Tests[2]), int(result.Tests[3]), int(result.CutsRefused),
     int(result.CentreFans), before.EulerCharacteristic, after.EulerCharacteristic);
   this->UpdateProgress(1.0);
@@ -198,9 +229,15 @@ void vtkTopologicalNoiseRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RemoveComponents: " << this->RemoveComponents << "\n";
   os << indent << "MaximumPasses: " << this->MaximumPasses << "\n";
   os << indent << "SeparationSearchBudget: " << this->SeparationSearchBudget << "\n";
+  os << indent << "SplitNonManifold: " << this->SplitNonManifold << "\n";
+  os << indent << "KeptHandleSurveyFactor: " << this->KeptHandleSurveyFactor << "\n";
   os << indent << "GenerateCutLoops: " << this->GenerateCutLoops << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "Handles removed: " << this->NumberOfHandlesRemoved << ", loops kept: " << this->NumberOfLoopsKept
+     << "\n";
+  os << indent << "Non-manifold edges / vertices split: " << this->NumberOfNonManifoldEdgesSplit << " / "
+     << this->NumberOfNonManifoldVerticesSplit << "\n";
+  os << indent << "Handles kept above the feature size (surveyed): " << this->NumberOfHandlesKeptAboveFeatureSize
      << "\n";
   os << indent << "Components / cavities removed: " << this->NumberOfComponentsRemoved << " / "
      << this->NumberOfCavitiesRemoved << "\n";

@@ -12,14 +12,20 @@
  * inside the largest component count as cavities). Larger handles and components are kept.
  * Every output vertex is an input vertex or a copy of one (the two sides of a cut), so point data
  * are carried exactly; the fills move the surface by at most a quarter of the loop's length.
- * Border and non-manifold vertices are never part of a cut (a warning names non-manifold input).
+ * Non-manifold edges and vertices are first split into manifold sheets (SplitNonManifold, on by
+ * default: the sheets that touch there are separated, no border is opened); where that is off or
+ * impossible they are locked, like border vertices, and never part of a cut (with a warning).
+ * Handles kept because they are larger than FeatureSize are surveyed up to KeptHandleSurveyFactor
+ * times FeatureSize and reported with their sizes.
  *
  * Outputs:
  *  - port 0: the cleaned surface, point and cell data carried, field data "HandlesRemoved",
  *    "ComponentsRemoved", "CavitiesRemoved", "LoopsKept" (short loops whose separation test ran
- *    out of budget), "HandlesKept" (the output's genus, -1 when not defined) and "FeatureSize";
+ *    out of budget), "HandlesKept" (the output's genus, -1 when not defined), "FeatureSize",
+ *    "NonManifoldEdgesSplit", "NonManifoldVerticesSplit", "KeptHandleSurveySize" and
+ *    "KeptHandleSizes" (one value per kept handle found by the survey, ascending);
  *  - port 1 (GenerateCutLoops, default on): the loops as closed polylines, cell data "Removed"
- *    (1 cut, 0 kept) and "Length".
+ *    (1 cut, 0 kept), "Length" and "Size" (length / pi).
  * See Documentation/TopologicalNoiseRemoval.md.
  */
 #ifndef vtkTopologicalNoiseRemoval_h
@@ -67,6 +73,19 @@ public:
   ///@}
 
   ///@{
+  /// SplitNonManifold (default on): split non-manifold edges and vertices into manifold sheets
+  /// before the search, so that the output is manifold and handles through them can be cut.
+  /// KeptHandleSurveyFactor (default 2, 0 or <= 1 for none): after the cuts, handles up to this
+  /// multiple of FeatureSize are searched for on a copy of the result and reported, not cut (about
+  /// doubles the time).
+  vtkSetMacro(SplitNonManifold, bool);
+  vtkGetMacro(SplitNonManifold, bool);
+  vtkBooleanMacro(SplitNonManifold, bool);
+  vtkSetClampMacro(KeptHandleSurveyFactor, double, 0.0, 100.0);
+  vtkGetMacro(KeptHandleSurveyFactor, double);
+  ///@}
+
+  ///@{
   /// Second output with the loops (default on); output point type as
   /// vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
   vtkSetMacro(GenerateCutLoops, bool);
@@ -82,6 +101,9 @@ public:
   vtkGetMacro(NumberOfComponentsRemoved, int);
   vtkGetMacro(NumberOfCavitiesRemoved, int);
   vtkGetMacro(NumberOfLoopsKept, int);
+  vtkGetMacro(NumberOfNonManifoldEdgesSplit, int);
+  vtkGetMacro(NumberOfNonManifoldVerticesSplit, int);
+  vtkGetMacro(NumberOfHandlesKeptAboveFeatureSize, int); // found by the survey
   vtkGetMacro(InputEulerCharacteristic, vtkIdType);
   vtkGetMacro(OutputEulerCharacteristic, vtkIdType);
   vtkGetMacro(InputGenus, int);  // -1 when not defined (non-manifold or non-orientable)
@@ -101,10 +123,14 @@ protected:
   int MaximumPasses = 8;
   vtkIdType SeparationSearchBudget = 0;
   bool GenerateCutLoops = true;
+  bool SplitNonManifold = true;
+  double KeptHandleSurveyFactor = 2.0;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   int NumberOfHandlesRemoved = 0, NumberOfComponentsRemoved = 0, NumberOfCavitiesRemoved = 0;
   int NumberOfLoopsKept = 0;
+  int NumberOfNonManifoldEdgesSplit = 0, NumberOfNonManifoldVerticesSplit = 0;
+  int NumberOfHandlesKeptAboveFeatureSize = 0;
   vtkIdType InputEulerCharacteristic = 0, OutputEulerCharacteristic = 0;
   int InputGenus = -1, OutputGenus = -1;
   double UsedFeatureSize = 0.0;

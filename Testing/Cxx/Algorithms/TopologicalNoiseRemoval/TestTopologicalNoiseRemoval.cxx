@@ -7,6 +7,7 @@
 #include "TestSupport.h"
 
 #include "slodBlockModel.h"
+#include "slodManifoldSplit.h"
 #include "slodMeshTopology.h"
 #include "vtkSurfaceDeviation.h"
 #include "vtkTopologicalNoiseRemoval.h"
@@ -37,10 +38,12 @@ struct CleanRun
   vtkSmartPointer<MessageCounter> Messages;
 };
 
-CleanRun Clean(vtkPolyData* input, double alpha, bool relative = false, bool removeComponents = true)
+CleanRun Clean(vtkPolyData* input, double alpha, bool relative = false, bool removeComponents = true,
+  bool splitNonManifold = true)
 {
   vtkNew<vtkTopologicalNoiseRemoval> filter;
   filter->SetInputData(input);
+  filter->SetSplitNonManifold(splitNonManifold);
   filter->SetRemoveComponents(removeComponents);
   filter->SetFeatureSize(alpha);
   filter->SetFeatureSizeIsRelative(relative);
@@ -52,6 +55,41 @@ CleanRun Clean(vtkPolyData* input, double alpha, bool relative = false, bool rem
   run.Surface = filter->GetOutput(0);
   run.Loops = filter->GetOutput(1);
   return run;
+}
+
+int FieldCount(vtkPolyData* pd, const char* name);
+
+std::vector<double> FieldValues(vtkPolyData* pd, const char* name)
+{
+  std::vector<double> values;
+  vtkDataArray* a = pd->GetFieldData()->GetArray(name);
+  EXPECT_NE(a, nullptr) << name;
+  for (vtkIdType i = 0; a && i < a->GetNumberOfTuples(); ++i)
+  {
+    values.push_back(a->GetTuple1(i));
+  }
+  return values;
+}
+
+// The kept handles the survey reported: one "Removed" 0 loop on port 1 each, and each size
+// between the feature size and the survey size.
+std::vector<double> ExpectSurveyedHandles(const CleanRun& run, double alpha, double surveySize)
+{
+  const std::vector<double> sizes = FieldValues(run.Surface, "KeptHandleSizes");
+  EXPECT_DOUBLE_EQ(FieldValues(run.Surface, "KeptHandleSurveySize").at(0), surveySize);
+  for (double size : sizes)
+  {
+    EXPECT_GT(size, alpha);
+    EXPECT_LE(size, surveySize * (1 + 1e-9));
+  }
+  int keptLoops = 0;
+  vtkDataArray* removed = run.Loops->GetCellData()->GetArray("Removed");
+  for (vtkIdType c = 0; removed && c < run.Loops->GetNumberOfCells(); ++c)
+  {
+    keptLoops += removed->GetTuple1(c) == 0 ? 1 : 0;
+  }
+  EXPECT_EQ(keptLoops, static_cast<int>(sizes.size()) + FieldCount(run.Surface, "LoopsKept"));
+  return sizes;
 }
 
 int FieldCount(vtkPolyData* pd, const char* name)
@@ -138,6 +176,9 @@ TEST(TopologicalNoiseRemoval, TorusCutBelowItsMeridianKeptAbove)
   EXPECT_EQ(FieldCount(kept.Surface, "HandlesRemoved"), 0);
   EXPECT_EQ(Stats(kept.Surface).EulerCharacteristic, 0);
   EXPECT_EQ(kept.Surface->GetNumberOfPolys(), torus->GetNumberOfPolys());
+  // The kept handle is reported with its size by the survey (up to 2 x 0.6 = 1.2, below the
+  // inner equator's 1.3): one, between 0.6 and 1.2.
+  EXPECT_EQ(ExpectSurveyedHandles(kept, 0.6, 1.2).size(), 1u);
 
   const CleanRun cut = Clean(torus, 0.8);
   const MeshStatistics after = Stats(cut.Surface);
@@ -164,12 +205,16 @@ TEST(TopologicalNoiseRemoval, PlateSmallHolesRemovedLargeKept)
   const CleanRun none = Clean(plate, 1.0); // every loop is longer than pi
   EXPECT_EQ(FieldCount(none.Surface, "HandlesRemoved"), 0);
   EXPECT_EQ(Stats(none.Surface).Genus, 5);
+  // Reported: the four small holes (1.27), not the bars (2.23) nor the large hole (3.82).
+  EXPECT_EQ(ExpectSurveyedHandles(none, 1.0, 2.0).size(), 4u);
 
   const double alpha = 1.8; // between the small holes (1.27) and the bars (2.23), large hole 3.82
   const CleanRun small = Clean(plate, alpha);
   const MeshStatistics after = Stats(small.Surface);
   EXPECT_EQ(FieldCount(small.Surface, "HandlesRemoved"), 4);
   EXPECT_EQ(FieldCount(small.Surface, "HandlesKept"), 1);
+  // The large hole (3.82) is beyond the survey (3.6): kept, but not sized.
+  EXPECT_EQ(ExpectSurveyedHandles(small, alpha, 2 * alpha).size(), 0u);
   EXPECT_EQ(after.Genus, 1);
   EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic + 8);
   ExpectCleanManifold(after);
@@ -285,23 +330,58 @@ TEST(TopologicalNoiseRemoval, BadInputGivesDefinedOutput)
   EXPECT_EQ(f.Surface->GetNumberOfPolys(), fan->GetNumberOfPolys());
 }
 
-// A noisy scan-like isosurface (handles, pinched vertices, non-manifold edges, a border): a
-// warning, no new non-manifold edge, the border kept, the genus never raised, every cut short.
-TEST(TopologicalNoiseRemoval, NoisyScanWithNonManifoldParts)
+// A noisy scan-like isosurface (handles, pinched vertices, non-manifold edges, a border), with
+// SplitNonManifold off: a warning, no new non-manifold edge, the border kept, the genus never
+// raised, every cut short.
+TEST(TopologicalNoiseRemoval, NoisyScanWithNonManifoldPartsLocked)
 {
   vtkSmartPointer<vtkPolyData> scan = NoisyScanIsosurface(40, 3);
   const TriangleMesh prepared = ToTriangleMesh(scan); // as the filter sees it
   const MeshStatistics before = MeshTopology(prepared).Statistics(prepared);
   ASSERT_GT(before.NonManifoldEdges, 0);
-  const CleanRun run = Clean(scan, 0.03, true, /*removeComponents=*/false);
+  const CleanRun run = Clean(scan, 0.03, true, /*removeComponents=*/false, /*splitNonManifold=*/false);
   const MeshStatistics after = Stats(run.Surface);
   EXPECT_FALSE(run.Messages->Warnings.empty());
   EXPECT_LE(after.NonManifoldEdges, before.NonManifoldEdges);
   EXPECT_EQ(after.BoundaryEdges, before.BoundaryEdges);
   EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+  EXPECT_EQ(FieldCount(run.Surface, "NonManifoldEdgesSplit"), 0);
   // The relation above holds trivially when nothing is cut: the scan's noise must give cuts.
   EXPECT_GT(FieldCount(run.Surface, "HandlesRemoved"), 0);
   EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic + 2 * FieldCount(run.Surface, "HandlesRemoved"));
+}
+
+// The same scan with the default SplitNonManifold: the non-manifold edges and vertices are split
+// into sheets first (no border opened), the output is manifold where the split could pair, and
+// every cut raises the Euler characteristic of the split mesh by 2.
+TEST(TopologicalNoiseRemoval, NoisyScanSplitIntoManifoldSheets)
+{
+  vtkSmartPointer<vtkPolyData> scan = NoisyScanIsosurface(40, 3);
+  const TriangleMesh prepared = ToTriangleMesh(scan);
+  const MeshTopology topology(prepared);
+  const MeshStatistics before = topology.Statistics(prepared);
+  ASSERT_GT(before.NonManifoldEdges, 0);
+  const ManifoldSplitResult split = SplitNonManifold(prepared, topology);
+  const MeshStatistics sheets = ComputeMeshStatistics(split.Mesh);
+  const CleanRun run = Clean(scan, 0.03, true, /*removeComponents=*/false);
+  const MeshStatistics after = Stats(run.Surface);
+  EXPECT_EQ(FieldCount(run.Surface, "NonManifoldEdgesSplit"), split.EdgesSplit);
+  EXPECT_EQ(FieldCount(run.Surface, "NonManifoldVerticesSplit"), split.VerticesSplit);
+  EXPECT_GT(split.EdgesSplit, 0);
+  EXPECT_EQ(after.NonManifoldEdges, split.EdgesLeft);
+  EXPECT_EQ(after.BoundaryEdges, before.BoundaryEdges);
+  EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+  EXPECT_GT(FieldCount(run.Surface, "HandlesRemoved"), 0);
+  EXPECT_EQ(after.EulerCharacteristic, sheets.EulerCharacteristic + 2 * FieldCount(run.Surface, "HandlesRemoved"));
+  // The input's non-manifold edges are reported (by the input preparation); a warning that some
+  // could not be split comes exactly when one could not.
+  EXPECT_FALSE(run.Messages->Warnings.empty());
+  bool leftReported = false;
+  for (const std::string& warning : run.Messages->Warnings)
+  {
+    leftReported = leftReported || warning.find("could not be split") != std::string::npos;
+  }
+  EXPECT_EQ(leftReported, split.EdgesLeft > 0);
 }
 
 // Asked to abort at its first progress report: a warning and an empty output (the filter contract).
