@@ -9,6 +9,7 @@
 #include "slodBlockModel.h"
 #include "slodManifoldSplit.h"
 #include "slodMeshTopology.h"
+#include "vtkHoleBumpRemoval.h"
 #include "vtkSurfaceDeviation.h"
 #include "vtkTopologicalNoiseRemoval.h"
 
@@ -382,6 +383,31 @@ TEST(TopologicalNoiseRemoval, NoisyScanSplitIntoManifoldSheets)
     leftReported = leftReported || warning.find("could not be split") != std::string::npos;
   }
   EXPECT_EQ(leftReported, split.EdgesLeft > 0);
+}
+
+// CAD parts with drilled holes (CGAL's anchor, genus 4, and couplingdown, genus 9) at a feature size
+// of 0.1 of the diagonal: the same genus change as vtkHoleBumpRemoval (Ho ch. 5, which finds the
+// holes by their sharp rims) at the same size, with the fills within the feature size.
+TEST(TopologicalNoiseRemoval, SameGenusChangeAsHoleBumpRemovalOnCadParts)
+{
+  for (const char* name : { "anchor", "couplingdown" })
+  {
+    vtkSmartPointer<vtkPolyData> part = LoadTestMesh(name);
+    const MeshStatistics before = Stats(part);
+    ASSERT_GT(before.Genus, 0) << name;
+    const CleanRun run = Clean(part, 0.1, /*relative=*/true);
+    vtkNew<vtkHoleBumpRemoval> holes;
+    holes->SetInputData(part);
+    holes->SetMaximumFeatureSize(0.1);
+    holes->MaximumFeatureSizeIsRelativeOn();
+    holes->Update();
+    const MeshStatistics cleaned = Stats(run.Surface), reference = Stats(holes->GetOutput());
+    EXPECT_LT(cleaned.Genus, before.Genus) << name;
+    EXPECT_EQ(cleaned.Genus, reference.Genus) << name;
+    ExpectCleanManifold(cleaned);
+    const double alpha = FieldValues(run.Surface, "FeatureSize").at(0);
+    EXPECT_LE(Hausdorff(part, run.Surface), alpha) << name;
+  }
 }
 
 // Asked to abort at its first progress report: a warning and an empty output (the filter contract).
