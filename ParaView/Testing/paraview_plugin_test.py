@@ -355,7 +355,14 @@ def topological_noise_removal(checks, meshes, work):
     checks.expect(0 < removed < 133, "%d handles removed" % removed)
     expect_topology(checks, "cheese", topology(result), closed_manifold(-264 + 2 * int(removed)))
     loops = fetch(removal, 1)
-    checks.expect(loops.GetNumberOfLines() == removed, "Cut Loops output: %d loops" % loops.GetNumberOfLines())
+    flags = loops.GetCellData().GetArray("Removed")
+    cut = sum(1 for i in range(loops.GetNumberOfLines()) if flags.GetTuple1(i) == 1)
+    checks.expect(cut == removed, "Cut Loops output: %d loops cut" % cut)
+    # The handles kept, surveyed up to twice the feature size, are the other loops, with their sizes.
+    sizes = result.GetFieldData().GetArray("KeptHandleSizes")
+    kept = loops.GetNumberOfLines() - cut
+    checks.expect(sizes is not None and sizes.GetNumberOfTuples() == kept - int(field_value(result, "LoopsKept")),
+                  "%d kept loops, KeptHandleSizes has %s" % (kept, sizes.GetNumberOfTuples() if sizes else None))
 
 
 @case
