@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace slod
 {
@@ -21,42 +23,124 @@ namespace
 {
 using Position = std::array<double, 3>;
 
-// Every process's border-vertex coordinates, except this process's own (3 doubles each, sorted).
-std::vector<Position> OtherPiecesBorderPositions(
-  const TriangleMesh& piece, const std::vector<unsigned char>& border, vtkMultiProcessController* controller)
+// The exact coordinates of a vertex, with -0.0 written as 0.0 (they compare equal, so they must hash
+// alike).
+Position PositionOf(const TriangleMesh& piece, Index v)
 {
-  std::vector<double> mine;
+  const double* p = piece.Points.data() + 3 * size_t(v);
+  return { p[0] + 0.0, p[1] + 0.0, p[2] + 0.0 };
+}
+
+// The process that decides whether a position is shared: a hash of its bits, the same on every
+// process (no std::hash: it need not agree between builds).
+int DecidingProcess(const Position& p, int processes)
+{
+  std::uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (double c : p)
+  {
+    std::uint64_t bits;
+    std::memcpy(&bits, &c, sizeof bits);
+    h ^= bits + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h ^= h >> 31;
+    h *= 0xbf58476d1ce4e5b9ull;
+  }
+  h ^= h >> 29;
+  return static_cast<int>(h % static_cast<std::uint64_t>(processes));
+}
+
+// Collective all-to-all over the controller's collectives (VTK 9.1 has no AllToAllV): process q
+// receives outgoing[q] of every process r as incoming[r]. Items travel as arrays of Scalar (a type
+// the controller sends). One AllGather of the lengths, then one ScatterV per source process.
+template <typename Scalar, typename Item>
+std::vector<std::vector<Item>> ExchangeBuckets(
+  vtkMultiProcessController* controller, const std::vector<std::vector<Item>>& outgoing)
+{
+  static_assert(sizeof(Item) % sizeof(Scalar) == 0, "an item is a whole number of scalars");
+  constexpr vtkIdType width = static_cast<vtkIdType>(sizeof(Item) / sizeof(Scalar));
+  const int processes = controller->GetNumberOfProcesses(), me = controller->GetLocalProcessId();
+  const size_t n = static_cast<size_t>(processes);
+  std::vector<vtkIdType> myLengths(n), lengths(n * n); // lengths[r * n + q]: scalars from r to q
+  std::vector<Item> packed;
+  for (size_t q = 0; q < n; ++q)
+  {
+    myLengths[q] = width * static_cast<vtkIdType>(outgoing[q].size());
+    packed.insert(packed.end(), outgoing[q].begin(), outgoing[q].end());
+  }
+  controller->AllGather(myLengths.data(), lengths.data(), static_cast<vtkIdType>(n));
+  std::vector<std::vector<Item>> incoming(n);
+  for (int r = 0; r < processes; ++r)
+  {
+    std::vector<vtkIdType> row(lengths.begin() + r * n, lengths.begin() + (r + 1) * n), offsets(n, 0);
+    for (size_t q = 1; q < n; ++q)
+    {
+      offsets[q] = offsets[q - 1] + row[q - 1];
+    }
+    const vtkIdType mine = row[static_cast<size_t>(me)];
+    incoming[r].resize(static_cast<size_t>(mine / width));
+    controller->ScatterV(reinterpret_cast<const Scalar*>(packed.data()), reinterpret_cast<Scalar*>(incoming[r].data()),
+      row.data(), offsets.data(), mine, r);
+  }
+  return incoming;
+}
+
+// Collective: the positions of this piece's vertices that one or more other pieces also hold. Every
+// distinct position goes to its deciding process, which counts the processes holding it and answers
+// each sender; the work and the traffic per process are proportional to its piece, whatever the split.
+std::vector<Position> PositionsOtherPiecesHold(const TriangleMesh& piece, vtkMultiProcessController* controller)
+{
+  const int processes = controller->GetNumberOfProcesses();
+  std::vector<Position> mine(size_t(piece.NumberOfPoints()));
   for (Index v = 0; v < piece.NumberOfPoints(); ++v)
   {
-    if (border[v])
-    {
-      const double* p = piece.Points.data() + 3 * size_t(v);
-      mine.insert(mine.end(), p, p + 3);
-    }
+    mine[v] = PositionOf(piece, v);
   }
-  const int processes = controller->GetNumberOfProcesses();
-  const vtkIdType myLength = static_cast<vtkIdType>(mine.size());
-  std::vector<vtkIdType> lengths(static_cast<size_t>(processes)), offsets(static_cast<size_t>(processes) + 1, 0);
-  controller->AllGather(&myLength, lengths.data(), 1);
-  for (int r = 0; r < processes; ++r)
+  std::sort(mine.begin(), mine.end());
+  mine.erase(std::unique(mine.begin(), mine.end()), mine.end()); // each process sends a position once
+  std::vector<std::vector<Position>> asked(static_cast<size_t>(processes));
+  for (const Position& p : mine)
   {
-    offsets[r + 1] = offsets[r] + lengths[r];
+    asked[DecidingProcess(p, processes)].push_back(p);
   }
-  std::vector<double> all(static_cast<size_t>(offsets[processes]));
-  controller->AllGatherV(mine.data(), all.data(), myLength, lengths.data(), offsets.data());
+  std::vector<std::vector<Position>> toDecide = ExchangeBuckets<double>(controller, asked);
 
-  const int me = controller->GetLocalProcessId();
-  std::vector<Position> others;
-  others.reserve(size_t(offsets[processes] - myLength) / 3);
-  for (int r = 0; r < processes; ++r)
+  // Deciding: a position sent by two or more processes is shared.
+  std::vector<Position> heard;
+  for (const auto& bucket : toDecide)
   {
-    for (vtkIdType i = offsets[r]; r != me && i < offsets[r + 1]; i += 3)
+    heard.insert(heard.end(), bucket.begin(), bucket.end());
+  }
+  std::sort(heard.begin(), heard.end());
+  std::vector<Position> shared;
+  for (size_t i = 0; i + 1 < heard.size(); ++i)
+  {
+    if (heard[i] == heard[i + 1] && (shared.empty() || shared.back() != heard[i]))
     {
-      others.push_back({ all[i], all[i + 1], all[i + 2] });
+      shared.push_back(heard[i]);
     }
   }
-  std::sort(others.begin(), others.end());
-  return others;
+  std::vector<std::vector<unsigned char>> answers(toDecide.size());
+  for (size_t r = 0; r < toDecide.size(); ++r)
+  {
+    for (const Position& p : toDecide[r])
+    {
+      answers[r].push_back(std::binary_search(shared.begin(), shared.end(), p) ? 1 : 0);
+    }
+  }
+  const std::vector<std::vector<unsigned char>> answered = ExchangeBuckets<unsigned char>(controller, answers);
+
+  std::vector<Position> held;
+  for (size_t q = 0; q < asked.size(); ++q)
+  {
+    for (size_t i = 0; i < asked[q].size(); ++i)
+    {
+      if (answered[q][i])
+      {
+        held.push_back(asked[q][i]);
+      }
+    }
+  }
+  std::sort(held.begin(), held.end());
+  return held;
 }
 
 // Border edges of the piece (used by one triangle) whose two ends another piece shares.
@@ -84,28 +168,21 @@ PieceSeam FindPieceSeam(const TriangleMesh& piece, vtkMultiProcessController* co
   {
     return seam;
   }
-  const MeshTopology topology(piece);
-  std::vector<unsigned char> border(size_t(piece.NumberOfPoints()));
+  // Any vertex, not only a border one: the sheets of a non-manifold edge, or the fans of a
+  // non-manifold vertex, may fall into different pieces, where that edge or vertex is interior.
+  const std::vector<Position> held = PositionsOtherPiecesHold(piece, controller);
   for (Index v = 0; v < piece.NumberOfPoints(); ++v)
   {
-    border[v] = topology.IsBoundaryVertex(v) ? 1 : 0;
-  }
-  const std::vector<Position> others = OtherPiecesBorderPositions(piece, border, controller);
-  // Any vertex, not only a border one: a piece may hold an edge as interior that another piece has
-  // on its border (a non-manifold edge split between pieces).
-  for (Index v = 0; v < piece.NumberOfPoints(); ++v)
-  {
-    const double* p = piece.Points.data() + 3 * size_t(v);
-    if (std::binary_search(others.begin(), others.end(), Position{ p[0], p[1], p[2] }))
+    if (std::binary_search(held.begin(), held.end(), PositionOf(piece, v)))
     {
       seam.SharedVertices[v] = 1;
       ++seam.SharedVertexCount;
     }
   }
+  const MeshTopology topology(piece);
   seam.SeamEdges = CountSeamEdges(topology, seam.SharedVertices);
-  vtkLogF(TRACE, "piece %d: %lld shared vertices, %lld seam edges (%zu border vertices of other pieces)",
-    controller->GetLocalProcessId(), static_cast<long long>(seam.SharedVertexCount),
-    static_cast<long long>(seam.SeamEdges), others.size());
+  vtkLogF(TRACE, "piece %d: %lld shared vertices, %lld seam edges", controller->GetLocalProcessId(),
+    static_cast<long long>(seam.SharedVertexCount), static_cast<long long>(seam.SeamEdges));
   return seam;
 }
 

@@ -2,11 +2,14 @@
 // SurfaceLOD shared core: a surface split into pieces over the processes of a
 // vtkMultiProcessController (MPI ranks), each process simplifying its own piece.
 //
-// Two pieces meet along a seam: border edges of both, with the same end points. A simplifier keeps
-// the union crack-free by never removing or moving a seam vertex (TriangleCollapseOptions::
-// LockedVertices). The seam is found with the controller's collectives only: every process gathers
-// the coordinates of the other pieces' border vertices (exact doubles: the pieces of one surface
-// carry bit-identical copies of a shared point) and marks its vertices found there.
+// Two pieces meet along a seam: points that the split gave to both (bit-identical copies of one
+// input point). A simplifier keeps the union crack-free by never removing or moving a seam vertex
+// (TriangleCollapseOptions::LockedVertices). The seam is found with the controller's collectives
+// only, and from the positions alone, so any split works (the tool's, vtkExtractPolyDataPiece,
+// ParaView's redistribution) without marks from the splitter: every distinct position of a piece is
+// sent to the process its hash selects, which tells each sender whether another piece holds it too.
+// A point is shared even where no piece has it on its border (the two sheets of a non-manifold edge,
+// or the fans of a non-manifold vertex, in different pieces).
 //
 // Every function taking a controller is collective: all processes of the controller call it, in
 // the same order.
@@ -27,7 +30,7 @@ namespace slod
 {
 struct SURFACELODFILTERS_EXPORT PieceSeam
 {
-  // Per vertex of the piece: 1 when another piece has a border vertex at exactly its position.
+  // Per vertex of the piece: 1 when another piece has a vertex at exactly its position.
   std::vector<unsigned char> SharedVertices;
   Index SharedVertexCount = 0;
   Index SeamEdges = 0; // border edges of this piece whose two ends are shared
