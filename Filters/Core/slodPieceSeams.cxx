@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 namespace slod
 {
@@ -155,6 +156,22 @@ Index CountSeamEdges(const MeshTopology& topology, const std::vector<unsigned ch
 }
 } // namespace
 
+namespace
+{
+// `amount` in parts proportional to weights: the part of the weight `mine` that follows the weights
+// `before` of a total `total`, from two rounded prefixes, so the parts add up to `amount` exactly.
+Index PartOf(Index amount, long long before, long long mine, long long total)
+{
+  const auto prefixPart = [&](long long prefix) { return std::llround(double(amount) * double(prefix) / double(total)); };
+  return static_cast<Index>(prefixPart(before + mine) - prefixPart(before));
+}
+
+// The levels of UnionTargetAgreement: relative to the union's diagonal^4, steps of 2^(1/4).
+constexpr double FirstLevel = 1e-24;
+constexpr double LevelRatio = 1.189207115002721;
+constexpr int MaximumLevels = 480;
+} // namespace
+
 bool IsDistributed(vtkMultiProcessController* controller)
 {
   return controller && controller->GetNumberOfProcesses() > 1;
@@ -187,11 +204,16 @@ PieceSeam FindPieceSeam(const TriangleMesh& piece, vtkMultiProcessController* co
 }
 
 Index PieceShareOfTarget(vtkMultiProcessController* controller, Index pieceTriangles,
-  const std::function<Index(Index globalTriangles)>& globalTargetOf)
+  const std::function<Index(Index globalTriangles)>& globalTargetOf, Index* unionTarget)
 {
   if (!IsDistributed(controller))
   {
-    return globalTargetOf(pieceTriangles);
+    const Index target = globalTargetOf(pieceTriangles);
+    if (unionTarget)
+    {
+      *unionTarget = target;
+    }
+    return target;
   }
   const int processes = controller->GetNumberOfProcesses();
   const vtkIdType mine = pieceTriangles;
@@ -203,15 +225,84 @@ Index PieceShareOfTarget(vtkMultiProcessController* controller, Index pieceTrian
     before += r < controller->GetLocalProcessId() ? counts[r] : 0;
     total += counts[r];
   }
-  if (total == 0)
+  const Index target = total == 0 ? 0 : globalTargetOf(static_cast<Index>(total));
+  if (unionTarget)
   {
-    return 0;
+    *unionTarget = target;
   }
-  // Rounded cumulative shares: each process gets the difference of two rounded prefixes, so the
-  // shares add up to the global target exactly.
-  const double target = static_cast<double>(globalTargetOf(static_cast<Index>(total)));
-  const auto prefixShare = [&](long long prefix) { return std::llround(target * double(prefix) / double(total)); };
-  return static_cast<Index>(prefixShare(before + mine) - prefixShare(before));
+  return total == 0 ? 0 : PartOf(target, before, mine, total);
+}
+
+UnionTargetAgreement::UnionTargetAgreement(vtkMultiProcessController* controller, Index unionTarget,
+  double unionDiagonal, Index pieceTriangles, Index pieceShare)
+  : Controller(controller)
+  , UnionTarget(unionTarget)
+  // Costs are area-weighted squared distances (length^4); the first level is far below any cost
+  // that matters, the last (MaximumLevels) far above.
+  , NextCost(FirstLevel * std::pow(unionDiagonal > 0 ? unionDiagonal : 1.0, 4))
+  , Floor(pieceTriangles - std::max<Index>(1, (pieceTriangles - pieceShare) / 2))
+{
+}
+
+Index UnionTargetAgreement::operator()(double cheapestCost, Index liveTriangles)
+{
+  const bool done = !std::isfinite(cheapestCost);
+  while (this->Target < 0 && (done || cheapestCost > this->NextCost || liveTriangles <= this->Floor))
+  {
+    this->Exchange(liveTriangles, done);
+  }
+  return this->Target;
+}
+
+Index UnionTargetAgreement::Finish(Index liveTriangles)
+{
+  return (*this)(std::numeric_limits<double>::infinity(), liveTriangles);
+}
+
+void UnionTargetAgreement::Exchange(Index liveTriangles, bool done)
+{
+  const int processes = this->Controller->GetNumberOfProcesses(), me = this->Controller->GetLocalProcessId();
+  const Index previous = this->PreviousLive < 0 ? liveTriangles : this->PreviousLive;
+  // Per process: live triangles, removed since the last level, 1 when nothing is left to collapse.
+  const vtkIdType mine[3] = { liveTriangles, previous - liveTriangles, done ? 1 : 0 };
+  std::vector<vtkIdType> all(3 * static_cast<size_t>(processes));
+  this->Controller->AllGather(mine, all.data(), 3);
+  this->PreviousLive = liveTriangles;
+  this->NextCost *= LevelRatio;
+  ++this->Level;
+  long long live = 0, removed = 0, allDone = 1;
+  for (int r = 0; r < processes; ++r)
+  {
+    live += all[3 * r];
+    removed += all[3 * r + 2] ? 0 : all[3 * r + 1];
+    allDone &= all[3 * r + 2];
+  }
+  const long long excess = live - this->UnionTarget;
+  if (excess <= 0 || allDone || this->Level >= MaximumLevels)
+  {
+    this->Target = liveTriangles; // on target, or nothing more can be agreed on
+    return;
+  }
+  const bool settle = excess <= 2 * removed;
+  // The excess (settled) or half of it (the next round's allowance) in parts proportional to what
+  // each process still collapsing removed in this round (plus one, so that every one may go on).
+  const auto weight = [&](int r) { return all[3 * r + 2] ? 0 : all[3 * r + 1] + (settle ? 0 : 1); };
+  long long before = 0, total = 0;
+  for (int r = 0; r < processes; ++r)
+  {
+    before += r < me ? weight(r) : 0;
+    total += weight(r);
+  }
+  const Index amount = static_cast<Index>(settle ? excess : std::max(1LL, excess / 2));
+  const Index part = done || total == 0 ? 0 : PartOf(amount, before, weight(me), total);
+  if (settle)
+  {
+    this->Target = std::max<Index>(0, liveTriangles - part);
+  }
+  else
+  {
+    this->Floor = liveTriangles - std::max<Index>(1, part);
+  }
 }
 
 double UnionBoundingBoxDiagonal(const TriangleMesh& piece, vtkMultiProcessController* controller)

@@ -43,10 +43,51 @@ SURFACELODFILTERS_EXPORT bool IsDistributed(vtkMultiProcessController* controlle
 SURFACELODFILTERS_EXPORT PieceSeam FindPieceSeam(const TriangleMesh& piece, vtkMultiProcessController* controller);
 
 // Collective: this piece's share of a count target set for the union of the pieces, proportional to
-// its triangles. The shares of all processes add up to `globalTarget` exactly. `globalTriangles`
-// receives the triangles of the union.
+// its triangles. The shares of all processes add up to the union's target exactly, which
+// `unionTarget` (when given) receives.
 SURFACELODFILTERS_EXPORT Index PieceShareOfTarget(vtkMultiProcessController* controller, Index pieceTriangles,
-  const std::function<Index(Index globalTriangles)>& globalTargetOf);
+  const std::function<Index(Index globalTriangles)>& globalTargetOf, Index* unionTarget = nullptr);
+
+// The pieces agree, while they collapse, on how the union's target is divided: as one process's
+// single queue would, the cheapest collapses go first wherever they are, instead of fixed shares
+// proportional to the pieces' sizes (a piece of smooth surface then stops early while a piece of
+// detail goes too far, and the union's largest error grows). The pieces exchange their live
+// triangles (one AllGather, collective) in rounds; a piece enters the next round when its cheapest
+// cost passes the next of a fixed geometric sequence of levels, or when it has removed its
+// allowance: half the union's excess over its target, in parts proportional to what each piece
+// removed in the last round (so ties, e.g. the zero costs of flat regions, cannot take the union
+// past its target). Once the excess is within twice what the last round removed, each piece takes
+// a part of it proportional to what it removed in that round (the parts add up to the excess
+// exactly) and the rounds stop.
+class SURFACELODFILTERS_EXPORT UnionTargetAgreement
+{
+public:
+  // `pieceTriangles` and `pieceShare`: this piece's triangles and proportional share
+  // (PieceShareOfTarget), which set the first round's allowance.
+  UnionTargetAgreement(vtkMultiProcessController* controller, Index unionTarget, double unionDiagonal,
+    Index pieceTriangles, Index pieceShare);
+
+  // This piece's target, or -1 while it is not settled. Collective whenever `cheapestCost` passes
+  // the next level or `liveTriangles` the allowance; with +infinity (nothing left to collapse),
+  // collective until settled.
+  Index operator()(double cheapestCost, Index liveTriangles);
+  // Collective: takes part until the target is settled (a piece that stopped early, aborted or has
+  // nothing to simplify must still call it); returns the target. Nothing when already settled.
+  Index Finish(Index liveTriangles);
+  bool IsSettled() const { return this->Target >= 0; }
+  int LevelsExchanged() const { return this->Level; }
+
+private:
+  void Exchange(Index liveTriangles, bool done);
+
+  vtkMultiProcessController* Controller;
+  Index UnionTarget;
+  double NextCost;
+  Index Floor; // this round's allowance ends here
+  int Level = 0;
+  Index PreviousLive = -1;
+  Index Target = -1;
+};
 
 // Collective: the bounding-box diagonal of the union of the pieces (0 when all are empty).
 SURFACELODFILTERS_EXPORT double UnionBoundingBoxDiagonal(const TriangleMesh& piece, vtkMultiProcessController* controller);
