@@ -78,7 +78,7 @@ public:
   int LevelsExchanged() const { return this->Level; }
 
 private:
-  void Exchange(Index liveTriangles, bool done);
+  void Exchange(Index liveTriangles, bool done, double cheapestCost);
 
   vtkMultiProcessController* Controller;
   Index UnionTarget;

@@ -285,6 +285,12 @@ int vtkQuadricTriangleCollapse::RequestData(
   slod::TriangleCollapseResult result;
   slod::SimplifyByTriangleCollapse(mesh, options, result, &attributes);
   const slod::Index target = agreement ? agreement->Finish(result.Mesh.NumberOfTriangles()) : piece.Target;
+  if (agreement)
+  {
+    vtkLogF(TRACE, "piece %d: target %lld agreed in %d rounds (proportional share %lld)",
+      this->Controller->GetLocalProcessId(), static_cast<long long>(target), agreement->LevelsExchanged(),
+      static_cast<long long>(piece.Target));
+  }
   if (result.Aborted)
   {
     slod::ReportAbort(this, output);

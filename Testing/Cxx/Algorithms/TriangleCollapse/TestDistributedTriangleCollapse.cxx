@@ -23,6 +23,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -285,6 +286,37 @@ TwoLenses TwoLensesSharingTheirRim(int rimVertices, int rings)
   return lenses;
 }
 
+// The triangles of `mesh` that `pieceOf` gives to `rank` (over all of `mesh`'s points: the filter's
+// input preparation drops the unused ones).
+vtkSmartPointer<vtkPolyData> PieceOfMesh(const TriangleMesh& mesh, int rank, const std::function<int(Index)>& pieceOf)
+{
+  TriangleMesh piece;
+  piece.Points = mesh.Points;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    if (pieceOf(t) == rank)
+    {
+      const Index* v = mesh.Triangle(t);
+      piece.AddTriangle(v[0], v[1], v[2]);
+    }
+  }
+  return slodtest::ToPolyData(piece);
+}
+
+// Simplifies this process's piece (`pieceOf(rank, processes)`); the simplified pieces gathered on
+// rank 0 (empty elsewhere).
+std::vector<vtkSmartPointer<vtkDataObject>> SimplifiedPiecesOf(
+  vtkMultiProcessController* controller, const std::function<vtkSmartPointer<vtkPolyData>(int, int)>& pieceOf)
+{
+  vtkNew<vtkQuadricTriangleCollapse> collapse;
+  collapse->SetInputData(pieceOf(controller->GetLocalProcessId(), controller->GetNumberOfProcesses()));
+  collapse->SetTargetReduction(Reduction);
+  collapse->Update();
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  controller->Gather(collapse->GetOutput(), pieces, 0);
+  return pieces;
+}
+
 // This process's piece of the lenses: the two lenses never share a piece, so the rim's two sheets
 // are in different pieces everywhere. With 2 processes each piece is a closed lens (no border at
 // all); with 4, each lens is also cut in two halves around the axis.
@@ -293,18 +325,9 @@ vtkSmartPointer<vtkPolyData> LensPiece(const TwoLenses& lenses, int rank, int pr
   const int sectors = std::max(1, processes / 2);
   const int rimVertices = lenses.ColumnOfTriangle.empty() ? 1 : 1 + *std::max_element(
     lenses.ColumnOfTriangle.begin(), lenses.ColumnOfTriangle.end());
-  TriangleMesh piece;
-  piece.Points = lenses.Mesh.Points;
-  for (Index t = 0; t < lenses.Mesh.NumberOfTriangles(); ++t)
-  {
-    const int sector = lenses.ColumnOfTriangle[t] * sectors / rimVertices;
-    if (lenses.LensOfTriangle[t] * sectors + sector == rank)
-    {
-      const Index* v = lenses.Mesh.Triangle(t);
-      piece.AddTriangle(v[0], v[1], v[2]);
-    }
-  }
-  return slodtest::ToPolyData(piece);
+  return PieceOfMesh(lenses.Mesh, rank, [&](Index t) {
+    return lenses.LensOfTriangle[t] * sectors + lenses.ColumnOfTriangle[t] * sectors / rimVertices;
+  });
 }
 
 // The sheets of a non-manifold edge in different pieces: there the edge is interior (or, with 4
@@ -316,14 +339,9 @@ TEST(DistributedTriangleCollapse, NonManifoldRimSplitBetweenPiecesStaysWhole)
   vtkMultiProcessController* controller = Controller();
   ASSERT_NE(controller, nullptr);
   const TwoLenses lenses = TwoLensesSharingTheirRim(160, 40);
-  const int rank = controller->GetLocalProcessId(), processes = controller->GetNumberOfProcesses();
-  vtkNew<vtkQuadricTriangleCollapse> collapse;
-  collapse->SetInputData(LensPiece(lenses, rank, processes));
-  collapse->SetTargetReduction(Reduction);
-  collapse->Update();
-  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
-  controller->Gather(collapse->GetOutput(), pieces, 0);
-  if (rank == 0)
+  const auto pieces =
+    SimplifiedPiecesOf(controller, [&](int rank, int processes) { return LensPiece(lenses, rank, processes); });
+  if (controller->GetLocalProcessId() == 0)
   {
     vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(lenses.Mesh);
     const UnionMeasures m = MeasureUnion("two-lenses", input, pieces);
@@ -371,20 +389,12 @@ TriangleMesh FlatAndBumpyHalves(int columns, int rows)
 vtkSmartPointer<vtkPolyData> HalfPiece(const TriangleMesh& mesh, int rank, int processes)
 {
   const int sectors = std::max(1, processes / 2);
-  TriangleMesh piece;
-  piece.Points = mesh.Points;
-  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-  {
+  return PieceOfMesh(mesh, rank, [&](Index t) {
     const Index* v = mesh.Triangle(t);
     const Vec3 centroid = (1.0 / 3.0) * (mesh.Point(v[0]) + mesh.Point(v[1]) + mesh.Point(v[2]));
-    const int half = centroid[0] < 1.0 ? 0 : 1;
     const int sector = std::min(sectors - 1, static_cast<int>(centroid[1] * sectors));
-    if (half * sectors + sector == rank)
-    {
-      piece.AddTriangle(v[0], v[1], v[2]);
-    }
-  }
-  return slodtest::ToPolyData(piece);
+    return (centroid[0] < 1.0 ? 0 : 1) * sectors + sector;
+  });
 }
 
 // Pieces of very different detail: the union's target must go where one process would spend it
@@ -397,14 +407,9 @@ TEST(DistributedTriangleCollapse, TargetGoesWhereTheDetailIs)
   vtkMultiProcessController* controller = Controller();
   ASSERT_NE(controller, nullptr);
   const TriangleMesh mesh = FlatAndBumpyHalves(240, 120);
-  const int rank = controller->GetLocalProcessId(), processes = controller->GetNumberOfProcesses();
-  vtkNew<vtkQuadricTriangleCollapse> collapse;
-  collapse->SetInputData(HalfPiece(mesh, rank, processes));
-  collapse->SetTargetReduction(Reduction);
-  collapse->Update();
-  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
-  controller->Gather(collapse->GetOutput(), pieces, 0);
-  if (rank == 0)
+  const auto pieces =
+    SimplifiedPiecesOf(controller, [&](int rank, int processes) { return HalfPiece(mesh, rank, processes); });
+  if (controller->GetLocalProcessId() == 0)
   {
     const UnionMeasures m = MeasureUnion("flat-and-bumpy", slodtest::ToPolyData(mesh), pieces);
     ExpectCrackFreeOnTarget(m);
