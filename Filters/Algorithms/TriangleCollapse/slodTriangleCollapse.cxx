@@ -160,6 +160,7 @@ struct CollapseLoop
   CollapseOptions Check;      // the validity test, with the current normal limit
   double Deviation = 0.0;     // the current normal limit, degrees (relaxed when nothing is left)
   Index Target = 0, StartTriangles = 0, ToRemove = 1, ProgressStep = 1, NextProgress = 1;
+  bool Settling = false;      // Options.SettleTarget has not given the target yet: Target is not a stop
   long long MaximumPops = 0, Pops = 0, Replaced = 0, Batches = 0, Selected = 0;
   double PhaseSeconds[3] = { 0, 0, 0 }; // wall time of the batches' select, evaluate, apply phases
   long long StatusCounts[static_cast<int>(CollapseStatus::Locked) + 1] = {};
@@ -281,6 +282,8 @@ private:
   void RetryPendingAround(Index kept, CollapseLoop& loop);
   void AppendHistory(const CollapseLoop& loop, TriangleCollapseResult& result) const;
   bool ReportProgress(CollapseLoop& loop, TriangleCollapseResult& result) const;
+  // Options.SettleTarget at the cheapest cost left (or with nothing left): the target once settled.
+  void AskForTarget(CollapseLoop& loop, bool nothingLeft);
   // Diagnostics (vtkLogF at TRACE verbosity).
   void TraceStage(const char* stage);
   void TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const;
@@ -1495,7 +1498,7 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
     {
       continue;
     }
-    if (this->Mesh.NumberOfLiveTriangles() <= loop.Target)
+    if (!loop.Settling && this->Mesh.NumberOfLiveTriangles() <= loop.Target)
     {
       return false;
     }
@@ -1522,6 +1525,18 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
   return true;
 }
 
+void TriangleCollapser::AskForTarget(CollapseLoop& loop, bool nothingLeft)
+{
+  const double cheapest =
+    nothingLeft ? std::numeric_limits<double>::infinity() : double(this->Heap.TopKey()) / this->CostScale;
+  const Index target = this->Options.SettleTarget(cheapest, this->Mesh.NumberOfLiveTriangles());
+  if (target >= 0)
+  {
+    loop.Target = target;
+    loop.Settling = false;
+  }
+}
+
 void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result)
 {
   CollapseBatch batch;
@@ -1529,8 +1544,13 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
   batch.Size = batch.MaximumSize;
   batch.CostTolerance = this->Options.BatchCollapses ? std::max(0.0, this->Options.BatchCostTolerance) : 0.0;
   batch.Owner.assign(batch.MaximumSize > 1 ? size_t(this->Mesh.NumberOfPoints()) : 0, ~std::uint64_t(0));
+  loop.Settling = static_cast<bool>(this->Options.SettleTarget);
   for (;;)
   {
+    if (loop.Settling)
+    {
+      this->AskForTarget(loop, this->Heap.Empty() || loop.Pops >= loop.MaximumPops);
+    }
     if (this->Heap.Empty())
     {
       if (!this->RelaxNormalLimit(loop, result))
@@ -1539,7 +1559,7 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
       }
       continue;
     }
-    if (this->Mesh.NumberOfLiveTriangles() <= loop.Target)
+    if (!loop.Settling && this->Mesh.NumberOfLiveTriangles() <= loop.Target)
     {
       break;
     }

@@ -103,6 +103,12 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   const std::vector<unsigned char>* LockedVertices = nullptr;
   // Called about every 1% of the work with the fraction done; return false to abort.
   std::function<bool(double)> Progress;
+  // Optional (a piece of a distributed surface, slod::UnionTargetAgreement): the target is settled
+  // while collapsing. Called before each batch of collapses with the cheapest cost left (+infinity
+  // when nothing is left or the loop stops) and the live triangles; returns the target, or a
+  // negative value while it is not settled (TargetTriangles then only scales the progress). It must
+  // return a target when called with +infinity.
+  std::function<Index(double cheapestCost, Index liveTriangles)> SettleTarget;
 };
 
 // Every collapse, enough to undo it by a vertex split (EditableMesh::Undo) on a mesh whose

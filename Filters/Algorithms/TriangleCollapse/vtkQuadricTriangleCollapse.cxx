@@ -23,6 +23,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <memory>
 
 vtkStandardNewMacro(vtkQuadricTriangleCollapse);
 
@@ -121,6 +123,7 @@ slod::Index TargetTriangles(vtkQuadricTriangleCollapse* filter, slod::Index inpu
 struct PieceSetting
 {
   slod::Index Target = 0;
+  slod::Index UnionTarget = 0;
   double Diagonal = 0.0;
   slod::PieceSeam Seam;
 };
@@ -130,8 +133,8 @@ PieceSetting SettleWithOtherPieces(vtkQuadricTriangleCollapse* filter, const slo
 {
   vtkMultiProcessController* controller = filter->GetController();
   PieceSetting setting;
-  setting.Target = slod::PieceShareOfTarget(
-    controller, mesh.NumberOfTriangles(), [filter](slod::Index total) { return TargetTriangles(filter, total); });
+  setting.Target = slod::PieceShareOfTarget(controller, mesh.NumberOfTriangles(),
+    [filter](slod::Index total) { return TargetTriangles(filter, total); }, &setting.UnionTarget);
   setting.Diagonal = slod::UnionBoundingBoxDiagonal(mesh, controller);
   if (slod::IsDistributed(controller))
   {
@@ -252,21 +255,42 @@ int vtkQuadricTriangleCollapse::RequestData(
   const PieceSetting piece = SettleWithOtherPieces(this, mesh); // collective: before any return
   const slod::Index inputTriangles = mesh.NumberOfTriangles();
   const slod::Index inputPoints = mesh.NumberOfPoints();
+  // Collective while collapsing: every process takes part until the pieces' targets are settled.
+  std::unique_ptr<slod::UnionTargetAgreement> agreement;
+  if (slod::IsDistributed(this->Controller))
+  {
+    agreement.reset(new slod::UnionTargetAgreement(
+      this->Controller, piece.UnionTarget, piece.Diagonal, mesh.NumberOfTriangles(), piece.Target));
+  }
   if (!prepared || inputTriangles == 0)
   {
+    if (agreement)
+    {
+      agreement->Finish(0);
+    }
     return 1;
   }
-  const slod::Index target = piece.Target;
   const double diagonal = piece.Diagonal;
-  slod::TriangleCollapseOptions options = CollapseOptions(this, target, diagonal);
+  slod::TriangleCollapseOptions options = CollapseOptions(this, piece.Target, diagonal);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
   options.LockedVertices = piece.Seam.SharedVertices.empty() ? nullptr : &piece.Seam.SharedVertices;
+  if (agreement)
+  {
+    options.SettleTarget = std::ref(*agreement);
+  }
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
   std::vector<slod::Index>().swap(vertexToInput);
 
   slod::TriangleCollapseResult result;
   slod::SimplifyByTriangleCollapse(mesh, options, result, &attributes);
+  const slod::Index target = agreement ? agreement->Finish(result.Mesh.NumberOfTriangles()) : piece.Target;
+  if (agreement)
+  {
+    vtkLogF(TRACE, "piece %d: target %lld agreed in %d rounds (proportional share %lld)",
+      this->Controller->GetLocalProcessId(), static_cast<long long>(target), agreement->LevelsExchanged(),
+      static_cast<long long>(piece.Target));
+  }
   if (result.Aborted)
   {
     slod::ReportAbort(this, output);

@@ -58,12 +58,13 @@
  *
  * Distributed pieces: when the Controller (default: the global controller) runs more than one
  * process, each process simplifies its own piece of one surface. Cells marked as ghosts in
- * vtkGhostType are dropped first; the piece's vertices that another piece also has on its border
- * (the seam, found by exact coordinates with the controller's collectives, slodPieceSeams.h) are
- * locked: never removed or moved, so the union of the outputs has no crack. A triangle target
- * (TargetNumberOfTriangles or TargetReduction) is set for the union: each piece aims at its share,
- * proportional to its triangles, and a relative MaximumError is relative to the union's diagonal.
- * RequestData is then collective: every process must update the filter.
+ * vtkGhostType are dropped first; the piece's vertices that another piece also holds (the seam,
+ * found by exact coordinates with the controller's collectives, slodPieceSeams.h: any shared
+ * point, on a border or not) are locked: never removed or moved, so the union of the outputs has
+ * no crack. A triangle target (TargetNumberOfTriangles or TargetReduction) is set for the union:
+ * the pieces agree while collapsing on how to divide it, cheapest collapses first wherever they
+ * are (slod::UnionTargetAgreement), and a relative MaximumError is relative to the union's
+ * diagonal. RequestData is then collective: every process must update the filter.
  */
 #ifndef vtkQuadricTriangleCollapse_h
 #define vtkQuadricTriangleCollapse_h

@@ -19,8 +19,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -175,9 +178,12 @@ UnionMeasures MeasureUnion(const char* name, vtkPolyData* input, const std::vect
 
 void ExpectCrackFreeOnTarget(const UnionMeasures& m)
 {
-  ASSERT_GT(m.SeamVertices, 10u) << "the pieces share no seam: nothing was tested";
+  // EXPECT, not ASSERT: a union without any seam (pieces simplified apart) still reports its cracks.
+  EXPECT_GT(m.SeamVertices, 10u) << "the pieces share no seam: nothing was tested";
   EXPECT_EQ(m.OpenSeamEdges, 0);
-  EXPECT_EQ(m.Union.NonManifoldEdges, 0);
+  EXPECT_EQ(m.Union.NonManifoldEdges, m.Input.NonManifoldEdges);
+  EXPECT_EQ(m.Union.NonManifoldEdges, m.OneProcess.NonManifoldEdges);
+  EXPECT_EQ(m.Union.NonManifoldVertices, m.Input.NonManifoldVertices);
   EXPECT_EQ(m.Union.EulerCharacteristic, m.Input.EulerCharacteristic);
   EXPECT_EQ(m.Union.EulerCharacteristic, m.OneProcess.EulerCharacteristic);
   EXPECT_EQ(m.Union.BoundaryLoops, m.Input.BoundaryLoops);
@@ -209,12 +215,207 @@ TEST_P(DistributedTriangleCollapse, UnionIsCrackFreeAndOnTarget)
   const auto pieces = SimplifiedPieces(controller, input, isosurface);
   if (controller->GetLocalProcessId() == 0)
   {
-    ExpectCrackFreeOnTarget(MeasureUnion(GetParam().c_str(), input, pieces));
+    const UnionMeasures m = MeasureUnion(GetParam().c_str(), input, pieces);
+    EXPECT_EQ(m.Input.NonManifoldEdges, 0); // these inputs are manifold: so must the union be
+    ExpectCrackFreeOnTarget(m);
+  }
+}
+
+// Two closed, bumpy lenses, one inside the other, sharing their rim: every rim edge has four
+// triangles (one per cap), two sheets. `lensOfTriangle` and `columnOfTriangle` say where each triangle
+// lies (lens 0 or 1; column 0..rimVertices-1 around the axis). Euler characteristic 4 (two spheres
+// glued along a circle); nothing is symmetric, so the caps' quadrics differ along the rim.
+struct TwoLenses
+{
+  TriangleMesh Mesh;
+  std::vector<int> LensOfTriangle, ColumnOfTriangle;
+};
+
+TwoLenses TwoLensesSharingTheirRim(int rimVertices, int rings)
+{
+  constexpr double Pi = 3.14159265358979323846;
+  TwoLenses lenses;
+  TriangleMesh& mesh = lenses.Mesh;
+  const auto rimRadius = [](double phi) { return 1.0 + 0.15 * std::cos(3 * phi); };
+  const auto rimHeight = [](double phi) { return 0.12 * std::sin(2 * phi); };
+  for (int j = 0; j < rimVertices; ++j)
+  {
+    const double phi = 2 * Pi * j / rimVertices;
+    mesh.AddPoint({ rimRadius(phi) * std::cos(phi), rimRadius(phi) * std::sin(phi), rimHeight(phi) });
+  }
+  const double capHeights[4] = { 0.35, -0.35, 0.7, -0.7 }; // lens 0: caps 0, 1; lens 1 around it: 2, 3
+  for (int cap = 0; cap < 4; ++cap)
+  {
+    const double c = capHeights[cap];
+    // Ring i (1..rings-1) at s = i/rings; ring 0 is the cap's centre, ring `rings` the shared rim.
+    const Index centre = mesh.AddPoint({ 0.0, 0.0, c });
+    const Index first = mesh.NumberOfPoints();
+    for (int i = 1; i < rings; ++i)
+    {
+      const double s = double(i) / rings;
+      for (int j = 0; j < rimVertices; ++j)
+      {
+        const double phi = 2 * Pi * j / rimVertices;
+        const double z = rimHeight(phi) * s * s + c * (1 - s * s) * (1 + 0.15 * s * std::sin(4 * phi + cap));
+        mesh.AddPoint({ s * rimRadius(phi) * std::cos(phi), s * rimRadius(phi) * std::sin(phi), z });
+      }
+    }
+    const auto ringPoint = [&](int i, int j) -> Index {
+      j %= rimVertices;
+      return i == 0 ? centre : (i == rings ? Index(j) : first + Index(i - 1) * rimVertices + j);
+    };
+    const auto add = [&](Index a, Index b, Index d, int column) {
+      // Outward: counter-clockwise seen from above on the upper caps, clockwise on the lower ones.
+      if (c > 0)
+        mesh.AddTriangle(a, b, d);
+      else
+        mesh.AddTriangle(a, d, b);
+      lenses.LensOfTriangle.push_back(cap / 2);
+      lenses.ColumnOfTriangle.push_back(column);
+    };
+    for (int j = 0; j < rimVertices; ++j)
+    {
+      add(centre, ringPoint(1, j), ringPoint(1, j + 1), j);
+      for (int i = 1; i < rings; ++i)
+      {
+        add(ringPoint(i, j), ringPoint(i + 1, j), ringPoint(i + 1, j + 1), j);
+        add(ringPoint(i, j), ringPoint(i + 1, j + 1), ringPoint(i, j + 1), j);
+      }
+    }
+  }
+  return lenses;
+}
+
+// The triangles of `mesh` that `pieceOf` gives to `rank` (over all of `mesh`'s points: the filter's
+// input preparation drops the unused ones).
+vtkSmartPointer<vtkPolyData> PieceOfMesh(const TriangleMesh& mesh, int rank, const std::function<int(Index)>& pieceOf)
+{
+  TriangleMesh piece;
+  piece.Points = mesh.Points;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    if (pieceOf(t) == rank)
+    {
+      const Index* v = mesh.Triangle(t);
+      piece.AddTriangle(v[0], v[1], v[2]);
+    }
+  }
+  return slodtest::ToPolyData(piece);
+}
+
+// Simplifies this process's piece (`pieceOf(rank, processes)`); the simplified pieces gathered on
+// rank 0 (empty elsewhere).
+std::vector<vtkSmartPointer<vtkDataObject>> SimplifiedPiecesOf(
+  vtkMultiProcessController* controller, const std::function<vtkSmartPointer<vtkPolyData>(int, int)>& pieceOf)
+{
+  vtkNew<vtkQuadricTriangleCollapse> collapse;
+  collapse->SetInputData(pieceOf(controller->GetLocalProcessId(), controller->GetNumberOfProcesses()));
+  collapse->SetTargetReduction(Reduction);
+  collapse->Update();
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  controller->Gather(collapse->GetOutput(), pieces, 0);
+  return pieces;
+}
+
+// This process's piece of the lenses: the two lenses never share a piece, so the rim's two sheets
+// are in different pieces everywhere. With 2 processes each piece is a closed lens (no border at
+// all); with 4, each lens is also cut in two halves around the axis.
+vtkSmartPointer<vtkPolyData> LensPiece(const TwoLenses& lenses, int rank, int processes)
+{
+  const int sectors = std::max(1, processes / 2);
+  const int rimVertices = lenses.ColumnOfTriangle.empty() ? 1 : 1 + *std::max_element(
+    lenses.ColumnOfTriangle.begin(), lenses.ColumnOfTriangle.end());
+  return PieceOfMesh(lenses.Mesh, rank, [&](Index t) {
+    return lenses.LensOfTriangle[t] * sectors + lenses.ColumnOfTriangle[t] * sectors / rimVertices;
+  });
+}
+
+// The sheets of a non-manifold edge in different pieces: there the edge is interior (or, with 4
+// pieces, partly on a border) on both sides, so only a seam found from every shared point, not only
+// from the pieces' borders, keeps the rim whole. Without it each lens's rim is simplified on its own
+// and the union loses non-manifold edges and opens cracks.
+TEST(DistributedTriangleCollapse, NonManifoldRimSplitBetweenPiecesStaysWhole)
+{
+  vtkMultiProcessController* controller = Controller();
+  ASSERT_NE(controller, nullptr);
+  const TwoLenses lenses = TwoLensesSharingTheirRim(160, 40);
+  const auto pieces =
+    SimplifiedPiecesOf(controller, [&](int rank, int processes) { return LensPiece(lenses, rank, processes); });
+  if (controller->GetLocalProcessId() == 0)
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(lenses.Mesh);
+    const UnionMeasures m = MeasureUnion("two-lenses", input, pieces);
+    ASSERT_EQ(m.Input.NonManifoldEdges, 160); // the construction: every rim edge has 4 triangles
+    ASSERT_EQ(m.Input.EulerCharacteristic, 4);
+    ASSERT_EQ(m.Input.BoundaryLoops, 0);
+    EXPECT_EQ(m.Union.Components, m.Input.Components);
+    ExpectCrackFreeOnTarget(m);
   }
 }
 
 // The demo's isosurface (closed, genus 1), a closed CGAL scan and a CGAL mesh with two border loops.
 INSTANTIATE_TEST_SUITE_P(Meshes, DistributedTriangleCollapse, ::testing::Values("synthetic-isosurface", "bunny00", "blade"));
+
+// A height field over [0, 2] x [0, 1]: flat where x < 1, bumpy where x > 1 (continuous at x = 1).
+// One process spends nearly the whole budget on the bumps; pieces that each took a share
+// proportional to their size would leave the bumpy half with about half of that.
+TriangleMesh FlatAndBumpyHalves(int columns, int rows)
+{
+  constexpr double Pi = 3.14159265358979323846;
+  TriangleMesh mesh;
+  for (int j = 0; j <= rows; ++j)
+  {
+    for (int i = 0; i <= columns; ++i)
+    {
+      const double x = 2.0 * i / columns, y = double(j) / rows;
+      const double z = x <= 1.0 ? 0.0 : 0.04 * std::sin(5 * Pi * x) * std::sin(6 * Pi * y) * (1 + 0.5 * y);
+      mesh.AddPoint({ x, y, z });
+    }
+  }
+  const auto id = [columns](int i, int j) { return Index(j) * (columns + 1) + i; };
+  for (int j = 0; j < rows; ++j)
+  {
+    for (int i = 0; i < columns; ++i)
+    {
+      mesh.AddTriangle(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      mesh.AddTriangle(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return mesh;
+}
+
+// This process's piece of the halves: the flat and the bumpy half in different pieces (with 4
+// processes, each half also cut in two across y).
+vtkSmartPointer<vtkPolyData> HalfPiece(const TriangleMesh& mesh, int rank, int processes)
+{
+  const int sectors = std::max(1, processes / 2);
+  return PieceOfMesh(mesh, rank, [&](Index t) {
+    const Index* v = mesh.Triangle(t);
+    const Vec3 centroid = (1.0 / 3.0) * (mesh.Point(v[0]) + mesh.Point(v[1]) + mesh.Point(v[2]));
+    const int sector = std::min(sectors - 1, static_cast<int>(centroid[1] * sectors));
+    return (centroid[0] < 1.0 ? 0 : 1) * sectors + sector;
+  });
+}
+
+// Pieces of very different detail: the union's target must go where one process would spend it
+// (the pieces agree on it while collapsing, slod::UnionTargetAgreement). With fixed shares
+// proportional to the pieces' sizes the Hausdorff distance was 2.7x one process's at 2 pieces and
+// 3.0x at 4; agreed, 1.1x and 1.3x (the rest is the seam, kept at full resolution). The bound
+// 1.5x lies between the two: it fails when the pieces stop agreeing.
+TEST(DistributedTriangleCollapse, TargetGoesWhereTheDetailIs)
+{
+  vtkMultiProcessController* controller = Controller();
+  ASSERT_NE(controller, nullptr);
+  const TriangleMesh mesh = FlatAndBumpyHalves(240, 120);
+  const auto pieces =
+    SimplifiedPiecesOf(controller, [&](int rank, int processes) { return HalfPiece(mesh, rank, processes); });
+  if (controller->GetLocalProcessId() == 0)
+  {
+    const UnionMeasures m = MeasureUnion("flat-and-bumpy", slodtest::ToPolyData(mesh), pieces);
+    ExpectCrackFreeOnTarget(m);
+    EXPECT_LE(m.Hausdorff, 1.5 * m.OneProcessHausdorff);
+  }
+}
 
 } // namespace
 
