@@ -214,6 +214,7 @@ private:
   void SetParameters(const CollapseHierarchyParameters& parameters);
   void Reset(const TriangleMesh& input);
   void ResetRecords();
+  void ReserveRecords();
   void InitializeQuadrics();
   bool EvaluateAllTriangles(const ProgressFunction& progress);
   bool ReduceLevel(int level, LevelState& state);
@@ -302,7 +303,6 @@ private:
   std::vector<Index> RecordKept, RecordVertices, RecordRemovedStart, RecordRemoved;
   std::vector<Index> RecordChangedStart, RecordChangedTriangle, RecordChangedFrom;
   std::vector<unsigned char> RecordChangedCorner;
-  std::vector<double> RecordOldPositions;
   // Edge swaps, in order, with the collapse count after which they happened.
   std::vector<FlipRecord> Flips;
   std::vector<Index> FlipStamp;
