@@ -229,7 +229,10 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   {
     return EvaluationRest::Fit;
   }
-  if (!this->OrderedByEdge(tri, q, e))
+  // The error of the point decides whether T is ordered by its edge collapse and is T's error
+  // when the point stays (computed once for both).
+  const double error = this->CollapseError(tri, 3, q, e.Point);
+  if (!(this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * error))
   {
     this->GatherLinkEdges(tri, link);
     if (!StarShaped(link, e.Point, frame.Normal))
@@ -238,7 +241,8 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
       return EvaluationRest::Unfold;
     }
   }
-  this->SetCollapseError(tri, q, e);
+  e.Error = error;
+  e.PreferEdge = this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
   return EvaluationRest::None;
 }
 
