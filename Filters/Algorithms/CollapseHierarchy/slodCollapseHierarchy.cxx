@@ -1071,8 +1071,15 @@ struct CollapseHierarchy::LevelState
 bool CollapseHierarchy::Build(
   const TriangleMesh& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
 {
+  TriangleMesh copy = input;
+  return this->Build(std::move(copy), parameters, progress);
+}
+
+bool CollapseHierarchy::Build(
+  TriangleMesh&& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
+{
   this->SetParameters(parameters);
-  this->Reset(input);
+  this->Reset(std::move(input));
   const Index nt = this->Base.NumberOfTriangles();
   if (nt == 0)
   {
@@ -1139,9 +1146,9 @@ void CollapseHierarchy::SetParameters(const CollapseHierarchyParameters& paramet
 
 // M0 and the empty hierarchy over it: every input point its own global vertex and ancestor,
 // every triangle a version born at 0.
-void CollapseHierarchy::Reset(const TriangleMesh& input)
+void CollapseHierarchy::Reset(TriangleMesh&& input)
 {
-  this->Base = input;
+  this->Base = std::move(input);
   if (this->Parameters.RemoveCycles)
   {
     this->RemoveCyclesBySwapping(this->Base);

@@ -153,6 +153,9 @@ public:
 
   bool Build(const TriangleMesh& mesh, const CollapseHierarchyParameters& parameters,
     const ProgressFunction& progress = ProgressFunction());
+  // The same, taking the mesh as M0 instead of copying it (the caller's copy is not held twice).
+  bool Build(TriangleMesh&& mesh, const CollapseHierarchyParameters& parameters,
+    const ProgressFunction& progress = ProgressFunction());
 
   // Meshes M0..Mn: NumberOfLevels() = n + 1.
   int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
@@ -221,7 +224,7 @@ private:
 
   // Build's stages: set up M0, weigh every triangle, then reduce level by level.
   void SetParameters(const CollapseHierarchyParameters& parameters);
-  void Reset(const TriangleMesh& input);
+  void Reset(TriangleMesh&& input);
   void ResetRecords();
   void ReserveRecords();
   void InitializeQuadrics();
