@@ -223,13 +223,16 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   }
   const Vec3 centroid = frame.Origin;
   e.Kappa = 0;
-  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(tri) : std::numeric_limits<double>::infinity();
+  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(tri, e.CheapestEdge) : std::numeric_limits<double>::infinity();
   const Quadric q = this->TriangleQuadric(tri);
   if (!this->QuadricPointNearCentroid(tri, q, centroid, e.Point))
   {
     return EvaluationRest::Fit;
   }
-  if (!this->OrderedByEdge(tri, q, e))
+  // The error of the point decides whether T is ordered by its edge collapse and is T's error
+  // when the point stays (computed once for both).
+  const double error = this->CollapseError(tri, 3, q, e.Point);
+  if (!(this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * error))
   {
     this->GatherLinkEdges(tri, link);
     if (!StarShaped(link, e.Point, frame.Normal))
@@ -238,7 +241,8 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
       return EvaluationRest::Unfold;
     }
   }
-  this->SetCollapseError(tri, q, e);
+  e.Error = error;
+  e.PreferEdge = this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
   return EvaluationRest::None;
 }
 
@@ -251,6 +255,7 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame)
   const Vec3 a = m.Point(tri[0]), b = m.Point(tri[1]), c = m.Point(tri[2]);
   const Vec3 centroid = (1.0 / 3.0) * (a + b + c);
   Vec3 areaVector = Cross(b - a, c - a);
+  e.CheapestEdge = EdgeChoice(); // known again only where this evaluation computes it
   e.Area = 0.5 * Norm(areaVector);
   e.Valence = this->CollapsePointValence(tri);
   e.Alpha = Roundness(a, b, c);
@@ -289,7 +294,7 @@ void CollapseHierarchy::EvaluateWithFit(Index t, Evaluation& e)
     return;
   }
   const Vec3 fitPoint = this->FitStencil(tri, frame, e.Kappa);
-  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(tri) : std::numeric_limits<double>::infinity();
+  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(tri, e.CheapestEdge) : std::numeric_limits<double>::infinity();
   e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
   {
@@ -361,7 +366,7 @@ void CollapseHierarchy::EvaluateHubTriangle(const Index* tri, const Vec3& areaVe
   e.Normal = Norm(areaVector) > 0 ? Normalized(areaVector) : Vec3{ 0, 0, 0 };
   e.Point = centroid;
   e.Kappa = 0;
-  e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(tri);
+  e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(tri, e.CheapestEdge);
   e.Error = e.EdgeError;
   e.PreferEdge = true;
 }
@@ -570,19 +575,40 @@ void CollapseHierarchy::TakeCheapestValidAlternative(const Index* tri, const Alt
   }
 }
 
-double CollapseHierarchy::CheapestEdgeError(const Index* tri) const
+int CollapseHierarchy::FixedMask(const Index* tri) const
 {
-  const EditableMesh& m = this->Mesh;
-  bool fixed[3] = { false, false, false };
+  int mask = 0;
   for (int k = 0; k < 3; ++k)
   {
-    fixed[k] = this->Degree(tri[k]) > HubValence || this->OnBorder[tri[k]];
+    mask |= (this->Degree(tri[k]) > HubValence || this->OnBorder[tri[k]]) ? 1 << k : 0;
   }
+  return mask;
+}
+
+double CollapseHierarchy::CheapestEdgeError(const Index* tri, EdgeChoice& choice) const
+{
+  const EditableMesh& m = this->Mesh;
+  const int fixed = this->FixedMask(tri);
   double cheapest = std::numeric_limits<double>::infinity();
+  // The first minimum in FindEdgeCollapse's order (error, then edge, then best/u/v); unknown when
+  // an error is not a number (that order is then not a minimum).
+  choice = EdgeChoice();
+  choice.Fixed = static_cast<unsigned char>(fixed);
+  double first = std::numeric_limits<double>::infinity();
+  bool ordered = true;
+  auto track = [&](double error, int k, int kind) {
+    ordered = ordered && !std::isnan(error);
+    if (error < first)
+    {
+      first = error;
+      choice.Edge = static_cast<signed char>(k);
+      choice.Kind = static_cast<unsigned char>(kind);
+    }
+  };
   for (int k = 0; k < 3; ++k)
   {
     const Index u = tri[k], v = tri[(k + 1) % 3];
-    if (fixed[k] || fixed[(k + 1) % 3])
+    if (((fixed >> k) & 1) || ((fixed >> ((k + 1) % 3)) & 1))
     {
       continue;
     }
@@ -593,9 +619,18 @@ double CollapseHierarchy::CheapestEdgeError(const Index* tri) const
     const Index uv[2] = { u, v };
     if (EdgeOptimum(q, pu, pv, best))
     {
-      cheapest = std::min(cheapest, this->CollapseError(uv, 2, q, best));
+      const double error = this->CollapseError(uv, 2, q, best);
+      track(error, k, 0);
+      cheapest = std::min(cheapest, error);
     }
-    cheapest = std::min(cheapest, std::min(this->CollapseError(uv, 2, q, pu), this->CollapseError(uv, 2, q, pv)));
+    const double eu = this->CollapseError(uv, 2, q, pu), ev = this->CollapseError(uv, 2, q, pv);
+    track(eu, k, 1);
+    track(ev, k, 2);
+    cheapest = std::min(cheapest, std::min(eu, ev));
+  }
+  if (!ordered)
+  {
+    choice.Edge = -1;
   }
   return cheapest;
 }
@@ -747,11 +782,10 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
 
   // Flat record for exact vertex splits.
   this->RecordKept.push_back(kept);
+  // (The old positions are those of the source global vertices: not stored twice.)
   for (int i = 0; i < 3; ++i)
   {
     this->RecordVertices.push_back(i < count ? vertices[i] : InvalidIndex);
-    const Vec3 old = i < count ? this->Record.OldPositions[i] : Vec3{ 0, 0, 0 };
-    this->RecordOldPositions.insert(this->RecordOldPositions.end(), old.begin(), old.end());
   }
   this->RecordRemoved.insert(this->RecordRemoved.end(), this->Record.RemovedTriangles.begin(),
     this->Record.RemovedTriangles.end());
@@ -904,10 +938,55 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
 }
 
 // ---------------------------------------------------------------------------------------------
+// The evaluation's cheapest edge candidate, recomputed, when it is still the first in
+// FindEdgeCollapse's order: T's vertices have not moved nor merged since (else T was evaluated
+// again), the hub and border flags are those of the evaluation, and the evaluation used the
+// current mean area (not the initial one's guess).
+bool CollapseHierarchy::KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const
+{
+  const Evaluation& e = this->Evaluations[t];
+  const Index* tri = this->Mesh.Triangle(t);
+  if (e.CheapestEdge.Edge < 0 || e.CheapestEdge.Fixed != this->FixedMask(tri))
+  {
+    return false;
+  }
+  const int k = e.CheapestEdge.Edge;
+  const Index uv[2] = { tri[k], tri[(k + 1) % 3] };
+  Quadric q = this->Quadrics[uv[0]];
+  q += this->Quadrics[uv[1]];
+  const Vec3 pu = this->Mesh.Point(uv[0]), pv = this->Mesh.Point(uv[1]);
+  if (e.CheapestEdge.Kind == 0)
+  {
+    if (!EdgeOptimum(q, pu, pv, point))
+    {
+      return false;
+    }
+  }
+  else
+  {
+    point = e.CheapestEdge.Kind == 1 ? pu : pv;
+  }
+  edge = k;
+  error = this->CollapseError(uv, 2, q, point);
+  return true;
+}
+
 bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error)
 {
   const EditableMesh& m = this->Mesh;
   const Index* tri = m.Triangle(t);
+  // Most of the time the cheapest candidate, known from the evaluation, passes: the other eight
+  // need not be computed (one eigen decomposition instead of three).
+  const bool known = this->KnownCheapestEdge(t, edge, point, error);
+  if (known)
+  {
+    const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
+    if (m.CheckCollapse(vertices, 2, point, this->MeshOptions) == CollapseStatus::Ok &&
+      this->KeepsOrientation(vertices, 2, point))
+    {
+      return true;
+    }
+  }
   // Candidates: per edge, the quadric's best point near the midpoint and the two end points;
   // tried by increasing quadric error of the ancestral planes until one passes the checks.
   struct Candidate
@@ -944,7 +1023,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   std::sort(candidates, candidates + n, [](const Candidate& a, const Candidate& b) {
     return a.Error < b.Error || (a.Error == b.Error && a.Edge < b.Edge);
   });
-  for (int i = 0; i < n; ++i)
+  for (int i = known ? 1 : 0; i < n; ++i) // (the known cheapest is the first: it failed above)
   {
     const Index vertices[2] = { tri[candidates[i].Edge], tri[(candidates[i].Edge + 1) % 3] };
     if (m.CheckCollapse(vertices, 2, candidates[i].Point, this->MeshOptions) == CollapseStatus::Ok &&
@@ -992,8 +1071,15 @@ struct CollapseHierarchy::LevelState
 bool CollapseHierarchy::Build(
   const TriangleMesh& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
 {
+  TriangleMesh copy = input;
+  return this->Build(std::move(copy), parameters, progress);
+}
+
+bool CollapseHierarchy::Build(
+  TriangleMesh&& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
+{
   this->SetParameters(parameters);
-  this->Reset(input);
+  this->Reset(std::move(input));
   const Index nt = this->Base.NumberOfTriangles();
   if (nt == 0)
   {
@@ -1005,6 +1091,7 @@ bool CollapseHierarchy::Build(
     return false;
   }
   LevelState state;
+  state.Candidates.reserve(size_t(nt)); // the first level takes every triangle (no doubling copies)
   state.RegionLevel.assign(nt, -1);
   state.AffectedMark.assign(nt, 0);
   if (this->Parameters.MaximumWeight > 0)
@@ -1059,9 +1146,9 @@ void CollapseHierarchy::SetParameters(const CollapseHierarchyParameters& paramet
 
 // M0 and the empty hierarchy over it: every input point its own global vertex and ancestor,
 // every triangle a version born at 0.
-void CollapseHierarchy::Reset(const TriangleMesh& input)
+void CollapseHierarchy::Reset(TriangleMesh&& input)
 {
-  this->Base = input;
+  this->Base = std::move(input);
   if (this->Parameters.RemoveCycles)
   {
     this->RemoveCyclesBySwapping(this->Base);
@@ -1090,16 +1177,8 @@ void CollapseHierarchy::Reset(const TriangleMesh& input)
   std::iota(this->EntryTriangle.begin(), this->EntryTriangle.end(), 0);
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
-  // Reserved at once instead of grown by doubling copies: a collapse adds a point and new
-  // versions of the ten or so triangles around it, about three versions per input triangle in all
-  // (and at most one collapse per two input triangles).
-  const size_t versions = 3 * size_t(nt);
-  this->EntryVertices.reserve(3 * versions);
-  this->EntryBirth.reserve(versions);
-  this->EntryDeath.reserve(versions);
-  this->EntryTriangle.reserve(versions);
-  this->GlobalPoints.reserve(3 * (size_t(np) + size_t(nt) / 2));
   this->ResetRecords();
+  this->ReserveRecords();
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
   this->VertexChanged.assign(np, 0);
@@ -1121,6 +1200,34 @@ void CollapseHierarchy::Reset(const TriangleMesh& input)
   this->ChangeCounter = 0;
 }
 
+// Reserved at once instead of grown by doubling (each doubling copied the whole vector into
+// freshly faulted pages and held both copies: on mri.vtp the versions outgrew a reserve of three
+// per input triangle, a copy of 150 MB). A reserve is only address space until it is written,
+// so the bounds are generous: a collapse removes at least two triangles (at most nt / 2
+// collapses), adds a point and new versions of the seven or so triangles around it and
+// redirects about four corners (measured: 4.0 versions and 1.6 redirected corners per input
+// triangle when reduced to 10%).
+void CollapseHierarchy::ReserveRecords()
+{
+  const size_t np = size_t(this->Base.NumberOfPoints()), nt = size_t(this->Base.NumberOfTriangles());
+  const size_t collapses = nt / 2 + 1, versions = 5 * nt;
+  this->EntryVertices.reserve(3 * versions);
+  this->EntryBirth.reserve(versions);
+  this->EntryDeath.reserve(versions);
+  this->EntryTriangle.reserve(versions);
+  this->GlobalPoints.reserve(3 * (np + collapses));
+  this->Collapses.reserve(collapses);
+  this->TriangleCounts.reserve(collapses + 1);
+  this->RecordKept.reserve(collapses);
+  this->RecordVertices.reserve(3 * collapses);
+  this->RecordRemovedStart.reserve(collapses + 1);
+  this->RecordChangedStart.reserve(collapses + 1);
+  this->RecordRemoved.reserve(nt);
+  this->RecordChangedTriangle.reserve(3 * nt);
+  this->RecordChangedCorner.reserve(3 * nt);
+  this->RecordChangedFrom.reserve(3 * nt);
+}
+
 void CollapseHierarchy::ResetRecords()
 {
   this->Collapses.clear();
@@ -1128,7 +1235,6 @@ void CollapseHierarchy::ResetRecords()
   this->TriangleCounts.assign(1, this->Base.NumberOfTriangles());
   this->RecordKept.clear();
   this->RecordVertices.clear();
-  this->RecordOldPositions.clear();
   this->RecordRemoved.clear();
   this->RecordRemovedStart.assign(1, 0);
   this->RecordChangedTriangle.clear();
@@ -1196,7 +1302,17 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
     kappaMax = std::max(kappaMax, this->Evaluations[t].Kappa);
     valenceMax = std::max(valenceMax, std::abs(this->Evaluations[t].Valence - 6));
   }
+  const double guess = this->MeanArea;
   this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
+  if (this->MeanArea != guess)
+  {
+    // The vertex error term of these evaluations used the guess: their edge choices may not be
+    // FindEdgeCollapse's first with the final mean area.
+    for (Evaluation& e : this->Evaluations)
+    {
+      e.CheapestEdge.Edge = -1;
+    }
+  }
   this->KappaMax = kappaMax > 0 ? kappaMax : 1.0;
   this->Mv = this->Parameters.ValenceNormalizer > 0 ? this->Parameters.ValenceNormalizer : std::max(1, valenceMax);
   for (Index t = 0; t < nt; ++t)
@@ -1770,8 +1886,8 @@ void CollapseHierarchy::Refine(EditableMesh& mesh, Index k) const
   for (int i = 0; i < record.VertexCount; ++i)
   {
     record.Vertices[i] = this->RecordVertices[3 * size_t(k) + i];
-    const double* o = &this->RecordOldPositions[9 * size_t(k) + 3 * i];
-    record.OldPositions[i] = { o[0], o[1], o[2] };
+    // An editable vertex is always at its global vertex's position (same doubles).
+    record.OldPositions[i] = this->Vertex(this->Collapses[k].Sources[i]);
   }
   record.NewPosition = this->Vertex(this->Collapses[k].Point);
   record.RemovedTriangles.assign(this->RecordRemoved.begin() + this->RecordRemovedStart[k],

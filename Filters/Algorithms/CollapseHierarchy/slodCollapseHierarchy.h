@@ -153,6 +153,9 @@ public:
 
   bool Build(const TriangleMesh& mesh, const CollapseHierarchyParameters& parameters,
     const ProgressFunction& progress = ProgressFunction());
+  // The same, taking the mesh as M0 instead of copying it (the caller's copy is not held twice).
+  bool Build(TriangleMesh&& mesh, const CollapseHierarchyParameters& parameters,
+    const ProgressFunction& progress = ProgressFunction());
 
   // Meshes M0..Mn: NumberOfLevels() = n + 1.
   int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
@@ -200,11 +203,20 @@ public:
   void Refine(EditableMesh& mesh, Index k) const;
 
 private:
+  // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the
+  // hub and border flags of T's vertices then (bit k: tri[k] fixed); Edge -1: not known.
+  struct EdgeChoice
+  {
+    signed char Edge = -1;
+    unsigned char Kind = 0; // 0 the quadric's point near the midpoint, 1 tri[Edge], 2 tri[Edge + 1]
+    unsigned char Fixed = 0;
+  };
   struct Evaluation
   {
     double Kappa = 0, Alpha = 0, Area = 0, Error = 0;
     double EdgeError = 0; // cheapest edge collapse of T (quadric error), when computed
     bool PreferEdge = false;
+    EdgeChoice CheapestEdge; // the candidate of EdgeError (fits in the padding)
     int Valence = 6;
     Vec3 Point{ 0, 0, 0 }, Normal{ 0, 0, 1 };
   };
@@ -212,8 +224,9 @@ private:
 
   // Build's stages: set up M0, weigh every triangle, then reduce level by level.
   void SetParameters(const CollapseHierarchyParameters& parameters);
-  void Reset(const TriangleMesh& input);
+  void Reset(TriangleMesh&& input);
   void ResetRecords();
+  void ReserveRecords();
   void InitializeQuadrics();
   bool EvaluateAllTriangles(const ProgressFunction& progress);
   bool ReduceLevel(int level, LevelState& state);
@@ -302,7 +315,6 @@ private:
   std::vector<Index> RecordKept, RecordVertices, RecordRemovedStart, RecordRemoved;
   std::vector<Index> RecordChangedStart, RecordChangedTriangle, RecordChangedFrom;
   std::vector<unsigned char> RecordChangedCorner;
-  std::vector<double> RecordOldPositions;
   // Edge swaps, in order, with the collapse count after which they happened.
   std::vector<FlipRecord> Flips;
   std::vector<Index> FlipStamp;
@@ -346,7 +358,11 @@ private:
   // cached until the vertex's neighbourhood changes (VertexChanged).
   Index Degree(Index v) const;
   int HubMask(Index t) const; // bit k: tri[k] is a hub
-  double CheapestEdgeError(const Index* tri) const; // over edges with no hub or border end
+  // Over edges with no hub or border end; choice: which candidate it was.
+  double CheapestEdgeError(const Index* tri, EdgeChoice& choice) const;
+  int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub or on the border
+  // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
+  bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;
   mutable std::vector<Index> CachedDegree, CachedDegreeStamp;
   std::uint32_t MarkEpoch = 0;
   mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;

@@ -231,7 +231,8 @@ struct vtkTriangleCollapseHierarchy::Internals
     }
     parameters.StopAtTriangles = OnlyToTarget(*filter) ? TargetOf(*filter, mesh.NumberOfTriangles()) : 0;
     const auto start = std::chrono::steady_clock::now();
-    const bool done = this->Hierarchy.Build(mesh, parameters, slod::FilterProgress(filter, 0.0, 0.9));
+    // (Moved: M0 is this mesh, not a second copy of it.)
+    const bool done = this->Hierarchy.Build(std::move(mesh), parameters, slod::FilterProgress(filter, 0.0, 0.9));
     if (!done)
     {
       return false;

@@ -684,6 +684,38 @@ TEST(CollapseHierarchy, Deterministic)
   b.ExtractLevel(b.NumberOfLevels() - 1, mb);
   EXPECT_EQ(ma.Points, mb.Points);
   EXPECT_EQ(ma.Triangles, mb.Triangles);
+  // The same from a moved mesh (M0 taken, not copied), and from a hierarchy object built before
+  // (its records are cleared, not appended to).
+  CollapseHierarchy c;
+  TriangleMesh moved = input;
+  ASSERT_TRUE(c.Build(std::move(moved), DefaultParameters()));
+  ASSERT_TRUE(b.Build(input, DefaultParameters()));
+  for (const CollapseHierarchy* other : { &b, &c })
+  {
+    ASSERT_EQ(a.NumberOfCollapses(), other->NumberOfCollapses());
+    EXPECT_EQ(a.NumberOfSwaps(), other->NumberOfSwaps());
+    HierarchyMesh mo;
+    other->ExtractLevel(other->NumberOfLevels() - 1, mo);
+    EXPECT_EQ(ma.Points, mo.Points);
+    EXPECT_EQ(ma.Triangles, mo.Triangles);
+    // Exact vertex splits from the coarsest mesh: the records (old positions from the global
+    // vertices) give back M0.
+    EditableMesh refined = other->CoarsestMesh();
+    for (Index k = other->NumberOfCollapses() - 1; k >= 0; --k)
+    {
+      other->Refine(refined, k);
+    }
+    ASSERT_EQ(refined.NumberOfLiveTriangles(), input.NumberOfTriangles());
+    for (Index t = 0; t < input.NumberOfTriangles(); ++t)
+    {
+      ASSERT_TRUE(refined.IsTriangleAlive(t));
+      ASSERT_TRUE(std::equal(refined.Triangle(t), refined.Triangle(t) + 3, input.Triangle(t)));
+    }
+    for (Index v = 0; v < input.NumberOfPoints(); ++v)
+    {
+      ASSERT_EQ(refined.Point(v), input.Point(v));
+    }
+  }
 }
 
 // The evaluations run in parallel (vtkSMPTools): one thread and two must build the same hierarchy,
