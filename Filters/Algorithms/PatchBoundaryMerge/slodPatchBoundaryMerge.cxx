@@ -52,6 +52,7 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Patches = &patches;
   this->Work->Memo.clear();
   this->Helper->Memo.clear();
+  this->Work->HoldsPrediction = this->Helper->HoldsPrediction = false;
   this->Helper->RefinedValid = false;
   this->Helper->DiagonalCosts.Reset(0);
   if (!(this->PendingTree.valid() && this->TreeMesh == &mesh))
@@ -304,18 +305,30 @@ Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parame
   return this->PredictTriangleCountIn(parameters, *this->Work);
 }
 
+SpbmLevelGenerator::PredictionMemo SpbmLevelGenerator::PredictionMemo::Of(const SpbmLevelParameters& parameters)
+{
+  return { static_cast<float>(parameters.Epsilon), parameters.MergeAngle, parameters.MergePatches,
+    parameters.CollapseChains, parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon,
+    parameters.CollapseWithinEpsilon, parameters.SizeWeightedMerge, parameters.FlatnessMerge,
+    parameters.FlatnessScale, parameters.RemovalTarget, 0 };
+}
+
+bool SpbmLevelGenerator::PredictionMemo::SameLevel(const PredictionMemo& m) const
+{
+  return m.Epsilon == this->Epsilon && m.MergeAngle == this->MergeAngle && m.MergePatches == this->MergePatches &&
+    m.CollapseChains == this->CollapseChains && m.CollapseLengthFactor == this->CollapseLengthFactor &&
+    m.JoinWithinEpsilon == this->JoinWithinEpsilon && m.CollapseWithinEpsilon == this->CollapseWithinEpsilon &&
+    m.SizeWeightedMerge == this->SizeWeightedMerge && m.FlatnessMerge == this->FlatnessMerge &&
+    m.FlatnessScale == this->FlatnessScale && m.RemovalTarget == this->RemovalTarget;
+}
+
 Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s)
 {
   // Searches (and re-aimed searches) ask for the same levels again: remember the answers.
-  const float eps = static_cast<float>(parameters.Epsilon);
+  PredictionMemo key = PredictionMemo::Of(parameters);
   for (const PredictionMemo& m : s.Memo)
   {
-    if (m.Epsilon == eps && m.MergeAngle == parameters.MergeAngle && m.MergePatches == parameters.MergePatches &&
-      m.CollapseChains == parameters.CollapseChains && m.CollapseLengthFactor == parameters.CollapseLengthFactor &&
-      m.JoinWithinEpsilon == parameters.JoinWithinEpsilon && m.CollapseWithinEpsilon == parameters.CollapseWithinEpsilon &&
-      m.SizeWeightedMerge == parameters.SizeWeightedMerge && m.FlatnessMerge == parameters.FlatnessMerge &&
-      m.FlatnessScale == parameters.FlatnessScale &&
-      m.RemovalTarget == parameters.RemovalTarget)
+    if (key.SameLevel(m))
     {
       return m.Count;
     }
@@ -329,11 +342,11 @@ Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& para
   {
     s.Memo.clear();
   }
-  s.Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
-    parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon, parameters.CollapseWithinEpsilon,
-    parameters.SizeWeightedMerge, parameters.FlatnessMerge, parameters.FlatnessScale, parameters.RemovalTarget,
-    static_cast<Index>(s.Total) });
-  return static_cast<Index>(s.Total);
+  key.Count = static_cast<Index>(s.Total);
+  s.Memo.push_back(key);
+  s.Holds = key;
+  s.HoldsPrediction = true;
+  return key.Count;
 }
 
 SpbmLevelParameters SpbmLevelGenerator::FindParameters(
@@ -376,7 +389,12 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     {
       std::fill(frozen.begin(), frozen.end(), OriginalLevel); // last resort: the input itself
     }
-    this->RunMerging(parameters, frozen, s);
+    // The search's last prediction is usually this level's first pass: its chain graph is
+    // still in the state (the merging run depends on the parameters and frozen patches only).
+    if (!(pass == 1 && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters))))
+    {
+      this->RunMerging(parameters, frozen, s);
+    }
     if (pass == 1)
     {
       level.PredictedTriangles = static_cast<Index>(s.Total);

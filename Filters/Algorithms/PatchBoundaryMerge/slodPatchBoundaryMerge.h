@@ -242,6 +242,9 @@ private:
     double FlatnessScale;
     Index RemovalTarget;
     Index Count;
+    // The memo entry of `parameters` (Count left 0) and whether an entry is of the same level.
+    static PredictionMemo Of(const SpbmLevelParameters& parameters);
+    bool SameLevel(const PredictionMemo& other) const;
   };
   std::unique_ptr<State> Work;
   std::unique_ptr<State> Helper; // second working state: candidates run on two threads

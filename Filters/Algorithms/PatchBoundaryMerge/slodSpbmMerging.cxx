@@ -169,6 +169,7 @@ bool spbm::ProjectsToSimplePolygon(
 void SpbmLevelGenerator::RunMerging(
   const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s)
 {
+  s.HoldsPrediction = false;
   MergingRun(*this, parameters, s).Run(frozen);
 }
 

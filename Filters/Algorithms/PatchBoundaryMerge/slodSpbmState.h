@@ -251,6 +251,10 @@ struct SpbmLevelGenerator::State
   std::vector<uint64_t> SimpleSignature; // per patch: boundary signature last
                                          // found simple (0: none)
   std::vector<PredictionMemo> Memo;      // predicted counts of the levels asked for (searches repeat them)
+  // The chain graph above is the merging run of these parameters without frozen patches (a
+  // prediction's run): the first generation pass of the same level need not run it again.
+  bool HoldsPrediction = false;
+  PredictionMemo Holds{};
 
   Index Find(Index p)
   {
