@@ -415,6 +415,16 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     {
       break;
     }
+    if (budget > 0)
+    {
+      // A try without a search (budget) gets one pass: every fallback pass is a whole merging
+      // run, and on rough surfaces (scan isosurfaces) tries needed 3-9 of them only to be
+      // rejected. The first level of a target pays for its fallbacks; the alternatives do not.
+      vtkLogF(TRACE, "[spbm] candidate abandoned after pass %d: patches failed to triangulate", pass);
+      level.Triangles.clear();
+      level.TrianglePatch.clear();
+      return true;
+    }
   }
   triangulation.Finish(frozen);
   vtkLogF(TRACE, "[spbm] generated %d triangles (predicted %d) in %d passes; fallback patches: %d unmerged, %d refined, %d original",

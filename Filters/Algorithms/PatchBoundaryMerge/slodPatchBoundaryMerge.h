@@ -206,7 +206,8 @@ private:
   Index PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s);
   SpbmLevelParameters FindParametersIn(Index target, const SpbmLevelParameters& base, Index* predicted, State& s);
   // With a budget (> 0), a candidate whose count after a pass's merging is above it is abandoned:
-  // `level` is left without triangles (fallback passes only add triangles).
+  // `level` is left without triangles (fallback passes only add triangles); so is one whose first
+  // pass leaves patches that fail to triangulate (a budgeted try gets no fallback pass).
   bool GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s,
     Index budget = 0);
   const TriangleBVH& GetInputTree(StageTimes& times);
