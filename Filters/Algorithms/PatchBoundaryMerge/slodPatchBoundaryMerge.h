@@ -232,6 +232,7 @@ private:
   std::vector<float> OrderedKeys;          // the keys in that order
   std::vector<unsigned char> MinimumInterior; // chains that must keep one interior vertex
   std::vector<double> EndpointVariation;   // normal variation around each endpoint
+  std::vector<Vec3> EndpointPoints;        // coordinates of each endpoint (read by every merge and collapse try)
   std::vector<Index> PatchSupport;         // per patch: its extreme vertices in the 26 support directions
   struct PredictionMemo
   {

@@ -43,7 +43,7 @@ private:
   template<typename Functor>
   void ForPatchChains(Index p, Functor&& f);
   Index OtherEnd(Index c, Index e);
-  Vec3 EndpointPoint(Index e);
+  const Vec3& EndpointPoint(Index e);
   void SpliceEndList(Index from, Index to);
   void ReverseParts(Index c);
   bool BoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points);

@@ -228,6 +228,7 @@ struct SpbmLevelGenerator::State
   // as merge candidates (a large patch redoes either only once it has grown by half).
   std::vector<Index> CollapsesWalkedSize, CandidatesPushedSize;
   std::vector<Vec3> Normal;
+  std::vector<Vec3> UnitNormal; // Normalized(Normal) of every root patch (merge measures, costs)
   std::vector<Index> Support; // FlatnessMerge: per root patch, its extreme
                               // vertices (SupportSize)
   std::vector<unsigned char> Frozen;
