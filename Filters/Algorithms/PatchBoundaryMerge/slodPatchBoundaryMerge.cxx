@@ -342,7 +342,18 @@ Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& para
   }
   s.NoFreeze.assign(size_t(this->Patches->NumberOfPatches()), 0);
   const auto started = StageClock::now();
-  this->RunMerging(parameters, s.NoFreeze, s);
+  PredictionMemo merged = key;
+  merged.RemovalTarget = 0;
+  if (parameters.RemovalTarget > 0 && s.HoldsPrediction && s.Holds.SameLevel(merged))
+  {
+    // The search asks for the removal right after the merging at the same parameters (the
+    // count at RemovalMergeAngle decides whether it is needed): only the removal stage runs.
+    this->ContinueWithRemoval(parameters, s);
+  }
+  else
+  {
+    this->RunMerging(parameters, s.NoFreeze, s);
+  }
   s.Times.Merging += Since(started);
   ++s.Times.MergingRuns;
   if (s.Memo.size() > 256)

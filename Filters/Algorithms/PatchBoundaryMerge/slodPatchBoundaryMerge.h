@@ -223,6 +223,9 @@ private:
   // The search of FindParameters (slodSpbmTargetSearch.cxx).
   class TargetSearch;
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
+  // The cost-ordered removal of `parameters` on a state that holds the merging run of the same
+  // parameters without it (the merging stages do not depend on RemovalTarget).
+  void ContinueWithRemoval(const SpbmLevelParameters& parameters, State& s);
 
   const TriangleMesh* Mesh = nullptr;
   const Patchification* Patches = nullptr;

@@ -173,6 +173,12 @@ void SpbmLevelGenerator::RunMerging(
   MergingRun(*this, parameters, s).Run(frozen);
 }
 
+void SpbmLevelGenerator::ContinueWithRemoval(const SpbmLevelParameters& parameters, State& s)
+{
+  s.HoldsPrediction = false;
+  MergingRun(*this, parameters, s).RemoveDownToTarget();
+}
+
 SpbmLevelGenerator::MergingRun::MergingRun(
   SpbmLevelGenerator& generator_, const SpbmLevelParameters& parameters_, State& state)
   : generator(generator_)
@@ -244,6 +250,11 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
     return;
   }
   this->MergeInMeasureOrder();
+  this->RemoveDownToTarget();
+}
+
+void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()
+{
   if (parameters.RemovalTarget > 0 && s.Total > parameters.RemovalTarget && parameters.CollapseChains)
   {
     this->RemoveCheapest();

@@ -28,6 +28,8 @@ class SpbmLevelGenerator::MergingRun
 public:
   MergingRun(SpbmLevelGenerator& generator, const SpbmLevelParameters& parameters, State& s);
   void Run(const std::vector<unsigned char>& frozen);
+  // Stage 4 alone, on a state that holds stages 1-3 of the same parameters (RemovalTarget aside).
+  void RemoveDownToTarget();
 
 private:
   // Stages.
