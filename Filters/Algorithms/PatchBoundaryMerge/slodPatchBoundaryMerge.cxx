@@ -52,6 +52,7 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Patches = &patches;
   this->Work->Memo.clear();
   this->Helper->Memo.clear();
+  this->Work->HoldsPrediction = this->Helper->HoldsPrediction = false;
   this->Helper->RefinedValid = false;
   this->Helper->DiagonalCosts.Reset(0);
   if (!(this->PendingTree.valid() && this->TreeMesh == &mesh))
@@ -219,6 +220,13 @@ void SpbmLevelGenerator::MeasureEndpointVariation()
   const Patchification& P = *this->Patches;
   const Index nc = P.NumberOfChains();
   const Index ne = P.NumberOfEndpoints();
+  // Endpoint coordinates in one array: the merging runs read them for every try, and the
+  // double indirection through the mesh's vertex ids missed the cache (9% of a run on MRI/3).
+  this->EndpointPoints.resize(size_t(ne));
+  for (Index e = 0; e < ne; ++e)
+  {
+    this->EndpointPoints[e] = this->Mesh->Point(P.EndpointVertex(e));
+  }
   // Normal variation around each endpoint: the largest angle between the patches meeting there.
   this->EndpointVariation.assign(size_t(ne), 0.0);
   for (Index c = 0; c < nc; ++c)
@@ -244,7 +252,7 @@ double SpbmLevelGenerator::ChainVertexKey(Index c, Index i) const
 size_t SpbmLevelGenerator::MemoryUsage() const
 {
   size_t bytes = this->Keys.capacity() * 4 + this->SortedKeys.capacity() * 4 + this->KeyOrder.capacity() * 4 + this->OrderedKeys.capacity() * 4 + this->MinimumInterior.capacity() +
-    this->EndpointVariation.capacity() * 8;
+    this->EndpointVariation.capacity() * 8 + this->EndpointPoints.capacity() * sizeof(Vec3);
   auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   bytes += b(this->PatchSupport);
   for (const State* state : { this->Work.get(), this->Helper.get() }) // one working state per candidate thread
@@ -254,7 +262,7 @@ size_t SpbmLevelGenerator::MemoryUsage() const
       b(s.KeptPositions) + b(s.RefinedTolerance) + b(s.RefinedLocked) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
       b(s.PartLast) + b(s.PartNext) + b(s.JointBefore) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) +
       b(s.Degree) + b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) +
-      b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Normal) + b(s.Support) + b(s.Frozen) +
+      b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Normal) + b(s.UnitNormal) + b(s.Support) + b(s.Frozen) +
       b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.NoFreeze) +
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
       b(s.SimpleSignature) + b(s.Memo);
@@ -304,36 +312,59 @@ Index SpbmLevelGenerator::PredictTriangleCount(const SpbmLevelParameters& parame
   return this->PredictTriangleCountIn(parameters, *this->Work);
 }
 
+SpbmLevelGenerator::PredictionMemo SpbmLevelGenerator::PredictionMemo::Of(const SpbmLevelParameters& parameters)
+{
+  return { static_cast<float>(parameters.Epsilon), parameters.MergeAngle, parameters.MergePatches,
+    parameters.CollapseChains, parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon,
+    parameters.CollapseWithinEpsilon, parameters.SizeWeightedMerge, parameters.FlatnessMerge,
+    parameters.FlatnessScale, parameters.RemovalTarget, 0 };
+}
+
+bool SpbmLevelGenerator::PredictionMemo::SameLevel(const PredictionMemo& m) const
+{
+  return m.Epsilon == this->Epsilon && m.MergeAngle == this->MergeAngle && m.MergePatches == this->MergePatches &&
+    m.CollapseChains == this->CollapseChains && m.CollapseLengthFactor == this->CollapseLengthFactor &&
+    m.JoinWithinEpsilon == this->JoinWithinEpsilon && m.CollapseWithinEpsilon == this->CollapseWithinEpsilon &&
+    m.SizeWeightedMerge == this->SizeWeightedMerge && m.FlatnessMerge == this->FlatnessMerge &&
+    m.FlatnessScale == this->FlatnessScale && m.RemovalTarget == this->RemovalTarget;
+}
+
 Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s)
 {
   // Searches (and re-aimed searches) ask for the same levels again: remember the answers.
-  const float eps = static_cast<float>(parameters.Epsilon);
+  PredictionMemo key = PredictionMemo::Of(parameters);
   for (const PredictionMemo& m : s.Memo)
   {
-    if (m.Epsilon == eps && m.MergeAngle == parameters.MergeAngle && m.MergePatches == parameters.MergePatches &&
-      m.CollapseChains == parameters.CollapseChains && m.CollapseLengthFactor == parameters.CollapseLengthFactor &&
-      m.JoinWithinEpsilon == parameters.JoinWithinEpsilon && m.CollapseWithinEpsilon == parameters.CollapseWithinEpsilon &&
-      m.SizeWeightedMerge == parameters.SizeWeightedMerge && m.FlatnessMerge == parameters.FlatnessMerge &&
-      m.FlatnessScale == parameters.FlatnessScale &&
-      m.RemovalTarget == parameters.RemovalTarget)
+    if (key.SameLevel(m))
     {
       return m.Count;
     }
   }
   s.NoFreeze.assign(size_t(this->Patches->NumberOfPatches()), 0);
   const auto started = StageClock::now();
-  this->RunMerging(parameters, s.NoFreeze, s);
+  PredictionMemo merged = key;
+  merged.RemovalTarget = 0;
+  if (parameters.RemovalTarget > 0 && s.HoldsPrediction && s.Holds.SameLevel(merged))
+  {
+    // The search asks for the removal right after the merging at the same parameters (the
+    // count at RemovalMergeAngle decides whether it is needed): only the removal stage runs.
+    this->ContinueWithRemoval(parameters, s);
+  }
+  else
+  {
+    this->RunMerging(parameters, s.NoFreeze, s);
+  }
   s.Times.Merging += Since(started);
   ++s.Times.MergingRuns;
   if (s.Memo.size() > 256)
   {
     s.Memo.clear();
   }
-  s.Memo.push_back({ eps, parameters.MergeAngle, parameters.MergePatches, parameters.CollapseChains,
-    parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon, parameters.CollapseWithinEpsilon,
-    parameters.SizeWeightedMerge, parameters.FlatnessMerge, parameters.FlatnessScale, parameters.RemovalTarget,
-    static_cast<Index>(s.Total) });
-  return static_cast<Index>(s.Total);
+  key.Count = static_cast<Index>(s.Total);
+  s.Memo.push_back(key);
+  s.Holds = key;
+  s.HoldsPrediction = true;
+  return key.Count;
 }
 
 SpbmLevelParameters SpbmLevelGenerator::FindParameters(
@@ -376,7 +407,12 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     {
       std::fill(frozen.begin(), frozen.end(), OriginalLevel); // last resort: the input itself
     }
-    this->RunMerging(parameters, frozen, s);
+    // The search's last prediction is usually this level's first pass: its chain graph is
+    // still in the state (the merging run depends on the parameters and frozen patches only).
+    if (!(pass == 1 && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters))))
+    {
+      this->RunMerging(parameters, frozen, s);
+    }
     if (pass == 1)
     {
       level.PredictedTriangles = static_cast<Index>(s.Total);
@@ -396,6 +432,16 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     if (!triangulation.FreezeFailedPatches(frozen))
     {
       break;
+    }
+    if (budget > 0)
+    {
+      // A try without a search (budget) gets one pass: every fallback pass is a whole merging
+      // run, and on rough surfaces (scan isosurfaces) tries needed 3-9 of them only to be
+      // rejected. The first level of a target pays for its fallbacks; the alternatives do not.
+      vtkLogF(TRACE, "[spbm] candidate abandoned after pass %d: patches failed to triangulate", pass);
+      level.Triangles.clear();
+      level.TrianglePatch.clear();
+      return true;
     }
   }
   triangulation.Finish(frozen);

@@ -206,7 +206,8 @@ private:
   Index PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s);
   SpbmLevelParameters FindParametersIn(Index target, const SpbmLevelParameters& base, Index* predicted, State& s);
   // With a budget (> 0), a candidate whose count after a pass's merging is above it is abandoned:
-  // `level` is left without triangles (fallback passes only add triangles).
+  // `level` is left without triangles (fallback passes only add triangles); so is one whose first
+  // pass leaves patches that fail to triangulate (a budgeted try gets no fallback pass).
   bool GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s,
     Index budget = 0);
   const TriangleBVH& GetInputTree(StageTimes& times);
@@ -222,6 +223,9 @@ private:
   // The search of FindParameters (slodSpbmTargetSearch.cxx).
   class TargetSearch;
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
+  // The cost-ordered removal of `parameters` on a state that holds the merging run of the same
+  // parameters without it (the merging stages do not depend on RemovalTarget).
+  void ContinueWithRemoval(const SpbmLevelParameters& parameters, State& s);
 
   const TriangleMesh* Mesh = nullptr;
   const Patchification* Patches = nullptr;
@@ -231,6 +235,7 @@ private:
   std::vector<float> OrderedKeys;          // the keys in that order
   std::vector<unsigned char> MinimumInterior; // chains that must keep one interior vertex
   std::vector<double> EndpointVariation;   // normal variation around each endpoint
+  std::vector<Vec3> EndpointPoints;        // coordinates of each endpoint (read by every merge and collapse try)
   std::vector<Index> PatchSupport;         // per patch: its extreme vertices in the 26 support directions
   struct PredictionMemo
   {
@@ -242,6 +247,9 @@ private:
     double FlatnessScale;
     Index RemovalTarget;
     Index Count;
+    // The memo entry of `parameters` (Count left 0) and whether an entry is of the same level.
+    static PredictionMemo Of(const SpbmLevelParameters& parameters);
+    bool SameLevel(const PredictionMemo& other) const;
   };
   std::unique_ptr<State> Work;
   std::unique_ptr<State> Helper; // second working state: candidates run on two threads

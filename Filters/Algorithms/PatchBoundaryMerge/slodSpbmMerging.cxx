@@ -169,7 +169,14 @@ bool spbm::ProjectsToSimplePolygon(
 void SpbmLevelGenerator::RunMerging(
   const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s)
 {
+  s.HoldsPrediction = false;
   MergingRun(*this, parameters, s).Run(frozen);
+}
+
+void SpbmLevelGenerator::ContinueWithRemoval(const SpbmLevelParameters& parameters, State& s)
+{
+  s.HoldsPrediction = false;
+  MergingRun(*this, parameters, s).RemoveDownToTarget();
 }
 
 SpbmLevelGenerator::MergingRun::MergingRun(
@@ -243,6 +250,11 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
     return;
   }
   this->MergeInMeasureOrder();
+  this->RemoveDownToTarget();
+}
+
+void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()
+{
   if (parameters.RemovalTarget > 0 && s.Total > parameters.RemovalTarget && parameters.CollapseChains)
   {
     this->RemoveCheapest();
@@ -256,12 +268,14 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
   s.Size.assign(size_t(np), 0);
   s.Version.assign(size_t(np), 0);
   s.Normal.resize(size_t(np));
+  s.UnitNormal.resize(size_t(np));
   s.Frozen = frozen;
   s.PatchStamp.resize(size_t(np), 0);
   for (Index p = 0; p < np; ++p)
   {
     s.Parent[p] = p;
     s.Normal[p] = P.PatchNormalSum(p);
+    s.UnitNormal[p] = Normalized(s.Normal[p]);
   }
   s.EndHead.assign(size_t(ne), InvalidIndex);
   s.Degree.assign(size_t(ne), 0);
@@ -604,7 +618,7 @@ void SpbmLevelGenerator::MergingRun::RebuildKept()
 
 double SpbmLevelGenerator::MergingRun::SideDot(Index p, Index q)
 {
-  return Dot(Normalized(s.Normal[p]), Normalized(s.Normal[q]));
+  return Dot(s.UnitNormal[p], s.UnitNormal[q]);
 }
 
 double SpbmLevelGenerator::MergingRun::Thickness(Index p, Index q)
@@ -648,9 +662,9 @@ Index SpbmLevelGenerator::MergingRun::OtherEnd(Index c, Index e)
   return s.A[c] == e ? s.B[c] : s.A[c];
 }
 
-Vec3 SpbmLevelGenerator::MergingRun::EndpointPoint(Index e)
+const Vec3& SpbmLevelGenerator::MergingRun::EndpointPoint(Index e)
 {
-  return mesh.Point(P.EndpointVertex(e));
+  return generator.EndpointPoints[e];
 }
 
 bool SpbmLevelGenerator::MergingRun::Movable(Index c)
@@ -1287,6 +1301,7 @@ void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
   s.Parent[q] = p;
   s.Version[p] += s.Version[q] + 1;
   s.Normal[p] = s.Normal[p] + s.Normal[q];
+  s.UnitNormal[p] = Normalized(s.Normal[p]);
   s.Size[p] += s.Size[q] - 2;
   // Splice q's chain list into p's.
   this->ForPatchChains(q, [](Index) {}); // drop q's dead chains before splicing
@@ -1438,7 +1453,7 @@ double SpbmLevelGenerator::MergingRun::CollapseCost(Index c, Index keep)
     {
       if (side != InvalidIndex)
       {
-        cost = std::max(cost, std::fabs(Dot(Normalized(s.Normal[s.Find(side)]), d)));
+        cost = std::max(cost, std::fabs(Dot(s.UnitNormal[s.Find(side)], d)));
       }
     }
   });
@@ -1469,7 +1484,7 @@ double SpbmLevelGenerator::MergingRun::JoinDeviation(Index x, Index y, Index u)
 {
   size_t a, b;
   this->JoinAround(x, y, u, a, b);
-  const Vec3 n1 = Normalized(s.Normal[s.Find(s.L[x])]), n2 = Normalized(s.Normal[s.Find(s.R[x])]);
+  const Vec3 n1 = s.UnitNormal[s.Find(s.L[x])], n2 = s.UnitNormal[s.Find(s.R[x])];
   const double w2 = generator.InPlaneWeight * generator.InPlaneWeight;
   double worst = 0;
   for (size_t i = a + 1; i < b; ++i)

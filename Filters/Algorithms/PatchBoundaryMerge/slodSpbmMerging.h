@@ -28,6 +28,8 @@ class SpbmLevelGenerator::MergingRun
 public:
   MergingRun(SpbmLevelGenerator& generator, const SpbmLevelParameters& parameters, State& s);
   void Run(const std::vector<unsigned char>& frozen);
+  // Stage 4 alone, on a state that holds stages 1-3 of the same parameters (RemovalTarget aside).
+  void RemoveDownToTarget();
 
 private:
   // Stages.
@@ -43,7 +45,7 @@ private:
   template<typename Functor>
   void ForPatchChains(Index p, Functor&& f);
   Index OtherEnd(Index c, Index e);
-  Vec3 EndpointPoint(Index e);
+  const Vec3& EndpointPoint(Index e);
   void SpliceEndList(Index from, Index to);
   void ReverseParts(Index c);
   bool BoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points);

@@ -228,6 +228,7 @@ struct SpbmLevelGenerator::State
   // as merge candidates (a large patch redoes either only once it has grown by half).
   std::vector<Index> CollapsesWalkedSize, CandidatesPushedSize;
   std::vector<Vec3> Normal;
+  std::vector<Vec3> UnitNormal; // Normalized(Normal) of every root patch (merge measures, costs)
   std::vector<Index> Support; // FlatnessMerge: per root patch, its extreme
                               // vertices (SupportSize)
   std::vector<unsigned char> Frozen;
@@ -251,6 +252,10 @@ struct SpbmLevelGenerator::State
   std::vector<uint64_t> SimpleSignature; // per patch: boundary signature last
                                          // found simple (0: none)
   std::vector<PredictionMemo> Memo;      // predicted counts of the levels asked for (searches repeat them)
+  // The chain graph above is the merging run of these parameters without frozen patches (a
+  // prediction's run): the first generation pass of the same level need not run it again.
+  bool HoldsPrediction = false;
+  PredictionMemo Holds{};
 
   Index Find(Index p)
   {

@@ -454,6 +454,50 @@ TEST(SpbmLevel, PredictionMatchesGenerationAndLevelsAreValid)
   }
 }
 
+// The merging runs a level reuses (the search's last prediction as the first generation pass;
+// the merging run at the same parameters as the start of a removal level) give the same counts
+// and the same levels as runs on a fresh generator. Fandisk at 150 and bunny00 at 525 need the
+// cost-ordered removal.
+TEST(SpbmLevel, ReusedMergingRunsGiveTheSameLevels)
+{
+  for (const auto& [name, target] : { std::make_pair("fandisk", Index(150)), std::make_pair("bunny00", Index(525)) })
+  {
+    const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh(name));
+    auto pm = Patch(mesh);
+    SpbmLevelParameters base;
+    base.SizeWeightedMerge = true;
+    SpbmLevelGenerator searched;
+    searched.Initialize(pm->Mesh, pm->Patches);
+    Index predicted = 0;
+    const SpbmLevelParameters found = searched.FindParameters(target, base, &predicted);
+    ASSERT_GT(found.RemovalTarget, 0) << name;
+    SpbmLevel reused;
+    ASSERT_TRUE(searched.Generate(found, reused));
+
+    SpbmLevelGenerator fresh;
+    fresh.Initialize(pm->Mesh, pm->Patches);
+    SpbmLevel level;
+    ASSERT_TRUE(fresh.Generate(found, level));
+    EXPECT_EQ(reused.Triangles, level.Triangles) << name;
+    EXPECT_EQ(reused.PredictedTriangles, level.PredictedTriangles) << name;
+    EXPECT_EQ(predicted, level.PredictedTriangles) << name;
+    EXPECT_LE(Index(level.TrianglePatch.size()), target) << name;
+    ExpectClosedGenusZeroLevel(mesh, level);
+
+    // Merging without the removal, then the removal alone on that state.
+    SpbmLevelGenerator continued;
+    continued.Initialize(pm->Mesh, pm->Patches);
+    SpbmLevelParameters merged = found;
+    merged.RemovalTarget = 0;
+    const Index mergedCount = continued.PredictTriangleCount(merged);
+    EXPECT_GT(mergedCount, target) << name;
+    EXPECT_EQ(continued.PredictTriangleCount(found), level.PredictedTriangles) << name;
+    SpbmLevel again;
+    ASSERT_TRUE(continued.Generate(found, again));
+    EXPECT_EQ(again.Triangles, level.Triangles) << name;
+  }
+}
+
 // Size-weighted merging gives valid levels whose count the prediction knows; comparing
 // candidates never increases the sampled deviation of the single search, at the same budget.
 TEST(SpbmLevel, SizeWeightedMergeAndCandidateComparison)
