@@ -67,6 +67,27 @@ std::set<Index> VerticesOf(const TriangleMesh& mesh, Index firstTriangle, Index 
   return vertices;
 }
 
+// Two closed, manifold, consistently oriented tetrahedra, separated rather than joined: each of the
+// two keeps its own four vertices (triangles 0-3 and 4-7).
+void ExpectTwoSeparateTetrahedra(const TriangleMesh& mesh)
+{
+  const MeshStatistics after = Stats(mesh);
+  EXPECT_EQ(after.NonManifoldEdges, 0);
+  EXPECT_EQ(after.NonManifoldVertices, 0);
+  EXPECT_EQ(after.BoundaryEdges, 0);
+  EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+  EXPECT_EQ(after.Components, 2);
+  EXPECT_EQ(after.EulerCharacteristic, 4);
+  EXPECT_EQ(after.Genus, 0);
+  const std::set<Index> first = VerticesOf(mesh, 0, 4), second = VerticesOf(mesh, 4, 4);
+  EXPECT_EQ(first.size(), 4u);
+  EXPECT_EQ(second.size(), 4u);
+  for (Index v : first)
+  {
+    EXPECT_EQ(second.count(v), 0u);
+  }
+}
+
 // Same triangle count, and every corner at the position of the input corner it replaces.
 void ExpectSamePositions(const TriangleMesh& input, const ManifoldSplitResult& split)
 {
@@ -93,21 +114,7 @@ TEST(ManifoldSplit, TetrahedraTouchingAlongAnEdgeAreSeparated)
   EXPECT_EQ(split.EdgesSplit, 1);
   EXPECT_EQ(split.EdgesLeft, 0);
   EXPECT_EQ(split.VerticesSplit, 2);
-  const MeshStatistics after = Stats(split.Mesh);
-  EXPECT_EQ(after.NonManifoldEdges, 0);
-  EXPECT_EQ(after.NonManifoldVertices, 0);
-  EXPECT_EQ(after.BoundaryEdges, 0);
-  EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
-  EXPECT_EQ(after.Components, 2);
-  EXPECT_EQ(after.EulerCharacteristic, 4);
-  // Separated, not joined: each tetrahedron keeps its own four vertices.
-  const std::set<Index> first = VerticesOf(split.Mesh, 0, 4), second = VerticesOf(split.Mesh, 4, 4);
-  EXPECT_EQ(first.size(), 4u);
-  EXPECT_EQ(second.size(), 4u);
-  for (Index v : first)
-  {
-    EXPECT_EQ(second.count(v), 0u);
-  }
+  ExpectTwoSeparateTetrahedra(split.Mesh);
 }
 
 TEST(ManifoldSplit, TetrahedraTouchingAtAVertexAreSeparated)
@@ -126,11 +133,7 @@ TEST(ManifoldSplit, TetrahedraTouchingAtAVertexAreSeparated)
   ExpectSamePositions(input, split);
   EXPECT_EQ(split.EdgesSplit, 0);
   EXPECT_EQ(split.VerticesSplit, 1);
-  const MeshStatistics after = Stats(split.Mesh);
-  EXPECT_EQ(after.NonManifoldVertices, 0);
-  EXPECT_EQ(after.Components, 2);
-  EXPECT_EQ(after.EulerCharacteristic, 4);
-  EXPECT_EQ(after.Genus, 0);
+  ExpectTwoSeparateTetrahedra(split.Mesh);
 }
 
 TEST(ManifoldSplit, UnpairableEdgesAreLeftAlone)
