@@ -4,11 +4,14 @@
     PYTHONPATH=<build>/lib/python3/dist-packages xvfb-run -a /usr/bin/python3 render_figures.py <mesh_dir> <out_dir> [mri.vtp]
 
 CGAL's cheese (genus 133) before and after vtkTopologicalNoiseRemoval at two feature sizes, with
-the cut loops as red tubes; with the MRI surface, a close-up of the loops cut at 3 mm.
+the cut loops as red tubes; with the MRI surface, a close-up of the loops cut at 3 mm, and the
+handles kept (blue, sized by the survey) beside those cut (red).
 """
 import os
 import sys
 
+from vtkmodules.vtkCommonCore import vtkIdList
+from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkFiltersCore import vtkTubeFilter
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
@@ -54,7 +57,22 @@ def mesh_actor(mesh):
     return actor
 
 
-def loops_actor(loops, radius):
+def loops_with(loops, removed):
+    """The loops whose cell data Removed is `removed` (1 cut, 0 kept)."""
+    flags = loops.GetCellData().GetArray("Removed")
+    ids = vtkIdList()
+    for c in range(loops.GetNumberOfCells()):
+        if int(flags.GetTuple1(c)) == removed:
+            ids.InsertNextId(c)
+    subset = vtkPolyData()
+    subset.SetPoints(loops.GetPoints())
+    subset.Allocate(ids.GetNumberOfIds())
+    for i in range(ids.GetNumberOfIds()):
+        subset.InsertNextCell(loops.GetCellType(ids.GetId(i)), loops.GetCell(ids.GetId(i)).GetPointIds())
+    return subset
+
+
+def loops_actor(loops, radius, colour=(0.85, 0.1, 0.1)):
     tubes = vtkTubeFilter()
     tubes.SetInputData(loops)
     tubes.SetRadius(radius)
@@ -64,13 +82,14 @@ def loops_actor(loops, radius):
     mapper.ScalarVisibilityOff()
     actor = vtkActor()
     actor.SetMapper(mapper)
-    actor.GetProperty().SetColor(0.85, 0.1, 0.1)
+    actor.GetProperty().SetColor(*colour)
     return actor
 
 
-def clean(mesh, size, relative):
+def clean(mesh, size, relative, survey_factor=2.0):
     removal = surfacelod.vtkTopologicalNoiseRemoval()
     removal.SetInputData(mesh)
+    removal.SetKeptHandleSurveyFactor(survey_factor)
     removal.SetFeatureSize(size)
     removal.SetFeatureSizeIsRelative(relative)
     removal.Update()
@@ -100,11 +119,16 @@ def main(mesh_dir, out_dir, mri=None):
         mri_reader = vtkXMLPolyDataReader()
         mri_reader.SetFileName(mri)
         mri_reader.Update()
-        cleaned, loops = clean(mri_reader.GetOutput(), 3.0, False)
+        cleaned, loops = clean(mri_reader.GetOutput(), 3.0, False, 64.0)
+        sizes = cleaned.GetFieldData().GetArray("KeptHandleSizes")
+        print("kept handle sizes (mm):", ", ".join("%.2f" % sizes.GetTuple1(i) for i in range(sizes.GetNumberOfTuples())))
         focus = loops.GetPoint(0) if loops.GetNumberOfPoints() else None
-        snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(loops, 0.25)],
+        cut_loops, kept_loops = loops_with(loops, 1), loops_with(loops, 0)
+        snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(cut_loops, 0.25)],
                  os.path.join(out_dir, "tnr_mri_loops.png"), (0, -300, 80))
-        snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(loops, 0.15)],
+        snapshot(window, [mesh_actor(cleaned), loops_actor(cut_loops, 0.25), loops_actor(kept_loops, 0.5, (0.1, 0.3, 0.9))],
+                 os.path.join(out_dir, "tnr_mri_kept_handles.png"), (0, -300, 80))
+        snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(cut_loops, 0.15)],
                  os.path.join(out_dir, "tnr_mri_loops_closeup.png"), (0, -60, 20), focus, 1.0)
 
 

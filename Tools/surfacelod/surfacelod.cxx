@@ -24,6 +24,7 @@
 #include "vtkDataArray.h"
 #include "vtkErrorCode.h"
 #include "vtkFieldData.h"
+#include "vtkLogger.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkVersion.h"
@@ -309,6 +310,7 @@ struct SimplifyArguments
   std::vector<std::string> Assignments; // --set Name=Value
   double FeatureSize = -1.0;             // --feature-size
   bool Json = false;
+  int LogVerbosity = vtkLogger::VERBOSITY_OFF; // --log-verbosity
 };
 
 std::string SimplifyDescription()
@@ -336,6 +338,9 @@ std::function<int()> DefineSimplify(CLI::App& app)
     ->type_name("F")->check(CLI::NonNegativeNumber);
   app.add_flag("-j,--json", args->Json,
     "print one JSON line: method, input_triangles, output_triangles, target_reached, seconds, peak_rss_mb");
+  app.add_option("--log-verbosity", args->LogVerbosity,
+    "print the filters' vtkLogger messages up to this verbosity on stderr (0 INFO ... 9 TRACE: stage times, counts)")
+    ->type_name("N")->check(CLI::Range(0, 9));
   return [args] { return Simplify(*args); };
 }
 
@@ -394,6 +399,10 @@ int Simplify(const SimplifyArguments& args)
 {
   const Method& method = CheckedMethod(args);
   const std::vector<ParameterAssignment> assignments = ParseAssignments(method, args.Assignments);
+  if (args.LogVerbosity != vtkLogger::VERBOSITY_OFF)
+  {
+    vtkLogger::SetStderrVerbosity(static_cast<vtkLogger::Verbosity>(args.LogVerbosity));
+  }
   if (vtkMultiProcessController* controller = DistributedController())
   {
     return SimplifyDistributed(args, method, assignments, controller);
@@ -709,7 +718,8 @@ void DemoCleaning(const DemoArguments& args)
             << ": " << fd->GetArray("HandlesRemoved")->GetTuple1(0) << " handles cut, "
             << fd->GetArray("NonManifoldEdgesSplit")->GetTuple1(0) << " non-manifold edges split, "
             << (sizes ? sizes->GetNumberOfTuples() : 0) << " kept handles sized up to "
-            << FormatReal(fd->GetArray("KeptHandleSurveySize")->GetTuple1(0)) << ", output genus "
+            << FormatReal(fd->GetArray("KeptHandleSurveySize")->GetTuple1(0)) << " ("
+            << fd->GetArray("HandlesNotSized")->GetTuple1(0) << " larger, not sized), output genus "
             << fd->GetArray("HandlesKept")->GetTuple1(0) << "\n\n"
             << Padded("surface", 40) << Padded("triangles", 11, true) << Padded("seconds", 10, true)
             << Padded("hausdorff", 12, true) << Padded("rms", 12, true) << Padded("chi", 8, true) << Padded("nm-e", 7, true)

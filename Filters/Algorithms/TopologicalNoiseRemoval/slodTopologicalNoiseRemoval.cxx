@@ -285,23 +285,26 @@ bool CutOnMesh(CuttableMesh& mesh, const NoiseLoop& loop, Index budget)
     mesh.CutAndFill(loop.Vertices, changed);
 }
 
-// Stage 4 (KeptHandleSurveyFactor): the handles the cuts kept, up to the survey size, found by
-// cutting a copy of the result. Their loops and sizes are reported; those within pi alpha (a
-// shorter loop than the passes found) are cut on the result too.
-bool SurveyKeptHandles(CuttableMesh& mesh, double alpha, const TopologicalNoiseParameters& parameters,
-  TopologicalNoiseResult& result, const ProgressFunction& progress)
+// The genus of a manifold mesh, -1 when it is not defined (non-manifold parts left).
+long long GenusOf(const TriangleMesh& mesh)
 {
-  if (parameters.KeptHandleSurveyFactor <= 1.0 || !parameters.RemoveHandles || alpha <= 0)
-  {
-    return true;
-  }
-  result.SurveySize = alpha * parameters.KeptHandleSurveyFactor;
-  CuttableMesh copy = mesh;
+  return MeshTopology(mesh).Statistics(mesh).Genus;
+}
+
+// One survey round: passes at `size` on the survey copy. Its loops that the copy lost are handles
+// kept by the result, or, within pi alpha, handles the passes had over-measured: those are cut on
+// the result too. Returns the handles the copy lost; false when aborted.
+bool SurveyRound(CuttableMesh& copy, CuttableMesh& mesh, double alpha, double size,
+  const TopologicalNoiseParameters& parameters, TopologicalNoiseResult& result, const ProgressFunction& progress,
+  double progressStart, double progressSpan, Index& handlesFound)
+{
   TopologicalNoiseResult survey;
-  if (!CutPasses(copy, result.SurveySize, parameters, survey, progress, 0.55, 0.4))
+  if (!CutPasses(copy, size, parameters, survey, progress, progressStart, progressSpan))
   {
     return false;
   }
+  result.SurveyPassLimitReached = result.SurveyPassLimitReached || survey.PassLimitReached;
+  handlesFound = survey.HandlesRemoved;
   const Index budget = SearchBudget(parameters);
   for (NoiseLoop& loop : survey.Loops)
   {
@@ -321,6 +324,48 @@ bool SurveyKeptHandles(CuttableMesh& mesh, double alpha, const TopologicalNoiseP
     }
     result.Loops.push_back(std::move(loop));
   }
+  return true;
+}
+
+// Stage 4 (KeptHandleSurveyFactor): the handles the cuts kept, sized by cutting a copy of the
+// result in rounds of doubling size (2 alpha, 4 alpha, ...) up to the factor times alpha or the
+// mesh's diagonal (no handle's shortest loop is much longer than pi times the diagonal), and
+// stopping as soon as the copy has no handle left. Each round costs about as much as the passes
+// (regions grow with the size, seeds thin out with its square), so the rounds are few: log2 of the
+// factor at most.
+bool SurveyKeptHandles(CuttableMesh& mesh, double alpha, const TopologicalNoiseParameters& parameters,
+  TopologicalNoiseResult& result, const ProgressFunction& progress)
+{
+  if (parameters.KeptHandleSurveyFactor <= 1.0 || !parameters.RemoveHandles || alpha <= 0)
+  {
+    return true;
+  }
+  const double largest = std::min(alpha * parameters.KeptHandleSurveyFactor,
+    std::max(2.0 * alpha, mesh.Result().BoundingBoxDiagonal()));
+  // Each cut of a non-separating loop lowers a manifold's genus by one: the copy's handles left
+  // are counted without rebuilding its topology after every round.
+  long long handlesLeft = GenusOf(mesh.Result());
+  CuttableMesh copy = mesh;
+  double span = 0.2;
+  double start = 0.55;
+  for (double size = 2.0 * alpha; handlesLeft != 0; size = std::min(2.0 * size, largest))
+  {
+    Index found = 0;
+    if (!SurveyRound(copy, mesh, alpha, size, parameters, result, progress, start, span, found))
+    {
+      return false;
+    }
+    ++result.SurveyRounds;
+    result.SurveySize = size;
+    handlesLeft = handlesLeft < 0 ? handlesLeft : std::max(0LL, handlesLeft - static_cast<long long>(found));
+    start += span;
+    span *= 0.5;
+    if (size >= largest)
+    {
+      break;
+    }
+  }
+  result.HandlesNotSized = handlesLeft;
   std::sort(result.KeptHandleSizes.begin(), result.KeptHandleSizes.end());
   return true;
 }

@@ -40,11 +40,11 @@ struct TopologicalNoiseParameters
   // Non-manifold edges and vertices split into manifold sheets first (slodManifoldSplit.h), so
   // that loops through them can be cut too; off: they are locked and left as they are.
   bool SplitNonManifold = true;
-  // After the cuts, handles up to this multiple of alpha are searched for on a copy of the result
-  // (and cut there only) to report the sizes of the handles kept; 0 or <= 1: no survey. Its wider
-  // regions can find a shorter loop around a handle than the cut passes did (they measure a loop
-  // through the point where a front met itself): a surveyed loop within pi alpha is then cut on
-  // the result too.
+  // After the cuts, the handles kept are sized on a copy of the result (cut there only), in rounds
+  // at 2, 4, 8 ... times alpha up to this multiple of alpha (or the diagonal), until the copy has
+  // no handle left; 0 or <= 1: no survey. Its wider regions can find a shorter loop around a
+  // handle than the cut passes did (they measure a loop through the point where a front met
+  // itself): a surveyed loop within pi alpha is then cut on the result too.
   double KeptHandleSurveyFactor = 2.0;
 };
 
@@ -75,7 +75,12 @@ struct TopologicalNoiseResult
   // Handles larger than alpha found by the survey (KeptHandleSurveyFactor): their sizes
   // (shortest loop length / pi) ascending; their loops are in Loops with Removed false.
   std::vector<double> KeptHandleSizes;
-  double SurveySize = 0.0; // alpha times the survey factor (0: no survey)
+  double SurveySize = 0.0; // the largest size the survey ran at (0: no survey)
+  int SurveyRounds = 0;
+  bool SurveyPassLimitReached = false; // a round stopped at MaximumPasses: sizes may be missing
+  // Handles of the result the survey did not size (larger than SurveySize); -1: unknown (the
+  // result is not manifold, so its genus is not defined).
+  long long HandlesNotSized = 0;
   Index CentreFans = 0;           // fills around a new centre vertex (ear clipping found no disk)
   Index CandidateLoops = 0;       // recorded by the region growths, all passes
   Index Tests[4] = { 0, 0, 0, 0 }; // separation tests by LoopSeparation value

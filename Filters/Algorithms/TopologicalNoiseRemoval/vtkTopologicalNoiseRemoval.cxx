@@ -188,6 +188,12 @@ int vtkTopologicalNoiseRemoval::RequestData(
                                       << ") reached while the last pass still cut handles: handles below the "
                                          "feature size may remain near its cuts.");
   }
+  if (result.SurveyPassLimitReached)
+  {
+    vtkWarningMacro("MaximumPasses (" << this->MaximumPasses
+                                      << ") reached by the survey of the kept handles: some kept handles may be "
+                                         "missing from KeptHandleSizes.");
+  }
   StoreSurface(input, result, vertexToInput, triangleToCell, this->OutputPointsPrecision, output);
 
   const slod::MeshStatistics after = Statistics(result.Mesh);
@@ -202,7 +208,9 @@ int vtkTopologicalNoiseRemoval::RequestData(
     { { "HandlesRemoved", this->NumberOfHandlesRemoved }, { "ComponentsRemoved", this->NumberOfComponentsRemoved },
       { "CavitiesRemoved", this->NumberOfCavitiesRemoved }, { "LoopsKept", this->NumberOfLoopsKept },
       { "HandlesKept", this->OutputGenus }, { "NonManifoldEdgesSplit", this->NumberOfNonManifoldEdgesSplit },
-      { "NonManifoldVerticesSplit", this->NumberOfNonManifoldVerticesSplit } });
+      { "NonManifoldVerticesSplit", this->NumberOfNonManifoldVerticesSplit },
+      { "HandlesNotSized", static_cast<int>(result.HandlesNotSized) },
+      { "SurveyPassLimitReached", result.SurveyPassLimitReached ? 1 : 0 } });
   output->GetFieldData()->AddArray(DoubleArray("FeatureSize", { this->UsedFeatureSize }));
   output->GetFieldData()->AddArray(DoubleArray("KeptHandleSurveySize", { result.SurveySize }));
   output->GetFieldData()->AddArray(DoubleArray("KeptHandleSizes", result.KeptHandleSizes));

@@ -15,15 +15,18 @@
  * Non-manifold edges and vertices are first split into manifold sheets (SplitNonManifold, on by
  * default: the sheets that touch there are separated, no border is opened); where that is off or
  * impossible they are locked, like border vertices, and never part of a cut (with a warning).
- * Handles kept because they are larger than FeatureSize are surveyed up to KeptHandleSurveyFactor
- * times FeatureSize and reported with their sizes.
+ * Handles kept because they are larger than FeatureSize are sized by a survey in rounds at 2, 4,
+ * 8 ... times FeatureSize, up to KeptHandleSurveyFactor times FeatureSize or the diagonal, and
+ * reported with their sizes.
  *
  * Outputs:
  *  - port 0: the cleaned surface, point and cell data carried, field data "HandlesRemoved",
  *    "ComponentsRemoved", "CavitiesRemoved", "LoopsKept" (short loops whose separation test ran
  *    out of budget), "HandlesKept" (the output's genus, -1 when not defined), "FeatureSize",
- *    "NonManifoldEdgesSplit", "NonManifoldVerticesSplit", "KeptHandleSurveySize" and
- *    "KeptHandleSizes" (one value per kept handle found by the survey, ascending);
+ *    "NonManifoldEdgesSplit", "NonManifoldVerticesSplit", "KeptHandleSurveySize" (the largest
+ *    size surveyed), "KeptHandleSizes" (one value per kept handle found by the survey, ascending),
+ *    "HandlesNotSized" (kept handles larger than the survey reached; -1 when the output's genus
+ *    is not defined) and "SurveyPassLimitReached" (1: a survey round stopped at MaximumPasses);
  *  - port 1 (GenerateCutLoops, default on): the loops as closed polylines, cell data "Removed"
  *    (1 cut, 0 kept), "Length" and "Size" (length / pi).
  * See Documentation/TopologicalNoiseRemoval.md.
@@ -75,9 +78,11 @@ public:
   ///@{
   /// SplitNonManifold (default on): split non-manifold edges and vertices into manifold sheets
   /// before the search, so that the output is manifold and handles through them can be cut.
-  /// KeptHandleSurveyFactor (default 2, 0 or <= 1 for none): after the cuts, handles up to this
-  /// multiple of FeatureSize are searched for on a copy of the result and reported, not cut (about
-  /// doubles the time).
+  /// KeptHandleSurveyFactor (default 2, 0 or <= 1 for none): after the cuts, the handles kept are
+  /// sized on a copy of the result in rounds at 2, 4, 8 ... times FeatureSize, up to this multiple
+  /// (or the diagonal), stopping when every kept handle is sized; reported, not cut. Each round
+  /// costs about as much as the cuts; the default sizes those up to twice FeatureSize, a large
+  /// factor (64) all of them.
   vtkSetMacro(SplitNonManifold, bool);
   vtkGetMacro(SplitNonManifold, bool);
   vtkBooleanMacro(SplitNonManifold, bool);

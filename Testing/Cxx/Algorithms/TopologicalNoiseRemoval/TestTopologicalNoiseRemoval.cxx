@@ -40,10 +40,11 @@ struct CleanRun
 };
 
 CleanRun Clean(vtkPolyData* input, double alpha, bool relative = false, bool removeComponents = true,
-  bool splitNonManifold = true)
+  bool splitNonManifold = true, double surveyFactor = 2.0)
 {
   vtkNew<vtkTopologicalNoiseRemoval> filter;
   filter->SetInputData(input);
+  filter->SetKeptHandleSurveyFactor(surveyFactor);
   filter->SetSplitNonManifold(splitNonManifold);
   filter->SetRemoveComponents(removeComponents);
   filter->SetFeatureSize(alpha);
@@ -72,12 +73,19 @@ std::vector<double> FieldValues(vtkPolyData* pd, const char* name)
   return values;
 }
 
-// The kept handles the survey reported: one "Removed" 0 loop on port 1 each, and each size
-// between the feature size and the survey size.
-std::vector<double> ExpectSurveyedHandles(const CleanRun& run, double alpha, double surveySize)
+// The kept handles the survey reported: one "Removed" 0 loop on port 1 each, each size between
+// the feature size and the largest size surveyed (a doubling of the feature size), and, with the
+// handles it did not size, as many as the output's genus.
+std::vector<double> ExpectSurveyedHandles(const CleanRun& run, double alpha)
 {
   const std::vector<double> sizes = FieldValues(run.Surface, "KeptHandleSizes");
-  EXPECT_DOUBLE_EQ(FieldValues(run.Surface, "KeptHandleSurveySize").at(0), surveySize);
+  const double surveySize = FieldValues(run.Surface, "KeptHandleSurveySize").at(0);
+  if (!sizes.empty())
+  {
+    const double rounds = std::log2(surveySize / alpha);
+    EXPECT_GE(rounds, 1.0 - 1e-9);
+    EXPECT_NEAR(rounds, std::round(rounds), 1e-9);
+  }
   for (double size : sizes)
   {
     EXPECT_GT(size, alpha);
@@ -90,6 +98,8 @@ std::vector<double> ExpectSurveyedHandles(const CleanRun& run, double alpha, dou
     keptLoops += removed->GetTuple1(c) == 0 ? 1 : 0;
   }
   EXPECT_EQ(keptLoops, static_cast<int>(sizes.size()) + FieldCount(run.Surface, "LoopsKept"));
+  EXPECT_EQ(static_cast<int>(sizes.size()) + FieldCount(run.Surface, "HandlesNotSized"),
+    FieldCount(run.Surface, "HandlesKept"));
   return sizes;
 }
 
@@ -177,9 +187,11 @@ TEST(TopologicalNoiseRemoval, TorusCutBelowItsMeridianKeptAbove)
   EXPECT_EQ(FieldCount(kept.Surface, "HandlesRemoved"), 0);
   EXPECT_EQ(Stats(kept.Surface).EulerCharacteristic, 0);
   EXPECT_EQ(kept.Surface->GetNumberOfPolys(), torus->GetNumberOfPolys());
-  // The kept handle is reported with its size by the survey (up to 2 x 0.6 = 1.2, below the
-  // inner equator's 1.3): one, between 0.6 and 1.2.
-  EXPECT_EQ(ExpectSurveyedHandles(kept, 0.6, 1.2).size(), 1u);
+  // The kept handle is reported with its size by the survey's first round (up to 2 x 0.6 = 1.2,
+  // above the meridian's 0.7, below the inner equator's 1.3): one, between 0.6 and 1.2, and no
+  // second round.
+  EXPECT_EQ(ExpectSurveyedHandles(kept, 0.6).size(), 1u);
+  EXPECT_DOUBLE_EQ(FieldValues(kept.Surface, "KeptHandleSurveySize").at(0), 1.2);
 
   const CleanRun cut = Clean(torus, 0.8);
   const MeshStatistics after = Stats(cut.Surface);
@@ -203,19 +215,30 @@ TEST(TopologicalNoiseRemoval, PlateSmallHolesRemovedLargeKept)
   const MeshStatistics before = Stats(plate);
   ASSERT_EQ(before.Genus, 5);
 
-  const CleanRun none = Clean(plate, 1.0); // every loop is longer than pi
+  // Every loop is longer than pi; the survey goes on (up to 64 alpha) until every handle is sized.
+  const CleanRun none = Clean(plate, 1.0, false, true, true, 64.0);
   EXPECT_EQ(FieldCount(none.Surface, "HandlesRemoved"), 0);
   EXPECT_EQ(Stats(none.Surface).Genus, 5);
-  // Reported: the four small holes (1.27), not the bars (2.23) nor the large hole (3.82).
-  EXPECT_EQ(ExpectSurveyedHandles(none, 1.0, 2.0).size(), 4u);
+  // Reported: all five handles; the four small holes (loops of 4: 1.27) and the large hole (its
+  // shortest loop is its 3 x 3 wall's perimeter, 12: 3.82; a surveyed loop is never shorter).
+  const std::vector<double> sizes = ExpectSurveyedHandles(none, 1.0);
+  ASSERT_EQ(sizes.size(), 5u);
+  for (int i = 0; i < 4; ++i)
+  {
+    EXPECT_LE(sizes[i], 2.0);
+  }
+  EXPECT_GE(sizes[4], 12.0 / 3.14159265358979 - 1e-9);
 
   const double alpha = 1.8; // between the small holes (1.27) and the bars (2.23), large hole 3.82
-  const CleanRun small = Clean(plate, alpha);
+  const CleanRun small = Clean(plate, alpha, false, true, true, 64.0);
   const MeshStatistics after = Stats(small.Surface);
   EXPECT_EQ(FieldCount(small.Surface, "HandlesRemoved"), 4);
   EXPECT_EQ(FieldCount(small.Surface, "HandlesKept"), 1);
-  // The large hole (3.82) is beyond the survey (3.6): kept, but not sized.
-  EXPECT_EQ(ExpectSurveyedHandles(small, alpha, 2 * alpha).size(), 0u);
+  // The large hole (3.82) is beyond the survey's first round (3.6): sized by a later one.
+  const std::vector<double> large = ExpectSurveyedHandles(small, alpha);
+  ASSERT_EQ(large.size(), 1u);
+  EXPECT_GE(large[0], 12.0 / 3.14159265358979 - 1e-9);
+  EXPECT_EQ(FieldCount(small.Surface, "HandlesNotSized"), 0);
   EXPECT_EQ(after.Genus, 1);
   EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic + 8);
   ExpectCleanManifold(after);
@@ -478,6 +501,45 @@ TEST(TopologicalNoiseRemoval, PassLimitReachedIsReported)
     filter->AddObserver(vtkCommand::WarningEvent, messages);
     filter->Update();
     EXPECT_EQ(filter->GetNumberOfHandlesRemoved(), 1) << passes;
+    EXPECT_EQ(messages->Warnings.size(), passes == 1 ? 1u : 0u) << passes;
+  }
+}
+
+// A survey limited to twice the feature size cannot size the plate's large hole (3.82 > 3.6): it
+// says so in HandlesNotSized instead of listing fewer handles than the output has.
+TEST(TopologicalNoiseRemoval, HandlesBeyondTheSurveyAreCounted)
+{
+  vtkSmartPointer<vtkPolyData> plate = ToPolyData(PlateWithSmallAndLargeHoles());
+  vtkNew<vtkTopologicalNoiseRemoval> filter;
+  filter->SetInputData(plate);
+  filter->SetFeatureSize(1.8);
+  filter->FeatureSizeIsRelativeOff();
+  filter->SetKeptHandleSurveyFactor(2.0);
+  filter->Update();
+  vtkPolyData* out = filter->GetOutput();
+  EXPECT_EQ(filter->GetOutputGenus(), 1);
+  EXPECT_EQ(FieldValues(out, "KeptHandleSizes").size(), 0u);
+  EXPECT_EQ(FieldCount(out, "HandlesNotSized"), 1);
+  EXPECT_DOUBLE_EQ(FieldValues(out, "KeptHandleSurveySize").at(0), 3.6);
+}
+
+// The survey's rounds have the passes' limit too: a round stopped by it may miss kept handles,
+// which the filter must say (a warning and SurveyPassLimitReached), and not with passes to spare.
+TEST(TopologicalNoiseRemoval, SurveyPassLimitIsReported)
+{
+  vtkSmartPointer<vtkPolyData> torus = ToPolyData(Torus(64, 32, 1.0, 0.35));
+  for (int passes : { 1, 2 })
+  {
+    vtkNew<vtkTopologicalNoiseRemoval> filter;
+    filter->SetInputData(torus);
+    filter->SetFeatureSize(0.6); // kept (meridian 0.7); the survey at 1.2 cuts it on its copy
+    filter->FeatureSizeIsRelativeOff();
+    filter->SetMaximumPasses(passes);
+    vtkNew<MessageCounter> messages;
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->Update();
+    EXPECT_EQ(filter->GetNumberOfHandlesRemoved(), 0) << passes;
+    EXPECT_EQ(FieldCount(filter->GetOutput(), "SurveyPassLimitReached"), passes == 1 ? 1 : 0) << passes;
     EXPECT_EQ(messages->Warnings.size(), passes == 1 ? 1u : 0u) << passes;
   }
 }
