@@ -47,13 +47,14 @@ def snapshot(window, actors, path, view, focus=None, zoom=1.0):
     print("wrote", path)
 
 
-def mesh_actor(mesh):
+def mesh_actor(mesh, opacity=1.0):
     mapper = vtkPolyDataMapper()
     mapper.SetInputData(mesh)
     mapper.ScalarVisibilityOff()
     actor = vtkActor()
     actor.SetMapper(mapper)
     actor.GetProperty().SetColor(0.85, 0.8, 0.65)
+    actor.GetProperty().SetOpacity(opacity)
     return actor
 
 
@@ -126,7 +127,8 @@ def main(mesh_dir, out_dir, mri=None):
         cut_loops, kept_loops = loops_with(loops, 1), loops_with(loops, 0)
         snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(cut_loops, 0.25)],
                  os.path.join(out_dir, "tnr_mri_loops.png"), (0, -300, 80))
-        snapshot(window, [mesh_actor(cleaned), loops_actor(cut_loops, 0.25), loops_actor(kept_loops, 0.5, (0.1, 0.3, 0.9))],
+        # The surface see-through: most loops lie in the sulci.
+        snapshot(window, [mesh_actor(cleaned, 0.12), loops_actor(cut_loops, 0.4), loops_actor(kept_loops, 0.7, (0.1, 0.3, 0.9))],
                  os.path.join(out_dir, "tnr_mri_kept_handles.png"), (0, -300, 80))
         snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(cut_loops, 0.15)],
                  os.path.join(out_dir, "tnr_mri_loops_closeup.png"), (0, -60, 20), focus, 1.0)

@@ -124,6 +124,7 @@ struct PieceSetting
 {
   slod::Index Target = 0;
   slod::Index UnionTarget = 0;
+  slod::Index UnionTriangles = 0;
   double Diagonal = 0.0;
   slod::PieceSeam Seam;
 };
@@ -134,7 +135,11 @@ PieceSetting SettleWithOtherPieces(vtkQuadricTriangleCollapse* filter, const slo
   vtkMultiProcessController* controller = filter->GetController();
   PieceSetting setting;
   setting.Target = slod::PieceShareOfTarget(controller, mesh.NumberOfTriangles(),
-    [filter](slod::Index total) { return TargetTriangles(filter, total); }, &setting.UnionTarget);
+    [filter, &setting](slod::Index total) {
+      setting.UnionTriangles = total;
+      return TargetTriangles(filter, total);
+    },
+    &setting.UnionTarget);
   setting.Diagonal = slod::UnionBoundingBoxDiagonal(mesh, controller);
   if (slod::IsDistributed(controller))
   {
@@ -274,6 +279,13 @@ int vtkQuadricTriangleCollapse::RequestData(
   slod::TriangleCollapseOptions options = CollapseOptions(this, piece.Target, diagonal);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
   options.LockedVertices = piece.Seam.SharedVertices.empty() ? nullptr : &piece.Seam.SharedVertices;
+  if (piece.UnionTriangles > inputTriangles)
+  {
+    // The fit's exact assignment is chosen by the size of the whole surface, as in one process,
+    // not by the piece's: pieces of a large surface would otherwise each pay for the exact one.
+    options.FitExactAssignmentLimit = static_cast<slod::Index>(
+      double(options.FitExactAssignmentLimit) * double(inputTriangles) / double(piece.UnionTriangles));
+  }
   if (agreement)
   {
     options.SettleTarget = std::ref(*agreement);
