@@ -13,6 +13,8 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <array>
 #include <charconv>
@@ -50,7 +52,11 @@ struct ObjContent
   std::vector<ObjCorner> Corners;
   std::vector<vtkIdType> FaceSizes;
   std::vector<long long> FaceLines;
-  long long VertexColours = 0;              // "v" lines with a colour (counted apart: one per vertex)
+  // "v x y z r g b [a]" colours (0-1), read when every "v" line has the same number of them.
+  std::vector<double> Colours;
+  int ColourComponents = 0;
+  long long VertexColours = 0;   // "v" lines with a colour
+  bool ColoursReadable = true;    // same count on every coloured line, each value in 0-1
   std::map<std::string, long long> Unread; // other statements not read, by keyword
 };
 
@@ -128,6 +134,26 @@ ObjProblem ReadFace(const Words& words, long long line, ObjContent& content)
   return {};
 }
 
+// The r g b [a] after a vertex's coordinates (words 4...), kept while they are consistent.
+ObjProblem ReadVertexColour(const Words& words, long long line, ObjContent& content)
+{
+  const int components = static_cast<int>(words.size()) - 4;
+  ++content.VertexColours;
+  content.ColoursReadable = content.ColoursReadable && (content.ColourComponents == 0 || components == content.ColourComponents);
+  content.ColourComponents = components;
+  for (size_t k = 4; k < words.size(); ++k)
+  {
+    double value = 0;
+    if (!ParseFinite(words[k], value))
+    {
+      return { "vertex colour does not hold finite numbers", vtkErrorCode::FileFormatError, line };
+    }
+    content.ColoursReadable = content.ColoursReadable && value >= 0 && value <= 1;
+    content.Colours.push_back(value);
+  }
+  return {};
+}
+
 ObjProblem ReadStatement(const Words& words, long long line, ObjContent& content)
 {
   const std::string_view keyword = words[0];
@@ -136,13 +162,12 @@ ObjProblem ReadStatement(const Words& words, long long line, ObjContent& content
   };
   if (keyword == "v")
   {
-    // x y z, then an optional w or a colour r g b [a] (colours are not read).
+    // x y z, then an optional w or a colour r g b [a].
     if (words.size() < 4 || words.size() > 8 || !AppendNumbers(words, 3, content.Positions))
     {
       return malformed("vertex");
     }
-    content.VertexColours += words.size() >= 7 ? 1 : 0;
-    return {};
+    return words.size() >= 7 ? ReadVertexColour(words, line, content) : ObjProblem();
   }
   if (keyword == "vt")
   {
@@ -226,6 +251,33 @@ std::vector<vtkIdType> AssignPoints(const ObjContent& content, std::vector<ObjCo
   return ids;
 }
 
+bool HasReadableColours(const ObjContent& content)
+{
+  return content.VertexColours > 0 && content.ColoursReadable &&
+    content.VertexColours == static_cast<long long>(content.Positions.size() / 3);
+}
+
+// Each output point's colour is its position's, as unsigned char RGB(A).
+vtkSmartPointer<vtkUnsignedCharArray> PointColours(const ObjContent& content, const std::vector<ObjCorner>& pointCorners)
+{
+  const size_t positions = content.Positions.size() / 3;
+  const int components = content.ColourComponents;
+  auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  colours->SetName(components == 4 ? "RGBA" : "RGB");
+  colours->SetNumberOfComponents(components);
+  colours->SetNumberOfTuples(static_cast<vtkIdType>(pointCorners.size()));
+  for (size_t p = 0; p < pointCorners.size(); ++p)
+  {
+    const size_t position = p < positions ? p : size_t(pointCorners[p].Position);
+    for (int c = 0; c < components; ++c)
+    {
+      colours->SetValue(static_cast<vtkIdType>(p * components + c),
+        static_cast<unsigned char>(std::lround(255.0 * content.Colours[position * components + c])));
+    }
+  }
+  return colours;
+}
+
 // The output: points (double), polygons, and texture coordinates / normals when any corner has them.
 void BuildOutput(const ObjContent& content, vtkPolyData* output)
 {
@@ -272,6 +324,10 @@ void BuildOutput(const ObjContent& content, vtkPolyData* output)
   }
   output->SetPoints(points);
   output->SetPolys(polys);
+  if (HasReadableColours(content))
+  {
+    output->GetPointData()->SetScalars(PointColours(content, pointCorners));
+  }
   if (anyTexture)
   {
     output->GetPointData()->SetTCoords(tcoords);
@@ -285,7 +341,8 @@ void BuildOutput(const ObjContent& content, vtkPolyData* output)
 std::string UnreadSummary(const ObjContent& content)
 {
   std::map<std::string, long long> unreadByName = content.Unread;
-  unreadByName["vertex colours"] = content.VertexColours;
+  unreadByName["vertex colours (not on every vertex, or in different counts, or outside 0-1)"] =
+    HasReadableColours(content) ? 0 : content.VertexColours;
   std::string summary;
   for (const auto& unread : unreadByName)
   {

@@ -14,18 +14,40 @@ vtkStandardNewMacro(vtkOBJMeshWriter);
 
 namespace
 {
-// "KEYWORD c0 c1 ..." for every tuple of the array, in its precision.
-void WriteTupleLines(slod::CheckedFileWriter& file, const char* keyword, vtkDataArray* array)
+// " c0 c1 ..." of one tuple, in the array's precision, each divided by `scale`.
+void WriteTuple(slod::CheckedFileWriter& file, vtkDataArray* array, vtkIdType i, double scale = 1.0)
 {
   const bool single = array->GetDataType() == VTK_FLOAT;
+  for (int c = 0; c < array->GetNumberOfComponents(); ++c)
+  {
+    file.WriteChar(' ');
+    const double value = array->GetComponent(i, c) / scale;
+    single ? file.WriteReal(static_cast<float>(value)) : file.WriteReal(value);
+  }
+}
+
+// "KEYWORD c0 c1 ..." for every tuple of the array.
+void WriteTupleLines(slod::CheckedFileWriter& file, const char* keyword, vtkDataArray* array)
+{
   for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i)
   {
     file.WriteText(keyword);
-    for (int c = 0; c < array->GetNumberOfComponents(); ++c)
+    WriteTuple(file, array, i);
+    file.WriteChar('\n');
+  }
+}
+
+// "v x y z", with the point's colour as r g b [a] in 0-1 when the points have colours (the
+// common extension MeshLab and others read).
+void WriteVertexLines(slod::CheckedFileWriter& file, vtkDataArray* coordinates, vtkDataArray* colours)
+{
+  for (vtkIdType i = 0; i < coordinates->GetNumberOfTuples(); ++i)
+  {
+    file.WriteChar('v');
+    WriteTuple(file, coordinates, i);
+    if (colours)
     {
-      file.WriteChar(' ');
-      const double value = array->GetComponent(i, c);
-      single ? file.WriteReal(static_cast<float>(value)) : file.WriteReal(value);
+      WriteTuple(file, colours, i, 255.0);
     }
     file.WriteChar('\n');
   }
@@ -65,7 +87,7 @@ std::string vtkOBJMeshWriter::WriteMesh(vtkPolyData* input, slod::CheckedFileWri
   file.WriteText("# written by SurfaceLOD vtkOBJMeshWriter\n");
   if (input->GetPoints())
   {
-    WriteTupleLines(file, "v", input->GetPoints()->GetData());
+    WriteVertexLines(file, input->GetPoints()->GetData(), slod::FileColors(input->GetPointData()));
   }
   if (tcoords)
   {

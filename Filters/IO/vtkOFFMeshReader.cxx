@@ -4,6 +4,7 @@
 #include "slodMeshFileSupport.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkDoubleArray.h"
 #include "vtkErrorCode.h"
 #include "vtkInformation.h"
@@ -129,39 +130,67 @@ OffProblem CheckOffCountsFit(const OffHeader& header, long long bytesLeft, long 
   return {};
 }
 
-// The per-vertex attributes a COFF / NOFF / STOFF file holds, as read.
-struct OffVertexAttributes
-{
-  vtkNew<vtkDoubleArray> Normals, TCoords;
-  // Colour values as written: floats 0-1 when any has a decimal point or exponent or none is above 1
-  // (integer colours of 0 and 1 only would be black), else integers 0-255.
-  std::vector<double> ColorValues;
-  int ColorComponents = 0;
-  bool FractionalToken = false;
-  double LargestColorValue = 0;
-  bool FloatColors() const { return this->FractionalToken || this->LargestColorValue <= 1; }
-  long long FirstLineAbove1 = 0, FirstLineOutside255 = 0; // 0: none
-};
-
 bool LooksFractional(std::string_view token)
 {
   return token.find_first_of(".eE") != std::string_view::npos;
 }
+
+// Colour columns as written (of the vertices of a COFF file, or after the indices of the faces):
+// floats 0-1 when any has a decimal point or exponent or none is above 1 (integer colours of 0 and
+// 1 only would be black), else integers 0-255.
+struct OffColors
+{
+  std::vector<double> Values;
+  int Components = 0;
+  bool FractionalToken = false;
+  double LargestValue = 0;
+  long long FirstLineAbove1 = 0, FirstLineOutside255 = 0; // 0: none
+  bool Floats() const { return this->FractionalToken || this->LargestValue <= 1; }
+
+  // One item's `count` (3 or 4) colour values from tokens[first...]; false: not numbers.
+  bool Add(const Tokens& tokens, size_t first, size_t count, long long line)
+  {
+    this->Components = static_cast<int>(count);
+    for (size_t k = 0; k < count; ++k)
+    {
+      double value = 0;
+      if (!ParseReal(tokens[first + k], value))
+      {
+        return false;
+      }
+      this->FractionalToken = this->FractionalToken || LooksFractional(tokens[first + k]);
+      this->Values.push_back(value);
+      this->LargestValue = std::max(this->LargestValue, value);
+      const bool above1 = !(value >= 0 && value <= 1);
+      const bool outside255 = !(value >= 0 && value <= 255 && value == std::floor(value));
+      this->FirstLineAbove1 = above1 && !this->FirstLineAbove1 ? line : this->FirstLineAbove1;
+      this->FirstLineOutside255 = outside255 && !this->FirstLineOutside255 ? line : this->FirstLineOutside255;
+    }
+    return true;
+  }
+};
+
+// The per-vertex attributes a COFF / NOFF / STOFF file holds, as read.
+struct OffVertexAttributes
+{
+  vtkNew<vtkDoubleArray> Normals, TCoords;
+  OffColors Colors;
+};
 
 // Columns of one vertex line after the coordinates: normals, colours, texture coordinates.
 OffProblem ReadOffVertexAttributes(const Tokens& tokens, const OffHeader& header, long long line,
   vtkIdType vertex, OffVertexAttributes& attributes)
 {
   const size_t colorColumns = tokens.size() - header.VertexColumns();
-  if (header.HasColors && (colorColumns < 3 || colorColumns > 4 ||
-        (attributes.ColorComponents != 0 && int(colorColumns) != attributes.ColorComponents)))
+  const int components = attributes.Colors.Components;
+  if (header.HasColors && (colorColumns < 3 || colorColumns > 4 || (components != 0 && int(colorColumns) != components)))
   {
     return { "vertex line has " + std::to_string(colorColumns) + " colour values (expected " +
-        (attributes.ColorComponents ? std::to_string(attributes.ColorComponents) : std::string("3 or 4")) + ")",
+        (components ? std::to_string(components) : std::string("3 or 4")) + ")",
       vtkErrorCode::FileFormatError, line };
   }
   size_t column = 3;
-  double values[4];
+  double values[3];
   auto parse = [&](int count) {
     bool ok = true;
     for (int k = 0; k < count; ++k, ++column)
@@ -177,22 +206,8 @@ OffProblem ReadOffVertexAttributes(const Tokens& tokens, const OffHeader& header
   }
   if (ok && header.HasColors)
   {
-    attributes.ColorComponents = static_cast<int>(colorColumns);
-    for (size_t k = 0; k < colorColumns; ++k)
-    {
-      attributes.FractionalToken = attributes.FractionalToken || LooksFractional(tokens[column + k]);
-    }
-    ok = parse(attributes.ColorComponents);
-    for (int k = 0; ok && k < attributes.ColorComponents; ++k)
-    {
-      attributes.ColorValues.push_back(values[k]);
-      attributes.LargestColorValue = std::max(attributes.LargestColorValue, values[k]);
-      const bool above1 = !(values[k] >= 0 && values[k] <= 1);
-      const bool outside255 = !(values[k] >= 0 && values[k] <= 255 && values[k] == std::floor(values[k]));
-      attributes.FirstLineAbove1 = above1 && !attributes.FirstLineAbove1 ? line : attributes.FirstLineAbove1;
-      attributes.FirstLineOutside255 =
-        outside255 && !attributes.FirstLineOutside255 ? line : attributes.FirstLineOutside255;
-    }
+    ok = attributes.Colors.Add(tokens, column, colorColumns, line);
+    column += colorColumns;
   }
   if (ok && header.HasTextures && parse(2))
   {
@@ -202,23 +217,22 @@ OffProblem ReadOffVertexAttributes(const Tokens& tokens, const OffHeader& header
 }
 
 // The colours as unsigned char RGB(A): floats 0-1 scaled to 0-255, integers kept.
-OffProblem MakeOffColors(const OffVertexAttributes& attributes, vtkUnsignedCharArray* colors)
+OffProblem MakeOffColors(const OffColors& read, vtkUnsignedCharArray* colors)
 {
-  const long long badLine = attributes.FloatColors() ? attributes.FirstLineAbove1 : attributes.FirstLineOutside255;
+  const long long badLine = read.Floats() ? read.FirstLineAbove1 : read.FirstLineOutside255;
   if (badLine)
   {
-    return { attributes.FloatColors() ? "colour value outside 0-1 (the file's colours have decimal points: floats)"
-                                    : "colour value not an integer in 0-255",
+    return { read.Floats() ? "colour value outside 0-1 (the file's colours have decimal points: floats)"
+                           : "colour value not an integer in 0-255",
       vtkErrorCode::FileFormatError, badLine };
   }
-  colors->SetName(attributes.ColorComponents == 4 ? "RGBA" : "RGB");
-  colors->SetNumberOfComponents(attributes.ColorComponents);
-  colors->SetNumberOfValues(static_cast<vtkIdType>(attributes.ColorValues.size()));
-  for (size_t k = 0; k < attributes.ColorValues.size(); ++k)
+  colors->SetName(read.Components == 4 ? "RGBA" : "RGB");
+  colors->SetNumberOfComponents(read.Components);
+  colors->SetNumberOfValues(static_cast<vtkIdType>(read.Values.size()));
+  for (size_t k = 0; k < read.Values.size(); ++k)
   {
-    const double value = attributes.ColorValues[k];
-    colors->SetValue(static_cast<vtkIdType>(k),
-      static_cast<unsigned char>(attributes.FloatColors() ? std::lround(value * 255.0) : value));
+    const double value = read.Values[k];
+    colors->SetValue(static_cast<vtkIdType>(k), static_cast<unsigned char>(read.Floats() ? std::lround(value * 255.0) : value));
   }
   return {};
 }
@@ -256,10 +270,37 @@ OffProblem ReadOffVertices(OffTokenizer& tokenizer, const OffHeader& header, vtk
   return {};
 }
 
+// Colours after the faces' indices (r g b [a], as the vertices' colours); a face with another
+// number of values (a colour-map index) makes them unread.
+struct OffFaceColors
+{
+  OffColors Colors;
+  std::vector<unsigned char> Kind; // per face: 0 vertex, 1 line, 2 polygon (cell data order)
+  long long Faces = 0, FacesWithOtherColumns = 0;
+  bool Readable() const { return this->FacesWithOtherColumns == 0 && this->Colors.Components != 0; }
+};
+
+OffProblem AddFaceColor(const Tokens& tokens, long long count, long long line, OffFaceColors& faceColors)
+{
+  const size_t columns = tokens.size() - size_t(count) - 1;
+  ++faceColors.Faces;
+  faceColors.Kind.push_back(static_cast<unsigned char>(count >= 3 ? 2 : count == 2 ? 1 : 0));
+  const int components = faceColors.Colors.Components;
+  if (columns < 3 || columns > 4 || (components != 0 && int(columns) != components) ||
+    faceColors.FacesWithOtherColumns > 0)
+  {
+    faceColors.FacesWithOtherColumns += columns > 0 || components != 0 ? 1 : 0;
+    return {};
+  }
+  return faceColors.Colors.Add(tokens, size_t(count) + 1, columns, line)
+    ? OffProblem()
+    : OffProblem{ "malformed face colour", vtkErrorCode::FileFormatError, line };
+}
+
 // Faces of three or more vertices are polygons; faces of two are lines and of one vertices (kept,
 // so nothing in the file is lost; the filters ignore them).
 OffProblem ReadOffFaces(OffTokenizer& tokenizer, const OffHeader& header, vtkCellArray* polys, vtkCellArray* lines,
-  vtkCellArray* verts)
+  vtkCellArray* verts, OffFaceColors& faceColors)
 {
   Tokens tokens;
   std::vector<vtkIdType> ids;
@@ -285,9 +326,38 @@ OffProblem ReadOffFaces(OffTokenizer& tokenizer, const OffHeader& header, vtkCel
       }
       ids[size_t(k)] = static_cast<vtkIdType>(id);
     }
-    // Columns after the indices are colors: ignored.
+    if (const OffProblem problem = AddFaceColor(tokens, count, tokenizer.LineNumber, faceColors))
+    {
+      return problem;
+    }
     vtkCellArray* cells = count >= 3 ? polys : count == 2 ? lines : verts;
     cells->InsertNextCell(count, ids.data());
+  }
+  return {};
+}
+
+// The faces' colours as cell data: vertices' first, then lines', then polygons' (vtkPolyData's
+// cell order), as unsigned char RGB(A).
+OffProblem MakeOffFaceColors(const OffFaceColors& faceColors, vtkUnsignedCharArray* colors)
+{
+  vtkNew<vtkUnsignedCharArray> inFileOrder;
+  if (const OffProblem problem = MakeOffColors(faceColors.Colors, inFileOrder))
+  {
+    return problem;
+  }
+  colors->SetName(inFileOrder->GetName());
+  colors->SetNumberOfComponents(inFileOrder->GetNumberOfComponents());
+  colors->SetNumberOfTuples(inFileOrder->GetNumberOfTuples());
+  vtkIdType next = 0;
+  for (unsigned char kind = 0; kind < 3; ++kind)
+  {
+    for (size_t f = 0; f < faceColors.Kind.size(); ++f)
+    {
+      if (faceColors.Kind[f] == kind)
+      {
+        colors->SetTuple(next++, static_cast<vtkIdType>(f), inFileOrder);
+      }
+    }
   }
   return {};
 }
@@ -332,11 +402,17 @@ int vtkOFFMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   }
   if (!problem && header.HasColors)
   {
-    problem = MakeOffColors(attributes, colors);
+    problem = MakeOffColors(attributes.Colors, colors);
   }
+  OffFaceColors faceColors;
+  vtkNew<vtkUnsignedCharArray> cellColors;
   if (!problem)
   {
-    problem = ReadOffFaces(tokenizer, header, polys, lines, verts);
+    problem = ReadOffFaces(tokenizer, header, polys, lines, verts, faceColors);
+  }
+  if (!problem && faceColors.Readable())
+  {
+    problem = MakeOffFaceColors(faceColors, cellColors);
   }
   if (problem)
   {
@@ -366,6 +442,16 @@ int vtkOFFMeshReader::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   if (header.HasColors)
   {
     output->GetPointData()->SetScalars(colors);
+  }
+  if (faceColors.Readable())
+  {
+    output->GetCellData()->SetScalars(cellColors);
+  }
+  else if (faceColors.FacesWithOtherColumns > 0)
+  {
+    this->WarnNotRead("face colours (" + std::to_string(faceColors.FacesWithOtherColumns) +
+        " faces with a colour-map index or another number of colour values than the first)",
+      0);
   }
   return 1;
 }

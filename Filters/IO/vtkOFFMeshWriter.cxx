@@ -6,6 +6,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -33,21 +34,25 @@ struct OffVertexArrays
   }
 };
 
+// Colours of only 0 and 1 are written as fractions 0-1 (as integers the reader would take them
+// for floats 0-1, see the reader).
+bool HasFractionalColors(vtkDataArray* colors)
+{
+  double largest = 0;
+  for (int c = 0; colors && c < colors->GetNumberOfComponents(); ++c)
+  {
+    largest = std::max(largest, colors->GetRange(c)[1]);
+  }
+  return largest <= 1;
+}
+
 OffVertexArrays FindOffVertexArrays(vtkPolyData* input)
 {
   OffVertexArrays arrays;
   arrays.Normals = slod::FileNormals(input->GetPointData());
   arrays.Colors = slod::FileColors(input->GetPointData());
   arrays.TCoords = slod::FileTextureCoordinates(input->GetPointData());
-  if (arrays.Colors)
-  {
-    double largest = 0;
-    for (int c = 0; c < arrays.Colors->GetNumberOfComponents(); ++c)
-    {
-      largest = std::max(largest, arrays.Colors->GetRange(c)[1]);
-    }
-    arrays.FractionalColors = largest <= 1;
-  }
+  arrays.FractionalColors = arrays.Colors && HasFractionalColors(arrays.Colors);
   return arrays;
 }
 
@@ -62,13 +67,13 @@ void WriteTuple(slod::CheckedFileWriter& file, vtkDataArray* array, vtkIdType i)
   }
 }
 
-void WriteColor(slod::CheckedFileWriter& file, const OffVertexArrays& arrays, vtkIdType i)
+void WriteColor(slod::CheckedFileWriter& file, vtkDataArray* colors, bool fractional, vtkIdType i)
 {
-  for (int c = 0; c < arrays.Colors->GetNumberOfComponents(); ++c)
+  for (int c = 0; c < colors->GetNumberOfComponents(); ++c)
   {
     file.WriteChar(' ');
-    const double value = arrays.Colors->GetComponent(i, c);
-    arrays.FractionalColors ? file.WriteReal(value / 255.0) : file.WriteInteger(static_cast<long long>(value));
+    const double value = colors->GetComponent(i, c);
+    fractional ? file.WriteReal(value / 255.0) : file.WriteInteger(static_cast<long long>(value));
   }
 }
 
@@ -94,7 +99,7 @@ void WriteVertices(slod::CheckedFileWriter& file, vtkPolyData* input, const OffV
     }
     if (arrays.Colors)
     {
-      WriteColor(file, arrays, i);
+      WriteColor(file, arrays.Colors, arrays.FractionalColors, i);
     }
     if (arrays.TCoords)
     {
@@ -104,13 +109,19 @@ void WriteVertices(slod::CheckedFileWriter& file, vtkPolyData* input, const OffV
   }
 }
 
-void WriteFace(slod::CheckedFileWriter& file, vtkIdType n, const vtkIdType* ids)
+// A face's indices, then its cell's colour when the cells have colours (r g b [a] after the indices).
+void WriteFace(slod::CheckedFileWriter& file, vtkIdType n, const vtkIdType* ids, vtkDataArray* colors,
+  bool fractional, vtkIdType cell)
 {
   file.WriteInteger(n);
   for (vtkIdType k = 0; k < n; ++k)
   {
     file.WriteChar(' ');
     file.WriteInteger(ids[k]);
+  }
+  if (colors)
+  {
+    WriteColor(file, colors, fractional, cell);
   }
   file.WriteChar('\n');
 }
@@ -123,6 +134,10 @@ std::string vtkOFFMeshWriter::WriteMesh(vtkPolyData* input, slod::CheckedFileWri
   file.WriteText(arrays.Keyword() + "\n" + std::to_string(input->GetNumberOfPoints()) + " " +
     std::to_string(slod::CountSurfaceFaces(input)) + " 0\n");
   WriteVertices(file, input, arrays);
-  slod::ForEachSurfaceFace(input, [&](vtkIdType n, const vtkIdType* ids, vtkIdType) { WriteFace(file, n, ids); });
+  vtkDataArray* faceColors = slod::FileColors(input->GetCellData());
+  const bool fractional = faceColors && HasFractionalColors(faceColors);
+  slod::ForEachSurfaceFace(input, [&](vtkIdType n, const vtkIdType* ids, vtkIdType cell) {
+    WriteFace(file, n, ids, faceColors, fractional, cell);
+  });
   return std::string();
 }

@@ -255,18 +255,20 @@ def kept_attributes(path):
         text = f.read()
     if ext == ".obj":
         starts = {line.split(" ")[0] for line in text.splitlines() if line}
-        return {kind for kind, key in (("normals", "vn"), ("tcoords", "vt")) if key in starts}
+        coloured = any(line.startswith("v ") and len(line.split()) >= 7 for line in text.splitlines())
+        return {kind for kind, key in (("normals", "vn"), ("tcoords", "vt")) if key in starts} | (
+            {"colours"} if coloured else set())
     keyword = text.split("\n", 1)[0]
     return {kind for kind, letter in (("normals", "N"), ("colours", "C"), ("tcoords", "ST")) if letter in keyword[:-3]}
 
 
 def scenario_attributes(a):
     """`simplify` on PLY / OBJ / OFF files with attributes keeps what each format can hold, and
-    warns only about what it cannot (OBJ: colours, cell data; OFF: cell data)."""
+    warns only about what it cannot (OBJ and OFF: cell data other than colours)."""
     source = os.path.join(a.work, "attributes_in.ply")
     attributed_grid_ply(source)
     expected = {".ply": {"double", "normals", "colours", "tcoords", "cell ints"},
-                ".obj": {"normals", "tcoords"}, ".off": {"normals", "colours", "tcoords"}}
+                ".obj": {"normals", "colours", "tcoords"}, ".off": {"normals", "colours", "tcoords"}}
     for method in ("quadric-triangle-collapse", "retile"):
         for ext, kinds in expected.items():
             out = os.path.join(a.work, "attributes_%s%s" % (method, ext))
@@ -274,7 +276,7 @@ def scenario_attributes(a):
             warnings = [l for l in proc.stderr.splitlines() if "does not keep" in l]
             check(kept_attributes(out) == kinds, "%s %s: the file holds %r, expected %r"
                   % (method, ext, sorted(kept_attributes(out)), sorted(kinds)))
-            dropped = {".ply": [], ".obj": ["'RGB'", "'region'"], ".off": ["'region'"]}[ext]
+            dropped = {".ply": [], ".obj": ["'region'"], ".off": ["'region'"]}[ext]
             check(len(warnings) == (1 if dropped else 0) and all(d in " ".join(warnings) for d in dropped),
                   "%s %s: dropped-array warnings %r, expected one naming %r" % (method, ext, warnings, dropped))
             for kept in ("'Normals'", "'TCoords'"):

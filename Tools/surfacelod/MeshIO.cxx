@@ -502,8 +502,9 @@ void CheckWritablePath(const std::string& path)
 namespace
 {
 // Whether a file of type `ext` keeps the array: PLY every numeric array (points and cells); OFF the
-// point normals, colours and texture coordinates; OBJ the point normals and texture coordinates;
-// STL nothing. (Change this with the writers: TestMeshIO reads every format back.)
+// point normals, colours and texture coordinates and the cell colours; OBJ the point normals,
+// texture coordinates and colours; STL nothing. (Change this with the writers: TestMeshIO reads
+// every format back.)
 bool FormatKeepsArray(const std::string& ext, vtkDataSetAttributes* data, int index, bool pointData)
 {
   vtkAbstractArray* array = data->GetAbstractArray(index);
@@ -514,11 +515,15 @@ bool FormatKeepsArray(const std::string& ext, vtkDataSetAttributes* data, int in
   const bool normals = array == slod::FileNormals(data);
   const bool tcoords = array == slod::FileTextureCoordinates(data);
   const bool colors = array == slod::FileColors(data);
-  if (!pointData || !array)
+  if (!array)
   {
     return false;
   }
-  return ext == ".off" ? normals || tcoords || colors : ext == ".obj" ? normals || tcoords : false;
+  if (!pointData)
+  {
+    return ext == ".off" && colors;
+  }
+  return ext == ".off" || ext == ".obj" ? normals || tcoords || colors : false;
 }
 
 // "'Name'" or, for an unnamed array, its role ("unnamed normals").

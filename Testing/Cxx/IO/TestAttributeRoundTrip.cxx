@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Every attribute kind written and read back by each file format: PLY (ASCII and both binary byte
 // orders: every point and cell array, double coordinates exact), OFF (normals, colours, texture
-// coordinates: STCNOFF), OBJ (normals, texture coordinates; positions split at attribute seams),
+// coordinates: STCNOFF; face colours), OBJ (normals, texture coordinates, vertex colours; positions
+// split at attribute seams),
 // VTP (everything, roles included), and through the tool's ReadMesh / WriteMesh.
 #include "TestSupport.h"
 
@@ -295,7 +296,7 @@ TEST(AttributeRoundTrip, OffKeepsNormalsColoursAndTextureCoordinates)
   ExpectSameValues(rgba, darkBack->GetPointData()->GetScalars(), "RGBA of 0 and 1");
 }
 
-TEST(AttributeRoundTrip, ObjKeepsNormalsAndTextureCoordinatesWithTheSamePoints)
+TEST(AttributeRoundTrip, ObjKeepsNormalsTextureCoordinatesAndColoursWithTheSamePoints)
 {
   const vtkSmartPointer<vtkPolyData> mesh = MeshWithEveryAttribute();
   const std::string path = slodtest::OutputPath("every_attribute.obj");
@@ -306,7 +307,68 @@ TEST(AttributeRoundTrip, ObjKeepsNormalsAndTextureCoordinatesWithTheSamePoints)
   const vtkSmartPointer<vtkPolyData> back = ReadWith<vtkOBJMeshReader>(path);
   ASSERT_EQ(back->GetNumberOfPoints(), mesh->GetNumberOfPoints()) << "no point split without a seam";
   ExpectSameGeometry(mesh, back);
-  ExpectSameRoles(mesh, back, false);
+  ExpectSameRoles(mesh, back, true);
+}
+
+// Face colours after the indices (r g b [a]) become cell colours in vtkPolyData's cell order
+// (vertices, then lines, then polygons), and are written back after each face's indices.
+TEST(AttributeRoundTrip, OffKeepsFaceColoursInCellOrder)
+{
+  const std::string path = WriteText("face_colours.off",
+    "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n"
+    "3 0 1 2 255 0 0\n2 0 3 0 255 0\n3 1 3 2 0 0 255\n1 3 9 9 9\n");
+  const vtkSmartPointer<vtkPolyData> read = ReadWith<vtkOFFMeshReader>(path);
+  vtkDataArray* colours = read->GetCellData()->GetScalars();
+  ASSERT_NE(colours, nullptr);
+  ASSERT_EQ(colours->GetNumberOfTuples(), 4);
+  const double expected[4][3] = { { 9, 9, 9 }, { 0, 255, 0 }, { 255, 0, 0 }, { 0, 0, 255 } }; // vert, line, polys
+  for (vtkIdType c = 0; c < 4; ++c)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      EXPECT_EQ(colours->GetComponent(c, k), expected[c][k]) << "cell " << c;
+    }
+  }
+
+  // Written back: a surface's faces with their colours, float 0-1 colours as integers 0-255.
+  const vtkSmartPointer<vtkPolyData> mesh = MeshWithEveryAttribute();
+  auto faceRgb = NewArray<vtkUnsignedCharArray>("FaceRGB", 3, mesh->GetNumberOfCells());
+  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+  {
+    faceRgb->SetTuple3(c, (c * 53) % 256, 255 - c, (c * 7) % 256);
+  }
+  mesh->GetCellData()->SetScalars(faceRgb);
+  const std::string out = slodtest::OutputPath("face_colours_back.off");
+  vtkNew<vtkOFFMeshWriter> writer;
+  writer->SetFileName(out.c_str());
+  writer->SetInputData(mesh);
+  ASSERT_EQ(writer->Write(), 1);
+  const vtkSmartPointer<vtkPolyData> back = ReadWith<vtkOFFMeshReader>(out);
+  ExpectSameGeometry(mesh, back);
+  ExpectSameValues(faceRgb, back->GetCellData()->GetScalars(), "face colours");
+}
+
+// OBJ vertex colours ("v x y z r g b", 0-1) are read only when every vertex has the same number
+// of them: otherwise the reader says they were not read.
+TEST(AttributeRoundTrip, ObjVertexColoursReadOnlyWhenComplete)
+{
+  const vtkSmartPointer<vtkPolyData> full =
+    ReadWith<vtkOBJMeshReader>(WriteText("rgb.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 0.5\nf 1 2 3\n"));
+  vtkDataArray* colours = full->GetPointData()->GetScalars();
+  ASSERT_NE(colours, nullptr);
+  EXPECT_EQ(colours->GetNumberOfComponents(), 3);
+  EXPECT_EQ(colours->GetComponent(0, 0), 255);
+  EXPECT_EQ(colours->GetComponent(1, 1), 255);
+  EXPECT_EQ(colours->GetComponent(2, 2), 128);
+
+  vtkNew<vtkOBJMeshReader> reader;
+  reader->SetFileName(WriteText("rgb_partial.obj", "v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 0 0 1\nf 1 2 3\n").c_str());
+  vtkNew<slodtest::MessageCounter> messages;
+  reader->AddObserver(vtkCommand::WarningEvent, messages);
+  reader->Update();
+  EXPECT_EQ(reader->GetOutput()->GetPointData()->GetScalars(), nullptr);
+  ASSERT_EQ(messages->Warnings.size(), 1u);
+  EXPECT_NE(messages->Warnings[0].find("vertex colours"), std::string::npos) << messages->Warnings[0];
 }
 
 // OBJ numbers positions, texture coordinates and normals separately: a position used with two
@@ -404,7 +466,7 @@ TEST(AttributeRoundTrip, TheToolKeepsWhatEachFormatCanHold)
     const std::string warnings = testing::internal::GetCapturedStderr();
     const vtkSmartPointer<vtkPolyData> back = slodcli::ReadMesh(path);
     ExpectSameGeometry(mesh, back);
-    ExpectSameRoles(mesh, back, std::string(ext) != ".obj");
+    ExpectSameRoles(mesh, back, true);
     const bool keepsAll = std::string(ext) == ".ply" || std::string(ext) == ".vtp";
     EXPECT_EQ(warnings.empty(), keepsAll) << warnings;
     if (!keepsAll)
