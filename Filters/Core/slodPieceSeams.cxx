@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -270,7 +271,9 @@ void UnionTargetAgreement::Exchange(Index liveTriangles, bool done, double cheap
   const double mine[Width] = { double(liveTriangles), double(previous - liveTriangles), done ? 1.0 : 0.0,
     done ? std::numeric_limits<double>::max() : cheapestCost };
   std::vector<double> gathered(Width * static_cast<size_t>(processes));
+  const auto started = std::chrono::steady_clock::now();
   this->Controller->AllGather(mine, gathered.data(), Width);
+  this->Seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const auto all = [&](size_t i) { return static_cast<long long>(gathered[i / 3 * Width + i % 3]); };
   this->PreviousLive = liveTriangles;
   ++this->Level;

@@ -76,6 +76,8 @@ public:
   Index Finish(Index liveTriangles);
   bool IsSettled() const { return this->Target >= 0; }
   int LevelsExchanged() const { return this->Level; }
+  // Seconds spent in the rounds' exchanges: mostly waiting for the slowest piece to reach the level.
+  double ExchangeSeconds() const { return this->Seconds; }
 
 private:
   void Exchange(Index liveTriangles, bool done, double cheapestCost);
@@ -87,6 +89,7 @@ private:
   int Level = 0;
   Index PreviousLive = -1;
   Index Target = -1;
+  double Seconds = 0.0;
 };
 
 // Collective: the bounding-box diagonal of the union of the pieces (0 when all are empty).

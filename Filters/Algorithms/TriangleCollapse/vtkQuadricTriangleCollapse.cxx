@@ -299,9 +299,9 @@ int vtkQuadricTriangleCollapse::RequestData(
   const slod::Index target = agreement ? agreement->Finish(result.Mesh.NumberOfTriangles()) : piece.Target;
   if (agreement)
   {
-    vtkLogF(TRACE, "piece %d: target %lld agreed in %d rounds (proportional share %lld)",
+    vtkLogF(TRACE, "piece %d: target %lld agreed in %d rounds (proportional share %lld), %.3f s in the rounds",
       this->Controller->GetLocalProcessId(), static_cast<long long>(target), agreement->LevelsExchanged(),
-      static_cast<long long>(piece.Target));
+      static_cast<long long>(piece.Target), agreement->ExchangeSeconds());
   }
   if (result.Aborted)
   {
