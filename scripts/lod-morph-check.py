@@ -15,8 +15,6 @@ INPUT: a mesh file (.off/.vtp/.ply/.stl), or noisy:<resolution> (vtkScanSurfaceS
 """
 import argparse
 import collections
-import glob
-import math
 import os
 import sys
 import time
@@ -26,12 +24,12 @@ DELTA = 1e-6
 
 
 def import_surfacelod(build):
-    sites = glob.glob(os.path.join(build, "lib*", "python3*", "*-packages"))
-    if not sites:
-        sys.exit("no Python package under %s/lib*/python3*/*-packages" % build)
-    sys.path.insert(0, sites[0])
-    import surfacelod  # noqa: E402
-    return surfacelod
+    """The project's wrapped module, found as scripts/output-hashes.py finds it."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("output_hashes", os.path.join(os.path.dirname(__file__), "output-hashes.py"))
+    hashes = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hashes)
+    return hashes.import_surfacelod(build)
 
 
 def read(slod, vtk, name):
@@ -60,23 +58,29 @@ def topology(polydata):
         for e in ((a, b), (b, c), (c, a)):
             uses[(min(e), max(e))] += 1
     vertices = len({v for t in triangles for v in t})
-    parent = {}
-
-    def root(v):
-        while parent.setdefault(v, v) != v:
-            parent[v] = parent[parent[v]]
-            v = parent[v]
-        return v
-
+    # Border loops: connected components of the border edges (breadth-first).
+    border = collections.defaultdict(list)
     for (a, b), n in uses.items():
         if n == 1:
-            parent[root(a)] = root(b)
+            border[a].append(b)
+            border[b].append(a)
+    loops, seen = 0, set()
+    for start in border:
+        if start not in seen:
+            loops += 1
+            seen.add(start)
+            queue = collections.deque([start])
+            while queue:
+                for w in border[queue.popleft()]:
+                    if w not in seen:
+                        seen.add(w)
+                        queue.append(w)
     return {
         "triangles": len(triangles),
         "nm_edges": sum(1 for n in uses.values() if n > 2),
         "duplicates": len(triangles) - len({tuple(sorted(t)) for t in triangles}),
         "euler": vertices - len(uses) + len(triangles),
-        "loops": len({root(v) for v in list(parent)}),
+        "loops": loops,
     }
 
 

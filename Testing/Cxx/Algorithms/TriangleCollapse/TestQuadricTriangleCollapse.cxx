@@ -54,6 +54,19 @@ vtkSmartPointer<vtkPolyData> Collapse(vtkPolyData* input, vtkIdType target, doub
   return out;
 }
 
+// Two-sided deviation of `output` from `input` (relative to the diagonal; `samples` per side plus
+// the vertices).
+void Deviation(vtkPolyData* input, vtkPolyData* output, double& hausdorff, double& mean, vtkIdType samples = 300000)
+{
+  vtkNew<vtkSurfaceDeviation> deviation;
+  deviation->SetReferenceData(input);
+  deviation->SetComparedData(output);
+  deviation->SetNumberOfSamples(samples);
+  deviation->Update();
+  hausdorff = deviation->GetHausdorffRelative();
+  mean = deviation->GetMeanRelative();
+}
+
 vtkSmartPointer<vtkPolyData> Mesh(const std::string& name)
 {
   if (name == "marching-cubes")
@@ -316,21 +329,6 @@ TEST(QuadricTriangleCollapse, PaperModeTriangleCollapsesOnly)
   EXPECT_EQ(ComputeMeshStatistics(result.Mesh).Genus, 0);
 }
 
-namespace
-{
-// Two-sided deviation of `output` from `input` (relative to the diagonal, 300,000 samples per side).
-void Deviation(vtkPolyData* input, vtkPolyData* output, double& hausdorff, double& mean)
-{
-  vtkNew<vtkSurfaceDeviation> deviation;
-  deviation->SetReferenceData(input);
-  deviation->SetComparedData(output);
-  deviation->SetNumberOfSamples(300000);
-  deviation->Update();
-  hausdorff = deviation->GetHausdorffRelative();
-  mean = deviation->GetMeanRelative();
-}
-} // namespace
-
 // The paper's configuration (UsePaperConfiguration: triangle collapses only, exact union, no pass
 // after the collapses) against the default and vtkQuadricDecimation at the same count, same run.
 // Asserted: the operations each mode performs (paper: only triangle collapses, each removing two
@@ -398,13 +396,7 @@ TEST(QuadricTriangleCollapse, FitGuardsExactAndLocal)
     options.FitExactAssignmentLimit = exactLimit;
     TriangleCollapseResult result;
     SimplifyByTriangleCollapse(mesh, options, result);
-    vtkNew<vtkSurfaceDeviation> deviation;
-    deviation->SetReferenceData(input);
-    deviation->SetComparedData(slodtest::ToPolyData(result.Mesh));
-    deviation->SetNumberOfSamples(300000);
-    deviation->Update();
-    hausdorff = deviation->GetHausdorffRelative();
-    mean = deviation->GetMeanRelative();
+    Deviation(input, slodtest::ToPolyData(result.Mesh), hausdorff, mean);
     return result.Mesh;
   };
   double h0, m0, hExact, mExact, hLocal, mLocal;
@@ -544,18 +536,9 @@ TEST_P(TriangleCollapseQuality, NoWorseThanQuadricDecimation)
   vtkSmartPointer<vtkPolyData> ours = Collapse(input, count);
   ASSERT_LE(ours->GetNumberOfPolys(), count);
 
-  auto measure = [&](vtkPolyData* simplified, double& hausdorff, double& mean) {
-    vtkNew<vtkSurfaceDeviation> deviation;
-    deviation->SetReferenceData(input);
-    deviation->SetComparedData(simplified);
-    deviation->SetNumberOfSamples(300000);
-    deviation->Update();
-    hausdorff = deviation->GetHausdorffRelative();
-    mean = deviation->GetMeanRelative();
-  };
   double hOurs, mOurs, hVtk, mVtk;
-  measure(reference->GetOutput(), hVtk, mVtk);
-  measure(ours, hOurs, mOurs);
+  Deviation(input, reference->GetOutput(), hVtk, mVtk);
+  Deviation(input, ours, hOurs, mOurs);
   std::printf("[quality] %s %.0f%% (%lld tris): Hausdorff %.4e vs vtkQuadricDecimation %.4e (ratio %.3f), "
               "mean %.4e vs %.4e (ratio %.3f)\n",
     c.Mesh, 100 * c.Fraction, (long long)count, hOurs, hVtk, hVtk > 0 ? hOurs / hVtk : 0.0, mOurs, mVtk,
@@ -577,7 +560,7 @@ TEST_P(TriangleCollapseQuality, NoWorseThanQuadricDecimation)
     free->AllowTopologyChangeOn();
     free->Update();
     ASSERT_LE(free->GetOutput()->GetNumberOfPolys(), count);
-    measure(free->GetOutput(), hOurs, mOurs);
+    Deviation(input, free->GetOutput(), hOurs, mOurs);
     std::printf("[quality] %s %.0f%%: vtkQuadricDecimation changed the Euler characteristic %d -> %d; with "
                 "AllowTopologyChange: Hausdorff ratio %.3f, mean ratio %.3f\n",
       c.Mesh, 100 * c.Fraction, int(in.EulerCharacteristic), int(theirs.EulerCharacteristic), hOurs / hVtk, mOurs / mVtk);
@@ -619,13 +602,7 @@ TEST(QuadricTriangleCollapse, AccumulatedQuadricsMatchExactUnionQuality)
     vtkPolyData* outputs[2] = { accumulated, exact->GetOutput() };
     for (int i = 0; i < 2; ++i)
     {
-      vtkNew<vtkSurfaceDeviation> deviation;
-      deviation->SetReferenceData(input);
-      deviation->SetComparedData(outputs[i]);
-      deviation->SetNumberOfSamples(100000);
-      deviation->Update();
-      h[i] = deviation->GetHausdorffRelative();
-      m[i] = deviation->GetMeanRelative();
+      Deviation(input, outputs[i], h[i], m[i], 100000);
     }
     std::printf("[union] %s to %lld: accumulated Hausdorff %.4e mean %.4e | exact union Hausdorff %.4e mean %.4e\n",
       name, (long long)target, h[0], m[0], h[1], m[1]);
@@ -653,13 +630,7 @@ TriangleMesh CollapseWithPasses(vtkPolyData* input, vtkIdType target, bool fit, 
   filter->SetFitToOriginal(fit);
   filter->SetDeviationRefinement(refine);
   filter->Update();
-  vtkNew<vtkSurfaceDeviation> deviation;
-  deviation->SetReferenceData(input);
-  deviation->SetComparedData(filter->GetOutput());
-  deviation->SetNumberOfSamples(samples);
-  deviation->Update();
-  hausdorff = deviation->GetHausdorffRelative();
-  mean = deviation->GetMeanRelative();
+  Deviation(input, filter->GetOutput(), hausdorff, mean, samples);
   return slodtest::RawTriangleMesh(filter->GetOutput());
 }
 } // namespace
