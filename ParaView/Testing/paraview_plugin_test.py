@@ -227,14 +227,29 @@ def progressive_mesh_reconstruction(checks, meshes, work):
 @case
 def lod_interpolation(checks, meshes, work):
     detailed = read(meshes, "fandisk")
-    coarse = simple.QuadricTriangleCollapse(Input=detailed, TargetNumberOfTriangles=1000)
-    blend = simple.LODInterpolation(Detailed=detailed, Coarse=coarse)
+    coarse = simple.QuadricTriangleCollapse(Input=detailed, TargetNumberOfTriangles=1000, GenerateProgressiveMesh=1)
+    # With the collapse records: the geomorph, exactly the two levels at its ends, manifold and
+    # with the detailed mesh's triangles in between, continuous in T.
+    morph = simple.LODInterpolation(Detailed=detailed, Coarse=coarse, Records=simple.OutputPort(coarse, 1))
     coarse_data, detailed_data = fetch(coarse), fetch(detailed)
-    coarse_count = coarse_data.GetNumberOfPolys()
+    coarse_count, detailed_topology = coarse_data.GetNumberOfPolys(), topology(detailed_data)
     for t, reference in ((0.0, detailed), (1.0, coarse)):
-        blend.T = t
-        hausdorff, _ = deviation(reference, blend)
+        morph.T = t
+        hausdorff, _ = deviation(reference, morph)
         checks.expect(hausdorff < EXACT, "T = %g is the %s mesh: Hausdorff %g" % (t, "detailed" if t == 0 else "coarse", hausdorff))
+    for t in (1e-6, 0.5, 0.999999):
+        morph.T = t
+        now = topology(fetch(morph))
+        checks.expect(now["triangles"] == detailed_topology["triangles"] and now["non_manifold_edges"] == 0
+                      and now["euler"] == detailed_topology["euler"],
+                      "T = %g: %d triangles, %d non-manifold edges, Euler %d (detailed: %d, 0, %d)"
+                      % (t, now["triangles"], now["non_manifold_edges"], now["euler"], detailed_topology["triangles"], detailed_topology["euler"]))
+    # Without records (the paper's nearest vertices, any coarse mesh): T = 0 is the detailed mesh,
+    # and the morph stays between the two.
+    blend = simple.LODInterpolation(Detailed=detailed, Coarse=coarse)
+    blend.T = 0.0
+    hausdorff, _ = deviation(detailed, blend)
+    checks.expect(hausdorff < EXACT, "without records T = 0 is the detailed mesh: Hausdorff %g" % hausdorff)
     blend.T = 0.5
     middle = topology(fetch(blend))["triangles"]
     checks.expect(coarse_count < middle <= 12946, "T = 0.5: %d triangles, between %d and 12946" % (middle, coarse_count))

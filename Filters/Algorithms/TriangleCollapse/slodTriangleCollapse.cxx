@@ -12,6 +12,7 @@
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <iterator>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -299,6 +300,7 @@ private:
   bool BorderPlane(const BorderEdge& edge, Quadric& q) const;
   void BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const;
   void InitializePlaneSets();
+  void SumLogicalSet(Index v); // exact mode: LogicalSum[v] from LogicalSet[v]
   // Quadric of the interrelated set of 2 (edge) or 3 (triangle) vertices.
   Quadric SetQuadric(const Index* v, int count, double& weight) const;
   // Best placement (local coordinates) and its cost for the set's quadric.
@@ -395,11 +397,12 @@ private:
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
   BucketQueue Heap;
-  // Exact mode: original planes and, per vertex, the sorted ids of its logical set.
+  // Exact mode: original planes and, per vertex, the sorted ids of its logical set and their sum.
   std::vector<Quadric> PlaneQuadric;
   std::vector<double> PlaneWeight;
   std::vector<std::vector<Index>> LogicalSet;
-  mutable std::vector<Index> UnionScratch;
+  std::vector<WeightedQuadric> LogicalSum;
+  std::vector<Index> MergeScratch;
 };
 
 void TriangleCollapser::Reorder(TriangleMesh& mesh)
@@ -597,9 +600,22 @@ void TriangleCollapser::InitializePlaneSets()
       }
     }
   }
-  for (auto& set : this->LogicalSet)
+  this->LogicalSum.assign(size_t(nv), WeightedQuadric());
+  for (Index v = 0; v < nv; ++v)
   {
-    std::sort(set.begin(), set.end());
+    std::sort(this->LogicalSet[v].begin(), this->LogicalSet[v].end());
+    this->SumLogicalSet(v);
+  }
+}
+
+void TriangleCollapser::SumLogicalSet(Index v)
+{
+  WeightedQuadric& sum = this->LogicalSum[v];
+  sum = WeightedQuadric();
+  for (Index id : this->LogicalSet[v])
+  {
+    sum.Q += this->PlaneQuadric[id];
+    sum.W += this->PlaneWeight[id];
   }
 }
 
@@ -630,22 +646,40 @@ Quadric TriangleCollapser::SetQuadric(const Index* tri, int count, double& weigh
     }
     return q;
   }
-  // Union of the sorted logical sets, each plane once.
-  auto& u = this->UnionScratch;
-  u.clear();
+  // Union of the sorted logical sets, each plane once: the largest set's sum, plus the planes of
+  // the others that no set before them holds (binary searches). An evaluation costs the smaller
+  // sets only, so a vertex with thousands of planes (a high-valence fan) is not summed again for
+  // each of its triangles.
+  int largest = 0;
+  for (int i = 1; i < count; ++i)
+  {
+    largest = this->LogicalSet[tri[i]].size() > this->LogicalSet[tri[largest]].size() ? i : largest;
+  }
+  Quadric q = this->LogicalSum[tri[largest]].Q;
+  weight = this->LogicalSum[tri[largest]].W;
+  auto holds = [&](int i, Index id) {
+    const auto& s = this->LogicalSet[tri[i]];
+    return std::binary_search(s.begin(), s.end(), id);
+  };
   for (int i = 0; i < count; ++i)
   {
-    const auto& s = this->LogicalSet[tri[i]];
-    u.insert(u.end(), s.begin(), s.end());
-  }
-  std::sort(u.begin(), u.end());
-  u.erase(std::unique(u.begin(), u.end()), u.end());
-  Quadric q;
-  weight = 0;
-  for (Index id : u)
-  {
-    q += this->PlaneQuadric[id];
-    weight += this->PlaneWeight[id];
+    if (i == largest)
+    {
+      continue;
+    }
+    for (Index id : this->LogicalSet[tri[i]])
+    {
+      bool seen = holds(largest, id);
+      for (int j = 0; j < i && !seen; ++j)
+      {
+        seen = j != largest && holds(j, id);
+      }
+      if (!seen)
+      {
+        q += this->PlaneQuadric[id];
+        weight += this->PlaneWeight[id];
+      }
+    }
   }
   return q;
 }
@@ -1164,12 +1198,14 @@ void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept)
     const Index v = c.Set[i];
     if (v != kept)
     {
-      s.insert(s.end(), this->LogicalSet[v].begin(), this->LogicalSet[v].end());
+      auto& m = this->MergeScratch;
+      m.clear();
+      std::set_union(s.begin(), s.end(), this->LogicalSet[v].begin(), this->LogicalSet[v].end(), std::back_inserter(m));
+      s.swap(m);
       std::vector<Index>().swap(this->LogicalSet[v]);
     }
   }
-  std::sort(s.begin(), s.end());
-  s.erase(std::unique(s.begin(), s.end()), s.end());
+  this->SumLogicalSet(kept);
 }
 
 Index TriangleCollapser::Perform(
@@ -1191,6 +1227,7 @@ Index TriangleCollapser::Perform(
   this->MergeVertexState(c, kept);
   result.MaximumError = std::max(result.MaximumError, c.Error);
   ++result.Collapses;
+  result.EdgeCollapses += c.Count == 2 ? 1 : 0;
   for (Index r : loop.Record.RemovedTriangles)
   {
     this->Heap.Remove(r);
@@ -1602,18 +1639,17 @@ void TriangleCollapser::MoveTowardOriginal(const TriangleMesh& original, Triangl
 {
   Ancestry ancestry;
   this->BuildAncestry(original, ancestry);
-  Index moved = 0;
   if (this->Options.FitToOriginal)
   {
-    moved += this->FitToOriginal(original, ancestry);
+    result.FittedVertices = this->FitToOriginal(original, ancestry);
     this->TraceStage("fit to original");
   }
   if (this->Options.RefineDeviation)
   {
-    moved += this->RefineDeviation(original, ancestry);
+    result.RefinedVertices = this->RefineDeviation(original, ancestry);
     this->TraceStage("deviation refinement");
   }
-  if (this->Options.RecordHistory && moved > 0)
+  if (this->Options.RecordHistory && result.FittedVertices + result.RefinedVertices > 0)
   {
     this->StoreMovedPositions(result);
   }

@@ -143,6 +143,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   std::vector<double> VertexError;   // per output vertex: RMS distance to its original planes
   double MaximumError = 0.0;         // largest error of a performed collapse or output vertex
   Index Collapses = 0;
+  Index EdgeCollapses = 0;           // of Collapses, those that merged two vertices (the rest: three)
+  Index FittedVertices = 0;          // vertices moved by FitToOriginal
+  Index RefinedVertices = 0;         // vertex moves of RefineDeviation (a vertex may count in several rounds)
   Index RejectedCollapses = 0;       // validity test failures (each retried later)
   bool Aborted = false;
   bool StoppedByError = false;       // a collapse was refused for exceeding MaximumError

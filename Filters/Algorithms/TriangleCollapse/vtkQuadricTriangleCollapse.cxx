@@ -238,6 +238,9 @@ int vtkQuadricTriangleCollapse::RequestData(
   vtkTable* records = vtkTable::GetData(outputVector, 1);
   this->ActualReduction = 0.0;
   this->NumberOfCollapses = 0;
+  this->NumberOfEdgeCollapses = 0;
+  this->NumberOfFittedVertices = 0;
+  this->NumberOfRefinedVertices = 0;
   this->MaximumSimplificationError = 0.0;
   if (!input || !output)
   {
@@ -317,6 +320,9 @@ int vtkQuadricTriangleCollapse::RequestData(
     StoreProgressiveMesh(result, inputPoints, inputTriangles, output, records);
   }
   this->NumberOfCollapses = result.Collapses;
+  this->NumberOfEdgeCollapses = result.EdgeCollapses;
+  this->NumberOfFittedVertices = result.FittedVertices;
+  this->NumberOfRefinedVertices = result.RefinedVertices;
   this->MaximumSimplificationError = result.MaximumError;
   this->ActualReduction = 1.0 - double(result.Mesh.NumberOfTriangles()) / double(inputTriangles);
   if (result.WorkBoundReached)
@@ -329,6 +335,14 @@ int vtkQuadricTriangleCollapse::RequestData(
     "every further collapse would change the topology, fold a triangle or touch a locked vertex (non-manifold, or "
     "on the seam with another piece)");
   return 1;
+}
+
+void vtkQuadricTriangleCollapse::UsePaperConfiguration()
+{
+  this->SetEdgeCollapses(false);
+  this->SetExactUnion(true);
+  this->SetFitToOriginal(false);
+  this->SetDeviationRefinement(false);
 }
 
 void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
@@ -353,5 +367,8 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Controller: " << this->Controller << "\n";
   os << indent << "ActualReduction: " << this->ActualReduction << "\n";
   os << indent << "NumberOfCollapses: " << this->NumberOfCollapses << "\n";
+  os << indent << "NumberOfEdgeCollapses: " << this->NumberOfEdgeCollapses << "\n";
+  os << indent << "NumberOfFittedVertices: " << this->NumberOfFittedVertices << "\n";
+  os << indent << "NumberOfRefinedVertices: " << this->NumberOfRefinedVertices << "\n";
   os << indent << "MaximumSimplificationError: " << this->MaximumSimplificationError << "\n";
 }

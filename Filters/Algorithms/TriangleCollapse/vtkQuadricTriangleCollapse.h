@@ -160,7 +160,8 @@ public:
   ///@}
 
   ///@{
-  /// Exact union of the interrelated sets (each original plane once; slower reference mode).
+  /// Exact union of the interrelated sets (each original plane once; slower reference mode). The
+  /// fit and the deviation refinement do not run in this mode.
   vtkSetMacro(ExactUnion, bool);
   vtkGetMacro(ExactUnion, bool);
   vtkBooleanMacro(ExactUnion, bool);
@@ -192,10 +193,20 @@ public:
   vtkGetMacro(OutputPointsPrecision, int);
   ///@}
 
+  /// The paper's configuration (Pan, Zhou, Shi 2000): triangle collapses only, the exact union of
+  /// the interrelated sets, no pass after the collapses (EdgeCollapsesOff, ExactUnionOn,
+  /// FitToOriginalOff, DeviationRefinementOff). The other settings are left as they are.
+  void UsePaperConfiguration();
+
   ///@{
-  /// Results of the last update.
+  /// Results of the last update. NumberOfEdgeCollapses of the NumberOfCollapses merged two
+  /// vertices (the others are triangle collapses, three vertices); NumberOfFittedVertices were
+  /// moved by the fit to the original, NumberOfRefinedVertices moves made by the refinement.
   vtkGetMacro(ActualReduction, double);
   vtkGetMacro(NumberOfCollapses, vtkIdType);
+  vtkGetMacro(NumberOfEdgeCollapses, vtkIdType);
+  vtkGetMacro(NumberOfFittedVertices, vtkIdType);
+  vtkGetMacro(NumberOfRefinedVertices, vtkIdType);
   vtkGetMacro(MaximumSimplificationError, double);
   ///@}
 
@@ -236,6 +247,9 @@ protected:
 
   double ActualReduction = 0.0;
   vtkIdType NumberOfCollapses = 0;
+  vtkIdType NumberOfEdgeCollapses = 0;
+  vtkIdType NumberOfFittedVertices = 0;
+  vtkIdType NumberOfRefinedVertices = 0;
   double MaximumSimplificationError = 0.0;
 
 private:

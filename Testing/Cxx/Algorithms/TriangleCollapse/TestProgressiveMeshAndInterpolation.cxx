@@ -7,6 +7,7 @@
 #include "vtkLODInterpolation.h"
 #include "vtkProgressiveMeshReconstruction.h"
 #include "vtkQuadricTriangleCollapse.h"
+#include "vtkSurfaceDeviation.h"
 
 #include "vtkCellArray.h"
 #include "vtkNew.h"
@@ -21,6 +22,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 
 using namespace slod;
 
@@ -150,19 +152,175 @@ vtkSmartPointer<vtkPolyData> Interpolate(vtkPolyData* detailed, vtkPolyData* coa
   out->ShallowCopy(filter->GetOutput());
   return out;
 }
+
+// Two levels of one collapse run and its records: the coarse mesh at `coarseShare` of the input's
+// triangles, the detailed one a reconstruction level at `detailedShare` (1: the input itself).
+struct TwoLevels
+{
+  vtkSmartPointer<vtkPolyData> Detailed, Coarse;
+  vtkSmartPointer<vtkTable> Records;
+  TwoLevels(vtkPolyData* input, double detailedShare, double coarseShare)
+  {
+    const vtkIdType n = input->GetNumberOfPolys();
+    Progressive pm(input, vtkIdType(coarseShare * n));
+    pm.Reconstruction->SetTargetNumberOfTriangles(vtkIdType(detailedShare * n));
+    pm.Reconstruction->Update();
+    this->Coarse = vtkSmartPointer<vtkPolyData>::New();
+    this->Coarse->DeepCopy(pm.Collapse->GetOutput(0));
+    this->Records = vtkSmartPointer<vtkTable>::New();
+    this->Records->DeepCopy(pm.Collapse->GetCollapseRecords());
+    this->Detailed = input;
+    if (detailedShare < 1)
+    {
+      this->Detailed = vtkSmartPointer<vtkPolyData>::New();
+      this->Detailed->DeepCopy(pm.Reconstruction->GetOutput());
+    }
+  }
+  vtkSmartPointer<vtkPolyData> Morph(double t, vtkLODInterpolation* filter = nullptr) const
+  {
+    vtkNew<vtkLODInterpolation> own;
+    filter = filter ? filter : own.Get();
+    filter->SetDetailedData(this->Detailed);
+    filter->SetCoarseData(this->Coarse);
+    filter->SetRecordsData(this->Records);
+    filter->SetT(t);
+    filter->Update();
+    auto out = vtkSmartPointer<vtkPolyData>::New();
+    out->ShallowCopy(filter->GetOutput());
+    return out;
+  }
+};
+
+// Triangles with the same three vertices as an earlier one (any order).
+Index DuplicateTriangles(const TriangleMesh& mesh)
+{
+  std::vector<std::array<Index, 3>> sorted;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    std::array<Index, 3> v = { mesh.Triangle(t)[0], mesh.Triangle(t)[1], mesh.Triangle(t)[2] };
+    std::sort(v.begin(), v.end());
+    sorted.push_back(v);
+  }
+  std::sort(sorted.begin(), sorted.end());
+  return Index(sorted.size() - (std::unique(sorted.begin(), sorted.end()) - sorted.begin()));
+}
+
+// Symmetric Hausdorff distance of two surfaces (every vertex and 20,000 samples per side).
+double Hausdorff(vtkPolyData* a, vtkPolyData* b)
+{
+  vtkNew<vtkSurfaceDeviation> deviation;
+  deviation->SetInputData(0, a);
+  deviation->SetInputData(1, b);
+  deviation->SetNumberOfSamples(20000);
+  deviation->SampleVerticesOn();
+  deviation->Update();
+  return deviation->GetHausdorff();
+}
+
+// The geomorph at t in `ts` (0 and 1 included): the ends are the two levels; in between no
+// non-manifold edge or vertex, no duplicate triangle, no misoriented edge, the Euler
+// characteristic and border loops of both ends; from t to t + delta the surface moves by at most
+// 2 delta times the diagonal (each vertex moves on a segment no longer than about the diagonal),
+// at t = 1 - delta to 1 included.
+void ExpectContinuousManifoldMorph(const TwoLevels& levels, const std::vector<double>& ts)
+{
+  const TriangleMesh detailed = slodtest::RawTriangleMesh(levels.Detailed), coarse = slodtest::RawTriangleMesh(levels.Coarse);
+  const MeshStatistics d = ComputeMeshStatistics(detailed), c = ComputeMeshStatistics(coarse);
+  ASSERT_EQ(d.EulerCharacteristic, c.EulerCharacteristic);
+  ASSERT_EQ(d.BoundaryLoops, c.BoundaryLoops);
+  const double diagonal = detailed.BoundingBoxDiagonal(), delta = 1e-6;
+  vtkNew<vtkLODInterpolation> filter;
+  for (double t : ts)
+  {
+    SCOPED_TRACE("t = " + std::to_string(t));
+    vtkSmartPointer<vtkPolyData> out = levels.Morph(t, filter);
+    EXPECT_TRUE(filter->GetUsedCollapseRecords());
+    const TriangleMesh mesh = slodtest::RawTriangleMesh(out);
+    const MeshStatistics s = ComputeMeshStatistics(mesh);
+    EXPECT_EQ(s.NonManifoldEdges, 0);
+    EXPECT_EQ(s.NonManifoldVertices, 0);
+    EXPECT_EQ(s.InconsistentlyOrientedEdges, 0);
+    EXPECT_EQ(DuplicateTriangles(mesh), 0);
+    EXPECT_EQ(s.EulerCharacteristic, d.EulerCharacteristic);
+    EXPECT_EQ(s.BoundaryLoops, d.BoundaryLoops);
+    EXPECT_EQ(s.Components, d.Components);
+    const double next = std::min(1.0, t + delta), previous = next - delta;
+    EXPECT_LE(Hausdorff(levels.Morph(previous), levels.Morph(next)), 2 * delta * diagonal) << "jump between " << previous << " and " << next;
+  }
+  EXPECT_TRUE(CanonicalTriangles(slodtest::RawTriangleMesh(levels.Morph(0.0))) == CanonicalTriangles(detailed));
+  EXPECT_TRUE(CanonicalTriangles(slodtest::RawTriangleMesh(levels.Morph(1.0))) == CanonicalTriangles(coarse));
+}
+
+const std::vector<double> MorphTimes = { 0, 1e-6, 0.1, 0.25, 0.5, 0.75, 0.9, 0.999999, 1 - 1e-9, 1 };
 } // namespace
 
-TEST(LODInterpolation, EndsReproduceTheInputs)
+// The case: bunny00 between its 10 % and 2 % levels of one collapse run.
+TEST(LODInterpolation, GeomorphBetweenTwoLevelsIsContinuousAndManifold)
+{
+  ExpectContinuousManifoldMorph(TwoLevels(slodtest::LoadTestMesh("bunny00"), 0.10, 0.02), MorphTimes);
+}
+
+// From the collapse filter's input itself (no OriginalVertexId) to its output; an open mesh with
+// holes (border loops kept at every t).
+TEST(LODInterpolation, GeomorphFromTheInputKeepsBorders)
+{
+  ExpectContinuousManifoldMorph(TwoLevels(slodtest::LoadTestMesh("fandisk"), 1.0, 0.05), MorphTimes);
+  ExpectContinuousManifoldMorph(TwoLevels(slodtest::LoadTestMesh("mech-holes-shark"), 1.0, 0.05), { 0, 1e-6, 0.5, 0.999999, 1 });
+}
+
+// Records that do not relate the two meshes (levels swapped, or the coarse mesh of a run with
+// other collapses: triangle collapses only) are an error and an empty output, never a wrong morph.
+TEST(LODInterpolation, RecordsOfOtherLevelsAreAnError)
+{
+  const TwoLevels levels(slodtest::LoadTestMesh("fandisk"), 0.5, 0.05);
+  vtkNew<vtkQuadricTriangleCollapse> otherRun;
+  otherRun->SetInputData(slodtest::LoadTestMesh("fandisk"));
+  otherRun->EdgeCollapsesOff();
+  otherRun->GenerateProgressiveMeshOn();
+  otherRun->Update();
+  vtkObject::GlobalWarningDisplayOn(); // another test may have turned it off: no error event then
+  for (int wrong = 0; wrong < 2; ++wrong)
+  {
+    vtkNew<vtkLODInterpolation> filter;
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::ErrorEvent, messages);
+    filter->SetDetailedData(wrong == 0 ? levels.Coarse : levels.Detailed);
+    filter->SetCoarseData(wrong == 0 ? levels.Detailed.Get() : otherRun->GetOutput());
+    filter->SetRecordsData(levels.Records);
+    filter->Update();
+    EXPECT_EQ(messages->Errors.size(), 1u);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  }
+}
+
+// Without records (the paper's nearest-vertex correspondence) t = 0 is still the detailed mesh:
+// no edge merges before it has shrunk.
+TEST(LODInterpolation, NearestVertexMorphStartsAtTheDetailedMesh)
 {
   vtkSmartPointer<vtkPolyData> detailed = slodtest::LoadTestMesh("fandisk");
   vtkNew<vtkQuadricTriangleCollapse> collapse;
   collapse->SetInputData(detailed);
   collapse->SetTargetReduction(0.95);
   collapse->Update();
-  vtkPolyData* coarse = collapse->GetOutput();
-  const TriangleMesh d = slodtest::RawTriangleMesh(detailed), c = slodtest::RawTriangleMesh(coarse);
-  EXPECT_TRUE(CanonicalTriangles(slodtest::RawTriangleMesh(Interpolate(detailed, coarse, 0.0, 1e-3))) == CanonicalTriangles(d));
-  EXPECT_TRUE(CanonicalTriangles(slodtest::RawTriangleMesh(Interpolate(detailed, coarse, 1.0, 1e-3))) == CanonicalTriangles(c));
+  vtkNew<vtkLODInterpolation> filter;
+  filter->SetDetailedData(detailed);
+  filter->SetCoarseData(collapse->GetOutput());
+  filter->SetEpsilon(1e-2);
+  filter->SetT(0.0);
+  filter->Update();
+  EXPECT_FALSE(filter->GetUsedCollapseRecords());
+  EXPECT_EQ(filter->GetMergedVertices(), 0);
+  EXPECT_TRUE(CanonicalTriangles(slodtest::RawTriangleMesh(filter->GetOutput())) == CanonicalTriangles(slodtest::RawTriangleMesh(detailed)));
+}
+
+// The ends are the two levels (the geomorph's; without a special case for either).
+TEST(LODInterpolation, EndsReproduceTheInputs)
+{
+  vtkSmartPointer<vtkPolyData> detailed = slodtest::LoadTestMesh("fandisk");
+  const TwoLevels levels(detailed, 1.0, 0.05);
+  const TriangleMesh d = slodtest::RawTriangleMesh(detailed), c = slodtest::RawTriangleMesh(levels.Coarse);
+  EXPECT_TRUE(CanonicalTriangles(slodtest::RawTriangleMesh(levels.Morph(0.0))) == CanonicalTriangles(d));
+  EXPECT_TRUE(CanonicalTriangles(slodtest::RawTriangleMesh(levels.Morph(1.0))) == CanonicalTriangles(c));
 }
 
 TEST(LODInterpolation, CorrespondencesAndInterpolationMatchBruteForce)
