@@ -213,6 +213,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   this->NumberOfRetainedVertices = 0;
   this->NumberOfFlips = 0;
+  this->NumberOfFeatureVertices = this->NumberOfCorners = 0;
   this->MinimumSpacingBefore = this->MeanSpacingBefore = this->MinimumSpacingAfter = this->MeanSpacingAfter = 0;
   if (!input || !output)
   {
@@ -242,6 +243,8 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.CurvatureWeight = this->CurvatureWeight;
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
+  options.PreserveCreases = this->PreserveCreases;
+  options.FeatureAngle = this->FeatureAngle;
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
   slod::RetilingResult result = RetileWithin(mesh, options, limit);
@@ -301,10 +304,21 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   }
   this->NumberOfRetainedVertices = result.RetainedOldVertices;
   this->NumberOfFlips = result.Flips;
+  this->NumberOfFeatureVertices = result.FeatureVertices;
+  this->NumberOfCorners = result.Corners;
   this->MinimumSpacingBefore = result.MinSpacingBefore;
   this->MeanSpacingBefore = result.MeanSpacingBefore;
   this->MinimumSpacingAfter = result.MinSpacingAfter;
   this->MeanSpacingAfter = result.MeanSpacingAfter;
+  if (result.FeaturesIgnored)
+  {
+    vtkWarningMacro(<< "PreserveCreases: the feature lines at FeatureAngle " << this->FeatureAngle
+                    << " would take half the vertices or more; they are not kept.");
+  }
+  if (this->PreserveCreases && this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
+  {
+    vtkWarningMacro(<< "PreserveCreases is not applied to the nested levels (output 0 is the finest level).");
+  }
   if (result.DroppedCandidates > 0)
   {
     vtkWarningMacro(<< result.DroppedCandidates
@@ -330,6 +344,10 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
   os << indent << "ShapeImprovementPasses: " << this->ShapeImprovementPasses << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
+  os << indent << "PreserveCreases: " << this->PreserveCreases << "\n";
+  os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
+  os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";
+  os << indent << "NumberOfCorners: " << this->NumberOfCorners << "\n";
   os << indent << "GenerateNestedLevels: " << this->GenerateNestedLevels << "\n";
   os << indent << "NumberOfNestedLevels: " << this->NumberOfNestedLevels << "\n";
   os << indent << "NestedLevelRatio: " << this->NestedLevelRatio << "\n";

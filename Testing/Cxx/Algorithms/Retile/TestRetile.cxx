@@ -387,6 +387,89 @@ TEST(Retile, NoNearCoincidentVerticesAtCreases)
   }
 }
 
+namespace
+{
+// Distance (relative to the diagonal) from the midpoint of every input edge whose dihedral angle
+// exceeds `featureAngle` (computed here, independently of the filter) to the output surface.
+std::vector<double> CreaseMidpointDistances(const TriangleMesh& input, const TriangleMesh& output, double featureAngle)
+{
+  const MeshTopology topology(input);
+  const TriangleBVH bvh(output);
+  const double cosine = std::cos(featureAngle * 3.14159265358979323846 / 180.0);
+  std::vector<double> distances;
+  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    if (topology.EdgeTriangleCount(e) != 2)
+    {
+      continue;
+    }
+    const Index* t = topology.EdgeTrianglesBegin(e);
+    if (Dot(Normalized(input.TriangleAreaVector(t[0])), Normalized(input.TriangleAreaVector(t[1]))) >= cosine)
+    {
+      continue;
+    }
+    const Vec3 middle = 0.5 * (input.Point(topology.EdgeVertex(e, 0)) + input.Point(topology.EdgeVertex(e, 1)));
+    distances.push_back(std::sqrt(bvh.ClosestPoint(middle).Distance2) / input.BoundingBoxDiagonal());
+  }
+  std::sort(distances.begin(), distances.end());
+  return distances;
+}
+
+double Quantile(const std::vector<double>& sorted, double q)
+{
+  return sorted.empty() ? 0.0 : sorted[std::min(sorted.size() - 1, size_t(q * double(sorted.size())))];
+}
+} // namespace
+
+// Turk's uniform vertices cut sharp creases (fandisk: Hausdorff 116 times vtkQuadricDecimation's).
+// With PreserveCreases the output's edges follow the input's creases (dihedral angle above
+// FeatureAngle): their midpoints lie on the output surface, and the whole surface is closer.
+TEST(Retile, PreserveCreasesFollowsCreasesAndCorners)
+{
+  for (const char* name : { "fandisk", "anchor_dense" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    const TriangleMesh in = slodtest::ToTriangleMesh(input);
+    double hausdorff[2] = { 0, 0 };
+    std::vector<double> creases[2];
+    for (int preserve = 0; preserve < 2; ++preserve)
+    {
+      vtkNew<vtkRetile> filter;
+      filter->SetInputData(input);
+      filter->SetTargetReduction(0.9);
+      filter->SetPreserveCreases(preserve != 0);
+      filter->Update();
+      vtkPolyData* output = filter->GetOutput();
+      const TriangleMesh out = slodtest::RawTriangleMesh(output);
+      ASSERT_GT(out.NumberOfTriangles(), 0);
+      slodtest::ExpectSameTopology(in, out);
+      EXPECT_LT(CheckAgainstInput(in, out).MaxVertexDistance, 1e-6);
+      hausdorff[preserve] = Hausdorff(input, output);
+      creases[preserve] = CreaseMidpointDistances(in, out, filter->GetFeatureAngle());
+      std::printf("[retile] %s PreserveCreases %d: %lld vertices (%lld on lines, %lld corners, %lld retained), "
+                  "Hausdorff %.3e, crease midpoints to the output: median %.2e, 90%% %.2e, max %.2e\n",
+        name, preserve, (long long)output->GetNumberOfPoints(), (long long)filter->GetNumberOfFeatureVertices(),
+        (long long)filter->GetNumberOfCorners(), (long long)filter->GetNumberOfRetainedVertices(), hausdorff[preserve],
+        Quantile(creases[preserve], 0.5), Quantile(creases[preserve], 0.9), Quantile(creases[preserve], 1.0));
+      if (preserve)
+      {
+        EXPECT_GT(filter->GetNumberOfCorners(), 0);
+        EXPECT_GT(filter->GetNumberOfFeatureVertices(), filter->GetNumberOfCorners());
+      }
+      else
+      {
+        EXPECT_EQ(filter->GetNumberOfFeatureVertices(), 0);
+      }
+    }
+    ASSERT_GT(creases[1].size(), 100u);
+    // Most crease edges are output edges (distance 0 up to rounding), nearly all within 2e-3.
+    EXPECT_LT(Quantile(creases[1], 0.5), 1e-4);
+    EXPECT_LT(Quantile(creases[1], 0.9), 2e-3);
+    EXPECT_LT(hausdorff[1], 0.75 * hausdorff[0]);
+  }
+}
+
 // Never more triangles than asked for nor than the input has, and no degenerate ones: a single
 // triangle (re-tiled with 4 points it had 3), a sphere asked for as many triangles as it has or
 // for more points than it has (retained vertices added triangles), and a sphere with one vertex
