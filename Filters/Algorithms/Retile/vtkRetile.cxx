@@ -7,7 +7,10 @@
 #include "slodPointAttributes.h"
 #include "slodRetiling.h"
 
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
+#include "vtkIntArray.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
@@ -103,6 +106,38 @@ slod::RetilingResult RetileWithin(const slod::TriangleMesh& mesh, slod::Retiling
   return result;
 }
 
+// An explicit vertex count: the retained old vertices come on top of the candidates, so while the
+// output has another count, re-tile with the candidates shifted by the difference (bounded
+// attempts, never more than `limit` triangles); returns the attempt closest to `wanted`.
+slod::RetilingResult RetileExactCount(const slod::TriangleMesh& mesh, slod::RetilingOptions& options,
+  slod::Index wanted, slod::Index limit, slod::RetilingResult result)
+{
+  slod::RetilingOptions attempt = options;
+  for (int k = 0; k < MaximumRetileAttempts && !result.Aborted; ++k)
+  {
+    const slod::Index got = result.Mesh.NumberOfPoints();
+    const slod::Index points = attempt.NumberOfPoints + (wanted - got);
+    if (got == wanted || points < 4 || points == attempt.NumberOfPoints)
+    {
+      break;
+    }
+    attempt.NumberOfPoints = points;
+    slod::RetilingResult next;
+    slod::Retile(mesh, attempt, next);
+    if (next.Aborted)
+    {
+      return next;
+    }
+    const auto miss = [&](const slod::RetilingResult& r) { return std::abs(r.Mesh.NumberOfPoints() - wanted); };
+    if (next.Mesh.NumberOfTriangles() <= limit && miss(next) < miss(result))
+    {
+      result = std::move(next);
+      options.NumberOfPoints = attempt.NumberOfPoints;
+    }
+  }
+  return result;
+}
+
 // The vertex counts of the nested levels, finest first: each NestedLevelRatio times smaller, at
 // least 4.
 std::vector<slod::Index> NestedLevelCounts(slod::Index finest, int numberOfLevels, double ratio)
@@ -185,6 +220,22 @@ void StoreRetiling(const slod::RetilingResult& retiling, const slod::TriangleMes
   }
   attributes.Store(polyData->GetPointData(), rows);
 }
+// Field data: RetainedVertices (original vertices kept for the topology) and, for an explicit
+// vertex count, NumberOfPointsReached (1 when the output has exactly that many vertices).
+void StoreCountReport(vtkPolyData* output, slod::Index wanted, slod::Index retained)
+{
+  vtkNew<vtkIdTypeArray> retainedArray;
+  retainedArray->SetName("RetainedVertices");
+  retainedArray->InsertNextValue(retained);
+  output->GetFieldData()->AddArray(retainedArray);
+  if (wanted > 0)
+  {
+    vtkNew<vtkIntArray> reached;
+    reached->SetName("NumberOfPointsReached");
+    reached->InsertNextValue(output->GetNumberOfPoints() == wanted ? 1 : 0);
+    output->GetFieldData()->AddArray(reached);
+  }
+}
 } // namespace
 
 vtkRetile::vtkRetile()
@@ -248,6 +299,11 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
   slod::RetilingResult result = RetileWithin(mesh, options, limit);
+  const slod::Index wanted = static_cast<slod::Index>(this->NumberOfPoints);
+  if (wanted > 0 && !result.Aborted && result.Mesh.NumberOfTriangles() <= limit && !this->GenerateNestedLevels)
+  {
+    result = RetileExactCount(mesh, options, wanted, limit, std::move(result));
+  }
   const bool retiled = result.Mesh.NumberOfTriangles() <= limit;
   if (!result.Aborted && !retiled)
   {
@@ -329,6 +385,14 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   {
     vtkWarningMacro(<< result.RetainedOldVertices
                     << " original vertices could not be removed without changing the topology or folding the surface; they are kept.");
+  }
+  // Why the vertex count may differ from the one asked for: the retained original vertices.
+  StoreCountReport(output, wanted, result.RetainedOldVertices);
+  if (wanted > 0 && output->GetNumberOfPoints() != wanted && output->GetNumberOfPolys() > 0)
+  {
+    vtkWarningMacro(<< "NumberOfPoints " << wanted << " not reached: the output has " << output->GetNumberOfPoints()
+                    << " vertices (" << result.RetainedOldVertices
+                    << " original vertices retained for the topology; see the field data RetainedVertices).");
   }
   return 1;
 }
