@@ -1096,6 +1096,7 @@ struct OldVertexRemoval
       }
       auto& other = this->Lines[w];
       std::replace(other.begin(), other.end(), r, target);
+      std::sort(other.begin(), other.end()); // a short line closed into a loop: no duplicates
       other.erase(std::unique(other.begin(), other.end()), other.end());
       if (std::find(joined.begin(), joined.end(), w) == joined.end())
       {
