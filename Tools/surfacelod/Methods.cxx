@@ -262,6 +262,8 @@ std::vector<Parameter> RetileParameters()
     SLOD_PARAMETER(vtkRetile, Double, CurvatureWeight),
     SLOD_PARAMETER(vtkRetile, Int, RandomSeed),
     SLOD_PARAMETER(vtkRetile, Int, ShapeImprovementPasses),
+    SLOD_PARAMETER(vtkRetile, Bool, PreserveCreases),
+    SLOD_PARAMETER(vtkRetile, Double, FeatureAngle),
     SLOD_PARAMETER(vtkRetile, Int, OutputPointsPrecision),
   };
 }

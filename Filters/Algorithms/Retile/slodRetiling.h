@@ -43,6 +43,11 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   double CurvatureWeight = 0.0;  // 0: uniform; > 0: density 1 + w * curvature / median curvature
   std::uint64_t RandomSeed = 1;
   int ShapeImprovementPasses = 2; // edge-flip passes after vertex removal
+  // Feature lines (slodRetileFeatures.h): edges whose dihedral angle exceeds FeatureAngle degrees
+  // and border edges are kept as lines of the output (their corners and samples along them are
+  // fixed vertices, counted in NumberOfPoints). Retile only; RetileNested ignores it.
+  bool PreserveCreases = false;
+  double FeatureAngle = 45.0;
   // Optional: per input vertex, 1 when non-manifold (the input preparation's
   // PreparationReport::NonManifoldVertexFlags); computed when null. These vertices are kept as
   // they are (retained old vertices): the removal's link condition assumes one fan per vertex.
@@ -72,6 +77,11 @@ struct SURFACELODFILTERS_EXPORT RetilingResult
   Index RetainedOldVertices = 0;   // old vertices no check allowed to remove (kept in the output)
   Index DroppedCandidates = 0;     // candidates repulsion crowded onto another (at pinches, folds)
   Index Flips = 0;
+  // PreserveCreases: the fixed vertices on feature lines (corners included) and the corners;
+  // FeaturesIgnored when they would have been half the vertices or more (lines finer than the
+  // spacing: the re-tiling is then made without them).
+  Index FeatureVertices = 0, Corners = 0;
+  bool FeaturesIgnored = false;
   // Nearest-neighbour spacing of the candidate points (Euclidean), before and after repulsion.
   double MinSpacingBefore = 0, MeanSpacingBefore = 0, MinSpacingAfter = 0, MeanSpacingAfter = 0;
   bool Aborted = false;

@@ -7,7 +7,10 @@
 #include "slodPointAttributes.h"
 #include "slodRetiling.h"
 
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
+#include "vtkIntArray.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
@@ -103,6 +106,38 @@ slod::RetilingResult RetileWithin(const slod::TriangleMesh& mesh, slod::Retiling
   return result;
 }
 
+// An explicit vertex count: the retained old vertices come on top of the candidates, so while the
+// output has another count, re-tile with the candidates shifted by the difference (bounded
+// attempts, never more than `limit` triangles); returns the attempt closest to `wanted`.
+slod::RetilingResult RetileExactCount(const slod::TriangleMesh& mesh, slod::RetilingOptions& options,
+  slod::Index wanted, slod::Index limit, slod::RetilingResult result)
+{
+  slod::RetilingOptions attempt = options;
+  for (int k = 0; k < MaximumRetileAttempts && !result.Aborted; ++k)
+  {
+    const slod::Index got = result.Mesh.NumberOfPoints();
+    const slod::Index points = attempt.NumberOfPoints + (wanted - got);
+    if (got == wanted || points < 4 || points == attempt.NumberOfPoints)
+    {
+      break;
+    }
+    attempt.NumberOfPoints = points;
+    slod::RetilingResult next;
+    slod::Retile(mesh, attempt, next);
+    if (next.Aborted)
+    {
+      return next;
+    }
+    const auto miss = [&](const slod::RetilingResult& r) { return std::abs(r.Mesh.NumberOfPoints() - wanted); };
+    if (next.Mesh.NumberOfTriangles() <= limit && miss(next) < miss(result))
+    {
+      result = std::move(next);
+      options.NumberOfPoints = attempt.NumberOfPoints;
+    }
+  }
+  return result;
+}
+
 // The vertex counts of the nested levels, finest first: each NestedLevelRatio times smaller, at
 // least 4.
 std::vector<slod::Index> NestedLevelCounts(slod::Index finest, int numberOfLevels, double ratio)
@@ -185,6 +220,22 @@ void StoreRetiling(const slod::RetilingResult& retiling, const slod::TriangleMes
   }
   attributes.Store(polyData->GetPointData(), rows);
 }
+// Field data: RetainedVertices (original vertices kept for the topology) and, for an explicit
+// vertex count, NumberOfPointsReached (1 when the output has exactly that many vertices).
+void StoreCountReport(vtkPolyData* output, slod::Index wanted, slod::Index retained)
+{
+  vtkNew<vtkIdTypeArray> retainedArray;
+  retainedArray->SetName("RetainedVertices");
+  retainedArray->InsertNextValue(retained);
+  output->GetFieldData()->AddArray(retainedArray);
+  if (wanted > 0)
+  {
+    vtkNew<vtkIntArray> reached;
+    reached->SetName("NumberOfPointsReached");
+    reached->InsertNextValue(output->GetNumberOfPoints() == wanted ? 1 : 0);
+    output->GetFieldData()->AddArray(reached);
+  }
+}
 } // namespace
 
 vtkRetile::vtkRetile()
@@ -213,6 +264,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   this->NumberOfRetainedVertices = 0;
   this->NumberOfFlips = 0;
+  this->NumberOfFeatureVertices = this->NumberOfCorners = 0;
   this->MinimumSpacingBefore = this->MeanSpacingBefore = this->MinimumSpacingAfter = this->MeanSpacingAfter = 0;
   if (!input || !output)
   {
@@ -242,9 +294,16 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.CurvatureWeight = this->CurvatureWeight;
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
+  options.PreserveCreases = this->PreserveCreases;
+  options.FeatureAngle = this->FeatureAngle;
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
   slod::RetilingResult result = RetileWithin(mesh, options, limit);
+  const slod::Index wanted = static_cast<slod::Index>(this->NumberOfPoints);
+  if (wanted > 0 && !result.Aborted && result.Mesh.NumberOfTriangles() <= limit && !this->GenerateNestedLevels)
+  {
+    result = RetileExactCount(mesh, options, wanted, limit, std::move(result));
+  }
   const bool retiled = result.Mesh.NumberOfTriangles() <= limit;
   if (!result.Aborted && !retiled)
   {
@@ -301,10 +360,21 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   }
   this->NumberOfRetainedVertices = result.RetainedOldVertices;
   this->NumberOfFlips = result.Flips;
+  this->NumberOfFeatureVertices = result.FeatureVertices;
+  this->NumberOfCorners = result.Corners;
   this->MinimumSpacingBefore = result.MinSpacingBefore;
   this->MeanSpacingBefore = result.MeanSpacingBefore;
   this->MinimumSpacingAfter = result.MinSpacingAfter;
   this->MeanSpacingAfter = result.MeanSpacingAfter;
+  if (result.FeaturesIgnored)
+  {
+    vtkWarningMacro(<< "PreserveCreases: the feature lines at FeatureAngle " << this->FeatureAngle
+                    << " would take half the vertices or more; they are not kept.");
+  }
+  if (this->PreserveCreases && this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
+  {
+    vtkWarningMacro(<< "PreserveCreases is not applied to the nested levels (output 0 is the finest level).");
+  }
   if (result.DroppedCandidates > 0)
   {
     vtkWarningMacro(<< result.DroppedCandidates
@@ -315,6 +385,14 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   {
     vtkWarningMacro(<< result.RetainedOldVertices
                     << " original vertices could not be removed without changing the topology or folding the surface; they are kept.");
+  }
+  // Why the vertex count may differ from the one asked for: the retained original vertices.
+  StoreCountReport(output, wanted, result.RetainedOldVertices);
+  if (wanted > 0 && output->GetNumberOfPoints() != wanted && output->GetNumberOfPolys() > 0)
+  {
+    vtkWarningMacro(<< "NumberOfPoints " << wanted << " not reached: the output has " << output->GetNumberOfPoints()
+                    << " vertices (" << result.RetainedOldVertices
+                    << " original vertices retained for the topology; see the field data RetainedVertices).");
   }
   return 1;
 }
@@ -330,6 +408,10 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
   os << indent << "ShapeImprovementPasses: " << this->ShapeImprovementPasses << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
+  os << indent << "PreserveCreases: " << this->PreserveCreases << "\n";
+  os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
+  os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";
+  os << indent << "NumberOfCorners: " << this->NumberOfCorners << "\n";
   os << indent << "GenerateNestedLevels: " << this->GenerateNestedLevels << "\n";
   os << indent << "NumberOfNestedLevels: " << this->NumberOfNestedLevels << "\n";
   os << indent << "NestedLevelRatio: " << this->NestedLevelRatio << "\n";

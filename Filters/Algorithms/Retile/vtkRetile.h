@@ -31,6 +31,15 @@
  * surface (polygons and strips are triangulated, coincident points merged); non-manifold edges
  * or vertices are an error (empty output).
  *
+ * Creases and borders (PreserveCreases, off by default): edges whose dihedral angle exceeds
+ * FeatureAngle degrees (vtkDecimatePro's meaning) and border edges form feature lines. Their
+ * corners (line ends, junctions, turns sharper than FeatureAngle) and samples evenly spaced along
+ * each line (the spacing of the other vertices) are kept as input vertices and counted in the
+ * vertex count; the other vertices of a line are removed only along it, so the output's edges
+ * follow the lines. Lines shorter than the spacing that end freely are noise and ignored; lines
+ * that would take half the vertices or more are all ignored, with a warning. Not applied to the
+ * nested levels.
+ *
  * Nested levels (section 6.1), with GenerateNestedLevels on: output port 1 is a
  * vtkMultiBlockDataSet of NumberOfNestedLevels re-tilings, coarsest first, with
  * n, n * NestedLevelRatio, ... vertices up to the requested count (the last block is output 0).
@@ -78,6 +87,13 @@ public:
   vtkSetClampMacro(ShapeImprovementPasses, int, 0, 100);
   vtkGetMacro(ShapeImprovementPasses, int);
 
+  // Keep creases, corners and borders (see above).
+  vtkSetMacro(PreserveCreases, bool);
+  vtkGetMacro(PreserveCreases, bool);
+  vtkBooleanMacro(PreserveCreases, bool);
+  vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
+  vtkGetMacro(FeatureAngle, double);
+
   vtkSetMacro(GenerateNestedLevels, bool);
   vtkGetMacro(GenerateNestedLevels, bool);
   vtkBooleanMacro(GenerateNestedLevels, bool);
@@ -94,6 +110,9 @@ public:
   // Results of the last run.
   vtkGetMacro(NumberOfRetainedVertices, vtkIdType);
   vtkGetMacro(NumberOfFlips, vtkIdType);
+  // PreserveCreases: the vertices kept on feature lines (corners included) and the corners.
+  vtkGetMacro(NumberOfFeatureVertices, vtkIdType);
+  vtkGetMacro(NumberOfCorners, vtkIdType);
   // Nearest-neighbour spacing of the new vertices (min / mean) before and after repulsion.
   vtkGetMacro(MinimumSpacingBefore, double);
   vtkGetMacro(MeanSpacingBefore, double);
@@ -115,12 +134,16 @@ protected:
   int RandomSeed = 1;
   int ShapeImprovementPasses = 2;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
+  bool PreserveCreases = false;
+  double FeatureAngle = 45.0;
   bool GenerateNestedLevels = false;
   int NumberOfNestedLevels = 3;
   double NestedLevelRatio = 4.0;
 
   vtkIdType NumberOfRetainedVertices = 0;
   vtkIdType NumberOfFlips = 0;
+  vtkIdType NumberOfFeatureVertices = 0;
+  vtkIdType NumberOfCorners = 0;
   double MinimumSpacingBefore = 0, MeanSpacingBefore = 0, MinimumSpacingAfter = 0, MeanSpacingAfter = 0;
 
 private:

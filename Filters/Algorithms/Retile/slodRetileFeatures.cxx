@@ -1,0 +1,239 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "slodRetileFeatures.h"
+
+#include "slodMeshTopology.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace slod
+{
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+// A maximal run of feature edges between two corners (or a closed loop: first == last vertex).
+struct Chain
+{
+  std::vector<Index> Vertices;
+  double Length = 0;
+  bool Dangling = false; // an end has a single feature edge
+  bool Loop = false;
+};
+
+// Border edges and edges whose two triangles' normals differ by more than the feature angle
+// (non-manifold edges are left out: their vertices are kept anyway).
+std::vector<std::vector<Index>> FeatureEdgeGraph(const TriangleMesh& mesh, double featureAngle)
+{
+  const MeshTopology topology(mesh);
+  const double cosine = std::cos(featureAngle * Pi / 180.0);
+  std::vector<std::vector<Index>> neighbors(size_t(mesh.NumberOfPoints()));
+  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    const Index count = topology.EdgeTriangleCount(e);
+    bool feature = count == 1;
+    if (count == 2)
+    {
+      const Index* t = topology.EdgeTrianglesBegin(e);
+      const Vec3 n0 = Normalized(mesh.TriangleAreaVector(t[0])), n1 = Normalized(mesh.TriangleAreaVector(t[1]));
+      feature = Dot(n0, n1) < cosine;
+    }
+    if (feature)
+    {
+      const Index u = topology.EdgeVertex(e, 0), w = topology.EdgeVertex(e, 1);
+      neighbors[u].push_back(w);
+      neighbors[w].push_back(u);
+    }
+  }
+  return neighbors;
+}
+
+// Corners: line ends, junctions of three or more lines, and sharp turns of a line.
+std::vector<unsigned char> CornerFlags(
+  const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors, double featureAngle)
+{
+  const double cosine = std::cos(featureAngle * Pi / 180.0);
+  std::vector<unsigned char> corner(neighbors.size(), 0);
+  for (size_t v = 0; v < neighbors.size(); ++v)
+  {
+    const size_t degree = neighbors[v].size();
+    if (degree == 2)
+    {
+      const Vec3 p = mesh.Point(Index(v));
+      const Vec3 in = Normalized(p - mesh.Point(neighbors[v][0])), out = Normalized(mesh.Point(neighbors[v][1]) - p);
+      corner[v] = Dot(in, out) < cosine ? 1 : 0;
+    }
+    else
+    {
+      corner[v] = degree > 0 ? 1 : 0;
+    }
+  }
+  return corner;
+}
+
+// Walks from vertex `from` along its neighbour `next` until a corner or back to the start.
+Chain Walk(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors,
+  const std::vector<unsigned char>& corner, Index from, Index next, std::vector<unsigned char>& visited)
+{
+  Chain chain;
+  chain.Vertices.push_back(from);
+  Index previous = from, current = next;
+  // Bounded by the vertex count: each step enters a vertex of degree 2 not yet visited.
+  for (size_t guard = 0; guard <= neighbors.size(); ++guard)
+  {
+    chain.Length += Norm(mesh.Point(current) - mesh.Point(previous));
+    chain.Vertices.push_back(current);
+    if (corner[current] || current == from || visited[current])
+    {
+      break;
+    }
+    visited[current] = 1;
+    const Index following = neighbors[current][0] == previous ? neighbors[current][1] : neighbors[current][0];
+    previous = current;
+    current = following;
+  }
+  chain.Loop = chain.Vertices.front() == chain.Vertices.back();
+  chain.Dangling = neighbors[chain.Vertices.front()].size() == 1 || neighbors[chain.Vertices.back()].size() == 1;
+  return chain;
+}
+
+std::vector<Chain> Chains(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors,
+  const std::vector<unsigned char>& corner)
+{
+  std::vector<Chain> chains;
+  std::vector<unsigned char> visited(neighbors.size(), 0);
+  for (size_t v = 0; v < neighbors.size(); ++v)
+  {
+    for (size_t k = 0; corner[v] && k < neighbors[v].size(); ++k)
+    {
+      const Index w = neighbors[v][k];
+      // Each chain once: from its smaller end (a chain between one corner walks both ways).
+      Chain chain = Walk(mesh, neighbors, corner, Index(v), w, visited);
+      if (corner[w] && w < Index(v))
+      {
+        continue; // a single-edge chain, taken from the other end
+      }
+      if (chain.Vertices.size() > 2 && visited[chain.Vertices[1]] == 2)
+      {
+        continue;
+      }
+      for (size_t i = 1; i + 1 < chain.Vertices.size(); ++i)
+      {
+        visited[chain.Vertices[i]] = 2;
+      }
+      chains.push_back(std::move(chain));
+    }
+  }
+  for (size_t v = 0; v < neighbors.size(); ++v)
+  {
+    if (!corner[v] && neighbors[v].size() == 2 && !visited[v])
+    {
+      // A loop without corners: starts anywhere.
+      visited[v] = 2;
+      Chain chain = Walk(mesh, neighbors, corner, Index(v), neighbors[v][0], visited);
+      for (Index u : chain.Vertices)
+      {
+        visited[u] = 2;
+      }
+      chains.push_back(std::move(chain));
+    }
+  }
+  return chains;
+}
+
+void RemoveChainEdges(const Chain& chain, std::vector<std::vector<Index>>& neighbors)
+{
+  for (size_t i = 0; i + 1 < chain.Vertices.size(); ++i)
+  {
+    const Index u = chain.Vertices[i], w = chain.Vertices[i + 1];
+    auto& nu = neighbors[u];
+    auto& nw = neighbors[w];
+    nu.erase(std::remove(nu.begin(), nu.end(), w), nu.end());
+    nw.erase(std::remove(nw.begin(), nw.end(), u), nw.end());
+  }
+}
+
+// Interior samples of a chain at even arc-length steps near `spacing`, snapped to its vertices.
+void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, std::vector<Index>& kept)
+{
+  const size_t m = chain.Vertices.size();
+  std::vector<double> arc(m, 0.0);
+  for (size_t i = 1; i < m; ++i)
+  {
+    arc[i] = arc[i - 1] + Norm(mesh.Point(chain.Vertices[i]) - mesh.Point(chain.Vertices[i - 1]));
+  }
+  // A loop without corners keeps its start as a sample (at least three, so it stays a loop).
+  const long long pieces = std::max<long long>(chain.Loop ? 3 : 1, std::llround(chain.Length / spacing));
+  size_t last = 0;
+  for (long long j = 1; j < pieces; ++j)
+  {
+    const double s = chain.Length * double(j) / double(pieces);
+    size_t i = size_t(std::lower_bound(arc.begin(), arc.end(), s) - arc.begin());
+    if (i > 0 && (i == m || s - arc[i - 1] < arc[i] - s))
+    {
+      --i;
+    }
+    if (i > last && i + 1 < m)
+    {
+      kept.push_back(chain.Vertices[i]);
+      last = i;
+    }
+  }
+}
+} // namespace
+
+double EvenSpacing(double area, Index count)
+{
+  return count > 0 ? std::sqrt(2.0 * area / (std::sqrt(3.0) * double(count))) : 0.0;
+}
+
+void DetectFeatureLines(const TriangleMesh& mesh, double featureAngle, double spacing, FeatureLines& features)
+{
+  features = FeatureLines();
+  std::vector<std::vector<Index>> neighbors = FeatureEdgeGraph(mesh, featureAngle);
+  std::vector<unsigned char> corner;
+  std::vector<Chain> chains;
+  // Lines shorter than the spacing that end freely (or short loops) are noise a re-tiling at
+  // this density cannot show: dropped, which may make other short dangling chains (bounded).
+  for (int round = 0; round < 16; ++round)
+  {
+    corner = CornerFlags(mesh, neighbors, featureAngle);
+    chains = Chains(mesh, neighbors, corner);
+    Index dropped = 0;
+    for (const Chain& chain : chains)
+    {
+      if ((chain.Dangling && chain.Length < spacing) || (chain.Loop && chain.Length < 3 * spacing))
+      {
+        RemoveChainEdges(chain, neighbors);
+        ++dropped;
+      }
+    }
+    features.DroppedChains += dropped;
+    if (dropped == 0)
+    {
+      break;
+    }
+  }
+  corner = CornerFlags(mesh, neighbors, featureAngle);
+  chains = Chains(mesh, neighbors, corner);
+  for (size_t v = 0; v < neighbors.size(); ++v)
+  {
+    features.FeatureEdges += Index(neighbors[v].size());
+    if (corner[v])
+    {
+      features.Kept.push_back(Index(v));
+    }
+  }
+  features.FeatureEdges /= 2;
+  features.Corners = Index(features.Kept.size());
+  for (const Chain& chain : chains)
+  {
+    if (chain.Loop && !corner[chain.Vertices.front()])
+    {
+      features.Kept.push_back(chain.Vertices.front()); // a loop without corners: its start
+    }
+    SampleChain(mesh, chain, spacing, features.Kept);
+  }
+  features.LineNeighbors = std::move(neighbors);
+}
+} // namespace slod
