@@ -44,6 +44,51 @@ class TriangleCollapseHierarchyTest(unittest.TestCase):
                          lod.GetLevelNumberOfTriangles(levels - 1))
         self.assertIsNotNone(lod.GetOutput().GetCellData().GetArray("CollapseBatch"))
 
+    def test_expand_from_coarsest_level(self):
+        """Vertex splits from the coarsest level give the same level and target meshes."""
+        sphere = vtkSphereSource()
+        sphere.SetThetaResolution(48)
+        sphere.SetPhiResolution(48)
+        triangles = vtkTriangleFilter()
+        triangles.SetInputConnection(sphere.GetOutputPort())
+        stored = surfacelod.vtkTriangleCollapseHierarchy()
+        stored.SetInputConnection(triangles.GetOutputPort())
+        expanded = surfacelod.vtkTriangleCollapseHierarchy()
+        expanded.SetInputConnection(triangles.GetOutputPort())
+        expanded.ExpandFromCoarsestLevelOn()
+        self.assertTrue(expanded.GetExpandFromCoarsestLevel())
+
+        def cells(poly):
+            points = poly.GetPoints()
+            out = []
+            for c in range(poly.GetNumberOfCells()):
+                ids = poly.GetCell(c).GetPointIds()
+                corners = [points.GetPoint(ids.GetId(k)) for k in range(3)]
+                first = corners.index(min(corners))
+                out.append(tuple(corners[(first + k) % 3] for k in range(3)))
+            return sorted(out)
+
+        expanded.SetLevel(0)
+        expanded.Update()
+        levels = expanded.GetNumberOfLevels()
+        self.assertGreater(levels, 5)
+        for level in (1, levels // 2, levels - 1):
+            stored.SetLevel(level)
+            stored.Update()
+            expanded.SetLevel(level)
+            expanded.Update()
+            self.assertEqual(expanded.GetOutput().GetNumberOfPolys(), stored.GetLevelNumberOfTriangles(level))
+            self.assertEqual(cells(expanded.GetOutput()), cells(stored.GetOutput()))
+        expanded.SetLevel(-1)
+        stored.SetLevel(-1)
+        expanded.SetTargetNumberOfTriangles(1000)
+        stored.SetTargetNumberOfTriangles(1000)
+        expanded.Update()
+        stored.Update()
+        self.assertAlmostEqual(expanded.GetOutput().GetNumberOfPolys(), 1000, delta=3)
+        self.assertEqual(cells(expanded.GetOutput()), cells(stored.GetOutput()))
+        self.assertEqual(expanded.GetNumberOfHierarchyBuilds(), 1)
+
     @unittest.skipUnless(MESH_DIR, "SURFACELOD_MESH_DIR not set")
     def test_bunny_levels(self):
         reader = surfacelod.vtkOFFMeshReader()

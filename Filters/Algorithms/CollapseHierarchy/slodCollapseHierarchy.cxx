@@ -1905,4 +1905,59 @@ void CollapseHierarchy::Refine(EditableMesh& mesh, Index k) const
   }
   mesh.Undo(record);
 }
+
+void CollapseHierarchy::Expand(Index collapses, HierarchyMesh& out) const
+{
+  out.Clear();
+  collapses = std::max<Index>(0, std::min(collapses, this->NumberOfCollapses()));
+  EditableMesh mesh = this->Mesh;
+  std::vector<Index> global = this->GlobalOf; // editable vertex -> global vertex, as it is split
+  std::vector<int> changeLevel(static_cast<size_t>(mesh.NumberOfTriangles()), -1);
+  for (Index k = this->NumberOfCollapses() - 1; k >= collapses; --k)
+  {
+    this->Refine(mesh, k);
+    // Newest first: what remains is the earliest change at or after `collapses`.
+    const HierarchyCollapse& c = this->Collapses[k];
+    const auto flips = std::equal_range(this->FlipStamp.begin(), this->FlipStamp.end(), k + 1);
+    for (auto it = flips.first; it != flips.second; ++it)
+    {
+      for (Index x : this->Flips[size_t(it - this->FlipStamp.begin())].Triangles)
+      {
+        changeLevel[x] = c.Level;
+      }
+    }
+    for (int i = 0; i < c.Count; ++i)
+    {
+      const Index v = this->RecordVertices[3 * size_t(k) + i];
+      global[v] = c.Sources[i];
+      mesh.ForEachTriangle(v, [&](Index x) { changeLevel[x] = c.Level; });
+    }
+  }
+  // Output points numbered in order of first use, as Extract does.
+  std::vector<Index> slot(static_cast<size_t>(mesh.NumberOfPoints()), InvalidIndex);
+  for (Index x = 0; x < mesh.NumberOfTriangles(); ++x)
+  {
+    if (!mesh.IsTriangleAlive(x))
+    {
+      continue;
+    }
+    for (int j = 0; j < 3; ++j)
+    {
+      const Index v = mesh.Triangle(x)[j];
+      if (slot[v] == InvalidIndex)
+      {
+        slot[v] = static_cast<Index>(out.PointGlobal.size());
+        out.PointGlobal.push_back(global[v]);
+        const Vec3 p = mesh.Point(v);
+        out.Points.insert(out.Points.end(), p.begin(), p.end());
+      }
+      out.Triangles.push_back(slot[v]);
+    }
+    out.TriangleOrigin.push_back(x);
+    out.TriangleCollapseLevel.push_back(changeLevel[x]);
+  }
+  out.PointTarget.assign(out.PointGlobal.size(), InvalidIndex);
+  out.TriangleBatch.assign(out.TriangleOrigin.size(), InvalidIndex);
+  out.TriangleRole.assign(out.TriangleOrigin.size(), 0);
+}
 } // namespace slod

@@ -201,6 +201,12 @@ public:
   // undone first).
   const EditableMesh& CoarsestMesh() const { return this->Mesh; }
   void Refine(EditableMesh& mesh, Index k) const;
+  // The reverse of the hierarchy: the coarsest mesh expanded by vertex splits (Refine, newest
+  // first) until `collapses` collapses are left (LevelStart(i) gives M_i; any count between gives
+  // a cut inside a batch, as CollapsesForTriangleCount). `out` holds the live triangles in M0 slot
+  // order with their global vertex ids, unblended (TriangleBatch -1, TriangleRole 0), and per
+  // triangle the level of the next collapse or swap that changes it (-1 none).
+  void Expand(Index collapses, HierarchyMesh& out) const;
 
 private:
   // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the

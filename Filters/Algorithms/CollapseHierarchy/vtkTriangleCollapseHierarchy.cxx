@@ -263,14 +263,27 @@ struct vtkTriangleCollapseHierarchy::Internals
   {
     const slod::CollapseHierarchy& h = this->Hierarchy;
     const int lastLevel = h.NumberOfLevels() - 1;
-    if (f.ContinuousLevel >= 0 || f.Level >= 0)
+    if (f.ContinuousLevel >= 0 || (f.Level >= 0 && !f.ExpandFromCoarsestLevel))
     {
       const double shown = f.ContinuousLevel >= 0 ? std::min<double>(f.ContinuousLevel, lastLevel) : std::min(f.Level, lastLevel);
       h.ExtractLevel(shown, this->Scratch);
       return shown;
     }
+    if (f.Level >= 0)
+    {
+      const int level = std::min(f.Level, lastLevel);
+      h.Expand(h.LevelStart(level), this->Scratch);
+      return level;
+    }
     const slod::Index k = h.CollapsesForTriangleCount(target);
-    h.Extract(k, k, 0.0, this->Scratch);
+    if (f.ExpandFromCoarsestLevel)
+    {
+      h.Expand(k, this->Scratch);
+    }
+    else
+    {
+      h.Extract(k, k, 0.0, this->Scratch);
+    }
     const int level = k < h.NumberOfCollapses() ? h.LevelOfCollapse(k) : lastLevel;
     if (level >= lastLevel)
     {
@@ -428,6 +441,7 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinimumNumberOfTriangles: " << this->MinimumNumberOfTriangles << "\n";
   os << indent << "MinimumNormalDot: " << this->MinimumNormalDot << "\n";
   os << indent << "GenerateAllLevels: " << this->GenerateAllLevels << "\n";
+  os << indent << "ExpandFromCoarsestLevel: " << this->ExpandFromCoarsestLevel << "\n";
   os << indent << "NumberOfLevels: " << this->GetNumberOfLevels() << "\n";
   os << indent << "ShownLevel: " << this->ShownLevel << "\n";
 }

@@ -218,6 +218,17 @@ public:
   ///@}
 
   ///@{
+  /// Make output 0 (a Level or a target) by vertex splits: the coarsest mesh of the hierarchy
+  /// expanded through the collapse records, newest first (the reverse of the hierarchy, as for
+  /// progressive transmission: the coarsest mesh plus the records give every level and every
+  /// triangle count), instead of from the stored levels. The mesh is the same either way (its
+  /// cells in input-cell order); changing this does not rebuild the hierarchy. A ContinuousLevel
+  /// blend always comes from the stored levels. Default off.
+  vtkSetMacro(ExpandFromCoarsestLevel, bool);
+  vtkGetMacro(ExpandFromCoarsestLevel, bool);
+  vtkBooleanMacro(ExpandFromCoarsestLevel, bool);
+  ///@}
+  ///@{
   /// Produce every level on output port 1 (default on). Off, with no Level and no
   /// ContinuousLevel, the hierarchy is built only down to the target.
   vtkSetMacro(GenerateAllLevels, bool);
@@ -279,6 +290,7 @@ protected:
   vtkIdType MinimumNumberOfTriangles = 0;
   double MinimumNormalDot = 0.5;
   bool GenerateAllLevels = true;
+  bool ExpandFromCoarsestLevel = false;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double ShownLevel = 0;

@@ -506,6 +506,67 @@ TEST_P(HierarchyOnMesh, LevelsAreManifoldSameGenusUnflippedAndExactlyReversible)
   }
 }
 
+// Expand(k) (vertex splits from the coarsest mesh) and Extract(k) (the stored triangle versions)
+// give the same mesh: the same M0 triangle slots with the same global vertices in the same corner
+// order, bitwise the same coordinates and the same collapse levels.
+static void ExpectExpansionEqualsExtraction(const CollapseHierarchy& h, Index collapses, const std::string& what)
+{
+  HierarchyMesh expanded, extracted;
+  h.Expand(collapses, expanded);
+  h.Extract(collapses, collapses, 0.0, extracted);
+  ASSERT_EQ(expanded.Triangles.size(), extracted.Triangles.size()) << what;
+  ASSERT_EQ(expanded.Triangles.size() / 3, size_t(h.NumberOfTrianglesAfter(collapses))) << what;
+  std::map<Index, size_t> extractedAt;
+  for (size_t t = 0; t < extracted.TriangleOrigin.size(); ++t)
+  {
+    ASSERT_TRUE(extractedAt.emplace(extracted.TriangleOrigin[t], t).second) << what;
+  }
+  for (size_t t = 0; t < expanded.TriangleOrigin.size(); ++t)
+  {
+    const auto it = extractedAt.find(expanded.TriangleOrigin[t]);
+    ASSERT_NE(it, extractedAt.end()) << what << " triangle " << expanded.TriangleOrigin[t];
+    const size_t u = it->second;
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index a = expanded.Triangles[3 * t + k], b = extracted.Triangles[3 * u + k];
+      ASSERT_EQ(expanded.PointGlobal[a], extracted.PointGlobal[b]) << what;
+      for (int j = 0; j < 3; ++j)
+      {
+        ASSERT_EQ(expanded.Points[3 * size_t(a) + j], extracted.Points[3 * size_t(b) + j]) << what;
+      }
+    }
+    ASSERT_EQ(expanded.TriangleCollapseLevel[t], extracted.TriangleCollapseLevel[u]) << what;
+  }
+}
+
+TEST_P(HierarchyOnMesh, ExpandingTheCoarsestMeshGivesEveryLevel)
+{
+  const TriangleMesh input = ToTriangleMesh(LoadTestMesh(GetParam()));
+  CollapseHierarchyParameters parameters = DefaultParameters();
+  for (const bool swaps : { false, true })
+  {
+    // Also with the edge swaps between levels (undone by the expansion).
+    parameters.SwapBlockingEdges = swaps;
+    parameters.SwapMinimumNormalDot = 0.9999;
+    CollapseHierarchy h;
+    ASSERT_TRUE(h.Build(input, parameters));
+    for (int i = 0; i < h.NumberOfLevels(); ++i)
+    {
+      ExpectExpansionEqualsExtraction(h, h.LevelStart(i), std::string(GetParam()) + " level " + std::to_string(i));
+    }
+    // A cut inside a batch (a triangle-count target), and the input itself.
+    const Index cut = h.CollapsesForTriangleCount(input.NumberOfTriangles() / 7);
+    ExpectExpansionEqualsExtraction(h, cut, std::string(GetParam()) + " cut");
+    HierarchyMesh m0;
+    h.Expand(0, m0);
+    ASSERT_EQ(m0.Triangles.size(), input.Triangles.size());
+    for (size_t k = 0; k < input.Triangles.size(); ++k)
+    {
+      ASSERT_EQ(m0.PointGlobal[m0.Triangles[k]], input.Triangles[k]);
+    }
+  }
+}
+
 // The blend is continuous between levels with the defaults: M_i(0) is M_i and M_i(1) is M_i+1,
 // triangle for triangle (no edge swap between the levels), on every level.
 class BlendOnMesh : public ::testing::TestWithParam<const char*>
@@ -974,6 +1035,80 @@ TEST(vtkTriangleCollapseHierarchy, LevelsTargetsCachingAndArrays)
   bunny->Modified();
   filter->Update();
   EXPECT_EQ(filter->GetNumberOfHierarchyBuilds(), 3);
+}
+
+namespace
+{
+// The cells of a filter output as (corner coordinates from the smallest corner, CollapseLevel),
+// sorted: equal for the same mesh whatever the order of its points and cells.
+std::vector<std::array<double, 10>> CellsWithLevels(vtkPolyData* mesh)
+{
+  std::vector<std::array<double, 10>> cells;
+  vtkDataArray* level = mesh->GetCellData()->GetArray("CollapseLevel");
+  for (vtkIdType c = 0; c < mesh->GetNumberOfPolys(); ++c)
+  {
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    mesh->GetCellPoints(c, n, ids);
+    EXPECT_EQ(n, 3);
+    std::array<std::array<double, 3>, 3> corners;
+    for (int k = 0; k < 3; ++k)
+    {
+      mesh->GetPoint(ids[k], corners[k].data());
+    }
+    const int first = static_cast<int>(std::min_element(corners.begin(), corners.end()) - corners.begin());
+    std::array<double, 10> cell;
+    for (int k = 0; k < 3; ++k)
+    {
+      std::copy(corners[(first + k) % 3].begin(), corners[(first + k) % 3].end(), cell.begin() + 3 * k);
+    }
+    cell[9] = level ? level->GetTuple1(c) : -2;
+    cells.push_back(cell);
+  }
+  std::sort(cells.begin(), cells.end());
+  return cells;
+}
+} // namespace
+
+TEST(vtkTriangleCollapseHierarchy, ExpandFromCoarsestLevelGivesEveryLevelAndTarget)
+{
+  // The reverse of the hierarchy through the VTK API: the coarsest mesh plus the collapse records
+  // give level k and any triangle count exactly as the stored levels do, without a rebuild.
+  for (const char* name : { "femur", "bull" })
+  {
+    vtkSmartPointer<vtkPolyData> input = LoadTestMesh(name);
+    vtkNew<vtkTriangleCollapseHierarchy> stored, expanded;
+    stored->SetInputData(input);
+    expanded->SetInputData(input);
+    expanded->ExpandFromCoarsestLevelOn();
+    stored->SetLevel(0);
+    stored->Update();
+    const int levels = stored->GetNumberOfLevels();
+    ASSERT_GT(levels, 10) << name;
+    for (const int level : { 0, 1, levels / 3, levels / 2, levels - 2, levels - 1 })
+    {
+      stored->SetLevel(level);
+      stored->Update();
+      expanded->SetLevel(level);
+      expanded->Update();
+      ASSERT_EQ(expanded->GetOutput()->GetNumberOfPolys(), stored->GetLevelNumberOfTriangles(level)) << name;
+      ASSERT_EQ(expanded->GetOutput()->GetNumberOfPoints(), stored->GetOutput()->GetNumberOfPoints()) << name;
+      ASSERT_EQ(CellsWithLevels(expanded->GetOutput()), CellsWithLevels(stored->GetOutput())) << name << " level " << level;
+    }
+    // Triangle counts (cuts inside a batch).
+    stored->SetLevel(-1);
+    expanded->SetLevel(-1);
+    for (const vtkIdType target : { input->GetNumberOfPolys() / 3, input->GetNumberOfPolys() / 20 + 1 })
+    {
+      stored->SetTargetNumberOfTriangles(target);
+      stored->Update();
+      expanded->SetTargetNumberOfTriangles(target);
+      expanded->Update();
+      ASSERT_NEAR(double(expanded->GetOutput()->GetNumberOfPolys()), double(target), 3.0) << name;
+      ASSERT_EQ(CellsWithLevels(expanded->GetOutput()), CellsWithLevels(stored->GetOutput())) << name << " target " << target;
+    }
+    EXPECT_EQ(expanded->GetNumberOfHierarchyBuilds(), 1) << name;
+  }
 }
 
 TEST(vtkTriangleCollapseHierarchy, TargetOnlyBuildsDownToTheTargetWithTheSameMesh)
