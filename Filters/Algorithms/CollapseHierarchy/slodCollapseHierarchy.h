@@ -234,6 +234,7 @@ private:
   void ResetRecords();
   void ReserveRecords();
   void InitializeQuadrics();
+  void AddBorderPlanes();
   bool EvaluateAllTriangles(const ProgressFunction& progress);
   bool ReduceLevel(int level, LevelState& state);
   void PlanLevel(LevelState& state);
@@ -366,7 +367,7 @@ private:
   int HubMask(Index t) const; // bit k: tri[k] is a hub
   // Over edges with no hub or border end; choice: which candidate it was.
   double CheapestEdgeError(const Index* tri, EdgeChoice& choice) const;
-  int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub or on the border
+  int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;
   mutable std::vector<Index> CachedDegree, CachedDegreeStamp;

@@ -858,7 +858,7 @@ TEST(CollapseHierarchy, SmallOpenAndNonManifoldMeshes)
     h.ExtractLevel(5.5, m);
     EXPECT_EQ(m.Triangles.size(), 12u);
   }
-  // An open disk: the boundary stays (its triangles have incomplete stencils), the rest reduces.
+  // An open disk: the border collapses too (edge collapses along it), keeping its one loop.
   {
     const TriangleMesh disk = Disk(12, 32);
     const MeshStatistics in = ComputeMeshStatistics(disk);
@@ -869,7 +869,8 @@ TEST(CollapseHierarchy, SmallOpenAndNonManifoldMeshes)
     const MeshStatistics out = ComputeMeshStatistics(ToMesh(m));
     EXPECT_LT(out.Triangles, in.Triangles / 2);
     EXPECT_EQ(out.BoundaryLoops, 1);
-    EXPECT_EQ(out.BoundaryEdges, in.BoundaryEdges);
+    EXPECT_LT(out.BoundaryEdges, in.BoundaryEdges / 2);
+    EXPECT_GE(out.BoundaryEdges, 3);
     EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
     EXPECT_EQ(out.NonManifoldEdges, 0);
   }
@@ -1172,9 +1173,65 @@ TEST(vtkTriangleCollapseHierarchy, NoisyScanKeepsNonManifoldEdgesBordersAndHandl
     filter->SetTargetReduction(0.9);
     const MeshStatistics in = slodtest::SimplifyNoisyScan(filter, 40, seed);
     vtkPolyData* output = filter->GetOutput();
-    // The border stays at full resolution: a cut-open edge or a new hole would add border edges.
-    EXPECT_EQ(ComputeMeshStatistics(slodtest::RawTriangleMesh(output)).BoundaryEdges, in.BoundaryEdges);
+    // The border is collapsed too, but never cut open: fewer border edges, at least three per
+    // loop (the Euler characteristic and the non-manifold edges are checked by SimplifyNoisyScan).
+    const MeshStatistics out = ComputeMeshStatistics(slodtest::RawTriangleMesh(output));
+    EXPECT_LT(out.BoundaryEdges, in.BoundaryEdges);
+    EXPECT_GE(out.BoundaryEdges, 3 * out.BoundaryLoops);
+    EXPECT_EQ(out.NonManifoldVertices, in.NonManifoldVertices);
     EXPECT_LT(output->GetNumberOfPolys(), in.Triangles / 5); // locked vertices leave most of it collapsible
+  }
+}
+
+TEST(vtkTriangleCollapseHierarchy, BordersCollapseKeepingTheirLoops)
+{
+  // Open meshes: edges along the borders collapse (border planes in the quadrics keep their line),
+  // every border loop stays (at least three edges), with the Euler characteristic and no
+  // non-manifold edge, on every level. elephant-with-holes (106 loops, Euler characteristic -110)
+  // cannot reach 89 triangles: every loop at three edges on its own vertices needs at least
+  // 3 b - 2 chi = 538; the filter gets there up to a few triangles and says why in its warning.
+  for (const char* name : { "elephant-with-holes", "mech-holes-shark", "mask_cone" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = LoadTestMesh(name);
+    const MeshStatistics in = ComputeMeshStatistics(slodtest::RawTriangleMesh(input));
+    ASSERT_GT(in.BoundaryLoops, 0);
+    vtkNew<vtkTriangleCollapseHierarchy> filter;
+    filter->SetInputData(input);
+    filter->SetTargetNumberOfTriangles(89);
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->Update();
+    const MeshStatistics out = ComputeMeshStatistics(slodtest::RawTriangleMesh(filter->GetOutput()));
+    EXPECT_EQ(out.BoundaryLoops, in.BoundaryLoops);
+    EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+    EXPECT_EQ(out.Components, in.Components);
+    EXPECT_EQ(out.NonManifoldEdges, 0);
+    EXPECT_EQ(out.NonManifoldVertices, 0);
+    EXPECT_GE(out.BoundaryEdges, 3 * out.BoundaryLoops);
+    const long long fewest = 3 * in.BoundaryLoops - 2 * in.EulerCharacteristic;
+    const long long count = filter->GetOutput()->GetNumberOfPolys();
+    std::printf("[ measure  ] %s to 89: %lld triangles (bound %lld), %lld border edges in %lld loops (input %lld, %lld)\n",
+      name, count, fewest, static_cast<long long>(out.BoundaryEdges), static_cast<long long>(out.BoundaryLoops),
+      static_cast<long long>(in.BoundaryEdges), static_cast<long long>(in.BoundaryLoops));
+    if (count > 92)
+    {
+      // Not reached: within 2% of the topological bound, and the warning says why.
+      EXPECT_LE(count, std::max<long long>(92, fewest + fewest / 50));
+      const std::string why = "needs at least about " + std::to_string(fewest) + " triangles";
+      EXPECT_EQ(std::count_if(messages->Warnings.begin(), messages->Warnings.end(),
+                  [&](const std::string& w) { return w.find(why) != std::string::npos; }),
+        1);
+    }
+    // Every level keeps the loops.
+    for (int level = 0; level < filter->GetNumberOfLevels(); level += 5)
+    {
+      vtkPolyData* block = vtkPolyData::SafeDownCast(filter->GetLevelsOutput()->GetBlock(level));
+      const MeshStatistics s = ComputeMeshStatistics(slodtest::RawTriangleMesh(block));
+      ASSERT_EQ(s.BoundaryLoops, in.BoundaryLoops) << level;
+      ASSERT_EQ(s.EulerCharacteristic, in.EulerCharacteristic) << level;
+      ASSERT_EQ(s.NonManifoldEdges, 0) << level;
+    }
   }
 }
 
