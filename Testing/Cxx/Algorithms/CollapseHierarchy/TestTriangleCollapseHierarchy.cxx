@@ -741,6 +741,56 @@ TEST(CollapseHierarchy, PaperSettingsReachFivePercentInFewLevels)
   EXPECT_LE(level, 32);
 }
 
+// The paper's configuration fits every collapse point c + f(0,0) n to the original (ancestral)
+// points of the stencil. On a noisy sphere (radius 1, radial noise uniform in [-a, a]) the fit
+// averages the noise: the collapse points of the coarse levels lie closer to the sphere than
+// the input's own vertices do on average (the stencil's few current vertices alone would carry
+// their noise into the fit).
+TEST(CollapseHierarchy, PaperFitsToAncestralPointsAverageTheNoise)
+{
+  TriangleMesh sphere = Sphere(96, 96);
+  const double a = 0.01;
+  double inputDeviation = 0;
+  for (Index v = 0; v < sphere.NumberOfPoints(); ++v)
+  {
+    // A fixed pseudo-random radial offset per vertex (deterministic).
+    const double u = std::fmod(std::sin(12.9898 * v + 78.233) * 43758.5453, 1.0);
+    const double r = 1.0 + a * (2 * std::fabs(u) - 1);
+    const Vec3 p = Normalized(sphere.Point(v));
+    for (int j = 0; j < 3; ++j)
+    {
+      sphere.Points[3 * size_t(v) + j] = r * p[j];
+    }
+    inputDeviation += std::fabs(r - 1) / sphere.NumberOfPoints();
+  }
+  CollapseHierarchy h;
+  const CollapseHierarchyParameters paper;
+  ASSERT_TRUE(h.Build(sphere, paper));
+  ASSERT_EQ(h.NumberOfEdgeCollapses(), 0);
+  double coarse = 0, worst = 0;
+  Index coarseCount = 0;
+  for (Index k = 0; k < h.NumberOfCollapses(); ++k)
+  {
+    const double d = std::fabs(Norm(h.Vertex(h.GetCollapse(k).Point)) - 1);
+    worst = std::max(worst, d);
+    if (h.LevelOfCollapse(k) >= h.NumberOfLevels() / 2) // the coarse half of the levels
+    {
+      coarse += d;
+      ++coarseCount;
+    }
+  }
+  ASSERT_GT(coarseCount, 50);
+  coarse /= coarseCount;
+  std::printf("[ measure  ] noisy sphere, paper settings: mean |r - 1| of the input %.2e, of the collapse points "
+              "of the coarse half of the %d levels %.2e (%lld, down to %lld triangles of %lld), largest %.2e\n",
+    inputDeviation, h.NumberOfLevels(), coarse, static_cast<long long>(coarseCount),
+    static_cast<long long>(h.LevelTriangleCount(h.NumberOfLevels() - 1)),
+    static_cast<long long>(sphere.NumberOfTriangles()), worst);
+  EXPECT_LT(coarse, 0.5 * inputDeviation);
+  // (The largest deviation is not bounded by the noise: 4.5e-2 was measured, an outlier whose
+  // cause is open; see Documentation/TriangleCollapseHierarchy.md.)
+}
+
 TEST(CollapseHierarchy, Deterministic)
 {
   const TriangleMesh input = ToTriangleMesh(LoadTestMesh("fandisk"));
@@ -1340,3 +1390,75 @@ TEST_P(HierarchyQuality, VersusQuadricDecimationAndDecimatePro)
 }
 
 INSTANTIATE_TEST_SUITE_P(RealMeshes, HierarchyQuality, ::testing::Values("fandisk", "femur", "bunny00", "armadillo"));
+
+// The paper's configuration, measured: levels to below 5% (the paper: 29 of 48 on its skull) and
+// the distance at about 10% against vtkQuadricDecimation and vtkDecimatePro at the same count.
+TEST(CollapseHierarchy, PaperConfigurationQuality)
+{
+  if (!DeviationAvailable())
+  {
+    GTEST_SKIP() << "vtkSurfaceDeviation is not implemented in this build (placeholder returns 0)";
+  }
+  for (const char* name : { "bunny00", "bull" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = LoadTestMesh(name);
+    const TriangleMesh mesh = ToTriangleMesh(input);
+    CollapseHierarchy h;
+    const CollapseHierarchyParameters paper;
+    ASSERT_TRUE(h.Build(mesh, paper));
+    ASSERT_EQ(h.NumberOfEdgeCollapses(), 0);
+    int below5 = 0;
+    while (below5 < h.NumberOfLevels() && h.LevelTriangleCount(below5) >= 0.05 * mesh.NumberOfTriangles())
+    {
+      ++below5;
+    }
+    int level10 = 0;
+    while (level10 + 1 < h.NumberOfLevels() && h.LevelTriangleCount(level10) > 0.10 * mesh.NumberOfTriangles())
+    {
+      ++level10;
+    }
+    HierarchyMesh level;
+    h.ExtractLevel(level10, level);
+    const TriangleMesh ours = ToMesh(level);
+    const MeshStatistics in = ComputeMeshStatistics(mesh), out = ComputeMeshStatistics(ours);
+    EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+    EXPECT_EQ(out.BoundaryLoops, in.BoundaryLoops);
+    EXPECT_EQ(out.NonManifoldEdges, 0);
+    EXPECT_EQ(CountFlippedTriangles(mesh, ours, level.TriangleOrigin), 0);
+    const double reduction = 1.0 - double(ours.NumberOfTriangles()) / mesh.NumberOfTriangles();
+    vtkNew<vtkQuadricDecimation> quadric;
+    quadric->SetInputData(input);
+    quadric->SetTargetReduction(reduction);
+    quadric->Update();
+    vtkNew<vtkDecimatePro> pro;
+    pro->SetInputData(input);
+    pro->SetTargetReduction(reduction);
+    pro->PreserveTopologyOff();
+    pro->SplittingOn();
+    pro->BoundaryVertexDeletionOn();
+    pro->Update();
+    const Distances d = Measure(input, ToPolyData(ours)), q = Measure(input, quadric->GetOutput()),
+                    p = Measure(input, pro->GetOutput());
+    std::printf("[ measure  ] %s, paper settings: %d of %d levels to < 5%%; level %d (%lld triangles): Hausdorff "
+                "%.3e (x%.2f vtkQD, x%.2f vtkDecimatePro), mean %.3e (x%.2f, x%.2f)\n",
+      name, below5, h.NumberOfLevels(), level10, static_cast<long long>(ours.NumberOfTriangles()), d.Hausdorff,
+      d.Hausdorff / q.Hausdorff, d.Hausdorff / p.Hausdorff, d.Mean, d.Mean / q.Mean, d.Mean / p.Mean);
+    // (The paper's level count, 29 to below 5%, is asserted on bunny00 by
+    // PaperSettingsReachFivePercentInFewLevels; bull's paper hierarchy stops above 5%.)
+    // The paper's order (area, curvature, angles, valence; no error term) is not error-driven:
+    // within an order of magnitude of vtkQuadricDecimation's Hausdorff distance, and the
+    // defaults (error-driven order, edge collapses) must be closer at the same count.
+    EXPECT_LT(d.Hausdorff, 10 * q.Hausdorff);
+    vtkNew<vtkTriangleCollapseHierarchy> defaults;
+    defaults->SetInputData(input);
+    defaults->GenerateAllLevelsOff();
+    defaults->SetTargetNumberOfTriangles(ours.NumberOfTriangles());
+    defaults->Update();
+    const Distances e = Measure(input, defaults->GetOutput());
+    std::printf("[ measure  ] %s, defaults at %lld triangles: Hausdorff %.3e, mean %.3e\n", name,
+      static_cast<long long>(defaults->GetOutput()->GetNumberOfPolys()), e.Hausdorff, e.Mean);
+    EXPECT_LT(e.Hausdorff, d.Hausdorff);
+    EXPECT_LT(e.Mean, d.Mean);
+  }
+}
