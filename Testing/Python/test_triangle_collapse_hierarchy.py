@@ -12,13 +12,18 @@ import surfacelod
 MESH_DIR = os.environ.get("SURFACELOD_MESH_DIR", "")
 
 
+def sphere_triangles(resolution):
+    sphere = vtkSphereSource()
+    sphere.SetThetaResolution(resolution)
+    sphere.SetPhiResolution(resolution)
+    triangles = vtkTriangleFilter()
+    triangles.SetInputConnection(sphere.GetOutputPort())
+    return triangles
+
+
 class TriangleCollapseHierarchyTest(unittest.TestCase):
     def test_sphere_pipeline_and_slider(self):
-        sphere = vtkSphereSource()
-        sphere.SetThetaResolution(64)
-        sphere.SetPhiResolution(64)
-        triangles = vtkTriangleFilter()
-        triangles.SetInputConnection(sphere.GetOutputPort())
+        triangles = sphere_triangles(64)
         lod = surfacelod.vtkTriangleCollapseHierarchy()
         lod.SetInputConnection(triangles.GetOutputPort())
         lod.SetTargetReduction(0.8)
@@ -46,11 +51,7 @@ class TriangleCollapseHierarchyTest(unittest.TestCase):
 
     def test_expand_from_coarsest_level(self):
         """Vertex splits from the coarsest level give the same level and target meshes."""
-        sphere = vtkSphereSource()
-        sphere.SetThetaResolution(48)
-        sphere.SetPhiResolution(48)
-        triangles = vtkTriangleFilter()
-        triangles.SetInputConnection(sphere.GetOutputPort())
+        triangles = sphere_triangles(48)
         stored = surfacelod.vtkTriangleCollapseHierarchy()
         stored.SetInputConnection(triangles.GetOutputPort())
         expanded = surfacelod.vtkTriangleCollapseHierarchy()

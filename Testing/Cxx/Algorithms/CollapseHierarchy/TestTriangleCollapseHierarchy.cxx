@@ -1329,6 +1329,26 @@ bool DeviationAvailable()
   vtkSmartPointer<vtkPolyData> b = ToPolyData(Sphere(6, 6));
   return Measure(a, b).Hausdorff > 0;
 }
+
+// vtkQuadricDecimation and vtkDecimatePro (without topology preservation, as it cannot reach
+// low counts otherwise) of input to the same reduction.
+struct References
+{
+  vtkNew<vtkQuadricDecimation> Quadric;
+  vtkNew<vtkDecimatePro> Pro;
+  References(vtkPolyData* input, double reduction)
+  {
+    this->Quadric->SetInputData(input);
+    this->Quadric->SetTargetReduction(reduction);
+    this->Quadric->Update();
+    this->Pro->SetInputData(input);
+    this->Pro->SetTargetReduction(reduction);
+    this->Pro->PreserveTopologyOff();
+    this->Pro->SplittingOn();
+    this->Pro->BoundaryVertexDeletionOn();
+    this->Pro->Update();
+  }
+};
 } // namespace
 
 // The goal, asserted on every mesh at 10% and 2% of the triangles: the target count is reached
@@ -1360,18 +1380,9 @@ TEST_P(HierarchyQuality, VersusQuadricDecimationAndDecimatePro)
     hierarchy->Update();
     vtkPolyData* ours = hierarchy->GetOutput();
 
-    vtkNew<vtkQuadricDecimation> quadric;
-    quadric->SetInputData(input);
-    quadric->SetTargetReduction(1.0 - double(target) / n0);
-    quadric->Update();
-
-    vtkNew<vtkDecimatePro> pro;
-    pro->SetInputData(input);
-    pro->SetTargetReduction(1.0 - double(target) / n0);
-    pro->PreserveTopologyOff();
-    pro->SplittingOn();
-    pro->BoundaryVertexDeletionOn();
-    pro->Update();
+    References references(input, 1.0 - double(target) / n0);
+    vtkQuadricDecimation* quadric = references.Quadric;
+    vtkDecimatePro* pro = references.Pro;
 
     const Distances d = Measure(input, ours), q = Measure(input, quadric->GetOutput()),
                     p = Measure(input, pro->GetOutput());
@@ -1427,19 +1438,9 @@ TEST(CollapseHierarchy, PaperConfigurationQuality)
     EXPECT_EQ(out.NonManifoldEdges, 0);
     EXPECT_EQ(CountFlippedTriangles(mesh, ours, level.TriangleOrigin), 0);
     const double reduction = 1.0 - double(ours.NumberOfTriangles()) / mesh.NumberOfTriangles();
-    vtkNew<vtkQuadricDecimation> quadric;
-    quadric->SetInputData(input);
-    quadric->SetTargetReduction(reduction);
-    quadric->Update();
-    vtkNew<vtkDecimatePro> pro;
-    pro->SetInputData(input);
-    pro->SetTargetReduction(reduction);
-    pro->PreserveTopologyOff();
-    pro->SplittingOn();
-    pro->BoundaryVertexDeletionOn();
-    pro->Update();
-    const Distances d = Measure(input, ToPolyData(ours)), q = Measure(input, quadric->GetOutput()),
-                    p = Measure(input, pro->GetOutput());
+    References references(input, reduction);
+    const Distances d = Measure(input, ToPolyData(ours)), q = Measure(input, references.Quadric->GetOutput()),
+                    p = Measure(input, references.Pro->GetOutput());
     std::printf("[ measure  ] %s, paper settings: %d of %d levels to < 5%%; level %d (%lld triangles): Hausdorff "
                 "%.3e (x%.2f vtkQD, x%.2f vtkDecimatePro), mean %.3e (x%.2f, x%.2f)\n",
       name, below5, h.NumberOfLevels(), level10, static_cast<long long>(ours.NumberOfTriangles()), d.Hausdorff,
