@@ -12,13 +12,18 @@ import surfacelod
 MESH_DIR = os.environ.get("SURFACELOD_MESH_DIR", "")
 
 
+def sphere_triangles(resolution):
+    sphere = vtkSphereSource()
+    sphere.SetThetaResolution(resolution)
+    sphere.SetPhiResolution(resolution)
+    triangles = vtkTriangleFilter()
+    triangles.SetInputConnection(sphere.GetOutputPort())
+    return triangles
+
+
 class TriangleCollapseHierarchyTest(unittest.TestCase):
     def test_sphere_pipeline_and_slider(self):
-        sphere = vtkSphereSource()
-        sphere.SetThetaResolution(64)
-        sphere.SetPhiResolution(64)
-        triangles = vtkTriangleFilter()
-        triangles.SetInputConnection(sphere.GetOutputPort())
+        triangles = sphere_triangles(64)
         lod = surfacelod.vtkTriangleCollapseHierarchy()
         lod.SetInputConnection(triangles.GetOutputPort())
         lod.SetTargetReduction(0.8)
@@ -43,6 +48,47 @@ class TriangleCollapseHierarchyTest(unittest.TestCase):
         self.assertEqual(all_levels.GetBlock(levels - 1).GetNumberOfPolys(),
                          lod.GetLevelNumberOfTriangles(levels - 1))
         self.assertIsNotNone(lod.GetOutput().GetCellData().GetArray("CollapseBatch"))
+
+    def test_expand_from_coarsest_level(self):
+        """Vertex splits from the coarsest level give the same level and target meshes."""
+        triangles = sphere_triangles(48)
+        stored = surfacelod.vtkTriangleCollapseHierarchy()
+        stored.SetInputConnection(triangles.GetOutputPort())
+        expanded = surfacelod.vtkTriangleCollapseHierarchy()
+        expanded.SetInputConnection(triangles.GetOutputPort())
+        expanded.ExpandFromCoarsestLevelOn()
+        self.assertTrue(expanded.GetExpandFromCoarsestLevel())
+
+        def cells(poly):
+            points = poly.GetPoints()
+            out = []
+            for c in range(poly.GetNumberOfCells()):
+                ids = poly.GetCell(c).GetPointIds()
+                corners = [points.GetPoint(ids.GetId(k)) for k in range(3)]
+                first = corners.index(min(corners))
+                out.append(tuple(corners[(first + k) % 3] for k in range(3)))
+            return sorted(out)
+
+        expanded.SetLevel(0)
+        expanded.Update()
+        levels = expanded.GetNumberOfLevels()
+        self.assertGreater(levels, 5)
+        for level in (1, levels // 2, levels - 1):
+            stored.SetLevel(level)
+            stored.Update()
+            expanded.SetLevel(level)
+            expanded.Update()
+            self.assertEqual(expanded.GetOutput().GetNumberOfPolys(), stored.GetLevelNumberOfTriangles(level))
+            self.assertEqual(cells(expanded.GetOutput()), cells(stored.GetOutput()))
+        expanded.SetLevel(-1)
+        stored.SetLevel(-1)
+        expanded.SetTargetNumberOfTriangles(1000)
+        stored.SetTargetNumberOfTriangles(1000)
+        expanded.Update()
+        stored.Update()
+        self.assertAlmostEqual(expanded.GetOutput().GetNumberOfPolys(), 1000, delta=3)
+        self.assertEqual(cells(expanded.GetOutput()), cells(stored.GetOutput()))
+        self.assertEqual(expanded.GetNumberOfHierarchyBuilds(), 1)
 
     @unittest.skipUnless(MESH_DIR, "SURFACELOD_MESH_DIR not set")
     def test_bunny_levels(self):

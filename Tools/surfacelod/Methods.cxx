@@ -189,6 +189,7 @@ std::vector<Parameter> TriangleCollapseHierarchyParameters()
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MaximumNumberOfLevels),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MinimumNumberOfTriangles),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, MinimumNormalDot),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, ExpandFromCoarsestLevel),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, OutputPointsPrecision),
   };
 }

@@ -580,7 +580,7 @@ int CollapseHierarchy::FixedMask(const Index* tri) const
   int mask = 0;
   for (int k = 0; k < 3; ++k)
   {
-    mask |= (this->Degree(tri[k]) > HubValence || this->OnBorder[tri[k]]) ? 1 << k : 0;
+    mask |= this->Degree(tri[k]) > HubValence ? 1 << k : 0;
   }
   return mask;
 }
@@ -1004,10 +1004,6 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     {
       continue; // a hub's checks would cost its valence (see HubMask)
     }
-    if (this->OnBorder[u] || this->OnBorder[v])
-    {
-      continue; // boundaries keep their resolution, like the triangle collapses leave them
-    }
     Quadric q = this->Quadrics[u];
     q += this->Quadrics[v];
     const Vec3 pu = m.Point(u), pv = m.Point(v);
@@ -1273,6 +1269,41 @@ void CollapseHierarchy::InitializeQuadrics()
       for (int k = 0; k < 3; ++k)
       {
         this->Quadrics[tri[k]] += q;
+      }
+    }
+  }
+  this->AddBorderPlanes();
+}
+
+// Border edges of M0 get a plane through the edge, perpendicular to its triangle, weighted by the
+// squared edge length (area units), on both ends: an edge collapse along a border keeps the
+// border's line, and an interior vertex merged into a border vertex stays on it.
+void CollapseHierarchy::AddBorderPlanes()
+{
+  const EditableMesh& m = this->Mesh;
+  for (Index t = 0; t < this->Base.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = this->Base.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index u = tri[k], v = tri[(k + 1) % 3];
+      if (!this->OnBorder[u] || !this->OnBorder[v] || this->LockedVertices[u] || this->LockedVertices[v])
+      {
+        continue;
+      }
+      int sharing = 0;
+      m.ForEachTriangle(u, [&](Index x) {
+        const Index* o = m.Triangle(x);
+        sharing += (o[0] == v || o[1] == v || o[2] == v) ? 1 : 0;
+      });
+      const Vec3 pu = m.Point(u), e = m.Point(v) - pu;
+      const Vec3 n = Normalized(Cross(e, Normalized(this->BaseAreaVector(t))));
+      const double w = Dot(e, e);
+      if (sharing == 1 && w > 0 && Norm(n) > 0)
+      {
+        const Quadric q = Quadric::FromPointNormal(pu, n, w);
+        this->Quadrics[u] += q;
+        this->Quadrics[v] += q;
       }
     }
   }
@@ -1904,5 +1935,60 @@ void CollapseHierarchy::Refine(EditableMesh& mesh, Index k) const
     mesh.Undo(this->Flips[size_t(it - this->FlipStamp.begin())]);
   }
   mesh.Undo(record);
+}
+
+void CollapseHierarchy::Expand(Index collapses, HierarchyMesh& out) const
+{
+  out.Clear();
+  collapses = std::max<Index>(0, std::min(collapses, this->NumberOfCollapses()));
+  EditableMesh mesh = this->Mesh;
+  std::vector<Index> global = this->GlobalOf; // editable vertex -> global vertex, as it is split
+  std::vector<int> changeLevel(static_cast<size_t>(mesh.NumberOfTriangles()), -1);
+  for (Index k = this->NumberOfCollapses() - 1; k >= collapses; --k)
+  {
+    this->Refine(mesh, k);
+    // Newest first: what remains is the earliest change at or after `collapses`.
+    const HierarchyCollapse& c = this->Collapses[k];
+    const auto flips = std::equal_range(this->FlipStamp.begin(), this->FlipStamp.end(), k + 1);
+    for (auto it = flips.first; it != flips.second; ++it)
+    {
+      for (Index x : this->Flips[size_t(it - this->FlipStamp.begin())].Triangles)
+      {
+        changeLevel[x] = c.Level;
+      }
+    }
+    for (int i = 0; i < c.Count; ++i)
+    {
+      const Index v = this->RecordVertices[3 * size_t(k) + i];
+      global[v] = c.Sources[i];
+      mesh.ForEachTriangle(v, [&](Index x) { changeLevel[x] = c.Level; });
+    }
+  }
+  // Output points numbered in order of first use, as Extract does.
+  std::vector<Index> slot(static_cast<size_t>(mesh.NumberOfPoints()), InvalidIndex);
+  for (Index x = 0; x < mesh.NumberOfTriangles(); ++x)
+  {
+    if (!mesh.IsTriangleAlive(x))
+    {
+      continue;
+    }
+    for (int j = 0; j < 3; ++j)
+    {
+      const Index v = mesh.Triangle(x)[j];
+      if (slot[v] == InvalidIndex)
+      {
+        slot[v] = static_cast<Index>(out.PointGlobal.size());
+        out.PointGlobal.push_back(global[v]);
+        const Vec3 p = mesh.Point(v);
+        out.Points.insert(out.Points.end(), p.begin(), p.end());
+      }
+      out.Triangles.push_back(slot[v]);
+    }
+    out.TriangleOrigin.push_back(x);
+    out.TriangleCollapseLevel.push_back(changeLevel[x]);
+  }
+  out.PointTarget.assign(out.PointGlobal.size(), InvalidIndex);
+  out.TriangleBatch.assign(out.TriangleOrigin.size(), InvalidIndex);
+  out.TriangleRole.assign(out.TriangleOrigin.size(), 0);
 }
 } // namespace slod

@@ -201,6 +201,12 @@ public:
   // undone first).
   const EditableMesh& CoarsestMesh() const { return this->Mesh; }
   void Refine(EditableMesh& mesh, Index k) const;
+  // The reverse of the hierarchy: the coarsest mesh expanded by vertex splits (Refine, newest
+  // first) until `collapses` collapses are left (LevelStart(i) gives M_i; any count between gives
+  // a cut inside a batch, as CollapsesForTriangleCount). `out` holds the live triangles in M0 slot
+  // order with their global vertex ids, unblended (TriangleBatch -1, TriangleRole 0), and per
+  // triangle the level of the next collapse or swap that changes it (-1 none).
+  void Expand(Index collapses, HierarchyMesh& out) const;
 
 private:
   // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the
@@ -228,6 +234,7 @@ private:
   void ResetRecords();
   void ReserveRecords();
   void InitializeQuadrics();
+  void AddBorderPlanes();
   bool EvaluateAllTriangles(const ProgressFunction& progress);
   bool ReduceLevel(int level, LevelState& state);
   void PlanLevel(LevelState& state);
@@ -360,7 +367,7 @@ private:
   int HubMask(Index t) const; // bit k: tri[k] is a hub
   // Over edges with no hub or border end; choice: which candidate it was.
   double CheapestEdgeError(const Index* tri, EdgeChoice& choice) const;
-  int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub or on the border
+  int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;
   mutable std::vector<Index> CachedDegree, CachedDegreeStamp;

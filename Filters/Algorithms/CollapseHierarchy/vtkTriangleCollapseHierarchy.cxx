@@ -4,6 +4,7 @@
 #include "slodCollapseHierarchy.h"
 #include "slodAttributeTransfer.h"
 #include "slodInputPreparation.h"
+#include "slodMeshTopology.h"
 #include "slodPointAttributes.h"
 
 #include "vtkCellArray.h"
@@ -194,6 +195,20 @@ struct vtkTriangleCollapseHierarchy::Internals
     return parameters;
   }
 
+  // A missed target: the coarsest level, and the fewest triangles a manifold with the input's
+  // border loops b and Euler characteristic chi can have when every loop keeps at least three
+  // edges on its own vertices: V >= 3b (4 when closed), and closing each loop of k edges with
+  // k - 2 triangles gives F >= 2 V - 2 chi - (number of border edges) >= 3b - 2 chi.
+  static std::string WhyNotReached(const slod::CollapseHierarchy& h)
+  {
+    const slod::MeshStatistics s = slod::ComputeMeshStatistics(h.BaseMesh());
+    const long long b = s.BoundaryLoops, chi = s.EulerCharacteristic;
+    const long long fewest = b > 0 ? 3 * b - 2 * chi : 8 - 2 * chi;
+    return "the hierarchy's coarsest level keeps more: further collapses would change the topology or fold a "
+           "triangle (keeping " + std::to_string(b) + " border loop(s) and Euler characteristic " +
+      std::to_string(chi) + " needs at least about " + std::to_string(fewest) + " triangles)";
+  }
+
   // The triangle count asked for, of n0 input triangles.
   static slod::Index TargetOf(const vtkTriangleCollapseHierarchy& f, slod::Index n0)
   {
@@ -263,14 +278,27 @@ struct vtkTriangleCollapseHierarchy::Internals
   {
     const slod::CollapseHierarchy& h = this->Hierarchy;
     const int lastLevel = h.NumberOfLevels() - 1;
-    if (f.ContinuousLevel >= 0 || f.Level >= 0)
+    if (f.ContinuousLevel >= 0 || (f.Level >= 0 && !f.ExpandFromCoarsestLevel))
     {
       const double shown = f.ContinuousLevel >= 0 ? std::min<double>(f.ContinuousLevel, lastLevel) : std::min(f.Level, lastLevel);
       h.ExtractLevel(shown, this->Scratch);
       return shown;
     }
+    if (f.Level >= 0)
+    {
+      const int level = std::min(f.Level, lastLevel);
+      h.Expand(h.LevelStart(level), this->Scratch);
+      return level;
+    }
     const slod::Index k = h.CollapsesForTriangleCount(target);
-    h.Extract(k, k, 0.0, this->Scratch);
+    if (f.ExpandFromCoarsestLevel)
+    {
+      h.Expand(k, this->Scratch);
+    }
+    else
+    {
+      h.Extract(k, k, 0.0, this->Scratch);
+    }
     const int level = k < h.NumberOfCollapses() ? h.LevelOfCollapse(k) : lastLevel;
     if (level >= lastLevel)
     {
@@ -382,8 +410,8 @@ int vtkTriangleCollapseHierarchy::RequestData(
   in.ToPolyData(in.Scratch, this->ShownLevel, output);
   if (this->ContinuousLevel < 0 && this->Level < 0)
   {
-    slod::ReportTarget(this, output, target, output->GetNumberOfPolys() <= target,
-      "the hierarchy's coarsest level keeps more: further collapses would change the topology or fold a triangle");
+    const bool reached = output->GetNumberOfPolys() <= target;
+    slod::ReportTarget(this, output, target, reached, reached ? "" : Internals::WhyNotReached(in.Hierarchy).c_str());
   }
   if (levels)
   {
@@ -428,6 +456,7 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinimumNumberOfTriangles: " << this->MinimumNumberOfTriangles << "\n";
   os << indent << "MinimumNormalDot: " << this->MinimumNormalDot << "\n";
   os << indent << "GenerateAllLevels: " << this->GenerateAllLevels << "\n";
+  os << indent << "ExpandFromCoarsestLevel: " << this->ExpandFromCoarsestLevel << "\n";
   os << indent << "NumberOfLevels: " << this->GetNumberOfLevels() << "\n";
   os << indent << "ShownLevel: " << this->ShownLevel << "\n";
 }

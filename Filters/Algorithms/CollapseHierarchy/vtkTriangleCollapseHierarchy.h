@@ -12,9 +12,8 @@
  * The defaults keep the paper's hierarchy, batches, stencil rules and blending but order by
  * geometric error, which is what makes the result competitive with vtkQuadricDecimation:
  * ErrorWeight 1 (quadric error of the collapse point), QuadricCollapsePoint on, RelaxWhenBlocked
- * on, BatchSearchDepth 4, MinimumNormalDot 0.5, StarShapedInStencilPlane on, SwapBlockingEdges on
- * (edge swaps between levels on flat hinges, SwapMinimumNormalDot 0.9999,
- * SwapMinimumNormalDotWhenBlocked 0.5), EdgeCollapses EDGE_COLLAPSES_EVERYWHERE with
+ * on, BatchSearchDepth 4, MinimumNormalDot 0.5, StarShapedInStencilPlane on, SwapBlockingEdges off
+ * (so that the blend is continuous: M_i(1) is M_i+1), EdgeCollapses EDGE_COLLAPSES_EVERYWHERE with
  * PreferEdgeFactor 0.1 (edge collapses, in the same batches, records and blends, where a triangle
  * collapse is blocked or more than 10x dearer) and VertexErrorWeight 10 (crease and corner
  * vertices pinned to their own planes). The paper's configuration is ErrorWeight 0,
@@ -153,8 +152,9 @@ public:
   /// Swap edges between levels so that vertices of valence 3 or 4 next to the new collapse points
   /// reach valence 5 (the paper's Fig. 3 cycle removal, applied on every level): they block their
   /// neighbours' collapses by rule (2). Only hinges whose normals agree to SwapMinimumNormalDot
-  /// are swapped. Default on with 0.9999 (flat parts only: on CAD parts they free the cheap collapses,
-  /// on smooth meshes swapping curved hinges was measured to cost accuracy); off is the paper.
+  /// are swapped (SwapMinimumNormalDot 0.9999: flat parts only). Default off, as in the paper: a
+  /// swap changes the surface between M_i(1) and M_i+1, so the blend jumps there; with the edge
+  /// collapses the swaps are no longer needed to reach the quality goal.
   vtkSetMacro(SwapBlockingEdges, bool);
   vtkGetMacro(SwapBlockingEdges, bool);
   vtkBooleanMacro(SwapBlockingEdges, bool);
@@ -218,6 +218,17 @@ public:
   ///@}
 
   ///@{
+  /// Make output 0 (a Level or a target) by vertex splits: the coarsest mesh of the hierarchy
+  /// expanded through the collapse records, newest first (the reverse of the hierarchy, as for
+  /// progressive transmission: the coarsest mesh plus the records give every level and every
+  /// triangle count), instead of from the stored levels. The mesh is the same either way (its
+  /// cells in input-cell order); changing this does not rebuild the hierarchy. A ContinuousLevel
+  /// blend always comes from the stored levels. Default off.
+  vtkSetMacro(ExpandFromCoarsestLevel, bool);
+  vtkGetMacro(ExpandFromCoarsestLevel, bool);
+  vtkBooleanMacro(ExpandFromCoarsestLevel, bool);
+  ///@}
+  ///@{
   /// Produce every level on output port 1 (default on). Off, with no Level and no
   /// ContinuousLevel, the hierarchy is built only down to the target.
   vtkSetMacro(GenerateAllLevels, bool);
@@ -272,13 +283,14 @@ protected:
   double PreferEdgeFactor = 0.1;
   double VertexErrorWeight = 10.0;
   bool StarShapedInStencilPlane = true;
-  bool SwapBlockingEdges = true;
+  bool SwapBlockingEdges = false;
   double SwapMinimumNormalDot = 0.9999;
   double SwapMinimumNormalDotWhenBlocked = 0.5;
   int MaximumNumberOfLevels = 1000;
   vtkIdType MinimumNumberOfTriangles = 0;
   double MinimumNormalDot = 0.5;
   bool GenerateAllLevels = true;
+  bool ExpandFromCoarsestLevel = false;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double ShownLevel = 0;

@@ -421,6 +421,30 @@ std::vector<CanonicalTriangle> CanonicalTriangles(const HierarchyMesh& h)
 }
 } // namespace
 
+static void ExpectExactlyReversible(const CollapseHierarchy& h, const TriangleMesh& input)
+{
+  EditableMesh mesh = h.CoarsestMesh();
+  for (Index k = h.NumberOfCollapses() - 1; k >= 0; --k)
+  {
+    h.Refine(mesh, k);
+  }
+  ASSERT_TRUE(mesh.CheckInvariants());
+  ASSERT_EQ(mesh.NumberOfLiveTriangles(), input.NumberOfTriangles());
+  ASSERT_EQ(mesh.NumberOfLiveVertices(), input.NumberOfPoints());
+  for (Index t = 0; t < input.NumberOfTriangles(); ++t)
+  {
+    ASSERT_TRUE(mesh.IsTriangleAlive(t));
+    for (int k = 0; k < 3; ++k)
+    {
+      ASSERT_EQ(mesh.Triangle(t)[k], input.Triangles[3 * t + k]);
+    }
+  }
+  for (Index v = 0; v < input.NumberOfPoints(); ++v)
+  {
+    ASSERT_EQ(mesh.Point(v), input.Point(v));
+  }
+}
+
 class HierarchyOnMesh : public ::testing::TestWithParam<const char*>
 {
 };
@@ -468,64 +492,108 @@ TEST_P(HierarchyOnMesh, LevelsAreManifoldSameGenusUnflippedAndExactlyReversible)
 
   // Expanding every vertex of the coarsest mesh back (vertex splits, newest first, undoing the
   // edge swaps between levels) gives the input exactly: same triangles, same vertex ids, bitwise
-  // the same coordinates.
+  // the same coordinates. With the defaults (no swaps) and with the swaps between levels on.
+  ExpectExactlyReversible(h, input);
   if (std::string(GetParam()) == "fandisk")
   {
-    EXPECT_GT(h.NumberOfSwaps(), 0); // its flat faces have blocking valence-4 vertices
-  }
-  EditableMesh mesh = h.CoarsestMesh();
-  for (Index k = h.NumberOfCollapses() - 1; k >= 0; --k)
-  {
-    h.Refine(mesh, k);
-  }
-  ASSERT_TRUE(mesh.CheckInvariants());
-  ASSERT_EQ(mesh.NumberOfLiveTriangles(), input.NumberOfTriangles());
-  ASSERT_EQ(mesh.NumberOfLiveVertices(), input.NumberOfPoints());
-  for (Index t = 0; t < input.NumberOfTriangles(); ++t)
-  {
-    ASSERT_TRUE(mesh.IsTriangleAlive(t));
-    for (int k = 0; k < 3; ++k)
-    {
-      ASSERT_EQ(mesh.Triangle(t)[k], input.Triangles[3 * t + k]);
-    }
-  }
-  for (Index v = 0; v < input.NumberOfPoints(); ++v)
-  {
-    ASSERT_EQ(mesh.Point(v), input.Point(v));
+    CollapseHierarchyParameters swapping = DefaultParameters();
+    swapping.SwapBlockingEdges = true;
+    swapping.SwapMinimumNormalDot = 0.9999;
+    CollapseHierarchy s;
+    ASSERT_TRUE(s.Build(input, swapping));
+    EXPECT_GT(s.NumberOfSwaps(), 0); // its flat faces have blocking valence-4 vertices
+    ExpectExactlyReversible(s, input);
   }
 }
 
-TEST_P(HierarchyOnMesh, BlendsMatchTheLevels)
+// Expand(k) (vertex splits from the coarsest mesh) and Extract(k) (the stored triangle versions)
+// give the same mesh: the same M0 triangle slots with the same global vertices in the same corner
+// order, bitwise the same coordinates and the same collapse levels.
+static void ExpectExpansionEqualsExtraction(const CollapseHierarchy& h, Index collapses, const std::string& what)
+{
+  HierarchyMesh expanded, extracted;
+  h.Expand(collapses, expanded);
+  h.Extract(collapses, collapses, 0.0, extracted);
+  ASSERT_EQ(expanded.Triangles.size(), extracted.Triangles.size()) << what;
+  ASSERT_EQ(expanded.Triangles.size() / 3, size_t(h.NumberOfTrianglesAfter(collapses))) << what;
+  std::map<Index, size_t> extractedAt;
+  for (size_t t = 0; t < extracted.TriangleOrigin.size(); ++t)
+  {
+    ASSERT_TRUE(extractedAt.emplace(extracted.TriangleOrigin[t], t).second) << what;
+  }
+  for (size_t t = 0; t < expanded.TriangleOrigin.size(); ++t)
+  {
+    const auto it = extractedAt.find(expanded.TriangleOrigin[t]);
+    ASSERT_NE(it, extractedAt.end()) << what << " triangle " << expanded.TriangleOrigin[t];
+    const size_t u = it->second;
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index a = expanded.Triangles[3 * t + k], b = extracted.Triangles[3 * u + k];
+      ASSERT_EQ(expanded.PointGlobal[a], extracted.PointGlobal[b]) << what;
+      for (int j = 0; j < 3; ++j)
+      {
+        ASSERT_EQ(expanded.Points[3 * size_t(a) + j], extracted.Points[3 * size_t(b) + j]) << what;
+      }
+    }
+    ASSERT_EQ(expanded.TriangleCollapseLevel[t], extracted.TriangleCollapseLevel[u]) << what;
+  }
+}
+
+TEST_P(HierarchyOnMesh, ExpandingTheCoarsestMeshGivesEveryLevel)
+{
+  const TriangleMesh input = ToTriangleMesh(LoadTestMesh(GetParam()));
+  CollapseHierarchyParameters parameters = DefaultParameters();
+  for (const bool swaps : { false, true })
+  {
+    // Also with the edge swaps between levels (undone by the expansion).
+    parameters.SwapBlockingEdges = swaps;
+    parameters.SwapMinimumNormalDot = 0.9999;
+    CollapseHierarchy h;
+    ASSERT_TRUE(h.Build(input, parameters));
+    for (int i = 0; i < h.NumberOfLevels(); ++i)
+    {
+      ExpectExpansionEqualsExtraction(h, h.LevelStart(i), std::string(GetParam()) + " level " + std::to_string(i));
+    }
+    // A cut inside a batch (a triangle-count target), and the input itself.
+    const Index cut = h.CollapsesForTriangleCount(input.NumberOfTriangles() / 7);
+    ExpectExpansionEqualsExtraction(h, cut, std::string(GetParam()) + " cut");
+    HierarchyMesh m0;
+    h.Expand(0, m0);
+    ASSERT_EQ(m0.Triangles.size(), input.Triangles.size());
+    for (size_t k = 0; k < input.Triangles.size(); ++k)
+    {
+      ASSERT_EQ(m0.PointGlobal[m0.Triangles[k]], input.Triangles[k]);
+    }
+  }
+}
+
+// The blend is continuous between levels with the defaults: M_i(0) is M_i and M_i(1) is M_i+1,
+// triangle for triangle (no edge swap between the levels), on every level.
+class BlendOnMesh : public ::testing::TestWithParam<const char*>
+{
+};
+
+TEST_P(BlendOnMesh, BlendsMatchTheLevels)
 {
   const TriangleMesh input = ToTriangleMesh(LoadTestMesh(GetParam()));
   CollapseHierarchy h;
   ASSERT_TRUE(h.Build(input, DefaultParameters()));
+  ASSERT_GT(h.NumberOfLevels(), 10) << GetParam();
   HierarchyMesh a, b;
-  for (int i = 0; i + 1 < h.NumberOfLevels(); i += 3)
+  for (int i = 0; i + 1 < h.NumberOfLevels(); ++i)
   {
     // t = 0 is M_i itself.
     h.ExtractLevel(i, a);
     h.Extract(h.LevelStart(i), h.LevelStart(i + 1), 0.0, b);
     ASSERT_EQ(a.Points, b.Points);
     ASSERT_EQ(a.Triangles, b.Triangles);
-    // t = 1 is M_i+1 geometrically (collapsed triangles become degenerate and are dropped),
-    // except for the edges swapped between the levels (two triangles each).
+    // t = 1 is M_i+1 (collapsed triangles become degenerate and are dropped): the same triangles
+    // with bitwise the same corners.
     h.Extract(h.LevelStart(i), h.LevelStart(i + 1), 1.0, a);
     h.ExtractLevel(i + 1, b);
-    const std::vector<CanonicalTriangle> ca = CanonicalTriangles(a), cb = CanonicalTriangles(b);
-    const Index swaps = h.SwapsAfter(h.LevelStart(i + 1));
-    if (swaps == 0)
-    {
-      ASSERT_EQ(ca, cb) << GetParam() << " level " << i;
-    }
-    else
-    {
-      ASSERT_EQ(ca.size(), cb.size());
-      std::vector<CanonicalTriangle> common;
-      std::set_intersection(ca.begin(), ca.end(), cb.begin(), cb.end(), std::back_inserter(common));
-      ASSERT_LE(ca.size() - common.size(), size_t(2 * swaps)) << GetParam() << " level " << i;
-      ASSERT_GT(common.size(), 0u);
-    }
+    ASSERT_EQ(h.SwapsAfter(h.LevelStart(i + 1)), 0) << GetParam() << " level " << i;
+    ASSERT_EQ(CanonicalTriangles(a), CanonicalTriangles(b)) << GetParam() << " level " << i;
+    ASSERT_EQ(b.Triangles.size() / 3, size_t(h.LevelTriangleCount(i + 1))) << GetParam() << " level " << i;
     // In between, every moving point lies on its segment, and the roles mark the batch.
     h.ExtractLevel(i + 0.25, a);
     int collapsing = 0;
@@ -551,6 +619,8 @@ TEST_P(HierarchyOnMesh, BlendsMatchTheLevels)
 }
 
 INSTANTIATE_TEST_SUITE_P(RealMeshes, HierarchyOnMesh, ::testing::Values("fandisk", "femur", "bunny00", "armadillo"));
+// bull and knot1 (genus 1) are used by no other test.
+INSTANTIATE_TEST_SUITE_P(RealMeshes, BlendOnMesh, ::testing::Values("fandisk", "femur", "bunny00", "armadillo", "bull", "knot1"));
 
 TEST(CollapseHierarchy, BatchesHaveDisjointStencilsAndRespectTheFraction)
 {
@@ -671,6 +741,56 @@ TEST(CollapseHierarchy, PaperSettingsReachFivePercentInFewLevels)
   EXPECT_LE(level, 32);
 }
 
+// The paper's configuration fits every collapse point c + f(0,0) n to the original (ancestral)
+// points of the stencil. On a noisy sphere (radius 1, radial noise uniform in [-a, a]) the fit
+// averages the noise: the collapse points of the coarse levels lie closer to the sphere than
+// the input's own vertices do on average (the stencil's few current vertices alone would carry
+// their noise into the fit).
+TEST(CollapseHierarchy, PaperFitsToAncestralPointsAverageTheNoise)
+{
+  TriangleMesh sphere = Sphere(96, 96);
+  const double a = 0.01;
+  double inputDeviation = 0;
+  for (Index v = 0; v < sphere.NumberOfPoints(); ++v)
+  {
+    // A fixed pseudo-random radial offset per vertex (deterministic).
+    const double u = std::fmod(std::sin(12.9898 * v + 78.233) * 43758.5453, 1.0);
+    const double r = 1.0 + a * (2 * std::fabs(u) - 1);
+    const Vec3 p = Normalized(sphere.Point(v));
+    for (int j = 0; j < 3; ++j)
+    {
+      sphere.Points[3 * size_t(v) + j] = r * p[j];
+    }
+    inputDeviation += std::fabs(r - 1) / sphere.NumberOfPoints();
+  }
+  CollapseHierarchy h;
+  const CollapseHierarchyParameters paper;
+  ASSERT_TRUE(h.Build(sphere, paper));
+  ASSERT_EQ(h.NumberOfEdgeCollapses(), 0);
+  double coarse = 0, worst = 0;
+  Index coarseCount = 0;
+  for (Index k = 0; k < h.NumberOfCollapses(); ++k)
+  {
+    const double d = std::fabs(Norm(h.Vertex(h.GetCollapse(k).Point)) - 1);
+    worst = std::max(worst, d);
+    if (h.LevelOfCollapse(k) >= h.NumberOfLevels() / 2) // the coarse half of the levels
+    {
+      coarse += d;
+      ++coarseCount;
+    }
+  }
+  ASSERT_GT(coarseCount, 50);
+  coarse /= coarseCount;
+  std::printf("[ measure  ] noisy sphere, paper settings: mean |r - 1| of the input %.2e, of the collapse points "
+              "of the coarse half of the %d levels %.2e (%lld, down to %lld triangles of %lld), largest %.2e\n",
+    inputDeviation, h.NumberOfLevels(), coarse, static_cast<long long>(coarseCount),
+    static_cast<long long>(h.LevelTriangleCount(h.NumberOfLevels() - 1)),
+    static_cast<long long>(sphere.NumberOfTriangles()), worst);
+  EXPECT_LT(coarse, 0.5 * inputDeviation);
+  // (The largest deviation is not bounded by the noise: 4.5e-2 was measured, an outlier whose
+  // cause is open; see Documentation/TriangleCollapseHierarchy.md.)
+}
+
 TEST(CollapseHierarchy, Deterministic)
 {
   const TriangleMesh input = ToTriangleMesh(LoadTestMesh("fandisk"));
@@ -788,7 +908,7 @@ TEST(CollapseHierarchy, SmallOpenAndNonManifoldMeshes)
     h.ExtractLevel(5.5, m);
     EXPECT_EQ(m.Triangles.size(), 12u);
   }
-  // An open disk: the boundary stays (its triangles have incomplete stencils), the rest reduces.
+  // An open disk: the border collapses too (edge collapses along it), keeping its one loop.
   {
     const TriangleMesh disk = Disk(12, 32);
     const MeshStatistics in = ComputeMeshStatistics(disk);
@@ -799,7 +919,8 @@ TEST(CollapseHierarchy, SmallOpenAndNonManifoldMeshes)
     const MeshStatistics out = ComputeMeshStatistics(ToMesh(m));
     EXPECT_LT(out.Triangles, in.Triangles / 2);
     EXPECT_EQ(out.BoundaryLoops, 1);
-    EXPECT_EQ(out.BoundaryEdges, in.BoundaryEdges);
+    EXPECT_LT(out.BoundaryEdges, in.BoundaryEdges / 2);
+    EXPECT_GE(out.BoundaryEdges, 3);
     EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
     EXPECT_EQ(out.NonManifoldEdges, 0);
   }
@@ -967,6 +1088,80 @@ TEST(vtkTriangleCollapseHierarchy, LevelsTargetsCachingAndArrays)
   EXPECT_EQ(filter->GetNumberOfHierarchyBuilds(), 3);
 }
 
+namespace
+{
+// The cells of a filter output as (corner coordinates from the smallest corner, CollapseLevel),
+// sorted: equal for the same mesh whatever the order of its points and cells.
+std::vector<std::array<double, 10>> CellsWithLevels(vtkPolyData* mesh)
+{
+  std::vector<std::array<double, 10>> cells;
+  vtkDataArray* level = mesh->GetCellData()->GetArray("CollapseLevel");
+  for (vtkIdType c = 0; c < mesh->GetNumberOfPolys(); ++c)
+  {
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    mesh->GetCellPoints(c, n, ids);
+    EXPECT_EQ(n, 3);
+    std::array<std::array<double, 3>, 3> corners;
+    for (int k = 0; k < 3; ++k)
+    {
+      mesh->GetPoint(ids[k], corners[k].data());
+    }
+    const int first = static_cast<int>(std::min_element(corners.begin(), corners.end()) - corners.begin());
+    std::array<double, 10> cell;
+    for (int k = 0; k < 3; ++k)
+    {
+      std::copy(corners[(first + k) % 3].begin(), corners[(first + k) % 3].end(), cell.begin() + 3 * k);
+    }
+    cell[9] = level ? level->GetTuple1(c) : -2;
+    cells.push_back(cell);
+  }
+  std::sort(cells.begin(), cells.end());
+  return cells;
+}
+} // namespace
+
+TEST(vtkTriangleCollapseHierarchy, ExpandFromCoarsestLevelGivesEveryLevelAndTarget)
+{
+  // The reverse of the hierarchy through the VTK API: the coarsest mesh plus the collapse records
+  // give level k and any triangle count exactly as the stored levels do, without a rebuild.
+  for (const char* name : { "femur", "bull" })
+  {
+    vtkSmartPointer<vtkPolyData> input = LoadTestMesh(name);
+    vtkNew<vtkTriangleCollapseHierarchy> stored, expanded;
+    stored->SetInputData(input);
+    expanded->SetInputData(input);
+    expanded->ExpandFromCoarsestLevelOn();
+    stored->SetLevel(0);
+    stored->Update();
+    const int levels = stored->GetNumberOfLevels();
+    ASSERT_GT(levels, 10) << name;
+    for (const int level : { 0, 1, levels / 3, levels / 2, levels - 2, levels - 1 })
+    {
+      stored->SetLevel(level);
+      stored->Update();
+      expanded->SetLevel(level);
+      expanded->Update();
+      ASSERT_EQ(expanded->GetOutput()->GetNumberOfPolys(), stored->GetLevelNumberOfTriangles(level)) << name;
+      ASSERT_EQ(expanded->GetOutput()->GetNumberOfPoints(), stored->GetOutput()->GetNumberOfPoints()) << name;
+      ASSERT_EQ(CellsWithLevels(expanded->GetOutput()), CellsWithLevels(stored->GetOutput())) << name << " level " << level;
+    }
+    // Triangle counts (cuts inside a batch).
+    stored->SetLevel(-1);
+    expanded->SetLevel(-1);
+    for (const vtkIdType target : { input->GetNumberOfPolys() / 3, input->GetNumberOfPolys() / 20 + 1 })
+    {
+      stored->SetTargetNumberOfTriangles(target);
+      stored->Update();
+      expanded->SetTargetNumberOfTriangles(target);
+      expanded->Update();
+      ASSERT_NEAR(double(expanded->GetOutput()->GetNumberOfPolys()), double(target), 3.0) << name;
+      ASSERT_EQ(CellsWithLevels(expanded->GetOutput()), CellsWithLevels(stored->GetOutput())) << name << " target " << target;
+    }
+    EXPECT_EQ(expanded->GetNumberOfHierarchyBuilds(), 1) << name;
+  }
+}
+
 TEST(vtkTriangleCollapseHierarchy, TargetOnlyBuildsDownToTheTargetWithTheSameMesh)
 {
   // Without the levels output, a level or a blend, only the target is asked for: the hierarchy
@@ -1028,9 +1223,65 @@ TEST(vtkTriangleCollapseHierarchy, NoisyScanKeepsNonManifoldEdgesBordersAndHandl
     filter->SetTargetReduction(0.9);
     const MeshStatistics in = slodtest::SimplifyNoisyScan(filter, 40, seed);
     vtkPolyData* output = filter->GetOutput();
-    // The border stays at full resolution: a cut-open edge or a new hole would add border edges.
-    EXPECT_EQ(ComputeMeshStatistics(slodtest::RawTriangleMesh(output)).BoundaryEdges, in.BoundaryEdges);
+    // The border is collapsed too, but never cut open: fewer border edges, at least three per
+    // loop (the Euler characteristic and the non-manifold edges are checked by SimplifyNoisyScan).
+    const MeshStatistics out = ComputeMeshStatistics(slodtest::RawTriangleMesh(output));
+    EXPECT_LT(out.BoundaryEdges, in.BoundaryEdges);
+    EXPECT_GE(out.BoundaryEdges, 3 * out.BoundaryLoops);
+    EXPECT_EQ(out.NonManifoldVertices, in.NonManifoldVertices);
     EXPECT_LT(output->GetNumberOfPolys(), in.Triangles / 5); // locked vertices leave most of it collapsible
+  }
+}
+
+TEST(vtkTriangleCollapseHierarchy, BordersCollapseKeepingTheirLoops)
+{
+  // Open meshes: edges along the borders collapse (border planes in the quadrics keep their line),
+  // every border loop stays (at least three edges), with the Euler characteristic and no
+  // non-manifold edge, on every level. elephant-with-holes (106 loops, Euler characteristic -110)
+  // cannot reach 89 triangles: every loop at three edges on its own vertices needs at least
+  // 3 b - 2 chi = 538; the filter gets there up to a few triangles and says why in its warning.
+  for (const char* name : { "elephant-with-holes", "mech-holes-shark", "mask_cone" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = LoadTestMesh(name);
+    const MeshStatistics in = ComputeMeshStatistics(slodtest::RawTriangleMesh(input));
+    ASSERT_GT(in.BoundaryLoops, 0);
+    vtkNew<vtkTriangleCollapseHierarchy> filter;
+    filter->SetInputData(input);
+    filter->SetTargetNumberOfTriangles(89);
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->Update();
+    const MeshStatistics out = ComputeMeshStatistics(slodtest::RawTriangleMesh(filter->GetOutput()));
+    EXPECT_EQ(out.BoundaryLoops, in.BoundaryLoops);
+    EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+    EXPECT_EQ(out.Components, in.Components);
+    EXPECT_EQ(out.NonManifoldEdges, 0);
+    EXPECT_EQ(out.NonManifoldVertices, 0);
+    EXPECT_GE(out.BoundaryEdges, 3 * out.BoundaryLoops);
+    const long long fewest = 3 * in.BoundaryLoops - 2 * in.EulerCharacteristic;
+    const long long count = filter->GetOutput()->GetNumberOfPolys();
+    std::printf("[ measure  ] %s to 89: %lld triangles (bound %lld), %lld border edges in %lld loops (input %lld, %lld)\n",
+      name, count, fewest, static_cast<long long>(out.BoundaryEdges), static_cast<long long>(out.BoundaryLoops),
+      static_cast<long long>(in.BoundaryEdges), static_cast<long long>(in.BoundaryLoops));
+    if (count > 92)
+    {
+      // Not reached: within 2% of the topological bound, and the warning says why.
+      EXPECT_LE(count, std::max<long long>(92, fewest + fewest / 50));
+      const std::string why = "needs at least about " + std::to_string(fewest) + " triangles";
+      EXPECT_EQ(std::count_if(messages->Warnings.begin(), messages->Warnings.end(),
+                  [&](const std::string& w) { return w.find(why) != std::string::npos; }),
+        1);
+    }
+    // Every level keeps the loops.
+    for (int level = 0; level < filter->GetNumberOfLevels(); level += 5)
+    {
+      vtkPolyData* block = vtkPolyData::SafeDownCast(filter->GetLevelsOutput()->GetBlock(level));
+      const MeshStatistics s = ComputeMeshStatistics(slodtest::RawTriangleMesh(block));
+      ASSERT_EQ(s.BoundaryLoops, in.BoundaryLoops) << level;
+      ASSERT_EQ(s.EulerCharacteristic, in.EulerCharacteristic) << level;
+      ASSERT_EQ(s.NonManifoldEdges, 0) << level;
+    }
   }
 }
 
@@ -1078,6 +1329,26 @@ bool DeviationAvailable()
   vtkSmartPointer<vtkPolyData> b = ToPolyData(Sphere(6, 6));
   return Measure(a, b).Hausdorff > 0;
 }
+
+// vtkQuadricDecimation and vtkDecimatePro (without topology preservation, as it cannot reach
+// low counts otherwise) of input to the same reduction.
+struct References
+{
+  vtkNew<vtkQuadricDecimation> Quadric;
+  vtkNew<vtkDecimatePro> Pro;
+  References(vtkPolyData* input, double reduction)
+  {
+    this->Quadric->SetInputData(input);
+    this->Quadric->SetTargetReduction(reduction);
+    this->Quadric->Update();
+    this->Pro->SetInputData(input);
+    this->Pro->SetTargetReduction(reduction);
+    this->Pro->PreserveTopologyOff();
+    this->Pro->SplittingOn();
+    this->Pro->BoundaryVertexDeletionOn();
+    this->Pro->Update();
+  }
+};
 } // namespace
 
 // The goal, asserted on every mesh at 10% and 2% of the triangles: the target count is reached
@@ -1109,18 +1380,9 @@ TEST_P(HierarchyQuality, VersusQuadricDecimationAndDecimatePro)
     hierarchy->Update();
     vtkPolyData* ours = hierarchy->GetOutput();
 
-    vtkNew<vtkQuadricDecimation> quadric;
-    quadric->SetInputData(input);
-    quadric->SetTargetReduction(1.0 - double(target) / n0);
-    quadric->Update();
-
-    vtkNew<vtkDecimatePro> pro;
-    pro->SetInputData(input);
-    pro->SetTargetReduction(1.0 - double(target) / n0);
-    pro->PreserveTopologyOff();
-    pro->SplittingOn();
-    pro->BoundaryVertexDeletionOn();
-    pro->Update();
+    References references(input, 1.0 - double(target) / n0);
+    vtkQuadricDecimation* quadric = references.Quadric;
+    vtkDecimatePro* pro = references.Pro;
 
     const Distances d = Measure(input, ours), q = Measure(input, quadric->GetOutput()),
                     p = Measure(input, pro->GetOutput());
@@ -1139,3 +1401,65 @@ TEST_P(HierarchyQuality, VersusQuadricDecimationAndDecimatePro)
 }
 
 INSTANTIATE_TEST_SUITE_P(RealMeshes, HierarchyQuality, ::testing::Values("fandisk", "femur", "bunny00", "armadillo"));
+
+// The paper's configuration, measured: levels to below 5% (the paper: 29 of 48 on its skull) and
+// the distance at about 10% against vtkQuadricDecimation and vtkDecimatePro at the same count.
+TEST(CollapseHierarchy, PaperConfigurationQuality)
+{
+  if (!DeviationAvailable())
+  {
+    GTEST_SKIP() << "vtkSurfaceDeviation is not implemented in this build (placeholder returns 0)";
+  }
+  for (const char* name : { "bunny00", "bull" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = LoadTestMesh(name);
+    const TriangleMesh mesh = ToTriangleMesh(input);
+    CollapseHierarchy h;
+    const CollapseHierarchyParameters paper;
+    ASSERT_TRUE(h.Build(mesh, paper));
+    ASSERT_EQ(h.NumberOfEdgeCollapses(), 0);
+    int below5 = 0;
+    while (below5 < h.NumberOfLevels() && h.LevelTriangleCount(below5) >= 0.05 * mesh.NumberOfTriangles())
+    {
+      ++below5;
+    }
+    int level10 = 0;
+    while (level10 + 1 < h.NumberOfLevels() && h.LevelTriangleCount(level10) > 0.10 * mesh.NumberOfTriangles())
+    {
+      ++level10;
+    }
+    HierarchyMesh level;
+    h.ExtractLevel(level10, level);
+    const TriangleMesh ours = ToMesh(level);
+    const MeshStatistics in = ComputeMeshStatistics(mesh), out = ComputeMeshStatistics(ours);
+    EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+    EXPECT_EQ(out.BoundaryLoops, in.BoundaryLoops);
+    EXPECT_EQ(out.NonManifoldEdges, 0);
+    EXPECT_EQ(CountFlippedTriangles(mesh, ours, level.TriangleOrigin), 0);
+    const double reduction = 1.0 - double(ours.NumberOfTriangles()) / mesh.NumberOfTriangles();
+    References references(input, reduction);
+    const Distances d = Measure(input, ToPolyData(ours)), q = Measure(input, references.Quadric->GetOutput()),
+                    p = Measure(input, references.Pro->GetOutput());
+    std::printf("[ measure  ] %s, paper settings: %d of %d levels to < 5%%; level %d (%lld triangles): Hausdorff "
+                "%.3e (x%.2f vtkQD, x%.2f vtkDecimatePro), mean %.3e (x%.2f, x%.2f)\n",
+      name, below5, h.NumberOfLevels(), level10, static_cast<long long>(ours.NumberOfTriangles()), d.Hausdorff,
+      d.Hausdorff / q.Hausdorff, d.Hausdorff / p.Hausdorff, d.Mean, d.Mean / q.Mean, d.Mean / p.Mean);
+    // (The paper's level count, 29 to below 5%, is asserted on bunny00 by
+    // PaperSettingsReachFivePercentInFewLevels; bull's paper hierarchy stops above 5%.)
+    // The paper's order (area, curvature, angles, valence; no error term) is not error-driven:
+    // within an order of magnitude of vtkQuadricDecimation's Hausdorff distance, and the
+    // defaults (error-driven order, edge collapses) must be closer at the same count.
+    EXPECT_LT(d.Hausdorff, 10 * q.Hausdorff);
+    vtkNew<vtkTriangleCollapseHierarchy> defaults;
+    defaults->SetInputData(input);
+    defaults->GenerateAllLevelsOff();
+    defaults->SetTargetNumberOfTriangles(ours.NumberOfTriangles());
+    defaults->Update();
+    const Distances e = Measure(input, defaults->GetOutput());
+    std::printf("[ measure  ] %s, defaults at %lld triangles: Hausdorff %.3e, mean %.3e\n", name,
+      static_cast<long long>(defaults->GetOutput()->GetNumberOfPolys()), e.Hausdorff, e.Mean);
+    EXPECT_LT(e.Hausdorff, d.Hausdorff);
+    EXPECT_LT(e.Mean, d.Mean);
+  }
+}
