@@ -101,6 +101,12 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // removed, never moved), whatever AllowTopologyChange says: e.g. the seam of a piece of a
   // distributed surface, shared with other pieces. Ignored when its size is not the mesh's.
   const std::vector<unsigned char>* LockedVertices = nullptr;
+  // Optional: per vertex of the input mesh, 1 when the vertex is a feature kept exactly in place
+  // with its point data (an attribute seam, a region border: slod::AttributeSeamVertexFlags,
+  // RegionBorderVertexFlags). Unlike a locked vertex, other vertices may merge into it (the merged
+  // vertex is then where it is, with its attributes); two pinned vertices never merge, so the
+  // polyline of a seam stays as it is on both sides. Ignored when its size is not the mesh's.
+  const std::vector<unsigned char>* PinnedVertices = nullptr;
   // Called about every 1% of the work with the fraction done; return false to abort.
   std::function<bool(double)> Progress;
   // Optional (a piece of a distributed surface, slod::UnionTargetAgreement): the target is settled
