@@ -1129,6 +1129,24 @@ std::vector<unsigned char> AttributeSeamVertexFlags(
       }
     }
   }
+  // A vertex with an edge shorter than the tolerance is the corner of a collapsed fan (a pole made of copies, one
+  // per texture column): no line to keep, and pinning its copies would keep the zero-area triangles.
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index a = tri[k], b = tri[(k + 1) % 3];
+      if ((seam[a] || seam[b]) && near(a, b))
+      {
+        seam[a] = seam[b] = 2;
+      }
+    }
+  }
+  for (unsigned char& flag : seam)
+  {
+    flag = flag == 1 ? 1 : 0;
+  }
   return seam;
 }
 

@@ -83,7 +83,8 @@ SURFACELODFILTERS_EXPORT std::vector<unsigned char> NonManifoldVertexFlags(const
 // Per vertex of a prepared mesh: 1 on an attribute seam, i.e. a border vertex with another border
 // vertex within `tolerance` (e.g. 1e-6 of the diagonal: float rounding can part the two sides of a
 // seam, as vtkTexturedSphereSource's u = 0 and u = 1 meridians) whose point data differ (input
-// points vertexToInputPoint[v]). All zero without point arrays. Collapse filters keep these vertices
+// points vertexToInputPoint[v]), except the ends of edges shorter than the tolerance (a pole of copies). All zero
+// without point arrays. Collapse filters keep these vertices
 // in place (PreserveAttributeSeams).
 SURFACELODFILTERS_EXPORT std::vector<unsigned char> AttributeSeamVertexFlags(
   const TriangleMesh& mesh, vtkPointData* pointData, const std::vector<Index>& vertexToInputPoint, double tolerance);

@@ -280,7 +280,7 @@ private:
   void CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result);
   void MoveTowardOriginal(const TriangleMesh& original, TriangleCollapseResult& result);
   // The steps of one pass of the collapse loop.
-  bool RelaxNormalLimit(CollapseLoop& loop, const TriangleCollapseResult& result);
+  bool RelaxNormalLimit(CollapseLoop& loop, TriangleCollapseResult& result);
   template <typename Functor>
   void ForEachRingVertex(Index t, Functor&& f) const;
   struct ClaimRingsFunctor;
@@ -676,8 +676,12 @@ double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, V
   {
     // A pinned vertex stays where it is: the others merge into it; two pinned vertices never
     // merge (the seam or region border between them would lose a vertex).
+    if (pinned > 1)
+    {
+      return std::numeric_limits<double>::infinity();
+    }
     local = this->Local(pin);
-    return pinned == 1 ? q.Evaluate(local) : std::numeric_limits<double>::infinity();
+    return q.Evaluate(local);
   }
   const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = count == 3 ? this->Local(tri[2]) : b;
   if (q.Minimize(local, 1e-10))
@@ -1102,14 +1106,22 @@ void TriangleCollapser::StartLoop(CollapseLoop& loop) const
   loop.MaximumPops = MaximumPopsPerTriangle * static_cast<long long>(loop.StartTriangles) + 1024;
 }
 
-bool TriangleCollapser::RelaxNormalLimit(CollapseLoop& loop, const TriangleCollapseResult& result)
+bool TriangleCollapser::RelaxNormalLimit(CollapseLoop& loop, TriangleCollapseResult& result)
 {
   // When every remaining collapse fails the normal test, the limit is relaxed step by step (up
   // to 90 degrees, beyond which a triangle would turn over) so that the target is still reached;
-  // the strict limit applies as long as it can.
-  if (this->Mesh.NumberOfLiveTriangles() <= loop.Target || loop.Deviation >= 90.0 || result.Aborted)
+  // the strict limit applies as long as it can. Last, the pinned vertices are released (the
+  // target comes before the seams, as before the topology only).
+  const bool canRelease = !this->Pinned.empty() && loop.Deviation >= 90.0;
+  if (this->Mesh.NumberOfLiveTriangles() <= loop.Target || (loop.Deviation >= 90.0 && !canRelease) ||
+    result.Aborted)
   {
     return false;
+  }
+  if (canRelease)
+  {
+    std::vector<unsigned char>().swap(this->Pinned);
+    result.PinnedVerticesReleased = true;
   }
   loop.Deviation = std::min(90.0, loop.Deviation + 20.0);
   loop.Check.MinimumNormalDot = NormalLimitDot(loop.Deviation);

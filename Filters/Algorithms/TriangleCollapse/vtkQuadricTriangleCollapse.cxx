@@ -345,6 +345,11 @@ int vtkQuadricTriangleCollapse::RequestData(
   this->NumberOfCollapses = result.Collapses;
   this->MaximumSimplificationError = result.MaximumError;
   this->ActualReduction = 1.0 - double(result.Mesh.NumberOfTriangles()) / double(inputTriangles);
+  if (result.PinnedVerticesReleased)
+  {
+    vtkWarningMacro(<< "The target needed collapses of attribute-seam or region-border vertices: they were released "
+                       "(PreserveAttributeSeams holds only as long as the target allows).");
+  }
   if (result.WorkBoundReached)
   {
     vtkWarningMacro(<< "Stopped by the bound on the collapse loop's work after " << result.Collapses << " collapses.");
@@ -352,8 +357,8 @@ int vtkQuadricTriangleCollapse::RequestData(
   // A maximum error that stops the collapses first is a target met, not missed.
   const bool stoppedByError = options.MaximumError >= 0 && result.StoppedByError;
   slod::ReportTarget(this, output, target, result.Mesh.NumberOfTriangles() <= target || stoppedByError,
-    "every further collapse would change the topology, fold a triangle, touch a locked vertex (non-manifold, or "
-    "on the seam with another piece) or remove a vertex of an attribute seam or region border (PreserveAttributeSeams)");
+    "every further collapse would change the topology, fold a triangle or touch a locked vertex (non-manifold, or "
+    "on the seam with another piece)");
   return 1;
 }
 
