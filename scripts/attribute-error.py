@@ -12,7 +12,7 @@ The reference is vtkQuadricDecimation with AttributeErrorMetricOn (TCoords and N
 and Off (TargetReduction); each project method is asked for the same count (TargetNumberOfTriangles).
 
 usage: /usr/bin/python3 scripts/attribute-error.py --build build [--reduction 0.9]
-       [--sphere-resolution 400] [--mesh build/TestData/meshes/armadillo.off]
+       [--sphere-resolution 400] [--mesh build/TestData/meshes/armadillo.off ...]
 """
 import argparse
 import math
@@ -101,6 +101,10 @@ def quadric_decimation(vtk, mesh, reduction, attribute_metric):
 
 
 def project_filter(surfacelod, name, mesh, triangles):
+    if name == "quadric-triangle-collapse, PreserveAttributeSeams off":
+        f = project_filter(surfacelod, "quadric-triangle-collapse", mesh, triangles)
+        f.PreserveAttributeSeamsOff()
+        return f
     make = {"quadric-triangle-collapse": surfacelod.vtkQuadricTriangleCollapse,
             "triangle-collapse-hierarchy": surfacelod.vtkTriangleCollapseHierarchy,
             "retile": surfacelod.vtkRetile}[name]
@@ -227,7 +231,8 @@ def measure(vtk, surfacelod, label, mesh, reduction):
     target = int(round(mesh.GetNumberOfPolys() * (1.0 - reduction)))
     rows.append(("vtkQuadricDecimation, AttributeErrorMetricOn",) + run(quadric_decimation(vtk, mesh, reduction, True)))
     rows.append(("vtkQuadricDecimation, AttributeErrorMetricOff",) + run(quadric_decimation(vtk, mesh, reduction, False)))
-    for name in ("quadric-triangle-collapse", "triangle-collapse-hierarchy", "retile"):
+    for name in ("quadric-triangle-collapse", "quadric-triangle-collapse, PreserveAttributeSeams off",
+                 "triangle-collapse-hierarchy", "retile"):
         rows.append((name,) + run(project_filter(surfacelod, name, mesh, target)))
     print("\n%s: %d triangles, target %d (reduction %.2f)" % (label, mesh.GetNumberOfPolys(), target, reduction))
     print("| method | triangles | tcoord error mean | tcoord error max | normal error mean (deg) "
@@ -246,14 +251,15 @@ def main():
     parser.add_argument("--build", default="build")
     parser.add_argument("--reduction", type=float, default=0.9)
     parser.add_argument("--sphere-resolution", type=int, default=400)
-    parser.add_argument("--mesh", help="a real OFF mesh (normals and a spherical (u, v) are computed)")
+    parser.add_argument("--mesh", action="append", default=[],
+                        help="a real OFF mesh (normals and a spherical (u, v) are computed); repeatable")
     args = parser.parse_args()
     vtk, surfacelod = load_modules(args.build)
     vtk.vtkObject.GlobalWarningDisplayOff()  # vtkQuadricDecimation's 'Unable to factor' lines
     measure(vtk, surfacelod, "vtkTexturedSphereSource %d x %d" % (args.sphere_resolution, args.sphere_resolution // 2),
             textured_sphere(vtk, args.sphere_resolution), args.reduction)
-    if args.mesh:
-        measure(vtk, surfacelod, os.path.basename(args.mesh), real_mesh(vtk, surfacelod, args.mesh), args.reduction)
+    for mesh in args.mesh:
+        measure(vtk, surfacelod, os.path.basename(mesh), real_mesh(vtk, surfacelod, mesh), args.reduction)
     return 0
 
 

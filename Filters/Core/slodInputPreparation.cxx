@@ -9,6 +9,7 @@
 #include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -1041,5 +1042,147 @@ void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh, const std::ve
   }
   CopyAttributeTuples(input->GetPointData(), input->GetNumberOfPoints(), outputToInputPoint, output->GetPointData());
   output->SetPoints(points);
+}
+
+namespace
+{
+// Per vertex: 1 when on a border edge (an edge of one triangle).
+std::vector<unsigned char> BorderVertexFlags(const TriangleMesh& mesh)
+{
+  std::vector<std::uint64_t> edges;
+  edges.reserve(mesh.Triangles.size());
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      edges.push_back(EdgeKey(tri[k], tri[(k + 1) % 3]));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<unsigned char> border(size_t(mesh.NumberOfPoints()), 0);
+  for (size_t i = 0; i < edges.size();)
+  {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i])
+    {
+      ++j;
+    }
+    if (j == i + 1)
+    {
+      border[size_t(edges[i] >> 32)] = 1;
+      border[size_t(edges[i] & 0xffffffffu)] = 1;
+    }
+    i = j;
+  }
+  return border;
+}
+} // namespace
+
+std::vector<unsigned char> AttributeSeamVertexFlags(
+  const TriangleMesh& mesh, vtkPointData* pointData, const std::vector<Index>& vertexToInputPoint, double tolerance)
+{
+  const Index nv = mesh.NumberOfPoints();
+  std::vector<unsigned char> seam(size_t(nv), 0);
+  if (!pointData || pointData->GetNumberOfArrays() == 0 || vertexToInputPoint.size() != size_t(nv) ||
+    !(tolerance >= 0))
+  {
+    return seam;
+  }
+  // The sides of a seam are borders of the prepared mesh (their points were kept apart): only
+  // border vertices are compared, in cells of the tolerance's size.
+  const std::vector<unsigned char> border = BorderVertexFlags(mesh);
+  const double cell = tolerance > 0 ? tolerance : 1.0;
+  std::vector<std::pair<std::array<long long, 3>, Index>> keys;
+  for (Index v = 0; v < nv; ++v)
+  {
+    if (border[v])
+    {
+      const Vec3 p = mesh.Point(v);
+      keys.push_back({ { static_cast<long long>(std::floor(p[0] / cell)), static_cast<long long>(std::floor(p[1] / cell)),
+                         static_cast<long long>(std::floor(p[2] / cell)) },
+        v });
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  auto near = [&](Index a, Index b) {
+    const Vec3 d = mesh.Point(a) - mesh.Point(b);
+    return Dot(d, d) <= tolerance * tolerance;
+  };
+  // A pair within the tolerance lies in one cell or in two neighbouring ones: each vertex is
+  // compared with the vertices of its 27 cells (binary searches in the sorted keys).
+  using Key = std::pair<std::array<long long, 3>, Index>;
+  for (const Key& key : keys)
+  {
+    for (int d = 0; d < 27; ++d)
+    {
+      const std::array<long long, 3> c = { key.first[0] + d % 3 - 1, key.first[1] + (d / 3) % 3 - 1,
+        key.first[2] + d / 9 - 1 };
+      auto it = std::lower_bound(keys.begin(), keys.end(), Key{ c, 0 });
+      for (; it != keys.end() && it->first == c; ++it)
+      {
+        const Index a = key.second, b = it->second;
+        if (a < b && near(a, b) && !SamePointData(pointData, vertexToInputPoint[a], vertexToInputPoint[b]))
+        {
+          seam[a] = seam[b] = 1;
+        }
+      }
+    }
+  }
+  // A vertex with an edge shorter than the tolerance is the corner of a collapsed fan (a pole made of copies, one
+  // per texture column): no line to keep, and pinning its copies would keep the zero-area triangles.
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index a = tri[k], b = tri[(k + 1) % 3];
+      if ((seam[a] || seam[b]) && near(a, b))
+      {
+        seam[a] = seam[b] = 2;
+      }
+    }
+  }
+  for (unsigned char& flag : seam)
+  {
+    flag = flag == 1 ? 1 : 0;
+  }
+  return seam;
+}
+
+std::vector<unsigned char> RegionBorderVertexFlags(
+  const TriangleMesh& mesh, vtkDataArray* regions, const std::vector<Index>* triangleToInputCell)
+{
+  const Index nv = mesh.NumberOfPoints(), nt = mesh.NumberOfTriangles();
+  std::vector<unsigned char> border(size_t(nv), 0);
+  if (!regions || (triangleToInputCell && triangleToInputCell->size() != size_t(nt)))
+  {
+    return border;
+  }
+  // The first region seen at each vertex; a vertex whose triangles differ from it is on a border.
+  std::vector<double> first(size_t(nv), std::numeric_limits<double>::quiet_NaN());
+  for (Index t = 0; t < nt; ++t)
+  {
+    const Index cell = triangleToInputCell ? (*triangleToInputCell)[t] : t;
+    if (cell < 0 || cell >= regions->GetNumberOfTuples())
+    {
+      continue;
+    }
+    const double r = regions->GetComponent(cell, 0);
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      double& f = first[size_t(tri[k])];
+      if (std::isnan(f))
+      {
+        f = r;
+      }
+      else if (f != r)
+      {
+        border[size_t(tri[k])] = 1;
+      }
+    }
+  }
+  return border;
 }
 } // namespace slod

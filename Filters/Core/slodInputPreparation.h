@@ -29,6 +29,7 @@
 #include <vector>
 
 class vtkAlgorithm;
+class vtkDataArray;
 class vtkObject;
 class vtkPolyData;
 class vtkPointData;
@@ -78,6 +79,20 @@ SURFACELODFILTERS_EXPORT PreparationReport PrepareTriangleMesh(vtkPolyData* inpu
 // Per vertex of a prepared mesh: 1 when it is non-manifold (on an edge with more than two
 // triangles, or joining several fans), else 0. Collapse filters lock these vertices.
 SURFACELODFILTERS_EXPORT std::vector<unsigned char> NonManifoldVertexFlags(const TriangleMesh& mesh);
+
+// Per vertex of a prepared mesh: 1 on an attribute seam, i.e. a border vertex with another border
+// vertex within `tolerance` (e.g. 1e-6 of the diagonal: float rounding can part the two sides of a
+// seam, as vtkTexturedSphereSource's u = 0 and u = 1 meridians) whose point data differ (input
+// points vertexToInputPoint[v]), except the ends of edges shorter than the tolerance (a pole of copies). All zero
+// without point arrays. Collapse filters keep these vertices
+// in place (PreserveAttributeSeams).
+SURFACELODFILTERS_EXPORT std::vector<unsigned char> AttributeSeamVertexFlags(
+  const TriangleMesh& mesh, vtkPointData* pointData, const std::vector<Index>& vertexToInputPoint, double tolerance);
+
+// Per vertex of a prepared mesh: 1 where triangles of different values of `regions` (a cell array
+// of the input, component 0; cell triangleToInputCell[t] of triangle t, or t when null) meet.
+SURFACELODFILTERS_EXPORT std::vector<unsigned char> RegionBorderVertexFlags(
+  const TriangleMesh& mesh, vtkDataArray* regions, const std::vector<Index>* triangleToInputCell);
 
 // PrepareTriangleMesh for a filter: reports each warning with vtkWarningWithObjectMacro and an invalid
 // input with vtkErrorWithObjectMacro on `filter`. Returns false when the input cannot be used (the

@@ -26,7 +26,7 @@ def declared_methods(header, headers):
     """Methods a class's header declares (macros expanded by name), with its SurfaceLOD bases'."""
     text = header.read_text()
     methods = set(re.findall(r"\b((?:Set|Get)\w+)\s*\(", text))
-    pattern = r"vtk(Set|Get|SetClamp|Boolean|SetStdStringFromChar|GetCharFromStdString|SetVector\d|GetVector\d)Macro\((\w+)"
+    pattern = r"vtk(Set|Get|SetClamp|Boolean|SetString|GetString|SetStdStringFromChar|GetCharFromStdString|SetVector\d|GetVector\d)Macro\((\w+)"
     for kind, name in re.findall(pattern, text):
         methods.update({"Set" + name, "Get" + name} if kind != "Boolean" else {name + "On", name + "Off"})
     base = re.search(r"class \w+ (\w+) : public (\w+)", text)

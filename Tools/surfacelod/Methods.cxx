@@ -161,6 +161,7 @@ std::vector<Parameter> QuadricTriangleCollapseParameters()
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, ExactUnion),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, BatchCollapses),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, BatchCostTolerance),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, PreserveAttributeSeams),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Int, OutputPointsPrecision),
   };
 }

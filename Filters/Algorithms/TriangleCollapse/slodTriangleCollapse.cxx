@@ -257,14 +257,31 @@ public:
 private:
   // The stages of Run, in order.
   void Prepare(TriangleMesh& input, bool refine);
-  // Adds the caller's TriangleCollapseOptions::LockedVertices to Locked (after Reorder).
+  // Adds the caller's TriangleCollapseOptions::LockedVertices to Locked, and takes its
+  // PinnedVertices into Pinned (after Reorder).
   void LockCallersVertices(Index numberOfPoints);
+  // The pinned vertex of a set (InvalidIndex when none); `pinned` gets how many there are.
+  Index PinnedIn(const Index* set, int count, int& pinned) const
+  {
+    pinned = 0;
+    Index which = InvalidIndex;
+    for (int i = 0; !this->Pinned.empty() && i < count; ++i)
+    {
+      if (this->Pinned[set[i]])
+      {
+        ++pinned;
+        which = set[i];
+      }
+    }
+    return which;
+  }
+  bool IsPinned(Index v) const { return !this->Pinned.empty() && this->Pinned[v]; }
   void InitializeQueue();
   void StartLoop(CollapseLoop& loop) const;
   void CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result);
   void MoveTowardOriginal(const TriangleMesh& original, TriangleCollapseResult& result);
   // The steps of one pass of the collapse loop.
-  bool RelaxNormalLimit(CollapseLoop& loop, const TriangleCollapseResult& result);
+  bool RelaxNormalLimit(CollapseLoop& loop, TriangleCollapseResult& result);
   template <typename Functor>
   void ForEachRingVertex(Index t, Functor&& f) const;
   struct ClaimRingsFunctor;
@@ -394,6 +411,7 @@ private:
   std::vector<Index> Parent;           // RefineDeviation: per vertex, the vertex it merged into
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
   std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input or locked by the caller, never collapsed
+  std::vector<unsigned char> Pinned;   // per vertex: kept exactly in place (see PinnedVertices); empty when none
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
   BucketQueue Heap;
@@ -686,6 +704,19 @@ Quadric TriangleCollapser::SetQuadric(const Index* tri, int count, double& weigh
 
 double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, Vec3& local) const
 {
+  int pinned = 0;
+  const Index pin = this->PinnedIn(tri, count, pinned);
+  if (pinned > 0)
+  {
+    // A pinned vertex stays where it is: the others merge into it; two pinned vertices never
+    // merge (the seam or region border between them would lose a vertex).
+    if (pinned > 1)
+    {
+      return std::numeric_limits<double>::infinity();
+    }
+    local = this->Local(pin);
+    return q.Evaluate(local);
+  }
   const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = count == 3 ? this->Local(tri[2]) : b;
   if (q.Minimize(local, 1e-10))
   {
@@ -793,6 +824,11 @@ bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const 
 {
   double weight = 0;
   const Quadric q = this->SetQuadric(set, count, weight);
+  int pinned = 0;
+  if (this->PinnedIn(set, count, pinned) != InvalidIndex)
+  {
+    return false; // a pinned set has only one placement, the one already checked
+  }
   const Vec3 a = this->Local(set[0]), b = this->Local(set[1]), c = count == 3 ? this->Local(set[2]) : b;
   std::pair<double, Vec3> candidates[7];
   int n = 0;
@@ -837,7 +873,7 @@ double TriangleCollapser::PopCost(Index t, Vec3& local, double& error, int& oper
     q += this->Vertex[tri[1]].Q;
     q += this->Vertex[tri[2]].Q;
     best = this->Place(tri, 3, q, local);
-    operation = 0;
+    operation = std::isfinite(best) ? 0 : -1;
     const double w = this->Vertex[tri[0]].W + this->Vertex[tri[1]].W + this->Vertex[tri[2]].W;
     error = w > 0 ? std::sqrt(best / w) : 0.0;
   }
@@ -1032,6 +1068,16 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
 
 void TriangleCollapser::LockCallersVertices(Index numberOfPoints)
 {
+  const std::vector<unsigned char>* pinned = this->Options.PinnedVertices;
+  if (pinned && pinned->size() == size_t(numberOfPoints) &&
+    std::find(pinned->begin(), pinned->end(), 1) != pinned->end())
+  {
+    this->Pinned.resize(size_t(numberOfPoints));
+    for (Index v = 0; v < numberOfPoints; ++v)
+    {
+      this->Pinned[v] = (*pinned)[this->VertexInput[v]];
+    }
+  }
   const std::vector<unsigned char>* given = this->Options.LockedVertices;
   if (!given || given->size() != size_t(numberOfPoints))
   {
@@ -1094,14 +1140,22 @@ void TriangleCollapser::StartLoop(CollapseLoop& loop) const
   loop.MaximumPops = MaximumPopsPerTriangle * static_cast<long long>(loop.StartTriangles) + 1024;
 }
 
-bool TriangleCollapser::RelaxNormalLimit(CollapseLoop& loop, const TriangleCollapseResult& result)
+bool TriangleCollapser::RelaxNormalLimit(CollapseLoop& loop, TriangleCollapseResult& result)
 {
   // When every remaining collapse fails the normal test, the limit is relaxed step by step (up
   // to 90 degrees, beyond which a triangle would turn over) so that the target is still reached;
-  // the strict limit applies as long as it can.
-  if (this->Mesh.NumberOfLiveTriangles() <= loop.Target || loop.Deviation >= 90.0 || result.Aborted)
+  // the strict limit applies as long as it can. Last, the pinned vertices are released (the
+  // target comes before the seams, as before the topology only).
+  const bool canRelease = !this->Pinned.empty() && loop.Deviation >= 90.0;
+  if (this->Mesh.NumberOfLiveTriangles() <= loop.Target || (loop.Deviation >= 90.0 && !canRelease) ||
+    result.Aborted)
   {
     return false;
+  }
+  if (canRelease)
+  {
+    std::vector<unsigned char>().swap(this->Pinned);
+    result.PinnedVerticesReleased = true;
   }
   loop.Deviation = std::min(90.0, loop.Deviation + 20.0);
   loop.Check.MinimumNormalDot = NormalLimitDot(loop.Deviation);
@@ -1166,6 +1220,15 @@ void TriangleCollapser::MergeAttributes(const Candidate& c, Index kept)
   for (int i = 0; i < c.Count; ++i)
   {
     rows[i] = this->VertexInput[c.Set[i]];
+    if (this->IsPinned(c.Set[i]))
+    {
+      // The pinned vertex keeps its own attributes (a seam keeps its texture coordinates).
+      w[0] = w[1] = w[2] = 0.0;
+      w[i] = 1.0;
+      rows[0] = rows[i];
+      this->Attributes->Merge(this->VertexInput[kept], rows, w, 1);
+      return;
+    }
   }
   this->Attributes->Merge(this->VertexInput[kept], rows, w, c.Count);
 }
@@ -1185,6 +1248,15 @@ void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept)
     boundary |= this->Boundary[c.Set[i]];
   }
   this->Boundary[kept] = boundary;
+  if (!this->Pinned.empty())
+  {
+    unsigned char pinned = 0;
+    for (int i = 0; i < c.Count; ++i)
+    {
+      pinned |= this->Pinned[c.Set[i]];
+    }
+    this->Pinned[kept] = pinned;
+  }
   if (!this->Options.ExactUnion)
   {
     double weight = 0;
@@ -1407,6 +1479,12 @@ void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& 
     return;
   }
   c.Position = c.Local + this->Origin;
+  int pinned = 0;
+  const Index pin = this->PinnedIn(c.Set, c.Count, pinned);
+  if (pin != InvalidIndex)
+  {
+    c.Position = this->Mesh.Point(pin); // exactly, not through the local coordinates
+  }
   entry.Status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, check, scratch);
   entry.Result = entry.Status == CollapseStatus::Ok ? BatchEntry::Outcome::Valid : BatchEntry::Outcome::Invalid;
   if (entry.Status == CollapseStatus::Flip || entry.Status == CollapseStatus::Degenerate ||
@@ -2085,7 +2163,8 @@ std::vector<std::pair<double, Index>> TriangleCollapser::FitOrder(const Ancestry
   const Index nv = static_cast<Index>(ancestry.AncestorStart.size()) - 1;
   for (Index v = 0; v < nv; ++v)
   {
-    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v] && this->Mesh.IsVertexAlive(v))
+    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v] && !this->IsPinned(v) &&
+      this->Mesh.IsVertexAlive(v))
     {
       const double w = this->Vertex[v].W;
       order.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
@@ -2360,7 +2439,8 @@ std::vector<std::pair<double, Index>> TriangleCollapser::RefinementPool(const An
   std::vector<std::pair<double, Index>> pool;
   for (Index v = 0; v < nv; ++v)
   {
-    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && this->Mesh.IsVertexAlive(v) && !this->Boundary[v])
+    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && this->Mesh.IsVertexAlive(v) && !this->Boundary[v] &&
+      !this->IsPinned(v))
     {
       const double w = this->Vertex[v].W;
       pool.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
@@ -2526,7 +2606,7 @@ void TriangleCollapser::PoolAroundMoved(
   pool.clear();
   for (Index v : next)
   {
-    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v])
+    if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v] && !this->IsPinned(v))
     {
       pool.emplace_back(0.0, v);
     }

@@ -101,6 +101,14 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // removed, never moved), whatever AllowTopologyChange says: e.g. the seam of a piece of a
   // distributed surface, shared with other pieces. Ignored when its size is not the mesh's.
   const std::vector<unsigned char>* LockedVertices = nullptr;
+  // Optional: per vertex of the input mesh, 1 when the vertex is a feature kept exactly in place
+  // with its point data (an attribute seam, a region border: slod::AttributeSeamVertexFlags,
+  // RegionBorderVertexFlags). Unlike a locked vertex, other vertices may merge into it (the merged
+  // vertex is then where it is, with its attributes); two pinned vertices never merge, so the
+  // polyline of a seam stays as it is on both sides. When nothing else is left above the target
+  // (after the normal limit's relaxation) they are released (TriangleCollapseResult::
+  // PinnedVerticesReleased). Ignored when its size is not the mesh's.
+  const std::vector<unsigned char>* PinnedVertices = nullptr;
   // Called about every 1% of the work with the fraction done; return false to abort.
   std::function<bool(double)> Progress;
   // Optional (a piece of a distributed surface, slod::UnionTargetAgreement): the target is settled
@@ -150,6 +158,7 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   bool Aborted = false;
   bool StoppedByError = false;       // a collapse was refused for exceeding MaximumError
   bool WorkBoundReached = false;     // stopped by the bound on queue pops (see MaximumPopsPerTriangle)
+  bool PinnedVerticesReleased = false; // the target needed collapses of pinned vertices (PinnedVertices)
   size_t PeakWorkingBytes = 0;       // bytes of the algorithm's own arrays (estimate)
   CollapseHistory History;           // when RecordHistory
 };

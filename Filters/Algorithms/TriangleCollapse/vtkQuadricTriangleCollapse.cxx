@@ -8,6 +8,7 @@
 #include "slodTriangleCollapse.h"
 
 #include "vtkCellData.h"
+#include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
@@ -170,6 +171,40 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   return options;
 }
 
+// PreserveAttributeSeams: per prepared vertex, 1 on an attribute seam or a region border (empty
+// when the option is off or there is nothing to keep).
+std::vector<unsigned char> FeatureVertices(vtkQuadricTriangleCollapse* filter, vtkPolyData* input,
+  const slod::TriangleMesh& mesh, const std::vector<slod::Index>& vertexToInput,
+  const std::vector<slod::Index>& triangleToCell)
+{
+  std::vector<unsigned char> pinned;
+  if (!filter->GetPreserveAttributeSeams())
+  {
+    return pinned;
+  }
+  pinned = slod::AttributeSeamVertexFlags(mesh, input->GetPointData(), vertexToInput, 1e-6 * mesh.BoundingBoxDiagonal());
+  const char* name = filter->GetRegionArrayName();
+  if (name && *name)
+  {
+    vtkDataArray* regions = input->GetCellData()->GetArray(name);
+    if (!regions)
+    {
+      vtkWarningWithObjectMacro(filter, << "RegionArrayName '" << name << "': the input has no such cell array; no region border is kept.");
+    }
+    const std::vector<unsigned char> borders =
+      slod::RegionBorderVertexFlags(mesh, regions, triangleToCell.empty() ? nullptr : &triangleToCell);
+    for (size_t v = 0; v < pinned.size() && v < borders.size(); ++v)
+    {
+      pinned[v] |= borders[v];
+    }
+  }
+  if (std::find(pinned.begin(), pinned.end(), 1) == pinned.end())
+  {
+    pinned.clear();
+  }
+  return pinned;
+}
+
 // The simplified mesh, its merged point data and the per-vertex and maximum errors.
 void StoreSimplifiedMesh(const slod::TriangleCollapseResult& result, const slod::PointAttributes& attributes,
   int pointType, double diagonal, vtkPolyData* output)
@@ -211,6 +246,7 @@ vtkQuadricTriangleCollapse::vtkQuadricTriangleCollapse()
 vtkQuadricTriangleCollapse::~vtkQuadricTriangleCollapse()
 {
   this->SetController(nullptr);
+  this->SetRegionArrayName(nullptr);
 }
 
 vtkCxxSetObjectMacro(vtkQuadricTriangleCollapse, Controller, vtkMultiProcessController);
@@ -293,6 +329,8 @@ int vtkQuadricTriangleCollapse::RequestData(
   {
     options.SettleTarget = std::ref(*agreement);
   }
+  const std::vector<unsigned char> pinned = FeatureVertices(this, input, mesh, vertexToInput, triangleToCell);
+  options.PinnedVertices = pinned.empty() ? nullptr : &pinned;
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
   std::vector<slod::Index>().swap(vertexToInput);
@@ -325,6 +363,11 @@ int vtkQuadricTriangleCollapse::RequestData(
   this->NumberOfRefinedVertices = result.RefinedVertices;
   this->MaximumSimplificationError = result.MaximumError;
   this->ActualReduction = 1.0 - double(result.Mesh.NumberOfTriangles()) / double(inputTriangles);
+  if (result.PinnedVerticesReleased)
+  {
+    vtkWarningMacro(<< "The target needed collapses of attribute-seam or region-border vertices: they were released "
+                       "(PreserveAttributeSeams holds only as long as the target allows).");
+  }
   if (result.WorkBoundReached)
   {
     vtkWarningMacro(<< "Stopped by the bound on the collapse loop's work after " << result.Collapses << " collapses.");
@@ -364,6 +407,8 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BatchCollapses: " << this->BatchCollapses << "\n";
   os << indent << "BatchCostTolerance: " << this->BatchCostTolerance << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
+  os << indent << "PreserveAttributeSeams: " << this->PreserveAttributeSeams << "\n";
+  os << indent << "RegionArrayName: " << (this->RegionArrayName ? this->RegionArrayName : "(none)") << "\n";
   os << indent << "Controller: " << this->Controller << "\n";
   os << indent << "ActualReduction: " << this->ActualReduction << "\n";
   os << indent << "NumberOfCollapses: " << this->NumberOfCollapses << "\n";

@@ -180,6 +180,27 @@ public:
   ///@}
 
   ///@{
+  /// Attribute seams kept as features (default on; nothing changes where there are none): the
+  /// vertices of a seam, border vertices with another border vertex within 1e-6 of the diagonal
+  /// whose point data differ (texture seams, split normals; see slod::AttributeSeamVertexFlags),
+  /// and, with RegionArrayName set, the vertices where cells of different values of that cell
+  /// array meet, stay exactly where they are with their point data: other vertices may merge into
+  /// them, two of them never merge. A seam then stays the same polyline on both of its sides and
+  /// no triangle crosses a region border; their vertices are never removed (see
+  /// Documentation/Attributes.md).
+  vtkSetMacro(PreserveAttributeSeams, bool);
+  vtkGetMacro(PreserveAttributeSeams, bool);
+  vtkBooleanMacro(PreserveAttributeSeams, bool);
+  ///@}
+
+  ///@{
+  /// The cell array (component 0) whose region borders are kept with PreserveAttributeSeams
+  /// (default none). A name the input does not have is a warning.
+  vtkSetStringMacro(RegionArrayName);
+  vtkGetStringMacro(RegionArrayName);
+  ///@}
+
+  ///@{
   /// Record every collapse (output 1) and add the id arrays to output 0 (default off).
   vtkSetMacro(GenerateProgressiveMesh, bool);
   vtkGetMacro(GenerateProgressiveMesh, bool);
@@ -243,6 +264,8 @@ protected:
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
+  bool PreserveAttributeSeams = true;
+  char* RegionArrayName = nullptr;
   vtkMultiProcessController* Controller = nullptr;
 
   double ActualReduction = 0.0;
