@@ -33,7 +33,7 @@ struct SURFACELODFILTERS_EXPORT PieceSeam
   // Per vertex of the piece: 1 when another piece has a vertex at exactly its position.
   std::vector<unsigned char> SharedVertices;
   Index SharedVertexCount = 0;
-  Index SeamEdges = 0; // border edges of this piece whose two ends are shared
+  Index SeamEdges = 0; // border edges of this piece whose two ends are shared (counted for the TRACE log only)
 };
 
 // True when the controller runs more than one process (a distributed run).

@@ -469,6 +469,9 @@ RunResult SimplifyPiece(vtkMultiProcessController* controller, const Method& met
   std::string message;
   try
   {
+    // Every rank starts with its piece in hand, so that `seconds` times the filter, not the
+    // scatter (rank 0 would otherwise wait in the filter's first collective for the last piece).
+    controller->Barrier();
     result = RunMethod(method, piece, settings, assignments); // collective inside the filter's Update
   }
   catch (const CliError& e)

@@ -133,6 +133,7 @@ struct PieceSetting
 // Collective when the controller runs several processes: every process calls it, whatever its piece.
 PieceSetting SettleWithOtherPieces(vtkQuadricTriangleCollapse* filter, const slod::TriangleMesh& mesh)
 {
+  vtkLogScopeF(TRACE, "vtkQuadricTriangleCollapse: settle with the other pieces");
   vtkMultiProcessController* controller = filter->GetController();
   PieceSetting setting;
   setting.Target = slod::PieceShareOfTarget(controller, mesh.NumberOfTriangles(),
