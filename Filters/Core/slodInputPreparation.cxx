@@ -1044,41 +1044,6 @@ void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh, const std::ve
   output->SetPoints(points);
 }
 
-namespace
-{
-// Per vertex: 1 when on a border edge (an edge of one triangle).
-std::vector<unsigned char> BorderVertexFlags(const TriangleMesh& mesh)
-{
-  std::vector<std::uint64_t> edges;
-  edges.reserve(mesh.Triangles.size());
-  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-  {
-    const Index* tri = mesh.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      edges.push_back(EdgeKey(tri[k], tri[(k + 1) % 3]));
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  std::vector<unsigned char> border(size_t(mesh.NumberOfPoints()), 0);
-  for (size_t i = 0; i < edges.size();)
-  {
-    size_t j = i + 1;
-    while (j < edges.size() && edges[j] == edges[i])
-    {
-      ++j;
-    }
-    if (j == i + 1)
-    {
-      border[size_t(edges[i] >> 32)] = 1;
-      border[size_t(edges[i] & 0xffffffffu)] = 1;
-    }
-    i = j;
-  }
-  return border;
-}
-} // namespace
-
 std::vector<unsigned char> AttributeSeamVertexFlags(
   const TriangleMesh& mesh, vtkPointData* pointData, const std::vector<Index>& vertexToInputPoint, double tolerance)
 {
@@ -1091,12 +1056,12 @@ std::vector<unsigned char> AttributeSeamVertexFlags(
   }
   // The sides of a seam are borders of the prepared mesh (their points were kept apart): only
   // border vertices are compared, in cells of the tolerance's size.
-  const std::vector<unsigned char> border = BorderVertexFlags(mesh);
+  const MeshTopology topology(mesh);
   const double cell = tolerance > 0 ? tolerance : 1.0;
   std::vector<std::pair<std::array<long long, 3>, Index>> keys;
   for (Index v = 0; v < nv; ++v)
   {
-    if (border[v])
+    if (topology.IsBoundaryVertex(v))
     {
       const Vec3 p = mesh.Point(v);
       keys.push_back({ { static_cast<long long>(std::floor(p[0] / cell)), static_cast<long long>(std::floor(p[1] / cell)),
