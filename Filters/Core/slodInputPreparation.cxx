@@ -889,9 +889,11 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
     OrientConsistently(mesh, star, report);
   }
   report.NonManifoldVertices = MarkNonManifoldVertices(mesh, star, flags);
-  for (unsigned char& f : flags)
+  report.BoundaryVertexFlags.resize(flags.size());
+  for (size_t v = 0; v < flags.size(); ++v)
   {
-    f = (f & NonManifoldFlag) ? 1 : 0;
+    report.BoundaryVertexFlags[v] = (flags[v] & BoundaryFlag) ? 1 : 0;
+    flags[v] = (flags[v] & NonManifoldFlag) ? 1 : 0;
   }
   report.NonManifoldVertexFlags = std::move(flags);
   return report;
@@ -1044,24 +1046,24 @@ void StoreUsedPoints(vtkPolyData* input, const TriangleMesh& mesh, const std::ve
   output->SetPoints(points);
 }
 
-std::vector<unsigned char> AttributeSeamVertexFlags(
-  const TriangleMesh& mesh, vtkPointData* pointData, const std::vector<Index>& vertexToInputPoint, double tolerance)
+std::vector<unsigned char> AttributeSeamVertexFlags(const TriangleMesh& mesh,
+  const std::vector<unsigned char>& borderVertices, vtkPointData* pointData,
+  const std::vector<Index>& vertexToInputPoint, double tolerance)
 {
   const Index nv = mesh.NumberOfPoints();
   std::vector<unsigned char> seam(size_t(nv), 0);
   if (!pointData || pointData->GetNumberOfArrays() == 0 || vertexToInputPoint.size() != size_t(nv) ||
-    !(tolerance >= 0))
+    borderVertices.size() != size_t(nv) || !(tolerance >= 0))
   {
     return seam;
   }
   // The sides of a seam are borders of the prepared mesh (their points were kept apart): only
   // border vertices are compared, in cells of the tolerance's size.
-  const MeshTopology topology(mesh);
   const double cell = tolerance > 0 ? tolerance : 1.0;
   std::vector<std::pair<std::array<long long, 3>, Index>> keys;
   for (Index v = 0; v < nv; ++v)
   {
-    if (topology.IsBoundaryVertex(v))
+    if (borderVertices[v])
     {
       const Vec3 p = mesh.Point(v);
       keys.push_back({ { static_cast<long long>(std::floor(p[0] / cell)), static_cast<long long>(std::floor(p[1] / cell)),

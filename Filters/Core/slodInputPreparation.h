@@ -65,6 +65,9 @@ struct SURFACELODFILTERS_EXPORT PreparationReport
   // Per vertex of the prepared mesh: 1 when non-manifold (as NonManifoldVertexFlags), handed to
   // the collapse filters so that they need not classify the mesh a second time.
   std::vector<unsigned char> NonManifoldVertexFlags;
+  // Per vertex of the prepared mesh: 1 when on a border edge (an edge of one triangle), from the
+  // same classification (for AttributeSeamVertexFlags).
+  std::vector<unsigned char> BoundaryVertexFlags;
   // One human-readable sentence per non-zero count above (for vtkWarningMacro).
   std::vector<std::string> Warnings() const;
 };
@@ -80,14 +83,16 @@ SURFACELODFILTERS_EXPORT PreparationReport PrepareTriangleMesh(vtkPolyData* inpu
 // triangles, or joining several fans), else 0. Collapse filters lock these vertices.
 SURFACELODFILTERS_EXPORT std::vector<unsigned char> NonManifoldVertexFlags(const TriangleMesh& mesh);
 
-// Per vertex of a prepared mesh: 1 on an attribute seam, i.e. a border vertex with another border
+// Per vertex of a prepared mesh: 1 on an attribute seam, i.e. a border vertex (`borderVertices`, as
+// PreparationReport::BoundaryVertexFlags) with another border
 // vertex within `tolerance` (e.g. 1e-6 of the diagonal: float rounding can part the two sides of a
 // seam, as vtkTexturedSphereSource's u = 0 and u = 1 meridians) whose point data differ (input
 // points vertexToInputPoint[v]), except the ends of edges shorter than the tolerance (a pole of copies). All zero
 // without point arrays. Collapse filters keep these vertices
 // in place (PreserveAttributeSeams).
-SURFACELODFILTERS_EXPORT std::vector<unsigned char> AttributeSeamVertexFlags(
-  const TriangleMesh& mesh, vtkPointData* pointData, const std::vector<Index>& vertexToInputPoint, double tolerance);
+SURFACELODFILTERS_EXPORT std::vector<unsigned char> AttributeSeamVertexFlags(const TriangleMesh& mesh,
+  const std::vector<unsigned char>& borderVertices, vtkPointData* pointData,
+  const std::vector<Index>& vertexToInputPoint, double tolerance);
 
 // Per vertex of a prepared mesh: 1 where triangles of different values of `regions` (a cell array
 // of the input, component 0; cell triangleToInputCell[t] of triangle t, or t when null) meet.

@@ -175,7 +175,8 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
 // PreserveAttributeSeams: per prepared vertex, 1 on an attribute seam or a region border (empty
 // when the option is off or there is nothing to keep).
 std::vector<unsigned char> FeatureVertices(vtkQuadricTriangleCollapse* filter, vtkPolyData* input,
-  const slod::TriangleMesh& mesh, const std::vector<slod::Index>& vertexToInput,
+  const slod::TriangleMesh& mesh, const std::vector<unsigned char>& borderVertices,
+  const std::vector<slod::Index>& vertexToInput,
   const std::vector<slod::Index>& triangleToCell)
 {
   std::vector<unsigned char> pinned;
@@ -183,7 +184,8 @@ std::vector<unsigned char> FeatureVertices(vtkQuadricTriangleCollapse* filter, v
   {
     return pinned;
   }
-  pinned = slod::AttributeSeamVertexFlags(mesh, input->GetPointData(), vertexToInput, 1e-6 * mesh.BoundingBoxDiagonal());
+  pinned = slod::AttributeSeamVertexFlags(
+    mesh, borderVertices, input->GetPointData(), vertexToInput, 1e-6 * mesh.BoundingBoxDiagonal());
   const char* name = filter->GetRegionArrayName();
   if (name && *name)
   {
@@ -330,7 +332,7 @@ int vtkQuadricTriangleCollapse::RequestData(
   {
     options.SettleTarget = std::ref(*agreement);
   }
-  const std::vector<unsigned char> pinned = FeatureVertices(this, input, mesh, vertexToInput, triangleToCell);
+  const std::vector<unsigned char> pinned = FeatureVertices(this, input, mesh, report.BoundaryVertexFlags, vertexToInput, triangleToCell);
   options.PinnedVertices = pinned.empty() ? nullptr : &pinned;
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
