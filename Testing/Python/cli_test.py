@@ -9,6 +9,7 @@ import json
 import math
 import os
 import signal
+import shutil
 import subprocess
 import sys
 
@@ -192,7 +193,7 @@ def scenario_methods_covered(a):
 def scenario_formats(a):
     fandisk = os.path.join(a.mesh_dir, "fandisk.off")
     reference = None
-    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk"]:
+    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk", "pvtp"]:
         out = os.path.join(a.work, "formats.%s" % ext)
         result = json_line(run(a.cli, "simplify", fandisk, out, "--method", "vtk-quadric-decimation",
                                "--target-triangles", 1000, "--json"))
@@ -482,7 +483,7 @@ def scenario_full_disk(a):
     if not os.path.exists("/dev/full"):
         raise AssertionError("/dev/full is missing: cannot test writes to a full disk")
     fandisk = os.path.join(a.mesh_dir, "fandisk.off")
-    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk"]:
+    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk", "pvtp"]:
         out = os.path.join(a.work, "full.%s" % ext)
         if os.path.lexists(out):
             os.remove(out)
@@ -982,22 +983,43 @@ def scenario_corpus_info(a):
     report_corpus("info/compare", verdicts)
 
 
-def scenario_output_full(a):
-    """Writing to a full disk (/dev/full) is an error naming the output, never a silent success."""
-    fandisk = os.path.join(a.mesh_dir, "fandisk.off")
-    for ext in ["off", "ply", "stl", "obj", "vtp", "vtk"]:
-        full = os.path.join(a.work, "full." + ext)
-        if not os.path.islink(full):
-            os.symlink("/dev/full", full)
-        try:
-            proc = subprocess.run([a.cli, "simplify", fandisk, full, "--method", "vtk-quadric-decimation",
-                                   "--target-triangles", "1000"], capture_output=True, text=True, timeout=120)
-        except subprocess.TimeoutExpired:
-            check(False, "%s: no result after 120 s" % full)
-            continue
-        lines = proc.stderr.strip().splitlines()
-        check(proc.returncode == 2 and len(lines) == 1 and full in proc.stderr,
-              "writing to a full disk (%s): exit %d, stderr %r" % (full, proc.returncode, proc.stderr[-400:]))
+def check_pieces_files(a, mpiexec, processes):
+    """A .pvtp output: every process writes its own piece (nothing gathered), and a run with one process
+    per piece reads its own piece (nothing scattered); read whole by `info`, the pieces are one surface
+    with the input's topology. A missing piece file is one error line, whichever process reads it."""
+    processes_run = mpiexec + [a.cli, "simplify"]
+    mesh = os.path.join(a.mesh_dir, "blade.off")  # two border loops
+    first, second = os.path.join(a.work, "blade_pieces.pvtp"), os.path.join(a.work, "blade_again.pvtp")
+    for path in (first, second):
+        shutil.rmtree(os.path.splitext(path)[0], ignore_errors=True)
+    written = json_line(run(processes_run[0], *(processes_run[1:] + [mesh, first, "-m", "quadric-triangle-collapse",
+                                                                  "-r", "0.5", "--json"])))
+    piece_files = sorted(os.listdir(os.path.splitext(first)[0]))
+    check(written.get("pieces_written") == processes and written.get("pieces_read") == 0 and
+          len(piece_files) == processes, "pieces written: report %r, files %r" % (written, piece_files))
+    again = json_line(run(processes_run[0], *(processes_run[1:] + [first, second, "-m", "quadric-triangle-collapse",
+                                                                "-r", "0.5", "--json"])))
+    check(again.get("pieces_read") == processes and again.get("input_triangles") == written.get("output_triangles"),
+          "pieces read back: %r after %r" % (again, written))
+    info = {what: json_line(run(a.cli, "info", path, "--json")) for what, path in
+            (("input", mesh), ("first", first), ("second", second))}
+    for key in ("euler_characteristic", "boundary_loops", "nonmanifold_edges", "components"):
+        check(info["first"][key] == info["input"][key] == info["second"][key],
+              "pieces files %s: input %r, written %r, re-simplified %r"
+              % (key, info["input"][key], info["first"][key], info["second"][key]))
+    for what, report in (("first", written), ("second", again)):
+        check(info[what]["merged_points"] == 0 and info[what]["triangles"] == report["output_triangles"],
+              "%s pieces file: %r against the run's report %r" % (what, info[what], report))
+    target = int(0.5 * info["first"]["triangles"] + 1e-6)
+    check(abs(info["second"]["triangles"] - target) <= 0.01 * target,
+          "re-simplified pieces: %d triangles, target %d" % (info["second"]["triangles"], target))
+    os.remove(os.path.join(os.path.splitext(first)[0], piece_files[-1]))
+    proc = subprocess.run(processes_run + [first, os.path.join(a.work, "x.vtp"), "-m", "quadric-triangle-collapse",
+                                           "-r", "0.5"], capture_output=True, text=True, timeout=300)
+    expected = "piece %d:" % (processes - 1)
+    check(proc.returncode == 2 and len([line for line in proc.stderr.splitlines() if expected in line]) == 1,
+          "missing piece file: exit %d, stderr %r (expected one line with %r)" % (proc.returncode, proc.stderr[-400:],
+                                                                                 expected))
 
 
 def scenario_distributed(a):
@@ -1025,6 +1047,7 @@ def scenario_distributed(a):
         target = int(0.1 * info["input"]["triangles"] + 1e-6)
         check(abs(info["many"]["triangles"] - target) <= 0.01 * target,
               "%s: %d triangles, target %d" % (name, info["many"]["triangles"], target))
+    check_pieces_files(a, mpiexec, processes)
     mesh = os.path.join(a.mesh_dir, "blade.off")
     for args, expected in ((["simplify", mesh, os.path.join(a.work, "x.vtp"), "-m", "retile", "-r", "0.9"],
                             "does not simplify distributed pieces"),

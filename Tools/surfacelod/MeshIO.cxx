@@ -3,6 +3,7 @@
 
 #include "CliSupport.h"
 #include "MeshFileChecks.h"
+#include "PartitionedFiles.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -234,7 +235,7 @@ std::string ValidateSurface(vtkPolyData* mesh)
 
 const std::vector<std::string>& KnownExtensions()
 {
-  static const std::vector<std::string> known = { ".off", ".ply", ".stl", ".obj", ".vtp", ".vtk" };
+  static const std::vector<std::string> known = { ".off", ".ply", ".stl", ".obj", ".vtp", ".vtk", ".pvtp" };
   return known;
 }
 
@@ -292,6 +293,11 @@ vtkSmartPointer<vtkAlgorithm> NewReader(const std::string& path)
 VTKReadResult ReadWithVTK(const std::string& path, const std::string& ext)
 {
   VTKReadResult result;
+  if (ext == ".pvtp")
+  {
+    result.Mesh = ReadPartitioned(path); // its pieces, merged where they meet; throws its problems
+    return result;
+  }
   const vtkSmartPointer<vtkAlgorithm> reader = ext == ".off" ? NewReader<vtkOFFMeshReader>(path)
     : ext == ".ply"                                           ? NewReader<vtkPLYMeshReader>(path)
     : ext == ".stl"                                           ? NewReader<vtkSTLReader>(path)
@@ -443,12 +449,12 @@ std::string MessageCapture::FirstError() const
 
 std::string ReadableExtensions()
 {
-  return ".off .ply .stl .obj .vtp .vtk";
+  return ".off .ply .stl .obj .vtp .vtk .pvtp";
 }
 
 std::string WritableExtensions()
 {
-  return ".off .ply .stl .obj .vtp .vtk";
+  return ReadableExtensions();
 }
 
 vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path)
@@ -483,11 +489,15 @@ vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path)
   return result;
 }
 
+std::string SurfaceProblem(vtkPolyData* mesh)
+{
+  return ValidateSurface(mesh);
+}
+
 void CheckWritablePath(const std::string& path)
 {
-  static const std::vector<std::string> known = { ".off", ".ply", ".stl", ".obj", ".vtp", ".vtk" };
   const std::string ext = Extension(path);
-  if (std::find(known.begin(), known.end(), ext) == known.end())
+  if (std::find(KnownExtensions().begin(), KnownExtensions().end(), ext) == KnownExtensions().end())
   {
     throw CliError(ExitData, path + ": unsupported file type '" + ext + "' (writable: " + WritableExtensions() + ")");
   }
@@ -566,9 +576,9 @@ std::string JoinLabels(const std::vector<std::string>& labels)
 void WarnAboutDroppedArrays(vtkPolyData* mesh, const std::string& path)
 {
   const std::string ext = Extension(path);
-  if (ext == ".vtp" || ext == ".vtk")
+  if (ext == ".vtp" || ext == ".vtk" || ext == ".pvtp")
   {
-    return; // both keep every array
+    return; // all keep every array
   }
   const std::vector<std::string> points = DroppedArrays(mesh->GetPointData(), ext, true);
   const std::vector<std::string> cells = DroppedArrays(mesh->GetCellData(), ext, false);
@@ -594,7 +604,11 @@ void WriteMesh(vtkPolyData* mesh, const std::string& path)
   CheckWritablePath(path);
   MessageCapture capture;
   std::string problem;
-  if (ext != ".vtp" && ext != ".vtk")
+  if (ext == ".pvtp")
+  {
+    problem = WritePartitioned(mesh, path, nullptr); // one piece
+  }
+  else if (ext != ".vtp" && ext != ".vtk")
   {
     problem = WriteFileWithVTK(mesh, path, ext);
   }

@@ -40,7 +40,7 @@ private:
 // Prints "surfacelod: warning: MESSAGE" on stderr.
 void PrintWarning(const std::string& message);
 
-// Reads .off .ply .stl .obj .vtp .vtk. Throws CliError(ExitData, "PATH: problem") when the file
+// Reads .off .ply .stl .obj .vtp .vtk .pvtp (its pieces as one surface). Throws CliError(ExitData, "PATH: problem") when the file
 // is missing, unreadable, of an unsupported type, malformed (checked on its bytes before VTK's
 // PLY, STL and OBJ readers see it), refers to missing vertices, has non-finite coordinates on a
 // used vertex, or has no triangle with three distinct vertex positions. What a reader would drop
@@ -48,10 +48,14 @@ void PrintWarning(const std::string& message);
 // as a warning naming the file.
 vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path);
 
+// The first reason `mesh` is no usable surface (no vertices, cell ids out of range, non-finite
+// coordinates on a used vertex, no triangle with three distinct positions), "" when it is one.
+std::string SurfaceProblem(vtkPolyData* mesh);
+
 // Throws CliError(ExitData) unless PATH has a writable extension and its directory exists.
 void CheckWritablePath(const std::string& path);
 
-// Writes .off .ply .stl .obj .vtp .vtk. Throws CliError(ExitData, "PATH: problem"). Point or cell
+// Writes .off .ply .stl .obj .vtp .vtk .pvtp (one piece). Throws CliError(ExitData, "PATH: problem"). Point or cell
 // arrays the format does not keep are named in one warning (WarnAboutDroppedArrays).
 void WriteMesh(vtkPolyData* mesh, const std::string& path);
 

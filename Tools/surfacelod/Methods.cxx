@@ -30,13 +30,23 @@
 
 namespace slodcli
 {
-bool TargetReached(vtkPolyData* output, const MethodSettings& settings)
+int ReportedTargetReached(vtkPolyData* output)
+{
+  vtkDataArray* reached = output->GetFieldData()->GetArray("TargetReached");
+  if (!reached)
+  {
+    return -1;
+  }
+  return reached->GetNumberOfTuples() > 0 && reached->GetTuple1(0) != 0 ? 1 : 0;
+}
+
+bool TargetReached(vtkIdType outputTriangles, int reported, const MethodSettings& settings)
 {
   // A filter of the project says it in its field data (it knows when an error bound stopped it
   // first); for the others a count target is reached when the count is at most the target.
-  if (vtkDataArray* reached = output->GetFieldData()->GetArray("TargetReached"))
+  if (reported >= 0)
   {
-    return reached->GetNumberOfTuples() > 0 && reached->GetTuple1(0) != 0;
+    return reported == 1;
   }
   if (settings.Level >= 0 || (settings.HasMaximumError && settings.TargetTriangles <= 0 && settings.TargetReduction < 0))
   {
@@ -44,7 +54,12 @@ bool TargetReached(vtkPolyData* output, const MethodSettings& settings)
   }
   const double target = settings.TargetTriangles > 0 ? double(settings.TargetTriangles)
                                                      : std::floor((1.0 - settings.ReductionFraction()) * settings.InputTriangles + 1e-9);
-  return double(output->GetNumberOfPolys()) <= target;
+  return double(outputTriangles) <= target;
+}
+
+bool TargetReached(vtkPolyData* output, const MethodSettings& settings)
+{
+  return TargetReached(output->GetNumberOfPolys(), ReportedTargetReached(output), settings);
 }
 
 double MethodSettings::ReductionFraction() const

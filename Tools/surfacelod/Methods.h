@@ -29,6 +29,10 @@ struct MethodSettings
 // Whether `output` (of a method run with `settings`) reached its target: the filter's own
 // "TargetReached" field data when it has it, else output triangles <= the count target.
 bool TargetReached(vtkPolyData* output, const MethodSettings& settings);
+// The same from figures: `reported` is the filter's "TargetReached" (1 or 0), -1 when it has none.
+bool TargetReached(vtkIdType outputTriangles, int reported, const MethodSettings& settings);
+// The filter's "TargetReached" field data of `output`: 1 or 0, -1 when it has none.
+int ReportedTargetReached(vtkPolyData* output);
 
 // A parameter of a method's filter that `--set Name=Value` may change (see Methods.cxx).
 enum class ParameterType

@@ -13,6 +13,7 @@
 #include "CliSupport.h"
 #include "Distributed.h"
 #include "MeshIO.h"
+#include "PartitionedFiles.h"
 #include "Methods.h"
 #include "Render.h"
 
@@ -360,17 +361,29 @@ const Method& CheckedMethod(const SimplifyArguments& args)
   return *method;
 }
 
+// What `simplify` reports of its output: the triangles and the filter's own "TargetReached" (-1: none).
+struct OutputSummary
+{
+  vtkIdType Triangles = 0;
+  int ReportedReached = -1;
+};
+
+OutputSummary Summarize(vtkPolyData* output)
+{
+  return { output->GetNumberOfPolys(), ReportedTargetReached(output) };
+}
+
 // The line `simplify` prints; `distributed` adds the figures of a run on several processes.
 void PrintSimplified(const SimplifyArguments& args, const Method& method, const MethodSettings& settings,
-  vtkPolyData* output, double seconds, const Json& distributed = Json())
+  const OutputSummary& output, double seconds, const Json& distributed = Json())
 {
-  const vtkIdType outputTriangles = output->GetNumberOfPolys();
+  const vtkIdType outputTriangles = output.Triangles;
   // A method that removes features of a size needs no target: with none given there is none to
   // reach (null in the JSON).
   const TargetArguments& target = args.Target;
   const bool hasTarget = method.NeedsTarget || target.Triangles > 0 || target.Reduction >= 0 ||
     target.MaximumError >= 0 || target.Level >= 0;
-  const bool targetReached = !hasTarget || TargetReached(output, settings);
+  const bool targetReached = !hasTarget || TargetReached(outputTriangles, output.ReportedReached, settings);
   if (args.Json)
   {
     Json line = { { "method", method.Name }, { "input_triangles", settings.InputTriangles },
@@ -414,7 +427,7 @@ int Simplify(const SimplifyArguments& args)
   settings.FeatureSize = args.FeatureSize;
   const RunResult result = RunMethod(method, input, settings, assignments);
   WriteMesh(result.Output, args.Output);
-  PrintSimplified(args, method, settings, result.Output, result.Seconds);
+  PrintSimplified(args, method, settings, Summarize(result.Output), result.Seconds);
   return ExitSuccess;
 }
 
@@ -422,15 +435,29 @@ int Simplify(const SimplifyArguments& args)
 // simplify on several processes (mpiexec): every stage between collectives catches its own
 // failures and shares them, so that all processes leave together instead of waiting for each other.
 
-// The worst exit code of all processes; throws it (with this process's message, or a generic one).
+// The worst exit code of all processes; throws it on every process, with the message of the
+// lowest-ranked process that failed (rank 0 prints it: the failure may be another process's own,
+// such as its piece of a .pvtp).
 void FailTogether(vtkMultiProcessController* controller, int code, const std::string& message)
 {
   int worst = ExitSuccess;
   controller->AllReduce(&code, &worst, 1, vtkCommunicator::MAX_OP);
-  if (worst != ExitSuccess)
+  if (worst == ExitSuccess)
   {
-    throw CliError(worst, message.empty() ? "surfacelod simplify: another process failed" : message);
+    return;
   }
+  const int rank = controller->GetLocalProcessId();
+  int mine = code != ExitSuccess ? rank : controller->GetNumberOfProcesses(), first = 0;
+  controller->AllReduce(&mine, &first, 1, vtkCommunicator::MIN_OP);
+  std::string text = rank == first ? message : std::string();
+  vtkIdType length = static_cast<vtkIdType>(text.size());
+  controller->Broadcast(&length, 1, first);
+  text.resize(static_cast<size_t>(length));
+  if (length > 0)
+  {
+    controller->Broadcast(text.data(), length, first);
+  }
+  throw CliError(worst, text.empty() ? "surfacelod simplify: another process failed" : text);
 }
 
 // Rank 0 reads the input (nullptr on the other ranks); every rank learns its triangle count.
@@ -483,6 +510,80 @@ RunResult SimplifyPiece(vtkMultiProcessController* controller, const Method& met
   return result;
 }
 
+// This process's own piece of a .pvtp input that has one piece per process; every process learns
+// the union's triangle count.
+vtkSmartPointer<vtkPolyData> ReadOwnPiece(
+  vtkMultiProcessController* controller, const SimplifyArguments& args, vtkIdType& inputTriangles)
+{
+  vtkSmartPointer<vtkPolyData> piece;
+  int code = ExitSuccess;
+  std::string message;
+  long long triangles = 0, total = 0;
+  try
+  {
+    piece = TriangulatedSurface(
+      ReadPartitionedPiece(args.Input, controller->GetLocalProcessId(), controller->GetNumberOfProcesses()));
+    const std::string problem = piece->GetNumberOfPoints() > 0 ? SurfaceProblem(piece) : std::string();
+    if (!problem.empty())
+    {
+      throw CliError(ExitData, args.Input + ": piece " + std::to_string(controller->GetLocalProcessId()) + ": " + problem);
+    }
+    triangles = CountTriangles(piece);
+  }
+  catch (const CliError& e)
+  {
+    code = e.Code;
+    message = e.what();
+  }
+  FailTogether(controller, code, message);
+  controller->AllReduce(&triangles, &total, 1, vtkCommunicator::SUM_OP);
+  inputTriangles = static_cast<vtkIdType>(total);
+  return piece;
+}
+
+// This process's piece of the input: read by itself from a .pvtp with one piece per process, else
+// split from the whole surface that rank 0 reads.
+vtkSmartPointer<vtkPolyData> DistributedInput(
+  vtkMultiProcessController* controller, const SimplifyArguments& args, vtkIdType& inputTriangles, bool& readOwnPiece)
+{
+  readOwnPiece = false;
+  if (IsPartitionedPath(args.Input))
+  {
+    int pieces = 0, code = ExitSuccess;
+    std::string message;
+    try
+    {
+      CheckWritablePath(args.Output);
+      pieces = PartitionedPieceCount(args.Input);
+    }
+    catch (const CliError& e)
+    {
+      code = e.Code;
+      message = e.what();
+    }
+    FailTogether(controller, code, message);
+    if (pieces == controller->GetNumberOfProcesses())
+    {
+      readOwnPiece = true;
+      return ReadOwnPiece(controller, args, inputTriangles);
+    }
+  }
+  return ScatterPieces(controller, ReadOnRankZero(controller, args, inputTriangles));
+}
+
+// Every process writes its own piece of a .pvtp output; the union's figures are reduced to rank 0.
+OutputSummary WriteOwnPiece(vtkMultiProcessController* controller, const SimplifyArguments& args, vtkPolyData* piece)
+{
+  const std::string problem = WritePartitioned(piece, args.Output, controller);
+  FailTogether(controller, problem.empty() ? ExitSuccess : ExitData,
+    problem.empty() ? std::string() : args.Output + ": cannot write: " + problem);
+  long long triangles = piece->GetNumberOfPolys(), total = 0;
+  int reported = ReportedTargetReached(piece), leastReported = -1;
+  controller->Reduce(&triangles, &total, 1, vtkCommunicator::SUM_OP, 0);
+  controller->Reduce(&reported, &leastReported, 1, vtkCommunicator::MIN_OP, 0);
+  return { static_cast<vtkIdType>(total), leastReported };
+}
+
 int SimplifyDistributed(const SimplifyArguments& args, const Method& method,
   const std::vector<ParameterAssignment>& assignments, vtkMultiProcessController* controller)
 {
@@ -493,11 +594,14 @@ int SimplifyDistributed(const SimplifyArguments& args, const Method& method,
   }
   const Stopwatch wall;
   vtkIdType inputTriangles = 0;
-  vtkSmartPointer<vtkPolyData> piece = ScatterPieces(controller, ReadOnRankZero(controller, args, inputTriangles));
+  bool readOwnPiece = false;
+  vtkSmartPointer<vtkPolyData> piece = DistributedInput(controller, args, inputTriangles, readOwnPiece);
   const MethodSettings settings = TargetSettings(args.Target, inputTriangles, true, 0.0, "simplify");
   const RunResult result = SimplifyPiece(controller, method, piece, settings, assignments);
   piece = nullptr;
-  const vtkSmartPointer<vtkPolyData> merged = GatherPieces(controller, result.Output);
+  const bool eachWritesItsPiece = IsPartitionedPath(args.Output);
+  const OutputSummary summary = eachWritesItsPiece ? WriteOwnPiece(controller, args, result.Output) : OutputSummary();
+  const vtkSmartPointer<vtkPolyData> merged = eachWritesItsPiece ? nullptr : GatherPieces(controller, result.Output);
 
   const int processes = controller->GetNumberOfProcesses();
   double slowest = 0.0, peak = PeakResidentMegabytes();
@@ -508,9 +612,13 @@ int SimplifyDistributed(const SimplifyArguments& args, const Method& method,
   {
     return ExitSuccess;
   }
-  WriteMesh(merged, args.Output);
-  PrintSimplified(args, method, settings, merged, slowest,
-    { { "processes", processes }, { "wall_seconds", wall.Seconds() }, { "peak_rss_mb_per_process", peaks } });
+  if (!eachWritesItsPiece)
+  {
+    WriteMesh(merged, args.Output);
+  }
+  PrintSimplified(args, method, settings, eachWritesItsPiece ? summary : Summarize(merged), slowest,
+    { { "processes", processes }, { "wall_seconds", wall.Seconds() }, { "peak_rss_mb_per_process", peaks },
+      { "pieces_read", readOwnPiece ? processes : 0 }, { "pieces_written", eachWritesItsPiece ? processes : 0 } });
   return ExitSuccess;
 }
 
