@@ -85,10 +85,77 @@ std::vector<std::vector<Item>> ExchangeBuckets(
   return incoming;
 }
 
+// A coarse grid over the union of the pieces, each cell with the number of pieces that have a vertex
+// in it. A position another piece also holds lies in a cell of two or more pieces (equal positions
+// fall in the same cell on every process: same bounds, same arithmetic), so only the vertices in
+// such cells, a band along the cuts between the pieces, need to be exchanged, instead of all.
+class OccupiedCells
+{
+public:
+  // Collective.
+  OccupiedCells(const std::vector<Position>& positions, vtkMultiProcessController* controller)
+  {
+    std::array<double, 6> box{ inf, inf, inf, inf, inf, inf }, unionBox{}; // low, then -high
+    for (const Position& p : positions)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        box[k] = std::min(box[k], p[k]);
+        box[3 + k] = std::min(box[3 + k], -p[k]);
+      }
+    }
+    controller->AllReduce(box.data(), unionBox.data(), 6, vtkCommunicator::MIN_OP);
+    long long count = static_cast<long long>(positions.size()), total = 0;
+    controller->AllReduce(&count, &total, 1, vtkCommunicator::SUM_OP);
+    bool usable = controller->GetNumberOfProcesses() < std::numeric_limits<unsigned short>::max();
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Low[k] = unionBox[k];
+      const double extent = -unionBox[3 + k] - unionBox[k];
+      usable = usable && std::isfinite(extent) && std::isfinite(this->Low[k]);
+      this->Scale[k] = extent > 0 ? 1.0 / extent : 0.0;
+    }
+    if (!usable)
+    {
+      return; // every position is a candidate
+    }
+    // About one vertex per cell of the union, at most 128^3 cells (4 MB of counts to reduce).
+    this->Cells = static_cast<int>(std::clamp(std::ceil(std::cbrt(double(total))), 1.0, 128.0));
+    std::vector<unsigned short> mine(size_t(this->Cells) * size_t(this->Cells) * size_t(this->Cells), 0);
+    for (const Position& p : positions)
+    {
+      mine[this->CellOf(p)] = 1;
+    }
+    this->Pieces.resize(mine.size());
+    controller->AllReduce(mine.data(), this->Pieces.data(), static_cast<vtkIdType>(mine.size()), vtkCommunicator::SUM_OP);
+  }
+
+  bool MayBeShared(const Position& p) const { return this->Pieces.empty() || this->Pieces[this->CellOf(p)] >= 2; }
+
+private:
+  static constexpr double inf = std::numeric_limits<double>::infinity();
+  size_t CellOf(const Position& p) const
+  {
+    size_t cell = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double t = (p[k] - this->Low[k]) * this->Scale[k] * this->Cells;
+      cell = cell * size_t(this->Cells) + size_t(std::clamp(static_cast<int>(t), 0, this->Cells - 1));
+    }
+    return cell;
+  }
+
+  std::array<double, 3> Low{}, Scale{};
+  int Cells = 1;
+  std::vector<unsigned short> Pieces; // empty: the grid could not be made
+};
+
 // Collective: the positions of this piece's vertices that one or more other pieces also hold. Every
-// distinct position goes to its deciding process, which counts the processes holding it and answers
-// each sender; the work and the traffic per process are proportional to its piece, whatever the split.
-std::vector<Position> PositionsOtherPiecesHold(const TriangleMesh& piece, vtkMultiProcessController* controller)
+// distinct position that may be shared (OccupiedCells) goes to its deciding process, which counts
+// the processes holding it and answers each sender; the work and the traffic per process are
+// proportional to its part of the band along the cuts, whatever the split.
+std::vector<Position> PositionsOtherPiecesHold(
+  const TriangleMesh& piece, vtkMultiProcessController* controller, Index& exchanged)
 {
   const int processes = controller->GetNumberOfProcesses();
   std::vector<Position> mine(size_t(piece.NumberOfPoints()));
@@ -96,8 +163,12 @@ std::vector<Position> PositionsOtherPiecesHold(const TriangleMesh& piece, vtkMul
   {
     mine[v] = PositionOf(piece, v);
   }
+  const OccupiedCells cells(mine, controller);
+  mine.erase(std::remove_if(mine.begin(), mine.end(), [&cells](const Position& p) { return !cells.MayBeShared(p); }),
+    mine.end());
   std::sort(mine.begin(), mine.end());
   mine.erase(std::unique(mine.begin(), mine.end()), mine.end()); // each process sends a position once
+  exchanged = static_cast<Index>(mine.size());
   std::vector<std::vector<Position>> asked(static_cast<size_t>(processes));
   for (const Position& p : mine)
   {
@@ -189,7 +260,9 @@ PieceSeam FindPieceSeam(const TriangleMesh& piece, vtkMultiProcessController* co
   }
   // Any vertex, not only a border one: the sheets of a non-manifold edge, or the fans of a
   // non-manifold vertex, may fall into different pieces, where that edge or vertex is interior.
-  const std::vector<Position> held = PositionsOtherPiecesHold(piece, controller);
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<Position> held = PositionsOtherPiecesHold(piece, controller, seam.ExchangedPositions);
+  const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - start;
   for (Index v = 0; v < piece.NumberOfPoints(); ++v)
   {
     if (std::binary_search(held.begin(), held.end(), PositionOf(piece, v)))
@@ -204,8 +277,10 @@ PieceSeam FindPieceSeam(const TriangleMesh& piece, vtkMultiProcessController* co
   {
     const MeshTopology topology(piece);
     seam.SeamEdges = CountSeamEdges(topology, seam.SharedVertices);
-    vtkLogF(TRACE, "piece %d: %lld shared vertices, %lld seam edges", controller->GetLocalProcessId(),
-      static_cast<long long>(seam.SharedVertexCount), static_cast<long long>(seam.SeamEdges));
+    vtkLogF(TRACE, "piece %d: %lld shared vertices, %lld seam edges; %lld of %lld positions exchanged, %.3f s",
+      controller->GetLocalProcessId(), static_cast<long long>(seam.SharedVertexCount),
+      static_cast<long long>(seam.SeamEdges), static_cast<long long>(seam.ExchangedPositions),
+      static_cast<long long>(piece.NumberOfPoints()), seconds.count());
   }
   return seam;
 }

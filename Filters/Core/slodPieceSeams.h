@@ -34,6 +34,7 @@ struct SURFACELODFILTERS_EXPORT PieceSeam
   std::vector<unsigned char> SharedVertices;
   Index SharedVertexCount = 0;
   Index SeamEdges = 0; // border edges of this piece whose two ends are shared (counted for the TRACE log only)
+  Index ExchangedPositions = 0; // distinct positions this piece sent to be decided (the band along the cuts)
 };
 
 // True when the controller runs more than one process (a distributed run).

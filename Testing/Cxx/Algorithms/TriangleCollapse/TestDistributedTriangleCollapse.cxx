@@ -9,6 +9,7 @@
 #include "TestSupport.h"
 
 #include "slodMeshTopology.h"
+#include "slodPieceSeams.h"
 #include "vtkQuadricTriangleCollapse.h"
 #include "vtkSurfaceDeviation.h"
 
@@ -351,6 +352,51 @@ TEST(DistributedTriangleCollapse, NonManifoldRimSplitBetweenPiecesStaysWhole)
     EXPECT_EQ(m.Union.Components, m.Input.Components);
     ExpectCrackFreeOnTarget(m);
   }
+}
+
+// The seam finder against the truth every process can compute from all the pieces (the Morton split
+// is deterministic): the vertices it marks are exactly those whose position another piece holds, and
+// it exchanged only the band of positions along the cuts, not every vertex (the occupancy grid).
+TEST(DistributedTriangleCollapse, SeamIsExactAndOnlyTheBandIsExchanged)
+{
+  vtkMultiProcessController* controller = Controller();
+  ASSERT_NE(controller, nullptr);
+  const int rank = controller->GetLocalProcessId(), processes = controller->GetNumberOfProcesses();
+  const auto pieces = slodcli::SplitIntoPieces(slodtest::LoadTestMesh("bunny00"), processes);
+  std::vector<vtkSmartPointer<vtkDataObject>> objects(pieces.begin(), pieces.end());
+  std::set<Position> others; // positions of every other piece
+  for (int r = 0; r < processes; ++r)
+  {
+    if (r != rank)
+    {
+      const TriangleMesh piece = slodtest::RawTriangleMesh(pieces[r]);
+      for (Index v = 0; v < piece.NumberOfPoints(); ++v)
+      {
+        const Vec3 p = piece.Point(v);
+        others.insert({ p[0], p[1], p[2] });
+      }
+    }
+  }
+  const TriangleMesh mine = slodtest::RawTriangleMesh(pieces[rank]);
+  const PieceSeam seam = FindPieceSeam(mine, controller);
+  Index expectedShared = 0, mismatches = 0;
+  for (Index v = 0; v < mine.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = mine.Point(v);
+    const bool shared = others.count({ p[0], p[1], p[2] }) > 0;
+    expectedShared += shared;
+    mismatches += shared != (seam.SharedVertices[v] != 0);
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_EQ(seam.SharedVertexCount, expectedShared);
+  EXPECT_GT(expectedShared, 0);
+  // The exchanged positions include the shared ones and stay a small part of the piece (a band about
+  // one grid cell wide on each side of the cuts; every vertex was sent before the grid).
+  EXPECT_GE(seam.ExchangedPositions, expectedShared);
+  EXPECT_LT(seam.ExchangedPositions, mine.NumberOfPoints() / 3);
+  std::printf("[distributed] seam of piece %d: %lld shared, %lld of %lld positions exchanged\n", rank,
+    static_cast<long long>(expectedShared), static_cast<long long>(seam.ExchangedPositions),
+    static_cast<long long>(mine.NumberOfPoints()));
 }
 
 // The demo's isosurface (closed, genus 1), a closed CGAL scan and a CGAL mesh with two border loops.
