@@ -21,6 +21,7 @@
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkQuadricDecimation.h"
+#include "vtkSMPTools.h"
 #include "vtkTriangleFilter.h"
 
 #include <gtest/gtest.h>
@@ -772,6 +773,64 @@ TEST(PatchBoundaryMerge, SameLevelWhicheverThreadRunsACandidate)
       }
     }
   }
+}
+
+// A level's stages run as vtkSMPTools tasks (the input's BVH beside the patch growth, the other
+// merge measure beside the first level, the removal tries side by side): they must neither wait
+// for each other nor share working state, so every backend gives the same level, also the
+// sequential one (one task after the other). The anchor at 50% runs the removal tries, the Fandisk
+// with CompareCandidates the other measure's search, and the noisy scan needs fallback passes (so
+// its tries are skipped).
+TEST(PatchBoundaryMerge, SameLevelWithEverySMPBackend)
+{
+  struct Case
+  {
+    vtkSmartPointer<vtkPolyData> Input;
+    double Reduction;
+    bool Compare, Fallback;
+  };
+  const Case cases[] = { { slodtest::LoadTestMesh("anchor"), 0.5, false, false },
+    { slodtest::LoadTestMesh("fandisk"), 0.97, true, false },
+    { slodtest::NoisyScanIsosurface(40, 1), 0.9, false, true } };
+  const std::string saved = vtkSMPTools::GetBackend();
+  for (const Case& test : cases)
+  {
+    vtkSmartPointer<vtkPolyData> reference;
+    for (const char* backend : { "Sequential", "STDThread", "TBB" })
+    {
+      SCOPED_TRACE(backend);
+      ASSERT_TRUE(vtkSMPTools::SetBackend(backend));
+      vtkNew<vtkPatchBoundaryMerge> filter;
+      filter->SetInputData(test.Input);
+      filter->SetTargetReduction(test.Reduction);
+      filter->SetCompareCandidates(test.Compare);
+      filter->Update();
+      auto output = vtkSmartPointer<vtkPolyData>::New();
+      output->DeepCopy(filter->GetOutput());
+      ASSERT_GT(output->GetNumberOfCells(), 0);
+      if (test.Fallback)
+      {
+        EXPECT_GT(filter->GetUnmergedPatches(), 0) << "the noisy scan must need fallback passes";
+      }
+      if (!reference)
+      {
+        reference = output;
+        continue;
+      }
+      ASSERT_EQ(output->GetNumberOfCells(), reference->GetNumberOfCells());
+      for (vtkIdType c = 0; c < output->GetNumberOfCells(); ++c)
+      {
+        vtkNew<vtkIdList> ids, referenceIds;
+        output->GetCellPoints(c, ids);
+        reference->GetCellPoints(c, referenceIds);
+        for (int k = 0; k < 3; ++k)
+        {
+          ASSERT_EQ(ids->GetId(k), referenceIds->GetId(k)) << "cell " << c;
+        }
+      }
+    }
+  }
+  vtkSMPTools::SetBackend(saved.c_str());
 }
 
 TEST(PatchBoundaryMerge, MaximumErrorAndNoReduction)
