@@ -923,6 +923,50 @@ TEST(PatchBoundaryMerge, SpiralRampStaysValidThroughFallbacks)
   }
 }
 
+// With a negative epsilon every chain keeps all its vertices, so the finer-chain fallback levels
+// cannot change a patch that failed unmerged: it goes to its original triangles next. The spiral
+// ramp with loose patch angles has a patch whose border overlaps itself in projection at every
+// resolution; before, it went through all seven fallback levels (8 passes, each a whole merging
+// run and triangulation).
+TEST(SpbmLevel, FullResolutionFallbackSkipsFinerChainLevels)
+{
+  TriangleMesh ramp = slodtest::Grid(16, 160);
+  for (Index v = 0; v < ramp.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = ramp.Point(v);
+    const double radius = 0.3 + 0.7 * p[0], angle = 4 * Pi * p[1];
+    ramp.SetPoint(v, { radius * std::cos(angle), radius * std::sin(angle), 0.15 * angle });
+  }
+  PatchificationParameters loose;
+  loose.OneEdgePatchAngle = loose.OneEdgeNeighborAngle = 80;
+  auto pm = Patch(ramp, loose);
+  SpbmLevelGenerator generator;
+  generator.Initialize(pm->Mesh, pm->Patches);
+  SpbmLevelParameters parameters;
+  parameters.Epsilon = -1;
+  SpbmLevel level;
+  ASSERT_TRUE(generator.Generate(parameters, level));
+  ASSERT_GT(level.OriginalPatches, 0) << "the ramp must need the last fallback";
+  EXPECT_EQ(level.RefinedPatches, 0);
+  EXPECT_LE(level.Passes, 3);
+  TriangleMesh out; // the level over its own vertices
+  std::map<Index, Index> local;
+  for (const Index v : level.Triangles)
+  {
+    const auto inserted = local.emplace(v, out.NumberOfPoints());
+    if (inserted.second)
+    {
+      out.AddPoint(pm->Mesh.Point(v));
+    }
+    out.Triangles.push_back(inserted.first->second);
+  }
+  const MeshStatistics st = ComputeMeshStatistics(out);
+  const MeshStatistics in = ComputeMeshStatistics(pm->Mesh);
+  EXPECT_EQ(st.NonManifoldEdges, 0);
+  EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops);
+  EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic);
+}
+
 TEST(PatchBoundaryMerge, NoisyScanKeepsNonManifoldEdgesBordersAndHandles)
 {
   // Like an MRI isosurface: handles, a border, non-manifold edges. The full-resolution chains of
