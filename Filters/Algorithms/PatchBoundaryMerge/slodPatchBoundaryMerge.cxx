@@ -18,7 +18,6 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <thread>
 
 namespace slod
 {
@@ -55,14 +54,11 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Work->HoldsPrediction = this->Helper->HoldsPrediction = false;
   this->Helper->RefinedValid = false;
   this->Helper->DiagonalCosts.Reset(0);
-  if (!(this->PendingTree.valid() && this->TreeMesh == &mesh))
+  if (!(this->BuiltTree && this->TreeMesh == &mesh))
   {
-    // Only a tree being built by StartInputTree for this mesh is kept (the mesh may have
+    // Only a tree built by BuildInputTreeDuring for this mesh is kept (the mesh may have
     // changed in place since an older tree was built).
-    if (this->PendingTree.valid())
-    {
-      this->PendingTree.get();
-    }
+    this->BuiltTree.reset();
     this->InputTree.reset();
     this->TreeMesh = &mesh;
   }
@@ -267,36 +263,49 @@ size_t SpbmLevelGenerator::MemoryUsage() const
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
       b(s.SimpleSignature) + b(s.Memo);
   }
-  if (this->InputTree)
+  for (const TriangleBVH* tree : { this->InputTree.get(), this->BuiltTree.get() })
   {
-    // Nodes, leaf order and the 9 leaf-ordered corner coordinates per triangle.
-    const TriangleBVH& tree = *this->InputTree;
-    bytes += b(tree.GetNodes()) + b(tree.GetOrder()) + tree.GetOrder().size() * 9 * sizeof(double);
+    if (tree)
+    {
+      // Nodes, leaf order and the 9 leaf-ordered corner coordinates per triangle.
+      bytes += b(tree->GetNodes()) + b(tree->GetOrder()) + tree->GetOrder().size() * 9 * sizeof(double);
+    }
   }
   return bytes;
 }
 
-void SpbmLevelGenerator::StartInputTree(const TriangleMesh& mesh)
+void SpbmLevelGenerator::BuildInputTreeDuring(const TriangleMesh& mesh, const std::function<void()>& work)
 {
-  std::lock_guard<std::mutex> lock(this->LazyMutex);
-  if (this->PendingTree.valid())
   {
-    this->PendingTree.get();
+    std::lock_guard<std::mutex> lock(this->LazyMutex);
+    this->InputTree.reset();
+    this->BuiltTree.reset();
+    this->TreeMesh = &mesh;
   }
-  this->InputTree.reset();
-  this->TreeMesh = &mesh;
-  this->PendingTree = std::async(std::launch::async, [&mesh]() { return std::make_unique<TriangleBVH>(mesh); });
+  std::unique_ptr<TriangleBVH> tree;
+  RunTasks(2, [&](int task) {
+    if (task == 0)
+    {
+      tree = std::make_unique<TriangleBVH>(mesh);
+    }
+    else
+    {
+      work();
+    }
+  });
+  std::lock_guard<std::mutex> lock(this->LazyMutex);
+  this->BuiltTree = std::move(tree);
 }
 
 const TriangleBVH& SpbmLevelGenerator::GetInputTree(StageTimes& times)
 {
   // Built on first use (a non-planar patch), by whichever candidate thread needs it first.
   std::lock_guard<std::mutex> lock(this->LazyMutex);
-  if (!this->InputTree && this->PendingTree.valid())
+  if (!this->InputTree && this->BuiltTree)
   {
-    const auto started = StageClock::now();
-    this->InputTree = this->PendingTree.get();
-    times.Tree += Since(started);
+    // Taken from BuildInputTreeDuring on first use: until then EstimateDeviation measures one
+    // side only, as when the tree is built here.
+    this->InputTree = std::move(this->BuiltTree);
   }
   if (!this->InputTree)
   {
@@ -409,10 +418,12 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     }
     // The search's last prediction is usually this level's first pass: its chain graph is
     // still in the state (the merging run depends on the parameters and frozen patches only).
+    const auto passStart = StageClock::now();
     if (!(pass == 1 && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters))))
     {
       this->RunMerging(parameters, frozen, s);
     }
+    const double mergingSeconds = Since(passStart);
     if (pass == 1)
     {
       level.PredictedTriangles = static_cast<Index>(s.Total);
@@ -425,11 +436,15 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
       level.TrianglePatch.clear();
       return true;
     }
+    const auto triangulationStart = StageClock::now();
     if (!triangulation.RunPass(frozen, abort))
     {
       return false;
     }
-    if (!triangulation.FreezeFailedPatches(frozen))
+    const bool anyFailed = triangulation.FreezeFailedPatches(frozen);
+    vtkLogF(TRACE, "[spbm] pass %d: merging %.4f s (%lld triangles), triangulation %.4f s, %d patches failed", pass,
+      mergingSeconds, s.Total, Since(triangulationStart), int(triangulation.FailedPatches()));
+    if (!anyFailed)
     {
       break;
     }
@@ -771,8 +786,12 @@ bool SpbmLevelGenerator::KeepClosestTry(const SpbmLevelParameters& first, SpbmLe
 }
 
 // Candidates spend the same budget differently; the smallest sampled deviation from the input
-// (EstimateDeviation) wins. The first level (the given merge measure) runs on this thread; the
-// other measures run on a helper thread with its own working state (Helper) meanwhile.
+// (EstimateDeviation) wins. The first level (the given merge measure) runs in the working state
+// Work; with CompareCandidates the other measures run meanwhile in Helper (two vtkSMPTools tasks).
+// The planned removal tries run after the first level, one per working state, and only when it
+// needed no fallback pass: a try gets one pass (GenerateIn's budget), and on the real scan
+// isosurfaces, where the first level needs 5-9 passes, every try failed its pass and was thrown
+// away (two merging runs and two triangulations of CPU time per level, MRI and inia19 at 10%).
 bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
   SpbmLevelParameters* used, const std::function<bool()>& abort)
 {
@@ -785,35 +804,34 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
   } report{ this->Work->Times };
   TargetCandidates run(target, abort);
   run.Compare = base.MergePatches && base.MergeAngle > 0 && base.CompareCandidates;
-  std::thread helper;
-  if (run.Compare)
+  if (!run.Compare)
   {
-    helper = std::thread([this, &base, &run]() { this->GenerateOtherMeasure(base, run); });
-  }
-  else if (this->PlanRemovalTries(base, run))
-  {
-    helper = std::thread([this, &run]() { this->RunPlannedTries(run, *this->Helper); });
+    this->PlanRemovalTries(base, run);
   }
   SpbmLevelParameters first;
-  bool done = this->GenerateForTargetAndAngle(target, base, level, &first, abort, *this->Work);
-  run.FirstCount = static_cast<Index>(level.TrianglePatch.size());
-  run.BestDeviation = done && run.Compare ? this->EstimateDeviation(level) : 0.0;
-  this->DescribeCandidate("first", first, run.FirstCount, run.BestDeviation);
-  run.Best = first;
-  // A narrower alpha1 only when alpha1 did not have to be widened (a narrower one would widen
-  // to the same level) and no removal was needed.
-  if (done && run.Compare && !base.SizeWeightedMerge && !base.FlatnessMerge && first.MergeAngle <= base.MergeAngle &&
-    first.RemovalTarget == 0)
-  {
-    done = this->TryNarrowerAngle(base, level, run);
-  }
+  bool done = true;
+  RunTasks(run.Compare ? 2 : 1, [&](int task) {
+    if (task == 1)
+    {
+      this->GenerateOtherMeasure(base, run);
+      return;
+    }
+    done = this->GenerateForTargetAndAngle(target, base, level, &first, abort, *this->Work);
+    run.FirstCount = static_cast<Index>(level.TrianglePatch.size());
+    run.BestDeviation = done && run.Compare ? this->EstimateDeviation(level) : 0.0;
+    this->DescribeCandidate("first", first, run.FirstCount, run.BestDeviation);
+    run.Best = first;
+    // A narrower alpha1 only when alpha1 did not have to be widened (a narrower one would widen
+    // to the same level) and no removal was needed.
+    if (done && run.Compare && !base.SizeWeightedMerge && !base.FlatnessMerge &&
+      first.MergeAngle <= base.MergeAngle && first.RemovalTarget == 0)
+    {
+      done = this->TryNarrowerAngle(base, level, run);
+    }
+  });
   if (run.TriesPlanned && done)
   {
-    this->RunPlannedTries(run, *this->Work); // take what the helper has not started
-  }
-  if (helper.joinable())
-  {
-    helper.join();
+    this->RunPlannedTriesAfter(level, run);
   }
   if (!done || !run.SecondDone)
   {
@@ -837,6 +855,21 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
     *used = run.Best;
   }
   return true;
+}
+
+// The planned tries, one per working state (two vtkSMPTools tasks), when the first level needed
+// one generation pass; otherwise they are skipped (see GenerateForTarget) and count as finished
+// without a level.
+void SpbmLevelGenerator::RunPlannedTriesAfter(const SpbmLevel& firstLevel, TargetCandidates& run)
+{
+  if (firstLevel.Passes > 1)
+  {
+    vtkLogF(TRACE, "[spbm] removal tries skipped: the first level needed %d generation passes", firstLevel.Passes);
+    run.NextTry = 2;
+    run.TriedFinished[0] = run.TriedFinished[1] = true;
+    return;
+  }
+  RunTasks(2, [&](int task) { this->RunPlannedTries(run, task == 0 ? *this->Work : *this->Helper); });
 }
 
 bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base,

@@ -41,7 +41,6 @@
 #include "slodTriangleMesh.h"
 
 #include <functional>
-#include <future>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -144,11 +143,11 @@ public:
   // Keys (and epsilon) are then in this measure.
   void Initialize(const TriangleMesh& mesh, const Patchification& patches, double inPlaneWeight);
 
-  // Starts building the BVH of `mesh` used by the minimum-deviation triangulation on another
-  // thread (it is needed by the first level; the caller's patchification can run meanwhile).
-  // `mesh` must not change while the generator uses it; the next Initialize with the same mesh
-  // keeps the tree being built (any other Initialize drops it).
-  void StartInputTree(const TriangleMesh& mesh);
+  // Builds the BVH of `mesh` used by the minimum-deviation triangulation (the first level needs
+  // it) while `work` runs (the caller's patchification): two vtkSMPTools tasks. `mesh` must not
+  // change while the generator uses it; the next Initialize with the same mesh keeps the tree
+  // (any other Initialize drops it).
+  void BuildInputTreeDuring(const TriangleMesh& mesh, const std::function<void()>& work);
 
   // Triangle count of the level (before fallbacks) without triangulating: cheap, for searches.
   Index PredictTriangleCount(const SpbmLevelParameters& parameters);
@@ -196,6 +195,7 @@ private:
   void GenerateOtherMeasure(const SpbmLevelParameters& base, TargetCandidates& run);
   bool PlanRemovalTries(const SpbmLevelParameters& base, TargetCandidates& run);
   void RunPlannedTries(TargetCandidates& run, State& s);
+  void RunPlannedTriesAfter(const SpbmLevel& firstLevel, TargetCandidates& run);
   bool TryNarrowerAngle(const SpbmLevelParameters& base, SpbmLevel& level, TargetCandidates& run);
   void KeepOtherMeasure(SpbmLevel& level, TargetCandidates& run);
   bool TryOtherMeasureForUnreachedTarget(const SpbmLevelParameters& base, SpbmLevel& level, TargetCandidates& run);
@@ -254,8 +254,8 @@ private:
   std::unique_ptr<State> Work;
   std::unique_ptr<State> Helper; // second working state: candidates run on two threads
   mutable std::mutex LazyMutex;  // guards the lazily built InputTree and PatchSupport
-  std::unique_ptr<TriangleBVH> InputTree; // over Mesh, built on first use (non-planar patches)
-  std::future<std::unique_ptr<TriangleBVH>> PendingTree; // StartInputTree
+  std::unique_ptr<TriangleBVH> InputTree; // over Mesh, taken or built on first use (non-planar patches)
+  std::unique_ptr<TriangleBVH> BuiltTree; // over TreeMesh by BuildInputTreeDuring, not used yet
   const TriangleMesh* TreeMesh = nullptr;
   double Diagonal = 0;
   double InPlaneWeight = 1.0;

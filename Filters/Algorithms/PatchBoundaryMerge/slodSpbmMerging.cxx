@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodSpbmMerging.h"
 
+#include "vtkLogger.h"
 #include "vtkMath.h"
 
 #include <mutex>
@@ -228,6 +229,7 @@ void SpbmLevelGenerator::MergingRun::ForPatchChains(Index p, Functor&& f)
 
 void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& frozen)
 {
+  const auto runStart = StageClock::now();
   this->ResetChainGraph(frozen);
   if (parameters.FlatnessMerge)
   {
@@ -239,7 +241,8 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
   this->ComputeMergeThreshold();
   const auto refinementStart = StageClock::now();
   this->RefineNonSimplePatches(frozen);
-  s.Times.Refinement += Since(refinementStart);
+  const double refinementSeconds = Since(refinementStart);
+  s.Times.Refinement += refinementSeconds;
   s.Total = 0;
   for (Index p = 0; p < np; ++p)
   {
@@ -249,8 +252,16 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
   {
     return;
   }
+  const auto mergingStart = StageClock::now();
   this->MergeInMeasureOrder();
+  const double mergingSeconds = Since(mergingStart);
+  const long long merged = s.Total;
+  const auto removalStart = StageClock::now();
   this->RemoveDownToTarget();
+  // Profiling aid: where a level's merging runs spend their time (search, fallback passes, tries).
+  vtkLogF(TRACE,
+    "[spbm] merging run %.4f s: refinement %.4f s, merging %.4f s (%lld triangles), removal %.4f s (%lld triangles)",
+    Since(runStart), refinementSeconds, mergingSeconds, merged, Since(removalStart), s.Total);
 }
 
 void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()

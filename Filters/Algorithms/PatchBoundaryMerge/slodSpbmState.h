@@ -8,6 +8,8 @@
 
 #include "slodPatchBoundaryMerge.h"
 
+#include "vtkSMPTools.h"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -25,6 +27,19 @@ using StageClock = std::chrono::steady_clock;
 inline double Since(StageClock::time_point start)
 {
   return std::chrono::duration<double>(StageClock::now() - start).count();
+}
+// Runs task(0), ..., task(n - 1) as independent vtkSMPTools work items, so that they can run on
+// different threads (one after the other with the Sequential backend). The tasks must not wait
+// for each other.
+template<typename Task>
+void RunTasks(int n, Task&& task)
+{
+  vtkSMPTools::For(0, vtkIdType(n), 1, [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType i = first; i < last; ++i)
+    {
+      task(int(i));
+    }
+  });
 }
 // Support directions of the flatness measure: the 3 axes, 6 face and 4 body
 // diagonals, both signs (a 26-DOP). A patch keeps its extreme vertex in each;

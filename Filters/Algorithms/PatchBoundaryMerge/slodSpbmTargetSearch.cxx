@@ -49,13 +49,21 @@ SpbmLevelParameters SpbmLevelGenerator::TargetSearch::Run(Index* predicted)
 double SpbmLevelGenerator::TargetSearch::SearchMergeAngle()
 {
   double angle = base.MergeAngle;
-  if (!(this->CountFor(0, angle) > target && (base.MergePatches || base.CollapseChains)))
+  // With the cost-ordered removal, BracketMergeAngle probes RemovalMergeAngle first, and when
+  // merging up to it leaves more than the target the removal sets the count: the given alpha1's
+  // count is then never used (the count falls with alpha1), so it is not evaluated (one merging
+  // run less per search; on the scan isosurfaces at 10% one of the search's three).
+  const bool removalDecides = base.CostOrderedRemoval && base.CollapseChains && base.MergePatches &&
+    angle < base.RemovalMergeAngle && this->CountFor(0, base.RemovalMergeAngle) > target;
+  if (!removalDecides && !(this->CountFor(0, angle) > target && (base.MergePatches || base.CollapseChains)))
   {
     return angle;
   }
   angleLo = angle;
   angleHi = std::max(90.0, angle);
-  countAngleLo = this->CountFor(0, angleLo);
+  // Not evaluated when the removal decides: BracketMergeAngle then stops at RemovalMergeAngle
+  // and ReachWithRemoval sets the lower count or evaluates it.
+  countAngleLo = removalDecides ? 0 : this->CountFor(0, angleLo);
   countAngleHi = 0;
   this->BracketMergeAngle();
   // Even alpha1 = 90 leaves too many triangles (the Fandisk at 150): drop the epsilon bound on

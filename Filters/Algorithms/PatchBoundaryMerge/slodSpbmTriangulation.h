@@ -15,6 +15,7 @@
 #include "slodPolygonTriangulation.h"
 #include "slodSpbmState.h"
 
+#include <algorithm>
 #include <functional>
 
 namespace slod
@@ -28,6 +29,8 @@ public:
   // Moves the failed patches one fallback level further; false when none failed.
   bool FreezeFailedPatches(std::vector<unsigned char>& frozen);
   void Finish(const std::vector<unsigned char>& frozen);
+  // Root patches that failed in the last pass.
+  Index FailedPatches() const { return static_cast<Index>(std::count(failed.begin(), failed.end(), 1)); }
 
 private:
   void BuildVertexSequences();

@@ -21,6 +21,7 @@
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkQuadricDecimation.h"
+#include "vtkSMPTools.h"
 #include "vtkTriangleFilter.h"
 
 #include <gtest/gtest.h>
@@ -774,6 +775,64 @@ TEST(PatchBoundaryMerge, SameLevelWhicheverThreadRunsACandidate)
   }
 }
 
+// A level's stages run as vtkSMPTools tasks (the input's BVH beside the patch growth, the other
+// merge measure beside the first level, the removal tries side by side): they must neither wait
+// for each other nor share working state, so every backend gives the same level, also the
+// sequential one (one task after the other). The anchor at 50% runs the removal tries, the Fandisk
+// with CompareCandidates the other measure's search, and the noisy scan needs fallback passes (so
+// its tries are skipped).
+TEST(PatchBoundaryMerge, SameLevelWithEverySMPBackend)
+{
+  struct Case
+  {
+    vtkSmartPointer<vtkPolyData> Input;
+    double Reduction;
+    bool Compare, Fallback;
+  };
+  const Case cases[] = { { slodtest::LoadTestMesh("anchor"), 0.5, false, false },
+    { slodtest::LoadTestMesh("fandisk"), 0.97, true, false },
+    { slodtest::NoisyScanIsosurface(40, 1), 0.9, false, true } };
+  const std::string saved = vtkSMPTools::GetBackend();
+  for (const Case& test : cases)
+  {
+    vtkSmartPointer<vtkPolyData> reference;
+    for (const char* backend : { "Sequential", "STDThread", "TBB" })
+    {
+      SCOPED_TRACE(backend);
+      ASSERT_TRUE(vtkSMPTools::SetBackend(backend));
+      vtkNew<vtkPatchBoundaryMerge> filter;
+      filter->SetInputData(test.Input);
+      filter->SetTargetReduction(test.Reduction);
+      filter->SetCompareCandidates(test.Compare);
+      filter->Update();
+      auto output = vtkSmartPointer<vtkPolyData>::New();
+      output->DeepCopy(filter->GetOutput());
+      ASSERT_GT(output->GetNumberOfCells(), 0);
+      if (test.Fallback)
+      {
+        EXPECT_GT(filter->GetUnmergedPatches(), 0) << "the noisy scan must need fallback passes";
+      }
+      if (!reference)
+      {
+        reference = output;
+        continue;
+      }
+      ASSERT_EQ(output->GetNumberOfCells(), reference->GetNumberOfCells());
+      for (vtkIdType c = 0; c < output->GetNumberOfCells(); ++c)
+      {
+        vtkNew<vtkIdList> ids, referenceIds;
+        output->GetCellPoints(c, ids);
+        reference->GetCellPoints(c, referenceIds);
+        for (int k = 0; k < 3; ++k)
+        {
+          ASSERT_EQ(ids->GetId(k), referenceIds->GetId(k)) << "cell " << c;
+        }
+      }
+    }
+  }
+  vtkSMPTools::SetBackend(saved.c_str());
+}
+
 TEST(PatchBoundaryMerge, MaximumErrorAndNoReduction)
 {
   auto input = slodtest::LoadTestMesh("fandisk");
@@ -862,6 +921,50 @@ TEST(PatchBoundaryMerge, SpiralRampStaysValidThroughFallbacks)
       EXPECT_GT(filter->GetOriginalPatches(), 0);
     }
   }
+}
+
+// With a negative epsilon every chain keeps all its vertices, so the finer-chain fallback levels
+// cannot change a patch that failed unmerged: it goes to its original triangles next. The spiral
+// ramp with loose patch angles has a patch whose border overlaps itself in projection at every
+// resolution; before, it went through all seven fallback levels (8 passes, each a whole merging
+// run and triangulation).
+TEST(SpbmLevel, FullResolutionFallbackSkipsFinerChainLevels)
+{
+  TriangleMesh ramp = slodtest::Grid(16, 160);
+  for (Index v = 0; v < ramp.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = ramp.Point(v);
+    const double radius = 0.3 + 0.7 * p[0], angle = 4 * Pi * p[1];
+    ramp.SetPoint(v, { radius * std::cos(angle), radius * std::sin(angle), 0.15 * angle });
+  }
+  PatchificationParameters loose;
+  loose.OneEdgePatchAngle = loose.OneEdgeNeighborAngle = 80;
+  auto pm = Patch(ramp, loose);
+  SpbmLevelGenerator generator;
+  generator.Initialize(pm->Mesh, pm->Patches);
+  SpbmLevelParameters parameters;
+  parameters.Epsilon = -1;
+  SpbmLevel level;
+  ASSERT_TRUE(generator.Generate(parameters, level));
+  ASSERT_GT(level.OriginalPatches, 0) << "the ramp must need the last fallback";
+  EXPECT_EQ(level.RefinedPatches, 0);
+  EXPECT_LE(level.Passes, 3);
+  TriangleMesh out; // the level over its own vertices
+  std::map<Index, Index> local;
+  for (const Index v : level.Triangles)
+  {
+    const auto inserted = local.emplace(v, out.NumberOfPoints());
+    if (inserted.second)
+    {
+      out.AddPoint(pm->Mesh.Point(v));
+    }
+    out.Triangles.push_back(inserted.first->second);
+  }
+  const MeshStatistics st = ComputeMeshStatistics(out);
+  const MeshStatistics in = ComputeMeshStatistics(pm->Mesh);
+  EXPECT_EQ(st.NonManifoldEdges, 0);
+  EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops);
+  EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic);
 }
 
 TEST(PatchBoundaryMerge, NoisyScanKeepsNonManifoldEdgesBordersAndHandles)
