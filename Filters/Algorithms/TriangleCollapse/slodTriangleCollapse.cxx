@@ -220,6 +220,25 @@ struct BatchEntry
   Vec3 Alternative{ 0, 0, 0 };
   double AlternativeError = 0.0, AlternativeCost = 0.0;
   bool Runs = false; // no earlier entry of the batch overlaps it
+  Index Removes = 0, Survives = 0; // triangles the operation removes and keeps (parallel performing)
+};
+
+// A collapse performed concurrently with the others of its batch (TriangleCollapser::
+// ParallelApply): its record, its new vertex, its part of the reserved reference room, and the
+// triangles around the new vertex with their new queue keys (queued afterwards, in order).
+struct PerformedCollapse
+{
+  CollapseRecord Record;
+  Index Kept = InvalidIndex, Block = 0;
+  std::vector<Index> Around;
+  std::vector<float> Keys;
+};
+
+// Scratch of UpdateAround's cost computation: the edges (kept, x) already costed.
+struct SpokeScratch
+{
+  std::vector<Index> Vertex;
+  std::vector<float> Cost;
 };
 
 // The batches of the collapse loop: the popped entries and their queue keys, per vertex the
@@ -237,6 +256,13 @@ struct CollapseBatch
   std::vector<std::uint64_t> Owner;
   std::uint32_t Number = 0;
   vtkSMPThreadLocal<std::vector<Index>> Scratch;
+  // Performing in parallel (ParallelApply): per entry the set's triangles from its check; the
+  // entries performed (indices, in selection order) and what each did.
+  bool Parallel = false;
+  std::vector<std::vector<Index>> Gathered;
+  std::vector<size_t> Order;
+  std::vector<PerformedCollapse> Performed;
+  vtkSMPThreadLocal<SpokeScratch> Spokes;
   std::uint64_t Stamp(size_t entry) const;
   void AdaptSize(size_t ran);
 };
@@ -292,13 +318,19 @@ private:
   enum class Validity { Valid, Invalid, Deferred };
   Validity Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result);
   bool ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
+  // The batch's disjoint collapses and their re-evaluations in parallel, the queue updates after
+  // them in selection order (the same output for any thread count).
+  bool ParallelApply(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
+  size_t SettleForParallel(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more);
+  struct PerformBatchFunctor;
+  void QueuePerformed(const BatchEntry& entry, PerformedCollapse& done, CollapseLoop& loop, TriangleCollapseResult& result);
   void Reject(const Candidate& c, TriangleCollapseResult& result);
   // gathered: the set's triangles from its check (null: gathered again).
   Index Perform(const Candidate& c, const std::vector<Index>* gathered, CollapseLoop& loop, TriangleCollapseResult& result);
   void MergeAttributes(const Candidate& c, Index kept);
   void MergeVertexState(const Candidate& c, Index kept);
   void RetryPendingAround(Index kept, CollapseLoop& loop);
-  void AppendHistory(const CollapseLoop& loop, TriangleCollapseResult& result) const;
+  void AppendHistory(const CollapseRecord& record, const CollapseLoop& loop, TriangleCollapseResult& result) const;
   bool ReportProgress(CollapseLoop& loop, TriangleCollapseResult& result) const;
   // Options.SettleTarget at the cheapest cost left (or with nothing left): the target once settled.
   void AskForTarget(CollapseLoop& loop, bool nothingLeft);
@@ -337,6 +369,8 @@ private:
   // Update of every triangle around the new vertex v0: only the operations that involve v0 are
   // re-evaluated (each edge (v0, x) once); the edge opposite v0 keeps its cached cost.
   void UpdateAround(Index kept);
+  // Its cost part: the triangles around kept and their new keys (writes only their states).
+  void AroundKeys(Index kept, std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const;
   void RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys);
   // Cost at pop time: the triangle operation is evaluated, the edges come from the cache and
   // only the winning edge is placed again.
@@ -404,10 +438,9 @@ private:
   };
   mutable std::vector<TriangleState> State;
   bool CacheEdges = false;
-  std::vector<Index> SpokeVertex;       // UpdateAround scratch: edges (kept, x) already costed
+  SpokeScratch Spokes;                  // UpdateAround scratch: edges (kept, x) already costed
   std::vector<Index> AroundScratch;     // UpdateAround scratch: the triangles around the new vertex
-  std::vector<float> SpokeCost;
-  std::vector<float> AroundKeys;        // UpdateAround scratch: the new keys of those triangles
+  std::vector<float> AroundKeyScratch;       // UpdateAround scratch: the new keys of those triangles
   std::vector<Index> Parent;           // RefineDeviation: per vertex, the vertex it merged into
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
   std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input or locked by the caller, never collapsed
@@ -905,16 +938,36 @@ void TriangleCollapser::UpdateAround(Index kept)
     this->Mesh.ForEachTriangle(kept, [&](Index s) { this->Update(s); });
     return;
   }
-  this->SpokeVertex.clear();
-  this->SpokeCost.clear();
+  this->AroundKeys(kept, this->AroundScratch, this->AroundKeyScratch, this->Spokes);
+  this->RequeueAround(this->AroundScratch, this->AroundKeyScratch);
+}
+
+void TriangleCollapser::AroundKeys(
+  Index kept, std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const
+{
+  around.clear();
+  keys.clear();
+  this->Mesh.ForEachTriangle(kept, [&](Index t) { around.push_back(t); });
+  if (!this->CacheEdges)
+  {
+    for (Index t : around)
+    {
+      Vec3 p;
+      double error;
+      int operation;
+      this->State[t].Excluded = 0; // as Update: every operation may be valid again
+      keys.push_back(static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale));
+      this->State[t].Rejected = 0;
+    }
+    return;
+  }
+  spokes.Vertex.clear();
+  spokes.Cost.clear();
   const Quadric& qk = this->Vertex[kept].Q;
   const double bias = this->Options.EdgeCollapseBias;
-  // Gather the triangles, then prefetch what their updates read (corners, vertex quadrics, cached
-  // edge costs, queue slots): the loop is bound by memory latency, and independent prefetches
-  // overlap where the loop's dependent loads would follow one another.
-  auto& around = this->AroundScratch;
-  around.clear();
-  this->Mesh.ForEachTriangle(kept, [&](Index t) { around.push_back(t); });
+  // Prefetch what the updates read (corners, vertex quadrics, cached edge costs, queue slots):
+  // the loop is bound by memory latency, and independent prefetches overlap where the loop's
+  // dependent loads would follow one another.
   for (Index t : around)
   {
     __builtin_prefetch(this->Mesh.Triangle(t));
@@ -932,8 +985,6 @@ void TriangleCollapser::UpdateAround(Index kept)
     }
     this->Heap.PrefetchBucket(t);
   }
-  auto& keys = this->AroundKeys;
-  keys.clear();
   for (size_t i = 0; i < around.size(); ++i)
   {
     const Index t = around[i];
@@ -952,24 +1003,23 @@ void TriangleCollapser::UpdateAround(Index kept)
       if (u == kept || v == kept)
       {
         const Index x = u == kept ? v : u;
-        const auto found = std::find(this->SpokeVertex.begin(), this->SpokeVertex.end(), x);
-        if (found != this->SpokeVertex.end())
+        const auto found = std::find(spokes.Vertex.begin(), spokes.Vertex.end(), x);
+        if (found != spokes.Vertex.end())
         {
-          cache[k] = this->SpokeCost[found - this->SpokeVertex.begin()];
+          cache[k] = spokes.Cost[found - spokes.Vertex.begin()];
         }
         else
         {
           const Index edge[2] = { u, v };
           cache[k] = static_cast<float>(this->Place(edge, 2, qk + this->Vertex[x].Q, p) * bias * this->CostScale);
-          this->SpokeVertex.push_back(x);
-          this->SpokeCost.push_back(cache[k]);
+          spokes.Vertex.push_back(x);
+          spokes.Cost.push_back(cache[k]);
         }
       }
       best = std::min(best, double(cache[k]) / this->CostScale);
     }
     keys.push_back(static_cast<float>(best * this->CostScale));
   }
-  this->RequeueAround(around, keys);
 }
 
 void TriangleCollapser::RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys)
@@ -1334,9 +1384,10 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
   }
 }
 
-void TriangleCollapser::AppendHistory(const CollapseLoop& loop, TriangleCollapseResult& result) const
+void TriangleCollapser::AppendHistory(
+  const CollapseRecord& record, const CollapseLoop& loop, TriangleCollapseResult& result) const
 {
-  result.History.Append(loop.Record, this->Mesh, this->VertexInput.data(), this->TriangleInput.data());
+  result.History.Append(record, this->Mesh, this->VertexInput.data(), this->TriangleInput.data());
   for (Index w : loop.Neighbors)
   {
     result.History.Surrounding.push_back(this->VertexInput[w]);
@@ -1511,10 +1562,12 @@ struct TriangleCollapser::EvaluateBatchFunctor
   vtkSMPThreadLocal<std::vector<Index>>& Scratch;
   void operator()(vtkIdType begin, vtkIdType end) const
   {
-    auto& scratch = this->Scratch.Local();
+    auto& local = this->Scratch.Local();
     for (vtkIdType i = begin; i < end; ++i)
     {
       BatchEntry& entry = this->Batch.Entries[size_t(i)];
+      // Performed in parallel, an entry keeps its set's triangles for the collapse.
+      auto& scratch = this->Batch.Parallel ? this->Batch.Gathered[size_t(i)] : local;
       const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
       entry.Runs = this->Batch.Entries.size() == 1;
       if (!entry.Runs)
@@ -1526,6 +1579,13 @@ struct TriangleCollapser::EvaluateBatchFunctor
       {
         this->Self.EvaluateEntry(entry, this->Check, scratch);
       }
+      if (entry.Runs && this->Batch.Parallel &&
+        (entry.Result == BatchEntry::Outcome::Valid || entry.Result == BatchEntry::Outcome::Alternative))
+      {
+        const Candidate& c = entry.C;
+        entry.Removes = this->Self.Mesh.RemovedBy(c.Set, c.Count, scratch);
+        entry.Survives = static_cast<Index>(scratch.size()) - entry.Removes;
+      }
     }
   }
 };
@@ -1535,6 +1595,10 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
   const vtkIdType n = static_cast<vtkIdType>(batch.Entries.size());
   // An entry takes up to eight checks (the optimum and seven alternative placements).
   this->Mesh.ReserveEpochs(static_cast<std::uint32_t>(8 * n));
+  if (batch.Parallel && batch.Gathered.size() < batch.Entries.size())
+  {
+    batch.Gathered.resize(batch.Entries.size());
+  }
   EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
   if (n > 1)
   {
@@ -1630,7 +1694,7 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
     this->RetryPendingAround(kept, loop);
     if (this->Options.RecordHistory)
     {
-      this->AppendHistory(loop, result);
+      this->AppendHistory(loop.Record, loop, result);
     }
     if (!this->ReportProgress(loop, result))
     {
@@ -1638,6 +1702,122 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
     }
   }
   return true;
+}
+
+size_t TriangleCollapser::SettleForParallel(
+  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more)
+{
+  // The sequential decisions, in selection order, before any collapse of the batch: the rings
+  // are disjoint, so an entry's outcome does not depend on the collapses before it; the count
+  // target is met by the removals the checks counted. The point data merge here, where the
+  // set's vertices are still in place.
+  batch.Order.clear();
+  Index live = this->Mesh.NumberOfLiveTriangles();
+  more = true;
+  for (size_t i = 0; i < batch.Entries.size(); ++i)
+  {
+    BatchEntry& entry = batch.Entries[i];
+    if (!entry.Runs)
+    {
+      continue;
+    }
+    if (!loop.Settling && live <= loop.Target)
+    {
+      more = false;
+      break;
+    }
+    const Validity validity = this->Settle(entry, loop, result);
+    if (validity == Validity::Invalid)
+    {
+      this->Reject(entry.C, result);
+    }
+    if (validity != Validity::Valid)
+    {
+      continue;
+    }
+    if (this->Attributes)
+    {
+      this->MergeAttributes(entry.C, *std::min_element(entry.C.Set, entry.C.Set + entry.C.Count));
+    }
+    live -= entry.Removes;
+    batch.Order.push_back(i);
+  }
+  if (batch.Performed.size() < batch.Order.size())
+  {
+    batch.Performed.resize(batch.Order.size());
+  }
+  Index room = 0;
+  for (size_t k = 0; k < batch.Order.size(); ++k)
+  {
+    batch.Performed[k].Block = room;
+    room += batch.Entries[batch.Order[k]].Survives;
+  }
+  return static_cast<size_t>(room);
+}
+
+// The concurrent part of ParallelApply: each collapse edits only its set's vertices and the
+// triangles around them, and re-evaluates the triangles around its new vertex (reading its closed
+// one-ring only), all disjoint from the other entries'.
+struct TriangleCollapser::PerformBatchFunctor
+{
+  TriangleCollapser& Self;
+  CollapseBatch& Batch;
+  Index Base;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    SpokeScratch& spokes = this->Batch.Spokes.Local();
+    for (vtkIdType k = begin; k < end; ++k)
+    {
+      const size_t i = this->Batch.Order[size_t(k)];
+      const Candidate& c = this->Batch.Entries[i].C;
+      PerformedCollapse& done = this->Batch.Performed[size_t(k)];
+      done.Kept = *std::min_element(c.Set, c.Set + c.Count);
+      this->Self.Mesh.CollapseIntoBlock(
+        c.Set, c.Count, done.Kept, c.Position, this->Batch.Gathered[i], this->Base + done.Block, done.Record);
+      this->Self.MergeVertexState(c, done.Kept);
+      this->Self.AroundKeys(done.Kept, done.Around, done.Keys, spokes);
+    }
+  }
+};
+
+void TriangleCollapser::QueuePerformed(
+  const BatchEntry& entry, PerformedCollapse& done, CollapseLoop& loop, TriangleCollapseResult& result)
+{
+  result.MaximumError = std::max(result.MaximumError, entry.C.Error);
+  ++result.Collapses;
+  result.EdgeCollapses += entry.C.Count == 2 ? 1 : 0;
+  for (Index r : done.Record.RemovedTriangles)
+  {
+    this->Heap.Remove(r);
+  }
+  this->RequeueAround(done.Around, done.Keys);
+  this->RetryPendingAround(done.Kept, loop);
+  if (this->Options.RecordHistory)
+  {
+    this->AppendHistory(done.Record, loop, result);
+  }
+}
+
+bool TriangleCollapser::ParallelApply(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result)
+{
+  bool more = true;
+  const size_t room = this->SettleForParallel(batch, loop, result, more);
+  const vtkIdType n = static_cast<vtkIdType>(batch.Order.size());
+  PerformBatchFunctor perform{ *this, batch, this->Mesh.ReserveRefs(static_cast<Index>(room)) };
+  vtkSMPTools::For(0, n, 16, perform);
+  Index removedTriangles = 0, removedVertices = 0;
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    removedTriangles += static_cast<Index>(batch.Performed[size_t(k)].Record.RemovedTriangles.size());
+    removedVertices += batch.Entries[batch.Order[size_t(k)]].C.Count - 1;
+  }
+  this->Mesh.FinishCollapses(removedTriangles, removedVertices);
+  // The queue is shared: its updates, the retries and the records follow in selection order.
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    this->QueuePerformed(batch.Entries[batch.Order[size_t(k)]], batch.Performed[size_t(k)], loop, result);
+  }
+  return this->ReportProgress(loop, result) && more;
 }
 
 void TriangleCollapser::AskForTarget(CollapseLoop& loop, bool nothingLeft)
@@ -1659,6 +1839,8 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
   batch.Size = batch.MaximumSize;
   batch.CostTolerance = this->Options.BatchCollapses ? std::max(0.0, this->Options.BatchCostTolerance) : 0.0;
   batch.Owner.assign(batch.MaximumSize > 1 ? size_t(this->Mesh.NumberOfPoints()) : 0, ~std::uint64_t(0));
+  // The exact-union mode merges sorted plane lists through one shared buffer: performed in order.
+  batch.Parallel = batch.MaximumSize > 1 && !this->Options.ExactUnion;
   loop.Settling = static_cast<bool>(this->Options.SettleTarget);
   for (;;)
   {
@@ -1690,7 +1872,8 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
     clock.Next();
     this->EvaluateBatch(loop, batch);
     clock.Next();
-    const bool more = this->ApplyBatch(batch, loop, result);
+    const bool more =
+      batch.Parallel ? this->ParallelApply(batch, loop, result) : this->ApplyBatch(batch, loop, result);
     clock.Next();
     if (!more)
     {
