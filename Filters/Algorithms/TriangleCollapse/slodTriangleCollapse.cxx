@@ -220,6 +220,7 @@ struct BatchEntry
   Vec3 Alternative{ 0, 0, 0 };
   double AlternativeError = 0.0, AlternativeCost = 0.0;
   bool Runs = false; // no earlier entry of the batch overlaps it
+  bool Picked = false; // its operation is chosen (PickOperation) and it goes on to the check
   Index Removes = 0, Survives = 0; // triangles the operation removes and keeps (parallel performing)
 };
 
@@ -309,10 +310,13 @@ private:
   // The steps of one pass of the collapse loop.
   bool RelaxNormalLimit(CollapseLoop& loop, TriangleCollapseResult& result);
   template <typename Functor>
-  void ForEachRingVertex(Index t, Functor&& f) const;
+  void ForEachRingVertex(const BatchEntry& entry, Functor&& f) const;
+  struct PickFunctor;
+  bool PickOperation(BatchEntry& entry) const;
   struct ClaimRingsFunctor;
   void SelectBatch(CollapseLoop& loop, CollapseBatch& batch);
-  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch) const;
+  // picked: PickOperation ran already (batches of more than one entry).
+  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const;
   struct EvaluateBatchFunctor;
   void EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch);
   enum class Validity { Valid, Invalid, Deferred };
@@ -1472,13 +1476,17 @@ void CollapseBatch::AdaptSize(size_t ran)
   }
 }
 
+// The vertices of the closed one-ring of the entry's operation (of its triangle when it has none):
+// an edge collapse, most of the operations, claims only its edge's ring, so fewer entries overlap.
 template <typename Functor>
-void TriangleCollapser::ForEachRingVertex(Index t, Functor&& f) const
+void TriangleCollapser::ForEachRingVertex(const BatchEntry& entry, Functor&& f) const
 {
-  const Index* tri = this->Mesh.Triangle(t);
-  for (int k = 0; k < 3; ++k)
+  const bool picked = entry.C.Operation >= 0;
+  const Index* set = picked ? entry.C.Set : this->Mesh.Triangle(entry.C.Triangle);
+  const int count = picked ? entry.C.Count : 3;
+  for (int k = 0; k < count; ++k)
   {
-    this->Mesh.ForEachTriangle(tri[k], [&](Index s) {
+    this->Mesh.ForEachTriangle(set[k], [&](Index s) {
       const Index* around = this->Mesh.Triangle(s);
       f(around[0]);
       f(around[1]);
@@ -1496,7 +1504,7 @@ struct TriangleCollapser::ClaimRingsFunctor
     for (vtkIdType i = begin; i < end; ++i)
     {
       const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
-      this->Self.ForEachRingVertex(this->Batch.Entries[size_t(i)].C.Triangle, [&](Index w) {
+      this->Self.ForEachRingVertex(this->Batch.Entries[size_t(i)], [&](Index w) {
         std::uint64_t* owner = &this->Batch.Owner[w];
         std::uint64_t seen = __atomic_load_n(owner, __ATOMIC_RELAXED);
         while (stamp < seen && !__atomic_compare_exchange_n(owner, &seen, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
@@ -1507,7 +1515,7 @@ struct TriangleCollapser::ClaimRingsFunctor
   }
 };
 
-void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch) const
+bool TriangleCollapser::PickOperation(BatchEntry& entry) const
 {
   // Read-only on the mesh and the queue (and on this triangle's own state): safe for the
   // entries of a batch in parallel.
@@ -1517,7 +1525,7 @@ void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& 
   if (c.Operation < 0)
   {
     entry.Result = BatchEntry::Outcome::NoOperation;
-    return;
+    return false;
   }
   const Index* tri = this->Mesh.Triangle(t);
   c.Count = c.Operation == 0 ? 3 : 2;
@@ -1527,7 +1535,7 @@ void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& 
   if (this->Options.MaximumError >= 0 && c.Error > this->Options.MaximumError)
   {
     entry.Result = BatchEntry::Outcome::OverError;
-    return;
+    return false;
   }
   c.Position = c.Local + this->Origin;
   int pinned = 0;
@@ -1536,6 +1544,32 @@ void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& 
   {
     c.Position = this->Mesh.Point(pin); // exactly, not through the local coordinates
   }
+  entry.Picked = true;
+  return true;
+}
+
+// The entries of a larger batch pick their operations before they claim its ring.
+struct TriangleCollapser::PickFunctor
+{
+  const TriangleCollapser& Self;
+  CollapseBatch& Batch;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      this->Self.PickOperation(this->Batch.Entries[size_t(i)]);
+    }
+  }
+};
+
+void TriangleCollapser::EvaluateEntry(
+  BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const
+{
+  if (!(picked ? entry.Picked : this->PickOperation(entry)))
+  {
+    return; // no operation to check
+  }
+  Candidate& c = entry.C;
   entry.Status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, check, scratch);
   entry.Result = entry.Status == CollapseStatus::Ok ? BatchEntry::Outcome::Valid : BatchEntry::Outcome::Invalid;
   if (entry.Status == CollapseStatus::Flip || entry.Status == CollapseStatus::Degenerate ||
@@ -1573,11 +1607,11 @@ struct TriangleCollapser::EvaluateBatchFunctor
       if (!entry.Runs)
       {
         entry.Runs = true;
-        this->Self.ForEachRingVertex(entry.C.Triangle, [&](Index w) { entry.Runs = entry.Runs && this->Batch.Owner[w] == stamp; });
+        this->Self.ForEachRingVertex(entry, [&](Index w) { entry.Runs = entry.Runs && this->Batch.Owner[w] == stamp; });
       }
       if (entry.Runs)
       {
-        this->Self.EvaluateEntry(entry, this->Check, scratch);
+        this->Self.EvaluateEntry(entry, this->Check, scratch, this->Batch.Entries.size() > 1);
       }
       if (entry.Runs && this->Batch.Parallel &&
         (entry.Result == BatchEntry::Outcome::Valid || entry.Result == BatchEntry::Outcome::Alternative))
@@ -1602,6 +1636,15 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
   EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
   if (n > 1)
   {
+    PickFunctor pick{ *this, batch };
+    if (this->Options.ExactUnion)
+    {
+      pick(0, n); // the union buffer is shared
+    }
+    else
+    {
+      vtkSMPTools::For(0, n, 16, pick);
+    }
     ClaimRingsFunctor claim{ *this, batch };
     vtkSMPTools::For(0, n, 16, claim);
   }
