@@ -162,8 +162,10 @@ struct CollapseLoop
   double Deviation = 0.0;     // the current normal limit, degrees (relaxed when nothing is left)
   Index Target = 0, StartTriangles = 0, ToRemove = 1, ProgressStep = 1, NextProgress = 1;
   bool Settling = false;      // Options.SettleTarget has not given the target yet: Target is not a stop
-  long long MaximumPops = 0, Pops = 0, Replaced = 0, Batches = 0, Selected = 0;
-  double PhaseSeconds[3] = { 0, 0, 0 }; // wall time of the batches' select, evaluate, apply phases
+  long long MaximumPops = 0, Pops = 0, Replaced = 0, Batches = 0, Selected = 0, Ran = 0;
+  // Wall time of the batches' phases: select, evaluate, apply; the parallel apply splits the last
+  // into its sequential settle, its concurrent collapses and its sequential queue updates.
+  double PhaseSeconds[5] = { 0, 0, 0, 0, 0 };
   long long StatusCounts[static_cast<int>(CollapseStatus::Locked) + 1] = {};
   CollapseRecord Record;      // the last collapse
   std::vector<Index> Neighbors; // the link of the last collapse's vertex (when needed)
@@ -324,7 +326,7 @@ private:
   bool ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
   // The batch's disjoint collapses and their re-evaluations in parallel, the queue updates after
   // them in selection order (the same output for any thread count).
-  bool ParallelApply(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
+  bool ParallelApply(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, PhaseClock& clock);
   size_t SettleForParallel(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more);
   struct PerformBatchFunctor;
   void QueuePerformed(const BatchEntry& entry, PerformedCollapse& done, CollapseLoop& loop, TriangleCollapseResult& result);
@@ -1669,6 +1671,7 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
     ran += batch.Entries[i].Runs ? 1 : 0;
   }
   batch.AdaptSize(ran);
+  loop.Ran += static_cast<long long>(ran);
 }
 
 TriangleCollapser::Validity TriangleCollapser::Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result)
@@ -1841,10 +1844,12 @@ void TriangleCollapser::QueuePerformed(
   }
 }
 
-bool TriangleCollapser::ParallelApply(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result)
+bool TriangleCollapser::ParallelApply(
+  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, PhaseClock& clock)
 {
   bool more = true;
   const size_t room = this->SettleForParallel(batch, loop, result, more);
+  clock.Next();
   const vtkIdType n = static_cast<vtkIdType>(batch.Order.size());
   PerformBatchFunctor perform{ *this, batch, this->Mesh.ReserveRefs(static_cast<Index>(room)) };
   vtkSMPTools::For(0, n, 16, perform);
@@ -1855,6 +1860,7 @@ bool TriangleCollapser::ParallelApply(CollapseBatch& batch, CollapseLoop& loop, 
     removedVertices += batch.Entries[batch.Order[size_t(k)]].C.Count - 1;
   }
   this->Mesh.FinishCollapses(removedTriangles, removedVertices);
+  clock.Next();
   // The queue is shared: its updates, the retries and the records follow in selection order.
   for (vtkIdType k = 0; k < n; ++k)
   {
@@ -1916,7 +1922,7 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
     this->EvaluateBatch(loop, batch);
     clock.Next();
     const bool more =
-      batch.Parallel ? this->ParallelApply(batch, loop, result) : this->ApplyBatch(batch, loop, result);
+      batch.Parallel ? this->ParallelApply(batch, loop, result, clock) : this->ApplyBatch(batch, loop, result);
     clock.Next();
     if (!more)
     {
@@ -1930,9 +1936,13 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
   vtkLogF(TRACE, "triangle collapse: %d collapses, %d rejected, %lld placements replaced, %.2f pops per input triangle",
     int(result.Collapses), int(result.RejectedCollapses), loop.Replaced,
     double(loop.Pops) / std::max<Index>(1, loop.StartTriangles));
-  vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch; select %.3f s, evaluate %.3f s, apply %.3f s",
-    loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)), loop.PhaseSeconds[0],
-    loop.PhaseSeconds[1], loop.PhaseSeconds[2]);
+  const double* phase = loop.PhaseSeconds;
+  vtkLogF(TRACE,
+    "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran); select %.3f s, evaluate %.3f s, apply %.3f s "
+    "(sequential settle %.3f s, parallel collapses %.3f s, sequential queue updates %.3f s)",
+    loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)),
+    double(loop.Ran) / double(std::max<long long>(1, loop.Batches)), phase[0], phase[1], phase[2] + phase[3] + phase[4],
+    phase[2], phase[3], phase[4]);
   for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
   {
     vtkLogF(TRACE, "triangle collapse: rejected %s %lld", ToString(static_cast<CollapseStatus>(k)), loop.StatusCounts[k]);
