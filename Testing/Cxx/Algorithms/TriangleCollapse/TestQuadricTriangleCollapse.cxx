@@ -77,6 +77,24 @@ vtkSmartPointer<vtkPolyData> Mesh(const std::string& name)
   return slodtest::LoadTestMesh(name);
 }
 
+// A copy of `mesh` with the point array "f" = dot(g, p).
+vtkSmartPointer<vtkPolyData> WithLinearField(vtkPolyData* mesh, const Vec3& g)
+{
+  vtkSmartPointer<vtkPolyData> out = vtkSmartPointer<vtkPolyData>::New();
+  out->DeepCopy(mesh);
+  vtkNew<vtkDoubleArray> f;
+  f->SetName("f");
+  f->SetNumberOfTuples(out->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    out->GetPoint(i, p);
+    f->SetValue(i, g[0] * p[0] + g[1] * p[1] + g[2] * p[2]);
+  }
+  out->GetPointData()->AddArray(f);
+  return out;
+}
+
 // Area fraction of `out` whose triangles face against the closest triangle of `input`.
 double FlippedAreaFraction(vtkPolyData* input, const TriangleMesh& out)
 {
@@ -247,18 +265,7 @@ TEST(QuadricTriangleCollapse, BatchCollapsesSameOutputForOneTwoAndEightThreads)
 // two-sided deviation stays within 2 % of the strict order's (the tolerance reorders ties only).
 TEST(QuadricTriangleCollapse, ParallelBatchesSameOutputAndPointDataForAnyThreadCount)
 {
-  vtkSmartPointer<vtkPolyData> input = vtkSmartPointer<vtkPolyData>::New();
-  input->DeepCopy(Mesh("marching-cubes"));
-  vtkNew<vtkDoubleArray> f;
-  f->SetName("f");
-  f->SetNumberOfTuples(input->GetNumberOfPoints());
-  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    input->GetPoint(i, p);
-    f->SetValue(i, p[0] - 3 * p[1] + 0.5 * p[2]);
-  }
-  input->GetPointData()->AddArray(f);
+  vtkSmartPointer<vtkPolyData> input = WithLinearField(Mesh("marching-cubes"), { 1, -3, 0.5 });
   const vtkIdType target = input->GetNumberOfPolys() / 10;
   const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
   std::vector<vtkSmartPointer<vtkPolyData>> outputs;
@@ -308,18 +315,7 @@ TEST(QuadricTriangleCollapse, ParallelBatchesSameOutputAndPointDataForAnyThreadC
 TEST(QuadricTriangleCollapse, PointDataErrorArrayAndFieldData)
 {
   // A linear field f = x + 2y - z is reproduced (up to the clamped barycentric weights).
-  vtkSmartPointer<vtkPolyData> input = vtkSmartPointer<vtkPolyData>::New();
-  input->DeepCopy(slodtest::LoadTestMesh("bunny00"));
-  vtkNew<vtkDoubleArray> f;
-  f->SetName("f");
-  f->SetNumberOfTuples(input->GetNumberOfPoints());
-  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    input->GetPoint(i, p);
-    f->SetValue(i, p[0] + 2 * p[1] - p[2]);
-  }
-  input->GetPointData()->AddArray(f);
+  vtkSmartPointer<vtkPolyData> input = WithLinearField(slodtest::LoadTestMesh("bunny00"), { 1, 2, -1 });
   vtkNew<vtkQuadricTriangleCollapse> filter;
   filter->SetInputData(input);
   filter->SetTargetReduction(0.9);
