@@ -1937,12 +1937,14 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
     int(result.Collapses), int(result.RejectedCollapses), loop.Replaced,
     double(loop.Pops) / std::max<Index>(1, loop.StartTriangles));
   const double* phase = loop.PhaseSeconds;
-  vtkLogF(TRACE,
-    "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran); select %.3f s, evaluate %.3f s, apply %.3f s "
-    "(sequential settle %.3f s, parallel collapses %.3f s, sequential queue updates %.3f s)",
+  vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran); select %.3f s, evaluate %.3f s, apply %.3f s",
     loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)),
-    double(loop.Ran) / double(std::max<long long>(1, loop.Batches)), phase[0], phase[1], phase[2] + phase[3] + phase[4],
-    phase[2], phase[3], phase[4]);
+    double(loop.Ran) / double(std::max<long long>(1, loop.Batches)), phase[0], phase[1], phase[2] + phase[3] + phase[4]);
+  if (phase[3] > 0 || phase[4] > 0)
+  {
+    vtkLogF(TRACE, "triangle collapse: apply = sequential settle %.3f s + parallel collapses %.3f s + sequential queue updates %.3f s",
+      phase[2], phase[3], phase[4]);
+  }
   for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
   {
     vtkLogF(TRACE, "triangle collapse: rejected %s %lld", ToString(static_cast<CollapseStatus>(k)), loop.StatusCounts[k]);
