@@ -153,6 +153,15 @@ public:
       });
     }
   }
+  // Prefetch hints for callers that walk many scattered neighbourhoods at once (memory-latency
+  // bound): a vertex's block bounds and point, then (once those arrived) its block of triangles.
+  void PrefetchVertex(Index v) const
+  {
+    __builtin_prefetch(&this->RefStart[v]);
+    __builtin_prefetch(&this->RefCount[v]);
+    __builtin_prefetch(&this->Points[3 * size_t(v)]);
+  }
+  void PrefetchBlock(Index v) const { __builtin_prefetch(this->Refs.data() + this->RefStart[v]); }
   Index VertexDegree(Index v) const;
   // True when an edge at v has a single triangle.
   bool IsBoundaryVertex(Index v) const;

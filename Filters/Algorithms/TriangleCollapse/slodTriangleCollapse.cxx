@@ -134,6 +134,9 @@ constexpr long long MaximumPopsPerTriangle = 100;
 // Largest batch of disjoint collapses (TriangleCollapseOptions::BatchCollapses): enough entries to
 // keep the threads busy between two sequential phases, few enough that the queue stays fresh.
 constexpr size_t MaximumBatchSize = 1024;
+// Entries whose data the batch phases prefetch together (enough misses in flight, few enough
+// that the lines stay in the cache until used).
+constexpr vtkIdType PrefetchWindow = 32;
 constexpr int FitIterations = 2;
 constexpr double FitRidge = 0.02;
 
@@ -1501,8 +1504,26 @@ struct TriangleCollapser::ClaimRingsFunctor
 {
   const TriangleCollapser& Self;
   CollapseBatch& Batch;
-  void operator()(vtkIdType begin, vtkIdType end) const
+  void operator()(vtkIdType first, vtkIdType last) const
   {
+    for (vtkIdType begin = first; begin < last; begin += PrefetchWindow)
+    {
+      this->Window(begin, std::min(last, begin + PrefetchWindow));
+    }
+  }
+  void Window(vtkIdType begin, vtkIdType end) const
+  {
+    // The rings' reference blocks first, for the whole window (see PickFunctor).
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const BatchEntry& entry = this->Batch.Entries[size_t(i)];
+      const bool picked = entry.C.Operation >= 0;
+      const Index* set = picked ? entry.C.Set : this->Self.Mesh.Triangle(entry.C.Triangle);
+      for (int k = 0, n = picked ? entry.C.Count : 3; k < n; ++k)
+      {
+        this->Self.Mesh.PrefetchBlock(set[k]);
+      }
+    }
     for (vtkIdType i = begin; i < end; ++i)
     {
       const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
@@ -1555,8 +1576,35 @@ struct TriangleCollapser::PickFunctor
 {
   const TriangleCollapser& Self;
   CollapseBatch& Batch;
-  void operator()(vtkIdType begin, vtkIdType end) const
+  void operator()(vtkIdType first, vtkIdType last) const
   {
+    for (vtkIdType begin = first; begin < last; begin += PrefetchWindow)
+    {
+      this->Window(begin, std::min(last, begin + PrefetchWindow));
+    }
+  }
+  void Window(vtkIdType begin, vtkIdType end) const
+  {
+    // The entries lie at scattered places of the mesh: their triangles, states and vertex data
+    // are prefetched in stages for a window of entries, so that the misses overlap.
+    const EditableMesh& mesh = this->Self.Mesh;
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const Index t = this->Batch.Entries[size_t(i)].C.Triangle;
+      __builtin_prefetch(mesh.Triangle(t));
+      __builtin_prefetch(&this->Self.State[t]);
+    }
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const Index* tri = mesh.Triangle(this->Batch.Entries[size_t(i)].C.Triangle);
+      for (int k = 0; k < 3; ++k)
+      {
+        const char* q = reinterpret_cast<const char*>(&this->Self.Vertex[tri[k]]);
+        __builtin_prefetch(q);
+        __builtin_prefetch(q + 64);
+        mesh.PrefetchVertex(tri[k]);
+      }
+    }
     for (vtkIdType i = begin; i < end; ++i)
     {
       this->Self.PickOperation(this->Batch.Entries[size_t(i)]);
