@@ -137,6 +137,19 @@ constexpr size_t MaximumBatchSize = 1024;
 // Entries whose data the batch phases prefetch together (enough misses in flight, few enough
 // that the lines stay in the cache until used).
 constexpr vtkIdType PrefetchWindow = 32;
+
+// A vtkSMPTools functor that hands its range to Derived::Window in windows of PrefetchWindow.
+template <typename Derived>
+struct WindowedFunctor
+{
+  void operator()(vtkIdType first, vtkIdType last) const
+  {
+    for (vtkIdType begin = first; begin < last; begin += PrefetchWindow)
+    {
+      static_cast<const Derived*>(this)->Window(begin, std::min(last, begin + PrefetchWindow));
+    }
+  }
+};
 constexpr int FitIterations = 2;
 constexpr double FitRidge = 0.02;
 
@@ -1500,17 +1513,10 @@ void TriangleCollapser::ForEachRingVertex(const BatchEntry& entry, Functor&& f) 
   }
 }
 
-struct TriangleCollapser::ClaimRingsFunctor
+struct TriangleCollapser::ClaimRingsFunctor : WindowedFunctor<TriangleCollapser::ClaimRingsFunctor>
 {
   const TriangleCollapser& Self;
   CollapseBatch& Batch;
-  void operator()(vtkIdType first, vtkIdType last) const
-  {
-    for (vtkIdType begin = first; begin < last; begin += PrefetchWindow)
-    {
-      this->Window(begin, std::min(last, begin + PrefetchWindow));
-    }
-  }
   void Window(vtkIdType begin, vtkIdType end) const
   {
     // The rings' reference blocks first, for the whole window (see PickFunctor).
@@ -1572,17 +1578,10 @@ bool TriangleCollapser::PickOperation(BatchEntry& entry) const
 }
 
 // The entries of a larger batch pick their operations before they claim its ring.
-struct TriangleCollapser::PickFunctor
+struct TriangleCollapser::PickFunctor : WindowedFunctor<TriangleCollapser::PickFunctor>
 {
   const TriangleCollapser& Self;
   CollapseBatch& Batch;
-  void operator()(vtkIdType first, vtkIdType last) const
-  {
-    for (vtkIdType begin = first; begin < last; begin += PrefetchWindow)
-    {
-      this->Window(begin, std::min(last, begin + PrefetchWindow));
-    }
-  }
   void Window(vtkIdType begin, vtkIdType end) const
   {
     // The entries lie at scattered places of the mesh: their triangles, states and vertex data
@@ -1686,7 +1685,7 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
   EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
   if (n > 1)
   {
-    PickFunctor pick{ *this, batch };
+    PickFunctor pick{ {}, *this, batch };
     if (this->Options.ExactUnion)
     {
       pick(0, n); // the union buffer is shared
@@ -1695,7 +1694,7 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
     {
       vtkSMPTools::For(0, n, 16, pick);
     }
-    ClaimRingsFunctor claim{ *this, batch };
+    ClaimRingsFunctor claim{ {}, *this, batch };
     vtkSMPTools::For(0, n, 16, claim);
   }
   // The exact-union mode shares a union buffer between evaluations: sequential.
