@@ -506,8 +506,9 @@ void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const 
   this->Collapse(vertices, count, kept, p, this->Scratch, record);
 }
 
-void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p,
-  const std::vector<Index>& gathered, CollapseRecord* record)
+template <typename Keep>
+Index EditableMesh::MergeSet(const Index* vertices, int count, Index kept, const Vec3& p,
+  const std::vector<Index>& gathered, CollapseRecord* record, Keep&& keep)
 {
   if (record)
   {
@@ -521,7 +522,7 @@ void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const 
       record->OldPositions[i] = this->Point(vertices[i]);
     }
   }
-  this->ScratchBlock.clear();
+  Index removed = 0;
   for (Index t : gathered)
   {
     int corner = 0;
@@ -529,7 +530,7 @@ void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const 
     if (members >= 2)
     {
       this->TriangleAlive[t] = 0;
-      --this->LiveTriangles;
+      ++removed;
       if (record)
       {
         record->RemovedTriangles.push_back(t);
@@ -547,7 +548,7 @@ void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const 
       }
       slot = kept;
     }
-    this->ScratchBlock.push_back(t);
+    keep(t);
   }
   for (int i = 0; i < count; ++i)
   {
@@ -555,11 +556,59 @@ void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const 
     {
       this->VertexAlive[vertices[i]] = 0;
       this->RefCount[vertices[i]] = 0;
-      --this->LiveVertices;
     }
   }
   this->SetPoint(kept, p);
+  return removed;
+}
+
+void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p,
+  const std::vector<Index>& gathered, CollapseRecord* record)
+{
+  this->ScratchBlock.clear();
+  this->LiveTriangles -=
+    this->MergeSet(vertices, count, kept, p, gathered, record, [&](Index t) { this->ScratchBlock.push_back(t); });
+  for (int i = 0; i < count; ++i)
+  {
+    this->LiveVertices -= vertices[i] != kept ? 1 : 0;
+  }
   this->AppendBlock(kept, this->ScratchBlock);
+  this->CompactIfNeeded();
+}
+
+Index EditableMesh::ReserveRefs(Index count)
+{
+  const Index start = static_cast<Index>(this->Refs.size());
+  this->Refs.resize(this->Refs.size() + size_t(count));
+  return start;
+}
+
+Index EditableMesh::CollapseIntoBlock(const Index* vertices, int count, Index kept, const Vec3& p,
+  const std::vector<Index>& gathered, Index blockStart, CollapseRecord& record)
+{
+  Index* block = this->Refs.data() + blockStart;
+  Index n = 0;
+  const Index removed = this->MergeSet(vertices, count, kept, p, gathered, &record, [&](Index t) { block[n++] = t; });
+  this->RefStart[kept] = blockStart;
+  this->RefCount[kept] = n;
+  return removed;
+}
+
+Index EditableMesh::RemovedBy(const Index* vertices, int count, const std::vector<Index>& gathered) const
+{
+  Index removed = 0;
+  for (Index t : gathered)
+  {
+    int corner = 0;
+    removed += CountMembers(this->Triangle(t), vertices, count, corner) >= 2 ? 1 : 0;
+  }
+  return removed;
+}
+
+void EditableMesh::FinishCollapses(Index removedTriangles, Index removedVertices)
+{
+  this->LiveTriangles -= removedTriangles;
+  this->LiveVertices -= removedVertices;
   this->CompactIfNeeded();
 }
 

@@ -153,6 +153,15 @@ public:
       });
     }
   }
+  // Prefetch hints for callers that walk many scattered neighbourhoods at once (memory-latency
+  // bound): a vertex's block bounds and point, then (once those arrived) its block of triangles.
+  void PrefetchVertex(Index v) const
+  {
+    __builtin_prefetch(&this->RefStart[v]);
+    __builtin_prefetch(&this->RefCount[v]);
+    __builtin_prefetch(&this->Points[3 * size_t(v)]);
+  }
+  void PrefetchBlock(Index v) const { __builtin_prefetch(this->Refs.data() + this->RefStart[v]); }
   Index VertexDegree(Index v) const;
   // True when an edge at v has a single triangle.
   bool IsBoundaryVertex(Index v) const;
@@ -181,6 +190,19 @@ public:
   void Collapse(const Index* vertices, int count, Index kept, const Vec3& p, const std::vector<Index>& gathered,
     CollapseRecord* record);
 
+  // Batches of collapses whose sets have pairwise disjoint closed one-rings, performed
+  // concurrently: ReserveRefs (sequential) makes room for the new blocks, CollapseIntoBlock
+  // (concurrent; each writes only its set's vertices, the triangles around them and its own part
+  // of the reserved room) merges one set whose gathered triangles include `surviving` survivors,
+  // FinishCollapses (sequential) updates the counts and compacts. Returns the start of the room.
+  Index ReserveRefs(Index count);
+  // Returns the number of triangles removed; the record is filled (it is needed to requeue).
+  Index CollapseIntoBlock(const Index* vertices, int count, Index kept, const Vec3& p,
+    const std::vector<Index>& gathered, Index blockStart, CollapseRecord& record);
+  void FinishCollapses(Index removedTriangles, Index removedVertices);
+  // How many of the gathered triangles of the set (CheckCollapse's scratch) a collapse removes.
+  Index RemovedBy(const Index* vertices, int count, const std::vector<Index>& gathered) const;
+
   // Reverts the most recent collapse whose record this is (records must be undone newest first).
   void Undo(const CollapseRecord& record);
 
@@ -206,6 +228,12 @@ public:
 
 private:
   void AppendBlock(Index v, const std::vector<Index>& triangles);
+  // The common part of the collapses: redirects the corners of the surviving triangles to kept
+  // (each passed to keep(t)), marks the others and the merged vertices dead, moves kept to p;
+  // returns the number of triangles removed. Touches no counter and no shared scratch.
+  template <typename Keep>
+  Index MergeSet(const Index* vertices, int count, Index kept, const Vec3& p, const std::vector<Index>& gathered,
+    CollapseRecord* record, Keep&& keep);
   void CompactIfNeeded();
   void ReplaceInBlock(Index v, Index removed, Index added);
   // Collects the live triangles touching the set into gathered (deduplicated).

@@ -3,10 +3,12 @@
 // run. Reports wall time of the filter update, input triangles per second, the time ratio and the
 // peak memory growth per input vertex (VmHWM reset through /proc/self/clear_refs).
 //
-//   BenchQuadricTriangleCollapse [--mc N] [--runs R] [--threads T] [--write DIR] [--skip-vtk] [--paper] [mesh[:target]]...
+//   BenchQuadricTriangleCollapse [--mc N] [--runs R] [--threads T] [--write DIR] [--skip-vtk] [--paper]
+//     [--batch TOLERANCE] [mesh[:target]]...
 // Default cases: a ~1M-triangle marching-cubes mesh to 10 %, bunny00 to 2306 triangles (the
 // paper's table). With --write DIR the outputs are saved as .vtp for external measurement. With
-// --paper the paper's configuration (UsePaperConfiguration) runs too, in the same run.
+// --paper the paper's configuration (UsePaperConfiguration) runs too, in the same run; with --batch
+// the BatchCollapses mode at that BatchCostTolerance. A mesh is a CGAL demo name or a .vtp path.
 #include "TestSupport.h"
 #include "vtkQuadricTriangleCollapse.h"
 
@@ -18,6 +20,7 @@
 #include "vtkQuadricDecimation.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
+#include "vtkXMLPolyDataReader.h"
 #include "vtkXMLPolyDataWriter.h"
 
 #include <algorithm>
@@ -116,6 +119,7 @@ int main(int argc, char* argv[])
   int mcResolution = 500; // vtkSyntheticIsosurfaceSource: 1,004,688 triangles (the demo mesh)
   int runs = 1;
   bool skipVtk = false, paper = false;
+  double batchTolerance = -1.0; // < 0: no batch-mode run
   std::string writeDir;
   std::vector<std::string> cases;
   for (int i = 1; i < argc; ++i)
@@ -146,6 +150,10 @@ int main(int argc, char* argv[])
     {
       paper = true;
     }
+    else if (a == "--batch" && i + 1 < argc)
+    {
+      batchTolerance = std::atof(argv[++i]);
+    }
     else
     {
       cases.push_back(a);
@@ -163,9 +171,22 @@ int main(int argc, char* argv[])
   for (const std::string& c : cases)
   {
     const size_t colon = c.find(':');
-    const std::string name = c.substr(0, colon);
+    std::string name = c.substr(0, colon);
+    vtkSmartPointer<vtkPolyData> input;
+    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".vtp") == 0)
+    {
+      vtkNew<vtkXMLPolyDataReader> reader;
+      reader->SetFileName(name.c_str());
+      reader->Update();
+      input = reader->GetOutput();
+      name = name.substr(name.find_last_of('/') + 1);
+      name = name.substr(0, name.size() - 4);
+    }
     const std::string spec = colon == std::string::npos ? "0.1" : c.substr(colon + 1);
-    vtkSmartPointer<vtkPolyData> input = name == "mc" ? slodtest::SyntheticIsosurface(mcResolution) : slodtest::LoadTestMesh(name);
+    if (!input)
+    {
+      input = name == "mc" ? slodtest::SyntheticIsosurface(mcResolution) : slodtest::LoadTestMesh(name);
+    }
     const vtkIdType n = input->GetNumberOfPolys();
     const double value = std::atof(spec.c_str());
     const vtkIdType target = value < 1.0 ? static_cast<vtkIdType>(std::llround(value * n)) : static_cast<vtkIdType>(value);
@@ -189,6 +210,17 @@ int main(int argc, char* argv[])
       published->SetTargetReduction(0.0);
       p = Run(input.Get(), published.Get(), runs, paperOutput);
     }
+    Measure bm;
+    vtkSmartPointer<vtkPolyData> batchOutput;
+    if (batchTolerance >= 0)
+    {
+      vtkNew<vtkQuadricTriangleCollapse> batched;
+      batched->BatchCollapsesOn();
+      batched->SetBatchCostTolerance(batchTolerance);
+      batched->SetTargetNumberOfTriangles(target);
+      batched->SetTargetReduction(0.0);
+      bm = Run(input.Get(), batched.Get(), runs, batchOutput);
+    }
     Measure b;
     if (!skipVtk)
     {
@@ -206,6 +238,10 @@ int main(int argc, char* argv[])
     {
       row("vtkQuadricTriangleCollapse, paper's configuration", p);
     }
+    if (batchTolerance >= 0)
+    {
+      row("vtkQuadricTriangleCollapse, batch collapses", bm);
+    }
     if (!skipVtk)
     {
       row("vtkQuadricDecimation", b);
@@ -215,12 +251,21 @@ int main(int argc, char* argv[])
         std::printf("| %s | | | speed-up, paper's configuration | | %.2fx | %.2fx | | | |\n", name.c_str(),
           b.Seconds / p.Seconds, b.Wall / p.Wall);
       }
+      if (batchTolerance >= 0)
+      {
+        std::printf("| %s | | | speed-up, batch collapses | | %.2fx | %.2fx | | | |\n", name.c_str(),
+          b.Seconds / bm.Seconds, b.Wall / bm.Wall);
+      }
     }
     std::fflush(stdout);
     if (!writeDir.empty())
     {
       const std::string stem = writeDir + "/" + name + "_" + std::to_string(target);
       Write(ours, stem + "_qtc.vtp");
+      if (batchOutput)
+      {
+        Write(batchOutput, stem + "_batch.vtp");
+      }
       if (theirs)
       {
         Write(theirs, stem + "_vtkquadric.vtp");

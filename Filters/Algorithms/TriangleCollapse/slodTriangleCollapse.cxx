@@ -134,6 +134,22 @@ constexpr long long MaximumPopsPerTriangle = 100;
 // Largest batch of disjoint collapses (TriangleCollapseOptions::BatchCollapses): enough entries to
 // keep the threads busy between two sequential phases, few enough that the queue stays fresh.
 constexpr size_t MaximumBatchSize = 1024;
+// Entries whose data the batch phases prefetch together (enough misses in flight, few enough
+// that the lines stay in the cache until used).
+constexpr vtkIdType PrefetchWindow = 32;
+
+// A vtkSMPTools functor that hands its range to Derived::Window in windows of PrefetchWindow.
+template <typename Derived>
+struct WindowedFunctor
+{
+  void operator()(vtkIdType first, vtkIdType last) const
+  {
+    for (vtkIdType begin = first; begin < last; begin += PrefetchWindow)
+    {
+      static_cast<const Derived*>(this)->Window(begin, std::min(last, begin + PrefetchWindow));
+    }
+  }
+};
 constexpr int FitIterations = 2;
 constexpr double FitRidge = 0.02;
 
@@ -162,8 +178,10 @@ struct CollapseLoop
   double Deviation = 0.0;     // the current normal limit, degrees (relaxed when nothing is left)
   Index Target = 0, StartTriangles = 0, ToRemove = 1, ProgressStep = 1, NextProgress = 1;
   bool Settling = false;      // Options.SettleTarget has not given the target yet: Target is not a stop
-  long long MaximumPops = 0, Pops = 0, Replaced = 0, Batches = 0, Selected = 0;
-  double PhaseSeconds[3] = { 0, 0, 0 }; // wall time of the batches' select, evaluate, apply phases
+  long long MaximumPops = 0, Pops = 0, Replaced = 0, Batches = 0, Selected = 0, Ran = 0;
+  // Wall time of the batches' phases: select, evaluate, apply; the parallel apply splits the last
+  // into its sequential settle, its concurrent collapses and its sequential queue updates.
+  double PhaseSeconds[5] = { 0, 0, 0, 0, 0 };
   long long StatusCounts[static_cast<int>(CollapseStatus::Locked) + 1] = {};
   CollapseRecord Record;      // the last collapse
   std::vector<Index> Neighbors; // the link of the last collapse's vertex (when needed)
@@ -220,6 +238,26 @@ struct BatchEntry
   Vec3 Alternative{ 0, 0, 0 };
   double AlternativeError = 0.0, AlternativeCost = 0.0;
   bool Runs = false; // no earlier entry of the batch overlaps it
+  bool Picked = false; // its operation is chosen (PickOperation) and it goes on to the check
+  Index Removes = 0, Survives = 0; // triangles the operation removes and keeps (parallel performing)
+};
+
+// A collapse performed concurrently with the others of its batch (TriangleCollapser::
+// ParallelApply): its record, its new vertex, its part of the reserved reference room, and the
+// triangles around the new vertex with their new queue keys (queued afterwards, in order).
+struct PerformedCollapse
+{
+  CollapseRecord Record;
+  Index Kept = InvalidIndex, Block = 0;
+  std::vector<Index> Around;
+  std::vector<float> Keys;
+};
+
+// Scratch of UpdateAround's cost computation: the edges (kept, x) already costed.
+struct SpokeScratch
+{
+  std::vector<Index> Vertex;
+  std::vector<float> Cost;
 };
 
 // The batches of the collapse loop: the popped entries and their queue keys, per vertex the
@@ -237,6 +275,13 @@ struct CollapseBatch
   std::vector<std::uint64_t> Owner;
   std::uint32_t Number = 0;
   vtkSMPThreadLocal<std::vector<Index>> Scratch;
+  // Performing in parallel (ParallelApply): per entry the set's triangles from its check; the
+  // entries performed (indices, in selection order) and what each did.
+  bool Parallel = false;
+  std::vector<std::vector<Index>> Gathered;
+  std::vector<size_t> Order;
+  std::vector<PerformedCollapse> Performed;
+  vtkSMPThreadLocal<SpokeScratch> Spokes;
   std::uint64_t Stamp(size_t entry) const;
   void AdaptSize(size_t ran);
 };
@@ -283,22 +328,31 @@ private:
   // The steps of one pass of the collapse loop.
   bool RelaxNormalLimit(CollapseLoop& loop, TriangleCollapseResult& result);
   template <typename Functor>
-  void ForEachRingVertex(Index t, Functor&& f) const;
+  void ForEachRingVertex(const BatchEntry& entry, Functor&& f) const;
+  struct PickFunctor;
+  bool PickOperation(BatchEntry& entry) const;
   struct ClaimRingsFunctor;
   void SelectBatch(CollapseLoop& loop, CollapseBatch& batch);
-  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch) const;
+  // picked: PickOperation ran already (batches of more than one entry).
+  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const;
   struct EvaluateBatchFunctor;
   void EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch);
   enum class Validity { Valid, Invalid, Deferred };
   Validity Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result);
   bool ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
+  // The batch's disjoint collapses and their re-evaluations in parallel, the queue updates after
+  // them in selection order (the same output for any thread count).
+  bool ParallelApply(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, PhaseClock& clock);
+  size_t SettleForParallel(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more);
+  struct PerformBatchFunctor;
+  void QueuePerformed(const BatchEntry& entry, PerformedCollapse& done, CollapseLoop& loop, TriangleCollapseResult& result);
   void Reject(const Candidate& c, TriangleCollapseResult& result);
   // gathered: the set's triangles from its check (null: gathered again).
   Index Perform(const Candidate& c, const std::vector<Index>* gathered, CollapseLoop& loop, TriangleCollapseResult& result);
   void MergeAttributes(const Candidate& c, Index kept);
   void MergeVertexState(const Candidate& c, Index kept);
   void RetryPendingAround(Index kept, CollapseLoop& loop);
-  void AppendHistory(const CollapseLoop& loop, TriangleCollapseResult& result) const;
+  void AppendHistory(const CollapseRecord& record, const CollapseLoop& loop, TriangleCollapseResult& result) const;
   bool ReportProgress(CollapseLoop& loop, TriangleCollapseResult& result) const;
   // Options.SettleTarget at the cheapest cost left (or with nothing left): the target once settled.
   void AskForTarget(CollapseLoop& loop, bool nothingLeft);
@@ -337,6 +391,8 @@ private:
   // Update of every triangle around the new vertex v0: only the operations that involve v0 are
   // re-evaluated (each edge (v0, x) once); the edge opposite v0 keeps its cached cost.
   void UpdateAround(Index kept);
+  // Its cost part: the triangles around kept and their new keys (writes only their states).
+  void AroundKeys(Index kept, std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const;
   void RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys);
   // Cost at pop time: the triangle operation is evaluated, the edges come from the cache and
   // only the winning edge is placed again.
@@ -404,10 +460,9 @@ private:
   };
   mutable std::vector<TriangleState> State;
   bool CacheEdges = false;
-  std::vector<Index> SpokeVertex;       // UpdateAround scratch: edges (kept, x) already costed
+  SpokeScratch Spokes;                  // UpdateAround scratch: edges (kept, x) already costed
   std::vector<Index> AroundScratch;     // UpdateAround scratch: the triangles around the new vertex
-  std::vector<float> SpokeCost;
-  std::vector<float> AroundKeys;        // UpdateAround scratch: the new keys of those triangles
+  std::vector<float> AroundKeyScratch;       // UpdateAround scratch: the new keys of those triangles
   std::vector<Index> Parent;           // RefineDeviation: per vertex, the vertex it merged into
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
   std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input or locked by the caller, never collapsed
@@ -905,16 +960,36 @@ void TriangleCollapser::UpdateAround(Index kept)
     this->Mesh.ForEachTriangle(kept, [&](Index s) { this->Update(s); });
     return;
   }
-  this->SpokeVertex.clear();
-  this->SpokeCost.clear();
+  this->AroundKeys(kept, this->AroundScratch, this->AroundKeyScratch, this->Spokes);
+  this->RequeueAround(this->AroundScratch, this->AroundKeyScratch);
+}
+
+void TriangleCollapser::AroundKeys(
+  Index kept, std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const
+{
+  around.clear();
+  keys.clear();
+  this->Mesh.ForEachTriangle(kept, [&](Index t) { around.push_back(t); });
+  if (!this->CacheEdges)
+  {
+    for (Index t : around)
+    {
+      Vec3 p;
+      double error;
+      int operation;
+      this->State[t].Excluded = 0; // as Update: every operation may be valid again
+      keys.push_back(static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale));
+      this->State[t].Rejected = 0;
+    }
+    return;
+  }
+  spokes.Vertex.clear();
+  spokes.Cost.clear();
   const Quadric& qk = this->Vertex[kept].Q;
   const double bias = this->Options.EdgeCollapseBias;
-  // Gather the triangles, then prefetch what their updates read (corners, vertex quadrics, cached
-  // edge costs, queue slots): the loop is bound by memory latency, and independent prefetches
-  // overlap where the loop's dependent loads would follow one another.
-  auto& around = this->AroundScratch;
-  around.clear();
-  this->Mesh.ForEachTriangle(kept, [&](Index t) { around.push_back(t); });
+  // Prefetch what the updates read (corners, vertex quadrics, cached edge costs, queue slots):
+  // the loop is bound by memory latency, and independent prefetches overlap where the loop's
+  // dependent loads would follow one another.
   for (Index t : around)
   {
     __builtin_prefetch(this->Mesh.Triangle(t));
@@ -932,8 +1007,6 @@ void TriangleCollapser::UpdateAround(Index kept)
     }
     this->Heap.PrefetchBucket(t);
   }
-  auto& keys = this->AroundKeys;
-  keys.clear();
   for (size_t i = 0; i < around.size(); ++i)
   {
     const Index t = around[i];
@@ -952,24 +1025,23 @@ void TriangleCollapser::UpdateAround(Index kept)
       if (u == kept || v == kept)
       {
         const Index x = u == kept ? v : u;
-        const auto found = std::find(this->SpokeVertex.begin(), this->SpokeVertex.end(), x);
-        if (found != this->SpokeVertex.end())
+        const auto found = std::find(spokes.Vertex.begin(), spokes.Vertex.end(), x);
+        if (found != spokes.Vertex.end())
         {
-          cache[k] = this->SpokeCost[found - this->SpokeVertex.begin()];
+          cache[k] = spokes.Cost[found - spokes.Vertex.begin()];
         }
         else
         {
           const Index edge[2] = { u, v };
           cache[k] = static_cast<float>(this->Place(edge, 2, qk + this->Vertex[x].Q, p) * bias * this->CostScale);
-          this->SpokeVertex.push_back(x);
-          this->SpokeCost.push_back(cache[k]);
+          spokes.Vertex.push_back(x);
+          spokes.Cost.push_back(cache[k]);
         }
       }
       best = std::min(best, double(cache[k]) / this->CostScale);
     }
     keys.push_back(static_cast<float>(best * this->CostScale));
   }
-  this->RequeueAround(around, keys);
 }
 
 void TriangleCollapser::RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys)
@@ -1334,9 +1406,10 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
   }
 }
 
-void TriangleCollapser::AppendHistory(const CollapseLoop& loop, TriangleCollapseResult& result) const
+void TriangleCollapser::AppendHistory(
+  const CollapseRecord& record, const CollapseLoop& loop, TriangleCollapseResult& result) const
 {
-  result.History.Append(loop.Record, this->Mesh, this->VertexInput.data(), this->TriangleInput.data());
+  result.History.Append(record, this->Mesh, this->VertexInput.data(), this->TriangleInput.data());
   for (Index w : loop.Neighbors)
   {
     result.History.Surrounding.push_back(this->VertexInput[w]);
@@ -1421,13 +1494,17 @@ void CollapseBatch::AdaptSize(size_t ran)
   }
 }
 
+// The vertices of the closed one-ring of the entry's operation (of its triangle when it has none):
+// an edge collapse, most of the operations, claims only its edge's ring, so fewer entries overlap.
 template <typename Functor>
-void TriangleCollapser::ForEachRingVertex(Index t, Functor&& f) const
+void TriangleCollapser::ForEachRingVertex(const BatchEntry& entry, Functor&& f) const
 {
-  const Index* tri = this->Mesh.Triangle(t);
-  for (int k = 0; k < 3; ++k)
+  const bool picked = entry.C.Operation >= 0;
+  const Index* set = picked ? entry.C.Set : this->Mesh.Triangle(entry.C.Triangle);
+  const int count = picked ? entry.C.Count : 3;
+  for (int k = 0; k < count; ++k)
   {
-    this->Mesh.ForEachTriangle(tri[k], [&](Index s) {
+    this->Mesh.ForEachTriangle(set[k], [&](Index s) {
       const Index* around = this->Mesh.Triangle(s);
       f(around[0]);
       f(around[1]);
@@ -1436,16 +1513,27 @@ void TriangleCollapser::ForEachRingVertex(Index t, Functor&& f) const
   }
 }
 
-struct TriangleCollapser::ClaimRingsFunctor
+struct TriangleCollapser::ClaimRingsFunctor : WindowedFunctor<TriangleCollapser::ClaimRingsFunctor>
 {
   const TriangleCollapser& Self;
   CollapseBatch& Batch;
-  void operator()(vtkIdType begin, vtkIdType end) const
+  void Window(vtkIdType begin, vtkIdType end) const
   {
+    // The rings' reference blocks first, for the whole window (see PickFunctor).
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const BatchEntry& entry = this->Batch.Entries[size_t(i)];
+      const bool picked = entry.C.Operation >= 0;
+      const Index* set = picked ? entry.C.Set : this->Self.Mesh.Triangle(entry.C.Triangle);
+      for (int k = 0, n = picked ? entry.C.Count : 3; k < n; ++k)
+      {
+        this->Self.Mesh.PrefetchBlock(set[k]);
+      }
+    }
     for (vtkIdType i = begin; i < end; ++i)
     {
       const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
-      this->Self.ForEachRingVertex(this->Batch.Entries[size_t(i)].C.Triangle, [&](Index w) {
+      this->Self.ForEachRingVertex(this->Batch.Entries[size_t(i)], [&](Index w) {
         std::uint64_t* owner = &this->Batch.Owner[w];
         std::uint64_t seen = __atomic_load_n(owner, __ATOMIC_RELAXED);
         while (stamp < seen && !__atomic_compare_exchange_n(owner, &seen, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
@@ -1456,7 +1544,7 @@ struct TriangleCollapser::ClaimRingsFunctor
   }
 };
 
-void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch) const
+bool TriangleCollapser::PickOperation(BatchEntry& entry) const
 {
   // Read-only on the mesh and the queue (and on this triangle's own state): safe for the
   // entries of a batch in parallel.
@@ -1466,7 +1554,7 @@ void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& 
   if (c.Operation < 0)
   {
     entry.Result = BatchEntry::Outcome::NoOperation;
-    return;
+    return false;
   }
   const Index* tri = this->Mesh.Triangle(t);
   c.Count = c.Operation == 0 ? 3 : 2;
@@ -1476,7 +1564,7 @@ void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& 
   if (this->Options.MaximumError >= 0 && c.Error > this->Options.MaximumError)
   {
     entry.Result = BatchEntry::Outcome::OverError;
-    return;
+    return false;
   }
   c.Position = c.Local + this->Origin;
   int pinned = 0;
@@ -1485,6 +1573,52 @@ void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& 
   {
     c.Position = this->Mesh.Point(pin); // exactly, not through the local coordinates
   }
+  entry.Picked = true;
+  return true;
+}
+
+// The entries of a larger batch pick their operations before they claim its ring.
+struct TriangleCollapser::PickFunctor : WindowedFunctor<TriangleCollapser::PickFunctor>
+{
+  const TriangleCollapser& Self;
+  CollapseBatch& Batch;
+  void Window(vtkIdType begin, vtkIdType end) const
+  {
+    // The entries lie at scattered places of the mesh: their triangles, states and vertex data
+    // are prefetched in stages for a window of entries, so that the misses overlap.
+    const EditableMesh& mesh = this->Self.Mesh;
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const Index t = this->Batch.Entries[size_t(i)].C.Triangle;
+      __builtin_prefetch(mesh.Triangle(t));
+      __builtin_prefetch(&this->Self.State[t]);
+    }
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const Index* tri = mesh.Triangle(this->Batch.Entries[size_t(i)].C.Triangle);
+      for (int k = 0; k < 3; ++k)
+      {
+        const char* q = reinterpret_cast<const char*>(&this->Self.Vertex[tri[k]]);
+        __builtin_prefetch(q);
+        __builtin_prefetch(q + 64);
+        mesh.PrefetchVertex(tri[k]);
+      }
+    }
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      this->Self.PickOperation(this->Batch.Entries[size_t(i)]);
+    }
+  }
+};
+
+void TriangleCollapser::EvaluateEntry(
+  BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const
+{
+  if (!(picked ? entry.Picked : this->PickOperation(entry)))
+  {
+    return; // no operation to check
+  }
+  Candidate& c = entry.C;
   entry.Status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, check, scratch);
   entry.Result = entry.Status == CollapseStatus::Ok ? BatchEntry::Outcome::Valid : BatchEntry::Outcome::Invalid;
   if (entry.Status == CollapseStatus::Flip || entry.Status == CollapseStatus::Degenerate ||
@@ -1511,20 +1645,29 @@ struct TriangleCollapser::EvaluateBatchFunctor
   vtkSMPThreadLocal<std::vector<Index>>& Scratch;
   void operator()(vtkIdType begin, vtkIdType end) const
   {
-    auto& scratch = this->Scratch.Local();
+    auto& local = this->Scratch.Local();
     for (vtkIdType i = begin; i < end; ++i)
     {
       BatchEntry& entry = this->Batch.Entries[size_t(i)];
+      // Performed in parallel, an entry keeps its set's triangles for the collapse.
+      auto& scratch = this->Batch.Parallel ? this->Batch.Gathered[size_t(i)] : local;
       const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
       entry.Runs = this->Batch.Entries.size() == 1;
       if (!entry.Runs)
       {
         entry.Runs = true;
-        this->Self.ForEachRingVertex(entry.C.Triangle, [&](Index w) { entry.Runs = entry.Runs && this->Batch.Owner[w] == stamp; });
+        this->Self.ForEachRingVertex(entry, [&](Index w) { entry.Runs = entry.Runs && this->Batch.Owner[w] == stamp; });
       }
       if (entry.Runs)
       {
-        this->Self.EvaluateEntry(entry, this->Check, scratch);
+        this->Self.EvaluateEntry(entry, this->Check, scratch, this->Batch.Entries.size() > 1);
+      }
+      if (entry.Runs && this->Batch.Parallel &&
+        (entry.Result == BatchEntry::Outcome::Valid || entry.Result == BatchEntry::Outcome::Alternative))
+      {
+        const Candidate& c = entry.C;
+        entry.Removes = this->Self.Mesh.RemovedBy(c.Set, c.Count, scratch);
+        entry.Survives = static_cast<Index>(scratch.size()) - entry.Removes;
       }
     }
   }
@@ -1535,10 +1678,23 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
   const vtkIdType n = static_cast<vtkIdType>(batch.Entries.size());
   // An entry takes up to eight checks (the optimum and seven alternative placements).
   this->Mesh.ReserveEpochs(static_cast<std::uint32_t>(8 * n));
+  if (batch.Parallel && batch.Gathered.size() < batch.Entries.size())
+  {
+    batch.Gathered.resize(batch.Entries.size());
+  }
   EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
   if (n > 1)
   {
-    ClaimRingsFunctor claim{ *this, batch };
+    PickFunctor pick{ {}, *this, batch };
+    if (this->Options.ExactUnion)
+    {
+      pick(0, n); // the union buffer is shared
+    }
+    else
+    {
+      vtkSMPTools::For(0, n, 16, pick);
+    }
+    ClaimRingsFunctor claim{ {}, *this, batch };
     vtkSMPTools::For(0, n, 16, claim);
   }
   // The exact-union mode shares a union buffer between evaluations: sequential.
@@ -1562,6 +1718,7 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
     ran += batch.Entries[i].Runs ? 1 : 0;
   }
   batch.AdaptSize(ran);
+  loop.Ran += static_cast<long long>(ran);
 }
 
 TriangleCollapser::Validity TriangleCollapser::Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result)
@@ -1630,7 +1787,7 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
     this->RetryPendingAround(kept, loop);
     if (this->Options.RecordHistory)
     {
-      this->AppendHistory(loop, result);
+      this->AppendHistory(loop.Record, loop, result);
     }
     if (!this->ReportProgress(loop, result))
     {
@@ -1638,6 +1795,125 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
     }
   }
   return true;
+}
+
+size_t TriangleCollapser::SettleForParallel(
+  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more)
+{
+  // The sequential decisions, in selection order, before any collapse of the batch: the rings
+  // are disjoint, so an entry's outcome does not depend on the collapses before it; the count
+  // target is met by the removals the checks counted. The point data merge here, where the
+  // set's vertices are still in place.
+  batch.Order.clear();
+  Index live = this->Mesh.NumberOfLiveTriangles();
+  more = true;
+  for (size_t i = 0; i < batch.Entries.size(); ++i)
+  {
+    BatchEntry& entry = batch.Entries[i];
+    if (!entry.Runs)
+    {
+      continue;
+    }
+    if (!loop.Settling && live <= loop.Target)
+    {
+      more = false;
+      break;
+    }
+    const Validity validity = this->Settle(entry, loop, result);
+    if (validity == Validity::Invalid)
+    {
+      this->Reject(entry.C, result);
+    }
+    if (validity != Validity::Valid)
+    {
+      continue;
+    }
+    if (this->Attributes)
+    {
+      this->MergeAttributes(entry.C, *std::min_element(entry.C.Set, entry.C.Set + entry.C.Count));
+    }
+    live -= entry.Removes;
+    batch.Order.push_back(i);
+  }
+  if (batch.Performed.size() < batch.Order.size())
+  {
+    batch.Performed.resize(batch.Order.size());
+  }
+  Index room = 0;
+  for (size_t k = 0; k < batch.Order.size(); ++k)
+  {
+    batch.Performed[k].Block = room;
+    room += batch.Entries[batch.Order[k]].Survives;
+  }
+  return static_cast<size_t>(room);
+}
+
+// The concurrent part of ParallelApply: each collapse edits only its set's vertices and the
+// triangles around them, and re-evaluates the triangles around its new vertex (reading its closed
+// one-ring only), all disjoint from the other entries'.
+struct TriangleCollapser::PerformBatchFunctor
+{
+  TriangleCollapser& Self;
+  CollapseBatch& Batch;
+  Index Base;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    SpokeScratch& spokes = this->Batch.Spokes.Local();
+    for (vtkIdType k = begin; k < end; ++k)
+    {
+      const size_t i = this->Batch.Order[size_t(k)];
+      const Candidate& c = this->Batch.Entries[i].C;
+      PerformedCollapse& done = this->Batch.Performed[size_t(k)];
+      done.Kept = *std::min_element(c.Set, c.Set + c.Count);
+      this->Self.Mesh.CollapseIntoBlock(
+        c.Set, c.Count, done.Kept, c.Position, this->Batch.Gathered[i], this->Base + done.Block, done.Record);
+      this->Self.MergeVertexState(c, done.Kept);
+      this->Self.AroundKeys(done.Kept, done.Around, done.Keys, spokes);
+    }
+  }
+};
+
+void TriangleCollapser::QueuePerformed(
+  const BatchEntry& entry, PerformedCollapse& done, CollapseLoop& loop, TriangleCollapseResult& result)
+{
+  result.MaximumError = std::max(result.MaximumError, entry.C.Error);
+  ++result.Collapses;
+  result.EdgeCollapses += entry.C.Count == 2 ? 1 : 0;
+  for (Index r : done.Record.RemovedTriangles)
+  {
+    this->Heap.Remove(r);
+  }
+  this->RequeueAround(done.Around, done.Keys);
+  this->RetryPendingAround(done.Kept, loop);
+  if (this->Options.RecordHistory)
+  {
+    this->AppendHistory(done.Record, loop, result);
+  }
+}
+
+bool TriangleCollapser::ParallelApply(
+  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, PhaseClock& clock)
+{
+  bool more = true;
+  const size_t room = this->SettleForParallel(batch, loop, result, more);
+  clock.Next();
+  const vtkIdType n = static_cast<vtkIdType>(batch.Order.size());
+  PerformBatchFunctor perform{ *this, batch, this->Mesh.ReserveRefs(static_cast<Index>(room)) };
+  vtkSMPTools::For(0, n, 16, perform);
+  Index removedTriangles = 0, removedVertices = 0;
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    removedTriangles += static_cast<Index>(batch.Performed[size_t(k)].Record.RemovedTriangles.size());
+    removedVertices += batch.Entries[batch.Order[size_t(k)]].C.Count - 1;
+  }
+  this->Mesh.FinishCollapses(removedTriangles, removedVertices);
+  clock.Next();
+  // The queue is shared: its updates, the retries and the records follow in selection order.
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    this->QueuePerformed(batch.Entries[batch.Order[size_t(k)]], batch.Performed[size_t(k)], loop, result);
+  }
+  return this->ReportProgress(loop, result) && more;
 }
 
 void TriangleCollapser::AskForTarget(CollapseLoop& loop, bool nothingLeft)
@@ -1659,6 +1935,8 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
   batch.Size = batch.MaximumSize;
   batch.CostTolerance = this->Options.BatchCollapses ? std::max(0.0, this->Options.BatchCostTolerance) : 0.0;
   batch.Owner.assign(batch.MaximumSize > 1 ? size_t(this->Mesh.NumberOfPoints()) : 0, ~std::uint64_t(0));
+  // The exact-union mode merges sorted plane lists through one shared buffer: performed in order.
+  batch.Parallel = batch.MaximumSize > 1 && !this->Options.ExactUnion;
   loop.Settling = static_cast<bool>(this->Options.SettleTarget);
   for (;;)
   {
@@ -1690,7 +1968,8 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
     clock.Next();
     this->EvaluateBatch(loop, batch);
     clock.Next();
-    const bool more = this->ApplyBatch(batch, loop, result);
+    const bool more =
+      batch.Parallel ? this->ParallelApply(batch, loop, result, clock) : this->ApplyBatch(batch, loop, result);
     clock.Next();
     if (!more)
     {
@@ -1704,9 +1983,15 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
   vtkLogF(TRACE, "triangle collapse: %d collapses, %d rejected, %lld placements replaced, %.2f pops per input triangle",
     int(result.Collapses), int(result.RejectedCollapses), loop.Replaced,
     double(loop.Pops) / std::max<Index>(1, loop.StartTriangles));
-  vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch; select %.3f s, evaluate %.3f s, apply %.3f s",
-    loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)), loop.PhaseSeconds[0],
-    loop.PhaseSeconds[1], loop.PhaseSeconds[2]);
+  const double* phase = loop.PhaseSeconds;
+  vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran); select %.3f s, evaluate %.3f s, apply %.3f s",
+    loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)),
+    double(loop.Ran) / double(std::max<long long>(1, loop.Batches)), phase[0], phase[1], phase[2] + phase[3] + phase[4]);
+  if (phase[3] > 0 || phase[4] > 0)
+  {
+    vtkLogF(TRACE, "triangle collapse: apply = sequential settle %.3f s + parallel collapses %.3f s + sequential queue updates %.3f s",
+      phase[2], phase[3], phase[4]);
+  }
   for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
   {
     vtkLogF(TRACE, "triangle collapse: rejected %s %lld", ToString(static_cast<CollapseStatus>(k)), loop.StatusCounts[k]);

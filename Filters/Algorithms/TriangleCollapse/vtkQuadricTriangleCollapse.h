@@ -170,8 +170,9 @@ public:
   ///@{
   /// Collapse in batches (default off): the cheapest operations whose costs are within
   /// BatchCostTolerance (relative, default 0.01) of the cheapest and whose one-rings are pairwise
-  /// disjoint are checked in parallel (vtkSMPTools) and performed in cost order. The output is the
-  /// same for any number of threads. Off: the strict greedy order, one collapse at a time.
+  /// disjoint are checked and performed in parallel (vtkSMPTools); the queue updates follow in
+  /// cost order. The output is the same for any number of threads. Off: the strict greedy order,
+  /// one collapse at a time (on the shared 2-core machine the batches were not faster yet).
   vtkSetMacro(BatchCollapses, bool);
   vtkGetMacro(BatchCollapses, bool);
   vtkBooleanMacro(BatchCollapses, bool);
