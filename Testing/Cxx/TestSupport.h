@@ -66,6 +66,11 @@ slod::MeshStatistics ExpectPreparedInputTopology(vtkPolyData* input, vtkPolyData
 // keeps its topology (ExpectPreparedInputTopology). Returns the prepared input's statistics.
 slod::MeshStatistics SimplifyNoisyScan(vtkPolyDataAlgorithm* filter, int resolution, unsigned seed);
 
+// vtkTexturedSphereSource (radius 0.5) with normals (vtkPolyDataNormals, splitting off), without
+// its zero-area triangles at the poles (scripts/attribute-error.py's mesh). Its u = 1 meridian lies
+// 1e-16 off the u = 0 one (sin(2 pi) in float), so the two sides are separate borders.
+vtkSmartPointer<vtkPolyData> TexturedSphere(int resolution);
+
 // Collects (and so silences) the warnings and errors of a filter it observes.
 class MessageCounter : public vtkCommand
 {
