@@ -6,6 +6,7 @@
 #include "vtkOFFMeshReader.h"
 #include "vtkScanSurfaceSource.h"
 #include "vtkSyntheticIsosurfaceSource.h"
+#include "vtkSurfaceDeviation.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -337,6 +338,11 @@ vtkSmartPointer<vtkPolyData> TexturedSphere(int resolution)
   mesh->SetPoints(s->GetPoints());
   mesh->SetPolys(kept);
   mesh->GetPointData()->ShallowCopy(s->GetPointData());
+  return WithPointNormals(mesh);
+}
+
+vtkSmartPointer<vtkPolyData> WithPointNormals(vtkPolyData* mesh)
+{
   vtkNew<vtkPolyDataNormals> normals;
   normals->SetInputData(mesh);
   normals->SplittingOff();
@@ -345,6 +351,16 @@ vtkSmartPointer<vtkPolyData> TexturedSphere(int resolution)
   auto out = vtkSmartPointer<vtkPolyData>::New();
   out->DeepCopy(normals->GetOutput());
   return out;
+}
+
+std::pair<double, double> RelativeDeviation(vtkPolyData* reference, vtkPolyData* compared, vtkIdType samples)
+{
+  vtkNew<vtkSurfaceDeviation> deviation;
+  deviation->SetReferenceData(reference);
+  deviation->SetComparedData(compared);
+  deviation->SetNumberOfSamples(samples);
+  deviation->Update();
+  return { deviation->GetHausdorffRelative(), deviation->GetMeanRelative() };
 }
 
 } // namespace slodtest

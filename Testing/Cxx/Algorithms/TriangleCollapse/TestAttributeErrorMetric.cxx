@@ -8,7 +8,6 @@
 
 #include "vtkProgressiveMeshReconstruction.h"
 #include "vtkQuadricTriangleCollapse.h"
-#include "vtkSurfaceDeviation.h"
 
 #include "vtkCellLocator.h"
 #include "vtkDataArray.h"
@@ -20,7 +19,6 @@
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
-#include "vtkPolyDataNormals.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
@@ -195,12 +193,7 @@ AttributeError MeanAttributeError(vtkPolyData* input, vtkPolyData* output)
 
 double MeanDistance(vtkPolyData* input, vtkPolyData* output)
 {
-  vtkNew<vtkSurfaceDeviation> deviation;
-  deviation->SetReferenceData(input);
-  deviation->SetComparedData(output);
-  deviation->SetNumberOfSamples(100000);
-  deviation->Update();
-  return deviation->GetMeanRelative();
+  return slodtest::RelativeDeviation(input, output).second;
 }
 
 std::vector<double> Values(vtkDataArray* array)
@@ -221,18 +214,6 @@ std::vector<double> PointsOf(vtkPolyData* mesh)
   return Values(mesh->GetPoints()->GetData());
 }
 
-// A mesh of the CGAL samples with normals (vtkPolyDataNormals, splitting off) and nothing else.
-vtkSmartPointer<vtkPolyData> WithNormals(const char* name)
-{
-  vtkNew<vtkPolyDataNormals> normals;
-  normals->SetInputData(slodtest::LoadTestMesh(name));
-  normals->SplittingOff();
-  normals->ComputeCellNormalsOff();
-  normals->Update();
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->DeepCopy(normals->GetOutput());
-  return out;
-}
 } // namespace
 
 // Fails without the metric: the collapse merges texture coordinates and normals by interpolation
@@ -267,7 +248,7 @@ TEST(AttributeErrorMetric, TexturedSphereCloserAtEqualCount)
 // A scanned mesh with normals only (no texture coordinates): the normals metric alone.
 TEST(AttributeErrorMetric, ScanNormalsCloserAtEqualCount)
 {
-  const vtkSmartPointer<vtkPolyData> mesh = WithNormals("elephant");
+  const vtkSmartPointer<vtkPolyData> mesh = slodtest::WithPointNormals(slodtest::LoadTestMesh("elephant"));
   const vtkIdType target = mesh->GetNumberOfPolys() / 10;
   const vtkSmartPointer<vtkPolyData> off = Simplify(mesh, target, false);
   const vtkSmartPointer<vtkPolyData> on = Simplify(mesh, target, true);
