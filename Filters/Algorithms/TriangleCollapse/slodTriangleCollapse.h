@@ -54,7 +54,7 @@ class PointAttributes;
 // Point attributes in the cost and the placement (TriangleCollapseOptions::AttributeError; VTK's
 // AttributeErrorMetric): each triangle adds, besides its plane, the squared difference of each
 // attribute component from its linear interpolation over the triangle, area-weighted (Hoppe 1999's
-// form of Garland and Heckbert 1998's generalized quadrics: per vertex 10 + 4 doubles per component,
+// form of Garland and Heckbert 1998's generalized quadrics: per vertex 10 doubles and 4 per component,
 // the attributes eliminated in closed form, so the placement is still a 3x3 solve). A component's
 // differences count as lengths: multiplied by its Scale (the filter uses weight x diagonal / range).
 struct SURFACELODFILTERS_EXPORT AttributeErrorTerms

@@ -210,7 +210,7 @@ public:
   /// and attributes together, and a merged vertex gets the minimiser's attribute values (normals
   /// renormalised, integer arrays rounded and clamped). Other arrays are interpolated as before;
   /// SimplificationError and MaximumError stay geometric. Ignored with ExactUnion (a warning).
-  /// Memory: 10 + 4 doubles per attribute component per vertex, only when on. See
+  /// Memory: per vertex 10 doubles and 4 per attribute component, only when on. See
   /// Documentation/Attributes.md.
   vtkSetMacro(AttributeErrorMetric, bool);
   vtkGetMacro(AttributeErrorMetric, bool);
