@@ -11,8 +11,13 @@ difference among them counts, so a seam vertex is not charged for the side it do
 The reference is vtkQuadricDecimation with AttributeErrorMetricOn (TCoords and Normals weighted)
 and Off (TargetReduction); each project method is asked for the same count (TargetNumberOfTriangles).
 
+The geometric cost is measured too: the two-sided Hausdorff and mean distance to the input
+(vtkSurfaceDeviation, relative to the diagonal). Times: with --repeat N the methods run N times in
+turns (alternating, on a loaded machine) and the median wall and CPU seconds are given.
+
 usage: /usr/bin/python3 scripts/attribute-error.py --build build [--reduction 0.9]
        [--sphere-resolution 400] [--mesh build/TestData/meshes/armadillo.off ...]
+       [--mesh /work/data/mri-normals.vtp] [--methods "a;b;..."] [--repeat 3] [--max-samples 200000]
 """
 import argparse
 import math
@@ -73,11 +78,19 @@ def with_normals(vtk, port):
 
 
 def real_mesh(vtk, surfacelod, path):
-    """A real mesh with computed normals and a spherical-projection (u, v) parameterisation: u
-    wraps around the centre without a seam (vtkTextureMapToSphere's PreventSeam mirrors it)."""
-    reader = surfacelod.vtkOFFMeshReader()
-    reader.SetFileName(path)
-    mesh = with_normals(vtk, reader.GetOutputPort())
+    """A real mesh with normals (its own point normals if a .vtp has them, else computed) and a
+    spherical-projection (u, v) parameterisation: u wraps around the centre without a seam
+    (vtkTextureMapToSphere's PreventSeam mirrors it)."""
+    if path.endswith(".vtp"):
+        reader = vtk.vtkXMLPolyDataReader()
+        reader.SetFileName(path)
+        reader.Update()
+        mesh = updated_copy(vtk, reader) if reader.GetOutput().GetPointData().GetNormals() else None
+        mesh = mesh or with_normals(vtk, reader.GetOutputPort())
+    else:
+        reader = surfacelod.vtkOFFMeshReader()
+        reader.SetFileName(path)
+        mesh = with_normals(vtk, reader.GetOutputPort())
     mapper = vtk.vtkTextureMapToSphere()
     mapper.SetInputData(mesh)
     mapper.AutomaticSphereGenerationOn()
@@ -101,6 +114,10 @@ def quadric_decimation(vtk, mesh, reduction, attribute_metric):
 
 
 def project_filter(surfacelod, name, mesh, triangles):
+    if name == "quadric-triangle-collapse, AttributeErrorMetricOn":
+        f = project_filter(surfacelod, "quadric-triangle-collapse", mesh, triangles)
+        f.AttributeErrorMetricOn()  # the default weights (0.1) of the normals and texture coordinates
+        return f
     if name == "quadric-triangle-collapse, PreserveAttributeSeams off":
         f = project_filter(surfacelod, "quadric-triangle-collapse", mesh, triangles)
         f.PreserveAttributeSeamsOff()
@@ -115,10 +132,9 @@ def project_filter(surfacelod, name, mesh, triangles):
 
 
 def run(algorithm):
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     algorithm.Update()
-    seconds = time.perf_counter() - start
-    return algorithm.GetOutput(), seconds
+    return algorithm.GetOutput(), time.perf_counter() - start, time.process_time() - cpu
 
 
 class InputAttributes:
@@ -173,7 +189,7 @@ def angle_degrees(a, b):
     return math.degrees(math.acos(cosine))
 
 
-def output_samples(output):
+def output_samples(output, stride=1):
     """Points of the output surface with the output's own attributes there: every vertex used by a
     triangle, every edge midpoint and every triangle centroid (attributes interpolated linearly, as
     a renderer does), so the error between the vertices counts too."""
@@ -188,7 +204,7 @@ def output_samples(output):
         return point, uv, n
 
     seen = set()
-    for c in range(output.GetNumberOfCells()):
+    for c in range(0, output.GetNumberOfCells(), stride):
         cell = output.GetCell(c)
         ids = [cell.GetPointId(k) for k in range(cell.GetNumberOfPoints())]
         pieces = [(i,) for i in ids] + [tuple(sorted((ids[k], ids[(k + 1) % len(ids)]))) for k in range(len(ids))]
@@ -199,7 +215,7 @@ def output_samples(output):
         yield sample(ids)
 
 
-def attribute_errors(reference, output):
+def attribute_errors(reference, output, max_samples=None):
     """(mean, max) texture-coordinate distance and (mean, max) normal angle over the output samples;
     None for an attribute the output does not carry."""
     tcoords = output.GetPointData().GetTCoords()
@@ -207,7 +223,9 @@ def attribute_errors(reference, output):
     if tcoords is None and normals is None:
         return None, None
     uv_errors, normal_errors = [], []
-    for point, uv, normal in output_samples(output):
+    # About 3.5 samples per triangle: every stride-th triangle when that would exceed max_samples.
+    stride = max(1, int(math.ceil(3.5 * output.GetNumberOfCells() / max_samples))) if max_samples else 1
+    for point, uv, normal in output_samples(output, stride):
         cells, best = reference.candidate_cells(point)
         uv_best, normal_best = math.inf, math.inf
         for cell_id in cells:
@@ -225,24 +243,52 @@ def attribute_errors(reference, output):
             summary(normal_errors) if normals is not None else None)
 
 
-def measure(vtk, surfacelod, label, mesh, reduction):
+METHODS = ("vtkQuadricDecimation, AttributeErrorMetricOn", "vtkQuadricDecimation, AttributeErrorMetricOff",
+           "quadric-triangle-collapse", "quadric-triangle-collapse, AttributeErrorMetricOn",
+           "quadric-triangle-collapse, PreserveAttributeSeams off", "triangle-collapse-hierarchy", "retile")
+
+
+def make_method(vtk, surfacelod, name, mesh, reduction, target):
+    if name.startswith("vtkQuadricDecimation"):
+        return quadric_decimation(vtk, mesh, reduction, name.endswith("On"))
+    return project_filter(surfacelod, name, mesh, target)
+
+
+def geometric_distance(surfacelod, mesh, output):
+    """(Hausdorff, mean) two-sided distance relative to the input's diagonal."""
+    deviation = surfacelod.vtkSurfaceDeviation()
+    deviation.SetReferenceData(mesh)
+    deviation.SetComparedData(output)
+    deviation.SetNumberOfSamples(100000)
+    deviation.Update()
+    return deviation.GetHausdorffRelative(), deviation.GetMeanRelative()
+
+
+def measure(vtk, surfacelod, label, mesh, options):
     reference = InputAttributes(vtk, mesh)
-    rows = []
-    target = int(round(mesh.GetNumberOfPolys() * (1.0 - reduction)))
-    rows.append(("vtkQuadricDecimation, AttributeErrorMetricOn",) + run(quadric_decimation(vtk, mesh, reduction, True)))
-    rows.append(("vtkQuadricDecimation, AttributeErrorMetricOff",) + run(quadric_decimation(vtk, mesh, reduction, False)))
-    for name in ("quadric-triangle-collapse", "quadric-triangle-collapse, PreserveAttributeSeams off",
-                 "triangle-collapse-hierarchy", "retile"):
-        rows.append((name,) + run(project_filter(surfacelod, name, mesh, target)))
-    print("\n%s: %d triangles, target %d (reduction %.2f)" % (label, mesh.GetNumberOfPolys(), target, reduction))
+    target = int(round(mesh.GetNumberOfPolys() * (1.0 - options.reduction)))
+    outputs, walls, cpus = {}, {name: [] for name in options.methods}, {name: [] for name in options.methods}
+    for _ in range(options.repeat):  # in turns: each round runs every method once
+        for name in options.methods:
+            output, wall, cpu = run(make_method(vtk, surfacelod, name, mesh, options.reduction, target))
+            outputs[name] = vtk.vtkPolyData()
+            outputs[name].DeepCopy(output)
+            walls[name].append(wall)
+            cpus[name].append(cpu)
+    print("\n%s: %d triangles, target %d (reduction %.2f), %d round(s), load %s" % (
+        label, mesh.GetNumberOfPolys(), target, options.reduction, options.repeat, os.getloadavg()))
     print("| method | triangles | tcoord error mean | tcoord error max | normal error mean (deg) "
-          "| normal error max (deg) | seconds |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
-    for name, output, seconds in rows:
-        uv, normal = attribute_errors(reference, output)
+          "| normal error max (deg) | Hausdorff | mean distance | seconds (wall, median) | CPU seconds |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    median = lambda v: sorted(v)[len(v) // 2]  # noqa: E731
+    for name in options.methods:
+        output = outputs[name]
+        uv, normal = attribute_errors(reference, output, options.max_samples)
+        hausdorff, mean = geometric_distance(surfacelod, mesh, output)
         cell = lambda e, k, f: ("%" + f) % e[k] if e else "not carried"  # noqa: E731
-        print("| %s | %d | %s | %s | %s | %s | %.2f |" % (name, output.GetNumberOfPolys(), cell(uv, 0, ".5f"),
-              cell(uv, 1, ".4f"), cell(normal, 0, ".3f"), cell(normal, 1, ".2f"), seconds))
+        print("| %s | %d | %s | %s | %s | %s | %.3e | %.3e | %.2f | %.2f |" % (
+            name, output.GetNumberOfPolys(), cell(uv, 0, ".5f"), cell(uv, 1, ".4f"), cell(normal, 0, ".3f"),
+            cell(normal, 1, ".2f"), hausdorff, mean, median(walls[name]), median(cpus[name])))
         sys.stdout.flush()
 
 
@@ -253,13 +299,23 @@ def main():
     parser.add_argument("--sphere-resolution", type=int, default=400)
     parser.add_argument("--mesh", action="append", default=[],
                         help="a real OFF mesh (normals and a spherical (u, v) are computed); repeatable")
+    parser.add_argument("--methods", default=";".join(METHODS), help="separated by semicolons, of: " + "; ".join(METHODS))
+    parser.add_argument("--repeat", type=int, default=1, help="rounds of every method, in turns (times: median)")
+    parser.add_argument("--max-samples", type=int, default=None,
+                        help="at most about this many attribute samples per output (every k-th triangle)")
+    parser.add_argument("--no-sphere", action="store_true", help="only the --mesh inputs")
     args = parser.parse_args()
+    args.methods = [m.strip() for m in args.methods.split(";") if m.strip()]
+    unknown = [m for m in args.methods if m not in METHODS]
+    if unknown:
+        parser.error("unknown method(s): %s" % ", ".join(unknown))
     vtk, surfacelod = load_modules(args.build)
     vtk.vtkObject.GlobalWarningDisplayOff()  # vtkQuadricDecimation's 'Unable to factor' lines
-    measure(vtk, surfacelod, "vtkTexturedSphereSource %d x %d" % (args.sphere_resolution, args.sphere_resolution // 2),
-            textured_sphere(vtk, args.sphere_resolution), args.reduction)
+    if not args.no_sphere:
+        measure(vtk, surfacelod, "vtkTexturedSphereSource %d x %d" % (args.sphere_resolution, args.sphere_resolution // 2),
+                textured_sphere(vtk, args.sphere_resolution), args)
     for mesh in args.mesh:
-        measure(vtk, surfacelod, os.path.basename(mesh), real_mesh(vtk, surfacelod, mesh), args.reduction)
+        measure(vtk, surfacelod, os.path.basename(mesh), real_mesh(vtk, surfacelod, mesh), args)
     return 0
 
 

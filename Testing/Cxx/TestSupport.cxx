@@ -6,6 +6,7 @@
 #include "vtkOFFMeshReader.h"
 #include "vtkScanSurfaceSource.h"
 #include "vtkSyntheticIsosurfaceSource.h"
+#include "vtkSurfaceDeviation.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -13,10 +14,15 @@
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkSphereSource.h"
+#include "vtkCell.h"
+#include "vtkPointData.h"
+#include "vtkPolyDataNormals.h"
+#include "vtkTexturedSphereSource.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -308,4 +314,53 @@ slod::MeshStatistics SimplifyNoisyScan(vtkPolyDataAlgorithm* filter, int resolut
   EXPECT_LT(in.EulerCharacteristic, 2 * in.Components - in.BoundaryLoops) << "the test surface must have handles";
   return in;
 }
+vtkSmartPointer<vtkPolyData> TexturedSphere(int resolution)
+{
+  vtkNew<vtkTexturedSphereSource> source;
+  source->SetThetaResolution(resolution);
+  source->SetPhiResolution(resolution / 2);
+  source->Update();
+  vtkPolyData* s = source->GetOutput();
+  vtkNew<vtkCellArray> kept;
+  for (vtkIdType c = 0; c < s->GetNumberOfCells(); ++c)
+  {
+    vtkCell* cell = s->GetCell(c);
+    std::array<double, 3> a, b, d;
+    s->GetPoint(cell->GetPointId(0), a.data());
+    s->GetPoint(cell->GetPointId(1), b.data());
+    s->GetPoint(cell->GetPointId(2), d.data());
+    if (a != b && b != d && a != d)
+    {
+      kept->InsertNextCell(cell->GetPointIds());
+    }
+  }
+  vtkNew<vtkPolyData> mesh;
+  mesh->SetPoints(s->GetPoints());
+  mesh->SetPolys(kept);
+  mesh->GetPointData()->ShallowCopy(s->GetPointData());
+  return WithPointNormals(mesh);
+}
+
+vtkSmartPointer<vtkPolyData> WithPointNormals(vtkPolyData* mesh)
+{
+  vtkNew<vtkPolyDataNormals> normals;
+  normals->SetInputData(mesh);
+  normals->SplittingOff();
+  normals->ComputeCellNormalsOff();
+  normals->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->DeepCopy(normals->GetOutput());
+  return out;
+}
+
+std::pair<double, double> RelativeDeviation(vtkPolyData* reference, vtkPolyData* compared, vtkIdType samples)
+{
+  vtkNew<vtkSurfaceDeviation> deviation;
+  deviation->SetReferenceData(reference);
+  deviation->SetComparedData(compared);
+  deviation->SetNumberOfSamples(samples);
+  deviation->Update();
+  return { deviation->GetHausdorffRelative(), deviation->GetMeanRelative() };
+}
+
 } // namespace slodtest

@@ -13,6 +13,7 @@
 #include "vtkSmartPointer.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace slodtest
@@ -65,6 +66,18 @@ slod::MeshStatistics ExpectPreparedInputTopology(vtkPolyData* input, vtkPolyData
 // surface has what such a test needs (non-manifold edges, a border, handles) and that the output
 // keeps its topology (ExpectPreparedInputTopology). Returns the prepared input's statistics.
 slod::MeshStatistics SimplifyNoisyScan(vtkPolyDataAlgorithm* filter, int resolution, unsigned seed);
+
+// A copy of `mesh` with point normals (vtkPolyDataNormals, splitting off, no cell normals).
+vtkSmartPointer<vtkPolyData> WithPointNormals(vtkPolyData* mesh);
+
+// Two-sided deviation of `compared` from `reference` (vtkSurfaceDeviation, `samples` per side),
+// relative to the diagonal: {Hausdorff, mean}.
+std::pair<double, double> RelativeDeviation(vtkPolyData* reference, vtkPolyData* compared, vtkIdType samples = 100000);
+
+// vtkTexturedSphereSource (radius 0.5) with normals (vtkPolyDataNormals, splitting off), without
+// its zero-area triangles at the poles (scripts/attribute-error.py's mesh). Its u = 1 meridian lies
+// 1e-16 off the u = 0 one (sin(2 pi) in float), so the two sides are separate borders.
+vtkSmartPointer<vtkPolyData> TexturedSphere(int resolution);
 
 // Collects (and so silences) the warnings and errors of a filter it observes.
 class MessageCounter : public vtkCommand

@@ -263,17 +263,25 @@ def kept_attributes(path):
     return {kind for kind, letter in (("normals", "N"), ("colours", "C"), ("tcoords", "ST")) if letter in keyword[:-3]}
 
 
+# Every project method (and the triangle collapse with its attribute metric), with what it needs.
+ATTRIBUTE_RUNS = (("quadric-triangle-collapse", ()), ("quadric-triangle-collapse", ("--set", "AttributeErrorMetric=on")),
+                  ("triangle-collapse-hierarchy", ()), ("patch-boundary-merge", ()), ("hole-bump-removal", ()),
+                  ("retile", ()), ("greedy-cuts", ()), ("topological-noise-removal", ()))
+
+
 def scenario_attributes(a):
     """`simplify` on PLY / OBJ / OFF files with attributes keeps what each format can hold, and
-    warns only about what it cannot (OBJ and OFF: cell data other than colours)."""
+    warns only about what it cannot (OBJ and OFF: cell data other than colours), by every project
+    method."""
     source = os.path.join(a.work, "attributes_in.ply")
     attributed_grid_ply(source)
     expected = {".ply": {"double", "normals", "colours", "tcoords", "cell ints"},
                 ".obj": {"normals", "colours", "tcoords"}, ".off": {"normals", "colours", "tcoords"}}
-    for method in ("quadric-triangle-collapse", "retile"):
+    for method, extra in ATTRIBUTE_RUNS:
+        target = () if method == "topological-noise-removal" else ("--target-triangles", 400)
         for ext, kinds in expected.items():
-            out = os.path.join(a.work, "attributes_%s%s" % (method, ext))
-            proc = run(a.cli, "simplify", source, out, "--method", method, "--target-triangles", 400)
+            out = os.path.join(a.work, "attributes_%s%s%s" % (method, "_metric" if extra else "", ext))
+            proc = run(a.cli, "simplify", source, out, "--method", method, *target, *extra)
             warnings = [l for l in proc.stderr.splitlines() if "does not keep" in l]
             check(kept_attributes(out) == kinds, "%s %s: the file holds %r, expected %r"
                   % (method, ext, sorted(kept_attributes(out)), sorted(kinds)))
@@ -283,8 +291,8 @@ def scenario_attributes(a):
             for kept in ("'Normals'", "'TCoords'"):
                 check(kept not in " ".join(warnings), "%s %s: %s is kept but named as dropped" % (method, ext, kept))
             # Read again: the attributes of the OBJ / OFF file go on into a PLY.
-            again = os.path.join(a.work, "attributes_again_%s%s.ply" % (method, ext[1:]))
-            run(a.cli, "simplify", out, again, "--method", method, "--target-triangles", 200)
+            again = os.path.join(a.work, "attributes_again_%s%s%s.ply" % (method, "_metric" if extra else "", ext[1:]))
+            run(a.cli, "simplify", out, again, "--method", method, *(() if not target else ("--target-triangles", 200)), *extra)
             carried = kept_attributes(again) & {"normals", "colours", "tcoords"}
             check(carried == kinds & {"normals", "colours", "tcoords"}, "%s %s read again: %r carried on"
                   % (method, ext, sorted(carried)))

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The wrapped SurfaceLOD filters in a real VTK Python pipeline (run with Debian's /usr/bin/python3)."""
+import math
 import os
 import sys
 import unittest
@@ -42,6 +43,34 @@ class PythonPipelineTest(unittest.TestCase):
         same.SetNumberOfSamples(5000)
         same.Update()
         self.assertLess(same.GetHausdorffRelative(), 1e-9)
+
+    def test_attribute_error_metric_from_python(self):
+        """The metric's properties are wrapped with VTK's names, and a textured sphere keeps unit
+        normals and finite texture coordinates through it."""
+        from vtkmodules.vtkFiltersSources import vtkTexturedSphereSource
+        from vtkmodules.vtkFiltersCore import vtkPolyDataNormals
+        sphere = vtkTexturedSphereSource()
+        sphere.SetThetaResolution(40)
+        sphere.SetPhiResolution(20)
+        normals = vtkPolyDataNormals()
+        normals.SetInputConnection(sphere.GetOutputPort())
+        normals.SplittingOff()
+        collapse = surfacelod.vtkQuadricTriangleCollapse()
+        collapse.SetInputConnection(normals.GetOutputPort())
+        self.assertFalse(collapse.GetAttributeErrorMetric())
+        collapse.AttributeErrorMetricOn()
+        for name in ("Scalars", "Vectors", "Normals", "TCoords", "Tensors"):
+            self.assertEqual(getattr(collapse, "Get%sWeight" % name)(), 0.1, name)
+            getattr(collapse, "Set%sWeight" % name)(0.3)
+            self.assertEqual(getattr(collapse, "Get%sWeight" % name)(), 0.3, name)
+        collapse.SetTargetReduction(0.8)
+        collapse.Update()
+        out = collapse.GetOutput()
+        self.assertGreater(out.GetNumberOfPolys(), 0)
+        n, uv = out.GetPointData().GetNormals(), out.GetPointData().GetTCoords()
+        for i in range(out.GetNumberOfPoints()):
+            self.assertAlmostEqual(sum(c * c for c in n.GetTuple3(i)), 1.0, places=5)
+            self.assertTrue(all(math.isfinite(c) for c in uv.GetTuple2(i)), uv.GetTuple2(i))
 
     def test_off_reader_reads_fandisk(self):
         path = os.path.join(MESH_DIR, "fandisk.off")

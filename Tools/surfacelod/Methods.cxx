@@ -177,6 +177,12 @@ std::vector<Parameter> QuadricTriangleCollapseParameters()
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, BatchCollapses),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, BatchCostTolerance),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, PreserveAttributeSeams),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, AttributeErrorMetric),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, ScalarsWeight),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, VectorsWeight),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, NormalsWeight),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, TCoordsWeight),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, TensorsWeight),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Int, OutputPointsPrecision),
   };
 }

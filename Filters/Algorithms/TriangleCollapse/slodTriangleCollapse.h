@@ -51,6 +51,19 @@ namespace slod
 {
 class PointAttributes;
 
+// Point attributes in the cost and the placement (TriangleCollapseOptions::AttributeError; VTK's
+// AttributeErrorMetric): each triangle adds, besides its plane, the squared difference of each
+// attribute component from its linear interpolation over the triangle, area-weighted (Hoppe 1999's
+// form of Garland and Heckbert 1998's generalized quadrics: per vertex 10 doubles and 4 per component,
+// the attributes eliminated in closed form, so the placement is still a 3x3 solve). A component's
+// differences count as lengths: multiplied by its Scale (the filter uses weight x diagonal / range).
+struct SURFACELODFILTERS_EXPORT AttributeErrorTerms
+{
+  int Components = 0;
+  std::vector<double> Values; // Components per vertex of the input mesh
+  std::vector<double> Scales; // per component
+};
+
 struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
 {
   // Stop when the mesh has at most this many triangles (0: no count target).
@@ -110,6 +123,11 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // (after the normal limit's relaxation) they are released (TriangleCollapseResult::
   // PinnedVerticesReleased). Ignored when its size is not the mesh's.
   const std::vector<unsigned char>* PinnedVertices = nullptr;
+  // Optional: attributes in the cost (see AttributeErrorTerms), used unless Components is 0, the
+  // sizes do not match the mesh or ExactUnion is on. The attribute values of every merged vertex
+  // then come from its quadric's minimiser at its final position (TriangleCollapseResult::
+  // AttributeValues); the error bounded by MaximumError and reported stays the geometric one.
+  const AttributeErrorTerms* AttributeError = nullptr;
   // Called about every 1% of the work with the fraction done; return false to abort.
   std::function<bool(double)> Progress;
   // Optional (a piece of a distributed surface, slod::UnionTargetAgreement): the target is settled
@@ -161,6 +179,11 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   bool WorkBoundReached = false;     // stopped by the bound on queue pops (see MaximumPopsPerTriangle)
   bool PinnedVerticesReleased = false; // the target needed collapses of pinned vertices (PinnedVertices)
   size_t PeakWorkingBytes = 0;       // bytes of the algorithm's own arrays (estimate)
+  // With TriangleCollapseOptions::AttributeError: per output vertex, 1 when its attribute values
+  // come from the metric (a merged vertex, not pinned), and then its Components values (the
+  // minimiser of its attribute quadric at its position; unscaled, normals not renormalised).
+  std::vector<unsigned char> AttributeValuesSet;
+  std::vector<double> AttributeValues;
   CollapseHistory History;           // when RecordHistory
 };
 

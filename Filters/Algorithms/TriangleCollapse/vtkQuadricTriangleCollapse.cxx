@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <memory>
 
 vtkStandardNewMacro(vtkQuadricTriangleCollapse);
@@ -208,6 +209,133 @@ std::vector<unsigned char> FeatureVertices(vtkQuadricTriangleCollapse* filter, v
   return pinned;
 }
 
+// AttributeErrorMetric: the active point attributes in the metric, their components' place among
+// the values, and the values and scales the algorithm takes.
+struct MetricArray
+{
+  int Attribute, First, Components;
+};
+struct AttributeMetricSetting
+{
+  slod::AttributeErrorTerms Terms;
+  std::vector<MetricArray> Arrays;
+};
+
+// The largest component range of `array` over the mesh's points (2 for unit normals); -1 when a
+// value is not finite.
+double AttributeRange(vtkDataArray* array, int attribute, const std::vector<slod::Index>& vertexToInput)
+{
+  double largest = 0.0;
+  for (int c = 0; c < array->GetNumberOfComponents(); ++c)
+  {
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (slod::Index p : vertexToInput)
+    {
+      const double value = array->GetComponent(p, c);
+      if (!std::isfinite(value))
+      {
+        return -1.0;
+      }
+      low = std::min(low, value);
+      high = std::max(high, value);
+    }
+    largest = std::max(largest, high - low);
+  }
+  return attribute == vtkDataSetAttributes::NORMALS && largest > 0 ? 2.0 : largest;
+}
+
+AttributeMetricSetting AttributeMetric(vtkQuadricTriangleCollapse* filter, vtkPointData* pointData,
+  const std::vector<slod::Index>& vertexToInput, double diagonal)
+{
+  AttributeMetricSetting setting;
+  if (!filter->GetAttributeErrorMetric() || !pointData || vertexToInput.empty())
+  {
+    return setting;
+  }
+  if (filter->GetExactUnion())
+  {
+    vtkWarningWithObjectMacro(filter, << "AttributeErrorMetric is not combined with ExactUnion: geometry only.");
+    return setting;
+  }
+  const std::pair<int, double> kinds[5] = { { vtkDataSetAttributes::SCALARS, filter->GetScalarsWeight() },
+    { vtkDataSetAttributes::VECTORS, filter->GetVectorsWeight() },
+    { vtkDataSetAttributes::NORMALS, filter->GetNormalsWeight() },
+    { vtkDataSetAttributes::TCOORDS, filter->GetTCoordsWeight() },
+    { vtkDataSetAttributes::TENSORS, filter->GetTensorsWeight() } };
+  const slod::Index needed = *std::max_element(vertexToInput.begin(), vertexToInput.end()) + 1;
+  std::vector<vtkDataArray*> arrays;
+  for (const auto& kind : kinds)
+  {
+    vtkDataArray* array = pointData->GetAttribute(kind.first);
+    if (!array || !(kind.second > 0) || array->GetNumberOfTuples() < needed)
+    {
+      continue;
+    }
+    const double range = AttributeRange(array, kind.first, vertexToInput);
+    if (range < 0)
+    {
+      vtkWarningWithObjectMacro(filter, << "AttributeErrorMetric: the " << vtkDataSetAttributes::GetAttributeTypeAsString(kind.first)
+                                        << " have values that are not finite: left out of the metric.");
+    }
+    if (!(range > 0))
+    {
+      continue; // constant (nothing to keep) or not finite
+    }
+    const int components = array->GetNumberOfComponents();
+    setting.Arrays.push_back({ kind.first, setting.Terms.Components, components });
+    setting.Terms.Components += components;
+    setting.Terms.Scales.insert(setting.Terms.Scales.end(), size_t(components), kind.second * diagonal / range);
+    arrays.push_back(array);
+  }
+  const int m = setting.Terms.Components;
+  setting.Terms.Values.resize(size_t(m) * vertexToInput.size());
+  for (size_t v = 0; v < vertexToInput.size(); ++v)
+  {
+    double* values = setting.Terms.Values.data() + size_t(m) * v;
+    for (size_t a = 0; a < arrays.size(); ++a)
+    {
+      for (int c = 0; c < setting.Arrays[a].Components; ++c)
+      {
+        values[setting.Arrays[a].First + c] = arrays[a]->GetComponent(vertexToInput[v], c);
+      }
+    }
+  }
+  return setting;
+}
+
+// The metric's values of the merged vertices into the output's attributes (integers rounded and
+// clamped to their type, normals renormalised).
+void StoreMetricValues(const AttributeMetricSetting& setting, const slod::TriangleCollapseResult& result, vtkPointData* pointData)
+{
+  const int m = setting.Terms.Components;
+  if (result.AttributeValuesSet.empty() || m == 0)
+  {
+    return;
+  }
+  for (const MetricArray& entry : setting.Arrays)
+  {
+    vtkDataArray* array = pointData->GetAttribute(entry.Attribute);
+    if (!array || array->GetNumberOfComponents() != entry.Components)
+    {
+      continue;
+    }
+    const bool integral = array->GetDataType() != VTK_FLOAT && array->GetDataType() != VTK_DOUBLE;
+    for (size_t i = 0; i < result.AttributeValuesSet.size(); ++i)
+    {
+      for (int c = 0; result.AttributeValuesSet[i] && c < entry.Components; ++c)
+      {
+        double value = result.AttributeValues[i * size_t(m) + size_t(entry.First + c)];
+        if (integral)
+        {
+          value = std::min(array->GetDataTypeMax(), std::max(array->GetDataTypeMin(), std::round(value)));
+        }
+        array->SetComponent(static_cast<vtkIdType>(i), c, value);
+      }
+    }
+  }
+  slod::PointAttributes::RenormalizeNormals(pointData);
+}
+
 // The simplified mesh, its merged point data and the per-vertex and maximum errors.
 void StoreSimplifiedMesh(const slod::TriangleCollapseResult& result, const slod::PointAttributes& attributes,
   int pointType, double diagonal, vtkPolyData* output)
@@ -336,6 +464,8 @@ int vtkQuadricTriangleCollapse::RequestData(
   options.PinnedVertices = pinned.empty() ? nullptr : &pinned;
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
+  const AttributeMetricSetting metric = AttributeMetric(this, input->GetPointData(), vertexToInput, diagonal);
+  options.AttributeError = metric.Terms.Components > 0 ? &metric.Terms : nullptr;
   std::vector<slod::Index>().swap(vertexToInput);
 
   slod::TriangleCollapseResult result;
@@ -354,6 +484,7 @@ int vtkQuadricTriangleCollapse::RequestData(
   }
 
   StoreSimplifiedMesh(result, attributes, slod::OutputPointType(input, this->OutputPointsPrecision), diagonal, output);
+  StoreMetricValues(metric, result, output->GetPointData());
   // Each surviving triangle keeps its own input cell's data.
   slod::StoreCellData(input, triangleToCell, result.OutputTriangleIds, output);
   if (this->GenerateProgressiveMesh)
@@ -412,6 +543,12 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "PreserveAttributeSeams: " << this->PreserveAttributeSeams << "\n";
   os << indent << "RegionArrayName: " << (this->RegionArrayName ? this->RegionArrayName : "(none)") << "\n";
+  os << indent << "AttributeErrorMetric: " << this->AttributeErrorMetric << "\n";
+  os << indent << "ScalarsWeight: " << this->ScalarsWeight << "\n";
+  os << indent << "VectorsWeight: " << this->VectorsWeight << "\n";
+  os << indent << "NormalsWeight: " << this->NormalsWeight << "\n";
+  os << indent << "TCoordsWeight: " << this->TCoordsWeight << "\n";
+  os << indent << "TensorsWeight: " << this->TensorsWeight << "\n";
   os << indent << "Controller: " << this->Controller << "\n";
   os << indent << "ActualReduction: " << this->ActualReduction << "\n";
   os << indent << "NumberOfCollapses: " << this->NumberOfCollapses << "\n";

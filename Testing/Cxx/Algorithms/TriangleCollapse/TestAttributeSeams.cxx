@@ -8,7 +8,6 @@
 
 #include "vtkQuadricTriangleCollapse.h"
 
-#include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkIntArray.h"
@@ -16,10 +15,8 @@
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
-#include "vtkPolyDataNormals.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
-#include "vtkTexturedSphereSource.h"
 #include "vtkTriangleFilter.h"
 
 #include <gtest/gtest.h>
@@ -39,41 +36,6 @@ Position PointOf(vtkPolyData* mesh, vtkIdType i)
   Position p;
   mesh->GetPoint(i, p.data());
   return p;
-}
-
-// vtkTexturedSphereSource with normals (vtkPolyDataNormals, splitting off), without its zero-area
-// triangles at the poles (scripts/attribute-error.py's mesh). Its u = 1 meridian lies 1e-16 off
-// the u = 0 one (sin(2 pi) in float), so the two sides are separate borders, not coincident points.
-vtkSmartPointer<vtkPolyData> TexturedSphere(int resolution)
-{
-  vtkNew<vtkTexturedSphereSource> source;
-  source->SetThetaResolution(resolution);
-  source->SetPhiResolution(resolution / 2);
-  source->Update();
-  vtkPolyData* s = source->GetOutput();
-  vtkNew<vtkCellArray> kept;
-  for (vtkIdType c = 0; c < s->GetNumberOfCells(); ++c)
-  {
-    vtkCell* cell = s->GetCell(c);
-    const Position a = PointOf(s, cell->GetPointId(0)), b = PointOf(s, cell->GetPointId(1)),
-                   d = PointOf(s, cell->GetPointId(2));
-    if (a != b && b != d && a != d)
-    {
-      kept->InsertNextCell(cell->GetPointIds());
-    }
-  }
-  vtkNew<vtkPolyData> mesh;
-  mesh->SetPoints(s->GetPoints());
-  mesh->SetPolys(kept);
-  mesh->GetPointData()->ShallowCopy(s->GetPointData());
-  vtkNew<vtkPolyDataNormals> normals;
-  normals->SetInputData(mesh);
-  normals->SplittingOff();
-  normals->ComputeCellNormalsOff();
-  normals->Update();
-  auto out = vtkSmartPointer<vtkPolyData>::New();
-  out->DeepCopy(normals->GetOutput());
-  return out;
 }
 
 vtkSmartPointer<vtkPolyData> Collapse(vtkPolyData* input, double keep, bool preserve, const char* regions = nullptr)
@@ -107,7 +69,7 @@ TEST(AttributeSeams, TexturedSphereSeamStaysClosedAndTexturedRight)
   for (int resolution : { 80, 120 })
   {
     SCOPED_TRACE(resolution);
-    const vtkSmartPointer<vtkPolyData> sphere = TexturedSphere(resolution);
+    const vtkSmartPointer<vtkPolyData> sphere = slodtest::TexturedSphere(resolution);
     const vtkSmartPointer<vtkPolyData> out = Collapse(sphere, 0.1, true);
     ASSERT_GT(out->GetNumberOfPolys(), 0);
     EXPECT_LE(out->GetNumberOfPolys(), sphere->GetNumberOfPolys() / 10) << "the target is reached";
