@@ -18,6 +18,7 @@ namespace
 // Candidate triangles at more than about 75 degrees to the patch normal or to the surface at their
 // centroid are rejected: thin "standing" triangles can be within epsilon yet shade wrongly.
 constexpr double MinimumNormalCosine = 0.25;
+constexpr double MinimumTerrainCosine = 0.05;
 
 struct P2
 {
@@ -315,18 +316,39 @@ bool TriangleWithinDistance(const TriangleBVH& bvh, const Vec3& a, const Vec3& b
 GreedyCuts::GreedyCuts() = default;
 GreedyCuts::~GreedyCuts() = default;
 
-void GreedyCuts::Initialize(
-  const TriangleMesh& mesh, const PatchificationParameters& parameters, const ProgressFunction& progress)
+void GreedyCuts::Initialize(const TriangleMesh& mesh, const PatchificationParameters& parameters,
+  const ProgressFunction& progress, const TerrainPatchificationParameters* terrain)
 {
   this->Mesh = &mesh;
   this->WasAborted = false;
+  this->Terrain = terrain != nullptr;
   this->Topology.Build(mesh);
-  this->Patches.Build(mesh, this->Topology, parameters,
-    progress ? ProgressFunction([&](double f) { return progress(0.8 * f); }) : ProgressFunction());
-  if (this->Patches.Aborted())
+  const ProgressFunction stage =
+    progress ? ProgressFunction([&](double f) { return progress(0.8 * f); }) : ProgressFunction();
+  if (terrain)
   {
-    this->WasAborted = true;
-    return;
+    TerrainPatches labels;
+    if (!BuildTerrainPatches(mesh, this->Topology, *terrain, labels, stage))
+    {
+      this->WasAborted = true;
+      return;
+    }
+    this->Patches.BuildFromLabels(mesh, this->Topology, labels.TrianglePatch, labels.NumberOfPatches);
+    this->HeightDirection = std::move(labels.HeightDirection);
+  }
+  else
+  {
+    this->Patches.Build(mesh, this->Topology, parameters, stage);
+    if (this->Patches.Aborted())
+    {
+      this->WasAborted = true;
+      return;
+    }
+    this->HeightDirection.resize(size_t(this->Patches.NumberOfPatches()));
+    for (Index p = 0; p < this->Patches.NumberOfPatches(); ++p)
+    {
+      this->HeightDirection[p] = this->Patches.PatchNormal(p);
+    }
   }
   this->Bvh.Build(mesh);
   const Index np = this->Patches.NumberOfPatches();
@@ -603,7 +625,9 @@ struct GreedyCuts::Worker
       return false;
     }
     const Vec3 nq = Normalized(Cross(B - A, C - A));
-    if (Dot(nq, s.Normal) <= MinimumNormalCosine)
+    // Chapter 3's terrain patches may be steep (their triangles only face the height direction):
+    // Q need only face it too, as its patch's triangles do.
+    if (Dot(nq, s.Normal) <= (G.Terrain ? MinimumTerrainCosine : MinimumNormalCosine))
     {
       return false;
     }
@@ -895,7 +919,7 @@ struct GreedyCuts::Worker
   bool ProjectPatch(Index p, PatchState& s)
   {
     s.Patch = p;
-    s.Normal = PP.PatchNormal(p);
+    s.Normal = G.HeightDirection[p];
     s.Careful = this->Careful[p] != 0;
     for (Index v : G.PatchLoops[p])
     {

@@ -38,6 +38,7 @@
 
 #include "slodMeshTopology.h"
 #include "slodPatchification.h"
+#include "slodTerrainPatchification.h"
 #include "slodTriangleBVH.h"
 #include "slodTriangleMesh.h"
 
@@ -86,12 +87,18 @@ public:
   GreedyCuts(const GreedyCuts&) = delete;
   GreedyCuts& operator=(const GreedyCuts&) = delete;
 
-  // Patchifies the mesh (which must outlive this object; closed or with borders, manifold).
+  // Patchifies the mesh (which must outlive this object; closed or with borders, manifold):
+  // chapter 4's small near-planar patches (slod::Patchification with `patches`), or, when
+  // `terrain` is given, chapter 3's own terrain-like patches (section 3.4.1,
+  // slod::BuildTerrainPatches), each triangulated in the plane orthogonal to its height direction.
   void Initialize(const TriangleMesh& mesh, const PatchificationParameters& patches,
-    const ProgressFunction& progress = nullptr);
+    const ProgressFunction& progress = nullptr, const TerrainPatchificationParameters* terrain = nullptr);
   bool Aborted() const { return this->WasAborted; }
   bool WorkBoundReached() const { return this->SearchStoppedByWorkBound; }
   const Patchification& GetPatches() const { return this->Patches; }
+  // Direction each patch is triangulated along (its height direction; chapter 4: its mean normal).
+  const std::vector<Vec3>& GetHeightDirections() const { return this->HeightDirection; }
+  bool TerrainPatchesUsed() const { return this->Terrain; }
 
   // One run at parameters.Epsilon. Returns false when aborted.
   bool Run(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
@@ -111,6 +118,8 @@ private:
   const TriangleMesh* Mesh = nullptr;
   MeshTopology Topology;
   Patchification Patches;
+  std::vector<Vec3> HeightDirection;
+  bool Terrain = false;
   TriangleBVH Bvh;
   bool WasAborted = false;
   mutable long long ProofPieces = 0; // pieces examined by the distance proofs (work account)

@@ -107,8 +107,11 @@ int vtkGreedyCutsSimplification::RequestData(
   patchParameters.OneEdgeNeighborAngle = this->NeighborAngle;
   patchParameters.TwoEdgePatchAngle = this->TwoEdgePatchAngle;
   patchParameters.TwoEdgeNeighborAngle = this->TwoEdgeNeighborAngle;
+  slod::TerrainPatchificationParameters terrain;
+  terrain.MinimumPatchTriangles = this->MinimumPatchTriangles;
   slod::GreedyCuts cuts;
-  cuts.Initialize(mesh, patchParameters, slod::FilterProgress(this, 0.0, 0.1));
+  cuts.Initialize(mesh, patchParameters, slod::FilterProgress(this, 0.0, 0.1),
+    this->Patchification == CHAPTER3_TERRAIN_PATCHES ? &terrain : nullptr);
   if (cuts.Aborted())
   {
     slod::ReportAbort(this, output);
@@ -179,6 +182,9 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "TargetSearchSteps: " << this->TargetSearchSteps << "\n";
+  os << indent << "Patchification: "
+     << (this->Patchification == CHAPTER3_TERRAIN_PATCHES ? "chapter 3 terrain patches" : "chapter 4 patches") << "\n";
+  os << indent << "MinimumPatchTriangles: " << this->MinimumPatchTriangles << "\n";
   os << indent << "PatchAngle: " << this->PatchAngle << "\n";
   os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
   os << indent << "TwoEdgePatchAngle: " << this->TwoEdgePatchAngle << "\n";

@@ -69,6 +69,23 @@ public:
   vtkGetMacro(TargetSearchSteps, int);
   ///@}
 
+  /**
+   * The patchification: CHAPTER4_PATCHES (default), chapter 4's small near-planar patches grown
+   * with the angle tolerances below (slod::Patchification); CHAPTER3_TERRAIN_PATCHES, the
+   * chapter's own (section 3.4.1): large terrain-like patches of 26 normal classes, each a height
+   * field over its height direction, small ones merged (slod::BuildTerrainPatches, with
+   * MinimumPatchTriangles).
+   */
+  enum PatchificationModes
+  {
+    CHAPTER4_PATCHES = 0,
+    CHAPTER3_TERRAIN_PATCHES = 1
+  };
+  vtkSetClampMacro(Patchification, int, CHAPTER4_PATCHES, CHAPTER3_TERRAIN_PATCHES);
+  vtkGetMacro(Patchification, int);
+  vtkSetClampMacro(MinimumPatchTriangles, int, 1, VTK_INT_MAX);
+  vtkGetMacro(MinimumPatchTriangles, int);
+
   ///@{
   /** Patch growth tolerances in degrees (see slod::PatchificationParameters). */
   vtkSetClampMacro(PatchAngle, double, 0.0, 180.0);
@@ -113,6 +130,8 @@ protected:
   vtkIdType TargetNumberOfTriangles = 0;
   double TargetReduction = 0.0;
   int TargetSearchSteps = 10;
+  int Patchification = CHAPTER4_PATCHES;
+  int MinimumPatchTriangles = 32;
   double PatchAngle = 25.0;
   double NeighborAngle = 20.0;
   double TwoEdgePatchAngle = 90.0;

@@ -470,3 +470,62 @@ TEST(GreedyCutsSimplification, ProgressAndAbort)
   EXPECT_GE(state.Events, 1);
   EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
 }
+
+// Chapter 3's own patchification (section 3.4.1): few large terrain-like patches, each a disk and
+// a height field over its height direction (every triangle faces it), small patches merged. On
+// mushroom the dissertation reports 6 patches; chapter 4's near-planar patches are many more.
+TEST(GreedyCuts, Chapter3TerrainPatches)
+{
+  for (const std::string name : { "mushroom", "fandisk", "elephant" })
+  {
+    SCOPED_TRACE(name);
+    const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh(name));
+    const MeshTopology topology(mesh);
+    TerrainPatchificationParameters parameters;
+    TerrainPatches terrain;
+    ASSERT_TRUE(BuildTerrainPatches(mesh, topology, parameters, terrain));
+    ASSERT_EQ(terrain.TrianglePatch.size(), size_t(mesh.NumberOfTriangles()));
+    ASSERT_EQ(terrain.HeightDirection.size(), size_t(terrain.NumberOfPatches));
+    EXPECT_LE(terrain.NumberOfPatches, terrain.GrownPatches);
+    std::vector<Index> sizes(size_t(terrain.NumberOfPatches), 0);
+    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    {
+      const Index p = terrain.TrianglePatch[t];
+      ASSERT_LT(p, terrain.NumberOfPatches);
+      ++sizes[p];
+      EXPECT_GE(Dot(Normalized(mesh.TriangleAreaVector(t)), terrain.HeightDirection[p]),
+        parameters.MinimumHeightCosine - 1e-12);
+    }
+    Patchification labelled;
+    labelled.BuildFromLabels(mesh, topology, terrain.TrianglePatch, terrain.NumberOfPatches);
+    std::vector<Index> loop;
+    for (Index p = 0; p < terrain.NumberOfPatches; ++p)
+    {
+      EXPECT_GT(sizes[p], 0);
+      EXPECT_TRUE(labelled.PatchBoundaryLoop(p, loop)) << "patch " << p << " is not a disk";
+    }
+    Patchification chapter4;
+    chapter4.Build(mesh, topology, PatchificationParameters());
+    std::cout << "[greedy-cuts] " << name << ": " << terrain.GrownPatches << " terrain patches grown, "
+              << terrain.NumberOfPatches << " after merging; chapter 4: " << chapter4.NumberOfPatches() << "\n";
+    EXPECT_LT(4 * terrain.NumberOfPatches, chapter4.NumberOfPatches());
+  }
+}
+
+TEST(GreedyCutsSimplification, Chapter3PatchificationKeepsTheBound)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("mushroom");
+  vtkNew<vtkGreedyCutsSimplification> filter;
+  filter->SetInputData(input);
+  filter->SetMaximumError(0.02);
+  filter->SetPatchification(vtkGreedyCutsSimplification::CHAPTER3_TERRAIN_PATCHES);
+  filter->Update();
+  Figures f;
+  f.Output = filter->GetOutput();
+  f.Bound = filter->GetUsedMaximumError();
+  f.Hausdorff = MeasureHausdorff(input, f.Output);
+  std::cout << "[greedy-cuts] mushroom chapter 3 patches eps 0.02: " << f.Output->GetNumberOfCells() << " tris, "
+            << filter->GetNumberOfPatches() << " patches, " << filter->GetOriginalPatches() << " original\n";
+  ExpectValid(input, f, "mushroom chapter 3");
+  EXPECT_LT(filter->GetNumberOfPatches(), 20);
+}
