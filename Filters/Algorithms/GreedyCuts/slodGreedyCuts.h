@@ -66,6 +66,7 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
   double ErrorBound = 0;            // the guaranteed two-sided Hausdorff bound (= epsilon)
   // Statistics.
   long long Ears = 0, Bites = 0, WideBites = 0, Repairs = 0, FeasibilityTests = 0;
+  long long EdgeSwaps = 0, FaceSplits = 0, VertexDeletions = 0; // front repairs by kind (3.4.3)
   Index RefinedPatches = 0;  // patches re-run with full-resolution chains
   Index OriginalPatches = 0; // patches kept as their original triangles
   int Rounds = 0;

@@ -9,6 +9,7 @@
 #include "vtkCellData.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -65,6 +66,17 @@ void StoreSimplification(vtkPolyData* input, const slod::TriangleMesh& mesh,
   relativeArray->InsertNextValue(diagonal > 0 ? result.ErrorBound / diagonal : 0.0);
   output->GetFieldData()->AddArray(boundArray);
   output->GetFieldData()->AddArray(relativeArray);
+  // Patches whose greedy triangulation failed even after the front repairs and refined chains:
+  // kept as their original triangles (the goal is none), and the repairs done (section 3.4.3).
+  for (const auto& [name, value] : { std::pair<const char*, long long>{ "FallbackPatches", result.OriginalPatches },
+         { "FrontRepairs", result.Repairs }, { "EdgeSwaps", result.EdgeSwaps }, { "FaceSplits", result.FaceSplits },
+         { "VertexDeletions", result.VertexDeletions } })
+  {
+    vtkNew<vtkIdTypeArray> counter;
+    counter->SetName(name);
+    counter->InsertNextValue(static_cast<vtkIdType>(value));
+    output->GetFieldData()->AddArray(counter);
+  }
 }
 } // namespace
 
