@@ -420,7 +420,10 @@ struct GreedyCuts::Worker
   const Patchification& PP;
   GreedyCutsParameters Prm;
   GreedyCutsResult& Res;
-  double Eps, EpsLocal, MinAngle;
+  double Eps, EpsLocal, MinAngle, ShapedAngle;
+  // Per patch: its first attempt asks for well-shaped triangles (ShapedAngle); a patch that gets
+  // stuck releases that bound to MinAngle before any other escalation (section 3.4.3).
+  std::vector<unsigned char> AngleReleased;
   std::vector<unsigned char> ChainFull, PatchOriginal, Dirty, Kept, Refined;
   // Careful mode (a patch's second attempt at each chain resolution): ears that would swallow an
   // unused inner vertex wait until no bite is left, so the front keeps vertices to bite into.
@@ -442,11 +445,13 @@ struct GreedyCuts::Worker
     this->Eps = prm.Epsilon;
     this->EpsLocal = prm.LocalTolerance * prm.Epsilon;
     this->MinAngle = vtkMath::RadiansFromDegrees(prm.MinimumAngle);
+    this->ShapedAngle = vtkMath::RadiansFromDegrees(std::max(prm.MinimumAngle, prm.ShapedAngle));
     const Index np = PP.NumberOfPatches();
     this->ChainFull.assign(size_t(PP.NumberOfChains()), 0);
     this->PatchOriginal.assign(size_t(np), 0);
     this->Refined.assign(size_t(np), 0);
     this->Careful.assign(size_t(np), 0);
+    this->AngleReleased.assign(size_t(np), this->ShapedAngle > this->MinAngle ? 0 : 1);
     this->Dirty.assign(size_t(np), 1);
     this->PatchTris.assign(size_t(np), {});
     this->PatchChains.assign(size_t(np), {});
@@ -622,7 +627,7 @@ struct GreedyCuts::Worker
   bool TestFeasible(PatchState& s, Index ia, Index ib, Index ic)
   {
     const Vec3 A = M.Point(ia), B = M.Point(ib), C = M.Point(ic);
-    if (IsDegenerate(A, B, C) || MinimumAngle(A, B, C) < this->MinAngle)
+    if (IsDegenerate(A, B, C) || MinimumAngle(A, B, C) < (this->AngleReleased[s.Patch] ? this->MinAngle : this->ShapedAngle))
     {
       return false;
     }
@@ -1354,6 +1359,11 @@ struct GreedyCuts::Worker
       return;
     }
     touched.push_back(p);
+    if (!this->AngleReleased[p])
+    {
+      this->AngleReleased[p] = 1;
+      return;
+    }
     if (!this->Careful[p])
     {
       this->Careful[p] = 1;

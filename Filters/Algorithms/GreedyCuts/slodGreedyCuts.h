@@ -55,6 +55,9 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   double LocalTolerance = 0.97;  // test (b) uses this fraction of epsilon (margin for stage 4)
   int BiteCandidates = 8;        // inner vertices tried per edge in greedy biting
   double MinimumAngle = 0.5;     // degrees: thinner candidate triangles are rejected
+  // Degrees: a patch's first attempt also rejects triangles thinner than this (fewer slivers);
+  // a patch that gets stuck is retried at MinimumAngle (the paper's gradual release). 0 = off.
+  double ShapedAngle = 0.0;
   int SubdivisionDepth = 10;     // adaptive distance test depth
 };
 

@@ -134,6 +134,7 @@ int vtkGreedyCutsSimplification::RequestData(
   slod::GreedyCutsParameters parameters;
   parameters.BiteCandidates = this->BiteCandidates;
   parameters.MinimumAngle = this->MinimumTriangleAngle;
+  parameters.ShapedAngle = this->ShapedTriangleAngle;
   const double bound = this->MaximumErrorIsRelative ? this->MaximumError * diagonal : this->MaximumError;
   vtkIdType target = 0;
   // The filter contract's targets (slodFilterContract.h); MaximumError is always a bound here, so
@@ -203,6 +204,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TwoEdgeNeighborAngle: " << this->TwoEdgeNeighborAngle << "\n";
   os << indent << "BiteCandidates: " << this->BiteCandidates << "\n";
   os << indent << "MinimumTriangleAngle: " << this->MinimumTriangleAngle << "\n";
+  os << indent << "ShapedTriangleAngle: " << this->ShapedTriangleAngle << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";

@@ -104,6 +104,13 @@ public:
   vtkGetMacro(BiteCandidates, int);
   vtkSetClampMacro(MinimumTriangleAngle, double, 0.0, 30.0);
   vtkGetMacro(MinimumTriangleAngle, double);
+  /**
+   * Smallest angle (degrees) asked of a patch's triangles on its first attempt; a patch whose
+   * front gets stuck there is retried at MinimumTriangleAngle (section 3.4.3's gradual release of
+   * the shape bound). 0 = off.
+   */
+  vtkSetClampMacro(ShapedTriangleAngle, double, 0.0, 30.0);
+  vtkGetMacro(ShapedTriangleAngle, double);
   ///@}
   /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
   vtkSetMacro(OutputPointsPrecision, int);
@@ -138,6 +145,7 @@ protected:
   double TwoEdgeNeighborAngle = 90.0;
   int BiteCandidates = 8;
   double MinimumTriangleAngle = 0.5;
+  double ShapedTriangleAngle = 0.0;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double UsedMaximumError = 0;

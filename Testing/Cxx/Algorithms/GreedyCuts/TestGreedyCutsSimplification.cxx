@@ -561,3 +561,49 @@ TEST(GreedyCutsSimplification, StuckFrontsAreRepairedNotKeptOriginal)
     EXPECT_LT(f.Output->GetNumberOfCells(), input->GetNumberOfCells() / 5);
   }
 }
+
+namespace
+{
+// Share of triangles whose smallest angle is under `degrees`.
+double SliverShare(vtkPolyData* mesh, double degrees)
+{
+  const TriangleMesh m = slodtest::RawTriangleMesh(mesh);
+  Index thin = 0;
+  for (Index t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = m.Triangle(t);
+    thin += MinimumAngle(m.Point(tri[0]), m.Point(tri[1]), m.Point(tri[2])) < degrees * M_PI / 180;
+  }
+  return double(thin) / double(std::max<Index>(m.NumberOfTriangles(), 1));
+}
+} // namespace
+
+// ShapedTriangleAngle: a patch first asks for triangles no thinner than 5 degrees and releases
+// that bound only when its front gets stuck (the paper's minimal aspect ratio, released
+// gradually). dino is used by no other test.
+TEST(GreedyCutsSimplification, ShapedTrianglesHaveFewerSlivers)
+{
+  for (const std::string name : { "dino", "mushroom" })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    double share[2] = { 0, 0 };
+    for (int shaped = 0; shaped < 2; ++shaped)
+    {
+      vtkNew<vtkGreedyCutsSimplification> filter;
+      filter->SetInputData(input);
+      filter->SetMaximumError(0.01);
+      filter->SetShapedTriangleAngle(shaped ? 5.0 : 0.0);
+      filter->Update();
+      Figures f;
+      f.Output = filter->GetOutput();
+      f.Bound = filter->GetUsedMaximumError();
+      f.Hausdorff = MeasureHausdorff(input, f.Output);
+      ExpectValid(input, f, name + (shaped ? " shaped" : " plain"));
+      EXPECT_EQ(f.Output->GetFieldData()->GetArray("FallbackPatches")->GetTuple1(0), 0);
+      share[shaped] = SliverShare(f.Output, 5.0);
+      std::cout << "[greedy-cuts] " << name << (shaped ? " shaped 5 deg" : " plain") << ": "
+                << f.Output->GetNumberOfCells() << " tris, " << 100 * share[shaped] << "% under 5 degrees\n";
+    }
+    EXPECT_LT(share[1], 0.5 * share[0]);
+  }
+}
