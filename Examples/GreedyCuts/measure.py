@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Greedy cuts against vtkQuadricDecimation at equal measured Hausdorff, and the sliver share.
 
-usage: measure.py MESH.off EPS[,EPS...] [--patchification chapter3|chapter4] [--no-qd]
+usage: measure.py MESH.off EPS[,EPS...] [--patchification chapter3|chapter4] [--shaped DEGREES] [--no-qd]
 
 Per epsilon (relative to the diagonal): triangles, measured Hausdorff (vtkSurfaceDeviation),
 patches kept as original triangles, share of triangles whose smallest angle is under 5 degrees,
@@ -78,6 +78,7 @@ def main():
     epsilons = [float(e) for e in sys.argv[2].split(',')]
     chapter3 = '--patchification' in sys.argv and sys.argv[sys.argv.index('--patchification') + 1] == 'chapter3'
     no_qd = '--no-qd' in sys.argv
+    shaped = float(sys.argv[sys.argv.index('--shaped') + 1]) if '--shaped' in sys.argv else 0.0
     r = vtkOFFMeshReader()
     r.SetFileName(path)
     r.Update()
@@ -87,8 +88,9 @@ def main():
         f = vtkGreedyCutsSimplification()
         f.SetInputData(inp)
         f.SetMaximumError(eps)
-        if chapter3 and hasattr(f, 'SetPatchification'):
+        if chapter3:
             f.SetPatchification(1)
+        f.SetShapedTriangleAngle(shaped)
         t = time.process_time()
         f.Update()
         cpu = time.process_time() - t

@@ -43,13 +43,18 @@ const NormalClasses& Classes()
   return classes;
 }
 
-// Stage 1: breadth-first growth of one patch at a time.
-struct TerrainGrowth
+// What both stages work on: the mesh, its topology, the parameters and the patch labels.
+struct TerrainData
 {
   const TriangleMesh& Mesh;
   const MeshTopology& Topology;
   const TerrainPatchificationParameters& Prm;
   std::vector<Index>& Label;
+};
+
+// Stage 1: breadth-first growth of one patch at a time.
+struct TerrainGrowth : TerrainData
+{
   std::vector<Vec3> Normal;
   std::vector<Index> VertexPatch; // last patch that used the vertex (vertices never leave one)
   std::vector<Index> Queue, Rejected;
@@ -63,10 +68,7 @@ struct TerrainGrowth
 
   TerrainGrowth(const TriangleMesh& mesh, const MeshTopology& topology, const TerrainPatchificationParameters& prm,
     std::vector<Index>& label)
-    : Mesh(mesh)
-    , Topology(topology)
-    , Prm(prm)
-    , Label(label)
+    : TerrainData{ mesh, topology, prm, label }
     , Normal(size_t(mesh.NumberOfTriangles()))
     , VertexPatch(size_t(mesh.NumberOfPoints()), InvalidIndex)
   {
@@ -251,12 +253,8 @@ Index GrowPatches(TerrainGrowth& growth, const ProgressFunction& progress, bool&
 }
 
 // Stage 2: small patches merged into a neighbour.
-struct PatchMerging
+struct PatchMerging : TerrainData
 {
-  const TriangleMesh& Mesh;
-  const MeshTopology& Topology;
-  const TerrainPatchificationParameters& Prm;
-  std::vector<Index>& Label;
   std::vector<std::vector<Index>> Members;
   std::vector<Vec3> Height;
   std::vector<double> HeightMin; // smallest dot of a member's unit normal with Height
@@ -264,10 +262,7 @@ struct PatchMerging
 
   PatchMerging(const TriangleMesh& mesh, const MeshTopology& topology, const TerrainPatchificationParameters& prm,
     std::vector<Index>& label, Index patches)
-    : Mesh(mesh)
-    , Topology(topology)
-    , Prm(prm)
-    , Label(label)
+    : TerrainData{ mesh, topology, prm, label }
     , Members(size_t(patches))
     , Height(size_t(patches), Vec3{ 0, 0, 0 })
     , HeightMin(size_t(patches), 1.0)
