@@ -20,6 +20,8 @@ namespace
 // centroid are rejected: thin "standing" triangles can be within epsilon yet shade wrongly.
 constexpr double MinimumNormalCosine = 0.25;
 constexpr double MinimumTerrainCosine = 0.05;
+// Runs repeated after splitting the patches that fell back to their original triangles.
+constexpr int MaximumSplitRounds = 6;
 
 struct P2
 {
@@ -352,6 +354,19 @@ void GreedyCuts::Initialize(const TriangleMesh& mesh, const PatchificationParame
     }
   }
   this->Bvh.Build(mesh);
+  this->InitialLabels = this->Patches.TrianglePatches();
+  this->InitialHeights = this->HeightDirection;
+  this->BuildPatchData();
+  if (progress && !progress(1.0))
+  {
+    this->WasAborted = true;
+  }
+}
+
+// Per patch: its triangles (grouped), its inner vertices (on no chain), its boundary loop.
+void GreedyCuts::BuildPatchData()
+{
+  const TriangleMesh& mesh = *this->Mesh;
   const Index np = this->Patches.NumberOfPatches();
   const Index nt = mesh.NumberOfTriangles();
   const std::vector<Index>& patchOf = this->Patches.TrianglePatches();
@@ -406,10 +421,116 @@ void GreedyCuts::Initialize(const TriangleMesh& mesh, const PatchificationParame
     this->PatchInnerOffsets.push_back(static_cast<Index>(this->PatchInnerList.size()));
     this->LoopValid[p] = this->Patches.PatchBoundaryLoop(p, this->PatchLoops[p]) ? 1 : 0;
   }
-  if (progress && !progress(1.0))
+}
+
+// A patch that fell back to its original triangles is cut in two instead (then retried): a disk
+// grown breadth-first from a triangle on its boundary takes half of it, and every edge-connected
+// piece of the rest becomes a patch too. Sub-patches keep the parent's direction (a part of a
+// height field is one). Returns whether any patch was split.
+bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
+{
+  std::vector<Index> label = this->Patches.TrianglePatches();
+  Index next = this->Patches.NumberOfPatches();
+  std::vector<Index> inPatch, queue;
+  std::vector<unsigned char> vertexUsed(size_t(this->Mesh->NumberOfPoints()), 0);
+  bool split = false;
+  for (Index p : patches)
   {
-    this->WasAborted = true;
+    inPatch.assign(this->PatchTriangleList.begin() + this->PatchTriangleOffsets[p],
+      this->PatchTriangleList.begin() + this->PatchTriangleOffsets[p + 1]);
+    if (inPatch.size() < 2)
+    {
+      continue;
+    }
+    // Half of the patch, grown as a disk from its first triangle (on its boundary: the patch is
+    // a disk, its first triangle in index order need not be inside).
+    const Index half = next++;
+    this->HeightDirection.push_back(this->HeightDirection[p]);
+    queue.assign(1, inPatch.front());
+    label[inPatch.front()] = half;
+    for (const Index* v = this->Mesh->Triangle(inPatch.front()); v != this->Mesh->Triangle(inPatch.front()) + 3; ++v)
+    {
+      vertexUsed[*v] = 1;
+    }
+    for (size_t head = 0; head < queue.size() && 2 * queue.size() < inPatch.size(); ++head)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index n = this->Topology.EdgeNeighbor(queue[head], k);
+        if (n == InvalidIndex || label[n] != p)
+        {
+          continue;
+        }
+        int shared = 0;
+        Index opposite = InvalidIndex;
+        for (int j = 0; j < 3; ++j)
+        {
+          const Index m = this->Topology.EdgeNeighbor(n, j);
+          if (m != InvalidIndex && label[m] == half)
+          {
+            ++shared;
+            opposite = this->Mesh->Triangle(n)[(j + 2) % 3];
+          }
+        }
+        if (shared == 2 || (shared == 1 && !vertexUsed[opposite]))
+        {
+          label[n] = half;
+          queue.push_back(n);
+          for (const Index* v = this->Mesh->Triangle(n); v != this->Mesh->Triangle(n) + 3; ++v)
+          {
+            vertexUsed[*v] = 1;
+          }
+        }
+      }
+    }
+    for (Index t : queue)
+    {
+      for (const Index* v = this->Mesh->Triangle(t); v != this->Mesh->Triangle(t) + 3; ++v)
+      {
+        vertexUsed[*v] = 0;
+      }
+    }
+    // The rest, piece by piece (the first piece keeps the label p).
+    bool first = true;
+    for (Index seed : inPatch)
+    {
+      if (label[seed] != p)
+      {
+        continue;
+      }
+      const Index piece = first ? InvalidIndex - 1 : next++;
+      if (!first)
+      {
+        this->HeightDirection.push_back(this->HeightDirection[p]);
+      }
+      first = false;
+      queue.assign(1, seed);
+      label[seed] = piece;
+      for (size_t head = 0; head < queue.size(); ++head)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          const Index n = this->Topology.EdgeNeighbor(queue[head], k);
+          if (n != InvalidIndex && label[n] == p)
+          {
+            label[n] = piece;
+            queue.push_back(n);
+          }
+        }
+      }
+    }
+    for (Index t : inPatch)
+    {
+      label[t] = label[t] == InvalidIndex - 1 ? p : label[t];
+    }
+    split = true;
   }
+  if (split)
+  {
+    this->Patches.BuildFromLabels(*this->Mesh, this->Topology, label, next);
+    this->BuildPatchData();
+  }
+  return split;
 }
 
 // State of one run.
@@ -1486,6 +1607,10 @@ struct GreedyCuts::Worker
       this->Res.Triangles.insert(this->Res.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
       this->Res.TrianglePatch.insert(this->Res.TrianglePatch.end(), this->PatchTris[p].size() / 3, p);
       this->Res.OriginalPatches += this->PatchOriginal[p];
+      if (this->PatchOriginal[p])
+      {
+        this->Res.FallbackPatchIds.push_back(p);
+      }
       this->Res.RefinedPatches += this->Refined[p] && !this->PatchOriginal[p];
     }
     this->Res.NumberOfPatches = np;
@@ -1565,8 +1690,29 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     }
     return !this->WasAborted;
   }
-  GreedyCuts::Worker run(*this, parameters, result);
-  return run.Execute(progress);
+  // Patches split by an earlier run are restored: a run's result depends on epsilon only.
+  if (this->Patches.NumberOfPatches() != Index(this->InitialHeights.size()))
+  {
+    this->Patches.BuildFromLabels(*this->Mesh, this->Topology, this->InitialLabels, Index(this->InitialHeights.size()));
+    this->HeightDirection = this->InitialHeights;
+    this->BuildPatchData();
+  }
+  // A patch that falls back to its original triangles is split in two and the run repeated
+  // (bounded: MaximumSplitRounds runs more at most, each only when some patch fell back).
+  for (int round = 0;; ++round)
+  {
+    result = GreedyCutsResult();
+    GreedyCuts::Worker run(*this, parameters, result);
+    if (!run.Execute(progress))
+    {
+      return false;
+    }
+    if (result.FallbackPatchIds.empty() || round >= MaximumSplitRounds || !this->SplitPatches(result.FallbackPatchIds))
+    {
+      result.SplitRounds = round;
+      return true;
+    }
+  }
 }
 
 bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,

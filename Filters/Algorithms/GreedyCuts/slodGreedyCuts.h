@@ -72,6 +72,8 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
   long long EdgeSwaps = 0, FaceSplits = 0, VertexDeletions = 0; // front repairs by kind (3.4.3)
   Index RefinedPatches = 0;  // patches re-run with full-resolution chains
   Index OriginalPatches = 0; // patches kept as their original triangles
+  std::vector<Index> FallbackPatchIds; // ... which ones
+  int SplitRounds = 0;       // runs repeated after splitting patches that fell back
   int Rounds = 0;
   bool Aborted = false;
 };
@@ -119,6 +121,10 @@ public:
 
 private:
   struct Worker;
+  void BuildPatchData();
+  bool SplitPatches(const std::vector<Index>& patches);
+  std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
+  std::vector<Vec3> InitialHeights;
   const TriangleMesh* Mesh = nullptr;
   MeshTopology Topology;
   Patchification Patches;
