@@ -11,11 +11,13 @@
 //     patch (the candidates nearest the apex of the equilateral triangle on the edge first, i.e.
 //     aspect ratio near 1; the bite of largest area over the edges wins); when no such bite is
 //     feasible either, every inner vertex is tried for the longest edges first (our stand-in for
-//     edge splitting: no Steiner points exist); when stuck, front repair (3.4.3, simplified): the
-//     triangle behind the longest front edge is put back (never cut again), freeing its vertices;
+//     edge splitting: no Steiner points exist); when stuck, front repair (3.4.3) at the sharpest
+//     corners first: edge swap, face split or vertex deletion, then the triangle behind the longest
+//     front edge is put back (every triangle put back is never cut again);
 //  3. a patch that stays stuck is retried in careful mode (ears may not swallow unused inner
 //     vertices while a bite exists), then with its chains at full resolution, then replaced by its
-//     original triangles (always feasible), so the run always terminates with a valid mesh;
+//     original triangles (always feasible), so the run always terminates with a valid mesh; when
+//     some patch ended there, it is split in two and the whole run repeated (bounded);
 //  4. the whole result is verified: every original triangle within epsilon of the output
 //     (rigorous, see below) and every edge used by at most two triangles; patches of failing
 //     triangles are escalated as in 3 and the run repeats from there.

@@ -12,9 +12,11 @@
  * edge to an original vertex inside the patch, the best-shaped candidates first) is taken, else
  * every inner vertex is tried (edge splitting without Steiner points). A triangle is feasible when
  * it lies within epsilon of the original surface (rigorous adaptive test against a BVH) and the
- * original triangles under it lie within epsilon of it and face the same way. A patch that gets
- * stuck is retried with full-resolution chains and finally kept as its original triangles, so the
- * filter always terminates. A final verification proves that every original triangle lies within
+ * original triangles under it lie within epsilon of it and face the same way. A stuck front is
+ * repaired (section 3.4.3: edge swap, face split, vertex deletion at its sharpest corners); a
+ * patch that stays stuck is retried with full-resolution chains, then split in two and the run
+ * repeated (bounded), and only then kept as its original triangles (field data
+ * "FallbackPatches"), so the filter always terminates. A final verification proves that every original triangle lies within
  * epsilon of the output. See slodGreedyCuts.h for the details.
  *
  * Guarantees: output vertices are a subset of the (prepared) input's; a closed manifold input
