@@ -6,6 +6,7 @@
 #include "vtkMath.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
@@ -18,6 +19,9 @@ namespace
 // Candidate triangles at more than about 75 degrees to the patch normal or to the surface at their
 // centroid are rejected: thin "standing" triangles can be within epsilon yet shade wrongly.
 constexpr double MinimumNormalCosine = 0.25;
+constexpr double MinimumTerrainCosine = 0.05;
+// Runs repeated after splitting the patches that fell back to their original triangles.
+constexpr int MaximumSplitRounds = 6;
 
 struct P2
 {
@@ -315,20 +319,54 @@ bool TriangleWithinDistance(const TriangleBVH& bvh, const Vec3& a, const Vec3& b
 GreedyCuts::GreedyCuts() = default;
 GreedyCuts::~GreedyCuts() = default;
 
-void GreedyCuts::Initialize(
-  const TriangleMesh& mesh, const PatchificationParameters& parameters, const ProgressFunction& progress)
+void GreedyCuts::Initialize(const TriangleMesh& mesh, const PatchificationParameters& parameters,
+  const ProgressFunction& progress, const TerrainPatchificationParameters* terrain)
 {
   this->Mesh = &mesh;
   this->WasAborted = false;
+  this->Terrain = terrain != nullptr;
   this->Topology.Build(mesh);
-  this->Patches.Build(mesh, this->Topology, parameters,
-    progress ? ProgressFunction([&](double f) { return progress(0.8 * f); }) : ProgressFunction());
-  if (this->Patches.Aborted())
+  const ProgressFunction stage =
+    progress ? ProgressFunction([&](double f) { return progress(0.8 * f); }) : ProgressFunction();
+  if (terrain)
   {
-    this->WasAborted = true;
-    return;
+    TerrainPatches labels;
+    if (!BuildTerrainPatches(mesh, this->Topology, *terrain, labels, stage))
+    {
+      this->WasAborted = true;
+      return;
+    }
+    this->Patches.BuildFromLabels(mesh, this->Topology, labels.TrianglePatch, labels.NumberOfPatches);
+    this->HeightDirection = std::move(labels.HeightDirection);
+  }
+  else
+  {
+    this->Patches.Build(mesh, this->Topology, parameters, stage);
+    if (this->Patches.Aborted())
+    {
+      this->WasAborted = true;
+      return;
+    }
+    this->HeightDirection.resize(size_t(this->Patches.NumberOfPatches()));
+    for (Index p = 0; p < this->Patches.NumberOfPatches(); ++p)
+    {
+      this->HeightDirection[p] = this->Patches.PatchNormal(p);
+    }
   }
   this->Bvh.Build(mesh);
+  this->InitialLabels = this->Patches.TrianglePatches();
+  this->InitialHeights = this->HeightDirection;
+  this->BuildPatchData();
+  if (progress && !progress(1.0))
+  {
+    this->WasAborted = true;
+  }
+}
+
+// Per patch: its triangles (grouped), its inner vertices (on no chain), its boundary loop.
+void GreedyCuts::BuildPatchData()
+{
+  const TriangleMesh& mesh = *this->Mesh;
   const Index np = this->Patches.NumberOfPatches();
   const Index nt = mesh.NumberOfTriangles();
   const std::vector<Index>& patchOf = this->Patches.TrianglePatches();
@@ -383,10 +421,116 @@ void GreedyCuts::Initialize(
     this->PatchInnerOffsets.push_back(static_cast<Index>(this->PatchInnerList.size()));
     this->LoopValid[p] = this->Patches.PatchBoundaryLoop(p, this->PatchLoops[p]) ? 1 : 0;
   }
-  if (progress && !progress(1.0))
+}
+
+// A patch that fell back to its original triangles is cut in two instead (then retried): a disk
+// grown breadth-first from a triangle on its boundary takes half of it, and every edge-connected
+// piece of the rest becomes a patch too. Sub-patches keep the parent's direction (a part of a
+// height field is one). Returns whether any patch was split.
+bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
+{
+  std::vector<Index> label = this->Patches.TrianglePatches();
+  Index next = this->Patches.NumberOfPatches();
+  std::vector<Index> inPatch, queue;
+  std::vector<unsigned char> vertexUsed(size_t(this->Mesh->NumberOfPoints()), 0);
+  bool split = false;
+  for (Index p : patches)
   {
-    this->WasAborted = true;
+    inPatch.assign(this->PatchTriangleList.begin() + this->PatchTriangleOffsets[p],
+      this->PatchTriangleList.begin() + this->PatchTriangleOffsets[p + 1]);
+    if (inPatch.size() < 2)
+    {
+      continue;
+    }
+    // Half of the patch, grown as a disk from its first triangle (on its boundary: the patch is
+    // a disk, its first triangle in index order need not be inside).
+    const Index half = next++;
+    this->HeightDirection.push_back(this->HeightDirection[p]);
+    queue.assign(1, inPatch.front());
+    label[inPatch.front()] = half;
+    for (const Index* v = this->Mesh->Triangle(inPatch.front()); v != this->Mesh->Triangle(inPatch.front()) + 3; ++v)
+    {
+      vertexUsed[*v] = 1;
+    }
+    for (size_t head = 0; head < queue.size() && 2 * queue.size() < inPatch.size(); ++head)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index n = this->Topology.EdgeNeighbor(queue[head], k);
+        if (n == InvalidIndex || label[n] != p)
+        {
+          continue;
+        }
+        int shared = 0;
+        Index opposite = InvalidIndex;
+        for (int j = 0; j < 3; ++j)
+        {
+          const Index m = this->Topology.EdgeNeighbor(n, j);
+          if (m != InvalidIndex && label[m] == half)
+          {
+            ++shared;
+            opposite = this->Mesh->Triangle(n)[(j + 2) % 3];
+          }
+        }
+        if (shared == 2 || (shared == 1 && !vertexUsed[opposite]))
+        {
+          label[n] = half;
+          queue.push_back(n);
+          for (const Index* v = this->Mesh->Triangle(n); v != this->Mesh->Triangle(n) + 3; ++v)
+          {
+            vertexUsed[*v] = 1;
+          }
+        }
+      }
+    }
+    for (Index t : queue)
+    {
+      for (const Index* v = this->Mesh->Triangle(t); v != this->Mesh->Triangle(t) + 3; ++v)
+      {
+        vertexUsed[*v] = 0;
+      }
+    }
+    // The rest, piece by piece (the first piece keeps the label p).
+    bool first = true;
+    for (Index seed : inPatch)
+    {
+      if (label[seed] != p)
+      {
+        continue;
+      }
+      const Index piece = first ? InvalidIndex - 1 : next++;
+      if (!first)
+      {
+        this->HeightDirection.push_back(this->HeightDirection[p]);
+      }
+      first = false;
+      queue.assign(1, seed);
+      label[seed] = piece;
+      for (size_t head = 0; head < queue.size(); ++head)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          const Index n = this->Topology.EdgeNeighbor(queue[head], k);
+          if (n != InvalidIndex && label[n] == p)
+          {
+            label[n] = piece;
+            queue.push_back(n);
+          }
+        }
+      }
+    }
+    for (Index t : inPatch)
+    {
+      label[t] = label[t] == InvalidIndex - 1 ? p : label[t];
+    }
+    split = true;
   }
+  if (split)
+  {
+    this->Patches.BuildFromLabels(*this->Mesh, this->Topology, label, next);
+    this->BuildPatchData();
+  }
+  return split;
 }
 
 // State of one run.
@@ -397,7 +541,10 @@ struct GreedyCuts::Worker
   const Patchification& PP;
   GreedyCutsParameters Prm;
   GreedyCutsResult& Res;
-  double Eps, EpsLocal, MinAngle;
+  double Eps, EpsLocal, MinAngle, ShapedAngle;
+  // Per patch: its first attempt asks for well-shaped triangles (ShapedAngle); a patch that gets
+  // stuck releases that bound to MinAngle before any other escalation (section 3.4.3).
+  std::vector<unsigned char> AngleReleased;
   std::vector<unsigned char> ChainFull, PatchOriginal, Dirty, Kept, Refined;
   // Careful mode (a patch's second attempt at each chain resolution): ears that would swallow an
   // unused inner vertex wait until no bite is left, so the front keeps vertices to bite into.
@@ -419,11 +566,13 @@ struct GreedyCuts::Worker
     this->Eps = prm.Epsilon;
     this->EpsLocal = prm.LocalTolerance * prm.Epsilon;
     this->MinAngle = vtkMath::RadiansFromDegrees(prm.MinimumAngle);
+    this->ShapedAngle = vtkMath::RadiansFromDegrees(std::max(prm.MinimumAngle, prm.ShapedAngle));
     const Index np = PP.NumberOfPatches();
     this->ChainFull.assign(size_t(PP.NumberOfChains()), 0);
     this->PatchOriginal.assign(size_t(np), 0);
     this->Refined.assign(size_t(np), 0);
     this->Careful.assign(size_t(np), 0);
+    this->AngleReleased.assign(size_t(np), this->ShapedAngle > this->MinAngle ? 0 : 1);
     this->Dirty.assign(size_t(np), 1);
     this->PatchTris.assign(size_t(np), {});
     this->PatchChains.assign(size_t(np), {});
@@ -562,6 +711,7 @@ struct GreedyCuts::Worker
     std::vector<unsigned char> Consumed;
     std::unordered_map<TripleKey, bool, TripleHash> Cache;
     double Tol = 0; // orientation tolerance (squared length scale)
+    double SharpAngle = vtkMath::Pi() / 6; // front repair: corners below this are sharp
     bool Careful = false, Relaxed = false;
 
     // Inserts original vertex v into the front after node `after`; returns its node.
@@ -598,12 +748,14 @@ struct GreedyCuts::Worker
   bool TestFeasible(PatchState& s, Index ia, Index ib, Index ic)
   {
     const Vec3 A = M.Point(ia), B = M.Point(ib), C = M.Point(ic);
-    if (IsDegenerate(A, B, C) || MinimumAngle(A, B, C) < this->MinAngle)
+    if (IsDegenerate(A, B, C) || MinimumAngle(A, B, C) < (this->AngleReleased[s.Patch] ? this->MinAngle : this->ShapedAngle))
     {
       return false;
     }
     const Vec3 nq = Normalized(Cross(B - A, C - A));
-    if (Dot(nq, s.Normal) <= MinimumNormalCosine)
+    // Chapter 3's terrain patches may be steep (their triangles only face the height direction):
+    // Q need only face it too, as its patch's triangles do.
+    if (Dot(nq, s.Normal) <= (G.Terrain ? MinimumTerrainCosine : MinimumNormalCosine))
     {
       return false;
     }
@@ -803,65 +955,44 @@ struct GreedyCuts::Worker
     return ok;
   }
 
-  // Front repair (section 3.4.3, simplified): the triangle behind the longest front edge that is
-  // not a chain segment is put back (and never cut again), which frees the inner
-  // vertices it covered for bites and reopens the front there.
-  bool Repair(PatchState& s, std::vector<Index>& tris)
+  // --- Front repair (section 3.4.3) ---
+  // Position in tris of the generated triangle on edge (u, w) (at most one: the other side of a
+  // front edge is still open), or size_t(-1).
+  static size_t TriangleOnEdge(const std::vector<Index>& tris, Index u, Index w)
   {
-    // One triangle per call: putting several back until an inner vertex is freed measured worse
-    // (bunny00 at 0.005: 5,126 triangles instead of 4,400).
-    bool freed = false;
-    return this->RepairOnce(s, tris, freed);
+    for (size_t t = 0; t < tris.size(); t += 3)
+    {
+      int shared = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        shared += tris[t + k] == u || tris[t + k] == w;
+      }
+      if (shared == 2)
+      {
+        return t;
+      }
+    }
+    return size_t(-1);
   }
 
-  bool RepairOnce(PatchState& s, std::vector<Index>& tris, bool& freed)
+  static Index ThirdVertex(const std::vector<Index>& tris, size_t t, Index u, Index w)
   {
-    size_t bestTri = size_t(-1);
-    Index bestNode = InvalidIndex, bestX = InvalidIndex;
-    double bestLength = -1;
-    Index i = s.Head;
-    do
+    for (int k = 0; k < 3; ++k)
     {
-      const Index u = s.Vert[i], w = s.Vert[s.Next[i]];
-      if (!this->Segments.count(EdgeKey(u, w)))
+      if (tris[t + k] != u && tris[t + k] != w)
       {
-        for (size_t t = 0; t < tris.size(); t += 3)
-        {
-          int shared = 0;
-          Index x = InvalidIndex;
-          for (int k = 0; k < 3; ++k)
-          {
-            if (tris[t + k] == u || tris[t + k] == w)
-            {
-              ++shared;
-            }
-            else
-            {
-              x = tris[t + k];
-            }
-          }
-          if (shared == 2 && x != InvalidIndex)
-          {
-            const Vec3 d = M.Point(w) - M.Point(u);
-            if (this->FrontNode[x] == InvalidIndex && Dot(d, d) > bestLength)
-            {
-              bestLength = Dot(d, d);
-              bestTri = t;
-              bestNode = i;
-              bestX = x;
-            }
-            break;
-          }
-        }
+        return tris[t + k];
       }
-      i = s.Next[i];
-    } while (i != s.Head);
-    if (bestNode == InvalidIndex)
-    {
-      return false;
     }
-    const Index a = tris[bestTri], b = tris[bestTri + 1], c = tris[bestTri + 2];
-    s.Cache[MakeTriple(a, b, c)] = false; // never again
+    return InvalidIndex;
+  }
+
+  // Takes the triangle at tris[t] back out of the triangulation (it is never cut again: every
+  // repair then makes progress) and frees the inner vertices it covered.
+  void PutBack(PatchState& s, std::vector<Index>& tris, size_t t)
+  {
+    const Index a = tris[t], b = tris[t + 1], c = tris[t + 2];
+    s.Cache[MakeTriple(a, b, c)] = false;
     for (const auto& [u, v] : { std::pair<Index, Index>{ a, b }, { b, c }, { c, a } })
     {
       auto it = this->EdgeUse.find(EdgeKey(u, v));
@@ -870,7 +1001,7 @@ struct GreedyCuts::Worker
         this->EdgeUse.erase(it);
       }
     }
-    tris.erase(tris.begin() + std::ptrdiff_t(bestTri), tris.begin() + std::ptrdiff_t(bestTri) + 3);
+    tris.erase(tris.begin() + std::ptrdiff_t(t), tris.begin() + std::ptrdiff_t(t) + 3);
     const P2 pa = this->Coord[a], pb = this->Coord[b], pc = this->Coord[c];
     const double tol = 1e-9 * std::fabs(Orient(pa, pb, pc)) + s.Tol;
     for (size_t k = 0; k < s.Inner.size(); ++k)
@@ -881,12 +1012,183 @@ struct GreedyCuts::Worker
         Orient(pa, pb, q) > tol && Orient(pb, pc, q) > tol && Orient(pc, pa, q) > tol)
       {
         s.Consumed[k] = 0;
-        freed = true;
       }
     }
-    this->FrontNode[bestX] = s.InsertAfter(bestNode, bestX);
     std::fill(s.EarState.begin(), s.EarState.end(), -1);
     ++this->Res.Repairs;
+  }
+
+  // Inner angle of the front at node i (the front runs counter-clockwise around the open part).
+  double FrontAngle(const PatchState& s, Index i) const
+  {
+    const P2 a = this->Coord[s.Vert[s.Prev[i]]], b = this->Coord[s.Vert[i]], c = this->Coord[s.Vert[s.Next[i]]];
+    const double ux = c.x - b.x, uy = c.y - b.y, vx = a.x - b.x, vy = a.y - b.y;
+    const double angle = std::atan2(ux * vy - uy * vx, ux * vx + uy * vy);
+    return angle < 0 ? angle + 2 * vtkMath::Pi() : angle;
+  }
+
+  void RemoveFrontNode(PatchState& s, Index i)
+  {
+    const Index pi = s.Prev[i], ni = s.Next[i];
+    s.Next[pi] = ni;
+    s.Prev[ni] = pi;
+    this->FrontNode[s.Vert[i]] = InvalidIndex;
+    s.Head = pi;
+    --s.Count;
+    std::fill(s.EarState.begin(), s.EarState.end(), -1);
+  }
+
+  // The two front edges at node i as (first node of the edge, other corner of the ear at i),
+  // the longer edge first.
+  std::array<std::pair<Index, Index>, 2> CornerEdges(const PatchState& s, Index i) const
+  {
+    const Index pi = s.Prev[i], ni = s.Next[i];
+    const Vec3 a = M.Point(s.Vert[pi]), b = M.Point(s.Vert[i]), c = M.Point(s.Vert[ni]);
+    std::array<std::pair<Index, Index>, 2> edges{ std::pair<Index, Index>{ i, pi }, { pi, ni } };
+    if (Dot(b - a, b - a) > Dot(c - b, c - b))
+    {
+      std::swap(edges[0], edges[1]);
+    }
+    return edges;
+  }
+
+  // Edge swap (figure 5): the ear at node i is infeasible; the triangle behind its longer front
+  // edge (e1, e2, d) and the ear form a convex quadrilateral whose other diagonal (x, d) gives
+  // two triangles that may be feasible. Node i leaves the front.
+  bool EdgeSwap(PatchState& s, std::vector<Index>& tris, Index i)
+  {
+    const Index pi = s.Prev[i], ni = s.Next[i];
+    const P2 pa = this->Coord[s.Vert[pi]], pb = this->Coord[s.Vert[i]], pc = this->Coord[s.Vert[ni]];
+    for (Index j = s.Next[ni]; j != pi; j = s.Next[j])
+    {
+      if (InClosedTriangle(this->Coord[s.Vert[j]], pa, pb, pc, s.Tol))
+      {
+        return false; // the ear's area holds another part of the front
+      }
+    }
+    for (const auto& [first, other] : this->CornerEdges(s, i))
+    {
+      const Index e1 = s.Vert[first], e2 = s.Vert[s.Next[first]], x = s.Vert[other];
+      const size_t t = this->Segments.count(EdgeKey(e1, e2)) ? size_t(-1) : TriangleOnEdge(tris, e1, e2);
+      const Index d = t == size_t(-1) ? InvalidIndex : ThirdVertex(tris, t, e1, e2);
+      if (d == InvalidIndex || this->FrontNode[d] != InvalidIndex || this->EdgeExists(x, d) ||
+        !ProperCross(this->Coord[x], this->Coord[d], this->Coord[e1], this->Coord[e2]))
+      {
+        continue;
+      }
+      // Counter-clockwise: (x, e1) and (e2, x) are front edges' directions around the ear.
+      const std::array<Index, 3> t1{ x, d, e2 }, t2{ x, e1, d };
+      const bool orderFirst = Orient(this->Coord[t1[0]], this->Coord[t1[1]], this->Coord[t1[2]]) > s.Tol &&
+        Orient(this->Coord[t2[0]], this->Coord[t2[1]], this->Coord[t2[2]]) > s.Tol;
+      if (!orderFirst || !this->Feasible(s, t1[0], t1[1], t1[2]) || !this->Feasible(s, t2[0], t2[1], t2[2]))
+      {
+        continue;
+      }
+      this->PutBack(s, tris, t);
+      this->Emit(s, tris, t1[0], t1[1], t1[2]);
+      this->Emit(s, tris, t2[0], t2[1], t2[2]);
+      this->RemoveFrontNode(s, i);
+      ++this->Res.EdgeSwaps;
+      return true;
+    }
+    return false;
+  }
+
+  // Face split (figure 6): the triangle behind the longer front edge at node i is put back; its
+  // third vertex joins the front (then bites into the freed area and ears follow). When that
+  // triangle is the corner's own (behind both edges at i) and i is an inner vertex, the vertex is
+  // deleted from the front instead (the extreme case of the paper's sequence of face splits).
+  bool FaceSplit(PatchState& s, std::vector<Index>& tris, Index i)
+  {
+    for (const auto& [first, other] : this->CornerEdges(s, i))
+    {
+      const Index e1 = s.Vert[first], e2 = s.Vert[s.Next[first]];
+      const size_t t = this->Segments.count(EdgeKey(e1, e2)) ? size_t(-1) : TriangleOnEdge(tris, e1, e2);
+      const Index d = t == size_t(-1) ? InvalidIndex : ThirdVertex(tris, t, e1, e2);
+      if (d == InvalidIndex)
+      {
+        continue;
+      }
+      if (this->FrontNode[d] == InvalidIndex)
+      {
+        this->PutBack(s, tris, t);
+        this->FrontNode[d] = s.InsertAfter(first, d);
+        ++this->Res.FaceSplits;
+        return true;
+      }
+      const auto inner = std::find(s.Inner.begin(), s.Inner.end(), s.Vert[i]);
+      if (d == s.Vert[other] && inner != s.Inner.end())
+      {
+        this->PutBack(s, tris, t);
+        this->RemoveFrontNode(s, i);
+        s.Consumed[size_t(inner - s.Inner.begin())] = 0;
+        ++this->Res.VertexDeletions;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Section 3.4.3: the sharpest corners of a stuck front first (edge swap, else face split); when
+  // no corner below the current sharpness bound can be repaired the bound is released step by
+  // step (s.SharpAngle), up to every convex corner.
+  bool Repair(PatchState& s, std::vector<Index>& tris)
+  {
+    for (; s.SharpAngle <= vtkMath::Pi(); s.SharpAngle += vtkMath::Pi() / 6)
+    {
+      std::vector<std::pair<double, Index>> corners;
+      Index i = s.Head;
+      do
+      {
+        const double angle = this->FrontAngle(s, i);
+        if (angle < s.SharpAngle)
+        {
+          corners.emplace_back(angle, i);
+        }
+        i = s.Next[i];
+      } while (i != s.Head);
+      std::sort(corners.begin(), corners.end());
+      for (const auto& corner : corners)
+      {
+        if (this->EdgeSwap(s, tris, corner.second) || this->FaceSplit(s, tris, corner.second))
+        {
+          return true;
+        }
+      }
+    }
+    s.SharpAngle = vtkMath::Pi() / 6;
+    return this->RepairLongestEdge(s, tris);
+  }
+
+  // Last resort: the triangle behind the longest front edge that is not a chain segment is put
+  // back, which frees the inner vertices it covered and reopens the front there.
+  bool RepairLongestEdge(PatchState& s, std::vector<Index>& tris)
+  {
+    size_t bestTri = size_t(-1);
+    Index bestNode = InvalidIndex, bestX = InvalidIndex;
+    double bestLength = -1;
+    Index i = s.Head;
+    do
+    {
+      const Index u = s.Vert[i], w = s.Vert[s.Next[i]];
+      const size_t t = this->Segments.count(EdgeKey(u, w)) ? size_t(-1) : TriangleOnEdge(tris, u, w);
+      const Index x = t == size_t(-1) ? InvalidIndex : ThirdVertex(tris, t, u, w);
+      const Vec3 d = M.Point(w) - M.Point(u);
+      if (x != InvalidIndex && this->FrontNode[x] == InvalidIndex && Dot(d, d) > bestLength)
+      {
+        bestLength = Dot(d, d);
+        bestTri = t;
+        bestNode = i;
+        bestX = x;
+      }
+      i = s.Next[i];
+    } while (i != s.Head);
+    if (bestNode == InvalidIndex)
+    {
+      return false;
+    }
+    this->PutBack(s, tris, bestTri);
+    this->FrontNode[bestX] = s.InsertAfter(bestNode, bestX);
     return true;
   }
 
@@ -895,7 +1197,7 @@ struct GreedyCuts::Worker
   bool ProjectPatch(Index p, PatchState& s)
   {
     s.Patch = p;
-    s.Normal = PP.PatchNormal(p);
+    s.Normal = G.HeightDirection[p];
     s.Careful = this->Careful[p] != 0;
     for (Index v : G.PatchLoops[p])
     {
@@ -1129,6 +1431,10 @@ struct GreedyCuts::Worker
     long long repairs = 4 * size + 16;
     for (long long step = 0; step < guard; ++step)
     {
+      if (s.Count == 2)
+      {
+        return true; // an edge swap at the last three nodes covered the last ear and closed the front
+      }
       if (s.Count == 3)
       {
         const Index a = s.Head, b = s.Next[a], c = s.Next[b];
@@ -1174,6 +1480,11 @@ struct GreedyCuts::Worker
       return;
     }
     touched.push_back(p);
+    if (!this->AngleReleased[p])
+    {
+      this->AngleReleased[p] = 1;
+      return;
+    }
     if (!this->Careful[p])
     {
       this->Careful[p] = 1;
@@ -1296,6 +1607,10 @@ struct GreedyCuts::Worker
       this->Res.Triangles.insert(this->Res.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
       this->Res.TrianglePatch.insert(this->Res.TrianglePatch.end(), this->PatchTris[p].size() / 3, p);
       this->Res.OriginalPatches += this->PatchOriginal[p];
+      if (this->PatchOriginal[p])
+      {
+        this->Res.FallbackPatchIds.push_back(p);
+      }
       this->Res.RefinedPatches += this->Refined[p] && !this->PatchOriginal[p];
     }
     this->Res.NumberOfPatches = np;
@@ -1375,8 +1690,29 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     }
     return !this->WasAborted;
   }
-  GreedyCuts::Worker run(*this, parameters, result);
-  return run.Execute(progress);
+  // Patches split by an earlier run are restored: a run's result depends on epsilon only.
+  if (this->Patches.NumberOfPatches() != Index(this->InitialHeights.size()))
+  {
+    this->Patches.BuildFromLabels(*this->Mesh, this->Topology, this->InitialLabels, Index(this->InitialHeights.size()));
+    this->HeightDirection = this->InitialHeights;
+    this->BuildPatchData();
+  }
+  // A patch that falls back to its original triangles is split in two and the run repeated
+  // (bounded: MaximumSplitRounds runs more at most, each only when some patch fell back).
+  for (int round = 0;; ++round)
+  {
+    result = GreedyCutsResult();
+    GreedyCuts::Worker run(*this, parameters, result);
+    if (!run.Execute(progress))
+    {
+      return false;
+    }
+    if (result.FallbackPatchIds.empty() || round >= MaximumSplitRounds || !this->SplitPatches(result.FallbackPatchIds))
+    {
+      result.SplitRounds = round;
+      return true;
+    }
+  }
 }
 
 bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,

@@ -11,11 +11,13 @@
 //     patch (the candidates nearest the apex of the equilateral triangle on the edge first, i.e.
 //     aspect ratio near 1; the bite of largest area over the edges wins); when no such bite is
 //     feasible either, every inner vertex is tried for the longest edges first (our stand-in for
-//     edge splitting: no Steiner points exist); when stuck, front repair (3.4.3, simplified): the
-//     triangle behind the longest front edge is put back (never cut again), freeing its vertices;
+//     edge splitting: no Steiner points exist); when stuck, front repair (3.4.3) at the sharpest
+//     corners first: edge swap, face split or vertex deletion, then the triangle behind the longest
+//     front edge is put back (every triangle put back is never cut again);
 //  3. a patch that stays stuck is retried in careful mode (ears may not swallow unused inner
 //     vertices while a bite exists), then with its chains at full resolution, then replaced by its
-//     original triangles (always feasible), so the run always terminates with a valid mesh;
+//     original triangles (always feasible), so the run always terminates with a valid mesh; when
+//     some patch ended there, it is split in two and the whole run repeated (bounded);
 //  4. the whole result is verified: every original triangle within epsilon of the output
 //     (rigorous, see below) and every edge used by at most two triangles; patches of failing
 //     triangles are escalated as in 3 and the run repeats from there.
@@ -38,6 +40,7 @@
 
 #include "slodMeshTopology.h"
 #include "slodPatchification.h"
+#include "slodTerrainPatchification.h"
 #include "slodTriangleBVH.h"
 #include "slodTriangleMesh.h"
 
@@ -54,6 +57,9 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   double LocalTolerance = 0.97;  // test (b) uses this fraction of epsilon (margin for stage 4)
   int BiteCandidates = 8;        // inner vertices tried per edge in greedy biting
   double MinimumAngle = 0.5;     // degrees: thinner candidate triangles are rejected
+  // Degrees: a patch's first attempt also rejects triangles thinner than this (fewer slivers);
+  // a patch that gets stuck is retried at MinimumAngle (the paper's gradual release). 0 = off.
+  double ShapedAngle = 0.0;
   int SubdivisionDepth = 10;     // adaptive distance test depth
 };
 
@@ -65,8 +71,11 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
   double ErrorBound = 0;            // the guaranteed two-sided Hausdorff bound (= epsilon)
   // Statistics.
   long long Ears = 0, Bites = 0, WideBites = 0, Repairs = 0, FeasibilityTests = 0;
+  long long EdgeSwaps = 0, FaceSplits = 0, VertexDeletions = 0; // front repairs by kind (3.4.3)
   Index RefinedPatches = 0;  // patches re-run with full-resolution chains
   Index OriginalPatches = 0; // patches kept as their original triangles
+  std::vector<Index> FallbackPatchIds; // ... which ones
+  int SplitRounds = 0;       // runs repeated after splitting patches that fell back
   int Rounds = 0;
   bool Aborted = false;
 };
@@ -86,12 +95,18 @@ public:
   GreedyCuts(const GreedyCuts&) = delete;
   GreedyCuts& operator=(const GreedyCuts&) = delete;
 
-  // Patchifies the mesh (which must outlive this object; closed or with borders, manifold).
+  // Patchifies the mesh (which must outlive this object; closed or with borders, manifold):
+  // chapter 4's small near-planar patches (slod::Patchification with `patches`), or, when
+  // `terrain` is given, chapter 3's own terrain-like patches (section 3.4.1,
+  // slod::BuildTerrainPatches), each triangulated in the plane orthogonal to its height direction.
   void Initialize(const TriangleMesh& mesh, const PatchificationParameters& patches,
-    const ProgressFunction& progress = nullptr);
+    const ProgressFunction& progress = nullptr, const TerrainPatchificationParameters* terrain = nullptr);
   bool Aborted() const { return this->WasAborted; }
   bool WorkBoundReached() const { return this->SearchStoppedByWorkBound; }
   const Patchification& GetPatches() const { return this->Patches; }
+  // Direction each patch is triangulated along (its height direction; chapter 4: its mean normal).
+  const std::vector<Vec3>& GetHeightDirections() const { return this->HeightDirection; }
+  bool TerrainPatchesUsed() const { return this->Terrain; }
 
   // One run at parameters.Epsilon. Returns false when aborted.
   bool Run(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
@@ -108,9 +123,15 @@ public:
 
 private:
   struct Worker;
+  void BuildPatchData();
+  bool SplitPatches(const std::vector<Index>& patches);
+  std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
+  std::vector<Vec3> InitialHeights;
   const TriangleMesh* Mesh = nullptr;
   MeshTopology Topology;
   Patchification Patches;
+  std::vector<Vec3> HeightDirection;
+  bool Terrain = false;
   TriangleBVH Bvh;
   bool WasAborted = false;
   mutable long long ProofPieces = 0; // pieces examined by the distance proofs (work account)

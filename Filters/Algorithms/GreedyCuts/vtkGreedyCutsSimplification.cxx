@@ -9,6 +9,7 @@
 #include "vtkCellData.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -65,6 +66,17 @@ void StoreSimplification(vtkPolyData* input, const slod::TriangleMesh& mesh,
   relativeArray->InsertNextValue(diagonal > 0 ? result.ErrorBound / diagonal : 0.0);
   output->GetFieldData()->AddArray(boundArray);
   output->GetFieldData()->AddArray(relativeArray);
+  // Patches whose greedy triangulation failed even after the front repairs and refined chains:
+  // kept as their original triangles (the goal is none), and the repairs done (section 3.4.3).
+  for (const auto& [name, value] : { std::pair<const char*, long long>{ "FallbackPatches", result.OriginalPatches },
+         { "FrontRepairs", result.Repairs }, { "EdgeSwaps", result.EdgeSwaps }, { "FaceSplits", result.FaceSplits },
+         { "VertexDeletions", result.VertexDeletions } })
+  {
+    vtkNew<vtkIdTypeArray> counter;
+    counter->SetName(name);
+    counter->InsertNextValue(static_cast<vtkIdType>(value));
+    output->GetFieldData()->AddArray(counter);
+  }
 }
 } // namespace
 
@@ -107,8 +119,11 @@ int vtkGreedyCutsSimplification::RequestData(
   patchParameters.OneEdgeNeighborAngle = this->NeighborAngle;
   patchParameters.TwoEdgePatchAngle = this->TwoEdgePatchAngle;
   patchParameters.TwoEdgeNeighborAngle = this->TwoEdgeNeighborAngle;
+  slod::TerrainPatchificationParameters terrain;
+  terrain.MinimumPatchTriangles = this->MinimumPatchTriangles;
   slod::GreedyCuts cuts;
-  cuts.Initialize(mesh, patchParameters, slod::FilterProgress(this, 0.0, 0.1));
+  cuts.Initialize(mesh, patchParameters, slod::FilterProgress(this, 0.0, 0.1),
+    this->Patchification == CHAPTER3_TERRAIN_PATCHES ? &terrain : nullptr);
   if (cuts.Aborted())
   {
     slod::ReportAbort(this, output);
@@ -119,6 +134,7 @@ int vtkGreedyCutsSimplification::RequestData(
   slod::GreedyCutsParameters parameters;
   parameters.BiteCandidates = this->BiteCandidates;
   parameters.MinimumAngle = this->MinimumTriangleAngle;
+  parameters.ShapedAngle = this->ShapedTriangleAngle;
   const double bound = this->MaximumErrorIsRelative ? this->MaximumError * diagonal : this->MaximumError;
   vtkIdType target = 0;
   // The filter contract's targets (slodFilterContract.h); MaximumError is always a bound here, so
@@ -179,12 +195,16 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "TargetSearchSteps: " << this->TargetSearchSteps << "\n";
+  os << indent << "Patchification: "
+     << (this->Patchification == CHAPTER3_TERRAIN_PATCHES ? "chapter 3 terrain patches" : "chapter 4 patches") << "\n";
+  os << indent << "MinimumPatchTriangles: " << this->MinimumPatchTriangles << "\n";
   os << indent << "PatchAngle: " << this->PatchAngle << "\n";
   os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
   os << indent << "TwoEdgePatchAngle: " << this->TwoEdgePatchAngle << "\n";
   os << indent << "TwoEdgeNeighborAngle: " << this->TwoEdgeNeighborAngle << "\n";
   os << indent << "BiteCandidates: " << this->BiteCandidates << "\n";
   os << indent << "MinimumTriangleAngle: " << this->MinimumTriangleAngle << "\n";
+  os << indent << "ShapedTriangleAngle: " << this->ShapedTriangleAngle << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";

@@ -12,9 +12,11 @@
  * edge to an original vertex inside the patch, the best-shaped candidates first) is taken, else
  * every inner vertex is tried (edge splitting without Steiner points). A triangle is feasible when
  * it lies within epsilon of the original surface (rigorous adaptive test against a BVH) and the
- * original triangles under it lie within epsilon of it and face the same way. A patch that gets
- * stuck is retried with full-resolution chains and finally kept as its original triangles, so the
- * filter always terminates. A final verification proves that every original triangle lies within
+ * original triangles under it lie within epsilon of it and face the same way. A stuck front is
+ * repaired (section 3.4.3: edge swap, face split, vertex deletion at its sharpest corners); a
+ * patch that stays stuck is retried with full-resolution chains, then split in two and the run
+ * repeated (bounded), and only then kept as its original triangles (field data
+ * "FallbackPatches"), so the filter always terminates. A final verification proves that every original triangle lies within
  * epsilon of the output. See slodGreedyCuts.h for the details.
  *
  * Guarantees: output vertices are a subset of the (prepared) input's; a closed manifold input
@@ -69,6 +71,23 @@ public:
   vtkGetMacro(TargetSearchSteps, int);
   ///@}
 
+  /**
+   * The patchification: CHAPTER4_PATCHES (default), chapter 4's small near-planar patches grown
+   * with the angle tolerances below (slod::Patchification); CHAPTER3_TERRAIN_PATCHES, the
+   * chapter's own (section 3.4.1): large terrain-like patches of 26 normal classes, each a height
+   * field over its height direction, small ones merged (slod::BuildTerrainPatches, with
+   * MinimumPatchTriangles).
+   */
+  enum PatchificationModes
+  {
+    CHAPTER4_PATCHES = 0,
+    CHAPTER3_TERRAIN_PATCHES = 1
+  };
+  vtkSetClampMacro(Patchification, int, CHAPTER4_PATCHES, CHAPTER3_TERRAIN_PATCHES);
+  vtkGetMacro(Patchification, int);
+  vtkSetClampMacro(MinimumPatchTriangles, int, 1, VTK_INT_MAX);
+  vtkGetMacro(MinimumPatchTriangles, int);
+
   ///@{
   /** Patch growth tolerances in degrees (see slod::PatchificationParameters). */
   vtkSetClampMacro(PatchAngle, double, 0.0, 180.0);
@@ -87,6 +106,13 @@ public:
   vtkGetMacro(BiteCandidates, int);
   vtkSetClampMacro(MinimumTriangleAngle, double, 0.0, 30.0);
   vtkGetMacro(MinimumTriangleAngle, double);
+  /**
+   * Smallest angle (degrees) asked of a patch's triangles on its first attempt; a patch whose
+   * front gets stuck there is retried at MinimumTriangleAngle (section 3.4.3's gradual release of
+   * the shape bound). 0 = off.
+   */
+  vtkSetClampMacro(ShapedTriangleAngle, double, 0.0, 30.0);
+  vtkGetMacro(ShapedTriangleAngle, double);
   ///@}
   /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
   vtkSetMacro(OutputPointsPrecision, int);
@@ -113,12 +139,15 @@ protected:
   vtkIdType TargetNumberOfTriangles = 0;
   double TargetReduction = 0.0;
   int TargetSearchSteps = 10;
+  int Patchification = CHAPTER4_PATCHES;
+  int MinimumPatchTriangles = 32;
   double PatchAngle = 25.0;
   double NeighborAngle = 20.0;
   double TwoEdgePatchAngle = 90.0;
   double TwoEdgeNeighborAngle = 90.0;
   int BiteCandidates = 8;
   double MinimumTriangleAngle = 0.5;
+  double ShapedTriangleAngle = 0.0;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double UsedMaximumError = 0;
