@@ -220,6 +220,31 @@ void StoreRetiling(const slod::RetilingResult& retiling, const slod::TriangleMes
   }
   attributes.Store(polyData->GetPointData(), rows);
 }
+// Field data of a coarser nested level: RetileRemovals, the collapses (removed, target; point ids of
+// the next finer level) that turn the next finer level into this one (section 6.2), which
+// vtkRetileLevelInterpolation replays to track the fragments, and RetileRemovalsFinerPoints, the
+// number of points of that finer level (records meant for another level are not tried).
+void StoreRemovals(const slod::RetilingResult& level, vtkPolyData* polyData)
+{
+  if (level.Removals.empty())
+  {
+    return;
+  }
+  vtkNew<vtkIdTypeArray> removals;
+  removals->SetName("RetileRemovals");
+  removals->SetNumberOfComponents(2);
+  removals->SetNumberOfTuples(static_cast<vtkIdType>(level.Removals.size() / 2));
+  for (size_t i = 0; i < level.Removals.size(); ++i)
+  {
+    removals->SetValue(static_cast<vtkIdType>(i), level.Removals[i]);
+  }
+  polyData->GetFieldData()->AddArray(removals);
+  vtkNew<vtkIdTypeArray> finerPoints; // which level the records start from
+  finerPoints->SetName("RetileRemovalsFinerPoints");
+  finerPoints->InsertNextValue(level.Mesh.NumberOfPoints() + static_cast<vtkIdType>(level.Removals.size() / 2));
+  polyData->GetFieldData()->AddArray(finerPoints);
+}
+
 // Field data: RetainedVertices (original vertices kept for the topology) and, for an explicit
 // vertex count, NumberOfPointsReached (1 when the output has exactly that many vertices).
 void StoreCountReport(vtkPolyData* output, slod::Index wanted, slod::Index retained)
@@ -355,6 +380,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     {
       vtkNew<vtkPolyData> level;
       StoreRetiling(levels[k], mesh, inputAttributes, pointType, level);
+      StoreRemovals(levels[k], level);
       levelsOutput->SetBlock(static_cast<unsigned int>(k), level);
     }
   }
