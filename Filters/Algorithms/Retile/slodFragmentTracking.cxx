@@ -47,16 +47,18 @@ struct Fragment
   std::vector<Index> Ring; // tracked vertices, oriented as the high triangle
 };
 
-// One removal's hole in the plane: the removed vertex, its ring, the new triangles.
+// One local re-triangulation in the plane: a removal's hole (the removed vertex, its ring) or an
+// edge flip's quad, its old and new triangles and the new edges inside it.
 struct Hole
 {
-  Index Removed = InvalidIndex, Target = InvalidIndex;
+  Index Removed = InvalidIndex, Target = InvalidIndex; // removal r -> c; a flip has no removed vertex
+  std::array<Index, 4> Quad{};                         // flip of edge (x, y) of triangles (x, y, q), (y, x, z)
   std::vector<Index> Ring;   // link of the removed vertex, in order
   bool Closed = true;        // false: the removed vertex is on a border (Ring runs border to border)
   std::vector<Index> Star;   // its triangles (edit ids)
   std::vector<Index> Kept;   // the star triangles that survive the collapse (edit ids)
   std::vector<std::array<Index, 3>> NewCorners; // per kept triangle: its corners after the collapse
-  std::vector<Index> ChordEnds; // ring vertices joined to Target by a new edge inside the hole
+  std::vector<std::array<Index, 2>> Chords; // the new edges inside the hole
 };
 
 class FragmentTracker
@@ -85,12 +87,15 @@ public:
     this->SlotStamp.assign(size_t(nv), 0);
   }
 
-  // Replays the half-edge collapse r -> c with its fragments; false (error set) when it cannot be.
-  bool Remove(Index r, Index c, std::string& error)
+  // Replays one operation with its fragments: the half-edge collapse a -> b, or for a < 0 the flip
+  // of edge (-1 - a, b). False (error set) when it cannot be.
+  bool Apply(Index a, Index b, std::string& error)
   {
     ++this->Epoch;
     Hole& hole = this->Current;
-    if (!this->GatherHole(r, c, hole, error) || !this->LayOutStar(hole, error))
+    const bool flip = a < 0;
+    if (!(flip ? this->GatherQuad(-1 - a, b, hole, error) : this->GatherHole(a, b, hole, error)) ||
+      !this->LayOutStar(hole, error))
     {
       return false;
     }
@@ -112,8 +117,12 @@ public:
     {
       return false;
     }
-    const Index pair[2] = { r, c };
-    this->Edit.Collapse(pair, 2, c, this->Edit.Point(c));
+    if (flip)
+    {
+      return this->Edit.FlipEdge(hole.Quad[0], hole.Quad[1]);
+    }
+    const Index pair[2] = { a, b };
+    this->Edit.Collapse(pair, 2, b, this->Edit.Point(b));
     return true;
   }
 
@@ -208,9 +217,52 @@ private:
       const bool farEnd = !hole.Closed && (i == 0 || i + 1 == n); // the new border edge
       if (!neighbour && !farEnd)
       {
-        hole.ChordEnds.push_back(hole.Ring[i]);
+        hole.Chords.push_back({ c, hole.Ring[i] });
       }
     }
+    return true;
+  }
+
+  // The two triangles of edge (x, y), their new corners after the flip and the new diagonal.
+  bool GatherQuad(Index x, Index y, Hole& hole, std::string& error)
+  {
+    hole = Hole();
+    const Index nv = this->Edit.NumberOfPoints();
+    Index q = InvalidIndex, z = InvalidIndex;
+    if (x >= 0 && y >= 0 && x < nv && y < nv && this->Edit.IsVertexAlive(x) && this->Edit.IsVertexAlive(y))
+    {
+      this->Edit.ForEachTriangle(x, [&](Index t) {
+        const Index* tri = this->Edit.Triangle(t);
+        for (int k = 0; k < 3; ++k)
+        {
+          if (tri[k] == x && tri[(k + 1) % 3] == y)
+          {
+            hole.Star.insert(hole.Star.begin(), t);
+            q = tri[(k + 2) % 3];
+          }
+          else if (tri[k] == y && tri[(k + 1) % 3] == x)
+          {
+            hole.Star.push_back(t);
+            z = tri[(k + 2) % 3];
+          }
+        }
+      });
+    }
+    if (hole.Star.size() != 2 || q == InvalidIndex || z == InvalidIndex || q == z || this->Edit.EdgeTriangleCount(q, z) > 0)
+    {
+      error = "edge " + std::to_string(x) + " - " + std::to_string(y) + " cannot be flipped";
+      return false;
+    }
+    hole.Quad = { x, y, q, z };
+    hole.Kept = hole.Star;
+    for (int k = 0; k < 2; ++k)
+    {
+      const Index* tri = this->Edit.Triangle(hole.Star[k]);
+      std::array<Index, 3> corners{ tri[0], tri[1], tri[2] };
+      std::replace(corners.begin(), corners.end(), k == 0 ? y : x, k == 0 ? z : q); // as EditableMesh::FlipEdge
+      hole.NewCorners.push_back(corners);
+    }
+    hole.Chords.push_back({ q, z });
     return true;
   }
 
@@ -234,7 +286,14 @@ private:
     {
       this->Plane.clear();
       ++this->Epoch;
-      this->PlaceRing(hole, attempt == 1);
+      if (hole.Removed == InvalidIndex)
+      {
+        this->PlaceQuad(hole, attempt == 1);
+      }
+      else
+      {
+        this->PlaceRing(hole, attempt == 1);
+      }
       if (this->FanIsValid(hole))
       {
         return true;
@@ -271,6 +330,31 @@ private:
       this->Slot(hole.Ring[i]) = { rho * std::cos(phi), rho * std::sin(phi) };
       phi += i < gaps ? angle[i] * turn : 0.0;
     }
+  }
+
+  // The quad unfolded along its diagonal (lengths kept), or a square.
+  void PlaceQuad(const Hole& hole, bool convex)
+  {
+    const Index x = hole.Quad[0], y = hole.Quad[1], q = hole.Quad[2], z = hole.Quad[3];
+    if (convex)
+    {
+      this->Slot(x) = { -1, 0 };
+      this->Slot(y) = { 1, 0 };
+      this->Slot(q) = { 0, 1 };
+      this->Slot(z) = { 0, -1 };
+      return;
+    }
+    const Vec3 origin = this->Edit.Point(x), axis = this->Edit.Point(y) - origin;
+    const double length = Norm(axis);
+    auto unfold = [&](Index v, double sign) {
+      const Vec3 d = this->Edit.Point(v) - origin;
+      const double along = Dot(d, axis) / (length * length);
+      return Vec2{ along, sign * Norm(Cross(axis, d)) / (length * length) };
+    };
+    this->Slot(x) = { 0, 0 };
+    this->Slot(y) = { 1, 0 };
+    this->Slot(q) = unfold(q, 1.0);
+    this->Slot(z) = unfold(z, -1.0);
   }
 
   // Every old and new triangle of the hole positively oriented in the plane.
@@ -353,7 +437,7 @@ private:
     {
       std::swap(p, q);
     }
-    const auto key = std::make_tuple(p, q, b);
+    const auto key = std::make_tuple(p, q, c, b);
     const auto found = this->Splits.find(key);
     if (found != this->Splits.end())
     {
@@ -381,12 +465,12 @@ private:
   {
     const size_t first = pieces.size();
     pieces.push_back(f);
-    for (Index b : hole.ChordEnds)
+    for (const auto& chord : hole.Chords)
     {
       const size_t count = pieces.size();
       for (size_t i = first; i < count; ++i)
       {
-        this->SplitPiece(pieces[i], hole.Target, b, pieces);
+        this->SplitPiece(pieces[i], chord[0], chord[1], pieces);
       }
     }
   }
@@ -506,7 +590,7 @@ private:
       this->FragmentsOf[hole.Kept[best]].push_back(f);
       for (Index v : ring)
       {
-        if (this->Vertices[v].Where.N == 0 || this->Vertices[v].Where.Uses(hole.Removed))
+        if (!this->InOneNewTriangle(hole, this->Vertices[v].Where))
         {
           auto& list = triangles[v];
           if (std::find(list.begin(), list.end(), best) == list.end())
@@ -521,6 +605,24 @@ private:
       this->Relocate(hole, entry.first, entry.second);
     }
     return true;
+  }
+
+  // Whether a location is already a point of one new triangle (a corner, or on the hole's boundary).
+  bool InOneNewTriangle(const Hole& hole, const Support& s) const
+  {
+    for (const auto& corners : hole.NewCorners)
+    {
+      bool inside = s.N > 0;
+      for (int k = 0; k < s.N; ++k)
+      {
+        inside = inside && std::find(corners.begin(), corners.end(), s.V[k]) != corners.end();
+      }
+      if (inside)
+      {
+        return true;
+      }
+    }
+    return false;
   }
 
   void Relocate(const Hole& hole, Index v, const std::vector<size_t>& in)
@@ -567,7 +669,7 @@ private:
   std::vector<std::uint64_t> SlotStamp;
   std::vector<std::uint64_t> VertexStamp; // tracked vertex: VertexPlane valid when == Epoch
   std::vector<Vec2> VertexPlane;
-  std::map<std::tuple<Index, Index, Index>, Index> Splits;
+  std::map<std::tuple<Index, Index, Index, Index>, Index> Splits;
 };
 // Whether m lies on the segment ab, strictly between its ends (a diagonal there leaves a T-junction).
 bool OnSegment(const Vec3& m, const Vec3& a, const Vec3& b)
@@ -743,7 +845,7 @@ void TrackLevels(
     result.Error = "both levels need triangles";
     return;
   }
-  if (removals.size() % 2 != 0 || removals.size() / 2 >= size_t(high.NumberOfPoints()))
+  if (removals.size() % 2 != 0)
   {
     result.Error = "the removal records are not pairs of the high-detail level's vertices";
     return;
@@ -751,7 +853,7 @@ void TrackLevels(
   FragmentTracker tracker(high);
   for (size_t i = 0; i < removals.size(); i += 2)
   {
-    if (!tracker.Remove(removals[i], removals[i + 1], result.Error))
+    if (!tracker.Apply(removals[i], removals[i + 1], result.Error))
     {
       return;
     }

@@ -1340,8 +1340,10 @@ Index OppositeApex(const EditableMesh& edit, Index t, Index x, Index y)
   return count == 1 ? z : InvalidIndex;
 }
 
-// Step 6 (section 4.5): shape improvement by edge flips. Returns the number of flips.
-Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference, int passes, const OldVertexRemoval& removal)
+// Step 6 (section 4.5): shape improvement by edge flips. Returns the number of flips. record
+// (optional): each flip of edge (x, y) as the pair (-1 - x, y).
+Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference, int passes,
+  const OldVertexRemoval& removal, std::vector<Index>* record = nullptr)
 {
   Index flips = 0;
   for (int pass = 0; pass < passes; ++pass)
@@ -1362,6 +1364,11 @@ Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference
           !edit.FlipEdge(x, y))
         {
           continue;
+        }
+        if (record)
+        {
+          record->push_back(-1 - x);
+          record->push_back(y);
         }
         ++passFlips;
       }
@@ -1534,8 +1541,8 @@ std::vector<Vec3> HostNormals(const TriangleMesh& mesh, const std::vector<Vec3>&
 // Section 6.2: a coarser nested level from the next finer one. Every vertex of the finer level
 // that is not one of the first `keep` candidates is removed by the re-tiling's own step 5 (phases
 // 0-1 and their relaxed repeat, facing tested against the input's normals; phase 2 never applies
-// since every kept vertex is fixed); each collapse is recorded (coarse.Removals, in the finer
-// level's ids). The survivors keep the finer level's order, so the first vertices are the kept
+// since every kept vertex is fixed), then step 6's flips; each collapse and flip is recorded
+// (coarse.Removals, in the finer level's ids). The survivors keep the finer level's order, so the first vertices are the kept
 // candidates in candidate order. Returns false when aborted.
 bool DeriveCoarserLevel(const TriangleMesh& mesh, const std::vector<Vec3>& inputNormals, const RetilingResult& fine,
   Index keep, const RetilingOptions& options, RetilingResult& coarse, std::vector<Index>& survivors)
@@ -1587,6 +1594,7 @@ bool DeriveCoarserLevel(const TriangleMesh& mesh, const std::vector<Vec3>& input
   {
     return false;
   }
+  coarse.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses, removal, &record);
   edit.Extract(coarse.Mesh, &survivors);
   for (Index& id : survivors)
   {
@@ -1595,7 +1603,8 @@ bool DeriveCoarserLevel(const TriangleMesh& mesh, const std::vector<Vec3>& input
   const std::vector<Index> fineIds = survivors;
   SortVerticesByKey(coarse.Mesh, survivors, [&](Index v) { return fineIds[v]; });
   coarse.Removals.resize(record.size());
-  std::transform(record.begin(), record.end(), coarse.Removals.begin(), [&](Index id) { return order[id]; });
+  std::transform(record.begin(), record.end(), coarse.Removals.begin(),
+    [&](Index id) { return id >= 0 ? order[id] : -1 - order[-1 - id]; });
   const size_t nv = survivors.size();
   coarse.HostTriangle.resize(nv);
   coarse.Barycentric.resize(3 * nv);
@@ -1678,7 +1687,7 @@ void NestedOrder(std::vector<RetilingResult>& levels, std::vector<std::vector<In
     }
     for (Index& v : levels[k - 1].Removals)
     {
-      v = oldToNew[v];
+      v = v >= 0 ? oldToNew[v] : -1 - oldToNew[-1 - v]; // (-1 - x, y): a flip of edge (x, y)
     }
     if (k < finer.size())
     {

@@ -77,9 +77,10 @@ struct SURFACELODFILTERS_EXPORT RetilingResult
   // else InvalidIndex (a retained old vertex).
   std::vector<Index> Candidate;
   // Nested levels (RetileNested), every level but the finest: how this level comes from the next
-  // finer one (section 6.2), as the half-edge collapses that removed the finer level's other
-  // vertices, in order: pairs (removed, target) in the finer level's vertex ids. Replaying them on
-  // the finer level gives this level's triangles exactly (fragment tracking, slodFragmentTracking.h).
+  // finer one (section 6.2), in order, as pairs in the finer level's vertex ids: (removed, target)
+  // for the half-edge collapses that removed the finer level's other vertices, then (-1 - x, y)
+  // for the shape flips of edge (x, y). Replaying them on the finer level gives this level's
+  // triangles exactly (fragment tracking, slodFragmentTracking.h).
   std::vector<Index> Removals;
   Index CandidatePoints = 0;
   Index RetainedOldVertices = 0;   // old vertices no check allowed to remove (kept in the output)
@@ -122,7 +123,7 @@ SURFACELODFILTERS_EXPORT void Retile(const TriangleMesh& mesh, const RetilingOpt
 // dropped; options.NumberOfPoints is ignored). The points are placed coarse to fine (each level's
 // points fixed while the next level's are added and relaxed); the finest level is tiled from the
 // original surface, and each coarser level comes from the next finer one by removing the finer
-// level's other vertices (collapses onto a neighbour, recorded in Removals; no shape flips). So
+// level's other vertices (collapses onto a neighbour, then shape flips; recorded in Removals). So
 // the vertices of each level are the first vertices of every finer level, at the same positions
 // and in the same order. A finer vertex no collapse can remove stays in the coarser level (after
 // its own vertices; counted in RetainedOldVertices). Spacing figures are not computed per level.

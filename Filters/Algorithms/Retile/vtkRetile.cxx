@@ -221,7 +221,8 @@ void StoreRetiling(const slod::RetilingResult& retiling, const slod::TriangleMes
   attributes.Store(polyData->GetPointData(), rows);
 }
 // Field data of a coarser nested level: RetileRemovals, the collapses (removed, target; point ids of
-// the next finer level) that turn the next finer level into this one (section 6.2), which
+// the next finer level) and flips ((-1 - x, y) for edge (x, y)) that turn the next finer level
+// into this one (section 6.2), which
 // vtkRetileLevelInterpolation replays to track the fragments, and RetileRemovalsFinerPoints, the
 // number of points of that finer level (records meant for another level are not tried).
 void StoreRemovals(const slod::RetilingResult& level, vtkPolyData* polyData)
@@ -241,7 +242,12 @@ void StoreRemovals(const slod::RetilingResult& level, vtkPolyData* polyData)
   polyData->GetFieldData()->AddArray(removals);
   vtkNew<vtkIdTypeArray> finerPoints; // which level the records start from
   finerPoints->SetName("RetileRemovalsFinerPoints");
-  finerPoints->InsertNextValue(level.Mesh.NumberOfPoints() + static_cast<vtkIdType>(level.Removals.size() / 2));
+  vtkIdType removed = 0;
+  for (size_t i = 0; i < level.Removals.size(); i += 2)
+  {
+    removed += level.Removals[i] >= 0 ? 1 : 0; // (-1 - x, y): a flip
+  }
+  finerPoints->InsertNextValue(level.Mesh.NumberOfPoints() + removed);
   polyData->GetFieldData()->AddArray(finerPoints);
 }
 

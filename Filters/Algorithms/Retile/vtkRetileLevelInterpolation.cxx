@@ -97,12 +97,17 @@ bool RemovalRecords(vtkPolyData* lowInput, const std::vector<slod::Index>& highT
     inputToHigh[highToInput[v]] = static_cast<slod::Index>(v);
   }
   removals.resize(static_cast<size_t>(2 * records->GetNumberOfTuples()));
+  bool valid = true;
   for (size_t i = 0; i < removals.size(); ++i)
   {
-    const vtkIdType id = records->GetValue(static_cast<vtkIdType>(i));
-    removals[i] = id >= 0 && id < highInputPoints ? inputToHigh[id] : slod::InvalidIndex;
+    // (-1 - x, y) is the flip of edge (x, y) (so -1 is a valid first value).
+    const vtkIdType value = records->GetValue(static_cast<vtkIdType>(i));
+    const vtkIdType id = value >= 0 ? value : -1 - value;
+    const slod::Index mapped = id < highInputPoints ? inputToHigh[id] : slod::InvalidIndex;
+    valid = valid && mapped != slod::InvalidIndex && (value >= 0 || i % 2 == 0);
+    removals[i] = value >= 0 || mapped == slod::InvalidIndex ? mapped : -1 - mapped;
   }
-  return std::find(removals.begin(), removals.end(), slod::InvalidIndex) == removals.end();
+  return valid;
 }
 } // namespace
 
@@ -171,7 +176,11 @@ int vtkRetileLevelInterpolation::RequestData(
                     << (result.Error.empty() ? std::string("ids out of range") : result.Error)
                     << "): closest-point flattening is used instead.");
   }
-  this->NumberOfTrackedRemovals = result.Valid ? static_cast<vtkIdType>(removals.size() / 2) : 0;
+  this->NumberOfTrackedRemovals = 0;
+  for (size_t i = 0; result.Valid && i < removals.size(); i += 2)
+  {
+    this->NumberOfTrackedRemovals += removals[i] >= 0 ? 1 : 0; // (-1 - x, y): a flip
+  }
   if (!result.Valid)
   {
     slod::InterpolateLevels(high, low, result);
