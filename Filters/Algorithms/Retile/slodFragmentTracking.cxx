@@ -680,53 +680,6 @@ bool OnSegment(const Vec3& m, const Vec3& a, const Vec3& b)
   return t > 0 && t < 1 && Norm(m - (a + t * ab)) < 1e-9 * std::sqrt(length2);
 }
 
-Vec3 PointOf(const std::vector<double>& xyz, Index v)
-{
-  return Vec3{ xyz[3 * size_t(v)], xyz[3 * size_t(v) + 1], xyz[3 * size_t(v) + 2] };
-}
-
-// A fragment is convex on both levels but has collinear vertices (crossings on its sides): clip the
-// best-shaped ear (smallest angle on both shapes) first, never a flat one nor one whose diagonal
-// runs through another vertex.
-void TriangulateFragment(const std::vector<Index>& fragmentRing, const Vec3& normal, Index highTriangle,
-  Index lowTriangle, Index fragment, LevelInterpolation& result)
-{
-  std::vector<Index> ring = fragmentRing;
-  while (ring.size() >= 3)
-  {
-    const size_t r = ring.size();
-    size_t best = 0;
-    double bestAngle = -1;
-    for (size_t k = 0; k < r && r > 3; ++k)
-    {
-      const size_t kp = (k + r - 1) % r, kn = (k + 1) % r;
-      const Vec3 hp = PointOf(result.HighPositions, ring[kp]), hq = PointOf(result.HighPositions, ring[k]),
-                 hs = PointOf(result.HighPositions, ring[kn]);
-      const double highAngle = MinimumAngle(hp, hq, hs);
-      bool valid = highAngle > 1e-9 && Dot(Cross(hq - hp, hs - hq), normal) > 0;
-      for (size_t m = 0; m < r && valid; ++m)
-      {
-        valid = m == kp || m == k || m == kn || !OnSegment(PointOf(result.HighPositions, ring[m]), hp, hs);
-      }
-      const double lowAngle = MinimumAngle(PointOf(result.LowPositions, ring[kp]),
-        PointOf(result.LowPositions, ring[k]), PointOf(result.LowPositions, ring[kn]));
-      const double angle = valid ? std::min(highAngle, lowAngle) + 1e-6 : 0.0;
-      if (angle > bestAngle)
-      {
-        bestAngle = angle;
-        best = k;
-      }
-    }
-    result.Triangles.push_back(ring[(best + r - 1) % r]);
-    result.Triangles.push_back(ring[best]);
-    result.Triangles.push_back(ring[(best + 1) % r]);
-    result.HighTriangle.push_back(highTriangle);
-    result.LowTriangle.push_back(lowTriangle);
-    result.Fragment.push_back(fragment);
-    ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(best));
-  }
-}
-
 // The replayed mesh against the low level: each live vertex at the position of one low vertex,
 // each live triangle one low triangle (lowTriangleOf, per edit triangle).
 bool MatchReplay(const EditableMesh& edit, const TriangleMesh& low, std::vector<Index>& lowTriangleOf, std::string& error)
@@ -829,8 +782,14 @@ void EmitFragments(const TriangleMesh& high, const FragmentTracker& tracker, con
       result.InconsistentFragments += inside ? 0 : 1;
       const Index* tri = high.Triangle(fragment.HighTriangle);
       const Vec3 normal = TriangleNormal(high.Point(tri[0]), high.Point(tri[1]), high.Point(tri[2]));
-      TriangulateFragment(
-        fragment.Ring, normal, fragment.HighTriangle, inside ? lowTriangleOf[t] : InvalidIndex, result.Fragments++, result);
+      // No diagonal through another vertex of the fragment (a T-junction).
+      auto throughNoVertex = [&](Index p, Index s) {
+        const Vec3 a = tracker.Vertices[p].High, b = tracker.Vertices[s].High;
+        return std::none_of(fragment.Ring.begin(), fragment.Ring.end(),
+          [&](Index m) { return m != p && m != s && OnSegment(tracker.Vertices[m].High, a, b); });
+      };
+      ClipFragmentEars(fragment.Ring, normal, throughNoVertex, fragment.HighTriangle,
+        inside ? lowTriangleOf[t] : InvalidIndex, result.Fragments++, result);
     }
   }
 }
