@@ -14,19 +14,19 @@ fragments, T = 0 Hausdorff to the low level, T = 1 to the high level, wall secon
 (vtkSurfaceDeviation, 100,000 samples). Run with Debian's /usr/bin/python3 (it has VTK).
 """
 import argparse
-import glob
+import importlib.util
 import os
 import sys
 import time
 
 
 def import_surfacelod(build):
-    sites = glob.glob(os.path.join(build, "lib*", "python3*", "*-packages"))
-    if not sites:
-        sys.exit("no Python package under %s/lib*/python3*/*-packages: build with Python wrapping" % build)
-    sys.path.insert(0, sites[0])
-    import surfacelod  # noqa: E402 (the path is known only now)
-    return surfacelod
+    # The same import as output-hashes.py's (its file name is not a module name).
+    spec = importlib.util.spec_from_file_location(
+        "output_hashes", os.path.join(os.path.dirname(os.path.abspath(__file__)), "output-hashes.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.import_surfacelod(build)
 
 
 def load(slod, build, name):
