@@ -1033,7 +1033,9 @@ struct OldVertexRemoval
   double MinimumAngleFloor = 0.0;
   // PreserveCreases: the facing test is enforced for every target, and the angle floor applies.
   bool Strict = false;
-  double DeferredChecks = 0.0; // waits of vertices whose collapses all left needles
+  double DeferredChecks = 0.0; // waits of vertices whose collapses all left needles or faced wrong
+  bool LastStep = false;       // the last phase: EnforceFacing takes its fallback targets
+  bool EnforceFacing = false;  // RetilingOptions::EnforceFacing (without PreserveCreases)
   // Optional: every collapse performed, as pairs (removed, target) in this mesh's ids.
   std::vector<Index>* Record = nullptr;
 
@@ -1150,8 +1152,10 @@ struct OldVertexRemoval
   {
     const Index n0 = this->OldVertices;
     this->Edit.Neighbors(r, neighbors);
-    Index best = InvalidIndex, bestNeedle = InvalidIndex; // bestNeedle: ignoring the angle floor
-    double bestScore = -1, bestNeedleScore = -1;
+    // bestNeedle: ignoring the angle floor (PreserveCreases); bestLoose: ignoring the facing test
+    // for candidate targets (the default's rule before the facing test was enforced there).
+    Index best = InvalidIndex, bestNeedle = InvalidIndex, bestLoose = InvalidIndex;
+    double bestScore = -1, bestNeedleScore = -1, bestLooseScore = -1;
     for (Index c : neighbors)
     {
       if (c < n0 && phase == 0)
@@ -1174,10 +1178,16 @@ struct OldVertexRemoval
       }
       const double angle = this->Evaluate(pair, position);
       const double score = angle + (c >= n0 ? 10.0 : 0.0);
-      // Without PreserveCreases a candidate target passes even when Evaluate refused it (-1 + 10):
-      // the facing test only ranks those. Kept as it was for now: enforcing it there makes the
-      // corpus's valence-5000 cone 14 times slower (vertices stay pending pass after pass).
-      const bool allowed = !this->Strict ? score >= 0 : angle >= this->MinimumAngleFloor;
+      // Without PreserveCreases or EnforceFacing a candidate target passes even when Evaluate
+      // refused it (-1 + 10): the facing test only ranks those (enforcing it without a bound made
+      // the corpus's valence-5000 cone 14 times slower: vertices stayed pending pass after pass).
+      // EnforceFacing: such a target is the fallback below, within the waiting budget.
+      const bool allowed = this->Strict ? angle >= this->MinimumAngleFloor : (this->EnforceFacing ? angle >= 0 : score >= 0);
+      if (this->EnforceFacing && score >= 0 && score > bestLooseScore)
+      {
+        bestLooseScore = score;
+        bestLoose = c;
+      }
       if (allowed && score > bestScore)
       {
         bestScore = score;
@@ -1189,13 +1199,16 @@ struct OldVertexRemoval
         bestNeedle = c;
       }
     }
-    // Only needles: wait for a later phase, within a budget of waits, and only for vertices
-    // cheap to check again (a valence-5000 apex costs 5000 squared triangle visits per check).
-    if (best == InvalidIndex && bestNeedle != InvalidIndex)
+    // Only needles (PreserveCreases) or only targets facing against the surface (EnforceFacing):
+    // wait for a later phase, within a budget of waits, and only for vertices cheap to check again
+    // (a valence-5000 apex costs 5000 squared triangle visits per check); the last step takes them.
+    const Index fallback = this->Strict ? bestNeedle : bestLoose;
+    if (best == InvalidIndex && fallback != InvalidIndex)
     {
-      if (this->DeferredChecks >= NeedleDeferralBudget * double(n0) || neighbors.size() > MaximumDeferredValence)
+      if (this->DeferredChecks >= NeedleDeferralBudget * double(n0) || neighbors.size() > MaximumDeferredValence ||
+        (this->EnforceFacing && this->LastStep))
       {
-        return bestNeedle;
+        return fallback;
       }
       this->DeferredChecks += 1.0;
     }
@@ -1233,6 +1246,7 @@ struct OldVertexRemoval
   {
     const Index n0 = this->OldVertices;
     this->Strict = options.PreserveCreases;
+    this->EnforceFacing = options.EnforceFacing && !options.PreserveCreases;
     std::vector<Index> neighbors, pending;
     pending.reserve(n0);
     for (Index v = 0; v < n0; ++v)
@@ -1244,6 +1258,7 @@ struct OldVertexRemoval
     }
     for (int step = 0; step < 6 && !pending.empty(); ++step)
     {
+      this->LastStep = step == 5;
       const int phase = step % 3;
       this->MinimumFacing = step < 3 ? 0.0 : -0.5;
       // With PreserveCreases, the first round leaves no needle: such a collapse waits for a

@@ -48,6 +48,12 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   // fixed vertices, counted in NumberOfPoints). Retile only; RetileNested ignores it.
   bool PreserveCreases = false;
   double FeatureAngle = 45.0;
+  // Step 5 refuses a collapse onto a candidate whose new triangles face against the original
+  // surface (PreserveCreases always does): such a vertex waits for a later phase, within a budget
+  // of waits (one per old vertex in all; none for valence > 32), and the last phase takes the
+  // refused target after all. Off by default: fewer flipped triangles, but not always a smaller
+  // Hausdorff distance (Documentation/Retile.md).
+  bool EnforceFacing = false;
   // Optional: per input vertex, 1 when non-manifold (the input preparation's
   // PreparationReport::NonManifoldVertexFlags); computed when null. These vertices are kept as
   // they are (retained old vertices): the removal's link condition assumes one fan per vertex.

@@ -326,6 +326,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
   options.PreserveCreases = this->PreserveCreases;
+  options.EnforceFacing = this->EnforceFacing;
   options.FeatureAngle = this->FeatureAngle;
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
@@ -441,6 +442,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShapeImprovementPasses: " << this->ShapeImprovementPasses << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "PreserveCreases: " << this->PreserveCreases << "\n";
+  os << indent << "EnforceFacing: " << this->EnforceFacing << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";
   os << indent << "NumberOfCorners: " << this->NumberOfCorners << "\n";

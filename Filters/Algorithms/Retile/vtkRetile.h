@@ -94,6 +94,11 @@ public:
   vtkSetMacro(PreserveCreases, bool);
   vtkGetMacro(PreserveCreases, bool);
   vtkBooleanMacro(PreserveCreases, bool);
+  // Refuse collapses whose new triangles face against the input (within a bounded budget of
+  // waits, as PreserveCreases does); off by default (slod::RetilingOptions::EnforceFacing).
+  vtkSetMacro(EnforceFacing, bool);
+  vtkGetMacro(EnforceFacing, bool);
+  vtkBooleanMacro(EnforceFacing, bool);
   vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
   vtkGetMacro(FeatureAngle, double);
 
@@ -138,6 +143,7 @@ protected:
   int ShapeImprovementPasses = 2;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
   bool PreserveCreases = false;
+  bool EnforceFacing = false;
   double FeatureAngle = 45.0;
   bool GenerateNestedLevels = false;
   int NumberOfNestedLevels = 3;
