@@ -286,6 +286,7 @@ std::vector<Parameter> RetileParameters()
     SLOD_PARAMETER(vtkRetile, Int, RandomSeed),
     SLOD_PARAMETER(vtkRetile, Int, ShapeImprovementPasses),
     SLOD_PARAMETER(vtkRetile, Bool, PreserveCreases),
+    SLOD_PARAMETER(vtkRetile, Bool, EnforceFacing),
     SLOD_PARAMETER(vtkRetile, Double, FeatureAngle),
     SLOD_PARAMETER(vtkRetile, Int, OutputPointsPrecision),
   };

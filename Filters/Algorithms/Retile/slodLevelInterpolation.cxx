@@ -833,54 +833,12 @@ private:
     }
     const Index* tri = this->High.Triangle(t);
     const Vec3 normal = TriangleNormal(this->High.Point(tri[0]), this->High.Point(tri[1]), this->High.Point(tri[2]));
-    this->ClipEars(normal, this->Parent[t], lowTriangle, fragment);
-  }
-
-  // The fragment is convex on the high triangle but has collinear vertices (crossings on its
-  // sides), so no fixed fan works: clip the best-shaped ear (smallest angle at both ends) first.
-  void ClipEars(const Vec3& normal, Index highTriangle, Index lowTriangle, Index fragment)
-  {
-    LevelInterpolation& result = this->Result;
-    std::vector<Index>& ring = this->Ring;
-    std::vector<int>& ringSides = this->RingSides;
-    while (ring.size() >= 3)
-    {
-      const size_t r = ring.size();
-      size_t best = 0;
-      double bestAngle = -1;
-      for (size_t k = 0; k < r && r > 3; ++k)
-      {
-        const size_t kp = (k + r - 1) % r, kn = (k + 1) % r;
-        const Index p = ring[kp], q = ring[k], s = ring[kn];
-        const Vec3 hp = PositionOf(result.HighPositions, p), hq = PositionOf(result.HighPositions, q),
-                   hs = PositionOf(result.HighPositions, s);
-        // A valid ear on the high triangle: convex there, not flat, and its diagonal not along a
-        // side of the triangle (that side holds other fragment vertices: a T-junction).
-        const double highAngle = MinimumAngle(hp, hq, hs);
-        const bool valid =
-          highAngle > 1e-9 && Dot(Cross(hq - hp, hs - hq), normal) > 0 && (ringSides[kp] & ringSides[kn]) == 0;
-        double angle = 0.0;
-        if (valid)
-        {
-          const double lowAngle = MinimumAngle(
-            PositionOf(result.LowPositions, p), PositionOf(result.LowPositions, q), PositionOf(result.LowPositions, s));
-          angle = std::min(highAngle, lowAngle) + 1e-6;
-        }
-        if (angle > bestAngle)
-        {
-          bestAngle = angle;
-          best = k;
-        }
-      }
-      result.Triangles.push_back(ring[(best + r - 1) % r]);
-      result.Triangles.push_back(ring[best]);
-      result.Triangles.push_back(ring[(best + 1) % r]);
-      result.HighTriangle.push_back(highTriangle);
-      result.LowTriangle.push_back(lowTriangle);
-      result.Fragment.push_back(fragment);
-      ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(best));
-      ringSides.erase(ringSides.begin() + static_cast<std::ptrdiff_t>(best));
-    }
+    // No diagonal along a side of the high triangle (that side holds other fragment vertices).
+    auto sides = [this](Index v) {
+      return this->RingSides[size_t(std::find(this->Ring.begin(), this->Ring.end(), v) - this->Ring.begin())];
+    };
+    ClipFragmentEars(this->Ring, normal, [&](Index p, Index s) { return (sides(p) & sides(s)) == 0; },
+      this->Parent[t], lowTriangle, fragment, this->Result);
   }
 
   const TriangleMesh& High;
@@ -901,6 +859,44 @@ private:
   std::vector<int> RingSides;
 };
 } // namespace
+
+void ClipFragmentEars(std::vector<Index> ring, const Vec3& normal, const std::function<bool(Index, Index)>& allowed,
+  Index highTriangle, Index lowTriangle, Index fragment, LevelInterpolation& result)
+{
+  while (ring.size() >= 3)
+  {
+    const size_t r = ring.size();
+    size_t best = 0;
+    double bestAngle = -1;
+    for (size_t k = 0; k < r && r > 3; ++k)
+    {
+      const Index p = ring[(k + r - 1) % r], q = ring[k], s = ring[(k + 1) % r];
+      const Vec3 hp = PositionOf(result.HighPositions, p), hq = PositionOf(result.HighPositions, q),
+                 hs = PositionOf(result.HighPositions, s);
+      const double highAngle = MinimumAngle(hp, hq, hs);
+      const bool valid = highAngle > 1e-9 && Dot(Cross(hq - hp, hs - hq), normal) > 0 && allowed(p, s);
+      double angle = 0.0;
+      if (valid)
+      {
+        const double lowAngle = MinimumAngle(
+          PositionOf(result.LowPositions, p), PositionOf(result.LowPositions, q), PositionOf(result.LowPositions, s));
+        angle = std::min(highAngle, lowAngle) + 1e-6;
+      }
+      if (angle > bestAngle)
+      {
+        bestAngle = angle;
+        best = k;
+      }
+    }
+    result.Triangles.push_back(ring[(best + r - 1) % r]);
+    result.Triangles.push_back(ring[best]);
+    result.Triangles.push_back(ring[(best + 1) % r]);
+    result.HighTriangle.push_back(highTriangle);
+    result.LowTriangle.push_back(lowTriangle);
+    result.Fragment.push_back(fragment);
+    ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+}
 
 void LevelInterpolation::Evaluate(double t, TriangleMesh& mesh) const
 {

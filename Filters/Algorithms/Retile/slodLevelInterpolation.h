@@ -8,8 +8,10 @@
 // the low-detail surface. At t = 0 the fragments lie exactly on the low-detail triangles and
 // together cover them; at t = 1 they are exactly the high-detail triangles.
 //
-// Stages (departure from the paper: Turk tracks fragments through the vertex removals of the
-// re-tiling; here the correspondence is computed afterwards from the two meshes alone):
+// Stages of InterpolateLevels, the path for meshes without removal records (departure from the
+// paper: Turk tracks fragments through the vertex removals, as slodFragmentTracking.h does with
+// the records of RetileNested's levels; here the correspondence is computed afterwards from the
+// two meshes alone):
 //  1. FlattenVertices: a vertex shared with the low level maps to itself; a high-only vertex maps to
 //     its closest point on the low-detail surface (TriangleBVH), snapped onto an edge or vertex when
 //     it lies on one.
@@ -27,6 +29,7 @@
 
 #include "slodTriangleMesh.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -60,6 +63,14 @@ struct SURFACELODFILTERS_EXPORT LevelInterpolation
   // The mesh at t in [0,1]: (1 - t) * low + t * high per vertex.
   void Evaluate(double t, TriangleMesh& mesh) const;
 };
+
+// Triangulates one fragment (a ring of result's vertices, convex on both shapes but with collinear
+// vertices: crossings on its sides) into result by ear clipping: the best-shaped ear first
+// (smallest angle on both shapes), never a flat or reflex one (normal: the high triangle's) nor one
+// whose diagonal `allowed(previous, next)` (vertex ids) refuses, which would leave a T-junction.
+SURFACELODFILTERS_EXPORT void ClipFragmentEars(std::vector<Index> ring, const Vec3& normal,
+  const std::function<bool(Index, Index)>& allowed, Index highTriangle, Index lowTriangle, Index fragment,
+  LevelInterpolation& result);
 
 // Builds the fragments. Fails (Valid = false, Error set) when a mesh is empty or when more than half
 // the low-detail vertices are not vertices of the high-detail mesh (the levels are not nested); the

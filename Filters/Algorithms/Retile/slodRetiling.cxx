@@ -1033,7 +1033,11 @@ struct OldVertexRemoval
   double MinimumAngleFloor = 0.0;
   // PreserveCreases: the facing test is enforced for every target, and the angle floor applies.
   bool Strict = false;
-  double DeferredChecks = 0.0; // waits of vertices whose collapses all left needles
+  double DeferredChecks = 0.0; // waits of vertices whose collapses all left needles or faced wrong
+  bool LastStep = false;       // the last phase: EnforceFacing takes its fallback targets
+  bool EnforceFacing = false;  // RetilingOptions::EnforceFacing (without PreserveCreases)
+  // Optional: every collapse performed, as pairs (removed, target) in this mesh's ids.
+  std::vector<Index>* Record = nullptr;
 
   OldVertexRemoval(EditableMesh& edit, std::vector<Vec3>& reference, Index oldVertices, Index candidates,
     const CoarserLevel& coarser, const std::vector<unsigned char>& nonManifoldVertices)
@@ -1148,8 +1152,10 @@ struct OldVertexRemoval
   {
     const Index n0 = this->OldVertices;
     this->Edit.Neighbors(r, neighbors);
-    Index best = InvalidIndex, bestNeedle = InvalidIndex; // bestNeedle: ignoring the angle floor
-    double bestScore = -1, bestNeedleScore = -1;
+    // bestNeedle: ignoring the angle floor (PreserveCreases); bestLoose: ignoring the facing test
+    // for candidate targets (the default's rule before the facing test was enforced there).
+    Index best = InvalidIndex, bestNeedle = InvalidIndex, bestLoose = InvalidIndex;
+    double bestScore = -1, bestNeedleScore = -1, bestLooseScore = -1;
     for (Index c : neighbors)
     {
       if (c < n0 && phase == 0)
@@ -1172,10 +1178,16 @@ struct OldVertexRemoval
       }
       const double angle = this->Evaluate(pair, position);
       const double score = angle + (c >= n0 ? 10.0 : 0.0);
-      // Without PreserveCreases a candidate target passes even when Evaluate refused it (-1 + 10):
-      // the facing test only ranks those. Kept as it was for now: enforcing it there makes the
-      // corpus's valence-5000 cone 14 times slower (vertices stay pending pass after pass).
-      const bool allowed = !this->Strict ? score >= 0 : angle >= this->MinimumAngleFloor;
+      // Without PreserveCreases or EnforceFacing a candidate target passes even when Evaluate
+      // refused it (-1 + 10): the facing test only ranks those (enforcing it without a bound made
+      // the corpus's valence-5000 cone 14 times slower: vertices stayed pending pass after pass).
+      // EnforceFacing: such a target is the fallback below, within the waiting budget.
+      const bool allowed = this->Strict ? angle >= this->MinimumAngleFloor : (this->EnforceFacing ? angle >= 0 : score >= 0);
+      if (this->EnforceFacing && score >= 0 && score > bestLooseScore)
+      {
+        bestLooseScore = score;
+        bestLoose = c;
+      }
       if (allowed && score > bestScore)
       {
         bestScore = score;
@@ -1187,13 +1199,16 @@ struct OldVertexRemoval
         bestNeedle = c;
       }
     }
-    // Only needles: wait for a later phase, within a budget of waits, and only for vertices
-    // cheap to check again (a valence-5000 apex costs 5000 squared triangle visits per check).
-    if (best == InvalidIndex && bestNeedle != InvalidIndex)
+    // Only needles (PreserveCreases) or only targets facing against the surface (EnforceFacing):
+    // wait for a later phase, within a budget of waits, and only for vertices cheap to check again
+    // (a valence-5000 apex costs 5000 squared triangle visits per check); the last step takes them.
+    const Index fallback = this->Strict ? bestNeedle : bestLoose;
+    if (best == InvalidIndex && fallback != InvalidIndex)
     {
-      if (this->DeferredChecks >= NeedleDeferralBudget * double(n0) || neighbors.size() > MaximumDeferredValence)
+      if (this->DeferredChecks >= NeedleDeferralBudget * double(n0) || neighbors.size() > MaximumDeferredValence ||
+        (this->EnforceFacing && this->LastStep))
       {
-        return bestNeedle;
+        return fallback;
       }
       this->DeferredChecks += 1.0;
     }
@@ -1203,6 +1218,11 @@ struct OldVertexRemoval
   void Perform(Index r, Index target, int phase)
   {
     const Index pair[2] = { r, target };
+    if (this->Record)
+    {
+      this->Record->push_back(r);
+      this->Record->push_back(target);
+    }
     if (phase == 2)
     {
       this->MovedTo[target - this->OldVertices] = r;
@@ -1226,6 +1246,7 @@ struct OldVertexRemoval
   {
     const Index n0 = this->OldVertices;
     this->Strict = options.PreserveCreases;
+    this->EnforceFacing = options.EnforceFacing && !options.PreserveCreases;
     std::vector<Index> neighbors, pending;
     pending.reserve(n0);
     for (Index v = 0; v < n0; ++v)
@@ -1237,6 +1258,7 @@ struct OldVertexRemoval
     }
     for (int step = 0; step < 6 && !pending.empty(); ++step)
     {
+      this->LastStep = step == 5;
       const int phase = step % 3;
       this->MinimumFacing = step < 3 ? 0.0 : -0.5;
       // With PreserveCreases, the first round leaves no needle: such a collapse waits for a
@@ -1333,8 +1355,10 @@ Index OppositeApex(const EditableMesh& edit, Index t, Index x, Index y)
   return count == 1 ? z : InvalidIndex;
 }
 
-// Step 6 (section 4.5): shape improvement by edge flips. Returns the number of flips.
-Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference, int passes, const OldVertexRemoval& removal)
+// Step 6 (section 4.5): shape improvement by edge flips. Returns the number of flips. record
+// (optional): each flip of edge (x, y) as the pair (-1 - x, y).
+Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference, int passes,
+  const OldVertexRemoval& removal, std::vector<Index>* record = nullptr)
 {
   Index flips = 0;
   for (int pass = 0; pass < passes; ++pass)
@@ -1356,6 +1380,11 @@ Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference
         {
           continue;
         }
+        if (record)
+        {
+          record->push_back(-1 - x);
+          record->push_back(y);
+        }
         ++passFlips;
       }
     }
@@ -1368,19 +1397,13 @@ Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference
   return flips;
 }
 
-// Candidate order first (output vertex i = candidate i; a pinned candidate's slot holds the old
-// vertex it stands for), retained old vertices last: stable ids across seeds' levels and the
-// nested levels' subset property. newToOld: mutual-tessellation id of every output vertex.
-void SortCandidatesFirst(
-  Index n0, Index np, const std::vector<Index>& keptFor, TriangleMesh& output, std::vector<Index>& newToOld)
+// Renumbers the vertices of `output` in increasing key order; `ids` (one per vertex) follows.
+template <typename Key>
+void SortVerticesByKey(TriangleMesh& output, std::vector<Index>& ids, Key key)
 {
-  const size_t count = newToOld.size();
+  const size_t count = ids.size();
   std::vector<Index> perm(count), rank(count);
   std::iota(perm.begin(), perm.end(), 0);
-  auto key = [&](Index v) {
-    const Index id = newToOld[v];
-    return id >= n0 ? id - n0 : (keptFor[id] != InvalidIndex ? keptFor[id] : np + id);
-  };
   std::sort(perm.begin(), perm.end(), [&](Index a, Index b) { return key(a) < key(b); });
   std::vector<double> sortedPoints(3 * count);
   std::vector<Index> sortedIds(count);
@@ -1388,14 +1411,27 @@ void SortCandidatesFirst(
   {
     rank[perm[i]] = static_cast<Index>(i);
     std::copy(&output.Points[3 * size_t(perm[i])], &output.Points[3 * size_t(perm[i])] + 3, &sortedPoints[3 * i]);
-    sortedIds[i] = newToOld[perm[i]];
+    sortedIds[i] = ids[perm[i]];
   }
   for (Index& v : output.Triangles)
   {
     v = rank[v];
   }
   output.Points.swap(sortedPoints);
-  newToOld.swap(sortedIds);
+  ids.swap(sortedIds);
+}
+
+// Candidate order first (output vertex i = candidate i; a pinned candidate's slot holds the old
+// vertex it stands for), retained old vertices last: stable ids across seeds' levels and the
+// nested levels' subset property. newToOld: mutual-tessellation id of every output vertex.
+void SortCandidatesFirst(
+  Index n0, Index np, const std::vector<Index>& keptFor, TriangleMesh& output, std::vector<Index>& newToOld)
+{
+  const std::vector<Index> ids = newToOld;
+  SortVerticesByKey(output, newToOld, [&](Index v) {
+    const Index id = ids[v];
+    return id >= n0 ? id - n0 : (keptFor[id] != InvalidIndex ? keptFor[id] : np + id);
+  });
 }
 
 // Where every output vertex lies on the input (host triangle and barycentric coordinates), for
@@ -1429,10 +1465,12 @@ void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoin
   result.HostTriangle.resize(nv);
   result.Barycentric.assign(3 * nv, 0.0);
   result.InputVertex.assign(nv, InvalidIndex);
+  result.Candidate.assign(nv, InvalidIndex);
   result.CandidatePoints = static_cast<Index>(points.size());
   for (size_t v = 0; v < nv; ++v)
   {
     const Index id = newToOld[v];
+    result.Candidate[v] = id >= n0 ? id - n0 : removal.KeptFor[id];
     if (id >= n0 && movedTo[id - n0] != InvalidIndex)
     {
       atOldVertex(v, movedTo[id - n0]);
@@ -1497,22 +1535,216 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
 
 namespace
 {
-// The vertices of a level as the fixed points of the next finer one, in output order: a vertex on
-// an input vertex (retained, or a candidate moved onto it) is pinned to that vertex; the others
-// keep their exact output position and host triangle.
-void CoarserPoints(
-  const TriangleMesh& mesh, const RetilingResult& level, std::vector<SurfacePoint>& points, CoarserLevel& coarser)
+// What the input surface faces at each vertex of a re-tiling: its vertex normals interpolated at
+// the vertex's host location.
+std::vector<Vec3> HostNormals(const TriangleMesh& mesh, const std::vector<Vec3>& inputNormals, const RetilingResult& level)
 {
-  const Index nv = level.Mesh.NumberOfPoints();
-  points.resize(size_t(nv));
-  coarser.PinnedTo.assign(size_t(nv), InvalidIndex);
-  for (Index v = 0; v < nv; ++v)
+  std::vector<Vec3> normals(size_t(level.Mesh.NumberOfPoints()));
+  for (size_t v = 0; v < normals.size(); ++v)
   {
-    const Index input = level.InputVertex[v];
-    points[v].Position = input != InvalidIndex ? mesh.Point(input) : level.Mesh.Point(v);
-    points[v].Triangle = level.HostTriangle[v];
-    coarser.PinnedTo[v] = input;
+    const Index t = level.HostTriangle[v];
+    Vec3 nrm{ 0, 0, 0 };
+    for (int k = 0; k < 3; ++k)
+    {
+      nrm = nrm + level.Barycentric[3 * v + k] * inputNormals[mesh.Triangle(t)[k]];
+    }
+    normals[v] = Norm(nrm) > 0 ? Normalized(nrm) : Normalized(mesh.TriangleAreaVector(t));
   }
+  return normals;
+}
+
+// Section 6.2: a coarser nested level from the next finer one. Every vertex of the finer level
+// that is not one of the first `keep` candidates is removed by the re-tiling's own step 5 (phases
+// 0-1 and their relaxed repeat, facing tested against the input's normals; phase 2 never applies
+// since every kept vertex is fixed), then step 6's flips; each collapse and flip is recorded
+// (coarse.Removals, in the finer level's ids). The survivors keep the finer level's order, so the first vertices are the kept
+// candidates in candidate order. Returns false when aborted.
+bool DeriveCoarserLevel(const TriangleMesh& mesh, const std::vector<Vec3>& inputNormals, const RetilingResult& fine,
+  Index keep, const RetilingOptions& options, RetilingResult& coarse, std::vector<Index>& survivors)
+{
+  const Index n = fine.Mesh.NumberOfPoints();
+  auto kept = [&](Index v) { return fine.Candidate[v] != InvalidIndex && fine.Candidate[v] < keep; };
+  // The removal's layout: the vertices to remove first ("old"), then the kept ones.
+  std::vector<Index> order, rank(static_cast<size_t>(n));
+  order.reserve(size_t(n));
+  for (int pass = 0; pass < 2; ++pass)
+  {
+    for (Index v = 0; v < n; ++v)
+    {
+      if (kept(v) == (pass == 1))
+      {
+        rank[v] = static_cast<Index>(order.size());
+        order.push_back(v);
+      }
+    }
+  }
+  const Index removable = n - static_cast<Index>(std::count_if(order.begin(), order.end(), kept));
+  TriangleMesh layout;
+  for (Index v : order)
+  {
+    layout.AddPoint(fine.Mesh.Point(v));
+  }
+  layout.Triangles = fine.Mesh.Triangles;
+  for (Index& v : layout.Triangles)
+  {
+    v = rank[v];
+  }
+  const std::vector<Vec3> hostNormals = HostNormals(mesh, inputNormals, fine);
+  std::vector<Vec3> reference(static_cast<size_t>(n));
+  for (Index i = 0; i < n; ++i)
+  {
+    reference[i] = hostNormals[order[i]];
+  }
+  EditableMesh edit(layout);
+  CoarserLevel allFixed;
+  allFixed.FixedCount = n - removable;
+  // The finer level's non-manifold vertices (kept from a non-manifold input) stay, as in step 5.
+  const std::vector<unsigned char> locked = NonManifoldVertexFlags(layout);
+  OldVertexRemoval removal(edit, reference, removable, n - removable, allFixed, locked);
+  std::vector<Index> record;
+  removal.Record = &record;
+  RetilingOptions removalOptions = options;
+  removalOptions.PreserveCreases = false;
+  if (!removal.Run(removalOptions))
+  {
+    return false;
+  }
+  coarse.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses, removal, &record);
+  edit.Extract(coarse.Mesh, &survivors);
+  for (Index& id : survivors)
+  {
+    id = order[id];
+  }
+  const std::vector<Index> fineIds = survivors;
+  SortVerticesByKey(coarse.Mesh, survivors, [&](Index v) { return fineIds[v]; });
+  coarse.Removals.resize(record.size());
+  std::transform(record.begin(), record.end(), coarse.Removals.begin(),
+    [&](Index id) { return id >= 0 ? order[id] : -1 - order[-1 - id]; });
+  const size_t nv = survivors.size();
+  coarse.HostTriangle.resize(nv);
+  coarse.Barycentric.resize(3 * nv);
+  coarse.InputVertex.resize(nv);
+  coarse.Candidate.resize(nv);
+  for (size_t v = 0; v < nv; ++v)
+  {
+    const Index f = survivors[v];
+    coarse.HostTriangle[v] = fine.HostTriangle[f];
+    std::copy_n(&fine.Barycentric[3 * size_t(f)], 3, &coarse.Barycentric[3 * v]);
+    coarse.InputVertex[v] = fine.InputVertex[f];
+    coarse.Candidate[v] = fine.Candidate[f];
+    coarse.RetainedOldVertices += kept(f) ? 0 : 1;
+  }
+  coarse.CandidatePoints = keep;
+  return true;
+}
+
+// Renumbers the vertices of a level (newToOld: old id of every new id) with everything stored per vertex.
+void RenumberLevel(RetilingResult& level, const std::vector<Index>& newToOld, const std::vector<Index>& oldToNew)
+{
+  const size_t nv = newToOld.size();
+  RetilingResult old;
+  old.Mesh.Points.swap(level.Mesh.Points);
+  old.HostTriangle.swap(level.HostTriangle);
+  old.Barycentric.swap(level.Barycentric);
+  old.InputVertex.swap(level.InputVertex);
+  old.Candidate.swap(level.Candidate);
+  level.Mesh.Points.resize(3 * nv);
+  level.HostTriangle.resize(nv);
+  level.Barycentric.resize(3 * nv);
+  level.InputVertex.resize(nv);
+  level.Candidate.resize(nv);
+  for (size_t v = 0; v < nv; ++v)
+  {
+    const size_t o = size_t(newToOld[v]);
+    std::copy_n(&old.Mesh.Points[3 * o], 3, &level.Mesh.Points[3 * v]);
+    std::copy_n(&old.Barycentric[3 * o], 3, &level.Barycentric[3 * v]);
+    level.HostTriangle[v] = old.HostTriangle[o];
+    level.InputVertex[v] = old.InputVertex[o];
+    level.Candidate[v] = old.Candidate[o];
+  }
+  for (Index& v : level.Mesh.Triangles)
+  {
+    v = oldToNew[v];
+  }
+}
+
+// The subset property by id (section 6.1): every vertex of a level is the vertex of the same id
+// in every finer level. A coarser level keeps the finer level's order, so only the finer vertices
+// a collapse could not remove (after the level's own) break it: each finer level is renumbered to
+// start with the coarser level's vertices in their order. finer[k]: per vertex of level k, its id
+// in level k + 1 (kept up to date, as the removal records).
+void NestedOrder(std::vector<RetilingResult>& levels, std::vector<std::vector<Index>>& finer)
+{
+  for (size_t k = 1; k < levels.size(); ++k)
+  {
+    const size_t nv = size_t(levels[k].Mesh.NumberOfPoints());
+    std::vector<Index> newToOld(finer[k - 1]), oldToNew(nv, InvalidIndex);
+    std::vector<char> taken(nv, 0);
+    for (Index v : newToOld)
+    {
+      taken[v] = 1;
+    }
+    for (size_t v = 0; v < nv; ++v)
+    {
+      if (!taken[v])
+      {
+        newToOld.push_back(static_cast<Index>(v));
+      }
+    }
+    for (size_t v = 0; v < nv; ++v)
+    {
+      oldToNew[newToOld[v]] = static_cast<Index>(v);
+    }
+    RenumberLevel(levels[k], newToOld, oldToNew);
+    for (Index& v : finer[k - 1])
+    {
+      v = oldToNew[v];
+    }
+    for (Index& v : levels[k - 1].Removals)
+    {
+      v = v >= 0 ? oldToNew[v] : -1 - oldToNew[-1 - v]; // (-1 - x, y): a flip of edge (x, y)
+    }
+    if (k < finer.size())
+    {
+      std::vector<Index> permuted(nv);
+      for (size_t v = 0; v < nv; ++v)
+      {
+        permuted[v] = finer[k][newToOld[v]];
+      }
+      finer[k].swap(permuted);
+    }
+  }
+}
+
+// Section 6.1: the points of every level, coarse to fine: each level's points stay where they are
+// (and keep pushing) while the next level's are placed and relaxed. sizes[k]: the number of
+// points of level k (the first sizes[k] points). Returns false when aborted.
+bool PlaceNestedPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<double>& density,
+  const std::vector<Index>& counts, const RetilingOptions& options, const std::vector<unsigned char>& nonManifold,
+  std::vector<SurfacePoint>& points, std::vector<Index>& sizes, Index& dropped)
+{
+  std::vector<SurfacePoint> added;
+  const double share = 0.6 / double(counts.size());
+  for (size_t k = 0; k < counts.size(); ++k)
+  {
+    const Index fixed = static_cast<Index>(points.size());
+    DistributePoints(mesh, density, counts[k] - fixed, options.RandomSeed + k, added);
+    points.insert(points.end(), added.begin(), added.end());
+    auto progress = [&](double f) { return !options.Progress || options.Progress(share * (k + f)); };
+    const std::vector<SurfacePoint> placed = points;
+    if (!RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points, progress, fixed))
+    {
+      return false;
+    }
+    dropped += SeparateCrowdedPoints(points, placed, fixed) + DropPointsOnNonManifoldTriangles(mesh, nonManifold, points, fixed);
+    // Strictly inside their triangle before they are fixed (the mutual tessellation keeps the
+    // original edges unsplit).
+    CoarserLevel added;
+    added.FixedCount = fixed;
+    MoveCandidatesInside(mesh, points, added);
+    sizes.push_back(static_cast<Index>(points.size()));
+  }
+  return true;
 }
 } // namespace
 
@@ -1529,51 +1761,51 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
   }
   std::vector<double> density;
   CurvatureDensity(mesh, options.CurvatureWeight, density);
-  TriangleBVH bvh(mesh);
+  const TriangleBVH bvh(mesh);
   const std::vector<unsigned char> computedFlags =
     options.NonManifoldVertices ? std::vector<unsigned char>() : NonManifoldVertexFlags(mesh);
   const std::vector<unsigned char>& nonManifold = options.NonManifoldVertices ? *options.NonManifoldVertices : computedFlags;
-  std::vector<SurfacePoint> points, added, level;
-  CoarserLevel coarser;
-  const double share = 1.0 / double(counts.size());
-  for (size_t k = 0; k < counts.size(); ++k)
+  std::vector<SurfacePoint> points;
+  std::vector<Index> sizes;
+  Index dropped = 0;
+  auto aborted = [&levels]() {
+    levels.assign(1, RetilingResult());
+    levels[0].Aborted = true;
+  };
+  if (!PlaceNestedPoints(mesh, bvh, density, counts, options, nonManifold, points, sizes, dropped))
   {
-    // Section 6.1: the coarser level's vertices stay where they are (and keep pushing); only the
-    // added points are placed and relaxed, so every level's vertices are the first vertices of
-    // the next one's.
-    const Index fixed = static_cast<Index>(points.size());
-    DistributePoints(mesh, density, counts[k] - fixed, options.RandomSeed + k, added);
-    points.insert(points.end(), added.begin(), added.end());
-    coarser.FixedCount = fixed;
-    coarser.PinnedTo.resize(points.size(), InvalidIndex);
-    auto progress = [&](double f) { return !options.Progress || options.Progress(share * (k + 0.6 * f)); };
-    const std::vector<SurfacePoint> placed = points;
-    if (!RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points, progress, fixed))
-    {
-      levels.assign(1, RetilingResult());
-      levels[0].Aborted = true;
-      return;
-    }
-    const Index dropped = SeparateCrowdedPoints(points, placed, fixed) +
-      DropPointsOnNonManifoldTriangles(mesh, nonManifold, points, fixed);
-    coarser.PinnedTo.resize(points.size());
-    level = points;
-    RetilingResult result;
-    result.DroppedCandidates = dropped;
-    RetilingOptions levelOptions = options;
-    levelOptions.NonManifoldVertices = &nonManifold;
-    levelOptions.Progress = [&](double f) {
-      return !options.Progress || options.Progress(share * (k + 0.6 + 0.4 * f));
-    };
-    TileWithPoints(mesh, level, levelOptions, coarser, result);
-    if (result.Aborted)
-    {
-      levels.assign(1, result);
-      return;
-    }
-    CoarserPoints(mesh, result, points, coarser);
-    levels.push_back(std::move(result));
+    return aborted();
   }
+  // The finest level from the original surface; the coarser levels' points are fixed there.
+  const size_t n = sizes.size();
+  levels.resize(n);
+  CoarserLevel coarser;
+  coarser.FixedCount = n > 1 ? sizes[n - 2] : 0;
+  RetilingOptions levelOptions = options;
+  levelOptions.NonManifoldVertices = &nonManifold;
+  levelOptions.Progress = [&](double f) { return !options.Progress || options.Progress(0.6 + 0.25 * f); };
+  TileWithPoints(mesh, points, levelOptions, coarser, levels[n - 1]);
+  if (levels[n - 1].Aborted)
+  {
+    return aborted();
+  }
+  levels[n - 1].DroppedCandidates = dropped;
+  // Each coarser level from the next finer one (section 6.2).
+  std::vector<Vec3> inputNormals;
+  VertexNormals(mesh, inputNormals);
+  std::vector<std::vector<Index>> finer(n - 1);
+  for (size_t k = n - 1; k-- > 0;)
+  {
+    levelOptions.Progress = [&](double f) {
+      return !options.Progress || options.Progress(0.85 + 0.15 * (double(n - 1 - k) - 1 + f) / double(n - 1));
+    };
+    levels[k].DroppedCandidates = dropped;
+    if (!DeriveCoarserLevel(mesh, inputNormals, levels[k + 1], sizes[k], levelOptions, levels[k], finer[k]))
+    {
+      return aborted();
+    }
+  }
+  NestedOrder(levels, finer);
 }
 
 double ExtentPerMedianEdge(const TriangleMesh& mesh)

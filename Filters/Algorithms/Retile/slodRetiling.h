@@ -48,6 +48,12 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   // fixed vertices, counted in NumberOfPoints). Retile only; RetileNested ignores it.
   bool PreserveCreases = false;
   double FeatureAngle = 45.0;
+  // Step 5 refuses a collapse onto a candidate whose new triangles face against the original
+  // surface (PreserveCreases always does): such a vertex waits for a later phase, within a budget
+  // of waits (one per old vertex in all; none for valence > 32), and the last phase takes the
+  // refused target after all. Off by default: fewer flipped triangles, but not always a smaller
+  // Hausdorff distance (Documentation/Retile.md).
+  bool EnforceFacing = false;
   // Optional: per input vertex, 1 when non-manifold (the input preparation's
   // PreparationReport::NonManifoldVertexFlags); computed when null. These vertices are kept as
   // they are (retained old vertices): the removal's link condition assumes one fan per vertex.
@@ -73,6 +79,15 @@ struct SURFACELODFILTERS_EXPORT RetilingResult
   // Per output vertex: the input vertex it sits on (a retained old vertex, or a candidate moved
   // onto one as a last resort), else InvalidIndex.
   std::vector<Index> InputVertex;
+  // Per output vertex: the candidate point it is (index into the candidates, in placement order),
+  // else InvalidIndex (a retained old vertex).
+  std::vector<Index> Candidate;
+  // Nested levels (RetileNested), every level but the finest: how this level comes from the next
+  // finer one (section 6.2), in order, as pairs in the finer level's vertex ids: (removed, target)
+  // for the half-edge collapses that removed the finer level's other vertices, then (-1 - x, y)
+  // for the shape flips of edge (x, y). Replaying them on the finer level gives this level's
+  // triangles exactly (fragment tracking, slodFragmentTracking.h).
+  std::vector<Index> Removals;
   Index CandidatePoints = 0;
   Index RetainedOldVertices = 0;   // old vertices no check allowed to remove (kept in the output)
   Index DroppedCandidates = 0;     // candidates repulsion crowded onto another (at pinches, folds)
@@ -110,12 +125,14 @@ SURFACELODFILTERS_EXPORT void NearestNeighborSpacing(const std::vector<double>& 
 // The whole method.
 SURFACELODFILTERS_EXPORT void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingResult& result);
 
-// Nested re-tilings (section 6.1), one per vertex count (sorted ascending; counts below 3 are
-// dropped; options.NumberOfPoints is ignored): the vertices of each level are the first vertices
-// of every finer level, at the same positions and in the same order (a vertex a coarser level
-// retained or moved a candidate onto is an input vertex, which the finer levels keep). A level
-// has more vertices than its count when it retains old vertices, so its count is then reached
-// with fewer added points. Spacing figures are not computed per level.
+// Nested re-tilings (sections 6.1-6.2), one per vertex count (sorted ascending; counts below 3 are
+// dropped; options.NumberOfPoints is ignored). The points are placed coarse to fine (each level's
+// points fixed while the next level's are added and relaxed); the finest level is tiled from the
+// original surface, and each coarser level comes from the next finer one by removing the finer
+// level's other vertices (collapses onto a neighbour, then shape flips; recorded in Removals). So
+// the vertices of each level are the first vertices of every finer level, at the same positions
+// and in the same order. A finer vertex no collapse can remove stays in the coarser level (after
+// its own vertices; counted in RetainedOldVertices). Spacing figures are not computed per level.
 SURFACELODFILTERS_EXPORT void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts,
   const RetilingOptions& options, std::vector<RetilingResult>& levels);
 // Re-tiling and the level interpolation compute in the coordinates' own precision: a surface whose

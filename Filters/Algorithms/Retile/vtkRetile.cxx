@@ -220,6 +220,37 @@ void StoreRetiling(const slod::RetilingResult& retiling, const slod::TriangleMes
   }
   attributes.Store(polyData->GetPointData(), rows);
 }
+// Field data of a coarser nested level: RetileRemovals, the collapses (removed, target; point ids of
+// the next finer level) and flips ((-1 - x, y) for edge (x, y)) that turn the next finer level
+// into this one (section 6.2), which
+// vtkRetileLevelInterpolation replays to track the fragments, and RetileRemovalsFinerPoints, the
+// number of points of that finer level (records meant for another level are not tried).
+void StoreRemovals(const slod::RetilingResult& level, vtkPolyData* polyData)
+{
+  if (level.Removals.empty())
+  {
+    return;
+  }
+  vtkNew<vtkIdTypeArray> removals;
+  removals->SetName("RetileRemovals");
+  removals->SetNumberOfComponents(2);
+  removals->SetNumberOfTuples(static_cast<vtkIdType>(level.Removals.size() / 2));
+  for (size_t i = 0; i < level.Removals.size(); ++i)
+  {
+    removals->SetValue(static_cast<vtkIdType>(i), level.Removals[i]);
+  }
+  polyData->GetFieldData()->AddArray(removals);
+  vtkNew<vtkIdTypeArray> finerPoints; // which level the records start from
+  finerPoints->SetName("RetileRemovalsFinerPoints");
+  vtkIdType removed = 0;
+  for (size_t i = 0; i < level.Removals.size(); i += 2)
+  {
+    removed += level.Removals[i] >= 0 ? 1 : 0; // (-1 - x, y): a flip
+  }
+  finerPoints->InsertNextValue(level.Mesh.NumberOfPoints() + removed);
+  polyData->GetFieldData()->AddArray(finerPoints);
+}
+
 // Field data: RetainedVertices (original vertices kept for the topology) and, for an explicit
 // vertex count, NumberOfPointsReached (1 when the output has exactly that many vertices).
 void StoreCountReport(vtkPolyData* output, slod::Index wanted, slod::Index retained)
@@ -295,6 +326,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
   options.PreserveCreases = this->PreserveCreases;
+  options.EnforceFacing = this->EnforceFacing;
   options.FeatureAngle = this->FeatureAngle;
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
@@ -355,6 +387,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     {
       vtkNew<vtkPolyData> level;
       StoreRetiling(levels[k], mesh, inputAttributes, pointType, level);
+      StoreRemovals(levels[k], level);
       levelsOutput->SetBlock(static_cast<unsigned int>(k), level);
     }
   }
@@ -409,6 +442,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShapeImprovementPasses: " << this->ShapeImprovementPasses << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "PreserveCreases: " << this->PreserveCreases << "\n";
+  os << indent << "EnforceFacing: " << this->EnforceFacing << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";
   os << indent << "NumberOfCorners: " << this->NumberOfCorners << "\n";

@@ -40,14 +40,17 @@
  * that would take half the vertices or more are all ignored, with a warning. Not applied to the
  * nested levels.
  *
- * Nested levels (section 6.1), with GenerateNestedLevels on: output port 1 is a
+ * Nested levels (sections 6.1-6.2), with GenerateNestedLevels on: output port 1 is a
  * vtkMultiBlockDataSet of NumberOfNestedLevels re-tilings, coarsest first, with
  * n, n * NestedLevelRatio, ... vertices up to the requested count (the last block is output 0).
  * The vertices of each level are the first vertices of every finer level (same positions): coarse
- * points stay fixed while the added points are placed and relaxed around them, and an input vertex
- * a coarse level keeps (retained, or a candidate moved onto it) is kept by the finer levels too.
- * Those kept vertices add triangles: the counts shrink (as for a single re-tiling) while the
- * finest level has more triangles than allowed; a warning says when it still has.
+ * points stay fixed while the added points are placed and relaxed around them. The finest level
+ * is tiled from the input; each coarser level is made from the next finer one by removing the
+ * other vertices (the re-tiling's own collapses, then its shape flips), and carries those
+ * operations as field data RetileRemovals (with RetileRemovalsFinerPoints), which
+ * vtkRetileLevelInterpolation replays to track the fragments exactly. Vertices a removal cannot
+ * take stay (and add triangles): the counts shrink (as for a single re-tiling) while the finest
+ * level has more triangles than allowed; a warning says when it still has.
  */
 #ifndef vtkRetile_h
 #define vtkRetile_h
@@ -91,6 +94,11 @@ public:
   vtkSetMacro(PreserveCreases, bool);
   vtkGetMacro(PreserveCreases, bool);
   vtkBooleanMacro(PreserveCreases, bool);
+  // Refuse collapses whose new triangles face against the input (within a bounded budget of
+  // waits, as PreserveCreases does); off by default (slod::RetilingOptions::EnforceFacing).
+  vtkSetMacro(EnforceFacing, bool);
+  vtkGetMacro(EnforceFacing, bool);
+  vtkBooleanMacro(EnforceFacing, bool);
   vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
   vtkGetMacro(FeatureAngle, double);
 
@@ -135,6 +143,7 @@ protected:
   int ShapeImprovementPasses = 2;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
   bool PreserveCreases = false;
+  bool EnforceFacing = false;
   double FeatureAngle = 45.0;
   bool GenerateNestedLevels = false;
   int NumberOfNestedLevels = 3;

@@ -2,6 +2,7 @@
 #include "vtkRetileLevelInterpolation.h"
 
 #include "slodAttributeTransfer.h"
+#include "slodFragmentTracking.h"
 #include "slodInputPreparation.h"
 #include "slodLevelInterpolation.h"
 #include "slodRetiling.h"
@@ -9,6 +10,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -79,6 +81,34 @@ void StoreTriangles(const slod::LevelInterpolation& result, vtkPolyData* output)
   output->GetCellData()->AddArray(lowTriangle);
   output->GetCellData()->AddArray(fragment);
 }
+// The low level's removal records (field data RetileRemovals of vtkRetile's nested levels) in the
+// prepared high mesh's vertex ids; false when there are none or one names no high vertex.
+bool RemovalRecords(vtkPolyData* lowInput, const std::vector<slod::Index>& highToInput, vtkIdType highInputPoints,
+  std::vector<slod::Index>& removals)
+{
+  vtkIdTypeArray* records = vtkIdTypeArray::SafeDownCast(lowInput->GetFieldData()->GetAbstractArray("RetileRemovals"));
+  if (!records || records->GetNumberOfComponents() != 2)
+  {
+    return false;
+  }
+  std::vector<slod::Index> inputToHigh(static_cast<size_t>(highInputPoints), slod::InvalidIndex);
+  for (size_t v = 0; v < highToInput.size(); ++v)
+  {
+    inputToHigh[highToInput[v]] = static_cast<slod::Index>(v);
+  }
+  removals.resize(static_cast<size_t>(2 * records->GetNumberOfTuples()));
+  bool valid = true;
+  for (size_t i = 0; i < removals.size(); ++i)
+  {
+    // (-1 - x, y) is the flip of edge (x, y) (so -1 is a valid first value).
+    const vtkIdType value = records->GetValue(static_cast<vtkIdType>(i));
+    const vtkIdType id = value >= 0 ? value : -1 - value;
+    const slod::Index mapped = id < highInputPoints ? inputToHigh[id] : slod::InvalidIndex;
+    valid = valid && mapped != slod::InvalidIndex && (value >= 0 || i % 2 == 0);
+    removals[i] = value >= 0 || mapped == slod::InvalidIndex ? mapped : -1 - mapped;
+  }
+  return valid;
+}
 } // namespace
 
 vtkRetileLevelInterpolation::vtkRetileLevelInterpolation()
@@ -93,7 +123,7 @@ int vtkRetileLevelInterpolation::RequestData(
   vtkPolyData* lowInput = vtkPolyData::GetData(inputVector[1], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   this->NumberOfSharedVertices = this->NumberOfFlattenedVertices = this->NumberOfCrossings = 0;
-  this->NumberOfInsertedVertices = 0;
+  this->NumberOfInsertedVertices = this->NumberOfTrackedRemovals = 0;
   this->NumberOfFragments = this->NumberOfUntracedEdges = this->NumberOfInconsistentFragments = 0;
   if (!highInput || !lowInput || !output)
   {
@@ -128,7 +158,33 @@ int vtkRetileLevelInterpolation::RequestData(
   }
   this->UpdateProgress(0.1);
   slod::LevelInterpolation result;
-  slod::InterpolateLevels(high, low, result);
+  // Section 6.2 when the low level says how it came from the high one; else closest points.
+  std::vector<slod::Index> removals;
+  vtkIdTypeArray* finerPoints =
+    vtkIdTypeArray::SafeDownCast(lowInput->GetFieldData()->GetAbstractArray("RetileRemovalsFinerPoints"));
+  // Records of a level made from another finer level (interpolating across several levels) are not
+  // meant for this pair.
+  const bool recorded = this->UseRemovalRecords && lowInput->GetFieldData()->GetAbstractArray("RetileRemovals") &&
+    (!finerPoints || finerPoints->GetNumberOfValues() != 1 || finerPoints->GetValue(0) == highInput->GetNumberOfPoints());
+  if (recorded && RemovalRecords(lowInput, highToInput, highInput->GetNumberOfPoints(), removals))
+  {
+    slod::TrackLevels(high, low, removals, result);
+  }
+  if (recorded && !result.Valid)
+  {
+    vtkWarningMacro(<< "The low-detail level's RetileRemovals do not turn the high-detail level into it ("
+                    << (result.Error.empty() ? std::string("ids out of range") : result.Error)
+                    << "): closest-point flattening is used instead.");
+  }
+  this->NumberOfTrackedRemovals = 0;
+  for (size_t i = 0; result.Valid && i < removals.size(); i += 2)
+  {
+    this->NumberOfTrackedRemovals += removals[i] >= 0 ? 1 : 0; // (-1 - x, y): a flip
+  }
+  if (!result.Valid)
+  {
+    slod::InterpolateLevels(high, low, result);
+  }
   if (!result.Valid)
   {
     vtkErrorMacro(<< "Cannot interpolate: " << result.Error << ".");
@@ -161,6 +217,8 @@ void vtkRetileLevelInterpolation::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "T: " << this->T << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
+  os << indent << "UseRemovalRecords: " << this->UseRemovalRecords << "\n";
+  os << indent << "NumberOfTrackedRemovals: " << this->NumberOfTrackedRemovals << "\n";
   os << indent << "NumberOfSharedVertices: " << this->NumberOfSharedVertices << "\n";
   os << indent << "NumberOfFlattenedVertices: " << this->NumberOfFlattenedVertices << "\n";
   os << indent << "NumberOfInsertedVertices: " << this->NumberOfInsertedVertices << "\n";

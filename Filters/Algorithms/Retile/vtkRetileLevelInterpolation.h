@@ -20,13 +20,17 @@
  * the high-detail input's triangles), "LowTriangle" (the low-detail triangle it lies on at T = 0)
  * and "Fragment" (its polygon fragment). Input point data are not carried.
  *
- * Departure from the paper: Turk tracks the fragments through the vertex removals of the
- * re-tiling; here the correspondence is computed from the two meshes alone (closest point on the
- * low surface, then each high edge's path as the shortest strip of low triangles between its ends),
- * so any pair of nested meshes can be interpolated. Where that flattening folds (the low level
- * bends sharply relative to its vertex spacing) a few fragments are not inside one low triangle
- * (NumberOfInconsistentFragments) and the T = 0 shape departs from the low level there. Errors (empty input, levels not nested, non-manifold low
- * level) give an empty output.
+ * Two ways to find the correspondence. When the low level carries the field data RetileRemovals
+ * (vtkRetile's nested levels: each coarser level is made from the next finer one by recorded
+ * collapses), the fragments are tracked through those removals as the paper does (section 6.2,
+ * slodFragmentTracking.h): every fragment ends inside one low triangle, so T = 0 is the low level
+ * exactly. Without records (two arbitrary nested meshes, UseRemovalRecords off, or records that
+ * do not replay to the low level: a warning) the correspondence is computed from the two meshes
+ * alone (closest point on the low surface, then each high edge's path as the shortest strip of low
+ * triangles between its ends); where that flattening folds (the low level bends sharply relative
+ * to its vertex spacing) a few fragments are not inside one low triangle
+ * (NumberOfInconsistentFragments) and the T = 0 shape departs from the low level there. Errors
+ * (empty input, levels not nested, non-manifold low level) give an empty output.
  */
 #ifndef vtkRetileLevelInterpolation_h
 #define vtkRetileLevelInterpolation_h
@@ -54,7 +58,15 @@ public:
   vtkSetMacro(OutputPointsPrecision, int);
   vtkGetMacro(OutputPointsPrecision, int);
 
+  // Track the fragments through the low level's RetileRemovals when it has them (default on);
+  // off: always the closest-point flattening.
+  vtkSetMacro(UseRemovalRecords, vtkTypeBool);
+  vtkGetMacro(UseRemovalRecords, vtkTypeBool);
+  vtkBooleanMacro(UseRemovalRecords, vtkTypeBool);
+
   // Results of the last run.
+  // Removals replayed by the fragment tracking (0: the closest-point flattening was used).
+  vtkGetMacro(NumberOfTrackedRemovals, vtkIdType);
   vtkGetMacro(NumberOfSharedVertices, vtkIdType);
   vtkGetMacro(NumberOfFlattenedVertices, vtkIdType);
   // Low vertices missing from the high level, inserted into it at their closest point (levels that
@@ -76,6 +88,8 @@ protected:
 
   double T = 1.0;
   int OutputPointsPrecision = vtkAlgorithm::DOUBLE_PRECISION;
+  vtkTypeBool UseRemovalRecords = 1;
+  vtkIdType NumberOfTrackedRemovals = 0;
   vtkIdType NumberOfSharedVertices = 0;
   vtkIdType NumberOfFlattenedVertices = 0;
   vtkIdType NumberOfInsertedVertices = 0;
