@@ -25,17 +25,6 @@ const char* ToString(CollapseStatus status)
   return "unknown";
 }
 
-void CollapseRecord::Clear()
-{
-  this->Vertices = { InvalidIndex, InvalidIndex, InvalidIndex };
-  this->VertexCount = 0;
-  this->Kept = InvalidIndex;
-  this->RemovedTriangles.clear();
-  this->ChangedTriangles.clear();
-  this->ChangedCorner.clear();
-  this->ChangedFrom.clear();
-}
-
 void EditableMesh::Reset(const TriangleMesh& mesh)
 {
   this->Points = mesh.Points;

@@ -13,6 +13,7 @@
 #ifndef slodEditableMesh_h
 #define slodEditableMesh_h
 
+#include "slodCollapseRecords.h" // CollapseRecord, FlipRecord
 #include "slodTriangleMesh.h"
 
 #include <array>
@@ -63,29 +64,6 @@ enum class CollapseStatus
   Locked           // a vertex of the set is locked (CollapseOptions::LockedVertices)
 };
 SURFACELODFILTERS_EXPORT const char* ToString(CollapseStatus status);
-
-// What a collapse changed, enough to undo it exactly (a vertex split).
-struct SURFACELODFILTERS_EXPORT CollapseRecord
-{
-  std::array<Index, 3> Vertices{ InvalidIndex, InvalidIndex, InvalidIndex }; // merged set
-  int VertexCount = 0;
-  Index Kept = InvalidIndex;               // the vertex that remains
-  std::array<Vec3, 3> OldPositions;        // of Vertices
-  Vec3 NewPosition{ 0, 0, 0 };
-  std::vector<Index> RemovedTriangles;     // triangle ids (their vertices are unchanged in storage)
-  std::vector<Index> ChangedTriangles;     // surviving triangles whose corner was redirected
-  std::vector<unsigned char> ChangedCorner; // corner (0..2) of each changed triangle
-  std::vector<Index> ChangedFrom;          // the vertex that corner had before
-  void Clear();
-};
-
-// An edge flip (swap): triangles T0 = (X, Y, Q) and T1 = (Y, X, Z) around edge XY become
-// T0 = (X, Z, Q) and T1 = (Z, Y, Q) in place (same triangle ids), replacing XY by QZ.
-struct SURFACELODFILTERS_EXPORT FlipRecord
-{
-  Index Triangles[2] = { InvalidIndex, InvalidIndex };
-  Index X = InvalidIndex, Y = InvalidIndex, Q = InvalidIndex, Z = InvalidIndex;
-};
 
 class SURFACELODFILTERS_EXPORT EditableMesh
 {

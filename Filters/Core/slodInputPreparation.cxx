@@ -1152,4 +1152,26 @@ std::vector<unsigned char> RegionBorderVertexFlags(
   }
   return border;
 }
+namespace
+{
+template <typename ArrayType>
+vtkSmartPointer<ArrayType> NewNamedArray(const char* name, int components, vtkIdType tuples)
+{
+  auto a = vtkSmartPointer<ArrayType>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(tuples);
+  return a;
+}
+} // namespace
+
+vtkSmartPointer<vtkIdTypeArray> NewIdArray(const char* name, int components, vtkIdType tuples)
+{
+  return NewNamedArray<vtkIdTypeArray>(name, components, tuples);
+}
+
+vtkSmartPointer<vtkDoubleArray> NewDoubleArray(const char* name, int components, vtkIdType tuples)
+{
+  return NewNamedArray<vtkDoubleArray>(name, components, tuples);
+}
 } // namespace slod

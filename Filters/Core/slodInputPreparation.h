@@ -28,7 +28,11 @@
 #include <string>
 #include <vector>
 
+#include "vtkSmartPointer.h"
+
 class vtkAlgorithm;
+class vtkDoubleArray;
+class vtkIdTypeArray;
 class vtkDataArray;
 class vtkObject;
 class vtkPolyData;
@@ -148,6 +152,11 @@ SURFACELODFILTERS_EXPORT void StoreUsedPoints(vtkPolyData* input, const Triangle
 // The output's point type (VTK_FLOAT or VTK_DOUBLE) for a filter's OutputPointsPrecision
 // (vtkAlgorithm::DEFAULT_PRECISION: the input's type, float unless double).
 SURFACELODFILTERS_EXPORT int OutputPointType(vtkPolyData* input, int outputPointsPrecision);
+
+// A named array of `tuples` tuples of `components` components (values to be set), for the
+// filters' extra outputs (field data, record tables).
+SURFACELODFILTERS_EXPORT vtkSmartPointer<vtkIdTypeArray> NewIdArray(const char* name, int components, vtkIdType tuples);
+SURFACELODFILTERS_EXPORT vtkSmartPointer<vtkDoubleArray> NewDoubleArray(const char* name, int components, vtkIdType tuples);
 } // namespace slod
 
 #endif

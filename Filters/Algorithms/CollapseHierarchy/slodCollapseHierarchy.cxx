@@ -780,23 +780,9 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   });
   this->TriangleCounts.push_back(m.NumberOfLiveTriangles());
 
-  // Flat record for exact vertex splits.
-  this->RecordKept.push_back(kept);
-  // (The old positions are those of the source global vertices: not stored twice.)
-  for (int i = 0; i < 3; ++i)
-  {
-    this->RecordVertices.push_back(i < count ? vertices[i] : InvalidIndex);
-  }
-  this->RecordRemoved.insert(this->RecordRemoved.end(), this->Record.RemovedTriangles.begin(),
-    this->Record.RemovedTriangles.end());
-  this->RecordRemovedStart.push_back(static_cast<Index>(this->RecordRemoved.size()));
-  this->RecordChangedTriangle.insert(this->RecordChangedTriangle.end(),
-    this->Record.ChangedTriangles.begin(), this->Record.ChangedTriangles.end());
-  this->RecordChangedCorner.insert(this->RecordChangedCorner.end(), this->Record.ChangedCorner.begin(),
-    this->Record.ChangedCorner.end());
-  this->RecordChangedFrom.insert(this->RecordChangedFrom.end(), this->Record.ChangedFrom.begin(),
-    this->Record.ChangedFrom.end());
-  this->RecordChangedStart.push_back(static_cast<Index>(this->RecordChangedTriangle.size()));
+  // The record for exact vertex splits (the old positions are those of the source global
+  // vertices: not stored twice).
+  this->Records.Append(this->Record, m);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -859,8 +845,7 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
     this->EntryDeath.push_back(Never);
     this->EntryTriangle.push_back(t);
   }
-  this->Flips.push_back(flip);
-  this->FlipStamp.push_back(k);
+  this->Records.AppendFlip(flip);
 }
 
 int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>& touched)
@@ -1214,14 +1199,7 @@ void CollapseHierarchy::ReserveRecords()
   this->GlobalPoints.reserve(3 * (np + collapses));
   this->Collapses.reserve(collapses);
   this->TriangleCounts.reserve(collapses + 1);
-  this->RecordKept.reserve(collapses);
-  this->RecordVertices.reserve(3 * collapses);
-  this->RecordRemovedStart.reserve(collapses + 1);
-  this->RecordChangedStart.reserve(collapses + 1);
-  this->RecordRemoved.reserve(nt);
-  this->RecordChangedTriangle.reserve(3 * nt);
-  this->RecordChangedCorner.reserve(3 * nt);
-  this->RecordChangedFrom.reserve(3 * nt);
+  this->Records.Reserve(collapses, nt, 3 * nt);
 }
 
 void CollapseHierarchy::ResetRecords()
@@ -1229,16 +1207,9 @@ void CollapseHierarchy::ResetRecords()
   this->Collapses.clear();
   this->LevelStarts.assign(1, 0);
   this->TriangleCounts.assign(1, this->Base.NumberOfTriangles());
-  this->RecordKept.clear();
-  this->RecordVertices.clear();
-  this->RecordRemoved.clear();
-  this->RecordRemovedStart.assign(1, 0);
-  this->RecordChangedTriangle.clear();
-  this->RecordChangedCorner.clear();
-  this->RecordChangedFrom.clear();
-  this->RecordChangedStart.assign(1, 0);
-  this->Flips.clear();
-  this->FlipStamp.clear();
+  this->Records.StorePositions = false;
+  this->Records.StoreRemovedTriangleVertices = false;
+  this->Records.Clear();
 }
 
 // Per vertex: the area-weighted planes of its input triangles (only when the error or the edge
@@ -1385,7 +1356,7 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
   state.Touched.clear();
   for (Index k = levelStart; k < this->NumberOfCollapses(); ++k)
   {
-    state.Touched.push_back(this->RecordKept[k]);
+    state.Touched.push_back(this->Records.Kept(k));
   }
   if (p.SwapBlockingEdges)
   {
@@ -1912,28 +1883,14 @@ void CollapseHierarchy::ExtractLevel(double level, HierarchyMesh& out) const
 void CollapseHierarchy::Refine(EditableMesh& mesh, Index k) const
 {
   CollapseRecord record;
-  record.VertexCount = this->Collapses[k].Count;
-  record.Kept = this->RecordKept[k];
+  this->Records.Get(k, record);
   for (int i = 0; i < record.VertexCount; ++i)
   {
-    record.Vertices[i] = this->RecordVertices[3 * size_t(k) + i];
     // An editable vertex is always at its global vertex's position (same doubles).
     record.OldPositions[i] = this->Vertex(this->Collapses[k].Sources[i]);
   }
   record.NewPosition = this->Vertex(this->Collapses[k].Point);
-  record.RemovedTriangles.assign(this->RecordRemoved.begin() + this->RecordRemovedStart[k],
-    this->RecordRemoved.begin() + this->RecordRemovedStart[k + 1]);
-  const Index c0 = this->RecordChangedStart[k], c1 = this->RecordChangedStart[k + 1];
-  record.ChangedTriangles.assign(this->RecordChangedTriangle.begin() + c0, this->RecordChangedTriangle.begin() + c1);
-  record.ChangedCorner.assign(this->RecordChangedCorner.begin() + c0, this->RecordChangedCorner.begin() + c1);
-  record.ChangedFrom.assign(this->RecordChangedFrom.begin() + c0, this->RecordChangedFrom.begin() + c1);
-  // Swaps made after collapse k (before collapse k + 1), newest first.
-  const auto range = std::equal_range(this->FlipStamp.begin(), this->FlipStamp.end(), k + 1);
-  for (auto it = range.second; it != range.first;)
-  {
-    --it;
-    mesh.Undo(this->Flips[size_t(it - this->FlipStamp.begin())]);
-  }
+  this->Records.UndoFlipsAfter(k, mesh);
   mesh.Undo(record);
 }
 
@@ -1949,17 +1906,17 @@ void CollapseHierarchy::Expand(Index collapses, HierarchyMesh& out) const
     this->Refine(mesh, k);
     // Newest first: what remains is the earliest change at or after `collapses`.
     const HierarchyCollapse& c = this->Collapses[k];
-    const auto flips = std::equal_range(this->FlipStamp.begin(), this->FlipStamp.end(), k + 1);
-    for (auto it = flips.first; it != flips.second; ++it)
+    const auto flips = this->Records.FlipsAfter(k);
+    for (Index f = flips.first; f < flips.second; ++f)
     {
-      for (Index x : this->Flips[size_t(it - this->FlipStamp.begin())].Triangles)
+      for (Index x : this->Records.Flips[size_t(f)].Triangles)
       {
         changeLevel[x] = c.Level;
       }
     }
     for (int i = 0; i < c.Count; ++i)
     {
-      const Index v = this->RecordVertices[3 * size_t(k) + i];
+      const Index v = this->Records.Vertices[3 * size_t(k) + i];
       global[v] = c.Sources[i];
       mesh.ForEachTriangle(v, [&](Index x) { changeLevel[x] = c.Level; });
     }

@@ -26,6 +26,7 @@
 #ifndef slodCollapseHierarchy_h
 #define slodCollapseHierarchy_h
 
+#include "slodCollapseRecords.h"
 #include "slodEditableMesh.h"
 #include "slodQuadric.h"
 #include "slodQuadraticFit.h"
@@ -161,13 +162,13 @@ public:
   int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
   Index NumberOfCollapses() const { return static_cast<Index>(this->Collapses.size()); }
   Index NumberOfEdgeCollapses() const { return this->EdgeCollapseCount; }
-  Index NumberOfSwaps() const { return static_cast<Index>(this->Flips.size()); }
+  Index NumberOfSwaps() const { return this->Records.NumberOfFlips(); }
   // Edge swaps made after `collapses` collapses (between M_i(1) and M_i+1 when collapses =
   // LevelStart(i + 1)); each changes two triangles.
   Index SwapsAfter(Index collapses) const
   {
-    const auto range = std::equal_range(this->FlipStamp.begin(), this->FlipStamp.end(), collapses);
-    return static_cast<Index>(range.second - range.first);
+    const auto range = this->Records.FlipsAfter(collapses - 1);
+    return range.second - range.first;
   }
   Index LevelStart(int level) const { return this->LevelStarts[level]; }
   Index NumberOfTrianglesAfter(Index collapses) const { return this->TriangleCounts[collapses]; }
@@ -318,13 +319,9 @@ private:
   std::vector<Index> EntryVertices, EntryBirth, EntryDeath, EntryOf, EntryTriangle;
   std::vector<HierarchyCollapse> Collapses;
   std::vector<Index> LevelStarts, TriangleCounts;
-  // Flat EditableMesh collapse records.
-  std::vector<Index> RecordKept, RecordVertices, RecordRemovedStart, RecordRemoved;
-  std::vector<Index> RecordChangedStart, RecordChangedTriangle, RecordChangedFrom;
-  std::vector<unsigned char> RecordChangedCorner;
-  // Edge swaps, in order, with the collapse count after which they happened.
-  std::vector<FlipRecord> Flips;
-  std::vector<Index> FlipStamp;
+  // The collapses and edge swaps in M0 numbering, for exact vertex splits (topology only: the
+  // positions are those of the global vertices, Sources and Point of each HierarchyCollapse).
+  CollapseRecords Records;
 
   std::vector<Evaluation> Evaluations;
   std::vector<Quadric> Quadrics; // per editable vertex: planes of its original triangles

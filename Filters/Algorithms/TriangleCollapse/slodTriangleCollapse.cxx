@@ -21,86 +21,6 @@
 
 namespace slod
 {
-void CollapseHistory::Clear()
-{
-  *this = CollapseHistory();
-}
-
-void CollapseHistory::Append(
-  const CollapseRecord& record, const EditableMesh& mesh, const Index* vertexId, const Index* triangleId)
-{
-  if (this->RemovedOffsets.empty())
-  {
-    this->RemovedOffsets.push_back(0);
-    this->ChangedOffsets.push_back(0);
-    this->SurroundingOffsets.push_back(0);
-  }
-  // Kept vertex first; an edge collapse has no third vertex (-1, zero position).
-  Index order[3] = { 0, 1, 2 };
-  for (int i = 0; i < record.VertexCount; ++i)
-  {
-    if (record.Vertices[i] == record.Kept)
-    {
-      std::swap(order[0], order[i]);
-    }
-  }
-  for (int i = 0; i < 3; ++i)
-  {
-    const bool has = order[i] < record.VertexCount;
-    this->Vertices.push_back(has ? vertexId[record.Vertices[order[i]]] : InvalidIndex);
-    const Vec3 p = has ? record.OldPositions[order[i]] : Vec3{ 0, 0, 0 };
-    this->OldPositions.insert(this->OldPositions.end(), p.begin(), p.end());
-  }
-  this->NewPositions.insert(this->NewPositions.end(), record.NewPosition.begin(), record.NewPosition.end());
-  for (Index t : record.RemovedTriangles)
-  {
-    const Index* tri = mesh.Triangle(t);
-    this->RemovedTriangles.insert(
-      this->RemovedTriangles.end(), { triangleId[t], vertexId[tri[0]], vertexId[tri[1]], vertexId[tri[2]] });
-  }
-  this->RemovedOffsets.push_back(static_cast<Index>(this->RemovedTriangles.size() / 4));
-  for (size_t i = 0; i < record.ChangedTriangles.size(); ++i)
-  {
-    this->Changed.insert(this->Changed.end(),
-      { triangleId[record.ChangedTriangles[i]], Index(record.ChangedCorner[i]), vertexId[record.ChangedFrom[i]] });
-  }
-  this->ChangedOffsets.push_back(static_cast<Index>(this->Changed.size() / 3));
-}
-
-void CollapseHistory::Get(Index k, CollapseRecord& record) const
-{
-  record.Clear();
-  record.VertexCount = this->Vertices[3 * size_t(k) + 2] == InvalidIndex ? 2 : 3;
-  record.Kept = this->Vertices[3 * size_t(k)];
-  for (int i = 0; i < record.VertexCount; ++i)
-  {
-    record.Vertices[i] = this->Vertices[3 * size_t(k) + i];
-    const double* p = &this->OldPositions[9 * size_t(k) + 3 * i];
-    record.OldPositions[i] = { p[0], p[1], p[2] };
-  }
-  const double* q = &this->NewPositions[3 * size_t(k)];
-  record.NewPosition = { q[0], q[1], q[2] };
-  for (Index r = this->RemovedOffsets[k]; r < this->RemovedOffsets[k + 1]; ++r)
-  {
-    record.RemovedTriangles.push_back(this->RemovedTriangles[4 * size_t(r)]);
-  }
-  for (Index c = this->ChangedOffsets[k]; c < this->ChangedOffsets[k + 1]; ++c)
-  {
-    record.ChangedTriangles.push_back(this->Changed[3 * size_t(c)]);
-    record.ChangedCorner.push_back(static_cast<unsigned char>(this->Changed[3 * size_t(c) + 1]));
-    record.ChangedFrom.push_back(this->Changed[3 * size_t(c) + 2]);
-  }
-}
-
-size_t CollapseHistory::MemoryBytes() const
-{
-  return (this->Vertices.capacity() + this->RemovedOffsets.capacity() + this->RemovedTriangles.capacity() +
-           this->ChangedOffsets.capacity() + this->Changed.capacity() + this->SurroundingOffsets.capacity() +
-           this->Surrounding.capacity()) *
-    sizeof(Index) +
-    (this->OldPositions.capacity() + this->NewPositions.capacity()) * sizeof(double);
-}
-
 namespace
 {
 // Work budgets of the passes after the collapses, in point-triangle distance tests. The collapses
@@ -1624,12 +1544,7 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
 void TriangleCollapser::AppendHistory(
   const CollapseRecord& record, const CollapseLoop& loop, TriangleCollapseResult& result) const
 {
-  result.History.Append(record, this->Mesh, this->VertexInput.data(), this->TriangleInput.data());
-  for (Index w : loop.Neighbors)
-  {
-    result.History.Surrounding.push_back(this->VertexInput[w]);
-  }
-  result.History.SurroundingOffsets.push_back(static_cast<Index>(result.History.Surrounding.size()));
+  result.History.Append(record, this->Mesh, this->VertexInput.data(), this->TriangleInput.data(), &loop.Neighbors);
 }
 
 bool TriangleCollapser::ReportProgress(CollapseLoop& loop, TriangleCollapseResult& result) const
@@ -2236,6 +2151,7 @@ void TriangleCollapser::MoveTowardOriginal(const TriangleMesh& original, Triangl
 void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
 {
   result = TriangleCollapseResult();
+  result.History.StoreSurrounding = true;
   this->StageClock = std::chrono::steady_clock::now();
   const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
   this->Prepare(input, refine);

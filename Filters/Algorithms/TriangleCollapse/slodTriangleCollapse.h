@@ -41,6 +41,7 @@
 #ifndef slodTriangleCollapse_h
 #define slodTriangleCollapse_h
 
+#include "slodCollapseRecords.h"
 #include "slodEditableMesh.h"
 #include "slodTriangleMesh.h"
 
@@ -106,7 +107,7 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // and are popped again, and 18 % of the batch loop is sequential).
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
-  // Record every collapse for progressive meshes (CollapseHistory).
+  // Record every collapse for progressive meshes (TriangleCollapseResult::History).
   bool RecordHistory = false;
   // Optional: per vertex of the input mesh, 1 when non-manifold (the input preparation's
   // PreparationReport::NonManifoldVertexFlags); computed here when null.
@@ -138,30 +139,6 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   std::function<Index(double cheapestCost, Index liveTriangles)> SettleTarget;
 };
 
-// Every collapse, enough to undo it by a vertex split (EditableMesh::Undo) on a mesh whose
-// vertex and triangle ids are those of the input mesh. Flat arrays, one entry per collapse unless
-// noted. Vertex ids and triangle ids refer to the input TriangleMesh.
-struct SURFACELODFILTERS_EXPORT CollapseHistory
-{
-  std::vector<Index> Vertices;          // 3 per collapse: kept vertex first, then the two removed
-  std::vector<double> OldPositions;     // 9 per collapse: positions of Vertices before
-  std::vector<double> NewPositions;     // 3 per collapse: the new vertex v0 (stored in the kept id)
-  std::vector<Index> RemovedOffsets;    // collapses + 1 offsets into RemovedTriangles (in 4s)
-  std::vector<Index> RemovedTriangles;  // 4 per removed triangle: id, then its 3 vertices
-  std::vector<Index> ChangedOffsets;    // collapses + 1 offsets into Changed (in 3s)
-  std::vector<Index> Changed;           // 3 per redirected corner: triangle id, corner, previous vertex
-  std::vector<Index> SurroundingOffsets; // collapses + 1 offsets into Surrounding
-  std::vector<Index> Surrounding;       // the paper's surrounding vertices (link of v0), for reference
-
-  Index NumberOfCollapses() const { return static_cast<Index>(this->NewPositions.size() / 3); }
-  void Clear();
-  // Appends one record; vertexId / triangleId map the mesh's ids to the ids to store.
-  void Append(const CollapseRecord& record, const EditableMesh& mesh, const Index* vertexId, const Index* triangleId);
-  // The record k as an EditableMesh record (for Undo / redo).
-  void Get(Index k, CollapseRecord& record) const;
-  size_t MemoryBytes() const;
-};
-
 struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
 {
   TriangleMesh Mesh;                 // simplified mesh (compact)
@@ -184,7 +161,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // minimiser of its attribute quadric at its position; unscaled, normals not renormalised).
   std::vector<unsigned char> AttributeValuesSet;
   std::vector<double> AttributeValues;
-  CollapseHistory History;           // when RecordHistory
+  // When RecordHistory: every collapse, in the input mesh's vertex and triangle ids (positions,
+  // removed triangles' vertices and surrounding vertices stored), to split them again.
+  CollapseRecords History;
 };
 
 // Simplifies `mesh` (consumed: its arrays are released to save memory). `attributes`, when given

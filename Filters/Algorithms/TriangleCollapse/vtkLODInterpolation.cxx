@@ -2,6 +2,7 @@
 #include "vtkLODInterpolation.h"
 
 #include "slodAttributeTransfer.h"
+#include "slodCollapseRecordTable.h"
 #include "slodInputPreparation.h"
 #include "slodPointAttributes.h"
 #include "slodUnionFind.h"
@@ -112,13 +113,12 @@ const char* MatchThroughRecords(vtkTable* records, vtkPolyData* detailedInput, c
   slod::Index nh, vtkPolyData* coarseInput, const std::vector<slod::Index>& coarseToInput, slod::Index nl,
   std::vector<slod::Index>& match)
 {
-  vtkDataArray* vertices = vtkDataArray::SafeDownCast(records->GetColumnByName("Vertices"));
-  vtkDataArray* np = vtkDataArray::SafeDownCast(records->GetFieldData()->GetAbstractArray("NumberOfInputPoints"));
-  if (!vertices || vertices->GetNumberOfComponents() != 3 || !np || np->GetNumberOfTuples() != 1)
+  slod::CollapseRecords history;
+  slod::Index recordPoints = 0, recordTriangles = 0;
+  if (!slod::TableToCollapseRecords(records, history, recordPoints, recordTriangles))
   {
-    return "The records are not vtkQuadricTriangleCollapse's collapse records (Vertices, NumberOfInputPoints).";
+    return "The records are not vtkQuadricTriangleCollapse's collapse records (malformed table).";
   }
-  const auto recordPoints = static_cast<vtkIdType>(np->GetComponent(0, 0));
   std::vector<slod::Index> detailedIds, coarseIds;
   if (!RecordIds(coarseInput, coarseToInput, nl, recordPoints, false, coarseIds) ||
     !RecordIds(detailedInput, detailedToInput, nh, recordPoints, true, detailedIds))
@@ -130,17 +130,14 @@ const char* MatchThroughRecords(vtkTable* records, vtkPolyData* detailedInput, c
   {
     representative[coarseIds[l]] = l;
   }
-  for (vtkIdType k = records->GetNumberOfRows() - 1; k >= 0; --k)
+  // (TableToCollapseRecords has checked every vertex id against recordPoints.)
+  for (slod::Index k = history.NumberOfCollapses() - 1; k >= 0; --k)
   {
-    const auto kept = static_cast<vtkIdType>(vertices->GetComponent(k, 0));
-    for (int i = 1; i < 3; ++i)
+    const slod::Index kept = history.Kept(k);
+    for (int i = 1; i < history.VertexCount(k); ++i)
     {
-      const auto removed = static_cast<vtkIdType>(vertices->GetComponent(k, i));
-      if (kept < 0 || kept >= recordPoints || removed >= recordPoints)
-      {
-        return "A collapse record names a vertex out of range.";
-      }
-      if (removed >= 0 && representative[removed] == slod::InvalidIndex)
+      const slod::Index removed = history.Vertices[3 * size_t(k) + i];
+      if (representative[removed] == slod::InvalidIndex)
       {
         representative[removed] = representative[kept];
       }

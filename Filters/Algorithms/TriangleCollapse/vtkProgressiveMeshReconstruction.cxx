@@ -2,6 +2,7 @@
 #include "vtkProgressiveMeshReconstruction.h"
 
 #include "slodAttributeTransfer.h"
+#include "slodCollapseRecordTable.h"
 #include "slodEditableMesh.h"
 #include "slodInputPreparation.h"
 #include "slodTriangleCollapse.h"
@@ -37,7 +38,7 @@ struct OriginalCells
 struct vtkProgressiveMeshReconstruction::State
 {
   slod::EditableMesh Mesh;
-  slod::CollapseHistory History;
+  slod::CollapseRecords History;
   std::vector<vtkIdType> TrianglesAtLevel; // triangle count after s splits
   vtkIdType Applied = 0;
   vtkMTimeType CoarseTime = 0, RecordsTime = 0;
@@ -71,91 +72,10 @@ int vtkProgressiveMeshReconstruction::FillInputPortInformation(int port, vtkInfo
 
 namespace
 {
-// Reads the collapse records table back into the core's flat history; false when malformed.
-bool TableToHistory(vtkTable* table, slod::CollapseHistory& h, vtkIdType& points, vtkIdType& triangles)
-{
-  h.Clear();
-  auto column = [&](const char* name, int components) -> vtkDataArray* {
-    vtkDataArray* a = vtkDataArray::SafeDownCast(table->GetColumnByName(name));
-    return a && a->GetNumberOfComponents() == components ? a : nullptr;
-  };
-  vtkDataArray* vertices = column("Vertices", 3);
-  vtkDataArray* oldPositions = column("OldPositions", 9);
-  vtkDataArray* newPosition = column("NewPosition", 3);
-  vtkDataArray* removed = column("RemovedTriangles", 4);
-  vtkDataArray* removedVertices = column("RemovedTriangleVertices", 12);
-  vtkDataArray* changedOffset = column("ChangedOffset", 1);
-  vtkFieldData* fd = table->GetFieldData();
-  vtkDataArray* changed = vtkDataArray::SafeDownCast(fd->GetAbstractArray("Changed"));
-  vtkDataArray* np = vtkDataArray::SafeDownCast(fd->GetAbstractArray("NumberOfInputPoints"));
-  vtkDataArray* nt = vtkDataArray::SafeDownCast(fd->GetAbstractArray("NumberOfInputTriangles"));
-  if (!vertices || !oldPositions || !newPosition || !removed || !removedVertices || !changedOffset || !changed ||
-    changed->GetNumberOfComponents() != 3 || !np || !nt)
-  {
-    return false;
-  }
-  points = static_cast<vtkIdType>(np->GetComponent(0, 0));
-  triangles = static_cast<vtkIdType>(nt->GetComponent(0, 0));
-  const vtkIdType n = table->GetNumberOfRows();
-  h.RemovedOffsets.push_back(0);
-  h.ChangedOffsets.push_back(0);
-  for (vtkIdType k = 0; k < n; ++k)
-  {
-    for (int i = 0; i < 3; ++i)
-    {
-      const auto v = static_cast<slod::Index>(vertices->GetComponent(k, i));
-      const bool edgeCollapse = i == 2 && v == slod::InvalidIndex; // two vertices merged
-      if (!edgeCollapse && (v < 0 || v >= points))
-      {
-        return false;
-      }
-      h.Vertices.push_back(v);
-      h.NewPositions.push_back(newPosition->GetComponent(k, i));
-    }
-    for (int i = 0; i < 9; ++i)
-    {
-      h.OldPositions.push_back(oldPositions->GetComponent(k, i));
-    }
-    for (int i = 0; i < 4; ++i)
-    {
-      const auto t = static_cast<slod::Index>(removed->GetComponent(k, i));
-      if (t < 0)
-      {
-        continue;
-      }
-      if (t >= triangles)
-      {
-        return false;
-      }
-      h.RemovedTriangles.push_back(t);
-      for (int j = 0; j < 3; ++j)
-      {
-        h.RemovedTriangles.push_back(static_cast<slod::Index>(removedVertices->GetComponent(k, 3 * i + j)));
-      }
-    }
-    h.RemovedOffsets.push_back(static_cast<slod::Index>(h.RemovedTriangles.size() / 4));
-    const vtkIdType end = k + 1 < n ? static_cast<vtkIdType>(changedOffset->GetComponent(k + 1, 0)) : changed->GetNumberOfTuples();
-    const auto begin = static_cast<vtkIdType>(changedOffset->GetComponent(k, 0));
-    if (begin < 0 || end < begin || end > changed->GetNumberOfTuples())
-    {
-      return false;
-    }
-    for (vtkIdType c = begin; c < end; ++c)
-    {
-      for (int j = 0; j < 3; ++j)
-      {
-        h.Changed.push_back(static_cast<slod::Index>(changed->GetComponent(c, j)));
-      }
-    }
-    h.ChangedOffsets.push_back(static_cast<slod::Index>(h.Changed.size() / 3));
-  }
-  return true;
-}
-
 // The coarse level over the input's ids: the coarse points at their original vertex ids, the
 // removed triangles as they were when removed (their storage is what a split revives), the live
 // ones from the coarse cells. Returns an error message, or nullptr.
-const char* CoarseLevel(vtkPolyData* coarse, const slod::CollapseHistory& h, vtkIdType np, vtkIdType nt,
+const char* CoarseLevel(vtkPolyData* coarse, const slod::CollapseRecords& h, vtkIdType np, vtkIdType nt,
   slod::TriangleMesh& mesh, std::vector<unsigned char>& live)
 {
   vtkDataArray* vertexIds = coarse->GetPointData()->GetArray("OriginalVertexId");
@@ -176,9 +96,9 @@ const char* CoarseLevel(vtkPolyData* coarse, const slod::CollapseHistory& h, vtk
     }
     coarse->GetPoint(i, &mesh.Points[3 * size_t(v)]);
   }
-  for (size_t r = 0; r < h.RemovedTriangles.size(); r += 4)
+  for (size_t r = 0; r < h.RemovedTriangles.size(); ++r)
   {
-    std::copy(&h.RemovedTriangles[r + 1], &h.RemovedTriangles[r + 4], &mesh.Triangles[3 * size_t(h.RemovedTriangles[r])]);
+    std::copy_n(&h.RemovedTriangleVertices[3 * r], 3, &mesh.Triangles[3 * size_t(h.RemovedTriangles[r])]);
   }
   vtkCellArray* polys = coarse->GetPolys();
   vtkIdType cell = 0;
@@ -250,7 +170,7 @@ void StoreOriginalCellData(vtkObject* filter, vtkPolyData* coarse, vtkPolyData* 
 }
 
 // The triangle count after s vertex splits, for every s.
-std::vector<vtkIdType> TrianglesAtLevels(const slod::CollapseHistory& h, vtkIdType coarseTriangles)
+std::vector<vtkIdType> TrianglesAtLevels(const slod::CollapseRecords& h, vtkIdType coarseTriangles)
 {
   const slod::Index n = h.NumberOfCollapses();
   std::vector<vtkIdType> count(size_t(n) + 1);
@@ -258,7 +178,7 @@ std::vector<vtkIdType> TrianglesAtLevels(const slod::CollapseHistory& h, vtkIdTy
   for (slod::Index s = 1; s <= n; ++s)
   {
     const slod::Index k = n - s; // record undone by split s
-    count[s] = count[s - 1] + h.RemovedOffsets[k + 1] - h.RemovedOffsets[k];
+    count[s] = count[s - 1] + h.RemovedCount(k);
   }
   return count;
 }
@@ -283,8 +203,8 @@ int vtkProgressiveMeshReconstruction::RequestData(
   {
     this->Cache.reset();
     auto state = std::make_unique<State>();
-    vtkIdType np = 0, nt = 0;
-    if (!TableToHistory(table, state->History, np, nt))
+    slod::Index np = 0, nt = 0;
+    if (!slod::TableToCollapseRecords(table, state->History, np, nt))
     {
       vtkErrorMacro(<< "The collapse records are malformed (see vtkQuadricTriangleCollapse, output port 1).");
       return 1;
@@ -326,15 +246,13 @@ int vtkProgressiveMeshReconstruction::RequestData(
   slod::CollapseRecord record;
   while (state.Applied < level) // vertex splits, newest record first
   {
-    state.History.Get(static_cast<slod::Index>(n - 1 - state.Applied), record);
-    state.Mesh.Undo(record);
+    state.History.Undo(static_cast<slod::Index>(n - 1 - state.Applied), state.Mesh, record);
     ++state.Applied;
     ++this->OperationsLastUpdate;
   }
   while (state.Applied > level) // back to coarser levels: redo the collapses in order
   {
-    state.History.Get(static_cast<slod::Index>(n - state.Applied), record);
-    state.Mesh.Collapse(record.Vertices.data(), record.VertexCount, record.Kept, record.NewPosition);
+    state.History.Redo(static_cast<slod::Index>(n - state.Applied), state.Mesh, record);
     --state.Applied;
     ++this->OperationsLastUpdate;
   }

@@ -3,6 +3,7 @@
 
 #include "slodInputPreparation.h"
 #include "slodAttributeTransfer.h"
+#include "slodCollapseRecordTable.h"
 #include "slodPieceSeams.h"
 #include "slodPointAttributes.h"
 #include "slodTriangleCollapse.h"
@@ -32,85 +33,11 @@ vtkStandardNewMacro(vtkQuadricTriangleCollapse);
 
 namespace
 {
-vtkSmartPointer<vtkIdTypeArray> MakeIdArray(const char* name, int components, vtkIdType tuples)
-{
-  auto a = vtkSmartPointer<vtkIdTypeArray>::New();
-  a->SetName(name);
-  a->SetNumberOfComponents(components);
-  a->SetNumberOfTuples(tuples);
-  return a;
-}
-vtkSmartPointer<vtkDoubleArray> MakeDoubleArray(const char* name, int components, vtkIdType tuples)
-{
-  auto a = vtkSmartPointer<vtkDoubleArray>::New();
-  a->SetName(name);
-  a->SetNumberOfComponents(components);
-  a->SetNumberOfTuples(tuples);
-  return a;
-}
 void AddScalar(vtkFieldData* fd, const char* name, double value)
 {
-  auto a = MakeDoubleArray(name, 1, 1);
+  auto a = slod::NewDoubleArray(name, 1, 1);
   a->SetValue(0, value);
   fd->AddArray(a);
-}
-
-// The history as a table: one row per collapse plus ragged arrays in the field data.
-void HistoryToTable(const slod::CollapseHistory& h, slod::Index inputPoints, slod::Index inputTriangles, vtkTable* table)
-{
-  const vtkIdType n = h.NumberOfCollapses();
-  auto vertices = MakeIdArray("Vertices", 3, n);
-  auto oldPositions = MakeDoubleArray("OldPositions", 9, n);
-  auto newPosition = MakeDoubleArray("NewPosition", 3, n);
-  auto removed = MakeIdArray("RemovedTriangles", 4, n);
-  auto removedVertices = MakeIdArray("RemovedTriangleVertices", 12, n);
-  auto changedOffset = MakeIdArray("ChangedOffset", 1, n);
-  auto surroundingOffset = MakeIdArray("SurroundingOffset", 1, n);
-  for (vtkIdType k = 0; k < n; ++k)
-  {
-    for (int i = 0; i < 3; ++i)
-    {
-      vertices->SetTypedComponent(k, i, h.Vertices[3 * k + i]);
-      newPosition->SetTypedComponent(k, i, h.NewPositions[3 * k + i]);
-    }
-    for (int i = 0; i < 9; ++i)
-    {
-      oldPositions->SetTypedComponent(k, i, h.OldPositions[9 * k + i]);
-    }
-    const slod::Index r0 = h.RemovedOffsets[k], r1 = h.RemovedOffsets[k + 1];
-    for (int i = 0; i < 4; ++i)
-    {
-      const bool has = r0 + i < r1;
-      removed->SetTypedComponent(k, i, has ? h.RemovedTriangles[4 * size_t(r0 + i)] : -1);
-      for (int j = 0; j < 3; ++j)
-      {
-        removedVertices->SetTypedComponent(k, 3 * i + j, has ? h.RemovedTriangles[4 * size_t(r0 + i) + 1 + j] : -1);
-      }
-    }
-    changedOffset->SetValue(k, h.ChangedOffsets[k]);
-    surroundingOffset->SetValue(k, h.SurroundingOffsets[k]);
-  }
-  table->AddColumn(vertices);
-  table->AddColumn(oldPositions);
-  table->AddColumn(newPosition);
-  table->AddColumn(removed);
-  table->AddColumn(removedVertices);
-  table->AddColumn(changedOffset);
-  table->AddColumn(surroundingOffset);
-
-  vtkFieldData* fd = table->GetFieldData();
-  auto changed = MakeIdArray("Changed", 3, static_cast<vtkIdType>(h.Changed.size() / 3));
-  std::copy(h.Changed.begin(), h.Changed.end(), changed->GetPointer(0));
-  fd->AddArray(changed);
-  auto surrounding = MakeIdArray("Surrounding", 1, static_cast<vtkIdType>(h.Surrounding.size()));
-  std::copy(h.Surrounding.begin(), h.Surrounding.end(), surrounding->GetPointer(0));
-  fd->AddArray(surrounding);
-  auto counts = MakeIdArray("NumberOfInputPoints", 1, 1);
-  counts->SetValue(0, inputPoints);
-  fd->AddArray(counts);
-  auto tcounts = MakeIdArray("NumberOfInputTriangles", 1, 1);
-  tcounts->SetValue(0, inputTriangles);
-  fd->AddArray(tcounts);
 }
 
 // Stop criteria of the filter contract (slodFilterContract.h): whichever target is reached first.
@@ -344,7 +271,7 @@ void StoreSimplifiedMesh(const slod::TriangleCollapseResult& result, const slod:
   slod::MeshToPolyData(result.Mesh, output, pointType);
   attributes.Store(output->GetPointData(), result.OutputToInput);
   const vtkIdType outPoints = static_cast<vtkIdType>(result.OutputToInput.size());
-  auto error = MakeDoubleArray("SimplificationError", 1, outPoints);
+  auto error = slod::NewDoubleArray("SimplificationError", 1, outPoints);
   std::copy(result.VertexError.begin(), result.VertexError.end(), error->GetPointer(0));
   output->GetPointData()->AddArray(error);
   AddScalar(output->GetFieldData(), "MaximumSimplificationError", result.MaximumError);
@@ -355,15 +282,15 @@ void StoreSimplifiedMesh(const slod::TriangleCollapseResult& result, const slod:
 void StoreProgressiveMesh(const slod::TriangleCollapseResult& result, slod::Index inputPoints,
   slod::Index inputTriangles, vtkPolyData* output, vtkTable* records)
 {
-  auto vertexIds = MakeIdArray("OriginalVertexId", 1, static_cast<vtkIdType>(result.OutputToInput.size()));
+  auto vertexIds = slod::NewIdArray("OriginalVertexId", 1, static_cast<vtkIdType>(result.OutputToInput.size()));
   std::copy(result.OutputToInput.begin(), result.OutputToInput.end(), vertexIds->GetPointer(0));
   output->GetPointData()->AddArray(vertexIds);
-  auto triangleIds = MakeIdArray("OriginalTriangleId", 1, static_cast<vtkIdType>(result.OutputTriangleIds.size()));
+  auto triangleIds = slod::NewIdArray("OriginalTriangleId", 1, static_cast<vtkIdType>(result.OutputTriangleIds.size()));
   std::copy(result.OutputTriangleIds.begin(), result.OutputTriangleIds.end(), triangleIds->GetPointer(0));
   output->GetCellData()->AddArray(triangleIds);
   if (records)
   {
-    HistoryToTable(result.History, inputPoints, inputTriangles, records);
+    slod::CollapseRecordsToTable(result.History, inputPoints, inputTriangles, records);
   }
 }
 } // namespace

@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "slodCollapseRecords.h"
+
+#include "slodEditableMesh.h"
+
+#include <algorithm>
+
+namespace slod
+{
+void CollapseRecord::Clear()
+{
+  this->Vertices = { InvalidIndex, InvalidIndex, InvalidIndex };
+  this->VertexCount = 0;
+  this->Kept = InvalidIndex;
+  this->RemovedTriangles.clear();
+  this->ChangedTriangles.clear();
+  this->ChangedCorner.clear();
+  this->ChangedFrom.clear();
+}
+
+void CollapseRecords::Clear()
+{
+  CollapseRecords empty;
+  empty.StorePositions = this->StorePositions;
+  empty.StoreRemovedTriangleVertices = this->StoreRemovedTriangleVertices;
+  empty.StoreSurrounding = this->StoreSurrounding;
+  *this = std::move(empty);
+}
+
+void CollapseRecords::Reserve(size_t collapses, size_t removed, size_t changed)
+{
+  this->Vertices.reserve(3 * collapses);
+  if (this->StorePositions)
+  {
+    this->OldPositions.reserve(9 * collapses);
+    this->NewPositions.reserve(3 * collapses);
+  }
+  this->RemovedOffsets.reserve(collapses + 1);
+  this->RemovedTriangles.reserve(removed);
+  if (this->StoreRemovedTriangleVertices)
+  {
+    this->RemovedTriangleVertices.reserve(3 * removed);
+  }
+  this->ChangedOffsets.reserve(collapses + 1);
+  this->ChangedTriangles.reserve(changed);
+  this->ChangedCorners.reserve(changed);
+  this->ChangedFrom.reserve(changed);
+}
+
+void CollapseRecords::Append(
+  const CollapseRecord& record, const EditableMesh& mesh, const Index* vertexId, const Index* triangleId,
+  const std::vector<Index>* surrounding)
+{
+  auto vertex = [vertexId](Index v) { return vertexId ? vertexId[v] : v; };
+  auto triangle = [triangleId](Index t) { return triangleId ? triangleId[t] : t; };
+  // Kept vertex first; an edge collapse has no third vertex (-1, zero position).
+  int order[3] = { 0, 1, 2 };
+  for (int i = 0; i < record.VertexCount; ++i)
+  {
+    if (record.Vertices[i] == record.Kept)
+    {
+      std::swap(order[0], order[i]);
+    }
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    const bool has = order[i] < record.VertexCount;
+    this->Vertices.push_back(has ? vertex(record.Vertices[order[i]]) : InvalidIndex);
+    if (this->StorePositions)
+    {
+      const Vec3 p = has ? record.OldPositions[order[i]] : Vec3{ 0, 0, 0 };
+      this->OldPositions.insert(this->OldPositions.end(), p.begin(), p.end());
+    }
+  }
+  if (this->StorePositions)
+  {
+    this->NewPositions.insert(this->NewPositions.end(), record.NewPosition.begin(), record.NewPosition.end());
+  }
+  for (Index t : record.RemovedTriangles)
+  {
+    this->RemovedTriangles.push_back(triangle(t));
+    if (this->StoreRemovedTriangleVertices)
+    {
+      const Index* tri = mesh.Triangle(t);
+      this->RemovedTriangleVertices.insert(
+        this->RemovedTriangleVertices.end(), { vertex(tri[0]), vertex(tri[1]), vertex(tri[2]) });
+    }
+  }
+  this->RemovedOffsets.push_back(static_cast<Index>(this->RemovedTriangles.size()));
+  for (size_t i = 0; i < record.ChangedTriangles.size(); ++i)
+  {
+    this->ChangedTriangles.push_back(triangle(record.ChangedTriangles[i]));
+    this->ChangedCorners.push_back(record.ChangedCorner[i]);
+    this->ChangedFrom.push_back(vertex(record.ChangedFrom[i]));
+  }
+  this->ChangedOffsets.push_back(static_cast<Index>(this->ChangedTriangles.size()));
+  if (this->StoreSurrounding)
+  {
+    if (surrounding)
+    {
+      for (Index w : *surrounding)
+      {
+        this->Surrounding.push_back(vertex(w));
+      }
+    }
+    this->SurroundingOffsets.push_back(static_cast<Index>(this->Surrounding.size()));
+  }
+}
+
+void CollapseRecords::AppendFlip(const FlipRecord& flip)
+{
+  this->Flips.push_back(flip);
+  this->FlipStamps.push_back(this->NumberOfCollapses());
+}
+
+std::pair<Index, Index> CollapseRecords::FlipsAfter(Index k) const
+{
+  const auto range = std::equal_range(this->FlipStamps.begin(), this->FlipStamps.end(), k + 1);
+  return { static_cast<Index>(range.first - this->FlipStamps.begin()),
+    static_cast<Index>(range.second - this->FlipStamps.begin()) };
+}
+
+void CollapseRecords::Get(Index k, CollapseRecord& record) const
+{
+  record.VertexCount = this->VertexCount(k);
+  record.Kept = this->Kept(k);
+  record.Vertices = { InvalidIndex, InvalidIndex, InvalidIndex };
+  for (int i = 0; i < record.VertexCount; ++i)
+  {
+    record.Vertices[i] = this->Vertices[3 * size_t(k) + i];
+    if (this->StorePositions)
+    {
+      const double* p = &this->OldPositions[9 * size_t(k) + 3 * i];
+      record.OldPositions[i] = { p[0], p[1], p[2] };
+    }
+  }
+  if (this->StorePositions)
+  {
+    const double* q = &this->NewPositions[3 * size_t(k)];
+    record.NewPosition = { q[0], q[1], q[2] };
+  }
+  record.RemovedTriangles.assign(this->RemovedTriangles.begin() + this->RemovedOffsets[k],
+    this->RemovedTriangles.begin() + this->RemovedOffsets[k + 1]);
+  const Index c0 = this->ChangedOffsets[k], c1 = this->ChangedOffsets[k + 1];
+  record.ChangedTriangles.assign(this->ChangedTriangles.begin() + c0, this->ChangedTriangles.begin() + c1);
+  record.ChangedCorner.assign(this->ChangedCorners.begin() + c0, this->ChangedCorners.begin() + c1);
+  record.ChangedFrom.assign(this->ChangedFrom.begin() + c0, this->ChangedFrom.begin() + c1);
+}
+
+void CollapseRecords::UndoFlipsAfter(Index k, EditableMesh& mesh) const
+{
+  const auto range = this->FlipsAfter(k);
+  for (Index f = range.second; f > range.first; --f) // newest first
+  {
+    mesh.Undo(this->Flips[size_t(f - 1)]);
+  }
+}
+
+void CollapseRecords::RedoFlipsAfter(Index k, EditableMesh& mesh) const
+{
+  const auto range = this->FlipsAfter(k);
+  for (Index f = range.first; f < range.second; ++f)
+  {
+    mesh.FlipEdge(this->Flips[size_t(f)].X, this->Flips[size_t(f)].Y);
+  }
+}
+
+void CollapseRecords::Undo(Index k, EditableMesh& mesh, CollapseRecord& record) const
+{
+  this->UndoFlipsAfter(k, mesh);
+  this->Get(k, record);
+  mesh.Undo(record);
+}
+
+void CollapseRecords::Redo(Index k, EditableMesh& mesh, CollapseRecord& record) const
+{
+  this->Get(k, record);
+  mesh.Collapse(record.Vertices.data(), record.VertexCount, record.Kept, record.NewPosition);
+  this->RedoFlipsAfter(k, mesh);
+}
+
+size_t CollapseRecords::MemoryBytes() const
+{
+  return (this->Vertices.capacity() + this->RemovedOffsets.capacity() + this->RemovedTriangles.capacity() +
+           this->RemovedTriangleVertices.capacity() + this->ChangedOffsets.capacity() +
+           this->ChangedTriangles.capacity() + this->ChangedFrom.capacity() + this->SurroundingOffsets.capacity() +
+           this->Surrounding.capacity() + this->FlipStamps.capacity()) *
+    sizeof(Index) +
+    this->ChangedCorners.capacity() + this->Flips.capacity() * sizeof(FlipRecord) +
+    (this->OldPositions.capacity() + this->NewPositions.capacity()) * sizeof(double);
+}
+} // namespace slod
