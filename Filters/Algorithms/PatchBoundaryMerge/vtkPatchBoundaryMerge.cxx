@@ -76,6 +76,10 @@ struct vtkPatchBoundaryMerge::Cache
 
   double RelativePlaneDistance = 0;
   double ChainInPlaneWeight = -1; // of the generator's chain hierarchy
+  // The last level's count target (-1: an error bound alone) and why it was missed (null: reached),
+  // for the contract's report on the output (slod::ReportTarget).
+  vtkIdType Target = -1;
+  const char* TargetMissed = nullptr;
 
   bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p, double relativePlaneDistance) const
   {
@@ -202,6 +206,8 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
   // epsilon (the paper's use); nothing set is the default reduction.
   const vtkIdType target = slod::TargetTriangleCount(
     mesh.NumberOfTriangles(), self->TargetNumberOfTriangles, self->TargetReduction, bound > 0);
+  this->Target = target > 0 ? target : -1;
+  this->TargetMissed = nullptr;
   auto abort = [self]() { return self->GetAbortExecute() != 0; };
   if (target >= mesh.NumberOfTriangles())
   {
@@ -230,8 +236,8 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
     if (produced < target && 10 * (target - produced) > target)
     {
       // SPBM keeps no vertex inside a patch, so even its finest level is far below the input count.
-      vtkWarningWithObjectMacro(self, << "Target of " << target << " triangles is beyond SPBM's finest level for these patch "
-                      << "parameters; produced " << produced << " triangles (lower the angle tolerances for more).");
+      this->TargetMissed = "the target is beyond SPBM's finest level for these patch parameters, which keeps no "
+                           "vertex inside a patch: lower the angle tolerances for more";
     }
     if (bound > 0 && level.Epsilon > bound)
     {
@@ -241,6 +247,7 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
       {
         return false;
       }
+      this->TargetMissed = nullptr; // the error bound is the target reached first
     }
   }
   else if (!this->Generator.Generate(level, result, abort))
@@ -409,6 +416,7 @@ int vtkPatchBoundaryMerge::RequestData(
 
   // 3. Outputs over the original vertices that are used.
   cache.WriteOutputs(this, input, result, output, curves, colored);
+  slod::ReportTarget(this, output, cache.Target, cache.TargetMissed == nullptr, cache.TargetMissed);
   this->CacheMemory = static_cast<vtkIdType>(cache.MemoryUsage());
   this->LevelTime = std::chrono::duration<double>(Clock::now() - patched).count();
   this->UpdateProgress(1.0);

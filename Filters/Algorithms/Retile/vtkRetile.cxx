@@ -337,14 +337,14 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     result = RetileExactCount(mesh, options, wanted, limit, std::move(result));
   }
   const bool retiled = result.Mesh.NumberOfTriangles() <= limit;
+  const char* targetMissed = nullptr; // reported with the output (slod::ReportTarget)
   if (!result.Aborted && !retiled)
   {
     // `limit` is the target by now, which the input may exceed too: the smaller of the two is
     // returned, so the output never has more triangles than the input.
     const bool returnInput = mesh.NumberOfTriangles() <= result.Mesh.NumberOfTriangles();
-    vtkWarningMacro(<< "Re-tiling gives " << result.Mesh.NumberOfTriangles() << " triangles at least, more than the "
-                    << limit << " allowed: "
-                    << (returnInput ? "the input is returned." : "the smallest re-tiling is returned."));
+    targetMissed = returnInput ? "re-tiling gives more triangles than the input: the input is returned"
+                               : "re-tiling gives more triangles at least: the smallest re-tiling is returned";
     if (returnInput)
     {
       result = InputAsResult(mesh);
@@ -361,9 +361,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     }
     if (levels.back().Mesh.NumberOfTriangles() > limit)
     {
-      vtkWarningMacro(<< "The finest nested level has " << levels.back().Mesh.NumberOfTriangles()
-                      << " triangles, more than the " << limit
-                      << " allowed: the vertices the coarser levels retain add triangles.");
+      targetMissed = "the finest nested level has more: the vertices the coarser levels retain add triangles";
     }
     // The finest level is output 0 (its spacing figures come from a plain run's statistics).
     result = levels.back();
@@ -379,6 +377,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   attributes.Load(input->GetPointData(), vertexToInput);
   const InputAttributes inputAttributes{ input, triangleToCell, attributes };
   StoreRetiling(result, mesh, inputAttributes, pointType, output);
+  slod::ReportTarget(this, output, limit, targetMissed == nullptr, targetMissed);
   vtkMultiBlockDataSet* levelsOutput = vtkMultiBlockDataSet::GetData(outputVector, 1);
   if (levelsOutput && levels.size() > 1)
   {

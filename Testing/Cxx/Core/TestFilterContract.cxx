@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The shared filter contract (slodFilterContract.h): how the three stop targets resolve to a count,
-// and what every simplification filter gives when aborted.
+// what every simplification filter gives when aborted, and that a count alone gives that count.
 #include "slodFilterContract.h"
 
 #include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkGreedyCutsSimplification.h"
 #include "vtkHoleBumpRemoval.h"
 #include "vtkNew.h"
@@ -13,6 +15,7 @@
 #include "vtkRetile.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
+#include "vtkTopologicalNoiseRemoval.h"
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <gtest/gtest.h>
@@ -92,6 +95,8 @@ vtkSmartPointer<vtkPolyDataAlgorithm> MakeSimplifier(const std::string& name)
     return vtkSmartPointer<vtkHoleBumpRemoval>::New();
   if (name == "vtkRetile")
     return vtkSmartPointer<vtkRetile>::New();
+  if (name == "vtkTopologicalNoiseRemoval")
+    return vtkSmartPointer<vtkTopologicalNoiseRemoval>::New();
   return vtkSmartPointer<vtkGreedyCutsSimplification>::New();
 }
 
@@ -121,7 +126,7 @@ TEST_P(AbortContract, EmptyOutputAndAWarning)
 
 INSTANTIATE_TEST_SUITE_P(EverySimplifier, AbortContract,
   ::testing::Values("vtkQuadricTriangleCollapse", "vtkTriangleCollapseHierarchy", "vtkPatchBoundaryMerge",
-    "vtkHoleBumpRemoval", "vtkRetile", "vtkGreedyCutsSimplification"),
+    "vtkHoleBumpRemoval", "vtkRetile", "vtkGreedyCutsSimplification", "vtkTopologicalNoiseRemoval"),
   [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 namespace
@@ -151,4 +156,87 @@ TEST_P(DefaultTargetContract, NothingSetIsTheDefaultReduction)
 
 INSTANTIATE_TEST_SUITE_P(CountingSimplifiers, DefaultTargetContract,
   ::testing::Values("vtkQuadricTriangleCollapse", "vtkTriangleCollapseHierarchy", "vtkPatchBoundaryMerge"),
+  [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+namespace
+{
+// Counts the warnings that say a target was not reached.
+struct TargetWarnings : vtkCommand
+{
+  static TargetWarnings* New() { return new TargetWarnings; }
+  void Execute(vtkObject*, unsigned long, void* data) override
+  {
+    if (data && std::string(static_cast<const char*>(data)).find("not reached") != std::string::npos)
+    {
+      ++this->NotReached;
+    }
+  }
+  int NotReached = 0;
+};
+
+template <typename Filter>
+bool TrySetCount(vtkAlgorithm* algorithm, vtkIdType count)
+{
+  Filter* filter = Filter::SafeDownCast(algorithm);
+  if (filter)
+  {
+    filter->SetTargetNumberOfTriangles(count);
+  }
+  return filter != nullptr;
+}
+
+bool SetCountAlone(vtkAlgorithm* filter, vtkIdType count)
+{
+  return TrySetCount<vtkQuadricTriangleCollapse>(filter, count) ||
+    TrySetCount<vtkTriangleCollapseHierarchy>(filter, count) || TrySetCount<vtkPatchBoundaryMerge>(filter, count) ||
+    TrySetCount<vtkHoleBumpRemoval>(filter, count) || TrySetCount<vtkRetile>(filter, count) ||
+    TrySetCount<vtkGreedyCutsSimplification>(filter, count);
+}
+
+vtkIdType FieldValue(vtkPolyData* output, const char* name)
+{
+  vtkDataArray* array = output->GetFieldData()->GetArray(name);
+  return array && array->GetNumberOfTuples() == 1 ? static_cast<vtkIdType>(array->GetComponent(0, 0)) : -2;
+}
+
+class CountAloneContract : public ::testing::TestWithParam<std::string>
+{
+};
+}
+
+// TargetNumberOfTriangles alone (no reduction, no error bound): every filter that simplifies to a
+// count gives that count, or says in its output's field data and in a warning that it did not.
+// Given: at most the count and no fewer than half of it; either way the field data names the count.
+TEST_P(CountAloneContract, ThatCountOrAnHonestNotReached)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(56);
+  sphere->SetPhiResolution(44);
+  sphere->Update();
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = MakeSimplifier(GetParam());
+  filter->SetInputData(sphere->GetOutput());
+  const vtkIdType count = sphere->GetOutput()->GetNumberOfPolys() / 7;
+  ASSERT_TRUE(SetCountAlone(filter, count)) << GetParam();
+  vtkNew<TargetWarnings> warnings;
+  filter->AddObserver(vtkCommand::WarningEvent, warnings);
+  filter->Update();
+  vtkPolyData* output = filter->GetOutput();
+  EXPECT_EQ(FieldValue(output, "TargetNumberOfTriangles"), count) << GetParam();
+  const vtkIdType reached = FieldValue(output, "TargetReached");
+  ASSERT_TRUE(reached == 0 || reached == 1) << GetParam() << ": no TargetReached in the field data";
+  if (reached == 1)
+  {
+    EXPECT_LE(output->GetNumberOfPolys(), count) << GetParam();
+    EXPECT_GE(output->GetNumberOfPolys(), count / 2) << GetParam();
+    EXPECT_EQ(warnings->NotReached, 0) << GetParam();
+  }
+  else
+  {
+    EXPECT_EQ(warnings->NotReached, 1) << GetParam();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryCountingSimplifier, CountAloneContract,
+  ::testing::Values("vtkQuadricTriangleCollapse", "vtkTriangleCollapseHierarchy", "vtkPatchBoundaryMerge",
+    "vtkHoleBumpRemoval", "vtkRetile", "vtkGreedyCutsSimplification"),
   [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
