@@ -100,6 +100,19 @@ vtkSmartPointer<vtkPolyDataAlgorithm> MakeSimplifier(const std::string& name)
   return vtkSmartPointer<vtkGreedyCutsSimplification>::New();
 }
 
+// The named simplifier over a vtkSphereSource of the given resolution (its input: `sphere`).
+vtkSmartPointer<vtkPolyDataAlgorithm> SimplifierOfSphere(const std::string& name, int theta, int phi, vtkPolyData*& sphere)
+{
+  vtkNew<vtkSphereSource> source;
+  source->SetThetaResolution(theta);
+  source->SetPhiResolution(phi);
+  source->Update();
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = MakeSimplifier(name);
+  filter->SetInputData(source->GetOutput());
+  sphere = source->GetOutput(); // held by the filter's input
+  return filter;
+}
+
 class AbortContract : public ::testing::TestWithParam<std::string>
 {
 };
@@ -109,12 +122,8 @@ class AbortContract : public ::testing::TestWithParam<std::string>
 // report, gives an empty output and says so in a warning.
 TEST_P(AbortContract, EmptyOutputAndAWarning)
 {
-  vtkNew<vtkSphereSource> sphere;
-  sphere->SetThetaResolution(48);
-  sphere->SetPhiResolution(48);
-  sphere->Update();
-  vtkSmartPointer<vtkPolyDataAlgorithm> filter = MakeSimplifier(GetParam());
-  filter->SetInputData(sphere->GetOutput());
+  vtkPolyData* sphere = nullptr;
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = SimplifierOfSphere(GetParam(), 48, 48, sphere);
   vtkNew<AbortAtFirstProgress> observer;
   filter->AddObserver(vtkCommand::ProgressEvent, observer);
   filter->AddObserver(vtkCommand::WarningEvent, observer);
@@ -140,14 +149,10 @@ class DefaultTargetContract : public ::testing::TestWithParam<std::string>
 // simplifier that counts triangles (patch-boundary-merge used its chain tolerance 0.005 instead).
 TEST_P(DefaultTargetContract, NothingSetIsTheDefaultReduction)
 {
-  vtkNew<vtkSphereSource> sphere;
-  sphere->SetThetaResolution(60);
-  sphere->SetPhiResolution(60);
-  sphere->Update();
-  vtkSmartPointer<vtkPolyDataAlgorithm> filter = MakeSimplifier(GetParam());
-  filter->SetInputData(sphere->GetOutput());
+  vtkPolyData* sphere = nullptr;
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = SimplifierOfSphere(GetParam(), 60, 60, sphere);
   filter->Update();
-  const vtkIdType input = sphere->GetOutput()->GetNumberOfPolys();
+  const vtkIdType input = sphere->GetNumberOfPolys();
   const vtkIdType target = slod::TargetTriangleCount(input, 0, slod::DefaultTargetReduction, false);
   const vtkIdType output = filter->GetOutput()->GetNumberOfPolys();
   EXPECT_LE(output, target + target / 50) << GetParam();
@@ -209,13 +214,9 @@ class CountAloneContract : public ::testing::TestWithParam<std::string>
 // Given: at most the count and no fewer than half of it; either way the field data names the count.
 TEST_P(CountAloneContract, ThatCountOrAnHonestNotReached)
 {
-  vtkNew<vtkSphereSource> sphere;
-  sphere->SetThetaResolution(56);
-  sphere->SetPhiResolution(44);
-  sphere->Update();
-  vtkSmartPointer<vtkPolyDataAlgorithm> filter = MakeSimplifier(GetParam());
-  filter->SetInputData(sphere->GetOutput());
-  const vtkIdType count = sphere->GetOutput()->GetNumberOfPolys() / 7;
+  vtkPolyData* sphere = nullptr;
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = SimplifierOfSphere(GetParam(), 56, 44, sphere);
+  const vtkIdType count = sphere->GetNumberOfPolys() / 7;
   ASSERT_TRUE(SetCountAlone(filter, count)) << GetParam();
   vtkNew<TargetWarnings> warnings;
   filter->AddObserver(vtkCommand::WarningEvent, warnings);
