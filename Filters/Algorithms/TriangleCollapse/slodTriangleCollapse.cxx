@@ -127,6 +127,9 @@ constexpr double RefinementSumSlack = 1.05;
 constexpr size_t RefinementPoolLimit = 600;
 // Candidates screened per parallel step (the budget is checked between steps).
 constexpr size_t ScreenChunk = 64;
+// Vertices of the fit tried per parallel step: members within two edges of another are computed
+// in order afterwards, so small chunks keep most of them concurrent.
+constexpr size_t FitChunkSize = 32;
 // The fit to the original surface: Gauss-Seidel sweeps, and the weight of the ridge term that
 // keeps vertices from sliding along the surface (relative to the data term's trace).
 // Bound on the collapse loop's queue pops, per input triangle (see the loop).
@@ -427,6 +430,10 @@ private:
   bool FitStep(const Neighbourhood& region, const TriangleMesh& original, const Ancestry& ancestry, Index v, Vec3& step) const;
   void WatchMove(Neighbourhood& region, const ClosestAssignment& assignment, MoveGuard& guard) const;
   bool MoveKeepsBounds(const Neighbourhood& region, Index v, double reach, double minimumDot, MoveGuard& guard) const;
+  struct FitPass;
+  bool FitVertex(FitPass& pass, Neighbourhood& region, MoveGuard& guard, Index v);
+  bool FarFromOthers(Index v, const std::vector<std::uint32_t>& chunkMark, std::uint32_t chunk) const;
+  void FitChunk(FitPass& pass, const std::vector<Index>& chunk);
   // The RefineDeviation pass (see the header); original = the input mesh in this mesh's ids.
   Index RefineDeviation(const TriangleMesh& original, const Ancestry& ancestry);
   std::vector<std::pair<double, Index>> RefinementPool(const Ancestry& ancestry) const;
@@ -2354,6 +2361,23 @@ void LiveTriangles(const EditableMesh& mesh, TriangleMesh& out, std::vector<Inde
 // Moving v changes only its fan, so each original sample's distance to the rest of the
 // neighbourhood is computed once (Freeze) and a candidate position costs tests against the fan
 // only; the original triangles carry bounding spheres that prune most point-triangle tests.
+// A lower bound of the squared distance of q to triangle (a, b, c): to its bounding box, each gap
+// shortened by far more than the rounding of a computed closest point, so that a triangle is never
+// skipped where the exact test would find it at most as far as a bound.
+inline double BoxGap2(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  double gap2 = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const double ab = a[k] < b[k] ? a[k] : b[k], lo = ab < c[k] ? ab : c[k];
+    const double ba = a[k] < b[k] ? b[k] : a[k], hi = ba < c[k] ? c[k] : ba;
+    const double d = q[k] < lo ? lo - q[k] : (q[k] > hi ? q[k] - hi : 0.0);
+    const double slack = 1e-12 * (std::abs(q[k]) + std::abs(lo) + std::abs(hi));
+    gap2 += d > slack ? (d - slack) * (d - slack) : 0.0;
+  }
+  return gap2;
+}
+
 class Neighbourhood
 {
 public:
@@ -2476,8 +2500,9 @@ public:
   // closest fan triangle, or InvalidIndex when the closest point is off the fan.
   double SampleDistance2(size_t i, Vec3& closest, Index& which) const
   {
-    const double d2 = this->ToMesh(this->Samples[i], this->Fan, closest, which);
-    if (this->RestDistance2[i] < d2)
+    // Only a fan triangle at most as far as the rest can be the answer (ties go to the fan).
+    const double d2 = this->ToMesh(this->Samples[i], this->Fan, closest, which, this->RestDistance2[i]);
+    if (which == InvalidIndex || this->RestDistance2[i] < d2)
     {
       closest = this->RestClosest[i];
       which = InvalidIndex;
@@ -2486,18 +2511,29 @@ public:
     return d2;
   }
 
-  double ToMesh(const Vec3& q, const std::vector<Index>& tris, Vec3& closest, Index& which) const
+  // Squared distance of q to the closest of tris (and which one, InvalidIndex when none is closer
+  // than `bound`). A triangle whose bounding box lies farther than the best so far cannot win and
+  // is not measured: the same answer as measuring all, at a fraction of the cost. The budgets
+  // count every triangle of the list, so they stop the passes where they always did.
+  double ToMesh(const Vec3& q, const std::vector<Index>& tris, Vec3& closest, Index& which,
+    double bound = std::numeric_limits<double>::max()) const
   {
     this->Work += tris.size();
-    double best = std::numeric_limits<double>::max();
+    double best = bound;
     which = InvalidIndex;
     for (Index t : tris)
     {
       const Index* tri = this->Mesh.Triangle(t);
-      const Vec3 c = ClosestPointOnTriangle(q, this->Mesh.Point(tri[0]), this->Mesh.Point(tri[1]), this->Mesh.Point(tri[2]));
+      const Vec3 a = this->Mesh.Point(tri[0]), b = this->Mesh.Point(tri[1]), e = this->Mesh.Point(tri[2]);
+      if (BoxGap2(q, a, b, e) > best)
+      {
+        continue;
+      }
+      const Vec3 c = ClosestPointOnTriangle(q, a, b, e);
       const Vec3 d = q - c;
       const double d2 = Dot(d, d);
-      if (d2 < best)
+      // The first at most as far as the bound, then only strictly closer ones.
+      if (which == InvalidIndex ? d2 <= best : d2 < best)
       {
         best = d2;
         closest = c;
@@ -2848,7 +2884,8 @@ bool TriangleCollapser::MoveKeepsBounds(
     {
       Vec3 closest;
       Index which;
-      lower = region.ToMesh(guard.Watched[k], region.Fan, closest, which) <= limit;
+      region.ToMesh(guard.Watched[k], region.Fan, closest, which, limit);
+      lower = which != InvalidIndex; // a fan triangle within the limit
     }
   }
   size_t sample = 0;
@@ -2864,6 +2901,167 @@ bool TriangleCollapser::MoveKeepsBounds(
   return lower;
 }
 
+// The state of one fit pass, shared by its sequential walk and its parallel chunks.
+struct TriangleCollapser::FitPass
+{
+  FitPass(const TriangleMesh& original, const Ancestry& ancestry, const EditableMesh& mesh)
+    : Original(original)
+    , Lineage(ancestry)
+    , Region(mesh, original, ancestry)
+  {
+  }
+  const TriangleMesh& Original;
+  const Ancestry& Lineage;
+  ClosestAssignment Assignment;
+  double MinimumDot = 0.0;
+  size_t WorkBudget = 0;
+  Neighbourhood Region; // the sequential walk's (its Work is the pass's count)
+  MoveGuard Guard;
+  std::vector<unsigned char> Moved, NowDirty;
+  std::vector<std::uint32_t> ChunkMark; // per vertex: the chunk it was last a member of
+  std::uint32_t ChunkNumber = 0;
+  // Per member of the current chunk: computed concurrently (far from every other member), where
+  // it started, whether it moved, the tests it took and the ring to mark dirty.
+  struct Outcome
+  {
+    bool Concurrent = false, Moved = false;
+    Vec3 Start{};
+    size_t Work = 0;
+    std::vector<Index> Ring;
+  };
+  std::vector<Outcome> Outcomes;
+  size_t Tried = 0, TriedConcurrently = 0; // members the walk took (diagnostics)
+  // A neighbourhood and a guard per thread for the concurrent members.
+  struct Worker
+  {
+    Worker(const EditableMesh& mesh, const TriangleMesh& original, const Ancestry& ancestry)
+      : Region(mesh, original, ancestry)
+    {
+    }
+    Neighbourhood Region;
+    MoveGuard Guard;
+  };
+  vtkSMPThreadLocal<std::shared_ptr<Worker>> Workers;
+};
+
+bool TriangleCollapser::FitVertex(FitPass& pass, Neighbourhood& region, MoveGuard& guard, Index v)
+{
+  // The step of v's least-squares fit, then the move (full, then half) if it keeps the bounds.
+  // Reads and writes only positions within two edges of v (its fan and its neighbours' fans).
+  region.GatherFan(v);
+  const Vec3 p = this->Mesh.Point(v);
+  Vec3 step;
+  if (!this->FitStep(region, pass.Original, pass.Lineage, v, step))
+  {
+    return false;
+  }
+  this->WatchMove(region, pass.Assignment, guard);
+  for (double s : { 1.0, 0.5 })
+  {
+    this->Mesh.SetPoint(v, p + s * step);
+    if (this->MoveKeepsBounds(region, v, s * Norm(step), pass.MinimumDot, guard))
+    {
+      return true;
+    }
+    this->Mesh.SetPoint(v, p);
+  }
+  return false;
+}
+
+bool TriangleCollapser::FarFromOthers(Index v, const std::vector<std::uint32_t>& chunkMark, std::uint32_t chunk) const
+{
+  // No other member of the chunk within two edges of v: then neither reads what the other moves.
+  bool far = true;
+  this->Mesh.ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3 && far; ++k)
+    {
+      this->Mesh.ForEachTriangle(tri[k], [&](Index s) {
+        const Index* around = this->Mesh.Triangle(s);
+        for (int j = 0; j < 3; ++j)
+        {
+          far = far && (around[j] == v || chunkMark[around[j]] != chunk);
+        }
+      });
+    }
+  });
+  return far;
+}
+
+void TriangleCollapser::FitChunk(FitPass& pass, const std::vector<Index>& chunk)
+{
+  // Speculation that cannot be wrong: the members far from every other member of the chunk are
+  // fitted concurrently (each reads only its own two-edge neighbourhood, which no other member
+  // moves); then the walk in order takes their results, and computes the others at their turn,
+  // exactly as one sequential sweep would (the same moves, the same test counts, the same stop
+  // at the budget, for any thread count).
+  if (++pass.ChunkNumber == 0)
+  {
+    std::fill(pass.ChunkMark.begin(), pass.ChunkMark.end(), 0u);
+    pass.ChunkNumber = 1;
+  }
+  for (Index v : chunk)
+  {
+    pass.ChunkMark[v] = pass.ChunkNumber;
+  }
+  pass.Outcomes.resize(chunk.size());
+  vtkSMPTools::For(0, static_cast<vtkIdType>(chunk.size()), 1, [&](vtkIdType begin, vtkIdType end) {
+    std::shared_ptr<FitPass::Worker>& worker = pass.Workers.Local();
+    if (!worker)
+    {
+      worker = std::make_shared<FitPass::Worker>(this->Mesh, pass.Original, pass.Lineage);
+    }
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      FitPass::Outcome& outcome = pass.Outcomes[size_t(i)];
+      const Index v = chunk[size_t(i)];
+      outcome.Start = this->Mesh.Point(v);
+      outcome.Concurrent = chunk.size() > 1 && this->FarFromOthers(v, pass.ChunkMark, pass.ChunkNumber);
+      if (outcome.Concurrent)
+      {
+        const size_t before = worker->Region.Work;
+        outcome.Moved = this->FitVertex(pass, worker->Region, worker->Guard, v);
+        outcome.Work = worker->Region.Work - before;
+        outcome.Ring = worker->Region.Ring;
+      }
+    }
+  });
+  for (size_t i = 0; i < chunk.size(); ++i)
+  {
+    FitPass::Outcome& outcome = pass.Outcomes[i];
+    const Index v = chunk[i];
+    if (pass.Region.Work > pass.WorkBudget)
+    {
+      // The sweep stops here: the concurrent moves past this point are undone.
+      for (size_t j = i; j < chunk.size(); ++j)
+      {
+        this->Mesh.SetPoint(chunk[j], pass.Outcomes[j].Start);
+      }
+      return;
+    }
+    ++pass.Tried;
+    if (outcome.Concurrent)
+    {
+      ++pass.TriedConcurrently;
+      pass.Region.Work += outcome.Work;
+    }
+    else
+    {
+      outcome.Moved = this->FitVertex(pass, pass.Region, pass.Guard, v);
+      outcome.Ring = pass.Region.Ring;
+    }
+    if (outcome.Moved)
+    {
+      pass.Moved[v] = 1;
+      pass.NowDirty[v] = 1;
+      for (Index w : outcome.Ring)
+      {
+        pass.NowDirty[w] = 1;
+      }
+    }
+  }
+}
+
 Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ancestry& ancestry)
 {
   const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
@@ -2871,65 +3069,49 @@ Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ances
   {
     return 0;
   }
-  const double minimumDot = NormalLimitDot(this->Options.MaximumNormalDeviation);
+  FitPass pass(original, ancestry, this->Mesh);
+  pass.MinimumDot = NormalLimitDot(this->Options.MaximumNormalDeviation);
   // Point-triangle tests: the pass stops at its budget, the worst vertices first.
-  const size_t workBudget = FitBudget.For(nt);
+  pass.WorkBudget = FitBudget.For(nt);
   const std::vector<std::pair<double, Index>> order = this->FitOrder(ancestry);
-  Neighbourhood region(this->Mesh, original, ancestry);
   // Which original vertices a move of v can take farther away: those whose closest output
   // point is on v's fan. Exactly, from a closest-triangle assignment of every original vertex
   // (a BVH query each) when the input is small enough for that to be cheap; otherwise among the
   // original vertices of v's neighbourhood (an ancestor can be closest to a triangle farther
   // away, mostly after topology changes, so this misses a few).
-  ClosestAssignment assignment;
-  assignment.Exact = nv <= this->Options.FitExactAssignmentLimit;
-  if (assignment.Exact)
+  pass.Assignment.Exact = nv <= this->Options.FitExactAssignmentLimit;
+  if (pass.Assignment.Exact)
   {
-    this->AssignClosest(original, assignment);
+    this->AssignClosest(original, pass.Assignment);
   }
-  MoveGuard guard;
-  std::vector<unsigned char> moved(size_t(nv), 0);
-  std::vector<unsigned char> dirty, nowDirty(size_t(nv), 0);
-  for (int iteration = 0; iteration < FitIterations && region.Work <= workBudget; ++iteration)
+  pass.Moved.assign(size_t(nv), 0);
+  pass.NowDirty.assign(size_t(nv), 0);
+  pass.ChunkMark.assign(size_t(nv), 0);
+  std::vector<unsigned char> dirty;
+  std::vector<Index> chunk;
+  for (int iteration = 0; iteration < FitIterations && pass.Region.Work <= pass.WorkBudget; ++iteration)
   {
-    dirty.swap(nowDirty);
-    nowDirty.assign(size_t(nv), 0);
-    for (size_t next = 0; next < order.size() && region.Work <= workBudget; ++next)
+    dirty.swap(pass.NowDirty);
+    pass.NowDirty.assign(size_t(nv), 0);
+    for (size_t next = 0; next < order.size() && pass.Region.Work <= pass.WorkBudget;)
     {
-      const Index v = order[next].second;
-      // After the first sweep only where something moved nearby (the rest would not move).
-      if (iteration > 0 && !dirty[v])
+      // The next vertices in order (after the first sweep only where something moved nearby:
+      // the rest would not move).
+      chunk.clear();
+      for (; next < order.size() && chunk.size() < FitChunkSize; ++next)
       {
-        continue;
-      }
-      region.GatherFan(v);
-      const Vec3 p = this->Mesh.Point(v);
-      Vec3 step;
-      if (!this->FitStep(region, original, ancestry, v, step))
-      {
-        continue;
-      }
-      this->WatchMove(region, assignment, guard);
-      for (double s : { 1.0, 0.5 })
-      {
-        this->Mesh.SetPoint(v, p + s * step);
-        if (this->MoveKeepsBounds(region, v, s * Norm(step), minimumDot, guard))
+        const Index v = order[next].second;
+        if (iteration == 0 || dirty[v])
         {
-          moved[v] = 1;
-          nowDirty[v] = 1;
-          for (Index w : region.Ring)
-          {
-            nowDirty[w] = 1;
-          }
-          break;
+          chunk.push_back(v);
         }
-        this->Mesh.SetPoint(v, p);
       }
+      this->FitChunk(pass, chunk);
     }
   }
-  vtkLogF(TRACE, "triangle collapse: fit to original: %zu point-triangle tests (%.1f per input triangle)", region.Work,
-    double(region.Work) / std::max<Index>(nt, 1));
-  return static_cast<Index>(std::count(moved.begin(), moved.end(), 1));
+  vtkLogF(TRACE, "triangle collapse: fit to original: %zu point-triangle tests (%.1f per input triangle), %zu of %zu vertex fits concurrent",
+    pass.Region.Work, double(pass.Region.Work) / std::max<Index>(nt, 1), pass.TriedConcurrently, pass.Tried);
+  return static_cast<Index>(std::count(pass.Moved.begin(), pass.Moved.end(), 1));
 }
 
 std::vector<std::pair<double, Index>> TriangleCollapser::RefinementPool(const Ancestry& ancestry) const
@@ -3006,8 +3188,8 @@ double TriangleCollapser::ScreenVertex(Neighbourhood& region, Index v) const
   Index which;
   for (size_t i = region.OwnSamplesBegin; i < region.OwnSamplesEnd; ++i)
   {
-    e = std::max(e, std::min(region.ToMesh(region.Samples[i], region.Fan, closest, which),
-                      region.ToMesh(region.Samples[i], region.Near, closest, which)));
+    const double toFan = region.ToMesh(region.Samples[i], region.Fan, closest, which);
+    e = std::max(e, region.ToMesh(region.Samples[i], region.Near, closest, which, toFan));
   }
   region.ForEachFanSample([&](const Vec3& q, double) { e = std::max(e, region.ToOriginal(q, closest)); });
   return e;
