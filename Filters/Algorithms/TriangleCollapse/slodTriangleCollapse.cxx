@@ -127,9 +127,9 @@ constexpr double RefinementSumSlack = 1.05;
 constexpr size_t RefinementPoolLimit = 600;
 // Candidates screened per parallel step (the budget is checked between steps).
 constexpr size_t ScreenChunk = 64;
-// Vertices of the fit tried per parallel step: members within two edges of another are computed
-// in order afterwards, so small chunks keep most of them concurrent.
-constexpr size_t FitChunkSize = 32;
+// Vertices of the fit and the refinement visited per parallel step (ChunkedSweep): members within
+// two edges of another are visited in order afterwards, so small chunks keep most concurrent.
+constexpr size_t SweepChunkSize = 32;
 // The fit to the original surface: Gauss-Seidel sweeps, and the weight of the ridge term that
 // keeps vertices from sliding along the surface (relative to the data term's trace).
 // Bound on the collapse loop's queue pops, per input triangle (see the loop).
@@ -430,10 +430,11 @@ private:
   bool FitStep(const Neighbourhood& region, const TriangleMesh& original, const Ancestry& ancestry, Index v, Vec3& step) const;
   void WatchMove(Neighbourhood& region, const ClosestAssignment& assignment, MoveGuard& guard) const;
   bool MoveKeepsBounds(const Neighbourhood& region, Index v, double reach, double minimumDot, MoveGuard& guard) const;
-  struct FitPass;
-  bool FitVertex(FitPass& pass, Neighbourhood& region, MoveGuard& guard, Index v);
+  struct ChunkedSweep;
+  bool FitVertex(Neighbourhood& region, MoveGuard& guard, const ClosestAssignment& assignment, Index v, double minimumDot);
   bool FarFromOthers(Index v, const std::vector<std::uint32_t>& chunkMark, std::uint32_t chunk) const;
-  void FitChunk(FitPass& pass, const std::vector<Index>& chunk);
+  template <typename Visit, typename OnMoved>
+  void SweepChunk(ChunkedSweep& sweep, const std::vector<Index>& chunk, Visit&& visit, OnMoved&& onMoved);
   // The RefineDeviation pass (see the header); original = the input mesh in this mesh's ids.
   Index RefineDeviation(const TriangleMesh& original, const Ancestry& ancestry);
   std::vector<std::pair<double, Index>> RefinementPool(const Ancestry& ancestry) const;
@@ -2901,37 +2902,11 @@ bool TriangleCollapser::MoveKeepsBounds(
   return lower;
 }
 
-// The state of one fit pass, shared by its sequential walk and its parallel chunks.
-struct TriangleCollapser::FitPass
+// A sweep of the passes after the collapses over vertices in a given order, each vertex visited
+// with a neighbourhood that it alone moves (see SweepChunk): the sequential walk's neighbourhood,
+// whose Work is the pass's test count, and one per thread for the concurrent visits.
+struct TriangleCollapser::ChunkedSweep
 {
-  FitPass(const TriangleMesh& original, const Ancestry& ancestry, const EditableMesh& mesh)
-    : Original(original)
-    , Lineage(ancestry)
-    , Region(mesh, original, ancestry)
-  {
-  }
-  const TriangleMesh& Original;
-  const Ancestry& Lineage;
-  ClosestAssignment Assignment;
-  double MinimumDot = 0.0;
-  size_t WorkBudget = 0;
-  Neighbourhood Region; // the sequential walk's (its Work is the pass's count)
-  MoveGuard Guard;
-  std::vector<unsigned char> Moved, NowDirty;
-  std::vector<std::uint32_t> ChunkMark; // per vertex: the chunk it was last a member of
-  std::uint32_t ChunkNumber = 0;
-  // Per member of the current chunk: computed concurrently (far from every other member), where
-  // it started, whether it moved, the tests it took and the ring to mark dirty.
-  struct Outcome
-  {
-    bool Concurrent = false, Moved = false;
-    Vec3 Start{};
-    size_t Work = 0;
-    std::vector<Index> Ring;
-  };
-  std::vector<Outcome> Outcomes;
-  size_t Tried = 0, TriedConcurrently = 0; // members the walk took (diagnostics)
-  // A neighbourhood and a guard per thread for the concurrent members.
   struct Worker
   {
     Worker(const EditableMesh& mesh, const TriangleMesh& original, const Ancestry& ancestry)
@@ -2941,25 +2916,52 @@ struct TriangleCollapser::FitPass
     Neighbourhood Region;
     MoveGuard Guard;
   };
+  // Per member of the current chunk: visited concurrently, where it started, whether it moved,
+  // the tests it took and its ring.
+  struct Outcome
+  {
+    bool Concurrent = false, Moved = false;
+    Vec3 Start{};
+    size_t Work = 0;
+    std::vector<Index> Ring;
+  };
+  ChunkedSweep(const EditableMesh& mesh, const TriangleMesh& original, const Ancestry& ancestry, size_t workBudget)
+    : Original(original)
+    , Lineage(ancestry)
+    , Main(mesh, original, ancestry)
+    , WorkBudget(workBudget)
+    , ChunkMark(size_t(original.NumberOfPoints()), 0)
+  {
+  }
+  size_t Work() const { return this->Main.Region.Work; }
+  bool WithinBudget() const { return this->Main.Region.Work <= this->WorkBudget; }
+  const TriangleMesh& Original;
+  const Ancestry& Lineage;
+  Worker Main;
+  size_t WorkBudget;
   vtkSMPThreadLocal<std::shared_ptr<Worker>> Workers;
+  std::vector<std::uint32_t> ChunkMark; // per vertex: the chunk it was last a member of
+  std::uint32_t ChunkNumber = 0;
+  std::vector<Outcome> Outcomes;
+  size_t Visited = 0, VisitedConcurrently = 0; // diagnostics
 };
 
-bool TriangleCollapser::FitVertex(FitPass& pass, Neighbourhood& region, MoveGuard& guard, Index v)
+bool TriangleCollapser::FitVertex(
+  Neighbourhood& region, MoveGuard& guard, const ClosestAssignment& assignment, Index v, double minimumDot)
 {
   // The step of v's least-squares fit, then the move (full, then half) if it keeps the bounds.
-  // Reads and writes only positions within two edges of v (its fan and its neighbours' fans).
   region.GatherFan(v);
   const Vec3 p = this->Mesh.Point(v);
   Vec3 step;
-  if (!this->FitStep(region, pass.Original, pass.Lineage, v, step))
+  if (!this->FitStep(region, region.Original, region.Lineage, v, step))
   {
     return false;
   }
-  this->WatchMove(region, pass.Assignment, guard);
+  this->WatchMove(region, assignment, guard);
   for (double s : { 1.0, 0.5 })
   {
     this->Mesh.SetPoint(v, p + s * step);
-    if (this->MoveKeepsBounds(region, v, s * Norm(step), pass.MinimumDot, guard))
+    if (this->MoveKeepsBounds(region, v, s * Norm(step), minimumDot, guard))
     {
       return true;
     }
@@ -2988,76 +2990,78 @@ bool TriangleCollapser::FarFromOthers(Index v, const std::vector<std::uint32_t>&
   return far;
 }
 
-void TriangleCollapser::FitChunk(FitPass& pass, const std::vector<Index>& chunk)
+// Visits the chunk's vertices as one sequential sweep in their order would: visit(worker, v)
+// reads positions within two edges of v only, moves only v and returns whether it did; it may
+// stop early when its worker's Work passes the budget. Speculation that cannot be wrong: the
+// members with no other member within two edges are visited concurrently, each with its worker's
+// Work set to the sweep's count at the start of the chunk; the walk in order then takes such a
+// result when the budget held all along (the sweep's count at its turn plus its own tests), since
+// no earlier move could reach it and its budget checks passed either way; every other member is
+// visited at its turn (a rejected speculation moved back first). onMoved(v, ring) in order. The
+// same moves, test counts and stop for any thread count.
+template <typename Visit, typename OnMoved>
+void TriangleCollapser::SweepChunk(ChunkedSweep& sweep, const std::vector<Index>& chunk, Visit&& visit, OnMoved&& onMoved)
 {
-  // Speculation that cannot be wrong: the members far from every other member of the chunk are
-  // fitted concurrently (each reads only its own two-edge neighbourhood, which no other member
-  // moves); then the walk in order takes their results, and computes the others at their turn,
-  // exactly as one sequential sweep would (the same moves, the same test counts, the same stop
-  // at the budget, for any thread count).
-  if (++pass.ChunkNumber == 0)
+  if (++sweep.ChunkNumber == 0)
   {
-    std::fill(pass.ChunkMark.begin(), pass.ChunkMark.end(), 0u);
-    pass.ChunkNumber = 1;
+    std::fill(sweep.ChunkMark.begin(), sweep.ChunkMark.end(), 0u);
+    sweep.ChunkNumber = 1;
   }
   for (Index v : chunk)
   {
-    pass.ChunkMark[v] = pass.ChunkNumber;
+    sweep.ChunkMark[v] = sweep.ChunkNumber;
   }
-  pass.Outcomes.resize(chunk.size());
+  sweep.Outcomes.resize(chunk.size());
+  const size_t startWork = sweep.Work();
   vtkSMPTools::For(0, static_cast<vtkIdType>(chunk.size()), 1, [&](vtkIdType begin, vtkIdType end) {
-    std::shared_ptr<FitPass::Worker>& worker = pass.Workers.Local();
+    std::shared_ptr<ChunkedSweep::Worker>& worker = sweep.Workers.Local();
     if (!worker)
     {
-      worker = std::make_shared<FitPass::Worker>(this->Mesh, pass.Original, pass.Lineage);
+      worker = std::make_shared<ChunkedSweep::Worker>(this->Mesh, sweep.Original, sweep.Lineage);
     }
     for (vtkIdType i = begin; i < end; ++i)
     {
-      FitPass::Outcome& outcome = pass.Outcomes[size_t(i)];
+      ChunkedSweep::Outcome& outcome = sweep.Outcomes[size_t(i)];
       const Index v = chunk[size_t(i)];
       outcome.Start = this->Mesh.Point(v);
-      outcome.Concurrent = chunk.size() > 1 && this->FarFromOthers(v, pass.ChunkMark, pass.ChunkNumber);
+      outcome.Concurrent = chunk.size() > 1 && this->FarFromOthers(v, sweep.ChunkMark, sweep.ChunkNumber);
       if (outcome.Concurrent)
       {
-        const size_t before = worker->Region.Work;
-        outcome.Moved = this->FitVertex(pass, worker->Region, worker->Guard, v);
-        outcome.Work = worker->Region.Work - before;
+        worker->Region.Work = startWork;
+        outcome.Moved = visit(*worker, v);
+        outcome.Work = worker->Region.Work - startWork;
         outcome.Ring = worker->Region.Ring;
       }
     }
   });
   for (size_t i = 0; i < chunk.size(); ++i)
   {
-    FitPass::Outcome& outcome = pass.Outcomes[i];
+    ChunkedSweep::Outcome& outcome = sweep.Outcomes[i];
     const Index v = chunk[i];
-    if (pass.Region.Work > pass.WorkBudget)
+    if (!sweep.WithinBudget())
     {
       // The sweep stops here: the concurrent moves past this point are undone.
       for (size_t j = i; j < chunk.size(); ++j)
       {
-        this->Mesh.SetPoint(chunk[j], pass.Outcomes[j].Start);
+        this->Mesh.SetPoint(chunk[j], sweep.Outcomes[j].Start);
       }
       return;
     }
-    ++pass.Tried;
-    if (outcome.Concurrent)
+    ++sweep.Visited;
+    if (outcome.Concurrent && sweep.Work() + outcome.Work <= sweep.WorkBudget)
     {
-      ++pass.TriedConcurrently;
-      pass.Region.Work += outcome.Work;
+      ++sweep.VisitedConcurrently;
+      sweep.Main.Region.Work += outcome.Work;
     }
     else
     {
-      outcome.Moved = this->FitVertex(pass, pass.Region, pass.Guard, v);
-      outcome.Ring = pass.Region.Ring;
+      this->Mesh.SetPoint(v, outcome.Start);
+      outcome.Moved = visit(sweep.Main, v);
+      outcome.Ring = sweep.Main.Region.Ring;
     }
     if (outcome.Moved)
     {
-      pass.Moved[v] = 1;
-      pass.NowDirty[v] = 1;
-      for (Index w : outcome.Ring)
-      {
-        pass.NowDirty[w] = 1;
-      }
+      onMoved(v, outcome.Ring);
     }
   }
 }
@@ -3069,36 +3073,45 @@ Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ances
   {
     return 0;
   }
-  FitPass pass(original, ancestry, this->Mesh);
-  pass.MinimumDot = NormalLimitDot(this->Options.MaximumNormalDeviation);
+  const double minimumDot = NormalLimitDot(this->Options.MaximumNormalDeviation);
   // Point-triangle tests: the pass stops at its budget, the worst vertices first.
-  pass.WorkBudget = FitBudget.For(nt);
+  ChunkedSweep sweep(this->Mesh, original, ancestry, FitBudget.For(nt));
   const std::vector<std::pair<double, Index>> order = this->FitOrder(ancestry);
   // Which original vertices a move of v can take farther away: those whose closest output
   // point is on v's fan. Exactly, from a closest-triangle assignment of every original vertex
   // (a BVH query each) when the input is small enough for that to be cheap; otherwise among the
   // original vertices of v's neighbourhood (an ancestor can be closest to a triangle farther
   // away, mostly after topology changes, so this misses a few).
-  pass.Assignment.Exact = nv <= this->Options.FitExactAssignmentLimit;
-  if (pass.Assignment.Exact)
+  ClosestAssignment assignment;
+  assignment.Exact = nv <= this->Options.FitExactAssignmentLimit;
+  if (assignment.Exact)
   {
-    this->AssignClosest(original, pass.Assignment);
+    this->AssignClosest(original, assignment);
   }
-  pass.Moved.assign(size_t(nv), 0);
-  pass.NowDirty.assign(size_t(nv), 0);
-  pass.ChunkMark.assign(size_t(nv), 0);
-  std::vector<unsigned char> dirty;
+  std::vector<unsigned char> moved(size_t(nv), 0);
+  std::vector<unsigned char> dirty, nowDirty(size_t(nv), 0);
   std::vector<Index> chunk;
-  for (int iteration = 0; iteration < FitIterations && pass.Region.Work <= pass.WorkBudget; ++iteration)
+  auto fit = [&](ChunkedSweep::Worker& worker, Index v) {
+    return this->FitVertex(worker.Region, worker.Guard, assignment, v, minimumDot);
+  };
+  auto mark = [&](Index v, const std::vector<Index>& ring) {
+    moved[v] = 1;
+    nowDirty[v] = 1;
+    for (Index w : ring)
+    {
+      nowDirty[w] = 1;
+    }
+  };
+  for (int iteration = 0; iteration < FitIterations && sweep.WithinBudget(); ++iteration)
   {
-    dirty.swap(pass.NowDirty);
-    pass.NowDirty.assign(size_t(nv), 0);
-    for (size_t next = 0; next < order.size() && pass.Region.Work <= pass.WorkBudget;)
+    dirty.swap(nowDirty);
+    nowDirty.assign(size_t(nv), 0);
+    for (size_t next = 0; next < order.size() && sweep.WithinBudget();)
     {
       // The next vertices in order (after the first sweep only where something moved nearby:
       // the rest would not move).
       chunk.clear();
-      for (; next < order.size() && chunk.size() < FitChunkSize; ++next)
+      for (; next < order.size() && chunk.size() < SweepChunkSize; ++next)
       {
         const Index v = order[next].second;
         if (iteration == 0 || dirty[v])
@@ -3106,12 +3119,12 @@ Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ances
           chunk.push_back(v);
         }
       }
-      this->FitChunk(pass, chunk);
+      this->SweepChunk(sweep, chunk, fit, mark);
     }
   }
   vtkLogF(TRACE, "triangle collapse: fit to original: %zu point-triangle tests (%.1f per input triangle), %zu of %zu vertex fits concurrent",
-    pass.Region.Work, double(pass.Region.Work) / std::max<Index>(nt, 1), pass.TriedConcurrently, pass.Tried);
-  return static_cast<Index>(std::count(pass.Moved.begin(), pass.Moved.end(), 1));
+    sweep.Work(), double(sweep.Work()) / std::max<Index>(nt, 1), sweep.VisitedConcurrently, sweep.Visited);
+  return static_cast<Index>(std::count(moved.begin(), moved.end(), 1));
 }
 
 std::vector<std::pair<double, Index>> TriangleCollapser::RefinementPool(const Ancestry& ancestry) const
@@ -3310,8 +3323,13 @@ Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Anc
   const double minimumDot = NormalLimitDot(this->Options.MaximumNormalDeviation);
   // Only a few of the worst regions: the pass must stay cheap next to the collapses.
   const size_t budget = static_cast<size_t>(16 + this->Mesh.NumberOfLiveVertices() / 2000);
-  Neighbourhood region(this->Mesh, original, ancestry);
-  std::vector<Index> movedVertices;
+  ChunkedSweep sweep(this->Mesh, original, ancestry, workBudget);
+  Neighbourhood& region = sweep.Main.Region; // its Work counts the screening and the moves
+  auto refine = [&](ChunkedSweep::Worker& worker, Index v) {
+    return this->RefineVertex(worker.Region, v, minimumDot, workBudget);
+  };
+  std::vector<Index> movedVertices, chunk;
+  auto keep = [&](Index v, const std::vector<Index>&) { movedVertices.push_back(v); };
   std::vector<std::pair<double, Index>> screen;
   std::vector<std::pair<double, Index>> pool = this->RefinementPool(ancestry);
   Index moved = 0;
@@ -3324,12 +3342,14 @@ Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Anc
     }
     const size_t count = std::min(budget, screen.size());
     std::partial_sort(screen.begin(), screen.begin() + count, screen.end(), WorseFirst);
-    for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst && region.Work <= workBudget; ++c)
+    for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst && sweep.WithinBudget();)
     {
-      if (this->RefineVertex(region, screen[c].second, minimumDot, workBudget))
+      chunk.clear();
+      for (; c < count && screen[c].first >= 0.5 * worst && chunk.size() < SweepChunkSize; ++c)
       {
-        movedVertices.push_back(screen[c].second);
+        chunk.push_back(screen[c].second);
       }
+      this->SweepChunk(sweep, chunk, refine, keep);
     }
     if (movedVertices.empty())
     {
@@ -3339,8 +3359,8 @@ Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Anc
     this->PoolAroundMoved(movedVertices, ancestry, pool);
     movedVertices.clear();
   }
-  vtkLogF(TRACE, "triangle collapse: deviation refinement: %d vertex moves, %zu point-triangle tests (%.1f per input triangle)",
-    int(moved), region.Work, double(region.Work) / std::max<Index>(nt, 1));
+  vtkLogF(TRACE, "triangle collapse: deviation refinement: %d vertex moves, %zu point-triangle tests (%.1f per input triangle), %zu of %zu vertex refinements concurrent",
+    int(moved), region.Work, double(region.Work) / std::max<Index>(nt, 1), sweep.VisitedConcurrently, sweep.Visited);
   return moved;
 }
 
