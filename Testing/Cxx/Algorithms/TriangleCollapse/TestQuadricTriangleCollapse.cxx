@@ -227,28 +227,42 @@ TEST(QuadricTriangleCollapse, SameOutputForAnyThreadCount)
   EXPECT_EQ(one.Triangles, four.Triangles);
 }
 
+// The filter's output, set up by configure (and looked at by inspect after its update), with 1, 2
+// and 8 threads; the thread count is restored afterwards.
+template <typename Configure, typename Inspect = void (*)(vtkQuadricTriangleCollapse*)>
+std::vector<TriangleMesh> OutputsForOneTwoAndEightThreads(
+  vtkPolyData* input, Configure&& configure, Inspect&& inspect = [](vtkQuadricTriangleCollapse*) {})
+{
+  const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
+  std::vector<TriangleMesh> outputs;
+  for (int n : { 1, 2, 8 })
+  {
+    vtkSMPTools::Initialize(n);
+    vtkNew<vtkQuadricTriangleCollapse> filter;
+    filter->SetInputData(input);
+    configure(filter.Get());
+    filter->Update();
+    inspect(filter.Get());
+    outputs.push_back(slodtest::RawTriangleMesh(filter->GetOutput()));
+  }
+  vtkSMPTools::Initialize(threads);
+  return outputs;
+}
+
 // The fit to the original fits the vertices far from the rest of their chunk concurrently and the
 // others in order (FitChunk): the moves, their count and the stop at the budget must be the same
 // for 1, 2 and 8 threads. fandisk: its worst vertices crowd along the creases, so many chunk
 // members are computed in order between concurrent ones.
 TEST(QuadricTriangleCollapse, FitToOriginalSameMovesForOneTwoAndEightThreads)
 {
-  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("fandisk");
-  const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
-  std::vector<TriangleMesh> outputs;
   std::vector<vtkIdType> fitted;
-  for (int n : { 1, 2, 8 })
-  {
-    vtkSMPTools::Initialize(n);
-    vtkNew<vtkQuadricTriangleCollapse> filter;
-    filter->SetInputData(input);
-    filter->SetTargetReduction(0.9);
-    filter->DeviationRefinementOff(); // the fit's moves alone
-    filter->Update();
-    outputs.push_back(slodtest::RawTriangleMesh(filter->GetOutput()));
-    fitted.push_back(filter->GetNumberOfFittedVertices());
-  }
-  vtkSMPTools::Initialize(threads);
+  const std::vector<TriangleMesh> outputs = OutputsForOneTwoAndEightThreads(
+    slodtest::LoadTestMesh("fandisk"),
+    [](vtkQuadricTriangleCollapse* filter) {
+      filter->SetTargetReduction(0.9);
+      filter->DeviationRefinementOff(); // the fit's moves alone
+    },
+    [&](vtkQuadricTriangleCollapse* filter) { fitted.push_back(filter->GetNumberOfFittedVertices()); });
   EXPECT_GT(fitted[0], 0) << "the fit moved nothing: the test would not see a difference";
   for (size_t i = 1; i < outputs.size(); ++i)
   {
@@ -264,19 +278,10 @@ TEST(QuadricTriangleCollapse, FitToOriginalSameMovesForOneTwoAndEightThreads)
 TEST(QuadricTriangleCollapse, BatchCollapsesSameOutputForOneTwoAndEightThreads)
 {
   vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("armadillo");
-  const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
-  std::vector<TriangleMesh> outputs;
-  for (int n : { 1, 2, 8 })
-  {
-    vtkSMPTools::Initialize(n);
-    vtkNew<vtkQuadricTriangleCollapse> filter;
-    filter->SetInputData(input);
+  const std::vector<TriangleMesh> outputs = OutputsForOneTwoAndEightThreads(input, [](vtkQuadricTriangleCollapse* filter) {
     filter->SetTargetNumberOfTriangles(5000);
     filter->BatchCollapsesOn();
-    filter->Update();
-    outputs.push_back(slodtest::RawTriangleMesh(filter->GetOutput()));
-  }
-  vtkSMPTools::Initialize(threads);
+  });
   for (size_t i = 1; i < outputs.size(); ++i)
   {
     EXPECT_EQ(outputs[0].Points, outputs[i].Points);
