@@ -47,6 +47,9 @@ constexpr double RefinementSumSlack = 1.05;
 constexpr size_t RefinementPoolLimit = 600;
 // Candidates screened per parallel step (the budget is checked between steps).
 constexpr size_t ScreenChunk = 64;
+// Vertices of the fit and the refinement visited per parallel step (ChunkedSweep): members within
+// two edges of another are visited in order afterwards, so small chunks keep most concurrent.
+constexpr size_t SweepChunkSize = 32;
 // The fit to the original surface: Gauss-Seidel sweeps, and the weight of the ridge term that
 // keeps vertices from sliding along the surface (relative to the data term's trace).
 // Bound on the collapse loop's queue pops, per input triangle (see the loop).
@@ -347,6 +350,11 @@ private:
   bool FitStep(const Neighbourhood& region, const TriangleMesh& original, const Ancestry& ancestry, Index v, Vec3& step) const;
   void WatchMove(Neighbourhood& region, const ClosestAssignment& assignment, MoveGuard& guard) const;
   bool MoveKeepsBounds(const Neighbourhood& region, Index v, double reach, double minimumDot, MoveGuard& guard) const;
+  struct ChunkedSweep;
+  bool FitVertex(Neighbourhood& region, MoveGuard& guard, const ClosestAssignment& assignment, Index v, double minimumDot);
+  bool FarFromOthers(Index v, const std::vector<std::uint32_t>& chunkMark, std::uint32_t chunk) const;
+  template <typename Visit, typename OnMoved>
+  void SweepChunk(ChunkedSweep& sweep, const std::vector<Index>& chunk, Visit&& visit, OnMoved&& onMoved);
   // The RefineDeviation pass (see the header); original = the input mesh in this mesh's ids.
   Index RefineDeviation(const TriangleMesh& original, const Ancestry& ancestry);
   std::vector<std::pair<double, Index>> RefinementPool(const Ancestry& ancestry) const;
@@ -2270,6 +2278,23 @@ void LiveTriangles(const EditableMesh& mesh, TriangleMesh& out, std::vector<Inde
 // Moving v changes only its fan, so each original sample's distance to the rest of the
 // neighbourhood is computed once (Freeze) and a candidate position costs tests against the fan
 // only; the original triangles carry bounding spheres that prune most point-triangle tests.
+// A lower bound of the squared distance of q to triangle (a, b, c): to its bounding box, each gap
+// shortened by far more than the rounding of a computed closest point, so that a triangle is never
+// skipped where the exact test would find it at most as far as a bound.
+inline double BoxGap2(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  double gap2 = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const double ab = a[k] < b[k] ? a[k] : b[k], lo = ab < c[k] ? ab : c[k];
+    const double ba = a[k] < b[k] ? b[k] : a[k], hi = ba < c[k] ? c[k] : ba;
+    const double d = q[k] < lo ? lo - q[k] : (q[k] > hi ? q[k] - hi : 0.0);
+    const double slack = 1e-12 * (std::abs(q[k]) + std::abs(lo) + std::abs(hi));
+    gap2 += d > slack ? (d - slack) * (d - slack) : 0.0;
+  }
+  return gap2;
+}
+
 class Neighbourhood
 {
 public:
@@ -2392,8 +2417,9 @@ public:
   // closest fan triangle, or InvalidIndex when the closest point is off the fan.
   double SampleDistance2(size_t i, Vec3& closest, Index& which) const
   {
-    const double d2 = this->ToMesh(this->Samples[i], this->Fan, closest, which);
-    if (this->RestDistance2[i] < d2)
+    // Only a fan triangle at most as far as the rest can be the answer (ties go to the fan).
+    const double d2 = this->ToMesh(this->Samples[i], this->Fan, closest, which, this->RestDistance2[i]);
+    if (which == InvalidIndex || this->RestDistance2[i] < d2)
     {
       closest = this->RestClosest[i];
       which = InvalidIndex;
@@ -2402,18 +2428,29 @@ public:
     return d2;
   }
 
-  double ToMesh(const Vec3& q, const std::vector<Index>& tris, Vec3& closest, Index& which) const
+  // Squared distance of q to the closest of tris (and which one, InvalidIndex when none is closer
+  // than `bound`). A triangle whose bounding box lies farther than the best so far cannot win and
+  // is not measured: the same answer as measuring all, at a fraction of the cost. The budgets
+  // count every triangle of the list, so they stop the passes where they always did.
+  double ToMesh(const Vec3& q, const std::vector<Index>& tris, Vec3& closest, Index& which,
+    double bound = std::numeric_limits<double>::max()) const
   {
     this->Work += tris.size();
-    double best = std::numeric_limits<double>::max();
+    double best = bound;
     which = InvalidIndex;
     for (Index t : tris)
     {
       const Index* tri = this->Mesh.Triangle(t);
-      const Vec3 c = ClosestPointOnTriangle(q, this->Mesh.Point(tri[0]), this->Mesh.Point(tri[1]), this->Mesh.Point(tri[2]));
+      const Vec3 a = this->Mesh.Point(tri[0]), b = this->Mesh.Point(tri[1]), e = this->Mesh.Point(tri[2]);
+      if (BoxGap2(q, a, b, e) > best)
+      {
+        continue;
+      }
+      const Vec3 c = ClosestPointOnTriangle(q, a, b, e);
       const Vec3 d = q - c;
       const double d2 = Dot(d, d);
-      if (d2 < best)
+      // The first at most as far as the bound, then only strictly closer ones.
+      if (which == InvalidIndex ? d2 <= best : d2 < best)
       {
         best = d2;
         closest = c;
@@ -2764,7 +2801,8 @@ bool TriangleCollapser::MoveKeepsBounds(
     {
       Vec3 closest;
       Index which;
-      lower = region.ToMesh(guard.Watched[k], region.Fan, closest, which) <= limit;
+      region.ToMesh(guard.Watched[k], region.Fan, closest, which, limit);
+      lower = which != InvalidIndex; // a fan triangle within the limit
     }
   }
   size_t sample = 0;
@@ -2780,6 +2818,170 @@ bool TriangleCollapser::MoveKeepsBounds(
   return lower;
 }
 
+// A sweep of the passes after the collapses over vertices in a given order, each vertex visited
+// with a neighbourhood that it alone moves (see SweepChunk): the sequential walk's neighbourhood,
+// whose Work is the pass's test count, and one per thread for the concurrent visits.
+struct TriangleCollapser::ChunkedSweep
+{
+  struct Worker
+  {
+    Worker(const EditableMesh& mesh, const TriangleMesh& original, const Ancestry& ancestry)
+      : Region(mesh, original, ancestry)
+    {
+    }
+    Neighbourhood Region;
+    MoveGuard Guard;
+  };
+  // Per member of the current chunk: visited concurrently, where it started, whether it moved,
+  // the tests it took and its ring.
+  struct Outcome
+  {
+    bool Concurrent = false, Moved = false;
+    Vec3 Start{};
+    size_t Work = 0;
+    std::vector<Index> Ring;
+  };
+  ChunkedSweep(const EditableMesh& mesh, const TriangleMesh& original, const Ancestry& ancestry, size_t workBudget)
+    : Original(original)
+    , Lineage(ancestry)
+    , Main(mesh, original, ancestry)
+    , WorkBudget(workBudget)
+    , ChunkMark(size_t(original.NumberOfPoints()), 0)
+  {
+  }
+  size_t Work() const { return this->Main.Region.Work; }
+  bool WithinBudget() const { return this->Main.Region.Work <= this->WorkBudget; }
+  const TriangleMesh& Original;
+  const Ancestry& Lineage;
+  Worker Main;
+  size_t WorkBudget;
+  vtkSMPThreadLocal<std::shared_ptr<Worker>> Workers;
+  std::vector<std::uint32_t> ChunkMark; // per vertex: the chunk it was last a member of
+  std::uint32_t ChunkNumber = 0;
+  std::vector<Outcome> Outcomes;
+  size_t Visited = 0, VisitedConcurrently = 0; // diagnostics
+};
+
+bool TriangleCollapser::FitVertex(
+  Neighbourhood& region, MoveGuard& guard, const ClosestAssignment& assignment, Index v, double minimumDot)
+{
+  // The step of v's least-squares fit, then the move (full, then half) if it keeps the bounds.
+  region.GatherFan(v);
+  const Vec3 p = this->Mesh.Point(v);
+  Vec3 step;
+  if (!this->FitStep(region, region.Original, region.Lineage, v, step))
+  {
+    return false;
+  }
+  this->WatchMove(region, assignment, guard);
+  for (double s : { 1.0, 0.5 })
+  {
+    this->Mesh.SetPoint(v, p + s * step);
+    if (this->MoveKeepsBounds(region, v, s * Norm(step), minimumDot, guard))
+    {
+      return true;
+    }
+    this->Mesh.SetPoint(v, p);
+  }
+  return false;
+}
+
+bool TriangleCollapser::FarFromOthers(Index v, const std::vector<std::uint32_t>& chunkMark, std::uint32_t chunk) const
+{
+  // No other member of the chunk within two edges of v: then neither reads what the other moves.
+  bool far = true;
+  this->Mesh.ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3 && far; ++k)
+    {
+      this->Mesh.ForEachTriangle(tri[k], [&](Index s) {
+        const Index* around = this->Mesh.Triangle(s);
+        for (int j = 0; j < 3; ++j)
+        {
+          far = far && (around[j] == v || chunkMark[around[j]] != chunk);
+        }
+      });
+    }
+  });
+  return far;
+}
+
+// Visits the chunk's vertices as one sequential sweep in their order would: visit(worker, v)
+// reads positions within two edges of v only, moves only v and returns whether it did; it may
+// stop early when its worker's Work passes the budget. Speculation that cannot be wrong: the
+// members with no other member within two edges are visited concurrently, each with its worker's
+// Work set to the sweep's count at the start of the chunk; the walk in order then takes such a
+// result when the budget held all along (the sweep's count at its turn plus its own tests), since
+// no earlier move could reach it and its budget checks passed either way; every other member is
+// visited at its turn (a rejected speculation moved back first). onMoved(v, ring) in order. The
+// same moves, test counts and stop for any thread count.
+template <typename Visit, typename OnMoved>
+void TriangleCollapser::SweepChunk(ChunkedSweep& sweep, const std::vector<Index>& chunk, Visit&& visit, OnMoved&& onMoved)
+{
+  if (++sweep.ChunkNumber == 0)
+  {
+    std::fill(sweep.ChunkMark.begin(), sweep.ChunkMark.end(), 0u);
+    sweep.ChunkNumber = 1;
+  }
+  for (Index v : chunk)
+  {
+    sweep.ChunkMark[v] = sweep.ChunkNumber;
+  }
+  sweep.Outcomes.resize(chunk.size());
+  const size_t startWork = sweep.Work();
+  vtkSMPTools::For(0, static_cast<vtkIdType>(chunk.size()), 1, [&](vtkIdType begin, vtkIdType end) {
+    std::shared_ptr<ChunkedSweep::Worker>& worker = sweep.Workers.Local();
+    if (!worker)
+    {
+      worker = std::make_shared<ChunkedSweep::Worker>(this->Mesh, sweep.Original, sweep.Lineage);
+    }
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      ChunkedSweep::Outcome& outcome = sweep.Outcomes[size_t(i)];
+      const Index v = chunk[size_t(i)];
+      outcome.Start = this->Mesh.Point(v);
+      outcome.Concurrent = chunk.size() > 1 && this->FarFromOthers(v, sweep.ChunkMark, sweep.ChunkNumber);
+      if (outcome.Concurrent)
+      {
+        worker->Region.Work = startWork;
+        outcome.Moved = visit(*worker, v);
+        outcome.Work = worker->Region.Work - startWork;
+        outcome.Ring = worker->Region.Ring;
+      }
+    }
+  });
+  for (size_t i = 0; i < chunk.size(); ++i)
+  {
+    ChunkedSweep::Outcome& outcome = sweep.Outcomes[i];
+    const Index v = chunk[i];
+    if (!sweep.WithinBudget())
+    {
+      // The sweep stops here: the concurrent moves past this point are undone.
+      for (size_t j = i; j < chunk.size(); ++j)
+      {
+        this->Mesh.SetPoint(chunk[j], sweep.Outcomes[j].Start);
+      }
+      return;
+    }
+    ++sweep.Visited;
+    if (outcome.Concurrent && sweep.Work() + outcome.Work <= sweep.WorkBudget)
+    {
+      ++sweep.VisitedConcurrently;
+      sweep.Main.Region.Work += outcome.Work;
+    }
+    else
+    {
+      this->Mesh.SetPoint(v, outcome.Start);
+      outcome.Moved = visit(sweep.Main, v);
+      outcome.Ring = sweep.Main.Region.Ring;
+    }
+    if (outcome.Moved)
+    {
+      onMoved(v, outcome.Ring);
+    }
+  }
+}
+
 Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ancestry& ancestry)
 {
   const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
@@ -2789,9 +2991,8 @@ Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ances
   }
   const double minimumDot = NormalLimitDot(this->Options.MaximumNormalDeviation);
   // Point-triangle tests: the pass stops at its budget, the worst vertices first.
-  const size_t workBudget = FitBudget.For(nt);
+  ChunkedSweep sweep(this->Mesh, original, ancestry, FitBudget.For(nt));
   const std::vector<std::pair<double, Index>> order = this->FitOrder(ancestry);
-  Neighbourhood region(this->Mesh, original, ancestry);
   // Which original vertices a move of v can take farther away: those whose closest output
   // point is on v's fan. Exactly, from a closest-triangle assignment of every original vertex
   // (a BVH query each) when the input is small enough for that to be cheap; otherwise among the
@@ -2803,48 +3004,42 @@ Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ances
   {
     this->AssignClosest(original, assignment);
   }
-  MoveGuard guard;
   std::vector<unsigned char> moved(size_t(nv), 0);
   std::vector<unsigned char> dirty, nowDirty(size_t(nv), 0);
-  for (int iteration = 0; iteration < FitIterations && region.Work <= workBudget; ++iteration)
+  std::vector<Index> chunk;
+  auto fit = [&](ChunkedSweep::Worker& worker, Index v) {
+    return this->FitVertex(worker.Region, worker.Guard, assignment, v, minimumDot);
+  };
+  auto mark = [&](Index v, const std::vector<Index>& ring) {
+    moved[v] = 1;
+    nowDirty[v] = 1;
+    for (Index w : ring)
+    {
+      nowDirty[w] = 1;
+    }
+  };
+  for (int iteration = 0; iteration < FitIterations && sweep.WithinBudget(); ++iteration)
   {
     dirty.swap(nowDirty);
     nowDirty.assign(size_t(nv), 0);
-    for (size_t next = 0; next < order.size() && region.Work <= workBudget; ++next)
+    for (size_t next = 0; next < order.size() && sweep.WithinBudget();)
     {
-      const Index v = order[next].second;
-      // After the first sweep only where something moved nearby (the rest would not move).
-      if (iteration > 0 && !dirty[v])
+      // The next vertices in order (after the first sweep only where something moved nearby:
+      // the rest would not move).
+      chunk.clear();
+      for (; next < order.size() && chunk.size() < SweepChunkSize; ++next)
       {
-        continue;
-      }
-      region.GatherFan(v);
-      const Vec3 p = this->Mesh.Point(v);
-      Vec3 step;
-      if (!this->FitStep(region, original, ancestry, v, step))
-      {
-        continue;
-      }
-      this->WatchMove(region, assignment, guard);
-      for (double s : { 1.0, 0.5 })
-      {
-        this->Mesh.SetPoint(v, p + s * step);
-        if (this->MoveKeepsBounds(region, v, s * Norm(step), minimumDot, guard))
+        const Index v = order[next].second;
+        if (iteration == 0 || dirty[v])
         {
-          moved[v] = 1;
-          nowDirty[v] = 1;
-          for (Index w : region.Ring)
-          {
-            nowDirty[w] = 1;
-          }
-          break;
+          chunk.push_back(v);
         }
-        this->Mesh.SetPoint(v, p);
       }
+      this->SweepChunk(sweep, chunk, fit, mark);
     }
   }
-  vtkLogF(TRACE, "triangle collapse: fit to original: %zu point-triangle tests (%.1f per input triangle)", region.Work,
-    double(region.Work) / std::max<Index>(nt, 1));
+  vtkLogF(TRACE, "triangle collapse: fit to original: %zu point-triangle tests (%.1f per input triangle), %zu of %zu vertex fits concurrent",
+    sweep.Work(), double(sweep.Work()) / std::max<Index>(nt, 1), sweep.VisitedConcurrently, sweep.Visited);
   return static_cast<Index>(std::count(moved.begin(), moved.end(), 1));
 }
 
@@ -2922,8 +3117,8 @@ double TriangleCollapser::ScreenVertex(Neighbourhood& region, Index v) const
   Index which;
   for (size_t i = region.OwnSamplesBegin; i < region.OwnSamplesEnd; ++i)
   {
-    e = std::max(e, std::min(region.ToMesh(region.Samples[i], region.Fan, closest, which),
-                      region.ToMesh(region.Samples[i], region.Near, closest, which)));
+    const double toFan = region.ToMesh(region.Samples[i], region.Fan, closest, which);
+    e = std::max(e, region.ToMesh(region.Samples[i], region.Near, closest, which, toFan));
   }
   region.ForEachFanSample([&](const Vec3& q, double) { e = std::max(e, region.ToOriginal(q, closest)); });
   return e;
@@ -3044,8 +3239,13 @@ Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Anc
   const double minimumDot = NormalLimitDot(this->Options.MaximumNormalDeviation);
   // Only a few of the worst regions: the pass must stay cheap next to the collapses.
   const size_t budget = static_cast<size_t>(16 + this->Mesh.NumberOfLiveVertices() / 2000);
-  Neighbourhood region(this->Mesh, original, ancestry);
-  std::vector<Index> movedVertices;
+  ChunkedSweep sweep(this->Mesh, original, ancestry, workBudget);
+  Neighbourhood& region = sweep.Main.Region; // its Work counts the screening and the moves
+  auto refine = [&](ChunkedSweep::Worker& worker, Index v) {
+    return this->RefineVertex(worker.Region, v, minimumDot, workBudget);
+  };
+  std::vector<Index> movedVertices, chunk;
+  auto keep = [&](Index v, const std::vector<Index>&) { movedVertices.push_back(v); };
   std::vector<std::pair<double, Index>> screen;
   std::vector<std::pair<double, Index>> pool = this->RefinementPool(ancestry);
   Index moved = 0;
@@ -3058,12 +3258,14 @@ Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Anc
     }
     const size_t count = std::min(budget, screen.size());
     std::partial_sort(screen.begin(), screen.begin() + count, screen.end(), WorseFirst);
-    for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst && region.Work <= workBudget; ++c)
+    for (size_t c = 0; c < count && screen[c].first >= 0.5 * worst && sweep.WithinBudget();)
     {
-      if (this->RefineVertex(region, screen[c].second, minimumDot, workBudget))
+      chunk.clear();
+      for (; c < count && screen[c].first >= 0.5 * worst && chunk.size() < SweepChunkSize; ++c)
       {
-        movedVertices.push_back(screen[c].second);
+        chunk.push_back(screen[c].second);
       }
+      this->SweepChunk(sweep, chunk, refine, keep);
     }
     if (movedVertices.empty())
     {
@@ -3073,8 +3275,8 @@ Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Anc
     this->PoolAroundMoved(movedVertices, ancestry, pool);
     movedVertices.clear();
   }
-  vtkLogF(TRACE, "triangle collapse: deviation refinement: %d vertex moves, %zu point-triangle tests (%.1f per input triangle)",
-    int(moved), region.Work, double(region.Work) / std::max<Index>(nt, 1));
+  vtkLogF(TRACE, "triangle collapse: deviation refinement: %d vertex moves, %zu point-triangle tests (%.1f per input triangle), %zu of %zu vertex refinements concurrent",
+    int(moved), region.Work, double(region.Work) / std::max<Index>(nt, 1), sweep.VisitedConcurrently, sweep.Visited);
   return moved;
 }
 
