@@ -28,7 +28,7 @@ constexpr double FoldCosine = -0.8660254037844386;
 // A repair may move tiles away from the original surface by this share of their longest edge (or
 // up to how far they were from it already), and the surface away from where it was by MovedShare.
 constexpr double DeviationShare = 0.02;
-constexpr double MovedShare = 0.1;
+constexpr double MovedShare = 0.03;
 // Vertices with more neighbours are not moved; the repair stops after this many triangle visits
 // per triangle of the mesh.
 constexpr size_t MaximumRepairValence = 32;
