@@ -20,39 +20,29 @@ import argparse
 import importlib.util
 import math
 import os
-import sys
 import time
 
 
-def import_surfacelod(build):
+def bench_module():
+    # The levels bench's loading and distance (its file name is not a module name).
     spec = importlib.util.spec_from_file_location(
-        "output_hashes", os.path.join(os.path.dirname(os.path.abspath(__file__)), "output-hashes.py"))
+        "retile_levels_bench", os.path.join(os.path.dirname(os.path.abspath(__file__)), "retile-levels-bench.py"))
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return module.import_surfacelod(build)
+    return module
+
+
+BENCH = bench_module()
+import_surfacelod = BENCH.import_surfacelod
+hausdorff = BENCH.hausdorff
 
 
 def load(slod, build, name):
     import vtk
-    if name.startswith("noisy:") or name.startswith("synthetic:"):
-        kind, resolution = name.split(":")
-        source = slod.vtkScanSurfaceSource() if kind == "noisy" else slod.vtkSyntheticIsosurfaceSource()
-        if kind == "noisy":
-            source.SetKindToNoisyIsosurface()
-        source.SetResolution(int(resolution))
-        source.Update()
-        return source.GetOutput()
-    path = name if os.path.exists(name) else os.path.join(build, "TestData", "meshes", name + ".off")
-    if not os.path.exists(path):
-        sys.exit("no input %s" % name)
-    reader = slod.vtkOFFMeshReader() if path.endswith(".off") else (
-        vtk.vtkPLYReader() if path.endswith(".ply") else vtk.vtkXMLPolyDataReader())
-    reader.SetFileName(path)
-    reader.Update()
-    clean = vtk.vtkTriangleFilter()
-    clean.SetInputData(reader.GetOutput())
-    clean.Update()
-    return clean.GetOutput()
+    triangles = vtk.vtkTriangleFilter()
+    triangles.SetInputData(BENCH.load(slod, build, name))
+    triangles.Update()
+    return triangles.GetOutput()
 
 
 def sub(u, v):
@@ -122,15 +112,6 @@ def quality(source, output):
             elif dot(unit, units[other]) < math.cos(math.radians(150)):
                 result["folded"] += 1
     return result
-
-
-def hausdorff(slod, a, b):
-    deviation = slod.vtkSurfaceDeviation()
-    deviation.SetReferenceData(a)
-    deviation.SetComparedData(b)
-    deviation.SetNumberOfSamples(100000)
-    deviation.Update()
-    return deviation.GetHausdorffRelative()
 
 
 def main():
