@@ -276,9 +276,18 @@ Index TileRepair::Run(int passes)
     {
       break;
     }
-    // The tiles still bad: the ones that were and those around what changed (a flip or a move
-    // may leave a neighbour bad while it repairs the tile).
+    // The next pass tries only the bad tiles near what changed (two rings around the changed
+    // vertices): the others would be tried on the same tiles again, and fail again.
+    std::vector<Index> near = this->Touched, ring;
     for (Index v : this->Touched)
+    {
+      this->Edit.Neighbors(v, ring);
+      near.insert(near.end(), ring.begin(), ring.end());
+    }
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    bad.clear();
+    for (Index v : near)
     {
       this->Edit.ForEachTriangle(v, [&](Index t) { bad.push_back(t); });
     }

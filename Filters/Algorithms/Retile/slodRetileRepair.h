@@ -66,7 +66,8 @@ struct TileRepair
   double NeedleAngle = 0;
   double ShortestEdge = 0;
 
-  // Returns the number of bad tiles left. Flips and moves done are counted in the members below.
+  // Returns the number of bad tiles near the last pass's changes (the others were tried and left
+  // as they are). Flips and moves done are counted in the members below.
   Index Run(int passes);
   Index Flips = 0, Moves = 0;
   mutable long long Work = 0; // triangle visits so far (bounded in Run)
