@@ -5,6 +5,7 @@
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodRetileFeatures.h"
+#include "slodRetileRepair.h"
 #include "slodTriangleBVH.h"
 
 #include "vtkSMPTools.h"
@@ -64,6 +65,18 @@ void VertexNormals(const TriangleMesh& mesh, std::vector<Vec3>& normals)
   {
     n = Normalized(n);
   }
+}
+
+// The vertex normals of triangle t interpolated with weights w (its face normal where they cancel).
+Vec3 InterpolatedNormal(const TriangleMesh& mesh, const std::vector<Vec3>& vertexNormals, Index t, const double* w)
+{
+  const Index* tri = mesh.Triangle(t);
+  Vec3 nrm{ 0, 0, 0 };
+  for (int k = 0; k < 3; ++k)
+  {
+    nrm = nrm + w[k] * vertexNormals[tri[k]];
+  }
+  return Norm(nrm) > 0 ? Normalized(nrm) : Normalized(mesh.TriangleAreaVector(t));
 }
 
 // Uniform grid over a point set for fixed-radius neighbour queries (dense cells, counting sort).
@@ -741,8 +754,8 @@ struct CoarserLevel
   bool IsPinned(Index i) const { return !this->PinnedTo.empty() && this->PinnedTo[i] != InvalidIndex; }
 };
 
-void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
-  const CoarserLevel& coarser, RetilingResult& result);
+void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vector<SurfacePoint>& points,
+  const RetilingOptions& options, const CoarserLevel& coarser, RetilingResult& result);
 }
 
 namespace
@@ -833,7 +846,7 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   NearestNeighborSpacing(PointCoordinates(points), result.MinSpacingAfter, result.MeanSpacingAfter);
   result.DroppedCandidates = dropped;
   fixedPoints.PinnedTo.resize(points.size(), InvalidIndex);
-  TileWithPoints(mesh, points, withFlags, fixedPoints, result);
+  TileWithPoints(mesh, bvh, points, withFlags, fixedPoints, result);
 }
 
 namespace
@@ -982,18 +995,7 @@ std::vector<Vec3> ReferenceNormals(
   }
   for (Index i = 0; i < np; ++i)
   {
-    const Index* tri = mesh.Triangle(points[i].Triangle);
-    Vec3 nrm{ 0, 0, 0 };
-    for (int k = 0; k < 3; ++k)
-    {
-      nrm = nrm + bary[3 * size_t(i) + k] * vertexNormals[tri[k]];
-    }
-    nrm = Normalized(nrm);
-    if (Norm(nrm) == 0)
-    {
-      nrm = Normalized(mesh.TriangleAreaVector(points[i].Triangle));
-    }
-    reference[n0 + i] = nrm;
+    reference[n0 + i] = InterpolatedNormal(mesh, vertexNormals, points[i].Triangle, &bary[3 * size_t(i)]);
   }
   return reference;
 }
@@ -1397,6 +1399,35 @@ Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference
   return flips;
 }
 
+// Smallest angle and shortest edge (share of the input's diagonal) of a tile RepairTiles accepts:
+// below them a tile is a needle.
+constexpr double RepairNeedleAngle = 2.0 * 3.14159265358979323846 / 180.0;
+constexpr double RepairShortestEdge = 1e-5;
+constexpr int RepairPasses = 8;
+
+// The last check (slodRetileRepair.h) after step 6: tiles facing against the input or needles
+// are repaired by flips (recorded in `record` when given) and moves of the `movable` vertices
+// (`moved` says where each went). Returns the number of flips.
+Index RepairTiles(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
+  const OldVertexRemoval& removal, const std::vector<unsigned char>& movable, EditableMesh& edit,
+  std::vector<Vec3>& reference, std::vector<Index>* record,
+  const std::function<void(Index, const Vec3&, Index)>& moved)
+{
+  TileRepair repair(edit, reference, mesh, bvh, movable);
+  repair.IsFixedEdge = [&](Index x, Index y) { return removal.IsLineEdge(x, y); };
+  repair.NormalAt = [&](const Vec3& position, Index t) {
+    const Index* tri = mesh.Triangle(t);
+    const Vec3 w = Barycentric(position, mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]));
+    return InterpolatedNormal(mesh, inputNormals, t, w.data());
+  };
+  repair.Moved = moved;
+  repair.Record = record;
+  repair.NeedleAngle = RepairNeedleAngle;
+  repair.ShortestEdge = RepairShortestEdge * mesh.BoundingBoxDiagonal();
+  repair.Run(RepairPasses);
+  return repair.Flips;
+}
+
 // Renumbers the vertices of `output` in increasing key order; `ids` (one per vertex) follows.
 template <typename Key>
 void SortVerticesByKey(TriangleMesh& output, std::vector<Index>& ids, Key key)
@@ -1490,8 +1521,8 @@ void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoin
 
 // Steps 4-6 on given candidate points (their positions may be adjusted: moved strictly inside
 // their triangle). Keeps the spacing figures already in result.
-void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points, const RetilingOptions& options,
-  const CoarserLevel& coarser, RetilingResult& result)
+void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vector<SurfacePoint>& points,
+  const RetilingOptions& options, const CoarserLevel& coarser, RetilingResult& result)
 {
   const Index n0 = mesh.NumberOfPoints();
   const Index np = static_cast<Index>(points.size());
@@ -1520,6 +1551,24 @@ void TileWithPoints(const TriangleMesh& mesh, std::vector<SurfacePoint>& points,
     return;
   }
   result.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses, removal);
+  // The free candidates may move (on the input surface): not a coarser level's, nor one on a
+  // border or a feature line. One standing on an old vertex (phase 2) no longer does once moved.
+  std::vector<unsigned char> movable(size_t(edit.NumberOfPoints()), 0);
+  for (Index i = coarser.FixedCount; i < np; ++i)
+  {
+    const bool onLine = !removal.Lines.empty() && !removal.Lines[n0 + i].empty();
+    movable[n0 + i] = !removal.OnBorder[n0 + i] && !removal.Locked[n0 + i] && !onLine;
+  }
+  std::vector<Vec3> vertexNormals;
+  VertexNormals(mesh, vertexNormals);
+  result.Flips += RepairTiles(mesh, bvh, vertexNormals, removal, movable, edit, reference, nullptr,
+    [&](Index v, const Vec3& position, Index triangle) {
+      removal.MovedTo[v - n0] = InvalidIndex;
+      points[v - n0] = SurfacePoint{ position, triangle };
+      const Index* tri = mesh.Triangle(triangle);
+      const Vec3 w = Barycentric(position, mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]));
+      std::copy(w.begin(), w.end(), &bary[3 * size_t(v - n0)]);
+    });
   if (!ReportProgress(options, 0.97))
   {
     AbortResult(result);
@@ -1542,13 +1591,7 @@ std::vector<Vec3> HostNormals(const TriangleMesh& mesh, const std::vector<Vec3>&
   std::vector<Vec3> normals(size_t(level.Mesh.NumberOfPoints()));
   for (size_t v = 0; v < normals.size(); ++v)
   {
-    const Index t = level.HostTriangle[v];
-    Vec3 nrm{ 0, 0, 0 };
-    for (int k = 0; k < 3; ++k)
-    {
-      nrm = nrm + level.Barycentric[3 * v + k] * inputNormals[mesh.Triangle(t)[k]];
-    }
-    normals[v] = Norm(nrm) > 0 ? Normalized(nrm) : Normalized(mesh.TriangleAreaVector(t));
+    normals[v] = InterpolatedNormal(mesh, inputNormals, level.HostTriangle[v], &level.Barycentric[3 * v]);
   }
   return normals;
 }
@@ -1559,8 +1602,9 @@ std::vector<Vec3> HostNormals(const TriangleMesh& mesh, const std::vector<Vec3>&
 // since every kept vertex is fixed), then step 6's flips; each collapse and flip is recorded
 // (coarse.Removals, in the finer level's ids). The survivors keep the finer level's order, so the first vertices are the kept
 // candidates in candidate order. Returns false when aborted.
-bool DeriveCoarserLevel(const TriangleMesh& mesh, const std::vector<Vec3>& inputNormals, const RetilingResult& fine,
-  Index keep, const RetilingOptions& options, RetilingResult& coarse, std::vector<Index>& survivors)
+bool DeriveCoarserLevel(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
+  const RetilingResult& fine, Index keep, const RetilingOptions& options, RetilingResult& coarse,
+  std::vector<Index>& survivors)
 {
   const Index n = fine.Mesh.NumberOfPoints();
   auto kept = [&](Index v) { return fine.Candidate[v] != InvalidIndex && fine.Candidate[v] < keep; };
@@ -1610,6 +1654,9 @@ bool DeriveCoarserLevel(const TriangleMesh& mesh, const std::vector<Vec3>& input
     return false;
   }
   coarse.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses, removal, &record);
+  // Every vertex is the finer level's: the repair only flips (recorded with the others).
+  const std::vector<unsigned char> fixedVertices(size_t(n), 0);
+  coarse.Flips += RepairTiles(mesh, bvh, inputNormals, removal, fixedVertices, edit, reference, &record, nullptr);
   edit.Extract(coarse.Mesh, &survivors);
   for (Index& id : survivors)
   {
@@ -1784,7 +1831,7 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
   RetilingOptions levelOptions = options;
   levelOptions.NonManifoldVertices = &nonManifold;
   levelOptions.Progress = [&](double f) { return !options.Progress || options.Progress(0.6 + 0.25 * f); };
-  TileWithPoints(mesh, points, levelOptions, coarser, levels[n - 1]);
+  TileWithPoints(mesh, bvh, points, levelOptions, coarser, levels[n - 1]);
   if (levels[n - 1].Aborted)
   {
     return aborted();
@@ -1800,7 +1847,7 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
       return !options.Progress || options.Progress(0.85 + 0.15 * (double(n - 1 - k) - 1 + f) / double(n - 1));
     };
     levels[k].DroppedCandidates = dropped;
-    if (!DeriveCoarserLevel(mesh, inputNormals, levels[k + 1], sizes[k], levelOptions, levels[k], finer[k]))
+    if (!DeriveCoarserLevel(mesh, bvh, inputNormals, levels[k + 1], sizes[k], levelOptions, levels[k], finer[k]))
     {
       return aborted();
     }

@@ -23,6 +23,9 @@
 //     stays one edge and the surface is not cut open there.
 //  6. Shape improvement (section 4.5): edge flips toward max-min angle where the two triangles are
 //     nearly coplanar and the flip keeps the orientation relative to the original surface.
+//  7. Repair (slodRetileRepair.h): tiles still facing against the original surface, folded onto a
+//     neighbour or needles are repaired by flips and by moves of free candidates on the surface,
+//     kept only when the tiles get better without moving away from the surface.
 #ifndef slodRetiling_h
 #define slodRetiling_h
 

@@ -1,0 +1,302 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "slodRetileRepair.h"
+
+#include "slodTriangleBVH.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace slod
+{
+bool TileRepair::IsBad(const Index* ids, const Vec3* p) const
+{
+  const Vec3 normal = TriangleNormal(p[0], p[1], p[2]);
+  if (Norm(normal) == 0 || MinimumAngle(p[0], p[1], p[2]) < this->NeedleAngle)
+  {
+    return true;
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    if (Norm(p[(k + 1) % 3] - p[k]) < this->ShortestEdge || Dot(normal, this->Reference[ids[k]]) <= 0)
+    {
+      return true;
+    }
+  }
+  // The original surface under the tile: the closest point of its centroid.
+  const ClosestPointResult closest = this->InputBVH.ClosestPoint((1.0 / 3.0) * (p[0] + p[1] + p[2]));
+  return closest.Triangle != InvalidIndex && Dot(normal, this->Input.TriangleAreaVector(closest.Triangle)) <= 0;
+}
+
+// The triangle across edge (x, y) from triangle t (InvalidIndex on a border or a non-manifold edge).
+Index TileRepair::Across(Index t, Index x, Index y) const
+{
+  Index other = InvalidIndex;
+  int count = 0;
+  this->Edit.ForEachTriangle(x, [&](Index u) {
+    ++this->Work;
+    const Index* tri = this->Edit.Triangle(u);
+    if (u != t && (tri[0] == y || tri[1] == y || tri[2] == y))
+    {
+      other = u;
+      ++count;
+    }
+  });
+  return count == 1 ? other : InvalidIndex;
+}
+
+TileRepair::Score TileRepair::TriangleScore(Index t) const
+{
+  const Index* tri = this->Edit.Triangle(t);
+  const Vec3 p[3] = { this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]) };
+  Score score;
+  score.Bad = this->IsBad(tri, p) ? 1 : 0;
+  score.Angle = MinimumAngle(p[0], p[1], p[2]);
+  return score;
+}
+
+// The tiles' bad count (a fold with a neighbour, turning by more than FoldAngle, counts as bad
+// too), smallest angle, and how far their centroids and edge midpoints are from the original surface.
+TileRepair::Score TileRepair::RegionScore(const std::vector<Index>& triangles) const
+{
+  Score total;
+  total.Angle = std::numeric_limits<double>::max();
+  for (Index t : triangles)
+  {
+    const Score s = this->TriangleScore(t);
+    total.Bad += s.Bad;
+    total.Angle = std::min(total.Angle, s.Angle);
+    const Index* tri = this->Edit.Triangle(t);
+    const Vec3 normal = this->Edit.TriangleNormal(t);
+    Vec3 centroid{ 0, 0, 0 };
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec3 a = this->Edit.Point(tri[k]), b = this->Edit.Point(tri[(k + 1) % 3]);
+      centroid = centroid + (1.0 / 3.0) * a;
+      total.Deviation = std::max(total.Deviation, this->InputBVH.ClosestPoint(0.5 * (a + b)).Distance2);
+      total.Extent = std::max(total.Extent, Dot(b - a, b - a));
+      const Index other = this->Across(t, tri[k], tri[(k + 1) % 3]);
+      total.Bad += other != InvalidIndex && Dot(normal, this->Edit.TriangleNormal(other)) < FoldCosine ? 1 : 0;
+    }
+    total.Deviation = std::max(total.Deviation, this->InputBVH.ClosestPoint(centroid).Distance2);
+  }
+  return total;
+}
+
+// Whether `after` is an improvement on `before` that moves the tiles no further from the original
+// surface than they were (or than a small share of their size).
+bool TileRepair::Accept(const Score& before, const Score& after) const
+{
+  const double tolerance2 = DeviationShare * DeviationShare * std::max(before.Extent, after.Extent);
+  return after.Better(before) && after.Deviation <= std::max(before.Deviation, tolerance2) &&
+    after.Moved <= MovedShare * MovedShare * std::max(before.Extent, after.Extent);
+}
+
+// The tiles' vertices, edge midpoints and centroids: where the surface was before a change.
+std::vector<Vec3> TileRepair::Samples(const std::vector<Index>& triangles) const
+{
+  std::vector<Vec3> samples;
+  for (Index t : triangles)
+  {
+    const Index* tri = this->Edit.Triangle(t);
+    const Vec3 p[3] = { this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]) };
+    samples.insert(samples.end(), { p[0], 0.5 * (p[0] + p[1]), 0.5 * (p[1] + p[2]), 0.5 * (p[2] + p[0]),
+                                    (1.0 / 3.0) * (p[0] + p[1] + p[2]) });
+  }
+  return samples;
+}
+
+// The largest squared distance from the samples to the tiles (how far the change moved the surface).
+double TileRepair::FarthestFrom(const std::vector<Vec3>& samples, const std::vector<Index>& triangles) const
+{
+  double farthest = 0;
+  for (const Vec3& q : samples)
+  {
+    double nearest = std::numeric_limits<double>::max();
+    for (Index t : triangles)
+    {
+      const Index* tri = this->Edit.Triangle(t);
+      const Vec3 c = ClosestPointOnTriangle(q, this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]));
+      nearest = std::min(nearest, Dot(c - q, c - q));
+    }
+    farthest = std::max(farthest, nearest);
+  }
+  return farthest;
+}
+
+std::vector<Index> TileRepair::Star(Index v) const
+{
+  std::vector<Index> star;
+  this->Edit.ForEachTriangle(v, [&](Index t) { star.push_back(t); });
+  this->Work += static_cast<long long>(star.size());
+  return star;
+}
+
+// Flips (x, y) when its two tiles are then better; undone otherwise.
+bool TileRepair::TryFlip(Index x, Index y)
+{
+  if (this->IsFixedEdge && this->IsFixedEdge(x, y))
+  {
+    return false;
+  }
+  std::vector<Index> pair;
+  this->Edit.ForEachTriangle(x, [&](Index t) {
+    const Index* tri = this->Edit.Triangle(t);
+    if (tri[0] == y || tri[1] == y || tri[2] == y)
+    {
+      pair.push_back(t);
+    }
+  });
+  if (pair.size() != 2)
+  {
+    return false;
+  }
+  const Score before = this->RegionScore(pair);
+  const std::vector<Vec3> samples = this->Samples(pair);
+  FlipRecord undo;
+  if (!this->Edit.FlipEdge(x, y, &undo))
+  {
+    return false;
+  }
+  // FlipEdge keeps the two triangle ids.
+  Score after = this->RegionScore(pair);
+  after.Moved = this->FarthestFrom(samples, pair);
+  if (!this->Accept(before, after))
+  {
+    this->Edit.Undo(undo);
+    return false;
+  }
+  for (Index t : pair)
+  {
+    this->Touched.insert(this->Touched.end(), this->Edit.Triangle(t), this->Edit.Triangle(t) + 3);
+  }
+  if (this->Record)
+  {
+    this->Record->push_back(-1 - x);
+    this->Record->push_back(y);
+  }
+  ++this->Flips;
+  return true;
+}
+
+// Moves v toward the centre of its neighbours (the whole way, then half of it), projected onto
+// the original surface on a sheet facing its way, when its star is then better.
+bool TileRepair::TryMove(Index v)
+{
+  if (!this->Movable[v] || this->Star(v).size() > MaximumRepairValence)
+  {
+    return false;
+  }
+  std::vector<Index> neighbors;
+  this->Edit.Neighbors(v, neighbors);
+  if (neighbors.size() < 3)
+  {
+    return false;
+  }
+  Vec3 centre{ 0, 0, 0 };
+  for (Index w : neighbors)
+  {
+    centre = centre + this->Edit.Point(w);
+  }
+  centre = (1.0 / double(neighbors.size())) * centre;
+  const Vec3 start = this->Edit.Point(v);
+  const Vec3 startReference = this->Reference[v];
+  const std::vector<Index> star = this->Star(v);
+  const Score before = this->RegionScore(star);
+  const std::vector<Vec3> samples = this->Samples(star);
+  for (double share : { 1.0, 0.5, 0.25 })
+  {
+    const ClosestPointResult c = this->InputBVH.ClosestPoint(start + share * (centre - start));
+    if (c.Triangle == InvalidIndex || Dot(this->Input.TriangleAreaVector(c.Triangle), startReference) <= 0)
+    {
+      continue;
+    }
+    this->Edit.SetPoint(v, c.Point);
+    this->Reference[v] = this->NormalAt(c.Point, c.Triangle);
+    Score after = this->RegionScore(star);
+    after.Moved = this->FarthestFrom(samples, star);
+    if (this->Accept(before, after))
+    {
+      this->Moved(v, c.Point, c.Triangle);
+      this->Touched.push_back(v);
+      ++this->Moves;
+      return true;
+    }
+  }
+  this->Edit.SetPoint(v, start);
+  this->Reference[v] = startReference;
+  return false;
+}
+
+// A bad tile: a flip of one of its edges, else a move of one of its vertices.
+bool TileRepair::RepairTriangle(Index t)
+{
+  const Index* tri = this->Edit.Triangle(t);
+  const Index ids[3] = { tri[0], tri[1], tri[2] };
+  for (int k = 0; k < 3; ++k)
+  {
+    if (this->TryFlip(ids[k], ids[(k + 1) % 3]))
+    {
+      return true;
+    }
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    if (this->TryMove(ids[k]))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+Index TileRepair::Run(int passes)
+{
+  std::vector<Index> bad;
+  for (Index t = 0; t < this->Edit.NumberOfTriangles(); ++t)
+  {
+    if (this->Edit.IsTriangleAlive(t) && this->TriangleScore(t).Bad)
+    {
+      bad.push_back(t);
+    }
+  }
+  // Work bound: triangle visits, a fixed number per triangle of the mesh (a valence-5000 apex
+  // would otherwise cost 5000 visits per check of every tile around it, pass after pass).
+  const long long budget = RepairWorkPerTriangle * static_cast<long long>(this->Edit.NumberOfTriangles());
+  for (int pass = 0; pass < passes && !bad.empty() && this->Work < budget; ++pass)
+  {
+    this->Touched.clear();
+    for (Index t : bad)
+    {
+      if (this->Work < budget && this->Edit.IsTriangleAlive(t) && this->TriangleScore(t).Bad)
+      {
+        this->RepairTriangle(t);
+      }
+    }
+    if (this->Touched.empty())
+    {
+      break;
+    }
+    // The next pass tries only the bad tiles near what changed (two rings around the changed
+    // vertices): the others would be tried on the same tiles again, and fail again.
+    std::vector<Index> near = this->Touched, ring;
+    for (Index v : this->Touched)
+    {
+      this->Edit.Neighbors(v, ring);
+      near.insert(near.end(), ring.begin(), ring.end());
+    }
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    bad.clear();
+    for (Index v : near)
+    {
+      this->Edit.ForEachTriangle(v, [&](Index t) { bad.push_back(t); });
+    }
+    std::sort(bad.begin(), bad.end());
+    bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
+    bad.erase(std::remove_if(bad.begin(), bad.end(),
+                [&](Index t) { return !this->Edit.IsTriangleAlive(t) || !this->TriangleScore(t).Bad; }),
+      bad.end());
+  }
+  return static_cast<Index>(bad.size());
+}
+} // namespace slod

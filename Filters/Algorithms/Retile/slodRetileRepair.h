@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SurfaceLOD algorithm Retile: the last check of a re-tiling (Turk 1992, section 4.4's "no tile
+// faces the wrong way", extended to needles). The removal of the old vertices picks, for each, the
+// best fan it may; where none is valid it still takes one, and the tiles it leaves can face against
+// the original surface or be needles (an edge of nearly no length, an angle of nearly zero). This
+// stage finds those tiles and repairs them with two local operations, each accepted only when it
+// leaves fewer bad tiles around it (or as many, with a larger smallest angle):
+//  - an edge flip of one of the tile's edges (never a feature-line edge), recorded like step 6's;
+//  - a move of one of its movable vertices (a free candidate: not a coarser level's, a border's, a
+//    retained original vertex) toward the centre of its neighbours, projected onto the original
+//    surface (so the vertex stays on it; its host location follows).
+// Bounded: a fixed number of passes over the bad tiles, and a budget of triangle visits.
+#ifndef slodRetileRepair_h
+#define slodRetileRepair_h
+
+#include "slodEditableMesh.h"
+
+#include <functional>
+#include <utility>
+#include <vector>
+
+namespace slod
+{
+class TriangleBVH;
+
+// Two neighbouring tiles fold when their normals turn by more than 150 degrees.
+constexpr double FoldCosine = -0.8660254037844386;
+// A repair may move tiles away from the original surface by this share of their longest edge (or
+// up to how far they were from it already), and the surface away from where it was by MovedShare.
+constexpr double DeviationShare = 0.02;
+constexpr double MovedShare = 0.03;
+// Vertices with more neighbours are not moved; the repair stops after this many triangle visits
+// per triangle of the mesh.
+constexpr size_t MaximumRepairValence = 32;
+constexpr long long RepairWorkPerTriangle = 400;
+
+struct TileRepair
+{
+  TileRepair(EditableMesh& edit, std::vector<Vec3>& reference, const TriangleMesh& input, const TriangleBVH& inputBVH,
+    std::vector<unsigned char> movable)
+    : Edit(edit)
+    , Reference(reference)
+    , Input(input)
+    , InputBVH(inputBVH)
+    , Movable(std::move(movable))
+  {
+  }
+
+  EditableMesh& Edit;
+  // Per vertex of Edit: what the original surface faces there (updated when a vertex moves).
+  std::vector<Vec3>& Reference;
+  const TriangleMesh& Input;
+  const TriangleBVH& InputBVH;
+  // Per vertex of Edit: 1 when the repair may move it.
+  std::vector<unsigned char> Movable;
+  // Edges that are never flipped (feature lines); may be empty.
+  std::function<bool(Index, Index)> IsFixedEdge;
+  // What the original surface faces at `position` on its triangle `triangle` (a moved vertex's
+  // new reference normal).
+  std::function<Vec3(const Vec3& position, Index triangle)> NormalAt;
+  // Called after vertex v moved to `position` on input triangle `triangle`.
+  std::function<void(Index v, const Vec3& position, Index triangle)> Moved;
+  // Optional: each flip of edge (x, y) as the pair (-1 - x, y), as step 6 records them.
+  std::vector<Index>* Record = nullptr;
+  // A tile is a needle below this smallest angle (radians) or this shortest edge (length).
+  double NeedleAngle = 0;
+  double ShortestEdge = 0;
+
+  // Returns the number of bad tiles near the last pass's changes (the others were tried and left
+  // as they are). Flips and moves done are counted in the members below.
+  Index Run(int passes);
+  Index Flips = 0, Moves = 0;
+  mutable long long Work = 0; // triangle visits so far (bounded in Run)
+
+  // Whether a tile with these corners faces against the original surface (at one of its vertices'
+  // reference normals or at the closest point of its centroid) or is a needle.
+  bool IsBad(const Index* ids, const Vec3* p) const;
+
+private:
+  struct Score
+  {
+    int Bad = 0;
+    double Angle = 0;
+    double Deviation = 0; // squared
+    double Extent = 0;    // squared longest edge
+    double Moved = 0;     // squared: how far the change moved the surface (the tiles before to after)
+    bool Better(const Score& other) const
+    {
+      return this->Bad < other.Bad || (this->Bad == other.Bad && this->Angle > other.Angle + 1e-4);
+    }
+  };
+  Score TriangleScore(Index t) const;
+  Score RegionScore(const std::vector<Index>& triangles) const;
+  bool Accept(const Score& before, const Score& after) const;
+  Index Across(Index t, Index x, Index y) const;
+  std::vector<Index> Star(Index v) const;
+  std::vector<Vec3> Samples(const std::vector<Index>& triangles) const;
+  double FarthestFrom(const std::vector<Vec3>& samples, const std::vector<Index>& triangles) const;
+  bool TryFlip(Index x, Index y);
+  bool TryMove(Index v);
+  bool RepairTriangle(Index t);
+  std::vector<Index> Touched; // vertices of the tiles a repair changed in this pass
+};
+} // namespace slod
+
+#endif
