@@ -405,6 +405,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
   // Each pass freezes at least one patch one level further (7 levels), except when it is aborted;
   // past that bound every patch keeps its original triangles.
   const int maxPasses = 2 * 64 + 2;
+  bool unmergedAny = true; // the last pass unmerged a patch: the next one needs a new merging run
   for (int pass = 1;; ++pass)
   {
     if (abort && abort())
@@ -415,13 +416,19 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     if (pass > maxPasses)
     {
       std::fill(frozen.begin(), frozen.end(), OriginalLevel); // last resort: the input itself
+      unmergedAny = true;
     }
     // The search's last prediction is usually this level's first pass: its chain graph is
     // still in the state (the merging run depends on the parameters and frozen patches only).
     const auto passStart = StageClock::now();
-    if (!(pass == 1 && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters))))
+    const bool held = pass == 1 && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters));
+    if (!held && unmergedAny)
     {
       this->RunMerging(parameters, frozen, s);
+    }
+    else if (!held)
+    {
+      this->RefineFrozenInPlace(parameters, frozen, s);
     }
     const double mergingSeconds = Since(passStart);
     if (pass == 1)
@@ -441,7 +448,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     {
       return false;
     }
-    const bool anyFailed = triangulation.FreezeFailedPatches(frozen);
+    const bool anyFailed = triangulation.FreezeFailedPatches(frozen, unmergedAny);
     vtkLogF(TRACE, "[spbm] pass %d: merging %.4f s (%lld triangles), triangulation %.4f s, %d patches failed", pass,
       mergingSeconds, s.Total, Since(triangulationStart), int(triangulation.FailedPatches()));
     if (!anyFailed)

@@ -226,6 +226,9 @@ private:
   // The cost-ordered removal of `parameters` on a state that holds the merging run of the same
   // parameters without it (the merging stages do not depend on RemovalTarget).
   void ContinueWithRemoval(const SpbmLevelParameters& parameters, State& s);
+  // Fallback levels beyond the first (finer chains, original triangles) of patches that the
+  // merging run held by `s` already kept unmerged, applied to that run's chain graph.
+  void RefineFrozenInPlace(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
 
   const TriangleMesh* Mesh = nullptr;
   const Patchification* Patches = nullptr;
