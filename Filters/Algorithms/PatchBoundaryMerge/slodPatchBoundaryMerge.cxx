@@ -405,6 +405,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
   // Each pass freezes at least one patch one level further (7 levels), except when it is aborted;
   // past that bound every patch keeps its original triangles.
   const int maxPasses = 2 * 64 + 2;
+  bool unmergedAny = true; // the last pass unmerged a patch: the next one needs a new merging run
   for (int pass = 1;; ++pass)
   {
     if (abort && abort())
@@ -415,13 +416,19 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     if (pass > maxPasses)
     {
       std::fill(frozen.begin(), frozen.end(), OriginalLevel); // last resort: the input itself
+      unmergedAny = true;
     }
     // The search's last prediction is usually this level's first pass: its chain graph is
     // still in the state (the merging run depends on the parameters and frozen patches only).
     const auto passStart = StageClock::now();
-    if (!(pass == 1 && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters))))
+    const bool held = pass == 1 && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters));
+    if (!held && unmergedAny)
     {
       this->RunMerging(parameters, frozen, s);
+    }
+    else if (!held)
+    {
+      this->RefineFrozenInPlace(parameters, frozen, s);
     }
     const double mergingSeconds = Since(passStart);
     if (pass == 1)
@@ -441,7 +448,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     {
       return false;
     }
-    const bool anyFailed = triangulation.FreezeFailedPatches(frozen);
+    const bool anyFailed = triangulation.FreezeFailedPatches(frozen, unmergedAny);
     vtkLogF(TRACE, "[spbm] pass %d: merging %.4f s (%lld triangles), triangulation %.4f s, %d patches failed", pass,
       mergingSeconds, s.Total, Since(triangulationStart), int(triangulation.FailedPatches()));
     if (!anyFailed)
@@ -742,13 +749,18 @@ bool SpbmLevelGenerator::TryOtherMeasureForUnreachedTarget(
   other.FlatnessMerge = false;
   SpbmLevelParameters parameters;
   SpbmLevel candidate;
-  if (!this->GenerateForTargetAndAngle(run.Target, other, candidate, &parameters, run.Abort, *this->Work))
+  // Kept only when below the first level's count: a try that goes above it, or needs fallback
+  // passes (each a whole merging run, and on rough scans the unmerged patches add more triangles
+  // than the other measure saved: noisy:137 at 10%, predicted 39,870, 133,944 after 10 passes,
+  // 75 of the filter's 129 s), is abandoned.
+  if (!this->GenerateForTargetAndAngle(run.Target, other, candidate, &parameters, run.Abort, *this->Work,
+        std::max<Index>(1, run.FirstCount - 1)))
   {
     return false;
   }
   this->DescribeCandidate(
     "other measure (target not reached)", parameters, static_cast<Index>(candidate.TrianglePatch.size()), 0.0);
-  if (candidate.TrianglePatch.size() < level.TrianglePatch.size())
+  if (!candidate.TrianglePatch.empty() && candidate.TrianglePatch.size() < level.TrianglePatch.size())
   {
     std::swap(level, candidate);
     run.Best = parameters;
@@ -873,7 +885,7 @@ void SpbmLevelGenerator::RunPlannedTriesAfter(const SpbmLevel& firstLevel, Targe
 }
 
 bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base,
-  SpbmLevel& level, SpbmLevelParameters* used, const std::function<bool()>& abort, State& s)
+  SpbmLevel& level, SpbmLevelParameters* used, const std::function<bool()>& abort, State& s, Index budget)
 {
   // Fallbacks add triangles the prediction does not know about: aim lower by the overshoot and
   // keep the best level (closest count not above the target, else the smallest).
@@ -885,7 +897,7 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
     Index predicted = 0;
     const SpbmLevelParameters parameters = this->FindParametersIn(aim, base, &predicted, s);
     const auto started = StageClock::now();
-    const bool generated = this->GenerateIn(parameters, candidate, abort, s);
+    const bool generated = this->GenerateIn(parameters, candidate, abort, s, budget);
     s.Times.Generate += Since(started);
     if (!generated)
     {

@@ -200,8 +200,10 @@ private:
   void KeepOtherMeasure(SpbmLevel& level, TargetCandidates& run);
   bool TryOtherMeasureForUnreachedTarget(const SpbmLevelParameters& base, SpbmLevel& level, TargetCandidates& run);
   bool KeepClosestTry(const SpbmLevelParameters& first, SpbmLevel& level, TargetCandidates& run);
+  // With a budget (> 0) every generation is GenerateIn's budgeted try: a level that needs a
+  // fallback pass or whose count is above the budget is left without triangles.
   bool GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
-    SpbmLevelParameters* used, const std::function<bool()>& abort, State& s);
+    SpbmLevelParameters* used, const std::function<bool()>& abort, State& s, Index budget = 0);
   // The same as the public functions, on a given working state (one per candidate thread).
   Index PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s);
   SpbmLevelParameters FindParametersIn(Index target, const SpbmLevelParameters& base, Index* predicted, State& s);
@@ -226,6 +228,9 @@ private:
   // The cost-ordered removal of `parameters` on a state that holds the merging run of the same
   // parameters without it (the merging stages do not depend on RemovalTarget).
   void ContinueWithRemoval(const SpbmLevelParameters& parameters, State& s);
+  // Fallback levels beyond the first (finer chains, original triangles) of patches that the
+  // merging run held by `s` already kept unmerged, applied to that run's chain graph.
+  void RefineFrozenInPlace(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
 
   const TriangleMesh* Mesh = nullptr;
   const Patchification* Patches = nullptr;

@@ -180,6 +180,13 @@ void SpbmLevelGenerator::ContinueWithRemoval(const SpbmLevelParameters& paramete
   MergingRun(*this, parameters, s).RemoveDownToTarget();
 }
 
+void SpbmLevelGenerator::RefineFrozenInPlace(
+  const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s)
+{
+  s.HoldsPrediction = false;
+  MergingRun(*this, parameters, s).RefineFrozenInPlace(frozen);
+}
+
 SpbmLevelGenerator::MergingRun::MergingRun(
   SpbmLevelGenerator& generator_, const SpbmLevelParameters& parameters_, State& state)
   : generator(generator_)
@@ -323,10 +330,8 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
     s.L[c] = l;
     s.R[c] = r;
     s.PartFirst[c] = s.PartLast[c] = c;
-    const int level = std::max<int>(frozen[l], r != InvalidIndex ? frozen[r] : 0);
-    s.Locked[c] = P.ChainIsNonManifold(c) || level >= FullResolutionLevel;
-    // Refinement levels 2.. divide epsilon by 4 each.
-    s.Tolerance[c] = level >= 2 ? eps * std::pow(0.25f, float(level - 1)) : eps;
+    s.Locked[c] = P.ChainIsNonManifold(c) || this->FallbackLevel(c, frozen) >= FullResolutionLevel;
+    s.Tolerance[c] = this->FallbackTolerance(this->FallbackLevel(c, frozen));
     s.EndSlotNext[2 * size_t(c)] = s.EndHead[a];
     s.EndHead[a] = 2 * c;
     s.EndSlotNext[2 * size_t(c) + 1] = s.EndHead[b];
@@ -581,11 +586,80 @@ bool SpbmLevelGenerator::MergingRun::WalkDue(Index x, std::vector<Index>& walked
   return true;
 }
 
+// Fallback level of chain c: the higher of its two patches'.
+int SpbmLevelGenerator::MergingRun::FallbackLevel(Index c, const std::vector<unsigned char>& frozen) const
+{
+  const Index r = P.ChainRightPatch(c);
+  return std::max<int>(frozen[P.ChainLeftPatch(c)], r != InvalidIndex ? frozen[r] : 0);
+}
+
+// Chain tolerance at a fallback level: levels 2.. divide epsilon by 4 each.
+float SpbmLevelGenerator::MergingRun::FallbackTolerance(int level) const
+{
+  return level >= 2 ? eps * std::pow(0.25f, float(level - 1)) : eps;
+}
+
+// Fallback levels 2..7 of patches that were already frozen in the merging run the state holds.
+// A frozen patch takes part in no merge, collapse or join, so its chains are still the
+// patchification's own, alive, with their original endpoints: a finer level changes only the
+// vertices those chains keep. That is applied to the held chain graph (a new run would redo every
+// merge of the level for one patch: 6 of 9 passes on noisy:137 were for a single patch); the
+// patches around see the finer chains in their boundaries, and one that cannot be triangulated
+// with them fails and goes to the next fallback (a whole run when it must be unmerged).
+void SpbmLevelGenerator::MergingRun::RefineFrozenInPlace(const std::vector<unsigned char>& frozen)
+{
+  ++graphEdits;
+  std::vector<Index> changed;
+  for (Index c = 0; c < nc; ++c)
+  {
+    const int level = this->FallbackLevel(c, frozen);
+    if (level != this->FallbackLevel(c, s.Frozen))
+    {
+      changed.push_back(c);
+      s.Locked[c] = s.Locked[c] || level >= FullResolutionLevel;
+      s.Tolerance[c] = std::min(s.Tolerance[c], this->FallbackTolerance(level)); // never coarser than refined
+    }
+  }
+  s.Frozen = frozen;
+  this->RebuildKeptPositions();
+  for (const Index c : changed)
+  {
+    const Index interior = s.KeptOffsets[c + 1] - s.KeptOffsets[c];
+    const Index added = interior - s.Interior[c];
+    s.Interior[c] = interior;
+    for (const Index side : { P.ChainLeftPatch(c), P.ChainRightPatch(c) })
+    {
+      if (side != InvalidIndex)
+      {
+        s.Size[s.Find(side)] += added;
+        s.Total += added;
+      }
+    }
+  }
+}
+
 void SpbmLevelGenerator::MergingRun::RebuildKept()
+{
+  this->RebuildKeptPositions();
+  std::fill(s.Size.begin(), s.Size.end(), 0);
+  for (Index c = 0; c < nc; ++c)
+  {
+    const Index interior = s.KeptOffsets[c + 1] - s.KeptOffsets[c];
+    s.Interior[c] = interior;
+    s.Size[s.L[c]] += interior + 1;
+    if (s.R[c] != InvalidIndex)
+    {
+      s.Size[s.R[c]] += interior + 1;
+    }
+  }
+}
+
+// The kept interior positions of every (original) chain at its tolerance, ascending: a prefix of
+// its key order, or all when locked.
+void SpbmLevelGenerator::MergingRun::RebuildKeptPositions()
 {
   ++graphEdits; // the kept boundary walks are stale
   s.KeptPositions.clear();
-  std::fill(s.Size.begin(), s.Size.end(), 0);
   for (Index c = 0; c < nc; ++c)
   {
     const Index n = P.ChainSize(c);
@@ -616,12 +690,6 @@ void SpbmLevelGenerator::MergingRun::RebuildKept()
       const Index* order = generator.KeyOrder.data() + offset;
       s.KeptPositions.insert(s.KeptPositions.end(), order, order + interior);
       std::sort(s.KeptPositions.end() - interior, s.KeptPositions.end());
-    }
-    s.Interior[c] = interior;
-    s.Size[s.L[c]] += interior + 1;
-    if (s.R[c] != InvalidIndex)
-    {
-      s.Size[s.R[c]] += interior + 1;
     }
   }
   s.KeptOffsets[nc] = static_cast<Index>(s.KeptPositions.size());

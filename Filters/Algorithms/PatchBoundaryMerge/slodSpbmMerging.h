@@ -30,12 +30,17 @@ public:
   void Run(const std::vector<unsigned char>& frozen);
   // Stage 4 alone, on a state that holds stages 1-3 of the same parameters (RemovalTarget aside).
   void RemoveDownToTarget();
+  // Fallback levels beyond the first of patches frozen in the held run, without a new run.
+  void RefineFrozenInPlace(const std::vector<unsigned char>& frozen);
 
 private:
   // Stages.
   void ResetChainGraph(const std::vector<unsigned char>& frozen);
   void CopyPatchSupport();
   void RebuildKept();
+  void RebuildKeptPositions();
+  int FallbackLevel(Index c, const std::vector<unsigned char>& frozen) const;
+  float FallbackTolerance(int level) const;
   void RefineNonSimplePatches(const std::vector<unsigned char>& frozen);
   void ComputeMergeThreshold();
   void MergeInMeasureOrder();

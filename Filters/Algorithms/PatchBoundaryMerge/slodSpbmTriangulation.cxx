@@ -451,8 +451,9 @@ void SpbmLevelGenerator::LevelTriangulation::TriangulateMinimumDeviation(
   s.Times.Triangulation += Since(started);
 }
 
-bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<unsigned char>& frozen)
+bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<unsigned char>& frozen, bool& unmerged)
 {
+  unmerged = false;
   // With a negative epsilon every chain keeps all its vertices already, so the finer-chain levels
   // (2 .. FullResolutionLevel) would each repeat the level-1 pass for nothing: the level after an
   // unmerged patch that still fails is its original triangles (mc1m at 10%: 12 patches failed
@@ -463,6 +464,7 @@ bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<uns
   {
     if (failed[s.Find(q)] && frozen[q] < OriginalLevel)
     {
+      unmerged = unmerged || frozen[q] == 0;
       frozen[q] = fullResolution && frozen[q] >= 1 ? OriginalLevel : frozen[q] + 1;
       anyFailed = true;
     }

@@ -26,8 +26,9 @@ public:
   LevelTriangulation(SpbmLevelGenerator& generator, const SpbmLevelParameters& parameters, State& s, SpbmLevel& level);
   // One pass over the current chain graph. False when aborted.
   bool RunPass(const std::vector<unsigned char>& frozen, const std::function<bool()>& abort);
-  // Moves the failed patches one fallback level further; false when none failed.
-  bool FreezeFailedPatches(std::vector<unsigned char>& frozen);
+  // Moves the failed patches one fallback level further; false when none failed. `unmerged`: some
+  // patch went to the first level (unmerged), which only a new merging run can apply.
+  bool FreezeFailedPatches(std::vector<unsigned char>& frozen, bool& unmerged);
   void Finish(const std::vector<unsigned char>& frozen);
   // Root patches that failed in the last pass.
   Index FailedPatches() const { return static_cast<Index>(std::count(failed.begin(), failed.end(), 1)); }

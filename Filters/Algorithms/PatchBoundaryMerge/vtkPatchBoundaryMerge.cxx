@@ -59,6 +59,23 @@ slod::Index InconsistentEdges(const slod::TriangleMesh& mesh, const slod::MeshTo
   }
   return count;
 }
+
+// A count target is reached within 2% either way (at least 2 triangles): the search takes the
+// closest count not above it down to 2% below, fallback triangulations may add a little. With an
+// error bound that stops first, more triangles are the contract's answer.
+void ReportTargetCount(vtkPatchBoundaryMerge* self, vtkPolyData* output, vtkIdType target)
+{
+  const vtkIdType produced = output->GetNumberOfPolys();
+  const vtkIdType tolerance = std::max<vtkIdType>(2, target / 50);
+  const bool reached =
+    std::abs(produced - target) <= tolerance || (self->GetMaximumError() > 0 && produced > target);
+  const char* reason = produced < target
+    ? "SPBM keeps no vertex inside a patch: even every chain vertex gives fewer; lower PatchAngle, NeighborAngle and "
+      "PatchPlaneDistance, or turn AdaptPatchesToTarget on"
+    : "the patch corners, handles, borders and non-manifold chains SPBM must keep, and the fallback triangulations, "
+      "leave more";
+  slod::ReportTarget(self, output, target, reached, reason);
+}
 } // namespace
 
 // The patchification and its chain hierarchy, kept between updates.
@@ -76,10 +93,7 @@ struct vtkPatchBoundaryMerge::Cache
 
   double RelativePlaneDistance = 0;
   double ChainInPlaneWeight = -1; // of the generator's chain hierarchy
-  // The last level's count target (-1: an error bound alone) and why it was missed (null: reached),
-  // for the contract's report on the output (slod::ReportTarget).
-  vtkIdType Target = -1;
-  const char* TargetMissed = nullptr;
+  double ToleranceScale = 1;      // the patches were grown with the tolerances scaled by this
 
   bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p, double relativePlaneDistance) const
   {
@@ -92,7 +106,17 @@ struct vtkPatchBoundaryMerge::Cache
   }
   // Stages of RequestData (the cache is a nested struct: it reads the filter's settings).
   bool Build(vtkPatchBoundaryMerge* self, vtkPolyData* input, const slod::PatchificationParameters& patchParameters);
-  bool GenerateLevel(vtkPatchBoundaryMerge* self, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
+  bool GrowPatches(vtkPatchBoundaryMerge* self, const slod::MeshTopology& topology);
+  bool FitPatchesToTarget(vtkPatchBoundaryMerge* self, vtkIdType target);
+  slod::SpbmLevelParameters LevelParameters(vtkPatchBoundaryMerge* self) const;
+  bool GenerateLevel(
+    vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
+  // The filter's count target (0: none, only an error bound).
+  vtkIdType Target(vtkPatchBoundaryMerge* self) const
+  {
+    return slod::TargetTriangleCount(this->Mesh.NumberOfTriangles(), self->TargetNumberOfTriangles,
+      self->TargetReduction, self->MaximumError > 0);
+  }
   void WriteOutputs(vtkPatchBoundaryMerge* self, vtkPolyData* input, const slod::SpbmLevel& result,
     vtkPolyData* output, vtkPolyData* curves, vtkPolyData* colored);
   size_t MemoryUsage() const
@@ -142,42 +166,11 @@ bool vtkPatchBoundaryMerge::Cache::Build(
     {
       this->Warnings.push_back("non-manifold edges are kept as patch borders at full resolution");
     }
-    slod::PatchificationParameters growth = patchParameters;
-    growth.MaximumPlaneDistance = self->PatchPlaneDistance * this->Mesh.BoundingBoxDiagonal();
     built = Clock::now(); // topology, orientation check
-    const slod::ProgressFunction progress = slod::FilterProgress(self, 0.05, 0.65);
-    if (self->MinimumDeviationTriangulation)
+    if (!this->GrowPatches(self, *topology))
     {
-      // The input's BVH (for the first level's triangulation) is built while the patches grow
-      // (two vtkSMPTools tasks). (Built after the patch growth instead, the peak memory is about
-      // 150 bytes per vertex lower, but the first level of a short search, e.g. bunny00 at 525
-      // triangles, waits for it.) Progress events go out from the thread that runs the filter
-      // only; the growth may run on another one, which then only checks for an abort.
-      // The chain hierarchy is built in the same task: on smooth meshes the patches grow faster
-      // than the BVH is built (mc1m), and the level's search needs the hierarchy, not the BVH.
-      const std::thread::id caller = std::this_thread::get_id();
-      this->Generator.BuildInputTreeDuring(this->Mesh, [&]() {
-        this->Patches.Build(this->Mesh, *topology, growth, [&](double fraction) {
-          return std::this_thread::get_id() == caller ? progress(fraction) : !self->GetAbortExecute();
-        });
-        if (!this->Patches.Aborted())
-        {
-          const auto initializing = Clock::now();
-          this->Generator.Initialize(this->Mesh, this->Patches, self->ChainInPlaneWeight);
-          this->ChainInPlaneWeight = self->ChainInPlaneWeight;
-          vtkLogF(TRACE, "[spbm] chain hierarchy %.4f s (beside the input's BVH)",
-            std::chrono::duration<double>(Clock::now() - initializing).count());
-        }
-      });
+      return false;
     }
-    else
-    {
-      this->Patches.Build(this->Mesh, *topology, growth, progress);
-    }
-  }
-  if (this->Patches.Aborted())
-  {
-    return false;
   }
   vtkLogF(TRACE, "[spbm] preparation %.4f s, topology and orientation check %.4f s, patches %.4f s",
     std::chrono::duration<double>(prepared - start).count(), std::chrono::duration<double>(built - prepared).count(),
@@ -185,15 +178,87 @@ bool vtkPatchBoundaryMerge::Cache::Build(
   return true;
 }
 
-// The level for the filter's target, error bound or epsilon. False when aborted.
-bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
-  vtkPatchBoundaryMerge* self, slod::SpbmLevel& result, slod::SpbmLevelParameters& level)
+// Grows the patches with the cached parameters scaled by ToleranceScale and builds the chain
+// hierarchy (and, on the first growth, the input's BVH beside them). False when aborted.
+bool vtkPatchBoundaryMerge::Cache::GrowPatches(vtkPatchBoundaryMerge* self, const slod::MeshTopology& topology)
 {
-  const slod::TriangleMesh& mesh = this->Mesh;
-  // The error bound is the chain tolerance epsilon (the paper's parameter); the target search
-  // sets its own epsilon.
-  const double bound = self->MaximumErrorIsRelative ? self->MaximumError * mesh.BoundingBoxDiagonal() : self->MaximumError;
-  level.Epsilon = bound;
+  using Clock = std::chrono::steady_clock;
+  slod::PatchificationParameters growth = this->Parameters;
+  growth.OneEdgePatchAngle *= this->ToleranceScale;
+  growth.OneEdgeNeighborAngle *= this->ToleranceScale;
+  growth.MaximumPlaneDistance = this->ToleranceScale * self->PatchPlaneDistance * this->Mesh.BoundingBoxDiagonal();
+  const slod::ProgressFunction progress = slod::FilterProgress(self, 0.05, 0.65);
+  auto initialize = [&]() {
+    const auto initializing = Clock::now();
+    this->Generator.Initialize(this->Mesh, this->Patches, self->ChainInPlaneWeight);
+    this->ChainInPlaneWeight = self->ChainInPlaneWeight;
+    vtkLogF(TRACE, "[spbm] chain hierarchy %.4f s", std::chrono::duration<double>(Clock::now() - initializing).count());
+  };
+  if (self->MinimumDeviationTriangulation && this->ToleranceScale == 1)
+  {
+    // The input's BVH (for the first level's triangulation) is built while the patches grow
+    // (two vtkSMPTools tasks). (Built after the patch growth instead, the peak memory is about
+    // 150 bytes per vertex lower, but the first level of a short search, e.g. bunny00 at 525
+    // triangles, waits for it.) Progress events go out from the thread that runs the filter
+    // only; the growth may run on another one, which then only checks for an abort.
+    // The chain hierarchy is built in the same task: on smooth meshes the patches grow faster
+    // than the BVH is built (mc1m), and the level's search needs the hierarchy, not the BVH.
+    // (A regrowth for the target keeps that tree: Initialize with the same mesh keeps it.)
+    const std::thread::id caller = std::this_thread::get_id();
+    this->Generator.BuildInputTreeDuring(this->Mesh, [&]() {
+      this->Patches.Build(this->Mesh, topology, growth, [&](double fraction) {
+        return std::this_thread::get_id() == caller ? progress(fraction) : !self->GetAbortExecute();
+      });
+      if (!this->Patches.Aborted())
+      {
+        initialize();
+      }
+    });
+  }
+  else
+  {
+    this->Patches.Build(this->Mesh, topology, growth, progress);
+    if (!this->Patches.Aborted())
+    {
+      initialize();
+    }
+  }
+  return !this->Patches.Aborted();
+}
+
+// Issue 15: SPBM keeps no vertex inside a patch, so the finest level of a patchification (every
+// chain vertex kept, at the given alpha1) can be below a mild target (mc1m at 10%: 60,038 of
+// 100,165). Patches about k times smaller in angle have about 1/k times more boundary vertices,
+// so the tolerances are scaled by (finest count / target) with a 10% margin, at most four times,
+// until the finest level reaches the target within the count tolerance (2%). The last
+// patchification is kept in the cache: later (coarser) targets reuse it. False when aborted.
+bool vtkPatchBoundaryMerge::Cache::FitPatchesToTarget(vtkPatchBoundaryMerge* self, vtkIdType target)
+{
+  for (int round = 0; round < 4 && self->AdaptPatchesToTarget && target < this->Mesh.NumberOfTriangles(); ++round)
+  {
+    slod::SpbmLevelParameters finest = this->LevelParameters(self);
+    finest.Epsilon = -1; // every chain vertex kept
+    const vtkIdType count = this->Generator.PredictTriangleCount(finest);
+    vtkLogF(TRACE, "[spbm] finest level %lld triangles at tolerance scale %.4g (target %lld)", (long long)count,
+      this->ToleranceScale, (long long)target);
+    if (50 * count >= 49 * target)
+    {
+      break;
+    }
+    this->ToleranceScale *= std::max(0.05, std::min(0.8, 0.9 * double(count) / double(target)));
+    const slod::MeshTopology topology(this->Mesh);
+    if (!this->GrowPatches(self, topology))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// The level parameters from the filter's settings (epsilon and targets aside).
+slod::SpbmLevelParameters vtkPatchBoundaryMerge::Cache::LevelParameters(vtkPatchBoundaryMerge* self) const
+{
+  slod::SpbmLevelParameters level;
   level.MergeAngle = self->MergeAngle;
   level.MergePatches = self->MergePatches;
   level.CollapseChains = self->CollapseChains;
@@ -202,12 +267,21 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
   level.CostOrderedRemoval = self->CostOrderedRemoval;
   level.SizeWeightedMerge = self->SizeWeightedMerge;
   level.MinimumDeviationTriangulation = self->MinimumDeviationTriangulation;
+  return level;
+}
+
+// The level for the filter's target, error bound or epsilon. False when aborted.
+bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
+  vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level)
+{
+  const slod::TriangleMesh& mesh = this->Mesh;
+  // The error bound is the chain tolerance epsilon (the paper's parameter); the target search
+  // sets its own epsilon.
+  const double bound = self->MaximumErrorIsRelative ? self->MaximumError * mesh.BoundingBoxDiagonal() : self->MaximumError;
+  level = this->LevelParameters(self);
+  level.Epsilon = bound;
   // The filter contract's targets (slodFilterContract.h): an error bound alone is the level of that
   // epsilon (the paper's use); nothing set is the default reduction.
-  const vtkIdType target = slod::TargetTriangleCount(
-    mesh.NumberOfTriangles(), self->TargetNumberOfTriangles, self->TargetReduction, bound > 0);
-  this->Target = target > 0 ? target : -1;
-  this->TargetMissed = nullptr;
   auto abort = [self]() { return self->GetAbortExecute() != 0; };
   if (target >= mesh.NumberOfTriangles())
   {
@@ -232,13 +306,6 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
     {
       return false;
     }
-    const vtkIdType produced = static_cast<vtkIdType>(result.Triangles.size() / 3);
-    if (produced < target && 10 * (target - produced) > target)
-    {
-      // SPBM keeps no vertex inside a patch, so even its finest level is far below the input count.
-      this->TargetMissed = "the target is beyond SPBM's finest level for these patch parameters, which keeps no "
-                           "vertex inside a patch: lower the angle tolerances for more";
-    }
     if (bound > 0 && level.Epsilon > bound)
     {
       // The error bound is reached before the target: stop there.
@@ -247,7 +314,6 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
       {
         return false;
       }
-      this->TargetMissed = nullptr; // the error bound is the target reached first
     }
   }
   else if (!this->Generator.Generate(level, result, abort))
@@ -384,8 +450,6 @@ int vtkPatchBoundaryMerge::RequestData(
   {
     vtkWarningMacro(<< warning);
   }
-  this->NumberOfPatches = cache.Patches.NumberOfPatches();
-  this->NumberOfChains = cache.Patches.NumberOfChains();
   const auto patched = Clock::now();
   if (!this->PatchificationReused)
   {
@@ -401,7 +465,18 @@ int vtkPatchBoundaryMerge::RequestData(
   // 2. The level.
   slod::SpbmLevelParameters level;
   slod::SpbmLevel result;
-  if (!cache.GenerateLevel(this, result, level))
+  const vtkIdType target = cache.Target(this);
+  if (target > 0 && !cache.FitPatchesToTarget(this, target))
+  {
+    this->Cached.reset();
+    slod::ReportAbort(this, output);
+    return 1;
+  }
+  this->PatchificationReused = this->PatchificationReused && cache.ToleranceScale == this->PatchToleranceScale;
+  this->PatchToleranceScale = cache.ToleranceScale;
+  this->NumberOfPatches = cache.Patches.NumberOfPatches();
+  this->NumberOfChains = cache.Patches.NumberOfChains();
+  if (!cache.GenerateLevel(this, target, result, level))
   {
     slod::ReportAbort(this, output); // the level's generation fails only when aborted
     return 1;
@@ -416,7 +491,10 @@ int vtkPatchBoundaryMerge::RequestData(
 
   // 3. Outputs over the original vertices that are used.
   cache.WriteOutputs(this, input, result, output, curves, colored);
-  slod::ReportTarget(this, output, cache.Target, cache.TargetMissed == nullptr, cache.TargetMissed);
+  if (target > 0 && target < mesh.NumberOfTriangles())
+  {
+    ReportTargetCount(this, output, target);
+  }
   this->CacheMemory = static_cast<vtkIdType>(cache.MemoryUsage());
   this->LevelTime = std::chrono::duration<double>(Clock::now() - patched).count();
   this->UpdateProgress(1.0);

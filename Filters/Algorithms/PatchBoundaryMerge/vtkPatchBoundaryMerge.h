@@ -69,6 +69,18 @@ public:
   ///@}
 
   ///@{
+  /// SPBM keeps no vertex inside a patch, so its finest level (every chain vertex kept) has far
+  /// fewer triangles than the input, and a mild target (50%, or 10% of a smooth surface) may need
+  /// more. With AdaptPatchesToTarget (default on) the patches are then grown again with
+  /// PatchAngle, NeighborAngle and PatchPlaneDistance scaled down (at most four times) until the
+  /// finest level reaches the target; PatchToleranceScale is the scale used (1: the settings).
+  vtkSetMacro(AdaptPatchesToTarget, bool);
+  vtkGetMacro(AdaptPatchesToTarget, bool);
+  vtkBooleanMacro(AdaptPatchesToTarget, bool);
+  vtkGetMacro(PatchToleranceScale, double);
+  ///@}
+
+  ///@{
   /// Area-weighted running patch normal (default on).
   vtkSetMacro(AreaWeightedNormals, bool);
   vtkGetMacro(AreaWeightedNormals, bool);
@@ -219,6 +231,8 @@ protected:
   double TwoEdgeNeighborAngle = 90.0;
   bool AreaWeightedNormals = true;
   double PatchPlaneDistance = 0.004;
+  bool AdaptPatchesToTarget = true;
+  double PatchToleranceScale = 1.0;
   double MergeAngle = 20.0;
   bool MergePatches = true;
   bool CollapseChains = true;

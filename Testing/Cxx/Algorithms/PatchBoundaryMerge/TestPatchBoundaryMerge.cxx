@@ -17,6 +17,7 @@
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDecimatePro.h"
+#include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
@@ -902,6 +903,7 @@ TEST(PatchBoundaryMerge, SpiralRampStaysValidThroughFallbacks)
   filter->SetPatchAngle(80);
   filter->SetNeighborAngle(80);
   filter->SetPatchPlaneDistance(0);
+  filter->AdaptPatchesToTargetOff(); // these loose patches are the case (finer ones would not overlap)
   for (const vtkIdType target : { 2000, 300 })
   {
     auto out = RunFilter(input, target, filter);
@@ -967,21 +969,96 @@ TEST(SpbmLevel, FullResolutionFallbackSkipsFinerChainLevels)
   EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic);
 }
 
+// The target count and whether it was reached, from the output's field data.
+std::pair<vtkIdType, bool> ReportedTarget(vtkPolyData* output)
+{
+  vtkDataArray* target = output->GetFieldData()->GetArray("TargetNumberOfTriangles");
+  vtkDataArray* reached = output->GetFieldData()->GetArray("TargetReached");
+  EXPECT_NE(target, nullptr);
+  EXPECT_NE(reached, nullptr);
+  return { target ? vtkIdType(target->GetTuple1(0)) : -1, reached && reached->GetTuple1(0) != 0 };
+}
+
 TEST(PatchBoundaryMerge, NoisyScanKeepsNonManifoldEdgesBordersAndHandles)
 {
   // Like an MRI isosurface: handles, a border, non-manifold edges. The full-resolution chains of
   // the patches around a non-manifold edge share its segments; that is the one input edge, not a
   // duplicate segment to refine, so no patch falls back (before: one generation pass per fallback
   // level until those patches were copied as original triangles).
+  // The target (10%) is beyond SPBM here: with the cost-ordered removal off, the relaxation
+  // ladder's level; with it (the default), the removal's level is kept when it stops lower than
+  // the ladder would (before, the search dropped it for the ladder's).
   for (const unsigned seed : { 1u, 3u })
   {
     SCOPED_TRACE(seed);
-    vtkNew<vtkPatchBoundaryMerge> filter;
-    filter->SetTargetReduction(0.9);
-    const MeshStatistics in = slodtest::SimplifyNoisyScan(filter, 40, seed);
-    EXPECT_EQ(filter->GetOriginalPatches(), 0);
-    EXPECT_LT(filter->GetOutput()->GetNumberOfPolys(), in.Triangles / 2);
+    vtkNew<vtkPatchBoundaryMerge> ladder;
+    ladder->CostOrderedRemovalOff();
+    ladder->SetTargetReduction(0.9);
+    const MeshStatistics in = slodtest::SimplifyNoisyScan(ladder, 40, seed);
+    EXPECT_EQ(ladder->GetOriginalPatches(), 0);
+    EXPECT_LT(ladder->GetOutput()->GetNumberOfPolys(), in.Triangles / 2);
+    vtkNew<vtkPatchBoundaryMerge> removal;
+    removal->SetTargetReduction(0.9);
+    slodtest::SimplifyNoisyScan(removal, 40, seed);
+    EXPECT_LT(removal->GetOutput()->GetNumberOfPolys(), ladder->GetOutput()->GetNumberOfPolys());
+    EXPECT_FALSE(ReportedTarget(removal->GetOutput()).second);
   }
+}
+
+// Issue 15: mild targets (half of bunny00, which gave a quarter; half of the cow and a tenth of a
+// smooth isosurface, meshes no other test tunes for) are reached within the documented tolerance
+// (2%, at least 2 triangles) with the default angles: the patches follow the target. The output
+// keeps the input's topology and is reported as reaching the target.
+TEST(PatchBoundaryMerge, MildTargetsAreReachedWithinTwoPercent)
+{
+  const std::tuple<const char*, vtkSmartPointer<vtkPolyData>, double> cases[] = {
+    { "bunny00", slodtest::LoadTestMesh("bunny00"), 0.5 }, { "cow", slodtest::LoadTestMesh("cow"), 0.5 },
+    { "isosurface", slodtest::SyntheticIsosurface(90), 0.9 } };
+  for (const auto& [name, input, reduction] : cases)
+  {
+    SCOPED_TRACE(name);
+    const MeshStatistics in = StatisticsOf(input);
+    vtkNew<vtkPatchBoundaryMerge> filter;
+    filter->SetInputData(input);
+    filter->SetTargetReduction(reduction);
+    filter->Update();
+    vtkPolyData* out = filter->GetOutput();
+    const vtkIdType target = std::llround((1 - reduction) * double(in.Triangles));
+    const auto [reported, reached] = ReportedTarget(out);
+    EXPECT_EQ(reported, target);
+    EXPECT_TRUE(reached);
+    EXPECT_LE(std::abs(out->GetNumberOfPolys() - target), std::max<vtkIdType>(2, target / 50));
+    const MeshStatistics st = RawStatistics(out);
+    EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic);
+    EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops);
+    EXPECT_EQ(st.NonManifoldEdges, 0);
+    EXPECT_EQ(st.DegenerateTriangles, 0);
+  }
+}
+
+// Without adapting the patches, the same bunny00 target is beyond the finest level: said in the
+// field data, not hidden; the adapted filter's later, coarser level reuses its patches.
+TEST(PatchBoundaryMerge, UnreachedTargetIsReported)
+{
+  auto input = slodtest::LoadTestMesh("bunny00");
+  vtkNew<vtkPatchBoundaryMerge> filter;
+  filter->AdaptPatchesToTargetOff();
+  filter->SetInputData(input);
+  filter->SetTargetReduction(0.5);
+  filter->Update();
+  const auto [target, reached] = ReportedTarget(filter->GetOutput());
+  EXPECT_FALSE(reached);
+  EXPECT_LT(filter->GetOutput()->GetNumberOfPolys(), target * 49 / 50);
+  EXPECT_EQ(filter->GetPatchToleranceScale(), 1.0);
+  filter->AdaptPatchesToTargetOn();
+  filter->Update();
+  EXPECT_TRUE(ReportedTarget(filter->GetOutput()).second);
+  const double scale = filter->GetPatchToleranceScale();
+  filter->SetTargetReduction(0.9);
+  filter->Update();
+  EXPECT_TRUE(filter->GetPatchificationReused());
+  EXPECT_EQ(filter->GetPatchToleranceScale(), scale);
+  EXPECT_TRUE(ReportedTarget(filter->GetOutput()).second);
 }
 
 TEST(PatchBoundaryMerge, InvalidAndEmptyInputs)
