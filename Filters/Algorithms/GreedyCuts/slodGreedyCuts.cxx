@@ -2,6 +2,7 @@
 #include "slodGreedyCuts.h"
 
 #include "slodChainSimplification.h"
+#include "slodProvedCollapses.h"
 
 #include "vtkMath.h"
 
@@ -1710,9 +1711,59 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     if (result.FallbackPatchIds.empty() || round >= MaximumSplitRounds || !this->SplitPatches(result.FallbackPatchIds))
     {
       result.SplitRounds = round;
-      return true;
+      break;
     }
   }
+  return !parameters.FinalCollapses || this->CollapseFinal(parameters, result, progress);
+}
+
+bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
+  const ProgressFunction& progress)
+{
+  ProvedCollapseParameters collapse;
+  collapse.Epsilon = parameters.Epsilon;
+  collapse.SubdivisionDepth = parameters.SubdivisionDepth;
+  collapse.MinimumAngle = parameters.ShapedAngle;
+  ProvedCollapseStatistics statistics;
+  const bool finished = ProvedCollapses(
+    *this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch, statistics, progress, &this->ProofPieces);
+  result.FinalCollapses += statistics.Collapses;
+  result.FinalFlips += statistics.Flips;
+  result.Aborted = !finished;
+  return finished;
+}
+
+bool GreedyCuts::RunLevels(const std::vector<double>& epsilons, const GreedyCutsParameters& base,
+  std::vector<GreedyCutsResult>& results, const ProgressFunction& progress)
+{
+  std::vector<double> sorted = epsilons;
+  std::sort(sorted.begin(), sorted.end());
+  results.assign(sorted.size(), GreedyCutsResult());
+  GreedyCutsParameters prm = base;
+  prm.FinalCollapses = false;
+  for (size_t i = 0; i < sorted.size(); ++i)
+  {
+    auto stage = [&](double f) { return progress ? progress((double(i) + f) / double(sorted.size())) : true; };
+    prm.Epsilon = sorted[i];
+    GreedyCutsResult& level = results[i];
+    if (!this->Run(prm, level, stage))
+    {
+      return false;
+    }
+    // The finer level is within its smaller epsilon, hence within this one: start from it when it
+    // has fewer triangles (the collapses below never add any).
+    if (i > 0 && results[i - 1].Triangles.size() < level.Triangles.size())
+    {
+      level.Triangles = results[i - 1].Triangles;
+      level.TrianglePatch = results[i - 1].TrianglePatch;
+      level.StartedFromFinerLevel = true;
+    }
+    if (prm.Epsilon > 0 && base.FinalCollapses && !this->CollapseFinal(prm, level, stage))
+    {
+      return false;
+    }
+  }
+  return true;
 }
 
 bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
