@@ -1698,13 +1698,19 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     this->HeightDirection = this->InitialHeights;
     this->BuildPatchData();
   }
+  // The cuts report the first 80 % of the progress when the final collapses follow.
+  const double cutsShare = parameters.FinalCollapses ? 0.8 : 1.0;
+  const ProgressFunction cutsProgress =
+    progress ? ProgressFunction([&](double f) { return progress(cutsShare * f); }) : ProgressFunction();
+  const ProgressFunction collapseProgress =
+    progress ? ProgressFunction([&](double f) { return progress(cutsShare + (1 - cutsShare) * f); }) : ProgressFunction();
   // A patch that falls back to its original triangles is split in two and the run repeated
   // (bounded: MaximumSplitRounds runs more at most, each only when some patch fell back).
   for (int round = 0;; ++round)
   {
     result = GreedyCutsResult();
     GreedyCuts::Worker run(*this, parameters, result);
-    if (!run.Execute(progress))
+    if (!run.Execute(cutsProgress))
     {
       return false;
     }
@@ -1714,7 +1720,7 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
       break;
     }
   }
-  return !parameters.FinalCollapses || this->CollapseFinal(parameters, result, progress);
+  return !parameters.FinalCollapses || this->CollapseFinal(parameters, result, collapseProgress);
 }
 
 bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
@@ -1725,8 +1731,10 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.SubdivisionDepth = parameters.SubdivisionDepth;
   collapse.MinimumAngle = parameters.ShapedAngle;
   ProvedCollapseStatistics statistics;
-  const bool finished = ProvedCollapses(
-    *this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch, statistics, progress, &this->ProofPieces);
+  // Not in the target search's work account (ProofPieces), which bounds the cuts' proofs: the
+  // collapses bound their own work (rounds, targets per vertex, valence).
+  const bool finished =
+    ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch, statistics, progress);
   result.FinalCollapses += statistics.Collapses;
   result.FinalFlips += statistics.Flips;
   result.Aborted = !finished;
@@ -1743,10 +1751,14 @@ bool GreedyCuts::RunLevels(const std::vector<double>& epsilons, const GreedyCuts
   prm.FinalCollapses = false;
   for (size_t i = 0; i < sorted.size(); ++i)
   {
-    auto stage = [&](double f) { return progress ? progress((double(i) + f) / double(sorted.size())) : true; };
+    auto stage = [&](double from, double to) {
+      return [&progress, &sorted, i, from, to](double f) {
+        return progress ? progress((double(i) + from + (to - from) * f) / double(sorted.size())) : true;
+      };
+    };
     prm.Epsilon = sorted[i];
     GreedyCutsResult& level = results[i];
-    if (!this->Run(prm, level, stage))
+    if (!this->Run(prm, level, stage(0.0, 0.8)))
     {
       return false;
     }
@@ -1758,7 +1770,7 @@ bool GreedyCuts::RunLevels(const std::vector<double>& epsilons, const GreedyCuts
       level.TrianglePatch = results[i - 1].TrianglePatch;
       level.StartedFromFinerLevel = true;
     }
-    if (prm.Epsilon > 0 && base.FinalCollapses && !this->CollapseFinal(prm, level, stage))
+    if (prm.Epsilon > 0 && base.FinalCollapses && !this->CollapseFinal(prm, level, stage(0.8, 1.0)))
     {
       return false;
     }

@@ -16,6 +16,10 @@ namespace
 constexpr double MinimumFacingCosine = 0.25;
 // Input triangles examined per collapse: beyond, the collapse is not tried (bounded work).
 constexpr size_t MaximumInputTriangles = 4096;
+// Collapses and flips of an edge whose two vertices have more triangles than this together are
+// not tried: checking one costs a walk over both fans (a fan of thousands of slivers around one
+// centre would make every pass quadratic); larger fans are left out of the local proofs' meshes.
+constexpr Index MaximumCollapseValence = 128;
 // A flip must raise the smaller of the pair's smallest angles by this factor (no cycling).
 constexpr double FlipGain = 1.05;
 
@@ -112,7 +116,8 @@ public:
       {
         const Index* tri = this->Out.Triangle(t);
         const Index x = tri[k], y = tri[(k + 1) % 3], q = tri[(k + 2) % 3];
-        if (x < y && this->Out.EdgeTriangleCount(x, y) == 2 && this->TryFlip(t, x, y, q))
+        if (x < y && this->Out.VertexDegree(x) + this->Out.VertexDegree(y) <= MaximumCollapseValence &&
+          this->Out.EdgeTriangleCount(x, y) == 2 && this->TryFlip(t, x, y, q))
         {
           ++done;
           break;
@@ -172,7 +177,7 @@ private:
   // Tries u's neighbours as targets, nearest first; true when one collapse was made.
   bool RemoveVertex(Index u, ProvedCollapseStatistics& statistics)
   {
-    if (this->Out.VertexDegree(u) == 0)
+    if (this->Out.VertexDegree(u) == 0 || this->Out.VertexDegree(u) > MaximumCollapseValence)
     {
       return false;
     }
@@ -184,8 +189,13 @@ private:
       return da < db || (da == db && a < b);
     });
     neighbours.resize(std::min<size_t>(neighbours.size(), size_t(this->Prm.MaximumNeighbours)));
+    const Index valence = this->Out.VertexDegree(u);
     for (Index v : neighbours)
     {
+      if (valence + this->Out.VertexDegree(v) > MaximumCollapseValence)
+      {
+        continue;
+      }
       ++statistics.Attempts;
       if (this->TryCollapse(u, v))
       {
@@ -363,7 +373,12 @@ private:
     {
       for (int k = 0; k < 3; ++k)
       {
-        this->Out.ForEachTriangle(this->Out.Triangle(t)[k], [&](Index s) {
+        const Index x = this->Out.Triangle(t)[k];
+        if (this->Out.VertexDegree(x) > MaximumCollapseValence)
+        {
+          continue; // a subset of the output still proves; the snapshot adds what lies near
+        }
+        this->Out.ForEachTriangle(x, [&](Index s) {
           if (!std::binary_search(replaced.begin(), replaced.end(), s))
           {
             kept.push_back(s);
