@@ -23,18 +23,6 @@ constexpr Index MaximumCollapseValence = 128;
 // A flip must raise the smaller of the pair's smallest angles by this factor (no cycling).
 constexpr double FlipGain = 1.05;
 
-double SmallestAngle(const Vec3& a, const Vec3& b, const Vec3& c)
-{
-  const Vec3 corner[3] = { a, b, c };
-  double smallest = HUGE_VAL;
-  for (int k = 0; k < 3; ++k)
-  {
-    const Vec3 u = corner[(k + 1) % 3] - corner[k], w = corner[(k + 2) % 3] - corner[k];
-    smallest = std::min(smallest, std::atan2(Norm(Cross(u, w)), Dot(u, w)));
-  }
-  return smallest;
-}
-
 class Collapser
 {
 public:
@@ -264,8 +252,8 @@ private:
       return false;
     }
     const Vec3 px = this->Out.Point(x), py = this->Out.Point(y), pq = this->Out.Point(q), pz = this->Out.Point(z);
-    const double before = std::min(SmallestAngle(px, py, pq), SmallestAngle(py, px, pz));
-    const double after = std::min(SmallestAngle(px, pz, pq), SmallestAngle(pz, py, pq));
+    const double before = std::min(MinimumAngle(px, py, pq), MinimumAngle(py, px, pz));
+    const double after = std::min(MinimumAngle(px, pz, pq), MinimumAngle(pz, py, pq));
     const Vec3 n0 = Cross(py - px, pq - px), n1 = Cross(px - py, pz - py);
     const Vec3 m0 = Cross(pz - px, pq - px), m1 = Cross(py - pz, pq - pz);
     if (after <= FlipGain * before || Dot(m0, n0) <= 0 || Dot(m0, n1) <= 0 || Dot(m1, n0) <= 0 || Dot(m1, n1) <= 0)
