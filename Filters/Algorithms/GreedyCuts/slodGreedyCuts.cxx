@@ -1781,6 +1781,20 @@ bool GreedyCuts::RunLevels(const std::vector<double>& epsilons, const GreedyCuts
 bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
   GreedyCutsResult& result, const ProgressFunction& progress)
 {
+  // The search compares the cuts' counts; the final collapses (which only remove triangles) run
+  // once, on the tolerance found, instead of once per evaluation.
+  if (base.FinalCollapses)
+  {
+    GreedyCutsParameters cutsOnly = base;
+    cutsOnly.FinalCollapses = false;
+    if (!this->RunForTarget(target, cutsOnly, lo, hi, steps, result, progress))
+    {
+      return false;
+    }
+    cutsOnly.Epsilon = result.ErrorBound;
+    const ProgressFunction atEnd = progress ? ProgressFunction([&](double) { return progress(1.0); }) : ProgressFunction();
+    return cutsOnly.Epsilon <= 0 || this->CollapseFinal(cutsOnly, result, atEnd);
+  }
   GreedyCutsParameters prm = base;
   prm.Epsilon = hi;
   int evaluation = 0;
