@@ -3,6 +3,7 @@
 """Greedy cuts against vtkQuadricDecimation at equal measured Hausdorff, and the sliver share.
 
 usage: measure.py MESH.off EPS[,EPS...] [--patchification chapter3|chapter4] [--shaped DEGREES] [--no-qd]
+                  [--no-final-collapses]
 
 Per epsilon (relative to the diagonal): triangles, measured Hausdorff (vtkSurfaceDeviation),
 patches kept as original triangles, share of triangles whose smallest angle is under 5 degrees,
@@ -78,6 +79,7 @@ def main():
     epsilons = [float(e) for e in sys.argv[2].split(',')]
     chapter3 = '--patchification' in sys.argv and sys.argv[sys.argv.index('--patchification') + 1] == 'chapter3'
     no_qd = '--no-qd' in sys.argv
+    final_collapses = '--no-final-collapses' not in sys.argv
     shaped = float(sys.argv[sys.argv.index('--shaped') + 1]) if '--shaped' in sys.argv else 0.0
     r = vtkOFFMeshReader()
     r.SetFileName(path)
@@ -91,6 +93,7 @@ def main():
         if chapter3:
             f.SetPatchification(1)
         f.SetShapedTriangleAngle(shaped)
+        f.SetFinalCollapses(final_collapses)
         t = time.process_time()
         f.Update()
         cpu = time.process_time() - t
@@ -99,7 +102,7 @@ def main():
         fallbacks = f.GetOriginalPatches()
         line = (f"{name} eps {eps}: {inp.GetNumberOfCells()} -> {out.GetNumberOfCells()} tris, "
                 f"H/eps {h / f.GetUsedMaximumError():.3f}, patches {f.GetNumberOfPatches()} "
-                f"(original {fallbacks}), <5deg {100 * sliver_share(out):.1f}%, cpu {cpu:.2f} s")
+                f"(original {fallbacks}), collapses {f.GetNumberOfFinalCollapses()}, <5deg {100 * sliver_share(out):.1f}%, cpu {cpu:.2f} s")
         if not no_qd:
             count, hq = quadric_equal_hausdorff(inp, h)
             qout, qcpu = quadric_at(inp, 1.0 - count / inp.GetNumberOfCells())

@@ -20,7 +20,9 @@
 //     some patch ended there, it is split in two and the whole run repeated (bounded);
 //  4. the whole result is verified: every original triangle within epsilon of the output
 //     (rigorous, see below) and every edge used by at most two triangles; patches of failing
-//     triangles are escalated as in 3 and the run repeats from there.
+//     triangles are escalated as in 3 and the run repeats from there;
+//  5. optionally (FinalCollapses) half-edge collapses that keep the bound proved remove vertices
+//     the patches' boundaries forced (slodProvedCollapses.h).
 //
 // Feasibility of a candidate triangle Q (section 3.3, a robust equivalent of the two-phase BFS):
 //  (a) d(Q, original) <= epsilon, rigorously: Q is subdivided adaptively; a piece whose centroid
@@ -61,6 +63,9 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // a patch that gets stuck is retried at MinimumAngle (the paper's gradual release). 0 = off.
   double ShapedAngle = 0.0;
   int SubdivisionDepth = 10;     // adaptive distance test depth
+  // A final pass of half-edge collapses whose bound is proved (slodProvedCollapses.h) removes
+  // the output vertices the bound does not need; it keeps the two-sided bound.
+  bool FinalCollapses = true;
 };
 
 struct SURFACELODFILTERS_EXPORT GreedyCutsResult
@@ -76,6 +81,9 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
   Index OriginalPatches = 0; // patches kept as their original triangles
   std::vector<Index> FallbackPatchIds; // ... which ones
   int SplitRounds = 0;       // runs repeated after splitting patches that fell back
+  long long FinalCollapses = 0; // vertices removed by the final proved collapses
+  long long FinalFlips = 0;     // edges flipped between them (fatter triangles)
+  bool StartedFromFinerLevel = false; // RunLevels: this level began as the previous one
   int Rounds = 0;
   bool Aborted = false;
 };
@@ -112,6 +120,13 @@ public:
   bool Run(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
     const ProgressFunction& progress = nullptr);
 
+  // One result per epsilon (ascending order: results[i] for the i-th smallest), each within its
+  // own epsilon. A level starts from its own run or the previous (finer) level, whichever has
+  // fewer triangles (the finer one is within the larger bound too), before the final collapses
+  // (which only remove triangles): the counts never rise along the levels, by construction.
+  bool RunLevels(const std::vector<double>& epsilons, const GreedyCutsParameters& base,
+    std::vector<GreedyCutsResult>& results, const ProgressFunction& progress = nullptr);
+
   // Smallest epsilon (searched in [lo, hi] with `steps` runs: halving from hi while the count stays
   // within the target, then bisection on log(epsilon)) whose result has at most `target`
   // triangles; the result of that epsilon is returned (that of hi when even hi gives more). The
@@ -124,6 +139,7 @@ public:
 private:
   struct Worker;
   void BuildPatchData();
+  bool CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress);
   bool SplitPatches(const std::vector<Index>& patches);
   std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
   std::vector<Vec3> InitialHeights;

@@ -70,7 +70,7 @@ void StoreSimplification(vtkPolyData* input, const slod::TriangleMesh& mesh,
   // kept as their original triangles (the goal is none), and the repairs done (section 3.4.3).
   for (const auto& [name, value] : { std::pair<const char*, long long>{ "FallbackPatches", result.OriginalPatches },
          { "FrontRepairs", result.Repairs }, { "EdgeSwaps", result.EdgeSwaps }, { "FaceSplits", result.FaceSplits },
-         { "VertexDeletions", result.VertexDeletions } })
+         { "VertexDeletions", result.VertexDeletions }, { "FinalCollapses", result.FinalCollapses } })
   {
     vtkNew<vtkIdTypeArray> counter;
     counter->SetName(name);
@@ -93,7 +93,7 @@ int vtkGreedyCutsSimplification::RequestData(
   }
   this->UsedMaximumError = 0;
   this->NumberOfPatches = this->RefinedPatches = this->OriginalPatches = 0;
-  this->NumberOfEars = this->NumberOfBites = this->NumberOfRepairs = 0;
+  this->NumberOfEars = this->NumberOfBites = this->NumberOfRepairs = this->NumberOfFinalCollapses = 0;
 
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput, triangleToCell;
@@ -135,6 +135,7 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.BiteCandidates = this->BiteCandidates;
   parameters.MinimumAngle = this->MinimumTriangleAngle;
   parameters.ShapedAngle = this->ShapedTriangleAngle;
+  parameters.FinalCollapses = this->FinalCollapses;
   const double bound = this->MaximumErrorIsRelative ? this->MaximumError * diagonal : this->MaximumError;
   vtkIdType target = 0;
   // The filter contract's targets (slodFilterContract.h); MaximumError is always a bound here, so
@@ -174,6 +175,7 @@ int vtkGreedyCutsSimplification::RequestData(
   this->NumberOfEars = result.Ears;
   this->NumberOfBites = result.Bites + result.WideBites;
   this->NumberOfRepairs = result.Repairs;
+  this->NumberOfFinalCollapses = result.FinalCollapses;
 
   // 3. Output.
   StoreSimplification(input, mesh, vertexToInput, triangleToCell, result, this->OutputPointsPrecision, output);
@@ -205,6 +207,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BiteCandidates: " << this->BiteCandidates << "\n";
   os << indent << "MinimumTriangleAngle: " << this->MinimumTriangleAngle << "\n";
   os << indent << "ShapedTriangleAngle: " << this->ShapedTriangleAngle << "\n";
+  os << indent << "FinalCollapses: " << (this->FinalCollapses ? "on" : "off") << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
@@ -213,4 +216,5 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfEars: " << this->NumberOfEars << "\n";
   os << indent << "NumberOfBites: " << this->NumberOfBites << "\n";
   os << indent << "NumberOfRepairs: " << this->NumberOfRepairs << "\n";
+  os << indent << "NumberOfFinalCollapses: " << this->NumberOfFinalCollapses << "\n";
 }

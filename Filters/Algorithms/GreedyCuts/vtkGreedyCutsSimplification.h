@@ -114,6 +114,16 @@ public:
   vtkSetClampMacro(ShapedTriangleAngle, double, 0.0, 30.0);
   vtkGetMacro(ShapedTriangleAngle, double);
   ///@}
+  ///@{
+  /**
+   * A final pass of half-edge collapses onto output vertices, each accepted only when the error
+   * bound is proved again for the triangles it changes (both ways): fewer triangles, same bound
+   * (default on). With ShapedTriangleAngle set, no collapse makes a triangle thinner than that.
+   */
+  vtkSetMacro(FinalCollapses, bool);
+  vtkGetMacro(FinalCollapses, bool);
+  vtkBooleanMacro(FinalCollapses, bool);
+  ///@}
   /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
   vtkSetMacro(OutputPointsPrecision, int);
   vtkGetMacro(OutputPointsPrecision, int);
@@ -127,6 +137,7 @@ public:
   vtkGetMacro(NumberOfEars, vtkIdType);
   vtkGetMacro(NumberOfBites, vtkIdType);
   vtkGetMacro(NumberOfRepairs, vtkIdType);
+  vtkGetMacro(NumberOfFinalCollapses, vtkIdType);
   ///@}
 
 protected:
@@ -148,6 +159,7 @@ protected:
   int BiteCandidates = 8;
   double MinimumTriangleAngle = 0.5;
   double ShapedTriangleAngle = 0.0;
+  bool FinalCollapses = true;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double UsedMaximumError = 0;
@@ -157,6 +169,7 @@ protected:
   vtkIdType NumberOfEars = 0;
   vtkIdType NumberOfBites = 0;
   vtkIdType NumberOfRepairs = 0;
+  vtkIdType NumberOfFinalCollapses = 0;
 
 private:
   vtkGreedyCutsSimplification(const vtkGreedyCutsSimplification&) = delete;

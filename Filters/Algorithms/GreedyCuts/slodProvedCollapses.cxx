@@ -1,0 +1,470 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "slodProvedCollapses.h"
+
+#include "slodEditableMesh.h"
+#include "slodGreedyCuts.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace slod
+{
+namespace
+{
+// New triangles at more than about 75 degrees to the input at their centroid are rejected (as
+// the greedy cuts' own candidates): thin standing triangles can be within epsilon yet fold.
+constexpr double MinimumFacingCosine = 0.25;
+// Input triangles examined per collapse: beyond, the collapse is not tried (bounded work).
+constexpr size_t MaximumInputTriangles = 4096;
+// Collapses and flips of an edge whose two vertices have more triangles than this together are
+// not tried: checking one costs a walk over both fans (a fan of thousands of slivers around one
+// centre would make every pass quadratic); larger fans are left out of the local proofs' meshes.
+constexpr Index MaximumCollapseValence = 128;
+// A flip must raise the smaller of the pair's smallest angles by this factor (no cycling).
+constexpr double FlipGain = 1.05;
+
+class Collapser
+{
+public:
+  Collapser(const TriangleMesh& input, const TriangleBVH& bvh, const ProvedCollapseParameters& parameters,
+    const std::vector<Index>& triangles, long long* pieces)
+    : In(input)
+    , Bvh(bvh)
+    , Prm(parameters)
+    , Pieces(pieces)
+  {
+    TriangleMesh output;
+    output.Points = input.Points;
+    output.Triangles = triangles;
+    this->Out.Reset(output);
+    this->Border.assign(size_t(output.NumberOfPoints()), 0);
+    this->Used.assign(size_t(output.NumberOfPoints()), 0);
+    this->LocalId.assign(size_t(output.NumberOfPoints()), InvalidIndex);
+    for (Index v : triangles)
+    {
+      this->Used[v] = 1;
+    }
+    for (Index v = 0; v < output.NumberOfPoints(); ++v)
+    {
+      this->Border[v] = this->Used[v] && this->Out.IsBoundaryVertex(v);
+    }
+    this->Options.BoundaryVertices = this->Border.data();
+    this->Options.MinimumAngle = parameters.MinimumAngle * std::acos(-1.0) / 180.0;
+  }
+
+  // One pass over the removable vertices, shortest incident edge first. Returns the collapses.
+  long long Pass(ProvedCollapseStatistics& statistics, const ProgressFunction& progress, bool& aborted)
+  {
+    this->TakeSnapshot();
+    std::vector<std::pair<double, Index>> order;
+    std::vector<Index> neighbours;
+    for (Index u = 0; u < Index(this->Used.size()); ++u)
+    {
+      if (!this->Used[u] || this->Border[u] || this->Out.VertexDegree(u) == 0)
+      {
+        continue;
+      }
+      this->Out.Neighbors(u, neighbours);
+      double shortest = HUGE_VAL;
+      for (Index w : neighbours)
+      {
+        shortest = std::min(shortest, Norm(this->Out.Point(w) - this->Out.Point(u)));
+      }
+      order.emplace_back(shortest, u);
+    }
+    std::sort(order.begin(), order.end());
+    long long done = 0;
+    for (size_t i = 0; i < order.size(); ++i)
+    {
+      if (progress && i % 256 == 0 && !progress(double(i) / double(order.size())))
+      {
+        aborted = true;
+        return done;
+      }
+      done += this->RemoveVertex(order[i].second, statistics);
+    }
+    return done;
+  }
+
+  // One pass of edge flips that make the pair's thinner triangle fatter, each proved like a
+  // collapse. Returns the flips.
+  long long FlipPass(const ProgressFunction& progress, bool& aborted)
+  {
+    this->TakeSnapshot();
+    long long done = 0;
+    const Index n = this->Out.NumberOfTriangles();
+    for (Index t = 0; t < n; ++t)
+    {
+      if (progress && t % 1024 == 0 && !progress(double(t) / double(n)))
+      {
+        aborted = true;
+        return done;
+      }
+      for (int k = 0; k < 3 && this->Out.IsTriangleAlive(t); ++k)
+      {
+        const Index* tri = this->Out.Triangle(t);
+        const Index x = tri[k], y = tri[(k + 1) % 3], q = tri[(k + 2) % 3];
+        if (x < y && this->Out.VertexDegree(x) + this->Out.VertexDegree(y) <= MaximumCollapseValence &&
+          this->Out.EdgeTriangleCount(x, y) == 2 && this->TryFlip(t, x, y, q))
+        {
+          ++done;
+          break;
+        }
+      }
+    }
+    return done;
+  }
+
+  // The output at the start of a pass, with a BVH: its triangles that are still alive and unchanged
+  // are part of the current output (found near a change: the other side of a thin part).
+  void TakeSnapshot()
+  {
+    this->Snapshot.Points.clear();
+    this->Snapshot.Triangles.clear();
+    this->SnapshotIds.clear();
+    for (Index t = 0; t < this->Out.NumberOfTriangles(); ++t)
+    {
+      if (this->Out.IsTriangleAlive(t))
+      {
+        this->SnapshotIds.push_back(t);
+      }
+    }
+    this->Snapshot.Points = this->In.Points; // output vertices are input vertices, never moved
+    for (Index t : this->SnapshotIds)
+    {
+      this->Snapshot.Triangles.insert(this->Snapshot.Triangles.end(), this->Out.Triangle(t), this->Out.Triangle(t) + 3);
+    }
+    this->SnapshotBvh.Build(this->Snapshot);
+    this->Changed.assign(size_t(this->Out.NumberOfTriangles()), 0);
+  }
+
+  void MarkChanged()
+  {
+    for (Index t : this->OldStar)
+    {
+      this->Changed[t] = 1;
+    }
+  }
+
+  void Store(std::vector<Index>& triangles, std::vector<Index>& patches) const
+  {
+    std::vector<Index> kept, keptPatches;
+    for (Index t = 0; t < this->Out.NumberOfTriangles(); ++t)
+    {
+      if (this->Out.IsTriangleAlive(t))
+      {
+        kept.insert(kept.end(), this->Out.Triangle(t), this->Out.Triangle(t) + 3);
+        keptPatches.push_back(patches[t]);
+      }
+    }
+    triangles.swap(kept);
+    patches.swap(keptPatches);
+  }
+
+private:
+  // Tries u's neighbours as targets, nearest first; true when one collapse was made.
+  bool RemoveVertex(Index u, ProvedCollapseStatistics& statistics)
+  {
+    if (this->Out.VertexDegree(u) == 0 || this->Out.VertexDegree(u) > MaximumCollapseValence)
+    {
+      return false;
+    }
+    std::vector<Index> neighbours;
+    this->Out.Neighbors(u, neighbours);
+    const Vec3 pu = this->Out.Point(u);
+    std::sort(neighbours.begin(), neighbours.end(), [&](Index a, Index b) {
+      const double da = Norm(this->Out.Point(a) - pu), db = Norm(this->Out.Point(b) - pu);
+      return da < db || (da == db && a < b);
+    });
+    neighbours.resize(std::min<size_t>(neighbours.size(), size_t(this->Prm.MaximumNeighbours)));
+    const Index valence = this->Out.VertexDegree(u);
+    for (Index v : neighbours)
+    {
+      if (valence + this->Out.VertexDegree(v) > MaximumCollapseValence)
+      {
+        continue;
+      }
+      ++statistics.Attempts;
+      if (this->TryCollapse(u, v))
+      {
+        ++statistics.Collapses;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  bool TryCollapse(Index u, Index v)
+  {
+    const Index set[2] = { u, v };
+    const Vec3 target = this->Out.Point(v);
+    if (this->Out.CheckCollapse(set, 2, target, this->Options, this->Gathered) != CollapseStatus::Ok)
+    {
+      ++this->Rejected[0];
+      return false;
+    }
+    // The new triangles: u's surviving triangles with u replaced by v.
+    this->NewTriangles.clear();
+    this->Out.ForEachSurvivingTriangle(set, 2, [&](Index t, int corner) {
+      const Index* tri = this->Out.Triangle(t);
+      if (tri[corner] == u)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          this->NewTriangles.push_back(k == corner ? v : tri[k]);
+        }
+      }
+    });
+    this->OldStar.clear();
+    this->Out.ForEachTriangle(u, [&](Index t) { this->OldStar.push_back(t); });
+    if (!this->NewTrianglesNearInput())
+    {
+      ++this->Rejected[1];
+      return false;
+    }
+    if (!this->InputNearChange())
+    {
+      ++this->Rejected[2];
+      return false;
+    }
+    this->MarkChanged();
+    this->Out.Collapse(set, 2, v, target, this->Gathered, nullptr);
+    return true;
+  }
+
+  // Triangle t = (x, y, q) and its neighbour (y, x, z) become (x, z, q) and (z, y, q).
+  bool TryFlip(Index t, Index x, Index y, Index q)
+  {
+    Index other = InvalidIndex, z = InvalidIndex;
+    this->Out.ForEachTriangle(x, [&](Index s) {
+      const Index* tri = this->Out.Triangle(s);
+      for (int k = 0; k < 3 && s != t; ++k)
+      {
+        if (tri[k] == y && tri[(k + 1) % 3] == x)
+        {
+          other = s;
+          z = tri[(k + 2) % 3];
+        }
+      }
+    });
+    if (other == InvalidIndex || z == q || this->Out.EdgeTriangleCount(q, z) != 0)
+    {
+      return false;
+    }
+    const Vec3 px = this->Out.Point(x), py = this->Out.Point(y), pq = this->Out.Point(q), pz = this->Out.Point(z);
+    const double before = std::min(MinimumAngle(px, py, pq), MinimumAngle(py, px, pz));
+    const double after = std::min(MinimumAngle(px, pz, pq), MinimumAngle(pz, py, pq));
+    const Vec3 n0 = Cross(py - px, pq - px), n1 = Cross(px - py, pz - py);
+    const Vec3 m0 = Cross(pz - px, pq - px), m1 = Cross(py - pz, pq - pz);
+    if (after <= FlipGain * before || Dot(m0, n0) <= 0 || Dot(m0, n1) <= 0 || Dot(m1, n0) <= 0 || Dot(m1, n1) <= 0)
+    {
+      return false;
+    }
+    this->NewTriangles = { x, z, q, z, y, q };
+    this->OldStar = { t, other };
+    if (!this->NewTrianglesNearInput() || !this->InputNearChange())
+    {
+      return false;
+    }
+    this->MarkChanged();
+    return this->Out.FlipEdge(x, y);
+  }
+
+  bool NewTrianglesNearInput()
+  {
+    for (size_t i = 0; i < this->NewTriangles.size(); i += 3)
+    {
+      const Vec3 a = this->Out.Point(this->NewTriangles[i]), b = this->Out.Point(this->NewTriangles[i + 1]),
+                 c = this->Out.Point(this->NewTriangles[i + 2]);
+      const Vec3 normal = Normalized(Cross(b - a, c - a));
+      const ClosestPointResult hit = this->Bvh.ClosestPoint((1.0 / 3.0) * (a + b + c));
+      if (hit.Triangle == InvalidIndex ||
+        Dot(normal, Normalized(this->In.TriangleAreaVector(hit.Triangle))) < MinimumFacingCosine ||
+        !TriangleWithinDistance(this->Bvh, a, b, c, this->Prm.Epsilon, this->Prm.SubdivisionDepth, this->Pieces))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // Every input triangle that may rely on the replaced triangles (OldStar) is within epsilon of
+  // the new ones (NewTriangles) and the unchanged triangles around them.
+  bool InputNearChange()
+  {
+    Vec3 center{ 0, 0, 0 };
+    for (Index t : this->OldStar)
+    {
+      const Index* tri = this->Out.Triangle(t);
+      center = center + (1.0 / (3.0 * double(this->OldStar.size()))) * (this->Out.Point(tri[0]) + this->Out.Point(tri[1]) + this->Out.Point(tri[2]));
+    }
+    double radius = 0;
+    for (Index t : this->OldStar)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        radius = std::max(radius, Norm(this->Out.Point(this->Out.Triangle(t)[k]) - center));
+      }
+    }
+    this->Near.clear();
+    if (!this->Bvh.TrianglesNear(center, radius + this->Prm.Epsilon, MaximumInputTriangles, this->Near))
+    {
+      return false;
+    }
+    bool localBuilt = false;
+    for (Index p : this->Near)
+    {
+      const Index* tri = this->In.Triangle(p);
+      const Vec3 a = this->In.Point(tri[0]), b = this->In.Point(tri[1]), c = this->In.Point(tri[2]);
+      if (!this->MayRelyOnOldStar(a, b, c))
+      {
+        continue;
+      }
+      if (!localBuilt)
+      {
+        this->BuildLocalOutput(center, radius);
+        localBuilt = true;
+      }
+      if (!TriangleWithinDistance(this->LocalBvh, a, b, c, this->Prm.Epsilon, this->Prm.SubdivisionDepth, this->Pieces))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // False only when no point of triangle abc comes within epsilon of the old star (its bounding
+  // sphere stays farther than epsilon from every star triangle).
+  bool MayRelyOnOldStar(const Vec3& a, const Vec3& b, const Vec3& c) const
+  {
+    const Vec3 g = (1.0 / 3.0) * (a + b + c);
+    const double r = std::sqrt(std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) }));
+    for (Index t : this->OldStar)
+    {
+      const Index* tri = this->Out.Triangle(t);
+      const Vec3 x = ClosestPointOnTriangle(g, this->Out.Point(tri[0]), this->Out.Point(tri[1]), this->Out.Point(tri[2]));
+      if (Norm(g - x) - r <= this->Prm.Epsilon)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // The new triangles and every unchanged triangle around the replaced ones' vertices, as a small
+  // mesh with a BVH (a subset of the output after the change: a proof against it holds for all).
+  void BuildLocalOutput(const Vec3& center, double radius)
+  {
+    std::vector<Index> replaced = this->OldStar, kept;
+    std::sort(replaced.begin(), replaced.end());
+    for (Index t : this->OldStar)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index x = this->Out.Triangle(t)[k];
+        if (this->Out.VertexDegree(x) > MaximumCollapseValence)
+        {
+          continue; // a subset of the output still proves; the snapshot adds what lies near
+        }
+        this->Out.ForEachTriangle(x, [&](Index s) {
+          if (!std::binary_search(replaced.begin(), replaced.end(), s))
+          {
+            kept.push_back(s);
+          }
+        });
+      }
+    }
+    std::vector<Index> near;
+    this->SnapshotBvh.TrianglesNear(center, radius + 3 * this->Prm.Epsilon, MaximumInputTriangles, near);
+    for (Index i : near)
+    {
+      const Index t = this->SnapshotIds[i];
+      if (this->Out.IsTriangleAlive(t) && !this->Changed[t] &&
+        !std::binary_search(replaced.begin(), replaced.end(), t))
+      {
+        kept.push_back(t);
+      }
+    }
+    std::sort(kept.begin(), kept.end());
+    kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+    this->Local.Points.clear();
+    this->Local.Triangles.clear();
+    this->LocalVertices.clear();
+    auto add = [&](Index x) {
+      if (this->LocalId[x] == InvalidIndex)
+      {
+        this->LocalId[x] = this->Local.AddPoint(this->Out.Point(x));
+        this->LocalVertices.push_back(x);
+      }
+      this->Local.Triangles.push_back(this->LocalId[x]);
+    };
+    for (Index t : kept)
+    {
+      const Index* tri = this->Out.Triangle(t);
+      add(tri[0]), add(tri[1]), add(tri[2]);
+    }
+    for (Index x : this->NewTriangles)
+    {
+      add(x);
+    }
+    for (Index x : this->LocalVertices)
+    {
+      this->LocalId[x] = InvalidIndex;
+    }
+    this->LocalBvh.Build(this->Local);
+  }
+
+  const TriangleMesh& In;
+  const TriangleBVH& Bvh;
+  const ProvedCollapseParameters& Prm;
+  long long* Pieces;
+public:
+  long long Rejected[3] = { 0, 0, 0 }; // collapses rejected by topology, output -> input, input -> output
+
+private:
+  EditableMesh Out;
+  CollapseOptions Options;
+  std::vector<unsigned char> Border, Used;
+  std::vector<Index> LocalId, LocalVertices;
+  std::vector<Index> Gathered, NewTriangles, OldStar, Near;
+  TriangleMesh Local, Snapshot;
+  TriangleBVH LocalBvh, SnapshotBvh;
+  std::vector<Index> SnapshotIds;
+  std::vector<unsigned char> Changed;
+};
+} // namespace
+
+bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, const ProvedCollapseParameters& parameters,
+  std::vector<Index>& triangles, std::vector<Index>& patches, ProvedCollapseStatistics& statistics,
+  const ProgressFunction& progress, long long* proofPieces)
+{
+  statistics = ProvedCollapseStatistics();
+  if (parameters.Epsilon <= 0 || triangles.empty())
+  {
+    return true;
+  }
+  Collapser collapser(input, inputBvh, parameters, triangles, proofPieces);
+  bool aborted = false;
+  // Collapses, then flips (fatter triangles, which may allow more collapses), then collapses again.
+  const int stages = 3 * parameters.MaximumRounds;
+  int pass = 0;
+  auto stage = [&](double f) { return progress ? progress((pass + f) / double(stages)) : true; };
+  for (int step = 0; step < 3 && !aborted; ++step)
+  {
+    for (int round = 0; round < parameters.MaximumRounds && !aborted; ++round, ++pass)
+    {
+      ++statistics.Rounds;
+      const long long changes = step == 1 ? collapser.FlipPass(stage, aborted) : collapser.Pass(statistics, stage, aborted);
+      statistics.Flips += step == 1 ? changes : 0;
+      if (changes == 0)
+      {
+        break;
+      }
+    }
+    pass = (step + 1) * parameters.MaximumRounds;
+  }
+  collapser.Store(triangles, patches);
+  std::copy(collapser.Rejected, collapser.Rejected + 3, statistics.Rejected);
+  return !aborted;
+}
+} // namespace slod

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SurfaceLOD algorithm GreedyCuts: a final pass of half-edge collapses whose error bound is proved.
+//
+// The greedy cuts' output is epsilon-close to the input both ways, but each patch was cut alone,
+// inside its simplified boundary chains: many of its vertices (chain vertices above all) are not
+// needed for the bound. This pass removes output vertices by half-edge collapses u -> v (v an
+// output vertex, so the output keeps original vertices only), each accepted only when the bound is
+// proved again for what it changes:
+//  - output -> input: every new triangle within epsilon of the input (TriangleWithinDistance,
+//    rigorous adaptive subdivision against the input's BVH), and facing the input at its centroid;
+//  - input -> output: every input triangle that could have had its nearest output point in u's old
+//    star (it comes within epsilon of one of the star's triangles, by a conservative sphere test)
+//    is proved within epsilon of the new star and the triangles around it (a subset of the new
+//    output, so the proof holds for the whole output); the other input points keep their nearest
+//    output triangle, which the collapse does not touch;
+//  - topology: EditableMesh::CheckCollapse (link condition, no flip, no border vertex removed).
+// Between two collapse passes, interior edges are flipped where that makes the thinner of their two
+// triangles fatter (fewer slivers), each flip proved the same way.
+// Hence the two-sided Hausdorff bound of the greedy cuts survives every accepted collapse.
+#ifndef slodProvedCollapses_h
+#define slodProvedCollapses_h
+
+#include "slodFilterContract.h"
+#include "slodTriangleBVH.h"
+#include "slodTriangleMesh.h"
+
+#include <vector>
+
+namespace slod
+{
+struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
+{
+  double Epsilon = 0.0;        // absolute bound (> 0)
+  int SubdivisionDepth = 10;   // depth of the adaptive distance proofs
+  double MinimumAngle = 0.0;   // degrees: a collapse may not make a triangle thinner than this (unless it was)
+  int MaximumRounds = 8;       // passes over the output vertices (stops earlier when one removes none)
+  int MaximumNeighbours = 16;  // targets tried per vertex and pass (nearest first)
+};
+
+struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
+{
+  long long Collapses = 0, Attempts = 0, Flips = 0;
+  long long Rejected[3] = { 0, 0, 0 }; // collapses rejected by topology, output -> input, input -> output
+  int Rounds = 0;
+};
+
+// Simplifies `triangles` (3 vertex ids of `input` each; `patches` one id per triangle, kept for the
+// surviving triangles) in place. The output must be within epsilon of the input both ways on entry.
+// Returns false when aborted (the triangles are then still valid and within the bound).
+SURFACELODFILTERS_EXPORT bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh,
+  const ProvedCollapseParameters& parameters, std::vector<Index>& triangles, std::vector<Index>& patches,
+  ProvedCollapseStatistics& statistics, const ProgressFunction& progress = nullptr,
+  long long* proofPieces = nullptr);
+} // namespace slod
+
+#endif
