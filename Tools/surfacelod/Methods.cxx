@@ -304,6 +304,10 @@ std::vector<Parameter> GreedyCutsParameters()
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, TwoEdgeNeighborAngle),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, BiteCandidates),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, MinimumTriangleAngle),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, ShapedTriangleAngle),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, FinalCollapses),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, Patchification),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, MinimumPatchTriangles),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, OutputPointsPrecision),
   };
 }
