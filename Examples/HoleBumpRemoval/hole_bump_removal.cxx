@@ -59,7 +59,7 @@ int main(int argc, char* argv[])
 
   vtkNew<vtkHoleBumpRemoval> removal;
   removal->SetInputConnection(source->GetOutputPort());
-  removal->SetMaximumFeatureSize(alpha); // relative to the bounding-box diagonal
+  removal->SetFeatureSize(alpha); // relative to the bounding-box diagonal
   removal->Update();
   std::cout << "input: " << inputTriangles << " triangles, genus " << removal->GetInputGenus() << "\n";
   std::cout << "holes " << removal->GetNumberOfHolesRemoved() << "/" << removal->GetNumberOfHolesDetected()

@@ -32,6 +32,26 @@ public:
     this->Heap.reserve(size_t(n));
   }
 
+  // Empties the heap in time proportional to its size, keeping room for the same ids: for callers
+  // that run many small searches (a Dijkstra region, an ear clipping) over one large id range.
+  void Clear()
+  {
+    for (const Entry& e : this->Heap)
+    {
+      this->Slot[e.Id] = InvalidIndex;
+    }
+    this->Heap.clear();
+  }
+
+  // Room for at least ids 0..n-1, keeping the current entries.
+  void Reserve(Index n)
+  {
+    if (this->Slot.size() < size_t(n))
+    {
+      this->Slot.resize(size_t(n), InvalidIndex);
+    }
+  }
+
   // Sets every key at once and heapifies in linear time (ids with a negative key stay absent).
   void Build(const Key* keys, Index n)
   {

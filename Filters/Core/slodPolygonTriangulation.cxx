@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodPolygonTriangulation.h"
 
+#include "slodIndexedHeap.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -122,8 +124,8 @@ public:
     , Next(polygon.size())
     , Removed(polygon.size(), 0)
     , Remaining(polygon.size())
-    , Version(polygon.size(), 0)
   {
+    this->Ears.Reset(static_cast<Index>(polygon.size()));
     const size_t n = this->Size;
     // Doubly linked ring of remaining corners.
     for (size_t i = 0; i < n; ++i)
@@ -210,17 +212,19 @@ private:
 
   void Refresh(size_t k)
   {
-    ++this->Version[k];
     if (this->IsEar(k))
     {
-      this->Heap.push_back({ this->AngleOf(k), k, this->Version[k] });
-      std::push_heap(this->Heap.begin(), this->Heap.end());
+      this->Ears.Set(static_cast<Index>(k), this->AngleOf(k));
+    }
+    else
+    {
+      this->Ears.Remove(static_cast<Index>(k));
     }
   }
 
   void Rescan()
   {
-    this->Heap.clear();
+    this->Ears.Clear();
     size_t k = this->Start;
     for (size_t i = 0; i < this->Remaining; ++i, k = this->Next[k])
     {
@@ -231,17 +235,8 @@ private:
   // The valid ear of smallest angle (Size: none in the heap).
   size_t PopBestEar()
   {
-    while (!this->Heap.empty())
-    {
-      std::pop_heap(this->Heap.begin(), this->Heap.end());
-      const Entry e = this->Heap.back();
-      this->Heap.pop_back();
-      if (!this->Removed[e.Corner] && e.Version == this->Version[e.Corner])
-      {
-        return e.Corner;
-      }
-    }
-    return this->Size;
+    // Clipped corners are never in the heap: a corner is clipped only after it is popped.
+    return this->Ears.Empty() ? this->Size : static_cast<size_t>(this->Ears.Pop());
   }
 
   // The corner of largest signed area.
@@ -287,18 +282,6 @@ private:
     return true;
   }
 
-  // Ears ordered by angle; entries are validated against a per-corner version when popped.
-  struct Entry
-  {
-    double Angle;
-    size_t Corner;
-    unsigned Version;
-    bool operator<(const Entry& o) const
-    {
-      return this->Angle > o.Angle || (this->Angle == o.Angle && this->Corner > o.Corner);
-    }
-  };
-
   const std::vector<Vec3>& Polygon;
   const PolygonTriangulationOptions& Options;
   PolygonTriangulationResult& Result;
@@ -309,8 +292,7 @@ private:
   size_t Remaining;
   size_t Start = 0; // some remaining corner
   double Tolerance = 0;
-  std::vector<Entry> Heap;
-  std::vector<unsigned> Version;
+  IndexedHeap<double> Ears; // current ears by angle, ties by corner
 };
 } // namespace
 

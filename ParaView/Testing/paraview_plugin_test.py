@@ -350,7 +350,7 @@ def greedy_cuts_simplification(checks, meshes, work):
 def hole_bump_removal(checks, meshes, work):
     # anchor: genus 4 from four small holes; removing them leaves genus 0.
     source = read(meshes, "anchor")
-    removal = simple.HoleBumpRemoval(Input=source, MaximumFeatureSize=0.2)
+    removal = simple.HoleBumpRemoval(Input=source, FeatureSize=0.2)
     result = fetch(removal)
     mesh = topology(result)
     expect_topology(checks, "anchor", mesh, closed_manifold(2))

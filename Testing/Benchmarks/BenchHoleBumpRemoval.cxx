@@ -108,7 +108,7 @@ int main(int argc, char* argv[])
   {
     vtkNew<vtkHoleBumpRemoval> ours;
     ours->SetInputData(m.Mesh);
-    ours->SetMaximumFeatureSize(m.Alpha);
+    ours->SetFeatureSize(m.Alpha);
     const double oursTime = Seconds([&] { ours->Modified(); ours->Update(); }, repeat);
     vtkPolyData* a = ours->GetOutput();
     const vtkIdType count = a->GetNumberOfPolys();
@@ -127,7 +127,7 @@ int main(int argc, char* argv[])
     // Genus of vtkDecimatePro's output through our filter's bookkeeping (detection only).
     vtkNew<vtkHoleBumpRemoval> probe;
     probe->SetInputData(pro->GetOutput());
-    probe->SetMaximumFeatureSize(0);
+    probe->SetFeatureSize(0);
     probe->SetCompletionToKeepTriangles();
     probe->FillCracksOff();
     probe->GlobalWarningDisplayOff();

@@ -245,8 +245,8 @@ std::vector<Parameter> HoleBumpRemovalParameters()
   return {
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, SharpAngle),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, MaximumSharpAngle),
-    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, MaximumFeatureSize),
-    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, MaximumFeatureSizeIsRelative),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, FeatureSize),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, FeatureSizeIsRelative),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RemoveHoles),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RemoveBumps),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, RemoveCavities),

@@ -19,8 +19,9 @@ void GeodesicRegion::Reset(const CuttableMesh& mesh)
     this->State[v] = 0;
   }
   this->TouchedVertices.clear();
-  this->Heap.clear();
+  this->Heap.Clear();
   const size_t points = size_t(mesh.NumberOfPoints());
+  this->Heap.Reserve(static_cast<Index>(points));
   if (this->State.size() < points)
   {
     this->State.resize(points, 0);
@@ -34,7 +35,6 @@ Index GeodesicRegion::Grow(const CuttableMesh& mesh, const std::vector<Index>& s
   Index maximumSettled, Settle&& settle)
 {
   this->Reset(mesh);
-  using Entry = std::pair<double, Index>;
   auto queue = [&](Index w, double d, Index parent) {
     if (!(this->State[w] & QueuedFlag))
     {
@@ -47,8 +47,7 @@ Index GeodesicRegion::Grow(const CuttableMesh& mesh, const std::vector<Index>& s
     }
     this->Dist[w] = d;
     this->Parent[w] = parent;
-    this->Heap.emplace_back(d, w);
-    std::push_heap(this->Heap.begin(), this->Heap.end(), std::greater<Entry>());
+    this->Heap.Set(w, d);
   };
   for (Index s : sources)
   {
@@ -58,20 +57,14 @@ Index GeodesicRegion::Grow(const CuttableMesh& mesh, const std::vector<Index>& s
     }
   }
   Index settled = 0;
-  while (!this->Heap.empty() && settled < maximumSettled)
+  while (!this->Heap.Empty() && settled < maximumSettled)
   {
-    std::pop_heap(this->Heap.begin(), this->Heap.end(), std::greater<Entry>());
-    const Entry top = this->Heap.back();
-    this->Heap.pop_back();
-    const Index v = top.second;
-    if (this->Settled(v) || top.first > this->Dist[v])
-    {
-      continue; // an outdated entry
-    }
-    if (top.first > radius)
+    const double distance = this->Heap.TopKey();
+    if (distance > radius)
     {
       break;
     }
+    const Index v = this->Heap.Pop();
     this->State[v] |= SettledFlag;
     ++settled;
     if (!settle(v))
@@ -85,7 +78,7 @@ Index GeodesicRegion::Grow(const CuttableMesh& mesh, const std::vector<Index>& s
         const Index w = mesh.Triangle(t)[k];
         if (w != v && !mesh.IsLocked(w) && !this->Settled(w))
         {
-          queue(w, top.first + Norm(mesh.Point(w) - p), v);
+          queue(w, distance + Norm(mesh.Point(w) - p), v);
         }
       }
     });

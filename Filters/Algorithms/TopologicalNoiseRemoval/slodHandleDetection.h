@@ -14,6 +14,7 @@
 #define slodHandleDetection_h
 
 #include "slodCuttableMesh.h"
+#include "slodIndexedHeap.h"
 
 #include <utility>
 #include <vector>
@@ -67,7 +68,7 @@ private:
   std::vector<Index> TouchedVertices;
   std::vector<std::pair<Index, Index>> Link; // of the vertex being settled: its triangles' far edges
   std::vector<Index> ParentArc;
-  std::vector<std::pair<double, Index>> Heap;
+  IndexedHeap<double> Heap; // unsettled queued vertices by tentative distance, ties by id
 };
 
 // Seeds whose balls of radius `spacing` cover every unlocked vertex (greedy, in vertex order).

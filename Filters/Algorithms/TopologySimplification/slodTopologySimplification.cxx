@@ -1065,7 +1065,7 @@ struct Simplification
     {
       return "removal of this kind is off";
     }
-    if (!(feature.Size < this->P.MaximumFeatureSize))
+    if (!(feature.Size < this->P.FeatureSize))
     {
       return "larger than the maximum feature size";
     }
@@ -1228,7 +1228,7 @@ struct Simplification
   void FillCracks(TriangleMesh& current)
   {
     const MeshTopology topology(current);
-    const double limit = this->P.MaximumCrackSize >= 0 ? this->P.MaximumCrackSize : this->P.MaximumFeatureSize;
+    const double limit = this->P.MaximumCrackSize >= 0 ? this->P.MaximumCrackSize : this->P.FeatureSize;
     auto edgeExists = [&](Index u, Index w) { return topology.FindEdge(u, w) != InvalidIndex; };
     const std::vector<std::array<Vec3, 2>> componentBoxes = ComponentBoxes(current, topology);
     for (const std::vector<Index>& loop : topology.BoundaryLoops())

@@ -62,7 +62,7 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationParameters
   PatchificationParameters Patches;
   double SharpMinimumDot = -0.3; // an edge is sharp when the normals' dot product is inside
   double SharpMaximumDot = 0.7;  // (SharpMinimumDot, SharpMaximumDot)
-  double MaximumFeatureSize = 0; // alpha (absolute): features whose loops are all smaller go
+  double FeatureSize = 0; // alpha (absolute): features whose loops are all smaller go
   bool RemoveHoles = true;
   bool RemoveBumps = true;
   bool RemoveCavities = true;

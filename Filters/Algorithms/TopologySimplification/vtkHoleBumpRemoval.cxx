@@ -44,8 +44,8 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
   parameters.SharpMinimumDot = std::cos(vtkMath::RadiansFromDegrees(filter->GetMaximumSharpAngle()));
   const double diagonal = mesh.BoundingBoxDiagonal();
   parameters.Patches.MaximumPlaneDistance = filter->GetPatchPlaneDistance() * diagonal;
-  const double scale = filter->GetMaximumFeatureSizeIsRelative() ? diagonal : 1.0;
-  parameters.MaximumFeatureSize = filter->GetMaximumFeatureSize() * scale;
+  const double scale = filter->GetFeatureSizeIsRelative() ? diagonal : 1.0;
+  parameters.FeatureSize = filter->GetFeatureSize() * scale;
   parameters.MaximumCrackSize = filter->GetMaximumCrackSize() < 0 ? -1.0 : filter->GetMaximumCrackSize() * scale;
   parameters.FillCracks = filter->GetFillCracks();
   parameters.RemoveHoles = filter->GetRemoveHoles();
@@ -206,7 +206,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   this->UpdateProgress(0.05);
 
   const slod::TopologySimplificationParameters parameters = SimplificationParameters(this, mesh);
-  this->UsedFeatureSize = parameters.MaximumFeatureSize;
+  this->UsedFeatureSize = parameters.FeatureSize;
 
   slod::TopologySimplificationResult result;
   slod::TopologySimplifier simplifier;
@@ -266,8 +266,8 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "SharpAngle: " << this->SharpAngle << "\n";
   os << indent << "MaximumSharpAngle: " << this->MaximumSharpAngle << "\n";
-  os << indent << "MaximumFeatureSize: " << this->MaximumFeatureSize
-     << (this->MaximumFeatureSizeIsRelative ? " (relative)" : " (absolute)") << "\n";
+  os << indent << "FeatureSize: " << this->FeatureSize
+     << (this->FeatureSizeIsRelative ? " (relative)" : " (absolute)") << "\n";
   os << indent << "RemoveHoles: " << this->RemoveHoles << "\n";
   os << indent << "RemoveBumps: " << this->RemoveBumps << "\n";
   os << indent << "RemoveCavities: " << this->RemoveCavities << "\n";

@@ -10,7 +10,7 @@
  * (convex hole chains first); each loop has a flat side and a wall side and is clockwise when the
  * flat side lies outside it. A clockwise loop's wall patches lead to its partner loop: two
  * clockwise loops bound a hole, a clockwise loop alone or with a counter-clockwise partner a bump
- * or a cavity. A feature is removed when all its loops are smaller than MaximumFeatureSize
+ * or a cavity. A feature is removed when all its loops are smaller than FeatureSize
  * (sampled diameter, alpha): the wall patches are discarded and every clockwise loop becomes a new
  * patch (ear-clipped). Cracks (loops of border edges smaller than MaximumCrackSize) are closed the
  * same way. Nearly coplanar neighbouring patches then merge (MergeAngle, alpha1, patches stay
@@ -62,12 +62,21 @@ public:
 
   ///@{
   /// alpha: features whose loops all have a smaller (sampled) diameter are removed. Relative to
-  /// the bounding-box diagonal when MaximumFeatureSizeIsRelative is on (default 0.05 relative).
-  vtkSetClampMacro(MaximumFeatureSize, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(MaximumFeatureSize, double);
-  vtkSetMacro(MaximumFeatureSizeIsRelative, bool);
-  vtkGetMacro(MaximumFeatureSizeIsRelative, bool);
-  vtkBooleanMacro(MaximumFeatureSizeIsRelative, bool);
+  /// the bounding-box diagonal when FeatureSizeIsRelative is on (default 0.05 relative).
+  vtkSetClampMacro(FeatureSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(FeatureSize, double);
+  vtkSetMacro(FeatureSizeIsRelative, bool);
+  vtkGetMacro(FeatureSizeIsRelative, bool);
+  vtkBooleanMacro(FeatureSizeIsRelative, bool);
+  ///@}
+
+  ///@{
+  /// Former names of FeatureSize and FeatureSizeIsRelative (before 2026-12), kept so that
+  /// existing scripts run: the concept has vtkTopologicalNoiseRemoval's name now.
+  void SetMaximumFeatureSize(double size) { this->SetFeatureSize(size); }
+  double GetMaximumFeatureSize() { return this->GetFeatureSize(); }
+  void SetMaximumFeatureSizeIsRelative(bool relative) { this->SetFeatureSizeIsRelative(relative); }
+  bool GetMaximumFeatureSizeIsRelative() { return this->GetFeatureSizeIsRelative(); }
   ///@}
 
   ///@{
@@ -85,7 +94,7 @@ public:
 
   ///@{
   /// Crack repair (default on): border loops with a diameter below MaximumCrackSize (same units
-  /// as MaximumFeatureSize; negative = MaximumFeatureSize, the default) are closed.
+  /// as FeatureSize; negative = FeatureSize, the default) are closed.
   vtkSetMacro(FillCracks, bool);
   vtkGetMacro(FillCracks, bool);
   vtkBooleanMacro(FillCracks, bool);
@@ -178,8 +187,8 @@ protected:
 
   double SharpAngle = 45.572996; // acos(0.7)
   double MaximumSharpAngle = 107.457603; // acos(-0.3)
-  double MaximumFeatureSize = 0.05;
-  bool MaximumFeatureSizeIsRelative = true;
+  double FeatureSize = 0.05;
+  bool FeatureSizeIsRelative = true;
   bool RemoveHoles = true;
   bool RemoveBumps = true;
   bool RemoveCavities = true;

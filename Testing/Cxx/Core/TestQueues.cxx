@@ -112,3 +112,29 @@ TEST(PriorityQueues, WouldBeFirstAgreesWithPopAtEveryBucketSize)
     EXPECT_EQ(first, queue.Pop() == popped);
   }
 }
+
+// Clear() empties only what is queued and Reserve() grows the id range in place: a reused heap
+// (many small Dijkstra regions, ear clippings) must behave as a fresh one, and equal keys pop by id.
+TEST(PriorityQueues, IndexedHeapClearedAndGrownBehavesAsFresh)
+{
+  IndexedHeap<double> heap;
+  heap.Reset(4);
+  heap.Set(3, 2.0);
+  heap.Set(1, 5.0);
+  heap.Clear();
+  EXPECT_TRUE(heap.Empty());
+  EXPECT_FALSE(heap.Contains(3));
+  EXPECT_FALSE(heap.Contains(1));
+  heap.Reserve(10);
+  heap.Set(9, 1.0);
+  heap.Set(2, 1.0);
+  heap.Set(7, 0.5);
+  heap.Set(1, 1.0);
+  const std::vector<Index> expected = { 7, 1, 2, 9 };
+  std::vector<Index> popped;
+  while (!heap.Empty())
+  {
+    popped.push_back(heap.Pop());
+  }
+  EXPECT_EQ(popped, expected);
+}

@@ -421,8 +421,8 @@ TEST(TopologicalNoiseRemoval, SameGenusChangeAsHoleBumpRemovalOnCadParts)
     const CleanRun run = Clean(part, 0.1, /*relative=*/true);
     vtkNew<vtkHoleBumpRemoval> holes;
     holes->SetInputData(part);
-    holes->SetMaximumFeatureSize(0.1);
-    holes->MaximumFeatureSizeIsRelativeOn();
+    holes->SetFeatureSize(0.1);
+    holes->FeatureSizeIsRelativeOn();
     holes->Update();
     const MeshStatistics cleaned = Stats(run.Surface), reference = Stats(holes->GetOutput());
     EXPECT_LT(cleaned.Genus, before.Genus) << name;

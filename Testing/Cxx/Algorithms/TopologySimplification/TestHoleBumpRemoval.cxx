@@ -82,7 +82,7 @@ TopologySimplificationResult Simplify(const TriangleMesh& mesh, double alpha,
   TopologyCompletion completion = TopologyCompletion::TriangulatePatches)
 {
   TopologySimplificationParameters p;
-  p.MaximumFeatureSize = alpha;
+  p.FeatureSize = alpha;
   p.Completion = completion;
   TopologySimplificationResult r;
   EXPECT_TRUE(TopologySimplifier().Run(mesh, p, r));
@@ -246,7 +246,7 @@ TEST(TopologySimplification, MixedFeaturesCountedExactly)
   EXPECT_EQ(s.Triangles, 12);
   // Only bumps: holes and cavities stay.
   TopologySimplificationParameters p;
-  p.MaximumFeatureSize = 2.0;
+  p.FeatureSize = 2.0;
   p.RemoveHoles = false;
   p.RemoveCavities = false;
   TopologySimplificationResult onlyBumps;
@@ -326,7 +326,7 @@ TEST(TopologySimplification, SteppedHoleNeedsTwoPasses)
   const TriangleMesh mesh = BlockModel(9, 9, h, 1.0, 2);
   ASSERT_EQ(Stats(mesh).Genus, 1);
   TopologySimplificationParameters p;
-  p.MaximumFeatureSize = 5.0;
+  p.FeatureSize = 5.0;
   TopologySimplificationResult r;
   ASSERT_TRUE(TopologySimplifier().Run(mesh, p, r));
   EXPECT_EQ(Count(r, TopologyFeatureKind::Hole, true), 1);
@@ -387,7 +387,7 @@ TEST(TopologySimplification, SpbmCompletionReachesTarget)
 {
   const TriangleMesh mesh = LargeAndSmallHoles(3);
   TopologySimplificationParameters p;
-  p.MaximumFeatureSize = 2.0;
+  p.FeatureSize = 2.0;
   p.Completion = TopologyCompletion::Spbm;
   p.SpbmTargetTriangles = 40;
   TopologySimplificationResult r;
@@ -421,7 +421,7 @@ TEST(TopologySimplification, CracksClosed)
   MeshStatistics s = Stats(grid);
   ASSERT_EQ(s.BoundaryLoops, 3);
   TopologySimplificationParameters p;
-  p.MaximumFeatureSize = 0.5; // the grid is 1 x 1; the cracks are below 0.3
+  p.FeatureSize = 0.5; // the grid is 1 x 1; the cracks are below 0.3
   p.Completion = TopologyCompletion::KeepTriangles;
   TopologySimplificationResult r;
   ASSERT_TRUE(TopologySimplifier().Run(grid, p, r));
@@ -435,7 +435,7 @@ TEST(TopologySimplification, CracksClosed)
   TriangleMesh box = BlockModel(3, 3, std::vector<double>(9, 1.0), 1.0, 2);
   box.Triangles.erase(box.Triangles.begin(), box.Triangles.begin() + 6); // two top quads' triangles
   ASSERT_GT(Stats(box).BoundaryEdges, 0);
-  p.MaximumFeatureSize = 2.0;
+  p.FeatureSize = 2.0;
   p.Completion = TopologyCompletion::TriangulatePatches;
   ASSERT_TRUE(TopologySimplifier().Run(box, p, r));
   EXPECT_EQ(Count(r, TopologyFeatureKind::Crack, true), 1);
@@ -485,7 +485,7 @@ TEST(TopologySimplification, Deterministic)
 {
   const TriangleMesh mesh = PlateWithRoundHoles(3, 3, 0.3, 16, 0.4);
   TopologySimplificationParameters p;
-  p.MaximumFeatureSize = 0.8;
+  p.FeatureSize = 0.8;
   p.Completion = TopologyCompletion::KeepTriangles;
   TopologySimplificationResult a, b;
   ASSERT_TRUE(TopologySimplifier().Run(mesh, p, a));
@@ -594,7 +594,7 @@ TEST(HoleBumpRemovalFilter, CountsArraysLoopsAndGenus)
   EXPECT_EQ(filter->GetNumberOfHolesRemoved(), 0);
   EXPECT_EQ(filter->GetInputGenus(), 9);
   EXPECT_EQ(filter->GetOutputGenus(), 9);
-  filter->SetMaximumFeatureSize(0.2);
+  filter->SetFeatureSize(0.2);
   out= RunFilter(filter, plate);
   EXPECT_EQ(filter->GetNumberOfHolesRemoved(), 9);
   EXPECT_EQ(FieldCount(out, "HolesRemoved"), 9);
@@ -647,7 +647,7 @@ TEST(HoleBumpRemovalFilter, CountsArraysLoopsAndGenus)
   EXPECT_EQ(filledCount, 9 * 2 * 6); // two rims of 8 vertices per hole
   std::ostringstream print;
   filter->Print(print);
-  EXPECT_NE(print.str().find("MaximumFeatureSize: 0.2 (relative)"), std::string::npos);
+  EXPECT_NE(print.str().find("FeatureSize: 0.2 (relative)"), std::string::npos);
   EXPECT_NE(print.str().find("Holes detected/removed: 9/9"), std::string::npos);
 }
 
@@ -655,8 +655,8 @@ TEST(HoleBumpRemovalFilter, AbsoluteSizeAndSpbmTarget)
 {
   vtkSmartPointer<vtkPolyData> mesh = ToPolyData(LargeAndSmallHoles(2));
   vtkNew<vtkHoleBumpRemoval> filter;
-  filter->MaximumFeatureSizeIsRelativeOff();
-  filter->SetMaximumFeatureSize(2.0);
+  filter->FeatureSizeIsRelativeOff();
+  filter->SetFeatureSize(2.0);
   vtkSmartPointer<vtkPolyData> out= RunFilter(filter, mesh);
   EXPECT_EQ(filter->GetNumberOfHolesRemoved(), 4);
   EXPECT_EQ(filter->GetOutputGenus(), 1);
@@ -696,8 +696,8 @@ TEST(HoleBumpRemovalFilter, BadInputGivesDefinedOutput)
   vtkSmartPointer<vtkPolyData> both = ToPolyData(Concatenate(plate, fan));
   vtkNew<vtkHoleBumpRemoval> nm;
   nm->GlobalWarningDisplayOff();
-  nm->MaximumFeatureSizeIsRelativeOff();
-  nm->SetMaximumFeatureSize(2.0);
+  nm->FeatureSizeIsRelativeOff();
+  nm->SetFeatureSize(2.0);
   nm->FillCracksOff();
   vtkSmartPointer<vtkPolyData> out= RunFilter(nm, both);
   EXPECT_EQ(nm->GetNumberOfHolesRemoved(), 2);
@@ -757,7 +757,7 @@ TEST(HoleBumpRemovalFilter, BetterThanDecimateProAndQuadricAtEqualCount)
   const TriangleMesh solid = BlockModel(9, 9, std::vector<double>(81, 0.5), 1.0, 1);
   using Clock = std::chrono::steady_clock;
   vtkNew<vtkHoleBumpRemoval> ours;
-  ours->SetMaximumFeatureSize(0.2);
+  ours->SetFeatureSize(0.2);
   auto t0 = Clock::now();
   vtkSmartPointer<vtkPolyData> a= RunFilter(ours, plate);
   const double oursTime = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -18,7 +18,7 @@ TEST(HoleBumpRemovalImage, MixedBlockFillsMatchBaseline)
   source->SetModelToMixed();
   vtkNew<vtkHoleBumpRemoval> removal;
   removal->SetInputConnection(source->GetOutputPort());
-  removal->SetMaximumFeatureSize(0.2);
+  removal->SetFeatureSize(0.2);
   removal->SetCompletionToKeepTriangles();
   removal->Update();
   ASSERT_EQ(removal->GetNumberOfBumpsRemoved(), 6);
