@@ -13,17 +13,6 @@ namespace slod
 {
 namespace
 {
-// Interleaves the low 10 bits of x, y, z (30-bit Morton code).
-inline std::uint64_t Spread10(std::uint64_t v)
-{
-  v &= 0x3ff;
-  v = (v | (v << 16)) & 0x30000ff;
-  v = (v | (v << 8)) & 0x300f00f;
-  v = (v | (v << 4)) & 0x30c30c3;
-  v = (v | (v << 2)) & 0x9249249;
-  return v;
-}
-
 // Neumaier-compensated sum: the plane / offset tests expect ~1e-15 relative accuracy.
 struct CompensatedSum
 {
@@ -97,55 +86,29 @@ bool ComputeDistances(const TriangleBVH& tree, const std::vector<double>& points
     return true;
   }
 
-  // Morton order over the finite points (30-bit code above a 34-bit index: unique keys).
-  double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-    std::numeric_limits<double>::max() };
-  double hi[3] = { -lo[0], -lo[1], -lo[2] };
-  std::vector<std::uint64_t> keys;
-  keys.reserve(size_t(n));
-  for (std::int64_t i = 0; i < n; ++i)
+  // Queries in the core's Morton order (neighbouring queries share tree paths and bounds); points
+  // with a non-finite coordinate are not measured (their distance stays NaN).
+  const std::vector<MortonEntry> order = MortonOrder(points);
+  std::vector<Index> keys;
+  keys.reserve(order.size());
+  double magnitude = 0;
+  for (const MortonEntry& e : order)
   {
-    const double* p = &points[3 * size_t(i)];
+    const double* p = &points[3 * size_t(e.Id)];
     if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
     {
-      for (int k = 0; k < 3; ++k)
-      {
-        lo[k] = std::min(lo[k], p[k]);
-        hi[k] = std::max(hi[k], p[k]);
-      }
-      keys.push_back(std::uint64_t(i));
+      keys.push_back(e.Id);
+      magnitude = std::max({ magnitude, std::abs(p[0]), std::abs(p[1]), std::abs(p[2]) });
     }
   }
   if (keys.empty())
   {
     return true;
   }
-  double scale[3], magnitude = 0;
-  for (int k = 0; k < 3; ++k)
-  {
-    const double extent = hi[k] - lo[k];
-    scale[k] = extent > 0 ? 1023.0 / extent : 0.0;
-    magnitude = std::max({ magnitude, std::abs(lo[k]), std::abs(hi[k]) });
-  }
-  vtkSMPTools::For(0, static_cast<vtkIdType>(keys.size()), [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType j = begin; j < end; ++j)
-    {
-      const std::uint64_t i = keys[size_t(j)];
-      const double* p = &points[3 * size_t(i)];
-      std::uint64_t code = 0;
-      for (int k = 0; k < 3; ++k)
-      {
-        code |= Spread10(static_cast<std::uint64_t>((p[k] - lo[k]) * scale[k])) << k;
-      }
-      keys[size_t(j)] = (code << 34) | i;
-    }
-  });
-  vtkSMPTools::Sort(keys.begin(), keys.end());
 
   // Rounding slack for the bound taken from the previous answer (a point on the surface whose
   // recomputed distance may differ in the last bits).
   const double slack = (1e-13 * (magnitude + 1.0)) * (1e-13 * (magnitude + 1.0));
-  const std::uint64_t indexMask = (std::uint64_t(1) << 34) - 1;
   const std::int64_t m = static_cast<std::int64_t>(keys.size());
   const std::int64_t chunks = (m + ChunkSize - 1) / ChunkSize;
   auto runChunks = [&](vtkIdType firstChunk, vtkIdType lastChunk) {
@@ -155,7 +118,7 @@ bool ComputeDistances(const TriangleBVH& tree, const std::vector<double>& points
       Vec3 hint{ 0, 0, 0 };
       for (std::int64_t j = std::int64_t(c) * ChunkSize, e = std::min<std::int64_t>(m, (std::int64_t(c) + 1) * ChunkSize); j < e; ++j)
       {
-        const size_t i = size_t(keys[size_t(j)] & indexMask);
+        const size_t i = size_t(keys[size_t(j)]);
         const Vec3 q{ points[3 * i], points[3 * i + 1], points[3 * i + 2] };
         ClosestPointResult r;
         if (haveHint)
