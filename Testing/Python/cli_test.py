@@ -145,6 +145,10 @@ def scenario_simplify(a):
           else 300 <= result["output_triangles"] <= 1000,
           "%s: %d triangles for a target of 1000 (tolerance %d)" % (method, result["output_triangles"], tolerance))
     check(result["seconds"] > 0 and result["peak_rss_mb"] > 1, "seconds / peak_rss_mb: %r" % result)
+    # The memory the method needed beyond the read input (Linux): part of the whole peak, per input point.
+    input_info = json_line(run(a.cli, "info", fandisk, "--json"))
+    check(result.get("input_points") == input_info["vertices"], "input_points %r" % result.get("input_points"))
+    check(0 <= result.get("working_rss_mb", -1) < result["peak_rss_mb"], "working_rss_mb: %r" % result)
     # The written file reads back with the reported triangle count, closed.
     info = json_line(run(a.cli, "info", out, "--json"))
     check(info["triangles"] == result["output_triangles"], "file has %d triangles, JSON said %d"
@@ -573,6 +577,9 @@ def scenario_short_flags(a):
     rows = [json.loads(l) for l in run(a.cli, "bench", "--inputs", "fandisk", "--mesh-dir", a.mesh_dir, "-m",
                                        "vtk-quadric-decimation", "-t", 500, "-n", 500, "-j").stdout.splitlines()]
     check(len(rows) == 1 and rows[0]["target_triangles"] == 500 and rows[0]["status"] == "ok", "bench -t: %r" % rows)
+    check(rows[0]["working_bytes_per_input_point"] >= 0 and
+          rows[0]["working_bytes_per_input_point"] * 6475 < rows[0]["peak_rss_mb"] * 1048576,
+          "bench's memory per input point: %r" % rows[0])
 
 
 def same_file(path_a, path_b):

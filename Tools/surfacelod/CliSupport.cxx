@@ -10,7 +10,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <limits>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -24,20 +26,47 @@ std::string FormatReal(double value, int significant)
   return buffer;
 }
 
-double PeakResidentMegabytes()
+namespace
+{
+// A "Key: <n> kB" line of /proc/self/status in MiB; NaN when absent (not Linux).
+double StatusMegabytes(const char* key)
 {
   std::ifstream status("/proc/self/status");
+  const size_t length = std::strlen(key);
   std::string line;
   while (std::getline(status, line))
   {
-    if (line.compare(0, 6, "VmHWM:") == 0)
+    if (line.compare(0, length, key) == 0)
     {
-      return std::strtod(line.c_str() + 6, nullptr) / 1024.0; // kB
+      return std::strtod(line.c_str() + length, nullptr) / 1024.0;
     }
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+} // namespace
+
+double PeakResidentMegabytes()
+{
+  const double peak = StatusMegabytes("VmHWM:");
+  if (std::isfinite(peak))
+  {
+    return peak;
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss / 1024.0; // kB on Linux
+}
+
+double ResidentMegabytes()
+{
+  return StatusMegabytes("VmRSS:");
+}
+
+bool ResetPeakResident()
+{
+  std::ofstream("/proc/self/clear_refs") << "5"; // Linux: VmHWM := VmRSS
+  const double peak = StatusMegabytes("VmHWM:"), resident = StatusMegabytes("VmRSS:");
+  return std::isfinite(peak) && std::isfinite(resident) && peak <= resident + 1.0;
 }
 
 namespace

@@ -52,6 +52,11 @@ private:
 
 // Peak resident set size of this process in MiB (VmHWM, else getrusage).
 double PeakResidentMegabytes();
+// Resident set size now, in MiB (VmRSS; NaN when unknown).
+double ResidentMegabytes();
+// Makes the peak restart from the current resident size (Linux clear_refs); false when the system
+// does not allow it (then PeakResidentMegabytes stays the peak since the start).
+bool ResetPeakResident();
 
 // Draws "label [#####     ]  45%" on stderr while the algorithm reports progress, only when
 // stderr is a terminal. Detaches and clears the line when destroyed.

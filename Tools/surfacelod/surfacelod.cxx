@@ -373,10 +373,26 @@ OutputSummary Summarize(vtkPolyData* output)
   return { output->GetNumberOfPolys(), ReportedTargetReached(output) };
 }
 
+// Memory the method needed beyond its input: the peak resident size during the run minus the
+// resident size before it (the read input included). NaN when it could not be measured.
+struct RunMemory
+{
+  vtkIdType InputPoints = 0;
+  double PeakBeforeRun = 0.0; // the reader's peak, which a reset of the peak forgets
+  double WorkingMegabytes = std::numeric_limits<double>::quiet_NaN();
+  double BytesPerInputPoint() const
+  {
+    return this->InputPoints > 0 ? this->WorkingMegabytes * 1048576.0 / double(this->InputPoints)
+                                 : std::numeric_limits<double>::quiet_NaN();
+  }
+};
+
 // The line `simplify` prints; `distributed` adds the figures of a run on several processes.
 void PrintSimplified(const SimplifyArguments& args, const Method& method, const MethodSettings& settings,
-  const OutputSummary& output, double seconds, const Json& distributed = Json())
+  const OutputSummary& output, double seconds, const RunMemory& memory, const Json& distributed = Json())
 {
+  const bool measured = std::isfinite(memory.BytesPerInputPoint());
+  const double peak = std::max(memory.PeakBeforeRun, PeakResidentMegabytes());
   const vtkIdType outputTriangles = output.Triangles;
   // A method that removes features of a size needs no target: with none given there is none to
   // reach (null in the JSON).
@@ -389,7 +405,12 @@ void PrintSimplified(const SimplifyArguments& args, const Method& method, const 
     Json line = { { "method", method.Name }, { "input_triangles", settings.InputTriangles },
       { "output_triangles", outputTriangles }, { "target_reached", hasTarget ? Json(targetReached) : Json() },
       { "seconds", seconds },
-      { "peak_rss_mb", PeakResidentMegabytes() } };
+      { "peak_rss_mb", peak } };
+    if (measured)
+    {
+      line["input_points"] = memory.InputPoints;
+      line["working_rss_mb"] = memory.WorkingMegabytes;
+    }
     if (!distributed.is_null())
     {
       line.update(distributed);
@@ -399,7 +420,9 @@ void PrintSimplified(const SimplifyArguments& args, const Method& method, const 
   else
   {
     std::cout << method.Name << ": " << settings.InputTriangles << " -> " << outputTriangles << " triangles in "
-              << Fixed(seconds, 3) << " s (peak RSS " << Fixed(PeakResidentMegabytes(), 1) << " MB"
+              << Fixed(seconds, 3) << " s (peak RSS " << Fixed(peak, 1) << " MB"
+              << (measured ? ", " + Fixed(memory.BytesPerInputPoint(), 0) + " bytes per input point beyond the input"
+                           : std::string())
               << (distributed.is_null() ? std::string() : "; " + distributed.dump()) << "), wrote " << args.Output
               << (targetReached ? "" : " (target not reached)") << "\n";
   }
@@ -425,9 +448,18 @@ int Simplify(const SimplifyArguments& args)
   vtkSmartPointer<vtkPolyData> input = TriangulatedSurface(ReadMesh(args.Input));
   MethodSettings settings = TargetSettings(args.Target, CountTriangles(input), method.NeedsTarget, 0.0, "simplify");
   settings.FeatureSize = args.FeatureSize;
+  RunMemory memory;
+  memory.InputPoints = input->GetNumberOfPoints();
+  memory.PeakBeforeRun = PeakResidentMegabytes();
+  const bool peakReset = ResetPeakResident();
+  const double residentBefore = ResidentMegabytes();
   const RunResult result = RunMethod(method, input, settings, assignments);
+  if (peakReset)
+  {
+    memory.WorkingMegabytes = std::max(0.0, PeakResidentMegabytes() - residentBefore);
+  }
   WriteMesh(result.Output, args.Output);
-  PrintSimplified(args, method, settings, Summarize(result.Output), result.Seconds);
+  PrintSimplified(args, method, settings, Summarize(result.Output), result.Seconds, memory);
   return ExitSuccess;
 }
 
@@ -616,7 +648,7 @@ int SimplifyDistributed(const SimplifyArguments& args, const Method& method,
   {
     WriteMesh(merged, args.Output);
   }
-  PrintSimplified(args, method, settings, eachWritesItsPiece ? summary : Summarize(merged), slowest,
+  PrintSimplified(args, method, settings, eachWritesItsPiece ? summary : Summarize(merged), slowest, RunMemory(),
     { { "processes", processes }, { "wall_seconds", wall.Seconds() }, { "peak_rss_mb_per_process", peaks },
       { "pieces_read", readOwnPiece ? processes : 0 }, { "pieces_written", eachWritesItsPiece ? processes : 0 } });
   return ExitSuccess;
@@ -930,7 +962,8 @@ std::string BenchDescription()
     "(fastest of --repeat runs); Mtri/s: input triangles per second; t/quad and H/quad: the method's time\n"
     "and Hausdorff divided by the baseline's in the same run; hausdorff: relative to the input's\n"
     "bounding-box diagonal; target: at most 1% (+1) more triangles than asked; chi, loops, nm-e: Euler\n"
-    "characteristic, border loops and non-manifold edges of the output (the input's on its header line).\n"
+    "characteristic, border loops and non-manifold edges of the output (the input's on its header line); B/vert:\n"
+    "the method's peak memory beyond the read input, in bytes per input point (largest of the runs).\n"
     "The header gives the load average.";
 }
 
@@ -1016,6 +1049,7 @@ struct BenchRow
   std::string Message;       // why it failed
   double Seconds = 0.0;
   double PeakMegabytes = 0.0; // of the child process
+  double WorkingBytesPerInputPoint = std::numeric_limits<double>::quiet_NaN(); // beyond the input, largest run
   vtkIdType InputTriangles = 0, TargetTriangles = 0, OutputTriangles = 0;
   bool HasTarget = true; // false for a method that removes features of a size (no count to reach)
   bool TargetReached = false;
@@ -1074,6 +1108,11 @@ void RunMethodInChild(const BenchOptions& options, const std::string& inputPath,
       row.Seconds = seconds;
     }
     row.PeakMegabytes = std::max(row.PeakMegabytes, JsonNumber(child.Output, "peak_rss_mb"));
+    const double working = JsonNumber(child.Output, "working_rss_mb") * 1048576.0 / JsonNumber(child.Output, "input_points");
+    if (std::isfinite(working) && !(working <= row.WorkingBytesPerInputPoint))
+    {
+      row.WorkingBytesPerInputPoint = working;
+    }
   }
 }
 
@@ -1135,7 +1174,7 @@ void PrintBenchHeader(const BenchOptions& options)
             << Padded("input", 16) << Padded("method", 28) << Padded("out", 9, true) << Padded("target", 7, true)
             << Padded("seconds", 9, true) << Padded("Mtri/s", 8, true) << Padded("t/quad", 8, true)
             << Padded("hausdorff", 11, true) << Padded("H/quad", 8, true) << Padded("chi", 9, true)
-            << Padded("loops", 7, true) << Padded("nm-e", 7, true) << "\n";
+            << Padded("loops", 7, true) << Padded("nm-e", 7, true) << Padded("B/vert", 8, true) << "\n";
 }
 
 void PrintInputLine(const std::string& name, const TopologySummary& topology, const BenchOptions& options)
@@ -1173,7 +1212,9 @@ void PrintRowText(const BenchRow& row, const BenchRow& baseline)
                    ? RatioText(RatioTo(row.Distance.Hausdorff, baseline.Distance.Hausdorff)) : "-", 8, true)
             << Padded(std::to_string(row.Topology.Euler), 9, true)
             << Padded(std::to_string(row.Topology.BorderLoops), 7, true)
-            << Padded(std::to_string(row.Topology.NonManifoldEdges), 7, true) << std::endl;
+            << Padded(std::to_string(row.Topology.NonManifoldEdges), 7, true)
+            << Padded(std::isfinite(row.WorkingBytesPerInputPoint) ? Fixed(row.WorkingBytesPerInputPoint, 0) : "-", 8, true)
+            << std::endl;
 }
 
 // value, or null when it is not finite / not measured.
@@ -1209,7 +1250,9 @@ void PrintRowJson(const BenchRow& row, const BenchRow& baseline, const TopologyS
     { "output_euler", CountOrNull(row.Topology.Euler, ok) },
     { "output_border_loops", CountOrNull(row.Topology.BorderLoops, ok) },
     { "output_nonmanifold_edges", CountOrNull(row.Topology.NonManifoldEdges, ok) },
-    { "peak_rss_mb", NumberOrNull(row.PeakMegabytes, ok) }, { "load_average", NumberOrNull(OneMinuteLoad()) } };
+    { "peak_rss_mb", NumberOrNull(row.PeakMegabytes, ok) },
+    { "working_bytes_per_input_point", NumberOrNull(row.WorkingBytesPerInputPoint, ok) },
+    { "load_average", NumberOrNull(OneMinuteLoad()) } };
   if (!ok)
   {
     line["message"] = row.Message;
