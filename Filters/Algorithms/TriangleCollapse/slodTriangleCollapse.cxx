@@ -241,7 +241,6 @@ struct PassState
   // around it are costed again next pass), or moved (the kept vertex of a collapse: the entries of
   // its triangles wait for the next pass).
   std::vector<unsigned char> Change;
-  std::vector<unsigned char> Waits; // per entry of a round: it may still run in this pass
   Index Performed = 0;      // collapses of the current pass
   long long Rounds = 0;
 };
@@ -298,7 +297,6 @@ private:
   bool PassRound(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
   bool SettlePassRound(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
   struct PerformPassFunctor;
-  struct UndecidedFunctor;
   void CollapseInPasses(CollapseLoop& loop, TriangleCollapseResult& result);
   // After a collapse into `kept`: kept moved, its ring's triangles changed (PassState::Change).
   void MarkChanged(Index kept, std::vector<unsigned char>& change) const;
@@ -2315,24 +2313,6 @@ void TriangleCollapser::RankPass(const CollapseLoop& loop, PassState& passes) co
   RankPassCandidates(passes.Key, nullptr, goal, this->Options.PassErrorFactor, passes.Floor, passes.Ranking);
 }
 
-// Whether an entry that did not run may still run in this pass: alive, and none of its vertices
-// moved by a collapse of this pass.
-struct TriangleCollapser::UndecidedFunctor
-{
-  const TriangleCollapser& Self;
-  const CollapseBatch& Batch;
-  const PassState& Passes;
-  std::vector<unsigned char>& Waits;
-  void operator()(vtkIdType begin, vtkIdType end) const
-  {
-    for (vtkIdType i = begin; i < end; ++i)
-    {
-      const BatchEntry& entry = this->Batch.Entries[size_t(i)];
-      this->Waits[size_t(i)] = !entry.Runs && !this->Self.Blocked(entry.C.Triangle, this->Passes) ? 1 : 0;
-    }
-  }
-};
-
 bool TriangleCollapser::SettlePassRound(
   CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
 {
@@ -2452,7 +2432,10 @@ bool TriangleCollapser::PassRound(
   // The collapses in parallel, each marking what it changed.
   PerformBatchFunctor perform{ *this, batch, this->Mesh.ReserveRefs(static_cast<Index>(batch.PlaceBlocks())) };
   const vtkIdType performed = static_cast<vtkIdType>(batch.Order.size());
-  vtkSMPTools::For(0, performed, 16, perform);
+  if (performed > 0)
+  {
+    vtkSMPTools::For(0, performed, 16, perform);
+  }
   Index removedTriangles = 0, removedVertices = 0;
   for (vtkIdType k = 0; k < performed; ++k)
   {
@@ -2467,15 +2450,11 @@ bool TriangleCollapser::PassRound(
   this->Mesh.FinishCollapses(removedTriangles, removedVertices);
   passes.Performed += static_cast<Index>(performed);
   // The entries that lost a claim try again in the next round unless a collapse moved a vertex
-  // of their triangle.
-  std::vector<unsigned char>& waits = passes.Waits;
-  waits.assign(batch.Entries.size(), 0);
-  UndecidedFunctor undecided{ *this, batch, passes, waits };
-  vtkSMPTools::For(0, n, 64, undecided);
+  // of their triangle (three flags each: not worth a parallel loop).
   size_t kept = 0;
   for (size_t i = 0; i < batch.Entries.size(); ++i)
   {
-    if (waits[i])
+    if (!batch.Entries[i].Runs && !this->Blocked(batch.Entries[i].C.Triangle, passes))
     {
       batch.Entries[kept++] = batch.Entries[i];
     }
