@@ -68,6 +68,9 @@ constexpr vtkIdType PrefetchWindow = 32;
 // threads enough work per round.
 constexpr size_t PassChunkSize = 512;
 constexpr int MaximumRoundsPerChunk = 32;
+// A round that decides fewer than 1 / SlowRoundRatio of its entries hands the chunk's rest to a
+// walk one entry at a time (RunPass).
+constexpr size_t SlowRoundRatio = 16;
 
 // A vtkSMPTools functor that hands its range to Derived::Window in windows of PrefetchWindow.
 template <typename Derived>
@@ -295,6 +298,7 @@ private:
   void RankPass(const CollapseLoop& loop, PassState& passes) const;
   bool RunPass(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
   bool PassRound(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
+  bool DecideOneByOne(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
   bool SettlePassRound(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
   struct PerformPassFunctor;
   void CollapseInPasses(CollapseLoop& loop, TriangleCollapseResult& result);
@@ -2479,12 +2483,46 @@ bool TriangleCollapser::RunPass(
     this->StartChunk(start, loop, batch, passes, result);
     for (int round = 0; round < MaximumRoundsPerChunk && !batch.Entries.empty(); ++round)
     {
+      const size_t before = batch.Entries.size();
       if (!this->PassRound(loop, batch, passes, result))
       {
         return false;
       }
+      // Entries crowding on a few vertices (a high-valence apex is in every ring) decide one per
+      // round while every round walks all of them: decide the rest one by one (the same result).
+      const size_t decided = before - batch.Entries.size();
+      if (batch.Entries.size() > 1 && decided * SlowRoundRatio < before)
+      {
+        if (!this->DecideOneByOne(loop, batch, passes, result))
+        {
+          return false;
+        }
+        break;
+      }
     }
   }
+  return true;
+}
+
+bool TriangleCollapser::DecideOneByOne(
+  CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
+{
+  std::vector<BatchEntry> rest;
+  rest.swap(batch.Entries);
+  for (const BatchEntry& entry : rest)
+  {
+    if (this->Blocked(entry.C.Triangle, passes))
+    {
+      continue;
+    }
+    batch.Entries.assign(1, entry);
+    ++loop.Pops;
+    if (!this->PassRound(loop, batch, passes, result))
+    {
+      return false;
+    }
+  }
+  batch.Entries.clear();
   return true;
 }
 

@@ -2,6 +2,7 @@
 // vtkQuadricTriangleCollapse: properties on real meshes (counts, topology, orientation, flips,
 // borders, determinism, point data, error arrays, stop criteria), bad input, and quality against
 // vtkQuadricDecimation measured in the same run with vtkSurfaceDeviation.
+#include "BadInputCorpus.h"
 #include "TestSupport.h"
 
 #include "slodMeshTopology.h"
@@ -407,6 +408,31 @@ TEST(QuadricTriangleCollapse, PassScheduleQualityFallbackAndErrorBound)
   EXPECT_GT(result.Collapses, 0);
   EXPECT_TRUE(result.StoppedByError);
   EXPECT_LE(result.MaximumError, options.MaximumError);
+}
+
+// The pass schedule where every ring holds one vertex (a closed cone and a fan disk whose apex has
+// 5,000 triangles): a round decides only a few entries there (the rounds hand over to a walk one
+// entry at a time); the count target is still met within one collapse and the topology kept.
+TEST(QuadricTriangleCollapse, PassScheduleReachesTheTargetAroundHighValence)
+{
+  for (const char* name : { "valence-5000-closed-cone", "valence-5000-fan-disk" })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::MakeBadInput(name).Surface;
+    vtkNew<vtkQuadricTriangleCollapse> filter;
+    filter->SetInputData(input);
+    const vtkIdType target = input->GetNumberOfPolys() / 10;
+    filter->SetTargetNumberOfTriangles(target);
+    filter->SetCollapseScheduleToPasses();
+    filter->Update();
+    const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+    EXPECT_LE(out.NumberOfTriangles(), target) << name;
+    EXPECT_GE(out.NumberOfTriangles(), target - 3) << name;
+    const MeshStatistics before = ComputeMeshStatistics(slodtest::ToTriangleMesh(input));
+    const MeshStatistics after = ComputeMeshStatistics(out);
+    EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic) << name;
+    EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops) << name;
+    EXPECT_EQ(after.NonManifoldEdges, 0) << name;
+  }
 }
 
 // Batches are selected, checked and performed so that the thread count cannot change them: the
