@@ -4,11 +4,12 @@
 // peak memory growth per input vertex (VmHWM reset through /proc/self/clear_refs).
 //
 //   BenchQuadricTriangleCollapse [--mc N] [--runs R] [--threads T] [--write DIR] [--skip-vtk] [--paper]
-//     [--batch TOLERANCE] [mesh[:target]]...
+//     [--batch TOLERANCE] [--passes] [mesh[:target]]...
 // Default cases: a ~1M-triangle marching-cubes mesh to 10 %, bunny00 to 2306 triangles (the
 // paper's table). With --write DIR the outputs are saved as .vtp for external measurement. With
 // --paper the paper's configuration (UsePaperConfiguration) runs too, in the same run; with --batch
-// the BatchCollapses mode at that BatchCostTolerance. A mesh is a CGAL demo name or a .vtp path.
+// the BatchCollapses mode at that BatchCostTolerance; with --passes the main run uses the pass
+// schedule (CollapseSchedule PASSES). A mesh is a CGAL demo name or a .vtp path.
 #include "TestSupport.h"
 #include "vtkQuadricTriangleCollapse.h"
 
@@ -120,6 +121,7 @@ int main(int argc, char* argv[])
   int runs = 1;
   bool skipVtk = false, paper = false;
   double batchTolerance = -1.0; // < 0: no batch-mode run
+  int schedule = vtkQuadricTriangleCollapse::QUEUE;
   std::string writeDir;
   std::vector<std::string> cases;
   for (int i = 1; i < argc; ++i)
@@ -153,6 +155,10 @@ int main(int argc, char* argv[])
     else if (a == "--batch" && i + 1 < argc)
     {
       batchTolerance = std::atof(argv[++i]);
+    }
+    else if (a == "--passes")
+    {
+      schedule = vtkQuadricTriangleCollapse::PASSES;
     }
     else
     {
@@ -199,6 +205,7 @@ int main(int argc, char* argv[])
     vtkNew<vtkQuadricTriangleCollapse> collapse;
     collapse->SetTargetNumberOfTriangles(target);
     collapse->SetTargetReduction(0.0);
+    collapse->SetCollapseSchedule(schedule);
     const Measure a = Run(input.Get(), collapse.Get(), runs, ours);
     Measure p;
     vtkSmartPointer<vtkPolyData> paperOutput;

@@ -65,6 +65,20 @@ struct SURFACELODFILTERS_EXPORT AttributeErrorTerms
   std::vector<double> Scales; // per component
 };
 
+// The order in which the collapses are made (TriangleCollapseOptions::Schedule).
+enum class CollapseSchedule
+{
+  // One priority queue: always the cheapest operation left, costs re-evaluated around each collapse.
+  Queue,
+  // Passes (as meshoptimizer's simplifier): every triangle's cheapest operation is costed at once
+  // (in parallel), the costs ranked, and the cheapest under a pass limit performed in rank order
+  // as an independent set (an operation whose closed one-ring meets a collapse made earlier in
+  // the pass waits for the next pass); then again. Checks and collapses of one round run in
+  // parallel; the output is the same for any thread count. Not with RecordHistory, ExactUnion,
+  // AttributeError or SettleTarget: those run the queue.
+  Passes
+};
+
 struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
 {
   // Stop when the mesh has at most this many triangles (0: no count target).
@@ -107,6 +121,13 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // and are popped again, and 18 % of the batch loop is sequential).
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
+  // The order of the collapses (see CollapseSchedule).
+  CollapseSchedule Schedule = CollapseSchedule::Queue;
+  // The pass schedule's limit: PassErrorFactor times the cost of rank PassGoalShare x (triangles
+  // still to remove) among the candidates (smaller share or factor: more passes, closer to the
+  // queue's order).
+  double PassGoalShare = 0.5;
+  double PassErrorFactor = 1.5;
   // Record every collapse for progressive meshes (TriangleCollapseResult::History).
   bool RecordHistory = false;
   // Optional: per vertex of the input mesh, 1 when non-manifold (the input preparation's
@@ -153,7 +174,14 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   Index RejectedCollapses = 0;       // validity test failures (each retried later)
   bool Aborted = false;
   bool StoppedByError = false;       // a collapse was refused for exceeding MaximumError
-  bool WorkBoundReached = false;     // stopped by the bound on queue pops (see MaximumPopsPerTriangle)
+  bool WorkBoundReached = false;     // stopped by the bound on queue pops or passes
+  Index Passes = 0;                  // passes of the pass schedule (0: the queue ran)
+  // Diagnostics for the thread tests: the threads that took part in the pass schedule's rounds and
+  // in the fit's concurrent visits (1: the work was not split), and whether the fit stopped at its
+  // work budget (where it stops then depends on the order of its moves).
+  int PassThreads = 0;
+  int FitThreads = 0;
+  bool FitBudgetReached = false;
   bool PinnedVerticesReleased = false; // the target needed collapses of pinned vertices (PinnedVertices)
   size_t PeakWorkingBytes = 0;       // bytes of the algorithm's own arrays (estimate)
   // With TriangleCollapseOptions::AttributeError: per output vertex, 1 when its attribute values

@@ -96,6 +96,10 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   options.RecordHistory = filter->GetGenerateProgressiveMesh();
   options.BatchCollapses = filter->GetBatchCollapses();
   options.BatchCostTolerance = filter->GetBatchCostTolerance();
+  options.Schedule = filter->GetCollapseSchedule() == vtkQuadricTriangleCollapse::PASSES ? slod::CollapseSchedule::Passes
+                                                                                          : slod::CollapseSchedule::Queue;
+  options.PassGoalShare = filter->GetPassGoalShare();
+  options.PassErrorFactor = filter->GetPassErrorFactor();
   options.Progress = slod::FilterProgress(filter);
   return options;
 }
@@ -467,6 +471,9 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GenerateProgressiveMesh: " << this->GenerateProgressiveMesh << "\n";
   os << indent << "BatchCollapses: " << this->BatchCollapses << "\n";
   os << indent << "BatchCostTolerance: " << this->BatchCostTolerance << "\n";
+  os << indent << "CollapseSchedule: " << (this->CollapseSchedule == PASSES ? "Passes" : "Queue") << "\n";
+  os << indent << "PassGoalShare: " << this->PassGoalShare << "\n";
+  os << indent << "PassErrorFactor: " << this->PassErrorFactor << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "PreserveAttributeSeams: " << this->PreserveAttributeSeams << "\n";
   os << indent << "RegionArrayName: " << (this->RegionArrayName ? this->RegionArrayName : "(none)") << "\n";

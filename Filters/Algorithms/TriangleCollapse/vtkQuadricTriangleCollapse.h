@@ -181,6 +181,30 @@ public:
   ///@}
 
   ///@{
+  /// The order of the collapses: QUEUE (0, default) always performs the cheapest operation left
+  /// (one priority queue); PASSES (1) costs every triangle's cheapest operation at once, ranks
+  /// them and performs, pass by pass, the cheapest under a limit that do not touch each other's
+  /// one-rings, checked and collapsed in parallel (as meshoptimizer's simplifier; the output is the
+  /// same for any number of threads). With GenerateProgressiveMesh, ExactUnion or
+  /// AttributeErrorMetric, and for a distributed surface, the queue runs whatever this says.
+  /// PassGoalShare (default 0.5) and PassErrorFactor (default 1.5) set a pass's limit: the factor
+  /// times the cost of rank share x (triangles still to remove); smaller: more, finer passes.
+  enum CollapseScheduleType
+  {
+    QUEUE = 0,
+    PASSES = 1
+  };
+  vtkSetClampMacro(CollapseSchedule, int, QUEUE, PASSES);
+  vtkGetMacro(CollapseSchedule, int);
+  void SetCollapseScheduleToQueue() { this->SetCollapseSchedule(QUEUE); }
+  void SetCollapseScheduleToPasses() { this->SetCollapseSchedule(PASSES); }
+  vtkSetClampMacro(PassGoalShare, double, 0.001, 1.0);
+  vtkGetMacro(PassGoalShare, double);
+  vtkSetClampMacro(PassErrorFactor, double, 1.0, 100.0);
+  vtkGetMacro(PassErrorFactor, double);
+  ///@}
+
+  ///@{
   /// Attribute seams kept as features (default on; nothing changes where there are none): the
   /// vertices of a seam, border vertices with another border vertex within 1e-6 of the diagonal
   /// whose point data differ (texture seams, split normals; see slod::AttributeSeamVertexFlags),
@@ -291,6 +315,9 @@ protected:
   bool GenerateProgressiveMesh = false;
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
+  int CollapseSchedule = QUEUE;
+  double PassGoalShare = 0.5;
+  double PassErrorFactor = 1.5;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
   bool PreserveAttributeSeams = true;
   char* RegionArrayName = nullptr;
