@@ -38,6 +38,28 @@ double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
 }
 
 
+// The link edges of triangle tri: for each triangle around one of T's vertices that holds no
+// other of them, its edge (a, b) opposite that vertex, in its orientation. The triangles of
+// EditableMesh::ForEachSurvivingTriangle(tri, 3), in its order, with fewer comparisons (the
+// evaluations walk every new vertex's neighbourhood this way).
+template <typename Functor>
+void ForEachLinkEdge(const EditableMesh& m, const Index* tri, Functor&& f)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    const Index v = tri[k], next = tri[(k + 1) % 3], previous = tri[(k + 2) % 3];
+    m.ForEachTriangle(v, [&](Index x) {
+      const Index* o = m.Triangle(x);
+      const int corner = o[0] == v ? 0 : (o[1] == v ? 1 : 2);
+      const Index a = o[(corner + 1) % 3], b = o[(corner + 2) % 3];
+      if (a != next && a != previous && b != next && b != previous)
+      {
+        f(a, b);
+      }
+    });
+  }
+}
+
 // The link edge (a, b) turns counter-clockwise around point seen along normal.
 bool LinkEdgeTurns(const Vec3& a, const Vec3& b, const Vec3& point, const Vec3& normal)
 {
@@ -472,10 +494,7 @@ void CollapseHierarchy::GatherLinkEdges(const Index* tri, LinkEdges& link) const
 {
   const EditableMesh& m = this->Mesh;
   link.clear();
-  m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
-    const Index* o = m.Triangle(x);
-    link.push_back({ m.Point(o[(corner + 1) % 3]), m.Point(o[(corner + 2) % 3]) });
-  });
+  ForEachLinkEdge(m, tri, [&](Index a, Index b) { link.push_back({ m.Point(a), m.Point(b) }); });
 }
 
 // The link edges turn around point in the plane of normal: the fan of the collapse cannot fold.
@@ -497,13 +516,7 @@ bool CollapseHierarchy::StarShapedAround(const Index* tri, const Vec3& point, co
 {
   const EditableMesh& m = this->Mesh;
   bool star = true;
-  m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
-    if (star)
-    {
-      const Index* o = m.Triangle(x);
-      star = LinkEdgeTurns(m.Point(o[(corner + 1) % 3]), m.Point(o[(corner + 2) % 3]), point, normal);
-    }
-  });
+  ForEachLinkEdge(m, tri, [&](Index a, Index b) { star = star && LinkEdgeTurns(m.Point(a), m.Point(b), point, normal); });
   return star;
 }
 
