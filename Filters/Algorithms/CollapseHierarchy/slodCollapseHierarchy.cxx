@@ -2,12 +2,11 @@
 #include "slodCollapseHierarchy.h"
 
 #include "slodInputPreparation.h"
+#include "slodQuadricPoint.h"
 
 #include "vtkLogger.h"
 #include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
-
-#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
@@ -39,36 +38,33 @@ double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
 }
 
 
-// Least quadric error nearest to c: pseudo-inverse of A around c, dropping directions the planes
-// do not constrain (flat: moves along the normal only; crease: onto the crease line; corner: onto
-// the corner).
-Vec3 QuadricPointNear(const Quadric& q, const Vec3& center)
+// The link edges of triangle tri: for each triangle around one of T's vertices that holds no
+// other of them, its edge (a, b) opposite that vertex, in its orientation. The triangles of
+// EditableMesh::ForEachSurvivingTriangle(tri, 3), in its order, with fewer comparisons (the
+// evaluations walk every new vertex's neighbourhood this way).
+template <typename Functor>
+void ForEachLinkEdge(const EditableMesh& m, const Index* tri, Functor&& f)
 {
-  // Well conditioned (det > 1e-3 trace^3 implies every eigenvalue > 1e-3 of the largest): all
-  // directions are kept and the point is the plain minimum; the cofactor solve is much cheaper.
-  Vec3 minimum;
-  if (q.Minimize(minimum, 1e-3))
+  for (int k = 0; k < 3; ++k)
   {
-    return minimum;
+    const Index v = tri[k], next = tri[(k + 1) % 3], previous = tri[(k + 2) % 3];
+    m.ForEachTriangle(v, [&](Index x) {
+      const Index* o = m.Triangle(x);
+      const int corner = o[0] == v ? 0 : (o[1] == v ? 1 : 2);
+      const Index a = o[(corner + 1) % 3], b = o[(corner + 2) % 3];
+      if (a != next && a != previous && b != next && b != previous)
+      {
+        f(a, b);
+      }
+    });
   }
-  Eigen::Matrix3d A;
-  A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
-  const Eigen::Vector3d cc(center[0], center[1], center[2]);
-  const Eigen::Vector3d g = A * cc + Eigen::Vector3d(q.Bx, q.By, q.Bz);
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
-  eigen.computeDirect(A); // closed form for 3x3 (the iterative solver was a quarter of the build)
-  const Eigen::Vector3d lambda = eigen.eigenvalues();
-  const double top = std::max(std::abs(lambda[0]), std::max(std::abs(lambda[1]), std::abs(lambda[2])));
-  Eigen::Vector3d x = cc;
-  for (int i = 0; i < 3; ++i)
-  {
-    if (lambda[i] > 1e-3 * top && top > 0)
-    {
-      const Eigen::Vector3d u = eigen.eigenvectors().col(i);
-      x -= (u.dot(g) / lambda[i]) * u;
-    }
-  }
-  return { x[0], x[1], x[2] };
+}
+
+// The link edge (a, b) turns counter-clockwise around point seen along normal.
+bool LinkEdgeTurns(const Vec3& a, const Vec3& b, const Vec3& point, const Vec3& normal)
+{
+  const Vec3 u = a - point, w = b - point;
+  return Dot(Cross(u, w), normal) > 1e-12 * (Dot(u, u) + Dot(w, w));
 }
 
 // The quadric's point nearest the midpoint of edge (pu, pv), accepted when finite and within an
@@ -234,9 +230,9 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   const double error = this->CollapseError(tri, 3, q, e.Point);
   if (!(this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * error))
   {
-    this->GatherLinkEdges(tri, link);
-    if (!StarShaped(link, e.Point, frame.Normal))
+    if (!this->StarShapedAround(tri, e.Point, frame.Normal))
     {
+      this->GatherLinkEdges(tri, link);
       alternatives = this->RankAlternatives(tri, q, frame.Normal, link);
       return EvaluationRest::Unfold;
     }
@@ -498,10 +494,7 @@ void CollapseHierarchy::GatherLinkEdges(const Index* tri, LinkEdges& link) const
 {
   const EditableMesh& m = this->Mesh;
   link.clear();
-  m.ForEachSurvivingTriangle(tri, 3, [&](Index x, int corner) {
-    const Index* o = m.Triangle(x);
-    link.push_back({ m.Point(o[(corner + 1) % 3]), m.Point(o[(corner + 2) % 3]) });
-  });
+  ForEachLinkEdge(m, tri, [&](Index a, Index b) { link.push_back({ m.Point(a), m.Point(b) }); });
 }
 
 // The link edges turn around point in the plane of normal: the fan of the collapse cannot fold.
@@ -509,13 +502,22 @@ bool CollapseHierarchy::StarShaped(const LinkEdges& link, const Vec3& point, con
 {
   for (const auto& edge : link)
   {
-    const Vec3 u = edge.first - point, w = edge.second - point;
-    if (!(Dot(Cross(u, w), normal) > 1e-12 * (Dot(u, u) + Dot(w, w))))
+    if (!LinkEdgeTurns(edge.first, edge.second, point, normal))
     {
       return false;
     }
   }
   return true;
+}
+
+// StarShaped over T's link edges read from the mesh as they come: most quadric points pass, and
+// gathering the link (for the alternatives) is then not needed.
+bool CollapseHierarchy::StarShapedAround(const Index* tri, const Vec3& point, const Vec3& normal) const
+{
+  const EditableMesh& m = this->Mesh;
+  bool star = true;
+  ForEachLinkEdge(m, tri, [&](Index a, Index b) { star = star && LinkEdgeTurns(m.Point(a), m.Point(b), point, normal); });
+  return star;
 }
 
 // When the optimum would fold the stencil, the alternatives are T's corners and edge midpoints (a

@@ -284,6 +284,7 @@ private:
   void SetCollapseError(const Index* tri, const Quadric& q, Evaluation& e) const;
   void GatherLinkEdges(const Index* tri, LinkEdges& link) const;
   static bool StarShaped(const LinkEdges& link, const Vec3& point, const Vec3& normal);
+  bool StarShapedAround(const Index* tri, const Vec3& point, const Vec3& normal) const;
   int CollapsePointValence(const Index* tri) const;
   void EvaluateHubTriangle(const Index* tri, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const;
   Vec3 StencilAreaVector(const Index* tri) const;

@@ -9,6 +9,7 @@
 #include "slodEditableMesh.h"
 #include "slodMeshTopology.h"
 #include "slodQuadraticFit.h"
+#include "slodQuadricPoint.h"
 #include "slodTriangleStencil.h"
 
 #include "vtkCellArray.h"
@@ -31,6 +32,8 @@
 #include "vtkTriangleCollapseHierarchy.h"
 
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
+#include <random>
 
 #include <algorithm>
 #include <array>
@@ -163,6 +166,104 @@ TEST(QuadraticFit, LocalFrameIsOrthonormal)
 
 // ---------------------------------------------------------------------------------------------
 // Stencils and collapsibility.
+
+// The quadric point without an eigen decomposition must be the pseudo-inverse point (eigenvalues at
+// most 1e-3 of the largest dropped) that Eigen's decomposition gives, up to rounding: on random
+// rotations of spectra far from the threshold (one, two, three directions kept; a double largest
+// eigenvalue; the well-conditioned-but-small-determinant case) and on sums of plane quadrics.
+namespace
+{
+Vec3 EigenPseudoInversePoint(const Quadric& q, const Vec3& center)
+{
+  Eigen::Matrix3d A;
+  A << q.Axx, q.Axy, q.Axz, q.Axy, q.Ayy, q.Ayz, q.Axz, q.Ayz, q.Azz;
+  const Eigen::Vector3d c(center[0], center[1], center[2]);
+  const Eigen::Vector3d g = A * c + Eigen::Vector3d(q.Bx, q.By, q.Bz);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(A);
+  const Eigen::Vector3d lambda = eigen.eigenvalues();
+  const double top = lambda.cwiseAbs().maxCoeff();
+  Eigen::Vector3d x = c;
+  for (int i = 0; i < 3; ++i)
+  {
+    if (lambda[i] > 1e-3 * top)
+    {
+      x -= (eigen.eigenvectors().col(i).dot(g) / lambda[i]) * eigen.eigenvectors().col(i);
+    }
+  }
+  return { x[0], x[1], x[2] };
+}
+
+Quadric QuadricWithSpectrum(const double (&lambda)[3], std::mt19937& random)
+{
+  std::normal_distribution<double> normal;
+  const Eigen::Matrix3d R = Eigen::Quaterniond(normal(random), normal(random), normal(random), normal(random))
+                              .normalized()
+                              .toRotationMatrix();
+  const Eigen::Matrix3d A = R * Eigen::Vector3d(lambda[0], lambda[1], lambda[2]).asDiagonal() * R.transpose();
+  Quadric q;
+  q.Axx = A(0, 0);
+  q.Axy = A(0, 1);
+  q.Axz = A(0, 2);
+  q.Ayy = A(1, 1);
+  q.Ayz = A(1, 2);
+  q.Azz = A(2, 2);
+  q.Bx = normal(random);
+  q.By = normal(random);
+  q.Bz = normal(random);
+  return q;
+}
+}
+
+TEST(QuadricPoint, MatchesTheEigenPseudoInverse)
+{
+  std::mt19937 random(12);
+  std::normal_distribution<double> normal;
+  const double spectra[][3] = { { 1, 1e-6, 0 }, { 3, 1e-5, 1e-9 }, { 1, 0.3, 1e-7 }, { 1, 1, 1e-8 },
+    { 1, 0.5, 0.02 }, { 2, 0.05, 0.01 }, { 1, 1, 1 }, { 5, 4, 3 }, { 1, 1e-5, 1e-5 } };
+  for (const auto& spectrum : spectra)
+  {
+    for (int trial = 0; trial < 200; ++trial)
+    {
+      const Quadric q = QuadricWithSpectrum(spectrum, random);
+      double lambda[3];
+      QuadricEigenvalues(q, lambda);
+      const double largest = std::max({ spectrum[0], spectrum[1], spectrum[2] });
+      EXPECT_NEAR(lambda[0], largest, 1e-5 * largest); // a double root converges to about 1e-6
+      const Vec3 center{ normal(random), normal(random), normal(random) };
+      const Vec3 expected = EigenPseudoInversePoint(q, center);
+      const Vec3 point = QuadricPointNear(q, center);
+      const double scale = 1 + Norm(expected - center);
+      ASSERT_LT(Norm(point - expected), 1e-8 * scale)
+        << "spectrum " << spectrum[0] << " " << spectrum[1] << " " << spectrum[2] << " trial " << trial;
+    }
+  }
+  // Sums of plane quadrics as the hierarchy builds them: nearly one plane, a crease, a corner.
+  for (int trial = 0; trial < 300; ++trial)
+  {
+    const int kind = trial % 3;
+    Quadric q;
+    for (int plane = 0; plane < 12; ++plane)
+    {
+      Vec3 n{ 0.001 * normal(random), 0.001 * normal(random), 1 };
+      if (kind >= 1 && plane % 2 == 1)
+      {
+        n = { 1, 0.001 * normal(random), 0.001 * normal(random) };
+      }
+      if (kind == 2 && plane % 3 == 2)
+      {
+        n = { 0.001 * normal(random), 1, 0.001 * normal(random) };
+      }
+      const Vec3 p{ normal(random), normal(random), normal(random) };
+      q += Quadric::FromPointNormal(p, Normalized(n), 1 + std::abs(normal(random)));
+    }
+    const Vec3 center{ normal(random), normal(random), normal(random) };
+    const Vec3 expected = EigenPseudoInversePoint(q, center);
+    ASSERT_LT(Norm(QuadricPointNear(q, center) - expected), 1e-8 * (1 + Norm(expected - center))) << "trial " << trial;
+  }
+  // Degenerate input gives the center back.
+  const Vec3 center{ 1, 2, 3 };
+  EXPECT_EQ(QuadricPointNear(Quadric(), center), center);
+}
 
 TEST(TriangleStencil, InteriorTriangleOfRegularGridIsComplete)
 {
@@ -838,35 +939,40 @@ TEST(CollapseHierarchy, Deterministic)
   }
 }
 
-// The evaluations run in parallel (vtkSMPTools): one thread and two must build the same hierarchy,
-// bit for bit (every collapse, its point and level, every level's mesh).
-TEST(CollapseHierarchy, SameHierarchyOnOneAndTwoThreads)
+// The evaluations run in parallel (vtkSMPTools): one thread, two and eight must build the same
+// hierarchy, bit for bit (every collapse, its point and level, every level's mesh).
+TEST(CollapseHierarchy, SameHierarchyOnOneTwoAndEightThreads)
 {
   const TriangleMesh input = ToTriangleMesh(LoadTestMesh("bunny00"));
-  CollapseHierarchy serial, parallel;
+  CollapseHierarchy serial;
   vtkSMPTools::LocalScope(vtkSMPTools::Config{ 1 }, [&]() { ASSERT_TRUE(serial.Build(input, DefaultParameters())); });
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ 2 }, [&]() { ASSERT_TRUE(parallel.Build(input, DefaultParameters())); });
-  ASSERT_EQ(serial.NumberOfLevels(), parallel.NumberOfLevels());
-  ASSERT_EQ(serial.NumberOfCollapses(), parallel.NumberOfCollapses());
   ASSERT_GT(serial.NumberOfCollapses(), input.NumberOfTriangles() / 4);
-  EXPECT_EQ(serial.NumberOfSwaps(), parallel.NumberOfSwaps());
-  for (Index k = 0; k < serial.NumberOfCollapses(); ++k)
+  for (int threads : { 2, 8 })
   {
-    const HierarchyCollapse& a = serial.GetCollapse(k);
-    const HierarchyCollapse& b = parallel.GetCollapse(k);
-    ASSERT_EQ(a.Count, b.Count) << "collapse " << k;
-    ASSERT_EQ(a.Level, b.Level) << "collapse " << k;
-    ASSERT_EQ(a.Triangle, b.Triangle) << "collapse " << k;
-    ASSERT_EQ(a.Weight, b.Weight) << "collapse " << k;
-    ASSERT_EQ(serial.Vertex(a.Point), parallel.Vertex(b.Point)) << "collapse " << k;
-  }
-  for (int level = 0; level < serial.NumberOfLevels(); level += 7)
-  {
-    HierarchyMesh a, b;
-    serial.ExtractLevel(level + 0.5, a);
-    parallel.ExtractLevel(level + 0.5, b);
-    EXPECT_EQ(a.Points, b.Points) << "level " << level;
-    EXPECT_EQ(a.Triangles, b.Triangles) << "level " << level;
+    CollapseHierarchy parallel;
+    vtkSMPTools::LocalScope(
+      vtkSMPTools::Config{ threads }, [&]() { ASSERT_TRUE(parallel.Build(input, DefaultParameters())); });
+    ASSERT_EQ(serial.NumberOfLevels(), parallel.NumberOfLevels()) << threads << " threads";
+    ASSERT_EQ(serial.NumberOfCollapses(), parallel.NumberOfCollapses()) << threads << " threads";
+    EXPECT_EQ(serial.NumberOfSwaps(), parallel.NumberOfSwaps()) << threads << " threads";
+    for (Index k = 0; k < serial.NumberOfCollapses(); ++k)
+    {
+      const HierarchyCollapse& a = serial.GetCollapse(k);
+      const HierarchyCollapse& b = parallel.GetCollapse(k);
+      ASSERT_EQ(a.Count, b.Count) << "collapse " << k << ", " << threads << " threads";
+      ASSERT_EQ(a.Level, b.Level) << "collapse " << k << ", " << threads << " threads";
+      ASSERT_EQ(a.Triangle, b.Triangle) << "collapse " << k << ", " << threads << " threads";
+      ASSERT_EQ(a.Weight, b.Weight) << "collapse " << k << ", " << threads << " threads";
+      ASSERT_EQ(serial.Vertex(a.Point), parallel.Vertex(b.Point)) << "collapse " << k << ", " << threads << " threads";
+    }
+    for (int level = 0; level < serial.NumberOfLevels(); level += 7)
+    {
+      HierarchyMesh a, b;
+      serial.ExtractLevel(level + 0.5, a);
+      parallel.ExtractLevel(level + 0.5, b);
+      EXPECT_EQ(a.Points, b.Points) << "level " << level << ", " << threads << " threads";
+      EXPECT_EQ(a.Triangles, b.Triangles) << "level " << level << ", " << threads << " threads";
+    }
   }
 }
 
