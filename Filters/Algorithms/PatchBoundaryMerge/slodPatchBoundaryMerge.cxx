@@ -376,6 +376,22 @@ Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& para
   return key.Count;
 }
 
+Index SpbmLevelGenerator::FinestLevelLowerBound() const
+{
+  // A level has sum over root patches of (boundary size - 2) triangles; a boundary counts the
+  // kept interior vertices of its chains on each side (interior vertices are never removed at full
+  // resolution: merges and collapses take one-segment chains, a join keeps both chains'
+  // vertices), and there are at most as many roots as patches.
+  const Patchification& P = *this->Patches;
+  long long bound = -2 * (long long)P.NumberOfPatches();
+  for (Index c = 0; c < P.NumberOfChains(); ++c)
+  {
+    const long long sides = P.ChainRightPatch(c) != InvalidIndex ? 2 : 1;
+    bound += sides * std::max<Index>(0, P.ChainSize(c) - 2);
+  }
+  return static_cast<Index>(std::max(0LL, std::min<long long>(bound, std::numeric_limits<Index>::max())));
+}
+
 SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   Index target, const SpbmLevelParameters& base, Index* predicted)
 {

@@ -152,6 +152,11 @@ public:
   // Triangle count of the level (before fallbacks) without triangulating: cheap, for searches.
   Index PredictTriangleCount(const SpbmLevelParameters& parameters);
 
+  // A lower bound of the finest level's count (every chain vertex kept) without a merging run:
+  // at full resolution only one-segment chains merge or collapse, and joins keep every interior
+  // chain vertex, so every patch boundary keeps the interior vertices of its chains.
+  Index FinestLevelLowerBound() const;
+
   // Generates the level. Returns false only when aborted through `abort`.
   bool Generate(const SpbmLevelParameters& parameters, SpbmLevel& level,
     const std::function<bool()>& abort = nullptr);
