@@ -237,24 +237,8 @@ void SpbmLevelGenerator::MergingRun::ForPatchChains(Index p, Functor&& f)
 void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& frozen)
 {
   const auto runStart = StageClock::now();
-  this->ResetChainGraph(frozen);
-  if (parameters.FlatnessMerge)
-  {
-    this->CopyPatchSupport();
-  }
-  // Kept vertices of every chain for its tolerance (a prefix of its key order),
-  // patch sizes.
-  this->RebuildKept();
-  this->ComputeMergeThreshold();
-  const auto refinementStart = StageClock::now();
-  this->RefineNonSimplePatches(frozen);
-  const double refinementSeconds = Since(refinementStart);
-  s.Times.Refinement += refinementSeconds;
-  s.Total = 0;
-  for (Index p = 0; p < np; ++p)
-  {
-    s.Total += s.Size[p] - 2;
-  }
+  this->ResetForRun(frozen);
+  const double refinementSeconds = Since(runStart);
   if (!parameters.MergePatches && !parameters.CollapseChains)
   {
     return;
@@ -267,12 +251,44 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
   this->RemoveDownToTarget();
   // Profiling aid: where a level's merging runs spend their time (search, fallback passes, tries).
   vtkLogF(TRACE,
-    "[spbm] merging run %.4f s: refinement %.4f s, merging %.4f s (%lld triangles), removal %.4f s (%lld triangles)",
+    "[spbm] merging run %.4f s: reset and refinement %.4f s, merging %.4f s (%lld triangles), removal %.4f s (%lld "
+    "triangles)",
     Since(runStart), refinementSeconds, mergingSeconds, merged, Since(removalStart), s.Total);
+}
+
+// Stages 1-2: the chain graph of the patchification with the kept vertices of every chain's
+// tolerance (a prefix of its key order) and the patch sizes; the edit record starts empty.
+void SpbmLevelGenerator::MergingRun::ResetForRun(const std::vector<unsigned char>& frozen)
+{
+  this->ResetChainGraph(frozen);
+  if (parameters.FlatnessMerge)
+  {
+    this->CopyPatchSupport();
+  }
+  this->RebuildKept();
+  this->ComputeMergeThreshold();
+  const auto refinementStart = StageClock::now();
+  this->RefineNonSimplePatches(frozen);
+  s.Times.Refinement += Since(refinementStart);
+  s.Total = 0;
+  for (Index p = 0; p < np; ++p)
+  {
+    s.Total += s.Size[p] - 2;
+  }
+  s.Edits.clear();
+  s.EditsRemovalBegin = 0;
+  s.EditsValid = true;
+  s.EditsOf = PredictionMemo::Of(parameters);
+  s.EditsTolerance = s.Tolerance;
+  s.EditsLocked = s.Locked;
+  s.EditsFrozen = frozen;
+  s.DirtyPatch.clear();
 }
 
 void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()
 {
+  s.EditsRemovalBegin = s.Edits.size();
+  s.EditsOf = PredictionMemo::Of(parameters);
   if (parameters.RemovalTarget > 0 && s.Total > parameters.RemovalTarget && parameters.CollapseChains)
   {
     this->RemoveCheapest();
@@ -418,7 +434,9 @@ void SpbmLevelGenerator::MergingRun::ComputeMergeThreshold()
 // epsilon only (not on alpha1): searches over alpha1 reuse it.
 void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<unsigned char>& frozen)
 {
-  const bool anyFrozen = std::any_of(frozen.begin(), frozen.end(), [](unsigned char f) { return f != 0; });
+  // Unmerged patches (fallback level 1) keep epsilon on their chains: the refinement is the same
+  // as without them. Finer levels change the tolerances it starts from.
+  const bool anyFrozen = std::any_of(frozen.begin(), frozen.end(), [](unsigned char f) { return f > 1; });
   const bool reuse = !anyFrozen && s.RefinedValid && s.RefinedEpsilon == eps;
   if (reuse)
   {
@@ -504,6 +522,12 @@ void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
   {
     this->PushCandidate(c);
   }
+  this->DrainMergeQueue();
+}
+
+// Pops merge candidates until none is left (see MergeInMeasureOrder).
+void SpbmLevelGenerator::MergingRun::DrainMergeQueue()
+{
   while (!s.Heap.empty())
   {
     std::pop_heap(s.Heap.begin(), s.Heap.end());
@@ -1073,6 +1097,7 @@ bool SpbmLevelGenerator::MergingRun::CollapseKeepsSimple(Index p, Index q, Index
 void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, Index keep, Index gone)
 {
   ++graphEdits; // the kept boundary walks are stale
+  this->Record(CollapseEdit, { e, p, q, keep, gone, collapseRoot });
   s.Alive[e] = 0;
   s.ForEndChains(gone, [&](Index c) {
     if (s.A[c] == gone)
@@ -1099,11 +1124,19 @@ void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, In
   s.Total -= 2;
 }
 
-void SpbmLevelGenerator::MergingRun::TryCollapses(Index x, Index exclude)
+// Length of the longest chain (endpoint to endpoint) of root patch x: condition (c)'s scale.
+double SpbmLevelGenerator::MergingRun::LongestChain(Index x)
 {
   double longest = 0;
   this->ForPatchChains(
     x, [&](Index c) { longest = std::max(longest, Norm(this->EndpointPoint(s.B[c]) - this->EndpointPoint(s.A[c]))); });
+  return longest;
+}
+
+void SpbmLevelGenerator::MergingRun::TryCollapses(Index x, Index exclude)
+{
+  collapseRoot = x;
+  const double longest = this->LongestChain(x);
   this->ForPatchChains(x, [&](Index c) {
     if (c != exclude)
     {
@@ -1285,6 +1318,7 @@ void SpbmLevelGenerator::MergingRun::ApplyJoin(Index x, Index y, Index u, Index 
   --s.Size[xl];
   --s.Size[xr];
   s.Total -= 2;
+  this->Record(JoinEdit, { x, y, u, oy, xl, xr, yl });
 }
 
 bool SpbmLevelGenerator::MergingRun::TryMerge(Index c, Index p, Index q)
@@ -1377,6 +1411,11 @@ void SpbmLevelGenerator::MergingRun::UniteSupport(Index p, Index q)
 void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
 {
   ++graphEdits; // the kept boundary walks are stale
+  this->Record(UniteEdit, { c, p, q });
+  if (!s.DirtyPatch.empty())
+  {
+    s.DirtyPatch[p] |= s.DirtyPatch[q];
+  }
   s.Parent[q] = p;
   s.Version[p] += s.Version[q] + 1;
   s.Normal[p] = s.Normal[p] + s.Normal[q];
@@ -1398,8 +1437,11 @@ void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
   s.Alive[c] = 0;
   --s.Degree[s.A[c]];
   --s.Degree[s.B[c]];
-  this->TryJoin(s.A[c]);
-  this->TryJoin(s.B[c]);
+  if (!replaying)
+  {
+    this->TryJoin(s.A[c]);
+    this->TryJoin(s.B[c]);
+  }
 }
 
 // --- Cost-ordered removal (RemovalTarget) ---
