@@ -259,7 +259,7 @@ size_t SpbmLevelGenerator::MemoryUsage() const
       b(s.PartLast) + b(s.PartNext) + b(s.JointBefore) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) +
       b(s.Degree) + b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) +
       b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Normal) + b(s.UnitNormal) + b(s.Support) + b(s.Frozen) +
-      b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.NoFreeze) +
+      b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + s.MergeQueue.MemoryBytes() + b(s.NoFreeze) +
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
       b(s.SimpleSignature) + b(s.Memo) + b(s.Edits) + b(s.EditsTolerance) + b(s.EditsLocked) +
       b(s.EditsFrozen) + b(s.DirtyPatch) + b(s.DirtyEnd);

@@ -516,8 +516,7 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
 // again only after its boundary grew by half (WalkDue).
 void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
 {
-  s.Heap.clear();
-  s.HeapTop.assign(size_t(nc), -std::numeric_limits<double>::infinity());
+  s.MergeQueue.Reset(nc);
   for (Index c = 0; c < nc; ++c)
   {
     this->PushCandidate(c);
@@ -528,16 +527,10 @@ void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
 // Pops merge candidates until none is left (see MergeInMeasureOrder).
 void SpbmLevelGenerator::MergingRun::DrainMergeQueue()
 {
-  while (!s.Heap.empty())
+  while (!s.MergeQueue.Empty())
   {
-    std::pop_heap(s.Heap.begin(), s.Heap.end());
-    const auto entry = s.Heap.back();
-    s.Heap.pop_back();
-    const Index c = entry.second;
-    if (entry.first >= s.HeapTop[c])
-    {
-      s.HeapTop[c] = -std::numeric_limits<double>::infinity();
-    }
+    const double queued = -s.MergeQueue.TopKey();
+    const Index c = s.MergeQueue.Pop();
     if (!this->Movable(c))
     {
       continue;
@@ -548,7 +541,7 @@ void SpbmLevelGenerator::MergingRun::DrainMergeQueue()
       continue;
     }
     const double d = this->MergeMeasure(p, q);
-    if (d < entry.first - 1e-12)
+    if (d < queued - 1e-12)
     {
       this->PushCandidate(c); // normals changed since: requeue with the current value
       continue;
@@ -787,14 +780,12 @@ void SpbmLevelGenerator::MergingRun::PushCandidate(Index c)
     return;
   }
   const double d = this->MergeMeasure(p, q);
-  // An entry at least as high is already queued: it pops first and is
-  // re-evaluated then (merged patches re-push all their chains; this keeps the
-  // heap from filling with duplicates).
-  if (d >= mergeThreshold && d > s.HeapTop[c])
+  // One entry per chain (slod::IndexedHeap, keyed by minus the measure): a higher measure moves
+  // it up, a lower one leaves it (re-evaluated when it pops). Equal measures pop by chain id, the
+  // lower first (the explicit tie-break).
+  if (d >= mergeThreshold)
   {
-    s.Heap.emplace_back(d, c);
-    std::push_heap(s.Heap.begin(), s.Heap.end());
-    s.HeapTop[c] = d;
+    s.MergeQueue.Lower(c, -d);
   }
 }
 
@@ -1454,8 +1445,8 @@ void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
 // pushed only when its cost rose.
 void SpbmLevelGenerator::MergingRun::RemoveCheapest()
 {
-  removalHeap.clear();
   joinBase = 2 * nc;
+  removalQueue.Reset(joinBase + ne);
   for (Index c = 0; c < nc; ++c)
   {
     if (this->RemovableChain(c))
@@ -1470,21 +1461,18 @@ void SpbmLevelGenerator::MergingRun::RemoveCheapest()
   }
   const long long target = parameters.RemovalTarget;
   const double infinite = std::numeric_limits<double>::infinity();
-  while (s.Total > target && !removalHeap.empty())
+  while (s.Total > target && !removalQueue.Empty())
   {
-    std::pop_heap(removalHeap.begin(), removalHeap.end());
-    const std::pair<double, Index> entry = removalHeap.back();
-    removalHeap.pop_back();
-    const Index op = entry.second;
+    const double queued = removalQueue.TopKey();
+    const Index op = removalQueue.Pop();
     const double cost = this->RemovalCost(op);
     if (cost == infinite)
     {
       continue;
     }
-    if (cost > -entry.first * (1 + 1e-9) + 1e-300)
+    if (cost > queued * (1 + 1e-9) + 1e-300)
     {
-      removalHeap.emplace_back(-cost, op); // the neighbourhood changed: requeue at its current cost
-      std::push_heap(removalHeap.begin(), removalHeap.end());
+      removalQueue.Set(op, cost); // the neighbourhood changed: requeue at its current cost
       continue;
     }
     Index touched[2] = { InvalidIndex, InvalidIndex };
@@ -1628,10 +1616,15 @@ double SpbmLevelGenerator::MergingRun::RemovalCost(Index op)
 void SpbmLevelGenerator::MergingRun::PushRemoval(Index op)
 {
   const double cost = this->RemovalCost(op);
+  // One entry per operation at its current cost (slod::IndexedHeap); equal costs pop by operation
+  // id, the lower first (the explicit tie-break).
   if (cost < std::numeric_limits<double>::infinity())
   {
-    removalHeap.emplace_back(-cost, op);
-    std::push_heap(removalHeap.begin(), removalHeap.end());
+    removalQueue.Set(op, cost);
+  }
+  else
+  {
+    removalQueue.Remove(op);
   }
 }
 

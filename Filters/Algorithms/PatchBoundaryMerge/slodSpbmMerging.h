@@ -19,6 +19,7 @@
 #ifndef slodSpbmMerging_h
 #define slodSpbmMerging_h
 
+#include "slodIndexedHeap.h"
 #include "slodSpbmState.h"
 
 #include <initializer_list>
@@ -138,7 +139,7 @@ private:
   std::vector<Index> orientedChains, absorbedChains;
   std::vector<Vec3> chainForward, checkPoints, chainPoints, mergedPoints;
   std::vector<unsigned char> chainKept;
-  std::vector<std::pair<double, Index>> removalHeap; // (-cost, operation)
+  IndexedHeap<double> removalQueue; // removal operations by cost
   // The last boundary walks (BoundaryPoints), valid while no edit of the chain graph happened.
   struct BoundaryWalk
   {

@@ -317,8 +317,7 @@ void SpbmLevelGenerator::MergingRun::MergeAroundDirty()
   {
     return;
   }
-  s.Heap.clear();
-  s.HeapTop.assign(size_t(nc), -std::numeric_limits<double>::infinity());
+  s.MergeQueue.Reset(nc);
   for (Index c = 0; c < nc; ++c)
   {
     if (s.Alive[c] && s.R[c] != InvalidIndex && (s.DirtyPatch[s.Find(s.L[c])] || s.DirtyPatch[s.Find(s.R[c])]))

@@ -6,6 +6,7 @@
 #ifndef slodSpbmState_h
 #define slodSpbmState_h
 
+#include "slodIndexedHeap.h"
 #include "slodPatchBoundaryMerge.h"
 
 #include "vtkSMPTools.h"
@@ -251,9 +252,8 @@ struct SpbmLevelGenerator::State
   // Scratch.
   std::vector<Index> PatchStamp, EndStamp, EndLocal, VertexStamp;
   Index Stamp = 0;
-  std::vector<std::pair<double, Index>> Heap;
+  IndexedHeap<double> MergeQueue; // merge candidates (chains) by minus their merge measure
   spbm::PolygonScratch SimplePolygonScratch;
-  std::vector<double> HeapTop; // per chain: the highest value it has in the heap (or -infinity)
   std::vector<unsigned char> NoFreeze;
   // Generation buffers.
   std::vector<Index> SeqOffsets, SeqVertices;
