@@ -259,9 +259,10 @@ size_t SpbmLevelGenerator::MemoryUsage() const
       b(s.PartLast) + b(s.PartNext) + b(s.JointBefore) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) +
       b(s.Degree) + b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) +
       b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Normal) + b(s.UnitNormal) + b(s.Support) + b(s.Frozen) +
-      b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + b(s.Heap) + b(s.HeapTop) + b(s.NoFreeze) +
+      b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + s.MergeQueue.MemoryBytes() + b(s.NoFreeze) +
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
-      b(s.SimpleSignature) + b(s.Memo);
+      b(s.SimpleSignature) + b(s.Memo) + b(s.Edits) + b(s.EditsTolerance) + b(s.EditsLocked) +
+      b(s.EditsFrozen) + b(s.DirtyPatch) + b(s.DirtyEnd);
   }
   for (const TriangleBVH* tree : { this->InputTree.get(), this->BuiltTree.get() })
   {
@@ -376,6 +377,31 @@ Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& para
   return key.Count;
 }
 
+Index SpbmLevelGenerator::FinestLevelLowerBound() const
+{
+  // A level has sum over root patches of (boundary size - 2) triangles. Two bounds: (1) a
+  // boundary counts the kept interior vertices of its chains on each side (interior vertices are
+  // never removed at full resolution: merges and collapses take one-segment chains, a join keeps
+  // both chains' vertices), and there are at most as many roots as patches; (2) merges keep the
+  // count and every collapse or join removes one endpoint not on the border (two triangles) from
+  // the unmerged patches' count.
+  const Patchification& P = *this->Patches;
+  long long interiorBound = -2 * (long long)P.NumberOfPatches();
+  long long endpointBound = interiorBound;
+  for (Index c = 0; c < P.NumberOfChains(); ++c)
+  {
+    const long long sides = P.ChainRightPatch(c) != InvalidIndex ? 2 : 1;
+    interiorBound += sides * std::max<Index>(0, P.ChainSize(c) - 2);
+    endpointBound += sides * std::max<Index>(1, P.ChainSize(c) - 1);
+  }
+  for (Index e = 0; e < P.NumberOfEndpoints(); ++e)
+  {
+    endpointBound -= P.EndpointOnBorder(e) ? 0 : 2;
+  }
+  const long long bound = std::max(interiorBound, endpointBound);
+  return static_cast<Index>(std::max(0LL, std::min<long long>(bound, std::numeric_limits<Index>::max())));
+}
+
 SpbmLevelParameters SpbmLevelGenerator::FindParameters(
   Index target, const SpbmLevelParameters& base, Index* predicted)
 {
@@ -422,7 +448,11 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     // still in the state (the merging run depends on the parameters and frozen patches only).
     const auto passStart = StageClock::now();
     const bool held = pass == 1 && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters));
-    if (!held && unmergedAny)
+    if (!held && unmergedAny && parameters.ReplayFallbackPasses && this->ReplayMerging(parameters, frozen, s))
+    {
+      ++level.ReplayedPasses;
+    }
+    else if (!held && unmergedAny)
     {
       this->RunMerging(parameters, frozen, s);
     }

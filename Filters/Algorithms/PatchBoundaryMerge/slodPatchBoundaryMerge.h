@@ -94,6 +94,9 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // alpha1 at the same target, and keep the level with the smallest EstimateDeviation. Without
   // it, the other measures are still compared when the count comes from the removal (no search).
   bool CompareCandidates = true;
+  // A fallback pass that unmerges patches replays the previous pass's recorded merging edits with
+  // them frozen and merges again only around them (off: a whole merging run per such pass).
+  bool ReplayFallbackPasses = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
   // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices
@@ -123,6 +126,7 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   Index RefinedPatches = 0;
   Index OriginalPatches = 0;
   int Passes = 0;               // generation passes (1 without fallback)
+  int ReplayedPasses = 0;       // passes that replayed the previous pass's merging (ReplayFallbackPasses)
 };
 
 class SURFACELODFILTERS_EXPORT SpbmLevelGenerator
@@ -151,6 +155,11 @@ public:
 
   // Triangle count of the level (before fallbacks) without triangulating: cheap, for searches.
   Index PredictTriangleCount(const SpbmLevelParameters& parameters);
+
+  // A lower bound of the finest level's count (every chain vertex kept) without a merging run:
+  // at full resolution only one-segment chains merge or collapse, joins keep every interior
+  // chain vertex, and each collapse or join removes one endpoint off the border.
+  Index FinestLevelLowerBound() const;
 
   // Generates the level. Returns false only when aborted through `abort`.
   bool Generate(const SpbmLevelParameters& parameters, SpbmLevel& level,
@@ -225,6 +234,9 @@ private:
   // The search of FindParameters (slodSpbmTargetSearch.cxx).
   class TargetSearch;
   void RunMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
+  // A fallback pass that unmerged patches: the held run's edits replayed with them frozen
+  // (slodSpbmReplay.cxx); false when `s` holds no recorded run of these parameters.
+  bool ReplayMerging(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& frozen, State& s);
   // The cost-ordered removal of `parameters` on a state that holds the merging run of the same
   // parameters without it (the merging stages do not depend on RemovalTarget).
   void ContinueWithRemoval(const SpbmLevelParameters& parameters, State& s);

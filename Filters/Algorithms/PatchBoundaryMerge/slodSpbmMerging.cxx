@@ -237,24 +237,8 @@ void SpbmLevelGenerator::MergingRun::ForPatchChains(Index p, Functor&& f)
 void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& frozen)
 {
   const auto runStart = StageClock::now();
-  this->ResetChainGraph(frozen);
-  if (parameters.FlatnessMerge)
-  {
-    this->CopyPatchSupport();
-  }
-  // Kept vertices of every chain for its tolerance (a prefix of its key order),
-  // patch sizes.
-  this->RebuildKept();
-  this->ComputeMergeThreshold();
-  const auto refinementStart = StageClock::now();
-  this->RefineNonSimplePatches(frozen);
-  const double refinementSeconds = Since(refinementStart);
-  s.Times.Refinement += refinementSeconds;
-  s.Total = 0;
-  for (Index p = 0; p < np; ++p)
-  {
-    s.Total += s.Size[p] - 2;
-  }
+  this->ResetForRun(frozen);
+  const double refinementSeconds = Since(runStart);
   if (!parameters.MergePatches && !parameters.CollapseChains)
   {
     return;
@@ -267,12 +251,44 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
   this->RemoveDownToTarget();
   // Profiling aid: where a level's merging runs spend their time (search, fallback passes, tries).
   vtkLogF(TRACE,
-    "[spbm] merging run %.4f s: refinement %.4f s, merging %.4f s (%lld triangles), removal %.4f s (%lld triangles)",
+    "[spbm] merging run %.4f s: reset and refinement %.4f s, merging %.4f s (%lld triangles), removal %.4f s (%lld "
+    "triangles)",
     Since(runStart), refinementSeconds, mergingSeconds, merged, Since(removalStart), s.Total);
+}
+
+// Stages 1-2: the chain graph of the patchification with the kept vertices of every chain's
+// tolerance (a prefix of its key order) and the patch sizes; the edit record starts empty.
+void SpbmLevelGenerator::MergingRun::ResetForRun(const std::vector<unsigned char>& frozen)
+{
+  this->ResetChainGraph(frozen);
+  if (parameters.FlatnessMerge)
+  {
+    this->CopyPatchSupport();
+  }
+  this->RebuildKept();
+  this->ComputeMergeThreshold();
+  const auto refinementStart = StageClock::now();
+  this->RefineNonSimplePatches(frozen);
+  s.Times.Refinement += Since(refinementStart);
+  s.Total = 0;
+  for (Index p = 0; p < np; ++p)
+  {
+    s.Total += s.Size[p] - 2;
+  }
+  s.Edits.clear();
+  s.EditsRemovalBegin = 0;
+  s.EditsValid = true;
+  s.EditsOf = PredictionMemo::Of(parameters);
+  s.EditsTolerance = s.Tolerance;
+  s.EditsLocked = s.Locked;
+  s.EditsFrozen = frozen;
+  s.DirtyPatch.clear();
 }
 
 void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()
 {
+  s.EditsRemovalBegin = s.Edits.size();
+  s.EditsOf = PredictionMemo::Of(parameters);
   if (parameters.RemovalTarget > 0 && s.Total > parameters.RemovalTarget && parameters.CollapseChains)
   {
     this->RemoveCheapest();
@@ -418,7 +434,9 @@ void SpbmLevelGenerator::MergingRun::ComputeMergeThreshold()
 // epsilon only (not on alpha1): searches over alpha1 reuse it.
 void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<unsigned char>& frozen)
 {
-  const bool anyFrozen = std::any_of(frozen.begin(), frozen.end(), [](unsigned char f) { return f != 0; });
+  // Unmerged patches (fallback level 1) keep epsilon on their chains: the refinement is the same
+  // as without them. Finer levels change the tolerances it starts from.
+  const bool anyFrozen = std::any_of(frozen.begin(), frozen.end(), [](unsigned char f) { return f > 1; });
   const bool reuse = !anyFrozen && s.RefinedValid && s.RefinedEpsilon == eps;
   if (reuse)
   {
@@ -498,22 +516,21 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
 // again only after its boundary grew by half (WalkDue).
 void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
 {
-  s.Heap.clear();
-  s.HeapTop.assign(size_t(nc), -std::numeric_limits<double>::infinity());
+  s.MergeQueue.Reset(nc);
   for (Index c = 0; c < nc; ++c)
   {
     this->PushCandidate(c);
   }
-  while (!s.Heap.empty())
+  this->DrainMergeQueue();
+}
+
+// Pops merge candidates until none is left (see MergeInMeasureOrder).
+void SpbmLevelGenerator::MergingRun::DrainMergeQueue()
+{
+  while (!s.MergeQueue.Empty())
   {
-    std::pop_heap(s.Heap.begin(), s.Heap.end());
-    const auto entry = s.Heap.back();
-    s.Heap.pop_back();
-    const Index c = entry.second;
-    if (entry.first >= s.HeapTop[c])
-    {
-      s.HeapTop[c] = -std::numeric_limits<double>::infinity();
-    }
+    const double queued = -s.MergeQueue.TopKey();
+    const Index c = s.MergeQueue.Pop();
     if (!this->Movable(c))
     {
       continue;
@@ -524,7 +541,7 @@ void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
       continue;
     }
     const double d = this->MergeMeasure(p, q);
-    if (d < entry.first - 1e-12)
+    if (d < queued - 1e-12)
     {
       this->PushCandidate(c); // normals changed since: requeue with the current value
       continue;
@@ -763,14 +780,12 @@ void SpbmLevelGenerator::MergingRun::PushCandidate(Index c)
     return;
   }
   const double d = this->MergeMeasure(p, q);
-  // An entry at least as high is already queued: it pops first and is
-  // re-evaluated then (merged patches re-push all their chains; this keeps the
-  // heap from filling with duplicates).
-  if (d >= mergeThreshold && d > s.HeapTop[c])
+  // One entry per chain (slod::IndexedHeap, keyed by minus the measure): a higher measure moves
+  // it up, a lower one leaves it (re-evaluated when it pops). Equal measures pop by chain id, the
+  // lower first (the explicit tie-break).
+  if (d >= mergeThreshold)
   {
-    s.Heap.emplace_back(d, c);
-    std::push_heap(s.Heap.begin(), s.Heap.end());
-    s.HeapTop[c] = d;
+    s.MergeQueue.Lower(c, -d);
   }
 }
 
@@ -1073,6 +1088,7 @@ bool SpbmLevelGenerator::MergingRun::CollapseKeepsSimple(Index p, Index q, Index
 void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, Index keep, Index gone)
 {
   ++graphEdits; // the kept boundary walks are stale
+  this->Record(CollapseEdit, { e, p, q, keep, gone, collapseRoot });
   s.Alive[e] = 0;
   s.ForEndChains(gone, [&](Index c) {
     if (s.A[c] == gone)
@@ -1099,11 +1115,19 @@ void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, In
   s.Total -= 2;
 }
 
-void SpbmLevelGenerator::MergingRun::TryCollapses(Index x, Index exclude)
+// Length of the longest chain (endpoint to endpoint) of root patch x: condition (c)'s scale.
+double SpbmLevelGenerator::MergingRun::LongestChain(Index x)
 {
   double longest = 0;
   this->ForPatchChains(
     x, [&](Index c) { longest = std::max(longest, Norm(this->EndpointPoint(s.B[c]) - this->EndpointPoint(s.A[c]))); });
+  return longest;
+}
+
+void SpbmLevelGenerator::MergingRun::TryCollapses(Index x, Index exclude)
+{
+  collapseRoot = x;
+  const double longest = this->LongestChain(x);
   this->ForPatchChains(x, [&](Index c) {
     if (c != exclude)
     {
@@ -1285,6 +1309,7 @@ void SpbmLevelGenerator::MergingRun::ApplyJoin(Index x, Index y, Index u, Index 
   --s.Size[xl];
   --s.Size[xr];
   s.Total -= 2;
+  this->Record(JoinEdit, { x, y, u, oy, xl, xr, yl });
 }
 
 bool SpbmLevelGenerator::MergingRun::TryMerge(Index c, Index p, Index q)
@@ -1377,6 +1402,11 @@ void SpbmLevelGenerator::MergingRun::UniteSupport(Index p, Index q)
 void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
 {
   ++graphEdits; // the kept boundary walks are stale
+  this->Record(UniteEdit, { c, p, q });
+  if (!s.DirtyPatch.empty())
+  {
+    s.DirtyPatch[p] |= s.DirtyPatch[q];
+  }
   s.Parent[q] = p;
   s.Version[p] += s.Version[q] + 1;
   s.Normal[p] = s.Normal[p] + s.Normal[q];
@@ -1398,8 +1428,11 @@ void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
   s.Alive[c] = 0;
   --s.Degree[s.A[c]];
   --s.Degree[s.B[c]];
-  this->TryJoin(s.A[c]);
-  this->TryJoin(s.B[c]);
+  if (!replaying)
+  {
+    this->TryJoin(s.A[c]);
+    this->TryJoin(s.B[c]);
+  }
 }
 
 // --- Cost-ordered removal (RemovalTarget) ---
@@ -1412,8 +1445,8 @@ void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
 // pushed only when its cost rose.
 void SpbmLevelGenerator::MergingRun::RemoveCheapest()
 {
-  removalHeap.clear();
   joinBase = 2 * nc;
+  removalQueue.Reset(joinBase + ne);
   for (Index c = 0; c < nc; ++c)
   {
     if (this->RemovableChain(c))
@@ -1428,21 +1461,18 @@ void SpbmLevelGenerator::MergingRun::RemoveCheapest()
   }
   const long long target = parameters.RemovalTarget;
   const double infinite = std::numeric_limits<double>::infinity();
-  while (s.Total > target && !removalHeap.empty())
+  while (s.Total > target && !removalQueue.Empty())
   {
-    std::pop_heap(removalHeap.begin(), removalHeap.end());
-    const std::pair<double, Index> entry = removalHeap.back();
-    removalHeap.pop_back();
-    const Index op = entry.second;
+    const double queued = removalQueue.TopKey();
+    const Index op = removalQueue.Pop();
     const double cost = this->RemovalCost(op);
     if (cost == infinite)
     {
       continue;
     }
-    if (cost > -entry.first * (1 + 1e-9) + 1e-300)
+    if (cost > queued * (1 + 1e-9) + 1e-300)
     {
-      removalHeap.emplace_back(-cost, op); // the neighbourhood changed: requeue at its current cost
-      std::push_heap(removalHeap.begin(), removalHeap.end());
+      removalQueue.Set(op, cost); // the neighbourhood changed: requeue at its current cost
       continue;
     }
     Index touched[2] = { InvalidIndex, InvalidIndex };
@@ -1586,10 +1616,15 @@ double SpbmLevelGenerator::MergingRun::RemovalCost(Index op)
 void SpbmLevelGenerator::MergingRun::PushRemoval(Index op)
 {
   const double cost = this->RemovalCost(op);
+  // One entry per operation at its current cost (slod::IndexedHeap); equal costs pop by operation
+  // id, the lower first (the explicit tie-break).
   if (cost < std::numeric_limits<double>::infinity())
   {
-    removalHeap.emplace_back(-cost, op);
-    std::push_heap(removalHeap.begin(), removalHeap.end());
+    removalQueue.Set(op, cost);
+  }
+  else
+  {
+    removalQueue.Remove(op);
   }
 }
 

@@ -19,7 +19,10 @@
 #ifndef slodSpbmMerging_h
 #define slodSpbmMerging_h
 
+#include "slodIndexedHeap.h"
 #include "slodSpbmState.h"
+
+#include <initializer_list>
 
 namespace slod
 {
@@ -32,6 +35,9 @@ public:
   void RemoveDownToTarget();
   // Fallback levels beyond the first of patches frozen in the held run, without a new run.
   void RefineFrozenInPlace(const std::vector<unsigned char>& frozen);
+  // The same level as the recorded run with more patches frozen: the recorded edits replayed,
+  // then the merging and removal redone around the patches where the two runs differ.
+  void Replay(const std::vector<unsigned char>& frozen);
 
 private:
   // Stages.
@@ -74,12 +80,32 @@ private:
   bool CollapseKeepsTopology(Index e, Index p, Index q, Index keep, Index gone);
   bool CollapseKeepsSimple(Index p, Index q, Index keep, Index gone);
   void ApplyCollapse(Index e, Index p, Index q, Index keep, Index gone);
+  double LongestChain(Index x);
   void TryCollapses(Index x, Index exclude);
   void AppendChain(Index c, Index from, bool skipFirst);
   void JoinAround(Index x, Index y, Index u, size_t& a, size_t& b);
   bool JoinWithinTolerance(Index x, Index y, Index u);
   void TryJoin(Index u);
   void ApplyJoin(Index x, Index y, Index u, Index oy, Index xl, Index xr, Index yl);
+
+  // Recorded edits and their replay (slodSpbmReplay.cxx).
+  enum EditKind : unsigned char
+  {
+    UniteEdit,
+    CollapseEdit,
+    JoinEdit
+  };
+  void Record(EditKind kind, std::initializer_list<Index> values);
+  void ResetForRun(const std::vector<unsigned char>& frozen);
+  template<typename Functor>
+  void ForEditNeighbourhood(const State::Edit& edit, Functor&& f);
+  bool EditIsClean(const State::Edit& edit);
+  void MarkEditDirty(const State::Edit& edit);
+  bool ApplyRecorded(const State::Edit& edit);
+  bool RetryEdit(const State::Edit& edit);
+  void ReplayEdits(const std::vector<State::Edit>& edits, size_t begin, size_t end, bool removal);
+  void MergeAroundDirty();
+  void DrainMergeQueue();
 
   // Cost-ordered removal.
   bool RemovableChain(Index c);
@@ -113,7 +139,7 @@ private:
   std::vector<Index> orientedChains, absorbedChains;
   std::vector<Vec3> chainForward, checkPoints, chainPoints, mergedPoints;
   std::vector<unsigned char> chainKept;
-  std::vector<std::pair<double, Index>> removalHeap; // (-cost, operation)
+  IndexedHeap<double> removalQueue; // removal operations by cost
   // The last boundary walks (BoundaryPoints), valid while no edit of the chain graph happened.
   struct BoundaryWalk
   {
@@ -125,6 +151,10 @@ private:
   std::array<BoundaryWalk, 4> boundaryWalks;
   size_t nextBoundaryWalk = 0;
   long long graphEdits = 0;
+  bool replaying = false;             // nested joins of a union are replayed from their own records
+  Index collapseRoot = InvalidIndex; // the patch whose chains TryCollapses walks (recorded)
+  long long replayedAsRecorded = 0;
+  bool markNewEdits = false; // Replay: edits made while merging around the dirty patches
   Index joinBase = 0;                                // removal operations: 2c / 2c + 1 collapse chain c,
                                                      // joinBase + u joins at u
 };

@@ -6,6 +6,7 @@
 #ifndef slodSpbmState_h
 #define slodSpbmState_h
 
+#include "slodIndexedHeap.h"
 #include "slodPatchBoundaryMerge.h"
 
 #include "vtkSMPTools.h"
@@ -251,9 +252,8 @@ struct SpbmLevelGenerator::State
   // Scratch.
   std::vector<Index> PatchStamp, EndStamp, EndLocal, VertexStamp;
   Index Stamp = 0;
-  std::vector<std::pair<double, Index>> Heap;
+  IndexedHeap<double> MergeQueue; // merge candidates (chains) by minus their merge measure
   spbm::PolygonScratch SimplePolygonScratch;
-  std::vector<double> HeapTop; // per chain: the highest value it has in the heap (or -infinity)
   std::vector<unsigned char> NoFreeze;
   // Generation buffers.
   std::vector<Index> SeqOffsets, SeqVertices;
@@ -267,6 +267,23 @@ struct SpbmLevelGenerator::State
   std::vector<uint64_t> SimpleSignature; // per patch: boundary signature last
                                          // found simple (0: none)
   std::vector<PredictionMemo> Memo;      // predicted counts of the levels asked for (searches repeat them)
+  // The edits of the run that made the chain graph above, in order (unions, collapses, joins;
+  // the removal stage's from EditsRemovalBegin on), and the chain tolerances it started from: a
+  // fallback pass that unmerges a few patches replays them instead of a new merging run
+  // (SpbmLevelGenerator::ReplayMerging).
+  struct Edit
+  {
+    unsigned char Kind;
+    Index V[7];
+  };
+  std::vector<Edit> Edits;
+  size_t EditsRemovalBegin = 0;
+  bool EditsValid = false;
+  PredictionMemo EditsOf{};
+  std::vector<float> EditsTolerance;
+  std::vector<unsigned char> EditsLocked, EditsFrozen;
+  // Replay: root patches and endpoints whose state may differ from the recorded run's.
+  std::vector<unsigned char> DirtyPatch, DirtyEnd;
   // The chain graph above is the merging run of these parameters without frozen patches (a
   // prediction's run): the first generation pass of the same level need not run it again.
   bool HoldsPrediction = false;

@@ -236,6 +236,14 @@ bool vtkPatchBoundaryMerge::Cache::FitPatchesToTarget(vtkPatchBoundaryMerge* sel
 {
   for (int round = 0; round < 4 && self->AdaptPatchesToTarget && target < this->Mesh.NumberOfTriangles(); ++round)
   {
+    // The finest level's merging run (a whole run over every chain vertex: a third of the MRI's
+    // merging time) is needed only when the cheap lower bound does not already reach the target.
+    const vtkIdType bound = this->Generator.FinestLevelLowerBound();
+    if (50 * bound >= 49 * target)
+    {
+      vtkLogF(TRACE, "[spbm] finest level at least %lld triangles (target %lld)", (long long)bound, (long long)target);
+      break;
+    }
     slod::SpbmLevelParameters finest = this->LevelParameters(self);
     finest.Epsilon = -1; // every chain vertex kept
     const vtkIdType count = this->Generator.PredictTriangleCount(finest);
