@@ -190,15 +190,17 @@ bool FlatNeighbourhoodProof(const TriangleMesh& mesh, const TriangleBVH& bvh, In
   {
     return false; // the covered point is not inside the piece
   }
-  std::vector<Index> near;
+  // Per-thread scratch buffers: a proof examines many pieces, none allocates once they have grown.
+  thread_local std::vector<Index> near;
+  near.clear();
   if (!bvh.TrianglesNear(center, std::sqrt(radius2) + delta, MaximumFlatNeighbourhood, near))
   {
     return false;
   }
   // Net use of every edge (u < w counts +1 as u->w, -1 as w->u) by the triangles lying flat in P
   // and facing its side.
-  std::vector<std::pair<std::uint64_t, int>> uses; // sorted and summed below: no hashing per piece
-  uses.reserve(3 * near.size());
+  thread_local std::vector<std::pair<std::uint64_t, int>> uses; // sorted and summed below: no hashing per piece
+  uses.clear();
   auto key = [](Index u, Index w) { return (std::uint64_t(std::uint32_t(u)) << 32) | std::uint32_t(w); };
   for (Index q : near)
   {
@@ -276,7 +278,8 @@ bool ProveWithinDistance(
     Vec3 Corner[3];
     int Generations;
   };
-  std::vector<Piece> pending{ { { a, b, c }, depth } };
+  thread_local std::vector<Piece> pending; // per-thread scratch: no allocation per proof
+  pending.assign(1, Piece{ { a, b, c }, depth });
   for (examined = 0; !pending.empty(); ++examined)
   {
     if (examined >= MaximumDistancePieces)
