@@ -48,6 +48,7 @@ public:
     {
       this->Border[v] = this->Used[v] && this->Out.IsBoundaryVertex(v);
     }
+    this->AliveTriangles = output.NumberOfTriangles();
     this->Options.BoundaryVertices = this->Border.data();
     this->Options.MinimumAngle = parameters.MinimumAngle * std::acos(-1.0) / 180.0;
   }
@@ -56,8 +57,9 @@ public:
   long long Pass(ProvedCollapseStatistics& statistics, const ProgressFunction& progress, bool& aborted)
   {
     this->TakeSnapshot();
-    std::vector<std::pair<double, Index>> order;
-    std::vector<Index> neighbours;
+    std::vector<std::pair<double, Index>>& order = this->Order;
+    std::vector<Index>& neighbours = this->Neighbours;
+    order.clear();
     for (Index u = 0; u < Index(this->Used.size()); ++u)
     {
       if (!this->Used[u] || this->Border[u] || this->Out.VertexDegree(u) == 0)
@@ -82,9 +84,15 @@ public:
         return done;
       }
       done += this->RemoveVertex(order[i].second, statistics);
+      if (this->TargetMet())
+      {
+        break;
+      }
     }
     return done;
   }
+
+  bool TargetMet() const { return this->Prm.TargetTriangles > 0 && this->AliveTriangles <= this->Prm.TargetTriangles; }
 
   // One pass of edge flips that make the pair's thinner triangle fatter, each proved like a
   // collapse. Returns the flips.
@@ -169,16 +177,20 @@ private:
     {
       return false;
     }
-    std::vector<Index> neighbours;
-    this->Out.Neighbors(u, neighbours);
+    // Nearest first (ties by id): each distance computed once, in reused buffers (no allocation
+    // per vertex once they have grown).
+    this->Out.Neighbors(u, this->Neighbours);
     const Vec3 pu = this->Out.Point(u);
-    std::sort(neighbours.begin(), neighbours.end(), [&](Index a, Index b) {
-      const double da = Norm(this->Out.Point(a) - pu), db = Norm(this->Out.Point(b) - pu);
-      return da < db || (da == db && a < b);
-    });
-    neighbours.resize(std::min<size_t>(neighbours.size(), size_t(this->Prm.MaximumNeighbours)));
+    std::vector<std::pair<double, Index>>& targets = this->Targets;
+    targets.clear();
+    for (Index w : this->Neighbours)
+    {
+      targets.emplace_back(Norm(this->Out.Point(w) - pu), w);
+    }
+    std::sort(targets.begin(), targets.end());
+    targets.resize(std::min<size_t>(targets.size(), size_t(this->Prm.MaximumNeighbours)));
     const Index valence = this->Out.VertexDegree(u);
-    for (Index v : neighbours)
+    for (const auto& [distance, v] : targets)
     {
       if (valence + this->Out.VertexDegree(v) > MaximumCollapseValence)
       {
@@ -229,6 +241,7 @@ private:
     }
     this->MarkChanged();
     this->Out.Collapse(set, 2, v, target, this->Gathered, nullptr);
+    this->AliveTriangles -= Index(this->OldStar.size() - this->NewTriangles.size() / 3);
     return true;
   }
 
@@ -355,7 +368,10 @@ private:
   // mesh with a BVH (a subset of the output after the change: a proof against it holds for all).
   void BuildLocalOutput(const Vec3& center, double radius)
   {
-    std::vector<Index> replaced = this->OldStar, kept;
+    std::vector<Index>& replaced = this->Replaced;
+    std::vector<Index>& kept = this->Kept;
+    replaced.assign(this->OldStar.begin(), this->OldStar.end());
+    kept.clear();
     std::sort(replaced.begin(), replaced.end());
     for (Index t : this->OldStar)
     {
@@ -374,9 +390,9 @@ private:
         });
       }
     }
-    std::vector<Index> near;
-    this->SnapshotBvh.TrianglesNear(center, radius + 3 * this->Prm.Epsilon, MaximumInputTriangles, near);
-    for (Index i : near)
+    this->SnapshotNear.clear();
+    this->SnapshotBvh.TrianglesNear(center, radius + 3 * this->Prm.Epsilon, MaximumInputTriangles, this->SnapshotNear);
+    for (Index i : this->SnapshotNear)
     {
       const Index t = this->SnapshotIds[i];
       if (this->Out.IsTriangleAlive(t) && !this->Changed[t] &&
@@ -423,10 +439,14 @@ public:
 
 private:
   EditableMesh Out;
+  Index AliveTriangles = 0;
   CollapseOptions Options;
   std::vector<unsigned char> Border, Used;
   std::vector<Index> LocalId, LocalVertices;
   std::vector<Index> Gathered, NewTriangles, OldStar, Near;
+  // Scratch buffers reused by every candidate (their capacity grows once, no allocation per try).
+  std::vector<Index> Neighbours, Replaced, Kept, SnapshotNear;
+  std::vector<std::pair<double, Index>> Order, Targets;
   TriangleMesh Local, Snapshot;
   TriangleBVH LocalBvh, SnapshotBvh;
   std::vector<Index> SnapshotIds;
@@ -439,8 +459,10 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   const ProgressFunction& progress, long long* proofPieces)
 {
   statistics = ProvedCollapseStatistics();
-  if (parameters.Epsilon <= 0 || triangles.empty())
+  if (parameters.Epsilon <= 0 || triangles.empty() ||
+    (parameters.TargetTriangles > 0 && Index(triangles.size() / 3) <= parameters.TargetTriangles))
   {
+    statistics.TargetReached = parameters.TargetTriangles > 0 && Index(triangles.size() / 3) <= parameters.TargetTriangles;
     return true;
   }
   Collapser collapser(input, inputBvh, parameters, triangles, proofPieces);
@@ -456,13 +478,18 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
       ++statistics.Rounds;
       const long long changes = step == 1 ? collapser.FlipPass(stage, aborted) : collapser.Pass(statistics, stage, aborted);
       statistics.Flips += step == 1 ? changes : 0;
-      if (changes == 0)
+      if (changes == 0 || collapser.TargetMet())
       {
         break;
       }
     }
     pass = (step + 1) * parameters.MaximumRounds;
+    if (collapser.TargetMet())
+    {
+      break;
+    }
   }
+  statistics.TargetReached = collapser.TargetMet();
   collapser.Store(triangles, patches);
   std::copy(collapser.Rejected, collapser.Rejected + 3, statistics.Rejected);
   return !aborted;

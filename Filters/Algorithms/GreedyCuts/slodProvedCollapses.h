@@ -35,6 +35,9 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   double MinimumAngle = 0.0;   // degrees: a collapse may not make a triangle thinner than this (unless it was)
   int MaximumRounds = 8;       // passes over the output vertices (stops earlier when one removes none)
   int MaximumNeighbours = 16;  // targets tried per vertex and pass (nearest first)
+  // Stop as soon as the output has at most this many triangles (0: no count target). A collapse
+  // removes one or two triangles, so a reachable target is met exactly or one below.
+  Index TargetTriangles = 0;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
@@ -42,6 +45,7 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   long long Collapses = 0, Attempts = 0, Flips = 0;
   long long Rejected[3] = { 0, 0, 0 }; // collapses rejected by topology, output -> input, input -> output
   int Rounds = 0;
+  bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
 };
 
 // Simplifies `triangles` (3 vertex ids of `input` each; `patches` one id per triangle, kept for the
