@@ -91,6 +91,27 @@ public:
   }
   std::vector<std::string> Warnings, Errors;
 };
+
+// Sets AbortExecute at the first progress event of the filter it observes and counts the warnings
+// that mention the abort (the contract's abort result: slod::ReportAbort).
+class AbortAtFirstProgress : public vtkCommand
+{
+public:
+  static AbortAtFirstProgress* New() { return new AbortAtFirstProgress; }
+  void Execute(vtkObject* caller, unsigned long event, void* data) override
+  {
+    if (event == vtkCommand::ProgressEvent)
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+    }
+    else if (event == vtkCommand::WarningEvent && data &&
+      std::string(static_cast<const char*>(data)).find("Aborted") != std::string::npos)
+    {
+      ++this->AbortWarnings;
+    }
+  }
+  int AbortWarnings = 0;
+};
 } // namespace slodtest
 
 #endif

@@ -795,8 +795,8 @@ void EmitFragments(const TriangleMesh& high, const FragmentTracker& tracker, con
 }
 } // namespace
 
-void TrackLevels(
-  const TriangleMesh& high, const TriangleMesh& low, const std::vector<Index>& removals, LevelInterpolation& result)
+void TrackLevels(const TriangleMesh& high, const TriangleMesh& low, const std::vector<Index>& removals,
+  LevelInterpolation& result, const ProgressFunction& progress)
 {
   result = LevelInterpolation();
   if (high.NumberOfTriangles() == 0 || low.NumberOfTriangles() == 0)
@@ -809,20 +809,27 @@ void TrackLevels(
     result.Error = "the removal records are not pairs of the high-detail level's vertices";
     return;
   }
+  // The replay is most of the work: 90% of the progress, a report every ProgressStride records.
+  constexpr size_t ProgressStride = 512;
+  auto proceed = [&](double fraction) {
+    result.Aborted = progress && !progress(fraction);
+    return !result.Aborted;
+  };
   FragmentTracker tracker(high);
   for (size_t i = 0; i < removals.size(); i += 2)
   {
-    if (!tracker.Apply(removals[i], removals[i + 1], result.Error))
+    if ((i % ProgressStride == 0 && !proceed(0.9 * double(i) / double(removals.size()))) ||
+      !tracker.Apply(removals[i], removals[i + 1], result.Error))
     {
       return;
     }
   }
   std::vector<Index> lowTriangleOf;
-  if (!MatchReplay(tracker.Edit, low, lowTriangleOf, result.Error))
+  if (!proceed(0.9) || !MatchReplay(tracker.Edit, low, lowTriangleOf, result.Error))
   {
     return;
   }
   EmitFragments(high, tracker, lowTriangleOf, result);
-  result.Valid = true;
+  result.Valid = proceed(1.0);
 }
 } // namespace slod

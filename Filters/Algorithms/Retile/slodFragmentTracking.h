@@ -26,9 +26,13 @@ namespace slod
 // removed ones; Crossings: the vertices made where a new edge cut a fragment). Fails (Valid false,
 // Error set) when a removal cannot be replayed (a vertex not alive or not a neighbour, a star that
 // is not a disk, a collapse that breaks the mesh) or when the replay does not give `low` (its
-// vertices at the same positions, the same triangles).
-SURFACELODFILTERS_EXPORT void TrackLevels(
-  const TriangleMesh& high, const TriangleMesh& low, const std::vector<Index>& removals, LevelInterpolation& result);
+// vertices at the same positions, the same triangles). The records of several levels in a row
+// (each in the ids of the level it starts from: a level's vertices are the first vertices of every
+// finer level, in the same order) replay as one sequence, so any pair of nested levels is tracked.
+// Reports progress (the replay, then the fragments' triangulation); when progress returns false it
+// stops with Aborted set (Valid false, no error).
+SURFACELODFILTERS_EXPORT void TrackLevels(const TriangleMesh& high, const TriangleMesh& low,
+  const std::vector<Index>& removals, LevelInterpolation& result, const ProgressFunction& progress = nullptr);
 } // namespace slod
 
 #endif

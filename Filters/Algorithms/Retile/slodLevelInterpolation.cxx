@@ -908,7 +908,8 @@ void LevelInterpolation::Evaluate(double t, TriangleMesh& mesh) const
   mesh.Triangles = this->Triangles;
 }
 
-void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, LevelInterpolation& result)
+void InterpolateLevels(
+  const TriangleMesh& highInput, const TriangleMesh& low, LevelInterpolation& result, const ProgressFunction& progress)
 {
   result = LevelInterpolation();
   if (highInput.NumberOfTriangles() == 0 || low.NumberOfTriangles() == 0)
@@ -948,6 +949,11 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
     }
   }
   std::vector<SurfaceLocation> flat;
+  if (progress && !progress(0.0))
+  {
+    result.Aborted = true;
+    return;
+  }
   FlattenVertices(high, surface, lowVertexOf, flat, result);
 
   const MeshTopology highTopology(high);
@@ -956,10 +962,18 @@ void InterpolateLevels(const TriangleMesh& highInput, const TriangleMesh& low, L
   StoreVertexPositions(high, highTopology, flat, paths, result);
 
   FragmentCutter cutter(high, highTopology, parent, surface, flat, paths, result);
-  for (Index t = 0; t < high.NumberOfTriangles(); ++t)
+  constexpr Index ProgressStride = 1024;
+  const Index triangles = high.NumberOfTriangles();
+  for (Index t = 0; t < triangles; ++t)
   {
+    if (t % ProgressStride == 0 && progress && !progress(0.5 + 0.5 * double(t) / double(triangles)))
+    {
+      result.Aborted = true;
+      return;
+    }
     cutter.Cut(t);
   }
-  result.Valid = true;
+  result.Valid = !(progress && !progress(1.0));
+  result.Aborted = !result.Valid;
 }
 } // namespace slod

@@ -27,6 +27,7 @@
 #ifndef slodLevelInterpolation_h
 #define slodLevelInterpolation_h
 
+#include "slodFilterContract.h"
 #include "slodTriangleMesh.h"
 
 #include <functional>
@@ -38,6 +39,7 @@ namespace slod
 struct SURFACELODFILTERS_EXPORT LevelInterpolation
 {
   bool Valid = false;
+  bool Aborted = false; // the progress function asked to stop (Valid false, Error empty)
   std::string Error;
 
   // Output vertices: the high-detail vertices first (same order), then the low vertices inserted
@@ -74,8 +76,10 @@ SURFACELODFILTERS_EXPORT void ClipFragmentEars(std::vector<Index> ring, const Ve
 
 // Builds the fragments. Fails (Valid = false, Error set) when a mesh is empty or when more than half
 // the low-detail vertices are not vertices of the high-detail mesh (the levels are not nested); the
-// few missing ones are inserted into the high level at their closest point on it.
-SURFACELODFILTERS_EXPORT void InterpolateLevels(const TriangleMesh& high, const TriangleMesh& low, LevelInterpolation& result);
+// few missing ones are inserted into the high level at their closest point on it. Reports progress
+// while it cuts the triangles; stops (Aborted, Valid false) when progress returns false.
+SURFACELODFILTERS_EXPORT void InterpolateLevels(const TriangleMesh& high, const TriangleMesh& low, LevelInterpolation& result,
+  const ProgressFunction& progress = nullptr);
 } // namespace slod
 
 #endif

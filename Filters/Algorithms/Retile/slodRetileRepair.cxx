@@ -23,6 +23,7 @@ bool TileRepair::IsBad(const Index* ids, const Vec3* p) const
     }
   }
   // The original surface under the tile: the closest point of its centroid.
+  ++this->DistanceQueries;
   const ClosestPointResult closest = this->InputBVH.ClosestPoint((1.0 / 3.0) * (p[0] + p[1] + p[2]));
   return closest.Triangle != InvalidIndex && Dot(normal, this->Input.TriangleAreaVector(closest.Triangle)) <= 0;
 }
@@ -49,17 +50,21 @@ TileRepair::Score TileRepair::TriangleScore(Index t) const
   const Index* tri = this->Edit.Triangle(t);
   const Vec3 p[3] = { this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]) };
   Score score;
+  ++this->TilesScored;
   score.Bad = this->IsBad(tri, p) ? 1 : 0;
   score.Angle = MinimumAngle(p[0], p[1], p[2]);
   return score;
 }
 
 // The tiles' bad count (a fold with a neighbour, turning by more than FoldAngle, counts as bad
-// too), smallest angle, and how far their centroids and edge midpoints are from the original surface.
-TileRepair::Score TileRepair::RegionScore(const std::vector<Index>& triangles) const
+// too), smallest angle and longest edge; their edge midpoints and centroids appended to
+// deviationSamples when given (their distance to the original surface is measured later, only
+// for a change that gets that far).
+TileRepair::Score TileRepair::RegionScore(const std::vector<Index>& triangles, std::vector<Vec3>* deviationSamples) const
 {
   Score total;
   total.Angle = std::numeric_limits<double>::max();
+  this->RegionTiles += static_cast<long long>(triangles.size());
   for (Index t : triangles)
   {
     const Score s = this->TriangleScore(t);
@@ -72,37 +77,76 @@ TileRepair::Score TileRepair::RegionScore(const std::vector<Index>& triangles) c
     {
       const Vec3 a = this->Edit.Point(tri[k]), b = this->Edit.Point(tri[(k + 1) % 3]);
       centroid = centroid + (1.0 / 3.0) * a;
-      total.Deviation = std::max(total.Deviation, this->InputBVH.ClosestPoint(0.5 * (a + b)).Distance2);
+      if (deviationSamples)
+      {
+        deviationSamples->push_back(0.5 * (a + b));
+      }
       total.Extent = std::max(total.Extent, Dot(b - a, b - a));
       const Index other = this->Across(t, tri[k], tri[(k + 1) % 3]);
       total.Bad += other != InvalidIndex && Dot(normal, this->Edit.TriangleNormal(other)) < FoldCosine ? 1 : 0;
     }
-    total.Deviation = std::max(total.Deviation, this->InputBVH.ClosestPoint(centroid).Distance2);
+    if (deviationSamples)
+    {
+      deviationSamples->push_back(centroid);
+    }
   }
   return total;
 }
 
-// Whether `after` is an improvement on `before` that moves the tiles no further from the original
-// surface than they were (or than a small share of their size).
-bool TileRepair::Accept(const Score& before, const Score& after) const
+// Whether every sample lies within sqrt(bound2) of the original surface (queries pruned at the bound).
+bool TileRepair::WithinDeviation(const std::vector<Vec3>& samples, double bound2) const
 {
-  const double tolerance2 = DeviationShare * DeviationShare * std::max(before.Extent, after.Extent);
-  return after.Better(before) && after.Deviation <= std::max(before.Deviation, tolerance2) &&
-    after.Moved <= MovedShare * MovedShare * std::max(before.Extent, after.Extent);
+  for (const Vec3& q : samples)
+  {
+    ++this->DistanceQueries;
+    if (this->InputBVH.ClosestPoint(q, bound2).Triangle == InvalidIndex)
+    {
+      return false;
+    }
+  }
+  return true;
 }
 
-// The tiles' vertices, edge midpoints and centroids: where the surface was before a change.
-std::vector<Vec3> TileRepair::Samples(const std::vector<Index>& triangles) const
+// The region before a change: its score, its surface samples and its deviation samples.
+void TileRepair::Measure(const std::vector<Index>& triangles, Before& before)
 {
-  std::vector<Vec3> samples;
+  before.DeviationSamples.clear();
+  before.Tiles = this->RegionScore(triangles, &before.DeviationSamples);
+  before.Surface.clear();
   for (Index t : triangles)
   {
     const Index* tri = this->Edit.Triangle(t);
     const Vec3 p[3] = { this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]) };
-    samples.insert(samples.end(), { p[0], 0.5 * (p[0] + p[1]), 0.5 * (p[1] + p[2]), 0.5 * (p[2] + p[0]),
-                                    (1.0 / 3.0) * (p[0] + p[1] + p[2]) });
+    before.Surface.insert(before.Surface.end(), { p[0], 0.5 * (p[0] + p[1]), 0.5 * (p[1] + p[2]),
+                                                  0.5 * (p[2] + p[0]), (1.0 / 3.0) * (p[0] + p[1] + p[2]) });
   }
-  return samples;
+}
+
+// Whether the tiles after a change are an improvement on `before` that moves the surface by at
+// most MovedShare of their size and the tiles no further from the original surface than they were
+// (or than DeviationShare of their size). Cheapest test first; the distances to the original
+// surface last, pruned at the bound, and the tiles' distance before only when the bound needs it.
+bool TileRepair::Accept(Before& before, const std::vector<Index>& triangles)
+{
+  this->AfterSamples.clear();
+  const Score after = this->RegionScore(triangles, &this->AfterSamples);
+  const double extent = std::max(before.Tiles.Extent, after.Extent);
+  if (!after.Better(before.Tiles) || this->FarthestFrom(before.Surface, triangles) > MovedShare * MovedShare * extent)
+  {
+    return false;
+  }
+  const double tolerance2 = DeviationShare * DeviationShare * extent;
+  if (this->WithinDeviation(this->AfterSamples, tolerance2))
+  {
+    return true;
+  }
+  double deviation = 0; // squared, before the change
+  for (const Vec3& q : before.DeviationSamples)
+  {
+    ++this->DistanceQueries;
+    deviation = std::max(deviation, this->InputBVH.ClosestPoint(q).Distance2);
+  }
+  return deviation > tolerance2 && this->WithinDeviation(this->AfterSamples, deviation);
 }
 
 // The largest squared distance from the samples to the tiles (how far the change moved the surface).
@@ -123,12 +167,11 @@ double TileRepair::FarthestFrom(const std::vector<Vec3>& samples, const std::vec
   return farthest;
 }
 
-std::vector<Index> TileRepair::Star(Index v) const
+void TileRepair::Star(Index v, std::vector<Index>& star) const
 {
-  std::vector<Index> star;
+  star.clear();
   this->Edit.ForEachTriangle(v, [&](Index t) { star.push_back(t); });
   this->Work += static_cast<long long>(star.size());
-  return star;
 }
 
 // Flips (x, y) when its two tiles are then better; undone otherwise.
@@ -138,7 +181,8 @@ bool TileRepair::TryFlip(Index x, Index y)
   {
     return false;
   }
-  std::vector<Index> pair;
+  std::vector<Index>& pair = this->Region;
+  pair.clear();
   this->Edit.ForEachTriangle(x, [&](Index t) {
     const Index* tri = this->Edit.Triangle(t);
     if (tri[0] == y || tri[1] == y || tri[2] == y)
@@ -150,17 +194,14 @@ bool TileRepair::TryFlip(Index x, Index y)
   {
     return false;
   }
-  const Score before = this->RegionScore(pair);
-  const std::vector<Vec3> samples = this->Samples(pair);
+  this->Measure(pair, this->Previous);
   FlipRecord undo;
   if (!this->Edit.FlipEdge(x, y, &undo))
   {
     return false;
   }
   // FlipEdge keeps the two triangle ids.
-  Score after = this->RegionScore(pair);
-  after.Moved = this->FarthestFrom(samples, pair);
-  if (!this->Accept(before, after))
+  if (!this->Accept(this->Previous, pair))
   {
     this->Edit.Undo(undo);
     return false;
@@ -182,29 +223,34 @@ bool TileRepair::TryFlip(Index x, Index y)
 // the original surface on a sheet facing its way, when its star is then better.
 bool TileRepair::TryMove(Index v)
 {
-  if (!this->Movable[v] || this->Star(v).size() > MaximumRepairValence)
+  std::vector<Index>& star = this->Region;
+  if (!this->Movable[v])
   {
     return false;
   }
-  std::vector<Index> neighbors;
-  this->Edit.Neighbors(v, neighbors);
-  if (neighbors.size() < 3)
+  this->Star(v, star);
+  if (star.size() > MaximumRepairValence)
+  {
+    return false;
+  }
+  this->Edit.Neighbors(v, this->Neighbors);
+  if (this->Neighbors.size() < 3)
   {
     return false;
   }
   Vec3 centre{ 0, 0, 0 };
-  for (Index w : neighbors)
+  for (Index w : this->Neighbors)
   {
     centre = centre + this->Edit.Point(w);
   }
-  centre = (1.0 / double(neighbors.size())) * centre;
+  centre = (1.0 / double(this->Neighbors.size())) * centre;
   const Vec3 start = this->Edit.Point(v);
   const Vec3 startReference = this->Reference[v];
-  const std::vector<Index> star = this->Star(v);
-  const Score before = this->RegionScore(star);
-  const std::vector<Vec3> samples = this->Samples(star);
+  this->Work += static_cast<long long>(star.size()); // the star is visited again by the scores
+  this->Measure(star, this->Previous);
   for (double share : { 1.0, 0.5, 0.25 })
   {
+    ++this->DistanceQueries;
     const ClosestPointResult c = this->InputBVH.ClosestPoint(start + share * (centre - start));
     if (c.Triangle == InvalidIndex || Dot(this->Input.TriangleAreaVector(c.Triangle), startReference) <= 0)
     {
@@ -212,9 +258,7 @@ bool TileRepair::TryMove(Index v)
     }
     this->Edit.SetPoint(v, c.Point);
     this->Reference[v] = this->NormalAt(c.Point, c.Triangle);
-    Score after = this->RegionScore(star);
-    after.Moved = this->FarthestFrom(samples, star);
-    if (this->Accept(before, after))
+    if (this->Accept(this->Previous, star))
     {
       this->Moved(v, c.Point, c.Triangle);
       this->Touched.push_back(v);
@@ -251,7 +295,7 @@ bool TileRepair::RepairTriangle(Index t)
 
 Index TileRepair::Run(int passes)
 {
-  std::vector<Index> bad;
+  std::vector<Index> bad, near, ring;
   for (Index t = 0; t < this->Edit.NumberOfTriangles(); ++t)
   {
     if (this->Edit.IsTriangleAlive(t) && this->TriangleScore(t).Bad)
@@ -278,7 +322,7 @@ Index TileRepair::Run(int passes)
     }
     // The next pass tries only the bad tiles near what changed (two rings around the changed
     // vertices): the others would be tried on the same tiles again, and fail again.
-    std::vector<Index> near = this->Touched, ring;
+    near = this->Touched;
     for (Index v : this->Touched)
     {
       this->Edit.Neighbors(v, ring);

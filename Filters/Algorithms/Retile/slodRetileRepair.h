@@ -34,7 +34,7 @@ constexpr double MovedShare = 0.03;
 constexpr size_t MaximumRepairValence = 32;
 constexpr long long RepairWorkPerTriangle = 400;
 
-struct TileRepair
+struct SURFACELODFILTERS_EXPORT TileRepair
 {
   TileRepair(EditableMesh& edit, std::vector<Vec3>& reference, const TriangleMesh& input, const TriangleBVH& inputBVH,
     std::vector<unsigned char> movable)
@@ -71,6 +71,9 @@ struct TileRepair
   Index Run(int passes);
   Index Flips = 0, Moves = 0;
   mutable long long Work = 0; // triangle visits so far (bounded in Run)
+  // Tiles scored (is it bad?), of those the tiles of a region scored before or after a try, and
+  // the closest-point queries to the input made.
+  mutable long long TilesScored = 0, RegionTiles = 0, DistanceQueries = 0;
 
   // Whether a tile with these corners faces against the original surface (at one of its vertices'
   // reference normals or at the closest point of its centroid) or is a needle.
@@ -81,25 +84,37 @@ private:
   {
     int Bad = 0;
     double Angle = 0;
-    double Deviation = 0; // squared
-    double Extent = 0;    // squared longest edge
-    double Moved = 0;     // squared: how far the change moved the surface (the tiles before to after)
+    double Extent = 0; // squared longest edge
     bool Better(const Score& other) const
     {
       return this->Bad < other.Bad || (this->Bad == other.Bad && this->Angle > other.Angle + 1e-4);
     }
   };
+  // A region's tiles before a change: their score, where the surface was (vertices, edge
+  // midpoints, centroids) and the points whose distance to the input is compared (edge midpoints
+  // and centroids), measured only when the change gets that far.
+  struct Before
+  {
+    Score Tiles;
+    std::vector<Vec3> Surface;
+    std::vector<Vec3> DeviationSamples;
+  };
   Score TriangleScore(Index t) const;
-  Score RegionScore(const std::vector<Index>& triangles) const;
-  bool Accept(const Score& before, const Score& after) const;
+  Score RegionScore(const std::vector<Index>& triangles, std::vector<Vec3>* deviationSamples = nullptr) const;
+  bool Accept(Before& before, const std::vector<Index>& triangles);
+  bool WithinDeviation(const std::vector<Vec3>& samples, double bound2) const;
+  void Measure(const std::vector<Index>& triangles, Before& before);
   Index Across(Index t, Index x, Index y) const;
-  std::vector<Index> Star(Index v) const;
-  std::vector<Vec3> Samples(const std::vector<Index>& triangles) const;
+  void Star(Index v, std::vector<Index>& star) const;
   double FarthestFrom(const std::vector<Vec3>& samples, const std::vector<Index>& triangles) const;
   bool TryFlip(Index x, Index y);
   bool TryMove(Index v);
   bool RepairTriangle(Index t);
   std::vector<Index> Touched; // vertices of the tiles a repair changed in this pass
+  // Scratch buffers reused by every try (no allocation per tile).
+  std::vector<Index> Region, Neighbors;
+  std::vector<Vec3> AfterSamples;
+  Before Previous;
 };
 } // namespace slod
 

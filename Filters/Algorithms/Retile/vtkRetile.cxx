@@ -220,35 +220,38 @@ void StoreRetiling(const slod::RetilingResult& retiling, const slod::TriangleMes
   }
   attributes.Store(polyData->GetPointData(), rows);
 }
-// Field data of a coarser nested level: RetileRemovals, the collapses (removed, target; point ids of
-// the next finer level) and flips ((-1 - x, y) for edge (x, y)) that turn the next finer level
-// into this one (section 6.2), which
-// vtkRetileLevelInterpolation replays to track the fragments, and RetileRemovalsFinerPoints, the
-// number of points of that finer level (records meant for another level are not tried).
-void StoreRemovals(const slod::RetilingResult& level, vtkPolyData* polyData)
+// Field data of coarser nested level k (levels: coarsest first): RetileRemovals, the collapses
+// (removed, target) and flips ((-1 - x, y) for edge (x, y)) that turn each finer level into the
+// next coarser one (section 6.2), chained from the finest level down to level k; each run is in
+// the point ids of the level it starts from, which are those of every finer level (a level's
+// vertices come first, in the same order), so the records from any finer level on replay to level
+// k. RetileRemovalsFinerPoints: the point count of the level each run starts from (finest first),
+// RetileRemovalsStart: its first record. vtkRetileLevelInterpolation replays the records from the
+// high level it is given.
+void StoreRemovals(const std::vector<slod::RetilingResult>& levels, size_t k, vtkPolyData* polyData)
 {
-  if (level.Removals.empty())
+  if (k + 1 >= levels.size())
   {
     return;
   }
-  vtkNew<vtkIdTypeArray> removals;
+  vtkNew<vtkIdTypeArray> removals, finerPoints, starts;
   removals->SetName("RetileRemovals");
   removals->SetNumberOfComponents(2);
-  removals->SetNumberOfTuples(static_cast<vtkIdType>(level.Removals.size() / 2));
-  for (size_t i = 0; i < level.Removals.size(); ++i)
+  finerPoints->SetName("RetileRemovalsFinerPoints");
+  starts->SetName("RetileRemovalsStart");
+  for (size_t j = levels.size() - 1; j-- > k;)
   {
-    removals->SetValue(static_cast<vtkIdType>(i), level.Removals[i]);
+    finerPoints->InsertNextValue(levels[j + 1].Mesh.NumberOfPoints());
+    starts->InsertNextValue(removals->GetNumberOfTuples());
+    for (size_t i = 0; i + 1 < levels[j].Removals.size(); i += 2)
+    {
+      const vtkIdType pair[2] = { levels[j].Removals[i], levels[j].Removals[i + 1] };
+      removals->InsertNextTypedTuple(pair);
+    }
   }
   polyData->GetFieldData()->AddArray(removals);
-  vtkNew<vtkIdTypeArray> finerPoints; // which level the records start from
-  finerPoints->SetName("RetileRemovalsFinerPoints");
-  vtkIdType removed = 0;
-  for (size_t i = 0; i < level.Removals.size(); i += 2)
-  {
-    removed += level.Removals[i] >= 0 ? 1 : 0; // (-1 - x, y): a flip
-  }
-  finerPoints->InsertNextValue(level.Mesh.NumberOfPoints() + removed);
   polyData->GetFieldData()->AddArray(finerPoints);
+  polyData->GetFieldData()->AddArray(starts);
 }
 
 // Field data: RetainedVertices (original vertices kept for the topology) and, for an explicit
@@ -386,7 +389,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     {
       vtkNew<vtkPolyData> level;
       StoreRetiling(levels[k], mesh, inputAttributes, pointType, level);
-      StoreRemovals(levels[k], level);
+      StoreRemovals(levels, k, level);
       levelsOutput->SetBlock(static_cast<unsigned int>(k), level);
     }
   }

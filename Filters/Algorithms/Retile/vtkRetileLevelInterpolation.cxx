@@ -81,13 +81,36 @@ void StoreTriangles(const slod::LevelInterpolation& result, vtkPolyData* output)
   output->GetCellData()->AddArray(lowTriangle);
   output->GetCellData()->AddArray(fragment);
 }
-// The low level's removal records (field data RetileRemovals of vtkRetile's nested levels) in the
-// prepared high mesh's vertex ids; false when there are none or one names no high vertex.
-bool RemovalRecords(vtkPolyData* lowInput, const std::vector<slod::Index>& highToInput, vtkIdType highInputPoints,
-  std::vector<slod::Index>& removals)
+// Where the low level's removal records (field data RetileRemovals of vtkRetile's nested levels)
+// start for a high level of `highPoints` points: the records chain every finer level's removals,
+// finest first; RetileRemovalsFinerPoints gives the point count of the level each run starts from
+// and RetileRemovalsStart its first record (one run from record 0 when absent). -1 when the records
+// start from no level of that size (not meant for this pair: not tried).
+vtkIdType RecordStart(vtkPolyData* lowInput, vtkIdType highPoints)
 {
-  vtkIdTypeArray* records = vtkIdTypeArray::SafeDownCast(lowInput->GetFieldData()->GetAbstractArray("RetileRemovals"));
-  if (!records || records->GetNumberOfComponents() != 2)
+  vtkFieldData* fieldData = lowInput->GetFieldData();
+  vtkIdTypeArray* finerPoints = vtkIdTypeArray::SafeDownCast(fieldData->GetAbstractArray("RetileRemovalsFinerPoints"));
+  vtkIdTypeArray* starts = vtkIdTypeArray::SafeDownCast(fieldData->GetAbstractArray("RetileRemovalsStart"));
+  if (!finerPoints)
+  {
+    return 0;
+  }
+  for (vtkIdType i = 0; i < finerPoints->GetNumberOfValues(); ++i)
+  {
+    if (finerPoints->GetValue(i) == highPoints)
+    {
+      return starts && i < starts->GetNumberOfValues() ? starts->GetValue(i) : (i == 0 ? 0 : -1);
+    }
+  }
+  return -1;
+}
+
+// The low level's removal records from record `start` on, in the prepared high mesh's vertex ids;
+// false when there are none or one names no high vertex.
+bool RemovalRecords(vtkIdTypeArray* records, vtkIdType start, const std::vector<slod::Index>& highToInput,
+  vtkIdType highInputPoints, std::vector<slod::Index>& removals)
+{
+  if (!records || records->GetNumberOfComponents() != 2 || start < 0 || start > records->GetNumberOfTuples())
   {
     return false;
   }
@@ -96,12 +119,12 @@ bool RemovalRecords(vtkPolyData* lowInput, const std::vector<slod::Index>& highT
   {
     inputToHigh[highToInput[v]] = static_cast<slod::Index>(v);
   }
-  removals.resize(static_cast<size_t>(2 * records->GetNumberOfTuples()));
+  removals.resize(static_cast<size_t>(2 * (records->GetNumberOfTuples() - start)));
   bool valid = true;
   for (size_t i = 0; i < removals.size(); ++i)
   {
     // (-1 - x, y) is the flip of edge (x, y) (so -1 is a valid first value).
-    const vtkIdType value = records->GetValue(static_cast<vtkIdType>(i));
+    const vtkIdType value = records->GetValue(2 * start + static_cast<vtkIdType>(i));
     const vtkIdType id = value >= 0 ? value : -1 - value;
     const slod::Index mapped = id < highInputPoints ? inputToHigh[id] : slod::InvalidIndex;
     valid = valid && mapped != slod::InvalidIndex && (value >= 0 || i % 2 == 0);
@@ -160,17 +183,15 @@ int vtkRetileLevelInterpolation::RequestData(
   slod::LevelInterpolation result;
   // Section 6.2 when the low level says how it came from the high one; else closest points.
   std::vector<slod::Index> removals;
-  vtkIdTypeArray* finerPoints =
-    vtkIdTypeArray::SafeDownCast(lowInput->GetFieldData()->GetAbstractArray("RetileRemovalsFinerPoints"));
-  // Records of a level made from another finer level (interpolating across several levels) are not
-  // meant for this pair.
-  const bool recorded = this->UseRemovalRecords && lowInput->GetFieldData()->GetAbstractArray("RetileRemovals") &&
-    (!finerPoints || finerPoints->GetNumberOfValues() != 1 || finerPoints->GetValue(0) == highInput->GetNumberOfPoints());
-  if (recorded && RemovalRecords(lowInput, highToInput, highInput->GetNumberOfPoints(), removals))
+  vtkIdTypeArray* records = vtkIdTypeArray::SafeDownCast(lowInput->GetFieldData()->GetAbstractArray("RetileRemovals"));
+  // Records that start from no level of the high level's size are meant for another pair.
+  const vtkIdType start = records ? RecordStart(lowInput, highInput->GetNumberOfPoints()) : -1;
+  const bool recorded = this->UseRemovalRecords && start >= 0;
+  if (recorded && RemovalRecords(records, start, highToInput, highInput->GetNumberOfPoints(), removals))
   {
-    slod::TrackLevels(high, low, removals, result);
+    slod::TrackLevels(high, low, removals, result, slod::FilterProgress(this, 0.1, 0.9));
   }
-  if (recorded && !result.Valid)
+  if (recorded && !result.Valid && !result.Aborted)
   {
     vtkWarningMacro(<< "The low-detail level's RetileRemovals do not turn the high-detail level into it ("
                     << (result.Error.empty() ? std::string("ids out of range") : result.Error)
@@ -181,9 +202,14 @@ int vtkRetileLevelInterpolation::RequestData(
   {
     this->NumberOfTrackedRemovals += removals[i] >= 0 ? 1 : 0; // (-1 - x, y): a flip
   }
-  if (!result.Valid)
+  if (!result.Valid && !result.Aborted)
   {
-    slod::InterpolateLevels(high, low, result);
+    slod::InterpolateLevels(high, low, result, slod::FilterProgress(this, 0.1, 0.9));
+  }
+  if (result.Aborted)
+  {
+    slod::ReportAbort(this, output);
+    return 1;
   }
   if (!result.Valid)
   {

@@ -3,6 +3,8 @@
 // what every simplification filter gives when aborted, and that a count alone gives that count.
 #include "slodFilterContract.h"
 
+#include "TestSupport.h"
+
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
@@ -64,25 +66,6 @@ TEST(FilterContract, NeverAboveTheInput)
 
 namespace
 {
-// Sets AbortExecute at the first progress event and counts the warnings that mention the abort.
-struct AbortAtFirstProgress : vtkCommand
-{
-  static AbortAtFirstProgress* New() { return new AbortAtFirstProgress; }
-  void Execute(vtkObject* caller, unsigned long event, void* data) override
-  {
-    if (event == vtkCommand::ProgressEvent)
-    {
-      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
-    }
-    else if (event == vtkCommand::WarningEvent && data &&
-      std::string(static_cast<const char*>(data)).find("Aborted") != std::string::npos)
-    {
-      ++this->AbortWarnings;
-    }
-  }
-  int AbortWarnings = 0;
-};
-
 vtkSmartPointer<vtkPolyDataAlgorithm> MakeSimplifier(const std::string& name)
 {
   if (name == "vtkQuadricTriangleCollapse")
@@ -124,7 +107,7 @@ TEST_P(AbortContract, EmptyOutputAndAWarning)
 {
   vtkPolyData* sphere = nullptr;
   vtkSmartPointer<vtkPolyDataAlgorithm> filter = SimplifierOfSphere(GetParam(), 48, 48, sphere);
-  vtkNew<AbortAtFirstProgress> observer;
+  vtkNew<slodtest::AbortAtFirstProgress> observer;
   filter->AddObserver(vtkCommand::ProgressEvent, observer);
   filter->AddObserver(vtkCommand::WarningEvent, observer);
   filter->Update();

@@ -7,6 +7,7 @@
 #include "TestSupport.h"
 
 #include "slodMeshTopology.h"
+#include "slodRetileRepair.h"
 #include "slodRetiling.h"
 #include "slodTriangleBVH.h"
 #include "vtkRetile.h"
@@ -546,6 +547,63 @@ TEST(Retile, DefaultLeavesNoNeedle)
     EXPECT_GT(smallest * 180 / 3.14159265358979323846, 1.0);
     EXPECT_GT(shortest, 1e-6 * in.BoundingBoxDiagonal());
   }
+}
+
+// The repair stage's cost (slodRetileRepair.h): a try measures its tiles' distance to the input
+// only when the cheap tests (bad count, smallest angle, how far the surface moved) accept it, and
+// the distances are pruned at the bound. Until 2026-12-03 every scored tile took five closest-point
+// queries (centroid facing, three edge midpoints, centroid distance). Here: a coarse sphere over a
+// fine one with two vertices pushed across their neighbours (folded, flipped tiles).
+TEST(Retile, RepairMeasuresDistancesOnlyForPromisingChanges)
+{
+  const TriangleMesh input = slodtest::Sphere(128, 128);
+  const TriangleBVH bvh(input);
+  TriangleMesh coarse = slodtest::Sphere(48, 48);
+  auto radial = [](const Vec3& p) { return (1.0 / Norm(p)) * p; };
+  EditableMesh edit(coarse);
+  std::vector<Vec3> reference(size_t(coarse.NumberOfPoints()));
+  for (Index v = 0; v < coarse.NumberOfPoints(); ++v)
+  {
+    reference[v] = radial(coarse.Point(v));
+  }
+  std::vector<Index> neighbors;
+  for (Index v : { coarse.NumberOfPoints() / 5, coarse.NumberOfPoints() / 2, 3 * coarse.NumberOfPoints() / 4 })
+  {
+    edit.Neighbors(v, neighbors);
+    ASSERT_FALSE(neighbors.empty());
+    const Vec3 across = edit.Point(v) + 1.6 * (edit.Point(neighbors.front()) - edit.Point(v));
+    edit.SetPoint(v, bvh.ClosestPoint(across).Point);
+  }
+  TileRepair repair(edit, reference, input, bvh, std::vector<unsigned char>(size_t(coarse.NumberOfPoints()), 1));
+  repair.NormalAt = [&](const Vec3& p, Index) { return radial(p); };
+  repair.Moved = [](Index, const Vec3&, Index) {};
+  repair.NeedleAngle = 2.0 * 3.14159265358979323846 / 180.0;
+  auto badTiles = [&]() {
+    Index bad = 0;
+    for (Index t = 0; t < edit.NumberOfTriangles(); ++t)
+    {
+      const Index* tri = edit.Triangle(t);
+      const Vec3 p[3] = { edit.Point(tri[0]), edit.Point(tri[1]), edit.Point(tri[2]) };
+      bad += edit.IsTriangleAlive(t) && repair.IsBad(tri, p) ? 1 : 0;
+    }
+    return bad;
+  };
+  const Index before = badTiles();
+  ASSERT_GT(before, 0);
+  repair.DistanceQueries = 0; // the repair's own queries only
+  repair.Run(8);
+  const long long queries = repair.DistanceQueries;
+  const Index after = badTiles();
+  std::printf("[retile] repair on a sphere: bad tiles %d -> %d, %lld tiles scored (%lld in tries), %lld closest-point "
+              "queries, %d flips, %d moves\n",
+    before, after, repair.TilesScored, repair.RegionTiles, queries, repair.Flips, repair.Moves);
+  EXPECT_LT(after, before);
+  EXPECT_GT(repair.Flips + repair.Moves, 0);
+  EXPECT_GT(repair.TilesScored, 0);
+  // One facing query per scored tile; the distances (four samples per tile of a try, before and
+  // after, until 2026-12-03) only for the few changes that pass the cheap tests.
+  EXPECT_GT(repair.RegionTiles, 0);
+  EXPECT_LT(queries - repair.TilesScored, repair.RegionTiles);
 }
 
 // EnforceFacing (off by default): the removal refuses collapses whose new triangles face against

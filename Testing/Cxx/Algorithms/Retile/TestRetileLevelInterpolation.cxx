@@ -5,6 +5,7 @@
 // characteristic for every T, moves continuously with T, tiles each high triangle; bad input.
 #include "TestSupport.h"
 
+#include "slodFragmentTracking.h"
 #include "slodLevelInterpolation.h"
 #include "slodMeshTopology.h"
 #include "vtkRetile.h"
@@ -25,10 +26,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <string>
+#include <vector>
 
 using namespace slod;
 
@@ -309,8 +313,7 @@ TEST(RetileLevelInterpolation, ClosestPointWithoutRecords)
 }
 
 // Records that do not turn the high level into the low one (edited, or of another pair) are not
-// trusted: a warning, and the closest-point flattening. Records meant for another finer level
-// (interpolating across two levels) are not tried at all.
+// trusted: a warning, and the closest-point flattening.
 TEST(RetileLevelInterpolation, RecordsThatDoNotReplayFallBack)
 {
   const Levels levels = NestedLevels(slodtest::ToPolyData(slodtest::Torus(48, 16)), 600);
@@ -339,34 +342,109 @@ TEST(RetileLevelInterpolation, RecordsThatDoNotReplayFallBack)
   EXPECT_NE(messages->Warnings.front().find("RetileRemovals"), std::string::npos) << messages->Warnings.front();
   EXPECT_EQ(filter->GetNumberOfTrackedRemovals(), 0);
   EXPECT_GT(filter->GetOutput()->GetNumberOfPolys(), levels.High->GetNumberOfPolys());
+}
 
-  // Three levels: level 0 against level 2 (its records start from level 1).
+namespace
+{
+vtkSmartPointer<vtkMultiBlockDataSet> ThreeLevels(vtkPolyData* input, vtkIdType finest)
+{
   vtkNew<vtkRetile> retile;
-  retile->SetInputData(slodtest::ToPolyData(slodtest::Torus(48, 16)));
-  retile->SetNumberOfPoints(640);
+  retile->SetInputData(input);
+  retile->SetNumberOfPoints(finest);
   retile->GenerateNestedLevelsOn();
   retile->SetNumberOfNestedLevels(3);
-  retile->SetNestedLevelRatio(4.0);
+  retile->SetNestedLevelRatio(3.0);
   retile->Update();
-  vtkMultiBlockDataSet* blocks = retile->GetNestedLevels();
-  ASSERT_EQ(blocks->GetNumberOfBlocks(), 3u);
-  vtkNew<vtkRetileLevelInterpolation> across;
-  vtkNew<slodtest::MessageCounter> acrossMessages;
-  across->AddObserver(vtkCommand::WarningEvent, acrossMessages);
-  across->SetHighDetailData(blocks->GetBlock(2));
-  across->SetLowDetailData(blocks->GetBlock(0));
-  across->Update();
-  for (const std::string& warning : acrossMessages->Warnings)
+  return retile->GetNestedLevels();
+}
+
+Levels Pair(vtkMultiBlockDataSet* blocks, unsigned int low, unsigned int high)
+{
+  Levels levels;
+  levels.Low = vtkPolyData::SafeDownCast(blocks->GetBlock(low));
+  levels.High = vtkPolyData::SafeDownCast(blocks->GetBlock(high));
+  return levels;
+}
+} // namespace
+
+// Section 6.2 across several levels: each level's records chain those of the finer levels, so
+// every pair of nested levels (0 with 2 too) is tracked, with T = 0 the low level exactly (until
+// 2026-12-03 level 0 with level 2 fell back to the closest-point path).
+TEST(RetileLevelInterpolation, AnyPairOfNestedLevelsIsTracked)
+{
+  for (const char* name : { "bunny00", "femur" })
   {
-    EXPECT_EQ(warning.find("RetileRemovals"), std::string::npos) << warning;
+    vtkSmartPointer<vtkMultiBlockDataSet> blocks = ThreeLevels(slodtest::LoadTestMesh(name), 1800);
+    ASSERT_EQ(blocks->GetNumberOfBlocks(), 3u) << name;
+    for (const auto& pair : { std::make_pair(0u, 2u), std::make_pair(1u, 2u), std::make_pair(0u, 1u) })
+    {
+      const std::string label = std::string(name) + " levels " + std::to_string(pair.first) + "-" + std::to_string(pair.second);
+      CheckInterpolation(label.c_str(), Pair(blocks, pair.first, pair.second), Path::Tracked);
+    }
   }
-  EXPECT_EQ(across->GetNumberOfTrackedRemovals(), 0);
-  across->SetHighDetailData(blocks->GetBlock(1));
-  across->Update();
-  EXPECT_EQ(across->GetNumberOfInconsistentFragments(), 0);
-  EXPECT_EQ(across->GetNumberOfTrackedRemovals(),
-    vtkPolyData::SafeDownCast(blocks->GetBlock(1))->GetNumberOfPoints() -
-      vtkPolyData::SafeDownCast(blocks->GetBlock(0))->GetNumberOfPoints());
+  vtkSmartPointer<vtkMultiBlockDataSet> torus = ThreeLevels(slodtest::ToPolyData(slodtest::Torus(48, 16)), 720);
+  ASSERT_EQ(torus->GetNumberOfBlocks(), 3u);
+  CheckInterpolation("torus levels 0-2", Pair(torus, 0, 2), Path::Tracked);
+}
+
+namespace
+{
+std::vector<Index> Records(vtkPolyData* low)
+{
+  auto* records = vtkIdTypeArray::SafeDownCast(low->GetFieldData()->GetAbstractArray("RetileRemovals"));
+  std::vector<Index> removals;
+  for (vtkIdType i = 0; records && i < records->GetNumberOfValues(); ++i)
+  {
+    removals.push_back(static_cast<Index>(records->GetValue(i)));
+  }
+  return removals;
+}
+} // namespace
+
+// The fragment tracker and the closest-point path report progress (non-decreasing, to 1) and stop
+// when it asks to; the filter then gives the contract's abort result (empty output, one warning).
+TEST(RetileLevelInterpolation, ProgressAndAbort)
+{
+  const Levels levels = NestedLevels(slodtest::LoadTestMesh("bunny00"), 2000);
+  ASSERT_TRUE(levels.High);
+  const TriangleMesh high = slodtest::ToTriangleMesh(levels.High), low = slodtest::ToTriangleMesh(levels.Low);
+  const std::vector<Index> removals = Records(levels.Low);
+  ASSERT_FALSE(removals.empty());
+  for (int path = 0; path < 2; ++path)
+  {
+    std::vector<double> fractions;
+    auto record = [&](double f) {
+      fractions.push_back(f);
+      return true;
+    };
+    LevelInterpolation result;
+    path == 0 ? TrackLevels(high, low, removals, result, record) : InterpolateLevels(high, low, result, record);
+    ASSERT_TRUE(result.Valid) << path << ": " << result.Error;
+    ASSERT_GE(fractions.size(), 3u) << path;
+    EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end())) << path;
+    EXPECT_EQ(fractions.back(), 1.0) << path;
+    int calls = 0;
+    auto stop = [&](double) { return ++calls < 2; };
+    path == 0 ? TrackLevels(high, low, removals, result, stop) : InterpolateLevels(high, low, result, stop);
+    EXPECT_TRUE(result.Aborted) << path;
+    EXPECT_FALSE(result.Valid) << path;
+    EXPECT_TRUE(result.Error.empty()) << path << ": " << result.Error;
+    EXPECT_EQ(calls, 2) << path;
+  }
+  for (bool useRecords : { true, false })
+  {
+    vtkNew<vtkRetileLevelInterpolation> filter;
+    filter->SetUseRemovalRecords(useRecords);
+    vtkNew<slodtest::AbortAtFirstProgress> observer;
+    filter->AddObserver(vtkCommand::ProgressEvent, observer);
+    filter->AddObserver(vtkCommand::WarningEvent, observer);
+    filter->SetHighDetailData(levels.High);
+    filter->SetLowDetailData(levels.Low);
+    filter->Update();
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0) << useRecords;
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0) << useRecords;
+    EXPECT_EQ(observer->AbortWarnings, 1) << useRecords;
+  }
 }
 
 TEST(RetileLevelInterpolation, SameLevelIsIdentity)
