@@ -19,6 +19,10 @@ namespace slod
 using Index = std::int32_t;
 constexpr Index InvalidIndex = -1;
 
+constexpr double Pi = 3.14159265358979323846;
+// Angles are given in degrees at the filters' interface and used in radians inside.
+constexpr double Radians(double degrees) { return degrees * (Pi / 180.0); } // as vtkMath::RadiansFromDegrees
+
 using Vec3 = std::array<double, 3>;
 
 inline Vec3 operator+(const Vec3& a, const Vec3& b) { return { a[0] + b[0], a[1] + b[1], a[2] + b[2] }; }

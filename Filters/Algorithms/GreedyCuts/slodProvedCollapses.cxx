@@ -50,7 +50,7 @@ public:
     }
     this->AliveTriangles = output.NumberOfTriangles();
     this->Options.BoundaryVertices = this->Border.data();
-    this->Options.MinimumAngle = parameters.MinimumAngle * std::acos(-1.0) / 180.0;
+    this->Options.MinimumAngle = Radians(parameters.MinimumAngle);
   }
 
   // One pass over the removable vertices, shortest incident edge first. Returns the collapses.

@@ -266,7 +266,7 @@ struct PatchMerging : TerrainData
     , Members(size_t(patches))
     , Height(size_t(patches), Vec3{ 0, 0, 0 })
     , HeightMin(size_t(patches), 1.0)
-    , CosSharp(std::cos(vtkMath::RadiansFromDegrees(prm.SharpAngle)))
+    , CosSharp(std::cos(Radians(prm.SharpAngle)))
   {
     for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
     {

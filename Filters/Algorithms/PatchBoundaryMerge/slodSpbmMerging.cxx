@@ -200,7 +200,7 @@ SpbmLevelGenerator::MergingRun::MergingRun(
   , eps(static_cast<float>(parameters_.Epsilon))
   , base(nc > 0 ? P.ChainVerticesBegin(0) : nullptr)
   , flatness(parameters_.FlatnessMerge)
-  , cosMerge(std::cos(vtkMath::RadiansFromDegrees(parameters_.MergeAngle)))
+  , cosMerge(std::cos(Radians(parameters_.MergeAngle)))
   , inverseDiagonal(generator_.Diagonal > 0 ? 1.0 / generator_.Diagonal : 1.0)
 {
 }
@@ -422,8 +422,8 @@ void SpbmLevelGenerator::MergingRun::ComputeMergeThreshold()
   mergeThreshold = flatness
     ? (parameters.MergeAngle >= 90.0
           ? -std::numeric_limits<double>::max() / 4
-          : -parameters.FlatnessScale * std::tan(vtkMath::RadiansFromDegrees(std::max(0.0, parameters.MergeAngle))))
-    : parameters.SizeWeightedMerge ? -std::sin(vtkMath::RadiansFromDegrees(std::min(90.0, parameters.MergeAngle)))
+          : -parameters.FlatnessScale * std::tan(Radians(std::max(0.0, parameters.MergeAngle))))
+    : parameters.SizeWeightedMerge ? -std::sin(Radians(std::min(90.0, parameters.MergeAngle)))
                                    : cosMerge;
 }
 

@@ -18,7 +18,6 @@ namespace
 {
 using Vec2 = std::array<double, 2>;
 
-constexpr double Pi = 3.14159265358979323846;
 
 double Orient(const Vec2& a, const Vec2& b, const Vec2& p)
 {

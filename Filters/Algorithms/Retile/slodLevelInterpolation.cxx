@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodLevelInterpolation.h"
 
+#include "slodIndexedHeap.h"
 #include "slodMeshTopology.h"
 #include "slodTriangleBVH.h"
 
@@ -185,23 +186,18 @@ public:
         const Index* x = this->Mesh.Triangle(t);
         return (1.0 / 3.0) * (this->Mesh.Point(x[0]) + this->Mesh.Point(x[1]) + this->Mesh.Point(x[2]));
       };
-      std::vector<std::pair<double, Index>> heap;
+      IndexedHeap<double>& heap = this->Frontier;
+      heap.Reserve(this->Mesh.NumberOfTriangles());
+      heap.Clear();
       for (Index t : startSet)
       {
         this->Cost[t] = Norm(centroid(t) - from.Point);
-        heap.emplace_back(-this->Cost[t], -t);
+        heap.Set(t, this->Cost[t]);
       }
-      std::make_heap(heap.begin(), heap.end());
-      while (!heap.empty() && queue.size() < limit)
+      while (!heap.Empty() && queue.size() < limit)
       {
-        std::pop_heap(heap.begin(), heap.end());
-        const double cost = -heap.back().first;
-        const Index t = -heap.back().second;
-        heap.pop_back();
-        if (cost > this->Cost[t])
-        {
-          continue;
-        }
+        const double cost = heap.TopKey();
+        const Index t = heap.Pop();
         if (std::find(targetSet.begin(), targetSet.end(), t) != targetSet.end())
         {
           found = t;
@@ -226,8 +222,7 @@ public:
             {
               this->Parent[n] = t;
               this->Cost[n] = c;
-              heap.emplace_back(-c, -n);
-              std::push_heap(heap.begin(), heap.end());
+              heap.Set(n, c);
             }
           }
         }
@@ -285,6 +280,7 @@ public:
   MeshTopology Topology;
   mutable std::vector<Index> Parent, Queue;
   mutable std::vector<double> Cost;
+  mutable IndexedHeap<double> Frontier; // ShortestStrip's Dijkstra: triangles by cost, ties by id
 };
 
 struct PointKey

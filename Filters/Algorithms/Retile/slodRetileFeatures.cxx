@@ -10,7 +10,6 @@ namespace slod
 {
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
 
 // A maximal run of feature edges between two corners (or a closed loop: first == last vertex).
 struct Chain
@@ -26,7 +25,7 @@ struct Chain
 std::vector<std::vector<Index>> FeatureEdgeGraph(const TriangleMesh& mesh, double featureAngle)
 {
   const MeshTopology topology(mesh);
-  const double cosine = std::cos(featureAngle * Pi / 180.0);
+  const double cosine = std::cos(Radians(featureAngle));
   std::vector<std::vector<Index>> neighbors(size_t(mesh.NumberOfPoints()));
   for (Index e = 0; e < topology.NumberOfEdges(); ++e)
   {
@@ -52,7 +51,7 @@ std::vector<std::vector<Index>> FeatureEdgeGraph(const TriangleMesh& mesh, doubl
 std::vector<unsigned char> CornerFlags(
   const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors, double featureAngle)
 {
-  const double cosine = std::cos(featureAngle * Pi / 180.0);
+  const double cosine = std::cos(Radians(featureAngle));
   std::vector<unsigned char> corner(neighbors.size(), 0);
   for (size_t v = 0; v < neighbors.size(); ++v)
   {

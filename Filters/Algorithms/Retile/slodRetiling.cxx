@@ -1004,7 +1004,7 @@ std::vector<Vec3> ReferenceNormals(
 // all leave a needle waits for a later phase, as long as the waits stay within this many per old
 // vertex (fandisk waits 0.15 per vertex) and the vertex has at most MaximumDeferredValence
 // neighbours (a cone's valence-5000 apex would be re-checked at 5000 squared cost every pass).
-constexpr double NeedleFloor = 3.0 * 3.14159265358979323846 / 180.0;
+constexpr double NeedleFloor = Radians(3.0);
 constexpr double NeedleDeferralBudget = 1.0;
 constexpr size_t MaximumDeferredValence = 32;
 
@@ -1401,7 +1401,7 @@ Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference
 
 // Smallest angle and shortest edge (share of the input's diagonal) of a tile RepairTiles accepts:
 // below them a tile is a needle.
-constexpr double RepairNeedleAngle = 2.0 * 3.14159265358979323846 / 180.0;
+constexpr double RepairNeedleAngle = Radians(2.0);
 constexpr double RepairShortestEdge = 1e-5;
 constexpr int RepairPasses = 8;
 

@@ -16,7 +16,6 @@ namespace slod
 {
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
 
 using Box = std::array<double, 6>;
 

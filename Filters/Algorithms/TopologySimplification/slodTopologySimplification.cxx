@@ -1480,7 +1480,7 @@ std::vector<Index> CleanUpMerge(const TopologySimplificationParameters& P, const
   {
     return group;
   }
-  const double cosLimit = std::cos(vtkMath::RadiansFromDegrees(P.MergeAngle));
+  const double cosLimit = std::cos(Radians(P.MergeAngle));
   PatchGroups groups(pa, mesh.NumberOfPoints());
   std::vector<Index> shared;
   for (const auto& candidate : MergeCandidates(pa, cosLimit))

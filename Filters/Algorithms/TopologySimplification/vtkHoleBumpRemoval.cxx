@@ -40,8 +40,8 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
   slod::TopologySimplificationParameters parameters;
   parameters.Patches.OneEdgePatchAngle = filter->GetPatchAngle();
   parameters.Patches.OneEdgeNeighborAngle = filter->GetNeighborAngle();
-  parameters.SharpMaximumDot = std::cos(vtkMath::RadiansFromDegrees(filter->GetSharpAngle()));
-  parameters.SharpMinimumDot = std::cos(vtkMath::RadiansFromDegrees(filter->GetMaximumSharpAngle()));
+  parameters.SharpMaximumDot = std::cos(slod::Radians(filter->GetSharpAngle()));
+  parameters.SharpMinimumDot = std::cos(slod::Radians(filter->GetMaximumSharpAngle()));
   const double diagonal = mesh.BoundingBoxDiagonal();
   parameters.Patches.MaximumPlaneDistance = filter->GetPatchPlaneDistance() * diagonal;
   const double scale = filter->GetFeatureSizeIsRelative() ? diagonal : 1.0;

@@ -1267,7 +1267,7 @@ void TriangleCollapser::Update(Index t)
 
 double NormalLimitDot(double degrees)
 {
-  return std::cos(std::min(90.0, std::max(0.0, degrees)) * 3.14159265358979323846 / 180.0);
+  return std::cos(Radians(std::min(90.0, std::max(0.0, degrees))));
 }
 
 void TriangleCollapser::TraceStage(const char* stage)

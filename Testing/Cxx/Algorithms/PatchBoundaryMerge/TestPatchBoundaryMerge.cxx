@@ -37,7 +37,6 @@ using namespace slod;
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
 
 struct PatchedMesh
 {

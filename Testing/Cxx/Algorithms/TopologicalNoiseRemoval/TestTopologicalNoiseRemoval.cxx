@@ -31,7 +31,6 @@ using namespace slodtest;
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
 
 struct CleanRun
 {
