@@ -964,6 +964,13 @@ bool PrepareFilterTriangles(vtkObject* filter, vtkPolyData* input, const Prepara
   return false;
 }
 
+bool PrepareFilterTriangles(
+  vtkObject* filter, vtkPolyData* input, PreparedTriangles& prepared, const NoTrianglesMessage& noTriangles)
+{
+  return PrepareFilterTriangles(filter, input, PreparationOptions(), prepared.Mesh, prepared.VertexToInput,
+    &prepared.Report, CellMapIfNeeded(input, prepared.TriangleToCell), noTriangles);
+}
+
 ProgressFunction FilterProgress(vtkAlgorithm* filter, double from, double to)
 {
   return [filter, from, to](double fraction) {

@@ -125,6 +125,19 @@ SURFACELODFILTERS_EXPORT bool PrepareFilterTriangles(vtkObject* filter, vtkPolyD
   PreparationReport* report, std::vector<Index>* triangleToInputCell,
   const NoTrianglesMessage& noTriangles = NoTrianglesMessage());
 
+// What a filter with the default preparation works on: the mesh, its maps back to the input (the
+// cell map only when the input has cell data to carry, slod::CellMapIfNeeded) and the report.
+struct PreparedTriangles
+{
+  TriangleMesh Mesh;
+  std::vector<Index> VertexToInput, TriangleToCell;
+  PreparationReport Report;
+};
+
+// PrepareFilterTriangles with the default PreparationOptions into `prepared`.
+SURFACELODFILTERS_EXPORT bool PrepareFilterTriangles(vtkObject* filter, vtkPolyData* input, PreparedTriangles& prepared,
+  const NoTrianglesMessage& noTriangles = NoTrianglesMessage());
+
 // The progress of `filter` from `from` to `to` as a ProgressFunction (slodFilterContract.h): each
 // call updates the filter's progress and returns false once the filter was asked to abort.
 SURFACELODFILTERS_EXPORT ProgressFunction FilterProgress(vtkAlgorithm* filter, double from = 0.0, double to = 1.0);

@@ -8,6 +8,7 @@
 // (no model argument: all three). Models are read from the CGAL demo meshes of the build
 // (SURFACELOD_MESH_DIR); mc1m is the demo's ~1M-triangle isosurface (vtkSyntheticIsosurfaceSource)
 // (a bumpy sphere).
+#include "CliSupport.h"
 #include "vtkPatchBoundaryMerge.h"
 #include "vtkOFFMeshReader.h"
 #include "vtkSurfaceDeviation.h"
@@ -37,25 +38,6 @@ using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point start)
 {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// Resident memory (kB) from /proc/self/status: current and peak since the last reset.
-long StatusKB(const char* key)
-{
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-  {
-    if (line.compare(0, std::strlen(key), key) == 0)
-    {
-      return std::atol(line.c_str() + std::strlen(key) + 1);
-    }
-  }
-  return -1;
-}
-void ResetPeak()
-{
-  std::ofstream("/proc/self/clear_refs") << "5"; // resets VmHWM to the current RSS
 }
 
 // The demo's marching-cubes surface (vtkSyntheticIsosurfaceSource; 500: about 1,000,000 triangles).
@@ -165,17 +147,17 @@ int main(int argc, char* argv[])
     // Memory: peak resident growth of the first level (patchification + level) beyond the input.
     double bytesPerVertex = 0;
     {
-      ResetPeak();
-      const long before = StatusKB("VmRSS:");
+      slodcli::ResetPeakResident();
+      const double before = slodcli::ResidentMegabytes();
       vtkNew<vtkPatchBoundaryMerge> probe;
       probe->SetMinimumDeviationTriangulation(!earClipping);
       probe->SetInputData(input);
       probe->SetTargetNumberOfTriangles(targets[0]);
       probe->Update();
-      const long peak = StatusKB("VmHWM:");
-      bytesPerVertex = 1024.0 * double(peak - before) / double(input->GetNumberOfPoints());
+      const double peak = slodcli::PeakResidentMegabytes();
+      bytesPerVertex = 1048576.0 * (peak - before) / double(input->GetNumberOfPoints());
       std::fprintf(stderr, "  peak RSS growth %.1f MB = %.0f bytes/vertex; cache held %.1f bytes/vertex\n",
-        (peak - before) / 1024.0, bytesPerVertex, double(probe->GetCacheMemory()) / input->GetNumberOfPoints());
+        peak - before, bytesPerVertex, double(probe->GetCacheMemory()) / input->GetNumberOfPoints());
     }
 
     // One filter for all levels: the first pays the patchification, the others reuse it.

@@ -10,6 +10,7 @@
 // --paper the paper's configuration (UsePaperConfiguration) runs too, in the same run; with --batch
 // the BatchCollapses mode at that BatchCostTolerance; with --passes the main run uses the pass
 // schedule (CollapseSchedule PASSES). A mesh is a CGAL demo name or a .vtp path.
+#include "CliSupport.h"
 #include "TestSupport.h"
 #include "vtkQuadricTriangleCollapse.h"
 
@@ -37,24 +38,6 @@
 
 namespace
 {
-long ReadStatusKB(const char* key)
-{
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-  {
-    if (line.rfind(key, 0) == 0)
-    {
-      return std::atol(line.c_str() + std::strlen(key));
-    }
-  }
-  return 0;
-}
-void ResetPeak()
-{
-  std::ofstream("/proc/self/clear_refs") << "5";
-}
-
 double CpuSeconds()
 {
   timespec ts;
@@ -80,17 +63,17 @@ Measure Run(vtkPolyData* input, Filter* filter, int runs, vtkSmartPointer<vtkPol
     filter->SetInputData(input);
     filter->Modified();
     output = nullptr;
-    ResetPeak();
-    const long before = ReadStatusKB("VmRSS:");
+    slodcli::ResetPeakResident();
+    const double before = slodcli::ResidentMegabytes();
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = CpuSeconds();
     filter->Update();
     const double c1 = CpuSeconds();
     const auto t1 = std::chrono::steady_clock::now();
-    const long peak = ReadStatusKB("VmHWM:");
+    const double peak = slodcli::PeakResidentMegabytes();
     walls.push_back(std::chrono::duration<double>(t1 - t0).count());
     times.push_back(c1 - c0);
-    m.BytesPerVertex = std::max(m.BytesPerVertex, 1024.0 * double(peak - before) / double(input->GetNumberOfPoints()));
+    m.BytesPerVertex = std::max(m.BytesPerVertex, 1048576.0 * (peak - before) / double(input->GetNumberOfPoints()));
     output = vtkSmartPointer<vtkPolyData>::New();
     output->ShallowCopy(filter->GetOutput());
     filter->SetInputData(nullptr);

@@ -18,6 +18,25 @@ class PythonPipelineTest(unittest.TestCase):
         for name in ("vtkSurfaceDeviation", "vtkOFFMeshReader"):
             self.assertTrue(hasattr(surfacelod, name), name)
 
+    def test_one_contract_from_the_base_classes(self):
+        # Every simplifier takes its targets from vtkSimplificationAlgorithm; the error-bounded ones
+        # MaximumError from vtkErrorBoundedSimplificationAlgorithm, with each filter's own default.
+        bounded = ("vtkQuadricTriangleCollapse", "vtkPatchBoundaryMerge", "vtkGreedyCutsSimplification")
+        others = ("vtkTriangleCollapseHierarchy", "vtkRetile", "vtkHoleBumpRemoval")
+        sphere = vtkSphereSource()
+        sphere.SetThetaResolution(40)
+        sphere.SetPhiResolution(40)
+        sphere.Update()
+        triangles = sphere.GetOutput().GetNumberOfPolys()
+        for name in bounded + others:
+            f = getattr(surfacelod, name)()
+            self.assertTrue(f.IsA("vtkSimplificationAlgorithm"), name)
+            self.assertEqual(f.IsA("vtkErrorBoundedSimplificationAlgorithm") == 1, name in bounded, name)
+            f.SetTargetNumberOfTriangles(300)
+            self.assertEqual(f.ComputeTargetNumberOfTriangles(triangles), 300, name)
+        self.assertEqual(surfacelod.vtkGreedyCutsSimplification().GetMaximumError(), 0.005)
+        self.assertEqual(surfacelod.vtkQuadricTriangleCollapse().GetMaximumError(), 0.0)
+
     def test_deviation_in_pipeline(self):
         sphere = vtkSphereSource()
         sphere.SetThetaResolution(48)

@@ -212,7 +212,7 @@ struct vtkTriangleCollapseHierarchy::Internals
   // The triangle count asked for, of n0 input triangles.
   static slod::Index TargetOf(const vtkTriangleCollapseHierarchy& f, slod::Index n0)
   {
-    return slod::TargetTriangleCount(n0, f.TargetNumberOfTriangles, f.TargetReduction, false);
+    return static_cast<slod::Index>(f.ComputeTargetNumberOfTriangles(n0));
   }
 
   // Only the target mesh is asked for (no level, no blend, no multiblock of the levels): the
@@ -431,9 +431,6 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ContinuousLevel: " << this->ContinuousLevel << "\n";
   os << indent << "Level: " << this->Level << "\n";
-  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
-  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
-  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "CurvatureWeight: " << this->CurvatureWeight << "\n";
   os << indent << "AngleWeight: " << this->AngleWeight << "\n";
   os << indent << "ValenceWeight: " << this->ValenceWeight << "\n";

@@ -52,17 +52,17 @@
 #define vtkTriangleCollapseHierarchy_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkSimplificationAlgorithm.h"
 
 #include <memory>
 
 class vtkMultiBlockDataSet;
 
-class SURFACELODFILTERS_EXPORT vtkTriangleCollapseHierarchy : public vtkPolyDataAlgorithm
+class SURFACELODFILTERS_EXPORT vtkTriangleCollapseHierarchy : public vtkSimplificationAlgorithm
 {
 public:
   static vtkTriangleCollapseHierarchy* New();
-  vtkTypeMacro(vtkTriangleCollapseHierarchy, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkTriangleCollapseHierarchy, vtkSimplificationAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -71,10 +71,6 @@ public:
   vtkGetMacro(ContinuousLevel, double);
   vtkSetMacro(Level, int);
   vtkGetMacro(Level, int);
-  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
-  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
-  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
-  vtkGetMacro(TargetReduction, double);
   ///@}
 
   ///@{
@@ -236,13 +232,6 @@ public:
   vtkBooleanMacro(GenerateAllLevels, bool);
   ///@}
 
-  ///@{
-  /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float
-  /// unless double), for output 0 and every level. Changing it does not rebuild the hierarchy.
-  vtkSetMacro(OutputPointsPrecision, int);
-  vtkGetMacro(OutputPointsPrecision, int);
-  ///@}
-
   /// All levels (output port 1).
   vtkMultiBlockDataSet* GetLevelsOutput();
 
@@ -266,8 +255,6 @@ protected:
 
   double ContinuousLevel = -1;
   int Level = -1;
-  vtkIdType TargetNumberOfTriangles = 0;
-  double TargetReduction = 0.0;
   double CurvatureWeight = 1.0 / 3.0;
   double AngleWeight = 1.0 / 3.0;
   double ValenceWeight = 1.0 / 3.0;
@@ -291,7 +278,6 @@ protected:
   double MinimumNormalDot = 0.5;
   bool GenerateAllLevels = true;
   bool ExpandFromCoarsestLevel = false;
-  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double ShownLevel = 0;
   int NumberOfHierarchyBuilds = 0;

@@ -80,7 +80,12 @@ void StoreSimplification(vtkPolyData* input, const slod::TriangleMesh& mesh,
 }
 } // namespace
 
-vtkGreedyCutsSimplification::vtkGreedyCutsSimplification() = default;
+// Ho's epsilon is the filter's whole point: bounded by default, relative to the diagonal (0.005).
+vtkGreedyCutsSimplification::vtkGreedyCutsSimplification()
+{
+  this->MaximumError = 0.005;
+  this->MaximumErrorIsRelative = true;
+}
 
 int vtkGreedyCutsSimplification::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -140,7 +145,7 @@ int vtkGreedyCutsSimplification::RequestData(
   vtkIdType target = 0;
   // The filter contract's targets (slodFilterContract.h); MaximumError is always a bound here, so
   // no target at all means the simplification within it (the paper's use).
-  target = slod::TargetTriangleCount(mesh.NumberOfTriangles(), this->TargetNumberOfTriangles, this->TargetReduction, true);
+  target = this->ComputeTargetNumberOfTriangles(mesh.NumberOfTriangles());
   slod::GreedyCutsResult result;
   const slod::ProgressFunction stage = slod::FilterProgress(this, 0.1, 0.95);
   if (target > 0 && target < mesh.NumberOfTriangles())
@@ -194,21 +199,14 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "MaximumError: " << this->MaximumError << (this->MaximumErrorIsRelative ? " (relative)" : " (absolute)")
      << "\n";
-  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
-  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "TargetSearchSteps: " << this->TargetSearchSteps << "\n";
   os << indent << "Patchification: "
      << (this->Patchification == CHAPTER3_TERRAIN_PATCHES ? "chapter 3 terrain patches" : "chapter 4 patches") << "\n";
   os << indent << "MinimumPatchTriangles: " << this->MinimumPatchTriangles << "\n";
-  os << indent << "PatchAngle: " << this->PatchAngle << "\n";
-  os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
-  os << indent << "TwoEdgePatchAngle: " << this->TwoEdgePatchAngle << "\n";
-  os << indent << "TwoEdgeNeighborAngle: " << this->TwoEdgeNeighborAngle << "\n";
   os << indent << "BiteCandidates: " << this->BiteCandidates << "\n";
   os << indent << "MinimumTriangleAngle: " << this->MinimumTriangleAngle << "\n";
   os << indent << "ShapedTriangleAngle: " << this->ShapedTriangleAngle << "\n";
   os << indent << "FinalCollapses: " << (this->FinalCollapses ? "on" : "off") << "\n";
-  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
   os << indent << "RefinedPatches: " << this->RefinedPatches << "\n";

@@ -43,30 +43,17 @@
 #define vtkGreedyCutsSimplification_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPatchSimplificationAlgorithm.h"
 
-class SURFACELODFILTERS_EXPORT vtkGreedyCutsSimplification : public vtkPolyDataAlgorithm
+class SURFACELODFILTERS_EXPORT vtkGreedyCutsSimplification : public vtkPatchSimplificationAlgorithm
 {
 public:
   static vtkGreedyCutsSimplification* New();
-  vtkTypeMacro(vtkGreedyCutsSimplification, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkGreedyCutsSimplification, vtkPatchSimplificationAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /** Error bound epsilon (default 0.005, relative to the bounding box diagonal). */
-  vtkSetClampMacro(MaximumError, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(MaximumError, double);
-  vtkSetMacro(MaximumErrorIsRelative, bool);
-  vtkGetMacro(MaximumErrorIsRelative, bool);
-  vtkBooleanMacro(MaximumErrorIsRelative, bool);
-  ///@}
-
-  ///@{
   /** Target triangle count (0 = unused) or reduction (fraction removed): epsilon is searched. */
-  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
-  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
-  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
-  vtkGetMacro(TargetReduction, double);
   vtkSetClampMacro(TargetSearchSteps, int, 1, 40);
   vtkGetMacro(TargetSearchSteps, int);
   ///@}
@@ -87,18 +74,6 @@ public:
   vtkGetMacro(Patchification, int);
   vtkSetClampMacro(MinimumPatchTriangles, int, 1, VTK_INT_MAX);
   vtkGetMacro(MinimumPatchTriangles, int);
-
-  ///@{
-  /** Patch growth tolerances in degrees (see slod::PatchificationParameters). */
-  vtkSetClampMacro(PatchAngle, double, 0.0, 180.0);
-  vtkGetMacro(PatchAngle, double);
-  vtkSetClampMacro(NeighborAngle, double, 0.0, 180.0);
-  vtkGetMacro(NeighborAngle, double);
-  vtkSetClampMacro(TwoEdgePatchAngle, double, 0.0, 180.0);
-  vtkGetMacro(TwoEdgePatchAngle, double);
-  vtkSetClampMacro(TwoEdgeNeighborAngle, double, 0.0, 180.0);
-  vtkGetMacro(TwoEdgeNeighborAngle, double);
-  ///@}
 
   ///@{
   /** Greedy biting: inner vertices tried per edge; smallest angle of a created triangle (degrees). */
@@ -124,9 +99,6 @@ public:
   vtkGetMacro(FinalCollapses, bool);
   vtkBooleanMacro(FinalCollapses, bool);
   ///@}
-  /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
-  vtkSetMacro(OutputPointsPrecision, int);
-  vtkGetMacro(OutputPointsPrecision, int);
 
   ///@{
   /** Results of the last update. */
@@ -144,23 +116,16 @@ protected:
   vtkGreedyCutsSimplification();
   ~vtkGreedyCutsSimplification() override = default;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // Epsilon always bounds the cuts: without a count target the result is epsilon's, not 0.9.
+  bool HasErrorBound() const override { return true; }
 
-  double MaximumError = 0.005;
-  bool MaximumErrorIsRelative = true;
-  vtkIdType TargetNumberOfTriangles = 0;
-  double TargetReduction = 0.0;
   int TargetSearchSteps = 10;
   int Patchification = CHAPTER4_PATCHES;
   int MinimumPatchTriangles = 32;
-  double PatchAngle = 25.0;
-  double NeighborAngle = 20.0;
-  double TwoEdgePatchAngle = 90.0;
-  double TwoEdgeNeighborAngle = 90.0;
   int BiteCandidates = 8;
   double MinimumTriangleAngle = 0.5;
   double ShapedTriangleAngle = 0.0;
   bool FinalCollapses = true;
-  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   double UsedMaximumError = 0;
   int NumberOfPatches = 0;

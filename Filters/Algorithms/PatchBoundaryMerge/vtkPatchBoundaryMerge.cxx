@@ -114,8 +114,7 @@ struct vtkPatchBoundaryMerge::Cache
   // The filter's count target (0: none, only an error bound).
   vtkIdType Target(vtkPatchBoundaryMerge* self) const
   {
-    return slod::TargetTriangleCount(this->Mesh.NumberOfTriangles(), self->TargetNumberOfTriangles,
-      self->TargetReduction, self->MaximumError > 0);
+    return self->ComputeTargetNumberOfTriangles(this->Mesh.NumberOfTriangles());
   }
   void WriteOutputs(vtkPatchBoundaryMerge* self, vtkPolyData* input, const slod::SpbmLevel& result,
     vtkPolyData* output, vtkPolyData* curves, vtkPolyData* colored);
@@ -285,7 +284,7 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
   const slod::TriangleMesh& mesh = this->Mesh;
   // The error bound is the chain tolerance epsilon (the paper's parameter); the target search
   // sets its own epsilon.
-  const double bound = self->MaximumErrorIsRelative ? self->MaximumError * mesh.BoundingBoxDiagonal() : self->MaximumError;
+  const double bound = self->AbsoluteMaximumError(mesh.BoundingBoxDiagonal());
   level = this->LevelParameters(self);
   level.Epsilon = bound;
   // The filter contract's targets (slodFilterContract.h): an error bound alone is the level of that
@@ -512,10 +511,6 @@ int vtkPatchBoundaryMerge::RequestData(
 void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "PatchAngle: " << this->PatchAngle << "\n";
-  os << indent << "NeighborAngle: " << this->NeighborAngle << "\n";
-  os << indent << "TwoEdgePatchAngle: " << this->TwoEdgePatchAngle << "\n";
-  os << indent << "TwoEdgeNeighborAngle: " << this->TwoEdgeNeighborAngle << "\n";
   os << indent << "AreaWeightedNormals: " << this->AreaWeightedNormals << "\n";
   os << indent << "PatchPlaneDistance: " << this->PatchPlaneDistance << "\n";
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
@@ -527,12 +522,9 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CostOrderedRemoval: " << this->CostOrderedRemoval << "\n";
   os << indent << "ChainInPlaneWeight: " << this->ChainInPlaneWeight << "\n";
   os << indent << "MinimumDeviationTriangulation: " << this->MinimumDeviationTriangulation << "\n";
-  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
-  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "MaximumError: " << this->MaximumError << (this->MaximumErrorIsRelative ? " (relative)" : " (absolute)")
      << "\n";
   os << indent << "GeneratePatchColoredInput: " << this->GeneratePatchColoredInput << "\n";
-  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
   os << indent << "NumberOfMergedPatches: " << this->NumberOfMergedPatches << "\n";
   os << indent << "UsedEpsilon: " << this->UsedEpsilon << "\n";

@@ -27,37 +27,26 @@
  * Target: SetTargetNumberOfTriangles (0 = unused) or SetTargetReduction (fraction removed) search
  * epsilon over the stored chain hierarchy (and widen alpha1 when needed) without repeating the
  * patchification; otherwise MaximumError (epsilon) and MergeAngle are used as given. A target
- * of at least the input's triangle count returns the (prepared) input unchanged.
+ * of at least the input's triangle count returns the (prepared) input unchanged. MaximumError is
+ * the chain tolerance epsilon, the paper's parameter (0 = unused, the default; the paper's
+ * configuration: 0.005 relative); with a target too, the filter stops at whichever is reached
+ * first. Targets, MaximumError, OutputPointsPrecision and the patch angles are declared by the
+ * base classes (vtkPatchSimplificationAlgorithm).
  */
 #ifndef vtkPatchBoundaryMerge_h
 #define vtkPatchBoundaryMerge_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPatchSimplificationAlgorithm.h"
 
 #include <memory>
 
-class SURFACELODFILTERS_EXPORT vtkPatchBoundaryMerge : public vtkPolyDataAlgorithm
+class SURFACELODFILTERS_EXPORT vtkPatchBoundaryMerge : public vtkPatchSimplificationAlgorithm
 {
 public:
   static vtkPatchBoundaryMerge* New();
-  vtkTypeMacro(vtkPatchBoundaryMerge, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkPatchBoundaryMerge, vtkPatchSimplificationAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// Patch growth (feasibility (b)), degrees: a triangle sharing one edge with the patch joins
-  /// when its normal is within PatchAngle of the patch normal (default 25) and within
-  /// NeighborAngle of the triangle it grows from (default 20); one sharing two edges uses
-  /// TwoEdgePatchAngle / TwoEdgeNeighborAngle (default 90 / 90).
-  vtkSetClampMacro(PatchAngle, double, 0.0, 180.0);
-  vtkGetMacro(PatchAngle, double);
-  vtkSetClampMacro(NeighborAngle, double, 0.0, 180.0);
-  vtkGetMacro(NeighborAngle, double);
-  vtkSetClampMacro(TwoEdgePatchAngle, double, 0.0, 180.0);
-  vtkGetMacro(TwoEdgePatchAngle, double);
-  vtkSetClampMacro(TwoEdgeNeighborAngle, double, 0.0, 180.0);
-  vtkGetMacro(TwoEdgeNeighborAngle, double);
-  ///@}
 
   ///@{
   /// Extension of feasibility (b) (not in the paper): a triangle joins a patch only when its new
@@ -164,38 +153,10 @@ public:
   ///@}
 
   ///@{
-  /// Target output size (SurfaceLOD convention): a triangle count (0 = unused) or the fraction
-  /// of triangles to remove (0 = unused). The count wins when both are set.
-  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
-  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
-  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
-  vtkGetMacro(TargetReduction, double);
-  ///@}
-
-  ///@{
-  /// Error bound: the chain tolerance epsilon, the paper's parameter (0 = unused, the default);
-  /// relative to the bounding-box diagonal when MaximumErrorIsRelative (default off: absolute).
-  /// Alone it is the epsilon used (the paper's configuration: 0.005 relative); with a target the
-  /// filter stops at whichever is reached first (more triangles than the target if needed). With
-  /// no target and no bound, the SurfaceLOD default reduction (0.9) applies.
-  vtkSetClampMacro(MaximumError, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(MaximumError, double);
-  vtkSetMacro(MaximumErrorIsRelative, bool);
-  vtkGetMacro(MaximumErrorIsRelative, bool);
-  vtkBooleanMacro(MaximumErrorIsRelative, bool);
-  ///@}
-
-  ///@{
   /// Fill output port 2 with the input coloured by patch (default off).
   vtkSetMacro(GeneratePatchColoredInput, bool);
   vtkGetMacro(GeneratePatchColoredInput, bool);
   vtkBooleanMacro(GeneratePatchColoredInput, bool);
-  ///@}
-
-  ///@{
-  /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
-  vtkSetMacro(OutputPointsPrecision, int);
-  vtkGetMacro(OutputPointsPrecision, int);
   ///@}
 
   /// Drops the cached patchification (the next update recomputes it).
@@ -225,10 +186,6 @@ protected:
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double PatchAngle = 25.0;
-  double NeighborAngle = 20.0;
-  double TwoEdgePatchAngle = 90.0;
-  double TwoEdgeNeighborAngle = 90.0;
   bool AreaWeightedNormals = true;
   double PatchPlaneDistance = 0.004;
   bool AdaptPatchesToTarget = true;
@@ -242,12 +199,7 @@ protected:
   bool CostOrderedRemoval = true;
   double ChainInPlaneWeight = 0.42;
   bool MinimumDeviationTriangulation = true;
-  vtkIdType TargetNumberOfTriangles = 0;
-  double TargetReduction = 0.0;
-  double MaximumError = 0.0;
-  bool MaximumErrorIsRelative = false;
   bool GeneratePatchColoredInput = false;
-  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   vtkIdType NumberOfPatches = 0;
   vtkIdType NumberOfChains = 0;

@@ -436,13 +436,10 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "NumberOfPoints: " << this->NumberOfPoints << "\n";
-  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
-  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "RepulsionIterations: " << this->RepulsionIterations << "\n";
   os << indent << "CurvatureWeight: " << this->CurvatureWeight << "\n";
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
   os << indent << "ShapeImprovementPasses: " << this->ShapeImprovementPasses << "\n";
-  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "PreserveCreases: " << this->PreserveCreases << "\n";
   os << indent << "EnforceFacing: " << this->EnforceFacing << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";

@@ -56,26 +56,20 @@
 #define vtkRetile_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkSimplificationAlgorithm.h"
 
 class vtkMultiBlockDataSet;
 
-class SURFACELODFILTERS_EXPORT vtkRetile : public vtkPolyDataAlgorithm
+class SURFACELODFILTERS_EXPORT vtkRetile : public vtkSimplificationAlgorithm
 {
 public:
   static vtkRetile* New();
-  vtkTypeMacro(vtkRetile, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkRetile, vtkSimplificationAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   // Number of new vertices (0 = derive it from the triangle target).
   vtkSetClampMacro(NumberOfPoints, vtkIdType, 0, VTK_INT_MAX);
   vtkGetMacro(NumberOfPoints, vtkIdType);
-
-  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
-  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
-
-  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
-  vtkGetMacro(TargetReduction, double);
 
   vtkSetClampMacro(RepulsionIterations, int, 0, VTK_INT_MAX);
   vtkGetMacro(RepulsionIterations, int);
@@ -112,9 +106,6 @@ public:
   // Output port 1 (empty unless GenerateNestedLevels).
   vtkMultiBlockDataSet* GetNestedLevels();
 
-  vtkSetMacro(OutputPointsPrecision, int);
-  vtkGetMacro(OutputPointsPrecision, int);
-
   // Results of the last run.
   vtkGetMacro(NumberOfRetainedVertices, vtkIdType);
   vtkGetMacro(NumberOfFlips, vtkIdType);
@@ -135,13 +126,10 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkIdType NumberOfPoints = 0;
-  vtkIdType TargetNumberOfTriangles = 0;
-  double TargetReduction = 0.0;
   int RepulsionIterations = 20;
   double CurvatureWeight = 0.0;
   int RandomSeed = 1;
   int ShapeImprovementPasses = 2;
-  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
   bool PreserveCreases = false;
   bool EnforceFacing = false;
   double FeatureAngle = 45.0;

@@ -137,14 +137,12 @@ int vtkTopologicalNoiseRemoval::RequestData(
   this->InputGenus = this->OutputGenus = -1;
   this->UsedFeatureSize = 0.0;
 
-  slod::TriangleMesh mesh;
-  std::vector<slod::Index> vertexToInput, triangleToCell;
-  slod::PreparationReport report;
-  if (!slod::PrepareFilterTriangles(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
-        slod::CellMapIfNeeded(input, triangleToCell)))
+  slod::PreparedTriangles prepared;
+  if (!slod::PrepareFilterTriangles(this, input, prepared))
   {
     return 1; // error or warning reported; empty output
   }
+  auto& [mesh, vertexToInput, triangleToCell, report] = prepared;
   if (!this->SplitNonManifold && (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0))
   {
     vtkWarningMacro("Non-manifold edges and vertices are left alone (SplitNonManifold is off): no loop "

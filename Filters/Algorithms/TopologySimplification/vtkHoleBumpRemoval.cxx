@@ -58,8 +58,7 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
   parameters.Spbm.MergeAngle = filter->GetMergeAngle() > 0 ? filter->GetMergeAngle() : 20.0;
   // The filter contract's targets (slodFilterContract.h) for the SPBM completion; without one the
   // completion uses Epsilon (removing features is the filter's purpose, not a reduction).
-  const vtkIdType target = slod::TargetTriangleCount(
-    mesh.NumberOfTriangles(), filter->GetTargetNumberOfTriangles(), filter->GetTargetReduction(), true);
+  const vtkIdType target = filter->ComputeTargetNumberOfTriangles(mesh.NumberOfTriangles());
   if (target >= mesh.NumberOfTriangles())
   {
     parameters.Completion = slod::TopologyCompletion::KeepTriangles; // no reduction asked for
@@ -189,14 +188,12 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   this->InputGenus = this->OutputGenus = -1;
   this->UsedFeatureSize = 0;
 
-  slod::TriangleMesh mesh;
-  std::vector<slod::Index> vertexToInput, triangleToCell;
-  slod::PreparationReport report;
-  if (!slod::PrepareFilterTriangles(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
-        slod::CellMapIfNeeded(input, triangleToCell)))
+  slod::PreparedTriangles prepared;
+  if (!slod::PrepareFilterTriangles(this, input, prepared))
   {
     return 1; // error or warning reported; empty output
   }
+  auto& [mesh, vertexToInput, triangleToCell, report] = prepared;
   if (report.NonManifoldEdges > 0)
   {
     vtkWarningMacro("Non-manifold edges are never part of a removed feature; features next to them are kept.");
@@ -280,10 +277,7 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PatchPlaneDistance: " << this->PatchPlaneDistance << "\n";
   os << indent << "Completion: " << this->Completion << "\n";
   os << indent << "Epsilon: " << this->Epsilon << "\n";
-  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
-  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
   os << indent << "GenerateSharpLoops: " << this->GenerateSharpLoops << "\n";
-  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "Holes detected/removed: " << this->NumberOfHolesDetected << "/" << this->NumberOfHolesRemoved << "\n";
   os << indent << "Bumps detected/removed: " << this->NumberOfBumpsDetected << "/" << this->NumberOfBumpsRemoved << "\n";
   os << indent << "Cavities detected/removed: " << this->NumberOfCavitiesDetected << "/"

@@ -35,13 +35,13 @@
 #define vtkHoleBumpRemoval_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkSimplificationAlgorithm.h"
 
-class SURFACELODFILTERS_EXPORT vtkHoleBumpRemoval : public vtkPolyDataAlgorithm
+class SURFACELODFILTERS_EXPORT vtkHoleBumpRemoval : public vtkSimplificationAlgorithm
 {
 public:
   static vtkHoleBumpRemoval* New();
-  vtkTypeMacro(vtkHoleBumpRemoval, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkHoleBumpRemoval, vtkSimplificationAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   enum CompletionModes
@@ -145,10 +145,6 @@ public:
   /// triangle target (TargetNumberOfTriangles, 0 = unused; TargetReduction, fraction removed).
   vtkSetClampMacro(Epsilon, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Epsilon, double);
-  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
-  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
-  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
-  vtkGetMacro(TargetReduction, double);
   ///@}
 
   ///@{
@@ -156,9 +152,6 @@ public:
   vtkSetMacro(GenerateSharpLoops, bool);
   vtkGetMacro(GenerateSharpLoops, bool);
   vtkBooleanMacro(GenerateSharpLoops, bool);
-  /// Output point type, as vtkAlgorithm::DesiredOutputPrecision (default: the input's, float unless double).
-  vtkSetMacro(OutputPointsPrecision, int);
-  vtkGetMacro(OutputPointsPrecision, int);
   ///@}
 
   ///@{
@@ -184,6 +177,8 @@ protected:
   vtkHoleBumpRemoval();
   ~vtkHoleBumpRemoval() override = default;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // Epsilon always bounds the completion: removing features is the purpose, not a reduction.
+  bool HasErrorBound() const override { return true; }
 
   double SharpAngle = 45.572996; // acos(0.7)
   double MaximumSharpAngle = 107.457603; // acos(-0.3)
@@ -201,10 +196,7 @@ protected:
   double PatchPlaneDistance = 0.004;
   int Completion = TRIANGULATE_PATCHES;
   double Epsilon = 0.005;
-  vtkIdType TargetNumberOfTriangles = 0;
-  double TargetReduction = 0.0;
   bool GenerateSharpLoops = true;
-  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
   int NumberOfHolesDetected = 0, NumberOfBumpsDetected = 0, NumberOfCavitiesDetected = 0, NumberOfCracksDetected = 0;
   int NumberOfHolesRemoved = 0, NumberOfBumpsRemoved = 0, NumberOfCavitiesRemoved = 0, NumberOfCracksFilled = 0;

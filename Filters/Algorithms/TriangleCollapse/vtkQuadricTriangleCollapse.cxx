@@ -43,8 +43,7 @@ void AddScalar(vtkFieldData* fd, const char* name, double value)
 // Stop criteria of the filter contract (slodFilterContract.h): whichever target is reached first.
 slod::Index TargetTriangles(vtkQuadricTriangleCollapse* filter, slod::Index inputTriangles)
 {
-  return slod::TargetTriangleCount(inputTriangles, filter->GetTargetNumberOfTriangles(), filter->GetTargetReduction(),
-    filter->GetMaximumError() > 0);
+  return static_cast<slod::Index>(filter->ComputeTargetNumberOfTriangles(inputTriangles));
 }
 
 // What the other pieces of a distributed surface impose on this process's piece (see the header);
@@ -456,10 +455,6 @@ void vtkQuadricTriangleCollapse::UsePaperConfiguration()
 void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "TargetNumberOfTriangles: " << this->TargetNumberOfTriangles << "\n";
-  os << indent << "TargetReduction: " << this->TargetReduction << "\n";
-  os << indent << "MaximumError: " << this->MaximumError << "\n";
-  os << indent << "MaximumErrorIsRelative: " << this->MaximumErrorIsRelative << "\n";
   os << indent << "BoundaryWeight: " << this->BoundaryWeight << "\n";
   os << indent << "MaximumNormalDeviation: " << this->MaximumNormalDeviation << "\n";
   os << indent << "AllowTopologyChange: " << this->AllowTopologyChange << "\n";
@@ -474,7 +469,6 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CollapseSchedule: " << (this->CollapseSchedule == PASSES ? "Passes" : "Queue") << "\n";
   os << indent << "PassGoalShare: " << this->PassGoalShare << "\n";
   os << indent << "PassErrorFactor: " << this->PassErrorFactor << "\n";
-  os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "PreserveAttributeSeams: " << this->PreserveAttributeSeams << "\n";
   os << indent << "RegionArrayName: " << (this->RegionArrayName ? this->RegionArrayName : "(none)") << "\n";
   os << indent << "AttributeErrorMetric: " << this->AttributeErrorMetric << "\n";

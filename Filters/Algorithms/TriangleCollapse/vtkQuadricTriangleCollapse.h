@@ -70,39 +70,17 @@
 #define vtkQuadricTriangleCollapse_h
 
 #include "SurfaceLODFiltersModule.h"
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkErrorBoundedSimplificationAlgorithm.h"
 
 class vtkMultiProcessController;
 class vtkTable;
 
-class SURFACELODFILTERS_EXPORT vtkQuadricTriangleCollapse : public vtkPolyDataAlgorithm
+class SURFACELODFILTERS_EXPORT vtkQuadricTriangleCollapse : public vtkErrorBoundedSimplificationAlgorithm
 {
 public:
   static vtkQuadricTriangleCollapse* New();
-  vtkTypeMacro(vtkQuadricTriangleCollapse, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkQuadricTriangleCollapse, vtkErrorBoundedSimplificationAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// Stop at this many triangles (0 = unused, default).
-  vtkSetClampMacro(TargetNumberOfTriangles, vtkIdType, 0, VTK_ID_MAX);
-  vtkGetMacro(TargetNumberOfTriangles, vtkIdType);
-  ///@}
-
-  ///@{
-  /// Fraction of the triangles to remove, 0..1 (0 = unused, the default).
-  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
-  vtkGetMacro(TargetReduction, double);
-  ///@}
-
-  ///@{
-  /// Largest allowed collapse error (0 = unused, the default). Relative to the bounding-box
-  /// diagonal when MaximumErrorIsRelative (default off: absolute).
-  vtkSetMacro(MaximumError, double);
-  vtkGetMacro(MaximumError, double);
-  vtkSetMacro(MaximumErrorIsRelative, bool);
-  vtkGetMacro(MaximumErrorIsRelative, bool);
-  vtkBooleanMacro(MaximumErrorIsRelative, bool);
-  ///@}
 
   ///@{
   /// Weight of the boundary planes relative to the triangle planes (default 1; 0 = free borders).
@@ -259,13 +237,6 @@ public:
   vtkBooleanMacro(GenerateProgressiveMesh, bool);
   ///@}
 
-  ///@{
-  /// Output points precision: vtkAlgorithm::DEFAULT_PRECISION (same as input, default),
-  /// SINGLE_PRECISION or DOUBLE_PRECISION.
-  vtkSetMacro(OutputPointsPrecision, int);
-  vtkGetMacro(OutputPointsPrecision, int);
-  ///@}
-
   /// The paper's configuration (Pan, Zhou, Shi 2000): triangle collapses only, the exact union of
   /// the interrelated sets, no pass after the collapses (EdgeCollapsesOff, ExactUnionOn,
   /// FitToOriginalOff, DeviationRefinementOff). The other settings are left as they are.
@@ -300,10 +271,6 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  vtkIdType TargetNumberOfTriangles = 0;
-  double TargetReduction = 0.0;
-  double MaximumError = 0.0;
-  bool MaximumErrorIsRelative = false;
   double BoundaryWeight = 1.0;
   double MaximumNormalDeviation = 45.0;
   bool AllowTopologyChange = false;
@@ -318,7 +285,6 @@ protected:
   int CollapseSchedule = QUEUE;
   double PassGoalShare = 0.5;
   double PassErrorFactor = 1.5;
-  int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
   bool PreserveAttributeSeams = true;
   char* RegionArrayName = nullptr;
   bool AttributeErrorMetric = false;

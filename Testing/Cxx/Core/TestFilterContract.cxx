@@ -162,23 +162,14 @@ struct TargetWarnings : vtkCommand
   int NotReached = 0;
 };
 
-template <typename Filter>
-bool TrySetCount(vtkAlgorithm* algorithm, vtkIdType count)
+bool SetCountAlone(vtkAlgorithm* algorithm, vtkIdType count)
 {
-  Filter* filter = Filter::SafeDownCast(algorithm);
+  vtkSimplificationAlgorithm* filter = vtkSimplificationAlgorithm::SafeDownCast(algorithm);
   if (filter)
   {
     filter->SetTargetNumberOfTriangles(count);
   }
   return filter != nullptr;
-}
-
-bool SetCountAlone(vtkAlgorithm* filter, vtkIdType count)
-{
-  return TrySetCount<vtkQuadricTriangleCollapse>(filter, count) ||
-    TrySetCount<vtkTriangleCollapseHierarchy>(filter, count) || TrySetCount<vtkPatchBoundaryMerge>(filter, count) ||
-    TrySetCount<vtkHoleBumpRemoval>(filter, count) || TrySetCount<vtkRetile>(filter, count) ||
-    TrySetCount<vtkGreedyCutsSimplification>(filter, count);
 }
 
 vtkIdType FieldValue(vtkPolyData* output, const char* name)
@@ -206,6 +197,9 @@ TEST_P(CountAloneContract, ThatCountOrAnHonestNotReached)
   filter->Update();
   vtkPolyData* output = filter->GetOutput();
   EXPECT_EQ(FieldValue(output, "TargetNumberOfTriangles"), count) << GetParam();
+  EXPECT_EQ(vtkSimplificationAlgorithm::SafeDownCast(filter)->ComputeTargetNumberOfTriangles(sphere->GetNumberOfPolys()),
+    count)
+    << GetParam();
   const vtkIdType reached = FieldValue(output, "TargetReached");
   ASSERT_TRUE(reached == 0 || reached == 1) << GetParam() << ": no TargetReached in the field data";
   if (reached == 1)
@@ -221,6 +215,38 @@ TEST_P(CountAloneContract, ThatCountOrAnHonestNotReached)
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryCountingSimplifier, CountAloneContract,
+  ::testing::Values("vtkQuadricTriangleCollapse", "vtkTriangleCollapseHierarchy", "vtkPatchBoundaryMerge",
+    "vtkHoleBumpRemoval", "vtkRetile", "vtkGreedyCutsSimplification"),
+  [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+namespace
+{
+class DeclaredOnceContract : public ::testing::TestWithParam<std::string>
+{
+};
+}
+
+// The targets are the base class's (vtkSimplificationAlgorithm): a reduction alone set through it
+// is the count the filter reports having aimed at, and ComputeTargetNumberOfTriangles says it
+// before the run. The error-bounded simplifiers share MaximumError through their own base.
+TEST_P(DeclaredOnceContract, TheBaseClassTargetIsTheFiltersTarget)
+{
+  vtkPolyData* sphere = nullptr;
+  vtkSmartPointer<vtkPolyDataAlgorithm> filter = SimplifierOfSphere(GetParam(), 52, 40, sphere);
+  vtkSimplificationAlgorithm* simplifier = vtkSimplificationAlgorithm::SafeDownCast(filter);
+  ASSERT_NE(simplifier, nullptr) << GetParam() << " does not derive from vtkSimplificationAlgorithm";
+  const bool errorBounded = GetParam() == "vtkQuadricTriangleCollapse" || GetParam() == "vtkPatchBoundaryMerge" ||
+    GetParam() == "vtkGreedyCutsSimplification";
+  EXPECT_EQ(vtkErrorBoundedSimplificationAlgorithm::SafeDownCast(filter) != nullptr, errorBounded) << GetParam();
+  simplifier->SetTargetReduction(0.8);
+  const vtkIdType expected = simplifier->ComputeTargetNumberOfTriangles(sphere->GetNumberOfPolys());
+  EXPECT_EQ(expected, slod::TargetTriangleCount(static_cast<slod::Index>(sphere->GetNumberOfPolys()), 0, 0.8, false))
+    << GetParam();
+  filter->Update();
+  EXPECT_EQ(FieldValue(filter->GetOutput(), "TargetNumberOfTriangles"), expected) << GetParam();
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryCountingSimplifier, DeclaredOnceContract,
   ::testing::Values("vtkQuadricTriangleCollapse", "vtkTriangleCollapseHierarchy", "vtkPatchBoundaryMerge",
     "vtkHoleBumpRemoval", "vtkRetile", "vtkGreedyCutsSimplification"),
   [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
