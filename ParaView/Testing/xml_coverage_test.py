@@ -36,8 +36,9 @@ def declared_methods(header, headers):
 
 
 def initial_values(header, headers):
-    """Member initialisers `type Name = value;` of a class and its SurfaceLOD bases, evaluated
-    (numbers, true/false, arithmetic, the class's enumerators, vtkAlgorithm's precisions)."""
+    """Member initialisers `type Name = value;` of a class and its SurfaceLOD bases, then the
+    class's constructor's `this->Name = value;` (a class's own default of a base's property),
+    evaluated (numbers, true/false, arithmetic, the class's enumerators, vtkAlgorithm's precisions)."""
     text = header.read_text()
     names = {"true": 1, "false": 0, "vtkAlgorithm::SINGLE_PRECISION": 0,
              "vtkAlgorithm::DOUBLE_PRECISION": 1, "vtkAlgorithm::DEFAULT_PRECISION": 2}
@@ -48,7 +49,14 @@ def initial_values(header, headers):
     base = re.search(r"class \w+ (\w+) : public (\w+)", text)
     if base and base.group(2) in headers:
         values.update(initial_values(headers[base.group(2)], headers))
-    for name, expression in re.findall(r"^\s+[\w:]+ (\w+) = ([^;]+);", text, re.MULTILINE):
+    assignments = re.findall(r"^\s+[\w:]+ (\w+) = ([^;]+);", text, re.MULTILINE)
+    source = header.with_suffix(".cxx")
+    if base and source.exists():
+        constructor = re.search(r"^%s::%s\(\)\s*\{(.*?)^\}" % (base.group(1), base.group(1)),
+                                source.read_text(), re.MULTILINE | re.DOTALL)
+        if constructor:
+            assignments += re.findall(r"this->(\w+) = ([^;]+);", constructor.group(1))
+    for name, expression in assignments:
         for symbol, value in names.items():
             expression = expression.replace(symbol, str(value))
         if re.fullmatch(r"[-+*/. 0-9e()]+", expression):
