@@ -1008,6 +1008,9 @@ std::vector<Vec3> ReferenceNormals(
 constexpr double NeedleFloor = Radians(3.0);
 constexpr double NeedleDeferralBudget = 1.0;
 constexpr size_t MaximumDeferredValence = 32;
+// A ring re-triangulated by flips (RemoveByRingFlips) with a smaller angle is taken only when
+// every other is too: the repair stage's needle angle.
+constexpr double RingNeedleAngle = Radians(2.0);
 
 // Step 5 (section 4.3): removal of the old vertices by collapses onto neighbours.
 struct OldVertexRemoval
@@ -1274,9 +1277,9 @@ struct OldVertexRemoval
 
   // Turk's removal (section 4.3) where the fans from r's valid targets all face against the
   // surface somewhere: the ring re-triangulated by flips after the collapse (slodRetileRing.h).
-  // Among the targets that give a ring facing the surface's way, the one whose ring passes closest
-  // to r (the surface moves least; ties: the larger smallest angle). False (nothing done) when
-  // none does. The flips are recorded as step 6's are (the nested levels' tracking replays them).
+  // Among the targets that give a ring facing the surface's way, one without needles (smallest
+  // angle RingNeedleAngle) whose ring passes closest to r (the surface moves least); when all have
+  // needles, the largest smallest angle. False (nothing done) when none does. The flips are recorded as step 6's are (the nested levels' tracking replays them).
   bool RemoveByRingFlips(Index r, int phase)
   {
     RingRetriangulation ring(this->Edit, this->Reference);
@@ -1295,9 +1298,15 @@ struct OldVertexRemoval
       const Vec3 position = this->Edit.Point(phase == 2 ? r : c);
       double angle = 0;
       double distance = 0;
-      if (ring.Try(r, c, position, this->Reference[phase == 2 ? r : c], flips, angle, distance) &&
-        (distance < bestDistance || (distance == bestDistance && angle > bestAngle)) &&
-        (!this->Strict || angle >= this->MinimumAngleFloor))
+      if (!ring.Try(r, c, position, this->Reference[phase == 2 ? r : c], flips, angle, distance) ||
+        (this->Strict && angle < this->MinimumAngleFloor))
+      {
+        continue;
+      }
+      // A ring without needles first; among those, the closest to r.
+      const bool needle = angle < RingNeedleAngle, bestNeedle = bestAngle < RingNeedleAngle;
+      if (best == InvalidIndex || (bestNeedle && !needle) ||
+        (needle == bestNeedle && (needle ? angle > bestAngle : distance < bestDistance)))
       {
         bestDistance = distance;
         best = c;
