@@ -1042,6 +1042,7 @@ struct OldVertexRemoval
   double DeferredChecks = 0.0; // waits of vertices whose collapses all left needles or faced wrong
   bool LastStep = false;       // the last phase: EnforceFacing takes its fallback targets
   bool EnforceFacing = false;  // RetilingOptions::EnforceFacing (without PreserveCreases)
+  bool RetriangulateRings = false; // RetilingOptions::RetriangulateRings
   // Optional: every collapse performed, as pairs (removed, target) in this mesh's ids.
   std::vector<Index>* Record = nullptr;
   // The targets of the last ChooseTarget whose collapse keeps the mesh valid, with the smallest
@@ -1345,6 +1346,7 @@ struct OldVertexRemoval
     const Index n0 = this->OldVertices;
     this->Strict = options.PreserveCreases;
     this->EnforceFacing = options.EnforceFacing && !options.PreserveCreases;
+    this->RetriangulateRings = options.RetriangulateRings;
     std::vector<Index> neighbors, pending;
     pending.reserve(n0);
     for (Index v = 0; v < n0; ++v)
@@ -1379,7 +1381,8 @@ struct OldVertexRemoval
           }
           const Index best = this->ChooseTarget(r, phase, neighbors);
           const bool fanFacesWrong = best == InvalidIndex || this->FanFacesWrong(best);
-          if (fanFacesWrong && !this->Valid.empty() && neighbors.size() <= MaximumDeferredValence)
+          if (this->RetriangulateRings && fanFacesWrong && !this->Valid.empty() &&
+            neighbors.size() <= MaximumDeferredValence)
           {
             if (this->RemoveByRingFlips(r, phase))
             {
