@@ -15,6 +15,15 @@ triangle count, alternating; per output:
   Hausdorff relative to the input's diagonal (vtkSurfaceDeviation, 100,000 samples), both ways.
 --levels: also every nested level (three levels, ratio 4, the finest at the count).
 --set Name=value: a vtkRetile setting (e.g. EnforceFacing=1).
+--reduction R: TargetReduction R instead of the vertex counts (the tests' setting is 0.9).
+Also printed: small5, the share of triangles with a smallest angle under 5 degrees, and each
+flipped triangle's kind (a triangle counts once, in the first that applies):
+  retained  it has a retained original vertex,
+  vertex    it faces against the input's normal at one of its own vertices (the normal interpolated
+            at the vertex's closest point: where the vertex lies),
+  crease    the input faces more than 45 degrees apart at two of its vertices,
+  thin      it faces the way the input does at its vertices, but its centroid's closest input
+            triangle faces the other way (it spans a part thinner than the spacing).
 """
 import argparse
 import importlib.util
@@ -67,7 +76,45 @@ def corner_angle(p, q, r):
     return math.degrees(math.acos(max(-1.0, min(1.0, dot(u, v) / length)))) if length > 0 else 0.0
 
 
-def quality(source, output):
+def input_normal_at(source, normals, locator, point):
+    """The input's point normals interpolated at the closest point of `point` on the input."""
+    import vtk
+    closest, cell, sub_id, dist2 = [0.0, 0.0, 0.0], vtk.reference(0), vtk.reference(0), vtk.reference(0.0)
+    locator.FindClosestPoint(point, closest, cell, sub_id, dist2)
+    triangle = source.GetCell(int(cell))
+    weights, pcoords, d2 = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], vtk.reference(0.0)
+    triangle.EvaluatePosition(closest, [0.0, 0.0, 0.0], vtk.reference(0), pcoords, d2, weights)
+    n = [0.0, 0.0, 0.0]
+    for k in range(3):
+        m = normals.GetTuple3(triangle.GetPointId(k))
+        n = [n[i] + weights[k] * m[i] for i in range(3)]
+    length = norm(n)
+    return tuple(x / length for x in n) if length > 0 else (0.0, 0.0, 0.0)
+
+
+def point_normals(source):
+    import vtk
+    normals = vtk.vtkPolyDataNormals()
+    normals.SetInputData(source)
+    normals.SplittingOff()
+    normals.ConsistencyOff()
+    normals.ComputePointNormalsOn()
+    normals.Update()
+    return normals.GetOutput().GetPointData().GetNormals()
+
+
+def classify_flip(tri, unit, retained_from, vertex_normals):
+    if any(v >= retained_from for v in tri):
+        return "retained"
+    at = [vertex_normals[v] for v in tri]
+    if any(dot(unit, n) < 0 for n in at):
+        return "vertex"
+    if min(dot(at[0], at[1]), dot(at[1], at[2]), dot(at[2], at[0])) < math.cos(math.radians(45)):
+        return "crease"
+    return "thin"
+
+
+def quality(source, output, retained=0):
     import vtk
     diagonal = source.GetLength()
     points = [output.GetPoint(i) for i in range(output.GetNumberOfPoints())]
@@ -82,7 +129,11 @@ def quality(source, output):
     locator.BuildLocator()
     closest, cell, sub_id, dist2 = [0.0, 0.0, 0.0], vtk.reference(0), vtk.reference(0), vtk.reference(0.0)
     source_normal = vtk.vtkTriangle.ComputeNormal
-    result = dict(flipped=0, folded=0, needles=0, min_angle=180.0, min_edge=float("inf"))
+    result = dict(flipped=0, folded=0, needles=0, min_angle=180.0, min_edge=float("inf"), small5=0.0,
+                  kinds=dict(retained=0, vertex=0, crease=0, thin=0))
+    normals = point_normals(source)
+    vertex_normals = {}
+    retained_from = len(points) - retained
     units = []
     half = {}
     normal_out = [0.0, 0.0, 0.0]
@@ -98,7 +149,12 @@ def quality(source, output):
         source_normal(cell_points.GetPoint(0), cell_points.GetPoint(1), cell_points.GetPoint(2), normal_out)
         if dot(unit, normal_out) < 0:
             result["flipped"] += 1
+            for v in tri:
+                if v not in vertex_normals:
+                    vertex_normals[v] = input_normal_at(source, normals, locator, points[v])
+            result["kinds"][classify_flip(tri, unit, retained_from, vertex_normals)] += 1
         smallest = min(corner_angle(a, b, c), corner_angle(b, c, a), corner_angle(c, a, b)) if length > 0 else 0.0
+        result["small5"] += 1.0 / len(tris) if smallest < 5.0 else 0.0
         edge = min(norm(sub(b, a)), norm(sub(c, b)), norm(sub(a, c))) / diagonal
         result["min_angle"] = min(result["min_angle"], smallest)
         result["min_edge"] = min(result["min_edge"], edge)
@@ -120,40 +176,47 @@ def main():
     parser.add_argument("--points", default="500,2000")
     parser.add_argument("--levels", action="store_true")
     parser.add_argument("--set", action="append", default=[])
+    parser.add_argument("--reduction", type=float, default=0.0)
     parser.add_argument("inputs", nargs="+")
     args = parser.parse_args()
     slod = import_surfacelod(args.build)
     import vtk
     for name in args.inputs:
         source = load(slod, args.build, name)
-        for count in [int(x) for x in args.points.split(",")]:
+        counts = [0] if args.reduction > 0 else [int(x) for x in args.points.split(",")]
+        for count in counts:
             retile = slod.vtkRetile()
             retile.SetInputData(source)
-            retile.SetNumberOfPoints(count)
+            if args.reduction > 0:
+                retile.SetTargetReduction(args.reduction)
+            else:
+                retile.SetNumberOfPoints(count)
             for setting in args.set:
                 key, value = setting.split("=")
                 getattr(retile, "Set" + key)(float(value) if "." in value else int(value))
             if args.levels:
                 retile.GenerateNestedLevelsOn()
                 retile.SetNumberOfNestedLevels(3)
-            start = time.perf_counter()
+            start = time.process_time()
             retile.Update()
-            seconds = time.perf_counter() - start
+            seconds = time.process_time() - start
             output = retile.GetOutput()
             quadric = vtk.vtkQuadricDecimation()
             quadric.SetInputData(source)
             quadric.SetTargetReduction(1.0 - output.GetNumberOfPolys() / source.GetNumberOfPolys())
-            start = time.perf_counter()
+            start = time.process_time()
             quadric.Update()
-            quadric_seconds = time.perf_counter() - start
-            q = quality(source, output)
+            quadric_seconds = time.process_time() - start
+            q = quality(source, output, retile.GetNumberOfRetainedVertices())
             h, hq = hausdorff(slod, source, output), hausdorff(slod, source, quadric.GetOutput())
             print("%-14s %6d pts %6d tris (QD %6d) flipped %3d folded %3d needles %3d min angle %6.2f min edge %.1e "
-                  "retained %3d | Hausdorff %.3e QD %.3e ratio %5.2f | %.2f s QD %.2f s" % (
+                  "retained %3d | Hausdorff %.3e QD %.3e ratio %5.2f | CPU %.2f s QD %.2f s" % (
                       name, output.GetNumberOfPoints(), output.GetNumberOfPolys(),
                       quadric.GetOutput().GetNumberOfPolys(), q["flipped"], q["folded"], q["needles"],
                       q["min_angle"], q["min_edge"], retile.GetNumberOfRetainedVertices(), h, hq, h / hq,
                       seconds, quadric_seconds), flush=True)
+            print("  small5 %.2f%% flipped kinds %s" % (100.0 * q["small5"], " ".join(
+                "%s %d" % item for item in q["kinds"].items())), flush=True)
             if args.levels:
                 blocks = retile.GetNestedLevels()
                 for k in range(blocks.GetNumberOfBlocks() - 1):

@@ -6,6 +6,7 @@
 #include "slodMeshTopology.h"
 #include "slodRetileFeatures.h"
 #include "slodRetileRepair.h"
+#include "slodRetileRing.h"
 #include "slodTriangleBVH.h"
 
 #include "vtkSMPTools.h"
@@ -1007,6 +1008,9 @@ std::vector<Vec3> ReferenceNormals(
 constexpr double NeedleFloor = Radians(3.0);
 constexpr double NeedleDeferralBudget = 1.0;
 constexpr size_t MaximumDeferredValence = 32;
+// A ring re-triangulated by flips (RemoveByRingFlips) with a smaller angle is taken only when
+// every other is too: the repair stage's needle angle.
+constexpr double RingNeedleAngle = Radians(2.0);
 
 // Step 5 (section 4.3): removal of the old vertices by collapses onto neighbours.
 struct OldVertexRemoval
@@ -1038,8 +1042,22 @@ struct OldVertexRemoval
   double DeferredChecks = 0.0; // waits of vertices whose collapses all left needles or faced wrong
   bool LastStep = false;       // the last phase: EnforceFacing takes its fallback targets
   bool EnforceFacing = false;  // RetilingOptions::EnforceFacing (without PreserveCreases)
+  bool RetriangulateRings = false; // RetilingOptions::RetriangulateRings
   // Optional: every collapse performed, as pairs (removed, target) in this mesh's ids.
   std::vector<Index>* Record = nullptr;
+  // The targets of the last ChooseTarget whose collapse keeps the mesh valid, with the smallest
+  // angle of their fan (-1: a tile of the fan faces against the original surface).
+  struct TargetAngle
+  {
+    Index Target;
+    double Angle;
+  };
+  std::vector<TargetAngle> Valid;
+  // A border vertex may only go onto a border neighbour (section 4.6: the border keeps its place),
+  // and not when it has a single triangle. Set for the nested levels, whose records the fragment
+  // tracking replays: a border vertex collapsed onto an inner vertex, or a lone border triangle
+  // removed, takes a piece of the surface away, which no fragment can follow.
+  bool BorderAlongBorder = false;
 
   OldVertexRemoval(EditableMesh& edit, std::vector<Vec3>& reference, Index oldVertices, Index candidates,
     const CoarserLevel& coarser, const std::vector<unsigned char>& nonManifoldVertices)
@@ -1154,6 +1172,11 @@ struct OldVertexRemoval
   {
     const Index n0 = this->OldVertices;
     this->Edit.Neighbors(r, neighbors);
+    this->Valid.clear();
+    if (this->BorderAlongBorder && this->OnBorder[r] && neighbors.size() < 3)
+    {
+      return InvalidIndex;
+    }
     // bestNeedle: ignoring the angle floor (PreserveCreases); bestLoose: ignoring the facing test
     // for candidate targets (the default's rule before the facing test was enforced there).
     Index best = InvalidIndex, bestNeedle = InvalidIndex, bestLoose = InvalidIndex;
@@ -1172,6 +1195,10 @@ struct OldVertexRemoval
       {
         continue; // a line vertex goes along its line only
       }
+      if (this->BorderAlongBorder && this->OnBorder[r] && !this->OnBorder[c])
+      {
+        continue;
+      }
       const Index pair[2] = { r, c };
       const Vec3 position = this->Edit.Point(phase == 2 ? r : c);
       if (this->Edit.CheckCollapse(pair, 2, position, this->Collapse) != CollapseStatus::Ok)
@@ -1180,6 +1207,7 @@ struct OldVertexRemoval
       }
       const double angle = this->Evaluate(pair, position);
       const double score = angle + (c >= n0 ? 10.0 : 0.0);
+      this->Valid.push_back(TargetAngle{ c, angle });
       // Without PreserveCreases or EnforceFacing a candidate target passes even when Evaluate
       // refused it (-1 + 10): the facing test only ranks those (enforcing it without a bound made
       // the corpus's valence-5000 cone 14 times slower: vertices stayed pending pass after pass).
@@ -1235,6 +1263,75 @@ struct OldVertexRemoval
     this->Edit.Collapse(pair, 2, target, this->Edit.Point(phase == 2 ? r : target));
   }
 
+  // Whether the chosen target's fan faces against the original surface somewhere.
+  bool FanFacesWrong(Index target) const
+  {
+    for (const TargetAngle& tried : this->Valid)
+    {
+      if (tried.Target == target)
+      {
+        return tried.Angle < 0;
+      }
+    }
+    return false;
+  }
+
+  // Turk's removal (section 4.3) where the fans from r's valid targets all face against the
+  // surface somewhere: the ring re-triangulated by flips after the collapse (slodRetileRing.h).
+  // Among the targets that give a ring facing the surface's way, one without needles (smallest
+  // angle RingNeedleAngle) whose ring passes closest to r (the surface moves least); when all have
+  // needles, the largest smallest angle. False (nothing done) when none does. The flips are recorded as step 6's are (the nested levels' tracking replays them).
+  bool RemoveByRingFlips(Index r, int phase)
+  {
+    RingRetriangulation ring(this->Edit, this->Reference);
+    ring.MinimumFacing = this->MinimumFacing;
+    ring.IsFixedEdge = [&](Index x, Index y) { return this->IsLineEdge(x, y); };
+    Index best = InvalidIndex;
+    double bestAngle = -1, bestDistance = std::numeric_limits<double>::max();
+    std::vector<std::pair<Index, Index>> flips, bestFlips;
+    for (const TargetAngle& tried : this->Valid)
+    {
+      if (tried.Angle >= 0)
+      {
+        continue; // its fan faces the surface's way: ChooseTarget's rules decide on it
+      }
+      const Index c = tried.Target;
+      const Vec3 position = this->Edit.Point(phase == 2 ? r : c);
+      double angle = 0;
+      double distance = 0;
+      if (!ring.Try(r, c, position, this->Reference[phase == 2 ? r : c], flips, angle, distance) ||
+        (this->Strict && angle < this->MinimumAngleFloor))
+      {
+        continue;
+      }
+      // A ring without needles first; among those, the closest to r.
+      const bool needle = angle < RingNeedleAngle, bestNeedle = bestAngle < RingNeedleAngle;
+      if (best == InvalidIndex || (bestNeedle && !needle) ||
+        (needle == bestNeedle && (needle ? angle > bestAngle : distance < bestDistance)))
+      {
+        bestDistance = distance;
+        best = c;
+        bestAngle = angle;
+        bestFlips = flips;
+      }
+    }
+    if (best == InvalidIndex)
+    {
+      return false;
+    }
+    this->Perform(r, best, phase);
+    for (const auto& edge : bestFlips)
+    {
+      this->Edit.FlipEdge(edge.first, edge.second);
+      if (this->Record)
+      {
+        this->Record->push_back(-1 - edge.first);
+        this->Record->push_back(edge.second);
+      }
+    }
+    return true;
+  }
+
   // Phase 0: collapse onto candidate vertices only; phase 1 (for old vertices walled in by
   // other old vertices): onto any neighbour, the target being removed later in turn; phase 2
   // (last resort, keeps the vertex count exact): a neighbouring candidate moves onto the old
@@ -1249,6 +1346,7 @@ struct OldVertexRemoval
     const Index n0 = this->OldVertices;
     this->Strict = options.PreserveCreases;
     this->EnforceFacing = options.EnforceFacing && !options.PreserveCreases;
+    this->RetriangulateRings = options.RetriangulateRings;
     std::vector<Index> neighbors, pending;
     pending.reserve(n0);
     for (Index v = 0; v < n0; ++v)
@@ -1282,6 +1380,15 @@ struct OldVertexRemoval
             continue;
           }
           const Index best = this->ChooseTarget(r, phase, neighbors);
+          const bool fanFacesWrong = best == InvalidIndex || this->FanFacesWrong(best);
+          if (this->RetriangulateRings && fanFacesWrong && !this->Valid.empty() &&
+            neighbors.size() <= MaximumDeferredValence)
+          {
+            if (this->RemoveByRingFlips(r, phase))
+            {
+              continue;
+            }
+          }
           if (best == InvalidIndex)
           {
             next.push_back(r);
@@ -1647,6 +1754,7 @@ bool DeriveCoarserLevel(const TriangleMesh& mesh, const TriangleBVH& bvh, const 
   OldVertexRemoval removal(edit, reference, removable, n - removable, allFixed, locked);
   std::vector<Index> record;
   removal.Record = &record;
+  removal.BorderAlongBorder = true;
   RetilingOptions removalOptions = options;
   removalOptions.PreserveCreases = false;
   if (!removal.Run(removalOptions))

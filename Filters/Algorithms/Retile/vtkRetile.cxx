@@ -330,6 +330,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
   options.PreserveCreases = this->PreserveCreases;
   options.EnforceFacing = this->EnforceFacing;
+  options.RetriangulateRings = this->RetriangulateRings;
   options.FeatureAngle = this->FeatureAngle;
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
@@ -442,6 +443,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShapeImprovementPasses: " << this->ShapeImprovementPasses << "\n";
   os << indent << "PreserveCreases: " << this->PreserveCreases << "\n";
   os << indent << "EnforceFacing: " << this->EnforceFacing << "\n";
+  os << indent << "RetriangulateRings: " << this->RetriangulateRings << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";
   os << indent << "NumberOfCorners: " << this->NumberOfCorners << "\n";

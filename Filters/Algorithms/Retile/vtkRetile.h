@@ -93,6 +93,11 @@ public:
   vtkSetMacro(EnforceFacing, bool);
   vtkGetMacro(EnforceFacing, bool);
   vtkBooleanMacro(EnforceFacing, bool);
+  // Re-triangulate an old vertex's whole ring where its fan faces against the input (Turk's
+  // removal); off by default (slod::RetilingOptions::RetriangulateRings).
+  vtkSetMacro(RetriangulateRings, bool);
+  vtkGetMacro(RetriangulateRings, bool);
+  vtkBooleanMacro(RetriangulateRings, bool);
   vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
   vtkGetMacro(FeatureAngle, double);
 
@@ -132,6 +137,7 @@ protected:
   int ShapeImprovementPasses = 2;
   bool PreserveCreases = false;
   bool EnforceFacing = false;
+  bool RetriangulateRings = false;
   double FeatureAngle = 45.0;
   bool GenerateNestedLevels = false;
   int NumberOfNestedLevels = 3;

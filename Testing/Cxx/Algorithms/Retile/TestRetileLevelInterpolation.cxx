@@ -387,6 +387,55 @@ TEST(RetileLevelInterpolation, AnyPairOfNestedLevelsIsTracked)
   CheckInterpolation("torus levels 0-2", Pair(torus, 0, 2), Path::Tracked);
 }
 
+// An open surface (mushroom: one border loop): the coarser levels remove border vertices only
+// along the border, so their records replay (until 2026-12-03 a border vertex collapsed onto an
+// inner neighbour, or a lone border triangle removed, made the tracking fall back to the
+// closest-point path). Every level keeps the input's border loops; every pair of levels is
+// tracked with no inconsistent fragment. The T = 0 shape is the low level except at a spot or two
+// (2.8e-11 and 3.9e-8 relative, mean 2e-17: open, Documentation/Retile.md), so exactness is
+// reported (GOAL NOT MET) rather than asserted there.
+TEST(RetileLevelInterpolation, OpenSurfaceLevelsAreTracked)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("mushroom");
+  const MeshStatistics inputStats = ComputeMeshStatistics(slodtest::ToTriangleMesh(input));
+  ASSERT_GT(inputStats.BoundaryEdges, 0);
+  vtkSmartPointer<vtkMultiBlockDataSet> blocks = ThreeLevels(input, 900);
+  ASSERT_EQ(blocks->GetNumberOfBlocks(), 3u);
+  for (unsigned int level = 0; level < 3; ++level)
+  {
+    const MeshStatistics stats = ComputeMeshStatistics(slodtest::ToTriangleMesh(
+      vtkPolyData::SafeDownCast(blocks->GetBlock(level))));
+    EXPECT_EQ(stats.BoundaryLoops, inputStats.BoundaryLoops) << "level " << level;
+    EXPECT_EQ(stats.EulerCharacteristic, inputStats.EulerCharacteristic) << "level " << level;
+  }
+  for (const auto& pair : { std::make_pair(0u, 2u), std::make_pair(1u, 2u), std::make_pair(0u, 1u) })
+  {
+    SCOPED_TRACE("mushroom levels " + std::to_string(pair.first) + "-" + std::to_string(pair.second));
+    const Levels levels = Pair(blocks, pair.first, pair.second);
+    vtkNew<vtkRetileLevelInterpolation> filter;
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    auto atOne = Interpolate(levels, 1.0, filter);
+    EXPECT_TRUE(messages->Warnings.empty());
+    EXPECT_EQ(filter->GetNumberOfTrackedRemovals(),
+      levels.High->GetNumberOfPoints() - levels.Low->GetNumberOfPoints());
+    EXPECT_EQ(filter->GetNumberOfInconsistentFragments(), 0);
+    EXPECT_EQ(filter->GetNumberOfUntracedEdges(), 0);
+    EXPECT_LT(Hausdorff(levels.High, atOne), 1e-9);
+    auto atZero = Interpolate(levels, 0.0, filter);
+    double mean = 0;
+    const double atLow = Hausdorff(levels.Low, atZero, nullptr, nullptr, &mean);
+    std::printf("mushroom levels %u-%u: T=0 Hausdorff to low %.3g, mean %.3g\n", pair.first, pair.second, atLow, mean);
+    if (atLow >= 1e-11)
+    {
+      std::printf("GOAL NOT MET (mushroom levels %u-%u): T=0 Hausdorff to the low level %.3g, goal < 1e-11\n",
+        pair.first, pair.second, atLow);
+    }
+    EXPECT_LT(atLow, 1e-3 * Hausdorff(levels.High, levels.Low)); // a spot, not a different shape
+    EXPECT_LT(mean, 1e-12);
+  }
+}
+
 namespace
 {
 std::vector<Index> Records(vtkPolyData* low)
