@@ -61,15 +61,14 @@ constexpr size_t MaximumBatchSize = 1024;
 // Entries whose data the batch phases prefetch together (enough misses in flight, few enough
 // that the lines stay in the cache until used).
 constexpr vtkIdType PrefetchWindow = 32;
-// The pass schedule: ranked entries decided per chunk, and rounds of claims per chunk (entries
-// still undecided after them wait for the next pass). An entry is walked in every round until it
-// is decided, so small chunks waste little (bunny00 to 10 %: 0.88 entries per input triangle at
-// 512, 5.4 at 16384; the output does not depend on the chunk size); 512 entries still give the
-// threads enough work per round.
-constexpr size_t PassChunkSize = 512;
-constexpr int MaximumRoundsPerChunk = 32;
-// A round that decides fewer than 1 / SlowRoundRatio of its entries hands the chunk's rest to a
-// walk one entry at a time (RunPass).
+// The pass schedule: the window of ranked entries decided together. The window is the prefix of
+// the undecided entries in rank order: after each round the decided entries leave and the next
+// ranked ones fill it up, so every round has a full window (fixed chunks of 512 ended in rounds of
+// a few entries: 7,000 rounds on mc1m, each four parallel loops). An undecided entry is walked
+// again in every round, so the window stays small enough that few entries wait long.
+constexpr size_t PassWindowSize = 512;
+// A round that decides fewer than 1 / SlowRoundRatio of its entries hands the window to a walk one
+// entry at a time (RunPass).
 constexpr size_t SlowRoundRatio = 16;
 
 // A vtkSMPTools functor that hands its range to Derived::Window in windows of PrefetchWindow.
@@ -231,7 +230,7 @@ struct CollapseBatch
 
 // The pass schedule's state (CollapseSchedule::Passes): per triangle the key of its cheapest
 // operation (kept between passes while none of its vertices is in the ring of a collapse), the
-// ranking of the current pass and the entries of the chunk still undecided.
+// ranking of the current pass and the window of entries still undecided (RunPass).
 constexpr unsigned char VertexInRing = 1, VertexMoved = 2;
 struct PassState
 {
@@ -287,8 +286,8 @@ private:
   void StartLoop(CollapseLoop& loop) const;
   void CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result);
   // The pass schedule (CollapseSchedule::Passes), its stages in order: keys of the triangles
-  // whose vertices changed (parallel), ranking, then per chunk of the ranking rounds of claims,
-  // checks and collapses (parallel) until every entry is decided.
+  // whose vertices changed (parallel), ranking, then rounds of claims,
+  // checks and collapses (parallel) over a window of the ranking until every entry is decided.
   bool UsesPasses() const;
   void InitializePasses();
   struct CostPassFunctor;
@@ -311,7 +310,8 @@ private:
     return !this->Mesh.IsTriangleAlive(t) || passes.Change[tri[0]] == VertexMoved ||
       passes.Change[tri[1]] == VertexMoved || passes.Change[tri[2]] == VertexMoved;
   }
-  void StartChunk(size_t start, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
+  // Appends the ranked entries from `next` on to the window until it is full; returns the next.
+  size_t FillWindow(size_t next, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
   // Raises the normal limit by a step, and releases the pinned vertices at 90 degrees; false
   // when nothing can be relaxed any more (or the target is met).
   bool LoosenLimits(CollapseLoop& loop, TriangleCollapseResult& result);
@@ -2376,39 +2376,44 @@ bool TriangleCollapser::SettlePassRound(
   return true;
 }
 
-void TriangleCollapser::StartChunk(
-  size_t start, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
+size_t TriangleCollapser::FillWindow(
+  size_t next, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
 {
-  // The chunk's entries not blocked by the collapses of the chunks before pick their operations
-  // (once: an entry that waits keeps its set untouched); those without one (every operation
-  // excluded, or over MaximumError) are settled at once.
+  // The new entries not blocked by the collapses so far pick their operations (once: an entry
+  // that waits keeps its set untouched); those without one (every operation excluded, or over
+  // MaximumError) are settled at once and leave room for more. Each fill consumes ranked
+  // entries: bounded by the ranking's size.
   const std::vector<std::uint64_t>& order = passes.Ranking.Order;
-  batch.Entries.clear();
-  for (size_t i = start; i < std::min(order.size(), start + PassChunkSize); ++i)
+  while (batch.Entries.size() < PassWindowSize && next < order.size())
   {
-    const Index t = RankedElement(order[i]);
-    if (!this->Blocked(t, passes))
+    const size_t first = batch.Entries.size();
+    for (; batch.Entries.size() < PassWindowSize && next < order.size(); ++next)
     {
-      batch.Entries.emplace_back();
-      batch.Entries.back().C.Triangle = t;
+      const Index t = RankedElement(order[next]);
+      if (!this->Blocked(t, passes))
+      {
+        batch.Entries.emplace_back();
+        batch.Entries.back().C.Triangle = t;
+      }
     }
-  }
-  loop.Pops += static_cast<long long>(batch.Entries.size());
-  PickFunctor pick{ {}, *this, batch };
-  vtkSMPTools::For(0, static_cast<vtkIdType>(batch.Entries.size()), 16, pick);
-  size_t kept = 0;
-  for (size_t i = 0; i < batch.Entries.size(); ++i)
-  {
-    const BatchEntry& entry = batch.Entries[i];
-    if (entry.Picked)
+    loop.Pops += static_cast<long long>(batch.Entries.size() - first);
+    PickFunctor pick{ {}, *this, batch };
+    vtkSMPTools::For(static_cast<vtkIdType>(first), static_cast<vtkIdType>(batch.Entries.size()), 16, pick);
+    size_t kept = first;
+    for (size_t i = first; i < batch.Entries.size(); ++i)
     {
-      batch.Entries[kept++] = entry;
-      continue;
+      const BatchEntry& entry = batch.Entries[i];
+      if (entry.Picked)
+      {
+        batch.Entries[kept++] = entry;
+        continue;
+      }
+      passes.Key[entry.C.Triangle] = std::numeric_limits<float>::infinity();
+      result.StoppedByError = result.StoppedByError || entry.Result == BatchEntry::Outcome::OverError;
     }
-    passes.Key[entry.C.Triangle] = std::numeric_limits<float>::infinity();
-    result.StoppedByError = result.StoppedByError || entry.Result == BatchEntry::Outcome::OverError;
+    batch.Entries.resize(kept);
   }
-  batch.Entries.resize(kept);
+  return next;
 }
 
 bool TriangleCollapser::PassRound(
@@ -2477,28 +2482,24 @@ bool TriangleCollapser::RunPass(
   CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
 {
   passes.Performed = 0;
-  // Chunks in rank order: a chunk's entries see what the earlier chunks changed.
-  for (size_t start = 0; start < passes.Ranking.Order.size(); start += PassChunkSize)
+  batch.Entries.clear();
+  // Rounds over the window in rank order: its first entry always holds its ring, so every round
+  // decides at least one entry; the work is bounded by the pops (PassRound).
+  for (size_t next = this->FillWindow(0, loop, batch, passes, result); !batch.Entries.empty();
+       next = this->FillWindow(next, loop, batch, passes, result))
   {
-    this->StartChunk(start, loop, batch, passes, result);
-    for (int round = 0; round < MaximumRoundsPerChunk && !batch.Entries.empty(); ++round)
+    const size_t before = batch.Entries.size();
+    if (!this->PassRound(loop, batch, passes, result))
     {
-      const size_t before = batch.Entries.size();
-      if (!this->PassRound(loop, batch, passes, result))
-      {
-        return false;
-      }
-      // Entries crowding on a few vertices (a high-valence apex is in every ring) decide one per
-      // round while every round walks all of them: decide the rest one by one (the same result).
-      const size_t decided = before - batch.Entries.size();
-      if (batch.Entries.size() > 1 && decided * SlowRoundRatio < before)
-      {
-        if (!this->DecideOneByOne(loop, batch, passes, result))
-        {
-          return false;
-        }
-        break;
-      }
+      return false;
+    }
+    // Entries crowding on a few vertices (a high-valence apex is in every ring) decide one per
+    // round while every round walks all of them: decide the window one by one (the same result).
+    const size_t decided = before - batch.Entries.size();
+    if (batch.Entries.size() > 1 && decided * SlowRoundRatio < before &&
+      !this->DecideOneByOne(loop, batch, passes, result))
+    {
+      return false;
     }
   }
   return true;
