@@ -243,6 +243,9 @@ struct PassState
   // around it are costed again next pass), or moved (the kept vertex of a collapse: the entries of
   // its triangles wait for the next pass).
   std::vector<unsigned char> Change;
+  // Per triangle, what CostPass's first step did: bit 0 its key is computed again, bit k + 1 edge
+  // k's cost is copied from its twin in the second step (EdgeOwnerCost).
+  std::vector<unsigned char> Recost;
   Index Performed = 0;      // collapses of the current pass
   long long Rounds = 0;
 };
@@ -292,8 +295,12 @@ private:
   void InitializePasses();
   struct CostPassFunctor;
   void CostPass(PassState& passes);
-  // A triangle's key after some of its vertices moved (PassState::Change), its other edges cached.
-  float MovedKey(Index t, const std::vector<unsigned char>& change) const;
+  // CostPass's first step for a live triangle: the triangle collapse's key (returned) and the
+  // costs of the edges it owns (all, or those at a moved vertex); returns PassState::Recost's flags.
+  unsigned char CostOwnedEdges(Index t, const std::vector<unsigned char>& change, bool all, float& key) const;
+  struct EdgeCopyFunctor;
+  // The cost of edge (a, b) of triangle t from the triangle that owns it, placed when none does.
+  float EdgeOwnerCost(Index t, Index a, Index b) const;
   void RankPass(const CollapseLoop& loop, PassState& passes) const;
   bool RunPass(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
   bool PassRound(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
@@ -2243,7 +2250,11 @@ void TriangleCollapser::MarkChanged(Index kept, std::vector<unsigned char>& chan
 // A triangle's key changes only when one of its vertices moved (the kept vertex of a collapse of
 // the last pass; only the edges at a moved vertex are costed again, as AroundKeys does for the
 // queue), and its excluded operations may be valid again when it has a vertex in the closed ring
-// of such a collapse. Each triangle writes only its own key and state: the same keys for any thread count.
+// of such a collapse. An edge's cost depends only on its two vertices: it is placed once, by the
+// triangle where it runs from the smaller to the larger vertex id (one of the two triangles of an
+// edge of a consistently oriented surface), and copied by the other in a second step
+// (EdgeCopyFunctor); mc1m's edges were placed twice before. Each triangle writes only its own key
+// and state: the same keys for any thread count.
 struct TriangleCollapser::CostPassFunctor
 {
   const TriangleCollapser& Self;
@@ -2251,18 +2262,19 @@ struct TriangleCollapser::CostPassFunctor
   void operator()(vtkIdType begin, vtkIdType end) const
   {
     const float none = std::numeric_limits<float>::infinity();
+    const std::vector<unsigned char>& change = this->Passes.Change;
     for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
     {
+      this->Passes.Recost[t] = 0;
       if (!this->Self.Mesh.IsTriangleAlive(t))
       {
         this->Passes.Key[t] = none;
         continue;
       }
       const Index* tri = this->Self.Mesh.Triangle(t);
-      const std::vector<unsigned char>& change = this->Passes.Change;
       const bool moved = change[tri[0]] == VertexMoved || change[tri[1]] == VertexMoved || change[tri[2]] == VertexMoved;
       const bool excluded = this->Self.State[t].Excluded != 0 && (change[tri[0]] || change[tri[1]] || change[tri[2]]);
-      if (this->Passes.AllStale || excluded || !this->Self.CacheEdges)
+      if (!this->Self.CacheEdges)
       {
         this->Self.State[t].Excluded = 0;
         Vec3 p;
@@ -2271,41 +2283,120 @@ struct TriangleCollapser::CostPassFunctor
         const double cost = this->Self.Cost(t, p, error, operation);
         this->Passes.Key[t] = operation >= 0 ? static_cast<float>(cost * this->Self.CostScale) : none;
       }
+      else if (this->Passes.AllStale || excluded)
+      {
+        this->Self.State[t].Excluded = 0;
+        this->Passes.Recost[t] = this->Self.CostOwnedEdges(t, change, true, this->Passes.Key[t]);
+      }
       else if (moved && this->Self.State[t].Excluded == 0)
       {
-        this->Passes.Key[t] = this->Self.MovedKey(t, change);
+        this->Passes.Recost[t] = this->Self.CostOwnedEdges(t, change, false, this->Passes.Key[t]);
       }
     }
   }
 };
 
-float TriangleCollapser::MovedKey(Index t, const std::vector<unsigned char>& change) const
+unsigned char TriangleCollapser::CostOwnedEdges(
+  Index t, const std::vector<unsigned char>& change, bool all, float& key) const
 {
   const Index* tri = this->Mesh.Triangle(t);
   Vec3 p;
-  double best = this->TriangleOperationCost(tri, p);
+  const double triangle = this->TriangleOperationCost(tri, p);
+  key = std::isfinite(triangle) ? static_cast<float>(triangle * this->CostScale) : std::numeric_limits<float>::infinity();
   float* cache = this->State[t].EdgeCost;
   const double bias = this->Options.EdgeCollapseBias;
+  unsigned char flags = 1;
   for (int k = 0; k < 3; ++k)
   {
     const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
-    if (change[edge[0]] == VertexMoved || change[edge[1]] == VertexMoved)
+    if (!all && change[edge[0]] != VertexMoved && change[edge[1]] != VertexMoved)
+    {
+      continue; // cached, both vertices unchanged
+    }
+    if (edge[0] < edge[1])
     {
       const Quadric qe = this->Vertex[edge[0]].Q + this->Vertex[edge[1]].Q;
       cache[k] = static_cast<float>(this->Place(edge, 2, qe, p) * bias * this->CostScale);
     }
-    best = std::min(best, double(cache[k]) / this->CostScale);
+    else
+    {
+      flags = static_cast<unsigned char>(flags | (2u << k));
+    }
   }
-  return std::isfinite(best) ? static_cast<float>(best * this->CostScale) : std::numeric_limits<float>::infinity();
+  return flags;
 }
+
+float TriangleCollapser::EdgeOwnerCost(Index t, Index a, Index b) const
+{
+  // The owner holds the edge as (b, a) with b < a; it is costed again whenever a or b moves, as
+  // this triangle is, so its cache is current. Without one (a border edge, an inconsistently
+  // oriented one) the edge is placed here. Place is symmetric in the two vertices (the sum of
+  // their quadrics, the midpoint and both vertices as fallbacks): the same cost either way.
+  float cost = 0.0f;
+  bool found = false;
+  this->Mesh.ForEachTriangle(a, [&](Index s) {
+    const Index* other = this->Mesh.Triangle(s);
+    for (int j = 0; j < 3 && !found && s != t; ++j)
+    {
+      if (other[j] == b && other[(j + 1) % 3] == a)
+      {
+        cost = this->State[s].EdgeCost[j];
+        found = true;
+      }
+    }
+  });
+  if (!found)
+  {
+    const Index edge[2] = { a, b };
+    Vec3 p;
+    const Quadric qe = this->Vertex[a].Q + this->Vertex[b].Q;
+    cost = static_cast<float>(this->Place(edge, 2, qe, p) * this->Options.EdgeCollapseBias * this->CostScale);
+  }
+  return cost;
+}
+
+// CostPass's second step: the edges each triangle left to its twin, then its key, the cheapest of
+// its four operations (none is excluded: a triangle with exclusions was costed afresh). Each
+// triangle writes only its own copies and reads only owned ones.
+struct TriangleCollapser::EdgeCopyFunctor
+{
+  const TriangleCollapser& Self;
+  PassState& Passes;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
+    {
+      const unsigned char flags = this->Passes.Recost[t];
+      if (flags == 0)
+      {
+        continue;
+      }
+      const Index* tri = this->Self.Mesh.Triangle(t);
+      float* cache = this->Self.State[t].EdgeCost;
+      float key = this->Passes.Key[t];
+      for (int k = 0; k < 3; ++k)
+      {
+        if (flags & (2u << k))
+        {
+          cache[k] = this->Self.EdgeOwnerCost(t, tri[k], tri[(k + 1) % 3]);
+        }
+        key = std::min(key, cache[k]);
+      }
+      this->Passes.Key[t] = key;
+    }
+  }
+};
 
 void TriangleCollapser::CostPass(PassState& passes)
 {
   const Index nt = this->Mesh.NumberOfTriangles();
   passes.Key.resize(size_t(nt), std::numeric_limits<float>::infinity());
+  passes.Recost.resize(size_t(nt), 0);
   passes.Change.resize(size_t(this->Mesh.NumberOfPoints()), 0);
   CostPassFunctor costs{ *this, passes };
   vtkSMPTools::For(0, nt, 4096, costs);
+  EdgeCopyFunctor copies{ *this, passes };
+  vtkSMPTools::For(0, nt, 4096, copies);
   std::fill(passes.Change.begin(), passes.Change.end(), 0);
   passes.AllStale = false;
 }
