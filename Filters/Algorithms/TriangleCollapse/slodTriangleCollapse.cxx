@@ -61,15 +61,14 @@ constexpr size_t MaximumBatchSize = 1024;
 // Entries whose data the batch phases prefetch together (enough misses in flight, few enough
 // that the lines stay in the cache until used).
 constexpr vtkIdType PrefetchWindow = 32;
-// The pass schedule: ranked entries decided per chunk, and rounds of claims per chunk (entries
-// still undecided after them wait for the next pass). An entry is walked in every round until it
-// is decided, so small chunks waste little (bunny00 to 10 %: 0.88 entries per input triangle at
-// 512, 5.4 at 16384; the output does not depend on the chunk size); 512 entries still give the
-// threads enough work per round.
-constexpr size_t PassChunkSize = 512;
-constexpr int MaximumRoundsPerChunk = 32;
-// A round that decides fewer than 1 / SlowRoundRatio of its entries hands the chunk's rest to a
-// walk one entry at a time (RunPass).
+// The pass schedule: the window of ranked entries decided together. The window is the prefix of
+// the undecided entries in rank order: after each round the decided entries leave and the next
+// ranked ones fill it up, so every round has a full window (fixed chunks of 512 ended in rounds of
+// a few entries: 7,000 rounds on mc1m, each four parallel loops). An undecided entry is walked
+// again in every round, so the window stays small enough that few entries wait long.
+constexpr size_t PassWindowSize = 512;
+// A round that decides fewer than 1 / SlowRoundRatio of its entries hands the window to a walk one
+// entry at a time (RunPass).
 constexpr size_t SlowRoundRatio = 16;
 
 // A vtkSMPTools functor that hands its range to Derived::Window in windows of PrefetchWindow.
@@ -231,7 +230,7 @@ struct CollapseBatch
 
 // The pass schedule's state (CollapseSchedule::Passes): per triangle the key of its cheapest
 // operation (kept between passes while none of its vertices is in the ring of a collapse), the
-// ranking of the current pass and the entries of the chunk still undecided.
+// ranking of the current pass and the window of entries still undecided (RunPass).
 constexpr unsigned char VertexInRing = 1, VertexMoved = 2;
 struct PassState
 {
@@ -244,6 +243,9 @@ struct PassState
   // around it are costed again next pass), or moved (the kept vertex of a collapse: the entries of
   // its triangles wait for the next pass).
   std::vector<unsigned char> Change;
+  // Per triangle, what CostPass's first step did: bit 0 its key is computed again, bit k + 1 edge
+  // k's cost is copied from its twin in the second step (EdgeOwnerCost).
+  std::vector<unsigned char> Recost;
   Index Performed = 0;      // collapses of the current pass
   long long Rounds = 0;
 };
@@ -287,14 +289,18 @@ private:
   void StartLoop(CollapseLoop& loop) const;
   void CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result);
   // The pass schedule (CollapseSchedule::Passes), its stages in order: keys of the triangles
-  // whose vertices changed (parallel), ranking, then per chunk of the ranking rounds of claims,
-  // checks and collapses (parallel) until every entry is decided.
+  // whose vertices changed (parallel), ranking, then rounds of claims,
+  // checks and collapses (parallel) over a window of the ranking until every entry is decided.
   bool UsesPasses() const;
   void InitializePasses();
   struct CostPassFunctor;
   void CostPass(PassState& passes);
-  // A triangle's key after some of its vertices moved (PassState::Change), its other edges cached.
-  float MovedKey(Index t, const std::vector<unsigned char>& change) const;
+  // CostPass's first step for a live triangle: the triangle collapse's key (returned) and the
+  // costs of the edges it owns (all, or those at a moved vertex); returns PassState::Recost's flags.
+  unsigned char CostOwnedEdges(Index t, const std::vector<unsigned char>& change, bool all, float& key) const;
+  struct EdgeCopyFunctor;
+  // The cost of edge (a, b) of triangle t from the triangle that owns it, placed when none does.
+  float EdgeOwnerCost(Index t, Index a, Index b) const;
   void RankPass(const CollapseLoop& loop, PassState& passes) const;
   bool RunPass(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
   bool PassRound(CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
@@ -311,7 +317,8 @@ private:
     return !this->Mesh.IsTriangleAlive(t) || passes.Change[tri[0]] == VertexMoved ||
       passes.Change[tri[1]] == VertexMoved || passes.Change[tri[2]] == VertexMoved;
   }
-  void StartChunk(size_t start, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
+  // Appends the ranked entries from `next` on to the window until it is full; returns the next.
+  size_t FillWindow(size_t next, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result);
   // Raises the normal limit by a step, and releases the pinned vertices at 90 degrees; false
   // when nothing can be relaxed any more (or the target is met).
   bool LoosenLimits(CollapseLoop& loop, TriangleCollapseResult& result);
@@ -2243,7 +2250,11 @@ void TriangleCollapser::MarkChanged(Index kept, std::vector<unsigned char>& chan
 // A triangle's key changes only when one of its vertices moved (the kept vertex of a collapse of
 // the last pass; only the edges at a moved vertex are costed again, as AroundKeys does for the
 // queue), and its excluded operations may be valid again when it has a vertex in the closed ring
-// of such a collapse. Each triangle writes only its own key and state: the same keys for any thread count.
+// of such a collapse. An edge's cost depends only on its two vertices: it is placed once, by the
+// triangle where it runs from the smaller to the larger vertex id (one of the two triangles of an
+// edge of a consistently oriented surface), and copied by the other in a second step
+// (EdgeCopyFunctor); mc1m's edges were placed twice before. Each triangle writes only its own key
+// and state: the same keys for any thread count.
 struct TriangleCollapser::CostPassFunctor
 {
   const TriangleCollapser& Self;
@@ -2251,18 +2262,19 @@ struct TriangleCollapser::CostPassFunctor
   void operator()(vtkIdType begin, vtkIdType end) const
   {
     const float none = std::numeric_limits<float>::infinity();
+    const std::vector<unsigned char>& change = this->Passes.Change;
     for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
     {
+      this->Passes.Recost[t] = 0;
       if (!this->Self.Mesh.IsTriangleAlive(t))
       {
         this->Passes.Key[t] = none;
         continue;
       }
       const Index* tri = this->Self.Mesh.Triangle(t);
-      const std::vector<unsigned char>& change = this->Passes.Change;
       const bool moved = change[tri[0]] == VertexMoved || change[tri[1]] == VertexMoved || change[tri[2]] == VertexMoved;
       const bool excluded = this->Self.State[t].Excluded != 0 && (change[tri[0]] || change[tri[1]] || change[tri[2]]);
-      if (this->Passes.AllStale || excluded || !this->Self.CacheEdges)
+      if (!this->Self.CacheEdges)
       {
         this->Self.State[t].Excluded = 0;
         Vec3 p;
@@ -2271,41 +2283,120 @@ struct TriangleCollapser::CostPassFunctor
         const double cost = this->Self.Cost(t, p, error, operation);
         this->Passes.Key[t] = operation >= 0 ? static_cast<float>(cost * this->Self.CostScale) : none;
       }
+      else if (this->Passes.AllStale || excluded)
+      {
+        this->Self.State[t].Excluded = 0;
+        this->Passes.Recost[t] = this->Self.CostOwnedEdges(t, change, true, this->Passes.Key[t]);
+      }
       else if (moved && this->Self.State[t].Excluded == 0)
       {
-        this->Passes.Key[t] = this->Self.MovedKey(t, change);
+        this->Passes.Recost[t] = this->Self.CostOwnedEdges(t, change, false, this->Passes.Key[t]);
       }
     }
   }
 };
 
-float TriangleCollapser::MovedKey(Index t, const std::vector<unsigned char>& change) const
+unsigned char TriangleCollapser::CostOwnedEdges(
+  Index t, const std::vector<unsigned char>& change, bool all, float& key) const
 {
   const Index* tri = this->Mesh.Triangle(t);
   Vec3 p;
-  double best = this->TriangleOperationCost(tri, p);
+  const double triangle = this->TriangleOperationCost(tri, p);
+  key = std::isfinite(triangle) ? static_cast<float>(triangle * this->CostScale) : std::numeric_limits<float>::infinity();
   float* cache = this->State[t].EdgeCost;
   const double bias = this->Options.EdgeCollapseBias;
+  unsigned char flags = 1;
   for (int k = 0; k < 3; ++k)
   {
     const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
-    if (change[edge[0]] == VertexMoved || change[edge[1]] == VertexMoved)
+    if (!all && change[edge[0]] != VertexMoved && change[edge[1]] != VertexMoved)
+    {
+      continue; // cached, both vertices unchanged
+    }
+    if (edge[0] < edge[1])
     {
       const Quadric qe = this->Vertex[edge[0]].Q + this->Vertex[edge[1]].Q;
       cache[k] = static_cast<float>(this->Place(edge, 2, qe, p) * bias * this->CostScale);
     }
-    best = std::min(best, double(cache[k]) / this->CostScale);
+    else
+    {
+      flags = static_cast<unsigned char>(flags | (2u << k));
+    }
   }
-  return std::isfinite(best) ? static_cast<float>(best * this->CostScale) : std::numeric_limits<float>::infinity();
+  return flags;
 }
+
+float TriangleCollapser::EdgeOwnerCost(Index t, Index a, Index b) const
+{
+  // The owner holds the edge as (b, a) with b < a; it is costed again whenever a or b moves, as
+  // this triangle is, so its cache is current. Without one (a border edge, an inconsistently
+  // oriented one) the edge is placed here. Place is symmetric in the two vertices (the sum of
+  // their quadrics, the midpoint and both vertices as fallbacks): the same cost either way.
+  float cost = 0.0f;
+  bool found = false;
+  this->Mesh.ForEachTriangle(a, [&](Index s) {
+    const Index* other = this->Mesh.Triangle(s);
+    for (int j = 0; j < 3 && !found && s != t; ++j)
+    {
+      if (other[j] == b && other[(j + 1) % 3] == a)
+      {
+        cost = this->State[s].EdgeCost[j];
+        found = true;
+      }
+    }
+  });
+  if (!found)
+  {
+    const Index edge[2] = { a, b };
+    Vec3 p;
+    const Quadric qe = this->Vertex[a].Q + this->Vertex[b].Q;
+    cost = static_cast<float>(this->Place(edge, 2, qe, p) * this->Options.EdgeCollapseBias * this->CostScale);
+  }
+  return cost;
+}
+
+// CostPass's second step: the edges each triangle left to its twin, then its key, the cheapest of
+// its four operations (none is excluded: a triangle with exclusions was costed afresh). Each
+// triangle writes only its own copies and reads only owned ones.
+struct TriangleCollapser::EdgeCopyFunctor
+{
+  const TriangleCollapser& Self;
+  PassState& Passes;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
+    {
+      const unsigned char flags = this->Passes.Recost[t];
+      if (flags == 0)
+      {
+        continue;
+      }
+      const Index* tri = this->Self.Mesh.Triangle(t);
+      float* cache = this->Self.State[t].EdgeCost;
+      float key = this->Passes.Key[t];
+      for (int k = 0; k < 3; ++k)
+      {
+        if (flags & (2u << k))
+        {
+          cache[k] = this->Self.EdgeOwnerCost(t, tri[k], tri[(k + 1) % 3]);
+        }
+        key = std::min(key, cache[k]);
+      }
+      this->Passes.Key[t] = key;
+    }
+  }
+};
 
 void TriangleCollapser::CostPass(PassState& passes)
 {
   const Index nt = this->Mesh.NumberOfTriangles();
   passes.Key.resize(size_t(nt), std::numeric_limits<float>::infinity());
+  passes.Recost.resize(size_t(nt), 0);
   passes.Change.resize(size_t(this->Mesh.NumberOfPoints()), 0);
   CostPassFunctor costs{ *this, passes };
   vtkSMPTools::For(0, nt, 4096, costs);
+  EdgeCopyFunctor copies{ *this, passes };
+  vtkSMPTools::For(0, nt, 4096, copies);
   std::fill(passes.Change.begin(), passes.Change.end(), 0);
   passes.AllStale = false;
 }
@@ -2376,39 +2467,44 @@ bool TriangleCollapser::SettlePassRound(
   return true;
 }
 
-void TriangleCollapser::StartChunk(
-  size_t start, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
+size_t TriangleCollapser::FillWindow(
+  size_t next, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
 {
-  // The chunk's entries not blocked by the collapses of the chunks before pick their operations
-  // (once: an entry that waits keeps its set untouched); those without one (every operation
-  // excluded, or over MaximumError) are settled at once.
+  // The new entries not blocked by the collapses so far pick their operations (once: an entry
+  // that waits keeps its set untouched); those without one (every operation excluded, or over
+  // MaximumError) are settled at once and leave room for more. Each fill consumes ranked
+  // entries: bounded by the ranking's size.
   const std::vector<std::uint64_t>& order = passes.Ranking.Order;
-  batch.Entries.clear();
-  for (size_t i = start; i < std::min(order.size(), start + PassChunkSize); ++i)
+  while (batch.Entries.size() < PassWindowSize && next < order.size())
   {
-    const Index t = RankedElement(order[i]);
-    if (!this->Blocked(t, passes))
+    const size_t first = batch.Entries.size();
+    for (; batch.Entries.size() < PassWindowSize && next < order.size(); ++next)
     {
-      batch.Entries.emplace_back();
-      batch.Entries.back().C.Triangle = t;
+      const Index t = RankedElement(order[next]);
+      if (!this->Blocked(t, passes))
+      {
+        batch.Entries.emplace_back();
+        batch.Entries.back().C.Triangle = t;
+      }
     }
-  }
-  loop.Pops += static_cast<long long>(batch.Entries.size());
-  PickFunctor pick{ {}, *this, batch };
-  vtkSMPTools::For(0, static_cast<vtkIdType>(batch.Entries.size()), 16, pick);
-  size_t kept = 0;
-  for (size_t i = 0; i < batch.Entries.size(); ++i)
-  {
-    const BatchEntry& entry = batch.Entries[i];
-    if (entry.Picked)
+    loop.Pops += static_cast<long long>(batch.Entries.size() - first);
+    PickFunctor pick{ {}, *this, batch };
+    vtkSMPTools::For(static_cast<vtkIdType>(first), static_cast<vtkIdType>(batch.Entries.size()), 16, pick);
+    size_t kept = first;
+    for (size_t i = first; i < batch.Entries.size(); ++i)
     {
-      batch.Entries[kept++] = entry;
-      continue;
+      const BatchEntry& entry = batch.Entries[i];
+      if (entry.Picked)
+      {
+        batch.Entries[kept++] = entry;
+        continue;
+      }
+      passes.Key[entry.C.Triangle] = std::numeric_limits<float>::infinity();
+      result.StoppedByError = result.StoppedByError || entry.Result == BatchEntry::Outcome::OverError;
     }
-    passes.Key[entry.C.Triangle] = std::numeric_limits<float>::infinity();
-    result.StoppedByError = result.StoppedByError || entry.Result == BatchEntry::Outcome::OverError;
+    batch.Entries.resize(kept);
   }
-  batch.Entries.resize(kept);
+  return next;
 }
 
 bool TriangleCollapser::PassRound(
@@ -2477,28 +2573,24 @@ bool TriangleCollapser::RunPass(
   CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
 {
   passes.Performed = 0;
-  // Chunks in rank order: a chunk's entries see what the earlier chunks changed.
-  for (size_t start = 0; start < passes.Ranking.Order.size(); start += PassChunkSize)
+  batch.Entries.clear();
+  // Rounds over the window in rank order: its first entry always holds its ring, so every round
+  // decides at least one entry; the work is bounded by the pops (PassRound).
+  for (size_t next = this->FillWindow(0, loop, batch, passes, result); !batch.Entries.empty();
+       next = this->FillWindow(next, loop, batch, passes, result))
   {
-    this->StartChunk(start, loop, batch, passes, result);
-    for (int round = 0; round < MaximumRoundsPerChunk && !batch.Entries.empty(); ++round)
+    const size_t before = batch.Entries.size();
+    if (!this->PassRound(loop, batch, passes, result))
     {
-      const size_t before = batch.Entries.size();
-      if (!this->PassRound(loop, batch, passes, result))
-      {
-        return false;
-      }
-      // Entries crowding on a few vertices (a high-valence apex is in every ring) decide one per
-      // round while every round walks all of them: decide the rest one by one (the same result).
-      const size_t decided = before - batch.Entries.size();
-      if (batch.Entries.size() > 1 && decided * SlowRoundRatio < before)
-      {
-        if (!this->DecideOneByOne(loop, batch, passes, result))
-        {
-          return false;
-        }
-        break;
-      }
+      return false;
+    }
+    // Entries crowding on a few vertices (a high-valence apex is in every ring) decide one per
+    // round while every round walks all of them: decide the window one by one (the same result).
+    const size_t decided = before - batch.Entries.size();
+    if (batch.Entries.size() > 1 && decided * SlowRoundRatio < before &&
+      !this->DecideOneByOne(loop, batch, passes, result))
+    {
+      return false;
     }
   }
   return true;
