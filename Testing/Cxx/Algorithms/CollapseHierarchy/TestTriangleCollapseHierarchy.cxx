@@ -237,6 +237,21 @@ TEST(QuadricPoint, MatchesTheEigenPseudoInverse)
         << "spectrum " << spectrum[0] << " " << spectrum[1] << " " << spectrum[2] << " trial " << trial;
     }
   }
+  // Spectra on both sides of the rank threshold (1e-3 of the largest eigenvalue): the kept
+  // directions must be Eigen's (on mc1m the 15.9 million eigen-path quadrics of a build all agree).
+  const double nearThreshold[][3] = { { 1, 0.95e-3, 0 }, { 1, 1.05e-3, 0 }, { 1, 1, 0.95e-3 }, { 1, 1, 1.05e-3 },
+    { 2, 0.3, 1.9e-3 }, { 2, 0.3, 2.1e-3 } };
+  for (const auto& spectrum : nearThreshold)
+  {
+    for (int trial = 0; trial < 200; ++trial)
+    {
+      const Quadric q = QuadricWithSpectrum(spectrum, random);
+      const Vec3 center{ normal(random), normal(random), normal(random) };
+      const Vec3 expected = EigenPseudoInversePoint(q, center);
+      ASSERT_LT(Norm(QuadricPointNear(q, center) - expected), 1e-8 * (1 + Norm(expected - center)))
+        << "spectrum " << spectrum[0] << " " << spectrum[1] << " " << spectrum[2] << " trial " << trial;
+    }
+  }
   // Sums of plane quadrics as the hierarchy builds them: nearly one plane, a crease, a corner.
   for (int trial = 0; trial < 300; ++trial)
   {
