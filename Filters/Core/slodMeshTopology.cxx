@@ -2,6 +2,7 @@
 #include "slodMeshTopology.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace slod
@@ -382,5 +383,24 @@ MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh)
 {
   MeshTopology topology(mesh);
   return topology.Statistics(mesh);
+}
+
+double MeanAbsoluteCurvature(const TriangleMesh& mesh, const MeshTopology& topology)
+{
+  double bending = 0;
+  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    if (topology.EdgeTriangleCount(e) != 2)
+    {
+      continue;
+    }
+    const Index* t = topology.EdgeTrianglesBegin(e);
+    const Vec3 n0 = Normalized(mesh.TriangleAreaVector(t[0]));
+    const Vec3 n1 = Normalized(mesh.TriangleAreaVector(t[1]));
+    const double angle = std::atan2(Norm(Cross(n0, n1)), Dot(n0, n1));
+    bending += angle * Norm(mesh.Point(topology.EdgeVertex(e, 1)) - mesh.Point(topology.EdgeVertex(e, 0)));
+  }
+  const double area = mesh.TotalArea();
+  return area > 0 ? bending / (2 * area) : 0.0;
 }
 } // namespace slod

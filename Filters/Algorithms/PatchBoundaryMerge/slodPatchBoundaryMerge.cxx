@@ -327,7 +327,7 @@ SpbmLevelGenerator::PredictionMemo SpbmLevelGenerator::PredictionMemo::Of(const 
   return { static_cast<float>(parameters.Epsilon), parameters.MergeAngle, parameters.MergePatches,
     parameters.CollapseChains, parameters.CollapseLengthFactor, parameters.JoinWithinEpsilon,
     parameters.CollapseWithinEpsilon, parameters.SizeWeightedMerge, parameters.FlatnessMerge,
-    parameters.FlatnessScale, parameters.RemovalTarget, 0 };
+    parameters.FlatnessScale, parameters.MaximumPatchThickness, parameters.RemovalTarget, 0 };
 }
 
 bool SpbmLevelGenerator::PredictionMemo::SameLevel(const PredictionMemo& m) const
@@ -336,7 +336,8 @@ bool SpbmLevelGenerator::PredictionMemo::SameLevel(const PredictionMemo& m) cons
     m.CollapseChains == this->CollapseChains && m.CollapseLengthFactor == this->CollapseLengthFactor &&
     m.JoinWithinEpsilon == this->JoinWithinEpsilon && m.CollapseWithinEpsilon == this->CollapseWithinEpsilon &&
     m.SizeWeightedMerge == this->SizeWeightedMerge && m.FlatnessMerge == this->FlatnessMerge &&
-    m.FlatnessScale == this->FlatnessScale && m.RemovalTarget == this->RemovalTarget;
+    m.FlatnessScale == this->FlatnessScale && m.MaximumPatchThickness == this->MaximumPatchThickness &&
+    m.RemovalTarget == this->RemovalTarget;
 }
 
 Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s)

@@ -74,6 +74,11 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // apart never merge. Takes precedence over SizeWeightedMerge.
   bool FlatnessMerge = false;
   double FlatnessScale = 0.03;
+  // Extension (issue 15): a merge is refused when its union's thickness (as FlatnessMerge
+  // estimates it, relative to the bbox diagonal) exceeds this: the union is re-triangulated flat
+  // from its boundary, so the thickness bounds how far its original vertices end up from it.
+  // 0 = unbounded (the paper). The filter sets it from the target count.
+  double MaximumPatchThickness = 0.0;
   // Extension: cost-ordered endpoint removal. With RemovalTarget > 0, after merging, endpoints
   // are removed cheapest first until the level has at most RemovalTarget triangles: chain
   // collapses (conditions (a)-(b) only: no epsilon or length bound) and joins of degree-two
@@ -261,7 +266,7 @@ private:
     bool MergePatches, CollapseChains;
     double CollapseLengthFactor;
     bool JoinWithinEpsilon, CollapseWithinEpsilon, SizeWeightedMerge, FlatnessMerge;
-    double FlatnessScale;
+    double FlatnessScale, MaximumPatchThickness;
     Index RemovalTarget;
     Index Count;
     // The memo entry of `parameters` (Count left 0) and whether an entry is of the same level.

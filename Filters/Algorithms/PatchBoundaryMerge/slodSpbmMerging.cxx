@@ -200,6 +200,7 @@ SpbmLevelGenerator::MergingRun::MergingRun(
   , eps(static_cast<float>(parameters_.Epsilon))
   , base(nc > 0 ? P.ChainVerticesBegin(0) : nullptr)
   , flatness(parameters_.FlatnessMerge)
+  , trackSupport(parameters_.FlatnessMerge || parameters_.MaximumPatchThickness > 0)
   , cosMerge(std::cos(Radians(parameters_.MergeAngle)))
   , inverseDiagonal(generator_.Diagonal > 0 ? 1.0 / generator_.Diagonal : 1.0)
 {
@@ -261,7 +262,7 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
 void SpbmLevelGenerator::MergingRun::ResetForRun(const std::vector<unsigned char>& frozen)
 {
   this->ResetChainGraph(frozen);
-  if (parameters.FlatnessMerge)
+  if (trackSupport)
   {
     this->CopyPatchSupport();
   }
@@ -1325,6 +1326,10 @@ bool SpbmLevelGenerator::MergingRun::TryMerge(Index c, Index p, Index q)
   {
     return false;
   }
+  if (parameters.MaximumPatchThickness > 0 && this->Thickness(p, q) > parameters.MaximumPatchThickness)
+  {
+    return false;
+  }
   // Method (3) of section 4.2.8: no merge whose boundary would not project to a
   // simple polygon on the merged normal (it could not be triangulated without
   // flips). Long boundaries are left to the triangulation fallback.
@@ -1334,7 +1339,7 @@ bool SpbmLevelGenerator::MergingRun::TryMerge(Index c, Index p, Index q)
   {
     return false;
   }
-  if (flatness)
+  if (trackSupport)
   {
     this->UniteSupport(p, q);
   }

@@ -127,6 +127,7 @@ private:
   const float eps;
   const Index* const base; // first chain vertex: chain offsets into the generator's key arrays
   const bool flatness;
+  const bool trackSupport; // the patches' extreme vertices are kept (flatness measure, thickness bound)
   const double cosMerge;
   const double inverseDiagonal;
   double meanSize = 0;       // size-weighted measure: mean patch normal-sum length

@@ -199,7 +199,7 @@ bool SpbmLevelGenerator::MergingRun::ApplyRecorded(const State::Edit& edit)
       {
         return false;
       }
-      if (flatness)
+      if (trackSupport)
       {
         this->UniteSupport(v[1], v[2]);
       }

@@ -19,6 +19,7 @@
 #include "vtkPolyData.h"
 
 #include <chrono>
+#include <limits>
 #include <numeric>
 #include <cmath>
 #include <memory>
@@ -94,6 +95,9 @@ struct vtkPatchBoundaryMerge::Cache
   double RelativePlaneDistance = 0;
   double ChainInPlaneWeight = -1; // of the generator's chain hierarchy
   double ToleranceScale = 1;      // the patches were grown with the tolerances scaled by this
+  double DeviationFactor = 0;     // PatchDeviationFactor of the cached patches
+  double MeanCurvature = 0;       // slod::MeanAbsoluteCurvature of the prepared input
+  double PlaneDistanceCap = std::numeric_limits<double>::infinity(); // absolute, of the patch growth
 
   bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p, double relativePlaneDistance) const
   {
@@ -108,6 +112,8 @@ struct vtkPatchBoundaryMerge::Cache
   bool Build(vtkPatchBoundaryMerge* self, vtkPolyData* input, const slod::PatchificationParameters& patchParameters);
   bool GrowPatches(vtkPatchBoundaryMerge* self, const slod::MeshTopology& topology);
   bool FitPatchesToTarget(vtkPatchBoundaryMerge* self, vtkIdType target);
+  double ThicknessBound(vtkPatchBoundaryMerge* self, vtkIdType target) const;
+  bool FitPatchesToDeviation(vtkPatchBoundaryMerge* self, vtkIdType target);
   slod::SpbmLevelParameters LevelParameters(vtkPatchBoundaryMerge* self) const;
   bool GenerateLevel(
     vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
@@ -166,6 +172,9 @@ bool vtkPatchBoundaryMerge::Cache::Build(
       this->Warnings.push_back("non-manifold edges are kept as patch borders at full resolution");
     }
     built = Clock::now(); // topology, orientation check
+    this->MeanCurvature = slod::MeanAbsoluteCurvature(this->Mesh, *topology);
+    this->DeviationFactor = self->PatchDeviationFactor;
+    this->PlaneDistanceCap = 0.5 * this->ThicknessBound(self, this->Target(self));
     if (!this->GrowPatches(self, *topology))
     {
       return false;
@@ -186,6 +195,10 @@ bool vtkPatchBoundaryMerge::Cache::GrowPatches(vtkPatchBoundaryMerge* self, cons
   growth.OneEdgePatchAngle *= this->ToleranceScale;
   growth.OneEdgeNeighborAngle *= this->ToleranceScale;
   growth.MaximumPlaneDistance = this->ToleranceScale * self->PatchPlaneDistance * this->Mesh.BoundingBoxDiagonal();
+  // A patch within d of its running plane is at most 2d thick (PatchDeviationFactor).
+  growth.MaximumPlaneDistance = growth.MaximumPlaneDistance > 0
+    ? std::min(growth.MaximumPlaneDistance, this->PlaneDistanceCap)
+    : this->PlaneDistanceCap;
   const slod::ProgressFunction progress = slod::FilterProgress(self, 0.05, 0.65);
   auto initialize = [&]() {
     const auto initializing = Clock::now();
@@ -262,6 +275,39 @@ bool vtkPatchBoundaryMerge::Cache::FitPatchesToTarget(vtkPatchBoundaryMerge* sel
   return true;
 }
 
+// Issue 15: SPBM re-triangulates every patch flat from its boundary, so its distance from the
+// input is about the patches' thickness. A budget of N triangles of the input's area A has
+// triangles of edge s (s^2 = 4 A / (sqrt(3) N)), and a surface of curvature kappa bends by about
+// kappa s^2 / 8 under such a triangle: the deviation any simplification to N triangles has.
+// The bound on a patch's thickness is PatchDeviationFactor times that (absolute; infinite
+// without a count target or with the factor 0).
+double vtkPatchBoundaryMerge::Cache::ThicknessBound(vtkPatchBoundaryMerge* self, vtkIdType target) const
+{
+  const double area = this->Mesh.TotalArea();
+  if (self->PatchDeviationFactor <= 0 || target <= 0 || this->MeanCurvature <= 0 || area <= 0)
+  {
+    return std::numeric_limits<double>::infinity();
+  }
+  const double edgeSquared = 4.0 * area / (std::sqrt(3.0) * double(target));
+  return self->PatchDeviationFactor * this->MeanCurvature * edgeSquared / 8.0;
+}
+
+// The patches are grown again (once) when the target's thickness bound is well below the one
+// they were grown with (a finer target than the cached patches'); coarser targets reuse them, the
+// merges are bounded by the target's own bound. False when aborted.
+bool vtkPatchBoundaryMerge::Cache::FitPatchesToDeviation(vtkPatchBoundaryMerge* self, vtkIdType target)
+{
+  const double cap = 0.5 * this->ThicknessBound(self, target);
+  if (!(cap < this->PlaneDistanceCap / 1.5))
+  {
+    return true;
+  }
+  vtkLogF(TRACE, "[spbm] patches grown again for the plane distance bound %.4g (was %.4g)", cap, this->PlaneDistanceCap);
+  this->PlaneDistanceCap = cap;
+  const slod::MeshTopology topology(this->Mesh);
+  return this->GrowPatches(self, topology);
+}
+
 // The level parameters from the filter's settings (epsilon and targets aside).
 slod::SpbmLevelParameters vtkPatchBoundaryMerge::Cache::LevelParameters(vtkPatchBoundaryMerge* self) const
 {
@@ -274,6 +320,10 @@ slod::SpbmLevelParameters vtkPatchBoundaryMerge::Cache::LevelParameters(vtkPatch
   level.CostOrderedRemoval = self->CostOrderedRemoval;
   level.SizeWeightedMerge = self->SizeWeightedMerge;
   level.MinimumDeviationTriangulation = self->MinimumDeviationTriangulation;
+  const double thickness = this->ThicknessBound(self, this->Target(self));
+  level.MaximumPatchThickness = std::isfinite(thickness) && this->Mesh.BoundingBoxDiagonal() > 0
+    ? thickness / this->Mesh.BoundingBoxDiagonal()
+    : 0.0;
   return level;
 }
 
@@ -430,7 +480,8 @@ int vtkPatchBoundaryMerge::RequestData(
   // 1. Patchification (cached).
   const auto start = Clock::now();
   this->PatchificationReused =
-    this->Cached && this->Cached->Matches(input, patchParameters, this->PatchPlaneDistance);
+    this->Cached && this->Cached->Matches(input, patchParameters, this->PatchPlaneDistance) &&
+    this->Cached->DeviationFactor == this->PatchDeviationFactor;
   if (!this->PatchificationReused)
   {
     this->Cached.reset(new Cache);
@@ -473,7 +524,7 @@ int vtkPatchBoundaryMerge::RequestData(
   slod::SpbmLevelParameters level;
   slod::SpbmLevel result;
   const vtkIdType target = cache.Target(this);
-  if (target > 0 && !cache.FitPatchesToTarget(this, target))
+  if (target > 0 && (!cache.FitPatchesToDeviation(this, target) || !cache.FitPatchesToTarget(this, target)))
   {
     this->Cached.reset();
     slod::ReportAbort(this, output);
@@ -481,6 +532,10 @@ int vtkPatchBoundaryMerge::RequestData(
   }
   this->PatchificationReused = this->PatchificationReused && cache.ToleranceScale == this->PatchToleranceScale;
   this->PatchToleranceScale = cache.ToleranceScale;
+  {
+    const slod::SpbmLevelParameters bounded = cache.LevelParameters(this);
+    this->PatchThicknessBound = bounded.MaximumPatchThickness;
+  }
   this->NumberOfPatches = cache.Patches.NumberOfPatches();
   this->NumberOfChains = cache.Patches.NumberOfChains();
   if (!cache.GenerateLevel(this, target, result, level))
@@ -513,6 +568,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "AreaWeightedNormals: " << this->AreaWeightedNormals << "\n";
   os << indent << "PatchPlaneDistance: " << this->PatchPlaneDistance << "\n";
+  os << indent << "PatchDeviationFactor: " << this->PatchDeviationFactor << "\n";
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
   os << indent << "MergePatches: " << this->MergePatches << "\n";
   os << indent << "CollapseChains: " << this->CollapseChains << "\n";

@@ -70,6 +70,19 @@ public:
   ///@}
 
   ///@{
+  /// Extension (issue 15) [4]: with a count target, no patch (grown or merged) may be thicker than
+  /// this factor times the deviation expected at the target, kappa * s^2 / 8 (kappa the input's
+  /// mean absolute curvature, s the edge of an equilateral triangle of the input's area divided
+  /// by the target): SPBM re-triangulates each patch flat from its boundary, so a patch much
+  /// larger than the target's triangles lies far off the surface (mc1m at 10%: 43x
+  /// vtkQuadricDecimation's Hausdorff distance). 0 = unbounded (patch size from the angles and
+  /// PatchPlaneDistance only). PatchThicknessBound is the bound used (relative to the diagonal).
+  vtkSetClampMacro(PatchDeviationFactor, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(PatchDeviationFactor, double);
+  vtkGetMacro(PatchThicknessBound, double);
+  ///@}
+
+  ///@{
   /// Area-weighted running patch normal (default on).
   vtkSetMacro(AreaWeightedNormals, bool);
   vtkGetMacro(AreaWeightedNormals, bool);
@@ -190,6 +203,8 @@ protected:
   double PatchPlaneDistance = 0.004;
   bool AdaptPatchesToTarget = true;
   double PatchToleranceScale = 1.0;
+  double PatchDeviationFactor = 4.0;
+  double PatchThicknessBound = 0.0;
   double MergeAngle = 20.0;
   bool MergePatches = true;
   bool CollapseChains = true;

@@ -813,3 +813,19 @@ TEST(EditableMesh, BorderEarIsNotCollapsedAway)
   const Index borderEdge[2] = { a, x };
   EXPECT_EQ(mesh.CheckCollapse(borderEdge, 2, m.Point(a)), CollapseStatus::Ok);
 }
+
+// The mean absolute curvature: about 1/R on a sphere (the discrete sum converges to it), exactly
+// 1/s of it when the mesh is scaled by s, zero on a flat grid.
+TEST(MeshTopology, MeanAbsoluteCurvatureOfSphereAndPlane)
+{
+  slod::TriangleMesh sphere = slodtest::Sphere(64, 64); // radius 0.5
+  const double curvature = slod::MeanAbsoluteCurvature(sphere, slod::MeshTopology(sphere));
+  EXPECT_NEAR(curvature, 2.0, 0.05);
+  for (slod::Index v = 0; v < sphere.NumberOfPoints(); ++v)
+  {
+    sphere.SetPoint(v, 3.0 * sphere.Point(v));
+  }
+  EXPECT_NEAR(slod::MeanAbsoluteCurvature(sphere, slod::MeshTopology(sphere)), curvature / 3.0, 1e-9 * curvature);
+  const slod::TriangleMesh grid = slodtest::Grid(10, 10);
+  EXPECT_EQ(slod::MeanAbsoluteCurvature(grid, slod::MeshTopology(grid)), 0.0);
+}
