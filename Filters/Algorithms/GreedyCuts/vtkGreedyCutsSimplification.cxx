@@ -136,6 +136,7 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.MinimumAngle = this->MinimumTriangleAngle;
   parameters.ShapedAngle = this->ShapedTriangleAngle;
   parameters.FinalCollapses = this->FinalCollapses;
+  parameters.LadderBottom = this->LadderBottom;
   const double bound = this->MaximumErrorIsRelative ? this->MaximumError * diagonal : this->MaximumError;
   vtkIdType target = 0;
   // The filter contract's targets (slodFilterContract.h); MaximumError is always a bound here, so
@@ -162,10 +163,16 @@ int vtkGreedyCutsSimplification::RequestData(
   else
   {
     parameters.Epsilon = target >= mesh.NumberOfTriangles() ? 0.0 : bound;
-    if (!cuts.Run(parameters, result, stage))
+    const bool monotone = this->MonotoneInEpsilon && parameters.Epsilon > 0;
+    if (!(monotone ? cuts.RunMonotone(parameters, result, stage) : cuts.Run(parameters, result, stage)))
     {
       slod::ReportAbort(this, output);
       return 1;
+    }
+    if (cuts.WorkBoundReached())
+    {
+      vtkWarningMacro(<< "The nested run over the tolerance ladder stopped at its work bound; the coarser levels "
+                      << "keep the last finished one (still within the bound, never more triangles).");
     }
   }
   this->UsedMaximumError = result.ErrorBound;
@@ -208,6 +215,8 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinimumTriangleAngle: " << this->MinimumTriangleAngle << "\n";
   os << indent << "ShapedTriangleAngle: " << this->ShapedTriangleAngle << "\n";
   os << indent << "FinalCollapses: " << (this->FinalCollapses ? "on" : "off") << "\n";
+  os << indent << "MonotoneInEpsilon: " << (this->MonotoneInEpsilon ? "on" : "off") << "\n";
+  os << indent << "LadderBottom: " << this->LadderBottom << "\n";
   os << indent << "OutputPointsPrecision: " << this->OutputPointsPrecision << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
