@@ -28,12 +28,13 @@
  * Parameters: MaximumError (epsilon; absolute, or relative to the input's bounding box diagonal
  * when MaximumErrorIsRelative is on, the default), the patch angle tolerances of
  * vtkPatchBoundaryMerge, and the project's target convention: SetTargetNumberOfTriangles (0 =
- * unused) or SetTargetReduction (fraction removed) walks the tolerance ladder (see
- * MonotoneInEpsilon) up from LadderBottom to the first level whose collapsed result is within the
- * target, and redoes that level from the finer one with its collapses stopping at the target: the
- * target count or one below (more only when MaximumError allows no coarser result; fewer when the
- * collapses get stuck). When LadderBottom's level is already within the target, smaller
- * tolerances (halving, down to 1e-5 of the diagonal, at most TargetSearchSteps runs) are tried.
+ * unused) or SetTargetReduction (fraction removed) bisects over the tolerance ladder's levels (see
+ * MonotoneInEpsilon) from LadderBottom to MaximumError, one run with its collapses per level tried
+ * (at most TargetSearchSteps after the top one), for the smallest level within the target; the
+ * next finer level tried (the input itself when none) is then collapsed at that level's tolerance
+ * down to the target: the target count or one below (more only when MaximumError allows no coarser
+ * result; fewer when the collapses get stuck). Work bound: 2,000 distance-proof pieces per input
+ * triangle for the runs and again for the final collapses (a warning when reached).
  * Without FinalCollapses: the earlier search on the cuts' counts (TargetSearchSteps runs of
  * halving, then bisection on log(epsilon)). MaximumError still bounds the error (the bound wins
  * over the target, with a warning); raise it (e.g. 0.1 relative) to let the target decide.

@@ -717,7 +717,7 @@ TEST(GreedyCuts, LevelsNeverRiseAndKeepTheirBounds)
 
 // Single filter runs are monotone in epsilon with MonotoneInEpsilon on: a fine sweep of
 // tolerances that are not ladder values, each a separate filter run, never gives more triangles at
-// a larger epsilon, and each keeps its bound (at most the asked epsilon). Before, single runs rose
+// a larger epsilon, and each keeps its bound (at most the asked epsilon; the last one measured). Before, single runs rose
 // (fandisk 0.02 -> 0.05: 122 -> 132; bunny00 0.01 -> 0.02). Meshes no other test uses.
 TEST(GreedyCutsSimplification, SingleRunsNeverRiseWithEpsilon)
 {
@@ -728,8 +728,9 @@ TEST(GreedyCutsSimplification, SingleRunsNeverRiseWithEpsilon)
     const double diagonal = slodtest::ToTriangleMesh(input).BoundingBoxDiagonal();
     vtkIdType previous = std::numeric_limits<vtkIdType>::max();
     std::cout << "[greedy-cuts] " << name << " sweep:";
-    // 0.0043 to 0.03 by a factor 1.22: steps within and across the ladder's steps (1.2 to 1.33).
-    for (double eps = 0.0043; eps <= 0.03; eps *= 1.22)
+    // 0.0043 to 0.0094 by a factor 1.3: steps within and across ladder values (0.005, 0.006, 0.008);
+    // short, as every run repeats the ladder's first levels.
+    for (double eps = 0.0043; eps <= 0.0095; eps *= 1.3)
     {
       vtkNew<vtkGreedyCutsSimplification> filter;
       filter->SetInputData(input);
@@ -744,15 +745,12 @@ TEST(GreedyCutsSimplification, SingleRunsNeverRiseWithEpsilon)
       EXPECT_GE(filter->GetUsedMaximumError(), eps * diagonal / 1.34); // the ladder's widest step
       EXPECT_EQ(filter->GetOutput()->GetFieldData()->GetArray("FallbackPatches")->GetTuple1(0), 0);
       previous = count;
+      if (eps * 1.3 > 0.0095)
+      {
+        std::cout << "\n";
+        ExpectValid(input, Collect(filter, input), name + " at the sweep's last tolerance");
+      }
     }
-    std::cout << "\n";
-    // The sweep's last run keeps every property (measured Hausdorff within its bound included).
-    vtkNew<vtkGreedyCutsSimplification> filter;
-    filter->SetInputData(input);
-    filter->SetMaximumError(0.025);
-    filter->MonotoneInEpsilonOn();
-    filter->Update();
-    ExpectValid(input, Collect(filter, input), name + " at 0.025");
   }
 }
 
