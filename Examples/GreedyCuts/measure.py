@@ -3,7 +3,9 @@
 """Greedy cuts against vtkQuadricDecimation at equal measured Hausdorff, and the sliver share.
 
 usage: measure.py MESH.off EPS[,EPS...] [--patchification chapter3|chapter4] [--shaped DEGREES] [--no-qd]
-                  [--no-final-collapses]
+                  [--no-final-collapses] [--single-run]
+
+--single-run: MonotoneInEpsilon off (one run at epsilon itself, as before session 12).
 
 Per epsilon (relative to the diagonal): triangles, measured Hausdorff (vtkSurfaceDeviation),
 patches kept as original triangles, share of triangles whose smallest angle is under 5 degrees,
@@ -80,6 +82,7 @@ def main():
     chapter3 = '--patchification' in sys.argv and sys.argv[sys.argv.index('--patchification') + 1] == 'chapter3'
     no_qd = '--no-qd' in sys.argv
     final_collapses = '--no-final-collapses' not in sys.argv
+    single_run = '--single-run' in sys.argv
     shaped = float(sys.argv[sys.argv.index('--shaped') + 1]) if '--shaped' in sys.argv else 0.0
     r = vtkOFFMeshReader()
     r.SetFileName(path)
@@ -94,13 +97,16 @@ def main():
             f.SetPatchification(1)
         f.SetShapedTriangleAngle(shaped)
         f.SetFinalCollapses(final_collapses)
+        if hasattr(f, 'SetMonotoneInEpsilon'):
+            f.SetMonotoneInEpsilon(not single_run)
         t = time.process_time()
         f.Update()
         cpu = time.process_time() - t
         out = f.GetOutput()
         h = hausdorff(inp, out)
         fallbacks = f.GetOriginalPatches()
-        line = (f"{name} eps {eps}: {inp.GetNumberOfCells()} -> {out.GetNumberOfCells()} tris, "
+        line = (f"{name} eps {eps} (used {f.GetUsedMaximumError() / inp.GetLength():.4g}): "
+                f"{inp.GetNumberOfCells()} -> {out.GetNumberOfCells()} tris, "
                 f"H/eps {h / f.GetUsedMaximumError():.3f}, patches {f.GetNumberOfPatches()} "
                 f"(original {fallbacks}), collapses {f.GetNumberOfFinalCollapses()}, <5deg {100 * sliver_share(out):.1f}%, cpu {cpu:.2f} s")
         if not no_qd:

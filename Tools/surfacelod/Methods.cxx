@@ -311,6 +311,8 @@ std::vector<Parameter> GreedyCutsParameters()
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, MinimumTriangleAngle),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, ShapedTriangleAngle),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, FinalCollapses),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, MonotoneInEpsilon),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, LadderBottom),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, Patchification),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, MinimumPatchTriangles),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, OutputPointsPrecision),

@@ -112,6 +112,11 @@ constexpr int MaximumDistancePieces = 4096;
 // 10-step search takes about 45 on a CAD mesh (fandisk at 10 %); a flat valence-5,000 fan took
 // about 100 per step, each piece near its centre costing a scan of all its triangles.
 constexpr long long MaximumProofPiecesPerTriangle = 200;
+// Work bound of a nested run over the tolerance ladder (RunMonotone) and of the collapsed target
+// search's runs, and again of its final collapses: distance-proof pieces per input triangle, the
+// cuts' and the collapses' together. Past it no further level, fresh run, collapse or flip is
+// started (a deterministic point of the same work sequence, so the nesting stays monotone).
+constexpr long long MaximumLadderPiecesPerTriangle = 2000;
 
 enum class PieceDistance
 {
@@ -1727,25 +1732,53 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
 }
 
 bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
-  const ProgressFunction& progress)
+  const ProgressFunction& progress, Index target)
 {
   ProvedCollapseParameters collapse;
   collapse.Epsilon = parameters.Epsilon;
   collapse.SubdivisionDepth = parameters.SubdivisionDepth;
   collapse.MinimumAngle = parameters.ShapedAngle;
+  collapse.TargetTriangles = target;
+  collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
   ProvedCollapseStatistics statistics;
-  // Not in the target search's work account (ProofPieces), which bounds the cuts' proofs: the
-  // collapses bound their own work (rounds, targets per vertex, valence).
-  const bool finished =
-    ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch, statistics, progress);
+  const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch,
+    statistics, progress, &this->ProofPieces);
   result.FinalCollapses += statistics.Collapses;
   result.FinalFlips += statistics.Flips;
   result.Aborted = !finished;
   return finished;
 }
 
+// A level's start: its own cuts or the finer level, whichever has fewer triangles (the finer one is
+// within its smaller epsilon, hence within this one). With the collapses, once a level's cuts lost
+// to the finer level the coarser levels skip their cuts (they lost on every mesh measured, and the
+// cuts are the costly part at small tolerances): a saving that changes no guarantee.
+bool GreedyCuts::StartLevel(const GreedyCutsParameters& prm, const GreedyCutsResult* finer, bool collapses,
+  GreedyCutsResult& level, const ProgressFunction& progress)
+{
+  const bool skipCuts = collapses && finer && finer->StartedFromFinerLevel;
+  if (!skipCuts && !this->Run(prm, level, progress))
+  {
+    return false;
+  }
+  if (finer && (skipCuts || finer->Triangles.size() < level.Triangles.size()))
+  {
+    if (skipCuts)
+    {
+      level = *finer;
+    }
+    level.Triangles = finer->Triangles;
+    level.TrianglePatch = finer->TrianglePatch;
+    level.FinalCollapses = finer->FinalCollapses;
+    level.FinalFlips = finer->FinalFlips;
+    level.StartedFromFinerLevel = true;
+  }
+  level.ErrorBound = prm.Epsilon;
+  return true;
+}
+
 bool GreedyCuts::RunLevels(const std::vector<double>& epsilons, const GreedyCutsParameters& base,
-  std::vector<GreedyCutsResult>& results, const ProgressFunction& progress)
+  std::vector<GreedyCutsResult>& results, const ProgressFunction& progress, const std::vector<bool>* freshRuns)
 {
   std::vector<double> sorted = epsilons;
   std::sort(sorted.begin(), sorted.end());
@@ -1760,20 +1793,17 @@ bool GreedyCuts::RunLevels(const std::vector<double>& epsilons, const GreedyCuts
       };
     };
     prm.Epsilon = sorted[i];
-    GreedyCutsResult& level = results[i];
-    if (!this->Run(prm, level, stage(0.0, 0.8)))
+    if (i > 0 && this->WorkSpent())
     {
-      return false;
+      // Past the work bound: the finer level, within its smaller epsilon (the count stays).
+      results[i] = results[i - 1];
+      results[i].ErrorBound = prm.Epsilon;
+      results[i].StartedFromFinerLevel = true;
+      continue;
     }
-    // The finer level is within its smaller epsilon, hence within this one: start from it when it
-    // has fewer triangles (the collapses below never add any).
-    if (i > 0 && results[i - 1].Triangles.size() < level.Triangles.size())
-    {
-      level.Triangles = results[i - 1].Triangles;
-      level.TrianglePatch = results[i - 1].TrianglePatch;
-      level.StartedFromFinerLevel = true;
-    }
-    if (prm.Epsilon > 0 && base.FinalCollapses && !this->CollapseFinal(prm, level, stage(0.8, 1.0)))
+    const bool fresh = freshRuns && i < freshRuns->size() && (*freshRuns)[i];
+    if (!this->NextLevel(prm, i > 0 ? &results[i - 1] : nullptr, base.FinalCollapses, fresh, results[i],
+          stage(0.0, 0.8), stage(0.8, 1.0)))
     {
       return false;
     }
@@ -1781,14 +1811,235 @@ bool GreedyCuts::RunLevels(const std::vector<double>& epsilons, const GreedyCuts
   return true;
 }
 
+// One level from the finer one (StartLevel, then the collapses, which never add a triangle:
+// count(level) <= count(finer)). With `fresh`, the level's own cuts with their collapses are run
+// too and kept when they have fewer triangles (still within this level's epsilon).
+bool GreedyCuts::NextLevel(const GreedyCutsParameters& prm, const GreedyCutsResult* finer, bool collapses, bool fresh,
+  GreedyCutsResult& level, const ProgressFunction& startProgress, const ProgressFunction& collapseProgress)
+{
+  if (!this->StartLevel(prm, finer, collapses, level, startProgress))
+  {
+    return false;
+  }
+  if (prm.Epsilon <= 0 || !collapses)
+  {
+    return true;
+  }
+  if (!this->CollapseFinal(prm, level, collapseProgress))
+  {
+    return false;
+  }
+  if (fresh && finer && level.StartedFromFinerLevel && !this->WorkSpent())
+  {
+    GreedyCutsParameters own = prm;
+    own.FinalCollapses = true;
+    GreedyCutsResult alone;
+    if (!this->Run(own, alone, collapseProgress))
+    {
+      return false;
+    }
+    if (alone.Triangles.size() < level.Triangles.size())
+    {
+      level = std::move(alone);
+    }
+  }
+  return true;
+}
+
+bool GreedyCuts::IsFreshLevel(double relative)
+{
+  // 1, 2 and 5 times a power of ten: one level in two or three of the ladder.
+  const double mantissa = relative / std::pow(10.0, std::floor(std::log10(relative) + 1e-9));
+  return std::fabs(mantissa - 1) < 1e-6 || std::fabs(mantissa - 2) < 1e-6 || std::fabs(mantissa - 5) < 1e-6;
+}
+
+namespace
+{
+// The ladder's round values per decade (ratios 1.2 to 1.33).
+constexpr double LadderSeries[] = { 1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0 };
+}
+
+double GreedyCuts::LadderFloor(double x)
+{
+  if (!(x > 0) || !std::isfinite(x))
+  {
+    return 0;
+  }
+  const int decade = int(std::floor(std::log10(x)));
+  double best = 0;
+  for (int d = decade - 1; d <= decade + 1; ++d) // either side: log10 may round across a decade
+  {
+    for (double s : LadderSeries)
+    {
+      const double v = s * std::pow(10.0, d);
+      if (v <= x * (1 + 1e-12))
+      {
+        best = std::max(best, v);
+      }
+    }
+  }
+  return std::min(best, x); // a round value just above x by rounding is x itself
+}
+
+std::vector<double> GreedyCuts::ToleranceLadder(double bottom, double top)
+{
+  std::vector<double> ladder;
+  const double last = LadderFloor(top), first = LadderFloor(bottom);
+  if (last <= 0 || first <= 0 || first >= last)
+  {
+    if (last > 0)
+    {
+      ladder.push_back(last);
+    }
+    return ladder;
+  }
+  // Bounded: at most 10 values per decade between two finite positive numbers.
+  for (int d = int(std::floor(std::log10(first))) - 1; ladder.empty() || ladder.back() < last; ++d)
+  {
+    for (double s : LadderSeries)
+    {
+      const double v = std::min(s * std::pow(10.0, d), last);
+      if (v >= first * (1 - 1e-12) && (ladder.empty() || v > ladder.back()))
+      {
+        ladder.push_back(v);
+      }
+    }
+  }
+  return ladder;
+}
+
+bool GreedyCuts::RunMonotone(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
+  const ProgressFunction& progress)
+{
+  const double diagonal = this->Mesh ? this->Mesh->BoundingBoxDiagonal() : 0.0;
+  std::vector<double> levels =
+    diagonal > 0 && parameters.Epsilon > 0 ? ToleranceLadder(parameters.LadderBottom, parameters.Epsilon / diagonal) : std::vector<double>();
+  if (levels.empty())
+  {
+    return this->Run(parameters, result, progress);
+  }
+  std::vector<bool> fresh;
+  for (double& e : levels)
+  {
+    fresh.push_back(IsFreshLevel(e));
+    e = std::min(e * diagonal, parameters.Epsilon);
+  }
+  std::vector<GreedyCutsResult> results;
+  this->OpenWorkAccount(MaximumLadderPiecesPerTriangle);
+  const bool finished = this->RunLevels(levels, parameters, results, progress, &fresh);
+  this->SearchStoppedByWorkBound = this->WorkSpent();
+  this->WorkLimit = 0;
+  if (!finished)
+  {
+    return false;
+  }
+  result = std::move(results.back());
+  return true;
+}
+
+void GreedyCuts::OpenWorkAccount(long long piecesPerTriangle)
+{
+  this->WorkLimit = this->ProofPieces + std::max<long long>(1, piecesPerTriangle * this->Mesh->NumberOfTriangles());
+}
+
+bool GreedyCuts::WorkSpent() const
+{
+  return this->WorkLimit > 0 && this->ProofPieces > this->WorkLimit;
+}
+
 bool GreedyCuts::RunForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
   GreedyCutsResult& result, const ProgressFunction& progress)
 {
-  // The search compares the cuts' counts and runs without the final collapses: per evaluation
-  // they cost too much (corpus inputs over 10 s of CPU), once at the end they overshoot the target
-  // (fandisk, 1,500: 498). Open: a search over collapsed counts with a cheaper pass.
+  this->SearchStoppedByWorkBound = false;
+  if (!base.FinalCollapses || !this->Mesh || this->Mesh->BoundingBoxDiagonal() <= 0)
+  {
+    return this->SearchCutsForTarget(target, base, lo, hi, steps, result, progress);
+  }
+  return this->SearchCollapsedForTarget(target, base, hi, steps, result, progress);
+}
+
+bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParameters& base, double hi, int steps,
+  GreedyCutsResult& result, const ProgressFunction& progress)
+{
+  const double diagonal = this->Mesh->BoundingBoxDiagonal();
+  const std::vector<double> ladder = ToleranceLadder(base.LadderBottom, hi / diagonal);
+  auto count = [](const GreedyCutsResult& r) { return Index(r.Triangles.size() / 3); };
   GreedyCutsParameters prm = base;
-  prm.FinalCollapses = false;
+  int evaluation = 0;
+  const ProgressFunction stage = [&](double f) {
+    return progress ? progress(0.8 * (evaluation + f) / double(steps + 1)) : true;
+  };
+  auto evaluate = [&](int level, GreedyCutsResult& r) {
+    prm.Epsilon = std::min(ladder[size_t(level)] * diagonal, hi);
+    return this->Run(prm, r, stage);
+  };
+  // Bisection over the ladder's levels, each one run (cuts and collapses), from the top: `within`
+  // (level `up`) has at most `target` triangles, `finer` (level `down`; -1: the input) more.
+  this->OpenWorkAccount(MaximumLadderPiecesPerTriangle);
+  int up = int(ladder.size()) - 1, down = -1;
+  GreedyCutsResult within, finer;
+  if (!evaluate(up, within))
+  {
+    return false;
+  }
+  if (count(within) > target)
+  {
+    result = std::move(within); // even hi gives more triangles: the bound wins
+    this->WorkLimit = 0;
+    return true;
+  }
+  while (up - down > 1 && ++evaluation <= steps && !this->WorkSpent())
+  {
+    const int middle = (up + down) / 2;
+    GreedyCutsResult trial;
+    if (!evaluate(middle, trial))
+    {
+      return false;
+    }
+    (count(trial) <= target ? up : down) = middle;
+    (count(trial) <= target ? within : finer) = std::move(trial);
+  }
+  this->SearchStoppedByWorkBound = this->WorkSpent();
+  if (down < 0)
+  {
+    finer.Triangles = this->Mesh->Triangles; // within every tolerance
+    finer.TrianglePatch = this->Patches.TrianglePatches();
+  }
+  return this->CollapseToTarget(target, within, finer, prm, progress, result);
+}
+
+// The finer start (more than `target` triangles, within a smaller tolerance) collapsed at the
+// tolerance of `within` until the target: target or target - 1 triangles; `within` itself when the
+// collapses get stuck (or their work bound stops them) above the target.
+bool GreedyCuts::CollapseToTarget(Index target, GreedyCutsResult& within, GreedyCutsResult& finer,
+  GreedyCutsParameters prm, const ProgressFunction& progress, GreedyCutsResult& result)
+{
+  prm.Epsilon = within.ErrorBound;
+  const std::vector<Index> triangles = std::move(finer.Triangles), patches = std::move(finer.TrianglePatch);
+  finer = within;
+  finer.Triangles = triangles;
+  finer.TrianglePatch = patches;
+  finer.FinalCollapses = 0;
+  finer.FinalFlips = 0;
+  finer.StartedFromFinerLevel = true;
+  const ProgressFunction last = [&](double f) { return progress ? progress(0.8 + 0.2 * f) : true; };
+  this->OpenWorkAccount(MaximumLadderPiecesPerTriangle); // the final collapses' own allowance
+  const bool finished = this->CollapseFinal(prm, finer, last, target);
+  this->SearchStoppedByWorkBound = this->SearchStoppedByWorkBound || this->WorkSpent();
+  this->WorkLimit = 0;
+  if (!finished)
+  {
+    return false;
+  }
+  result = Index(finer.Triangles.size() / 3) <= target ? std::move(finer) : std::move(within);
+  return true;
+}
+
+bool GreedyCuts::SearchCutsForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
+  GreedyCutsResult& result, const ProgressFunction& progress)
+{
+  // The cuts alone (FinalCollapses off): their counts fall roughly with epsilon, not monotonically.
+  GreedyCutsParameters prm = base;
   prm.Epsilon = hi;
   int evaluation = 0;
   this->SearchStoppedByWorkBound = false;

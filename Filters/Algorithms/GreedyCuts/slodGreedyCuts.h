@@ -66,6 +66,9 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // A final pass of half-edge collapses whose bound is proved (slodProvedCollapses.h) removes
   // the output vertices the bound does not need; it keeps the two-sided bound.
   bool FinalCollapses = true;
+  // RunMonotone and the target search walk a fixed ladder of tolerances (relative to the bounding
+  // box diagonal, 10 round values per decade: 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8) from this one up.
+  double LadderBottom = 0.004;
 };
 
 struct SURFACELODFILTERS_EXPORT GreedyCutsResult
@@ -111,6 +114,8 @@ public:
     const ProgressFunction& progress = nullptr, const TerrainPatchificationParameters* terrain = nullptr);
   bool Aborted() const { return this->WasAborted; }
   bool WorkBoundReached() const { return this->SearchStoppedByWorkBound; }
+  // Distance-proof pieces examined so far by this object's runs (cuts and collapses): the work.
+  long long ProofPiecesExamined() const { return this->ProofPieces; }
   const Patchification& GetPatches() const { return this->Patches; }
   // Direction each patch is triangulated along (its height direction; chapter 4: its mean normal).
   const std::vector<Vec3>& GetHeightDirections() const { return this->HeightDirection; }
@@ -124,9 +129,39 @@ public:
   // own epsilon. A level starts from its own run or the previous (finer) level, whichever has
   // fewer triangles (the finer one is within the larger bound too), before the final collapses
   // (which only remove triangles): the counts never rise along the levels, by construction.
+  // With `freshRuns` (one flag per epsilon in ascending order), a flagged level also runs its own
+  // cuts with their collapses and keeps them when they have fewer triangles.
   bool RunLevels(const std::vector<double>& epsilons, const GreedyCutsParameters& base,
-    std::vector<GreedyCutsResult>& results, const ProgressFunction& progress = nullptr);
+    std::vector<GreedyCutsResult>& results, const ProgressFunction& progress = nullptr,
+    const std::vector<bool>* freshRuns = nullptr);
 
+  // One result at the largest ladder tolerance at most parameters.Epsilon (ErrorBound says which),
+  // the last level of RunLevels over the ladder from parameters.LadderBottom up to it: for a fixed
+  // mesh and bottom, the levels below are the same whatever epsilon, so the count never rises when
+  // epsilon rises (from LadderBottom up; below it, one run at the ladder tolerance). Work bound:
+  // MaximumLadderPiecesPerTriangle distance-proof pieces per input triangle for all the levels;
+  // past it every further level is the finer one (WorkBoundReached() tells), a point of the same
+  // deterministic sequence whatever epsilon, so the count still never rises.
+  bool RunMonotone(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
+    const ProgressFunction& progress = nullptr);
+
+  // Ladder tolerances (relative) in [bottom, top], ascending; the largest one at most x.
+  static std::vector<double> ToleranceLadder(double bottom, double top);
+  static double LadderFloor(double x);
+  // Ladder levels (1, 2, 5 times a power of ten) where RunMonotone also tries the level's own cuts
+  // with their collapses (a function of the level only, so the nesting stays the same).
+  static bool IsFreshLevel(double relative);
+
+  // With the final collapses (base.FinalCollapses): a bisection over the ladder's levels from
+  // base.LadderBottom to hi (absolute), each one run with its collapses (at most `steps` runs after
+  // the top level's), finds the smallest level `within` the target found and the next finer one
+  // tried with more triangles (the input itself when none); that finer result is then collapsed at
+  // the level's tolerance, stopping at the target: target or target - 1 triangles (a collapse
+  // removes one or two), within that level's tolerance; fewer only when the collapses get stuck
+  // (then the level's own result), more only when hi allows no coarser result. Work bound: the
+  // runs, and then the final collapses, MaximumLadderPiecesPerTriangle distance-proof pieces per
+  // input triangle each (WorkBoundReached() tells).
+  // Without the final collapses:
   // Smallest epsilon (searched in [lo, hi] with `steps` runs: halving from hi while the count stays
   // within the target, then bisection on log(epsilon)) whose result has at most `target`
   // triangles; the result of that epsilon is returned (that of hi when even hi gives more). The
@@ -139,7 +174,23 @@ public:
 private:
   struct Worker;
   void BuildPatchData();
-  bool CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress);
+  bool CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress,
+    Index target = 0);
+  bool NextLevel(const GreedyCutsParameters& parameters, const GreedyCutsResult* finer, bool collapses, bool fresh,
+    GreedyCutsResult& level, const ProgressFunction& startProgress, const ProgressFunction& collapseProgress);
+  bool StartLevel(const GreedyCutsParameters& parameters, const GreedyCutsResult* finer, bool collapses,
+    GreedyCutsResult& level, const ProgressFunction& progress);
+  bool SearchCollapsedForTarget(Index target, const GreedyCutsParameters& base, double hi, int steps,
+    GreedyCutsResult& result, const ProgressFunction& progress);
+  bool CollapseToTarget(Index target, GreedyCutsResult& within, GreedyCutsResult& finer, GreedyCutsParameters prm,
+    const ProgressFunction& progress, GreedyCutsResult& result);
+  // The work account of a nested run or a target search: ProofPieces past which no further level,
+  // run or collapse is started (0: none open).
+  void OpenWorkAccount(long long piecesPerTriangle);
+  bool WorkSpent() const;
+  long long WorkLimit = 0;
+  bool SearchCutsForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
+    GreedyCutsResult& result, const ProgressFunction& progress);
   bool SplitPatches(const std::vector<Index>& patches);
   std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
   std::vector<Vec3> InitialHeights;

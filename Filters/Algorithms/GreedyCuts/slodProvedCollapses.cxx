@@ -84,7 +84,7 @@ public:
         return done;
       }
       done += this->RemoveVertex(order[i].second, statistics);
-      if (this->TargetMet())
+      if (this->TargetMet() || this->WorkSpent())
       {
         break;
       }
@@ -93,6 +93,11 @@ public:
   }
 
   bool TargetMet() const { return this->Prm.TargetTriangles > 0 && this->AliveTriangles <= this->Prm.TargetTriangles; }
+  bool WorkSpent() const
+  {
+    return this->Prm.MaximumProofPieces > 0 && this->Pieces && *this->Pieces > this->Prm.MaximumProofPieces;
+  }
+  bool Finished() const { return this->TargetMet() || this->WorkSpent(); }
 
   // One pass of edge flips that make the pair's thinner triangle fatter, each proved like a
   // collapse. Returns the flips.
@@ -101,7 +106,7 @@ public:
     this->TakeSnapshot();
     long long done = 0;
     const Index n = this->Out.NumberOfTriangles();
-    for (Index t = 0; t < n; ++t)
+    for (Index t = 0; t < n && !this->WorkSpent(); ++t)
     {
       if (progress && t % 1024 == 0 && !progress(double(t) / double(n)))
       {
@@ -478,18 +483,19 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
       ++statistics.Rounds;
       const long long changes = step == 1 ? collapser.FlipPass(stage, aborted) : collapser.Pass(statistics, stage, aborted);
       statistics.Flips += step == 1 ? changes : 0;
-      if (changes == 0 || collapser.TargetMet())
+      if (changes == 0 || collapser.Finished())
       {
         break;
       }
     }
     pass = (step + 1) * parameters.MaximumRounds;
-    if (collapser.TargetMet())
+    if (collapser.Finished())
     {
       break;
     }
   }
   statistics.TargetReached = collapser.TargetMet();
+  statistics.WorkBoundReached = collapser.WorkSpent();
   collapser.Store(triangles, patches);
   std::copy(collapser.Rejected, collapser.Rejected + 3, statistics.Rejected);
   return !aborted;

@@ -38,6 +38,10 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   // Stop as soon as the output has at most this many triangles (0: no count target). A collapse
   // removes one or two triangles, so a reachable target is met exactly or one below.
   Index TargetTriangles = 0;
+  // Work bound: no further collapse or flip is tried once the caller's piece counter (the
+  // `proofPieces` argument) exceeds this value (0: only the bounds above). The output is valid
+  // whenever the passes stop: every change already made was proved.
+  long long MaximumProofPieces = 0;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
@@ -46,6 +50,7 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   long long Rejected[3] = { 0, 0, 0 }; // collapses rejected by topology, output -> input, input -> output
   int Rounds = 0;
   bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
+  bool WorkBoundReached = false; // parameters.MaximumProofPieces stopped the passes
 };
 
 // Simplifies `triangles` (3 vertex ids of `input` each; `patches` one id per triangle, kept for the

@@ -141,7 +141,8 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.MinimumAngle = this->MinimumTriangleAngle;
   parameters.ShapedAngle = this->ShapedTriangleAngle;
   parameters.FinalCollapses = this->FinalCollapses;
-  const double bound = this->MaximumErrorIsRelative ? this->MaximumError * diagonal : this->MaximumError;
+  parameters.LadderBottom = this->LadderBottom;
+  const double bound = this->AbsoluteMaximumError(diagonal);
   vtkIdType target = 0;
   // The filter contract's targets (slodFilterContract.h); MaximumError is always a bound here, so
   // no target at all means the simplification within it (the paper's use).
@@ -167,10 +168,16 @@ int vtkGreedyCutsSimplification::RequestData(
   else
   {
     parameters.Epsilon = target >= mesh.NumberOfTriangles() ? 0.0 : bound;
-    if (!cuts.Run(parameters, result, stage))
+    const bool monotone = this->MonotoneInEpsilon && parameters.Epsilon > 0;
+    if (!(monotone ? cuts.RunMonotone(parameters, result, stage) : cuts.Run(parameters, result, stage)))
     {
       slod::ReportAbort(this, output);
       return 1;
+    }
+    if (cuts.WorkBoundReached())
+    {
+      vtkWarningMacro(<< "The nested run over the tolerance ladder stopped at its work bound; the coarser levels "
+                      << "keep the last finished one (still within the bound, never more triangles).");
     }
   }
   this->UsedMaximumError = result.ErrorBound;
@@ -197,8 +204,6 @@ int vtkGreedyCutsSimplification::RequestData(
 void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "MaximumError: " << this->MaximumError << (this->MaximumErrorIsRelative ? " (relative)" : " (absolute)")
-     << "\n";
   os << indent << "TargetSearchSteps: " << this->TargetSearchSteps << "\n";
   os << indent << "Patchification: "
      << (this->Patchification == CHAPTER3_TERRAIN_PATCHES ? "chapter 3 terrain patches" : "chapter 4 patches") << "\n";
@@ -207,6 +212,8 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinimumTriangleAngle: " << this->MinimumTriangleAngle << "\n";
   os << indent << "ShapedTriangleAngle: " << this->ShapedTriangleAngle << "\n";
   os << indent << "FinalCollapses: " << (this->FinalCollapses ? "on" : "off") << "\n";
+  os << indent << "MonotoneInEpsilon: " << (this->MonotoneInEpsilon ? "on" : "off") << "\n";
+  os << indent << "LadderBottom: " << this->LadderBottom << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
   os << indent << "RefinedPatches: " << this->RefinedPatches << "\n";
