@@ -99,6 +99,22 @@ SurfaceCheck CheckAgainstInput(const TriangleMesh& input, const TriangleMesh& ou
   return check;
 }
 
+// vtkRetile at a reduction of 0.9 with one option set by `configure`, checked against its input:
+// some output, the input's topology, and the flips and distances of CheckAgainstInput.
+template <typename Configure>
+SurfaceCheck RetileAndCheck(vtkPolyData* input, const TriangleMesh& in, Configure configure)
+{
+  vtkNew<vtkRetile> filter;
+  filter->SetInputData(input);
+  filter->SetTargetReduction(0.9);
+  configure(filter.Get());
+  filter->Update();
+  const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+  EXPECT_GT(out.NumberOfTriangles(), 0);
+  slodtest::ExpectSameTopology(in, out);
+  return CheckAgainstInput(in, out);
+}
+
 
 // Points per unit area of the output around the vertices where the predicate holds.
 double VertexDensity(const TriangleMesh& m, bool (*inside)(const Vec3&))
@@ -620,15 +636,8 @@ TEST(Retile, RetriangulateRingsLeavesFewerFlippedTriangles)
     int mesh[2] = { 0, 0 };
     for (int rings = 0; rings < 2; ++rings)
     {
-      vtkNew<vtkRetile> filter;
-      filter->SetInputData(input);
-      filter->SetTargetReduction(0.9);
-      filter->SetRetriangulateRings(rings == 1);
-      filter->Update();
-      const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
-      ASSERT_GT(out.NumberOfTriangles(), 0);
-      slodtest::ExpectSameTopology(in, out);
-      const SurfaceCheck check = CheckAgainstInput(in, out);
+      const SurfaceCheck check =
+        RetileAndCheck(input, in, [rings](vtkRetile* filter) { filter->SetRetriangulateRings(rings == 1); });
       EXPECT_LT(check.MaxVertexDistance, 1e-6);
       mesh[rings] = check.Flipped;
       flipped[rings] += check.Flipped;
@@ -710,15 +719,8 @@ TEST(Retile, EnforceFacingLeavesFewerFlippedTriangles)
     int flipped[2] = { 0, 0 };
     for (int enforce = 0; enforce < 2; ++enforce)
     {
-      vtkNew<vtkRetile> filter;
-      filter->SetInputData(input);
-      filter->SetTargetReduction(0.9);
-      filter->SetEnforceFacing(enforce == 1);
-      filter->Update();
-      const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
-      ASSERT_GT(out.NumberOfTriangles(), 0);
-      slodtest::ExpectSameTopology(in, out);
-      flipped[enforce] = CheckAgainstInput(in, out).Flipped;
+      flipped[enforce] =
+        RetileAndCheck(input, in, [enforce](vtkRetile* filter) { filter->SetEnforceFacing(enforce == 1); }).Flipped;
     }
     std::printf("[retile] %s flipped triangles: default %d, EnforceFacing %d\n", name, flipped[0], flipped[1]);
     EXPECT_LT(flipped[1], flipped[0]);
