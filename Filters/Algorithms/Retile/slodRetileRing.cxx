@@ -97,7 +97,7 @@ bool RingRetriangulation::Try(Index r, Index c, const Vec3& position, const Vec3
   const Index pair[2] = { r, c };
   const Vec3 removed = this->Edit.Point(r);
   const Vec3 previousReference = this->Reference[c];
-  CollapseRecord collapse;
+  CollapseRecord& collapse = this->Collapse;
   this->Edit.Collapse(pair, 2, c, position, &collapse);
   this->Reference[c] = targetReference;
   this->Ring.clear();
@@ -108,7 +108,8 @@ bool RingRetriangulation::Try(Index r, Index c, const Vec3& position, const Vec3
       this->Ring.push_back(t);
     }
   }
-  std::vector<FlipRecord> undo;
+  std::vector<FlipRecord>& undo = this->Undo;
+  undo.clear();
   while (undo.size() < this->Ring.size() && this->FlipOneWrongTile(flips, undo))
   {
   }

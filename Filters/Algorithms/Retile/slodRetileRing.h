@@ -48,6 +48,9 @@ private:
   Index Across(Index t, Index x, Index y) const;
   bool FlipOneWrongTile(std::vector<std::pair<Index, Index>>& flips, std::vector<FlipRecord>& undo);
   std::vector<Index> Ring; // the tiles the collapse changed (same ids through the flips)
+  // Scratch reused by every Try (one removal tries several targets): no allocation per try.
+  CollapseRecord Collapse;
+  std::vector<FlipRecord> Undo;
 };
 } // namespace slod
 
