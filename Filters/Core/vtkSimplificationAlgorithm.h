@@ -51,11 +51,19 @@ protected:
   /// Whether an error bound is set, so that no count target at all is not the default reduction.
   virtual bool HasErrorBound() const { return false; }
 
+  /// Adds output port 1 holding a `dataTypeName` (e.g. "vtkMultiBlockDataSet" for levels,
+  /// "vtkTable" for collapse records): called once from the constructor of a filter with such a
+  /// second output; port 0 stays the simplified vtkPolyData.
+  void AddSecondaryOutputPort(const char* dataTypeName);
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+
   vtkIdType TargetNumberOfTriangles = 0;
   double TargetReduction = 0.0;
   int OutputPointsPrecision = vtkAlgorithm::DEFAULT_PRECISION;
 
 private:
+  const char* SecondaryOutputType = nullptr; // a string literal naming port 1's data type
+
   vtkSimplificationAlgorithm(const vtkSimplificationAlgorithm&) = delete;
   void operator=(const vtkSimplificationAlgorithm&) = delete;
 };

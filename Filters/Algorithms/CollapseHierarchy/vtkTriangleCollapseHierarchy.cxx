@@ -335,20 +335,10 @@ struct vtkTriangleCollapseHierarchy::Internals
 vtkTriangleCollapseHierarchy::vtkTriangleCollapseHierarchy()
   : Internal(new Internals)
 {
-  this->SetNumberOfOutputPorts(2);
+  this->AddSecondaryOutputPort("vtkMultiBlockDataSet");
 }
 
 vtkTriangleCollapseHierarchy::~vtkTriangleCollapseHierarchy() = default;
-
-int vtkTriangleCollapseHierarchy::FillOutputPortInformation(int port, vtkInformation* info)
-{
-  if (port == 1)
-  {
-    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkMultiBlockDataSet");
-    return 1;
-  }
-  return this->Superclass::FillOutputPortInformation(port, info);
-}
 
 vtkMultiBlockDataSet* vtkTriangleCollapseHierarchy::GetLevelsOutput()
 {

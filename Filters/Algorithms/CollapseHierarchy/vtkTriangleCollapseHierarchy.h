@@ -250,7 +250,6 @@ protected:
   vtkTriangleCollapseHierarchy();
   ~vtkTriangleCollapseHierarchy() override;
 
-  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double ContinuousLevel = -1;

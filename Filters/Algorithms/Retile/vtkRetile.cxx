@@ -274,17 +274,7 @@ void StoreCountReport(vtkPolyData* output, slod::Index wanted, slod::Index retai
 
 vtkRetile::vtkRetile()
 {
-  this->SetNumberOfOutputPorts(2);
-}
-
-int vtkRetile::FillOutputPortInformation(int port, vtkInformation* info)
-{
-  if (port == 1)
-  {
-    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkMultiBlockDataSet");
-    return 1;
-  }
-  return this->Superclass::FillOutputPortInformation(port, info);
+  this->AddSecondaryOutputPort("vtkMultiBlockDataSet");
 }
 
 vtkMultiBlockDataSet* vtkRetile::GetNestedLevels()

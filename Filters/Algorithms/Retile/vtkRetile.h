@@ -127,7 +127,6 @@ protected:
   vtkRetile();
   ~vtkRetile() override = default;
 
-  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkIdType NumberOfPoints = 0;

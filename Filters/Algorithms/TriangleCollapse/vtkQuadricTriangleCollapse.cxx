@@ -300,7 +300,7 @@ void StoreProgressiveMesh(const slod::TriangleCollapseResult& result, slod::Inde
 
 vtkQuadricTriangleCollapse::vtkQuadricTriangleCollapse()
 {
-  this->SetNumberOfOutputPorts(2);
+  this->AddSecondaryOutputPort("vtkTable");
   this->SetController(vtkMultiProcessController::GetGlobalController());
 }
 
@@ -311,16 +311,6 @@ vtkQuadricTriangleCollapse::~vtkQuadricTriangleCollapse()
 }
 
 vtkCxxSetObjectMacro(vtkQuadricTriangleCollapse, Controller, vtkMultiProcessController);
-
-int vtkQuadricTriangleCollapse::FillOutputPortInformation(int port, vtkInformation* info)
-{
-  if (port == 1)
-  {
-    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
-    return 1;
-  }
-  return this->Superclass::FillOutputPortInformation(port, info);
-}
 
 vtkTable* vtkQuadricTriangleCollapse::GetCollapseRecords()
 {

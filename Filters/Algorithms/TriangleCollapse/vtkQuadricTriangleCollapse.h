@@ -268,7 +268,6 @@ protected:
   vtkQuadricTriangleCollapse();
   ~vtkQuadricTriangleCollapse() override;
 
-  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double BoundaryWeight = 1.0;
