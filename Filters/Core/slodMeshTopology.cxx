@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodMeshTopology.h"
 
+#include "slodUnionFind.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -255,6 +257,27 @@ bool MeshTopology::OrderedOneRing(
   return true;
 }
 
+Index MeshTopology::BorderComponentCount() const
+{
+  UnionFind sets(this->NumPoints);
+  std::vector<char> onBorder(size_t(this->NumPoints), 0);
+  for (Index e = 0; e < this->NumberOfEdges(); ++e)
+  {
+    if (this->IsBoundaryEdge(e))
+    {
+      const Index a = this->EdgeVertex(e, 0), b = this->EdgeVertex(e, 1);
+      onBorder[a] = onBorder[b] = 1;
+      sets.Union(a, b);
+    }
+  }
+  Index count = 0;
+  for (Index v = 0; v < this->NumPoints; ++v)
+  {
+    count += onBorder[v] && sets.Find(v) == v ? 1 : 0;
+  }
+  return count;
+}
+
 std::vector<std::vector<Index>> MeshTopology::BoundaryLoops() const
 {
   std::vector<std::vector<Index>> loops;
@@ -368,7 +391,7 @@ MeshStatistics MeshTopology::Statistics(const TriangleMesh& mesh) const
     }
   }
   s.Components = this->ComponentCount;
-  s.BoundaryLoops = static_cast<Index>(this->BoundaryLoops().size());
+  s.BoundaryLoops = this->BorderComponentCount();
   s.EulerCharacteristic = static_cast<long long>(s.Vertices) - s.Edges + s.Triangles;
   const long long twiceGenus = 2LL * s.Components - s.EulerCharacteristic - s.BoundaryLoops;
   if (s.NonManifoldEdges == 0 && s.NonManifoldVertices == 0 && s.InconsistentlyOrientedEdges == 0 &&

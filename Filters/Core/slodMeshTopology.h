@@ -21,7 +21,7 @@ struct SURFACELODFILTERS_EXPORT MeshStatistics
   Index BoundaryEdges = 0;      // edges with one triangle
   Index NonManifoldEdges = 0;   // edges with three or more triangles
   Index NonManifoldVertices = 0; // vertices whose triangles do not form one fan
-  Index BoundaryLoops = 0;
+  Index BoundaryLoops = 0;      // connected sets of boundary edges (see BorderComponentCount)
   Index Components = 0;         // edge-connected triangle components
   Index DegenerateTriangles = 0;
   Index InconsistentlyOrientedEdges = 0; // manifold edges used in the same direction by both triangles
@@ -101,6 +101,10 @@ public:
 
   // Closed loops of boundary edges, each a list of vertices in order (first not repeated).
   std::vector<std::vector<Index>> BoundaryLoops() const;
+  // Connected sets of boundary edges: the loops counted so that the count does not depend on the
+  // numbering. Where a vertex has four or more boundary edges (a pinch), BoundaryLoops() chains
+  // whichever edge comes first, so its number of loops changes with the order of the vertices.
+  Index BorderComponentCount() const;
 
   MeshStatistics Statistics(const TriangleMesh& mesh) const;
 

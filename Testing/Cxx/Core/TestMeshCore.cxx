@@ -134,6 +134,30 @@ TEST(MeshTopology, BowTieVertexIsNonManifold)
   EXPECT_EQ(topology.Statistics(m).NonManifoldEdges, 0);
 }
 
+// A border is counted as its connected boundary edges: two triangles whose shared edge runs the
+// same way in both (inconsistent orientation, as next to a non-manifold edge of a noisy scan) have
+// one border cycle of four edges, whatever the numbering, although their boundary half-edges do not
+// chain into one loop.
+TEST(MeshTopology, BorderCountDoesNotDependOnOrientationNorNumbering)
+{
+  TriangleMesh m;
+  m.Points = { 0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -1, 0 };
+  m.Triangles = { 0, 1, 2, 0, 1, 3 };
+  EXPECT_EQ(MeshTopology(m).Statistics(m).BoundaryLoops, 1);
+  EXPECT_EQ(MeshTopology(m).Statistics(m).InconsistentlyOrientedEdges, 1);
+  const Index relabel[4] = { 3, 2, 0, 1 };
+  for (Index& v : m.Triangles)
+  {
+    v = relabel[v];
+  }
+  std::rotate(m.Triangles.begin(), m.Triangles.begin() + 3, m.Triangles.end()); // the other triangle first
+  EXPECT_EQ(MeshTopology(m).Statistics(m).BoundaryLoops, 1);
+  // A second, separate triangle is a second border.
+  m.Points.insert(m.Points.end(), { 5, 0, 0, 6, 0, 0, 5, 1, 0 });
+  m.Triangles.insert(m.Triangles.end(), { 4, 5, 6 });
+  EXPECT_EQ(MeshTopology(m).Statistics(m).BoundaryLoops, 2);
+}
+
 namespace
 {
 // Collapses the first collapsible triangle repeatedly, checking validity after each step.
