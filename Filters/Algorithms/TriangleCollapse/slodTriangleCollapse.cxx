@@ -607,8 +607,38 @@ bool TriangleCollapser::BorderPlane(const BorderEdge& edge, Quadric& q) const
 // v is a neighbour of u through one triangle only.
 void TriangleCollapser::BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const
 {
-  around.clear();
   out.clear();
+  // A neighbour met once in the fan is the far end of a border edge. Most vertices are interior
+  // (every neighbour met twice): a sorted copy of a small fan's neighbours (insertion sort on the
+  // stack) tells that without counting each of them.
+  constexpr int smallFan = 32;
+  Index sorted[2 * smallFan];
+  int n = 0;
+  this->Mesh.ForEachTriangle(x, [&](Index t) {
+    const Index* tri = this->Mesh.Triangle(t);
+    const int k = tri[0] == x ? 0 : (tri[1] == x ? 1 : 2);
+    for (int step = 1; step < 3 && n < 2 * smallFan; ++step)
+    {
+      const Index value = tri[(k + step) % 3];
+      int j = n++;
+      for (; j > 0 && sorted[j - 1] > value; --j)
+      {
+        sorted[j] = sorted[j - 1];
+      }
+      sorted[j] = value;
+    }
+  });
+  bool single = n == 2 * smallFan; // a large fan (or a full buffer): count below
+  for (int i = 0; i < n && !single; i += 2)
+  {
+    // Pairs of equal neighbours: a single one shifts the pairing.
+    single = i + 1 == n || sorted[i] != sorted[i + 1] || (i + 2 < n && sorted[i + 2] == sorted[i]);
+  }
+  if (!single)
+  {
+    return;
+  }
+  around.clear();
   this->Mesh.ForEachTriangle(x, [&](Index t) {
     const Index* tri = this->Mesh.Triangle(t);
     const int k = tri[0] == x ? 0 : (tri[1] == x ? 1 : 2);
