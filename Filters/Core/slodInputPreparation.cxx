@@ -353,6 +353,55 @@ bool ClassifyEdges(const TriangleMesh& mesh, const VertexStar& star, Preparation
   return inconsistent;
 }
 
+// For a vertex without border or non-manifold edges: 1 when the fan walk of
+// MarkNonManifoldVertices from its first triangle reaches every triangle, else 0; -1 when the star
+// is too large or holds a triangle with a repeated vertex (the caller walks it then). The same
+// walk, but each step searches v's own star (read once into local arrays) for the other triangle
+// on the edge instead of the star of the edge's far end: the same triangles hold both ends.
+int InteriorFanCount(const TriangleMesh& mesh, const VertexStar& star, Index v)
+{
+  constexpr Index smallStar = 32;
+  const Index degree = star.Degree(v);
+  if (degree > smallStar)
+  {
+    return -1;
+  }
+  Index next[smallStar], previous[smallStar];
+  for (Index i = 0; i < degree; ++i)
+  {
+    const Index* tri = mesh.Triangle(star.Begin(v)[i]);
+    const int c = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    next[i] = tri[(c + 1) % 3];
+    previous[i] = tri[(c + 2) % 3];
+    if (next[i] == v || previous[i] == v || next[i] == previous[i])
+    {
+      return -1;
+    }
+  }
+  Index walked = 0;
+  for (Index i = 0; walked < degree; )
+  {
+    ++walked;
+    // The other triangle on the edge (v, previous[i]) when the edge has exactly two.
+    const Index a = previous[i];
+    Index count = 0, other = -1;
+    for (Index j = 0; j < degree; ++j)
+    {
+      if (next[j] == a || previous[j] == a)
+      {
+        ++count;
+        other = j == i ? other : j;
+      }
+    }
+    if (count != 2 || other == 0)
+    {
+      break;
+    }
+    i = other;
+  }
+  return walked == degree ? 1 : 0;
+}
+
 // Non-manifold vertices: on a non-manifold edge (flagged by ClassifyEdges), or whose triangles
 // form several fans (same definition as MeshTopology): walking the fan from its start (as
 // MeshTopology::OrderedOneRing does) does not reach every triangle of the vertex. Flags them all
@@ -373,6 +422,16 @@ long long MarkNonManifoldVertices(const TriangleMesh& mesh, const VertexStar& st
       const Index* tri = mesh.Triangle(t);
       return tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
     };
+    if (!(flags[v] & BoundaryFlag))
+    {
+      const int fans = InteriorFanCount(mesh, star, v);
+      if (fans >= 0)
+      {
+        flags[v] |= fans == 1 ? 0 : NonManifoldFlag;
+        count += fans == 1 ? 0 : 1;
+        continue;
+      }
+    }
     Index start = *star.Begin(v);
     if (flags[v] & BoundaryFlag)
     {

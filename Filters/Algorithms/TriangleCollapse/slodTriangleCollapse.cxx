@@ -286,6 +286,8 @@ private:
   }
   bool IsPinned(Index v) const { return !this->Pinned.empty() && this->Pinned[v]; }
   void InitializeQueue();
+  // InitializeQueue with the edge cache: every triangle's key, each edge placed once.
+  void InitialKeys(std::vector<float>& keys);
   void StartLoop(CollapseLoop& loop) const;
   void CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result);
   // The pass schedule (CollapseSchedule::Passes), its stages in order: keys of the triangles
@@ -607,8 +609,38 @@ bool TriangleCollapser::BorderPlane(const BorderEdge& edge, Quadric& q) const
 // v is a neighbour of u through one triangle only.
 void TriangleCollapser::BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const
 {
-  around.clear();
   out.clear();
+  // A neighbour met once in the fan is the far end of a border edge. Most vertices are interior
+  // (every neighbour met twice): a sorted copy of a small fan's neighbours (insertion sort on the
+  // stack) tells that without counting each of them.
+  constexpr int smallFan = 32;
+  Index sorted[2 * smallFan];
+  int n = 0;
+  this->Mesh.ForEachTriangle(x, [&](Index t) {
+    const Index* tri = this->Mesh.Triangle(t);
+    const int k = tri[0] == x ? 0 : (tri[1] == x ? 1 : 2);
+    for (int step = 1; step < 3 && n < 2 * smallFan; ++step)
+    {
+      const Index value = tri[(k + step) % 3];
+      int j = n++;
+      for (; j > 0 && sorted[j - 1] > value; --j)
+      {
+        sorted[j] = sorted[j - 1];
+      }
+      sorted[j] = value;
+    }
+  });
+  bool single = n == 2 * smallFan; // a large fan (or a full buffer): count below
+  for (int i = 0; i < n && !single; i += 2)
+  {
+    // Pairs of equal neighbours: a single one shifts the pairing.
+    single = i + 1 == n || sorted[i] != sorted[i + 1] || (i + 2 < n && sorted[i + 2] == sorted[i]);
+  }
+  if (!single)
+  {
+    return;
+  }
+  around.clear();
   this->Mesh.ForEachTriangle(x, [&](Index t) {
     const Index* tri = this->Mesh.Triangle(t);
     const int k = tri[0] == x ? 0 : (tri[1] == x ? 1 : 2);
@@ -1371,6 +1403,12 @@ void TriangleCollapser::InitializeQueue()
   // entries: computed in parallel (vtkSMPTools), the same result for any thread count. The
   // exact-union mode shares a scratch buffer: sequential.
   std::vector<float> keys(static_cast<size_t>(nt));
+  if (this->CacheEdges)
+  {
+    this->InitialKeys(keys);
+    this->Heap.Build(keys.data(), nt);
+    return;
+  }
   auto costs = [&](vtkIdType begin, vtkIdType end) {
     for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
     {
@@ -2355,25 +2393,26 @@ float TriangleCollapser::EdgeOwnerCost(Index t, Index a, Index b) const
   return cost;
 }
 
-// CostPass's second step: the edges each triangle left to its twin, then its key, the cheapest of
-// its four operations (none is excluded: a triangle with exclusions was costed afresh). Each
-// triangle writes only its own copies and reads only owned ones.
+// CostPass's (and InitializeQueue's) second step: the edges each triangle left to its twin, then
+// its key, the cheapest of its four operations (none is excluded: a triangle with exclusions was
+// costed afresh). Each triangle writes only its own copies and reads only owned ones.
 struct TriangleCollapser::EdgeCopyFunctor
 {
   const TriangleCollapser& Self;
-  PassState& Passes;
+  const std::vector<unsigned char>& Recost;
+  std::vector<float>& Key;
   void operator()(vtkIdType begin, vtkIdType end) const
   {
     for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
     {
-      const unsigned char flags = this->Passes.Recost[t];
+      const unsigned char flags = this->Recost[t];
       if (flags == 0)
       {
         continue;
       }
       const Index* tri = this->Self.Mesh.Triangle(t);
       float* cache = this->Self.State[t].EdgeCost;
-      float key = this->Passes.Key[t];
+      float key = this->Key[t];
       for (int k = 0; k < 3; ++k)
       {
         if (flags & (2u << k))
@@ -2382,10 +2421,27 @@ struct TriangleCollapser::EdgeCopyFunctor
         }
         key = std::min(key, cache[k]);
       }
-      this->Passes.Key[t] = key;
+      this->Key[t] = key;
     }
   }
 };
+
+void TriangleCollapser::InitialKeys(std::vector<float>& keys)
+{
+  // Each edge placed once, by the triangle that holds it from the smaller to the larger vertex id,
+  // the twin copying its cost (as CostPass): the keys and caches of Cost bit for bit.
+  const Index nt = this->Mesh.NumberOfTriangles();
+  std::vector<unsigned char> recost(static_cast<size_t>(nt));
+  const std::vector<unsigned char> unused;
+  vtkSMPTools::For(0, nt, 4096, [&](vtkIdType begin, vtkIdType end) {
+    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
+    {
+      recost[t] = this->CostOwnedEdges(t, unused, true, keys[t]);
+    }
+  });
+  EdgeCopyFunctor copies{ *this, recost, keys };
+  vtkSMPTools::For(0, nt, 4096, copies);
+}
 
 void TriangleCollapser::CostPass(PassState& passes)
 {
@@ -2395,7 +2451,7 @@ void TriangleCollapser::CostPass(PassState& passes)
   passes.Change.resize(size_t(this->Mesh.NumberOfPoints()), 0);
   CostPassFunctor costs{ *this, passes };
   vtkSMPTools::For(0, nt, 4096, costs);
-  EdgeCopyFunctor copies{ *this, passes };
+  EdgeCopyFunctor copies{ *this, passes.Recost, passes.Key };
   vtkSMPTools::For(0, nt, 4096, copies);
   std::fill(passes.Change.begin(), passes.Change.end(), 0);
   passes.AllStale = false;

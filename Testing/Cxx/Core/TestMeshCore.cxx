@@ -15,6 +15,7 @@
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
+#include "vtkMath.h"
 #include "vtkPointData.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
@@ -25,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 using namespace slod;
 using namespace slodtest;
@@ -559,6 +561,59 @@ TEST(InputPreparation, CountsMatchMeshStatistics)
   const PreparationReport report = PrepareTriangleMesh(bowTie, {}, mesh, origin);
   EXPECT_EQ(report.NonManifoldVertices, 1);
   EXPECT_EQ(report.NonManifoldEdges, 0);
+}
+
+namespace
+{
+// Closed cones of n sides (apex, ring, base centre), `count` of them sharing the apex at point 0:
+// no border or non-manifold edge at the apex, so only its fan walk tells that two cones pinch it.
+vtkSmartPointer<vtkPolyData> ConesSharingApex(int n, int count)
+{
+  std::vector<double> xyz{ 0, 0, 0 };
+  std::vector<std::vector<vtkIdType>> polys;
+  for (int c = 0; c < count; ++c)
+  {
+    const double side = c == 0 ? 1.0 : -1.0;
+    const vtkIdType ring = static_cast<vtkIdType>(xyz.size() / 3);
+    for (int i = 0; i < n; ++i)
+    {
+      const double angle = 2 * vtkMath::Pi() * i / n;
+      xyz.insert(xyz.end(), { std::cos(angle), std::sin(angle), side });
+    }
+    const vtkIdType centre = ring + n;
+    xyz.insert(xyz.end(), { 0, 0, side });
+    for (int i = 0; i < n; ++i)
+    {
+      const vtkIdType a = ring + i, b = ring + (i + 1) % n;
+      polys.push_back(side > 0 ? std::vector<vtkIdType>{ 0, a, b } : std::vector<vtkIdType>{ 0, b, a });
+      polys.push_back(side > 0 ? std::vector<vtkIdType>{ centre, b, a } : std::vector<vtkIdType>{ centre, a, b });
+    }
+  }
+  return MakePolyData(xyz, polys);
+}
+} // namespace
+
+// The interior-vertex walk of the preparation (its own star read once, up to 32 triangles) and
+// the general walk (larger stars) agree with MeshTopology's count on pinched and manifold apexes.
+TEST(InputPreparation, PinchedClosedFansAreNonManifold)
+{
+  for (int n : { 3, 12, 40 })
+  {
+    for (int count : { 1, 2 })
+    {
+      SCOPED_TRACE(std::to_string(count) + " cones of " + std::to_string(n) + " sides");
+      TriangleMesh mesh;
+      std::vector<Index> origin;
+      const PreparationReport report = PrepareTriangleMesh(ConesSharingApex(n, count), {}, mesh, origin);
+      ASSERT_TRUE(report.Valid);
+      EXPECT_EQ(report.NonManifoldVertices, count - 1);
+      EXPECT_EQ(report.NonManifoldEdges, 0);
+      EXPECT_EQ(ComputeMeshStatistics(mesh).NonManifoldVertices, count - 1);
+      const auto apex = std::find(origin.begin(), origin.end(), 0);
+      ASSERT_NE(apex, origin.end());
+      EXPECT_EQ(NonManifoldVertexFlags(mesh)[apex - origin.begin()], count == 2 ? 1 : 0);
+    }
+  }
 }
 
 namespace
