@@ -41,7 +41,6 @@ public:
     this->Out.Reset(output);
     this->Border.assign(size_t(output.NumberOfPoints()), 0);
     this->Used.assign(size_t(output.NumberOfPoints()), 0);
-    this->Stale.assign(size_t(output.NumberOfPoints()), 0);
     this->LocalId.assign(size_t(output.NumberOfPoints()), InvalidIndex);
     for (Index v : triangles)
     {
@@ -184,24 +183,11 @@ public:
     this->Changed.assign(size_t(this->Out.NumberOfTriangles()), 0);
   }
 
-  // Before a change is applied: its old triangles leave the snapshot's usable part, and every
-  // vertex within two edges of them may be removable again (its collapses' proofs read the
-  // triangles around its neighbours).
   void MarkChanged()
   {
     for (Index t : this->OldStar)
     {
       this->Changed[t] = 1;
-      for (int k = 0; k < 3; ++k)
-      {
-        const Index x = this->Out.Triangle(t)[k];
-        this->Stale[x] = 0;
-        this->Out.Neighbors(x, this->Ring);
-        for (Index y : this->Ring)
-        {
-          this->Stale[y] = 0;
-        }
-      }
     }
   }
 
@@ -300,8 +286,7 @@ private:
   // Tries u's neighbours as targets, nearest first; true when one collapse was made.
   bool RemoveVertex(Index u, ProvedCollapseStatistics& statistics, bool fatter = false)
   {
-    // A vertex whose removal failed, with nothing changed near it since, would fail again.
-    if (this->Out.VertexDegree(u) == 0 || this->Out.VertexDegree(u) > MaximumCollapseValence || this->Stale[u])
+    if (this->Out.VertexDegree(u) == 0 || this->Out.VertexDegree(u) > MaximumCollapseValence)
     {
       return false;
     }
@@ -331,7 +316,6 @@ private:
         return true;
       }
     }
-    this->Stale[u] = !fatter; // the sliver pass's rule is stricter: its failures say nothing
     return false;
   }
 
@@ -576,11 +560,11 @@ private:
   double SliverAngle = Radians(SliverDegrees);
 
   CollapseOptions Options;
-  std::vector<unsigned char> Border, Used, Stale;
+  std::vector<unsigned char> Border, Used;
   std::vector<Index> LocalId, LocalVertices;
   std::vector<Index> Gathered, NewTriangles, OldStar, Near;
   // Scratch buffers reused by every candidate (their capacity grows once, no allocation per try).
-  std::vector<Index> Neighbours, Ring, Replaced, Kept, SnapshotNear;
+  std::vector<Index> Neighbours, Replaced, Kept, SnapshotNear;
   std::vector<std::pair<double, Index>> Order, Targets;
   TriangleMesh Local, Snapshot;
   TriangleBVH LocalBvh, SnapshotBvh;
