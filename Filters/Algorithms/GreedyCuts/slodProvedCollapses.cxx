@@ -130,10 +130,10 @@ public:
     return done;
   }
 
-  // One pass over the triangles thinner than SliverAngle (section 3.4.3's sharp-angle repair, run
-  // on the output): the edges of each are flipped where that makes the pair fatter (as FlipPass),
-  // else its shortest edge is collapsed (a needle) or its widest corner onto the ends of the
-  // opposite edge (a cap), only when the smallest angle around rises; every change is proved like
+  // One pass over the triangles thinner than SliverAngle (after section 3.4.3's sharp-angle repair,
+  // here on the output): the edges of each are flipped where that makes the pair fatter (as FlipPass),
+  // else an end of its shortest edge (a needle) or its widest corner (a cap) is collapsed onto a
+  // neighbour, only when the smallest angle around rises; every change is proved like
   // a collapse, so the bound holds. Returns the changes.
   long long SliverPass(ProvedCollapseStatistics& statistics, const ProgressFunction& progress, bool& aborted)
   {
@@ -558,7 +558,6 @@ private:
   EditableMesh Out;
   Index AliveTriangles = 0;
   double SliverAngle = Radians(SliverDegrees);
-
   CollapseOptions Options;
   std::vector<unsigned char> Border, Used;
   std::vector<Index> LocalId, LocalVertices;
@@ -595,6 +594,7 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   {
     if (collapser.TargetMet() && step < 3)
     {
+      pass = (step + 1) * parameters.MaximumRounds;
       continue; // the slivers' flips still run
     }
     for (int round = 0; round < parameters.MaximumRounds && !aborted; ++round, ++pass)
