@@ -117,6 +117,9 @@ constexpr long long MaximumProofPiecesPerTriangle = 200;
 // cuts' and the collapses' together. Past it no further level, fresh run, collapse or flip is
 // started (a deterministic point of the same work sequence, so the nesting stays monotone).
 constexpr long long MaximumLadderPiecesPerTriangle = 2000;
+// Tolerances (doubling up to the level found) at which a target's final collapses run when their
+// start is finer than half that level (the input below the ladder's bottom).
+constexpr int CollapseStages = 5;
 
 enum class PieceDistance
 {
@@ -2005,16 +2008,25 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
     finer.Triangles = this->Mesh->Triangles; // within every tolerance
     finer.TrianglePatch = this->Patches.TrianglePatches();
   }
-  return this->CollapseToTarget(target, within, finer, prm, progress, result);
+  const double finerBound = down < 0 ? 0.0 : std::min(ladder[size_t(down)] * diagonal, hi);
+  return this->CollapseToTarget(target, within, finer, finerBound, prm, progress, result);
 }
 
-// The finer start (more than `target` triangles, within a smaller tolerance) collapsed at the
-// tolerance of `within` until the target: target or target - 1 triangles; `within` itself when the
-// collapses get stuck (or their work bound stops them) above the target.
-bool GreedyCuts::CollapseToTarget(Index target, GreedyCutsResult& within, GreedyCutsResult& finer,
+// The finer start (more than `target` triangles, within `finerBound`: 0 for the input) collapsed
+// until the target, at tolerances that double up to that of `within`: from within / 16 (or the
+// finer bound) when the finer start is below it, so the cheapest collapses (those that move the
+// surface least) are made first and the result carries the smallest tolerance at which it reached
+// the target, not the whole of within's. Target or target - 1 triangles (a collapse removes one or
+// two); `within` itself when the collapses get stuck (or their work bound stops them) above it.
+bool GreedyCuts::CollapseToTarget(Index target, GreedyCutsResult& within, GreedyCutsResult& finer, double finerBound,
   GreedyCutsParameters prm, const ProgressFunction& progress, GreedyCutsResult& result)
 {
-  prm.Epsilon = within.ErrorBound;
+  std::vector<double> stages{ within.ErrorBound };
+  while (stages.size() < size_t(CollapseStages) && 0.5 * stages.back() > finerBound)
+  {
+    stages.push_back(0.5 * stages.back());
+  }
+  std::reverse(stages.begin(), stages.end());
   const std::vector<Index> triangles = std::move(finer.Triangles), patches = std::move(finer.TrianglePatch);
   finer = within;
   finer.Triangles = triangles;
@@ -2022,15 +2034,28 @@ bool GreedyCuts::CollapseToTarget(Index target, GreedyCutsResult& within, Greedy
   finer.FinalCollapses = 0;
   finer.FinalFlips = 0;
   finer.StartedFromFinerLevel = true;
-  const ProgressFunction last = [&](double f) { return progress ? progress(0.8 + 0.2 * f) : true; };
-  this->OpenWorkAccount(MaximumLadderPiecesPerTriangle); // the final collapses' own allowance
-  const bool finished = this->CollapseFinal(prm, finer, last, target);
-  this->SearchStoppedByWorkBound = this->SearchStoppedByWorkBound || this->WorkSpent();
-  this->WorkLimit = 0;
-  if (!finished)
+  // The final collapses' own allowance, shared out so that each stage may spend up to its share
+  // and what the earlier ones left: a stage stopped by its share hands a valid start (within its
+  // smaller tolerance) to the next, so the proofs at the smallest tolerances, the dearest ones,
+  // cannot take the whole allowance.
+  this->OpenWorkAccount(MaximumLadderPiecesPerTriangle);
+  const long long start = this->ProofPieces, allowance = this->WorkLimit - start;
+  auto allSpent = [&]() { return this->ProofPieces - start > allowance; };
+  for (size_t i = 0; i < stages.size() && Index(finer.Triangles.size() / 3) > target && !allSpent(); ++i)
   {
-    return false;
+    this->WorkLimit = start + allowance * static_cast<long long>(i + 1) / static_cast<long long>(stages.size());
+    const ProgressFunction last = [&](double f) {
+      return progress ? progress(0.8 + 0.2 * (double(i) + f) / double(stages.size())) : true;
+    };
+    prm.Epsilon = stages[i];
+    if (!this->CollapseFinal(prm, finer, last, target))
+    {
+      return false;
+    }
+    finer.ErrorBound = stages[i]; // proved at this tolerance (and the start within a smaller one)
   }
+  this->SearchStoppedByWorkBound = this->SearchStoppedByWorkBound || allSpent();
+  this->WorkLimit = 0;
   result = Index(finer.Triangles.size() / 3) <= target ? std::move(finer) : std::move(within);
   return true;
 }

@@ -182,8 +182,8 @@ private:
     GreedyCutsResult& level, const ProgressFunction& progress);
   bool SearchCollapsedForTarget(Index target, const GreedyCutsParameters& base, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress);
-  bool CollapseToTarget(Index target, GreedyCutsResult& within, GreedyCutsResult& finer, GreedyCutsParameters prm,
-    const ProgressFunction& progress, GreedyCutsResult& result);
+  bool CollapseToTarget(Index target, GreedyCutsResult& within, GreedyCutsResult& finer, double finerBound,
+    GreedyCutsParameters prm, const ProgressFunction& progress, GreedyCutsResult& result);
   // The work account of a nested run or a target search: ProofPieces past which no further level,
   // run or collapse is started (0: none open).
   void OpenWorkAccount(long long piecesPerTriangle);

@@ -20,6 +20,8 @@ constexpr size_t MaximumInputTriangles = 4096;
 // not tried: checking one costs a walk over both fans (a fan of thousands of slivers around one
 // centre would make every pass quadratic); larger fans are left out of the local proofs' meshes.
 constexpr Index MaximumCollapseValence = 128;
+// Triangles thinner than this are slivers for the last stage (issue 15's quality measure).
+constexpr double SliverDegrees = 5.0;
 // A flip must raise the smaller of the pair's smallest angles by this factor (no cycling).
 constexpr double FlipGain = 1.05;
 
@@ -128,6 +130,36 @@ public:
     return done;
   }
 
+  // One pass over the triangles thinner than SliverAngle (after section 3.4.3's sharp-angle repair,
+  // here on the output): the edges of each are flipped where that makes the pair fatter (as FlipPass),
+  // else an end of its shortest edge (a needle) or its widest corner (a cap) is collapsed onto a
+  // neighbour, only when the smallest angle around rises; every change is proved like
+  // a collapse, so the bound holds. Returns the changes.
+  long long SliverPass(ProvedCollapseStatistics& statistics, const ProgressFunction& progress, bool& aborted)
+  {
+    this->TakeSnapshot();
+    long long done = 0;
+    const Index n = this->Out.NumberOfTriangles();
+    for (Index t = 0; t < n && !this->WorkSpent(); ++t)
+    {
+      if (progress && t % 1024 == 0 && !progress(double(t) / double(n)))
+      {
+        aborted = true;
+        return done;
+      }
+      if (!this->Out.IsTriangleAlive(t) || this->TriangleAngle(t) >= this->SliverAngle)
+      {
+        continue;
+      }
+      const bool flipped = this->FlipSliver(t);
+      statistics.Flips += flipped;
+      // At a count target only flips (the count stays).
+      const bool collapsed = !flipped && !this->TargetMet() && this->CollapseSliver(t, statistics);
+      done += flipped || collapsed;
+    }
+    return done;
+  }
+
   // The output at the start of a pass, with a BVH: its triangles that are still alive and unchanged
   // are part of the current output (found near a change: the other side of a thin part).
   void TakeSnapshot()
@@ -175,8 +207,84 @@ public:
   }
 
 private:
+  double TriangleAngle(Index t) const
+  {
+    const Index* tri = this->Out.Triangle(t);
+    return MinimumAngle(this->Out.Point(tri[0]), this->Out.Point(tri[1]), this->Out.Point(tri[2]));
+  }
+
+  // Its three edges, longest first (a cap's long edge is the one whose flip removes it).
+  bool FlipSliver(Index t)
+  {
+    const Index* tri = this->Out.Triangle(t);
+    int order[3] = { 0, 1, 2 };
+    auto length = [&](int k) { return Norm(this->Out.Point(tri[(k + 1) % 3]) - this->Out.Point(tri[k])); };
+    std::sort(order, order + 3, [&](int a, int b) { return length(a) > length(b); });
+    for (int k : order)
+    {
+      const Index x = tri[k], y = tri[(k + 1) % 3], q = tri[(k + 2) % 3];
+      if (this->Out.VertexDegree(x) + this->Out.VertexDegree(y) <= MaximumCollapseValence &&
+        this->Out.EdgeTriangleCount(x, y) == 2 && this->TryFlip(t, x, y, q))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // A needle loses an end of its shortest edge, a cap its widest corner, onto any neighbour
+  // (nearest first); only collapses that raise the smallest angle around are tried.
+  bool CollapseSliver(Index t, ProvedCollapseStatistics& statistics)
+  {
+    const Index tri[3] = { this->Out.Triangle(t)[0], this->Out.Triangle(t)[1], this->Out.Triangle(t)[2] };
+    int shortest = 0, widest = 0;
+    double shortestLength = HUGE_VAL, widestCosine = 2;
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec3 p = this->Out.Point(tri[k]), a = this->Out.Point(tri[(k + 1) % 3]), b = this->Out.Point(tri[(k + 2) % 3]);
+      if (Norm(a - p) < shortestLength)
+      {
+        shortestLength = Norm(a - p);
+        shortest = k;
+      }
+      const double cosine = Dot(Normalized(a - p), Normalized(b - p));
+      if (cosine < widestCosine)
+      {
+        widestCosine = cosine;
+        widest = k;
+      }
+    }
+    // A cap (an angle over 90 degrees) has no short edge to lose: its widest corner goes.
+    const bool cap = widestCosine < 0;
+    const Index removed[2] = { cap ? tri[widest] : tri[shortest], cap ? InvalidIndex : tri[(shortest + 1) % 3] };
+    for (Index u : removed)
+    {
+      if (u != InvalidIndex && !this->Border[u] && this->RemoveVertex(u, statistics, true))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // The smallest angle of the new triangles is larger than that of the triangles they replace.
+  bool RaisesSmallestAngle() const
+  {
+    double before = HUGE_VAL, after = HUGE_VAL;
+    for (Index t : this->OldStar)
+    {
+      before = std::min(before, this->TriangleAngle(t));
+    }
+    for (size_t i = 0; i < this->NewTriangles.size(); i += 3)
+    {
+      after = std::min(after, MinimumAngle(this->Out.Point(this->NewTriangles[i]), this->Out.Point(this->NewTriangles[i + 1]),
+                                this->Out.Point(this->NewTriangles[i + 2])));
+    }
+    return after > before;
+  }
+
   // Tries u's neighbours as targets, nearest first; true when one collapse was made.
-  bool RemoveVertex(Index u, ProvedCollapseStatistics& statistics)
+  bool RemoveVertex(Index u, ProvedCollapseStatistics& statistics, bool fatter = false)
   {
     if (this->Out.VertexDegree(u) == 0 || this->Out.VertexDegree(u) > MaximumCollapseValence)
     {
@@ -202,7 +310,7 @@ private:
         continue;
       }
       ++statistics.Attempts;
-      if (this->TryCollapse(u, v))
+      if (this->TryCollapse(u, v, fatter))
       {
         ++statistics.Collapses;
         return true;
@@ -211,7 +319,7 @@ private:
     return false;
   }
 
-  bool TryCollapse(Index u, Index v)
+  bool TryCollapse(Index u, Index v, bool fatter = false)
   {
     const Index set[2] = { u, v };
     const Vec3 target = this->Out.Point(v);
@@ -234,6 +342,10 @@ private:
     });
     this->OldStar.clear();
     this->Out.ForEachTriangle(u, [&](Index t) { this->OldStar.push_back(t); });
+    if (fatter && !this->RaisesSmallestAngle())
+    {
+      return false;
+    }
     if (!this->NewTrianglesNearInput())
     {
       ++this->Rejected[1];
@@ -445,6 +557,7 @@ public:
 private:
   EditableMesh Out;
   Index AliveTriangles = 0;
+  double SliverAngle = Radians(SliverDegrees);
   CollapseOptions Options;
   std::vector<unsigned char> Border, Used;
   std::vector<Index> LocalId, LocalVertices;
@@ -472,16 +585,24 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   }
   Collapser collapser(input, inputBvh, parameters, triangles, proofPieces);
   bool aborted = false;
-  // Collapses, then flips (fatter triangles, which may allow more collapses), then collapses again.
-  const int stages = 3 * parameters.MaximumRounds;
+  // Collapses, then flips (fatter triangles, which may allow more collapses), then collapses again,
+  // then the slivers the collapses left are flipped or collapsed away.
+  const int steps = 4, stages = steps * parameters.MaximumRounds;
   int pass = 0;
   auto stage = [&](double f) { return progress ? progress((pass + f) / double(stages)) : true; };
-  for (int step = 0; step < 3 && !aborted; ++step)
+  for (int step = 0; step < steps && !aborted; ++step)
   {
+    if (collapser.TargetMet() && step < 3)
+    {
+      pass = (step + 1) * parameters.MaximumRounds;
+      continue; // the slivers' flips still run
+    }
     for (int round = 0; round < parameters.MaximumRounds && !aborted; ++round, ++pass)
     {
       ++statistics.Rounds;
-      const long long changes = step == 1 ? collapser.FlipPass(stage, aborted) : collapser.Pass(statistics, stage, aborted);
+      const long long changes = step == 1 ? collapser.FlipPass(stage, aborted)
+        : step == 3                       ? collapser.SliverPass(statistics, stage, aborted)
+                                          : collapser.Pass(statistics, stage, aborted);
       statistics.Flips += step == 1 ? changes : 0;
       if (changes == 0 || collapser.Finished())
       {
@@ -489,7 +610,7 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
       }
     }
     pass = (step + 1) * parameters.MaximumRounds;
-    if (collapser.Finished())
+    if (collapser.WorkSpent())
     {
       break;
     }

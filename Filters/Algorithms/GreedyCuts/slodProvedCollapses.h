@@ -15,7 +15,9 @@
 //    output triangle, which the collapse does not touch;
 //  - topology: EditableMesh::CheckCollapse (link condition, no flip, no border vertex removed).
 // Between two collapse passes, interior edges are flipped where that makes the thinner of their two
-// triangles fatter (fewer slivers), each flip proved the same way.
+// triangles fatter (fewer slivers), each flip proved the same way. Last, each triangle under 5
+// degrees has its edges flipped or loses a vertex by a collapse that raises the smallest angle
+// around, proved the same way (at a count target only the flips).
 // Hence the two-sided Hausdorff bound of the greedy cuts survives every accepted collapse.
 #ifndef slodProvedCollapses_h
 #define slodProvedCollapses_h

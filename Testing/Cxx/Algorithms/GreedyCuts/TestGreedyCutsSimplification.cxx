@@ -826,3 +826,48 @@ TEST(GreedyCuts, ProvedCollapsesStopAtTheirWorkBound)
   out.Triangles = triangles;
   EXPECT_LE(MeasureHausdorff(input, slodtest::ToPolyData(out)), parameters.Epsilon);
 }
+
+// A target finer than a ladder level is collapsed at doubling tolerances from a sixteenth of the
+// level up, so it carries the smallest tolerance that reached it instead of the level's whole
+// bound (session 13: fandisk asked for 1,500 used the ladder's bottom, 0.004 of the diagonal, and
+// measured 11 times vtkQuadricDecimation's Hausdorff at that count). Asserted: N or N - 1
+// triangles with the full ExpectValid (measured Hausdorff within the reported bound), a bound below
+// the ladder's bottom on fandisk with fewer than 5 % of triangles under 5 degrees (issue 15's goal),
+// and on couplingdown (no other test uses it) at most twice vtkQuadricDecimation's triangles at
+// equal measured Hausdorff: vtkQD at half our count does not measure below ours.
+TEST(GreedyCutsSimplification, TargetsBelowALevelUseASmallerTolerance)
+{
+  for (const auto& [name, target] : { std::pair<std::string, vtkIdType>{ "fandisk", 1500 }, { "couplingdown", 1500 } })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    vtkNew<vtkGreedyCutsSimplification> filter;
+    filter->SetInputData(input);
+    filter->SetMaximumError(0.1);
+    filter->SetTargetNumberOfTriangles(target);
+    filter->Update();
+    const Figures f = Collect(filter, input);
+    vtkNew<vtkQuadricDecimation> quadric;
+    quadric->SetInputData(input);
+    quadric->SetTargetReduction(1.0 - 0.5 * double(f.Output->GetNumberOfCells()) / double(input->GetNumberOfCells()));
+    quadric->Update();
+    const double halfCountHausdorff = MeasureHausdorff(input, quadric->GetOutput());
+    const double diagonal = input->GetLength();
+    std::cout << "[greedy-cuts] " << name << " target " << target << ": " << f.Output->GetNumberOfCells()
+              << " tris, bound " << f.Bound / diagonal << " of the diagonal, H/bound " << f.Hausdorff / f.Bound
+              << ", " << 100 * SliverShare(f.Output, 5.0) << "% under 5 degrees; vtkQD at "
+              << quadric->GetOutput()->GetNumberOfCells() << " tris: H " << halfCountHausdorff / diagonal << "\n";
+    EXPECT_LE(f.Output->GetNumberOfCells(), target);
+    EXPECT_GE(f.Output->GetNumberOfCells(), target - 1);
+    ExpectValid(input, f, name);
+    if (name == "fandisk")
+    {
+      EXPECT_LT(f.Bound, filter->GetLadderBottom() * diagonal * (1 - 1e-9));
+      EXPECT_LT(SliverShare(f.Output, 5.0), 0.05);
+    }
+    else
+    {
+      EXPECT_GE(halfCountHausdorff, f.Hausdorff);
+    }
+  }
+}
