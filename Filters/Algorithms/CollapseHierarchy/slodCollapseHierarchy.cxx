@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <utility>
 
@@ -22,6 +23,21 @@ constexpr Index MaximumFitPoints = 64;
 // Far above the valences collapses leave on ordinary meshes (about 3 to 20); a fan's centre or a
 // cone's apex has thousands.
 constexpr Index HubValence = 64;
+
+// A triangle at its weight in a level's priority order, ordered as the pair (weight, triangle)
+// but packed in 12 bytes instead of 16 (the order holds every live triangle).
+#pragma pack(push, 4)
+struct RankedTriangle
+{
+  double Weight;
+  Index Triangle;
+  bool operator<(const RankedTriangle& o) const
+  {
+    return this->Weight < o.Weight || (!(o.Weight < this->Weight) && this->Triangle < o.Triangle);
+  }
+};
+#pragma pack(pop)
+static_assert(sizeof(RankedTriangle) == sizeof(double) + sizeof(Index), "packed");
 
 // Gieng et al.'s alpha = 2 (cos A + cos B + cos C - 1) = 2 r / R: 1 equilateral, 0 degenerate.
 double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
@@ -683,14 +699,76 @@ double CollapseHierarchy::CollapseError(const Index* vertices, int count, const 
   return error;
 }
 
-double CollapseHierarchy::WeightOf(const Evaluation& e) const
+// The paper's part of W(T), normalised (needs the normalisers of M0's evaluation).
+double CollapseHierarchy::PaperTerm(double kappa, double alpha, int valence, double area) const
 {
   const CollapseHierarchyParameters& p = this->Parameters;
-  const double term = p.CurvatureWeight * (e.Kappa / this->KappaMax) + p.AngleWeight * e.Alpha +
-    p.ValenceWeight * (std::abs(e.Valence - 6) / this->Mv);
-  const double paper = e.Area * term / (this->WeightSum * this->MeanArea);
+  const double term = p.CurvatureWeight * (kappa / this->KappaMax) + p.AngleWeight * alpha +
+    p.ValenceWeight * (std::abs(valence - 6) / this->Mv);
+  return area * term / (this->WeightSum * this->MeanArea);
+}
+
+double CollapseHierarchy::WeightOf(const StoredEvaluation& e) const
+{
+  const CollapseHierarchyParameters& p = this->Parameters;
   const double error = (e.PreferEdge ? e.EdgeError : e.Error) / (this->MeanArea * this->MeanArea);
-  return (1 - p.ErrorWeight) * paper + p.ErrorWeight * error;
+  return (1 - p.ErrorWeight) * e.Paper + p.ErrorWeight * error;
+}
+
+// T's unit normal from its vertices (the normal of an evaluation's frame, when T has a plane).
+Vec3 CollapseHierarchy::OwnNormal(Index t) const
+{
+  const EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  const Vec3 a = m.Point(tri[0]), b = m.Point(tri[1]), c = m.Point(tri[2]);
+  return Normalized(Cross(b - a, c - a));
+}
+
+// The normal of T's last evaluation.
+Vec3 CollapseHierarchy::NormalOf(Index t) const
+{
+  switch (this->Evaluations[t].Normal)
+  {
+    case NormalSource::Own:
+      return this->OwnNormal(t);
+    case NormalSource::Zero:
+      return { 0, 0, 0 };
+    default:
+      return this->OtherNormals.at(t);
+  }
+}
+
+// Keeps what the batch selection reads of evaluation e of triangle t (the normal as its source,
+// compared bit for bit, so that the one read back is the same).
+void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
+{
+  StoredEvaluation& s = this->Evaluations[t];
+  const bool wasStored = s.Normal == NormalSource::Stored;
+  s.Point = e.Point;
+  s.Paper = this->PaperTerm(e.Kappa, e.Alpha, e.Valence, e.Area);
+  s.Error = e.Error;
+  s.EdgeError = e.EdgeError;
+  s.PreferEdge = e.PreferEdge;
+  s.CheapestEdge = e.CheapestEdge;
+  const Vec3 own = this->OwnNormal(t), zero{ 0, 0, 0 };
+  if (std::memcmp(&own, &e.Normal, sizeof(Vec3)) == 0)
+  {
+    s.Normal = NormalSource::Own;
+  }
+  else if (std::memcmp(&zero, &e.Normal, sizeof(Vec3)) == 0)
+  {
+    s.Normal = NormalSource::Zero;
+  }
+  else
+  {
+    s.Normal = NormalSource::Stored;
+    this->OtherNormals[t] = e.Normal;
+    return;
+  }
+  if (wasStored)
+  {
+    this->OtherNormals.erase(t);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -731,7 +809,7 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   collapse.Level = level;
   collapse.Triangle = t;
   collapse.Weight = this->Weights[t];
-  this->GlobalPoints.insert(this->GlobalPoints.end(), p.begin(), p.end());
+  this->CollapsePoints.insert(this->CollapsePoints.end(), p.begin(), p.end());
 
   m.Collapse(vertices, count, kept, p, &this->Record);
   for (int i = 1; i < count; ++i)
@@ -746,6 +824,7 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
     }
   }
   this->Collapses.push_back(collapse);
+  this->VersionsBornBy.push_back(this->NumberOfEntries()); // (the versions below are born at k + 1)
   this->GlobalOf[kept] = collapse.Point;
   this->MarkChangedAround(kept);
 
@@ -770,15 +849,7 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   }
   m.ForEachTriangle(kept, [&](Index x) {
     this->EntryDeath[this->EntryOf[x]] = k + 1;
-    const Index* q = m.Triangle(x);
-    this->EntryOf[x] = static_cast<Index>(this->EntryBirth.size());
-    for (int j = 0; j < 3; ++j)
-    {
-      this->EntryVertices.push_back(this->GlobalOf[q[j]]);
-    }
-    this->EntryBirth.push_back(k + 1);
-    this->EntryDeath.push_back(Never);
-    this->EntryTriangle.push_back(x);
+    this->AppendEntry(x);
   });
   this->TriangleCounts.push_back(m.NumberOfLiveTriangles());
 
@@ -837,17 +908,23 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   for (Index t : flip.Triangles)
   {
     this->EntryDeath[this->EntryOf[t]] = k;
-    const Index* q = this->Mesh.Triangle(t);
-    this->EntryOf[t] = static_cast<Index>(this->EntryBirth.size());
-    for (int j = 0; j < 3; ++j)
-    {
-      this->EntryVertices.push_back(this->GlobalOf[q[j]]);
-    }
-    this->EntryBirth.push_back(k);
-    this->EntryDeath.push_back(Never);
-    this->EntryTriangle.push_back(t);
+    this->AppendEntry(t);
   }
   this->Records.AppendFlip(flip);
+}
+
+// A new version of triangle x (as it is in the mesh now), born at the current collapse count.
+void CollapseHierarchy::AppendEntry(Index x)
+{
+  const Index* q = this->Mesh.Triangle(x);
+  this->EntryOf[x] = this->NumberOfEntries();
+  for (int j = 0; j < 3; ++j)
+  {
+    this->EntryVertices.push_back(this->GlobalOf[q[j]]);
+  }
+  this->EntryDeath.push_back(Never);
+  this->EntryTriangle.push_back(x);
+  this->VersionsBornBy.back() = this->NumberOfEntries();
 }
 
 int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>& touched)
@@ -931,7 +1008,7 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
 // current mean area (not the initial one's guess).
 bool CollapseHierarchy::KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const
 {
-  const Evaluation& e = this->Evaluations[t];
+  const StoredEvaluation& e = this->Evaluations[t];
   const Index* tri = this->Mesh.Triangle(t);
   if (e.CheapestEdge.Edge < 0 || e.CheapestEdge.Fixed != this->FixedMask(tri))
   {
@@ -1026,7 +1103,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
 struct CollapseHierarchy::LevelState
 {
   // Priority order of the level: (weight, triangle), sorted chunk by chunk as the selection goes.
-  std::vector<std::pair<double, Index>> Candidates;
+  std::vector<RankedTriangle> Candidates;
   // The batch: triangle, -1 for its triangle collapse or the edge (tri[k], tri[k+1]) collapsed,
   // and the collapse point.
   std::vector<Index> Batch;
@@ -1146,7 +1223,7 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
     this->BaseAreaVectors[t] = this->Base.TriangleAreaVector(t);
   }
   this->LockNonManifoldVertices();
-  this->GlobalPoints = this->Base.Points;
+  this->CollapsePoints.clear();
   this->GlobalOf.resize(np);
   std::iota(this->GlobalOf.begin(), this->GlobalOf.end(), 0);
   this->AncestorHead = this->GlobalOf;
@@ -1154,7 +1231,7 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->AncestorNext.assign(np, InvalidIndex);
   this->AncestorCount.assign(np, 1);
   this->EntryVertices = this->Base.Triangles;
-  this->EntryBirth.assign(nt, 0);
+  this->VersionsBornBy.assign(1, nt);
   this->EntryDeath.assign(nt, Never);
   this->EntryTriangle.resize(nt);
   std::iota(this->EntryTriangle.begin(), this->EntryTriangle.end(), 0);
@@ -1168,8 +1245,8 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->CachedDegree.assign(np, 0);
   this->CachedDegreeStamp.assign(np, -1);
   this->BlockedStrict.assign(nt, -1);
-  this->BlockedRelaxed.assign(nt, -1);
-  this->BlockedEdge.assign(nt, -1);
+  std::vector<Index>().swap(this->BlockedRelaxed); // allocated when first used
+  std::vector<Index>().swap(this->BlockedEdge);
   this->EdgeCollapseCount = 0;
   // Border flags, computed once (EditableMesh::IsBoundaryVertex was a fifth of the build when
   // asked at every check): collapses keep the topology, so a merged vertex is on the border
@@ -1192,13 +1269,13 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
 // triangle when reduced to 10%).
 void CollapseHierarchy::ReserveRecords()
 {
-  const size_t np = size_t(this->Base.NumberOfPoints()), nt = size_t(this->Base.NumberOfTriangles());
+  const size_t nt = size_t(this->Base.NumberOfTriangles());
   const size_t collapses = nt / 2 + 1, versions = 5 * nt;
   this->EntryVertices.reserve(3 * versions);
-  this->EntryBirth.reserve(versions);
+  this->VersionsBornBy.reserve(collapses + 1);
   this->EntryDeath.reserve(versions);
   this->EntryTriangle.reserve(versions);
-  this->GlobalPoints.reserve(3 * (np + collapses));
+  this->CollapsePoints.reserve(3 * collapses);
   this->Collapses.reserve(collapses);
   this->TriangleCounts.reserve(collapses + 1);
   this->Records.Reserve(collapses, nt, 3 * nt);
@@ -1286,15 +1363,17 @@ void CollapseHierarchy::AddBorderPlanes()
 bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
 {
   const Index nt = this->Base.NumberOfTriangles();
-  this->Evaluations.assign(nt, Evaluation());
+  this->Evaluations.assign(nt, StoredEvaluation());
+  this->OtherNormals.clear();
   this->Weights.assign(nt, 0.0);
+  std::vector<ShapeTerms> shapes(static_cast<size_t>(nt));
   double totalArea = 0, kappaMax = 0;
   int valenceMax = 0;
   constexpr Index Slice = Index(1) << 16; // evaluated at once between progress reports
   for (Index first = 0; first < nt; first += Slice)
   {
     const Index count = std::min(Slice, nt - first);
-    this->EvaluateTriangles(nullptr, first, count);
+    this->EvaluateTriangles(nullptr, first, count, &shapes);
     if (progress && !progress(0.1 * (first + count) / nt))
     {
       return false;
@@ -1302,9 +1381,9 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
   }
   for (Index t = 0; t < nt; ++t)
   {
-    totalArea += this->Evaluations[t].Area;
-    kappaMax = std::max(kappaMax, this->Evaluations[t].Kappa);
-    valenceMax = std::max(valenceMax, std::abs(this->Evaluations[t].Valence - 6));
+    totalArea += shapes[t].Area;
+    kappaMax = std::max(kappaMax, shapes[t].Kappa);
+    valenceMax = std::max(valenceMax, std::abs(shapes[t].Valence - 6));
   }
   const double guess = this->MeanArea;
   this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
@@ -1312,7 +1391,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
   {
     // The vertex error term of these evaluations used the guess: their edge choices may not be
     // FindEdgeCollapse's first with the final mean area.
-    for (Evaluation& e : this->Evaluations)
+    for (StoredEvaluation& e : this->Evaluations)
     {
       e.CheapestEdge.Edge = -1;
     }
@@ -1321,6 +1400,8 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
   this->Mv = this->Parameters.ValenceNormalizer > 0 ? this->Parameters.ValenceNormalizer : std::max(1, valenceMax);
   for (Index t = 0; t < nt; ++t)
   {
+    const ShapeTerms& shape = shapes[t];
+    this->Evaluations[t].Paper = this->PaperTerm(shape.Kappa, shape.Alpha, shape.Valence, shape.Area);
     this->Weights[t] = this->WeightOf(this->Evaluations[t]);
   }
   return true;
@@ -1399,7 +1480,7 @@ void CollapseHierarchy::OrderCandidates(LevelState& state) const
   {
     if (this->Mesh.IsTriangleAlive(t) && this->Weights[t] <= state.MaximumWeight)
     {
-      state.Candidates.emplace_back(this->Weights[t], t);
+      state.Candidates.push_back({ this->Weights[t], t });
     }
   }
 }
@@ -1451,7 +1532,7 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
   state.Batch.clear();
   state.BatchEdge.clear();
   state.BatchPoint.clear();
-  std::vector<std::pair<double, Index>>& candidates = state.Candidates;
+  std::vector<RankedTriangle>& candidates = state.Candidates;
   const Index full = 4 * state.Wanted;
   size_t sorted = 0;
   Index removed = 0;
@@ -1470,10 +1551,10 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
         sorted = candidates.size(); // deeper candidates would force expensive collapses
         break;
       }
-      const Index t = candidates[i].second;
+      const Index t = candidates[i].Triangle;
       int edge = -1;
       Vec3 point;
-      if (!this->RegionIsFree(t, level, state) || !this->ChooseCollapse(t, candidates[i].first, state.Edges, edge, point))
+      if (!this->RegionIsFree(t, level, state) || !this->ChooseCollapse(t, candidates[i].Weight, state.Edges, edge, point))
       {
         continue;
       }
@@ -1555,7 +1636,11 @@ bool CollapseHierarchy::ChooseCollapse(Index t, double orderWeight, bool edges, 
 bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
 {
   std::vector<Index>& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
-  const Evaluation& e = this->Evaluations[t];
+  if (blocked.empty())
+  {
+    blocked.assign(size_t(this->Mesh.NumberOfTriangles()), -1); // (the relaxed rules: at their first use)
+  }
+  const StoredEvaluation& e = this->Evaluations[t];
   if (this->StillBlocked(t, blocked[t]))
   {
     return false;
@@ -1563,7 +1648,7 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
   if (e.PreferEdge)
   {
     // Ordered by its edge collapse: the triangle collapse only at its own cost.
-    Evaluation triangleEvaluation = e;
+    StoredEvaluation triangleEvaluation = e;
     triangleEvaluation.PreferEdge = false;
     const double weight = this->WeightOf(triangleEvaluation);
     if (weight > orderWeight * (1 + 1e-9) + 1e-300)
@@ -1573,7 +1658,7 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
     }
   }
   this->Stencils.Build(this->Mesh, t, this->Stencil);
-  if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, e.Normal, &this->MeshOptions, this->Rules) ==
+  if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, this->NormalOf(t), &this->MeshOptions, this->Rules) ==
       CollapsibleStatus::Ok &&
     this->KeepsOrientation(t, e.Point))
   {
@@ -1587,6 +1672,10 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
 // place in the order, the triangle is put back with that cost (next level's order).
 bool CollapseHierarchy::EdgeCollapseAllowed(Index t, double orderWeight, int hubs, int& edge, Vec3& point)
 {
+  if (this->BlockedEdge.empty())
+  {
+    this->BlockedEdge.assign(size_t(this->Mesh.NumberOfTriangles()), -1); // (at the first edge collapse)
+  }
   if (this->StillBlocked(t, this->BlockedEdge[t], hubs))
   {
     return false;
@@ -1597,7 +1686,7 @@ bool CollapseHierarchy::EdgeCollapseAllowed(Index t, double orderWeight, int hub
     this->BlockedEdge[t] = this->ChangeCounter;
     return false;
   }
-  Evaluation edgeEvaluation = this->Evaluations[t];
+  StoredEvaluation edgeEvaluation = this->Evaluations[t];
   edgeEvaluation.PreferEdge = false;
   edgeEvaluation.Error = error;
   const double weight = this->WeightOf(edgeEvaluation);
@@ -1704,7 +1793,7 @@ struct CollapseHierarchy::ConcurrentEvaluation
   const CollapseHierarchy* Hierarchy;
   const Index* Triangles; // nullptr: the triangles First, First + 1, ...
   Index First;
-  std::vector<Evaluation>& Evaluations;
+  std::vector<Evaluation>& Working; // one per triangle of the list
   std::vector<EvaluationRest>& Rests;
   std::vector<Alternatives>& PendingAlternatives;
   vtkSMPThreadLocal<LinkEdges> Links;
@@ -1716,22 +1805,58 @@ struct CollapseHierarchy::ConcurrentEvaluation
     {
       const Index t = this->Triangles ? this->Triangles[i] : this->First + static_cast<Index>(i);
       this->Rests[i] =
-        this->Hierarchy->EvaluateConcurrently(t, this->Evaluations[t], link, this->PendingAlternatives[i]);
+        this->Hierarchy->EvaluateConcurrently(t, this->Working[i], link, this->PendingAlternatives[i]);
     }
   }
 };
 
-// Evaluates triangles[first, first + count) (or the ids first, ... when triangles is null): the
-// read-only part in parallel (vtkSMPTools), then in list order what needs shared scratch. With
-// the stencil fit in every evaluation (the paper's weights) all of it is serial.
-void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, Index count)
+// Evaluates triangles[first, first + count) (or the ids first, ... when triangles is null), a
+// chunk at a time (the working evaluations are scratch of bounded size), and keeps each result.
+// shapes (M0's evaluation) receives the weight terms whose normalisers are not known yet.
+void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, Index count, std::vector<ShapeTerms>* shapes)
+{
+  constexpr Index Chunk = Index(1) << 14;
+  for (Index begin = 0; begin < count; begin += Chunk)
+  {
+    const Index n = std::min(Chunk, count - begin);
+    this->EvaluateChunk(triangles, first + begin, n);
+    for (Index i = 0; i < n; ++i)
+    {
+      const Index t = triangles ? triangles[first + begin + i] : first + begin + i;
+      const Evaluation& e = this->Working[i];
+      this->StoreEvaluation(t, e);
+      if (shapes)
+      {
+        (*shapes)[t] = { e.Kappa, e.Alpha, e.Area, e.Valence };
+      }
+    }
+  }
+}
+
+// Evaluates triangles[first, first + count) into Working: the read-only part in parallel
+// (vtkSMPTools), then in list order what needs shared scratch. With the stencil fit in every
+// evaluation (the paper's weights) all of it is serial. Each starts from the triangle's last
+// evaluation (a triangle without a plane keeps its error terms).
+void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index count)
 {
   auto triangleAt = [&](Index i) { return triangles ? triangles[first + i] : first + i; };
+  this->Working.resize(static_cast<size_t>(count));
+  for (Index i = 0; i < count; ++i)
+  {
+    const StoredEvaluation& last = this->Evaluations[triangleAt(i)];
+    Evaluation& e = this->Working[i];
+    e = Evaluation();
+    e.Point = last.Point;
+    e.Error = last.Error;
+    e.EdgeError = last.EdgeError;
+    e.PreferEdge = last.PreferEdge;
+    e.CheapestEdge = last.CheapestEdge;
+  }
   if (!(this->Parameters.ErrorWeight >= 1 && this->Parameters.QuadricCollapsePoint))
   {
     for (Index i = 0; i < count; ++i)
     {
-      this->Evaluate(triangleAt(i), this->Evaluations[triangleAt(i)]);
+      this->Evaluate(triangleAt(i), this->Working[i]);
     }
     return;
   }
@@ -1746,12 +1871,12 @@ void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, I
   }
   this->Rests.resize(static_cast<size_t>(count));
   this->PendingAlternatives.resize(static_cast<size_t>(count));
-  ConcurrentEvaluation evaluation{ this, triangles ? triangles + first : nullptr, first, this->Evaluations,
+  ConcurrentEvaluation evaluation{ this, triangles ? triangles + first : nullptr, first, this->Working,
     this->Rests, this->PendingAlternatives, {} };
   vtkSMPTools::For(0, static_cast<vtkIdType>(count), evaluation);
   for (Index i = 0; i < count; ++i)
   {
-    this->FinishEvaluation(triangleAt(i), this->Evaluations[triangleAt(i)], this->Rests[i], this->PendingAlternatives[i]);
+    this->FinishEvaluation(triangleAt(i), this->Working[i], this->Rests[i], this->PendingAlternatives[i]);
   }
 }
 
@@ -1799,10 +1924,10 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
       this->ScratchBatch[g] = k - collapses;
     }
   }
-  const Index entries = static_cast<Index>(this->EntryBirth.size());
+  const Index entries = this->VersionsBornBy[collapses];
   for (Index e = 0; e < entries; ++e)
   {
-    if (this->EntryBirth[e] > collapses || this->EntryDeath[e] <= collapses)
+    if (this->EntryDeath[e] <= collapses)
     {
       continue;
     }
@@ -1838,12 +1963,12 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   for (size_t i = 0; i < n; ++i)
   {
     const Index g = out.PointGlobal[i];
-    const double* a = &this->GlobalPoints[3 * size_t(g)];
+    const double* a = this->VertexCoordinates(g);
     const Index target = this->ScratchTarget[g];
     out.PointTarget[i] = target;
     if (target != InvalidIndex && t > 0)
     {
-      const double* b = &this->GlobalPoints[3 * size_t(target)];
+      const double* b = this->VertexCoordinates(target);
       for (int j = 0; j < 3; ++j)
       {
         out.Points[3 * i + j] = t == 1.0 ? b[j] : a[j] + t * (b[j] - a[j]);

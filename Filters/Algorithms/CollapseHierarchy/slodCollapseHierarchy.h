@@ -35,6 +35,7 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -179,10 +180,13 @@ public:
   // Level whose batch contains collapse k.
   int LevelOfCollapse(Index k) const { return this->Collapses[k].Level; }
 
-  Index NumberOfVertices() const { return static_cast<Index>(this->GlobalPoints.size() / 3); }
+  Index NumberOfVertices() const
+  {
+    return this->Base.NumberOfPoints() + static_cast<Index>(this->CollapsePoints.size() / 3);
+  }
   Vec3 Vertex(Index g) const
   {
-    const double* p = &this->GlobalPoints[3 * size_t(g)];
+    const double* p = this->VertexCoordinates(g);
     return { p[0], p[1], p[2] };
   }
   // M0 (the input, or the input after cycle-removing swaps).
@@ -218,6 +222,7 @@ private:
     unsigned char Kind = 0; // 0 the quadric's point near the midpoint, 1 tri[Edge], 2 tri[Edge + 1]
     unsigned char Fixed = 0;
   };
+  // An evaluation while it is computed (scratch, a chunk of triangles at a time).
   struct Evaluation
   {
     double Kappa = 0, Alpha = 0, Area = 0, Error = 0;
@@ -226,6 +231,31 @@ private:
     EdgeChoice CheapestEdge; // the candidate of EdgeError (fits in the padding)
     int Valence = 6;
     Vec3 Point{ 0, 0, 0 }, Normal{ 0, 0, 1 };
+  };
+  // What the batch selection reads of a triangle's evaluation, kept per triangle (56 bytes instead
+  // of the Evaluation's 96): the paper's weight terms folded into one (their normalisers are fixed
+  // after M0's evaluation), and T's unit normal recomputed from its vertices (they do not move
+  // until T is evaluated again) unless it came from elsewhere (NormalOf).
+  enum class NormalSource : unsigned char
+  {
+    Own,    // T's own unit normal, recomputed
+    Zero,   // no plane
+    Stored  // another (a degenerate T's stencil normal): in OtherNormals
+  };
+  struct StoredEvaluation
+  {
+    Vec3 Point{ 0, 0, 0 };
+    double Paper = 0; // the paper's term of W(T): A(T) (wk kappa / max kappa + wa alpha + wv V) / mean area
+    double Error = 0, EdgeError = 0;
+    bool PreferEdge = false;
+    EdgeChoice CheapestEdge;
+    NormalSource Normal = NormalSource::Own;
+  };
+  // The weight terms of M0's evaluation, until their normalisers are known.
+  struct ShapeTerms
+  {
+    double Kappa = 0, Alpha = 0, Area = 0;
+    int Valence = 6;
   };
   struct LevelState; // the batch selection's data over one Build (in the .cxx)
 
@@ -272,7 +302,12 @@ private:
   };
   using LinkEdges = std::vector<std::pair<Vec3, Vec3>>;
   struct ConcurrentEvaluation; // the vtkSMPTools functor (in the .cxx)
-  void EvaluateTriangles(const Index* triangles, Index first, Index count);
+  void EvaluateTriangles(const Index* triangles, Index first, Index count, std::vector<ShapeTerms>* shapes = nullptr);
+  void EvaluateChunk(const Index* triangles, Index first, Index count);
+  void StoreEvaluation(Index t, const Evaluation& e);
+  Vec3 OwnNormal(Index t) const;
+  Vec3 NormalOf(Index t) const;
+  double PaperTerm(double kappa, double alpha, int valence, double area) const;
   void Evaluate(Index t, Evaluation& e);
   EvaluationRest EvaluateConcurrently(Index t, Evaluation& e, LinkEdges& link, Alternatives& alternatives) const;
   void FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest, const Alternatives& alternatives);
@@ -296,7 +331,7 @@ private:
   void AlternativePoints(const Index* tri, Vec3 (&points)[6]) const;
   Alternatives RankAlternatives(const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link) const;
   void TakeCheapestValidAlternative(const Index* tri, const Alternatives& ranked, Vec3& point) const;
-  double WeightOf(const Evaluation& e) const;
+  double WeightOf(const StoredEvaluation& e) const;
   double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level);
@@ -314,17 +349,31 @@ private:
   std::vector<Vec3> BaseAreaVectors; // of M0's triangles (the orientation reference)
   const Vec3& BaseAreaVector(Index t) const { return this->BaseAreaVectors[t]; }
   EditableMesh Mesh;
-  std::vector<double> GlobalPoints;
+  // Global vertex g: input point g of Base, else the collapse point of collapse g - (input points)
+  // (not a second copy of the input points).
+  std::vector<double> CollapsePoints;
+  const double* VertexCoordinates(Index g) const
+  {
+    const Index np = this->Base.NumberOfPoints();
+    return g < np ? &this->Base.Points[3 * size_t(g)] : &this->CollapsePoints[3 * size_t(g - np)];
+  }
   std::vector<Index> GlobalOf;                  // editable vertex -> current global id
   std::vector<Index> AncestorHead, AncestorTail, AncestorNext, AncestorCount; // original points per vertex
-  std::vector<Index> EntryVertices, EntryBirth, EntryDeath, EntryOf, EntryTriangle;
+  // Triangle versions: global vertices, collapse count at which each disappears, current version
+  // of each M0 slot and the slot of each version. Versions are appended in the order they are
+  // born, so their births are stored as counts: VersionsBornBy[K] versions are born after at most
+  // K collapses (one Index per collapse instead of one per version).
+  std::vector<Index> EntryVertices, EntryDeath, EntryOf, EntryTriangle, VersionsBornBy;
+  Index NumberOfEntries() const { return static_cast<Index>(this->EntryDeath.size()); }
+  void AppendEntry(Index x);
   std::vector<HierarchyCollapse> Collapses;
   std::vector<Index> LevelStarts, TriangleCounts;
   // The collapses and edge swaps in M0 numbering, for exact vertex splits (topology only: the
   // positions are those of the global vertices, Sources and Point of each HierarchyCollapse).
   CollapseRecords Records;
 
-  std::vector<Evaluation> Evaluations;
+  std::vector<StoredEvaluation> Evaluations;
+  std::unordered_map<Index, Vec3> OtherNormals; // NormalSource::Stored (degenerate triangles)
   std::vector<Quadric> Quadrics; // per editable vertex: planes of its original triangles
   std::vector<double> Weights;
   double KappaMax = 1, Mv = 1, MeanArea = 1, WeightSum = 1;
@@ -341,6 +390,7 @@ private:
   CollapsibleOptions Rules;
   std::vector<double> FitPoints;
   LinkEdges Link;
+  std::vector<Evaluation> Working;    // of the triangles evaluated together
   std::vector<EvaluationRest> Rests; // of the triangles evaluated together
   std::vector<Alternatives> PendingAlternatives; // of those whose rest is Unfold
   std::vector<Index> StencilVertices;

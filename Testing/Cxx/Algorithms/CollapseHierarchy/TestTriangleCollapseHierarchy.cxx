@@ -991,6 +991,72 @@ TEST(CollapseHierarchy, SameHierarchyOnOneTwoAndEightThreads)
   }
 }
 
+// Zero-area triangles, as T-junction repairs leave them: a vertex m inserted in edge (a, b) splits
+// the triangle on one side and fills the other side's gap with the triangle (a, m, b). Such a
+// triangle has no plane of its own (its stencil's stands in for its normal, kept apart from the
+// per-triangle evaluations): the hierarchy must take them away, keep every level a manifold of the
+// same topology and be exactly reversible.
+TEST(CollapseHierarchy, ZeroAreaTrianglesOfTJunctionsCollapse)
+{
+  TriangleMesh input = ToTriangleMesh(LoadTestMesh("bunny00"));
+  const Index nt = input.NumberOfTriangles();
+  std::map<std::pair<Index, Index>, Index> edgeTriangle; // directed edge -> its triangle
+  for (Index t = 0; t < nt; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      edgeTriangle[{ input.Triangles[3 * t + k], input.Triangles[3 * t + (k + 1) % 3] }] = t;
+    }
+  }
+  std::vector<unsigned char> used(size_t(nt), 0);
+  std::vector<Index> zeroArea;
+  for (Index t = 0; t < nt; t += 97)
+  {
+    const Index a = input.Triangles[3 * t], b = input.Triangles[3 * t + 1];
+    const auto across = edgeTriangle.find({ b, a });
+    if (used[t] || across == edgeTriangle.end() || used[across->second])
+    {
+      continue;
+    }
+    const Index n = across->second;
+    used[t] = used[n] = 1;
+    Index* o = &input.Triangles[3 * n];
+    const int corner = o[0] == b ? 0 : (o[1] == b ? 1 : 2); // o runs b -> a -> d
+    const Index d = o[(corner + 2) % 3];
+    const Index m = input.AddPoint(0.5 * (input.Point(a) + input.Point(b)));
+    o[0] = b;
+    o[1] = m;
+    o[2] = d;
+    input.AddTriangle(m, a, d);
+    zeroArea.push_back(input.NumberOfTriangles());
+    input.AddTriangle(a, m, b);
+  }
+  ASSERT_GT(zeroArea.size(), 100u);
+  const MeshStatistics in = ComputeMeshStatistics(input);
+  ASSERT_EQ(in.NonManifoldEdges, 0);
+  ASSERT_GE(in.DegenerateTriangles, Index(zeroArea.size()));
+
+  CollapseHierarchy h;
+  ASSERT_TRUE(h.Build(input, DefaultParameters()));
+  const int levels = h.NumberOfLevels();
+  EXPECT_LT(h.LevelTriangleCount(levels - 1), input.NumberOfTriangles() / 50);
+  HierarchyMesh level;
+  for (int i = 1; i < levels; ++i)
+  {
+    h.ExtractLevel(i, level);
+    const MeshStatistics s = ComputeMeshStatistics(ToMesh(level));
+    ASSERT_EQ(s.NonManifoldEdges, 0) << "level " << i;
+    ASSERT_EQ(s.NonManifoldVertices, 0) << "level " << i;
+    ASSERT_EQ(s.InconsistentlyOrientedEdges, 0) << "level " << i;
+    ASSERT_EQ(s.EulerCharacteristic, in.EulerCharacteristic) << "level " << i;
+  }
+  // None of the zero-area triangles is left at 10% of the input.
+  const Index tenth = h.CollapsesForTriangleCount(input.NumberOfTriangles() / 10);
+  h.Extract(tenth, tenth, 0.0, level);
+  EXPECT_EQ(ComputeMeshStatistics(ToMesh(level)).DegenerateTriangles, 0);
+  ExpectExactlyReversible(h, input);
+}
+
 TEST(CollapseHierarchy, CycleRemovalBySwapping)
 {
   // A valence-3 vertex in a grid: edge swapping raises it to four, keeping the surface.
