@@ -605,7 +605,6 @@ int CollapseHierarchy::FixedMask(const Index* tri) const
 
 double CollapseHierarchy::CheapestEdgeError(const Index* tri, EdgeChoice& choice) const
 {
-  const EditableMesh& m = this->Mesh;
   const int fixed = this->FixedMask(tri);
   double cheapest = std::numeric_limits<double>::infinity();
   // The first minimum in FindEdgeCollapse's order (error, then edge, then best/u/v); unknown when
@@ -630,27 +629,36 @@ double CollapseHierarchy::CheapestEdgeError(const Index* tri, EdgeChoice& choice
     {
       continue;
     }
-    Quadric q = this->Quadrics[u];
-    q += this->Quadrics[v];
-    const Vec3 pu = m.Point(u), pv = m.Point(v);
-    Vec3 best;
-    const Index uv[2] = { u, v };
-    if (EdgeOptimum(q, pu, pv, best))
+    EdgePlacement placements[3];
+    const int n = this->EdgePlacements(u, v, placements);
+    for (int i = 0; i < n; ++i)
     {
-      const double error = this->CollapseError(uv, 2, q, best);
-      track(error, k, 0);
-      cheapest = std::min(cheapest, error);
+      track(placements[i].Error, k, placements[i].Kind);
+      cheapest = std::min(cheapest, placements[i].Error);
     }
-    const double eu = this->CollapseError(uv, 2, q, pu), ev = this->CollapseError(uv, 2, q, pv);
-    track(eu, k, 1);
-    track(ev, k, 2);
-    cheapest = std::min(cheapest, std::min(eu, ev));
   }
   if (!ordered)
   {
     choice.Edge = -1;
   }
   return cheapest;
+}
+
+int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const
+{
+  Quadric q = this->Quadrics[u];
+  q += this->Quadrics[v];
+  const Vec3 pu = this->Mesh.Point(u), pv = this->Mesh.Point(v);
+  const Index uv[2] = { u, v };
+  int n = 0;
+  Vec3 best;
+  if (EdgeOptimum(q, pu, pv, best))
+  {
+    placements[n++] = { this->CollapseError(uv, 2, q, best), best, 0 };
+  }
+  placements[n++] = { this->CollapseError(uv, 2, q, pu), pu, 1 };
+  placements[n++] = { this->CollapseError(uv, 2, q, pv), pv, 2 };
+  return n;
 }
 
 Index CollapseHierarchy::Degree(Index v) const
@@ -1068,17 +1076,12 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     {
       continue; // a hub's checks would cost its valence (see HubMask)
     }
-    Quadric q = this->Quadrics[u];
-    q += this->Quadrics[v];
-    const Vec3 pu = m.Point(u), pv = m.Point(v);
-    Vec3 best;
-    const Index uv[2] = { u, v };
-    if (EdgeOptimum(q, pu, pv, best))
+    EdgePlacement placements[3];
+    const int count = this->EdgePlacements(u, v, placements);
+    for (int i = 0; i < count; ++i)
     {
-      candidates[n++] = { this->CollapseError(uv, 2, q, best), k, best };
+      candidates[n++] = { placements[i].Error, k, placements[i].Point };
     }
-    candidates[n++] = { this->CollapseError(uv, 2, q, pu), k, pu };
-    candidates[n++] = { this->CollapseError(uv, 2, q, pv), k, pv };
   }
   std::sort(candidates, candidates + n, [](const Candidate& a, const Candidate& b) {
     return a.Error < b.Error || (a.Error == b.Error && a.Edge < b.Edge);

@@ -415,6 +415,14 @@ private:
   int HubMask(Index t) const; // bit k: tri[k] is a hub
   // Over edges with no hub or border end; choice: which candidate it was.
   double CheapestEdgeError(const Index* tri, EdgeChoice& choice) const;
+  // A placement of edge (u, v)'s collapse: the quadric's best point (Kind 0), u (1) or v (2).
+  struct EdgePlacement
+  {
+    double Error;
+    Vec3 Point;
+    int Kind;
+  };
+  int EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const;
   int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;
