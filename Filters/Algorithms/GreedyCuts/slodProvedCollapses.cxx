@@ -101,9 +101,10 @@ public:
   }
   bool Finished() const { return this->TargetMet() || this->WorkSpent(); }
 
-  // One pass of edge flips that make the pair's thinner triangle fatter, each proved like a
-  // collapse. Returns the flips.
-  long long FlipPass(const ProgressFunction& progress, bool& aborted)
+  // Visits the triangles in order until the work is spent, reporting progress; `change(t)` tries
+  // one triangle and says whether it changed the mesh. Returns the changes.
+  template <typename Change>
+  long long TrianglePass(const ProgressFunction& progress, bool& aborted, Change&& change)
   {
     this->TakeSnapshot();
     long long done = 0;
@@ -115,6 +116,16 @@ public:
         aborted = true;
         return done;
       }
+      done += change(t) ? 1 : 0;
+    }
+    return done;
+  }
+
+  // One pass of edge flips that make the pair's thinner triangle fatter, each proved like a
+  // collapse. Returns the flips.
+  long long FlipPass(const ProgressFunction& progress, bool& aborted)
+  {
+    return this->TrianglePass(progress, aborted, [this](Index t) {
       for (int k = 0; k < 3 && this->Out.IsTriangleAlive(t); ++k)
       {
         const Index* tri = this->Out.Triangle(t);
@@ -122,12 +133,11 @@ public:
         if (x < y && this->Out.VertexDegree(x) + this->Out.VertexDegree(y) <= MaximumCollapseValence &&
           this->Out.EdgeTriangleCount(x, y) == 2 && this->TryFlip(t, x, y, q))
         {
-          ++done;
-          break;
+          return true;
         }
       }
-    }
-    return done;
+      return false;
+    });
   }
 
   // One pass over the triangles thinner than SliverAngle (after section 3.4.3's sharp-angle repair,
@@ -137,27 +147,17 @@ public:
   // a collapse, so the bound holds. Returns the changes.
   long long SliverPass(ProvedCollapseStatistics& statistics, const ProgressFunction& progress, bool& aborted)
   {
-    this->TakeSnapshot();
-    long long done = 0;
-    const Index n = this->Out.NumberOfTriangles();
-    for (Index t = 0; t < n && !this->WorkSpent(); ++t)
-    {
-      if (progress && t % 1024 == 0 && !progress(double(t) / double(n)))
-      {
-        aborted = true;
-        return done;
-      }
+    return this->TrianglePass(progress, aborted, [&](Index t) {
       if (!this->Out.IsTriangleAlive(t) || this->TriangleAngle(t) >= this->SliverAngle)
       {
-        continue;
+        return false;
       }
       const bool flipped = this->FlipSliver(t);
       statistics.Flips += flipped;
       // At a count target only flips (the count stays).
       const bool collapsed = !flipped && !this->TargetMet() && this->CollapseSliver(t, statistics);
-      done += flipped || collapsed;
-    }
-    return done;
+      return flipped || collapsed;
+    });
   }
 
   // The output at the start of a pass, with a BVH: its triangles that are still alive and unchanged
