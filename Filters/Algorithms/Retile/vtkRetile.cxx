@@ -11,6 +11,7 @@
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkIntArray.h"
+#include "vtkLogger.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
@@ -71,21 +72,31 @@ slod::RetilingResult InputAsResult(const slod::TriangleMesh& mesh)
   return result;
 }
 
-// Runs retile(points) (returns the triangle count, negative when aborted) with `points`, then with
-// proportionally fewer points while the result has more than `limit` triangles (retained old
-// vertices and borders add triangles); leaves the point count of the last attempt in `points`.
+// The point count of the attempt after one of `points` points gave `triangles` triangles over
+// `limit`, or 0 when there is none (the last attempt, or no smaller count to try).
+slod::Index NextAttemptPoints(int attempt, slod::Index points, slod::Index limit, slod::Index triangles)
+{
+  const auto fewer = static_cast<slod::Index>(std::floor(double(points) * limit / triangles));
+  return attempt + 1 >= MaximumRetileAttempts || fewer >= points || fewer < 4 ? 0 : fewer;
+}
+
+// Runs retile(points, attempt) (returns the triangle count, negative when aborted) with `points`,
+// then with proportionally fewer points while the result has more than `limit` triangles (retained
+// old vertices and borders add triangles); leaves the point count of the last attempt in `points`.
 template <typename RetileFunction>
 void ShrinkWhileOverLimit(slod::Index& points, slod::Index limit, RetileFunction&& retile)
 {
   for (int attempt = 0; attempt < MaximumRetileAttempts; ++attempt)
   {
-    const slod::Index triangles = retile(points);
+    const slod::Index triangles = retile(points, attempt);
+    vtkLogF(TRACE, "retile attempt %d: %lld points -> %lld triangles (limit %lld)", attempt,
+      static_cast<long long>(points), static_cast<long long>(triangles), static_cast<long long>(limit));
     if (triangles < 0 || triangles <= limit)
     {
       break;
     }
-    const auto fewer = static_cast<slod::Index>(std::floor(double(points) * limit / triangles));
-    if (fewer >= points || fewer < 4)
+    const slod::Index fewer = NextAttemptPoints(attempt, points, limit, triangles);
+    if (fewer == 0)
     {
       break;
     }
@@ -98,11 +109,17 @@ void ShrinkWhileOverLimit(slod::Index& points, slod::Index limit, RetileFunction
 slod::RetilingResult RetileWithin(const slod::TriangleMesh& mesh, slod::RetilingOptions& options, slod::Index limit)
 {
   slod::RetilingResult result;
-  ShrinkWhileOverLimit(options.NumberOfPoints, limit, [&](slod::Index points) {
+  ShrinkWhileOverLimit(options.NumberOfPoints, limit, [&](slod::Index points, int attempt) {
     options.NumberOfPoints = points;
+    // An attempt that another will follow is not repaired (the repair is most of the time on
+    // noisy scans and changes no count).
+    options.ContinueWithCounts = [&](slod::Index, slod::Index triangles) {
+      return triangles <= limit || NextAttemptPoints(attempt, points, limit, triangles) == 0;
+    };
     slod::Retile(mesh, options, result);
     return result.Aborted ? slod::Index(-1) : result.Mesh.NumberOfTriangles();
   });
+  options.ContinueWithCounts = nullptr;
   return result;
 }
 
@@ -122,14 +139,18 @@ slod::RetilingResult RetileExactCount(const slod::TriangleMesh& mesh, slod::Reti
       break;
     }
     attempt.NumberOfPoints = points;
+    const auto miss = [&](slod::Index vertices) { return std::abs(vertices - wanted); };
+    // Repaired only when kept (the repair changes no count).
+    attempt.ContinueWithCounts = [&](slod::Index vertices, slod::Index triangles) {
+      return triangles <= limit && miss(vertices) < miss(got);
+    };
     slod::RetilingResult next;
     slod::Retile(mesh, attempt, next);
     if (next.Aborted)
     {
       return next;
     }
-    const auto miss = [&](const slod::RetilingResult& r) { return std::abs(r.Mesh.NumberOfPoints() - wanted); };
-    if (next.Mesh.NumberOfTriangles() <= limit && miss(next) < miss(result))
+    if (!next.Stopped && next.Mesh.NumberOfTriangles() <= limit && miss(next.Mesh.NumberOfPoints()) < miss(got))
     {
       result = std::move(next);
       options.NumberOfPoints = attempt.NumberOfPoints;
@@ -158,7 +179,7 @@ void RetileNestedWithin(const slod::TriangleMesh& mesh, const slod::RetilingOpti
   double ratio, slod::Index limit, std::vector<slod::RetilingResult>& levels)
 {
   slod::Index finest = options.NumberOfPoints;
-  ShrinkWhileOverLimit(finest, limit, [&](slod::Index points) {
+  ShrinkWhileOverLimit(finest, limit, [&](slod::Index points, int) {
     slod::RetileNested(mesh, NestedLevelCounts(points, numberOfLevels, ratio), options, levels);
     if (levels.empty() || levels.back().Aborted)
     {
