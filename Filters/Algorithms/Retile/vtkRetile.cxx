@@ -78,8 +78,11 @@ slod::RetilingResult InputAsResult(const slod::TriangleMesh& mesh)
 // get fewer, so the later steps follow the slope measured between the last two attempts. Below
 // MinimumAttemptSlope triangles per point removed, each point removed mostly comes back as a
 // retained original vertex: fewer points would give a worse re-tiling for little gain, so the
-// attempts stop there (the target is then reported missed).
+// attempts stop there (the target is then reported missed). The slope is measured only over a
+// step of at least MinimumSlopeStep of the points: over a small step the retained count's
+// randomness (a few vertices more or less) decides it.
 constexpr double MinimumAttemptSlope = 1.0;
+constexpr double MinimumSlopeStep = 0.05;
 struct LimitAttempts
 {
   int Attempt = 0;
@@ -90,7 +93,7 @@ struct LimitAttempts
   slod::Index Next(slod::Index points, slod::Index limit, slod::Index triangles) const
   {
     double slope = 2.0;
-    if (this->PreviousPoints > points)
+    if (double(this->PreviousPoints - points) >= MinimumSlopeStep * double(this->PreviousPoints))
     {
       slope = std::min(slope, double(this->PreviousTriangles - triangles) / double(this->PreviousPoints - points));
       if (slope < MinimumAttemptSlope)
