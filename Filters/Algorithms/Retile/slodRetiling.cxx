@@ -1410,7 +1410,42 @@ struct OldVertexRemoval
         }
       }
     }
+    if (vtkLogger::GetCurrentVerbosityCutoff() >= vtkLogger::VERBOSITY_TRACE)
+    {
+      this->LogWhyRetained(pending);
+    }
     return true;
+  }
+
+  // TRACE: why the old vertices left could not go: every collapse onto a neighbour breaks the
+  // topology (link condition, boundary, too small: small handles and thin parts), or some
+  // collapse would only fold the surface.
+  void LogWhyRetained(const std::vector<Index>& pending) const
+  {
+    CollapseOptions topologyFirst = this->Collapse;
+    topologyFirst.GeometryFirst = false;
+    long long topology = 0, geometry = 0;
+    std::vector<Index> neighbors;
+    for (Index r : pending)
+    {
+      if (!this->Edit.IsVertexAlive(r))
+      {
+        continue;
+      }
+      this->Edit.Neighbors(r, neighbors);
+      bool anyTopologicallyValid = false;
+      for (Index c : neighbors)
+      {
+        const Index pair[2] = { r, c };
+        const CollapseStatus status = this->Edit.CheckCollapse(pair, 2, this->Edit.Point(c), topologyFirst);
+        anyTopologicallyValid = anyTopologicallyValid ||
+          (status != CollapseStatus::NonManifold && status != CollapseStatus::BoundaryChange &&
+            status != CollapseStatus::TooSmall && status != CollapseStatus::IsolatedVertex);
+      }
+      ++(anyTopologicallyValid ? geometry : topology);
+    }
+    vtkLogF(TRACE, "retile removal: %lld old vertices left held by the topology (every collapse), %lld by folds",
+      topology, geometry);
   }
 };
 
