@@ -3,15 +3,22 @@
 
 #include "slodTriangleBVH.h"
 
+#include "vtkLogger.h"
+
 #include <algorithm>
 #include <limits>
 
 namespace slod
 {
-bool TileRepair::IsBad(const Index* ids, const Vec3* p) const
+bool TileRepair::IsBad(const Index* ids, const Vec3* p, Index t) const
 {
   const Vec3 normal = TriangleNormal(p[0], p[1], p[2]);
-  if (Norm(normal) == 0 || MinimumAngle(p[0], p[1], p[2]) < this->NeedleAngle)
+  return this->IsBadLocally(ids, p, normal, MinimumAngle(p[0], p[1], p[2])) || this->FacesAgainstInput(p, normal, t);
+}
+
+bool TileRepair::IsBadLocally(const Index* ids, const Vec3* p, const Vec3& normal, double angle) const
+{
+  if (Norm(normal) == 0 || angle < this->NeedleAngle)
   {
     return true;
   }
@@ -22,10 +29,46 @@ bool TileRepair::IsBad(const Index* ids, const Vec3* p) const
       return true;
     }
   }
-  // The original surface under the tile: the closest point of its centroid.
+  return false;
+}
+
+// The original surface under the tile: the closest point of its centroid. Every corner of a tile
+// lies on the original surface, so the closest point is no further than the nearest corner: the
+// query is pruned there (same triangle as an unbounded query: only farther boxes are skipped).
+bool TileRepair::FacesAgainstInput(const Vec3* p, const Vec3& normal, Index t) const
+{
+  FacingEntry* entry = nullptr;
+  if (t != InvalidIndex)
+  {
+    if (this->FacingCache.size() <= size_t(t))
+    {
+      this->FacingCache.resize(std::max(size_t(t) + 1, size_t(this->Edit.NumberOfTriangles())));
+    }
+    entry = &this->FacingCache[t];
+    if (entry->Known && entry->Corners[0] == p[0] && entry->Corners[1] == p[1] && entry->Corners[2] == p[2])
+    {
+      return entry->Against;
+    }
+  }
+  const Vec3 centroid = (1.0 / 3.0) * (p[0] + p[1] + p[2]);
+  double bound2 = std::numeric_limits<double>::max();
+  for (int k = 0; k < 3; ++k)
+  {
+    bound2 = std::min(bound2, Dot(p[k] - centroid, p[k] - centroid));
+  }
   ++this->DistanceQueries;
-  const ClosestPointResult closest = this->InputBVH.ClosestPoint((1.0 / 3.0) * (p[0] + p[1] + p[2]));
-  return closest.Triangle != InvalidIndex && Dot(normal, this->Input.TriangleAreaVector(closest.Triangle)) <= 0;
+  // Slack for the rounding of the corners' positions on the input.
+  ClosestPointResult closest = this->InputBVH.ClosestPoint(centroid, bound2 * (1.0 + 1e-6));
+  if (closest.Triangle == InvalidIndex)
+  {
+    closest = this->InputBVH.ClosestPoint(centroid);
+  }
+  const bool against = closest.Triangle != InvalidIndex && Dot(normal, this->Input.TriangleAreaVector(closest.Triangle)) <= 0;
+  if (entry)
+  {
+    *entry = FacingEntry{ { p[0], p[1], p[2] }, against, true };
+  }
+  return against;
 }
 
 // The triangle across edge (x, y) from triangle t (InvalidIndex on a border or a non-manifold edge).
@@ -51,27 +94,35 @@ TileRepair::Score TileRepair::TriangleScore(Index t) const
   const Vec3 p[3] = { this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]) };
   Score score;
   ++this->TilesScored;
-  score.Bad = this->IsBad(tri, p) ? 1 : 0;
   score.Angle = MinimumAngle(p[0], p[1], p[2]);
+  const Vec3 normal = TriangleNormal(p[0], p[1], p[2]);
+  score.Bad = this->IsBadLocally(tri, p, normal, score.Angle) || this->FacesAgainstInput(p, normal, t) ? 1 : 0;
   return score;
 }
 
 // The tiles' bad count (a fold with a neighbour, turning by more than FoldAngle, counts as bad
 // too), smallest angle and longest edge; their edge midpoints and centroids appended to
 // deviationSamples when given (their distance to the original surface is measured later, only
-// for a change that gets that far).
-TileRepair::Score TileRepair::RegionScore(const std::vector<Index>& triangles, std::vector<Vec3>* deviationSamples) const
+// for a change that gets that far). The local checks come first: the centroid queries (the cost)
+// are made only for tiles not bad already, and not at all when the tiles cannot beat `bound`.
+TileRepair::Score TileRepair::RegionScore(
+  const std::vector<Index>& triangles, std::vector<Vec3>* deviationSamples, const Score* bound) const
 {
   Score total;
   total.Angle = std::numeric_limits<double>::max();
   this->RegionTiles += static_cast<long long>(triangles.size());
-  for (Index t : triangles)
+  this->LocallyBad.assign(triangles.size(), 0);
+  for (size_t i = 0; i < triangles.size(); ++i)
   {
-    const Score s = this->TriangleScore(t);
-    total.Bad += s.Bad;
-    total.Angle = std::min(total.Angle, s.Angle);
+    const Index t = triangles[i];
     const Index* tri = this->Edit.Triangle(t);
+    const Vec3 p[3] = { this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]) };
+    ++this->TilesScored;
+    const double angle = MinimumAngle(p[0], p[1], p[2]);
     const Vec3 normal = this->Edit.TriangleNormal(t);
+    this->LocallyBad[i] = this->IsBadLocally(tri, p, TriangleNormal(p[0], p[1], p[2]), angle) ? 1 : 0;
+    total.Bad += this->LocallyBad[i];
+    total.Angle = std::min(total.Angle, angle);
     Vec3 centroid{ 0, 0, 0 };
     for (int k = 0; k < 3; ++k)
     {
@@ -88,6 +139,19 @@ TileRepair::Score TileRepair::RegionScore(const std::vector<Index>& triangles, s
     if (deviationSamples)
     {
       deviationSamples->push_back(centroid);
+    }
+  }
+  if (bound && !total.Better(*bound))
+  {
+    return total; // the queries could only add bad tiles
+  }
+  for (size_t i = 0; i < triangles.size(); ++i)
+  {
+    if (!this->LocallyBad[i])
+    {
+      const Index* tri = this->Edit.Triangle(triangles[i]);
+      const Vec3 p[3] = { this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]) };
+      total.Bad += this->FacesAgainstInput(p, TriangleNormal(p[0], p[1], p[2]), triangles[i]) ? 1 : 0;
     }
   }
   return total;
@@ -129,9 +193,9 @@ void TileRepair::Measure(const std::vector<Index>& triangles, Before& before)
 bool TileRepair::Accept(Before& before, const std::vector<Index>& triangles)
 {
   this->AfterSamples.clear();
-  const Score after = this->RegionScore(triangles, &this->AfterSamples);
+  const Score after = this->RegionScore(triangles, &this->AfterSamples, &before.Tiles);
   const double extent = std::max(before.Tiles.Extent, after.Extent);
-  if (!after.Better(before.Tiles) || this->FarthestFrom(before.Surface, triangles) > MovedShare * MovedShare * extent)
+  if (!after.Better(before.Tiles) || !this->WithinDistanceOf(before.Surface, triangles, MovedShare * MovedShare * extent))
   {
     return false;
   }
@@ -149,22 +213,35 @@ bool TileRepair::Accept(Before& before, const std::vector<Index>& triangles)
   return deviation > tolerance2 && this->WithinDeviation(this->AfterSamples, deviation);
 }
 
-// The largest squared distance from the samples to the tiles (how far the change moved the surface).
-double TileRepair::FarthestFrom(const std::vector<Vec3>& samples, const std::vector<Index>& triangles) const
+// Whether every sample lies within sqrt(bound2) of the tiles (how far the change moved the
+// surface). A sample is done at the first tile close enough, its own tile first (samples come five
+// per tile, in the tiles' order, and a change keeps the tile ids); the test fails at the first sample
+// farther than the bound from every tile.
+bool TileRepair::WithinDistanceOf(const std::vector<Vec3>& samples, const std::vector<Index>& triangles, double bound2) const
 {
-  double farthest = 0;
-  for (const Vec3& q : samples)
+  auto near = [&](const Vec3& q, Index t) {
+    const Index* tri = this->Edit.Triangle(t);
+    const Vec3 c = ClosestPointOnTriangle(q, this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]));
+    return Dot(c - q, c - q) <= bound2;
+  };
+  for (size_t i = 0; i < samples.size(); ++i)
   {
-    double nearest = std::numeric_limits<double>::max();
-    for (Index t : triangles)
+    const size_t own = i / 5 < triangles.size() ? i / 5 : 0;
+    if (near(samples[i], triangles[own]))
     {
-      const Index* tri = this->Edit.Triangle(t);
-      const Vec3 c = ClosestPointOnTriangle(q, this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]));
-      nearest = std::min(nearest, Dot(c - q, c - q));
+      continue;
     }
-    farthest = std::max(farthest, nearest);
+    bool found = false;
+    for (size_t j = 0; j < triangles.size() && !found; ++j)
+    {
+      found = j != own && near(samples[i], triangles[j]);
+    }
+    if (!found)
+    {
+      return false;
+    }
   }
-  return farthest;
+  return true;
 }
 
 void TileRepair::Star(Index v, std::vector<Index>& star) const
@@ -251,7 +328,13 @@ bool TileRepair::TryMove(Index v)
   for (double share : { 1.0, 0.5, 0.25 })
   {
     ++this->DistanceQueries;
-    const ClosestPointResult c = this->InputBVH.ClosestPoint(start + share * (centre - start));
+    // start lies on the original surface: the closest point is no further from the query (pruned).
+    const Vec3 step = share * (centre - start);
+    ClosestPointResult c = this->InputBVH.ClosestPoint(start + step, Dot(step, step) * (1.0 + 1e-6));
+    if (c.Triangle == InvalidIndex)
+    {
+      c = this->InputBVH.ClosestPoint(start + step);
+    }
     if (c.Triangle == InvalidIndex || Dot(this->Input.TriangleAreaVector(c.Triangle), startReference) <= 0)
     {
       continue;
@@ -309,6 +392,9 @@ Index TileRepair::Run(int passes)
   for (int pass = 0; pass < passes && !bad.empty() && this->Work < budget; ++pass)
   {
     this->Touched.clear();
+    vtkLogF(TRACE, "retile repair pass %d: %zu bad tiles, %lld scored, %lld queries so far, %lld flips, %lld moves", pass,
+      bad.size(), this->TilesScored, this->DistanceQueries, static_cast<long long>(this->Flips),
+      static_cast<long long>(this->Moves));
     for (Index t : bad)
     {
       if (this->Work < budget && this->Edit.IsTriangleAlive(t) && this->TriangleScore(t).Bad)

@@ -76,10 +76,23 @@ struct SURFACELODFILTERS_EXPORT TileRepair
   mutable long long TilesScored = 0, RegionTiles = 0, DistanceQueries = 0;
 
   // Whether a tile with these corners faces against the original surface (at one of its vertices'
-  // reference normals or at the closest point of its centroid) or is a needle.
-  bool IsBad(const Index* ids, const Vec3* p) const;
+  // reference normals or at the closest point of its centroid) or is a needle. `t`: the tile's id
+  // in Edit when known (its centroid query is then cached), else InvalidIndex.
+  bool IsBad(const Index* ids, const Vec3* p, Index t = InvalidIndex) const;
 
 private:
+  // The centroid query of a tile, cached per tile id with the corners it was made for: most tiles
+  // of a region are scored again by the next try around the same bad tile, unchanged.
+  struct FacingEntry
+  {
+    Vec3 Corners[3];
+    bool Against = false;
+    bool Known = false;
+  };
+  bool FacesAgainstInput(const Vec3* p, const Vec3& normal, Index t) const;
+  // IsBad without the centroid query, given the tile's normal and smallest angle.
+  bool IsBadLocally(const Index* ids, const Vec3* p, const Vec3& normal, double angle) const;
+  mutable std::vector<FacingEntry> FacingCache;
   struct Score
   {
     int Bad = 0;
@@ -100,19 +113,23 @@ private:
     std::vector<Vec3> DeviationSamples;
   };
   Score TriangleScore(Index t) const;
-  Score RegionScore(const std::vector<Index>& triangles, std::vector<Vec3>* deviationSamples = nullptr) const;
+  // `bound` (optional): the score to beat; the centroid queries are skipped (and the returned
+  // score is not better than it) when the local checks already show the tiles cannot beat it.
+  Score RegionScore(const std::vector<Index>& triangles, std::vector<Vec3>* deviationSamples = nullptr,
+    const Score* bound = nullptr) const;
   bool Accept(Before& before, const std::vector<Index>& triangles);
   bool WithinDeviation(const std::vector<Vec3>& samples, double bound2) const;
   void Measure(const std::vector<Index>& triangles, Before& before);
   Index Across(Index t, Index x, Index y) const;
   void Star(Index v, std::vector<Index>& star) const;
-  double FarthestFrom(const std::vector<Vec3>& samples, const std::vector<Index>& triangles) const;
+  bool WithinDistanceOf(const std::vector<Vec3>& samples, const std::vector<Index>& triangles, double bound2) const;
   bool TryFlip(Index x, Index y);
   bool TryMove(Index v);
   bool RepairTriangle(Index t);
   std::vector<Index> Touched; // vertices of the tiles a repair changed in this pass
   // Scratch buffers reused by every try (no allocation per tile).
   std::vector<Index> Region, Neighbors;
+  mutable std::vector<unsigned char> LocallyBad; // per tile of a region: bad without the query
   std::vector<Vec3> AfterSamples;
   Before Previous;
 };

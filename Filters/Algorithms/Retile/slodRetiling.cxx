@@ -9,6 +9,7 @@
 #include "slodRetileRing.h"
 #include "slodTriangleBVH.h"
 
+#include "vtkLogger.h"
 #include "vtkSMPTools.h"
 
 #include <algorithm>
@@ -831,8 +832,12 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   NearestNeighborSpacing(PointCoordinates(points), result.MinSpacingBefore, result.MeanSpacingBefore);
   TriangleBVH bvh(mesh);
   const std::vector<SurfacePoint> placed = points;
+  vtkLogF(TRACE, "retile: %lld candidate points on %lld triangles", static_cast<long long>(points.size()),
+    static_cast<long long>(nt));
+  vtkLogStartScopeF(TRACE, "retile-relax", "retile: repulsion");
   const bool relaxed = RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points,
     [&](double f) { return report(0.6 * f); }, fixed);
+  vtkLogEndScope("retile-relax");
   if (!relaxed)
   {
     abort();
@@ -1358,6 +1363,7 @@ struct OldVertexRemoval
     }
     for (int step = 0; step < 6 && !pending.empty(); ++step)
     {
+      vtkLogF(TRACE, "retile removal step %d: %zu old vertices pending", step, pending.size());
       this->LastStep = step == 5;
       const int phase = step % 3;
       this->MinimumFacing = step < 3 ? 0.0 : -0.5;
@@ -1404,7 +1410,42 @@ struct OldVertexRemoval
         }
       }
     }
+    if (vtkLogger::GetCurrentVerbosityCutoff() >= vtkLogger::VERBOSITY_TRACE)
+    {
+      this->LogWhyRetained(pending);
+    }
     return true;
+  }
+
+  // TRACE: why the old vertices left could not go: every collapse onto a neighbour breaks the
+  // topology (link condition, boundary, too small: small handles and thin parts), or some
+  // collapse would only fold the surface.
+  void LogWhyRetained(const std::vector<Index>& pending) const
+  {
+    CollapseOptions topologyFirst = this->Collapse;
+    topologyFirst.GeometryFirst = false;
+    long long topology = 0, geometry = 0;
+    std::vector<Index> neighbors;
+    for (Index r : pending)
+    {
+      if (!this->Edit.IsVertexAlive(r))
+      {
+        continue;
+      }
+      this->Edit.Neighbors(r, neighbors);
+      bool anyTopologicallyValid = false;
+      for (Index c : neighbors)
+      {
+        const Index pair[2] = { r, c };
+        const CollapseStatus status = this->Edit.CheckCollapse(pair, 2, this->Edit.Point(c), topologyFirst);
+        anyTopologicallyValid = anyTopologicallyValid ||
+          (status != CollapseStatus::NonManifold && status != CollapseStatus::BoundaryChange &&
+            status != CollapseStatus::TooSmall && status != CollapseStatus::IsolatedVertex);
+      }
+      ++(anyTopologicallyValid ? geometry : topology);
+    }
+    vtkLogF(TRACE, "retile removal: %lld old vertices left held by the topology (every collapse), %lld by folds",
+      topology, geometry);
   }
 };
 
@@ -1637,7 +1678,9 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
   MoveCandidatesInside(mesh, points, coarser);
   TriangleMesh mutual;
   std::vector<double> bary;
+  vtkLogStartScopeF(TRACE, "retile-mutual", "retile: mutual tessellation");
   MutualTessellation(mesh, points, buckets, coarser.FixedCount, mutual, bary);
+  vtkLogEndScope("retile-mutual");
   if (!ReportProgress(options, 0.65))
   {
     AbortResult(result);
@@ -1652,12 +1695,26 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
   }
   OldVertexRemoval removal(
     edit, reference, n0, np, coarser, options.NonManifoldVertices ? *options.NonManifoldVertices : computedFlags);
-  if (!removal.Run(options))
+  vtkLogStartScopeF(TRACE, "retile-removal", "retile: old-vertex removal");
+  const bool removed = removal.Run(options);
+  vtkLogEndScope("retile-removal");
+  if (!removed)
   {
     AbortResult(result);
     return;
   }
+  vtkLogStartScopeF(TRACE, "retile-flips", "retile: shape flips");
   result.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses, removal);
+  vtkLogEndScope("retile-flips");
+  if (options.ContinueWithCounts)
+  {
+    edit.Extract(result.Mesh);
+    if (!options.ContinueWithCounts(result.Mesh.NumberOfPoints(), result.Mesh.NumberOfTriangles()))
+    {
+      result.Stopped = true;
+      return;
+    }
+  }
   // The free candidates may move (on the input surface): not a coarser level's, nor one on a
   // border or a feature line. One standing on an old vertex (phase 2) no longer does once moved.
   std::vector<unsigned char> movable(size_t(edit.NumberOfPoints()), 0);
@@ -1668,6 +1725,7 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
   }
   std::vector<Vec3> vertexNormals;
   VertexNormals(mesh, vertexNormals);
+  vtkLogStartScopeF(TRACE, "retile-repair", "retile: repair");
   result.Flips += RepairTiles(mesh, bvh, vertexNormals, removal, movable, edit, reference, nullptr,
     [&](Index v, const Vec3& position, Index triangle) {
       removal.MovedTo[v - n0] = InvalidIndex;
@@ -1676,6 +1734,7 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
       const Vec3 w = Barycentric(position, mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]));
       std::copy(w.begin(), w.end(), &bary[3 * size_t(v - n0)]);
     });
+  vtkLogEndScope("retile-repair");
   if (!ReportProgress(options, 0.97))
   {
     AbortResult(result);

@@ -68,6 +68,11 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   const std::vector<unsigned char>* NonManifoldVertices = nullptr;
   // Progress in [0,1]; return false to abort (the result is then empty, Aborted set).
   std::function<bool(double)> Progress;
+  // Optional: called with the output's vertex and triangle counts once the removal and the shape
+  // flips have fixed them (the repair, step 7, changes neither); return false to stop there (the
+  // result then has Stopped set and its Mesh is not repaired, nor its host locations recorded).
+  // vtkRetile tries several point counts to meet a triangle target and repairs only the one it keeps.
+  std::function<bool(Index vertices, Index triangles)> ContinueWithCounts;
 };
 
 // Where a point lies on the original surface.
@@ -108,6 +113,7 @@ struct SURFACELODFILTERS_EXPORT RetilingResult
   // Nearest-neighbour spacing of the candidate points (Euclidean), before and after repulsion.
   double MinSpacingBefore = 0, MeanSpacingBefore = 0, MinSpacingAfter = 0, MeanSpacingAfter = 0;
   bool Aborted = false;
+  bool Stopped = false; // RetilingOptions::ContinueWithCounts returned false
 };
 
 // Turk's minimum radius of curvature per vertex (+inf-free: flat vertices get a large radius).

@@ -11,6 +11,7 @@
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkIntArray.h"
+#include "vtkLogger.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
@@ -71,24 +72,62 @@ slod::RetilingResult InputAsResult(const slod::TriangleMesh& mesh)
   return result;
 }
 
-// Runs retile(points) (returns the triangle count, negative when aborted) with `points`, then with
-// proportionally fewer points while the result has more than `limit` triangles (retained old
-// vertices and borders add triangles); leaves the point count of the last attempt in `points`.
+// The attempts at a triangle limit so far: the next point count from the last two. A closed
+// surface has F = 2V - 2 chi triangles, so the first step removes half the excess in points; the
+// old vertices retained (at the small handles and thin parts of noisy scans) grow as the points
+// get fewer, so the later steps follow the slope measured between the last two attempts. Below
+// MinimumAttemptSlope triangles per point removed, each point removed mostly comes back as a
+// retained original vertex: fewer points would give a worse re-tiling for little gain, so the
+// attempts stop there (the target is then reported missed). The slope is measured only over a
+// step of at least MinimumSlopeStep of the points: over a small step the retained count's
+// randomness (a few vertices more or less) decides it.
+constexpr double MinimumAttemptSlope = 1.0;
+constexpr double MinimumSlopeStep = 0.05;
+struct LimitAttempts
+{
+  int Attempt = 0;
+  slod::Index PreviousPoints = 0, PreviousTriangles = 0;
+
+  // The point count of the attempt after one of `points` points gave `triangles` triangles over
+  // `limit`, or 0 when there is none (the last attempt, or no smaller count to try).
+  slod::Index Next(slod::Index points, slod::Index limit, slod::Index triangles) const
+  {
+    double slope = 2.0;
+    if (double(this->PreviousPoints - points) >= MinimumSlopeStep * double(this->PreviousPoints))
+    {
+      slope = std::min(slope, double(this->PreviousTriangles - triangles) / double(this->PreviousPoints - points));
+      if (slope < MinimumAttemptSlope)
+      {
+        return 0;
+      }
+    }
+    const auto fewer = static_cast<slod::Index>(std::floor(double(points) - double(triangles - limit) / slope));
+    return this->Attempt + 1 >= MaximumRetileAttempts || fewer >= points || fewer < 4 ? 0 : fewer;
+  }
+};
+
+// Runs retile(points, attempts) (returns the triangle count, negative when aborted) with `points`,
+// then with fewer points while the result has more than `limit` triangles (retained old vertices
+// and borders add triangles; LimitAttempts); leaves the point count of the last attempt in `points`.
 template <typename RetileFunction>
 void ShrinkWhileOverLimit(slod::Index& points, slod::Index limit, RetileFunction&& retile)
 {
-  for (int attempt = 0; attempt < MaximumRetileAttempts; ++attempt)
+  for (LimitAttempts attempts; attempts.Attempt < MaximumRetileAttempts; ++attempts.Attempt)
   {
-    const slod::Index triangles = retile(points);
+    const slod::Index triangles = retile(points, attempts);
+    vtkLogF(TRACE, "retile attempt %d: %lld points -> %lld triangles (limit %lld)", attempts.Attempt,
+      static_cast<long long>(points), static_cast<long long>(triangles), static_cast<long long>(limit));
     if (triangles < 0 || triangles <= limit)
     {
       break;
     }
-    const auto fewer = static_cast<slod::Index>(std::floor(double(points) * limit / triangles));
-    if (fewer >= points || fewer < 4)
+    const slod::Index fewer = attempts.Next(points, limit, triangles);
+    if (fewer == 0)
     {
       break;
     }
+    attempts.PreviousPoints = points;
+    attempts.PreviousTriangles = triangles;
     points = fewer;
   }
 }
@@ -98,11 +137,17 @@ void ShrinkWhileOverLimit(slod::Index& points, slod::Index limit, RetileFunction
 slod::RetilingResult RetileWithin(const slod::TriangleMesh& mesh, slod::RetilingOptions& options, slod::Index limit)
 {
   slod::RetilingResult result;
-  ShrinkWhileOverLimit(options.NumberOfPoints, limit, [&](slod::Index points) {
+  ShrinkWhileOverLimit(options.NumberOfPoints, limit, [&](slod::Index points, const LimitAttempts& attempts) {
     options.NumberOfPoints = points;
+    // An attempt that another will follow is not repaired (the repair is most of the time on
+    // noisy scans and changes no count).
+    options.ContinueWithCounts = [&](slod::Index, slod::Index triangles) {
+      return triangles <= limit || attempts.Next(points, limit, triangles) == 0;
+    };
     slod::Retile(mesh, options, result);
     return result.Aborted ? slod::Index(-1) : result.Mesh.NumberOfTriangles();
   });
+  options.ContinueWithCounts = nullptr;
   return result;
 }
 
@@ -122,14 +167,18 @@ slod::RetilingResult RetileExactCount(const slod::TriangleMesh& mesh, slod::Reti
       break;
     }
     attempt.NumberOfPoints = points;
+    const auto miss = [&](slod::Index vertices) { return std::abs(vertices - wanted); };
+    // Repaired only when kept (the repair changes no count).
+    attempt.ContinueWithCounts = [&](slod::Index vertices, slod::Index triangles) {
+      return triangles <= limit && miss(vertices) < miss(got);
+    };
     slod::RetilingResult next;
     slod::Retile(mesh, attempt, next);
     if (next.Aborted)
     {
       return next;
     }
-    const auto miss = [&](const slod::RetilingResult& r) { return std::abs(r.Mesh.NumberOfPoints() - wanted); };
-    if (next.Mesh.NumberOfTriangles() <= limit && miss(next) < miss(result))
+    if (!next.Stopped && next.Mesh.NumberOfTriangles() <= limit && miss(next.Mesh.NumberOfPoints()) < miss(got))
     {
       result = std::move(next);
       options.NumberOfPoints = attempt.NumberOfPoints;
@@ -158,7 +207,7 @@ void RetileNestedWithin(const slod::TriangleMesh& mesh, const slod::RetilingOpti
   double ratio, slod::Index limit, std::vector<slod::RetilingResult>& levels)
 {
   slod::Index finest = options.NumberOfPoints;
-  ShrinkWhileOverLimit(finest, limit, [&](slod::Index points) {
+  ShrinkWhileOverLimit(finest, limit, [&](slod::Index points, const LimitAttempts&) {
     slod::RetileNested(mesh, NestedLevelCounts(points, numberOfLevels, ratio), options, levels);
     if (levels.empty() || levels.back().Aborted)
     {

@@ -380,6 +380,44 @@ TEST(Retile, NoisyScanKeepsNonManifoldEdgesAndHandles)
   }
 }
 
+// vtkRetile tries several point counts at a triangle target and repairs only the attempt it keeps:
+// the repair (step 7) must change no count, so the counts ContinueWithCounts sees are the output's,
+// and stopping there skips the repair and the host locations. On a noisy scan (handles,
+// non-manifold edges, a border), where the repair does the most.
+TEST(Retile, CountsAreKnownBeforeTheRepair)
+{
+  const TriangleMesh mesh = slodtest::RawTriangleMesh(slodtest::NoisyScanIsosurface(40, 1));
+  ASSERT_GT(mesh.NumberOfTriangles(), 0);
+  RetilingOptions options;
+  options.NumberOfPoints = mesh.NumberOfTriangles() / 20;
+  RetilingResult full;
+  Retile(mesh, options, full);
+  ASSERT_FALSE(full.Stopped);
+  ASSERT_GT(full.Mesh.NumberOfTriangles(), 0);
+  Index seenVertices = -1, seenTriangles = -1;
+  int calls = 0;
+  options.ContinueWithCounts = [&](Index vertices, Index triangles) {
+    ++calls;
+    seenVertices = vertices;
+    seenTriangles = triangles;
+    return false;
+  };
+  RetilingResult stopped;
+  Retile(mesh, options, stopped);
+  EXPECT_EQ(calls, 1);
+  EXPECT_TRUE(stopped.Stopped);
+  EXPECT_TRUE(stopped.HostTriangle.empty()); // stopped before the host locations
+  EXPECT_EQ(seenVertices, full.Mesh.NumberOfPoints());
+  EXPECT_EQ(seenTriangles, full.Mesh.NumberOfTriangles());
+  // Going on gives the full re-tiling itself.
+  options.ContinueWithCounts = [](Index, Index) { return true; };
+  RetilingResult continued;
+  Retile(mesh, options, continued);
+  EXPECT_FALSE(continued.Stopped);
+  EXPECT_EQ(continued.Mesh.Points, full.Mesh.Points);
+  EXPECT_EQ(continued.Mesh.Triangles, full.Mesh.Triangles);
+}
+
 // At sharp concave creases the repulsion's projection onto the surface crowds points onto the
 // same spot; such points must not become vertices a few 1e-8 of the diagonal apart (they made
 // needle tiles on fandisk and elephant). Every output edge stays above 1e-5 of the diagonal.
