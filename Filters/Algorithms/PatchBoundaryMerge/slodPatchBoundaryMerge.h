@@ -232,6 +232,8 @@ private:
   void OrderChainKeys(size_t totalVertices);
   void MarkParallelChains();
   void MeasureEndpointVariation();
+  // How many interior vertices (original) chain c keeps at `tolerance`: a prefix of its key order.
+  Index KeptInterior(Index c, float tolerance) const;
   // One merging run (slodSpbmMerging.cxx) leaves the level's chain graph in `s`.
   class MergingRun;
   // Triangulation passes of a level (slodSpbmTriangulation.cxx).
