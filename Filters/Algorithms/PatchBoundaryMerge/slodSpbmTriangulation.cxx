@@ -459,15 +459,23 @@ bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<uns
   // unmerged patch that still fails is its original triangles (mc1m at 10%: 12 patches failed
   // through 6 such passes, 0.35 s of triangulation and a merging run each).
   const bool fullResolution = parameters.Epsilon < 0;
+  // Every failed patch goes one level further per pass; the passes in which none of them keeps a
+  // vertex more (or is unmerged) would repeat this one, so they are skipped: the level is the same.
+  int step = parameters.SkipIneffectiveFallbackLevels ? OriginalLevel : 1;
   bool anyFailed = false;
+  for (Index q = 0; q < np && step > 1; ++q)
+  {
+    if (failed[s.Find(q)] && frozen[q] < OriginalLevel && !(fullResolution && frozen[q] >= 1))
+    {
+      step = std::min(step, frozen[q] == 0 ? 1 : this->NextEffectiveLevel(q, frozen) - frozen[q]);
+    }
+  }
   for (Index q = 0; q < np; ++q)
   {
     if (failed[s.Find(q)] && frozen[q] < OriginalLevel)
     {
       unmerged = unmerged || frozen[q] == 0;
-      frozen[q] = fullResolution && frozen[q] >= 1 ? OriginalLevel
-        : frozen[q] == 0                           ? 1
-                                                   : this->NextEffectiveLevel(q, frozen);
+      frozen[q] = fullResolution && frozen[q] >= 1 ? OriginalLevel : std::min(OriginalLevel, frozen[q] + step);
       anyFailed = true;
     }
   }
@@ -475,9 +483,9 @@ bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<uns
 }
 
 // The next fallback level of unmerged patch q that makes one of its chains keep more vertices
-// (else its original triangles). A level that keeps the same vertices gives the same boundaries
-// and the same pass again: on the MRI at 10% one patch went through four such passes (each a
-// triangulation of the whole level) before the level that changed it.
+// (else its original triangles). A level that keeps the same vertices gives the same boundaries:
+// on the MRI at 10% one patch went through four such passes (each a triangulation of the whole
+// level) before the level that changed it.
 int SpbmLevelGenerator::LevelTriangulation::NextEffectiveLevel(Index q, const std::vector<unsigned char>& frozen) const
 {
   const float epsilon = static_cast<float>(parameters.Epsilon);
