@@ -239,6 +239,16 @@ void SpbmLevelGenerator::MeasureEndpointVariation()
   }
 }
 
+Index SpbmLevelGenerator::KeptInterior(Index c, float tolerance) const
+{
+  const Index m = std::max<Index>(0, this->Patches->ChainSize(c) - 2);
+  const float* ordered =
+    this->OrderedKeys.data() + (this->Patches->ChainVerticesBegin(c) - this->Patches->ChainVerticesBegin(0));
+  const Index interior = static_cast<Index>(
+    std::partition_point(ordered, ordered + m, [&](float k) { return k > tolerance; }) - ordered);
+  return interior == 0 && m > 0 && this->MinimumInterior[c] ? 1 : interior;
+}
+
 double SpbmLevelGenerator::ChainVertexKey(Index c, Index i) const
 {
   const size_t offset = size_t(this->Patches->ChainVerticesBegin(c) - this->Patches->ChainVerticesBegin(0));
@@ -383,12 +393,13 @@ Index SpbmLevelGenerator::FinestLevelLowerBound() const
   // A level has sum over root patches of (boundary size - 2) triangles. Two bounds: (1) a
   // boundary counts the kept interior vertices of its chains on each side (interior vertices are
   // never removed at full resolution: merges and collapses take one-segment chains, a join keeps
-  // both chains' vertices), and there are at most as many roots as patches; (2) merges keep the
-  // count and every collapse or join removes one endpoint not on the border (two triangles) from
-  // the unmerged patches' count.
+  // both chains' vertices) plus at least one endpoint (a root has at least one chain), and there
+  // are at most as many roots as patches: at least (interior vertices - 1) per root; (2) merges
+  // keep the count and every collapse or join removes one endpoint not on the border (two
+  // triangles) from the unmerged patches' count.
   const Patchification& P = *this->Patches;
-  long long interiorBound = -2 * (long long)P.NumberOfPatches();
-  long long endpointBound = interiorBound;
+  long long interiorBound = -(long long)P.NumberOfPatches();
+  long long endpointBound = -2 * (long long)P.NumberOfPatches();
   for (Index c = 0; c < P.NumberOfChains(); ++c)
   {
     const long long sides = P.ChainRightPatch(c) != InvalidIndex ? 2 : 1;
@@ -771,7 +782,9 @@ void SpbmLevelGenerator::KeepOtherMeasure(SpbmLevel& level, TargetCandidates& ru
 
 // The target is beyond what this measure reaches (unreachable counts: the femur, armadillo at
 // 1%): the other measure may merge further; keeps the level closer to the target. Returns false
-// when aborted.
+// when aborted. Like the removal tries, only after a first level that needed one generation pass:
+// the try gets one pass, and where the first level needed fallback passes (rough scans) the try's
+// pass failed too (noisy:137 at 10%: 1,002 failed patches, two merging runs, 18% of the filter).
 bool SpbmLevelGenerator::TryOtherMeasureForUnreachedTarget(
   const SpbmLevelParameters& base, SpbmLevel& level, TargetCandidates& run)
 {
@@ -884,7 +897,7 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
   {
     this->KeepOtherMeasure(level, run);
   }
-  else if (base.MergePatches && 20 * run.FirstCount > 21 * target &&
+  else if (base.MergePatches && 20 * run.FirstCount > 21 * target && level.Passes == 1 &&
     !this->TryOtherMeasureForUnreachedTarget(base, level, run))
   {
     return false;

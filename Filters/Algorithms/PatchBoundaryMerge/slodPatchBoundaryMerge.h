@@ -102,6 +102,9 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // A fallback pass that unmerges patches replays the previous pass's recorded merging edits with
   // them frozen and merges again only around them (off: a whole merging run per such pass).
   bool ReplayFallbackPasses = true;
+  // Fallback passes in which no failed patch would keep a vertex more (or be unmerged) repeat the
+  // pass before them: skipped (the same level in fewer passes); off: one level per pass.
+  bool SkipIneffectiveFallbackLevels = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
   // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices
@@ -232,6 +235,8 @@ private:
   void OrderChainKeys(size_t totalVertices);
   void MarkParallelChains();
   void MeasureEndpointVariation();
+  // How many interior vertices (original) chain c keeps at `tolerance`: a prefix of its key order.
+  Index KeptInterior(Index c, float tolerance) const;
   // One merging run (slodSpbmMerging.cxx) leaves the level's chain graph in `s`.
   class MergingRun;
   // Triangulation passes of a level (slodSpbmTriangulation.cxx).

@@ -294,6 +294,7 @@ void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()
   {
     this->RemoveCheapest();
   }
+  s.EditsReachedTarget = parameters.RemovalTarget <= 0 || s.Total <= parameters.RemovalTarget;
 }
 
 void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned char>& frozen)
@@ -614,7 +615,7 @@ int SpbmLevelGenerator::MergingRun::FallbackLevel(Index c, const std::vector<uns
 // Chain tolerance at a fallback level: levels 2.. divide epsilon by 4 each.
 float SpbmLevelGenerator::MergingRun::FallbackTolerance(int level) const
 {
-  return level >= 2 ? eps * std::pow(0.25f, float(level - 1)) : eps;
+  return spbm::FallbackTolerance(eps, level);
 }
 
 // Fallback levels 2..7 of patches that were already frozen in the merging run the state holds.
@@ -682,19 +683,7 @@ void SpbmLevelGenerator::MergingRun::RebuildKeptPositions()
   {
     const Index n = P.ChainSize(c);
     const size_t offset = size_t(P.ChainVerticesBegin(c) - base);
-    const Index m = std::max<Index>(0, n - 2);
-    Index interior = m;
-    if (!s.Locked[c])
-    {
-      const float tolerance = s.Tolerance[c];
-      const float* ordered = generator.OrderedKeys.data() + offset;
-      interior = static_cast<Index>(
-        std::partition_point(ordered, ordered + m, [&](float k) { return k > tolerance; }) - ordered);
-      if (interior == 0 && m > 0 && generator.MinimumInterior[c])
-      {
-        interior = 1;
-      }
-    }
+    const Index interior = s.Locked[c] ? std::max<Index>(0, n - 2) : generator.KeptInterior(c, s.Tolerance[c]);
     s.KeptOffsets[c] = static_cast<Index>(s.KeptPositions.size());
     if (s.Locked[c])
     {
@@ -1452,18 +1441,56 @@ void SpbmLevelGenerator::MergingRun::RemoveCheapest()
 {
   joinBase = 2 * nc;
   removalQueue.Reset(joinBase + ne);
+  // A replay around dirty patches whose recorded run ran out of removals above the target: the
+  // clean rest had none left then (unreachable targets, rough scans), so only the dirty
+  // neighbourhoods are queued.
+  const bool recordedRanOut = removalAroundDirty && !s.EditsReachedTarget;
+  this->SeedRemovals(removalAroundDirty);
+  this->PopRemovals();
+  if (removalAroundDirty && !recordedRanOut && s.Total > parameters.RemovalTarget)
+  {
+    this->SeedRemovals(false); // the dirty neighbourhoods ran out of removals: everywhere
+    this->PopRemovals();
+  }
+}
+
+// Queues the removal operations of every chain and endpoint, or (aroundDirty, a replayed pass)
+// only those of the chains of dirty patches and their endpoints: the clean rest is as the
+// recorded run left it, whose removal stopped at the target, and the removals still missing are
+// those the dirty patches did not make as recorded. (Queuing every chain and endpoint after each
+// replay was a sixth of a replayed pass on the MRI and the noisy scans.)
+void SpbmLevelGenerator::MergingRun::SeedRemovals(bool aroundDirty)
+{
   for (Index c = 0; c < nc; ++c)
   {
+    if (aroundDirty &&
+      !(s.Alive[c] && s.R[c] != InvalidIndex && (s.DirtyPatch[s.Find(s.L[c])] || s.DirtyPatch[s.Find(s.R[c])])))
+    {
+      continue;
+    }
     if (this->RemovableChain(c))
     {
       this->PushRemoval(2 * c);
       this->PushRemoval(2 * c + 1);
     }
+    if (aroundDirty)
+    {
+      this->PushRemoval(joinBase + s.A[c]);
+      this->PushRemoval(joinBase + s.B[c]);
+    }
   }
   for (Index u = 0; u < ne; ++u)
   {
-    this->PushRemoval(joinBase + u);
+    if (!aroundDirty || s.DirtyEnd[u])
+    {
+      this->PushRemoval(joinBase + u);
+    }
   }
+}
+
+// Pops removals cheapest first until the level is at the target or none is left.
+void SpbmLevelGenerator::MergingRun::PopRemovals()
+{
   const long long target = parameters.RemovalTarget;
   const double infinite = std::numeric_limits<double>::infinity();
   while (s.Total > target && !removalQueue.Empty())

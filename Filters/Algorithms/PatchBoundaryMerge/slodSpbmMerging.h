@@ -51,6 +51,8 @@ private:
   void ComputeMergeThreshold();
   void MergeInMeasureOrder();
   void RemoveCheapest();
+  void SeedRemovals(bool aroundDirty);
+  void PopRemovals();
 
   // Chain graph walks and edits.
   template<typename Functor>
@@ -156,6 +158,7 @@ private:
   Index collapseRoot = InvalidIndex; // the patch whose chains TryCollapses walks (recorded)
   long long replayedAsRecorded = 0;
   bool markNewEdits = false; // Replay: edits made while merging around the dirty patches
+  bool removalAroundDirty = false; // Replay: the removal continues around the dirty patches first
   Index joinBase = 0;                                // removal operations: 2c / 2c + 1 collapse chain c,
                                                      // joinBase + u joins at u
 };

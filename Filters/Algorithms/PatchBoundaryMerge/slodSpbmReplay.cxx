@@ -108,7 +108,9 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
   }
   const double removalReplaySeconds = Since(start);
   const size_t removalBeginNow = s.EditsRemovalBegin;
+  removalAroundDirty = true;
   this->RemoveDownToTarget();
+  removalAroundDirty = false;
   s.EditsRemovalBegin = removalBeginNow;
   long long dirty = 0;
   for (Index p = 0; p < np; ++p)

@@ -57,6 +57,11 @@ inline constexpr float InfiniteKey = std::numeric_limits<float>::infinity();
 // triangles.
 inline constexpr int FullResolutionLevel = 6;
 inline constexpr int OriginalLevel = 7;
+// Chain tolerance at a fallback level below FullResolutionLevel: levels 2.. divide epsilon by 4 each.
+inline float FallbackTolerance(float epsilon, int level)
+{
+  return level >= 2 ? epsilon * std::pow(0.25f, float(level - 1)) : epsilon;
+}
 // Longer patch boundaries are not checked for simplicity while merging (left to
 // the fallback).
 inline constexpr Index MaximumCheckedBoundary = 1 << 16;
@@ -278,6 +283,7 @@ struct SpbmLevelGenerator::State
   };
   std::vector<Edit> Edits;
   size_t EditsRemovalBegin = 0;
+  bool EditsReachedTarget = true; // the recorded run's removal reached its target
   bool EditsValid = false;
   PredictionMemo EditsOf{};
   std::vector<float> EditsTolerance;
@@ -298,21 +304,35 @@ struct SpbmLevelGenerator::State
     }
     return p;
   }
-  // Calls f(c) for every live chain that ends at endpoint e.
+  // Calls f(c) for every live chain that ends at endpoint e, unlinking the slots of dead chains
+  // on the way: unions leave their chain's slots behind and collapses splice whole lists, so
+  // without it the lists of much-collapsed endpoints drag every chain that ever ended there
+  // through each walk (a tenth of the MRI's level time was these walks). A dead chain never
+  // comes back within a run, and the live slots keep their order. `f` must not relink lists.
   template<typename Functor>
-  void ForEndChains(Index e, Functor&& f) const
+  void ForEndChains(Index e, Functor&& f)
   {
-    for (Index slot = this->EndHead[e]; slot != InvalidIndex; slot = this->EndSlotNext[slot])
+    Index previous = InvalidIndex;
+    for (Index slot = this->EndHead[e]; slot != InvalidIndex;)
     {
       const Index c = slot / 2;
-      if (this->Alive[c] && (slot % 2 == 0 ? this->A[c] : this->B[c]) == e)
+      const Index next = this->EndSlotNext[slot];
+      if (!this->Alive[c])
+      {
+        (previous == InvalidIndex ? this->EndHead[e] : this->EndSlotNext[previous]) = next;
+        slot = next;
+        continue;
+      }
+      if ((slot % 2 == 0 ? this->A[c] : this->B[c]) == e)
       {
         f(c);
       }
+      previous = slot;
+      slot = next;
     }
   }
   // The two chains ending at u, when exactly two do.
-  bool TwoChainsAt(Index u, Index (&pair)[2]) const
+  bool TwoChainsAt(Index u, Index (&pair)[2])
   {
     pair[0] = pair[1] = InvalidIndex;
     int found = 0;

@@ -41,6 +41,7 @@ private:
   bool BoundaryPolygon(Index p);
   bool TriangulateBoundary(Index p);
   void TriangulateMinimumDeviation(const Vec3& normal, PolygonTriangulationResult& result);
+  int NextEffectiveLevel(Index q, const std::vector<unsigned char>& frozen) const;
 
   SpbmLevelGenerator& generator;
   const SpbmLevelParameters& parameters;

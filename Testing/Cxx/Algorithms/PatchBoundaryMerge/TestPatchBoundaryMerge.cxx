@@ -1015,6 +1015,40 @@ TEST(SpbmLevel, FallbackPassesReplayTheRecordedMerging)
   }
 }
 
+// Session 14: an unmerged patch that fails again goes to the next fallback level that makes its
+// chains keep more vertices; the levels in between would repeat the same pass. On noisy scans (a
+// surface no other PBM test tunes for) the level is the same as with one level per pass, in fewer
+// passes.
+TEST(SpbmLevel, IneffectiveFallbackLevelsAreSkipped)
+{
+  bool skipped = false;
+  for (const unsigned int seed : { 2u, 3u, 5u })
+  {
+    TriangleMesh mesh;
+    std::vector<Index> vertexToInput;
+    ASSERT_TRUE(
+      PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
+    auto pm = Patch(mesh);
+    SpbmLevelParameters base;
+    base.SizeWeightedMerge = true;
+    auto generate = [&](bool skip, SpbmLevel& level) {
+      SpbmLevelGenerator generator;
+      generator.Initialize(pm->Mesh, pm->Patches);
+      SpbmLevelParameters parameters = generator.FindParameters(mesh.NumberOfTriangles() / 10, base);
+      parameters.SkipIneffectiveFallbackLevels = skip;
+      ASSERT_TRUE(generator.Generate(parameters, level));
+    };
+    SpbmLevel fast, slow;
+    generate(true, fast);
+    generate(false, slow);
+    EXPECT_EQ(fast.Triangles, slow.Triangles) << "seed " << seed;
+    EXPECT_EQ(fast.OriginalPatches, slow.OriginalPatches) << "seed " << seed;
+    EXPECT_LE(fast.Passes, slow.Passes) << "seed " << seed;
+    skipped = skipped || fast.Passes < slow.Passes;
+  }
+  EXPECT_TRUE(skipped) << "some noisy scan must need a fallback level that changes nothing";
+}
+
 // The finest level's count is bounded from below without a merging run (the filter skips that
 // run when the bound reaches the target): never above the count a run finds, at the paper's
 // angle and the filter's.
