@@ -970,6 +970,20 @@ TEST(SpbmLevel, FullResolutionFallbackSkipsFinerChainLevels)
   EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic);
 }
 
+// The SPBM level of a tenth of the patched mesh's triangles (size-weighted merging), with `adjust`
+// applied to the parameters the target search found.
+template <typename Adjust>
+void GenerateTenthLevel(const PatchedMesh& pm, Adjust&& adjust, SpbmLevel& level)
+{
+  SpbmLevelParameters base;
+  base.SizeWeightedMerge = true;
+  SpbmLevelGenerator generator;
+  generator.Initialize(pm.Mesh, pm.Patches);
+  SpbmLevelParameters parameters = generator.FindParameters(pm.Mesh.NumberOfTriangles() / 10, base);
+  adjust(parameters);
+  ASSERT_TRUE(generator.Generate(parameters, level));
+}
+
 // Issue 10: a fallback pass that unmerges patches replays the previous pass's merging edits with
 // those patches frozen (edits whose neighbourhood is unchanged as recorded, the others tested
 // again) and merges again around them, instead of a whole merging run. On a noisy scan surface
@@ -983,14 +997,8 @@ TEST(SpbmLevel, FallbackPassesReplayTheRecordedMerging)
   ASSERT_TRUE(PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, 2), PreparationOptions(), mesh, vertexToInput).Valid);
   auto pm = Patch(mesh);
   const MeshStatistics in = ComputeMeshStatistics(pm->Mesh);
-  SpbmLevelParameters base;
-  base.SizeWeightedMerge = true;
   auto generate = [&](bool replay, SpbmLevel& level) {
-    SpbmLevelGenerator generator;
-    generator.Initialize(pm->Mesh, pm->Patches);
-    SpbmLevelParameters parameters = generator.FindParameters(mesh.NumberOfTriangles() / 10, base);
-    parameters.ReplayFallbackPasses = replay;
-    ASSERT_TRUE(generator.Generate(parameters, level));
+    GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.ReplayFallbackPasses = replay; }, level);
   };
   SpbmLevel replayed, again, whole;
   generate(true, replayed);
@@ -1029,14 +1037,8 @@ TEST(SpbmLevel, IneffectiveFallbackLevelsAreSkipped)
     ASSERT_TRUE(
       PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
     auto pm = Patch(mesh);
-    SpbmLevelParameters base;
-    base.SizeWeightedMerge = true;
     auto generate = [&](bool skip, SpbmLevel& level) {
-      SpbmLevelGenerator generator;
-      generator.Initialize(pm->Mesh, pm->Patches);
-      SpbmLevelParameters parameters = generator.FindParameters(mesh.NumberOfTriangles() / 10, base);
-      parameters.SkipIneffectiveFallbackLevels = skip;
-      ASSERT_TRUE(generator.Generate(parameters, level));
+      GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.SkipIneffectiveFallbackLevels = skip; }, level);
     };
     SpbmLevel fast, slow;
     generate(true, fast);
