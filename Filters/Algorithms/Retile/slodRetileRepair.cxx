@@ -40,10 +40,6 @@ bool TileRepair::FacesAgainstInput(const Vec3* p, const Vec3& normal, Index t) c
   FacingEntry* entry = nullptr;
   if (t != InvalidIndex)
   {
-    if (this->FacingCache.size() <= size_t(t))
-    {
-      this->FacingCache.resize(std::max(size_t(t) + 1, size_t(this->Edit.NumberOfTriangles())));
-    }
     entry = &this->FacingCache[t];
     if (entry->Known && entry->Corners[0] == p[0] && entry->Corners[1] == p[1] && entry->Corners[2] == p[2])
     {

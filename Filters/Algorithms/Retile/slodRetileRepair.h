@@ -16,6 +16,7 @@
 #include "slodEditableMesh.h"
 
 #include <functional>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -92,7 +93,9 @@ private:
   bool FacesAgainstInput(const Vec3* p, const Vec3& normal, Index t) const;
   // IsBad without the centroid query, given the tile's normal and smallest angle.
   bool IsBadLocally(const Index* ids, const Vec3* p, const Vec3& normal, double angle) const;
-  mutable std::vector<FacingEntry> FacingCache;
+  // Sparse: only the tiles queried. A dense array over the editable mesh's triangle slots (80 bytes
+  // each) raised retile's working memory on mc1m from 553 to 729 bytes per input vertex.
+  mutable std::unordered_map<Index, FacingEntry> FacingCache;
   struct Score
   {
     int Bad = 0;
