@@ -16,6 +16,7 @@ from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
 from surfacelod import vtkGreedyCutsSimplification, vtkOFFMeshReader, vtkSurfaceDeviation
 
 mesh_dir, out_dir = sys.argv[1], sys.argv[2]
+os.makedirs(out_dir, exist_ok=True)
 
 
 def render(polydata, name, color_by_patch=False, camera=None):

@@ -4,12 +4,14 @@
     xvfb-run -a python3 render_images.py <mesh dir> <output dir>
 (PYTHONPATH=<build>/lib/python3/dist-packages). bunny00 original and at 88 %, 97 %, 99 % reduction.
 """
+import os
 import sys
 
 import vtk
 import surfacelod
 
 mesh_dir, out_dir = sys.argv[1], sys.argv[2]
+os.makedirs(out_dir, exist_ok=True)
 reader = surfacelod.vtkOFFMeshReader()
 reader.SetFileName(mesh_dir + "/bunny00.off")
 reader.Update()

@@ -100,6 +100,7 @@ def clean(mesh, size, relative, survey_factor=2.0):
 
 
 def main(mesh_dir, out_dir, mri=None):
+    os.makedirs(out_dir, exist_ok=True)
     window = vtkRenderWindow()
     window.SetOffScreenRendering(1)
     window.SetSize(560, 420)
