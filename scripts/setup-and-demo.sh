@@ -34,4 +34,4 @@ BUILD_DIR="$build" bash "$here/scripts/paraview-plugin.sh"
 echo "== surfacelod demo"
 mkdir -p "$build/demo"
 # Rendering the side-by-side PNG needs an X server: use a virtual one.
-xvfb-run -a "$build/bin/surfacelod" demo --output-dir "$build/demo" ${DEMO_ARGS:-}
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" "$build/bin/surfacelod" demo --output-dir "$build/demo" ${DEMO_ARGS:-}

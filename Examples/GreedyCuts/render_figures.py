@@ -8,12 +8,12 @@ import os
 import sys
 
 from vtkmodules.vtkCommonColor import vtkNamedColors  # noqa: F401
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow,
-                                         vtkWindowToImageFilter)
-from vtkmodules.vtkIOImage import vtkPNGWriter
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer
 from vtkmodules.vtkFiltersCore import vtkQuadricDecimation
 from surfacelod import vtkGreedyCutsSimplification, vtkOFFMeshReader, vtkSurfaceDeviation
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from slod_figures import figure_window, save_png  # noqa: E402 (Examples/slod_figures.py)
 
 mesh_dir, out_dir = sys.argv[1], sys.argv[2]
 os.makedirs(out_dir, exist_ok=True)
@@ -38,22 +38,12 @@ def render(polydata, name, color_by_patch=False, camera=None):
     renderer = vtkRenderer()
     renderer.AddActor(actor)
     renderer.SetBackground(1, 1, 1)
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.AddRenderer(renderer)
-    window.SetSize(480, 400)
+    window = figure_window(renderer, (480, 400))
     renderer.ResetCamera()
     renderer.GetActiveCamera().Azimuth(30)
     renderer.GetActiveCamera().Elevation(20)
     renderer.ResetCameraClippingRange()
-    window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(os.path.join(out_dir, name))
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
+    save_png(window, os.path.join(out_dir, name))
 
 
 reader = vtkOFFMeshReader()

@@ -13,12 +13,12 @@ import sys
 from vtkmodules.vtkCommonCore import vtkLookupTable
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkFiltersCore import vtkDecimatePro, vtkTubeFilter
-from vtkmodules.vtkIOImage import vtkPNGWriter
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow,
-                                         vtkWindowToImageFilter)
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (rendering backend)
+from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer
 
 import surfacelod
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from slod_figures import figure_window, save_png  # noqa: E402 (Examples/slod_figures.py)
 
 
 def copy(data):
@@ -27,21 +27,10 @@ def copy(data):
     return result
 
 
-WINDOW = None
-
-
 def render(actors, path, direction=(1.0, -0.9, 1.1), size=(560, 420), zoom=1.25):
-    # One window for every picture (one X connection; many windows exhaust Xvfb).
-    global WINDOW
-    if WINDOW is None:
-        WINDOW = vtkRenderWindow()
-        WINDOW.SetOffScreenRendering(1)
-        WINDOW.SetSize(*size)
-        WINDOW.AddRenderer(vtkRenderer())
-    window = WINDOW
-    renderer = window.GetRenderers().GetFirstRenderer()
-    renderer.RemoveAllViewProps()
+    renderer = vtkRenderer()
     renderer.SetBackground(1, 1, 1)
+    window = figure_window(renderer, size)
     for actor in actors:
         renderer.AddActor(actor)
     camera = renderer.GetActiveCamera()
@@ -50,14 +39,7 @@ def render(actors, path, direction=(1.0, -0.9, 1.1), size=(560, 420), zoom=1.25)
     camera.SetViewUp(0, 0, 1)
     renderer.ResetCamera()
     camera.Zoom(zoom)
-    window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
+    save_png(window, path)
     print("wrote", path)
 
 

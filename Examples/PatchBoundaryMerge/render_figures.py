@@ -9,12 +9,12 @@ import sys
 
 from vtkmodules.vtkCommonCore import vtkLookupTable
 from vtkmodules.vtkFiltersCore import vtkTubeFilter
-from vtkmodules.vtkIOImage import vtkPNGWriter
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow,
-                                         vtkWindowToImageFilter)
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (rendering backend)
+from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer
 
 import surfacelod
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from slod_figures import figure_window, save_png  # noqa: E402 (Examples/slod_figures.py)
 
 
 def lookup_table(count):
@@ -41,24 +41,14 @@ def render(actors, path, size=(640, 480)):
     renderer.SetBackground(1, 1, 1)
     for actor in actors:
         renderer.AddActor(actor)
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(*size)
-    window.AddRenderer(renderer)
+    window = figure_window(renderer, size)
     camera = renderer.GetActiveCamera()
     camera.SetPosition(1.0, 0.8, 1.6)
     camera.SetFocalPoint(0, 0, 0)
     camera.SetViewUp(0, 1, 0)
     renderer.ResetCamera()
     camera.Zoom(1.3)
-    window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
+    save_png(window, path)
 
 
 def surface_actor(mesh, by_patch=True, edges=True):

@@ -10,6 +10,9 @@ import sys
 import vtk
 import surfacelod
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from slod_figures import figure_window, save_png  # noqa: E402 (Examples/slod_figures.py)
+
 mesh_dir, out_dir = sys.argv[1], sys.argv[2]
 os.makedirs(out_dir, exist_ok=True)
 reader = surfacelod.vtkOFFMeshReader()
@@ -38,24 +41,14 @@ def render(mesh, path, label):
     renderer.AddActor(actor)
     renderer.AddActor2D(text)
     renderer.SetBackground(1, 1, 1)
-    window = vtk.vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.AddRenderer(renderer)
-    window.SetSize(500, 480)
+    window = figure_window(renderer, (500, 480))
     camera = renderer.GetActiveCamera()
     camera.SetPosition(0, 0, 1)
     camera.SetFocalPoint(0, 0, 0)
     camera.SetViewUp(0, 1, 0)
     renderer.ResetCamera()
     camera.Zoom(1.3)
-    window.Render()
-    grab = vtk.vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.Update()
-    writer = vtk.vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
+    save_png(window, path)
 
 
 render(bunny, out_dir + "/qtc_bunny00_original.png", "bunny00: %d triangles" % bunny.GetNumberOfPolys())

@@ -13,19 +13,18 @@ import sys
 from vtkmodules.vtkCommonCore import vtkIdList
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkFiltersCore import vtkTubeFilter
-from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow,
-                                         vtkWindowToImageFilter)
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (rendering backend)
+from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer
 
 import surfacelod
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from slod_figures import figure_window, save_png  # noqa: E402 (Examples/slod_figures.py)
 
 
-def snapshot(window, actors, path, view, focus=None, zoom=1.0):
-    renderer = window.GetRenderers().GetFirstRenderer()
-    renderer.RemoveAllViewProps()
+def snapshot(actors, path, view, focus=None, zoom=1.0, size=(560, 420)):
+    renderer = vtkRenderer()
     renderer.SetBackground(1, 1, 1)
+    window = figure_window(renderer, size)
     for actor in actors:
         renderer.AddActor(actor)
     renderer.ResetCamera()
@@ -37,13 +36,7 @@ def snapshot(window, actors, path, view, focus=None, zoom=1.0):
     camera.SetViewUp(0, 0, 1)
     renderer.ResetCameraClippingRange()
     camera.Zoom(zoom)
-    window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
+    save_png(window, path)
     print("wrote", path)
 
 
@@ -101,22 +94,18 @@ def clean(mesh, size, relative, survey_factor=2.0):
 
 def main(mesh_dir, out_dir, mri=None):
     os.makedirs(out_dir, exist_ok=True)
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(560, 420)
-    window.AddRenderer(vtkRenderer())
     reader = surfacelod.vtkOFFMeshReader()
     reader.SetFileName(os.path.join(mesh_dir, "cheese.off"))
     reader.Update()
     cheese = reader.GetOutput()
     view = (0.25, -0.3, 0.2)
-    snapshot(window, [mesh_actor(cheese)], os.path.join(out_dir, "tnr_cheese_input.png"), view, zoom=1.5)
+    snapshot([mesh_actor(cheese)], os.path.join(out_dir, "tnr_cheese_input.png"), view, zoom=1.5)
     for size in (0.04, 0.06):
         cleaned, loops = clean(cheese, size, True)
         name = "tnr_cheese_%s" % str(size).replace(".", "")
-        snapshot(window, [mesh_actor(cheese), loops_actor(loops, 0.0006)], os.path.join(out_dir, name + "_loops.png"), view,
+        snapshot([mesh_actor(cheese), loops_actor(loops, 0.0006)], os.path.join(out_dir, name + "_loops.png"), view,
                  zoom=1.5)
-        snapshot(window, [mesh_actor(cleaned)], os.path.join(out_dir, name + "_after.png"), view, zoom=1.5)
+        snapshot([mesh_actor(cleaned)], os.path.join(out_dir, name + "_after.png"), view, zoom=1.5)
     if mri:
         mri_reader = vtkXMLPolyDataReader()
         mri_reader.SetFileName(mri)
@@ -126,12 +115,12 @@ def main(mesh_dir, out_dir, mri=None):
         print("kept handle sizes (mm):", ", ".join("%.2f" % sizes.GetTuple1(i) for i in range(sizes.GetNumberOfTuples())))
         focus = loops.GetPoint(0) if loops.GetNumberOfPoints() else None
         cut_loops, kept_loops = loops_with(loops, 1), loops_with(loops, 0)
-        snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(cut_loops, 0.25)],
+        snapshot([mesh_actor(mri_reader.GetOutput()), loops_actor(cut_loops, 0.25)],
                  os.path.join(out_dir, "tnr_mri_loops.png"), (0, -300, 80))
         # The surface see-through: most loops lie in the sulci.
-        snapshot(window, [mesh_actor(cleaned, 0.12), loops_actor(cut_loops, 0.4), loops_actor(kept_loops, 0.7, (0.1, 0.3, 0.9))],
+        snapshot([mesh_actor(cleaned, 0.12), loops_actor(cut_loops, 0.4), loops_actor(kept_loops, 0.7, (0.1, 0.3, 0.9))],
                  os.path.join(out_dir, "tnr_mri_kept_handles.png"), (0, -300, 80))
-        snapshot(window, [mesh_actor(mri_reader.GetOutput()), loops_actor(cut_loops, 0.15)],
+        snapshot([mesh_actor(mri_reader.GetOutput()), loops_actor(cut_loops, 0.15)],
                  os.path.join(out_dir, "tnr_mri_loops_closeup.png"), (0, -60, 20), focus, 1.0)
 
 
