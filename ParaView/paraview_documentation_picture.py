@@ -3,12 +3,16 @@
 
 fandisk (CGAL) through Patch Boundary Merge at 460 triangles, coloured by PatchId, with its
 Profile Curves output in black: both output ports of a plugin filter shown in ParaView's own
-render view. Needs an X display (e.g. xvfb-run -a).
+render view. Needs an X display (e.g. xvfb-run -a -s "-screen 0 1280x1024x24 -noreset").
 
   pvpython paraview_documentation_picture.py --plugin <SurfaceLOD.so> --mesh-dir <dir> --image <png>
+      [--baseline <png>]
 
-Not a test of the suite: under Xvfb, ParaView 5.11's OpenGL probe aborts in about half the runs on
-the project's loaded machine ("bad X server connection"), so a baseline comparison would be flaky.
+With --baseline it is the suite's render-view image test (paraview.render-view-image): the picture
+must match the baseline within vtkImageDifference's thresholded error of 0.05 (the threshold of the
+C++ image tests). Run Xvfb with -noreset: ParaView's OpenGL probe closes its X connection, Xvfb
+resets when its last client leaves, and the render view's connection made during that reset fails
+("bad X server connection", about one run in six without -noreset).
 """
 import argparse
 import os
@@ -44,11 +48,30 @@ def render(plugin, meshes, output):
     simple.Delete(view)
 
 
+def image_difference(image, baseline):
+    """vtkImageDifference's thresholded error between two PNG files (0 for identical images)."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    from vtkmodules.vtkImagingCore import vtkImageDifference
+    readers = []
+    for path in (image, baseline):
+        reader = vtkPNGReader()
+        reader.SetFileName(path)
+        reader.Update()
+        readers.append(reader)
+    difference = vtkImageDifference()
+    difference.SetInputConnection(readers[0].GetOutputPort())
+    difference.SetImageConnection(readers[1].GetOutputPort())
+    difference.Update()
+    return difference.GetThresholdedError()
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--plugin", required=True)
     parser.add_argument("--mesh-dir", required=True)
     parser.add_argument("--image", required=True)
+    parser.add_argument("--baseline", help="compare the picture with this PNG (a test)")
+    parser.add_argument("--threshold", type=float, default=0.05)
     args = parser.parse_args()
     if not os.path.isfile(args.plugin):
         print("FAIL  the ParaView plugin was not built: %s is missing (run scripts/paraview-plugin.sh)" % args.plugin)
@@ -56,6 +79,15 @@ def main():
     os.makedirs(os.path.dirname(os.path.abspath(args.image)), exist_ok=True)
     render(args.plugin, args.mesh_dir, args.image)
     print("wrote " + args.image)
+    if args.baseline:
+        if not os.path.isfile(args.baseline):
+            print("FAIL  baseline %s is missing" % args.baseline)
+            return 1
+        error = image_difference(args.image, args.baseline)
+        print("image difference %.4f (threshold %.4f) against %s" % (error, args.threshold, args.baseline))
+        if not error <= args.threshold:
+            print("FAIL  the render view differs from its baseline")
+            return 1
     return 0
 
 
