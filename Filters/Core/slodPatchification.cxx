@@ -50,7 +50,7 @@ void Patchification::Build(const TriangleMesh& mesh, const MeshTopology& topolog
 {
   this->WasAborted = false;
   const Adjacency adjacency(mesh, topology);
-  this->Grow(mesh, adjacency, parameters, progress);
+  this->Grow(mesh, topology, adjacency, parameters, progress);
   if (this->WasAborted)
   {
     return;
@@ -88,6 +88,7 @@ namespace
 struct PatchGrowth
 {
   const TriangleMesh& Mesh;
+  const MeshTopology& Topology;
   const std::vector<Index>& Across;
   const PatchificationParameters& Parameters;
   std::vector<Index>& TrianglePatch;
@@ -111,9 +112,10 @@ struct PatchGrowth
   double Area = 0;
   Index Count = 0;
 
-  PatchGrowth(const TriangleMesh& mesh, const std::vector<Index>& across, const PatchificationParameters& parameters,
-    std::vector<Index>& trianglePatch)
+  PatchGrowth(const TriangleMesh& mesh, const MeshTopology& topology, const std::vector<Index>& across,
+    const PatchificationParameters& parameters, std::vector<Index>& trianglePatch)
     : Mesh(mesh)
+    , Topology(topology)
     , Across(across)
     , Parameters(parameters)
     , TrianglePatch(trianglePatch)
@@ -178,10 +180,10 @@ struct PatchGrowth
   }
 
   // Edges of t shared with the current patch; `opposite` gets the vertex opposite the shared
-  // edge when there is exactly one.
+  // edge when there is exactly one, and with two the vertex they have in common.
   int SharedEdges(Index t, Index& opposite) const
   {
-    int shared = 0;
+    int shared = 0, free = 0;
     const Index* tri = this->Mesh.Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
@@ -191,6 +193,14 @@ struct PatchGrowth
         ++shared;
         opposite = tri[(k + 2) % 3];
       }
+      else
+      {
+        free = k;
+      }
+    }
+    if (shared == 2)
+    {
+      opposite = tri[(free + 2) % 3];
     }
     return shared;
   }
@@ -214,6 +224,12 @@ struct PatchGrowth
     if (shared == 1 && this->InPatch(opposite))
     {
       return false; // (a) would pinch the patch boundary
+    }
+    if (shared == 2 && this->Topology.IsNonManifoldVertex(opposite))
+    {
+      // Would close a fan of a non-manifold vertex (a pinch of several fans) inside the patch:
+      // SPBM keeps no vertex inside a patch, so the other fans would lose it (Euler + 1).
+      return false;
     }
     const Vec3 nc = Normalized(this->Mesh.TriangleAreaVector(candidate));
     const Vec3 nt = Normalized(this->Mesh.TriangleAreaVector(t));
@@ -367,7 +383,7 @@ struct PatchGrowth
 // triangle is removed again (case "two free neighbours, infeasible") only when it hangs on P by
 // one edge and its opposite vertex belongs to no other triangle of P. A removed triangle may
 // rejoin P later only through two shared edges (a notch).
-void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
+void Patchification::Grow(const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency,
   const PatchificationParameters& parameters, const ProgressFunction& progress)
 {
   const Index nt = mesh.NumberOfTriangles();
@@ -376,7 +392,7 @@ void Patchification::Grow(const TriangleMesh& mesh, const Adjacency& adjacency,
   this->PatchAreaOf.clear();
   this->PatchTriangleCountOf.clear();
 
-  PatchGrowth growth(mesh, adjacency.Across, parameters, this->TrianglePatch);
+  PatchGrowth growth(mesh, topology, adjacency.Across, parameters, this->TrianglePatch);
   Index nextReport = 65536;
   Index seed = nt > 0 ? 0 : InvalidIndex;
   while (seed != InvalidIndex)

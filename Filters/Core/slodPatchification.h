@@ -105,8 +105,8 @@ private:
     NonManifoldChain = 1
   };
   struct Adjacency;
-  void Grow(const TriangleMesh& mesh, const Adjacency& adjacency, const PatchificationParameters& parameters,
-    const ProgressFunction& progress);
+  void Grow(const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency,
+    const PatchificationParameters& parameters, const ProgressFunction& progress);
   void ExtractChains(const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency);
   void NumberEndpoints(const TriangleMesh& mesh, const MeshTopology& topology);
   void BuildPatchGraph();

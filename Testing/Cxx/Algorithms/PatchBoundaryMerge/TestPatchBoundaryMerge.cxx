@@ -886,6 +886,54 @@ TEST(PatchBoundaryMerge, OpenSurfaceBorderIsPreserved)
   }
 }
 
+// Issue 10: a pinch vertex (two sheets touching at one vertex, as on noisy isosurfaces) must not
+// become the interior of a patch: SPBM keeps no vertex inside a patch, so the sheet whose patch
+// held the whole fan would drop it and the sheets would part (Euler characteristic + 1; seen on
+// noisy:273). A flat sheet (one patch would hold the whole fan) and a paraboloid touching it from
+// above at its centre; also the other way round (the pinch fan in the curved sheet's patches).
+TEST(PatchBoundaryMerge, PinchVertexStaysOnBothSheets)
+{
+  for (const bool flatFirst : { true, false })
+  {
+    SCOPED_TRACE(flatFirst);
+    const int n = 40;
+    const TriangleMesh flat = slodtest::Grid(n, n);
+    const Index center = (n / 2) * (n + 1) + n / 2;
+    TriangleMesh mesh;
+    std::vector<Index> second(size_t(flat.NumberOfPoints()));
+    for (const int sheet : { 0, 1 })
+    {
+      const bool curved = (sheet == 1) == flatFirst;
+      for (Index v = 0; v < flat.NumberOfPoints(); ++v)
+      {
+        Vec3 p = flat.Point(v);
+        const double r2 = (p[0] - 0.5) * (p[0] - 0.5) + (p[1] - 0.5) * (p[1] - 0.5);
+        p[2] = curved ? 1.5 * r2 : 0.0;
+        second[v] = sheet == 1 && v == center ? center : mesh.AddPoint(p);
+      }
+      for (Index t = 0; t < flat.NumberOfTriangles(); ++t)
+      {
+        const Index* tri = flat.Triangle(t);
+        mesh.AddTriangle(second[tri[0]], second[tri[1]], second[tri[2]]);
+      }
+    }
+    auto input = slodtest::ToPolyData(mesh);
+    const MeshStatistics in = RawStatistics(input);
+    ASSERT_EQ(in.NonManifoldVertices, 1);
+    for (const vtkIdType target : { 400, 120 })
+    {
+      vtkNew<vtkPatchBoundaryMerge> filter;
+      auto out = RunFilter(input, target, filter);
+      const MeshStatistics st = RawStatistics(out);
+      EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic) << target;
+      EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops) << target;
+      EXPECT_EQ(st.Components, in.Components) << target;
+      EXPECT_EQ(st.NonManifoldEdges, 0) << target;
+      EXPECT_EQ(st.NonManifoldVertices, 1) << target;
+    }
+  }
+}
+
 TEST(PatchBoundaryMerge, SpiralRampStaysValidThroughFallbacks)
 {
   // A helicoid ("spiralling ramp", section 4.2.8) with very loose patch angles: patch boundaries
