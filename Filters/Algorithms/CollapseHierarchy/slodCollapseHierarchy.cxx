@@ -625,7 +625,8 @@ double CollapseHierarchy::CheapestEdgeError(Index t, EdgeChoice& choice) const
     if (this->EdgeCostStates[slot] == UnknownEdgeCost)
     {
       cost = this->EdgeCostOf(tri[k], tri[(k + 1) % 3]);
-      this->StoreEdgeCost(slot, cost);
+      this->EdgeCostErrors[slot] = cost.Error;
+      this->EdgeCostStates[slot] = static_cast<unsigned char>(cost.Kind | (cost.NotANumber ? 4 : 0));
     }
     else
     {
@@ -651,110 +652,17 @@ CollapseHierarchy::EdgeCost CollapseHierarchy::EdgeCostOf(Index u, Index v) cons
 {
   EdgePlacement placements[3];
   const int n = this->EdgePlacements(u, v, placements);
-  return FirstCheapest(placements, n, false);
-}
-
-// EdgePlacements(v, u) gives the same errors as (u, v) (sums and maxima of the same two terms),
-// the end points in the other order: reversed reads them so, with their kinds swapped.
-CollapseHierarchy::EdgeCost CollapseHierarchy::FirstCheapest(const EdgePlacement* placements, int n, bool reversed)
-{
   EdgeCost cost{ std::numeric_limits<double>::infinity(), 3, false };
-  for (int j = 0; j < n; ++j)
+  for (int i = 0; i < n; ++i)
   {
-    const int i = reversed && j >= n - 2 ? 2 * n - 3 - j : j; // the last two (u, v) swapped
-    const int kind = placements[i].Kind == 0 || !reversed ? placements[i].Kind : 3 - placements[i].Kind;
     cost.NotANumber = cost.NotANumber || std::isnan(placements[i].Error);
     if (placements[i].Error < cost.Error)
     {
       cost.Error = placements[i].Error;
-      cost.Kind = static_cast<unsigned char>(kind);
+      cost.Kind = static_cast<unsigned char>(placements[i].Kind);
     }
   }
   return cost;
-}
-
-void CollapseHierarchy::StoreEdgeCost(size_t slot, const EdgeCost& cost) const
-{
-  this->EdgeCostErrors[slot] = cost.Error;
-  this->EdgeCostStates[slot] = static_cast<unsigned char>(cost.Kind | (cost.NotANumber ? 4 : 0));
-}
-
-// The slot (3 s + j) of the one other triangle s holding edge k of t, in the opposite direction;
-// -1 when the edge has no or several other triangles, or they run the same way.
-Index CollapseHierarchy::TwinSlot(Index t, int k) const
-{
-  const Index* tri = this->Mesh.Triangle(t);
-  const Index u = tri[k], w = tri[(k + 1) % 3];
-  Index twin = -1;
-  int others = 0;
-  this->Mesh.ForEachTriangle(u, [&](Index x) {
-    const Index* o = this->Mesh.Triangle(x);
-    for (int j = 0; j < 3 && x != t; ++j)
-    {
-      if (o[j] == w)
-      {
-        ++others;
-        twin = o[(j + 1) % 3] == u ? 3 * x + j : -1;
-      }
-    }
-  });
-  return others == 1 ? twin : -1;
-}
-
-// Two passes, each in parallel: decide who prices each unknown edge (reads only), then price it
-// (each slot written by one thread). Of two triangles of the chunk sharing an edge unknown to
-// both, the smaller id prices it in both orientations; the numbers are those each would compute.
-void CollapseHierarchy::PriceEdges(const Index* triangles, Index first, Index count)
-{
-  auto triangleAt = [&](vtkIdType i) { return triangles ? triangles[first + i] : first + static_cast<Index>(i); };
-  constexpr Index Skipped = -2;
-  this->InChunk.resize(this->EdgeCostStates.size() / 3, 0);
-  for (Index i = 0; i < count; ++i)
-  {
-    this->InChunk[triangleAt(i)] = 1;
-  }
-  this->PricedFor.assign(3 * size_t(count), Skipped);
-  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
-    {
-      const Index t = triangleAt(i);
-      const int fixed = this->FixedMask(this->Mesh.Triangle(t));
-      for (int k = 0; k < 3; ++k)
-      {
-        if (((fixed >> k) & 1) || ((fixed >> ((k + 1) % 3)) & 1) || this->EdgeCostStates[3 * t + k] != UnknownEdgeCost)
-        {
-          continue;
-        }
-        const Index twin = this->TwinSlot(t, k);
-        const bool shared = twin >= 0 && this->InChunk[twin / 3] && this->EdgeCostStates[twin] == UnknownEdgeCost;
-        this->PricedFor[3 * i + k] = !shared ? -1 : (twin / 3 < t ? Skipped : twin);
-      }
-    }
-  });
-  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
-    {
-      const Index* tri = this->Mesh.Triangle(triangleAt(i));
-      for (int k = 0; k < 3; ++k)
-      {
-        const Index twin = this->PricedFor[3 * i + k];
-        if (twin != Skipped)
-        {
-          EdgePlacement placements[3];
-          const int n = this->EdgePlacements(tri[k], tri[(k + 1) % 3], placements);
-          this->StoreEdgeCost(3 * size_t(triangleAt(i)) + k, FirstCheapest(placements, n, false));
-          if (twin >= 0)
-          {
-            this->StoreEdgeCost(size_t(twin), FirstCheapest(placements, n, true));
-          }
-        }
-      }
-    }
-  });
-  for (Index i = 0; i < count; ++i)
-  {
-    this->InChunk[triangleAt(i)] = 0;
-  }
 }
 
 // v is the kept vertex of a collapse (new point and quadric): the costs of the edges at v go.
@@ -2012,10 +1920,6 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
     {
       this->Degree(tri[k]);
     }
-  }
-  if (this->PreferringEdges() && !this->EdgeCostStates.empty())
-  {
-    this->PriceEdges(triangles, first, count);
   }
   this->Rests.resize(static_cast<size_t>(count));
   this->PendingAlternatives.resize(static_cast<size_t>(count));

@@ -413,13 +413,6 @@ private:
   // cached until the vertex's neighbourhood changes (VertexChanged).
   Index Degree(Index v) const;
   int HubMask(Index t) const; // bit k: tri[k] is a hub
-  // A placement of edge (u, v)'s collapse: the quadric's best point (Kind 0), u (1) or v (2).
-  struct EdgePlacement
-  {
-    double Error;
-    Vec3 Point;
-    int Kind;
-  };
   // Over edges with no hub or border end; choice: which candidate it was. Reads and fills t's
   // EdgeCosts.
   double CheapestEdgeError(Index t, EdgeChoice& choice) const;
@@ -438,19 +431,16 @@ private:
   };
   static constexpr unsigned char UnknownEdgeCost = 0xff; // EdgeCostState: not computed
   EdgeCost EdgeCostOf(Index u, Index v) const;
-  // The first cheapest of placements (EdgePlacements(u, v)) as the edge's cost in the order
-  // (u, v), or in the order (v, u) when reversed (u and v swap places and kinds).
-  static EdgeCost FirstCheapest(const EdgePlacement* placements, int n, bool reversed);
-  void StoreEdgeCost(size_t slot, const EdgeCost& cost) const;
-  // Prices the unknown edge costs of a chunk of triangles before their evaluations: an edge of two
-  // of them (a spoke of a new vertex's fan, any edge of M0) is priced once, for both.
-  void PriceEdges(const Index* triangles, Index first, Index count); // as EvaluateChunk
-  Index TwinSlot(Index t, int k) const; // the slot of edge k's other triangle, or -1
-  std::vector<unsigned char> InChunk; // per triangle slot: in the chunk being evaluated
-  std::vector<Index> PricedFor;        // per chunk edge slot: the twin slot also written, -1, or Skipped
   void ForgetEdgeCostsAround(Index v);
   mutable std::vector<double> EdgeCostErrors;         // 3 per triangle slot
   mutable std::vector<unsigned char> EdgeCostStates; // 3 per triangle slot: Kind | NaN << 2, or Unknown
+  // A placement of edge (u, v)'s collapse: the quadric's best point (Kind 0), u (1) or v (2).
+  struct EdgePlacement
+  {
+    double Error;
+    Vec3 Point;
+    int Kind;
+  };
   int EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const;
   int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
