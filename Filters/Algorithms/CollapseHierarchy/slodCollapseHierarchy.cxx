@@ -622,7 +622,11 @@ double CollapseHierarchy::CheapestEdgeError(Index t, EdgeChoice& choice) const
     }
     const size_t slot = 3 * size_t(t) + k;
     EdgeCost cost;
-    if (this->EdgeCostStates[slot] == UnknownEdgeCost)
+    if (this->EdgeCostStates.empty())
+    {
+      cost = this->EdgeCostOf(tri[k], tri[(k + 1) % 3]);
+    }
+    else if (this->EdgeCostStates[slot] == UnknownEdgeCost)
     {
       cost = this->EdgeCostOf(tri[k], tri[(k + 1) % 3]);
       this->EdgeCostErrors[slot] = cost.Error;
@@ -1356,8 +1360,11 @@ void CollapseHierarchy::InitializeQuadrics()
   {
     return;
   }
-  this->EdgeCostErrors.resize(3 * size_t(nt));
-  this->EdgeCostStates.assign(3 * size_t(nt), UnknownEdgeCost);
+  if (this->Parameters.ReuseEdgeCosts)
+  {
+    this->EdgeCostErrors.resize(3 * size_t(nt));
+    this->EdgeCostStates.assign(3 * size_t(nt), UnknownEdgeCost);
+  }
   this->Quadrics.assign(this->Base.NumberOfPoints(), Quadric());
   for (Index t = 0; t < nt; ++t)
   {

@@ -120,6 +120,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   Index StopAtTriangles = 0;
   // Flip guard of the collapse (EditableMesh::CheckCollapse MinimumNormalDot).
   double MinimumNormalDot = 0.2;
+  // Keep each triangle edge's edge collapse cost until one of its ends moves (27 bytes per input
+  // triangle; fewer edge collapses priced again, the same hierarchy). Off: every evaluation prices
+  // its three edges.
+  bool ReuseEdgeCosts = true;
 };
 
 struct SURFACELODFILTERS_EXPORT HierarchyCollapse
