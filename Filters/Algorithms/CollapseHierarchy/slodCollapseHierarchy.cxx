@@ -235,7 +235,7 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   }
   const Vec3 centroid = frame.Origin;
   e.Kappa = 0;
-  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(tri, e.CheapestEdge) : std::numeric_limits<double>::infinity();
+  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(t, e.CheapestEdge) : std::numeric_limits<double>::infinity();
   const Quadric q = this->TriangleQuadric(tri);
   if (!this->QuadricPointNearCentroid(tri, q, centroid, e.Point))
   {
@@ -273,7 +273,7 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame)
   e.Alpha = Roundness(a, b, c);
   if (this->HubMask(t) != 0)
   {
-    this->EvaluateHubTriangle(tri, areaVector, centroid, e);
+    this->EvaluateHubTriangle(t, areaVector, centroid, e);
     return false;
   }
   // A degenerate triangle has no plane of its own: use its stencil's.
@@ -306,7 +306,7 @@ void CollapseHierarchy::EvaluateWithFit(Index t, Evaluation& e)
     return;
   }
   const Vec3 fitPoint = this->FitStencil(tri, frame, e.Kappa);
-  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(tri, e.CheapestEdge) : std::numeric_limits<double>::infinity();
+  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(t, e.CheapestEdge) : std::numeric_limits<double>::infinity();
   e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
   {
@@ -373,12 +373,12 @@ int CollapseHierarchy::CollapsePointValence(const Index* tri) const
 }
 
 // Only its edge away from the hubs can collapse: ordered by that edge (no fit, no stencil).
-void CollapseHierarchy::EvaluateHubTriangle(const Index* tri, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const
+void CollapseHierarchy::EvaluateHubTriangle(Index t, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const
 {
   e.Normal = Norm(areaVector) > 0 ? Normalized(areaVector) : Vec3{ 0, 0, 0 };
   e.Point = centroid;
   e.Kappa = 0;
-  e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(tri, e.CheapestEdge);
+  e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(t, e.CheapestEdge);
   e.Error = e.EdgeError;
   e.PreferEdge = true;
 }
@@ -603,38 +603,46 @@ int CollapseHierarchy::FixedMask(const Index* tri) const
   return mask;
 }
 
-double CollapseHierarchy::CheapestEdgeError(const Index* tri, EdgeChoice& choice) const
+double CollapseHierarchy::CheapestEdgeError(Index t, EdgeChoice& choice) const
 {
+  const Index* tri = this->Mesh.Triangle(t);
   const int fixed = this->FixedMask(tri);
   double cheapest = std::numeric_limits<double>::infinity();
   // The first minimum in FindEdgeCollapse's order (error, then edge, then best/u/v); unknown when
-  // an error is not a number (that order is then not a minimum).
+  // an error is not a number (that order is then not a minimum). Per edge, its cost holds its
+  // first minimum over (best, u, v): the first over all edges is the first of those.
   choice = EdgeChoice();
   choice.Fixed = static_cast<unsigned char>(fixed);
-  double first = std::numeric_limits<double>::infinity();
   bool ordered = true;
-  auto track = [&](double error, int k, int kind) {
-    ordered = ordered && !std::isnan(error);
-    if (error < first)
-    {
-      first = error;
-      choice.Edge = static_cast<signed char>(k);
-      choice.Kind = static_cast<unsigned char>(kind);
-    }
-  };
   for (int k = 0; k < 3; ++k)
   {
-    const Index u = tri[k], v = tri[(k + 1) % 3];
     if (((fixed >> k) & 1) || ((fixed >> ((k + 1) % 3)) & 1))
     {
       continue;
     }
-    EdgePlacement placements[3];
-    const int n = this->EdgePlacements(u, v, placements);
-    for (int i = 0; i < n; ++i)
+    const size_t slot = 3 * size_t(t) + k;
+    EdgeCost cost;
+    if (this->EdgeCostStates.empty())
     {
-      track(placements[i].Error, k, placements[i].Kind);
-      cheapest = std::min(cheapest, placements[i].Error);
+      cost = this->EdgeCostOf(tri[k], tri[(k + 1) % 3]);
+    }
+    else if (this->EdgeCostStates[slot] == UnknownEdgeCost)
+    {
+      cost = this->EdgeCostOf(tri[k], tri[(k + 1) % 3]);
+      this->EdgeCostErrors[slot] = cost.Error;
+      this->EdgeCostStates[slot] = static_cast<unsigned char>(cost.Kind | (cost.NotANumber ? 4 : 0));
+    }
+    else
+    {
+      const unsigned char state = this->EdgeCostStates[slot];
+      cost = { this->EdgeCostErrors[slot], static_cast<unsigned char>(state & 3), (state & 4) != 0 };
+    }
+    ordered = ordered && !cost.NotANumber;
+    if (cost.Kind < 3 && cost.Error < cheapest)
+    {
+      cheapest = cost.Error;
+      choice.Edge = static_cast<signed char>(k);
+      choice.Kind = cost.Kind;
     }
   }
   if (!ordered)
@@ -642,6 +650,38 @@ double CollapseHierarchy::CheapestEdgeError(const Index* tri, EdgeChoice& choice
     choice.Edge = -1;
   }
   return cheapest;
+}
+
+CollapseHierarchy::EdgeCost CollapseHierarchy::EdgeCostOf(Index u, Index v) const
+{
+  EdgePlacement placements[3];
+  const int n = this->EdgePlacements(u, v, placements);
+  EdgeCost cost{ std::numeric_limits<double>::infinity(), 3, false };
+  for (int i = 0; i < n; ++i)
+  {
+    cost.NotANumber = cost.NotANumber || std::isnan(placements[i].Error);
+    if (placements[i].Error < cost.Error)
+    {
+      cost.Error = placements[i].Error;
+      cost.Kind = static_cast<unsigned char>(placements[i].Kind);
+    }
+  }
+  return cost;
+}
+
+// v is the kept vertex of a collapse (new point and quadric): the costs of the edges at v go.
+void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
+{
+  this->Mesh.ForEachTriangle(v, [&](Index x) {
+    const Index* q = this->Mesh.Triangle(x);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (q[k] == v || q[(k + 1) % 3] == v)
+      {
+        this->EdgeCostStates[3 * size_t(x) + k] = UnknownEdgeCost;
+      }
+    }
+  });
 }
 
 int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const
@@ -835,6 +875,10 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   this->VersionsBornBy.push_back(this->NumberOfEntries()); // (the versions below are born at k + 1)
   this->GlobalOf[kept] = collapse.Point;
   this->MarkChangedAround(kept);
+  if (!this->EdgeCostStates.empty())
+  {
+    this->ForgetEdgeCostsAround(kept);
+  }
 
   // Ancestors: the kept vertex now stands for the original points of all merged vertices.
   for (int i = 1; i < count; ++i)
@@ -917,6 +961,10 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   {
     this->EntryDeath[this->EntryOf[t]] = k;
     this->AppendEntry(t);
+    if (!this->EdgeCostStates.empty())
+    {
+      std::fill_n(this->EdgeCostStates.begin() + 3 * t, 3, UnknownEdgeCost); // new corners
+    }
   }
   this->Records.AppendFlip(flip);
 }
@@ -1306,9 +1354,16 @@ void CollapseHierarchy::InitializeQuadrics()
   }
   this->MeanArea = meanAreaGuess > 0 ? meanAreaGuess : 1.0;
   this->Quadrics.clear();
+  std::vector<double>().swap(this->EdgeCostErrors);
+  std::vector<unsigned char>().swap(this->EdgeCostStates);
   if (this->Parameters.ErrorWeight <= 0 && this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Off)
   {
     return;
+  }
+  if (this->Parameters.ReuseEdgeCosts)
+  {
+    this->EdgeCostErrors.resize(3 * size_t(nt));
+    this->EdgeCostStates.assign(3 * size_t(nt), UnknownEdgeCost);
   }
   this->Quadrics.assign(this->Base.NumberOfPoints(), Quadric());
   for (Index t = 0; t < nt; ++t)
@@ -1398,6 +1453,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
     {
       e.CheapestEdge.Edge = -1;
     }
+    std::fill(this->EdgeCostStates.begin(), this->EdgeCostStates.end(), UnknownEdgeCost);
   }
   this->KappaMax = kappaMax > 0 ? kappaMax : 1.0;
   this->Mv = this->Parameters.ValenceNormalizer > 0 ? this->Parameters.ValenceNormalizer : std::max(1, valenceMax);

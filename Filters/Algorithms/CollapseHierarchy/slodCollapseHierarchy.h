@@ -120,6 +120,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   Index StopAtTriangles = 0;
   // Flip guard of the collapse (EditableMesh::CheckCollapse MinimumNormalDot).
   double MinimumNormalDot = 0.2;
+  // Keep each triangle edge's edge collapse cost until one of its ends moves (27 bytes per input
+  // triangle; fewer edge collapses priced again, the same hierarchy). Off: every evaluation prices
+  // its three edges.
+  bool ReuseEdgeCosts = true;
 };
 
 struct SURFACELODFILTERS_EXPORT HierarchyCollapse
@@ -321,7 +325,7 @@ private:
   static bool StarShaped(const LinkEdges& link, const Vec3& point, const Vec3& normal);
   bool StarShapedAround(const Index* tri, const Vec3& point, const Vec3& normal) const;
   int CollapsePointValence(const Index* tri) const;
-  void EvaluateHubTriangle(const Index* tri, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const;
+  void EvaluateHubTriangle(Index t, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const;
   Vec3 StencilAreaVector(const Index* tri) const;
   void GatherStencilVertices(const Index* tri);
   void AddUnmarkedVertices(Index triangle);
@@ -413,8 +417,27 @@ private:
   // cached until the vertex's neighbourhood changes (VertexChanged).
   Index Degree(Index v) const;
   int HubMask(Index t) const; // bit k: tri[k] is a hub
-  // Over edges with no hub or border end; choice: which candidate it was.
-  double CheapestEdgeError(const Index* tri, EdgeChoice& choice) const;
+  // Over edges with no hub or border end; choice: which candidate it was. Reads and fills t's
+  // EdgeCosts.
+  double CheapestEdgeError(Index t, EdgeChoice& choice) const;
+  // The cheapest placement of one edge collapse as CheapestEdgeError needs it, kept per triangle
+  // edge (tri[k], tri[k + 1]): the error, the kind of the first cheapest placement and whether an
+  // error was not a number. An edge's cost depends only on its two vertices' points and quadrics,
+  // which change only when the vertex is the kept one of a collapse; the collapse then forgets the
+  // costs of the edges around it (ForgetEdgeCostsAround), a swap those of its two triangles. A
+  // re-evaluated triangle of a new vertex's fan thus reuses its outer edge, whose ends did not
+  // move (a third of the edge work; the same numbers, so the same outputs).
+  struct EdgeCost
+  {
+    double Error;
+    unsigned char Kind; // 0..2 as EdgeChoice::Kind; 3: no finite placement
+    bool NotANumber;
+  };
+  static constexpr unsigned char UnknownEdgeCost = 0xff; // EdgeCostState: not computed
+  EdgeCost EdgeCostOf(Index u, Index v) const;
+  void ForgetEdgeCostsAround(Index v);
+  mutable std::vector<double> EdgeCostErrors;         // 3 per triangle slot
+  mutable std::vector<unsigned char> EdgeCostStates; // 3 per triangle slot: Kind | NaN << 2, or Unknown
   // A placement of edge (u, v)'s collapse: the quadric's best point (Kind 0), u (1) or v (2).
   struct EdgePlacement
   {

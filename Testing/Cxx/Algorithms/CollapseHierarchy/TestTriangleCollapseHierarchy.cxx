@@ -956,6 +956,33 @@ TEST(CollapseHierarchy, Deterministic)
 
 // The evaluations run in parallel (vtkSMPTools): one thread, two and eight must build the same
 // hierarchy, bit for bit (every collapse, its point and level, every level's mesh).
+// The same hierarchy: every collapse (kind, level, triangle, weight, point) and every seventh
+// level blended at 0.5, bit for bit.
+static void ExpectSameHierarchy(const CollapseHierarchy& a, const CollapseHierarchy& b, const std::string& what)
+{
+  ASSERT_EQ(a.NumberOfLevels(), b.NumberOfLevels()) << what;
+  ASSERT_EQ(a.NumberOfCollapses(), b.NumberOfCollapses()) << what;
+  EXPECT_EQ(a.NumberOfSwaps(), b.NumberOfSwaps()) << what;
+  for (Index k = 0; k < a.NumberOfCollapses(); ++k)
+  {
+    const HierarchyCollapse& x = a.GetCollapse(k);
+    const HierarchyCollapse& y = b.GetCollapse(k);
+    ASSERT_EQ(x.Count, y.Count) << "collapse " << k << ", " << what;
+    ASSERT_EQ(x.Level, y.Level) << "collapse " << k << ", " << what;
+    ASSERT_EQ(x.Triangle, y.Triangle) << "collapse " << k << ", " << what;
+    ASSERT_EQ(x.Weight, y.Weight) << "collapse " << k << ", " << what;
+    ASSERT_EQ(a.Vertex(x.Point), b.Vertex(y.Point)) << "collapse " << k << ", " << what;
+  }
+  for (int level = 0; level < a.NumberOfLevels(); level += 7)
+  {
+    HierarchyMesh x, y;
+    a.ExtractLevel(level + 0.5, x);
+    b.ExtractLevel(level + 0.5, y);
+    EXPECT_EQ(x.Points, y.Points) << "level " << level << ", " << what;
+    EXPECT_EQ(x.Triangles, y.Triangles) << "level " << level << ", " << what;
+  }
+}
+
 TEST(CollapseHierarchy, SameHierarchyOnOneTwoAndEightThreads)
 {
   const TriangleMesh input = ToTriangleMesh(LoadTestMesh("bunny00"));
@@ -967,26 +994,31 @@ TEST(CollapseHierarchy, SameHierarchyOnOneTwoAndEightThreads)
     CollapseHierarchy parallel;
     vtkSMPTools::LocalScope(
       vtkSMPTools::Config{ threads }, [&]() { ASSERT_TRUE(parallel.Build(input, DefaultParameters())); });
-    ASSERT_EQ(serial.NumberOfLevels(), parallel.NumberOfLevels()) << threads << " threads";
-    ASSERT_EQ(serial.NumberOfCollapses(), parallel.NumberOfCollapses()) << threads << " threads";
-    EXPECT_EQ(serial.NumberOfSwaps(), parallel.NumberOfSwaps()) << threads << " threads";
-    for (Index k = 0; k < serial.NumberOfCollapses(); ++k)
+    ExpectSameHierarchy(serial, parallel, std::to_string(threads) + " threads");
+  }
+}
+
+// The edge collapse costs kept per triangle edge (ReuseEdgeCosts) must be those a new pricing
+// gives: a cost kept after one of its ends moved, or after an edge swap gave its triangle other
+// corners, would change the order or the choice of an edge. The same hierarchy with and without
+// them, with the defaults and with swaps between levels (fandisk's flat faces have many).
+TEST(CollapseHierarchy, KeptEdgeCostsGiveTheSameHierarchy)
+{
+  for (const char* name : { "bunny00", "fandisk" })
+  {
+    const TriangleMesh input = ToTriangleMesh(LoadTestMesh(name));
+    for (bool swaps : { false, true })
     {
-      const HierarchyCollapse& a = serial.GetCollapse(k);
-      const HierarchyCollapse& b = parallel.GetCollapse(k);
-      ASSERT_EQ(a.Count, b.Count) << "collapse " << k << ", " << threads << " threads";
-      ASSERT_EQ(a.Level, b.Level) << "collapse " << k << ", " << threads << " threads";
-      ASSERT_EQ(a.Triangle, b.Triangle) << "collapse " << k << ", " << threads << " threads";
-      ASSERT_EQ(a.Weight, b.Weight) << "collapse " << k << ", " << threads << " threads";
-      ASSERT_EQ(serial.Vertex(a.Point), parallel.Vertex(b.Point)) << "collapse " << k << ", " << threads << " threads";
-    }
-    for (int level = 0; level < serial.NumberOfLevels(); level += 7)
-    {
-      HierarchyMesh a, b;
-      serial.ExtractLevel(level + 0.5, a);
-      parallel.ExtractLevel(level + 0.5, b);
-      EXPECT_EQ(a.Points, b.Points) << "level " << level << ", " << threads << " threads";
-      EXPECT_EQ(a.Triangles, b.Triangles) << "level " << level << ", " << threads << " threads";
+      CollapseHierarchyParameters parameters = DefaultParameters();
+      parameters.SwapBlockingEdges = swaps;
+      parameters.SwapMinimumNormalDot = 0.9999;
+      CollapseHierarchy kept, priced;
+      ASSERT_TRUE(kept.Build(input, parameters));
+      parameters.ReuseEdgeCosts = false;
+      ASSERT_TRUE(priced.Build(input, parameters));
+      ASSERT_GT(kept.NumberOfCollapses(), input.NumberOfTriangles() / 4) << name;
+      EXPECT_TRUE(!swaps || kept.NumberOfSwaps() > 0) << name;
+      ExpectSameHierarchy(kept, priced, std::string(name) + (swaps ? " with swaps" : ""));
     }
   }
 }
