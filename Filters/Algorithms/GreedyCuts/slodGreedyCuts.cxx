@@ -1989,7 +1989,9 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
   // leave long fans whose proofs gather too much of the input, and the collapses stall above the
   // target that 0.01 reaches): a top over the target sends the search down, halving the level
   // index, until a level is within the target; the bisection then runs below that level. None
-  // within: the fewest triangles tried, within their own level's bound.
+  // within: the fewest triangles tried, within their own level's bound. The descent stops at the
+  // first finer level that does not lower the count (there the count falls with the tolerance
+  // again, and finer runs only cost more: the corpus' valence-5000 cone).
   while (count(within) > target && up > 0 && ++evaluation <= steps && !this->WorkSpent())
   {
     GreedyCutsResult trial;
@@ -1998,10 +2000,11 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
     {
       return false;
     }
-    if (count(trial) < count(within))
+    if (count(trial) >= count(within))
     {
-      within = std::move(trial);
+      break;
     }
+    within = std::move(trial);
   }
   if (count(within) > target)
   {
