@@ -367,7 +367,10 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.CurvatureWeight = this->CurvatureWeight;
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
-  options.PreserveCreases = this->PreserveCreases;
+  // The nested levels do not keep feature lines (their coarser levels are made from the finer one
+  // by recorded collapses): PreserveCreases applies to the plain re-tiling only.
+  const bool nested = this->GenerateNestedLevels && this->NumberOfNestedLevels > 1;
+  options.PreserveCreases = this->PreserveCreases && !nested;
   options.EnforceFacing = this->EnforceFacing;
   options.RetriangulateRings = this->RetriangulateRings;
   options.FeatureAngle = this->FeatureAngle;
@@ -445,10 +448,6 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   {
     vtkWarningMacro(<< "PreserveCreases: the feature lines at FeatureAngle " << this->FeatureAngle
                     << " would take half the vertices or more; they are not kept.");
-  }
-  if (this->PreserveCreases && this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
-  {
-    vtkWarningMacro(<< "PreserveCreases is not applied to the nested levels (output 0 is the finest level).");
   }
   if (result.DroppedCandidates > 0)
   {
