@@ -765,7 +765,7 @@ namespace
 // PreserveCreases: the corners and samples of the feature lines as the first points, pinned to
 // their input vertex (kept as they are, like a coarser level's vertices), at the spacing the free
 // points will have. Lines needing half the vertices or more are finer than the re-tiling can
-// follow: then none are kept (FeaturesIgnored).
+// follow: then none are kept (FeaturesIgnored); nor when most of their vertices are corners.
 void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, FeatureLines& features,
   std::vector<SurfacePoint>& points, CoarserLevel& fixedPoints, RetilingResult& result)
 {
@@ -778,6 +778,15 @@ void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, Fea
   if (2 * static_cast<Index>(features.Kept.size()) >= options.NumberOfPoints)
   {
     result.FeaturesIgnored = !features.Kept.empty();
+    features = FeatureLines();
+    return;
+  }
+  // Lines made mostly of corners are shorter than the spacing: detail (scan noise, the facets of
+  // an organic shape, an isosurface's steps) finer than the re-tiling can follow. Kept, they held
+  // original vertices and left needles (triceratops, mannequin-devil, the MRI: 83-100% corners;
+  // CAD creases 0-12%), so none are kept, silently: it is the default.
+  if (2 * features.Corners > static_cast<Index>(features.Kept.size()))
+  {
     features = FeatureLines();
     return;
   }
@@ -1349,8 +1358,11 @@ struct OldVertexRemoval
   bool Run(const RetilingOptions& options)
   {
     const Index n0 = this->OldVertices;
-    this->Strict = options.PreserveCreases;
-    this->EnforceFacing = options.EnforceFacing && !options.PreserveCreases;
+    // The strict removal comes with kept feature lines only: where none are kept (ignored as too
+    // dense: noisy scans, isosurfaces, coarse meshes) it held more original vertices, cost twice
+    // the time and left degenerate tiles on noisy scans (Documentation/Retile.md, Session 15).
+    this->Strict = options.PreserveCreases && !this->Lines.empty();
+    this->EnforceFacing = options.EnforceFacing && !this->Strict;
     this->RetriangulateRings = options.RetriangulateRings;
     std::vector<Index> neighbors, pending;
     pending.reserve(n0);

@@ -32,6 +32,9 @@ using slod::operator-;
 
 // Re-tilings with fewer points tried when one has more triangles than allowed.
 constexpr int MaximumRetileAttempts = 4;
+// Re-tilings tried to meet an explicit vertex count (each a whole re-tiling; the repair only for
+// the one kept).
+constexpr int MaximumExactCountAttempts = 8;
 
 // The vertex count: numberOfPoints when > 0, else from the triangle target (the larger of
 // TargetNumberOfTriangles and the reduction's count; the input's count when neither), which also
@@ -157,20 +160,31 @@ slod::RetilingResult RetileWithin(const slod::TriangleMesh& mesh, slod::Retiling
 slod::RetilingResult RetileExactCount(const slod::TriangleMesh& mesh, slod::RetilingOptions& options,
   slod::Index wanted, slod::Index limit, slod::RetilingResult result)
 {
+  // Each attempt steps from the last attempt's own count (retained vertices vary with the
+  // candidates, so the best result's count would step past the target again and again); a step
+  // back onto a count already tried halves the gap to the nearest tried count instead.
+  const auto miss = [&](slod::Index vertices) { return std::abs(vertices - wanted); };
+  std::vector<slod::Index> tried{ options.NumberOfPoints };
   slod::RetilingOptions attempt = options;
-  for (int k = 0; k < MaximumRetileAttempts && !result.Aborted; ++k)
+  slod::Index last = result.Mesh.NumberOfPoints();
+  for (int k = 0; k < MaximumExactCountAttempts && !result.Aborted && miss(result.Mesh.NumberOfPoints()) > 0; ++k)
   {
-    const slod::Index got = result.Mesh.NumberOfPoints();
-    const slod::Index points = attempt.NumberOfPoints + (wanted - got);
-    if (got == wanted || points < 4 || points == attempt.NumberOfPoints)
+    slod::Index points = attempt.NumberOfPoints + (wanted - last);
+    if (std::find(tried.begin(), tried.end(), points) != tried.end())
+    {
+      points = (points + attempt.NumberOfPoints) / 2;
+    }
+    if (points < 4 || std::find(tried.begin(), tried.end(), points) != tried.end())
     {
       break;
     }
+    tried.push_back(points);
     attempt.NumberOfPoints = points;
-    const auto miss = [&](slod::Index vertices) { return std::abs(vertices - wanted); };
+    const slod::Index best = result.Mesh.NumberOfPoints();
     // Repaired only when kept (the repair changes no count).
     attempt.ContinueWithCounts = [&](slod::Index vertices, slod::Index triangles) {
-      return triangles <= limit && miss(vertices) < miss(got);
+      last = vertices;
+      return triangles <= limit && miss(vertices) < miss(best);
     };
     slod::RetilingResult next;
     slod::Retile(mesh, attempt, next);
@@ -178,7 +192,7 @@ slod::RetilingResult RetileExactCount(const slod::TriangleMesh& mesh, slod::Reti
     {
       return next;
     }
-    if (!next.Stopped && next.Mesh.NumberOfTriangles() <= limit && miss(next.Mesh.NumberOfPoints()) < miss(got))
+    if (!next.Stopped && next.Mesh.NumberOfTriangles() <= limit && miss(next.Mesh.NumberOfPoints()) < miss(best))
     {
       result = std::move(next);
       options.NumberOfPoints = attempt.NumberOfPoints;
@@ -367,7 +381,10 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.CurvatureWeight = this->CurvatureWeight;
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
-  options.PreserveCreases = this->PreserveCreases;
+  // The nested levels do not keep feature lines (their coarser levels are made from the finer one
+  // by recorded collapses): PreserveCreases applies to the plain re-tiling only.
+  const bool nested = this->GenerateNestedLevels && this->NumberOfNestedLevels > 1;
+  options.PreserveCreases = this->PreserveCreases && !nested;
   options.EnforceFacing = this->EnforceFacing;
   options.RetriangulateRings = this->RetriangulateRings;
   options.FeatureAngle = this->FeatureAngle;
@@ -445,10 +462,6 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   {
     vtkWarningMacro(<< "PreserveCreases: the feature lines at FeatureAngle " << this->FeatureAngle
                     << " would take half the vertices or more; they are not kept.");
-  }
-  if (this->PreserveCreases && this->GenerateNestedLevels && this->NumberOfNestedLevels > 1)
-  {
-    vtkWarningMacro(<< "PreserveCreases is not applied to the nested levels (output 0 is the finest level).");
   }
   if (result.DroppedCandidates > 0)
   {

@@ -31,7 +31,7 @@
  * surface (polygons and strips are triangulated, coincident points merged); non-manifold edges
  * or vertices are an error (empty output).
  *
- * Creases and borders (PreserveCreases, off by default): edges whose dihedral angle exceeds
+ * Creases and borders (PreserveCreases, on by default): edges whose dihedral angle exceeds
  * FeatureAngle degrees (vtkDecimatePro's meaning) and border edges form feature lines. Their
  * corners (line ends, junctions, turns sharper than FeatureAngle) and samples evenly spaced along
  * each line (the spacing of the other vertices) are kept as input vertices and counted in the
@@ -134,7 +134,7 @@ protected:
   double CurvatureWeight = 0.0;
   int RandomSeed = 1;
   int ShapeImprovementPasses = 2;
-  bool PreserveCreases = false;
+  bool PreserveCreases = true;
   bool EnforceFacing = false;
   bool RetriangulateRings = false;
   double FeatureAngle = 45.0;

@@ -758,10 +758,57 @@ TEST(Retile, EnforceFacingLeavesFewerFlippedTriangles)
     for (int enforce = 0; enforce < 2; ++enforce)
     {
       flipped[enforce] =
-        RetileAndCheck(input, in, [enforce](vtkRetile* filter) { filter->SetEnforceFacing(enforce == 1); }).Flipped;
+        RetileAndCheck(input, in, [enforce](vtkRetile* filter) {
+          filter->PreserveCreasesOff(); // kept lines enforce the facing test themselves
+          filter->SetEnforceFacing(enforce == 1);
+        }).Flipped;
     }
     std::printf("[retile] %s flipped triangles: default %d, EnforceFacing %d\n", name, flipped[0], flipped[1]);
     EXPECT_LT(flipped[1], flipped[0]);
+  }
+}
+
+// The default keeps creases (PreserveCreases on by default since 2026-12-03): on CAD meshes whose
+// creases are real lines (few corners), the default output has no needle (smallest angle above
+// 2 degrees, no edge under 1e-4 of the diagonal), no more than 0.5% flipped triangles, and keeps
+// the input's crease edges (their midpoints on the output). Before, the default cut the creases
+// (fandisk 3 flipped, anchor_dense 9 flipped and a 0.35 degree triangle). Not yet on blade (not
+// in this test: two flat triangles of three collinear line samples; Documentation/Retile.md).
+TEST(Retile, DefaultKeepsCreasesWithoutNeedles)
+{
+  for (const char* name : { "fandisk", "anchor_dense" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    const TriangleMesh in = slodtest::ToTriangleMesh(input);
+    vtkNew<vtkRetile> filter;
+    filter->SetInputData(input);
+    filter->SetTargetReduction(0.9);
+    filter->Update();
+    const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+    ASSERT_GT(out.NumberOfTriangles(), 0);
+    slodtest::ExpectSameTopology(in, out);
+    const SurfaceCheck check = CheckAgainstInput(in, out);
+    double smallest = 10, shortest = std::numeric_limits<double>::max();
+    for (Index t = 0; t < out.NumberOfTriangles(); ++t)
+    {
+      const Index* tri = out.Triangle(t);
+      smallest = std::min(smallest, MinimumAngle(out.Point(tri[0]), out.Point(tri[1]), out.Point(tri[2])));
+      for (int k = 0; k < 3; ++k)
+      {
+        shortest = std::min(shortest, Norm(out.Point(tri[(k + 1) % 3]) - out.Point(tri[k])));
+      }
+    }
+    const std::vector<double> creases = CreaseMidpointDistances(in, out, filter->GetFeatureAngle());
+    std::printf("[retile] %s default: %d triangles, %lld on lines, %d flipped, smallest angle %.2f degrees, "
+                "shortest edge %.1e, crease midpoints median %.1e\n",
+      name, out.NumberOfTriangles(), (long long)filter->GetNumberOfFeatureVertices(), check.Flipped,
+      smallest * 180 / 3.14159265358979323846, shortest / in.BoundingBoxDiagonal(), Quantile(creases, 0.5));
+    EXPECT_GT(filter->GetNumberOfFeatureVertices(), 0);
+    EXPECT_LE(check.Flipped, 0.005 * out.NumberOfTriangles());
+    EXPECT_GT(smallest * 180 / 3.14159265358979323846, 2.0);
+    EXPECT_GT(shortest, 1e-4 * in.BoundingBoxDiagonal());
+    EXPECT_LT(Quantile(creases, 0.5), 1e-4);
   }
 }
 
