@@ -402,12 +402,14 @@ CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, con
     const Vec3 oldNormal = Cross(q[1] - q[0], q[2] - q[0]);
     const double oldMinAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
     q[corner] = p;
-    if (IsDegenerate(q[0], q[1], q[2]))
+    // The new normal's length is also the degeneracy test's area (computed once).
+    const Vec3 newNormal = Cross(q[1] - q[0], q[2] - q[0]);
+    const double newLength = Norm(newNormal);
+    if (IsDegenerateWithArea(q[0], q[1], q[2], newLength))
     {
       return CollapseStatus::Degenerate;
     }
-    const Vec3 newNormal = Cross(q[1] - q[0], q[2] - q[0]);
-    const double oldLength = Norm(oldNormal), newLength = Norm(newNormal);
+    const double oldLength = Norm(oldNormal);
     if (oldLength > 0 && Dot(oldNormal, newNormal) < options.MinimumNormalDot * oldLength * newLength)
     {
       return CollapseStatus::Flip;

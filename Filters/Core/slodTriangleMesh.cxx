@@ -110,9 +110,7 @@ double MinimumAngle(const Vec3& a, const Vec3& b, const Vec3& c)
 
 bool IsDegenerate(const Vec3& a, const Vec3& b, const Vec3& c, double relativeTolerance)
 {
-  const double l2 = std::max({ Dot(b - a, b - a), Dot(c - b, c - b), Dot(a - c, a - c) });
-  const double twiceArea = Norm(Cross(b - a, c - a));
-  return l2 == 0 || twiceArea <= relativeTolerance * l2;
+  return IsDegenerateWithArea(a, b, c, Norm(Cross(b - a, c - a)), relativeTolerance);
 }
 
 std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres)

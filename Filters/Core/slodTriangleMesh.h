@@ -8,6 +8,7 @@
 
 #include "SurfaceLODFiltersModule.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -151,6 +152,14 @@ SURFACELODFILTERS_EXPORT Vec3 TriangleNormal(const Vec3& a, const Vec3& b, const
 SURFACELODFILTERS_EXPORT double MinimumAngle(const Vec3& a, const Vec3& b, const Vec3& c);
 // True when the triangle has (numerically) zero area relative to its longest edge.
 SURFACELODFILTERS_EXPORT bool IsDegenerate(const Vec3& a, const Vec3& b, const Vec3& c, double relativeTolerance = 1e-12);
+// IsDegenerate for a caller that has the norm of Cross(b - a, c - a) already (twice the area):
+// the same test, without a second cross product and square root.
+inline bool IsDegenerateWithArea(
+  const Vec3& a, const Vec3& b, const Vec3& c, double twiceArea, double relativeTolerance = 1e-12)
+{
+  const double l2 = std::max({ Dot(b - a, b - a), Dot(c - b, c - b), Dot(a - c, a - c) });
+  return l2 == 0 || twiceArea <= relativeTolerance * l2;
+}
 } // namespace slod
 
 #endif

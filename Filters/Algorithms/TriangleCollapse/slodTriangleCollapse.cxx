@@ -3256,12 +3256,25 @@ void TriangleCollapser::AssignClosest(const TriangleMesh& original, ClosestAssig
   const TriangleBVH tree(live);
   std::vector<Index> closestTriangle(static_cast<size_t>(nv));
   // One independent query per original vertex (the tree is read-only): in parallel, the same
-  // assignment for any thread count.
+  // assignment for any thread count. Each query starts from the squared distance to the vertex it
+  // merged into (Parent, compressed by BuildAncestry), a point of the mesh: the search then skips
+  // every box farther than that and finds the same triangle as an unbounded one (the boxes of the
+  // closest triangles are never skipped, and the others keep their order). The margin covers
+  // rounding; a query that finds nothing within the bound (the vertex is not on a live
+  // triangle) is asked again without one.
+  const double margin = 1e-18 * this->Diagonal * this->Diagonal;
   vtkSMPTools::For(0, nv, 1024, [&](vtkIdType begin, vtkIdType end) {
     for (Index a = static_cast<Index>(begin); a < static_cast<Index>(end); ++a)
     {
       const double* p = &original.Points[3 * size_t(a)];
-      closestTriangle[a] = liveToMesh[tree.ClosestPoint(Vec3{ p[0], p[1], p[2] }).Triangle];
+      const Vec3 q{ p[0], p[1], p[2] };
+      const Vec3 d = q - this->Mesh.Point(this->Parent[a]);
+      ClosestPointResult closest = tree.ClosestPoint(q, 1.0001 * Dot(d, d) + margin);
+      if (closest.Triangle == InvalidIndex)
+      {
+        closest = tree.ClosestPoint(q);
+      }
+      closestTriangle[a] = liveToMesh[closest.Triangle];
     }
   });
   auto& start = assignment.Start;

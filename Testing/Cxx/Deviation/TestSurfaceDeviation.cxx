@@ -265,6 +265,43 @@ TEST(TriangleBVH, MaximumDistanceBound)
   EXPECT_EQ(TriangleBVH().ClosestPoint(q).Triangle, InvalidIndex);
 }
 
+// The triangle collapse's fit starts each query from an upper bound (the distance to a point of
+// the mesh) and relies on getting the very triangle an unbounded query gives, ties included (a
+// query at a vertex is at distance 0 from all its triangles).
+TEST(TriangleBVH, BoundAtOrAboveTheDistanceGivesTheSameTriangle)
+{
+  const TriangleMesh mesh = ToTriangleMesh(LoadTestMesh("elephant"));
+  const TriangleBVH tree(mesh);
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  std::uint32_t state = 12345u;
+  auto offset = [&]() {
+    state = state * 1664525u + 1013904223u;
+    return (double(state >> 8) / double(1u << 24) - 0.5) * 0.02 * diagonal;
+  };
+  int compared = 0;
+  for (Index v = 0; v < mesh.NumberOfPoints(); v += 3)
+  {
+    const double* p = &mesh.Points[3 * size_t(v)];
+    const Vec3 vertex{ p[0], p[1], p[2] };
+    for (const Vec3& q : { vertex, Vec3{ p[0] + offset(), p[1] + offset(), p[2] + offset() } })
+    {
+      const ClosestPointResult free = tree.ClosestPoint(q);
+      ASSERT_NE(free.Triangle, InvalidIndex);
+      const Vec3 d = q - vertex;
+      const double margin = 1e-18 * diagonal * diagonal;
+      for (double bound : { 1.0001 * free.Distance2 + margin, 4.0 * free.Distance2 + margin, 1.0001 * Dot(d, d) + margin })
+      {
+        const ClosestPointResult bounded = tree.ClosestPoint(q, bound);
+        ASSERT_EQ(bounded.Triangle, free.Triangle) << "vertex " << v << " bound " << bound;
+        EXPECT_EQ(bounded.Point, free.Point);
+        EXPECT_EQ(bounded.Distance2, free.Distance2);
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 1000);
+}
+
 TEST(TriangleBVH, StructureIsValid)
 {
   const TriangleMesh mesh = ToTriangleMesh(LoadTestMesh("bunny00"));
