@@ -447,6 +447,56 @@ TEST(Retile, NoNearCoincidentVerticesAtCreases)
 
 namespace
 {
+// The smallest angle (in degrees) and the shortest edge over all triangles of a mesh.
+struct TriangleShape
+{
+  double SmallestAngleDegrees = 180;
+  double ShortestEdge = std::numeric_limits<double>::max();
+};
+
+TriangleShape MeasureTriangleShape(const TriangleMesh& m)
+{
+  TriangleShape shape;
+  for (Index t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = m.Triangle(t);
+    shape.SmallestAngleDegrees = std::min(shape.SmallestAngleDegrees,
+      MinimumAngle(m.Point(tri[0]), m.Point(tri[1]), m.Point(tri[2])) * 180 / 3.14159265358979323846);
+    for (int k = 0; k < 3; ++k)
+    {
+      shape.ShortestEdge = std::min(shape.ShortestEdge, Norm(m.Point(tri[(k + 1) % 3]) - m.Point(tri[k])));
+    }
+  }
+  return shape;
+}
+
+// A CGAL test mesh through vtkRetile with its defaults, keeping 10% of the triangles.
+// The output keeps the input's topology (asserted here) and is checked against the input.
+struct DefaultRun
+{
+  TriangleMesh Input, Output;
+  vtkSmartPointer<vtkRetile> Filter;
+  SurfaceCheck Check;
+};
+
+DefaultRun RetileWithDefaultsToATenth(const char* name)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+  DefaultRun run;
+  run.Input = slodtest::ToTriangleMesh(input);
+  run.Filter = vtkSmartPointer<vtkRetile>::New();
+  run.Filter->SetInputData(input);
+  run.Filter->SetTargetReduction(0.9);
+  run.Filter->Update();
+  run.Output = slodtest::RawTriangleMesh(run.Filter->GetOutput());
+  if (run.Output.NumberOfTriangles() > 0)
+  {
+    slodtest::ExpectSameTopology(run.Input, run.Output);
+    run.Check = CheckAgainstInput(run.Input, run.Output);
+  }
+  return run;
+}
+
 // Distance (relative to the diagonal) from the midpoint of every input edge whose dihedral angle
 // exceeds `featureAngle` (computed here, independently of the filter) to the output surface.
 std::vector<double> CreaseMidpointDistances(const TriangleMesh& input, const TriangleMesh& output, double featureAngle)
@@ -550,17 +600,11 @@ TEST(Retile, PreserveCreasesLeavesNoNeedleNorFlippedTriangle)
     filter->Update();
     const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
     ASSERT_GT(out.NumberOfTriangles(), 0);
-    double smallest = 10;
-    for (Index t = 0; t < out.NumberOfTriangles(); ++t)
-    {
-      const Index* tri = out.Triangle(t);
-      smallest = std::min(smallest, MinimumAngle(out.Point(tri[0]), out.Point(tri[1]), out.Point(tri[2])));
-    }
+    const double smallest = MeasureTriangleShape(out).SmallestAngleDegrees;
     const SurfaceCheck check = CheckAgainstInput(slodtest::ToTriangleMesh(input), out);
     std::printf("[retile] %s PreserveCreases: %d triangles, %d flipped, smallest angle %.2f degrees, %lld retained\n",
-      c.Name, out.NumberOfTriangles(), check.Flipped, smallest * 180 / 3.14159265358979323846,
-      (long long)filter->GetNumberOfRetainedVertices());
-    EXPECT_GT(smallest * 180 / 3.14159265358979323846, 1.0);
+      c.Name, out.NumberOfTriangles(), check.Flipped, smallest, (long long)filter->GetNumberOfRetainedVertices());
+    EXPECT_GT(smallest, 1.0);
     EXPECT_LE(check.Flipped, c.MaxFlippedFraction * out.NumberOfTriangles());
   }
 }
@@ -574,32 +618,17 @@ TEST(Retile, DefaultLeavesNoNeedle)
   for (const char* name : { "fandisk", "cow", "triceratops", "rotor_small" })
   {
     SCOPED_TRACE(name);
-    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
-    const TriangleMesh in = slodtest::ToTriangleMesh(input);
-    vtkNew<vtkRetile> filter;
-    filter->SetInputData(input);
-    filter->SetTargetReduction(0.9);
-    filter->Update();
-    const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
-    ASSERT_GT(out.NumberOfTriangles(), 0);
-    slodtest::ExpectSameTopology(in, out);
-    const SurfaceCheck check = CheckAgainstInput(in, out);
+    const DefaultRun run = RetileWithDefaultsToATenth(name);
+    ASSERT_GT(run.Output.NumberOfTriangles(), 0);
+    const TriangleMesh &in = run.Input, &out = run.Output;
+    const SurfaceCheck& check = run.Check;
     EXPECT_LT(check.MaxVertexDistance, 1e-6);
-    double smallest = 10, shortest = std::numeric_limits<double>::max();
-    for (Index t = 0; t < out.NumberOfTriangles(); ++t)
-    {
-      const Index* tri = out.Triangle(t);
-      smallest = std::min(smallest, MinimumAngle(out.Point(tri[0]), out.Point(tri[1]), out.Point(tri[2])));
-      for (int k = 0; k < 3; ++k)
-      {
-        shortest = std::min(shortest, Norm(out.Point(tri[(k + 1) % 3]) - out.Point(tri[k])));
-      }
-    }
+    const TriangleShape shape = MeasureTriangleShape(out);
+    const double smallest = shape.SmallestAngleDegrees, shortest = shape.ShortestEdge;
     std::printf("[retile] %s default: %d triangles, smallest angle %.2f degrees, shortest edge %.1e of the diagonal, "
                 "%d flipped\n",
-      name, out.NumberOfTriangles(), smallest * 180 / 3.14159265358979323846, shortest / in.BoundingBoxDiagonal(),
-      check.Flipped);
-    EXPECT_GT(smallest * 180 / 3.14159265358979323846, 1.0);
+      name, out.NumberOfTriangles(), smallest, shortest / in.BoundingBoxDiagonal(), check.Flipped);
+    EXPECT_GT(smallest, 1.0);
     EXPECT_GT(shortest, 1e-6 * in.BoundingBoxDiagonal());
   }
 }
@@ -779,34 +808,20 @@ TEST(Retile, DefaultKeepsCreasesWithoutNeedles)
   for (const char* name : { "fandisk", "anchor_dense" })
   {
     SCOPED_TRACE(name);
-    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
-    const TriangleMesh in = slodtest::ToTriangleMesh(input);
-    vtkNew<vtkRetile> filter;
-    filter->SetInputData(input);
-    filter->SetTargetReduction(0.9);
-    filter->Update();
-    const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
-    ASSERT_GT(out.NumberOfTriangles(), 0);
-    slodtest::ExpectSameTopology(in, out);
-    const SurfaceCheck check = CheckAgainstInput(in, out);
-    double smallest = 10, shortest = std::numeric_limits<double>::max();
-    for (Index t = 0; t < out.NumberOfTriangles(); ++t)
-    {
-      const Index* tri = out.Triangle(t);
-      smallest = std::min(smallest, MinimumAngle(out.Point(tri[0]), out.Point(tri[1]), out.Point(tri[2])));
-      for (int k = 0; k < 3; ++k)
-      {
-        shortest = std::min(shortest, Norm(out.Point(tri[(k + 1) % 3]) - out.Point(tri[k])));
-      }
-    }
-    const std::vector<double> creases = CreaseMidpointDistances(in, out, filter->GetFeatureAngle());
+    const DefaultRun run = RetileWithDefaultsToATenth(name);
+    ASSERT_GT(run.Output.NumberOfTriangles(), 0);
+    const TriangleMesh &in = run.Input, &out = run.Output;
+    const SurfaceCheck& check = run.Check;
+    const TriangleShape shape = MeasureTriangleShape(out);
+    const double smallest = shape.SmallestAngleDegrees, shortest = shape.ShortestEdge;
+    const std::vector<double> creases = CreaseMidpointDistances(in, out, run.Filter->GetFeatureAngle());
     std::printf("[retile] %s default: %d triangles, %lld on lines, %d flipped, smallest angle %.2f degrees, "
                 "shortest edge %.1e, crease midpoints median %.1e\n",
-      name, out.NumberOfTriangles(), (long long)filter->GetNumberOfFeatureVertices(), check.Flipped,
-      smallest * 180 / 3.14159265358979323846, shortest / in.BoundingBoxDiagonal(), Quantile(creases, 0.5));
-    EXPECT_GT(filter->GetNumberOfFeatureVertices(), 0);
+      name, out.NumberOfTriangles(), (long long)run.Filter->GetNumberOfFeatureVertices(), check.Flipped,
+      smallest, shortest / in.BoundingBoxDiagonal(), Quantile(creases, 0.5));
+    EXPECT_GT(run.Filter->GetNumberOfFeatureVertices(), 0);
     EXPECT_LE(check.Flipped, 0.005 * out.NumberOfTriangles());
-    EXPECT_GT(smallest * 180 / 3.14159265358979323846, 2.0);
+    EXPECT_GT(smallest, 2.0);
     EXPECT_GT(shortest, 1e-4 * in.BoundingBoxDiagonal());
     EXPECT_LT(Quantile(creases, 0.5), 1e-4);
   }
