@@ -195,8 +195,7 @@ int vtkGreedyCutsSimplification::RequestData(
   {
     // The error bound wins over the target: the search never tries a larger tolerance.
     slod::ReportTarget(this, output, target, output->GetNumberOfPolys() <= target,
-      "no tolerance tried up to the error bound (MaximumError, the upper end of the tolerance search) "
-      "gave a coarser result");
+      "the error bound (MaximumError, the upper end of the tolerance search) allows no coarser result");
   }
   this->UpdateProgress(1.0);
   return 1;
