@@ -737,6 +737,8 @@ def scenario_bench(a):
         check(row["output_triangles"] < row["input_triangles"], "bench row did not simplify: %r" % row)
         if row["method"] == "vtk-quadric-decimation":
             check(abs(row["speedup_vs_vtk_quadric"] - 1.0) < 1e-9, "baseline speedup %r" % row)
+        # A run takes some CPU time, and one thread (or more) cannot use more than the cores allow.
+        check(0 < row["cpu_seconds"] <= row["seconds"] * (os.cpu_count() or 1) + 0.05, "cpu seconds: %r" % row)
     fandisk_rows = [r for r in rows if r["input"] == "fandisk"]
     check(all(r["input_triangles"] == 12946 for r in fandisk_rows), "fandisk rows: %r" % fandisk_rows)
 
@@ -788,6 +790,8 @@ def scenario_bench_scaling(a):
     check(len(ratios) == 1 and ratios[0]["ratio_of"] == "noisy:48 / noisy:32", "ratio line: %r" % ratios)
     expected = rows[2]["seconds"] / rows[1]["seconds"]
     check(abs(ratios[0]["time_ratio"] - expected) <= 1e-6 * expected, "ratio %r, times %r" % (ratios, rows))
+    expected = rows[2]["cpu_seconds"] / rows[1]["cpu_seconds"]
+    check(abs(ratios[0]["cpu_time_ratio"] - expected) <= 1e-6 * expected, "cpu ratio %r, times %r" % (ratios, rows))
 
 
 def scenario_bench_timeout(a):

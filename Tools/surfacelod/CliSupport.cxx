@@ -15,6 +15,7 @@
 #include <limits>
 
 #include <sys/resource.h>
+#include <time.h>
 #include <unistd.h>
 
 namespace slodcli
@@ -55,6 +56,16 @@ double PeakResidentMegabytes()
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss / 1024.0; // kB on Linux
+}
+
+double ProcessCpuSeconds()
+{
+  timespec now{};
+  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now) != 0)
+  {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
 }
 
 double ResidentMegabytes()

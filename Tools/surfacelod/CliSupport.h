@@ -34,20 +34,28 @@ struct CliError : std::runtime_error
 
 std::string FormatReal(double value, int significant = 6);
 
+// CPU seconds used so far by every thread of this process (NaN when the clock is missing).
+double ProcessCpuSeconds();
+
+// Wall time, and the process' CPU time: on a loaded machine the CPU time of a run still tells
+// how much work it did, where its wall time also counts the time it waited for a core.
 class Stopwatch
 {
 public:
   Stopwatch()
     : Start(std::chrono::steady_clock::now())
+    , CpuStart(ProcessCpuSeconds())
   {
   }
   double Seconds() const
   {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - this->Start).count();
   }
+  double CpuSeconds() const { return ProcessCpuSeconds() - this->CpuStart; }
 
 private:
   std::chrono::steady_clock::time_point Start;
+  double CpuStart;
 };
 
 // Peak resident set size of this process in MiB (VmHWM, else getrusage).

@@ -64,6 +64,12 @@ void PrintJson(const Json& line)
   std::cout << line.dump() << std::endl; // NaN and infinities are written as null
 }
 
+// value, or null when it is not finite / not measured.
+Json NumberOrNull(double value, bool measured = true)
+{
+  return measured && std::isfinite(value) ? Json(value) : Json(nullptr);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Shared stages
 
@@ -71,6 +77,7 @@ struct RunResult
 {
   vtkSmartPointer<vtkPolyData> Output;
   double Seconds = 0.0;
+  double CpuSeconds = 0.0; // of every thread, during Update()
 };
 
 // The input every SurfaceLOD filter works on (coincident points merged, triangles with a repeated
@@ -105,6 +112,7 @@ RunResult RunMethod(const Method& method, vtkPolyData* triangles, const MethodSe
     Stopwatch watch;
     filter->Update();
     result.Seconds = watch.Seconds();
+    result.CpuSeconds = watch.CpuSeconds();
     error = capture.FirstError();
   }
   result.Output = vtkSmartPointer<vtkPolyData>::New();
@@ -389,7 +397,8 @@ struct RunMemory
 
 // The line `simplify` prints; `distributed` adds the figures of a run on several processes.
 void PrintSimplified(const SimplifyArguments& args, const Method& method, const MethodSettings& settings,
-  const OutputSummary& output, double seconds, const RunMemory& memory, const Json& distributed = Json())
+  const OutputSummary& output, double seconds, double cpuSeconds, const RunMemory& memory,
+  const Json& distributed = Json())
 {
   const bool measured = std::isfinite(memory.BytesPerInputPoint());
   const double peak = std::max(memory.PeakBeforeRun, PeakResidentMegabytes());
@@ -404,7 +413,7 @@ void PrintSimplified(const SimplifyArguments& args, const Method& method, const 
   {
     Json line = { { "method", method.Name }, { "input_triangles", settings.InputTriangles },
       { "output_triangles", outputTriangles }, { "target_reached", hasTarget ? Json(targetReached) : Json() },
-      { "seconds", seconds },
+      { "seconds", seconds }, { "cpu_seconds", NumberOrNull(cpuSeconds) },
       { "peak_rss_mb", peak } };
     if (measured)
     {
@@ -459,7 +468,7 @@ int Simplify(const SimplifyArguments& args)
     memory.WorkingMegabytes = std::max(0.0, PeakResidentMegabytes() - residentBefore);
   }
   WriteMesh(result.Output, args.Output);
-  PrintSimplified(args, method, settings, Summarize(result.Output), result.Seconds, memory);
+  PrintSimplified(args, method, settings, Summarize(result.Output), result.Seconds, result.CpuSeconds, memory);
   return ExitSuccess;
 }
 
@@ -636,9 +645,10 @@ int SimplifyDistributed(const SimplifyArguments& args, const Method& method,
   const vtkSmartPointer<vtkPolyData> merged = eachWritesItsPiece ? nullptr : GatherPieces(controller, result.Output);
 
   const int processes = controller->GetNumberOfProcesses();
-  double slowest = 0.0, peak = PeakResidentMegabytes();
+  double slowest = 0.0, cpu = 0.0, peak = PeakResidentMegabytes();
   std::vector<double> peaks(static_cast<size_t>(processes));
   controller->Reduce(&result.Seconds, &slowest, 1, vtkCommunicator::MAX_OP, 0);
+  controller->Reduce(&result.CpuSeconds, &cpu, 1, vtkCommunicator::SUM_OP, 0); // all processes' work
   controller->Gather(&peak, peaks.data(), 1, 0);
   if (controller->GetLocalProcessId() != 0)
   {
@@ -648,7 +658,7 @@ int SimplifyDistributed(const SimplifyArguments& args, const Method& method,
   {
     WriteMesh(merged, args.Output);
   }
-  PrintSimplified(args, method, settings, eachWritesItsPiece ? summary : Summarize(merged), slowest, RunMemory(),
+  PrintSimplified(args, method, settings, eachWritesItsPiece ? summary : Summarize(merged), slowest, cpu, RunMemory(),
     { { "processes", processes }, { "wall_seconds", wall.Seconds() }, { "peak_rss_mb_per_process", peaks },
       { "pieces_read", readOwnPiece ? processes : 0 }, { "pieces_written", eachWritesItsPiece ? processes : 0 } });
   return ExitSuccess;
@@ -957,9 +967,10 @@ std::string BenchDescription()
     "a mesh file path, or the name of a CGAL demo mesh (e.g. fandisk) looked up as <name>.off in --mesh-dir.\n"
     "--set real: noisy, mask and openscan at about 1M triangles each, then every --input FILE (e.g. the MRI\n"
     "isosurface of scripts/make-mri-isosurface.py). --scaling: noisy at about 0.25M, 1M and 4M triangles,\n"
-    "then time(4M) / time(1M) per method.\n"
+    "then time(4M) / time(1M) per method, by wall time and by CPU time.\n"
     "The baseline " + std::string(BaselineMethod) + " always runs first. seconds: the filter alone\n"
-    "(fastest of --repeat runs); Mtri/s: input triangles per second; t/quad and H/quad: the method's time\n"
+    "(fastest of --repeat runs); cpu s: the CPU time of all its threads in that run (on a loaded machine the\n"
+    "figure to compare); Mtri/s: input triangles per second; t/quad and H/quad: the method's time\n"
     "and Hausdorff divided by the baseline's in the same run; hausdorff: relative to the input's\n"
     "bounding-box diagonal; target: at most 1% (+1) more triangles than asked; chi, loops, nm-e: Euler\n"
     "characteristic, border loops and non-manifold edges of the output (the input's on its header line); B/vert:\n"
@@ -1048,6 +1059,7 @@ struct BenchRow
   std::string Status = "ok"; // ok, timeout, failed
   std::string Message;       // why it failed
   double Seconds = 0.0;
+  double CpuSeconds = 0.0;    // of the fastest run: the work, whatever the machine's load
   double PeakMegabytes = 0.0; // of the child process
   double WorkingBytesPerInputPoint = std::numeric_limits<double>::quiet_NaN(); // beyond the input, largest run
   vtkIdType InputTriangles = 0, TargetTriangles = 0, OutputTriangles = 0;
@@ -1106,6 +1118,7 @@ void RunMethodInChild(const BenchOptions& options, const std::string& inputPath,
     if (r == 0 || seconds < row.Seconds)
     {
       row.Seconds = seconds;
+      row.CpuSeconds = JsonNumber(child.Output, "cpu_seconds");
     }
     row.PeakMegabytes = std::max(row.PeakMegabytes, JsonNumber(child.Output, "peak_rss_mb"));
     const double working = JsonNumber(child.Output, "working_rss_mb") * 1048576.0 / JsonNumber(child.Output, "input_points");
@@ -1172,7 +1185,7 @@ void PrintBenchHeader(const BenchOptions& options)
         Fixed(load[2], 2) : std::string("unknown")) << " (" << std::thread::hardware_concurrency()
             << " CPUs), time-out " << FormatReal(options.TimeoutSeconds) << " s per method run\n\n"
             << Padded("input", 16) << Padded("method", 28) << Padded("out", 9, true) << Padded("target", 7, true)
-            << Padded("seconds", 9, true) << Padded("Mtri/s", 8, true) << Padded("t/quad", 8, true)
+            << Padded("seconds", 9, true) << Padded("cpu s", 9, true) << Padded("Mtri/s", 8, true) << Padded("t/quad", 8, true)
             << Padded("hausdorff", 11, true) << Padded("H/quad", 8, true) << Padded("chi", 9, true)
             << Padded("loops", 7, true) << Padded("nm-e", 7, true) << Padded("B/vert", 8, true) << "\n";
 }
@@ -1205,6 +1218,7 @@ void PrintRowText(const BenchRow& row, const BenchRow& baseline)
   const bool deviation = row.HasDeviation;
   std::cout << Padded(std::to_string(row.OutputTriangles), 9, true) << Padded(!row.HasTarget ? "-" : row.TargetReached ? "yes" : "no", 7, true)
             << Padded(Fixed(row.Seconds, 3), 9, true)
+            << Padded(std::isfinite(row.CpuSeconds) ? Fixed(row.CpuSeconds, 3) : "-", 9, true)
             << Padded(row.Seconds > 0 ? Fixed(1e-6 * double(row.InputTriangles) / row.Seconds, 2) : "-", 8, true)
             << Padded(RatioText(RatioTo(row.Seconds, baseline.Status == "ok" ? baseline.Seconds : 0)), 8, true)
             << Padded(deviation ? Scientific(row.Distance.Hausdorff) : "-", 11, true)
@@ -1215,12 +1229,6 @@ void PrintRowText(const BenchRow& row, const BenchRow& baseline)
             << Padded(std::to_string(row.Topology.NonManifoldEdges), 7, true)
             << Padded(std::isfinite(row.WorkingBytesPerInputPoint) ? Fixed(row.WorkingBytesPerInputPoint, 0) : "-", 8, true)
             << std::endl;
-}
-
-// value, or null when it is not finite / not measured.
-Json NumberOrNull(double value, bool measured = true)
-{
-  return measured && std::isfinite(value) ? Json(value) : Json(nullptr);
 }
 
 // An integer when measured, else null (as the topology of a failed run).
@@ -1236,7 +1244,7 @@ void PrintRowJson(const BenchRow& row, const BenchRow& baseline, const TopologyS
   Json line = { { "input", row.Input }, { "method", row.Run->Name }, { "status", row.Status },
     { "input_triangles", row.InputTriangles }, { "target_triangles", row.TargetTriangles },
     { "output_triangles", CountOrNull(row.OutputTriangles, ok) }, { "target_reached", row.HasTarget ? Json(int(ok && row.TargetReached)) : Json() },
-    { "seconds", NumberOrNull(row.Seconds, ok) },
+    { "seconds", NumberOrNull(row.Seconds, ok) }, { "cpu_seconds", NumberOrNull(row.CpuSeconds, ok) },
     { "input_triangles_per_second", NumberOrNull(double(row.InputTriangles) / row.Seconds, ok && row.Seconds > 0) },
     { "baseline_seconds", NumberOrNull(baselineSeconds, baselineSeconds > 0) },
     { "speedup_vs_vtk_quadric", NumberOrNull(RatioTo(baselineSeconds, row.Seconds), ok) },
@@ -1286,7 +1294,8 @@ std::vector<BenchRow> BenchInput(const BenchOptions& options, const TargetArgume
   return rows;
 }
 
-// time(third input) / time(second input) per method after a --scaling run (4M / 1M triangles).
+// time(third input) / time(second input) per method after a --scaling run (4M / 1M triangles),
+// by wall time and by CPU time (the CPU ratio is the one that a loaded machine does not distort).
 void PrintScaling(const std::vector<std::vector<BenchRow>>& perInput, const BenchOptions& options)
 {
   if (perInput.size() != 3)
@@ -1304,18 +1313,20 @@ void PrintScaling(const std::vector<std::vector<BenchRow>>& perInput, const Benc
     {
       std::cout << Padded(rows.front().Input, 14, true);
     }
-    std::cout << Padded("ratio", 8, true) << "\n";
+    std::cout << Padded("ratio", 8, true) << Padded("cpu ratio", 10, true) << "\n";
   }
   for (size_t m = 0; m < options.Methods.size(); ++m)
   {
     const BenchRow& middle = perInput[1][m];
     const BenchRow& large = perInput[2][m];
-    const double ratio = large.Status == "ok" && middle.Status == "ok" ? RatioTo(large.Seconds, middle.Seconds)
-                                                                        : std::numeric_limits<double>::quiet_NaN();
+    const bool ok = large.Status == "ok" && middle.Status == "ok";
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double ratio = ok ? RatioTo(large.Seconds, middle.Seconds) : nan;
+    const double cpuRatio = ok ? RatioTo(large.CpuSeconds, middle.CpuSeconds) : nan;
     if (options.Json)
     {
       PrintJson({ { "scaling", options.Methods[m]->Name }, { "ratio_of", largeName + " / " + middleName },
-        { "time_ratio", NumberOrNull(ratio) } });
+        { "time_ratio", NumberOrNull(ratio) }, { "cpu_time_ratio", NumberOrNull(cpuRatio) } });
       continue;
     }
     std::cout << Padded(options.Methods[m]->Name, 28);
@@ -1323,7 +1334,7 @@ void PrintScaling(const std::vector<std::vector<BenchRow>>& perInput, const Benc
     {
       std::cout << Padded(rows[m].Status == "ok" ? Fixed(rows[m].Seconds, 3) : rows[m].Status, 14, true);
     }
-    std::cout << Padded(RatioText(ratio), 8, true) << "\n";
+    std::cout << Padded(RatioText(ratio), 8, true) << Padded(RatioText(cpuRatio), 10, true) << "\n";
   }
 }
 
