@@ -1985,9 +1985,31 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
   {
     return false;
   }
+  // The count need not fall with the tolerance at the top (bunny00: the cuts at 0.1 of the diagonal
+  // leave long fans whose proofs gather too much of the input, and the collapses stall above the
+  // target that 0.01 reaches): a top over the target sends the search down, halving the level
+  // index, until a level is within the target; the bisection then runs below that level. None
+  // within: the fewest triangles tried, within their own level's bound. The descent stops at the
+  // first finer level that does not lower the count (there the count falls with the tolerance
+  // again, and finer runs only cost more: the corpus' valence-5000 cone).
+  while (count(within) > target && up > 0 && ++evaluation <= steps && !this->WorkSpent())
+  {
+    GreedyCutsResult trial;
+    up /= 2;
+    if (!evaluate(up, trial))
+    {
+      return false;
+    }
+    if (count(trial) >= count(within))
+    {
+      break;
+    }
+    within = std::move(trial);
+  }
   if (count(within) > target)
   {
-    result = std::move(within); // even hi gives more triangles: the bound wins
+    this->SearchStoppedByWorkBound = this->WorkSpent();
+    result = std::move(within); // no level tried reaches the target: the bound wins
     this->WorkLimit = 0;
     return true;
   }

@@ -158,7 +158,10 @@ public:
   // tried with more triangles (the input itself when none); that finer result is then collapsed at
   // the level's tolerance, stopping at the target: target or target - 1 triangles (a collapse
   // removes one or two), within that level's tolerance; fewer only when the collapses get stuck
-  // (then the level's own result), more only when hi allows no coarser result. Work bound: the
+  // (then the level's own result). A top level over the target (the count can rise with the
+  // tolerance) sends the search to finer levels, halving the level index, until one is within
+  // (or one does not lower the count); more only when no level tried is (then the fewest tried).
+  // Work bound: the
   // runs, and then the final collapses, MaximumLadderPiecesPerTriangle distance-proof pieces per
   // input triangle each (WorkBoundReached() tells).
   // Without the final collapses:
