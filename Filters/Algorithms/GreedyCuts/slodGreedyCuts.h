@@ -160,7 +160,8 @@ public:
   // removes one or two), within that level's tolerance; fewer only when the collapses get stuck
   // (then the level's own result). A top level over the target (the count can rise with the
   // tolerance) sends the search to finer levels, halving the level index, until one is within
-  // (or one does not lower the count); more only when no level tried is (then the fewest tried).
+  // (or one does not lower the count), unless the top removed less than 1% of the input (then it
+  // is kept); more only when no level tried is (then the fewest tried).
   // Work bound: the
   // runs, and then the final collapses, MaximumLadderPiecesPerTriangle distance-proof pieces per
   // input triangle each (WorkBoundReached() tells).
@@ -185,6 +186,9 @@ private:
     GreedyCutsResult& level, const ProgressFunction& progress);
   bool SearchCollapsedForTarget(Index target, const GreedyCutsParameters& base, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress);
+  using LevelRun = std::function<bool(int level, GreedyCutsResult& result)>;
+  bool DescendBelowTop(Index target, const LevelRun& evaluate, int steps, int& evaluation, int& up,
+    GreedyCutsResult& within);
   bool CollapseToTarget(Index target, GreedyCutsResult& within, GreedyCutsResult& finer, double finerBound,
     GreedyCutsParameters prm, const ProgressFunction& progress, GreedyCutsResult& result);
   // The work account of a nested run or a target search: ProofPieces past which no further level,
