@@ -120,6 +120,9 @@ constexpr long long MaximumLadderPiecesPerTriangle = 2000;
 // Tolerances (doubling up to the level found) at which a target's final collapses run when their
 // start is finer than half that level (the input below the ladder's bottom).
 constexpr int CollapseStages = 5;
+// A target search's top level over the target goes down the ladder only when it removed at least
+// 1/this of the input's triangles (below, it moved the surface too little to have stalled).
+constexpr Index DescentMinimumRemoved = 100;
 
 enum class PieceDistance
 {
@@ -1985,9 +1988,27 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
   {
     return false;
   }
+  // The count need not fall with the tolerance at the top (bunny00: the cuts at 0.1 of the diagonal
+  // leave long fans whose proofs gather too much of the input, and the collapses stall above the
+  // target that 0.01 reaches): a top over the target sends the search down the ladder (DescendBelowTop).
+  // A top that removed (nearly) nothing does not go down: the rise comes from the stalls of a
+  // top that moved the surface a lot, and where the largest tolerance proved (almost) no cut or
+  // collapse the finer ones, whose proofs only reject more, are not expected to do better (the
+  // corpus' valence-5000 cone: 10,000 -> 10,000, every patch kept original, no collapse; each
+  // level tried is a whole run, 4-5 s there, and the proof pieces, 24 per input triangle, leave
+  // the work account far from spent).
+  const Index input = this->Mesh->NumberOfTriangles();
+  if (count(within) > target && (input - count(within)) * DescentMinimumRemoved >= input)
+  {
+    if (!this->DescendBelowTop(target, evaluate, steps, evaluation, up, within))
+    {
+      return false;
+    }
+  }
   if (count(within) > target)
   {
-    result = std::move(within); // even hi gives more triangles: the bound wins
+    this->SearchStoppedByWorkBound = this->WorkSpent();
+    result = std::move(within); // no level tried reaches the target: the bound wins
     this->WorkLimit = 0;
     return true;
   }
@@ -2010,6 +2031,33 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
   }
   const double finerBound = down < 0 ? 0.0 : std::min(ladder[size_t(down)] * diagonal, hi);
   return this->CollapseToTarget(target, within, finer, finerBound, prm, progress, result);
+}
+
+// A top level over the target: finer levels, halving the level index, until one is within the
+// target (the bisection then runs below it). Charged to the search's steps and work account (a
+// level starts only while neither is spent). It stops at the first finer level that does not
+// lower the count (there the count falls with the tolerance again, and finer runs only cost
+// more). `within` (level `up`) ends as the fewest triangles tried.
+bool GreedyCuts::DescendBelowTop(Index target, const LevelRun& evaluate, int steps, int& evaluation, int& up,
+  GreedyCutsResult& within)
+{
+  auto count = [](const GreedyCutsResult& r) { return Index(r.Triangles.size() / 3); };
+  while (count(within) > target && up > 0 && ++evaluation <= steps && !this->WorkSpent())
+  {
+    const int level = up / 2;
+    GreedyCutsResult trial;
+    if (!evaluate(level, trial))
+    {
+      return false;
+    }
+    if (count(trial) >= count(within))
+    {
+      break;
+    }
+    within = std::move(trial);
+    up = level;
+  }
+  return true;
 }
 
 // The finer start (more than `target` triangles, within `finerBound`: 0 for the input) collapsed

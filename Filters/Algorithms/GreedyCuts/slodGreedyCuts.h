@@ -158,7 +158,11 @@ public:
   // tried with more triangles (the input itself when none); that finer result is then collapsed at
   // the level's tolerance, stopping at the target: target or target - 1 triangles (a collapse
   // removes one or two), within that level's tolerance; fewer only when the collapses get stuck
-  // (then the level's own result), more only when hi allows no coarser result. Work bound: the
+  // (then the level's own result). A top level over the target (the count can rise with the
+  // tolerance) sends the search to finer levels, halving the level index, until one is within
+  // (or one does not lower the count), unless the top removed less than 1% of the input (then it
+  // is kept); more only when no level tried is (then the fewest tried).
+  // Work bound: the
   // runs, and then the final collapses, MaximumLadderPiecesPerTriangle distance-proof pieces per
   // input triangle each (WorkBoundReached() tells).
   // Without the final collapses:
@@ -182,6 +186,9 @@ private:
     GreedyCutsResult& level, const ProgressFunction& progress);
   bool SearchCollapsedForTarget(Index target, const GreedyCutsParameters& base, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress);
+  using LevelRun = std::function<bool(int level, GreedyCutsResult& result)>;
+  bool DescendBelowTop(Index target, const LevelRun& evaluate, int steps, int& evaluation, int& up,
+    GreedyCutsResult& within);
   bool CollapseToTarget(Index target, GreedyCutsResult& within, GreedyCutsResult& finer, double finerBound,
     GreedyCutsParameters prm, const ProgressFunction& progress, GreedyCutsResult& result);
   // The work account of a nested run or a target search: ProofPieces past which no further level,

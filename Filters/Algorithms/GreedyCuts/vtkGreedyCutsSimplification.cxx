@@ -195,7 +195,8 @@ int vtkGreedyCutsSimplification::RequestData(
   {
     // The error bound wins over the target: the search never tries a larger tolerance.
     slod::ReportTarget(this, output, target, output->GetNumberOfPolys() <= target,
-      "the error bound (MaximumError, the upper end of the tolerance search) allows no coarser result");
+      "no tolerance tried up to the error bound (MaximumError, the upper end of the tolerance search) "
+      "gave a coarser result");
   }
   this->UpdateProgress(1.0);
   return 1;

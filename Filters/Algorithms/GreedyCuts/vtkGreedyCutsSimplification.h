@@ -32,9 +32,11 @@
  * MonotoneInEpsilon) from LadderBottom to MaximumError, one run with its collapses per level tried
  * (at most TargetSearchSteps after the top one), for the smallest level within the target; the
  * next finer level tried (the input itself when none) is then collapsed at that level's tolerance
- * down to the target: the target count or one below (more only when MaximumError allows no coarser
- * result; fewer when the collapses get stuck). Work bound: 2,000 distance-proof pieces per input
- * triangle for the runs and again for the final collapses (a warning when reached).
+ * down to the target: the target count or one below (a top level over the target sends the
+ * search to finer levels, since the count can rise with the tolerance, unless it removed under 1%
+ * of the input; more only when no level tried is within it; fewer when the collapses get stuck).
+ * Work bound: 2,000 distance-proof pieces per input triangle for the runs and again for the final
+ * collapses (a warning when reached).
  * Without FinalCollapses: the earlier search on the cuts' counts (TargetSearchSteps runs of
  * halving, then bisection on log(epsilon)). MaximumError still bounds the error (the bound wins
  * over the target, with a warning); raise it (e.g. 0.1 relative) to let the target decide.
