@@ -98,8 +98,14 @@ class TriangleCollapseHierarchyTest(unittest.TestCase):
         lod.SetInputConnection(reader.GetOutputPort())
         lod.GenerateAllLevelsOff()
         # The paper needed 29 levels of 2.5% batches to get below 5%; the defaults need 33 (a level
-        # looks at most 4 batch sizes deep into the priority order) and use edge collapses too.
+        # looks at most 4 batch sizes deep into the priority order) and use edge collapses (nearly
+        # only: one is taken where it costs less per removed triangle, PreferEdgeFactor 0.5).
         lod.SetLevel(35)
+        lod.Update()
+        self.assertLess(lod.GetOutput().GetNumberOfPolys(), 0.05 * reader.GetOutput().GetNumberOfPolys())
+        self.assertGreater(lod.GetNumberOfEdgeCollapses(), 0)
+        # Edge collapses only where a triangle collapse costs ten times more: both kinds.
+        lod.SetPreferEdgeFactor(0.1)
         lod.Update()
         self.assertLess(lod.GetOutput().GetNumberOfPolys(), 0.05 * reader.GetOutput().GetNumberOfPolys())
         self.assertGreater(lod.GetNumberOfEdgeCollapses(), 0)

@@ -64,7 +64,8 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // Adaptive threshold of a batch: when > 0, a level looks no deeper into the priority order than
   // this factor times the batch size, so that cheap triangles blocked by the rules do not force
   // expensive ones into the batch (a level still takes at least a quarter of its batch size, so
-  // that levels keep making progress). 0: unlimited (paper).
+  // that levels keep making progress). Counted like the batch, in triangle collapses: a candidate
+  // ordered by its edge collapse counts half. 0: unlimited (paper).
   double BatchSearchDepth = 0.0;
   // Fraction of the live triangles collapsed per level (at most).
   double BatchFraction = 0.025;
@@ -277,7 +278,7 @@ private:
   void SelectOrRelax(int level, LevelState& state);
   void SwapEverywhereAndRetry(int level, LevelState& state);
   void SelectBatch(int level, LevelState& state);
-  bool RegionIsFree(Index t, int level, const LevelState& state) const;
+  bool RegionIsFree(Index t, int level, const LevelState& state, int edge = -1) const;
   void MarkRegion(Index t, int edge, int level, LevelState& state) const;
   bool ChooseCollapse(Index t, double orderWeight, bool edges, int& edge, Vec3& point);
   bool TriangleCollapseAllowed(Index t, double orderWeight);

@@ -25,6 +25,7 @@
 #include "vtkPolyData.h"
 #include "vtkQuadricDecimation.h"
 #include "vtkSMPTools.h"
+#include "vtkScanSurfaceSource.h"
 #include "vtkStaticCellLocator.h"
 #include "vtkSurfaceDeviation.h"
 
@@ -569,8 +570,13 @@ TEST_P(HierarchyOnMesh, LevelsAreManifoldSameGenusUnflippedAndExactlyReversible)
 {
   const TriangleMesh input = ToTriangleMesh(LoadTestMesh(GetParam()));
   const MeshStatistics in = ComputeMeshStatistics(input);
+  // The defaults but PreferEdgeFactor 0.1 (the default before session 16): a triangle collapse
+  // is then taken unless its cheapest edge collapse costs under a tenth, so both kinds share the
+  // levels (with the default 0.5 nearly every collapse is an edge collapse).
+  CollapseHierarchyParameters mixed = DefaultParameters();
+  mixed.PreferEdgeFactor = 0.1;
   CollapseHierarchy h;
-  ASSERT_TRUE(h.Build(input, DefaultParameters()));
+  ASSERT_TRUE(h.Build(input, mixed));
   const int levels = h.NumberOfLevels();
   ASSERT_GT(levels, 10);
   // Down to 2% of the input at least (the quality goal's coarsest target).
@@ -1620,6 +1626,51 @@ TEST_P(HierarchyQuality, VersusQuadricDecimationAndDecimatePro)
 }
 
 INSTANTIATE_TEST_SUITE_P(RealMeshes, HierarchyQuality, ::testing::Values("fandisk", "femur", "bunny00", "armadillo"));
+
+// Issue 12's quality goal on the kind of surface users shrink (marching-cubes isosurfaces of noisy
+// scans, with handles, border loops and non-manifold edges): at 10% of the triangles the Hausdorff
+// distance is at most 1.2x vtkQuadricDecimation's, on each of three resolutions, measured in this
+// run. (Before session 16 the defaults accepted a triangle collapse up to ten times dearer than
+// its cheapest edge collapse, and the noisy surface of resolution 60 was at 1.24x.)
+constexpr double IssueRatioToQuadric = 1.2;
+
+class HierarchyIssueQuality : public ::testing::TestWithParam<int>
+{
+};
+
+TEST_P(HierarchyIssueQuality, NoisyIsosurfaceAtTenPercentWithinTheIssueBound)
+{
+  if (!DeviationAvailable())
+  {
+    GTEST_SKIP() << "vtkSurfaceDeviation is not implemented in this build (placeholder returns 0)";
+  }
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(GetParam());
+  source->Update();
+  vtkPolyData* input = source->GetOutput();
+  vtkNew<vtkTriangleCollapseHierarchy> hierarchy;
+  hierarchy->SetInputData(input);
+  hierarchy->GenerateAllLevelsOff();
+  hierarchy->SetTargetReduction(0.9);
+  hierarchy->Update();
+  vtkPolyData* ours = hierarchy->GetOutput();
+  const vtkIdType n0 = input->GetNumberOfPolys();
+  vtkNew<vtkQuadricDecimation> quadric;
+  quadric->SetInputData(input);
+  quadric->SetTargetReduction(1.0 - double(ours->GetNumberOfPolys()) / n0);
+  quadric->Update();
+  const Distances d = Measure(input, ours), q = Measure(input, quadric->GetOutput());
+  std::printf("[ measure  ] noisy %d (%lld triangles) 10%%: triangles %lld / quadric %lld; Hausdorff %.3e / %.3e "
+              "(x%.2f); mean %.3e / %.3e (x%.2f)\n",
+    GetParam(), static_cast<long long>(n0), static_cast<long long>(ours->GetNumberOfPolys()),
+    static_cast<long long>(quadric->GetOutput()->GetNumberOfPolys()), d.Hausdorff, q.Hausdorff,
+    d.Hausdorff / q.Hausdorff, d.Mean, q.Mean, d.Mean / q.Mean);
+  EXPECT_NEAR(double(ours->GetNumberOfPolys()), 0.1 * n0, 3.0);
+  EXPECT_LE(d.Hausdorff, IssueRatioToQuadric * q.Hausdorff);
+}
+
+INSTANTIATE_TEST_SUITE_P(NoisyScans, HierarchyIssueQuality, ::testing::Values(50, 60, 70));
 
 // The paper's configuration, measured: levels to below 5% (the paper: 29 of 48 on its skull) and
 // the distance at about 10% against vtkQuadricDecimation and vtkDecimatePro at the same count.
