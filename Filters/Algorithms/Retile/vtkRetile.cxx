@@ -340,6 +340,16 @@ vtkRetile::vtkRetile()
   this->AddSecondaryOutputPort("vtkMultiBlockDataSet");
 }
 
+void vtkRetile::SetPreserveCreases(bool preserve)
+{
+  this->PreserveCreasesSetByUser = true;
+  if (this->PreserveCreases != preserve)
+  {
+    this->PreserveCreases = preserve;
+    this->Modified();
+  }
+}
+
 vtkMultiBlockDataSet* vtkRetile::GetNestedLevels()
 {
   return vtkMultiBlockDataSet::SafeDownCast(this->GetOutputDataObject(1));
@@ -385,6 +395,11 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   // by recorded collapses): PreserveCreases applies to the plain re-tiling only.
   const bool nested = this->GenerateNestedLevels && this->NumberOfNestedLevels > 1;
   options.PreserveCreases = this->PreserveCreases && !nested;
+  if (nested && this->PreserveCreases && this->PreserveCreasesSetByUser)
+  {
+    vtkWarningMacro(<< "PreserveCreases is ignored with nested levels (GenerateNestedLevels): their coarser levels "
+                       "are made from the finer one by recorded collapses, which do not keep feature lines.");
+  }
   options.EnforceFacing = this->EnforceFacing;
   options.RetriangulateRings = this->RetriangulateRings;
   options.FeatureAngle = this->FeatureAngle;

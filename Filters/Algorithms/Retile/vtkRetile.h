@@ -84,8 +84,9 @@ public:
   vtkSetClampMacro(ShapeImprovementPasses, int, 0, 100);
   vtkGetMacro(ShapeImprovementPasses, int);
 
-  // Keep creases, corners and borders (see above).
-  vtkSetMacro(PreserveCreases, bool);
+  // Keep creases, corners and borders (see above). The nested levels do not keep them: set
+  // explicitly with GenerateNestedLevels, it is ignored with a warning.
+  virtual void SetPreserveCreases(bool preserve);
   vtkGetMacro(PreserveCreases, bool);
   vtkBooleanMacro(PreserveCreases, bool);
   // Refuse collapses whose new triangles face against the input (within a bounded budget of
@@ -135,6 +136,7 @@ protected:
   int RandomSeed = 1;
   int ShapeImprovementPasses = 2;
   bool PreserveCreases = true;
+  bool PreserveCreasesSetByUser = false; // only an explicit request is warned about when ignored
   bool EnforceFacing = false;
   bool RetriangulateRings = false;
   double FeatureAngle = 45.0;

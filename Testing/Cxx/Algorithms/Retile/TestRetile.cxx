@@ -1000,6 +1000,32 @@ TEST(Retile, NestedLevelsKeepRetainedAndMovedVerticesOnACamel)
   EXPECT_EQ(morph->GetNumberOfSharedVertices(), vtkPolyData::SafeDownCast(levels->GetBlock(0))->GetNumberOfPoints());
 }
 
+// The nested levels do not keep feature lines: PreserveCreases set explicitly (on) is ignored
+// with a warning; its default (on) and an explicit off are not warned about.
+TEST(Retile, ExplicitPreserveCreasesWithNestedLevelsWarns)
+{
+  auto input = slodtest::ToPolyData(slodtest::Sphere(24, 24));
+  enum class Setting { Default, On, Off };
+  for (const Setting setting : { Setting::Default, Setting::On, Setting::Off })
+  {
+    vtkNew<vtkRetile> filter;
+    filter->SetInputData(input);
+    filter->SetNumberOfPoints(160);
+    filter->GenerateNestedLevelsOn();
+    if (setting != Setting::Default)
+    {
+      filter->SetPreserveCreases(setting == Setting::On);
+    }
+    vtkNew<slodtest::MessageCounter> messages;
+    filter->AddObserver(vtkCommand::WarningEvent, messages);
+    filter->Update();
+    EXPECT_GT(filter->GetOutput()->GetNumberOfPolys(), 0);
+    const auto warned = std::count_if(messages->Warnings.begin(), messages->Warnings.end(),
+      [](const std::string& m) { return m.find("PreserveCreases is ignored") != std::string::npos; });
+    EXPECT_EQ(warned, setting == Setting::On ? 1 : 0) << "setting " << static_cast<int>(setting);
+  }
+}
+
 TEST(Retile, SeveralComponents)
 {
   // Two disjoint spheres: every component keeps its topology (points land on both by area).
