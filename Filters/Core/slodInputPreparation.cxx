@@ -19,6 +19,8 @@
 #include "vtkPoints.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 
 #include <algorithm>
@@ -276,79 +278,108 @@ enum : unsigned char
   NonManifoldFlag = 2
 };
 
+// Whether some edge (a, b) with two triangles is traversed the same way by both (inconsistent
+// orientation): the half-edge a -> b appears twice in a's star.
+bool SameHalfEdgeTwice(const TriangleMesh& mesh, const VertexStar& star, Index a, std::vector<Index>& outgoing)
+{
+  outgoing.clear();
+  for (const Index* s = star.Begin(a); s != star.End(a); ++s)
+  {
+    const Index* tri = mesh.Triangle(*s);
+    const int c = tri[0] == a ? 0 : (tri[1] == a ? 1 : 2);
+    outgoing.push_back(tri[(c + 1) % 3]);
+  }
+  std::sort(outgoing.begin(), outgoing.end());
+  for (size_t i = 1; i < outgoing.size(); ++i)
+  {
+    if (outgoing[i] == outgoing[i - 1])
+    {
+      const Index b = outgoing[i];
+      int count = 0;
+      for (const Index* s = star.Begin(a); s != star.End(a); ++s)
+      {
+        const Index* tri = mesh.Triangle(*s);
+        count += (tri[0] == b || tri[1] == b || tri[2] == b) ? 1 : 0;
+      }
+      if (count == 2)
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+// The edges (a, b) with b > a, counted from a's star: flags both ends (border: one triangle;
+// non-manifold: more than two) and returns the number of non-manifold ones. The flags of other
+// vertices are set by an atomic OR (the vertices run concurrently; OR does not depend on order).
+long long FlagEdgesOf(const TriangleMesh& mesh, const VertexStar& star, Index a, std::vector<Index>& others,
+  std::vector<unsigned char>& flags)
+{
+  // Each triangle around a holding b > a contributes one to the edge (a, b).
+  others.clear();
+  for (const Index* s = star.Begin(a); s != star.End(a); ++s)
+  {
+    const Index* tri = mesh.Triangle(*s);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (tri[k] > a)
+      {
+        others.push_back(tri[k]);
+      }
+    }
+  }
+  std::sort(others.begin(), others.end());
+  long long nonManifold = 0;
+  for (size_t i = 0; i < others.size();)
+  {
+    size_t j = i;
+    while (j < others.size() && others[j] == others[i])
+    {
+      ++j;
+    }
+    const size_t count = j - i;
+    const unsigned char flag = count == 1 ? BoundaryFlag : (count > 2 ? NonManifoldFlag : 0);
+    if (flag)
+    {
+      nonManifold += flag == NonManifoldFlag ? 1 : 0;
+      __atomic_fetch_or(&flags[a], flag, __ATOMIC_RELAXED);
+      __atomic_fetch_or(&flags[others[i]], flag, __ATOMIC_RELAXED);
+    }
+    i = j;
+  }
+  return nonManifold;
+}
+
 // Per vertex: on a border edge, on a non-manifold edge (more than two triangles, counted in the
 // report as MeshTopology does). Returns true when some edge with two triangles is traversed the
-// same way by both (inconsistent orientation): without one, orientation needs no repair.
+// same way by both (inconsistent orientation): without one, orientation needs no repair. In
+// parallel over the vertices (vtkSMPTools): the flags are ORs, the count a sum and the answer an
+// OR, so the result does not depend on the thread count.
 bool ClassifyEdges(const TriangleMesh& mesh, const VertexStar& star, PreparationReport& report,
   std::vector<unsigned char>& flags)
 {
   const Index nv = mesh.NumberOfPoints();
   flags.assign(size_t(nv), 0);
   bool inconsistent = false;
-  std::vector<Index> others, outgoing;
-  for (Index a = 0; a < nv; ++a)
+  vtkSMPThreadLocal<long long> nonManifold(0);
+  vtkSMPThreadLocal<std::vector<Index>> scratch;
+  vtkSMPTools::For(0, nv, 4096, [&](vtkIdType begin, vtkIdType end) {
+    std::vector<Index>& local = scratch.Local();
+    long long& count = nonManifold.Local();
+    for (Index a = static_cast<Index>(begin); a < static_cast<Index>(end); ++a)
+    {
+      // One inconsistent edge is enough: the others are not searched for.
+      if (!__atomic_load_n(&inconsistent, __ATOMIC_RELAXED) && SameHalfEdgeTwice(mesh, star, a, local))
+      {
+        __atomic_store_n(&inconsistent, true, __ATOMIC_RELAXED);
+      }
+      count += FlagEdgesOf(mesh, star, a, local, flags);
+    }
+  });
+  for (long long count : nonManifold)
   {
-    if (!inconsistent)
-    {
-      // Half-edges a -> b: the same one twice on an edge with two triangles is inconsistent.
-      outgoing.clear();
-      for (const Index* s = star.Begin(a); s != star.End(a); ++s)
-      {
-        const Index* tri = mesh.Triangle(*s);
-        const int c = tri[0] == a ? 0 : (tri[1] == a ? 1 : 2);
-        outgoing.push_back(tri[(c + 1) % 3]);
-      }
-      std::sort(outgoing.begin(), outgoing.end());
-      for (size_t i = 1; i < outgoing.size() && !inconsistent; ++i)
-      {
-        if (outgoing[i] == outgoing[i - 1])
-        {
-          const Index b = outgoing[i];
-          int count = 0;
-          for (const Index* s = star.Begin(a); s != star.End(a); ++s)
-          {
-            const Index* tri = mesh.Triangle(*s);
-            count += (tri[0] == b || tri[1] == b || tri[2] == b) ? 1 : 0;
-          }
-          inconsistent = count == 2;
-        }
-      }
-    }
-    // Each triangle around a holding b > a contributes one to the edge (a, b).
-    others.clear();
-    for (const Index* s = star.Begin(a); s != star.End(a); ++s)
-    {
-      const Index* tri = mesh.Triangle(*s);
-      for (int k = 0; k < 3; ++k)
-      {
-        if (tri[k] > a)
-        {
-          others.push_back(tri[k]);
-        }
-      }
-    }
-    std::sort(others.begin(), others.end());
-    for (size_t i = 0; i < others.size();)
-    {
-      size_t j = i;
-      while (j < others.size() && others[j] == others[i])
-      {
-        ++j;
-      }
-      const size_t count = j - i;
-      if (count == 1)
-      {
-        flags[a] |= BoundaryFlag;
-        flags[others[i]] |= BoundaryFlag;
-      }
-      else if (count > 2)
-      {
-        ++report.NonManifoldEdges;
-        flags[a] |= NonManifoldFlag;
-        flags[others[i]] |= NonManifoldFlag;
-      }
-      i = j;
-    }
+    report.NonManifoldEdges += count;
   }
   return inconsistent;
 }
@@ -402,58 +433,65 @@ int InteriorFanCount(const TriangleMesh& mesh, const VertexStar& star, Index v)
   return walked == degree ? 1 : 0;
 }
 
+// Whether vertex v (not on a non-manifold edge) has its triangles in several fans: walking the fan
+// from its start (as MeshTopology::OrderedOneRing does) does not reach every triangle of v.
+bool SeveralFans(const TriangleMesh& mesh, const VertexStar& star, Index v, bool border)
+{
+  const Index degree = star.Degree(v);
+  if (!border)
+  {
+    const int fans = InteriorFanCount(mesh, star, v);
+    if (fans >= 0)
+    {
+      return fans != 1;
+    }
+  }
+  auto corner = [&](Index t) {
+    const Index* tri = mesh.Triangle(t);
+    return tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+  };
+  Index start = *star.Begin(v);
+  if (border)
+  {
+    start = FanStart(start, degree, [&](Index t) { return star.EdgeNeighbor(t, corner(t)); });
+  }
+  Index fan = 0;
+  Index t = start;
+  for (Index steps = 0; steps < degree; ++steps)
+  {
+    ++fan;
+    const Index next = star.EdgeNeighbor(t, (corner(t) + 2) % 3);
+    if (next == InvalidIndex || next == start)
+    {
+      break;
+    }
+    t = next;
+  }
+  return fan != degree;
+}
+
 // Non-manifold vertices: on a non-manifold edge (flagged by ClassifyEdges), or whose triangles
-// form several fans (same definition as MeshTopology): walking the fan from its start (as
-// MeshTopology::OrderedOneRing does) does not reach every triangle of the vertex. Flags them all
-// with NonManifoldFlag and returns their number.
+// form several fans (same definition as MeshTopology). Flags them all with NonManifoldFlag and
+// returns their number. In parallel over the vertices: each reads the shared star and writes only
+// its own flag, and the count is a sum (the same for any thread count).
 long long MarkNonManifoldVertices(const TriangleMesh& mesh, const VertexStar& star, std::vector<unsigned char>& flags)
 {
-  const Index nv = mesh.NumberOfPoints();
-  long long count = 0;
-  for (Index v = 0; v < nv; ++v)
-  {
-    const Index degree = star.Degree(v);
-    if (degree == 0 || (flags[v] & NonManifoldFlag))
+  vtkSMPThreadLocal<long long> counts(0);
+  vtkSMPTools::For(0, mesh.NumberOfPoints(), 4096, [&](vtkIdType begin, vtkIdType end) {
+    long long& count = counts.Local();
+    for (Index v = static_cast<Index>(begin); v < static_cast<Index>(end); ++v)
     {
+      if (star.Degree(v) > 0 && !(flags[v] & NonManifoldFlag) && SeveralFans(mesh, star, v, flags[v] & BoundaryFlag))
+      {
+        flags[v] |= NonManifoldFlag;
+      }
       count += (flags[v] & NonManifoldFlag) ? 1 : 0;
-      continue;
     }
-    auto corner = [&](Index t) {
-      const Index* tri = mesh.Triangle(t);
-      return tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-    };
-    if (!(flags[v] & BoundaryFlag))
-    {
-      const int fans = InteriorFanCount(mesh, star, v);
-      if (fans >= 0)
-      {
-        flags[v] |= fans == 1 ? 0 : NonManifoldFlag;
-        count += fans == 1 ? 0 : 1;
-        continue;
-      }
-    }
-    Index start = *star.Begin(v);
-    if (flags[v] & BoundaryFlag)
-    {
-      start = FanStart(start, degree, [&](Index t) { return star.EdgeNeighbor(t, corner(t)); });
-    }
-    Index fan = 0;
-    Index t = start;
-    for (Index steps = 0; steps < degree; ++steps)
-    {
-      ++fan;
-      const Index next = star.EdgeNeighbor(t, (corner(t) + 2) % 3);
-      if (next == InvalidIndex || next == start)
-      {
-        break;
-      }
-      t = next;
-    }
-    if (fan != degree)
-    {
-      flags[v] |= NonManifoldFlag;
-      ++count;
-    }
+  });
+  long long count = 0;
+  for (long long c : counts)
+  {
+    count += c;
   }
   return count;
 }

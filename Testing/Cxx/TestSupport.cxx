@@ -17,11 +17,16 @@
 #include "vtkCell.h"
 #include "vtkPointData.h"
 #include "vtkPolyDataNormals.h"
+#include "vtkSMPTools.h"
 #include "vtkTexturedSphereSource.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <mutex>
+#include <set>
+#include <thread>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -361,6 +366,44 @@ std::pair<double, double> RelativeDeviation(vtkPolyData* reference, vtkPolyData*
   deviation->SetNumberOfSamples(samples);
   deviation->Update();
   return { deviation->GetHausdorffRelative(), deviation->GetMeanRelative() };
+}
+
+namespace
+{
+// Distinct threads that run the items of one parallel loop (each item waits a little, so that
+// every thread of the pool gets some).
+size_t ThreadsOfOneLoop()
+{
+  std::mutex mutex;
+  std::set<std::thread::id> threads;
+  vtkSMPTools::For(0, 64, 1, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        threads.insert(std::this_thread::get_id());
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  });
+  return threads.size();
+}
+} // namespace
+
+void ForOneTwoAndEightThreads(const std::function<void(int)>& run)
+{
+  const std::string backend = vtkSMPTools::GetBackend();
+  const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
+  ASSERT_TRUE(vtkSMPTools::SetBackend("STDThread"));
+  for (int n : { 1, 2, 8 })
+  {
+    vtkSMPTools::Initialize(n);
+    const size_t used = ThreadsOfOneLoop();
+    EXPECT_TRUE(n == 1 ? used == 1 : used >= 2) << n << " threads asked, " << used << " ran a loop";
+    run(n);
+  }
+  vtkSMPTools::SetBackend(backend.c_str());
+  vtkSMPTools::Initialize(threads);
 }
 
 } // namespace slodtest

@@ -12,6 +12,7 @@
 #include "vtkPolyDataAlgorithm.h"
 #include "vtkSmartPointer.h"
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -78,6 +79,14 @@ std::pair<double, double> RelativeDeviation(vtkPolyData* reference, vtkPolyData*
 // its zero-area triangles at the poles (scripts/attribute-error.py's mesh). Its u = 1 meridian lies
 // 1e-16 off the u = 0 one (sin(2 pi) in float), so the two sides are separate borders.
 vtkSmartPointer<vtkPolyData> TexturedSphere(int resolution);
+
+// Runs `run(n)` with vtkSMPTools initialised for n = 1, 2 and 8 threads, then restores the backend
+// and the thread count. The STDThread backend: TBB keeps the worker limit of its first use in the
+// process (after one thread, a request for more workers is ignored with a warning), so tests run
+// with TBB compared one thread with itself and passed with thread-dependent code. Asserted here:
+// one thread runs a loop for n = 1, several for n > 1 (STDThread caps n at the hardware
+// concurrency: 8 runs as 2 on a 2-core machine).
+void ForOneTwoAndEightThreads(const std::function<void(int)>& run);
 
 // Collects (and so silences) the warnings and errors of a filter it observes.
 class MessageCounter : public vtkCommand

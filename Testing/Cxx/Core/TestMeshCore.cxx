@@ -616,6 +616,56 @@ TEST(InputPreparation, PinchedClosedFansAreNonManifold)
   }
 }
 
+// The edge classification and the fan walks of the preparation run in parallel over the vertices:
+// on a noisy scan (border, non-manifold edges and pinched vertices) with every seventh triangle
+// reversed (so the orientation is repaired), the prepared mesh, the per-vertex flags and the counts
+// are the same for 1, 2 and 8 threads, and the counts are MeshTopology's.
+TEST(InputPreparation, SameReportForOneTwoAndEightThreads)
+{
+  vtkSmartPointer<vtkPolyData> scan = NoisyScanIsosurface(40, 3);
+  std::vector<std::vector<vtkIdType>> cells = CellPointIds(scan->GetPolys());
+  for (size_t c = 0; c < cells.size(); c += 7)
+  {
+    std::reverse(cells[c].begin(), cells[c].end());
+  }
+  vtkNew<vtkCellArray> polys;
+  for (const auto& cell : cells)
+  {
+    polys->InsertNextCell(static_cast<vtkIdType>(cell.size()), cell.data());
+  }
+  vtkNew<vtkPolyData> input;
+  input->SetPoints(scan->GetPoints());
+  input->SetPolys(polys);
+  std::vector<TriangleMesh> meshes;
+  std::vector<PreparationReport> reports;
+  std::vector<std::vector<unsigned char>> flags;
+  ForOneTwoAndEightThreads([&](int) {
+    meshes.emplace_back();
+    std::vector<Index> origin;
+    reports.push_back(PrepareTriangleMesh(input, {}, meshes.back(), origin));
+    flags.push_back(NonManifoldVertexFlags(meshes.back()));
+  });
+  ASSERT_EQ(reports.size(), 3u);
+  const MeshStatistics statistics = ComputeMeshStatistics(meshes[0]);
+  ASSERT_GT(reports[0].FlippedTriangles, 0) << "the orientation repair did not run";
+  ASSERT_GT(reports[0].NonManifoldEdges, 0);
+  ASSERT_GT(reports[0].NonManifoldVertices, reports[0].NonManifoldEdges) << "no pinched vertex";
+  ASSERT_GT(statistics.BoundaryEdges, 0);
+  EXPECT_EQ(reports[0].NonManifoldEdges, statistics.NonManifoldEdges);
+  EXPECT_EQ(reports[0].NonManifoldVertices, statistics.NonManifoldVertices);
+  EXPECT_EQ(flags[0], reports[0].NonManifoldVertexFlags);
+  for (size_t i = 1; i < reports.size(); ++i)
+  {
+    EXPECT_EQ(meshes[0].Triangles, meshes[i].Triangles) << i;
+    EXPECT_EQ(reports[0].FlippedTriangles, reports[i].FlippedTriangles) << i;
+    EXPECT_EQ(reports[0].NonManifoldEdges, reports[i].NonManifoldEdges) << i;
+    EXPECT_EQ(reports[0].NonManifoldVertices, reports[i].NonManifoldVertices) << i;
+    EXPECT_EQ(reports[0].NonManifoldVertexFlags, reports[i].NonManifoldVertexFlags) << i;
+    EXPECT_EQ(reports[0].BoundaryVertexFlags, reports[i].BoundaryVertexFlags) << i;
+    EXPECT_EQ(flags[0], flags[i]) << i;
+  }
+}
+
 namespace
 {
 // Every triangle of `triangles` with its own three copies of its corners (as an STL file has them).

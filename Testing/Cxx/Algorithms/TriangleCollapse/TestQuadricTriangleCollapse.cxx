@@ -26,17 +26,13 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkQuadricDecimation.h"
-#include "vtkSMPTools.h"
 #include "vtkStaticCellLocator.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <map>
-#include <mutex>
 #include <set>
-#include <thread>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -217,54 +213,12 @@ TEST(QuadricTriangleCollapse, Deterministic)
   EXPECT_EQ(ma.Triangles, mb.Triangles);
 }
 
-// Distinct threads that run the items of one parallel loop (each item waits a little, so that
-// every thread of the pool gets some).
-size_t ThreadsOfOneLoop()
-{
-  std::mutex mutex;
-  std::set<std::thread::id> threads;
-  vtkSMPTools::For(0, 64, 1, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
-    {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        threads.insert(std::this_thread::get_id());
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-  });
-  return threads.size();
-}
-
-// Runs `run(n)` with vtkSMPTools initialised for n = 1, 2 and 8 threads, then restores the backend
-// and the thread count. The STDThread backend: TBB keeps the worker limit of its first use in the
-// process (after one thread, a request for more workers is ignored with a warning), so the tests
-// run with TBB compared one thread with itself and passed with thread-dependent code. Asserted
-// here: one thread runs a loop for n = 1, several for n > 1 (STDThread caps n at the hardware
-// concurrency: 8 runs as 2 on a 2-core machine).
-template <typename Run>
-void ForOneTwoAndEightThreads(Run&& run)
-{
-  const std::string backend = vtkSMPTools::GetBackend();
-  const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
-  ASSERT_TRUE(vtkSMPTools::SetBackend("STDThread"));
-  for (int n : { 1, 2, 8 })
-  {
-    vtkSMPTools::Initialize(n);
-    const size_t used = ThreadsOfOneLoop();
-    EXPECT_TRUE(n == 1 ? used == 1 : used >= 2) << n << " threads asked, " << used << " ran a loop";
-    run(n);
-  }
-  vtkSMPTools::SetBackend(backend.c_str());
-  vtkSMPTools::Initialize(threads);
-}
-
 // The initial costs are computed in parallel: the output must not depend on the thread count.
 TEST(QuadricTriangleCollapse, SameOutputForAnyThreadCount)
 {
   vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("armadillo");
   std::vector<TriangleMesh> outputs;
-  ForOneTwoAndEightThreads([&](int) { outputs.push_back(slodtest::RawTriangleMesh(Collapse(input, 5000))); });
+  slodtest::ForOneTwoAndEightThreads([&](int) { outputs.push_back(slodtest::RawTriangleMesh(Collapse(input, 5000))); });
   for (size_t i = 1; i < outputs.size(); ++i)
   {
     EXPECT_EQ(outputs[0].Points, outputs[i].Points);
@@ -279,7 +233,7 @@ std::vector<TriangleMesh> OutputsForOneTwoAndEightThreads(
   vtkPolyData* input, Configure&& configure, Inspect&& inspect = [](vtkQuadricTriangleCollapse*) {})
 {
   std::vector<TriangleMesh> outputs;
-  ForOneTwoAndEightThreads([&](int) {
+  slodtest::ForOneTwoAndEightThreads([&](int) {
     vtkNew<vtkQuadricTriangleCollapse> filter;
     filter->SetInputData(input);
     configure(filter.Get());
@@ -295,7 +249,7 @@ std::vector<TriangleCollapseResult> ResultsForOneTwoAndEightThreads(
   vtkPolyData* input, const TriangleCollapseOptions& options)
 {
   std::vector<TriangleCollapseResult> results;
-  ForOneTwoAndEightThreads([&](int) {
+  slodtest::ForOneTwoAndEightThreads([&](int) {
     TriangleMesh mesh = slodtest::ToTriangleMesh(input);
     results.emplace_back();
     SimplifyByTriangleCollapse(mesh, options, results.back());
@@ -359,6 +313,37 @@ TEST(QuadricTriangleCollapse, PassScheduleSameOutputForOneTwoAndEightThreads)
       EXPECT_EQ(results[0].Mesh.Points, results[i].Mesh.Points) << name;
       EXPECT_EQ(results[0].Mesh.Triangles, results[i].Mesh.Triangles) << name;
     }
+  }
+}
+
+// The pass schedule's parallel rounds on a scan-like surface (a border, handles, non-manifold edges
+// and pinched vertices, which the collapses must leave as they are, locked): bit-identical for 1,
+// 2 and 8 threads, the rounds split among the threads, and the non-manifold edges, the Euler
+// characteristic and the components of the input kept.
+TEST(QuadricTriangleCollapse, PassScheduleSameOutputForAnyThreadCountOnANoisyScan)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::NoisyScanIsosurface(48, 5);
+  TriangleCollapseOptions options;
+  options.Schedule = CollapseSchedule::Passes;
+  options.TargetTriangles = input->GetNumberOfPolys() / 10;
+  const std::vector<TriangleCollapseResult> results = ResultsForOneTwoAndEightThreads(input, options);
+  ASSERT_EQ(results.size(), 3u);
+  const MeshStatistics before = ComputeMeshStatistics(slodtest::ToTriangleMesh(input));
+  const MeshStatistics after = ComputeMeshStatistics(results[0].Mesh);
+  ASSERT_GT(before.NonManifoldEdges, 0) << "the scan has no non-manifold edge: nothing locked is tested";
+  ASSERT_GT(before.BoundaryEdges, 0);
+  EXPECT_GT(results[0].Passes, 1);
+  EXPECT_LE(results[0].Mesh.NumberOfTriangles(), options.TargetTriangles + options.TargetTriangles / 10);
+  EXPECT_EQ(after.NonManifoldEdges, before.NonManifoldEdges);
+  EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
+  EXPECT_EQ(after.Components, before.Components);
+  for (size_t i = 1; i < results.size(); ++i)
+  {
+    EXPECT_GE(results[i].PassThreads, 2) << "the rounds were not split among threads";
+    EXPECT_EQ(results[0].Passes, results[i].Passes);
+    EXPECT_EQ(results[0].Collapses, results[i].Collapses);
+    EXPECT_EQ(results[0].Mesh.Points, results[i].Mesh.Points);
+    EXPECT_EQ(results[0].Mesh.Triangles, results[i].Mesh.Triangles);
   }
 }
 
@@ -467,7 +452,7 @@ TEST(QuadricTriangleCollapse, ParallelBatchesSameOutputAndPointDataForAnyThreadC
   vtkSmartPointer<vtkPolyData> input = WithLinearField(Mesh("marching-cubes"), { 1, -3, 0.5 });
   const vtkIdType target = input->GetNumberOfPolys() / 10;
   std::vector<vtkSmartPointer<vtkPolyData>> outputs;
-  ForOneTwoAndEightThreads([&](int) {
+  slodtest::ForOneTwoAndEightThreads([&](int) {
     vtkNew<vtkQuadricTriangleCollapse> filter;
     filter->SetInputData(input);
     filter->SetTargetNumberOfTriangles(target);
