@@ -463,6 +463,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     if (!held && unmergedAny && parameters.ReplayFallbackPasses && this->ReplayMerging(parameters, frozen, s))
     {
       ++level.ReplayedPasses;
+      level.EditsAppliedAsRecorded += s.AppliedAsRecorded;
     }
     else if (!held && unmergedAny)
     {

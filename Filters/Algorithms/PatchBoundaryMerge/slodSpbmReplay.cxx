@@ -122,6 +122,7 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
   this->RemoveDownToTarget();
   removalAroundDirty = false;
   s.EditsRemovalBegin = removalBeginNow;
+  s.AppliedAsRecorded = replayedAsRecorded;
   long long dirty = 0;
   for (Index p = 0; p < np; ++p)
   {
@@ -194,8 +195,9 @@ void SpbmLevelGenerator::MergingRun::ForEditNeighbourhood(const State::Edit& edi
 bool SpbmLevelGenerator::MergingRun::EditIsClean(const State::Edit& edit)
 {
   bool clean = true;
-  this->ForEditNeighbourhood(edit, false, [&](bool patch, Index id) {
-    clean = clean && !(patch ? s.DirtyPatch[id] || s.Frozen[id] : s.DirtyEnd[id] || s.DirtyNear[id]);
+  const bool walk = parameters.WalkAroundEditEndpoints;
+  this->ForEditNeighbourhood(edit, walk, [&](bool patch, Index id) {
+    clean = clean && !(patch ? s.DirtyPatch[id] || s.Frozen[id] : s.DirtyEnd[id] || (!walk && s.DirtyNear[id]));
   });
   return clean;
 }
