@@ -272,7 +272,7 @@ size_t SpbmLevelGenerator::MemoryUsage() const
       b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + s.MergeQueue.MemoryBytes() + b(s.NoFreeze) +
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
       b(s.SimpleSignature) + b(s.Memo) + b(s.Edits) + b(s.EditsTolerance) + b(s.EditsLocked) +
-      b(s.EditsFrozen) + b(s.DirtyPatch) + b(s.DirtyEnd);
+      b(s.EditsFrozen) + b(s.DirtyPatch) + b(s.DirtyEnd) + b(s.DirtyNear);
   }
   for (const TriangleBVH* tree : { this->InputTree.get(), this->BuiltTree.get() })
   {
@@ -463,6 +463,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     if (!held && unmergedAny && parameters.ReplayFallbackPasses && this->ReplayMerging(parameters, frozen, s))
     {
       ++level.ReplayedPasses;
+      level.EditsAppliedAsRecorded += s.AppliedAsRecorded;
     }
     else if (!held && unmergedAny)
     {

@@ -102,6 +102,9 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // A fallback pass that unmerges patches replays the previous pass's recorded merging edits with
   // them frozen and merges again only around them (off: a whole merging run per such pass).
   bool ReplayFallbackPasses = true;
+  // Replay: whether an edit is clean is tested by walking the patches around its endpoints (the
+  // reference, session 15) instead of the endpoints' DirtyNear flags (same answer, cheaper).
+  bool WalkAroundEditEndpoints = false;
   // Fallback passes in which no failed patch would keep a vertex more (or be unmerged) repeat the
   // pass before them: skipped (the same level in fewer passes); off: one level per pass.
   bool SkipIneffectiveFallbackLevels = true;
@@ -135,6 +138,7 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   Index OriginalPatches = 0;
   int Passes = 0;               // generation passes (1 without fallback)
   int ReplayedPasses = 0;       // passes that replayed the previous pass's merging (ReplayFallbackPasses)
+  long long EditsAppliedAsRecorded = 0; // edits those passes applied without their tests (clean)
 };
 
 class SURFACELODFILTERS_EXPORT SpbmLevelGenerator

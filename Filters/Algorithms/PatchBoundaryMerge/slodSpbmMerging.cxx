@@ -284,6 +284,7 @@ void SpbmLevelGenerator::MergingRun::ResetForRun(const std::vector<unsigned char
   s.EditsLocked = s.Locked;
   s.EditsFrozen = frozen;
   s.DirtyPatch.clear();
+  s.DirtyNear.clear();
 }
 
 void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()
@@ -1098,6 +1099,10 @@ void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, In
     }
   });
   this->SpliceEndList(gone, keep);
+  if (!s.DirtyPatch.empty())
+  {
+    s.DirtyNear[keep] |= s.DirtyNear[gone]; // gone's chains and patches are keep's now
+  }
   s.Degree[keep] += s.Degree[gone] - 2;
   s.Degree[gone] = 0;
   --s.Size[p];
@@ -1391,15 +1396,22 @@ void SpbmLevelGenerator::MergingRun::UniteSupport(Index p, Index q)
   }
 }
 
+// The endpoints of root patch x's chains are next to a dirty patch (DirtyNear).
+void SpbmLevelGenerator::MergingRun::MarkNearPatch(Index x)
+{
+  this->ForPatchChains(x, [&](Index c) { s.DirtyNear[s.A[c]] = s.DirtyNear[s.B[c]] = 1; });
+}
+
 // Patch q joins p along chain c (removed); the endpoints of c may disappear by
 // joins.
 void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
 {
   ++graphEdits; // the kept boundary walks are stale
   this->Record(UniteEdit, { c, p, q });
-  if (!s.DirtyPatch.empty())
+  if (!s.DirtyPatch.empty() && s.DirtyPatch[p] != s.DirtyPatch[q])
   {
-    s.DirtyPatch[p] |= s.DirtyPatch[q];
+    this->MarkNearPatch(s.DirtyPatch[p] ? q : p); // the clean one's endpoints are next to a dirty patch now
+    s.DirtyPatch[p] = 1;
   }
   s.Parent[q] = p;
   s.Version[p] += s.Version[q] + 1;

@@ -100,9 +100,11 @@ private:
   void Record(EditKind kind, std::initializer_list<Index> values);
   void ResetForRun(const std::vector<unsigned char>& frozen);
   template<typename Functor>
-  void ForEditNeighbourhood(const State::Edit& edit, Functor&& f);
+  void ForEditNeighbourhood(const State::Edit& edit, bool aroundEnds, Functor&& f);
   bool EditIsClean(const State::Edit& edit);
   void MarkEditDirty(const State::Edit& edit);
+  void MarkPatchDirty(Index root);
+  void MarkNearPatch(Index x);
   bool ApplyRecorded(const State::Edit& edit);
   bool RetryEdit(const State::Edit& edit);
   void ReplayEdits(const std::vector<State::Edit>& edits, size_t begin, size_t end, bool removal);

@@ -88,6 +88,16 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
       s.DirtyEnd[s.A[c]] = s.DirtyEnd[s.B[c]] = 1;
     }
   }
+  // Endpoints next to a dirty or frozen patch (see EditIsClean); all patches are roots here.
+  s.DirtyNear.assign(size_t(ne), 0);
+  for (Index c = 0; c < nc; ++c)
+  {
+    const Index r = s.R[c];
+    if (s.DirtyPatch[s.L[c]] || s.Frozen[s.L[c]] || (r != InvalidIndex && (s.DirtyPatch[r] || s.Frozen[r])))
+    {
+      s.DirtyNear[s.A[c]] = s.DirtyNear[s.B[c]] = 1;
+    }
+  }
   const double resetSeconds = Since(start);
   const long long dirtyAtStart = std::count(s.DirtyPatch.begin(), s.DirtyPatch.end(), 1);
   replaying = true;
@@ -112,6 +122,7 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
   this->RemoveDownToTarget();
   removalAroundDirty = false;
   s.EditsRemovalBegin = removalBeginNow;
+  s.AppliedAsRecorded = replayedAsRecorded;
   long long dirty = 0;
   for (Index p = 0; p < np; ++p)
   {
@@ -125,9 +136,10 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
 }
 
 // Calls f(true, root) for the patches an edit reads or changes and f(false, e) for its endpoints:
-// its own patches, its endpoints and the patches around those endpoints (their chains end there).
+// its own patches, its endpoints and (aroundEnds) the patches around those endpoints (their chains
+// end there).
 template<typename Functor>
-void SpbmLevelGenerator::MergingRun::ForEditNeighbourhood(const State::Edit& edit, Functor&& f)
+void SpbmLevelGenerator::MergingRun::ForEditNeighbourhood(const State::Edit& edit, bool aroundEnds, Functor&& f)
 {
   const Index* v = edit.V;
   Index ends[3] = { InvalidIndex, InvalidIndex, InvalidIndex };
@@ -161,6 +173,10 @@ void SpbmLevelGenerator::MergingRun::ForEditNeighbourhood(const State::Edit& edi
       continue;
     }
     f(false, e);
+    if (!aroundEnds)
+    {
+      continue;
+    }
     s.ForEndChains(e, [&](Index c) {
       f(true, s.Find(s.L[c]));
       if (s.R[c] != InvalidIndex)
@@ -171,18 +187,42 @@ void SpbmLevelGenerator::MergingRun::ForEditNeighbourhood(const State::Edit& edi
   }
 }
 
+// Clean: no patch of the neighbourhood dirty or frozen, no endpoint dirty. The patches around the
+// endpoints are not walked (most of a replay's time went there): DirtyNear marks every endpoint of
+// a chain of a dirty or frozen patch, kept up to date as patches turn dirty, unite (UnitePatches)
+// or endpoints collapse (ApplyCollapse). A patch never turns clean again and stays around its
+// endpoints while they have chains, so the test gives the walk's answer.
 bool SpbmLevelGenerator::MergingRun::EditIsClean(const State::Edit& edit)
 {
   bool clean = true;
-  this->ForEditNeighbourhood(edit, [&](bool patch, Index id) {
-    clean = clean && !(patch ? s.DirtyPatch[id] || s.Frozen[id] : s.DirtyEnd[id]);
+  const bool walk = parameters.WalkAroundEditEndpoints;
+  this->ForEditNeighbourhood(edit, walk, [&](bool patch, Index id) {
+    clean = clean && !(patch ? s.DirtyPatch[id] || s.Frozen[id] : s.DirtyEnd[id] || (!walk && s.DirtyNear[id]));
   });
   return clean;
 }
 
 void SpbmLevelGenerator::MergingRun::MarkEditDirty(const State::Edit& edit)
 {
-  this->ForEditNeighbourhood(edit, [&](bool patch, Index id) { (patch ? s.DirtyPatch[id] : s.DirtyEnd[id]) = 1; });
+  this->ForEditNeighbourhood(edit, true, [&](bool patch, Index id) {
+    if (patch)
+    {
+      this->MarkPatchDirty(id);
+    }
+    else
+    {
+      s.DirtyEnd[id] = 1;
+    }
+  });
+}
+
+void SpbmLevelGenerator::MergingRun::MarkPatchDirty(Index root)
+{
+  if (!s.DirtyPatch[root])
+  {
+    s.DirtyPatch[root] = 1;
+    this->MarkNearPatch(root);
+  }
 }
 
 // A clean edit as recorded. The checks only guard the record's consistency (false: treat the edit

@@ -290,6 +290,9 @@ struct SpbmLevelGenerator::State
   std::vector<unsigned char> EditsLocked, EditsFrozen;
   // Replay: root patches and endpoints whose state may differ from the recorded run's.
   std::vector<unsigned char> DirtyPatch, DirtyEnd;
+  // Replay: endpoints of a chain of a dirty or frozen root patch (EditIsClean's test around them).
+  std::vector<unsigned char> DirtyNear;
+  long long AppliedAsRecorded = 0; // the last replay's clean edits
   // The chain graph above is the merging run of these parameters without frozen patches (a
   // prediction's run): the first generation pass of the same level need not run it again.
   bool HoldsPrediction = false;

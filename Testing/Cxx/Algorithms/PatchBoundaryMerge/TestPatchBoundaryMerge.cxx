@@ -1071,6 +1071,34 @@ TEST(SpbmLevel, FallbackPassesReplayTheRecordedMerging)
   }
 }
 
+// Session 16: a replayed pass tests whether an edit is clean from flags on its endpoints (kept up
+// to date as patches turn dirty, unite and endpoints collapse) instead of walking the patches
+// around them. On noisy scans of seeds no other test uses, both give the same levels.
+TEST(SpbmLevel, ReplayCleanTestFlagsMatchTheWalk)
+{
+  int replayedPasses = 0;
+  for (const unsigned int seed : { 7u, 11u, 13u })
+  {
+    TriangleMesh mesh;
+    std::vector<Index> vertexToInput;
+    ASSERT_TRUE(
+      PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
+    auto pm = Patch(mesh);
+    auto generate = [&](bool walk, SpbmLevel& level) {
+      GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.WalkAroundEditEndpoints = walk; }, level);
+    };
+    SpbmLevel flags, walked;
+    generate(false, flags);
+    generate(true, walked);
+    EXPECT_EQ(flags.Triangles, walked.Triangles) << "seed " << seed;
+    EXPECT_EQ(flags.Passes, walked.Passes) << "seed " << seed;
+    EXPECT_EQ(flags.ReplayedPasses, walked.ReplayedPasses) << "seed " << seed;
+    EXPECT_EQ(flags.EditsAppliedAsRecorded, walked.EditsAppliedAsRecorded) << "seed " << seed;
+    replayedPasses += flags.ReplayedPasses;
+  }
+  EXPECT_GT(replayedPasses, 0) << "the noisy scans must need replayed passes";
+}
+
 // Session 14: an unmerged patch that fails again goes to the next fallback level that makes its
 // chains keep more vertices; the levels in between would repeat the same pass. On noisy scans (a
 // surface no other PBM test tunes for) the level is the same as with one level per pass, in fewer
