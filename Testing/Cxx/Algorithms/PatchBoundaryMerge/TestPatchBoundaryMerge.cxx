@@ -1032,6 +1032,19 @@ void GenerateTenthLevel(const PatchedMesh& pm, Adjust&& adjust, SpbmLevel& level
   ASSERT_TRUE(generator.Generate(parameters, level));
 }
 
+// The tenth levels of the noisy scan of `seed` (a surface no other PBM test tunes for) with the
+// boolean parameter `option` on and off.
+void NoisyScanTenthLevelsWithAndWithout(unsigned int seed, bool SpbmLevelParameters::*option, SpbmLevel& on, SpbmLevel& off)
+{
+  TriangleMesh mesh;
+  std::vector<Index> vertexToInput;
+  ASSERT_TRUE(
+    PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
+  auto pm = Patch(mesh);
+  GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.*option = true; }, on);
+  GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.*option = false; }, off);
+}
+
 // Issue 10: a fallback pass that unmerges patches replays the previous pass's merging edits with
 // those patches frozen (edits whose neighbourhood is unchanged as recorded, the others tested
 // again) and merges again around them, instead of a whole merging run. On a noisy scan surface
@@ -1079,17 +1092,9 @@ TEST(SpbmLevel, ReplayCleanTestFlagsMatchTheWalk)
   int replayedPasses = 0;
   for (const unsigned int seed : { 7u, 11u, 13u })
   {
-    TriangleMesh mesh;
-    std::vector<Index> vertexToInput;
-    ASSERT_TRUE(
-      PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
-    auto pm = Patch(mesh);
-    auto generate = [&](bool walk, SpbmLevel& level) {
-      GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.WalkAroundEditEndpoints = walk; }, level);
-    };
     SpbmLevel flags, walked;
-    generate(false, flags);
-    generate(true, walked);
+    NoisyScanTenthLevelsWithAndWithout(seed, &SpbmLevelParameters::WalkAroundEditEndpoints, walked, flags);
+    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
     EXPECT_EQ(flags.Triangles, walked.Triangles) << "seed " << seed;
     EXPECT_EQ(flags.Passes, walked.Passes) << "seed " << seed;
     EXPECT_EQ(flags.ReplayedPasses, walked.ReplayedPasses) << "seed " << seed;
@@ -1108,17 +1113,9 @@ TEST(SpbmLevel, IneffectiveFallbackLevelsAreSkipped)
   bool skipped = false;
   for (const unsigned int seed : { 2u, 3u, 5u })
   {
-    TriangleMesh mesh;
-    std::vector<Index> vertexToInput;
-    ASSERT_TRUE(
-      PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
-    auto pm = Patch(mesh);
-    auto generate = [&](bool skip, SpbmLevel& level) {
-      GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.SkipIneffectiveFallbackLevels = skip; }, level);
-    };
     SpbmLevel fast, slow;
-    generate(true, fast);
-    generate(false, slow);
+    NoisyScanTenthLevelsWithAndWithout(seed, &SpbmLevelParameters::SkipIneffectiveFallbackLevels, fast, slow);
+    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
     EXPECT_EQ(fast.Triangles, slow.Triangles) << "seed " << seed;
     EXPECT_EQ(fast.OriginalPatches, slow.OriginalPatches) << "seed " << seed;
     EXPECT_LE(fast.Passes, slow.Passes) << "seed " << seed;
