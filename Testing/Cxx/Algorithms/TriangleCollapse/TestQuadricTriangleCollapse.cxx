@@ -420,6 +420,34 @@ TEST(QuadricTriangleCollapse, PassScheduleReachesTheTargetAroundHighValence)
   }
 }
 
+// Small passes are nearly the queue's greedy order: a pass whose few ranked entries are all rejected
+// must not be followed by one that performs everything at once (it took every candidate before
+// session 17: femur at 10 % with share 0.001, a collapse error 1.56x the queue's largest). The
+// collapses alone (no fit, no refinement), the largest collapse error of each schedule.
+TEST(QuadricTriangleCollapse, SmallPassesKeepTheQueuesLargestError)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("femur");
+  TriangleCollapseResult results[2];
+  for (int schedule = 0; schedule < 2; ++schedule)
+  {
+    TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    options.FitToOriginal = false;
+    options.RefineDeviation = false;
+    options.Schedule = schedule == 0 ? CollapseSchedule::Queue : CollapseSchedule::Passes;
+    options.PassGoalShare = 0.001;
+    options.PassErrorFactor = 1.0;
+    SimplifyByTriangleCollapse(mesh, options, results[schedule]);
+    EXPECT_LE(results[schedule].Mesh.NumberOfTriangles(), options.TargetTriangles);
+  }
+  std::printf("[passes] femur 10%%, share 0.001: largest collapse error queue %.4e, %d passes %.4e\n",
+    results[0].MaximumError, int(results[1].Passes), results[1].MaximumError);
+  ASSERT_GT(results[0].MaximumError, 0.0);
+  EXPECT_GT(results[1].Passes, 100) << "the passes were not small";
+  EXPECT_LE(results[1].MaximumError, 1.1 * results[0].MaximumError);
+}
+
 // Batches are selected, checked and performed so that the thread count cannot change them: the
 // same output for 1, 2 and 8 threads on a mesh whose batches are large enough to be split among
 // threads, and the batches keep the topology.
