@@ -1348,12 +1348,15 @@ void CollapseHierarchy::ResetRecords()
 void CollapseHierarchy::InitializeQuadrics()
 {
   const Index nt = this->Base.NumberOfTriangles();
-  double meanAreaGuess = 0;
+  // The mean area as EvaluateAllTriangles computes it from M0's evaluations (the same sum in the
+  // same order, so the same number): the edge costs priced during M0's evaluation stay valid.
+  // (A sum of area / nt differed in the last bits, which threw all of M0's costs away.)
+  double totalArea = 0;
   for (Index t = 0; t < nt; ++t)
   {
-    meanAreaGuess += 0.5 * Norm(this->BaseAreaVector(t)) / nt;
+    totalArea += 0.5 * Norm(this->BaseAreaVector(t));
   }
-  this->MeanArea = meanAreaGuess > 0 ? meanAreaGuess : 1.0;
+  this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
   this->Quadrics.clear();
   std::vector<double>().swap(this->EdgeCostErrors);
   std::vector<unsigned char>().swap(this->EdgeCostStates);
