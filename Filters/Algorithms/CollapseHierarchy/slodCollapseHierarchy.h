@@ -287,6 +287,7 @@ private:
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
+  void ReleaseWorkingData();
 
   // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only
   // reads the mesh (EvaluateConcurrently) runs for many triangles at once; FinishEvaluation does
