@@ -92,7 +92,25 @@ bool EdgeOptimum(const Quadric& q, const Vec3& pu, const Vec3& pv, Vec3& best)
   best = QuadricPointNear(q, mid);
   return std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) && Norm(best - mid) <= Norm(pv - pu);
 }
+
+// A collapse check that failed on the vertex set alone (its topology: the link condition, the
+// borders, dead, locked or isolated vertices), not on the point: every point of that set fails.
+bool FailsForEveryPoint(CollapseStatus status)
+{
+  switch (status)
+  {
+    case CollapseStatus::DeadVertex:
+    case CollapseStatus::NonManifold:
+    case CollapseStatus::BoundaryChange:
+    case CollapseStatus::TooSmall:
+    case CollapseStatus::IsolatedVertex:
+    case CollapseStatus::Locked:
+      return true;
+    default:
+      return false;
+  }
 }
+} // namespace
 
 void HierarchyMesh::Clear()
 {
@@ -1220,14 +1238,16 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   // Most of the time the cheapest candidate, known from the evaluation, passes: the other eight
   // need not be computed (one eigen decomposition instead of three).
   const bool known = this->KnownCheapestEdge(t, edge, point, error);
+  int failsEverywhere = 0; // bit k: edge k failed a check of its vertices alone (no point passes)
   if (known)
   {
     const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
-    if (m.CheckCollapse(vertices, 2, point, this->MeshOptions) == CollapseStatus::Ok &&
-      this->KeepsOrientation(vertices, 2, point))
+    const CollapseStatus status = m.CheckCollapse(vertices, 2, point, this->MeshOptions);
+    if (status == CollapseStatus::Ok && this->KeepsOrientation(vertices, 2, point))
     {
       return true;
     }
+    failsEverywhere |= FailsForEveryPoint(status) ? 1 << edge : 0;
   }
   // Candidates: per edge, the quadric's best point near the midpoint and the two end points;
   // tried by increasing quadric error of the ancestral planes until one passes the checks.
@@ -1258,15 +1278,21 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   });
   for (int i = known ? 1 : 0; i < n; ++i) // (the known cheapest is the first: it failed above)
   {
-    const Index vertices[2] = { tri[candidates[i].Edge], tri[(candidates[i].Edge + 1) % 3] };
-    if (m.CheckCollapse(vertices, 2, candidates[i].Point, this->MeshOptions) == CollapseStatus::Ok &&
-      this->KeepsOrientation(vertices, 2, candidates[i].Point))
+    const int k = candidates[i].Edge;
+    if ((failsEverywhere >> k) & 1)
     {
-      edge = candidates[i].Edge;
+      continue; // (the same answer as checking it: on noisy scans most of the link failures)
+    }
+    const Index vertices[2] = { tri[k], tri[(k + 1) % 3] };
+    const CollapseStatus status = m.CheckCollapse(vertices, 2, candidates[i].Point, this->MeshOptions);
+    if (status == CollapseStatus::Ok && this->KeepsOrientation(vertices, 2, candidates[i].Point))
+    {
+      edge = k;
       point = candidates[i].Point;
       error = candidates[i].Error;
       return true;
     }
+    failsEverywhere |= FailsForEveryPoint(status) ? 1 << k : 0;
   }
   return false;
 }
