@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 #include <numeric>
 #include <utility>
 
@@ -91,7 +92,25 @@ bool EdgeOptimum(const Quadric& q, const Vec3& pu, const Vec3& pv, Vec3& best)
   best = QuadricPointNear(q, mid);
   return std::isfinite(best[0]) && std::isfinite(best[1]) && std::isfinite(best[2]) && Norm(best - mid) <= Norm(pv - pu);
 }
+
+// A collapse check that failed on the vertex set alone (its topology: the link condition, the
+// borders, dead, locked or isolated vertices), not on the point: every point of that set fails.
+bool FailsForEveryPoint(CollapseStatus status)
+{
+  switch (status)
+  {
+    case CollapseStatus::DeadVertex:
+    case CollapseStatus::NonManifold:
+    case CollapseStatus::BoundaryChange:
+    case CollapseStatus::TooSmall:
+    case CollapseStatus::IsolatedVertex:
+    case CollapseStatus::Locked:
+      return true;
+    default:
+      return false;
+  }
 }
+} // namespace
 
 void HierarchyMesh::Clear()
 {
@@ -629,8 +648,7 @@ double CollapseHierarchy::CheapestEdgeError(Index t, EdgeChoice& choice) const
     else if (this->EdgeCostStates[slot] == UnknownEdgeCost)
     {
       cost = this->EdgeCostOf(tri[k], tri[(k + 1) % 3]);
-      this->EdgeCostErrors[slot] = cost.Error;
-      this->EdgeCostStates[slot] = static_cast<unsigned char>(cost.Kind | (cost.NotANumber ? 4 : 0));
+      this->StoreEdgeCost(slot, cost);
     }
     else
     {
@@ -656,6 +674,26 @@ CollapseHierarchy::EdgeCost CollapseHierarchy::EdgeCostOf(Index u, Index v) cons
 {
   EdgePlacement placements[3];
   const int n = this->EdgePlacements(u, v, placements);
+  return CheapestPlacement(placements, n);
+}
+
+// The costs of (u, v) and of (v, u) from one set of placements. Every error is the same both ways
+// (the quadric sum, the midpoint and the vertex term do not depend on the order, bit for bit), so
+// (v, u)'s placements are these with the two end points swapped in order and kind: the same
+// first cheapest as EdgeCostOf(v, u), ties included.
+void CollapseHierarchy::EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCost& vu) const
+{
+  EdgePlacement placements[3];
+  const int n = this->EdgePlacements(u, v, placements);
+  uv = CheapestPlacement(placements, n);
+  std::swap(placements[n - 2], placements[n - 1]);
+  placements[n - 2].Kind = 1;
+  placements[n - 1].Kind = 2;
+  vu = CheapestPlacement(placements, n);
+}
+
+CollapseHierarchy::EdgeCost CollapseHierarchy::CheapestPlacement(const EdgePlacement* placements, int n)
+{
   EdgeCost cost{ std::numeric_limits<double>::infinity(), 3, false };
   for (int i = 0; i < n; ++i)
   {
@@ -667,6 +705,108 @@ CollapseHierarchy::EdgeCost CollapseHierarchy::EdgeCostOf(Index u, Index v) cons
     }
   }
   return cost;
+}
+
+void CollapseHierarchy::StoreEdgeCost(size_t slot, const EdgeCost& cost) const
+{
+  this->EdgeCostErrors[slot] = cost.Error;
+  this->EdgeCostStates[slot] = static_cast<unsigned char>(cost.Kind | (cost.NotANumber ? 4 : 0));
+}
+
+// The spokes (v, w) of vertex v's fan, each priced once for the two triangles that share it: the
+// one where w follows v holds it as (v, w), the one where w precedes v as (w, v). Only slots not
+// known yet (all of them after a collapse forgot them), and not the spokes another thread prices:
+// on M0 (allVertices) those to a lower vertex id, after a level those to another vertex of the
+// list (marked: such a spoke's slots may belong to that vertex's fan). A hub's spokes are never
+// priced (CheapestEdgeError skips them).
+void CollapseHierarchy::PriceSpokesOf(Index v, bool allVertices) const
+{
+  const auto otherPrices = [&](Index w) { return allVertices ? w < v : this->VertexMark[w] == this->MarkEpoch; };
+  struct Spoke
+  {
+    Index Other;
+    size_t Slot;
+  };
+  Spoke leaving[HubValence], entering[HubValence];
+  int nl = 0, ne = 0, fan = 0;
+  bool fits = true;
+  this->Mesh.ForEachTriangle(v, [&](Index x) {
+    const Index* q = this->Mesh.Triangle(x);
+    const int c = q[0] == v ? 0 : (q[1] == v ? 1 : 2);
+    const Index next = q[(c + 1) % 3], previous = q[(c + 2) % 3];
+    fits = fits && ++fan <= HubValence;
+    if (!fits)
+    {
+      return;
+    }
+    const size_t out = 3 * size_t(x) + c, in = 3 * size_t(x) + (c + 2) % 3;
+    if (this->EdgeCostStates[out] == UnknownEdgeCost && !otherPrices(next))
+    {
+      leaving[nl++] = { next, out };
+    }
+    if (this->EdgeCostStates[in] == UnknownEdgeCost && !otherPrices(previous))
+    {
+      entering[ne++] = { previous, in };
+    }
+  });
+  for (int i = 0; fits && i < nl; ++i)
+  {
+    for (int j = 0; j < ne; ++j)
+    {
+      if (entering[j].Other == leaving[i].Other)
+      {
+        EdgeCost uv, vu;
+        this->EdgeCostsBothWays(v, leaving[i].Other, uv, vu);
+        this->StoreEdgeCost(leaving[i].Slot, uv);
+        this->StoreEdgeCost(entering[j].Slot, vu);
+        entering[j] = entering[--ne];
+        break;
+      }
+    }
+  }
+}
+
+struct CollapseHierarchy::SpokePricing
+{
+  const CollapseHierarchy* Hierarchy;
+  const std::vector<Index>* Vertices; // nullptr: every vertex
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      this->Hierarchy->PriceSpokesOf(this->Vertices ? (*this->Vertices)[i] : static_cast<Index>(i), !this->Vertices);
+    }
+  }
+};
+
+// Before the fans of a level's new vertices are evaluated: their spokes priced once per edge
+// instead of once per triangle (each spoke is an edge of two fan triangles), in parallel over the
+// vertices (their fans are disjoint: the batch's regions are). The same costs as the evaluation
+// would compute, so the same hierarchy.
+void CollapseHierarchy::PriceSpokes(const std::vector<Index>* vertices)
+{
+  if (this->EdgeCostStates.empty() || !this->PreferringEdges())
+  {
+    return;
+  }
+  if (!vertices)
+  {
+    SpokePricing pricing{ this, nullptr };
+    vtkSMPTools::For(0, static_cast<vtkIdType>(this->Base.NumberOfPoints()), pricing);
+    return;
+  }
+  ++this->MarkEpoch;
+  this->Spokes.clear();
+  for (Index v : *vertices)
+  {
+    if (this->VertexMark[v] != this->MarkEpoch && this->Mesh.IsVertexAlive(v))
+    {
+      this->Spokes.push_back(v); // once each (the swaps' vertices may repeat)
+    }
+    this->VertexMark[v] = this->MarkEpoch;
+  }
+  SpokePricing pricing{ this, &this->Spokes };
+  vtkSMPTools::For(0, static_cast<vtkIdType>(this->Spokes.size()), pricing);
 }
 
 // v is the kept vertex of a collapse (new point and quadric): the costs of the edges at v go.
@@ -1098,14 +1238,16 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   // Most of the time the cheapest candidate, known from the evaluation, passes: the other eight
   // need not be computed (one eigen decomposition instead of three).
   const bool known = this->KnownCheapestEdge(t, edge, point, error);
+  int failsEverywhere = 0; // bit k: edge k failed a check of its vertices alone (no point passes)
   if (known)
   {
     const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
-    if (m.CheckCollapse(vertices, 2, point, this->MeshOptions) == CollapseStatus::Ok &&
-      this->KeepsOrientation(vertices, 2, point))
+    const CollapseStatus status = m.CheckCollapse(vertices, 2, point, this->MeshOptions);
+    if (status == CollapseStatus::Ok && this->KeepsOrientation(vertices, 2, point))
     {
       return true;
     }
+    failsEverywhere |= FailsForEveryPoint(status) ? 1 << edge : 0;
   }
   // Candidates: per edge, the quadric's best point near the midpoint and the two end points;
   // tried by increasing quadric error of the ancestral planes until one passes the checks.
@@ -1136,15 +1278,21 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   });
   for (int i = known ? 1 : 0; i < n; ++i) // (the known cheapest is the first: it failed above)
   {
-    const Index vertices[2] = { tri[candidates[i].Edge], tri[(candidates[i].Edge + 1) % 3] };
-    if (m.CheckCollapse(vertices, 2, candidates[i].Point, this->MeshOptions) == CollapseStatus::Ok &&
-      this->KeepsOrientation(vertices, 2, candidates[i].Point))
+    const int k = candidates[i].Edge;
+    if ((failsEverywhere >> k) & 1)
     {
-      edge = candidates[i].Edge;
+      continue; // (the same answer as checking it: on noisy scans most of the link failures)
+    }
+    const Index vertices[2] = { tri[k], tri[(k + 1) % 3] };
+    const CollapseStatus status = m.CheckCollapse(vertices, 2, candidates[i].Point, this->MeshOptions);
+    if (status == CollapseStatus::Ok && this->KeepsOrientation(vertices, 2, candidates[i].Point))
+    {
+      edge = k;
       point = candidates[i].Point;
       error = candidates[i].Error;
       return true;
     }
+    failsEverywhere |= FailsForEveryPoint(status) ? 1 << k : 0;
   }
   return false;
 }
@@ -1228,7 +1376,43 @@ bool CollapseHierarchy::Build(
       }
     }
   }
+  this->ReleaseWorkingData();
   return true;
+}
+
+// What only the build reads (evaluations, quadrics, costs, stamps, ancestors, scratch): the
+// levels, blends, cuts and vertex splits read the versions, the collapses, the records, M0 and the
+// coarsest mesh. Freed before the levels are handed out (a copy of each) and while a filter keeps
+// the hierarchy for its slider (about 400 bytes per input vertex on mc1m).
+void CollapseHierarchy::ReleaseWorkingData()
+{
+  const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
+  release(this->Evaluations);
+  release(this->OtherNormals);
+  release(this->Quadrics);
+  release(this->Weights);
+  release(this->BaseAreaVectors);
+  release(this->AncestorHead);
+  release(this->AncestorTail);
+  release(this->AncestorNext);
+  release(this->AncestorCount);
+  release(this->EntryOf);
+  release(this->VertexMark);
+  release(this->VertexChanged);
+  release(this->BlockedStrict);
+  release(this->BlockedRelaxed);
+  release(this->BlockedEdge);
+  release(this->CachedDegree);
+  release(this->CachedDegreeStamp);
+  release(this->EdgeCostErrors);
+  release(this->EdgeCostStates);
+  release(this->Spokes);
+  release(this->Working);
+  release(this->Rests);
+  release(this->PendingAlternatives);
+  release(this->StencilVertices);
+  release(this->FitPoints);
+  release(this->Link);
 }
 
 // The parameters with the weights made non-negative (normalised by their sum) and the fractions
@@ -1348,12 +1532,15 @@ void CollapseHierarchy::ResetRecords()
 void CollapseHierarchy::InitializeQuadrics()
 {
   const Index nt = this->Base.NumberOfTriangles();
-  double meanAreaGuess = 0;
+  // The mean area as EvaluateAllTriangles computes it from M0's evaluations (the same sum in the
+  // same order, so the same number): the edge costs priced during M0's evaluation stay valid.
+  // (A sum of area / nt differed in the last bits, which threw all of M0's costs away.)
+  double totalArea = 0;
   for (Index t = 0; t < nt; ++t)
   {
-    meanAreaGuess += 0.5 * Norm(this->BaseAreaVector(t)) / nt;
+    totalArea += 0.5 * Norm(this->BaseAreaVector(t));
   }
-  this->MeanArea = meanAreaGuess > 0 ? meanAreaGuess : 1.0;
+  this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
   this->Quadrics.clear();
   std::vector<double>().swap(this->EdgeCostErrors);
   std::vector<unsigned char>().swap(this->EdgeCostStates);
@@ -1426,6 +1613,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
   this->OtherNormals.clear();
   this->Weights.assign(nt, 0.0);
   std::vector<ShapeTerms> shapes(static_cast<size_t>(nt));
+  this->PriceSpokes(nullptr); // every edge once instead of once per triangle
   double totalArea = 0, kappaMax = 0;
   int valenceMax = 0;
   constexpr Index Slice = Index(1) << 16; // evaluated at once between progress reports
@@ -1851,6 +2039,7 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
   // neighbouring evaluations then share cached triangles and points. The results do not depend
   // on the order.
   std::sort(state.Affected.begin(), state.Affected.end());
+  this->PriceSpokes(&vertices);
   this->EvaluateTriangles(state.Affected.data(), 0, static_cast<Index>(state.Affected.size()));
   for (Index x : state.Affected)
   {

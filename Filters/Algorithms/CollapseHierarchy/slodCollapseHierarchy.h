@@ -287,6 +287,7 @@ private:
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
+  void ReleaseWorkingData();
 
   // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only
   // reads the mesh (EvaluateConcurrently) runs for many triangles at once; FinishEvaluation does
@@ -436,6 +437,14 @@ private:
   };
   static constexpr unsigned char UnknownEdgeCost = 0xff; // EdgeCostState: not computed
   EdgeCost EdgeCostOf(Index u, Index v) const;
+  void EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCost& vu) const;
+  void StoreEdgeCost(size_t slot, const EdgeCost& cost) const;
+  // The spokes of the new vertices' fans priced before their evaluation, once per edge (the
+  // evaluation would price each in both of its triangles).
+  void PriceSpokes(const std::vector<Index>* vertices); // nullptr: every edge of M0
+  void PriceSpokesOf(Index v, bool allVertices) const; // writes slots of v's fan only
+  struct SpokePricing;               // the vtkSMPTools functor (in the .cxx)
+  std::vector<Index> Spokes;         // the vertices whose spokes are priced
   void ForgetEdgeCostsAround(Index v);
   mutable std::vector<double> EdgeCostErrors;         // 3 per triangle slot
   mutable std::vector<unsigned char> EdgeCostStates; // 3 per triangle slot: Kind | NaN << 2, or Unknown
@@ -447,6 +456,7 @@ private:
     int Kind;
   };
   int EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const;
+  static EdgeCost CheapestPlacement(const EdgePlacement* placements, int n);
   int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;

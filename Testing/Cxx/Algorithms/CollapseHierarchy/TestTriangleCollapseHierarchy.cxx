@@ -1029,6 +1029,31 @@ TEST(CollapseHierarchy, KeptEdgeCostsGiveTheSameHierarchy)
   }
 }
 
+// Edge costs are priced before the evaluations, once per edge for its two triangles (M0's edges,
+// then the spokes of each level's new vertices, in parallel): on a noisy scan isosurface (borders,
+// handles, non-manifold edges whose vertices are locked) the same hierarchy as with every edge
+// priced in each evaluation. A hierarchy built again on the same object, after its first build
+// released its working data, is the same as one built once.
+TEST(CollapseHierarchy, SpokePricingAndRebuildGiveTheSameHierarchy)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(40);
+  source->Update();
+  const TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  const TriangleMesh bunny = ToTriangleMesh(LoadTestMesh("bunny00"));
+  CollapseHierarchyParameters parameters = DefaultParameters();
+  CollapseHierarchy kept, reused, priced;
+  ASSERT_TRUE(kept.Build(scan, parameters));
+  ASSERT_TRUE(reused.Build(bunny, parameters));
+  ASSERT_TRUE(reused.Build(scan, parameters));
+  parameters.ReuseEdgeCosts = false;
+  ASSERT_TRUE(priced.Build(scan, parameters));
+  ASSERT_GT(kept.NumberOfEdgeCollapses(), scan.NumberOfTriangles() / 8);
+  ExpectSameHierarchy(kept, priced, "noisy scan, costs kept");
+  ExpectSameHierarchy(kept, reused, "noisy scan, built again");
+}
+
 // Zero-area triangles, as T-junction repairs leave them: a vertex m inserted in edge (a, b) splits
 // the triangle on one side and fills the other side's gap with the triangle (a, m, b). Such a
 // triangle has no plane of its own (its stencil's stands in for its normal, kept apart from the
