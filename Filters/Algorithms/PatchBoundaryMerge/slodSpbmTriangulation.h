@@ -7,6 +7,9 @@
 //  3. AddOriginalPatches: patches frozen at the last fallback level as their input triangles;
 //  4. TriangulatePatches: every other patch from its simplified boundary (ear clipping, or the
 //     minimum-deviation triangulation for small non-planar boundaries);
+//  4b. RefineFailedPatches: a patch that failed (not unmerged yet) keeps one more boundary vertex
+//     and the patches on both sides of its chain are triangulated again (a few rounds), before
+//     any patch goes to a fallback level;
 //  5. FreezeFailedPatches: the patches that failed go one fallback level further for the next pass.
 // Finish compacts the patch ids and writes the profile curves.
 #ifndef slodSpbmTriangulation_h
@@ -40,6 +43,9 @@ private:
   bool TriangulatePatches(const std::vector<unsigned char>& frozen, const std::function<bool()>& abort);
   bool BoundaryPolygon(Index p);
   bool TriangulateBoundary(Index p);
+  bool RefineFailedPatches(const std::vector<unsigned char>& frozen);
+  bool HiddenVertexFor(Index p, Index& c, Index& from, Index& at, Index& to);
+  void RemoveTriangles(Index stamp);
   void TriangulateMinimumDeviation(const Vec3& normal, PolygonTriangulationResult& result);
   int NextEffectiveLevel(Index q, const std::vector<unsigned char>& frozen) const;
 
@@ -52,6 +58,8 @@ private:
   const Index np, nc;
   const Index* const base;           // first chain vertex: chain offsets into the generator's key arrays
   std::vector<unsigned char> failed; // per patch of the pass
+  std::vector<unsigned char> refinedVertex; // per mesh vertex: kept by RefineFailedPatches (all passes)
+  std::vector<Index> affected;               // RefineFailedPatches: patches to triangulate again
   // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each
   // polygon corner's outgoing chain (or InvalidIndex), its oriented chains, the corner points.
   std::vector<Index> polygon, other, ring, order;
