@@ -70,7 +70,8 @@ bool SpbmLevelGenerator::LevelTriangulation::RefineFailedPatches(const std::vect
   for (Index p = 0; p < np; ++p)
   {
     Index c = InvalidIndex, from = 0, at = 0, to = 0;
-    if (!failed[p] || s.Parent[p] != p || frozen[p] != 0 || !this->HiddenVertexFor(p, c, from, at, to))
+    if (failed[p] != TriangulationFailure || s.Parent[p] != p || frozen[p] != 0 ||
+      !this->HiddenVertexFor(p, c, from, at, to))
     {
       continue;
     }
@@ -106,7 +107,10 @@ bool SpbmLevelGenerator::LevelTriangulation::RefineFailedPatches(const std::vect
   std::stable_sort(affected.begin(), affected.end(), [&](Index x, Index y) { return s.Size[x] < s.Size[y]; });
   for (const Index q : affected)
   {
-    failed[q] = !this->BoundaryPolygon(q) || !this->TriangulateBoundary(q);
+    if (failed[q] != SegmentFailure) // a duplicate chain segment stays one whatever p keeps
+    {
+      failed[q] = !this->BoundaryPolygon(q) || !this->TriangulateBoundary(q) ? TriangulationFailure : 0;
+    }
   }
   return true;
 }
@@ -335,10 +339,10 @@ void SpbmLevelGenerator::LevelTriangulation::MakeSegmentsUnique()
             {
               for (const Index x : { c, existing })
               {
-                failed[s.Find(s.L[x])] = 1;
+                failed[s.Find(s.L[x])] = SegmentFailure;
                 if (s.R[x] != InvalidIndex)
                 {
-                  failed[s.Find(s.R[x])] = 1;
+                  failed[s.Find(s.R[x])] = SegmentFailure;
                 }
               }
             }
@@ -383,10 +387,10 @@ void SpbmLevelGenerator::LevelTriangulation::AddOriginalPatches(const std::vecto
           const Index x = existing;
           if (s.Find(s.L[x]) != p && (s.R[x] == InvalidIndex || s.Find(s.R[x]) != p))
           {
-            failed[s.Find(s.L[x])] = 1;
+            failed[s.Find(s.L[x])] = SegmentFailure;
             if (s.R[x] != InvalidIndex)
             {
-              failed[s.Find(s.R[x])] = 1;
+              failed[s.Find(s.R[x])] = SegmentFailure;
             }
           }
         }
@@ -420,7 +424,7 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
     }
     if (!this->BoundaryPolygon(p) || !this->TriangulateBoundary(p))
     {
-      failed[p] = 1;
+      failed[p] = TriangulationFailure;
     }
   }
   return true;

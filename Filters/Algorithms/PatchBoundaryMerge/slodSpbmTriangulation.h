@@ -34,7 +34,10 @@ public:
   bool FreezeFailedPatches(std::vector<unsigned char>& frozen, bool& unmerged);
   void Finish(const std::vector<unsigned char>& frozen);
   // Root patches that failed in the last pass.
-  Index FailedPatches() const { return static_cast<Index>(std::count(failed.begin(), failed.end(), 1)); }
+  Index FailedPatches() const
+  {
+    return static_cast<Index>(failed.size() - size_t(std::count(failed.begin(), failed.end(), 0)));
+  }
 
 private:
   void BuildVertexSequences();
@@ -57,7 +60,15 @@ private:
   const TriangleMesh& mesh;
   const Index np, nc;
   const Index* const base;           // first chain vertex: chain offsets into the generator's key arrays
-  std::vector<unsigned char> failed; // per patch of the pass
+  // Per patch of the pass: 0, or why it failed: its boundary or triangulation (RefineFailedPatches
+  // may help), or a chain segment or original edge that another chain or patch already has (it
+  // cannot: the patch waits for the fallback levels).
+  enum : unsigned char
+  {
+    TriangulationFailure = 1,
+    SegmentFailure = 2
+  };
+  std::vector<unsigned char> failed;
   std::vector<unsigned char> refinedVertex; // per mesh vertex: kept by RefineFailedPatches (all passes)
   std::vector<Index> affected;               // RefineFailedPatches: patches to triangulate again
   // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each
