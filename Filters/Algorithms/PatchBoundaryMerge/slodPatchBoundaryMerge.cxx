@@ -949,6 +949,10 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
       return false;
     }
     const Index produced = static_cast<Index>(candidate.TrianglePatch.size());
+    // The vertices a failed patch kept in its pass (FailedPatchRefinementRounds) add about two
+    // triangles each, a few hundredths of a percent: a new search and generation (a merging run
+    // and its fallback passes again) would cost more than it gains.
+    const Index refinedTriangles = 2 * candidate.RefinedInPass;
     const Index best = haveBest ? static_cast<Index>(level.TrianglePatch.size()) : 0;
     // Closest on a log scale, ties to the one not above the target: a re-aimed level far below
     // the target (when fallbacks cannot be avoided) must not win over a moderate overshoot.
@@ -964,7 +968,7 @@ bool SpbmLevelGenerator::GenerateForTargetAndAngle(Index target, const SpbmLevel
       }
       haveBest = true;
     }
-    if (produced <= target || predicted > aim)
+    if (produced <= target + refinedTriangles || predicted > aim)
     {
       break; // reached, or even the coarsest level of the search is above the aim: re-aiming cannot help
     }

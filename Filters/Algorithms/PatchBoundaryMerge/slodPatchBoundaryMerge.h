@@ -108,6 +108,16 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // Fallback passes in which no failed patch would keep a vertex more (or be unmerged) repeat the
   // pass before them: skipped (the same level in fewer passes); off: one level per pass.
   bool SkipIneffectiveFallbackLevels = true;
+  // A patch that fails to triangulate (not unmerged yet) first keeps one more boundary vertex (the
+  // hidden chain vertex farthest from its kept segment, else one hidden by a chain segment
+  // elsewhere that joins two of its corners) and the patches on both sides of that chain are
+  // triangulated again, up to this many rounds per pass, before it goes to the fallback levels:
+  // unmerging needs another merging pass (a replay of the whole record), a round re-triangulates a
+  // few patches. On scan isosurfaces the failures are patches whose every diagonal is already an
+  // edge, which a further corner often avoids. The kept vertices stay kept in the later passes,
+  // and add about two triangles each to the predicted count (GenerateForTarget does not aim
+  // again for them). 0: the fallback levels only.
+  int FailedPatchRefinementRounds = 3;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
   // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices
@@ -139,6 +149,8 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   int Passes = 0;               // generation passes (1 without fallback)
   int ReplayedPasses = 0;       // passes that replayed the previous pass's merging (ReplayFallbackPasses)
   long long EditsAppliedAsRecorded = 0; // edits those passes applied without their tests (clean)
+  Index FailedPatches = 0;      // root patches that went to a fallback level, summed over the passes
+  Index RefinedInPass = 0;      // vertices kept by FailedPatchRefinementRounds, summed over the passes
 };
 
 class SURFACELODFILTERS_EXPORT SpbmLevelGenerator

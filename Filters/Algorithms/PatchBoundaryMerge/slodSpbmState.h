@@ -178,6 +178,39 @@ public:
     }
     return false;
   }
+  // Removes (a,b); false when absent. Backward-shift deletion: the entries after it in its probe
+  // run move up, so lookups never need tombstones.
+  bool Erase(Index a, Index b)
+  {
+    if (this->Keys.empty())
+    {
+      return false;
+    }
+    const size_t mask = this->Keys.size() - 1;
+    const uint64_t key = Key(a, b);
+    size_t hole = this->Slot(key);
+    while (this->Keys[hole] != key)
+    {
+      if (this->Keys[hole] == Empty)
+      {
+        return false;
+      }
+      hole = (hole + 1) & mask;
+    }
+    for (size_t next = (hole + 1) & mask; this->Keys[next] != Empty; next = (next + 1) & mask)
+    {
+      // The entry at `next` may fill the hole when the hole lies between its home slot and it.
+      if (((next - this->Slot(this->Keys[next])) & mask) >= ((next - hole) & mask))
+      {
+        this->Keys[hole] = this->Keys[next];
+        this->Values[hole] = this->Values[next];
+        hole = next;
+      }
+    }
+    this->Keys[hole] = Empty;
+    --this->Count;
+    return true;
+  }
   size_t MemoryUsage() const { return this->Keys.capacity() * 8 + this->Values.capacity() * sizeof(Index); }
 
 private:

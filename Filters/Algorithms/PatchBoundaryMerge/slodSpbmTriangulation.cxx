@@ -4,6 +4,8 @@
 #include "slodPolygonTriangulation.h"
 #include "slodTriangleBVH.h"
 
+#include "vtkLogger.h"
+
 #include <cstring>
 
 namespace slod
@@ -29,9 +31,184 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
 {
   failed.assign(size_t(np), 0);
   this->BuildVertexSequences();
+  if (!refinedVertex.empty())
+  {
+    // Vertices kept by the rounds of the passes before: a replay leaves most patches as they were,
+    // and the same patches would fail again.
+    for (size_t i = 0; i < s.SeqVertices.size(); ++i)
+    {
+      s.SeqKeep[i] = s.SeqKeep[i] || refinedVertex[s.SeqVertices[i]];
+    }
+  }
   this->MakeSegmentsUnique();
   this->AddOriginalPatches(frozen);
-  return this->TriangulatePatches(frozen, abort);
+  if (!this->TriangulatePatches(frozen, abort))
+  {
+    return false;
+  }
+  for (int round = 0; round < parameters.FailedPatchRefinementRounds; ++round)
+  {
+    const Index before = level.RefinedInPass;
+    const bool refined = this->RefineFailedPatches(frozen);
+    vtkLogF(TRACE, "[spbm] refinement round %d: %d vertices kept, %d patches still failed", round,
+      int(level.RefinedInPass - before), int(this->FailedPatches()));
+    if (!refined)
+    {
+      break;
+    }
+  }
+  return true;
+}
+
+// Every failed patch (not unmerged yet) with a hidden vertex to keep keeps one; the patches on
+// both sides of its chain lose their triangles and are triangulated again with it (every other
+// patch and edge of the pass is unchanged). True when a vertex was kept.
+bool SpbmLevelGenerator::LevelTriangulation::RefineFailedPatches(const std::vector<unsigned char>& frozen)
+{
+  const Index stamp = s.NextStamp();
+  affected.clear();
+  for (Index p = 0; p < np; ++p)
+  {
+    Index c = InvalidIndex, from = 0, at = 0, to = 0;
+    if (failed[p] != TriangulationFailure || s.Parent[p] != p || frozen[p] != 0 ||
+      !this->HiddenVertexFor(p, c, from, at, to))
+    {
+      continue;
+    }
+    const Index x = s.SeqVertices[from], m = s.SeqVertices[at], y = s.SeqVertices[to];
+    Index owner = InvalidIndex;
+    if (P.ChainIsNonManifold(c) || s.Edges.Contains(x, m) || s.Edges.Contains(m, y) || !s.Edges.Find(x, y, owner) ||
+      owner != c)
+    {
+      continue; // the split would duplicate an edge (or the segment is shared): left to the fallback
+    }
+    s.Edges.Erase(x, y);
+    Index ignored;
+    s.Edges.Insert(x, m, c, ignored);
+    s.Edges.Insert(m, y, c, ignored);
+    s.SeqKeep[at] = 1;
+    refinedVertex.resize(size_t(mesh.NumberOfPoints()), 0);
+    refinedVertex[m] = 1;
+    ++level.RefinedInPass;
+    for (const Index side : { p, s.Find(s.L[c]), s.R[c] == InvalidIndex ? InvalidIndex : s.Find(s.R[c]) })
+    {
+      if (side != InvalidIndex && s.PatchStamp[side] != stamp && frozen[side] != OriginalLevel)
+      {
+        s.PatchStamp[side] = stamp;
+        affected.push_back(side);
+      }
+    }
+  }
+  if (affected.empty())
+  {
+    return false;
+  }
+  this->RemoveTriangles(stamp);
+  std::stable_sort(affected.begin(), affected.end(), [&](Index x, Index y) { return s.Size[x] < s.Size[y]; });
+  for (const Index q : affected)
+  {
+    if (failed[q] != SegmentFailure) // a duplicate chain segment stays one whatever p keeps
+    {
+      failed[q] = !this->BoundaryPolygon(q) || !this->TriangulateBoundary(q) ? TriangulationFailure : 0;
+    }
+  }
+  return true;
+}
+
+// Removes the triangles of the patches stamped `stamp` and their diagonals (a diagonal is an edge
+// of its own patch only; chain segments and original triangles' edges carry other values).
+void SpbmLevelGenerator::LevelTriangulation::RemoveTriangles(Index stamp)
+{
+  size_t kept = 0;
+  for (size_t t = 0; t < level.TrianglePatch.size(); ++t)
+  {
+    const Index tri[3] = { level.Triangles[3 * t], level.Triangles[3 * t + 1], level.Triangles[3 * t + 2] };
+    if (s.PatchStamp[level.TrianglePatch[t]] != stamp)
+    {
+      std::copy(tri, tri + 3, level.Triangles.begin() + std::ptrdiff_t(3 * kept));
+      level.TrianglePatch[kept++] = level.TrianglePatch[t];
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      Index value;
+      if (s.Edges.Find(tri[k], tri[(k + 1) % 3], value) && value == -1)
+      {
+        s.Edges.Erase(tri[k], tri[(k + 1) % 3]);
+      }
+    }
+  }
+  level.Triangles.resize(3 * kept);
+  level.TrianglePatch.resize(kept);
+}
+
+// The vertex failed patch p keeps (sequence position `at` on chain c, between the kept positions
+// `from` and `to`): the hidden vertex of its boundary chains farthest from the kept segment that
+// skips it (the vertex the chain hierarchy would add next, near enough), else one of a chain
+// segment elsewhere that joins two of its corners (the diagonal p could not use). False when
+// neither hides a vertex.
+bool SpbmLevelGenerator::LevelTriangulation::HiddenVertexFor(Index p, Index& c, Index& from, Index& at, Index& to)
+{
+  double bestDistance2 = -1;
+  Index chain = InvalidIndex;
+  auto farthestHidden = [&](Index previous, Index i) {
+    const Vec3& a = mesh.Point(s.SeqVertices[previous]);
+    const Vec3& b = mesh.Point(s.SeqVertices[i]);
+    for (Index k = previous + 1; k < i; ++k)
+    {
+      const double d2 = PointSegmentDistance2(mesh.Point(s.SeqVertices[k]), a, b);
+      if (d2 > bestDistance2)
+      {
+        bestDistance2 = d2;
+        c = chain;
+        from = previous;
+        at = k;
+        to = i;
+      }
+    }
+  };
+  auto forKeptSegments = [&](Index x, auto&& f) {
+    chain = x;
+    Index previous = s.SeqOffsets[x];
+    for (Index i = previous + 1; i < s.SeqOffsets[x + 1]; ++i)
+    {
+      if (s.SeqKeep[i])
+      {
+        f(previous, i);
+        previous = i;
+      }
+    }
+  };
+  for (Index slot = s.PatchHead[p]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+  {
+    const Index x = slot / 2;
+    if (s.Alive[x] && !(slot % 2 == 1 && s.Find(s.L[x]) == p)) // once per chain
+    {
+      forKeptSegments(x, farthestHidden);
+    }
+  }
+  // Else a chain segment elsewhere between two corners of p's polygon (BoundaryPolygon again: the
+  // polygon of the failure was overwritten by the patches triangulated after it).
+  const size_t n = bestDistance2 < 0 && this->BoundaryPolygon(p) ? polygon.size() : 0;
+  for (size_t i = 0; i < n; ++i)
+  {
+    for (size_t j = i + 2; j < n; ++j)
+    {
+      Index x;
+      if ((i == 0 && j + 1 == n) || !s.Edges.Find(polygon[i], polygon[j], x) || x < 0)
+      {
+        continue;
+      }
+      forKeptSegments(x, [&](Index previous, Index k) {
+        const Index u = s.SeqVertices[previous], v = s.SeqVertices[k];
+        if ((u == polygon[i] && v == polygon[j]) || (u == polygon[j] && v == polygon[i]))
+        {
+          farthestHidden(previous, k);
+        }
+      });
+    }
+  }
+  return bestDistance2 >= 0;
 }
 
 // Vertex sequences of the alive chains (all vertices, with keep flags).
@@ -162,10 +339,10 @@ void SpbmLevelGenerator::LevelTriangulation::MakeSegmentsUnique()
             {
               for (const Index x : { c, existing })
               {
-                failed[s.Find(s.L[x])] = 1;
+                failed[s.Find(s.L[x])] = SegmentFailure;
                 if (s.R[x] != InvalidIndex)
                 {
-                  failed[s.Find(s.R[x])] = 1;
+                  failed[s.Find(s.R[x])] = SegmentFailure;
                 }
               }
             }
@@ -210,10 +387,10 @@ void SpbmLevelGenerator::LevelTriangulation::AddOriginalPatches(const std::vecto
           const Index x = existing;
           if (s.Find(s.L[x]) != p && (s.R[x] == InvalidIndex || s.Find(s.R[x]) != p))
           {
-            failed[s.Find(s.L[x])] = 1;
+            failed[s.Find(s.L[x])] = SegmentFailure;
             if (s.R[x] != InvalidIndex)
             {
-              failed[s.Find(s.R[x])] = 1;
+              failed[s.Find(s.R[x])] = SegmentFailure;
             }
           }
         }
@@ -247,7 +424,7 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
     }
     if (!this->BoundaryPolygon(p) || !this->TriangulateBoundary(p))
     {
-      failed[p] = 1;
+      failed[p] = TriangulationFailure;
     }
   }
   return true;
@@ -469,6 +646,10 @@ bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<uns
     {
       step = std::min(step, frozen[q] == 0 ? 1 : this->NextEffectiveLevel(q, frozen) - frozen[q]);
     }
+  }
+  for (Index p = 0; p < np; ++p)
+  {
+    level.FailedPatches += failed[p] && s.Parent[p] == p;
   }
   for (Index q = 0; q < np; ++q)
   {

@@ -7,6 +7,9 @@
 //  3. AddOriginalPatches: patches frozen at the last fallback level as their input triangles;
 //  4. TriangulatePatches: every other patch from its simplified boundary (ear clipping, or the
 //     minimum-deviation triangulation for small non-planar boundaries);
+//  4b. RefineFailedPatches: a patch that failed (not unmerged yet) keeps one more boundary vertex
+//     and the patches on both sides of its chain are triangulated again (a few rounds), before
+//     any patch goes to a fallback level;
 //  5. FreezeFailedPatches: the patches that failed go one fallback level further for the next pass.
 // Finish compacts the patch ids and writes the profile curves.
 #ifndef slodSpbmTriangulation_h
@@ -31,7 +34,10 @@ public:
   bool FreezeFailedPatches(std::vector<unsigned char>& frozen, bool& unmerged);
   void Finish(const std::vector<unsigned char>& frozen);
   // Root patches that failed in the last pass.
-  Index FailedPatches() const { return static_cast<Index>(std::count(failed.begin(), failed.end(), 1)); }
+  Index FailedPatches() const
+  {
+    return static_cast<Index>(failed.size() - size_t(std::count(failed.begin(), failed.end(), 0)));
+  }
 
 private:
   void BuildVertexSequences();
@@ -40,6 +46,9 @@ private:
   bool TriangulatePatches(const std::vector<unsigned char>& frozen, const std::function<bool()>& abort);
   bool BoundaryPolygon(Index p);
   bool TriangulateBoundary(Index p);
+  bool RefineFailedPatches(const std::vector<unsigned char>& frozen);
+  bool HiddenVertexFor(Index p, Index& c, Index& from, Index& at, Index& to);
+  void RemoveTriangles(Index stamp);
   void TriangulateMinimumDeviation(const Vec3& normal, PolygonTriangulationResult& result);
   int NextEffectiveLevel(Index q, const std::vector<unsigned char>& frozen) const;
 
@@ -51,7 +60,17 @@ private:
   const TriangleMesh& mesh;
   const Index np, nc;
   const Index* const base;           // first chain vertex: chain offsets into the generator's key arrays
-  std::vector<unsigned char> failed; // per patch of the pass
+  // Per patch of the pass: 0, or why it failed: its boundary or triangulation (RefineFailedPatches
+  // may help), or a chain segment or original edge that another chain or patch already has (it
+  // cannot: the patch waits for the fallback levels).
+  enum : unsigned char
+  {
+    TriangulationFailure = 1,
+    SegmentFailure = 2
+  };
+  std::vector<unsigned char> failed;
+  std::vector<unsigned char> refinedVertex; // per mesh vertex: kept by RefineFailedPatches (all passes)
+  std::vector<Index> affected;               // RefineFailedPatches: patches to triangulate again
   // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each
   // polygon corner's outgoing chain (or InvalidIndex), its oriented chains, the corner points.
   std::vector<Index> polygon, other, ring, order;

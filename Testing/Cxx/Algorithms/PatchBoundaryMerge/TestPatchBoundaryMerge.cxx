@@ -1104,6 +1104,46 @@ TEST(SpbmLevel, ReplayCleanTestFlagsMatchTheWalk)
   EXPECT_GT(replayedPasses, 0) << "the noisy scans must need replayed passes";
 }
 
+// Session 17 (issue 10): a merged patch that fails to triangulate (on scan isosurfaces: every
+// diagonal is already an edge) first keeps one more boundary vertex and the pass triangulates
+// again; only the patches that still fail go to the fallback levels (each unmerging pass replays
+// the whole merging record). On noisy scans of seeds no other test uses, the rounds keep vertices,
+// fewer patches go to the fallback levels and fewer are unmerged, and the level keeps the input's
+// topology and orientation.
+TEST(SpbmLevel, FailedPatchesKeepAVertexMoreBeforeTheFallback)
+{
+  bool fewerUnmerged = false;
+  for (const unsigned int seed : { 17u, 19u })
+  {
+    TriangleMesh mesh;
+    std::vector<Index> vertexToInput;
+    ASSERT_TRUE(
+      PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
+    auto pm = Patch(mesh);
+    const MeshStatistics in = ComputeMeshStatistics(pm->Mesh);
+    SpbmLevel rounds, none;
+    GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.FailedPatchRefinementRounds = 3; }, rounds);
+    GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.FailedPatchRefinementRounds = 0; }, none);
+    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
+    ASSERT_GT(none.FailedPatches, 0) << "seed " << seed << ": the noisy scan must have patches that fail";
+    EXPECT_EQ(none.RefinedInPass, 0) << "seed " << seed;
+    EXPECT_GT(rounds.RefinedInPass, 0) << "seed " << seed;
+    EXPECT_LT(rounds.FailedPatches, none.FailedPatches) << "seed " << seed;
+    EXPECT_LE(rounds.UnmergedPatches, none.UnmergedPatches) << "seed " << seed;
+    fewerUnmerged = fewerUnmerged || rounds.UnmergedPatches < none.UnmergedPatches;
+    TriangleMesh out;
+    out.Points = pm->Mesh.Points;
+    out.Triangles = rounds.Triangles;
+    out.RemoveUnusedPoints();
+    const MeshStatistics st = ComputeMeshStatistics(out);
+    EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic) << "seed " << seed;
+    EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops) << "seed " << seed;
+    EXPECT_LE(st.NonManifoldEdges, in.NonManifoldEdges) << "seed " << seed;
+    EXPECT_EQ(st.InconsistentlyOrientedEdges, 0) << "seed " << seed;
+  }
+  EXPECT_TRUE(fewerUnmerged) << "the rounds must spare some patch its unmerging";
+}
+
 // Session 14: an unmerged patch that fails again goes to the next fallback level that makes its
 // chains keep more vertices; the levels in between would repeat the same pass. On noisy scans (a
 // surface no other PBM test tunes for) the level is the same as with one level per pass, in fewer
