@@ -623,6 +623,41 @@ TEST(GreedyCutsSimplification, ShapedTrianglesHaveFewerSlivers)
   }
 }
 
+// Session 17: most slivers of a single-epsilon run on fandisk were caps in flat parts, cut as fans
+// by the largest-area ear rule and kept by the collapses (their vertices hold creases). Ranking
+// thin ears below their area (EarShapeAngle, default 15 degrees) must cut the sliver share by a
+// third against the pure largest-area rule (EarShapeAngle 0) at two
+// tolerances, for at most 10 % more triangles, with the full ExpectValid (the bound measured).
+TEST(GreedyCutsSimplification, ShapedEarsCutFewerFansOfCaps)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("fandisk");
+  for (const double epsilon : { 0.01, 0.02 })
+  {
+    double share[2] = { 0, 0 };
+    vtkIdType count[2] = { 0, 0 };
+    for (int shaped = 0; shaped < 2; ++shaped)
+    {
+      vtkNew<vtkGreedyCutsSimplification> filter;
+      filter->SetInputData(input);
+      filter->SetMaximumError(epsilon);
+      if (!shaped)
+      {
+        filter->SetEarShapeAngle(0.0);
+      }
+      filter->Update();
+      const Figures f = Collect(filter, input);
+      const std::string label = "fandisk " + std::to_string(epsilon) + (shaped ? " shaped ears" : " largest ears");
+      ExpectValid(input, f, label);
+      share[shaped] = SliverShare(f.Output, 5.0);
+      count[shaped] = f.Output->GetNumberOfCells();
+      std::cout << "[greedy-cuts] " << label << ": " << count[shaped] << " tris, " << 100 * share[shaped]
+                << "% under 5 degrees\n";
+    }
+    EXPECT_LT(share[1], (2.0 / 3.0) * share[0]) << epsilon;
+    EXPECT_LE(count[1], 1.1 * double(count[0])) << epsilon;
+  }
+}
+
 // A patch whose front stays stuck after the repairs is split in two and retried instead of being
 // kept as its original triangles. Before: fandisk at 0.003 kept one patch original (3,988
 // triangles), bunny00 at 0.02 four (10,324), mushroom's largest terrain patch one at 0.05.
