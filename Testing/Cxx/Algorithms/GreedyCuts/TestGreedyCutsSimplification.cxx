@@ -601,6 +601,7 @@ double SliverShare(vtkPolyData* mesh, double degrees)
 // gradually). dino is used by no other test.
 TEST(GreedyCutsSimplification, ShapedTrianglesHaveFewerSlivers)
 {
+  double plainShares = 0;
   for (const std::string name : { "dino", "mushroom" })
   {
     vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
@@ -611,8 +612,8 @@ TEST(GreedyCutsSimplification, ShapedTrianglesHaveFewerSlivers)
       filter->SetInputData(input);
       filter->SetMaximumError(0.01);
       filter->SetShapedTriangleAngle(shaped ? 5.0 : 0.0);
-      // Against the chapter's largest-area ears: since session 17 the default shaped ears leave
-      // dino without a sliver at all, so the plain run would have nothing to halve.
+      // Against the chapter's largest-area ears (the default shaped ears of session 17 leave
+      // fewer slivers to halve).
       filter->SetEarShapeAngle(0.0);
       filter->Update();
       const Figures f = Collect(filter, input);
@@ -622,8 +623,12 @@ TEST(GreedyCutsSimplification, ShapedTrianglesHaveFewerSlivers)
       std::cout << "[greedy-cuts] " << name << (shaped ? " shaped 5 deg" : " plain") << ": "
                 << f.Output->GetNumberOfCells() << " tris, " << 100 * share[shaped] << "% under 5 degrees\n";
     }
-    EXPECT_LT(share[1], 0.5 * share[0]);
+    // Since session 17's collapse order dino has no sliver even in the plain run: at most half
+    // of none; the plain runs together must still have some (mushroom's), or nothing is tested.
+    EXPECT_LE(share[1], 0.5 * share[0]) << name;
+    plainShares += share[0];
   }
+  EXPECT_GT(plainShares, 0.0);
 }
 
 // Session 17: most slivers of a single-epsilon run on fandisk were caps in flat parts, cut as fans
