@@ -1323,8 +1323,6 @@ struct GreedyCuts::Worker
     }
   }
 
-  // Ear cutting: the feasible ear of largest area (a rescan of non-ears before giving up).
-  // Returns whether an ear was cut.
   // Weight of an ear's area in the choice of the ear to cut: 1 for an ear whose smallest angle is
   // at least EarShape, falling with the square of the angle below it. The largest ear (Ho's greedy
   // rule) still wins among well-shaped ones, but the fans of caps that the largest-area rule cuts
@@ -1341,6 +1339,8 @@ struct GreedyCuts::Worker
     return ratio >= 1 ? 1.0 : ratio * ratio;
   }
 
+  // Ear cutting: the feasible ear of largest area weighted by EarShapeFactor (a rescan of
+  // non-ears before giving up). Returns whether an ear was cut.
   bool CutBestEar(PatchState& s, std::vector<Index>& tris)
   {
     Index best = InvalidIndex;
