@@ -556,7 +556,7 @@ struct GreedyCuts::Worker
   const Patchification& PP;
   GreedyCutsParameters Prm;
   GreedyCutsResult& Res;
-  double Eps, EpsLocal, MinAngle, ShapedAngle;
+  double Eps, EpsLocal, MinAngle, ShapedAngle, EarShape;
   // Per patch: its first attempt asks for well-shaped triangles (ShapedAngle); a patch that gets
   // stuck releases that bound to MinAngle before any other escalation (section 3.4.3).
   std::vector<unsigned char> AngleReleased;
@@ -582,6 +582,7 @@ struct GreedyCuts::Worker
     this->EpsLocal = prm.LocalTolerance * prm.Epsilon;
     this->MinAngle = vtkMath::RadiansFromDegrees(prm.MinimumAngle);
     this->ShapedAngle = vtkMath::RadiansFromDegrees(std::max(prm.MinimumAngle, prm.ShapedAngle));
+    this->EarShape = vtkMath::RadiansFromDegrees(prm.EarShapeAngle);
     const Index np = PP.NumberOfPatches();
     this->ChainFull.assign(size_t(PP.NumberOfChains()), 0);
     this->PatchOriginal.assign(size_t(np), 0);
@@ -1322,8 +1323,24 @@ struct GreedyCuts::Worker
     }
   }
 
-  // Ear cutting: the feasible ear of largest area (a rescan of non-ears before giving up).
-  // Returns whether an ear was cut.
+  // Weight of an ear's area in the choice of the ear to cut: 1 for an ear whose smallest angle is
+  // at least EarShape, falling with the square of the angle below it. The largest ear (Ho's greedy
+  // rule) still wins among well-shaped ones, but the fans of caps that the largest-area rule cuts
+  // along nearly straight chains on flat parts (measured: most slivers of the output there) come
+  // last, after the ears that cut them off. Only the order changes: every ear is still checked by
+  // Feasible, so the bound is untouched.
+  double EarShapeFactor(Index a, Index b, Index c) const
+  {
+    if (this->EarShape <= 0)
+    {
+      return 1.0;
+    }
+    const double ratio = MinimumAngle(M.Point(a), M.Point(b), M.Point(c)) / this->EarShape;
+    return ratio >= 1 ? 1.0 : ratio * ratio;
+  }
+
+  // Ear cutting: the feasible ear of largest area weighted by EarShapeFactor (a rescan of
+  // non-ears before giving up). Returns whether an ear was cut.
   bool CutBestEar(PatchState& s, std::vector<Index>& tris)
   {
     Index best = InvalidIndex;
@@ -1342,6 +1359,7 @@ struct GreedyCuts::Worker
             s.EarArea[i] = 0.5 *
               Norm(Cross(M.Point(s.Vert[i]) - M.Point(s.Vert[s.Prev[i]]),
                 M.Point(s.Vert[s.Next[i]]) - M.Point(s.Vert[s.Prev[i]])));
+            s.EarArea[i] *= this->EarShapeFactor(s.Vert[s.Prev[i]], s.Vert[i], s.Vert[s.Next[i]]);
           }
         }
         if (s.EarState[i] == 1 && s.EarArea[i] > bestArea)

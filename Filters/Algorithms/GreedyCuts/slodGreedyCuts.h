@@ -62,6 +62,10 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // Degrees: a patch's first attempt also rejects triangles thinner than this (fewer slivers);
   // a patch that gets stuck is retried at MinimumAngle (the paper's gradual release). 0 = off.
   double ShapedAngle = 0.0;
+  // Degrees: ears thinner than this rank below their area (weight (angle / EarShapeAngle)^2) in
+  // the choice of the next ear, so the largest-area rule no longer cuts fans of caps on flat parts;
+  // feasibility (the bound) is unchanged. 0 = the chapter's pure largest-area rule.
+  double EarShapeAngle = 15.0;
   int SubdivisionDepth = 10;     // adaptive distance test depth
   // A final pass of half-edge collapses whose bound is proved (slodProvedCollapses.h) removes
   // the output vertices the bound does not need; it keeps the two-sided bound.

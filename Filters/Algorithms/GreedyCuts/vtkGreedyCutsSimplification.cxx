@@ -140,6 +140,7 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.BiteCandidates = this->BiteCandidates;
   parameters.MinimumAngle = this->MinimumTriangleAngle;
   parameters.ShapedAngle = this->ShapedTriangleAngle;
+  parameters.EarShapeAngle = this->EarShapeAngle;
   parameters.FinalCollapses = this->FinalCollapses;
   parameters.LadderBottom = this->LadderBottom;
   const double bound = this->AbsoluteMaximumError(diagonal);
@@ -212,6 +213,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BiteCandidates: " << this->BiteCandidates << "\n";
   os << indent << "MinimumTriangleAngle: " << this->MinimumTriangleAngle << "\n";
   os << indent << "ShapedTriangleAngle: " << this->ShapedTriangleAngle << "\n";
+  os << indent << "EarShapeAngle: " << this->EarShapeAngle << "\n";
   os << indent << "FinalCollapses: " << (this->FinalCollapses ? "on" : "off") << "\n";
   os << indent << "MonotoneInEpsilon: " << (this->MonotoneInEpsilon ? "on" : "off") << "\n";
   os << indent << "LadderBottom: " << this->LadderBottom << "\n";

@@ -94,6 +94,13 @@ public:
    */
   vtkSetClampMacro(ShapedTriangleAngle, double, 0.0, 30.0);
   vtkGetMacro(ShapedTriangleAngle, double);
+  /**
+   * Ears thinner than this (degrees) rank below their area in the choice of the next ear (weight
+   * (angle / EarShapeAngle)^2), so flat parts are not cut into fans of caps; the bound and the
+   * feasibility test are unchanged (default 15; 0 = the chapter's pure largest-area rule).
+   */
+  vtkSetClampMacro(EarShapeAngle, double, 0.0, 60.0);
+  vtkGetMacro(EarShapeAngle, double);
   ///@}
   ///@{
   /**
@@ -147,6 +154,7 @@ protected:
   int BiteCandidates = 8;
   double MinimumTriangleAngle = 0.5;
   double ShapedTriangleAngle = 0.0;
+  double EarShapeAngle = 15.0;
   bool FinalCollapses = true;
   bool MonotoneInEpsilon = false;
   double LadderBottom = 0.004;
