@@ -193,7 +193,7 @@ double RingTriangulationSearch::TileScore(int i, int m, int j) const
   return faces && angle >= this->MinimumAngle ? ValidTile + angle : std::min(facing, 1.0);
 }
 
-bool RingTriangulationSearch::Find(Index r, bool& valid, double& worst)
+bool RingTriangulationSearch::Find(Index r, bool& valid, double& worst, double& smallestAngle)
 {
   this->Tiles.clear();
   if (!this->OrderRing(r))
@@ -253,6 +253,13 @@ bool RingTriangulationSearch::Find(Index r, bool& valid, double& worst)
   this->CollectTiles(0, k - 1);
   valid = best >= ValidTile;
   worst = valid ? best - ValidTile : best;
+  smallestAngle = std::numeric_limits<double>::max();
+  for (const auto& tile : this->Tiles)
+  {
+    smallestAngle = std::min(smallestAngle,
+      slod::MinimumAngle(this->Edit.Point(this->Ring[tile[0]]), this->Edit.Point(this->Ring[tile[1]]),
+        this->Edit.Point(this->Ring[tile[2]])));
+  }
   return true;
 }
 

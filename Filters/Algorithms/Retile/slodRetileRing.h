@@ -83,8 +83,8 @@ struct SURFACELODFILTERS_EXPORT RingTriangulationSearch
   // True when r has a closed ring (interior manifold vertex, at most MaximumRing neighbours) and a
   // triangulation as above: `valid` says whether all its tiles face the surface's way, `worst` is
   // then its smallest angle (radians), else the smallest cosine between a tile's normal and the
-  // reference normal of one of its vertices.
-  bool Find(Index r, bool& valid, double& worst);
+  // reference normal of one of its vertices; `smallestAngle` is its smallest angle either way.
+  bool Find(Index r, bool& valid, double& worst, double& smallestAngle);
   // The flips, in order, that turn the fan of ring vertex c (after the collapse of r onto c) into
   // the triangulation Find found; false when c is not on the ring.
   bool FlipsFromFan(Index c, std::vector<std::pair<Index, Index>>& flips) const;

@@ -1363,7 +1363,8 @@ struct OldVertexRemoval
   // smallest angle (RingTriangulationSearch, every triangulation of the ring), made as the collapse
   // onto the valid target that is a corner of most of its tiles, then flips. Where no
   // triangulation faces the surface's way and a fan facing against it would be taken anyway
-  // (`wrongFanTaken`), the triangulation whose worst tile turns least (never worse than that fan).
+  // (`wrongFanTaken`), the triangulation whose worst tile turns least (never worse than that fan),
+  // unless it has a needle.
   // False (nothing done) when the ring is not closed, is on a line, or has no such triangulation.
   // Not in phase 2 (the old vertex's position stays there).
   bool RemoveByRingSearch(Index r, int phase, bool wrongFanTaken)
@@ -1375,8 +1376,11 @@ struct OldVertexRemoval
     this->Search.MinimumFacing = this->MinimumFacing;
     this->Search.MinimumAngle = this->Strict ? this->MinimumAngleFloor : 0.0;
     bool valid = false;
-    double worst = 0;
-    if (!this->Search.Find(r, valid, worst) || (!valid && !wrongFanTaken))
+    double worst = 0, smallest = 0;
+    // Not valid: taken instead of the fan only without a needle (the repair cannot mend a needle
+    // at a vertex kept for the topology: femur at 0.9 had a 0.6 degree tile there).
+    if (!this->Search.Find(r, valid, worst, smallest) ||
+      (!valid && (!wrongFanTaken || smallest < RingNeedleAngle)))
     {
       return false;
     }
