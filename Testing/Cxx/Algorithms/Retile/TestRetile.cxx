@@ -767,10 +767,12 @@ TEST(Retile, RingSearchFindsATriangulationWhereEveryFanFolds)
   EXPECT_LT(worst, 0.0);
 }
 
-// RetriangulateRings (Turk's whole-ring removal where the fan faces against the input): over
-// several meshes, fewer flipped triangles in all than the default's fans, the topology kept and
-// every vertex on the input.
-TEST(Retile, RetriangulateRingsLeavesFewerFlippedTriangles)
+// RetriangulateRings (the greedy whole-ring flips where the fan faces against the input): until
+// 2026-12-03 it left fewer flipped triangles than the default's fans (76 against 42 here); since
+// the default re-triangulates such rings by the ring search (2026-12-04), the option only acts on
+// the rings the search declines and leaves more (42 against 34): the test keeps what it still
+// guarantees, the topology and every vertex on the input, and prints both counts.
+TEST(Retile, RetriangulateRingsKeepsTheTopology)
 {
   int flipped[2] = { 0, 0 };
   for (const char* name : { "femur", "anchor", "fandisk", "anchor_dense", "armadillo" })
@@ -787,9 +789,9 @@ TEST(Retile, RetriangulateRingsLeavesFewerFlippedTriangles)
       mesh[rings] = check.Flipped;
       flipped[rings] += check.Flipped;
     }
-    std::printf("[retile] %s flipped triangles: fans %d, whole rings %d\n", name, mesh[0], mesh[1]);
+    std::printf("[retile] %s flipped triangles: default %d, RetriangulateRings %d\n", name, mesh[0], mesh[1]);
   }
-  EXPECT_LT(flipped[1], flipped[0]);
+  std::printf("[retile] flipped triangles in all: default %d, RetriangulateRings %d\n", flipped[0], flipped[1]);
 }
 
 // The repair stage's cost (slodRetileRepair.h): a try measures its tiles' distance to the input
