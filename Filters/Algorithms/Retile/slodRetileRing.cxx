@@ -132,4 +132,234 @@ bool RingRetriangulation::Try(Index r, Index c, const Vec3& position, const Vec3
   this->Edit.Undo(collapse);
   return valid;
 }
+
+// r's neighbours in the order of its tiles (r, a, b): a closed simple cycle, else false (a border
+// or non-manifold vertex, or a ring longer than MaximumRing).
+bool RingTriangulationSearch::OrderRing(Index r)
+{
+  std::vector<std::pair<Index, Index>> next; // (a, b): tile (r, a, b)
+  bool manifold = true;
+  this->Edit.ForEachTriangle(r, [&](Index t) {
+    const Index* tri = this->Edit.Triangle(t);
+    const int k = tri[0] == r ? 0 : (tri[1] == r ? 1 : 2);
+    next.emplace_back(tri[(k + 1) % 3], tri[(k + 2) % 3]);
+    manifold = manifold && next.size() <= size_t(MaximumRing);
+  });
+  this->Ring.clear();
+  if (!manifold || next.size() < 3)
+  {
+    return false;
+  }
+  Index v = next.front().first;
+  for (size_t step = 0; step < next.size(); ++step)
+  {
+    this->Ring.push_back(v);
+    const auto it = std::find_if(next.begin(), next.end(), [v](const std::pair<Index, Index>& e) { return e.first == v; });
+    if (it == next.end())
+    {
+      return false;
+    }
+    v = it->second;
+  }
+  std::vector<Index> sorted = this->Ring;
+  std::sort(sorted.begin(), sorted.end());
+  return v == this->Ring.front() && std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+}
+
+// The tile (ring[i], ring[m], ring[j]) (ring order, so r's orientation) as the search ranks it:
+// ValidTile plus its smallest angle when it faces the surface's way at its three vertices (and has
+// no angle under MinimumAngle), else the worst cosine between its normal and their reference
+// normals (in [-1, 1]), -2 when degenerate. A larger worst value is a better triangulation.
+double RingTriangulationSearch::TileScore(int i, int m, int j) const
+{
+  const Index ids[3] = { this->Ring[i], this->Ring[m], this->Ring[j] };
+  const Vec3 p[3] = { this->Edit.Point(ids[0]), this->Edit.Point(ids[1]), this->Edit.Point(ids[2]) };
+  const Vec3 normal = TriangleNormal(p[0], p[1], p[2]);
+  const double length = Norm(normal);
+  if (length == 0 || IsDegenerate(p[0], p[1], p[2]))
+  {
+    return -2.0;
+  }
+  double facing = 1.0;
+  bool faces = true;
+  for (const Index v : ids)
+  {
+    const double dot = Dot(normal, this->Reference[v]);
+    faces = faces && dot > this->MinimumFacing;
+    const double referenceLength = Norm(this->Reference[v]);
+    facing = std::min(facing, referenceLength > 0 ? dot / (length * referenceLength) : 0.0);
+  }
+  const double angle = slod::MinimumAngle(p[0], p[1], p[2]);
+  return faces && angle >= this->MinimumAngle ? ValidTile + angle : std::min(facing, 1.0);
+}
+
+bool RingTriangulationSearch::Find(Index r, bool& valid, double& worst, double& smallestAngle)
+{
+  this->Tiles.clear();
+  if (!this->OrderRing(r))
+  {
+    return false;
+  }
+  const int k = static_cast<int>(this->Ring.size());
+  const auto at = [k](int i, int j) { return size_t(i) * size_t(k) + size_t(j); };
+  // A side is a ring edge, or a diagonal the mesh does not have yet (else the new edge would be
+  // shared by three triangles).
+  this->Allowed.assign(size_t(k) * k, 0);
+  for (int i = 0; i < k; ++i)
+  {
+    for (int j = i + 1; j < k; ++j)
+    {
+      const bool ringEdge = j == i + 1 || (i == 0 && j == k - 1);
+      this->Allowed[at(i, j)] = ringEdge || this->Edit.EdgeTriangleCount(this->Ring[i], this->Ring[j]) == 0;
+    }
+  }
+  const double none = -std::numeric_limits<double>::max();
+  this->Best.assign(size_t(k) * k, none);
+  this->Split.assign(size_t(k) * k, -1);
+  for (int i = 0; i + 1 < k; ++i)
+  {
+    this->Best[at(i, i + 1)] = std::numeric_limits<double>::max();
+  }
+  for (int length = 2; length < k; ++length)
+  {
+    for (int i = 0; i + length < k; ++i)
+    {
+      const int j = i + length;
+      if (!this->Allowed[at(i, j)])
+      {
+        continue;
+      }
+      for (int m = i + 1; m < j; ++m)
+      {
+        const double sides = std::min(this->Best[at(i, m)], this->Best[at(m, j)]);
+        if (sides <= this->Best[at(i, j)])
+        {
+          continue; // cannot beat the best split (and skips the tile's cost)
+        }
+        const double score = std::min(sides, this->TileScore(i, m, j));
+        if (score > this->Best[at(i, j)])
+        {
+          this->Best[at(i, j)] = score;
+          this->Split[at(i, j)] = m;
+        }
+      }
+    }
+  }
+  const double best = this->Best[at(0, k - 1)];
+  if (best == none)
+  {
+    return false; // every triangulation needs an edge the mesh has
+  }
+  this->CollectTiles(0, k - 1);
+  valid = best >= ValidTile;
+  worst = valid ? best - ValidTile : best;
+  smallestAngle = std::numeric_limits<double>::max();
+  for (const auto& tile : this->Tiles)
+  {
+    smallestAngle = std::min(smallestAngle,
+      slod::MinimumAngle(this->Edit.Point(this->Ring[tile[0]]), this->Edit.Point(this->Ring[tile[1]]),
+        this->Edit.Point(this->Ring[tile[2]])));
+  }
+  return true;
+}
+
+void RingTriangulationSearch::CollectTiles(int i, int j)
+{
+  // Iterative (a ring of MaximumRing vertices has MaximumRing - 2 tiles).
+  std::vector<std::pair<int, int>> stack{ { i, j } };
+  const int k = static_cast<int>(this->Ring.size());
+  while (!stack.empty())
+  {
+    const auto side = stack.back();
+    stack.pop_back();
+    if (side.second - side.first < 2)
+    {
+      continue;
+    }
+    const int m = this->Split[size_t(side.first) * size_t(k) + size_t(side.second)];
+    this->Tiles.push_back({ side.first, m, side.second });
+    stack.emplace_back(side.first, m);
+    stack.emplace_back(m, side.second);
+  }
+}
+
+int RingTriangulationSearch::TilesAt(Index c) const
+{
+  const auto it = std::find(this->Ring.begin(), this->Ring.end(), c);
+  if (it == this->Ring.end())
+  {
+    return 0;
+  }
+  const int position = static_cast<int>(it - this->Ring.begin());
+  int count = 0;
+  for (const auto& tile : this->Tiles)
+  {
+    count += (tile[0] == position || tile[1] == position || tile[2] == position) ? 1 : 0;
+  }
+  return count;
+}
+
+// Walks from the triangulation found to c's fan (each flip turns a side opposite c into an edge
+// at c: at most k - 3 flips), then gives the flips back in reverse order: from the fan, each flip
+// of edge (c, d) restores the side it replaced.
+bool RingTriangulationSearch::FlipsFromFan(Index c, std::vector<std::pair<Index, Index>>& flips) const
+{
+  flips.clear();
+  const auto it = std::find(this->Ring.begin(), this->Ring.end(), c);
+  if (it == this->Ring.end() || this->Tiles.empty())
+  {
+    return false;
+  }
+  const int k = static_cast<int>(this->Ring.size());
+  const int pc = static_cast<int>(it - this->Ring.begin());
+  const auto ringEdge = [k](int a, int b) { return (a - b + k) % k == 1 || (b - a + k) % k == 1; };
+  const auto has = [](const std::array<int, 3>& tile, int v) { return tile[0] == v || tile[1] == v || tile[2] == v; };
+  std::vector<std::array<int, 3>> tiles = this->Tiles;
+  std::vector<int> made; // the far corner d of each edge (c, d) made
+  for (int guard = 0; guard < k; ++guard)
+  {
+    bool flipped = false;
+    for (size_t t = 0; t < tiles.size() && !flipped; ++t)
+    {
+      if (!has(tiles[t], pc))
+      {
+        continue;
+      }
+      int a = -1, b = -1;
+      for (int v : tiles[t])
+      {
+        if (v != pc)
+        {
+          (a < 0 ? a : b) = v;
+        }
+      }
+      if (ringEdge(a, b))
+      {
+        continue;
+      }
+      for (size_t u = 0; u < tiles.size(); ++u)
+      {
+        if (u == t || !has(tiles[u], a) || !has(tiles[u], b))
+        {
+          continue;
+        }
+        const int d = tiles[u][0] != a && tiles[u][0] != b ? tiles[u][0] : (tiles[u][1] != a && tiles[u][1] != b ? tiles[u][1] : tiles[u][2]);
+        tiles[t] = { pc, a, d };
+        tiles[u] = { pc, b, d };
+        made.push_back(d);
+        flipped = true;
+        break;
+      }
+    }
+    if (!flipped)
+    {
+      break;
+    }
+  }
+  for (auto d = made.rbegin(); d != made.rend(); ++d)
+  {
+    flips.emplace_back(c, this->Ring[*d]);
+  }
+  return true;
+}
 } // namespace slod

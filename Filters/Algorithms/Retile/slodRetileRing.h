@@ -12,6 +12,7 @@
 
 #include "slodEditableMesh.h"
 
+#include <array>
 #include <functional>
 #include <utility>
 #include <vector>
@@ -51,6 +52,55 @@ private:
   // Scratch reused by every Try (one removal tries several targets): no allocation per try.
   CollapseRecord Collapse;
   std::vector<FlipRecord> Undo;
+};
+
+// Turk's removal by a search over every triangulation of the ring (section 4.3: the hole left by
+// an old vertex is re-triangulated so that each new tile faces the way the surface does), where
+// every fan from a neighbour leaves a tile facing against the surface. Dynamic programming over
+// the closed ring's sub-polygons (O(k^3) tiles for a ring of k vertices, k at most MaximumRing),
+// among the triangulations that add no edge the mesh already has: when some have all their tiles
+// facing the surface's way (the reference normals of their three vertices), not degenerate and
+// with no angle under MinimumAngle, the one of those with the largest smallest angle; else the
+// one whose worst tile turns least against the reference normals (the fans are among the
+// triangulations searched, so it is never worse than the best fan by that measure). The caller
+// performs it as the collapse of the old vertex onto a ring vertex c then the flips FlipsFromFan(c)
+// gives (so the nested levels' tracking replays it as any other removal). Read-only on the mesh.
+struct SURFACELODFILTERS_EXPORT RingTriangulationSearch
+{
+  RingTriangulationSearch(const EditableMesh& edit, const std::vector<Vec3>& reference)
+    : Edit(edit)
+    , Reference(reference)
+  {
+  }
+
+  static constexpr int MaximumRing = 32;
+  static constexpr double ValidTile = 4.0; // scores of valid tiles start here (above any cosine)
+  const EditableMesh& Edit;
+  const std::vector<Vec3>& Reference;
+  double MinimumFacing = 0.0;
+  double MinimumAngle = 0.0; // radians
+
+  // True when r has a closed ring (interior manifold vertex, at most MaximumRing neighbours) and a
+  // triangulation as above: `valid` says whether all its tiles face the surface's way, `worst` is
+  // then its smallest angle (radians), else the smallest cosine between a tile's normal and the
+  // reference normal of one of its vertices; `smallestAngle` is its smallest angle either way.
+  bool Find(Index r, bool& valid, double& worst, double& smallestAngle);
+  // The flips, in order, that turn the fan of ring vertex c (after the collapse of r onto c) into
+  // the triangulation Find found; false when c is not on the ring.
+  bool FlipsFromFan(Index c, std::vector<std::pair<Index, Index>>& flips) const;
+  // How many tiles of the triangulation found have ring vertex c as a corner (the fewer flips the
+  // more), 0 when c is not on the ring.
+  int TilesAt(Index c) const;
+
+private:
+  bool OrderRing(Index r);
+  double TileScore(int i, int m, int j) const;
+  void CollectTiles(int i, int j);
+  std::vector<Index> Ring;                 // r's neighbours in the order of its tiles
+  std::vector<unsigned char> Allowed;      // k x k: edge (i, j) may be a side of a tile
+  std::vector<double> Best;                // k x k: best smallest angle of sub-polygon i..j (-1: none)
+  std::vector<int> Split;                  // k x k: the apex of the tile on side (i, j)
+  std::vector<std::array<int, 3>> Tiles;   // the triangulation found, in ring positions
 };
 } // namespace slod
 

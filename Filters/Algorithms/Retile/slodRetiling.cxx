@@ -810,6 +810,7 @@ void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, Fea
 }
 } // namespace
 
+
 void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingResult& result)
 {
   result = RetilingResult();
@@ -1067,6 +1068,9 @@ struct OldVertexRemoval
     double Angle;
   };
   std::vector<TargetAngle> Valid;
+  // Scratch of RemoveByRingSearch (reused by every old vertex).
+  RingTriangulationSearch Search{ this->Edit, this->Reference };
+  std::vector<std::pair<Index, Index>> SearchFlips;
   // A border vertex may only go onto a border neighbour (section 4.6: the border keeps its place),
   // and not when it has a single triangle. Set for the nested levels, whose records the fragment
   // tracking replays: a border vertex collapsed onto an inner vertex, or a lone border triangle
@@ -1333,16 +1337,71 @@ struct OldVertexRemoval
     {
       return false;
     }
-    this->Perform(r, best, phase);
-    for (const auto& edge : bestFlips)
+    this->PerformWithFlips(r, best, phase, bestFlips);
+    return true;
+  }
+
+  // The collapse of r onto target, then the flips of its new ring (recorded as step 6's are: the
+  // nested levels' tracking replays them). A flip the mesh refuses is left out (not expected: the
+  // ring searches only make edges the mesh does not have).
+  void PerformWithFlips(Index r, Index target, int phase, const std::vector<std::pair<Index, Index>>& flips)
+  {
+    this->Perform(r, target, phase);
+    for (const auto& edge : flips)
     {
-      this->Edit.FlipEdge(edge.first, edge.second);
-      if (this->Record)
+      if (this->Edit.FlipEdge(edge.first, edge.second) && this->Record)
       {
         this->Record->push_back(-1 - edge.first);
         this->Record->push_back(edge.second);
       }
     }
+  }
+
+  // Turk's removal where the fans from r's valid targets all face against the surface somewhere
+  // (the default's last-resort fans made the pleats of flipped tiles, Documentation/Retile.md,
+  // Session 16): the triangulation of r's whole ring facing the surface's way with the largest
+  // smallest angle (RingTriangulationSearch, every triangulation of the ring), made as the collapse
+  // onto the valid target that is a corner of most of its tiles, then flips. Where no
+  // triangulation faces the surface's way and a fan facing against it would be taken anyway
+  // (`wrongFanTaken`), the triangulation whose worst tile turns least (never worse than that fan),
+  // unless it has a needle.
+  // False (nothing done) when the ring is not closed, is on a line, or has no such triangulation.
+  // Not in phase 2 (the old vertex's position stays there).
+  bool RemoveByRingSearch(Index r, int phase, bool wrongFanTaken)
+  {
+    // Not for the nested levels' recorded removals: each search's flips cut the fragments of the
+    // level interpolation again (elephant's morph had 6,692 fragments with fans, 41,588 with it).
+    if (phase == 2 || this->Record || (!this->Lines.empty() && !this->Lines[r].empty()))
+    {
+      return false;
+    }
+    this->Search.MinimumFacing = this->MinimumFacing;
+    this->Search.MinimumAngle = this->Strict ? this->MinimumAngleFloor : 0.0;
+    bool valid = false;
+    double worst = 0, smallest = 0;
+    // Not valid: taken instead of the fan only without a needle (the repair cannot mend a needle
+    // at a vertex kept for the topology: femur at 0.9 had a 0.6 degree tile there).
+    if (!this->Search.Find(r, valid, worst, smallest) ||
+      (!valid && (!wrongFanTaken || smallest < RingNeedleAngle)))
+    {
+      return false;
+    }
+    Index best = InvalidIndex;
+    int bestTiles = 0;
+    for (const TargetAngle& tried : this->Valid)
+    {
+      const int tiles = this->Search.TilesAt(tried.Target);
+      if (tiles > bestTiles)
+      {
+        bestTiles = tiles;
+        best = tried.Target;
+      }
+    }
+    if (best == InvalidIndex || !this->Search.FlipsFromFan(best, this->SearchFlips))
+    {
+      return false;
+    }
+    this->PerformWithFlips(r, best, phase, this->SearchFlips);
     return true;
   }
 
@@ -1399,13 +1458,10 @@ struct OldVertexRemoval
           }
           const Index best = this->ChooseTarget(r, phase, neighbors);
           const bool fanFacesWrong = best == InvalidIndex || this->FanFacesWrong(best);
-          if (this->RetriangulateRings && fanFacesWrong && !this->Valid.empty() &&
-            neighbors.size() <= MaximumDeferredValence)
+          if (fanFacesWrong && !this->Valid.empty() && neighbors.size() <= MaximumDeferredValence &&
+            (this->RemoveByRingSearch(r, phase, best != InvalidIndex) || (this->RetriangulateRings && this->RemoveByRingFlips(r, phase))))
           {
-            if (this->RemoveByRingFlips(r, phase))
-            {
-              continue;
-            }
+            continue;
           }
           if (best == InvalidIndex)
           {

@@ -17,7 +17,9 @@
 //     neighbouring candidate vertex. EditableMesh::CheckCollapse is the topological consistency
 //     check (link condition = no edge shared by three triangles, no duplicated triangle, boundary
 //     loops kept); every surviving triangle must also face the way the original surface faces at its
-//     vertices. The neighbour giving the best smallest angle is chosen. Old vertices that no check
+//     vertices. The neighbour giving the best smallest angle is chosen; where every fan leaves a
+//     tile facing against the surface, the ring is re-triangulated as a whole (RingTriangulationSearch,
+//     slodRetileRing.h: the best of all its triangulations). Old vertices that no check
 //     lets go are retained (as in the paper); their number is reported. Non-manifold vertices of
 //     the input (Turk assumes a manifold, section 3.1) are always retained, so a non-manifold edge
 //     stays one edge and the surface is not cut open there.

@@ -689,10 +689,90 @@ TEST(Retile, RingRetriangulationFlipsAFoldingFan)
   EXPECT_EQ(unchanged.Triangles, star.Triangles);
 }
 
-// RetriangulateRings (Turk's whole-ring removal where the fan faces against the input): over
-// several meshes, fewer flipped triangles in all than the default's fans, the topology kept and
-// every vertex on the input.
-TEST(Retile, RetriangulateRingsLeavesFewerFlippedTriangles)
+// Turk's removal by a search over every triangulation of the ring (RingTriangulationSearch, the
+// default since 2026-12-04): a five-pointed star around r, flat, the surface facing +z. No ring
+// vertex sees the whole ring (the star's kernel holds none of them), so every fan from a
+// neighbour leaves a tile facing down; the search finds a triangulation whose tiles all face up,
+// and the collapse onto a ring vertex plus the flips it gives make exactly that triangulation. A
+// ring vertex whose reference faces down admits no such triangulation: the search then gives the
+// one whose worst tile turns least, flagged not valid.
+TEST(Retile, RingSearchFindsATriangulationWhereEveryFanFolds)
+{
+  TriangleMesh star;
+  star.AddPoint({ 0, 0, 0 }); // r
+  const double pi = std::acos(-1.0);
+  for (int i = 0; i < 10; ++i)
+  {
+    const double radius = i % 2 == 0 ? 2.0 : 0.5, angle = pi / 2 + i * pi / 5;
+    star.AddPoint({ radius * std::cos(angle), radius * std::sin(angle), 0 });
+  }
+  for (Index i = 0; i < 10; ++i)
+  {
+    star.AddTriangle(0, 1 + i, 1 + (i + 1) % 10);
+  }
+  std::vector<Vec3> reference(11, Vec3{ 0, 0, 1 });
+  const auto facesUp = [&](const EditableMesh& edit, int& tiles) {
+    bool up = true;
+    tiles = 0;
+    for (Index t = 0; t < edit.NumberOfTriangles(); ++t)
+    {
+      if (edit.IsTriangleAlive(t))
+      {
+        const Index* tri = edit.Triangle(t);
+        const Vec3 a = edit.Point(tri[0]), b = edit.Point(tri[1]), c = edit.Point(tri[2]);
+        up = up && !IsDegenerate(a, b, c) && TriangleNormal(a, b, c)[2] > 0;
+        ++tiles;
+      }
+    }
+    return up;
+  };
+  int tiles = 0;
+  for (Index c = 1; c <= 10; ++c)
+  {
+    EditableMesh fan(star);
+    const Index pair[2] = { 0, c };
+    fan.Collapse(pair, 2, c, star.Point(c));
+    EXPECT_FALSE(facesUp(fan, tiles)) << "the fan from ring vertex " << c << " faces up everywhere";
+  }
+  EditableMesh edit(star);
+  RingTriangulationSearch search(edit, reference);
+  bool valid = false;
+  double worst = 0, smallest = 0;
+  ASSERT_TRUE(search.Find(0, valid, worst, smallest));
+  EXPECT_TRUE(valid);
+  EXPECT_GT(worst, 0.0);
+  EXPECT_NEAR(worst, smallest, 1e-12);
+  for (Index c = 1; c <= 10; ++c)
+  {
+    EditableMesh removed(star);
+    std::vector<std::pair<Index, Index>> flips;
+    ASSERT_TRUE(search.FlipsFromFan(c, flips));
+    EXPECT_LE(flips.size(), 7u); // at most k - 3
+    const Index pair[2] = { 0, c };
+    removed.Collapse(pair, 2, c, star.Point(c));
+    for (const auto& edge : flips)
+    {
+      ASSERT_TRUE(removed.FlipEdge(edge.first, edge.second));
+    }
+    EXPECT_TRUE(facesUp(removed, tiles)) << "from ring vertex " << c;
+    EXPECT_EQ(tiles, 8);
+    EXPECT_TRUE(removed.CheckInvariants());
+  }
+  std::vector<std::pair<Index, Index>> flips;
+  EXPECT_FALSE(search.FlipsFromFan(0, flips)); // r is not on its own ring
+  reference[4] = Vec3{ 0, 0, -1 };
+  RingTriangulationSearch impossible(edit, reference);
+  ASSERT_TRUE(impossible.Find(0, valid, worst, smallest));
+  EXPECT_FALSE(valid);
+  EXPECT_LT(worst, 0.0);
+}
+
+// RetriangulateRings (the greedy whole-ring flips where the fan faces against the input): until
+// 2026-12-03 it left fewer flipped triangles than the default's fans (76 against 42 here); since
+// the default re-triangulates such rings by the ring search (2026-12-04), the option only acts on
+// the rings the search declines and leaves more (42 against 34): the test keeps what it still
+// guarantees, the topology and every vertex on the input, and prints both counts.
+TEST(Retile, RetriangulateRingsKeepsTheTopology)
 {
   int flipped[2] = { 0, 0 };
   for (const char* name : { "femur", "anchor", "fandisk", "anchor_dense", "armadillo" })
@@ -709,9 +789,9 @@ TEST(Retile, RetriangulateRingsLeavesFewerFlippedTriangles)
       mesh[rings] = check.Flipped;
       flipped[rings] += check.Flipped;
     }
-    std::printf("[retile] %s flipped triangles: fans %d, whole rings %d\n", name, mesh[0], mesh[1]);
+    std::printf("[retile] %s flipped triangles: default %d, RetriangulateRings %d\n", name, mesh[0], mesh[1]);
   }
-  EXPECT_LT(flipped[1], flipped[0]);
+  std::printf("[retile] flipped triangles in all: default %d, RetriangulateRings %d\n", flipped[0], flipped[1]);
 }
 
 // The repair stage's cost (slodRetileRepair.h): a try measures its tiles' distance to the input
@@ -772,11 +852,12 @@ TEST(Retile, RepairMeasuresDistancesOnlyForPromisingChanges)
 }
 
 // EnforceFacing (off by default): the removal refuses collapses whose new triangles face against
-// the input, within a bounded budget of waits. It leaves fewer flipped triangles than the default
-// on the same input (2026-12-03, counted as here, after the repair stage: femur 37 -> 27,
-// anchor_dense 8 -> 3 at 0.9), and
-// keeps the topology.
-TEST(Retile, EnforceFacingLeavesFewerFlippedTriangles)
+// the input, within a bounded budget of waits, and keeps the topology. Until 2026-12-03 it left
+// fewer flipped triangles than the default (femur 37 -> 27, anchor_dense 8 -> 3 at 0.9); since the
+// default re-triangulates such rings by the ring search (2026-12-04) it no longer does (femur 15
+// default against 26): the test keeps what the option still guarantees, the topology and the
+// vertices on the input, and prints both counts.
+TEST(Retile, EnforceFacingKeepsTheTopology)
 {
   for (const char* name : { "femur", "anchor_dense" })
   {
@@ -786,14 +867,14 @@ TEST(Retile, EnforceFacingLeavesFewerFlippedTriangles)
     int flipped[2] = { 0, 0 };
     for (int enforce = 0; enforce < 2; ++enforce)
     {
-      flipped[enforce] =
-        RetileAndCheck(input, in, [enforce](vtkRetile* filter) {
-          filter->PreserveCreasesOff(); // kept lines enforce the facing test themselves
-          filter->SetEnforceFacing(enforce == 1);
-        }).Flipped;
+      const SurfaceCheck check = RetileAndCheck(input, in, [enforce](vtkRetile* filter) {
+        filter->PreserveCreasesOff(); // kept lines enforce the facing test themselves
+        filter->SetEnforceFacing(enforce == 1);
+      });
+      EXPECT_LT(check.MaxVertexDistance, 1e-6);
+      flipped[enforce] = check.Flipped;
     }
     std::printf("[retile] %s flipped triangles: default %d, EnforceFacing %d\n", name, flipped[0], flipped[1]);
-    EXPECT_LT(flipped[1], flipped[0]);
   }
 }
 
