@@ -1041,7 +1041,8 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   }
   m.ForEachTriangle(kept, [&](Index x) {
     this->EntryDeath[this->EntryOf[x]] = k + 1;
-    this->AppendEntry(x);
+    const Index* q = m.Triangle(x);
+    this->AppendEntry(x, q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
   });
   this->TriangleCounts.push_back(m.NumberOfLiveTriangles());
 
@@ -1100,7 +1101,7 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   for (Index t : flip.Triangles)
   {
     this->EntryDeath[this->EntryOf[t]] = k;
-    this->AppendEntry(t);
+    this->AppendEntry(t, AllCorners);
     if (!this->EdgeCostStates.empty())
     {
       std::fill_n(this->EdgeCostStates.begin() + 3 * t, 3, UnknownEdgeCost); // new corners
@@ -1109,17 +1110,21 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   this->Records.AppendFlip(flip);
 }
 
-// A new version of triangle x (as it is in the mesh now), born at the current collapse count.
-void CollapseHierarchy::AppendEntry(Index x)
+// A new version of triangle x (as it is in the mesh now), born at the current collapse count:
+// its corner `corner` is the last collapse's point, or (AllCorners) its three vertices are stored.
+void CollapseHierarchy::AppendEntry(Index x, std::uint32_t corner)
 {
-  const Index* q = this->Mesh.Triangle(x);
   this->EntryOf[x] = this->NumberOfEntries();
-  for (int j = 0; j < 3; ++j)
+  if (corner == AllCorners)
   {
-    this->EntryVertices.push_back(this->GlobalOf[q[j]]);
+    const Index* q = this->Mesh.Triangle(x);
+    for (int j = 0; j < 3; ++j)
+    {
+      this->FullEntryVertices.push_back(this->GlobalOf[q[j]]);
+    }
   }
+  this->EntryCode.push_back(std::uint32_t(x) << 2 | corner);
   this->EntryDeath.push_back(Never);
-  this->EntryTriangle.push_back(x);
   this->VersionsBornBy.back() = this->NumberOfEntries();
 }
 
@@ -1339,6 +1344,10 @@ bool CollapseHierarchy::Build(
   TriangleMesh&& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
 {
   this->SetParameters(parameters);
+  if (input.NumberOfTriangles() >= Index(1) << 30)
+  {
+    return false; // a version's code holds the triangle id in 30 bits
+  }
   this->Reset(std::move(input));
   const Index nt = this->Base.NumberOfTriangles();
   if (nt == 0)
@@ -1466,11 +1475,14 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->AncestorTail = this->GlobalOf;
   this->AncestorNext.assign(np, InvalidIndex);
   this->AncestorCount.assign(np, 1);
-  this->EntryVertices = this->Base.Triangles;
   this->VersionsBornBy.assign(1, nt);
   this->EntryDeath.assign(nt, Never);
-  this->EntryTriangle.resize(nt);
-  std::iota(this->EntryTriangle.begin(), this->EntryTriangle.end(), 0);
+  this->EntryCode.resize(nt);
+  for (Index t = 0; t < nt; ++t)
+  {
+    this->EntryCode[t] = std::uint32_t(t) << 2 | AllCorners; // Base's triangle t
+  }
+  this->FullEntryVertices.clear();
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
   this->ResetRecords();
@@ -1507,10 +1519,9 @@ void CollapseHierarchy::ReserveRecords()
 {
   const size_t nt = size_t(this->Base.NumberOfTriangles());
   const size_t collapses = nt / 2 + 1, versions = 5 * nt;
-  this->EntryVertices.reserve(3 * versions);
+  this->EntryCode.reserve(versions);
   this->VersionsBornBy.reserve(collapses + 1);
   this->EntryDeath.reserve(versions);
-  this->EntryTriangle.reserve(versions);
   this->CollapsePoints.reserve(3 * collapses);
   this->Collapses.reserve(collapses);
   this->TriangleCounts.reserve(collapses + 1);
@@ -2166,6 +2177,38 @@ Index CollapseHierarchy::CollapsesForTriangleCount(Index target) const
   return best;
 }
 
+// The versions born after at most `collapses` collapses, in order, each with its three global
+// vertices: every version's slot is replayed (its changed corner set), living or not.
+template <typename Functor>
+void CollapseHierarchy::ForEachVersion(Index collapses, Functor&& f) const
+{
+  const Index np = this->Base.NumberOfPoints(), nt = this->Base.NumberOfTriangles();
+  const Index entries = this->VersionsBornBy[collapses];
+  this->ScratchCorners.resize(3 * size_t(nt));
+  const Index* full = this->FullEntryVertices.data();
+  Index birth = 0; // collapses made when version e was born
+  for (Index e = 0; e < entries; ++e)
+  {
+    while (e >= this->VersionsBornBy[birth])
+    {
+      ++birth;
+    }
+    const std::uint32_t code = this->EntryCode[e], corner = code & 3;
+    Index* c = &this->ScratchCorners[3 * size_t(code >> 2)];
+    if (corner != AllCorners)
+    {
+      c[corner] = np + birth - 1; // the point of collapse birth - 1
+    }
+    else
+    {
+      const Index* from = e < nt ? &this->Base.Triangles[3 * size_t(code >> 2)] : full;
+      std::copy(from, from + 3, c);
+      full += e < nt ? 0 : 3;
+    }
+    f(e, static_cast<Index>(code >> 2), static_cast<const Index*>(c));
+  }
+}
+
 void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, HierarchyMesh& out) const
 {
   out.Clear();
@@ -2186,14 +2229,11 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
       this->ScratchBatch[g] = k - collapses;
     }
   }
-  const Index entries = this->VersionsBornBy[collapses];
-  for (Index e = 0; e < entries; ++e)
-  {
+  this->ForEachVersion(collapses, [&](Index e, Index origin, const Index* g) {
     if (this->EntryDeath[e] <= collapses)
     {
-      continue;
+      return;
     }
-    const Index* g = &this->EntryVertices[3 * size_t(e)];
     Index batch = InvalidIndex;
     int moving = 0;
     for (int j = 0; j < 3; ++j)
@@ -2215,10 +2255,10 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     // Collapsing: all merged vertices of its collapse are in it (T, or both edge triangles).
     const int count = batch != InvalidIndex ? this->Collapses[collapses + batch].Count : 3;
     out.TriangleRole.push_back(moving == count ? 2 : (moving > 0 ? 1 : 0));
-    out.TriangleOrigin.push_back(this->EntryTriangle[e]);
+    out.TriangleOrigin.push_back(origin);
     out.TriangleCollapseLevel.push_back(
       this->EntryDeath[e] == Never ? -1 : this->Collapses[this->EntryDeath[e] - 1].Level);
-  }
+  });
   const size_t n = out.PointGlobal.size();
   out.Points.resize(3 * n);
   out.PointTarget.resize(n);

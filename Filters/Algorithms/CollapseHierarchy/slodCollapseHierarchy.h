@@ -365,13 +365,23 @@ private:
   }
   std::vector<Index> GlobalOf;                  // editable vertex -> current global id
   std::vector<Index> AncestorHead, AncestorTail, AncestorNext, AncestorCount; // original points per vertex
-  // Triangle versions: global vertices, collapse count at which each disappears, current version
-  // of each M0 slot and the slot of each version. Versions are appended in the order they are
-  // born, so their births are stored as counts: VersionsBornBy[K] versions are born after at most
-  // K collapses (one Index per collapse instead of one per version).
-  std::vector<Index> EntryVertices, EntryDeath, EntryOf, EntryTriangle, VersionsBornBy;
+  // Triangle versions, appended in the order they are born: births stored as counts
+  // (VersionsBornBy[K] versions are born after at most K collapses), the collapse count at which
+  // each disappears, and its M0 slot with the one corner it changed (EntryCode = slot << 2 |
+  // corner). A collapse gives the triangles around its kept vertex a new version whose kept corner
+  // is the collapse's point (global id = input points + the collapse's index), all else as the
+  // slot's previous version; corner 3 (M0's versions, a swap's two) holds all three: Base's
+  // triangle, or the next three of FullEntryVertices. 8 bytes per version instead of 20: Extract
+  // replays the slots' corners in the same pass it already makes. EntryOf: each slot's current
+  // version (build only).
+  static constexpr std::uint32_t AllCorners = 3;
+  std::vector<std::uint32_t> EntryCode;
+  std::vector<Index> EntryDeath, EntryOf, VersionsBornBy, FullEntryVertices;
   Index NumberOfEntries() const { return static_cast<Index>(this->EntryDeath.size()); }
-  void AppendEntry(Index x);
+  void AppendEntry(Index x, std::uint32_t corner);
+  mutable std::vector<Index> ScratchCorners; // Extract's replay: 3 per slot
+  template <typename Functor>
+  void ForEachVersion(Index collapses, Functor&& f) const;
   std::vector<HierarchyCollapse> Collapses;
   std::vector<Index> LevelStarts, TriangleCounts;
   // The collapses and edge swaps in M0 numbering, for exact vertex splits (topology only: the
