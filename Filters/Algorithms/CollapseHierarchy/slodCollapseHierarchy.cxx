@@ -1400,7 +1400,6 @@ void CollapseHierarchy::ReleaseWorkingData()
   release(this->OtherNormals);
   release(this->Quadrics);
   release(this->Weights);
-  release(this->BaseAreaVectors);
   release(this->AncestorHead);
   release(this->AncestorTail);
   release(this->AncestorNext);
@@ -1461,12 +1460,6 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->Mesh.Reset(this->Base);
   const Index np = this->Base.NumberOfPoints();
   const Index nt = this->Base.NumberOfTriangles();
-  // The orientation tests read them at every check (computing them was a twentieth of the build).
-  this->BaseAreaVectors.resize(nt);
-  for (Index t = 0; t < nt; ++t)
-  {
-    this->BaseAreaVectors[t] = this->Base.TriangleAreaVector(t);
-  }
   this->LockNonManifoldVertices();
   this->CollapsePoints.clear();
   this->GlobalOf.resize(np);
@@ -1736,6 +1729,14 @@ void CollapseHierarchy::OrderCandidates(LevelState& state) const
 {
   state.Candidates.clear();
   const Index nt = this->Base.NumberOfTriangles();
+  // Room for the live triangles only: the order of M0 (12 bytes per input triangle) is not kept
+  // to the end of the build, where the hierarchy is largest.
+  const size_t live = size_t(this->Mesh.NumberOfLiveTriangles());
+  if (state.Candidates.capacity() > 2 * live + 1024)
+  {
+    std::vector<RankedTriangle>().swap(state.Candidates);
+    state.Candidates.reserve(live);
+  }
   for (Index t = 0; t < nt; ++t)
   {
     if (this->Mesh.IsTriangleAlive(t) && this->Weights[t] <= state.MaximumWeight)

@@ -352,8 +352,9 @@ private:
 
   CollapseHierarchyParameters Parameters;
   TriangleMesh Base;
-  std::vector<Vec3> BaseAreaVectors; // of M0's triangles (the orientation reference)
-  const Vec3& BaseAreaVector(Index t) const { return this->BaseAreaVectors[t]; }
+  // The area vector of M0's triangle t, the orientation reference (computed when asked: not kept,
+  // 24 bytes per input triangle).
+  Vec3 BaseAreaVector(Index t) const { return this->Base.TriangleAreaVector(t); }
   EditableMesh Mesh;
   // Global vertex g: input point g of Base, else the collapse point of collapse g - (input points)
   // (not a second copy of the input points).
