@@ -843,6 +843,11 @@ void EditableMesh::CompactIfNeeded()
   // Compact when the garbage reaches the live size; reserving that (plus room for the blocks
   // appended before the next check) keeps the vector from doubling past it (peak memory).
   this->CompactThreshold = std::max<size_t>(2 * this->Refs.size(), 1024);
+  if (this->Refs.capacity() > 2 * (this->CompactThreshold + 4096))
+  {
+    // The mesh shrank to under a quarter of the room held: give the rest back (same contents).
+    std::vector<Index>(this->Refs).swap(this->Refs);
+  }
   this->Refs.reserve(this->CompactThreshold + 4096);
 }
 
@@ -914,5 +919,14 @@ bool EditableMesh::CheckInvariants() const
     }
   }
   return true;
+}
+
+size_t EditableMesh::MemoryBytes() const
+{
+  return this->Points.capacity() * sizeof(double) +
+    (this->Triangles.capacity() + this->RefStart.capacity() + this->RefCount.capacity() + this->Refs.capacity() +
+      this->Scratch.capacity() + this->ScratchBlock.capacity()) *
+    sizeof(Index) +
+    this->TriangleAlive.capacity() + this->VertexAlive.capacity() + this->VertexLink.capacity() * sizeof(LinkEntry);
 }
 } // namespace slod

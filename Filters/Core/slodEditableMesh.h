@@ -71,6 +71,8 @@ public:
   EditableMesh() = default;
   explicit EditableMesh(const TriangleMesh& mesh) { this->Reset(mesh); }
   void Reset(const TriangleMesh& mesh);
+  // Bytes held by the mesh's arrays (capacities, scratch included).
+  size_t MemoryBytes() const;
 
   Index NumberOfPoints() const { return static_cast<Index>(this->Points.size() / 3); }
   Index NumberOfTriangles() const { return static_cast<Index>(this->Triangles.size() / 3); }

@@ -1423,6 +1423,36 @@ void CollapseHierarchy::ReleaseWorkingData()
   release(this->Link);
 }
 
+std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
+{
+  const auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+  const CollapseRecords& r = this->Records;
+  const size_t records = bytes(r.Vertices) + bytes(r.RemovedOffsets) + bytes(r.RemovedTriangles) +
+    bytes(r.ChangedOffsets) + bytes(r.ChangedTriangles) + bytes(r.ChangedCorners) + bytes(r.ChangedFrom) +
+    bytes(r.Flips) + bytes(r.FlipStamps);
+  const size_t stamps = bytes(this->VertexMark) + bytes(this->VertexChanged) + bytes(this->BlockedStrict) +
+    bytes(this->BlockedRelaxed) + bytes(this->BlockedEdge) + bytes(this->CachedDegree) +
+    bytes(this->CachedDegreeStamp);
+  const size_t ancestors =
+    bytes(this->AncestorHead) + bytes(this->AncestorTail) + bytes(this->AncestorNext) + bytes(this->AncestorCount);
+  return { { "M0 (points, triangles)", false, bytes(this->Base.Points) + bytes(this->Base.Triangles) },
+    { "editable mesh (coarsest)", false, this->Mesh.MemoryBytes() },
+    { "collapse points", false, bytes(this->CollapsePoints) },
+    { "collapses", false, bytes(this->Collapses) },
+    { "triangle versions", false,
+      bytes(this->EntryCode) + bytes(this->EntryDeath) + bytes(this->FullEntryVertices) + bytes(this->VersionsBornBy) },
+    { "triangle counts, levels", false, bytes(this->TriangleCounts) + bytes(this->LevelStarts) },
+    { "collapse records", false, records },
+    { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
+    { "evaluations", true, bytes(this->Evaluations) + bytes(this->Working) },
+    { "weights", true, bytes(this->Weights) },
+    { "quadrics", true, bytes(this->Quadrics) },
+    { "edge costs", true, bytes(this->EdgeCostErrors) + bytes(this->EdgeCostStates) },
+    { "stamps, degrees, marks", true, stamps },
+    { "ancestors", true, ancestors },
+    { "current versions", true, bytes(this->EntryOf) } };
+}
+
 // The parameters with the weights made non-negative (normalised by their sum) and the fractions
 // clamped.
 void CollapseHierarchy::SetParameters(const CollapseHierarchyParameters& parameters)

@@ -218,6 +218,17 @@ public:
   // triangle the level of the next collapse or swap that changes it (-1 none).
   void Expand(Index collapses, HierarchyMesh& out) const;
 
+  // Where the memory goes: bytes of each structure (elements in use; the editable mesh's
+  // capacities). Build-only structures are released at the end of Build (ask from the progress
+  // function to see them during the build).
+  struct StorageShare
+  {
+    const char* Name;
+    bool BuildOnly;
+    size_t Bytes;
+  };
+  std::vector<StorageShare> Storage() const;
+
 private:
   // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the
   // hub and border flags of T's vertices then (bit k: tri[k] fixed); Edge -1: not known.

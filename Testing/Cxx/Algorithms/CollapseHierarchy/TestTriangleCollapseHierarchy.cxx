@@ -1054,6 +1054,63 @@ TEST(CollapseHierarchy, SpokePricingAndRebuildGiveTheSameHierarchy)
   ExpectSameHierarchy(kept, reused, "noisy scan, built again");
 }
 
+// The accounting of the hierarchy's memory (issue 12): during the build the working structures
+// hold memory, after it only the hierarchy does (the working data is released), and the levels
+// read back from the compact versions are those the build made (the replay of changed corners:
+// every level manifold with the input's Euler characteristic and unflipped). Prints the shares in
+// bytes per input vertex at the end of the build, where the peak is.
+TEST(CollapseHierarchy, WorkingDataIsReleasedAndTheAccountingAddsUp)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(40);
+  source->Update();
+  const TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  CollapseHierarchy h;
+  std::vector<CollapseHierarchy::StorageShare> during;
+  ASSERT_TRUE(h.Build(scan, DefaultParameters(), [&](double) {
+    during = h.Storage();
+    return true;
+  }));
+  const std::vector<CollapseHierarchy::StorageShare> after = h.Storage();
+  ASSERT_EQ(during.size(), after.size());
+  const double nv = scan.NumberOfPoints();
+  size_t working = 0, kept = 0;
+  for (size_t i = 0; i < after.size(); ++i)
+  {
+    std::cout << "  " << after[i].Name << (after[i].BuildOnly ? " (build)" : "") << ": "
+              << during[i].Bytes / nv << " bytes per input vertex at the last level, " << after[i].Bytes / nv
+              << " after\n";
+    EXPECT_EQ(during[i].BuildOnly, after[i].BuildOnly);
+    if (after[i].BuildOnly)
+    {
+      EXPECT_EQ(after[i].Bytes, 0u) << after[i].Name;
+      working += during[i].Bytes;
+    }
+    else
+    {
+      EXPECT_GT(after[i].Bytes, 0u) << after[i].Name;
+      EXPECT_EQ(after[i].Bytes, during[i].Bytes) << after[i].Name << " changed after the last level";
+      kept += after[i].Bytes;
+    }
+  }
+  std::cout << "  working " << working / nv << ", hierarchy " << kept / nv << " bytes per input vertex\n";
+  EXPECT_GT(working, 0u);
+  const MeshStatistics in = ComputeMeshStatistics(scan);
+  for (int level = 0; level < h.NumberOfLevels(); level += 5)
+  {
+    HierarchyMesh m;
+    h.ExtractLevel(level, m);
+    const TriangleMesh mesh = ToMesh(m);
+    const MeshStatistics s = ComputeMeshStatistics(mesh);
+    EXPECT_EQ(s.EulerCharacteristic, in.EulerCharacteristic) << "level " << level;
+    EXPECT_EQ(s.NonManifoldEdges, in.NonManifoldEdges) << "level " << level;
+    EXPECT_EQ(s.BoundaryLoops, in.BoundaryLoops) << "level " << level;
+    EXPECT_EQ(CountFlippedTriangles(scan, mesh, m.TriangleOrigin), 0) << "level " << level;
+    EXPECT_EQ(Index(m.Triangles.size() / 3), h.LevelTriangleCount(level)) << "level " << level;
+  }
+}
+
 // Zero-area triangles, as T-junction repairs leave them: a vertex m inserted in edge (a, b) splits
 // the triangle on one side and fills the other side's gap with the triangle (a, m, b). Such a
 // triangle has no plane of its own (its stencil's stands in for its normal, kept apart from the
