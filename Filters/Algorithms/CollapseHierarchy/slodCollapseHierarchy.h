@@ -18,9 +18,10 @@
 //
 // Representation (compact, reversible, fast to blend):
 //  - global vertices: the input points followed by one collapse point per collapse;
-//  - triangle lifetimes: every triangle version in global vertex ids with the collapse count at
-//    which it appears (Birth) and disappears (Death); the mesh after K collapses is the set of
-//    versions with Birth <= K < Death, and M_i = the mesh after LevelStart(i) collapses;
+//  - triangle lifetimes: every triangle version (its M0 slot and the corner it changed, replayed
+//    into global vertex ids) with the collapse count at which it appears (Birth) and disappears
+//    (Death); the mesh after K collapses is the set of versions with Birth <= K < Death, and
+//    M_i = the mesh after LevelStart(i) collapses;
 //  - per collapse the EditableMesh record (flat), so Refine() splits the vertex exactly (Undo).
 // M_i(t) moves the vertices of level i's collapsing triangles linearly to their collapse points.
 #ifndef slodCollapseHierarchy_h
