@@ -12,31 +12,14 @@ namespace slod
 {
 namespace
 {
-std::uint64_t RankKey(float key, Index element)
-{
-  // Non-negative floats order as their bit patterns.
-  std::uint32_t bits = 0;
-  std::memcpy(&bits, &key, sizeof(bits));
-  return (std::uint64_t(bits) << 32) | std::uint64_t(static_cast<std::uint32_t>(element));
-}
-
-float KeyOf(std::uint64_t entry)
-{
-  const std::uint32_t bits = static_cast<std::uint32_t>(entry >> 32);
-  float key = 0.0f;
-  std::memcpy(&key, &bits, sizeof(key));
-  return key;
-}
-
 // Fixed-size chunks (not one per thread), so that every count below is the same for any thread
 // count.
 constexpr size_t RankChunk = size_t(1) << 16;
+// The goal key's first selection step: the key's top bits (sign, exponent, 3 mantissa bits).
+constexpr int BucketShift = 20;
+constexpr size_t Buckets = size_t(1) << (32 - BucketShift);
 
-bool IsCandidate(const std::vector<float>& keys, const unsigned char* alive, size_t i)
-{
-  return (!alive || alive[i]) && std::isfinite(keys[i]);
-}
-
+// A key's bits (negative keys count as 0): non-negative floats order as their bit patterns.
 std::uint32_t KeyBits(float key)
 {
   std::uint32_t bits = 0;
@@ -45,103 +28,108 @@ std::uint32_t KeyBits(float key)
   return bits;
 }
 
-// The bits of the candidate key of rank `rank` (0 <= rank < candidates) by a radix select: three
-// parallel histogram passes over the keys (12, 12 and 8 bits) instead of a serial nth_element.
-std::uint32_t SelectKeyBits(const std::vector<float>& keys, const unsigned char* alive, Index rank)
+// Calls visit(i, bits) for every candidate of chunk c (alive, finite key) with its key's bits.
+template <typename Visit>
+void ForCandidatesOfChunk(const std::vector<float>& keys, const unsigned char* alive, size_t c, Visit&& visit)
 {
-  const size_t chunks = (keys.size() + RankChunk - 1) / RankChunk;
-  std::uint32_t prefix = 0;
-  std::uint64_t remaining = std::uint64_t(rank);
-  const int widths[3] = { 12, 12, 8 };
-  int known = 0; // leading bits of the answer fixed so far
-  for (int width : widths)
+  const size_t end = std::min(keys.size(), (c + 1) * RankChunk);
+  for (size_t i = c * RankChunk; i < end; ++i)
   {
-    const int shift = 32 - known - width;
-    const size_t buckets = size_t(1) << width;
-    std::vector<std::uint32_t> histograms(chunks * buckets, 0);
-    vtkSMPTools::For(0, static_cast<vtkIdType>(chunks), 1, [&](vtkIdType first, vtkIdType last) {
-      for (vtkIdType c = first; c < last; ++c)
-      {
-        std::uint32_t* h = histograms.data() + size_t(c) * buckets;
-        const size_t end = std::min(keys.size(), size_t(c + 1) * RankChunk);
-        for (size_t i = size_t(c) * RankChunk; i < end; ++i)
-        {
-          const std::uint32_t bits = KeyBits(keys[i]);
-          if (IsCandidate(keys, alive, i) && (known == 0 || (bits >> (32 - known)) == prefix))
-          {
-            ++h[(bits >> shift) & (buckets - 1)];
-          }
-        }
-      }
-    });
-    size_t bucket = 0;
-    for (; bucket < buckets; ++bucket)
+    if ((!alive || alive[i]) && std::isfinite(keys[i]))
     {
-      std::uint64_t count = 0;
-      for (size_t c = 0; c < chunks; ++c)
-      {
-        count += histograms[c * buckets + bucket];
-      }
-      if (remaining < count)
-      {
-        break;
-      }
-      remaining -= count;
+      visit(i, KeyBits(keys[i]));
     }
-    prefix = (prefix << width) | static_cast<std::uint32_t>(bucket);
-    known += width;
   }
-  return prefix;
 }
 
-// The candidates with key bits <= `limit` in index order into `order` when given (per-chunk
-// counts, then each chunk writes its own part); returns how many candidates there are in all.
-Index CollectCandidates(const std::vector<float>& keys, const unsigned char* alive, std::uint32_t limit,
-  std::vector<std::uint64_t>* order)
+// Runs work(c) for every chunk of the keys in parallel.
+template <typename Work>
+void ForChunks(const std::vector<float>& keys, Work&& work)
 {
   const size_t chunks = (keys.size() + RankChunk - 1) / RankChunk;
-  std::vector<size_t> taken(chunks + 1, 0), finite(chunks, 0);
-  auto chunkEnd = [&](size_t c) { return std::min(keys.size(), (c + 1) * RankChunk); };
   vtkSMPTools::For(0, static_cast<vtkIdType>(chunks), 1, [&](vtkIdType first, vtkIdType last) {
-    for (size_t c = size_t(first); c < size_t(last); ++c)
+    for (vtkIdType c = first; c < last; ++c)
     {
-      for (size_t i = c * RankChunk; i < chunkEnd(c); ++i)
-      {
-        const bool candidate = IsCandidate(keys, alive, i);
-        finite[c] += candidate ? 1 : 0;
-        taken[c + 1] += candidate && KeyBits(keys[i]) <= limit ? 1 : 0;
-      }
+      work(size_t(c));
     }
   });
+}
+
+// The bits of the candidate key of rank `rank`: a histogram of the keys' top bits (which also
+// counts the candidates), then the keys of the bucket that holds the rank, selected among
+// themselves. Returns false (and no key) when rank is negative or not below the count.
+bool SelectKeyBits(const std::vector<float>& keys, const unsigned char* alive, Index rank, Index& candidates,
+  std::uint32_t& selected)
+{
+  const size_t chunks = (keys.size() + RankChunk - 1) / RankChunk;
+  std::vector<std::uint32_t> histograms(chunks * Buckets, 0);
+  ForChunks(keys, [&](size_t c) {
+    std::uint32_t* h = histograms.data() + c * Buckets;
+    ForCandidatesOfChunk(keys, alive, c, [&](size_t, std::uint32_t bits) { ++h[bits >> BucketShift]; });
+  });
+  std::vector<size_t> counts(Buckets, 0);
+  size_t total = 0;
+  for (size_t b = 0; b < Buckets; ++b)
+  {
+    for (size_t c = 0; c < chunks; ++c)
+    {
+      counts[b] += histograms[c * Buckets + b];
+    }
+    total += counts[b];
+  }
+  candidates = static_cast<Index>(total);
+  if (rank < 0 || size_t(rank) >= total)
+  {
+    return false;
+  }
+  size_t bucket = 0, below = 0;
+  for (; below + counts[bucket] <= size_t(rank); ++bucket)
+  {
+    below += counts[bucket];
+  }
+  std::vector<std::vector<std::uint32_t>> inBucket(chunks);
+  ForChunks(keys, [&](size_t c) {
+    ForCandidatesOfChunk(keys, alive, c, [&](size_t, std::uint32_t bits) {
+      if ((bits >> BucketShift) == bucket)
+      {
+        inBucket[c].push_back(bits);
+      }
+    });
+  });
+  std::vector<std::uint32_t> bits;
+  bits.reserve(counts[bucket]);
+  for (const auto& part : inBucket)
+  {
+    bits.insert(bits.end(), part.begin(), part.end());
+  }
+  std::nth_element(bits.begin(), bits.begin() + (size_t(rank) - below), bits.end());
+  selected = bits[size_t(rank) - below];
+  return true;
+}
+
+// The candidates with key bits <= `limit` as rank entries, in index order (each chunk collects its
+// own, then they are joined in chunk order).
+void CollectCandidates(const std::vector<float>& keys, const unsigned char* alive, std::uint32_t limit,
+  std::vector<std::uint64_t>& order)
+{
+  const size_t chunks = (keys.size() + RankChunk - 1) / RankChunk;
+  std::vector<std::vector<std::uint64_t>> parts(chunks);
+  ForChunks(keys, [&](size_t c) {
+    ForCandidatesOfChunk(keys, alive, c, [&](size_t i, std::uint32_t bits) {
+      if (bits <= limit)
+      {
+        // Key bits (high 32) and element index (low 32): the order of PassRanking::Order.
+        parts[c].push_back((std::uint64_t(bits) << 32) | std::uint64_t(static_cast<std::uint32_t>(i)));
+      }
+    });
+  });
+  std::vector<size_t> offset(chunks + 1, 0);
   for (size_t c = 0; c < chunks; ++c)
   {
-    taken[c + 1] += taken[c];
+    offset[c + 1] = offset[c] + parts[c].size();
   }
-  size_t candidates = 0;
-  for (size_t count : finite)
-  {
-    candidates += count;
-  }
-  if (!order)
-  {
-    return static_cast<Index>(candidates);
-  }
-  order->resize(taken[chunks]);
-  std::uint64_t* entries = order->data();
-  vtkSMPTools::For(0, static_cast<vtkIdType>(chunks), 1, [&](vtkIdType first, vtkIdType last) {
-    for (size_t c = size_t(first); c < size_t(last); ++c)
-    {
-      size_t out = taken[c];
-      for (size_t i = c * RankChunk; i < chunkEnd(c); ++i)
-      {
-        if (IsCandidate(keys, alive, i) && KeyBits(keys[i]) <= limit)
-        {
-          entries[out++] = RankKey(std::max(0.0f, keys[i]), static_cast<Index>(i));
-        }
-      }
-    }
-  });
-  return static_cast<Index>(candidates);
+  order.resize(offset[chunks]);
+  ForChunks(keys, [&](size_t c) { std::copy(parts[c].begin(), parts[c].end(), order.begin() + offset[c]); });
 }
 } // namespace
 
@@ -149,30 +137,23 @@ Index CollectCandidates(const std::vector<float>& keys, const unsigned char* ali
 void RankPassCandidates(const std::vector<float>& keys, const unsigned char* alive, Index goalRank, double factor,
   float floor, PassRanking& ranking)
 {
-  // All in parallel and chunked: the candidate count, the key of rank goalRank (radix select), the
-  // candidates under the limit; then sorted. The same ranking as a serial nth_element and
-  // partition would give, for any thread count.
-  std::vector<std::uint64_t>& order = ranking.Order;
-  const std::uint32_t all = KeyBits(std::numeric_limits<float>::max());
-  ranking.Candidates = CollectCandidates(keys, alive, all, nullptr);
+  // In parallel over fixed chunks: the key of rank goalRank (a histogram, then a selection among
+  // the few keys of one bucket), the candidates under the limit; then sorted. The same ranking as
+  // an nth_element and a partition of all candidates, for any thread count.
+  std::uint32_t goalBits = 0;
   ranking.Limit = std::numeric_limits<float>::infinity();
-  ranking.Everything = true;
-  if (goalRank < 0 || goalRank >= ranking.Candidates)
-  {
-    CollectCandidates(keys, alive, all, &order);
-  }
-  else
+  std::uint32_t limitBits = KeyBits(std::numeric_limits<float>::max());
+  if (SelectKeyBits(keys, alive, goalRank, ranking.Candidates, goalBits))
   {
     float goalKey = 0.0f;
-    const std::uint32_t bits = SelectKeyBits(keys, alive, goalRank);
-    std::memcpy(&goalKey, &bits, sizeof(goalKey));
+    std::memcpy(&goalKey, &goalBits, sizeof(goalKey));
     const double limit = std::max<double>(floor, factor * double(goalKey));
     ranking.Limit = static_cast<float>(std::min<double>(limit, std::numeric_limits<float>::max()));
-    const Index candidates = ranking.Candidates;
-    CollectCandidates(keys, alive, KeyBits(ranking.Limit), &order);
-    ranking.Everything = Index(order.size()) == candidates;
+    limitBits = KeyBits(ranking.Limit);
   }
+  CollectCandidates(keys, alive, limitBits, ranking.Order);
+  ranking.Everything = Index(ranking.Order.size()) == ranking.Candidates;
   // A total order (key, then index): the same result whatever sort and thread count.
-  vtkSMPTools::Sort(order.begin(), order.end());
+  vtkSMPTools::Sort(ranking.Order.begin(), ranking.Order.end());
 }
 } // namespace slod

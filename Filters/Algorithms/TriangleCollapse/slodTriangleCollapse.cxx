@@ -2666,6 +2666,11 @@ bool TriangleCollapser::RunPass(
 {
   passes.Performed = 0;
   batch.Entries.clear();
+  // PassRemovalShare: the pass stops after a round once it removed that share of what is left to
+  // remove (at least one collapse's worth), so that the next pass re-ranks around its collapses.
+  const Index live = this->Mesh.NumberOfLiveTriangles();
+  const double share = std::min(1.0, std::max(0.0, this->Options.PassRemovalShare));
+  const Index removals = std::max<Index>(2, static_cast<Index>(share * double(live - loop.Target)));
   // Rounds over the window in rank order: its first entry always holds its ring, so every round
   // decides at least one entry; the work is bounded by the pops (PassRound).
   for (size_t next = this->FillWindow(0, loop, batch, passes, result); !batch.Entries.empty();
@@ -2675,6 +2680,10 @@ bool TriangleCollapser::RunPass(
     if (!this->PassRound(loop, batch, passes, result))
     {
       return false;
+    }
+    if (share < 1.0 && live - this->Mesh.NumberOfLiveTriangles() >= removals)
+    {
+      return true;
     }
     // Entries crowding on a few vertices (a high-valence apex is in every ring) decide one per
     // round while every round walks all of them: decide the window one by one (the same result).
