@@ -13,6 +13,7 @@
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <atomic>
 #include <iterator>
 #include <chrono>
 #include <cmath>
@@ -456,6 +457,7 @@ private:
   const TriangleCollapseOptions& Options;
   PointAttributes* Attributes;
   void Reorder(TriangleMesh& mesh);
+  void SortTrianglesBySmallestVertex(TriangleMesh& mesh, const std::vector<Index>& newId);
 
   EditableMesh Mesh;
   // The mesh is renumbered in spatial (Morton) order for cache locality; these map back.
@@ -536,39 +538,67 @@ void TriangleCollapser::Reorder(TriangleMesh& mesh)
   this->VertexInput.resize(static_cast<size_t>(nv));
   std::vector<Index> newId(static_cast<size_t>(nv));
   std::vector<double> points(mesh.Points.size());
-  for (Index i = 0; i < nv; ++i)
-  {
-    const Index v = keys[i].second;
-    this->VertexInput[i] = v;
-    newId[v] = i;
-    std::copy(&mesh.Points[3 * size_t(v)], &mesh.Points[3 * size_t(v)] + 3, &points[3 * size_t(i)]);
-  }
+  // Each new id writes its own slots (and newId of a distinct old id): in parallel.
+  vtkSMPTools::For(0, nv, 16384, [&](vtkIdType begin, vtkIdType end) {
+    for (Index i = static_cast<Index>(begin); i < static_cast<Index>(end); ++i)
+    {
+      const Index v = keys[i].second;
+      this->VertexInput[i] = v;
+      newId[v] = i;
+      std::copy(&mesh.Points[3 * size_t(v)], &mesh.Points[3 * size_t(v)] + 3, &points[3 * size_t(i)]);
+    }
+  });
   std::vector<std::pair<std::uint64_t, Index>>().swap(keys);
   mesh.Points.swap(points);
   std::vector<double>().swap(points);
-  // Counting sort of the triangles by smallest vertex.
-  std::vector<Index> start(static_cast<size_t>(nv) + 1, 0);
-  for (Index t = 0; t < nt; ++t)
-  {
+  this->SortTrianglesBySmallestVertex(mesh, newId);
+}
+
+void TriangleCollapser::SortTrianglesBySmallestVertex(TriangleMesh& mesh, const std::vector<Index>& newId)
+{
+  // A counting sort by smallest new vertex, ties by input id, in parallel: atomic counts and
+  // slots (which fill a vertex's bucket in any order), then each bucket sorted by input id (a
+  // few triangles each): the order of a serial counting sort, for any thread count.
+  const Index nv = mesh.NumberOfPoints(), nt = mesh.NumberOfTriangles();
+  std::vector<std::atomic<Index>> start(static_cast<size_t>(nv) + 1);
+  auto smallest = [&](Index t) {
     const Index* tri = mesh.Triangle(t);
-    ++start[std::min({ newId[tri[0]], newId[tri[1]], newId[tri[2]] }) + 1];
-  }
+    return std::min({ newId[tri[0]], newId[tri[1]], newId[tri[2]] });
+  };
+  vtkSMPTools::For(0, nt, 16384, [&](vtkIdType begin, vtkIdType end) {
+    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
+    {
+      start[smallest(t) + 1].fetch_add(1, std::memory_order_relaxed);
+    }
+  });
+  std::vector<Index> first(static_cast<size_t>(nv) + 1, 0);
   for (Index v = 0; v < nv; ++v)
   {
-    start[v + 1] += start[v];
+    first[v + 1] = first[v] + start[v + 1].load(std::memory_order_relaxed);
+    start[v].store(first[v], std::memory_order_relaxed);
   }
   this->TriangleInput.resize(static_cast<size_t>(nt));
+  vtkSMPTools::For(0, nt, 16384, [&](vtkIdType begin, vtkIdType end) {
+    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
+    {
+      this->TriangleInput[start[smallest(t)].fetch_add(1, std::memory_order_relaxed)] = t;
+    }
+  });
   std::vector<Index> triangles(mesh.Triangles.size());
-  for (Index t = 0; t < nt; ++t)
-  {
-    const Index* tri = mesh.Triangle(t);
-    const Index a = newId[tri[0]], c = newId[tri[1]], d = newId[tri[2]];
-    const Index slot = start[std::min({ a, c, d })]++;
-    this->TriangleInput[slot] = t;
-    triangles[3 * size_t(slot)] = a;
-    triangles[3 * size_t(slot) + 1] = c;
-    triangles[3 * size_t(slot) + 2] = d;
-  }
+  vtkSMPTools::For(0, nv, 16384, [&](vtkIdType begin, vtkIdType end) {
+    for (Index v = static_cast<Index>(begin); v < static_cast<Index>(end); ++v)
+    {
+      std::sort(this->TriangleInput.begin() + first[v], this->TriangleInput.begin() + first[v + 1]);
+      for (Index slot = first[v]; slot < first[v + 1]; ++slot)
+      {
+        const Index* tri = mesh.Triangle(this->TriangleInput[slot]);
+        for (int k = 0; k < 3; ++k)
+        {
+          triangles[3 * size_t(slot) + k] = newId[tri[k]];
+        }
+      }
+    }
+  });
   mesh.Triangles.swap(triangles);
 }
 
@@ -2636,6 +2666,11 @@ bool TriangleCollapser::RunPass(
 {
   passes.Performed = 0;
   batch.Entries.clear();
+  // PassRemovalShare: the pass stops after a round once it removed that share of what is left to
+  // remove (at least one collapse's worth), so that the next pass re-ranks around its collapses.
+  const Index live = this->Mesh.NumberOfLiveTriangles();
+  const double share = std::min(1.0, std::max(0.0, this->Options.PassRemovalShare));
+  const Index removals = std::max<Index>(2, static_cast<Index>(share * double(live - loop.Target)));
   // Rounds over the window in rank order: its first entry always holds its ring, so every round
   // decides at least one entry; the work is bounded by the pops (PassRound).
   for (size_t next = this->FillWindow(0, loop, batch, passes, result); !batch.Entries.empty();
@@ -2645,6 +2680,10 @@ bool TriangleCollapser::RunPass(
     if (!this->PassRound(loop, batch, passes, result))
     {
       return false;
+    }
+    if (share < 1.0 && live - this->Mesh.NumberOfLiveTriangles() >= removals)
+    {
+      return true;
     }
     // Entries crowding on a few vertices (a high-valence apex is in every ring) decide one per
     // round while every round walks all of them: decide the window one by one (the same result).

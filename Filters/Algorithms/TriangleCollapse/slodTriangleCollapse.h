@@ -128,6 +128,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // queue's order).
   double PassGoalShare = 0.5;
   double PassErrorFactor = 1.5;
+  // A pass ends once it removed this share of the triangles still to remove at its start (1: it
+  // runs through its ranking). Smaller: more passes, each nearer the queue's order (session 19).
+  double PassRemovalShare = 1.0;
   // Record every collapse for progressive meshes (TriangleCollapseResult::History).
   bool RecordHistory = false;
   // Optional: per vertex of the input mesh, 1 when non-manifold (the input preparation's

@@ -99,6 +99,7 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
                                                                                           : slod::CollapseSchedule::Queue;
   options.PassGoalShare = filter->GetPassGoalShare();
   options.PassErrorFactor = filter->GetPassErrorFactor();
+  options.PassRemovalShare = filter->GetPassRemovalShare();
   options.Progress = slod::FilterProgress(filter);
   return options;
 }
@@ -459,6 +460,7 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CollapseSchedule: " << (this->CollapseSchedule == PASSES ? "Passes" : "Queue") << "\n";
   os << indent << "PassGoalShare: " << this->PassGoalShare << "\n";
   os << indent << "PassErrorFactor: " << this->PassErrorFactor << "\n";
+  os << indent << "PassRemovalShare: " << this->PassRemovalShare << "\n";
   os << indent << "PreserveAttributeSeams: " << this->PreserveAttributeSeams << "\n";
   os << indent << "RegionArrayName: " << (this->RegionArrayName ? this->RegionArrayName : "(none)") << "\n";
   os << indent << "AttributeErrorMetric: " << this->AttributeErrorMetric << "\n";

@@ -5,6 +5,7 @@
 #include "BadInputCorpus.h"
 #include "TestSupport.h"
 
+#include "slodCollapsePasses.h"
 #include "slodMeshTopology.h"
 #include "slodTriangleCollapse.h"
 #include "slodUnionFind.h"
@@ -35,6 +36,8 @@
 #include <set>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <random>
 #include <limits>
 #include <tuple>
 
@@ -446,6 +449,106 @@ TEST(QuadricTriangleCollapse, SmallPassesKeepTheQueuesLargestError)
   ASSERT_GT(results[0].MaximumError, 0.0);
   EXPECT_GT(results[1].Passes, 100) << "the passes were not small";
   EXPECT_LE(results[1].MaximumError, 1.1 * results[0].MaximumError);
+}
+
+// PassRemovalShare ends a pass once it removed that share of what is left to remove: on the
+// femur at 10 % a share of 0.1 takes more passes than running each ranking through, reaches the
+// target, keeps the genus, and gives the same mesh for 1, 2 and 8 threads.
+TEST(QuadricTriangleCollapse, PassRemovalShareSplitsPassesTheSameForAnyThreadCount)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("femur");
+  const TriangleMesh original = slodtest::ToTriangleMesh(input);
+  auto run = [&](double share) {
+    TriangleMesh mesh = original;
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    options.Schedule = CollapseSchedule::Passes;
+    options.PassRemovalShare = share;
+    TriangleCollapseResult result;
+    SimplifyByTriangleCollapse(mesh, options, result);
+    EXPECT_LE(result.Mesh.NumberOfTriangles(), options.TargetTriangles);
+    return result;
+  };
+  const TriangleCollapseResult whole = run(1.0);
+  std::vector<TriangleCollapseResult> split;
+  slodtest::ForOneTwoAndEightThreads([&](int) { split.push_back(run(0.1)); });
+  std::printf("[passes] femur 10%%: %d passes, with PassRemovalShare 0.1 %d\n", int(whole.Passes), int(split[0].Passes));
+  EXPECT_GT(split[0].Passes, whole.Passes);
+  for (size_t i = 1; i < split.size(); ++i)
+  {
+    EXPECT_EQ(split[0].Mesh.Points, split[i].Mesh.Points);
+    EXPECT_EQ(split[0].Mesh.Triangles, split[i].Mesh.Triangles);
+  }
+  EXPECT_EQ(ComputeMeshStatistics(split[0].Mesh).EulerCharacteristic, ComputeMeshStatistics(original).EulerCharacteristic);
+}
+
+// The pass ranking (chunked counts, radix select of the goal key, chunked collection; session 19)
+// against the plain definition: sort every candidate by (key, index), the limit is the factor
+// times the key of the goal rank (at least the floor), the ranking is the sorted candidates up to
+// it. Keys with many ties, zeros, negatives (ranked as 0), infinities and NaN (no candidate), over
+// several chunks, with and without a mask, for 1, 2 and 8 threads.
+TEST(QuadricTriangleCollapse, PassRankingIsTheSortedCandidatesUnderTheLimit)
+{
+  std::mt19937 random(19);
+  std::vector<float> keys(300000);
+  std::vector<unsigned char> alive(keys.size());
+  for (size_t i = 0; i < keys.size(); ++i)
+  {
+    const unsigned r = random() % 100;
+    keys[i] = r < 5 ? std::numeric_limits<float>::infinity()
+      : r < 7       ? std::numeric_limits<float>::quiet_NaN()
+      : r < 10      ? -1.0f
+      : r < 20      ? 0.0f
+      : r < 50      ? float(random() % 50) * 1e-6f
+                    : std::ldexp(float(random() % 1000 + 1), -int(random() % 40));
+    alive[i] = random() % 4 != 0;
+  }
+  for (const unsigned char* mask : { static_cast<const unsigned char*>(nullptr), static_cast<const unsigned char*>(alive.data()) })
+  {
+    std::vector<std::pair<float, Index>> sorted;
+    for (size_t i = 0; i < keys.size(); ++i)
+    {
+      if ((!mask || mask[i]) && std::isfinite(keys[i]))
+      {
+        sorted.emplace_back(std::max(0.0f, keys[i]), static_cast<Index>(i));
+      }
+    }
+    std::sort(sorted.begin(), sorted.end());
+    for (const Index goal : { Index(-1), Index(0), Index(7), Index(sorted.size() / 3), Index(sorted.size() - 1),
+           Index(sorted.size()) })
+    {
+      for (const float floor : { 0.0f, 2e-5f })
+      {
+        float limit = std::numeric_limits<float>::infinity();
+        if (goal >= 0 && size_t(goal) < sorted.size())
+        {
+          limit = std::max(floor, static_cast<float>(1.5 * double(sorted[size_t(goal)].first)));
+        }
+        std::vector<Index> expected;
+        for (const auto& entry : sorted)
+        {
+          if (entry.first <= limit)
+          {
+            expected.push_back(entry.second);
+          }
+        }
+        ASSERT_FALSE(expected.empty());
+        slodtest::ForOneTwoAndEightThreads([&](int threads) {
+          PassRanking ranking;
+          RankPassCandidates(keys, mask, goal, 1.5, floor, ranking);
+          EXPECT_EQ(ranking.Candidates, Index(sorted.size()));
+          EXPECT_EQ(ranking.Limit, limit) << "goal " << goal << ", " << threads << " threads";
+          EXPECT_EQ(ranking.Everything, expected.size() == sorted.size());
+          std::vector<Index> got;
+          for (std::uint64_t entry : ranking.Order)
+          {
+            got.push_back(RankedElement(entry));
+          }
+          EXPECT_EQ(got, expected) << "goal " << goal << ", " << threads << " threads";
+        });
+      }
+    }
+  }
 }
 
 // Batches are selected, checked and performed so that the thread count cannot change them: the
