@@ -111,6 +111,14 @@ public:
   vtkSetMacro(FinalCollapses, bool);
   vtkGetMacro(FinalCollapses, bool);
   vtkBooleanMacro(FinalCollapses, bool);
+  /**
+   * The final collapses also remove border vertices, each onto a neighbour along its border loop
+   * (the loops and their number are kept; no loop gets under four vertices), proved like the
+   * others (default on). Off: every border vertex the cuts kept stays.
+   */
+  vtkSetMacro(BorderCollapses, bool);
+  vtkGetMacro(BorderCollapses, bool);
+  vtkBooleanMacro(BorderCollapses, bool);
   ///@}
   ///@{
   /**
@@ -156,6 +164,7 @@ protected:
   double ShapedTriangleAngle = 0.0;
   double EarShapeAngle = 15.0;
   bool FinalCollapses = true;
+  bool BorderCollapses = true;
   bool MonotoneInEpsilon = false;
   double LadderBottom = 0.004;
 
