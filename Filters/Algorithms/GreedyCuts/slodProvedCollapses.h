@@ -40,7 +40,7 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   int MaximumNeighbours = 16;  // targets tried per vertex and pass (nearest first)
   // Border vertices are collapsed too, onto a neighbour along their border loop (a loop keeps at
   // least four vertices; the loops and their number stay). Off: border vertices stay.
-  bool BorderCollapses = true;
+  bool BorderCollapses = false;
   // Stop as soon as the output has at most this many triangles (0: no count target). A collapse
   // removes one or two triangles, so a reachable target is met exactly or one below.
   Index TargetTriangles = 0;
