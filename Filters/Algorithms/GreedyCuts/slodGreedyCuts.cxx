@@ -1763,6 +1763,7 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.SubdivisionDepth = parameters.SubdivisionDepth;
   collapse.MinimumAngle = parameters.ShapedAngle;
   collapse.TargetTriangles = target;
+  collapse.BorderCollapses = parameters.BorderCollapses;
   collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
   ProvedCollapseStatistics statistics;
   const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch,

@@ -16,6 +16,11 @@ namespace
 constexpr double MinimumFacingCosine = 0.25;
 // Input triangles examined per collapse: beyond, the collapse is not tried (bounded work).
 constexpr size_t MaximumInputTriangles = 4096;
+// ... or this many times the input triangles per output triangle, when more: a coarse output's
+// stars cover much of the input, and a fixed cap refused its collapses more often the larger the
+// tolerance (fandisk: most input -> output rejections at 0.02 of the diagonal), so a larger
+// tolerance could end with more triangles. The gathering per pass stays linear in the input.
+constexpr size_t InputTrianglesPerOutputTriangle = 256;
 // Collapses and flips of an edge whose two vertices have more triangles than this together are
 // not tried: checking one costs a walk over both fans (a fan of thousands of slivers around one
 // centre would make every pass quadratic); larger fans are left out of the local proofs' meshes.
@@ -64,7 +69,7 @@ public:
     order.clear();
     for (Index u = 0; u < Index(this->Used.size()); ++u)
     {
-      if (!this->Used[u] || this->Border[u] || this->Out.VertexDegree(u) == 0)
+      if (!this->Used[u] || (this->Border[u] && !this->Prm.BorderCollapses) || this->Out.VertexDegree(u) == 0)
       {
         continue;
       }
@@ -92,6 +97,12 @@ public:
       }
     }
     return done;
+  }
+
+  size_t InputCap() const
+  {
+    const size_t output = size_t(std::max<Index>(1, this->AliveTriangles));
+    return std::max(MaximumInputTriangles, InputTrianglesPerOutputTriangle * size_t(this->In.NumberOfTriangles()) / output);
   }
 
   bool TargetMet() const { return this->Prm.TargetTriangles > 0 && this->AliveTriangles <= this->Prm.TargetTriangles; }
@@ -300,6 +311,33 @@ private:
     return after > before;
   }
 
+  // A border vertex moves only along its border loop: its targets (Neighbours) become its two
+  // neighbours on the loop, and none when the loop has three vertices (it would close), so the
+  // loops and their number stay; the proofs bound the distance as for any collapse (the cuts keep
+  // every border vertex their chains keep: on inputs with many small patches along the border,
+  // b9_mesh, those were most of the output).
+  bool BorderTargets(Index u)
+  {
+    Index along[2] = { InvalidIndex, InvalidIndex };
+    int found = 0;
+    for (Index w : this->Neighbours)
+    {
+      if (this->Border[w] && this->Out.EdgeTriangleCount(u, w) == 1)
+      {
+        along[std::min(found, 1)] = w;
+        ++found;
+      }
+    }
+    this->Neighbours.clear();
+    // Two border edges exactly (a vertex where loops touch stays); a border edge between the two
+    // neighbours closes a loop of three.
+    if (found == 2 && this->Out.EdgeTriangleCount(along[0], along[1]) != 1)
+    {
+      this->Neighbours.assign(along, along + 2);
+    }
+    return !this->Neighbours.empty();
+  }
+
   // Tries u's neighbours as targets (those leaving no new sliver first, each group nearest first);
   // true when one collapse was made.
   bool RemoveVertex(Index u, ProvedCollapseStatistics& statistics, bool fatter = false)
@@ -314,6 +352,10 @@ private:
     const Vec3 pu = this->Out.Point(u);
     std::vector<std::pair<double, Index>>& targets = this->Targets;
     targets.clear();
+    if (this->Border[u] && !this->BorderTargets(u))
+    {
+      return false;
+    }
     for (Index w : this->Neighbours)
     {
       targets.emplace_back(Norm(this->Out.Point(w) - pu), w);
@@ -462,7 +504,7 @@ private:
       }
     }
     this->Near.clear();
-    if (!this->Bvh.TrianglesNear(center, radius + this->Prm.Epsilon, MaximumInputTriangles, this->Near))
+    if (!this->Bvh.TrianglesNear(center, radius + this->Prm.Epsilon, this->InputCap(), this->Near))
     {
       return false;
     }

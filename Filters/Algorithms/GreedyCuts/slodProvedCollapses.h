@@ -13,7 +13,8 @@
 //    is proved within epsilon of the new star and the triangles around it (a subset of the new
 //    output, so the proof holds for the whole output); the other input points keep their nearest
 //    output triangle, which the collapse does not touch;
-//  - topology: EditableMesh::CheckCollapse (link condition, no flip, no border vertex removed).
+//  - topology: EditableMesh::CheckCollapse (link condition, no flip); a border vertex only along
+//    its border loop (BorderCollapses), and no loop closes.
 // Between two collapse passes, interior edges are flipped where that makes the thinner of their two
 // triangles fatter (fewer slivers), each flip proved the same way. Last, each triangle under 5
 // degrees has its edges flipped or loses a vertex by a collapse that raises the smallest angle
@@ -37,6 +38,9 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   double MinimumAngle = 0.0;   // degrees: a collapse may not make a triangle thinner than this (unless it was)
   int MaximumRounds = 8;       // passes over the output vertices (stops earlier when one removes none)
   int MaximumNeighbours = 16;  // targets tried per vertex and pass (nearest first)
+  // Border vertices are collapsed too, onto a neighbour along their border loop (a loop keeps at
+  // least four vertices; the loops and their number stay). Off: border vertices stay.
+  bool BorderCollapses = false;
   // Stop as soon as the output has at most this many triangles (0: no count target). A collapse
   // removes one or two triangles, so a reachable target is met exactly or one below.
   Index TargetTriangles = 0;

@@ -142,6 +142,7 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.ShapedAngle = this->ShapedTriangleAngle;
   parameters.EarShapeAngle = this->EarShapeAngle;
   parameters.FinalCollapses = this->FinalCollapses;
+  parameters.BorderCollapses = this->BorderCollapses;
   parameters.LadderBottom = this->LadderBottom;
   const double bound = this->AbsoluteMaximumError(diagonal);
   vtkIdType target = 0;
@@ -215,6 +216,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShapedTriangleAngle: " << this->ShapedTriangleAngle << "\n";
   os << indent << "EarShapeAngle: " << this->EarShapeAngle << "\n";
   os << indent << "FinalCollapses: " << (this->FinalCollapses ? "on" : "off") << "\n";
+  os << indent << "BorderCollapses: " << (this->BorderCollapses ? "on" : "off") << "\n";
   os << indent << "MonotoneInEpsilon: " << (this->MonotoneInEpsilon ? "on" : "off") << "\n";
   os << indent << "LadderBottom: " << this->LadderBottom << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
