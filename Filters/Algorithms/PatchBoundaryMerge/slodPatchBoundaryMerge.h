@@ -185,6 +185,12 @@ public:
   // chain vertex, and each collapse or join removes one endpoint off the border.
   Index FinestLevelLowerBound() const;
 
+  // The finest level's count: at full resolution (Epsilon < 0) with the epsilon bounds on joins
+  // and collapses and no removal, no join or collapse is within epsilon and merges keep the
+  // count, so it is the patchification's sum of (boundary size - 2), computed without a merging
+  // run; otherwise the merging run's prediction.
+  Index FinestLevelCount(const SpbmLevelParameters& parameters);
+
   // Generates the level. Returns false only when aborted through `abort`.
   bool Generate(const SpbmLevelParameters& parameters, SpbmLevel& level,
     const std::function<bool()>& abort = nullptr);

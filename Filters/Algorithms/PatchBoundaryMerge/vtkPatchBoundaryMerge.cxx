@@ -258,7 +258,7 @@ bool vtkPatchBoundaryMerge::Cache::FitPatchesToTarget(vtkPatchBoundaryMerge* sel
     }
     slod::SpbmLevelParameters finest = this->LevelParameters(self);
     finest.Epsilon = -1; // every chain vertex kept
-    const vtkIdType count = this->Generator.PredictTriangleCount(finest);
+    const vtkIdType count = this->Generator.FinestLevelCount(finest);
     vtkLogF(TRACE, "[spbm] finest level %lld triangles at tolerance scale %.4g (target %lld, lower bound %lld)",
       (long long)count, this->ToleranceScale, (long long)target, (long long)bound);
     if (50 * count >= 49 * target)

@@ -1166,7 +1166,9 @@ TEST(SpbmLevel, IneffectiveFallbackLevelsAreSkipped)
 
 // The finest level's count is bounded from below without a merging run (the filter skips that
 // run when the bound reaches the target): never above the count a run finds, at the paper's
-// angle and the filter's.
+// angle and the filter's. And FinestLevelCount, which the filter uses instead of that run, is
+// the run's count exactly (merges keep the count, nothing is joined or collapsed at full
+// resolution), with either merge measure.
 TEST(SpbmLevel, FinestLevelLowerBoundHolds)
 {
   std::vector<TriangleMesh> meshes = { slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk")),
@@ -1188,6 +1190,12 @@ TEST(SpbmLevel, FinestLevelLowerBoundHolds)
       finest.MergeAngle = angle;
       finest.SizeWeightedMerge = true;
       EXPECT_LE(bound, generator.PredictTriangleCount(finest)) << mesh.NumberOfTriangles() << " " << angle;
+      for (const bool weighted : { true, false })
+      {
+        finest.SizeWeightedMerge = weighted;
+        const Index counted = generator.FinestLevelCount(finest);
+        EXPECT_EQ(counted, generator.PredictTriangleCount(finest)) << mesh.NumberOfTriangles() << " " << angle;
+      }
     }
   }
 }
