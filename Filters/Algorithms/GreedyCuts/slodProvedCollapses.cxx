@@ -16,6 +16,11 @@ namespace
 constexpr double MinimumFacingCosine = 0.25;
 // Input triangles examined per collapse: beyond, the collapse is not tried (bounded work).
 constexpr size_t MaximumInputTriangles = 4096;
+// ... or this many times the input triangles per output triangle, when more: a coarse output's
+// stars cover much of the input, and a fixed cap refused its collapses more often the larger the
+// tolerance (fandisk: most input -> output rejections at 0.02 of the diagonal), so a larger
+// tolerance could end with more triangles. The gathering per pass stays linear in the input.
+constexpr size_t InputTrianglesPerOutputTriangle = 256;
 // Collapses and flips of an edge whose two vertices have more triangles than this together are
 // not tried: checking one costs a walk over both fans (a fan of thousands of slivers around one
 // centre would make every pass quadratic); larger fans are left out of the local proofs' meshes.
@@ -92,6 +97,12 @@ public:
       }
     }
     return done;
+  }
+
+  size_t InputCap() const
+  {
+    const size_t output = size_t(std::max<Index>(1, this->AliveTriangles));
+    return std::max(MaximumInputTriangles, InputTrianglesPerOutputTriangle * size_t(this->In.NumberOfTriangles()) / output);
   }
 
   bool TargetMet() const { return this->Prm.TargetTriangles > 0 && this->AliveTriangles <= this->Prm.TargetTriangles; }
@@ -493,7 +504,7 @@ private:
       }
     }
     this->Near.clear();
-    if (!this->Bvh.TrianglesNear(center, radius + this->Prm.Epsilon, MaximumInputTriangles, this->Near))
+    if (!this->Bvh.TrianglesNear(center, radius + this->Prm.Epsilon, this->InputCap(), this->Near))
     {
       return false;
     }
