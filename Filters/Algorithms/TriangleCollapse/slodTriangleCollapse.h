@@ -163,6 +163,17 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   std::function<Index(double cheapestCost, Index liveTriangles)> SettleTarget;
 };
 
+// Visits of a pass after the collapses (FitToOriginal, RefineDeviation), for the thread tests:
+// all of them, those that were visited again in order (a concurrent result not taken: only where
+// the work budget ran out), and those whose concurrent visit waited for an earlier member of their
+// chunk within two edges (a later step of ChunkedSweep).
+struct SweepCounts
+{
+  Index Visits = 0;
+  Index InOrder = 0;
+  Index AfterEarlier = 0;
+};
+
 struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
 {
   TriangleMesh Mesh;                 // simplified mesh (compact)
@@ -185,6 +196,7 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   int PassThreads = 0;
   int FitThreads = 0;
   bool FitBudgetReached = false;
+  SweepCounts FitVisits, RefinementVisits;
   bool PinnedVerticesReleased = false; // the target needed collapses of pinned vertices (PinnedVertices)
   size_t PeakWorkingBytes = 0;       // bytes of the algorithm's own arrays (estimate)
   // With TriangleCollapseOptions::AttributeError: per output vertex, 1 when its attribute values
