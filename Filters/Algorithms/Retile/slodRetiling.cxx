@@ -4,6 +4,7 @@
 #include "slodEditableMesh.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
+#include "slodPointGrid.h"
 #include "slodRetileFeatures.h"
 #include "slodRetileRepair.h"
 #include "slodRetileRing.h"
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 
@@ -80,108 +82,6 @@ Vec3 InterpolatedNormal(const TriangleMesh& mesh, const std::vector<Vec3>& verte
   }
   return Norm(nrm) > 0 ? Normalized(nrm) : Normalized(mesh.TriangleAreaVector(t));
 }
-
-// Uniform grid over a point set for fixed-radius neighbour queries (dense cells, counting sort).
-class PointGrid
-{
-public:
-  void Build(const std::vector<double>& xyz, double cell)
-  {
-    const size_t n = xyz.size() / 3;
-    double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-      std::numeric_limits<double>::max() };
-    double hi[3] = { -lo[0], -lo[1], -lo[2] };
-    for (size_t i = 0; i < n; ++i)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        lo[k] = std::min(lo[k], xyz[3 * i + k]);
-        hi[k] = std::max(hi[k], xyz[3 * i + k]);
-      }
-    }
-    if (n == 0)
-    {
-      lo[0] = lo[1] = lo[2] = hi[0] = hi[1] = hi[2] = 0;
-    }
-    // Enough cells to be useful, never more than ~4 per point.
-    cell = std::max(cell, 1e-300);
-    for (;;)
-    {
-      // Counted in double: an extent over a tiny cell does not fit an integer (converting it would
-      // be undefined) and the product could wrap; such a grid is never small enough anyway.
-      double total = 1;
-      for (int k = 0; k < 3; ++k)
-      {
-        const double cells = std::floor((hi[k] - lo[k]) / cell) + 1;
-        this->Dims[k] = cells < 1e9 ? static_cast<long long>(cells) : 1000000000LL;
-        total *= cells < 1e9 ? cells : std::numeric_limits<double>::infinity();
-      }
-      if (total <= double(4 * n + 64))
-      {
-        break;
-      }
-      cell *= 1.5;
-    }
-    this->Cell = cell;
-    std::copy(lo, lo + 3, this->Origin);
-    const size_t cells = size_t(this->Dims[0] * this->Dims[1] * this->Dims[2]);
-    this->Start.assign(cells + 1, 0);
-    this->Ids.resize(n);
-    std::vector<size_t> key(n);
-    for (size_t i = 0; i < n; ++i)
-    {
-      key[i] = this->Key(&xyz[3 * i]);
-      ++this->Start[key[i] + 1];
-    }
-    for (size_t c = 0; c < cells; ++c)
-    {
-      this->Start[c + 1] += this->Start[c];
-    }
-    std::vector<Index> fill(this->Start.begin(), this->Start.end() - 1);
-    for (size_t i = 0; i < n; ++i)
-    {
-      this->Ids[fill[key[i]]++] = static_cast<Index>(i);
-    }
-  }
-  // f(j) for every point in the cells within `radius` (<= cell size gives the 27 cells) of p.
-  template <typename F>
-  void ForEachNear(const double* p, double radius, F&& f) const
-  {
-    long long c0[3], c1[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      c0[k] = std::max<long long>(0, static_cast<long long>(std::floor((p[k] - radius - this->Origin[k]) / this->Cell)));
-      c1[k] = std::min<long long>(this->Dims[k] - 1, static_cast<long long>(std::floor((p[k] + radius - this->Origin[k]) / this->Cell)));
-    }
-    for (long long z = c0[2]; z <= c1[2]; ++z)
-      for (long long y = c0[1]; y <= c1[1]; ++y)
-        for (long long x = c0[0]; x <= c1[0]; ++x)
-        {
-          const size_t c = size_t((z * this->Dims[1] + y) * this->Dims[0] + x);
-          for (Index i = this->Start[c]; i < this->Start[c + 1]; ++i)
-          {
-            f(this->Ids[i]);
-          }
-        }
-  }
-  double CellSize() const { return this->Cell; }
-
-private:
-  size_t Key(const double* p) const
-  {
-    long long c[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      c[k] = std::min<long long>(this->Dims[k] - 1,
-        std::max<long long>(0, static_cast<long long>(std::floor((p[k] - this->Origin[k]) / this->Cell))));
-    }
-    return size_t((c[2] * this->Dims[1] + c[1]) * this->Dims[0] + c[0]);
-  }
-  double Origin[3] = { 0, 0, 0 };
-  double Cell = 1;
-  long long Dims[3] = { 1, 1, 1 };
-  std::vector<Index> Start, Ids;
-};
 
 double PointDensity(const TriangleMesh& mesh, const std::vector<double>& vertexDensity, const SurfacePoint& p)
 {
@@ -470,31 +370,57 @@ void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& verte
   }
 }
 
+// What a repulsion step reads of a point, copied in the grid's cell order: neighbours are then
+// contiguous in memory (on a 1M-triangle scan, reading them by point id through the triangles'
+// normals made each visit several times slower than on a 250k one).
+struct RepulsionSlot
+{
+  Vec3 Position;
+  Vec3 Normal;
+  double Radius;
+  Index Id;
+};
+
+std::vector<RepulsionSlot> RepulsionSlots(const std::vector<SurfacePoint>& points, const std::vector<double>& radius,
+  const PointGrid& grid, const std::vector<Vec3>& faceNormal)
+{
+  const std::vector<Index>& order = grid.CellOrder();
+  std::vector<RepulsionSlot> slots(order.size());
+  for (size_t s = 0; s < order.size(); ++s)
+  {
+    const Index i = order[s];
+    slots[s] = { points[i].Position, faceNormal[points[i].Triangle], radius[i], i };
+  }
+  return slots;
+}
+
 // One repulsion step per point (Jacobi: from the positions of the previous iteration): the
 // force of the neighbours within the mean of both radii, in the tangent plane, capped.
 void RepulsionMoves(const std::vector<SurfacePoint>& points, const std::vector<double>& radius, double maxRadius,
-  const std::vector<double>& xyz, const PointGrid& grid, const std::vector<Vec3>& faceNormal, std::vector<Vec3>& move)
+  const PointGrid& grid, const std::vector<Vec3>& faceNormal, std::vector<Vec3>& move)
 {
-  const size_t n = points.size();
-  vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
+  const std::vector<RepulsionSlot> slots = RepulsionSlots(points, radius, grid, faceNormal);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(slots.size()), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType s = begin; s < end; ++s)
     {
-      const Vec3 p = points[i].Position;
-      const Vec3 normal = faceNormal[points[i].Triangle];
+      const RepulsionSlot& self = slots[s];
+      const Vec3& p = self.Position;
+      const Vec3& normal = self.Normal;
       Vec3 force{ 0, 0, 0 };
-      grid.ForEachNear(&xyz[3 * i], maxRadius, [&](Index j) {
-        if (j == Index(i))
+      grid.ForEachSlotNear(p.data(), maxRadius, [&](Index t) {
+        const RepulsionSlot& other = slots[t];
+        if (other.Id == self.Id)
         {
           return;
         }
         // A neighbour facing the other way lies on another sheet (the far side of a thin
         // part): it must not push, or thin parts are emptied of points.
-        if (Dot(faceNormal[points[j].Triangle], normal) < -0.3)
+        if (Dot(other.Normal, normal) < -0.3)
         {
           return;
         }
-        const double r = 0.5 * (radius[i] + radius[j]);
-        Vec3 d = p - points[j].Position;
+        const double r = 0.5 * (self.Radius + other.Radius);
+        Vec3 d = p - other.Position;
         // Fold the neighbour into the tangent plane (keeps its distance, drops the normal part).
         d = d - Dot(d, normal) * normal;
         const double len = Norm(d);
@@ -507,33 +433,34 @@ void RepulsionMoves(const std::vector<SurfacePoint>& points, const std::vector<d
           // Coincident points: push apart along a deterministic tangent direction.
           Vec3 axis = std::abs(normal[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
           axis = Normalized(Cross(normal, axis));
-          force = force + ((Index(i) < j ? 1.0 : -1.0) * 0.5) * axis;
+          force = force + ((self.Id < other.Id ? 1.0 : -1.0) * 0.5) * axis;
           return;
         }
         force = force + ((r - len) / (r * len)) * d; // linear fall-off, zero at r
       });
       // Step: a fraction of the radius per unit force, capped (stable for any neighbour count).
-      Vec3 step = (0.2 * radius[i]) * force;
-      const double s = Norm(step);
-      const double cap = 0.25 * radius[i];
-      if (s > cap)
+      Vec3 step = (0.2 * self.Radius) * force;
+      const double length = Norm(step);
+      const double cap = 0.25 * self.Radius;
+      if (length > cap)
       {
-        step = (cap / s) * step;
+        step = (cap / length) * step;
       }
-      move[i] = step;
+      move[self.Id] = step;
     }
   });
 }
 
 // Each moved point (not the first fixedCount) goes to the closest point of the surface to its
-// moved position, never onto a sheet facing the other way.
+// moved position, never onto a sheet facing the other way. Points are taken in `order` (the
+// grid's cell order: nearby queries walk the same part of the tree); each one is independent.
 void ProjectMoves(const TriangleBVH& bvh, const std::vector<Vec3>& faceNormal, const std::vector<Vec3>& move,
-  Index fixedCount, std::vector<SurfacePoint>& points)
+  Index fixedCount, const std::vector<Index>& order, std::vector<SurfacePoint>& points)
 {
-  const size_t n = points.size();
-  vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
+  vtkSMPTools::For(0, static_cast<vtkIdType>(order.size()), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType slot = begin; slot < end; ++slot)
     {
+      const Index i = order[slot];
       const double s = Norm(move[i]);
       if (!(s > 0) || i < fixedCount)
       {
@@ -590,8 +517,8 @@ bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::ve
       std::copy(points[i].Position.begin(), points[i].Position.end(), &xyz[3 * i]);
     }
     grid.Build(xyz, maxRadius);
-    RepulsionMoves(points, radius, maxRadius, xyz, grid, faceNormal, move);
-    ProjectMoves(bvh, faceNormal, move, fixedCount, points);
+    RepulsionMoves(points, radius, maxRadius, grid, faceNormal, move);
+    ProjectMoves(bvh, faceNormal, move, fixedCount, grid.CellOrder(), points);
     if (progress && !progress(double(it + 1) / iterations))
     {
       return false;
