@@ -1065,7 +1065,8 @@ std::vector<Vec3> LevelReferenceNormals(const TriangleMesh& input, const Retilin
 // The vertices a coarser level keeps although Turk's removal could take them: an interior vertex
 // (closed ring of at most RingTriangulationSearch::MaximumRing, not the input's non-manifold
 // vertex) whose ring has a triangulation facing the surface's way with no angle under 2 degrees,
-// and a ring vertex the collapse onto which keeps the topology.
+// passing within MovedShare of its longest edge from the vertex, and a ring vertex the collapse
+// onto which keeps the topology.
 int RemovableKeptVertices(const TriangleMesh& input, const RetilingResult& level)
 {
   const std::vector<Vec3> reference = LevelReferenceNormals(input, level);
@@ -1092,6 +1093,12 @@ int RemovableKeptVertices(const TriangleMesh& input, const RetilingResult& level
     if (own || locked[r] || !search.Find(r, valid, worst, smallest) || !valid)
     {
       continue;
+    }
+    double distance = 0, longestEdge = 0;
+    search.Deviation(edit.Point(r), distance, longestEdge);
+    if (distance > MovedShare * longestEdge)
+    {
+      continue; // the surface would move further than a repair may move it
     }
     edit.Neighbors(r, ring);
     removable += std::any_of(ring.begin(), ring.end(), [&](Index c) {
