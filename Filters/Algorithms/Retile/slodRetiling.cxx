@@ -1409,23 +1409,6 @@ struct OldVertexRemoval
     return true;
   }
 
-  // The smallest cosine between the normal of a tile around r and the reference normal of one of
-  // its vertices (how far r's star turns against the surface; RingTriangulationSearch's measure).
-  double StarFacing(Index r) const
-  {
-    double facing = 1.0;
-    this->Edit.ForEachTriangle(r, [&](Index t) {
-      const Index* tri = this->Edit.Triangle(t);
-      const Vec3 normal = TriangleNormal(this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]));
-      for (int k = 0; k < 3; ++k)
-      {
-        const double lengths = Norm(normal) * Norm(this->Reference[tri[k]]);
-        facing = std::min(facing, lengths > 0 ? Dot(normal, this->Reference[tri[k]]) / lengths : 0.0);
-      }
-    });
-    return facing;
-  }
-
   // The coarser nested levels' last step (HeldRingSearch): r is left with no collapse that keeps
   // the surface unfolded (or facing its way), so the level would keep it and every such vertex adds
   // two triangles: on the noisy scan scan-48 (reduction 0.8) the coarsest level asked for 169
@@ -1447,14 +1430,11 @@ struct OldVertexRemoval
     this->Search.MinimumAngle = RingNeedleAngle;
     bool valid = false;
     double worst = 0, smallest = 0;
-    if (!this->Search.Find(r, valid, worst, smallest) || smallest < RingNeedleAngle ||
-      (!valid && worst < this->StarFacing(r)))
+    if (!this->Search.Find(r, valid, worst, smallest) || smallest < RingNeedleAngle || !valid)
     {
       return false;
     }
-    // The surface moves at most as the repair lets it (MovedShare of the tiles' longest edge):
-    // without the bound, triangulations across the noisy scans' crumpled spots took the coarsest
-    // levels' Hausdorff distance from 1.3 to 5.2 times vtkQuadricDecimation's (noisy:137).
+    // The surface moves at most as the repair lets it (MovedShare of the tiles' longest edge).
     double distance = 0, longestEdge = 0;
     this->Search.Deviation(this->Edit.Point(r), distance, longestEdge);
     if (distance > MovedShare * longestEdge)
