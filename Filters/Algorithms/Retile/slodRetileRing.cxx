@@ -283,6 +283,22 @@ void RingTriangulationSearch::CollectTiles(int i, int j)
   }
 }
 
+void RingTriangulationSearch::Deviation(const Vec3& point, double& distance, double& longestEdge) const
+{
+  distance = std::numeric_limits<double>::max();
+  longestEdge = 0;
+  for (const std::array<int, 3>& tile : this->Tiles)
+  {
+    const Vec3 p[3] = { this->Edit.Point(this->Ring[tile[0]]), this->Edit.Point(this->Ring[tile[1]]),
+      this->Edit.Point(this->Ring[tile[2]]) };
+    distance = std::min(distance, Norm(ClosestPointOnTriangle(point, p[0], p[1], p[2]) - point));
+    for (int k = 0; k < 3; ++k)
+    {
+      longestEdge = std::max(longestEdge, Norm(p[(k + 1) % 3] - p[k]));
+    }
+  }
+}
+
 int RingTriangulationSearch::TilesAt(Index c) const
 {
   const auto it = std::find(this->Ring.begin(), this->Ring.end(), c);

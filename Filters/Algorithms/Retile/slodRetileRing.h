@@ -91,6 +91,9 @@ struct SURFACELODFILTERS_EXPORT RingTriangulationSearch
   // How many tiles of the triangulation found have ring vertex c as a corner (the fewer flips the
   // more), 0 when c is not on the ring.
   int TilesAt(Index c) const;
+  // How far the surface moves where the triangulation found replaces r's star: the distance from
+  // `point` (r's position) to its nearest tile, and the longest edge of its tiles.
+  void Deviation(const Vec3& point, double& distance, double& longestEdge) const;
 
 private:
   bool OrderRing(Index r);

@@ -1003,6 +1003,10 @@ struct OldVertexRemoval
   // tracking replays: a border vertex collapsed onto an inner vertex, or a lone border triangle
   // removed, takes a piece of the surface away, which no fragment can follow.
   bool BorderAlongBorder = false;
+  // Set for the coarser nested levels, whose removals keep the fans (RemoveByRingSearch): in the
+  // last step, a vertex no collapse can remove is removed by the ring search all the same
+  // (RemoveHeldByRingSearch) rather than kept in the level.
+  bool HeldRingSearch = false;
 
   OldVertexRemoval(EditableMesh& edit, std::vector<Vec3>& reference, Index oldVertices, Index candidates,
     const CoarserLevel& coarser, const std::vector<unsigned char>& nonManifoldVertices)
@@ -1332,6 +1336,84 @@ struct OldVertexRemoval
     return true;
   }
 
+  // The coarser nested levels' last step (HeldRingSearch): r is left with no collapse that keeps
+  // the surface unfolded (or facing its way), so the level would keep it and every such vertex adds
+  // two triangles: on the noisy scan scan-48 (reduction 0.8) the coarsest level asked for 169
+  // vertices kept 446 of the finer level's, 296 of them held by folds. Turk's removal of r (section
+  // 4.3): its whole ring re-triangulated by the search, taken only when every tile faces the
+  // surface's way without a needle, made as the collapse onto the ring vertex that is a corner of
+  // most of its tiles among those whose collapse keeps the topology (its fan may fold: the flips
+  // that follow unfold it, and the level interpolation's tracking lays a folding fan's ring out on
+  // a circle), then the flips, recorded. Only here: each search's flips cut the level
+  // interpolation's fragments again (RemoveByRingSearch), and these vertices are few.
+  bool RemoveHeldByRingSearch(Index r, const std::vector<Index>& neighbors)
+  {
+    if (!this->HeldRingSearch || !this->LastStep || neighbors.size() > MaximumDeferredValence ||
+      (!this->Lines.empty() && !this->Lines[r].empty()))
+    {
+      return false;
+    }
+    this->Search.MinimumFacing = 0.0;
+    this->Search.MinimumAngle = RingNeedleAngle;
+    bool valid = false;
+    double worst = 0, smallest = 0;
+    if (!this->Search.Find(r, valid, worst, smallest) || smallest < RingNeedleAngle || !valid)
+    {
+      return false;
+    }
+    // The surface moves at most as the repair lets it (MovedShare of the tiles' longest edge).
+    double distance = 0, longestEdge = 0;
+    this->Search.Deviation(this->Edit.Point(r), distance, longestEdge);
+    if (distance > MovedShare * longestEdge)
+    {
+      return false;
+    }
+    CollapseOptions topologyOnly = this->Collapse;
+    topologyOnly.MinimumNormalDot = -1.0; // only degenerate tiles of the fan are refused
+    Index best = InvalidIndex;
+    int bestTiles = 0;
+    for (Index c : neighbors)
+    {
+      const Index pair[2] = { r, c };
+      const int tiles = this->Search.TilesAt(c);
+      if (tiles > bestTiles &&
+        this->Edit.CheckCollapse(pair, 2, this->Edit.Point(c), topologyOnly) == CollapseStatus::Ok)
+      {
+        bestTiles = tiles;
+        best = c;
+      }
+    }
+    if (best == InvalidIndex || !this->Search.FlipsFromFan(best, this->SearchFlips))
+    {
+      return false;
+    }
+    // A collapse onto c where c is (phase 0's kind: the last step's phase 2 would move c onto r).
+    this->PerformWithFlips(r, best, 0, this->SearchFlips);
+    return true;
+  }
+
+  // After the flips that follow the removal (step 6's and the repair's): they change the rings,
+  // so a kept vertex may now have one the search can re-triangulate (HeldRingSearch). Bounded:
+  // 32 passes over the old vertices, while one goes.
+  void RemoveHeldAfterFlips()
+  {
+    std::vector<Index> neighbors;
+    this->LastStep = true;
+    bool progressed = true;
+    for (int pass = 0; pass < 32 && progressed; ++pass)
+    {
+      progressed = false;
+      for (Index r = 0; r < this->OldVertices; ++r)
+      {
+        if (this->Edit.IsVertexAlive(r) && !this->Locked[r] && this->KeptFor[r] == InvalidIndex)
+        {
+          this->Edit.Neighbors(r, neighbors);
+          progressed = this->RemoveHeldByRingSearch(r, neighbors) || progressed;
+        }
+      }
+    }
+  }
+
   // Phase 0: collapse onto candidate vertices only; phase 1 (for old vertices walled in by
   // other old vertices): onto any neighbour, the target being removed later in turn; phase 2
   // (last resort, keeps the vertex count exact): a neighbouring candidate moves onto the old
@@ -1387,6 +1469,10 @@ struct OldVertexRemoval
           const bool fanFacesWrong = best == InvalidIndex || this->FanFacesWrong(best);
           if (fanFacesWrong && !this->Valid.empty() && neighbors.size() <= MaximumDeferredValence &&
             (this->RemoveByRingSearch(r, phase, best != InvalidIndex) || (this->RetriangulateRings && this->RemoveByRingFlips(r, phase))))
+          {
+            continue;
+          }
+          if (best == InvalidIndex && this->RemoveHeldByRingSearch(r, neighbors))
           {
             continue;
           }
@@ -1809,6 +1895,7 @@ bool DeriveCoarserLevel(const TriangleMesh& mesh, const TriangleBVH& bvh, const 
   std::vector<Index> record;
   removal.Record = &record;
   removal.BorderAlongBorder = true;
+  removal.HeldRingSearch = true;
   RetilingOptions removalOptions = options;
   removalOptions.PreserveCreases = false;
   if (!removal.Run(removalOptions))
@@ -1819,6 +1906,7 @@ bool DeriveCoarserLevel(const TriangleMesh& mesh, const TriangleBVH& bvh, const 
   // Every vertex is the finer level's: the repair only flips (recorded with the others).
   const std::vector<unsigned char> fixedVertices(size_t(n), 0);
   coarse.Flips += RepairTiles(mesh, bvh, inputNormals, removal, fixedVertices, edit, reference, &record, nullptr);
+  removal.RemoveHeldAfterFlips();
   edit.Extract(coarse.Mesh, &survivors);
   for (Index& id : survivors)
   {
