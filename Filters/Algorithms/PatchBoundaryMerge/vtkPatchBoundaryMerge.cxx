@@ -6,6 +6,8 @@
 #include "slodMeshTopology.h"
 #include "slodPatchBoundaryMerge.h"
 #include "slodPatchification.h"
+#include "slodEditableMesh.h"
+#include "slodSpbmFinalCollapses.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -73,8 +75,12 @@ void ReportTargetCount(vtkPatchBoundaryMerge* self, vtkPolyData* output, vtkIdTy
   const char* reason = produced < target
     ? "SPBM keeps no vertex inside a patch: even every chain vertex gives fewer; lower PatchAngle, NeighborAngle and "
       "PatchPlaneDistance, or turn AdaptPatchesToTarget on"
+    : self->GetFinalCollapses()
+    ? "every half-edge collapse left would change the topology (Euler characteristic, border loops, non-manifold "
+      "edges or pinch vertices, which stay locked) or turn a triangle by more than 90 degrees: this count is the floor "
+      "for this input's topology and shape"
     : "the patch corners, handles, borders and non-manifold chains SPBM must keep, and the fallback triangulations, "
-      "leave more";
+      "leave more; turn FinalCollapses on";
   slod::ReportTarget(self, output, target, reached, reason);
 }
 } // namespace
@@ -117,6 +123,7 @@ struct vtkPatchBoundaryMerge::Cache
   slod::SpbmLevelParameters LevelParameters(vtkPatchBoundaryMerge* self) const;
   bool GenerateLevel(
     vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
+  void FinishWithCollapses(vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result);
   // The filter's count target (0: none, only an error bound).
   vtkIdType Target(vtkPatchBoundaryMerge* self) const
   {
@@ -372,12 +379,36 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
         return false;
       }
     }
+    else if (self->FinalCollapses)
+    {
+      this->FinishWithCollapses(self, target, result);
+    }
   }
   else if (!this->Generator.Generate(level, result, abort))
   {
     return false;
   }
   return true;
+}
+
+// A count target beyond the patches: the level's own vertices are collapsed (FinalCollapses).
+void vtkPatchBoundaryMerge::Cache::FinishWithCollapses(vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result)
+{
+  slod::SpbmFinalCollapseStatistics statistics;
+  slod::SpbmFinalCollapses(
+    this->Mesh, static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), result, statistics);
+  self->FinalCollapseCount = statistics.Collapses;
+  vtkLogF(TRACE, "[spbm] final collapses: %d -> %zu triangles, %d collapses, %lld checks, %d stages%s",
+    static_cast<int>(statistics.StartTriangles), result.TrianglePatch.size(), static_cast<int>(statistics.Collapses),
+    statistics.Attempts, statistics.Stages, statistics.WorkBoundReached ? ", work bound" : "");
+  for (int status = 1; status < 10; ++status)
+  {
+    if (statistics.Refused[status] > 0)
+    {
+      vtkLogF(TRACE, "[spbm] final collapses refused (%s): %lld",
+        slod::ToString(static_cast<slod::CollapseStatus>(status)), statistics.Refused[status]);
+    }
+  }
 }
 
 // The simplified mesh with patch ids, the profile curves and (optionally) the input colored by patch.
@@ -467,6 +498,7 @@ int vtkPatchBoundaryMerge::RequestData(
   this->UnmergedPatches = 0;
   this->RefinedPatches = 0;
   this->OriginalPatches = 0;
+  this->FinalCollapseCount = 0;
   this->PatchificationTime = 0;
   this->LevelTime = 0;
 
@@ -581,6 +613,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumError: " << this->MaximumError << (this->MaximumErrorIsRelative ? " (relative)" : " (absolute)")
      << "\n";
   os << indent << "GeneratePatchColoredInput: " << this->GeneratePatchColoredInput << "\n";
+  os << indent << "FinalCollapses: " << this->FinalCollapses << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
   os << indent << "NumberOfMergedPatches: " << this->NumberOfMergedPatches << "\n";
   os << indent << "UsedEpsilon: " << this->UsedEpsilon << "\n";
