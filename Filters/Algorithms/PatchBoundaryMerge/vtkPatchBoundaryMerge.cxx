@@ -25,6 +25,7 @@
 #include <numeric>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <thread>
 
 vtkStandardNewMacro(vtkPatchBoundaryMerge);
@@ -65,23 +66,37 @@ slod::Index InconsistentEdges(const slod::TriangleMesh& mesh, const slod::MeshTo
 
 // A count target is reached within 2% either way (at least 2 triangles): the search takes the
 // closest count not above it down to 2% below, fallback triangulations may add a little. With an
-// error bound that stops first, more triangles are the contract's answer.
-void ReportTargetCount(vtkPatchBoundaryMerge* self, vtkPolyData* output, vtkIdType target)
+// error bound that stops first, more triangles are the contract's answer. A miss says why, and
+// above the target with the final collapses on, what the topology alone would allow
+// (slod::TopologicalTriangleFloor of the prepared input): the rest is the link condition around
+// the handles and the normal bound.
+void ReportTargetCount(vtkPatchBoundaryMerge* self, const slod::TriangleMesh& mesh, vtkPolyData* output, vtkIdType target)
 {
   const vtkIdType produced = output->GetNumberOfPolys();
   const vtkIdType tolerance = std::max<vtkIdType>(2, target / 50);
   const bool reached =
     std::abs(produced - target) <= tolerance || (self->GetMaximumError() > 0 && produced > target);
-  const char* reason = produced < target
-    ? "SPBM keeps no vertex inside a patch: even every chain vertex gives fewer; lower PatchAngle, NeighborAngle and "
-      "PatchPlaneDistance, or turn AdaptPatchesToTarget on"
-    : self->GetFinalCollapses()
-    ? "every half-edge collapse left would change the topology (Euler characteristic, border loops, non-manifold "
-      "edges or pinch vertices, which stay locked) or turn a triangle by more than 90 degrees: this count is the floor "
-      "for this input's topology and shape"
-    : "the patch corners, handles, borders and non-manifold chains SPBM must keep, and the fallback triangulations, "
-      "leave more; turn FinalCollapses on";
-  slod::ReportTarget(self, output, target, reached, reason);
+  std::string reason;
+  if (produced < target)
+  {
+    reason = "SPBM keeps no vertex inside a patch: even every chain vertex gives fewer; lower PatchAngle, "
+             "NeighborAngle and PatchPlaneDistance, or turn AdaptPatchesToTarget on";
+  }
+  else if (!self->GetFinalCollapses())
+  {
+    reason = "the patch corners, handles, borders and non-manifold chains SPBM must keep, and the fallback "
+             "triangulations, leave more; turn FinalCollapses on";
+  }
+  else if (!reached)
+  {
+    const slod::MeshStatistics s = slod::ComputeMeshStatistics(mesh);
+    reason = "every half-edge collapse left would change the topology (Euler characteristic " +
+      std::to_string(s.EulerCharacteristic) + ", " + std::to_string(s.BoundaryLoops) +
+      " border loop(s), non-manifold edges and pinch vertices stay) or turn a triangle by more than 90 degrees: this "
+      "count is the floor of the final collapses; the topology alone needs at least about " +
+      std::to_string(slod::TopologicalTriangleFloor(s)) + " triangles";
+  }
+  slod::ReportTarget(self, output, target, reached, reason.c_str());
 }
 } // namespace
 
@@ -587,7 +602,7 @@ int vtkPatchBoundaryMerge::RequestData(
   cache.WriteOutputs(this, input, result, output, curves, colored);
   if (target > 0 && target < mesh.NumberOfTriangles())
   {
-    ReportTargetCount(this, output, target);
+    ReportTargetCount(this, mesh, output, target);
   }
   this->CacheMemory = static_cast<vtkIdType>(cache.MemoryUsage());
   this->LevelTime = std::chrono::duration<double>(Clock::now() - patched).count();
