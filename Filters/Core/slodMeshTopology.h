@@ -132,6 +132,16 @@ SURFACELODFILTERS_EXPORT double MeanAbsoluteCurvature(const TriangleMesh& mesh, 
 
 // Convenience: statistics of a mesh in one call.
 SURFACELODFILTERS_EXPORT MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh);
+
+// The fewest triangles a manifold with the border loops b and Euler characteristic chi of `s` can
+// have when every loop keeps at least three edges on its own vertices: V >= 3b (4 when closed),
+// and closing each loop of k edges with k - 2 triangles gives F >= 2 V - 2 chi - (number of border
+// edges) >= 3b - 2 chi (8 - 2 chi when closed). A floor for topology-keeping simplifiers' targets.
+inline long long TopologicalTriangleFloor(const MeshStatistics& s)
+{
+  const long long b = s.BoundaryLoops, chi = s.EulerCharacteristic;
+  return b > 0 ? 3 * b - 2 * chi : 8 - 2 * chi;
+}
 } // namespace slod
 
 #endif

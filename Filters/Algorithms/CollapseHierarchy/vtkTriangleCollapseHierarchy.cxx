@@ -195,15 +195,13 @@ struct vtkTriangleCollapseHierarchy::Internals
     return parameters;
   }
 
-  // A missed target: the coarsest level, and the fewest triangles a manifold with the input's
-  // border loops b and Euler characteristic chi can have when every loop keeps at least three
-  // edges on its own vertices: V >= 3b (4 when closed), and closing each loop of k edges with
-  // k - 2 triangles gives F >= 2 V - 2 chi - (number of border edges) >= 3b - 2 chi.
+  // A missed target: the coarsest level, and the fewest triangles the input's topology allows
+  // (slod::TopologicalTriangleFloor).
   static std::string WhyNotReached(const slod::CollapseHierarchy& h)
   {
     const slod::MeshStatistics s = slod::ComputeMeshStatistics(h.BaseMesh());
     const long long b = s.BoundaryLoops, chi = s.EulerCharacteristic;
-    const long long fewest = b > 0 ? 3 * b - 2 * chi : 8 - 2 * chi;
+    const long long fewest = slod::TopologicalTriangleFloor(s);
     return "the hierarchy's coarsest level keeps more: further collapses would change the topology or fold a "
            "triangle (keeping " + std::to_string(b) + " border loop(s) and Euler characteristic " +
       std::to_string(chi) + " needs at least about " + std::to_string(fewest) + " triangles)";

@@ -6,6 +6,8 @@
 #include "slodMeshTopology.h"
 #include "slodPatchBoundaryMerge.h"
 #include "slodPatchification.h"
+#include "slodEditableMesh.h"
+#include "slodSpbmFinalCollapses.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -23,6 +25,7 @@
 #include <numeric>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <thread>
 
 vtkStandardNewMacro(vtkPatchBoundaryMerge);
@@ -63,19 +66,37 @@ slod::Index InconsistentEdges(const slod::TriangleMesh& mesh, const slod::MeshTo
 
 // A count target is reached within 2% either way (at least 2 triangles): the search takes the
 // closest count not above it down to 2% below, fallback triangulations may add a little. With an
-// error bound that stops first, more triangles are the contract's answer.
-void ReportTargetCount(vtkPatchBoundaryMerge* self, vtkPolyData* output, vtkIdType target)
+// error bound that stops first, more triangles are the contract's answer. A miss says why, and
+// above the target with the final collapses on, what the topology alone would allow
+// (slod::TopologicalTriangleFloor of the prepared input): the rest is the link condition around
+// the handles and the normal bound.
+void ReportTargetCount(vtkPatchBoundaryMerge* self, const slod::TriangleMesh& mesh, vtkPolyData* output, vtkIdType target)
 {
   const vtkIdType produced = output->GetNumberOfPolys();
   const vtkIdType tolerance = std::max<vtkIdType>(2, target / 50);
   const bool reached =
     std::abs(produced - target) <= tolerance || (self->GetMaximumError() > 0 && produced > target);
-  const char* reason = produced < target
-    ? "SPBM keeps no vertex inside a patch: even every chain vertex gives fewer; lower PatchAngle, NeighborAngle and "
-      "PatchPlaneDistance, or turn AdaptPatchesToTarget on"
-    : "the patch corners, handles, borders and non-manifold chains SPBM must keep, and the fallback triangulations, "
-      "leave more";
-  slod::ReportTarget(self, output, target, reached, reason);
+  std::string reason;
+  if (produced < target)
+  {
+    reason = "SPBM keeps no vertex inside a patch: even every chain vertex gives fewer; lower PatchAngle, "
+             "NeighborAngle and PatchPlaneDistance, or turn AdaptPatchesToTarget on";
+  }
+  else if (!self->GetFinalCollapses())
+  {
+    reason = "the patch corners, handles, borders and non-manifold chains SPBM must keep, and the fallback "
+             "triangulations, leave more; turn FinalCollapses on";
+  }
+  else if (!reached)
+  {
+    const slod::MeshStatistics s = slod::ComputeMeshStatistics(mesh);
+    reason = "every half-edge collapse left would change the topology (Euler characteristic " +
+      std::to_string(s.EulerCharacteristic) + ", " + std::to_string(s.BoundaryLoops) +
+      " border loop(s), non-manifold edges and pinch vertices stay) or turn a triangle by more than 90 degrees: this "
+      "count is the floor of the final collapses; the topology alone needs at least about " +
+      std::to_string(slod::TopologicalTriangleFloor(s)) + " triangles";
+  }
+  slod::ReportTarget(self, output, target, reached, reason.c_str());
 }
 } // namespace
 
@@ -117,6 +138,7 @@ struct vtkPatchBoundaryMerge::Cache
   slod::SpbmLevelParameters LevelParameters(vtkPatchBoundaryMerge* self) const;
   bool GenerateLevel(
     vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
+  void FinishWithCollapses(vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result);
   // The filter's count target (0: none, only an error bound).
   vtkIdType Target(vtkPatchBoundaryMerge* self) const
   {
@@ -372,12 +394,36 @@ bool vtkPatchBoundaryMerge::Cache::GenerateLevel(
         return false;
       }
     }
+    else if (self->FinalCollapses)
+    {
+      this->FinishWithCollapses(self, target, result);
+    }
   }
   else if (!this->Generator.Generate(level, result, abort))
   {
     return false;
   }
   return true;
+}
+
+// A count target beyond the patches: the level's own vertices are collapsed (FinalCollapses).
+void vtkPatchBoundaryMerge::Cache::FinishWithCollapses(vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result)
+{
+  slod::SpbmFinalCollapseStatistics statistics;
+  slod::SpbmFinalCollapses(
+    this->Mesh, static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)), result, statistics);
+  self->FinalCollapseCount = statistics.Collapses;
+  vtkLogF(TRACE, "[spbm] final collapses: %d -> %zu triangles, %d collapses, %lld checks, %d stages%s",
+    static_cast<int>(statistics.StartTriangles), result.TrianglePatch.size(), static_cast<int>(statistics.Collapses),
+    statistics.Attempts, statistics.Stages, statistics.WorkBoundReached ? ", work bound" : "");
+  for (int status = 1; status < 10; ++status)
+  {
+    if (statistics.Refused[status] > 0)
+    {
+      vtkLogF(TRACE, "[spbm] final collapses refused (%s): %lld",
+        slod::ToString(static_cast<slod::CollapseStatus>(status)), statistics.Refused[status]);
+    }
+  }
 }
 
 // The simplified mesh with patch ids, the profile curves and (optionally) the input colored by patch.
@@ -467,6 +513,7 @@ int vtkPatchBoundaryMerge::RequestData(
   this->UnmergedPatches = 0;
   this->RefinedPatches = 0;
   this->OriginalPatches = 0;
+  this->FinalCollapseCount = 0;
   this->PatchificationTime = 0;
   this->LevelTime = 0;
 
@@ -555,7 +602,7 @@ int vtkPatchBoundaryMerge::RequestData(
   cache.WriteOutputs(this, input, result, output, curves, colored);
   if (target > 0 && target < mesh.NumberOfTriangles())
   {
-    ReportTargetCount(this, output, target);
+    ReportTargetCount(this, mesh, output, target);
   }
   this->CacheMemory = static_cast<vtkIdType>(cache.MemoryUsage());
   this->LevelTime = std::chrono::duration<double>(Clock::now() - patched).count();
@@ -581,6 +628,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumError: " << this->MaximumError << (this->MaximumErrorIsRelative ? " (relative)" : " (absolute)")
      << "\n";
   os << indent << "GeneratePatchColoredInput: " << this->GeneratePatchColoredInput << "\n";
+  os << indent << "FinalCollapses: " << this->FinalCollapses << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
   os << indent << "NumberOfMergedPatches: " << this->NumberOfMergedPatches << "\n";
   os << indent << "UsedEpsilon: " << this->UsedEpsilon << "\n";

@@ -166,6 +166,22 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Extension (issue 15, not in the paper): when a count target is beyond what the patches reach
+   * (rough scans: the removal turns most patches into triangles, which cannot lose a corner), the
+   * level is finished by half-edge collapses onto its own vertices (output vertices stay input
+   * vertices), cheapest first by the quadric of the level's and the input's planes, each keeping
+   * the topology (link condition; non-manifold and pinch vertices locked, border vertices only
+   * along their border) and turning no triangle by more than 60 degrees, then 90. Triangles keep
+   * their PatchId, the profile curves follow the collapses. Default on; off = SPBM's level alone
+   * (the target may then stay unreached). FinalCollapseCount is the number performed.
+   */
+  vtkSetMacro(FinalCollapses, bool);
+  vtkGetMacro(FinalCollapses, bool);
+  vtkBooleanMacro(FinalCollapses, bool);
+  ///@}
+
+  ///@{
   /// Fill output port 2 with the input coloured by patch (default off).
   vtkSetMacro(GeneratePatchColoredInput, bool);
   vtkGetMacro(GeneratePatchColoredInput, bool);
@@ -187,6 +203,7 @@ public:
   vtkGetMacro(UnmergedPatches, vtkIdType);
   vtkGetMacro(RefinedPatches, vtkIdType);
   vtkGetMacro(OriginalPatches, vtkIdType);
+  vtkGetMacro(FinalCollapseCount, vtkIdType);     // FinalCollapses performed
   vtkGetMacro(PatchificationReused, bool);        // the cache was hit
   vtkGetMacro(PatchificationTime, double);        // seconds (input preparation + patches + hierarchy)
   vtkGetMacro(LevelTime, double);                 // seconds (search + level generation + output)
@@ -215,6 +232,7 @@ protected:
   double ChainInPlaneWeight = 0.42;
   bool MinimumDeviationTriangulation = true;
   bool GeneratePatchColoredInput = false;
+  bool FinalCollapses = true;
 
   vtkIdType NumberOfPatches = 0;
   vtkIdType NumberOfChains = 0;
@@ -224,6 +242,7 @@ protected:
   vtkIdType UnmergedPatches = 0;
   vtkIdType RefinedPatches = 0;
   vtkIdType OriginalPatches = 0;
+  vtkIdType FinalCollapseCount = 0;
   bool PatchificationReused = false;
   double PatchificationTime = 0.0;
   double LevelTime = 0.0;

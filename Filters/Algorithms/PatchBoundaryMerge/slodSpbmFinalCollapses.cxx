@@ -1,0 +1,338 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "slodSpbmFinalCollapses.h"
+
+#include "slodEditableMesh.h"
+#include "slodIndexedHeap.h"
+#include "slodMeshTopology.h"
+#include "slodQuadric.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace slod
+{
+namespace
+{
+// The normal-turn bounds of the stages (cosines): the first keeps the level's shape where it can,
+// the second lets the rough parts of a scan fold further before the target is given up.
+constexpr double StageNormalDots[] = { 0.5, 0.0 };
+// Planes through the border edges weigh this times the squared edge length: a border vertex moves
+// along its border only, and only where the border is straight.
+constexpr double BorderPlaneWeight = 4.0;
+// Work bound: queue pops per stage at most this times the level's vertices (each pop either
+// collapses, and then requeues the ring, or drops the vertex until a neighbour collapses).
+constexpr long long PopsPerVertex = 32;
+
+class FinalCollapser
+{
+public:
+  FinalCollapser(const TriangleMesh& input, const SpbmLevel& level);
+  // One stage with the given normal bound; returns false when its work bound stopped it.
+  bool RunStage(double minimumNormalDot, Index target, SpbmFinalCollapseStatistics& statistics);
+  Index LiveTriangles() const { return this->Mesh.NumberOfLiveTriangles(); }
+  void WriteBack(SpbmLevel& level) const;
+
+private:
+  void AddPlanes(const TriangleMesh& input, const std::vector<Index>& triangles, const std::vector<unsigned char>* only);
+  void AddBorderPlanes(const TriangleMesh& levelMesh, const MeshTopology& topology);
+  // The cheapest allowed target of u and its cost (InvalidIndex: none).
+  std::pair<Index, double> Cheapest(Index u);
+  void Requeue(Index u);
+  bool Allowed(Index u, Index v) const;
+  double Cost(Index u, Index v) const { return (this->Quadrics[u] + this->Quadrics[v]).Evaluate(this->Mesh.Point(v)); }
+  bool TryCollapse(Index u, SpbmFinalCollapseStatistics& statistics);
+  Index Resolve(Index v) const;
+
+  EditableMesh Mesh;
+  std::vector<Quadric> Quadrics;
+  std::vector<unsigned char> Border, Locked;
+  std::vector<Index> WentTo; // per vertex: the vertex it was collapsed into (InvalidIndex: alive)
+  IndexedHeap<double> Queue;
+  CollapseOptions Options;
+  std::vector<Index> Ring, Scratch;
+  std::vector<std::pair<double, Index>> Candidates;
+};
+
+FinalCollapser::FinalCollapser(const TriangleMesh& input, const SpbmLevel& level)
+{
+  TriangleMesh levelMesh;
+  levelMesh.Points = input.Points;
+  levelMesh.Triangles = level.Triangles;
+  const MeshTopology topology(levelMesh);
+  const Index n = levelMesh.NumberOfPoints();
+  this->Border.assign(size_t(n), 0);
+  this->Locked.assign(size_t(n), 0);
+  std::vector<unsigned char> used(size_t(n), 0);
+  for (Index v = 0; v < n; ++v)
+  {
+    used[v] = topology.VertexDegree(v) > 0;
+    this->Border[v] = topology.IsBoundaryVertex(v);
+    // The link condition assumes one fan per vertex: non-manifold edges and pinch vertices stay.
+    this->Locked[v] = topology.IsNonManifoldVertex(v);
+  }
+  this->Quadrics.assign(size_t(n), Quadric());
+  this->AddPlanes(levelMesh, level.Triangles, nullptr);
+  // The input's own planes at the kept vertices: the level's flat patches alone would call a
+  // collapse free that moves the surface away from the input under them.
+  this->AddPlanes(input, input.Triangles, &used);
+  this->AddBorderPlanes(levelMesh, topology);
+  this->WentTo.assign(size_t(n), InvalidIndex);
+  this->Mesh.Reset(levelMesh);
+  this->Options.AllowTopologyChange = false;
+  this->Options.BoundaryVertices = this->Border.data();
+  this->Options.LockedVertices = this->Locked.data();
+  this->Options.GeometryFirst = true;
+}
+
+void FinalCollapser::AddPlanes(
+  const TriangleMesh& mesh, const std::vector<Index>& triangles, const std::vector<unsigned char>* only)
+{
+  for (size_t t = 0; t + 2 < triangles.size(); t += 3)
+  {
+    const Index* tri = &triangles[t];
+    const Vec3 p0 = mesh.Point(tri[0]);
+    const Vec3 normal = Cross(mesh.Point(tri[1]) - p0, mesh.Point(tri[2]) - p0);
+    const double length = Norm(normal);
+    if (!(length > 0))
+    {
+      continue;
+    }
+    const Quadric q = Quadric::FromPointNormal(p0, (1.0 / length) * normal, 0.5 * length);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (!only || (*only)[tri[k]])
+      {
+        this->Quadrics[tri[k]] += q;
+      }
+    }
+  }
+}
+
+void FinalCollapser::AddBorderPlanes(const TriangleMesh& levelMesh, const MeshTopology& topology)
+{
+  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
+  {
+    if (!topology.IsBoundaryEdge(e))
+    {
+      continue;
+    }
+    const Index a = topology.EdgeVertex(e, 0), b = topology.EdgeVertex(e, 1);
+    const Index* tri = levelMesh.Triangle(*topology.EdgeTrianglesBegin(e));
+    const Vec3 p0 = levelMesh.Point(tri[0]);
+    const Vec3 normal = Cross(levelMesh.Point(tri[1]) - p0, levelMesh.Point(tri[2]) - p0);
+    const Vec3 edge = levelMesh.Point(b) - levelMesh.Point(a);
+    const Vec3 side = Normalized(Cross(edge, normal));
+    const Quadric q = Quadric::FromPointNormal(levelMesh.Point(a), side, BorderPlaneWeight * Dot(edge, edge));
+    this->Quadrics[a] += q;
+    this->Quadrics[b] += q;
+  }
+}
+
+// A border vertex goes only along one of its border edges (its loop keeps its course); a locked
+// vertex neither goes nor receives (CheckCollapse would refuse the set anyway).
+bool FinalCollapser::Allowed(Index u, Index v) const
+{
+  if (this->Locked[u] || this->Locked[v])
+  {
+    return false;
+  }
+  return !this->Border[u] || this->Mesh.EdgeTriangleCount(u, v) == 1;
+}
+
+std::pair<Index, double> FinalCollapser::Cheapest(Index u)
+{
+  std::pair<Index, double> best(InvalidIndex, 0.0);
+  if (this->Locked[u] || !this->Mesh.IsVertexAlive(u))
+  {
+    return best;
+  }
+  this->Mesh.Neighbors(u, this->Ring);
+  for (const Index v : this->Ring)
+  {
+    if (!this->Allowed(u, v))
+    {
+      continue;
+    }
+    const double cost = this->Cost(u, v);
+    if (best.first == InvalidIndex || cost < best.second || (cost == best.second && v < best.first))
+    {
+      best = { v, cost };
+    }
+  }
+  return best;
+}
+
+void FinalCollapser::Requeue(Index u)
+{
+  const std::pair<Index, double> best = this->Cheapest(u);
+  if (best.first == InvalidIndex)
+  {
+    this->Queue.Remove(u);
+  }
+  else
+  {
+    this->Queue.Set(u, best.second);
+  }
+}
+
+// The allowed targets of u cheapest first; the first that keeps the topology and the normals wins.
+bool FinalCollapser::TryCollapse(Index u, SpbmFinalCollapseStatistics& statistics)
+{
+  this->Candidates.clear();
+  this->Mesh.Neighbors(u, this->Ring);
+  for (const Index v : this->Ring)
+  {
+    if (this->Allowed(u, v))
+    {
+      this->Candidates.emplace_back(this->Cost(u, v), v);
+    }
+  }
+  std::sort(this->Candidates.begin(), this->Candidates.end());
+  for (const std::pair<double, Index>& candidate : this->Candidates)
+  {
+    const Index v = candidate.second;
+    const Index pair[2] = { u, v };
+    ++statistics.Attempts;
+    const CollapseStatus status = this->Mesh.CheckCollapse(pair, 2, this->Mesh.Point(v), this->Options, this->Scratch);
+    if (status != CollapseStatus::Ok)
+    {
+      ++statistics.Refused[static_cast<int>(status)];
+      continue;
+    }
+    this->Mesh.Collapse(pair, 2, v, this->Mesh.Point(v), this->Scratch, nullptr);
+    this->Quadrics[v] += this->Quadrics[u];
+    this->WentTo[u] = v;
+    ++statistics.Collapses;
+    // Every former neighbour of u is now a neighbour of v, and only v's quadric changed: the
+    // costs that moved are those of v and its ring.
+    this->Mesh.Neighbors(v, this->Ring);
+    const std::vector<Index> ring = this->Ring;
+    this->Requeue(v);
+    for (const Index w : ring)
+    {
+      this->Requeue(w);
+    }
+    return true;
+  }
+  return false;
+}
+
+bool FinalCollapser::RunStage(double minimumNormalDot, Index target, SpbmFinalCollapseStatistics& statistics)
+{
+  this->Options.MinimumNormalDot = minimumNormalDot;
+  const Index n = this->Mesh.NumberOfPoints();
+  this->Queue.Reset(n);
+  for (Index v = 0; v < n; ++v)
+  {
+    this->Requeue(v);
+  }
+  const long long maximumPops = PopsPerVertex * (static_cast<long long>(this->Mesh.NumberOfLiveVertices()) + 1);
+  long long pops = 0;
+  while (this->Mesh.NumberOfLiveTriangles() > target && !this->Queue.Empty())
+  {
+    if (++pops > maximumPops)
+    {
+      return false;
+    }
+    // Out of the queue either way: collapsed, or refused until a collapse next to it changes
+    // its ring (TryCollapse requeues the ring).
+    this->TryCollapse(this->Queue.Pop(), statistics);
+  }
+  return true;
+}
+
+Index FinalCollapser::Resolve(Index v) const
+{
+  // Each step follows one collapse, so the walk is bounded by their number.
+  while (this->WentTo[v] != InvalidIndex)
+  {
+    v = this->WentTo[v];
+  }
+  return v;
+}
+
+void FinalCollapser::WriteBack(SpbmLevel& level) const
+{
+  // Triangles in their old order with their merged patch; patch ids renumbered densely.
+  std::vector<Index> newPatch(size_t(level.NumberOfPatches), InvalidIndex);
+  std::vector<Index> triangles, patches;
+  for (Index t = 0; t < this->Mesh.NumberOfTriangles(); ++t)
+  {
+    if (this->Mesh.IsTriangleAlive(t))
+    {
+      const Index* tri = this->Mesh.Triangle(t);
+      triangles.insert(triangles.end(), tri, tri + 3);
+      patches.push_back(level.TrianglePatch[t]);
+      newPatch[level.TrianglePatch[t]] = 0;
+    }
+  }
+  Index patchCount = 0;
+  for (Index& p : newPatch)
+  {
+    p = p == InvalidIndex ? InvalidIndex : patchCount++;
+  }
+  for (Index& p : patches)
+  {
+    p = newPatch[p];
+  }
+  for (Index& p : level.MergedPatchOf)
+  {
+    p = p == InvalidIndex ? InvalidIndex : newPatch[p];
+  }
+  level.Triangles = std::move(triangles);
+  level.TrianglePatch = std::move(patches);
+  level.NumberOfPatches = patchCount;
+  // Profile curves: a removed vertex becomes the one it went to (its edges did), repeats dropped.
+  std::vector<Index> offsets(1, 0), vertices;
+  for (size_t c = 0; c + 1 < level.CurveOffsets.size(); ++c)
+  {
+    const size_t start = vertices.size();
+    for (Index i = level.CurveOffsets[c]; i < level.CurveOffsets[c + 1]; ++i)
+    {
+      const Index v = this->Resolve(level.CurveVertices[i]);
+      if (vertices.size() == start || vertices.back() != v)
+      {
+        vertices.push_back(v);
+      }
+    }
+    if (vertices.size() - start < 2)
+    {
+      vertices.resize(start);
+      continue;
+    }
+    offsets.push_back(static_cast<Index>(vertices.size()));
+  }
+  level.CurveOffsets = std::move(offsets);
+  level.CurveVertices = std::move(vertices);
+}
+} // namespace
+
+void SpbmFinalCollapses(
+  const TriangleMesh& mesh, Index target, SpbmLevel& level, SpbmFinalCollapseStatistics& statistics)
+{
+  statistics = SpbmFinalCollapseStatistics();
+  statistics.StartTriangles = static_cast<Index>(level.TrianglePatch.size());
+  const Index tolerance = std::max<Index>(2, target / 50);
+  if (target <= 0 || statistics.StartTriangles <= target + tolerance)
+  {
+    statistics.Reached = statistics.StartTriangles <= target + tolerance;
+    return;
+  }
+  FinalCollapser collapser(mesh, level);
+  for (const double normalDot : StageNormalDots)
+  {
+    ++statistics.Stages;
+    if (!collapser.RunStage(normalDot, target, statistics))
+    {
+      statistics.WorkBoundReached = true;
+    }
+    if (collapser.LiveTriangles() <= target)
+    {
+      break;
+    }
+  }
+  statistics.Reached = collapser.LiveTriangles() <= target + tolerance;
+  collapser.WriteBack(level);
+}
+} // namespace slod
