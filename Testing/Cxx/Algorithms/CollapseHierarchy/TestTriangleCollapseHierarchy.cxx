@@ -1111,6 +1111,53 @@ TEST(CollapseHierarchy, WorkingDataIsReleasedAndTheAccountingAddsUp)
   }
 }
 
+// The build's working data shrink with the mesh (CompactRows, CompactQuadrics): after every level
+// the edge costs (a fixed number of bytes per triangle row) and the quadrics (per vertex row) hold
+// at most 8/7 rows per live triangle and vertex, not one per input triangle and vertex as before,
+// so that they no longer add to the hierarchy at the end of the build, where it is largest.
+TEST(CollapseHierarchy, WorkingDataShrinkWithTheMesh)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(50);
+  source->Update();
+  const TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  const auto share = [](const std::vector<CollapseHierarchy::StorageShare>& storage, const std::string& name) {
+    for (const CollapseHierarchy::StorageShare& s : storage)
+    {
+      if (name == s.Name)
+      {
+        return double(s.Bytes);
+      }
+    }
+    ADD_FAILURE() << "no storage share " << name;
+    return 0.0;
+  };
+  CollapseHierarchy h;
+  double edgeCostsPerTriangle = 0, fullQuadrics = 0;
+  int levelsSeen = 0;
+  ASSERT_TRUE(h.Build(scan, DefaultParameters(), [&](double) {
+    const std::vector<CollapseHierarchy::StorageShare> storage = h.Storage();
+    const double edgeCosts = share(storage, "edge costs"), quadrics = share(storage, "quadrics");
+    if (h.NumberOfLevels() == 1)
+    {
+      edgeCostsPerTriangle = edgeCosts / scan.NumberOfTriangles(); // M0's evaluation: every row
+      fullQuadrics = quadrics;
+      return true;
+    }
+    ++levelsSeen;
+    const double live = h.LevelTriangleCount(h.NumberOfLevels() - 1);
+    EXPECT_LE(edgeCosts, edgeCostsPerTriangle * (8.0 / 7.0 * live + 1)) << "level " << h.NumberOfLevels() - 1;
+    // A closed surface of genus g has about half as many vertices as triangles.
+    EXPECT_LE(quadrics, fullQuadrics * (8.0 / 7.0 * live / scan.NumberOfTriangles() + 0.1))
+      << "level " << h.NumberOfLevels() - 1;
+    return true;
+  }));
+  EXPECT_GT(edgeCostsPerTriangle, 0);
+  EXPECT_GT(levelsSeen, 20);
+  EXPECT_LT(h.LevelTriangleCount(h.NumberOfLevels() - 1), scan.NumberOfTriangles() / 10);
+}
+
 // Zero-area triangles, as T-junction repairs leave them: a vertex m inserted in edge (a, b) splits
 // the triangle on one side and fills the other side's gap with the triangle (a, m, b). Such a
 // triangle has no plane of its own (its stencil's stands in for its normal, kept apart from the
