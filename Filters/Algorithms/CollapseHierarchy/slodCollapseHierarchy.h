@@ -414,7 +414,8 @@ private:
 
   // The per-triangle working data (evaluations, paper's terms, edge costs, blocked stamps, current
   // versions, the level state's marks) are indexed by row, not by M0 slot: when the live triangles
-  // fall below seven eighths of the rows, CompactRows renumbers the live ones in slot order and
+  // fall below 7/8 of the rows (1/2 once the rows are under a quarter of the slots), CompactRows
+  // renumbers the live ones in slot order and
   // gives the dead ones' rows back. The working data then shrink with the mesh while the
   // hierarchy grows (both at full size made the end of the build its peak).
   std::vector<Index> RowOf; // M0 slot -> row; -1: dead at the last compaction
