@@ -11,9 +11,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <type_traits>
 #include <numeric>
 #include <utility>
+
+#if defined(__linux__)
+#include <sys/mman.h> // madvise: CompactRows gives the pages of the freed rows back
+#include <unistd.h>
+#endif
 
 namespace slod
 {
@@ -24,6 +30,79 @@ constexpr Index MaximumFitPoints = 64;
 // Far above the valences collapses leave on ordinary meshes (about 3 to 20); a fan's centre or a
 // cone's apex has thousands.
 constexpr Index HubValence = 64;
+
+// Gives the pages of values' room beyond its size back to the system without moving it.
+// shrink_to_fit copies: the copy and the old array at once were the peak of the build, and the
+// old one, when on the heap below newer blocks, stayed resident after it was freed (glibc only
+// returns the heap's top). The contents beyond the size are not needed (a later growth writes
+// them); on Linux the pages read as zero if touched again.
+template <typename T>
+void ReleaseRoomBeyondSize(std::vector<T>& values)
+{
+#if defined(__linux__)
+  const std::uintptr_t page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(values.data() + values.size()) + page - 1) & ~(page - 1);
+  const std::uintptr_t end = reinterpret_cast<std::uintptr_t>(values.data() + values.capacity()) & ~(page - 1);
+  if (end > begin)
+  {
+    madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+  }
+#else
+  values.shrink_to_fit();
+#endif
+}
+
+// Keeps rows oldRows[0], oldRows[1], ... (increasing) of values as rows 0, 1, ... (perRow
+// elements each) and gives the rest back: in place, since a row only moves down.
+template <typename T>
+void KeepRows(std::vector<T>& values, const std::vector<Index>& oldRows, size_t perRow)
+{
+  if (values.empty())
+  {
+    return; // (not allocated: a rule set or the edge costs were not used)
+  }
+  for (size_t r = 0; r < oldRows.size(); ++r)
+  {
+    std::copy_n(values.begin() + perRow * size_t(oldRows[r]), perRow, values.begin() + perRow * r);
+  }
+  values.resize(perRow * oldRows.size());
+  ReleaseRoomBeyondSize(values);
+}
+
+// The live elements i (alive(i)) get the rows 0, 1, ... in index order in rowOf, the others -1;
+// returns the old row of each kept one (increasing: rows keep the index order), for KeepRows.
+template <typename Alive>
+std::vector<Index> RenumberLiveRows(std::vector<Index>& rowOf, Index live, Alive&& alive)
+{
+  std::vector<Index> oldRows;
+  oldRows.reserve(size_t(live));
+  for (size_t i = 0; i < rowOf.size(); ++i)
+  {
+    if (rowOf[i] < 0)
+    {
+      continue; // dead at an earlier compaction (nothing dead comes back: swaps reuse their slots)
+    }
+    if (alive(static_cast<Index>(i)))
+    {
+      oldRows.push_back(rowOf[i]);
+      rowOf[i] = static_cast<Index>(oldRows.size() - 1);
+    }
+    else
+    {
+      rowOf[i] = InvalidIndex;
+    }
+  }
+  return oldRows;
+}
+
+// Whether compacting rows rows down to live pays: at 7/8 while the rows are more than a quarter of
+// all (the working data are then large, and their peak is early in the build), at half below
+// (each compaction scans every slot: on refined_elephant's whole build 7/8 throughout cost 3% of
+// the instructions).
+bool WorthCompacting(size_t live, size_t rows, size_t all)
+{
+  return 4 * rows > all ? 8 * live < 7 * rows : 2 * live < rows;
+}
 
 // A triangle at its weight in a level's priority order, ordered as the pair (weight, triangle)
 // but packed in 12 bytes instead of 16 (the order holds every live triangle).
@@ -360,9 +439,9 @@ bool CollapseHierarchy::PreferringEdges() const
 
 Quadric CollapseHierarchy::TriangleQuadric(const Index* tri) const
 {
-  Quadric q = this->Quadrics[tri[0]];
-  q += this->Quadrics[tri[1]];
-  q += this->Quadrics[tri[2]];
+  Quadric q = this->QuadricOf(tri[0]);
+  q += this->QuadricOf(tri[1]);
+  q += this->QuadricOf(tri[2]);
   return q;
 }
 
@@ -639,7 +718,7 @@ double CollapseHierarchy::CheapestEdgeError(Index t, EdgeChoice& choice) const
     {
       continue;
     }
-    const size_t slot = 3 * size_t(t) + k;
+    const size_t slot = 3 * this->Row(t) + k;
     EdgeCost cost;
     if (this->EdgeCostStates.empty())
     {
@@ -739,7 +818,7 @@ void CollapseHierarchy::PriceSpokesOf(Index v, bool allVertices) const
     {
       return;
     }
-    const size_t out = 3 * size_t(x) + c, in = 3 * size_t(x) + (c + 2) % 3;
+    const size_t out = 3 * this->Row(x) + c, in = 3 * this->Row(x) + (c + 2) % 3;
     if (this->EdgeCostStates[out] == UnknownEdgeCost && !otherPrices(next))
     {
       leaving[nl++] = { next, out };
@@ -818,7 +897,7 @@ void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
     {
       if (q[k] == v || q[(k + 1) % 3] == v)
       {
-        this->EdgeCostStates[3 * size_t(x) + k] = UnknownEdgeCost;
+        this->EdgeCostStates[3 * this->Row(x) + k] = UnknownEdgeCost;
       }
     }
   });
@@ -826,8 +905,8 @@ void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
 
 int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const
 {
-  Quadric q = this->Quadrics[u];
-  q += this->Quadrics[v];
+  Quadric q = this->QuadricOf(u);
+  q += this->QuadricOf(v);
   const Vec3 pu = this->Mesh.Point(u), pv = this->Mesh.Point(v);
   const Index uv[2] = { u, v };
   int n = 0;
@@ -875,7 +954,7 @@ double CollapseHierarchy::CollapseError(const Index* vertices, int count, const 
     double worst = 0;
     for (int k = 0; k < count; ++k)
     {
-      const Quadric& own = this->Quadrics[vertices[k]];
+      const Quadric& own = this->QuadricOf(vertices[k]);
       const double weight = own.Axx + own.Ayy + own.Azz; // sum of the plane weights (unit normals)
       if (weight > 0)
       {
@@ -896,11 +975,12 @@ double CollapseHierarchy::PaperTerm(double kappa, double alpha, int valence, dou
   return area * term / (this->WeightSum * this->MeanArea);
 }
 
-double CollapseHierarchy::WeightOf(const StoredEvaluation& e) const
+double CollapseHierarchy::WeightOf(Index t, const StoredEvaluation& e) const
 {
   const CollapseHierarchyParameters& p = this->Parameters;
   const double error = (e.PreferEdge ? e.EdgeError : e.Error) / (this->MeanArea * this->MeanArea);
-  return (1 - p.ErrorWeight) * e.Paper + p.ErrorWeight * error;
+  const double paper = this->PaperTerms.empty() ? 0.0 : this->PaperTerms[this->Row(t)];
+  return (1 - p.ErrorWeight) * paper + p.ErrorWeight * error;
 }
 
 // T's unit normal from its vertices (the normal of an evaluation's frame, when T has a plane).
@@ -915,7 +995,7 @@ Vec3 CollapseHierarchy::OwnNormal(Index t) const
 // The normal of T's last evaluation.
 Vec3 CollapseHierarchy::NormalOf(Index t) const
 {
-  switch (this->Evaluations[t].Normal)
+  switch (this->Evaluations[this->Row(t)].Normal)
   {
     case NormalSource::Own:
       return this->OwnNormal(t);
@@ -930,10 +1010,13 @@ Vec3 CollapseHierarchy::NormalOf(Index t) const
 // compared bit for bit, so that the one read back is the same).
 void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
 {
-  StoredEvaluation& s = this->Evaluations[t];
+  StoredEvaluation& s = this->Evaluations[this->Row(t)];
   const bool wasStored = s.Normal == NormalSource::Stored;
   s.Point = e.Point;
-  s.Paper = this->PaperTerm(e.Kappa, e.Alpha, e.Valence, e.Area);
+  if (!this->PaperTerms.empty())
+  {
+    this->PaperTerms[this->Row(t)] = this->PaperTerm(e.Kappa, e.Alpha, e.Valence, e.Area);
+  }
   s.Error = e.Error;
   s.EdgeError = e.EdgeError;
   s.PreferEdge = e.PreferEdge;
@@ -996,7 +1079,7 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   collapse.Point = this->NumberOfVertices();
   collapse.Level = level;
   collapse.Triangle = t;
-  collapse.Weight = this->Weights[t];
+  collapse.Weight = this->Evaluations[this->Row(t)].Weight;
   this->CollapsePoints.insert(this->CollapsePoints.end(), p.begin(), p.end());
 
   m.Collapse(vertices, count, kept, p, &this->Record);
@@ -1008,7 +1091,7 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   {
     for (int i = 1; i < count; ++i)
     {
-      this->Quadrics[kept] += this->Quadrics[vertices[i]];
+      this->QuadricOf(kept) += this->QuadricOf(vertices[i]);
     }
   }
   this->Collapses.push_back(collapse);
@@ -1037,10 +1120,10 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   // Triangle versions: removed ones end, the ones around the moved vertex start anew.
   for (Index r : this->Record.RemovedTriangles)
   {
-    this->EntryDeath[this->EntryOf[r]] = k + 1;
+    this->EntryDeath[this->EntryOf[this->Row(r)]] = k + 1;
   }
   m.ForEachTriangle(kept, [&](Index x) {
-    this->EntryDeath[this->EntryOf[x]] = k + 1;
+    this->EntryDeath[this->EntryOf[this->Row(x)]] = k + 1;
     const Index* q = m.Triangle(x);
     this->AppendEntry(x, q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
   });
@@ -1100,11 +1183,11 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   }
   for (Index t : flip.Triangles)
   {
-    this->EntryDeath[this->EntryOf[t]] = k;
+    this->EntryDeath[this->EntryOf[this->Row(t)]] = k;
     this->AppendEntry(t, AllCorners);
     if (!this->EdgeCostStates.empty())
     {
-      std::fill_n(this->EdgeCostStates.begin() + 3 * t, 3, UnknownEdgeCost); // new corners
+      std::fill_n(this->EdgeCostStates.begin() + 3 * this->Row(t), 3, UnknownEdgeCost); // new corners
     }
   }
   this->Records.AppendFlip(flip);
@@ -1114,7 +1197,7 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
 // its corner `corner` is the last collapse's point, or (AllCorners) its three vertices are stored.
 void CollapseHierarchy::AppendEntry(Index x, std::uint32_t corner)
 {
-  this->EntryOf[x] = this->NumberOfEntries();
+  this->EntryOf[this->Row(x)] = this->NumberOfEntries();
   if (corner == AllCorners)
   {
     const Index* q = this->Mesh.Triangle(x);
@@ -1209,7 +1292,7 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
 // current mean area (not the initial one's guess).
 bool CollapseHierarchy::KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const
 {
-  const StoredEvaluation& e = this->Evaluations[t];
+  const StoredEvaluation& e = this->Evaluations[this->Row(t)];
   const Index* tri = this->Mesh.Triangle(t);
   if (e.CheapestEdge.Edge < 0 || e.CheapestEdge.Fixed != this->FixedMask(tri))
   {
@@ -1217,8 +1300,8 @@ bool CollapseHierarchy::KnownCheapestEdge(Index t, int& edge, Vec3& point, doubl
   }
   const int k = e.CheapestEdge.Edge;
   const Index uv[2] = { tri[k], tri[(k + 1) % 3] };
-  Quadric q = this->Quadrics[uv[0]];
-  q += this->Quadrics[uv[1]];
+  Quadric q = this->QuadricOf(uv[0]);
+  q += this->QuadricOf(uv[1]);
   const Vec3 pu = this->Mesh.Point(uv[0]), pv = this->Mesh.Point(uv[1]);
   if (e.CheapestEdge.Kind == 0)
   {
@@ -1376,6 +1459,8 @@ bool CollapseHierarchy::Build(
     {
       break;
     }
+    this->CompactRows(state);
+    this->CompactQuadrics();
     if (progress)
     {
       const double done = double(nt - this->Mesh.NumberOfLiveTriangles()) / (0.95 * nt);
@@ -1389,6 +1474,51 @@ bool CollapseHierarchy::Build(
   return true;
 }
 
+// Called between levels. The rows of the live triangles keep their slot order, so each array is
+// compacted in place (a row only moves down) and the pages of its freed rows are given back
+// without a copy (ReleaseRoomBeyondSize).
+// A compaction costs a pass over the slots and the rows (WorthCompacting: at most one per eighth of
+// the rows removed while they are many; a quarter gave a first level 7% above the start on mc1m,
+// the hierarchy growing while the working data were still whole).
+void CollapseHierarchy::CompactRows(LevelState& state)
+{
+  const Index live = this->Mesh.NumberOfLiveTriangles();
+  if (!WorthCompacting(size_t(live), size_t(this->Rows), this->RowOf.size()))
+  {
+    return;
+  }
+  const std::vector<Index> oldRows =
+    RenumberLiveRows(this->RowOf, live, [&](Index t) { return this->Mesh.IsTriangleAlive(t); });
+  for (auto i = this->OtherNormals.begin(); i != this->OtherNormals.end();)
+  {
+    i = this->RowOf[i->first] < 0 ? this->OtherNormals.erase(i) : std::next(i);
+  }
+  KeepRows(state.AffectedMark, oldRows, 1);
+  KeepRows(state.RegionLevel, oldRows, 1);
+  KeepRows(this->EntryOf, oldRows, 1);
+  KeepRows(this->BlockedStrict, oldRows, 1);
+  KeepRows(this->BlockedRelaxed, oldRows, 1);
+  KeepRows(this->BlockedEdge, oldRows, 1);
+  KeepRows(this->EdgeCostStates, oldRows, 3);
+  KeepRows(this->PaperTerms, oldRows, 1);
+  KeepRows(this->EdgeCostErrors, oldRows, 3);
+  KeepRows(this->Evaluations, oldRows, 1);
+  this->Rows = live;
+}
+
+// The quadrics of the live vertices, compacted as CompactRows does the triangles' working data
+// (80 bytes per input vertex at full size).
+void CollapseHierarchy::CompactQuadrics()
+{
+  const Index live = this->Mesh.NumberOfLiveVertices();
+  if (!WorthCompacting(size_t(live), this->Quadrics.size(), this->QuadricRowOf.size()))
+  {
+    return;
+  }
+  KeepRows(this->Quadrics,
+    RenumberLiveRows(this->QuadricRowOf, live, [&](Index v) { return this->Mesh.IsVertexAlive(v); }), 1);
+}
+
 // What only the build reads (evaluations, quadrics, costs, stamps, ancestors, scratch): the
 // levels, blends, cuts and vertex splits read the versions, the collapses, the records, M0 and the
 // coarsest mesh. Freed before the levels are handed out (a copy of each) and while a filter keeps
@@ -1399,12 +1529,14 @@ void CollapseHierarchy::ReleaseWorkingData()
   release(this->Evaluations);
   release(this->OtherNormals);
   release(this->Quadrics);
-  release(this->Weights);
+  release(this->QuadricRowOf);
+  release(this->PaperTerms);
   release(this->AncestorHead);
   release(this->AncestorTail);
   release(this->AncestorNext);
   release(this->AncestorCount);
   release(this->EntryOf);
+  release(this->RowOf);
   release(this->VertexMark);
   release(this->VertexChanged);
   release(this->BlockedStrict);
@@ -1445,12 +1577,12 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "collapse records", false, records },
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
     { "evaluations", true, bytes(this->Evaluations) + bytes(this->Working) },
-    { "weights", true, bytes(this->Weights) },
-    { "quadrics", true, bytes(this->Quadrics) },
+    { "paper's terms", true, bytes(this->PaperTerms) },
+    { "quadrics", true, bytes(this->Quadrics) + bytes(this->QuadricRowOf) },
     { "edge costs", true, bytes(this->EdgeCostErrors) + bytes(this->EdgeCostStates) },
     { "stamps, degrees, marks", true, stamps },
     { "ancestors", true, ancestors },
-    { "current versions", true, bytes(this->EntryOf) } };
+    { "current versions, rows", true, bytes(this->EntryOf) + bytes(this->RowOf) } };
 }
 
 // The parameters with the weights made non-negative (normalised by their sum) and the fractions
@@ -1508,6 +1640,8 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->FullEntryVertices.clear();
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
+  this->RowOf = this->EntryOf; // every slot its own row until the first compaction
+  this->Rows = nt;
   this->ResetRecords();
   this->ReserveRecords();
   this->VertexMark.assign(np, 0);
@@ -1576,6 +1710,7 @@ void CollapseHierarchy::InitializeQuadrics()
   }
   this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
   this->Quadrics.clear();
+  this->QuadricRowOf.clear();
   std::vector<double>().swap(this->EdgeCostErrors);
   std::vector<unsigned char>().swap(this->EdgeCostStates);
   if (this->Parameters.ErrorWeight <= 0 && this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Off)
@@ -1588,6 +1723,8 @@ void CollapseHierarchy::InitializeQuadrics()
     this->EdgeCostStates.assign(3 * size_t(nt), UnknownEdgeCost);
   }
   this->Quadrics.assign(this->Base.NumberOfPoints(), Quadric());
+  this->QuadricRowOf.resize(this->Quadrics.size());
+  std::iota(this->QuadricRowOf.begin(), this->QuadricRowOf.end(), 0);
   for (Index t = 0; t < nt; ++t)
   {
     const Index* tri = this->Base.Triangle(t);
@@ -1598,7 +1735,7 @@ void CollapseHierarchy::InitializeQuadrics()
       const Quadric q = Quadric::FromPointNormal(this->Base.Point(tri[0]), Normalized(areaVector), area);
       for (int k = 0; k < 3; ++k)
       {
-        this->Quadrics[tri[k]] += q;
+        this->QuadricOf(tri[k]) += q;
       }
     }
   }
@@ -1632,8 +1769,8 @@ void CollapseHierarchy::AddBorderPlanes()
       if (sharing == 1 && w > 0 && Norm(n) > 0)
       {
         const Quadric q = Quadric::FromPointNormal(pu, n, w);
-        this->Quadrics[u] += q;
-        this->Quadrics[v] += q;
+        this->QuadricOf(u) += q;
+        this->QuadricOf(v) += q;
       }
     }
   }
@@ -1645,29 +1782,29 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
   const Index nt = this->Base.NumberOfTriangles();
   this->Evaluations.assign(nt, StoredEvaluation());
   this->OtherNormals.clear();
-  this->Weights.assign(nt, 0.0);
-  std::vector<ShapeTerms> shapes(static_cast<size_t>(nt));
+  M0Terms m0;
+  if (this->Parameters.ErrorWeight < 1)
+  {
+    this->PaperTerms.assign(nt, 0.0);
+    m0.Shapes.resize(static_cast<size_t>(nt));
+  }
+  else
+  {
+    std::vector<double>().swap(this->PaperTerms);
+  }
   this->PriceSpokes(nullptr); // every edge once instead of once per triangle
-  double totalArea = 0, kappaMax = 0;
-  int valenceMax = 0;
   constexpr Index Slice = Index(1) << 16; // evaluated at once between progress reports
   for (Index first = 0; first < nt; first += Slice)
   {
     const Index count = std::min(Slice, nt - first);
-    this->EvaluateTriangles(nullptr, first, count, &shapes);
+    this->EvaluateTriangles(nullptr, first, count, &m0);
     if (progress && !progress(0.1 * (first + count) / nt))
     {
       return false;
     }
   }
-  for (Index t = 0; t < nt; ++t)
-  {
-    totalArea += shapes[t].Area;
-    kappaMax = std::max(kappaMax, shapes[t].Kappa);
-    valenceMax = std::max(valenceMax, std::abs(shapes[t].Valence - 6));
-  }
   const double guess = this->MeanArea;
-  this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
+  this->MeanArea = m0.TotalArea > 0 ? m0.TotalArea / nt : 1.0;
   if (this->MeanArea != guess)
   {
     // The vertex error term of these evaluations used the guess: their edge choices may not be
@@ -1678,13 +1815,17 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
     }
     std::fill(this->EdgeCostStates.begin(), this->EdgeCostStates.end(), UnknownEdgeCost);
   }
-  this->KappaMax = kappaMax > 0 ? kappaMax : 1.0;
-  this->Mv = this->Parameters.ValenceNormalizer > 0 ? this->Parameters.ValenceNormalizer : std::max(1, valenceMax);
+  this->KappaMax = m0.KappaMax > 0 ? m0.KappaMax : 1.0;
+  this->Mv = this->Parameters.ValenceNormalizer > 0 ? this->Parameters.ValenceNormalizer : std::max(1, m0.ValenceMax);
   for (Index t = 0; t < nt; ++t)
   {
-    const ShapeTerms& shape = shapes[t];
-    this->Evaluations[t].Paper = this->PaperTerm(shape.Kappa, shape.Alpha, shape.Valence, shape.Area);
-    this->Weights[t] = this->WeightOf(this->Evaluations[t]);
+    if (!m0.Shapes.empty())
+    {
+      const ShapeTerms& shape = m0.Shapes[t];
+      this->PaperTerms[this->Row(t)] = this->PaperTerm(shape.Kappa, shape.Alpha, shape.Valence, shape.Area);
+    }
+    StoredEvaluation& e = this->Evaluations[this->Row(t)];
+    e.Weight = this->WeightOf(t, e);
   }
   return true;
 }
@@ -1769,9 +1910,9 @@ void CollapseHierarchy::OrderCandidates(LevelState& state) const
   }
   for (Index t = 0; t < nt; ++t)
   {
-    if (this->Mesh.IsTriangleAlive(t) && this->Weights[t] <= state.MaximumWeight)
+    if (this->Mesh.IsTriangleAlive(t) && this->Evaluations[this->Row(t)].Weight <= state.MaximumWeight)
     {
-      state.Candidates.push_back({ this->Weights[t], t });
+      state.Candidates.push_back({ this->Evaluations[this->Row(t)].Weight, t });
     }
   }
 }
@@ -1847,11 +1988,11 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
         break;
       }
       const Index t = candidates[i].Triangle;
-      const bool byEdge = state.Edges && (this->Evaluations[t].PreferEdge || this->HubMask(t) != 0);
+      const bool byEdge = state.Edges && (this->Evaluations[this->Row(t)].PreferEdge || this->HubMask(t) != 0);
       examined += byEdge ? 1 : 2;
       // The region of the collapse expected (for an edge, the triangles around its two ends, the
       // region MarkRegion marks), then of the one chosen.
-      const int expected = byEdge ? this->Evaluations[t].CheapestEdge.Edge : -1;
+      const int expected = byEdge ? this->Evaluations[this->Row(t)].CheapestEdge.Edge : -1;
       int edge = -1;
       Vec3 point;
       if (!this->RegionIsFree(t, level, state, expected) ||
@@ -1876,7 +2017,7 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
 // reads the hubs' stars (without edge collapses it is no candidate).
 bool CollapseHierarchy::RegionIsFree(Index t, int level, const LevelState& state, int edge) const
 {
-  if (state.RegionLevel[t] == level)
+  if (state.RegionLevel[this->Row(t)] == level)
   {
     return false;
   }
@@ -1891,7 +2032,7 @@ bool CollapseHierarchy::RegionIsFree(Index t, int level, const LevelState& state
   {
     if (!((hubs >> k) & 1) && (edge < 0 || k == edge || k == (edge + 1) % 3))
     {
-      this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && state.RegionLevel[x] != level; });
+      this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && state.RegionLevel[this->Row(x)] != level; });
     }
   }
   return free;
@@ -1905,7 +2046,7 @@ void CollapseHierarchy::MarkRegion(Index t, int edge, int level, LevelState& sta
   {
     if (edge < 0 || k == edge || k == (edge + 1) % 3)
     {
-      this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { state.RegionLevel[x] = level; });
+      this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { state.RegionLevel[this->Row(x)] = level; });
     }
   }
 }
@@ -1922,7 +2063,7 @@ bool CollapseHierarchy::ChooseCollapse(Index t, double orderWeight, bool edges, 
       return false;
     }
     edge = -1;
-    point = this->Evaluations[t].Point;
+    point = this->Evaluations[this->Row(t)].Point;
     return true;
   };
   auto edgeCollapse = [&]() { return edges && this->EdgeCollapseAllowed(t, orderWeight, hubs, edge, point); };
@@ -1930,7 +2071,7 @@ bool CollapseHierarchy::ChooseCollapse(Index t, double orderWeight, bool edges, 
   {
     return edgeCollapse();
   }
-  return this->Evaluations[t].PreferEdge && edges ? (edgeCollapse() || triangle()) : (triangle() || edgeCollapse());
+  return this->Evaluations[this->Row(t)].PreferEdge && edges ? (edgeCollapse() || triangle()) : (triangle() || edgeCollapse());
 }
 
 // Rules (1)-(3), the mesh check and the orientation test for t's triangle collapse. Blocked
@@ -1941,10 +2082,10 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
   std::vector<Index>& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
   if (blocked.empty())
   {
-    blocked.assign(size_t(this->Mesh.NumberOfTriangles()), -1); // (the relaxed rules: at their first use)
+    blocked.assign(size_t(this->Rows), -1); // (the relaxed rules: at their first use)
   }
-  const StoredEvaluation& e = this->Evaluations[t];
-  if (this->StillBlocked(t, blocked[t]))
+  const StoredEvaluation& e = this->Evaluations[this->Row(t)];
+  if (this->StillBlocked(t, blocked[this->Row(t)]))
   {
     return false;
   }
@@ -1953,10 +2094,10 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
     // Ordered by its edge collapse: the triangle collapse only at its own cost.
     StoredEvaluation triangleEvaluation = e;
     triangleEvaluation.PreferEdge = false;
-    const double weight = this->WeightOf(triangleEvaluation);
+    const double weight = this->WeightOf(t, triangleEvaluation);
     if (weight > orderWeight * (1 + 1e-9) + 1e-300)
     {
-      this->Weights[t] = std::max(this->Weights[t], weight);
+      this->Evaluations[this->Row(t)].Weight = std::max(e.Weight, weight);
       return false;
     }
   }
@@ -1967,7 +2108,7 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
   {
     return true;
   }
-  blocked[t] = this->ChangeCounter;
+  blocked[this->Row(t)] = this->ChangeCounter;
   return false;
 }
 
@@ -1977,27 +2118,27 @@ bool CollapseHierarchy::EdgeCollapseAllowed(Index t, double orderWeight, int hub
 {
   if (this->BlockedEdge.empty())
   {
-    this->BlockedEdge.assign(size_t(this->Mesh.NumberOfTriangles()), -1); // (at the first edge collapse)
+    this->BlockedEdge.assign(size_t(this->Rows), -1); // (at the first edge collapse)
   }
-  if (this->StillBlocked(t, this->BlockedEdge[t], hubs))
+  if (this->StillBlocked(t, this->BlockedEdge[this->Row(t)], hubs))
   {
     return false;
   }
   double error = 0;
   if (!this->FindEdgeCollapse(t, edge, point, error))
   {
-    this->BlockedEdge[t] = this->ChangeCounter;
+    this->BlockedEdge[this->Row(t)] = this->ChangeCounter;
     return false;
   }
-  StoredEvaluation edgeEvaluation = this->Evaluations[t];
+  StoredEvaluation edgeEvaluation = this->Evaluations[this->Row(t)];
   edgeEvaluation.PreferEdge = false;
   edgeEvaluation.Error = error;
-  const double weight = this->WeightOf(edgeEvaluation);
+  const double weight = this->WeightOf(t, edgeEvaluation);
   if (weight <= orderWeight * (1 + 1e-9) + 1e-300)
   {
     return true;
   }
-  this->Weights[t] = weight;
+  this->Evaluations[this->Row(t)].Weight = weight;
   return false;
 }
 
@@ -2024,7 +2165,7 @@ void CollapseHierarchy::CollapseBatch(int level, const LevelState& state)
     if (!this->CreatesCycle(t))
     {
       const Index vertices[3] = { tri[0], tri[1], tri[2] };
-      this->ApplyCollapse(t, vertices, 3, this->Evaluations[t].Point, level);
+      this->ApplyCollapse(t, vertices, 3, this->Evaluations[this->Row(t)].Point, level);
     }
   }
 }
@@ -2070,9 +2211,9 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
   for (Index v : vertices)
   {
     this->Mesh.ForEachTriangle(v, [&](Index x) {
-      if (state.AffectedMark[x] != state.AffectedEpoch)
+      if (state.AffectedMark[this->Row(x)] != state.AffectedEpoch)
       {
-        state.AffectedMark[x] = state.AffectedEpoch;
+        state.AffectedMark[this->Row(x)] = state.AffectedEpoch;
         state.Affected.push_back(x);
       }
     });
@@ -2085,7 +2226,8 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
   this->EvaluateTriangles(state.Affected.data(), 0, static_cast<Index>(state.Affected.size()));
   for (Index x : state.Affected)
   {
-    this->Weights[x] = this->WeightOf(this->Evaluations[x]);
+    StoredEvaluation& e = this->Evaluations[this->Row(x)];
+    e.Weight = this->WeightOf(x, e);
   }
 }
 
@@ -2116,8 +2258,8 @@ struct CollapseHierarchy::ConcurrentEvaluation
 
 // Evaluates triangles[first, first + count) (or the ids first, ... when triangles is null), a
 // chunk at a time (the working evaluations are scratch of bounded size), and keeps each result.
-// shapes (M0's evaluation) receives the weight terms whose normalisers are not known yet.
-void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, Index count, std::vector<ShapeTerms>* shapes)
+// m0 (M0's evaluation) receives the weight terms whose normalisers are not known yet.
+void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, Index count, M0Terms* m0)
 {
   constexpr Index Chunk = Index(1) << 14;
   for (Index begin = 0; begin < count; begin += Chunk)
@@ -2129,9 +2271,15 @@ void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, I
       const Index t = triangles ? triangles[first + begin + i] : first + begin + i;
       const Evaluation& e = this->Working[i];
       this->StoreEvaluation(t, e);
-      if (shapes)
+      if (m0)
       {
-        (*shapes)[t] = { e.Kappa, e.Alpha, e.Area, e.Valence };
+        m0->TotalArea += e.Area; // (in slot order, as InitializeQuadrics sums it)
+        m0->KappaMax = std::max(m0->KappaMax, e.Kappa);
+        m0->ValenceMax = std::max(m0->ValenceMax, std::abs(e.Valence - 6));
+        if (!m0->Shapes.empty())
+        {
+          m0->Shapes[t] = { e.Kappa, e.Alpha, e.Area, e.Valence };
+        }
       }
     }
   }
@@ -2147,7 +2295,7 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
   this->Working.resize(static_cast<size_t>(count));
   for (Index i = 0; i < count; ++i)
   {
-    const StoredEvaluation& last = this->Evaluations[triangleAt(i)];
+    const StoredEvaluation& last = this->Evaluations[this->Row(triangleAt(i))];
     Evaluation& e = this->Working[i];
     e = Evaluation();
     e.Point = last.Point;

@@ -262,7 +262,9 @@ private:
   struct StoredEvaluation
   {
     Vec3 Point{ 0, 0, 0 };
-    double Paper = 0; // the paper's term of W(T): A(T) (wk kappa / max kappa + wa alpha + wv V) / mean area
+    // T's place in the priority order: WeightOf, raised when the collapse it was ordered by was
+    // not taken and the other one was dearer.
+    double Weight = 0;
     double Error = 0, EdgeError = 0;
     bool PreferEdge = false;
     EdgeChoice CheapestEdge;
@@ -273,6 +275,14 @@ private:
   {
     double Kappa = 0, Alpha = 0, Area = 0;
     int Valence = 6;
+  };
+  // M0's evaluation: the normalisers' sums (in slot order) and, when the paper's term weighs
+  // (ErrorWeight < 1), each triangle's terms (32 bytes per input triangle, else not allocated).
+  struct M0Terms
+  {
+    double TotalArea = 0, KappaMax = 0;
+    int ValenceMax = 0;
+    std::vector<ShapeTerms> Shapes;
   };
   struct LevelState; // the batch selection's data over one Build (in the .cxx)
 
@@ -299,6 +309,7 @@ private:
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
+  void CompactRows(LevelState& state);
   void ReleaseWorkingData();
 
   // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only
@@ -320,7 +331,7 @@ private:
   };
   using LinkEdges = std::vector<std::pair<Vec3, Vec3>>;
   struct ConcurrentEvaluation; // the vtkSMPTools functor (in the .cxx)
-  void EvaluateTriangles(const Index* triangles, Index first, Index count, std::vector<ShapeTerms>* shapes = nullptr);
+  void EvaluateTriangles(const Index* triangles, Index first, Index count, M0Terms* m0 = nullptr);
   void EvaluateChunk(const Index* triangles, Index first, Index count);
   void StoreEvaluation(Index t, const Evaluation& e);
   Vec3 OwnNormal(Index t) const;
@@ -349,7 +360,7 @@ private:
   void AlternativePoints(const Index* tri, Vec3 (&points)[6]) const;
   Alternatives RankAlternatives(const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link) const;
   void TakeCheapestValidAlternative(const Index* tri, const Alternatives& ranked, Vec3& point) const;
-  double WeightOf(const StoredEvaluation& e) const;
+  double WeightOf(Index t, const StoredEvaluation& e) const;
   double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level);
@@ -385,7 +396,7 @@ private:
   // is the collapse's point (global id = input points + the collapse's index), all else as the
   // slot's previous version; corner 3 (M0's versions, a swap's two) holds all three: Base's
   // triangle, or the next three of FullEntryVertices. 8 bytes per version instead of 20: Extract
-  // replays the slots' corners in the same pass it already makes. EntryOf: each slot's current
+  // replays the slots' corners in the same pass it already makes. EntryOf: each row's current
   // version (build only).
   static constexpr std::uint32_t AllCorners = 3;
   std::vector<std::uint32_t> EntryCode;
@@ -401,10 +412,27 @@ private:
   // positions are those of the global vertices, Sources and Point of each HierarchyCollapse).
   CollapseRecords Records;
 
+  // The per-triangle working data (evaluations, paper's terms, edge costs, blocked stamps, current
+  // versions, the level state's marks) are indexed by row, not by M0 slot: when the live triangles
+  // fall below 7/8 of the rows (1/2 once the rows are under a quarter of the slots), CompactRows
+  // renumbers the live ones in slot order and
+  // gives the dead ones' rows back. The working data then shrink with the mesh while the
+  // hierarchy grows (both at full size made the end of the build its peak).
+  std::vector<Index> RowOf; // M0 slot -> row; -1: dead at the last compaction
+  Index Rows = 0;
+  size_t Row(Index t) const { return static_cast<size_t>(this->RowOf[t]); }
   std::vector<StoredEvaluation> Evaluations;
   std::unordered_map<Index, Vec3> OtherNormals; // NormalSource::Stored (degenerate triangles)
-  std::vector<Quadric> Quadrics; // per editable vertex: planes of its original triangles
-  std::vector<double> Weights;
+  // Per editable vertex: planes of its original triangles, in rows compacted as the triangles'
+  // (CompactQuadrics; QuadricRowOf: -1 for a vertex dead at the last compaction).
+  std::vector<Quadric> Quadrics;
+  std::vector<Index> QuadricRowOf;
+  Quadric& QuadricOf(Index v) { return this->Quadrics[static_cast<size_t>(this->QuadricRowOf[v])]; }
+  const Quadric& QuadricOf(Index v) const { return this->Quadrics[static_cast<size_t>(this->QuadricRowOf[v])]; }
+  void CompactQuadrics();
+  // Per row: the paper's term of W(T), A(T) (wk kappa / max kappa + wa alpha + wv V) / mean area;
+  // not allocated when ErrorWeight is 1 (it weighs 0; 16 bytes per input vertex).
+  std::vector<double> PaperTerms;
   double KappaMax = 1, Mv = 1, MeanArea = 1, WeightSum = 1;
 
   // Scratch.

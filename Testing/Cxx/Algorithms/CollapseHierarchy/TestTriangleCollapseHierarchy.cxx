@@ -1111,6 +1111,55 @@ TEST(CollapseHierarchy, WorkingDataIsReleasedAndTheAccountingAddsUp)
   }
 }
 
+// The build's working data shrink with the mesh (CompactRows, CompactQuadrics): after every level
+// the edge costs (a fixed number of bytes per triangle row) and the quadrics (per vertex row) hold
+// at most 8/7 rows per live triangle and vertex (2 once under a quarter of the input's), not one
+// per input triangle and vertex as before,
+// so that they no longer add to the hierarchy at the end of the build, where it is largest.
+TEST(CollapseHierarchy, WorkingDataShrinkWithTheMesh)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(50);
+  source->Update();
+  const TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  const auto share = [](const std::vector<CollapseHierarchy::StorageShare>& storage, const std::string& name) {
+    for (const CollapseHierarchy::StorageShare& s : storage)
+    {
+      if (name == s.Name)
+      {
+        return double(s.Bytes);
+      }
+    }
+    ADD_FAILURE() << "no storage share " << name;
+    return 0.0;
+  };
+  CollapseHierarchy h;
+  double edgeCostsPerTriangle = 0, fullQuadrics = 0;
+  int levelsSeen = 0;
+  ASSERT_TRUE(h.Build(scan, DefaultParameters(), [&](double) {
+    const std::vector<CollapseHierarchy::StorageShare> storage = h.Storage();
+    const double edgeCosts = share(storage, "edge costs"), quadrics = share(storage, "quadrics");
+    if (h.NumberOfLevels() == 1)
+    {
+      edgeCostsPerTriangle = edgeCosts / scan.NumberOfTriangles(); // M0's evaluation: every row
+      fullQuadrics = quadrics;
+      return true;
+    }
+    ++levelsSeen;
+    const double live = h.LevelTriangleCount(h.NumberOfLevels() - 1) / double(scan.NumberOfTriangles());
+    const double rowsAllowed = std::max(8.0 / 7.0 * live, std::min(2 * live, 0.25)); // per input triangle
+    EXPECT_LE(edgeCosts, edgeCostsPerTriangle * (rowsAllowed * scan.NumberOfTriangles() + 1))
+      << "level " << h.NumberOfLevels() - 1;
+    // The live vertices follow the live triangles (about half as many on a closed surface).
+    EXPECT_LE(quadrics, fullQuadrics * (rowsAllowed + 0.1)) << "level " << h.NumberOfLevels() - 1;
+    return true;
+  }));
+  EXPECT_GT(edgeCostsPerTriangle, 0);
+  EXPECT_GT(levelsSeen, 20);
+  EXPECT_LT(h.LevelTriangleCount(h.NumberOfLevels() - 1), scan.NumberOfTriangles() / 10);
+}
+
 // Zero-area triangles, as T-junction repairs leave them: a vertex m inserted in edge (a, b) splits
 // the triangle on one side and fills the other side's gap with the triangle (a, m, b). Such a
 // triangle has no plane of its own (its stencil's stands in for its normal, kept apart from the
