@@ -15,7 +15,8 @@
 //    output triangle, which the collapse does not touch;
 //  - topology: EditableMesh::CheckCollapse (link condition, no flip); a border vertex only along
 //    its border loop (BorderCollapses), and no loop closes; a border collapse leaves no border
-//    vertex with more than 12 triangles and no new triangle under 5 degrees.
+//    vertex with more than 12 triangles and no new triangle under 5 degrees (unless its star had
+//    one as thin).
 // Between two collapse passes, interior edges are flipped where that makes the thinner of their two
 // triangles fatter (fewer slivers), each flip proved the same way. Last, each triangle under 5
 // degrees has its edges flipped or loses a vertex by a collapse that raises the smallest angle
@@ -41,7 +42,8 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   int MaximumNeighbours = 16;  // targets tried per vertex and pass (nearest first)
   // Border vertices are collapsed too, onto a neighbour along their border loop (a loop keeps at
   // least four vertices; the loops and their number stay), guarded (no border fan over 12
-  // triangles, no new sliver, none next to a fan over 128). Off: border vertices stay.
+  // triangles, no new sliver unless the star had one, none next to a fan over 128). Off: border
+  // vertices stay.
   bool BorderCollapses = true;
   // Stop as soon as the output has at most this many triangles (0: no count target). A collapse
   // removes one or two triangles, so a reachable target is met exactly or one below.
