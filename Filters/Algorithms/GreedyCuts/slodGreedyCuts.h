@@ -70,7 +70,7 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // A final pass of half-edge collapses whose bound is proved (slodProvedCollapses.h) removes
   // the output vertices the bound does not need; it keeps the two-sided bound.
   bool FinalCollapses = true;
-  bool BorderCollapses = false; // the final collapses also move border vertices along their loops
+  bool BorderCollapses = true; // the final collapses also move border vertices along their loops
   // RunMonotone and the target search walk a fixed ladder of tolerances (relative to the bounding
   // box diagonal, 10 round values per decade: 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8) from this one up.
   double LadderBottom = 0.004;

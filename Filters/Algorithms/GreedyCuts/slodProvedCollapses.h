@@ -14,7 +14,9 @@
 //    output, so the proof holds for the whole output); the other input points keep their nearest
 //    output triangle, which the collapse does not touch;
 //  - topology: EditableMesh::CheckCollapse (link condition, no flip); a border vertex only along
-//    its border loop (BorderCollapses), and no loop closes.
+//    its border loop (BorderCollapses), and no loop closes; a border collapse leaves no border
+//    vertex with more than 12 triangles and no new triangle under 5 degrees (unless its star had
+//    one as thin).
 // Between two collapse passes, interior edges are flipped where that makes the thinner of their two
 // triangles fatter (fewer slivers), each flip proved the same way. Last, each triangle under 5
 // degrees has its edges flipped or loses a vertex by a collapse that raises the smallest angle
@@ -39,8 +41,10 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   int MaximumRounds = 8;       // passes over the output vertices (stops earlier when one removes none)
   int MaximumNeighbours = 16;  // targets tried per vertex and pass (nearest first)
   // Border vertices are collapsed too, onto a neighbour along their border loop (a loop keeps at
-  // least four vertices; the loops and their number stay). Off: border vertices stay.
-  bool BorderCollapses = false;
+  // least four vertices; the loops and their number stay), guarded (no border fan over 12
+  // triangles, no new sliver unless the star had one, none next to a fan over 128). Off: border
+  // vertices stay.
+  bool BorderCollapses = true;
   // Stop as soon as the output has at most this many triangles (0: no count target). A collapse
   // removes one or two triangles, so a reachable target is met exactly or one below.
   Index TargetTriangles = 0;
@@ -54,6 +58,7 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
 {
   long long Collapses = 0, Attempts = 0, Flips = 0;
   long long Rejected[3] = { 0, 0, 0 }; // collapses rejected by topology, output -> input, input -> output
+  long long BorderGuardRejections = 0; // border collapses refused for their star (valence, slivers)
   int Rounds = 0;
   bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
   bool WorkBoundReached = false; // parameters.MaximumProofPieces stopped the passes

@@ -114,8 +114,9 @@ public:
   /**
    * The final collapses also remove border vertices, each onto a neighbour along its border loop
    * (the loops and their number are kept; no loop gets under four vertices), proved like the
-   * others (default off: the corpus' valence-5000 fan disk and many-holes exceed its time limit
-   * with it on). Off: every border vertex the cuts kept stays.
+   * others, and guarded: none leaves a border vertex with more than 12 triangles or makes a
+   * triangle under 5 degrees (unless its star had one as thin), and none is tried next to a fan
+   * of more than 128 triangles (default on). Off: every border vertex the cuts kept stays.
    */
   vtkSetMacro(BorderCollapses, bool);
   vtkGetMacro(BorderCollapses, bool);
@@ -165,7 +166,7 @@ protected:
   double ShapedTriangleAngle = 0.0;
   double EarShapeAngle = 15.0;
   bool FinalCollapses = true;
-  bool BorderCollapses = false;
+  bool BorderCollapses = true;
   bool MonotoneInEpsilon = false;
   double LadderBottom = 0.004;
 

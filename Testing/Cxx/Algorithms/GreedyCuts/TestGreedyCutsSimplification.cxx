@@ -960,10 +960,12 @@ TEST(GreedyCutsSimplification, SingleRunsDoNotRiseBetweenTheSearchLevels)
   }
 }
 
-// Border vertices are collapsed along their loops: fewer border edges and triangles than with
-// every border vertex the cuts kept, the same loops, components and genus, the bound measured.
+// Border vertices are collapsed along their loops (by default since session 20): fewer border
+// edges and triangles than with every border vertex the cuts kept, the same loops, components and
+// genus, the bound measured.
 TEST(GreedyCutsSimplification, BorderVerticesCollapseAlongTheirLoops)
 {
+  EXPECT_TRUE(vtkNew<vtkGreedyCutsSimplification>()->GetBorderCollapses());
   vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("elephant-with-holes");
   auto run = [&](bool border) {
     vtkNew<vtkGreedyCutsSimplification> filter;
@@ -983,4 +985,62 @@ TEST(GreedyCutsSimplification, BorderVerticesCollapseAlongTheirLoops)
   EXPECT_LT(collapsed.Output->GetNumberOfCells(), kept.Output->GetNumberOfCells());
   ExpectValid(input, kept, "border kept");
   ExpectValid(input, collapsed, "border collapsed");
+}
+
+// The guard of border collapses, on a flat strip of 24 x 1 squares (every vertex on the border, so
+// every collapse is a border collapse, and every collapse that keeps the strip's outline is within
+// any epsilon: without the guard the long sides collapse onto a few vertices, into fans of
+// triangles of about 2 degrees). With it: collapses are made, some are refused for their star, no
+// triangle is thinner than 5 degrees (the input's are 45) and no vertex has more than 12
+// triangles; the loop, the Euler characteristic and the measured bound are kept.
+TEST(GreedyCuts, BorderCollapsesMakeNoSliverAndNoLargeFan)
+{
+  TriangleMesh strip = slodtest::Grid(24, 1);
+  for (Index v = 0; v < strip.NumberOfPoints(); ++v)
+  {
+    strip.Points[size_t(3 * v + 1)] /= 24.0; // squares
+  }
+  TriangleBVH bvh;
+  bvh.Build(strip);
+  ProvedCollapseParameters parameters;
+  parameters.Epsilon = 0.01 * strip.BoundingBoxDiagonal();
+  parameters.BorderCollapses = true;
+  std::vector<Index> triangles = strip.Triangles, patches(strip.Triangles.size() / 3, 0);
+  ProvedCollapseStatistics statistics;
+  ASSERT_TRUE(ProvedCollapses(strip, bvh, parameters, triangles, patches, statistics));
+  TriangleMesh out;
+  out.Points = strip.Points;
+  out.Triangles = triangles;
+  double smallest = HUGE_VAL;
+  std::map<Index, int> valence;
+  for (Index t = 0; t < out.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = out.Triangle(t);
+    smallest = std::min(smallest, MinimumAngle(out.Point(tri[0]), out.Point(tri[1]), out.Point(tri[2])));
+    for (int k = 0; k < 3; ++k)
+    {
+      ++valence[tri[k]];
+    }
+  }
+  int largest = 0;
+  for (const auto& [vertex, count] : valence)
+  {
+    largest = std::max(largest, count);
+  }
+  std::cout << "[greedy-cuts] strip 24 x 1: " << out.NumberOfTriangles() << " tris, " << statistics.Collapses
+            << " collapses, " << statistics.BorderGuardRejections << " refused by the guard, smallest angle "
+            << smallest * 180 / 3.14159265358979 << " degrees, largest valence " << largest << "\n";
+  EXPECT_GT(statistics.Collapses, 0);
+  EXPECT_GT(statistics.BorderGuardRejections, 0);
+  EXPECT_LT(out.NumberOfTriangles(), strip.NumberOfTriangles());
+  EXPECT_GE(smallest, Radians(5.0) * (1 - 1e-12));
+  EXPECT_LE(largest, 12);
+  EXPECT_LE(MeasureHausdorff(slodtest::ToPolyData(strip), slodtest::ToPolyData(out)), parameters.Epsilon);
+  const MeshStatistics before = ComputeMeshStatistics(strip);
+  out.RemoveUnusedPoints();
+  const MeshStatistics after = ComputeMeshStatistics(out);
+  EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops);
+  EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
+  EXPECT_EQ(after.NonManifoldEdges, 0);
+  EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
 }
