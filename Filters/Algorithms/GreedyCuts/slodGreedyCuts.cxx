@@ -32,6 +32,103 @@ inline double Orient(const P2& a, const P2& b, const P2& c)
 {
   return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
 }
+
+// Buckets of a patch's inner vertices in its plane, so that a bite's candidates near a front
+// edge are found without scanning every inner vertex for every edge at every step (that scan made
+// the greedy cuts cubic in a patch's size: 42% of the time on a 3,000-triangle plate with holes).
+// Items are the indices into the patch's inner list, bucket by bucket, increasing in a bucket.
+struct InnerBuckets
+{
+  double X0 = 0, Y0 = 0, Cell = 1;
+  long long NX = 0, NY = 0;
+  std::vector<Index> Start, Items;
+
+  void Build(const std::vector<P2>& coord, const std::vector<Index>& inner)
+  {
+    this->NX = this->NY = 0;
+    this->Start.clear();
+    this->Items.clear();
+    if (inner.empty())
+    {
+      return;
+    }
+    double x1 = coord[inner[0]].x, y1 = coord[inner[0]].y;
+    this->X0 = x1;
+    this->Y0 = y1;
+    for (Index v : inner)
+    {
+      this->X0 = std::min(this->X0, coord[v].x);
+      this->Y0 = std::min(this->Y0, coord[v].y);
+      x1 = std::max(x1, coord[v].x);
+      y1 = std::max(y1, coord[v].y);
+    }
+    // About two vertices per bucket; at most 4 n + 16 buckets whatever the shape.
+    const double n = double(inner.size());
+    this->Cell = std::max(std::sqrt(std::max((x1 - this->X0) * (y1 - this->Y0), 0.0) * 2.0 / n), 1e-300);
+    this->Cell = std::max({ this->Cell, (x1 - this->X0) / (4 * n + 16), (y1 - this->Y0) / (4 * n + 16) });
+    this->NX = static_cast<long long>((x1 - this->X0) / this->Cell) + 1;
+    this->NY = static_cast<long long>((y1 - this->Y0) / this->Cell) + 1;
+    while (double(this->NX) * double(this->NY) > 4 * n + 16)
+    {
+      this->Cell *= 1.5;
+      this->NX = static_cast<long long>((x1 - this->X0) / this->Cell) + 1;
+      this->NY = static_cast<long long>((y1 - this->Y0) / this->Cell) + 1;
+    }
+    this->Start.assign(size_t(this->NX * this->NY + 1), 0);
+    std::vector<size_t> bucket(inner.size());
+    for (size_t k = 0; k < inner.size(); ++k)
+    {
+      bucket[k] = this->BucketOf(coord[inner[k]]);
+      ++this->Start[bucket[k] + 1];
+    }
+    for (size_t b = 0; b + 1 < this->Start.size(); ++b)
+    {
+      this->Start[b + 1] += this->Start[b];
+    }
+    this->Items.resize(inner.size());
+    std::vector<Index> fill(this->Start.begin(), this->Start.end() - 1);
+    for (size_t k = 0; k < inner.size(); ++k)
+    {
+      this->Items[size_t(fill[bucket[k]]++)] = static_cast<Index>(k);
+    }
+  }
+  // f(k) for every inner index k in the buckets that the square of half-width r around c touches.
+  template <typename F>
+  void ForEachNear(const P2& c, double r, F&& f) const
+  {
+    if (this->NX == 0)
+    {
+      return;
+    }
+    const long long x0 = this->Clamp((c.x - r - this->X0) / this->Cell, this->NX);
+    const long long x1 = this->Clamp((c.x + r - this->X0) / this->Cell, this->NX);
+    const long long y0 = this->Clamp((c.y - r - this->Y0) / this->Cell, this->NY);
+    const long long y1 = this->Clamp((c.y + r - this->Y0) / this->Cell, this->NY);
+    for (long long y = y0; y <= y1; ++y)
+    {
+      for (long long x = x0; x <= x1; ++x)
+      {
+        const size_t b = size_t(y * this->NX + x);
+        for (Index q = this->Start[b]; q < this->Start[b + 1]; ++q)
+        {
+          f(this->Items[size_t(q)]);
+        }
+      }
+    }
+  }
+
+private:
+  static long long Clamp(double cell, long long n)
+  {
+    return cell <= 0 ? 0 : (cell >= double(n - 1) ? n - 1 : static_cast<long long>(cell));
+  }
+  size_t BucketOf(const P2& p) const
+  {
+    return size_t(this->Clamp((p.y - this->Y0) / this->Cell, this->NY) * this->NX +
+      this->Clamp((p.x - this->X0) / this->Cell, this->NX));
+  }
+};
+
 struct TripleKey
 {
   Index v[3];
@@ -725,6 +822,7 @@ struct GreedyCuts::Worker
     Index Head = 0, Count = 0;
     std::vector<Index> Inner;
     std::vector<unsigned char> Consumed;
+    InnerBuckets InnerNear; // Inner by position (bite candidates)
     std::unordered_map<TripleKey, bool, TripleHash> Cache;
     double Tol = 0; // orientation tolerance (squared length scale)
     double SharpAngle = vtkMath::Pi() / 6; // front repair: corners below this are sharp
@@ -910,8 +1008,9 @@ struct GreedyCuts::Worker
   }
 
   // Best bite on edge (node i -> next): candidates by distance to the equilateral apex.
+  // Wide mode (nearOnly false) considers the inner vertices of `open` (those not consumed).
   bool BestBite(PatchState& s, Index i, size_t limit, bool nearOnly, Index& bestInner, double& area,
-    std::vector<std::pair<double, Index>>& candidates)
+    std::vector<std::pair<double, Index>>& candidates, const std::vector<Index>& open = {})
   {
     const Index a = s.Vert[i], b = s.Vert[s.Next[i]];
     const P2 pa = this->Coord[a], pb = this->Coord[b];
@@ -924,16 +1023,15 @@ struct GreedyCuts::Worker
     const double h = 0.5 * std::sqrt(3.0);
     const P2 apex{ 0.5 * (pa.x + pb.x) - h * dy, 0.5 * (pa.y + pb.y) + h * dx };
     candidates.clear();
-    for (size_t k = 0; k < s.Inner.size(); ++k)
-    {
+    const auto consider = [&](size_t k) {
       if (s.Consumed[k])
       {
-        continue;
+        return;
       }
       const P2 pv = this->Coord[s.Inner[k]];
       if (Orient(pa, pb, pv) <= s.Tol)
       {
-        continue;
+        return;
       }
       // Near mode: aspect ratio near 1 (distance to the equilateral apex). Wide mode: the
       // smallest triangles first (distance to the edge's midpoint): the likeliest to fit.
@@ -941,9 +1039,22 @@ struct GreedyCuts::Worker
                                 : std::hypot(pv.x - 0.5 * (pa.x + pb.x), pv.y - 0.5 * (pa.y + pb.y));
       if (nearOnly && d > 1.5 * length)
       {
-        continue;
+        return;
       }
       candidates.emplace_back(d, static_cast<Index>(k));
+    };
+    if (nearOnly)
+    {
+      // The same candidates as a scan of all (within 1.5 |ab| of the apex); their order below is
+      // by (distance, index), so the choice does not depend on the buckets.
+      s.InnerNear.ForEachNear(apex, 1.5 * length, [&](Index k) { consider(size_t(k)); });
+    }
+    else
+    {
+      for (Index k : open)
+      {
+        consider(size_t(k));
+      }
     }
     const size_t m = std::min(limit, candidates.size());
     std::partial_sort(candidates.begin(), candidates.begin() + m, candidates.end());
@@ -1306,6 +1417,7 @@ struct GreedyCuts::Worker
     s.Count = n;
     s.Head = 0;
     s.Inner.assign(G.PatchInnerList.begin() + G.PatchInnerOffsets[p], G.PatchInnerList.begin() + G.PatchInnerOffsets[p + 1]);
+    s.InnerNear.Build(this->Coord, s.Inner);
     s.Consumed.assign(s.Inner.size(), 0);
     for (size_t k = 0; k < s.Inner.size(); ++k)
     {
@@ -1424,10 +1536,19 @@ struct GreedyCuts::Worker
       i = s.Next[i];
     } while (i != s.Head);
     std::sort(edges.begin(), edges.end());
+    // Nothing is consumed during this search: list the open inner vertices once, not per edge.
+    std::vector<Index> open;
+    for (size_t k = 0; k < s.Inner.size(); ++k)
+    {
+      if (!s.Consumed[k])
+      {
+        open.push_back(static_cast<Index>(k));
+      }
+    }
     for (const auto& e : edges)
     {
       double area = 0;
-      if (this->BestBite(s, e.second, 64, false, biteInner, area, candidates))
+      if (this->BestBite(s, e.second, 64, false, biteInner, area, candidates, open))
       {
         biteEdge = e.second;
         ++this->Res.WideBites;
