@@ -91,6 +91,22 @@ struct Quadric
     return std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]);
   }
 };
+// The boundary plane of a border edge (tail, head) of a triangle with unit normal
+// `triangleNormal`: through the edge, perpendicular to the triangle, weighted by `weight` times
+// the squared edge length (area units, like a triangle's plane weighted by its area), so that a
+// collapse along a border keeps the border's line (Garland and Heckbert's boundary planes). A
+// degenerate triangle gives the zero quadric. False (q untouched) when the weight vanishes.
+inline bool BorderEdgeQuadric(const Vec3& tail, const Vec3& head, const Vec3& triangleNormal, double weight, Quadric& q)
+{
+  const Vec3 e = head - tail;
+  const double w = weight * Dot(e, e);
+  if (!(w > 0))
+  {
+    return false;
+  }
+  q = Quadric::FromPointNormal(tail, Normalized(Cross(e, triangleNormal)), w);
+  return true;
+}
 } // namespace slod
 
 #endif

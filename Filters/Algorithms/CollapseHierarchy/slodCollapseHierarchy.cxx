@@ -1763,12 +1763,10 @@ void CollapseHierarchy::AddBorderPlanes()
         const Index* o = m.Triangle(x);
         sharing += (o[0] == v || o[1] == v || o[2] == v) ? 1 : 0;
       });
-      const Vec3 pu = m.Point(u), e = m.Point(v) - pu;
-      const Vec3 n = Normalized(Cross(e, Normalized(this->BaseAreaVector(t))));
-      const double w = Dot(e, e);
-      if (sharing == 1 && w > 0 && Norm(n) > 0)
+      Quadric q;
+      // (A degenerate triangle's zero quadric adds nothing.)
+      if (sharing == 1 && BorderEdgeQuadric(m.Point(u), m.Point(v), Normalized(this->BaseAreaVector(t)), 1.0, q))
       {
-        const Quadric q = Quadric::FromPointNormal(pu, n, w);
         this->QuadricOf(u) += q;
         this->QuadricOf(v) += q;
       }

@@ -50,7 +50,7 @@ private:
   std::vector<Index> WentTo; // per vertex: the vertex it was collapsed into (InvalidIndex: alive)
   IndexedHeap<double> Queue;
   CollapseOptions Options;
-  std::vector<Index> Ring, Scratch;
+  std::vector<Index> Ring, RequeueRing, Scratch;
   std::vector<std::pair<double, Index>> Candidates;
 };
 
@@ -121,11 +121,12 @@ void FinalCollapser::AddBorderPlanes(const TriangleMesh& levelMesh, const MeshTo
     const Index* tri = levelMesh.Triangle(*topology.EdgeTrianglesBegin(e));
     const Vec3 p0 = levelMesh.Point(tri[0]);
     const Vec3 normal = Cross(levelMesh.Point(tri[1]) - p0, levelMesh.Point(tri[2]) - p0);
-    const Vec3 edge = levelMesh.Point(b) - levelMesh.Point(a);
-    const Vec3 side = Normalized(Cross(edge, normal));
-    const Quadric q = Quadric::FromPointNormal(levelMesh.Point(a), side, BorderPlaneWeight * Dot(edge, edge));
-    this->Quadrics[a] += q;
-    this->Quadrics[b] += q;
+    Quadric q;
+    if (BorderEdgeQuadric(levelMesh.Point(a), levelMesh.Point(b), Normalized(normal), BorderPlaneWeight, q))
+    {
+      this->Quadrics[a] += q;
+      this->Quadrics[b] += q;
+    }
   }
 }
 
@@ -206,10 +207,10 @@ bool FinalCollapser::TryCollapse(Index u, SpbmFinalCollapseStatistics& statistic
     ++statistics.Collapses;
     // Every former neighbour of u is now a neighbour of v, and only v's quadric changed: the
     // costs that moved are those of v and its ring.
-    this->Mesh.Neighbors(v, this->Ring);
-    const std::vector<Index> ring = this->Ring;
+    // (Requeue reuses Ring: the ring to walk goes in its own buffer, reused between collapses.)
+    this->Mesh.Neighbors(v, this->RequeueRing);
     this->Requeue(v);
-    for (const Index w : ring)
+    for (const Index w : this->RequeueRing)
     {
       this->Requeue(w);
     }

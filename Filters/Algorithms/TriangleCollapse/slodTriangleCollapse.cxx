@@ -633,17 +633,8 @@ double TriangleCollapser::TrianglePlane(Index t, Quadric& q) const
 bool TriangleCollapser::BorderPlane(const BorderEdge& edge, Quadric& q) const
 {
   const Index* tri = this->Mesh.Triangle(edge.Triangle);
-  const Vec3 pu = this->Local(edge.Tail), pv = this->Local(edge.Head);
-  const Vec3 e = pv - pu;
   const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
-  const Vec3 n = Normalized(Cross(e, tn));
-  const double w = this->Options.BoundaryWeight * Dot(e, e);
-  if (!(w > 0))
-  {
-    return false;
-  }
-  q = Quadric::FromPointNormal(pu, n, w);
-  return true;
+  return BorderEdgeQuadric(this->Local(edge.Tail), this->Local(edge.Head), tn, this->Options.BoundaryWeight, q);
 }
 
 // The border edges at x (directed as in their triangle), ordered by (tail, triangle): the order
