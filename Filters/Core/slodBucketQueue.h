@@ -137,10 +137,7 @@ public:
   // The smallest key (call only when not Empty).
   float TopKey()
   {
-    while (this->Buckets[this->Lowest].empty())
-    {
-      ++this->Lowest;
-    }
+    this->SkipEmptyBuckets();
     const auto& bucket = this->Buckets[this->Lowest];
     float best = bucket.back().K;
     if (bucket.size() <= size_t(ScanLimit))
@@ -171,10 +168,7 @@ public:
   // Removes and returns the element of smallest key (call only when not Empty).
   Index Pop(float* key = nullptr)
   {
-    while (this->Buckets[this->Lowest].empty())
-    {
-      ++this->Lowest;
-    }
+    this->SkipEmptyBuckets();
     auto& bucket = this->Buckets[this->Lowest];
     size_t best = bucket.size() - 1;
     if (bucket.size() <= size_t(ScanLimit))
@@ -213,6 +207,22 @@ private:
     float K;
     Index Id;
   };
+  // Advances Lowest to the first non-empty bucket (call only when not Empty). The buckets passed
+  // give their storage back: costs rise as a collapse loop runs, so the entries move to higher
+  // buckets, which grow, while the drained low ones would otherwise keep their largest size (on a
+  // 1M-triangle mesh the buckets' capacity grew from 8 to 23 MB by the end of the loop: its peak).
+  // The entries and their order are untouched.
+  void SkipEmptyBuckets()
+  {
+    while (this->Buckets[this->Lowest].empty())
+    {
+      if (this->Buckets[this->Lowest].capacity() > 0)
+      {
+        std::vector<Entry>().swap(this->Buckets[this->Lowest]);
+      }
+      ++this->Lowest;
+    }
+  }
   static Index BucketOf(float key)
   {
     if (!(key >= 0.0f))
