@@ -110,6 +110,13 @@ public:
     }
     const Index b = BucketOf(key);
     auto& bucket = this->Buckets[b];
+    if (bucket.size() == bucket.capacity())
+    {
+      // Grow by a quarter, not by doubling: Build allocates every bucket at its size, so the
+      // first insertions of a collapse loop would otherwise double the busiest buckets at once
+      // (the loop's memory peak on large meshes).
+      bucket.reserve(bucket.size() + bucket.size() / 4 + 8);
+    }
     this->Slot[id] = static_cast<Index>(bucket.size());
     this->BucketId[id] = static_cast<std::uint16_t>(b);
     bucket.push_back({ key, id });

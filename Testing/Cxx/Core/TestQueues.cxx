@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Shared priority queues (slod::BucketQueue, slod::IndexedHeap): pop order against a sorted
-// reference under updates and removals, termination with large buckets of equal keys, and
-// WouldBeFirst agreeing with Pop at the bucket scan limit.
+// reference under updates and removals, termination with large buckets of equal keys,
+// WouldBeFirst agreeing with Pop at the bucket scan limit, and the release of drained buckets.
 #include "slodBucketQueue.h"
 #include "slodIndexedHeap.h"
 
@@ -137,4 +137,30 @@ TEST(PriorityQueues, IndexedHeapClearedAndGrownBehavesAsFresh)
     popped.push_back(heap.Pop());
   }
   EXPECT_EQ(popped, expected);
+}
+
+// A bucket drained as the lowest key rises gives its storage back: after the keys moved up, the
+// queue holds about what its entries need, not every bucket's largest size.
+TEST(PriorityQueues, BucketQueueReleasesDrainedBuckets)
+{
+  const Index n = 20000;
+  BucketQueue queue;
+  queue.Reset(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    queue.Set(i, 1.0f + 1e-3f * static_cast<float>(i % 97)); // low buckets
+  }
+  const size_t full = queue.MemoryBytes();
+  // Every popped element comes back with a key a thousand times higher (as costs rise in a
+  // collapse loop), until the low buckets are drained; the last pop reaches the high buckets.
+  for (Index k = 0; k < n; ++k)
+  {
+    float key = 0.0f;
+    const Index id = queue.Pop(&key);
+    queue.Set(id, key * 1000.0f);
+  }
+  queue.Pop();
+  const size_t entries = size_t(n) * 2 * sizeof(float);
+  // Without the release the drained low buckets keep their capacity on top of the high ones'.
+  EXPECT_LT(queue.MemoryBytes(), full + entries / 2);
 }
