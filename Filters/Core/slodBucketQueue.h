@@ -16,7 +16,11 @@
 
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <vector>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace slod
 {
@@ -180,14 +184,9 @@ public:
     size_t best = bucket.size() - 1;
     if (bucket.size() <= size_t(ScanLimit))
     {
-      for (size_t i = 0; i + 1 < bucket.size(); ++i)
-      {
-        const Entry& e = bucket[i];
-        if (e.K < bucket[best].K || (!(bucket[best].K < e.K) && e.Id < bucket[best].Id))
-        {
-          best = i;
-        }
-      }
+      // NaN keys share the bucket of 3e38 (BucketOf) and compare neither smaller nor larger:
+      // that bucket and those above it are scanned in order.
+      best = this->Lowest < BucketOf(3.0e38f) ? SmallestOf(bucket) : SmallestInOrder(bucket);
     }
     const Entry e = bucket[best];
     if (key)
@@ -230,11 +229,70 @@ private:
       ++this->Lowest;
     }
   }
+  // Position of the smallest entry (smallest key, then smallest id; the last entry wins nothing
+  // over an equal earlier one with a smaller id), one entry after the other: the definition.
+  static size_t SmallestInOrder(const std::vector<Entry>& bucket)
+  {
+    size_t best = bucket.size() - 1;
+    for (size_t i = 0; i + 1 < bucket.size(); ++i)
+    {
+      const Entry& e = bucket[i];
+      if (e.K < bucket[best].K || (!(bucket[best].K < e.K) && e.Id < bucket[best].Id))
+      {
+        best = i;
+      }
+    }
+    return best;
+  }
+
+  // The same position for keys that are not NaN, in two passes that need no branch per entry:
+  // the smallest key (four at a time), then the smallest id among the entries of that key (equal
+  // keys, -0 and +0 included, are the ties of SmallestInOrder). The pop scan was the largest
+  // part of the collapse loop's own instructions.
+  static size_t SmallestOf(const std::vector<Entry>& bucket)
+  {
+    const size_t n = bucket.size();
+    const Entry* e = bucket.data();
+    float smallest = e[n - 1].K;
+    size_t i = 0;
+#if defined(__SSE2__)
+    if (n >= 8)
+    {
+      __m128 lowest = _mm_set1_ps(smallest);
+      for (; i + 4 <= n; i += 4)
+      {
+        // Entries i..i+3 are {K, Id} pairs: keep the keys (lanes 0 and 2 of each half).
+        const __m128 a = _mm_loadu_ps(reinterpret_cast<const float*>(e + i));
+        const __m128 b = _mm_loadu_ps(reinterpret_cast<const float*>(e + i + 2));
+        lowest = _mm_min_ps(lowest, _mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)));
+      }
+      lowest = _mm_min_ps(lowest, _mm_shuffle_ps(lowest, lowest, _MM_SHUFFLE(1, 0, 3, 2)));
+      lowest = _mm_min_ps(lowest, _mm_shuffle_ps(lowest, lowest, _MM_SHUFFLE(2, 3, 0, 1)));
+      smallest = _mm_cvtss_f32(lowest);
+    }
+#endif
+    for (; i < n; ++i)
+    {
+      smallest = e[i].K < smallest ? e[i].K : smallest;
+    }
+    size_t best = n - 1;
+    Index id = e[n - 1].K == smallest ? e[n - 1].Id : std::numeric_limits<Index>::max();
+    for (size_t j = 0; j + 1 < n; ++j)
+    {
+      const bool better = e[j].K == smallest && e[j].Id < id;
+      best = better ? j : best;
+      id = better ? e[j].Id : id;
+    }
+    return best;
+  }
+
   static Index BucketOf(float key)
   {
-    if (!(key >= 0.0f))
+    if (!(key > 0.0f))
     {
-      key = key < 0.0f ? 0.0f : 3.0e38f; // NaN: last
+      // Negative keys and both zeros go to the first bucket (the bits of -0 would index past the
+      // last one), NaN to the last finite ones.
+      key = key <= 0.0f ? 0.0f : 3.0e38f;
     }
     std::uint32_t bits;
     std::memcpy(&bits, &key, sizeof(bits));

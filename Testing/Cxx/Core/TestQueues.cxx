@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Shared priority queues (slod::BucketQueue, slod::IndexedHeap): pop order against a sorted
 // reference under updates and removals, termination with large buckets of equal keys,
-// WouldBeFirst agreeing with Pop at the bucket scan limit, and the release of drained buckets.
+// WouldBeFirst agreeing with Pop at the bucket scan limit, the scan's order with ties, signed
+// zeros and negative keys, and the release of drained buckets.
 #include "slodBucketQueue.h"
 #include "slodIndexedHeap.h"
 
@@ -163,4 +164,42 @@ TEST(PriorityQueues, BucketQueueReleasesDrainedBuckets)
   const size_t entries = size_t(n) * 2 * sizeof(float);
   // Without the release the drained low buckets keep their capacity on top of the high ones'.
   EXPECT_LT(queue.MemoryBytes(), full + entries / 2);
+}
+
+// The scan of a bucket finds the smallest key, then the smallest id among equal keys (-0 and +0
+// are equal), for negative keys (bucket 0) too and at every bucket size up to the scan limit, as
+// the one-by-one comparison that defines the order.
+TEST(PriorityQueues, BucketQueueScanBreaksTiesBySmallestId)
+{
+  std::mt19937 random(5);
+  for (Index size : { Index(1), Index(2), Index(3), Index(7), Index(8), Index(9), Index(100), BucketQueue::ScanLimit })
+  {
+    SCOPED_TRACE(size);
+    std::uniform_int_distribution<int> pick(0, 5);
+    const float values[] = { 0.0f, -0.0f, -1e-30f, 1e-30f, 1.5f, 1.5f * (1.0f + 1e-6f) };
+    BucketQueue queue;
+    queue.Reset(2 * size);
+    std::vector<std::pair<float, Index>> expected;
+    // Ids set in a shuffled order, so that the entries' positions in a bucket are not by id.
+    std::vector<Index> ids(static_cast<size_t>(size));
+    for (Index i = 0; i < size; ++i)
+    {
+      ids[size_t(i)] = 2 * i + (i % 3 == 0 ? 1 : 0);
+    }
+    std::shuffle(ids.begin(), ids.end(), random);
+    for (Index id : ids)
+    {
+      const float key = values[pick(random)];
+      queue.Set(id, key);
+      expected.push_back({ key, id });
+    }
+    auto before = [](const std::pair<float, Index>& a, const std::pair<float, Index>& b) {
+      return a.first < b.first || (!(b.first < a.first) && a.second < b.second);
+    };
+    std::sort(expected.begin(), expected.end(), before);
+    for (const auto& e : expected)
+    {
+      ASSERT_EQ(queue.Pop(), e.second);
+    }
+  }
 }
