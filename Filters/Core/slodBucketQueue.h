@@ -277,7 +277,24 @@ private:
     }
     size_t best = n - 1;
     Index id = e[n - 1].K == smallest ? e[n - 1].Id : std::numeric_limits<Index>::max();
-    for (size_t j = 0; j + 1 < n; ++j)
+    size_t j = 0;
+#if defined(__SSE2__)
+    // Four keys compared at once; only the entries of the smallest key (usually one) look at ids.
+    const __m128 target = _mm_set1_ps(smallest);
+    for (; j + 4 <= n; j += 4)
+    {
+      const __m128 a = _mm_loadu_ps(reinterpret_cast<const float*>(e + j));
+      const __m128 b = _mm_loadu_ps(reinterpret_cast<const float*>(e + j + 2));
+      for (int mask = _mm_movemask_ps(_mm_cmpeq_ps(_mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)), target)); mask != 0;
+           mask &= mask - 1)
+      {
+        const size_t k = j + size_t(__builtin_ctz(static_cast<unsigned>(mask)));
+        best = e[k].Id < id ? k : best;
+        id = e[k].Id < id ? e[k].Id : id;
+      }
+    }
+#endif
+    for (; j < n; ++j)
     {
       const bool better = e[j].K == smallest && e[j].Id < id;
       best = better ? j : best;
