@@ -657,6 +657,9 @@ struct GreedyCuts::Worker
   // Per patch: its first attempt asks for well-shaped triangles (ShapedAngle); a patch that gets
   // stuck releases that bound to MinAngle before any other escalation (section 3.4.3).
   std::vector<unsigned char> AngleReleased;
+  // Per patch: its own input triangles are exempt from the shape bound (IsPatchTriangle), the next
+  // escalation after the release above, before careful mode and full chains.
+  std::vector<unsigned char> ThinOriginals;
   std::vector<unsigned char> ChainFull, PatchOriginal, Dirty, Kept, Refined;
   // Careful mode (a patch's second attempt at each chain resolution): ears that would swallow an
   // unused inner vertex wait until no bite is left, so the front keeps vertices to bite into.
@@ -686,6 +689,7 @@ struct GreedyCuts::Worker
     this->Refined.assign(size_t(np), 0);
     this->Careful.assign(size_t(np), 0);
     this->AngleReleased.assign(size_t(np), this->ShapedAngle > this->MinAngle ? 0 : 1);
+    this->ThinOriginals.assign(size_t(np), 0);
     this->Dirty.assign(size_t(np), 1);
     this->PatchTris.assign(size_t(np), {});
     this->PatchChains.assign(size_t(np), {});
@@ -859,10 +863,37 @@ struct GreedyCuts::Worker
     return ok;
   }
 
+  // Whether a, b, c are the corners of one of patch p's own (input) triangles. Once the patch got
+  // stuck (ThinOriginals), such a triangle is exempt from the shape bound: keeping it creates no
+  // sliver the input did not have, and the patch's fallback would keep it anyway. Without this,
+  // every input triangle thinner than MinimumAngle made its patch fall back and be split, whole
+  // runs over, until it was a patch of its own (CAD meshes at 0.01 of the diagonal: anchor 16
+  // fallback patches, boeing 104). Only once stuck, so a patch that closes without its thin input
+  // triangles is cut as before. Called for thin candidates only; O(patch) like test (b).
+  bool IsPatchTriangle(Index p, Index a, Index b, Index c) const
+  {
+    for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1]; ++i)
+    {
+      const Index* tri = M.Triangle(G.PatchTriangleList[i]);
+      int shared = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        shared += tri[k] == a || tri[k] == b || tri[k] == c;
+      }
+      if (shared == 3)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
   bool TestFeasible(PatchState& s, Index ia, Index ib, Index ic)
   {
     const Vec3 A = M.Point(ia), B = M.Point(ib), C = M.Point(ic);
-    if (IsDegenerate(A, B, C) || MinimumAngle(A, B, C) < (this->AngleReleased[s.Patch] ? this->MinAngle : this->ShapedAngle))
+    if (IsDegenerate(A, B, C) ||
+      (MinimumAngle(A, B, C) < (this->AngleReleased[s.Patch] ? this->MinAngle : this->ShapedAngle) &&
+        !(this->ThinOriginals[s.Patch] && this->IsPatchTriangle(s.Patch, ia, ib, ic))))
     {
       return false;
     }
@@ -1625,8 +1656,9 @@ struct GreedyCuts::Worker
     return false;
   }
 
-  // Escalation of a patch that got stuck or failed the verification: careful mode, then its
-  // chains at full resolution (normal, then careful), then its original triangles.
+  // Escalation of a patch that got stuck or failed the verification: the shape bound released,
+  // then its own thin input triangles allowed, then careful mode, then its chains at full
+  // resolution (normal, then careful), then its original triangles.
   void Escalate(Index p, std::vector<Index>& touched)
   {
     if (this->PatchOriginal[p])
@@ -1637,6 +1669,11 @@ struct GreedyCuts::Worker
     if (!this->AngleReleased[p])
     {
       this->AngleReleased[p] = 1;
+      return;
+    }
+    if (!this->ThinOriginals[p])
+    {
+      this->ThinOriginals[p] = 1;
       return;
     }
     if (!this->Careful[p])

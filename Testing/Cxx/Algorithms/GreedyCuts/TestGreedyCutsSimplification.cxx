@@ -596,6 +596,35 @@ double SliverShare(vtkPolyData* mesh, double degrees)
 }
 } // namespace
 
+// Session 21: an input triangle thinner than MinimumTriangleAngle (0.5 degrees) was infeasible
+// even as itself, so its patch got stuck, fell back to its original triangles and was split, run
+// after run, until it stood alone (CAD meshes: anchor 16 fallback patches at every tolerance,
+// oblong 8). A stuck patch may now keep its own thin input triangles before any other escalation.
+// anchor and oblong are used by no other test; their inputs hold such triangles (asserted).
+TEST(GreedyCutsSimplification, ThinInputTrianglesDoNotMakeTheirPatchFallBack)
+{
+  for (const std::string name : { "anchor", "oblong" })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    vtkNew<vtkGreedyCutsSimplification> defaults;
+    EXPECT_GT(SliverShare(input, defaults->GetMinimumTriangleAngle()), 0.0) << name;
+    for (double eps : { 0.005, 0.01, 0.02 })
+    {
+      vtkNew<vtkGreedyCutsSimplification> filter;
+      filter->SetInputData(input);
+      filter->SetMaximumError(eps);
+      filter->Update();
+      const Figures f = Collect(filter, input);
+      const std::string run = name + " eps " + std::to_string(eps);
+      std::cout << "[greedy-cuts] " << run << ": " << f.Output->GetNumberOfCells() << " tris, "
+                << filter->GetOriginalPatches() << " original patches of " << filter->GetNumberOfPatches() << "\n";
+      ExpectValid(input, f, run);
+      EXPECT_EQ(f.Output->GetFieldData()->GetArray("FallbackPatches")->GetTuple1(0), 0) << run;
+      EXPECT_EQ(filter->GetOriginalPatches(), 0) << run;
+    }
+  }
+}
+
 // ShapedTriangleAngle: a patch first asks for triangles no thinner than 5 degrees and releases
 // that bound only when its front gets stuck (the paper's minimal aspect ratio, released
 // gradually). dino is used by no other test.
