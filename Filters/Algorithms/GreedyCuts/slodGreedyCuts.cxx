@@ -2152,7 +2152,9 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
   const ProgressFunction stage = [&](double f) {
     return progress ? progress(0.8 * (evaluation + f) / double(steps + 1)) : true;
   };
+  this->LevelsRun = 0;
   auto evaluate = [&](int level, GreedyCutsResult& r) {
+    ++this->LevelsRun;
     prm.Epsilon = std::min(ladder[size_t(level)] * diagonal, hi);
     return this->Run(prm, r, stage);
   };
@@ -2189,9 +2191,17 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
     this->WorkLimit = 0;
     return true;
   }
+  // Each step tries the level where the count is predicted to reach the target (fandisk -t 1500:
+  // 20 triangles at the top, 0.1 of the diagonal, predict the bottom level, within the target, so
+  // the search ends after two runs instead of four), and bisects after a prediction that did not
+  // halve the bracket (at most about twice the steps of a bisection). The bracket it ends with is
+  // the bisection's whenever the counts fall with the levels (the same result).
+  bool predict = true;
   while (up - down > 1 && ++evaluation <= steps && !this->WorkSpent())
   {
-    const int middle = (up + down) / 2;
+    const int span = up - down;
+    const int middle = predict ? PredictedLevel(ladder, down, up, down < 0 ? input : count(finer), count(within), target)
+                               : (up + down) / 2;
     GreedyCutsResult trial;
     if (!evaluate(middle, trial))
     {
@@ -2199,6 +2209,7 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
     }
     (count(trial) <= target ? up : down) = middle;
     (count(trial) <= target ? within : finer) = std::move(trial);
+    predict = 2 * (up - down) <= span;
   }
   this->SearchStoppedByWorkBound = this->WorkSpent();
   if (down < 0)
@@ -2208,6 +2219,26 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
   }
   const double finerBound = down < 0 ? 0.0 : std::min(ladder[size_t(down)] * diagonal, hi);
   return this->CollapseToTarget(target, within, finer, finerBound, prm, progress, result);
+}
+
+int GreedyCuts::PredictedLevel(const std::vector<double>& ladder, int down, int up, Index countDown, Index countUp,
+  Index target)
+{
+  const double logTarget = std::log(double(std::max<Index>(target, 1)));
+  const double logUp = std::log(double(std::max<Index>(countUp, 1)));
+  double logEpsilon = std::log(ladder[size_t(up)]) + logUp - logTarget; // count ~ 1 / epsilon
+  const double logDown = std::log(double(std::max<Index>(countDown, 1)));
+  if (down >= 0 && logDown > logUp)
+  {
+    const double t = (logDown - logTarget) / (logDown - logUp);
+    logEpsilon = std::log(ladder[size_t(down)]) + t * (std::log(ladder[size_t(up)]) - std::log(ladder[size_t(down)]));
+  }
+  int level = down + 1;
+  while (level < up - 1 && std::log(ladder[size_t(level)]) < logEpsilon)
+  {
+    ++level;
+  }
+  return level;
 }
 
 // A top level over the target: finer levels, halving the level index, until one is within the
