@@ -658,8 +658,10 @@ struct GreedyCuts::Worker
   // stuck releases that bound to MinAngle before any other escalation (section 3.4.3).
   std::vector<unsigned char> AngleReleased;
   // Per patch: its own input triangles are exempt from the shape bound (IsPatchTriangle), the next
-  // escalation after the release above, before careful mode and full chains.
-  std::vector<unsigned char> ThinOriginals;
+  // escalation after the release above, before careful mode and full chains; only for patches
+  // that hold an input triangle thinner than MinAngle (ThinInput), so no other patch's escalation
+  // changes.
+  std::vector<unsigned char> ThinOriginals, ThinInput;
   std::vector<unsigned char> ChainFull, PatchOriginal, Dirty, Kept, Refined;
   // Careful mode (a patch's second attempt at each chain resolution): ears that would swallow an
   // unused inner vertex wait until no bite is left, so the front keeps vertices to bite into.
@@ -690,6 +692,15 @@ struct GreedyCuts::Worker
     this->Careful.assign(size_t(np), 0);
     this->AngleReleased.assign(size_t(np), this->ShapedAngle > this->MinAngle ? 0 : 1);
     this->ThinOriginals.assign(size_t(np), 0);
+    this->ThinInput.assign(size_t(np), 0);
+    for (Index p = 0; p < np; ++p)
+    {
+      for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1] && !this->ThinInput[p]; ++i)
+      {
+        const Index* tri = M.Triangle(G.PatchTriangleList[i]);
+        this->ThinInput[p] = MinimumAngle(M.Point(tri[0]), M.Point(tri[1]), M.Point(tri[2])) < this->MinAngle;
+      }
+    }
     this->Dirty.assign(size_t(np), 1);
     this->PatchTris.assign(size_t(np), {});
     this->PatchChains.assign(size_t(np), {});
@@ -1671,7 +1682,7 @@ struct GreedyCuts::Worker
       this->AngleReleased[p] = 1;
       return;
     }
-    if (!this->ThinOriginals[p])
+    if (this->ThinInput[p] && !this->ThinOriginals[p])
     {
       this->ThinOriginals[p] = 1;
       return;
