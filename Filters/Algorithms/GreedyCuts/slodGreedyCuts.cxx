@@ -2169,7 +2169,7 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
     prm.Epsilon = std::min(ladder[size_t(level)] * diagonal, hi);
     return this->Run(prm, r, stage);
   };
-  // Bisection over the ladder's levels, each one run (cuts and collapses), from the top: `within`
+  // Search over the ladder's levels, each one run (cuts and collapses), from the top: `within`
   // (level `up`) has at most `target` triangles, `finer` (level `down`; -1: the input) more.
   this->OpenWorkAccount(MaximumLadderPiecesPerTriangle);
   int up = int(ladder.size()) - 1, down = -1;
