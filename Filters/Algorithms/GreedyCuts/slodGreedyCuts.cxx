@@ -657,6 +657,11 @@ struct GreedyCuts::Worker
   // Per patch: its first attempt asks for well-shaped triangles (ShapedAngle); a patch that gets
   // stuck releases that bound to MinAngle before any other escalation (section 3.4.3).
   std::vector<unsigned char> AngleReleased;
+  // Per patch: its own input triangles are exempt from the shape bound (IsPatchTriangle), the next
+  // escalation after the release above, before careful mode and full chains; only for patches
+  // that hold an input triangle thinner than MinAngle (ThinInput), so no other patch's escalation
+  // changes.
+  std::vector<unsigned char> ThinOriginals, ThinInput;
   std::vector<unsigned char> ChainFull, PatchOriginal, Dirty, Kept, Refined;
   // Careful mode (a patch's second attempt at each chain resolution): ears that would swallow an
   // unused inner vertex wait until no bite is left, so the front keeps vertices to bite into.
@@ -686,6 +691,16 @@ struct GreedyCuts::Worker
     this->Refined.assign(size_t(np), 0);
     this->Careful.assign(size_t(np), 0);
     this->AngleReleased.assign(size_t(np), this->ShapedAngle > this->MinAngle ? 0 : 1);
+    this->ThinOriginals.assign(size_t(np), 0);
+    this->ThinInput.assign(size_t(np), 0);
+    for (Index p = 0; p < np; ++p)
+    {
+      for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1] && !this->ThinInput[p]; ++i)
+      {
+        const Index* tri = M.Triangle(G.PatchTriangleList[i]);
+        this->ThinInput[p] = MinimumAngle(M.Point(tri[0]), M.Point(tri[1]), M.Point(tri[2])) < this->MinAngle;
+      }
+    }
     this->Dirty.assign(size_t(np), 1);
     this->PatchTris.assign(size_t(np), {});
     this->PatchChains.assign(size_t(np), {});
@@ -859,10 +874,37 @@ struct GreedyCuts::Worker
     return ok;
   }
 
+  // Whether a, b, c are the corners of one of patch p's own (input) triangles. Once the patch got
+  // stuck (ThinOriginals), such a triangle is exempt from the shape bound: keeping it creates no
+  // sliver the input did not have, and the patch's fallback would keep it anyway. Without this,
+  // every input triangle thinner than MinimumAngle made its patch fall back and be split, whole
+  // runs over, until it was a patch of its own (CAD meshes at 0.01 of the diagonal: anchor 16
+  // fallback patches, boeing 104). Only once stuck, so a patch that closes without its thin input
+  // triangles is cut as before. Called for thin candidates only; O(patch) like test (b).
+  bool IsPatchTriangle(Index p, Index a, Index b, Index c) const
+  {
+    for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1]; ++i)
+    {
+      const Index* tri = M.Triangle(G.PatchTriangleList[i]);
+      int shared = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        shared += tri[k] == a || tri[k] == b || tri[k] == c;
+      }
+      if (shared == 3)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
   bool TestFeasible(PatchState& s, Index ia, Index ib, Index ic)
   {
     const Vec3 A = M.Point(ia), B = M.Point(ib), C = M.Point(ic);
-    if (IsDegenerate(A, B, C) || MinimumAngle(A, B, C) < (this->AngleReleased[s.Patch] ? this->MinAngle : this->ShapedAngle))
+    if (IsDegenerate(A, B, C) ||
+      (MinimumAngle(A, B, C) < (this->AngleReleased[s.Patch] ? this->MinAngle : this->ShapedAngle) &&
+        !(this->ThinOriginals[s.Patch] && this->IsPatchTriangle(s.Patch, ia, ib, ic))))
     {
       return false;
     }
@@ -1625,8 +1667,9 @@ struct GreedyCuts::Worker
     return false;
   }
 
-  // Escalation of a patch that got stuck or failed the verification: careful mode, then its
-  // chains at full resolution (normal, then careful), then its original triangles.
+  // Escalation of a patch that got stuck or failed the verification: the shape bound released,
+  // then its own thin input triangles allowed, then careful mode, then its chains at full
+  // resolution (normal, then careful), then its original triangles.
   void Escalate(Index p, std::vector<Index>& touched)
   {
     if (this->PatchOriginal[p])
@@ -1637,6 +1680,11 @@ struct GreedyCuts::Worker
     if (!this->AngleReleased[p])
     {
       this->AngleReleased[p] = 1;
+      return;
+    }
+    if (this->ThinInput[p] && !this->ThinOriginals[p])
+    {
+      this->ThinOriginals[p] = 1;
       return;
     }
     if (!this->Careful[p])
@@ -2115,11 +2163,13 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
   const ProgressFunction stage = [&](double f) {
     return progress ? progress(0.8 * (evaluation + f) / double(steps + 1)) : true;
   };
+  this->LevelsRun = 0;
   auto evaluate = [&](int level, GreedyCutsResult& r) {
+    ++this->LevelsRun;
     prm.Epsilon = std::min(ladder[size_t(level)] * diagonal, hi);
     return this->Run(prm, r, stage);
   };
-  // Bisection over the ladder's levels, each one run (cuts and collapses), from the top: `within`
+  // Search over the ladder's levels, each one run (cuts and collapses), from the top: `within`
   // (level `up`) has at most `target` triangles, `finer` (level `down`; -1: the input) more.
   this->OpenWorkAccount(MaximumLadderPiecesPerTriangle);
   int up = int(ladder.size()) - 1, down = -1;
@@ -2152,9 +2202,17 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
     this->WorkLimit = 0;
     return true;
   }
+  // Each step tries the level where the count is predicted to reach the target (fandisk -t 1500:
+  // 20 triangles at the top, 0.1 of the diagonal, predict the bottom level, within the target, so
+  // the search ends after two runs instead of four), and bisects after a prediction that did not
+  // halve the bracket (at most about twice the steps of a bisection). The bracket it ends with is
+  // the bisection's whenever the counts fall with the levels (the same result).
+  bool predict = true;
   while (up - down > 1 && ++evaluation <= steps && !this->WorkSpent())
   {
-    const int middle = (up + down) / 2;
+    const int span = up - down;
+    const int middle = predict ? PredictedLevel(ladder, down, up, down < 0 ? input : count(finer), count(within), target)
+                               : (up + down) / 2;
     GreedyCutsResult trial;
     if (!evaluate(middle, trial))
     {
@@ -2162,6 +2220,7 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
     }
     (count(trial) <= target ? up : down) = middle;
     (count(trial) <= target ? within : finer) = std::move(trial);
+    predict = 2 * (up - down) <= span;
   }
   this->SearchStoppedByWorkBound = this->WorkSpent();
   if (down < 0)
@@ -2171,6 +2230,26 @@ bool GreedyCuts::SearchCollapsedForTarget(Index target, const GreedyCutsParamete
   }
   const double finerBound = down < 0 ? 0.0 : std::min(ladder[size_t(down)] * diagonal, hi);
   return this->CollapseToTarget(target, within, finer, finerBound, prm, progress, result);
+}
+
+int GreedyCuts::PredictedLevel(const std::vector<double>& ladder, int down, int up, Index countDown, Index countUp,
+  Index target)
+{
+  const double logTarget = std::log(double(std::max<Index>(target, 1)));
+  const double logUp = std::log(double(std::max<Index>(countUp, 1)));
+  double logEpsilon = std::log(ladder[size_t(up)]) + logUp - logTarget; // count ~ 1 / epsilon
+  const double logDown = std::log(double(std::max<Index>(countDown, 1)));
+  if (down >= 0 && logDown > logUp)
+  {
+    const double t = (logDown - logTarget) / (logDown - logUp);
+    logEpsilon = std::log(ladder[size_t(down)]) + t * (std::log(ladder[size_t(up)]) - std::log(ladder[size_t(down)]));
+  }
+  int level = down + 1;
+  while (level < up - 1 && std::log(ladder[size_t(level)]) < logEpsilon)
+  {
+    ++level;
+  }
+  return level;
 }
 
 // A top level over the target: finer levels, halving the level index, until one is within the

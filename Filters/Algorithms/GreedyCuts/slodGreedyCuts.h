@@ -119,6 +119,9 @@ public:
     const ProgressFunction& progress = nullptr, const TerrainPatchificationParameters* terrain = nullptr);
   bool Aborted() const { return this->WasAborted; }
   bool WorkBoundReached() const { return this->SearchStoppedByWorkBound; }
+  // Levels run (cuts and collapses) by the last target search with the final collapses, the top's
+  // included.
+  int TargetLevelsRun() const { return this->LevelsRun; }
   // Distance-proof pieces examined so far by this object's runs (cuts and collapses): the work.
   long long ProofPiecesExamined() const { return this->ProofPieces; }
   const Patchification& GetPatches() const { return this->Patches; }
@@ -156,9 +159,17 @@ public:
   // Ladder levels (1, 2, 5 times a power of ten) where RunMonotone also tries the level's own cuts
   // with their collapses (a function of the level only, so the nesting stays the same).
   static bool IsFreshLevel(double relative);
+  // The next level a target search tries strictly between `down` (more than `target` triangles:
+  // `countDown`; -1 is the input, at tolerance 0) and `up` (within it: `countUp`), down + 1 < up:
+  // the smallest level at or above the tolerance where the count is predicted to reach the target,
+  // the count taken as a power of the tolerance through the two results (as 1/epsilon, a surface's
+  // rate, from `up` alone when down is the input).
+  static int PredictedLevel(const std::vector<double>& ladder, int down, int up, Index countDown, Index countUp,
+    Index target);
 
-  // With the final collapses (base.FinalCollapses): a bisection over the ladder's levels from
-  // base.LadderBottom to hi (absolute), each one run with its collapses (at most `steps` runs after
+  // With the final collapses (base.FinalCollapses): a search over the ladder's levels from
+  // base.LadderBottom to hi (absolute; the predicted level, PredictedLevel, and a bisection after
+  // a prediction that halved nothing), each one run with its collapses (at most `steps` runs after
   // the top level's), finds the smallest level `within` the target found and the next finer one
   // tried with more triangles (the input itself when none); that finer result is then collapsed at
   // the level's tolerance, stopping at the target: target or target - 1 triangles (a collapse
@@ -215,6 +226,7 @@ private:
   bool WasAborted = false;
   mutable long long ProofPieces = 0; // pieces examined by the distance proofs (work account)
   bool SearchStoppedByWorkBound = false;
+  int LevelsRun = 0;
   // Per patch: its triangles, its inner vertices (on no chain), its boundary loop.
   std::vector<Index> PatchTriangleOffsets, PatchTriangleList;
   std::vector<Index> PatchInnerOffsets, PatchInnerList;

@@ -28,8 +28,9 @@
  * Parameters: MaximumError (epsilon; absolute, or relative to the input's bounding box diagonal
  * when MaximumErrorIsRelative is on, the default), the patch angle tolerances of
  * vtkPatchBoundaryMerge, and the project's target convention: SetTargetNumberOfTriangles (0 =
- * unused) or SetTargetReduction (fraction removed) bisects over the tolerance ladder's levels (see
- * MonotoneInEpsilon) from LadderBottom to MaximumError, one run with its collapses per level tried
+ * unused) or SetTargetReduction (fraction removed) searches the tolerance ladder's levels (see
+ * MonotoneInEpsilon) from LadderBottom to MaximumError (each step the level where the count is
+ * predicted to reach the target, a bisection step after a poor prediction), one run with its collapses per level tried
  * (at most TargetSearchSteps after the top one), for the smallest level within the target; the
  * next finer level tried (the input itself when none) is then collapsed at that level's tolerance
  * down to the target: the target count or one below (a top level over the target sends the

@@ -27,6 +27,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -596,6 +597,35 @@ double SliverShare(vtkPolyData* mesh, double degrees)
 }
 } // namespace
 
+// Session 21: an input triangle thinner than MinimumTriangleAngle (0.5 degrees) was infeasible
+// even as itself, so its patch got stuck, fell back to its original triangles and was split, run
+// after run, until it stood alone (CAD meshes: anchor 16 fallback patches at every tolerance,
+// oblong 8). A stuck patch may now keep its own thin input triangles before any other escalation.
+// anchor and oblong are used by no other test; their inputs hold such triangles (asserted).
+TEST(GreedyCutsSimplification, ThinInputTrianglesDoNotMakeTheirPatchFallBack)
+{
+  for (const std::string name : { "anchor", "oblong" })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    vtkNew<vtkGreedyCutsSimplification> defaults;
+    EXPECT_GT(SliverShare(input, defaults->GetMinimumTriangleAngle()), 0.0) << name;
+    for (double eps : { 0.005, 0.01, 0.02 })
+    {
+      vtkNew<vtkGreedyCutsSimplification> filter;
+      filter->SetInputData(input);
+      filter->SetMaximumError(eps);
+      filter->Update();
+      const Figures f = Collect(filter, input);
+      const std::string run = name + " eps " + std::to_string(eps);
+      std::cout << "[greedy-cuts] " << run << ": " << f.Output->GetNumberOfCells() << " tris, "
+                << filter->GetOriginalPatches() << " original patches of " << filter->GetNumberOfPatches() << "\n";
+      ExpectValid(input, f, run);
+      EXPECT_EQ(f.Output->GetFieldData()->GetArray("FallbackPatches")->GetTuple1(0), 0) << run;
+      EXPECT_EQ(filter->GetOriginalPatches(), 0) << run;
+    }
+  }
+}
+
 // ShapedTriangleAngle: a patch first asks for triangles no thinner than 5 degrees and releases
 // that bound only when its front gets stuck (the paper's minimal aspect ratio, released
 // gradually). dino is used by no other test.
@@ -835,6 +865,56 @@ TEST(GreedyCuts, ToleranceLadderIsFixedAndRound)
   EXPECT_NEAR(GreedyCuts::LadderFloor(0.07), 0.06, 1e-15);
   EXPECT_EQ(GreedyCuts::LadderFloor(0.0), 0.0);
   EXPECT_EQ(GreedyCuts::ToleranceLadder(0.01, 0.003).size(), 1u); // below the bottom: one level
+}
+
+// Session 21: the target search tries the level where the count is predicted to reach the target
+// (the count as a power of the tolerance through the bracketing results) instead of the middle one.
+// Counts that follow such a power exactly are bracketed in one step.
+TEST(GreedyCuts, TargetSearchPredictsTheLevel)
+{
+  const std::vector<double> ladder = GreedyCuts::ToleranceLadder(0.004, 0.1);
+  const int top = int(ladder.size()) - 1;
+  auto levelOf = [&](double relative) {
+    return int(std::find_if(ladder.begin(), ladder.end(), [&](double x) { return x >= relative * (1 - 1e-9); }) - ladder.begin());
+  };
+  // From the input (down = -1) and the top alone: count ~ 1 / epsilon; 20 at 0.1 gives 200 at 0.01.
+  EXPECT_EQ(GreedyCuts::PredictedLevel(ladder, -1, top, 100000, 20, 200), levelOf(0.01));
+  // Below the bottom: the bottom level.
+  EXPECT_EQ(GreedyCuts::PredictedLevel(ladder, -1, top, 100000, 20, 5000), 0);
+  // Between two results of count = 1 / epsilon^2: 0.005 -> 40,000, 0.05 -> 400; 2,500 at 0.02.
+  EXPECT_EQ(GreedyCuts::PredictedLevel(ladder, levelOf(0.005), levelOf(0.05), 40000, 400, 2500), levelOf(0.02));
+  // Always strictly inside the bracket.
+  EXPECT_EQ(GreedyCuts::PredictedLevel(ladder, 3, 5, 1000, 10, 1), 4);
+  EXPECT_EQ(GreedyCuts::PredictedLevel(ladder, 3, 5, 1000, 999, 999), 4);
+}
+
+// On a mesh no other test uses, a target inside the ladder: the search brackets it in fewer level
+// runs than a bisection needs to get down to adjacent levels (log2 of the levels, plus the top),
+// within its work bound; the result is N or N - 1 triangles within its bound (measured).
+TEST(GreedyCuts, TargetSearchRunsFewerLevelsThanABisection)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("head");
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+  GreedyCuts cuts;
+  cuts.Initialize(mesh, PatchificationParameters());
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  const Index target = mesh.NumberOfTriangles() / 10;
+  GreedyCutsResult result;
+  ASSERT_TRUE(cuts.RunForTarget(target, GreedyCutsParameters(), 1e-5 * diagonal, 0.1 * diagonal, 10, result));
+  const size_t levels = GreedyCuts::ToleranceLadder(GreedyCutsParameters().LadderBottom, 0.1).size();
+  const int bisection = 1 + int(std::ceil(std::log2(double(levels))));
+  TriangleMesh out;
+  out.Points = mesh.Points;
+  out.Triangles = result.Triangles;
+  const double hausdorff = MeasureHausdorff(slodtest::ToPolyData(mesh), slodtest::ToPolyData(out));
+  std::cout << "[greedy-cuts] head target " << target << ": " << out.NumberOfTriangles() << " tris at eps "
+            << result.ErrorBound / diagonal << " of the diagonal, H/eps " << hausdorff / result.ErrorBound << ", "
+            << cuts.TargetLevelsRun() << " levels run (a bisection: " << bisection << ")\n";
+  EXPECT_FALSE(cuts.WorkBoundReached());
+  EXPECT_LE(out.NumberOfTriangles(), target);
+  EXPECT_GE(out.NumberOfTriangles(), target - 1);
+  EXPECT_LE(hausdorff, result.ErrorBound * (1 + 1e-6));
+  EXPECT_LT(cuts.TargetLevelsRun(), bisection);
 }
 
 // A target counts the final collapses: asked for N, the filter gives N or N - 1 triangles (a
