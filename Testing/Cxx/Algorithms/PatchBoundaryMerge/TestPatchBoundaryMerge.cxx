@@ -1036,15 +1036,40 @@ void GenerateTenthLevel(const PatchedMesh& pm, Adjust&& adjust, SpbmLevel& level
   ASSERT_TRUE(generator.Generate(parameters, level));
 }
 
+// The patched noisy scan of `seed` at resolution 48 (surfaces no other PBM test tunes for); null
+// when it cannot be prepared.
+std::unique_ptr<PatchedMesh> PatchedNoisyScan(unsigned int seed)
+{
+  TriangleMesh mesh;
+  std::vector<Index> vertexToInput;
+  if (!PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid)
+  {
+    return nullptr;
+  }
+  return Patch(mesh);
+}
+
+// The level over the mesh's points keeps the input's Euler characteristic and border loops, has no
+// more non-manifold edges and is consistently oriented.
+void ExpectInputTopology(const PatchedMesh& pm, const MeshStatistics& in, const SpbmLevel& level, unsigned int seed)
+{
+  TriangleMesh out;
+  out.Points = pm.Mesh.Points;
+  out.Triangles = level.Triangles;
+  out.RemoveUnusedPoints();
+  const MeshStatistics st = ComputeMeshStatistics(out);
+  EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic) << "seed " << seed;
+  EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops) << "seed " << seed;
+  EXPECT_LE(st.NonManifoldEdges, in.NonManifoldEdges) << "seed " << seed;
+  EXPECT_EQ(st.InconsistentlyOrientedEdges, 0) << "seed " << seed;
+}
+
 // The tenth levels of the noisy scan of `seed` (a surface no other PBM test tunes for) with the
 // boolean parameter `option` on and off.
 void NoisyScanTenthLevelsWithAndWithout(unsigned int seed, bool SpbmLevelParameters::*option, SpbmLevel& on, SpbmLevel& off)
 {
-  TriangleMesh mesh;
-  std::vector<Index> vertexToInput;
-  ASSERT_TRUE(
-    PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
-  auto pm = Patch(mesh);
+  auto pm = PatchedNoisyScan(seed);
+  ASSERT_TRUE(pm) << "seed " << seed;
   GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.*option = true; }, on);
   GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.*option = false; }, off);
 }
@@ -1119,11 +1144,8 @@ TEST(SpbmLevel, FailedPatchesKeepAVertexMoreBeforeTheFallback)
   bool fewerUnmerged = false;
   for (const unsigned int seed : { 17u, 19u })
   {
-    TriangleMesh mesh;
-    std::vector<Index> vertexToInput;
-    ASSERT_TRUE(
-      PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
-    auto pm = Patch(mesh);
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
     const MeshStatistics in = ComputeMeshStatistics(pm->Mesh);
     SpbmLevel rounds, none;
     GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.FailedPatchRefinementRounds = 3; }, rounds);
@@ -1135,15 +1157,7 @@ TEST(SpbmLevel, FailedPatchesKeepAVertexMoreBeforeTheFallback)
     EXPECT_LT(rounds.FailedPatches, none.FailedPatches) << "seed " << seed;
     EXPECT_LE(rounds.UnmergedPatches, none.UnmergedPatches) << "seed " << seed;
     fewerUnmerged = fewerUnmerged || rounds.UnmergedPatches < none.UnmergedPatches;
-    TriangleMesh out;
-    out.Points = pm->Mesh.Points;
-    out.Triangles = rounds.Triangles;
-    out.RemoveUnusedPoints();
-    const MeshStatistics st = ComputeMeshStatistics(out);
-    EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic) << "seed " << seed;
-    EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops) << "seed " << seed;
-    EXPECT_LE(st.NonManifoldEdges, in.NonManifoldEdges) << "seed " << seed;
-    EXPECT_EQ(st.InconsistentlyOrientedEdges, 0) << "seed " << seed;
+    ExpectInputTopology(*pm, in, rounds, seed);
   }
   EXPECT_TRUE(fewerUnmerged) << "the rounds must spare some patch its unmerging";
 }
@@ -1179,11 +1193,8 @@ TEST(SpbmLevel, FailingUnmergedPatchesGoStraightToOriginalWhenCollapsesFollow)
   bool fewerPasses = false;
   for (const unsigned int seed : { 41u, 43u, 47u })
   {
-    TriangleMesh mesh;
-    std::vector<Index> vertexToInput;
-    ASSERT_TRUE(
-      PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
-    auto pm = Patch(mesh);
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
     const MeshStatistics in = ComputeMeshStatistics(pm->Mesh);
     SpbmLevel on, off;
     GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.FinalCollapsesFollow = true; }, on);
@@ -1195,15 +1206,7 @@ TEST(SpbmLevel, FailingUnmergedPatchesGoStraightToOriginalWhenCollapsesFollow)
     EXPECT_EQ(on.RefinedPatches, 0) << "seed " << seed;
     EXPECT_LE(on.Passes, off.Passes) << "seed " << seed;
     fewerPasses = fewerPasses || on.Passes < off.Passes;
-    TriangleMesh out;
-    out.Points = pm->Mesh.Points;
-    out.Triangles = on.Triangles;
-    out.RemoveUnusedPoints();
-    const MeshStatistics st = ComputeMeshStatistics(out);
-    EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic) << "seed " << seed;
-    EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops) << "seed " << seed;
-    EXPECT_LE(st.NonManifoldEdges, in.NonManifoldEdges) << "seed " << seed;
-    EXPECT_EQ(st.InconsistentlyOrientedEdges, 0) << "seed " << seed;
+    ExpectInputTopology(*pm, in, on, seed);
   }
   EXPECT_TRUE(fewerPasses) << "some noisy scan must have patches that went through finer-chain levels before";
 }
