@@ -108,6 +108,13 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // Fallback passes in which no failed patch would keep a vertex more (or be unmerged) repeat the
   // pass before them: skipped (the same level in fewer passes); off: one level per pass.
   bool SkipIneffectiveFallbackLevels = true;
+  // Set when the caller finishes a level that ends beyond SpbmFinalCollapseTolerance of
+  // RemovalTarget with final collapses (vtkPatchBoundaryMerge's FinalCollapses): once a pass's
+  // count is beyond it, a patch that is unmerged already and still fails goes straight to its
+  // original triangles instead of through the finer-chain levels. Those levels keep the count near
+  // the prediction, each one a pass that triangulates the whole level again (noisy scans: up to six
+  // such passes for the same hundred patches), while the collapses take any count down anyway.
+  bool FinalCollapsesFollow = false;
   // A patch that fails to triangulate (not unmerged yet) first keeps one more boundary vertex (the
   // hidden chain vertex farthest from its kept segment, else one hidden by a chain segment
   // elsewhere that joins two of its corners) and the patches on both sides of that chain are

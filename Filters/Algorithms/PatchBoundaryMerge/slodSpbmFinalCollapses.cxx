@@ -314,7 +314,7 @@ void SpbmFinalCollapses(
 {
   statistics = SpbmFinalCollapseStatistics();
   statistics.StartTriangles = static_cast<Index>(level.TrianglePatch.size());
-  const Index tolerance = std::max<Index>(2, target / 50);
+  const Index tolerance = SpbmFinalCollapseTolerance(target);
   if (target <= 0 || statistics.StartTriangles <= target + tolerance)
   {
     statistics.Reached = statistics.StartTriangles <= target + tolerance;

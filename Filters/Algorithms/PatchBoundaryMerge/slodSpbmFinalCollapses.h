@@ -21,6 +21,8 @@
 
 #include "slodPatchBoundaryMerge.h"
 
+#include <algorithm>
+
 namespace slod
 {
 struct SURFACELODFILTERS_EXPORT SpbmFinalCollapseStatistics
@@ -33,6 +35,12 @@ struct SURFACELODFILTERS_EXPORT SpbmFinalCollapseStatistics
   bool Reached = false;    // the level has at most the target's count (+ 2%) afterwards
   bool WorkBoundReached = false;
 };
+
+// How far above its target a level may end without final collapses (2%, at least 2 triangles).
+inline Index SpbmFinalCollapseTolerance(Index target)
+{
+  return std::max<Index>(2, target / 50);
+}
 
 // Collapses vertices of `level` (over `mesh`'s points) until it has at most `target` triangles or
 // no collapse keeps the topology and the normal bound of the last stage. Deterministic (one queue,

@@ -209,9 +209,9 @@ SpbmLevelGenerator::MergingRun::MergingRun(
 // Walk the alive chains of root patch p, unlinking dead ones on the way (merged
 // patches would otherwise drag every chain they ever absorbed through each
 // walk: quadratic on large merges). The order of the alive chains is kept. `f`
-// must not relink patch lists.
+// must not relink patch lists. Returns the last alive slot (the list's tail after the walk).
 template<typename Functor>
-void SpbmLevelGenerator::MergingRun::ForPatchChains(Index p, Functor&& f)
+Index SpbmLevelGenerator::MergingRun::ForPatchChains(Index p, Functor&& f)
 {
   Index previous = InvalidIndex;
   for (Index slot = s.PatchHead[p]; slot != InvalidIndex;)
@@ -233,6 +233,7 @@ void SpbmLevelGenerator::MergingRun::ForPatchChains(Index p, Functor&& f)
     }
     slot = next;
   }
+  return previous;
 }
 
 void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& frozen)
@@ -451,11 +452,19 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
   {
     s.SimpleSignature.assign(size_t(np), 0);
   }
+  // After the first round only the patches on a chain refined by the previous round can change:
+  // any other one has the signature it had then (simple, or every chain locked already), so the
+  // later rounds visit those, in the same order.
+  std::vector<Index>& visit = refinePatches;
+  std::vector<Index> next;
   for (int round = 0; round < 8 && !reuse; ++round)
   {
     bool refined = false;
-    for (Index p = 0; p < np; ++p)
+    next.clear();
+    const Index count = round == 0 ? np : static_cast<Index>(visit.size());
+    for (Index i = 0; i < count; ++i)
     {
+      const Index p = round == 0 ? i : visit[size_t(i)];
       if (s.Size[p] > MaximumCheckedBoundary || s.Frozen[p] >= FullResolutionLevel)
       {
         continue;
@@ -485,6 +494,11 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
         if (!s.Locked[c])
         {
           refined = true;
+          next.push_back(s.L[c]);
+          if (s.R[c] != InvalidIndex)
+          {
+            next.push_back(s.R[c]);
+          }
           if (round >= 5 || s.Tolerance[c] <= 0)
           {
             s.Locked[c] = 1; // full resolution
@@ -500,6 +514,9 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
     {
       break;
     }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    visit.swap(next);
     this->RebuildKept();
   }
   if (!anyFrozen && !reuse)
@@ -884,8 +901,10 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
   {
     const Index o = orientedChains[current];
     const Index c = o >= 0 ? o : -1 - o;
-    chainForward.clear();
-    chainForward.push_back(this->EndpointPoint(s.A[c]));
+    // The chain's start (in the walk's direction), then its kept interior vertices written
+    // forward and turned around in place when the walk runs the chain backwards.
+    points.push_back(this->EndpointPoint(o >= 0 ? s.A[c] : s.B[c]));
+    const size_t interiorBegin = points.size();
     for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
     {
       const Index* v = P.ChainVerticesBegin(part);
@@ -894,25 +913,20 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
       {
         for (Index i = last; i > first; --i)
         {
-          chainForward.push_back(mesh.Point(v[s.KeptPositions[i - 1]]));
+          points.push_back(mesh.Point(v[s.KeptPositions[i - 1]]));
         }
       }
       else
       {
         for (Index i = first; i < last; ++i)
         {
-          chainForward.push_back(mesh.Point(v[s.KeptPositions[i]]));
+          points.push_back(mesh.Point(v[s.KeptPositions[i]]));
         }
       }
     }
-    if (o >= 0)
+    if (o < 0)
     {
-      points.insert(points.end(), chainForward.begin(), chainForward.end());
-    }
-    else
-    {
-      points.push_back(this->EndpointPoint(s.B[c]));
-      points.insert(points.end(), chainForward.rbegin(), chainForward.rend() - 1);
+      std::reverse(points.begin() + std::ptrdiff_t(interiorBegin), points.end());
     }
     const Index end = o >= 0 ? s.B[c] : s.A[c];
     if (s.EndStamp[end] != stamp)
@@ -958,8 +972,10 @@ bool SpbmLevelGenerator::MergingRun::SimpleAfter(Index x, Index gone, Index repl
 // Chain collapse (4.2.6 (a)-(c), 4.2.7): one-edge chain e shrinks to one
 // endpoint, toward the border, else toward the larger normal variation. Relaxed
 // (cost-ordered removal): without the length and epsilon bounds, toward
-// forcedKeep.
-bool SpbmLevelGenerator::MergingRun::TryCollapse(Index e, double longest)
+// forcedKeep. A negative `longest` stands for LongestChain(collapseRoot), computed only when a
+// chain gets as far as condition (c) (most tries stop at the version check before), and then kept
+// for the rest of the walk: no collapse has changed the patch before its first use.
+bool SpbmLevelGenerator::MergingRun::TryCollapse(Index e, double& longest)
 {
   if (!this->Movable(e))
   {
@@ -978,6 +994,10 @@ bool SpbmLevelGenerator::MergingRun::TryCollapse(Index e, double longest)
   s.TriedQ[e] = s.Version[q];
   const Index a = s.A[e], b = s.B[e];
   const Vec3 pa = this->EndpointPoint(a), pb = this->EndpointPoint(b);
+  if (!relaxed && longest < 0)
+  {
+    longest = this->LongestChain(collapseRoot);
+  }
   if (!relaxed && Norm(pb - pa) >= parameters.CollapseLengthFactor * longest) // (c)
   {
     return false;
@@ -1110,19 +1130,26 @@ void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, In
   s.Total -= 2;
 }
 
-// Length of the longest chain (endpoint to endpoint) of root patch x: condition (c)'s scale.
+// Length of the longest chain (endpoint to endpoint) of root patch x: condition (c)'s scale. It
+// runs inside walks of x's chain list (TryCollapse), so it leaves the list as it is.
 double SpbmLevelGenerator::MergingRun::LongestChain(Index x)
 {
   double longest = 0;
-  this->ForPatchChains(
-    x, [&](Index c) { longest = std::max(longest, Norm(this->EndpointPoint(s.B[c]) - this->EndpointPoint(s.A[c]))); });
+  for (Index slot = s.PatchHead[x]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+  {
+    const Index c = slot / 2;
+    if (s.Alive[c])
+    {
+      longest = std::max(longest, Norm(this->EndpointPoint(s.B[c]) - this->EndpointPoint(s.A[c])));
+    }
+  }
   return longest;
 }
 
 void SpbmLevelGenerator::MergingRun::TryCollapses(Index x, Index exclude)
 {
   collapseRoot = x;
-  const double longest = this->LongestChain(x);
+  double longest = -1; // LongestChain(x), on first need
   this->ForPatchChains(x, [&](Index c) {
     if (c != exclude)
     {
@@ -1418,15 +1445,10 @@ void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
   s.Normal[p] = s.Normal[p] + s.Normal[q];
   s.UnitNormal[p] = Normalized(s.Normal[p]);
   s.Size[p] += s.Size[q] - 2;
-  // Splice q's chain list into p's.
-  this->ForPatchChains(q, [](Index) {}); // drop q's dead chains before splicing
+  // Splice q's chain list into p's; the walk that drops q's dead chains ends on its tail.
+  const Index tail = this->ForPatchChains(q, [](Index) {});
   if (s.PatchHead[q] != InvalidIndex)
   {
-    Index tail = s.PatchHead[q];
-    while (s.PatchSlotNext[tail] != InvalidIndex)
-    {
-      tail = s.PatchSlotNext[tail];
-    }
     s.PatchSlotNext[tail] = s.PatchHead[p];
     s.PatchHead[p] = s.PatchHead[q];
     s.PatchHead[q] = InvalidIndex;
@@ -1681,7 +1703,8 @@ bool SpbmLevelGenerator::MergingRun::RemovalCollapse(Index e, Index keep)
   relaxed = true;
   forcedKeep = keep;
   s.TriedP[e] = s.TriedQ[e] = -1;
-  const bool done = this->TryCollapse(e, std::numeric_limits<double>::infinity());
+  double unbounded = std::numeric_limits<double>::infinity(); // relaxed: no condition (c)
+  const bool done = this->TryCollapse(e, unbounded);
   forcedKeep = InvalidIndex;
   relaxed = false;
   return done;

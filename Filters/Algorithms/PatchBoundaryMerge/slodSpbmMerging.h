@@ -56,7 +56,7 @@ private:
 
   // Chain graph walks and edits.
   template<typename Functor>
-  void ForPatchChains(Index p, Functor&& f);
+  Index ForPatchChains(Index p, Functor&& f); // returns the last alive slot
   Index OtherEnd(Index c, Index e);
   const Vec3& EndpointPoint(Index e);
   void SpliceEndList(Index from, Index to);
@@ -78,7 +78,7 @@ private:
   void UnitePatches(Index c, Index p, Index q);
 
   // Chain collapses and endpoint joins (4.2.6 (a)-(c), 4.2.7).
-  bool TryCollapse(Index e, double longest);
+  bool TryCollapse(Index e, double& longest);
   bool CollapseKeepsTopology(Index e, Index p, Index q, Index keep, Index gone);
   bool CollapseKeepsSimple(Index p, Index q, Index keep, Index gone);
   void ApplyCollapse(Index e, Index p, Index q, Index keep, Index gone);
@@ -141,8 +141,8 @@ private:
   bool relaxed = false;
   Index forcedKeep = InvalidIndex;
   // Scratch.
-  std::vector<Index> orientedChains, absorbedChains;
-  std::vector<Vec3> chainForward, checkPoints, chainPoints, mergedPoints;
+  std::vector<Index> orientedChains, absorbedChains, refinePatches;
+  std::vector<Vec3> checkPoints, chainPoints, mergedPoints;
   std::vector<unsigned char> chainKept;
   IndexedHeap<double> removalQueue; // removal operations by cost
   // The last boundary walks (BoundaryPoints), valid while no edit of the chain graph happened.

@@ -308,7 +308,8 @@ bool SpbmLevelGenerator::MergingRun::RetryEdit(const State::Edit& edit)
       }
       const Index root = s.Find(v[5] != InvalidIndex ? v[5] : v[1]);
       collapseRoot = root;
-      return this->TryCollapse(c, this->LongestChain(root)) && s.Degree[v[4]] == 0 && sameRoots;
+      double longest = -1; // LongestChain(root), on first need
+      return this->TryCollapse(c, longest) && s.Degree[v[4]] == 0 && sameRoots;
     }
     default: // JoinEdit
       if (relaxed)

@@ -2,6 +2,7 @@
 #include "slodSpbmTriangulation.h"
 
 #include "slodPolygonTriangulation.h"
+#include "slodSpbmFinalCollapses.h"
 #include "slodTriangleBVH.h"
 
 #include "vtkLogger.h"
@@ -636,13 +637,18 @@ bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<uns
   // unmerged patch that still fails is its original triangles (mc1m at 10%: 12 patches failed
   // through 6 such passes, 0.35 s of triangulation and a merging run each).
   const bool fullResolution = parameters.Epsilon < 0;
+  // Final collapses will finish this level (FinalCollapsesFollow): the same jump for the patches
+  // that are unmerged already.
+  const bool collapsesFollow = parameters.FinalCollapsesFollow && parameters.RemovalTarget > 0 &&
+    s.Total > parameters.RemovalTarget + SpbmFinalCollapseTolerance(parameters.RemovalTarget);
+  const bool straightToOriginal = fullResolution || collapsesFollow;
   // Every failed patch goes one level further per pass; the passes in which none of them keeps a
   // vertex more (or is unmerged) would repeat this one, so they are skipped: the level is the same.
   int step = parameters.SkipIneffectiveFallbackLevels ? OriginalLevel : 1;
   bool anyFailed = false;
   for (Index q = 0; q < np && step > 1; ++q)
   {
-    if (failed[s.Find(q)] && frozen[q] < OriginalLevel && !(fullResolution && frozen[q] >= 1))
+    if (failed[s.Find(q)] && frozen[q] < OriginalLevel && !(straightToOriginal && frozen[q] >= 1))
     {
       step = std::min(step, frozen[q] == 0 ? 1 : this->NextEffectiveLevel(q, frozen) - frozen[q]);
     }
@@ -656,7 +662,7 @@ bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<uns
     if (failed[s.Find(q)] && frozen[q] < OriginalLevel)
     {
       unmerged = unmerged || frozen[q] == 0;
-      frozen[q] = fullResolution && frozen[q] >= 1 ? OriginalLevel : std::min(OriginalLevel, frozen[q] + step);
+      frozen[q] = straightToOriginal && frozen[q] >= 1 ? OriginalLevel : std::min(OriginalLevel, frozen[q] + step);
       anyFailed = true;
     }
   }

@@ -342,6 +342,7 @@ slod::SpbmLevelParameters vtkPatchBoundaryMerge::Cache::LevelParameters(vtkPatch
   level.CostOrderedRemoval = self->CostOrderedRemoval;
   level.SizeWeightedMerge = self->SizeWeightedMerge;
   level.MinimumDeviationTriangulation = self->MinimumDeviationTriangulation;
+  level.FinalCollapsesFollow = self->FinalCollapses;
   const double thickness = this->ThicknessBound(self, this->Target(self));
   level.MaximumPatchThickness = std::isfinite(thickness) && this->Mesh.BoundingBoxDiagonal() > 0
     ? thickness / this->Mesh.BoundingBoxDiagonal()

@@ -5,6 +5,7 @@
 // patchification across levels, quality against vtkQuadricDecimation / vtkDecimatePro).
 #include "TestSupport.h"
 
+#include "slodSpbmFinalCollapses.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodPatchBoundaryMerge.h"
@@ -1035,15 +1036,40 @@ void GenerateTenthLevel(const PatchedMesh& pm, Adjust&& adjust, SpbmLevel& level
   ASSERT_TRUE(generator.Generate(parameters, level));
 }
 
+// The patched noisy scan of `seed` at resolution 48 (surfaces no other PBM test tunes for); null
+// when it cannot be prepared.
+std::unique_ptr<PatchedMesh> PatchedNoisyScan(unsigned int seed)
+{
+  TriangleMesh mesh;
+  std::vector<Index> vertexToInput;
+  if (!PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid)
+  {
+    return nullptr;
+  }
+  return Patch(mesh);
+}
+
+// The level over the mesh's points keeps the input's Euler characteristic and border loops, has no
+// more non-manifold edges and is consistently oriented.
+void ExpectInputTopology(const PatchedMesh& pm, const MeshStatistics& in, const SpbmLevel& level, unsigned int seed)
+{
+  TriangleMesh out;
+  out.Points = pm.Mesh.Points;
+  out.Triangles = level.Triangles;
+  out.RemoveUnusedPoints();
+  const MeshStatistics st = ComputeMeshStatistics(out);
+  EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic) << "seed " << seed;
+  EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops) << "seed " << seed;
+  EXPECT_LE(st.NonManifoldEdges, in.NonManifoldEdges) << "seed " << seed;
+  EXPECT_EQ(st.InconsistentlyOrientedEdges, 0) << "seed " << seed;
+}
+
 // The tenth levels of the noisy scan of `seed` (a surface no other PBM test tunes for) with the
 // boolean parameter `option` on and off.
 void NoisyScanTenthLevelsWithAndWithout(unsigned int seed, bool SpbmLevelParameters::*option, SpbmLevel& on, SpbmLevel& off)
 {
-  TriangleMesh mesh;
-  std::vector<Index> vertexToInput;
-  ASSERT_TRUE(
-    PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
-  auto pm = Patch(mesh);
+  auto pm = PatchedNoisyScan(seed);
+  ASSERT_TRUE(pm) << "seed " << seed;
   GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.*option = true; }, on);
   GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.*option = false; }, off);
 }
@@ -1118,11 +1144,8 @@ TEST(SpbmLevel, FailedPatchesKeepAVertexMoreBeforeTheFallback)
   bool fewerUnmerged = false;
   for (const unsigned int seed : { 17u, 19u })
   {
-    TriangleMesh mesh;
-    std::vector<Index> vertexToInput;
-    ASSERT_TRUE(
-      PrepareTriangleMesh(slodtest::NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
-    auto pm = Patch(mesh);
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
     const MeshStatistics in = ComputeMeshStatistics(pm->Mesh);
     SpbmLevel rounds, none;
     GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.FailedPatchRefinementRounds = 3; }, rounds);
@@ -1134,15 +1157,7 @@ TEST(SpbmLevel, FailedPatchesKeepAVertexMoreBeforeTheFallback)
     EXPECT_LT(rounds.FailedPatches, none.FailedPatches) << "seed " << seed;
     EXPECT_LE(rounds.UnmergedPatches, none.UnmergedPatches) << "seed " << seed;
     fewerUnmerged = fewerUnmerged || rounds.UnmergedPatches < none.UnmergedPatches;
-    TriangleMesh out;
-    out.Points = pm->Mesh.Points;
-    out.Triangles = rounds.Triangles;
-    out.RemoveUnusedPoints();
-    const MeshStatistics st = ComputeMeshStatistics(out);
-    EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic) << "seed " << seed;
-    EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops) << "seed " << seed;
-    EXPECT_LE(st.NonManifoldEdges, in.NonManifoldEdges) << "seed " << seed;
-    EXPECT_EQ(st.InconsistentlyOrientedEdges, 0) << "seed " << seed;
+    ExpectInputTopology(*pm, in, rounds, seed);
   }
   EXPECT_TRUE(fewerUnmerged) << "the rounds must spare some patch its unmerging";
 }
@@ -1165,6 +1180,35 @@ TEST(SpbmLevel, IneffectiveFallbackLevelsAreSkipped)
     skipped = skipped || fast.Passes < slow.Passes;
   }
   EXPECT_TRUE(skipped) << "some noisy scan must need a fallback level that changes nothing";
+}
+
+// Session 21 (issue 10): when final collapses finish the level (FinalCollapsesFollow) and a pass
+// already ends beyond their tolerance of the count, an unmerged patch that fails again goes
+// straight to its original triangles instead of through the finer-chain levels, each one a pass.
+// On noisy scans (seeds no other test uses; their tenth is beyond the removal's reach, so the
+// collapses follow) no patch ends at a finer-chain level, no more passes are run than without,
+// fewer on some scan, and the level keeps the input's topology.
+TEST(SpbmLevel, FailingUnmergedPatchesGoStraightToOriginalWhenCollapsesFollow)
+{
+  bool fewerPasses = false;
+  for (const unsigned int seed : { 41u, 43u, 47u })
+  {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
+    const MeshStatistics in = ComputeMeshStatistics(pm->Mesh);
+    SpbmLevel on, off;
+    GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.FinalCollapsesFollow = true; }, on);
+    GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.FinalCollapsesFollow = false; }, off);
+    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
+    ASSERT_GT(Index(on.TrianglePatch.size()), SpbmFinalCollapseTolerance(pm->Mesh.NumberOfTriangles() / 10) +
+        pm->Mesh.NumberOfTriangles() / 10)
+      << "seed " << seed << ": the tenth must be beyond the removal's reach";
+    EXPECT_EQ(on.RefinedPatches, 0) << "seed " << seed;
+    EXPECT_LE(on.Passes, off.Passes) << "seed " << seed;
+    fewerPasses = fewerPasses || on.Passes < off.Passes;
+    ExpectInputTopology(*pm, in, on, seed);
+  }
+  EXPECT_TRUE(fewerPasses) << "some noisy scan must have patches that went through finer-chain levels before";
 }
 
 // The finest level's count is bounded from below without a merging run (the filter skips that
