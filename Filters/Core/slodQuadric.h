@@ -91,6 +91,16 @@ struct Quadric
     return std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]);
   }
 };
+// The plane of triangle (a, b, c) weighted by its area, so that a sum of them approximates the
+// integral of the squared distance over the surface (Garland and Heckbert's area weighting).
+// Returns the area; a degenerate triangle gives the zero quadric.
+inline double TrianglePlaneQuadric(const Vec3& a, const Vec3& b, const Vec3& c, Quadric& q)
+{
+  const Vec3 areaVector = Cross(b - a, c - a);
+  const double area = 0.5 * Norm(areaVector);
+  q = Quadric::FromPointNormal(a, Normalized(areaVector), area);
+  return area;
+}
 // The boundary plane of a border edge (tail, head) of a triangle with unit normal
 // `triangleNormal`: through the edge, perpendicular to the triangle, weighted by `weight` times
 // the squared edge length (area units, like a triangle's plane weighted by its area), so that a

@@ -91,14 +91,11 @@ void FinalCollapser::AddPlanes(
   for (size_t t = 0; t + 2 < triangles.size(); t += 3)
   {
     const Index* tri = &triangles[t];
-    const Vec3 p0 = mesh.Point(tri[0]);
-    const Vec3 normal = Cross(mesh.Point(tri[1]) - p0, mesh.Point(tri[2]) - p0);
-    const double length = Norm(normal);
-    if (!(length > 0))
+    Quadric q;
+    if (!(TrianglePlaneQuadric(mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]), q) > 0))
     {
       continue;
     }
-    const Quadric q = Quadric::FromPointNormal(p0, (1.0 / length) * normal, 0.5 * length);
     for (int k = 0; k < 3; ++k)
     {
       if (!only || (*only)[tri[k]])

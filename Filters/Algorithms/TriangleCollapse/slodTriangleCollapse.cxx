@@ -612,19 +612,11 @@ void TriangleCollapser::SortTrianglesBySmallestVertex(TriangleMesh& mesh, const 
   mesh.Triangles.swap(triangles);
 }
 
-// Area-weighted plane of triangle t: the quadric approximates the integral of the squared
-// distance over the surface, so large triangles count for the area they cover (Garland-Heckbert
-// weighting). Returns the weight (the area).
+// Area-weighted plane of triangle t (in local coordinates); returns the weight (the area).
 double TriangleCollapser::TrianglePlane(Index t, Quadric& q) const
 {
   const Index* tri = this->Mesh.Triangle(t);
-  const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = this->Local(tri[2]);
-  const Vec3 n2 = Cross(b - a, c - a);
-  const double len = Norm(n2);
-  const double area = 0.5 * len;
-  const Vec3 n = len > 0 ? (1.0 / len) * n2 : Vec3{ 0, 0, 0 };
-  q = Quadric::FromPointNormal(a, n, area);
-  return area;
+  return TrianglePlaneQuadric(this->Local(tri[0]), this->Local(tri[1]), this->Local(tri[2]), q);
 }
 
 // Boundary plane (paper 2.3) of the border edge (tail, head) of triangle t: through the edge,
