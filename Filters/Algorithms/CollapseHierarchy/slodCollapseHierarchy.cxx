@@ -101,7 +101,7 @@ std::vector<Index> RenumberLiveRows(std::vector<Index>& rowOf, Index live, Alive
 // the instructions).
 bool WorthCompacting(size_t live, size_t rows, size_t all)
 {
-  return 4 * rows > all ? 8 * live < 7 * rows : 2 * live < rows;
+  return 4 * rows > all ? 16 * live < 15 * rows : 2 * live < rows;
 }
 
 // A triangle at its weight in a level's priority order, ordered as the pair (weight, triangle)
@@ -308,6 +308,7 @@ void CollapseHierarchy::FinishEvaluation(Index t, Evaluation& e, EvaluationRest 
     const Index* tri = this->Mesh.Triangle(t);
     const Quadric q = this->TriangleQuadric(tri);
     this->TakeCheapestValidAlternative(tri, alternatives, e.Point);
+    e.Source = PointSource::Kept;
     this->SetCollapseError(tri, q, e);
   }
 }
@@ -339,6 +340,7 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   {
     return EvaluationRest::Fit;
   }
+  e.Source = PointSource::Quadric;
   // The error of the point decides whether T is ordered by its edge collapse and is T's error
   // when the point stays (computed once for both).
   const double error = this->CollapseError(tri, 3, q, e.Point);
@@ -384,6 +386,7 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame)
     // No plane at all: never collapsed as a triangle (the error terms keep their last values).
     e.Normal = { 0, 0, 0 };
     e.Point = centroid;
+    e.Source = PointSource::Centroid;
     e.Kappa = 0;
     e.Alpha = 0;
     e.PreferEdge = false;
@@ -403,6 +406,7 @@ void CollapseHierarchy::EvaluateWithFit(Index t, Evaluation& e)
   {
     return;
   }
+  e.Source = PointSource::Kept;
   const Vec3 fitPoint = this->FitStencil(tri, frame, e.Kappa);
   e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(t, e.CheapestEdge) : std::numeric_limits<double>::infinity();
   e.Point = fitPoint;
@@ -475,6 +479,7 @@ void CollapseHierarchy::EvaluateHubTriangle(Index t, const Vec3& areaVector, con
 {
   e.Normal = Norm(areaVector) > 0 ? Normalized(areaVector) : Vec3{ 0, 0, 0 };
   e.Point = centroid;
+  e.Source = PointSource::Centroid;
   e.Kappa = 0;
   e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(t, e.CheapestEdge);
   e.Error = e.EdgeError;
@@ -1006,13 +1011,62 @@ Vec3 CollapseHierarchy::NormalOf(Index t) const
   }
 }
 
+// The collapse point of T's last evaluation: recomputed as the evaluation computed it (T's
+// vertices and their quadrics are those of the evaluation: a collapse that moves or merges one
+// of them evaluates T again), or the kept one.
+Vec3 CollapseHierarchy::PointOf(Index t) const
+{
+  const StoredEvaluation& s = this->Evaluations[this->Row(t)];
+  if (s.Point >= 0)
+  {
+    return this->StoredPoints[static_cast<size_t>(s.Point)];
+  }
+  const EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  const Vec3 centroid = (1.0 / 3.0) * (m.Point(tri[0]) + m.Point(tri[1]) + m.Point(tri[2])); // (EvaluateShape's)
+  return s.Point == CentroidPoint ? centroid : QuadricPointNear(this->TriangleQuadric(tri), centroid);
+}
+
+void CollapseHierarchy::StorePoint(StoredEvaluation& s, const Evaluation& e)
+{
+  if (e.Source != PointSource::Kept)
+  {
+    this->ReleasePoint(s);
+    s.Point = e.Source == PointSource::Quadric ? QuadricPoint : CentroidPoint;
+    return;
+  }
+  if (s.Point < 0)
+  {
+    if (this->FreePoints.empty())
+    {
+      s.Point = static_cast<Index>(this->StoredPoints.size());
+      this->StoredPoints.emplace_back();
+    }
+    else
+    {
+      s.Point = this->FreePoints.back();
+      this->FreePoints.pop_back();
+    }
+  }
+  this->StoredPoints[static_cast<size_t>(s.Point)] = e.Point;
+}
+
+void CollapseHierarchy::ReleasePoint(StoredEvaluation& s)
+{
+  if (s.Point >= 0)
+  {
+    this->FreePoints.push_back(s.Point);
+    s.Point = QuadricPoint;
+  }
+}
+
 // Keeps what the batch selection reads of evaluation e of triangle t (the normal as its source,
 // compared bit for bit, so that the one read back is the same).
 void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
 {
   StoredEvaluation& s = this->Evaluations[this->Row(t)];
   const bool wasStored = s.Normal == NormalSource::Stored;
-  s.Point = e.Point;
+  this->StorePoint(s, e);
   if (!this->PaperTerms.empty())
   {
     this->PaperTerms[this->Row(t)] = this->PaperTerm(e.Kappa, e.Alpha, e.Valence, e.Area);
@@ -1389,8 +1443,21 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
 // The batch selection's data over one Build (reused from level to level).
 struct CollapseHierarchy::LevelState
 {
-  // Priority order of the level: (weight, triangle), sorted chunk by chunk as the selection goes.
+  // Priority order of the level: (weight, triangle), collected range by range of that order as
+  // the selection goes deeper (CollectRange), each range sorted: a level reads a few times its
+  // batch size, so the order of every live triangle (12 bytes per input triangle at the first
+  // levels, the peak of the build) is only made when a selection scans it all.
   std::vector<RankedTriangle> Candidates;
+  // Every 16th live triangle's rank at the level's start, sorted: the range bounds.
+  std::vector<RankedTriangle> Sample;
+  // The upper bound of the ranges collected (valid when Ranges > 0); every candidate collected.
+  RankedTriangle Bound{ 0, 0 };
+  size_t Ranges = 0;
+  bool Complete = false;
+  // Collected triangles whose weight the selection raised: not collected again (sorted before a
+  // range is collected).
+  std::vector<Index> Raised;
+  size_t FirstRange = 1024;
   // The batch: triangle, -1 for its triangle collapse or the edge (tri[k], tri[k+1]) collapsed,
   // and the collapse point.
   std::vector<Index> Batch;
@@ -1443,7 +1510,6 @@ bool CollapseHierarchy::Build(
     return false;
   }
   LevelState state;
-  state.Candidates.reserve(size_t(nt)); // the first level takes every triangle (no doubling copies)
   state.RegionLevel.assign(nt, -1);
   state.AffectedMark.assign(nt, 0);
   if (this->Parameters.MaximumWeight > 0)
@@ -1493,6 +1559,17 @@ void CollapseHierarchy::CompactRows(LevelState& state)
   {
     i = this->RowOf[i->first] < 0 ? this->OtherNormals.erase(i) : std::next(i);
   }
+  for (size_t r = 0, kept = 0; r < size_t(this->Rows); ++r)
+  {
+    if (kept < oldRows.size() && size_t(oldRows[kept]) == r)
+    {
+      ++kept;
+    }
+    else
+    {
+      this->ReleasePoint(this->Evaluations[r]); // (a dead row's)
+    }
+  }
   KeepRows(state.AffectedMark, oldRows, 1);
   KeepRows(state.RegionLevel, oldRows, 1);
   KeepRows(this->EntryOf, oldRows, 1);
@@ -1527,6 +1604,8 @@ void CollapseHierarchy::ReleaseWorkingData()
 {
   const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
   release(this->Evaluations);
+  release(this->StoredPoints);
+  release(this->FreePoints);
   release(this->OtherNormals);
   release(this->Quadrics);
   release(this->QuadricRowOf);
@@ -1576,7 +1655,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "triangle counts, levels", false, bytes(this->TriangleCounts) + bytes(this->LevelStarts) },
     { "collapse records", false, records },
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
-    { "evaluations", true, bytes(this->Evaluations) + bytes(this->Working) },
+    { "evaluations", true, bytes(this->Evaluations) + bytes(this->Working) + bytes(this->StoredPoints) + bytes(this->FreePoints) },
     { "paper's terms", true, bytes(this->PaperTerms) },
     { "quadrics", true, bytes(this->Quadrics) + bytes(this->QuadricRowOf) },
     { "edge costs", true, bytes(this->EdgeCostErrors) + bytes(this->EdgeCostStates) },
@@ -1779,6 +1858,8 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
 {
   const Index nt = this->Base.NumberOfTriangles();
   this->Evaluations.assign(nt, StoredEvaluation());
+  this->StoredPoints.clear();
+  this->FreePoints.clear();
   this->OtherNormals.clear();
   M0Terms m0;
   if (this->Parameters.ErrorWeight < 1)
@@ -1891,28 +1972,76 @@ void CollapseHierarchy::PlanLevel(LevelState& state)
                                        : std::numeric_limits<size_t>::max();
   // Below a quarter of the batch the search goes on: levels must keep making progress.
   state.MinimumBatch = std::max<Index>(1, state.Wanted / 4);
+  // The first range of the priority order holds the depth searched (a candidate counts one half
+  // collapse or more) with a margin for the sample's error; unlimited: the batch eight times.
+  const size_t reach = p.BatchSearchDepth > 0 ? state.Depth : 8 * size_t(state.Wanted);
+  state.FirstRange = std::min<size_t>(reach + reach / 4, size_t(live)) + 1024;
 }
 
-// Priority order of this level: live triangles by increasing weight (ties by id), unsorted yet.
+// Priority order of this level: its sample of the live triangles (the range bounds); the
+// candidates themselves are collected by SelectBatch (CollectRange).
 void CollapseHierarchy::OrderCandidates(LevelState& state) const
 {
   state.Candidates.clear();
+  state.Sample.clear();
+  state.Raised.clear();
+  state.Ranges = 0;
+  state.Complete = false;
   const Index nt = this->Base.NumberOfTriangles();
-  // Room for the live triangles only: the order of M0 (12 bytes per input triangle) is not kept
-  // to the end of the build, where the hierarchy is largest.
-  const size_t live = size_t(this->Mesh.NumberOfLiveTriangles());
-  if (state.Candidates.capacity() > 2 * live + 1024)
+  // Room for what a level reads: the order of M0 (12 bytes per input triangle) is not kept.
+  if (state.Candidates.capacity() > 2 * state.FirstRange + 1024)
   {
     std::vector<RankedTriangle>().swap(state.Candidates);
-    state.Candidates.reserve(live);
   }
+  Index live = 0;
   for (Index t = 0; t < nt; ++t)
   {
-    if (this->Mesh.IsTriangleAlive(t) && this->Evaluations[this->Row(t)].Weight <= state.MaximumWeight)
+    if (this->Mesh.IsTriangleAlive(t) && this->Evaluations[this->Row(t)].Weight <= state.MaximumWeight &&
+      live++ % 16 == 0)
     {
-      state.Candidates.push_back({ this->Evaluations[this->Row(t)].Weight, t });
+      state.Sample.push_back({ this->Evaluations[this->Row(t)].Weight, t });
     }
   }
+  std::sort(state.Sample.begin(), state.Sample.end());
+}
+
+// Appends the next range of the priority order to the candidates, sorted: the live triangles
+// ranked after the ranges already collected, up to the sample's rank of about twice as many
+// (FirstRange the first time; the rest once the sample has no bound left). The ranks read are
+// those of the level's start: a collected triangle whose weight the selection raised is left
+// out (Raised), every other weight is unchanged until the level's collapses. False when every
+// candidate has been collected.
+bool CollapseHierarchy::CollectRange(LevelState& state) const
+{
+  if (state.Complete)
+  {
+    return false;
+  }
+  const size_t have = state.Candidates.size();
+  // Ranks FirstRange, 2 FirstRange, 4 FirstRange, ...: at most 20 ranges, the last unbounded.
+  const size_t at = state.Ranges < 20 ? (state.FirstRange << state.Ranges) / 16 : state.Sample.size();
+  const bool bounded = at < state.Sample.size();
+  const RankedTriangle bound = bounded ? state.Sample[at] : RankedTriangle{ 0, 0 };
+  std::sort(state.Raised.begin(), state.Raised.end());
+  const Index nt = this->Base.NumberOfTriangles();
+  for (Index t = 0; t < nt; ++t)
+  {
+    if (!this->Mesh.IsTriangleAlive(t))
+    {
+      continue;
+    }
+    const RankedTriangle r{ this->Evaluations[this->Row(t)].Weight, t };
+    if (r.Weight <= state.MaximumWeight && (state.Ranges == 0 || state.Bound < r) && (!bounded || !(bound < r)) &&
+      !std::binary_search(state.Raised.begin(), state.Raised.end(), t))
+    {
+      state.Candidates.push_back(r);
+    }
+  }
+  std::sort(state.Candidates.begin() + have, state.Candidates.end());
+  state.Bound = bound;
+  state.Complete = !bounded;
+  ++state.Ranges;
+  return true;
 }
 
 // The paper's rules first; when nothing passes them, the relaxed rules (RelaxWhenBlocked).
@@ -1962,50 +2091,52 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
   state.Batch.clear();
   state.BatchEdge.clear();
   state.BatchPoint.clear();
-  std::vector<RankedTriangle>& candidates = state.Candidates;
   const Index full = 4 * state.Wanted;
-  size_t sorted = 0;
   Index removed = 0;
   size_t examined = 0; // in half triangle collapses (see below)
-  while (removed < full && sorted < candidates.size())
+  for (size_t i = 0; removed < full; ++i)
   {
-    const size_t chunk = std::min(candidates.size() - sorted, std::max<size_t>(8 * size_t(state.Wanted), 1024));
-    if (!this->Rules.AllowNewCycles)
+    if (i == state.Candidates.size() && !this->CollectRange(state))
     {
-      std::nth_element(candidates.begin() + sorted, candidates.begin() + sorted + chunk - 1, candidates.end());
-      std::sort(candidates.begin() + sorted, candidates.begin() + sorted + chunk);
+      break;
     }
-    for (size_t i = sorted; i < sorted + chunk && removed < full; ++i)
+    if (i == state.Candidates.size())
     {
-      // The depth counts in triangle collapses, as the batch: a candidate ordered by its edge
-      // collapse removes half as much and counts half (else a level of edge collapses looked
-      // half as deep and removed less: bunny00 needed 48 levels to get below 5% instead of 33).
-      if (examined >= state.Depth && removed >= 4 * state.MinimumBatch)
-      {
-        sorted = candidates.size(); // deeper candidates would force expensive collapses
-        break;
-      }
-      const Index t = candidates[i].Triangle;
-      const bool byEdge = state.Edges && (this->Evaluations[this->Row(t)].PreferEdge || this->HubMask(t) != 0);
-      examined += byEdge ? 1 : 2;
-      // The region of the collapse expected (for an edge, the triangles around its two ends, the
-      // region MarkRegion marks), then of the one chosen.
-      const int expected = byEdge ? this->Evaluations[this->Row(t)].CheapestEdge.Edge : -1;
-      int edge = -1;
-      Vec3 point;
-      if (!this->RegionIsFree(t, level, state, expected) ||
-        !this->ChooseCollapse(t, candidates[i].Weight, state.Edges, edge, point) ||
-        (edge != expected && !this->RegionIsFree(t, level, state, edge)))
-      {
-        continue;
-      }
-      this->MarkRegion(t, edge, level, state);
-      state.Batch.push_back(t);
-      state.BatchEdge.push_back(edge);
-      state.BatchPoint.push_back(point);
-      removed += edge < 0 ? 4 : 2;
+      --i; // an empty range: the next one
+      continue;
     }
-    sorted = std::min(candidates.size(), sorted + chunk);
+    // The depth counts in triangle collapses, as the batch: a candidate ordered by its edge
+    // collapse removes half as much and counts half (else a level of edge collapses looked half
+    // as deep and removed less: bunny00 needed 48 levels to get below 5% instead of 33).
+    if (examined >= state.Depth && removed >= 4 * state.MinimumBatch)
+    {
+      break; // deeper candidates would force expensive collapses
+    }
+    const RankedTriangle candidate = state.Candidates[i];
+    const Index t = candidate.Triangle;
+    const bool byEdge = state.Edges && (this->Evaluations[this->Row(t)].PreferEdge || this->HubMask(t) != 0);
+    examined += byEdge ? 1 : 2;
+    // The region of the collapse expected (for an edge, the triangles around its two ends, the
+    // region MarkRegion marks), then of the one chosen.
+    const int expected = byEdge ? this->Evaluations[this->Row(t)].CheapestEdge.Edge : -1;
+    int edge = -1;
+    Vec3 point;
+    const bool chosen = this->RegionIsFree(t, level, state, expected) &&
+      this->ChooseCollapse(t, candidate.Weight, state.Edges, edge, point) &&
+      (edge == expected || this->RegionIsFree(t, level, state, edge));
+    if (this->Evaluations[this->Row(t)].Weight != candidate.Weight)
+    {
+      state.Raised.push_back(t);
+    }
+    if (!chosen)
+    {
+      continue;
+    }
+    this->MarkRegion(t, edge, level, state);
+    state.Batch.push_back(t);
+    state.BatchEdge.push_back(edge);
+    state.BatchPoint.push_back(point);
+    removed += edge < 0 ? 4 : 2;
   }
 }
 
@@ -2061,7 +2192,7 @@ bool CollapseHierarchy::ChooseCollapse(Index t, double orderWeight, bool edges, 
       return false;
     }
     edge = -1;
-    point = this->Evaluations[this->Row(t)].Point;
+    point = this->PointOf(t);
     return true;
   };
   auto edgeCollapse = [&]() { return edges && this->EdgeCollapseAllowed(t, orderWeight, hubs, edge, point); };
@@ -2100,9 +2231,10 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
     }
   }
   this->Stencils.Build(this->Mesh, t, this->Stencil);
-  if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, this->NormalOf(t), &this->MeshOptions, this->Rules) ==
+  const Vec3 point = this->PointOf(t);
+  if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, point, this->NormalOf(t), &this->MeshOptions, this->Rules) ==
       CollapsibleStatus::Ok &&
-    this->KeepsOrientation(t, e.Point))
+    this->KeepsOrientation(t, point))
   {
     return true;
   }
@@ -2163,7 +2295,7 @@ void CollapseHierarchy::CollapseBatch(int level, const LevelState& state)
     if (!this->CreatesCycle(t))
     {
       const Index vertices[3] = { tri[0], tri[1], tri[2] };
-      this->ApplyCollapse(t, vertices, 3, this->Evaluations[this->Row(t)].Point, level);
+      this->ApplyCollapse(t, vertices, 3, state.BatchPoint[b], level);
     }
   }
 }
@@ -2295,8 +2427,7 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
   {
     const StoredEvaluation& last = this->Evaluations[this->Row(triangleAt(i))];
     Evaluation& e = this->Working[i];
-    e = Evaluation();
-    e.Point = last.Point;
+    e = Evaluation(); // (every evaluation sets its point)
     e.Error = last.Error;
     e.EdgeError = last.EdgeError;
     e.PreferEdge = last.PreferEdge;
