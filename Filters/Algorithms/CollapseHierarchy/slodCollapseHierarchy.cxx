@@ -30,6 +30,8 @@ constexpr Index MaximumFitPoints = 64;
 // Far above the valences collapses leave on ordinary meshes (about 3 to 20); a fan's centre or a
 // cone's apex has thousands.
 constexpr Index HubValence = 64;
+// The priority order's bounds are taken from the triangles of every 16th slot.
+constexpr Index SampleStride = 16;
 
 // Gives the pages of values' room beyond its size back to the system without moving it.
 // shrink_to_fit copies: the copy and the old array at once were the peak of the build, and the
@@ -95,13 +97,18 @@ std::vector<Index> RenumberLiveRows(std::vector<Index>& rowOf, Index live, Alive
   return oldRows;
 }
 
-// Whether compacting rows rows down to live pays: at 7/8 while the rows are more than a quarter of
-// all (the working data are then large, and their peak is early in the build), at half below
+// Whether compacting rows rows down to live pays: at 15/16 while the rows are more than half of
+// all (the peak of the build is there: the working data whole and the hierarchy growing; 7/8 left
+// it 16 bytes per input vertex higher on mc1m), at 7/8 while more than a quarter, at half below
 // (each compaction scans every slot: on refined_elephant's whole build 7/8 throughout cost 3% of
 // the instructions).
 bool WorthCompacting(size_t live, size_t rows, size_t all)
 {
-  return 4 * rows > all ? 16 * live < 15 * rows : 2 * live < rows;
+  if (2 * rows > all)
+  {
+    return 16 * live < 15 * rows;
+  }
+  return 4 * rows > all ? 8 * live < 7 * rows : 2 * live < rows;
 }
 
 // A triangle at its weight in a level's priority order, ordered as the pair (weight, triangle)
@@ -1107,13 +1114,42 @@ bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
 bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const Vec3& p) const
 {
   const EditableMesh& m = this->Mesh;
+  // M0's triangles and their points are cold (the mesh's are warm from the collapse check): their
+  // loads are started for a fan's worth of triangles at once, then each test waits on one of them
+  // (one after the other, the misses were a sixteenth of the build on mc1m).
+  constexpr int Batch = 16;
+  Index ids[Batch];
+  int corners[Batch];
+  int n = 0;
   bool ok = true;
+  const auto test = [&]() {
+    for (int i = 0; i < n; ++i)
+    {
+      const Index* b = &this->Base.Triangles[3 * size_t(ids[i])];
+      for (int j = 0; j < 3; ++j)
+      {
+        __builtin_prefetch(&this->Base.Points[3 * size_t(b[j])]);
+      }
+    }
+    for (int i = 0; i < n && ok; ++i)
+    {
+      const Index* o = m.Triangle(ids[i]);
+      Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
+      q[corners[i]] = p;
+      ok = Dot(Cross(q[1] - q[0], q[2] - q[0]), this->BaseAreaVector(ids[i])) > 0;
+    }
+    n = 0;
+  };
   m.ForEachSurvivingTriangle(vertices, count, [&](Index x, int corner) {
-    const Index* o = m.Triangle(x);
-    Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
-    q[corner] = p;
-    ok = ok && Dot(Cross(q[1] - q[0], q[2] - q[0]), this->BaseAreaVector(x)) > 0;
+    __builtin_prefetch(&this->Base.Triangles[3 * size_t(x)]);
+    ids[n] = x;
+    corners[n] = corner;
+    if (++n == Batch)
+    {
+      test();
+    }
   });
+  test();
   return ok;
 }
 
@@ -1448,7 +1484,8 @@ struct CollapseHierarchy::LevelState
   // batch size, so the order of every live triangle (12 bytes per input triangle at the first
   // levels, the peak of the build) is only made when a selection scans it all.
   std::vector<RankedTriangle> Candidates;
-  // Every 16th live triangle's rank at the level's start, sorted: the range bounds.
+  // The ranks of the live triangles of every SampleStride-th slot at the level's start, sorted:
+  // the range bounds.
   std::vector<RankedTriangle> Sample;
   // The upper bound of the ranges collected (valid when Ranges > 0); every candidate collected.
   RankedTriangle Bound{ 0, 0 };
@@ -1993,11 +2030,11 @@ void CollapseHierarchy::OrderCandidates(LevelState& state) const
   {
     std::vector<RankedTriangle>().swap(state.Candidates);
   }
-  Index live = 0;
-  for (Index t = 0; t < nt; ++t)
+  // Every 16th slot (a sixteenth of the memory a scan of the weights reads): the live ones
+  // sample the live triangles evenly enough for bounds (a bound only sets a range's size).
+  for (Index t = 0; t < nt; t += SampleStride)
   {
-    if (this->Mesh.IsTriangleAlive(t) && this->Evaluations[this->Row(t)].Weight <= state.MaximumWeight &&
-      live++ % 16 == 0)
+    if (this->Mesh.IsTriangleAlive(t) && this->Evaluations[this->Row(t)].Weight <= state.MaximumWeight)
     {
       state.Sample.push_back({ this->Evaluations[this->Row(t)].Weight, t });
     }
@@ -2018,8 +2055,12 @@ bool CollapseHierarchy::CollectRange(LevelState& state) const
     return false;
   }
   const size_t have = state.Candidates.size();
-  // Ranks FirstRange, 2 FirstRange, 4 FirstRange, ...: at most 20 ranges, the last unbounded.
-  const size_t at = state.Ranges < 20 ? (state.FirstRange << state.Ranges) / 16 : state.Sample.size();
+  // Ranks FirstRange, 2 FirstRange, 4 FirstRange, ... of the live triangles, in the sample's
+  // proportion: at most 20 ranges, the last unbounded.
+  const size_t live = std::max<size_t>(1, size_t(this->Mesh.NumberOfLiveTriangles()));
+  const size_t at = state.Ranges < 20
+    ? static_cast<size_t>(double(state.FirstRange << state.Ranges) * double(state.Sample.size()) / double(live))
+    : state.Sample.size();
   const bool bounded = at < state.Sample.size();
   const RankedTriangle bound = bounded ? state.Sample[at] : RankedTriangle{ 0, 0 };
   std::sort(state.Raised.begin(), state.Raised.end());
