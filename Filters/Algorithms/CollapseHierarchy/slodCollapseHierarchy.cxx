@@ -1692,7 +1692,8 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "triangle counts, levels", false, bytes(this->TriangleCounts) + bytes(this->LevelStarts) },
     { "collapse records", false, records },
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
-    { "evaluations", true, bytes(this->Evaluations) + bytes(this->Working) + bytes(this->StoredPoints) + bytes(this->FreePoints) },
+    { "evaluations", true, bytes(this->Evaluations) + bytes(this->StoredPoints) + bytes(this->FreePoints) },
+    { "evaluation scratch", true, bytes(this->Working) + bytes(this->Rests) + bytes(this->PendingAlternatives) },
     { "paper's terms", true, bytes(this->PaperTerms) },
     { "quadrics", true, bytes(this->Quadrics) + bytes(this->QuadricRowOf) },
     { "edge costs", true, bytes(this->EdgeCostErrors) + bytes(this->EdgeCostStates) },
@@ -2153,6 +2154,7 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
     {
       break; // deeper candidates would force expensive collapses
     }
+    this->PrefetchCandidates(state, i);
     const RankedTriangle candidate = state.Candidates[i];
     const Index t = candidate.Triangle;
     const bool byEdge = state.Edges && (this->Evaluations[this->Row(t)].PreferEdge || this->HubMask(t) != 0);
@@ -2178,6 +2180,32 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
     state.BatchEdge.push_back(edge);
     state.BatchPoint.push_back(point);
     removed += edge < 0 ? 4 : 2;
+  }
+}
+
+// The candidates are scattered over the mesh (weight order): what the selection reads of the
+// coming ones is loaded ahead, in two steps (a triangle's row and vertices, then its row's data
+// and its vertices' triangle blocks), so that the misses overlap instead of following each other.
+void CollapseHierarchy::PrefetchCandidates(const LevelState& state, size_t i) const
+{
+  constexpr size_t Near = 4, Far = 8;
+  const std::vector<RankedTriangle>& candidates = state.Candidates;
+  if (i + Far < candidates.size())
+  {
+    const Index t = candidates[i + Far].Triangle;
+    __builtin_prefetch(&this->RowOf[t]);
+    __builtin_prefetch(this->Mesh.Triangle(t));
+  }
+  if (i + Near < candidates.size())
+  {
+    const Index t = candidates[i + Near].Triangle;
+    __builtin_prefetch(&this->Evaluations[this->Row(t)]);
+    __builtin_prefetch(&state.RegionLevel[this->Row(t)]);
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Mesh.PrefetchVertex(tri[k]);
+    }
   }
 }
 
