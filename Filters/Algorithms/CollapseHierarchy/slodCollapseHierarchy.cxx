@@ -987,10 +987,11 @@ double CollapseHierarchy::PaperTerm(double kappa, double alpha, int valence, dou
   return area * term / (this->WeightSum * this->MeanArea);
 }
 
-double CollapseHierarchy::WeightOf(Index t, const StoredEvaluation& e) const
+// The weight of T's place in the order for a collapse of quadric error `collapseError`.
+double CollapseHierarchy::WeightOf(Index t, double collapseError) const
 {
   const CollapseHierarchyParameters& p = this->Parameters;
-  const double error = (e.PreferEdge ? e.EdgeError : e.Error) / (this->MeanArea * this->MeanArea);
+  const double error = collapseError / (this->MeanArea * this->MeanArea);
   const double paper = this->PaperTerms.empty() ? 0.0 : this->PaperTerms[this->Row(t)];
   return (1 - p.ErrorWeight) * paper + p.ErrorWeight * error;
 }
@@ -1079,7 +1080,7 @@ void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
     this->PaperTerms[this->Row(t)] = this->PaperTerm(e.Kappa, e.Alpha, e.Valence, e.Area);
   }
   s.Error = e.Error;
-  s.EdgeError = e.EdgeError;
+  s.Weight = e.PreferEdge ? e.EdgeError : e.Error; // (weighed by the caller)
   s.PreferEdge = e.PreferEdge;
   s.CheapestEdge = e.CheapestEdge;
   const Vec3 own = this->OwnNormal(t), zero{ 0, 0, 0 };
@@ -1942,7 +1943,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
       this->PaperTerms[this->Row(t)] = this->PaperTerm(shape.Kappa, shape.Alpha, shape.Valence, shape.Area);
     }
     StoredEvaluation& e = this->Evaluations[this->Row(t)];
-    e.Weight = this->WeightOf(t, e);
+    e.Weight = this->WeightOf(t, e.Weight);
   }
   return true;
 }
@@ -2290,9 +2291,7 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
   if (e.PreferEdge)
   {
     // Ordered by its edge collapse: the triangle collapse only at its own cost.
-    StoredEvaluation triangleEvaluation = e;
-    triangleEvaluation.PreferEdge = false;
-    const double weight = this->WeightOf(t, triangleEvaluation);
+    const double weight = this->WeightOf(t, e.Error);
     if (weight > orderWeight * (1 + 1e-9) + 1e-300)
     {
       this->Evaluations[this->Row(t)].Weight = std::max(e.Weight, weight);
@@ -2329,10 +2328,7 @@ bool CollapseHierarchy::EdgeCollapseAllowed(Index t, double orderWeight, int hub
     this->BlockedEdge[this->Row(t)] = this->ChangeCounter;
     return false;
   }
-  StoredEvaluation edgeEvaluation = this->Evaluations[this->Row(t)];
-  edgeEvaluation.PreferEdge = false;
-  edgeEvaluation.Error = error;
-  const double weight = this->WeightOf(t, edgeEvaluation);
+  const double weight = this->WeightOf(t, error);
   if (weight <= orderWeight * (1 + 1e-9) + 1e-300)
   {
     return true;
@@ -2426,7 +2422,7 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
   for (Index x : state.Affected)
   {
     StoredEvaluation& e = this->Evaluations[this->Row(x)];
-    e.Weight = this->WeightOf(x, e);
+    e.Weight = this->WeightOf(x, e.Weight);
   }
 }
 
@@ -2498,7 +2494,6 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
     Evaluation& e = this->Working[i];
     e = Evaluation(); // (every evaluation sets its point)
     e.Error = last.Error;
-    e.EdgeError = last.EdgeError;
     e.PreferEdge = last.PreferEdge;
     e.CheapestEdge = last.CheapestEdge;
   }

@@ -258,7 +258,7 @@ private:
     // recomputed from T's vertices when read back), else kept as it is (StoredPoints).
     PointSource Source = PointSource::Kept;
   };
-  // What the batch selection reads of a triangle's evaluation, kept per triangle (32 bytes instead
+  // What the batch selection reads of a triangle's evaluation, kept per triangle (24 bytes instead
   // of the Evaluation's 104): the paper's weight terms folded into one (their normalisers are fixed
   // after M0's evaluation), and T's unit normal and collapse point recomputed from its vertices
   // and their quadrics (they do not change until T is evaluated again) unless they came from
@@ -277,19 +277,21 @@ private:
     {
     }
     // T's place in the priority order: WeightOf, raised when the collapse it was ordered by was
-    // not taken and the other one was dearer.
+    // not taken and the other one was dearer. From StoreEvaluation until the caller weighs it
+    // (WeightOf, once M0's normalisers are known): the error T is ordered by (its cheapest edge
+    // collapse's when PreferEdge, else Error), so that the edge's need not be kept.
     double Weight = 0;
-    double Error = 0, EdgeError = 0;
+    double Error = 0; // of T's triangle collapse (read again when T is ordered by its edge)
     EdgeChoice CheapestEdge;
     // (Bit fields: with the point's index the record is 32 bytes, not 40.)
     bool PreferEdge : 1;
     NormalSource Normal : 2;
     // The collapse point: QuadricPoint or CentroidPoint (recomputed), else its StoredPoints index
-    // (the point was 24 of the 56 bytes of this record; on the defaults 96-100% of the triangles
+    // (the point was 24 of the 56 bytes this record took; on the defaults 96-100% of the triangles
     // of mc1m, the MRI and noisy scans have a recomputable one).
     Index Point = QuadricPoint;
   };
-  static_assert(sizeof(StoredEvaluation) == 32, "one evaluation record per live triangle");
+  static_assert(sizeof(StoredEvaluation) == 24, "one evaluation record per live triangle");
   static constexpr Index QuadricPoint = -1, CentroidPoint = -2;
   std::vector<Vec3> StoredPoints;  // the kept points (PointSource::Kept), reused through FreePoints
   std::vector<Index> FreePoints;
@@ -388,7 +390,7 @@ private:
   void AlternativePoints(const Index* tri, Vec3 (&points)[6]) const;
   Alternatives RankAlternatives(const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link) const;
   void TakeCheapestValidAlternative(const Index* tri, const Alternatives& ranked, Vec3& point) const;
-  double WeightOf(Index t, const StoredEvaluation& e) const;
+  double WeightOf(Index t, double error) const;
   double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level);

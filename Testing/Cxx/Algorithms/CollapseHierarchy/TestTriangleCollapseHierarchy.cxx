@@ -1162,7 +1162,7 @@ TEST(CollapseHierarchy, WorkingDataShrinkWithTheMesh)
 
 // An evaluation keeps its collapse point only when it cannot be recomputed from T's vertices and
 // their quadrics (the fit's point, a fold-free alternative): with the defaults most points are
-// the quadric's, and the kept evaluations take at most 40 bytes per triangle (56 when every point
+// the quadric's, and the kept evaluations take at most 32 bytes per triangle (56 when every point
 // was stored). The paper's configuration takes every point from the fit: all are kept, and the
 // hierarchy still reaches its levels.
 TEST(CollapseHierarchy, EvaluationsKeepOnlyThePointsTheyCannotRecompute)
@@ -1201,7 +1201,7 @@ TEST(CollapseHierarchy, EvaluationsKeepOnlyThePointsTheyCannotRecompute)
     EXPECT_LE(largest, atM0) << "the evaluations grew after M0's";
     if (!paper)
     {
-      EXPECT_LE(atM0, 40 * nt);
+      EXPECT_LE(atM0, 32 * nt);
     }
     EXPECT_GT(h.NumberOfLevels(), 10);
   }
