@@ -1501,13 +1501,16 @@ struct CollapseHierarchy::LevelState
   std::vector<Index> Batch;
   std::vector<int> BatchEdge;
   std::vector<Vec3> BatchPoint;
-  // Per triangle: the last level whose batch region (stencil, or the triangles around a collapsed
-  // edge) holds it; regions of one batch are disjoint.
-  std::vector<int> RegionLevel;
+  // Per triangle row, one mark for two uses that never overlap: the stamp of the level whose
+  // batch region (stencil, or the triangles around a collapsed edge) holds it (RegionStamp;
+  // regions of one batch are disjoint), or of the last gathering of the triangles to evaluate
+  // again (AffectedStamp). A level's regions are marked only by a batch that is then collapsed;
+  // its re-evaluation comes after, and a retried selection (relaxed rules, swaps) follows an
+  // empty batch, which marked nothing. (Two arrays took 8 bytes per input vertex more.)
+  std::vector<std::uint32_t> Marks;
+  std::uint32_t Stamp = 0, RegionStamp = 0, AffectedStamp = 0;
   // Triangles to evaluate again, gathered once each.
   std::vector<Index> Affected;
-  std::vector<std::uint32_t> AffectedMark;
-  std::uint32_t AffectedEpoch = 0;
   std::vector<Index> Touched, Ring;
   double MaximumWeight = std::numeric_limits<double>::infinity();
   // Per level: edge collapses allowed for blocked triangles, batch size in triangle collapses,
@@ -1548,8 +1551,7 @@ bool CollapseHierarchy::Build(
     return false;
   }
   LevelState state;
-  state.RegionLevel.assign(nt, -1);
-  state.AffectedMark.assign(nt, 0);
+  state.Marks.assign(nt, 0);
   if (this->Parameters.MaximumWeight > 0)
   {
     state.MaximumWeight = this->Parameters.MaximumWeight;
@@ -1608,8 +1610,7 @@ void CollapseHierarchy::CompactRows(LevelState& state)
       this->ReleasePoint(this->Evaluations[r]); // (a dead row's)
     }
   }
-  KeepRows(state.AffectedMark, oldRows, 1);
-  KeepRows(state.RegionLevel, oldRows, 1);
+  KeepRows(state.Marks, oldRows, 1);
   KeepRows(this->EntryOf, oldRows, 1);
   KeepRows(this->BlockedStrict, oldRows, 1);
   KeepRows(this->BlockedRelaxed, oldRows, 1);
@@ -1997,6 +1998,7 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
 void CollapseHierarchy::PlanLevel(LevelState& state)
 {
   const CollapseHierarchyParameters& p = this->Parameters;
+  state.RegionStamp = ++state.Stamp; // (no row holds it yet)
   const Index live = this->Mesh.NumberOfLiveTriangles();
   state.Wanted = std::max<Index>(1, static_cast<Index>(std::floor(p.BatchFraction * live)));
   if (p.MinimumNumberOfTriangles > 0)
@@ -2165,9 +2167,9 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
     const int expected = byEdge ? this->Evaluations[this->Row(t)].CheapestEdge.Edge : -1;
     int edge = -1;
     Vec3 point;
-    const bool chosen = this->RegionIsFree(t, level, state, expected) &&
+    const bool chosen = this->RegionIsFree(t, state, expected) &&
       this->ChooseCollapse(t, candidate.Weight, state.Edges, edge, point) &&
-      (edge == expected || this->RegionIsFree(t, level, state, edge));
+      (edge == expected || this->RegionIsFree(t, state, edge));
     if (this->Evaluations[this->Row(t)].Weight != candidate.Weight)
     {
       state.Raised.push_back(t);
@@ -2176,7 +2178,7 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
     {
       continue;
     }
-    this->MarkRegion(t, edge, level, state);
+    this->MarkRegion(t, edge, state);
     state.Batch.push_back(t);
     state.BatchEdge.push_back(edge);
     state.BatchPoint.push_back(point);
@@ -2201,7 +2203,7 @@ void CollapseHierarchy::PrefetchCandidates(const LevelState& state, size_t i) co
   {
     const Index t = candidates[i + Near].Triangle;
     __builtin_prefetch(&this->Evaluations[this->Row(t)]);
-    __builtin_prefetch(&state.RegionLevel[this->Row(t)]);
+    __builtin_prefetch(&state.Marks[this->Row(t)]);
     const Index* tri = this->Mesh.Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
@@ -2214,9 +2216,9 @@ void CollapseHierarchy::PrefetchCandidates(const LevelState& state, size_t i) co
 // is in the region of a collapse taken for this level. A hub triangle
 // can only collapse its edge away from the hubs: its region is that edge's, and nothing it does
 // reads the hubs' stars (without edge collapses it is no candidate).
-bool CollapseHierarchy::RegionIsFree(Index t, int level, const LevelState& state, int edge) const
+bool CollapseHierarchy::RegionIsFree(Index t, const LevelState& state, int edge) const
 {
-  if (state.RegionLevel[this->Row(t)] == level)
+  if (state.Marks[this->Row(t)] == state.RegionStamp)
   {
     return false;
   }
@@ -2231,21 +2233,21 @@ bool CollapseHierarchy::RegionIsFree(Index t, int level, const LevelState& state
   {
     if (!((hubs >> k) & 1) && (edge < 0 || k == edge || k == (edge + 1) % 3))
     {
-      this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && state.RegionLevel[this->Row(x)] != level; });
+      this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && state.Marks[this->Row(x)] != state.RegionStamp; });
     }
   }
   return free;
 }
 
 // The region of the collapse (the stencil; for an edge, the triangles around its two vertices).
-void CollapseHierarchy::MarkRegion(Index t, int edge, int level, LevelState& state) const
+void CollapseHierarchy::MarkRegion(Index t, int edge, LevelState& state) const
 {
   const Index* vertices = this->Mesh.Triangle(t);
   for (int k = 0; k < 3; ++k)
   {
     if (edge < 0 || k == edge || k == (edge + 1) % 3)
     {
-      this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { state.RegionLevel[this->Row(x)] = level; });
+      this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { state.Marks[this->Row(x)] = state.RegionStamp; });
     }
   }
 }
@@ -2401,14 +2403,14 @@ void CollapseHierarchy::SwapAroundNewVertices(LevelState& state)
 // Each triangle around the given vertices is evaluated and weighed again, once.
 void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelState& state)
 {
-  ++state.AffectedEpoch;
+  state.AffectedStamp = ++state.Stamp;
   state.Affected.clear();
   for (Index v : vertices)
   {
     this->Mesh.ForEachTriangle(v, [&](Index x) {
-      if (state.AffectedMark[this->Row(x)] != state.AffectedEpoch)
+      if (state.Marks[this->Row(x)] != state.AffectedStamp)
       {
-        state.AffectedMark[this->Row(x)] = state.AffectedEpoch;
+        state.Marks[this->Row(x)] = state.AffectedStamp;
         state.Affected.push_back(x);
       }
     });

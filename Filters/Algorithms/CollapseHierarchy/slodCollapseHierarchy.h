@@ -330,8 +330,8 @@ private:
   void SelectOrRelax(int level, LevelState& state);
   void SwapEverywhereAndRetry(int level, LevelState& state);
   void SelectBatch(int level, LevelState& state);
-  bool RegionIsFree(Index t, int level, const LevelState& state, int edge = -1) const;
-  void MarkRegion(Index t, int edge, int level, LevelState& state) const;
+  bool RegionIsFree(Index t, const LevelState& state, int edge = -1) const;
+  void MarkRegion(Index t, int edge, LevelState& state) const;
   bool ChooseCollapse(Index t, double orderWeight, bool edges, int& edge, Vec3& point);
   bool TriangleCollapseAllowed(Index t, double orderWeight);
   bool EdgeCollapseAllowed(Index t, double orderWeight, int hubs, int& edge, Vec3& point);
