@@ -30,6 +30,8 @@ constexpr Index MaximumFitPoints = 64;
 // Far above the valences collapses leave on ordinary meshes (about 3 to 20); a fan's centre or a
 // cone's apex has thousands.
 constexpr Index HubValence = 64;
+// The priority order's bounds are taken from the triangles of every 16th slot.
+constexpr Index SampleStride = 16;
 
 // Gives the pages of values' room beyond its size back to the system without moving it.
 // shrink_to_fit copies: the copy and the old array at once were the peak of the build, and the
@@ -95,12 +97,17 @@ std::vector<Index> RenumberLiveRows(std::vector<Index>& rowOf, Index live, Alive
   return oldRows;
 }
 
-// Whether compacting rows rows down to live pays: at 7/8 while the rows are more than a quarter of
-// all (the working data are then large, and their peak is early in the build), at half below
+// Whether compacting rows rows down to live pays: at 15/16 while the rows are more than half of
+// all (the peak of the build is there: the working data whole and the hierarchy growing; 7/8 left
+// it 16 bytes per input vertex higher on mc1m), at 7/8 while more than a quarter, at half below
 // (each compaction scans every slot: on refined_elephant's whole build 7/8 throughout cost 3% of
 // the instructions).
 bool WorthCompacting(size_t live, size_t rows, size_t all)
 {
+  if (2 * rows > all)
+  {
+    return 16 * live < 15 * rows;
+  }
   return 4 * rows > all ? 8 * live < 7 * rows : 2 * live < rows;
 }
 
@@ -308,6 +315,7 @@ void CollapseHierarchy::FinishEvaluation(Index t, Evaluation& e, EvaluationRest 
     const Index* tri = this->Mesh.Triangle(t);
     const Quadric q = this->TriangleQuadric(tri);
     this->TakeCheapestValidAlternative(tri, alternatives, e.Point);
+    e.Source = PointSource::Kept;
     this->SetCollapseError(tri, q, e);
   }
 }
@@ -339,6 +347,7 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   {
     return EvaluationRest::Fit;
   }
+  e.Source = PointSource::Quadric;
   // The error of the point decides whether T is ordered by its edge collapse and is T's error
   // when the point stays (computed once for both).
   const double error = this->CollapseError(tri, 3, q, e.Point);
@@ -384,6 +393,7 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame)
     // No plane at all: never collapsed as a triangle (the error terms keep their last values).
     e.Normal = { 0, 0, 0 };
     e.Point = centroid;
+    e.Source = PointSource::Centroid;
     e.Kappa = 0;
     e.Alpha = 0;
     e.PreferEdge = false;
@@ -403,6 +413,7 @@ void CollapseHierarchy::EvaluateWithFit(Index t, Evaluation& e)
   {
     return;
   }
+  e.Source = PointSource::Kept;
   const Vec3 fitPoint = this->FitStencil(tri, frame, e.Kappa);
   e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(t, e.CheapestEdge) : std::numeric_limits<double>::infinity();
   e.Point = fitPoint;
@@ -475,6 +486,7 @@ void CollapseHierarchy::EvaluateHubTriangle(Index t, const Vec3& areaVector, con
 {
   e.Normal = Norm(areaVector) > 0 ? Normalized(areaVector) : Vec3{ 0, 0, 0 };
   e.Point = centroid;
+  e.Source = PointSource::Centroid;
   e.Kappa = 0;
   e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(t, e.CheapestEdge);
   e.Error = e.EdgeError;
@@ -975,10 +987,11 @@ double CollapseHierarchy::PaperTerm(double kappa, double alpha, int valence, dou
   return area * term / (this->WeightSum * this->MeanArea);
 }
 
-double CollapseHierarchy::WeightOf(Index t, const StoredEvaluation& e) const
+// The weight of T's place in the order for a collapse of quadric error `collapseError`.
+double CollapseHierarchy::WeightOf(Index t, double collapseError) const
 {
   const CollapseHierarchyParameters& p = this->Parameters;
-  const double error = (e.PreferEdge ? e.EdgeError : e.Error) / (this->MeanArea * this->MeanArea);
+  const double error = collapseError / (this->MeanArea * this->MeanArea);
   const double paper = this->PaperTerms.empty() ? 0.0 : this->PaperTerms[this->Row(t)];
   return (1 - p.ErrorWeight) * paper + p.ErrorWeight * error;
 }
@@ -1006,19 +1019,68 @@ Vec3 CollapseHierarchy::NormalOf(Index t) const
   }
 }
 
+// The collapse point of T's last evaluation: recomputed as the evaluation computed it (T's
+// vertices and their quadrics are those of the evaluation: a collapse that moves or merges one
+// of them evaluates T again), or the kept one.
+Vec3 CollapseHierarchy::PointOf(Index t) const
+{
+  const StoredEvaluation& s = this->Evaluations[this->Row(t)];
+  if (s.Point >= 0)
+  {
+    return this->StoredPoints[static_cast<size_t>(s.Point)];
+  }
+  const EditableMesh& m = this->Mesh;
+  const Index* tri = m.Triangle(t);
+  const Vec3 centroid = (1.0 / 3.0) * (m.Point(tri[0]) + m.Point(tri[1]) + m.Point(tri[2])); // (EvaluateShape's)
+  return s.Point == CentroidPoint ? centroid : QuadricPointNear(this->TriangleQuadric(tri), centroid);
+}
+
+void CollapseHierarchy::StorePoint(StoredEvaluation& s, const Evaluation& e)
+{
+  if (e.Source != PointSource::Kept)
+  {
+    this->ReleasePoint(s);
+    s.Point = e.Source == PointSource::Quadric ? QuadricPoint : CentroidPoint;
+    return;
+  }
+  if (s.Point < 0)
+  {
+    if (this->FreePoints.empty())
+    {
+      s.Point = static_cast<Index>(this->StoredPoints.size());
+      this->StoredPoints.emplace_back();
+    }
+    else
+    {
+      s.Point = this->FreePoints.back();
+      this->FreePoints.pop_back();
+    }
+  }
+  this->StoredPoints[static_cast<size_t>(s.Point)] = e.Point;
+}
+
+void CollapseHierarchy::ReleasePoint(StoredEvaluation& s)
+{
+  if (s.Point >= 0)
+  {
+    this->FreePoints.push_back(s.Point);
+    s.Point = QuadricPoint;
+  }
+}
+
 // Keeps what the batch selection reads of evaluation e of triangle t (the normal as its source,
 // compared bit for bit, so that the one read back is the same).
 void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
 {
   StoredEvaluation& s = this->Evaluations[this->Row(t)];
   const bool wasStored = s.Normal == NormalSource::Stored;
-  s.Point = e.Point;
+  this->StorePoint(s, e);
   if (!this->PaperTerms.empty())
   {
     this->PaperTerms[this->Row(t)] = this->PaperTerm(e.Kappa, e.Alpha, e.Valence, e.Area);
   }
   s.Error = e.Error;
-  s.EdgeError = e.EdgeError;
+  s.Weight = e.PreferEdge ? e.EdgeError : e.Error; // (weighed by the caller)
   s.PreferEdge = e.PreferEdge;
   s.CheapestEdge = e.CheapestEdge;
   const Vec3 own = this->OwnNormal(t), zero{ 0, 0, 0 };
@@ -1053,13 +1115,42 @@ bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
 bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const Vec3& p) const
 {
   const EditableMesh& m = this->Mesh;
+  // M0's triangles and their points are cold (the mesh's are warm from the collapse check): their
+  // loads are started for a fan's worth of triangles at once, then each test waits on one of them
+  // (one after the other, the misses were a sixteenth of the build on mc1m).
+  constexpr int Batch = 16;
+  Index ids[Batch];
+  int corners[Batch];
+  int n = 0;
   bool ok = true;
+  const auto test = [&]() {
+    for (int i = 0; i < n; ++i)
+    {
+      const Index* b = &this->Base.Triangles[3 * size_t(ids[i])];
+      for (int j = 0; j < 3; ++j)
+      {
+        __builtin_prefetch(&this->Base.Points[3 * size_t(b[j])]);
+      }
+    }
+    for (int i = 0; i < n && ok; ++i)
+    {
+      const Index* o = m.Triangle(ids[i]);
+      Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
+      q[corners[i]] = p;
+      ok = Dot(Cross(q[1] - q[0], q[2] - q[0]), this->BaseAreaVector(ids[i])) > 0;
+    }
+    n = 0;
+  };
   m.ForEachSurvivingTriangle(vertices, count, [&](Index x, int corner) {
-    const Index* o = m.Triangle(x);
-    Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
-    q[corner] = p;
-    ok = ok && Dot(Cross(q[1] - q[0], q[2] - q[0]), this->BaseAreaVector(x)) > 0;
+    __builtin_prefetch(&this->Base.Triangles[3 * size_t(x)]);
+    ids[n] = x;
+    corners[n] = corner;
+    if (++n == Batch)
+    {
+      test();
+    }
   });
+  test();
   return ok;
 }
 
@@ -1389,20 +1480,37 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
 // The batch selection's data over one Build (reused from level to level).
 struct CollapseHierarchy::LevelState
 {
-  // Priority order of the level: (weight, triangle), sorted chunk by chunk as the selection goes.
+  // Priority order of the level: (weight, triangle), collected range by range of that order as
+  // the selection goes deeper (CollectRange), each range sorted: a level reads a few times its
+  // batch size, so the order of every live triangle (12 bytes per input triangle at the first
+  // levels, the peak of the build) is only made when a selection scans it all.
   std::vector<RankedTriangle> Candidates;
+  // The ranks of the live triangles of every SampleStride-th slot at the level's start, sorted:
+  // the range bounds.
+  std::vector<RankedTriangle> Sample;
+  // The upper bound of the ranges collected (valid when Ranges > 0); every candidate collected.
+  RankedTriangle Bound{ 0, 0 };
+  size_t Ranges = 0;
+  bool Complete = false;
+  // Collected triangles whose weight the selection raised: not collected again (sorted before a
+  // range is collected).
+  std::vector<Index> Raised;
+  size_t FirstRange = 1024;
   // The batch: triangle, -1 for its triangle collapse or the edge (tri[k], tri[k+1]) collapsed,
   // and the collapse point.
   std::vector<Index> Batch;
   std::vector<int> BatchEdge;
   std::vector<Vec3> BatchPoint;
-  // Per triangle: the last level whose batch region (stencil, or the triangles around a collapsed
-  // edge) holds it; regions of one batch are disjoint.
-  std::vector<int> RegionLevel;
+  // Per triangle row, one mark for two uses that never overlap: the stamp of the level whose
+  // batch region (stencil, or the triangles around a collapsed edge) holds it (RegionStamp;
+  // regions of one batch are disjoint), or of the last gathering of the triangles to evaluate
+  // again (AffectedStamp). A level's regions are marked only by a batch that is then collapsed;
+  // its re-evaluation comes after, and a retried selection (relaxed rules, swaps) follows an
+  // empty batch, which marked nothing. (Two arrays took 8 bytes per input vertex more.)
+  std::vector<std::uint32_t> Marks;
+  std::uint32_t Stamp = 0, RegionStamp = 0, AffectedStamp = 0;
   // Triangles to evaluate again, gathered once each.
   std::vector<Index> Affected;
-  std::vector<std::uint32_t> AffectedMark;
-  std::uint32_t AffectedEpoch = 0;
   std::vector<Index> Touched, Ring;
   double MaximumWeight = std::numeric_limits<double>::infinity();
   // Per level: edge collapses allowed for blocked triangles, batch size in triangle collapses,
@@ -1443,9 +1551,7 @@ bool CollapseHierarchy::Build(
     return false;
   }
   LevelState state;
-  state.Candidates.reserve(size_t(nt)); // the first level takes every triangle (no doubling copies)
-  state.RegionLevel.assign(nt, -1);
-  state.AffectedMark.assign(nt, 0);
+  state.Marks.assign(nt, 0);
   if (this->Parameters.MaximumWeight > 0)
   {
     state.MaximumWeight = this->Parameters.MaximumWeight;
@@ -1493,8 +1599,18 @@ void CollapseHierarchy::CompactRows(LevelState& state)
   {
     i = this->RowOf[i->first] < 0 ? this->OtherNormals.erase(i) : std::next(i);
   }
-  KeepRows(state.AffectedMark, oldRows, 1);
-  KeepRows(state.RegionLevel, oldRows, 1);
+  for (size_t r = 0, kept = 0; r < size_t(this->Rows); ++r)
+  {
+    if (kept < oldRows.size() && size_t(oldRows[kept]) == r)
+    {
+      ++kept;
+    }
+    else
+    {
+      this->ReleasePoint(this->Evaluations[r]); // (a dead row's)
+    }
+  }
+  KeepRows(state.Marks, oldRows, 1);
   KeepRows(this->EntryOf, oldRows, 1);
   KeepRows(this->BlockedStrict, oldRows, 1);
   KeepRows(this->BlockedRelaxed, oldRows, 1);
@@ -1527,6 +1643,8 @@ void CollapseHierarchy::ReleaseWorkingData()
 {
   const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
   release(this->Evaluations);
+  release(this->StoredPoints);
+  release(this->FreePoints);
   release(this->OtherNormals);
   release(this->Quadrics);
   release(this->QuadricRowOf);
@@ -1576,7 +1694,8 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "triangle counts, levels", false, bytes(this->TriangleCounts) + bytes(this->LevelStarts) },
     { "collapse records", false, records },
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
-    { "evaluations", true, bytes(this->Evaluations) + bytes(this->Working) },
+    { "evaluations", true, bytes(this->Evaluations) + bytes(this->StoredPoints) + bytes(this->FreePoints) },
+    { "evaluation scratch", true, bytes(this->Working) + bytes(this->Rests) + bytes(this->PendingAlternatives) },
     { "paper's terms", true, bytes(this->PaperTerms) },
     { "quadrics", true, bytes(this->Quadrics) + bytes(this->QuadricRowOf) },
     { "edge costs", true, bytes(this->EdgeCostErrors) + bytes(this->EdgeCostStates) },
@@ -1779,6 +1898,8 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
 {
   const Index nt = this->Base.NumberOfTriangles();
   this->Evaluations.assign(nt, StoredEvaluation());
+  this->StoredPoints.clear();
+  this->FreePoints.clear();
   this->OtherNormals.clear();
   M0Terms m0;
   if (this->Parameters.ErrorWeight < 1)
@@ -1823,7 +1944,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
       this->PaperTerms[this->Row(t)] = this->PaperTerm(shape.Kappa, shape.Alpha, shape.Valence, shape.Area);
     }
     StoredEvaluation& e = this->Evaluations[this->Row(t)];
-    e.Weight = this->WeightOf(t, e);
+    e.Weight = this->WeightOf(t, e.Weight);
   }
   return true;
 }
@@ -1877,6 +1998,7 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
 void CollapseHierarchy::PlanLevel(LevelState& state)
 {
   const CollapseHierarchyParameters& p = this->Parameters;
+  state.RegionStamp = ++state.Stamp; // (no row holds it yet)
   const Index live = this->Mesh.NumberOfLiveTriangles();
   state.Wanted = std::max<Index>(1, static_cast<Index>(std::floor(p.BatchFraction * live)));
   if (p.MinimumNumberOfTriangles > 0)
@@ -1891,28 +2013,80 @@ void CollapseHierarchy::PlanLevel(LevelState& state)
                                        : std::numeric_limits<size_t>::max();
   // Below a quarter of the batch the search goes on: levels must keep making progress.
   state.MinimumBatch = std::max<Index>(1, state.Wanted / 4);
+  // The first range of the priority order holds the depth searched (a candidate counts one half
+  // collapse or more) with a margin for the sample's error; unlimited: the batch eight times.
+  const size_t reach = p.BatchSearchDepth > 0 ? state.Depth : 8 * size_t(state.Wanted);
+  state.FirstRange = std::min<size_t>(reach + reach / 4, size_t(live)) + 1024;
 }
 
-// Priority order of this level: live triangles by increasing weight (ties by id), unsorted yet.
+// Priority order of this level: its sample of the live triangles (the range bounds); the
+// candidates themselves are collected by SelectBatch (CollectRange).
 void CollapseHierarchy::OrderCandidates(LevelState& state) const
 {
   state.Candidates.clear();
+  state.Sample.clear();
+  state.Raised.clear();
+  state.Ranges = 0;
+  state.Complete = false;
   const Index nt = this->Base.NumberOfTriangles();
-  // Room for the live triangles only: the order of M0 (12 bytes per input triangle) is not kept
-  // to the end of the build, where the hierarchy is largest.
-  const size_t live = size_t(this->Mesh.NumberOfLiveTriangles());
-  if (state.Candidates.capacity() > 2 * live + 1024)
+  // Room for what a level reads: the order of M0 (12 bytes per input triangle) is not kept.
+  if (state.Candidates.capacity() > 2 * state.FirstRange + 1024)
   {
     std::vector<RankedTriangle>().swap(state.Candidates);
-    state.Candidates.reserve(live);
   }
-  for (Index t = 0; t < nt; ++t)
+  // Every 16th slot (a sixteenth of the memory a scan of the weights reads): the live ones
+  // sample the live triangles evenly enough for bounds (a bound only sets a range's size).
+  for (Index t = 0; t < nt; t += SampleStride)
   {
     if (this->Mesh.IsTriangleAlive(t) && this->Evaluations[this->Row(t)].Weight <= state.MaximumWeight)
     {
-      state.Candidates.push_back({ this->Evaluations[this->Row(t)].Weight, t });
+      state.Sample.push_back({ this->Evaluations[this->Row(t)].Weight, t });
     }
   }
+  std::sort(state.Sample.begin(), state.Sample.end());
+}
+
+// Appends the next range of the priority order to the candidates, sorted: the live triangles
+// ranked after the ranges already collected, up to the sample's rank of about twice as many
+// (FirstRange the first time; the rest once the sample has no bound left). The ranks read are
+// those of the level's start: a collected triangle whose weight the selection raised is left
+// out (Raised), every other weight is unchanged until the level's collapses. False when every
+// candidate has been collected.
+bool CollapseHierarchy::CollectRange(LevelState& state) const
+{
+  if (state.Complete)
+  {
+    return false;
+  }
+  const size_t have = state.Candidates.size();
+  // Ranks FirstRange, 2 FirstRange, 4 FirstRange, ... of the live triangles, in the sample's
+  // proportion: at most 20 ranges, the last unbounded.
+  const size_t live = std::max<size_t>(1, size_t(this->Mesh.NumberOfLiveTriangles()));
+  const size_t at = state.Ranges < 20
+    ? static_cast<size_t>(double(state.FirstRange << state.Ranges) * double(state.Sample.size()) / double(live))
+    : state.Sample.size();
+  const bool bounded = at < state.Sample.size();
+  const RankedTriangle bound = bounded ? state.Sample[at] : RankedTriangle{ 0, 0 };
+  std::sort(state.Raised.begin(), state.Raised.end());
+  const Index nt = this->Base.NumberOfTriangles();
+  for (Index t = 0; t < nt; ++t)
+  {
+    if (!this->Mesh.IsTriangleAlive(t))
+    {
+      continue;
+    }
+    const RankedTriangle r{ this->Evaluations[this->Row(t)].Weight, t };
+    if (r.Weight <= state.MaximumWeight && (state.Ranges == 0 || state.Bound < r) && (!bounded || !(bound < r)) &&
+      !std::binary_search(state.Raised.begin(), state.Raised.end(), t))
+    {
+      state.Candidates.push_back(r);
+    }
+  }
+  std::sort(state.Candidates.begin() + have, state.Candidates.end());
+  state.Bound = bound;
+  state.Complete = !bounded;
+  ++state.Ranges;
+  return true;
 }
 
 // The paper's rules first; when nothing passes them, the relaxed rules (RelaxWhenBlocked).
@@ -1962,50 +2136,79 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
   state.Batch.clear();
   state.BatchEdge.clear();
   state.BatchPoint.clear();
-  std::vector<RankedTriangle>& candidates = state.Candidates;
   const Index full = 4 * state.Wanted;
-  size_t sorted = 0;
   Index removed = 0;
   size_t examined = 0; // in half triangle collapses (see below)
-  while (removed < full && sorted < candidates.size())
+  for (size_t i = 0; removed < full; ++i)
   {
-    const size_t chunk = std::min(candidates.size() - sorted, std::max<size_t>(8 * size_t(state.Wanted), 1024));
-    if (!this->Rules.AllowNewCycles)
+    if (i == state.Candidates.size() && !this->CollectRange(state))
     {
-      std::nth_element(candidates.begin() + sorted, candidates.begin() + sorted + chunk - 1, candidates.end());
-      std::sort(candidates.begin() + sorted, candidates.begin() + sorted + chunk);
+      break;
     }
-    for (size_t i = sorted; i < sorted + chunk && removed < full; ++i)
+    if (i == state.Candidates.size())
     {
-      // The depth counts in triangle collapses, as the batch: a candidate ordered by its edge
-      // collapse removes half as much and counts half (else a level of edge collapses looked
-      // half as deep and removed less: bunny00 needed 48 levels to get below 5% instead of 33).
-      if (examined >= state.Depth && removed >= 4 * state.MinimumBatch)
-      {
-        sorted = candidates.size(); // deeper candidates would force expensive collapses
-        break;
-      }
-      const Index t = candidates[i].Triangle;
-      const bool byEdge = state.Edges && (this->Evaluations[this->Row(t)].PreferEdge || this->HubMask(t) != 0);
-      examined += byEdge ? 1 : 2;
-      // The region of the collapse expected (for an edge, the triangles around its two ends, the
-      // region MarkRegion marks), then of the one chosen.
-      const int expected = byEdge ? this->Evaluations[this->Row(t)].CheapestEdge.Edge : -1;
-      int edge = -1;
-      Vec3 point;
-      if (!this->RegionIsFree(t, level, state, expected) ||
-        !this->ChooseCollapse(t, candidates[i].Weight, state.Edges, edge, point) ||
-        (edge != expected && !this->RegionIsFree(t, level, state, edge)))
-      {
-        continue;
-      }
-      this->MarkRegion(t, edge, level, state);
-      state.Batch.push_back(t);
-      state.BatchEdge.push_back(edge);
-      state.BatchPoint.push_back(point);
-      removed += edge < 0 ? 4 : 2;
+      --i; // an empty range: the next one
+      continue;
     }
-    sorted = std::min(candidates.size(), sorted + chunk);
+    // The depth counts in triangle collapses, as the batch: a candidate ordered by its edge
+    // collapse removes half as much and counts half (else a level of edge collapses looked half
+    // as deep and removed less: bunny00 needed 48 levels to get below 5% instead of 33).
+    if (examined >= state.Depth && removed >= 4 * state.MinimumBatch)
+    {
+      break; // deeper candidates would force expensive collapses
+    }
+    this->PrefetchCandidates(state, i);
+    const RankedTriangle candidate = state.Candidates[i];
+    const Index t = candidate.Triangle;
+    const bool byEdge = state.Edges && (this->Evaluations[this->Row(t)].PreferEdge || this->HubMask(t) != 0);
+    examined += byEdge ? 1 : 2;
+    // The region of the collapse expected (for an edge, the triangles around its two ends, the
+    // region MarkRegion marks), then of the one chosen.
+    const int expected = byEdge ? this->Evaluations[this->Row(t)].CheapestEdge.Edge : -1;
+    int edge = -1;
+    Vec3 point;
+    const bool chosen = this->RegionIsFree(t, state, expected) &&
+      this->ChooseCollapse(t, candidate.Weight, state.Edges, edge, point) &&
+      (edge == expected || this->RegionIsFree(t, state, edge));
+    if (this->Evaluations[this->Row(t)].Weight != candidate.Weight)
+    {
+      state.Raised.push_back(t);
+    }
+    if (!chosen)
+    {
+      continue;
+    }
+    this->MarkRegion(t, edge, state);
+    state.Batch.push_back(t);
+    state.BatchEdge.push_back(edge);
+    state.BatchPoint.push_back(point);
+    removed += edge < 0 ? 4 : 2;
+  }
+}
+
+// The candidates are scattered over the mesh (weight order): what the selection reads of the
+// coming ones is loaded ahead, in two steps (a triangle's row and vertices, then its row's data
+// and its vertices' triangle blocks), so that the misses overlap instead of following each other.
+void CollapseHierarchy::PrefetchCandidates(const LevelState& state, size_t i) const
+{
+  constexpr size_t Near = 4, Far = 8;
+  const std::vector<RankedTriangle>& candidates = state.Candidates;
+  if (i + Far < candidates.size())
+  {
+    const Index t = candidates[i + Far].Triangle;
+    __builtin_prefetch(&this->RowOf[t]);
+    __builtin_prefetch(this->Mesh.Triangle(t));
+  }
+  if (i + Near < candidates.size())
+  {
+    const Index t = candidates[i + Near].Triangle;
+    __builtin_prefetch(&this->Evaluations[this->Row(t)]);
+    __builtin_prefetch(&state.Marks[this->Row(t)]);
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Mesh.PrefetchVertex(tri[k]);
+    }
   }
 }
 
@@ -2013,9 +2216,9 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
 // is in the region of a collapse taken for this level. A hub triangle
 // can only collapse its edge away from the hubs: its region is that edge's, and nothing it does
 // reads the hubs' stars (without edge collapses it is no candidate).
-bool CollapseHierarchy::RegionIsFree(Index t, int level, const LevelState& state, int edge) const
+bool CollapseHierarchy::RegionIsFree(Index t, const LevelState& state, int edge) const
 {
-  if (state.RegionLevel[this->Row(t)] == level)
+  if (state.Marks[this->Row(t)] == state.RegionStamp)
   {
     return false;
   }
@@ -2030,21 +2233,21 @@ bool CollapseHierarchy::RegionIsFree(Index t, int level, const LevelState& state
   {
     if (!((hubs >> k) & 1) && (edge < 0 || k == edge || k == (edge + 1) % 3))
     {
-      this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && state.RegionLevel[this->Row(x)] != level; });
+      this->Mesh.ForEachTriangle(tri[k], [&](Index x) { free = free && state.Marks[this->Row(x)] != state.RegionStamp; });
     }
   }
   return free;
 }
 
 // The region of the collapse (the stencil; for an edge, the triangles around its two vertices).
-void CollapseHierarchy::MarkRegion(Index t, int edge, int level, LevelState& state) const
+void CollapseHierarchy::MarkRegion(Index t, int edge, LevelState& state) const
 {
   const Index* vertices = this->Mesh.Triangle(t);
   for (int k = 0; k < 3; ++k)
   {
     if (edge < 0 || k == edge || k == (edge + 1) % 3)
     {
-      this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { state.RegionLevel[this->Row(x)] = level; });
+      this->Mesh.ForEachTriangle(vertices[k], [&](Index x) { state.Marks[this->Row(x)] = state.RegionStamp; });
     }
   }
 }
@@ -2061,7 +2264,7 @@ bool CollapseHierarchy::ChooseCollapse(Index t, double orderWeight, bool edges, 
       return false;
     }
     edge = -1;
-    point = this->Evaluations[this->Row(t)].Point;
+    point = this->PointOf(t);
     return true;
   };
   auto edgeCollapse = [&]() { return edges && this->EdgeCollapseAllowed(t, orderWeight, hubs, edge, point); };
@@ -2090,9 +2293,7 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
   if (e.PreferEdge)
   {
     // Ordered by its edge collapse: the triangle collapse only at its own cost.
-    StoredEvaluation triangleEvaluation = e;
-    triangleEvaluation.PreferEdge = false;
-    const double weight = this->WeightOf(t, triangleEvaluation);
+    const double weight = this->WeightOf(t, e.Error);
     if (weight > orderWeight * (1 + 1e-9) + 1e-300)
     {
       this->Evaluations[this->Row(t)].Weight = std::max(e.Weight, weight);
@@ -2100,9 +2301,10 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight)
     }
   }
   this->Stencils.Build(this->Mesh, t, this->Stencil);
-  if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, e.Point, this->NormalOf(t), &this->MeshOptions, this->Rules) ==
+  const Vec3 point = this->PointOf(t);
+  if (this->Stencils.CheckCollapsible(this->Mesh, this->Stencil, point, this->NormalOf(t), &this->MeshOptions, this->Rules) ==
       CollapsibleStatus::Ok &&
-    this->KeepsOrientation(t, e.Point))
+    this->KeepsOrientation(t, point))
   {
     return true;
   }
@@ -2128,10 +2330,7 @@ bool CollapseHierarchy::EdgeCollapseAllowed(Index t, double orderWeight, int hub
     this->BlockedEdge[this->Row(t)] = this->ChangeCounter;
     return false;
   }
-  StoredEvaluation edgeEvaluation = this->Evaluations[this->Row(t)];
-  edgeEvaluation.PreferEdge = false;
-  edgeEvaluation.Error = error;
-  const double weight = this->WeightOf(t, edgeEvaluation);
+  const double weight = this->WeightOf(t, error);
   if (weight <= orderWeight * (1 + 1e-9) + 1e-300)
   {
     return true;
@@ -2163,7 +2362,7 @@ void CollapseHierarchy::CollapseBatch(int level, const LevelState& state)
     if (!this->CreatesCycle(t))
     {
       const Index vertices[3] = { tri[0], tri[1], tri[2] };
-      this->ApplyCollapse(t, vertices, 3, this->Evaluations[this->Row(t)].Point, level);
+      this->ApplyCollapse(t, vertices, 3, state.BatchPoint[b], level);
     }
   }
 }
@@ -2204,14 +2403,14 @@ void CollapseHierarchy::SwapAroundNewVertices(LevelState& state)
 // Each triangle around the given vertices is evaluated and weighed again, once.
 void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelState& state)
 {
-  ++state.AffectedEpoch;
+  state.AffectedStamp = ++state.Stamp;
   state.Affected.clear();
   for (Index v : vertices)
   {
     this->Mesh.ForEachTriangle(v, [&](Index x) {
-      if (state.AffectedMark[this->Row(x)] != state.AffectedEpoch)
+      if (state.Marks[this->Row(x)] != state.AffectedStamp)
       {
-        state.AffectedMark[this->Row(x)] = state.AffectedEpoch;
+        state.Marks[this->Row(x)] = state.AffectedStamp;
         state.Affected.push_back(x);
       }
     });
@@ -2225,7 +2424,7 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
   for (Index x : state.Affected)
   {
     StoredEvaluation& e = this->Evaluations[this->Row(x)];
-    e.Weight = this->WeightOf(x, e);
+    e.Weight = this->WeightOf(x, e.Weight);
   }
 }
 
@@ -2295,10 +2494,8 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
   {
     const StoredEvaluation& last = this->Evaluations[this->Row(triangleAt(i))];
     Evaluation& e = this->Working[i];
-    e = Evaluation();
-    e.Point = last.Point;
+    e = Evaluation(); // (every evaluation sets its point)
     e.Error = last.Error;
-    e.EdgeError = last.EdgeError;
     e.PreferEdge = last.PreferEdge;
     e.CheapestEdge = last.CheapestEdge;
   }

@@ -239,6 +239,12 @@ private:
     unsigned char Kind = 0; // 0 the quadric's point near the midpoint, 1 tri[Edge], 2 tri[Edge + 1]
     unsigned char Fixed = 0;
   };
+  enum class PointSource : unsigned char
+  {
+    Quadric,  // QuadricPointNear(T's quadric, T's centroid)
+    Centroid, // T's centroid
+    Kept      // another point (the fit's, a fold-free alternative): in StoredPoints
+  };
   // An evaluation while it is computed (scratch, a chunk of triangles at a time).
   struct Evaluation
   {
@@ -248,11 +254,15 @@ private:
     EdgeChoice CheapestEdge; // the candidate of EdgeError (fits in the padding)
     int Valence = 6;
     Vec3 Point{ 0, 0, 0 }, Normal{ 0, 0, 1 };
+    // Where Point came from: the quadric's point near T's centroid or the centroid (both
+    // recomputed from T's vertices when read back), else kept as it is (StoredPoints).
+    PointSource Source = PointSource::Kept;
   };
-  // What the batch selection reads of a triangle's evaluation, kept per triangle (56 bytes instead
-  // of the Evaluation's 96): the paper's weight terms folded into one (their normalisers are fixed
-  // after M0's evaluation), and T's unit normal recomputed from its vertices (they do not move
-  // until T is evaluated again) unless it came from elsewhere (NormalOf).
+  // What the batch selection reads of a triangle's evaluation, kept per triangle (24 bytes instead
+  // of the Evaluation's 104): the paper's weight terms folded into one (their normalisers are fixed
+  // after M0's evaluation), and T's unit normal and collapse point recomputed from its vertices
+  // and their quadrics (they do not change until T is evaluated again) unless they came from
+  // elsewhere (NormalOf, PointOf).
   enum class NormalSource : unsigned char
   {
     Own,    // T's own unit normal, recomputed
@@ -261,15 +271,33 @@ private:
   };
   struct StoredEvaluation
   {
-    Vec3 Point{ 0, 0, 0 };
+    StoredEvaluation()
+      : PreferEdge(false)
+      , Normal(NormalSource::Own)
+    {
+    }
     // T's place in the priority order: WeightOf, raised when the collapse it was ordered by was
-    // not taken and the other one was dearer.
+    // not taken and the other one was dearer. From StoreEvaluation until the caller weighs it
+    // (WeightOf, once M0's normalisers are known): the error T is ordered by (its cheapest edge
+    // collapse's when PreferEdge, else Error), so that the edge's need not be kept.
     double Weight = 0;
-    double Error = 0, EdgeError = 0;
-    bool PreferEdge = false;
+    double Error = 0; // of T's triangle collapse (read again when T is ordered by its edge)
     EdgeChoice CheapestEdge;
-    NormalSource Normal = NormalSource::Own;
+    // (Bit fields: with the point's index the record is 32 bytes, not 40.)
+    bool PreferEdge : 1;
+    NormalSource Normal : 2;
+    // The collapse point: QuadricPoint or CentroidPoint (recomputed), else its StoredPoints index
+    // (the point was 24 of the 56 bytes this record took; on the defaults 96-100% of the triangles
+    // of mc1m, the MRI and noisy scans have a recomputable one).
+    Index Point = QuadricPoint;
   };
+  static_assert(sizeof(StoredEvaluation) == 24, "one evaluation record per live triangle");
+  static constexpr Index QuadricPoint = -1, CentroidPoint = -2;
+  std::vector<Vec3> StoredPoints;  // the kept points (PointSource::Kept), reused through FreePoints
+  std::vector<Index> FreePoints;
+  Vec3 PointOf(Index t) const;
+  void StorePoint(StoredEvaluation& s, const Evaluation& e);
+  void ReleasePoint(StoredEvaluation& s);
   // The weight terms of M0's evaluation, until their normalisers are known.
   struct ShapeTerms
   {
@@ -297,11 +325,13 @@ private:
   bool ReduceLevel(int level, LevelState& state);
   void PlanLevel(LevelState& state);
   void OrderCandidates(LevelState& state) const;
+  bool CollectRange(LevelState& state) const;
+  void PrefetchCandidates(const LevelState& state, size_t i) const;
   void SelectOrRelax(int level, LevelState& state);
   void SwapEverywhereAndRetry(int level, LevelState& state);
   void SelectBatch(int level, LevelState& state);
-  bool RegionIsFree(Index t, int level, const LevelState& state, int edge = -1) const;
-  void MarkRegion(Index t, int edge, int level, LevelState& state) const;
+  bool RegionIsFree(Index t, const LevelState& state, int edge = -1) const;
+  void MarkRegion(Index t, int edge, LevelState& state) const;
   bool ChooseCollapse(Index t, double orderWeight, bool edges, int& edge, Vec3& point);
   bool TriangleCollapseAllowed(Index t, double orderWeight);
   bool EdgeCollapseAllowed(Index t, double orderWeight, int hubs, int& edge, Vec3& point);
@@ -360,7 +390,7 @@ private:
   void AlternativePoints(const Index* tri, Vec3 (&points)[6]) const;
   Alternatives RankAlternatives(const Index* tri, const Quadric& q, const Vec3& normal, const LinkEdges& link) const;
   void TakeCheapestValidAlternative(const Index* tri, const Alternatives& ranked, Vec3& point) const;
-  double WeightOf(Index t, const StoredEvaluation& e) const;
+  double WeightOf(Index t, double error) const;
   double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level);

@@ -1160,6 +1160,53 @@ TEST(CollapseHierarchy, WorkingDataShrinkWithTheMesh)
   EXPECT_LT(h.LevelTriangleCount(h.NumberOfLevels() - 1), scan.NumberOfTriangles() / 10);
 }
 
+// An evaluation keeps its collapse point only when it cannot be recomputed from T's vertices and
+// their quadrics (the fit's point, a fold-free alternative): with the defaults most points are
+// the quadric's, and the kept evaluations take at most 32 bytes per triangle (56 when every point
+// was stored). The paper's configuration takes every point from the fit: all are kept, and the
+// hierarchy still reaches its levels.
+TEST(CollapseHierarchy, EvaluationsKeepOnlyThePointsTheyCannotRecompute)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(60);
+  source->Update();
+  const TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  const double nt = scan.NumberOfTriangles();
+  const auto evaluationBytes = [](const CollapseHierarchy& h) {
+    for (const CollapseHierarchy::StorageShare& s : h.Storage())
+    {
+      if (std::string(s.Name) == "evaluations")
+      {
+        return double(s.Bytes);
+      }
+    }
+    ADD_FAILURE() << "no evaluations share";
+    return 0.0;
+  };
+  for (const bool paper : { false, true })
+  {
+    SCOPED_TRACE(paper ? "paper" : "defaults");
+    CollapseHierarchy h;
+    double largest = 0, atM0 = 0;
+    ASSERT_TRUE(h.Build(scan, paper ? CollapseHierarchyParameters() : DefaultParameters(), [&](double) {
+      const double bytes = evaluationBytes(h);
+      largest = std::max(largest, bytes);
+      atM0 = h.NumberOfLevels() == 1 ? bytes : atM0;
+      return true;
+    }));
+    std::printf("[ measure  ] %s: evaluations %.1f bytes per input triangle after M0's evaluation\n",
+      paper ? "paper" : "defaults", atM0 / nt);
+    EXPECT_GT(atM0, 0);
+    EXPECT_LE(largest, atM0) << "the evaluations grew after M0's";
+    if (!paper)
+    {
+      EXPECT_LE(atM0, 32 * nt);
+    }
+    EXPECT_GT(h.NumberOfLevels(), 10);
+  }
+}
+
 // Zero-area triangles, as T-junction repairs leave them: a vertex m inserted in edge (a, b) splits
 // the triangle on one side and fills the other side's gap with the triangle (a, m, b). Such a
 // triangle has no plane of its own (its stencil's stands in for its normal, kept apart from the
