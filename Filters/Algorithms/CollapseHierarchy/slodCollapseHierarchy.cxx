@@ -1847,11 +1847,9 @@ void CollapseHierarchy::InitializeQuadrics()
   for (Index t = 0; t < nt; ++t)
   {
     const Index* tri = this->Base.Triangle(t);
-    const Vec3 areaVector = this->BaseAreaVector(t);
-    const double area = 0.5 * Norm(areaVector);
-    if (area > 0)
+    Quadric q;
+    if (TrianglePlaneQuadric(this->Base.Point(tri[0]), this->Base.Point(tri[1]), this->Base.Point(tri[2]), q) > 0)
     {
-      const Quadric q = Quadric::FromPointNormal(this->Base.Point(tri[0]), Normalized(areaVector), area);
       for (int k = 0; k < 3; ++k)
       {
         this->QuadricOf(tri[k]) += q;
