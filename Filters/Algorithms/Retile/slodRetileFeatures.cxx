@@ -48,6 +48,18 @@ std::vector<std::vector<Index>> FeatureEdgeGraph(const TriangleMesh& mesh, doubl
 }
 
 // Corners: line ends, junctions of three or more lines, and sharp turns of a line.
+unsigned char IsCorner(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors, Index v, double cosine)
+{
+  const size_t degree = neighbors[v].size();
+  if (degree != 2)
+  {
+    return degree > 0 ? 1 : 0;
+  }
+  const Vec3 p = mesh.Point(v);
+  const Vec3 in = Normalized(p - mesh.Point(neighbors[v][0])), out = Normalized(mesh.Point(neighbors[v][1]) - p);
+  return Dot(in, out) < cosine ? 1 : 0;
+}
+
 std::vector<unsigned char> CornerFlags(
   const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors, double featureAngle)
 {
@@ -55,24 +67,15 @@ std::vector<unsigned char> CornerFlags(
   std::vector<unsigned char> corner(neighbors.size(), 0);
   for (size_t v = 0; v < neighbors.size(); ++v)
   {
-    const size_t degree = neighbors[v].size();
-    if (degree == 2)
-    {
-      const Vec3 p = mesh.Point(Index(v));
-      const Vec3 in = Normalized(p - mesh.Point(neighbors[v][0])), out = Normalized(mesh.Point(neighbors[v][1]) - p);
-      corner[v] = Dot(in, out) < cosine ? 1 : 0;
-    }
-    else
-    {
-      corner[v] = degree > 0 ? 1 : 0;
-    }
+    corner[v] = IsCorner(mesh, neighbors, Index(v), cosine);
   }
   return corner;
 }
 
 // Walks from vertex `from` along its neighbour `next` until a corner or back to the start.
 Chain Walk(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors,
-  const std::vector<unsigned char>& corner, Index from, Index next, std::vector<unsigned char>& visited)
+  const std::vector<unsigned char>& corner, Index from, Index next, std::vector<unsigned char>& visited,
+  Index& steps)
 {
   Chain chain;
   chain.Vertices.push_back(from);
@@ -82,6 +85,7 @@ Chain Walk(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neig
   {
     chain.Length += Norm(mesh.Point(current) - mesh.Point(previous));
     chain.Vertices.push_back(current);
+    ++steps;
     if (corner[current] || current == from || visited[current])
     {
       break;
@@ -97,7 +101,7 @@ Chain Walk(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neig
 }
 
 std::vector<Chain> Chains(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors,
-  const std::vector<unsigned char>& corner)
+  const std::vector<unsigned char>& corner, Index& steps)
 {
   std::vector<Chain> chains;
   std::vector<unsigned char> visited(neighbors.size(), 0);
@@ -106,13 +110,15 @@ std::vector<Chain> Chains(const TriangleMesh& mesh, const std::vector<std::vecto
     for (size_t k = 0; corner[v] && k < neighbors[v].size(); ++k)
     {
       const Index w = neighbors[v][k];
-      // Each chain once: from its smaller end (a chain between one corner walks both ways).
-      Chain chain = Walk(mesh, neighbors, corner, Index(v), w, visited);
+      // Each chain once: from its smaller end (a chain between one corner walks both ways). The
+      // walk from a chain's larger end stops after its first edge, which is kept as a chain of its
+      // own (see EndEdgeChain).
       if (corner[w] && w < Index(v))
       {
         continue; // a single-edge chain, taken from the other end
       }
-      if (chain.Vertices.size() > 2 && visited[chain.Vertices[1]] == 2)
+      Chain chain = Walk(mesh, neighbors, corner, Index(v), w, visited, steps);
+      if (chain.Vertices.size() > 2 && visited[w] == 2)
       {
         continue;
       }
@@ -129,12 +135,100 @@ std::vector<Chain> Chains(const TriangleMesh& mesh, const std::vector<std::vecto
     {
       // A loop without corners: starts anywhere.
       visited[v] = 2;
-      Chain chain = Walk(mesh, neighbors, corner, Index(v), neighbors[v][0], visited);
+      Chain chain = Walk(mesh, neighbors, corner, Index(v), neighbors[v][0], visited, steps);
       for (Index u : chain.Vertices)
       {
         visited[u] = 2;
       }
       chains.push_back(std::move(chain));
+    }
+  }
+  return chains;
+}
+
+// Noise a re-tiling at this spacing cannot show: a line shorter than the spacing that ends freely,
+// or a loop shorter than three spacings.
+bool IsNoise(const Chain& chain, double spacing)
+{
+  return (chain.Dangling && chain.Length < spacing) || (chain.Loop && chain.Length < 3 * spacing);
+}
+
+// The first edge of a chain from its larger end, which Chains lists as a chain of its own: a
+// dangling line whose free end has the larger index loses that edge in every pruning round where
+// it is shorter than the spacing. Kept as it is (Documentation/Retile.md, session 21: without it
+// the outputs on crease meshes change, and fandisk re-tiled at 700 points keeps a vertex).
+Chain EndEdgeChain(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors, const Chain& chain)
+{
+  const bool frontIsLarger = chain.Vertices.front() > chain.Vertices.back();
+  const Index end = frontIsLarger ? chain.Vertices.front() : chain.Vertices.back();
+  const Index next = frontIsLarger ? chain.Vertices[1] : chain.Vertices[chain.Vertices.size() - 2];
+  Chain edge;
+  edge.Vertices = { end, next };
+  edge.Length = Norm(mesh.Point(next) - mesh.Point(end));
+  edge.Dangling = neighbors[end].size() == 1 || neighbors[next].size() == 1;
+  return edge;
+}
+
+// The chains of the present lines through the vertices whose feature edges changed (the ends of
+// the chains just dropped), each once (found from several of them, a chain is the same edges).
+// Only they can have become noise: every other chain has the same vertices, corners and ends as
+// before the drop, when it was not noise.
+std::vector<Chain> ChainsThrough(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors,
+  const std::vector<unsigned char>& corner, const std::vector<Index>& changed, std::vector<unsigned char>& visited,
+  Index& steps)
+{
+  std::vector<std::pair<std::pair<Index, Index>, Chain>> found;
+  auto walk = [&](Index from, Index next) {
+    Chain chain = Walk(mesh, neighbors, corner, from, next, visited, steps);
+    // A vertex that is not a corner belongs to one chain only (its smallest names the chain,
+    // whichever vertex the walk started from); a chain without one is its single edge.
+    const Index a = chain.Vertices.front(), b = chain.Vertices.back();
+    std::pair<Index, Index> key{ std::min(a, b), std::max(a, b) };
+    for (Index v : chain.Vertices)
+    {
+      visited[v] = 0;
+      key = corner[v] ? key : std::min(key, std::pair<Index, Index>{ -1, v });
+    }
+    if (chain.Vertices.size() > 2 && a != b)
+    {
+      Chain edge = EndEdgeChain(mesh, neighbors, chain);
+      const std::pair<Index, Index> edgeKey{ -2 - edge.Vertices[0], edge.Vertices[1] };
+      found.emplace_back(edgeKey, std::move(edge));
+    }
+    found.emplace_back(key, std::move(chain));
+  };
+  for (Index d : changed)
+  {
+    if (neighbors[d].empty())
+    {
+      continue;
+    }
+    if (corner[d])
+    {
+      for (Index w : neighbors[d])
+      {
+        walk(d, w);
+      }
+      continue;
+    }
+    // Inside a line: go to a corner, then walk the chain from there (or round a loop without one).
+    Index previous = d, current = neighbors[d][0];
+    for (size_t guard = 0; guard <= neighbors.size() && !corner[current] && current != d; ++guard)
+    {
+      const Index following = neighbors[current][0] == previous ? neighbors[current][1] : neighbors[current][0];
+      previous = current;
+      current = following;
+      ++steps;
+    }
+    current == d ? walk(d, neighbors[d][0]) : walk(current, previous);
+  }
+  std::stable_sort(found.begin(), found.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<Chain> chains;
+  for (size_t i = 0; i < found.size(); ++i)
+  {
+    if (i == 0 || found[i].first != found[i - 1].first)
+    {
+      chains.push_back(std::move(found[i].second));
     }
   }
   return chains;
@@ -190,31 +284,46 @@ void DetectFeatureLines(const TriangleMesh& mesh, double featureAngle, double sp
 {
   features = FeatureLines();
   std::vector<std::vector<Index>> neighbors = FeatureEdgeGraph(mesh, featureAngle);
-  std::vector<unsigned char> corner;
-  std::vector<Chain> chains;
-  // Lines shorter than the spacing that end freely (or short loops) are noise a re-tiling at
-  // this density cannot show: dropped, which may make other short dangling chains (bounded).
+  const double cosine = std::cos(Radians(featureAngle));
+  std::vector<unsigned char> corner = CornerFlags(mesh, neighbors, featureAngle);
+  std::vector<Chain> chains = Chains(mesh, neighbors, corner, features.WalkSteps);
+  // Noise chains are dropped, which may make other short dangling chains (bounded rounds). After
+  // the first round only the chains through the dropped chains' ends are walked again: walking
+  // every line each round made this stage grow faster than the input (noisy scans drop chains
+  // for several rounds, more on larger ones).
+  std::vector<Index> changed;
+  std::vector<unsigned char> visited(neighbors.size(), 0);
+  bool pruned = false;
   for (int round = 0; round < 16; ++round)
   {
-    corner = CornerFlags(mesh, neighbors, featureAngle);
-    chains = Chains(mesh, neighbors, corner);
-    Index dropped = 0;
+    changed.clear();
     for (const Chain& chain : chains)
     {
-      if ((chain.Dangling && chain.Length < spacing) || (chain.Loop && chain.Length < 3 * spacing))
+      if (IsNoise(chain, spacing))
       {
         RemoveChainEdges(chain, neighbors);
-        ++dropped;
+        changed.push_back(chain.Vertices.front());
+        changed.push_back(chain.Vertices.back());
       }
     }
-    features.DroppedChains += dropped;
-    if (dropped == 0)
+    features.DroppedChains += Index(changed.size() / 2);
+    if (changed.empty())
     {
       break;
     }
+    pruned = true;
+    ++features.PruningRounds;
+    for (Index v : changed)
+    {
+      corner[v] = IsCorner(mesh, neighbors, v, cosine);
+    }
+    chains = ChainsThrough(mesh, neighbors, corner, changed, visited, features.WalkSteps);
   }
-  corner = CornerFlags(mesh, neighbors, featureAngle);
-  chains = Chains(mesh, neighbors, corner);
+  // The lines in their usual order (corners by index), for the samples.
+  if (pruned)
+  {
+    chains = Chains(mesh, neighbors, corner, features.WalkSteps);
+  }
   for (size_t v = 0; v < neighbors.size(); ++v)
   {
     features.FeatureEdges += Index(neighbors[v].size());

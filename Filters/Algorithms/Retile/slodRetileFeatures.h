@@ -29,6 +29,8 @@ struct SURFACELODFILTERS_EXPORT FeatureLines
   Index Corners = 0;
   Index FeatureEdges = 0;
   Index DroppedChains = 0; // dangling chains and loops shorter than the spacing (noise)
+  Index PruningRounds = 0; // rounds that dropped chains (each drop can make other chains noise)
+  Index WalkSteps = 0;     // feature edges walked in all (the detection's work)
 };
 
 // Feature lines of `mesh` at `featureAngle` degrees, sampled at `spacing` (the free points'

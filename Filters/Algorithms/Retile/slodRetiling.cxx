@@ -355,7 +355,8 @@ void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& verte
     cumulative[t] = total;
   }
   Random random(seed);
-  points.resize(count);
+  std::vector<SurfacePoint> drawn(count);
+  std::vector<Index> perTriangle(size_t(nt) + 1, 0);
   for (Index i = 0; i < count; ++i)
   {
     const double x = random.Uniform() * total;
@@ -365,8 +366,23 @@ void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& verte
     const double r1 = std::sqrt(random.Uniform()), r2 = random.Uniform();
     const Index* tri = mesh.Triangle(t);
     const Vec3 a = mesh.Point(tri[0]), b = mesh.Point(tri[1]), c = mesh.Point(tri[2]);
-    points[i].Position = (1 - r1) * a + (r1 * (1 - r2)) * b + (r1 * r2) * c;
-    points[i].Triangle = t;
+    drawn[i].Position = (1 - r1) * a + (r1 * (1 - r2)) * b + (r1 * r2) * c;
+    drawn[i].Triangle = t;
+    ++perTriangle[t + 1];
+  }
+  // The points in their triangles' order (a stable counting sort), not in drawing order: the
+  // candidates then lie in memory as the input's triangles and vertices do, so the later stages,
+  // which walk the input in its order and read each old vertex's neighbouring candidates, read
+  // nearby memory (in drawing order every candidate read was a cache miss, and the 4M-triangle
+  // scan took more than 4 times the 1M one's time).
+  for (Index t = 0; t < nt; ++t)
+  {
+    perTriangle[t + 1] += perTriangle[t];
+  }
+  points.resize(count);
+  for (const SurfacePoint& point : drawn)
+  {
+    points[perTriangle[point.Triangle]++] = point;
   }
 }
 

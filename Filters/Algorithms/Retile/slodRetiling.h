@@ -124,7 +124,8 @@ SURFACELODFILTERS_EXPORT void EstimateCurvatureRadius(const TriangleMesh& mesh, 
 // Density per triangle (1 + w * normalised curvature), the weights of the random placement.
 SURFACELODFILTERS_EXPORT void CurvatureDensity(const TriangleMesh& mesh, double curvatureWeight, std::vector<double>& vertexDensity);
 
-// N random points, triangle chosen with probability area * density (density per vertex, may be empty).
+// N random points, triangle chosen with probability area * density (density per vertex, may be empty),
+// in the order of their triangles (points of one triangle in drawing order).
 SURFACELODFILTERS_EXPORT void DistributePoints(const TriangleMesh& mesh, const std::vector<double>& vertexDensity,
   Index count, std::uint64_t seed, std::vector<SurfacePoint>& points);
 

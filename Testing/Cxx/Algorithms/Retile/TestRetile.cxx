@@ -8,6 +8,7 @@
 
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
+#include "slodRetileFeatures.h"
 #include "slodRetileRepair.h"
 #include "slodRetileRing.h"
 #include "slodRetiling.h"
@@ -305,6 +306,51 @@ TEST(Retile, InterpolatesPointData)
     // Linear data interpolated on the input's planar triangles: exact up to float storage.
     EXPECT_NEAR(out->GetTuple1(i), output->GetPoint(i)[2], 1e-5);
   }
+}
+
+// The candidates come in the order of their triangles (the later stages walk the input in its
+// order and read each old vertex's candidates: nearby in memory), each on its triangle.
+TEST(Retile, DistributedPointsComeInTheirTrianglesOrder)
+{
+  const TriangleMesh torus = slodtest::Torus(64, 32);
+  std::vector<SurfacePoint> points;
+  DistributePoints(torus, {}, 5000, 3, points);
+  ASSERT_EQ(points.size(), 5000u);
+  for (size_t i = 0; i < points.size(); ++i)
+  {
+    ASSERT_TRUE(i == 0 || points[i - 1].Triangle <= points[i].Triangle) << i;
+    const Index* tri = torus.Triangle(points[i].Triangle);
+    const Vec3 normal = torus.TriangleAreaVector(points[i].Triangle);
+    for (int k = 0; k < 3; ++k)
+    {
+      // Inside: on the inner side of each edge, in the triangle's plane.
+      const Vec3 a = torus.Point(tri[k]), b = torus.Point(tri[(k + 1) % 3]);
+      EXPECT_GE(Dot(Cross(b - a, points[i].Position - a), normal), -1e-12);
+    }
+    EXPECT_NEAR(Dot(points[i].Position - torus.Point(tri[0]), Normalized(normal)), 0.0, 1e-12);
+  }
+}
+
+// Feature-line pruning on a noisy isosurface: dropping short dangling lines makes others dangle,
+// for several rounds. After the first round only the lines through the dropped lines' ends are
+// walked again, so the whole detection walks the lines about twice (walking all of them every
+// round took 13 times a single walk on this input).
+TEST(Retile, FeatureLinePruningWalksTheLinesAFewTimes)
+{
+  const TriangleMesh mesh = slodtest::RawTriangleMesh(slodtest::NoisyScanIsosurface(48, 1));
+  double area = 0;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    area += mesh.TriangleArea(t);
+  }
+  FeatureLines onePass, pruned;
+  DetectFeatureLines(mesh, 45.0, 0.0, onePass); // spacing 0: nothing is noise, one walk of every line
+  DetectFeatureLines(mesh, 45.0, EvenSpacing(area, mesh.NumberOfPoints() / 10), pruned);
+  EXPECT_EQ(onePass.DroppedChains, 0);
+  EXPECT_GE(pruned.PruningRounds, 3); // the premise: drops that make more noise
+  EXPECT_LT(pruned.FeatureEdges, onePass.FeatureEdges);
+  EXPECT_GT(pruned.FeatureEdges, 0);
+  EXPECT_LE(pruned.WalkSteps, 3 * onePass.WalkSteps);
 }
 
 TEST(Retile, CoreSpacingImprovesWithIterations)
