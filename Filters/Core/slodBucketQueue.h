@@ -213,6 +213,8 @@ private:
     float K;
     Index Id;
   };
+  // SmallestOf reads the entries as pairs of floats, four keys per two 16-byte loads.
+  static_assert(sizeof(Entry) == 2 * sizeof(float) && sizeof(Index) == sizeof(float), "Entry must be {float, 32-bit id}");
   // Advances Lowest to the first non-empty bucket (call only when not Empty). The buckets passed
   // give their storage back: costs rise as a collapse loop runs, so the entries move to higher
   // buckets, which grow, while the drained low ones would otherwise keep their largest size (on a

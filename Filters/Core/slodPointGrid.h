@@ -21,7 +21,7 @@
 
 namespace slod
 {
-class PointGrid
+class SURFACELODFILTERS_EXPORT PointGrid
 {
 public:
   // xyz: 3 coordinates per point; cell: the edge of a cell (enlarged only when the extent over it
@@ -55,6 +55,13 @@ private:
   }
   static bool KeyInBox(std::uint64_t key, const long long* c0, const long long* c1);
   std::uint64_t Key(const double* p) const;
+  // The cell coordinate of x along axis k, clamped to [-1, Dims[k]] before the conversion: a
+  // far, huge-radius or NaN query would overflow it (undefined); NaN gives -1 (no cell).
+  long long CellCoordinate(double x, int k) const
+  {
+    const double c = std::floor((x - this->Origin[k]) / this->Cell);
+    return c >= double(this->Dims[k]) ? this->Dims[k] : (c >= 0 ? static_cast<long long>(c) : -1);
+  }
   void SortPointsByCell(const std::vector<double>& xyz, std::size_t n);
   void HashCells();
   std::size_t FindCell(std::uint64_t key) const;
@@ -82,8 +89,8 @@ void PointGrid::ForEachSlotNear(const double* p, double radius, F&& f) const
   long long c0[3], c1[3];
   for (int k = 0; k < 3; ++k)
   {
-    c0[k] = std::max<long long>(0, static_cast<long long>(std::floor((p[k] - radius - this->Origin[k]) / this->Cell)));
-    c1[k] = std::min<long long>(this->Dims[k] - 1, static_cast<long long>(std::floor((p[k] + radius - this->Origin[k]) / this->Cell)));
+    c0[k] = std::max<long long>(0, this->CellCoordinate(p[k] - radius, k));
+    c1[k] = std::min<long long>(this->Dims[k] - 1, this->CellCoordinate(p[k] + radius, k));
   }
   const double boxCells = double(c1[0] - c0[0] + 1) * double(c1[1] - c0[1] + 1) * double(c1[2] - c0[2] + 1);
   if (boxCells > double(this->CellKeys.size()))

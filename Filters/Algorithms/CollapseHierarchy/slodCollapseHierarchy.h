@@ -444,9 +444,9 @@ private:
 
   // The per-triangle working data (evaluations, paper's terms, edge costs, blocked stamps, current
   // versions, the level state's marks) are indexed by row, not by M0 slot: when the live triangles
-  // fall below 7/8 of the rows (1/2 once the rows are under a quarter of the slots), CompactRows
-  // renumbers the live ones in slot order and
-  // gives the dead ones' rows back. The working data then shrink with the mesh while the
+  // fall below 15/16 of the rows while the rows are over half of the slots, 7/8 while over a
+  // quarter, 1/2 after that (WorthCompacting), CompactRows renumbers the live ones in slot order
+  // and gives the dead ones' rows back. The working data then shrink with the mesh while the
   // hierarchy grows (both at full size made the end of the build its peak).
   std::vector<Index> RowOf; // M0 slot -> row; -1: dead at the last compaction
   Index Rows = 0;

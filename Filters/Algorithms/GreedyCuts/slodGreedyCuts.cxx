@@ -880,12 +880,18 @@ struct GreedyCuts::Worker
   // every input triangle thinner than MinimumAngle made its patch fall back and be split, whole
   // runs over, until it was a patch of its own (CAD meshes at 0.01 of the diagonal: anchor 16
   // fallback patches, boeing 104). Only once stuck, so a patch that closes without its thin input
-  // triangles is cut as before. Called for thin candidates only; O(patch) like test (b).
+  // triangles is cut as before. Called for thin candidates only: the triangles around a (the
+  // input's vertex fan) in patch p, O(valence).
   bool IsPatchTriangle(Index p, Index a, Index b, Index c) const
   {
-    for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1]; ++i)
+    const std::vector<Index>& patchOf = G.Patches.TrianglePatches();
+    for (const Index* t = G.Topology.VertexTrianglesBegin(a); t != G.Topology.VertexTrianglesEnd(a); ++t)
     {
-      const Index* tri = M.Triangle(G.PatchTriangleList[i]);
+      if (patchOf[*t] != p)
+      {
+        continue;
+      }
+      const Index* tri = M.Triangle(*t);
       int shared = 0;
       for (int k = 0; k < 3; ++k)
       {

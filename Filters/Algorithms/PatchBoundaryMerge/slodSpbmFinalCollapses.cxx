@@ -31,7 +31,7 @@ public:
   // One stage with the given normal bound; returns false when its work bound stopped it.
   bool RunStage(double minimumNormalDot, Index target, SpbmFinalCollapseStatistics& statistics);
   Index LiveTriangles() const { return this->Mesh.NumberOfLiveTriangles(); }
-  void WriteBack(SpbmLevel& level) const;
+  void WriteBack(SpbmLevel& level);
 
 private:
   void AddPlanes(const TriangleMesh& input, const std::vector<Index>& triangles, const std::vector<unsigned char>* only);
@@ -42,7 +42,9 @@ private:
   bool Allowed(Index u, Index v) const;
   double Cost(Index u, Index v) const { return (this->Quadrics[u] + this->Quadrics[v]).Evaluate(this->Mesh.Point(v)); }
   bool TryCollapse(Index u, SpbmFinalCollapseStatistics& statistics);
-  Index Resolve(Index v) const;
+  // The vertex v went to in the end; the walked path is shortened to it (path compression), so
+  // resolving every curve vertex costs about one step each however long the collapse chains are.
+  Index Resolve(Index v);
 
   EditableMesh Mesh;
   std::vector<Quadric> Quadrics;
@@ -240,17 +242,24 @@ bool FinalCollapser::RunStage(double minimumNormalDot, Index target, SpbmFinalCo
   return true;
 }
 
-Index FinalCollapser::Resolve(Index v) const
+Index FinalCollapser::Resolve(Index v)
 {
-  // Each step follows one collapse, so the walk is bounded by their number.
-  while (this->WentTo[v] != InvalidIndex)
+  // Each step follows one collapse, so each walk is bounded by their number.
+  Index root = v;
+  while (this->WentTo[root] != InvalidIndex)
   {
-    v = this->WentTo[v];
+    root = this->WentTo[root];
   }
-  return v;
+  while (v != root)
+  {
+    const Index next = this->WentTo[v];
+    this->WentTo[v] = root;
+    v = next;
+  }
+  return root;
 }
 
-void FinalCollapser::WriteBack(SpbmLevel& level) const
+void FinalCollapser::WriteBack(SpbmLevel& level)
 {
   // Triangles in their old order with their merged patch; patch ids renumbered densely.
   std::vector<Index> newPatch(size_t(level.NumberOfPatches), InvalidIndex);

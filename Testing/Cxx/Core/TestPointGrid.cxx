@@ -125,4 +125,18 @@ TEST(PointGrid, DegenerateInputs)
   calls = 0;
   grid.ForEachNear(&far[0], 2e12, [&](Index) { ++calls; });
   EXPECT_EQ(calls, 2);
+  // A radius of many cells over a zero cell size (the cell count overflows a long long unless it
+  // is clamped before the conversion; the sanitizer build reports it), a query point far outside,
+  // and a NaN query: all points, none, none.
+  grid.Build(same, 0.0);
+  calls = 0;
+  grid.ForEachNear(&same[0], 1.0, [&](Index) { ++calls; });
+  EXPECT_EQ(calls, 50);
+  calls = 0;
+  const double outside[3] = { 1e300, -1e300, 2.5 };
+  grid.ForEachNear(outside, 1.0, [&](Index) { ++calls; });
+  EXPECT_EQ(calls, 0);
+  const double undefined[3] = { std::nan(""), 2.5, 2.5 };
+  grid.ForEachNear(undefined, 1.0, [&](Index) { ++calls; });
+  EXPECT_EQ(calls, 0);
 }

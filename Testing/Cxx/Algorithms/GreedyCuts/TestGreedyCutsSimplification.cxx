@@ -886,6 +886,11 @@ TEST(GreedyCuts, TargetSearchPredictsTheLevel)
   // Always strictly inside the bracket.
   EXPECT_EQ(GreedyCuts::PredictedLevel(ladder, 3, 5, 1000, 10, 1), 4);
   EXPECT_EQ(GreedyCuts::PredictedLevel(ladder, 3, 5, 1000, 999, 999), 4);
+  // A wide bracket, so that the clamps are what is tested: a target under the coarse count gives
+  // the level next to the coarse end, one over the fine count the level next to the fine end.
+  ASSERT_GE(top, 4);
+  EXPECT_EQ(GreedyCuts::PredictedLevel(ladder, 0, top, 1000, 10, 1), top - 1);
+  EXPECT_EQ(GreedyCuts::PredictedLevel(ladder, 0, top, 1000, 10, 5000), 1);
 }
 
 // On a mesh no other test uses, a target inside the ladder: the search brackets it in fewer level
