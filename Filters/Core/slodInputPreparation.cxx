@@ -3,6 +3,7 @@
 
 #include "slodAttributeTransfer.h"
 #include "slodMeshTopology.h"
+#include "slodPointGrid.h"
 #include "slodPolygonTriangulation.h"
 #include "slodUnionFind.h"
 
@@ -1162,43 +1163,33 @@ std::vector<unsigned char> AttributeSeamVertexFlags(const TriangleMesh& mesh,
     return seam;
   }
   // The sides of a seam are borders of the prepared mesh (their points were kept apart): only
-  // border vertices are compared, in cells of the tolerance's size.
-  const double cell = tolerance > 0 ? tolerance : 1.0;
-  std::vector<std::pair<std::array<long long, 3>, Index>> keys;
+  // border vertices are compared, each with the border vertices of the grid cells around it.
+  std::vector<Index> borderIds;
+  std::vector<double> borderXyz;
   for (Index v = 0; v < nv; ++v)
   {
     if (borderVertices[v])
     {
-      const Vec3 p = mesh.Point(v);
-      keys.push_back({ { static_cast<long long>(std::floor(p[0] / cell)), static_cast<long long>(std::floor(p[1] / cell)),
-                         static_cast<long long>(std::floor(p[2] / cell)) },
-        v });
+      borderIds.push_back(v);
+      borderXyz.insert(borderXyz.end(), &mesh.Points[3 * size_t(v)], &mesh.Points[3 * size_t(v)] + 3);
     }
   }
-  std::sort(keys.begin(), keys.end());
+  PointGrid grid;
+  grid.Build(borderXyz, tolerance > 0 ? tolerance : 1.0);
   auto near = [&](Index a, Index b) {
     const Vec3 d = mesh.Point(a) - mesh.Point(b);
     return Dot(d, d) <= tolerance * tolerance;
   };
-  // A pair within the tolerance lies in one cell or in two neighbouring ones: each vertex is
-  // compared with the vertices of its 27 cells (binary searches in the sorted keys).
-  using Key = std::pair<std::array<long long, 3>, Index>;
-  for (const Key& key : keys)
+  for (size_t i = 0; i < borderIds.size(); ++i)
   {
-    for (int d = 0; d < 27; ++d)
-    {
-      const std::array<long long, 3> c = { key.first[0] + d % 3 - 1, key.first[1] + (d / 3) % 3 - 1,
-        key.first[2] + d / 9 - 1 };
-      auto it = std::lower_bound(keys.begin(), keys.end(), Key{ c, 0 });
-      for (; it != keys.end() && it->first == c; ++it)
+    const Index a = borderIds[i];
+    grid.ForEachNear(&borderXyz[3 * i], tolerance, [&](Index j) {
+      const Index b = borderIds[size_t(j)];
+      if (a < b && near(a, b) && !SamePointData(pointData, vertexToInputPoint[a], vertexToInputPoint[b]))
       {
-        const Index a = key.second, b = it->second;
-        if (a < b && near(a, b) && !SamePointData(pointData, vertexToInputPoint[a], vertexToInputPoint[b]))
-        {
-          seam[a] = seam[b] = 1;
-        }
+        seam[a] = seam[b] = 1;
       }
-    }
+    });
   }
   // A vertex with an edge shorter than the tolerance is the corner of a collapsed fan (a pole made of copies, one
   // per texture column): no line to keep, and pinning its copies would keep the zero-area triangles.
