@@ -110,18 +110,16 @@ std::vector<Chain> Chains(const TriangleMesh& mesh, const std::vector<std::vecto
     for (size_t k = 0; corner[v] && k < neighbors[v].size(); ++k)
     {
       const Index w = neighbors[v][k];
-      // Each chain once: from its smaller end (a chain between one corner walks both ways). The
-      // walk from a chain's larger end stops after its first edge, which is kept as a chain of its
-      // own (see EndEdgeChain).
-      if (corner[w] && w < Index(v))
-      {
-        continue; // a single-edge chain, taken from the other end
-      }
-      Chain chain = Walk(mesh, neighbors, corner, Index(v), w, visited, steps);
-      if (chain.Vertices.size() > 2 && visited[w] == 2)
+      // Each chain once: from its smaller end (the corners are taken in index order), or from its
+      // one corner's first line neighbour for a loop through a single corner. Seen from its other
+      // end, a chain of one edge has a smaller corner there, a longer one an inner vertex already
+      // walked (listing that edge as a chain of its own made a dangling line whose free end has
+      // the larger index lose one edge per pruning round: Documentation/Retile.md, session 22).
+      if ((corner[w] && w < Index(v)) || (!corner[w] && visited[w] == 2))
       {
         continue;
       }
+      Chain chain = Walk(mesh, neighbors, corner, Index(v), w, visited, steps);
       for (size_t i = 1; i + 1 < chain.Vertices.size(); ++i)
       {
         visited[chain.Vertices[i]] = 2;
@@ -153,22 +151,6 @@ bool IsNoise(const Chain& chain, double spacing)
   return (chain.Dangling && chain.Length < spacing) || (chain.Loop && chain.Length < 3 * spacing);
 }
 
-// The first edge of a chain from its larger end, which Chains lists as a chain of its own: a
-// dangling line whose free end has the larger index loses that edge in every pruning round where
-// it is shorter than the spacing. Kept as it is (Documentation/Retile.md, session 21: without it
-// the outputs on crease meshes change, and fandisk re-tiled at 700 points keeps a vertex).
-Chain EndEdgeChain(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& neighbors, const Chain& chain)
-{
-  const bool frontIsLarger = chain.Vertices.front() > chain.Vertices.back();
-  const Index end = frontIsLarger ? chain.Vertices.front() : chain.Vertices.back();
-  const Index next = frontIsLarger ? chain.Vertices[1] : chain.Vertices[chain.Vertices.size() - 2];
-  Chain edge;
-  edge.Vertices = { end, next };
-  edge.Length = Norm(mesh.Point(next) - mesh.Point(end));
-  edge.Dangling = neighbors[end].size() == 1 || neighbors[next].size() == 1;
-  return edge;
-}
-
 // The chains of the present lines through the vertices whose feature edges changed (the ends of
 // the chains just dropped), each once (found from several of them, a chain is the same edges).
 // Only they can have become noise: every other chain has the same vertices, corners and ends as
@@ -188,12 +170,6 @@ std::vector<Chain> ChainsThrough(const TriangleMesh& mesh, const std::vector<std
     {
       visited[v] = 0;
       key = corner[v] ? key : std::min(key, std::pair<Index, Index>{ -1, v });
-    }
-    if (chain.Vertices.size() > 2 && a != b)
-    {
-      Chain edge = EndEdgeChain(mesh, neighbors, chain);
-      const std::pair<Index, Index> edgeKey{ -2 - edge.Vertices[0], edge.Vertices[1] };
-      found.emplace_back(edgeKey, std::move(edge));
     }
     found.emplace_back(key, std::move(chain));
   };

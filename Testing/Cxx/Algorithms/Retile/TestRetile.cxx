@@ -353,6 +353,73 @@ TEST(Retile, FeatureLinePruningWalksTheLinesAFewTimes)
   EXPECT_LE(pruned.WalkSteps, 3 * onePass.WalkSteps);
 }
 
+namespace
+{
+// A square sheet z = 2 x |y - 1/2| (x, y in [0, 1]): a crease along y = 1/2 that sharpens with x,
+// a feature edge at 45 degrees from x = tan(22.5 degrees) / 2 on, so the line ends freely inside the
+// sheet and meets the border at x = 1. Vertex ids run with x or against it (`reversed`): the
+// line's free end then has the smaller or the larger id.
+TriangleMesh FadingCrease(int n, bool reversed)
+{
+  TriangleMesh m;
+  auto id = [&](int i, int j) { return Index(j * (n + 1) + (reversed ? n - i : i)); };
+  for (int j = 0; j <= n; ++j)
+  {
+    for (int k = 0; k <= n; ++k)
+    {
+      const double x = double(reversed ? n - k : k) / n, y = double(j) / n;
+      m.AddPoint({ x, y, 2 * x * std::abs(y - 0.5) });
+    }
+  }
+  for (int j = 0; j < n; ++j)
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      // Diagonals away from the crease row, so the crease edges are the grid's own.
+      const bool below = j < n / 2;
+      below ? m.AddTriangle(id(i, j), id(i + 1, j), id(i, j + 1)) : m.AddTriangle(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      below ? m.AddTriangle(id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)) : m.AddTriangle(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return m;
+}
+} // namespace
+
+// A dangling line longer than the spacing is not noise, whichever of its ends has the larger id:
+// Chains listed the first edge of a chain seen from its larger end as a chain of its own, so a
+// line whose free end had the larger id lost one edge per pruning round (session 21's
+// EndEdgeChain), here most of the crease.
+TEST(Retile, DanglingLineIsKeptWhicheverEndHasTheLargerId)
+{
+  const int n = 40;
+  FeatureLines forward, reversed;
+  const double spacing = 0.25; // the line is about 0.8 long, its edges 0.025
+  DetectFeatureLines(FadingCrease(n, false), 45.0, spacing, forward);
+  DetectFeatureLines(FadingCrease(n, true), 45.0, spacing, reversed);
+  auto creaseEdges = [&](const FeatureLines& lines, bool ids) {
+    int count = 0;
+    for (int i = 0; i < n; ++i) // the edges along y = 1/2 inside the sheet (x < 1)
+    {
+      const Index row = Index((n / 2) * (n + 1));
+      const Index a = row + (ids ? n - i : i), b = row + (ids ? n - i - 1 : i + 1);
+      const auto& na = lines.LineNeighbors[size_t(a)];
+      count += std::find(na.begin(), na.end(), b) != na.end() ? 1 : 0;
+    }
+    return count;
+  };
+  const int forwardCrease = creaseEdges(forward, false), reversedCrease = creaseEdges(reversed, true);
+  std::printf("[retile] fading crease: %d / %d crease edges, %d / %d feature edges, dropped %d / %d\n",
+    forwardCrease, reversedCrease, int(forward.FeatureEdges), int(reversed.FeatureEdges), int(forward.DroppedChains),
+    int(reversed.DroppedChains));
+  EXPECT_GT(forwardCrease * 0.025, 2 * spacing); // the premise: a line longer than the spacing
+  EXPECT_LT(forwardCrease, n);                   // that ends freely inside the sheet
+  EXPECT_EQ(reversedCrease, forwardCrease);
+  EXPECT_EQ(reversed.FeatureEdges, forward.FeatureEdges);
+  EXPECT_EQ(forward.DroppedChains, 0);
+  EXPECT_EQ(reversed.DroppedChains, 0);
+  EXPECT_EQ(reversed.Kept.size(), forward.Kept.size());
+}
+
 TEST(Retile, CoreSpacingImprovesWithIterations)
 {
   const TriangleMesh torus = slodtest::Torus(64, 32);
@@ -1001,6 +1068,34 @@ TEST(Retile, ExplicitVertexCountIsMetOrExplained)
 // triangle (re-tiled with 4 points it had 3), a sphere asked for as many triangles as it has or
 // for more points than it has (retained vertices added triangles), and a sphere with one vertex
 // at 1e30 (its tiles degenerated below the rounding of the positions: now an error).
+// A crease mesh of genus 0 has no handle that must keep an original vertex (section 4.4), so every
+// count is met exactly, with creases kept. Before the removal's last step was retried after step
+// 6's flips, a crease vertex whose collapses along its line each turned a tile over stayed (3 of
+// these 50 settings kept one, and the count was missed by one).
+TEST(Retile, EveryCountIsMetOnACreaseMeshWithoutHandles)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("fandisk");
+  int missed = 0;
+  for (const double curvatureWeight : { 0.0, 1.0 })
+  {
+    for (vtkIdType points = 500; points < 1000; points += 20)
+    {
+      vtkNew<vtkRetile> filter;
+      filter->SetInputData(input);
+      filter->SetNumberOfPoints(points);
+      filter->SetCurvatureWeight(curvatureWeight);
+      filter->SetRepulsionIterations(20);
+      filter->Update();
+      const vtkIdType output = filter->GetOutput()->GetNumberOfPoints();
+      EXPECT_EQ(output, points) << "curvature weight " << curvatureWeight;
+      EXPECT_EQ(filter->GetNumberOfRetainedVertices(), 0) << points << " points, curvature weight " << curvatureWeight;
+      EXPECT_GT(filter->GetNumberOfFeatureVertices(), 0); // the premise: creases kept
+      missed += output != points ? 1 : 0;
+    }
+  }
+  std::printf("[retile] fandisk at 50 counts: %d missed\n", missed);
+}
+
 TEST(Retile, NeverMoreTrianglesThanAskedOrGivenNorDegenerateOnes)
 {
   auto expectWithin = [](vtkPolyData* input, vtkRetile* filter, vtkIdType limit, const char* what) {
