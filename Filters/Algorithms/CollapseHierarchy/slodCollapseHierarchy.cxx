@@ -934,12 +934,12 @@ int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements
 
 Index CollapseHierarchy::Degree(Index v) const
 {
-  if (this->CachedDegreeStamp[v] < this->VertexChanged[v] || this->CachedDegreeStamp[v] < 0)
+  VertexChange& change = this->VertexChanges[v];
+  if (change.Degree < 0)
   {
-    this->CachedDegree[v] = this->Mesh.VertexDegree(v);
-    this->CachedDegreeStamp[v] = this->ChangeCounter;
+    change.Degree = this->Mesh.VertexDegree(v);
   }
-  return this->CachedDegree[v];
+  return change.Degree;
 }
 
 int CollapseHierarchy::HubMask(Index t) const
@@ -1230,12 +1230,12 @@ void CollapseHierarchy::MarkChangedAround(Index v)
 {
   // v moved or got new triangles; the vertices around it lost or gained triangles.
   const Index stamp = ++this->ChangeCounter;
-  this->VertexChanged[v] = stamp;
+  this->StampVertex(v, stamp);
   this->Mesh.ForEachTriangle(v, [&](Index x) {
     const Index* q = this->Mesh.Triangle(x);
     for (int j = 0; j < 3; ++j)
     {
-      this->VertexChanged[q[j]] = stamp;
+      this->StampVertex(q[j], stamp);
     }
   });
 }
@@ -1256,8 +1256,8 @@ bool CollapseHierarchy::StarsUnchangedSince(Index t, Index stamp, int skipMask) 
     }
     this->Mesh.ForEachTriangle(tri[k], [&](Index x) {
       const Index* q = this->Mesh.Triangle(x);
-      same = same && this->VertexChanged[q[0]] <= stamp && this->VertexChanged[q[1]] <= stamp &&
-        this->VertexChanged[q[2]] <= stamp;
+      same = same && this->VertexChanges[q[0]].Stamp <= stamp && this->VertexChanges[q[1]].Stamp <= stamp &&
+        this->VertexChanges[q[2]].Stamp <= stamp;
     });
   }
   return same;
@@ -1270,7 +1270,7 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   const Index stamp = ++this->ChangeCounter;
   for (Index v : { flip.X, flip.Y, flip.Q, flip.Z })
   {
-    this->VertexChanged[v] = stamp;
+    this->StampVertex(v, stamp);
   }
   for (Index t : flip.Triangles)
   {
@@ -1686,12 +1686,10 @@ void CollapseHierarchy::ReleaseWorkingData()
   release(this->EntryOf);
   release(this->RowOf);
   release(this->VertexMark);
-  release(this->VertexChanged);
+  release(this->VertexChanges);
   release(this->BlockedStrict);
   release(this->BlockedRelaxed);
   release(this->BlockedEdge);
-  release(this->CachedDegree);
-  release(this->CachedDegreeStamp);
   release(this->EdgeCostErrors);
   release(this->EdgeCostStates);
   release(this->Spokes);
@@ -1710,9 +1708,8 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
   const size_t records = bytes(r.Vertices) + bytes(r.RemovedOffsets) + bytes(r.RemovedTriangles) +
     bytes(r.ChangedOffsets) + bytes(r.ChangedTriangles) + bytes(r.ChangedCorners) + bytes(r.ChangedFrom) +
     bytes(r.Flips) + bytes(r.FlipStamps);
-  const size_t stamps = bytes(this->VertexMark) + bytes(this->VertexChanged) + bytes(this->BlockedStrict) +
-    bytes(this->BlockedRelaxed) + bytes(this->BlockedEdge) + bytes(this->CachedDegree) +
-    bytes(this->CachedDegreeStamp);
+  const size_t stamps = bytes(this->VertexMark) + bytes(this->VertexChanges) + bytes(this->BlockedStrict) +
+    bytes(this->BlockedRelaxed) + bytes(this->BlockedEdge);
   const size_t ancestors =
     bytes(this->AncestorHead) + bytes(this->AncestorTail) + bytes(this->AncestorNext) + bytes(this->AncestorCount);
   return { { "M0 (points, triangles)", false, bytes(this->Base.Points) + bytes(this->Base.Triangles) },
@@ -1795,9 +1792,7 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->ReserveRecords();
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
-  this->VertexChanged.assign(np, 0);
-  this->CachedDegree.assign(np, 0);
-  this->CachedDegreeStamp.assign(np, -1);
+  this->VertexChanges.assign(np, VertexChange());
   this->BlockedStrict.assign(nt, -1);
   std::vector<Index>().swap(this->BlockedRelaxed); // allocated when first used
   std::vector<Index>().swap(this->BlockedEdge);

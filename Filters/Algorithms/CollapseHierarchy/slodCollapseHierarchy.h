@@ -493,7 +493,17 @@ private:
   // (by the stencil rules, the mesh check or the orientation test) is skipped until a vertex of
   // its stencil region changes (position or triangles around it). One stamp per rule set (strict,
   // relaxed); -1: not known to be blocked.
-  std::vector<Index> VertexChanged, BlockedStrict, BlockedRelaxed, BlockedEdge;
+  std::vector<Index> BlockedStrict, BlockedRelaxed, BlockedEdge;
+  // Per editable vertex: the stamp of its last change (position or triangles around it) and its
+  // valence, cached since then (-1: not known). One record, so that Degree reads one cache line
+  // and no stamp of its own (the cache is dropped where the change is stamped).
+  struct VertexChange
+  {
+    Index Stamp = 0;
+    Index Degree = -1;
+  };
+  mutable std::vector<VertexChange> VertexChanges;
+  void StampVertex(Index v, Index stamp) const { this->VertexChanges[v] = { stamp, -1 }; }
   Index EdgeCollapseCount = 0;
   Index BatchRechecks = 0;
   // Per editable vertex: on a border of the mesh (MeshOptions.BoundaryVertices points here).
@@ -506,7 +516,7 @@ private:
   // Hubs: vertices on more than HubValence triangles. Every check of a collapse merging a hub costs
   // its valence, and a hub touches that many candidates: such collapses are no candidates (the
   // hub triangles' other edge still collapses, which lowers the hub's valence). Valences are
-  // cached until the vertex's neighbourhood changes (VertexChanged).
+  // cached until the vertex's neighbourhood changes (VertexChanges).
   Index Degree(Index v) const;
   int HubMask(Index t) const; // bit k: tri[k] is a hub
   // Over edges with no hub or border end; choice: which candidate it was. Reads and fills t's
@@ -550,7 +560,6 @@ private:
   int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;
-  mutable std::vector<Index> CachedDegree, CachedDegreeStamp;
   std::uint32_t MarkEpoch = 0;
   mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;
 };
