@@ -169,6 +169,9 @@ public:
   int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
   Index NumberOfCollapses() const { return static_cast<Index>(this->Collapses.size()); }
   Index NumberOfEdgeCollapses() const { return this->EdgeCollapseCount; }
+  // Collapses whose checks ran again when their batch was collapsed: those whose region shares a
+  // vertex with the region of an earlier collapse of the batch (the others cannot have changed).
+  Index NumberOfBatchRechecks() const { return this->BatchRechecks; }
   Index NumberOfSwaps() const { return this->Records.NumberOfFlips(); }
   // Edge swaps made after `collapses` collapses (between M_i(1) and M_i+1 when collapses =
   // LevelStart(i + 1)); each changes two triangles.
@@ -451,6 +454,10 @@ private:
   std::vector<Index> RowOf; // M0 slot -> row; -1: dead at the last compaction
   Index Rows = 0;
   size_t Row(Index t) const { return static_cast<size_t>(this->RowOf[t]); }
+  // The M0 slot of a row: its current version's.
+  Index SlotOfRow(size_t r) const { return static_cast<Index>(this->EntryCode[size_t(this->EntryOf[r])] >> 2); }
+  template <typename Functor>
+  void ForEachLiveTriangle(Functor&& f) const; // f(t, row), in slot order
   std::vector<StoredEvaluation> Evaluations;
   std::unordered_map<Index, Vec3> OtherNormals; // NormalSource::Stored (degenerate triangles)
   // Per editable vertex: planes of its original triangles, in rows compacted as the triangles'
@@ -486,18 +493,30 @@ private:
   // (by the stencil rules, the mesh check or the orientation test) is skipped until a vertex of
   // its stencil region changes (position or triangles around it). One stamp per rule set (strict,
   // relaxed); -1: not known to be blocked.
-  std::vector<Index> VertexChanged, BlockedStrict, BlockedRelaxed, BlockedEdge;
+  std::vector<Index> BlockedStrict, BlockedRelaxed, BlockedEdge;
+  // Per editable vertex: the stamp of its last change (position or triangles around it) and its
+  // valence, cached since then (-1: not known). One record, so that Degree reads one cache line
+  // and no stamp of its own (the cache is dropped where the change is stamped).
+  struct VertexChange
+  {
+    Index Stamp = 0;
+    Index Degree = -1;
+  };
+  mutable std::vector<VertexChange> VertexChanges;
+  void StampVertex(Index v, Index stamp) const { this->VertexChanges[v] = { stamp, -1 }; }
   Index EdgeCollapseCount = 0;
+  Index BatchRechecks = 0;
   // Per editable vertex: on a border of the mesh (MeshOptions.BoundaryVertices points here).
   std::vector<unsigned char> OnBorder;
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
-  // The stars of the vertices of t not in skipMask (bit k: tri[k]) are unchanged since stamp.
-  bool StillBlocked(Index t, Index stamp, int skipMask = 0) const;
+  // The stars of the vertices of t not in skipMask (bit k: tri[k]) are unchanged since stamp
+  // (false for a negative stamp: not known).
+  bool StarsUnchangedSince(Index t, Index stamp, int skipMask = 0) const;
   // Hubs: vertices on more than HubValence triangles. Every check of a collapse merging a hub costs
   // its valence, and a hub touches that many candidates: such collapses are no candidates (the
   // hub triangles' other edge still collapses, which lowers the hub's valence). Valences are
-  // cached until the vertex's neighbourhood changes (VertexChanged).
+  // cached until the vertex's neighbourhood changes (VertexChanges).
   Index Degree(Index v) const;
   int HubMask(Index t) const; // bit k: tri[k] is a hub
   // Over edges with no hub or border end; choice: which candidate it was. Reads and fills t's
@@ -541,7 +560,6 @@ private:
   int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;
-  mutable std::vector<Index> CachedDegree, CachedDegreeStamp;
   std::uint32_t MarkEpoch = 0;
   mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;
 };
