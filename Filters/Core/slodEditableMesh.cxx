@@ -41,6 +41,9 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->RefCount.assign(np, 0);
   this->Refs.clear();
   this->CompactThreshold = 0;
+  this->RebuildThreshold = 0;
+  this->CompactedAway = 0;
+  this->RoomLimit = 0;
   this->Refs.push_back(0); // forces the first build of the blocks
   this->CompactIfNeeded();
 }
@@ -808,6 +811,94 @@ void EditableMesh::CompactIfNeeded()
   {
     return;
   }
+  // Rebuild when the garbage reaches the live size (counting what the compactions in place took
+  // out since the last rebuild): with or without a room limit the rebuilds come at the same
+  // collapses, so a limited mesh's fans are in the same order as an unlimited one's.
+  if (this->Refs.size() + this->CompactedAway > this->RebuildThreshold)
+  {
+    this->RebuildBlocks();
+    this->CompactedAway = 0;
+    this->RebuildThreshold = std::max<size_t>(2 * this->Refs.size(), 1024);
+  }
+  else
+  {
+    const size_t before = this->Refs.size();
+    this->CompactInOrder();
+    this->CompactedAway += before - this->Refs.size();
+  }
+  if (this->RoomLimit == 0 && this->RoomFactor > 0)
+  {
+    this->RoomLimit = static_cast<size_t>(this->RoomFactor * double(this->Refs.size()));
+  }
+  // Reserving up to the next compaction (plus room for the blocks appended before the next check)
+  // keeps the vector from doubling past it (peak memory). With a room limit, in place before the
+  // array passes it, but never with less than an eighth of the live size as room (so that
+  // compactions stay a share of the appends), and never after the next rebuild.
+  const size_t rebuildAt = this->RebuildThreshold - this->CompactedAway;
+  this->CompactThreshold = rebuildAt;
+  if (this->RoomLimit > 0)
+  {
+    this->CompactThreshold =
+      std::min(rebuildAt, std::max(this->RoomLimit, this->Refs.size() + this->Refs.size() / 8 + 1024));
+  }
+  if (this->Refs.capacity() > 2 * (this->CompactThreshold + 4096))
+  {
+    // The mesh shrank to under a quarter of the room held: give the rest back (same contents).
+    std::vector<Index>(this->Refs).swap(this->Refs);
+  }
+  this->Refs.reserve(this->CompactThreshold + 4096);
+}
+
+void EditableMesh::CompactInOrder()
+{
+  // Each live vertex's block start is marked in the array (-1 - v, triangle ids are never
+  // negative; the reference it covers waits in RefStart[v]), then one walk in array order moves
+  // every marked block's live references down, in their order, over the garbage before it.
+  const Index np = this->NumberOfPoints();
+  for (Index v = 0; v < np; ++v)
+  {
+    if (!this->VertexAlive[v] || this->RefCount[v] == 0)
+    {
+      this->RefStart[v] = 0; // an empty block, inside the array
+      this->RefCount[v] = 0;
+      continue;
+    }
+    const Index start = this->RefStart[v];
+    this->RefStart[v] = this->Refs[size_t(start)];
+    this->Refs[size_t(start)] = -1 - v;
+  }
+  size_t write = 0;
+  for (size_t read = 0; read < this->Refs.size();)
+  {
+    if (this->Refs[read] >= 0)
+    {
+      ++read; // garbage
+      continue;
+    }
+    const Index v = -1 - this->Refs[read];
+    const Index first = this->RefStart[v], count = this->RefCount[v];
+    const size_t begin = write;
+    if (this->TriangleAlive[first])
+    {
+      this->Refs[write++] = first;
+    }
+    for (Index i = 1; i < count; ++i)
+    {
+      const Index t = this->Refs[read + size_t(i)];
+      if (this->TriangleAlive[t])
+      {
+        this->Refs[write++] = t;
+      }
+    }
+    this->RefStart[v] = static_cast<Index>(begin);
+    this->RefCount[v] = static_cast<Index>(write - begin);
+    read += size_t(count);
+  }
+  this->Refs.resize(write);
+}
+
+void EditableMesh::RebuildBlocks()
+{
   // Rebuild every block from the live triangles (drops garbage and dead references).
   const Index np = this->NumberOfPoints();
   std::fill(this->RefCount.begin(), this->RefCount.end(), 0);
@@ -840,15 +931,6 @@ void EditableMesh::CompactIfNeeded()
       }
     }
   }
-  // Compact when the garbage reaches the live size; reserving that (plus room for the blocks
-  // appended before the next check) keeps the vector from doubling past it (peak memory).
-  this->CompactThreshold = std::max<size_t>(2 * this->Refs.size(), 1024);
-  if (this->Refs.capacity() > 2 * (this->CompactThreshold + 4096))
-  {
-    // The mesh shrank to under a quarter of the room held: give the rest back (same contents).
-    std::vector<Index>(this->Refs).swap(this->Refs);
-  }
-  this->Refs.reserve(this->CompactThreshold + 4096);
 }
 
 void EditableMesh::Extract(TriangleMesh& out, std::vector<Index>* newToOld) const

@@ -73,6 +73,11 @@ public:
   void Reset(const TriangleMesh& mesh);
   // Bytes held by the mesh's arrays (capacities, scratch included).
   size_t MemoryBytes() const;
+  // Collapses append a new block of references per merged vertex and leave the old ones as
+  // garbage, compacted when it reaches the live size. A factor f > 0 (before Reset) compacts
+  // earlier, so that the reference array stays within f times its size at Reset (peak memory of a
+  // shrinking mesh; a mesh that grows still gets an eighth of its size as room). 0: no limit.
+  void SetReferenceRoomFactor(double factor) { this->RoomFactor = factor; }
 
   Index NumberOfPoints() const { return static_cast<Index>(this->Points.size() / 3); }
   Index NumberOfTriangles() const { return static_cast<Index>(this->Triangles.size() / 3); }
@@ -215,6 +220,11 @@ private:
   Index MergeSet(const Index* vertices, int count, Index kept, const Vec3& p, const std::vector<Index>& gathered,
     CollapseRecord* record, Keep&& keep);
   void CompactIfNeeded();
+  // The two compactions: every block rebuilt from the live triangles (in triangle order), or, with
+  // a room limit and between those rebuilds, in place in the blocks' own order (a limited mesh
+  // compacts more often: its collapses then see their fans in the same order as without a limit).
+  void RebuildBlocks();
+  void CompactInOrder();
   void ReplaceInBlock(Index v, Index removed, Index added);
   // Collects the live triangles touching the set into gathered (deduplicated).
   void GatherTriangles(const Index* vertices, int count, std::vector<Index>& gathered) const;
@@ -235,6 +245,10 @@ private:
   std::vector<Index> RefStart, RefCount, Refs;
   Index LiveTriangles = 0, LiveVertices = 0;
   size_t CompactThreshold = 0;
+  size_t RebuildThreshold = 0; // twice the references' size after the last RebuildBlocks
+  size_t CompactedAway = 0;    // references CompactInOrder took out since then
+  double RoomFactor = 0.0;     // SetReferenceRoomFactor
+  size_t RoomLimit = 0;        // RoomFactor times the references' size at the first build
 
   // Scratch state reused across calls (mutable: checks are logically const).
   mutable std::vector<Index> Scratch, ScratchBlock;

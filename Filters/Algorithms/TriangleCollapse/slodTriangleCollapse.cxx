@@ -54,6 +54,10 @@ constexpr size_t ScreenChunk = 64;
 constexpr size_t SweepChunkSize = 32;
 // The fit to the original surface: Gauss-Seidel sweeps, and the weight of the ridge term that
 // keeps vertices from sliding along the surface (relative to the data term's trace).
+// The editable mesh's reference array stays within this factor of its size at the start (the peak
+// is at the end of the collapses, where the appended blocks had doubled it; a few compactions
+// more, each a walk over the triangles).
+constexpr double ReferenceRoomFactor = 1.25;
 // Bound on the collapse loop's queue pops, per input triangle (see the loop).
 constexpr long long MaximumPopsPerTriangle = 100;
 // Largest batch of disjoint collapses (TriangleCollapseOptions::BatchCollapses): enough entries to
@@ -89,6 +93,57 @@ constexpr int FitIterations = 2;
 // within this factor of the geometric optimum's (PlaceWithAttributes).
 constexpr double AttributePlacementReach = 2.0;
 constexpr double FitRidge = 0.02;
+
+// The input surface the passes after the collapses measure against (FitToOriginal,
+// RefineDeviation), in the collapser's vertex ids. It is kept through the collapses, so its points
+// are held as floats when every coordinate is one (a float input, read into doubles: the same
+// values in half the bytes, so the passes see the same surface).
+struct OriginalSurface
+{
+  std::vector<double> Points; // empty when FloatPoints holds them
+  std::vector<float> FloatPoints;
+  std::vector<Index> Triangles;
+  // Takes the mesh's arrays (the mesh is left empty).
+  void Take(TriangleMesh& mesh)
+  {
+    this->Triangles.swap(mesh.Triangles);
+    this->Points.swap(mesh.Points);
+    std::vector<double>().swap(mesh.Points);
+    std::vector<Index>().swap(mesh.Triangles);
+    const bool exact = std::all_of(
+      this->Points.begin(), this->Points.end(), [](double x) { return static_cast<double>(static_cast<float>(x)) == x; });
+    if (exact)
+    {
+      this->FloatPoints.assign(this->Points.begin(), this->Points.end());
+      std::vector<double>().swap(this->Points);
+    }
+  }
+  void Release()
+  {
+    std::vector<double>().swap(this->Points);
+    std::vector<float>().swap(this->FloatPoints);
+    std::vector<Index>().swap(this->Triangles);
+  }
+  Index NumberOfPoints() const
+  {
+    return static_cast<Index>((this->Points.empty() ? this->FloatPoints.size() : this->Points.size()) / 3);
+  }
+  Index NumberOfTriangles() const { return static_cast<Index>(this->Triangles.size() / 3); }
+  Vec3 Point(Index v) const
+  {
+    const size_t i = 3 * size_t(v);
+    if (this->Points.empty())
+    {
+      return Vec3{ this->FloatPoints[i], this->FloatPoints[i + 1], this->FloatPoints[i + 2] };
+    }
+    return Vec3{ this->Points[i], this->Points[i + 1], this->Points[i + 2] };
+  }
+  size_t MemoryBytes() const
+  {
+    return this->Points.capacity() * sizeof(double) + this->FloatPoints.capacity() * sizeof(float) +
+      this->Triangles.capacity() * sizeof(Index);
+  }
+};
 
 // Who descends from whom, for the passes that measure against the original surface: the
 // original vertices merged into each surviving vertex and the original triangles of each
@@ -336,7 +391,7 @@ private:
   // Raises the normal limit by a step, and releases the pinned vertices at 90 degrees; false
   // when nothing can be relaxed any more (or the target is met).
   bool LoosenLimits(CollapseLoop& loop, TriangleCollapseResult& result);
-  void MoveTowardOriginal(const TriangleMesh& original, TriangleCollapseResult& result);
+  void MoveTowardOriginal(const OriginalSurface& original, TriangleCollapseResult& result);
   // The steps of one pass of the collapse loop.
   bool RelaxNormalLimit(CollapseLoop& loop, TriangleCollapseResult& result);
   template <typename Functor>
@@ -371,6 +426,8 @@ private:
   void AskForTarget(CollapseLoop& loop, bool nothingLeft);
   // Diagnostics (vtkLogF at TRACE verbosity).
   void TraceStage(const char* stage);
+  // Bytes of the arrays held through the collapses (capacities, TriangleCollapseResult::PeakWorkingBytes).
+  size_t WorkingBytes() const;
   void TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const;
   Vec3 Local(Index v) const { return this->Mesh.Point(v) - this->Origin; }
   void InitializeQuadrics();
@@ -430,12 +487,12 @@ private:
   bool AlternativePlacement(const Index* set, int count, const CollapseOptions& check, std::vector<Index>& scratch,
     Vec3& p, double& error, double& cost) const;
   void ExtractResult(TriangleCollapseResult& result);
-  void BuildAncestry(const TriangleMesh& original, Ancestry& ancestry);
+  void BuildAncestry(const OriginalSurface& original, Ancestry& ancestry);
   // The FitToOriginal pass (see the header): returns the number of vertices moved.
-  Index FitToOriginal(const TriangleMesh& original, const Ancestry& ancestry);
+  Index FitToOriginal(const OriginalSurface& original, const Ancestry& ancestry);
   std::vector<std::pair<double, Index>> FitOrder(const Ancestry& ancestry) const;
-  void AssignClosest(const TriangleMesh& original, ClosestAssignment& assignment) const;
-  bool FitStep(const Neighbourhood& region, const TriangleMesh& original, const Ancestry& ancestry, Index v, Vec3& step) const;
+  void AssignClosest(const OriginalSurface& original, ClosestAssignment& assignment) const;
+  bool FitStep(const Neighbourhood& region, const OriginalSurface& original, const Ancestry& ancestry, Index v, Vec3& step) const;
   void WatchMove(Neighbourhood& region, const ClosestAssignment& assignment, MoveGuard& guard) const;
   bool MoveKeepsBounds(const Neighbourhood& region, Index v, double reach, double minimumDot, MoveGuard& guard) const;
   struct ChunkedSweep;
@@ -444,7 +501,7 @@ private:
   template <typename Visit, typename OnMoved>
   void SweepChunk(ChunkedSweep& sweep, const std::vector<Index>& chunk, Visit&& visit, OnMoved&& onMoved);
   // The RefineDeviation pass (see the header); original = the input mesh in this mesh's ids.
-  Index RefineDeviation(const TriangleMesh& original, const Ancestry& ancestry);
+  Index RefineDeviation(const OriginalSurface& original, const Ancestry& ancestry);
   std::vector<std::pair<double, Index>> RefinementPool(const Ancestry& ancestry) const;
   double ScreenDeviation(Neighbourhood& region, const std::vector<std::pair<double, Index>>& pool, size_t workBudget,
     std::vector<std::pair<double, Index>>& screen) const;
@@ -469,6 +526,8 @@ private:
   void SortTrianglesBySmallestVertex(TriangleMesh& mesh, const std::vector<Index>& newId);
 
   EditableMesh Mesh;
+  // The input surface, kept for the passes after the collapses (empty without them).
+  OriginalSurface Original;
   // The mesh is renumbered in spatial (Morton) order for cache locality; these map back.
   std::vector<Index> VertexInput, TriangleInput;
   Vec3 Origin{ 0, 0, 0 };
@@ -1341,6 +1400,17 @@ void TriangleCollapser::TraceStage(const char* stage)
   this->StageClock = now;
 }
 
+size_t TriangleCollapser::WorkingBytes() const
+{
+  const size_t perVertex = this->VertexInput.capacity() * sizeof(Index) + this->Parent.capacity() * sizeof(Index) +
+    this->Boundary.capacity() + this->Locked.capacity() + this->Pinned.capacity() + this->Pending.capacity() +
+    this->Merged.capacity();
+  return this->Mesh.MemoryBytes() + this->Original.MemoryBytes() + this->Heap.MemoryBytes() +
+    this->Vertex.capacity() * sizeof(WeightedQuadric) + this->State.capacity() * sizeof(TriangleState) +
+    this->TriangleInput.capacity() * sizeof(Index) + perVertex + this->AttributeQuadric.capacity() * sizeof(Quadric) +
+    this->AttributeGradient.capacity() * sizeof(double);
+}
+
 void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
 {
   const auto bounds = input.Bounds();
@@ -1373,6 +1443,7 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
     }
   }
   this->LockCallersVertices(input.NumberOfPoints());
+  this->Mesh.SetReferenceRoomFactor(ReferenceRoomFactor);
   this->Mesh.Reset(input);
   if (refine)
   {
@@ -1382,13 +1453,11 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
     {
       this->Parent[v] = v;
     }
+    this->Original.Take(input);
   }
-  else
-  {
-    // The editable mesh holds its own copy: release the input's arrays (peak memory).
-    std::vector<double>().swap(input.Points);
-    std::vector<Index>().swap(input.Triangles);
-  }
+  // The editable mesh holds its own copy: release the input's arrays (peak memory).
+  std::vector<double>().swap(input.Points);
+  std::vector<Index>().swap(input.Triangles);
   this->TraceStage("editable mesh");
 }
 
@@ -2782,7 +2851,7 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
   }
 }
 
-void TriangleCollapser::MoveTowardOriginal(const TriangleMesh& original, TriangleCollapseResult& result)
+void TriangleCollapser::MoveTowardOriginal(const OriginalSurface& original, TriangleCollapseResult& result)
 {
   Ancestry ancestry;
   this->BuildAncestry(original, ancestry);
@@ -2835,10 +2904,15 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   {
     this->CollapseToTarget(loop, result);
   }
-  result.PeakWorkingBytes = this->Heap.MemoryBytes() + this->Vertex.capacity() * sizeof(WeightedQuadric) +
-    this->State.capacity() * sizeof(TriangleState) + result.History.MemoryBytes() +
-    this->AttributeQuadric.capacity() * sizeof(Quadric) + this->AttributeGradient.capacity() * sizeof(double) +
-    this->Merged.capacity();
+  result.PeakWorkingBytes = this->WorkingBytes() + result.History.MemoryBytes();
+  const double perVertex = 1.0 / std::max<double>(1.0, double(this->Mesh.NumberOfPoints()));
+  vtkLogF(TRACE,
+    "triangle collapse: working bytes per input vertex %.1f (editable mesh %.1f, input kept %.1f, quadrics %.1f, "
+    "queue %.1f, triangle state %.1f)",
+    perVertex * double(result.PeakWorkingBytes), perVertex * double(this->Mesh.MemoryBytes()),
+    perVertex * double(this->Original.MemoryBytes()),
+    perVertex * double(this->Vertex.capacity() * sizeof(WeightedQuadric)), perVertex * double(this->Heap.MemoryBytes()),
+    perVertex * double(this->State.capacity() * sizeof(TriangleState)));
   this->TraceStage("collapses");
   // The queue and the per-triangle state are done: free them so that the output reuses their
   // memory instead of raising the peak.
@@ -2846,17 +2920,16 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   std::vector<TriangleState>().swap(this->State);
   if (refine && !result.Aborted)
   {
-    this->MoveTowardOriginal(input, result);
+    this->MoveTowardOriginal(this->Original, result);
   }
-  std::vector<double>().swap(input.Points);
-  std::vector<Index>().swap(input.Triangles);
+  this->Original.Release();
   std::vector<Index>().swap(this->Parent);
   this->ExtractResult(result);
   this->TraceStage("extraction");
   this->TraceStatistics(loop, result);
 }
 
-void TriangleCollapser::BuildAncestry(const TriangleMesh& original, Ancestry& ancestry)
+void TriangleCollapser::BuildAncestry(const OriginalSurface& original, Ancestry& ancestry)
 {
   const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
   // Each original vertex's surviving vertex (path-compressed), then CSR lists.
@@ -2963,18 +3036,14 @@ inline double BoxGap2(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c
 class Neighbourhood
 {
 public:
-  Neighbourhood(const EditableMesh& mesh, const TriangleMesh& original, const Ancestry& ancestry)
+  Neighbourhood(const EditableMesh& mesh, const OriginalSurface& original, const Ancestry& ancestry)
     : Mesh(mesh)
     , Original(original)
     , Lineage(ancestry)
   {
   }
 
-  Vec3 OriginalPoint(Index v) const
-  {
-    const double* p = &this->Original.Points[3 * size_t(v)];
-    return Vec3{ p[0], p[1], p[2] };
-  }
+  Vec3 OriginalPoint(Index v) const { return this->Original.Point(v); }
 
   // v and its fan only (what the fit's step needs).
   void GatherFan(Index v)
@@ -3247,7 +3316,7 @@ public:
   }
 
   const EditableMesh& Mesh;
-  const TriangleMesh& Original;
+  const OriginalSurface& Original;
   const Ancestry& Lineage;
   Index Center = InvalidIndex;
   size_t OwnSamplesBegin = 0, OwnSamplesEnd = 0; // v's own original vertices among the samples
@@ -3294,7 +3363,7 @@ std::vector<std::pair<double, Index>> TriangleCollapser::FitOrder(const Ancestry
   return order;
 }
 
-void TriangleCollapser::AssignClosest(const TriangleMesh& original, ClosestAssignment& assignment) const
+void TriangleCollapser::AssignClosest(const OriginalSurface& original, ClosestAssignment& assignment) const
 {
   const Index nv = original.NumberOfPoints();
   TriangleMesh live;
@@ -3313,8 +3382,7 @@ void TriangleCollapser::AssignClosest(const TriangleMesh& original, ClosestAssig
   vtkSMPTools::For(0, nv, 1024, [&](vtkIdType begin, vtkIdType end) {
     for (Index a = static_cast<Index>(begin); a < static_cast<Index>(end); ++a)
     {
-      const double* p = &original.Points[3 * size_t(a)];
-      const Vec3 q{ p[0], p[1], p[2] };
+      const Vec3 q = original.Point(a);
       const Vec3 d = q - this->Mesh.Point(this->Parent[a]);
       ClosestPointResult closest = tree.ClosestPoint(q, 1.0001 * Dot(d, d) + margin);
       if (closest.Triangle == InvalidIndex)
@@ -3343,7 +3411,7 @@ void TriangleCollapser::AssignClosest(const TriangleMesh& original, ClosestAssig
 }
 
 bool TriangleCollapser::FitStep(
-  const Neighbourhood& region, const TriangleMesh& original, const Ancestry& ancestry, Index v, Vec3& step) const
+  const Neighbourhood& region, const OriginalSurface& original, const Ancestry& ancestry, Index v, Vec3& step) const
 {
   // Least squares of the distances, along the output normals, of the original surface that v
   // stands for (its original vertices weighted by a third of their triangles' area, and the
@@ -3503,7 +3571,7 @@ struct TriangleCollapser::ChunkedSweep
 {
   struct Worker
   {
-    Worker(const EditableMesh& mesh, const TriangleMesh& original, const Ancestry& ancestry)
+    Worker(const EditableMesh& mesh, const OriginalSurface& original, const Ancestry& ancestry)
       : Region(mesh, original, ancestry)
     {
     }
@@ -3519,7 +3587,7 @@ struct TriangleCollapser::ChunkedSweep
     size_t Work = 0;
     std::vector<Index> Ring;
   };
-  ChunkedSweep(const EditableMesh& mesh, const TriangleMesh& original, const Ancestry& ancestry, size_t workBudget)
+  ChunkedSweep(const EditableMesh& mesh, const OriginalSurface& original, const Ancestry& ancestry, size_t workBudget)
     : Original(original)
     , Lineage(ancestry)
     , Main(mesh, original, ancestry)
@@ -3529,7 +3597,7 @@ struct TriangleCollapser::ChunkedSweep
   }
   size_t Work() const { return this->Main.Region.Work; }
   bool WithinBudget() const { return this->Main.Region.Work <= this->WorkBudget; }
-  const TriangleMesh& Original;
+  const OriginalSurface& Original;
   const Ancestry& Lineage;
   Worker Main;
   size_t WorkBudget;
@@ -3688,7 +3756,7 @@ void TriangleCollapser::SweepChunk(ChunkedSweep& sweep, const std::vector<Index>
   }
 }
 
-Index TriangleCollapser::FitToOriginal(const TriangleMesh& original, const Ancestry& ancestry)
+Index TriangleCollapser::FitToOriginal(const OriginalSurface& original, const Ancestry& ancestry)
 {
   const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
   if (nv == 0 || this->Mesh.NumberOfLiveTriangles() == 0)
@@ -3940,7 +4008,7 @@ void TriangleCollapser::PoolAroundMoved(
   }
 }
 
-Index TriangleCollapser::RefineDeviation(const TriangleMesh& original, const Ancestry& ancestry)
+Index TriangleCollapser::RefineDeviation(const OriginalSurface& original, const Ancestry& ancestry)
 {
   const Index nv = original.NumberOfPoints(), nt = original.NumberOfTriangles();
   if (nv == 0 || this->Mesh.NumberOfLiveTriangles() == 0)

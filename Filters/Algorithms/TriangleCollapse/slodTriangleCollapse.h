@@ -198,7 +198,11 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   bool FitBudgetReached = false;
   SweepCounts FitVisits, RefinementVisits;
   bool PinnedVerticesReleased = false; // the target needed collapses of pinned vertices (PinnedVertices)
-  size_t PeakWorkingBytes = 0;       // bytes of the algorithm's own arrays (estimate)
+  // Bytes of the algorithm's own arrays at the end of the collapses (their capacities: the
+  // editable mesh, the input kept for the passes after the collapses, quadrics, queue,
+  // per-triangle and per-vertex state, history; an estimate: scratch and the passes' own arrays
+  // are left out, and the queue and the mesh's references were larger earlier in the loop).
+  size_t PeakWorkingBytes = 0;
   // With TriangleCollapseOptions::AttributeError: per output vertex, 1 when its attribute values
   // come from the metric (a merged vertex, not pinned), and then its Components values (the
   // minimiser of its attribute quadric at its position; unscaled, normals not renormalised).

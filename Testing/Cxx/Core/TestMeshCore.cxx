@@ -215,6 +215,69 @@ TEST(EditableMesh, TriangleCollapsesKeepTopology)
   }
 }
 
+namespace
+{
+// The live triangles around v, in the order ForEachTriangle gives them.
+std::vector<Index> Fan(const EditableMesh& mesh, Index v)
+{
+  std::vector<Index> fan;
+  mesh.ForEachTriangle(v, [&](Index t) { fan.push_back(t); });
+  return fan;
+}
+} // namespace
+
+TEST(EditableMesh, ReferenceRoomFactorCompactsInPlaceInTheBlocksOrder)
+{
+  // The same edge collapses on a mesh without a room limit and on one limited to 1.25 times its
+  // references: the limited one holds less room, and its compactions (many, since the merged
+  // vertices' new blocks add far more than a quarter of the references) leave every fan in the
+  // order of the unlimited one, which rebuilt its blocks in triangle order once they doubled (the
+  // limited one at the same collapse).
+  const TriangleMesh input = Torus(160, 60);
+  EditableMesh free(input), limited;
+  limited.SetReferenceRoomFactor(1.25);
+  limited.Reset(input);
+  const size_t references = 3 * size_t(input.NumberOfTriangles());
+  const size_t freeStart = free.MemoryBytes();
+  EXPECT_LE(limited.MemoryBytes() + references / 2 * sizeof(Index), freeStart);
+  size_t appended = 0, largest = 0;
+  const Index goal = input.NumberOfTriangles() / 5;
+  for (Index step = 0; step < 6 * input.NumberOfTriangles() && free.NumberOfLiveTriangles() > goal; ++step)
+  {
+    const Index t = (5 * step) % input.NumberOfTriangles();
+    if (!free.IsTriangleAlive(t))
+    {
+      continue;
+    }
+    const Index* tri = free.Triangle(t);
+    const Index set[2] = { tri[0], tri[1] };
+    const Vec3 middle = 0.5 * (free.Point(set[0]) + free.Point(set[1]));
+    if (free.CheckCollapse(set, 2, middle) != CollapseStatus::Ok)
+    {
+      continue;
+    }
+    ASSERT_EQ(limited.CheckCollapse(set, 2, middle), CollapseStatus::Ok);
+    free.Collapse(set, 2, set[0], middle);
+    limited.Collapse(set, 2, set[0], middle);
+    appended += Fan(free, set[0]).size();
+    largest = std::max(largest, limited.MemoryBytes());
+  }
+  // Enough for several compactions at 1.25 and a rebuild of the unlimited mesh (at twice its
+  // references).
+  EXPECT_LT(free.NumberOfLiveTriangles(), 2 * input.NumberOfTriangles() / 3);
+  EXPECT_GT(appended, 3 * references / 2);
+  EXPECT_LE(largest + references / 2 * sizeof(Index), freeStart);
+  ASSERT_TRUE(limited.CheckInvariants());
+  for (Index v = 0; v < free.NumberOfPoints(); ++v)
+  {
+    ASSERT_EQ(free.IsVertexAlive(v), limited.IsVertexAlive(v));
+    if (free.IsVertexAlive(v))
+    {
+      ASSERT_EQ(Fan(free, v), Fan(limited, v)) << "vertex " << v;
+    }
+  }
+}
+
 TEST(EditableMesh, LinkConditionRejectsTetrahedronCollapse)
 {
   EditableMesh mesh(Tetrahedron());

@@ -260,6 +260,44 @@ std::vector<TriangleCollapseResult> ResultsForOneTwoAndEightThreads(
   return results;
 }
 
+// The input surface is kept through the collapses for the passes after them (fit, refinement):
+// in floats when every coordinate is a float (a float input read into doubles), so it costs 12
+// bytes per vertex less than when one coordinate is not; without those passes it is not kept.
+TEST(QuadricTriangleCollapse, KeepsTheInputInFloatsWhenItsCoordinatesAreFloats)
+{
+  const TriangleMesh floats = slodtest::Sphere(120, 90);
+  TriangleMesh doubles = floats;
+  // One coordinate that a float cannot hold: 2^-40 of a coordinate of 0.5 or more.
+  const auto large = std::find_if(doubles.Points.begin(), doubles.Points.end(), [](double x) { return x >= 0.5; });
+  ASSERT_NE(large, doubles.Points.end());
+  *large += std::ldexp(*large, -40);
+  ASSERT_NE(static_cast<double>(static_cast<float>(*large)), *large);
+  const size_t vertices = static_cast<size_t>(floats.NumberOfPoints());
+  for (const bool passes : { true, false })
+  {
+    TriangleCollapseOptions options;
+    options.TargetTriangles = floats.NumberOfTriangles() / 10;
+    options.FitToOriginal = options.RefineDeviation = passes;
+    TriangleMesh a = floats, b = doubles;
+    TriangleCollapseResult fromFloats, fromDoubles;
+    SimplifyByTriangleCollapse(a, options, fromFloats);
+    SimplifyByTriangleCollapse(b, options, fromDoubles);
+    const double perVertex =
+      (double(fromDoubles.PeakWorkingBytes) - double(fromFloats.PeakWorkingBytes)) / double(vertices);
+    std::printf("[input kept] passes %d: %.1f and %.1f bytes per vertex, difference %.2f\n", int(passes),
+      double(fromFloats.PeakWorkingBytes) / vertices, double(fromDoubles.PeakWorkingBytes) / vertices, perVertex);
+    if (passes)
+    {
+      EXPECT_GT(perVertex, 11.0);
+      EXPECT_LT(perVertex, 13.0);
+    }
+    else
+    {
+      EXPECT_LT(std::abs(perVertex), 1.0);
+    }
+  }
+}
+
 // The fit to the original fits the vertices far from the rest of their chunk concurrently and the
 // others in order (ChunkedSweep), and stops at its work budget: the moves, their count and the
 // stop must be the same for 1, 2 and 8 threads. armadillo to 10 %: the fit reaches its budget (so
