@@ -78,6 +78,10 @@ public:
   // earlier, so that the reference array stays within f times its size at Reset (peak memory of a
   // shrinking mesh; a mesh that grows still gets an eighth of its size as room). 0: no limit.
   void SetReferenceRoomFactor(double factor) { this->RoomFactor = factor; }
+  // The factor for a mesh that only shrinks (collapse loops): the peak of an unbounded array is
+  // at the end of the collapses, about twice its start; this bound costs a few compactions more,
+  // each a walk over the triangles, and moves no output (see CompactInOrder).
+  static constexpr double ShrinkingMeshRoomFactor = 1.25;
 
   Index NumberOfPoints() const { return static_cast<Index>(this->Points.size() / 3); }
   Index NumberOfTriangles() const { return static_cast<Index>(this->Triangles.size() / 3); }

@@ -52,12 +52,6 @@ constexpr size_t ScreenChunk = 64;
 // Vertices of the fit and the refinement visited per parallel step (ChunkedSweep): members within
 // two edges of an earlier one are visited in a later step, so small chunks keep the steps few.
 constexpr size_t SweepChunkSize = 32;
-// The fit to the original surface: Gauss-Seidel sweeps, and the weight of the ridge term that
-// keeps vertices from sliding along the surface (relative to the data term's trace).
-// The editable mesh's reference array stays within this factor of its size at the start (the peak
-// is at the end of the collapses, where the appended blocks had doubled it; a few compactions
-// more, each a walk over the triangles).
-constexpr double ReferenceRoomFactor = 1.25;
 // Bound on the collapse loop's queue pops, per input triangle (see the loop).
 constexpr long long MaximumPopsPerTriangle = 100;
 // Largest batch of disjoint collapses (TriangleCollapseOptions::BatchCollapses): enough entries to
@@ -1443,7 +1437,7 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
     }
   }
   this->LockCallersVertices(input.NumberOfPoints());
-  this->Mesh.SetReferenceRoomFactor(ReferenceRoomFactor);
+  this->Mesh.SetReferenceRoomFactor(EditableMesh::ShrinkingMeshRoomFactor);
   this->Mesh.Reset(input);
   if (refine)
   {
