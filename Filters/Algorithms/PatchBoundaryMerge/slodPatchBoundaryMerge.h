@@ -105,6 +105,11 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // Replay: whether an edit is clean is tested by walking the patches around its endpoints (the
   // reference, session 15) instead of the endpoints' DirtyNear flags (same answer, cheaper).
   bool WalkAroundEditEndpoints = false;
+  // The kept vertices of a chain are rebuilt only when its tolerance or locking changed since they
+  // were made (session 22): the refinement rounds change a few chains, and most runs and replayed
+  // passes start from the tolerances of the one before. Off: every chain at every rebuild (the
+  // reference: the same levels).
+  bool RebuildOnlyChangedChains = true;
   // Fallback passes in which no failed patch would keep a vertex more (or be unmerged) repeat the
   // pass before them: skipped (the same level in fewer passes); off: one level per pass.
   bool SkipIneffectiveFallbackLevels = true;
@@ -156,6 +161,7 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   int Passes = 0;               // generation passes (1 without fallback)
   int ReplayedPasses = 0;       // passes that replayed the previous pass's merging (ReplayFallbackPasses)
   long long EditsAppliedAsRecorded = 0; // edits those passes applied without their tests (clean)
+  long long ChainRebuilds = 0;  // chains whose kept vertices the passes' merging rebuilt (RebuildOnlyChangedChains)
   Index FailedPatches = 0;      // root patches that went to a fallback level, summed over the passes
   Index RefinedInPass = 0;      // vertices kept by FailedPatchRefinementRounds, summed over the passes
 };
@@ -232,6 +238,7 @@ private:
   {
     double Merging = 0, Generate = 0, Tree = 0, Triangulation = 0, Refinement = 0;
     int MergingRuns = 0;
+    long long ChainRebuilds = 0;
   };
   static void LogStageTimes(const char* what, double seconds, const StageTimes& times);
   struct State;

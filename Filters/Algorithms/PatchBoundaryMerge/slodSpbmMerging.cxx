@@ -340,8 +340,21 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
   s.PartReversed.assign(size_t(nc), 0);
   s.EndSlotNext.resize(2 * size_t(nc));
   s.PatchSlotNext.resize(2 * size_t(nc));
-  s.KeptOffsets.resize(size_t(nc) + 1);
-  s.KeptPositions.clear();
+  if (s.KeptTolerance.size() != size_t(nc))
+  {
+    // Positions for another chain hierarchy (or none): every chain is rebuilt.
+    const size_t totalVertices =
+      nc > 0 ? size_t(P.ChainVerticesBegin(nc - 1) + P.ChainSize(nc - 1) - base) : 0;
+    s.KeptOffsets.resize(size_t(nc));
+    s.KeptEnd.assign(size_t(nc), 0);
+    s.KeptPositions.assign(totalVertices, 0);
+    s.KeptTolerance.assign(size_t(nc), std::numeric_limits<float>::quiet_NaN()); // never equal
+    s.KeptLocked.assign(size_t(nc), 0);
+    for (Index c = 0; c < nc; ++c)
+    {
+      s.KeptOffsets[c] = static_cast<Index>(P.ChainVerticesBegin(c) - base);
+    }
+  }
   for (Index c = 0; c < nc; ++c)
   {
     const Index a = P.ChainStart(c), b = P.ChainEnd(c), l = P.ChainLeftPatch(c), r = P.ChainRightPatch(c);
@@ -380,12 +393,21 @@ void SpbmLevelGenerator::MergingRun::CopyPatchSupport()
     support.assign(size_t(np) * SupportSize, InvalidIndex);
     std::vector<double> extreme(size_t(np) * SupportSize, -std::numeric_limits<double>::infinity());
     const std::vector<Index>& patchOf = P.TrianglePatches();
+    // A vertex met again for the patch it was last met for changes nothing (the comparisons are
+    // strict): skipped (a quarter of this loop's instructions on an MRI crop, whose small patches
+    // make most vertices alternate between patches).
+    std::vector<Index> lastPatch(size_t(mesh.NumberOfPoints()), InvalidIndex);
     for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
     {
       const size_t first = size_t(patchOf[t]) * SupportSize;
       for (int k = 0; k < 3; ++k)
       {
         const Index v = mesh.Triangle(t)[k];
+        if (lastPatch[size_t(v)] == patchOf[t])
+        {
+          continue;
+        }
+        lastPatch[size_t(v)] = patchOf[t];
         const Vec3 x = mesh.Point(v);
         for (int d = 0; d < SupportDirections; ++d)
         {
@@ -661,7 +683,7 @@ void SpbmLevelGenerator::MergingRun::RefineFrozenInPlace(const std::vector<unsig
   this->RebuildKeptPositions();
   for (const Index c : changed)
   {
-    const Index interior = s.KeptOffsets[c + 1] - s.KeptOffsets[c];
+    const Index interior = s.KeptEnd[c] - s.KeptOffsets[c];
     const Index added = interior - s.Interior[c];
     s.Interior[c] = interior;
     for (const Index side : { P.ChainLeftPatch(c), P.ChainRightPatch(c) })
@@ -681,7 +703,7 @@ void SpbmLevelGenerator::MergingRun::RebuildKept()
   std::fill(s.Size.begin(), s.Size.end(), 0);
   for (Index c = 0; c < nc; ++c)
   {
-    const Index interior = s.KeptOffsets[c + 1] - s.KeptOffsets[c];
+    const Index interior = s.KeptEnd[c] - s.KeptOffsets[c];
     s.Interior[c] = interior;
     s.Size[s.L[c]] += interior + 1;
     if (s.R[c] != InvalidIndex)
@@ -692,32 +714,40 @@ void SpbmLevelGenerator::MergingRun::RebuildKept()
 }
 
 // The kept interior positions of every (original) chain at its tolerance, ascending: a prefix of
-// its key order, or all when locked.
+// its key order, or all when locked. They depend on the chain's tolerance and locking only, so a
+// chain whose positions were made for the same ones keeps them (the refinement rounds change a
+// few chains; most runs of a level start from the tolerances of the run before).
 void SpbmLevelGenerator::MergingRun::RebuildKeptPositions()
 {
   ++graphEdits; // the kept boundary walks are stale
-  s.KeptPositions.clear();
   for (Index c = 0; c < nc; ++c)
   {
+    if (parameters.RebuildOnlyChangedChains && s.KeptTolerance[c] == s.Tolerance[c] && s.KeptLocked[c] == s.Locked[c])
+    {
+      continue;
+    }
+    ++s.Times.ChainRebuilds;
+    s.KeptTolerance[c] = s.Tolerance[c];
+    s.KeptLocked[c] = s.Locked[c];
     const Index n = P.ChainSize(c);
-    const size_t offset = size_t(P.ChainVerticesBegin(c) - base);
-    const Index interior = s.Locked[c] ? std::max<Index>(0, n - 2) : generator.KeptInterior(c, s.Tolerance[c]);
-    s.KeptOffsets[c] = static_cast<Index>(s.KeptPositions.size());
+    const Index first = s.KeptOffsets[c];
+    Index* kept = s.KeptPositions.data() + first;
     if (s.Locked[c])
     {
       for (Index i = 1; i + 1 < n; ++i)
       {
-        s.KeptPositions.push_back(i);
+        *kept++ = i;
       }
     }
     else
     {
-      const Index* order = generator.KeyOrder.data() + offset;
-      s.KeptPositions.insert(s.KeptPositions.end(), order, order + interior);
-      std::sort(s.KeptPositions.end() - interior, s.KeptPositions.end());
+      const Index interior = generator.KeptInterior(c, s.Tolerance[c]);
+      const Index* order = generator.KeyOrder.data() + first;
+      kept = std::copy(order, order + interior, kept);
+      std::sort(kept - interior, kept);
     }
+    s.KeptEnd[c] = static_cast<Index>(kept - s.KeptPositions.data());
   }
-  s.KeptOffsets[nc] = static_cast<Index>(s.KeptPositions.size());
 }
 
 double SpbmLevelGenerator::MergingRun::SideDot(Index p, Index q)
@@ -908,7 +938,7 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
     for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
     {
       const Index* v = P.ChainVerticesBegin(part);
-      const Index first = s.KeptOffsets[part], last = s.KeptOffsets[part + 1];
+      const Index first = s.KeptOffsets[part], last = s.KeptEnd[part];
       if (s.PartReversed[part])
       {
         for (Index i = last; i > first; --i)
@@ -1181,7 +1211,7 @@ void SpbmLevelGenerator::MergingRun::AppendChain(Index c, Index from, bool skipF
       chainPoints.push_back(mesh.Point(v[reversed ? n - 1 - i : i]));
       chainKept.push_back(0);
     }
-    for (Index j = s.KeptOffsets[part]; j < s.KeptOffsets[part + 1]; ++j)
+    for (Index j = s.KeptOffsets[part]; j < s.KeptEnd[part]; ++j)
     {
       const Index k = s.KeptPositions[j];
       chainKept[partStart + size_t(reversed ? n - 1 - k : k) - 1] = 1;
