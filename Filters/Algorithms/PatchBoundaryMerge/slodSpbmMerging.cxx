@@ -14,6 +14,13 @@ namespace
 {
 using Point2 = std::array<double, 2>;
 
+// The index after i in a closed polygon of n vertices (i < n), without the division of (i + 1) % n:
+// the simplicity tests below take it for every segment, in the sweep's comparisons too.
+inline size_t NextIndex(size_t i, size_t n)
+{
+  return i + 1 == n ? 0 : i + 1;
+}
+
 int Orientation(const Point2& o, const Point2& a, const Point2& b)
 {
   const double d = (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
@@ -40,9 +47,9 @@ bool SegmentsCross(const std::vector<Point2>& p, size_t i, size_t j)
     return false;
   }
   const Point2& a = p[i];
-  const Point2& b = p[(i + 1) % n];
+  const Point2& b = p[NextIndex(i, n)];
   const Point2& c = p[j];
-  const Point2& d = p[(j + 1) % n];
+  const Point2& d = p[NextIndex(j, n)];
   const int o1 = Orientation(a, b, c), o2 = Orientation(a, b, d), o3 = Orientation(c, d, a), o4 = Orientation(c, d, b);
   if (o1 != o2 && o3 != o4)
   {
@@ -63,7 +70,7 @@ bool StarShapedFrom(const std::vector<Point2>& p, const Point2& c)
   for (size_t i = 0; i < n; ++i)
   {
     const Point2& a = p[i];
-    const Point2& b = p[(i + 1) % n];
+    const Point2& b = p[NextIndex(i, n)];
     if (Orientation(c, a, b) <= 0)
     {
       return false;
@@ -85,18 +92,18 @@ bool AnySegmentsCross(const std::vector<Point2>& p, std::vector<size_t>& order)
   {
     order[i] = i;
   }
-  auto minX = [&](size_t i) { return std::min(p[i][0], p[(i + 1) % n][0]); };
-  auto maxX = [&](size_t i) { return std::max(p[i][0], p[(i + 1) % n][0]); };
+  auto minX = [&](size_t i) { return std::min(p[i][0], p[NextIndex(i, n)][0]); };
+  auto maxX = [&](size_t i) { return std::max(p[i][0], p[NextIndex(i, n)][0]); };
   std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return minX(x) < minX(y); });
   for (size_t a = 0; a < n; ++a)
   {
     const size_t i = order[a];
     const double reach = maxX(i);
-    const double lowY = std::min(p[i][1], p[(i + 1) % n][1]), highY = std::max(p[i][1], p[(i + 1) % n][1]);
+    const double lowY = std::min(p[i][1], p[NextIndex(i, n)][1]), highY = std::max(p[i][1], p[NextIndex(i, n)][1]);
     for (size_t b = a + 1; b < n && minX(order[b]) <= reach; ++b)
     {
       const size_t j = order[b];
-      if (std::max(p[j][1], p[(j + 1) % n][1]) < lowY || std::min(p[j][1], p[(j + 1) % n][1]) > highY)
+      if (std::max(p[j][1], p[NextIndex(j, n)][1]) < lowY || std::min(p[j][1], p[NextIndex(j, n)][1]) > highY)
       {
         continue;
       }
@@ -138,7 +145,7 @@ bool spbm::ProjectsToSimplePolygon(
   for (size_t i = 0; i < n; ++i)
   {
     const auto& a = p[i];
-    const auto& b = p[(i + 1) % n];
+    const auto& b = p[NextIndex(i, n)];
     area += a[0] * b[1] - a[1] * b[0];
   }
   if (area <= 0)
