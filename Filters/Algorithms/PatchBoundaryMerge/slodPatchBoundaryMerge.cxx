@@ -539,6 +539,8 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
   }
   triangulation.Finish(frozen);
   level.ChainRebuilds = s.Times.ChainRebuilds - before.ChainRebuilds;
+  level.SupportUnions = s.Times.SupportUnions - before.SupportUnions;
+  level.SupportFolds = s.Times.SupportFolds - before.SupportFolds;
   vtkLogF(TRACE, "[spbm] generated %d triangles (predicted %d) in %d passes; fallback patches: %d unmerged, %d refined, %d original",
     int(level.TrianglePatch.size()), int(level.PredictedTriangles), level.Passes, int(level.UnmergedPatches),
     int(level.RefinedPatches), int(level.OriginalPatches));

@@ -312,6 +312,10 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
   s.PatchHead.assign(size_t(np), InvalidIndex);
   s.Size.assign(size_t(np), 0);
   s.Version.assign(size_t(np), 0);
+  s.AbsorbedFirst.assign(size_t(np), InvalidIndex);
+  s.AbsorbedNext.assign(size_t(np), InvalidIndex);
+  s.AbsorbedLast.assign(size_t(np), InvalidIndex);
+  s.SupportFolded.assign(size_t(np), InvalidIndex);
   s.Normal.resize(size_t(np));
   s.UnitNormal.resize(size_t(np));
   s.Frozen = frozen;
@@ -764,6 +768,8 @@ double SpbmLevelGenerator::MergingRun::SideDot(Index p, Index q)
 
 double SpbmLevelGenerator::MergingRun::Thickness(Index p, Index q)
 {
+  this->FoldSupport(p);
+  this->FoldSupport(q);
   const Vec3 n = Normalized(s.Normal[p] + s.Normal[q]);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const Index root : { p, q })
@@ -1444,19 +1450,59 @@ bool SpbmLevelGenerator::MergingRun::SharesOnlyChain(Index c, Index p, Index q)
 // each direction.
 void SpbmLevelGenerator::MergingRun::UniteSupport(Index p, Index q)
 {
-  Index* sp = s.Support.data() + size_t(p) * SupportSize;
-  const Index* sq = s.Support.data() + size_t(q) * SupportSize;
+  this->FoldSupport(p);
+  this->FoldSupport(q);
+  this->CombineSupport(s.Support.data() + size_t(p) * SupportSize, s.Support.data() + size_t(q) * SupportSize);
+  s.SupportFolded[p] = q; // UnitePatches appends q to p's absorbed patches next
+}
+
+// The more extreme of two supports in each direction (ties keep `into`'s).
+void SpbmLevelGenerator::MergingRun::CombineSupport(Index* into, const Index* from)
+{
+  ++s.Times.SupportUnions;
   for (int d = 0; d < SupportDirections; ++d)
   {
     const Vec3 axis{ SupportAxes[d][0], SupportAxes[d][1], SupportAxes[d][2] };
-    if (Dot(axis, mesh.Point(sq[2 * d])) > Dot(axis, mesh.Point(sp[2 * d])))
+    if (Dot(axis, mesh.Point(from[2 * d])) > Dot(axis, mesh.Point(into[2 * d])))
     {
-      sp[2 * d] = sq[2 * d];
+      into[2 * d] = from[2 * d];
     }
-    if (Dot(axis, mesh.Point(sq[2 * d + 1])) < Dot(axis, mesh.Point(sp[2 * d + 1])))
+    if (Dot(axis, mesh.Point(from[2 * d + 1])) < Dot(axis, mesh.Point(into[2 * d + 1])))
     {
-      sp[2 * d + 1] = sq[2 * d + 1];
+      into[2 * d + 1] = from[2 * d + 1];
     }
+  }
+}
+
+// Brings the support of `root` up to date: the patches it absorbed since its support was last
+// united are folded in, in the order of their unions, each after its own absorbed patches (all
+// absorbed before it). Each absorbed patch is folded once per run (an explicit stack: the union
+// tree's depth is not bounded).
+void SpbmLevelGenerator::MergingRun::FoldSupport(Index root)
+{
+  if (s.SupportFolded[root] == s.AbsorbedLast[root])
+  {
+    return;
+  }
+  std::vector<Index>& stack = foldStack;
+  stack.assign(1, root);
+  while (!stack.empty())
+  {
+    const Index x = stack.back();
+    if (s.SupportFolded[x] == s.AbsorbedLast[x])
+    {
+      stack.pop_back();
+      continue;
+    }
+    const Index next = s.SupportFolded[x] == InvalidIndex ? s.AbsorbedFirst[x] : s.AbsorbedNext[s.SupportFolded[x]];
+    if (s.SupportFolded[next] != s.AbsorbedLast[next])
+    {
+      stack.push_back(next); // its own absorbed patches first
+      continue;
+    }
+    this->CombineSupport(s.Support.data() + size_t(x) * SupportSize, s.Support.data() + size_t(next) * SupportSize);
+    s.SupportFolded[x] = next;
+    ++s.Times.SupportFolds;
   }
 }
 
@@ -1478,6 +1524,8 @@ void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
     s.DirtyPatch[p] = 1;
   }
   s.Parent[q] = p;
+  (s.AbsorbedLast[p] == InvalidIndex ? s.AbsorbedFirst[p] : s.AbsorbedNext[s.AbsorbedLast[p]]) = q;
+  s.AbsorbedLast[p] = q;
   s.Version[p] += s.Version[q] + 1;
   s.Normal[p] = s.Normal[p] + s.Normal[q];
   s.UnitNormal[p] = Normalized(s.Normal[p]);

@@ -292,6 +292,12 @@ struct SpbmLevelGenerator::State
   std::vector<Vec3> UnitNormal; // Normalized(Normal) of every root patch (merge measures, costs)
   std::vector<Index> Support; // FlatnessMerge: per root patch, its extreme
                               // vertices (SupportSize)
+  // The patches each patch absorbed, in the order of the unions (first, next, last), and the last
+  // of them folded into its Support. A replayed pass applies its clean unions without uniting the
+  // supports (most of them are never read again); a support is brought up to date when read, by
+  // folding in the patches absorbed since, in the same order (MergingRun::FoldSupport): the same
+  // extreme vertices as uniting them at each union.
+  std::vector<Index> AbsorbedFirst, AbsorbedNext, AbsorbedLast, SupportFolded;
   std::vector<unsigned char> Frozen;
   long long Total = 0;
   // Scratch.
