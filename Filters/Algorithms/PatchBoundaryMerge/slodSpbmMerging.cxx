@@ -353,18 +353,19 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
   s.PatchSlotNext.resize(2 * size_t(nc));
   if (s.KeptTolerance.size() != size_t(nc))
   {
-    // Positions for another chain hierarchy (or none): every chain is rebuilt.
-    const size_t totalVertices =
-      nc > 0 ? size_t(P.ChainVerticesBegin(nc - 1) + P.ChainSize(nc - 1) - base) : 0;
+    // Positions for another chain hierarchy (or none): every chain is rebuilt. Each chain has
+    // room for all its interior vertices.
     s.KeptOffsets.resize(size_t(nc));
     s.KeptEnd.assign(size_t(nc), 0);
-    s.KeptPositions.assign(totalVertices, 0);
     s.KeptTolerance.assign(size_t(nc), std::numeric_limits<float>::quiet_NaN()); // never equal
     s.KeptLocked.assign(size_t(nc), 0);
+    size_t room = 0;
     for (Index c = 0; c < nc; ++c)
     {
-      s.KeptOffsets[c] = static_cast<Index>(P.ChainVerticesBegin(c) - base);
+      s.KeptOffsets[c] = static_cast<Index>(room);
+      room += size_t(std::max<Index>(0, P.ChainSize(c) - 2));
     }
+    s.KeptPositions.assign(room, 0);
   }
   for (Index c = 0; c < nc; ++c)
   {
@@ -753,7 +754,7 @@ void SpbmLevelGenerator::MergingRun::RebuildKeptPositions()
     else
     {
       const Index interior = generator.KeptInterior(c, s.Tolerance[c]);
-      const Index* order = generator.KeyOrder.data() + first;
+      const Index* order = generator.KeyOrder.data() + (P.ChainVerticesBegin(c) - base);
       kept = std::copy(order, order + interior, kept);
       std::sort(kept - interior, kept);
     }

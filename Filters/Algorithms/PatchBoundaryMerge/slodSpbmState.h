@@ -258,8 +258,8 @@ struct SpbmLevelGenerator::State
   std::vector<Index> A, B, L, R, Interior;
   std::vector<float> Tolerance; // per chain: epsilon, finer next to refined (frozen) patches
   // Per chain: its kept interior positions, ascending, at KeptPositions[KeptOffsets[c],
-  // KeptEnd[c]); KeptOffsets[c] is the chain's first vertex in the generator's key arrays (room
-  // for all its interior vertices), so a chain is rebuilt alone. KeptTolerance / KeptLocked: the
+  // KeptEnd[c]); from KeptOffsets[c] there is room for all its interior vertices, so a chain is
+  // rebuilt alone. KeptTolerance / KeptLocked: the
   // tolerance and locking its positions were made for (KeptFor: sized to the chain count when
   // they are valid, cleared when the chain hierarchy changes). Merging runs, refinement rounds
   // and fallback passes rebuild only the chains whose tolerance or locking changed.
