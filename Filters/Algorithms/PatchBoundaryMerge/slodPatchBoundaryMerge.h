@@ -105,6 +105,16 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // Replay: whether an edit is clean is tested by walking the patches around its endpoints (the
   // reference, session 15) instead of the endpoints' DirtyNear flags (same answer, cheaper).
   bool WalkAroundEditEndpoints = false;
+  // The kept vertices of a chain are rebuilt only when its tolerance or locking changed since they
+  // were made (session 22): the refinement rounds change a few chains, and most runs and replayed
+  // passes start from the tolerances of the one before. Off: every chain at every rebuild (the
+  // reference: the same levels).
+  bool RebuildOnlyChangedChains = true;
+  // A replayed pass applies its clean unions without uniting the patches' supports (the extreme
+  // vertices of FlatnessMerge and MaximumPatchThickness: 52 scattered vertex reads per union, most
+  // never read again); a support is brought up to date when read (session 22). Off: united at
+  // every union (the reference: the same levels).
+  bool FoldSupportsWhenRead = true;
   // Fallback passes in which no failed patch would keep a vertex more (or be unmerged) repeat the
   // pass before them: skipped (the same level in fewer passes); off: one level per pass.
   bool SkipIneffectiveFallbackLevels = true;
@@ -156,6 +166,9 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   int Passes = 0;               // generation passes (1 without fallback)
   int ReplayedPasses = 0;       // passes that replayed the previous pass's merging (ReplayFallbackPasses)
   long long EditsAppliedAsRecorded = 0; // edits those passes applied without their tests (clean)
+  long long ChainRebuilds = 0;  // chains whose kept vertices the passes' merging rebuilt (RebuildOnlyChangedChains)
+  long long SupportUnions = 0;  // supports the passes' merging united (FoldSupportsWhenRead)
+  long long SupportFolds = 0;   // of them, folded in when a support was read after replayed unions
   Index FailedPatches = 0;      // root patches that went to a fallback level, summed over the passes
   Index RefinedInPass = 0;      // vertices kept by FailedPatchRefinementRounds, summed over the passes
 };
@@ -232,6 +245,7 @@ private:
   {
     double Merging = 0, Generate = 0, Tree = 0, Triangulation = 0, Refinement = 0;
     int MergingRuns = 0;
+    long long ChainRebuilds = 0, SupportUnions = 0, SupportFolds = 0;
   };
   static void LogStageTimes(const char* what, double seconds, const StageTimes& times);
   struct State;

@@ -14,6 +14,13 @@ namespace
 {
 using Point2 = std::array<double, 2>;
 
+// The index after i in a closed polygon of n vertices (i < n), without the division of (i + 1) % n:
+// the simplicity tests below take it for every segment, in the sweep's comparisons too.
+inline size_t NextIndex(size_t i, size_t n)
+{
+  return i + 1 == n ? 0 : i + 1;
+}
+
 int Orientation(const Point2& o, const Point2& a, const Point2& b)
 {
   const double d = (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
@@ -40,9 +47,9 @@ bool SegmentsCross(const std::vector<Point2>& p, size_t i, size_t j)
     return false;
   }
   const Point2& a = p[i];
-  const Point2& b = p[(i + 1) % n];
+  const Point2& b = p[NextIndex(i, n)];
   const Point2& c = p[j];
-  const Point2& d = p[(j + 1) % n];
+  const Point2& d = p[NextIndex(j, n)];
   const int o1 = Orientation(a, b, c), o2 = Orientation(a, b, d), o3 = Orientation(c, d, a), o4 = Orientation(c, d, b);
   if (o1 != o2 && o3 != o4)
   {
@@ -63,7 +70,7 @@ bool StarShapedFrom(const std::vector<Point2>& p, const Point2& c)
   for (size_t i = 0; i < n; ++i)
   {
     const Point2& a = p[i];
-    const Point2& b = p[(i + 1) % n];
+    const Point2& b = p[NextIndex(i, n)];
     if (Orientation(c, a, b) <= 0)
     {
       return false;
@@ -85,18 +92,18 @@ bool AnySegmentsCross(const std::vector<Point2>& p, std::vector<size_t>& order)
   {
     order[i] = i;
   }
-  auto minX = [&](size_t i) { return std::min(p[i][0], p[(i + 1) % n][0]); };
-  auto maxX = [&](size_t i) { return std::max(p[i][0], p[(i + 1) % n][0]); };
+  auto minX = [&](size_t i) { return std::min(p[i][0], p[NextIndex(i, n)][0]); };
+  auto maxX = [&](size_t i) { return std::max(p[i][0], p[NextIndex(i, n)][0]); };
   std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return minX(x) < minX(y); });
   for (size_t a = 0; a < n; ++a)
   {
     const size_t i = order[a];
     const double reach = maxX(i);
-    const double lowY = std::min(p[i][1], p[(i + 1) % n][1]), highY = std::max(p[i][1], p[(i + 1) % n][1]);
+    const double lowY = std::min(p[i][1], p[NextIndex(i, n)][1]), highY = std::max(p[i][1], p[NextIndex(i, n)][1]);
     for (size_t b = a + 1; b < n && minX(order[b]) <= reach; ++b)
     {
       const size_t j = order[b];
-      if (std::max(p[j][1], p[(j + 1) % n][1]) < lowY || std::min(p[j][1], p[(j + 1) % n][1]) > highY)
+      if (std::max(p[j][1], p[NextIndex(j, n)][1]) < lowY || std::min(p[j][1], p[NextIndex(j, n)][1]) > highY)
       {
         continue;
       }
@@ -138,7 +145,7 @@ bool spbm::ProjectsToSimplePolygon(
   for (size_t i = 0; i < n; ++i)
   {
     const auto& a = p[i];
-    const auto& b = p[(i + 1) % n];
+    const auto& b = p[NextIndex(i, n)];
     area += a[0] * b[1] - a[1] * b[0];
   }
   if (area <= 0)
@@ -305,6 +312,10 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
   s.PatchHead.assign(size_t(np), InvalidIndex);
   s.Size.assign(size_t(np), 0);
   s.Version.assign(size_t(np), 0);
+  s.AbsorbedFirst.assign(size_t(np), InvalidIndex);
+  s.AbsorbedNext.assign(size_t(np), InvalidIndex);
+  s.AbsorbedLast.assign(size_t(np), InvalidIndex);
+  s.SupportFolded.assign(size_t(np), InvalidIndex);
   s.Normal.resize(size_t(np));
   s.UnitNormal.resize(size_t(np));
   s.Frozen = frozen;
@@ -340,8 +351,22 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
   s.PartReversed.assign(size_t(nc), 0);
   s.EndSlotNext.resize(2 * size_t(nc));
   s.PatchSlotNext.resize(2 * size_t(nc));
-  s.KeptOffsets.resize(size_t(nc) + 1);
-  s.KeptPositions.clear();
+  if (s.KeptTolerance.size() != size_t(nc))
+  {
+    // Positions for another chain hierarchy (or none): every chain is rebuilt. Each chain has
+    // room for all its interior vertices.
+    s.KeptOffsets.resize(size_t(nc));
+    s.KeptEnd.assign(size_t(nc), 0);
+    s.KeptTolerance.assign(size_t(nc), std::numeric_limits<float>::quiet_NaN()); // never equal
+    s.KeptLocked.assign(size_t(nc), 0);
+    size_t room = 0;
+    for (Index c = 0; c < nc; ++c)
+    {
+      s.KeptOffsets[c] = static_cast<Index>(room);
+      room += size_t(std::max<Index>(0, P.ChainSize(c) - 2));
+    }
+    s.KeptPositions.assign(room, 0);
+  }
   for (Index c = 0; c < nc; ++c)
   {
     const Index a = P.ChainStart(c), b = P.ChainEnd(c), l = P.ChainLeftPatch(c), r = P.ChainRightPatch(c);
@@ -380,12 +405,21 @@ void SpbmLevelGenerator::MergingRun::CopyPatchSupport()
     support.assign(size_t(np) * SupportSize, InvalidIndex);
     std::vector<double> extreme(size_t(np) * SupportSize, -std::numeric_limits<double>::infinity());
     const std::vector<Index>& patchOf = P.TrianglePatches();
+    // A vertex met again for the patch it was last met for changes nothing (the comparisons are
+    // strict): skipped (a quarter of this loop's instructions on an MRI crop, whose small patches
+    // make most vertices alternate between patches).
+    std::vector<Index> lastPatch(size_t(mesh.NumberOfPoints()), InvalidIndex);
     for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
     {
       const size_t first = size_t(patchOf[t]) * SupportSize;
       for (int k = 0; k < 3; ++k)
       {
         const Index v = mesh.Triangle(t)[k];
+        if (lastPatch[size_t(v)] == patchOf[t])
+        {
+          continue;
+        }
+        lastPatch[size_t(v)] = patchOf[t];
         const Vec3 x = mesh.Point(v);
         for (int d = 0; d < SupportDirections; ++d)
         {
@@ -661,7 +695,7 @@ void SpbmLevelGenerator::MergingRun::RefineFrozenInPlace(const std::vector<unsig
   this->RebuildKeptPositions();
   for (const Index c : changed)
   {
-    const Index interior = s.KeptOffsets[c + 1] - s.KeptOffsets[c];
+    const Index interior = s.KeptEnd[c] - s.KeptOffsets[c];
     const Index added = interior - s.Interior[c];
     s.Interior[c] = interior;
     for (const Index side : { P.ChainLeftPatch(c), P.ChainRightPatch(c) })
@@ -681,7 +715,7 @@ void SpbmLevelGenerator::MergingRun::RebuildKept()
   std::fill(s.Size.begin(), s.Size.end(), 0);
   for (Index c = 0; c < nc; ++c)
   {
-    const Index interior = s.KeptOffsets[c + 1] - s.KeptOffsets[c];
+    const Index interior = s.KeptEnd[c] - s.KeptOffsets[c];
     s.Interior[c] = interior;
     s.Size[s.L[c]] += interior + 1;
     if (s.R[c] != InvalidIndex)
@@ -692,32 +726,40 @@ void SpbmLevelGenerator::MergingRun::RebuildKept()
 }
 
 // The kept interior positions of every (original) chain at its tolerance, ascending: a prefix of
-// its key order, or all when locked.
+// its key order, or all when locked. They depend on the chain's tolerance and locking only, so a
+// chain whose positions were made for the same ones keeps them (the refinement rounds change a
+// few chains; most runs of a level start from the tolerances of the run before).
 void SpbmLevelGenerator::MergingRun::RebuildKeptPositions()
 {
   ++graphEdits; // the kept boundary walks are stale
-  s.KeptPositions.clear();
   for (Index c = 0; c < nc; ++c)
   {
+    if (parameters.RebuildOnlyChangedChains && s.KeptTolerance[c] == s.Tolerance[c] && s.KeptLocked[c] == s.Locked[c])
+    {
+      continue;
+    }
+    ++s.Times.ChainRebuilds;
+    s.KeptTolerance[c] = s.Tolerance[c];
+    s.KeptLocked[c] = s.Locked[c];
     const Index n = P.ChainSize(c);
-    const size_t offset = size_t(P.ChainVerticesBegin(c) - base);
-    const Index interior = s.Locked[c] ? std::max<Index>(0, n - 2) : generator.KeptInterior(c, s.Tolerance[c]);
-    s.KeptOffsets[c] = static_cast<Index>(s.KeptPositions.size());
+    const Index first = s.KeptOffsets[c];
+    Index* kept = s.KeptPositions.data() + first;
     if (s.Locked[c])
     {
       for (Index i = 1; i + 1 < n; ++i)
       {
-        s.KeptPositions.push_back(i);
+        *kept++ = i;
       }
     }
     else
     {
-      const Index* order = generator.KeyOrder.data() + offset;
-      s.KeptPositions.insert(s.KeptPositions.end(), order, order + interior);
-      std::sort(s.KeptPositions.end() - interior, s.KeptPositions.end());
+      const Index interior = generator.KeptInterior(c, s.Tolerance[c]);
+      const Index* order = generator.KeyOrder.data() + (P.ChainVerticesBegin(c) - base);
+      kept = std::copy(order, order + interior, kept);
+      std::sort(kept - interior, kept);
     }
+    s.KeptEnd[c] = static_cast<Index>(kept - s.KeptPositions.data());
   }
-  s.KeptOffsets[nc] = static_cast<Index>(s.KeptPositions.size());
 }
 
 double SpbmLevelGenerator::MergingRun::SideDot(Index p, Index q)
@@ -727,6 +769,8 @@ double SpbmLevelGenerator::MergingRun::SideDot(Index p, Index q)
 
 double SpbmLevelGenerator::MergingRun::Thickness(Index p, Index q)
 {
+  this->FoldSupport(p);
+  this->FoldSupport(q);
   const Vec3 n = Normalized(s.Normal[p] + s.Normal[q]);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const Index root : { p, q })
@@ -908,7 +952,7 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
     for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
     {
       const Index* v = P.ChainVerticesBegin(part);
-      const Index first = s.KeptOffsets[part], last = s.KeptOffsets[part + 1];
+      const Index first = s.KeptOffsets[part], last = s.KeptEnd[part];
       if (s.PartReversed[part])
       {
         for (Index i = last; i > first; --i)
@@ -1181,7 +1225,7 @@ void SpbmLevelGenerator::MergingRun::AppendChain(Index c, Index from, bool skipF
       chainPoints.push_back(mesh.Point(v[reversed ? n - 1 - i : i]));
       chainKept.push_back(0);
     }
-    for (Index j = s.KeptOffsets[part]; j < s.KeptOffsets[part + 1]; ++j)
+    for (Index j = s.KeptOffsets[part]; j < s.KeptEnd[part]; ++j)
     {
       const Index k = s.KeptPositions[j];
       chainKept[partStart + size_t(reversed ? n - 1 - k : k) - 1] = 1;
@@ -1407,19 +1451,59 @@ bool SpbmLevelGenerator::MergingRun::SharesOnlyChain(Index c, Index p, Index q)
 // each direction.
 void SpbmLevelGenerator::MergingRun::UniteSupport(Index p, Index q)
 {
-  Index* sp = s.Support.data() + size_t(p) * SupportSize;
-  const Index* sq = s.Support.data() + size_t(q) * SupportSize;
+  this->FoldSupport(p);
+  this->FoldSupport(q);
+  this->CombineSupport(s.Support.data() + size_t(p) * SupportSize, s.Support.data() + size_t(q) * SupportSize);
+  s.SupportFolded[p] = q; // UnitePatches appends q to p's absorbed patches next
+}
+
+// The more extreme of two supports in each direction (ties keep `into`'s).
+void SpbmLevelGenerator::MergingRun::CombineSupport(Index* into, const Index* from)
+{
+  ++s.Times.SupportUnions;
   for (int d = 0; d < SupportDirections; ++d)
   {
     const Vec3 axis{ SupportAxes[d][0], SupportAxes[d][1], SupportAxes[d][2] };
-    if (Dot(axis, mesh.Point(sq[2 * d])) > Dot(axis, mesh.Point(sp[2 * d])))
+    if (Dot(axis, mesh.Point(from[2 * d])) > Dot(axis, mesh.Point(into[2 * d])))
     {
-      sp[2 * d] = sq[2 * d];
+      into[2 * d] = from[2 * d];
     }
-    if (Dot(axis, mesh.Point(sq[2 * d + 1])) < Dot(axis, mesh.Point(sp[2 * d + 1])))
+    if (Dot(axis, mesh.Point(from[2 * d + 1])) < Dot(axis, mesh.Point(into[2 * d + 1])))
     {
-      sp[2 * d + 1] = sq[2 * d + 1];
+      into[2 * d + 1] = from[2 * d + 1];
     }
+  }
+}
+
+// Brings the support of `root` up to date: the patches it absorbed since its support was last
+// united are folded in, in the order of their unions, each after its own absorbed patches (all
+// absorbed before it). Each absorbed patch is folded once per run (an explicit stack: the union
+// tree's depth is not bounded).
+void SpbmLevelGenerator::MergingRun::FoldSupport(Index root)
+{
+  if (s.SupportFolded[root] == s.AbsorbedLast[root])
+  {
+    return;
+  }
+  std::vector<Index>& stack = foldStack;
+  stack.assign(1, root);
+  while (!stack.empty())
+  {
+    const Index x = stack.back();
+    if (s.SupportFolded[x] == s.AbsorbedLast[x])
+    {
+      stack.pop_back();
+      continue;
+    }
+    const Index next = s.SupportFolded[x] == InvalidIndex ? s.AbsorbedFirst[x] : s.AbsorbedNext[s.SupportFolded[x]];
+    if (s.SupportFolded[next] != s.AbsorbedLast[next])
+    {
+      stack.push_back(next); // its own absorbed patches first
+      continue;
+    }
+    this->CombineSupport(s.Support.data() + size_t(x) * SupportSize, s.Support.data() + size_t(next) * SupportSize);
+    s.SupportFolded[x] = next;
+    ++s.Times.SupportFolds;
   }
 }
 
@@ -1441,6 +1525,8 @@ void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
     s.DirtyPatch[p] = 1;
   }
   s.Parent[q] = p;
+  (s.AbsorbedLast[p] == InvalidIndex ? s.AbsorbedFirst[p] : s.AbsorbedNext[s.AbsorbedLast[p]]) = q;
+  s.AbsorbedLast[p] = q;
   s.Version[p] += s.Version[q] + 1;
   s.Normal[p] = s.Normal[p] + s.Normal[q];
   s.UnitNormal[p] = Normalized(s.Normal[p]);

@@ -75,6 +75,8 @@ private:
   bool TryMerge(Index c, Index p, Index q);
   bool SharesOnlyChain(Index c, Index p, Index q);
   void UniteSupport(Index p, Index q);
+  void CombineSupport(Index* into, const Index* from);
+  void FoldSupport(Index root);
   void UnitePatches(Index c, Index p, Index q);
 
   // Chain collapses and endpoint joins (4.2.6 (a)-(c), 4.2.7).
@@ -141,7 +143,7 @@ private:
   bool relaxed = false;
   Index forcedKeep = InvalidIndex;
   // Scratch.
-  std::vector<Index> orientedChains, absorbedChains, refinePatches;
+  std::vector<Index> orientedChains, absorbedChains, refinePatches, foldStack;
   std::vector<Vec3> checkPoints, chainPoints, mergedPoints;
   std::vector<unsigned char> chainKept;
   IndexedHeap<double> removalQueue; // removal operations by cost

@@ -241,11 +241,11 @@ bool SpbmLevelGenerator::MergingRun::ApplyRecorded(const State::Edit& edit)
       {
         return false;
       }
-      if (trackSupport)
+      if (trackSupport && !parameters.FoldSupportsWhenRead)
       {
         this->UniteSupport(v[1], v[2]);
       }
-      this->UnitePatches(v[0], v[1], v[2]);
+      this->UnitePatches(v[0], v[1], v[2]); // else the supports are folded when read (FoldSupport)
       return true;
     case CollapseEdit:
       if (!this->Movable(v[0]) || !roots(v[0], v[1], v[2]) ||

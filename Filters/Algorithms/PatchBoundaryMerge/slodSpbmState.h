@@ -257,8 +257,15 @@ struct SpbmLevelGenerator::State
   // Chains.
   std::vector<Index> A, B, L, R, Interior;
   std::vector<float> Tolerance; // per chain: epsilon, finer next to refined (frozen) patches
-  std::vector<Index> KeptOffsets,
-    KeptPositions; // per chain: kept interior positions, ascending
+  // Per chain: its kept interior positions, ascending, at KeptPositions[KeptOffsets[c],
+  // KeptEnd[c]); from KeptOffsets[c] there is room for all its interior vertices, so a chain is
+  // rebuilt alone. KeptTolerance / KeptLocked: the
+  // tolerance and locking its positions were made for (KeptFor: sized to the chain count when
+  // they are valid, cleared when the chain hierarchy changes). Merging runs, refinement rounds
+  // and fallback passes rebuild only the chains whose tolerance or locking changed.
+  std::vector<Index> KeptOffsets, KeptEnd, KeptPositions;
+  std::vector<float> KeptTolerance;
+  std::vector<unsigned char> KeptLocked;
   // Chain tolerances after refining non-simple patches, for the last epsilon
   // (no fallbacks).
   bool RefinedValid = false;
@@ -285,6 +292,12 @@ struct SpbmLevelGenerator::State
   std::vector<Vec3> UnitNormal; // Normalized(Normal) of every root patch (merge measures, costs)
   std::vector<Index> Support; // FlatnessMerge: per root patch, its extreme
                               // vertices (SupportSize)
+  // The patches each patch absorbed, in the order of the unions (first, next, last), and the last
+  // of them folded into its Support. A replayed pass applies its clean unions without uniting the
+  // supports (most of them are never read again); a support is brought up to date when read, by
+  // folding in the patches absorbed since, in the same order (MergingRun::FoldSupport): the same
+  // extreme vertices as uniting them at each union.
+  std::vector<Index> AbsorbedFirst, AbsorbedNext, AbsorbedLast, SupportFolded;
   std::vector<unsigned char> Frozen;
   long long Total = 0;
   // Scratch.

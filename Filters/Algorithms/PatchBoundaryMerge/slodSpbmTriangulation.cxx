@@ -245,7 +245,7 @@ void SpbmLevelGenerator::LevelTriangulation::BuildVertexSequences()
         s.SeqVertices.push_back(v[reversed ? n - 1 - i : i]);
         s.SeqKeep.push_back(0);
       }
-      for (Index j = s.KeptOffsets[part]; j < s.KeptOffsets[part + 1]; ++j)
+      for (Index j = s.KeptOffsets[part]; j < s.KeptEnd[part]; ++j)
       {
         const Index k = s.KeptPositions[j];
         s.SeqKeep[partStart + size_t(reversed ? n - 1 - k : k) - 1] = 1;

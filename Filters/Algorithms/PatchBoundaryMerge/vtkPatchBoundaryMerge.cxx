@@ -118,6 +118,7 @@ struct vtkPatchBoundaryMerge::Cache
   double ToleranceScale = 1;      // the patches were grown with the tolerances scaled by this
   double DeviationFactor = 0;     // PatchDeviationFactor of the cached patches
   double MeanCurvature = 0;       // slod::MeanAbsoluteCurvature of the prepared input
+  double Area = 0;                // the prepared input's area (ThicknessBound runs for every level)
   double PlaneDistanceCap = std::numeric_limits<double>::infinity(); // absolute, of the patch growth
 
   bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p, double relativePlaneDistance) const
@@ -195,6 +196,7 @@ bool vtkPatchBoundaryMerge::Cache::Build(
     }
     built = Clock::now(); // topology, orientation check
     this->MeanCurvature = slod::MeanAbsoluteCurvature(this->Mesh, *topology);
+    this->Area = this->Mesh.TotalArea();
     this->DeviationFactor = self->PatchDeviationFactor;
     this->PlaneDistanceCap = 0.5 * this->ThicknessBound(self, this->Target(self));
     if (!this->GrowPatches(self, *topology))
@@ -305,7 +307,7 @@ bool vtkPatchBoundaryMerge::Cache::FitPatchesToTarget(vtkPatchBoundaryMerge* sel
 // without a count target or with the factor 0).
 double vtkPatchBoundaryMerge::Cache::ThicknessBound(vtkPatchBoundaryMerge* self, vtkIdType target) const
 {
-  const double area = this->Mesh.TotalArea();
+  const double area = this->Area;
   if (self->PatchDeviationFactor <= 0 || target <= 0 || this->MeanCurvature <= 0 || area <= 0)
   {
     return std::numeric_limits<double>::infinity();

@@ -1074,6 +1074,18 @@ void NoisyScanTenthLevelsWithAndWithout(unsigned int seed, bool SpbmLevelParamet
   GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.*option = false; }, off);
 }
 
+// Two generations of the same level (a switch between equivalent ways of doing the same work): the
+// same triangles, patches and profile curves, in the same passes with the same replayed edits.
+void ExpectSameLevelInSamePasses(const SpbmLevel& a, const SpbmLevel& b, unsigned int seed)
+{
+  EXPECT_EQ(a.Triangles, b.Triangles) << "seed " << seed;
+  EXPECT_EQ(a.TrianglePatch, b.TrianglePatch) << "seed " << seed;
+  EXPECT_EQ(a.CurveVertices, b.CurveVertices) << "seed " << seed;
+  EXPECT_EQ(a.Passes, b.Passes) << "seed " << seed;
+  EXPECT_EQ(a.ReplayedPasses, b.ReplayedPasses) << "seed " << seed;
+  EXPECT_EQ(a.EditsAppliedAsRecorded, b.EditsAppliedAsRecorded) << "seed " << seed;
+}
+
 // Issue 10: a fallback pass that unmerges patches replays the previous pass's merging edits with
 // those patches frozen (edits whose neighbourhood is unchanged as recorded, the others tested
 // again) and merges again around them, instead of a whole merging run. On a noisy scan surface
@@ -1124,10 +1136,7 @@ TEST(SpbmLevel, ReplayCleanTestFlagsMatchTheWalk)
     SpbmLevel flags, walked;
     NoisyScanTenthLevelsWithAndWithout(seed, &SpbmLevelParameters::WalkAroundEditEndpoints, walked, flags);
     ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
-    EXPECT_EQ(flags.Triangles, walked.Triangles) << "seed " << seed;
-    EXPECT_EQ(flags.Passes, walked.Passes) << "seed " << seed;
-    EXPECT_EQ(flags.ReplayedPasses, walked.ReplayedPasses) << "seed " << seed;
-    EXPECT_EQ(flags.EditsAppliedAsRecorded, walked.EditsAppliedAsRecorded) << "seed " << seed;
+    ExpectSameLevelInSamePasses(flags, walked, seed);
     replayedPasses += flags.ReplayedPasses;
   }
   EXPECT_GT(replayedPasses, 0) << "the noisy scans must need replayed passes";
@@ -1209,6 +1218,61 @@ TEST(SpbmLevel, FailingUnmergedPatchesGoStraightToOriginalWhenCollapsesFollow)
     ExpectInputTopology(*pm, in, on, seed);
   }
   EXPECT_TRUE(fewerPasses) << "some noisy scan must have patches that went through finer-chain levels before";
+}
+
+// Session 22 (issue 10): a chain's kept vertices are rebuilt only when its tolerance or locking
+// changed (RebuildOnlyChangedChains; each refinement round and each merging pass rebuilt every
+// chain). On noisy scans of seeds no other test uses, the levels are the same with and without
+// (triangles, patches, profile curves), in the same passes, and the passes' merging rebuilds fewer
+// chains.
+TEST(SpbmLevel, MergingPassesRebuildOnlyTheChainsThatChanged)
+{
+  long long rebuildsOn = 0, rebuildsOff = 0;
+  for (const unsigned int seed : { 53u, 59u })
+  {
+    SpbmLevel on, off;
+    NoisyScanTenthLevelsWithAndWithout(seed, &SpbmLevelParameters::RebuildOnlyChangedChains, on, off);
+    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
+    ExpectSameLevelInSamePasses(on, off, seed);
+    EXPECT_LE(on.ChainRebuilds, off.ChainRebuilds) << "seed " << seed;
+    rebuildsOn += on.ChainRebuilds;
+    rebuildsOff += off.ChainRebuilds;
+  }
+  ASSERT_GT(rebuildsOff, 0) << "the noisy scans must need merging passes after the search's";
+  EXPECT_LT(rebuildsOn, rebuildsOff) << "chain rebuilds " << rebuildsOn << " with, " << rebuildsOff << " without";
+}
+
+// Session 22 (issue 10): a replayed pass applies its clean unions without uniting the patches'
+// supports (extreme vertices); a support read later is brought up to date by folding in the
+// patches absorbed since, in union order (FoldSupportsWhenRead). With the flatness measure (which
+// reads the supports of every merge candidate), on noisy scans of seeds no other test uses, the
+// levels are the same with and without, supports were read after replayed unions, and fewer
+// supports were united.
+TEST(SpbmLevel, ReplayedUnionsFoldTheirSupportsWhenRead)
+{
+  long long unionsOn = 0, unionsOff = 0, folds = 0;
+  for (const unsigned int seed : { 61u, 67u })
+  {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
+    SpbmLevel on, off;
+    for (const bool fold : { true, false })
+    {
+      GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) {
+        p.FlatnessMerge = true;
+        p.FoldSupportsWhenRead = fold;
+      }, fold ? on : off);
+    }
+    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
+    ExpectSameLevelInSamePasses(on, off, seed);
+    EXPECT_LE(on.SupportUnions, off.SupportUnions) << "seed " << seed;
+    EXPECT_EQ(off.SupportFolds, 0) << "seed " << seed;
+    unionsOn += on.SupportUnions;
+    unionsOff += off.SupportUnions;
+    folds += on.SupportFolds;
+  }
+  ASSERT_GT(folds, 0) << "supports must be read after replayed unions";
+  EXPECT_LT(unionsOn, unionsOff) << "supports united " << unionsOn << " with, " << unionsOff << " without";
 }
 
 // The finest level's count is bounded from below without a merging run (the filter skips that
