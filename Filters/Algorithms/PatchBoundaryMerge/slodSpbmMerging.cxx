@@ -1145,6 +1145,8 @@ void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, In
   ++graphEdits; // the kept boundary walks are stale
   this->Record(CollapseEdit, { e, p, q, keep, gone, collapseRoot });
   s.Alive[e] = 0;
+  // One walk: once renamed, a chain is no longer listed at `gone` (a second walk to bump the
+  // versions found nothing, so the patches' failed tries were never retried).
   s.ForEndChains(gone, [&](Index c) {
     if (s.A[c] == gone)
     {
@@ -1154,8 +1156,6 @@ void SpbmLevelGenerator::MergingRun::ApplyCollapse(Index e, Index p, Index q, In
     {
       s.B[c] = keep;
     }
-  });
-  s.ForEndChains(gone, [&](Index c) {
     ++s.Version[s.Find(s.L[c])];
     if (s.R[c] != InvalidIndex)
     {
