@@ -549,7 +549,11 @@ bool ProjectedCoverProof(const TriangleMesh& mesh, const TriangleBVH& bvh, Index
     [&](Index u, Index w) { return SegmentEntersTriangle(mesh.Point(u), mesh.Point(w), corner, n, tolerance); });
 }
 
-PieceDistance ClassifyPiece(const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon)
+// `examined` is charged one more piece for each further closest-point query or gathering the
+// proofs after the first make (the work bounds count pieces as queries: a run that ends at its work
+// bound would otherwise spend more CPU per piece).
+PieceDistance ClassifyPiece(
+  const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon, int& examined)
 {
   const Vec3 g = (1.0 / 3.0) * (a + b + c);
   const double r2 = std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) });
@@ -580,13 +584,18 @@ PieceDistance ClassifyPiece(const TriangleBVH& bvh, const Vec3& a, const Vec3& b
     {
       return PieceDistance::Within;
     }
+    ++examined;
     const ClosestPointResult other = bvh.ClosestPoint(corners[uncovered], epsilon * epsilon);
     if (other.Triangle == InvalidIndex)
     {
       return PieceDistance::Outside; // that corner is farther than epsilon from the input
     }
-    if (SharedEdgeProof(*mesh, hit.Triangle, other.Triangle, corners, epsilon) ||
-      ProjectedCoverProof(*mesh, bvh, hit.Triangle, hit.Point, corners, g, epsilon) ||
+    if (SharedEdgeProof(*mesh, hit.Triangle, other.Triangle, corners, epsilon))
+    {
+      return PieceDistance::Within;
+    }
+    ++examined;
+    if (ProjectedCoverProof(*mesh, bvh, hit.Triangle, hit.Point, corners, g, epsilon) ||
       FlatNeighbourhoodProof(*mesh, bvh, hit.Triangle, hit.Point, corners, g, epsilon))
     {
       return PieceDistance::Within;
@@ -618,7 +627,7 @@ bool ProveWithinDistance(
     const Piece piece = pending.back();
     pending.pop_back();
     const Vec3* x = piece.Corner;
-    const PieceDistance d = ClassifyPiece(bvh, x[0], x[1], x[2], epsilon);
+    const PieceDistance d = ClassifyPiece(bvh, x[0], x[1], x[2], epsilon, examined);
     if (d == PieceDistance::Outside || (d == PieceDistance::Unknown && piece.Generations <= 0))
     {
       return false;
