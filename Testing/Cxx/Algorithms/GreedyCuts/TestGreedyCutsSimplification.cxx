@@ -268,6 +268,73 @@ TEST(GreedyCuts, TriangleOverAFlatRegionIsProvedAtATinyTolerance)
   EXPECT_FALSE(TriangleWithinDistance(bvh, { 1, 1, 0 }, { 40.5, 1, 0 }, { 20, 39, 0 }, eps, 10));
 }
 
+// A roof over the unit square, its ridge x = 0.5 at height h (slopes z = 2hx and 2h(1 - x)), two
+// triangles a side; the left and right triangles at the ridge share its edge.
+TriangleMesh Roof(double h)
+{
+  TriangleMesh roof;
+  roof.AddPoint({ 0, 0, 0 });
+  roof.AddPoint({ 0.5, 0, h });
+  roof.AddPoint({ 0.5, 1, h });
+  roof.AddPoint({ 0, 1, 0 });
+  roof.AddPoint({ 1, 0, 0 });
+  roof.AddPoint({ 1, 1, 0 });
+  roof.AddTriangle(0, 1, 2);
+  roof.AddTriangle(0, 2, 3);
+  roof.AddTriangle(1, 4, 5);
+  roof.AddTriangle(1, 5, 2);
+  return roof;
+}
+
+// A flat triangle across a ridge, its corners on the slopes at 0.2 h: 0.8 h under the ridge, so
+// within epsilon = h of the roof and not within 0.7 h. It spans the four roof triangles, so it is
+// split once; each child lies on one slope or across the ridge's edge, proved by the two slopes
+// (SharedEdgeProof): at most the piece and its four children are examined (base-s22: 26 pieces).
+TEST(GreedyCuts, TriangleAcrossARidgeIsProvedByItsTwoSlopes)
+{
+  const double h = 1e-3;
+  const TriangleMesh roof = Roof(h);
+  const TriangleBVH bvh(roof);
+  const Vec3 a{ 0.1, 0.1, 0.2 * h }, b{ 0.9, 0.5, 0.2 * h }, c{ 0.1, 0.9, 0.2 * h };
+  long long pieces = 0;
+  EXPECT_TRUE(TriangleWithinDistance(bvh, a, b, c, h, 10, &pieces));
+  EXPECT_LE(pieces, 5);
+  EXPECT_FALSE(TriangleWithinDistance(bvh, a, b, c, 0.7 * h, 10));
+  // Lifted by 2 h its corners are about 2 h from the slopes.
+  EXPECT_FALSE(TriangleWithinDistance(bvh, a + Vec3{ 0, 0, 2 * h }, b + Vec3{ 0, 0, 2 * h }, c + Vec3{ 0, 0, 2 * h }, h, 10));
+}
+
+// A pyramid: a flat hexagon (its border) around a centre lifted by 3 epsilon. Its only removable
+// vertex is the centre (border collapses off), and every collapse of it leaves the centre 3 epsilon
+// from the new flat triangles: refused at the removed vertex, before any triangle's proof, so no
+// proof piece is spent (the triangles' proofs used to run first).
+TEST(GreedyCuts, CollapsesFailingAtTheRemovedVertexSpendNoProof)
+{
+  const double eps = 1e-3;
+  TriangleMesh pyramid;
+  pyramid.AddPoint({ 0, 0, 3 * eps });
+  for (int k = 0; k < 6; ++k)
+  {
+    pyramid.AddPoint({ std::cos(k * std::acos(-1.0) / 3), std::sin(k * std::acos(-1.0) / 3), 0 });
+  }
+  for (Index k = 0; k < 6; ++k)
+  {
+    pyramid.AddTriangle(0, 1 + k, 1 + (k + 1) % 6);
+  }
+  const TriangleBVH bvh(pyramid);
+  ProvedCollapseParameters parameters;
+  parameters.Epsilon = eps;
+  parameters.BorderCollapses = false;
+  std::vector<Index> triangles = pyramid.Triangles, patches(6, 0);
+  ProvedCollapseStatistics statistics;
+  long long pieces = 0;
+  ASSERT_TRUE(ProvedCollapses(pyramid, bvh, parameters, triangles, patches, statistics, nullptr, &pieces));
+  EXPECT_GT(statistics.Attempts, 0);
+  EXPECT_EQ(statistics.Collapses, 0);
+  EXPECT_EQ(triangles, pyramid.Triangles);
+  EXPECT_EQ(pieces, 0);
+}
+
 TEST(GreedyCutsSimplification, SphereAndTorus)
 {
   for (const auto& [name, shape] : { std::pair<std::string, TriangleMesh>{ "sphere", slodtest::Sphere(48, 48) },
