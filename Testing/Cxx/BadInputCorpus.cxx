@@ -598,6 +598,13 @@ BadInput HugeCoordinates()
   return { "", Surface(Scaled(BaseSphere(), 1e30)) };
 }
 
+// Double coordinates beyond the float range: a filter that narrows them to float (to save memory,
+// as the triangle collapse's kept input may) must test the range first (undefined otherwise).
+BadInput BeyondFloatCoordinates()
+{
+  return { "", Surface(Scaled(BaseSphere(), 1e39)) };
+}
+
 BadInput TinyCoordinates()
 {
   return { "", Surface(Scaled(BaseSphere(), 1e-30)) };
@@ -825,6 +832,7 @@ const std::vector<Category>& Categories()
     { "flat-fan-disk", FlatFanDisk }, { "planar-grid", PlanarGrid }, { "staircase", Staircase },
     { "nan-coordinates", NaNCoordinates }, { "inf-coordinates", InfCoordinates },
     { "unused-nan-point", UnusedNaNPoint }, { "coordinates-1e30", HugeCoordinates },
+    { "coordinates-1e39", BeyondFloatCoordinates },
     { "coordinates-1e-30", TinyCoordinates }, { "huge-spread", HugeSpread }, { "large-offset", LargeOffset },
     { "collinear-everywhere", CollinearEverywhere }, { "all-points-identical", AllPointsIdentical },
     { "isolated-vertices", IsolatedVertices }, { "integer-points", IntegerPoints },

@@ -104,8 +104,10 @@ struct OriginalSurface
     this->Points.swap(mesh.Points);
     std::vector<double>().swap(mesh.Points);
     std::vector<Index>().swap(mesh.Triangles);
-    const bool exact = std::all_of(
-      this->Points.begin(), this->Points.end(), [](double x) { return static_cast<double>(static_cast<float>(x)) == x; });
+    // (The range test comes first: converting a double beyond the float range is undefined.)
+    const bool exact = std::all_of(this->Points.begin(), this->Points.end(), [](double x) {
+      return std::fabs(x) <= double(std::numeric_limits<float>::max()) && static_cast<double>(static_cast<float>(x)) == x;
+    });
     if (exact)
     {
       this->FloatPoints.assign(this->Points.begin(), this->Points.end());
