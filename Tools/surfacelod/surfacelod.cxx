@@ -122,6 +122,22 @@ RunResult RunMethod(const Method& method, vtkPolyData* triangles, const MethodSe
     throw CliError(ExitFailure,
       std::string(method.Name) + " failed: " + (error.empty() ? std::string("empty output") : error));
   }
+  // The input's points are finite (checked when read): a method whose arithmetic cannot hold them
+  // (VTK's decimators write float points, so coordinates beyond 3.4e38 become infinite) fails
+  // instead of writing them.
+  if (vtkPoints* points = result.Output->GetPoints())
+  {
+    for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+    {
+      double p[3];
+      points->GetPoint(i, p);
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      {
+        throw CliError(ExitFailure,
+          std::string(method.Name) + " failed: its output has a non-finite point (the input's coordinates are beyond its precision)");
+      }
+    }
+  }
   return result;
 }
 
