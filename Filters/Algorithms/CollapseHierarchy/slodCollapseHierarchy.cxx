@@ -536,18 +536,44 @@ void CollapseHierarchy::AddUnmarkedVertices(Index x)
   }
 }
 
+// f(input point) for the input points merged into global vertex g, depth first through the
+// collapses' sources in order: a collapse's point stands for its kept vertex's ancestors followed
+// by those of its other sources, the order in which they were merged. Each collapse has at least
+// two sources, so the walk visits fewer collapses than ancestors.
+template <typename Functor>
+void CollapseHierarchy::ForEachAncestor(Index g, Functor&& f)
+{
+  const Index np = this->Base.NumberOfPoints();
+  std::vector<Index>& stack = this->AncestorStack;
+  stack.assign(1, g);
+  while (!stack.empty())
+  {
+    const Index x = stack.back();
+    stack.pop_back();
+    if (x < np)
+    {
+      f(x);
+      continue;
+    }
+    const Index* sources = this->Collapses[size_t(x - np)].Sources;
+    for (int i = this->CountOfCollapse(x - np) - 1; i >= 0; --i)
+    {
+      stack.push_back(sources[i]);
+    }
+  }
+}
+
 // Every stride-th original point merged into v (counted over the calls by counter), in the local
 // frame, onto FitPoints.
 void CollapseHierarchy::AddAncestorPoints(Index v, const LocalFrame& frame, Index stride, Index& counter)
 {
-  for (Index o = this->AncestorHead[v]; o != InvalidIndex; o = this->AncestorNext[o])
-  {
+  this->ForEachAncestor(this->GlobalOf[v], [&](Index o) {
     if (counter++ % stride == 0)
     {
       const Vec3 l = frame.ToLocal(this->Base.Point(o));
       this->FitPoints.insert(this->FitPoints.end(), { l[0], l[1], l[2] });
     }
-  }
+  });
 }
 
 // The least-squares quadratic over T's plane (section 5): returns the paper's collapse point
@@ -562,7 +588,7 @@ Vec3 CollapseHierarchy::FitStencil(const Index* tri, const LocalFrame& frame, do
   Index total = 0;
   for (Index v : this->StencilVertices)
   {
-    total += this->AncestorCount[v];
+    total += this->AncestorCountOf(this->GlobalOf[v]);
   }
   const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
   Index counter = 0;
@@ -1154,21 +1180,18 @@ bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const
   return ok;
 }
 
-void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level)
+void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p)
 {
   EditableMesh& m = this->Mesh;
   const Index kept = vertices[0];
   const Index k = static_cast<Index>(this->Collapses.size());
 
-  HierarchyCollapse collapse;
-  collapse.Count = count;
+  StoredCollapse collapse;
   for (int i = 0; i < 3; ++i)
   {
     collapse.Sources[i] = i < count ? this->GlobalOf[vertices[i]] : InvalidIndex;
   }
   this->EdgeCollapseCount += count == 2 ? 1 : 0;
-  collapse.Point = this->NumberOfVertices();
-  collapse.Level = level;
   collapse.Triangle = t;
   collapse.Weight = this->Evaluations[this->Row(t)].Weight;
   this->CollapsePoints.insert(this->CollapsePoints.end(), p.begin(), p.end());
@@ -1186,26 +1209,18 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
     }
   }
   this->Collapses.push_back(collapse);
+  Index ancestors = 0;
+  for (int i = 0; i < count; ++i)
+  {
+    ancestors += this->AncestorCountOf(collapse.Sources[i]);
+  }
+  this->AncestorCounts.push_back(ancestors);
   this->VersionsBornBy.push_back(this->NumberOfEntries()); // (the versions below are born at k + 1)
-  this->GlobalOf[kept] = collapse.Point;
+  this->GlobalOf[kept] = this->PointOfCollapse(k);
   this->MarkChangedAround(kept);
   if (!this->EdgeCostStates.empty())
   {
     this->ForgetEdgeCostsAround(kept);
-  }
-
-  // Ancestors: the kept vertex now stands for the original points of all merged vertices.
-  for (int i = 1; i < count; ++i)
-  {
-    const Index v = vertices[i];
-    if (this->AncestorHead[v] != InvalidIndex)
-    {
-      this->AncestorNext[this->AncestorTail[kept]] = this->AncestorHead[v];
-      this->AncestorTail[kept] = this->AncestorTail[v];
-      this->AncestorHead[v] = this->AncestorTail[v] = InvalidIndex;
-      this->AncestorCount[kept] += this->AncestorCount[v];
-      this->AncestorCount[v] = 0;
-    }
   }
 
   // Triangle versions: removed ones end, the ones around the moved vertex start anew.
@@ -1679,10 +1694,8 @@ void CollapseHierarchy::ReleaseWorkingData()
   release(this->Quadrics);
   release(this->QuadricRowOf);
   release(this->PaperTerms);
-  release(this->AncestorHead);
-  release(this->AncestorTail);
-  release(this->AncestorNext);
-  release(this->AncestorCount);
+  release(this->AncestorCounts);
+  release(this->AncestorStack);
   release(this->EntryOf);
   release(this->RowOf);
   release(this->VertexMark);
@@ -1710,8 +1723,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     bytes(r.Flips) + bytes(r.FlipStamps);
   const size_t stamps = bytes(this->VertexMark) + bytes(this->VertexChanges) + bytes(this->BlockedStrict) +
     bytes(this->BlockedRelaxed) + bytes(this->BlockedEdge);
-  const size_t ancestors =
-    bytes(this->AncestorHead) + bytes(this->AncestorTail) + bytes(this->AncestorNext) + bytes(this->AncestorCount);
+  const size_t ancestors = bytes(this->AncestorCounts);
   return { { "M0 (points, triangles)", false, bytes(this->Base.Points) + bytes(this->Base.Triangles) },
     { "editable mesh (coarsest)", false, this->Mesh.MemoryBytes() },
     { "collapse points", false, bytes(this->CollapsePoints) },
@@ -1772,17 +1784,10 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->CollapsePoints.clear();
   this->GlobalOf.resize(np);
   std::iota(this->GlobalOf.begin(), this->GlobalOf.end(), 0);
-  this->AncestorHead = this->GlobalOf;
-  this->AncestorTail = this->GlobalOf;
-  this->AncestorNext.assign(np, InvalidIndex);
-  this->AncestorCount.assign(np, 1);
+  this->AncestorCounts.clear();
   this->VersionsBornBy.assign(1, nt);
   this->EntryDeath.assign(nt, Never);
-  this->EntryCode.resize(nt);
-  for (Index t = 0; t < nt; ++t)
-  {
-    this->EntryCode[t] = std::uint32_t(t) << 2 | AllCorners; // Base's triangle t
-  }
+  this->EntryCode.clear(); // (M0's versions are implicit: CodeOf)
   this->FullEntryVertices.clear();
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
@@ -1821,11 +1826,12 @@ void CollapseHierarchy::ReserveRecords()
 {
   const size_t nt = size_t(this->Base.NumberOfTriangles());
   const size_t collapses = nt / 2 + 1, versions = 5 * nt;
-  this->EntryCode.reserve(versions);
+  this->EntryCode.reserve(versions - nt);
   this->VersionsBornBy.reserve(collapses + 1);
   this->EntryDeath.reserve(versions);
   this->CollapsePoints.reserve(3 * collapses);
   this->Collapses.reserve(collapses);
+  this->AncestorCounts.reserve(collapses);
   this->TriangleCounts.reserve(collapses + 1);
   this->Records.Reserve(collapses, nt, 3 * nt);
 }
@@ -1994,7 +2000,7 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
     this->SelectBatch(level, state);
   }
   const Index levelStart = this->NumberOfCollapses();
-  this->CollapseBatch(level, state);
+  this->CollapseBatch(state);
   if (this->NumberOfCollapses() == levelStart)
   {
     return false;
@@ -2389,7 +2395,7 @@ bool CollapseHierarchy::EdgeCollapseAllowed(Index t, double orderWeight, int hub
 // merged vertex has all its triangles in its own region). Only such a region is checked again;
 // the others would give the answer of their selection (a second CheckCollapse per collapse was
 // 7% of the build's instructions on refined_elephant).
-void CollapseHierarchy::CollapseBatch(int level, const LevelState& state)
+void CollapseHierarchy::CollapseBatch(const LevelState& state)
 {
   const Index batchStart = this->ChangeCounter;
   for (size_t b = 0; b < state.Batch.size(); ++b)
@@ -2407,14 +2413,14 @@ void CollapseHierarchy::CollapseBatch(int level, const LevelState& state)
       if (unchanged ||
         this->Mesh.CheckCollapse(vertices, 2, state.BatchPoint[b], this->MeshOptions) == CollapseStatus::Ok)
       {
-        this->ApplyCollapse(t, vertices, 2, state.BatchPoint[b], level);
+        this->ApplyCollapse(t, vertices, 2, state.BatchPoint[b]);
       }
       continue;
     }
     if (unchanged || !this->CreatesCycle(t))
     {
       const Index vertices[3] = { tri[0], tri[1], tri[2] };
-      this->ApplyCollapse(t, vertices, 3, state.BatchPoint[b], level);
+      this->ApplyCollapse(t, vertices, 3, state.BatchPoint[b]);
     }
   }
 }
@@ -2619,7 +2625,7 @@ void CollapseHierarchy::ForEachVersion(Index collapses, Functor&& f) const
     {
       ++birth;
     }
-    const std::uint32_t code = this->EntryCode[e], corner = code & 3;
+    const std::uint32_t code = this->CodeOf(e), corner = code & 3;
     Index* c = &this->ScratchCorners[3 * size_t(code >> 2)];
     if (corner != AllCorners)
     {
@@ -2648,10 +2654,10 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   this->ScratchBatch.resize(ng, InvalidIndex);
   for (Index k = collapses; k < blendEnd; ++k)
   {
-    for (int j = 0; j < this->Collapses[k].Count; ++j)
+    for (int j = 0; j < this->CountOfCollapse(k); ++j)
     {
       const Index g = this->Collapses[k].Sources[j];
-      this->ScratchTarget[g] = this->Collapses[k].Point;
+      this->ScratchTarget[g] = this->PointOfCollapse(k);
       this->ScratchBatch[g] = k - collapses;
     }
   }
@@ -2679,11 +2685,11 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     }
     out.TriangleBatch.push_back(batch);
     // Collapsing: all merged vertices of its collapse are in it (T, or both edge triangles).
-    const int count = batch != InvalidIndex ? this->Collapses[collapses + batch].Count : 3;
+    const int count = batch != InvalidIndex ? this->CountOfCollapse(collapses + batch) : 3;
     out.TriangleRole.push_back(moving == count ? 2 : (moving > 0 ? 1 : 0));
     out.TriangleOrigin.push_back(origin);
     out.TriangleCollapseLevel.push_back(
-      this->EntryDeath[e] == Never ? -1 : this->Collapses[this->EntryDeath[e] - 1].Level);
+      this->EntryDeath[e] == Never ? -1 : this->LevelOfCollapse(this->EntryDeath[e] - 1));
   });
   const size_t n = out.PointGlobal.size();
   out.Points.resize(3 * n);
@@ -2710,13 +2716,26 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   }
   for (Index k = collapses; k < blendEnd; ++k)
   {
-    for (int j = 0; j < this->Collapses[k].Count; ++j)
+    for (int j = 0; j < this->CountOfCollapse(k); ++j)
     {
       const Index g = this->Collapses[k].Sources[j];
       this->ScratchTarget[g] = InvalidIndex;
       this->ScratchBatch[g] = InvalidIndex;
     }
   }
+}
+
+HierarchyCollapse CollapseHierarchy::GetCollapse(Index k) const
+{
+  const StoredCollapse& s = this->Collapses[k];
+  HierarchyCollapse c;
+  std::copy(s.Sources, s.Sources + 3, c.Sources);
+  c.Count = this->CountOfCollapse(k);
+  c.Point = this->PointOfCollapse(k);
+  c.Level = this->LevelOfCollapse(k);
+  c.Triangle = s.Triangle;
+  c.Weight = s.Weight;
+  return c;
 }
 
 void CollapseHierarchy::ExtractLevel(double level, HierarchyMesh& out) const
@@ -2744,7 +2763,7 @@ void CollapseHierarchy::Refine(EditableMesh& mesh, Index k) const
     // An editable vertex is always at its global vertex's position (same doubles).
     record.OldPositions[i] = this->Vertex(this->Collapses[k].Sources[i]);
   }
-  record.NewPosition = this->Vertex(this->Collapses[k].Point);
+  record.NewPosition = this->Vertex(this->PointOfCollapse(k));
   this->Records.UndoFlipsAfter(k, mesh);
   mesh.Undo(record);
 }
@@ -2760,7 +2779,7 @@ void CollapseHierarchy::Expand(Index collapses, HierarchyMesh& out) const
   {
     this->Refine(mesh, k);
     // Newest first: what remains is the earliest change at or after `collapses`.
-    const HierarchyCollapse& c = this->Collapses[k];
+    const HierarchyCollapse c = this->GetCollapse(k);
     const auto flips = this->Records.FlipsAfter(k);
     for (Index f = flips.first; f < flips.second; ++f)
     {

@@ -128,6 +128,8 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   bool ReuseEdgeCosts = true;
 };
 
+// One collapse as GetCollapse hands it out (the hierarchy keeps only its sources, triangle and
+// weight: the point, count and level follow from its index, its sources and the level starts).
 struct SURFACELODFILTERS_EXPORT HierarchyCollapse
 {
   Index Sources[3];   // global ids of the collapsed triangle's vertices (edge: Sources[2] = -1)
@@ -185,9 +187,18 @@ public:
   Index LevelTriangleCount(int level) const { return this->TriangleCounts[this->LevelStarts[level]]; }
   // Number of collapses whose result has the triangle count closest to target (ties: more triangles).
   Index CollapsesForTriangleCount(Index target) const;
-  const HierarchyCollapse& GetCollapse(Index k) const { return this->Collapses[k]; }
-  // Level whose batch contains collapse k.
-  int LevelOfCollapse(Index k) const { return this->Collapses[k].Level; }
+  HierarchyCollapse GetCollapse(Index k) const;
+  // Level whose batch contains collapse k (the last level starting at or before k; levels are
+  // never empty).
+  int LevelOfCollapse(Index k) const
+  {
+    return static_cast<int>(std::upper_bound(this->LevelStarts.begin(), this->LevelStarts.end(), k) -
+             this->LevelStarts.begin()) - 1;
+  }
+  // Global id of collapse k's point: the collapse points follow the input points in order.
+  Index PointOfCollapse(Index k) const { return this->Base.NumberOfPoints() + k; }
+  // 3 for a triangle collapse, 2 for an edge collapse.
+  int CountOfCollapse(Index k) const { return this->Collapses[k].Sources[2] == InvalidIndex ? 2 : 3; }
 
   Index NumberOfVertices() const
   {
@@ -338,7 +349,7 @@ private:
   bool ChooseCollapse(Index t, double orderWeight, bool edges, int& edge, Vec3& point);
   bool TriangleCollapseAllowed(Index t, double orderWeight);
   bool EdgeCollapseAllowed(Index t, double orderWeight, int hubs, int& edge, Vec3& point);
-  void CollapseBatch(int level, const LevelState& state);
+  void CollapseBatch(const LevelState& state);
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
@@ -396,7 +407,7 @@ private:
   double WeightOf(Index t, double error) const;
   double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
-  void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p, int level);
+  void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p);
   // The cheapest valid edge collapse of triangle t (edge (tri[k], tri[k+1]) and its point).
   bool FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error);
   bool KeepsOrientation(const Index* vertices, int count, const Vec3& p) const;
@@ -421,7 +432,19 @@ private:
     return g < np ? &this->Base.Points[3 * size_t(g)] : &this->CollapsePoints[3 * size_t(g - np)];
   }
   std::vector<Index> GlobalOf;                  // editable vertex -> current global id
-  std::vector<Index> AncestorHead, AncestorTail, AncestorNext, AncestorCount; // original points per vertex
+  // The original points merged into a vertex (its ancestors, which the stencil fit reads): the
+  // input points at the leaves of its global vertex's collapses, sources first to last (the
+  // order the linked lists per vertex had, 16 bytes per input vertex: the walk reads the collapses
+  // instead). AncestorCounts: per collapse, how many (build only).
+  std::vector<Index> AncestorCounts;
+  Index AncestorCountOf(Index g) const
+  {
+    const Index np = this->Base.NumberOfPoints();
+    return g < np ? 1 : this->AncestorCounts[size_t(g - np)];
+  }
+  template <typename Functor>
+  void ForEachAncestor(Index g, Functor&& f);
+  std::vector<Index> AncestorStack; // ForEachAncestor's scratch
   // Triangle versions, appended in the order they are born: births stored as counts
   // (VersionsBornBy[K] versions are born after at most K collapses), the collapse count at which
   // each disappears, and its M0 slot with the one corner it changed (EntryCode = slot << 2 |
@@ -430,16 +453,33 @@ private:
   // slot's previous version; corner 3 (M0's versions, a swap's two) holds all three: Base's
   // triangle, or the next three of FullEntryVertices. 8 bytes per version instead of 20: Extract
   // replays the slots' corners in the same pass it already makes. EntryOf: each row's current
-  // version (build only).
+  // version (build only). M0's versions (the first nt, Base's triangles in slot order) have no
+  // code stored: EntryCode holds version e >= nt at e - nt (CodeOf; 4 bytes per input triangle
+  // less, at every stage of the build).
   static constexpr std::uint32_t AllCorners = 3;
   std::vector<std::uint32_t> EntryCode;
+  std::uint32_t CodeOf(Index e) const
+  {
+    const Index nt = this->Base.NumberOfTriangles();
+    return e < nt ? std::uint32_t(e) << 2 | AllCorners : this->EntryCode[size_t(e - nt)];
+  }
   std::vector<Index> EntryDeath, EntryOf, VersionsBornBy, FullEntryVertices;
   Index NumberOfEntries() const { return static_cast<Index>(this->EntryDeath.size()); }
   void AppendEntry(Index x, std::uint32_t corner);
   mutable std::vector<Index> ScratchCorners; // Extract's replay: 3 per slot
   template <typename Functor>
   void ForEachVersion(Index collapses, Functor&& f) const;
-  std::vector<HierarchyCollapse> Collapses;
+  // What is kept per collapse: 24 bytes instead of HierarchyCollapse's 40 (one per collapse, about
+  // one per input vertex at the coarsest level; PointOfCollapse, CountOfCollapse, LevelOfCollapse
+  // give the rest).
+  struct StoredCollapse
+  {
+    Index Sources[3]; // as HierarchyCollapse::Sources
+    Index Triangle;
+    double Weight;
+  };
+  static_assert(sizeof(StoredCollapse) == 24, "one record per collapse");
+  std::vector<StoredCollapse> Collapses;
   std::vector<Index> LevelStarts, TriangleCounts;
   // The collapses and edge swaps in M0 numbering, for exact vertex splits (topology only: the
   // positions are those of the global vertices, Sources and Point of each HierarchyCollapse).
@@ -455,7 +495,7 @@ private:
   Index Rows = 0;
   size_t Row(Index t) const { return static_cast<size_t>(this->RowOf[t]); }
   // The M0 slot of a row: its current version's.
-  Index SlotOfRow(size_t r) const { return static_cast<Index>(this->EntryCode[size_t(this->EntryOf[r])] >> 2); }
+  Index SlotOfRow(size_t r) const { return static_cast<Index>(this->CodeOf(this->EntryOf[r]) >> 2); }
   template <typename Functor>
   void ForEachLiveTriangle(Functor&& f) const; // f(t, row), in slot order
   std::vector<StoredEvaluation> Evaluations;
