@@ -1112,6 +1112,66 @@ TEST(CollapseHierarchy, WorkingDataIsReleasedAndTheAccountingAddsUp)
   }
 }
 
+// What follows from an index is not stored (session 23): a collapse keeps 24 bytes (its point,
+// count and level follow from its index, its sources and the level starts; HierarchyCollapse took
+// 40), M0's versions keep only their deaths (4 bytes per input triangle, the code is Base's
+// triangle; 8 before), and the ancestors of a vertex are walked through the collapses' sources
+// (4 bytes per collapse for their counts instead of 16 per input vertex for linked lists). Checked
+// at every progress call of the build against bounds from the counts, and the collapses handed
+// out agree with the levels and the global vertices (points after the input's, in order).
+TEST(CollapseHierarchy, CollapsesAndVersionsKeepOnlyWhatTheirIndexCannotGive)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(45);
+  source->Update();
+  const TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  const size_t nt = size_t(scan.NumberOfTriangles()), np = size_t(scan.NumberOfPoints());
+  CollapseHierarchy h;
+  const auto share = [&h](const std::string& name) {
+    for (const CollapseHierarchy::StorageShare& s : h.Storage())
+    {
+      if (name == s.Name)
+      {
+        return s.Bytes;
+      }
+    }
+    ADD_FAILURE() << "no share " << name;
+    return size_t(0);
+  };
+  int calls = 0, beforeAnyCollapse = 0;
+  ASSERT_TRUE(h.Build(scan, DefaultParameters(), [&](double) {
+    ++calls;
+    const size_t collapses = size_t(h.NumberOfCollapses());
+    EXPECT_LE(share("collapses"), 24 * collapses);
+    EXPECT_LE(share("ancestors"), 4 * collapses);
+    if (collapses == 0)
+    {
+      ++beforeAnyCollapse;
+      // M0's versions: a death each and the birth count of the empty hierarchy.
+      EXPECT_EQ(share("triangle versions"), 4 * nt + sizeof(Index));
+    }
+    return true;
+  }));
+  EXPECT_GT(calls, beforeAnyCollapse);
+  EXPECT_GT(beforeAnyCollapse, 0);
+  ASSERT_GT(h.NumberOfCollapses(), Index(nt / 4));
+  EXPECT_EQ(share("collapses"), 24 * size_t(h.NumberOfCollapses()));
+  for (Index k = 0; k < h.NumberOfCollapses(); ++k)
+  {
+    const HierarchyCollapse c = h.GetCollapse(k);
+    ASSERT_EQ(c.Point, Index(np) + k);
+    ASSERT_EQ(c.Count, c.Sources[2] == InvalidIndex ? 2 : 3);
+    ASSERT_LE(h.LevelStart(c.Level), k);
+    ASSERT_LT(k, h.LevelStart(c.Level + 1));
+    for (int i = 0; i < c.Count; ++i)
+    {
+      ASSERT_GE(c.Sources[i], 0);
+      ASSERT_LT(c.Sources[i], c.Point); // a source exists before the collapse
+    }
+  }
+}
+
 // The build's working data shrink with the mesh (CompactRows, CompactQuadrics): after every level
 // the edge costs (a fixed number of bytes per triangle row) and the quadrics (per vertex row) hold
 // at most 8/7 rows per live triangle and vertex (2 once under a quarter of the input's), not one
