@@ -1233,7 +1233,6 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
     const Index* q = m.Triangle(x);
     this->AppendEntry(x, q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
   });
-  this->TriangleCounts.push_back(m.NumberOfLiveTriangles());
 
   // The record for exact vertex splits (the old positions are those of the source global
   // vertices: not stored twice).
@@ -1730,7 +1729,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "collapses", false, bytes(this->Collapses) },
     { "triangle versions", false,
       bytes(this->EntryCode) + bytes(this->EntryDeath) + bytes(this->FullEntryVertices) + bytes(this->VersionsBornBy) },
-    { "triangle counts, levels", false, bytes(this->TriangleCounts) + bytes(this->LevelStarts) },
+    { "levels", false, bytes(this->LevelStarts) },
     { "collapse records", false, records },
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
     { "evaluations", true, bytes(this->Evaluations) + bytes(this->StoredPoints) + bytes(this->FreePoints) },
@@ -1832,7 +1831,6 @@ void CollapseHierarchy::ReserveRecords()
   this->CollapsePoints.reserve(3 * collapses);
   this->Collapses.reserve(collapses);
   this->AncestorCounts.reserve(collapses);
-  this->TriangleCounts.reserve(collapses + 1);
   this->Records.Reserve(collapses, nt, 3 * nt);
 }
 
@@ -1840,7 +1838,6 @@ void CollapseHierarchy::ResetRecords()
 {
   this->Collapses.clear();
   this->LevelStarts.assign(1, 0);
-  this->TriangleCounts.assign(1, this->Base.NumberOfTriangles());
   this->Records.StorePositions = false;
   this->Records.StoreRemovedTriangleVertices = false;
   this->Records.Clear();
@@ -2588,17 +2585,19 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
 // ---------------------------------------------------------------------------------------------
 Index CollapseHierarchy::CollapsesForTriangleCount(Index target) const
 {
-  // TriangleCounts decreases with the number of collapses.
+  // The triangle count decreases with the number of collapses (the removed ones increase).
   Index best = 0;
   Index bestDiff = std::numeric_limits<Index>::max();
-  const auto it = std::lower_bound(this->TriangleCounts.begin(), this->TriangleCounts.end(), target,
-    [](Index count, Index value) { return count > value; });
-  const Index k = static_cast<Index>(it - this->TriangleCounts.begin());
+  const std::vector<Index>& removed = this->Records.RemovedOffsets;
+  const Index nt = this->Base.NumberOfTriangles();
+  const auto it = std::lower_bound(
+    removed.begin(), removed.end(), target, [nt](Index gone, Index value) { return nt - gone > value; });
+  const Index k = static_cast<Index>(it - removed.begin());
   for (Index c : { k - 1, k })
   {
-    if (c >= 0 && c < static_cast<Index>(this->TriangleCounts.size()))
+    if (c >= 0 && c < static_cast<Index>(removed.size()))
     {
-      const Index diff = std::abs(this->TriangleCounts[c] - target);
+      const Index diff = std::abs(this->NumberOfTrianglesAfter(c) - target);
       if (diff < bestDiff)
       {
         best = c;

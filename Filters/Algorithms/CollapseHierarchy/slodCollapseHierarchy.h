@@ -183,8 +183,13 @@ public:
     return range.second - range.first;
   }
   Index LevelStart(int level) const { return this->LevelStarts[level]; }
-  Index NumberOfTrianglesAfter(Index collapses) const { return this->TriangleCounts[collapses]; }
-  Index LevelTriangleCount(int level) const { return this->TriangleCounts[this->LevelStarts[level]]; }
+  // Only collapses remove triangles (swaps keep the count): M0's count less those the records list
+  // as removed (no count kept per collapse).
+  Index NumberOfTrianglesAfter(Index collapses) const
+  {
+    return this->Base.NumberOfTriangles() - this->Records.RemovedOffsets[size_t(collapses)];
+  }
+  Index LevelTriangleCount(int level) const { return this->NumberOfTrianglesAfter(this->LevelStarts[level]); }
   // Number of collapses whose result has the triangle count closest to target (ties: more triangles).
   Index CollapsesForTriangleCount(Index target) const;
   HierarchyCollapse GetCollapse(Index k) const;
@@ -480,7 +485,7 @@ private:
   };
   static_assert(sizeof(StoredCollapse) == 24, "one record per collapse");
   std::vector<StoredCollapse> Collapses;
-  std::vector<Index> LevelStarts, TriangleCounts;
+  std::vector<Index> LevelStarts;
   // The collapses and edge swaps in M0 numbering, for exact vertex splits (topology only: the
   // positions are those of the global vertices, Sources and Point of each HierarchyCollapse).
   CollapseRecords Records;

@@ -1116,7 +1116,8 @@ TEST(CollapseHierarchy, WorkingDataIsReleasedAndTheAccountingAddsUp)
 // count and level follow from its index, its sources and the level starts; HierarchyCollapse took
 // 40), M0's versions keep only their deaths (4 bytes per input triangle, the code is Base's
 // triangle; 8 before), and the ancestors of a vertex are walked through the collapses' sources
-// (4 bytes per collapse for their counts instead of 16 per input vertex for linked lists). Checked
+// (4 bytes per collapse for their counts instead of 16 per input vertex for linked lists), and no
+// triangle count is kept per collapse (4 bytes each before). Checked
 // at every progress call of the build against bounds from the counts, and the collapses handed
 // out agree with the levels and the global vertices (points after the input's, in order).
 TEST(CollapseHierarchy, CollapsesAndVersionsKeepOnlyWhatTheirIndexCannotGive)
@@ -1169,6 +1170,15 @@ TEST(CollapseHierarchy, CollapsesAndVersionsKeepOnlyWhatTheirIndexCannotGive)
       ASSERT_GE(c.Sources[i], 0);
       ASSERT_LT(c.Sources[i], c.Point); // a source exists before the collapse
     }
+  }
+  // No triangle count per collapse: the counts (M0's less the records' removed triangles) are
+  // those of the cuts.
+  EXPECT_EQ(share("levels"), sizeof(Index) * size_t(h.NumberOfLevels()));
+  HierarchyMesh cut;
+  for (Index k = 0; k <= h.NumberOfCollapses(); k += 1 + h.NumberOfCollapses() / 40)
+  {
+    h.Extract(k, k, 0.0, cut);
+    ASSERT_EQ(Index(cut.Triangles.size() / 3), h.NumberOfTrianglesAfter(k)) << "after " << k << " collapses";
   }
 }
 
