@@ -43,6 +43,7 @@
 
 #include "slodCollapseRecords.h"
 #include "slodEditableMesh.h"
+#include "slodQuadric.h"
 #include "slodTriangleMesh.h"
 
 #include <functional>
@@ -87,7 +88,7 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // of its interrelated set) exceeds this; negative: no limit.
   double MaximumError = -1.0;
   // Weight of the boundary planes relative to the triangle planes (0 disables them).
-  double BoundaryWeight = 1.0;
+  double BoundaryWeight = DefaultBorderPlaneWeight;
   // Reject a collapse that turns a surviving triangle's normal by more than this (degrees).
   double MaximumNormalDeviation = 45.0;
   // Allow changes of genus, boundary loops and manifoldness (off: never).

@@ -6,6 +6,7 @@
 #include "slodCollapseRecordTable.h"
 #include "slodPieceSeams.h"
 #include "slodPointAttributes.h"
+#include "slodQuadric.h"
 #include "slodTriangleCollapse.h"
 
 #include "vtkCellData.h"
@@ -301,6 +302,7 @@ void StoreProgressiveMesh(const slod::TriangleCollapseResult& result, slod::Inde
 
 vtkQuadricTriangleCollapse::vtkQuadricTriangleCollapse()
 {
+  this->BoundaryWeight = slod::DefaultBorderPlaneWeight;
   this->AddSecondaryOutputPort("vtkTable");
   this->SetController(vtkMultiProcessController::GetGlobalController());
 }

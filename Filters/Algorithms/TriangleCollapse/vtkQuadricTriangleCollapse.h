@@ -83,7 +83,9 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Weight of the boundary planes relative to the triangle planes (default 1; 0 = free borders).
+  /// Weight of the boundary planes relative to the triangle planes (default 10; 0 = free borders).
+  /// Both are in area units, so the weight does not depend on the mesh's scale; why 10 and not
+  /// Garland and Heckbert's 1: slod::DefaultBorderPlaneWeight.
   vtkSetClampMacro(BoundaryWeight, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(BoundaryWeight, double);
   ///@}
@@ -275,7 +277,7 @@ protected:
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double BoundaryWeight = 1.0;
+  double BoundaryWeight = 0.0; // the constructor sets the default
   double MaximumNormalDeviation = 45.0;
   bool AllowTopologyChange = false;
   bool ExactUnion = false;
