@@ -6,6 +6,7 @@
 #include "vtkLogger.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace slod
@@ -183,7 +184,7 @@ void TileRepair::Measure(const std::vector<Index>& triangles, Before& before)
 }
 
 // Whether the tiles after a change are an improvement on `before` that moves the surface by at
-// most MovedShare of their size and the tiles no further from the original surface than they were
+// most MovedBound of their size and the tiles no further from the original surface than they were
 // (or than DeviationShare of their size). Cheapest test first; the distances to the original
 // surface last, pruned at the bound, and the tiles' distance before only when the bound needs it.
 bool TileRepair::Accept(Before& before, const std::vector<Index>& triangles)
@@ -191,7 +192,12 @@ bool TileRepair::Accept(Before& before, const std::vector<Index>& triangles)
   this->AfterSamples.clear();
   const Score after = this->RegionScore(triangles, &this->AfterSamples, &before.Tiles);
   const double extent = std::max(before.Tiles.Extent, after.Extent);
-  if (!after.Better(before.Tiles) || !this->WithinDistanceOf(before.Surface, triangles, MovedShare * MovedShare * extent))
+  // The last resort moves the surface further than the other changes: it must not leave a needle
+  // sharper than the region had (a needle still counts as one bad tile only).
+  const bool worseNeedle =
+    this->MovedBound > MovedShare && after.Angle < std::min(before.Tiles.Angle, this->NeedleAngle);
+  if (!after.Better(before.Tiles) || worseNeedle ||
+    !this->WithinDistanceOf(before.Surface, triangles, this->MovedBound * this->MovedBound * extent))
   {
     return false;
   }
@@ -292,17 +298,23 @@ bool TileRepair::TryFlip(Index x, Index y)
   return true;
 }
 
-// Moves v toward the centre of its neighbours (the whole way, then half of it), projected onto
-// the original surface on a sheet facing its way, when its star is then better.
-bool TileRepair::TryMove(Index v)
+// Whether v may move: a free vertex with at most MaximumRepairValence tiles (then in `star`).
+bool TileRepair::MovableStar(Index v, std::vector<Index>& star)
 {
-  std::vector<Index>& star = this->Region;
   if (!this->Movable[v])
   {
     return false;
   }
   this->Star(v, star);
-  if (star.size() > MaximumRepairValence)
+  return star.size() <= MaximumRepairValence;
+}
+
+// Moves v toward the centre of its neighbours (the whole way, then half of it), projected onto
+// the original surface on a sheet facing its way, when its star is then better.
+bool TileRepair::TryMove(Index v)
+{
+  std::vector<Index>& star = this->Region;
+  if (!this->MovableStar(v, star))
   {
     return false;
   }
@@ -318,18 +330,27 @@ bool TileRepair::TryMove(Index v)
   }
   centre = (1.0 / double(this->Neighbors.size())) * centre;
   const Vec3 start = this->Edit.Point(v);
+  const Vec3 targets[3] = { centre, start + 0.5 * (centre - start), start + 0.25 * (centre - start) };
+  return this->MoveToFirstAccepted(v, star, targets, 3);
+}
+
+// Moves v to the first of `targets` (projected onto the original surface, on a sheet facing the
+// way v's does) that makes its star better; v stays where it was when none does.
+bool TileRepair::MoveToFirstAccepted(Index v, const std::vector<Index>& star, const Vec3* targets, int count)
+{
+  const Vec3 start = this->Edit.Point(v);
   const Vec3 startReference = this->Reference[v];
   this->Work += static_cast<long long>(star.size()); // the star is visited again by the scores
   this->Measure(star, this->Previous);
-  for (double share : { 1.0, 0.5, 0.25 })
+  for (int i = 0; i < count; ++i)
   {
     ++this->DistanceQueries;
     // start lies on the original surface: the closest point is no further from the query (pruned).
-    const Vec3 step = share * (centre - start);
-    ClosestPointResult c = this->InputBVH.ClosestPoint(start + step, Dot(step, step) * (1.0 + 1e-6));
+    const Vec3 step = targets[i] - start;
+    ClosestPointResult c = this->InputBVH.ClosestPoint(targets[i], Dot(step, step) * (1.0 + 1e-6));
     if (c.Triangle == InvalidIndex)
     {
-      c = this->InputBVH.ClosestPoint(start + step);
+      c = this->InputBVH.ClosestPoint(targets[i]);
     }
     if (c.Triangle == InvalidIndex || Dot(this->Input.TriangleAreaVector(c.Triangle), startReference) <= 0)
     {
@@ -350,7 +371,103 @@ bool TileRepair::TryMove(Index v)
   return false;
 }
 
-// A bad tile: a flip of one of its edges, else a move of one of its vertices.
+// The star's tiles (v, a, b) face the way of `normal` in its plane exactly when v lies left of
+// each outer edge a -> b: the kernel is the intersection of those half-planes. Its corners are
+// intersections of two edge lines inside every half-plane; their mean lies inside it (convex).
+bool TileRepair::StarKernelPoint(Index v, const std::vector<Index>& star, Vec3& point) const
+{
+  const Vec3 start = this->Edit.Point(v);
+  Vec3 normal = this->Reference[v];
+  for (Index t : star)
+  {
+    const Index* tri = this->Edit.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      normal = normal + this->Reference[tri[k]];
+    }
+  }
+  if (Norm(normal) == 0)
+  {
+    return false;
+  }
+  normal = Normalized(normal);
+  const Vec3 axis = std::abs(normal[0]) < 0.6 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
+  const Vec3 e1 = Normalized(Cross(axis, normal)), e2 = Cross(normal, e1);
+  // Each half-plane as m . p >= c with |m| = 1, in the plane's coordinates around start.
+  std::vector<HalfPlane>& planes = this->KernelPlanes;
+  planes.clear();
+  double scale = 0;
+  for (Index t : star)
+  {
+    const Index* tri = this->Edit.Triangle(t);
+    const int at = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    const Vec3 a3 = this->Edit.Point(tri[(at + 1) % 3]) - start, b3 = this->Edit.Point(tri[(at + 2) % 3]) - start;
+    const double a[2] = { Dot(a3, e1), Dot(a3, e2) }, b[2] = { Dot(b3, e1), Dot(b3, e2) };
+    const double d[2] = { b[0] - a[0], b[1] - a[1] }, length = std::hypot(d[0], d[1]);
+    if (length == 0)
+    {
+      return false;
+    }
+    scale = std::max(scale, length);
+    const HalfPlane h{ { -d[1] / length, d[0] / length }, (-d[1] * a[0] + d[0] * a[1]) / length };
+    planes.push_back(h);
+  }
+  const double slack = 1e-9 * scale;
+  double sum[2] = { 0, 0 };
+  int corners = 0;
+  for (size_t i = 0; i < planes.size(); ++i)
+  {
+    for (size_t j = i + 1; j < planes.size(); ++j)
+    {
+      const HalfPlane &p = planes[i], &q = planes[j];
+      const double det = p.M[0] * q.M[1] - p.M[1] * q.M[0];
+      if (std::abs(det) < 1e-12)
+      {
+        continue;
+      }
+      const double x = (p.C * q.M[1] - p.M[1] * q.C) / det, y = (p.M[0] * q.C - p.C * q.M[0]) / det;
+      const bool inside = std::all_of(
+        planes.begin(), planes.end(), [&](const HalfPlane& h) { return h.M[0] * x + h.M[1] * y >= h.C - slack; });
+      if (inside)
+      {
+        sum[0] += x;
+        sum[1] += y;
+        ++corners;
+      }
+    }
+  }
+  if (corners < 3)
+  {
+    return false; // empty, or no room inside
+  }
+  point = start + (sum[0] / corners) * e1 + (sum[1] / corners) * e2;
+  return true;
+}
+
+// The last resort for a bad tile no flip or move toward the centre repairs: its vertex v goes
+// where its whole star faces the surface's way in the star's plane (the kernel's centre, or half
+// way there), projected onto the original surface; the surface may move by LastResortMovedShare.
+bool TileRepair::TryKernelMove(Index v)
+{
+  std::vector<Index>& star = this->Region;
+  Vec3 kernel;
+  if (!this->MovableStar(v, star) || !this->StarKernelPoint(v, star, kernel))
+  {
+    return false;
+  }
+  const Vec3 start = this->Edit.Point(v);
+  const Vec3 targets[2] = { kernel, start + 0.5 * (kernel - start) };
+  this->MovedBound = LastResortMovedShare;
+  const bool moved = this->MoveToFirstAccepted(v, star, targets, 2);
+  this->MovedBound = MovedShare;
+  return moved;
+}
+
+// A bad tile: a flip of one of its edges, else a move of one of its vertices toward the centre of
+// its neighbours; else (the last resort, session 23) a move of one of its vertices into its star's
+// kernel, else a flip that moves the surface by up to LastResortMovedShare. Most tiles a flip
+// leaves facing against the surface are pleats: undoing one moves the surface by more than
+// MovedShare (the old tiles' samples lie on the fold) although the new tiles lie on the input.
 bool TileRepair::RepairTriangle(Index t)
 {
   const Index* tri = this->Edit.Triangle(t);
@@ -369,7 +486,25 @@ bool TileRepair::RepairTriangle(Index t)
       return true;
     }
   }
-  return false;
+  for (int k = 0; k < 3 && this->LastResort; ++k)
+  {
+    if (this->TryKernelMove(ids[k]))
+    {
+      return true;
+    }
+  }
+  if (!this->LastResort)
+  {
+    return false;
+  }
+  this->MovedBound = LastResortMovedShare;
+  bool flipped = false;
+  for (int k = 0; k < 3 && !flipped; ++k)
+  {
+    flipped = this->TryFlip(ids[k], ids[(k + 1) % 3]);
+  }
+  this->MovedBound = MovedShare;
+  return flipped;
 }
 
 Index TileRepair::Run(int passes)

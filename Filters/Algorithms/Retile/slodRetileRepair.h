@@ -8,7 +8,10 @@
 //  - an edge flip of one of the tile's edges (never a feature-line edge), recorded like step 6's;
 //  - a move of one of its movable vertices (a free candidate: not a coarser level's, a border's, a
 //    retained original vertex) toward the centre of its neighbours, projected onto the original
-//    surface (so the vertex stays on it; its host location follows).
+//    surface (so the vertex stays on it; its host location follows);
+//  - the last resort (session 23), for a tile neither repairs: a move of one of its movable
+//    vertices into the kernel of its star (where every tile of the star faces the surface's way,
+//    in the star's plane), then a flip, each allowed to move the surface by LastResortMovedShare.
 // Bounded: a fixed number of passes over the bad tiles, and a budget of triangle visits.
 #ifndef slodRetileRepair_h
 #define slodRetileRepair_h
@@ -30,6 +33,9 @@ constexpr double FoldCosine = -0.8660254037844386;
 // up to how far they were from it already), and the surface away from where it was by MovedShare.
 constexpr double DeviationShare = 0.02;
 constexpr double MovedShare = 0.03;
+// The repair's last resort (a move into a vertex's star kernel, a flip) may move the surface by
+// this share: undoing a pleat moves it by the fold's height, which MovedShare refuses.
+constexpr double LastResortMovedShare = 0.25;
 // Vertices with more neighbours are not moved; the repair stops after this many triangle visits
 // per triangle of the mesh.
 constexpr size_t MaximumRepairValence = 32;
@@ -63,6 +69,10 @@ struct SURFACELODFILTERS_EXPORT TileRepair
   std::function<void(Index v, const Vec3& position, Index triangle)> Moved;
   // Optional: each flip of edge (x, y) as the pair (-1 - x, y), as step 6 records them.
   std::vector<Index>* Record = nullptr;
+  // Whether RepairTriangle has its last resort. The coarser nested levels go without: each of
+  // their flips is recorded and cuts the level interpolation's fragments again (with it,
+  // scan-48's morph had 107,886 triangles instead of 89,228).
+  bool LastResort = true;
   // A tile is a needle below this smallest angle (radians) or this shortest edge (length).
   double NeedleAngle = 0;
   double ShortestEdge = 0;
@@ -127,7 +137,13 @@ private:
   void Star(Index v, std::vector<Index>& star) const;
   bool WithinDistanceOf(const std::vector<Vec3>& samples, const std::vector<Index>& triangles, double bound2) const;
   bool TryFlip(Index x, Index y);
+  bool MovableStar(Index v, std::vector<Index>& star);
   bool TryMove(Index v);
+  // Where v makes every tile of its star face the surface's way, seen in the plane its star's
+  // reference normals face: the kernel of the star's outline there (false when it has none).
+  bool StarKernelPoint(Index v, const std::vector<Index>& star, Vec3& point) const;
+  bool TryKernelMove(Index v);
+  bool MoveToFirstAccepted(Index v, const std::vector<Index>& star, const Vec3* targets, int count);
   bool RepairTriangle(Index t);
   std::vector<Index> Touched; // vertices of the tiles a repair changed in this pass
   // Scratch buffers reused by every try (no allocation per tile).
@@ -135,6 +151,15 @@ private:
   mutable std::vector<unsigned char> LocallyBad; // per tile of a region: bad without the query
   std::vector<Vec3> AfterSamples;
   Before Previous;
+  // How far a change may move the surface (share of its tiles' longest edge): MovedShare, or
+  // LastResortMovedShare during the last resort.
+  double MovedBound = MovedShare;
+  // A half-plane m . p >= c of the star's plane (|m| = 1), scratch of StarKernelPoint.
+  struct HalfPlane
+  {
+    double M[2], C;
+  };
+  mutable std::vector<HalfPlane> KernelPlanes;
 };
 } // namespace slod
 

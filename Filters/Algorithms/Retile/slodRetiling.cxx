@@ -1705,6 +1705,7 @@ Index RepairTiles(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::v
   };
   repair.Moved = moved;
   repair.Record = record;
+  repair.LastResort = record == nullptr; // not on the coarser nested levels (slodRetileRepair.h)
   repair.NeedleAngle = RepairNeedleAngle;
   repair.ShortestEdge = RepairShortestEdge * mesh.BoundingBoxDiagonal();
   repair.Run(RepairPasses);

@@ -968,6 +968,68 @@ TEST(Retile, RepairMeasuresDistancesOnlyForPromisingChanges)
   EXPECT_LT(queries - repair.TilesScored, repair.RegionTiles);
 }
 
+// The repair's move into the star's kernel (2026-12-04, session 23): a vertex v inside a ring with
+// a notch (a reflex ring vertex) lies on the wrong side of the notch's two edges, so two of its
+// tiles face down on a flat surface facing up. Where the tiles all face up is the kernel, a wedge
+// behind the notch; the centre of v's neighbours (dense on the notch's side) and the points half
+// and a quarter of the way to it lie outside it, and no flip helps (the notch makes every new
+// tile across it face down), so until session 23 the repair left the two tiles as they were. Only
+// v may move; the ring is fixed (a border).
+TEST(Retile, RepairMovesAVertexIntoItsStarsKernel)
+{
+  const TriangleMesh input = slodtest::Grid(64, 64);
+  const TriangleBVH bvh(input);
+  TriangleMesh star;
+  const double pi = std::acos(-1.0);
+  star.AddPoint({ 0.5 + 0.2, 0.5 + 0.06, 0 }); // v, right of the notch
+  std::vector<double> angles;
+  for (int degrees = -60; degrees <= 60; degrees += 10)
+  {
+    angles.push_back(degrees);
+  }
+  for (int degrees : { 120, 180, 240 })
+  {
+    angles.push_back(degrees);
+  }
+  for (double degrees : angles)
+  {
+    const double radius = degrees == 0 ? 0.12 : 0.4, angle = degrees * pi / 180.0;
+    star.AddPoint({ 0.5 + radius * std::cos(angle), 0.5 + radius * std::sin(angle), 0 });
+  }
+  const Index ring = static_cast<Index>(angles.size());
+  for (Index i = 0; i < ring; ++i)
+  {
+    star.AddTriangle(0, 1 + i, 1 + (i + 1) % ring);
+  }
+  EditableMesh edit(star);
+  std::vector<Vec3> reference(size_t(star.NumberOfPoints()), Vec3{ 0, 0, 1 });
+  std::vector<unsigned char> movable(size_t(star.NumberOfPoints()), 0);
+  movable[0] = 1;
+  const auto facingDown = [&]() {
+    int down = 0;
+    for (Index t = 0; t < edit.NumberOfTriangles(); ++t)
+    {
+      const Index* tri = edit.Triangle(t);
+      down += edit.IsTriangleAlive(t) && TriangleNormal(edit.Point(tri[0]), edit.Point(tri[1]), edit.Point(tri[2]))[2] <= 0;
+    }
+    return down;
+  };
+  ASSERT_EQ(facingDown(), 1);
+  TileRepair repair(edit, reference, input, bvh, movable);
+  repair.NormalAt = [](const Vec3&, Index) { return Vec3{ 0, 0, 1 }; };
+  Vec3 moved{ 0, 0, 0 };
+  repair.Moved = [&](Index, const Vec3& p, Index) { moved = p; };
+  repair.NeedleAngle = 2.0 * pi / 180.0;
+  repair.Run(8);
+  EXPECT_EQ(facingDown(), 0);
+  EXPECT_GT(repair.Moves, 0);
+  EXPECT_EQ(repair.Flips, 0);
+  EXPECT_LT(moved[0], 0.5 + 0.12); // behind the notch
+  EXPECT_NEAR(moved[2], 0.0, 1e-12);  // on the input
+  EXPECT_EQ(edit.Point(0), moved);
+  EXPECT_TRUE(edit.CheckInvariants());
+}
+
 // EnforceFacing (off by default): the removal refuses collapses whose new triangles face against
 // the input, within a bounded budget of waits, and keeps the topology. Until 2026-12-03 it left
 // fewer flipped triangles than the default (femur 37 -> 27, anchor_dense 8 -> 3 at 0.9); since the
