@@ -607,18 +607,18 @@ PieceDistance ClassifyPiece(
 
 namespace
 {
-bool ProveWithinDistance(
-  const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon, int depth, int& examined)
+// A piece of a distance proof: a triangle and the subdivisions it may still have.
+struct Piece
 {
-  // Unproved pieces are split in four (midpoint subdivision) down to `depth` generations.
-  struct Piece
-  {
-    Vec3 Corner[3];
-    int Generations;
-  };
-  thread_local std::vector<Piece> pending; // per-thread scratch: no allocation per proof
-  pending.assign(1, Piece{ { a, b, c }, depth });
-  for (examined = 0; !pending.empty(); ++examined)
+  Vec3 Corner[3];
+  int Generations;
+};
+
+// Unproved pieces are split in four (midpoint subdivision) down to their generations; `examined`
+// counts on from its value (the pieces a proof already examined).
+bool ProvePieces(const TriangleBVH& bvh, double epsilon, std::vector<Piece>& pending, int& examined)
+{
+  for (; !pending.empty(); ++examined)
   {
     if (examined >= MaximumDistancePieces)
     {
@@ -644,6 +644,15 @@ bool ProveWithinDistance(
   }
   return true;
 }
+
+bool ProveWithinDistance(
+  const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon, int depth, int& examined)
+{
+  thread_local std::vector<Piece> pending; // per-thread scratch: no allocation per proof
+  pending.assign(1, Piece{ { a, b, c }, depth });
+  examined = 0;
+  return ProvePieces(bvh, epsilon, pending, examined);
+}
 } // namespace
 
 bool TriangleWithinDistance(const TriangleBVH& bvh, const Vec3& a, const Vec3& b, const Vec3& c, double epsilon,
@@ -656,6 +665,63 @@ bool TriangleWithinDistance(const TriangleBVH& bvh, const Vec3& a, const Vec3& b
     *examinedPieces += examined + 1;
   }
   return within;
+}
+
+bool TrianglesWithinDistance(const TriangleBVH& bvh, const std::vector<Vec3>& corners, double epsilon, int depth,
+  long long* examinedPieces)
+{
+  thread_local std::vector<std::pair<size_t, int>> undecided; // a triangle's first corner, pieces examined
+  undecided.clear();
+  auto charge = [examinedPieces](int examined) {
+    if (examinedPieces)
+    {
+      *examinedPieces += examined + 1; // as TriangleWithinDistance charges each triangle's proof
+    }
+  };
+  // A refusal: the undecided proofs not taken further were charged nothing yet but their first piece.
+  auto refuse = [&](size_t from) {
+    for (size_t k = from; k < undecided.size(); ++k)
+    {
+      charge(undecided[k].second - 1);
+    }
+    return false;
+  };
+  // Every triangle's first piece (the whole triangle), the undecided ones kept with their count.
+  for (size_t i = 0; i + 2 < corners.size(); i += 3)
+  {
+    int examined = 0;
+    const PieceDistance d = ClassifyPiece(bvh, corners[i], corners[i + 1], corners[i + 2], epsilon, examined);
+    if (d == PieceDistance::Outside || (d == PieceDistance::Unknown && depth <= 0))
+    {
+      charge(examined); // counted as ProvePieces counts a refused piece
+      return refuse(0);
+    }
+    ++examined;
+    if (d == PieceDistance::Unknown)
+    {
+      undecided.emplace_back(i, examined);
+      continue;
+    }
+    charge(examined);
+  }
+  // Then their subdivisions, each proof going on from its first piece (the same pieces, in the
+  // same order, as TriangleWithinDistance's).
+  thread_local std::vector<Piece> pending;
+  for (size_t k = 0; k < undecided.size(); ++k)
+  {
+    const Vec3* x = &corners[undecided[k].first];
+    int examined = undecided[k].second;
+    const Vec3 ab = 0.5 * (x[0] + x[1]), bc = 0.5 * (x[1] + x[2]), ca = 0.5 * (x[2] + x[0]);
+    pending.assign({ Piece{ { ca, bc, x[2] }, depth - 1 }, Piece{ { ab, x[1], bc }, depth - 1 },
+      Piece{ { x[0], ab, ca }, depth - 1 }, Piece{ { ab, bc, ca }, depth - 1 } });
+    const bool within = ProvePieces(bvh, epsilon, pending, examined);
+    charge(examined);
+    if (!within)
+    {
+      return refuse(k + 1);
+    }
+  }
+  return true;
 }
 
 GreedyCuts::GreedyCuts() = default;

@@ -102,6 +102,14 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
 SURFACELODFILTERS_EXPORT bool TriangleWithinDistance(const TriangleBVH& bvh, const Vec3& a, const Vec3& b,
   const Vec3& c, double epsilon, int depth, long long* examinedPieces = nullptr);
 
+// TriangleWithinDistance for every triangle of `corners` (3 points each), all of them: the first
+// piece (the whole triangle) of every proof is examined before any subdivision, so a set that fails
+// at one triangle's first piece (a collapse's new triangles or the input triangles that rely on
+// its old star) costs no other triangle's subdivisions. The same answer and, for a set proved, the
+// same pieces charged.
+SURFACELODFILTERS_EXPORT bool TrianglesWithinDistance(const TriangleBVH& bvh, const std::vector<Vec3>& corners,
+  double epsilon, int depth, long long* examinedPieces = nullptr);
+
 class SURFACELODFILTERS_EXPORT GreedyCuts
 {
 public:

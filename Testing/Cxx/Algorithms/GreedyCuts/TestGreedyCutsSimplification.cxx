@@ -304,6 +304,60 @@ TEST(GreedyCuts, TriangleAcrossARidgeIsProvedByItsTwoSlopes)
   EXPECT_FALSE(TriangleWithinDistance(bvh, a + Vec3{ 0, 0, 2 * h }, b + Vec3{ 0, 0, 2 * h }, c + Vec3{ 0, 0, 2 * h }, h, 10));
 }
 
+// A shallow bowl z = d ((x - 1/2)^2 + (y - 1/2)^2) over the unit square, n x n cells of two triangles.
+TriangleMesh Bowl(int n, double d)
+{
+  TriangleMesh bowl;
+  for (int j = 0; j <= n; ++j)
+  {
+    for (int i = 0; i <= n; ++i)
+    {
+      const double x = double(i) / n, y = double(j) / n;
+      bowl.AddPoint({ x, y, d * ((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5)) });
+    }
+  }
+  for (Index j = 0; j < n; ++j)
+  {
+    for (Index i = 0; i < n; ++i)
+    {
+      const Index v = j * (n + 1) + i;
+      bowl.AddTriangle(v, v + 1, v + n + 2);
+      bowl.AddTriangle(v, v + n + 2, v + n + 1);
+    }
+  }
+  return bowl;
+}
+
+// A set of triangles proved together (a collapse's): TrianglesWithinDistance gives the answer of
+// the triangles' own proofs, and the same pieces when every one is proved; a set whose last
+// triangle is refused at its first piece stops there, without the subdivisions the first one needs
+// (proving the triangles one after the other spends those first).
+TEST(GreedyCuts, TriangleSetsAreRefusedBeforeAnySubdivision)
+{
+  const double eps = 0.01;
+  const TriangleMesh bowl = Bowl(24, 0.04); // 0 to 0.02 high
+  const TriangleBVH bvh(bowl);
+  // Flat triangles over the bowl at 0.006, within eps (the bowl's rim at the corners: about 0.01
+  // high) but over too many of its triangles for a proof in one piece.
+  const Vec3 a{ 0.1, 0.1, 0.006 }, b{ 0.9, 0.1, 0.006 }, c{ 0.5, 0.9, 0.006 }, d{ 0.9, 0.9, 0.006 };
+  const Vec3 up{ 0, 0, 3 * eps };
+  long long first = 0, second = 0, lifted = 0;
+  ASSERT_TRUE(TriangleWithinDistance(bvh, a, b, c, eps, 10, &first));
+  ASSERT_TRUE(TriangleWithinDistance(bvh, c, b, d, eps, 10, &second));
+  ASSERT_FALSE(TriangleWithinDistance(bvh, a + up, b + up, c + up, eps, 10, &lifted));
+  ASSERT_GT(first, 8); // subdivided
+  ASSERT_LE(lifted, 2); // refused at its first piece
+
+  long long pieces = 0;
+  EXPECT_TRUE(TrianglesWithinDistance(bvh, { a, b, c, c, b, d }, eps, 10, &pieces));
+  EXPECT_EQ(pieces, first + second);
+  pieces = 0;
+  EXPECT_FALSE(TrianglesWithinDistance(bvh, { a, b, c, a + up, b + up, c + up }, eps, 10, &pieces));
+  EXPECT_LT(pieces, first);
+  EXPECT_FALSE(TrianglesWithinDistance(bvh, { a, b, c, c, b, d }, 0.5 * eps, 10));
+  EXPECT_TRUE(TrianglesWithinDistance(bvh, {}, eps, 10));
+}
+
 // A pyramid: a flat hexagon (its border) around a centre lifted by 3 epsilon. Its only removable
 // vertex is the centre (border collapses off), and every collapse of it leaves the centre 3 epsilon
 // from the new flat triangles: refused at the removed vertex, before any triangle's proof, so no
