@@ -755,7 +755,7 @@ void SpbmLevelGenerator::MergingRun::RebuildKeptPositions()
 
 double SpbmLevelGenerator::MergingRun::SideDot(Index p, Index q)
 {
-  return Dot(s.UnitNormal[p], s.UnitNormal[q]);
+  return Dot(s.Patches[p].UnitNormal, s.Patches[q].UnitNormal);
 }
 
 double SpbmLevelGenerator::MergingRun::Thickness(Index p, Index q)
@@ -808,7 +808,8 @@ const Vec3& SpbmLevelGenerator::MergingRun::EndpointPoint(Index e)
 
 bool SpbmLevelGenerator::MergingRun::Movable(Index c)
 {
-  return s.Alive[c] && !s.Locked[c] && s.Interior[c] == 0 && s.R[c] != InvalidIndex;
+  const State::ChainRecord& chain = s.Chains[c];
+  return chain.Alive && !chain.Locked && chain.Interior == 0 && chain.R != InvalidIndex;
 }
 
 void SpbmLevelGenerator::MergingRun::PushCandidate(Index c)
@@ -912,12 +913,13 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
     for (Index slot = s.PatchHead[root]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
     {
       const Index c = slot / 2;
-      if (!s.Alive[c] || c == skip)
+      const State::ChainRecord& chain = s.Chains[c];
+      if (!chain.Alive || c == skip)
       {
         continue;
       }
-      const bool reversed = s.Find(s.L[c]) != root;
-      const Index start = reversed ? s.B[c] : s.A[c];
+      const bool reversed = s.Find(chain.L) != root;
+      const Index start = reversed ? chain.B : chain.A;
       if (s.EndStamp[start] == stamp)
       {
         return false;
@@ -935,16 +937,17 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
   for (size_t step = 0; step < orientedChains.size(); ++step)
   {
     const Index o = orientedChains[current];
-    const Index c = o >= 0 ? o : -1 - o;
+    const State::ChainRecord& chain = s.Chains[o >= 0 ? o : -1 - o];
     // The chain's start (in the walk's direction), then its kept interior vertices written
     // forward and turned around in place when the walk runs the chain backwards.
-    points.push_back(this->EndpointPoint(o >= 0 ? s.A[c] : s.B[c]));
+    points.push_back(this->EndpointPoint(o >= 0 ? chain.A : chain.B));
     const size_t interiorBegin = points.size();
-    for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
+    for (Index part = chain.PartFirst; part != InvalidIndex; part = s.Parts[part].PartNext)
     {
       const Index* v = P.ChainVerticesBegin(part);
-      const Index first = s.KeptOffsets[part], last = s.KeptEnd[part];
-      if (s.PartReversed[part])
+      const State::PartRecord& record = s.Parts[part];
+      const Index first = record.KeptOffsets, last = record.KeptEnd;
+      if (record.PartReversed)
       {
         for (Index i = last; i > first; --i)
         {
@@ -963,7 +966,7 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
     {
       std::reverse(points.begin() + std::ptrdiff_t(interiorBegin), points.end());
     }
-    const Index end = o >= 0 ? s.B[c] : s.A[c];
+    const Index end = o >= 0 ? chain.B : chain.A;
     if (s.EndStamp[end] != stamp)
     {
       return false;

@@ -426,10 +426,11 @@ struct SpbmLevelGenerator::State
 
   Index Find(Index p)
   {
-    while (this->Parent[p] != p)
+    PatchRecord* patches = this->Patches.data(); // one load of the records, not one per step
+    while (patches[p].Parent != p)
     {
-      this->Parent[p] = this->Parent[this->Parent[p]];
-      p = this->Parent[p];
+      patches[p].Parent = patches[patches[p].Parent].Parent;
+      p = patches[p].Parent;
     }
     return p;
   }
