@@ -271,11 +271,10 @@ size_t SpbmLevelGenerator::MemoryUsage() const
   for (const State* state : { this->Work.get(), this->Helper.get() }) // one working state per candidate thread
   {
     const State& s = *state;
-    bytes += b(s.A) + b(s.B) + b(s.L) + b(s.R) + b(s.Interior) + b(s.Tolerance) + b(s.KeptOffsets) + b(s.KeptEnd) +
-      b(s.KeptPositions) + b(s.KeptTolerance) + b(s.KeptLocked) + b(s.RefinedTolerance) + b(s.RefinedLocked) + b(s.Alive) + b(s.Locked) + b(s.PartFirst) +
-      b(s.PartLast) + b(s.PartNext) + b(s.JointBefore) + b(s.PartReversed) + b(s.EndHead) + b(s.EndSlotNext) +
-      b(s.Degree) + b(s.Parent) + b(s.PatchHead) + b(s.PatchSlotNext) + b(s.Size) + b(s.Version) + b(s.TriedP) +
-      b(s.TriedQ) + b(s.MergeTriedP) + b(s.MergeTriedQ) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Normal) + b(s.UnitNormal) + b(s.Support) + b(s.Frozen) +
+    bytes += b(s.Chains) + b(s.Parts) + b(s.Patches) + b(s.Tolerance) +
+      b(s.KeptPositions) + b(s.KeptTolerance) + b(s.KeptLocked) + b(s.RefinedTolerance) + b(s.RefinedLocked) +
+      b(s.JointBefore) + b(s.EndHead) + b(s.EndSlotNext) +
+      b(s.Degree) + b(s.PatchSlotNext) + b(s.Tries) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Support) + b(s.Frozen) +
       b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + s.MergeQueue.MemoryBytes() + b(s.NoFreeze) +
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
       b(s.SimpleSignature) + b(s.Memo) + b(s.Edits) + b(s.EditsTolerance) + b(s.EditsLocked) +

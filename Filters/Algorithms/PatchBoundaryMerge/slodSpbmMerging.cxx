@@ -289,7 +289,7 @@ void SpbmLevelGenerator::MergingRun::ResetForRun(const std::vector<unsigned char
   s.EditsValid = true;
   s.EditsOf = PredictionMemo::Of(parameters);
   s.EditsTolerance = s.Tolerance;
-  s.EditsLocked = s.Locked;
+  s.LockedInto(s.EditsLocked);
   s.EditsFrozen = frozen;
   s.DirtyPatch.clear();
   s.DirtyNear.clear();
@@ -308,61 +308,46 @@ void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()
 
 void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned char>& frozen)
 {
-  s.Parent.resize(size_t(np));
-  s.PatchHead.assign(size_t(np), InvalidIndex);
-  s.Size.assign(size_t(np), 0);
-  s.Version.assign(size_t(np), 0);
+  s.Patches.resize(size_t(np));
   s.AbsorbedFirst.assign(size_t(np), InvalidIndex);
   s.AbsorbedNext.assign(size_t(np), InvalidIndex);
   s.AbsorbedLast.assign(size_t(np), InvalidIndex);
   s.SupportFolded.assign(size_t(np), InvalidIndex);
-  s.Normal.resize(size_t(np));
-  s.UnitNormal.resize(size_t(np));
   s.Frozen = frozen;
   s.PatchStamp.resize(size_t(np), 0);
   for (Index p = 0; p < np; ++p)
   {
-    s.Parent[p] = p;
-    s.Normal[p] = P.PatchNormalSum(p);
-    s.UnitNormal[p] = Normalized(s.Normal[p]);
+    State::PatchRecord& patch = s.Patches[p];
+    patch.Parent = p;
+    patch.PatchHead = InvalidIndex;
+    patch.Size = 0;
+    patch.Version = 0;
+    patch.Normal = P.PatchNormalSum(p);
+    patch.UnitNormal = Normalized(patch.Normal);
   }
   s.EndHead.assign(size_t(ne), InvalidIndex);
   s.Degree.assign(size_t(ne), 0);
   s.EndStamp.resize(size_t(ne), 0);
   s.EndLocal.resize(size_t(ne), 0);
-  s.A.resize(size_t(nc));
-  s.B.resize(size_t(nc));
-  s.L.resize(size_t(nc));
-  s.R.resize(size_t(nc));
-  s.Interior.resize(size_t(nc));
+  s.Chains.resize(size_t(nc));
   s.Tolerance.resize(size_t(nc));
-  s.Alive.assign(size_t(nc), 1);
-  s.TriedP.assign(size_t(nc), -1);
-  s.TriedQ.assign(size_t(nc), -1);
-  s.MergeTriedP.assign(size_t(nc), -1);
-  s.MergeTriedQ.assign(size_t(nc), -1);
+  s.Tries.assign(size_t(nc), State::TriedRecord{ -1, -1, -1, -1 });
   s.CollapsesWalkedSize.assign(size_t(np), 0);
   s.CandidatesPushedSize.assign(size_t(np), 0);
-  s.Locked.resize(size_t(nc));
-  s.PartFirst.resize(size_t(nc));
-  s.PartLast.resize(size_t(nc));
-  s.PartNext.assign(size_t(nc), InvalidIndex);
   s.JointBefore.assign(size_t(nc), InvalidIndex);
-  s.PartReversed.assign(size_t(nc), 0);
   s.EndSlotNext.resize(2 * size_t(nc));
   s.PatchSlotNext.resize(2 * size_t(nc));
   if (s.KeptTolerance.size() != size_t(nc))
   {
     // Positions for another chain hierarchy (or none): every chain is rebuilt. Each chain has
     // room for all its interior vertices.
-    s.KeptOffsets.resize(size_t(nc));
-    s.KeptEnd.assign(size_t(nc), 0);
+    s.Parts.resize(size_t(nc));
     s.KeptTolerance.assign(size_t(nc), std::numeric_limits<float>::quiet_NaN()); // never equal
     s.KeptLocked.assign(size_t(nc), 0);
     size_t room = 0;
     for (Index c = 0; c < nc; ++c)
     {
-      s.KeptOffsets[c] = static_cast<Index>(room);
+      s.KeptOffsets[c] = s.KeptEnd[c] = static_cast<Index>(room);
       room += size_t(std::max<Index>(0, P.ChainSize(c) - 2));
     }
     s.KeptPositions.assign(room, 0);
@@ -375,6 +360,9 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
     s.L[c] = l;
     s.R[c] = r;
     s.PartFirst[c] = s.PartLast[c] = c;
+    s.PartNext[c] = InvalidIndex;
+    s.PartReversed[c] = 0;
+    s.Alive[c] = 1;
     s.Locked[c] = P.ChainIsNonManifold(c) || this->FallbackLevel(c, frozen) >= FullResolutionLevel;
     s.Tolerance[c] = this->FallbackTolerance(this->FallbackLevel(c, frozen));
     s.EndSlotNext[2 * size_t(c)] = s.EndHead[a];
@@ -479,7 +467,7 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
   if (reuse)
   {
     s.Tolerance = s.RefinedTolerance;
-    s.Locked = s.RefinedLocked;
+    s.LockedFrom(s.RefinedLocked);
     this->RebuildKept();
   }
   if (s.SimpleSignature.size() != size_t(np))
@@ -558,7 +546,7 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
     s.RefinedValid = true;
     s.RefinedEpsilon = eps;
     s.RefinedTolerance = s.Tolerance;
-    s.RefinedLocked = s.Locked;
+    s.LockedInto(s.RefinedLocked);
   }
 }
 
@@ -712,7 +700,10 @@ void SpbmLevelGenerator::MergingRun::RefineFrozenInPlace(const std::vector<unsig
 void SpbmLevelGenerator::MergingRun::RebuildKept()
 {
   this->RebuildKeptPositions();
-  std::fill(s.Size.begin(), s.Size.end(), 0);
+  for (State::PatchRecord& patch : s.Patches)
+  {
+    patch.Size = 0;
+  }
   for (Index c = 0; c < nc; ++c)
   {
     const Index interior = s.KeptEnd[c] - s.KeptOffsets[c];
@@ -764,7 +755,7 @@ void SpbmLevelGenerator::MergingRun::RebuildKeptPositions()
 
 double SpbmLevelGenerator::MergingRun::SideDot(Index p, Index q)
 {
-  return Dot(s.UnitNormal[p], s.UnitNormal[q]);
+  return Dot(s.Patches[p].UnitNormal, s.Patches[q].UnitNormal);
 }
 
 double SpbmLevelGenerator::MergingRun::Thickness(Index p, Index q)
@@ -817,7 +808,8 @@ const Vec3& SpbmLevelGenerator::MergingRun::EndpointPoint(Index e)
 
 bool SpbmLevelGenerator::MergingRun::Movable(Index c)
 {
-  return s.Alive[c] && !s.Locked[c] && s.Interior[c] == 0 && s.R[c] != InvalidIndex;
+  const State::ChainRecord& chain = s.Chains[c];
+  return chain.Alive && !chain.Locked && chain.Interior == 0 && chain.R != InvalidIndex;
 }
 
 void SpbmLevelGenerator::MergingRun::PushCandidate(Index c)
@@ -921,12 +913,13 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
     for (Index slot = s.PatchHead[root]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
     {
       const Index c = slot / 2;
-      if (!s.Alive[c] || c == skip)
+      const State::ChainRecord& chain = s.Chains[c];
+      if (!chain.Alive || c == skip)
       {
         continue;
       }
-      const bool reversed = s.Find(s.L[c]) != root;
-      const Index start = reversed ? s.B[c] : s.A[c];
+      const bool reversed = s.Find(chain.L) != root;
+      const Index start = reversed ? chain.B : chain.A;
       if (s.EndStamp[start] == stamp)
       {
         return false;
@@ -944,16 +937,17 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
   for (size_t step = 0; step < orientedChains.size(); ++step)
   {
     const Index o = orientedChains[current];
-    const Index c = o >= 0 ? o : -1 - o;
+    const State::ChainRecord& chain = s.Chains[o >= 0 ? o : -1 - o];
     // The chain's start (in the walk's direction), then its kept interior vertices written
     // forward and turned around in place when the walk runs the chain backwards.
-    points.push_back(this->EndpointPoint(o >= 0 ? s.A[c] : s.B[c]));
+    points.push_back(this->EndpointPoint(o >= 0 ? chain.A : chain.B));
     const size_t interiorBegin = points.size();
-    for (Index part = s.PartFirst[c]; part != InvalidIndex; part = s.PartNext[part])
+    for (Index part = chain.PartFirst; part != InvalidIndex; part = s.Parts[part].PartNext)
     {
       const Index* v = P.ChainVerticesBegin(part);
-      const Index first = s.KeptOffsets[part], last = s.KeptEnd[part];
-      if (s.PartReversed[part])
+      const State::PartRecord& record = s.Parts[part];
+      const Index first = record.KeptOffsets, last = record.KeptEnd;
+      if (record.PartReversed)
       {
         for (Index i = last; i > first; --i)
         {
@@ -972,7 +966,7 @@ bool SpbmLevelGenerator::MergingRun::WalkBoundaryPoints(Index x, Index y, Index 
     {
       std::reverse(points.begin() + std::ptrdiff_t(interiorBegin), points.end());
     }
-    const Index end = o >= 0 ? s.B[c] : s.A[c];
+    const Index end = o >= 0 ? chain.B : chain.A;
     if (s.EndStamp[end] != stamp)
     {
       return false;

@@ -244,6 +244,24 @@ private:
   std::vector<Index> Values;
   size_t Count = 0;
 };
+// One field of an array of records, indexed as an array of its own (see State). Holds a reference
+// to the records: the state that owns both is never copied or moved.
+template<typename Record, typename T, T Record::*Member>
+class FieldView
+{
+public:
+  explicit FieldView(std::vector<Record>& records)
+    : Records(records)
+  {
+  }
+  FieldView(const FieldView&) = delete;
+  FieldView& operator=(const FieldView&) = delete;
+  T& operator[](size_t i) { return this->Records[i].*Member; }
+  const T& operator[](size_t i) const { return this->Records[i].*Member; }
+
+private:
+  std::vector<Record>& Records;
+};
 } // namespace spbm
 
 // Working state of one level: the chain graph after simplification, merging and
@@ -254,8 +272,55 @@ private:
 struct SpbmLevelGenerator::State
 {
   StageTimes Times;
-  // Chains.
-  std::vector<Index> A, B, L, R, Interior;
+  // The fields that the merging run's steps read together are stored together (one record per
+  // chain, per original chain as a part, per patch), and seen through views with the indexing of
+  // separate arrays (s.A[c] is Chains[c].A). On the real scan isosurfaces the merging run makes
+  // about a million small edits whose steps read scattered memory; separate arrays cost one cache
+  // miss per field and step.
+  struct alignas(32) ChainRecord
+  {
+    Index A, B, L, R; // endpoints, left and right patch (R: InvalidIndex on the border)
+    Index Interior;   // kept interior vertices
+    Index PartFirst, PartLast; // joined chains: list of original chains
+    unsigned char Alive, Locked;
+  };
+  struct alignas(16) PartRecord // per original chain as a part of a (joined) chain
+  {
+    Index KeptOffsets, KeptEnd, PartNext;
+    unsigned char PartReversed;
+  };
+  struct alignas(64) PatchRecord
+  {
+    Index Parent, PatchHead, Size, Version;
+    Vec3 Normal;
+    Vec3 UnitNormal; // Normalized(Normal) of every root patch (merge measures, costs)
+  };
+  static_assert(sizeof(ChainRecord) == 32 && sizeof(PartRecord) == 16 && sizeof(PatchRecord) == 64,
+    "one record per cache line or less, never across two");
+  std::vector<ChainRecord> Chains;
+  std::vector<PartRecord> Parts;
+  std::vector<PatchRecord> Patches;
+  // The chains' locking, copied out of the records (kept with the edits or the refined tolerances).
+  void LockedInto(std::vector<unsigned char>& locked) const
+  {
+    locked.resize(this->Chains.size());
+    for (size_t c = 0; c < this->Chains.size(); ++c)
+    {
+      locked[c] = this->Chains[c].Locked;
+    }
+  }
+  void LockedFrom(const std::vector<unsigned char>& locked)
+  {
+    for (size_t c = 0; c < this->Chains.size(); ++c)
+    {
+      this->Chains[c].Locked = locked[c];
+    }
+  }
+  spbm::FieldView<ChainRecord, Index, &ChainRecord::A> A{ Chains };
+  spbm::FieldView<ChainRecord, Index, &ChainRecord::B> B{ Chains };
+  spbm::FieldView<ChainRecord, Index, &ChainRecord::L> L{ Chains };
+  spbm::FieldView<ChainRecord, Index, &ChainRecord::R> R{ Chains };
+  spbm::FieldView<ChainRecord, Index, &ChainRecord::Interior> Interior{ Chains };
   std::vector<float> Tolerance; // per chain: epsilon, finer next to refined (frozen) patches
   // Per chain: its kept interior positions, ascending, at KeptPositions[KeptOffsets[c],
   // KeptEnd[c]); from KeptOffsets[c] there is room for all its interior vertices, so a chain is
@@ -263,7 +328,9 @@ struct SpbmLevelGenerator::State
   // tolerance and locking its positions were made for (KeptFor: sized to the chain count when
   // they are valid, cleared when the chain hierarchy changes). Merging runs, refinement rounds
   // and fallback passes rebuild only the chains whose tolerance or locking changed.
-  std::vector<Index> KeptOffsets, KeptEnd, KeptPositions;
+  spbm::FieldView<PartRecord, Index, &PartRecord::KeptOffsets> KeptOffsets{ Parts };
+  spbm::FieldView<PartRecord, Index, &PartRecord::KeptEnd> KeptEnd{ Parts };
+  std::vector<Index> KeptPositions;
   std::vector<float> KeptTolerance;
   std::vector<unsigned char> KeptLocked;
   // Chain tolerances after refining non-simple patches, for the last epsilon
@@ -272,24 +339,37 @@ struct SpbmLevelGenerator::State
   float RefinedEpsilon = 0;
   std::vector<float> RefinedTolerance;
   std::vector<unsigned char> RefinedLocked;
-  std::vector<unsigned char> Alive, Locked;
-  std::vector<Index> PartFirst, PartLast,
-    PartNext;                     // joined chains: list of original chains
+  spbm::FieldView<ChainRecord, unsigned char, &ChainRecord::Alive> Alive{ Chains };
+  spbm::FieldView<ChainRecord, unsigned char, &ChainRecord::Locked> Locked{ Chains };
+  spbm::FieldView<ChainRecord, Index, &ChainRecord::PartFirst> PartFirst{ Chains };
+  spbm::FieldView<ChainRecord, Index, &ChainRecord::PartLast> PartLast{ Chains };
+  spbm::FieldView<PartRecord, Index, &PartRecord::PartNext> PartNext{ Parts };
   std::vector<Index> JointBefore; // endpoint between a part and the previous one
-  std::vector<unsigned char> PartReversed;
+  spbm::FieldView<PartRecord, unsigned char, &PartRecord::PartReversed> PartReversed{ Parts };
   // Endpoints.
   std::vector<Index> EndHead, EndSlotNext, Degree;
   // Patches (union-find over original patches).
-  std::vector<Index> Parent, PatchHead, PatchSlotNext, Size, Version;
-  std::vector<Index> TriedP,
-    TriedQ; // per chain: patch versions of its last failed collapse
-  std::vector<Index> MergeTriedP,
-    MergeTriedQ; // per chain: patch versions of its last failed merge
+  spbm::FieldView<PatchRecord, Index, &PatchRecord::Parent> Parent{ Patches };
+  spbm::FieldView<PatchRecord, Index, &PatchRecord::PatchHead> PatchHead{ Patches };
+  spbm::FieldView<PatchRecord, Index, &PatchRecord::Size> Size{ Patches };
+  spbm::FieldView<PatchRecord, Index, &PatchRecord::Version> Version{ Patches };
+  std::vector<Index> PatchSlotNext;
+  // Per chain: the patch versions of its last failed collapse (TriedP, TriedQ) and merge
+  // (MergeTriedP, MergeTriedQ), read together.
+  struct alignas(16) TriedRecord
+  {
+    Index TriedP, TriedQ, MergeTriedP, MergeTriedQ;
+  };
+  std::vector<TriedRecord> Tries;
+  spbm::FieldView<TriedRecord, Index, &TriedRecord::TriedP> TriedP{ Tries };
+  spbm::FieldView<TriedRecord, Index, &TriedRecord::TriedQ> TriedQ{ Tries };
+  spbm::FieldView<TriedRecord, Index, &TriedRecord::MergeTriedP> MergeTriedP{ Tries };
+  spbm::FieldView<TriedRecord, Index, &TriedRecord::MergeTriedQ> MergeTriedQ{ Tries };
   // Per root patch: its boundary size when all its chains last tried to collapse / were requeued
   // as merge candidates (a large patch redoes either only once it has grown by half).
   std::vector<Index> CollapsesWalkedSize, CandidatesPushedSize;
-  std::vector<Vec3> Normal;
-  std::vector<Vec3> UnitNormal; // Normalized(Normal) of every root patch (merge measures, costs)
+  spbm::FieldView<PatchRecord, Vec3, &PatchRecord::Normal> Normal{ Patches };
+  spbm::FieldView<PatchRecord, Vec3, &PatchRecord::UnitNormal> UnitNormal{ Patches };
   std::vector<Index> Support; // FlatnessMerge: per root patch, its extreme
                               // vertices (SupportSize)
   // The patches each patch absorbed, in the order of the unions (first, next, last), and the last
@@ -346,10 +426,11 @@ struct SpbmLevelGenerator::State
 
   Index Find(Index p)
   {
-    while (this->Parent[p] != p)
+    PatchRecord* patches = this->Patches.data(); // one load of the records, not one per step
+    while (patches[p].Parent != p)
     {
-      this->Parent[p] = this->Parent[this->Parent[p]];
-      p = this->Parent[p];
+      patches[p].Parent = patches[patches[p].Parent].Parent;
+      p = patches[p].Parent;
     }
     return p;
   }
