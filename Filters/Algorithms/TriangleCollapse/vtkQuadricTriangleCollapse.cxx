@@ -6,7 +6,6 @@
 #include "slodCollapseRecordTable.h"
 #include "slodPieceSeams.h"
 #include "slodPointAttributes.h"
-#include "slodQuadric.h"
 #include "slodTriangleCollapse.h"
 
 #include "vtkCellData.h"
@@ -302,7 +301,6 @@ void StoreProgressiveMesh(const slod::TriangleCollapseResult& result, slod::Inde
 
 vtkQuadricTriangleCollapse::vtkQuadricTriangleCollapse()
 {
-  this->BoundaryWeight = slod::DefaultBorderPlaneWeight;
   this->AddSecondaryOutputPort("vtkTable");
   this->SetController(vtkMultiProcessController::GetGlobalController());
 }

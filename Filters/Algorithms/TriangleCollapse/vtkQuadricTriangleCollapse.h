@@ -277,7 +277,7 @@ protected:
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double BoundaryWeight = 0.0; // the constructor sets the default
+  double BoundaryWeight = 10.0; // slod::DefaultBorderPlaneWeight (a test checks they agree)
   double MaximumNormalDeviation = 45.0;
   bool AllowTopologyChange = false;
   bool ExactUnion = false;

@@ -215,6 +215,10 @@ TEST(QuadricTriangleCollapse, OpenGridKeepsItsBorder)
 // every border loop kept.
 TEST(QuadricTriangleCollapse, OpenScanBordersHeldAsTightlyAsQuadricDecimation)
 {
+  // The filter's default is the core's (the ParaView XML's is checked against the filter's).
+  vtkNew<vtkQuadricTriangleCollapse> defaults;
+  EXPECT_EQ(defaults->GetBoundaryWeight(), DefaultBorderPlaneWeight);
+  EXPECT_EQ(TriangleCollapseOptions().BoundaryWeight, DefaultBorderPlaneWeight);
   for (int resolution : { 120, 200 })
   {
     vtkNew<vtkScanSurfaceSource> source;
