@@ -29,13 +29,6 @@ Index ThirdVertex(const Index* tri, Index u, Index v)
   return tri[0] != u && tri[0] != v ? tri[0] : (tri[1] != u && tri[1] != v ? tri[1] : tri[2]);
 }
 
-// A unit vector orthogonal to the unit vector `axis`.
-Vec3 AnyOrthogonal(const Vec3& axis)
-{
-  const Vec3 other = std::fabs(axis[0]) < 0.6 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
-  return Normalized(Cross(axis, other));
-}
-
 struct EdgeFan
 {
   double Angle;

@@ -40,6 +40,12 @@ inline Vec3 Normalized(const Vec3& a)
   const double n = Norm(a);
   return n > 0 ? (1.0 / n) * a : Vec3{ 0, 0, 0 };
 }
+// A unit vector orthogonal to the unit vector `axis` (a frame in the plane `axis` is normal to).
+inline Vec3 AnyOrthogonal(const Vec3& axis)
+{
+  const Vec3 other = std::fabs(axis[0]) < 0.6 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
+  return Normalized(Cross(axis, other));
+}
 
 // The low 21 bits of x spread to every third bit: three of them interleaved (x | y << 1 | z << 2)
 // make a 63-bit Morton (Z-order) code, the spatial order of the BVH and of the collapse's vertices.

@@ -391,8 +391,8 @@ bool TileRepair::StarKernelPoint(Index v, const std::vector<Index>& star, Vec3& 
     return false;
   }
   normal = Normalized(normal);
-  const Vec3 axis = std::abs(normal[0]) < 0.6 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
-  const Vec3 e1 = Normalized(Cross(axis, normal)), e2 = Cross(normal, e1);
+  // (The opposite frame of the one this code first had: every coordinate negated, the same point.)
+  const Vec3 e1 = AnyOrthogonal(normal), e2 = Cross(normal, e1);
   // Each half-plane as m . p >= c with |m| = 1, in the plane's coordinates around start.
   std::vector<HalfPlane>& planes = this->KernelPlanes;
   planes.clear();
