@@ -18,8 +18,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
+#include <type_traits>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 namespace slod
 {
@@ -88,15 +94,198 @@ constexpr int FitIterations = 2;
 constexpr double AttributePlacementReach = 2.0;
 constexpr double FitRidge = 0.02;
 
+// Integers held in fewer bytes while nobody reads them: each value is written as the LEB128 varint
+// (7 bits a byte) of the zigzagged difference to a prediction the caller gives again when reading
+// (a neighbouring value: the Morton order of the vertices and the triangles' order by their
+// smallest vertex make most differences a few bytes). Lossless for any 64-bit values (differences
+// modulo 2^64); read back in the order written.
+class PackedIntegers
+{
+public:
+  void Put(std::uint64_t value, std::uint64_t prediction)
+  {
+    const std::uint64_t difference = value - prediction;
+    std::uint64_t z = (difference << 1) ^ (std::uint64_t(0) - (difference >> 63));
+    while (z >= 0x80)
+    {
+      this->Bytes.push_back(static_cast<unsigned char>(z | 0x80));
+      z >>= 7;
+    }
+    this->Bytes.push_back(static_cast<unsigned char>(z));
+  }
+  // Reads the value at `at` (advanced past it); at most 10 bytes a value.
+  std::uint64_t Get(size_t& at, std::uint64_t prediction) const
+  {
+    std::uint64_t z = 0;
+    for (int shift = 0; shift < 64; shift += 7)
+    {
+      const unsigned char byte = this->Bytes[at++];
+      z |= std::uint64_t(byte & 0x7f) << shift;
+      if (!(byte & 0x80))
+      {
+        break;
+      }
+    }
+    return prediction + ((z >> 1) ^ (std::uint64_t(0) - (z & 1)));
+  }
+  void Finish() { this->Bytes.shrink_to_fit(); }
+  void Release() { std::vector<unsigned char>().swap(this->Bytes); }
+  size_t MemoryBytes() const { return this->Bytes.capacity(); }
+
+private:
+  std::vector<unsigned char> Bytes;
+};
+
+inline std::uint64_t IndexBits(Index i)
+{
+  return static_cast<std::uint64_t>(static_cast<std::int64_t>(i));
+}
+inline Index BitsIndex(std::uint64_t bits)
+{
+  return static_cast<Index>(static_cast<std::int64_t>(bits));
+}
+template <typename T>
+std::uint64_t ValueBits(T x)
+{
+  typename std::conditional<sizeof(T) == 4, std::uint32_t, std::uint64_t>::type bits;
+  std::memcpy(&bits, &x, sizeof(T));
+  return bits;
+}
+template <typename T>
+T BitsValue(std::uint64_t bits)
+{
+  typename std::conditional<sizeof(T) == 4, std::uint32_t, std::uint64_t>::type narrow =
+    static_cast<decltype(narrow)>(bits);
+  T x;
+  std::memcpy(&x, &narrow, sizeof(T));
+  return x;
+}
+
+// A list of ids packed while nobody reads it (each after the previous one), and unpacked again.
+struct PackedIds
+{
+  PackedIntegers Packed;
+  size_t Count = 0;
+  bool Held = false;
+  void Pack(std::vector<Index>& ids)
+  {
+    for (size_t i = 0; i < ids.size(); ++i)
+    {
+      this->Packed.Put(IndexBits(ids[i]), i > 0 ? IndexBits(ids[i - 1]) : 0);
+    }
+    this->Packed.Finish();
+    this->Count = ids.size();
+    this->Held = true;
+    std::vector<Index>().swap(ids);
+  }
+  void Unpack(std::vector<Index>& ids)
+  {
+    if (!this->Held)
+    {
+      return;
+    }
+    ids.resize(this->Count);
+    size_t at = 0;
+    for (size_t i = 0; i < this->Count; ++i)
+    {
+      ids[i] = BitsIndex(this->Packed.Get(at, i > 0 ? IndexBits(ids[i - 1]) : 0));
+    }
+    this->Packed.Release();
+    this->Held = false;
+  }
+};
+
+// Gives the pages of freed blocks back to the system. glibc serves blocks below its adaptive mmap
+// threshold (up to 32 MB, raised by every larger block freed) from the heap, where a freed block
+// stays resident until it is reused: the input's arrays released by the set-up would otherwise
+// still count in the peak reached at the start of the collapses (mc1m: 11 MB, 22 bytes per vertex).
+void ReturnFreedMemory()
+{
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
+
 // The input surface the passes after the collapses measure against (FitToOriginal,
 // RefineDeviation), in the collapser's vertex ids. It is kept through the collapses, so its points
 // are held as floats when every coordinate is one (a float input, read into doubles: the same
-// values in half the bytes, so the passes see the same surface).
+// values in half the bytes, so the passes see the same surface), and nobody reads it before they
+// end: it is packed (PackedIntegers) from the set-up to the end of the collapses, where the
+// working set peaks (session 24), and unpacked to the same values for the passes.
 struct OriginalSurface
 {
   std::vector<double> Points; // empty when FloatPoints holds them
   std::vector<float> FloatPoints;
   std::vector<Index> Triangles;
+  PackedIntegers Packed;
+  size_t PackedPoints = 0, PackedTriangles = 0; // coordinates and corners held in Packed
+  bool PackedFloats = false;
+  // Triangles: corner 0 after the previous triangle's corner 0, corners 1 and 2 after corner 0;
+  // points: each coordinate's bits after the previous point's.
+  void Pack()
+  {
+    this->PackedTriangles = this->Triangles.size();
+    for (size_t i = 0; i < this->Triangles.size(); i += 3)
+    {
+      const std::uint64_t first = IndexBits(this->Triangles[i]);
+      this->Packed.Put(first, i > 0 ? IndexBits(this->Triangles[i - 3]) : 0);
+      this->Packed.Put(IndexBits(this->Triangles[i + 1]), first);
+      this->Packed.Put(IndexBits(this->Triangles[i + 2]), first);
+    }
+    this->PackedFloats = this->Points.empty();
+    this->PackedPoints = this->PackedFloats ? this->FloatPoints.size() : this->Points.size();
+    if (this->PackedFloats)
+    {
+      this->PackPoints(this->FloatPoints);
+    }
+    else
+    {
+      this->PackPoints(this->Points);
+    }
+    this->Packed.Finish();
+    std::vector<Index>().swap(this->Triangles);
+    std::vector<double>().swap(this->Points);
+    std::vector<float>().swap(this->FloatPoints);
+  }
+  template <typename T>
+  void PackPoints(const std::vector<T>& points)
+  {
+    for (size_t i = 0; i < points.size(); ++i)
+    {
+      this->Packed.Put(ValueBits(points[i]), i >= 3 ? ValueBits(points[i - 3]) : 0);
+    }
+  }
+  void Unpack()
+  {
+    size_t at = 0;
+    this->Triangles.resize(this->PackedTriangles);
+    for (size_t i = 0; i < this->PackedTriangles; i += 3)
+    {
+      const std::uint64_t first = this->Packed.Get(at, i > 0 ? IndexBits(this->Triangles[i - 3]) : 0);
+      this->Triangles[i] = BitsIndex(first);
+      this->Triangles[i + 1] = BitsIndex(this->Packed.Get(at, first));
+      this->Triangles[i + 2] = BitsIndex(this->Packed.Get(at, first));
+    }
+    if (this->PackedFloats)
+    {
+      this->UnpackPoints(at, this->FloatPoints);
+    }
+    else
+    {
+      this->UnpackPoints(at, this->Points);
+    }
+    this->Packed.Release();
+    this->PackedPoints = this->PackedTriangles = 0;
+  }
+  template <typename T>
+  void UnpackPoints(size_t& at, std::vector<T>& points)
+  {
+    points.resize(this->PackedPoints);
+    for (size_t i = 0; i < points.size(); ++i)
+    {
+      points[i] = BitsValue<T>(this->Packed.Get(at, i >= 3 ? ValueBits(points[i - 3]) : 0));
+    }
+  }
   // Takes the mesh's arrays (the mesh is left empty).
   void Take(TriangleMesh& mesh)
   {
@@ -119,6 +308,7 @@ struct OriginalSurface
     std::vector<double>().swap(this->Points);
     std::vector<float>().swap(this->FloatPoints);
     std::vector<Index>().swap(this->Triangles);
+    this->Packed.Release();
   }
   Index NumberOfPoints() const
   {
@@ -137,7 +327,7 @@ struct OriginalSurface
   size_t MemoryBytes() const
   {
     return this->Points.capacity() * sizeof(double) + this->FloatPoints.capacity() * sizeof(float) +
-      this->Triangles.capacity() * sizeof(Index);
+      this->Triangles.capacity() * sizeof(Index) + this->Packed.MemoryBytes();
   }
 };
 
@@ -524,8 +714,13 @@ private:
   EditableMesh Mesh;
   // The input surface, kept for the passes after the collapses (empty without them).
   OriginalSurface Original;
-  // The mesh is renumbered in spatial (Morton) order for cache locality; these map back.
+  // The mesh is renumbered in spatial (Morton) order for cache locality; these map back. Read
+  // only after the collapses unless the history or the point data need them: then packed
+  // through the collapses (PackInputIds).
   std::vector<Index> VertexInput, TriangleInput;
+  PackedIds VertexInputPacked, TriangleInputPacked;
+  void PackInputIds();
+  void UnpackInputIds();
   Vec3 Origin{ 0, 0, 0 };
   // Wall time at the end of the last stage (TraceStage): CPU time would add up the threads of
   // the parallel stages.
@@ -1401,7 +1596,8 @@ size_t TriangleCollapser::WorkingBytes() const
   const size_t perVertex = this->VertexInput.capacity() * sizeof(Index) + this->Parent.capacity() * sizeof(Index) +
     this->Boundary.capacity() + this->Locked.capacity() + this->Pinned.capacity() + this->Pending.capacity() +
     this->Merged.capacity();
-  return this->Mesh.MemoryBytes() + this->Original.MemoryBytes() + this->Heap.MemoryBytes() +
+  return this->Mesh.MemoryBytes() + this->Original.MemoryBytes() + this->VertexInputPacked.Packed.MemoryBytes() +
+    this->TriangleInputPacked.Packed.MemoryBytes() + this->Heap.MemoryBytes() +
     this->Vertex.capacity() * sizeof(WeightedQuadric) + this->State.capacity() * sizeof(TriangleState) +
     this->TriangleInput.capacity() * sizeof(Index) + perVertex + this->AttributeQuadric.capacity() * sizeof(Quadric) +
     this->AttributeGradient.capacity() * sizeof(double);
@@ -1450,10 +1646,12 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
       this->Parent[v] = v;
     }
     this->Original.Take(input);
+    this->Original.Pack();
   }
   // The editable mesh holds its own copy: release the input's arrays (peak memory).
   std::vector<double>().swap(input.Points);
   std::vector<Index>().swap(input.Triangles);
+  ReturnFreedMemory();
   this->TraceStage("editable mesh");
 }
 
@@ -1480,6 +1678,26 @@ void TriangleCollapser::LockCallersVertices(Index numberOfPoints)
     // Vertex v of the reordered mesh is input vertex VertexInput[v].
     this->Locked[v] |= (*given)[this->VertexInput[v]];
   }
+}
+
+void TriangleCollapser::PackInputIds()
+{
+  if (this->Options.RecordHistory)
+  {
+    return; // every record stores input ids
+  }
+  this->TriangleInputPacked.Pack(this->TriangleInput);
+  if (!this->Attributes)
+  {
+    this->VertexInputPacked.Pack(this->VertexInput); // (the point data merge by input id)
+  }
+  ReturnFreedMemory();
+}
+
+void TriangleCollapser::UnpackInputIds()
+{
+  this->TriangleInputPacked.Unpack(this->TriangleInput);
+  this->VertexInputPacked.Unpack(this->VertexInput);
 }
 
 void TriangleCollapser::InitializeQueue()
@@ -2879,6 +3097,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
   this->Prepare(input, refine);
   this->InitializeQuadrics();
+  this->PackInputIds();
   this->TraceStage("quadrics");
   const bool passes = this->UsesPasses();
   if (passes)
@@ -2890,6 +3109,9 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     this->InitializeQueue();
   }
   this->TraceStage("queue");
+  // The working set peaks here or at the end (the queue is largest here; the references and the
+  // history may grow in the loop).
+  const size_t startBytes = this->WorkingBytes();
   CollapseLoop loop;
   this->StartLoop(loop);
   if (passes)
@@ -2900,7 +3122,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   {
     this->CollapseToTarget(loop, result);
   }
-  result.PeakWorkingBytes = this->WorkingBytes() + result.History.MemoryBytes();
+  result.PeakWorkingBytes = std::max(startBytes, this->WorkingBytes() + result.History.MemoryBytes());
   const double perVertex = 1.0 / std::max<double>(1.0, double(this->Mesh.NumberOfPoints()));
   vtkLogF(TRACE,
     "triangle collapse: working bytes per input vertex %.1f (editable mesh %.1f, input kept %.1f, quadrics %.1f, "
@@ -2916,10 +3138,12 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   std::vector<TriangleState>().swap(this->State);
   if (refine && !result.Aborted)
   {
+    this->Original.Unpack();
     this->MoveTowardOriginal(this->Original, result);
   }
   this->Original.Release();
   std::vector<Index>().swap(this->Parent);
+  this->UnpackInputIds();
   this->ExtractResult(result);
   this->TraceStage("extraction");
   this->TraceStatistics(loop, result);

@@ -199,10 +199,10 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   bool FitBudgetReached = false;
   SweepCounts FitVisits, RefinementVisits;
   bool PinnedVerticesReleased = false; // the target needed collapses of pinned vertices (PinnedVertices)
-  // Bytes of the algorithm's own arrays at the end of the collapses (their capacities: the
-  // editable mesh, the input kept for the passes after the collapses, quadrics, queue,
-  // per-triangle and per-vertex state, history; an estimate: scratch and the passes' own arrays
-  // are left out, and the queue and the mesh's references were larger earlier in the loop).
+  // Bytes of the algorithm's own arrays at the start or the end of the collapses, the larger
+  // (their capacities: the editable mesh, the input kept for the passes after the collapses and
+  // the ids back to the input, both packed through the collapses, quadrics, queue, per-triangle
+  // and per-vertex state, history; an estimate: scratch and the passes' own arrays are left out).
   size_t PeakWorkingBytes = 0;
   // With TriangleCollapseOptions::AttributeError: per output vertex, 1 when its attribute values
   // come from the metric (a merged vertex, not pinned), and then its Components values (the
