@@ -1529,6 +1529,29 @@ TEST(PatchBoundaryMerge, FinalCollapsesReachScanTargets)
   }
 }
 
+// Issue 10 (session 24): PatchNoiseTolerance on a noisy scan isosurface. At this resolution a
+// voxel is about 1/44 of the volume, so the noise is above the default plane distance (0.004 of
+// the diagonal); with a plane distance above it (0.015) the tolerance lets patches grow over the
+// noise: at most half the patches of the cones alone (the old growth), and the level still
+// reaches the target, keeps the input's topology (Euler characteristic, components, non-manifold
+// edges, border loops) and its profile curves on the mesh's edges.
+TEST(PatchBoundaryMerge, NoiseToleranceOnAScanHalvesThePatchesAndKeepsTheTopology)
+{
+  vtkNew<vtkPatchBoundaryMerge> cones;
+  cones->SetPatchPlaneDistance(0.015);
+  cones->SetTargetReduction(0.9);
+  slodtest::SimplifyNoisyScan(cones, 44, 37);
+  vtkNew<vtkPatchBoundaryMerge> tolerant;
+  tolerant->SetPatchPlaneDistance(0.015);
+  tolerant->SetPatchNoiseTolerance(1.0);
+  tolerant->SetTargetReduction(0.9);
+  const MeshStatistics in = slodtest::SimplifyNoisyScan(tolerant, 44, 37);
+  EXPECT_LE(2 * tolerant->GetNumberOfPatches(), cones->GetNumberOfPatches());
+  EXPECT_TRUE(ReportedTarget(tolerant->GetOutput()).second);
+  EXPECT_EQ(RawStatistics(tolerant->GetOutput()).BoundaryLoops, in.BoundaryLoops);
+  ExpectCurvesOnMeshEdges(tolerant);
+}
+
 // Below what any topology-keeping half-edge collapse reaches (a noisy scan at 1%: hundreds of
 // handles), the level stops where every collapse left breaks the link condition or folds a
 // triangle, says so (TargetReached 0, a warning), and still has the input's topology.
