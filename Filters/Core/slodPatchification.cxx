@@ -205,6 +205,26 @@ struct PatchGrowth
     return shared;
   }
 
+  // NoiseTolerance: every vertex of t within that distance of the plane through `centroid`
+  // with normal `normal`.
+  bool WithinNoise(Index t, const Vec3& centroid, const Vec3& normal) const
+  {
+    const double tolerance = this->Parameters.NoiseTolerance;
+    if (!(tolerance > 0))
+    {
+      return false;
+    }
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (std::fabs(Dot(this->Mesh.Point(tri[k]) - centroid, normal)) > tolerance)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
   // Feasibility tests (a) and (b) of section 4.2.2 (and the plane-distance extension) for the
   // free triangle `candidate` next to t in the current patch.
   bool Feasible(Index t, Index candidate) const
@@ -234,13 +254,17 @@ struct PatchGrowth
     const Vec3 nc = Normalized(this->Mesh.TriangleAreaVector(candidate));
     const Vec3 nt = Normalized(this->Mesh.TriangleAreaVector(t));
     const Vec3 np = Normalized(this->Sum);
-    const double maximumDistance = this->Parameters.MaximumPlaneDistance;
-    if (maximumDistance > 0 && shared == 1 && this->Area > 0)
+    if (shared == 1 && this->Area > 0)
     {
       const Vec3 centroid = (1.0 / this->Area) * this->CentroidSum;
-      if (std::fabs(Dot(this->Mesh.Point(opposite) - centroid, np)) > maximumDistance)
+      const double maximumDistance = this->Parameters.MaximumPlaneDistance;
+      if (maximumDistance > 0 && std::fabs(Dot(this->Mesh.Point(opposite) - centroid, np)) > maximumDistance)
       {
         return false; // the patch would bend away from its plane
+      }
+      if (this->WithinNoise(candidate, centroid, np) && Dot(nc, np) >= 0.5) // cos 60 degrees
+      {
+        return true; // within the noise of a plane: its normal says nothing about the surface
       }
     }
     const double cosPatch = shared == 1 ? this->CosOnePatch : this->CosTwoPatch;

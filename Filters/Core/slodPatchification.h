@@ -37,6 +37,15 @@ struct SURFACELODFILTERS_EXPORT PatchificationParameters
   // this distance of the patch's running plane (area-weighted centroid and normal). A patch is
   // re-triangulated from its boundary alone, so this bounds the flat-patch error on curved parts.
   double MaximumPlaneDistance = 0.0;
+  // Extension (issue 10, session 24; 0 = off): a triangle sharing one edge with the patch whose
+  // three vertices lie within this distance of the patch's running plane, and whose normal is within
+  // 60 degrees of the patch normal, joins without the angle tests of (b). On a scan isosurface
+  // (marching cubes over voxels: staircase steps, noise) about a quarter of the neighbouring
+  // triangles differ by more than 25 degrees while the surface stays within a voxel of a plane, so
+  // the cones alone made patches of about three triangles. Such a triangle cannot move the
+  // re-triangulated surface by more than this distance; the 60 degrees keep it from folding over
+  // in the patch's projection.
+  double NoiseTolerance = 0.0;
 };
 
 class SURFACELODFILTERS_EXPORT Patchification

@@ -229,6 +229,7 @@ std::vector<Parameter> PatchBoundaryMergeParameters()
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, TwoEdgeNeighborAngle),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchPlaneDistance),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchDeviationFactor),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchNoiseTolerance),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, AdaptPatchesToTarget),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, AreaWeightedNormals),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, MaximumErrorIsRelative),

@@ -261,8 +261,8 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
   // Profiling aid: where a level's merging runs spend their time (search, fallback passes, tries).
   vtkLogF(TRACE,
     "[spbm] merging run %.4f s: reset and refinement %.4f s, merging %.4f s (%lld triangles), removal %.4f s (%lld "
-    "triangles)",
-    Since(runStart), refinementSeconds, mergingSeconds, merged, Since(removalStart), s.Total);
+    "triangles), %lld merge and %lld collapse tries",
+    Since(runStart), refinementSeconds, mergingSeconds, merged, Since(removalStart), s.Total, mergeTries, collapseTries);
 }
 
 // Stages 1-2: the chain graph of the patchification with the kept vertices of every chain's
@@ -1015,6 +1015,7 @@ bool SpbmLevelGenerator::MergingRun::SimpleAfter(Index x, Index gone, Index repl
 // for the rest of the walk: no collapse has changed the patch before its first use.
 bool SpbmLevelGenerator::MergingRun::TryCollapse(Index e, double& longest)
 {
+  ++collapseTries;
   if (!this->Movable(e))
   {
     return false;
@@ -1371,6 +1372,7 @@ void SpbmLevelGenerator::MergingRun::ApplyJoin(Index x, Index y, Index u, Index 
 
 bool SpbmLevelGenerator::MergingRun::TryMerge(Index c, Index p, Index q)
 {
+  ++mergeTries;
   // The paper also asks every chain of both patches to be one segment; only the
   // common one has to be (the union of two disks glued along one segment is a
   // disk either way), which lets small patches merge into large curved ones.

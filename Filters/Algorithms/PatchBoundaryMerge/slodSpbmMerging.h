@@ -158,6 +158,7 @@ private:
   std::array<BoundaryWalk, 4> boundaryWalks;
   size_t nextBoundaryWalk = 0;
   long long graphEdits = 0;
+  long long mergeTries = 0, collapseTries = 0; // profiling aid (the run's trace line)
   bool replaying = false;             // nested joins of a union are replayed from their own records
   Index collapseRoot = InvalidIndex; // the patch whose chains TryCollapses walks (recorded)
   long long replayedAsRecorded = 0;

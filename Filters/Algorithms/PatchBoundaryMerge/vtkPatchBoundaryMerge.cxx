@@ -117,6 +117,7 @@ struct vtkPatchBoundaryMerge::Cache
   double ChainInPlaneWeight = -1; // of the generator's chain hierarchy
   double ToleranceScale = 1;      // the patches were grown with the tolerances scaled by this
   double DeviationFactor = 0;     // PatchDeviationFactor of the cached patches
+  double NoiseFraction = 0;       // PatchNoiseTolerance of the cached patches
   double MeanCurvature = 0;       // slod::MeanAbsoluteCurvature of the prepared input
   double Area = 0;                // the prepared input's area (ThicknessBound runs for every level)
   double PlaneDistanceCap = std::numeric_limits<double>::infinity(); // absolute, of the patch growth
@@ -198,15 +199,16 @@ bool vtkPatchBoundaryMerge::Cache::Build(
     this->MeanCurvature = slod::MeanAbsoluteCurvature(this->Mesh, *topology);
     this->Area = this->Mesh.TotalArea();
     this->DeviationFactor = self->PatchDeviationFactor;
+    this->NoiseFraction = self->PatchNoiseTolerance;
     this->PlaneDistanceCap = 0.5 * this->ThicknessBound(self, this->Target(self));
     if (!this->GrowPatches(self, *topology))
     {
       return false;
     }
   }
-  vtkLogF(TRACE, "[spbm] preparation %.4f s, topology and orientation check %.4f s, patches %.4f s",
+  vtkLogF(TRACE, "[spbm] preparation %.4f s, topology and orientation check %.4f s, patches %.4f s (%lld patches)",
     std::chrono::duration<double>(prepared - start).count(), std::chrono::duration<double>(built - prepared).count(),
-    std::chrono::duration<double>(Clock::now() - built).count());
+    std::chrono::duration<double>(Clock::now() - built).count(), (long long)this->Patches.NumberOfPatches());
   return true;
 }
 
@@ -223,6 +225,9 @@ bool vtkPatchBoundaryMerge::Cache::GrowPatches(vtkPatchBoundaryMerge* self, cons
   growth.MaximumPlaneDistance = growth.MaximumPlaneDistance > 0
     ? std::min(growth.MaximumPlaneDistance, this->PlaneDistanceCap)
     : this->PlaneDistanceCap;
+  // The noise tolerance follows the plane distance (and so the target); none without a finite one.
+  growth.NoiseTolerance =
+    std::isfinite(growth.MaximumPlaneDistance) ? this->NoiseFraction * growth.MaximumPlaneDistance : 0.0;
   const slod::ProgressFunction progress = slod::FilterProgress(self, 0.05, 0.65);
   auto initialize = [&]() {
     const auto initializing = Clock::now();
@@ -531,7 +536,8 @@ int vtkPatchBoundaryMerge::RequestData(
   const auto start = Clock::now();
   this->PatchificationReused =
     this->Cached && this->Cached->Matches(input, patchParameters, this->PatchPlaneDistance) &&
-    this->Cached->DeviationFactor == this->PatchDeviationFactor;
+    this->Cached->DeviationFactor == this->PatchDeviationFactor &&
+    this->Cached->NoiseFraction == this->PatchNoiseTolerance;
   if (!this->PatchificationReused)
   {
     this->Cached.reset(new Cache);
@@ -619,6 +625,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AreaWeightedNormals: " << this->AreaWeightedNormals << "\n";
   os << indent << "PatchPlaneDistance: " << this->PatchPlaneDistance << "\n";
   os << indent << "PatchDeviationFactor: " << this->PatchDeviationFactor << "\n";
+  os << indent << "PatchNoiseTolerance: " << this->PatchNoiseTolerance << "\n";
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
   os << indent << "MergePatches: " << this->MergePatches << "\n";
   os << indent << "CollapseChains: " << this->CollapseChains << "\n";

@@ -301,6 +301,81 @@ TEST(Patchification, FlatGridIsOnePatchWithBorderChains)
   EXPECT_EQ(loop.size(), 40u);
 }
 
+// Issue 10 (session 24): a noisy flat surface. Every vertex of a 40 x 40 grid is moved off the
+// plane by up to a fifth of the grid spacing (a fixed pseudo-random pattern), so neighbouring
+// triangles differ by tens of degrees, as on a scan isosurface. With the cones alone the patches
+// stay small; with NoiseTolerance above the noise amplitude (and the plane distance above it too)
+// triangles within the noise of the patch's plane join, the grid becomes a few large disks, and
+// no vertex of a patch is farther from its plane than the plane distance allows.
+TEST(Patchification, NoiseToleranceGrowsPatchesOverNoise)
+{
+  constexpr int N = 40;
+  constexpr double Amplitude = 0.2 / N;
+  TriangleMesh mesh = slodtest::Grid(N, N);
+  unsigned state = 12345u;
+  for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+  {
+    state = state * 1664525u + 1013904223u; // LCG: the same noise on every platform
+    mesh.Points[3 * size_t(v) + 2] = Amplitude * (2.0 * double(state >> 8) / double(1u << 24) - 1.0);
+  }
+  PatchificationParameters cones;
+  cones.MaximumPlaneDistance = 3 * Amplitude;
+  auto without = Patch(mesh, cones);
+  PatchificationParameters tolerant = cones;
+  tolerant.NoiseTolerance = 2 * Amplitude;
+  auto with = Patch(mesh, tolerant);
+  ExpectPatchesAreDisks(*with);
+  // Premise: the noise breaks the cones (the old behaviour: many small patches).
+  EXPECT_GT(without->Patches.NumberOfPatches(), mesh.NumberOfTriangles() / 20);
+  EXPECT_LE(with->Patches.NumberOfPatches() * 10, without->Patches.NumberOfPatches());
+  // A patch within the plane distance of its running plane, measured against the final plane (the
+  // running one moved while it grew): twice the distance plus the noise bounds it.
+  std::vector<Vec3> centroid(size_t(with->Patches.NumberOfPatches()), Vec3{ 0, 0, 0 });
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index p = with->Patches.TrianglePatches()[t];
+    const Index* tri = mesh.Triangle(t);
+    const Vec3 c = (1.0 / 3.0) * (mesh.Point(tri[0]) + mesh.Point(tri[1]) + mesh.Point(tri[2]));
+    centroid[p] = centroid[p] + (mesh.TriangleArea(t) / with->Patches.PatchArea(p)) * c;
+  }
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index p = with->Patches.TrianglePatches()[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      const double off = std::fabs(Dot(mesh.Point(mesh.Triangle(t)[k]) - centroid[p], with->Patches.PatchNormal(p)));
+      ASSERT_LE(off, 2 * cones.MaximumPlaneDistance + Amplitude) << "triangle " << t;
+    }
+  }
+}
+
+// The noise tolerance does not smooth over a CAD model's creases: on the Fandisk, with the filter's
+// plane distance (0.004 of the diagonal) as both the distance and the tolerance, no patch holds two
+// triangles meeting at more than 60 degrees across an edge, as with the cones alone.
+TEST(Patchification, NoiseToleranceKeepsCreasesAsBoundaries)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  PatchificationParameters parameters;
+  parameters.MaximumPlaneDistance = 0.004 * mesh.BoundingBoxDiagonal();
+  parameters.NoiseTolerance = parameters.MaximumPlaneDistance;
+  auto pm = Patch(mesh, parameters);
+  ExpectPatchesAreDisks(*pm);
+  Index crossing = 0;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index n = pm->Topology.EdgeNeighbor(t, k);
+      if (n != InvalidIndex && pm->Patches.TrianglePatches()[n] == pm->Patches.TrianglePatches()[t])
+      {
+        crossing +=
+          Dot(Normalized(mesh.TriangleAreaVector(t)), Normalized(mesh.TriangleAreaVector(n))) <= std::cos(60 * Pi / 180);
+      }
+    }
+  }
+  EXPECT_EQ(crossing, 0);
+}
+
 TEST(Patchification, ChainsAndPatchGraphAreConsistent)
 {
   const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
@@ -1452,6 +1527,29 @@ TEST(PatchBoundaryMerge, FinalCollapsesReachScanTargets)
       }
     }
   }
+}
+
+// Issue 10 (session 24): PatchNoiseTolerance on a noisy scan isosurface. At this resolution a
+// voxel is about 1/44 of the volume, so the noise is above the default plane distance (0.004 of
+// the diagonal); with a plane distance above it (0.015) the tolerance lets patches grow over the
+// noise: at most half the patches of the cones alone (the old growth), and the level still
+// reaches the target, keeps the input's topology (Euler characteristic, components, non-manifold
+// edges, border loops) and its profile curves on the mesh's edges.
+TEST(PatchBoundaryMerge, NoiseToleranceOnAScanHalvesThePatchesAndKeepsTheTopology)
+{
+  vtkNew<vtkPatchBoundaryMerge> cones;
+  cones->SetPatchPlaneDistance(0.015);
+  cones->SetTargetReduction(0.9);
+  slodtest::SimplifyNoisyScan(cones, 44, 37);
+  vtkNew<vtkPatchBoundaryMerge> tolerant;
+  tolerant->SetPatchPlaneDistance(0.015);
+  tolerant->SetPatchNoiseTolerance(1.0);
+  tolerant->SetTargetReduction(0.9);
+  const MeshStatistics in = slodtest::SimplifyNoisyScan(tolerant, 44, 37);
+  EXPECT_LE(2 * tolerant->GetNumberOfPatches(), cones->GetNumberOfPatches());
+  EXPECT_TRUE(ReportedTarget(tolerant->GetOutput()).second);
+  EXPECT_EQ(RawStatistics(tolerant->GetOutput()).BoundaryLoops, in.BoundaryLoops);
+  ExpectCurvesOnMeshEdges(tolerant);
 }
 
 // Below what any topology-keeping half-edge collapse reaches (a noisy scan at 1%: hundreds of
