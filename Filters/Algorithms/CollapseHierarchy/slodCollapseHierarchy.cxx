@@ -1911,7 +1911,8 @@ void CollapseHierarchy::AddBorderPlanes()
       });
       Quadric q;
       // (A degenerate triangle's zero quadric adds nothing.)
-      if (sharing == 1 && BorderEdgeQuadric(m.Point(u), m.Point(v), Normalized(this->BaseAreaVector(t)), DefaultBorderPlaneWeight, q))
+      if (sharing == 1 && BorderEdgeQuadric(m.Point(u), m.Point(v), Normalized(this->BaseAreaVector(t)),
+            this->Parameters.BoundaryWeight, q))
       {
         this->QuadricOf(u) += q;
         this->QuadricOf(v) += q;

@@ -122,6 +122,9 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   Index StopAtTriangles = 0;
   // Flip guard of the collapse (EditableMesh::CheckCollapse MinimumNormalDot).
   double MinimumNormalDot = 0.2;
+  // Weight of the planes through M0's border edges (perpendicular to their triangles) in the
+  // quadrics, relative to the triangle planes (0: free borders); why 10: DefaultBorderPlaneWeight.
+  double BoundaryWeight = DefaultBorderPlaneWeight;
   // Keep each triangle edge's edge collapse cost until one of its ends moves (27 bytes per input
   // triangle; fewer edge collapses priced again, the same hierarchy). Off: every evaluation prices
   // its three edges.

@@ -1808,6 +1808,93 @@ TEST(vtkTriangleCollapseHierarchy, BordersCollapseKeepingTheirLoops)
   }
 }
 
+namespace
+{
+// How far the outline was cut: the largest distance of a border vertex of `input` to the border
+// edges (edges of one triangle) of `simplified`.
+double OutlineCut(const TriangleMesh& input, const TriangleMesh& simplified)
+{
+  auto borderEdges = [](const TriangleMesh& m) {
+    std::map<std::pair<Index, Index>, int> uses;
+    for (Index t = 0; t < m.NumberOfTriangles(); ++t)
+    {
+      const Index* tri = m.Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        ++uses[std::minmax(tri[k], tri[(k + 1) % 3])];
+      }
+    }
+    std::vector<std::pair<Index, Index>> border;
+    for (const auto& use : uses)
+    {
+      if (use.second == 1)
+      {
+        border.push_back(use.first);
+      }
+    }
+    return border;
+  };
+  const std::vector<std::pair<Index, Index>> outline = borderEdges(simplified);
+  double worst = 0;
+  for (const auto& edge : borderEdges(input))
+  {
+    for (const Index v : { edge.first, edge.second })
+    {
+      const Vec3 p = input.Point(v);
+      double nearest = std::numeric_limits<double>::max();
+      for (const auto& o : outline)
+      {
+        const Vec3 a = simplified.Point(o.first), ab = simplified.Point(o.second) - a;
+        const double s = std::clamp(Dot(p - a, ab) / std::max(Dot(ab, ab), 1e-300), 0.0, 1.0);
+        nearest = std::min(nearest, Norm(p - (a + s * ab)));
+      }
+      worst = std::max(worst, nearest);
+    }
+  }
+  return worst;
+}
+} // namespace
+
+// BoundaryWeight, as on vtkQuadricTriangleCollapse: the border planes' weight in the quadrics. Its
+// default is the core's constant; it is part of the hierarchy's cache key (changing it rebuilds);
+// on open scans with holes the output changes with it, and with free borders (0) the 10% level
+// cuts the outline and the holes' rims deeper than with the default (its border vertices hold
+// their border planes).
+TEST(vtkTriangleCollapseHierarchy, BoundaryWeightHoldsTheBorders)
+{
+  vtkNew<vtkTriangleCollapseHierarchy> filter;
+  EXPECT_EQ(filter->GetBoundaryWeight(), DefaultBorderPlaneWeight);
+  EXPECT_EQ(CollapseHierarchyParameters().BoundaryWeight, DefaultBorderPlaneWeight);
+  int builds = filter->GetNumberOfHierarchyBuilds();
+  for (const int resolution : { 70, 90 })
+  {
+    SCOPED_TRACE(resolution);
+    vtkNew<vtkScanSurfaceSource> source;
+    source->SetKindToOpenScan();
+    source->SetResolution(resolution);
+    source->Update();
+    vtkPolyData* input = source->GetOutput();
+    const TriangleMesh in = RawTriangleMesh(input);
+    ASSERT_GT(ComputeMeshStatistics(in).BoundaryLoops, 1);
+    filter->SetInputData(input);
+    filter->SetTargetReduction(0.9);
+    std::map<double, double> cut;
+    std::map<double, TriangleMesh> outputs;
+    for (const double weight : { 0.0, DefaultBorderPlaneWeight })
+    {
+      filter->SetBoundaryWeight(weight);
+      filter->Update();
+      EXPECT_EQ(filter->GetNumberOfHierarchyBuilds(), ++builds) << weight;
+      outputs[weight] = RawTriangleMesh(filter->GetOutput());
+      cut[weight] = OutlineCut(in, outputs[weight]);
+      std::printf("[ measure  ] open scan %d, BoundaryWeight %g: %lld triangles, outline cut %.4g\n", resolution,
+        weight, static_cast<long long>(outputs[weight].NumberOfTriangles()), cut[weight]);
+    }
+    EXPECT_NE(outputs[0.0].Points, outputs[DefaultBorderPlaneWeight].Points);
+    EXPECT_GT(cut[0.0], cut[DefaultBorderPlaneWeight]);
+  }
+}
+
 TEST(vtkTriangleCollapseHierarchy, InvalidAndEmptyInputs)
 {
   vtkNew<vtkTriangleCollapseHierarchy> filter;
