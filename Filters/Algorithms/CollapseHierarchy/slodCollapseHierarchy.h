@@ -358,6 +358,8 @@ private:
   bool TriangleCollapseAllowed(Index t, double orderWeight);
   bool EdgeCollapseAllowed(Index t, double orderWeight, int hubs, int& edge, Vec3& point);
   void CollapseBatch(const LevelState& state);
+  void PrefetchBatch(const LevelState& state, size_t b) const;
+  bool OppositeBorderVertexChangedSince(Index u, Index v, Index stamp) const;
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
