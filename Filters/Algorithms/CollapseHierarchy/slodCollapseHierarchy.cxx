@@ -2470,7 +2470,8 @@ void CollapseHierarchy::PrefetchBatch(const LevelState& state, size_t b) const
 // selection. What is read beyond them: the star of a border vertex opposite the edge (a vertex
 // may not lose every triangle, IsolatesVertex), which an earlier collapse stamps when it changes
 // it (MarkChangedAround). Only then is the collapse checked again (the whole-star test,
-// StarsUnchangedSince, re-checked 60% of mc1m's collapses, none of which could fail).
+// StarsUnchangedSince, re-checked 60% of mc1m's collapses, none of which could fail: it has no
+// border).
 bool CollapseHierarchy::OppositeBorderVertexChangedSince(Index u, Index v, Index stamp) const
 {
   bool changed = false;
@@ -2478,7 +2479,7 @@ bool CollapseHierarchy::OppositeBorderVertexChangedSince(Index u, Index v, Index
     const Index* q = this->Mesh.Triangle(x);
     for (int j = 0; j < 3; ++j)
     {
-      // (u and v themselves are not stamped: they are not in an earlier region)
+      // (a triangle on the edge: its vertex other than u and v is opposite it)
       changed = changed || (q[j] != u && q[j] != v && this->OnBorder[q[j]] &&
                              this->VertexChanges[q[j]].Stamp > stamp && (q[0] == v || q[1] == v || q[2] == v));
     }
