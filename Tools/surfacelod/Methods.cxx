@@ -212,6 +212,7 @@ std::vector<Parameter> TriangleCollapseHierarchyParameters()
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, EdgeCollapses),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, PreferEdgeFactor),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, VertexErrorWeight),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, BoundaryWeight),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MaximumNumberOfLevels),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MinimumNumberOfTriangles),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, MinimumNormalDot),

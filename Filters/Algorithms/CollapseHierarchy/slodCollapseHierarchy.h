@@ -122,6 +122,9 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   Index StopAtTriangles = 0;
   // Flip guard of the collapse (EditableMesh::CheckCollapse MinimumNormalDot).
   double MinimumNormalDot = 0.2;
+  // Weight of the planes through M0's border edges (perpendicular to their triangles) in the
+  // quadrics, relative to the triangle planes (0: free borders); why 10: DefaultBorderPlaneWeight.
+  double BoundaryWeight = DefaultBorderPlaneWeight;
   // Keep each triangle edge's edge collapse cost until one of its ends moves (27 bytes per input
   // triangle; fewer edge collapses priced again, the same hierarchy). Off: every evaluation prices
   // its three edges.
@@ -355,6 +358,8 @@ private:
   bool TriangleCollapseAllowed(Index t, double orderWeight);
   bool EdgeCollapseAllowed(Index t, double orderWeight, int hubs, int& edge, Vec3& point);
   void CollapseBatch(const LevelState& state);
+  void PrefetchBatch(const LevelState& state, size_t b) const;
+  bool OppositeBorderVertexChangedSince(Index u, Index v, Index stamp) const;
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);

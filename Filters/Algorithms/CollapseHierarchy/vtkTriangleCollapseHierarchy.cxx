@@ -54,6 +54,7 @@ struct vtkTriangleCollapseHierarchy::Internals
       a.RemoveCycles == b.RemoveCycles && a.MaximumNumberOfLevels == b.MaximumNumberOfLevels &&
       a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.EdgeCollapses == b.EdgeCollapses &&
       a.PreferEdgeFactor == b.PreferEdgeFactor && a.VertexErrorWeight == b.VertexErrorWeight &&
+      a.BoundaryWeight == b.BoundaryWeight &&
       a.SwapBlockingEdges == b.SwapBlockingEdges &&
       a.StarShapedInStencilPlane == b.StarShapedInStencilPlane &&
       a.SwapMinimumNormalDotWhenBlocked == b.SwapMinimumNormalDotWhenBlocked &&
@@ -185,6 +186,7 @@ struct vtkTriangleCollapseHierarchy::Internals
     parameters.RelaxWhenBlocked = f.RelaxWhenBlocked;
     parameters.PreferEdgeFactor = f.PreferEdgeFactor;
     parameters.VertexErrorWeight = f.VertexErrorWeight;
+    parameters.BoundaryWeight = f.BoundaryWeight;
     parameters.EdgeCollapses = static_cast<slod::CollapseHierarchyParameters::EdgeFallback>(f.EdgeCollapses);
     parameters.SwapBlockingEdges = f.SwapBlockingEdges;
     parameters.StarShapedInStencilPlane = f.StarShapedInStencilPlane;
@@ -432,6 +434,7 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EdgeCollapses: " << this->EdgeCollapses << "\n";
   os << indent << "PreferEdgeFactor: " << this->PreferEdgeFactor << "\n";
   os << indent << "VertexErrorWeight: " << this->VertexErrorWeight << "\n";
+  os << indent << "BoundaryWeight: " << this->BoundaryWeight << "\n";
   os << indent << "StarShapedInStencilPlane: " << this->StarShapedInStencilPlane << "\n";
   os << indent << "SwapBlockingEdges: " << this->SwapBlockingEdges << "\n";
   os << indent << "SwapMinimumNormalDot: " << this->SwapMinimumNormalDot << "\n";

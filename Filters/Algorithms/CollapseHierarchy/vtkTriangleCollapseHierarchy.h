@@ -199,6 +199,16 @@ public:
   ///@}
 
   ///@{
+  /// Weight of the planes that hold open borders (through each border edge of the input,
+  /// perpendicular to its triangle) relative to the triangle planes, as vtkQuadricTriangleCollapse's
+  /// option of the same name (default 10; 0 = free borders). Borders move only by edge collapses,
+  /// so this acts with EdgeCollapses on; why 10 and not Garland and Heckbert's 1:
+  /// slod::DefaultBorderPlaneWeight.
+  vtkSetClampMacro(BoundaryWeight, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(BoundaryWeight, double);
+  ///@}
+
+  ///@{
   /// Upper bound on the number of meshes in the hierarchy (default 1000).
   vtkSetClampMacro(MaximumNumberOfLevels, int, 1, VTK_INT_MAX);
   vtkGetMacro(MaximumNumberOfLevels, int);
@@ -272,6 +282,7 @@ protected:
   int EdgeCollapses = EDGE_COLLAPSES_EVERYWHERE;
   double PreferEdgeFactor = 0.5;
   double VertexErrorWeight = 10.0;
+  double BoundaryWeight = 10.0; // slod::DefaultBorderPlaneWeight (a test checks they agree)
   bool StarShapedInStencilPlane = true;
   bool SwapBlockingEdges = false;
   double SwapMinimumNormalDot = 0.9999;
