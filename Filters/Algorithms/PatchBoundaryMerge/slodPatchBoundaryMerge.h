@@ -135,6 +135,14 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // and add about two triangles each to the predicted count (GenerateForTarget does not aim
   // again for them). 0: the fallback levels only.
   int FailedPatchRefinementRounds = 3;
+  // A fallback pass triangulates again only the patches whose boundary may have changed since the
+  // pass before (session 24): a patch keeps its triangles when it has the same original patches,
+  // its chains and the chains of the patches next to it keep the same vertices, it did not fail,
+  // and none of its diagonals is now another chain's segment or original edge. Every pass used to
+  // triangulate the whole level again for the few patches that failed. The level can differ from
+  // the whole-level pass's where the order of the patches decided which of two took a diagonal.
+  // Off: every patch in every pass (the reference).
+  bool LocalFallbackTriangulation = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
   // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices
@@ -171,6 +179,7 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   long long SupportFolds = 0;   // of them, folded in when a support was read after replayed unions
   Index FailedPatches = 0;      // root patches that went to a fallback level, summed over the passes
   Index RefinedInPass = 0;      // vertices kept by FailedPatchRefinementRounds, summed over the passes
+  Index RetriangulatedPatches = 0; // root patches triangulated from their boundary in the passes after the first
 };
 
 class SURFACELODFILTERS_EXPORT SpbmLevelGenerator

@@ -30,6 +30,8 @@ SpbmLevelGenerator::LevelTriangulation::LevelTriangulation(
 bool SpbmLevelGenerator::LevelTriangulation::RunPass(
   const std::vector<unsigned char>& frozen, const std::function<bool()>& abort)
 {
+  const bool local = passesDone > 0 && parameters.LocalFallbackTriangulation;
+  previousFailed.swap(failed);
   failed.assign(size_t(np), 0);
   this->BuildVertexSequences();
   if (!refinedVertex.empty())
@@ -42,10 +44,24 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
     }
   }
   this->MakeSegmentsUnique();
+  std::vector<Index> triangles, trianglePatch; // the pass before's (AddOriginalPatches clears the level)
+  triangles.swap(level.Triangles);
+  trianglePatch.swap(level.TrianglePatch);
   this->AddOriginalPatches(frozen);
+  const size_t originalTriangles = level.TrianglePatch.size();
+  reused.assign(size_t(np), 0);
+  if (local)
+  {
+    this->MarkChangedPatches(frozen);
+    this->ReuseUnchangedPatches(triangles, trianglePatch);
+  }
   if (!this->TriangulatePatches(frozen, abort))
   {
     return false;
+  }
+  if (local)
+  {
+    this->OrderAsWholePass(originalTriangles);
   }
   for (int round = 0; round < parameters.FailedPatchRefinementRounds; ++round)
   {
@@ -58,7 +74,173 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
       break;
     }
   }
+  this->RememberPass(frozen);
+  ++passesDone;
   return true;
+}
+
+// Root patches whose triangles of the pass before cannot be kept (`changed`): those whose set of
+// original patches changed (a replay unmerged or merged them differently), that failed or are
+// kept as original triangles, and both sides of every chain that died, came alive or keeps other
+// vertices (a new tolerance, a refinement, a collapse or join that moved an end). Then the
+// patches next to them: the double-ear rule reads the normal of the patch across, and their
+// common diagonals were decided by the order of the patches.
+void SpbmLevelGenerator::LevelTriangulation::MarkChangedPatches(const std::vector<unsigned char>& frozen)
+{
+  changed.assign(size_t(np), 0);
+  for (Index q = 0; q < np; ++q)
+  {
+    const Index root = s.Find(q), before = previousRoot[q];
+    if (root != before || frozen[q] != previousFrozen[q] || frozen[q] == OriginalLevel || previousFailed[before])
+    {
+      changed[root] = 1;
+      changed[before] = 1; // when it is still a root, it lost q
+    }
+  }
+  for (Index c = 0; c < nc; ++c)
+  {
+    bool same = bool(s.Alive[c]) == bool(previousAlive[c]);
+    Index k = previousKeptStart[c];
+    for (Index i = s.SeqOffsets[c]; same && i < s.SeqOffsets[c + 1]; ++i)
+    {
+      if (s.SeqKeep[i])
+      {
+        same = k < previousKeptStart[c + 1] && previousKept[k++] == s.SeqVertices[i];
+      }
+    }
+    if (!same || k != previousKeptStart[c + 1])
+    {
+      changed[s.Find(s.L[c])] = 1;
+      if (s.R[c] != InvalidIndex)
+      {
+        changed[s.Find(s.R[c])] = 1;
+      }
+    }
+  }
+  // One ring around them (2: changed only as a neighbour, not spread further): every patch with a
+  // corner of theirs. Two patches can share a diagonal only when both have its two vertices, and
+  // a kept chain vertex that is not an endpoint is on the two sides of its chain alone.
+  const Index stamp = s.NextStamp();
+  for (Index c = 0; c < nc; ++c)
+  {
+    if (s.Alive[c] && (changed[s.Find(s.L[c])] == 1 || (s.R[c] != InvalidIndex && changed[s.Find(s.R[c])] == 1)))
+    {
+      s.EndStamp[s.A[c]] = s.EndStamp[s.B[c]] = stamp;
+    }
+  }
+  for (Index c = 0; c < nc; ++c)
+  {
+    if (s.Alive[c] && (s.EndStamp[s.A[c]] == stamp || s.EndStamp[s.B[c]] == stamp))
+    {
+      for (const Index side : { s.L[c], s.R[c] })
+      {
+        if (side != InvalidIndex && !changed[s.Find(side)])
+        {
+          changed[s.Find(side)] = 2;
+        }
+      }
+    }
+  }
+}
+
+// The triangles of the pass before of every unchanged root patch, with their diagonals, back in
+// the level. A patch whose triangle edge is now a segment of a chain not its own, or an original
+// patch's edge, is triangulated again instead (its diagonal is taken).
+void SpbmLevelGenerator::LevelTriangulation::ReuseUnchangedPatches(
+  std::vector<Index>& triangles, std::vector<Index>& trianglePatch)
+{
+  const size_t count = trianglePatch.size();
+  for (size_t t = 0; t < count; ++t)
+  {
+    const Index p = trianglePatch[t];
+    reused[p] = s.Parent[p] == p && !changed[p] && !failed[p]; // failed: a segment of its own is another's now
+  }
+  for (size_t t = 0; t < count; ++t)
+  {
+    const Index p = trianglePatch[t];
+    for (int k = 0; k < 3 && reused[p]; ++k)
+    {
+      Index x;
+      if (s.Edges.Find(triangles[3 * t + k], triangles[3 * t + (k + 1) % 3], x) &&
+        (x < 0 || (s.Find(s.L[x]) != p && (s.R[x] == InvalidIndex || s.Find(s.R[x]) != p))))
+      {
+        reused[p] = 0;
+      }
+    }
+  }
+  for (size_t t = 0; t < count; ++t)
+  {
+    const Index p = trianglePatch[t];
+    if (!reused[p])
+    {
+      continue;
+    }
+    const Index* tri = triangles.data() + 3 * t;
+    Index ignored;
+    for (int k = 0; k < 3; ++k)
+    {
+      s.Edges.Insert(tri[k], tri[(k + 1) % 3], -1, ignored); // a diagonal (the chain segments are in)
+    }
+    level.Triangles.insert(level.Triangles.end(), tri, tri + 3);
+    level.TrianglePatch.push_back(p);
+  }
+}
+
+// The patches' triangles in the order of a whole-level pass (TriangulatePatches: smallest
+// boundary first, then by id; each patch's own triangles in their order), after the original
+// patches': the same level gives the same output, whichever patches kept their triangles.
+void SpbmLevelGenerator::LevelTriangulation::OrderAsWholePass(size_t begin)
+{
+  std::vector<Index> order(level.TrianglePatch.size() - begin);
+  for (size_t i = 0; i < order.size(); ++i)
+  {
+    order[i] = static_cast<Index>(begin + i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](Index x, Index y) {
+    const Index p = level.TrianglePatch[size_t(x)], q = level.TrianglePatch[size_t(y)];
+    return s.Size[p] != s.Size[q] ? s.Size[p] < s.Size[q] : p < q;
+  });
+  std::vector<Index> triangles(level.Triangles.begin(), level.Triangles.begin() + std::ptrdiff_t(3 * begin));
+  std::vector<Index> patchOf(level.TrianglePatch.begin(), level.TrianglePatch.begin() + std::ptrdiff_t(begin));
+  for (const Index t : order)
+  {
+    triangles.insert(triangles.end(), level.Triangles.begin() + 3 * t, level.Triangles.begin() + 3 * t + 3);
+    patchOf.push_back(level.TrianglePatch[size_t(t)]);
+  }
+  level.Triangles.swap(triangles);
+  level.TrianglePatch.swap(patchOf);
+}
+
+// What the next pass compares (LocalFallbackTriangulation): the roots, fallback levels and kept
+// chain vertices of this pass, after its refinement rounds.
+void SpbmLevelGenerator::LevelTriangulation::RememberPass(const std::vector<unsigned char>& frozen)
+{
+  if (!parameters.LocalFallbackTriangulation)
+  {
+    return;
+  }
+  previousRoot.resize(size_t(np));
+  for (Index q = 0; q < np; ++q)
+  {
+    previousRoot[q] = s.Find(q);
+  }
+  previousFrozen = frozen;
+  previousAlive.resize(size_t(nc));
+  previousKeptStart.resize(size_t(nc) + 1);
+  previousKept.clear();
+  for (Index c = 0; c < nc; ++c)
+  {
+    previousAlive[c] = s.Alive[c];
+    previousKeptStart[c] = static_cast<Index>(previousKept.size());
+    for (Index i = s.SeqOffsets[c]; i < s.SeqOffsets[c + 1]; ++i)
+    {
+      if (s.SeqKeep[i])
+      {
+        previousKept.push_back(s.SeqVertices[i]);
+      }
+    }
+  }
+  previousKeptStart[nc] = static_cast<Index>(previousKept.size());
 }
 
 // Every failed patch (not unmerged yet) with a hidden vertex to keep keeps one; the patches on
@@ -410,10 +592,14 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
   std::vector<Index> patches;
   for (Index p = 0; p < np; ++p)
   {
-    if (s.Parent[p] == p && frozen[p] != OriginalLevel && !failed[p])
+    if (s.Parent[p] == p && frozen[p] != OriginalLevel && !failed[p] && !reused[p])
     {
       patches.push_back(p);
     }
+  }
+  if (passesDone > 0)
+  {
+    level.RetriangulatedPatches += static_cast<Index>(patches.size());
   }
   std::stable_sort(patches.begin(), patches.end(), [&](Index x, Index y) { return s.Size[x] < s.Size[y]; });
   for (size_t index = 0; index < patches.size(); ++index)

@@ -41,6 +41,12 @@ public:
 
 private:
   void BuildVertexSequences();
+  // LocalFallbackTriangulation: which root patches keep their triangles of the pass before, and
+  // those triangles with their diagonals back in the level; and what the next pass compares.
+  void MarkChangedPatches(const std::vector<unsigned char>& frozen);
+  void ReuseUnchangedPatches(std::vector<Index>& triangles, std::vector<Index>& trianglePatch);
+  void OrderAsWholePass(size_t begin);
+  void RememberPass(const std::vector<unsigned char>& frozen);
   void MakeSegmentsUnique();
   void AddOriginalPatches(const std::vector<unsigned char>& frozen);
   bool TriangulatePatches(const std::vector<unsigned char>& frozen, const std::function<bool()>& abort);
@@ -71,6 +77,12 @@ private:
   std::vector<unsigned char> failed;
   std::vector<unsigned char> refinedVertex; // per mesh vertex: kept by RefineFailedPatches (all passes)
   std::vector<Index> affected;               // RefineFailedPatches: patches to triangulate again
+  // The pass before (LocalFallbackTriangulation): per patch of the patchification its root and
+  // fallback level, per root whether it failed, per chain whether it was alive and its kept vertices
+  // (previousKept[previousKeptStart[c], previousKeptStart[c + 1])). `reused`: per root, its triangles kept.
+  int passesDone = 0; // RunPass calls that completed
+  std::vector<Index> previousRoot, previousKeptStart, previousKept;
+  std::vector<unsigned char> previousFrozen, previousFailed, previousAlive, changed, reused;
   // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each
   // polygon corner's outgoing chain (or InvalidIndex), its oriented chains, the corner points.
   std::vector<Index> polygon, other, ring, order;

@@ -1275,6 +1275,38 @@ TEST(SpbmLevel, ReplayedUnionsFoldTheirSupportsWhenRead)
   EXPECT_LT(unionsOn, unionsOff) << "supports united " << unionsOn << " with, " << unionsOff << " without";
 }
 
+// Session 24 (issue 10): a fallback pass triangulates again only the patches whose boundary may
+// have changed since the pass before (and those next to them); the others keep their triangles
+// (LocalFallbackTriangulation). On noisy scans of seeds no other test uses, which need fallback
+// passes, the level has the whole-level passes' count, failures and passes and the input's
+// topology, and all the fallback passes together triangulate fewer patches than the level has (the
+// whole-level passes: every patch in every pass).
+TEST(SpbmLevel, FallbackPassesTriangulateOnlyTheChangedPatches)
+{
+  int fallbackPasses = 0;
+  for (const unsigned int seed : { 71u, 73u })
+  {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
+    SpbmLevel local, whole;
+    GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.LocalFallbackTriangulation = true; }, local);
+    GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.LocalFallbackTriangulation = false; }, whole);
+    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
+    EXPECT_EQ(local.TrianglePatch.size(), whole.TrianglePatch.size()) << "seed " << seed;
+    EXPECT_EQ(local.CurveVertices, whole.CurveVertices) << "seed " << seed;
+    EXPECT_EQ(local.Passes, whole.Passes) << "seed " << seed;
+    EXPECT_EQ(local.FailedPatches, whole.FailedPatches) << "seed " << seed;
+    ExpectInputTopology(*pm, ComputeMeshStatistics(pm->Mesh), local, seed);
+    if (local.Passes > 1)
+    {
+      EXPECT_GE(whole.RetriangulatedPatches, Index(local.Passes - 1) * whole.NumberOfPatches / 2) << "seed " << seed;
+      EXPECT_LT(local.RetriangulatedPatches, local.NumberOfPatches) << "seed " << seed;
+    }
+    fallbackPasses += local.Passes - 1;
+  }
+  EXPECT_GT(fallbackPasses, 0) << "the noisy scans must need fallback passes";
+}
+
 // The finest level's count is bounded from below without a merging run (the filter skips that
 // run when the bound reaches the target): never above the count a run finds, at the paper's
 // angle and the filter's. And FinestLevelCount, which the filter uses instead of that run, is
