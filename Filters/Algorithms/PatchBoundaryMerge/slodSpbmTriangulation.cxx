@@ -44,24 +44,15 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
     }
   }
   this->MakeSegmentsUnique();
-  std::vector<Index> triangles, trianglePatch; // the pass before's (AddOriginalPatches clears the level)
-  triangles.swap(level.Triangles);
-  trianglePatch.swap(level.TrianglePatch);
-  this->AddOriginalPatches(frozen);
-  const size_t originalTriangles = level.TrianglePatch.size();
-  reused.assign(size_t(np), 0);
   if (local)
   {
     this->MarkChangedPatches(frozen);
-    this->ReuseUnchangedPatches(triangles, trianglePatch);
+    this->GroupPreviousTriangles(); // before AddOriginalPatches clears the level
   }
+  this->AddOriginalPatches(frozen);
   if (!this->TriangulatePatches(frozen, abort))
   {
     return false;
-  }
-  if (local)
-  {
-    this->OrderAsWholePass(originalTriangles);
   }
   for (int round = 0; round < parameters.FailedPatchRefinementRounds; ++round)
   {
@@ -117,98 +108,113 @@ void SpbmLevelGenerator::LevelTriangulation::MarkChangedPatches(const std::vecto
       }
     }
   }
-  // One ring around them (2: changed only as a neighbour, not spread further): every patch with a
-  // corner of theirs. Two patches can share a diagonal only when both have its two vertices, and
-  // a kept chain vertex that is not an endpoint is on the two sides of its chain alone.
-  const Index stamp = s.NextStamp();
+  // The patches across their chains (2: changed only as a neighbour, not spread further): the
+  // double-ear rule reads the normal of the patch across.
   for (Index c = 0; c < nc; ++c)
   {
-    if (s.Alive[c] && (changed[s.Find(s.L[c])] == 1 || (s.R[c] != InvalidIndex && changed[s.Find(s.R[c])] == 1)))
-    {
-      s.EndStamp[s.A[c]] = s.EndStamp[s.B[c]] = stamp;
-    }
-  }
-  for (Index c = 0; c < nc; ++c)
-  {
-    if (s.Alive[c] && (s.EndStamp[s.A[c]] == stamp || s.EndStamp[s.B[c]] == stamp))
-    {
-      for (const Index side : { s.L[c], s.R[c] })
-      {
-        if (side != InvalidIndex && !changed[s.Find(side)])
-        {
-          changed[s.Find(side)] = 2;
-        }
-      }
-    }
-  }
-}
-
-// The triangles of the pass before of every unchanged root patch, with their diagonals, back in
-// the level. A patch whose triangle edge is now a segment of a chain not its own, or an original
-// patch's edge, is triangulated again instead (its diagonal is taken).
-void SpbmLevelGenerator::LevelTriangulation::ReuseUnchangedPatches(
-  std::vector<Index>& triangles, std::vector<Index>& trianglePatch)
-{
-  const size_t count = trianglePatch.size();
-  for (size_t t = 0; t < count; ++t)
-  {
-    const Index p = trianglePatch[t];
-    reused[p] = s.Parent[p] == p && !changed[p] && !failed[p]; // failed: a segment of its own is another's now
-  }
-  for (size_t t = 0; t < count; ++t)
-  {
-    const Index p = trianglePatch[t];
-    for (int k = 0; k < 3 && reused[p]; ++k)
-    {
-      Index x;
-      if (s.Edges.Find(triangles[3 * t + k], triangles[3 * t + (k + 1) % 3], x) &&
-        (x < 0 || (s.Find(s.L[x]) != p && (s.R[x] == InvalidIndex || s.Find(s.R[x]) != p))))
-      {
-        reused[p] = 0;
-      }
-    }
-  }
-  for (size_t t = 0; t < count; ++t)
-  {
-    const Index p = trianglePatch[t];
-    if (!reused[p])
+    if (!s.Alive[c] || s.R[c] == InvalidIndex)
     {
       continue;
     }
-    const Index* tri = triangles.data() + 3 * t;
-    Index ignored;
-    for (int k = 0; k < 3; ++k)
+    const Index l = s.Find(s.L[c]), r = s.Find(s.R[c]);
+    if (changed[l] == 1 && !changed[r])
     {
-      s.Edges.Insert(tri[k], tri[(k + 1) % 3], -1, ignored); // a diagonal (the chain segments are in)
+      changed[r] = 2;
     }
-    level.Triangles.insert(level.Triangles.end(), tri, tri + 3);
-    level.TrianglePatch.push_back(p);
+    else if (changed[r] == 1 && !changed[l])
+    {
+      changed[l] = 2;
+    }
   }
 }
 
-// The patches' triangles in the order of a whole-level pass (TriangulatePatches: smallest
-// boundary first, then by id; each patch's own triangles in their order), after the original
-// patches': the same level gives the same output, whichever patches kept their triangles.
-void SpbmLevelGenerator::LevelTriangulation::OrderAsWholePass(size_t begin)
+// The pass before's triangles grouped by patch (previousFirst[p] .. previousFirst[p + 1]).
+void SpbmLevelGenerator::LevelTriangulation::GroupPreviousTriangles()
 {
-  std::vector<Index> order(level.TrianglePatch.size() - begin);
-  for (size_t i = 0; i < order.size(); ++i)
+  previousFirst.assign(size_t(np) + 1, 0);
+  for (const Index p : level.TrianglePatch)
   {
-    order[i] = static_cast<Index>(begin + i);
+    ++previousFirst[size_t(p) + 1];
   }
-  std::stable_sort(order.begin(), order.end(), [&](Index x, Index y) {
-    const Index p = level.TrianglePatch[size_t(x)], q = level.TrianglePatch[size_t(y)];
-    return s.Size[p] != s.Size[q] ? s.Size[p] < s.Size[q] : p < q;
-  });
-  std::vector<Index> triangles(level.Triangles.begin(), level.Triangles.begin() + std::ptrdiff_t(3 * begin));
-  std::vector<Index> patchOf(level.TrianglePatch.begin(), level.TrianglePatch.begin() + std::ptrdiff_t(begin));
-  for (const Index t : order)
+  for (Index p = 0; p < np; ++p)
   {
-    triangles.insert(triangles.end(), level.Triangles.begin() + 3 * t, level.Triangles.begin() + 3 * t + 3);
-    patchOf.push_back(level.TrianglePatch[size_t(t)]);
+    previousFirst[p + 1] += previousFirst[p];
   }
-  level.Triangles.swap(triangles);
-  level.TrianglePatch.swap(patchOf);
+  previousTriangles.resize(level.Triangles.size());
+  std::vector<Index> next(previousFirst.begin(), previousFirst.end() - 1);
+  for (size_t t = 0; t < level.TrianglePatch.size(); ++t)
+  {
+    const Index at = next[level.TrianglePatch[t]]++;
+    std::copy_n(level.Triangles.begin() + std::ptrdiff_t(3 * t), 3, previousTriangles.begin() + 3 * std::ptrdiff_t(at));
+  }
+}
+
+// The edges already in the level between the vertices of patch p other than its own chains'
+// segments: what the triangulation of p is told (a diagonal that is an edge is refused). An
+// order-independent hash of them, 0 for a polygon too large to check (never reused).
+uint64_t SpbmLevelGenerator::LevelTriangulation::EdgeContext(const Index* vertices, size_t n, Index p)
+{
+  if (n > MaximumReusedBoundary)
+  {
+    return 0;
+  }
+  uint64_t sum = 0x9E3779B97F4A7C15ull;
+  for (size_t i = 0; i < n; ++i)
+  {
+    for (size_t j = i + 1; j < n; ++j)
+    {
+      Index x;
+      if (s.Edges.Find(vertices[i], vertices[j], x) &&
+        !(x >= 0 && (s.Find(s.L[x]) == p || (s.R[x] != InvalidIndex && s.Find(s.R[x]) == p))))
+      {
+        uint64_t key = (uint64_t(uint32_t(std::min(vertices[i], vertices[j]))) << 32) |
+          uint32_t(std::max(vertices[i], vertices[j]));
+        key = (key ^ (key >> 31)) * 0xBF58476D1CE4E5B9ull; // splitmix64's finaliser
+        sum += (key ^ (key >> 29)) * 0x94D049BB133111EBull;
+      }
+    }
+  }
+  return sum | 1;
+}
+
+// Patch p (a root of this pass, in the whole pass's order) keeps its triangles of the pass before
+// when it is unchanged (MarkChangedPatches) and the level has the same edges between its vertices
+// as when they were made: the triangulation of p would then be the same (it depends on its
+// polygon, its normal and those of the patches across, and which diagonals are edges already).
+bool SpbmLevelGenerator::LevelTriangulation::ReusePreviousTriangles(Index p)
+{
+  if (changed[p] || p + 1 >= Index(previousFirst.size()) || previousFirst[p] == previousFirst[p + 1] ||
+    p >= Index(context.size()) || context[p] == 0)
+  {
+    return false;
+  }
+  const Index* first = previousTriangles.data() + 3 * size_t(previousFirst[p]);
+  const Index* last = previousTriangles.data() + 3 * size_t(previousFirst[p + 1]);
+  const Index stamp = s.NextStamp();
+  polygon.clear();
+  for (const Index* v = first; v != last; ++v)
+  {
+    if (s.VertexStamp[*v] != stamp)
+    {
+      s.VertexStamp[*v] = stamp;
+      polygon.push_back(*v);
+    }
+  }
+  if (this->EdgeContext(polygon.data(), polygon.size(), p) != context[p])
+  {
+    return false;
+  }
+  for (const Index* t = first; t != last; t += 3)
+  {
+    Index ignored;
+    for (int k = 0; k < 3; ++k)
+    {
+      s.Edges.Insert(t[k], t[(k + 1) % 3], -1, ignored); // the diagonals (the segments are in)
+    }
+    level.Triangles.insert(level.Triangles.end(), t, t + 3);
+    level.TrianglePatch.push_back(p);
+  }
+  return true;
 }
 
 // What the next pass compares (LocalFallbackTriangulation): the roots, fallback levels and kept
@@ -592,15 +598,12 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
   std::vector<Index> patches;
   for (Index p = 0; p < np; ++p)
   {
-    if (s.Parent[p] == p && frozen[p] != OriginalLevel && !failed[p] && !reused[p])
+    if (s.Parent[p] == p && frozen[p] != OriginalLevel && !failed[p])
     {
       patches.push_back(p);
     }
   }
-  if (passesDone > 0)
-  {
-    level.RetriangulatedPatches += static_cast<Index>(patches.size());
-  }
+  const bool local = passesDone > 0 && parameters.LocalFallbackTriangulation;
   std::stable_sort(patches.begin(), patches.end(), [&](Index x, Index y) { return s.Size[x] < s.Size[y]; });
   for (size_t index = 0; index < patches.size(); ++index)
   {
@@ -609,6 +612,11 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
     {
       return false;
     }
+    if (local && this->ReusePreviousTriangles(p))
+    {
+      continue;
+    }
+    level.RetriangulatedPatches += passesDone > 0;
     if (!this->BoundaryPolygon(p) || !this->TriangulateBoundary(p))
     {
       failed[p] = TriangulationFailure;
@@ -701,6 +709,11 @@ bool SpbmLevelGenerator::LevelTriangulation::BoundaryPolygon(Index p)
 // the double-ear normal rule, then without it. No diagonal may duplicate an existing edge.
 bool SpbmLevelGenerator::LevelTriangulation::TriangulateBoundary(Index p)
 {
+  if (parameters.LocalFallbackTriangulation)
+  {
+    context.resize(size_t(np), 0);
+    context[p] = this->EdgeContext(polygon.data(), polygon.size(), p); // before its own diagonals
+  }
   points.resize(polygon.size());
   for (size_t i = 0; i < polygon.size(); ++i)
   {

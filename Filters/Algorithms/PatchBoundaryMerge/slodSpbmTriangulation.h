@@ -44,8 +44,9 @@ private:
   // LocalFallbackTriangulation: which root patches keep their triangles of the pass before, and
   // those triangles with their diagonals back in the level; and what the next pass compares.
   void MarkChangedPatches(const std::vector<unsigned char>& frozen);
-  void ReuseUnchangedPatches(std::vector<Index>& triangles, std::vector<Index>& trianglePatch);
-  void OrderAsWholePass(size_t begin);
+  void GroupPreviousTriangles();
+  uint64_t EdgeContext(const Index* vertices, size_t n, Index p);
+  bool ReusePreviousTriangles(Index p);
   void RememberPass(const std::vector<unsigned char>& frozen);
   void MakeSegmentsUnique();
   void AddOriginalPatches(const std::vector<unsigned char>& frozen);
@@ -79,10 +80,16 @@ private:
   std::vector<Index> affected;               // RefineFailedPatches: patches to triangulate again
   // The pass before (LocalFallbackTriangulation): per patch of the patchification its root and
   // fallback level, per root whether it failed, per chain whether it was alive and its kept vertices
-  // (previousKept[previousKeptStart[c], previousKeptStart[c + 1])). `reused`: per root, its triangles kept.
+  // (previousKept[previousKeptStart[c], previousKeptStart[c + 1])), the triangles of each root
+  // (previousTriangles, 3 per triangle, from previousFirst[p] to previousFirst[p + 1]), and per root
+  // the EdgeContext its triangles were made in (`context`, 0: none). `changed`: per root of this
+  // pass, 1 changed, 2 next to a changed one.
   int passesDone = 0; // RunPass calls that completed
-  std::vector<Index> previousRoot, previousKeptStart, previousKept;
-  std::vector<unsigned char> previousFrozen, previousFailed, previousAlive, changed, reused;
+  std::vector<Index> previousRoot, previousKeptStart, previousKept, previousFirst, previousTriangles;
+  std::vector<unsigned char> previousFrozen, previousFailed, previousAlive, changed;
+  std::vector<uint64_t> context;
+  // Larger polygons are always triangulated again: the edge context is quadratic in their size.
+  static constexpr size_t MaximumReusedBoundary = 64;
   // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each
   // polygon corner's outgoing chain (or InvalidIndex), its oriented chains, the corner points.
   std::vector<Index> polygon, other, ring, order;
