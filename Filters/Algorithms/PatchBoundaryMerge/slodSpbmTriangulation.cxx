@@ -200,7 +200,20 @@ bool SpbmLevelGenerator::LevelTriangulation::ReusePreviousTriangles(Index p)
       polygon.push_back(*v);
     }
   }
-  if (this->EdgeContext(polygon.data(), polygon.size(), p) != context[p])
+  // The polygon starts where BoundaryPolygon would start it (the ear order can depend on it): at
+  // the start of p's first live chain, as p runs along it.
+  Index slot = s.PatchHead[p];
+  while (slot != InvalidIndex && !s.Alive[slot / 2])
+  {
+    slot = s.PatchSlotNext[slot];
+  }
+  if (slot == InvalidIndex)
+  {
+    return false;
+  }
+  const Index c = slot / 2;
+  const Index start = P.EndpointVertex(s.Find(s.L[c]) != p ? s.B[c] : s.A[c]);
+  if (start != firstCorner[p] || this->EdgeContext(polygon.data(), polygon.size(), p) != context[p])
   {
     return false;
   }
@@ -713,6 +726,8 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulateBoundary(Index p)
   {
     context.resize(size_t(np), 0);
     context[p] = this->EdgeContext(polygon.data(), polygon.size(), p); // before its own diagonals
+    firstCorner.resize(size_t(np), InvalidIndex);
+    firstCorner[p] = polygon[0];
   }
   points.resize(polygon.size());
   for (size_t i = 0; i < polygon.size(); ++i)

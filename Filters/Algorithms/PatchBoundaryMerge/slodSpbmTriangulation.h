@@ -81,13 +81,14 @@ private:
   // The pass before (LocalFallbackTriangulation): per patch of the patchification its root and
   // fallback level, per root whether it failed, per chain whether it was alive and its kept vertices
   // (previousKept[previousKeptStart[c], previousKeptStart[c + 1])), the triangles of each root
-  // (previousTriangles, 3 per triangle, from previousFirst[p] to previousFirst[p + 1]), and per root
-  // the EdgeContext its triangles were made in (`context`, 0: none). `changed`: per root of this
-  // pass, 1 changed, 2 next to a changed one.
+  // (previousTriangles, 3 per triangle, from previousFirst[p] to previousFirst[p + 1]); per root the
+  // EdgeContext its triangles were made in (`context`, 0: none) and the first vertex of its polygon
+  // then (`firstCorner`). `changed`: per root of this pass, 1 changed, 2 next to a changed one.
   int passesDone = 0; // RunPass calls that completed
   std::vector<Index> previousRoot, previousKeptStart, previousKept, previousFirst, previousTriangles;
   std::vector<unsigned char> previousFrozen, previousFailed, previousAlive, changed;
   std::vector<uint64_t> context;
+  std::vector<Index> firstCorner;
   // Larger polygons are always triangulated again: the edge context is quadratic in their size.
   static constexpr size_t MaximumReusedBoundary = 64;
   // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each
