@@ -135,13 +135,14 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // and add about two triangles each to the predicted count (GenerateForTarget does not aim
   // again for them). 0: the fallback levels only.
   int FailedPatchRefinementRounds = 3;
-  // A fallback pass triangulates again only the patches whose boundary may have changed since the
-  // pass before (session 24): a patch keeps its triangles when it has the same original patches,
-  // its chains and the chains of the patches next to it keep the same vertices, it did not fail,
-  // and none of its diagonals is now another chain's segment or original edge. Every pass used to
-  // triangulate the whole level again for the few patches that failed. The level can differ from
-  // the whole-level pass's where the order of the patches decided which of two took a diagonal.
-  // Off: every patch in every pass (the reference).
+  // A fallback pass triangulates again only the patches that may have changed since the pass
+  // before (session 24): walking the patches in the whole pass's order, a patch keeps its
+  // triangles when it has the same original patches and chains (same kept vertices), no patch
+  // across its chains changed, it did not fail, its polygon starts at the same vertex, and the
+  // level has the same edges between its vertices as when they were made: its triangulation would
+  // be the same, so the level is the whole-level passes' level. Every pass used to triangulate the
+  // whole level again for the few patches that failed. Off: every patch in every pass (the
+  // reference).
   bool LocalFallbackTriangulation = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
