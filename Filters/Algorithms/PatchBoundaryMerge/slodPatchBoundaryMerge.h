@@ -135,6 +135,15 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // and add about two triangles each to the predicted count (GenerateForTarget does not aim
   // again for them). 0: the fallback levels only.
   int FailedPatchRefinementRounds = 3;
+  // A fallback pass triangulates again only the patches that may have changed since the pass
+  // before (session 24): walking the patches in the whole pass's order, a patch keeps its
+  // triangles when it has the same original patches and chains (same kept vertices), no patch
+  // across its chains changed, it did not fail, its polygon starts at the same vertex, and the
+  // level has the same edges between its vertices as when they were made: its triangulation would
+  // be the same, so the level is the whole-level passes' level. Every pass used to triangulate the
+  // whole level again for the few patches that failed. Off: every patch in every pass (the
+  // reference).
+  bool LocalFallbackTriangulation = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
   // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices
@@ -171,6 +180,7 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   long long SupportFolds = 0;   // of them, folded in when a support was read after replayed unions
   Index FailedPatches = 0;      // root patches that went to a fallback level, summed over the passes
   Index RefinedInPass = 0;      // vertices kept by FailedPatchRefinementRounds, summed over the passes
+  Index RetriangulatedPatches = 0; // root patches triangulated from their boundary in the passes after the first
 };
 
 class SURFACELODFILTERS_EXPORT SpbmLevelGenerator

@@ -30,6 +30,8 @@ SpbmLevelGenerator::LevelTriangulation::LevelTriangulation(
 bool SpbmLevelGenerator::LevelTriangulation::RunPass(
   const std::vector<unsigned char>& frozen, const std::function<bool()>& abort)
 {
+  const bool local = passesDone > 0 && parameters.LocalFallbackTriangulation;
+  previousFailed.swap(failed);
   failed.assign(size_t(np), 0);
   this->BuildVertexSequences();
   if (!refinedVertex.empty())
@@ -42,6 +44,11 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
     }
   }
   this->MakeSegmentsUnique();
+  if (local)
+  {
+    this->MarkChangedPatches(frozen);
+    this->GroupPreviousTriangles(); // before AddOriginalPatches clears the level
+  }
   this->AddOriginalPatches(frozen);
   if (!this->TriangulatePatches(frozen, abort))
   {
@@ -58,7 +65,201 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
       break;
     }
   }
+  this->RememberPass(frozen);
+  ++passesDone;
   return true;
+}
+
+// Root patches whose triangles of the pass before cannot be kept (`changed`): those whose set of
+// original patches changed (a replay unmerged or merged them differently), that failed or are
+// kept as original triangles, and both sides of every chain that died, came alive or keeps other
+// vertices (a new tolerance, a refinement, a collapse or join that moved an end). Then the
+// patches next to them: the double-ear rule reads the normal of the patch across, and their
+// common diagonals were decided by the order of the patches.
+void SpbmLevelGenerator::LevelTriangulation::MarkChangedPatches(const std::vector<unsigned char>& frozen)
+{
+  changed.assign(size_t(np), 0);
+  for (Index q = 0; q < np; ++q)
+  {
+    const Index root = s.Find(q), before = previousRoot[q];
+    if (root != before || frozen[q] != previousFrozen[q] || frozen[q] == OriginalLevel || previousFailed[before])
+    {
+      changed[root] = 1;
+      changed[before] = 1; // when it is still a root, it lost q
+    }
+  }
+  for (Index c = 0; c < nc; ++c)
+  {
+    bool same = bool(s.Alive[c]) == bool(previousAlive[c]);
+    Index k = previousKeptStart[c];
+    for (Index i = s.SeqOffsets[c]; same && i < s.SeqOffsets[c + 1]; ++i)
+    {
+      if (s.SeqKeep[i])
+      {
+        same = k < previousKeptStart[c + 1] && previousKept[k++] == s.SeqVertices[i];
+      }
+    }
+    if (!same || k != previousKeptStart[c + 1])
+    {
+      changed[s.Find(s.L[c])] = 1;
+      if (s.R[c] != InvalidIndex)
+      {
+        changed[s.Find(s.R[c])] = 1;
+      }
+    }
+  }
+  // The patches across their chains (2: changed only as a neighbour, not spread further): the
+  // double-ear rule reads the normal of the patch across.
+  for (Index c = 0; c < nc; ++c)
+  {
+    if (!s.Alive[c] || s.R[c] == InvalidIndex)
+    {
+      continue;
+    }
+    const Index l = s.Find(s.L[c]), r = s.Find(s.R[c]);
+    if (changed[l] == 1 && !changed[r])
+    {
+      changed[r] = 2;
+    }
+    else if (changed[r] == 1 && !changed[l])
+    {
+      changed[l] = 2;
+    }
+  }
+}
+
+// The pass before's triangles grouped by patch (previousFirst[p] .. previousFirst[p + 1]).
+void SpbmLevelGenerator::LevelTriangulation::GroupPreviousTriangles()
+{
+  previousFirst.assign(size_t(np) + 1, 0);
+  for (const Index p : level.TrianglePatch)
+  {
+    ++previousFirst[size_t(p) + 1];
+  }
+  for (Index p = 0; p < np; ++p)
+  {
+    previousFirst[p + 1] += previousFirst[p];
+  }
+  previousTriangles.resize(level.Triangles.size());
+  std::vector<Index> next(previousFirst.begin(), previousFirst.end() - 1);
+  for (size_t t = 0; t < level.TrianglePatch.size(); ++t)
+  {
+    const Index at = next[level.TrianglePatch[t]]++;
+    std::copy_n(level.Triangles.begin() + std::ptrdiff_t(3 * t), 3, previousTriangles.begin() + 3 * std::ptrdiff_t(at));
+  }
+}
+
+// The edges already in the level between the vertices of patch p other than its own chains'
+// segments: what the triangulation of p is told (a diagonal that is an edge is refused). An
+// order-independent hash of them, 0 for a polygon too large to check (never reused).
+uint64_t SpbmLevelGenerator::LevelTriangulation::EdgeContext(const Index* vertices, size_t n, Index p)
+{
+  if (n > MaximumReusedBoundary)
+  {
+    return 0;
+  }
+  uint64_t sum = 0x9E3779B97F4A7C15ull;
+  for (size_t i = 0; i < n; ++i)
+  {
+    for (size_t j = i + 1; j < n; ++j)
+    {
+      Index x;
+      if (s.Edges.Find(vertices[i], vertices[j], x) &&
+        !(x >= 0 && (s.Find(s.L[x]) == p || (s.R[x] != InvalidIndex && s.Find(s.R[x]) == p))))
+      {
+        uint64_t key = (uint64_t(uint32_t(std::min(vertices[i], vertices[j]))) << 32) |
+          uint32_t(std::max(vertices[i], vertices[j]));
+        key = (key ^ (key >> 31)) * 0xBF58476D1CE4E5B9ull; // splitmix64's finaliser
+        sum += (key ^ (key >> 29)) * 0x94D049BB133111EBull;
+      }
+    }
+  }
+  return sum | 1;
+}
+
+// Patch p (a root of this pass, in the whole pass's order) keeps its triangles of the pass before
+// when it is unchanged (MarkChangedPatches) and the level has the same edges between its vertices
+// as when they were made: the triangulation of p would then be the same (it depends on its
+// polygon, its normal and those of the patches across, and which diagonals are edges already).
+bool SpbmLevelGenerator::LevelTriangulation::ReusePreviousTriangles(Index p)
+{
+  if (changed[p] || p + 1 >= Index(previousFirst.size()) || previousFirst[p] == previousFirst[p + 1] ||
+    p >= Index(context.size()) || context[p] == 0)
+  {
+    return false;
+  }
+  const Index* first = previousTriangles.data() + 3 * size_t(previousFirst[p]);
+  const Index* last = previousTriangles.data() + 3 * size_t(previousFirst[p + 1]);
+  const Index stamp = s.NextStamp();
+  polygon.clear();
+  for (const Index* v = first; v != last; ++v)
+  {
+    if (s.VertexStamp[*v] != stamp)
+    {
+      s.VertexStamp[*v] = stamp;
+      polygon.push_back(*v);
+    }
+  }
+  // The polygon starts where BoundaryPolygon would start it (the ear order can depend on it): at
+  // the start of p's first live chain, as p runs along it.
+  Index slot = s.PatchHead[p];
+  while (slot != InvalidIndex && !s.Alive[slot / 2])
+  {
+    slot = s.PatchSlotNext[slot];
+  }
+  if (slot == InvalidIndex)
+  {
+    return false;
+  }
+  const Index c = slot / 2;
+  const Index start = P.EndpointVertex(s.Find(s.L[c]) != p ? s.B[c] : s.A[c]);
+  if (start != firstCorner[p] || this->EdgeContext(polygon.data(), polygon.size(), p) != context[p])
+  {
+    return false;
+  }
+  for (const Index* t = first; t != last; t += 3)
+  {
+    Index ignored;
+    for (int k = 0; k < 3; ++k)
+    {
+      s.Edges.Insert(t[k], t[(k + 1) % 3], -1, ignored); // the diagonals (the segments are in)
+    }
+    level.Triangles.insert(level.Triangles.end(), t, t + 3);
+    level.TrianglePatch.push_back(p);
+  }
+  return true;
+}
+
+// What the next pass compares (LocalFallbackTriangulation): the roots, fallback levels and kept
+// chain vertices of this pass, after its refinement rounds.
+void SpbmLevelGenerator::LevelTriangulation::RememberPass(const std::vector<unsigned char>& frozen)
+{
+  if (!parameters.LocalFallbackTriangulation)
+  {
+    return;
+  }
+  previousRoot.resize(size_t(np));
+  for (Index q = 0; q < np; ++q)
+  {
+    previousRoot[q] = s.Find(q);
+  }
+  previousFrozen = frozen;
+  previousAlive.resize(size_t(nc));
+  previousKeptStart.resize(size_t(nc) + 1);
+  previousKept.clear();
+  for (Index c = 0; c < nc; ++c)
+  {
+    previousAlive[c] = s.Alive[c];
+    previousKeptStart[c] = static_cast<Index>(previousKept.size());
+    for (Index i = s.SeqOffsets[c]; i < s.SeqOffsets[c + 1]; ++i)
+    {
+      if (s.SeqKeep[i])
+      {
+        previousKept.push_back(s.SeqVertices[i]);
+      }
+    }
+  }
+  previousKeptStart[nc] = static_cast<Index>(previousKept.size());
 }
 
 // Every failed patch (not unmerged yet) with a hidden vertex to keep keeps one; the patches on
@@ -415,6 +616,7 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
       patches.push_back(p);
     }
   }
+  const bool local = passesDone > 0 && parameters.LocalFallbackTriangulation;
   std::stable_sort(patches.begin(), patches.end(), [&](Index x, Index y) { return s.Size[x] < s.Size[y]; });
   for (size_t index = 0; index < patches.size(); ++index)
   {
@@ -423,6 +625,11 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
     {
       return false;
     }
+    if (local && this->ReusePreviousTriangles(p))
+    {
+      continue;
+    }
+    level.RetriangulatedPatches += passesDone > 0;
     if (!this->BoundaryPolygon(p) || !this->TriangulateBoundary(p))
     {
       failed[p] = TriangulationFailure;
@@ -515,6 +722,13 @@ bool SpbmLevelGenerator::LevelTriangulation::BoundaryPolygon(Index p)
 // the double-ear normal rule, then without it. No diagonal may duplicate an existing edge.
 bool SpbmLevelGenerator::LevelTriangulation::TriangulateBoundary(Index p)
 {
+  if (parameters.LocalFallbackTriangulation)
+  {
+    context.resize(size_t(np), 0);
+    context[p] = this->EdgeContext(polygon.data(), polygon.size(), p); // before its own diagonals
+    firstCorner.resize(size_t(np), InvalidIndex);
+    firstCorner[p] = polygon[0];
+  }
   points.resize(polygon.size());
   for (size_t i = 0; i < polygon.size(); ++i)
   {

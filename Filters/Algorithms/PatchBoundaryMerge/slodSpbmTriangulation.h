@@ -41,6 +41,13 @@ public:
 
 private:
   void BuildVertexSequences();
+  // LocalFallbackTriangulation: which root patches keep their triangles of the pass before, and
+  // those triangles with their diagonals back in the level; and what the next pass compares.
+  void MarkChangedPatches(const std::vector<unsigned char>& frozen);
+  void GroupPreviousTriangles();
+  uint64_t EdgeContext(const Index* vertices, size_t n, Index p);
+  bool ReusePreviousTriangles(Index p);
+  void RememberPass(const std::vector<unsigned char>& frozen);
   void MakeSegmentsUnique();
   void AddOriginalPatches(const std::vector<unsigned char>& frozen);
   bool TriangulatePatches(const std::vector<unsigned char>& frozen, const std::function<bool()>& abort);
@@ -71,6 +78,19 @@ private:
   std::vector<unsigned char> failed;
   std::vector<unsigned char> refinedVertex; // per mesh vertex: kept by RefineFailedPatches (all passes)
   std::vector<Index> affected;               // RefineFailedPatches: patches to triangulate again
+  // The pass before (LocalFallbackTriangulation): per patch of the patchification its root and
+  // fallback level, per root whether it failed, per chain whether it was alive and its kept vertices
+  // (previousKept[previousKeptStart[c], previousKeptStart[c + 1])), the triangles of each root
+  // (previousTriangles, 3 per triangle, from previousFirst[p] to previousFirst[p + 1]); per root the
+  // EdgeContext its triangles were made in (`context`, 0: none) and the first vertex of its polygon
+  // then (`firstCorner`). `changed`: per root of this pass, 1 changed, 2 next to a changed one.
+  int passesDone = 0; // RunPass calls that completed
+  std::vector<Index> previousRoot, previousKeptStart, previousKept, previousFirst, previousTriangles;
+  std::vector<unsigned char> previousFrozen, previousFailed, previousAlive, changed;
+  std::vector<uint64_t> context;
+  std::vector<Index> firstCorner;
+  // Larger polygons are always triangulated again: the edge context is quadratic in their size.
+  static constexpr size_t MaximumReusedBoundary = 64;
   // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each
   // polygon corner's outgoing chain (or InvalidIndex), its oriented chains, the corner points.
   std::vector<Index> polygon, other, ring, order;

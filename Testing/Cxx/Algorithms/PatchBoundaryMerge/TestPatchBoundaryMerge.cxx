@@ -1161,6 +1161,23 @@ void ExpectSameLevelInSamePasses(const SpbmLevel& a, const SpbmLevel& b, unsigne
   EXPECT_EQ(a.EditsAppliedAsRecorded, b.EditsAppliedAsRecorded) << "seed " << seed;
 }
 
+// For each seed: the tenth levels of its noisy scan with the boolean parameter `option` on and
+// off, which must be the same level in the same passes (the option changes how the work is done),
+// then `check(on, off, seed)` for what it changes.
+template <typename Check>
+void ExpectSameLevelsWithAndWithout(
+  std::initializer_list<unsigned int> seeds, bool SpbmLevelParameters::*option, Check&& check)
+{
+  for (const unsigned int seed : seeds)
+  {
+    SpbmLevel on, off;
+    NoisyScanTenthLevelsWithAndWithout(seed, option, on, off);
+    ASSERT_FALSE(::testing::Test::HasFatalFailure()) << "seed " << seed;
+    ExpectSameLevelInSamePasses(on, off, seed);
+    check(on, off, seed);
+  }
+}
+
 // Issue 10: a fallback pass that unmerges patches replays the previous pass's merging edits with
 // those patches frozen (edits whose neighbourhood is unchanged as recorded, the others tested
 // again) and merges again around them, instead of a whole merging run. On a noisy scan surface
@@ -1303,16 +1320,12 @@ TEST(SpbmLevel, FailingUnmergedPatchesGoStraightToOriginalWhenCollapsesFollow)
 TEST(SpbmLevel, MergingPassesRebuildOnlyTheChainsThatChanged)
 {
   long long rebuildsOn = 0, rebuildsOff = 0;
-  for (const unsigned int seed : { 53u, 59u })
-  {
-    SpbmLevel on, off;
-    NoisyScanTenthLevelsWithAndWithout(seed, &SpbmLevelParameters::RebuildOnlyChangedChains, on, off);
-    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
-    ExpectSameLevelInSamePasses(on, off, seed);
-    EXPECT_LE(on.ChainRebuilds, off.ChainRebuilds) << "seed " << seed;
-    rebuildsOn += on.ChainRebuilds;
-    rebuildsOff += off.ChainRebuilds;
-  }
+  ExpectSameLevelsWithAndWithout({ 53u, 59u }, &SpbmLevelParameters::RebuildOnlyChangedChains,
+    [&](const SpbmLevel& on, const SpbmLevel& off, unsigned int seed) {
+      EXPECT_LE(on.ChainRebuilds, off.ChainRebuilds) << "seed " << seed;
+      rebuildsOn += on.ChainRebuilds;
+      rebuildsOff += off.ChainRebuilds;
+    });
   ASSERT_GT(rebuildsOff, 0) << "the noisy scans must need merging passes after the search's";
   EXPECT_LT(rebuildsOn, rebuildsOff) << "chain rebuilds " << rebuildsOn << " with, " << rebuildsOff << " without";
 }
@@ -1348,6 +1361,29 @@ TEST(SpbmLevel, ReplayedUnionsFoldTheirSupportsWhenRead)
   }
   ASSERT_GT(folds, 0) << "supports must be read after replayed unions";
   EXPECT_LT(unionsOn, unionsOff) << "supports united " << unionsOn << " with, " << unionsOff << " without";
+}
+
+// Session 24 (issue 10): a fallback pass triangulates again only the patches whose boundary may
+// have changed since the pass before (and those next to them); the others keep their triangles
+// (LocalFallbackTriangulation). On noisy scans of seeds no other test uses, which need fallback
+// passes, the level is the one the whole-level passes give (the same triangles in the same order),
+// and all the fallback passes together triangulate fewer patches than the level has (the
+// whole-level passes: every patch in every pass).
+TEST(SpbmLevel, FallbackPassesTriangulateOnlyTheChangedPatches)
+{
+  int fallbackPasses = 0;
+  ExpectSameLevelsWithAndWithout({ 71u, 73u }, &SpbmLevelParameters::LocalFallbackTriangulation,
+    [&](const SpbmLevel& local, const SpbmLevel& whole, unsigned int seed) {
+      EXPECT_EQ(local.FailedPatches, whole.FailedPatches) << "seed " << seed;
+      if (local.Passes > 1)
+      {
+        EXPECT_GE(whole.RetriangulatedPatches, Index(local.Passes - 1) * whole.NumberOfPatches / 2)
+          << "seed " << seed;
+        EXPECT_LT(local.RetriangulatedPatches, local.NumberOfPatches) << "seed " << seed;
+      }
+      fallbackPasses += local.Passes - 1;
+    });
+  EXPECT_GT(fallbackPasses, 0) << "the noisy scans must need fallback passes";
 }
 
 // The finest level's count is bounded from below without a merging run (the filter skips that
