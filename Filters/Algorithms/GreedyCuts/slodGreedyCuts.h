@@ -119,10 +119,15 @@ public:
   GreedyCuts(const GreedyCuts&) = delete;
   GreedyCuts& operator=(const GreedyCuts&) = delete;
 
-  // Patchifies the mesh (which must outlive this object; closed or with borders, manifold):
+  // Patchifies the mesh (which must outlive this object; closed or with borders):
   // chapter 4's small near-planar patches (slod::Patchification with `patches`), or, when
   // `terrain` is given, chapter 3's own terrain-like patches (section 3.4.1,
   // slod::BuildTerrainPatches), each triangulated in the plane orthogonal to its height direction.
+  // Non-manifold input: every triangle at a non-manifold vertex (on an edge of more than two
+  // triangles, or joining several fans) is a seam triangle, its own patch, kept as it is; the other
+  // patches are cut at them (edge-connected disks), and the final collapses never change a seam
+  // triangle (its corners are locked). So each non-manifold edge and vertex stays as it was, and
+  // the patches re-triangulated as disks keep the Euler characteristic and the border loops.
   void Initialize(const TriangleMesh& mesh, const PatchificationParameters& patches,
     const ProgressFunction& progress = nullptr, const TerrainPatchificationParameters* terrain = nullptr);
   bool Aborted() const { return this->WasAborted; }
@@ -136,6 +141,8 @@ public:
   // Direction each patch is triangulated along (its height direction; chapter 4: its mean normal).
   const std::vector<Vec3>& GetHeightDirections() const { return this->HeightDirection; }
   bool TerrainPatchesUsed() const { return this->Terrain; }
+  // Input triangles kept as they are because they touch a non-manifold vertex (see Initialize).
+  Index NumberOfSeamTriangles() const { return this->SeamTriangles; }
 
   // One run at parameters.Epsilon. Returns false when aborted.
   bool Run(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
@@ -223,6 +230,12 @@ private:
   bool SearchCutsForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress);
   bool SplitPatches(const std::vector<Index>& patches);
+  void IsolateSeamTriangles();
+  bool IsSeamPatch(Index p) const { return !this->SeamPatch.empty() && this->SeamPatch[p]; }
+  // Non-manifold input (Initialize): per vertex, 1 when non-manifold (Seam) or a corner of a seam
+  // triangle (Locked: the final collapses leave it); per patch, 1 for a seam triangle's own patch.
+  std::vector<unsigned char> SeamVertex, LockedVertex, SeamPatch;
+  Index SeamTriangles = 0;
   std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
   std::vector<Vec3> InitialHeights;
   const TriangleMesh* Mesh = nullptr;
