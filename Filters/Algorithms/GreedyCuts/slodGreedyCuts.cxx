@@ -842,7 +842,6 @@ void GreedyCuts::IsolateSeamTriangles()
   const TriangleMesh& mesh = *this->Mesh;
   const Index nt = mesh.NumberOfTriangles();
   this->SeamVertex = NonManifoldVertexFlags(mesh);
-  this->LockedVertex.assign(this->SeamVertex.size(), 0);
   std::vector<unsigned char> seam(size_t(nt), 0);
   this->SeamTriangles = 0;
   for (Index t = 0; t < nt; ++t)
@@ -850,15 +849,10 @@ void GreedyCuts::IsolateSeamTriangles()
     const Index* tri = mesh.Triangle(t);
     seam[t] = this->SeamVertex[tri[0]] || this->SeamVertex[tri[1]] || this->SeamVertex[tri[2]];
     this->SeamTriangles += seam[t];
-    for (int k = 0; k < 3 && seam[t]; ++k)
-    {
-      this->LockedVertex[tri[k]] = 1;
-    }
   }
   if (this->SeamTriangles == 0)
   {
     this->SeamVertex.clear();
-    this->LockedVertex.clear();
     this->SeamPatch.clear();
     return;
   }
@@ -2335,7 +2329,7 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.TargetTriangles = target;
   collapse.BorderCollapses = parameters.BorderCollapses;
   collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
-  collapse.LockedVertices = this->LockedVertex.empty() ? nullptr : this->LockedVertex.data();
+  collapse.LockedVertices = this->SeamVertex.empty() ? nullptr : this->SeamVertex.data();
   ProvedCollapseStatistics statistics;
   const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch,
     statistics, progress, &this->ProofPieces);

@@ -124,10 +124,11 @@ public:
   // `terrain` is given, chapter 3's own terrain-like patches (section 3.4.1,
   // slod::BuildTerrainPatches), each triangulated in the plane orthogonal to its height direction.
   // Non-manifold input: every triangle at a non-manifold vertex (on an edge of more than two
-  // triangles, or joining several fans) is a seam triangle, its own patch, kept as it is; the other
-  // patches are cut at them (edge-connected disks), and the final collapses never change a seam
-  // triangle (its corners are locked). So each non-manifold edge and vertex stays as it was, and
-  // the patches re-triangulated as disks keep the Euler characteristic and the border loops.
+  // triangles, or joining several fans) is a seam triangle, its own patch, kept as it is by the
+  // cuts; the other patches are cut at them (edge-connected disks). The final collapses lock the
+  // non-manifold vertices (EditableMesh's link condition assumes one fan per vertex) and keep the
+  // topology as everywhere. So each non-manifold edge stays one edge with its triangles, and the
+  // Euler characteristic and the border loops are kept.
   void Initialize(const TriangleMesh& mesh, const PatchificationParameters& patches,
     const ProgressFunction& progress = nullptr, const TerrainPatchificationParameters* terrain = nullptr);
   bool Aborted() const { return this->WasAborted; }
@@ -232,9 +233,9 @@ private:
   bool SplitPatches(const std::vector<Index>& patches);
   void IsolateSeamTriangles();
   bool IsSeamPatch(Index p) const { return !this->SeamPatch.empty() && this->SeamPatch[p]; }
-  // Non-manifold input (Initialize): per vertex, 1 when non-manifold (Seam) or a corner of a seam
-  // triangle (Locked: the final collapses leave it); per patch, 1 for a seam triangle's own patch.
-  std::vector<unsigned char> SeamVertex, LockedVertex, SeamPatch;
+  // Non-manifold input (Initialize): per vertex, 1 when non-manifold (locked in the final
+  // collapses); per patch, 1 for a seam triangle's own patch. Both empty for a manifold input.
+  std::vector<unsigned char> SeamVertex, SeamPatch;
   Index SeamTriangles = 0;
   std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
   std::vector<Vec3> InitialHeights;

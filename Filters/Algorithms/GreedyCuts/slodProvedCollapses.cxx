@@ -506,7 +506,7 @@ private:
         }
       }
     });
-    if (other == InvalidIndex || z == q || this->Out.EdgeTriangleCount(q, z) != 0 || (this->Locked(x) && this->Locked(y)))
+    if (other == InvalidIndex || z == q || this->Out.EdgeTriangleCount(q, z) != 0)
     {
       return false;
     }
