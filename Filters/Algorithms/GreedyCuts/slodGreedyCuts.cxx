@@ -8,6 +8,7 @@
 #include "vtkMath.h"
 
 #include <algorithm>
+#include <numeric>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -891,8 +892,10 @@ void GreedyCuts::IsolateSeamTriangles()
   }
   this->Patches.BuildFromLabels(mesh, this->Topology, label, Index(heights.size()));
   this->HeightDirection = std::move(heights);
+  std::vector<Index> notDisks(this->HeightDirection.size()); // first every piece, for its normal
+  std::iota(notDisks.begin(), notDisks.end(), Index(0));
+  this->UseOwnNormals(notDisks);
   this->BuildPatchData();
-  std::vector<Index> notDisks;
   for (int round = 0; round < MaximumSplitRounds; ++round)
   {
     notDisks.clear();
@@ -910,15 +913,29 @@ void GreedyCuts::IsolateSeamTriangles()
   }
 }
 
+// Chapter 4's patches are triangulated along their mean normal, so a piece cut from one gets its
+// own: the parent's may be far from a small piece's (a triangle joins a patch at up to
+// TwoEdgePatchAngle, 90 degrees, from its normal), and a piece projected along it could not be
+// triangulated (lion-head: two pieces of 1 and 6 triangles fell back to their originals at every
+// tolerance). A part of a chapter 3 height field is one along the parent's direction: kept.
+void GreedyCuts::UseOwnNormals(const std::vector<Index>& pieces)
+{
+  for (Index q : pieces)
+  {
+    const Vec3 own = this->Patches.PatchNormalSum(q);
+    this->HeightDirection[q] = this->Terrain || !(Norm(own) > 0) ? this->HeightDirection[q] : Normalized(own);
+  }
+}
+
 // A patch that fell back to its original triangles is cut in two instead (then retried): a disk
 // grown breadth-first from a triangle on its boundary takes half of it, and every edge-connected
-// piece of the rest becomes a patch too. Sub-patches keep the parent's direction (a part of a
-// height field is one). Returns whether any patch was split.
+// piece of the rest becomes a patch too, each with its direction (UseOwnNormals). Returns whether
+// any patch was split.
 bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
 {
   std::vector<Index> label = this->Patches.TrianglePatches();
   Index next = this->Patches.NumberOfPatches();
-  std::vector<Index> inPatch, queue;
+  std::vector<Index> inPatch, queue, pieces;
   std::vector<unsigned char> vertexUsed(size_t(this->Mesh->NumberOfPoints()), 0);
   bool split = false;
   for (Index p : patches)
@@ -932,6 +949,8 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
     // Half of the patch, grown as a disk from its first triangle (on its boundary: the patch is
     // a disk, its first triangle in index order need not be inside).
     const Index half = next++;
+    pieces.push_back(p);
+    pieces.push_back(half);
     this->HeightDirection.push_back(this->HeightDirection[p]);
     queue.assign(1, inPatch.front());
     label[inPatch.front()] = half;
@@ -988,6 +1007,7 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
       const Index piece = first ? InvalidIndex - 1 : next++;
       if (!first)
       {
+        pieces.push_back(piece);
         this->HeightDirection.push_back(this->HeightDirection[p]);
       }
       first = false;
@@ -1019,6 +1039,7 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
       this->SeamPatch.resize(size_t(next), 0); // the pieces of a split patch are no seam triangles
     }
     this->Patches.BuildFromLabels(*this->Mesh, this->Topology, label, next);
+    this->UseOwnNormals(pieces);
     this->BuildPatchData();
   }
   return split;

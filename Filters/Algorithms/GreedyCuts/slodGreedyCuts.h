@@ -232,6 +232,7 @@ private:
     GreedyCutsResult& result, const ProgressFunction& progress);
   bool SplitPatches(const std::vector<Index>& patches);
   void IsolateSeamTriangles();
+  void UseOwnNormals(const std::vector<Index>& pieces);
   bool IsSeamPatch(Index p) const { return !this->SeamPatch.empty() && this->SeamPatch[p]; }
   // Non-manifold input (Initialize): per vertex, 1 when non-manifold (locked in the final
   // collapses); per patch, 1 for a seam triangle's own patch. Both empty for a manifold input.

@@ -954,6 +954,24 @@ TEST(GreedyCutsSimplification, StuckPatchesAreSplitNotKeptOriginal)
   }
 }
 
+// A piece split from a chapter 4 patch is triangulated along its own mean normal, not its parent's:
+// a patch holds triangles up to TwoEdgePatchAngle (90 degrees) from its normal, and a small piece
+// of them projected along it may not be triangulable. lion-head kept two such pieces (1 and 6
+// triangles) as their original triangles at every tolerance before.
+TEST(GreedyCutsSimplification, SplitPiecesUseTheirOwnNormal)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("lion-head");
+  for (double eps : { 0.006, 0.015 })
+  {
+    vtkNew<vtkGreedyCutsSimplification> filter;
+    filter->SetInputData(input);
+    filter->SetMaximumError(eps);
+    filter->Update();
+    ExpectValid(input, Collect(filter, input), "lion-head");
+    EXPECT_EQ(filter->GetOriginalPatches(), 0) << eps;
+  }
+}
+
 // The final pass of proved collapses and flips (FinalCollapses, on by default) keeps every
 // property of the greedy cuts (measured Hausdorff within the bound, manifold, same genus, Euler
 // characteristic, orientation, original vertices) with fewer triangles. cow and elk are used by no
