@@ -2,11 +2,13 @@
 #include "slodGreedyCuts.h"
 
 #include "slodChainSimplification.h"
+#include "slodInputPreparation.h" // NonManifoldVertexFlags
 #include "slodProvedCollapses.h"
 
 #include "vtkMath.h"
 
 #include <algorithm>
+#include <numeric>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -762,9 +764,10 @@ void GreedyCuts::Initialize(const TriangleMesh& mesh, const PatchificationParame
     }
   }
   this->Bvh.Build(mesh);
+  this->BuildPatchData();
+  this->IsolateSeamTriangles();
   this->InitialLabels = this->Patches.TrianglePatches();
   this->InitialHeights = this->HeightDirection;
-  this->BuildPatchData();
   if (progress && !progress(1.0))
   {
     this->WasAborted = true;
@@ -831,15 +834,108 @@ void GreedyCuts::BuildPatchData()
   }
 }
 
+// Non-manifold input (Initialize): each triangle at a non-manifold vertex becomes its own patch,
+// kept as it is, and the rest of every patch is cut into its edge-connected pieces. A piece that is
+// not a disk (it surrounds seam triangles) is split as a fallback patch is, at most
+// MaximumSplitRounds times; a piece still not a disk then is a fallback patch of every run.
+void GreedyCuts::IsolateSeamTriangles()
+{
+  const TriangleMesh& mesh = *this->Mesh;
+  const Index nt = mesh.NumberOfTriangles();
+  this->SeamVertex = NonManifoldVertexFlags(mesh);
+  std::vector<unsigned char> seam(size_t(nt), 0);
+  this->SeamTriangles = 0;
+  for (Index t = 0; t < nt; ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    seam[t] = this->SeamVertex[tri[0]] || this->SeamVertex[tri[1]] || this->SeamVertex[tri[2]];
+    this->SeamTriangles += seam[t];
+  }
+  if (this->SeamTriangles == 0)
+  {
+    this->SeamVertex.clear();
+    this->SeamPatch.clear();
+    return;
+  }
+  const std::vector<Index> old = this->Patches.TrianglePatches();
+  std::vector<Index> label(size_t(nt), InvalidIndex), queue;
+  std::vector<Vec3> heights;
+  for (Index seed = 0; seed < nt; ++seed)
+  {
+    if (label[seed] != InvalidIndex)
+    {
+      continue;
+    }
+    const Index piece = Index(heights.size());
+    label[seed] = piece;
+    const Index* tri = mesh.Triangle(seed);
+    heights.push_back(seam[seed] ? TriangleNormal(mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]))
+                                 : this->HeightDirection[old[seed]]);
+    queue.assign(seam[seed] ? 0 : 1, seed);
+    for (size_t head = 0; head < queue.size(); ++head)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index n = this->Topology.EdgeNeighbor(queue[head], k);
+        if (n != InvalidIndex && !seam[n] && label[n] == InvalidIndex && old[n] == old[seed])
+        {
+          label[n] = piece;
+          queue.push_back(n);
+        }
+      }
+    }
+  }
+  this->SeamPatch.assign(heights.size(), 0);
+  for (Index t = 0; t < nt; ++t)
+  {
+    this->SeamPatch[label[t]] = seam[t];
+  }
+  this->Patches.BuildFromLabels(mesh, this->Topology, label, Index(heights.size()));
+  this->HeightDirection = std::move(heights);
+  std::vector<Index> notDisks(this->HeightDirection.size()); // first every piece, for its normal
+  std::iota(notDisks.begin(), notDisks.end(), Index(0));
+  this->UseOwnNormals(notDisks);
+  this->BuildPatchData();
+  for (int round = 0; round < MaximumSplitRounds; ++round)
+  {
+    notDisks.clear();
+    for (Index p = 0; p < this->Patches.NumberOfPatches(); ++p)
+    {
+      if (!this->LoopValid[p] && !this->SeamPatch[p])
+      {
+        notDisks.push_back(p);
+      }
+    }
+    if (notDisks.empty() || !this->SplitPatches(notDisks))
+    {
+      break;
+    }
+  }
+}
+
+// Chapter 4's patches are triangulated along their mean normal, so a piece cut from one gets its
+// own: the parent's may be far from a small piece's (a triangle joins a patch at up to
+// TwoEdgePatchAngle, 90 degrees, from its normal), and a piece projected along it could not be
+// triangulated (lion-head: two pieces of 1 and 6 triangles fell back to their originals at every
+// tolerance). A part of a chapter 3 height field is one along the parent's direction: kept.
+void GreedyCuts::UseOwnNormals(const std::vector<Index>& pieces)
+{
+  for (Index q : pieces)
+  {
+    const Vec3 own = this->Patches.PatchNormalSum(q);
+    this->HeightDirection[q] = this->Terrain || !(Norm(own) > 0) ? this->HeightDirection[q] : Normalized(own);
+  }
+}
+
 // A patch that fell back to its original triangles is cut in two instead (then retried): a disk
 // grown breadth-first from a triangle on its boundary takes half of it, and every edge-connected
-// piece of the rest becomes a patch too. Sub-patches keep the parent's direction (a part of a
-// height field is one). Returns whether any patch was split.
+// piece of the rest becomes a patch too, each with its direction (UseOwnNormals). Returns whether
+// any patch was split.
 bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
 {
   std::vector<Index> label = this->Patches.TrianglePatches();
   Index next = this->Patches.NumberOfPatches();
-  std::vector<Index> inPatch, queue;
+  std::vector<Index> inPatch, queue, pieces;
   std::vector<unsigned char> vertexUsed(size_t(this->Mesh->NumberOfPoints()), 0);
   bool split = false;
   for (Index p : patches)
@@ -853,6 +949,8 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
     // Half of the patch, grown as a disk from its first triangle (on its boundary: the patch is
     // a disk, its first triangle in index order need not be inside).
     const Index half = next++;
+    pieces.push_back(p);
+    pieces.push_back(half);
     this->HeightDirection.push_back(this->HeightDirection[p]);
     queue.assign(1, inPatch.front());
     label[inPatch.front()] = half;
@@ -909,6 +1007,7 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
       const Index piece = first ? InvalidIndex - 1 : next++;
       if (!first)
       {
+        pieces.push_back(piece);
         this->HeightDirection.push_back(this->HeightDirection[p]);
       }
       first = false;
@@ -935,7 +1034,12 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
   }
   if (split)
   {
+    if (!this->SeamPatch.empty())
+    {
+      this->SeamPatch.resize(size_t(next), 0); // the pieces of a split patch are no seam triangles
+    }
     this->Patches.BuildFromLabels(*this->Mesh, this->Topology, label, next);
+    this->UseOwnNormals(pieces);
     this->BuildPatchData();
   }
   return split;
@@ -1008,7 +1112,8 @@ struct GreedyCuts::Worker
     this->FrontNode.assign(size_t(M.NumberOfPoints()), InvalidIndex);
     for (Index p = 0; p < np; ++p)
     {
-      if (!G.LoopValid[p])
+      // A seam triangle's patch is kept as it is from the start, as a patch that is no disk is.
+      if (!G.LoopValid[p] || G.IsSeamPatch(p))
       {
         this->PatchOriginal[p] = 1;
         for (Index c : this->PatchChains[p])
@@ -2110,8 +2215,10 @@ struct GreedyCuts::Worker
     {
       this->Res.Triangles.insert(this->Res.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
       this->Res.TrianglePatch.insert(this->Res.TrianglePatch.end(), this->PatchTris[p].size() / 3, p);
-      this->Res.OriginalPatches += this->PatchOriginal[p];
-      if (this->PatchOriginal[p])
+      // A seam triangle kept as it is was never cut, so it is no fallback.
+      const bool fellBack = this->PatchOriginal[p] && !G.IsSeamPatch(p);
+      this->Res.OriginalPatches += fellBack;
+      if (fellBack)
       {
         this->Res.FallbackPatchIds.push_back(p);
       }
@@ -2129,9 +2236,12 @@ struct GreedyCuts::Worker
     std::vector<unsigned char> bad(size_t(np), 0);
     for (const auto& [key, use] : this->EdgeUse)
     {
-      if (use > 2)
+      const Index a = Index(key >> 32), b = Index(key & 0xffffffffu);
+      // Between two non-manifold vertices only seam triangles, kept as they are, make an edge: an
+      // input edge, non-manifold or not, as it was.
+      const bool seamEdge = !G.SeamVertex.empty() && G.SeamVertex[a] && G.SeamVertex[b];
+      if (use > 2 && !seamEdge)
       {
-        const Index a = Index(key >> 32), b = Index(key & 0xffffffffu);
         for (Index p = 0; p < np; ++p)
         {
           const std::vector<Index>& tris = this->PatchTris[p];
@@ -2199,6 +2309,10 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
   {
     this->Patches.BuildFromLabels(*this->Mesh, this->Topology, this->InitialLabels, Index(this->InitialHeights.size()));
     this->HeightDirection = this->InitialHeights;
+    if (!this->SeamPatch.empty())
+    {
+      this->SeamPatch.resize(this->InitialHeights.size());
+    }
     this->BuildPatchData();
   }
   // The cuts report the first 80 % of the progress when the final collapses follow.
@@ -2236,6 +2350,7 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.TargetTriangles = target;
   collapse.BorderCollapses = parameters.BorderCollapses;
   collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
+  collapse.LockedVertices = this->SeamVertex.empty() ? nullptr : this->SeamVertex.data();
   ProvedCollapseStatistics statistics;
   const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch,
     statistics, progress, &this->ProofPieces);

@@ -119,10 +119,16 @@ public:
   GreedyCuts(const GreedyCuts&) = delete;
   GreedyCuts& operator=(const GreedyCuts&) = delete;
 
-  // Patchifies the mesh (which must outlive this object; closed or with borders, manifold):
+  // Patchifies the mesh (which must outlive this object; closed or with borders):
   // chapter 4's small near-planar patches (slod::Patchification with `patches`), or, when
   // `terrain` is given, chapter 3's own terrain-like patches (section 3.4.1,
   // slod::BuildTerrainPatches), each triangulated in the plane orthogonal to its height direction.
+  // Non-manifold input: every triangle at a non-manifold vertex (on an edge of more than two
+  // triangles, or joining several fans) is a seam triangle, its own patch, kept as it is by the
+  // cuts; the other patches are cut at them (edge-connected disks). The final collapses lock the
+  // non-manifold vertices (EditableMesh's link condition assumes one fan per vertex) and keep the
+  // topology as everywhere. So each non-manifold edge stays one edge with its triangles, and the
+  // Euler characteristic and the border loops are kept.
   void Initialize(const TriangleMesh& mesh, const PatchificationParameters& patches,
     const ProgressFunction& progress = nullptr, const TerrainPatchificationParameters* terrain = nullptr);
   bool Aborted() const { return this->WasAborted; }
@@ -136,6 +142,8 @@ public:
   // Direction each patch is triangulated along (its height direction; chapter 4: its mean normal).
   const std::vector<Vec3>& GetHeightDirections() const { return this->HeightDirection; }
   bool TerrainPatchesUsed() const { return this->Terrain; }
+  // Input triangles kept as they are because they touch a non-manifold vertex (see Initialize).
+  Index NumberOfSeamTriangles() const { return this->SeamTriangles; }
 
   // One run at parameters.Epsilon. Returns false when aborted.
   bool Run(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
@@ -223,6 +231,13 @@ private:
   bool SearchCutsForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress);
   bool SplitPatches(const std::vector<Index>& patches);
+  void IsolateSeamTriangles();
+  void UseOwnNormals(const std::vector<Index>& pieces);
+  bool IsSeamPatch(Index p) const { return !this->SeamPatch.empty() && this->SeamPatch[p]; }
+  // Non-manifold input (Initialize): per vertex, 1 when non-manifold (locked in the final
+  // collapses); per patch, 1 for a seam triangle's own patch. Both empty for a manifold input.
+  std::vector<unsigned char> SeamVertex, SeamPatch;
+  Index SeamTriangles = 0;
   std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
   std::vector<Vec3> InitialHeights;
   const TriangleMesh* Mesh = nullptr;

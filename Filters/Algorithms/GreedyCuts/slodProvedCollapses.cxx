@@ -69,7 +69,10 @@ public:
     this->AliveTriangles = output.NumberOfTriangles();
     this->Options.BoundaryVertices = this->Border.data();
     this->Options.MinimumAngle = Radians(parameters.MinimumAngle);
+    this->Options.LockedVertices = parameters.LockedVertices;
   }
+
+  bool Locked(Index v) const { return this->Prm.LockedVertices && this->Prm.LockedVertices[v]; }
 
   // One pass over the removable vertices, shortest incident edge first. Returns the collapses.
   long long Pass(ProvedCollapseStatistics& statistics, const ProgressFunction& progress, bool& aborted)
@@ -80,7 +83,8 @@ public:
     order.clear();
     for (Index u = 0; u < Index(this->Used.size()); ++u)
     {
-      if (!this->Used[u] || (this->Border[u] && !this->Prm.BorderCollapses) || this->Out.VertexDegree(u) == 0)
+      if (!this->Used[u] || (this->Border[u] && !this->Prm.BorderCollapses) || this->Out.VertexDegree(u) == 0 ||
+        this->Locked(u))
       {
         continue;
       }

@@ -52,6 +52,11 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   // `proofPieces` argument) exceeds this value (0: only the bounds above). The output is valid
   // whenever the passes stop: every change already made was proved.
   long long MaximumProofPieces = 0;
+  // Per input vertex, 1 = locked (nullptr: none): no collapse removes it or moves onto it
+  // (CollapseOptions::LockedVertices). GreedyCuts locks the non-manifold vertices: the link condition
+  // assumes one fan per vertex. Flips need no lock: a non-manifold edge is never flipped (it has
+  // more than two triangles), and a flip's new edge must be no edge yet.
+  const unsigned char* LockedVertices = nullptr;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics

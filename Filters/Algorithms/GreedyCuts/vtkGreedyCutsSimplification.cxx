@@ -102,18 +102,11 @@ int vtkGreedyCutsSimplification::RequestData(
 
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput, triangleToCell;
-  slod::PreparationReport report;
-  // A mesh without triangles has no non-manifold parts either, so refusing it first changes nothing.
-  if (!slod::PrepareFilterTriangles(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+  // Non-manifold input is accepted: the triangles at its non-manifold vertices are kept as they are
+  // (slod::GreedyCuts::Initialize), so no non-manifold edge is cut open or closed.
+  if (!slod::PrepareFilterTriangles(this, input, slod::PreparationOptions(), mesh, vertexToInput, nullptr,
         slod::CellMapIfNeeded(input, triangleToCell), { /*IsError=*/true }))
   {
-    return 1;
-  }
-  if (report.NonManifoldEdges > 0 || report.NonManifoldVertices > 0)
-  {
-    vtkErrorMacro("Cannot simplify a non-manifold surface (" << report.NonManifoldEdges << " non-manifold edges, "
-                                                            << report.NonManifoldVertices
-                                                            << " non-manifold vertices): the output is empty.");
     return 1;
   }
   const double diagonal = mesh.BoundingBoxDiagonal();

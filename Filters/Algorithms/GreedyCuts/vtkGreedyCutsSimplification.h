@@ -44,7 +44,9 @@
  * MaximumError 0 with a target searches up to 0.1 of the diagonal.
  *
  * Output: the simplified mesh with cell data "PatchId" and the input's point data; invalid input
- * (empty, NaN/Inf coordinates, non-manifold) gives an error and an empty output.
+ * (empty, NaN/Inf coordinates) gives an error and an empty output. Non-manifold input is simplified
+ * with the triangles at its non-manifold vertices kept (each non-manifold edge stays one edge with
+ * its triangles; Euler characteristic and border loops kept).
  */
 #ifndef vtkGreedyCutsSimplification_h
 #define vtkGreedyCutsSimplification_h
