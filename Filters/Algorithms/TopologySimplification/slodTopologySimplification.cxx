@@ -97,6 +97,11 @@ struct Simplification
   std::vector<unsigned char> Type, Convex, InLoop, Done;
   std::vector<Index> IncidenceOffset, Incidence; // per vertex: 2*chain + end
   std::vector<unsigned char> PatchChainSharp;    // per chain of the patchification
+  // Per patch: the sharp chains on its boundary (CSR), so that a loop's partner search visits the
+  // chains of its wall patches instead of every chain; per sharp chain: the loop it is part of
+  // (a chain joins at most one loop: searches skip chains InLoop).
+  std::vector<Index> PatchSharpOffset, PatchSharp, ChainLoop;
+  std::vector<unsigned char> InWall; // per patch, cleared after each partner search
   std::vector<std::vector<Oriented>> LoopChains;
 
   std::vector<Index> ComponentSize;   // triangles per component
@@ -259,6 +264,38 @@ struct Simplification
       this->Incidence[fill[this->Vertex[this->Offset[c]]]++] = 2 * c;
       this->Incidence[fill[this->Vertex[this->Offset[c + 1] - 1]]++] = 2 * c + 1;
     }
+    this->BuildPatchSharpChains();
+  }
+
+  // PatchSharpOffset / PatchSharp: the sharp chains with the patch on their left or right.
+  void BuildPatchSharpChains()
+  {
+    const Index np = this->Patches.NumberOfPatches();
+    const Index nc = this->NumberOfChains();
+    this->PatchSharpOffset.assign(size_t(np) + 1, 0);
+    auto sides = [&](Index c) { return std::array<Index, 2>{ this->Left[c], this->Right[c] }; };
+    for (Index c = 0; c < nc; ++c)
+    {
+      for (Index p : sides(c))
+      {
+        this->PatchSharpOffset[size_t(p) + 1] += p != InvalidIndex ? 1 : 0;
+      }
+    }
+    std::partial_sum(this->PatchSharpOffset.begin(), this->PatchSharpOffset.end(), this->PatchSharpOffset.begin());
+    this->PatchSharp.resize(size_t(this->PatchSharpOffset[np]));
+    std::vector<Index> next(this->PatchSharpOffset.begin(), this->PatchSharpOffset.end() - 1);
+    for (Index c = 0; c < nc; ++c)
+    {
+      for (Index p : sides(c))
+      {
+        if (p != InvalidIndex)
+        {
+          this->PatchSharp[next[p]++] = c;
+        }
+      }
+    }
+    this->ChainLoop.assign(size_t(nc), InvalidIndex);
+    this->InWall.assign(size_t(np), 0);
   }
 
   // --- 3. Flat and wall sides (5.3.1) ---
@@ -564,7 +601,12 @@ struct Simplification
     loop.Diameter = EstimateLoopDiameter(this->Mesh, loop.Vertices);
     this->R.Loops.push_back(std::move(loop));
     this->LoopChains.push_back(chains);
-    return static_cast<Index>(this->R.Loops.size()) - 1;
+    const Index index = static_cast<Index>(this->R.Loops.size()) - 1;
+    for (const Oriented& o : chains)
+    {
+      this->ChainLoop[o.Chain] = index;
+    }
+    return index;
   }
 
   void FindLoops()
@@ -607,15 +649,14 @@ struct Simplification
   }
 
   // --- 5. Partner loops (5.3.2) ---
-  // The wall patches of loop l (inWall per patch): right of l, plus those joined to them by
-  // non-sharp chains (at most about 512).
-  void WallPatches(Index l, std::vector<unsigned char>& inWall) const
+  // The wall patches of loop l, marked in InWall (the caller clears them): right of l, plus those
+  // joined to them by non-sharp chains (at most about 512).
+  void WallPatches(Index l, std::vector<Index>& wall)
   {
-    const std::vector<Oriented>& chains = this->LoopChains[l];
     const Patchification& pa = this->Patches;
-    std::vector<Index> wall;
-    inWall.assign(size_t(pa.NumberOfPatches()), 0);
-    for (const Oriented& o : chains)
+    std::vector<unsigned char>& inWall = this->InWall;
+    wall.clear();
+    for (const Oriented& o : this->LoopChains[l])
     {
       const Index p = this->RightPatchOf(o);
       if (p != InvalidIndex && !inWall[p])
@@ -644,16 +685,29 @@ struct Simplification
     }
   }
 
+  // The sharp chains with a wall patch on either side, in increasing order (the order in which
+  // a scan over every chain would meet them: the partner found does not depend on the index).
+  std::vector<Index> WallChains(const std::vector<Index>& wall) const
+  {
+    std::vector<Index> chains;
+    for (Index p : wall)
+    {
+      chains.insert(chains.end(), this->PatchSharp.begin() + this->PatchSharpOffset[p],
+        this->PatchSharp.begin() + this->PatchSharpOffset[p + 1]);
+    }
+    std::sort(chains.begin(), chains.end());
+    chains.erase(std::unique(chains.begin(), chains.end()), chains.end());
+    return chains;
+  }
+
   // A new loop seeded by a sharp chain of the wall patches that avoids the forbidden vertices.
-  Index SearchPartner(const std::vector<unsigned char>& inWall, Index forbiddenStamp)
+  Index SearchPartner(const std::vector<Index>& wallChains, Index forbiddenStamp)
   {
     const std::vector<Index>& forbidden = this->Forbidden;
     std::vector<Index> explored;
-    for (Index c = 0; c < this->NumberOfChains(); ++c)
+    for (Index c : wallChains)
     {
-      if (this->InLoop[c] || this->FlatLeft[c] < 0 ||
-        !((this->Left[c] != InvalidIndex && inWall[this->Left[c]]) ||
-          (this->Right[c] != InvalidIndex && inWall[this->Right[c]])))
+      if (this->InLoop[c] || this->FlatLeft[c] < 0)
       {
         continue;
       }
@@ -677,11 +731,18 @@ struct Simplification
   }
 
   // The loop that bounds the other end of l's wall: among the loops already found (clockwise
-  // ones first: holes before bumps), else a new search over the wall's sharp chains.
+  // ones first: holes before bumps), else a new search over the wall's sharp chains. Only the
+  // chains of the wall patches are visited (not every chain and loop: that made the detection
+  // quadratic in the number of loops on noisy scans).
   Index FindPartner(Index l)
   {
-    std::vector<unsigned char> inWall;
-    this->WallPatches(l, inWall);
+    std::vector<Index> wall;
+    this->WallPatches(l, wall);
+    const std::vector<Index> wallChains = this->WallChains(wall);
+    for (Index p : wall)
+    {
+      this->InWall[p] = 0;
+    }
     // Vertices of L are forbidden in the partner.
     ++this->Stamp;
     const Index forbiddenStamp = this->Stamp;
@@ -701,23 +762,23 @@ struct Simplification
       }
       return true;
     };
-    auto onWall = [&](const std::vector<Oriented>& loopChains) {
-      for (const Oriented& o : loopChains)
+    // The loops on the wall: those with a chain on a wall patch.
+    std::vector<Index> onWall;
+    for (Index c : wallChains)
+    {
+      if (this->ChainLoop[c] != InvalidIndex)
       {
-        if ((this->Left[o.Chain] != InvalidIndex && inWall[this->Left[o.Chain]]) ||
-          (this->Right[o.Chain] != InvalidIndex && inWall[this->Right[o.Chain]]))
-        {
-          return true;
-        }
+        onWall.push_back(this->ChainLoop[c]);
       }
-      return false;
-    };
+    }
+    std::sort(onWall.begin(), onWall.end());
+    onWall.erase(std::unique(onWall.begin(), onWall.end()), onWall.end());
+    this->R.PartnerSearchWork += static_cast<std::int64_t>(wallChains.size() + onWall.size());
     // First among the loops already found, clockwise ones first (holes before bumps).
     Index best = InvalidIndex;
-    for (Index other = 0; other < static_cast<Index>(this->R.Loops.size()); ++other)
+    for (Index other : onWall)
     {
-      if (other == l || this->R.Loops[other].Feature != InvalidIndex || !onWall(this->LoopChains[other]) ||
-        !disjoint(other))
+      if (other == l || this->R.Loops[other].Feature != InvalidIndex || !disjoint(other))
       {
         continue;
       }
@@ -726,7 +787,7 @@ struct Simplification
         best = other;
       }
     }
-    return best != InvalidIndex ? best : this->SearchPartner(inWall, forbiddenStamp);
+    return best != InvalidIndex ? best : this->SearchPartner(wallChains, forbiddenStamp);
   }
 
   // --- 6. Wall region and removal ---
@@ -1624,6 +1685,7 @@ void AccumulateFindings(TopologySimplificationResult& found, bool last, Topology
       result.Loops.push_back(std::move(loop));
     }
   }
+  result.PartnerSearchWork += found.PartnerSearchWork;
   for (int k = 0; k < 4; ++k)
   {
     result.Removed[k] += found.Removed[k];

@@ -44,6 +44,7 @@
 #include "slodPatchification.h"
 #include "slodTriangleMesh.h"
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -126,6 +127,10 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationResult
   std::vector<Index> CleanedTriangles;
   SpbmLevel Level;
   double PatchificationSeconds = 0, DetectionSeconds = 0, CompletionSeconds = 0;
+  // Work of the partner searches (5.3.2), all passes: the sharp chains and loops examined as
+  // seeds or partners. Only those on each loop's wall patches are, so it grows with the loops'
+  // walls, not with (loops x chains).
+  std::int64_t PartnerSearchWork = 0;
 };
 
 class SURFACELODFILTERS_EXPORT TopologySimplifier
