@@ -149,6 +149,15 @@ void SpbmLevelGenerator::LevelTriangulation::GroupPreviousTriangles()
   }
 }
 
+// Whether a-b is an edge of the level other than a segment of p's own chains (a diagonal of
+// another patch, -1, or a chain segment of another patch).
+bool SpbmLevelGenerator::LevelTriangulation::EdgeOutside(Index a, Index b, Index p)
+{
+  Index x;
+  return s.Edges.Find(a, b, x) &&
+    !(x >= 0 && (s.Find(s.L[x]) == p || (s.R[x] != InvalidIndex && s.Find(s.R[x]) == p)));
+}
+
 // The edges already in the level between the vertices of patch p other than its own chains'
 // segments: what the triangulation of p is told (a diagonal that is an edge is refused). An
 // order-independent hash of them, 0 for a polygon too large to check (never reused).
@@ -163,9 +172,7 @@ uint64_t SpbmLevelGenerator::LevelTriangulation::EdgeContext(const Index* vertic
   {
     for (size_t j = i + 1; j < n; ++j)
     {
-      Index x;
-      if (s.Edges.Find(vertices[i], vertices[j], x) &&
-        !(x >= 0 && (s.Find(s.L[x]) == p || (s.R[x] != InvalidIndex && s.Find(s.R[x]) == p))))
+      if (this->EdgeOutside(vertices[i], vertices[j], p))
       {
         uint64_t key = (uint64_t(uint32_t(std::min(vertices[i], vertices[j]))) << 32) |
           uint32_t(std::max(vertices[i], vertices[j]));
@@ -216,6 +223,18 @@ bool SpbmLevelGenerator::LevelTriangulation::ReusePreviousTriangles(Index p)
   if (start != firstCorner[p] || this->EdgeContext(polygon.data(), polygon.size(), p) != context[p])
   {
     return false;
+  }
+  // The context is a hash: a kept diagonal that is now an edge outside p (a collision) would be
+  // a duplicate edge, so each triangle edge is checked before any is inserted.
+  for (const Index* t = first; t != last; t += 3)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      if (this->EdgeOutside(t[k], t[(k + 1) % 3], p))
+      {
+        return false;
+      }
+    }
   }
   for (const Index* t = first; t != last; t += 3)
   {

@@ -45,6 +45,7 @@ private:
   // those triangles with their diagonals back in the level; and what the next pass compares.
   void MarkChangedPatches(const std::vector<unsigned char>& frozen);
   void GroupPreviousTriangles();
+  bool EdgeOutside(Index a, Index b, Index p);
   uint64_t EdgeContext(const Index* vertices, size_t n, Index p);
   bool ReusePreviousTriangles(Index p);
   void RememberPass(const std::vector<unsigned char>& frozen);
