@@ -102,6 +102,8 @@ struct Simplification
   // (a chain joins at most one loop: searches skip chains InLoop).
   std::vector<Index> PatchSharpOffset, PatchSharp, ChainLoop;
   std::vector<unsigned char> InWall; // per patch, cleared after each partner search
+  // A partner search's wall patches, their sharp chains and the loops on them (reused per loop).
+  std::vector<Index> WallScratch, WallChainScratch, OnWallScratch;
   std::vector<std::vector<Oriented>> LoopChains;
 
   std::vector<Index> ComponentSize;   // triangles per component
@@ -687,9 +689,9 @@ struct Simplification
 
   // The sharp chains with a wall patch on either side, in increasing order (the order in which
   // a scan over every chain would meet them: the partner found does not depend on the index).
-  std::vector<Index> WallChains(const std::vector<Index>& wall) const
+  void WallChains(const std::vector<Index>& wall, std::vector<Index>& chains) const
   {
-    std::vector<Index> chains;
+    chains.clear();
     for (Index p : wall)
     {
       chains.insert(chains.end(), this->PatchSharp.begin() + this->PatchSharpOffset[p],
@@ -697,7 +699,6 @@ struct Simplification
     }
     std::sort(chains.begin(), chains.end());
     chains.erase(std::unique(chains.begin(), chains.end()), chains.end());
-    return chains;
   }
 
   // A new loop seeded by a sharp chain of the wall patches that avoids the forbidden vertices.
@@ -736,9 +737,10 @@ struct Simplification
   // quadratic in the number of loops on noisy scans).
   Index FindPartner(Index l)
   {
-    std::vector<Index> wall;
+    std::vector<Index>& wall = this->WallScratch;
     this->WallPatches(l, wall);
-    const std::vector<Index> wallChains = this->WallChains(wall);
+    std::vector<Index>& wallChains = this->WallChainScratch;
+    this->WallChains(wall, wallChains);
     for (Index p : wall)
     {
       this->InWall[p] = 0;
@@ -763,7 +765,8 @@ struct Simplification
       return true;
     };
     // The loops on the wall: those with a chain on a wall patch.
-    std::vector<Index> onWall;
+    std::vector<Index>& onWall = this->OnWallScratch;
+    onWall.clear();
     for (Index c : wallChains)
     {
       if (this->ChainLoop[c] != InvalidIndex)
