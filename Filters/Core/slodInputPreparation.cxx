@@ -615,7 +615,8 @@ std::vector<Index> CoincidentClasses(const std::vector<double>& points, const st
       }
     }
   }
-  std::sort(keys.begin(), keys.end());
+  // The pairs are distinct (one per vertex): the parallel sort gives the one sorted order.
+  vtkSMPTools::Sort(keys.begin(), keys.end());
   for (size_t i = 0; i < keys.size();)
   {
     size_t j = i + 1;

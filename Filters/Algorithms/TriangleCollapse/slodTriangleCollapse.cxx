@@ -426,6 +426,7 @@ struct BatchEntry
   double AlternativeError = 0.0, AlternativeCost = 0.0;
   bool Runs = false; // no earlier entry of the batch overlaps it
   bool Picked = false; // its operation is chosen (PickOperation) and it goes on to the check
+  bool Waits = false;  // the pass schedule's window: a vertex of its triangle moved in this pass (Blocked)
   Index Removes = 0, Survives = 0; // triangles the operation removes and keeps (parallel performing)
 };
 
@@ -462,6 +463,8 @@ struct CollapseBatch
   std::vector<std::uint64_t> Owner;
   std::uint32_t Number = 0;
   vtkSMPThreadLocal<std::vector<Index>> Scratch;
+  // Per thread, the pass schedule's window entries tested (TriangleCollapseResult::WindowTests).
+  vtkSMPThreadLocal<long long> WindowTests{ 0LL };
   // Performing in parallel (ParallelApply): per entry the set's triangles from its check; the
   // entries performed (indices, in selection order) and what each did.
   bool Parallel = false;
@@ -2157,6 +2160,11 @@ struct TriangleCollapser::PickFunctor : WindowedFunctor<TriangleCollapser::PickF
 {
   const TriangleCollapser& Self;
   CollapseBatch& Batch;
+  // The pass schedule's window fill: an entry whose triangle is Blocked only gets Waits (no
+  // pick). The test reads what no collapse changes during a fill, so it runs here in parallel
+  // rather than in the fill's walk in rank order (random places of the mesh: the walk was the
+  // largest serial part of the pass schedule, session 25).
+  const PassState* Passes = nullptr;
   void Window(vtkIdType begin, vtkIdType end) const
   {
     // The entries lie at scattered places of the mesh: their triangles, states and vertex data
@@ -2177,11 +2185,24 @@ struct TriangleCollapser::PickFunctor : WindowedFunctor<TriangleCollapser::PickF
         __builtin_prefetch(q);
         __builtin_prefetch(q + 64);
         mesh.PrefetchVertex(tri[k]);
+        if (this->Passes)
+        {
+          __builtin_prefetch(&this->Passes->Change[tri[k]]);
+        }
       }
+    }
+    if (this->Passes)
+    {
+      this->Batch.WindowTests.Local() += end - begin;
     }
     for (vtkIdType i = begin; i < end; ++i)
     {
-      this->Self.PickOperation(this->Batch.Entries[size_t(i)]);
+      BatchEntry& entry = this->Batch.Entries[size_t(i)];
+      entry.Waits = this->Passes && this->Self.Blocked(entry.C.Triangle, *this->Passes);
+      if (!entry.Waits)
+      {
+        this->Self.PickOperation(entry);
+      }
     }
   }
 };
@@ -2839,30 +2860,36 @@ bool TriangleCollapser::SettlePassRound(
 size_t TriangleCollapser::FillWindow(
   size_t next, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
 {
-  // The new entries not blocked by the collapses so far pick their operations (once: an entry
-  // that waits keeps its set untouched); those without one (every operation excluded, or over
-  // MaximumError) are settled at once and leave room for more. Each fill consumes ranked
-  // entries: bounded by the ranking's size.
+  // The next ranked entries, as many as the window has room for, are tested and pick their
+  // operations in parallel (PickFunctor with the pass state): those blocked by the collapses so
+  // far wait for the next pass and are dropped; the others pick once (an entry that waits keeps
+  // its set untouched); those without an operation (every operation excluded, or over
+  // MaximumError) are settled at once and leave room for more. The same window, in the same
+  // order, as a walk in rank order that adds the unblocked entries until it is full. Each fill
+  // consumes ranked entries: bounded by the ranking's size.
   const std::vector<std::uint64_t>& order = passes.Ranking.Order;
   while (batch.Entries.size() < PassWindowSize && next < order.size())
   {
     const size_t first = batch.Entries.size();
-    for (; batch.Entries.size() < PassWindowSize && next < order.size(); ++next)
+    const size_t take = std::min(PassWindowSize - first, order.size() - next);
+    batch.Entries.resize(first + take);
+    for (size_t k = 0; k < take; ++k)
     {
-      const Index t = RankedElement(order[next]);
-      if (!this->Blocked(t, passes))
-      {
-        batch.Entries.emplace_back();
-        batch.Entries.back().C.Triangle = t;
-      }
+      batch.Entries[first + k].C.Triangle = RankedElement(order[next + k]);
     }
-    loop.Pops += static_cast<long long>(batch.Entries.size() - first);
-    PickFunctor pick{ {}, *this, batch };
+    next += take;
+    PickFunctor pick{ {}, *this, batch, &passes };
     vtkSMPTools::For(static_cast<vtkIdType>(first), static_cast<vtkIdType>(batch.Entries.size()), 16, pick);
     size_t kept = first;
     for (size_t i = first; i < batch.Entries.size(); ++i)
     {
       const BatchEntry& entry = batch.Entries[i];
+      if (entry.Waits)
+      {
+        ++result.WaitingEntries;
+        continue;
+      }
+      ++loop.Pops;
       if (entry.Picked)
       {
         batch.Entries[kept++] = entry;
@@ -3041,8 +3068,15 @@ void TriangleCollapser::CollapseInPasses(CollapseLoop& loop, TriangleCollapseRes
   {
     ++result.PassThreads;
   }
-  vtkLogF(TRACE, "triangle collapse: %d passes, %lld rounds; costs %.3f s, ranking %.3f s, rounds %.3f s",
-    int(result.Passes), passes.Rounds, loop.PhaseSeconds[0], loop.PhaseSeconds[1], loop.PhaseSeconds[2]);
+  for (long long tests : batch.WindowTests)
+  {
+    result.WindowTests += tests;
+    result.WindowTestThreads += tests > 0 ? 1 : 0;
+  }
+  vtkLogF(TRACE, "triangle collapse: %d passes, %lld rounds; costs %.3f s, ranking %.3f s, rounds %.3f s; "
+    "window fills tested %lld entries (%lld waited) on %d threads",
+    int(result.Passes), passes.Rounds, loop.PhaseSeconds[0], loop.PhaseSeconds[1], loop.PhaseSeconds[2],
+    result.WindowTests, result.WaitingEntries, result.WindowTestThreads);
 }
 
 void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const

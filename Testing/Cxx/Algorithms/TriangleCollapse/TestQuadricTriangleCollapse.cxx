@@ -435,7 +435,10 @@ TEST(QuadricTriangleCollapse, PassesAfterTheCollapsesVisitInOrderOnlyAtTheBudget
 // The pass schedule (CollapseSchedule::Passes) checks and collapses each round's independent set
 // in parallel: bit-identical points and triangles for 1, 2 and 8 threads on a mesh whose rounds
 // are split among the threads (asserted), with the count target met within one collapse and the
-// topology kept. The marching-cubes mesh (ties of equal costs in flat regions) and bunny00.
+// topology kept. The marching-cubes mesh (ties of equal costs in flat regions) and bunny00. The
+// window fills test their ranked entries in parallel (session 25; they were walked in rank order):
+// the same tests and waiting entries for any thread count, split among the threads, and some
+// entries do wait (else the test would check nothing).
 TEST(QuadricTriangleCollapse, PassScheduleSameOutputForOneTwoAndEightThreads)
 {
   for (const char* name : { "marching-cubes", "bunny00" })
@@ -454,9 +457,14 @@ TEST(QuadricTriangleCollapse, PassScheduleSameOutputForOneTwoAndEightThreads)
     EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic) << name;
     EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops) << name;
     EXPECT_EQ(after.InconsistentlyOrientedEdges, 0) << name;
+    EXPECT_GT(results[0].WaitingEntries, 0) << name << ": no ranked entry waited for the next pass";
+    EXPECT_GT(results[0].WindowTests, results[0].WaitingEntries) << name;
     for (size_t i = 1; i < results.size(); ++i)
     {
       EXPECT_GE(results[i].PassThreads, 2) << name << ": the rounds were not split among threads";
+      EXPECT_GE(results[i].WindowTestThreads, 2) << name << ": the window fills were not split among threads";
+      EXPECT_EQ(results[0].WindowTests, results[i].WindowTests) << name;
+      EXPECT_EQ(results[0].WaitingEntries, results[i].WaitingEntries) << name;
       EXPECT_EQ(results[0].Passes, results[i].Passes) << name;
       EXPECT_EQ(results[0].Collapses, results[i].Collapses) << name;
       EXPECT_EQ(results[0].Mesh.Points, results[i].Mesh.Points) << name;
