@@ -426,7 +426,6 @@ struct BatchEntry
   double AlternativeError = 0.0, AlternativeCost = 0.0;
   bool Runs = false; // no earlier entry of the batch overlaps it
   bool Picked = false; // its operation is chosen (PickOperation) and it goes on to the check
-  bool Waits = false;  // the pass schedule's window: a vertex of its triangle moved in this pass (Blocked)
   Index Removes = 0, Survives = 0; // triangles the operation removes and keeps (parallel performing)
 };
 
@@ -463,7 +462,11 @@ struct CollapseBatch
   std::vector<std::uint64_t> Owner;
   std::uint32_t Number = 0;
   vtkSMPThreadLocal<std::vector<Index>> Scratch;
-  // Per thread, the pass schedule's window entries tested (TriangleCollapseResult::WindowTests).
+  // The pass schedule's window fill: the ranked triangles of a fill, whether each waits for the
+  // next pass (WaitsFunctor), and per thread the triangles tested (TriangleCollapseResult::WindowTests).
+  std::vector<Index> Ranked;
+  std::vector<unsigned char> Waits;
+  long long FillTested = 0, FillAdmitted = 0; // ranked entries consumed by the fills, and admitted
   vtkSMPThreadLocal<long long> WindowTests{ 0LL };
   // Performing in parallel (ParallelApply): per entry the set's triangles from its check; the
   // entries performed (indices, in selection order) and what each did.
@@ -586,6 +589,7 @@ private:
   template <typename Functor>
   void ForEachRingVertex(const BatchEntry& entry, Functor&& f) const;
   struct PickFunctor;
+  struct WaitsFunctor;
   bool PickOperation(BatchEntry& entry) const;
   struct ClaimRingsFunctor;
   void SelectBatch(CollapseLoop& loop, CollapseBatch& batch);
@@ -2160,11 +2164,6 @@ struct TriangleCollapser::PickFunctor : WindowedFunctor<TriangleCollapser::PickF
 {
   const TriangleCollapser& Self;
   CollapseBatch& Batch;
-  // The pass schedule's window fill: an entry whose triangle is Blocked only gets Waits (no
-  // pick). The test reads what no collapse changes during a fill, so it runs here in parallel
-  // rather than in the fill's walk in rank order (random places of the mesh: the walk was the
-  // largest serial part of the pass schedule, session 25).
-  const PassState* Passes = nullptr;
   void Window(vtkIdType begin, vtkIdType end) const
   {
     // The entries lie at scattered places of the mesh: their triangles, states and vertex data
@@ -2185,25 +2184,45 @@ struct TriangleCollapser::PickFunctor : WindowedFunctor<TriangleCollapser::PickF
         __builtin_prefetch(q);
         __builtin_prefetch(q + 64);
         mesh.PrefetchVertex(tri[k]);
-        if (this->Passes)
-        {
-          __builtin_prefetch(&this->Passes->Change[tri[k]]);
-        }
       }
-    }
-    if (this->Passes)
-    {
-      this->Batch.WindowTests.Local() += end - begin;
     }
     for (vtkIdType i = begin; i < end; ++i)
     {
-      BatchEntry& entry = this->Batch.Entries[size_t(i)];
-      entry.Waits = this->Passes && this->Self.Blocked(entry.C.Triangle, *this->Passes);
-      if (!entry.Waits)
+      this->Self.PickOperation(this->Batch.Entries[size_t(i)]);
+    }
+  }
+};
+
+// The pass schedule's window fill: which of the next ranked triangles wait for the next pass
+// (Blocked). The test reads only what no collapse changes during a fill, so it runs in parallel
+// rather than in the fill's walk in rank order, whose reads of random places of the mesh were the
+// largest serial part of the pass schedule (session 25).
+struct TriangleCollapser::WaitsFunctor : WindowedFunctor<TriangleCollapser::WaitsFunctor>
+{
+  const TriangleCollapser& Self;
+  const PassState& Passes;
+  CollapseBatch& Batch;
+  void Window(vtkIdType begin, vtkIdType end) const
+  {
+    const EditableMesh& mesh = this->Self.Mesh;
+    const std::vector<Index>& ranked = this->Batch.Ranked;
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      __builtin_prefetch(mesh.Triangle(ranked[size_t(i)]));
+    }
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const Index* tri = mesh.Triangle(ranked[size_t(i)]);
+      for (int k = 0; k < 3; ++k)
       {
-        this->Self.PickOperation(entry);
+        __builtin_prefetch(&this->Passes.Change[tri[k]]);
       }
     }
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      this->Batch.Waits[size_t(i)] = this->Self.Blocked(ranked[size_t(i)], this->Passes) ? 1 : 0;
+    }
+    this->Batch.WindowTests.Local() += end - begin;
   }
 };
 
@@ -2860,36 +2879,50 @@ bool TriangleCollapser::SettlePassRound(
 size_t TriangleCollapser::FillWindow(
   size_t next, CollapseLoop& loop, CollapseBatch& batch, PassState& passes, TriangleCollapseResult& result)
 {
-  // The next ranked entries, as many as the window has room for, are tested and pick their
-  // operations in parallel (PickFunctor with the pass state): those blocked by the collapses so
-  // far wait for the next pass and are dropped; the others pick once (an entry that waits keeps
-  // its set untouched); those without an operation (every operation excluded, or over
-  // MaximumError) are settled at once and leave room for more. The same window, in the same
-  // order, as a walk in rank order that adds the unblocked entries until it is full. Each fill
-  // consumes ranked entries: bounded by the ranking's size.
+  // The next ranked entries are tested in parallel (WaitsFunctor): those blocked by the collapses
+  // so far wait for the next pass; the others join the window in rank order until it is full, and
+  // pick their operations (once: an entry that waits keeps its set untouched); those without one
+  // (every operation excluded, or over MaximumError) are settled at once and leave room for more.
+  // The entries consumed and the window are those of a walk in rank order; a fill tests about as
+  // many entries as that walk would need at the rate of waiting entries so far (the tests past the
+  // full window are only reads). Each fill consumes ranked entries: bounded by the ranking's size.
   const std::vector<std::uint64_t>& order = passes.Ranking.Order;
   while (batch.Entries.size() < PassWindowSize && next < order.size())
   {
     const size_t first = batch.Entries.size();
-    const size_t take = std::min(PassWindowSize - first, order.size() - next);
-    batch.Entries.resize(first + take);
+    const double perAdmitted = double(batch.FillTested + 1) / double(batch.FillAdmitted + 1);
+    const size_t room = PassWindowSize - first;
+    const size_t take = std::min(order.size() - next,
+      std::min(8 * PassWindowSize, static_cast<size_t>(1.25 * perAdmitted * double(room)) + 1));
+    batch.Ranked.resize(take);
+    batch.Waits.resize(take);
     for (size_t k = 0; k < take; ++k)
     {
-      batch.Entries[first + k].C.Triangle = RankedElement(order[next + k]);
+      batch.Ranked[k] = RankedElement(order[next + k]);
     }
-    next += take;
-    PickFunctor pick{ {}, *this, batch, &passes };
+    WaitsFunctor waits{ {}, *this, passes, batch };
+    vtkSMPTools::For(0, static_cast<vtkIdType>(take), 16, waits);
+    size_t k = 0;
+    for (; k < take && batch.Entries.size() < PassWindowSize; ++k)
+    {
+      if (batch.Waits[k])
+      {
+        ++result.WaitingEntries;
+        continue;
+      }
+      batch.Entries.emplace_back();
+      batch.Entries.back().C.Triangle = batch.Ranked[k];
+    }
+    next += k;
+    batch.FillTested += static_cast<long long>(k);
+    batch.FillAdmitted += static_cast<long long>(batch.Entries.size() - first);
+    loop.Pops += static_cast<long long>(batch.Entries.size() - first);
+    PickFunctor pick{ {}, *this, batch };
     vtkSMPTools::For(static_cast<vtkIdType>(first), static_cast<vtkIdType>(batch.Entries.size()), 16, pick);
     size_t kept = first;
     for (size_t i = first; i < batch.Entries.size(); ++i)
     {
       const BatchEntry& entry = batch.Entries[i];
-      if (entry.Waits)
-      {
-        ++result.WaitingEntries;
-        continue;
-      }
-      ++loop.Pops;
       if (entry.Picked)
       {
         batch.Entries[kept++] = entry;
