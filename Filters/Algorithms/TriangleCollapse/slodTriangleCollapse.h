@@ -196,9 +196,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // work budget (where it stops then depends on the order of its moves).
   int PassThreads = 0;
   int FitThreads = 0;
-  // The pass schedule's window fills: the ranked entries they tested (Blocked, each once), the
-  // threads that tested them, and the entries that waited for the next pass (a vertex of their
-  // triangle moved in the pass).
+  // The pass schedule's window fills: the ranked entries they tested (Blocked; one tested past a
+  // full window is tested again by the next fill), the threads that tested them, and the entries
+  // that waited for the next pass (a vertex of their triangle moved in the pass).
   long long WindowTests = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
