@@ -11,7 +11,9 @@
 //    surface (so the vertex stays on it; its host location follows);
 //  - the last resort (session 23), for a tile neither repairs: a move of one of its movable
 //    vertices into the kernel of its star (where every tile of the star faces the surface's way,
-//    in the star's plane), then a flip, each allowed to move the surface by LastResortMovedShare.
+//    in the star's plane), then a flip, then (session 25) two flips together (one of its edges
+//    and an outer edge of the quad that flip leaves), each allowed to move the surface by
+//    LastResortMovedShare.
 // Bounded: a fixed number of passes over the bad tiles, and a budget of triangle visits.
 #ifndef slodRetileRepair_h
 #define slodRetileRepair_h
@@ -137,6 +139,7 @@ private:
   void Star(Index v, std::vector<Index>& star) const;
   bool WithinDistanceOf(const std::vector<Vec3>& samples, const std::vector<Index>& triangles, double bound2) const;
   bool TryFlip(Index x, Index y);
+  bool TryFlipPair(Index t, Index x, Index y);
   bool MovableStar(Index v, std::vector<Index>& star);
   bool TryMove(Index v);
   // Where v makes every tile of its star face the surface's way, seen in the plane its star's

@@ -884,8 +884,11 @@ TEST(Retile, RingSearchFindsATriangulationWhereEveryFanFolds)
 // RetriangulateRings (the greedy whole-ring flips where the fan faces against the input): until
 // 2026-12-03 it left fewer flipped triangles than the default's fans (76 against 42 here); since
 // the default re-triangulates such rings by the ring search (2026-12-04), the option only acts on
-// the rings the search declines and leaves more (42 against 34): the test asserts the topology,
-// every vertex on the input, and that the default leaves no more flips in all than the option.
+// the rings the search declines. The test asserts the topology and every vertex on the input, and
+// prints both flip counts. Until session 25 it also asserted that the default leaves no more flips
+// in all than the option; base-s25 met it with a tie (28 against 28) at this seed but not at seeds
+// 2-4 (scripts/retile-quality.py on these five meshes: 124 against 108), so it compared two
+// realisations, not the two methods; the repair's pair flips (session 25) made it 27 against 25.
 TEST(Retile, RetriangulateRingsKeepsTheTopology)
 {
   int flipped[2] = { 0, 0 };
@@ -906,9 +909,6 @@ TEST(Retile, RetriangulateRingsKeepsTheTopology)
     std::printf("[retile] %s flipped triangles: default %d, RetriangulateRings %d\n", name, mesh[0], mesh[1]);
   }
   std::printf("[retile] flipped triangles in all: default %d, RetriangulateRings %d\n", flipped[0], flipped[1]);
-  // The ring search considers every triangulation the greedy flips can reach, so over these
-  // meshes it must not leave more flipped triangles than the greedy option.
-  EXPECT_LE(flipped[0], flipped[1]);
 }
 
 // The repair stage's cost (slodRetileRepair.h): a try measures its tiles' distance to the input
@@ -968,6 +968,21 @@ TEST(Retile, RepairMeasuresDistancesOnlyForPromisingChanges)
   EXPECT_LT(queries - repair.TilesScored, repair.RegionTiles);
 }
 
+namespace
+{
+// Live tiles of a mesh in the plane z = 0 that face down (the repair tests' input faces up).
+int TilesFacingDown(const EditableMesh& edit)
+{
+  int down = 0;
+  for (Index t = 0; t < edit.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = edit.Triangle(t);
+    down += edit.IsTriangleAlive(t) && TriangleNormal(edit.Point(tri[0]), edit.Point(tri[1]), edit.Point(tri[2]))[2] <= 0;
+  }
+  return down;
+}
+} // namespace
+
 // The repair's move into the star's kernel (2026-12-04, session 23): a vertex v inside a ring with
 // a notch (a reflex ring vertex) lies on the wrong side of the notch's two edges, so two of its
 // tiles face down on a flat surface facing up. Where the tiles all face up is the kernel, a wedge
@@ -1005,28 +1020,56 @@ TEST(Retile, RepairMovesAVertexIntoItsStarsKernel)
   std::vector<Vec3> reference(size_t(star.NumberOfPoints()), Vec3{ 0, 0, 1 });
   std::vector<unsigned char> movable(size_t(star.NumberOfPoints()), 0);
   movable[0] = 1;
-  const auto facingDown = [&]() {
-    int down = 0;
-    for (Index t = 0; t < edit.NumberOfTriangles(); ++t)
-    {
-      const Index* tri = edit.Triangle(t);
-      down += edit.IsTriangleAlive(t) && TriangleNormal(edit.Point(tri[0]), edit.Point(tri[1]), edit.Point(tri[2]))[2] <= 0;
-    }
-    return down;
-  };
-  ASSERT_EQ(facingDown(), 1);
+  ASSERT_EQ(TilesFacingDown(edit), 1);
   TileRepair repair(edit, reference, input, bvh, movable);
   repair.NormalAt = [](const Vec3&, Index) { return Vec3{ 0, 0, 1 }; };
   Vec3 moved{ 0, 0, 0 };
   repair.Moved = [&](Index, const Vec3& p, Index) { moved = p; };
   repair.NeedleAngle = 2.0 * pi / 180.0;
   repair.Run(8);
-  EXPECT_EQ(facingDown(), 0);
+  EXPECT_EQ(TilesFacingDown(edit), 0);
   EXPECT_GT(repair.Moves, 0);
   EXPECT_EQ(repair.Flips, 0);
   EXPECT_LT(moved[0], 0.5 + 0.12); // behind the notch
   EXPECT_NEAR(moved[2], 0.0, 1e-12);  // on the input
   EXPECT_EQ(edit.Point(0), moved);
+  EXPECT_TRUE(edit.CheckInvariants());
+}
+
+// The repair's pair of flips (session 25): a strip of three rows of five points, two of the middle
+// row pushed out of place (one up past its row, one sideways), so that one tile faces down. No
+// vertex may move, and no single flip leaves fewer bad tiles around it (base-s25's repair leaves
+// the tile as it is, after two flips elsewhere); two flips made together unfold it.
+TEST(Retile, RepairFlipsTwoEdgesTogetherWhereNoSingleFlipHelps)
+{
+  const TriangleMesh input = slodtest::Grid(64, 64);
+  const TriangleBVH bvh(input);
+  TriangleMesh strip;
+  const double points[15][2] = { { 0.189, 0.357 }, { 0.347, 0.337 }, { 0.503, 0.355 }, { 0.642, 0.347 },
+    { 0.786, 0.348 }, { 0.192, 0.537 }, { 0.328, 0.680 }, { 0.365, 0.419 }, { 0.641, 0.538 }, { 0.812, 0.550 },
+    { 0.211, 0.764 }, { 0.348, 0.745 }, { 0.493, 0.754 }, { 0.658, 0.738 }, { 0.797, 0.741 } };
+  for (const auto& p : points)
+  {
+    strip.AddPoint({ p[0], p[1], 0 });
+  }
+  const Index triangles[16][3] = { { 0, 1, 5 }, { 1, 6, 5 }, { 1, 2, 6 }, { 2, 7, 6 }, { 2, 3, 8 }, { 2, 8, 7 },
+    { 3, 4, 9 }, { 3, 9, 8 }, { 5, 6, 10 }, { 6, 11, 10 }, { 6, 7, 11 }, { 7, 12, 11 }, { 7, 8, 12 }, { 8, 13, 12 },
+    { 8, 9, 13 }, { 9, 14, 13 } };
+  for (const auto& t : triangles)
+  {
+    strip.AddTriangle(t[0], t[1], t[2]);
+  }
+  EditableMesh edit(strip);
+  ASSERT_GT(TilesFacingDown(edit), 0);
+  std::vector<Vec3> reference(size_t(strip.NumberOfPoints()), Vec3{ 0, 0, 1 });
+  TileRepair repair(edit, reference, input, bvh, std::vector<unsigned char>(size_t(strip.NumberOfPoints()), 0));
+  repair.NormalAt = [](const Vec3&, Index) { return Vec3{ 0, 0, 1 }; };
+  repair.Moved = [](Index, const Vec3&, Index) {};
+  repair.NeedleAngle = 2.0 * std::acos(-1.0) / 180.0;
+  repair.Run(8);
+  EXPECT_EQ(TilesFacingDown(edit), 0);
+  EXPECT_EQ(repair.Moves, 0);
+  EXPECT_GE(repair.Flips, 2);
   EXPECT_TRUE(edit.CheckInvariants());
 }
 
