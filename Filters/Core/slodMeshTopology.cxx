@@ -408,7 +408,7 @@ MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh)
   return topology.Statistics(mesh);
 }
 
-double MeanAbsoluteCurvature(const TriangleMesh& mesh, const MeshTopology& topology)
+double MeanAbsoluteCurvature(const TriangleMesh& mesh, const MeshTopology& topology, double creaseAngle)
 {
   double bending = 0;
   for (Index e = 0; e < topology.NumberOfEdges(); ++e)
@@ -421,6 +421,10 @@ double MeanAbsoluteCurvature(const TriangleMesh& mesh, const MeshTopology& topol
     const Vec3 n0 = Normalized(mesh.TriangleAreaVector(t[0]));
     const Vec3 n1 = Normalized(mesh.TriangleAreaVector(t[1]));
     const double angle = std::atan2(Norm(Cross(n0, n1)), Dot(n0, n1));
+    if (angle > creaseAngle)
+    {
+      continue;
+    }
     bending += angle * Norm(mesh.Point(topology.EdgeVertex(e, 1)) - mesh.Point(topology.EdgeVertex(e, 0)));
   }
   const double area = mesh.TotalArea();

@@ -127,8 +127,10 @@ private:
 
 // Mean absolute curvature of a surface: the sum over interior manifold edges of |dihedral angle| x
 // length, over twice the area (the discrete integral of |mean curvature|: 1/R on a sphere of
-// radius R). Creases and noise count fully. 0 for an empty or flat mesh.
-SURFACELODFILTERS_EXPORT double MeanAbsoluteCurvature(const TriangleMesh& mesh, const MeshTopology& topology);
+// radius R). Noise counts fully, and so do creases unless `creaseAngle` (radians) is below pi:
+// edges bent by more than it are left out. 0 for an empty or flat mesh.
+SURFACELODFILTERS_EXPORT double MeanAbsoluteCurvature(
+  const TriangleMesh& mesh, const MeshTopology& topology, double creaseAngle = Pi);
 
 // Convenience: statistics of a mesh in one call.
 SURFACELODFILTERS_EXPORT MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh);

@@ -93,12 +93,15 @@ struct PatchGrowth
   const PatchificationParameters& Parameters;
   std::vector<Index>& TrianglePatch;
   double CosOnePatch, CosOneNeighbor, CosTwoPatch, CosTwoNeighbor;
+  double CosRuling; // above 1 when RulingAngle is off
 
   // Membership of vertices in the patch being grown: stamp + number of its triangles there.
   std::vector<Index> VertexStamp, VertexCount;
   // Patch that last owned a triangle: a triangle removed from P never rejoins P (termination).
   std::vector<Index> TriedStamp;
   std::vector<Index> Queue;
+  std::vector<Index> PatchVertices; // of the patch being grown (some may have left it: InPatch)
+  static constexpr size_t ThicknessCheckVertices = 4096;
   std::vector<Index> Rejected;   // free neighbours met by the current patch: next seeds
   std::vector<Index> Candidates; // older seed candidates
   Index Scan = 0;
@@ -123,6 +126,7 @@ struct PatchGrowth
     , CosOneNeighbor(std::cos(Radians(parameters.OneEdgeNeighborAngle)))
     , CosTwoPatch(std::cos(Radians(parameters.TwoEdgePatchAngle)))
     , CosTwoNeighbor(std::cos(Radians(parameters.TwoEdgeNeighborAngle)))
+    , CosRuling(parameters.RulingAngle > 0 ? std::cos(Radians(parameters.RulingAngle)) : 2.0)
     , VertexStamp(size_t(mesh.NumberOfPoints()), InvalidIndex)
     , VertexCount(size_t(mesh.NumberOfPoints()), 0)
     , TriedStamp(size_t(mesh.NumberOfTriangles()), InvalidIndex)
@@ -149,6 +153,7 @@ struct PatchGrowth
       {
         this->VertexStamp[tri[k]] = this->Patch;
         this->VertexCount[tri[k]] = 0;
+        this->PatchVertices.push_back(tri[k]);
       }
       ++this->VertexCount[tri[k]];
     }
@@ -262,6 +267,11 @@ struct PatchGrowth
       {
         return false; // the patch would bend away from its plane
       }
+      if (this->Parameters.BoundPatchThickness && maximumDistance > 0 &&
+        this->PatchVertices.size() <= ThicknessCheckVertices && !this->StaysThin(candidate))
+      {
+        return false; // the running plane has followed the patch as it bent
+      }
       if (this->WithinNoise(candidate, centroid, np) && Dot(nc, np) >= 0.5) // cos 60 degrees
       {
         return true; // within the noise of a plane: its normal says nothing about the surface
@@ -270,6 +280,46 @@ struct PatchGrowth
     const double cosPatch = shared == 1 ? this->CosOnePatch : this->CosTwoPatch;
     const double cosNeighbor = shared == 1 ? this->CosOneNeighbor : this->CosTwoNeighbor;
     return Dot(nc, np) >= cosPatch && Dot(nc, nt) >= cosNeighbor; // (b)
+  }
+
+  // RulingAngle: the surface does not bend from t to its neighbour n (their normals within that
+  // angle), as along a ruling of a developable surface.
+  bool AlongRuling(Index t, Index n) const
+  {
+    return this->CosRuling <= 1.0 &&
+      Dot(Normalized(this->Mesh.TriangleAreaVector(t)), Normalized(this->Mesh.TriangleAreaVector(n))) >= this->CosRuling;
+  }
+
+  // Whether the patch with the new vertex of `candidate` stays within twice the plane distance
+  // along the patch normal, measured over the patch's vertices (at most ThicknessCheckVertices of
+  // them, which bounds the work per join; a larger patch does not stay thin here). The running
+  // plane follows a long patch as it bends: on mc1m 1% of the patches grew 1.5-4.8 times thicker
+  // than twice the plane distance; joins along a ruling (RulingAngle) lengthen patches more (10x).
+  bool StaysThin(Index candidate) const
+  {
+    const double maximumDistance = this->Parameters.MaximumPlaneDistance;
+    if (!(maximumDistance > 0))
+    {
+      return true;
+    }
+    if (this->PatchVertices.size() > ThicknessCheckVertices)
+    {
+      return false;
+    }
+    Index opposite = InvalidIndex;
+    this->SharedEdges(candidate, opposite);
+    const Vec3 normal = Normalized(this->Sum);
+    double lo = Dot(normal, this->Mesh.Point(opposite)), hi = lo;
+    for (const Index v : this->PatchVertices)
+    {
+      if (this->InPatch(v))
+      {
+        const double h = Dot(normal, this->Mesh.Point(v));
+        lo = std::min(lo, h);
+        hi = std::max(hi, h);
+      }
+    }
+    return hi - lo <= 2 * maximumDistance;
   }
 
   // One step of the growth front: the free neighbours of t in the current patch are added or
@@ -318,10 +368,18 @@ struct PatchGrowth
   // Two free neighbours: both join or neither does.
   void ExpandTwo(Index t, Index first, Index second)
   {
-    if (this->Feasible(t, first) && this->Feasible(t, second))
+    const bool firstFeasible = this->Feasible(t, first), secondFeasible = this->Feasible(t, second);
+    if (firstFeasible && secondFeasible)
     {
       this->Add(first);
       this->Add(second);
+      return;
+    }
+    const Index alone = firstFeasible ? first : second;
+    if ((firstFeasible || secondFeasible) && this->AlongRuling(t, alone) && this->StaysThin(alone))
+    {
+      this->Add(alone);
+      this->Rejected.push_back(alone == first ? second : first);
       return;
     }
     this->Rejected.push_back(first);
@@ -348,6 +406,7 @@ struct PatchGrowth
     this->Count = 0;
     this->Queue.clear();
     this->Rejected.clear();
+    this->PatchVertices.clear();
     this->Add(seed);
     for (size_t head = 0; head < this->Queue.size(); ++head)
     {

@@ -37,6 +37,20 @@ struct SURFACELODFILTERS_EXPORT PatchificationParameters
   // this distance of the patch's running plane (area-weighted centroid and normal). A patch is
   // re-triangulated from its boundary alone, so this bounds the flat-patch error on curved parts.
   double MaximumPlaneDistance = 0.0;
+  // Extension (issue 15, session 25; 0 = off, the paper): the growth case of a triangle with two
+  // free neighbours adds both or neither (the paper keeps patches fat). On a developable surface
+  // (the cylinders and cones of CAD parts) the neighbour along the ruling has the normal of the
+  // triangle it grows from while the one across the curvature bends away, so that rule also stops
+  // the patch along the ruling: patches stay about as long as the curvature lets them be wide
+  // (the Fandisk's cylinders became grids of tiny patches whose corners took the budget). A
+  // feasible neighbour whose normal is within this angle (degrees) of the triangle's joins alone
+  // when the other one is infeasible.
+  double RulingAngle = 0.0;
+  // Extension (issue 15, session 25; off = the new vertex's distance alone): MaximumPlaneDistance
+  // also bounds the patch's whole extent along its running normal (twice the distance, measured
+  // over its vertices while it has at most 4096), since the running plane follows a patch as it
+  // bends. Joins along a ruling are always checked this way.
+  bool BoundPatchThickness = false;
   // Extension (issue 10, session 24; 0 = off): a triangle sharing one edge with the patch whose
   // three vertices lie within this distance of the patch's running plane, and whose normal is within
   // 60 degrees of the patch normal, joins without the angle tests of (b). On a scan isosurface

@@ -72,7 +72,8 @@ public:
   ///@{
   /// Extension (issue 15) [4]: with a count target, no patch (grown or merged) may be thicker than
   /// this factor times the deviation expected at the target, kappa * s^2 / 8 (kappa the input's
-  /// mean absolute curvature, s the edge of an equilateral triangle of the input's area divided
+  /// mean absolute curvature without its creases, edges bent by more than 60 degrees: they stay
+  /// patch boundaries; s the edge of an equilateral triangle of the input's area divided
   /// by the target): SPBM re-triangulates each patch flat from its boundary, so a patch much
   /// larger than the target's triangles lies far off the surface (mc1m at 10%: 43x
   /// vtkQuadricDecimation's Hausdorff distance). 0 = unbounded (patch size from the angles and

@@ -1021,3 +1021,17 @@ TEST(MeshTopology, MeanAbsoluteCurvatureOfSphereAndPlane)
   const slod::TriangleMesh grid = slodtest::Grid(10, 10);
   EXPECT_EQ(slod::MeanAbsoluteCurvature(grid, slod::MeshTopology(grid)), 0.0);
 }
+
+// With a crease angle, edges bent by more than it are left out (issue 15, session 25: SPBM's
+// thickness bound): a tetrahedron (every edge bent by about 109 degrees) is all creases, the
+// fine sphere (every edge bent by a few degrees) has none.
+TEST(MeshTopology, MeanAbsoluteCurvatureWithoutCreases)
+{
+  const double creaseAngle = slod::Radians(60.0);
+  const slod::TriangleMesh tetrahedron = slodtest::Tetrahedron();
+  EXPECT_GT(slod::MeanAbsoluteCurvature(tetrahedron, slod::MeshTopology(tetrahedron)), 0.0);
+  EXPECT_EQ(slod::MeanAbsoluteCurvature(tetrahedron, slod::MeshTopology(tetrahedron), creaseAngle), 0.0);
+  const slod::TriangleMesh sphere = slodtest::Sphere(64, 64);
+  const slod::MeshTopology topology(sphere);
+  EXPECT_EQ(slod::MeanAbsoluteCurvature(sphere, topology, creaseAngle), slod::MeanAbsoluteCurvature(sphere, topology));
+}

@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
@@ -374,6 +375,75 @@ TEST(Patchification, NoiseToleranceKeepsCreasesAsBoundaries)
     }
   }
   EXPECT_EQ(crossing, 0);
+}
+
+// Issue 15 (session 25): RulingAngle. On the Fandisk, whose cylinders the paper's growth (a
+// triangle's two free neighbours join both or neither) cut into grids of small patches, with a
+// plane distance of 1e-3 of the diagonal: a neighbour along a ruling joins alone, and the
+// patches (still disks, none across a crease of more than 60 degrees) are fewer than half as many.
+TEST(Patchification, RulingAngleGrowsStripsAlongCylinders)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("fandisk"));
+  PatchificationParameters parameters;
+  parameters.MaximumPlaneDistance = 1e-3 * mesh.BoundingBoxDiagonal();
+  auto paper = Patch(mesh, parameters);
+  parameters.RulingAngle = 1.0;
+  auto strips = Patch(mesh, parameters);
+  ExpectPatchesAreDisks(*strips);
+  EXPECT_LT(2 * strips->Patches.NumberOfPatches(), paper->Patches.NumberOfPatches());
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index n = strips->Topology.EdgeNeighbor(t, k);
+      if (n != InvalidIndex && strips->Patches.TrianglePatches()[n] == strips->Patches.TrianglePatches()[t])
+      {
+        ASSERT_GT(Dot(Normalized(mesh.TriangleAreaVector(t)), Normalized(mesh.TriangleAreaVector(n))), 0.5)
+          << "triangles " << t << " and " << n;
+      }
+    }
+  }
+}
+
+// Issue 15 (session 25): BoundPatchThickness. The running plane follows a patch as it bends, so
+// the new vertex's distance from it alone let patches of a smooth isosurface grow several times
+// thicker than twice the plane distance (mc1m: 1% of them 1.5-4.8 times; this isosurface: up to
+// 1.29 times). With the bound, every patch lies within twice the distance along the normal it had
+// when its last join was checked; its final normal differs a little from that, so the test
+// allows 20%.
+TEST(Patchification, BoundPatchThicknessKeepsPatchesThin)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::SyntheticIsosurface(120));
+  PatchificationParameters parameters;
+  parameters.MaximumPlaneDistance = 2e-4 * mesh.BoundingBoxDiagonal();
+  auto thickest = [&](const PatchedMesh& pm) {
+    const Index np = pm.Patches.NumberOfPatches();
+    std::vector<double> lo(size_t(np), std::numeric_limits<double>::infinity()), hi(size_t(np), -lo[0]);
+    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    {
+      const Index p = pm.Patches.TrianglePatches()[t];
+      for (int k = 0; k < 3; ++k)
+      {
+        const double h = Dot(pm.Patches.PatchNormal(p), mesh.Point(mesh.Triangle(t)[k]));
+        lo[p] = std::min(lo[p], h);
+        hi[p] = std::max(hi[p], h);
+      }
+    }
+    double largest = 0;
+    for (Index p = 0; p < np; ++p)
+    {
+      largest = std::max(largest, (hi[p] - lo[p]) / (2 * parameters.MaximumPlaneDistance));
+    }
+    return largest;
+  };
+  auto unbounded = Patch(mesh, parameters);
+  parameters.BoundPatchThickness = true;
+  auto bounded = Patch(mesh, parameters);
+  ExpectPatchesAreDisks(*bounded);
+  std::cout << "[thickness] over twice the plane distance: " << thickest(*unbounded) << " -> " << thickest(*bounded)
+            << "\n";
+  EXPECT_GT(thickest(*unbounded), 1.2);
+  EXPECT_LE(thickest(*bounded), 1.2);
 }
 
 TEST(Patchification, ChainsAndPatchGraphAreConsistent)
@@ -1766,6 +1836,43 @@ TEST(PatchBoundaryMerge, FandiskSharpProfilesSurviveVersusPeers)
   }
 }
 
+namespace
+{
+// The 10% level of `input` with the input's topology, and its Hausdorff distance over
+// vtkQuadricDecimation's at the same count, measured in the same run.
+double TenthLevelHausdorffRatioToQuadric(const char* name, vtkPolyData* input)
+{
+  const MeshStatistics in = StatisticsOf(input);
+  vtkNew<vtkPatchBoundaryMerge> filter;
+  filter->SetInputData(input);
+  filter->SetTargetReduction(0.9);
+  filter->Update();
+  vtkPolyData* ours = filter->GetOutput();
+  EXPECT_GT(filter->GetPatchThicknessBound(), 0.0);
+  EXPECT_TRUE(ReportedTarget(ours).second);
+  const MeshStatistics st = RawStatistics(ours);
+  EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic);
+  EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops);
+  EXPECT_EQ(st.NonManifoldEdges, 0);
+  vtkNew<vtkQuadricDecimation> quadric;
+  quadric->SetInputData(input);
+  quadric->SetTargetReduction(1.0 - double(ours->GetNumberOfPolys()) / double(input->GetNumberOfPolys()));
+  quadric->Update();
+  auto hausdorff = [&](vtkPolyData* simplified) {
+    vtkNew<vtkSurfaceDeviation> deviation;
+    deviation->SetReferenceData(input);
+    deviation->SetComparedData(simplified);
+    deviation->SetNumberOfSamples(100000);
+    deviation->Update();
+    return deviation->GetHausdorffRelative();
+  };
+  const double q = hausdorff(quadric->GetOutput()), o = hausdorff(ours);
+  std::cout << "[quality] " << name << " " << ours->GetNumberOfPolys() << " tris: Hausdorff SPBM " << o << ", quadric "
+            << q << " (" << quadric->GetOutput()->GetNumberOfPolys() << " tris), ratio " << o / q << "\n";
+  return o / q;
+}
+} // namespace
+
 // Issue 15: on smooth surfaces at 10%, SPBM's Hausdorff distance within 3x vtkQuadricDecimation's
 // at the same count, measured in the same run (the patch thickness bound, PatchDeviationFactor:
 // without it the patches are as large as the angles allow and bunny00 is 5x, the synthetic
@@ -1778,36 +1885,17 @@ TEST(PatchBoundaryMerge, SmoothSurfacesWithinThreeTimesQuadricHausdorff)
   for (const auto& [name, input] : cases)
   {
     SCOPED_TRACE(name);
-    const MeshStatistics in = StatisticsOf(input);
-    vtkNew<vtkPatchBoundaryMerge> filter;
-    filter->SetInputData(input);
-    filter->SetTargetReduction(0.9);
-    filter->Update();
-    vtkPolyData* ours = filter->GetOutput();
-    EXPECT_GT(filter->GetPatchThicknessBound(), 0.0);
-    EXPECT_TRUE(ReportedTarget(ours).second);
-    const MeshStatistics st = RawStatistics(ours);
-    EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic);
-    EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops);
-    EXPECT_EQ(st.NonManifoldEdges, 0);
-    vtkNew<vtkQuadricDecimation> quadric;
-    quadric->SetInputData(input);
-    quadric->SetTargetReduction(1.0 - double(ours->GetNumberOfPolys()) / double(input->GetNumberOfPolys()));
-    quadric->Update();
-    auto hausdorff = [&](vtkPolyData* simplified) {
-      vtkNew<vtkSurfaceDeviation> deviation;
-      deviation->SetReferenceData(input);
-      deviation->SetComparedData(simplified);
-      deviation->SetNumberOfSamples(100000);
-      deviation->Update();
-      return deviation->GetHausdorffRelative();
-    };
-    const double q = hausdorff(quadric->GetOutput()), o = hausdorff(ours);
-    std::cout << "[quality] " << name << " " << ours->GetNumberOfPolys() << " tris: Hausdorff SPBM " << o
-              << ", quadric " << q << " (" << quadric->GetOutput()->GetNumberOfPolys() << " tris), ratio " << o / q
-              << "\n";
-    EXPECT_LE(o, 3.0 * q);
+    EXPECT_LE(TenthLevelHausdorffRatioToQuadric(name, input), 3.0);
   }
+}
+
+// Issue 15 (session 25): the Fandisk (CAD: creases, cylinders) at 10% within 3x
+// vtkQuadricDecimation's Hausdorff distance at the same count (11.3x before: its creases counted
+// as curvature made the thickness bound 5x too loose, and its cylinders were grids of tiny patches,
+// RulingAngle). The issue's goal for CAD meshes, 2x, is not reached.
+TEST(PatchBoundaryMerge, FandiskWithinThreeTimesQuadricHausdorff)
+{
+  EXPECT_LE(TenthLevelHausdorffRatioToQuadric("fandisk", slodtest::LoadTestMesh("fandisk")), 3.0);
 }
 
 // The ear clipper's extension: the caller's ear test and the strict (no fallback) mode.

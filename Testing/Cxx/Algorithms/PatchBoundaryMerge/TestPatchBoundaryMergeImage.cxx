@@ -20,7 +20,7 @@ TEST(PatchBoundaryMergeImage, FandiskLevel460MatchesBaseline)
   vtkNew<vtkPolyData> result;
   result->DeepCopy(spbm->GetOutput());
   ASSERT_LE(result->GetNumberOfPolys(), 460);
-  ASSERT_GE(result->GetNumberOfPolys(), 455);
+  ASSERT_GE(result->GetNumberOfPolys(), 460 - 460 / 50); // the count contract: within 2%
   result->GetCellData()->SetActiveScalars("PatchId");
   EXPECT_TRUE(slodtest::RenderAndCompare(result, "TestPatchBoundaryMergeFandisk"));
 }
