@@ -104,6 +104,7 @@ private:
   template<typename Functor>
   void ForEditNeighbourhood(const State::Edit& edit, bool aroundEnds, Functor&& f);
   bool EditIsClean(const State::Edit& edit);
+  bool NotClean(Index p);
   void MarkEditDirty(const State::Edit& edit);
   void MarkPatchDirty(Index root);
   void MarkNearPatch(Index x);
@@ -162,6 +163,7 @@ private:
   bool replaying = false;             // nested joins of a union are replayed from their own records
   Index collapseRoot = InvalidIndex; // the patch whose chains TryCollapses walks (recorded)
   long long replayedAsRecorded = 0;
+  long long testedAgain = 0;
   bool markNewEdits = false; // Replay: edits made while merging around the dirty patches
   bool removalAroundDirty = false; // Replay: the removal continues around the dirty patches first
   Index joinBase = 0;                                // removal operations: 2c / 2c + 1 collapse chain c,
