@@ -43,8 +43,8 @@ private:
   // Stages.
   void ResetChainGraph(const std::vector<unsigned char>& frozen);
   void CopyPatchSupport();
-  void RebuildKept();
-  void RebuildKeptPositions();
+  void RebuildKept(bool all, const std::vector<Index>* changed = nullptr);
+  void RebuildKeptPositions(const std::vector<Index>* changed = nullptr);
   int FallbackLevel(Index c, const std::vector<unsigned char>& frozen) const;
   float FallbackTolerance(int level) const;
   void RefineNonSimplePatches(const std::vector<unsigned char>& frozen);
@@ -145,6 +145,8 @@ private:
   Index forcedKeep = InvalidIndex;
   // Scratch.
   std::vector<Index> orientedChains, absorbedChains, refinePatches, foldStack;
+  std::vector<Index> rebuiltChains; // the chains RebuildKeptPositions rebuilt last
+  std::vector<Index> refinedChains; // the chains a refinement round made finer
   std::vector<Vec3> checkPoints, chainPoints, mergedPoints;
   std::vector<unsigned char> chainKept;
   IndexedHeap<double> removalQueue; // removal operations by cost
