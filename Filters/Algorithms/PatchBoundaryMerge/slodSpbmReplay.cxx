@@ -189,9 +189,9 @@ void SpbmLevelGenerator::MergingRun::ForEditNeighbourhood(const State::Edit& edi
   }
 }
 
-// Clean: no patch of the neighbourhood dirty or frozen, no endpoint dirty. The patches around the
-// endpoints are not walked (most of a replay's time went there): DirtyNear marks every endpoint of
-// a chain of a dirty or frozen patch, kept up to date as patches turn dirty, unite (UnitePatches)
+// Clean: no patch of the neighbourhood NotClean (dirty; frozen too without FrozenPatchesAreClean),
+// no endpoint dirty. The patches around the endpoints are not walked (most of a replay's time went
+// there): DirtyNear marks every endpoint of a chain of a NotClean patch, kept up to date as patches turn dirty, unite (UnitePatches)
 // or endpoints collapse (ApplyCollapse). A patch never turns clean again and stays around its
 // endpoints while they have chains, so the test gives the walk's answer.
 bool SpbmLevelGenerator::MergingRun::EditIsClean(const State::Edit& edit)
