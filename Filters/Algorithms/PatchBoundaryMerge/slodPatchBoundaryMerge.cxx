@@ -491,6 +491,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     {
       ++level.ReplayedPasses;
       level.EditsAppliedAsRecorded += s.AppliedAsRecorded;
+      level.EditsTestedAgain += s.TestedAgain;
     }
     else if (!held && unmergedAny)
     {

@@ -105,6 +105,11 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // Replay: whether an edit is clean is tested by walking the patches around its endpoints (the
   // reference, session 15) instead of the endpoints' DirtyNear flags (same answer, cheaper).
   bool WalkAroundEditEndpoints = false;
+  // Replay: a patch frozen at the same fallback level as in the recorded run is clean (session 25):
+  // it took part in no edit then and takes part in none now, so the edits around it read the state
+  // the recorded run read. Off: every edit next to a frozen patch is tested again in every pass
+  // (the reference: the same levels; noisy scans: a tenth of a late pass's edits).
+  bool FrozenPatchesAreClean = true;
   // The kept vertices of a chain are rebuilt only when its tolerance or locking changed since they
   // were made (session 22): the refinement rounds change a few chains, and most runs and replayed
   // passes start from the tolerances of the one before. Off: every chain at every rebuild (the
@@ -175,6 +180,7 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   int Passes = 0;               // generation passes (1 without fallback)
   int ReplayedPasses = 0;       // passes that replayed the previous pass's merging (ReplayFallbackPasses)
   long long EditsAppliedAsRecorded = 0; // edits those passes applied without their tests (clean)
+  long long EditsTestedAgain = 0;       // edits those passes tested again (FrozenPatchesAreClean)
   long long ChainRebuilds = 0;  // chains whose kept vertices the passes' merging rebuilt (RebuildOnlyChangedChains)
   long long SupportUnions = 0;  // supports the passes' merging united (FoldSupportsWhenRead)
   long long SupportFolds = 0;   // of them, folded in when a support was read after replayed unions

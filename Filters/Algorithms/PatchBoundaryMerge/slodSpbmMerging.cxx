@@ -274,7 +274,7 @@ void SpbmLevelGenerator::MergingRun::ResetForRun(const std::vector<unsigned char
   {
     this->CopyPatchSupport();
   }
-  this->RebuildKept();
+  this->RebuildKept(true);
   this->ComputeMergeThreshold();
   const auto refinementStart = StageClock::now();
   this->RefineNonSimplePatches(frozen);
@@ -468,7 +468,7 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
   {
     s.Tolerance = s.RefinedTolerance;
     s.LockedFrom(s.RefinedLocked);
-    this->RebuildKept();
+    this->RebuildKept(false);
   }
   if (s.SimpleSignature.size() != size_t(np))
   {
@@ -483,6 +483,7 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
   {
     bool refined = false;
     next.clear();
+    refinedChains.clear();
     const Index count = round == 0 ? np : static_cast<Index>(visit.size());
     for (Index i = 0; i < count; ++i)
     {
@@ -516,6 +517,7 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
         if (!s.Locked[c])
         {
           refined = true;
+          refinedChains.push_back(c);
           next.push_back(s.L[c]);
           if (s.R[c] != InvalidIndex)
           {
@@ -539,7 +541,7 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
     std::sort(next.begin(), next.end());
     next.erase(std::unique(next.begin(), next.end()), next.end());
     visit.swap(next);
-    this->RebuildKept();
+    this->RebuildKept(false, &refinedChains);
   }
   if (!anyFrozen && !reuse)
   {
@@ -697,21 +699,44 @@ void SpbmLevelGenerator::MergingRun::RefineFrozenInPlace(const std::vector<unsig
   }
 }
 
-void SpbmLevelGenerator::MergingRun::RebuildKept()
+// The kept vertices of every chain at its tolerance, and the boundary sizes of the (original, all
+// root) patches. `all`: every chain counts (after ResetChainGraph); otherwise the sizes are those
+// of the kept vertices before and only the chains rebuilt now change them (the refinement rounds
+// rebuild a few chains; the sums over every chain read the patch records in scattered order, a
+// whole-level step per round and per replayed pass). `changed`: the only chains whose tolerance or
+// locking may have changed (all when null).
+void SpbmLevelGenerator::MergingRun::RebuildKept(bool all, const std::vector<Index>* changed)
 {
-  this->RebuildKeptPositions();
-  for (State::PatchRecord& patch : s.Patches)
+  this->RebuildKeptPositions(changed);
+  if (all)
   {
-    patch.Size = 0;
+    for (State::PatchRecord& patch : s.Patches)
+    {
+      patch.Size = 0;
+    }
   }
-  for (Index c = 0; c < nc; ++c)
-  {
+  auto count = [&](Index c) {
     const Index interior = s.KeptEnd[c] - s.KeptOffsets[c];
+    const Index added = all ? interior + 1 : interior - s.Interior[c];
     s.Interior[c] = interior;
-    s.Size[s.L[c]] += interior + 1;
+    s.Size[s.L[c]] += added;
     if (s.R[c] != InvalidIndex)
     {
-      s.Size[s.R[c]] += interior + 1;
+      s.Size[s.R[c]] += added;
+    }
+  };
+  if (all)
+  {
+    for (Index c = 0; c < nc; ++c)
+    {
+      count(c);
+    }
+  }
+  else
+  {
+    for (const Index c : rebuiltChains)
+    {
+      count(c);
     }
   }
 }
@@ -720,16 +745,21 @@ void SpbmLevelGenerator::MergingRun::RebuildKept()
 // its key order, or all when locked. They depend on the chain's tolerance and locking only, so a
 // chain whose positions were made for the same ones keeps them (the refinement rounds change a
 // few chains; most runs of a level start from the tolerances of the run before).
-void SpbmLevelGenerator::MergingRun::RebuildKeptPositions()
+void SpbmLevelGenerator::MergingRun::RebuildKeptPositions(const std::vector<Index>* changed)
 {
   ++graphEdits; // the kept boundary walks are stale
-  for (Index c = 0; c < nc; ++c)
+  rebuiltChains.clear();
+  const bool some = changed && parameters.RebuildOnlyChangedChains;
+  const Index count = some ? static_cast<Index>(changed->size()) : nc;
+  for (Index k = 0; k < count; ++k)
   {
+    const Index c = some ? (*changed)[size_t(k)] : k;
     if (parameters.RebuildOnlyChangedChains && s.KeptTolerance[c] == s.Tolerance[c] && s.KeptLocked[c] == s.Locked[c])
     {
       continue;
     }
     ++s.Times.ChainRebuilds;
+    rebuiltChains.push_back(c);
     s.KeptTolerance[c] = s.Tolerance[c];
     s.KeptLocked[c] = s.Locked[c];
     const Index n = P.ChainSize(c);

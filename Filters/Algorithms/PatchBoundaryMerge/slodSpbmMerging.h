@@ -43,8 +43,8 @@ private:
   // Stages.
   void ResetChainGraph(const std::vector<unsigned char>& frozen);
   void CopyPatchSupport();
-  void RebuildKept();
-  void RebuildKeptPositions();
+  void RebuildKept(bool all, const std::vector<Index>* changed = nullptr);
+  void RebuildKeptPositions(const std::vector<Index>* changed = nullptr);
   int FallbackLevel(Index c, const std::vector<unsigned char>& frozen) const;
   float FallbackTolerance(int level) const;
   void RefineNonSimplePatches(const std::vector<unsigned char>& frozen);
@@ -104,6 +104,7 @@ private:
   template<typename Functor>
   void ForEditNeighbourhood(const State::Edit& edit, bool aroundEnds, Functor&& f);
   bool EditIsClean(const State::Edit& edit);
+  bool NotClean(Index p);
   void MarkEditDirty(const State::Edit& edit);
   void MarkPatchDirty(Index root);
   void MarkNearPatch(Index x);
@@ -144,6 +145,8 @@ private:
   Index forcedKeep = InvalidIndex;
   // Scratch.
   std::vector<Index> orientedChains, absorbedChains, refinePatches, foldStack;
+  std::vector<Index> rebuiltChains; // the chains RebuildKeptPositions rebuilt last
+  std::vector<Index> refinedChains; // the chains a refinement round made finer
   std::vector<Vec3> checkPoints, chainPoints, mergedPoints;
   std::vector<unsigned char> chainKept;
   IndexedHeap<double> removalQueue; // removal operations by cost
@@ -162,6 +165,7 @@ private:
   bool replaying = false;             // nested joins of a union are replayed from their own records
   Index collapseRoot = InvalidIndex; // the patch whose chains TryCollapses walks (recorded)
   long long replayedAsRecorded = 0;
+  long long testedAgain = 0;
   bool markNewEdits = false; // Replay: edits made while merging around the dirty patches
   bool removalAroundDirty = false; // Replay: the removal continues around the dirty patches first
   Index joinBase = 0;                                // removal operations: 2c / 2c + 1 collapse chain c,

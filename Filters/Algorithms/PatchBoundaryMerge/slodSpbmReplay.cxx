@@ -88,12 +88,13 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
       s.DirtyEnd[s.A[c]] = s.DirtyEnd[s.B[c]] = 1;
     }
   }
-  // Endpoints next to a dirty or frozen patch (see EditIsClean); all patches are roots here.
+  // Endpoints next to a dirty (or frozen, see FrozenPatchesAreClean) patch (see EditIsClean); all
+  // patches are roots here.
   s.DirtyNear.assign(size_t(ne), 0);
   for (Index c = 0; c < nc; ++c)
   {
     const Index r = s.R[c];
-    if (s.DirtyPatch[s.L[c]] || s.Frozen[s.L[c]] || (r != InvalidIndex && (s.DirtyPatch[r] || s.Frozen[r])))
+    if (this->NotClean(s.L[c]) || (r != InvalidIndex && this->NotClean(r)))
     {
       s.DirtyNear[s.A[c]] = s.DirtyNear[s.B[c]] = 1;
     }
@@ -123,15 +124,16 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
   removalAroundDirty = false;
   s.EditsRemovalBegin = removalBeginNow;
   s.AppliedAsRecorded = replayedAsRecorded;
+  s.TestedAgain = testedAgain;
   long long dirty = 0;
   for (Index p = 0; p < np; ++p)
   {
     dirty += s.Find(p) == p && s.DirtyPatch[p];
   }
   vtkLogF(TRACE,
-    "[spbm] replayed %zu edits (%lld as recorded, %lld dirty patches at the start) in %.4f s: reset and refinement %.4f s, merging edits %.4f s, merging around %lld "
+    "[spbm] replayed %zu edits (%lld as recorded, %lld tested again, %lld dirty patches at the start) in %.4f s: reset and refinement %.4f s, merging edits %.4f s, merging around %lld "
     "dirty patches %.4f s (%lld triangles), removal edits %.4f s, removal %.4f s (%lld triangles)",
-    edits.size(), replayedAsRecorded, dirtyAtStart, Since(start), resetSeconds, replaySeconds - resetSeconds, dirty, mergingSeconds - replaySeconds,
+    edits.size(), replayedAsRecorded, testedAgain, dirtyAtStart, Since(start), resetSeconds, replaySeconds - resetSeconds, dirty, mergingSeconds - replaySeconds,
     merged, removalReplaySeconds - mergingSeconds, Since(start) - removalReplaySeconds, s.Total);
 }
 
@@ -187,9 +189,9 @@ void SpbmLevelGenerator::MergingRun::ForEditNeighbourhood(const State::Edit& edi
   }
 }
 
-// Clean: no patch of the neighbourhood dirty or frozen, no endpoint dirty. The patches around the
-// endpoints are not walked (most of a replay's time went there): DirtyNear marks every endpoint of
-// a chain of a dirty or frozen patch, kept up to date as patches turn dirty, unite (UnitePatches)
+// Clean: no patch of the neighbourhood NotClean (dirty; frozen too without FrozenPatchesAreClean),
+// no endpoint dirty. The patches around the endpoints are not walked (most of a replay's time went
+// there): DirtyNear marks every endpoint of a chain of a NotClean patch, kept up to date as patches turn dirty, unite (UnitePatches)
 // or endpoints collapse (ApplyCollapse). A patch never turns clean again and stays around its
 // endpoints while they have chains, so the test gives the walk's answer.
 bool SpbmLevelGenerator::MergingRun::EditIsClean(const State::Edit& edit)
@@ -197,9 +199,15 @@ bool SpbmLevelGenerator::MergingRun::EditIsClean(const State::Edit& edit)
   bool clean = true;
   const bool walk = parameters.WalkAroundEditEndpoints;
   this->ForEditNeighbourhood(edit, walk, [&](bool patch, Index id) {
-    clean = clean && !(patch ? s.DirtyPatch[id] || s.Frozen[id] : s.DirtyEnd[id] || (!walk && s.DirtyNear[id]));
+    clean = clean && !(patch ? this->NotClean(id) : s.DirtyEnd[id] || (!walk && s.DirtyNear[id]));
   });
   return clean;
+}
+
+// Root patch p is dirty, or frozen without FrozenPatchesAreClean: an edit around it is tested again.
+bool SpbmLevelGenerator::MergingRun::NotClean(Index p)
+{
+  return s.DirtyPatch[p] || (!parameters.FrozenPatchesAreClean && s.Frozen[p]);
 }
 
 void SpbmLevelGenerator::MergingRun::MarkEditDirty(const State::Edit& edit)
@@ -253,6 +261,7 @@ bool SpbmLevelGenerator::MergingRun::ApplyRecorded(const State::Edit& edit)
       {
         return false;
       }
+      collapseRoot = v[5]; // recorded again with the walk it came from (RetryEdit's condition (c))
       this->ApplyCollapse(v[0], v[1], v[2], v[3], v[4]);
       return true;
     default: // JoinEdit
@@ -343,6 +352,7 @@ void SpbmLevelGenerator::MergingRun::ReplayEdits(
     }
     // Tried again; the patches and endpoints around become dirty only when the outcome differs
     // from the record (an edit made as recorded changes clean neighbours as it did then).
+    ++testedAgain;
     relaxed = removal; // RemovalCollapse and RemovalJoin set it themselves
     if (!this->RetryEdit(edit))
     {

@@ -419,6 +419,7 @@ struct SpbmLevelGenerator::State
   // Replay: endpoints of a chain of a dirty or frozen root patch (EditIsClean's test around them).
   std::vector<unsigned char> DirtyNear;
   long long AppliedAsRecorded = 0; // the last replay's clean edits
+  long long TestedAgain = 0;       // the last replay's edits tested again
   // The chain graph above is the merging run of these parameters without frozen patches (a
   // prediction's run): the first generation pass of the same level need not run it again.
   bool HoldsPrediction = false;
