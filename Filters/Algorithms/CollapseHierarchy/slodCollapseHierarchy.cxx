@@ -2282,7 +2282,7 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
   state.Ahead.clear();
   state.AheadStart = 0;
   this->PrepareBlockedStamps(state);
-  const bool ahead = vtkSMPTools::GetEstimatedNumberOfThreads() > 1;
+  const bool ahead = this->Parameters.DecideAhead && vtkSMPTools::GetEstimatedNumberOfThreads() > 1;
   const Index full = 4 * state.Wanted;
   Index removed = 0;
   size_t examined = 0; // in half triangle collapses (see below)

@@ -1005,8 +1005,8 @@ TEST(CollapseHierarchy, SameHierarchyOnOneTwoAndEightThreads)
   }
 }
 
-// The batch selection decides the coming candidates' choices ahead, in parallel (ChooseAhead), and
-// uses them in the order: on a noisy scan isosurface (borders, handles, locked non-manifold
+// The batch selection decides the coming candidates' choices ahead, in parallel (DecideAhead,
+// ChooseAhead), and uses them in the order: on a noisy scan isosurface (borders, handles, locked non-manifold
 // vertices) with the defaults, and on bunny00 with triangle collapses preferred (PreferEdgeFactor
 // 0: the stencil rules and their blocked stamps), two and four threads build the hierarchy of one
 // thread bit for bit; with one thread every choice is made in the order, with more most of them
@@ -1016,9 +1016,11 @@ TEST(CollapseHierarchy, ChoicesDecidedAheadGiveTheSameHierarchy)
 {
   const TriangleMesh scan = ToTriangleMesh(NoisyScanIsosurface(45, 3));
   const TriangleMesh bunny = ToTriangleMesh(LoadTestMesh("bunny00"));
-  CollapseHierarchyParameters triangles = DefaultParameters();
+  CollapseHierarchyParameters edges = DefaultParameters();
+  edges.DecideAhead = true;
+  CollapseHierarchyParameters triangles = edges;
   triangles.PreferEdgeFactor = 0;
-  for (const auto& run : { std::make_pair(&scan, DefaultParameters()), std::make_pair(&bunny, triangles) })
+  for (const auto& run : { std::make_pair(&scan, edges), std::make_pair(&bunny, triangles) })
   {
     CollapseHierarchy serial;
     vtkSMPTools::LocalScope(vtkSMPTools::Config{ 1 }, [&]() { ASSERT_TRUE(serial.Build(*run.first, run.second)); });
