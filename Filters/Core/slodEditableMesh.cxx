@@ -240,13 +240,74 @@ void EditableMesh::PrefetchGathered(const std::vector<Index>& gathered) const
   }
 }
 
+// The link test's marks per vertex: In and Out, unset until the vertex is touched in this check.
+struct EditableMesh::MarkedLink
+{
+  std::vector<LinkEntry>& Entries;
+  const std::uint32_t Epoch;
+  void Touch(Index w)
+  {
+    LinkEntry& e = this->Entries[w];
+    if (e.Mark != this->Epoch)
+    {
+      e.Mark = this->Epoch;
+      e.In = InvalidIndex;
+      e.Out = InvalidIndex;
+    }
+  }
+  bool Touched(Index w) const { return this->Entries[w].Mark == this->Epoch; }
+  Index& In(Index w) { return this->Entries[w].In; }
+  Index& Out(Index w) { return this->Entries[w].Out; }
+};
+
+// The same in the caller's table: open addressing, at most half full (a check touches at most two
+// vertices per gathered triangle), cleared per check (its size, not the mesh's).
+struct EditableMesh::TableLink
+{
+  CheckScratch& Scratch;
+  size_t Mask;
+  TableLink(CheckScratch& scratch, size_t gathered)
+    : Scratch(scratch)
+  {
+    size_t size = 16;
+    while (size < 4 * gathered)
+    {
+      size *= 2;
+    }
+    this->Mask = size - 1;
+    scratch.Keys.assign(size, InvalidIndex);
+    scratch.Links.resize(size);
+  }
+  size_t Slot(Index w) const
+  {
+    size_t h = (size_t(std::uint32_t(w)) * 0x9E3779B1u) & this->Mask;
+    while (this->Scratch.Keys[h] != w && this->Scratch.Keys[h] != InvalidIndex) // (never full)
+    {
+      h = (h + 1) & this->Mask;
+    }
+    return h;
+  }
+  void Touch(Index w)
+  {
+    const size_t h = this->Slot(w);
+    if (this->Scratch.Keys[h] == InvalidIndex)
+    {
+      this->Scratch.Keys[h] = w;
+      this->Scratch.Links[h] = { InvalidIndex, InvalidIndex };
+    }
+  }
+  bool Touched(Index w) const { return this->Scratch.Keys[this->Slot(w)] == w; }
+  Index& In(Index w) { return this->Scratch.Links[this->Slot(w)][0]; }
+  Index& Out(Index w) { return this->Scratch.Links[this->Slot(w)][1]; }
+};
+
+template <typename Link>
 CollapseStatus EditableMesh::CheckLink(
-  const Index* vertices, int count, bool anyBoundary, const std::vector<Index>& gathered) const
+  const Index* vertices, int count, bool anyBoundary, const std::vector<Index>& gathered, Link&& link) const
 {
   // Generalised link condition: the link of the merged vertex, made of the link edges x -> y of
   // the surviving triangles, must be one simple cycle (interior) or one simple path (border),
   // and no neighbour may get two incoming or outgoing link edges (an edge with > 2 triangles).
-  const std::uint32_t epoch = this->NextEpoch();
   Index survivors = 0;
   Index firstX = InvalidIndex;
   for (Index t : gathered)
@@ -258,21 +319,14 @@ CollapseStatus EditableMesh::CheckLink(
     }
     const Index* tri = this->Triangle(t);
     const Index x = tri[(corner + 1) % 3], y = tri[(corner + 2) % 3];
-    for (Index w : { x, y })
-    {
-      if (this->VertexLink[w].Mark != epoch)
-      {
-        this->VertexLink[w].Mark = epoch;
-        this->VertexLink[w].In = InvalidIndex;
-        this->VertexLink[w].Out = InvalidIndex;
-      }
-    }
-    if (this->VertexLink[x].Out != InvalidIndex || this->VertexLink[y].In != InvalidIndex)
+    link.Touch(x);
+    link.Touch(y);
+    if (link.Out(x) != InvalidIndex || link.In(y) != InvalidIndex)
     {
       return CollapseStatus::NonManifold;
     }
-    this->VertexLink[x].Out = y;
-    this->VertexLink[y].In = x;
+    link.Out(x) = y;
+    link.In(y) = x;
     firstX = firstX == InvalidIndex ? x : firstX;
     ++survivors;
   }
@@ -289,7 +343,7 @@ CollapseStatus EditableMesh::CheckLink(
     for (int k = 0; k < 3; ++k)
     {
       const Index w = tri[k];
-      if (this->VertexLink[w].Mark == epoch && this->VertexLink[w].In == InvalidIndex && this->VertexLink[w].Out != InvalidIndex)
+      if (link.Touched(w) && link.In(w) == InvalidIndex && link.Out(w) != InvalidIndex)
       {
         severalStarts = severalStarts || (start != InvalidIndex && w != start);
         start = w;
@@ -305,7 +359,7 @@ CollapseStatus EditableMesh::CheckLink(
   Index walked = 0;
   if (isPath)
   {
-    for (Index w = start; this->VertexLink[w].Out != InvalidIndex && walked <= survivors; w = this->VertexLink[w].Out)
+    for (Index w = start; link.Out(w) != InvalidIndex && walked <= survivors; w = link.Out(w))
     {
       ++walked;
     }
@@ -315,7 +369,7 @@ CollapseStatus EditableMesh::CheckLink(
     Index w = firstX;
     do
     {
-      w = this->VertexLink[w].Out;
+      w = link.Out(w);
       ++walked;
     } while (w != InvalidIndex && w != firstX && walked <= survivors);
   }
@@ -438,6 +492,18 @@ CollapseStatus EditableMesh::CheckCollapse(
 CollapseStatus EditableMesh::CheckCollapse(const Index* vertices, int count, const Vec3& p,
   const CollapseOptions& options, std::vector<Index>& scratch) const
 {
+  return this->CheckCollapseWith(vertices, count, p, options, scratch, nullptr);
+}
+
+CollapseStatus EditableMesh::CheckCollapse(
+  const Index* vertices, int count, const Vec3& p, const CollapseOptions& options, CheckScratch& scratch) const
+{
+  return this->CheckCollapseWith(vertices, count, p, options, scratch.Gathered, &scratch);
+}
+
+CollapseStatus EditableMesh::CheckCollapseWith(const Index* vertices, int count, const Vec3& p,
+  const CollapseOptions& options, std::vector<Index>& scratch, CheckScratch* link) const
+{
   assert(count >= 2 && count <= 3);
   for (int i = 0; i < count; ++i)
   {
@@ -462,7 +528,7 @@ CollapseStatus EditableMesh::CheckCollapse(const Index* vertices, int count, con
   this->PrefetchGathered(scratch);
   if (!options.AllowTopologyChange)
   {
-    const CollapseStatus topology = this->CheckTopology(vertices, count, options, scratch);
+    const CollapseStatus topology = this->CheckTopology(vertices, count, options, scratch, link);
     if (topology != CollapseStatus::Ok)
     {
       return topology;
@@ -471,8 +537,8 @@ CollapseStatus EditableMesh::CheckCollapse(const Index* vertices, int count, con
   return options.GeometryFirst ? CollapseStatus::Ok : this->CheckGeometry(vertices, count, p, options, scratch);
 }
 
-CollapseStatus EditableMesh::CheckTopology(
-  const Index* vertices, int count, const CollapseOptions& options, const std::vector<Index>& gathered) const
+CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, const CollapseOptions& options,
+  const std::vector<Index>& gathered, CheckScratch* scratch) const
 {
   bool anyBoundary = false;
   bool onBoundary[3] = { false, false, false };
@@ -482,7 +548,9 @@ CollapseStatus EditableMesh::CheckTopology(
       options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]);
     anyBoundary = anyBoundary || onBoundary[i];
   }
-  const CollapseStatus link = this->CheckLink(vertices, count, anyBoundary, gathered);
+  const CollapseStatus link = scratch
+    ? this->CheckLink(vertices, count, anyBoundary, gathered, TableLink(*scratch, gathered.size()))
+    : this->CheckLink(vertices, count, anyBoundary, gathered, MarkedLink{ this->VertexLink, this->NextEpoch() });
   if (link != CollapseStatus::Ok)
   {
     return link;

@@ -169,6 +169,23 @@ public:
   CollapseStatus CheckCollapse(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
     std::vector<Index>& scratch) const;
   void ReserveEpochs(std::uint32_t checks) const;
+  // A caller's whole scratch of a check: the set's triangles and the link test's marks, in a small
+  // table of its own instead of the mesh's per-vertex marks. With it, concurrent checks are safe
+  // whatever their neighbourhoods (speculative checks of overlapping candidates), as long as no
+  // edit runs meanwhile and options.BoundaryVertices is given (IsBoundaryVertex uses the mesh's
+  // marks); the answer is the other overloads'.
+  class CheckScratch
+  {
+  public:
+    std::vector<Index> Gathered;
+
+  private:
+    friend class EditableMesh;
+    std::vector<Index> Keys; // open addressing by vertex id, InvalidIndex: free
+    std::vector<std::array<Index, 2>> Links; // (In, Out) of Keys' vertex
+  };
+  CollapseStatus CheckCollapse(
+    const Index* vertices, int count, const Vec3& p, const CollapseOptions& options, CheckScratch& scratch) const;
 
   // Merges the vertices into `kept` (one of them) placed at p. Triangles with two or more of the
   // vertices disappear. Call CheckCollapse first. The record, when given, allows Undo.
@@ -234,9 +251,16 @@ private:
   void GatherTriangles(const Index* vertices, int count, std::vector<Index>& gathered) const;
   // The steps of CheckCollapse, over the gathered triangles.
   void PrefetchGathered(const std::vector<Index>& gathered) const;
-  CollapseStatus CheckTopology(
-    const Index* vertices, int count, const CollapseOptions& options, const std::vector<Index>& gathered) const;
-  CollapseStatus CheckLink(const Index* vertices, int count, bool anyBoundary, const std::vector<Index>& gathered) const;
+  // (link: the link test's marks in a scratch of the caller's; null: the mesh's VertexLink)
+  CollapseStatus CheckTopology(const Index* vertices, int count, const CollapseOptions& options,
+    const std::vector<Index>& gathered, CheckScratch* link) const;
+  struct MarkedLink; // CheckLink's marks in VertexLink
+  struct TableLink;  // CheckLink's marks in a CheckScratch
+  template <typename Link>
+  CollapseStatus CheckLink(
+    const Index* vertices, int count, bool anyBoundary, const std::vector<Index>& gathered, Link&& link) const;
+  CollapseStatus CheckCollapseWith(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
+    std::vector<Index>& gathered, CheckScratch* link) const;
   bool BorderVerticesFormChain(const Index* vertices, int count, const bool* onBoundary) const;
   bool IsolatesVertex(
     const Index* vertices, int count, const CollapseOptions& options, const std::vector<Index>& gathered) const;

@@ -266,7 +266,8 @@ bool StencilBuilder::TraceBoundaryPolygon(TriangleStencil& s, bool& touchesT)
 }
 
 CollapsibleStatus StencilBuilder::CheckCollapsible(const EditableMesh& mesh, const TriangleStencil& s,
-  const Vec3& p, const Vec3& normal, const CollapseOptions* meshOptions, const CollapsibleOptions& options)
+  const Vec3& p, const Vec3& normal, const CollapseOptions* meshOptions, const CollapsibleOptions& options,
+  EditableMesh::CheckScratch* check)
 {
   if (s.Triangle == InvalidIndex || !mesh.IsTriangleAlive(s.Triangle))
   {
@@ -322,7 +323,8 @@ CollapsibleStatus StencilBuilder::CheckCollapsible(const EditableMesh& mesh, con
     }
   }
   if (meshOptions &&
-    mesh.CheckCollapse(s.Vertices, 3, p, *meshOptions) != CollapseStatus::Ok)
+    (check ? mesh.CheckCollapse(s.Vertices, 3, p, *meshOptions, *check) : mesh.CheckCollapse(s.Vertices, 3, p, *meshOptions)) !=
+      CollapseStatus::Ok)
   {
     return CollapsibleStatus::MeshCheckFailed;
   }

@@ -65,10 +65,11 @@ public:
   void Build(const EditableMesh& mesh, Index t, TriangleStencil& stencil);
 
   // Rules (1)-(3) for the stencil (built by Build) and collapse point p; `normal` is T's plane
-  // normal (unit). When meshOptions is given, EditableMesh::CheckCollapse is also consulted.
+  // normal (unit). When meshOptions is given, EditableMesh::CheckCollapse is also consulted (with
+  // the caller's scratch when given: then concurrent builders may check overlapping stencils).
   CollapsibleStatus CheckCollapsible(const EditableMesh& mesh, const TriangleStencil& stencil,
     const Vec3& p, const Vec3& normal, const CollapseOptions* meshOptions = nullptr,
-    const CollapsibleOptions& options = CollapsibleOptions());
+    const CollapsibleOptions& options = CollapsibleOptions(), EditableMesh::CheckScratch* check = nullptr);
 
 private:
   // Build's stages over the region S u {T}.
