@@ -425,10 +425,16 @@ Index SpbmLevelGenerator::FinestLevelCount(const SpbmLevelParameters& parameters
   // The merging run of this level was a whole run over every chain vertex, super-linear on noisy
   // scans (its boundary tests and refinement rounds: 38 s of noisy:273's level under load) only
   // to learn a count that merges cannot change.
+  const Index count = this->FinestLevelCountWithoutRun(parameters);
+  return count >= 0 ? count : this->PredictTriangleCount(parameters);
+}
+
+Index SpbmLevelGenerator::FinestLevelCountWithoutRun(const SpbmLevelParameters& parameters) const
+{
   if (!(parameters.Epsilon < 0) || !parameters.JoinWithinEpsilon || !parameters.CollapseWithinEpsilon ||
     parameters.RemovalTarget > 0)
   {
-    return this->PredictTriangleCount(parameters);
+    return -1;
   }
   const Patchification& P = *this->Patches;
   long long count = -2LL * P.NumberOfPatches();
@@ -438,6 +444,11 @@ Index SpbmLevelGenerator::FinestLevelCount(const SpbmLevelParameters& parameters
     count += sides * (P.ChainSize(c) - 1);
   }
   return static_cast<Index>(std::max(0LL, std::min<long long>(count, std::numeric_limits<Index>::max())));
+}
+
+int SpbmLevelGenerator::MergingRunCount() const
+{
+  return this->Work->Times.MergingRuns;
 }
 
 SpbmLevelParameters SpbmLevelGenerator::FindParameters(

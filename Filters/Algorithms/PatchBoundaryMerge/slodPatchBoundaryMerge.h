@@ -95,6 +95,11 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // than this makes large flat patches, while the removal alone reaches the count. 60 measured
   // best of 25/40/60/90 on the Fandisk at 150 and bunny00 at 525 triangles.
   double RemovalMergeAngle = 60.0;
+  // Target search (session 26): epsilon (the number k of kept chain vertices) is bracketed by the
+  // full-resolution count when it is known without a merging run, and narrowed by secant steps in
+  // sqrt(k) aimed inside the accepted band (mc1m at 50%: 7 merging runs -> 5). Off: the former
+  // steps of two triangles per key and regula falsi in k (the reference).
+  bool SecantKeptVertexSearch = true;
   // GenerateForTarget only: also search the other merge measure (on a second thread) and half
   // alpha1 at the same target, and keep the level with the smallest EstimateDeviation. Without
   // it, the other measures are still compared when the count comes from the removal (no search).
@@ -226,6 +231,12 @@ public:
   // count, so it is the patchification's sum of (boundary size - 2), computed without a merging
   // run; otherwise the merging run's prediction.
   Index FinestLevelCount(const SpbmLevelParameters& parameters);
+  // That count when it needs no merging run (Epsilon < 0, the epsilon bounds on, no removal),
+  // else -1. The target search takes it as the upper end of its epsilon bracket for free.
+  Index FinestLevelCountWithoutRun(const SpbmLevelParameters& parameters) const;
+  // Merging runs of the first working state so far (searches and generation passes; a
+  // remembered prediction runs none): the work of a level.
+  int MergingRunCount() const;
 
   // Generates the level. Returns false only when aborted through `abort`.
   bool Generate(const SpbmLevelParameters& parameters, SpbmLevel& level,

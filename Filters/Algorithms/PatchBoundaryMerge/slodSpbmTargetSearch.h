@@ -30,6 +30,7 @@ private:
   Index SearchKeptVertices(double angle, Index& bestCount);
   bool BracketKeptVertices(double angle, Index& lo, Index& hi, Index& countLo, Index& countHi);
   void NarrowKeptVertices(double angle, Index& lo, Index& hi, Index& countLo, Index& countHi);
+  void NarrowKeptVerticesInK(double angle, Index& lo, Index& hi, Index& countLo, Index& countHi);
 
   SpbmLevelGenerator& generator;
   State& s;
