@@ -167,7 +167,7 @@ public:
   /// one-rings, checked and collapsed in parallel (as meshoptimizer's simplifier; the output is the
   /// same for any number of threads). With GenerateProgressiveMesh, ExactUnion or
   /// AttributeErrorMetric, and for a distributed surface, the queue runs whatever this says.
-  /// PassGoalShare (default 0.5) and PassErrorFactor (default 1.5) set a pass's limit: the factor
+  /// PassGoalShare (default 0.2) and PassErrorFactor (default 1.5) set a pass's limit: the factor
   /// times the cost of rank share x (triangles still to remove); smaller: more, finer passes.
   enum CollapseScheduleType
   {
@@ -182,9 +182,10 @@ public:
   vtkGetMacro(PassGoalShare, double);
   vtkSetClampMacro(PassErrorFactor, double, 1.0, 100.0);
   vtkGetMacro(PassErrorFactor, double);
-  /// PassRemovalShare (default 1: off): a pass ends once it has removed this share of the
-  /// triangles still to remove at its start. 0.1 brings the mean distance of small outputs nearer
-  /// the queue's at the cost of more passes (Documentation/QuadricTriangleCollapse.md, session 19).
+  /// PassRemovalShare (default 0.1; 1: off): a pass ends once it has removed this share of the
+  /// triangles still to remove at its start, so that the next pass re-ranks around its collapses
+  /// (closer to the queue's order, more passes; Documentation/QuadricTriangleCollapse.md, sessions
+  /// 19 and 26).
   vtkSetClampMacro(PassRemovalShare, double, 0.001, 1.0);
   vtkGetMacro(PassRemovalShare, double);
   ///@}
@@ -289,9 +290,9 @@ protected:
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
   int CollapseSchedule = QUEUE;
-  double PassGoalShare = 0.5;
+  double PassGoalShare = 0.2;
   double PassErrorFactor = 1.5;
-  double PassRemovalShare = 1.0;
+  double PassRemovalShare = 0.1;
   bool PreserveAttributeSeams = true;
   char* RegionArrayName = nullptr;
   bool AttributeErrorMetric = false;

@@ -607,7 +607,8 @@ TEST(QuadricTriangleCollapse, SmallPassesKeepTheQueuesLargestError)
 
 // PassRemovalShare ends a pass once it removed that share of what is left to remove: on the
 // femur at 10 % a share of 0.1 takes more passes than running each ranking through, reaches the
-// target, keeps the genus, and gives the same mesh for 1, 2 and 8 threads.
+// target, keeps the genus, and gives the same mesh for 1, 2 and 8 threads; the filter's pass
+// defaults are the options' (0.1 the default).
 TEST(QuadricTriangleCollapse, PassRemovalShareSplitsPassesTheSameForAnyThreadCount)
 {
   vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("femur");
@@ -626,6 +627,12 @@ TEST(QuadricTriangleCollapse, PassRemovalShareSplitsPassesTheSameForAnyThreadCou
   const TriangleCollapseResult whole = run(1.0);
   std::vector<TriangleCollapseResult> split;
   slodtest::ForOneTwoAndEightThreads([&](int) { split.push_back(run(0.1)); });
+  // 0.1 is the default since session 26 (finer passes, nearer the queue's order), in both layers.
+  vtkNew<vtkQuadricTriangleCollapse> defaults;
+  EXPECT_EQ(TriangleCollapseOptions().PassRemovalShare, 0.1);
+  EXPECT_EQ(defaults->GetPassRemovalShare(), TriangleCollapseOptions().PassRemovalShare);
+  EXPECT_EQ(defaults->GetPassGoalShare(), TriangleCollapseOptions().PassGoalShare);
+  EXPECT_EQ(defaults->GetPassErrorFactor(), TriangleCollapseOptions().PassErrorFactor);
   std::printf("[passes] femur 10%%: %d passes, with PassRemovalShare 0.1 %d\n", int(whole.Passes), int(split[0].Passes));
   EXPECT_GT(split[0].Passes, whole.Passes);
   for (size_t i = 1; i < split.size(); ++i)
