@@ -157,6 +157,7 @@ private:
   bool StarKernelPoint(Index v, const std::vector<Index>& star, Vec3& point) const;
   bool TryKernelMove(Index v);
   bool TryRelocate(Index v);
+  bool HasOpposedRingEdge(Index v, const std::vector<Index>& star) const;
   bool KeepsPoint(const Vec3& point, Index v, const Vec3& position, const std::vector<Index>& star);
   bool RelocateInto(Index v, int tile, const std::vector<Index>& star);
   bool ProjectTarget(const Vec3& start, const Vec3& reference, const Vec3& target, ClosestPointResult& c) const;
