@@ -344,31 +344,46 @@ bool TileRepair::MoveToFirstAccepted(Index v, const std::vector<Index>& star, co
   this->Measure(star, this->Previous);
   for (int i = 0; i < count; ++i)
   {
-    ++this->DistanceQueries;
-    // start lies on the original surface: the closest point is no further from the query (pruned).
-    const Vec3 step = targets[i] - start;
-    ClosestPointResult c = this->InputBVH.ClosestPoint(targets[i], Dot(step, step) * (1.0 + 1e-6));
-    if (c.Triangle == InvalidIndex)
+    ClosestPointResult c;
+    if (this->ProjectTarget(start, startReference, targets[i], c) && this->KeepMoveIfAccepted(v, c, star))
     {
-      c = this->InputBVH.ClosestPoint(targets[i]);
-    }
-    if (c.Triangle == InvalidIndex || Dot(this->Input.TriangleAreaVector(c.Triangle), startReference) <= 0)
-    {
-      continue;
-    }
-    this->Edit.SetPoint(v, c.Point);
-    this->Reference[v] = this->NormalAt(c.Point, c.Triangle);
-    if (this->Accept(this->Previous, star))
-    {
-      this->Moved(v, c.Point, c.Triangle);
-      this->Touched.push_back(v);
-      ++this->Moves;
       return true;
     }
   }
   this->Edit.SetPoint(v, start);
   this->Reference[v] = startReference;
   return false;
+}
+
+// `target`'s closest point on the original surface, on a sheet facing `reference`'s way (false
+// when it faces the other way: the vertex would change sheets in a thin part).
+bool TileRepair::ProjectTarget(const Vec3& start, const Vec3& reference, const Vec3& target, ClosestPointResult& c) const
+{
+  ++this->DistanceQueries;
+  // start lies on the original surface: the closest point is no further from the query (pruned).
+  const Vec3 step = target - start;
+  c = this->InputBVH.ClosestPoint(target, Dot(step, step) * (1.0 + 1e-6));
+  if (c.Triangle == InvalidIndex)
+  {
+    c = this->InputBVH.ClosestPoint(target);
+  }
+  return c.Triangle != InvalidIndex && Dot(this->Input.TriangleAreaVector(c.Triangle), reference) > 0;
+}
+
+// Moves v onto c (its reference normal follows) and keeps it there when the region `star` is then
+// better than this->Previous (the caller puts v back otherwise).
+bool TileRepair::KeepMoveIfAccepted(Index v, const ClosestPointResult& c, const std::vector<Index>& star)
+{
+  this->Edit.SetPoint(v, c.Point);
+  this->Reference[v] = this->NormalAt(c.Point, c.Triangle);
+  if (!this->Accept(this->Previous, star))
+  {
+    return false;
+  }
+  this->Moved(v, c.Point, c.Triangle);
+  this->Touched.push_back(v);
+  ++this->Moves;
+  return true;
 }
 
 // The star's tiles (v, a, b) face the way of `normal` in its plane exactly when v lies left of
@@ -463,6 +478,141 @@ bool TileRepair::TryKernelMove(Index v)
   return moved;
 }
 
+// The last resort's relocation of v (session 26): a star with no kernel is a folded ring, but the
+// ring itself may have a triangulation whose tiles all face the surface's way (the ring search,
+// as the removal's). v's edges are flipped into that triangulation but for one tile, and v moves
+// inside that tile (its centroid, projected onto the original surface): the same vertices, the
+// same tiles, v's star now a valid triangle split in three. Tried in the RelocationTiles tiles
+// nearest to v; accepted by the test of the other last-resort changes on v's old star's tiles
+// (the flips keep the tile ids).
+bool TileRepair::TryRelocate(Index v)
+{
+  std::vector<Index>& star = this->Region;
+  bool valid = false;
+  double worst = 0, smallestAngle = 0;
+  this->Rings.MinimumAngle = this->NeedleAngle;
+  if (!this->MovableStar(v, star) || this->HasOpposedRingEdge(v, star) ||
+    !this->Rings.Find(v, valid, worst, smallestAngle) || !valid)
+  {
+    return false;
+  }
+  const Vec3 start = this->Edit.Point(v);
+  std::vector<std::pair<double, int>> nearest;
+  for (int i = 0; i < this->Rings.NumberOfTiles(); ++i)
+  {
+    const std::array<Index, 3> tile = this->Rings.Tile(i);
+    const Vec3 centroid =
+      (1.0 / 3.0) * (this->Edit.Point(tile[0]) + this->Edit.Point(tile[1]) + this->Edit.Point(tile[2]));
+    nearest.emplace_back(Dot(centroid - start, centroid - start), i);
+  }
+  std::sort(nearest.begin(), nearest.end());
+  nearest.resize(std::min(nearest.size(), size_t(RelocationTiles)));
+  this->Measure(star, this->Previous);
+  this->MovedBound = LastResortMovedShare;
+  bool relocated = false;
+  for (size_t i = 0; i < nearest.size() && !relocated; ++i)
+  {
+    this->Work += static_cast<long long>(2 * star.size()); // the flips' and the score's visits
+    relocated = this->RelocateInto(v, nearest[i].second, star);
+  }
+  this->MovedBound = MovedShare;
+  return relocated;
+}
+
+// Whether a ring edge of v's star joins corners whose reference normals are 90 degrees or more
+// apart (a part thinner than the spacing, a crease sharper than a right angle): a tile on that
+// edge faces both only with its normal in the narrow lune between them, so the ring search is
+// skipped there (on cheese it took most of the relocation's cost and seldom found a valid ring).
+bool TileRepair::HasOpposedRingEdge(Index v, const std::vector<Index>& star) const
+{
+  for (Index t : star)
+  {
+    const Index* tri = this->Edit.Triangle(t);
+    const int at = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    if (Dot(this->Reference[tri[(at + 1) % 3]], this->Reference[tri[(at + 2) % 3]]) <= 0)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+// One try of TryRelocate: v's edges flipped so that v keeps only the three tiles inside the ring
+// triangulation's tile `tile`, then v moved to that tile's centroid on the original surface; all
+// undone unless accepted.
+bool TileRepair::RelocateInto(Index v, int tile, const std::vector<Index>& star)
+{
+  if (!this->Rings.SpokeFlipsInto(tile, this->Spokes))
+  {
+    return false;
+  }
+  const Vec3 start = this->Edit.Point(v);
+  const Vec3 startReference = this->Reference[v];
+  this->SpokeUndo.clear();
+  bool flipped = true;
+  for (size_t i = 0; i < this->Spokes.size() && flipped; ++i)
+  {
+    FlipRecord undo;
+    flipped = (!this->IsFixedEdge || !this->IsFixedEdge(v, this->Spokes[i])) &&
+      this->Edit.FlipEdge(v, this->Spokes[i], &undo);
+    if (flipped)
+    {
+      this->SpokeUndo.push_back(undo);
+    }
+  }
+  const std::array<Index, 3> corners = this->Rings.Tile(tile);
+  const Vec3 centroid =
+    (1.0 / 3.0) * (this->Edit.Point(corners[0]) + this->Edit.Point(corners[1]) + this->Edit.Point(corners[2]));
+  ClosestPointResult c;
+  if (flipped && this->ProjectTarget(start, startReference, centroid, c) && this->KeepsPoint(start, v, c.Point, star) &&
+    this->KeepMoveIfAccepted(v, c, star))
+  {
+    for (Index t : star)
+    {
+      this->Touched.insert(this->Touched.end(), this->Edit.Triangle(t), this->Edit.Triangle(t) + 3);
+    }
+    for (Index a : this->Spokes)
+    {
+      if (this->Record)
+      {
+        this->Record->insert(this->Record->end(), { -1 - v, a });
+      }
+    }
+    this->Flips += static_cast<Index>(this->Spokes.size());
+    ++this->Relocations;
+    return true;
+  }
+  this->Edit.SetPoint(v, start);
+  this->Reference[v] = startReference;
+  for (auto undo = this->SpokeUndo.rbegin(); undo != this->SpokeUndo.rend(); ++undo)
+  {
+    this->Edit.Undo(*undo);
+  }
+  return false;
+}
+
+// Whether `point` (where v was, a point of the original surface) lies within MovedShare of the
+// star's longest edge of its tiles once v is at `position`: the removal's bound on a re-triangulated
+// ring (slodRetiling.cxx). Accept compares the tiles with the input, not the input with the tiles:
+// without this a relocation could cut off the tip v stood on (mannequin-devil's Hausdorff x1.5).
+bool TileRepair::KeepsPoint(const Vec3& point, Index v, const Vec3& position, const std::vector<Index>& star)
+{
+  this->Edit.SetPoint(v, position);
+  double distance2 = std::numeric_limits<double>::max(), extent = 0;
+  for (Index t : star)
+  {
+    const Index* tri = this->Edit.Triangle(t);
+    const Vec3 p[3] = { this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]) };
+    const Vec3 c = ClosestPointOnTriangle(point, p[0], p[1], p[2]);
+    distance2 = std::min(distance2, Dot(c - point, c - point));
+    for (int k = 0; k < 3; ++k)
+    {
+      extent = std::max(extent, Dot(p[(k + 1) % 3] - p[k], p[(k + 1) % 3] - p[k]));
+    }
+  }
+  return distance2 <= MovedShare * MovedShare * extent;
+}
+
 // Two flips made together (the last resort): the edge (x, y) of bad tile t, then one of the four
 // outer edges of the quad t makes with the tile u across (x, y). A pleat whose single flips each
 // leave as many bad tiles (or a needle) is undone only by both: the flips measured on the 32 CGAL
@@ -537,7 +687,8 @@ bool TileRepair::TryFlipPair(Index t, Index x, Index y)
 // A bad tile: a flip of one of its edges, else a move of one of its vertices toward the centre of
 // its neighbours; else (the last resort, session 23) a move of one of its vertices into its star's
 // kernel, else a flip that moves the surface by up to LastResortMovedShare, else two flips
-// together (TryFlipPair, session 25). Most tiles a flip
+// together (TryFlipPair, session 25), else a relocation of one of its vertices inside its ring's
+// re-triangulation (TryRelocate, session 26). Most tiles a flip
 // leaves facing against the surface are pleats: undoing one moves the surface by more than
 // MovedShare (the old tiles' samples lie on the fold) although the new tiles lie on the input.
 bool TileRepair::RepairTriangle(Index t)
@@ -570,17 +721,21 @@ bool TileRepair::RepairTriangle(Index t)
     return false;
   }
   this->MovedBound = LastResortMovedShare;
-  bool flipped = false;
-  for (int k = 0; k < 3 && !flipped; ++k)
+  bool repaired = false;
+  for (int k = 0; k < 3 && !repaired; ++k)
   {
-    flipped = this->TryFlip(ids[k], ids[(k + 1) % 3]);
+    repaired = this->TryFlip(ids[k], ids[(k + 1) % 3]);
   }
-  for (int k = 0; k < 3 && !flipped; ++k)
+  for (int k = 0; k < 3 && !repaired; ++k)
   {
-    flipped = this->TryFlipPair(t, ids[k], ids[(k + 1) % 3]);
+    repaired = this->TryFlipPair(t, ids[k], ids[(k + 1) % 3]);
   }
   this->MovedBound = MovedShare;
-  return flipped;
+  for (int k = 0; k < 3 && !repaired; ++k)
+  {
+    repaired = this->TryRelocate(ids[k]);
+  }
+  return repaired;
 }
 
 Index TileRepair::Run(int passes)

@@ -13,12 +13,17 @@
 //    vertices into the kernel of its star (where every tile of the star faces the surface's way,
 //    in the star's plane), then a flip, then (session 25) two flips together (one of its edges
 //    and an outer edge of the quad that flip leaves), each allowed to move the surface by
-//    LastResortMovedShare.
+//    LastResortMovedShare;
+//  - (session 26) where those leave the tile as it is, a relocation of one of its movable vertices:
+//    its ring is re-triangulated by the ring search (every tile facing the surface's way) and the
+//    vertex goes back inside one of the new tiles (flips of its edges, then a move): the vertex
+//    count stays, and a star with no kernel gets one.
 // Bounded: a fixed number of passes over the bad tiles, and a budget of triangle visits.
 #ifndef slodRetileRepair_h
 #define slodRetileRepair_h
 
 #include "slodEditableMesh.h"
+#include "slodRetileRing.h"
 
 #include <functional>
 #include <unordered_map>
@@ -28,6 +33,7 @@
 namespace slod
 {
 class TriangleBVH;
+struct ClosestPointResult;
 
 // Two neighbouring tiles fold when their normals turn by more than 150 degrees.
 constexpr double FoldCosine = -0.8660254037844386;
@@ -42,6 +48,9 @@ constexpr double LastResortMovedShare = 0.25;
 // per triangle of the mesh.
 constexpr size_t MaximumRepairValence = 32;
 constexpr long long RepairWorkPerTriangle = 400;
+// A relocation tries the vertex in at most this many tiles of its ring's triangulation (the
+// nearest to where it is first).
+constexpr int RelocationTiles = 4;
 
 struct SURFACELODFILTERS_EXPORT TileRepair
 {
@@ -52,6 +61,7 @@ struct SURFACELODFILTERS_EXPORT TileRepair
     , Input(input)
     , InputBVH(inputBVH)
     , Movable(std::move(movable))
+    , Rings(edit, reference)
   {
   }
 
@@ -82,7 +92,7 @@ struct SURFACELODFILTERS_EXPORT TileRepair
   // Returns the number of bad tiles near the last pass's changes (the others were tried and left
   // as they are). Flips and moves done are counted in the members below.
   Index Run(int passes);
-  Index Flips = 0, Moves = 0;
+  Index Flips = 0, Moves = 0, Relocations = 0;
   mutable long long Work = 0; // triangle visits so far (bounded in Run)
   // Tiles scored (is it bad?), of those the tiles of a region scored before or after a try, and
   // the closest-point queries to the input made.
@@ -146,6 +156,12 @@ private:
   // reference normals face: the kernel of the star's outline there (false when it has none).
   bool StarKernelPoint(Index v, const std::vector<Index>& star, Vec3& point) const;
   bool TryKernelMove(Index v);
+  bool TryRelocate(Index v);
+  bool HasOpposedRingEdge(Index v, const std::vector<Index>& star) const;
+  bool KeepsPoint(const Vec3& point, Index v, const Vec3& position, const std::vector<Index>& star);
+  bool RelocateInto(Index v, int tile, const std::vector<Index>& star);
+  bool ProjectTarget(const Vec3& start, const Vec3& reference, const Vec3& target, ClosestPointResult& c) const;
+  bool KeepMoveIfAccepted(Index v, const ClosestPointResult& c, const std::vector<Index>& star);
   bool MoveToFirstAccepted(Index v, const std::vector<Index>& star, const Vec3* targets, int count);
   bool RepairTriangle(Index t);
   std::vector<Index> Touched; // vertices of the tiles a repair changed in this pass
@@ -163,6 +179,10 @@ private:
     double M[2], C;
   };
   mutable std::vector<HalfPlane> KernelPlanes;
+  // The ring search of TryRelocate (with its scratch), and the vertex's edges it flips.
+  RingTriangulationSearch Rings;
+  std::vector<Index> Spokes;
+  std::vector<FlipRecord> SpokeUndo;
 };
 } // namespace slod
 

@@ -378,4 +378,42 @@ bool RingTriangulationSearch::FlipsFromFan(Index c, std::vector<std::pair<Index,
   }
   return true;
 }
+// Ear cutting: while r has more than three neighbours, a neighbour a whose tile (prev, a, next)
+// (its neighbours in r's current ring) is a tile of the triangulation other than `keep` is cut off
+// by the flip of (r, a). A triangulation of a polygon with four or more vertices has two ears that
+// do not overlap, so one of them is not `keep`: at most k - 3 flips, each found in O(k^2).
+bool RingTriangulationSearch::SpokeFlipsInto(int keep, std::vector<Index>& spokes) const
+{
+  spokes.clear();
+  std::vector<int> ring(this->Ring.size());
+  for (size_t i = 0; i < ring.size(); ++i)
+  {
+    ring[i] = static_cast<int>(i);
+  }
+  const auto same = [](std::array<int, 3> a, std::array<int, 3> b) {
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    return a == b;
+  };
+  while (ring.size() > 3)
+  {
+    const size_t n = ring.size();
+    size_t ear = n;
+    for (size_t i = 0; i < n && ear == n; ++i)
+    {
+      const std::array<int, 3> corner{ ring[(i + n - 1) % n], ring[i], ring[(i + 1) % n] };
+      for (int t = 0; t < this->NumberOfTiles() && ear == n; ++t)
+      {
+        ear = t != keep && same(corner, this->Tiles[t]) ? i : n;
+      }
+    }
+    if (ear == n)
+    {
+      return false;
+    }
+    spokes.push_back(this->Ring[ring[ear]]);
+    ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(ear));
+  }
+  return true;
+}
 } // namespace slod

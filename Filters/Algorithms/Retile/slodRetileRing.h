@@ -94,6 +94,16 @@ struct SURFACELODFILTERS_EXPORT RingTriangulationSearch
   // How far the surface moves where the triangulation found replaces r's star: the distance from
   // `point` (r's position) to its nearest tile, and the longest edge of its tiles.
   void Deviation(const Vec3& point, double& distance, double& longestEdge) const;
+  // The triangulation found: its number of tiles, and the ring vertices of tile i.
+  int NumberOfTiles() const { return static_cast<int>(this->Tiles.size()); }
+  std::array<Index, 3> Tile(int i) const
+  {
+    return { this->Ring[this->Tiles[i][0]], this->Ring[this->Tiles[i][1]], this->Ring[this->Tiles[i][2]] };
+  }
+  // The ring vertices a whose edges (r, a) to flip, in order, so that r's star becomes the
+  // triangulation found with r inside its tile `keep` (each flip cuts an ear of the triangulation
+  // off r's star: r keeps its three tiles inside `keep`); false when no ear is left to cut.
+  bool SpokeFlipsInto(int keep, std::vector<Index>& spokes) const;
 
 private:
   bool OrderRing(Index r);

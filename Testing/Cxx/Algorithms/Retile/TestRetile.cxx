@@ -1073,6 +1073,52 @@ TEST(Retile, RepairFlipsTwoEdgesTogetherWhereNoSingleFlipHelps)
   EXPECT_TRUE(edit.CheckInvariants());
 }
 
+// The repair's relocation (session 26): v inside a ring shaped like a room with two thin walls,
+// one from the floor and one from the ceiling, so that no point sees the whole ring (its star has
+// no kernel: no move of v helps) while the ring itself has triangulations whose tiles all face up.
+// Only v may move; the ring is a border. The relocation flips v's edges into such a
+// triangulation but one tile, and moves v inside that tile: no tile faces down, and v is on the
+// input. base-s26's repair leaves 2 of the 4 tiles facing down (its flips and moves, then stuck).
+TEST(Retile, RepairRelocatesAVertexWhoseStarHasNoKernel)
+{
+  const TriangleMesh input = slodtest::Grid(64, 64);
+  const TriangleBVH bvh(input);
+  TriangleMesh star;
+  star.AddPoint({ 0.3, 0.7, 0 }); // v, left of the wall from the floor, above its end
+  // The ring counter-clockwise: the floor, the wall from the floor at x = 0.4, the right side, the
+  // ceiling and the wall from the ceiling at x = 0.6.
+  const double ring[12][2] = { { 0.1, 0.2 }, { 0.37, 0.2 }, { 0.37, 0.7 }, { 0.43, 0.7 }, { 0.43, 0.2 }, { 0.9, 0.2 },
+    { 0.9, 0.8 }, { 0.63, 0.8 }, { 0.63, 0.3 }, { 0.57, 0.3 }, { 0.57, 0.8 }, { 0.1, 0.8 } };
+  for (const auto& p : ring)
+  {
+    star.AddPoint({ p[0], p[1], 0 });
+  }
+  for (Index i = 0; i < 12; ++i)
+  {
+    star.AddTriangle(0, 1 + i, 1 + (i + 1) % 12);
+  }
+  EditableMesh edit(star);
+  std::vector<Vec3> reference(size_t(star.NumberOfPoints()), Vec3{ 0, 0, 1 });
+  std::vector<unsigned char> movable(size_t(star.NumberOfPoints()), 0);
+  movable[0] = 1;
+  const int before = TilesFacingDown(edit);
+  ASSERT_GT(before, 0);
+  TileRepair repair(edit, reference, input, bvh, movable);
+  repair.NormalAt = [](const Vec3&, Index) { return Vec3{ 0, 0, 1 }; };
+  Vec3 moved{ 0, 0, 0 };
+  repair.Moved = [&](Index, const Vec3& p, Index) { moved = p; };
+  repair.NeedleAngle = 2.0 * std::acos(-1.0) / 180.0;
+  repair.Run(8);
+  std::printf("[retile] relocation: tiles facing down %d -> %d, %d flips, %d moves, %d relocations\n", before,
+    TilesFacingDown(edit), repair.Flips, repair.Moves, repair.Relocations);
+  EXPECT_EQ(TilesFacingDown(edit), 0);
+  EXPECT_GT(repair.Relocations, 0);
+  EXPECT_NEAR(moved[2], 0.0, 1e-12); // on the input
+  EXPECT_EQ(edit.Point(0), moved);
+  EXPECT_EQ(edit.NumberOfLiveVertices(), star.NumberOfPoints()); // no vertex added or removed
+  EXPECT_TRUE(edit.CheckInvariants());
+}
+
 // EnforceFacing (off by default): the removal refuses collapses whose new triangles face against
 // the input, within a bounded budget of waits, and keeps the topology. Until 2026-12-03 it left
 // fewer flipped triangles than the default (femur 37 -> 27, anchor_dense 8 -> 3 at 0.9); since the
