@@ -231,6 +231,8 @@ private:
   bool SearchCutsForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress);
   bool SplitPatches(const std::vector<Index>& patches);
+  size_t WrappedFan(Index p, const std::vector<Index>& inPatch, const std::vector<Index>& label,
+    std::vector<Index>& fan) const;
   void IsolateSeamTriangles();
   void UseOwnNormals(const std::vector<Index>& pieces);
   bool IsSeamPatch(Index p) const { return !this->SeamPatch.empty() && this->SeamPatch[p]; }

@@ -972,6 +972,27 @@ TEST(GreedyCutsSimplification, SplitPiecesUseTheirOwnNormal)
   }
 }
 
+// Session 26: a fallback patch with a vertex whose triangles, projected along the patch's
+// direction, turn more than 360 degrees around it is split through that vertex's fan (each half
+// takes half of the turn). ALSTOM_TEST4 kept one such piece as its original triangles at every
+// tolerance before, however often it was halved: the overlap stayed in one of the halves.
+// ALSTOM_TEST4 is used by no other test.
+TEST(GreedyCutsSimplification, WrappedFansAreSplitSoNoPatchFallsBack)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("ALSTOM_TEST4");
+  for (double eps : { 0.006, 0.008, 0.01, 0.012 })
+  {
+    vtkNew<vtkGreedyCutsSimplification> filter;
+    filter->SetInputData(input);
+    filter->SetMaximumError(eps);
+    filter->Update();
+    const std::string run = "ALSTOM_TEST4 eps " + std::to_string(eps);
+    ExpectValid(input, Collect(filter, input), run);
+    EXPECT_EQ(filter->GetOutput()->GetFieldData()->GetArray("FallbackPatches")->GetTuple1(0), 0) << run;
+    EXPECT_EQ(filter->GetOriginalPatches(), 0) << run;
+  }
+}
+
 // The final pass of proved collapses and flips (FinalCollapses, on by default) keeps every
 // property of the greedy cuts (measured Hausdorff within the bound, manifold, same genus, Euler
 // characteristic, orientation, original vertices) with fewer triangles. cow and elk are used by no
