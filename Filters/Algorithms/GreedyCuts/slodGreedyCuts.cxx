@@ -2487,8 +2487,27 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
   collapse.LockedVertices = this->SeamVertex.empty() ? nullptr : this->SeamVertex.data();
   ProvedCollapseStatistics statistics;
+  // Staged (CollapseStages): the lower stages take the collapses that move the surface least first.
+  // Each is proved at Epsilon for the input, so the bound holds after each one.
+  const int stages = target > 0 ? 0 : std::max(parameters.CollapseStages, 0);
+  int done = 0; // each stage and the final collapses report an equal share of the progress
+  const ProgressFunction share =
+    progress ? ProgressFunction([&](double f) { return progress((done + f) / double(stages + 1)); }) : ProgressFunction();
+  for (int k = stages; k > 0; --k, ++done)
+  {
+    ProvedCollapseParameters stage = collapse;
+    stage.NewTriangleTolerance = std::ldexp(parameters.Epsilon, -k);
+    stage.CollapsesOnly = true;
+    if (!ProvedCollapses(*this->Mesh, this->Bvh, stage, result.Triangles, result.TrianglePatch, statistics, share,
+          &this->ProofPieces))
+    {
+      result.Aborted = true;
+      return false;
+    }
+    result.FinalCollapses += statistics.Collapses;
+  }
   const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch,
-    statistics, progress, &this->ProofPieces);
+    statistics, share, &this->ProofPieces);
   result.FinalCollapses += statistics.Collapses;
   result.FinalFlips += statistics.Flips;
   result.Aborted = !finished;

@@ -993,6 +993,38 @@ TEST(GreedyCutsSimplification, WrappedFansAreSplitSoNoPatchFallsBack)
   }
 }
 
+// Session 26: staged final collapses (CollapseStages, off by default). A lower stage accepts only
+// the collapses whose new triangles lie within MaximumError / 2^k of the input, while the input's
+// proofs stay at MaximumError (the bound the cuts' output holds on entry): every property of the
+// default run holds, and the stages change the output (they are run). pinion and dragknob are used
+// by no other test.
+TEST(GreedyCutsSimplification, StagedCollapsesKeepTheBound)
+{
+  for (const std::string name : { "pinion", "dragknob" })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    vtkNew<vtkGreedyCutsSimplification> plain;
+    plain->SetInputData(input);
+    plain->SetMaximumError(0.01);
+    plain->Update();
+    for (int stages : { 1, 2 })
+    {
+      vtkNew<vtkGreedyCutsSimplification> filter;
+      filter->SetInputData(input);
+      filter->SetMaximumError(0.01);
+      filter->SetCollapseStages(stages);
+      filter->Update();
+      const std::string run = name + " stages " + std::to_string(stages);
+      ExpectValid(input, Collect(filter, input), run);
+      const TriangleMesh a = slodtest::RawTriangleMesh(filter->GetOutput());
+      const TriangleMesh b = slodtest::RawTriangleMesh(plain->GetOutput());
+      EXPECT_TRUE(a.Triangles != b.Triangles) << run;
+      std::cout << "[greedy-cuts] " << run << ": " << filter->GetOutput()->GetNumberOfCells() << " tris (unstaged "
+                << plain->GetOutput()->GetNumberOfCells() << ")\n";
+    }
+  }
+}
+
 // The final pass of proved collapses and flips (FinalCollapses, on by default) keeps every
 // property of the greedy cuts (measured Hausdorff within the bound, manifold, same genus, Euler
 // characteristic, orientation, original vertices) with fewer triangles. cow and elk are used by no
