@@ -927,15 +927,133 @@ void GreedyCuts::UseOwnNormals(const std::vector<Index>& pieces)
   }
 }
 
+// The corner angle of triangle t at its vertex v, projected along the unit direction d.
+double ProjectedCorner(const TriangleMesh& mesh, Index t, Index v, const Vec3& d)
+{
+  const Index* tri = mesh.Triangle(t);
+  const int i = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+  Vec3 a = mesh.Point(tri[(i + 1) % 3]) - mesh.Point(v);
+  Vec3 b = mesh.Point(tri[(i + 2) % 3]) - mesh.Point(v);
+  a = a - Dot(a, d) * d;
+  b = b - Dot(b, d) * d;
+  return std::atan2(Norm(Cross(a, b)), Dot(a, b));
+}
+
+// Session 26: a vertex of patch p whose triangles' corners, projected along the patch's direction,
+// add up to more than a full turn makes the projected patch overlap itself there, and every piece
+// that keeps that whole fan keeps the overlap: ALSTOM_TEST4's last fallback patch (11 triangles,
+// every normal within 15 degrees of one direction, yet the boundary crosses itself next to one
+// vertex) stayed through all the halvings. Fills `fan` with that vertex's triangles of p in order
+// around it (from a patch boundary edge when there is one) and returns how many of them, from the
+// start, make up half of its projected turn: a half seeded with them and kept off the others
+// splits the overlap. Returns 0 (and no `fan`) when no fan wraps.
+size_t GreedyCuts::WrappedFan(Index p, const std::vector<Index>& inPatch, const std::vector<Index>& label,
+  std::vector<Index>& fan) const
+{
+  fan.clear();
+  const TriangleMesh& mesh = *this->Mesh;
+  const Vec3 d = Normalized(this->HeightDirection[p]);
+  std::vector<std::pair<Index, double>> corners;
+  corners.reserve(3 * inPatch.size());
+  for (Index t : inPatch)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      corners.emplace_back(mesh.Triangle(t)[k], ProjectedCorner(mesh, t, mesh.Triangle(t)[k], d));
+    }
+  }
+  std::sort(corners.begin(), corners.end());
+  Index widest = InvalidIndex;
+  double widestTurn = 2 * vtkMath::Pi() * (1 + 1e-9);
+  for (size_t k = 0, next = 0; k < corners.size(); k = next)
+  {
+    double turn = 0;
+    for (next = k; next < corners.size() && corners[next].first == corners[k].first; ++next)
+    {
+      turn += corners[next].second;
+    }
+    if (turn > widestTurn)
+    {
+      widest = corners[k].first;
+      widestTurn = turn;
+    }
+  }
+  if (widest == InvalidIndex)
+  {
+    return 0;
+  }
+  // The fan in order: start at a triangle with an edge at the vertex on the patch's boundary,
+  // then cross the other edge at the vertex, at most once per triangle of the patch.
+  std::vector<Index> around;
+  for (Index t : inPatch)
+  {
+    const Index* tri = mesh.Triangle(t);
+    if (tri[0] == widest || tri[1] == widest || tri[2] == widest)
+    {
+      around.push_back(t);
+    }
+  }
+  auto acrossAt = [&](Index t, Index from) {
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index n = this->Topology.EdgeNeighbor(t, k);
+      if ((tri[k] == widest || tri[(k + 1) % 3] == widest) && n != from && (n == InvalidIndex || label[n] == p))
+      {
+        return n;
+      }
+    }
+    return from;
+  };
+  Index start = around.front();
+  for (Index t : around)
+  {
+    int inside = 0;
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index n = this->Topology.EdgeNeighbor(t, k);
+      inside += (tri[k] == widest || tri[(k + 1) % 3] == widest) && n != InvalidIndex && label[n] == p;
+    }
+    start = inside < 2 ? t : start;
+  }
+  double turn = 0;
+  for (Index t = start, from = InvalidIndex; t != InvalidIndex && fan.size() < around.size();)
+  {
+    if (std::find(fan.begin(), fan.end(), t) != fan.end())
+    {
+      break;
+    }
+    fan.push_back(t);
+    turn += ProjectedCorner(mesh, t, widest, d);
+    const Index n = acrossAt(t, from); // `from` again: the wedge ends here
+    t = n == from ? InvalidIndex : n;
+    from = fan.back();
+  }
+  if (fan.size() < 2 || !(turn > 2 * vtkMath::Pi()))
+  {
+    fan.clear(); // the wrap is not in one wedge of the fan: left to the halving
+    return 0;
+  }
+  double part = 0;
+  size_t seeds = 0;
+  while (seeds + 1 < fan.size() && part < turn / 2)
+  {
+    part += ProjectedCorner(mesh, fan[seeds++], widest, d);
+  }
+  return seeds;
+}
+
 // A patch that fell back to its original triangles is cut in two instead (then retried): a disk
 // grown breadth-first from a triangle on its boundary takes half of it, and every edge-connected
 // piece of the rest becomes a patch too, each with its direction (UseOwnNormals). Returns whether
 // any patch was split.
 bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
 {
+  const Index KeptOutOfHalf = InvalidIndex - 2; // the rest of a wrapped fan, while the half grows
   std::vector<Index> label = this->Patches.TrianglePatches();
   Index next = this->Patches.NumberOfPatches();
-  std::vector<Index> inPatch, queue, pieces;
+  std::vector<Index> inPatch, queue, pieces, fan;
   std::vector<unsigned char> vertexUsed(size_t(this->Mesh->NumberOfPoints()), 0);
   bool split = false;
   for (Index p : patches)
@@ -947,16 +1065,29 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
       continue;
     }
     // Half of the patch, grown as a disk from its first triangle (on its boundary: the patch is
-    // a disk, its first triangle in index order need not be inside).
+    // a disk, its first triangle in index order need not be inside), or from the first part of a
+    // fan that wraps in projection (WrappedFan; the rest of that fan may not join the half).
     const Index half = next++;
     pieces.push_back(p);
     pieces.push_back(half);
     this->HeightDirection.push_back(this->HeightDirection[p]);
+    const size_t seeds = std::max(this->WrappedFan(p, inPatch, label, fan), size_t(1));
     queue.assign(1, inPatch.front());
-    label[inPatch.front()] = half;
-    for (const Index* v = this->Mesh->Triangle(inPatch.front()); v != this->Mesh->Triangle(inPatch.front()) + 3; ++v)
+    if (seeds < fan.size())
     {
-      vertexUsed[*v] = 1;
+      queue.assign(fan.begin(), fan.begin() + seeds);
+      for (size_t k = seeds; k < fan.size(); ++k)
+      {
+        label[fan[k]] = KeptOutOfHalf;
+      }
+    }
+    for (Index t : queue)
+    {
+      label[t] = half;
+      for (const Index* v = this->Mesh->Triangle(t); v != this->Mesh->Triangle(t) + 3; ++v)
+      {
+        vertexUsed[*v] = 1;
+      }
     }
     for (size_t head = 0; head < queue.size() && 2 * queue.size() < inPatch.size(); ++head)
     {
@@ -995,6 +1126,10 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
       {
         vertexUsed[*v] = 0;
       }
+    }
+    for (Index t : fan)
+    {
+      label[t] = label[t] == KeptOutOfHalf ? p : label[t];
     }
     // The rest, piece by piece (the first piece keeps the label p).
     bool first = true;
@@ -2352,8 +2487,27 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
   collapse.LockedVertices = this->SeamVertex.empty() ? nullptr : this->SeamVertex.data();
   ProvedCollapseStatistics statistics;
+  // Staged (CollapseStages): the lower stages take the collapses that move the surface least first.
+  // Each is proved at Epsilon for the input, so the bound holds after each one.
+  const int stages = target > 0 ? 0 : std::max(parameters.CollapseStages, 0);
+  int done = 0; // each stage and the final collapses report an equal share of the progress
+  const ProgressFunction share =
+    progress ? ProgressFunction([&](double f) { return progress((done + f) / double(stages + 1)); }) : ProgressFunction();
+  for (int k = stages; k > 0; --k, ++done)
+  {
+    ProvedCollapseParameters stage = collapse;
+    stage.NewTriangleTolerance = std::ldexp(parameters.Epsilon, -k);
+    stage.CollapsesOnly = true;
+    if (!ProvedCollapses(*this->Mesh, this->Bvh, stage, result.Triangles, result.TrianglePatch, statistics, share,
+          &this->ProofPieces))
+    {
+      result.Aborted = true;
+      return false;
+    }
+    result.FinalCollapses += statistics.Collapses;
+  }
   const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch,
-    statistics, progress, &this->ProofPieces);
+    statistics, share, &this->ProofPieces);
   result.FinalCollapses += statistics.Collapses;
   result.FinalFlips += statistics.Flips;
   result.Aborted = !finished;

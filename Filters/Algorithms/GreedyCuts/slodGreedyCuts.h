@@ -71,6 +71,10 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // the output vertices the bound does not need; it keeps the two-sided bound.
   bool FinalCollapses = true;
   bool BorderCollapses = true; // the final collapses also move border vertices along their loops
+  // Staged final collapses (session 26; 0 = off): before the final collapses at Epsilon, this many
+  // collapse-only stages accept just the collapses whose new triangles lie within Epsilon / 2^k of
+  // the input (k = CollapseStages .. 1), so the collapses that move the surface least come first.
+  int CollapseStages = 0;
   // RunMonotone and the target search walk a fixed ladder of tolerances (relative to the bounding
   // box diagonal, 10 round values per decade: 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8) from this one up.
   double LadderBottom = 0.004;
@@ -231,6 +235,8 @@ private:
   bool SearchCutsForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress);
   bool SplitPatches(const std::vector<Index>& patches);
+  size_t WrappedFan(Index p, const std::vector<Index>& inPatch, const std::vector<Index>& label,
+    std::vector<Index>& fan) const;
   void IsolateSeamTriangles();
   void UseOwnNormals(const std::vector<Index>& pieces);
   bool IsSeamPatch(Index p) const { return !this->SeamPatch.empty() && this->SeamPatch[p]; }

@@ -547,8 +547,10 @@ private:
         return false;
       }
     }
+    const double tolerance = this->Prm.NewTriangleTolerance > 0 ? std::min(this->Prm.NewTriangleTolerance, this->Prm.Epsilon)
+                                                                 : this->Prm.Epsilon;
     return this->ProveTriangles(this->Bvh, [this](Index x) { return this->Out.Point(x); }, this->NewTriangles.data(),
-      this->NewTriangles.size() / 3);
+      this->NewTriangles.size() / 3, tolerance);
   }
 
   // The corners of the input triangles that rely on the old star (Relying) are within epsilon of
@@ -590,14 +592,14 @@ private:
   // Triangles (3 vertex ids each, `point(id)` their positions) within epsilon of `bvh`'s surface,
   // every first proof piece before any subdivision (TrianglesWithinDistance).
   template <typename PointOf>
-  bool ProveTriangles(const TriangleBVH& bvh, const PointOf& point, const Index* ids, size_t count)
+  bool ProveTriangles(const TriangleBVH& bvh, const PointOf& point, const Index* ids, size_t count, double distance)
   {
     this->Corners.clear();
     for (size_t i = 0; i < 3 * count; ++i)
     {
       this->Corners.push_back(point(ids[i]));
     }
-    return TrianglesWithinDistance(bvh, this->Corners, this->Prm.Epsilon, this->Prm.SubdivisionDepth, this->Pieces);
+    return TrianglesWithinDistance(bvh, this->Corners, distance, this->Prm.SubdivisionDepth, this->Pieces);
   }
 
   // The sphere around the replaced triangles (OldStar): the input triangles within epsilon of it
@@ -707,7 +709,7 @@ private:
       this->RelyingIds.insert(this->RelyingIds.end(), tri, tri + 3);
     }
     return this->ProveTriangles(this->LocalBvh, [this](Index x) { return this->In.Point(x); }, this->RelyingIds.data(),
-      relying.size());
+      relying.size(), this->Prm.Epsilon);
   }
 
   // False only when no point of triangle abc comes within epsilon of the old star (its bounding
@@ -842,7 +844,7 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   bool aborted = false;
   // Collapses, then flips (fatter triangles, which may allow more collapses), then collapses again,
   // then the slivers the collapses left are flipped or collapsed away.
-  const int steps = 4, stages = steps * parameters.MaximumRounds;
+  const int steps = parameters.CollapsesOnly ? 1 : 4, stages = steps * parameters.MaximumRounds;
   int pass = 0;
   auto stage = [&](double f) { return progress ? progress((pass + f) / double(stages)) : true; };
   for (int step = 0; step < steps && !aborted; ++step)

@@ -57,6 +57,12 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   // assumes one fan per vertex. Flips need no lock: a non-manifold edge is never flipped (it has
   // more than two triangles), and a flip's new edge must be no edge yet.
   const unsigned char* LockedVertices = nullptr;
+  // A staged run's lower stage (GreedyCutsParameters::CollapseStages): the new triangles must lie
+  // within this distance (<= Epsilon) of the input; the input's proofs stay at Epsilon, the bound
+  // that holds on entry. 0: Epsilon.
+  double NewTriangleTolerance = 0.0;
+  // Only the collapse passes (no flips, no sliver step): a staged run's lower stages.
+  bool CollapsesOnly = false;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics

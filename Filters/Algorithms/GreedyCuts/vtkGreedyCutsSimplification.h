@@ -121,6 +121,10 @@ public:
    * triangle under 5 degrees (unless its star had one as thin), and none is tried next to a fan
    * of more than 128 triangles (default on). Off: every border vertex the cuts kept stays.
    */
+  // Staged final collapses (session 26, 0 = off): collapse-only stages first accept only the
+  // collapses whose new triangles lie within MaximumError / 2^k of the input, k = CollapseStages..1.
+  vtkSetClampMacro(CollapseStages, int, 0, 4);
+  vtkGetMacro(CollapseStages, int);
   vtkSetMacro(BorderCollapses, bool);
   vtkGetMacro(BorderCollapses, bool);
   vtkBooleanMacro(BorderCollapses, bool);
@@ -170,6 +174,7 @@ protected:
   double EarShapeAngle = 15.0;
   bool FinalCollapses = true;
   bool BorderCollapses = true;
+  int CollapseStages = 0;
   bool MonotoneInEpsilon = false;
   double LadderBottom = 0.004;
 

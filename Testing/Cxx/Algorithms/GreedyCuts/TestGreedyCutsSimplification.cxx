@@ -972,6 +972,59 @@ TEST(GreedyCutsSimplification, SplitPiecesUseTheirOwnNormal)
   }
 }
 
+// Session 26: a fallback patch with a vertex whose triangles, projected along the patch's
+// direction, turn more than 360 degrees around it is split through that vertex's fan (each half
+// takes half of the turn). ALSTOM_TEST4 kept one such piece as its original triangles at every
+// tolerance before, however often it was halved: the overlap stayed in one of the halves.
+// ALSTOM_TEST4 is used by no other test.
+TEST(GreedyCutsSimplification, WrappedFansAreSplitSoNoPatchFallsBack)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("ALSTOM_TEST4");
+  for (double eps : { 0.006, 0.008, 0.01, 0.012 })
+  {
+    vtkNew<vtkGreedyCutsSimplification> filter;
+    filter->SetInputData(input);
+    filter->SetMaximumError(eps);
+    filter->Update();
+    const std::string run = "ALSTOM_TEST4 eps " + std::to_string(eps);
+    ExpectValid(input, Collect(filter, input), run);
+    EXPECT_EQ(filter->GetOutput()->GetFieldData()->GetArray("FallbackPatches")->GetTuple1(0), 0) << run;
+    EXPECT_EQ(filter->GetOriginalPatches(), 0) << run;
+  }
+}
+
+// Session 26: staged final collapses (CollapseStages, off by default). A lower stage accepts only
+// the collapses whose new triangles lie within MaximumError / 2^k of the input, while the input's
+// proofs stay at MaximumError (the bound the cuts' output holds on entry): every property of the
+// default run holds, and the stages change the output (they are run). pinion and dragknob are used
+// by no other test.
+TEST(GreedyCutsSimplification, StagedCollapsesKeepTheBound)
+{
+  for (const std::string name : { "pinion", "dragknob" })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    vtkNew<vtkGreedyCutsSimplification> plain;
+    plain->SetInputData(input);
+    plain->SetMaximumError(0.01);
+    plain->Update();
+    for (int stages : { 1, 2 })
+    {
+      vtkNew<vtkGreedyCutsSimplification> filter;
+      filter->SetInputData(input);
+      filter->SetMaximumError(0.01);
+      filter->SetCollapseStages(stages);
+      filter->Update();
+      const std::string run = name + " stages " + std::to_string(stages);
+      ExpectValid(input, Collect(filter, input), run);
+      const TriangleMesh a = slodtest::RawTriangleMesh(filter->GetOutput());
+      const TriangleMesh b = slodtest::RawTriangleMesh(plain->GetOutput());
+      EXPECT_TRUE(a.Triangles != b.Triangles) << run;
+      std::cout << "[greedy-cuts] " << run << ": " << filter->GetOutput()->GetNumberOfCells() << " tris (unstaged "
+                << plain->GetOutput()->GetNumberOfCells() << ")\n";
+    }
+  }
+}
+
 // The final pass of proved collapses and flips (FinalCollapses, on by default) keeps every
 // property of the greedy cuts (measured Hausdorff within the bound, manifold, same genus, Euler
 // characteristic, orientation, original vertices) with fewer triangles. cow and elk are used by no
