@@ -811,6 +811,18 @@ void CollapseHierarchy::EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCo
   vu = CheapestPlacement(placements, n);
 }
 
+// The least float not below x (x itself when a float holds it; infinity and NaN stay): a kept
+// edge cost bounds the double error the selection computes again for the same collapse.
+static double FloatAbove(double x)
+{
+  if (!(x <= std::numeric_limits<float>::max()))
+  {
+    return x > 0 ? std::numeric_limits<double>::infinity() : x; // (NaN)
+  }
+  const float f = static_cast<float>(x);
+  return double(f) < x ? double(std::nextafter(f, std::numeric_limits<float>::infinity())) : double(f);
+}
+
 CollapseHierarchy::EdgeCost CollapseHierarchy::CheapestPlacement(const EdgePlacement* placements, int n)
 {
   EdgeCost cost{ std::numeric_limits<double>::infinity(), 3, false };
@@ -823,12 +835,13 @@ CollapseHierarchy::EdgeCost CollapseHierarchy::CheapestPlacement(const EdgePlace
       cost.Kind = static_cast<unsigned char>(placements[i].Kind);
     }
   }
+  cost.Error = FloatAbove(cost.Error);
   return cost;
 }
 
 void CollapseHierarchy::StoreEdgeCost(size_t slot, const EdgeCost& cost) const
 {
-  this->EdgeCostErrors[slot] = cost.Error;
+  this->EdgeCostErrors[slot] = static_cast<float>(cost.Error); // (exact: CheapestPlacement rounded it)
   this->EdgeCostStates[slot] = static_cast<unsigned char>(cost.Kind | (cost.NotANumber ? 4 : 0));
 }
 
@@ -1430,14 +1443,24 @@ bool CollapseHierarchy::KnownCheapestEdge(Index t, int& edge, Vec3& point, doubl
   return true;
 }
 
-bool CollapseHierarchy::FindEdgeCollapse(
-  Index t, int& edge, Vec3& point, double& error, EditableMesh::CheckScratch* check) const
+bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error, ChoiceScratch& scratch) const
 {
   const EditableMesh& m = this->Mesh;
-  const auto checked = [&](const Index* vertices, const Vec3& p) {
-    return check ? m.CheckCollapse(vertices, 2, p, this->MeshOptions, *check) : m.CheckCollapse(vertices, 2, p, this->MeshOptions);
-  };
   const Index* tri = m.Triangle(t);
+  // Up to three points per edge are checked: each edge's triangles are gathered (and their old
+  // normals computed) once, when its first point is checked (on noisy scans the checks of these
+  // candidates were a third of the build's instructions, and each gathered the same triangles).
+  int prepared = 0; // bit k: edge k's trial is prepared
+  const auto checked = [&](const Index* vertices, const Vec3& p) {
+    const int k = vertices[0] == tri[0] ? 0 : (vertices[0] == tri[1] ? 1 : 2);
+    EditableMesh::SetTrial& trial = scratch.EdgeTrials[k];
+    if (!((prepared >> k) & 1))
+    {
+      m.PrepareTrial(vertices, 2, this->MeshOptions, trial);
+      prepared |= 1 << k;
+    }
+    return m.CheckTrial(p, this->MeshOptions, trial, scratch.OwnMarks());
+  };
   // Most of the time the cheapest candidate, known from the evaluation, passes: the other eight
   // need not be computed (one eigen decomposition instead of three).
   const bool known = this->KnownCheapestEdge(t, edge, point, error);
@@ -1558,6 +1581,7 @@ struct CollapseHierarchy::LevelState
   size_t Depth = std::numeric_limits<size_t>::max();
   Index MinimumBatch = 1;
 };
+
 
 // ---------------------------------------------------------------------------------------------
 // Build: M0 -> M1 -> ... by batches of collapses (section 6).
@@ -1891,7 +1915,7 @@ void CollapseHierarchy::InitializeQuadrics()
   this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
   this->Quadrics.clear();
   this->QuadricRowOf.clear();
-  std::vector<double>().swap(this->EdgeCostErrors);
+  std::vector<float>().swap(this->EdgeCostErrors);
   std::vector<unsigned char>().swap(this->EdgeCostStates);
   if (this->Parameters.ErrorWeight <= 0 && this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Off)
   {
@@ -2627,7 +2651,7 @@ bool CollapseHierarchy::EdgeCollapseAllowed(
     return false;
   }
   double error = 0;
-  if (!this->FindEdgeCollapse(t, choice.Edge, choice.Point, error, scratch.OwnMarks()))
+  if (!this->FindEdgeCollapse(t, choice.Edge, choice.Point, error, scratch))
   {
     choice.BlockEdge = true;
     return false;
