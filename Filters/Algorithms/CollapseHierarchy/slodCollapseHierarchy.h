@@ -125,7 +125,7 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // Weight of the planes through M0's border edges (perpendicular to their triangles) in the
   // quadrics, relative to the triangle planes (0: free borders); why 10: DefaultBorderPlaneWeight.
   double BoundaryWeight = DefaultBorderPlaneWeight;
-  // Keep each triangle edge's edge collapse cost until one of its ends moves (27 bytes per input
+  // Keep each triangle edge's edge collapse cost until one of its ends moves (15 bytes per input
   // triangle; fewer edge collapses priced again, the same hierarchy). Off: every evaluation prices
   // its three edges.
   bool ReuseEdgeCosts = true;
