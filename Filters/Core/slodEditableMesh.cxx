@@ -443,6 +443,38 @@ bool EditableMesh::IsolatesVertex(
   return false;
 }
 
+namespace
+{
+// The geometry test of one surviving triangle (its corners) whose corner `corner` moves to p, given
+// its normal, that normal's length and its minimum angle before (CheckGeometry and CheckTrial).
+inline CollapseStatus MovedCornerStatus(const Vec3 (&corners)[3], int corner, const Vec3& p, const Vec3& oldNormal,
+  double oldLength, double oldMinAngle, const CollapseOptions& options)
+{
+  Vec3 q[3] = { corners[0], corners[1], corners[2] };
+  q[corner] = p;
+  // The new normal's length is also the degeneracy test's area (computed once).
+  const Vec3 newNormal = Cross(q[1] - q[0], q[2] - q[0]);
+  const double newLength = Norm(newNormal);
+  if (IsDegenerateWithArea(q[0], q[1], q[2], newLength))
+  {
+    return CollapseStatus::Degenerate;
+  }
+  if (oldLength > 0 && Dot(oldNormal, newNormal) < options.MinimumNormalDot * oldLength * newLength)
+  {
+    return CollapseStatus::Flip;
+  }
+  if (options.MinimumAngle > 0)
+  {
+    const double newMinAngle = MinimumAngle(q[0], q[1], q[2]);
+    if (newMinAngle < options.MinimumAngle && newMinAngle < oldMinAngle)
+    {
+      return CollapseStatus::BadShape;
+    }
+  }
+  return CollapseStatus::Ok;
+}
+} // namespace
+
 CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
   const std::vector<Index>& gathered) const
 {
@@ -455,29 +487,13 @@ CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, con
     {
       continue;
     }
-    Vec3 q[3] = { this->Point(tri[0]), this->Point(tri[1]), this->Point(tri[2]) };
+    const Vec3 q[3] = { this->Point(tri[0]), this->Point(tri[1]), this->Point(tri[2]) };
     const Vec3 oldNormal = Cross(q[1] - q[0], q[2] - q[0]);
     const double oldMinAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
-    q[corner] = p;
-    // The new normal's length is also the degeneracy test's area (computed once).
-    const Vec3 newNormal = Cross(q[1] - q[0], q[2] - q[0]);
-    const double newLength = Norm(newNormal);
-    if (IsDegenerateWithArea(q[0], q[1], q[2], newLength))
+    const CollapseStatus status = MovedCornerStatus(q, corner, p, oldNormal, Norm(oldNormal), oldMinAngle, options);
+    if (status != CollapseStatus::Ok)
     {
-      return CollapseStatus::Degenerate;
-    }
-    const double oldLength = Norm(oldNormal);
-    if (oldLength > 0 && Dot(oldNormal, newNormal) < options.MinimumNormalDot * oldLength * newLength)
-    {
-      return CollapseStatus::Flip;
-    }
-    if (options.MinimumAngle > 0)
-    {
-      const double newMinAngle = MinimumAngle(q[0], q[1], q[2]);
-      if (newMinAngle < options.MinimumAngle && newMinAngle < oldMinAngle)
-      {
-        return CollapseStatus::BadShape;
-      }
+      return status;
     }
   }
   return CollapseStatus::Ok;
@@ -560,6 +576,102 @@ CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, con
     return CollapseStatus::BoundaryChange;
   }
   return this->IsolatesVertex(vertices, count, options, gathered) ? CollapseStatus::IsolatedVertex : CollapseStatus::Ok;
+}
+
+void EditableMesh::PrepareTrial(const Index* vertices, int count, const CollapseOptions& options, SetTrial& trial) const
+{
+  assert(count >= 2 && count <= 3);
+  std::copy_n(vertices, count, trial.Vertices);
+  trial.Count = count;
+  trial.Fixed = CollapseStatus::Ok;
+  trial.TopologyKnown = options.AllowTopologyChange;
+  trial.FirstTested = 0;
+  trial.NextGathered = 0;
+  trial.Gathered.clear();
+  trial.Survivors.clear();
+  for (int i = 0; i < count; ++i)
+  {
+    if (!this->IsVertexAlive(vertices[i]))
+    {
+      trial.Fixed = CollapseStatus::DeadVertex;
+      return;
+    }
+    if (options.LockedVertices && options.LockedVertices[vertices[i]])
+    {
+      trial.Fixed = CollapseStatus::Locked;
+      return;
+    }
+  }
+  this->GatherTriangles(vertices, count, trial.Gathered);
+}
+
+// The next surviving triangle of the gathered ones, with its old normal, length and angle (the
+// same expressions as CheckGeometry's, so the same numbers); false when there is none left.
+// Survivors are added as the tests reach them: a point that fails at the first triangles costs no
+// more than CheckGeometry.
+bool EditableMesh::AddNextSurvivor(const CollapseOptions& options, SetTrial& trial) const
+{
+  while (trial.NextGathered < trial.Gathered.size())
+  {
+    int corner = 0;
+    const Index* tri = this->Triangle(trial.Gathered[trial.NextGathered++]);
+    if (CountMembers(tri, trial.Vertices, trial.Count, corner) >= 2)
+    {
+      continue;
+    }
+    SetTrial::Surviving s;
+    s.Corners[0] = this->Point(tri[0]);
+    s.Corners[1] = this->Point(tri[1]);
+    s.Corners[2] = this->Point(tri[2]);
+    const Vec3* q = s.Corners;
+    s.OldNormal = Cross(q[1] - q[0], q[2] - q[0]);
+    s.OldLength = Norm(s.OldNormal);
+    s.OldMinimumAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
+    s.Corner = corner;
+    trial.Survivors.push_back(s);
+    return true;
+  }
+  return false;
+}
+
+CollapseStatus EditableMesh::CheckTrial(const Vec3& p, const CollapseOptions& options, SetTrial& trial, CheckScratch* link) const
+{
+  if (trial.Fixed != CollapseStatus::Ok)
+  {
+    return trial.Fixed;
+  }
+  // CheckGeometry's tests, the triangle that failed the last point first, then the others in
+  // order (each survivor once: bounded by the gathered triangles).
+  const auto test = [&](size_t j) {
+    const SetTrial::Surviving& s = trial.Survivors[j];
+    return MovedCornerStatus(s.Corners, s.Corner, p, s.OldNormal, s.OldLength, s.OldMinimumAngle, options);
+  };
+  // (first: none when no survivor is prepared yet)
+  const size_t first = trial.FirstTested < trial.Survivors.size() ? trial.FirstTested : trial.Gathered.size();
+  if (first < trial.Survivors.size())
+  {
+    const CollapseStatus failure = test(first);
+    if (failure != CollapseStatus::Ok)
+    {
+      return failure;
+    }
+  }
+  for (size_t j = 0; j < trial.Survivors.size() || this->AddNextSurvivor(options, trial); ++j)
+  {
+    const CollapseStatus failure = j == first ? CollapseStatus::Ok : test(j);
+    if (failure != CollapseStatus::Ok)
+    {
+      trial.FirstTested = j;
+      return failure;
+    }
+  }
+  if (!trial.TopologyKnown)
+  {
+    this->PrefetchGathered(trial.Gathered);
+    trial.Fixed = this->CheckTopology(trial.Vertices, trial.Count, options, trial.Gathered, link);
+    trial.TopologyKnown = true;
+  }
+  return trial.Fixed;
 }
 
 void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p, CollapseRecord* record)

@@ -186,6 +186,37 @@ public:
   };
   CollapseStatus CheckCollapse(
     const Index* vertices, int count, const Vec3& p, const CollapseOptions& options, CheckScratch& scratch) const;
+  // One set's collapse tried at several points (a caller ranking candidate points of one edge,
+  // session 26): what CheckCollapse does that does not depend on the point (the dead and locked
+  // vertices and the gathering of the set's triangles by PrepareTrial, their old normals as the
+  // tests reach them, and the topology once a point passes the geometry) is done once per set.
+  // CheckTrial(p) is then Ok
+  // exactly when CheckCollapse(p) is (with no edit in between); a failing point may report
+  // another geometric status than CheckCollapse, since the triangle that failed the last point is
+  // tested first.
+  class SetTrial
+  {
+  private:
+    friend class EditableMesh;
+    struct Surviving
+    {
+      Vec3 Corners[3];
+      Vec3 OldNormal;
+      double OldLength, OldMinimumAngle;
+      int Corner; // the set's vertex
+    };
+    std::vector<Index> Gathered;
+    std::vector<Surviving> Survivors;
+    Index Vertices[3] = { InvalidIndex, InvalidIndex, InvalidIndex };
+    int Count = 0;
+    CollapseStatus Fixed = CollapseStatus::Ok; // dead, locked, or the topology once known
+    bool TopologyKnown = false;
+    size_t FirstTested = 0;
+    size_t NextGathered = 0; // the survivors are those of Gathered before it
+  };
+  void PrepareTrial(const Index* vertices, int count, const CollapseOptions& options, SetTrial& trial) const;
+  // (link: as CheckCollapse's CheckScratch, or null for the mesh's marks)
+  CollapseStatus CheckTrial(const Vec3& p, const CollapseOptions& options, SetTrial& trial, CheckScratch* link) const;
 
   // Merges the vertices into `kept` (one of them) placed at p. Triangles with two or more of the
   // vertices disappear. Call CheckCollapse first. The record, when given, allows Undo.
@@ -234,6 +265,7 @@ public:
 
 private:
   void AppendBlock(Index v, const std::vector<Index>& triangles);
+  bool AddNextSurvivor(const CollapseOptions& options, SetTrial& trial) const;
   // The common part of the collapses: redirects the corners of the surviving triangles to kept
   // (each passed to keep(t)), marks the others and the merged vertices dead, moves kept to p;
   // returns the number of triangles removed. Touches no counter and no shared scratch.

@@ -125,7 +125,7 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // Weight of the planes through M0's border edges (perpendicular to their triangles) in the
   // quadrics, relative to the triangle planes (0: free borders); why 10: DefaultBorderPlaneWeight.
   double BoundaryWeight = DefaultBorderPlaneWeight;
-  // Keep each triangle edge's edge collapse cost until one of its ends moves (27 bytes per input
+  // Keep each triangle edge's edge collapse cost until one of its ends moves (15 bytes per input
   // triangle; fewer edge collapses priced again, the same hierarchy). Off: every evaluation prices
   // its three edges.
   bool ReuseEdgeCosts = true;
@@ -385,6 +385,7 @@ private:
     StencilBuilder Stencils;
     TriangleStencil Stencil;
     EditableMesh::CheckScratch Check;
+    EditableMesh::SetTrial EdgeTrials[3]; // FindEdgeCollapse's, per edge of the triangle
     bool Concurrent = false;
     EditableMesh::CheckScratch* OwnMarks() { return this->Concurrent ? &this->Check : nullptr; }
   };
@@ -458,8 +459,8 @@ private:
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p);
   // The cheapest valid edge collapse of triangle t (edge (tri[k], tri[k+1]) and its point).
-  // (check: the caller's own link marks, or null for the mesh's)
-  bool FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error, EditableMesh::CheckScratch* check) const;
+  // (scratch: the trials of its edges, and the link marks, OwnMarks)
+  bool FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error, ChoiceScratch& scratch) const;
   bool KeepsOrientation(const Index* vertices, int count, const Vec3& p) const;
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
   int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
@@ -644,7 +645,10 @@ private:
   struct SpokePricing;               // the vtkSMPTools functor (in the .cxx)
   std::vector<Index> Spokes;         // the vertices whose spokes are priced
   void ForgetEdgeCostsAround(Index v);
-  mutable std::vector<double> EdgeCostErrors;         // 3 per triangle slot
+  // 3 per triangle slot. Floats (session 26: 12 bytes per input triangle less): every edge cost is
+  // rounded up to a float where it is made (CheapestPlacement), kept or not, so a kept cost is the
+  // one a fresh pricing gives, and the selection's own errors (doubles) are never dearer than it.
+  mutable std::vector<float> EdgeCostErrors;
   mutable std::vector<unsigned char> EdgeCostStates; // 3 per triangle slot: Kind | NaN << 2, or Unknown
   // A placement of edge (u, v)'s collapse: the quadric's best point (Kind 0), u (1) or v (2).
   struct EdgePlacement

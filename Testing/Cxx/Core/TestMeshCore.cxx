@@ -29,6 +29,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 
 using namespace slod;
@@ -1101,5 +1102,61 @@ TEST(EditableMesh, CheckScratchGivesTheAnswerOfTheMeshMarksConcurrently)
     }
     EXPECT_GT(ok, sets.size() / 4);          // the link walk ran to its end
     EXPECT_GT(nonManifold, 20u); // and refused (a link test that never fails proves nothing)
+  }
+}
+
+// A set prepared once and checked at several points (the hierarchy's FindEdgeCollapse tries up to
+// three per edge) is accepted at exactly the points CheckCollapse accepts, with the mesh's marks
+// and with a scratch's; the points include flips (beyond an end), degenerate ones and valid ones.
+TEST(EditableMesh, SetTrialAcceptsWhereCheckCollapseDoesAtEveryPoint)
+{
+  for (const TriangleMesh& input : { ToTriangleMesh(NoisyScanIsosurface(30, 7)), Torus(40, 16) })
+  {
+    EditableMesh mesh(input);
+    CollapseTrianglesGreedily(mesh, input.NumberOfTriangles() / 20);
+    for (const double minimumAngle : { 0.0, 0.2 })
+    {
+      CollapseOptions options;
+      options.MinimumNormalDot = 0.5;
+      options.MinimumAngle = minimumAngle;
+      options.GeometryFirst = true;
+      EditableMesh::SetTrial trial;
+      EditableMesh::CheckScratch scratch;
+      std::map<CollapseStatus, size_t> seen;
+      size_t agreements = 0;
+      for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+      {
+        if (!mesh.IsTriangleAlive(t))
+        {
+          continue;
+        }
+        const Index* tri = mesh.Triangle(t);
+        for (int k = 0; k < 3; ++k)
+        {
+          const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
+          const Vec3 u = mesh.Point(edge[0]), v = mesh.Point(edge[1]);
+          const Vec3 points[5] = { u + 2.5 * (v - u), 0.5 * (u + v), u, v, u - 1.5 * (v - u) };
+          mesh.PrepareTrial(edge, 2, options, trial);
+          for (const Vec3& p : points)
+          {
+            const CollapseStatus expected = mesh.CheckCollapse(edge, 2, p, options);
+            const CollapseStatus marks = mesh.CheckTrial(p, options, trial, nullptr);
+            const CollapseStatus own = mesh.CheckTrial(p, options, trial, &scratch);
+            ASSERT_EQ(expected == CollapseStatus::Ok, marks == CollapseStatus::Ok)
+              << "triangle " << t << " edge " << k << ": " << ToString(expected) << " vs " << ToString(marks);
+            ASSERT_EQ(marks, own);
+            ++seen[expected];
+            ++agreements;
+          }
+        }
+      }
+      EXPECT_GT(agreements, 1000u);
+      EXPECT_GT(seen[CollapseStatus::Ok], agreements / 10); // accepted points
+      EXPECT_GT(seen[CollapseStatus::Flip], 20u);           // refused by the geometry
+      if (minimumAngle > 0)
+      {
+        EXPECT_GT(seen[CollapseStatus::BadShape], 0u);
+      }
+    }
   }
 }

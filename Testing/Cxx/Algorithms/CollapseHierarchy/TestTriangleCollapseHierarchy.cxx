@@ -1068,6 +1068,40 @@ TEST(CollapseHierarchy, KeptEdgeCostsGiveTheSameHierarchy)
   }
 }
 
+// The kept edge costs are floats (session 26; doubles took 27 bytes per triangle): at most 15
+// bytes per triangle row at every progress call of a noisy scan's build, and since every cost is
+// rounded up where it is made, a kept one is what a new pricing gives (the same hierarchy without
+// them, KeptEdgeCostsGiveTheSameHierarchy) and the selection still takes the edge collapses it
+// was ordered by: most collapses are edge collapses, and the levels reach a tenth of the input.
+TEST(CollapseHierarchy, EdgeCostsAreKeptAsFloats)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(45);
+  source->Update();
+  const TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  const size_t nt = size_t(scan.NumberOfTriangles());
+  CollapseHierarchy h;
+  size_t largest = 0;
+  int calls = 0;
+  ASSERT_TRUE(h.Build(scan, DefaultParameters(), [&](double) {
+    for (const CollapseHierarchy::StorageShare& s : h.Storage())
+    {
+      if (std::string(s.Name) == "edge costs")
+      {
+        largest = std::max(largest, s.Bytes);
+        ++calls;
+      }
+    }
+    return true;
+  }));
+  ASSERT_GT(calls, 1);
+  EXPECT_GT(largest, 12 * nt); // kept (3 per triangle of M0)
+  EXPECT_LE(largest, 15 * nt);
+  EXPECT_GT(2 * h.NumberOfEdgeCollapses(), h.NumberOfCollapses());
+  EXPECT_LE(h.LevelTriangleCount(h.NumberOfLevels() - 1), Index(nt / 10));
+}
+
 // Edge costs are priced before the evaluations, once per edge for its two triangles (M0's edges,
 // then the spokes of each level's new vertices, in parallel): on a noisy scan isosurface (borders,
 // handles, non-manifold edges whose vertices are locked) the same hierarchy as with every edge
