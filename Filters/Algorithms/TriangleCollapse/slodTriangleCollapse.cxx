@@ -450,6 +450,7 @@ struct SpokeScratch
 // The batches of the collapse loop: the popped entries and their queue keys, per vertex the
 // smallest stamp of an entry whose ring holds it (see ClaimRingsFunctor), and a check scratch
 // per thread.
+struct PassState;
 struct CollapseBatch
 {
   size_t MaximumSize = 1;
@@ -478,7 +479,7 @@ struct CollapseBatch
   // The pass schedule: every entry claims its ring, a lone one too; the collapses mark what they
   // changed (PassState::Change) instead of re-costing their surroundings.
   bool Passes = false;
-  std::vector<unsigned char>* Change = nullptr;
+  PassState* PassesState = nullptr;
   std::uint64_t Stamp(size_t entry) const;
   void AdaptSize(size_t ran);
   // Each entry of Order gets its part of the reference room (Performed[k].Block); returns the room.
@@ -505,7 +506,21 @@ struct PassState
   // Per triangle, what CostPass's first step did: bit 0 its key is computed again, bit k + 1 edge
   // k's cost is copied from its twin in the second step (EdgeOwnerCost).
   std::vector<unsigned char> Recost;
+  // One bit per triangle: those whose key or state the next CostPass may change, which it then
+  // visits alone (unless AllStale): the triangles around the kept vertices of this pass's
+  // collapses, those it removed, and every live triangle with an excluded operation (costed afresh
+  // once a vertex of its closed ring changes). Before session 27 every pass visited every
+  // triangle, which made the finer passes of session 26 cost a sweep each. Bits, not a list: no
+  // duplicates, read in index (memory) order, set concurrently by the collapses (atomic or).
+  std::vector<std::uint64_t> Listed;
+  std::vector<Index> Visit; // CostPass's triangles, in index order
+  void List(Index t) { this->Listed[size_t(t) >> 6] |= std::uint64_t(1) << (t & 63); }
+  void ListConcurrently(Index t)
+  {
+    __atomic_fetch_or(&this->Listed[size_t(t) >> 6], std::uint64_t(1) << (t & 63), __ATOMIC_RELAXED);
+  }
   Index Performed = 0;      // collapses of the current pass
+  long long Visits = 0;     // TriangleCollapseResult::CostPassVisits
   long long Rounds = 0;
 };
 
@@ -570,7 +585,8 @@ private:
   struct PerformPassFunctor;
   void CollapseInPasses(CollapseLoop& loop, TriangleCollapseResult& result);
   // After a collapse into `kept`: kept moved, its ring's triangles changed (PassState::Change).
-  void MarkChanged(Index kept, std::vector<unsigned char>& change) const;
+  // The triangles around kept and those the collapse removed are listed for the next CostPass.
+  void MarkChanged(Index kept, const CollapseRecord& record, PassState& passes) const;
   // An entry whose triangle has a vertex moved in this pass waits for the next (stale cost).
   bool Blocked(Index t, const PassState& passes) const
   {
@@ -2488,9 +2504,9 @@ struct TriangleCollapser::PerformBatchFunctor
       this->Self.Mesh.CollapseIntoBlock(
         c.Set, c.Count, done.Kept, c.Position, this->Batch.Gathered[i], this->Base + done.Block, done.Record);
       this->Self.MergeVertexState(c, done.Kept);
-      if (this->Batch.Change)
+      if (this->Batch.PassesState)
       {
-        this->Self.MarkChanged(done.Kept, *this->Batch.Change);
+        this->Self.MarkChanged(done.Kept, done.Record, *this->Batch.PassesState);
       }
       else
       {
@@ -2621,11 +2637,18 @@ void TriangleCollapser::InitializePasses()
   this->CacheEdges = this->Options.EdgeCollapses;
 }
 
-void TriangleCollapser::MarkChanged(Index kept, std::vector<unsigned char>& change) const
+void TriangleCollapser::MarkChanged(Index kept, const CollapseRecord& record, PassState& passes) const
 {
-  // Concurrent collapses have disjoint closed rings: no two threads write the same vertex.
+  // Concurrent collapses have disjoint closed rings: no two threads write the same vertex (the
+  // triangles' bits may share a word: atomic).
+  std::vector<unsigned char>& change = passes.Change;
   change[kept] = VertexMoved;
+  for (Index r : record.RemovedTriangles)
+  {
+    passes.ListConcurrently(r);
+  }
   this->Mesh.ForEachTriangle(kept, [&](Index t) {
+    passes.ListConcurrently(t);
     const Index* tri = this->Mesh.Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
@@ -2646,12 +2669,14 @@ struct TriangleCollapser::CostPassFunctor
 {
   const TriangleCollapser& Self;
   PassState& Passes;
+  const Index* Listed; // the triangles to visit (null: every triangle, by index)
   void operator()(vtkIdType begin, vtkIdType end) const
   {
     const float none = std::numeric_limits<float>::infinity();
     const std::vector<unsigned char>& change = this->Passes.Change;
-    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
+    for (vtkIdType i = begin; i < end; ++i)
     {
+      const Index t = this->Listed ? this->Listed[i] : static_cast<Index>(i);
       this->Passes.Recost[t] = 0;
       if (!this->Self.Mesh.IsTriangleAlive(t))
       {
@@ -2750,10 +2775,12 @@ struct TriangleCollapser::EdgeCopyFunctor
   const TriangleCollapser& Self;
   const std::vector<unsigned char>& Recost;
   std::vector<float>& Key;
+  const Index* Listed; // as CostPassFunctor's
   void operator()(vtkIdType begin, vtkIdType end) const
   {
-    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
+    for (vtkIdType i = begin; i < end; ++i)
     {
+      const Index t = this->Listed ? this->Listed[i] : static_cast<Index>(i);
       const unsigned char flags = this->Recost[t];
       if (flags == 0)
       {
@@ -2788,7 +2815,7 @@ void TriangleCollapser::InitialKeys(std::vector<float>& keys)
       recost[t] = this->CostOwnedEdges(t, unused, true, keys[t]);
     }
   });
-  EdgeCopyFunctor copies{ *this, recost, keys };
+  EdgeCopyFunctor copies{ *this, recost, keys, nullptr };
   vtkSMPTools::For(0, nt, 4096, copies);
 }
 
@@ -2798,10 +2825,36 @@ void TriangleCollapser::CostPass(PassState& passes)
   passes.Key.resize(size_t(nt), std::numeric_limits<float>::infinity());
   passes.Recost.resize(size_t(nt), 0);
   passes.Change.resize(size_t(this->Mesh.NumberOfPoints()), 0);
-  CostPassFunctor costs{ *this, passes };
-  vtkSMPTools::For(0, nt, 4096, costs);
-  EdgeCopyFunctor copies{ *this, passes.Recost, passes.Key };
-  vtkSMPTools::For(0, nt, 4096, copies);
+  // Without the edge cache every live triangle is costed afresh each pass.
+  const bool everything = passes.AllStale || !this->CacheEdges || this->Options.PassCostSweepsEveryTriangle;
+  passes.Listed.resize((size_t(nt) + 63) / 64, 0);
+  std::vector<Index>& listed = passes.Visit;
+  listed.clear();
+  for (size_t w = 0; w < passes.Listed.size() && !everything; ++w)
+  {
+    // Only the triangles a visit of every triangle would change (the rest keep key and state):
+    // the same keys and states.
+    for (std::uint64_t bits = passes.Listed[w]; bits != 0; bits &= bits - 1)
+    {
+      listed.push_back(static_cast<Index>(64 * w + size_t(__builtin_ctzll(bits))));
+    }
+  }
+  std::fill(passes.Listed.begin(), passes.Listed.end(), 0);
+  const vtkIdType n = everything ? vtkIdType(nt) : static_cast<vtkIdType>(listed.size());
+  const Index* list = everything ? nullptr : listed.data();
+  passes.Visits += static_cast<long long>(n);
+  CostPassFunctor costs{ *this, passes, list };
+  vtkSMPTools::For(0, n, 4096, costs);
+  EdgeCopyFunctor copies{ *this, passes.Recost, passes.Key, list };
+  vtkSMPTools::For(0, n, 4096, copies);
+  // The exclusions left (on triangles none of whose vertices changed) stay listed.
+  for (vtkIdType i = 0; i < n && !everything; ++i)
+  {
+    if (this->Mesh.IsTriangleAlive(list[i]) && this->State[list[i]].Excluded != 0)
+    {
+      passes.List(list[i]);
+    }
+  }
   std::fill(passes.Change.begin(), passes.Change.end(), 0);
   passes.AllStale = false;
 }
@@ -2857,6 +2910,7 @@ bool TriangleCollapser::SettlePassRound(
     {
       // Its next best operation in a later pass; none left: it waits until its vertices change.
       ++result.RejectedCollapses;
+      passes.List(c.Triangle);
       this->State[c.Triangle].Excluded |= static_cast<unsigned char>(1u << c.Operation);
       Vec3 p;
       double error;
@@ -3062,7 +3116,7 @@ void TriangleCollapser::CollapseInPasses(CollapseLoop& loop, TriangleCollapseRes
   CollapseBatch batch;
   batch.Passes = true;
   batch.Parallel = true;
-  batch.Change = &passes.Change;
+  batch.PassesState = &passes;
   batch.Owner.assign(size_t(this->Mesh.NumberOfPoints()), ~std::uint64_t(0));
   // Each iteration collapses, or doubles the next goal rank (at most 63 times in a row, then the
   // ranking holds every candidate), or relaxes the limits (a few times): bounded, and by the work
@@ -3101,6 +3155,7 @@ void TriangleCollapser::CollapseInPasses(CollapseLoop& loop, TriangleCollapseRes
   {
     ++result.PassThreads;
   }
+  result.CostPassVisits = passes.Visits;
   for (long long tests : batch.WindowTests)
   {
     result.WindowTests += tests;

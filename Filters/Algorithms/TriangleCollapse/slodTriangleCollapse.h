@@ -134,6 +134,10 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // left took collapses far past the queue's order (Hausdorff up to 1.7x the queue's per mesh);
   // 0.1 (with PassGoalShare 0.2) gave a geometric mean of 0.96x the queue's over the CGAL meshes.
   double PassRemovalShare = 0.1;
+  // The pass schedule's costs are computed again only for the triangles a pass changed (around its
+  // collapses, and those with an excluded operation; session 27). On: every triangle is visited
+  // each pass, as before session 27 (the same keys; a reference for the tests).
+  bool PassCostSweepsEveryTriangle = false;
   // Record every collapse for progressive meshes (TriangleCollapseResult::History).
   bool RecordHistory = false;
   // Optional: per vertex of the input mesh, 1 when non-manifold (the input preparation's
@@ -204,6 +208,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   long long WindowTests = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
+  // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first
+  // pass; afterwards those the last pass changed).
+  long long CostPassVisits = 0;
   bool FitBudgetReached = false;
   SweepCounts FitVisits, RefinementVisits;
   bool PinnedVerticesReleased = false; // the target needed collapses of pinned vertices (PinnedVertices)
