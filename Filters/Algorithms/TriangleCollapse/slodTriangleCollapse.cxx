@@ -772,6 +772,7 @@ private:
   SpokeScratch Spokes;                  // UpdateAround scratch: edges (kept, x) already costed
   std::vector<Index> AroundScratch;     // UpdateAround scratch: the triangles around the new vertex
   std::vector<float> AroundKeyScratch;       // UpdateAround scratch: the new keys of those triangles
+  mutable vtkSMPThreadLocal<EditableMesh::SetTrial> Trials; // AlternativePlacement's, per thread
   std::vector<Index> Parent;           // RefineDeviation: per vertex, the vertex it merged into
   int FitThreads = 0;                  // FitToOriginal's diagnostics (TriangleCollapseResult)
   bool FitBudgetReached = false;
@@ -1417,10 +1418,16 @@ bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const 
     }
   }
   std::sort(candidates, candidates + n, [](const auto& x, const auto& y) { return x.first < y.first; });
+  // One trial of the set for all its points (session 27): its triangles gathered and its topology
+  // tested once, where a CheckCollapse per point did both again; a point passes exactly when
+  // CheckCollapse would pass it. `scratch` keeps the set's triangles from the check of the
+  // optimum (the same set, gathered before its geometric test failed) for the collapse.
+  EditableMesh::SetTrial& trial = this->Trials.Local();
+  this->Mesh.PrepareTrial(set, count, check, trial);
   for (int i = 0; i < n; ++i)
   {
     const Vec3 world = candidates[i].second + this->Origin;
-    if (this->Mesh.CheckCollapse(set, count, world, check, scratch) == CollapseStatus::Ok)
+    if (this->Mesh.CheckTrial(world, check, trial, nullptr) == CollapseStatus::Ok)
     {
       p = world;
       cost = candidates[i].first;
