@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <iterator>
+#include <limits>
 #include <type_traits>
 #include <numeric>
 #include <utility>
@@ -545,7 +546,7 @@ void CollapseHierarchy::AddUnmarkedVertices(Index x)
 template <typename Functor>
 void CollapseHierarchy::ForEachAncestor(Index g, Functor&& f)
 {
-  const Index np = this->Base.NumberOfPoints();
+  const Index np = this->NumberOfBasePoints();
   std::vector<Index>& stack = this->AncestorStack;
   stack.assign(1, g);
   while (!stack.empty())
@@ -572,7 +573,7 @@ void CollapseHierarchy::AddAncestorPoints(Index v, const LocalFrame& frame, Inde
   this->ForEachAncestor(this->GlobalOf[v], [&](Index o) {
     if (counter++ % stride == 0)
     {
-      const Vec3 l = frame.ToLocal(this->Base.Point(o));
+      const Vec3 l = frame.ToLocal(this->BasePoints.Point(o));
       this->FitPoints.insert(this->FitPoints.end(), { l[0], l[1], l[2] });
     }
   });
@@ -939,7 +940,7 @@ void CollapseHierarchy::PriceSpokes(const std::vector<Index>* vertices)
   if (!vertices)
   {
     SpokePricing pricing{ this, nullptr };
-    vtkSMPTools::For(0, static_cast<vtkIdType>(this->Base.NumberOfPoints()), pricing);
+    vtkSMPTools::For(0, static_cast<vtkIdType>(this->NumberOfBasePoints()), pricing);
     return;
   }
   ++this->MarkEpoch;
@@ -1189,7 +1190,7 @@ bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const
       const Index* b = &this->Base.Triangles[3 * size_t(ids[i])];
       for (int j = 0; j < 3; ++j)
       {
-        __builtin_prefetch(&this->Base.Points[3 * size_t(b[j])]);
+        this->BasePoints.Prefetch(b[j]);
       }
     }
     for (int i = 0; i < n && ok; ++i)
@@ -1586,9 +1587,25 @@ struct CollapseHierarchy::LevelState
   // regions of one batch are disjoint), or of the last gathering of the triangles to evaluate
   // again (AffectedStamp). A level's regions are marked only by a batch that is then collapsed;
   // its re-evaluation comes after, and a retried selection (relaxed rules, swaps) follows an
-  // empty batch, which marked nothing. (Two arrays took 8 bytes per input vertex more.)
-  std::vector<std::uint32_t> Marks;
-  std::uint32_t Stamp = 0, RegionStamp = 0, AffectedStamp = 0;
+  // empty batch, which marked nothing. (Two arrays took 8 bytes per input vertex more; stamps
+  // of 32 bits 6 more: NextStamp.)
+  std::vector<std::uint8_t> Marks;
+  std::uint8_t Stamp = 0, RegionStamp = 0, AffectedStamp = 0;
+  // The next stamp. At the wrap of the byte, the rows of the current regions keep their mark as
+  // stamp 1 and every other row is cleared: each comparison after it (with RegionStamp, or with
+  // a new stamp, whose rows are all marked after it) answers as with stamps that never wrap.
+  std::uint8_t NextStamp()
+  {
+    if (this->Stamp == std::numeric_limits<std::uint8_t>::max())
+    {
+      for (std::uint8_t& mark : this->Marks)
+      {
+        mark = mark == this->RegionStamp ? 1 : 0;
+      }
+      this->Stamp = this->RegionStamp = 1;
+    }
+    return ++this->Stamp;
+  }
   // Triangles to evaluate again, gathered once each.
   std::vector<Index> Affected;
   std::vector<Index> Touched, Ring;
@@ -1796,7 +1813,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
   const size_t stamps = bytes(this->VertexMark) + bytes(this->VertexChanges) + bytes(this->BlockedStrict) +
     bytes(this->BlockedRelaxed) + bytes(this->BlockedEdge);
   const size_t ancestors = bytes(this->AncestorCounts);
-  return { { "M0 (points, triangles)", false, bytes(this->Base.Points) + bytes(this->Base.Triangles) },
+  return { { "M0 (points, triangles)", false, this->BasePoints.MemoryBytes() + bytes(this->Base.Triangles) },
     { "editable mesh (coarsest)", false, this->Mesh.MemoryBytes() },
     { "collapse points", false, bytes(this->CollapsePoints) },
     { "collapses", false, bytes(this->Collapses) },
@@ -1850,9 +1867,11 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
     this->RemoveCyclesBySwapping(this->Base);
   }
   this->Mesh.Reset(this->Base);
-  const Index np = this->Base.NumberOfPoints();
-  const Index nt = this->Base.NumberOfTriangles();
   this->LockNonManifoldVertices();
+  // M0's points for the life of the hierarchy (the editable mesh has its own copy to move).
+  this->BasePoints.Take(this->Base.Points);
+  const Index np = this->NumberOfBasePoints();
+  const Index nt = this->Base.NumberOfTriangles();
   this->CollapsePoints.clear();
   this->GlobalOf.resize(np);
   std::iota(this->GlobalOf.begin(), this->GlobalOf.end(), 0);
@@ -1946,14 +1965,14 @@ void CollapseHierarchy::InitializeQuadrics()
     this->EdgeCostErrors.resize(3 * size_t(nt));
     this->EdgeCostStates.assign(3 * size_t(nt), UnknownEdgeCost);
   }
-  this->Quadrics.assign(this->Base.NumberOfPoints(), Quadric());
+  this->Quadrics.assign(this->NumberOfBasePoints(), Quadric());
   this->QuadricRowOf.resize(this->Quadrics.size());
   std::iota(this->QuadricRowOf.begin(), this->QuadricRowOf.end(), 0);
   for (Index t = 0; t < nt; ++t)
   {
     const Index* tri = this->Base.Triangle(t);
     Quadric q;
-    if (TrianglePlaneQuadric(this->Base.Point(tri[0]), this->Base.Point(tri[1]), this->Base.Point(tri[2]), q) > 0)
+    if (TrianglePlaneQuadric(this->BasePoints.Point(tri[0]), this->BasePoints.Point(tri[1]), this->BasePoints.Point(tri[2]), q) > 0)
     {
       for (int k = 0; k < 3; ++k)
       {
@@ -2102,7 +2121,7 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
 void CollapseHierarchy::PlanLevel(LevelState& state)
 {
   const CollapseHierarchyParameters& p = this->Parameters;
-  state.RegionStamp = ++state.Stamp; // (no row holds it yet)
+  state.RegionStamp = state.NextStamp(); // (no row holds it yet)
   const Index live = this->Mesh.NumberOfLiveTriangles();
   state.Wanted = std::max<Index>(1, static_cast<Index>(std::floor(p.BatchFraction * live)));
   if (p.MinimumNumberOfTriangles > 0)
@@ -2827,7 +2846,7 @@ void CollapseHierarchy::SwapAroundNewVertices(LevelState& state)
 // Each triangle around the given vertices is evaluated and weighed again, once.
 void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelState& state)
 {
-  state.AffectedStamp = ++state.Stamp;
+  state.AffectedStamp = state.NextStamp();
   state.Affected.clear();
   for (Index v : vertices)
   {
@@ -2982,7 +3001,7 @@ Index CollapseHierarchy::CollapsesForTriangleCount(Index target) const
 template <typename Functor>
 void CollapseHierarchy::ForEachVersion(Index collapses, Functor&& f) const
 {
-  const Index np = this->Base.NumberOfPoints(), nt = this->Base.NumberOfTriangles();
+  const Index np = this->NumberOfBasePoints(), nt = this->Base.NumberOfTriangles();
   const Index entries = this->VersionsBornBy[collapses];
   this->ScratchCorners.resize(3 * size_t(nt));
   const Index* full = this->FullEntryVertices.data();
@@ -3065,12 +3084,12 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   for (size_t i = 0; i < n; ++i)
   {
     const Index g = out.PointGlobal[i];
-    const double* a = this->VertexCoordinates(g);
+    const Vec3 a = this->Vertex(g);
     const Index target = this->ScratchTarget[g];
     out.PointTarget[i] = target;
     if (target != InvalidIndex && t > 0)
     {
-      const double* b = this->VertexCoordinates(target);
+      const Vec3 b = this->Vertex(target);
       for (int j = 0; j < 3; ++j)
       {
         out.Points[3 * i + j] = t == 1.0 ? b[j] : a[j] + t * (b[j] - a[j]);
@@ -3078,7 +3097,7 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     }
     else
     {
-      std::copy(a, a + 3, &out.Points[3 * i]);
+      std::copy(a.begin(), a.end(), &out.Points[3 * i]);
     }
     this->ScratchMap[g] = InvalidIndex;
   }

@@ -29,6 +29,7 @@
 
 #include "slodCollapseRecords.h"
 #include "slodEditableMesh.h"
+#include "slodPointStore.h"
 #include "slodQuadric.h"
 #include "slodQuadraticFit.h"
 #include "slodTriangleStencil.h"
@@ -214,21 +215,27 @@ public:
              this->LevelStarts.begin()) - 1;
   }
   // Global id of collapse k's point: the collapse points follow the input points in order.
-  Index PointOfCollapse(Index k) const { return this->Base.NumberOfPoints() + k; }
+  Index PointOfCollapse(Index k) const { return this->NumberOfBasePoints() + k; }
   // 3 for a triangle collapse, 2 for an edge collapse.
   int CountOfCollapse(Index k) const { return this->Collapses[k].Sources[2] == InvalidIndex ? 2 : 3; }
 
   Index NumberOfVertices() const
   {
-    return this->Base.NumberOfPoints() + static_cast<Index>(this->CollapsePoints.size() / 3);
+    return this->NumberOfBasePoints() + static_cast<Index>(this->CollapsePoints.size() / 3);
   }
   Vec3 Vertex(Index g) const
   {
-    const double* p = this->VertexCoordinates(g);
+    const Index np = this->NumberOfBasePoints();
+    if (g < np)
+    {
+      return this->BasePoints.Point(g);
+    }
+    const double* p = &this->CollapsePoints[3 * size_t(g - np)];
     return { p[0], p[1], p[2] };
   }
-  // M0 (the input, or the input after cycle-removing swaps).
-  const TriangleMesh& BaseMesh() const { return this->Base; }
+  // M0 (the input, or the input after cycle-removing swaps), assembled: its points are held apart
+  // (BasePoints).
+  TriangleMesh BaseMesh() const { return { this->BasePoints.Coordinates(), this->Base.Triangles }; }
   // Largest curvature of M0 (1 when not computed: ErrorWeight 1 with QuadricCollapsePoint).
   double MaximumCurvature() const { return this->KappaMax; }
   double ValenceNormalizer() const { return this->Mv; }
@@ -469,19 +476,24 @@ private:
   bool KeepsOrientation(Index t, const Vec3& p) const;
 
   CollapseHierarchyParameters Parameters;
+  // M0: its triangles in Base (whose points are moved out at Reset) and its points in BasePoints,
+  // in floats when every coordinate is one (12 bytes per input vertex less for the life of the
+  // hierarchy on float inputs; the same values).
   TriangleMesh Base;
+  PointStore BasePoints;
+  Index NumberOfBasePoints() const { return this->BasePoints.NumberOfPoints(); }
   // The area vector of M0's triangle t, the orientation reference (computed when asked: not kept,
-  // 24 bytes per input triangle).
-  Vec3 BaseAreaVector(Index t) const { return this->Base.TriangleAreaVector(t); }
-  EditableMesh Mesh;
-  // Global vertex g: input point g of Base, else the collapse point of collapse g - (input points)
-  // (not a second copy of the input points).
-  std::vector<double> CollapsePoints;
-  const double* VertexCoordinates(Index g) const
+  // 24 bytes per input triangle), as TriangleMesh::TriangleAreaVector.
+  Vec3 BaseAreaVector(Index t) const
   {
-    const Index np = this->Base.NumberOfPoints();
-    return g < np ? &this->Base.Points[3 * size_t(g)] : &this->CollapsePoints[3 * size_t(g - np)];
+    const Index* tri = this->Base.Triangle(t);
+    const Vec3 a = this->BasePoints.Point(tri[0]);
+    return Cross(this->BasePoints.Point(tri[1]) - a, this->BasePoints.Point(tri[2]) - a);
   }
+  EditableMesh Mesh;
+  // Global vertex g: input point g of M0, else the collapse point of collapse g - (input points)
+  // (not a second copy of the input points; Vertex).
+  std::vector<double> CollapsePoints;
   std::vector<Index> GlobalOf;                  // editable vertex -> current global id
   // The original points merged into a vertex (its ancestors, which the stencil fit reads): the
   // input points at the leaves of its global vertex's collapses, sources first to last (the
@@ -490,7 +502,7 @@ private:
   std::vector<Index> AncestorCounts;
   Index AncestorCountOf(Index g) const
   {
-    const Index np = this->Base.NumberOfPoints();
+    const Index np = this->NumberOfBasePoints();
     return g < np ? 1 : this->AncestorCounts[size_t(g - np)];
   }
   template <typename Functor>

@@ -1102,6 +1102,60 @@ TEST(CollapseHierarchy, EdgeCostsAreKeptAsFloats)
   EXPECT_LE(h.LevelTriangleCount(h.NumberOfLevels() - 1), Index(nt / 10));
 }
 
+// M0's points are held for the life of the hierarchy (issue 12): in floats when every coordinate
+// is one (a float input read into doubles: the same values), else in doubles. A noisy scan with its
+// coordinates rounded to floats takes at most 12 bytes per point and 12 per triangle for M0 (24 per
+// point before), the same scan with one coordinate off a float keeps doubles; both hand back their
+// input's points exactly (BaseMesh, the global vertices) and build their levels.
+TEST(CollapseHierarchy, M0PointsAreHeldAsFloatsWhenEveryCoordinateIsOne)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(45);
+  source->Update();
+  TriangleMesh floats = ToTriangleMesh(source->GetOutput());
+  for (double& x : floats.Points)
+  {
+    x = static_cast<float>(x);
+  }
+  TriangleMesh doubles = floats;
+  doubles.Points[4] += std::ldexp(std::fabs(doubles.Points[4]) + 1.0, -40);
+  const size_t np = size_t(floats.NumberOfPoints()), nt = size_t(floats.NumberOfTriangles());
+  const auto m0Bytes = [](const CollapseHierarchy& h) {
+    for (const CollapseHierarchy::StorageShare& s : h.Storage())
+    {
+      if (std::string(s.Name).rfind("M0", 0) == 0)
+      {
+        return s.Bytes;
+      }
+    }
+    return size_t(0);
+  };
+  for (const TriangleMesh* input : { &floats, &doubles })
+  {
+    const bool exact = input == &floats;
+    CollapseHierarchy h;
+    ASSERT_TRUE(h.Build(*input, DefaultParameters()));
+    if (exact)
+    {
+      EXPECT_LE(m0Bytes(h), 12 * np + 12 * nt);
+    }
+    else
+    {
+      EXPECT_GE(m0Bytes(h), 24 * np + 12 * nt);
+    }
+    const TriangleMesh base = h.BaseMesh();
+    EXPECT_EQ(base.Points, input->Points) << (exact ? "floats" : "doubles");
+    EXPECT_EQ(base.Triangles, input->Triangles);
+    for (Index v = 0; v < Index(np); v += 97)
+    {
+      EXPECT_EQ(h.Vertex(v), input->Point(v));
+    }
+    EXPECT_GT(h.NumberOfLevels(), 5);
+    EXPECT_LE(h.LevelTriangleCount(h.NumberOfLevels() - 1), Index(nt / 10));
+  }
+}
+
 // Edge costs are priced before the evaluations, once per edge for its two triangles (M0's edges,
 // then the spokes of each level's new vertices, in parallel): on a noisy scan isosurface (borders,
 // handles, non-manifold edges whose vertices are locked) the same hierarchy as with every edge
