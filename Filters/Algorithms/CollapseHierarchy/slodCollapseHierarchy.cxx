@@ -2668,7 +2668,15 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Cho
       return false;
     }
   }
-  scratch.Stencils.Build(this->Mesh, t, scratch.Stencil);
+  // (Rule (2) and the three edge neighbours first: they need the gathered stencil only, and on
+  // isosurfaces they block many candidates before the classification would.)
+  scratch.Stencils.Gather(this->Mesh, t, scratch.Stencil);
+  if (StencilBuilder::FailsBeforeClassifying(this->Mesh, scratch.Stencil, this->Rules))
+  {
+    choice.BlockTriangle = true;
+    return false;
+  }
+  scratch.Stencils.Classify(this->Mesh, scratch.Stencil);
   const Vec3 point = this->PointOf(t);
   if (scratch.Stencils.CheckCollapsible(this->Mesh, scratch.Stencil, point, this->NormalOf(t), &this->MeshOptions,
         this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok &&
@@ -2817,7 +2825,7 @@ bool CollapseHierarchy::CreatesCycle(Index t)
   {
     return false;
   }
-  this->Stencils.Build(this->Mesh, t, this->Stencil);
+  this->Stencils.Gather(this->Mesh, t, this->Stencil); // (the opposite vertices need no classification)
   for (Index q : this->Stencil.OppositeVertices)
   {
     if (this->Degree(q) == 4)

@@ -45,14 +45,26 @@ inline int SharedVertices(const Index* a, const Index* b)
 }
 
 // The other triangles around T's vertices (first seen first), and the ones sharing an edge with T
-// with their vertex not in T.
+// with their vertex not in T. A live triangle is in the block of each of its vertices and holds
+// them (EditableMesh's invariant), so one around tri[k] was seen before exactly when it holds an
+// earlier vertex of T (no search of the list; one with a repeated vertex is searched for).
 void GatherStencil(const EditableMesh& mesh, TriangleStencil& s)
 {
   const Index* tri = s.Vertices;
   for (int k = 0; k < 3; ++k)
   {
     mesh.ForEachTriangle(tri[k], [&](Index x) {
-      if (x != s.Triangle && std::find(s.Triangles.begin(), s.Triangles.end(), x) == s.Triangles.end())
+      const Index* q = mesh.Triangle(x);
+      bool seen = x == s.Triangle;
+      for (int j = 0; j < k && !seen; ++j)
+      {
+        seen = q[0] == tri[j] || q[1] == tri[j] || q[2] == tri[j];
+      }
+      if (!seen && (q[0] == q[1] || q[1] == q[2] || q[0] == q[2]))
+      {
+        seen = std::find(s.Triangles.begin(), s.Triangles.end(), x) != s.Triangles.end();
+      }
+      if (!seen)
       {
         s.Triangles.push_back(x);
       }
@@ -80,6 +92,12 @@ void GatherStencil(const EditableMesh& mesh, TriangleStencil& s)
 // classification: connected, cyclic, complete.
 void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s)
 {
+  this->Gather(mesh, t, s);
+  this->Classify(mesh, s);
+}
+
+void StencilBuilder::Gather(const EditableMesh& mesh, Index t, TriangleStencil& s) const
+{
   s.Clear();
   s.Triangle = t;
   if (!mesh.IsTriangleAlive(t))
@@ -89,10 +107,14 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
   const Index* tri = mesh.Triangle(t);
   std::copy(tri, tri + 3, s.Vertices);
   GatherStencil(mesh, s);
+}
+
+void StencilBuilder::Classify(const EditableMesh& mesh, TriangleStencil& s)
+{
   const size_t n = s.Triangles.size();
-  if (n == 0 || n > 64)
+  if (s.Triangle == InvalidIndex || !mesh.IsTriangleAlive(s.Triangle) || n == 0 || n > 64)
   {
-    // Isolated triangle, or a neighbourhood too irregular to collapse (valence > ~60).
+    // Dead, isolated triangle, or a neighbourhood too irregular to collapse (valence > ~60).
     return;
   }
   this->MatchRegionEdges(mesh, s);
@@ -102,60 +124,62 @@ void StencilBuilder::Build(const EditableMesh& mesh, Index t, TriangleStencil& s
   s.Complete = s.Connected && !s.Cyclic && simple && !touchesT;
 }
 
-// Directed edges of the region S u {T} (T's first), grouped by undirected edge by one sort: two
-// triangles are edge neighbours when they share an undirected edge (sharing two vertices is
-// sharing that edge), and a directed edge is on the region's boundary when its reverse is not in
-// the region. Sorting keeps this O(m log m) where the pairwise loops were O(m^2). Fills EdgeFrom,
-// EdgeTo, EdgeBoundary and the stencil triangles' Adjacency bit masks.
-void StencilBuilder::MatchRegionEdges(const EditableMesh& mesh, const TriangleStencil& s)
+// CheckCollapsible's answers that need no classification: a complete stencil has exactly three
+// edge neighbours, and rule (2) reads only their opposite vertices.
+bool StencilBuilder::FailsBeforeClassifying(
+  const EditableMesh& mesh, const TriangleStencil& s, const CollapsibleOptions& options)
 {
-  this->EdgeFrom.clear();
-  this->EdgeTo.clear();
-  auto addEdges = [&](Index x) {
-    const Index* q = mesh.Triangle(x);
-    for (int k = 0; k < 3; ++k)
-    {
-      this->EdgeFrom.push_back(q[k]);
-      this->EdgeTo.push_back(q[(k + 1) % 3]);
-    }
-  };
-  addEdges(s.Triangle);
-  for (Index x : s.Triangles)
+  if (s.Neighbors.size() != 3)
   {
-    addEdges(x);
+    return true;
   }
-  const size_t m = this->EdgeFrom.size();
-  this->EdgeKeys.resize(m);
-  for (size_t i = 0; i < m; ++i)
+  for (Index q : s.OppositeVertices)
   {
-    const auto a = static_cast<std::uint32_t>(std::min(this->EdgeFrom[i], this->EdgeTo[i]));
-    const auto b = static_cast<std::uint32_t>(std::max(this->EdgeFrom[i], this->EdgeTo[i]));
-    this->EdgeKeys[i] = { (static_cast<std::uint64_t>(a) << 32) | b, static_cast<std::uint32_t>(i) };
+    if (!options.AllowNewCycles && mesh.VertexDegree(q) == 4)
+    {
+      return true;
+    }
   }
-  std::sort(this->EdgeKeys.begin(), this->EdgeKeys.end());
-  this->EdgeBoundary.assign(m, 1);
-  this->Adjacency.assign(s.Triangles.size(), 0ull);
-  for (size_t g = 0; g < m;)
+  return false;
+}
+
+void StencilBuilder::KeyTable::Reset(size_t count)
+{
+  unsigned bits = 6;
+  while ((size_t(1) << bits) < 2 * count)
   {
-    size_t h = g + 1;
-    while (h < m && this->EdgeKeys[h].first == this->EdgeKeys[g].first)
-    {
-      ++h;
-    }
-    for (size_t i = g; i < h; ++i)
-    {
-      for (size_t j = i + 1; j < h; ++j)
-      {
-        this->MatchEdgePair(this->EdgeKeys[i].second, this->EdgeKeys[j].second);
-      }
-    }
-    g = h;
+    ++bits;
   }
+  const size_t size = size_t(1) << bits;
+  if (this->Entries.size() < size || ++this->Stamp == 0)
+  {
+    this->Entries.assign(std::max(size, this->Entries.size()), Entry{ 0, -1, 0 });
+    this->Stamp = 1;
+  }
+  this->Shift = 64 - bits;
+}
+
+inline std::int32_t& StencilBuilder::KeyTable::Find(std::uint64_t key, bool& inserted)
+{
+  const size_t mask = (size_t(1) << (64 - this->Shift)) - 1;
+  size_t h = size_t((key * 0x9E3779B97F4A7C15ull) >> this->Shift);
+  // (at most half full: Reset's count bounds the insertions)
+  while (this->Entries[h].Stamp == this->Stamp && this->Entries[h].Key != key)
+  {
+    h = (h + 1) & mask;
+  }
+  Entry& entry = this->Entries[h];
+  inserted = entry.Stamp != this->Stamp;
+  if (inserted)
+  {
+    entry = Entry{ key, -1, this->Stamp };
+  }
+  return entry.Value;
 }
 
 // Two directed edges on one undirected edge: opposite directions are interior to the region; two
 // different stencil triangles on it are edge neighbours.
-void StencilBuilder::MatchEdgePair(size_t ei, size_t ej)
+inline void StencilBuilder::MatchEdgePair(size_t ei, size_t ej)
 {
   if (this->EdgeFrom[ei] == this->EdgeTo[ej] && this->EdgeTo[ei] == this->EdgeFrom[ej])
   {
@@ -170,7 +194,47 @@ void StencilBuilder::MatchEdgePair(size_t ei, size_t ej)
   }
 }
 
-// Connectivity and 3-cycles on the adjacency bit masks (at most 64 stencil triangles).
+// Directed edges of the region S u {T} (T's first), grouped by undirected edge in a small hash
+// table: two triangles are edge neighbours when they share an undirected edge (sharing two
+// vertices is sharing that edge), and a directed edge is on the region's boundary when its
+// reverse is not in the region. Each pair of directed edges on one undirected edge is matched
+// once (MatchEdgePair: the result does not depend on the pairs' order). Fills EdgeFrom, EdgeTo,
+// EdgeBoundary and the stencil triangles' Adjacency bit masks.
+void StencilBuilder::MatchRegionEdges(const EditableMesh& mesh, const TriangleStencil& s)
+{
+  const size_t n = s.Triangles.size(), m = 3 * (n + 1);
+  this->EdgeFrom.resize(m);
+  this->EdgeTo.resize(m);
+  for (size_t r = 0; r <= n; ++r)
+  {
+    const Index* q = mesh.Triangle(r == 0 ? s.Triangle : s.Triangles[r - 1]);
+    for (size_t k = 0; k < 3; ++k)
+    {
+      this->EdgeFrom[3 * r + k] = q[k];
+      this->EdgeTo[3 * r + k] = q[(k + 1) % 3];
+    }
+  }
+  this->EdgeBoundary.assign(m, 1);
+  this->Adjacency.assign(n, 0ull);
+  this->NextOnEdge.resize(m);
+  this->Edges.Reset(m);
+  for (size_t i = 0; i < m; ++i)
+  {
+    const auto a = static_cast<std::uint32_t>(std::min(this->EdgeFrom[i], this->EdgeTo[i]));
+    const auto b = static_cast<std::uint32_t>(std::max(this->EdgeFrom[i], this->EdgeTo[i]));
+    bool inserted = false;
+    std::int32_t& last = this->Edges.Find((static_cast<std::uint64_t>(a) << 32) | b, inserted);
+    for (std::int32_t j = last; j >= 0; j = this->NextOnEdge[size_t(j)])
+    {
+      this->MatchEdgePair(size_t(j), i);
+    }
+    this->NextOnEdge[i] = last;
+    last = static_cast<std::int32_t>(i);
+  }
+}
+
+// Connectivity and 3-cycles on the adjacency bit masks (at most 64 stencil triangles), walking
+// set bits only.
 void StencilBuilder::ClassifyAdjacency(TriangleStencil& s) const
 {
   const size_t n = s.Triangles.size();
@@ -178,27 +242,22 @@ void StencilBuilder::ClassifyAdjacency(TriangleStencil& s) const
   while (frontier) // each round adds a triangle at least: at most n rounds
   {
     unsigned long long next = 0;
-    for (size_t i = 0; i < n; ++i)
+    for (unsigned long long bits = frontier; bits; bits &= bits - 1)
     {
-      if (frontier & (1ull << i))
-      {
-        next |= this->Adjacency[i];
-      }
+      next |= this->Adjacency[size_t(__builtin_ctzll(bits))];
     }
     frontier = next & ~reached;
     reached |= next;
   }
   const unsigned long long all = n == 64 ? ~0ull : ((1ull << n) - 1);
   s.Connected = reached == all;
+  // Three pairwise neighbours i < j (and a third common to both).
   for (size_t i = 0; i < n && !s.Cyclic; ++i)
   {
-    for (size_t j = i + 1; j < n; ++j)
+    const unsigned long long later = i == 63 ? 0ull : this->Adjacency[i] & (~0ull << (i + 1));
+    for (unsigned long long bits = later; bits && !s.Cyclic; bits &= bits - 1)
     {
-      if ((this->Adjacency[i] & (1ull << j)) && (this->Adjacency[i] & this->Adjacency[j]))
-      {
-        s.Cyclic = true;
-        break;
-      }
+      s.Cyclic = (this->Adjacency[i] & this->Adjacency[size_t(__builtin_ctzll(bits))]) != 0;
     }
   }
 }
@@ -207,51 +266,48 @@ void StencilBuilder::ClassifyAdjacency(TriangleStencil& s) const
 // touchesT: a boundary edge has an end at a vertex of T.
 bool StencilBuilder::TraceBoundaryPolygon(TriangleStencil& s, bool& touchesT)
 {
-  // Boundary edges sorted by their start vertex: one loop needs exactly one leaving each vertex.
+  // Boundary edges by their start vertex: one loop needs exactly one leaving each vertex.
   const Index* tri = s.Vertices;
   const size_t m = this->EdgeFrom.size();
   touchesT = false;
-  this->Outgoing.clear();
+  this->Outgoing.Reset(m);
+  size_t boundaryCount = 0;
+  bool simple = true;
+  Index start = InvalidIndex;
   for (size_t i = 0; i < m; ++i)
   {
     if (this->EdgeBoundary[i])
     {
-      this->Outgoing.emplace_back(this->EdgeFrom[i], this->EdgeTo[i]);
+      ++boundaryCount;
       for (int k = 0; k < 3; ++k)
       {
         touchesT = touchesT || this->EdgeFrom[i] == tri[k] || this->EdgeTo[i] == tri[k];
       }
+      start = start == InvalidIndex ? this->EdgeFrom[i] : start;
+      bool inserted = false;
+      std::int32_t& to = this->Outgoing.Find(static_cast<std::uint32_t>(this->EdgeFrom[i]), inserted);
+      simple = simple && inserted; // else pinched
+      to = this->EdgeTo[i];
     }
   }
-  const size_t boundaryCount = this->Outgoing.size();
   if (boundaryCount < 3)
   {
     return false; // closed region (the whole component) or degenerate
   }
-  std::sort(this->Outgoing.begin(), this->Outgoing.end());
-  bool simple = true;
-  for (size_t i = 1; i < boundaryCount && simple; ++i)
-  {
-    simple = this->Outgoing[i].first != this->Outgoing[i - 1].first; // else pinched
-  }
   // Walk the boundary from the first edge found: with one edge leaving each vertex, getting back
   // to the start after exactly boundaryCount steps means one simple loop through all of them.
-  Index v = InvalidIndex;
-  for (size_t i = 0; i < m && v == InvalidIndex; ++i)
-  {
-    v = this->EdgeBoundary[i] ? this->EdgeFrom[i] : InvalidIndex;
-  }
-  const Index start = v;
+  Index v = start;
   for (size_t step = 0; step < boundaryCount && simple; ++step)
   {
     s.BoundaryPolygon.push_back(v);
-    const auto it = std::lower_bound(this->Outgoing.begin(), this->Outgoing.end(), std::make_pair(v, std::numeric_limits<Index>::min()));
-    if (it == this->Outgoing.end() || it->first != v)
+    bool inserted = false;
+    const std::int32_t to = this->Outgoing.Find(static_cast<std::uint32_t>(v), inserted);
+    if (inserted)
     {
-      simple = false;
+      simple = false; // (a vertex with no boundary edge leaving it; the entry is harmless)
       break;
     }
-    v = it->second;
+    v = to;
     if (v == start && step + 1 < boundaryCount)
     {
       simple = false;

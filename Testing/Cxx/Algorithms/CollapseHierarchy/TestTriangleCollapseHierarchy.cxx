@@ -443,6 +443,186 @@ TEST(TriangleStencil, StarShapedTestRejectsPointOutsideKernel)
   EXPECT_EQ(builder.CheckCollapsible(mesh, s, { 0.61, 0.56, 0.3 }, { 0, 0, 1 }), CollapsibleStatus::Ok);
 }
 
+namespace
+{
+// The stencil's classification straight from its definition (pairwise, O(m^2)), for stencil s's
+// gathered triangles: connected, cyclic, and the boundary polygon when it is one simple loop
+// avoiding T (from the first boundary edge of T, then of the triangles in order), else empty.
+struct PairwiseStencil
+{
+  bool Connected = false, Cyclic = false, Complete = false;
+  std::vector<Index> Polygon;
+};
+
+PairwiseStencil ClassifyPairwise(const EditableMesh& mesh, const TriangleStencil& s)
+{
+  PairwiseStencil r;
+  const size_t n = s.Triangles.size();
+  const auto shared = [&](Index a, Index b) {
+    int count = 0;
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        count += mesh.Triangle(a)[i] == mesh.Triangle(b)[j] ? 1 : 0;
+      }
+    }
+    return count;
+  };
+  std::vector<std::vector<bool>> adjacent(n, std::vector<bool>(n, false));
+  for (size_t i = 0; i < n; ++i)
+  {
+    for (size_t j = 0; j < n; ++j)
+    {
+      adjacent[i][j] = i != j && shared(s.Triangles[i], s.Triangles[j]) == 2;
+    }
+  }
+  std::vector<bool> reached(n, false);
+  std::vector<size_t> stack{ 0 };
+  reached[0] = true;
+  while (!stack.empty())
+  {
+    const size_t i = stack.back();
+    stack.pop_back();
+    for (size_t j = 0; j < n; ++j)
+    {
+      if (adjacent[i][j] && !reached[j])
+      {
+        reached[j] = true;
+        stack.push_back(j);
+      }
+    }
+  }
+  r.Connected = std::all_of(reached.begin(), reached.end(), [](bool b) { return b; });
+  for (size_t i = 0; i < n; ++i)
+  {
+    for (size_t j = i + 1; j < n; ++j)
+    {
+      for (size_t k = j + 1; k < n; ++k)
+      {
+        r.Cyclic = r.Cyclic || (adjacent[i][j] && adjacent[j][k] && adjacent[i][k]);
+      }
+    }
+  }
+  std::vector<std::pair<Index, Index>> edges;
+  std::vector<Index> region{ s.Triangle };
+  region.insert(region.end(), s.Triangles.begin(), s.Triangles.end());
+  for (Index x : region)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      edges.emplace_back(mesh.Triangle(x)[k], mesh.Triangle(x)[(k + 1) % 3]);
+    }
+  }
+  std::vector<std::pair<Index, Index>> border;
+  for (const auto& e : edges)
+  {
+    if (std::find(edges.begin(), edges.end(), std::make_pair(e.second, e.first)) == edges.end())
+    {
+      border.push_back(e);
+    }
+  }
+  bool simple = border.size() >= 3, touches = false;
+  for (const auto& e : border)
+  {
+    simple = simple && std::count_if(border.begin(), border.end(), [&](const auto& f) { return f.first == e.first; }) == 1;
+    for (int k = 0; k < 3; ++k)
+    {
+      touches = touches || e.first == s.Vertices[k] || e.second == s.Vertices[k];
+    }
+  }
+  const Index start = border.empty() ? InvalidIndex : border[0].first;
+  Index v = start;
+  for (size_t step = 0; simple && step < border.size(); ++step)
+  {
+    r.Polygon.push_back(v);
+    const auto next = std::find_if(border.begin(), border.end(), [&](const auto& f) { return f.first == v; });
+    simple = next != border.end();
+    v = simple ? next->second : v;
+    simple = simple && (v != start || step + 1 == border.size());
+  }
+  simple = simple && v == start && r.Polygon.size() == border.size();
+  if (!simple)
+  {
+    r.Polygon.clear();
+  }
+  r.Complete = r.Connected && !r.Cyclic && simple && !touches;
+  return r;
+}
+} // namespace
+
+// Build classifies by hashing the region's edges (it sorted them): on irregular meshes (a noisy
+// scan isosurface with borders and handles, a torus and bunny00 after greedy triangle collapses,
+// which leave valence-3 vertices and cyclic stencils) every live triangle's stencil is what the
+// definition gives pair by pair, Gather then Classify is Build, and a stencil that
+// FailsBeforeClassifying is never collapsible (under the paper's rules and the relaxed ones).
+TEST(TriangleStencil, ClassificationMatchesThePairwiseDefinition)
+{
+  std::map<std::string, int> seen;
+  for (const TriangleMesh& input : { ToTriangleMesh(NoisyScanIsosurface(30, 7)), Torus(40, 16),
+         ToTriangleMesh(LoadTestMesh("bunny00")) })
+  {
+    EditableMesh mesh(input);
+    for (Index t = 0, done = 0; t < mesh.NumberOfTriangles() && done < input.NumberOfTriangles() / 40; t += 3)
+    {
+      const Index* tri = mesh.Triangle(t);
+      const Index set[3] = { tri[0], tri[1], tri[2] };
+      const Vec3 c = (1.0 / 3) * (mesh.Point(set[0]) + mesh.Point(set[1]) + mesh.Point(set[2]));
+      if (mesh.IsTriangleAlive(t) && mesh.CheckCollapse(set, 3, c) == CollapseStatus::Ok)
+      {
+        mesh.Collapse(set, 3, set[0], c, nullptr);
+        ++done;
+      }
+    }
+    StencilBuilder built, stepped;
+    TriangleStencil s, g;
+    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    {
+      if (!mesh.IsTriangleAlive(t))
+      {
+        continue;
+      }
+      built.Build(mesh, t, s);
+      stepped.Gather(mesh, t, g);
+      ASSERT_FALSE(g.Connected || g.Cyclic || g.Complete);
+      ASSERT_EQ(g.Triangles, s.Triangles);
+      ASSERT_EQ(g.Neighbors, s.Neighbors);
+      ASSERT_EQ(g.OppositeVertices, s.OppositeVertices);
+      stepped.Classify(mesh, g);
+      ASSERT_EQ(g.Connected, s.Connected);
+      ASSERT_EQ(g.Cyclic, s.Cyclic);
+      ASSERT_EQ(g.Complete, s.Complete);
+      ASSERT_EQ(g.BoundaryPolygon, s.BoundaryPolygon);
+      const PairwiseStencil r = ClassifyPairwise(mesh, s);
+      ASSERT_EQ(s.Connected, r.Connected) << "triangle " << t;
+      ASSERT_EQ(s.Cyclic, r.Cyclic) << "triangle " << t;
+      ASSERT_EQ(s.Complete, r.Complete) << "triangle " << t;
+      ASSERT_EQ(s.BoundaryPolygon, r.Polygon) << "triangle " << t;
+      seen["complete"] += s.Complete ? 1 : 0;
+      seen["cyclic"] += s.Cyclic ? 1 : 0;
+      seen["open or pinched"] += s.Connected && !s.Cyclic && !s.Complete ? 1 : 0;
+      const Index* tri = mesh.Triangle(t);
+      const Vec3 a = mesh.Point(tri[0]), b = mesh.Point(tri[1]), c = mesh.Point(tri[2]);
+      CollapsibleOptions relaxed;
+      relaxed.AllowNewCycles = true;
+      for (const CollapsibleOptions& options : { CollapsibleOptions(), relaxed })
+      {
+        if (StencilBuilder::FailsBeforeClassifying(mesh, s, options))
+        {
+          ++seen[options.AllowNewCycles ? "fails early, relaxed" : "fails early"];
+          ASSERT_NE(built.CheckCollapsible(mesh, s, (1.0 / 3) * (a + b + c), TriangleNormal(a, b, c), nullptr, options),
+            CollapsibleStatus::Ok);
+        }
+      }
+    }
+  }
+  for (const char* what : { "complete", "cyclic", "open or pinched", "fails early", "fails early, relaxed" })
+  {
+    EXPECT_GT(seen[what], 0) << what;
+  }
+  EXPECT_GT(seen["fails early"], seen["fails early, relaxed"]);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Hierarchy invariants on real meshes.
 
