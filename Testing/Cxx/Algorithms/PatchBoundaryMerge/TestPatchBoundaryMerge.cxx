@@ -1387,6 +1387,47 @@ TEST(SpbmLevel, FailingUnmergedPatchesGoStraightToOriginalWhenCollapsesFollow)
   EXPECT_TRUE(fewerPasses) << "some noisy scan must have patches that went through finer-chain levels before";
 }
 
+// Session 27 (issue 10): when final collapses finish the level (FinalCollapsesFollow) and the
+// cost-ordered removal at RemovalMergeAngle does not reach the target, the search stops there: the
+// merging run at 90 degrees only lowered a count the collapses take to the target anyway. On noisy
+// scans of seeds no other test uses (their tenth is beyond the removal's reach), the search takes
+// fewer merging runs, keeps the removal at RemovalMergeAngle, and its level keeps the input's
+// topology.
+TEST(SpbmLevel, SearchStopsAtRemovalAngleWhenCollapsesFollow)
+{
+  for (const unsigned int seed : { 71u, 73u })
+  {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
+    const MeshStatistics in = ComputeMeshStatistics(pm->Mesh);
+    const Index target = pm->Mesh.NumberOfTriangles() / 10;
+    int runs[2] = { 0, 0 };
+    Index predicted[2] = { 0, 0 };
+    SpbmLevelParameters found[2];
+    SpbmLevel level;
+    for (const bool follow : { false, true })
+    {
+      SpbmLevelParameters base;
+      base.SizeWeightedMerge = true;
+      base.FinalCollapsesFollow = follow;
+      SpbmLevelGenerator generator;
+      generator.Initialize(pm->Mesh, pm->Patches);
+      found[follow] = generator.FindParameters(target, base, &predicted[follow]);
+      runs[follow] = generator.MergingRunCount();
+      if (follow)
+      {
+        ASSERT_TRUE(generator.Generate(found[follow], level)) << "seed " << seed;
+      }
+    }
+    ASSERT_GT(predicted[0], target) << "seed " << seed << ": the tenth must be beyond the removal's reach";
+    EXPECT_GT(found[1].RemovalTarget, 0) << "seed " << seed;
+    EXPECT_EQ(found[1].MergeAngle, found[1].RemovalMergeAngle) << "seed " << seed;
+    EXPECT_LT(runs[1], runs[0]) << "seed " << seed << ": merging runs " << runs[1] << " with, " << runs[0] << " without";
+    EXPECT_GE(predicted[1], predicted[0]) << "seed " << seed; // the widest merging lowers the count
+    ExpectInputTopology(*pm, in, level, seed);
+  }
+}
+
 // Session 22 (issue 10): a chain's kept vertices are rebuilt only when its tolerance or locking
 // changed (RebuildOnlyChangedChains; each refinement round and each merging pass rebuilt every
 // chain). On noisy scans of seeds no other test uses, the levels are the same with and without
