@@ -670,7 +670,7 @@ bool TriangleWithinDistance(const TriangleBVH& bvh, const Vec3& a, const Vec3& b
 }
 
 bool TrianglesWithinDistance(const TriangleBVH& bvh, const std::vector<Vec3>& corners, double epsilon, int depth,
-  long long* examinedPieces)
+  long long* examinedPieces, size_t* refused)
 {
   thread_local std::vector<std::pair<size_t, int>> undecided; // a triangle's first corner, pieces examined
   undecided.clear();
@@ -696,6 +696,10 @@ bool TrianglesWithinDistance(const TriangleBVH& bvh, const std::vector<Vec3>& co
     if (d == PieceDistance::Outside || (d == PieceDistance::Unknown && depth <= 0))
     {
       charge(examined); // counted as ProvePieces counts a refused piece
+      if (refused)
+      {
+        *refused = i / 3;
+      }
       return refuse(0);
     }
     ++examined;
@@ -720,6 +724,10 @@ bool TrianglesWithinDistance(const TriangleBVH& bvh, const std::vector<Vec3>& co
     charge(examined);
     if (!within)
     {
+      if (refused)
+      {
+        *refused = undecided[k].first / 3;
+      }
       return refuse(k + 1);
     }
   }

@@ -110,9 +110,10 @@ SURFACELODFILTERS_EXPORT bool TriangleWithinDistance(const TriangleBVH& bvh, con
 // piece (the whole triangle) of every proof is examined before any subdivision, so a set that fails
 // at one triangle's first piece (a collapse's new triangles or the input triangles that rely on
 // its old star) costs no other triangle's subdivisions. The same answer and, for a set proved, the
-// same pieces charged.
+// same pieces charged. On a refusal, *refused (when given) is the triangle whose proof failed (its
+// position in `corners` / 3).
 SURFACELODFILTERS_EXPORT bool TrianglesWithinDistance(const TriangleBVH& bvh, const std::vector<Vec3>& corners,
-  double epsilon, int depth, long long* examinedPieces = nullptr);
+  double epsilon, int depth, long long* examinedPieces = nullptr, size_t* refused = nullptr);
 
 class SURFACELODFILTERS_EXPORT GreedyCuts
 {

@@ -5,7 +5,10 @@
 #include "slodGreedyCuts.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cmath>
+#include <unordered_map>
 
 namespace slod
 {
@@ -39,6 +42,22 @@ constexpr double FlipGain = 1.05;
 // (a coarse output, the target search's top level) those proofs end at their first piece, and the
 // queries cost more than the refusals they save (fandisk's top level: +270,000 pieces for 120,000).
 constexpr double CornerCheckStarRatio = 4.0;
+
+std::array<Index, 3> OrderedTriple(const Index* v)
+{
+  return { v[0], v[1], v[2] };
+}
+
+struct TripleHash
+{
+  size_t operator()(const std::array<Index, 3>& k) const
+  {
+    std::uint64_t h = std::uint32_t(k[0]);
+    h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(k[1]);
+    h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(k[2]);
+    return size_t(h ^ (h >> 29));
+  }
+};
 
 class Collapser
 {
@@ -533,24 +552,57 @@ private:
   // refusals come first for all of them (the facing test, then each triangle's first proof piece),
   // and only then the subdivisions of the undecided ones: a collapse whose third new triangle is
   // refused at once no longer pays the first two triangles' subdivisions.
+  // Each triangle's answer (facing and proof) depends on its three corners only (the input and the
+  // tolerance are fixed for the collapser), so it is remembered (NewTriangleVerdicts): the passes try
+  // every refused vertex again with the same targets, and a changed neighbourhood leaves most of a
+  // star's new triangles as they were. The set's answer is the same (the conjunction of its
+  // triangles'); only the triangles not decided before are examined, in the same order.
   bool NewTrianglesNearInput()
   {
+    this->Undecided.clear();
     for (size_t i = 0; i < this->NewTriangles.size(); i += 3)
     {
-      const Vec3 a = this->Out.Point(this->NewTriangles[i]), b = this->Out.Point(this->NewTriangles[i + 1]),
-                 c = this->Out.Point(this->NewTriangles[i + 2]);
+      const auto known = this->NewTriangleVerdicts.find(OrderedTriple(&this->NewTriangles[i]));
+      if (known == this->NewTriangleVerdicts.end())
+      {
+        this->Undecided.insert(this->Undecided.end(), &this->NewTriangles[i], &this->NewTriangles[i] + 3);
+        continue;
+      }
+      ++this->NewTrianglesRecalled;
+      if (!known->second)
+      {
+        return false;
+      }
+    }
+    this->NewTriangleProofs += static_cast<long long>(this->Undecided.size() / 3);
+    for (size_t i = 0; i < this->Undecided.size(); i += 3)
+    {
+      const Vec3 a = this->Out.Point(this->Undecided[i]), b = this->Out.Point(this->Undecided[i + 1]),
+                 c = this->Out.Point(this->Undecided[i + 2]);
       const Vec3 normal = Normalized(Cross(b - a, c - a));
       const ClosestPointResult hit = this->Bvh.ClosestPoint((1.0 / 3.0) * (a + b + c));
       if (hit.Triangle == InvalidIndex ||
         Dot(normal, Normalized(this->In.TriangleAreaVector(hit.Triangle))) < MinimumFacingCosine)
       {
+        this->NewTriangleVerdicts.emplace(OrderedTriple(&this->Undecided[i]), false);
         return false;
       }
     }
     const double tolerance = this->Prm.NewTriangleTolerance > 0 ? std::min(this->Prm.NewTriangleTolerance, this->Prm.Epsilon)
                                                                  : this->Prm.Epsilon;
-    return this->ProveTriangles(this->Bvh, [this](Index x) { return this->Out.Point(x); }, this->NewTriangles.data(),
-      this->NewTriangles.size() / 3, tolerance);
+    size_t refused = 0;
+    const bool proved = this->ProveTriangles(this->Bvh, [this](Index x) { return this->Out.Point(x); },
+      this->Undecided.data(), this->Undecided.size() / 3, tolerance, &refused);
+    if (!proved)
+    {
+      this->NewTriangleVerdicts.emplace(OrderedTriple(&this->Undecided[3 * refused]), false);
+      return false;
+    }
+    for (size_t i = 0; i < this->Undecided.size(); i += 3)
+    {
+      this->NewTriangleVerdicts.emplace(OrderedTriple(&this->Undecided[i]), true);
+    }
+    return true;
   }
 
   // The corners of the input triangles that rely on the old star (Relying) are within epsilon of
@@ -592,14 +644,15 @@ private:
   // Triangles (3 vertex ids each, `point(id)` their positions) within epsilon of `bvh`'s surface,
   // every first proof piece before any subdivision (TrianglesWithinDistance).
   template <typename PointOf>
-  bool ProveTriangles(const TriangleBVH& bvh, const PointOf& point, const Index* ids, size_t count, double distance)
+  bool ProveTriangles(const TriangleBVH& bvh, const PointOf& point, const Index* ids, size_t count, double distance,
+    size_t* refused = nullptr)
   {
     this->Corners.clear();
     for (size_t i = 0; i < 3 * count; ++i)
     {
       this->Corners.push_back(point(ids[i]));
     }
-    return TrianglesWithinDistance(bvh, this->Corners, distance, this->Prm.SubdivisionDepth, this->Pieces);
+    return TrianglesWithinDistance(bvh, this->Corners, distance, this->Prm.SubdivisionDepth, this->Pieces, refused);
   }
 
   // The sphere around the replaced triangles (OldStar): the input triangles within epsilon of it
@@ -622,6 +675,14 @@ private:
     }
     this->StarCenter = center;
     this->StarRadius = radius;
+    this->StarBounds.clear();
+    for (Index t : this->OldStar)
+    {
+      const Index* tri = this->Out.Triangle(t);
+      const Vec3 p[3] = { this->Out.Point(tri[0]), this->Out.Point(tri[1]), this->Out.Point(tri[2]) };
+      const Vec3 centre = (1.0 / 3.0) * (p[0] + p[1] + p[2]);
+      this->StarBounds.emplace_back(centre, std::max({ Norm(p[0] - centre), Norm(p[1] - centre), Norm(p[2] - centre) }));
+    }
     this->LocalGathered = false;
     this->LocalBuilt = false;
   }
@@ -714,12 +775,22 @@ private:
 
   // False only when no point of triangle abc comes within epsilon of the old star (its bounding
   // sphere stays farther than epsilon from every star triangle).
+  // A star triangle whose bounding sphere (StarBounds) stays farther than epsilon from abc's (with a
+  // margin for rounding) is skipped without its closest point: the same answer, for most of the
+  // input triangles gathered around a star (they lie near one or two of its triangles).
   bool MayRelyOnOldStar(const Vec3& a, const Vec3& b, const Vec3& c) const
   {
     const Vec3 g = (1.0 / 3.0) * (a + b + c);
     const double r = std::sqrt(std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) }));
-    for (Index t : this->OldStar)
+    for (size_t i = 0; i < this->OldStar.size(); ++i)
     {
+      const auto& [centre, radius] = this->StarBounds[i];
+      const double apart = Norm(g - centre) - radius - r;
+      if (apart - this->Prm.Epsilon > 1e-9 * (this->Prm.Epsilon + radius + r + Norm(g - centre)))
+      {
+        continue;
+      }
+      const Index t = this->OldStar[i];
       const Index* tri = this->Out.Triangle(t);
       const Vec3 x = ClosestPointOnTriangle(g, this->Out.Point(tri[0]), this->Out.Point(tri[1]), this->Out.Point(tri[2]));
       if (Norm(g - x) - r <= this->Prm.Epsilon)
@@ -803,6 +874,7 @@ private:
 public:
   long long Rejected[3] = { 0, 0, 0 }; // collapses rejected by topology, output -> input, input -> output
   long long BorderGuardRejections = 0;
+  long long NewTriangleProofs = 0, NewTrianglesRecalled = 0;
 
 private:
   EditableMesh Out;
@@ -815,10 +887,14 @@ private:
   CollapseOptions Options;
   std::vector<unsigned char> Border, Used;
   std::vector<Index> LocalId, LocalVertices;
-  std::vector<Index> Gathered, NewTriangles, OldStar, Near;
+  std::vector<Index> Gathered, NewTriangles, OldStar, Near, Undecided;
+  // Per new triangle (its corners in order) tried so far: faces the input and proved within the
+  // new triangles' tolerance (true) or refused (false).
+  std::unordered_map<std::array<Index, 3>, bool, TripleHash> NewTriangleVerdicts;
   // Scratch buffers reused by every candidate (their capacity grows once, no allocation per try).
   std::vector<Index> Neighbours, Replaced, Kept, SnapshotNear, Relying, RelyingIds;
   std::vector<Vec3> Corners;
+  std::vector<std::pair<Vec3, double>> StarBounds; // per OldStar triangle: centroid, corners' farthest distance
   std::vector<unsigned> CornerSeen; // == CornerStamp: a local output vertex or a corner already queried
   unsigned CornerStamp = 0;
   std::vector<std::pair<double, Index>> Order, Targets;
@@ -877,6 +953,8 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   collapser.Store(triangles, patches);
   std::copy(collapser.Rejected, collapser.Rejected + 3, statistics.Rejected);
   statistics.BorderGuardRejections = collapser.BorderGuardRejections;
+  statistics.NewTriangleProofs = collapser.NewTriangleProofs;
+  statistics.NewTrianglesRecalled = collapser.NewTrianglesRecalled;
   return !aborted;
 }
 } // namespace slod

@@ -70,6 +70,9 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   long long Collapses = 0, Attempts = 0, Flips = 0;
   long long Rejected[3] = { 0, 0, 0 }; // collapses rejected by topology, output -> input, input -> output
   long long BorderGuardRejections = 0; // border collapses refused for their star (valence, slivers)
+  // New triangles whose facing test and proof ran, and those answered from an earlier try of the
+  // same triangle (each is decided once per run: its answer depends on its corners only).
+  long long NewTriangleProofs = 0, NewTrianglesRecalled = 0;
   int Rounds = 0;
   bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
   bool WorkBoundReached = false; // parameters.MaximumProofPieces stopped the passes

@@ -12,6 +12,7 @@
 #include "slodProvedCollapses.h"
 #include "slodTriangleBVH.h"
 #include "vtkGreedyCutsSimplification.h"
+#include "vtkScanSurfaceSource.h"
 #include "vtkSurfaceDeviation.h"
 #include "vtkTriangleFilter.h"
 
@@ -357,6 +358,73 @@ TEST(GreedyCuts, TriangleSetsAreRefusedBeforeAnySubdivision)
   EXPECT_LT(pieces, first);
   EXPECT_FALSE(TrianglesWithinDistance(bvh, { a, b, c, c, b, d }, 0.5 * eps, 10));
   EXPECT_TRUE(TrianglesWithinDistance(bvh, {}, eps, 10));
+}
+
+// A refused set names the triangle whose proof failed (the final collapses remember that answer):
+// one that its own proof refuses, whichever position it holds in the set.
+TEST(GreedyCuts, TriangleSetsNameTheRefusedTriangle)
+{
+  const double eps = 0.01;
+  const TriangleMesh bowl = Bowl(24, 0.04);
+  const TriangleBVH bvh(bowl);
+  const Vec3 a{ 0.1, 0.1, 0.006 }, b{ 0.9, 0.1, 0.006 }, c{ 0.5, 0.9, 0.006 }, d{ 0.9, 0.9, 0.006 };
+  const Vec3 up{ 0, 0, 3 * eps };
+  size_t refused = 7;
+  EXPECT_FALSE(TrianglesWithinDistance(bvh, { a, b, c, a + up, b + up, c + up }, eps, 10, nullptr, &refused));
+  EXPECT_EQ(refused, 1u);
+  EXPECT_FALSE(TrianglesWithinDistance(bvh, { a + up, b + up, c + up, a, b, c, c, b, d }, eps, 10, nullptr, &refused));
+  EXPECT_EQ(refused, 0u);
+  const std::vector<Vec3> pair = { a, b, c, c, b, d };
+  refused = 7;
+  EXPECT_FALSE(TrianglesWithinDistance(bvh, pair, 0.5 * eps, 10, nullptr, &refused));
+  ASSERT_LT(refused, 2u);
+  EXPECT_FALSE(TriangleWithinDistance(bvh, pair[3 * refused], pair[3 * refused + 1], pair[3 * refused + 2], 0.5 * eps, 10));
+  refused = 7;
+  EXPECT_TRUE(TrianglesWithinDistance(bvh, pair, eps, 10, nullptr, &refused));
+  EXPECT_EQ(refused, 7u); // untouched when proved
+}
+
+// The final collapses' passes try every refused vertex again with the same targets, and most of a
+// star's new triangles are those of the last try: each new triangle's answer (facing and proof,
+// which depend on its corners only) is now decided once per run and recalled after. On a
+// segmentation-mask scan (where the collapses are nearly all the work) answers are recalled, and
+// the output keeps the bound (measured) and is deterministic.
+TEST(GreedyCuts, CollapsesDecideEachNewTriangleOnce)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKindToSegmentationMask();
+  source->SetResolution(32);
+  source->Update();
+  vtkSmartPointer<vtkPolyData> input = source->GetOutput();
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+  GreedyCuts cuts;
+  cuts.Initialize(mesh, PatchificationParameters());
+  GreedyCutsParameters parameters;
+  parameters.Epsilon = 0.005 * mesh.BoundingBoxDiagonal();
+  parameters.FinalCollapses = false;
+  GreedyCutsResult result;
+  ASSERT_TRUE(cuts.Run(parameters, result));
+  const TriangleBVH bvh(mesh);
+  ProvedCollapseParameters collapse;
+  collapse.Epsilon = parameters.Epsilon;
+  std::vector<Index> outputs[2];
+  for (std::vector<Index>& triangles : outputs)
+  {
+    triangles = result.Triangles;
+    std::vector<Index> patches = result.TrianglePatch;
+    ProvedCollapseStatistics statistics;
+    long long pieces = 0;
+    ASSERT_TRUE(ProvedCollapses(mesh, bvh, collapse, triangles, patches, statistics, nullptr, &pieces));
+    EXPECT_GT(statistics.Collapses, 0);
+    EXPECT_GT(statistics.NewTriangleProofs, 0);
+    EXPECT_GT(statistics.NewTrianglesRecalled, 0);
+  }
+  EXPECT_EQ(outputs[0], outputs[1]);
+  TriangleMesh out;
+  out.Points = mesh.Points;
+  out.Triangles = outputs[0];
+  EXPECT_LT(out.NumberOfTriangles(), mesh.NumberOfTriangles() / 4);
+  EXPECT_LE(MeasureHausdorff(input, slodtest::ToPolyData(out)), collapse.Epsilon);
 }
 
 // A pyramid: a flat hexagon (its border) around a centre lifted by 3 epsilon. Its only removable
