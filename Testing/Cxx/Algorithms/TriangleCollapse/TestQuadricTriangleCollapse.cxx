@@ -605,6 +605,20 @@ TEST(QuadricTriangleCollapse, SmallPassesKeepTheQueuesLargestError)
   EXPECT_LE(results[1].MaximumError, 1.1 * results[0].MaximumError);
 }
 
+// The pass schedule to 10 % of the triangles, with the options `set` changes.
+template <typename Set>
+TriangleCollapseResult SimplifyInPassesToATenth(const TriangleMesh& original, Set&& set)
+{
+  TriangleMesh mesh = original;
+  TriangleCollapseOptions options;
+  options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+  options.Schedule = CollapseSchedule::Passes;
+  set(options);
+  TriangleCollapseResult result;
+  SimplifyByTriangleCollapse(mesh, options, result);
+  return result;
+}
+
 // PassRemovalShare ends a pass once it removed that share of what is left to remove: on the
 // femur at 10 % a share of 0.1 takes more passes than running each ranking through, reaches the
 // target, keeps the genus, and gives the same mesh for 1, 2 and 8 threads; the filter's pass
@@ -614,14 +628,9 @@ TEST(QuadricTriangleCollapse, PassRemovalShareSplitsPassesTheSameForAnyThreadCou
   vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("femur");
   const TriangleMesh original = slodtest::ToTriangleMesh(input);
   auto run = [&](double share) {
-    TriangleMesh mesh = original;
-    TriangleCollapseOptions options;
-    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
-    options.Schedule = CollapseSchedule::Passes;
-    options.PassRemovalShare = share;
-    TriangleCollapseResult result;
-    SimplifyByTriangleCollapse(mesh, options, result);
-    EXPECT_LE(result.Mesh.NumberOfTriangles(), options.TargetTriangles);
+    TriangleCollapseResult result =
+      SimplifyInPassesToATenth(original, [&](TriangleCollapseOptions& options) { options.PassRemovalShare = share; });
+    EXPECT_LE(result.Mesh.NumberOfTriangles(), original.NumberOfTriangles() / 10);
     return result;
   };
   const TriangleCollapseResult whole = run(1.0);
@@ -658,14 +667,8 @@ TEST(QuadricTriangleCollapse, PassCostsVisitOnlyTheChangedTriangles)
     const char* name = named.first;
     const TriangleMesh original = slodtest::ToTriangleMesh(named.second);
     auto run = [&](bool sweeps) {
-      TriangleMesh mesh = original;
-      TriangleCollapseOptions options;
-      options.TargetTriangles = mesh.NumberOfTriangles() / 10;
-      options.Schedule = CollapseSchedule::Passes;
-      options.PassCostSweepsEveryTriangle = sweeps;
-      TriangleCollapseResult result;
-      SimplifyByTriangleCollapse(mesh, options, result);
-      return result;
+      return SimplifyInPassesToATenth(
+        original, [&](TriangleCollapseOptions& options) { options.PassCostSweepsEveryTriangle = sweeps; });
     };
     const TriangleCollapseResult swept = run(true);
     const long long triangles = original.NumberOfTriangles();
