@@ -5,6 +5,7 @@
 #include "slodCollapsePasses.h"
 #include "slodInputPreparation.h"
 #include "slodPointAttributes.h"
+#include "slodPointStore.h"
 #include "slodQuadric.h"
 #include "slodTriangleBVH.h"
 
@@ -293,11 +294,7 @@ struct OriginalSurface
     this->Points.swap(mesh.Points);
     std::vector<double>().swap(mesh.Points);
     std::vector<Index>().swap(mesh.Triangles);
-    // (The range test comes first: converting a double beyond the float range is undefined.)
-    const bool exact = std::all_of(this->Points.begin(), this->Points.end(), [](double x) {
-      return std::fabs(x) <= double(std::numeric_limits<float>::max()) && static_cast<double>(static_cast<float>(x)) == x;
-    });
-    if (exact)
+    if (PointStore::AllFloats(this->Points))
     {
       this->FloatPoints.assign(this->Points.begin(), this->Points.end());
       std::vector<double>().swap(this->Points);
