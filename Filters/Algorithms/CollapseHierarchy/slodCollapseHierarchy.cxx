@@ -2958,15 +2958,23 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
     }
     return;
   }
-  // Degree() caches lazily; filled here, the parallel part only reads the cache.
-  for (Index i = 0; i < count; ++i)
-  {
-    const Index* tri = this->Mesh.Triangle(triangleAt(i));
-    for (int k = 0; k < 3; ++k)
+  // Degree() caches lazily; filled here, the evaluations then only read the cache. Filled in
+  // parallel (serial, it was 4% of mc1m's build): a valence is the mesh's whichever thread stores
+  // it, and threads meeting at a vertex store the same value (relaxed atomics: no data race).
+  vtkSMPTools::For(0, static_cast<vtkIdType>(count), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
     {
-      this->Degree(tri[k]);
+      const Index* tri = this->Mesh.Triangle(triangleAt(static_cast<Index>(i)));
+      for (int k = 0; k < 3; ++k)
+      {
+        Index* degree = &this->VertexChanges[tri[k]].Degree;
+        if (__atomic_load_n(degree, __ATOMIC_RELAXED) < 0)
+        {
+          __atomic_store_n(degree, this->Mesh.VertexDegree(tri[k]), __ATOMIC_RELAXED);
+        }
+      }
     }
-  }
+  });
   this->Rests.resize(static_cast<size_t>(count));
   this->PendingAlternatives.resize(static_cast<size_t>(count));
   ConcurrentEvaluation evaluation{ this, triangles ? triangles + first : nullptr, first, this->Working,
