@@ -134,8 +134,8 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // original triangles instead of through the finer-chain levels. Those levels keep the count near
   // the prediction, each one a pass that triangulates the whole level again (noisy scans: up to six
   // such passes for the same hundred patches), while the collapses take any count down anyway.
-  // The target search then also stops at RemovalMergeAngle when the removal there does not reach
-  // the target (no merging run at 90 degrees: see TargetSearch::ReachWithRemoval).
+  // The target search then also stops at RemovalMergeAngle when the removal there stops more than
+  // a quarter above the target (no merging run at 90 degrees: see TargetSearch::ReachWithRemoval).
   bool FinalCollapsesFollow = false;
   // A patch that fails to triangulate (not unmerged yet) first keeps one more boundary vertex (the
   // hidden chain vertex farthest from its kept segment, else one hidden by a chain segment

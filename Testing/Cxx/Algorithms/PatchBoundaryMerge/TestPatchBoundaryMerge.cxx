@@ -1388,9 +1388,10 @@ TEST(SpbmLevel, FailingUnmergedPatchesGoStraightToOriginalWhenCollapsesFollow)
 }
 
 // Session 27 (issue 10): when final collapses finish the level (FinalCollapsesFollow) and the
-// cost-ordered removal at RemovalMergeAngle does not reach the target, the search stops there: the
-// merging run at 90 degrees only lowered a count the collapses take to the target anyway. On noisy
-// scans of seeds no other test uses (their tenth is beyond the removal's reach), the search takes
+// cost-ordered removal at RemovalMergeAngle stops more than a quarter above the target, the search
+// stops there: the merging run at 90 degrees only lowered a count the collapses take to the target
+// anyway. On noisy scans of seeds no other test uses (their tenth is far beyond the removal's
+// reach), the search takes
 // fewer merging runs, keeps the removal at RemovalMergeAngle, and its level keeps the input's
 // topology.
 TEST(SpbmLevel, SearchStopsAtRemovalAngleWhenCollapsesFollow)
@@ -1419,7 +1420,7 @@ TEST(SpbmLevel, SearchStopsAtRemovalAngleWhenCollapsesFollow)
         ASSERT_TRUE(generator.Generate(found[follow], level)) << "seed " << seed;
       }
     }
-    ASSERT_GT(predicted[0], target) << "seed " << seed << ": the tenth must be beyond the removal's reach";
+    ASSERT_GT(4 * predicted[0], 5 * target) << "seed " << seed << ": the tenth must be far beyond the removal's reach";
     EXPECT_GT(found[1].RemovalTarget, 0) << "seed " << seed;
     EXPECT_EQ(found[1].MergeAngle, found[1].RemovalMergeAngle) << "seed " << seed;
     EXPECT_LT(runs[1], runs[0]) << "seed " << seed << ": merging runs " << runs[1] << " with, " << runs[0] << " without";
