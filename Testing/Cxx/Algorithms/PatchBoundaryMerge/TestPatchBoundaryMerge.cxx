@@ -405,6 +405,29 @@ TEST(Patchification, RulingAngleGrowsStripsAlongCylinders)
   }
 }
 
+// The thickest patch along its final normal, over twice the plane distance.
+double ThickestPatch(const TriangleMesh& mesh, const PatchedMesh& pm, double planeDistance)
+{
+  const Index np = pm.Patches.NumberOfPatches();
+  std::vector<double> lo(size_t(np), std::numeric_limits<double>::infinity()), hi(size_t(np), -lo[0]);
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index p = pm.Patches.TrianglePatches()[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      const double h = Dot(pm.Patches.PatchNormal(p), mesh.Point(mesh.Triangle(t)[k]));
+      lo[p] = std::min(lo[p], h);
+      hi[p] = std::max(hi[p], h);
+    }
+  }
+  double largest = 0;
+  for (Index p = 0; p < np; ++p)
+  {
+    largest = std::max(largest, (hi[p] - lo[p]) / (2 * planeDistance));
+  }
+  return largest;
+}
+
 // Issue 15 (session 25): BoundPatchThickness. The running plane follows a patch as it bends, so
 // the new vertex's distance from it alone let patches of a smooth isosurface grow several times
 // thicker than twice the plane distance (mc1m: 1% of them 1.5-4.8 times; this isosurface: up to
@@ -416,26 +439,7 @@ TEST(Patchification, BoundPatchThicknessKeepsPatchesThin)
   const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::SyntheticIsosurface(120));
   PatchificationParameters parameters;
   parameters.MaximumPlaneDistance = 2e-4 * mesh.BoundingBoxDiagonal();
-  auto thickest = [&](const PatchedMesh& pm) {
-    const Index np = pm.Patches.NumberOfPatches();
-    std::vector<double> lo(size_t(np), std::numeric_limits<double>::infinity()), hi(size_t(np), -lo[0]);
-    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-    {
-      const Index p = pm.Patches.TrianglePatches()[t];
-      for (int k = 0; k < 3; ++k)
-      {
-        const double h = Dot(pm.Patches.PatchNormal(p), mesh.Point(mesh.Triangle(t)[k]));
-        lo[p] = std::min(lo[p], h);
-        hi[p] = std::max(hi[p], h);
-      }
-    }
-    double largest = 0;
-    for (Index p = 0; p < np; ++p)
-    {
-      largest = std::max(largest, (hi[p] - lo[p]) / (2 * parameters.MaximumPlaneDistance));
-    }
-    return largest;
-  };
+  auto thickest = [&](const PatchedMesh& pm) { return ThickestPatch(mesh, pm, parameters.MaximumPlaneDistance); };
   auto unbounded = Patch(mesh, parameters);
   parameters.BoundPatchThickness = true;
   auto bounded = Patch(mesh, parameters);
@@ -467,26 +471,7 @@ TEST(Patchification, SmallPatchesJoinUpToTheSpanBound)
     }
     return count;
   };
-  auto thickest = [&](const PatchedMesh& pm) {
-    const Index np = pm.Patches.NumberOfPatches();
-    std::vector<double> lo(size_t(np), std::numeric_limits<double>::infinity()), hi(size_t(np), -lo[0]);
-    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-    {
-      const Index p = pm.Patches.TrianglePatches()[t];
-      for (int k = 0; k < 3; ++k)
-      {
-        const double h = Dot(pm.Patches.PatchNormal(p), mesh.Point(mesh.Triangle(t)[k]));
-        lo[p] = std::min(lo[p], h);
-        hi[p] = std::max(hi[p], h);
-      }
-    }
-    double largest = 0;
-    for (Index p = 0; p < np; ++p)
-    {
-      largest = std::max(largest, (hi[p] - lo[p]) / (2 * parameters.MaximumPlaneDistance));
-    }
-    return largest;
-  };
+  auto thickest = [&](const PatchedMesh& pm) { return ThickestPatch(mesh, pm, parameters.MaximumPlaneDistance); };
   auto before = Patch(mesh, parameters);
   parameters.SmallPatchTriangles = 4;
   auto after = Patch(mesh, parameters);
