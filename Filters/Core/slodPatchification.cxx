@@ -263,7 +263,9 @@ struct PatchGrowth
     {
       const Vec3 centroid = (1.0 / this->Area) * this->CentroidSum;
       const double maximumDistance = this->Parameters.MaximumPlaneDistance;
-      if (maximumDistance > 0 && std::fabs(Dot(this->Mesh.Point(opposite) - centroid, np)) > maximumDistance)
+      const bool small = this->Parameters.BoundPatchThickness && this->Count <= this->Parameters.SmallPatchTriangles;
+      if (maximumDistance > 0 &&
+        std::fabs(Dot(this->Mesh.Point(opposite) - centroid, np)) > (small ? 2 : 1) * maximumDistance)
       {
         return false; // the patch would bend away from its plane
       }

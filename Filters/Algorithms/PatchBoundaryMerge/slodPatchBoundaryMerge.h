@@ -100,6 +100,10 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // sqrt(k) aimed inside the accepted band (mc1m at 50%: 7 merging runs -> 5). Off: the former
   // steps of two triangles per key and regula falsi in k (the reference).
   bool SecantKeptVertexSearch = true;
+  // Target search (session 27): when the target is at least half the finest level's count, the
+  // given alpha1 is evaluated first, and RemovalMergeAngle is not probed when it reaches the
+  // target (the same parameters, one merging run fewer). Off: the probe first (the reference).
+  bool MildTargetProbesMergeAngleFirst = true;
   // GenerateForTarget only: also search the other merge measure (on a second thread) and half
   // alpha1 at the same target, and keep the level with the smallest EstimateDeviation. Without
   // it, the other measures are still compared when the count comes from the removal (no search).

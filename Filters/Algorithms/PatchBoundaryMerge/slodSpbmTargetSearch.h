@@ -22,6 +22,7 @@ private:
   Index CountFor(Index k, double angle);
   // alpha1.
   double SearchMergeAngle();
+  bool MildTarget() const;
   void BracketMergeAngle();
   void ReachWithRemoval(double angle);
   void ReachWithRelaxations();

@@ -405,6 +405,29 @@ TEST(Patchification, RulingAngleGrowsStripsAlongCylinders)
   }
 }
 
+// The thickest patch along its final normal, over twice the plane distance.
+double ThickestPatch(const TriangleMesh& mesh, const PatchedMesh& pm, double planeDistance)
+{
+  const Index np = pm.Patches.NumberOfPatches();
+  std::vector<double> lo(size_t(np), std::numeric_limits<double>::infinity()), hi(size_t(np), -lo[0]);
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index p = pm.Patches.TrianglePatches()[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      const double h = Dot(pm.Patches.PatchNormal(p), mesh.Point(mesh.Triangle(t)[k]));
+      lo[p] = std::min(lo[p], h);
+      hi[p] = std::max(hi[p], h);
+    }
+  }
+  double largest = 0;
+  for (Index p = 0; p < np; ++p)
+  {
+    largest = std::max(largest, (hi[p] - lo[p]) / (2 * planeDistance));
+  }
+  return largest;
+}
+
 // Issue 15 (session 25): BoundPatchThickness. The running plane follows a patch as it bends, so
 // the new vertex's distance from it alone let patches of a smooth isosurface grow several times
 // thicker than twice the plane distance (mc1m: 1% of them 1.5-4.8 times; this isosurface: up to
@@ -416,26 +439,7 @@ TEST(Patchification, BoundPatchThicknessKeepsPatchesThin)
   const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::SyntheticIsosurface(120));
   PatchificationParameters parameters;
   parameters.MaximumPlaneDistance = 2e-4 * mesh.BoundingBoxDiagonal();
-  auto thickest = [&](const PatchedMesh& pm) {
-    const Index np = pm.Patches.NumberOfPatches();
-    std::vector<double> lo(size_t(np), std::numeric_limits<double>::infinity()), hi(size_t(np), -lo[0]);
-    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-    {
-      const Index p = pm.Patches.TrianglePatches()[t];
-      for (int k = 0; k < 3; ++k)
-      {
-        const double h = Dot(pm.Patches.PatchNormal(p), mesh.Point(mesh.Triangle(t)[k]));
-        lo[p] = std::min(lo[p], h);
-        hi[p] = std::max(hi[p], h);
-      }
-    }
-    double largest = 0;
-    for (Index p = 0; p < np; ++p)
-    {
-      largest = std::max(largest, (hi[p] - lo[p]) / (2 * parameters.MaximumPlaneDistance));
-    }
-    return largest;
-  };
+  auto thickest = [&](const PatchedMesh& pm) { return ThickestPatch(mesh, pm, parameters.MaximumPlaneDistance); };
   auto unbounded = Patch(mesh, parameters);
   parameters.BoundPatchThickness = true;
   auto bounded = Patch(mesh, parameters);
@@ -444,6 +448,42 @@ TEST(Patchification, BoundPatchThicknessKeepsPatchesThin)
             << "\n";
   EXPECT_GT(thickest(*unbounded), 1.2);
   EXPECT_LE(thickest(*bounded), 1.2);
+}
+
+// Issue 15 (session 27): SmallPatchTriangles. With the plane distance of a mild target (about the
+// sag of one input triangle), the new vertex's distance from the running plane of a patch of one
+// or two triangles is the patch's span, and its bound was half the span bound: most seeds stayed
+// alone, and every merging run merged them again. With it, patches of up to four triangles take a
+// vertex up to the span bound: fewer patches and far fewer single triangles, every patch a disk.
+// (The thickness along the final normal is printed, not asserted: at plane distances this small a
+// few-triangle patch's normal turns as it grows, and neither growth keeps it within the bound.)
+TEST(Patchification, SmallPatchesJoinUpToTheSpanBound)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::SyntheticIsosurface(120));
+  PatchificationParameters parameters;
+  parameters.BoundPatchThickness = true;
+  parameters.MaximumPlaneDistance = 1e-4 * mesh.BoundingBoxDiagonal();
+  auto singles = [](const PatchedMesh& pm) {
+    Index count = 0;
+    for (Index p = 0; p < pm.Patches.NumberOfPatches(); ++p)
+    {
+      count += pm.Patches.PatchTriangleCount(p) == 1;
+    }
+    return count;
+  };
+  auto thickest = [&](const PatchedMesh& pm) { return ThickestPatch(mesh, pm, parameters.MaximumPlaneDistance); };
+  auto before = Patch(mesh, parameters);
+  parameters.SmallPatchTriangles = 4;
+  auto after = Patch(mesh, parameters);
+  ExpectPatchesAreDisks(*after);
+  std::cout << "[small patches] patches " << before->Patches.NumberOfPatches() << " -> "
+            << after->Patches.NumberOfPatches() << ", single triangles " << singles(*before) << " -> "
+            << singles(*after) << ", thickness over the span bound " << thickest(*before) << " -> "
+            << thickest(*after) << "\n";
+  // The mild-target regime: before, a large share of the patches are single triangles.
+  EXPECT_GT(4 * singles(*before), before->Patches.NumberOfPatches());
+  EXPECT_LT(10 * singles(*after), 7 * singles(*before));
+  EXPECT_LT(10 * after->Patches.NumberOfPatches(), 9 * before->Patches.NumberOfPatches());
 }
 
 TEST(Patchification, ChainsAndPatchGraphAreConsistent)
@@ -1615,6 +1655,59 @@ TEST(SpbmLevel, MildTargetSearchTakesFewerMergingRuns)
     }
   }
   EXPECT_LT(runs[1], runs[0]) << "merging runs with the secant search " << runs[1] << ", former " << runs[0];
+}
+
+// Issue 15 (session 27): MildTargetProbesMergeAngleFirst. At a target of at least half the finest
+// level's count the given alpha1 is evaluated first; when it reaches the target, the probe at
+// RemovalMergeAngle (lower still) is not run: the same parameters and count, one merging run fewer
+// (the former order probed RemovalMergeAngle first). Thin patches as for mild targets, on meshes
+// whose coarsest level at alpha1 is below such targets.
+TEST(SpbmLevel, MildTargetSkipsTheRemovalAngleProbe)
+{
+  int skipped = 0;
+  for (const char* name : { "bunny00", "elephant" })
+  {
+    const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh(name));
+    PatchificationParameters thin;
+    thin.RulingAngle = 1.0;
+    thin.BoundPatchThickness = true;
+    thin.MaximumPlaneDistance = 1e-4 * mesh.BoundingBoxDiagonal();
+    auto pm = Patch(mesh, thin);
+    SpbmLevelParameters base;
+    base.SizeWeightedMerge = true;
+    SpbmLevelGenerator probe;
+    probe.Initialize(pm->Mesh, pm->Patches);
+    SpbmLevelParameters finest = base;
+    finest.Epsilon = -1;
+    const Index finestCount = probe.FinestLevelCount(finest);
+    for (const double share : { 0.55, 0.8 })
+    {
+      const Index target = static_cast<Index>(share * double(finestCount));
+      SpbmLevelParameters found[2];
+      Index predicted[2] = { 0, 0 };
+      int runs[2] = { 0, 0 };
+      for (const bool first : { false, true })
+      {
+        SpbmLevelGenerator generator;
+        generator.Initialize(pm->Mesh, pm->Patches);
+        base.MildTargetProbesMergeAngleFirst = first;
+        found[first] = generator.FindParameters(target, base, &predicted[first]);
+        runs[first] = generator.MergingRunCount();
+      }
+      SCOPED_TRACE(std::string(name) + " " + std::to_string(share));
+      EXPECT_EQ(predicted[1], predicted[0]);
+      EXPECT_EQ(found[1].Epsilon, found[0].Epsilon);
+      EXPECT_EQ(found[1].MergeAngle, found[0].MergeAngle);
+      EXPECT_EQ(found[1].RemovalTarget, found[0].RemovalTarget);
+      EXPECT_LE(runs[1], runs[0]);
+      if (found[0].MergeAngle == base.MergeAngle && found[0].RemovalTarget == 0)
+      {
+        EXPECT_EQ(runs[1], runs[0] - 1); // the probe at RemovalMergeAngle decided nothing
+        skipped += runs[1] < runs[0];
+      }
+    }
+  }
+  EXPECT_GT(skipped, 0);
 }
 
 // The target count and whether it was reached, from the output's field data.
