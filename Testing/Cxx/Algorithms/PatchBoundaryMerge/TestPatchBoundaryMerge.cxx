@@ -1606,6 +1606,31 @@ TEST(SpbmLevel, FinestLevelLowerBoundHolds)
   }
 }
 
+// Thin patches of a test mesh, as the filter grows them for mild targets (its plane distance cap
+// follows the target: PatchDeviationFactor), with the size-weighted merge and the finest level's
+// count (known without a merging run).
+struct ThinPatchesAtMildTarget
+{
+  explicit ThinPatchesAtMildTarget(const char* name)
+  {
+    const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh(name));
+    PatchificationParameters thin;
+    thin.RulingAngle = 1.0;
+    thin.BoundPatchThickness = true;
+    thin.MaximumPlaneDistance = 1e-4 * mesh.BoundingBoxDiagonal();
+    this->Patched = Patch(mesh, thin);
+    this->Base.SizeWeightedMerge = true;
+    SpbmLevelGenerator probe;
+    probe.Initialize(this->Patched->Mesh, this->Patched->Patches);
+    SpbmLevelParameters finest = this->Base;
+    finest.Epsilon = -1;
+    this->FinestCount = probe.FinestLevelCount(finest);
+  }
+  std::unique_ptr<PatchedMesh> Patched;
+  SpbmLevelParameters Base;
+  Index FinestCount = 0;
+};
+
 // Issue 15 (SPBM's speed at mild targets): every evaluation of the target search is a whole
 // merging run, and at mild targets the patches are small and many (mc1m at 50%: 304,459), so the
 // runs are the level's time. Bracketing epsilon by the full-resolution count (known without a
@@ -1619,21 +1644,10 @@ TEST(SpbmLevel, MildTargetSearchTakesFewerMergingRuns)
   int runs[2] = { 0, 0 };
   for (const char* name : { "bunny00", "fandisk", "elephant", "armadillo" })
   {
-    const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh(name));
-    // Thin patches, as the filter grows them for mild targets (its plane distance cap follows the
-    // target: PatchDeviationFactor).
-    PatchificationParameters thin;
-    thin.RulingAngle = 1.0;
-    thin.BoundPatchThickness = true;
-    thin.MaximumPlaneDistance = 1e-4 * mesh.BoundingBoxDiagonal();
-    auto pm = Patch(mesh, thin);
-    SpbmLevelParameters base;
-    base.SizeWeightedMerge = true;
-    SpbmLevelGenerator probe;
-    probe.Initialize(pm->Mesh, pm->Patches);
-    SpbmLevelParameters finest = base;
-    finest.Epsilon = -1;
-    const Index finestCount = probe.FinestLevelCount(finest);
+    const ThinPatchesAtMildTarget thin(name);
+    const auto& pm = thin.Patched;
+    SpbmLevelParameters base = thin.Base;
+    const Index finestCount = thin.FinestCount;
     for (const double share : { 0.5, 0.7 })
     {
       const Index target = static_cast<Index>(share * double(finestCount));
@@ -1667,19 +1681,10 @@ TEST(SpbmLevel, MildTargetSkipsTheRemovalAngleProbe)
   int skipped = 0;
   for (const char* name : { "bunny00", "elephant" })
   {
-    const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh(name));
-    PatchificationParameters thin;
-    thin.RulingAngle = 1.0;
-    thin.BoundPatchThickness = true;
-    thin.MaximumPlaneDistance = 1e-4 * mesh.BoundingBoxDiagonal();
-    auto pm = Patch(mesh, thin);
-    SpbmLevelParameters base;
-    base.SizeWeightedMerge = true;
-    SpbmLevelGenerator probe;
-    probe.Initialize(pm->Mesh, pm->Patches);
-    SpbmLevelParameters finest = base;
-    finest.Epsilon = -1;
-    const Index finestCount = probe.FinestLevelCount(finest);
+    const ThinPatchesAtMildTarget thin(name);
+    const auto& pm = thin.Patched;
+    SpbmLevelParameters base = thin.Base;
+    const Index finestCount = thin.FinestCount;
     for (const double share : { 0.55, 0.8 })
     {
       const Index target = static_cast<Index>(share * double(finestCount));
