@@ -1627,6 +1627,8 @@ struct ThinPatchesAtMildTarget
     this->FinestCount = probe.FinestLevelCount(finest);
   }
   std::unique_ptr<PatchedMesh> Patched;
+  // share of the finest level's count, rounded down
+  Index Target(double share) const { return static_cast<Index>(share * double(this->FinestCount)); }
   SpbmLevelParameters Base;
   Index FinestCount = 0;
 };
@@ -1647,10 +1649,9 @@ TEST(SpbmLevel, MildTargetSearchTakesFewerMergingRuns)
     const ThinPatchesAtMildTarget thin(name);
     const auto& pm = thin.Patched;
     SpbmLevelParameters base = thin.Base;
-    const Index finestCount = thin.FinestCount;
     for (const double share : { 0.5, 0.7 })
     {
-      const Index target = static_cast<Index>(share * double(finestCount));
+      const Index target = thin.Target(share);
       Index predicted[2] = { 0, 0 };
       for (const bool secant : { false, true })
       {
@@ -1684,10 +1685,9 @@ TEST(SpbmLevel, MildTargetSkipsTheRemovalAngleProbe)
     const ThinPatchesAtMildTarget thin(name);
     const auto& pm = thin.Patched;
     SpbmLevelParameters base = thin.Base;
-    const Index finestCount = thin.FinestCount;
     for (const double share : { 0.55, 0.8 })
     {
-      const Index target = static_cast<Index>(share * double(finestCount));
+      const Index target = thin.Target(share);
       SpbmLevelParameters found[2];
       Index predicted[2] = { 0, 0 };
       int runs[2] = { 0, 0 };
