@@ -291,6 +291,7 @@ std::vector<Parameter> RetileParameters()
     SLOD_PARAMETER(vtkRetile, Int, NumberOfPoints),
     SLOD_PARAMETER(vtkRetile, Int, RepulsionIterations),
     SLOD_PARAMETER(vtkRetile, Double, CurvatureWeight),
+    SLOD_PARAMETER(vtkRetile, Bool, FilletDensity),
     SLOD_PARAMETER(vtkRetile, Int, RandomSeed),
     SLOD_PARAMETER(vtkRetile, Int, ShapeImprovementPasses),
     SLOD_PARAMETER(vtkRetile, Bool, PreserveCreases),

@@ -269,12 +269,14 @@ double MinAngleOf(const Vec3& a, const Vec3& b, const Vec3& c)
 }
 } // namespace
 
-void EstimateCurvatureRadius(const TriangleMesh& mesh, std::vector<double>& radius)
+namespace
+{
+// Turk's minimum radius of curvature per vertex (section 5.1), before any smoothing.
+std::vector<double> RawCurvatureRadius(const TriangleMesh& mesh, const MeshTopology& topology)
 {
   const Index n = mesh.NumberOfPoints();
   std::vector<Vec3> normals;
   VertexNormals(mesh, normals);
-  MeshTopology topology(mesh);
   const double large = std::max(mesh.BoundingBoxDiagonal(), 1e-300);
   std::vector<double> raw(n, large);
   for (Index e = 0; e < topology.NumberOfEdges(); ++e)
@@ -296,36 +298,91 @@ void EstimateCurvatureRadius(const TriangleMesh& mesh, std::vector<double>& radi
       raw[p] = std::min(raw[p], std::min(r, large));
     }
   }
-  // One smoothing step: the mean over the vertex and its neighbours (the estimate is noisy).
-  radius = raw;
-  std::vector<int> count(n, 1);
+  return raw;
+}
+
+// The mean of `value` over each vertex and its neighbours, leaving out the flagged vertices
+// (`skipped` may be empty); a vertex with nothing left keeps `fallback`.
+std::vector<double> NeighbourhoodMean(const MeshTopology& topology, const std::vector<double>& value,
+  const std::vector<unsigned char>& skipped, double fallback)
+{
+  const size_t n = value.size();
+  auto counts = [&](size_t v) { return skipped.empty() || !skipped[v]; };
+  std::vector<double> sum(n, 0.0);
+  std::vector<int> count(n, 0);
+  for (size_t v = 0; v < n; ++v)
+  {
+    if (counts(v))
+    {
+      sum[v] = value[v];
+      count[v] = 1;
+    }
+  }
   for (Index e = 0; e < topology.NumberOfEdges(); ++e)
   {
     const Index u = topology.EdgeVertex(e, 0), w = topology.EdgeVertex(e, 1);
-    radius[u] += raw[w];
-    radius[w] += raw[u];
-    ++count[u];
-    ++count[w];
+    if (counts(size_t(w)))
+    {
+      sum[u] += value[w];
+      ++count[u];
+    }
+    if (counts(size_t(u)))
+    {
+      sum[w] += value[u];
+      ++count[w];
+    }
   }
-  for (Index v = 0; v < n; ++v)
+  for (size_t v = 0; v < n; ++v)
   {
-    radius[v] /= count[v];
+    sum[v] = count[v] > 0 ? sum[v] / count[v] : fallback;
   }
+  return sum;
+}
+} // namespace
+
+void EstimateCurvatureRadius(const TriangleMesh& mesh, std::vector<double>& radius)
+{
+  const MeshTopology topology(mesh);
+  // One smoothing step: the mean over the vertex and its neighbours (the estimate is noisy).
+  radius = NeighbourhoodMean(topology, RawCurvatureRadius(mesh, topology), {}, 0.0);
 }
 
-void CurvatureDensity(const TriangleMesh& mesh, double curvatureWeight, std::vector<double>& vertexDensity)
+void EstimateFilletCurvature(
+  const TriangleMesh& mesh, const std::vector<unsigned char>& skipped, std::vector<double>& curvature)
+{
+  const MeshTopology topology(mesh);
+  std::vector<double> raw = RawCurvatureRadius(mesh, topology);
+  for (double& r : raw)
+  {
+    r = 1.0 / std::max(r, 1e-300);
+  }
+  // Averaged as curvature: a mean of radii is held up by one flat neighbour (radius = the
+  // diagonal), which thins out the edges of a fillet's band.
+  curvature = NeighbourhoodMean(topology, raw, skipped, 1.0 / std::max(mesh.BoundingBoxDiagonal(), 1e-300));
+}
+
+void CurvatureDensity(const TriangleMesh& mesh, double curvatureWeight, std::vector<double>& vertexDensity,
+  const std::vector<unsigned char>* skipped)
 {
   vertexDensity.clear();
   if (!(curvatureWeight > 0) || mesh.NumberOfPoints() == 0)
   {
     return;
   }
-  std::vector<double> radius;
-  EstimateCurvatureRadius(mesh, radius);
-  std::vector<double> curvature(radius.size());
-  for (size_t i = 0; i < radius.size(); ++i)
+  std::vector<double> curvature;
+  if (skipped)
   {
-    curvature[i] = 1.0 / std::max(radius[i], 1e-300);
+    EstimateFilletCurvature(mesh, *skipped, curvature);
+  }
+  else
+  {
+    std::vector<double> radius;
+    EstimateCurvatureRadius(mesh, radius);
+    curvature.resize(radius.size());
+    for (size_t i = 0; i < radius.size(); ++i)
+    {
+      curvature[i] = 1.0 / std::max(radius[i], 1e-300);
+    }
   }
   std::vector<double> sorted = curvature;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
@@ -413,7 +470,7 @@ std::vector<RepulsionSlot> RepulsionSlots(const std::vector<SurfacePoint>& point
 // One repulsion step per point (Jacobi: from the positions of the previous iteration): the
 // force of the neighbours within the mean of both radii, in the tangent plane, capped.
 void RepulsionMoves(const std::vector<SurfacePoint>& points, const std::vector<double>& radius, double maxRadius,
-  const PointGrid& grid, const std::vector<Vec3>& faceNormal, std::vector<Vec3>& move)
+  const PointGrid& grid, const std::vector<Vec3>& faceNormal, bool smallerPairRadius, std::vector<Vec3>& move)
 {
   const std::vector<RepulsionSlot> slots = RepulsionSlots(points, radius, grid, faceNormal);
   vtkSMPTools::For(0, static_cast<vtkIdType>(slots.size()), [&](vtkIdType begin, vtkIdType end) {
@@ -435,7 +492,8 @@ void RepulsionMoves(const std::vector<SurfacePoint>& points, const std::vector<d
         {
           return;
         }
-        const double r = 0.5 * (self.Radius + other.Radius);
+        const double r =
+          smallerPairRadius ? std::min(self.Radius, other.Radius) : 0.5 * (self.Radius + other.Radius);
         Vec3 d = p - other.Position;
         // Fold the neighbour into the tangent plane (keeps its distance, drops the normal part).
         d = d - Dot(d, normal) * normal;
@@ -501,7 +559,8 @@ void ProjectMoves(const TriangleBVH& bvh, const std::vector<Vec3>& faceNormal, c
 }
 
 bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<double>& vertexDensity,
-  int iterations, std::vector<SurfacePoint>& points, const std::function<bool(double)>& progress, Index fixedCount)
+  int iterations, std::vector<SurfacePoint>& points, const std::function<bool(double)>& progress, Index fixedCount,
+  bool smallerPairRadius)
 {
   const size_t n = points.size();
   if (n < 2 || iterations <= 0)
@@ -533,7 +592,7 @@ bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::ve
       std::copy(points[i].Position.begin(), points[i].Position.end(), &xyz[3 * i]);
     }
     grid.Build(xyz, maxRadius);
-    RepulsionMoves(points, radius, maxRadius, grid, faceNormal, move);
+    RepulsionMoves(points, radius, maxRadius, grid, faceNormal, smallerPairRadius, move);
     ProjectMoves(bvh, faceNormal, move, fixedCount, grid.CellOrder(), points);
     if (progress && !progress(double(it + 1) / iterations))
     {
@@ -705,6 +764,17 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
 
 namespace
 {
+// 1 for the vertices of the kept feature lines (none when no line is kept).
+std::vector<unsigned char> LineVertexFlags(const FeatureLines& features)
+{
+  std::vector<unsigned char> flags(features.LineNeighbors.size(), 0);
+  for (size_t v = 0; v < flags.size(); ++v)
+  {
+    flags[v] = features.LineNeighbors[v].empty() ? 0 : 1;
+  }
+  return flags;
+}
+
 // PreserveCreases: the corners and samples of the feature lines as the first points, pinned to
 // their input vertex (kept as they are, like a coarser level's vertices), at the spacing the free
 // points will have. Lines needing half the vertices or more are finer than the re-tiling can
@@ -770,14 +840,22 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   };
 
   // 1-3: candidate points, after the fixed ones on feature lines (which push but do not move).
-  std::vector<double> density;
-  CurvatureDensity(mesh, options.CurvatureWeight, density);
   std::vector<SurfacePoint> points, added;
   FeatureLines features;
   CoarserLevel fixedPoints;
   if (options.PreserveCreases)
   {
     FeaturePoints(mesh, options, features, points, fixedPoints, result);
+  }
+  std::vector<double> density;
+  if (options.FilletDensity)
+  {
+    const std::vector<unsigned char> lineVertices = LineVertexFlags(features);
+    CurvatureDensity(mesh, options.CurvatureWeight, density, &lineVertices);
+  }
+  else
+  {
+    CurvatureDensity(mesh, options.CurvatureWeight, density);
   }
   const Index fixed = static_cast<Index>(points.size());
   DistributePoints(mesh, density, options.NumberOfPoints - fixed, options.RandomSeed, added);
@@ -789,7 +867,7 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
     static_cast<long long>(nt));
   vtkLogStartScopeF(TRACE, "retile-relax", "retile: repulsion");
   const bool relaxed = RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points,
-    [&](double f) { return report(0.6 * f); }, fixed);
+    [&](double f) { return report(0.6 * f); }, fixed, options.FilletDensity);
   vtkLogEndScope("retile-relax");
   if (!relaxed)
   {
@@ -2088,7 +2166,7 @@ bool PlaceNestedPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, const s
     points.insert(points.end(), added.begin(), added.end());
     auto progress = [&](double f) { return !options.Progress || options.Progress(share * (k + f)); };
     const std::vector<SurfacePoint> placed = points;
-    if (!RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points, progress, fixed))
+    if (!RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points, progress, fixed, options.FilletDensity))
     {
       return false;
     }
@@ -2115,8 +2193,10 @@ void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts, const Ret
   {
     return;
   }
+  // The nested levels keep no line: FilletDensity skips no vertex there.
+  const std::vector<unsigned char> noLines;
   std::vector<double> density;
-  CurvatureDensity(mesh, options.CurvatureWeight, density);
+  CurvatureDensity(mesh, options.CurvatureWeight, density, options.FilletDensity ? &noLines : nullptr);
   const TriangleBVH bvh(mesh);
   const std::vector<unsigned char> computedFlags =
     options.NonManifoldVertices ? std::vector<unsigned char>() : NonManifoldVertexFlags(mesh);

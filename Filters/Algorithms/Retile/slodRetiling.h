@@ -46,6 +46,13 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   Index NumberOfPoints = 1000;   // candidate vertices (the output vertex count)
   int RepulsionIterations = 20;  // relaxation steps
   double CurvatureWeight = 0.0;  // 0: uniform; > 0: density 1 + w * curvature / median curvature
+  // With CurvatureWeight > 0: the density follows fillets (rounded creases, narrower than the
+  // spacing) instead of the kept lines. The curvature is averaged as curvature (1/r) rather than
+  // as a radius, the kept lines' vertices are left out of it (their normal averages the two faces
+  // of a crease: the estimate is the crease's angle, and the line has its own samples), and two
+  // points repel within the smaller of their radii (with the mean, the flat side's points push
+  // the points of a band narrower than their radius off it). Off by default (Documentation/Retile.md).
+  bool FilletDensity = false;
   std::uint64_t RandomSeed = 1;
   int ShapeImprovementPasses = 2; // edge-flip passes after vertex removal
   // Feature lines (slodRetileFeatures.h): edges whose dihedral angle exceeds FeatureAngle degrees
@@ -121,8 +128,17 @@ struct SURFACELODFILTERS_EXPORT RetilingResult
 // Turk's minimum radius of curvature per vertex (+inf-free: flat vertices get a large radius).
 SURFACELODFILTERS_EXPORT void EstimateCurvatureRadius(const TriangleMesh& mesh, std::vector<double>& radius);
 
-// Density per triangle (1 + w * normalised curvature), the weights of the random placement.
-SURFACELODFILTERS_EXPORT void CurvatureDensity(const TriangleMesh& mesh, double curvatureWeight, std::vector<double>& vertexDensity);
+// Curvature 1/r per vertex from Turk's per-vertex minimum radius, averaged as curvature over the
+// vertex and its neighbours, leaving out the vertices flagged in `skipped` (may be empty): they get
+// the curvature of their other neighbours, or none. RetilingOptions::FilletDensity's estimate.
+SURFACELODFILTERS_EXPORT void EstimateFilletCurvature(
+  const TriangleMesh& mesh, const std::vector<unsigned char>& skipped, std::vector<double>& curvature);
+
+// Density per vertex (1 + w * normalised curvature), the weights of the random placement (empty
+// for w = 0). With `skipped` (FilletDensity: the kept lines' vertices) EstimateFilletCurvature's
+// curvature, else Turk's (EstimateCurvatureRadius).
+SURFACELODFILTERS_EXPORT void CurvatureDensity(const TriangleMesh& mesh, double curvatureWeight, std::vector<double>& vertexDensity,
+  const std::vector<unsigned char>* skipped = nullptr);
 
 // N random points, triangle chosen with probability area * density (density per vertex, may be empty),
 // in the order of their triangles (points of one triangle in drawing order).
@@ -130,10 +146,11 @@ SURFACELODFILTERS_EXPORT void DistributePoints(const TriangleMesh& mesh, const s
   Index count, std::uint64_t seed, std::vector<SurfacePoint>& points);
 
 // Point repulsion restricted to the surface. The first fixedCount points push but do not move.
-// Returns false when progress asked to abort.
+// Two points repel within the mean of their radii (Turk), or the smaller one (smallerPairRadius,
+// RetilingOptions::FilletDensity). Returns false when progress asked to abort.
 SURFACELODFILTERS_EXPORT bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh,
   const std::vector<double>& vertexDensity, int iterations, std::vector<SurfacePoint>& points,
-  const std::function<bool(double)>& progress = nullptr, Index fixedCount = 0);
+  const std::function<bool(double)>& progress = nullptr, Index fixedCount = 0, bool smallerPairRadius = false);
 
 // Min and mean Euclidean nearest-neighbour distance of a point set (grid search).
 SURFACELODFILTERS_EXPORT void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, double& mean,

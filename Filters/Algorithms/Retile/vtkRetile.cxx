@@ -412,6 +412,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   }
   options.RepulsionIterations = this->RepulsionIterations;
   options.CurvatureWeight = this->CurvatureWeight;
+  options.FilletDensity = this->FilletDensity;
   options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
   options.ShapeImprovementPasses = this->ShapeImprovementPasses;
   // The nested levels do not keep feature lines (their coarser levels are made from the finer one
@@ -535,6 +536,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShapeImprovementPasses: " << this->ShapeImprovementPasses << "\n";
   os << indent << "PreserveCreases: " << this->PreserveCreases << "\n";
   os << indent << "EnforceFacing: " << this->EnforceFacing << "\n";
+  os << indent << "FilletDensity: " << this->FilletDensity << "\n";
   os << indent << "RetriangulateRings: " << this->RetriangulateRings << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";

@@ -77,6 +77,12 @@ public:
   vtkSetClampMacro(CurvatureWeight, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(CurvatureWeight, double);
 
+  // With CurvatureWeight > 0: the density follows fillets (rounded creases) rather than the kept
+  // crease lines (slod::RetilingOptions::FilletDensity). Off by default.
+  vtkSetMacro(FilletDensity, bool);
+  vtkGetMacro(FilletDensity, bool);
+  vtkBooleanMacro(FilletDensity, bool);
+
   vtkSetMacro(RandomSeed, int);
   vtkGetMacro(RandomSeed, int);
 
@@ -138,6 +144,7 @@ protected:
   bool PreserveCreases = true;
   bool PreserveCreasesSetByUser = false; // only an explicit request is warned about when ignored
   bool EnforceFacing = false;
+  bool FilletDensity = false;
   bool RetriangulateRings = false;
   double FeatureAngle = 45.0;
   bool GenerateNestedLevels = false;
