@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodEditableMesh.h"
 
+#include "slodGroupByKey.h"
+
 #include <algorithm>
 #include <cassert>
 #include <limits>
@@ -1079,38 +1081,13 @@ void EditableMesh::CompactInOrder()
 
 void EditableMesh::RebuildBlocks()
 {
-  // Rebuild every block from the live triangles (drops garbage and dead references).
-  const Index np = this->NumberOfPoints();
+  // Rebuild every block from the live triangles (drops garbage and dead references): each
+  // vertex's triangles in id order, in parallel with SetParallelRebuild(true).
   std::fill(this->RefCount.begin(), this->RefCount.end(), 0);
-  for (Index t = 0; t < this->NumberOfTriangles(); ++t)
-  {
-    if (this->TriangleAlive[t])
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        ++this->RefCount[this->Triangles[3 * size_t(t) + k]];
-      }
-    }
-  }
-  Index running = 0;
-  for (Index v = 0; v < np; ++v)
-  {
-    this->RefStart[v] = running;
-    running += this->RefCount[v];
-    this->RefCount[v] = 0;
-  }
-  this->Refs.resize(size_t(running));
-  for (Index t = 0; t < this->NumberOfTriangles(); ++t)
-  {
-    if (this->TriangleAlive[t])
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        const Index v = this->Triangles[3 * size_t(t) + k];
-        this->Refs[size_t(this->RefStart[v] + this->RefCount[v]++)] = t;
-      }
-    }
-  }
+  GroupByKey(
+    3 * this->NumberOfTriangles(), this->NumberOfPoints(),
+    [this](Index i) { return this->TriangleAlive[size_t(i / 3)] ? this->Triangles[size_t(i)] : Index(-1); },
+    [](Index i) { return i / 3; }, this->RefStart.data(), this->RefCount.data(), this->Refs, this->ParallelRebuild);
 }
 
 void EditableMesh::Extract(TriangleMesh& out, std::vector<Index>* newToOld) const

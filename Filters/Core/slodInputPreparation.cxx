@@ -2,9 +2,11 @@
 #include "slodInputPreparation.h"
 
 #include "slodAttributeTransfer.h"
+#include "slodGroupByKey.h"
 #include "slodMeshTopology.h"
 #include "slodPointGrid.h"
 #include "slodPolygonTriangulation.h"
+#include "slodStageClock.h"
 #include "slodUnionFind.h"
 
 #include "vtkAlgorithm.h"
@@ -142,26 +144,13 @@ public:
   VertexStar(const TriangleMesh& mesh)
     : Mesh(mesh)
   {
-    const Index nv = mesh.NumberOfPoints(), nt = mesh.NumberOfTriangles();
-    this->Offsets.assign(size_t(nv) + 1, 0);
-    for (Index v : mesh.Triangles)
-    {
-      ++this->Offsets[size_t(v) + 1];
-    }
-    for (Index v = 0; v < nv; ++v)
-    {
-      this->Offsets[v + 1] += this->Offsets[v];
-    }
-    this->Refs.resize(mesh.Triangles.size());
-    std::vector<Index> fill(this->Offsets.begin(), this->Offsets.end() - 1);
-    for (Index t = 0; t < nt; ++t)
-    {
-      const Index* tri = mesh.Triangle(t);
-      for (int k = 0; k < 3; ++k)
-      {
-        this->Refs[fill[tri[k]]++] = t;
-      }
-    }
+    // Each vertex's triangles in id order (GroupByKey's serial form: its parallel one cost more).
+    const Index nv = mesh.NumberOfPoints();
+    this->Offsets.resize(size_t(nv) + 1);
+    std::vector<Index> count(size_t(nv), 0);
+    this->Offsets[nv] = GroupByKey(
+      static_cast<Index>(mesh.Triangles.size()), nv, [&mesh](Index i) { return mesh.Triangles[size_t(i)]; },
+      [](Index i) { return i / 3; }, this->Offsets.data(), count.data(), this->Refs, false);
   }
   const Index* Begin(Index v) const { return this->Refs.data() + this->Offsets[v]; }
   const Index* End(Index v) const { return this->Refs.data() + this->Offsets[v + 1]; }
@@ -955,12 +944,14 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
   {
     triangleToInputCell->clear();
   }
+  StageClock stages("input preparation");
   std::vector<double> points;
   std::vector<Index> triangles;
   if (!input || !ReadSurface(input, report, points, triangles, triangleToInputCell))
   {
     return report;
   }
+  stages.Lap("read");
   const Index np = static_cast<Index>(input->GetNumberOfPoints());
   if (options.MergeDuplicatePoints)
   {
@@ -969,6 +960,7 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
     {
       v = representative[v];
     }
+    stages.Lap("coincident points");
   }
   const bool repeatedVertices = RemoveRepeatedVertexTriangles(triangles, triangleToInputCell, options.RemoveDegenerateTriangles, report);
   std::vector<unsigned char> keep(triangles.size() / 3, 1);
@@ -977,17 +969,22 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
     MarkRepeatedTriangles(triangles, np, keep, report);
   }
   CompactInto(points, triangles, keep, np, mesh, vertexToInputPoint, triangleToInputCell);
+  stages.Lap("repeated triangles, compaction");
 
   // One adjacency serves both the orientation repair and the non-manifold counts (flipping
   // triangles changes neither edges nor fans).
   const VertexStar star(mesh);
+  stages.Lap("vertex star");
   std::vector<unsigned char> flags;
   const bool inconsistent = ClassifyEdges(mesh, star, report, flags);
+  stages.Lap("edge classes");
   if (options.MakeOrientationConsistent && (inconsistent || repeatedVertices))
   {
     OrientConsistently(mesh, star, report);
+    stages.Lap("orientation");
   }
   report.NonManifoldVertices = MarkNonManifoldVertices(mesh, star, flags);
+  stages.Lap("non-manifold vertices");
   report.BoundaryVertexFlags.resize(flags.size());
   for (size_t v = 0; v < flags.size(); ++v)
   {

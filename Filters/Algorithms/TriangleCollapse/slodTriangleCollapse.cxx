@@ -3,10 +3,12 @@
 
 #include "slodBucketQueue.h"
 #include "slodCollapsePasses.h"
+#include "slodGroupByKey.h"
 #include "slodInputPreparation.h"
 #include "slodPointAttributes.h"
 #include "slodPointStore.h"
 #include "slodQuadric.h"
+#include "slodStageClock.h"
 #include "slodTriangleBVH.h"
 
 #include "vtkLogger.h"
@@ -631,7 +633,6 @@ private:
   // Options.SettleTarget at the cheapest cost left (or with nothing left): the target once settled.
   void AskForTarget(CollapseLoop& loop, bool nothingLeft);
   // Diagnostics (vtkLogF at TRACE verbosity).
-  void TraceStage(const char* stage);
   // Bytes of the arrays held through the collapses (capacities, TriangleCollapseResult::PeakWorkingBytes).
   size_t WorkingBytes() const;
   void TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const;
@@ -742,9 +743,7 @@ private:
   void PackInputIds();
   void UnpackInputIds();
   Vec3 Origin{ 0, 0, 0 };
-  // Wall time at the end of the last stage (TraceStage): CPU time would add up the threads of
-  // the parallel stages.
-  std::chrono::steady_clock::time_point StageClock;
+  StageClock Stages{ "triangle collapse" }; // wall and CPU time per stage at TRACE
   double CostScale = 1.0; // makes float heap keys well scaled
   double Diagonal = 0.0;
   // Accumulated mode: per vertex the sum of its logical set's planes and of their weights,
@@ -837,46 +836,25 @@ void TriangleCollapser::Reorder(TriangleMesh& mesh)
 
 void TriangleCollapser::SortTrianglesBySmallestVertex(TriangleMesh& mesh, const std::vector<Index>& newId)
 {
-  // A counting sort by smallest new vertex, ties by input id, in parallel: atomic counts and
-  // slots (which fill a vertex's bucket in any order), then each bucket sorted by input id (a
-  // few triangles each): the order of a serial counting sort, for any thread count.
+  // A counting sort by smallest new vertex, ties by input id (GroupByKey; with ParallelStages in
+  // parallel, the order of the serial sort for any thread count).
   const Index nv = mesh.NumberOfPoints(), nt = mesh.NumberOfTriangles();
-  std::vector<std::atomic<Index>> start(static_cast<size_t>(nv) + 1);
   auto smallest = [&](Index t) {
     const Index* tri = mesh.Triangle(t);
     return std::min({ newId[tri[0]], newId[tri[1]], newId[tri[2]] });
   };
-  vtkSMPTools::For(0, nt, 16384, [&](vtkIdType begin, vtkIdType end) {
-    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
-    {
-      start[smallest(t) + 1].fetch_add(1, std::memory_order_relaxed);
-    }
-  });
-  std::vector<Index> first(static_cast<size_t>(nv) + 1, 0);
-  for (Index v = 0; v < nv; ++v)
-  {
-    first[v + 1] = first[v] + start[v + 1].load(std::memory_order_relaxed);
-    start[v].store(first[v], std::memory_order_relaxed);
-  }
-  this->TriangleInput.resize(static_cast<size_t>(nt));
-  vtkSMPTools::For(0, nt, 16384, [&](vtkIdType begin, vtkIdType end) {
-    for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
-    {
-      this->TriangleInput[start[smallest(t)].fetch_add(1, std::memory_order_relaxed)] = t;
-    }
-  });
+  std::vector<Index> first(static_cast<size_t>(nv)), count(static_cast<size_t>(nv), 0);
+  GroupByKey(
+    nt, nv, smallest, [](Index t) { return t; }, first.data(), count.data(), this->TriangleInput,
+    this->Options.ParallelStages);
   std::vector<Index> triangles(mesh.Triangles.size());
-  vtkSMPTools::For(0, nv, 16384, [&](vtkIdType begin, vtkIdType end) {
-    for (Index v = static_cast<Index>(begin); v < static_cast<Index>(end); ++v)
+  vtkSMPTools::For(0, nt, 16384, [&](vtkIdType begin, vtkIdType end) {
+    for (Index slot = static_cast<Index>(begin); slot < static_cast<Index>(end); ++slot)
     {
-      std::sort(this->TriangleInput.begin() + first[v], this->TriangleInput.begin() + first[v + 1]);
-      for (Index slot = first[v]; slot < first[v + 1]; ++slot)
+      const Index* tri = mesh.Triangle(this->TriangleInput[slot]);
+      for (int k = 0; k < 3; ++k)
       {
-        const Index* tri = mesh.Triangle(this->TriangleInput[slot]);
-        for (int k = 0; k < 3; ++k)
-        {
-          triangles[3 * size_t(slot) + k] = newId[tri[k]];
-        }
+        triangles[3 * size_t(slot) + k] = newId[tri[k]];
       }
     }
   });
@@ -1611,13 +1589,6 @@ double NormalLimitDot(double degrees)
   return std::cos(Radians(std::min(90.0, std::max(0.0, degrees))));
 }
 
-void TriangleCollapser::TraceStage(const char* stage)
-{
-  const auto now = std::chrono::steady_clock::now();
-  vtkLogF(TRACE, "triangle collapse: %s took %.3f s", stage, std::chrono::duration<double>(now - this->StageClock).count());
-  this->StageClock = now;
-}
-
 size_t TriangleCollapser::WorkingBytes() const
 {
   const size_t perVertex = this->VertexInput.capacity() * sizeof(Index) + this->Parent.capacity() * sizeof(Index) +
@@ -1644,7 +1615,7 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
     given = nullptr; // not this mesh's flags: classify it here
   }
   this->Reorder(input);
-  this->TraceStage("reorder");
+  this->Stages.Lap("reorder");
   if (!this->Options.AllowTopologyChange)
   {
     if (given)
@@ -1662,7 +1633,9 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
     }
   }
   this->LockCallersVertices(input.NumberOfPoints());
+  this->Stages.Lap("locked vertices");
   this->Mesh.SetReferenceRoomFactor(EditableMesh::ShrinkingMeshRoomFactor);
+  this->Mesh.SetParallelRebuild(this->Options.ParallelStages);
   this->Mesh.Reset(input);
   if (refine)
   {
@@ -1679,7 +1652,7 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
   std::vector<double>().swap(input.Points);
   std::vector<Index>().swap(input.Triangles);
   ReturnFreedMemory();
-  this->TraceStage("editable mesh");
+  this->Stages.Lap("editable mesh");
 }
 
 void TriangleCollapser::LockCallersVertices(Index numberOfPoints)
@@ -3195,19 +3168,20 @@ void TriangleCollapser::MoveTowardOriginal(const OriginalSurface& original, Tria
 {
   Ancestry ancestry;
   this->BuildAncestry(original, ancestry);
+  this->Stages.Lap("ancestry");
   if (this->Options.FitToOriginal)
   {
     result.FittedVertices = this->FitToOriginal(original, ancestry);
     result.FitThreads = this->FitThreads;
     result.FitBudgetReached = this->FitBudgetReached;
     result.FitVisits = this->FitVisits;
-    this->TraceStage("fit to original");
+    this->Stages.Lap("fit to original");
   }
   if (this->Options.RefineDeviation)
   {
     result.RefinedVertices = this->RefineDeviation(original, ancestry);
     result.RefinementVisits = this->RefinementVisits;
-    this->TraceStage("deviation refinement");
+    this->Stages.Lap("deviation refinement");
   }
   if (this->Options.RecordHistory && result.FittedVertices + result.RefinedVertices > 0)
   {
@@ -3219,12 +3193,13 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
 {
   result = TriangleCollapseResult();
   result.History.StoreSurrounding = true;
-  this->StageClock = std::chrono::steady_clock::now();
+  this->Stages.Restart();
   const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
   this->Prepare(input, refine);
   this->InitializeQuadrics();
+  this->Stages.Lap("quadrics");
   this->PackInputIds();
-  this->TraceStage("quadrics");
+  this->Stages.Lap("input ids packed");
   const bool passes = this->UsesPasses();
   if (passes)
   {
@@ -3234,7 +3209,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   {
     this->InitializeQueue();
   }
-  this->TraceStage("queue");
+  this->Stages.Lap("queue");
   // The working set peaks here or at the end (the queue is largest here; the references and the
   // history may grow in the loop).
   const size_t startBytes = this->WorkingBytes();
@@ -3257,7 +3232,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     perVertex * double(this->Original.MemoryBytes()),
     perVertex * double(this->Vertex.capacity() * sizeof(WeightedQuadric)), perVertex * double(this->Heap.MemoryBytes()),
     perVertex * double(this->State.capacity() * sizeof(TriangleState)));
-  this->TraceStage("collapses");
+  this->Stages.Lap("collapses");
   // The queue and the per-triangle state are done: free them so that the output reuses their
   // memory instead of raising the peak.
   this->Heap = BucketQueue();
@@ -3265,13 +3240,14 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   if (refine && !result.Aborted)
   {
     this->Original.Unpack();
+    this->Stages.Lap("original unpacked");
     this->MoveTowardOriginal(this->Original, result);
   }
   this->Original.Release();
   std::vector<Index>().swap(this->Parent);
   this->UnpackInputIds();
   this->ExtractResult(result);
-  this->TraceStage("extraction");
+  this->Stages.Lap("extraction");
   this->TraceStatistics(loop, result);
 }
 
@@ -3293,44 +3269,19 @@ void TriangleCollapser::BuildAncestry(const OriginalSurface& original, Ancestry&
       w = next;
     }
   }
-  auto& ancestorStart = ancestry.AncestorStart;
-  auto& ancestors = ancestry.Ancestors;
-  ancestorStart.assign(size_t(nv) + 1, 0);
-  ancestors.resize(static_cast<size_t>(nv));
-  for (Index v = 0; v < nv; ++v)
-  {
-    ++ancestorStart[this->Parent[v] + 1];
-  }
-  for (Index v = 0; v < nv; ++v)
-  {
-    ancestorStart[v + 1] += ancestorStart[v];
-  }
-  {
-    std::vector<Index> fill(ancestorStart.begin(), ancestorStart.end() - 1);
-    for (Index v = 0; v < nv; ++v)
-    {
-      ancestors[fill[this->Parent[v]]++] = v;
-    }
-  }
-  auto& originalStart = ancestry.OriginalStart;
-  auto& originalTriangles = ancestry.OriginalTriangles;
-  originalStart.assign(size_t(nv) + 1, 0);
-  originalTriangles.resize(3 * size_t(nt));
-  for (Index i = 0; i < 3 * nt; ++i)
-  {
-    ++originalStart[original.Triangles[i] + 1];
-  }
-  for (Index v = 0; v < nv; ++v)
-  {
-    originalStart[v + 1] += originalStart[v];
-  }
-  {
-    std::vector<Index> fill(originalStart.begin(), originalStart.end() - 1);
-    for (Index i = 0; i < 3 * nt; ++i)
-    {
-      originalTriangles[fill[original.Triangles[i]]++] = i / 3;
-    }
-  }
+  // CSR lists (GroupByKey, in parallel with ParallelStages): each vertex's ancestors in id order,
+  // each original vertex's triangles in id order.
+  const bool parallel = this->Options.ParallelStages;
+  std::vector<Index> count(static_cast<size_t>(nv), 0);
+  ancestry.AncestorStart.resize(size_t(nv) + 1);
+  ancestry.AncestorStart[nv] = GroupByKey(
+    nv, nv, [this](Index v) { return this->Parent[v]; }, [](Index v) { return v; }, ancestry.AncestorStart.data(),
+    count.data(), ancestry.Ancestors, parallel);
+  std::fill(count.begin(), count.end(), 0);
+  ancestry.OriginalStart.resize(size_t(nv) + 1);
+  ancestry.OriginalStart[nv] = GroupByKey(
+    3 * nt, nv, [&original](Index i) { return original.Triangles[i]; }, [](Index i) { return i / 3; },
+    ancestry.OriginalStart.data(), count.data(), ancestry.OriginalTriangles, parallel);
 }
 
 // The live triangles of an editable mesh as a TriangleMesh (all points kept, so vertex ids stay

@@ -138,6 +138,13 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // collapses, and those with an excluded operation; session 27). On: every triangle is visited
   // each pass, as before session 27 (the same keys; a reference for the tests).
   bool PassCostSweepsEveryTriangle = false;
+  // The adjacency lists of the stages around the collapses (the triangle order of the reordering,
+  // the editable mesh's vertex -> triangle blocks, the ancestry of the fit and the refinement):
+  // on, built in parallel (GroupByKey: the same lists for any thread count); off (default), by the
+  // serial loops. Session 28 measured the parallel form at 1.7x their CPU time for no gain of the
+  // calling thread at load 20 on 2 cores (and at most about 10 % of those stages' 0.3 s on mc1m on
+  // an idle machine), so it is kept for a quiet machine's measurement and as the tests' reference.
+  bool ParallelStages = false;
   // Record every collapse for progressive meshes (TriangleCollapseResult::History).
   bool RecordHistory = false;
   // Optional: per vertex of the input mesh, 1 when non-manifold (the input preparation's

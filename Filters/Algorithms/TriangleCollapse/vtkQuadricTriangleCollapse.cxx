@@ -6,6 +6,7 @@
 #include "slodCollapseRecordTable.h"
 #include "slodPieceSeams.h"
 #include "slodPointAttributes.h"
+#include "slodStageClock.h"
 #include "slodTriangleCollapse.h"
 
 #include "vtkCellData.h"
@@ -339,6 +340,7 @@ int vtkQuadricTriangleCollapse::RequestData(
   {
     input = slod::WithoutGhostCells(input);
   }
+  slod::StageClock stages("vtkQuadricTriangleCollapse");
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
@@ -348,6 +350,7 @@ int vtkQuadricTriangleCollapse::RequestData(
     prepared = slod::PrepareFilterInput(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
       slod::CellMapIfNeeded(input, triangleToCell));
   }
+  stages.Lap("input preparation");
   const PieceSetting piece = SettleWithOtherPieces(this, mesh); // collective: before any return
   const slod::Index inputTriangles = mesh.NumberOfTriangles();
   const slod::Index inputPoints = mesh.NumberOfPoints();
@@ -388,9 +391,11 @@ int vtkQuadricTriangleCollapse::RequestData(
   const AttributeMetricSetting metric = AttributeMetric(this, input->GetPointData(), vertexToInput, diagonal);
   options.AttributeError = metric.Terms.Components > 0 ? &metric.Terms : nullptr;
   std::vector<slod::Index>().swap(vertexToInput);
+  stages.Lap("seams and point data");
 
   slod::TriangleCollapseResult result;
   slod::SimplifyByTriangleCollapse(mesh, options, result, &attributes);
+  stages.Lap("simplification");
   const slod::Index target = agreement ? agreement->Finish(result.Mesh.NumberOfTriangles()) : piece.Target;
   if (agreement)
   {
@@ -412,6 +417,7 @@ int vtkQuadricTriangleCollapse::RequestData(
   {
     StoreProgressiveMesh(result, inputPoints, inputTriangles, output, records);
   }
+  stages.Lap("output");
   this->NumberOfCollapses = result.Collapses;
   this->NumberOfEdgeCollapses = result.EdgeCollapses;
   this->NumberOfFittedVertices = result.FittedVertices;

@@ -4,6 +4,7 @@
 #include "TestSupport.h"
 
 #include "slodEditableMesh.h"
+#include "slodGroupByKey.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
@@ -30,6 +31,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <random>
 #include <string>
 
 using namespace slod;
@@ -1159,4 +1161,65 @@ TEST(EditableMesh, SetTrialAcceptsWhereCheckCollapseDoesAtEveryPoint)
       }
     }
   }
+}
+
+// Session 28: GroupByKey (the adjacency lists of the preparation stages, in parallel) gives the
+// serial counting sort's lists for 1, 2 and 8 threads: items with three keys each (a triangle's
+// vertices, the value the triangle id), left-out items, empty groups, and groups large enough for
+// the sort of high valence; an editable mesh's blocks built in parallel and serially are the same.
+TEST(GroupByKey, ParallelListsAreTheSerialOnesForAnyThreadCount)
+{
+  std::mt19937 random(28);
+  const Index groups = 50000, items = 3 * 400000;
+  std::vector<Index> keys(static_cast<size_t>(items));
+  for (Index& key : keys)
+  {
+    const unsigned r = random() % 100;
+    // Left out, a few groups of valence > 32, and the last ten groups empty.
+    key = r < 3 ? Index(-1) : (r < 8 ? Index(random() % 20) : Index(random() % (groups - 10)));
+  }
+  auto keyOf = [&](Index i) { return keys[size_t(i)]; };
+  auto valueOf = [](Index i) { return i / 3; };
+  auto group = [&](bool parallel, std::vector<Index>& first, std::vector<Index>& count, std::vector<Index>& grouped) {
+    first.assign(size_t(groups), -7);
+    count.assign(size_t(groups), 0);
+    return GroupByKey(items, groups, keyOf, valueOf, first.data(), count.data(), grouped, parallel);
+  };
+  std::vector<Index> first, count, grouped;
+  const Index total = group(false, first, count, grouped);
+  EXPECT_EQ(size_t(total), grouped.size());
+  EXPECT_GT(*std::max_element(count.begin(), count.end()), 32);
+  EXPECT_GT(std::count(count.begin(), count.end(), 0), 0) << "no empty group";
+  // The serial reference against its definition: each group's values in item order.
+  for (Index g : { Index(0), Index(5), Index(100), groups - 1 })
+  {
+    std::vector<Index> expected;
+    for (Index i = 0; i < items; ++i)
+    {
+      if (keys[size_t(i)] == g)
+      {
+        expected.push_back(i / 3);
+      }
+    }
+    EXPECT_EQ(std::vector<Index>(grouped.begin() + first[g], grouped.begin() + first[g] + count[g]), expected) << g;
+  }
+  const TriangleMesh sphere = Sphere(400, 300); // several chunks of items; poles of valence 400
+  const EditableMesh serialMesh(sphere); // serial by default
+  slodtest::ForOneTwoAndEightThreads([&](int threads) {
+    std::vector<Index> f, c, g;
+    EXPECT_EQ(group(true, f, c, g), total) << threads;
+    EXPECT_EQ(f, first) << threads;
+    EXPECT_EQ(c, count) << threads;
+    EXPECT_EQ(g, grouped) << threads;
+    EditableMesh mesh;
+    mesh.SetParallelRebuild(true);
+    mesh.Reset(sphere);
+    for (Index v = 0; v < sphere.NumberOfPoints(); ++v)
+    {
+      std::vector<Index> fan, serialFan;
+      mesh.ForEachTriangle(v, [&](Index t) { fan.push_back(t); });
+      serialMesh.ForEachTriangle(v, [&](Index t) { serialFan.push_back(t); });
+      ASSERT_EQ(fan, serialFan) << threads << " threads, vertex " << v;
+    }
+  });
 }

@@ -691,6 +691,54 @@ TEST(QuadricTriangleCollapse, PassCostsVisitOnlyTheChangedTriangles)
   }
 }
 
+// Session 28: the adjacency lists of the stages around the collapses (the reordering's triangle
+// order, the editable mesh's vertex -> triangle blocks at the start and at each rebuild in the
+// loop, the ancestry of the fit and the refinement) are built in parallel. The same output as
+// their serial loops (ParallelStages off) for 1, 2 and 8 threads, with the fit and the refinement
+// moving vertices, with the queue and the pass schedule: mesh, ids back to the input, errors and
+// the passes' moves and visits.
+TEST(QuadricTriangleCollapse, ParallelStagesGiveTheSerialOutputForAnyThreadCount)
+{
+  const std::vector<std::pair<const char*, vtkSmartPointer<vtkPolyData>>> inputs = { { "bunny00", Mesh("bunny00") },
+    { "noisy scan", slodtest::NoisyScanIsosurface(48, 5) } };
+  for (const auto& named : inputs)
+  {
+    const char* name = named.first;
+    const TriangleMesh original = slodtest::ToTriangleMesh(named.second);
+    for (const CollapseSchedule schedule : { CollapseSchedule::Queue, CollapseSchedule::Passes })
+    {
+      auto run = [&](bool parallel) {
+        TriangleMesh mesh = original;
+        TriangleCollapseOptions options;
+        options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+        options.Schedule = schedule;
+        options.ParallelStages = parallel;
+        TriangleCollapseResult result;
+        SimplifyByTriangleCollapse(mesh, options, result);
+        return result;
+      };
+      TriangleCollapseResult serial;
+      slodtest::ForOneTwoAndEightThreads([&](int threads) {
+        if (threads == 1)
+        {
+          serial = run(false);
+          ASSERT_GT(serial.FittedVertices + serial.RefinedVertices, 0) << name << ": the passes moved nothing";
+        }
+        const TriangleCollapseResult result = run(true);
+        EXPECT_EQ(result.Mesh.Points, serial.Mesh.Points) << name << ", " << threads << " threads";
+        EXPECT_EQ(result.Mesh.Triangles, serial.Mesh.Triangles) << name << ", " << threads << " threads";
+        EXPECT_EQ(result.OutputToInput, serial.OutputToInput) << name << ", " << threads << " threads";
+        EXPECT_EQ(result.OutputTriangleIds, serial.OutputTriangleIds) << name << ", " << threads << " threads";
+        EXPECT_EQ(result.VertexError, serial.VertexError) << name << ", " << threads << " threads";
+        EXPECT_EQ(result.FittedVertices, serial.FittedVertices) << name << ", " << threads << " threads";
+        EXPECT_EQ(result.RefinedVertices, serial.RefinedVertices) << name << ", " << threads << " threads";
+        EXPECT_EQ(result.FitVisits.Visits, serial.FitVisits.Visits) << name << ", " << threads << " threads";
+        EXPECT_EQ(result.RefinementVisits.Visits, serial.RefinementVisits.Visits) << name << ", " << threads << " threads";
+      });
+    }
+  }
+}
+
 // The pass ranking (chunked counts, radix select of the goal key, chunked collection; session 19)
 // against the plain definition: sort every candidate by (key, index), the limit is the factor
 // times the key of the goal rank (at least the floor), the ranking is the sorted candidates up to
