@@ -57,6 +57,11 @@ constexpr slod::Index SmallPatchTriangles = 4;
 // Applied from this share of the input kept on (coarser targets keep the former growth: the
 // Fandisk's and the scans' 10% levels are unchanged).
 constexpr double MildTargetShare = 0.2;
+// Issue 10 (session 28): the automatic PatchNoiseTolerance (-1) below MildTargetShare. Coarse
+// targets merge the noisy patches of a scan isosurface anyway, and the merging runs, replays and
+// fallback passes over hundreds of thousands of small patches were most of the level (the MRI at
+// 10%); at mild targets the large flat patches over a staircase cost more than the budget saves.
+constexpr double AggressiveTargetNoiseTolerance = 1.0;
 
 // Manifold edges both of whose triangles run them the same way.
 slod::Index InconsistentEdges(const slod::TriangleMesh& mesh, const slod::MeshTopology& topology)
@@ -257,8 +262,13 @@ bool vtkPatchBoundaryMerge::Cache::GrowPatches(vtkPatchBoundaryMerge* self, cons
   growth.SmallPatchTriangles =
     target > 0 && double(target) >= MildTargetShare * double(this->Mesh.NumberOfTriangles()) ? SmallPatchTriangles : 0;
   // The noise tolerance follows the plane distance (and so the target); none without a finite one.
+  // Automatic (negative): on below the mild targets only.
+  const bool aggressive =
+    target > 0 && double(target) < MildTargetShare * double(this->Mesh.NumberOfTriangles());
+  const double noiseFraction =
+    this->NoiseFraction >= 0 ? this->NoiseFraction : (aggressive ? AggressiveTargetNoiseTolerance : 0.0);
   growth.NoiseTolerance =
-    std::isfinite(growth.MaximumPlaneDistance) ? this->NoiseFraction * growth.MaximumPlaneDistance : 0.0;
+    std::isfinite(growth.MaximumPlaneDistance) ? noiseFraction * growth.MaximumPlaneDistance : 0.0;
   const slod::ProgressFunction progress = slod::FilterProgress(self, 0.05, 0.65);
   auto initialize = [&]() {
     const auto initializing = Clock::now();
