@@ -68,24 +68,26 @@ bool SpbmLevelGenerator::TargetSearch::InBand(Index count) const
   return count >= target - countTolerance && count <= target + countTolerance;
 }
 
-// Issue 15 (session 28): the closest count not above the target is below the band, and one kept
-// vertex more is above the target. A kept vertex can block a whole cascade of merges, joins and
-// collapses (couplingdown at 50%: 1,782 -> 1,906 triangles for one key at alpha1 20, target
-// 1,857), so no epsilon lands in the band at this alpha1. The count also falls with alpha1 at a
-// fixed epsilon, in other steps: a narrower alpha1 at the lower count's epsilon raises it, a wider
-// one at the higher count's lowers it. The higher count itself is taken when it is within the band
-// above the target (no run: it is remembered). Bounded: at most MaximumBandProbes merging runs,
-// half in each direction; without a count in the band the search's answer stays.
+// Issue 15 (session 28): the closest count not above the target is below the band, and one or two
+// kept vertices more are above the target. A kept vertex can block a whole cascade of merges,
+// joins and collapses (couplingdown at 50%: 1,782 -> 1,906 triangles for one key at alpha1 20,
+// target 1,857), so no epsilon lands in the band at this alpha1. The count also falls with alpha1
+// at a fixed epsilon, in other steps: a narrower alpha1 at the lower count's epsilon raises it, a
+// wider one at the higher count's lowers it. A count of the next two epsilons within the band
+// above the target is taken as it is (the search's look-around has them: no run). Bounded: at
+// most MaximumBandProbes merging runs, half in each direction; without a count in the band the
+// search's answer stays.
 void SpbmLevelGenerator::TargetSearch::ReachBandAcrossKeyJump(Evaluation& best)
 {
-  if (best.K >= nk)
+  Evaluation above = best;
+  for (Index k = best.K + 1; k <= std::min(nk, best.K + 2) && above.Count <= target; ++k)
   {
-    return; // the finest level is below the target: the patches' tolerances decide (AdaptPatchesToTarget)
+    above = { k, best.Angle, this->CountFor(k, best.Angle) };
   }
-  const Evaluation above{ best.K + 1, best.Angle, this->CountFor(best.K + 1, best.Angle) };
   if (above.Count <= target)
   {
-    return; // not a jump: the count is not monotone here, the search's look-around decided
+    return; // no jump: the finest level is below the target (the patches' tolerances decide,
+            // AdaptPatchesToTarget) or the count is not monotone here (the look-around decided)
   }
   Evaluation found;
   const int runs = std::max(0, base.MaximumBandProbes);
