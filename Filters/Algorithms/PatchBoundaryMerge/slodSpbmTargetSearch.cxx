@@ -75,7 +75,7 @@ bool SpbmLevelGenerator::TargetSearch::InBand(Index count) const
 // at a fixed epsilon, in other steps: a narrower alpha1 at the lower count's epsilon raises it, a
 // wider one at the higher count's lowers it. A count of the next two epsilons within the band
 // above the target is taken as it is (the search's look-around has them: no run). Bounded: at
-// most MaximumBandProbes merging runs, half in each direction; without a count in the band the
+// most MaximumBandProbes merging runs, the narrower side first; without a count in the band the
 // search's answer stays.
 void SpbmLevelGenerator::TargetSearch::ReachBandAcrossKeyJump(Evaluation& best)
 {
@@ -90,9 +90,12 @@ void SpbmLevelGenerator::TargetSearch::ReachBandAcrossKeyJump(Evaluation& best)
             // AdaptPatchesToTarget) or the count is not monotone here (the look-around decided)
   }
   Evaluation found;
-  const int runs = std::max(0, base.MaximumBandProbes);
-  if (this->InBand(above.Count) || this->SearchMergeAngleIntoBand(best, -1, (runs + 1) / 2, found) ||
-    this->SearchMergeAngleIntoBand(above, +1, runs / 2, found))
+  // The narrower side first, leaving the wider one at least two runs: stepping takes three runs to
+  // cross the band at most, so a fourth can bisect (poly2x^2+y^2 at 50%: 975 at alpha1 10.2, 1,045
+  // at 4.19, band 1,004-1,044).
+  int runs = std::max(0, base.MaximumBandProbes);
+  if (this->InBand(above.Count) || this->SearchMergeAngleIntoBand(best, -1, std::max(1, runs - 2), runs, found) ||
+    this->SearchMergeAngleIntoBand(above, +1, runs, runs, found))
   {
     best = this->InBand(above.Count) ? above : found;
   }
@@ -103,13 +106,14 @@ void SpbmLevelGenerator::TargetSearch::ReachBandAcrossKeyJump(Evaluation& best)
 // alpha1 from `from` (its count on one side of the band: below it for direction -1, narrower
 // angles; above it for +1, wider angles) at the same kept vertices: steps by a factor growing
 // 1.25, 1.56, 2.44 until the count crosses the band, then bisection in log(alpha1) between the
-// last two angles. alpha1 stays within [1, RemovalMergeAngle] (90 when alpha1 is wider already).
+// last two angles; at most maximumRuns merging runs, each taken from `runs`. alpha1 stays within
+// [1, RemovalMergeAngle] (90 when alpha1 is wider already).
 bool SpbmLevelGenerator::TargetSearch::SearchMergeAngleIntoBand(
-  const Evaluation& from, int direction, int runs, Evaluation& found)
+  const Evaluation& from, int direction, int maximumRuns, int& runs, Evaluation& found)
 {
   const double widest = std::max(from.Angle, base.RemovalMergeAngle);
   double nearAngle = from.Angle, farAngle = -1.0, factor = 1.25;
-  for (int run = 0; run < runs; ++run)
+  for (int run = 0; run < maximumRuns && runs > 0; ++run, --runs)
   {
     double probe = farAngle < 0 ? nearAngle * std::pow(factor, direction) : std::sqrt(nearAngle * farAngle);
     probe = std::min(widest, std::max(1.0, probe));

@@ -42,7 +42,7 @@ private:
   };
   bool InBand(Index count) const;
   void ReachBandAcrossKeyJump(Evaluation& best);
-  bool SearchMergeAngleIntoBand(const Evaluation& from, int direction, int runs, Evaluation& found);
+  bool SearchMergeAngleIntoBand(const Evaluation& from, int direction, int maximumRuns, int& runs, Evaluation& found);
 
   SpbmLevelGenerator& generator;
   State& s;
