@@ -104,6 +104,16 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // given alpha1 is evaluated first, and RemovalMergeAngle is not probed when it reaches the
   // target (the same parameters, one merging run fewer). Off: the probe first (the reference).
   bool MildTargetProbesMergeAngleFirst = true;
+  // Target search (session 28, issue 15): when one more kept chain vertex takes the count from
+  // below the accepted band (2% of the target, at least 2 triangles) to above the target, the
+  // count above is taken when it is within the band above the target, and otherwise alpha1 is
+  // searched at those two epsilons (narrower at the lower count, wider at the higher one, at most
+  // MaximumBandProbes merging runs) for a count within the band either side of the target; the
+  // closest one below stays when none is. A kept vertex can block a cascade of merges and
+  // collapses (couplingdown at 50%: 1,782 -> 1,906 triangles for one key, band 1,820-1,894).
+  // Off: the closest count not above the target (the reference).
+  bool ReachBandAcrossKeyJumps = true;
+  int MaximumBandProbes = 6;
   // GenerateForTarget only: also search the other merge measure (on a second thread) and half
   // alpha1 at the same target, and keep the level with the smallest EstimateDeviation. Without
   // it, the other measures are still compared when the count comes from the removal (no search).

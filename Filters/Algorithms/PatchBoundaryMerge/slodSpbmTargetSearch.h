@@ -3,7 +3,8 @@
 // Finds parameters whose level has about `target` triangles from predicted counts (one merging
 // run each, memoized): first alpha1 (the given one, or the smallest wider one that reaches the
 // target, else the cost-ordered removal or the relaxed collapse conditions), then epsilon as the
-// number of kept chain vertices whose count comes closest to the target from below.
+// number of kept chain vertices whose count comes closest to the target from below; when one
+// kept vertex jumps over the accepted band, alpha1 again at those two epsilons.
 #ifndef slodSpbmTargetSearch_h
 #define slodSpbmTargetSearch_h
 
@@ -32,6 +33,16 @@ private:
   bool BracketKeptVertices(double angle, Index& lo, Index& hi, Index& countLo, Index& countHi);
   void NarrowKeptVertices(double angle, Index& lo, Index& hi, Index& countLo, Index& countHi);
   void NarrowKeptVerticesInK(double angle, Index& lo, Index& hi, Index& countLo, Index& countHi);
+  // The accepted band (ReachBandAcrossKeyJumps): kept vertices and alpha1 of one evaluation.
+  struct Evaluation
+  {
+    Index K = 0;
+    double Angle = 0;
+    Index Count = 0;
+  };
+  bool InBand(Index count) const;
+  void ReachBandAcrossKeyJump(Evaluation& best);
+  bool SearchMergeAngleIntoBand(const Evaluation& from, int direction, int maximumRuns, int& runs, Evaluation& found);
 
   SpbmLevelGenerator& generator;
   State& s;

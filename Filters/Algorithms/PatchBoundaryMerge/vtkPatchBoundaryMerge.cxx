@@ -96,19 +96,27 @@ slod::Index InconsistentEdges(const slod::TriangleMesh& mesh, const slod::MeshTo
 }
 
 // A count target is reached within 2% either way (at least 2 triangles): the search takes the
-// closest count not above it down to 2% below, fallback triangulations may add a little. With an
+// closest count not above it down to 2% below (or, when a kept vertex jumps over that, a count in
+// the band either side), fallback triangulations may add a little. With an
 // error bound that stops first, more triangles are the contract's answer. A miss says why, and
 // above the target with the final collapses on, what the topology alone would allow
 // (slod::TopologicalTriangleFloor of the prepared input): the rest is the link condition around
 // the handles and the normal bound.
-void ReportTargetCount(vtkPatchBoundaryMerge* self, const slod::TriangleMesh& mesh, vtkPolyData* output, vtkIdType target)
+void ReportTargetCount(vtkPatchBoundaryMerge* self, const slod::TriangleMesh& mesh, vtkPolyData* output,
+  vtkIdType target, vtkIdType finestCount)
 {
   const vtkIdType produced = output->GetNumberOfPolys();
   const vtkIdType tolerance = std::max<vtkIdType>(2, target / 50);
   const bool reached =
     std::abs(produced - target) <= tolerance || (self->GetMaximumError() > 0 && produced > target);
   std::string reason;
-  if (produced < target)
+  if (produced < target && finestCount > target)
+  {
+    // The finest level is above the target: the search's steps jumped over the band.
+    reason = "one more kept chain vertex takes the count above the target at every merge angle tried "
+             "(a kept vertex blocks merges and collapses); ask for a slightly different target";
+  }
+  else if (produced < target)
   {
     reason = "SPBM keeps no vertex inside a patch: even every chain vertex gives fewer; lower PatchAngle, "
              "NeighborAngle and PatchPlaneDistance, or turn AdaptPatchesToTarget on";
@@ -657,7 +665,9 @@ int vtkPatchBoundaryMerge::RequestData(
   cache.WriteOutputs(this, input, result, output, curves, colored);
   if (target > 0 && target < mesh.NumberOfTriangles())
   {
-    ReportTargetCount(this, mesh, output, target);
+    slod::SpbmLevelParameters finest = cache.LevelParameters(this);
+    finest.Epsilon = -1; // every chain vertex kept; -1 when not known in closed form
+    ReportTargetCount(this, mesh, output, target, cache.Generator.FinestLevelCountWithoutRun(finest));
   }
   this->CacheMemory = static_cast<vtkIdType>(cache.MemoryUsage());
   this->LevelTime = std::chrono::duration<double>(Clock::now() - patched).count();

@@ -820,10 +820,12 @@ TEST(PatchBoundaryMerge, FandiskTable1LevelsAreClosedManifoldGenusZero)
   {
     auto out = RunFilter(input, target, filter);
     ExpectValidClosedOutput(input, out, 0);
-    // The search meets the dissertation's counts; the smallest level needs the relaxed joins and
-    // collapses (single-segment chains and alpha1 up to 90 degrees alone leave 188 triangles).
-    EXPECT_LE(out->GetNumberOfCells(), target);
-    EXPECT_GE(out->GetNumberOfCells(), target * 9 / 10);
+    // The search meets the dissertation's counts within the filter's 2% band (either side: a
+    // kept vertex can jump over the band below the target, ReachBandAcrossKeyJumps); the smallest
+    // level needs the relaxed joins and collapses (single-segment chains and alpha1 up to 90
+    // degrees alone leave 188 triangles).
+    EXPECT_LE(out->GetNumberOfCells(), target + std::max<vtkIdType>(2, target / 50));
+    EXPECT_GE(out->GetNumberOfCells(), target - std::max<vtkIdType>(2, target / 50));
     // Profile curves: polylines over output points.
     vtkPolyData* curves = filter->GetOutput(1);
     EXPECT_GT(curves->GetNumberOfLines(), 0);
@@ -1666,6 +1668,9 @@ TEST(SpbmLevel, MildTargetSearchTakesFewerMergingRuns)
     const ThinPatchesAtMildTarget thin(name);
     const auto& pm = thin.Patched;
     SpbmLevelParameters base = thin.Base;
+    // The epsilon searches alone: the band step after them (ReachBandAcrossKeyJumps) may end up to
+    // 2% above the target and adds its own runs.
+    base.ReachBandAcrossKeyJumps = false;
     for (const double share : { 0.5, 0.7 })
     {
       const Index target = thin.Target(share);
@@ -2103,18 +2108,20 @@ TEST(PatchBoundaryMerge, FandiskSharpProfilesSurviveVersusPeers)
 
 namespace
 {
-// The 10% level of `input` with the input's topology, and its Hausdorff distance over
-// vtkQuadricDecimation's at the same count, measured in the same run.
-double TenthLevelHausdorffRatioToQuadric(const char* name, vtkPolyData* input)
+// The level of `input` at `reduction` within 2% of its target and with the input's topology, and
+// its Hausdorff distance over vtkQuadricDecimation's at the same count, measured in the same run.
+double LevelHausdorffRatioToQuadric(const char* name, vtkPolyData* input, double reduction)
 {
   const MeshStatistics in = StatisticsOf(input);
   vtkNew<vtkPatchBoundaryMerge> filter;
   filter->SetInputData(input);
-  filter->SetTargetReduction(0.9);
+  filter->SetTargetReduction(reduction);
   filter->Update();
   vtkPolyData* ours = filter->GetOutput();
   EXPECT_GT(filter->GetPatchThicknessBound(), 0.0);
-  EXPECT_TRUE(ReportedTarget(ours).second);
+  const auto [target, reached] = ReportedTarget(ours);
+  EXPECT_TRUE(reached);
+  EXPECT_LE(std::abs(ours->GetNumberOfPolys() - target), std::max<vtkIdType>(2, target / 50));
   const MeshStatistics st = RawStatistics(ours);
   EXPECT_EQ(st.EulerCharacteristic, in.EulerCharacteristic);
   EXPECT_EQ(st.BoundaryLoops, in.BoundaryLoops);
@@ -2150,7 +2157,7 @@ TEST(PatchBoundaryMerge, SmoothSurfacesWithinThreeTimesQuadricHausdorff)
   for (const auto& [name, input] : cases)
   {
     SCOPED_TRACE(name);
-    EXPECT_LE(TenthLevelHausdorffRatioToQuadric(name, input), 3.0);
+    EXPECT_LE(LevelHausdorffRatioToQuadric(name, input, 0.9), 3.0);
   }
 }
 
@@ -2160,7 +2167,24 @@ TEST(PatchBoundaryMerge, SmoothSurfacesWithinThreeTimesQuadricHausdorff)
 // RulingAngle). The issue's goal for CAD meshes, 2x, is not reached.
 TEST(PatchBoundaryMerge, FandiskWithinThreeTimesQuadricHausdorff)
 {
-  EXPECT_LE(TenthLevelHausdorffRatioToQuadric("fandisk", slodtest::LoadTestMesh("fandisk")), 3.0);
+  EXPECT_LE(LevelHausdorffRatioToQuadric("fandisk", slodtest::LoadTestMesh("fandisk"), 0.9), 3.0);
+}
+
+// Issue 15 (session 28): SpbmLevelParameters::ReachBandAcrossKeyJumps. At half of these inputs one
+// kept chain vertex more takes the count at alpha1 20 from below the 2% band to above the target
+// (the vertex blocks a cascade of merges, joins and collapses), so no epsilon alone reaches the
+// band: the search takes the count above when it is within the band, or searches alpha1 at the
+// two epsilons. Each level is within the band with the input's topology (LevelHausdorffRatioToQuadric),
+// and its Hausdorff distance within the issue's bound of vtkQuadricDecimation's at the same
+// count: 2x on the CAD part (couplingdown), 3x on the smooth ones.
+TEST(PatchBoundaryMerge, CountJumpsOverTheBandAreReachedThroughAlpha1)
+{
+  const std::pair<const char*, double> cases[] = { { "couplingdown", 2.0 }, { "elephant", 3.0 }, { "cactus", 3.0 } };
+  for (const auto& [name, bound] : cases)
+  {
+    SCOPED_TRACE(name);
+    EXPECT_LE(LevelHausdorffRatioToQuadric(name, slodtest::LoadTestMesh(name), 0.5), bound);
+  }
 }
 
 // The ear clipper's extension: the caller's ear test and the strict (no fallback) mode.
