@@ -53,6 +53,56 @@ void CollapseRecords::Append(
 {
   auto vertex = [vertexId](Index v) { return vertexId ? vertexId[v] : v; };
   auto triangle = [triangleId](Index t) { return triangleId ? triangleId[t] : t; };
+  const Index removed = static_cast<Index>(record.RemovedTriangles.size());
+  const Index changed = static_cast<Index>(record.ChangedTriangles.size());
+  this->AppendRoom(1, &removed, &changed);
+  this->Write(this->NumberOfCollapses() - 1, record, mesh, vertex, triangle);
+  if (this->StoreSurrounding)
+  {
+    if (surrounding)
+    {
+      for (Index w : *surrounding)
+      {
+        this->Surrounding.push_back(vertex(w));
+      }
+    }
+    this->SurroundingOffsets.push_back(static_cast<Index>(this->Surrounding.size()));
+  }
+}
+
+void CollapseRecords::AppendRoom(size_t n, const Index* removed, const Index* changed)
+{
+  const size_t collapses = size_t(this->NumberOfCollapses()) + n;
+  this->Vertices.resize(3 * collapses);
+  if (this->StorePositions)
+  {
+    this->OldPositions.resize(9 * collapses);
+    this->NewPositions.resize(3 * collapses);
+  }
+  for (size_t i = 0; i < n; ++i)
+  {
+    this->RemovedOffsets.push_back(this->RemovedOffsets.back() + removed[i]);
+    this->ChangedOffsets.push_back(this->ChangedOffsets.back() + changed[i]);
+  }
+  this->RemovedTriangles.resize(size_t(this->RemovedOffsets.back()));
+  if (this->StoreRemovedTriangleVertices)
+  {
+    this->RemovedTriangleVertices.resize(3 * size_t(this->RemovedOffsets.back()));
+  }
+  this->ChangedTriangles.resize(size_t(this->ChangedOffsets.back()));
+  this->ChangedCorners.resize(size_t(this->ChangedOffsets.back()));
+  this->ChangedFrom.resize(size_t(this->ChangedOffsets.back()));
+}
+
+void CollapseRecords::SetAt(Index k, const CollapseRecord& record, const EditableMesh& mesh)
+{
+  this->Write(k, record, mesh, [](Index v) { return v; }, [](Index t) { return t; });
+}
+
+template <typename VertexId, typename TriangleId>
+void CollapseRecords::Write(
+  Index k, const CollapseRecord& record, const EditableMesh& mesh, VertexId&& vertex, TriangleId&& triangle)
+{
   // Kept vertex first; an edge collapse has no third vertex (-1, zero position).
   int order[3] = { 0, 1, 2 };
   for (int i = 0; i < record.VertexCount; ++i)
@@ -65,45 +115,37 @@ void CollapseRecords::Append(
   for (int i = 0; i < 3; ++i)
   {
     const bool has = order[i] < record.VertexCount;
-    this->Vertices.push_back(has ? vertex(record.Vertices[order[i]]) : InvalidIndex);
+    this->Vertices[3 * size_t(k) + i] = has ? vertex(record.Vertices[order[i]]) : InvalidIndex;
     if (this->StorePositions)
     {
       const Vec3 p = has ? record.OldPositions[order[i]] : Vec3{ 0, 0, 0 };
-      this->OldPositions.insert(this->OldPositions.end(), p.begin(), p.end());
+      std::copy(p.begin(), p.end(), this->OldPositions.begin() + 9 * size_t(k) + 3 * i);
     }
   }
   if (this->StorePositions)
   {
-    this->NewPositions.insert(this->NewPositions.end(), record.NewPosition.begin(), record.NewPosition.end());
+    std::copy(record.NewPosition.begin(), record.NewPosition.end(), this->NewPositions.begin() + 3 * size_t(k));
   }
+  size_t r = size_t(this->RemovedOffsets[k]);
   for (Index t : record.RemovedTriangles)
   {
-    this->RemovedTriangles.push_back(triangle(t));
+    this->RemovedTriangles[r] = triangle(t);
     if (this->StoreRemovedTriangleVertices)
     {
       const Index* tri = mesh.Triangle(t);
-      this->RemovedTriangleVertices.insert(
-        this->RemovedTriangleVertices.end(), { vertex(tri[0]), vertex(tri[1]), vertex(tri[2]) });
-    }
-  }
-  this->RemovedOffsets.push_back(static_cast<Index>(this->RemovedTriangles.size()));
-  for (size_t i = 0; i < record.ChangedTriangles.size(); ++i)
-  {
-    this->ChangedTriangles.push_back(triangle(record.ChangedTriangles[i]));
-    this->ChangedCorners.push_back(record.ChangedCorner[i]);
-    this->ChangedFrom.push_back(vertex(record.ChangedFrom[i]));
-  }
-  this->ChangedOffsets.push_back(static_cast<Index>(this->ChangedTriangles.size()));
-  if (this->StoreSurrounding)
-  {
-    if (surrounding)
-    {
-      for (Index w : *surrounding)
+      for (int j = 0; j < 3; ++j)
       {
-        this->Surrounding.push_back(vertex(w));
+        this->RemovedTriangleVertices[3 * r + j] = vertex(tri[j]);
       }
     }
-    this->SurroundingOffsets.push_back(static_cast<Index>(this->Surrounding.size()));
+    ++r;
+  }
+  const size_t c = size_t(this->ChangedOffsets[k]);
+  for (size_t i = 0; i < record.ChangedTriangles.size(); ++i)
+  {
+    this->ChangedTriangles[c + i] = triangle(record.ChangedTriangles[i]);
+    this->ChangedCorners[c + i] = record.ChangedCorner[i];
+    this->ChangedFrom[c + i] = vertex(record.ChangedFrom[i]);
   }
 }
 

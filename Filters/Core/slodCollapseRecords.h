@@ -89,6 +89,11 @@ struct SURFACELODFILTERS_EXPORT CollapseRecords
   // surrounding (mesh ids) is stored when StoreSurrounding.
   void Append(const CollapseRecord& record, const EditableMesh& mesh, const Index* vertexId = nullptr,
     const Index* triangleId = nullptr, const std::vector<Index>* surrounding = nullptr);
+  // The same for collapses made concurrently: AppendRoom (sequential) adds n collapses removing
+  // removed[i] and redirecting changed[i] triangles (their offsets), then SetAt(k, ...) writes
+  // collapse k of them, concurrently for different k. Without id maps and StoreSurrounding.
+  void AppendRoom(size_t n, const Index* removed, const Index* changed);
+  void SetAt(Index k, const CollapseRecord& record, const EditableMesh& mesh);
   // Appends a flip made after the collapses recorded so far.
   void AppendFlip(const FlipRecord& flip);
   // The flips made after collapse k and before collapse k + 1: indices [first, second) of Flips.
@@ -107,6 +112,11 @@ struct SURFACELODFILTERS_EXPORT CollapseRecords
   void RedoFlipsAfter(Index k, EditableMesh& mesh) const;
 
   size_t MemoryBytes() const;
+
+private:
+  // Collapse k's entries (its room made), ids mapped by vertex(v) and triangle(t).
+  template <typename VertexId, typename TriangleId>
+  void Write(Index k, const CollapseRecord& record, const EditableMesh& mesh, VertexId&& vertex, TriangleId&& triangle);
 };
 } // namespace slod
 

@@ -243,6 +243,19 @@ public:
   void FinishCollapses(Index removedTriangles, Index removedVertices);
   // How many of the gathered triangles of the set (CheckCollapse's scratch) a collapse removes.
   Index RemovedBy(const Index* vertices, int count, const std::vector<Index>& gathered) const;
+  // The live triangles touching the set, deduplicated, in the order Collapse gathers them (a
+  // caller preparing CollapseIntoBlock; safe concurrently while no edit runs).
+  void GatherSet(const Index* vertices, int count, std::vector<Index>& gathered) const
+  {
+    this->GatherTriangles(vertices, count, gathered);
+  }
+  // References that collapses can append before the next one compacts the blocks (a compaction
+  // reorders them: a caller that wants the fans of Collapse one by one stops its concurrent batch
+  // before that collapse).
+  size_t ReferencesBeforeCompaction() const
+  {
+    return this->CompactThreshold > this->Refs.size() ? this->CompactThreshold - this->Refs.size() : 0;
+  }
 
   // Reverts the most recent collapse whose record this is (records must be undone newest first).
   void Undo(const CollapseRecord& record);

@@ -10,10 +10,12 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <type_traits>
 #include <numeric>
 #include <utility>
@@ -22,6 +24,7 @@
 #include <sys/mman.h> // madvise: CompactRows gives the pages of the freed rows back
 #include <unistd.h>
 #endif
+#include <ctime> // clock_gettime: the stages' CPU time
 
 namespace slod
 {
@@ -218,6 +221,57 @@ void HierarchyMesh::Clear()
 // A collapse of a non-manifold edge (or next to a pinched vertex) can pass the link condition
 // and cut the sheets around it apart (new border loops, another Euler characteristic): such
 // vertices are locked, the edge stays as it is in every level.
+// Adds the wall and process CPU time of its scope to a stage (when the build is timed: TRACE).
+class CollapseHierarchy::StageTimer
+{
+public:
+  StageTimer(const CollapseHierarchy& hierarchy, Stage stage)
+    : Time(hierarchy.TimingStages ? &const_cast<CollapseHierarchy&>(hierarchy).StageTimes[stage] : nullptr)
+  {
+    if (this->Time)
+    {
+      this->Wall = std::chrono::steady_clock::now();
+      this->Cpu = ProcessSeconds();
+    }
+  }
+  ~StageTimer()
+  {
+    if (this->Time)
+    {
+      this->Time->Wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - this->Wall).count();
+      this->Time->Cpu += ProcessSeconds() - this->Cpu;
+    }
+  }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+private:
+  static double ProcessSeconds()
+  {
+#if defined(CLOCK_PROCESS_CPUTIME_ID)
+    timespec now;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
+#else
+    return double(std::clock()) / CLOCKS_PER_SEC;
+#endif
+  }
+  StageTime* Time;
+  std::chrono::steady_clock::time_point Wall;
+  double Cpu = 0;
+};
+
+void CollapseHierarchy::LogStageTimes() const
+{
+  static const char* const names[NumberOfStages] = { "M0", "order", "select", "collapse", "gather", "price",
+    "evaluate", "compact" };
+  for (int s = 0; s < NumberOfStages; ++s)
+  {
+    vtkLogF(TRACE, "collapse hierarchy stage %-8s %8.3f s wall %8.3f s cpu", names[s], this->StageTimes[s].Wall,
+      this->StageTimes[s].Cpu);
+  }
+}
+
 void CollapseHierarchy::LockNonManifoldVertices()
 {
   this->LockedVertices = NonManifoldVertexFlags(this->Base);
@@ -1277,14 +1331,29 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
 // ---------------------------------------------------------------------------------------------
 void CollapseHierarchy::MarkChangedAround(Index v)
 {
-  // v moved or got new triangles; the vertices around it lost or gained triangles.
-  const Index stamp = ++this->ChangeCounter;
-  this->StampVertex(v, stamp);
+  this->MarkChangedAround(v, ++this->ChangeCounter);
+}
+
+// v moved or got new triangles; the vertices around it lost or gained triangles. A vertex keeps
+// the larger stamp: the later collapse's when collapses of a run that share it stamp it at once
+// (relaxed atomics; one by one the stamps only grow).
+void CollapseHierarchy::MarkChangedAround(Index v, Index stamp)
+{
+  const auto raise = [&](Index w) {
+    VertexChange& change = this->VertexChanges[w];
+    Index old = __atomic_load_n(&change.Stamp, __ATOMIC_RELAXED);
+    while (old < stamp &&
+      !__atomic_compare_exchange_n(&change.Stamp, &old, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+    {
+    }
+    __atomic_store_n(&change.Degree, Index(-1), __ATOMIC_RELAXED);
+  };
+  raise(v);
   this->Mesh.ForEachTriangle(v, [&](Index x) {
     const Index* q = this->Mesh.Triangle(x);
     for (int j = 0; j < 3; ++j)
     {
-      this->StampVertex(q[j], stamp);
+      raise(q[j]);
     }
   });
 }
@@ -1546,6 +1615,31 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
 
 // ---------------------------------------------------------------------------------------------
 // The batch selection's data over one Build (reused from level to level).
+// The batch's collapses in runs applied at once (ParallelCollapses). The batch's regions are
+// disjoint, so a collapse changes only its region's triangles, its own vertices and their blocks:
+// what made it depend on the collapses before it when applied one by one is where it writes (its
+// index, reference block, versions and records: prefix sums over the run's counts) and the change
+// stamps of the vertices its region shares with others (the larger, the later collapse's, stays).
+// A run holds only collapses whose checks would not run again one by one (CollapseInOrder): edge
+// collapses with no border vertex opposite their edge; triangle collapses and those go one by one.
+// It also ends before the collapse after which the mesh's blocks would be compacted: a compaction
+// reorders the fans, which the later collapses' versions follow.
+struct CollapseHierarchy::BatchRun
+{
+  // Per batch position, surveyed once (RunSurvey; a collapse's counts depend only on its own
+  // region, which no other collapse changes): one by one (1), and the triangles its collapse
+  // keeps (references, versions), removes and redirects.
+  std::vector<unsigned char> InOrder;
+  std::vector<Index> Survivors, Removed, Changed;
+  size_t Surveyed = 0; // positions [0, Surveyed) are
+  // ApplyRun's: per collapse of the run + 1, where its references and versions start.
+  std::vector<Index> SurvivorStart;
+  size_t Begin = 0;
+  Index FirstCollapse = 0, FirstEntry = 0, FirstStamp = 0, ReferenceStart = 0;
+  vtkSMPThreadLocal<CollapseRecord> Records;
+  vtkSMPThreadLocal<std::vector<Index>> Sets;
+};
+
 struct CollapseHierarchy::LevelState
 {
   // Priority order of the level: (weight, triangle), collected range by range of that order as
@@ -1582,6 +1676,7 @@ struct CollapseHierarchy::LevelState
   std::vector<Index> Batch;
   std::vector<int> BatchEdge;
   std::vector<Vec3> BatchPoint;
+  BatchRun Run;
   // Per triangle row, one mark for two uses that never overlap: the stamp of the level whose
   // batch region (stencil, or the triangles around a collapsed edge) holds it (RegionStamp;
   // regions of one batch are disjoint), or of the last gathering of the triangles to evaluate
@@ -1643,10 +1738,15 @@ bool CollapseHierarchy::Build(
   {
     return true;
   }
-  this->InitializeQuadrics();
-  if (!this->EvaluateAllTriangles(progress))
+  this->TimingStages = vtkLogger::GetCurrentVerbosityCutoff() >= vtkLogger::VERBOSITY_TRACE;
+  this->StageTimes = {};
   {
-    return false;
+    StageTimer timer(*this, StageM0);
+    this->InitializeQuadrics();
+    if (!this->EvaluateAllTriangles(progress))
+    {
+      return false;
+    }
   }
   LevelState state;
   state.Marks.assign(nt, 0);
@@ -1663,8 +1763,11 @@ bool CollapseHierarchy::Build(
     {
       break;
     }
-    this->CompactRows(state);
-    this->CompactQuadrics();
+    {
+      StageTimer timer(*this, StageCompact);
+      this->CompactRows(state);
+      this->CompactQuadrics();
+    }
     if (progress)
     {
       const double done = double(nt - this->Mesh.NumberOfLiveTriangles()) / (0.95 * nt);
@@ -1675,6 +1778,10 @@ bool CollapseHierarchy::Build(
     }
   }
   this->ReleaseWorkingData();
+  if (this->TimingStages)
+  {
+    this->LogStageTimes();
+  }
   return true;
 }
 
@@ -1894,6 +2001,7 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   std::vector<Index>().swap(this->BlockedEdge);
   this->EdgeCollapseCount = 0;
   this->BatchRechecks = 0;
+  this->CollapsesInRuns = 0;
   this->ChoicesAhead = 0;
   this->ChoicesInOrder = 0;
   this->ChoicesDecidedAhead = 0;
@@ -2079,21 +2187,30 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
 bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
 {
   const CollapseHierarchyParameters& p = this->Parameters;
-  this->PlanLevel(state);
-  this->OrderCandidates(state);
-  this->SelectOrRelax(level, state);
-  if (state.Batch.empty() && p.SwapBlockingEdges && p.SwapMinimumNormalDotWhenBlocked < p.SwapMinimumNormalDot)
   {
-    this->SwapEverywhereAndRetry(level, state);
+    StageTimer timer(*this, StageOrder);
+    this->PlanLevel(state);
+    this->OrderCandidates(state);
   }
-  if (state.Batch.empty() && p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::WhenBlocked)
   {
-    // Still blocked everywhere: edge collapses for this level.
-    state.Edges = true;
-    this->SelectBatch(level, state);
+    StageTimer timer(*this, StageSelect);
+    this->SelectOrRelax(level, state);
+    if (state.Batch.empty() && p.SwapBlockingEdges && p.SwapMinimumNormalDotWhenBlocked < p.SwapMinimumNormalDot)
+    {
+      this->SwapEverywhereAndRetry(level, state);
+    }
+    if (state.Batch.empty() && p.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::WhenBlocked)
+    {
+      // Still blocked everywhere: edge collapses for this level.
+      state.Edges = true;
+      this->SelectBatch(level, state);
+    }
   }
   const Index levelStart = this->NumberOfCollapses();
-  this->CollapseBatch(state);
+  {
+    StageTimer timer(*this, StageCollapse);
+    this->CollapseBatch(state);
+  }
   if (this->NumberOfCollapses() == levelStart)
   {
     return false;
@@ -2724,42 +2841,258 @@ bool CollapseHierarchy::EdgeCollapseAllowed(
 // merged vertex has all its triangles in its own region). Only such a region is checked again;
 // the others would give the answer of their selection (a second CheckCollapse per collapse was
 // 7% of the build's instructions on refined_elephant).
-void CollapseHierarchy::CollapseBatch(const LevelState& state)
+void CollapseHierarchy::CollapseBatch(LevelState& state)
 {
+  // (Runs shorter than this go one by one: a parallel region costs more than they gain.)
+  constexpr size_t MinimumRun = 32;
   const Index batchStart = this->ChangeCounter;
-  for (size_t b = 0; b < state.Batch.size(); ++b)
+  const size_t n = state.Batch.size();
+  BatchRun& run = state.Run;
+  run.Surveyed = 0;
+  run.InOrder.resize(n);
+  run.Survivors.resize(n);
+  run.Removed.resize(n);
+  run.Changed.resize(n);
+  for (size_t b = 0; b < n;)
   {
-    this->PrefetchBatch(state, b);
-    const Index t = state.Batch[b];
-    const Index* tri = this->Mesh.Triangle(t);
-    const int edge = state.BatchEdge[b];
-    if (edge >= 0)
+    const size_t end = this->Parameters.ParallelCollapses ? this->RunEnd(state, b) : b;
+    if (end - b >= MinimumRun)
     {
-      const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
-      const bool unchanged = !this->OppositeBorderVertexChangedSince(vertices[0], vertices[1], batchStart);
-      this->BatchRechecks += unchanged ? 0 : 1;
-      if (unchanged ||
-        this->Mesh.CheckCollapse(vertices, 2, state.BatchPoint[b], this->MeshOptions) == CollapseStatus::Ok)
-      {
-        this->ApplyCollapse(t, vertices, 2, state.BatchPoint[b]);
-      }
+      this->ApplyRun(state, b, end);
+      b = end;
       continue;
     }
-    const bool unchanged = this->StarsUnchangedSince(t, batchStart);
-    this->BatchRechecks += unchanged ? 0 : 1;
-    if (unchanged || !this->CreatesCycle(t))
+    for (const size_t last = std::max(end, b + 1); b < last; ++b)
     {
-      const Index vertices[3] = { tri[0], tri[1], tri[2] };
-      this->ApplyCollapse(t, vertices, 3, state.BatchPoint[b]);
+      this->CollapseInOrder(state, b, batchStart);
     }
   }
+}
+
+// Collapse b of the batch, checked again where an earlier collapse of the batch may have changed
+// what its checks read (see CollapseBatch).
+void CollapseHierarchy::CollapseInOrder(const LevelState& state, size_t b, Index batchStart)
+{
+  this->PrefetchBatch(state, b, state.Batch.size());
+  const Index t = state.Batch[b];
+  const Index* tri = this->Mesh.Triangle(t);
+  const int edge = state.BatchEdge[b];
+  if (edge >= 0)
+  {
+    const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
+    const bool unchanged = !this->OppositeBorderVertexChangedSince(vertices[0], vertices[1], batchStart);
+    this->BatchRechecks += unchanged ? 0 : 1;
+    if (unchanged ||
+      this->Mesh.CheckCollapse(vertices, 2, state.BatchPoint[b], this->MeshOptions) == CollapseStatus::Ok)
+    {
+      this->ApplyCollapse(t, vertices, 2, state.BatchPoint[b]);
+    }
+    return;
+  }
+  const bool unchanged = this->StarsUnchangedSince(t, batchStart);
+  this->BatchRechecks += unchanged ? 0 : 1;
+  if (unchanged || !this->CreatesCycle(t))
+  {
+    const Index vertices[3] = { tri[0], tri[1], tri[2] };
+    this->ApplyCollapse(t, vertices, 3, state.BatchPoint[b]);
+  }
+}
+
+// Surveys batch position b (reads the mesh only): whether it goes one by one, and its counts.
+void CollapseHierarchy::SurveyCollapse(const LevelState& state, size_t b, std::vector<Index>& gathered) const
+{
+  BatchRun& run = const_cast<BatchRun&>(state.Run); // (each position written by one thread)
+  const int edge = state.BatchEdge[b];
+  run.InOrder[b] = 1;
+  if (edge < 0)
+  {
+    return;
+  }
+  const Index* tri = this->Mesh.Triangle(state.Batch[b]);
+  const Index u = tri[edge], v = tri[(edge + 1) % 3];
+  const Index vertices[2] = { u, v };
+  this->Mesh.GatherSet(vertices, 2, gathered);
+  Index survivors = 0, removed = 0, changed = 0;
+  bool borderOpposite = false;
+  for (Index x : gathered)
+  {
+    const Index* q = this->Mesh.Triangle(x);
+    int members = 0, other = 0;
+    for (int j = 0; j < 3; ++j)
+    {
+      const bool member = q[j] == u || q[j] == v;
+      members += member ? 1 : 0;
+      other = member ? other : j;
+    }
+    if (members >= 2)
+    {
+      ++removed;
+      borderOpposite = borderOpposite || (members == 2 && this->OnBorder[q[other]]);
+      continue;
+    }
+    ++survivors;
+    changed += (q[0] == v || q[1] == v || q[2] == v) ? 1 : 0; // (its corner becomes u)
+  }
+  run.InOrder[b] = borderOpposite ? 1 : 0;
+  run.Survivors[b] = survivors;
+  run.Removed[b] = removed;
+  run.Changed[b] = changed;
+}
+
+struct CollapseHierarchy::RunSurvey
+{
+  const CollapseHierarchy& Hierarchy;
+  const LevelState& State;
+  vtkSMPThreadLocal<std::vector<Index>>& Sets;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    std::vector<Index>& gathered = this->Sets.Local();
+    for (vtkIdType b = begin; b < end; ++b)
+    {
+      this->Hierarchy.SurveyCollapse(this->State, size_t(b), gathered);
+    }
+  }
+};
+
+// The end of the run from b: the first collapse that goes one by one, or after which the blocks
+// would be compacted. The positions are surveyed as the run reaches them, in parallel, in windows
+// that grow with it.
+size_t CollapseHierarchy::RunEnd(LevelState& state, size_t b) const
+{
+  BatchRun& run = state.Run;
+  const size_t n = state.Batch.size();
+  const size_t room = this->Mesh.ReferencesBeforeCompaction();
+  size_t used = 0, r = b;
+  for (; r < n; ++r)
+  {
+    if (r == run.Surveyed)
+    {
+      const size_t window = std::min<size_t>(std::max<size_t>(64, r - b), size_t(1) << 14);
+      const size_t last = std::min(n, r + window);
+      RunSurvey survey{ *this, state, run.Sets };
+      vtkSMPTools::For(static_cast<vtkIdType>(r), static_cast<vtkIdType>(last), survey);
+      run.Surveyed = last;
+    }
+    if (run.InOrder[r] || used + size_t(run.Survivors[r]) > room)
+    {
+      break;
+    }
+    used += size_t(run.Survivors[r]);
+  }
+  return r;
+}
+
+struct CollapseHierarchy::RunApplication
+{
+  CollapseHierarchy& Hierarchy;
+  const LevelState& State;
+  BatchRun& Run;
+  size_t Begin;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    CollapseRecord& record = this->Run.Records.Local();
+    std::vector<Index>& gathered = this->Run.Sets.Local();
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      this->Hierarchy.PrefetchBatch(this->State, this->Begin + size_t(i), this->Begin + size_t(end));
+      this->Hierarchy.ApplyRunCollapse(this->State, this->Begin + size_t(i), record, gathered);
+    }
+  }
+};
+
+// The collapses [begin, end) of the batch at once: their slots first (prefix sums of their counts),
+// then each collapse in parallel, then the counters.
+void CollapseHierarchy::ApplyRun(LevelState& state, size_t begin, size_t end)
+{
+  BatchRun& run = state.Run;
+  const size_t n = end - begin;
+  run.Begin = begin;
+  run.SurvivorStart.assign(1, 0);
+  Index removed = 0;
+  for (size_t b = begin; b < end; ++b)
+  {
+    run.SurvivorStart.push_back(run.SurvivorStart.back() + run.Survivors[b]);
+    removed += run.Removed[b];
+  }
+  const Index survivors = run.SurvivorStart.back();
+  run.FirstCollapse = this->NumberOfCollapses();
+  run.FirstEntry = this->NumberOfEntries();
+  run.FirstStamp = this->ChangeCounter;
+  run.ReferenceStart = this->Mesh.ReserveRefs(survivors);
+  const size_t collapses = size_t(run.FirstCollapse) + n;
+  this->Collapses.resize(collapses);
+  this->CollapsePoints.resize(3 * collapses);
+  this->AncestorCounts.resize(collapses);
+  this->VersionsBornBy.resize(collapses + 1);
+  this->EntryDeath.resize(size_t(run.FirstEntry + survivors));
+  this->EntryCode.resize(this->EntryCode.size() + size_t(survivors));
+  this->Records.AppendRoom(n, &run.Removed[begin], &run.Changed[begin]);
+  RunApplication application{ *this, state, run, begin };
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), application);
+  this->Mesh.FinishCollapses(removed, static_cast<Index>(n)); // (no compaction: RunEnd)
+  this->ChangeCounter += static_cast<Index>(n);
+  this->EdgeCollapseCount += static_cast<Index>(n);
+  this->CollapsesInRuns += static_cast<Index>(n);
+}
+
+// ApplyCollapse for edge collapse b of a run, in its slots (concurrently with the run's others).
+void CollapseHierarchy::ApplyRunCollapse(
+  const LevelState& state, size_t b, CollapseRecord& record, std::vector<Index>& gathered)
+{
+  const BatchRun& run = state.Run;
+  const size_t i = b - run.Begin;
+  const Index k = run.FirstCollapse + static_cast<Index>(i);
+  const Index t = state.Batch[b];
+  const Index* tri = this->Mesh.Triangle(t);
+  const int edge = state.BatchEdge[b];
+  const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
+  const Index kept = vertices[0];
+  const Vec3& p = state.BatchPoint[b];
+  StoredCollapse& collapse = this->Collapses[size_t(k)];
+  collapse.Sources[0] = this->GlobalOf[vertices[0]];
+  collapse.Sources[1] = this->GlobalOf[vertices[1]];
+  collapse.Sources[2] = InvalidIndex;
+  collapse.Triangle = t;
+  collapse.Weight = this->Evaluations[this->Row(t)].Weight;
+  std::copy(p.begin(), p.end(), this->CollapsePoints.begin() + 3 * size_t(k));
+  this->Mesh.GatherSet(vertices, 2, gathered);
+  this->Mesh.CollapseIntoBlock(vertices, 2, kept, p, gathered, run.ReferenceStart + run.SurvivorStart[i], record);
+  this->OnBorder[kept] |= this->OnBorder[vertices[1]];
+  if (!this->Quadrics.empty())
+  {
+    this->QuadricOf(kept) += this->QuadricOf(vertices[1]);
+  }
+  this->AncestorCounts[size_t(k)] =
+    this->AncestorCountOf(collapse.Sources[0]) + this->AncestorCountOf(collapse.Sources[1]);
+  this->GlobalOf[kept] = this->PointOfCollapse(k);
+  this->MarkChangedAround(kept, run.FirstStamp + static_cast<Index>(i) + 1);
+  if (!this->EdgeCostStates.empty())
+  {
+    this->ForgetEdgeCostsAround(kept);
+  }
+  for (Index r : record.RemovedTriangles)
+  {
+    this->EntryDeath[this->EntryOf[this->Row(r)]] = k + 1;
+  }
+  Index e = run.FirstEntry + run.SurvivorStart[i];
+  const Index nt = this->Base.NumberOfTriangles();
+  this->Mesh.ForEachTriangle(kept, [&](Index x) {
+    Index& current = this->EntryOf[this->Row(x)];
+    this->EntryDeath[current] = k + 1;
+    const Index* q = this->Mesh.Triangle(x);
+    this->EntryCode[size_t(e - nt)] = std::uint32_t(x) << 2 | (q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
+    this->EntryDeath[e] = Never;
+    current = e++;
+  });
+  this->VersionsBornBy[size_t(k) + 1] = e;
+  this->Records.SetAt(k, record, this->Mesh);
 }
 
 // The batch's collapses are scattered over the mesh (weight order): what ApplyCollapse reads of
 // the coming ones is loaded ahead in three steps (a triangle and its row; its vertices' blocks,
 // points and quadric rows; their triangle blocks and quadrics), so that the misses overlap (the
 // merged vertices' quadrics were a quarter of ApplyCollapse's samples on mc1m).
-void CollapseHierarchy::PrefetchBatch(const LevelState& state, size_t b) const
+void CollapseHierarchy::PrefetchBatch(const LevelState& state, size_t b, size_t end) const
 {
   constexpr size_t Near = 2, Middle = 4, Far = 8;
   const std::vector<Index>& batch = state.Batch;
@@ -2767,12 +3100,12 @@ void CollapseHierarchy::PrefetchBatch(const LevelState& state, size_t b) const
   {
     return; // (the paper's configuration: nothing cold to load but the mesh)
   }
-  if (b + Far < batch.size())
+  if (b + Far < end)
   {
     __builtin_prefetch(this->Mesh.Triangle(batch[b + Far]));
     __builtin_prefetch(&this->RowOf[batch[b + Far]]);
   }
-  if (b + Middle < batch.size())
+  if (b + Middle < end)
   {
     const Index* tri = this->Mesh.Triangle(batch[b + Middle]);
     for (int k = 0; k < 3; ++k)
@@ -2781,7 +3114,7 @@ void CollapseHierarchy::PrefetchBatch(const LevelState& state, size_t b) const
       __builtin_prefetch(&this->QuadricRowOf[tri[k]]);
     }
   }
-  if (b + Near < batch.size())
+  if (b + Near < end)
   {
     const Index* tri = this->Mesh.Triangle(batch[b + Near]);
     for (int k = 0; k < 3; ++k)
@@ -2854,6 +3187,8 @@ void CollapseHierarchy::SwapAroundNewVertices(LevelState& state)
 // Each triangle around the given vertices is evaluated and weighed again, once.
 void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelState& state)
 {
+  std::optional<StageTimer> timer;
+  timer.emplace(*this, StageGather);
   state.AffectedStamp = state.NextStamp();
   state.Affected.clear();
   for (Index v : vertices)
@@ -2870,7 +3205,9 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
   // neighbouring evaluations then share cached triangles and points. The results do not depend
   // on the order.
   vtkSMPTools::Sort(state.Affected.begin(), state.Affected.end());
+  timer.emplace(*this, StagePrice);
   this->PriceSpokes(&vertices);
+  timer.emplace(*this, StageEvaluate);
   this->EvaluateTriangles(state.Affected.data(), 0, static_cast<Index>(state.Affected.size()));
   for (Index x : state.Affected)
   {

@@ -35,6 +35,7 @@
 #include "slodTriangleStencil.h"
 
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <limits>
 #include <unordered_map>
@@ -134,6 +135,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // parallel (ChooseAhead); the hierarchy is the same. Off by default: on the shared 2 cores (load
   // 20-25) it cost 13-15% more CPU time on mc1m for no wall time measurable there (session 25).
   bool DecideAhead = false;
+  // The batch's collapses applied in runs, concurrently (vtkSMPTools), each collapse writing the
+  // slots prefix sums give it (its index, reference block, versions, records): the same hierarchy,
+  // bit for bit, for any number of threads. Off: one by one (the serial reference).
+  bool ParallelCollapses = true;
 };
 
 // One collapse as GetCollapse hands it out (the hierarchy keeps only its sources, triangle and
@@ -182,6 +187,8 @@ public:
   // Collapses whose checks ran again when their batch was collapsed: those whose region shares a
   // vertex with the region of an earlier collapse of the batch (the others cannot have changed).
   Index NumberOfBatchRechecks() const { return this->BatchRechecks; }
+  // Collapses applied in runs, concurrently (ParallelCollapses; the others one by one).
+  Index NumberOfCollapsesInRuns() const { return this->CollapsesInRuns; }
   // The batch selection's choices (a candidate's collapse, decided when its region is free): those
   // decided ahead, concurrently, and used (DecideAhead, more than one thread), those the selection
   // decided itself in order, and every choice decided ahead (the used ones and the wasted ones).
@@ -404,8 +411,18 @@ private:
   bool EdgeCollapseAllowed(Index t, double orderWeight, int hubs, Choice& choice, ChoiceScratch& scratch) const;
   void Settle(Index t, const Choice& choice);
   void PrepareBlockedStamps(const LevelState& state);
-  void CollapseBatch(const LevelState& state);
-  void PrefetchBatch(const LevelState& state, size_t b) const;
+  void CollapseBatch(LevelState& state);
+  void CollapseInOrder(const LevelState& state, size_t b, Index batchStart);
+  void PrefetchBatch(const LevelState& state, size_t b, size_t end) const; // (within [b, end))
+  // ParallelCollapses: the run of the batch's collapses from b on that may be applied at once (see
+  // the .cxx), its collapses' sets gathered and counted; then applied.
+  struct BatchRun;      // a run's data (in the .cxx)
+  struct RunSurvey;     // the vtkSMPTools functors (in the .cxx)
+  struct RunApplication;
+  size_t RunEnd(LevelState& state, size_t b) const;
+  void SurveyCollapse(const LevelState& state, size_t b, std::vector<Index>& gathered) const;
+  void ApplyRun(LevelState& state, size_t begin, size_t end);
+  void ApplyRunCollapse(const LevelState& state, size_t b, CollapseRecord& record, std::vector<Index>& gathered);
   bool OppositeBorderVertexChangedSince(Index u, Index v, Index stamp) const;
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
@@ -616,11 +633,13 @@ private:
   void StampVertex(Index v, Index stamp) const { this->VertexChanges[v] = { stamp, -1 }; }
   Index EdgeCollapseCount = 0;
   Index BatchRechecks = 0;
+  Index CollapsesInRuns = 0;
   Index ChoicesAhead = 0, ChoicesInOrder = 0, ChoicesDecidedAhead = 0;
   // Per editable vertex: on a border of the mesh (MeshOptions.BoundaryVertices points here).
   std::vector<unsigned char> OnBorder;
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
+  void MarkChangedAround(Index v, Index stamp);
   // The stars of the vertices of t not in skipMask (bit k: tri[k]) are unchanged since stamp
   // (false for a negative stamp: not known).
   bool StarsUnchangedSince(Index t, Index stamp, int skipMask = 0) const;
@@ -676,6 +695,29 @@ private:
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;
   std::uint32_t MarkEpoch = 0;
   mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;
+
+  // Build's stages timed at TRACE verbosity (wall and process CPU seconds; StageTimer in the
+  // .cxx): a stage whose CPU time stays its wall time with two threads runs in serial.
+  enum Stage
+  {
+    StageM0,        // quadrics and M0's evaluation
+    StageOrder,     // the level's plan and sample
+    StageSelect,    // the batch selection (ranges, choices, regions)
+    StageCollapse,  // the batch's collapses
+    StageGather,    // the triangles to evaluate again
+    StagePrice,     // the new spokes' edge costs
+    StageEvaluate,  // their evaluation
+    StageCompact,   // rows and quadrics compacted
+    NumberOfStages
+  };
+  struct StageTime
+  {
+    double Wall = 0, Cpu = 0;
+  };
+  std::array<StageTime, NumberOfStages> StageTimes;
+  bool TimingStages = false;
+  class StageTimer; // adds a scope's times to its stage (in the .cxx)
+  void LogStageTimes() const;
 };
 } // namespace slod
 

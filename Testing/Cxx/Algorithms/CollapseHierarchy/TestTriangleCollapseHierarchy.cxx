@@ -1223,6 +1223,92 @@ TEST(CollapseHierarchy, ChoicesDecidedAheadGiveTheSameHierarchy)
   }
 }
 
+// Every level (points, triangles, their M0 slots and collapse levels), the vertex splits (the
+// expansion of the coarsest mesh at every fifth level) and the coarsest editable mesh down to the
+// order of each vertex's triangles are the same.
+static void ExpectSameLevelsAndRecords(const CollapseHierarchy& a, const CollapseHierarchy& b, const std::string& what)
+{
+  ExpectSameHierarchy(a, b, what);
+  ASSERT_EQ(a.NumberOfEdgeCollapses(), b.NumberOfEdgeCollapses()) << what;
+  ASSERT_EQ(a.NumberOfBatchRechecks(), b.NumberOfBatchRechecks()) << what;
+  for (int level = 0; level < a.NumberOfLevels(); ++level)
+  {
+    HierarchyMesh x, y;
+    a.Extract(a.LevelStart(level), a.LevelStart(level), 0.0, x);
+    b.Extract(b.LevelStart(level), b.LevelStart(level), 0.0, y);
+    ASSERT_EQ(x.Points, y.Points) << "level " << level << ", " << what;
+    ASSERT_EQ(x.Triangles, y.Triangles) << "level " << level << ", " << what;
+    ASSERT_EQ(x.TriangleOrigin, y.TriangleOrigin) << "level " << level << ", " << what;
+    ASSERT_EQ(x.TriangleCollapseLevel, y.TriangleCollapseLevel) << "level " << level << ", " << what;
+    if (level % 5 == 0)
+    {
+      a.Expand(a.LevelStart(level), x);
+      b.Expand(b.LevelStart(level), y);
+      ASSERT_EQ(x.Triangles, y.Triangles) << "expanded level " << level << ", " << what;
+      ASSERT_EQ(x.PointGlobal, y.PointGlobal) << "expanded level " << level << ", " << what;
+      ASSERT_EQ(x.TriangleCollapseLevel, y.TriangleCollapseLevel) << "expanded level " << level << ", " << what;
+    }
+  }
+  const EditableMesh& m = a.CoarsestMesh();
+  const EditableMesh& n = b.CoarsestMesh();
+  ASSERT_EQ(m.NumberOfLiveTriangles(), n.NumberOfLiveTriangles()) << what;
+  for (Index v = 0; v < m.NumberOfPoints(); ++v)
+  {
+    std::vector<Index> around, aroundToo;
+    m.ForEachTriangle(v, [&](Index t) { around.push_back(t); });
+    n.ForEachTriangle(v, [&](Index t) { aroundToo.push_back(t); });
+    ASSERT_EQ(around, aroundToo) << "vertex " << v << ", " << what;
+  }
+}
+
+// The batch's edge collapses are applied in runs, concurrently, each in the slots that prefix sums
+// of the run's counts give it (ParallelCollapses); the one-by-one application stays as the
+// reference (off). On a smooth closed isosurface (nearly all edge collapses, runs of thousands),
+// a noisy scan isosurface (borders: edge collapses next to them go one by one, with their checks)
+// and bunny00 with PreferEdgeFactor 0.1 (many triangle collapses, which cut the runs): with one,
+// two and eight threads, the runs build the reference hierarchy bit for bit, levels and records,
+// and most of the isosurface's collapses are applied in runs.
+TEST(CollapseHierarchy, CollapsesAppliedInRunsGiveTheSerialHierarchy)
+{
+  CollapseHierarchyParameters runs = DefaultParameters();
+  ASSERT_TRUE(runs.ParallelCollapses); // (the default)
+  const std::pair<const char*, TriangleMesh> meshes[] = {
+    { "isosurface 80", ToTriangleMesh(SyntheticIsosurface(80)) },
+    { "noisy scan 45", ToTriangleMesh(NoisyScanIsosurface(45, 3)) },
+    { "bunny00, PreferEdgeFactor 0.1", ToTriangleMesh(LoadTestMesh("bunny00")) } };
+  for (const auto& named : meshes)
+  {
+    CollapseHierarchyParameters parameters = runs;
+    parameters.PreferEdgeFactor = named.first[0] == 'b' ? 0.1 : runs.PreferEdgeFactor;
+    CollapseHierarchyParameters reference = parameters;
+    reference.ParallelCollapses = false; // (the one-by-one reference)
+    CollapseHierarchy one;
+    vtkSMPTools::LocalScope(vtkSMPTools::Config{ 1 }, [&]() { ASSERT_TRUE(one.Build(named.second, reference)); });
+    ASSERT_GT(one.NumberOfCollapses(), named.second.NumberOfTriangles() / 4) << named.first;
+    EXPECT_EQ(one.NumberOfCollapsesInRuns(), 0) << named.first;
+    for (int threads : { 1, 2, 8 })
+    {
+      const std::string what = std::string(named.first) + ", " + std::to_string(threads) + " threads";
+      CollapseHierarchy inRuns;
+      vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads },
+        [&]() { ASSERT_TRUE(inRuns.Build(named.second, parameters)); });
+      std::printf("[ measure  ] %s: %lld of %lld collapses in runs (%lld edge collapses)\n", what.c_str(),
+        static_cast<long long>(inRuns.NumberOfCollapsesInRuns()), static_cast<long long>(inRuns.NumberOfCollapses()),
+        static_cast<long long>(inRuns.NumberOfEdgeCollapses()));
+      EXPECT_GT(inRuns.NumberOfCollapsesInRuns(), 0) << what;
+      if (named.first[0] == 'i')
+      {
+        EXPECT_GT(inRuns.NumberOfCollapsesInRuns(), 3 * inRuns.NumberOfCollapses() / 4) << what;
+      }
+      ExpectSameLevelsAndRecords(one, inRuns, what);
+    }
+  }
+  CollapseHierarchy iso;
+  const TriangleMesh isosurface = ToTriangleMesh(SyntheticIsosurface(80));
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ 2 }, [&]() { ASSERT_TRUE(iso.Build(isosurface, runs)); });
+  ExpectExactlyReversible(iso, isosurface);
+}
+
 // The edge collapse costs kept per triangle edge (ReuseEdgeCosts) must be those a new pricing
 // gives: a cost kept after one of its ends moved, or after an edge swap gave its triangle other
 // corners, would change the order or the choice of an edge. The same hierarchy with and without
