@@ -75,6 +75,57 @@ private:
   std::clock_t Cpu = 0;
   double Thread = 0.0;
 };
+
+// Wall and process CPU seconds summed over every visit of a stage that recurs (a level's stages).
+struct StageTotal
+{
+  double Wall = 0.0;
+  double Cpu = 0.0;
+};
+
+// Adds the wall and process CPU time of its scope to a StageTotal; a null total (timing off)
+// reads no clock.
+class ScopedStageTime
+{
+public:
+  explicit ScopedStageTime(StageTotal* total)
+    : Total(total)
+  {
+    if (this->Total)
+    {
+      this->Wall = std::chrono::steady_clock::now();
+      this->Cpu = ProcessSeconds();
+    }
+  }
+  ~ScopedStageTime()
+  {
+    if (this->Total)
+    {
+      this->Total->Wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - this->Wall).count();
+      this->Total->Cpu += ProcessSeconds() - this->Cpu;
+    }
+  }
+  ScopedStageTime(const ScopedStageTime&) = delete;
+  ScopedStageTime& operator=(const ScopedStageTime&) = delete;
+
+  // The process's CPU time of all its threads.
+  static double ProcessSeconds()
+  {
+#if defined(__unix__)
+    timespec now;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now) == 0)
+    {
+      return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
+    }
+#endif
+    return double(std::clock()) / double(CLOCKS_PER_SEC);
+  }
+
+private:
+  StageTotal* Total;
+  std::chrono::steady_clock::time_point Wall;
+  double Cpu = 0.0;
+};
 } // namespace slod
 
 #endif

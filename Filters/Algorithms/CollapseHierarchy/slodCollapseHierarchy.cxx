@@ -24,7 +24,6 @@
 #include <sys/mman.h> // madvise: CompactRows gives the pages of the freed rows back
 #include <unistd.h>
 #endif
-#include <ctime> // clock_gettime: the stages' CPU time
 
 namespace slod
 {
@@ -218,47 +217,15 @@ void HierarchyMesh::Clear()
 }
 
 // ---------------------------------------------------------------------------------------------
-// A collapse of a non-manifold edge (or next to a pinched vertex) can pass the link condition
-// and cut the sheets around it apart (new border loops, another Euler characteristic): such
-// vertices are locked, the edge stays as it is in every level.
 // Adds the wall and process CPU time of its scope to a stage (when the build is timed: TRACE).
-class CollapseHierarchy::StageTimer
+class CollapseHierarchy::StageTimer : public ScopedStageTime
 {
 public:
   StageTimer(const CollapseHierarchy& hierarchy, Stage stage)
-    : Time(hierarchy.TimingStages ? &const_cast<CollapseHierarchy&>(hierarchy).StageTimes[stage] : nullptr)
+    : ScopedStageTime(
+        hierarchy.TimingStages ? &const_cast<CollapseHierarchy&>(hierarchy).StageTimes[stage] : nullptr)
   {
-    if (this->Time)
-    {
-      this->Wall = std::chrono::steady_clock::now();
-      this->Cpu = ProcessSeconds();
-    }
   }
-  ~StageTimer()
-  {
-    if (this->Time)
-    {
-      this->Time->Wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - this->Wall).count();
-      this->Time->Cpu += ProcessSeconds() - this->Cpu;
-    }
-  }
-  StageTimer(const StageTimer&) = delete;
-  StageTimer& operator=(const StageTimer&) = delete;
-
-private:
-  static double ProcessSeconds()
-  {
-#if defined(CLOCK_PROCESS_CPUTIME_ID)
-    timespec now;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-    return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
-#else
-    return double(std::clock()) / CLOCKS_PER_SEC;
-#endif
-  }
-  StageTime* Time;
-  std::chrono::steady_clock::time_point Wall;
-  double Cpu = 0;
 };
 
 void CollapseHierarchy::LogStageTimes() const
@@ -272,6 +239,9 @@ void CollapseHierarchy::LogStageTimes() const
   }
 }
 
+// A collapse of a non-manifold edge (or next to a pinched vertex) can pass the link condition
+// and cut the sheets around it apart (new border loops, another Euler characteristic): such
+// vertices are locked, the edge stays as it is in every level.
 void CollapseHierarchy::LockNonManifoldVertices()
 {
   this->LockedVertices = NonManifoldVertexFlags(this->Base);

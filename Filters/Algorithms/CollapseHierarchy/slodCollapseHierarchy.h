@@ -32,6 +32,7 @@
 #include "slodPointStore.h"
 #include "slodQuadric.h"
 #include "slodQuadraticFit.h"
+#include "slodStageClock.h"
 #include "slodTriangleStencil.h"
 
 #include <algorithm>
@@ -710,11 +711,7 @@ private:
     StageCompact,   // rows and quadrics compacted
     NumberOfStages
   };
-  struct StageTime
-  {
-    double Wall = 0, Cpu = 0;
-  };
-  std::array<StageTime, NumberOfStages> StageTimes;
+  std::array<StageTotal, NumberOfStages> StageTimes;
   bool TimingStages = false;
   class StageTimer; // adds a scope's times to its stage (in the .cxx)
   void LogStageTimes() const;
