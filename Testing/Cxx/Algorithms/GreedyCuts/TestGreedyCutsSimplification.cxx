@@ -384,6 +384,41 @@ TEST(GreedyCuts, TriangleSetsNameTheRefusedTriangle)
   EXPECT_EQ(refused, 7u); // untouched when proved
 }
 
+// A scan of vtkScanSurfaceSource through the greedy cuts alone at 0.005 of its diagonal: the start
+// of the final collapses, which do nearly all the work on scans.
+struct ScanCuts
+{
+  vtkSmartPointer<vtkPolyData> Input;
+  TriangleMesh Mesh;
+  double Epsilon = 0;
+  GreedyCutsResult Result;
+};
+
+ScanCuts CutScan(bool noisy, int resolution)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  if (noisy)
+  {
+    source->SetKindToNoisyIsosurface();
+  }
+  else
+  {
+    source->SetKindToSegmentationMask();
+  }
+  source->SetResolution(resolution);
+  source->Update();
+  ScanCuts scan;
+  scan.Input = source->GetOutput();
+  scan.Mesh = slodtest::ToTriangleMesh(scan.Input);
+  GreedyCuts cuts;
+  cuts.Initialize(scan.Mesh, PatchificationParameters());
+  GreedyCutsParameters parameters;
+  parameters.Epsilon = scan.Epsilon = 0.005 * scan.Mesh.BoundingBoxDiagonal();
+  parameters.FinalCollapses = false;
+  EXPECT_TRUE(cuts.Run(parameters, scan.Result));
+  return scan;
+}
+
 // The final collapses' passes try every refused vertex again with the same targets, and most of a
 // star's new triangles are those of the last try: each new triangle's answer (facing and proof,
 // which depend on its corners only) is now decided once per run and recalled after. On a
@@ -391,22 +426,13 @@ TEST(GreedyCuts, TriangleSetsNameTheRefusedTriangle)
 // the output keeps the bound (measured) and is deterministic.
 TEST(GreedyCuts, CollapsesDecideEachNewTriangleOnce)
 {
-  vtkNew<vtkScanSurfaceSource> source;
-  source->SetKindToSegmentationMask();
-  source->SetResolution(32);
-  source->Update();
-  vtkSmartPointer<vtkPolyData> input = source->GetOutput();
-  const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
-  GreedyCuts cuts;
-  cuts.Initialize(mesh, PatchificationParameters());
-  GreedyCutsParameters parameters;
-  parameters.Epsilon = 0.005 * mesh.BoundingBoxDiagonal();
-  parameters.FinalCollapses = false;
-  GreedyCutsResult result;
-  ASSERT_TRUE(cuts.Run(parameters, result));
+  const ScanCuts scan = CutScan(false, 32);
+  const vtkSmartPointer<vtkPolyData>& input = scan.Input;
+  const TriangleMesh& mesh = scan.Mesh;
+  const GreedyCutsResult& result = scan.Result;
   const TriangleBVH bvh(mesh);
   ProvedCollapseParameters collapse;
-  collapse.Epsilon = parameters.Epsilon;
+  collapse.Epsilon = scan.Epsilon;
   std::vector<Index> outputs[2];
   for (std::vector<Index>& triangles : outputs)
   {
@@ -437,27 +463,9 @@ TEST(GreedyCuts, CollapsesGatherEachStarOncePerVertex)
 {
   for (const bool noisy : { false, true })
   {
-    vtkNew<vtkScanSurfaceSource> source;
-    if (noisy)
-    {
-      source->SetKindToNoisyIsosurface();
-      source->SetResolution(24);
-    }
-    else
-    {
-      source->SetKindToSegmentationMask();
-      source->SetResolution(32);
-    }
-    source->Update();
-    vtkSmartPointer<vtkPolyData> input = source->GetOutput();
-    const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
-    GreedyCuts cuts;
-    cuts.Initialize(mesh, PatchificationParameters());
-    GreedyCutsParameters parameters;
-    parameters.Epsilon = 0.005 * mesh.BoundingBoxDiagonal();
-    parameters.FinalCollapses = false;
-    GreedyCutsResult result;
-    ASSERT_TRUE(cuts.Run(parameters, result));
+    const ScanCuts scan = CutScan(noisy, noisy ? 24 : 32);
+    const TriangleMesh& mesh = scan.Mesh;
+    const GreedyCutsResult& result = scan.Result;
     const TriangleBVH bvh(mesh);
     std::vector<Index> outputs[2], outputPatches[2];
     ProvedCollapseStatistics statistics[2];
@@ -465,7 +473,7 @@ TEST(GreedyCuts, CollapsesGatherEachStarOncePerVertex)
     for (int reuse = 0; reuse < 2; ++reuse)
     {
       ProvedCollapseParameters collapse;
-      collapse.Epsilon = parameters.Epsilon;
+      collapse.Epsilon = scan.Epsilon;
       collapse.ReuseStarGathering = reuse == 1;
       outputs[reuse] = result.Triangles;
       outputPatches[reuse] = result.TrianglePatch;
@@ -491,7 +499,7 @@ TEST(GreedyCuts, CollapsesGatherEachStarOncePerVertex)
     out.Points = mesh.Points;
     out.Triangles = outputs[1];
     EXPECT_LT(out.NumberOfTriangles(), mesh.NumberOfTriangles());
-    EXPECT_LE(MeasureHausdorff(input, slodtest::ToPolyData(out)), parameters.Epsilon);
+    EXPECT_LE(MeasureHausdorff(scan.Input, slodtest::ToPolyData(out)), scan.Epsilon);
   }
 }
 
