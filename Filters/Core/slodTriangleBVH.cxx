@@ -208,7 +208,7 @@ void TriangleBoxesAndCentres(const TriangleMesh& mesh, std::vector<float>& boxes
   const Index nt = mesh.NumberOfTriangles();
   boxes.resize(6 * size_t(nt));
   centres.resize(3 * size_t(nt));
-  vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
+  auto measure = [&](vtkIdType first, vtkIdType last) {
     for (vtkIdType t = first; t < last; ++t)
     {
       const Index* tri = mesh.Triangle(Index(t));
@@ -226,7 +226,15 @@ void TriangleBoxesAndCentres(const TriangleMesh& mesh, std::vector<float>& boxes
         centres[3 * size_t(t) + k] = 0.5 * (lo + hi);
       }
     }
-  });
+  };
+  if (nt < SerialBelow)
+  {
+    measure(0, nt);
+  }
+  else
+  {
+    vtkSMPTools::For(0, nt, measure);
+  }
 }
 
 // The tree's nodes over the sorted entries (children after their parent); returns the depth.
@@ -326,7 +334,7 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
   // Leaf order and the triangles' corners in that order (coherent memory for the queries).
   this->Order.resize(size_t(nt));
   this->Corners.resize(9 * size_t(nt));
-  vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
+  auto copyCorners = [&](vtkIdType first, vtkIdType last) {
     for (vtkIdType i = first; i < last; ++i)
     {
       const Index t = entries[size_t(i)].Id;
@@ -337,7 +345,15 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
         std::copy_n(&mesh.Points[3 * size_t(tri[j])], 3, &this->Corners[9 * size_t(i) + 3 * size_t(j)]);
       }
     }
-  });
+  };
+  if (nt < SerialBelow)
+  {
+    copyCorners(0, nt);
+  }
+  else
+  {
+    vtkSMPTools::For(0, nt, copyCorners);
+  }
 }
 
 bool TriangleBVH::Empty() const
@@ -439,24 +455,26 @@ bool TriangleBVH::TrianglesNear(const Vec3& query, double radius, size_t limit, 
 {
   const double q[3] = { query[0], query[1], query[2] };
   const double radius2 = radius * radius;
-  std::vector<Index> pending;
+  // Depth first, two children pushed per node popped: at most the depth + 1 entries (no allocation
+  // per query: the collapses of the greedy cuts ask several per try).
+  Index pending[MaxStack];
+  int top = 0;
   if (!this->Nodes.empty())
   {
-    pending.push_back(0);
+    pending[top++] = 0;
   }
   const size_t start = triangles.size();
-  while (!pending.empty())
+  while (top > 0)
   {
-    const Node& node = this->Nodes[size_t(pending.back())];
-    pending.pop_back();
+    const Node& node = this->Nodes[size_t(pending[--top])];
     if (BoxDistance2(node.Bounds, q) > radius2)
     {
       continue;
     }
     if (node.Count == 0)
     {
-      pending.push_back(node.First);
-      pending.push_back(node.First + 1);
+      pending[top++] = node.First;
+      pending[top++] = node.First + 1;
       continue;
     }
     if (triangles.size() - start + size_t(node.Count) > limit)

@@ -136,7 +136,7 @@ std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres)
     scale[k] = extent > 0 && std::isfinite(extent) ? double((1 << 21) - 1) / extent : 0.0;
   }
   std::vector<MortonEntry> entries(static_cast<size_t>(nt));
-  vtkSMPTools::For(0, nt, [&](vtkIdType first, vtkIdType last) {
+  auto encode = [&](vtkIdType first, vtkIdType last) {
     for (vtkIdType t = first; t < last; ++t)
     {
       std::uint64_t code = 0;
@@ -148,8 +148,17 @@ std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres)
       }
       entries[size_t(t)] = { code, Index(t) };
     }
-  });
-  vtkSMPTools::Sort(entries.begin(), entries.end());
+  };
+  if (nt < SerialBelow)
+  {
+    encode(0, nt);
+    std::sort(entries.begin(), entries.end());
+  }
+  else
+  {
+    vtkSMPTools::For(0, nt, encode);
+    vtkSMPTools::Sort(entries.begin(), entries.end());
+  }
   return entries;
 }
 } // namespace slod

@@ -69,6 +69,12 @@ struct MortonEntry
   bool operator<(const MortonEntry& o) const { return this->Code < o.Code || (this->Code == o.Code && this->Id < o.Id); }
 };
 
+// Below this many elements the builds that share work out over threads (MortonOrder, the
+// TriangleBVH) run on the calling thread: a collapse's local mesh of a few hundred triangles is
+// built for each try, and handing it to the SMP backend cost more than the work (a tenth of the
+// greedy cuts' final collapses). Same result either way (loops per element, sorts of total orders).
+constexpr Index SerialBelow = 2048;
+
 // The positions `centres` (3 doubles each) in Morton order, each axis quantised to 21 bits over
 // the box of the finite coordinates (a non-finite one counts as the box's low side): spatially
 // coherent, and splitting a sorted range at its highest differing bit halves its cell (the linear

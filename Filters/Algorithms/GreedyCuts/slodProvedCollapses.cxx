@@ -412,6 +412,7 @@ private:
   // true when one collapse was made.
   bool RemoveVertex(Index u, ProvedCollapseStatistics& statistics, bool fatter = false)
   {
+    this->Share = SharedStar(); // the mesh may have changed since u's last tries
     if (this->Out.VertexDegree(u) == 0 || this->Out.VertexDegree(u) > MaximumCollapseValence)
     {
       return false;
@@ -479,6 +480,11 @@ private:
     });
     this->OldStar.clear();
     this->Out.ForEachTriangle(u, [&](Index t) { this->OldStar.push_back(t); });
+    if (!this->Prm.ReuseStarGathering || this->Share.Vertex != u)
+    {
+      this->Share = SharedStar();
+      this->Share.Vertex = u;
+    }
     if (fatter && !this->RaisesSmallestAngle())
     {
       return false;
@@ -505,6 +511,7 @@ private:
       return false;
     }
     this->MarkChanged();
+    this->Share = SharedStar();
     this->Out.Collapse(set, 2, v, target, this->Gathered, nullptr);
     this->AliveTriangles -= Index(this->OldStar.size() - this->NewTriangles.size() / 3);
     return true;
@@ -540,6 +547,7 @@ private:
     }
     this->NewTriangles = { x, z, q, z, y, q };
     this->OldStar = { t, other };
+    this->Share = SharedStar(); // a flip's own star
     if (!this->NewTrianglesNearInput() || !this->InputNearChange())
     {
       return false;
@@ -656,9 +664,16 @@ private:
   }
 
   // The sphere around the replaced triangles (OldStar): the input triangles within epsilon of it
-  // are those that may rely on them.
+  // are those that may rely on them. Computed once per star when it is shared (SharedStar); the
+  // current change's local output is gathered afresh either way.
   void StarSphere()
   {
+    this->LocalGathered = false;
+    if (this->Share.Sphere)
+    {
+      return;
+    }
+    this->Share.Sphere = true;
     Vec3 center{ 0, 0, 0 };
     for (Index t : this->OldStar)
     {
@@ -683,8 +698,20 @@ private:
       const Vec3 centre = (1.0 / 3.0) * (p[0] + p[1] + p[2]);
       this->StarBounds.emplace_back(centre, std::max({ Norm(p[0] - centre), Norm(p[1] - centre), Norm(p[2] - centre) }));
     }
-    this->LocalGathered = false;
-    this->LocalBuilt = false;
+  }
+
+  // Whether x lies within epsilon of one of the triangles (3 output vertex ids each).
+  bool WithinOfTriangles(const Vec3& x, const Index* ids, size_t count) const
+  {
+    for (size_t i = 0; i < 3 * count; i += 3)
+    {
+      const Vec3 e = x - ClosestPointOnTriangle(x, this->Out.Point(ids[i]), this->Out.Point(ids[i + 1]), this->Out.Point(ids[i + 2]));
+      if (Dot(e, e) <= this->Prm.Epsilon * this->Prm.Epsilon)
+      {
+        return true;
+      }
+    }
+    return false;
   }
 
   // The removed vertex of a collapse is an input vertex of triangles that rely on the old star (it
@@ -695,70 +722,57 @@ private:
   // its star may reach far (a fan disk's centre: 15 million proof pieces for 96 refused collapses).
   // Within epsilon of a new triangle (the usual case, checked directly) it passes without the local
   // output, which can be large (a fan's centre in the star: thousands of snapshot triangles).
+  // Else the unchanged part of the local output (KeptOutput) decides, one triangle after the other
+  // (most collapses that get here fail; a BVH of it for each cost lion-head a sixth of its CPU);
+  // that part and its answer are the same for every target of the vertex (SharedStar).
   bool RemovedVertexNearChange(Index removed)
   {
     this->StarSphere();
     const Vec3 x = this->Out.Point(removed);
-    for (size_t i = 0; i < this->NewTriangles.size(); i += 3)
+    if (this->WithinOfTriangles(x, this->NewTriangles.data(), this->NewTriangles.size() / 3))
     {
-      const Vec3 e = x - ClosestPointOnTriangle(x, this->Out.Point(this->NewTriangles[i]),
-                           this->Out.Point(this->NewTriangles[i + 1]), this->Out.Point(this->NewTriangles[i + 2]));
-      if (Dot(e, e) <= this->Prm.Epsilon * this->Prm.Epsilon)
-      {
-        return true;
-      }
+      return true;
     }
-    // Else against the whole local output, one triangle after the other: most collapses that get
-    // here fail (a BVH of the local output for each cost lion-head a sixth of its CPU); the BVH is
-    // built when InputNearChange needs it.
-    this->GatherLocalOutput(this->StarCenter, this->StarRadius);
-    const std::vector<Index>& local = this->Local.Triangles;
-    for (size_t i = 0; i < local.size(); i += 3)
+    if (this->Share.RemovedNearKept < 0)
     {
-      const Vec3 e = x - ClosestPointOnTriangle(x, this->Local.Point(local[i]), this->Local.Point(local[i + 1]),
-                           this->Local.Point(local[i + 2]));
-      if (Dot(e, e) <= this->Prm.Epsilon * this->Prm.Epsilon)
+      this->KeptOutput();
+      bool near = false;
+      for (size_t i = 0; i < this->Kept.size() && !near; ++i)
       {
-        return true;
+        near = this->WithinOfTriangles(x, this->Out.Triangle(this->Kept[i]), 1);
       }
+      this->Share.RemovedNearKept = near ? 1 : 0;
     }
-    return false;
+    return this->Share.RemovedNearKept == 1;
   }
 
   // Every input triangle that may rely on the replaced triangles (OldStar) is within epsilon of
-  // the new ones (NewTriangles) and the unchanged triangles around them. A collapse's sphere and
-  // local output come from RemovedVertexNearChange; a flip's are made here.
+  // the new ones (NewTriangles) and the unchanged triangles around them. A collapse's sphere comes
+  // from RemovedVertexNearChange; a flip's is made here.
   bool InputNearChange(bool sphereMade = false)
   {
     if (!sphereMade)
     {
       this->StarSphere();
     }
-    this->Near.clear();
-    if (!this->Bvh.TrianglesNear(this->StarCenter, this->StarRadius + this->Prm.Epsilon, this->InputCap(), this->Near))
+    if (!this->Share.Relying)
+    {
+      this->GatherRelying();
+    }
+    if (!this->Share.NearFits)
     {
       return false;
     }
-    std::vector<Index>& relying = this->Relying;
-    relying.clear();
-    for (Index p : this->Near)
-    {
-      const Index* tri = this->In.Triangle(p);
-      if (this->MayRelyOnOldStar(this->In.Point(tri[0]), this->In.Point(tri[1]), this->In.Point(tri[2])))
-      {
-        relying.push_back(p);
-      }
-    }
+    const std::vector<Index>& relying = this->Relying;
     if (relying.empty())
     {
       return true;
     }
     if (!this->LocalGathered)
     {
-      this->GatherLocalOutput(this->StarCenter, this->StarRadius);
+      this->GatherLocalOutput();
     }
     this->LocalBvh.Build(this->Local);
-    this->LocalBuilt = true;
     if (this->StarRadius > CornerCheckStarRatio * this->Prm.Epsilon && !this->CornersNearLocalOutput())
     {
       return false;
@@ -771,6 +785,31 @@ private:
     }
     return this->ProveTriangles(this->LocalBvh, [this](Index x) { return this->In.Point(x); }, this->RelyingIds.data(),
       relying.size(), this->Prm.Epsilon);
+  }
+
+  // The input triangles that may rely on the old star (Relying), from those whose boxes come within
+  // epsilon of its sphere; NearFits says whether these were at most InputCap() (else the change
+  // is not tried: bounded work).
+  void GatherRelying()
+  {
+    this->Share.Relying = true;
+    ++this->InputGatherings;
+    this->Near.clear();
+    this->Relying.clear();
+    this->Share.NearFits =
+      this->Bvh.TrianglesNear(this->StarCenter, this->StarRadius + this->Prm.Epsilon, this->InputCap(), this->Near);
+    if (!this->Share.NearFits)
+    {
+      return;
+    }
+    for (Index p : this->Near)
+    {
+      const Index* tri = this->In.Triangle(p);
+      if (this->MayRelyOnOldStar(this->In.Point(tri[0]), this->In.Point(tri[1]), this->In.Point(tri[2])))
+      {
+        this->Relying.push_back(p);
+      }
+    }
   }
 
   // False only when no point of triangle abc comes within epsilon of the old star (its bounding
@@ -801,11 +840,17 @@ private:
     return false;
   }
 
-  // The new triangles and every unchanged triangle around the replaced ones' vertices, as a small
-  // mesh (a subset of the output after the change: a proof against it holds for all).
-  void GatherLocalOutput(const Vec3& center, double radius)
+  // The unchanged output around the replaced triangles (Kept, sorted triangle ids): every triangle
+  // around their vertices but them, and the snapshot's triangles near the star that are still alive
+  // and unchanged (the other side of a thin part). Gathered once per star when it is shared.
+  void KeptOutput()
   {
-    this->LocalGathered = true;
+    if (this->Share.Kept)
+    {
+      return;
+    }
+    this->Share.Kept = true;
+    ++this->OutputGatherings;
     std::vector<Index>& replaced = this->Replaced;
     std::vector<Index>& kept = this->Kept;
     replaced.assign(this->OldStar.begin(), this->OldStar.end());
@@ -829,7 +874,7 @@ private:
       }
     }
     this->SnapshotNear.clear();
-    this->SnapshotBvh.TrianglesNear(center, radius + 3 * this->Prm.Epsilon, MaximumInputTriangles, this->SnapshotNear);
+    this->SnapshotBvh.TrianglesNear(this->StarCenter, this->StarRadius + 3 * this->Prm.Epsilon, MaximumInputTriangles, this->SnapshotNear);
     for (Index i : this->SnapshotNear)
     {
       const Index t = this->SnapshotIds[i];
@@ -841,6 +886,14 @@ private:
     }
     std::sort(kept.begin(), kept.end());
     kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+  }
+
+  // The new triangles and the unchanged output around them (KeptOutput), as a small mesh (a subset
+  // of the output after the change: a proof against it holds for all).
+  void GatherLocalOutput()
+  {
+    this->KeptOutput();
+    this->LocalGathered = true;
     this->Local.Points.clear();
     this->Local.Triangles.clear();
     this->LocalVertices.clear();
@@ -852,7 +905,7 @@ private:
       }
       this->Local.Triangles.push_back(this->LocalId[x]);
     };
-    for (Index t : kept)
+    for (Index t : this->Kept)
     {
       const Index* tri = this->Out.Triangle(t);
       add(tri[0]), add(tri[1]), add(tri[2]);
@@ -875,6 +928,7 @@ public:
   long long Rejected[3] = { 0, 0, 0 }; // collapses rejected by topology, output -> input, input -> output
   long long BorderGuardRejections = 0;
   long long NewTriangleProofs = 0, NewTrianglesRecalled = 0;
+  long long InputGatherings = 0, OutputGatherings = 0;
 
 private:
   EditableMesh Out;
@@ -882,7 +936,22 @@ private:
   Vec3 StarCenter{ 0, 0, 0 };
   double StarRadius = 0;
   bool LocalGathered = false; // Local holds the local output of the current change
-  bool LocalBuilt = false;    // ... and LocalBvh is built on it
+  // What the tries of one vertex share (ProvedCollapseParameters::ReuseStarGathering): every target
+  // of u replaces the same triangles (u's star) of the same mesh (nothing changes between the tries
+  // of one RemoveVertex), so the star's sphere, the unchanged output around it (Kept), whether u
+  // lies within epsilon of that (RemovedNearKept) and the input triangles relying on the star
+  // (Relying, NearFits) are the same for each target: gathered for the first target that needs
+  // them, reused by the others. Each target's own part (its new triangles, the local output's BVH
+  // and the proofs) is made for it as before, so every answer and every piece charged is the same.
+  struct SharedStar
+  {
+    Index Vertex = InvalidIndex; // the removed vertex whose star this describes (none: nothing shared)
+    bool Sphere = false;         // StarCenter, StarRadius, StarBounds
+    bool Kept = false;
+    int RemovedNearKept = -1; // -1: not asked yet
+    bool Relying = false;
+    bool NearFits = false;
+  } Share;
   double SliverAngle = Radians(SliverDegrees);
   CollapseOptions Options;
   std::vector<unsigned char> Border, Used;
@@ -955,6 +1024,8 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   statistics.BorderGuardRejections = collapser.BorderGuardRejections;
   statistics.NewTriangleProofs = collapser.NewTriangleProofs;
   statistics.NewTrianglesRecalled = collapser.NewTrianglesRecalled;
+  statistics.InputGatherings = collapser.InputGatherings;
+  statistics.OutputGatherings = collapser.OutputGatherings;
   return !aborted;
 }
 } // namespace slod

@@ -63,6 +63,11 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   double NewTriangleTolerance = 0.0;
   // Only the collapse passes (no flips, no sliver step): a staged run's lower stages.
   bool CollapsesOnly = false;
+  // The tries of one vertex (up to MaximumNeighbours targets) replace the same star: its sphere,
+  // the unchanged output around it and the input triangles that may rely on it are gathered once
+  // for all of them. Off: gathered for each target (the reference path: the same outputs, proofs
+  // and pieces, more gatherings).
+  bool ReuseStarGathering = true;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
@@ -73,6 +78,9 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   // New triangles whose facing test and proof ran, and those answered from an earlier try of the
   // same triangle (each is decided once per run: its answer depends on its corners only).
   long long NewTriangleProofs = 0, NewTrianglesRecalled = 0;
+  // Gatherings of the input triangles near a change (a BVH walk, then each one's sphere test
+  // against the replaced triangles) and of the unchanged output around it (ReuseStarGathering).
+  long long InputGatherings = 0, OutputGatherings = 0;
   int Rounds = 0;
   bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
   bool WorkBoundReached = false; // parameters.MaximumProofPieces stopped the passes

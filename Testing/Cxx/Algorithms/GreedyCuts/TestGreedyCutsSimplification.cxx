@@ -384,6 +384,41 @@ TEST(GreedyCuts, TriangleSetsNameTheRefusedTriangle)
   EXPECT_EQ(refused, 7u); // untouched when proved
 }
 
+// A scan of vtkScanSurfaceSource through the greedy cuts alone at 0.005 of its diagonal: the start
+// of the final collapses, which do nearly all the work on scans.
+struct ScanCuts
+{
+  vtkSmartPointer<vtkPolyData> Input;
+  TriangleMesh Mesh;
+  double Epsilon = 0;
+  GreedyCutsResult Result;
+};
+
+ScanCuts CutScan(bool noisy, int resolution)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  if (noisy)
+  {
+    source->SetKindToNoisyIsosurface();
+  }
+  else
+  {
+    source->SetKindToSegmentationMask();
+  }
+  source->SetResolution(resolution);
+  source->Update();
+  ScanCuts scan;
+  scan.Input = source->GetOutput();
+  scan.Mesh = slodtest::ToTriangleMesh(scan.Input);
+  GreedyCuts cuts;
+  cuts.Initialize(scan.Mesh, PatchificationParameters());
+  GreedyCutsParameters parameters;
+  parameters.Epsilon = scan.Epsilon = 0.005 * scan.Mesh.BoundingBoxDiagonal();
+  parameters.FinalCollapses = false;
+  EXPECT_TRUE(cuts.Run(parameters, scan.Result));
+  return scan;
+}
+
 // The final collapses' passes try every refused vertex again with the same targets, and most of a
 // star's new triangles are those of the last try: each new triangle's answer (facing and proof,
 // which depend on its corners only) is now decided once per run and recalled after. On a
@@ -391,22 +426,13 @@ TEST(GreedyCuts, TriangleSetsNameTheRefusedTriangle)
 // the output keeps the bound (measured) and is deterministic.
 TEST(GreedyCuts, CollapsesDecideEachNewTriangleOnce)
 {
-  vtkNew<vtkScanSurfaceSource> source;
-  source->SetKindToSegmentationMask();
-  source->SetResolution(32);
-  source->Update();
-  vtkSmartPointer<vtkPolyData> input = source->GetOutput();
-  const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
-  GreedyCuts cuts;
-  cuts.Initialize(mesh, PatchificationParameters());
-  GreedyCutsParameters parameters;
-  parameters.Epsilon = 0.005 * mesh.BoundingBoxDiagonal();
-  parameters.FinalCollapses = false;
-  GreedyCutsResult result;
-  ASSERT_TRUE(cuts.Run(parameters, result));
+  const ScanCuts scan = CutScan(false, 32);
+  const vtkSmartPointer<vtkPolyData>& input = scan.Input;
+  const TriangleMesh& mesh = scan.Mesh;
+  const GreedyCutsResult& result = scan.Result;
   const TriangleBVH bvh(mesh);
   ProvedCollapseParameters collapse;
-  collapse.Epsilon = parameters.Epsilon;
+  collapse.Epsilon = scan.Epsilon;
   std::vector<Index> outputs[2];
   for (std::vector<Index>& triangles : outputs)
   {
@@ -425,6 +451,56 @@ TEST(GreedyCuts, CollapsesDecideEachNewTriangleOnce)
   out.Triangles = outputs[0];
   EXPECT_LT(out.NumberOfTriangles(), mesh.NumberOfTriangles() / 4);
   EXPECT_LE(MeasureHausdorff(input, slodtest::ToPolyData(out)), collapse.Epsilon);
+}
+
+// Every target tried for one vertex replaces the same star (the vertex's triangles) of the same
+// mesh, so the input triangles that may rely on it and the unchanged output around it are now
+// gathered once per vertex instead of once per target (ReuseStarGathering). On a mask and a noisy
+// scan (where the final collapses are nearly all the work) the reference path (off: gathered per
+// target) and the shared one give the same triangles, the same proof pieces and the same
+// refusals, with fewer gatherings; the output keeps the bound (measured).
+TEST(GreedyCuts, CollapsesGatherEachStarOncePerVertex)
+{
+  for (const bool noisy : { false, true })
+  {
+    const ScanCuts scan = CutScan(noisy, noisy ? 24 : 32);
+    const TriangleMesh& mesh = scan.Mesh;
+    const GreedyCutsResult& result = scan.Result;
+    const TriangleBVH bvh(mesh);
+    std::vector<Index> outputs[2], outputPatches[2];
+    ProvedCollapseStatistics statistics[2];
+    long long pieces[2] = { 0, 0 };
+    for (int reuse = 0; reuse < 2; ++reuse)
+    {
+      ProvedCollapseParameters collapse;
+      collapse.Epsilon = scan.Epsilon;
+      collapse.ReuseStarGathering = reuse == 1;
+      outputs[reuse] = result.Triangles;
+      outputPatches[reuse] = result.TrianglePatch;
+      ASSERT_TRUE(ProvedCollapses(
+        mesh, bvh, collapse, outputs[reuse], outputPatches[reuse], statistics[reuse], nullptr, &pieces[reuse]));
+    }
+    const ProvedCollapseStatistics &reference = statistics[0], &shared = statistics[1];
+    EXPECT_EQ(outputs[0], outputs[1]);
+    EXPECT_EQ(outputPatches[0], outputPatches[1]);
+    EXPECT_EQ(pieces[0], pieces[1]);
+    EXPECT_EQ(reference.Collapses, shared.Collapses);
+    EXPECT_EQ(reference.Attempts, shared.Attempts);
+    EXPECT_EQ(reference.Flips, shared.Flips);
+    for (int k = 0; k < 3; ++k)
+    {
+      EXPECT_EQ(reference.Rejected[k], shared.Rejected[k]);
+    }
+    EXPECT_GT(shared.Collapses, 0);
+    EXPECT_GT(shared.InputGatherings, 0);
+    EXPECT_LT(shared.InputGatherings, reference.InputGatherings);
+    EXPECT_LT(shared.OutputGatherings, reference.OutputGatherings);
+    TriangleMesh out;
+    out.Points = mesh.Points;
+    out.Triangles = outputs[1];
+    EXPECT_LT(out.NumberOfTriangles(), mesh.NumberOfTriangles());
+    EXPECT_LE(MeasureHausdorff(scan.Input, slodtest::ToPolyData(out)), scan.Epsilon);
+  }
 }
 
 // A pyramid: a flat hexagon (its border) around a centre lifted by 3 epsilon. Its only removable
