@@ -12,6 +12,16 @@
 
 namespace slod
 {
+#if defined(__unix__)
+// Seconds of a POSIX clock (CPU time of the process or the calling thread), or `fallback`
+// where it cannot be read.
+inline double PosixClockSeconds(clockid_t clock, double fallback)
+{
+  timespec now;
+  return clock_gettime(clock, &now) == 0 ? double(now.tv_sec) + 1e-9 * double(now.tv_nsec) : fallback;
+}
+#endif
+
 // Wall, process CPU and calling-thread CPU time of consecutive stages, logged at TRACE verbosity
 // (`surfacelod --log-verbosity 9`). The calling thread's share of the CPU time tells how much of a
 // stage ran on other threads even on a loaded machine, where the wall time says little. The
@@ -59,13 +69,10 @@ public:
   static double ThreadSeconds()
   {
 #if defined(__unix__)
-    timespec now;
-    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now) == 0)
-    {
-      return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
-    }
-#endif
+    return PosixClockSeconds(CLOCK_THREAD_CPUTIME_ID, 0.0);
+#else
     return 0.0;
+#endif
   }
 
 private:
@@ -111,14 +118,12 @@ public:
   // The process's CPU time of all its threads.
   static double ProcessSeconds()
   {
+    const double fallback = double(std::clock()) / double(CLOCKS_PER_SEC);
 #if defined(__unix__)
-    timespec now;
-    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now) == 0)
-    {
-      return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
-    }
+    return PosixClockSeconds(CLOCK_PROCESS_CPUTIME_ID, fallback);
+#else
+    return fallback;
 #endif
-    return double(std::clock()) / double(CLOCKS_PER_SEC);
   }
 
 private:
