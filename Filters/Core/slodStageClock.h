@@ -83,15 +83,17 @@ private:
   double Thread = 0.0;
 };
 
-// Wall and process CPU seconds summed over every visit of a stage that recurs (a level's stages).
+// Wall, process CPU and calling-thread CPU seconds summed over every visit of a stage that recurs
+// (a level's stages).
 struct StageTotal
 {
   double Wall = 0.0;
   double Cpu = 0.0;
+  double Thread = 0.0;
 };
 
-// Adds the wall and process CPU time of its scope to a StageTotal; a null total (timing off)
-// reads no clock.
+// Adds the wall, process CPU and calling-thread CPU time of its scope to a StageTotal; a null
+// total (timing off) reads no clock.
 class ScopedStageTime
 {
 public:
@@ -102,6 +104,7 @@ public:
     {
       this->Wall = std::chrono::steady_clock::now();
       this->Cpu = ProcessSeconds();
+      this->Thread = StageClock::ThreadSeconds();
     }
   }
   ~ScopedStageTime()
@@ -110,6 +113,7 @@ public:
     {
       this->Total->Wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - this->Wall).count();
       this->Total->Cpu += ProcessSeconds() - this->Cpu;
+      this->Total->Thread += StageClock::ThreadSeconds() - this->Thread;
     }
   }
   ScopedStageTime(const ScopedStageTime&) = delete;
@@ -130,6 +134,7 @@ private:
   StageTotal* Total;
   std::chrono::steady_clock::time_point Wall;
   double Cpu = 0.0;
+  double Thread = 0.0;
 };
 } // namespace slod
 

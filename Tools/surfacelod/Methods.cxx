@@ -217,6 +217,9 @@ std::vector<Parameter> TriangleCollapseHierarchyParameters()
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MinimumNumberOfTriangles),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, MinimumNormalDot),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, ExpandFromCoarsestLevel),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, DecideAhead),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, ParallelCollapses),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, ParallelBookkeeping),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, OutputPointsPrecision),
   };
 }

@@ -234,8 +234,8 @@ void CollapseHierarchy::LogStageTimes() const
     "evaluate", "compact" };
   for (int s = 0; s < NumberOfStages; ++s)
   {
-    vtkLogF(TRACE, "collapse hierarchy stage %-8s %8.3f s wall %8.3f s cpu", names[s], this->StageTimes[s].Wall,
-      this->StageTimes[s].Cpu);
+    vtkLogF(TRACE, "collapse hierarchy stage %-8s %8.3f s wall %8.3f s cpu %8.3f s this thread", names[s],
+      this->StageTimes[s].Wall, this->StageTimes[s].Cpu, this->StageTimes[s].Thread);
   }
 }
 
@@ -1090,6 +1090,18 @@ Vec3 CollapseHierarchy::OwnNormal(Index t) const
   return Normalized(Cross(b - a, c - a));
 }
 
+// How normal, T's evaluated one, is kept: compared bit for bit with T's own and with zero, so
+// that the one read back is the same.
+CollapseHierarchy::NormalSource CollapseHierarchy::NormalSourceOf(Index t, const Vec3& normal) const
+{
+  const Vec3 own = this->OwnNormal(t), zero{ 0, 0, 0 };
+  if (std::memcmp(&own, &normal, sizeof(Vec3)) == 0)
+  {
+    return NormalSource::Own;
+  }
+  return std::memcmp(&zero, &normal, sizeof(Vec3)) == 0 ? NormalSource::Zero : NormalSource::Stored;
+}
+
 // The normal of T's last evaluation.
 Vec3 CollapseHierarchy::NormalOf(Index t) const
 {
@@ -1168,18 +1180,9 @@ void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
   s.Weight = e.PreferEdge ? e.EdgeError : e.Error; // (weighed by the caller)
   s.PreferEdge = e.PreferEdge;
   s.CheapestEdge = e.CheapestEdge;
-  const Vec3 own = this->OwnNormal(t), zero{ 0, 0, 0 };
-  if (std::memcmp(&own, &e.Normal, sizeof(Vec3)) == 0)
+  s.Normal = e.NormalKnown ? e.NormalKind : this->NormalSourceOf(t, e.Normal);
+  if (s.Normal == NormalSource::Stored)
   {
-    s.Normal = NormalSource::Own;
-  }
-  else if (std::memcmp(&zero, &e.Normal, sizeof(Vec3)) == 0)
-  {
-    s.Normal = NormalSource::Zero;
-  }
-  else
-  {
-    s.Normal = NormalSource::Stored;
     this->OtherNormals[t] = e.Normal;
     return;
   }
@@ -1791,6 +1794,31 @@ void CollapseHierarchy::ForEachLiveTriangleIn(size_t begin, size_t end, Functor&
   }
 }
 
+// The stored normals of the triangles dead at this compaction (RowOf already renumbered).
+void CollapseHierarchy::ForgetDeadNormals()
+{
+  for (auto i = this->OtherNormals.begin(); i != this->OtherNormals.end();)
+  {
+    i = this->RowOf[i->first] < 0 ? this->OtherNormals.erase(i) : std::next(i);
+  }
+}
+
+// The kept points of the rows not in oldRows given back, in row order.
+void CollapseHierarchy::ReleaseDeadPoints(const std::vector<Index>& oldRows)
+{
+  for (size_t r = 0, kept = 0; r < size_t(this->Rows); ++r)
+  {
+    if (kept < oldRows.size() && size_t(oldRows[kept]) == r)
+    {
+      ++kept;
+    }
+    else
+    {
+      this->ReleasePoint(this->Evaluations[r]);
+    }
+  }
+}
+
 // Called between levels. The rows of the live triangles keep their slot order, so each array is
 // compacted in place (a row only moves down) and the pages of its freed rows are given back
 // without a copy (ReleaseRoomBeyondSize).
@@ -1806,30 +1834,60 @@ void CollapseHierarchy::CompactRows(LevelState& state)
   }
   const std::vector<Index> oldRows =
     RenumberLiveRows(this->RowOf, live, [&](Index t) { return this->Mesh.IsTriangleAlive(t); });
-  for (auto i = this->OtherNormals.begin(); i != this->OtherNormals.end();)
-  {
-    i = this->RowOf[i->first] < 0 ? this->OtherNormals.erase(i) : std::next(i);
-  }
-  for (size_t r = 0, kept = 0; r < size_t(this->Rows); ++r)
-  {
-    if (kept < oldRows.size() && size_t(oldRows[kept]) == r)
+  // Ten independent tasks (each array kept on its own; the kept points released in row order
+  // before their evaluations move): concurrent with ParallelBookkeeping, the same arrays.
+  constexpr vtkIdType Tasks = 10;
+  const auto task = [&](vtkIdType i) {
+    switch (i)
     {
-      ++kept;
+      case 0:
+        this->ForgetDeadNormals();
+        break;
+      case 1:
+        this->ReleaseDeadPoints(oldRows);
+        KeepRows(this->Evaluations, oldRows, 1);
+        break;
+      case 2:
+        KeepRows(state.Marks, oldRows, 1);
+        break;
+      case 3:
+        KeepRows(this->EntryOf, oldRows, 1);
+        break;
+      case 4:
+        KeepRows(this->BlockedStrict, oldRows, 1);
+        break;
+      case 5:
+        KeepRows(this->BlockedRelaxed, oldRows, 1);
+        break;
+      case 6:
+        KeepRows(this->BlockedEdge, oldRows, 1);
+        break;
+      case 7:
+        KeepRows(this->EdgeCostStates, oldRows, 3);
+        break;
+      case 8:
+        KeepRows(this->PaperTerms, oldRows, 1);
+        break;
+      default:
+        KeepRows(this->EdgeCostErrors, oldRows, 3);
     }
-    else
+  };
+  if (this->Parameters.ParallelBookkeeping)
+  {
+    vtkSMPTools::For(0, Tasks, 1, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        task(i);
+      }
+    });
+  }
+  else
+  {
+    for (vtkIdType i = 0; i < Tasks; ++i)
     {
-      this->ReleasePoint(this->Evaluations[r]); // (a dead row's)
+      task(i);
     }
   }
-  KeepRows(state.Marks, oldRows, 1);
-  KeepRows(this->EntryOf, oldRows, 1);
-  KeepRows(this->BlockedStrict, oldRows, 1);
-  KeepRows(this->BlockedRelaxed, oldRows, 1);
-  KeepRows(this->BlockedEdge, oldRows, 1);
-  KeepRows(this->EdgeCostStates, oldRows, 3);
-  KeepRows(this->PaperTerms, oldRows, 1);
-  KeepRows(this->EdgeCostErrors, oldRows, 3);
-  KeepRows(this->Evaluations, oldRows, 1);
   this->Rows = live;
 }
 
@@ -1899,7 +1957,9 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "levels", false, bytes(this->LevelStarts) },
     { "collapse records", false, records },
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
-    { "evaluations", true, bytes(this->Evaluations) + bytes(this->StoredPoints) + bytes(this->FreePoints) },
+    { "evaluations", true,
+      bytes(this->Evaluations) + bytes(this->StoredPoints) + bytes(this->FreePoints) +
+        this->OtherNormals.size() * (sizeof(Index) + sizeof(Vec3)) }, // (the stored normals' entries)
     { "evaluation scratch", true, bytes(this->Working) + bytes(this->Rests) + bytes(this->PendingAlternatives) },
     { "paper's terms", true, bytes(this->PaperTerms) },
     { "quadrics", true, bytes(this->Quadrics) + bytes(this->QuadricRowOf) },
@@ -3205,8 +3265,14 @@ struct CollapseHierarchy::ConcurrentEvaluation
     for (vtkIdType i = begin; i < end; ++i)
     {
       const Index t = this->Triangles ? this->Triangles[i] : this->First + static_cast<Index>(i);
-      this->Rests[i] =
-        this->Hierarchy->EvaluateConcurrently(t, this->Working[i], link, this->PendingAlternatives[i]);
+      Evaluation& e = this->Working[i];
+      this->Rests[i] = this->Hierarchy->EvaluateConcurrently(t, e, link, this->PendingAlternatives[i]);
+      // (The stencil fit sets the normal again: decided in StoreEvaluation then.)
+      if (this->Hierarchy->Parameters.ParallelBookkeeping && this->Rests[i] != EvaluationRest::Fit)
+      {
+        e.NormalKind = this->Hierarchy->NormalSourceOf(t, e.Normal);
+        e.NormalKnown = true;
+      }
     }
   }
 };

@@ -140,6 +140,11 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // slots prefix sums give it (its index, reference block, versions, records): the same hierarchy,
   // bit for bit, for any number of threads. Off: one by one (the serial reference).
   bool ParallelCollapses = true;
+  // Upkeep of the working data run concurrently (vtkSMPTools): the ten compactions of CompactRows
+  // as tasks, and the test of an evaluation's normal against T's own (StoreEvaluation) made in
+  // the concurrent evaluation. The same hierarchy, bit for bit, for any number of threads. Off:
+  // in serial (the reference).
+  bool ParallelBookkeeping = true;
 };
 
 // One collapse as GetCollapse hands it out (the hierarchy keeps only its sources, triangle and
@@ -292,6 +297,13 @@ private:
     Centroid, // T's centroid
     Kept      // another point (the fit's, a fold-free alternative): in StoredPoints
   };
+  // How an evaluation's normal is kept (StoreEvaluation).
+  enum class NormalSource : unsigned char
+  {
+    Own,    // T's own unit normal, recomputed
+    Zero,   // no plane
+    Stored  // another (a degenerate T's stencil normal): in OtherNormals
+  };
   // An evaluation while it is computed (scratch, a chunk of triangles at a time).
   struct Evaluation
   {
@@ -304,18 +316,15 @@ private:
     // Where Point came from: the quadric's point near T's centroid or the centroid (both
     // recomputed from T's vertices when read back), else kept as it is (StoredPoints).
     PointSource Source = PointSource::Kept;
+    // How Normal is kept, when the concurrent evaluation decided it (ParallelBookkeeping).
+    bool NormalKnown = false;
+    NormalSource NormalKind = NormalSource::Own;
   };
   // What the batch selection reads of a triangle's evaluation, kept per triangle (24 bytes instead
   // of the Evaluation's 104): the paper's weight terms folded into one (their normalisers are fixed
   // after M0's evaluation), and T's unit normal and collapse point recomputed from its vertices
   // and their quadrics (they do not change until T is evaluated again) unless they came from
   // elsewhere (NormalOf, PointOf).
-  enum class NormalSource : unsigned char
-  {
-    Own,    // T's own unit normal, recomputed
-    Zero,   // no plane
-    Stored  // another (a degenerate T's stencil normal): in OtherNormals
-  };
   struct StoredEvaluation
   {
     StoredEvaluation()
@@ -429,6 +438,8 @@ private:
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
   void CompactRows(LevelState& state);
+  void ForgetDeadNormals();
+  void ReleaseDeadPoints(const std::vector<Index>& oldRows);
   void ReleaseWorkingData();
 
   // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only
@@ -454,6 +465,7 @@ private:
   void EvaluateChunk(const Index* triangles, Index first, Index count);
   void StoreEvaluation(Index t, const Evaluation& e);
   Vec3 OwnNormal(Index t) const;
+  NormalSource NormalSourceOf(Index t, const Vec3& normal) const;
   Vec3 NormalOf(Index t) const;
   double PaperTerm(double kappa, double alpha, int valence, double area) const;
   void Evaluate(Index t, Evaluation& e);

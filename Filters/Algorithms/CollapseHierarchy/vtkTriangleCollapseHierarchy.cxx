@@ -60,7 +60,9 @@ struct vtkTriangleCollapseHierarchy::Internals
       a.SwapMinimumNormalDotWhenBlocked == b.SwapMinimumNormalDotWhenBlocked &&
       a.SwapMinimumNormalDot == b.SwapMinimumNormalDot && a.BatchSearchDepth == b.BatchSearchDepth &&
       a.MinimumNumberOfTriangles == b.MinimumNumberOfTriangles && a.MinimumNormalDot == b.MinimumNormalDot &&
-      a.ErrorWeight == b.ErrorWeight && a.QuadricCollapsePoint == b.QuadricCollapsePoint;
+      a.ErrorWeight == b.ErrorWeight && a.QuadricCollapsePoint == b.QuadricCollapsePoint &&
+      a.DecideAhead == b.DecideAhead && a.ParallelCollapses == b.ParallelCollapses &&
+      a.ParallelBookkeeping == b.ParallelBookkeeping;
   }
 
   // Hierarchy mesh -> polydata with cell arrays and interpolated point data.
@@ -194,6 +196,9 @@ struct vtkTriangleCollapseHierarchy::Internals
     parameters.SwapMinimumNormalDotWhenBlocked = f.SwapMinimumNormalDotWhenBlocked;
     parameters.BatchSearchDepth = f.BatchSearchDepth;
     parameters.QuadricCollapsePoint = f.QuadricCollapsePoint;
+    parameters.DecideAhead = f.DecideAhead;
+    parameters.ParallelCollapses = f.ParallelCollapses;
+    parameters.ParallelBookkeeping = f.ParallelBookkeeping;
     return parameters;
   }
 
@@ -447,6 +452,9 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumNumberOfLevels: " << this->MaximumNumberOfLevels << "\n";
   os << indent << "MinimumNumberOfTriangles: " << this->MinimumNumberOfTriangles << "\n";
   os << indent << "MinimumNormalDot: " << this->MinimumNormalDot << "\n";
+  os << indent << "DecideAhead: " << this->DecideAhead << "\n";
+  os << indent << "ParallelCollapses: " << this->ParallelCollapses << "\n";
+  os << indent << "ParallelBookkeeping: " << this->ParallelBookkeeping << "\n";
   os << indent << "GenerateAllLevels: " << this->GenerateAllLevels << "\n";
   os << indent << "ExpandFromCoarsestLevel: " << this->ExpandFromCoarsestLevel << "\n";
   os << indent << "NumberOfLevels: " << this->GetNumberOfLevels() << "\n";

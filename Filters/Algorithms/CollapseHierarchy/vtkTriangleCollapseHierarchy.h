@@ -228,6 +228,24 @@ public:
   ///@}
 
   ///@{
+  /// How the build uses threads; the hierarchy is the same, bit for bit, for every setting and
+  /// number of threads (slod::CollapseHierarchyParameters). DecideAhead (default off): the batch
+  /// selection decides the coming candidates' choices concurrently. ParallelCollapses (default
+  /// on): the batch's collapses applied in runs, concurrently. ParallelBookkeeping (default on):
+  /// the working data's compactions and the evaluations' normal tests concurrent. Off: the serial
+  /// reference.
+  vtkSetMacro(DecideAhead, bool);
+  vtkGetMacro(DecideAhead, bool);
+  vtkBooleanMacro(DecideAhead, bool);
+  vtkSetMacro(ParallelCollapses, bool);
+  vtkGetMacro(ParallelCollapses, bool);
+  vtkBooleanMacro(ParallelCollapses, bool);
+  vtkSetMacro(ParallelBookkeeping, bool);
+  vtkGetMacro(ParallelBookkeeping, bool);
+  vtkBooleanMacro(ParallelBookkeeping, bool);
+  ///@}
+
+  ///@{
   /// Make output 0 (a Level or a target) by vertex splits: the coarsest mesh of the hierarchy
   /// expanded through the collapse records, newest first (the reverse of the hierarchy, as for
   /// progressive transmission: the coarsest mesh plus the records give every level and every
@@ -292,6 +310,9 @@ protected:
   double MinimumNormalDot = 0.5;
   bool GenerateAllLevels = true;
   bool ExpandFromCoarsestLevel = false;
+  bool DecideAhead = false;
+  bool ParallelCollapses = true;
+  bool ParallelBookkeeping = true;
 
   double ShownLevel = 0;
   int NumberOfHierarchyBuilds = 0;

@@ -1755,14 +1755,13 @@ TEST(CollapseHierarchy, EvaluationsKeepOnlyThePointsTheyCannotRecompute)
   }
 }
 
-// Zero-area triangles, as T-junction repairs leave them: a vertex m inserted in edge (a, b) splits
-// the triangle on one side and fills the other side's gap with the triangle (a, m, b). Such a
-// triangle has no plane of its own (its stencil's stands in for its normal, kept apart from the
-// per-triangle evaluations): the hierarchy must take them away, keep every level a manifold of the
-// same topology and be exactly reversible.
-TEST(CollapseHierarchy, ZeroAreaTrianglesOfTJunctionsCollapse)
+namespace
 {
-  TriangleMesh input = ToTriangleMesh(LoadTestMesh("bunny00"));
+// input with T-junction repairs every 97th triangle: a vertex m inserted in edge (a, b) splits the
+// triangle on one side and the other side's gap is filled with the zero-area triangle (a, m, b).
+// Returns the zero-area triangles' ids.
+std::vector<Index> AddTJunctions(TriangleMesh& input)
+{
   const Index nt = input.NumberOfTriangles();
   std::map<std::pair<Index, Index>, Index> edgeTriangle; // directed edge -> its triangle
   for (Index t = 0; t < nt; ++t)
@@ -1795,6 +1794,19 @@ TEST(CollapseHierarchy, ZeroAreaTrianglesOfTJunctionsCollapse)
     zeroArea.push_back(input.NumberOfTriangles());
     input.AddTriangle(a, m, b);
   }
+  return zeroArea;
+}
+} // namespace
+
+// Zero-area triangles, as T-junction repairs leave them: a vertex m inserted in edge (a, b) splits
+// the triangle on one side and fills the other side's gap with the triangle (a, m, b). Such a
+// triangle has no plane of its own (its stencil's stands in for its normal, kept apart from the
+// per-triangle evaluations): the hierarchy must take them away, keep every level a manifold of the
+// same topology and be exactly reversible.
+TEST(CollapseHierarchy, ZeroAreaTrianglesOfTJunctionsCollapse)
+{
+  TriangleMesh input = ToTriangleMesh(LoadTestMesh("bunny00"));
+  const std::vector<Index> zeroArea = AddTJunctions(input);
   ASSERT_GT(zeroArea.size(), 100u);
   const MeshStatistics in = ComputeMeshStatistics(input);
   ASSERT_EQ(in.NonManifoldEdges, 0);
@@ -1819,6 +1831,55 @@ TEST(CollapseHierarchy, ZeroAreaTrianglesOfTJunctionsCollapse)
   h.Extract(tenth, tenth, 0.0, level);
   EXPECT_EQ(ComputeMeshStatistics(ToMesh(level)).DegenerateTriangles, 0);
   ExpectExactlyReversible(h, input);
+}
+
+// The working data's upkeep runs concurrently (ParallelBookkeeping): CompactRows' ten compactions
+// as tasks, and the test of each evaluation's normal against its triangle's own (kept as Own,
+// Zero or Stored) in the concurrent evaluation. On bunny00 with T-junction repairs (zero-area
+// triangles: stored stencil normals, and kept points released at the compactions), a noisy scan
+// isosurface (borders) and a smooth isosurface, one, two and eight threads build the serial
+// reference's hierarchy (ParallelBookkeeping off, one thread) bit for bit, levels and records,
+// with the working data of the same sizes at every level.
+TEST(CollapseHierarchy, ConcurrentBookkeepingGivesTheSerialHierarchy)
+{
+  TriangleMesh junctions = ToTriangleMesh(LoadTestMesh("bunny00"));
+  ASSERT_GT(AddTJunctions(junctions).size(), 100u);
+  const std::pair<const char*, TriangleMesh> meshes[] = { { "bunny00 with T-junctions", junctions },
+    { "noisy scan 45", ToTriangleMesh(NoisyScanIsosurface(45, 3)) },
+    { "isosurface 60", ToTriangleMesh(SyntheticIsosurface(60)) } };
+  CollapseHierarchyParameters parallel = DefaultParameters();
+  ASSERT_TRUE(parallel.ParallelBookkeeping); // (the default)
+  CollapseHierarchyParameters reference = parallel;
+  reference.ParallelBookkeeping = false;
+  const auto build = [](const TriangleMesh& mesh, const CollapseHierarchyParameters& parameters, int threads,
+                       CollapseHierarchy& h, std::vector<size_t>& sizes) {
+    vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads }, [&]() {
+      ASSERT_TRUE(h.Build(mesh, parameters, [&](double) {
+        for (const CollapseHierarchy::StorageShare& share : h.Storage())
+        {
+          sizes.push_back(share.Bytes);
+        }
+        return true;
+      }));
+    });
+  };
+  for (const auto& named : meshes)
+  {
+    CollapseHierarchy one;
+    std::vector<size_t> oneSizes;
+    build(named.second, reference, 1, one, oneSizes);
+    ASSERT_GT(one.NumberOfCollapses(), named.second.NumberOfTriangles() / 4) << named.first;
+    ASSERT_GT(one.NumberOfLevels(), 20) << named.first; // (compacted many times)
+    for (int threads : { 1, 2, 8 })
+    {
+      const std::string what = std::string(named.first) + ", " + std::to_string(threads) + " threads";
+      CollapseHierarchy concurrent;
+      std::vector<size_t> sizes;
+      build(named.second, parallel, threads, concurrent, sizes);
+      ExpectSameLevelsAndRecords(one, concurrent, what);
+      EXPECT_EQ(oneSizes, sizes) << what;
+    }
+  }
 }
 
 TEST(CollapseHierarchy, CycleRemovalBySwapping)
