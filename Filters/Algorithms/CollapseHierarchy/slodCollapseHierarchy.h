@@ -281,6 +281,10 @@ public:
     size_t Bytes;
   };
   std::vector<StorageShare> Storage() const;
+  // The largest sum of Storage() and the level's selection data (its order, sample, marks and
+  // batch) met during the last Build: after M0's evaluation and at the end of every level, before
+  // its compaction (the working data whole, the hierarchy grown by the level).
+  size_t PeakWorkingBytes() const { return this->PeakBytes; }
 
 private:
   // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the
@@ -441,6 +445,10 @@ private:
   void ForgetDeadNormals();
   void ReleaseDeadPoints(const std::vector<Index>& oldRows);
   void ReleaseWorkingData();
+  size_t StorageBytes() const;
+  static size_t LevelStateBytes(const LevelState& state);
+  void NotePeak(const LevelState* state);
+  size_t PeakBytes = 0;
 
   // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only
   // reads the mesh (EvaluateConcurrently) runs for many triangles at once; FinishEvaluation does

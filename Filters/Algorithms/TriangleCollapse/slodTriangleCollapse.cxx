@@ -3,6 +3,7 @@
 
 #include "slodBucketQueue.h"
 #include "slodCollapsePasses.h"
+#include "slodFreedMemory.h"
 #include "slodGroupByKey.h"
 #include "slodInputPreparation.h"
 #include "slodPointAttributes.h"
@@ -26,9 +27,6 @@
 #include <memory>
 #include <type_traits>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 namespace slod
 {
@@ -197,17 +195,6 @@ struct PackedIds
     this->Held = false;
   }
 };
-
-// Gives the pages of freed blocks back to the system. glibc serves blocks below its adaptive mmap
-// threshold (up to 32 MB, raised by every larger block freed) from the heap, where a freed block
-// stays resident until it is reused: the input's arrays released by the set-up would otherwise
-// still count in the peak reached at the start of the collapses (mc1m: 11 MB, 22 bytes per vertex).
-void ReturnFreedMemory()
-{
-#if defined(__GLIBC__)
-  malloc_trim(0);
-#endif
-}
 
 // The input surface the passes after the collapses measure against (FitToOriginal,
 // RefineDeviation), in the collapser's vertex ids. It is kept through the collapses, so its points

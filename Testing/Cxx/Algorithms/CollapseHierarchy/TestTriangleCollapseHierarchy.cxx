@@ -1447,6 +1447,79 @@ TEST(CollapseHierarchy, SpokePricingAndRebuildGiveTheSameHierarchy)
   ExpectSameHierarchy(kept, reused, "noisy scan, built again");
 }
 
+// The peak working bytes the build reports (issue 12) within the layout of its arrays. At the end
+// of M0's evaluation (the last progress call before the levels) every structure is at full size
+// and the hierarchy empty: each share within its layout per input vertex and triangle, the
+// editable mesh's references within EditableMesh::ShrinkingMeshRoomFactor times the three per
+// triangle (twice that before session 29: 9 bytes per triangle more). The peak is at least what
+// every progress call sees, and at most that start, plus what the hierarchy grew to, plus the
+// level's selection data at their largest (the order and sample of every live triangle, doubled by
+// their growth; marks, batch and re-evaluation lists).
+TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(60);
+  source->Update();
+  TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  for (double& x : scan.Points)
+  {
+    x = static_cast<float>(x); // M0 held in floats (12 bytes per point)
+  }
+  const double nv = scan.NumberOfPoints(), nt = scan.NumberOfTriangles();
+  const double references = 4 * (EditableMesh::ShrinkingMeshRoomFactor * 3 * nt + 4096);
+  const double meshScratch = 2 * 4096 * sizeof(Index); // the mesh's scratch lists: a few fans
+  const double evaluationScratch = 16384 * 160.0; // EvaluateChunk's evaluations of at most 16,384 triangles
+  const std::map<std::string, double> layout = { { "M0 (points, triangles)", 12 * nv + 12 * nt },
+    { "editable mesh (coarsest)", nv * (24 + 1 + 12 + 4 + 4) + nt * (12 + 1) + references + meshScratch },
+    { "collapse points", 0 }, { "collapses", 0 }, { "levels", sizeof(Index) },
+    { "triangle versions", 4 * nt + sizeof(Index) }, { "collapse records", 2 * sizeof(Index) },
+    { "vertex ids, flags", 6 * nv }, { "evaluations", 24 * nt + 24 * nt / 16 },
+    { "evaluation scratch", evaluationScratch }, { "paper's terms", 0 }, { "quadrics", 84 * nv },
+    { "edge costs", 15 * nt }, { "stamps, degrees, marks", 12 * nv + 4 * nt }, { "ancestors", 0 },
+    { "current versions, rows", 8 * nt } };
+  CollapseHierarchy h;
+  std::vector<CollapseHierarchy::StorageShare> start;
+  size_t seen = 0;
+  ASSERT_TRUE(h.Build(scan, DefaultParameters(), [&](double progress) {
+    const std::vector<CollapseHierarchy::StorageShare> shares = h.Storage();
+    size_t sum = 0;
+    for (const CollapseHierarchy::StorageShare& share : shares)
+    {
+      sum += share.Bytes;
+    }
+    seen = std::max(seen, sum);
+    if (progress <= 0.1 + 1e-9)
+    {
+      start = shares;
+    }
+    return true;
+  }));
+  ASSERT_FALSE(start.empty());
+  double startLayout = 0, grown = 0;
+  for (size_t i = 0; i < start.size(); ++i)
+  {
+    const auto bound = layout.find(start[i].Name);
+    ASSERT_NE(bound, layout.end()) << start[i].Name << ": a share the test does not know";
+    std::printf("[start] %s: %.1f bytes per input vertex, layout %.1f\n", start[i].Name, start[i].Bytes / nv,
+      bound->second / nv);
+    EXPECT_LE(double(start[i].Bytes), bound->second) << start[i].Name;
+    startLayout += bound->second;
+  }
+  for (const CollapseHierarchy::StorageShare& share : h.Storage())
+  {
+    grown += share.BuildOnly ? 0.0 : double(share.Bytes); // the hierarchy only grows
+  }
+  grown += 4.0 * double(h.NumberOfCollapses()); // the ancestors' counts (released at the end)
+  const double levelState = nt * (1 + 2 * 12 + 2 * 12.0 / 16 + 1.0 / 8 + 2 * 4) + 2 * 4 * nt + 4096;
+  const double peak = double(h.PeakWorkingBytes());
+  std::printf("[peak] %.1f bytes per input vertex (progress calls %.1f), bound %.1f\n", peak / nv, seen / nv,
+    (startLayout + grown + levelState) / nv);
+  EXPECT_GE(peak, double(seen));
+  EXPECT_LE(peak, startLayout + grown + levelState);
+  EXPECT_LE(h.LevelTriangleCount(h.NumberOfLevels() - 1), Index(nt / 10));
+}
+
 // The accounting of the hierarchy's memory (issue 12): during the build the working structures
 // hold memory, after it only the hierarchy does (the working data is released), and the levels
 // read back from the compact versions are those the build made (the replay of changed corners:
