@@ -1289,17 +1289,6 @@ TEST(HugePages, LargeArraysAreAdvisedAndKeepTheirContents)
   std::vector<double> copy;
   CopyOnHugePages(copy, filled);
   EXPECT_EQ(copy, filled);
-  // A block of whole huge pages (request plus allocator header), so that its mapping can be
-  // placed on a 2 MiB boundary.
-  for (size_t count : { n, size_t(12345678) })
-  {
-    const size_t capacity = HugePageCapacity<double>(count);
-    const size_t room = HugePageBytes - (capacity * sizeof(double)) % HugePageBytes;
-    EXPECT_GE(capacity, count);
-    EXPECT_LT(capacity - count, HugePageBytes / sizeof(double));
-    EXPECT_GE(room, size_t(64)) << count; // the allocator's header fits before the boundary
-    EXPECT_LT(room, size_t(4096)) << count; // and its rounding to 4 KiB pages reaches it
-  }
   if (!HugePagesAvailable() || MappingFlags(filled.data()).empty())
   {
     GTEST_SKIP() << "transparent huge pages are off (or /proc/self/smaps unreadable): the advice is not observable";
