@@ -12,6 +12,7 @@
 #ifndef slodBucketQueue_h
 #define slodBucketQueue_h
 
+#include "slodHugePages.h"
 #include "slodTriangleMesh.h"
 
 #include <cstdint>
@@ -32,8 +33,8 @@ public:
 
   void Reset(Index n)
   {
-    this->Slot.assign(size_t(n), InvalidIndex);
-    this->BucketId.assign(size_t(n), 0);
+    AssignOnHugePages(this->Slot, size_t(n), InvalidIndex);
+    AssignOnHugePages(this->BucketId, size_t(n), std::uint16_t(0));
     this->Buckets.assign(size_t(1) << BucketBits, {});
     this->Lowest = static_cast<Index>(this->Buckets.size());
     this->Count = 0;

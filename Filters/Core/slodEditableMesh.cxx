@@ -2,6 +2,7 @@
 #include "slodEditableMesh.h"
 
 #include "slodGroupByKey.h"
+#include "slodHugePages.h"
 
 #include <algorithm>
 #include <cassert>
@@ -29,18 +30,18 @@ const char* ToString(CollapseStatus status)
 
 void EditableMesh::Reset(const TriangleMesh& mesh)
 {
-  this->Points = mesh.Points;
-  this->Triangles = mesh.Triangles;
+  CopyOnHugePages(this->Points, mesh.Points);
+  CopyOnHugePages(this->Triangles, mesh.Triangles);
   const Index np = this->NumberOfPoints();
   const Index nt = this->NumberOfTriangles();
   this->TriangleAlive.assign(nt, 1);
   this->VertexAlive.assign(np, 1);
   this->LiveTriangles = nt;
   this->LiveVertices = np;
-  this->VertexLink.assign(np, LinkEntry());
+  AssignOnHugePages(this->VertexLink, size_t(np), LinkEntry());
   this->Epoch = 0;
-  this->RefStart.assign(np, 0);
-  this->RefCount.assign(np, 0);
+  AssignOnHugePages(this->RefStart, size_t(np), Index(0));
+  AssignOnHugePages(this->RefCount, size_t(np), Index(0));
   this->Refs.clear();
   this->CompactThreshold = 0;
   this->RebuildThreshold = 0;
@@ -1028,7 +1029,7 @@ void EditableMesh::CompactIfNeeded()
     // The mesh shrank to under a quarter of the room held: give the rest back (same contents).
     std::vector<Index>(this->Refs).swap(this->Refs);
   }
-  this->Refs.reserve(this->CompactThreshold + 4096);
+  ReserveOnHugePages(this->Refs, this->CompactThreshold + 4096);
 }
 
 void EditableMesh::CompactInOrder()

@@ -2,6 +2,7 @@
 #ifndef slodGroupByKey_h
 #define slodGroupByKey_h
 
+#include "slodHugePages.h"
 #include "slodTriangleMesh.h" // Index
 
 #include "vtkSMPTools.h"
@@ -61,6 +62,7 @@ Index GroupByKey(Index n, Index groups, KeyOf&& keyOf, ValueOf&& valueOf, Index*
     total += count[g];
     count[g] = 0; // the cursor of the placement below, the size again at its end
   }
+  ReserveOnHugePages(grouped, static_cast<size_t>(total));
   grouped.resize(static_cast<size_t>(total));
   if (!concurrent)
   {

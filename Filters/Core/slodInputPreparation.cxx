@@ -3,6 +3,7 @@
 
 #include "slodAttributeTransfer.h"
 #include "slodGroupByKey.h"
+#include "slodHugePages.h"
 #include "slodMeshTopology.h"
 #include "slodPointGrid.h"
 #include "slodPolygonTriangulation.h"
@@ -524,6 +525,7 @@ bool ValidateCellIds(vtkPolyData* input, PreparationReport& report)
 void ReadPoints(vtkPolyData* input, std::vector<double>& points)
 {
   const vtkIdType np = input->GetNumberOfPoints();
+  ReserveOnHugePages(points, 3 * size_t(np));
   points.resize(3 * size_t(np));
   vtkDataArray* data = input->GetPoints()->GetData();
   if (auto* f = vtkFloatArray::SafeDownCast(data))
@@ -910,7 +912,7 @@ bool ReadSurface(vtkPolyData* input, PreparationReport& report, std::vector<doub
   vtkIdType reserve = 0;
   reserve += input->GetPolys() ? input->GetPolys()->GetNumberOfConnectivityIds() : 0;
   reserve += input->GetStrips() ? input->GetStrips()->GetNumberOfConnectivityIds() : 0;
-  triangles.reserve(size_t(reserve));
+  ReserveOnHugePages(triangles, size_t(reserve));
   CollectTriangles(input, points, report, triangles, cells);
   // Non-finite coordinates on a used point make the input unusable.
   for (Index v : triangles)

@@ -5,6 +5,7 @@
 #include "slodCollapsePasses.h"
 #include "slodFreedMemory.h"
 #include "slodGroupByKey.h"
+#include "slodHugePages.h"
 #include "slodInputPreparation.h"
 #include "slodPointAttributes.h"
 #include "slodPointStore.h"
@@ -790,7 +791,7 @@ void TriangleCollapser::Reorder(TriangleMesh& mesh)
   const auto b = mesh.Bounds();
   const double extent = std::max({ b[1] - b[0], b[3] - b[2], b[5] - b[4], 1e-300 });
   const double scale = double((1 << 21) - 1) / extent;
-  std::vector<std::pair<std::uint64_t, Index>> keys(static_cast<size_t>(nv));
+  auto keys = MakeOnHugePages<std::pair<std::uint64_t, Index>>(static_cast<size_t>(nv));
   // Independent per vertex, and the keys are distinct (they hold the id): the same order for
   // any thread count.
   vtkSMPTools::For(0, nv, 16384, [&](vtkIdType begin, vtkIdType end) {
@@ -804,7 +805,7 @@ void TriangleCollapser::Reorder(TriangleMesh& mesh)
   vtkSMPTools::Sort(keys.begin(), keys.end());
   this->VertexInput.resize(static_cast<size_t>(nv));
   std::vector<Index> newId(static_cast<size_t>(nv));
-  std::vector<double> points(mesh.Points.size());
+  auto points = MakeOnHugePages<double>(mesh.Points.size());
   // Each new id writes its own slots (and newId of a distinct old id): in parallel.
   vtkSMPTools::For(0, nv, 16384, [&](vtkIdType begin, vtkIdType end) {
     for (Index i = static_cast<Index>(begin); i < static_cast<Index>(end); ++i)
@@ -834,7 +835,7 @@ void TriangleCollapser::SortTrianglesBySmallestVertex(TriangleMesh& mesh, const 
   GroupByKey(
     nt, nv, smallest, [](Index t) { return t; }, first.data(), count.data(), this->TriangleInput,
     this->Options.ParallelStages);
-  std::vector<Index> triangles(mesh.Triangles.size());
+  auto triangles = MakeOnHugePages<Index>(mesh.Triangles.size());
   vtkSMPTools::For(0, nt, 16384, [&](vtkIdType begin, vtkIdType end) {
     for (Index slot = static_cast<Index>(begin); slot < static_cast<Index>(end); ++slot)
     {
@@ -1025,7 +1026,7 @@ void TriangleCollapser::InitializeQuadrics()
     this->InitializePlaneSets();
     return;
   }
-  this->Vertex.assign(size_t(nv), WeightedQuadric());
+  AssignOnHugePages(this->Vertex, size_t(nv), WeightedQuadric());
   VertexQuadricsFunctor functor{ *this, {}, {} };
   vtkSMPTools::For(0, nv, 4096, functor);
   this->InitializeAttributeTerms();
@@ -1690,14 +1691,14 @@ void TriangleCollapser::UnpackInputIds()
 void TriangleCollapser::InitializeQueue()
 {
   const Index nt = this->Mesh.NumberOfTriangles();
-  this->State.assign(size_t(nt), TriangleState());
+  AssignOnHugePages(this->State, size_t(nt), TriangleState());
   // The edge cache sums vertex quadrics; the attribute metric's set quadrics are not sums.
   this->CacheEdges = this->Options.EdgeCollapses && !this->Options.ExactUnion && this->AttributeComponents == 0;
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
   // Every triangle's cost depends only on its own vertices and writes only its own cache
   // entries: computed in parallel (vtkSMPTools), the same result for any thread count. The
   // exact-union mode shares a scratch buffer: sequential.
-  std::vector<float> keys(static_cast<size_t>(nt));
+  auto keys = MakeOnHugePages<float>(static_cast<size_t>(nt));
   if (this->CacheEdges)
   {
     this->InitialKeys(keys);
@@ -2597,7 +2598,7 @@ bool TriangleCollapser::UsesPasses() const
 void TriangleCollapser::InitializePasses()
 {
   // The keys are computed by the first pass (CostPass); the edge cache serves the picks.
-  this->State.assign(size_t(this->Mesh.NumberOfTriangles()), TriangleState());
+  AssignOnHugePages(this->State, size_t(this->Mesh.NumberOfTriangles()), TriangleState());
   this->CacheEdges = this->Options.EdgeCollapses;
 }
 
