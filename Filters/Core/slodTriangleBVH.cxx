@@ -202,39 +202,46 @@ struct Box
 // Depth <= 63 Morton bits + 31 halvings of identical codes: the traversal stack cannot overflow.
 constexpr int MaxStack = 160;
 
-// Per triangle: its box (float, rounded outwards) and the centre of that box.
-void TriangleBoxesAndCentres(const TriangleMesh& mesh, std::vector<float>& boxes, std::vector<double>& centres)
+// Extent along axis k of the triangle whose corners are `corners[0..2]`.
+inline void TriangleExtent(const double* const corners[3], int k, double& lo, double& hi)
 {
-  const Index nt = mesh.NumberOfTriangles();
-  boxes.resize(6 * size_t(nt));
-  centres.resize(3 * size_t(nt));
-  auto measure = [&](vtkIdType first, vtkIdType last) {
-    for (vtkIdType t = first; t < last; ++t)
-    {
-      const Index* tri = mesh.Triangle(Index(t));
-      for (int k = 0; k < 3; ++k)
-      {
-        double lo = Infinity, hi = -Infinity;
-        for (int j = 0; j < 3; ++j)
-        {
-          const double x = mesh.Points[3 * size_t(tri[j]) + k];
-          lo = std::min(lo, x);
-          hi = std::max(hi, x);
-        }
-        boxes[6 * size_t(t) + 2 * k] = RoundDown(lo);
-        boxes[6 * size_t(t) + 2 * k + 1] = RoundUp(hi);
-        centres[3 * size_t(t) + k] = 0.5 * (lo + hi);
-      }
-    }
-  };
-  if (nt < SerialBelow)
+  lo = Infinity;
+  hi = -Infinity;
+  for (int j = 0; j < 3; ++j)
   {
-    measure(0, nt);
+    lo = std::min(lo, corners[j][k]);
+    hi = std::max(hi, corners[j][k]);
   }
-  else
+}
+
+// The centre of triangle t's box, computed on demand: an array of them (and of the boxes) for
+// every triangle cost more in page faults than the arithmetic (MRI, 2.1M triangles).
+inline void TriangleBoxCentre(const TriangleMesh& mesh, Index t, double* centre)
+{
+  const Index* tri = mesh.Triangle(t);
+  const double* const corners[3] = { &mesh.Points[3 * size_t(tri[0])], &mesh.Points[3 * size_t(tri[1])],
+    &mesh.Points[3 * size_t(tri[2])] };
+  for (int k = 0; k < 3; ++k)
   {
-    vtkSMPTools::For(0, nt, measure);
+    double lo, hi;
+    TriangleExtent(corners, k, lo, hi);
+    centre[k] = 0.5 * (lo + hi);
   }
+}
+
+// Grows `box` by the box (float, rounded outwards) of the triangle of 9 coordinates `t`.
+inline void GrowByTriangle(const double* t, Box& box)
+{
+  const double* const corners[3] = { t, t + 3, t + 6 };
+  float b[6];
+  for (int k = 0; k < 3; ++k)
+  {
+    double lo, hi;
+    TriangleExtent(corners, k, lo, hi);
+    b[2 * k] = RoundDown(lo);
+    b[2 * k + 1] = RoundUp(hi);
+  }
+  box.Grow(b);
 }
 
 // The tree's nodes over the sorted entries (children after their parent); returns the depth.
@@ -288,9 +295,8 @@ int BuildHierarchy(const std::vector<MortonEntry>& entries, std::vector<Triangle
   return depth;
 }
 
-// Bounds bottom-up: children always come after their parent.
-void ComputeNodeBounds(
-  const std::vector<MortonEntry>& entries, const std::vector<float>& boxes, std::vector<TriangleBVH::Node>& nodes)
+// Bounds bottom-up (children always come after their parent) from the corners in leaf order.
+void ComputeNodeBounds(const std::vector<double>& corners, std::vector<TriangleBVH::Node>& nodes)
 {
   for (size_t n = nodes.size(); n-- > 0;)
   {
@@ -300,7 +306,7 @@ void ComputeNodeBounds(
     {
       for (Index i = node.First; i < node.First + node.Count; ++i)
       {
-        box.Grow(&boxes[6 * size_t(entries[size_t(i)].Id)]);
+        GrowByTriangle(&corners[9 * size_t(i)], box);
       }
     }
     else
@@ -325,12 +331,9 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
   {
     return;
   }
-  std::vector<float> boxes;
-  std::vector<double> centres;
-  TriangleBoxesAndCentres(mesh, boxes, centres);
-  const std::vector<MortonEntry> entries = MortonOrder(centres);
+  const std::vector<MortonEntry> entries =
+    MortonOrder(nt, [&mesh](Index t, double* centre) { TriangleBoxCentre(mesh, t, centre); });
   this->Depth = BuildHierarchy(entries, this->Nodes);
-  ComputeNodeBounds(entries, boxes, this->Nodes);
   // Leaf order and the triangles' corners in that order (coherent memory for the queries).
   this->Order.resize(size_t(nt));
   this->Corners.resize(9 * size_t(nt));
@@ -354,6 +357,7 @@ void TriangleBVH::Build(const TriangleMesh& mesh)
   {
     vtkSMPTools::For(0, nt, copyCorners);
   }
+  ComputeNodeBounds(this->Corners, this->Nodes);
 }
 
 bool TriangleBVH::Empty() const

@@ -115,17 +115,24 @@ bool IsDegenerate(const Vec3& a, const Vec3& b, const Vec3& c, double relativeTo
 
 std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres)
 {
+  return MortonOrder(static_cast<Index>(centres.size() / 3),
+    [&centres](Index id, double* xyz) { std::copy_n(&centres[3 * size_t(id)], 3, xyz); });
+}
+
+std::vector<MortonEntry> MortonOrder(Index count, const std::function<void(Index, double*)>& centre)
+{
   constexpr double inf = std::numeric_limits<double>::infinity();
-  const Index nt = static_cast<Index>(centres.size() / 3);
   double lo[3] = { inf, inf, inf }, hi[3] = { -inf, -inf, -inf };
-  for (size_t i = 0; i < centres.size(); i += 3)
+  for (Index i = 0; i < count; ++i)
   {
+    double c[3];
+    centre(i, c);
     for (int k = 0; k < 3; ++k)
     {
-      if (std::isfinite(centres[i + k]))
+      if (std::isfinite(c[k]))
       {
-        lo[k] = std::min(lo[k], centres[i + k]);
-        hi[k] = std::max(hi[k], centres[i + k]);
+        lo[k] = std::min(lo[k], c[k]);
+        hi[k] = std::max(hi[k], c[k]);
       }
     }
   }
@@ -135,28 +142,29 @@ std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres)
     const double extent = hi[k] - lo[k];
     scale[k] = extent > 0 && std::isfinite(extent) ? double((1 << 21) - 1) / extent : 0.0;
   }
-  std::vector<MortonEntry> entries(static_cast<size_t>(nt));
+  std::vector<MortonEntry> entries(static_cast<size_t>(count));
   auto encode = [&](vtkIdType first, vtkIdType last) {
     for (vtkIdType t = first; t < last; ++t)
     {
+      double c[3];
+      centre(Index(t), c);
       std::uint64_t code = 0;
       for (int k = 0; k < 3; ++k)
       {
-        const double c = centres[3 * size_t(t) + k];
-        const double u = std::isfinite(c) ? std::max(0.0, std::min(double((1 << 21) - 1), (c - lo[k]) * scale[k])) : 0.0;
+        const double u = std::isfinite(c[k]) ? std::max(0.0, std::min(double((1 << 21) - 1), (c[k] - lo[k]) * scale[k])) : 0.0;
         code |= SpreadBits21(static_cast<std::uint64_t>(u)) << (2 - k);
       }
       entries[size_t(t)] = { code, Index(t) };
     }
   };
-  if (nt < SerialBelow)
+  if (count < SerialBelow)
   {
-    encode(0, nt);
+    encode(0, count);
     std::sort(entries.begin(), entries.end());
   }
   else
   {
-    vtkSMPTools::For(0, nt, encode);
+    vtkSMPTools::For(0, count, encode);
     vtkSMPTools::Sort(entries.begin(), entries.end());
   }
   return entries;

@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace slod
@@ -80,6 +81,11 @@ constexpr Index SerialBelow = 2048;
 // coherent, and splitting a sorted range at its highest differing bit halves its cell (the linear
 // BVH's build order; the distributed split's pieces).
 SURFACELODFILTERS_EXPORT std::vector<MortonEntry> MortonOrder(const std::vector<double>& centres);
+// The same order for `count` positions that `centre(id, xyz)` writes on demand (called twice per
+// id, possibly from several threads): no array of positions is allocated (a fresh array of a
+// large mesh costs more in page faults than computing its entries again).
+SURFACELODFILTERS_EXPORT std::vector<MortonEntry> MortonOrder(
+  Index count, const std::function<void(Index, double*)>& centre);
 
 // One 64-bit key per undirected edge (smaller vertex id in the high half), for hash sets and sorts.
 inline std::uint64_t EdgeKey(Index a, Index b)

@@ -531,8 +531,11 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
       return false;
     }
     const bool anyFailed = triangulation.FreezeFailedPatches(frozen, unmergedAny);
-    vtkLogF(TRACE, "[spbm] pass %d: merging %.4f s (%lld triangles), triangulation %.4f s, %d patches failed", pass,
-      mergingSeconds, s.Total, Since(triangulationStart), int(triangulation.FailedPatches()));
+    vtkLogF(TRACE,
+      "[spbm] pass %d: merging %.4f s (%lld triangles), triangulation %.4f s, %d patches failed, %lld diagonals "
+      "measured (%lld ahead)",
+      pass, mergingSeconds, s.Total, Since(triangulationStart), int(triangulation.FailedPatches()),
+      (long long)level.DiagonalsMeasured, (long long)level.DiagonalsMeasuredAhead);
     if (!anyFailed)
     {
       break;

@@ -180,6 +180,11 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   bool MinimumDeviationTriangulation = true;
   Index MinimumDeviationMaxVertices = 48;
   double NonPlanarTolerance = 1e-4;
+  // Session 29 (issue 10): a whole-level pass measures the diagonal costs its minimum-deviation
+  // triangulations may read first, over threads (vtkSMPTools, one slot per diagonal, cached in
+  // the serial order); the same level (a cost depends on the diagonal's two vertices only). Off:
+  // each measured when the triangulation asks for it, on the level's thread (the reference).
+  bool MeasureDiagonalsAhead = true;
 };
 
 struct SURFACELODFILTERS_EXPORT SpbmLevel
@@ -198,6 +203,8 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   Index UnmergedPatches = 0;
   Index RefinedPatches = 0;
   Index OriginalPatches = 0;
+  Index DiagonalsMeasured = 0;      // diagonal costs measured (distance queries) by the passes
+  Index DiagonalsMeasuredAhead = 0; // of which before the triangulations asked (MeasureDiagonalsAhead)
   int Passes = 0;               // generation passes (1 without fallback)
   int ReplayedPasses = 0;       // passes that replayed the previous pass's merging (ReplayFallbackPasses)
   long long EditsAppliedAsRecorded = 0; // edits those passes applied without their tests (clean)

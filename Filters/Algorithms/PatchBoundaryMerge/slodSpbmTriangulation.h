@@ -57,6 +57,9 @@ private:
   bool RefineFailedPatches(const std::vector<unsigned char>& frozen);
   bool HiddenVertexFor(Index p, Index& c, Index& from, Index& at, Index& to);
   void RemoveTriangles(Index stamp);
+  void PolygonPoints();
+  bool MinimumDeviationApplies(const Vec3& normal) const;
+  void MeasureDiagonalsAhead(const std::vector<Index>& patches);
   void TriangulateMinimumDeviation(const Vec3& normal, PolygonTriangulationResult& result);
   int NextEffectiveLevel(Index q, const std::vector<unsigned char>& frozen) const;
 

@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <set>
@@ -1560,6 +1561,34 @@ TEST(SpbmLevel, FallbackPassesTriangulateOnlyTheChangedPatches)
       fallbackPasses += local.Passes - 1;
     });
   EXPECT_GT(fallbackPasses, 0) << "the noisy scans must need fallback passes";
+}
+
+// Session 29 (issue 10): a whole-level pass measures the diagonal costs of its minimum-deviation
+// triangulations first, over threads, into per-diagonal slots cached in the serial order
+// (MeasureDiagonalsAhead). On noisy scans of seeds no other test uses, with 1, 2 and 8 threads:
+// the level is the on-demand reference's (the same triangles in the same passes), diagonals were
+// measured ahead, none without the option.
+TEST(SpbmLevel, DiagonalCostsMeasuredAheadOverThreadsGiveTheSameLevel)
+{
+  for (const unsigned int seed : { 89u, 97u })
+  {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
+    SpbmLevel reference;
+    GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.MeasureDiagonalsAhead = false; }, reference);
+    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
+    EXPECT_EQ(reference.DiagonalsMeasuredAhead, 0) << "seed " << seed;
+    slodtest::ForOneTwoAndEightThreads([&](int threads) {
+      SpbmLevel ahead;
+      GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.MeasureDiagonalsAhead = true; }, ahead);
+      ASSERT_FALSE(HasFatalFailure()) << "seed " << seed << ", " << threads << " threads";
+      ExpectSameLevelInSamePasses(ahead, reference, seed);
+      EXPECT_GT(ahead.DiagonalsMeasuredAhead, 0) << "seed " << seed << ", " << threads << " threads";
+      std::cout << "seed " << seed << ", " << threads << " threads: " << ahead.DiagonalsMeasured
+                << " diagonals measured (" << ahead.DiagonalsMeasuredAhead << " ahead), "
+                << reference.DiagonalsMeasured << " on demand\n";
+    });
+  }
 }
 
 // Session 25 (issue 10): a replayed pass treats the patches frozen at the same fallback level as
