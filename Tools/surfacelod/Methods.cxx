@@ -235,6 +235,7 @@ std::vector<Parameter> PatchBoundaryMergeParameters()
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchDeviationFactor),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchNoiseTolerance),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, AdaptPatchesToTarget),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, LoosenThicknessForTarget),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, AreaWeightedNormals),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, MaximumErrorIsRelative),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, MergeAngle),

@@ -62,6 +62,13 @@ constexpr double MildTargetShare = 0.2;
 // fallback passes over hundreds of thousands of small patches were most of the level (the MRI at
 // 10%); at mild targets the large flat patches over a staircase cost more than the budget saves.
 constexpr double AggressiveTargetNoiseTolerance = 1.0;
+// Issue 15 (session 29), LoosenThicknessForTarget: the level of a count target is tried again with
+// the thickness bound doubled (at most LooserThicknessRounds times) when its sampled deviation is
+// above LooseDeviationRatio times the bound and the search's epsilon above LooseEpsilonRatio times
+// it: the budget went to the corners of too many small patches, not to their flatness.
+constexpr int LooserThicknessRounds = 2;
+constexpr double LooseDeviationRatio = 1.5;
+constexpr double LooseEpsilonRatio = 1.5;
 
 // Manifold edges both of whose triangles run them the same way.
 slod::Index InconsistentEdges(const slod::TriangleMesh& mesh, const slod::MeshTopology& topology)
@@ -156,6 +163,7 @@ struct vtkPatchBoundaryMerge::Cache
   double ChainInPlaneWeight = -1; // of the generator's chain hierarchy
   double ToleranceScale = 1;      // the patches were grown with the tolerances scaled by this
   double DeviationFactor = 0;     // PatchDeviationFactor of the cached patches
+  double ThicknessScale = 1;      // the thickness bound of the cached patches is scaled by this
   double NoiseFraction = 0;       // PatchNoiseTolerance of the cached patches
   double MeanCurvature = 0;       // slod::MeanAbsoluteCurvature of the prepared input
   double Area = 0;                // the prepared input's area (ThicknessBound runs for every level)
@@ -176,6 +184,9 @@ struct vtkPatchBoundaryMerge::Cache
   bool FitPatchesToTarget(vtkPatchBoundaryMerge* self, vtkIdType target);
   double ThicknessBound(vtkPatchBoundaryMerge* self, vtkIdType target) const;
   bool FitPatchesToDeviation(vtkPatchBoundaryMerge* self, vtkIdType target);
+  bool GrowForThicknessScale(vtkPatchBoundaryMerge* self, vtkIdType target, double scale);
+  bool LoosenThickness(
+    vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
   slod::SpbmLevelParameters LevelParameters(vtkPatchBoundaryMerge* self) const;
   bool GenerateLevel(
     vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
@@ -368,7 +379,7 @@ double vtkPatchBoundaryMerge::Cache::ThicknessBound(vtkPatchBoundaryMerge* self,
     return std::numeric_limits<double>::infinity();
   }
   const double edgeSquared = 4.0 * area / (std::sqrt(3.0) * double(target));
-  return self->PatchDeviationFactor * this->MeanCurvature * edgeSquared / 8.0;
+  return this->ThicknessScale * self->PatchDeviationFactor * this->MeanCurvature * edgeSquared / 8.0;
 }
 
 // The patches are grown again (once) when the target's thickness bound is well below the one
@@ -385,6 +396,80 @@ bool vtkPatchBoundaryMerge::Cache::FitPatchesToDeviation(vtkPatchBoundaryMerge* 
   this->PlaneDistanceCap = cap;
   const slod::MeshTopology topology(this->Mesh);
   return this->GrowPatches(self, topology);
+}
+
+// The patches grown again for the target with the thickness bound scaled by `scale` (and fitted
+// to the target's count again). False when aborted.
+bool vtkPatchBoundaryMerge::Cache::GrowForThicknessScale(vtkPatchBoundaryMerge* self, vtkIdType target, double scale)
+{
+  this->ThicknessScale = scale;
+  this->PlaneDistanceCap = 0.5 * this->ThicknessBound(self, target);
+  vtkLogF(TRACE, "[spbm] patches grown again with the thickness bound scaled by %g", scale);
+  const slod::MeshTopology topology(this->Mesh);
+  return this->GrowPatches(self, topology) && this->FitPatchesToTarget(self, target);
+}
+
+// LoosenThicknessForTarget (issue 15, session 29). The thickness bound follows the curvature and
+// the target, but where the patches' corners alone nearly fill the budget (small patches on a
+// surface bent both ways, flat regions between thin curved ones) the search keeps almost no chain
+// vertex and the chains' epsilon, far above the bound, is the error (poly2x^2+y^2 at 50%: 33x).
+// Larger patches then cost less than their corners: the level is made again with the bound
+// doubled and kept when its sampled deviation is smaller at a count no farther from the target.
+// The patches that made the kept level stay cached. False when aborted.
+bool vtkPatchBoundaryMerge::Cache::LoosenThickness(
+  vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level)
+{
+  if (!self->LoosenThicknessForTarget || self->GetMaximumError() > 0)
+  {
+    return true;
+  }
+  const vtkIdType tolerance = std::max<vtkIdType>(2, target / 50);
+  auto miss = [&](const slod::SpbmLevel& l) {
+    return std::max<vtkIdType>(tolerance, std::abs(vtkIdType(l.TrianglePatch.size()) - target));
+  };
+  double deviation = -1;
+  for (int round = 0; round < LooserThicknessRounds; ++round)
+  {
+    const double thickness = this->ThicknessBound(self, target);
+    if (!std::isfinite(thickness) || !(level.Epsilon > LooseEpsilonRatio * thickness))
+    {
+      break;
+    }
+    deviation = deviation < 0 ? this->Generator.EstimateDeviation(result) : deviation;
+    vtkLogF(TRACE, "[spbm] thickness bound %.4g: epsilon %.3gx, sampled deviation %.3gx", thickness,
+      level.Epsilon / thickness, deviation / thickness);
+    if (!(deviation > LooseDeviationRatio * thickness))
+    {
+      break;
+    }
+    const double scale = this->ThicknessScale, toleranceScale = this->ToleranceScale;
+    const vtkIdType collapses = self->FinalCollapseCount;
+    slod::SpbmLevel candidate;
+    slod::SpbmLevelParameters candidateLevel;
+    if (!this->GrowForThicknessScale(self, target, 2 * scale) ||
+      !this->GenerateLevel(self, target, candidate, candidateLevel))
+    {
+      return false;
+    }
+    const double candidateDeviation = this->Generator.EstimateDeviation(candidate);
+    vtkLogF(TRACE, "[spbm] thickness scale %g: %zu triangles, sampled deviation %.4g (was %.4g)", 2 * scale,
+      candidate.TrianglePatch.size(), candidateDeviation, deviation);
+    if (candidateDeviation < deviation && miss(candidate) <= miss(result))
+    {
+      std::swap(result, candidate);
+      level = candidateLevel;
+      deviation = candidateDeviation;
+      continue;
+    }
+    // The former patches made the better level: grown again, as they were.
+    self->FinalCollapseCount = collapses;
+    this->ToleranceScale = toleranceScale;
+    this->ThicknessScale = scale;
+    this->PlaneDistanceCap = 0.5 * this->ThicknessBound(self, target);
+    const slod::MeshTopology topology(this->Mesh);
+    return this->GrowPatches(self, topology);
+  }
+  return true;
 }
 
 // The level parameters from the filter's settings (epsilon and targets aside).
@@ -634,25 +719,31 @@ int vtkPatchBoundaryMerge::RequestData(
   slod::SpbmLevelParameters level;
   slod::SpbmLevel result;
   const vtkIdType target = cache.Target(this);
+  const double previousToleranceScale = cache.ToleranceScale;
+  cache.ThicknessScale = 1; // every target starts from the bound as given (LoosenThickness)
   if (target > 0 && (!cache.FitPatchesToDeviation(this, target) || !cache.FitPatchesToTarget(this, target)))
   {
     this->Cached.reset();
     slod::ReportAbort(this, output);
     return 1;
   }
-  this->PatchificationReused = this->PatchificationReused && cache.ToleranceScale == this->PatchToleranceScale;
+  const bool loosen = target > 0 && target < mesh.NumberOfTriangles();
+  if (!cache.GenerateLevel(this, target, result, level) || (loosen && !cache.LoosenThickness(this, target, result, level)))
+  {
+    this->Cached.reset();
+    slod::ReportAbort(this, output); // the level's generation fails only when aborted
+    return 1;
+  }
+  this->PatchificationReused = this->PatchificationReused && cache.ToleranceScale == previousToleranceScale &&
+    cache.ThicknessScale == 1;
   this->PatchToleranceScale = cache.ToleranceScale;
+  this->PatchThicknessScale = cache.ThicknessScale;
   {
     const slod::SpbmLevelParameters bounded = cache.LevelParameters(this);
     this->PatchThicknessBound = bounded.MaximumPatchThickness;
   }
   this->NumberOfPatches = cache.Patches.NumberOfPatches();
   this->NumberOfChains = cache.Patches.NumberOfChains();
-  if (!cache.GenerateLevel(this, target, result, level))
-  {
-    slod::ReportAbort(this, output); // the level's generation fails only when aborted
-    return 1;
-  }
   this->UsedEpsilon = level.Epsilon < 0 ? 0.0 : level.Epsilon;
   this->UsedMergeAngle = level.MergeAngle;
   this->NumberOfMergedPatches = result.NumberOfPatches;

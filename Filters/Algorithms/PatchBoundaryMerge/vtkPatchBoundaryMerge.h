@@ -84,6 +84,20 @@ public:
   ///@}
 
   ///@{
+  /// Extension (issue 15, session 29) [on]: when the level of a count target deviates from the
+  /// input by several times PatchThicknessBound while its chain tolerance (UsedEpsilon) is well
+  /// above that bound too, the patches were too small for the target: their corners took the
+  /// budget and the search had to drop chain vertices instead (poly2x^2+y^2 at 50%: epsilon 33x
+  /// the bound). The patches are then grown again with the bound doubled (at most twice) and the
+  /// level with the smaller sampled deviation (two-sided, as CompareCandidates) is kept.
+  /// PatchThicknessScale is the scale of the bound used (1: PatchDeviationFactor as given).
+  vtkSetMacro(LoosenThicknessForTarget, bool);
+  vtkGetMacro(LoosenThicknessForTarget, bool);
+  vtkBooleanMacro(LoosenThicknessForTarget, bool);
+  vtkGetMacro(PatchThicknessScale, double);
+  ///@}
+
+  ///@{
   /// Extension (issue 10, sessions 24 and 28) [-1: automatic]: a triangle whose three vertices lie
   /// within this fraction of the patch growth's plane distance (PatchPlaneDistance, capped by
   /// PatchDeviationFactor, scaled with AdaptPatchesToTarget) from the patch's running plane joins
@@ -240,6 +254,8 @@ protected:
   double PatchToleranceScale = 1.0;
   double PatchDeviationFactor = 4.0;
   double PatchThicknessBound = 0.0;
+  bool LoosenThicknessForTarget = true;
+  double PatchThicknessScale = 1.0;
   double PatchNoiseTolerance = -1.0;
   double MergeAngle = 20.0;
   bool MergePatches = true;
