@@ -157,10 +157,21 @@ inline bool InClosedTriangle(const P2& p, const P2& a, const P2& b, const P2& c,
 {
   return Orient(a, b, p) >= -tol && Orient(b, c, p) >= -tol && Orient(c, a, p) >= -tol;
 }
+// Whether segment c-d properly crosses segment a-b, given o1 = Orient(a, b, c) and
+// o2 = Orient(a, b, d): a walk along a chain c, d, ... passes each vertex's side on to the next
+// segment instead of computing it twice.
+inline bool ProperCrossGivenSides(double o1, double o2, const P2& a, const P2& b, const P2& c, const P2& d)
+{
+  if (!((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)))
+  {
+    return false;
+  }
+  const double o3 = Orient(c, d, a), o4 = Orient(c, d, b);
+  return (o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0);
+}
 inline bool ProperCross(const P2& a, const P2& b, const P2& c, const P2& d)
 {
-  const double o1 = Orient(a, b, c), o2 = Orient(a, b, d), o3 = Orient(c, d, a), o4 = Orient(c, d, b);
-  return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
+  return ProperCrossGivenSides(Orient(a, b, c), Orient(a, b, d), a, b, c, d);
 }
 struct ClipVertex
 {
@@ -1573,6 +1584,11 @@ struct GreedyCuts::Worker
     return true;
   }
 
+  // Whether the bite (a, b, v) on front edge (node i -> next) keeps the front simple: no other
+  // front vertex in it, no front edge crossing its new edges (a, v) and (v, b). Each front vertex's
+  // sides of those two lines are computed once and carried to the next front edge (this walk is
+  // about half of an open scan's instructions): the same values ProperCross computes, so the same
+  // decisions.
   bool BiteValid(PatchState& s, Index i, Index v)
   {
     const Index j = s.Next[i];
@@ -1582,19 +1598,31 @@ struct GreedyCuts::Worker
       return false;
     }
     Index k = j;
+    P2 pk = this->Coord[s.Vert[k]];
+    double sideAV = Orient(pa, pv, pk), sideVB = Orient(pv, pb, pk);
     do
     {
       const Index kn = s.Next[k];
-      const P2 pk = this->Coord[s.Vert[k]], pkn = this->Coord[s.Vert[kn]];
+      const P2 pkn = this->Coord[s.Vert[kn]];
+      if (!Prm.CarryFrontSides)
+      {
+        sideAV = Orient(pa, pv, pk);
+        sideVB = Orient(pv, pb, pk);
+      }
+      const double nextAV = Orient(pa, pv, pkn), nextVB = Orient(pv, pb, pkn);
       if (k != j && k != i && InClosedTriangle(pk, pa, pb, pv, s.Tol))
       {
         return false;
       }
-      if (ProperCross(pa, pv, pk, pkn) || ProperCross(pv, pb, pk, pkn))
+      if (ProperCrossGivenSides(sideAV, nextAV, pa, pv, pk, pkn) ||
+        ProperCrossGivenSides(sideVB, nextVB, pv, pb, pk, pkn))
       {
         return false;
       }
       k = kn;
+      pk = pkn;
+      sideAV = nextAV;
+      sideVB = nextVB;
     } while (k != j);
     return true;
   }
