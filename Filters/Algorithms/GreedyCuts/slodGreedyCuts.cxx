@@ -2557,7 +2557,8 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
 bool GreedyCuts::StartLevel(const GreedyCutsParameters& prm, const GreedyCutsResult* finer, bool collapses,
   GreedyCutsResult& level, const ProgressFunction& progress)
 {
-  const bool skipCuts = collapses && finer && finer->StartedFromFinerLevel;
+  // The cheap chain (LadderOwnRuns off) never runs a level's own cuts above the bottom.
+  const bool skipCuts = collapses && finer && (finer->StartedFromFinerLevel || !prm.LadderOwnRuns);
   if (!skipCuts && !this->Run(prm, level, progress))
   {
     return false;
@@ -2722,7 +2723,7 @@ bool GreedyCuts::RunMonotone(const GreedyCutsParameters& parameters, GreedyCutsR
   std::vector<bool> fresh;
   for (double& e : levels)
   {
-    fresh.push_back(IsFreshLevel(e));
+    fresh.push_back(parameters.LadderOwnRuns && IsFreshLevel(e));
     e = std::min(e * diagonal, parameters.Epsilon);
   }
   std::vector<GreedyCutsResult> results;

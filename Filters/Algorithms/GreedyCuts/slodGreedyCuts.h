@@ -78,6 +78,11 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // RunMonotone and the target search walk a fixed ladder of tolerances (relative to the bounding
   // box diagonal, 10 round values per decade: 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8) from this one up.
   double LadderBottom = 0.004;
+  // RunMonotone (session 30): true, every level above the bottom also runs its own cuts (the
+  // first level, and 1, 2, 5 times 10^k with their collapses, kept when fewer); false, the cheap
+  // chain: each level above the bottom is the finer level's output collapsed at its own tolerance
+  // (one collapse phase per level, on a mesh already coarse).
+  bool LadderOwnRuns = true;
   // A bite's walk along the front passes each front vertex's sides of the bite's new edges on to
   // the next front edge (session 29: the walk is about half of an open scan's cuts). false: the
   // reference walk, which computes them twice; the same decisions either way.

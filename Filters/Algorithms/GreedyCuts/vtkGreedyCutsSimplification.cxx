@@ -138,6 +138,7 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.BorderCollapses = this->BorderCollapses;
   parameters.CollapseStages = this->CollapseStages;
   parameters.LadderBottom = this->LadderBottom;
+  parameters.LadderOwnRuns = this->LadderOwnRuns;
   const double bound = this->AbsoluteMaximumError(diagonal);
   vtkIdType target = 0;
   // The filter contract's targets (slodFilterContract.h); MaximumError is always a bound here, so
@@ -214,6 +215,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CollapseStages: " << this->CollapseStages << "\n";
   os << indent << "MonotoneInEpsilon: " << (this->MonotoneInEpsilon ? "on" : "off") << "\n";
   os << indent << "LadderBottom: " << this->LadderBottom << "\n";
+  os << indent << "LadderOwnRuns: " << (this->LadderOwnRuns ? "on" : "off") << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
   os << indent << "RefinedPatches: " << this->RefinedPatches << "\n";

@@ -144,6 +144,12 @@ public:
   vtkBooleanMacro(MonotoneInEpsilon, bool);
   vtkSetClampMacro(LadderBottom, double, 1e-6, 1.0);
   vtkGetMacro(LadderBottom, double);
+  // The nested run's levels above the bottom also run their own cuts (default on: the first level
+  // and 1, 2, 5 times 10^k). Off (session 30): each level is the finer level's output collapsed at
+  // its own tolerance, one collapse phase per level on an already coarse mesh (cheaper).
+  vtkSetMacro(LadderOwnRuns, bool);
+  vtkGetMacro(LadderOwnRuns, bool);
+  vtkBooleanMacro(LadderOwnRuns, bool);
   ///@}
 
   ///@{
@@ -177,6 +183,7 @@ protected:
   int CollapseStages = 0;
   bool MonotoneInEpsilon = false;
   double LadderBottom = 0.004;
+  bool LadderOwnRuns = true;
 
   double UsedMaximumError = 0;
   int NumberOfPatches = 0;

@@ -1321,6 +1321,65 @@ TEST(GreedyCutsSimplification, SingleRunsNeverRiseWithEpsilon)
   }
 }
 
+// Session 30: the cheap chain (LadderOwnRuns off): each level above the bottom is the finer level's
+// output collapsed at its own tolerance, with no cuts or fresh runs of its own. Separate runs at
+// tolerances off the ladder (across its steps) never give more triangles at a larger epsilon,
+// keep their bound (the ladder value at most epsilon; measured at every run), keep the topology,
+// and examine fewer distance-proof pieces than the nested run with its own runs at the same
+// epsilon. Meshes no GreedyCuts test uses (spool: CAD, helmet: smooth).
+TEST(GreedyCuts, CheapLadderChainNeverRisesForLessWork)
+{
+  for (const std::string name : { "spool", "helmet" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+    const MeshStatistics before = ComputeMeshStatistics(mesh);
+    const double diagonal = mesh.BoundingBoxDiagonal();
+    size_t previous = std::numeric_limits<size_t>::max();
+    long long chainWork = 0, ownWork = 0;
+    std::cout << "[greedy-cuts] " << name << " cheap chain:";
+    for (double eps = 0.0045; eps <= 0.0125; eps *= 1.28)
+    {
+      GreedyCutsParameters parameters;
+      parameters.Epsilon = eps * diagonal;
+      GreedyCutsResult chain, own;
+      parameters.LadderOwnRuns = false;
+      GreedyCuts chainCuts;
+      chainCuts.Initialize(mesh, PatchificationParameters());
+      ASSERT_TRUE(chainCuts.RunMonotone(parameters, chain));
+      chainWork += chainCuts.ProofPiecesExamined();
+      parameters.LadderOwnRuns = true;
+      GreedyCuts ownCuts;
+      ownCuts.Initialize(mesh, PatchificationParameters());
+      ASSERT_TRUE(ownCuts.RunMonotone(parameters, own));
+      ownWork += ownCuts.ProofPiecesExamined();
+      EXPECT_FALSE(chainCuts.WorkBoundReached());
+      EXPECT_EQ(chain.ErrorBound, own.ErrorBound); // the same ladder value
+      EXPECT_LE(chain.ErrorBound, parameters.Epsilon * (1 + 1e-12));
+      EXPECT_GE(chain.ErrorBound, parameters.Epsilon / 1.34);
+      const size_t count = chain.Triangles.size() / 3;
+      std::cout << " " << eps << ":" << count << " (own runs " << own.Triangles.size() / 3 << ")" << std::flush;
+      EXPECT_GT(count, 0u);
+      EXPECT_LE(count, previous) << "eps " << eps;
+      previous = count;
+      TriangleMesh out;
+      out.Points = mesh.Points;
+      out.Triangles = chain.Triangles;
+      EXPECT_LE(MeasureHausdorff(input, slodtest::ToPolyData(out)), chain.ErrorBound * (1 + 1e-6));
+      out.RemoveUnusedPoints();
+      const MeshStatistics after = ComputeMeshStatistics(out);
+      EXPECT_EQ(after.NonManifoldEdges, 0);
+      EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
+      EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops);
+      EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+    }
+    std::cout << "\n[greedy-cuts] " << name << " proof pieces: chain " << chainWork << ", own runs " << ownWork << "\n";
+    EXPECT_LT(chainWork, ownWork);
+    EXPECT_LT(previous, size_t(mesh.NumberOfTriangles()));
+  }
+}
+
 // The ladder: 10 round values per decade, ascending, each the largest at most the asked value.
 TEST(GreedyCuts, ToleranceLadderIsFixedAndRound)
 {
