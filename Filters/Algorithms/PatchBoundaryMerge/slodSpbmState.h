@@ -115,6 +115,12 @@ bool ProjectsToSimplePolygon(
 
 // Open-addressing map from undirected edges to a small value (the chain that
 // owns the edge, or a negative tag). One flat array, no per-element allocation.
+// Optionally (TrackVertices) a 64-bit filter per vertex: bit h(b) of a's word is set when an
+// edge a-b is inserted (never cleared by Erase, so it is a superset), and a lookup whose bits
+// are not both set is answered without probing the table. The level's triangulation asks for
+// every pair of a patch's polygon corners (EdgeContext, the minimum-deviation diagonals, the
+// refinement), almost all of them absent; on large rough surfaces the table is hundreds of MB
+// and each probe a cache miss, while a polygon's filter words stay in cache.
 class EdgeMap
 {
 public:
@@ -128,6 +134,26 @@ public:
     this->Keys.assign(capacity, Empty);
     this->Values.resize(capacity);
     this->Count = 0;
+    std::fill(this->VertexBits.begin(), this->VertexBits.end(), 0);
+  }
+  // Enables the per-vertex filter for vertex ids below `vertices` (larger ids always probe).
+  // Call before Reset or on an empty map: edges inserted before are not in the filter.
+  void TrackVertices(size_t vertices)
+  {
+    if (this->VertexBits.size() != vertices)
+    {
+      this->VertexBits.assign(vertices, 0);
+    }
+  }
+  // False only when no edge a-b was inserted since the last Reset (TrackVertices on).
+  bool MayContain(Index a, Index b) const
+  {
+    const size_t n = this->VertexBits.size();
+    if (size_t(a) >= n || size_t(b) >= n)
+    {
+      return true;
+    }
+    return ((this->VertexBits[size_t(a)] >> VertexBit(b)) & (this->VertexBits[size_t(b)] >> VertexBit(a)) & 1u) != 0;
   }
   // Inserts (a,b) -> value; when present returns false and leaves `existing`
   // with its value.
@@ -151,6 +177,7 @@ public:
     this->Keys[slot] = key;
     this->Values[slot] = value;
     ++this->Count;
+    this->NoteVertices(a, b);
     return true;
   }
   bool Contains(Index a, Index b) const
@@ -161,7 +188,7 @@ public:
   // Value of (a,b) in `value` when present.
   bool Find(Index a, Index b, Index& value) const
   {
-    if (this->Keys.empty())
+    if (this->Keys.empty() || !this->MayContain(a, b))
     {
       return false;
     }
@@ -211,10 +238,23 @@ public:
     --this->Count;
     return true;
   }
-  size_t MemoryUsage() const { return this->Keys.capacity() * 8 + this->Values.capacity() * sizeof(Index); }
+  size_t MemoryUsage() const
+  {
+    return this->Keys.capacity() * 8 + this->Values.capacity() * sizeof(Index) + this->VertexBits.capacity() * 8;
+  }
 
 private:
   static constexpr uint64_t Empty = ~uint64_t(0);
+  static unsigned VertexBit(Index v) { return (uint32_t(v) * 0x9E3779B1u) >> 26; }
+  void NoteVertices(Index a, Index b)
+  {
+    const size_t n = this->VertexBits.size();
+    if (size_t(a) < n && size_t(b) < n)
+    {
+      this->VertexBits[size_t(a)] |= uint64_t(1) << VertexBit(b);
+      this->VertexBits[size_t(b)] |= uint64_t(1) << VertexBit(a);
+    }
+  }
   static uint64_t Key(Index a, Index b)
   {
     if (a > b)
@@ -242,6 +282,7 @@ private:
   }
   std::vector<uint64_t> Keys;
   std::vector<Index> Values;
+  std::vector<uint64_t> VertexBits; // TrackVertices: per vertex, bits of its neighbours' hashes
   size_t Count = 0;
 };
 // One field of an array of records, indexed as an array of its own (see State). Holds a reference

@@ -508,6 +508,7 @@ void SpbmLevelGenerator::LevelTriangulation::BuildVertexSequences()
 // surfaces.
 void SpbmLevelGenerator::LevelTriangulation::MakeSegmentsUnique()
 {
+  s.Edges.TrackVertices(size_t(mesh.NumberOfPoints())); // most pair lookups of the pass find nothing
   for (int round = 0; round < 64; ++round)
   {
     bool changed = false;

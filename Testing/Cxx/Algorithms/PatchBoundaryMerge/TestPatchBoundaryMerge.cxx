@@ -6,6 +6,7 @@
 #include "TestSupport.h"
 
 #include "slodSpbmFinalCollapses.h"
+#include "slodSpbmState.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodPatchBoundaryMerge.h"
@@ -2320,4 +2321,71 @@ TEST(PolygonTriangulationExtension, MinimumCostTriangulation)
   // Bow-tie projection: no valid triangulation.
   const std::vector<Vec3> bowtie = { { 0, 0, 0 }, { 1, 1, 0 }, { 1, 0, 0 }, { 0, 1, 0 } };
   EXPECT_TRUE(TriangulatePolygonMinimumCost(bowtie, { 0, 0, 1 }, MinimumCostTriangulationOptions()).Failed);
+}
+
+// The level's edge map with the per-vertex filter (TrackVertices) answers every lookup as the
+// plain table does, through inserts, erases, growth and resets, and the filter turns away most
+// absent pairs without probing (what makes the triangulation's all-pairs lookups cheap).
+TEST(SpbmEdgeMap, VertexFilterAnswersAsTheTable)
+{
+  using slod::spbm::EdgeMap;
+  const Index vertices = 5000;
+  EdgeMap tracked, plain;
+  tracked.TrackVertices(size_t(vertices));
+  uint64_t state = 12345;
+  auto next = [&state](Index bound) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return Index((state >> 33) % uint64_t(bound));
+  };
+  for (int round = 0; round < 3; ++round)
+  {
+    tracked.Reset(16); // small: the tables grow several times below
+    plain.Reset(16);
+    std::set<std::pair<Index, Index>> present;
+    for (int k = 0; k < 20000; ++k)
+    {
+      const Index a = next(vertices), b = next(vertices);
+      Index x = -7, y = -7;
+      if (a == b)
+      {
+        continue;
+      }
+      if (k % 5 == 4 && !present.empty())
+      {
+        const auto it = present.lower_bound({ a, b });
+        const auto gone = it == present.end() ? *present.begin() : *it;
+        EXPECT_TRUE(tracked.Erase(gone.first, gone.second));
+        EXPECT_TRUE(plain.Erase(gone.second, gone.first));
+        present.erase(gone);
+        continue;
+      }
+      EXPECT_EQ(tracked.Insert(a, b, k, x), plain.Insert(b, a, k, y));
+      EXPECT_EQ(x, y);
+      present.insert({ std::min(a, b), std::max(a, b) });
+    }
+    Index turnedAway = 0, absent = 0;
+    for (int k = 0; k < 50000; ++k)
+    {
+      const Index a = next(vertices), b = next(vertices);
+      Index x = -7, y = -7;
+      const bool found = tracked.Find(a, b, x);
+      ASSERT_EQ(found, plain.Find(a, b, y));
+      ASSERT_EQ(x, y);
+      ASSERT_EQ(found, a != b && present.count({ std::min(a, b), std::max(a, b) }) > 0);
+      ASSERT_TRUE(!found || tracked.MayContain(a, b));
+      absent += !found;
+      turnedAway += !tracked.MayContain(a, b);
+    }
+    for (const auto& edge : present)
+    {
+      ASSERT_TRUE(tracked.Contains(edge.second, edge.first));
+    }
+    // About 6 edges per vertex in 64-bit words: most absent pairs fail one of the two bits.
+    EXPECT_GT(turnedAway, absent / 2);
+  }
+  // Ids beyond the tracked range are probed (never turned away).
+  Index value = 0;
+  EXPECT_TRUE(tracked.Insert(vertices + 3, 1, 42, value));
+  EXPECT_TRUE(tracked.MayContain(vertices + 3, 1));
+  EXPECT_TRUE(tracked.Find(1, vertices + 3, value) && value == 42);
 }
