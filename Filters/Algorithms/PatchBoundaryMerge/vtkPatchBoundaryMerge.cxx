@@ -165,6 +165,7 @@ struct vtkPatchBoundaryMerge::Cache
   double DeviationFactor = 0;     // PatchDeviationFactor of the cached patches
   double ThicknessScale = 1;      // the thickness bound of the cached patches is scaled by this
   double NoiseFraction = 0;       // PatchNoiseTolerance of the cached patches
+  bool NoiseWithheld = false;     // the automatic noise tolerance was withheld (LoosenThickness)
   double MeanCurvature = 0;       // slod::MeanAbsoluteCurvature of the prepared input
   double Area = 0;                // the prepared input's area (ThicknessBound runs for every level)
   double PlaneDistanceCap = std::numeric_limits<double>::infinity(); // absolute, of the patch growth
@@ -184,7 +185,8 @@ struct vtkPatchBoundaryMerge::Cache
   bool FitPatchesToTarget(vtkPatchBoundaryMerge* self, vtkIdType target);
   double ThicknessBound(vtkPatchBoundaryMerge* self, vtkIdType target) const;
   bool FitPatchesToDeviation(vtkPatchBoundaryMerge* self, vtkIdType target);
-  bool GrowForThicknessScale(vtkPatchBoundaryMerge* self, vtkIdType target, double scale);
+  bool AutomaticNoiseTolerance(vtkPatchBoundaryMerge* self, vtkIdType target) const;
+  bool GrowForPatchSetting(vtkPatchBoundaryMerge* self, vtkIdType target, double scale, bool noiseWithheld);
   bool LoosenThickness(
     vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
   slod::SpbmLevelParameters LevelParameters(vtkPatchBoundaryMerge* self) const;
@@ -262,6 +264,13 @@ bool vtkPatchBoundaryMerge::Cache::Build(
   return true;
 }
 
+// The automatic PatchNoiseTolerance (-1) applies: a count target below MildTargetShare.
+bool vtkPatchBoundaryMerge::Cache::AutomaticNoiseTolerance(vtkPatchBoundaryMerge* self, vtkIdType target) const
+{
+  return this->NoiseFraction < 0 && self->PatchNoiseTolerance < 0 && target > 0 &&
+    double(target) < MildTargetShare * double(this->Mesh.NumberOfTriangles());
+}
+
 // Grows the patches with the cached parameters scaled by ToleranceScale and builds the chain
 // hierarchy (and, on the first growth, the input's BVH beside them). False when aborted.
 bool vtkPatchBoundaryMerge::Cache::GrowPatches(vtkPatchBoundaryMerge* self, const slod::MeshTopology& topology)
@@ -282,10 +291,9 @@ bool vtkPatchBoundaryMerge::Cache::GrowPatches(vtkPatchBoundaryMerge* self, cons
     target > 0 && double(target) >= MildTargetShare * double(this->Mesh.NumberOfTriangles()) ? SmallPatchTriangles : 0;
   // The noise tolerance follows the plane distance (and so the target); none without a finite one.
   // Automatic (negative): on below the mild targets only.
-  const bool aggressive =
-    target > 0 && double(target) < MildTargetShare * double(this->Mesh.NumberOfTriangles());
-  const double noiseFraction =
-    this->NoiseFraction >= 0 ? this->NoiseFraction : (aggressive ? AggressiveTargetNoiseTolerance : 0.0);
+  const double noiseFraction = this->NoiseFraction >= 0
+    ? this->NoiseFraction
+    : (this->AutomaticNoiseTolerance(self, target) && !this->NoiseWithheld ? AggressiveTargetNoiseTolerance : 0.0);
   growth.NoiseTolerance =
     std::isfinite(growth.MaximumPlaneDistance) ? noiseFraction * growth.MaximumPlaneDistance : 0.0;
   const slod::ProgressFunction progress = slod::FilterProgress(self, 0.05, 0.65);
@@ -398,23 +406,33 @@ bool vtkPatchBoundaryMerge::Cache::FitPatchesToDeviation(vtkPatchBoundaryMerge* 
   return this->GrowPatches(self, topology);
 }
 
-// The patches grown again for the target with the thickness bound scaled by `scale` (and fitted
-// to the target's count again). False when aborted.
-bool vtkPatchBoundaryMerge::Cache::GrowForThicknessScale(vtkPatchBoundaryMerge* self, vtkIdType target, double scale)
+// The patches grown again for the target with the thickness bound scaled by `scale` and the
+// automatic noise tolerance withheld or not (and fitted to the target's count again). False when
+// aborted.
+bool vtkPatchBoundaryMerge::Cache::GrowForPatchSetting(
+  vtkPatchBoundaryMerge* self, vtkIdType target, double scale, bool noiseWithheld)
 {
   this->ThicknessScale = scale;
+  this->NoiseWithheld = noiseWithheld;
   this->PlaneDistanceCap = 0.5 * this->ThicknessBound(self, target);
-  vtkLogF(TRACE, "[spbm] patches grown again with the thickness bound scaled by %g", scale);
+  vtkLogF(TRACE, "[spbm] patches grown again with the thickness bound scaled by %g%s", scale,
+    noiseWithheld ? ", without the automatic noise tolerance" : "");
   const slod::MeshTopology topology(this->Mesh);
   return this->GrowPatches(self, topology) && this->FitPatchesToTarget(self, target);
 }
 
-// LoosenThicknessForTarget (issue 15, session 29). The thickness bound follows the curvature and
-// the target, but where the patches' corners alone nearly fill the budget (small patches on a
-// surface bent both ways, flat regions between thin curved ones) the search keeps almost no chain
-// vertex and the chains' epsilon, far above the bound, is the error (poly2x^2+y^2 at 50%: 33x).
-// Larger patches then cost less than their corners: the level is made again with the bound
-// doubled and kept when its sampled deviation is smaller at a count no farther from the target.
+// LoosenThicknessForTarget (issue 15, sessions 29 and 30). The thickness bound follows the
+// curvature and the target, but where the patches' corners alone nearly fill the budget (small
+// patches on a surface bent both ways, flat regions between thin curved ones) the search keeps
+// almost no chain vertex and the chains' epsilon, far above the bound, is the error
+// (poly2x^2+y^2 at 50%: 33x). Such a level is made again from other patches and kept when its
+// sampled deviation is smaller at a count no farther from the target:
+// - first (session 30), when the automatic noise tolerance grew the patches (a coarse target),
+//   without it: on a smooth or CAD surface, triangles that join a patch by their distance alone
+//   make patches whose corners and flat re-triangulation cost more than a scan's noise would
+//   (mannequin-devil at 10%: sampled deviation 5.2x the bound with it, 1.1x without);
+// - then with the bound doubled (at most LooserThicknessRounds times): larger patches cost less
+//   than their corners.
 // The patches that made the kept level stay cached. False when aborted.
 bool vtkPatchBoundaryMerge::Cache::LoosenThickness(
   vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level)
@@ -428,7 +446,9 @@ bool vtkPatchBoundaryMerge::Cache::LoosenThickness(
     return std::max<vtkIdType>(tolerance, std::abs(vtkIdType(l.TrianglePatch.size()) - target));
   };
   double deviation = -1;
-  for (int round = 0; round < LooserThicknessRounds; ++round)
+  bool regrown = false; // the cached patches are a rejected candidate's
+  const bool noiseApplied = this->AutomaticNoiseTolerance(self, target) && !this->NoiseWithheld;
+  for (int round = noiseApplied ? -1 : 0; round < LooserThicknessRounds; ++round)
   {
     const double thickness = this->ThicknessBound(self, target);
     if (!std::isfinite(thickness) || !(level.Epsilon > LooseEpsilonRatio * thickness))
@@ -443,33 +463,47 @@ bool vtkPatchBoundaryMerge::Cache::LoosenThickness(
       break;
     }
     const double scale = this->ThicknessScale, toleranceScale = this->ToleranceScale;
+    const bool withheld = this->NoiseWithheld;
     const vtkIdType collapses = self->FinalCollapseCount;
     slod::SpbmLevel candidate;
     slod::SpbmLevelParameters candidateLevel;
-    if (!this->GrowForThicknessScale(self, target, 2 * scale) ||
+    const bool noiseTry = round < 0; // the same bound without the automatic noise tolerance
+    if (!this->GrowForPatchSetting(self, target, noiseTry ? scale : 2 * scale, noiseTry || withheld) ||
       !this->GenerateLevel(self, target, candidate, candidateLevel))
     {
       return false;
     }
     const double candidateDeviation = this->Generator.EstimateDeviation(candidate);
-    vtkLogF(TRACE, "[spbm] thickness scale %g: %zu triangles, sampled deviation %.4g (was %.4g)", 2 * scale,
-      candidate.TrianglePatch.size(), candidateDeviation, deviation);
+    vtkLogF(TRACE, "[spbm] thickness scale %g%s: %zu triangles, sampled deviation %.4g (was %.4g)",
+      this->ThicknessScale, this->NoiseWithheld ? " (noise tolerance withheld)" : "", candidate.TrianglePatch.size(),
+      candidateDeviation, deviation);
     if (candidateDeviation < deviation && miss(candidate) <= miss(result))
     {
       std::swap(result, candidate);
       level = candidateLevel;
       deviation = candidateDeviation;
+      regrown = false;
       continue;
     }
-    // The former patches made the better level: grown again, as they were.
+    // The former patches (grown again below when they are kept).
     self->FinalCollapseCount = collapses;
     this->ToleranceScale = toleranceScale;
     this->ThicknessScale = scale;
-    this->PlaneDistanceCap = 0.5 * this->ThicknessBound(self, target);
-    const slod::MeshTopology topology(this->Mesh);
-    return this->GrowPatches(self, topology);
+    this->NoiseWithheld = withheld;
+    regrown = true;
+    if (!noiseTry)
+    {
+      break;
+    }
   }
-  return true;
+  if (!regrown)
+  {
+    return true;
+  }
+  // The former patches made the better level: grown again, as they were.
+  this->PlaneDistanceCap = 0.5 * this->ThicknessBound(self, target);
+  const slod::MeshTopology topology(this->Mesh);
+  return this->GrowPatches(self, topology);
 }
 
 // The level parameters from the filter's settings (epsilon and targets aside).
@@ -720,6 +754,7 @@ int vtkPatchBoundaryMerge::RequestData(
   slod::SpbmLevel result;
   const vtkIdType target = cache.Target(this);
   const double previousToleranceScale = cache.ToleranceScale;
+  const bool previousNoiseWithheld = cache.NoiseWithheld;
   cache.ThicknessScale = 1; // every target starts from the bound as given (LoosenThickness)
   if (target > 0 && (!cache.FitPatchesToDeviation(this, target) || !cache.FitPatchesToTarget(this, target)))
   {
@@ -735,9 +770,10 @@ int vtkPatchBoundaryMerge::RequestData(
     return 1;
   }
   this->PatchificationReused = this->PatchificationReused && cache.ToleranceScale == previousToleranceScale &&
-    cache.ThicknessScale == 1;
+    cache.ThicknessScale == 1 && cache.NoiseWithheld == previousNoiseWithheld;
   this->PatchToleranceScale = cache.ToleranceScale;
   this->PatchThicknessScale = cache.ThicknessScale;
+  this->NoiseToleranceWithheld = cache.NoiseWithheld;
   {
     const slod::SpbmLevelParameters bounded = cache.LevelParameters(this);
     this->PatchThicknessBound = bounded.MaximumPatchThickness;

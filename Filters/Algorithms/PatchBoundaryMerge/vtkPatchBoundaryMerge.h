@@ -91,10 +91,14 @@ public:
   /// the bound). The patches are then grown again with the bound doubled (at most twice) and the
   /// level with the smaller sampled deviation (two-sided, as CompareCandidates) is kept.
   /// PatchThicknessScale is the scale of the bound used (1: PatchDeviationFactor as given).
+  /// Session 30: when the automatic PatchNoiseTolerance (-1) grew the patches (a coarse target),
+  /// the first such try is the same bound without it; NoiseToleranceWithheld is true when that
+  /// level was kept (the cached patches keep the decision).
   vtkSetMacro(LoosenThicknessForTarget, bool);
   vtkGetMacro(LoosenThicknessForTarget, bool);
   vtkBooleanMacro(LoosenThicknessForTarget, bool);
   vtkGetMacro(PatchThicknessScale, double);
+  vtkGetMacro(NoiseToleranceWithheld, bool);
   ///@}
 
   ///@{
@@ -256,6 +260,7 @@ protected:
   double PatchThicknessBound = 0.0;
   bool LoosenThicknessForTarget = true;
   double PatchThicknessScale = 1.0;
+  bool NoiseToleranceWithheld = false;
   double PatchNoiseTolerance = -1.0;
   double MergeAngle = 20.0;
   bool MergePatches = true;
