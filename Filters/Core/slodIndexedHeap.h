@@ -14,6 +14,7 @@
 #ifndef slodIndexedHeap_h
 #define slodIndexedHeap_h
 
+#include "slodHugePages.h"
 #include "slodTriangleMesh.h"
 
 #include <vector>
@@ -27,9 +28,10 @@ public:
   // Room for ids 0..n-1, all absent.
   void Reset(Index n)
   {
-    this->Slot.assign(size_t(n), InvalidIndex);
+    // Large heaps are reached at random (by id and by sift): huge pages spare the TLB misses.
+    AssignOnHugePages(this->Slot, size_t(n), InvalidIndex);
     this->Heap.clear();
-    this->Heap.reserve(size_t(n));
+    ReserveOnHugePages(this->Heap, size_t(n));
   }
 
   // Empties the heap in time proportional to its size, keeping room for the same ids: for callers
@@ -55,9 +57,10 @@ public:
   // Sets every key at once and heapifies in linear time (ids with a negative key stay absent).
   void Build(const Key* keys, Index n)
   {
-    this->Slot.assign(size_t(n), InvalidIndex);
+    // Large heaps are reached at random (by id and by sift): huge pages spare the TLB misses.
+    AssignOnHugePages(this->Slot, size_t(n), InvalidIndex);
     this->Heap.clear();
-    this->Heap.reserve(size_t(n));
+    ReserveOnHugePages(this->Heap, size_t(n));
     for (Index id = 0; id < n; ++id)
     {
       if (!(keys[id] < Key(0)))

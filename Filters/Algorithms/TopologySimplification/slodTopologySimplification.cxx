@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodTopologySimplification.h"
 
+#include "slodHugePages.h"
 #include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
 #include "slodUnionFind.h"
@@ -1608,7 +1609,7 @@ void CollectCleaned(const Simplification& run, const TriangleMesh& current, cons
   const std::vector<double>& points, CleanedSurface& cleaned)
 {
   cleaned.Mesh = TriangleMesh();
-  cleaned.Mesh.Points = points;
+  CopyOnHugePages(cleaned.Mesh.Points, points); // read at random by the completion's merging runs
   cleaned.Labels.clear();
   cleaned.Fill.clear();
   const std::vector<Index>& patchOf = run.Patches.TrianglePatches();
