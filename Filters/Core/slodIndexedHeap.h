@@ -14,7 +14,6 @@
 #ifndef slodIndexedHeap_h
 #define slodIndexedHeap_h
 
-#include "slodHugePages.h"
 #include "slodTriangleMesh.h"
 
 #include <vector>
@@ -28,10 +27,9 @@ public:
   // Room for ids 0..n-1, all absent.
   void Reset(Index n)
   {
-    // Large heaps are reached at random (by id and by sift): huge pages spare the TLB misses.
-    AssignOnHugePages(this->Slot, size_t(n), InvalidIndex);
+    this->Slot.assign(size_t(n), InvalidIndex);
     this->Heap.clear();
-    ReserveOnHugePages(this->Heap, size_t(n));
+    this->Heap.reserve(size_t(n));
   }
 
   // Empties the heap in time proportional to its size, keeping room for the same ids: for callers
@@ -57,10 +55,9 @@ public:
   // Sets every key at once and heapifies in linear time (ids with a negative key stay absent).
   void Build(const Key* keys, Index n)
   {
-    // Large heaps are reached at random (by id and by sift): huge pages spare the TLB misses.
-    AssignOnHugePages(this->Slot, size_t(n), InvalidIndex);
+    this->Slot.assign(size_t(n), InvalidIndex);
     this->Heap.clear();
-    ReserveOnHugePages(this->Heap, size_t(n));
+    this->Heap.reserve(size_t(n));
     for (Index id = 0; id < n; ++id)
     {
       if (!(keys[id] < Key(0)))

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodSpbmMerging.h"
-#include "slodHugePages.h"
 
 #include "vtkLogger.h"
 #include "vtkMath.h"
@@ -307,35 +306,8 @@ void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()
   s.EditsReachedTarget = parameters.RemovalTarget <= 0 || s.Total <= parameters.RemovalTarget;
 }
 
-// The records and lists the merging run reads at every step, in storage advised for huge pages
-// before their first resize (a no-op once they have the room: later runs reuse it). The run's
-// order is the global merge queue's, so its steps read these arrays at random: with 4 KiB pages
-// each step is a few TLB misses, and the share of them that also miss the cached page tables
-// grows with the mesh (the 4M noisy scan ran 1.5x slower per edit than the 1M one).
-void SpbmLevelGenerator::MergingRun::ReserveHotArrays()
-{
-  ReserveOnHugePages(s.Patches, size_t(np));
-  ReserveOnHugePages(s.Chains, size_t(nc));
-  ReserveOnHugePages(s.Parts, size_t(nc));
-  ReserveOnHugePages(s.Tries, size_t(nc));
-  ReserveOnHugePages(s.Tolerance, size_t(nc));
-  ReserveOnHugePages(s.JointBefore, size_t(nc));
-  ReserveOnHugePages(s.EndSlotNext, 2 * size_t(nc));
-  ReserveOnHugePages(s.PatchSlotNext, 2 * size_t(nc));
-  for (std::vector<Index>* endpoints : { &s.EndHead, &s.EndStamp, &s.EndLocal })
-  {
-    ReserveOnHugePages(*endpoints, size_t(ne));
-  }
-  for (std::vector<Index>* patches : { &s.AbsorbedFirst, &s.AbsorbedNext, &s.AbsorbedLast, &s.SupportFolded,
-         &s.PatchStamp, &s.CollapsesWalkedSize, &s.CandidatesPushedSize })
-  {
-    ReserveOnHugePages(*patches, size_t(np));
-  }
-}
-
 void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned char>& frozen)
 {
-  this->ReserveHotArrays();
   s.Patches.resize(size_t(np));
   s.AbsorbedFirst.assign(size_t(np), InvalidIndex);
   s.AbsorbedNext.assign(size_t(np), InvalidIndex);
@@ -378,7 +350,7 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
       s.KeptOffsets[c] = s.KeptEnd[c] = static_cast<Index>(room);
       room += size_t(std::max<Index>(0, P.ChainSize(c) - 2));
     }
-    AssignOnHugePages(s.KeptPositions, room, Index(0));
+    s.KeptPositions.assign(room, 0);
   }
   for (Index c = 0; c < nc; ++c)
   {

@@ -63,7 +63,6 @@ private:
   void ReverseParts(Index c);
   bool BoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points);
   bool WalkBoundaryPoints(Index x, Index y, Index skip, std::vector<Vec3>& points);
-  void ReserveHotArrays();
   bool SimpleAfter(Index x, Index gone, Index replace);
 
   // Merging (4.2.6).

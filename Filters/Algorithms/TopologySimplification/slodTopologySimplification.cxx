@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodTopologySimplification.h"
 
-#include "slodHugePages.h"
 #include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
 #include "slodUnionFind.h"
@@ -1609,7 +1608,7 @@ void CollectCleaned(const Simplification& run, const TriangleMesh& current, cons
   const std::vector<double>& points, CleanedSurface& cleaned)
 {
   cleaned.Mesh = TriangleMesh();
-  CopyOnHugePages(cleaned.Mesh.Points, points); // read at random by the completion's merging runs
+  cleaned.Mesh.Points = points;
   cleaned.Labels.clear();
   cleaned.Fill.clear();
   const std::vector<Index>& patchOf = run.Patches.TrianglePatches();
