@@ -1957,7 +1957,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
   const auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
   const CollapseRecords& r = this->Records;
   const size_t records = bytes(r.Vertices) + bytes(r.RemovedOffsets) + bytes(r.RemovedTriangles) +
-    bytes(r.ChangedOffsets) + bytes(r.ChangedTriangles) + bytes(r.ChangedCorners) + bytes(r.ChangedFrom) +
+    bytes(r.ChangedOffsets) + bytes(r.ChangedTriangles) + bytes(r.ChangedCodes) +
     bytes(r.Flips) + bytes(r.FlipStamps);
   const size_t stamps = bytes(this->VertexMark) + bytes(this->VertexChanges) + bytes(this->BlockedStrict) +
     bytes(this->BlockedRelaxed) + bytes(this->BlockedEdge);

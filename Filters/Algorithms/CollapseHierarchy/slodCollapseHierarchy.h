@@ -263,6 +263,8 @@ public:
   // collapse k (collapses must be refined newest first; the edge swaps made after collapse k are
   // undone first).
   const EditableMesh& CoarsestMesh() const { return this->Mesh; }
+  // The collapses and swaps as Refine replays them (M0 numbering).
+  const CollapseRecords& SplitRecords() const { return this->Records; }
   void Refine(EditableMesh& mesh, Index k) const;
   // The reverse of the hierarchy: the coarsest mesh expanded by vertex splits (Refine, newest
   // first) until `collapses` collapses are left (LevelStart(i) gives M_i; any count between gives
