@@ -2083,10 +2083,9 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->VertexChanges.assign(np, VertexChange());
   this->BlockedWide = false;
   this->BlockEpochs.clear();
-  for (BlockedColumn* column : { &this->BlockedRelaxed, &this->BlockedEdge }) // allocated when first used
+  for (BlockedColumn* column : { &this->BlockedStrict, &this->BlockedRelaxed, &this->BlockedEdge })
   {
-    BlockedColumn().Narrow.swap(column->Narrow);
-    BlockedColumn().Wide.swap(column->Wide);
+    *column = BlockedColumn(); // (an aborted build's, wide or not; relaxed and edge: allocated when first used)
   }
   this->AssignBlocked(this->BlockedStrict, nt);
   this->EdgeCollapseCount = 0;
