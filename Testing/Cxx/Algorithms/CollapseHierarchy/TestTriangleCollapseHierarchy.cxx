@@ -1476,7 +1476,8 @@ TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
     { "triangle versions", 4 * nt + sizeof(Index) }, { "collapse records", 2 * sizeof(Index) },
     { "vertex ids, flags", 6 * nv }, { "evaluations", 24 * nt + 24 * nt / 16 },
     { "evaluation scratch", evaluationScratch }, { "paper's terms", 0 }, { "quadrics", 84 * nv },
-    { "edge costs", 15 * nt }, { "stamps, degrees, marks", 12 * nv + 4 * nt }, { "ancestors", 0 },
+    // (stamps: the blocked ones 2 bytes per row, 4 on base; their epochs)
+    { "edge costs", 15 * nt }, { "stamps, degrees, marks", 12 * nv + 2 * nt + 4096 }, { "ancestors", 0 },
     { "current versions, rows", 8 * nt } };
   CollapseHierarchy h;
   std::vector<CollapseHierarchy::StorageShare> start;
