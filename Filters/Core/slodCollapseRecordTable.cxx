@@ -21,11 +21,14 @@ void StoreFieldArrays(const CollapseRecords& r, Index inputPoints, Index inputTr
 {
   vtkFieldData* fd = table->GetFieldData();
   auto changed = NewIdArray("Changed", 3, static_cast<vtkIdType>(r.ChangedTriangles.size()));
-  for (size_t c = 0; c < r.ChangedTriangles.size(); ++c)
+  for (Index k = 0; k < r.NumberOfCollapses(); ++k)
   {
-    changed->SetTypedComponent(vtkIdType(c), 0, r.ChangedTriangles[c]);
-    changed->SetTypedComponent(vtkIdType(c), 1, r.ChangedCorners[c]);
-    changed->SetTypedComponent(vtkIdType(c), 2, r.ChangedFrom[c]);
+    for (size_t c = size_t(r.ChangedOffsets[k]); c < size_t(r.ChangedOffsets[k + 1]); ++c)
+    {
+      changed->SetTypedComponent(vtkIdType(c), 0, r.ChangedTriangles[c]);
+      changed->SetTypedComponent(vtkIdType(c), 1, r.ChangedCorner(c));
+      changed->SetTypedComponent(vtkIdType(c), 2, r.ChangedFrom(k, c));
+    }
   }
   fd->AddArray(changed);
   auto surrounding = NewIdArray("Surrounding", 1, static_cast<vtkIdType>(r.Surrounding.size()));
@@ -63,16 +66,20 @@ bool ReadRemoved(vtkDataArray* removed, vtkDataArray* removedVertices, vtkIdType
   return true;
 }
 
-// One collapse's redirected corners, tuples [begin, end) of the Changed array.
-void ReadChanged(vtkDataArray* changed, vtkIdType begin, vtkIdType end, CollapseRecords& r)
+// One collapse's redirected corners, tuples [begin, end) of the Changed array (false: a corner
+// not redirected from one of the collapse's vertices).
+bool ReadChanged(vtkDataArray* changed, vtkIdType begin, vtkIdType end, CollapseRecords& r)
 {
   for (vtkIdType c = begin; c < end; ++c)
   {
-    r.ChangedTriangles.push_back(static_cast<Index>(changed->GetComponent(c, 0)));
-    r.ChangedCorners.push_back(static_cast<unsigned char>(changed->GetComponent(c, 1)));
-    r.ChangedFrom.push_back(static_cast<Index>(changed->GetComponent(c, 2)));
+    if (!r.AppendChanged(static_cast<Index>(changed->GetComponent(c, 0)), static_cast<int>(changed->GetComponent(c, 1)),
+          static_cast<Index>(changed->GetComponent(c, 2))))
+    {
+      return false;
+    }
   }
   r.ChangedOffsets.push_back(static_cast<Index>(r.ChangedTriangles.size()));
+  return true;
 }
 } // namespace
 
@@ -175,7 +182,10 @@ bool TableToCollapseRecords(vtkTable* table, CollapseRecords& r, Index& points, 
     {
       return false;
     }
-    ReadChanged(changed, begin, end, r);
+    if (!ReadChanged(changed, begin, end, r))
+    {
+      return false;
+    }
   }
   return true;
 }

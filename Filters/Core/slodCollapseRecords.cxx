@@ -4,6 +4,7 @@
 #include "slodEditableMesh.h"
 
 #include <algorithm>
+#include <cassert>
 
 namespace slod
 {
@@ -43,8 +44,7 @@ void CollapseRecords::Reserve(size_t collapses, size_t removed, size_t changed)
   }
   this->ChangedOffsets.reserve(collapses + 1);
   this->ChangedTriangles.reserve(changed);
-  this->ChangedCorners.reserve(changed);
-  this->ChangedFrom.reserve(changed);
+  this->ChangedCodes.reserve(changed);
 }
 
 void CollapseRecords::Append(
@@ -90,8 +90,7 @@ void CollapseRecords::AppendRoom(size_t n, const Index* removed, const Index* ch
     this->RemovedTriangleVertices.resize(3 * size_t(this->RemovedOffsets.back()));
   }
   this->ChangedTriangles.resize(size_t(this->ChangedOffsets.back()));
-  this->ChangedCorners.resize(size_t(this->ChangedOffsets.back()));
-  this->ChangedFrom.resize(size_t(this->ChangedOffsets.back()));
+  this->ChangedCodes.resize(size_t(this->ChangedOffsets.back()));
 }
 
 void CollapseRecords::SetAt(Index k, const CollapseRecord& record, const EditableMesh& mesh)
@@ -144,9 +143,38 @@ void CollapseRecords::Write(
   for (size_t i = 0; i < record.ChangedTriangles.size(); ++i)
   {
     this->ChangedTriangles[c + i] = triangle(record.ChangedTriangles[i]);
-    this->ChangedCorners[c + i] = record.ChangedCorner[i];
-    this->ChangedFrom[c + i] = vertex(record.ChangedFrom[i]);
+    this->ChangedCodes[c + i] =
+      static_cast<unsigned char>(record.ChangedCorner[i] | PositionOf(record.ChangedFrom[i], record, order) << 2);
   }
+}
+
+// The position in the stored vertices (kept first: order) of a merged vertex.
+int CollapseRecords::PositionOf(Index v, const CollapseRecord& record, const int* order)
+{
+  for (int i = 0; i < record.VertexCount; ++i)
+  {
+    if (record.Vertices[order[i]] == v)
+    {
+      return i;
+    }
+  }
+  assert(false && "a redirected corner held one of the merged vertices");
+  return 0;
+}
+
+bool CollapseRecords::AppendChanged(Index triangle, int corner, Index from)
+{
+  const size_t k = this->Vertices.size() / 3 - 1;
+  for (int i = 0; i < 3 && !this->Vertices.empty(); ++i)
+  {
+    if (this->Vertices[3 * k + i] == from && from != InvalidIndex && corner >= 0 && corner < 3)
+    {
+      this->ChangedTriangles.push_back(triangle);
+      this->ChangedCodes.push_back(static_cast<unsigned char>(corner | i << 2));
+      return true;
+    }
+  }
+  return false;
 }
 
 void CollapseRecords::AppendFlip(const FlipRecord& flip)
@@ -185,8 +213,13 @@ void CollapseRecords::Get(Index k, CollapseRecord& record) const
     this->RemovedTriangles.begin() + this->RemovedOffsets[k + 1]);
   const Index c0 = this->ChangedOffsets[k], c1 = this->ChangedOffsets[k + 1];
   record.ChangedTriangles.assign(this->ChangedTriangles.begin() + c0, this->ChangedTriangles.begin() + c1);
-  record.ChangedCorner.assign(this->ChangedCorners.begin() + c0, this->ChangedCorners.begin() + c1);
-  record.ChangedFrom.assign(this->ChangedFrom.begin() + c0, this->ChangedFrom.begin() + c1);
+  record.ChangedCorner.clear();
+  record.ChangedFrom.clear();
+  for (Index c = c0; c < c1; ++c)
+  {
+    record.ChangedCorner.push_back(static_cast<unsigned char>(this->ChangedCorner(size_t(c))));
+    record.ChangedFrom.push_back(this->ChangedFrom(k, size_t(c)));
+  }
 }
 
 void CollapseRecords::UndoFlipsAfter(Index k, EditableMesh& mesh) const
@@ -225,10 +258,10 @@ size_t CollapseRecords::MemoryBytes() const
 {
   return (this->Vertices.capacity() + this->RemovedOffsets.capacity() + this->RemovedTriangles.capacity() +
            this->RemovedTriangleVertices.capacity() + this->ChangedOffsets.capacity() +
-           this->ChangedTriangles.capacity() + this->ChangedFrom.capacity() + this->SurroundingOffsets.capacity() +
+           this->ChangedTriangles.capacity() + this->SurroundingOffsets.capacity() +
            this->Surrounding.capacity() + this->FlipStamps.capacity()) *
     sizeof(Index) +
-    this->ChangedCorners.capacity() + this->Flips.capacity() * sizeof(FlipRecord) +
+    this->ChangedCodes.capacity() + this->Flips.capacity() * sizeof(FlipRecord) +
     (this->OldPositions.capacity() + this->NewPositions.capacity()) * sizeof(double);
 }
 } // namespace slod

@@ -67,8 +67,10 @@ struct SURFACELODFILTERS_EXPORT CollapseRecords
   std::vector<Index> RemovedTriangleVertices; // 3 per removed triangle (StoreRemovedTriangleVertices)
   std::vector<Index> ChangedOffsets{ 0 };    // collapses + 1 offsets into the Changed arrays
   std::vector<Index> ChangedTriangles;       // surviving triangles whose corner was redirected
-  std::vector<unsigned char> ChangedCorners; // that corner (0..2)
-  std::vector<Index> ChangedFrom;            // the vertex the corner had before
+  // That corner (0..2, bits 0-1) and the vertex it had before, as its position in the collapse's
+  // Vertices (bits 2-3): always one of the merged vertices, so one byte instead of the corner's
+  // byte and a 4-byte id (ChangedCorner, ChangedFrom).
+  std::vector<unsigned char> ChangedCodes;
   std::vector<Index> SurroundingOffsets{ 0 }; // collapses + 1 offsets into Surrounding (StoreSurrounding)
   std::vector<Index> Surrounding;
   std::vector<FlipRecord> Flips;             // in order
@@ -79,6 +81,12 @@ struct SURFACELODFILTERS_EXPORT CollapseRecords
   Index Kept(Index k) const { return this->Vertices[3 * size_t(k)]; }
   int VertexCount(Index k) const { return this->Vertices[3 * size_t(k) + 2] == InvalidIndex ? 2 : 3; }
   Index RemovedCount(Index k) const { return this->RemovedOffsets[k + 1] - this->RemovedOffsets[k]; }
+  // Changed entry c (of collapse k: ChangedOffsets[k] <= c < ChangedOffsets[k + 1]).
+  int ChangedCorner(size_t c) const { return this->ChangedCodes[c] & 3; }
+  Index ChangedFrom(Index k, size_t c) const { return this->Vertices[3 * size_t(k) + (this->ChangedCodes[c] >> 2)]; }
+  // Appends a changed entry to the last collapse (whose vertices are stored); false when `from` is
+  // not one of them (a reader of foreign records).
+  bool AppendChanged(Index triangle, int corner, Index from);
 
   // Empties the records (keeping what they store).
   void Clear();
@@ -117,6 +125,7 @@ private:
   // Collapse k's entries (its room made), ids mapped by vertex(v) and triangle(t).
   template <typename VertexId, typename TriangleId>
   void Write(Index k, const CollapseRecord& record, const EditableMesh& mesh, VertexId&& vertex, TriangleId&& triangle);
+  static int PositionOf(Index v, const CollapseRecord& record, const int* order);
 };
 } // namespace slod
 

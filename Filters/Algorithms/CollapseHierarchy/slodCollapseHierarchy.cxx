@@ -1868,13 +1868,16 @@ void CollapseHierarchy::CompactRows(LevelState& state)
         KeepRows(this->EntryOf, oldRows, 1);
         break;
       case 4:
-        KeepRows(this->BlockedStrict, oldRows, 1);
+        KeepRows(this->BlockedStrict.Narrow, oldRows, 1);
+        KeepRows(this->BlockedStrict.Wide, oldRows, 1);
         break;
       case 5:
-        KeepRows(this->BlockedRelaxed, oldRows, 1);
+        KeepRows(this->BlockedRelaxed.Narrow, oldRows, 1);
+        KeepRows(this->BlockedRelaxed.Wide, oldRows, 1);
         break;
       case 6:
-        KeepRows(this->BlockedEdge, oldRows, 1);
+        KeepRows(this->BlockedEdge.Narrow, oldRows, 1);
+        KeepRows(this->BlockedEdge.Wide, oldRows, 1);
         break;
       case 7:
         KeepRows(this->EdgeCostStates, oldRows, 3);
@@ -1938,9 +1941,12 @@ void CollapseHierarchy::ReleaseWorkingData()
   release(this->RowOf);
   release(this->VertexMark);
   release(this->VertexChanges);
-  release(this->BlockedStrict);
-  release(this->BlockedRelaxed);
-  release(this->BlockedEdge);
+  for (BlockedColumn* column : { &this->BlockedStrict, &this->BlockedRelaxed, &this->BlockedEdge })
+  {
+    release(column->Narrow);
+    release(column->Wide);
+  }
+  release(this->BlockEpochs);
   release(this->EdgeCostErrors);
   release(this->EdgeCostStates);
   release(this->Spokes);
@@ -1957,10 +1963,13 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
   const auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
   const CollapseRecords& r = this->Records;
   const size_t records = bytes(r.Vertices) + bytes(r.RemovedOffsets) + bytes(r.RemovedTriangles) +
-    bytes(r.ChangedOffsets) + bytes(r.ChangedTriangles) + bytes(r.ChangedCorners) + bytes(r.ChangedFrom) +
+    bytes(r.ChangedOffsets) + bytes(r.ChangedTriangles) + bytes(r.ChangedCodes) +
     bytes(r.Flips) + bytes(r.FlipStamps);
-  const size_t stamps = bytes(this->VertexMark) + bytes(this->VertexChanges) + bytes(this->BlockedStrict) +
-    bytes(this->BlockedRelaxed) + bytes(this->BlockedEdge);
+  size_t stamps = bytes(this->VertexMark) + bytes(this->VertexChanges) + bytes(this->BlockEpochs);
+  for (const BlockedColumn* column : { &this->BlockedStrict, &this->BlockedRelaxed, &this->BlockedEdge })
+  {
+    stamps += bytes(column->Narrow) + bytes(column->Wide);
+  }
   const size_t ancestors = bytes(this->AncestorCounts);
   return { { "M0 (points, triangles)", false, this->BasePoints.MemoryBytes() + bytes(this->Base.Triangles) },
     { "editable mesh (coarsest)", false, this->Mesh.MemoryBytes() },
@@ -2072,9 +2081,13 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
   this->VertexChanges.assign(np, VertexChange());
-  this->BlockedStrict.assign(nt, -1);
-  std::vector<Index>().swap(this->BlockedRelaxed); // allocated when first used
-  std::vector<Index>().swap(this->BlockedEdge);
+  this->BlockedWide = false;
+  this->BlockEpochs.clear();
+  for (BlockedColumn* column : { &this->BlockedStrict, &this->BlockedRelaxed, &this->BlockedEdge })
+  {
+    *column = BlockedColumn(); // (an aborted build's, wide or not; relaxed and edge: allocated when first used)
+  }
+  this->AssignBlocked(this->BlockedStrict, nt);
   this->EdgeCollapseCount = 0;
   this->BatchRechecks = 0;
   this->CollapsesInRuns = 0;
@@ -2817,26 +2830,76 @@ void CollapseHierarchy::Settle(Index t, const Choice& choice)
   this->Evaluations[row].Weight = choice.Weight;
   if (choice.BlockTriangle)
   {
-    (this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict)[row] = this->ChangeCounter;
+    this->SetBlocked(this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict, row);
   }
   if (choice.BlockEdge)
   {
-    this->BlockedEdge[row] = this->ChangeCounter;
+    this->SetBlocked(this->BlockedEdge, row);
   }
+}
+
+void CollapseHierarchy::SetBlocked(BlockedColumn& column, size_t row)
+{
+  if (!this->BlockedWide && (this->BlockEpochs.empty() || this->BlockEpochs.back() != this->ChangeCounter))
+  {
+    if (this->BlockEpochs.size() < NoEpoch)
+    {
+      this->BlockEpochs.push_back(this->ChangeCounter);
+    }
+    else
+    {
+      this->WidenBlocked();
+    }
+  }
+  if (this->BlockedWide)
+  {
+    column.Wide[row] = this->ChangeCounter;
+  }
+  else
+  {
+    column.Narrow[row] = static_cast<std::uint16_t>(this->BlockEpochs.size() - 1);
+  }
+}
+
+void CollapseHierarchy::AssignBlocked(BlockedColumn& column, size_t rows) const
+{
+  if (this->BlockedWide)
+  {
+    column.Wide.assign(rows, -1);
+  }
+  else
+  {
+    column.Narrow.assign(rows, NoEpoch);
+  }
+}
+
+// Every column holds its stamps from now on (the epochs ran out).
+void CollapseHierarchy::WidenBlocked()
+{
+  for (BlockedColumn* column : { &this->BlockedStrict, &this->BlockedRelaxed, &this->BlockedEdge })
+  {
+    column->Wide.resize(column->Narrow.size());
+    for (size_t r = 0; r < column->Narrow.size(); ++r)
+    {
+      column->Wide[r] = this->BlockedStamp(*column, r);
+    }
+    std::vector<std::uint16_t>().swap(column->Narrow);
+  }
+  this->BlockedWide = true;
 }
 
 // The blocked stamps of the level's rules (the relaxed ones and the edge collapses' at their
 // first use), before any choice reads them.
 void CollapseHierarchy::PrepareBlockedStamps(const LevelState& state)
 {
-  std::vector<Index>& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
-  if (blocked.empty())
+  BlockedColumn& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
+  if (blocked.Empty())
   {
-    blocked.assign(size_t(this->Rows), -1);
+    this->AssignBlocked(blocked, size_t(this->Rows));
   }
-  if (state.Edges && this->BlockedEdge.empty())
+  if (state.Edges && this->BlockedEdge.Empty())
   {
-    this->BlockedEdge.assign(size_t(this->Rows), -1);
+    this->AssignBlocked(this->BlockedEdge, size_t(this->Rows));
   }
 }
 
@@ -2845,9 +2908,9 @@ void CollapseHierarchy::PrepareBlockedStamps(const LevelState& state)
 // region, the collapse point only on T's vertices).
 bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Choice& choice, ChoiceScratch& scratch) const
 {
-  const std::vector<Index>& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
+  const BlockedColumn& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
   const StoredEvaluation& e = this->Evaluations[this->Row(t)];
-  if (this->StarsUnchangedSince(t, blocked[this->Row(t)]))
+  if (this->StarsUnchangedSince(t, this->BlockedStamp(blocked, this->Row(t))))
   {
     return false;
   }
@@ -2886,7 +2949,7 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Cho
 bool CollapseHierarchy::EdgeCollapseAllowed(
   Index t, double orderWeight, int hubs, Choice& choice, ChoiceScratch& scratch) const
 {
-  if (this->StarsUnchangedSince(t, this->BlockedEdge[this->Row(t)], hubs))
+  if (this->StarsUnchangedSince(t, this->BlockedStamp(this->BlockedEdge, this->Row(t)), hubs))
   {
     return false;
   }

@@ -263,6 +263,8 @@ public:
   // collapse k (collapses must be refined newest first; the edge swaps made after collapse k are
   // undone first).
   const EditableMesh& CoarsestMesh() const { return this->Mesh; }
+  // The collapses and swaps as Refine replays them (M0 numbering).
+  const CollapseRecords& SplitRecords() const { return this->Records; }
   void Refine(EditableMesh& mesh, Index k) const;
   // The reverse of the hierarchy: the coarsest mesh expanded by vertex splits (Refine, newest
   // first) until `collapses` collapses are left (LevelStart(i) gives M_i; any count between gives
@@ -638,7 +640,33 @@ private:
   // (by the stencil rules, the mesh check or the orientation test) is skipped until a vertex of
   // its stencil region changes (position or triangles around it). One stamp per rule set (strict,
   // relaxed); -1: not known to be blocked.
-  std::vector<Index> BlockedStrict, BlockedRelaxed, BlockedEdge;
+  // A selection never changes the mesh, so every stamp it writes is the same ChangeCounter value:
+  // a row keeps the index of that value in BlockEpochs, 2 bytes instead of 4 (session 30; at the
+  // first levels, the build's peak, 4 bytes per input vertex less per rule set in use). More
+  // values than 16 bits hold (a selection pass per epoch: 65,535 of them) turn every column into
+  // the stamps themselves (Wide), so the answers never change.
+  struct BlockedColumn
+  {
+    std::vector<std::uint16_t> Narrow; // index into BlockEpochs, NoEpoch: not known to be blocked
+    std::vector<Index> Wide;           // (BlockedWide) the stamp, -1: not known
+    bool Empty() const { return this->Narrow.empty() && this->Wide.empty(); }
+  };
+  static constexpr std::uint16_t NoEpoch = 0xffff;
+  BlockedColumn BlockedStrict, BlockedRelaxed, BlockedEdge;
+  std::vector<Index> BlockEpochs;
+  bool BlockedWide = false;
+  Index BlockedStamp(const BlockedColumn& column, size_t row) const
+  {
+    if (this->BlockedWide)
+    {
+      return column.Wide[row];
+    }
+    const std::uint16_t epoch = column.Narrow[row];
+    return epoch == NoEpoch ? -1 : this->BlockEpochs[epoch];
+  }
+  void SetBlocked(BlockedColumn& column, size_t row); // stamped ChangeCounter
+  void AssignBlocked(BlockedColumn& column, size_t rows) const;
+  void WidenBlocked();
   // Per editable vertex: the stamp of its last change (position or triangles around it) and its
   // valence, cached since then (-1: not known). One record, so that Degree reads one cache line
   // and no stamp of its own (the cache is dropped where the change is stamped).
