@@ -2842,7 +2842,7 @@ void CollapseHierarchy::SetBlocked(BlockedColumn& column, size_t row)
 {
   if (!this->BlockedWide && (this->BlockEpochs.empty() || this->BlockEpochs.back() != this->ChangeCounter))
   {
-    if (this->BlockEpochs.size() < NoEpoch)
+    if (this->BlockEpochs.size() < size_t(std::clamp<int>(this->Parameters.NarrowBlockedEpochs, 0, NoEpoch)))
     {
       this->BlockEpochs.push_back(this->ChangeCounter);
     }

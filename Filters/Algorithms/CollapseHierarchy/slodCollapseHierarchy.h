@@ -145,6 +145,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // the concurrent evaluation. The same hierarchy, bit for bit, for any number of threads. Off:
   // in serial (the reference).
   bool ParallelBookkeeping = true;
+  // Selection passes whose blocked stamps are kept as 2-byte indices before the blocked columns
+  // turn into full stamps (at most 65,535). Lower only to exercise the wide columns: the same
+  // hierarchy, bit for bit, at any value.
+  int NarrowBlockedEpochs = 65535;
 };
 
 // One collapse as GetCollapse hands it out (the hierarchy keeps only its sources, triangle and

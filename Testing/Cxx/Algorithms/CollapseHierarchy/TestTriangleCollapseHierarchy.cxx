@@ -1948,6 +1948,58 @@ TEST(CollapseHierarchy, ZeroAreaTrianglesOfTJunctionsCollapse)
   ExpectExactlyReversible(h, input);
 }
 
+// The blocked stamps are 2-byte indices of a selection pass until 65,535 passes have run, then
+// full stamps (WidenBlocked). Widening after 0, 1 or 2 passes must give the same hierarchy, and
+// the wide columns must really be in use (their stamps take more bytes than the narrow ones).
+TEST(CollapseHierarchy, BlockedStampsWidenedEarlyGiveTheSameHierarchy)
+{
+  TriangleMesh junctions = ToTriangleMesh(LoadTestMesh("bunny00"));
+  ASSERT_GT(AddTJunctions(junctions).size(), 100u); // (choices blocked by the mesh check)
+  const std::pair<const char*, TriangleMesh> meshes[] = { { "noisy scan 40", ToTriangleMesh(NoisyScanIsosurface(40, 5)) },
+    { "bunny00 with T-junctions", junctions } };
+  const auto stampBytes = [](const CollapseHierarchy& h) {
+    size_t bytes = 0;
+    for (const CollapseHierarchy::StorageShare& share : h.Storage())
+    {
+      bytes += std::string(share.Name) == "stamps, degrees, marks" ? share.Bytes : 0;
+    }
+    return bytes;
+  };
+  for (const auto& named : meshes)
+  {
+    const CollapseHierarchyParameters narrow = DefaultParameters();
+    ASSERT_EQ(narrow.NarrowBlockedEpochs, 65535);
+    CollapseHierarchy reference;
+    std::vector<size_t> narrowStamps; // at every progress call
+    ASSERT_TRUE(reference.Build(named.second, narrow, [&](double) {
+      narrowStamps.push_back(stampBytes(reference));
+      return true;
+    }));
+    ASSERT_GT(reference.NumberOfLevels(), 10) << named.first;
+    for (int epochs : { 0, 1, 2 })
+    {
+      const std::string what = std::string(named.first) + ", widened after " + std::to_string(epochs) + " passes";
+      CollapseHierarchyParameters early = narrow;
+      early.NarrowBlockedEpochs = epochs;
+      CollapseHierarchy widened;
+      std::vector<size_t> wideStamps;
+      ASSERT_TRUE(widened.Build(named.second, early, [&](double) {
+        wideStamps.push_back(stampBytes(widened));
+        return true;
+      })) << what;
+      ExpectSameLevelsAndRecords(reference, widened, what);
+      ASSERT_EQ(wideStamps.size(), narrowStamps.size()) << what;
+      size_t wider = 0;
+      for (size_t i = 0; i < wideStamps.size(); ++i)
+      {
+        EXPECT_GE(wideStamps[i], narrowStamps[i]) << what << ", progress call " << i;
+        wider += wideStamps[i] > narrowStamps[i] ? 1 : 0;
+      }
+      EXPECT_GT(wider, 0u) << what; // (the wide columns were in use)
+    }
+  }
+}
+
 // The working data's upkeep runs concurrently (ParallelBookkeeping): CompactRows' ten compactions
 // as tasks, and the test of each evaluation's normal against its triangle's own (kept as Own,
 // Zero or Stored) in the concurrent evaluation. On bunny00 with T-junction repairs (zero-area
