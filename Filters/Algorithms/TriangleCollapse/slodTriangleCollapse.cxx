@@ -1476,8 +1476,17 @@ bool TriangleCollapser::KeyFromCache(Index t, const std::optional<double>& trian
   float best = std::numeric_limits<float>::infinity();
   if (!(state.Excluded & 1u))
   {
-    Vec3 p;
-    const double cost = triangle ? *triangle : this->TriangleOperationCost(this->Mesh.Triangle(t), p);
+    double cost = triangle ? *triangle : 0.0;
+    if (!triangle)
+    {
+      // (PopCost's sum and placement; TriangleOperationCost stays AroundKeys' alone, inlined there)
+      const Index* tri = this->Mesh.Triangle(t);
+      Quadric q = this->Vertex[tri[0]].Q;
+      q += this->Vertex[tri[1]].Q;
+      q += this->Vertex[tri[2]].Q;
+      Vec3 p;
+      cost = this->Place(tri, 3, q, p);
+    }
     best = static_cast<float>(cost * this->CostScale);
   }
   for (int k = 0; k < 3; ++k)
