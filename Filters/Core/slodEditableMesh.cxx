@@ -304,23 +304,62 @@ struct EditableMesh::TableLink
   Index& Out(Index w) { return this->Scratch.Links[this->Slot(w)][1]; }
 };
 
+// What CheckLink's pass over the gathered triangles learnt, for the tests after it: the surviving
+// triangles with the corner of the set's vertex (in gathered order) and the triangles holding
+// exactly two of the set. Complete only when the pass went through every triangle and the lists
+// held them all (a fan of more than 64 survivors); otherwise the later tests scan the gathered
+// triangles and count their members again, as before (the same answers either way).
+struct EditableMesh::SetScan
+{
+  static constexpr int SurvivorCapacity = 64, PairCapacity = 8;
+  Index Survivor[SurvivorCapacity];
+  unsigned char Corner[SurvivorCapacity];
+  Index Pair[PairCapacity];
+  int Survivors = 0, Pairs = 0;
+  bool Complete = false;
+};
+
 template <typename Link>
-CollapseStatus EditableMesh::CheckLink(
-  const Index* vertices, int count, bool anyBoundary, const std::vector<Index>& gathered, Link&& link) const
+CollapseStatus EditableMesh::CheckLink(const Index* vertices, int count, bool anyBoundary,
+  const std::vector<Index>& gathered, Link&& link, SetScan& scan) const
 {
   // Generalised link condition: the link of the merged vertex, made of the link edges x -> y of
   // the surviving triangles, must be one simple cycle (interior) or one simple path (border),
   // and no neighbour may get two incoming or outgoing link edges (an edge with > 2 triangles).
+  // The path starts (an outgoing link edge, no incoming one) are counted as the edges arrive,
+  // their ids XORed: when there is one, that is it (each vertex gets at most one edge of each
+  // kind, so a start is added once and taken back once at most). Before session 30 a second pass
+  // read every corner of every gathered triangle to find them.
   Index survivors = 0;
   Index firstX = InvalidIndex;
+  Index starts = 0, startIds = 0;
+  bool overflow = false;
+  scan.Survivors = 0;
+  scan.Pairs = 0;
+  scan.Complete = false;
   for (Index t : gathered)
   {
     int corner = 0;
-    if (CountMembers(this->Triangle(t), vertices, count, corner) >= 2)
+    const Index* tri = this->Triangle(t);
+    const int members = CountMembers(tri, vertices, count, corner);
+    if (members >= 2)
     {
+      overflow = overflow || (members == 2 && scan.Pairs == SetScan::PairCapacity);
+      if (members == 2 && scan.Pairs < SetScan::PairCapacity)
+      {
+        scan.Pair[scan.Pairs++] = t;
+      }
       continue;
     }
-    const Index* tri = this->Triangle(t);
+    if (scan.Survivors < SetScan::SurvivorCapacity)
+    {
+      scan.Survivor[scan.Survivors] = t;
+      scan.Corner[scan.Survivors++] = static_cast<unsigned char>(corner);
+    }
+    else
+    {
+      overflow = true;
+    }
     const Index x = tri[(corner + 1) % 3], y = tri[(corner + 2) % 3];
     link.Touch(x);
     link.Touch(y);
@@ -328,36 +367,33 @@ CollapseStatus EditableMesh::CheckLink(
     {
       return CollapseStatus::NonManifold;
     }
+    if (link.In(x) == InvalidIndex)
+    {
+      ++starts;
+      startIds ^= x;
+    }
     link.Out(x) = y;
+    if (link.Out(y) != InvalidIndex)
+    {
+      --starts;
+      startIds ^= y;
+    }
     link.In(y) = x;
     firstX = firstX == InvalidIndex ? x : firstX;
     ++survivors;
   }
+  scan.Complete = !overflow;
   if (survivors == 0)
   {
     return CollapseStatus::TooSmall;
   }
-  // Find the path start, if any; more than one means several fans (a pinched vertex).
-  Index start = InvalidIndex;
-  bool severalStarts = false;
-  for (Index t : gathered)
-  {
-    const Index* tri = this->Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index w = tri[k];
-      if (link.Touched(w) && link.In(w) == InvalidIndex && link.Out(w) != InvalidIndex)
-      {
-        severalStarts = severalStarts || (start != InvalidIndex && w != start);
-        start = w;
-      }
-    }
-  }
-  if (severalStarts)
+  // More than one start means several fans (a pinched vertex).
+  if (starts > 1)
   {
     return CollapseStatus::NonManifold;
   }
-  const bool isPath = start != InvalidIndex;
+  const bool isPath = starts == 1;
+  const Index start = isPath ? startIds : InvalidIndex;
   // Walk the link: it must use every surviving triangle's link edge exactly once.
   Index walked = 0;
   if (isPath)
@@ -412,33 +448,47 @@ bool EditableMesh::BorderVerticesFormChain(const Index* vertices, int count, con
   return borderEdges >= borderVertices - 1;
 }
 
-bool EditableMesh::IsolatesVertex(
-  const Index* vertices, int count, const CollapseOptions& options, const std::vector<Index>& gathered) const
+bool EditableMesh::LosesAllTriangles(Index t, const Index* vertices, int count, const CollapseOptions& options) const
+{
+  const Index* tri = this->Triangle(t);
+  auto outside = [&](Index v) { return std::find(vertices, vertices + count, v) == vertices + count; };
+  const Index x = outside(tri[0]) ? tri[0] : (outside(tri[1]) ? tri[1] : tri[2]);
+  if (options.BoundaryVertices && !options.BoundaryVertices[x])
+  {
+    // An interior vertex has a closed fan of at least three triangles; the link test already
+    // rejected the only way to remove all of them (a closed tetrahedron).
+    return false;
+  }
+  bool keepsOne = false;
+  this->ForEachTriangle(x, [&](Index u) {
+    int c = 0;
+    keepsOne = keepsOne || CountMembers(this->Triangle(u), vertices, count, c) < 2;
+  });
+  return !keepsOne;
+}
+
+bool EditableMesh::IsolatesVertex(const Index* vertices, int count, const CollapseOptions& options,
+  const std::vector<Index>& gathered, const SetScan& scan) const
 {
   // A vertex outside the set loses all its triangles when every one of them holds two of the
-  // set (a border "ear" whose base collapses): it would vanish from the mesh.
+  // set (a border "ear" whose base collapses): it would vanish from the mesh. The triangles that
+  // hold two of the set come from the link test's scan when it is complete.
+  if (scan.Complete)
+  {
+    for (int i = 0; i < scan.Pairs; ++i)
+    {
+      if (this->LosesAllTriangles(scan.Pair[i], vertices, count, options))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
   for (Index t : gathered)
   {
     int corner = 0;
-    const Index* tri = this->Triangle(t);
-    if (CountMembers(tri, vertices, count, corner) != 2)
-    {
-      continue;
-    }
-    auto outside = [&](Index v) { return std::find(vertices, vertices + count, v) == vertices + count; };
-    const Index x = outside(tri[0]) ? tri[0] : (outside(tri[1]) ? tri[1] : tri[2]);
-    if (options.BoundaryVertices && !options.BoundaryVertices[x])
-    {
-      // An interior vertex has a closed fan of at least three triangles; the link test already
-      // rejected the only way to remove all of them (a closed tetrahedron).
-      continue;
-    }
-    bool keepsOne = false;
-    this->ForEachTriangle(x, [&](Index u) {
-      int c = 0;
-      keepsOne = keepsOne || CountMembers(this->Triangle(u), vertices, count, c) < 2;
-    });
-    if (!keepsOne)
+    if (CountMembers(this->Triangle(t), vertices, count, corner) == 2 &&
+      this->LosesAllTriangles(t, vertices, count, options))
     {
       return true;
     }
@@ -478,22 +528,40 @@ inline CollapseStatus MovedCornerStatus(const Vec3 (&corners)[3], int corner, co
 }
 } // namespace
 
-CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
-  const std::vector<Index>& gathered) const
+CollapseStatus EditableMesh::SurvivorGeometry(Index t, int corner, const Vec3& p, const CollapseOptions& options) const
 {
-  // The surviving triangles with the set moved to p.
+  const Index* tri = this->Triangle(t);
+  const Vec3 q[3] = { this->Point(tri[0]), this->Point(tri[1]), this->Point(tri[2]) };
+  const Vec3 oldNormal = Cross(q[1] - q[0], q[2] - q[0]);
+  const double oldMinAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
+  return MovedCornerStatus(q, corner, p, oldNormal, Norm(oldNormal), oldMinAngle, options);
+}
+
+CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
+  const std::vector<Index>& gathered, const SetScan* scan) const
+{
+  // The surviving triangles with the set moved to p, in gathered order (the link test's list
+  // when complete).
+  if (scan && scan->Complete)
+  {
+    for (int i = 0; i < scan->Survivors; ++i)
+    {
+      const CollapseStatus status = this->SurvivorGeometry(scan->Survivor[i], scan->Corner[i], p, options);
+      if (status != CollapseStatus::Ok)
+      {
+        return status;
+      }
+    }
+    return CollapseStatus::Ok;
+  }
   for (Index t : gathered)
   {
     int corner = 0;
-    const Index* tri = this->Triangle(t);
-    if (CountMembers(tri, vertices, count, corner) >= 2)
+    if (CountMembers(this->Triangle(t), vertices, count, corner) >= 2)
     {
       continue;
     }
-    const Vec3 q[3] = { this->Point(tri[0]), this->Point(tri[1]), this->Point(tri[2]) };
-    const Vec3 oldNormal = Cross(q[1] - q[0], q[2] - q[0]);
-    const double oldMinAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
-    const CollapseStatus status = MovedCornerStatus(q, corner, p, oldNormal, Norm(oldNormal), oldMinAngle, options);
+    const CollapseStatus status = this->SurvivorGeometry(t, corner, p, options);
     if (status != CollapseStatus::Ok)
     {
       return status;
@@ -538,26 +606,27 @@ CollapseStatus EditableMesh::CheckCollapseWith(const Index* vertices, int count,
   this->GatherTriangles(vertices, count, scratch);
   if (options.GeometryFirst)
   {
-    const CollapseStatus geometry = this->CheckGeometry(vertices, count, p, options, scratch);
+    const CollapseStatus geometry = this->CheckGeometry(vertices, count, p, options, scratch, nullptr);
     if (geometry != CollapseStatus::Ok)
     {
       return geometry;
     }
   }
   this->PrefetchGathered(scratch);
+  SetScan scan;
   if (!options.AllowTopologyChange)
   {
-    const CollapseStatus topology = this->CheckTopology(vertices, count, options, scratch, link);
+    const CollapseStatus topology = this->CheckTopology(vertices, count, options, scratch, link, scan);
     if (topology != CollapseStatus::Ok)
     {
       return topology;
     }
   }
-  return options.GeometryFirst ? CollapseStatus::Ok : this->CheckGeometry(vertices, count, p, options, scratch);
+  return options.GeometryFirst ? CollapseStatus::Ok : this->CheckGeometry(vertices, count, p, options, scratch, &scan);
 }
 
 CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, const CollapseOptions& options,
-  const std::vector<Index>& gathered, CheckScratch* scratch) const
+  const std::vector<Index>& gathered, CheckScratch* scratch, SetScan& scan) const
 {
   bool anyBoundary = false;
   bool onBoundary[3] = { false, false, false };
@@ -568,8 +637,8 @@ CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, con
     anyBoundary = anyBoundary || onBoundary[i];
   }
   const CollapseStatus link = scratch
-    ? this->CheckLink(vertices, count, anyBoundary, gathered, TableLink(*scratch, gathered.size()))
-    : this->CheckLink(vertices, count, anyBoundary, gathered, MarkedLink{ this->VertexLink, this->NextEpoch() });
+    ? this->CheckLink(vertices, count, anyBoundary, gathered, TableLink(*scratch, gathered.size()), scan)
+    : this->CheckLink(vertices, count, anyBoundary, gathered, MarkedLink{ this->VertexLink, this->NextEpoch() }, scan);
   if (link != CollapseStatus::Ok)
   {
     return link;
@@ -578,7 +647,8 @@ CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, con
   {
     return CollapseStatus::BoundaryChange;
   }
-  return this->IsolatesVertex(vertices, count, options, gathered) ? CollapseStatus::IsolatedVertex : CollapseStatus::Ok;
+  return this->IsolatesVertex(vertices, count, options, gathered, scan) ? CollapseStatus::IsolatedVertex
+                                                                        : CollapseStatus::Ok;
 }
 
 void EditableMesh::PrepareTrial(const Index* vertices, int count, const CollapseOptions& options, SetTrial& trial) const
@@ -671,7 +741,8 @@ CollapseStatus EditableMesh::CheckTrial(const Vec3& p, const CollapseOptions& op
   if (!trial.TopologyKnown)
   {
     this->PrefetchGathered(trial.Gathered);
-    trial.Fixed = this->CheckTopology(trial.Vertices, trial.Count, options, trial.Gathered, link);
+    SetScan scan;
+    trial.Fixed = this->CheckTopology(trial.Vertices, trial.Count, options, trial.Gathered, link, scan);
     trial.TopologyKnown = true;
   }
   return trial.Fixed;

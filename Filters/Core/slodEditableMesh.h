@@ -300,21 +300,26 @@ private:
   void GatherTriangles(const Index* vertices, int count, std::vector<Index>& gathered) const;
   // The steps of CheckCollapse, over the gathered triangles.
   void PrefetchGathered(const std::vector<Index>& gathered) const;
+  // The gathered triangles sorted by their role as the link test meets them (on the stack).
+  struct SetScan;
   // (link: the link test's marks in a scratch of the caller's; null: the mesh's VertexLink)
   CollapseStatus CheckTopology(const Index* vertices, int count, const CollapseOptions& options,
-    const std::vector<Index>& gathered, CheckScratch* link) const;
+    const std::vector<Index>& gathered, CheckScratch* link, SetScan& scan) const;
   struct MarkedLink; // CheckLink's marks in VertexLink
   struct TableLink;  // CheckLink's marks in a CheckScratch
   template <typename Link>
-  CollapseStatus CheckLink(
-    const Index* vertices, int count, bool anyBoundary, const std::vector<Index>& gathered, Link&& link) const;
+  CollapseStatus CheckLink(const Index* vertices, int count, bool anyBoundary, const std::vector<Index>& gathered,
+    Link&& link, SetScan& scan) const;
   CollapseStatus CheckCollapseWith(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
     std::vector<Index>& gathered, CheckScratch* link) const;
   bool BorderVerticesFormChain(const Index* vertices, int count, const bool* onBoundary) const;
-  bool IsolatesVertex(
-    const Index* vertices, int count, const CollapseOptions& options, const std::vector<Index>& gathered) const;
+  bool IsolatesVertex(const Index* vertices, int count, const CollapseOptions& options,
+    const std::vector<Index>& gathered, const SetScan& scan) const;
+  // Whether the vertex outside the set of triangle t (which holds two of the set) loses all its triangles.
+  bool LosesAllTriangles(Index t, const Index* vertices, int count, const CollapseOptions& options) const;
   CollapseStatus CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
-    const std::vector<Index>& gathered) const;
+    const std::vector<Index>& gathered, const SetScan* scan) const;
+  CollapseStatus SurvivorGeometry(Index t, int corner, const Vec3& p, const CollapseOptions& options) const;
 
   std::vector<double> Points;
   std::vector<Index> Triangles;

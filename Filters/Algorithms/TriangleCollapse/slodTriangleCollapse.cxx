@@ -26,6 +26,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <type_traits>
 
 
@@ -392,6 +393,9 @@ struct Candidate
   int Operation = -1; // 0 = triangle collapse, k = 1..3 = edge k-1 of the triangle
   Vec3 Local{ 0, 0, 0 }, Position{ 0, 0, 0 }; // the placement, relative to Origin and in world
   double Error = 0.0;
+  // The triangle operation's cost as PopCost placed it (when it was allowed): a rejection of an
+  // edge operation then re-keys the triangle without placing it again (KeyFromCache).
+  std::optional<double> TriangleCost;
 };
 
 // One operation of a batch: picked and checked in parallel (EvaluateEntry), settled and performed
@@ -677,7 +681,13 @@ private:
   void RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys);
   // Cost at pop time: the triangle operation is evaluated, the edges come from the cache and
   // only the winning edge is placed again.
-  double PopCost(Index t, Vec3& local, double& error, int& operation) const;
+  // triangleCost: set to the triangle operation's cost when it is placed (the edge cache's path).
+  double PopCost(Index t, Vec3& local, double& error, int& operation, std::optional<double>* triangleCost = nullptr) const;
+  // The key Cost would give triangle t, from its cached edge costs and the triangle operation's
+  // cost (`triangle`, placed here when absent and the operation allowed): three placements fewer
+  // for a rejection or a retry. False (the caller then runs Cost) when the cache is off or not
+  // current, or when no allowed operation has a finite key.
+  bool KeyFromCache(Index t, const std::optional<double>& triangle, float& key) const;
   // The cheapest valid one of the fallback placements of the set (world coordinates in p).
   bool AlternativePlacement(const Index* set, int count, const CollapseOptions& check, std::vector<Index>& scratch,
     Vec3& p, double& error, double& cost) const;
@@ -753,6 +763,10 @@ private:
   };
   mutable std::vector<TriangleState> State;
   bool CacheEdges = false;
+  // The queue's edge caches hold what Cost would compute now: they are costed again around every
+  // collapse (the only change of a vertex's quadric or position) until a release of the pinned
+  // vertices changes the placements of the sets that held them. Off in the pass schedule.
+  bool EdgeCachesCurrent = false;
   SpokeScratch Spokes;                  // UpdateAround scratch: edges (kept, x) already costed
   std::vector<Index> AroundScratch;     // UpdateAround scratch: the triangles around the new vertex
   std::vector<float> AroundKeyScratch;       // UpdateAround scratch: the new keys of those triangles
@@ -1402,7 +1416,8 @@ bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const 
   return false;
 }
 
-double TriangleCollapser::PopCost(Index t, Vec3& local, double& error, int& operation) const
+double TriangleCollapser::PopCost(
+  Index t, Vec3& local, double& error, int& operation, std::optional<double>* triangleCost) const
 {
   if (!this->CacheEdges)
   {
@@ -1419,6 +1434,10 @@ double TriangleCollapser::PopCost(Index t, Vec3& local, double& error, int& oper
     q += this->Vertex[tri[1]].Q;
     q += this->Vertex[tri[2]].Q;
     best = this->Place(tri, 3, q, local);
+    if (triangleCost)
+    {
+      *triangleCost = best;
+    }
     operation = std::isfinite(best) ? 0 : -1;
     const double w = this->Vertex[tri[0]].W + this->Vertex[tri[1]].W + this->Vertex[tri[2]].W;
     error = w > 0 ? std::sqrt(best / w) : 0.0;
@@ -1442,6 +1461,43 @@ double TriangleCollapser::PopCost(Index t, Vec3& local, double& error, int& oper
     operation = edge + 1;
   }
   return best;
+}
+
+bool TriangleCollapser::KeyFromCache(Index t, const std::optional<double>& triangle, float& key) const
+{
+  if (!this->EdgeCachesCurrent)
+  {
+    return false;
+  }
+  // Cost's key is the float of its cheapest allowed operation's cost; the cast is monotone, so it
+  // is the smallest of the operations' float keys, which the cache holds for the edges (the same
+  // expression). Each operation's placement reads only its vertices' quadrics and positions.
+  const TriangleState& state = this->State[t];
+  float best = std::numeric_limits<float>::infinity();
+  if (!(state.Excluded & 1u))
+  {
+    double cost = triangle ? *triangle : 0.0;
+    if (!triangle)
+    {
+      // (PopCost's sum and placement; TriangleOperationCost stays AroundKeys' alone, inlined there)
+      const Index* tri = this->Mesh.Triangle(t);
+      Quadric q = this->Vertex[tri[0]].Q;
+      q += this->Vertex[tri[1]].Q;
+      q += this->Vertex[tri[2]].Q;
+      Vec3 p;
+      cost = this->Place(tri, 3, q, p);
+    }
+    best = static_cast<float>(cost * this->CostScale);
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    if (!(state.Excluded & (2u << k)) && state.EdgeCost[k] < best)
+    {
+      best = state.EdgeCost[k];
+    }
+  }
+  key = best;
+  return best < std::numeric_limits<float>::infinity();
 }
 
 double TriangleCollapser::TriangleOperationCost(const Index* tri, Vec3& local) const
@@ -1563,12 +1619,16 @@ void TriangleCollapser::RequeueAround(const std::vector<Index>& around, const st
 
 void TriangleCollapser::Update(Index t)
 {
-  Vec3 p;
-  double error;
-  int operation;
   this->State[t].Excluded = 0; // its neighbourhood changed: every operation may be valid again
-  const double cost = this->Cost(t, p, error, operation);
-  this->Heap.Set(t, static_cast<float>(cost * this->CostScale));
+  float key = 0.0f;
+  if (!this->KeyFromCache(t, std::nullopt, key))
+  {
+    Vec3 p;
+    double error;
+    int operation;
+    key = static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale);
+  }
+  this->Heap.Set(t, key);
   this->State[t].Rejected = 0;
 }
 
@@ -1703,6 +1763,7 @@ void TriangleCollapser::InitializeQueue()
   {
     this->InitialKeys(keys);
     this->Heap.Build(keys.data(), nt);
+    this->EdgeCachesCurrent = true;
     return;
   }
   auto costs = [&](vtkIdType begin, vtkIdType end) {
@@ -1777,6 +1838,7 @@ bool TriangleCollapser::LoosenLimits(CollapseLoop& loop, TriangleCollapseResult&
   {
     std::vector<unsigned char>().swap(this->Pinned);
     result.PinnedVerticesReleased = true;
+    this->EdgeCachesCurrent = false;
   }
   loop.Deviation = std::min(90.0, loop.Deviation + 20.0);
   loop.Check.MinimumNormalDot = NormalLimitDot(loop.Deviation);
@@ -1790,6 +1852,12 @@ void TriangleCollapser::Reject(const Candidate& c, TriangleCollapseResult& resul
   // of its neighbourhood.
   const Index t = c.Triangle;
   this->State[t].Excluded |= static_cast<unsigned char>(1u << c.Operation);
+  float key = 0.0f;
+  if (this->KeyFromCache(t, c.TriangleCost, key))
+  {
+    this->Heap.Set(t, key);
+    return;
+  }
   Vec3 next;
   double nextError;
   int nextOperation;
@@ -2113,7 +2181,8 @@ bool TriangleCollapser::PickOperation(BatchEntry& entry) const
   // entries of a batch in parallel.
   Candidate& c = entry.C;
   const Index t = c.Triangle;
-  this->PopCost(t, c.Local, c.Error, c.Operation);
+  c.TriangleCost.reset();
+  this->PopCost(t, c.Local, c.Error, c.Operation, &c.TriangleCost);
   if (c.Operation < 0)
   {
     entry.Result = BatchEntry::Outcome::NoOperation;
@@ -2600,6 +2669,7 @@ void TriangleCollapser::InitializePasses()
   // The keys are computed by the first pass (CostPass); the edge cache serves the picks.
   AssignOnHugePages(this->State, size_t(this->Mesh.NumberOfTriangles()), TriangleState());
   this->CacheEdges = this->Options.EdgeCollapses;
+  this->EdgeCachesCurrent = false; // the keys and caches change by passes, not around each collapse
 }
 
 void TriangleCollapser::MarkChanged(Index kept, const CollapseRecord& record, PassState& passes) const

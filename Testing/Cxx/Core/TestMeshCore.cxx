@@ -1016,6 +1016,72 @@ TEST(EditableMesh, BorderEarIsNotCollapsedAway)
   EXPECT_EQ(mesh.CheckCollapse(borderEdge, 2, m.Point(a)), CollapseStatus::Ok);
 }
 
+// Session 30: the link test lists the survivors and the two-member triangles of a set for the
+// isolated-vertex and geometry tests, up to 64 survivors; larger fans take the full scans. A
+// closed bipyramid and an open cone (its rim a border) with 8 and 100 rim vertices give the same
+// answers for the same operations on both sides of that capacity, with the mesh's marks and with
+// a scratch table: an apex-rim edge is fine, apex and bottom (two fans) are refused, moving the
+// apex through the bottom or beyond the far rim folds triangles (also found by the set trial's own
+// geometry code), merging two rim vertices of the open cone that are not neighbours is refused.
+TEST(EditableMesh, LargeFansGiveTheAnswersOfSmallOnes)
+{
+  for (const bool open : { false, true })
+  {
+    for (const int n : { 8, 100 })
+    {
+      TriangleMesh m;
+      const Index top = m.AddPoint({ 0, 0, 1 }), bottom = m.AddPoint({ 0, 0, -1 });
+      std::vector<Index> rim;
+      for (int i = 0; i < n; ++i)
+      {
+        const double a = 2 * vtkMath::Pi() * i / n;
+        rim.push_back(m.AddPoint({ std::cos(a), std::sin(a), 0 }));
+      }
+      for (int i = 0; i < n; ++i)
+      {
+        m.AddTriangle(top, rim[i], rim[(i + 1) % n]);
+        if (!open)
+        {
+          m.AddTriangle(bottom, rim[(i + 1) % n], rim[i]);
+        }
+      }
+      EditableMesh mesh(m);
+      EditableMesh::CheckScratch scratch;
+      const auto check = [&](const Index* set, int count, const Vec3& p) {
+        const CollapseStatus marks = mesh.CheckCollapse(set, count, p);
+        EXPECT_EQ(marks, mesh.CheckCollapse(set, count, p, CollapseOptions(), scratch)) << n;
+        return marks;
+      };
+      const Index spoke[2] = { top, rim[0] };
+      EXPECT_EQ(check(spoke, 2, m.Point(top)), CollapseStatus::Ok) << "n " << n << " open " << open;
+      EXPECT_EQ(check(spoke, 2, Vec3{ 0, 0, -3 }), CollapseStatus::Flip) << "n " << n << " open " << open;
+      // Beyond the rim vertex opposite rim[0]: the triangles there fold, far down the 100-gon's fan.
+      const Vec3 across = 3.0 * m.Point(rim[n / 2 + 1]) - 2.0 * m.Point(top);
+      const CollapseStatus folded = check(spoke, 2, across);
+      EXPECT_TRUE(folded == CollapseStatus::Flip || folded == CollapseStatus::Degenerate) << ToString(folded);
+      // The trial's own geometry code (no lists) agrees at every point.
+      EditableMesh::SetTrial trial;
+      mesh.PrepareTrial(spoke, 2, CollapseOptions(), trial);
+      for (const Vec3& p : { m.Point(top), Vec3{ 0, 0, -3 }, across, m.Point(rim[0]) })
+      {
+        EXPECT_EQ(mesh.CheckCollapse(spoke, 2, p) == CollapseStatus::Ok,
+          mesh.CheckTrial(p, CollapseOptions(), trial, nullptr) == CollapseStatus::Ok)
+          << n;
+      }
+      if (!open)
+      {
+        const Index poles[2] = { top, bottom };
+        EXPECT_EQ(check(poles, 2, Vec3{ 0, 0, 0 }), CollapseStatus::NonManifold) << n;
+      }
+      else
+      {
+        const Index apart[2] = { rim[0], rim[n / 2] };
+        EXPECT_NE(check(apart, 2, m.Point(rim[0])), CollapseStatus::Ok) << n;
+      }
+    }
+  }
+}
+
 // The mean absolute curvature: about 1/R on a sphere (the discrete sum converges to it), exactly
 // 1/s of it when the mesh is scaled by s, zero on a flat grid.
 TEST(MeshTopology, MeanAbsoluteCurvatureOfSphereAndPlane)
