@@ -106,6 +106,32 @@ public:
   }
   bool Contains(Index id) const { return this->Slot[id] != InvalidIndex; }
 
+  // Ids of up to `count` entries of the lowest non-empty bucket (into ids; returns how many): pops
+  // of the near future, for prefetch hints. In a bucket Pop scans they are taken cyclically from
+  // position `from` (the scan's order is not theirs); in a larger one, from the back, Pop's order.
+  // Reads only: the queue is unchanged.
+  int Upcoming(size_t from, int count, Index* ids) const
+  {
+    Index b = this->Lowest;
+    const Index end = static_cast<Index>(this->Buckets.size());
+    while (b < end && this->Buckets[b].empty())
+    {
+      ++b;
+    }
+    if (b >= end || count <= 0)
+    {
+      return 0;
+    }
+    const auto& bucket = this->Buckets[b];
+    const size_t size = bucket.size();
+    const int n = size < size_t(count) ? static_cast<int>(size) : count;
+    for (int i = 0; i < n; ++i)
+    {
+      ids[i] = size > size_t(ScanLimit) ? bucket[size - 1 - size_t(i)].Id : bucket[(from + size_t(i)) % size].Id;
+    }
+    return n;
+  }
+
   // Inserts id or changes its key (key >= 0; NaN is treated as +infinity).
   void Set(Index id, float key)
   {

@@ -337,6 +337,21 @@ class Neighbourhood;
 struct ClosestAssignment;
 struct MoveGuard;
 
+// Triangles of the queue's lowest bucket (the pops of the near future) whose neighbourhoods the
+// strict loop prefetches in stages one pop apart: corners and state, then the vertices' records,
+// then their reference blocks, so that each stage reads only what the one before brought in and
+// the misses overlap the current collapse instead of following one another at the next pops
+// (session 31). Hints only: no result reads them.
+struct UpcomingPrefetch
+{
+  static constexpr int MaximumWidth = 16;
+  int Width = 0;                         // entries taken per pop (Options.UpcomingPrefetches)
+  Index Cornered[MaximumWidth] = {};     // stage 1 done at the last pop
+  Index Recorded[MaximumWidth] = {};     // stage 2 done at the last pop
+  int CorneredCount = 0, RecordedCount = 0;
+  size_t Cursor = 0;                     // where the next entries are taken in the lowest bucket
+};
+
 // The collapse loop's settings and counters (see TriangleCollapser::CollapseToTarget).
 struct CollapseLoop
 {
@@ -355,6 +370,7 @@ struct CollapseLoop
   long long StatusCounts[static_cast<int>(CollapseStatus::Locked) + 1] = {};
   CollapseRecord Record;      // the last collapse
   std::vector<Index> Neighbors; // the link of the last collapse's vertex (when needed)
+  UpcomingPrefetch Upcoming;    // the strict order's prefetches of the next pops
 };
 
 // Adds the wall time of consecutive phases to their totals (diagnostics of the batch loop); does
@@ -600,6 +616,7 @@ private:
   bool PickOperation(BatchEntry& entry) const;
   struct ClaimRingsFunctor;
   void SelectBatch(CollapseLoop& loop, CollapseBatch& batch);
+  void PrefetchUpcoming(UpcomingPrefetch& ahead) const;
   // picked: PickOperation ran already (batches of more than one entry).
   void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const;
   struct EvaluateBatchFunctor;
@@ -1804,6 +1821,7 @@ void TriangleCollapser::StartLoop(CollapseLoop& loop) const
   // triangles), 0.70-0.75 on fandisk at 10 % and 1 %; the bound is 100.
   loop.MaximumPops = MaximumPopsPerTriangle * static_cast<long long>(loop.StartTriangles) + 1024;
   loop.TimePhases = vtkLogger::GetCurrentVerbosityCutoff() >= vtkLogger::VERBOSITY_TRACE;
+  loop.Upcoming.Width = std::min(std::max(0, this->Options.UpcomingPrefetches), UpcomingPrefetch::MaximumWidth);
 }
 
 bool TriangleCollapser::RelaxNormalLimit(CollapseLoop& loop, TriangleCollapseResult& result)
@@ -2092,6 +2110,47 @@ void TriangleCollapser::SelectBatch(CollapseLoop& loop, CollapseBatch& batch)
     batch.Entries.emplace_back();
     batch.Entries.back().C.Triangle = t;
     batch.Keys.push_back(key);
+  }
+  if (batch.MaximumSize == 1 && loop.Upcoming.Width > 0)
+  {
+    this->PrefetchUpcoming(loop.Upcoming);
+  }
+}
+
+void TriangleCollapser::PrefetchUpcoming(UpcomingPrefetch& ahead) const
+{
+  // Stage 3: the reference blocks of the vertices whose records stage 2 asked for at the last pop.
+  for (int i = 0; i < ahead.RecordedCount; ++i)
+  {
+    const Index* tri = this->Mesh.Triangle(ahead.Recorded[i]);
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Mesh.PrefetchBlock(tri[k]);
+    }
+  }
+  // Stage 2: the vertices' quadrics, points and block bounds of the triangles of stage 1.
+  for (int i = 0; i < ahead.CorneredCount; ++i)
+  {
+    const Index* tri = this->Mesh.Triangle(ahead.Cornered[i]);
+    for (int k = 0; k < 3; ++k)
+    {
+      const char* q = reinterpret_cast<const char*>(&this->Vertex[tri[k]]);
+      __builtin_prefetch(q);
+      __builtin_prefetch(q + 64);
+      this->Mesh.PrefetchVertex(tri[k]);
+    }
+    ahead.Recorded[i] = ahead.Cornered[i];
+  }
+  ahead.RecordedCount = ahead.CorneredCount;
+  // Stage 1: the next entries of the lowest bucket, their corners, states and queue slots.
+  ahead.CorneredCount = this->Heap.Upcoming(ahead.Cursor, ahead.Width, ahead.Cornered);
+  ahead.Cursor += size_t(ahead.Width);
+  for (int i = 0; i < ahead.CorneredCount; ++i)
+  {
+    const Index t = ahead.Cornered[i];
+    __builtin_prefetch(this->Mesh.Triangle(t));
+    __builtin_prefetch(&this->State[t]);
+    this->Heap.Prefetch(t);
   }
 }
 

@@ -122,6 +122,10 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // and are popped again, and 18 % of the batch loop is sequential).
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
+  // The strict order prefetches, at each pop, the neighbourhoods of this many more entries of the
+  // queue's lowest bucket (pops of the near future), in stages one pop apart; 0: none. Hints
+  // only: the same output for any value (session 31).
+  int UpcomingPrefetches = 8;
   // The order of the collapses (see CollapseSchedule).
   CollapseSchedule Schedule = CollapseSchedule::Queue;
   // The pass schedule's limit: PassErrorFactor times the cost of rank PassGoalShare x (triangles

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -202,4 +203,80 @@ TEST(PriorityQueues, BucketQueueScanBreaksTiesBySmallestId)
       ASSERT_EQ(queue.Pop(), e.second);
     }
   }
+}
+
+// Upcoming (the collapse loop's prefetch hints, session 31) names entries of the lowest non-empty
+// bucket, i.e. pops of the near future, and changes nothing: a scanned bucket's entries are all
+// named by a cyclic walk from any position, a bucket too large to scan names its next pops in
+// Pop's order (from the back), and the pop order with the hints taken equals a twin queue's.
+TEST(PriorityQueues, UpcomingNamesTheLowestBucketAndChangesNothing)
+{
+  std::mt19937 random(31);
+  std::uniform_real_distribution<float> within(0.0f, 1e-4f); // far below a bucket's width at 1.0
+  const Index low = 50, high = 200, ties = BucketQueue::ScanLimit + 20;
+  BucketQueue queue, twin;
+  queue.Reset(low + high + ties);
+  twin.Reset(low + high + ties);
+  Index ids[8];
+  EXPECT_EQ(queue.Upcoming(0, 8, ids), 0); // empty: nothing named
+  std::vector<Index> order(size_t(low + high));
+  for (Index i = 0; i < low + high; ++i)
+  {
+    order[size_t(i)] = i;
+  }
+  std::shuffle(order.begin(), order.end(), random);
+  for (Index id : order)
+  {
+    // ids below `low` share the bucket of 1.0; the others lie in buckets of their own from 2.0 up
+    // (2 % apart: a bucket spans under 0.8 %).
+    const float key = id < low ? 1.0f + within(random) : 2.0f * std::pow(1.02f, static_cast<float>(id - low));
+    queue.Set(id, key);
+    twin.Set(id, key);
+  }
+  for (Index popped = 0; popped < low; ++popped)
+  {
+    // The remaining low entries, all named by a walk of the bucket from an arbitrary position.
+    std::set<Index> named;
+    const size_t from = size_t(7 * popped);
+    for (size_t at = from; at < from + size_t(low - popped); at += 3)
+    {
+      const int n = queue.Upcoming(at, 3, ids);
+      ASSERT_GE(n, 1);
+      ASSERT_LE(n, 3);
+      for (int i = 0; i < n; ++i)
+      {
+        EXPECT_LT(ids[i], low) << "an entry of a higher bucket was named";
+        EXPECT_TRUE(queue.Contains(ids[i]));
+        named.insert(ids[i]);
+      }
+    }
+    EXPECT_EQ(named.size(), size_t(low - popped));
+    const Index next = queue.Pop();
+    ASSERT_EQ(next, twin.Pop());
+    EXPECT_EQ(named.count(next), 1u) << "the next pop was not among the named entries";
+  }
+  // The low bucket is drained: the next non-empty bucket is named (the smallest key of the rest).
+  ASSERT_EQ(queue.Upcoming(0, 1, ids), 1);
+  EXPECT_EQ(ids[0], queue.Pop());
+  twin.Pop();
+  // A bucket too large to scan (ties below every other key): its next pops, in order.
+  for (Index i = 0; i < ties; ++i)
+  {
+    queue.Set(low + high + i, 0.25f);
+    twin.Set(low + high + i, 0.25f);
+  }
+  const int n = queue.Upcoming(0, 8, ids);
+  ASSERT_EQ(n, 8);
+  for (int i = 0; i < n; ++i)
+  {
+    const Index next = queue.Pop();
+    EXPECT_EQ(ids[i], next);
+    EXPECT_EQ(twin.Pop(), next);
+  }
+  while (!twin.Empty())
+  {
+    queue.Upcoming(size_t(twin.Size()), 4, ids);
+    ASSERT_EQ(queue.Pop(), twin.Pop());
+  }
+  EXPECT_TRUE(queue.Empty());
 }
