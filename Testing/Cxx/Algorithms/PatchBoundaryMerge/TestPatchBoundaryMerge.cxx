@@ -36,6 +36,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -2145,12 +2146,17 @@ namespace
 // `thicknessScale` and `noiseWithheld`, when given, get the filter's PatchThicknessScale and
 // NoiseToleranceWithheld.
 double LevelHausdorffRatioToQuadric(const char* name, vtkPolyData* input, double reduction,
-  double* thicknessScale = nullptr, bool* noiseWithheld = nullptr)
+  double* thicknessScale = nullptr, bool* noiseWithheld = nullptr,
+  const std::function<void(vtkPatchBoundaryMerge*)>& configure = nullptr)
 {
   const MeshStatistics in = StatisticsOf(input);
   vtkNew<vtkPatchBoundaryMerge> filter;
   filter->SetInputData(input);
   filter->SetTargetReduction(reduction);
+  if (configure)
+  {
+    configure(filter);
+  }
   filter->Update();
   vtkPolyData* ours = filter->GetOutput();
   EXPECT_GT(filter->GetPatchThicknessBound(), 0.0);
@@ -2237,14 +2243,21 @@ TEST(PatchBoundaryMerge, CountJumpsOverTheBandAreReachedThroughAlpha1)
 // bound doubled and the closer one kept: within the band with the input's topology, and within 3x
 // vtkQuadricDecimation's distance at the same count (measured in the same run) on blobby_3cc, 10x
 // on poly2x^2+y^2. Where the level is within the bound (bunny00 at 10%) the patches stay as given.
+// Session 31: poly2x^2+y^2's border corners now stay (BorderCornerAngle) and its level is within
+// the bound without a second growth (2.6x); it is measured with the paper's chains (angle 0),
+// where the bound is still what saves it.
 TEST(PatchBoundaryMerge, TooSmallPatchesAreGrownAgainWithALooserThicknessBound)
 {
-  const std::pair<const char*, double> cases[] = { { "poly2x^2+y^2-0.062500", 10.0 }, { "blobby_3cc", 3.0 } };
-  for (const auto& [name, bound] : cases)
+  const std::tuple<const char*, double, double> cases[] = { { "poly2x^2+y^2-0.062500", 10.0, 0.0 },
+    { "blobby_3cc", 3.0, 60.0 } };
+  for (const auto& [name, bound, cornerAngle] : cases)
   {
     SCOPED_TRACE(name);
     double scale = 0;
-    EXPECT_LE(LevelHausdorffRatioToQuadric(name, slodtest::LoadTestMesh(name), 0.5, &scale), bound);
+    const double angle = cornerAngle;
+    EXPECT_LE(LevelHausdorffRatioToQuadric(name, slodtest::LoadTestMesh(name), 0.5, &scale, nullptr,
+                [angle](vtkPatchBoundaryMerge* filter) { filter->SetBorderCornerAngle(angle); }),
+      bound);
     EXPECT_GT(scale, 1.0);
   }
   vtkNew<vtkPatchBoundaryMerge> filter;
