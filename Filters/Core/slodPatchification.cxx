@@ -55,7 +55,7 @@ void Patchification::Build(const TriangleMesh& mesh, const MeshTopology& topolog
   {
     return;
   }
-  this->ExtractChains(mesh, topology, adjacency);
+  this->ExtractChains(mesh, topology, adjacency, parameters.BorderCornerAngle);
 }
 
 void Patchification::BuildFromLabels(
@@ -77,7 +77,7 @@ void Patchification::BuildFromLabels(
     this->PatchAreaOf[p] += Norm(areaVector);
     ++this->PatchTriangleCountOf[p];
   }
-  this->ExtractChains(mesh, topology, adjacency);
+  this->ExtractChains(mesh, topology, adjacency, 0.0);
 }
 
 namespace
@@ -558,8 +558,23 @@ struct BoundaryWalk
 };
 
 // Endpoints: where the patch across changes along a patch boundary, plus non-manifold vertices.
-std::vector<unsigned char> MarkChainEnds(const BoundaryWalk& walk)
+// A mesh-border vertex between border half-edges h and g (in and out) where the border turns by
+// more than the angle whose cosine is given.
+bool BorderCorner(const BoundaryWalk& walk, Index h, Index g, double cosine)
 {
+  if (walk.Neighbor(h) != InvalidIndex || walk.Neighbor(g) != InvalidIndex || walk.NonManifold(h) || walk.NonManifold(g))
+  {
+    return false;
+  }
+  const Vec3 a = walk.Mesh.Point(walk.Origin(h)), b = walk.Mesh.Point(walk.Target(h)), c = walk.Mesh.Point(walk.Target(g));
+  const Vec3 in = b - a, out = c - b;
+  const double lengths = Norm(in) * Norm(out);
+  return lengths > 0 && Dot(in, out) <= cosine * lengths;
+}
+
+std::vector<unsigned char> MarkChainEnds(const BoundaryWalk& walk, double borderCornerAngle)
+{
+  const double cornerCosine = std::cos(vtkMath::RadiansFromDegrees(borderCornerAngle));
   const Index nv = walk.Mesh.NumberOfPoints();
   std::vector<unsigned char> isEnd(size_t(nv), 0);
   for (Index v = 0; v < nv; ++v)
@@ -577,7 +592,8 @@ std::vector<unsigned char> MarkChainEnds(const BoundaryWalk& walk)
       continue;
     }
     const Index g = walk.Next(h);
-    if (g == InvalidIndex || walk.RightOf(g) != walk.RightOf(h) || walk.NonManifold(g) != walk.NonManifold(h))
+    if (g == InvalidIndex || walk.RightOf(g) != walk.RightOf(h) || walk.NonManifold(g) != walk.NonManifold(h) ||
+      (borderCornerAngle > 0 && BorderCorner(walk, h, g, cornerCosine)))
     {
       isEnd[walk.Target(h)] = 1;
     }
@@ -683,10 +699,10 @@ void CutClosedLoops(
 // patch on the other side changes. Closed loops without such a vertex (e.g. a patch inside a
 // single other patch's hole... on a sphere cut in two) are cut into three chains.
 void Patchification::ExtractChains(
-  const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency)
+  const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency, double borderCornerAngle)
 {
   const BoundaryWalk walk{ mesh, topology, adjacency.Across, this->TrianglePatch };
-  std::vector<unsigned char> isEnd = MarkChainEnds(walk);
+  std::vector<unsigned char> isEnd = MarkChainEnds(walk, borderCornerAngle);
 
   this->ChainOffsets.assign(1, 0);
   this->ChainVertexList.clear();

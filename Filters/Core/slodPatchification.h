@@ -68,6 +68,12 @@ struct SURFACELODFILTERS_EXPORT PatchificationParameters
   // re-triangulated surface by more than this distance; the 60 degrees keep it from folding over
   // in the patch's projection.
   double NoiseTolerance = 0.0;
+  // Extension (issue 15, session 31; 0 = off, the paper): a mesh-border vertex where the border
+  // turns by at least this angle (degrees, between its two border edges) ends the chains there,
+  // like a change of the patch across. Endpoints on the border are never removed, so a corner of
+  // an open sheet stays where it is; inside a chain, the chain tolerance alone decided, and a
+  // coarse target's tolerance cut the corner off (three_peaks at 10%: 1.7 against vtkQD's 0.2).
+  double BorderCornerAngle = 0.0;
 };
 
 class SURFACELODFILTERS_EXPORT Patchification
@@ -138,7 +144,8 @@ private:
   struct Adjacency;
   void Grow(const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency,
     const PatchificationParameters& parameters, const ProgressFunction& progress);
-  void ExtractChains(const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency);
+  void ExtractChains(
+    const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency, double borderCornerAngle);
   void NumberEndpoints(const TriangleMesh& mesh, const MeshTopology& topology);
   void BuildPatchGraph();
 

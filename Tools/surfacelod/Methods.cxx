@@ -234,6 +234,7 @@ std::vector<Parameter> PatchBoundaryMergeParameters()
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchPlaneDistance),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchDeviationFactor),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, PatchNoiseTolerance),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, BorderCornerAngle),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, AdaptPatchesToTarget),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, LoosenThicknessForTarget),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, AreaWeightedNormals),

@@ -16,12 +16,14 @@
 #include "vtkSurfaceDeviation.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDecimatePro.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
+#include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkQuadricDecimation.h"
@@ -34,6 +36,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -2143,12 +2146,17 @@ namespace
 // `thicknessScale` and `noiseWithheld`, when given, get the filter's PatchThicknessScale and
 // NoiseToleranceWithheld.
 double LevelHausdorffRatioToQuadric(const char* name, vtkPolyData* input, double reduction,
-  double* thicknessScale = nullptr, bool* noiseWithheld = nullptr)
+  double* thicknessScale = nullptr, bool* noiseWithheld = nullptr,
+  const std::function<void(vtkPatchBoundaryMerge*)>& configure = nullptr)
 {
   const MeshStatistics in = StatisticsOf(input);
   vtkNew<vtkPatchBoundaryMerge> filter;
   filter->SetInputData(input);
   filter->SetTargetReduction(reduction);
+  if (configure)
+  {
+    configure(filter);
+  }
   filter->Update();
   vtkPolyData* ours = filter->GetOutput();
   EXPECT_GT(filter->GetPatchThicknessBound(), 0.0);
@@ -2235,14 +2243,21 @@ TEST(PatchBoundaryMerge, CountJumpsOverTheBandAreReachedThroughAlpha1)
 // bound doubled and the closer one kept: within the band with the input's topology, and within 3x
 // vtkQuadricDecimation's distance at the same count (measured in the same run) on blobby_3cc, 10x
 // on poly2x^2+y^2. Where the level is within the bound (bunny00 at 10%) the patches stay as given.
+// Session 31: poly2x^2+y^2's border corners now stay (BorderCornerAngle) and its level is within
+// the bound without a second growth (2.6x); it is measured with the paper's chains (angle 0),
+// where the bound is still what saves it.
 TEST(PatchBoundaryMerge, TooSmallPatchesAreGrownAgainWithALooserThicknessBound)
 {
-  const std::pair<const char*, double> cases[] = { { "poly2x^2+y^2-0.062500", 10.0 }, { "blobby_3cc", 3.0 } };
-  for (const auto& [name, bound] : cases)
+  const std::tuple<const char*, double, double> cases[] = { { "poly2x^2+y^2-0.062500", 10.0, 0.0 },
+    { "blobby_3cc", 3.0, 60.0 } };
+  for (const auto& [name, bound, cornerAngle] : cases)
   {
     SCOPED_TRACE(name);
     double scale = 0;
-    EXPECT_LE(LevelHausdorffRatioToQuadric(name, slodtest::LoadTestMesh(name), 0.5, &scale), bound);
+    const double angle = cornerAngle;
+    EXPECT_LE(LevelHausdorffRatioToQuadric(name, slodtest::LoadTestMesh(name), 0.5, &scale, nullptr,
+                [angle](vtkPatchBoundaryMerge* filter) { filter->SetBorderCornerAngle(angle); }),
+      bound);
     EXPECT_GT(scale, 1.0);
   }
   vtkNew<vtkPatchBoundaryMerge> filter;
@@ -2414,4 +2429,95 @@ TEST(SpbmEdgeMap, VertexFilterAnswersAsTheTable)
   EXPECT_TRUE(tracked.Insert(vertices + 3, 1, 42, value));
   EXPECT_TRUE(tracked.MayContain(vertices + 3, 1));
   EXPECT_TRUE(tracked.Find(1, vertices + 3, value) && value == 42);
+}
+
+namespace
+{
+// Positions of the input's border vertices where the border turns by at least `degrees` (two
+// border edges meet there; each border edge belongs to one triangle).
+std::vector<std::array<double, 3>> BorderCorners(vtkPolyData* input, double degrees)
+{
+  std::map<std::pair<vtkIdType, vtkIdType>, int> uses;
+  const vtkIdType* ids;
+  vtkIdType n;
+  auto polys = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
+  {
+    polys->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      ++uses[std::minmax(ids[k], ids[(k + 1) % n])];
+    }
+  }
+  std::map<vtkIdType, std::vector<vtkIdType>> borderNeighbors;
+  for (const auto& [edge, count] : uses)
+  {
+    if (count == 1)
+    {
+      borderNeighbors[edge.first].push_back(edge.second);
+      borderNeighbors[edge.second].push_back(edge.first);
+    }
+  }
+  std::vector<std::array<double, 3>> corners;
+  for (const auto& [v, neighbors] : borderNeighbors)
+  {
+    if (neighbors.size() != 2)
+    {
+      continue;
+    }
+    Vec3 a, b, c;
+    input->GetPoint(neighbors[0], a.data());
+    input->GetPoint(v, b.data());
+    input->GetPoint(neighbors[1], c.data());
+    const Vec3 in = b - a, out = c - b;
+    if (Dot(in, out) <= std::cos(vtkMath::RadiansFromDegrees(degrees)) * Norm(in) * Norm(out))
+    {
+      corners.push_back({ b[0], b[1], b[2] });
+    }
+  }
+  return corners;
+}
+
+bool HasPoint(vtkPolyData* mesh, const std::array<double, 3>& p)
+{
+  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
+  {
+    double q[3];
+    mesh->GetPoint(i, q);
+    if (q[0] == p[0] && q[1] == p[1] && q[2] == p[2])
+    {
+      return true;
+    }
+  }
+  return false;
+}
+} // namespace
+
+// Issue 15 (session 31): the corners of an open sheet's border stay (BorderCornerAngle, 60
+// degrees). three_peaks (a height field over a rectangle) at 10%: the paper's chains end only
+// where the patch across changes, so a corner was an inner chain vertex and the coarse target's
+// chain tolerance cut it off (Hausdorff 8.4x vtkQuadricDecimation's, all of it at one corner).
+TEST(PatchBoundaryMerge, BorderCornersOfAnOpenSheetStay)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("three_peaks");
+  const auto corners = BorderCorners(input, 60.0);
+  ASSERT_GE(corners.size(), 4u);
+  auto simplified = [&](double cornerAngle) {
+    vtkNew<vtkPatchBoundaryMerge> filter;
+    filter->SetInputData(input);
+    filter->SetTargetReduction(0.9);
+    filter->SetBorderCornerAngle(cornerAngle);
+    filter->Update();
+    return vtkSmartPointer<vtkPolyData>(filter->GetOutput());
+  };
+  vtkSmartPointer<vtkPolyData> kept = simplified(60.0);
+  for (const auto& corner : corners)
+  {
+    EXPECT_TRUE(HasPoint(kept, corner)) << corner[0] << " " << corner[1] << " " << corner[2];
+  }
+  // The paper's chains (0): some corner is cut, so the assertion above is not vacuous.
+  vtkSmartPointer<vtkPolyData> paper = simplified(0.0);
+  EXPECT_FALSE(std::all_of(
+    corners.begin(), corners.end(), [&](const std::array<double, 3>& c) { return HasPoint(paper, c); }));
+  EXPECT_LE(LevelHausdorffRatioToQuadric("three_peaks", input, 0.9), 3.0);
 }
