@@ -38,7 +38,12 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->VertexAlive.assign(np, 1);
   this->LiveTriangles = nt;
   this->LiveVertices = np;
-  AssignOnHugePages(this->VertexLink, size_t(np), LinkEntry());
+  this->VertexLink.clear();
+  this->VertexLink.shrink_to_fit();
+  if (this->LinkMarksAtReset)
+  {
+    this->AllocateLinkMarks();
+  }
   this->Epoch = 0;
   AssignOnHugePages(this->RefStart, size_t(np), Index(0));
   AssignOnHugePages(this->RefCount, size_t(np), Index(0));
@@ -51,8 +56,17 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->CompactIfNeeded();
 }
 
+void EditableMesh::AllocateLinkMarks() const
+{
+  AssignOnHugePages(this->VertexLink, size_t(this->NumberOfPoints()), LinkEntry());
+}
+
 std::uint32_t EditableMesh::NextEpoch() const
 {
+  if (this->VertexLink.empty())
+  {
+    this->AllocateLinkMarks(); // (SetLinkMarksAtReset off: the first use, sequential)
+  }
   // Atomic: concurrent checks (see CheckCollapse with a scratch) each need their own epoch. The
   // wrap-around clears the marks, which only a sequential caller may do (ReserveEpochs).
   const std::uint32_t epoch = __atomic_add_fetch(&this->Epoch, 1u, __ATOMIC_RELAXED);
@@ -75,6 +89,10 @@ void EditableMesh::ClearMarks() const
 
 void EditableMesh::ReserveEpochs(std::uint32_t checks) const
 {
+  if (this->VertexLink.empty())
+  {
+    this->AllocateLinkMarks(); // concurrent checks will use them
+  }
   // A check takes at most two epochs (the link test and IsBoundaryVertex); margin for Neighbors.
   if (this->Epoch > std::numeric_limits<std::uint32_t>::max() - 4 * checks - 16)
   {
@@ -237,7 +255,7 @@ void EditableMesh::PrefetchGathered(const std::vector<Index>& gathered) const
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
-      __builtin_prefetch(&this->VertexLink[tri[k]]);
+      __builtin_prefetch(this->VertexLink.data() + (this->VertexLink.empty() ? 0 : tri[k]));
       __builtin_prefetch(&this->Points[3 * size_t(tri[k])]);
     }
   }

@@ -78,6 +78,12 @@ public:
   // earlier, so that the reference array stays within f times its size at Reset (peak memory of a
   // shrinking mesh; a mesh that grows still gets an eighth of its size as room). 0: no limit.
   void SetReferenceRoomFactor(double factor) { this->RoomFactor = factor; }
+  // Off (before Reset): the per-vertex marks of the link tests (12 bytes per vertex) are not
+  // allocated at Reset but at their first use, for a caller whose checks bring their own tables
+  // (CheckScratch; CheckTrial with one; options.BoundaryVertices given) and who needs no
+  // Neighbors or IsBoundaryVertex: its mesh never holds them. The first use must then be
+  // sequential (ReserveEpochs allocates them). Default on.
+  void SetLinkMarksAtReset(bool on) { this->LinkMarksAtReset = on; }
   // The factor for a mesh that only shrinks (collapse loops): the peak of an unbounded array is
   // at the end of the collapses, about twice its start; this bound costs a few compactions more,
   // each a walk over the triangles, and moves no output (see CompactInOrder).
@@ -332,6 +338,7 @@ private:
   double RoomFactor = 0.0;     // SetReferenceRoomFactor
   size_t RoomLimit = 0;        // RoomFactor times the references' size at the first build
   bool ParallelRebuild = false; // SetParallelRebuild
+  bool LinkMarksAtReset = true; // SetLinkMarksAtReset
 
   // Scratch state reused across calls (mutable: checks are logically const).
   mutable std::vector<Index> Scratch, ScratchBlock;
@@ -343,6 +350,7 @@ private:
   };
   mutable std::vector<LinkEntry> VertexLink;
   mutable std::uint32_t Epoch = 0;
+  void AllocateLinkMarks() const;
   std::uint32_t NextEpoch() const;
   void ClearMarks() const;
 };

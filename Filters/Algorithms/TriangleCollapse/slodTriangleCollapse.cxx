@@ -788,7 +788,24 @@ private:
   std::vector<Index> AroundScratch;     // UpdateAround scratch: the triangles around the new vertex
   std::vector<float> AroundKeyScratch;       // UpdateAround scratch: the new keys of those triangles
   mutable vtkSMPThreadLocal<EditableMesh::SetTrial> Trials; // AlternativePlacement's, per thread
-  std::vector<Index> Parent;           // RefineDeviation: per vertex, the vertex it merged into
+  // The link tests' marks in a small table per thread (EditableMesh::CheckScratch) instead of the
+  // mesh's per-vertex marks, which are then never allocated (12 bytes per input vertex through the
+  // collapses and the passes after them). Not with AllowTopologyChange (the checks then find the
+  // border vertices with the mesh's marks).
+  bool LinkTables = false;
+  mutable vtkSMPThreadLocal<EditableMesh::CheckScratch> LinkScratch;
+  EditableMesh::CheckScratch* LinkTable() const { return this->LinkTables ? &this->LinkScratch.Local() : nullptr; }
+  CollapseStatus CheckSet(const Candidate& c, const CollapseOptions& check, std::vector<Index>& gathered) const;
+  void Ring(Index v, std::vector<Index>& out) const;
+  // RefineDeviation's tree of merges: a vertex merged away keeps, in its quadric's weight (never
+  // read again; a weight is a sum of areas, never negative), -(1 + the vertex it merged into), so
+  // no array of parents is held through the collapses (4 bytes per input vertex).
+  Index ParentOf(Index v) const
+  {
+    const double w = this->Vertex[v].W;
+    return w < 0 ? static_cast<Index>(-1.0 - w) : v;
+  }
+  void SetParent(Index v, Index parent) { this->Vertex[v].W = -1.0 - double(parent); }
   int FitThreads = 0;                  // FitToOriginal's diagnostics (TriangleCollapseResult)
   bool FitBudgetReached = false;
   SweepCounts FitVisits, RefinementVisits; // the passes' diagnostics (TriangleCollapseResult)
@@ -1421,7 +1438,7 @@ bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const 
   for (int i = 0; i < n; ++i)
   {
     const Vec3 world = candidates[i].second + this->Origin;
-    if (this->Mesh.CheckTrial(world, check, trial, nullptr) == CollapseStatus::Ok)
+    if (this->Mesh.CheckTrial(world, check, trial, this->LinkTable()) == CollapseStatus::Ok)
     {
       p = world;
       cost = candidates[i].first;
@@ -1656,7 +1673,7 @@ double NormalLimitDot(double degrees)
 
 size_t TriangleCollapser::WorkingBytes() const
 {
-  const size_t perVertex = this->VertexInput.capacity() * sizeof(Index) + this->Parent.capacity() * sizeof(Index) +
+  const size_t perVertex = this->VertexInput.capacity() * sizeof(Index) +
     this->Boundary.capacity() + this->Locked.capacity() + this->Pinned.capacity() + this->Pending.capacity() +
     this->Merged.capacity();
   return this->Mesh.MemoryBytes() + this->Original.MemoryBytes() + this->VertexInputPacked.Packed.MemoryBytes() +
@@ -1700,16 +1717,14 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
   this->LockCallersVertices(input.NumberOfPoints());
   this->Stages.Lap("locked vertices");
   this->Mesh.SetReferenceRoomFactor(EditableMesh::ShrinkingMeshRoomFactor);
+  this->LinkTables = !this->Options.AllowTopologyChange;
+  this->Mesh.SetLinkMarksAtReset(!this->LinkTables);
   this->Mesh.SetParallelRebuild(this->Options.ParallelStages);
   this->Mesh.Reset(input);
   if (refine)
   {
-    // The refinement measures against the original surface: keep it, and who merged into whom.
-    this->Parent.resize(size_t(this->Mesh.NumberOfPoints()));
-    for (Index v = 0; v < this->Mesh.NumberOfPoints(); ++v)
-    {
-      this->Parent[v] = v;
-    }
+    // The refinement measures against the original surface: keep it (who merged into whom is in
+    // the quadrics, ParentOf).
     this->Original.Take(input);
     this->Original.Pack();
   }
@@ -1957,13 +1972,6 @@ void TriangleCollapser::MergeAttributeTerms(const Candidate& c, Index kept)
 
 void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept)
 {
-  if (!this->Parent.empty()) // kept only for the passes after the collapses
-  {
-    for (int i = 0; i < c.Count; ++i)
-    {
-      this->Parent[c.Set[i]] = kept;
-    }
-  }
   unsigned char boundary = 0;
   for (int i = 0; i < c.Count; ++i)
   {
@@ -1987,6 +1995,13 @@ void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept)
     if (this->AttributeComponents > 0)
     {
       this->MergeAttributeTerms(c, kept);
+    }
+    for (int i = 0; i < c.Count; ++i)
+    {
+      if (c.Set[i] != kept)
+      {
+        this->SetParent(c.Set[i], kept); // (their quadrics were read above)
+      }
     }
     return;
   }
@@ -2042,7 +2057,7 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
   loop.Neighbors.clear();
   if (this->PendingCount > 0 || this->Options.RecordHistory)
   {
-    this->Mesh.Neighbors(kept, loop.Neighbors);
+    this->Ring(kept, loop.Neighbors);
   }
   for (Index w : loop.Neighbors)
   {
@@ -2335,6 +2350,70 @@ struct TriangleCollapser::WaitsFunctor : WindowedFunctor<TriangleCollapser::Wait
   }
 };
 
+CollapseStatus TriangleCollapser::CheckSet(
+  const Candidate& c, const CollapseOptions& check, std::vector<Index>& gathered) const
+{
+  EditableMesh::CheckScratch* table = this->LinkTable();
+  if (!table)
+  {
+    return this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, check, gathered);
+  }
+  table->Gathered.swap(gathered); // the set's triangles end in `gathered`, as without the table
+  const CollapseStatus status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, check, *table);
+  table->Gathered.swap(gathered);
+  return status;
+}
+
+// EditableMesh::Neighbors without the mesh's marks (see LinkTables): v's distinct neighbours in the
+// same order (first met around v's triangles), repeats found in `out` itself (a ring is short)
+// or, around a vertex of high valence, by sorting (bounded: O(d log d)).
+void TriangleCollapser::Ring(Index v, std::vector<Index>& out) const
+{
+  if (!this->LinkTables)
+  {
+    this->Mesh.Neighbors(v, out);
+    return;
+  }
+  out.clear();
+  this->Mesh.ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      out.push_back(tri[k]);
+    }
+  });
+  if (out.size() <= 96)
+  {
+    size_t n = 0;
+    for (size_t i = 0; i < out.size(); ++i)
+    {
+      if (out[i] != v && std::find(out.begin(), out.begin() + n, out[i]) == out.begin() + n)
+      {
+        out[n++] = out[i];
+      }
+    }
+    out.resize(n);
+    return;
+  }
+  std::vector<std::pair<Index, size_t>> first(out.size()); // (vertex, where first met)
+  for (size_t i = 0; i < out.size(); ++i)
+  {
+    first[i] = { out[i], i };
+  }
+  std::sort(first.begin(), first.end());
+  first.erase(std::unique(first.begin(), first.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
+    first.end());
+  std::sort(first.begin(), first.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  out.clear();
+  for (const auto& f : first)
+  {
+    if (f.first != v)
+    {
+      out.push_back(f.first);
+    }
+  }
+}
+
 void TriangleCollapser::EvaluateEntry(
   BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const
 {
@@ -2343,7 +2422,7 @@ void TriangleCollapser::EvaluateEntry(
     return; // no operation to check
   }
   Candidate& c = entry.C;
-  entry.Status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, check, scratch);
+  entry.Status = this->CheckSet(c, check, scratch);
   entry.Result = entry.Status == CollapseStatus::Ok ? BatchEntry::Outcome::Valid : BatchEntry::Outcome::Invalid;
   if (entry.Status == CollapseStatus::Flip || entry.Status == CollapseStatus::Degenerate ||
     entry.Status == CollapseStatus::BadShape)
@@ -2401,7 +2480,10 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
 {
   const vtkIdType n = static_cast<vtkIdType>(batch.Entries.size());
   // An entry takes up to eight checks (the optimum and seven alternative placements).
-  this->Mesh.ReserveEpochs(static_cast<std::uint32_t>(8 * n));
+  if (!this->LinkTables)
+  {
+    this->Mesh.ReserveEpochs(static_cast<std::uint32_t>(8 * n));
+  }
   if (batch.Parallel && batch.Gathered.size() < batch.Entries.size())
   {
     batch.Gathered.resize(batch.Entries.size());
@@ -3096,7 +3178,10 @@ bool TriangleCollapser::PassRound(
     std::fill(batch.Owner.begin(), batch.Owner.end(), ~std::uint64_t(0));
     batch.Number = 1;
   }
-  this->Mesh.ReserveEpochs(static_cast<std::uint32_t>(8 * n));
+  if (!this->LinkTables)
+  {
+    this->Mesh.ReserveEpochs(static_cast<std::uint32_t>(8 * n));
+  }
   if (batch.Gathered.size() < batch.Entries.size())
   {
     batch.Gathered.resize(batch.Entries.size());
@@ -3361,7 +3446,6 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     this->MoveTowardOriginal(this->Original, result);
   }
   this->Original.Release();
-  std::vector<Index>().swap(this->Parent);
   this->UnpackInputIds();
   this->ExtractResult(result);
   this->Stages.Lap("extraction");
@@ -3375,14 +3459,14 @@ void TriangleCollapser::BuildAncestry(const OriginalSurface& original, Ancestry&
   for (Index v = 0; v < nv; ++v)
   {
     Index r = v;
-    while (this->Parent[r] != r)
+    while (this->ParentOf(r) != r)
     {
-      r = this->Parent[r];
+      r = this->ParentOf(r);
     }
-    for (Index w = v; this->Parent[w] != r && w != r;)
+    for (Index w = v; this->ParentOf(w) != r && w != r;)
     {
-      const Index next = this->Parent[w];
-      this->Parent[w] = r;
+      const Index next = this->ParentOf(w);
+      this->SetParent(w, r);
       w = next;
     }
   }
@@ -3392,7 +3476,7 @@ void TriangleCollapser::BuildAncestry(const OriginalSurface& original, Ancestry&
   std::vector<Index> count(static_cast<size_t>(nv), 0);
   ancestry.AncestorStart.resize(size_t(nv) + 1);
   ancestry.AncestorStart[nv] = GroupByKey(
-    nv, nv, [this](Index v) { return this->Parent[v]; }, [](Index v) { return v; }, ancestry.AncestorStart.data(),
+    nv, nv, [this](Index v) { return this->ParentOf(v); }, [](Index v) { return v; }, ancestry.AncestorStart.data(),
     count.data(), ancestry.Ancestors, parallel);
   std::fill(count.begin(), count.end(), 0);
   ancestry.OriginalStart.resize(size_t(nv) + 1);
@@ -3787,7 +3871,7 @@ void TriangleCollapser::AssignClosest(const OriginalSurface& original, ClosestAs
   std::vector<Index> closestTriangle(static_cast<size_t>(nv));
   // One independent query per original vertex (the tree is read-only): in parallel, the same
   // assignment for any thread count. Each query starts from the squared distance to the vertex it
-  // merged into (Parent, compressed by BuildAncestry), a point of the mesh: the search then skips
+  // merged into (ParentOf, compressed by BuildAncestry), a point of the mesh: the search then skips
   // every box farther than that and finds the same triangle as an unbounded one (the boxes of the
   // closest triangles are never skipped, and the others keep their order). The margin covers
   // rounding; a query that finds nothing within the bound (the vertex is not on a live
@@ -3797,7 +3881,7 @@ void TriangleCollapser::AssignClosest(const OriginalSurface& original, ClosestAs
     for (Index a = static_cast<Index>(begin); a < static_cast<Index>(end); ++a)
     {
       const Vec3 q = original.Point(a);
-      const Vec3 d = q - this->Mesh.Point(this->Parent[a]);
+      const Vec3 d = q - this->Mesh.Point(this->ParentOf(a));
       ClosestPointResult closest = tree.ClosestPoint(q, 1.0001 * Dot(d, d) + margin);
       if (closest.Triangle == InvalidIndex)
       {
@@ -4407,7 +4491,7 @@ void TriangleCollapser::PoolAroundMoved(
   for (Index v : movedVertices)
   {
     next.push_back(v);
-    this->Mesh.Neighbors(v, ring);
+    this->Ring(v, ring);
     next.insert(next.end(), ring.begin(), ring.end());
   }
   std::sort(next.begin(), next.end());
