@@ -140,6 +140,16 @@ void SpbmLevelGenerator::LevelTriangulation::MarkChangedPatches(const std::vecto
   }
   for (Index q = 0; q < np; ++q)
   {
+    if (s.Parent[q] == q && previousRoot[q] == q && s.Size[q] != previousSize[q])
+    {
+      // Another place in the passes' order (smallest boundary first): other patches' edges are
+      // made before or after its triangulation than in the pass before.
+      checkContext[q] = 1;
+      this->TouchPatch(q);
+    }
+  }
+  for (Index q = 0; q < np; ++q)
+  {
     if (changed[q])
     {
       this->TouchPatch(q);
@@ -336,9 +346,11 @@ void SpbmLevelGenerator::LevelTriangulation::RememberPass(const std::vector<unsi
     return;
   }
   previousRoot.resize(size_t(np));
+  previousSize.resize(size_t(np));
   for (Index q = 0; q < np; ++q)
   {
     previousRoot[q] = s.Find(q);
+    previousSize[q] = s.Size[q];
   }
   previousFrozen = frozen;
   previousAlive.resize(size_t(nc));

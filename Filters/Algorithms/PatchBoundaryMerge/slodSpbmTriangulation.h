@@ -99,9 +99,10 @@ private:
   std::vector<Index> firstCorner;
   // ReuseUntouchedPatches: per mesh vertex the pass that touched it last (`touchStamp`); per root
   // whether its context must be compared (`checkContext`: it was triangulated by a refinement round
-  // of the pass before, after the pass's other triangulations); the roots the refinement rounds of
+  // of the pass before, after the pass's other triangulations, or its place in the order moved);
+  // per patch its boundary size in the pass before (the order); the roots the refinement rounds of
   // this pass and the pass before triangulated.
-  std::vector<Index> touched, refinedRoots, previousRefinedRoots;
+  std::vector<Index> touched, refinedRoots, previousRefinedRoots, previousSize;
   std::vector<unsigned char> checkContext;
   Index touchStamp = 0;
   // Larger polygons are always triangulated again: the edge context is quadratic in their size.
