@@ -170,6 +170,14 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // whole level again for the few patches that failed. Off: every patch in every pass (the
   // reference).
   bool LocalFallbackTriangulation = true;
+  // With LocalFallbackTriangulation (session 31, issue 10): the edge context of an unchanged
+  // patch is compared only when one of its vertices is touched by a patch or chain that may have
+  // changed since the pass before (a changed, failed, refined or original patch, a patch
+  // triangulated again earlier in this pass, a chain whose kept vertices changed): elsewhere the
+  // level has the same edges between its vertices, made in the same order, so the context is the
+  // same. The same level; a late pass no longer hashes every pair of corners of every patch. Off:
+  // the context of every unchanged patch is compared (the reference).
+  bool ReuseUntouchedPatches = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
   // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices
@@ -217,6 +225,8 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   Index FailedPatches = 0;      // root patches that went to a fallback level, summed over the passes
   Index RefinedInPass = 0;      // vertices kept by FailedPatchRefinementRounds, summed over the passes
   Index RetriangulatedPatches = 0; // root patches triangulated from their boundary in the passes after the first
+  Index ContextsCompared = 0; // unchanged root patches whose edge context the passes after the first computed
+  Index ReusedUntouched = 0;  // unchanged root patches those passes kept without it (ReuseUntouchedPatches)
 };
 
 class SURFACELODFILTERS_EXPORT SpbmLevelGenerator

@@ -34,6 +34,8 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
   const bool local = passesDone > 0 && parameters.LocalFallbackTriangulation;
   previousFailed.swap(failed);
   failed.assign(size_t(np), 0);
+  previousRefinedRoots.swap(refinedRoots);
+  refinedRoots.clear();
   this->BuildVertexSequences();
   if (!refinedVertex.empty())
   {
@@ -47,8 +49,8 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
   this->MakeSegmentsUnique();
   if (local)
   {
-    this->MarkChangedPatches(frozen);
     this->GroupPreviousTriangles(); // before AddOriginalPatches clears the level
+    this->MarkChangedPatches(frozen);
   }
   this->AddOriginalPatches(frozen);
   if (!this->TriangulatePatches(frozen, abort))
@@ -80,6 +82,8 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
 void SpbmLevelGenerator::LevelTriangulation::MarkChangedPatches(const std::vector<unsigned char>& frozen)
 {
   changed.assign(size_t(np), 0);
+  touched.resize(size_t(mesh.NumberOfPoints()), 0);
+  ++touchStamp;
   for (Index q = 0; q < np; ++q)
   {
     const Index root = s.Find(q), before = previousRoot[q];
@@ -102,6 +106,7 @@ void SpbmLevelGenerator::LevelTriangulation::MarkChangedPatches(const std::vecto
     }
     if (!same || k != previousKeptStart[c + 1])
     {
+      this->TouchChain(c);
       changed[s.Find(s.L[c])] = 1;
       if (s.R[c] != InvalidIndex)
       {
@@ -127,6 +132,76 @@ void SpbmLevelGenerator::LevelTriangulation::MarkChangedPatches(const std::vecto
       changed[l] = 2;
     }
   }
+  checkContext.assign(size_t(np), 0);
+  for (const Index q : previousRefinedRoots)
+  {
+    checkContext[q] = 1;
+    this->TouchPatch(q);
+  }
+  for (Index q = 0; q < np; ++q)
+  {
+    if (s.Parent[q] == q && previousRoot[q] == q && s.Size[q] != previousSize[q])
+    {
+      // Another place in the passes' order (smallest boundary first): other patches' edges are
+      // made before or after its triangulation than in the pass before.
+      checkContext[q] = 1;
+      this->TouchPatch(q);
+    }
+  }
+  for (Index q = 0; q < np; ++q)
+  {
+    if (changed[q])
+    {
+      this->TouchPatch(q);
+    }
+  }
+}
+
+// Touches the vertices of x's triangles of the pass before and, for a root, the kept vertices of
+// its chains now.
+void SpbmLevelGenerator::LevelTriangulation::TouchPatch(Index x)
+{
+  if (size_t(x) + 1 < previousFirst.size())
+  {
+    for (Index i = 3 * previousFirst[x]; i < 3 * previousFirst[x + 1]; ++i)
+    {
+      touched[previousTriangles[i]] = touchStamp;
+    }
+  }
+  if (s.Parent[x] != x)
+  {
+    return;
+  }
+  for (Index slot = s.PatchHead[x]; slot != InvalidIndex; slot = s.PatchSlotNext[slot])
+  {
+    if (s.Alive[slot / 2])
+    {
+      this->TouchChain(slot / 2);
+    }
+  }
+}
+
+// Touches the kept vertices of chain c now and in the pass before (its segments then and now).
+void SpbmLevelGenerator::LevelTriangulation::TouchChain(Index c)
+{
+  for (Index i = s.SeqOffsets[c]; i < s.SeqOffsets[c + 1]; ++i)
+  {
+    if (s.SeqKeep[i])
+    {
+      touched[s.SeqVertices[i]] = touchStamp;
+    }
+  }
+  for (Index k = previousKeptStart[c]; k < previousKeptStart[c + 1]; ++k)
+  {
+    touched[previousKept[k]] = touchStamp;
+  }
+}
+
+// Whether no vertex of p's polygon (the scratch `polygon`) was touched in this pass.
+bool SpbmLevelGenerator::LevelTriangulation::Untouched(Index p) const
+{
+  return parameters.ReuseUntouchedPatches && !checkContext[p] &&
+    std::none_of(polygon.begin(), polygon.end(), [&](Index v) { return touched[v] == touchStamp; });
 }
 
 // The pass before's triangles grouped by patch (previousFirst[p] .. previousFirst[p + 1]).
@@ -221,19 +296,31 @@ bool SpbmLevelGenerator::LevelTriangulation::ReusePreviousTriangles(Index p)
   }
   const Index c = slot / 2;
   const Index start = P.EndpointVertex(s.Find(s.L[c]) != p ? s.B[c] : s.A[c]);
-  if (start != firstCorner[p] || this->EdgeContext(polygon.data(), polygon.size(), p) != context[p])
+  if (start != firstCorner[p])
   {
     return false;
   }
-  // The context is a hash: a kept diagonal that is now an edge outside p (a collision) would be
-  // a duplicate edge, so each triangle edge is checked before any is inserted.
-  for (const Index* t = first; t != last; t += 3)
+  if (this->Untouched(p))
   {
-    for (int k = 0; k < 3; ++k)
+    ++level.ReusedUntouched; // the same edges between its vertices, made in the same order
+  }
+  else
+  {
+    ++level.ContextsCompared;
+    if (this->EdgeContext(polygon.data(), polygon.size(), p) != context[p])
     {
-      if (this->EdgeOutside(t[k], t[(k + 1) % 3], p))
+      return false;
+    }
+    // The context is a hash: a kept diagonal that is now an edge outside p (a collision) would be
+    // a duplicate edge, so each triangle edge is checked before any is inserted.
+    for (const Index* t = first; t != last; t += 3)
+    {
+      for (int k = 0; k < 3; ++k)
       {
-        return false;
+        if (this->EdgeOutside(t[k], t[(k + 1) % 3], p))
+        {
+          return false;
+        }
       }
     }
   }
@@ -259,9 +346,11 @@ void SpbmLevelGenerator::LevelTriangulation::RememberPass(const std::vector<unsi
     return;
   }
   previousRoot.resize(size_t(np));
+  previousSize.resize(size_t(np));
   for (Index q = 0; q < np; ++q)
   {
     previousRoot[q] = s.Find(q);
+    previousSize[q] = s.Size[q];
   }
   previousFrozen = frozen;
   previousAlive.resize(size_t(nc));
@@ -327,6 +416,7 @@ bool SpbmLevelGenerator::LevelTriangulation::RefineFailedPatches(const std::vect
   }
   this->RemoveTriangles(stamp);
   std::stable_sort(affected.begin(), affected.end(), [&](Index x, Index y) { return s.Size[x] < s.Size[y]; });
+  refinedRoots.insert(refinedRoots.end(), affected.begin(), affected.end());
   for (const Index q : affected)
   {
     if (failed[q] != SegmentFailure) // a duplicate chain segment stays one whatever p keeps
@@ -620,6 +710,13 @@ void SpbmLevelGenerator::LevelTriangulation::AddOriginalPatches(const std::vecto
       }
       level.Triangles.insert(level.Triangles.end(), tri, tri + 3);
       level.TrianglePatch.push_back(p);
+      if (!touched.empty())
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          touched[tri[k]] = touchStamp; // original edges (interior vertices too)
+        }
+      }
     }
   }
 }
@@ -630,14 +727,18 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
   const std::vector<unsigned char>& frozen, const std::function<bool()>& abort)
 {
   std::vector<Index> patches;
+  const bool local = passesDone > 0 && parameters.LocalFallbackTriangulation;
   for (Index p = 0; p < np; ++p)
   {
     if (s.Parent[p] == p && frozen[p] != OriginalLevel && !failed[p])
     {
       patches.push_back(p);
     }
+    else if (local && s.Parent[p] == p && failed[p])
+    {
+      this->TouchPatch(p); // its triangles of the pass before are not in the level
+    }
   }
-  const bool local = passesDone > 0 && parameters.LocalFallbackTriangulation;
   std::stable_sort(patches.begin(), patches.end(), [&](Index x, Index y) { return s.Size[x] < s.Size[y]; });
   if (!local && parameters.MinimumDeviationTriangulation && parameters.MeasureDiagonalsAhead)
   {
@@ -653,6 +754,10 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
     if (local && this->ReusePreviousTriangles(p))
     {
       continue;
+    }
+    if (local)
+    {
+      this->TouchPatch(p); // triangulated again: its edges may differ from the pass before
     }
     level.RetriangulatedPatches += passesDone > 0;
     if (!this->BoundaryPolygon(p) || !this->TriangulateBoundary(p))

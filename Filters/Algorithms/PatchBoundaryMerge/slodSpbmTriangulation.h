@@ -48,6 +48,10 @@ private:
   bool EdgeOutside(Index a, Index b, Index p);
   uint64_t EdgeContext(const Index* vertices, size_t n, Index p);
   bool ReusePreviousTriangles(Index p);
+  // ReuseUntouchedPatches: the vertices around what may have changed since the pass before.
+  void TouchPatch(Index x);
+  void TouchChain(Index c);
+  bool Untouched(Index p) const;
   void RememberPass(const std::vector<unsigned char>& frozen);
   void MakeSegmentsUnique();
   void AddOriginalPatches(const std::vector<unsigned char>& frozen);
@@ -93,6 +97,14 @@ private:
   std::vector<unsigned char> previousFrozen, previousFailed, previousAlive, changed;
   std::vector<uint64_t> context;
   std::vector<Index> firstCorner;
+  // ReuseUntouchedPatches: per mesh vertex the pass that touched it last (`touchStamp`); per root
+  // whether its context must be compared (`checkContext`: it was triangulated by a refinement round
+  // of the pass before, after the pass's other triangulations, or its place in the order moved);
+  // per patch its boundary size in the pass before (the order); the roots the refinement rounds of
+  // this pass and the pass before triangulated.
+  std::vector<Index> touched, refinedRoots, previousRefinedRoots, previousSize;
+  std::vector<unsigned char> checkContext;
+  Index touchStamp = 0;
   // Larger polygons are always triangulated again: the edge context is quadratic in their size.
   static constexpr size_t MaximumReusedBoundary = 64;
   // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each

@@ -1567,6 +1567,41 @@ TEST(SpbmLevel, FallbackPassesTriangulateOnlyTheChangedPatches)
   EXPECT_GT(fallbackPasses, 0) << "the noisy scans must need fallback passes";
 }
 
+// Session 31 (issue 10): in a fallback pass, an unchanged patch that no changed patch or chain
+// touches (no shared vertex) keeps its triangles without its edge context being computed again
+// (ReuseUntouchedPatches). On noisy scans of seeds no other test uses, which need fallback
+// passes: the level is the one the full comparison gives (the same triangles in the same order,
+// patches, curves, passes and failures); without the option every kept patch is compared, with it
+// most kept patches of the fallback passes are not (a pass that compares or triangulates again
+// patches far from what changed fails this), and the work the passes do on patches (compared or
+// triangulated again) falls below half of what the reference does.
+TEST(SpbmLevel, FallbackPassesCompareOnlyThePatchesNextToAChange)
+{
+  Index untouched = 0, comparedOn = 0, comparedOff = 0, workOn = 0, workOff = 0;
+  ExpectSameLevelsWithAndWithout({ 101u, 103u }, &SpbmLevelParameters::ReuseUntouchedPatches,
+    [&](const SpbmLevel& on, const SpbmLevel& off, unsigned int seed) {
+      EXPECT_EQ(on.FailedPatches, off.FailedPatches) << "seed " << seed;
+      // The reference also triangulates again the patches whose boundary segment is recorded under
+      // another (non-manifold) chain: its check of the kept triangles' edges refuses them, and
+      // their triangulation comes out as before.
+      EXPECT_LE(on.RetriangulatedPatches, off.RetriangulatedPatches) << "seed " << seed;
+      EXPECT_EQ(off.ReusedUntouched, 0) << "seed " << seed;
+      EXPECT_LE(on.ContextsCompared + on.ReusedUntouched, off.ContextsCompared + off.RetriangulatedPatches)
+        << "seed " << seed;
+      untouched += on.ReusedUntouched;
+      comparedOn += on.ContextsCompared;
+      comparedOff += off.ContextsCompared;
+      workOn += on.ContextsCompared + on.RetriangulatedPatches;
+      workOff += off.ContextsCompared + off.RetriangulatedPatches;
+    });
+  ASSERT_GT(comparedOff, 0) << "the noisy scans must need fallback passes that keep patches";
+  EXPECT_GT(untouched, 2 * comparedOn) << untouched << " kept untouched, " << comparedOn << " compared";
+  EXPECT_LT(2 * workOn, workOff) << "patches compared or triangulated again: " << workOn << " with, " << workOff
+                                 << " without";
+  std::cout << "kept untouched " << untouched << ", compared " << comparedOn << " (reference " << comparedOff
+            << "); patch work " << workOn << " with, " << workOff << " without\n";
+}
+
 // Session 29 (issue 10): a whole-level pass measures the diagonal costs of its minimum-deviation
 // triangulations first, over threads, into per-diagonal slots cached in the serial order
 // (MeasureDiagonalsAhead). On noisy scans of seeds no other test uses, with 1, 2 and 8 threads:
