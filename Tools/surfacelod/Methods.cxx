@@ -322,6 +322,7 @@ std::vector<Parameter> GreedyCutsParameters()
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, EarShapeAngle),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, FinalCollapses),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, BorderCollapses),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, EarlySliverStep),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, MonotoneInEpsilon),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, CollapseStages),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, LadderBottom),

@@ -2520,6 +2520,7 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.MinimumAngle = parameters.ShapedAngle;
   collapse.TargetTriangles = target;
   collapse.BorderCollapses = parameters.BorderCollapses;
+  collapse.EarlySliverStep = parameters.EarlySliverStep;
   collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
   collapse.LockedVertices = this->SeamVertex.empty() ? nullptr : this->SeamVertex.data();
   ProvedCollapseStatistics statistics;

@@ -71,6 +71,7 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // the output vertices the bound does not need; it keeps the two-sided bound.
   bool FinalCollapses = true;
   bool BorderCollapses = true; // the final collapses also move border vertices along their loops
+  bool EarlySliverStep = false; // the final collapses begin with a sliver step (ProvedCollapseParameters)
   // Staged final collapses (session 26; 0 = off): before the final collapses at Epsilon, this many
   // collapse-only stages accept just the collapses whose new triangles lie within Epsilon / 2^k of
   // the input (k = CollapseStages .. 1), so the collapses that move the surface least come first.

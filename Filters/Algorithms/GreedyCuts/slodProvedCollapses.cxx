@@ -988,30 +988,36 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   Collapser collapser(input, inputBvh, parameters, triangles, proofPieces);
   bool aborted = false;
   // Collapses, then flips (fatter triangles, which may allow more collapses), then collapses again,
-  // then the slivers the collapses left are flipped or collapsed away.
-  const int steps = parameters.CollapsesOnly ? 1 : 4, stages = steps * parameters.MaximumRounds;
+  // then the slivers the collapses left are flipped or collapsed away. EarlySliverStep: a sliver
+  // step first too, while the collapses have not used the bound up around the slivers.
+  enum Kind { Collapses, Flips, Slivers };
+  const Kind kinds[5] = { Slivers, Collapses, Flips, Collapses, Slivers };
+  const bool early = parameters.EarlySliverStep && !parameters.CollapsesOnly;
+  const Kind* order = early ? kinds : kinds + 1;
+  const int steps = parameters.CollapsesOnly ? 1 : (early ? 5 : 4), stages = steps * parameters.MaximumRounds;
   int pass = 0;
   auto stage = [&](double f) { return progress ? progress((pass + f) / double(stages)) : true; };
-  for (int step = 0; step < steps && !aborted; ++step)
+  for (int index = 0; index < steps && !aborted; ++index)
   {
-    if (collapser.TargetMet() && step < 3)
+    const Kind step = order[index];
+    if (collapser.TargetMet() && step != Slivers)
     {
-      pass = (step + 1) * parameters.MaximumRounds;
+      pass = (index + 1) * parameters.MaximumRounds;
       continue; // the slivers' flips still run
     }
     for (int round = 0; round < parameters.MaximumRounds && !aborted; ++round, ++pass)
     {
       ++statistics.Rounds;
-      const long long changes = step == 1 ? collapser.FlipPass(stage, aborted)
-        : step == 3                       ? collapser.SliverPass(statistics, stage, aborted)
-                                          : collapser.Pass(statistics, stage, aborted);
-      statistics.Flips += step == 1 ? changes : 0;
+      const long long changes = step == Flips ? collapser.FlipPass(stage, aborted)
+        : step == Slivers                   ? collapser.SliverPass(statistics, stage, aborted)
+                                            : collapser.Pass(statistics, stage, aborted);
+      statistics.Flips += step == Flips ? changes : 0;
       if (changes == 0 || collapser.Finished())
       {
         break;
       }
     }
-    pass = (step + 1) * parameters.MaximumRounds;
+    pass = (index + 1) * parameters.MaximumRounds;
     if (collapser.WorkSpent())
     {
       break;

@@ -68,6 +68,10 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   // for all of them. Off: gathered for each target (the reference path: the same outputs, proofs
   // and pieces, more gatherings).
   bool ReuseStarGathering = true;
+  // A sliver step (as the last one) also runs first, on the entry triangles: the cuts' slivers
+  // (caps of ears, needles) are flipped or collapsed away while the bound is not yet used up
+  // around them by the collapses (session 31). Not in CollapsesOnly stages.
+  bool EarlySliverStep = false;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics

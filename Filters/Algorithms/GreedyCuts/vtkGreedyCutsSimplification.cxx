@@ -136,6 +136,7 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.EarShapeAngle = this->EarShapeAngle;
   parameters.FinalCollapses = this->FinalCollapses;
   parameters.BorderCollapses = this->BorderCollapses;
+  parameters.EarlySliverStep = this->EarlySliverStep;
   parameters.CollapseStages = this->CollapseStages;
   parameters.LadderBottom = this->LadderBottom;
   parameters.LadderOwnRuns = this->LadderOwnRuns;
@@ -212,6 +213,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EarShapeAngle: " << this->EarShapeAngle << "\n";
   os << indent << "FinalCollapses: " << (this->FinalCollapses ? "on" : "off") << "\n";
   os << indent << "BorderCollapses: " << (this->BorderCollapses ? "on" : "off") << "\n";
+  os << indent << "EarlySliverStep: " << (this->EarlySliverStep ? "on" : "off") << "\n";
   os << indent << "CollapseStages: " << this->CollapseStages << "\n";
   os << indent << "MonotoneInEpsilon: " << (this->MonotoneInEpsilon ? "on" : "off") << "\n";
   os << indent << "LadderBottom: " << this->LadderBottom << "\n";

@@ -128,6 +128,12 @@ public:
   vtkSetMacro(BorderCollapses, bool);
   vtkGetMacro(BorderCollapses, bool);
   vtkBooleanMacro(BorderCollapses, bool);
+  // Session 31: the final collapses start with a sliver step on the cuts' output (the slivers'
+  // edges flipped, or a vertex collapsed where the smallest angle around rises, each proved), while
+  // the collapses have not yet used the bound up around them.
+  vtkSetMacro(EarlySliverStep, bool);
+  vtkGetMacro(EarlySliverStep, bool);
+  vtkBooleanMacro(EarlySliverStep, bool);
   ///@}
   ///@{
   /**
@@ -180,6 +186,7 @@ protected:
   double EarShapeAngle = 15.0;
   bool FinalCollapses = true;
   bool BorderCollapses = true;
+  bool EarlySliverStep = false;
   int CollapseStages = 0;
   bool MonotoneInEpsilon = false;
   double LadderBottom = 0.004;
