@@ -38,7 +38,14 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->VertexAlive.assign(np, 1);
   this->LiveTriangles = nt;
   this->LiveVertices = np;
-  AssignOnHugePages(this->VertexLink, size_t(np), LinkEntry());
+  if (this->VertexLinkMarks)
+  {
+    AssignOnHugePages(this->VertexLink, size_t(np), LinkEntry());
+  }
+  else
+  {
+    std::vector<LinkEntry>().swap(this->VertexLink);
+  }
   this->Epoch = 0;
   AssignOnHugePages(this->RefStart, size_t(np), Index(0));
   AssignOnHugePages(this->RefCount, size_t(np), Index(0));
@@ -111,6 +118,10 @@ bool EditableMesh::IsBoundaryVertex(Index v) const
 {
   // Around v each triangle (v, x, y) contributes the link edge x -> y; an edge (v, x) is on the
   // border exactly when x has unequal numbers of incoming and outgoing link edges.
+  if (!this->VertexLinkMarks)
+  {
+    return this->IsBoundaryVertexByTable(v);
+  }
   const std::uint32_t epoch = this->NextEpoch();
   auto touch = [&](Index x) {
     if (this->VertexLink[x].Mark != epoch)
@@ -155,6 +166,11 @@ int EditableMesh::EdgeTriangleCount(Index u, Index v) const
 
 void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
 {
+  if (!this->VertexLinkMarks)
+  {
+    this->NeighborsByTable(v, out);
+    return;
+  }
   out.clear();
   const std::uint32_t epoch = this->NextEpoch();
   this->ForEachTriangle(v, [&](Index t) {
@@ -237,7 +253,10 @@ void EditableMesh::PrefetchGathered(const std::vector<Index>& gathered) const
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
-      __builtin_prefetch(&this->VertexLink[tri[k]]);
+      if (this->VertexLinkMarks)
+      {
+        __builtin_prefetch(&this->VertexLink[tri[k]]);
+      }
       __builtin_prefetch(&this->Points[3 * size_t(tri[k])]);
     }
   }
@@ -303,6 +322,51 @@ struct EditableMesh::TableLink
   Index& In(Index w) { return this->Scratch.Links[this->Slot(w)][0]; }
   Index& Out(Index w) { return this->Scratch.Links[this->Slot(w)][1]; }
 };
+
+// (IsBoundaryVertex and Neighbors with the marks off: the vertices around v in the mesh's table,
+// sized for the two vertices of each triangle in v's block.)
+bool EditableMesh::IsBoundaryVertexByTable(Index v) const
+{
+  TableLink link(this->LinkTable, size_t(this->RefCount[v]));
+  this->ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    const int c = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
+    link.Touch(x);
+    link.Touch(y);
+    ++link.Out(x);
+    ++link.In(y);
+  });
+  bool boundary = false;
+  this->ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (tri[k] != v && link.In(tri[k]) != link.Out(tri[k]))
+      {
+        boundary = true;
+      }
+    }
+  });
+  return boundary;
+}
+
+void EditableMesh::NeighborsByTable(Index v, std::vector<Index>& out) const
+{
+  out.clear();
+  TableLink link(this->LinkTable, size_t(this->RefCount[v]));
+  this->ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (tri[k] != v && !link.Touched(tri[k]))
+      {
+        link.Touch(tri[k]);
+        out.push_back(tri[k]);
+      }
+    }
+  });
+}
 
 // What CheckLink's pass over the gathered triangles learnt, for the tests after it: the surviving
 // triangles with the corner of the set's vertex (in gathered order) and the triangles holding
@@ -635,6 +699,10 @@ CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, con
     onBoundary[i] =
       options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]);
     anyBoundary = anyBoundary || onBoundary[i];
+  }
+  if (!scratch && !this->VertexLinkMarks)
+  {
+    scratch = &this->LinkTable;
   }
   const CollapseStatus link = scratch
     ? this->CheckLink(vertices, count, anyBoundary, gathered, TableLink(*scratch, gathered.size()), scan)
@@ -1238,6 +1306,8 @@ size_t EditableMesh::MemoryBytes() const
     (this->Triangles.capacity() + this->RefStart.capacity() + this->RefCount.capacity() + this->Refs.capacity() +
       this->Scratch.capacity() + this->ScratchBlock.capacity()) *
     sizeof(Index) +
-    this->TriangleAlive.capacity() + this->VertexAlive.capacity() + this->VertexLink.capacity() * sizeof(LinkEntry);
+    this->TriangleAlive.capacity() + this->VertexAlive.capacity() + this->VertexLink.capacity() * sizeof(LinkEntry) +
+    (this->LinkTable.Gathered.capacity() + this->LinkTable.Keys.capacity()) * sizeof(Index) +
+    this->LinkTable.Links.capacity() * sizeof(this->LinkTable.Links[0]);
 }
 } // namespace slod

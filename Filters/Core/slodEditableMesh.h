@@ -86,6 +86,11 @@ public:
   // thread count); off (default): serially, which cost less CPU and no more wall time at load
   // (session 28, TriangleCollapseOptions::ParallelStages).
   void SetParallelRebuild(bool parallel) { this->ParallelRebuild = parallel; }
+  // On (default): the link tests of checks without a CheckScratch, IsBoundaryVertex and Neighbors
+  // mark the vertices in a per-vertex array (12 bytes per vertex). Off (before Reset): they use one
+  // small table of the mesh's instead, as the checks with a CheckScratch do (the same answers;
+  // such checks must then not run concurrently).
+  void SetVertexLinkMarks(bool on) { this->VertexLinkMarks = on; }
 
   Index NumberOfPoints() const { return static_cast<Index>(this->Points.size() / 3); }
   Index NumberOfTriangles() const { return static_cast<Index>(this->Triangles.size() / 3); }
@@ -332,6 +337,7 @@ private:
   double RoomFactor = 0.0;     // SetReferenceRoomFactor
   size_t RoomLimit = 0;        // RoomFactor times the references' size at the first build
   bool ParallelRebuild = false; // SetParallelRebuild
+  bool VertexLinkMarks = true;  // SetVertexLinkMarks
 
   // Scratch state reused across calls (mutable: checks are logically const).
   mutable std::vector<Index> Scratch, ScratchBlock;
@@ -342,6 +348,9 @@ private:
     Index In = 0, Out = 0;
   };
   mutable std::vector<LinkEntry> VertexLink;
+  mutable CheckScratch LinkTable; // instead of VertexLink when the marks are off
+  bool IsBoundaryVertexByTable(Index v) const;
+  void NeighborsByTable(Index v, std::vector<Index>& out) const;
   mutable std::uint32_t Epoch = 0;
   std::uint32_t NextEpoch() const;
   void ClearMarks() const;
