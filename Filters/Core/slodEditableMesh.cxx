@@ -114,46 +114,6 @@ Index EditableMesh::VertexDegree(Index v) const
   return n;
 }
 
-bool EditableMesh::IsBoundaryVertex(Index v) const
-{
-  // Around v each triangle (v, x, y) contributes the link edge x -> y; an edge (v, x) is on the
-  // border exactly when x has unequal numbers of incoming and outgoing link edges.
-  if (!this->VertexLinkMarks)
-  {
-    return this->IsBoundaryVertexByTable(v);
-  }
-  const std::uint32_t epoch = this->NextEpoch();
-  auto touch = [&](Index x) {
-    if (this->VertexLink[x].Mark != epoch)
-    {
-      this->VertexLink[x].Mark = epoch;
-      this->VertexLink[x].In = 0;
-      this->VertexLink[x].Out = 0;
-    }
-  };
-  this->ForEachTriangle(v, [&](Index t) {
-    const Index* tri = this->Triangle(t);
-    const int c = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-    const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
-    touch(x);
-    touch(y);
-    ++this->VertexLink[x].Out;
-    ++this->VertexLink[y].In;
-  });
-  bool boundary = false;
-  this->ForEachTriangle(v, [&](Index t) {
-    const Index* tri = this->Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      if (tri[k] != v && this->VertexLink[tri[k]].In != this->VertexLink[tri[k]].Out)
-      {
-        boundary = true;
-      }
-    }
-  });
-  return boundary;
-}
-
 int EditableMesh::EdgeTriangleCount(Index u, Index v) const
 {
   int n = 0;
@@ -162,28 +122,6 @@ int EditableMesh::EdgeTriangleCount(Index u, Index v) const
     n += (tri[0] == v || tri[1] == v || tri[2] == v) ? 1 : 0;
   });
   return n;
-}
-
-void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
-{
-  if (!this->VertexLinkMarks)
-  {
-    this->NeighborsByTable(v, out);
-    return;
-  }
-  out.clear();
-  const std::uint32_t epoch = this->NextEpoch();
-  this->ForEachTriangle(v, [&](Index t) {
-    const Index* tri = this->Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      if (tri[k] != v && this->VertexLink[tri[k]].Mark != epoch)
-      {
-        this->VertexLink[tri[k]].Mark = epoch;
-        out.push_back(tri[k]);
-      }
-    }
-  });
 }
 
 void EditableMesh::GatherTriangles(const Index* vertices, int count, std::vector<Index>& gathered) const
@@ -323,11 +261,18 @@ struct EditableMesh::TableLink
   Index& Out(Index w) { return this->Scratch.Links[this->Slot(w)][1]; }
 };
 
-// (IsBoundaryVertex and Neighbors with the marks off: the vertices around v in the mesh's table,
-// sized for the two vertices of each triangle in v's block.)
-bool EditableMesh::IsBoundaryVertexByTable(Index v) const
+// Around v each triangle (v, x, y) contributes the link edge x -> y; an edge (v, x) is on the
+// border exactly when x has unequal numbers of incoming and outgoing link edges. (With the marks
+// off the vertices around v go to the mesh's table, sized for two per triangle of v's block.)
+bool EditableMesh::IsBoundaryVertex(Index v) const
 {
-  TableLink link(this->LinkTable, size_t(this->RefCount[v]));
+  return this->VertexLinkMarks ? this->BorderThrough(v, MarkedLink{ this->VertexLink, this->NextEpoch() })
+                               : this->BorderThrough(v, TableLink(this->LinkTable, size_t(this->RefCount[v])));
+}
+
+template <typename Link>
+bool EditableMesh::BorderThrough(Index v, Link&& link) const
+{
   this->ForEachTriangle(v, [&](Index t) {
     const Index* tri = this->Triangle(t);
     const int c = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
@@ -351,10 +296,22 @@ bool EditableMesh::IsBoundaryVertexByTable(Index v) const
   return boundary;
 }
 
-void EditableMesh::NeighborsByTable(Index v, std::vector<Index>& out) const
+void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
 {
   out.clear();
-  TableLink link(this->LinkTable, size_t(this->RefCount[v]));
+  if (this->VertexLinkMarks)
+  {
+    this->NeighborsThrough(v, MarkedLink{ this->VertexLink, this->NextEpoch() }, out);
+  }
+  else
+  {
+    this->NeighborsThrough(v, TableLink(this->LinkTable, size_t(this->RefCount[v])), out);
+  }
+}
+
+template <typename Link>
+void EditableMesh::NeighborsThrough(Index v, Link&& link, std::vector<Index>& out) const
+{
   this->ForEachTriangle(v, [&](Index t) {
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)

@@ -349,8 +349,11 @@ private:
   };
   mutable std::vector<LinkEntry> VertexLink;
   mutable CheckScratch LinkTable; // instead of VertexLink when the marks are off
-  bool IsBoundaryVertexByTable(Index v) const;
-  void NeighborsByTable(Index v, std::vector<Index>& out) const;
+  // IsBoundaryVertex's and Neighbors' walks, with VertexLink's marks or the table's.
+  template <typename Link>
+  bool BorderThrough(Index v, Link&& link) const;
+  template <typename Link>
+  void NeighborsThrough(Index v, Link&& link, std::vector<Index>& out) const;
   mutable std::uint32_t Epoch = 0;
   std::uint32_t NextEpoch() const;
   void ClearMarks() const;
