@@ -38,11 +38,13 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->VertexAlive.assign(np, 1);
   this->LiveTriangles = nt;
   this->LiveVertices = np;
-  this->VertexLink.clear();
-  this->VertexLink.shrink_to_fit();
-  if (this->LinkMarksAtReset)
+  if (this->VertexLinkMarks)
   {
-    this->AllocateLinkMarks();
+    AssignOnHugePages(this->VertexLink, size_t(np), LinkEntry());
+  }
+  else
+  {
+    std::vector<LinkEntry>().swap(this->VertexLink);
   }
   this->Epoch = 0;
   AssignOnHugePages(this->RefStart, size_t(np), Index(0));
@@ -56,17 +58,8 @@ void EditableMesh::Reset(const TriangleMesh& mesh)
   this->CompactIfNeeded();
 }
 
-void EditableMesh::AllocateLinkMarks() const
-{
-  AssignOnHugePages(this->VertexLink, size_t(this->NumberOfPoints()), LinkEntry());
-}
-
 std::uint32_t EditableMesh::NextEpoch() const
 {
-  if (this->VertexLink.empty())
-  {
-    this->AllocateLinkMarks(); // (SetLinkMarksAtReset off: the first use, sequential)
-  }
   // Atomic: concurrent checks (see CheckCollapse with a scratch) each need their own epoch. The
   // wrap-around clears the marks, which only a sequential caller may do (ReserveEpochs).
   const std::uint32_t epoch = __atomic_add_fetch(&this->Epoch, 1u, __ATOMIC_RELAXED);
@@ -89,10 +82,6 @@ void EditableMesh::ClearMarks() const
 
 void EditableMesh::ReserveEpochs(std::uint32_t checks) const
 {
-  if (this->VertexLink.empty())
-  {
-    this->AllocateLinkMarks(); // concurrent checks will use them
-  }
   // A check takes at most two epochs (the link test and IsBoundaryVertex); margin for Neighbors.
   if (this->Epoch > std::numeric_limits<std::uint32_t>::max() - 4 * checks - 16)
   {
@@ -125,42 +114,6 @@ Index EditableMesh::VertexDegree(Index v) const
   return n;
 }
 
-bool EditableMesh::IsBoundaryVertex(Index v) const
-{
-  // Around v each triangle (v, x, y) contributes the link edge x -> y; an edge (v, x) is on the
-  // border exactly when x has unequal numbers of incoming and outgoing link edges.
-  const std::uint32_t epoch = this->NextEpoch();
-  auto touch = [&](Index x) {
-    if (this->VertexLink[x].Mark != epoch)
-    {
-      this->VertexLink[x].Mark = epoch;
-      this->VertexLink[x].In = 0;
-      this->VertexLink[x].Out = 0;
-    }
-  };
-  this->ForEachTriangle(v, [&](Index t) {
-    const Index* tri = this->Triangle(t);
-    const int c = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-    const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
-    touch(x);
-    touch(y);
-    ++this->VertexLink[x].Out;
-    ++this->VertexLink[y].In;
-  });
-  bool boundary = false;
-  this->ForEachTriangle(v, [&](Index t) {
-    const Index* tri = this->Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      if (tri[k] != v && this->VertexLink[tri[k]].In != this->VertexLink[tri[k]].Out)
-      {
-        boundary = true;
-      }
-    }
-  });
-  return boundary;
-}
-
 int EditableMesh::EdgeTriangleCount(Index u, Index v) const
 {
   int n = 0;
@@ -169,23 +122,6 @@ int EditableMesh::EdgeTriangleCount(Index u, Index v) const
     n += (tri[0] == v || tri[1] == v || tri[2] == v) ? 1 : 0;
   });
   return n;
-}
-
-void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
-{
-  out.clear();
-  const std::uint32_t epoch = this->NextEpoch();
-  this->ForEachTriangle(v, [&](Index t) {
-    const Index* tri = this->Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      if (tri[k] != v && this->VertexLink[tri[k]].Mark != epoch)
-      {
-        this->VertexLink[tri[k]].Mark = epoch;
-        out.push_back(tri[k]);
-      }
-    }
-  });
 }
 
 void EditableMesh::GatherTriangles(const Index* vertices, int count, std::vector<Index>& gathered) const
@@ -255,7 +191,10 @@ void EditableMesh::PrefetchGathered(const std::vector<Index>& gathered) const
     const Index* tri = this->Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
-      __builtin_prefetch(this->VertexLink.data() + (this->VertexLink.empty() ? 0 : tri[k]));
+      if (this->VertexLinkMarks)
+      {
+        __builtin_prefetch(&this->VertexLink[tri[k]]);
+      }
       __builtin_prefetch(&this->Points[3 * size_t(tri[k])]);
     }
   }
@@ -321,6 +260,70 @@ struct EditableMesh::TableLink
   Index& In(Index w) { return this->Scratch.Links[this->Slot(w)][0]; }
   Index& Out(Index w) { return this->Scratch.Links[this->Slot(w)][1]; }
 };
+
+// Around v each triangle (v, x, y) contributes the link edge x -> y; an edge (v, x) is on the
+// border exactly when x has unequal numbers of incoming and outgoing link edges. (With the marks
+// off the vertices around v go to the mesh's table, sized for two per triangle of v's block.)
+bool EditableMesh::IsBoundaryVertex(Index v) const
+{
+  return this->VertexLinkMarks ? this->BorderThrough(v, MarkedLink{ this->VertexLink, this->NextEpoch() })
+                               : this->BorderThrough(v, TableLink(this->LinkTable, size_t(this->RefCount[v])));
+}
+
+template <typename Link>
+bool EditableMesh::BorderThrough(Index v, Link&& link) const
+{
+  this->ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    const int c = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    const Index x = tri[(c + 1) % 3], y = tri[(c + 2) % 3];
+    link.Touch(x);
+    link.Touch(y);
+    ++link.Out(x);
+    ++link.In(y);
+  });
+  bool boundary = false;
+  this->ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (tri[k] != v && link.In(tri[k]) != link.Out(tri[k]))
+      {
+        boundary = true;
+      }
+    }
+  });
+  return boundary;
+}
+
+void EditableMesh::Neighbors(Index v, std::vector<Index>& out) const
+{
+  out.clear();
+  if (this->VertexLinkMarks)
+  {
+    this->NeighborsThrough(v, MarkedLink{ this->VertexLink, this->NextEpoch() }, out);
+  }
+  else
+  {
+    this->NeighborsThrough(v, TableLink(this->LinkTable, size_t(this->RefCount[v])), out);
+  }
+}
+
+template <typename Link>
+void EditableMesh::NeighborsThrough(Index v, Link&& link, std::vector<Index>& out) const
+{
+  this->ForEachTriangle(v, [&](Index t) {
+    const Index* tri = this->Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (tri[k] != v && !link.Touched(tri[k]))
+      {
+        link.Touch(tri[k]);
+        out.push_back(tri[k]);
+      }
+    }
+  });
+}
 
 // What CheckLink's pass over the gathered triangles learnt, for the tests after it: the surviving
 // triangles with the corner of the set's vertex (in gathered order) and the triangles holding
@@ -653,6 +656,10 @@ CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, con
     onBoundary[i] =
       options.BoundaryVertices ? options.BoundaryVertices[vertices[i]] != 0 : this->IsBoundaryVertex(vertices[i]);
     anyBoundary = anyBoundary || onBoundary[i];
+  }
+  if (!scratch && !this->VertexLinkMarks)
+  {
+    scratch = &this->LinkTable;
   }
   const CollapseStatus link = scratch
     ? this->CheckLink(vertices, count, anyBoundary, gathered, TableLink(*scratch, gathered.size()), scan)
@@ -1256,6 +1263,8 @@ size_t EditableMesh::MemoryBytes() const
     (this->Triangles.capacity() + this->RefStart.capacity() + this->RefCount.capacity() + this->Refs.capacity() +
       this->Scratch.capacity() + this->ScratchBlock.capacity()) *
     sizeof(Index) +
-    this->TriangleAlive.capacity() + this->VertexAlive.capacity() + this->VertexLink.capacity() * sizeof(LinkEntry);
+    this->TriangleAlive.capacity() + this->VertexAlive.capacity() + this->VertexLink.capacity() * sizeof(LinkEntry) +
+    (this->LinkTable.Gathered.capacity() + this->LinkTable.Keys.capacity()) * sizeof(Index) +
+    this->LinkTable.Links.capacity() * sizeof(this->LinkTable.Links[0]);
 }
 } // namespace slod

@@ -78,12 +78,6 @@ public:
   // earlier, so that the reference array stays within f times its size at Reset (peak memory of a
   // shrinking mesh; a mesh that grows still gets an eighth of its size as room). 0: no limit.
   void SetReferenceRoomFactor(double factor) { this->RoomFactor = factor; }
-  // Off (before Reset): the per-vertex marks of the link tests (12 bytes per vertex) are not
-  // allocated at Reset but at their first use, for a caller whose checks bring their own tables
-  // (CheckScratch; CheckTrial with one; options.BoundaryVertices given) and who needs no
-  // Neighbors or IsBoundaryVertex: its mesh never holds them. The first use must then be
-  // sequential (ReserveEpochs allocates them). Default on.
-  void SetLinkMarksAtReset(bool on) { this->LinkMarksAtReset = on; }
   // The factor for a mesh that only shrinks (collapse loops): the peak of an unbounded array is
   // at the end of the collapses, about twice its start; this bound costs a few compactions more,
   // each a walk over the triangles, and moves no output (see CompactInOrder).
@@ -92,6 +86,11 @@ public:
   // thread count); off (default): serially, which cost less CPU and no more wall time at load
   // (session 28, TriangleCollapseOptions::ParallelStages).
   void SetParallelRebuild(bool parallel) { this->ParallelRebuild = parallel; }
+  // On (default): the link tests of checks without a CheckScratch, IsBoundaryVertex and Neighbors
+  // mark the vertices in a per-vertex array (12 bytes per vertex). Off (before Reset): they use one
+  // small table of the mesh's instead, as the checks with a CheckScratch do (the same answers;
+  // such checks must then not run concurrently).
+  void SetVertexLinkMarks(bool on) { this->VertexLinkMarks = on; }
 
   Index NumberOfPoints() const { return static_cast<Index>(this->Points.size() / 3); }
   Index NumberOfTriangles() const { return static_cast<Index>(this->Triangles.size() / 3); }
@@ -338,7 +337,7 @@ private:
   double RoomFactor = 0.0;     // SetReferenceRoomFactor
   size_t RoomLimit = 0;        // RoomFactor times the references' size at the first build
   bool ParallelRebuild = false; // SetParallelRebuild
-  bool LinkMarksAtReset = true; // SetLinkMarksAtReset
+  bool VertexLinkMarks = true;  // SetVertexLinkMarks
 
   // Scratch state reused across calls (mutable: checks are logically const).
   mutable std::vector<Index> Scratch, ScratchBlock;
@@ -349,8 +348,13 @@ private:
     Index In = 0, Out = 0;
   };
   mutable std::vector<LinkEntry> VertexLink;
+  mutable CheckScratch LinkTable; // instead of VertexLink when the marks are off
+  // IsBoundaryVertex's and Neighbors' walks, with VertexLink's marks or the table's.
+  template <typename Link>
+  bool BorderThrough(Index v, Link&& link) const;
+  template <typename Link>
+  void NeighborsThrough(Index v, Link&& link, std::vector<Index>& out) const;
   mutable std::uint32_t Epoch = 0;
-  void AllocateLinkMarks() const;
   std::uint32_t NextEpoch() const;
   void ClearMarks() const;
 };

@@ -77,32 +77,6 @@ void KeepRows(std::vector<T>& values, const std::vector<Index>& oldRows, size_t 
   ReleaseRoomBeyondSize(values);
 }
 
-// The live elements i (alive(i)) get the rows 0, 1, ... in index order in rowOf, the others -1;
-// returns the old row of each kept one (increasing: rows keep the index order), for KeepRows.
-template <typename Alive>
-std::vector<Index> RenumberLiveRows(std::vector<Index>& rowOf, Index live, Alive&& alive)
-{
-  std::vector<Index> oldRows;
-  oldRows.reserve(size_t(live));
-  for (size_t i = 0; i < rowOf.size(); ++i)
-  {
-    if (rowOf[i] < 0)
-    {
-      continue; // dead at an earlier compaction (nothing dead comes back: swaps reuse their slots)
-    }
-    if (alive(static_cast<Index>(i)))
-    {
-      oldRows.push_back(rowOf[i]);
-      rowOf[i] = static_cast<Index>(oldRows.size() - 1);
-    }
-    else
-    {
-      rowOf[i] = InvalidIndex;
-    }
-  }
-  return oldRows;
-}
-
 // Whether compacting rows rows down to live pays: at 15/16 while the rows are more than half of
 // all (the peak of the build is there: the working data whole and the hierarchy growing; 7/8 left
 // it 16 bytes per input vertex higher on mc1m), at 7/8 while more than a quarter, at half below
@@ -536,14 +510,19 @@ Vec3 CollapseHierarchy::StencilAreaVector(const Index* tri) const
   return sum;
 }
 
-// T's vertices and the stencil boundary, into StencilVertices (marked with a new epoch).
-void CollapseHierarchy::GatherStencilVertices(const Index* tri)
+void CollapseHierarchy::NextMarkEpoch()
 {
   if (++this->MarkEpoch == 0)
   {
-    std::fill(this->VertexMark.begin(), this->VertexMark.end(), 0);
+    std::fill(this->VertexMark.begin(), this->VertexMark.end(), std::uint16_t(0));
     this->MarkEpoch = 1;
   }
+}
+
+// T's vertices and the stencil boundary, into StencilVertices (marked with a new epoch).
+void CollapseHierarchy::GatherStencilVertices(const Index* tri)
+{
+  this->NextMarkEpoch();
   this->StencilVertices.clear();
   for (int k = 0; k < 3; ++k)
   {
@@ -968,7 +947,7 @@ void CollapseHierarchy::PriceSpokes(const std::vector<Index>* vertices)
     vtkSMPTools::For(0, static_cast<vtkIdType>(this->NumberOfBasePoints()), pricing);
     return;
   }
-  ++this->MarkEpoch;
+  this->NextMarkEpoch();
   this->Spokes.clear();
   for (Index v : *vertices)
   {
@@ -1813,7 +1792,7 @@ void CollapseHierarchy::ForgetDeadNormals()
 {
   for (auto i = this->OtherNormals.begin(); i != this->OtherNormals.end();)
   {
-    i = this->RowOf[i->first] < 0 ? this->OtherNormals.erase(i) : std::next(i);
+    i = !this->RowOf.HasRow(size_t(i->first)) ? this->OtherNormals.erase(i) : std::next(i);
   }
 }
 
@@ -1842,12 +1821,11 @@ void CollapseHierarchy::ReleaseDeadPoints(const std::vector<Index>& oldRows)
 void CollapseHierarchy::CompactRows(LevelState& state)
 {
   const Index live = this->Mesh.NumberOfLiveTriangles();
-  if (!WorthCompacting(size_t(live), size_t(this->Rows), this->RowOf.size()))
+  if (!WorthCompacting(size_t(live), size_t(this->Rows), this->RowOf.NumberOfElements()))
   {
     return;
   }
-  const std::vector<Index> oldRows =
-    RenumberLiveRows(this->RowOf, live, [&](Index t) { return this->Mesh.IsTriangleAlive(t); });
+  const std::vector<Index> oldRows = this->RowOf.Renumber(live, [&](Index t) { return this->Mesh.IsTriangleAlive(t); });
   // Ten independent tasks (each array kept on its own; the kept points released in row order
   // before their evaluations move): concurrent with ParallelBookkeeping, the same arrays.
   constexpr vtkIdType Tasks = 10;
@@ -1913,12 +1891,12 @@ void CollapseHierarchy::CompactRows(LevelState& state)
 void CollapseHierarchy::CompactQuadrics()
 {
   const Index live = this->Mesh.NumberOfLiveVertices();
-  if (!WorthCompacting(size_t(live), this->Quadrics.size(), this->QuadricRowOf.size()))
+  if (!WorthCompacting(size_t(live), this->Quadrics.size(), this->QuadricRowOf.NumberOfElements()))
   {
     return;
   }
   KeepRows(this->Quadrics,
-    RenumberLiveRows(this->QuadricRowOf, live, [&](Index v) { return this->Mesh.IsVertexAlive(v); }), 1);
+    this->QuadricRowOf.Renumber(live, [&](Index v) { return this->Mesh.IsVertexAlive(v); }), 1);
 }
 
 // What only the build reads (evaluations, quadrics, costs, stamps, ancestors, scratch): the
@@ -1933,12 +1911,12 @@ void CollapseHierarchy::ReleaseWorkingData()
   release(this->FreePoints);
   release(this->OtherNormals);
   release(this->Quadrics);
-  release(this->QuadricRowOf);
+  this->QuadricRowOf.Release();
   release(this->PaperTerms);
   release(this->AncestorCounts);
   release(this->AncestorStack);
   release(this->EntryOf);
-  release(this->RowOf);
+  this->RowOf.Release();
   release(this->VertexMark);
   release(this->VertexChanges);
   for (BlockedColumn* column : { &this->BlockedStrict, &this->BlockedRelaxed, &this->BlockedEdge })
@@ -1985,11 +1963,25 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
         this->OtherNormals.size() * (sizeof(Index) + sizeof(Vec3)) }, // (the stored normals' entries)
     { "evaluation scratch", true, bytes(this->Working) + bytes(this->Rests) + bytes(this->PendingAlternatives) },
     { "paper's terms", true, bytes(this->PaperTerms) },
-    { "quadrics", true, bytes(this->Quadrics) + bytes(this->QuadricRowOf) },
+    { "quadrics", true, bytes(this->Quadrics) + this->QuadricRowOf.MemoryBytes() },
     { "edge costs", true, bytes(this->EdgeCostErrors) + bytes(this->EdgeCostStates) },
     { "stamps, degrees, marks", true, stamps },
     { "ancestors", true, ancestors },
-    { "current versions, rows", true, bytes(this->EntryOf) + bytes(this->RowOf) } };
+    { "current versions, rows", true, bytes(this->EntryOf) + this->RowOf.MemoryBytes() } };
+}
+
+void LiveRowIndex::Reset(size_t n)
+{
+  this->Elements = n;
+  this->Words.assign((n + 63) / 64, Word{ ~std::uint64_t(0), 0 });
+  for (size_t w = 0; w < this->Words.size(); ++w)
+  {
+    this->Words[w].Base = static_cast<Index>(64 * w);
+  }
+  if (n % 64 != 0)
+  {
+    this->Words.back().Bits = (std::uint64_t(1) << (n % 64)) - 1;
+  }
 }
 
 size_t CollapseHierarchy::StorageBytes() const
@@ -2057,7 +2049,15 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   // The mesh only shrinks: its references compacted in place before they pass 1.25 times their
   // first size (the fans keep their order, so no output moves) instead of at twice it, where the
   // appended blocks took 48 bytes per input vertex at the peak of the build instead of 30.
-  this->Mesh.SetReferenceRoomFactor(EditableMesh::ShrinkingMeshRoomFactor);
+  // Room of 1: the references are compacted in place whenever the appended blocks pass an eighth
+  // of the live ones (EditableMesh's least room), 3 bytes per input vertex less than the 1.25 of
+  // ShrinkingMeshRoomFactor at every level before the references' first rebuild (level 24 on
+  // mc1m), for a compaction every level or two instead of every three or four (each a walk of the
+  // vertices and references: a few milliseconds per million triangles).
+  this->Mesh.SetReferenceRoomFactor(HierarchyReferenceRoomFactor);
+  // No per-vertex link marks (12 bytes per input vertex for the whole build): the checks run in
+  // serial (the concurrent ones, ChooseAhead's, bring their own tables) and take the mesh's table.
+  this->Mesh.SetVertexLinkMarks(false);
   this->Mesh.Reset(this->Base);
   this->LockNonManifoldVertices();
   // M0's points for the life of the hierarchy (the editable mesh has its own copy to move).
@@ -2074,7 +2074,7 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->FullEntryVertices.clear();
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
-  this->RowOf = this->EntryOf; // every slot its own row until the first compaction
+  this->RowOf.Reset(size_t(nt)); // every slot its own row until the first compaction
   this->Rows = nt;
   this->ResetRecords();
   this->ReserveRecords();
@@ -2150,7 +2150,7 @@ void CollapseHierarchy::InitializeQuadrics()
   }
   this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
   this->Quadrics.clear();
-  this->QuadricRowOf.clear();
+  this->QuadricRowOf.Release();
   std::vector<float>().swap(this->EdgeCostErrors);
   std::vector<unsigned char>().swap(this->EdgeCostStates);
   if (this->Parameters.ErrorWeight <= 0 && this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Off)
@@ -2163,8 +2163,7 @@ void CollapseHierarchy::InitializeQuadrics()
     this->EdgeCostStates.assign(3 * size_t(nt), UnknownEdgeCost);
   }
   this->Quadrics.assign(this->NumberOfBasePoints(), Quadric());
-  this->QuadricRowOf.resize(this->Quadrics.size());
-  std::iota(this->QuadricRowOf.begin(), this->QuadricRowOf.end(), 0);
+  this->QuadricRowOf.Reset(this->Quadrics.size());
   for (Index t = 0; t < nt; ++t)
   {
     const Index* tri = this->Base.Triangle(t);
@@ -2734,7 +2733,7 @@ void CollapseHierarchy::PrefetchCandidates(const LevelState& state, size_t i) co
   if (i + Far < candidates.size())
   {
     const Index t = candidates[i + Far].Triangle;
-    __builtin_prefetch(&this->RowOf[t]);
+    __builtin_prefetch(this->RowOf.Address(size_t(t)));
     __builtin_prefetch(this->Mesh.Triangle(t));
   }
   if (i + Near < candidates.size())
@@ -3242,7 +3241,7 @@ void CollapseHierarchy::PrefetchBatch(const LevelState& state, size_t b, size_t 
   if (b + Far < end)
   {
     __builtin_prefetch(this->Mesh.Triangle(batch[b + Far]));
-    __builtin_prefetch(&this->RowOf[batch[b + Far]]);
+    __builtin_prefetch(this->RowOf.Address(size_t(batch[b + Far])));
   }
   if (b + Middle < end)
   {
@@ -3250,7 +3249,7 @@ void CollapseHierarchy::PrefetchBatch(const LevelState& state, size_t b, size_t 
     for (int k = 0; k < 3; ++k)
     {
       this->Mesh.PrefetchVertex(tri[k]);
-      __builtin_prefetch(&this->QuadricRowOf[tri[k]]);
+      __builtin_prefetch(this->QuadricRowOf.Address(size_t(tri[k])));
     }
   }
   if (b + Near < end)
@@ -3259,7 +3258,7 @@ void CollapseHierarchy::PrefetchBatch(const LevelState& state, size_t b, size_t 
     for (int k = 0; k < 3; ++k)
     {
       this->Mesh.PrefetchBlock(tri[k]);
-      const Quadric* q = &this->Quadrics[size_t(this->QuadricRowOf[tri[k]])];
+      const Quadric* q = &this->QuadricOf(tri[k]);
       __builtin_prefetch(q);
       __builtin_prefetch(reinterpret_cast<const char*>(q) + 64);
     }

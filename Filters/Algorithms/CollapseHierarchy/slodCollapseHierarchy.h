@@ -37,6 +37,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <unordered_map>
@@ -177,6 +178,81 @@ struct SURFACELODFILTERS_EXPORT HierarchyMesh
   double BlendT = 0;
   void Clear();
 };
+
+// The rows of the elements (triangle slots, vertices) live at the last compaction, in index
+// order: the row of element i is the number of such elements before it, a rank over one bit per
+// element (12 bytes per 64 elements instead of a 4-byte row per element: about 8 bytes per input
+// vertex less for the triangles, 4 for the vertices, for the whole build; the 64-element words fit
+// in the caches where the row array did not).
+class SURFACELODFILTERS_EXPORT LiveRowIndex
+{
+public:
+  // n elements, element i in row i.
+  void Reset(size_t n);
+  // Was element i live at the last compaction (does it have a row)?
+  bool HasRow(size_t i) const { return (this->Words[i >> 6].Bits >> (i & 63)) & 1u; }
+  // Its row (only for an element that has one).
+  size_t Row(size_t i) const
+  {
+    const Word& w = this->Words[i >> 6];
+    return size_t(w.Base) + PopCount(w.Bits & ((std::uint64_t(1) << (i & 63)) - 1));
+  }
+  const void* Address(size_t i) const { return &this->Words[i >> 6]; } // (prefetch)
+  size_t NumberOfElements() const { return this->Elements; }
+  // Rows for the elements with a row that are alive(i) (live of them), in index order; returns
+  // the old row of each kept one (increasing), for the arrays compacted to the new rows.
+  template <typename Alive>
+  std::vector<Index> Renumber(Index live, Alive&& alive);
+  size_t MemoryBytes() const { return this->Words.capacity() * sizeof(Word); }
+  void Release() { std::vector<Word>().swap(this->Words); this->Elements = 0; }
+
+private:
+  static size_t PopCount(std::uint64_t x)
+  {
+    // (Bit arithmetic: the build has no popcnt instruction by default.)
+    x -= (x >> 1) & 0x5555555555555555u;
+    x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
+    return size_t((x * 0x0101010101010101u) >> 56);
+  }
+#pragma pack(push, 4)
+  struct Word
+  {
+    std::uint64_t Bits; // bit j: element 64 w + j has a row
+    Index Base;         // rows of the elements before the word's
+  };
+#pragma pack(pop)
+  static_assert(sizeof(Word) == 12, "a rank word per 64 elements");
+  std::vector<Word> Words;
+  size_t Elements = 0;
+};
+
+template <typename Alive>
+std::vector<Index> LiveRowIndex::Renumber(Index live, Alive&& alive)
+{
+  std::vector<Index> oldRows;
+  oldRows.reserve(size_t(live));
+  Index oldRow = 0;
+  for (size_t w = 0; w < this->Words.size(); ++w)
+  {
+    Word& word = this->Words[w];
+    word.Base = static_cast<Index>(oldRows.size());
+    for (std::uint64_t bits = word.Bits; bits != 0; bits &= bits - 1)
+    {
+      const size_t j = size_t(__builtin_ctzll(bits));
+      if (alive(static_cast<Index>(64 * w + j)))
+      {
+        oldRows.push_back(oldRow);
+      }
+      else
+      {
+        word.Bits &= ~(std::uint64_t(1) << j); // dead (nothing dead comes back: swaps reuse their slots)
+      }
+      ++oldRow;
+    }
+  }
+  return oldRows;
+}
 
 class SURFACELODFILTERS_EXPORT CollapseHierarchy
 {
@@ -535,6 +611,7 @@ private:
     return Cross(this->BasePoints.Point(tri[1]) - a, this->BasePoints.Point(tri[2]) - a);
   }
   EditableMesh Mesh;
+  static constexpr double HierarchyReferenceRoomFactor = 1.0; // (Reset)
   // Global vertex g: input point g of M0, else the collapse point of collapse g - (input points)
   // (not a second copy of the input points; Vertex).
   std::vector<double> CollapsePoints;
@@ -598,9 +675,9 @@ private:
   // quarter, 1/2 after that (WorthCompacting), CompactRows renumbers the live ones in slot order
   // and gives the dead ones' rows back. The working data then shrink with the mesh while the
   // hierarchy grows (both at full size made the end of the build its peak).
-  std::vector<Index> RowOf; // M0 slot -> row; -1: dead at the last compaction
+  LiveRowIndex RowOf; // M0 slot -> row (for the slots live at the last compaction)
   Index Rows = 0;
-  size_t Row(Index t) const { return static_cast<size_t>(this->RowOf[t]); }
+  size_t Row(Index t) const { return this->RowOf.Row(size_t(t)); }
   // The M0 slot of a row: its current version's.
   Index SlotOfRow(size_t r) const { return static_cast<Index>(this->CodeOf(this->EntryOf[r]) >> 2); }
   template <typename Functor>
@@ -611,11 +688,11 @@ private:
   std::vector<StoredEvaluation> Evaluations;
   std::unordered_map<Index, Vec3> OtherNormals; // NormalSource::Stored (degenerate triangles)
   // Per editable vertex: planes of its original triangles, in rows compacted as the triangles'
-  // (CompactQuadrics; QuadricRowOf: -1 for a vertex dead at the last compaction).
+  // (CompactQuadrics; QuadricRowOf: the vertices live at the last compaction have rows).
   std::vector<Quadric> Quadrics;
-  std::vector<Index> QuadricRowOf;
-  Quadric& QuadricOf(Index v) { return this->Quadrics[static_cast<size_t>(this->QuadricRowOf[v])]; }
-  const Quadric& QuadricOf(Index v) const { return this->Quadrics[static_cast<size_t>(this->QuadricRowOf[v])]; }
+  LiveRowIndex QuadricRowOf;
+  Quadric& QuadricOf(Index v) { return this->Quadrics[this->QuadricRowOf.Row(size_t(v))]; }
+  const Quadric& QuadricOf(Index v) const { return this->Quadrics[this->QuadricRowOf.Row(size_t(v))]; }
   void CompactQuadrics();
   // Per row: the paper's term of W(T), A(T) (wk kappa / max kappa + wa alpha + wv V) / mean area;
   // not allocated when ErrorWeight is 1 (it weighs 0; 16 bytes per input vertex).
@@ -639,7 +716,11 @@ private:
   std::vector<EvaluationRest> Rests; // of the triangles evaluated together
   std::vector<Alternatives> PendingAlternatives; // of those whose rest is Unfold
   std::vector<Index> StencilVertices;
-  std::vector<std::uint32_t> VertexMark;
+  // Per editable vertex: the epoch that last marked it (stencil gathering, the spokes' owners).
+  // Two bytes (four before: 2 bytes per input vertex less for the whole build); cleared at the
+  // wrap, every 65,535 epochs (NextMarkEpoch).
+  std::vector<std::uint16_t> VertexMark;
+  void NextMarkEpoch();
   // Rule results that cannot change until the neighbourhood does: a triangle found not collapsible
   // (by the stencil rules, the mesh check or the orientation test) is skipped until a vertex of
   // its stencil region changes (position or triangles around it). One stamp per rule set (strict,
@@ -746,7 +827,7 @@ private:
   int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;
-  std::uint32_t MarkEpoch = 0;
+  std::uint16_t MarkEpoch = 0;
   mutable std::vector<Index> ScratchMap, ScratchTarget, ScratchBatch;
 
   // Build's stages timed at TRACE verbosity (wall and process CPU seconds; StageTimer in the

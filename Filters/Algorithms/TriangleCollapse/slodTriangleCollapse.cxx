@@ -789,14 +789,13 @@ private:
   std::vector<float> AroundKeyScratch;       // UpdateAround scratch: the new keys of those triangles
   mutable vtkSMPThreadLocal<EditableMesh::SetTrial> Trials; // AlternativePlacement's, per thread
   // The link tests' marks in a small table per thread (EditableMesh::CheckScratch) instead of the
-  // mesh's per-vertex marks, which are then never allocated (12 bytes per input vertex through the
-  // collapses and the passes after them). Not with AllowTopologyChange (the checks then find the
-  // border vertices with the mesh's marks).
+  // mesh's per-vertex marks, which are then never allocated (EditableMesh::SetVertexLinkMarks; 12
+  // bytes per input vertex through the collapses and the passes after them; the serial Neighbors
+  // and IsBoundaryVertex use the mesh's own table). Not with AllowTopologyChange.
   bool LinkTables = false;
   mutable vtkSMPThreadLocal<EditableMesh::CheckScratch> LinkScratch;
   EditableMesh::CheckScratch* LinkTable() const { return this->LinkTables ? &this->LinkScratch.Local() : nullptr; }
   CollapseStatus CheckSet(const Candidate& c, const CollapseOptions& check, std::vector<Index>& gathered) const;
-  void Ring(Index v, std::vector<Index>& out) const;
   // RefineDeviation's tree of merges: a vertex merged away keeps, in its quadric's weight (never
   // read again; a weight is a sum of areas, never negative), -(1 + the vertex it merged into), so
   // no array of parents is held through the collapses (4 bytes per input vertex).
@@ -1718,7 +1717,7 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
   this->Stages.Lap("locked vertices");
   this->Mesh.SetReferenceRoomFactor(EditableMesh::ShrinkingMeshRoomFactor);
   this->LinkTables = !this->Options.AllowTopologyChange;
-  this->Mesh.SetLinkMarksAtReset(!this->LinkTables);
+  this->Mesh.SetVertexLinkMarks(!this->LinkTables);
   this->Mesh.SetParallelRebuild(this->Options.ParallelStages);
   this->Mesh.Reset(input);
   if (refine)
@@ -2057,7 +2056,7 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
   loop.Neighbors.clear();
   if (this->PendingCount > 0 || this->Options.RecordHistory)
   {
-    this->Ring(kept, loop.Neighbors);
+    this->Mesh.Neighbors(kept, loop.Neighbors);
   }
   for (Index w : loop.Neighbors)
   {
@@ -2362,56 +2361,6 @@ CollapseStatus TriangleCollapser::CheckSet(
   const CollapseStatus status = this->Mesh.CheckCollapse(c.Set, c.Count, c.Position, check, *table);
   table->Gathered.swap(gathered);
   return status;
-}
-
-// EditableMesh::Neighbors without the mesh's marks (see LinkTables): v's distinct neighbours in the
-// same order (first met around v's triangles), repeats found in `out` itself (a ring is short)
-// or, around a vertex of high valence, by sorting (bounded: O(d log d)).
-void TriangleCollapser::Ring(Index v, std::vector<Index>& out) const
-{
-  if (!this->LinkTables)
-  {
-    this->Mesh.Neighbors(v, out);
-    return;
-  }
-  out.clear();
-  this->Mesh.ForEachTriangle(v, [&](Index t) {
-    const Index* tri = this->Mesh.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      out.push_back(tri[k]);
-    }
-  });
-  if (out.size() <= 96)
-  {
-    size_t n = 0;
-    for (size_t i = 0; i < out.size(); ++i)
-    {
-      if (out[i] != v && std::find(out.begin(), out.begin() + n, out[i]) == out.begin() + n)
-      {
-        out[n++] = out[i];
-      }
-    }
-    out.resize(n);
-    return;
-  }
-  std::vector<std::pair<Index, size_t>> first(out.size()); // (vertex, where first met)
-  for (size_t i = 0; i < out.size(); ++i)
-  {
-    first[i] = { out[i], i };
-  }
-  std::sort(first.begin(), first.end());
-  first.erase(std::unique(first.begin(), first.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
-    first.end());
-  std::sort(first.begin(), first.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
-  out.clear();
-  for (const auto& f : first)
-  {
-    if (f.first != v)
-    {
-      out.push_back(f.first);
-    }
-  }
 }
 
 void TriangleCollapser::EvaluateEntry(
@@ -4491,7 +4440,7 @@ void TriangleCollapser::PoolAroundMoved(
   for (Index v : movedVertices)
   {
     next.push_back(v);
-    this->Ring(v, ring);
+    this->Mesh.Neighbors(v, ring);
     next.insert(next.end(), ring.begin(), ring.end());
   }
   std::sort(next.begin(), next.end());

@@ -1177,6 +1177,78 @@ TEST(EditableMesh, CheckScratchGivesTheAnswerOfTheMeshMarksConcurrently)
   }
 }
 
+// Without the per-vertex link marks (SetVertexLinkMarks(false), the hierarchy's setting: 12 bytes
+// per vertex less) the mesh answers as with them: the same greedy collapses (each decided by
+// CheckCollapse) give the same triangles, and then every vertex has the same border flag and
+// neighbours (in the same order), and every edge and triangle of the mesh the same CheckCollapse
+// status, with and without border flags given (without, the check asks IsBoundaryVertex).
+TEST(EditableMesh, WithoutVertexLinkMarksTheAnswersAreTheSame)
+{
+  const TriangleMesh inputs[2] = { ToTriangleMesh(NoisyScanIsosurface(30, 7)), Torus(40, 16) };
+  for (const TriangleMesh& input : inputs)
+  {
+    EditableMesh marked(input), unmarked;
+    unmarked.SetVertexLinkMarks(false);
+    unmarked.Reset(input);
+    EXPECT_LE(unmarked.MemoryBytes() + 12 * size_t(input.NumberOfPoints()) - 4096 * 12, marked.MemoryBytes());
+    CollapseTrianglesGreedily(marked, input.NumberOfTriangles() / 20);
+    CollapseTrianglesGreedily(unmarked, input.NumberOfTriangles() / 20);
+    ASSERT_EQ(marked.NumberOfLiveTriangles(), unmarked.NumberOfLiveTriangles());
+    ASSERT_LT(marked.NumberOfLiveTriangles(), input.NumberOfTriangles());
+    std::vector<unsigned char> border(size_t(marked.NumberOfPoints()));
+    std::vector<Index> a, b;
+    size_t borders = 0;
+    for (Index v = 0; v < marked.NumberOfPoints(); ++v)
+    {
+      ASSERT_EQ(marked.IsVertexAlive(v), unmarked.IsVertexAlive(v));
+      if (!marked.IsVertexAlive(v))
+      {
+        continue;
+      }
+      border[size_t(v)] = marked.IsBoundaryVertex(v) ? 1 : 0;
+      ASSERT_EQ(border[size_t(v)] != 0, unmarked.IsBoundaryVertex(v)) << "vertex " << v;
+      borders += border[size_t(v)];
+      marked.Neighbors(v, a);
+      unmarked.Neighbors(v, b);
+      ASSERT_EQ(a, b) << "vertex " << v;
+    }
+    size_t ok = 0, refused = 0;
+    for (const unsigned char* flags : std::array<const unsigned char*, 2>{ nullptr, border.data() })
+    {
+      CollapseOptions options;
+      options.BoundaryVertices = flags;
+      for (Index t = 0; t < marked.NumberOfTriangles(); ++t)
+      {
+        if (!marked.IsTriangleAlive(t))
+        {
+          continue;
+        }
+        const Index* tri = marked.Triangle(t);
+        ASSERT_TRUE(std::equal(tri, tri + 3, unmarked.Triangle(t)));
+        for (int count : { 2, 3 })
+        {
+          for (int k = 0; k < (count == 2 ? 3 : 1); ++k)
+          {
+            const Index set[3] = { tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3] };
+            Vec3 p{ 0, 0, 0 };
+            for (int i = 0; i < count; ++i)
+            {
+              p = p + (1.0 / count) * marked.Point(set[i]);
+            }
+            const CollapseStatus expected = marked.CheckCollapse(set, count, p, options);
+            ASSERT_EQ(expected, unmarked.CheckCollapse(set, count, p, options)) << "triangle " << t;
+            ok += expected == CollapseStatus::Ok ? 1 : 0;
+            refused += expected == CollapseStatus::NonManifold || expected == CollapseStatus::BoundaryChange ? 1 : 0;
+          }
+        }
+      }
+    }
+    EXPECT_GT(ok, 100u);
+    EXPECT_GT(refused, 20u); // (a link test that never fails proves nothing)
+    EXPECT_EQ(borders > 0, &input == &inputs[0]); // the scan has borders, the torus none
+  }
+}
+
 // A set prepared once and checked at several points (the hierarchy's FindEdgeCollapse tries up to
 // three per edge) is accepted at exactly the points CheckCollapse accepts, with the mesh's marks
 // and with a scratch's; the points include flips (beyond an end), degenerate ones and valid ones.

@@ -1450,10 +1450,12 @@ TEST(CollapseHierarchy, SpokePricingAndRebuildGiveTheSameHierarchy)
 // The peak working bytes the build reports (issue 12) within the layout of its arrays. At the end
 // of M0's evaluation (the last progress call before the levels) every structure is at full size
 // and the hierarchy empty: each share within its layout per input vertex and triangle, the
-// editable mesh's references within EditableMesh::ShrinkingMeshRoomFactor times the three per
-// triangle (twice that before session 29: 9 bytes per triangle more). The peak is at least what
-// every progress call sees, and at most that start, plus what the hierarchy grew to, plus the
-// level's selection data at their largest (the order and sample of every live triangle, doubled by
+// editable mesh's references within 9/8 of the three per triangle (EditableMesh's least room;
+// 1.25 before session 31, twice that before session 29), no per-vertex link marks (12 bytes per
+// vertex before session 31), the rows of the triangles and the quadrics a bit per element and a
+// 4-byte base per 64 (4 bytes per element before), the vertex marks in 2 bytes (4 before). The
+// peak is at least what every progress call sees, and at most that start, plus what the hierarchy
+// grew to, plus the level's selection data at their largest (the order and sample of every live triangle, doubled by
 // their growth; marks, batch and re-evaluation lists).
 TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
 {
@@ -1467,18 +1469,20 @@ TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
     x = static_cast<float>(x); // M0 held in floats (12 bytes per point)
   }
   const double nv = scan.NumberOfPoints(), nt = scan.NumberOfTriangles();
-  const double references = 4 * (EditableMesh::ShrinkingMeshRoomFactor * 3 * nt + 4096);
-  const double meshScratch = 2 * 4096 * sizeof(Index); // the mesh's scratch lists: a few fans
+  const double references = 4 * (9.0 / 8.0 * 3 * nt + 1024 + 4096);
+  // The mesh's scratch lists and its link table (12 bytes a slot, four slots per triangle): a few fans.
+  const double meshScratch = 2 * 4096 * sizeof(Index) + 4096 * 12.0;
+  const auto rows = [](double n) { return 12 * std::ceil(n / 64); }; // a rank word per 64 elements
   const double evaluationScratch = 16384 * 160.0; // EvaluateChunk's evaluations of at most 16,384 triangles
   const std::map<std::string, double> layout = { { "M0 (points, triangles)", 12 * nv + 12 * nt },
-    { "editable mesh (coarsest)", nv * (24 + 1 + 12 + 4 + 4) + nt * (12 + 1) + references + meshScratch },
+    { "editable mesh (coarsest)", nv * (24 + 1 + 4 + 4) + nt * (12 + 1) + references + meshScratch },
     { "collapse points", 0 }, { "collapses", 0 }, { "levels", sizeof(Index) },
     { "triangle versions", 4 * nt + sizeof(Index) }, { "collapse records", 2 * sizeof(Index) },
     { "vertex ids, flags", 6 * nv }, { "evaluations", 24 * nt + 24 * nt / 16 },
-    { "evaluation scratch", evaluationScratch }, { "paper's terms", 0 }, { "quadrics", 84 * nv },
+    { "evaluation scratch", evaluationScratch }, { "paper's terms", 0 }, { "quadrics", 80 * nv + rows(nv) },
     // (stamps: the blocked ones 2 bytes per row, 4 on base; their epochs)
-    { "edge costs", 15 * nt }, { "stamps, degrees, marks", 12 * nv + 2 * nt + 4096 }, { "ancestors", 0 },
-    { "current versions, rows", 8 * nt } };
+    { "edge costs", 15 * nt }, { "stamps, degrees, marks", 10 * nv + 2 * nt + 4096 }, { "ancestors", 0 },
+    { "current versions, rows", 4 * nt + rows(nt) } };
   CollapseHierarchy h;
   std::vector<CollapseHierarchy::StorageShare> start;
   size_t seen = 0;
