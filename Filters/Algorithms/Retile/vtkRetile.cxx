@@ -393,7 +393,11 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
-  if (!slod::PrepareFilterTriangles(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+  // Coincident ends of an edge are merged: the old vertices the removal retains would otherwise
+  // be output as tiles of zero area (marching cubes' vertices at a sample equal to the iso-value).
+  slod::PreparationOptions preparation;
+  preparation.CollapseZeroLengthEdges = true;
+  if (!slod::PrepareFilterTriangles(this, input, preparation, mesh, vertexToInput, &report,
         slod::CellMapIfNeeded(input, triangleToCell),
         { /*IsError=*/true, "The input has no triangles: nothing to re-tile." }) ||
     !CheckRetilable(this, mesh, report))
