@@ -9,6 +9,7 @@
 #include "slodPolygonTriangulation.h"
 #include "slodStageClock.h"
 #include "slodUnionFind.h"
+#include "slodZeroLengthEdges.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
@@ -58,6 +59,8 @@ std::vector<std::string> PreparationReport::Warnings() const
     "coincident point(s) kept apart: merging them would create a non-manifold vertex or edge, or join components");
   say(this->AttributeSeamPoints, "coincident point(s) with other point data kept apart (attribute seams are never welded)");
   say(this->RemovedDegenerateTriangles, "degenerate triangle(s) (repeated vertex) removed");
+  say(this->CollapsedZeroLengthEdges,
+    "edge(s) of length zero collapsed: their coincident ends merged (the surface's shape and topology are unchanged)");
   say(this->RemovedDuplicateTriangles, "repeated triangle(s) (same vertices and winding) removed");
   say(this->FlippedTriangles, "triangle(s) flipped to make the orientation consistent");
   say(this->NonOrientableComponents, "non-orientable component(s): orientation left as given");
@@ -930,6 +933,24 @@ bool ReadSurface(vtkPolyData* input, PreparationReport& report, std::vector<doub
 }
 } // namespace
 
+namespace
+{
+// PreparationOptions::CollapseZeroLengthEdges: ends with equal point data only (as the sealing
+// merge); the merged ends are no longer counted as kept apart.
+void MergeZeroLengthEdges(vtkPointData* pointData, TriangleMesh& mesh, std::vector<Index>& vertexToInputPoint,
+  std::vector<Index>* triangleToInputCell, PreparationReport& report)
+{
+  ZeroLengthEdgeMaps maps;
+  maps.VertexToInputPoint = &vertexToInputPoint;
+  maps.NonManifoldFlags = &report.NonManifoldVertexFlags;
+  maps.BorderFlags = &report.BoundaryVertexFlags;
+  maps.TriangleToInputCell = triangleToInputCell;
+  maps.MayMerge = [pointData](Index a, Index b) { return SamePointData(pointData, a, b); };
+  report.CollapsedZeroLengthEdges = CollapseZeroLengthEdges(mesh, maps);
+  report.CoincidentPointsKeptApart = std::max(0LL, report.CoincidentPointsKeptApart - report.CollapsedZeroLengthEdges);
+}
+} // namespace
+
 // Memory: the working arrays are int32 and released as soon as a stage is done; the points are
 // read once and compacted in place into the output; coincident points are found by sorting
 // 64-bit hashes of their exact coordinates (16 bytes per point, transient), repeated triangles
@@ -994,6 +1015,11 @@ PreparationReport PrepareTriangleMesh(vtkPolyData* input, const PreparationOptio
     flags[v] = (flags[v] & NonManifoldFlag) ? 1 : 0;
   }
   report.NonManifoldVertexFlags = std::move(flags);
+  if (options.CollapseZeroLengthEdges)
+  {
+    MergeZeroLengthEdges(input->GetPointData(), mesh, vertexToInputPoint, triangleToInputCell, report);
+    stages.Lap("zero-length edges");
+  }
   return report;
 }
 

@@ -14,6 +14,10 @@
 //    differ (an attribute seam: texture coordinates, normals of a crease) are never merged;
 //  - triangles with a repeated vertex (after merging): removed (counted); zero-area triangles
 //    without one are kept;
+//  - with CollapseZeroLengthEdges (off by default): edges whose ends coincide exactly are
+//    collapsed where the topology allows it and the ends' point data are equal
+//    (slodZeroLengthEdges.h; counted): the surface keeps its shape and topology, its triangles on
+//    those edges go (marching cubes' vertices at a sample equal to the iso-value);
 //  - repeated triangles (same three vertices, same winding): removed (counted); a triangle and
 //    its mirror image are both kept (two sides of a sheet touching itself);
 //  - orientation: made consistent across manifold edges per component, keeping the majority
@@ -46,6 +50,9 @@ struct SURFACELODFILTERS_EXPORT PreparationOptions
   bool RemoveDegenerateTriangles = true;
   bool RemoveDuplicateTriangles = true;
   bool MakeOrientationConsistent = true;
+  // Merge the ends of edges of length zero (slodZeroLengthEdges.h): for filters that keep input
+  // vertices in their output (vtkRetile), where such ends would make tiles of zero area.
+  bool CollapseZeroLengthEdges = false;
 };
 
 struct SURFACELODFILTERS_EXPORT PreparationReport
@@ -61,6 +68,7 @@ struct SURFACELODFILTERS_EXPORT PreparationReport
   long long CoincidentPointsKeptApart = 0; // coincident with another point, not merged (see below)
   long long AttributeSeamPoints = 0;       // coincident with another point but other point data: kept apart
   long long RemovedDegenerateTriangles = 0;
+  long long CollapsedZeroLengthEdges = 0;  // vertices merged away (PreparationOptions::CollapseZeroLengthEdges)
   long long RemovedDuplicateTriangles = 0;
   long long FlippedTriangles = 0;
   long long NonOrientableComponents = 0;

@@ -10,6 +10,9 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkDoubleArray.h"
+#include "vtkFlyingEdges3D.h"
+#include "vtkImageData.h"
 #include "vtkErrorCode.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
@@ -126,6 +129,38 @@ vtkSmartPointer<vtkPolyData> SyntheticIsosurface(int resolution)
   source->SetResolution(resolution);
   source->Update();
   vtkSmartPointer<vtkPolyData> out = source->GetOutput();
+  return out;
+}
+
+vtkSmartPointer<vtkPolyData> SphereThroughSamples(int samples, double isoValue)
+{
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(samples, samples, samples);
+  const double origin = -(samples / 2);
+  image->SetOrigin(origin, origin, origin);
+  vtkNew<vtkDoubleArray> values;
+  values->SetNumberOfTuples(vtkIdType(samples) * samples * samples);
+  vtkIdType i = 0;
+  for (int z = 0; z < samples; ++z)
+  {
+    for (int y = 0; y < samples; ++y)
+    {
+      for (int x = 0; x < samples; ++x)
+      {
+        const double p[3] = { origin + x, origin + y, origin + z };
+        values->SetValue(i++, p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+      }
+    }
+  }
+  image->GetPointData()->SetScalars(values);
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputData(image);
+  contour->SetValue(0, isoValue);
+  contour->ComputeNormalsOff();
+  contour->ComputeGradientsOff();
+  contour->ComputeScalarsOff();
+  contour->Update();
+  vtkSmartPointer<vtkPolyData> out = contour->GetOutput();
   return out;
 }
 

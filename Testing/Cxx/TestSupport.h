@@ -37,6 +37,10 @@ slod::TriangleMesh RawTriangleMesh(vtkPolyData* polyData);
 // The demo's deterministic marching-cubes surface (vtkSyntheticIsosurfaceSource): closed, genus 1;
 // about 50,000 triangles at resolution 112 and 1,000,000 at 500.
 vtkSmartPointer<vtkPolyData> SyntheticIsosurface(int resolution);
+// vtkFlyingEdges3D's sphere x^2 + y^2 + z^2 = isoValue over the integer grid [-n/2, n/2)^3: with an
+// iso-value that samples take (a sum of three squares), several of its vertices sit on each such
+// sample, joined by edges of length zero and triangles of zero area (as on mc1m.vtp).
+vtkSmartPointer<vtkPolyData> SphereThroughSamples(int samples, double isoValue);
 // vtkScanSurfaceSource's noisy isosurface (resolution^3 samples, about 13 resolution^2 triangles),
 // like a scan: handles, pinched vertices, non-manifold edges, a border; deterministic per seed.
 vtkSmartPointer<vtkPolyData> NoisyScanIsosurface(int resolution, unsigned seed);

@@ -255,6 +255,16 @@ bool CheckRetilable(vtkAlgorithm* filter, const slod::TriangleMesh& mesh, const 
   return true;
 }
 
+// The default preparation, and the coincident ends of an edge merged: the removal cannot remove
+// them (their triangles have no normal), and retained they would be output as tiles of zero area
+// (marching cubes' vertices at a sample equal to the iso-value: mc1m.vtp).
+slod::PreparationOptions RetilePreparation()
+{
+  slod::PreparationOptions options;
+  options.CollapseZeroLengthEdges = true;
+  return options;
+}
+
 // The input's attributes as a re-tiling carries them: point data interpolated at each vertex's host
 // location, each triangle the cell data of the input triangle closest to its centroid.
 struct InputAttributes
@@ -393,7 +403,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   slod::TriangleMesh mesh;
   std::vector<slod::Index> vertexToInput, triangleToCell;
   slod::PreparationReport report;
-  if (!slod::PrepareFilterTriangles(this, input, slod::PreparationOptions(), mesh, vertexToInput, &report,
+  if (!slod::PrepareFilterTriangles(this, input, RetilePreparation(), mesh, vertexToInput, &report,
         slod::CellMapIfNeeded(input, triangleToCell),
         { /*IsError=*/true, "The input has no triangles: nothing to re-tile." }) ||
     !CheckRetilable(this, mesh, report))

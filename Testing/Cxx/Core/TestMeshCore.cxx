@@ -12,6 +12,7 @@
 #include "slodPointAttributes.h"
 #include "slodQuadric.h"
 
+#include "vtkCell.h"
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -844,6 +845,78 @@ TEST(InputPreparation, CoincidentPointsAwayFromBordersStayApart)
   EXPECT_EQ(stats.NonManifoldVertices, 0);
   EXPECT_EQ(stats.EulerCharacteristic, 4);
   EXPECT_FALSE(report.Warnings().empty());
+}
+
+namespace
+{
+Index ZeroLengthEdgeCount(const TriangleMesh& mesh)
+{
+  Index count = 0;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      count += mesh.Point(tri[k]) == mesh.Point(tri[(k + 1) % 3]) ? 1 : 0;
+    }
+  }
+  return count;
+}
+} // namespace
+
+// Marching cubes' vertices at a sample equal to the iso-value: several coincident points joined by
+// edges of length zero. Kept as they are by default; with CollapseZeroLengthEdges every such edge
+// is collapsed (a sphere allows each), the surface's shape and topology unchanged and the maps to
+// the input's points and cells still right.
+TEST(InputPreparation, ZeroLengthEdgesCollapseOnlyWhenAsked)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::SphereThroughSamples(24, 81.0);
+  PreparationOptions options;
+  TriangleMesh plain, merged;
+  std::vector<Index> plainPoints, mergedPoints, plainCells, mergedCells;
+  const PreparationReport plainReport = PrepareTriangleMesh(input, options, plain, plainPoints, &plainCells);
+  options.CollapseZeroLengthEdges = true;
+  const PreparationReport report = PrepareTriangleMesh(input, options, merged, mergedPoints, &mergedCells);
+  ASSERT_TRUE(plainReport.Valid && report.Valid);
+  const MeshStatistics before = ComputeMeshStatistics(plain), after = ComputeMeshStatistics(merged);
+  ASSERT_GT(ZeroLengthEdgeCount(plain), 0);
+  ASSERT_GT(before.DegenerateTriangles, 0);
+  EXPECT_EQ(plainReport.CollapsedZeroLengthEdges, 0);
+  EXPECT_GT(report.CollapsedZeroLengthEdges, 0);
+  EXPECT_EQ(ZeroLengthEdgeCount(merged), 0);
+  EXPECT_EQ(after.DegenerateTriangles, 0);
+  EXPECT_EQ(merged.NumberOfPoints(), plain.NumberOfPoints() - report.CollapsedZeroLengthEdges);
+  EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
+  EXPECT_EQ(after.Components, before.Components);
+  EXPECT_EQ(after.BoundaryEdges, 0);
+  EXPECT_EQ(after.NonManifoldVertices, 0);
+  EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+  EXPECT_NEAR(merged.TotalArea(), plain.TotalArea(), 1e-12 * plain.TotalArea());
+  EXPECT_EQ(report.NonManifoldVertexFlags.size(), size_t(merged.NumberOfPoints()));
+  EXPECT_EQ(report.BoundaryVertexFlags.size(), size_t(merged.NumberOfPoints()));
+  ASSERT_EQ(mergedPoints.size(), size_t(merged.NumberOfPoints()));
+  for (Index v = 0; v < merged.NumberOfPoints(); ++v)
+  {
+    double p[3];
+    input->GetPoint(mergedPoints[v], p);
+    ASSERT_EQ(merged.Point(v), (Vec3{ p[0], p[1], p[2] }));
+  }
+  // Each triangle is its input cell with a corner at most replaced by a coincident point.
+  ASSERT_EQ(mergedCells.size(), size_t(merged.NumberOfTriangles()));
+  for (Index t = 0; t < merged.NumberOfTriangles(); ++t)
+  {
+    std::vector<Vec3> corners, cell;
+    for (int k = 0; k < 3; ++k)
+    {
+      double p[3];
+      input->GetPoint(input->GetCell(mergedCells[t])->GetPointId(k), p);
+      cell.push_back(Vec3{ p[0], p[1], p[2] });
+      corners.push_back(merged.Point(merged.Triangle(t)[k]));
+    }
+    std::sort(corners.begin(), corners.end());
+    std::sort(cell.begin(), cell.end());
+    ASSERT_EQ(corners, cell);
+  }
 }
 
 // A triangle and its mirror image are two sides of a closed sheet: both are kept; an exact repeat

@@ -637,6 +637,49 @@ TEST(Retile, CountsAreKnownBeforeTheRepair)
 // At sharp concave creases the repulsion's projection onto the surface crowds points onto the
 // same spot; such points must not become vertices a few 1e-8 of the diagonal apart (they made
 // needle tiles on fandisk and elephant). Every output edge stays above 1e-5 of the diagonal.
+// An isosurface whose iso-value samples take (as mc1m.vtp at two places): several input vertices
+// at each such sample, joined by edges of length zero. Before, the removal kept them (hundreds of
+// retained vertices here) and they came out as tiles of zero area; now they are merged first.
+TEST(Retile, CoincidentInputPointsGiveNoZeroAreaTile)
+{
+  for (const std::pair<int, double>& sphere : { std::make_pair(24, 81.0), std::make_pair(30, 169.0) })
+  {
+    SCOPED_TRACE(sphere.second);
+    vtkSmartPointer<vtkPolyData> input = slodtest::SphereThroughSamples(sphere.first, sphere.second);
+    const TriangleMesh in = slodtest::RawTriangleMesh(input);
+    ASSERT_GT(ComputeMeshStatistics(in).DegenerateTriangles, 0);
+    for (vtkIdType points : { 200, 400 })
+    {
+      vtkNew<vtkRetile> filter;
+      filter->SetInputData(input);
+      filter->SetNumberOfPoints(points);
+      filter->Update();
+      const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+      ASSERT_GT(out.NumberOfTriangles(), 0);
+      const double diagonal = in.BoundingBoxDiagonal();
+      Index zeroArea = 0;
+      for (Index t = 0; t < out.NumberOfTriangles(); ++t)
+      {
+        zeroArea += out.TriangleArea(t) <= 1e-12 * diagonal * diagonal ? 1 : 0;
+      }
+      std::vector<Vec3> positions(out.NumberOfPoints());
+      for (Index v = 0; v < out.NumberOfPoints(); ++v)
+      {
+        positions[v] = out.Point(v);
+      }
+      std::sort(positions.begin(), positions.end());
+      const auto coincident = std::adjacent_find(positions.begin(), positions.end());
+      std::printf("[retile] sphere through samples (iso %.0f), %lld points: %d triangles, %lld retained, %d of zero "
+                  "area\n",
+        sphere.second, static_cast<long long>(points), out.NumberOfTriangles(),
+        static_cast<long long>(filter->GetNumberOfRetainedVertices()), zeroArea);
+      EXPECT_EQ(zeroArea, 0);
+      EXPECT_TRUE(coincident == positions.end());
+      slodtest::ExpectPreparedInputTopology(input, filter->GetOutput());
+    }
+  }
+}
+
 TEST(Retile, NoNearCoincidentVerticesAtCreases)
 {
   for (const char* name : { "fandisk", "elephant" })
