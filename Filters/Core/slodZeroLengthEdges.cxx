@@ -3,6 +3,7 @@
 
 #include "slodEditableMesh.h"
 #include "slodInputPreparation.h"
+#include "slodUnionFind.h"
 
 #include <algorithm>
 
@@ -103,24 +104,14 @@ Index CollapseZeroLengthEdges(TriangleMesh& mesh, const ZeroLengthEdgeMaps& maps
   CollapseOptions options;
   options.LockedVertices = nonManifold.data();
   options.BoundaryVertices = maps.BorderFlags ? maps.BorderFlags->data() : nullptr;
-  // merged[v]: the vertex v went into (itself while alive); each collapse keeps the smaller end.
-  std::vector<Index> merged(size_t(mesh.NumberOfPoints()));
-  for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
-  {
-    merged[v] = v;
-  }
-  auto find = [&](Index v) {
-    while (merged[v] != v)
-    {
-      v = merged[v] = merged[merged[v]];
-    }
-    return v;
-  };
+  // The vertex each one went into: the root of its set, the smallest member, which is the end
+  // every collapse keeps.
+  UnionFind merged(mesh.NumberOfPoints());
   const std::vector<Index>& inputPoint = *maps.VertexToInputPoint;
   Index count = 0;
   for (std::uint64_t key : edges)
   {
-    const Index a = find(static_cast<Index>(key >> 32)), b = find(static_cast<Index>(key & 0xffffffffu));
+    const Index a = merged.Find(static_cast<Index>(key >> 32)), b = merged.Find(static_cast<Index>(key & 0xffffffffu));
     if (a == b || (maps.MayMerge && !maps.MayMerge(inputPoint[a], inputPoint[b])))
     {
       continue;
@@ -131,7 +122,7 @@ Index CollapseZeroLengthEdges(TriangleMesh& mesh, const ZeroLengthEdgeMaps& maps
       continue;
     }
     edit.Collapse(pair, 2, pair[0], edit.Point(pair[0]));
-    merged[pair[1]] = pair[0];
+    merged.Union(pair[0], pair[1]);
     if (maps.BorderFlags)
     {
       (*maps.BorderFlags)[pair[0]] |= (*maps.BorderFlags)[pair[1]];
