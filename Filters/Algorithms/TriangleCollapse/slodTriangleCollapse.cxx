@@ -735,9 +735,9 @@ private:
   // A maximum error is a promise about every output vertex: the passes that move vertices keep it.
   bool WithinMaximumError(Index v) const
   {
-    const double w = this->Vertex[v].W;
-    return this->Options.MaximumError < 0 || !(w > 0) ||
-      std::sqrt(this->Vertex[v].Q.Evaluate(this->Local(v)) / w) <= this->Options.MaximumError;
+    const WeightedQuadric& q = this->QuadricOf(v);
+    return this->Options.MaximumError < 0 || !(q.W > 0) ||
+      std::sqrt(q.Q.Evaluate(this->Local(v)) / q.W) <= this->Options.MaximumError;
   }
   // Progressive records: the last collapse that produced a moved vertex now places it there.
   void StoreMovedPositions(TriangleCollapseResult& result);
@@ -799,12 +799,33 @@ private:
   // RefineDeviation's tree of merges: a vertex merged away keeps, in its quadric's weight (never
   // read again; a weight is a sum of areas, never negative), -(1 + the vertex it merged into), so
   // no array of parents is held through the collapses (4 bytes per input vertex).
+  // After the collapses only the survivors' quadrics are read (CompactQuadrics): Link then holds,
+  // per vertex, its parent (>= 0) when merged away, or -(1 + its slot in Vertex) when it survived.
   Index ParentOf(Index v) const
   {
+    if (!this->Link.empty())
+    {
+      return this->Link[v] >= 0 ? this->Link[v] : v;
+    }
     const double w = this->Vertex[v].W;
     return w < 0 ? static_cast<Index>(-1.0 - w) : v;
   }
-  void SetParent(Index v, Index parent) { this->Vertex[v].W = -1.0 - double(parent); }
+  void SetParent(Index v, Index parent)
+  {
+    if (!this->Link.empty())
+    {
+      this->Link[v] = parent; // (only vertices merged away are re-parented)
+      return;
+    }
+    this->Vertex[v].W = -1.0 - double(parent);
+  }
+  // A surviving vertex's quadric, before or after CompactQuadrics.
+  const WeightedQuadric& QuadricOf(Index v) const
+  {
+    return this->Link.empty() ? this->Vertex[v] : this->Vertex[size_t(-1 - this->Link[v])];
+  }
+  void CompactQuadrics();
+  std::vector<Index> Link;
   int FitThreads = 0;                  // FitToOriginal's diagnostics (TriangleCollapseResult)
   bool FitBudgetReached = false;
   SweepCounts FitVisits, RefinementVisits; // the passes' diagnostics (TriangleCollapseResult)
@@ -1210,7 +1231,7 @@ void TriangleCollapser::StoreAttributeValues(const std::vector<Index>& newToOld,
   for (size_t i = 0; m > 0 && i < newToOld.size(); ++i)
   {
     const Index v = newToOld[i];
-    const double w = this->Vertex[v].W;
+    const double w = this->QuadricOf(v).W;
     if (!this->Merged[v] || this->IsPinned(v) || !(w > 0))
     {
       continue; // its own values, or a pinned vertex's
@@ -1678,7 +1699,8 @@ size_t TriangleCollapser::WorkingBytes() const
   return this->Mesh.MemoryBytes() + this->Original.MemoryBytes() + this->VertexInputPacked.Packed.MemoryBytes() +
     this->TriangleInputPacked.Packed.MemoryBytes() + this->Heap.MemoryBytes() +
     this->Vertex.capacity() * sizeof(WeightedQuadric) + this->State.capacity() * sizeof(TriangleState) +
-    this->TriangleInput.capacity() * sizeof(Index) + perVertex + this->AttributeQuadric.capacity() * sizeof(Quadric) +
+    this->TriangleInput.capacity() * sizeof(Index) + perVertex + this->Link.capacity() * sizeof(Index) +
+    this->AttributeQuadric.capacity() * sizeof(Quadric) +
     this->AttributeGradient.capacity() * sizeof(double);
 }
 
@@ -3320,6 +3342,11 @@ void TriangleCollapser::MoveTowardOriginal(const OriginalSurface& original, Tria
   Ancestry ancestry;
   this->BuildAncestry(original, ancestry);
   this->Stages.Lap("ancestry");
+  result.PassesWorkingBytes = std::max(result.PassesWorkingBytes,
+    this->WorkingBytes() +
+      sizeof(Index) *
+        (ancestry.AncestorStart.capacity() + ancestry.Ancestors.capacity() + ancestry.OriginalStart.capacity() +
+          ancestry.OriginalTriangles.capacity()));
   if (this->Options.FitToOriginal)
   {
     result.FittedVertices = this->FitToOriginal(original, ancestry);
@@ -3388,6 +3415,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   // memory instead of raising the peak.
   this->Heap = BucketQueue();
   std::vector<TriangleState>().swap(this->State);
+  this->CompactQuadrics();
   if (refine && !result.Aborted)
   {
     this->Original.Unpack();
@@ -3396,9 +3424,40 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   }
   this->Original.Release();
   this->UnpackInputIds();
+  result.PassesWorkingBytes = std::max(result.PassesWorkingBytes, this->WorkingBytes());
   this->ExtractResult(result);
   this->Stages.Lap("extraction");
   this->TraceStatistics(loop, result);
+}
+
+void TriangleCollapser::CompactQuadrics()
+{
+  // The passes after the collapses and the extraction read the quadrics of the surviving vertices
+  // only (about a tenth at 90 %) and the parents of the others: hold those instead of a quadric
+  // per input vertex, which was the largest array after the loop (88 bytes per input vertex).
+  // The values are moved, not recomputed: the outputs do not change.
+  const size_t nv = this->Vertex.size();
+  if (this->Options.ExactUnion || nv != size_t(this->Mesh.NumberOfPoints()))
+  {
+    return; // (the exact union reads its plane sets, not these sums)
+  }
+  this->Link.resize(nv);
+  size_t slot = 0;
+  for (size_t v = 0; v < nv; ++v)
+  {
+    const double w = this->Vertex[v].W;
+    if (w < 0)
+    {
+      this->Link[v] = static_cast<Index>(-1.0 - w);
+    }
+    else
+    {
+      this->Link[v] = -1 - static_cast<Index>(slot);
+      this->Vertex[slot++] = this->Vertex[v]; // (slot <= v)
+    }
+  }
+  this->Vertex.resize(slot);
+  this->Vertex.shrink_to_fit();
 }
 
 void TriangleCollapser::BuildAncestry(const OriginalSurface& original, Ancestry& ancestry)
@@ -3802,8 +3861,8 @@ std::vector<std::pair<double, Index>> TriangleCollapser::FitOrder(const Ancestry
     if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && !this->Boundary[v] && !this->IsPinned(v) &&
       this->Mesh.IsVertexAlive(v))
     {
-      const double w = this->Vertex[v].W;
-      order.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
+      const WeightedQuadric& q = this->QuadricOf(v);
+      order.emplace_back(q.W > 0 ? q.Q.Evaluate(this->Local(v)) / q.W : 0.0, v);
     }
   }
   std::sort(order.begin(), order.end(), WorseFirst);
@@ -4284,8 +4343,8 @@ std::vector<std::pair<double, Index>> TriangleCollapser::RefinementPool(const An
     if (ancestry.AncestorStart[v + 1] - ancestry.AncestorStart[v] >= 2 && this->Mesh.IsVertexAlive(v) && !this->Boundary[v] &&
       !this->IsPinned(v))
     {
-      const double w = this->Vertex[v].W;
-      pool.emplace_back(w > 0 ? this->Vertex[v].Q.Evaluate(this->Local(v)) / w : 0.0, v);
+      const WeightedQuadric& q = this->QuadricOf(v);
+      pool.emplace_back(q.W > 0 ? q.Q.Evaluate(this->Local(v)) / q.W : 0.0, v);
     }
   }
   const size_t poolSize = std::min(pool.size(), std::min<size_t>(RefinementPoolLimit, 64 + live / 10));
@@ -4593,8 +4652,8 @@ void TriangleCollapser::ExtractResult(TriangleCollapseResult& result)
     }
     else
     {
-      q = this->Vertex[v].Q.Evaluate(p);
-      w = this->Vertex[v].W;
+      q = this->QuadricOf(v).Q.Evaluate(p);
+      w = this->QuadricOf(v).W;
     }
     result.VertexError[i] = w > 0 ? std::sqrt(q / w) : 0.0;
     // The fit and the refinement move vertices after their collapse: the final error is the

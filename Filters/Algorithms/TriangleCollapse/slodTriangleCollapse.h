@@ -230,6 +230,10 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // the ids back to the input, both packed through the collapses, quadrics, queue, per-triangle
   // and per-vertex state, history; an estimate: scratch and the passes' own arrays are left out).
   size_t PeakWorkingBytes = 0;
+  // The same after the collapses, where the passes after them start (the fit and the refinement:
+  // the input unpacked, its ancestry built; 0 without them) or the extraction (the input ids
+  // unpacked), the larger: since session 32 the quadrics of the surviving vertices only.
+  size_t PassesWorkingBytes = 0;
   // With TriangleCollapseOptions::AttributeError: per output vertex, 1 when its attribute values
   // come from the metric (a merged vertex, not pinned), and then its Components values (the
   // minimiser of its attribute quadric at its position; unscaled, normals not renormalised).
