@@ -496,15 +496,19 @@ void RepulsionMoves(const std::vector<SurfacePoint>& points, const std::vector<d
         }
         const double r =
           SmallerPairRadius ? std::min(self.Radius, other.Radius) : 0.5 * (self.Radius + other.Radius);
+        // The neighbour is folded into the tangent plane: pushed along its offset's tangent
+        // part, by its distance in space. (Measured by the tangent part alone, every neighbour
+        // across a convex edge within reach looked as close as the edge, and the repulsion
+        // emptied the strip along creases and fillets: rotor_small's rounded lip.)
         Vec3 d = p - other.Position;
-        // Fold the neighbour into the tangent plane (keeps its distance, drops the normal part).
-        d = d - Dot(d, normal) * normal;
         const double len = Norm(d);
         if (len >= r)
         {
           return;
         }
-        if (len <= 1e-12 * r)
+        d = d - Dot(d, normal) * normal;
+        const double tangent = Norm(d);
+        if (tangent <= 1e-12 * r)
         {
           // Coincident points: push apart along a deterministic tangent direction.
           Vec3 axis = std::abs(normal[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
@@ -512,7 +516,7 @@ void RepulsionMoves(const std::vector<SurfacePoint>& points, const std::vector<d
           force = force + ((self.Id < other.Id ? 1.0 : -1.0) * 0.5) * axis;
           return;
         }
-        force = force + ((r - len) / (r * len)) * d; // linear fall-off, zero at r
+        force = force + ((r - len) / (r * tangent)) * d; // linear fall-off, zero at r
       });
       // Step: a fraction of the radius per unit force, capped (stable for any neighbour count).
       Vec3 step = (0.2 * self.Radius) * force;

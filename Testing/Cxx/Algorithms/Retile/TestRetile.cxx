@@ -17,16 +17,20 @@
 #include "vtkRetileLevelInterpolation.h"
 #include "vtkSurfaceDeviation.h"
 
+#include "vtkCleanPolyData.h"
 #include "vtkCommand.h"
+#include "vtkCubeSource.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkLinearSubdivisionFilter.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkQuadricDecimation.h"
+#include "vtkTriangleFilter.h"
 
 #include <algorithm>
 #include <limits>
@@ -542,9 +546,11 @@ TEST(Retile, FilletKeepsItsShareOfPointsWithTheSmallerPairRadius)
                 "the smaller\n",
       static_cast<int>(seed), asked, static_cast<long long>(mean), static_cast<long long>(smaller));
     // Relaxed points spread off a narrow band (its edges face the flat sides' points), so not all
-    // stay; with the mean radius most leave.
+    // stay. Until session 32 most left with the mean radius too (a neighbour across the band's
+    // edge was measured by its tangent offset alone: RepulsionDoesNotEmptyConvexEdges); now both
+    // radii keep the band's share.
     EXPECT_GE(3.0 * double(smaller), asked);
-    EXPECT_GT(smaller, 2 * mean);
+    EXPECT_GE(3.0 * double(mean), asked);
   }
 }
 
@@ -640,6 +646,51 @@ TEST(Retile, CountsAreKnownBeforeTheRepair)
 // An isosurface whose iso-value samples take (as mc1m.vtp at two places): several input vertices
 // at each such sample, joined by edges of length zero. Before, the removal kept them (hundreds of
 // retained vertices here) and they came out as tiles of zero area; now they are merged first.
+// The repulsion must not empty the strip along a convex edge. Across the edge, a neighbour's
+// offset has a large part along the normal; measured by its tangent part alone, every neighbour
+// on the other face within reach looked as close as the edge and pushed the point away from it,
+// so the re-tiling cut the edges (rotor_small's rounded lip; Documentation/Retile.md, session 32).
+// A cube (creases not kept, so no point is pinned to its edges): the share of output vertices
+// within a quarter of the mean spacing of an edge is at least the strip's share of the area.
+TEST(Retile, RepulsionDoesNotEmptyConvexEdges)
+{
+  vtkNew<vtkCubeSource> cube;
+  vtkNew<vtkTriangleFilter> triangles;
+  triangles->SetInputConnection(cube->GetOutputPort());
+  vtkNew<vtkLinearSubdivisionFilter> subdivision;
+  subdivision->SetInputConnection(triangles->GetOutputPort());
+  subdivision->SetNumberOfSubdivisions(4);
+  vtkNew<vtkCleanPolyData> clean;
+  clean->SetInputConnection(subdivision->GetOutputPort());
+  clean->Update();
+  for (const vtkIdType count : { 200, 400, 800 })
+  {
+    vtkNew<vtkRetile> filter;
+    filter->SetInputData(clean->GetOutput());
+    filter->SetNumberOfPoints(count);
+    filter->SetPreserveCreases(false);
+    filter->Update();
+    vtkPolyData* output = filter->GetOutput();
+    ASSERT_EQ(output->GetNumberOfPoints(), count);
+    // Mean spacing of `count` points on the unit cube's area 6 in a regular triangular layout.
+    const double width = 0.25 * std::sqrt(6.0 / double(count) * 2.0 / std::sqrt(3.0));
+    vtkIdType nearEdge = 0;
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      double p[3];
+      output->GetPoint(i, p);
+      double gaps[3] = { 0.5 - std::abs(p[0]), 0.5 - std::abs(p[1]), 0.5 - std::abs(p[2]) };
+      std::sort(gaps, gaps + 3); // gaps[0] is 0 (on a face); gaps[1] the distance to its nearest edge
+      nearEdge += gaps[1] < width ? 1 : 0;
+    }
+    const double share = double(nearEdge) / double(count);
+    const double areaShare = 1.0 - (1.0 - 2.0 * width) * (1.0 - 2.0 * width);
+    std::printf("[retile] cube, %lld points: %.3f of the vertices within %.4f of an edge, %.3f of the area\n",
+      (long long)count, share, width, areaShare);
+    EXPECT_GE(share, areaShare) << count << " points";
+  }
+}
+
 TEST(Retile, CoincidentInputPointsGiveNoZeroAreaTile)
 {
   for (const std::pair<int, double>& sphere : { std::make_pair(24, 81.0), std::make_pair(30, 169.0) })
@@ -833,7 +884,9 @@ TEST(Retile, PreserveCreasesFollowsCreasesAndCorners)
     // Most crease edges are output edges (distance 0 up to rounding), nearly all within 2e-3.
     EXPECT_LT(Quantile(creases[1], 0.5), 1e-4);
     EXPECT_LT(Quantile(creases[1], 0.9), 2e-3);
-    EXPECT_LT(hausdorff[1], 0.75 * hausdorff[0]);
+    // Closer to the input with the lines kept. (The margin was 25% until session 32, when the
+    // repulsion stopped emptying the edges of the re-tiling without lines: fandisk 2.4e-2 / 1.8e-2.)
+    EXPECT_LT(hausdorff[1], hausdorff[0]);
   }
 }
 
