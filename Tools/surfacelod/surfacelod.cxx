@@ -867,6 +867,19 @@ void PrintCleaningRow(const std::string& name, vtkPolyData* noisy, vtkPolyData* 
             << std::endl;
 }
 
+// The handles the survey did not size and the output's genus; both are -1 when the genus is not
+// defined (non-manifold edges left where the sheets could not be split), said in words then.
+std::string KeptHandlesText(vtkFieldData* fd)
+{
+  const long long notSized = std::llround(fd->GetArray("HandlesNotSized")->GetTuple1(0));
+  const long long genus = std::llround(fd->GetArray("HandlesKept")->GetTuple1(0));
+  if (genus < 0)
+  {
+    return ", output genus not defined (non-manifold or inconsistently oriented edges remain)";
+  }
+  return " (" + std::to_string(notSized) + " larger, not sized), output genus " + std::to_string(genus);
+}
+
 // The cleaning step: topological-noise-removal on a noisy surface, then quadric-triangle-collapse
 // to the demo's reduction on the noisy and on the cleaned surface, both measured against the noisy one.
 void DemoCleaning(const DemoArguments& args)
@@ -887,9 +900,7 @@ void DemoCleaning(const DemoArguments& args)
             << ": " << fd->GetArray("HandlesRemoved")->GetTuple1(0) << " handles cut, "
             << fd->GetArray("NonManifoldEdgesSplit")->GetTuple1(0) << " non-manifold edges split, "
             << (sizes ? sizes->GetNumberOfTuples() : 0) << " kept handles sized up to "
-            << FormatReal(fd->GetArray("KeptHandleSurveySize")->GetTuple1(0)) << " ("
-            << fd->GetArray("HandlesNotSized")->GetTuple1(0) << " larger, not sized), output genus "
-            << fd->GetArray("HandlesKept")->GetTuple1(0) << "\n\n"
+            << FormatReal(fd->GetArray("KeptHandleSurveySize")->GetTuple1(0)) << KeptHandlesText(fd) << "\n\n"
             << Padded("surface", 40) << Padded("triangles", 11, true) << Padded("seconds", 10, true)
             << Padded("hausdorff", 12, true) << Padded("rms", 12, true) << Padded("chi", 8, true) << Padded("nm-e", 7, true)
             << "\n";

@@ -3470,27 +3470,19 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
 // ---------------------------------------------------------------------------------------------
 Index CollapseHierarchy::CollapsesForTriangleCount(Index target) const
 {
-  // The triangle count decreases with the number of collapses (the removed ones increase).
-  Index best = 0;
-  Index bestDiff = std::numeric_limits<Index>::max();
+  // The triangle count decreases with the number of collapses (the removed ones increase): the
+  // first cut at or below the target, as a reduction is asked of vtkQuadricDecimation (a
+  // triangle collapse removes four, so the closest cut was often one to three above and the
+  // target reported missed); the coarsest cut when none is that low.
   const std::vector<Index>& removed = this->Records.RemovedOffsets;
+  if (removed.empty())
+  {
+    return 0;
+  }
   const Index nt = this->Base.NumberOfTriangles();
   const auto it = std::lower_bound(
     removed.begin(), removed.end(), target, [nt](Index gone, Index value) { return nt - gone > value; });
-  const Index k = static_cast<Index>(it - removed.begin());
-  for (Index c : { k - 1, k })
-  {
-    if (c >= 0 && c < static_cast<Index>(removed.size()))
-    {
-      const Index diff = std::abs(this->NumberOfTrianglesAfter(c) - target);
-      if (diff < bestDiff)
-      {
-        best = c;
-        bestDiff = diff;
-      }
-    }
-  }
-  return best;
+  return static_cast<Index>(std::min<size_t>(size_t(it - removed.begin()), removed.size() - 1));
 }
 
 // The versions born after at most `collapses` collapses, in order, each with its three global

@@ -297,7 +297,8 @@ public:
     return this->Base.NumberOfTriangles() - this->Records.RemovedOffsets[size_t(collapses)];
   }
   Index LevelTriangleCount(int level) const { return this->NumberOfTrianglesAfter(this->LevelStarts[level]); }
-  // Number of collapses whose result has the triangle count closest to target (ties: more triangles).
+  // The fewest collapses whose result has at most target triangles (all of them when even the
+  // coarsest cut has more).
   Index CollapsesForTriangleCount(Index target) const;
   HierarchyCollapse GetCollapse(Index k) const;
   // Level whose batch contains collapse k (the last level starting at or before k; levels are

@@ -2394,6 +2394,38 @@ TEST(vtkTriangleCollapseHierarchy, TargetOnlyBuildsDownToTheTargetWithTheSameMes
   EXPECT_EQ(toTarget->GetNumberOfLevels(), whole->GetNumberOfLevels());
 }
 
+TEST(vtkTriangleCollapseHierarchy, TargetCountsAreReachedFromBelow)
+{
+  // A closed surface has an even number of triangles and a triangle collapse removes four: an
+  // odd target, or one between two cuts, has no cut of exactly its count. The output takes the
+  // first cut at or below it (as vtkQuadricDecimation reaches at least the reduction asked),
+  // says it is reached, and stops within one collapse of it; with and without the levels output.
+  for (const char* name : { "mushroom", "elephant", "cow" })
+  {
+    vtkSmartPointer<vtkPolyData> input = LoadTestMesh(name);
+    const vtkIdType n0 = input->GetNumberOfPolys();
+    for (const vtkIdType target : { n0 / 2 + 1, n0 / 5 - 1, n0 / 10 + 3, n0 / 20 + 1 })
+    {
+      for (const bool allLevels : { true, false })
+      {
+        vtkNew<vtkTriangleCollapseHierarchy> filter;
+        filter->SetInputData(input);
+        filter->SetTargetNumberOfTriangles(target);
+        filter->SetGenerateAllLevels(allLevels);
+        filter->Update();
+        vtkPolyData* out = filter->GetOutput();
+        const std::string what = std::string(name) + " target " + std::to_string(target);
+        vtkDataArray* reached = out->GetFieldData()->GetArray("TargetReached");
+        ASSERT_NE(reached, nullptr) << what;
+        EXPECT_EQ(reached->GetTuple1(0), 1.0) << what;
+        EXPECT_LE(out->GetNumberOfPolys(), target) << what;
+        // One collapse removes at most the triangles around the vertices it merges.
+        EXPECT_GT(out->GetNumberOfPolys(), target - 12) << what;
+      }
+    }
+  }
+}
+
 TEST(vtkTriangleCollapseHierarchy, NoisyScanKeepsNonManifoldEdgesBordersAndHandles)
 {
   // Like an MRI isosurface: handles, a border, non-manifold edges. A collapse of a non-manifold
