@@ -1102,47 +1102,27 @@ Vec3 CollapseHierarchy::NormalOf(Index t) const
 Vec3 CollapseHierarchy::PointOf(Index t) const
 {
   const StoredEvaluation& s = this->Evaluations[this->Row(t)];
-  if (s.Point >= 0)
+  if (s.Point == PointSource::Kept)
   {
-    return this->StoredPoints[static_cast<size_t>(s.Point)];
+    return this->KeptPoints.at(t);
   }
   const EditableMesh& m = this->Mesh;
   const Index* tri = m.Triangle(t);
   const Vec3 centroid = (1.0 / 3.0) * (m.Point(tri[0]) + m.Point(tri[1]) + m.Point(tri[2])); // (EvaluateShape's)
-  return s.Point == CentroidPoint ? centroid : QuadricPointNear(this->TriangleQuadric(tri), centroid);
+  return s.Point == PointSource::Centroid ? centroid : QuadricPointNear(this->TriangleQuadric(tri), centroid);
 }
 
-void CollapseHierarchy::StorePoint(StoredEvaluation& s, const Evaluation& e)
+void CollapseHierarchy::StorePoint(Index t, StoredEvaluation& s, const Evaluation& e)
 {
-  if (e.Source != PointSource::Kept)
+  if (e.Source == PointSource::Kept)
   {
-    this->ReleasePoint(s);
-    s.Point = e.Source == PointSource::Quadric ? QuadricPoint : CentroidPoint;
-    return;
+    this->KeptPoints[t] = e.Point;
   }
-  if (s.Point < 0)
+  else if (s.Point == PointSource::Kept)
   {
-    if (this->FreePoints.empty())
-    {
-      s.Point = static_cast<Index>(this->StoredPoints.size());
-      this->StoredPoints.emplace_back();
-    }
-    else
-    {
-      s.Point = this->FreePoints.back();
-      this->FreePoints.pop_back();
-    }
+    this->KeptPoints.erase(t);
   }
-  this->StoredPoints[static_cast<size_t>(s.Point)] = e.Point;
-}
-
-void CollapseHierarchy::ReleasePoint(StoredEvaluation& s)
-{
-  if (s.Point >= 0)
-  {
-    this->FreePoints.push_back(s.Point);
-    s.Point = QuadricPoint;
-  }
+  s.Point = e.Source;
 }
 
 // Keeps what the batch selection reads of evaluation e of triangle t (the normal as its source,
@@ -1151,7 +1131,7 @@ void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
 {
   StoredEvaluation& s = this->Evaluations[this->Row(t)];
   const bool wasStored = s.Normal == NormalSource::Stored;
-  this->StorePoint(s, e);
+  this->StorePoint(t, s, e);
   if (!this->PaperTerms.empty())
   {
     this->PaperTerms[this->Row(t)] = this->PaperTerm(e.Kappa, e.Alpha, e.Valence, e.Area);
@@ -1268,10 +1248,10 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   // Triangle versions: removed ones end, the ones around the moved vertex start anew.
   for (Index r : this->Record.RemovedTriangles)
   {
-    this->EntryDeath[this->EntryOf[this->Row(r)]] = k + 1;
+    this->EndVersion(this->EntryOf[this->Row(r)], k + 1);
   }
   m.ForEachTriangle(kept, [&](Index x) {
-    this->EntryDeath[this->EntryOf[this->Row(x)]] = k + 1;
+    this->EndVersion(this->EntryOf[this->Row(x)], k + 1);
     const Index* q = m.Triangle(x);
     this->AppendEntry(x, q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
   });
@@ -1345,7 +1325,7 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   }
   for (Index t : flip.Triangles)
   {
-    this->EntryDeath[this->EntryOf[this->Row(t)]] = k;
+    this->EndVersion(this->EntryOf[this->Row(t)], k);
     this->AppendEntry(t, AllCorners);
     if (!this->EdgeCostStates.empty())
     {
@@ -1353,6 +1333,34 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
     }
   }
   this->Records.AppendFlip(flip);
+}
+
+// M0's versions' deaths, not written during the build (EndVersion): a slot's M0 version ends
+// when its next version is born (a collapse around it or a swap) or when a collapse removes it,
+// whichever comes first (a removed slot gets no version after its removal). One walk of the
+// versions in birth order and one of the records.
+void CollapseHierarchy::DeriveBaseDeaths()
+{
+  const Index nt = this->Base.NumberOfTriangles();
+  this->BaseDeath.assign(size_t(nt), Never);
+  const CollapseRecords& r = this->Records;
+  for (Index k = 0; k < r.NumberOfCollapses(); ++k)
+  {
+    for (Index i = r.RemovedOffsets[size_t(k)]; i < r.RemovedOffsets[size_t(k) + 1]; ++i)
+    {
+      this->BaseDeath[size_t(r.RemovedTriangles[size_t(i)])] = k + 1;
+    }
+  }
+  Index birth = 0; // versions [VersionsBornBy[K - 1], VersionsBornBy[K]) are born at K
+  for (Index e = nt; e < this->NumberOfEntries(); ++e)
+  {
+    while (this->VersionsBornBy[size_t(birth)] <= e)
+    {
+      ++birth;
+    }
+    Index& death = this->BaseDeath[size_t(this->CodeOf(e) >> 2)];
+    death = std::min(death, birth);
+  }
 }
 
 // A new version of triangle x (as it is in the mesh now), born at the current collapse count:
@@ -1699,6 +1707,7 @@ bool CollapseHierarchy::Build(
     this->InitializeQuadrics();
     if (!this->EvaluateAllTriangles(progress))
     {
+      this->DeriveBaseDeaths(); // (an aborted hierarchy still reads as one)
       return false;
     }
   }
@@ -1737,11 +1746,13 @@ bool CollapseHierarchy::Build(
       const double done = double(nt - this->Mesh.NumberOfLiveTriangles()) / (0.95 * nt);
       if (!progress(0.1 + 0.9 * std::min(1.0, done)))
       {
+        this->DeriveBaseDeaths();
         return false;
       }
     }
   }
   this->ReleaseWorkingData();
+  this->DeriveBaseDeaths();
   if (this->TimingStages)
   {
     vtkLogF(TRACE, "collapse hierarchy: peak working bytes per input vertex %.1f",
@@ -1796,19 +1807,12 @@ void CollapseHierarchy::ForgetDeadNormals()
   }
 }
 
-// The kept points of the rows not in oldRows given back, in row order.
-void CollapseHierarchy::ReleaseDeadPoints(const std::vector<Index>& oldRows)
+// The kept points of the triangles dead at this compaction (RowOf already renumbered).
+void CollapseHierarchy::ForgetDeadPoints()
 {
-  for (size_t r = 0, kept = 0; r < size_t(this->Rows); ++r)
+  for (auto i = this->KeptPoints.begin(); i != this->KeptPoints.end();)
   {
-    if (kept < oldRows.size() && size_t(oldRows[kept]) == r)
-    {
-      ++kept;
-    }
-    else
-    {
-      this->ReleasePoint(this->Evaluations[r]);
-    }
+    i = !this->RowOf.HasRow(size_t(i->first)) ? this->KeptPoints.erase(i) : std::next(i);
   }
 }
 
@@ -1826,7 +1830,7 @@ void CollapseHierarchy::CompactRows(LevelState& state)
     return;
   }
   const std::vector<Index> oldRows = this->RowOf.Renumber(live, [&](Index t) { return this->Mesh.IsTriangleAlive(t); });
-  // Ten independent tasks (each array kept on its own; the kept points released in row order
+  // Ten independent tasks (each array kept on its own; the dead rows' kept points and normals forgotten
   // before their evaluations move): concurrent with ParallelBookkeeping, the same arrays.
   constexpr vtkIdType Tasks = 10;
   const auto task = [&](vtkIdType i) {
@@ -1836,7 +1840,7 @@ void CollapseHierarchy::CompactRows(LevelState& state)
         this->ForgetDeadNormals();
         break;
       case 1:
-        this->ReleaseDeadPoints(oldRows);
+        this->ForgetDeadPoints();
         KeepRows(this->Evaluations, oldRows, 1);
         break;
       case 2:
@@ -1907,8 +1911,7 @@ void CollapseHierarchy::ReleaseWorkingData()
 {
   const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
   release(this->Evaluations);
-  release(this->StoredPoints);
-  release(this->FreePoints);
+  release(this->KeptPoints);
   release(this->OtherNormals);
   release(this->Quadrics);
   this->QuadricRowOf.Release();
@@ -1954,13 +1957,14 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "collapse points", false, bytes(this->CollapsePoints) },
     { "collapses", false, bytes(this->Collapses) },
     { "triangle versions", false,
-      bytes(this->EntryCode) + bytes(this->EntryDeath) + bytes(this->FullEntryVertices) + bytes(this->VersionsBornBy) },
+      bytes(this->EntryCode) + bytes(this->EntryDeath) + bytes(this->BaseDeath) + bytes(this->FullEntryVertices) +
+        bytes(this->VersionsBornBy) },
     { "levels", false, bytes(this->LevelStarts) },
     { "collapse records", false, records },
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
     { "evaluations", true,
-      bytes(this->Evaluations) + bytes(this->StoredPoints) + bytes(this->FreePoints) +
-        this->OtherNormals.size() * (sizeof(Index) + sizeof(Vec3)) }, // (the stored normals' entries)
+      bytes(this->Evaluations) +
+        (this->KeptPoints.size() + this->OtherNormals.size()) * (sizeof(Index) + sizeof(Vec3)) }, // (their entries)
     { "evaluation scratch", true, bytes(this->Working) + bytes(this->Rests) + bytes(this->PendingAlternatives) },
     { "paper's terms", true, bytes(this->PaperTerms) },
     { "quadrics", true, bytes(this->Quadrics) + this->QuadricRowOf.MemoryBytes() },
@@ -2069,7 +2073,8 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   std::iota(this->GlobalOf.begin(), this->GlobalOf.end(), 0);
   this->AncestorCounts.clear();
   this->VersionsBornBy.assign(1, nt);
-  this->EntryDeath.assign(nt, Never);
+  this->EntryDeath.clear(); // (M0's versions' deaths: DeriveBaseDeaths)
+  this->BaseDeath.clear();
   this->EntryCode.clear(); // (M0's versions are implicit: CodeOf)
   this->FullEntryVertices.clear();
   this->EntryOf.resize(nt);
@@ -2119,7 +2124,7 @@ void CollapseHierarchy::ReserveRecords()
   const size_t collapses = nt / 2 + 1, versions = 5 * nt;
   this->EntryCode.reserve(versions - nt);
   this->VersionsBornBy.reserve(collapses + 1);
-  this->EntryDeath.reserve(versions);
+  this->EntryDeath.reserve(versions - nt);
   this->CollapsePoints.reserve(3 * collapses);
   this->Collapses.reserve(collapses);
   this->AncestorCounts.reserve(collapses);
@@ -2217,8 +2222,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
 {
   const Index nt = this->Base.NumberOfTriangles();
   this->Evaluations.assign(nt, StoredEvaluation());
-  this->StoredPoints.clear();
-  this->FreePoints.clear();
+  this->KeptPoints.clear();
   this->OtherNormals.clear();
   M0Terms m0;
   if (this->Parameters.ErrorWeight < 1)
@@ -3162,7 +3166,7 @@ void CollapseHierarchy::ApplyRun(LevelState& state, size_t begin, size_t end)
   this->CollapsePoints.resize(3 * collapses);
   this->AncestorCounts.resize(collapses);
   this->VersionsBornBy.resize(collapses + 1);
-  this->EntryDeath.resize(size_t(run.FirstEntry + survivors));
+  this->EntryDeath.resize(size_t(run.FirstEntry + survivors - this->Base.NumberOfTriangles()));
   this->EntryCode.resize(this->EntryCode.size() + size_t(survivors));
   this->Records.AppendRoom(n, &run.Removed[begin], &run.Changed[begin]);
   RunApplication application{ *this, state, run, begin };
@@ -3210,16 +3214,16 @@ void CollapseHierarchy::ApplyRunCollapse(
   }
   for (Index r : record.RemovedTriangles)
   {
-    this->EntryDeath[this->EntryOf[this->Row(r)]] = k + 1;
+    this->EndVersion(this->EntryOf[this->Row(r)], k + 1);
   }
   Index e = run.FirstEntry + run.SurvivorStart[i];
   const Index nt = this->Base.NumberOfTriangles();
   this->Mesh.ForEachTriangle(kept, [&](Index x) {
     Index& current = this->EntryOf[this->Row(x)];
-    this->EntryDeath[current] = k + 1;
+    this->EndVersion(current, k + 1);
     const Index* q = this->Mesh.Triangle(x);
     this->EntryCode[size_t(e - nt)] = std::uint32_t(x) << 2 | (q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
-    this->EntryDeath[e] = Never;
+    this->EntryDeath[size_t(e - nt)] = Never;
     current = e++;
   });
   this->VersionsBornBy[size_t(k) + 1] = e;
@@ -3538,7 +3542,7 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     }
   }
   this->ForEachVersion(collapses, [&](Index e, Index origin, const Index* g) {
-    if (this->EntryDeath[e] <= collapses)
+    if (this->DeathOf(e) <= collapses)
     {
       return;
     }
@@ -3565,7 +3569,7 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     out.TriangleRole.push_back(moving == count ? 2 : (moving > 0 ? 1 : 0));
     out.TriangleOrigin.push_back(origin);
     out.TriangleCollapseLevel.push_back(
-      this->EntryDeath[e] == Never ? -1 : this->LevelOfCollapse(this->EntryDeath[e] - 1));
+      this->DeathOf(e) == Never ? -1 : this->LevelOfCollapse(this->DeathOf(e) - 1));
   });
   const size_t n = out.PointGlobal.size();
   out.Points.resize(3 * n);

@@ -382,7 +382,7 @@ private:
   {
     Quadric,  // QuadricPointNear(T's quadric, T's centroid)
     Centroid, // T's centroid
-    Kept      // another point (the fit's, a fold-free alternative): in StoredPoints
+    Kept      // another point (the fit's, a fold-free alternative): in KeptPoints
   };
   // How an evaluation's normal is kept (StoreEvaluation).
   enum class NormalSource : unsigned char
@@ -401,22 +401,26 @@ private:
     int Valence = 6;
     Vec3 Point{ 0, 0, 0 }, Normal{ 0, 0, 1 };
     // Where Point came from: the quadric's point near T's centroid or the centroid (both
-    // recomputed from T's vertices when read back), else kept as it is (StoredPoints).
+    // recomputed from T's vertices when read back), else kept as it is (KeptPoints).
     PointSource Source = PointSource::Kept;
     // How Normal is kept, when the concurrent evaluation decided it (ParallelBookkeeping).
     bool NormalKnown = false;
     NormalSource NormalKind = NormalSource::Own;
   };
-  // What the batch selection reads of a triangle's evaluation, kept per triangle (24 bytes instead
+  // What the batch selection reads of a triangle's evaluation, kept per triangle (20 bytes instead
   // of the Evaluation's 104): the paper's weight terms folded into one (their normalisers are fixed
   // after M0's evaluation), and T's unit normal and collapse point recomputed from its vertices
   // and their quadrics (they do not change until T is evaluated again) unless they came from
   // elsewhere (NormalOf, PointOf).
+  // (Packed to 4 bytes: 20 bytes instead of 24 per live triangle, 8 per input vertex less at the
+  // first levels, the build's peak; the doubles on a 4-byte boundary cost no measurable time.)
+#pragma pack(push, 4)
   struct StoredEvaluation
   {
     StoredEvaluation()
       : PreferEdge(false)
       , Normal(NormalSource::Own)
+      , Point(PointSource::Quadric)
     {
     }
     // T's place in the priority order: WeightOf, raised when the collapse it was ordered by was
@@ -426,21 +430,19 @@ private:
     double Weight = 0;
     double Error = 0; // of T's triangle collapse (read again when T is ordered by its edge)
     EdgeChoice CheapestEdge;
-    // (Bit fields: with the point's index the record is 32 bytes, not 40.)
     bool PreferEdge : 1;
     NormalSource Normal : 2;
-    // The collapse point: QuadricPoint or CentroidPoint (recomputed), else its StoredPoints index
-    // (the point was 24 of the 56 bytes this record took; on the defaults 96-100% of the triangles
-    // of mc1m, the MRI and noisy scans have a recomputable one).
-    Index Point = QuadricPoint;
+    // The collapse point: recomputed (Quadric, Centroid) from T's vertices, else kept in
+    // KeptPoints under T's slot (on the defaults 96-100% of the triangles of mc1m, the MRI and
+    // noisy scans have a recomputable one: the 4-byte index into a point array every row had
+    // cost more than the few kept points' entries).
+    PointSource Point : 2;
   };
-  static_assert(sizeof(StoredEvaluation) == 24, "one evaluation record per live triangle");
-  static constexpr Index QuadricPoint = -1, CentroidPoint = -2;
-  std::vector<Vec3> StoredPoints;  // the kept points (PointSource::Kept), reused through FreePoints
-  std::vector<Index> FreePoints;
+#pragma pack(pop)
+  static_assert(sizeof(StoredEvaluation) == 20, "one evaluation record per live triangle");
+  std::unordered_map<Index, Vec3> KeptPoints; // PointSource::Kept, by slot
   Vec3 PointOf(Index t) const;
-  void StorePoint(StoredEvaluation& s, const Evaluation& e);
-  void ReleasePoint(StoredEvaluation& s);
+  void StorePoint(Index t, StoredEvaluation& s, const Evaluation& e);
   // The weight terms of M0's evaluation, until their normalisers are known.
   struct ShapeTerms
   {
@@ -526,7 +528,7 @@ private:
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
   void CompactRows(LevelState& state);
   void ForgetDeadNormals();
-  void ReleaseDeadPoints(const std::vector<Index>& oldRows);
+  void ForgetDeadPoints();
   void ReleaseWorkingData();
   size_t StorageBytes() const;
   static size_t LevelStateBytes(const LevelState& state);
@@ -648,8 +650,31 @@ private:
     const Index nt = this->Base.NumberOfTriangles();
     return e < nt ? std::uint32_t(e) << 2 | AllCorners : this->EntryCode[size_t(e - nt)];
   }
-  std::vector<Index> EntryDeath, EntryOf, VersionsBornBy, FullEntryVertices;
-  Index NumberOfEntries() const { return static_cast<Index>(this->EntryDeath.size()); }
+  // EntryDeath: the deaths of the versions after M0's (version e >= nt at e - nt, as EntryCode).
+  // M0's versions' deaths are not written during the build (8 bytes per input vertex less at
+  // every level, the peak's included): each is the birth of its slot's next version or its slot's
+  // removal, whichever came first, so DeriveBaseDeaths gives them from the versions and the records
+  // once the build ends (BaseDeath; DeathOf reads both).
+  std::vector<Index> EntryDeath, BaseDeath, EntryOf, VersionsBornBy, FullEntryVertices;
+  Index NumberOfEntries() const
+  {
+    return this->Base.NumberOfTriangles() + static_cast<Index>(this->EntryDeath.size());
+  }
+  Index DeathOf(Index e) const
+  {
+    const Index nt = this->Base.NumberOfTriangles();
+    return e < nt ? this->BaseDeath[size_t(e)] : this->EntryDeath[size_t(e - nt)];
+  }
+  // Version e (its slot's current one) ends after `collapses` collapses.
+  void EndVersion(Index e, Index collapses)
+  {
+    const Index nt = this->Base.NumberOfTriangles();
+    if (e >= nt)
+    {
+      this->EntryDeath[size_t(e - nt)] = collapses;
+    }
+  }
+  void DeriveBaseDeaths();
   void AppendEntry(Index x, std::uint32_t corner);
   mutable std::vector<Index> ScratchCorners; // Extract's replay: 3 per slot
   template <typename Functor>

@@ -719,6 +719,16 @@ std::vector<CanonicalTriangle> CanonicalTriangles(const HierarchyMesh& h)
 }
 } // namespace
 
+// A noisy scan isosurface of the given resolution.
+static TriangleMesh NoisyScanMesh(int resolution)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(resolution);
+  source->Update();
+  return ToTriangleMesh(source->GetOutput());
+}
+
 static void ExpectExactlyReversible(const CollapseHierarchy& h, const TriangleMesh& input)
 {
   EditableMesh mesh = h.CoarsestMesh();
@@ -1429,11 +1439,7 @@ TEST(CollapseHierarchy, M0PointsAreHeldAsFloatsWhenEveryCoordinateIsOne)
 // released its working data, is the same as one built once.
 TEST(CollapseHierarchy, SpokePricingAndRebuildGiveTheSameHierarchy)
 {
-  vtkNew<vtkScanSurfaceSource> source;
-  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
-  source->SetResolution(40);
-  source->Update();
-  const TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  const TriangleMesh scan = NoisyScanMesh(40);
   const TriangleMesh bunny = ToTriangleMesh(LoadTestMesh("bunny00"));
   CollapseHierarchyParameters parameters = DefaultParameters();
   CollapseHierarchy kept, reused, priced;
@@ -1477,10 +1483,12 @@ TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
   const std::map<std::string, double> layout = { { "M0 (points, triangles)", 12 * nv + 12 * nt },
     { "editable mesh (coarsest)", nv * (24 + 1 + 4 + 4) + nt * (12 + 1) + references + meshScratch },
     { "collapse points", 0 }, { "collapses", 0 }, { "levels", sizeof(Index) },
-    { "triangle versions", 4 * nt + sizeof(Index) }, { "collapse records", 2 * sizeof(Index) },
-    { "vertex ids, flags", 6 * nv }, { "evaluations", 24 * nt + 24 * nt / 16 },
+    // (versions: M0's deaths are derived when the build ends, 4 bytes per triangle on base)
+    { "triangle versions", sizeof(Index) }, { "collapse records", 2 * sizeof(Index) },
+    { "vertex ids, flags", 6 * nv }, { "evaluations", 20 * nt + 28 * nt / 16 },
     { "evaluation scratch", evaluationScratch }, { "paper's terms", 0 }, { "quadrics", 80 * nv + rows(nv) },
-    // (stamps: the blocked ones 2 bytes per row, 4 on base; their epochs)
+    // (evaluations: 20 bytes per row and the kept points' entries, 24 on base; stamps: the blocked
+    // ones 2 bytes per row, 4 on base; their epochs)
     { "edge costs", 15 * nt }, { "stamps, degrees, marks", 10 * nv + 2 * nt + 4096 }, { "ancestors", 0 },
     { "current versions, rows", 4 * nt + rows(nt) } };
   CollapseHierarchy h;
@@ -1523,6 +1531,55 @@ TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
   EXPECT_GE(peak, double(seen));
   EXPECT_LE(peak, startLayout + grown + levelState);
   EXPECT_LE(h.LevelTriangleCount(h.NumberOfLevels() - 1), Index(nt / 10));
+}
+
+// M0's versions' deaths are derived when the build ends, also when it is aborted: the levels
+// built until then extract with their counts, and every M0 triangle that a collapse changed has
+// the level of that collapse (its death), the others none.
+TEST(CollapseHierarchy, AnAbortedBuildKeepsItsLevelsAndDeaths)
+{
+  const TriangleMesh scan = NoisyScanMesh(40);
+  CollapseHierarchy h;
+  int calls = 0;
+  ASSERT_FALSE(h.Build(scan, DefaultParameters(), [&](double) { return ++calls < 4; }));
+  ASSERT_GT(h.NumberOfLevels(), 1);
+  HierarchyMesh m;
+  for (int i = 0; i < h.NumberOfLevels(); ++i)
+  {
+    h.ExtractLevel(i, m);
+    ASSERT_EQ(m.Triangles.size() / 3, size_t(h.LevelTriangleCount(i))) << "level " << i;
+  }
+  h.ExtractLevel(0, m);
+  std::vector<int> changedAt(size_t(scan.NumberOfTriangles()), -1);
+  const CollapseRecords& r = h.SplitRecords();
+  for (Index k = h.NumberOfCollapses() - 1; k >= 0; --k) // (the earliest change last)
+  {
+    const int level = h.LevelOfCollapse(k);
+    for (Index i = r.RemovedOffsets[size_t(k)]; i < r.RemovedOffsets[size_t(k) + 1]; ++i)
+    {
+      changedAt[size_t(r.RemovedTriangles[size_t(i)])] = level;
+    }
+    for (Index i = r.ChangedOffsets[size_t(k)]; i < r.ChangedOffsets[size_t(k) + 1]; ++i)
+    {
+      changedAt[size_t(r.ChangedTriangles[size_t(i)])] = level;
+    }
+  }
+  size_t dying = 0;
+  for (size_t t = 0; t < changedAt.size(); ++t)
+  {
+    ASSERT_EQ(m.TriangleOrigin[t], Index(t));
+    dying += m.TriangleCollapseLevel[t] >= 0 ? 1 : 0;
+  }
+  ASSERT_GT(dying, changedAt.size() / 20);
+  for (size_t t = 0; t < changedAt.size(); ++t)
+  {
+    if (m.TriangleCollapseLevel[t] != changedAt[t])
+    {
+      // (a triangle around the kept vertex gets a new version without a redirected corner)
+      ASSERT_GE(m.TriangleCollapseLevel[t], 0) << "triangle " << t;
+      ASSERT_TRUE(changedAt[t] < 0 || changedAt[t] > m.TriangleCollapseLevel[t]) << "triangle " << t;
+    }
+  }
 }
 
 // The records of the vertex splits keep a redirected corner in 5 bytes (its triangle, and its
@@ -1573,11 +1630,7 @@ TEST(CollapseHierarchy, SplitRecordsKeepARedirectedCornerInFiveBytes)
 // bytes per input vertex at the end of the build, where the peak is.
 TEST(CollapseHierarchy, WorkingDataIsReleasedAndTheAccountingAddsUp)
 {
-  vtkNew<vtkScanSurfaceSource> source;
-  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
-  source->SetResolution(40);
-  source->Update();
-  const TriangleMesh scan = ToTriangleMesh(source->GetOutput());
+  const TriangleMesh scan = NoisyScanMesh(40);
   CollapseHierarchy h;
   std::vector<CollapseHierarchy::StorageShare> during;
   ASSERT_TRUE(h.Build(scan, DefaultParameters(), [&](double) {
@@ -1602,7 +1655,9 @@ TEST(CollapseHierarchy, WorkingDataIsReleasedAndTheAccountingAddsUp)
     else
     {
       EXPECT_GT(after[i].Bytes, 0u) << after[i].Name;
-      EXPECT_EQ(after[i].Bytes, during[i].Bytes) << after[i].Name << " changed after the last level";
+      // (M0's versions' deaths are derived when the build ends: 4 bytes per input triangle)
+      const size_t derived = std::string(after[i].Name) == "triangle versions" ? 4 * size_t(scan.NumberOfTriangles()) : 0;
+      EXPECT_EQ(after[i].Bytes, during[i].Bytes + derived) << after[i].Name << " changed after the last level";
       kept += after[i].Bytes;
     }
   }
@@ -1626,7 +1681,7 @@ TEST(CollapseHierarchy, WorkingDataIsReleasedAndTheAccountingAddsUp)
 // What follows from an index is not stored (session 23): a collapse keeps 24 bytes (its point,
 // count and level follow from its index, its sources and the level starts; HierarchyCollapse took
 // 40), M0's versions keep only their deaths (4 bytes per input triangle, the code is Base's
-// triangle; 8 before), and the ancestors of a vertex are walked through the collapses' sources
+// triangle; 8 before; derived when the build ends since session 32), and the ancestors of a vertex are walked through the collapses' sources
 // (4 bytes per collapse for their counts instead of 16 per input vertex for linked lists), and no
 // triangle count is kept per collapse (4 bytes each before). Checked
 // at every progress call of the build against bounds from the counts, and the collapses handed
@@ -1660,8 +1715,9 @@ TEST(CollapseHierarchy, CollapsesAndVersionsKeepOnlyWhatTheirIndexCannotGive)
     if (collapses == 0)
     {
       ++beforeAnyCollapse;
-      // M0's versions: a death each and the birth count of the empty hierarchy.
-      EXPECT_EQ(share("triangle versions"), 4 * nt + sizeof(Index));
+      // M0's versions: nothing but the birth count of the empty hierarchy (their deaths are
+      // derived when the build ends; 4 bytes each during the build before session 32).
+      EXPECT_EQ(share("triangle versions"), sizeof(Index));
     }
     return true;
   }));
@@ -1685,6 +1741,8 @@ TEST(CollapseHierarchy, CollapsesAndVersionsKeepOnlyWhatTheirIndexCannotGive)
   // No triangle count per collapse: the counts (M0's less the records' removed triangles) are
   // those of the cuts.
   EXPECT_EQ(share("levels"), sizeof(Index) * size_t(h.NumberOfLevels()));
+  // Once built, M0's versions have their deaths: 4 bytes each, with the later versions' 8.
+  EXPECT_GE(share("triangle versions"), 4 * nt + sizeof(Index) * size_t(h.NumberOfCollapses() + 1));
   HierarchyMesh cut;
   for (Index k = 0; k <= h.NumberOfCollapses(); k += 1 + h.NumberOfCollapses() / 40)
   {
