@@ -2566,11 +2566,10 @@ TEST(PatchBoundaryMerge, BorderCornersOfAnOpenSheetStay)
 // not tuned on, at three levels.
 TEST(SpbmLevel, DeviationEstimateCoversEveryVertex)
 {
-  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("blobby"));
-  auto pm = Patch(mesh);
-  SpbmLevelGenerator generator;
-  generator.Initialize(pm->Mesh, pm->Patches);
+  const auto pm = Patch(slodtest::ToTriangleMesh(slodtest::LoadTestMesh("blobby")));
   const TriangleMesh& prepared = pm->Mesh;
+  SpbmLevelGenerator generator;
+  generator.Initialize(prepared, pm->Patches);
   for (const Index target : { prepared.NumberOfTriangles() / 2, prepared.NumberOfTriangles() / 10, Index(60) })
   {
     SpbmLevel level;
