@@ -562,7 +562,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
   return true;
 }
 
-double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index samples) const
+double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index samples, bool everyVertex) const
 {
   const TriangleMesh& mesh = *this->Mesh;
   const Index nt = mesh.NumberOfTriangles();
@@ -589,21 +589,25 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
   // vertex is the first of some triangle, so all are covered at full sampling).
   const Index stride = std::max<Index>(1, nt / std::max<Index>(1, samples / 2));
   double worst2 = 0;
+  // Only samples farther than the current worst matter: a query bounded by it prunes most of the
+  // tree and finds nothing exactly when the sample is farther (then measure it).
+  const auto sample = [&](const Vec3& q) {
+    if (worst2 > 0 && bvh.ClosestPoint(q, worst2).Triangle != InvalidIndex)
+    {
+      return;
+    }
+    worst2 = std::max(worst2, bvh.ClosestPoint(q).Distance2);
+  };
   for (Index t = 0; t < nt; t += stride)
   {
     const Index* v = mesh.Triangle(t);
     const Vec3 a = mesh.Point(v[0]), b = mesh.Point(v[1]), c = mesh.Point(v[2]);
-    const Vec3 queries[2] = { a, (1.0 / 3.0) * (a + b + c) };
-    for (const Vec3& q : queries)
-    {
-      // Only samples farther than the current worst matter: a query bounded by it prunes most
-      // of the tree and finds nothing exactly when the sample is farther (then measure it).
-      if (worst2 > 0 && bvh.ClosestPoint(q, worst2).Triangle != InvalidIndex)
-      {
-        continue;
-      }
-      worst2 = std::max(worst2, bvh.ClosestPoint(q).Distance2);
-    }
+    sample(a);
+    sample((1.0 / 3.0) * (a + b + c));
+  }
+  for (Index v = 0; everyVertex && v < mesh.NumberOfPoints(); ++v)
+  {
+    sample(mesh.Point(v));
   }
   // The other side, when the input's BVH exists (the minimum-deviation triangulation builds it):
   // the level's largest triangles sampled on the barycentric grid of step 1/3 (the edge thirds

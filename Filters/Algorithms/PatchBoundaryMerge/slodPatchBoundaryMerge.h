@@ -295,8 +295,10 @@ public:
   // (vertices and centroids, about `samples` of them) to the level (a BVH over the level, which
   // is small; each query bounded by the current maximum), and, once the input's BVH exists, from
   // points inside the level's 160 largest triangles (barycentric grid of step 1/3) to the input. The sampled
-  // two-sided Hausdorff distance; compares candidates.
-  double EstimateDeviation(const SpbmLevel& level, Index samples = 3000) const;
+  // two-sided Hausdorff distance; compares candidates. With everyVertex, every input vertex is a
+  // sample too (the search's epsilon drops a few chain vertices, where a level's largest error
+  // often sits, and a strided sample misses them; O(input vertices) bounded queries).
+  double EstimateDeviation(const SpbmLevel& level, Index samples = 3000, bool everyVertex = false) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
   double ChainVertexKey(Index c, Index i) const;

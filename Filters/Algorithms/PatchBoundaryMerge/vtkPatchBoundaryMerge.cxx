@@ -456,7 +456,7 @@ bool vtkPatchBoundaryMerge::Cache::LoosenThickness(
     {
       break;
     }
-    deviation = deviation < 0 ? this->Generator.EstimateDeviation(result) : deviation;
+    deviation = deviation < 0 ? this->Generator.EstimateDeviation(result, 3000, true) : deviation;
     vtkLogF(TRACE, "[spbm] thickness bound %.4g: epsilon %.3gx, sampled deviation %.3gx", thickness,
       level.Epsilon / thickness, deviation / thickness);
     if (!(deviation > LooseDeviationRatio * thickness))
@@ -474,7 +474,7 @@ bool vtkPatchBoundaryMerge::Cache::LoosenThickness(
     {
       return false;
     }
-    const double candidateDeviation = this->Generator.EstimateDeviation(candidate);
+    const double candidateDeviation = this->Generator.EstimateDeviation(candidate, 3000, true);
     vtkLogF(TRACE, "[spbm] thickness scale %g%s: %zu triangles, sampled deviation %.4g (was %.4g)",
       this->ThicknessScale, this->NoiseWithheld ? " (noise tolerance withheld)" : "", candidate.TrianglePatch.size(),
       candidateDeviation, deviation);

@@ -7,6 +7,7 @@
 
 #include "slodSpbmFinalCollapses.h"
 #include "slodSpbmState.h"
+#include "slodTriangleBVH.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodPatchBoundaryMerge.h"
@@ -2555,4 +2556,40 @@ TEST(PatchBoundaryMerge, BorderCornersOfAnOpenSheetStay)
   EXPECT_FALSE(std::all_of(
     corners.begin(), corners.end(), [&](const std::array<double, 3>& c) { return HasPoint(paper, c); }));
   EXPECT_LE(LevelHausdorffRatioToQuadric("three_peaks", input, 0.9), 3.0);
+}
+
+// Issue 15 (session 32): LoosenThicknessForTarget decides from EstimateDeviation, whose strided
+// samples missed the few chain vertices a coarse level's epsilon drops, where its largest error
+// sits (mushroom at 70%: sampled 1.08x the thickness bound, measured 1.58x, so the looser patches
+// were never tried). With everyVertex the estimate covers every input vertex: it is at least the
+// exact largest vertex-to-level distance (computed here by brute force), on a mesh the change was
+// not tuned on, at three levels.
+TEST(SpbmLevel, DeviationEstimateCoversEveryVertex)
+{
+  const auto pm = Patch(slodtest::ToTriangleMesh(slodtest::LoadTestMesh("blobby")));
+  const TriangleMesh& prepared = pm->Mesh;
+  SpbmLevelGenerator generator;
+  generator.Initialize(prepared, pm->Patches);
+  for (const Index target : { prepared.NumberOfTriangles() / 2, prepared.NumberOfTriangles() / 10, Index(60) })
+  {
+    SpbmLevel level;
+    ASSERT_TRUE(generator.GenerateForTarget(target, SpbmLevelParameters{}, level));
+    ASSERT_FALSE(level.Triangles.empty());
+    double worst2 = 0;
+    for (Index v = 0; v < prepared.NumberOfPoints(); ++v)
+    {
+      const Vec3 p = prepared.Point(v);
+      double nearest2 = std::numeric_limits<double>::infinity();
+      for (size_t t = 0; t < level.Triangles.size(); t += 3)
+      {
+        const Vec3 q = ClosestPointOnTriangle(p, prepared.Point(level.Triangles[t]),
+          prepared.Point(level.Triangles[t + 1]), prepared.Point(level.Triangles[t + 2]));
+        nearest2 = std::min(nearest2, Dot(p - q, p - q));
+      }
+      worst2 = std::max(worst2, nearest2);
+    }
+    const double everyVertex = generator.EstimateDeviation(level, 3000, true);
+    EXPECT_GE(everyVertex, std::sqrt(worst2) * (1 - 1e-9)) << "target " << target;
+    EXPECT_GE(everyVertex, generator.EstimateDeviation(level));
+  }
 }
