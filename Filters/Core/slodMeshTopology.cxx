@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodMeshTopology.h"
 
+#include "slodHugePages.h"
+
 #include "slodUnionFind.h"
 
 #include <algorithm>
@@ -44,13 +46,14 @@ void MeshTopology::Build(const TriangleMesh& mesh)
   const std::vector<Index>& tris = mesh.Triangles;
 
   // Vertex -> triangles.
-  this->VertexOffsets.assign(size_t(np) + 1, 0);
+  // The arrays sized by the triangles on huge pages: fewer first-touch page faults (session 32).
+  AssignOnHugePages(this->VertexOffsets, size_t(np) + 1, Index(0));
   for (Index v : tris)
   {
     ++this->VertexOffsets[v];
   }
   CountsToOffsets(this->VertexOffsets);
-  this->VertexTriangles.resize(tris.size());
+  AssignOnHugePages(this->VertexTriangles, tris.size(), Index(0));
   {
     std::vector<Index> fill(this->VertexOffsets.begin(), this->VertexOffsets.end() - 1);
     for (Index t = 0; t < nt; ++t)
@@ -70,7 +73,7 @@ void MeshTopology::Build(const TriangleMesh& mesh)
     ++halfOffsets[std::min(a, b)];
   }
   CountsToOffsets(halfOffsets);
-  std::vector<Index> halfEdges(tris.size()); // half-edge id = 3*t + k
+  std::vector<Index> halfEdges = MakeOnHugePages<Index>(tris.size()); // half-edge id = 3*t + k
   {
     std::vector<Index> fill(halfOffsets.begin(), halfOffsets.end() - 1);
     for (size_t i = 0; i < tris.size(); ++i)
@@ -80,8 +83,8 @@ void MeshTopology::Build(const TriangleMesh& mesh)
     }
   }
   this->EdgeVertices.clear();
-  this->EdgeVertices.reserve(tris.size()); // about 1.5 edges per triangle, two indices each
-  this->TriangleEdges.assign(tris.size(), InvalidIndex);
+  ReserveOnHugePages(this->EdgeVertices, tris.size()); // about 1.5 edges per triangle, two indices each
+  AssignOnHugePages(this->TriangleEdges, tris.size(), InvalidIndex);
   std::vector<Index> stamp(np, InvalidIndex), stampEdge(np, InvalidIndex);
   for (Index u = 0; u < np; ++u)
   {
@@ -109,7 +112,7 @@ void MeshTopology::Build(const TriangleMesh& mesh)
     ++this->EdgeOffsets[e];
   }
   CountsToOffsets(this->EdgeOffsets);
-  this->EdgeTriangles.resize(tris.size());
+  AssignOnHugePages(this->EdgeTriangles, tris.size(), Index(0));
   {
     std::vector<Index> fill(this->EdgeOffsets.begin(), this->EdgeOffsets.end() - 1);
     for (size_t i = 0; i < tris.size(); ++i)

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodTriangleMesh.h"
 
+#include "slodHugePages.h"
+
 #include "vtkSMPTools.h"
 
 #include <algorithm>
@@ -142,7 +144,7 @@ std::vector<MortonEntry> MortonOrder(Index count, const std::function<void(Index
     const double extent = hi[k] - lo[k];
     scale[k] = extent > 0 && std::isfinite(extent) ? double((1 << 21) - 1) / extent : 0.0;
   }
-  std::vector<MortonEntry> entries(static_cast<size_t>(count));
+  std::vector<MortonEntry> entries = MakeOnHugePages<MortonEntry>(static_cast<size_t>(count));
   auto encode = [&](vtkIdType first, vtkIdType last) {
     for (vtkIdType t = first; t < last; ++t)
     {

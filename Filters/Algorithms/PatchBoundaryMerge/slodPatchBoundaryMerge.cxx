@@ -53,6 +53,8 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Helper->Memo.clear();
   this->Work->HoldsPrediction = this->Helper->HoldsPrediction = false;
   this->Helper->RefinedValid = false;
+  // Almost every diagonal a pass asks for is new: the filter answers those without a probe.
+  this->Helper->DiagonalCosts.TrackVertices(size_t(mesh.NumberOfPoints()));
   this->Helper->DiagonalCosts.Reset(0);
   if (!(this->BuiltTree && this->TreeMesh == &mesh))
   {
@@ -67,6 +69,7 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Work->RefinedValid = false;
   this->Work->SimpleSignature.clear();
   this->Helper->SimpleSignature.clear();
+  this->Work->DiagonalCosts.TrackVertices(size_t(mesh.NumberOfPoints()));
   this->Work->DiagonalCosts.Reset(0);
   this->Work->KeptTolerance.clear(); // the chain keys change: every chain's kept positions too
   this->Helper->KeptTolerance.clear();

@@ -185,6 +185,20 @@ public:
     Index ignored;
     return this->Find(a, b, ignored);
   }
+  // Starts loading the first slot an Insert of a-b will probe, so that a caller with other work
+  // before the Insert (a diagonal's distance query) does not wait for the table's cache miss.
+  void PrefetchSlot(Index a, Index b) const
+  {
+#if defined(__GNUC__)
+    if (!this->Keys.empty())
+    {
+      __builtin_prefetch(this->Keys.data() + this->Slot(Key(a, b)), 1);
+    }
+#else
+    (void)a;
+    (void)b;
+#endif
+  }
   // Value of (a,b) in `value` when present.
   bool Find(Index a, Index b, Index& value) const
   {
@@ -270,6 +284,9 @@ private:
     std::vector<Index> values;
     keys.swap(this->Keys);
     values.swap(this->Values);
+    // The filter words already hold every key moved below: kept aside, not cleared and set again.
+    std::vector<uint64_t> bits;
+    bits.swap(this->VertexBits);
     this->Reset(keys.size());
     Index ignored;
     for (size_t i = 0; i < keys.size(); ++i)
@@ -279,6 +296,7 @@ private:
         this->Insert(Index(keys[i] >> 32), Index(keys[i] & 0xffffffffu), values[i], ignored);
       }
     }
+    bits.swap(this->VertexBits);
   }
   std::vector<uint64_t> Keys;
   std::vector<Index> Values;

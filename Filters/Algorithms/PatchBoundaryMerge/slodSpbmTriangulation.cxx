@@ -1035,6 +1035,7 @@ void SpbmLevelGenerator::LevelTriangulation::TriangulateMinimumDeviation(
     Index bits = 0;
     if (!s.DiagonalCosts.Find(polygon[i], polygon[j], bits))
     {
+      s.DiagonalCosts.PrefetchSlot(polygon[i], polygon[j]); // loads during the query below
       bits = CostBits(DiagonalCost(tree, points[i], points[j]));
       ++level.DiagonalsMeasured;
       Index ignored;
