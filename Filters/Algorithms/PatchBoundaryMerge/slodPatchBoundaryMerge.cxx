@@ -724,10 +724,14 @@ void SpbmLevelGenerator::GenerateOtherMeasure(const SpbmLevelParameters& base, T
   {
     run.SecondDeviation = this->EstimateDeviation(run.SecondLevel);
   }
-  if (run.SecondDone && run.Second.RemovalTarget > 0)
+  if (run.SecondDone && run.Second.RemovalTarget > 0 && run.SecondLevel.Passes == 1)
   {
     // The count comes from the cost-ordered removal, so any merge measure reaches it at the
-    // same parameters: also try the flatness measure (no search), keep the closer level.
+    // same parameters: also try the flatness measure (no search), keep the closer level. Like
+    // the planned removal tries (RunPlannedTriesAfter), only when the level needed no fallback
+    // pass: the try gets one pass, and where the level needed some (rough scans) the try's
+    // pass failed too (hole-bump removal on noisy273 at 10%: a whole merging run, 9% of the
+    // filter's CPU, then abandoned).
     SpbmLevelParameters flat = run.Second;
     flat.SizeWeightedMerge = false;
     flat.FlatnessMerge = true;
