@@ -271,6 +271,7 @@ std::vector<Parameter> HoleBumpRemovalParameters()
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, PatchPlaneDistance),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Int, Completion),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, Epsilon),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, FinalCollapses),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Int, OutputPointsPrecision),
   };
 }

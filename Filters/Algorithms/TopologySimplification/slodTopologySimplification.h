@@ -78,6 +78,7 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationParameters
                                     // to the bbox diagonal) of the line of their neighbours go
   SpbmLevelParameters Spbm;         // Completion == Spbm (Epsilon absolute)
   Index SpbmTargetTriangles = 0;    // Completion == Spbm: > 0 aims at this count
+  bool FinalCollapses = true;       // ... and the level's vertices collapsed when it stays above it
 };
 
 enum class TopologyFeatureKind : int
@@ -117,6 +118,7 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationResult
   Index NumberOfPatches = 0;
 
   Index InitialPatches = 0, SharpEdges = 0, SharpChains = 0;
+  Index FinalCollapses = 0; // half-edge collapses after the SPBM completion (its target)
   std::vector<SharpLoop> Loops;
   std::vector<TopologyFeature> Features;
   Index Detected[4] = { 0, 0, 0, 0 }; // per TopologyFeatureKind

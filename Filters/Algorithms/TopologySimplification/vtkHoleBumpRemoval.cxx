@@ -67,6 +67,7 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
   {
     parameters.Completion = slod::TopologyCompletion::Spbm;
     parameters.SpbmTargetTriangles = static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX));
+    parameters.FinalCollapses = filter->GetFinalCollapses();
   }
   return parameters;
 }
@@ -185,6 +186,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   this->NumberOfHolesRemoved = this->NumberOfBumpsRemoved = this->NumberOfCavitiesRemoved = 0;
   this->NumberOfCracksFilled = 0;
   this->NumberOfSharpEdges = this->NumberOfSharpLoops = this->NumberOfPatches = this->NumberOfMergedPatches = 0;
+  this->FinalCollapseCount = 0;
   this->InputGenus = this->OutputGenus = -1;
   this->UsedFeatureSize = 0;
 
@@ -225,6 +227,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   this->NumberOfSharpLoops = static_cast<int>(result.Loops.size());
   this->NumberOfPatches = result.InitialPatches;
   this->NumberOfMergedPatches = result.MergedPatches;
+  this->FinalCollapseCount = result.FinalCollapses;
 
   // Output over the used input vertices.
   slod::TriangleMesh outMesh;
@@ -269,6 +272,7 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RemoveBumps: " << this->RemoveBumps << "\n";
   os << indent << "RemoveCavities: " << this->RemoveCavities << "\n";
   os << indent << "FillCracks: " << this->FillCracks << "\n";
+  os << indent << "FinalCollapses: " << this->FinalCollapses << "\n";
   os << indent << "MaximumCrackSize: " << this->MaximumCrackSize << "\n";
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
   os << indent << "MaximumPasses: " << this->MaximumPasses << "\n";

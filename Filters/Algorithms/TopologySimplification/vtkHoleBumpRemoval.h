@@ -148,6 +148,17 @@ public:
   ///@}
 
   ///@{
+  /// SPBM completion to a triangle target: when the level stays above it (rough scans, whose
+  /// fallback passes unmerge patches), its vertices are collapsed as vtkPatchBoundaryMerge's
+  /// FinalCollapses do (default on; the removed features stay removed, the topology the level's).
+  /// FinalCollapseCount is the number performed.
+  vtkSetMacro(FinalCollapses, bool);
+  vtkGetMacro(FinalCollapses, bool);
+  vtkBooleanMacro(FinalCollapses, bool);
+  vtkGetMacro(FinalCollapseCount, vtkIdType);
+  ///@}
+
+  ///@{
   /// Second output with the sharp loops (default on); double precision points (default: as input).
   vtkSetMacro(GenerateSharpLoops, bool);
   vtkGetMacro(GenerateSharpLoops, bool);
@@ -188,6 +199,8 @@ protected:
   bool RemoveBumps = true;
   bool RemoveCavities = true;
   bool FillCracks = true;
+  bool FinalCollapses = true;
+  vtkIdType FinalCollapseCount = 0;
   double MaximumCrackSize = -1.0;
   double MergeAngle = 20.0;
   int MaximumPasses = 4;
