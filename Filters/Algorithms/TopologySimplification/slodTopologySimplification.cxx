@@ -1803,12 +1803,12 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
       generator->Initialize(cleaned.Mesh, merged);
     }
     ok = generator->GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
-    if (ok && parameters.FinalCollapses &&
-      Index(result.Level.TrianglePatch.size()) > parameters.SpbmTargetTriangles + SpbmFinalCollapseTolerance(parameters.SpbmTargetTriangles))
+    if (ok && parameters.FinalCollapses)
     {
       // As vtkPatchBoundaryMerge does: on rough scans the fallback passes unmerge patches and the
       // level stops far above the target (noisy:273 at 10%: 255,841 for 100,036), so the level's
       // own vertices are collapsed, keeping its topology (the removed features stay removed).
+      // SpbmFinalCollapses itself leaves a level within its tolerance of the target as it is.
       SpbmFinalCollapseStatistics statistics;
       SpbmFinalCollapses(cleaned.Mesh, parameters.SpbmTargetTriangles, result.Level, statistics);
       result.FinalCollapses = statistics.Collapses;

@@ -17,6 +17,7 @@
 #include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 
+#include <cassert>
 #include <algorithm>
 #include <atomic>
 #include <iterator>
@@ -822,6 +823,7 @@ private:
   // A surviving vertex's quadric, before or after CompactQuadrics.
   const WeightedQuadric& QuadricOf(Index v) const
   {
+    assert(this->Link.empty() || this->Link[v] < 0); // (merged-away vertices have no slot)
     return this->Link.empty() ? this->Vertex[v] : this->Vertex[size_t(-1 - this->Link[v])];
   }
   void CompactQuadrics();
