@@ -536,10 +536,12 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     const bool anyFailed = triangulation.FreezeFailedPatches(frozen, unmergedAny);
     vtkLogF(TRACE,
       "[spbm] pass %d: merging %.4f s (%lld triangles), triangulation %.4f s, %d patches failed, %lld diagonals "
-      "measured (%lld ahead); so far %d patches triangulated again, %d contexts compared, %d kept untouched",
+      "measured (%lld ahead); %d patches triangulated ahead (%d again); so far %d patches triangulated again, %d "
+      "contexts compared, %d kept untouched",
       pass, mergingSeconds, s.Total, Since(triangulationStart), int(triangulation.FailedPatches()),
-      (long long)level.DiagonalsMeasured, (long long)level.DiagonalsMeasuredAhead, int(level.RetriangulatedPatches),
-      int(level.ContextsCompared), int(level.ReusedUntouched));
+      (long long)level.DiagonalsMeasured, (long long)level.DiagonalsMeasuredAhead, int(level.TriangulatedAhead),
+      int(level.TriangulatedAgain), int(level.RetriangulatedPatches), int(level.ContextsCompared),
+      int(level.ReusedUntouched));
     if (!anyFailed)
     {
       break;

@@ -195,6 +195,14 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // the default: the list ahead holds about 45% more diagonals than the passes ask for, and on the
   // MRI at 10% it cost 10-23% more CPU for no shorter wall time, quiet machine, session 29).
   bool MeasureDiagonalsAhead = false;
+  // Session 33 (issue 10): the first pass of a level runs the minimum-deviation triangulations of
+  // its patches over threads (vtkSMPTools) against the level's edges before the pass, then walks
+  // the patches in order as before and takes a patch's triangles from there unless a diagonal the
+  // pass added earlier joins two of its corners (then it is triangulated again on the spot): the
+  // same level (a triangulation depends on its polygon, its normal and which pairs of its corners
+  // are edges already). On the MRI at 10% the pass was about a quarter of the wall time, all on
+  // one thread while the other idled. Off: each patch on the level's thread (the reference).
+  bool TriangulateAheadOverThreads = true;
 };
 
 struct SURFACELODFILTERS_EXPORT SpbmLevel
@@ -215,6 +223,8 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   Index OriginalPatches = 0;
   Index DiagonalsMeasured = 0;      // diagonal costs measured (distance queries) by the passes
   Index DiagonalsMeasuredAhead = 0; // of which before the triangulations asked (MeasureDiagonalsAhead)
+  Index TriangulatedAhead = 0;      // patches whose triangles came from TriangulateAheadOverThreads
+  Index TriangulatedAgain = 0;      // of those run ahead, patches a diagonal of the pass made triangulate again
   int Passes = 0;               // generation passes (1 without fallback)
   int ReplayedPasses = 0;       // passes that replayed the previous pass's merging (ReplayFallbackPasses)
   long long EditsAppliedAsRecorded = 0; // edits those passes applied without their tests (clean)

@@ -744,6 +744,10 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
   {
     this->MeasureDiagonalsAhead(patches);
   }
+  if (!local && parameters.MinimumDeviationTriangulation && parameters.TriangulateAheadOverThreads)
+  {
+    this->TriangulateAhead(patches);
+  }
   for (size_t index = 0; index < patches.size(); ++index)
   {
     const Index p = patches[index];
@@ -765,6 +769,8 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
       failed[p] = TriangulationFailure;
     }
   }
+  // The refinement rounds also remove edges: the jobs hold for this walk only.
+  aheadJob.clear();
   return true;
 }
 
@@ -884,7 +890,8 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulateBoundary(Index p)
   };
   PolygonTriangulationResult result;
   result.Failed = true;
-  if (parameters.MinimumDeviationTriangulation && this->MinimumDeviationApplies(normal))
+  if (parameters.MinimumDeviationTriangulation && this->MinimumDeviationApplies(normal) &&
+    !this->TakeTriangulationAhead(p, result))
   {
     this->TriangulateMinimumDeviation(normal, result);
   }
@@ -906,7 +913,12 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulateBoundary(Index p)
     Index ignored;
     for (int k = 0; k < 3; ++k)
     {
-      s.Edges.Insert(polygon[t[k]], polygon[t[(k + 1) % 3]], -1, ignored);
+      const Index a = polygon[t[k]], b = polygon[t[(k + 1) % 3]];
+      if (s.Edges.Insert(a, b, -1, ignored) && !aheadJob.empty())
+      {
+        passDiagonals.Insert(a, b, -1, ignored);
+        passDiagonalCorner[size_t(a)] = passDiagonalCorner[size_t(b)] = 1;
+      }
     }
     level.Triangles.push_back(polygon[t[0]]);
     level.Triangles.push_back(polygon[t[1]]);
@@ -979,12 +991,7 @@ void SpbmLevelGenerator::LevelTriangulation::MeasureDiagonalsAhead(const std::ve
   std::vector<std::array<Index, 2>> pairs;
   for (const Index p : patches)
   {
-    if (!this->BoundaryPolygon(p))
-    {
-      continue;
-    }
-    this->PolygonPoints();
-    if (!this->MinimumDeviationApplies(Normalized(s.Normal[p])))
+    if (!this->MinimumDeviationPolygon(p))
     {
       continue;
     }
@@ -1023,15 +1030,185 @@ void SpbmLevelGenerator::LevelTriangulation::MeasureDiagonalsAhead(const std::ve
   s.Times.Triangulation += Since(started);
 }
 
+// The boundary polygon of root patch p (polygon, points) when it gets the minimum-deviation
+// triangulation.
+bool SpbmLevelGenerator::LevelTriangulation::MinimumDeviationPolygon(Index p)
+{
+  if (!this->BoundaryPolygon(p))
+  {
+    return false;
+  }
+  this->PolygonPoints();
+  return this->MinimumDeviationApplies(Normalized(s.Normal[p]));
+}
+
+// The minimum-deviation options for the polygon `corner` (indices into the mesh): a diagonal
+// that is an edge of the level is refused; `costBits(i, k)` gives the float cost's bits.
+template<typename CostBitsOf>
+MinimumCostTriangulationOptions SpbmLevelGenerator::LevelTriangulation::MinimumDeviationOptions(
+  const Index* corner, CostBitsOf&& costBits) const
+{
+  MinimumCostTriangulationOptions dp;
+  dp.AcceptDiagonal = [this, corner](Index i, Index j) { return !s.Edges.Contains(corner[i], corner[j]); };
+  dp.DiagonalCost = [costBits](Index i, Index j) {
+    const Index bits = costBits(i, j);
+    float cost = 0;
+    std::memcpy(&cost, &bits, sizeof(float));
+    return double(cost);
+  };
+  // Thin triangles cost about as much as a diagonal 1e-3 of the diagonal off the surface.
+  dp.AngleWeight = 1e-3 * generator.Diagonal;
+  return dp;
+}
+
+// TriangulateAhead: the minimum-deviation triangulation of each polygon of `patches` that gets
+// one, over threads, against the level's edges now (read only), noting which pairs of corners it
+// asked about (those inside the polygon); the costs measured are cached afterwards (the pass and
+// later levels read them as when measured on demand).
+void SpbmLevelGenerator::LevelTriangulation::TriangulateAhead(const std::vector<Index>& patches)
+{
+  aheadJob.assign(size_t(np), InvalidIndex);
+  aheadStart.assign(1, 0);
+  aheadVertices.clear();
+  aheadPatch.clear();
+  aheadAskedStart.assign(1, 0);
+  for (const Index p : patches)
+  {
+    if (this->MinimumDeviationPolygon(p))
+    {
+      aheadJob[size_t(p)] = static_cast<Index>(aheadStart.size() - 1);
+      aheadPatch.push_back(p);
+      aheadVertices.insert(aheadVertices.end(), polygon.begin(), polygon.end());
+      aheadStart.push_back(static_cast<Index>(aheadVertices.size()));
+      aheadAskedStart.push_back(aheadAskedStart.back() + (polygon.size() * polygon.size() + 63) / 64);
+    }
+  }
+  const Index jobs = static_cast<Index>(aheadStart.size() - 1);
+  if (jobs == 0)
+  {
+    aheadJob.clear();
+    return;
+  }
+  passDiagonals.Reset(aheadVertices.size());
+  passDiagonalCorner.assign(size_t(mesh.NumberOfPoints()), 0);
+  aheadFailed.assign(size_t(jobs), 0);
+  aheadAsked.assign(aheadAskedStart.back(), 0);
+  aheadTriangles.resize(aheadVertices.size() - 2 * size_t(jobs));
+  const TriangleBVH& tree = generator.GetInputTree(s.Times);
+  const auto started = StageClock::now();
+  struct Measured
+  {
+    Index A, B;
+    float Cost;
+  };
+  vtkSMPThreadLocal<std::vector<Measured>> measured;
+  vtkSMPTools::For(0, vtkIdType(jobs), 16, [&](vtkIdType first, vtkIdType last) {
+    std::vector<Measured>& local = measured.Local();
+    std::vector<Vec3> corners;
+    for (vtkIdType j = first; j < last; ++j)
+    {
+      const Index* corner = aheadVertices.data() + aheadStart[size_t(j)];
+      const Index n = aheadStart[size_t(j) + 1] - aheadStart[size_t(j)];
+      corners.resize(size_t(n));
+      for (Index i = 0; i < n; ++i)
+      {
+        corners[size_t(i)] = mesh.Point(corner[i]);
+      }
+      MinimumCostTriangulationOptions dp = this->MinimumDeviationOptions(corner, [&](Index i, Index k) {
+          Index bits = 0;
+          if (s.DiagonalCosts.Find(corner[i], corner[k], bits))
+          {
+            return bits;
+          }
+          const float cost = DiagonalCost(tree, corners[size_t(i)], corners[size_t(k)]);
+          local.push_back({ corner[i], corner[k], cost });
+          return CostBits(cost);
+        });
+      uint64_t* asked = aheadAsked.data() + aheadAskedStart[size_t(j)];
+      dp.AcceptDiagonal = [&, corner, asked, n](Index i, Index k) {
+        const size_t bit = size_t(i) * size_t(n) + size_t(k);
+        asked[bit / 64] |= uint64_t(1) << (bit % 64);
+        return !s.Edges.Contains(corner[i], corner[k]);
+      };
+      const PolygonTriangulationResult result =
+        TriangulatePolygonMinimumCost(corners, Normalized(s.Normal[aheadPatch[size_t(j)]]), dp);
+      // A complete triangulation or none (Failed); anything else is left to the pass.
+      aheadFailed[size_t(j)] = result.Failed ? 1 : (result.Triangles.size() + 2 == size_t(n) ? 0 : 2);
+      if (aheadFailed[size_t(j)] == 0)
+      {
+        std::copy(result.Triangles.begin(), result.Triangles.end(),
+          aheadTriangles.begin() + (aheadStart[size_t(j)] - 2 * Index(j)));
+      }
+    }
+  });
+  for (const std::vector<Measured>& local : measured)
+  {
+    for (const Measured& m : local)
+    {
+      Index ignored;
+      level.DiagonalsMeasured += s.DiagonalCosts.Insert(m.A, m.B, CostBits(m.Cost), ignored);
+    }
+  }
+  s.Times.Triangulation += Since(started);
+}
+
+// The triangulation TriangulateAhead made for root patch p (the current polygon), unless its
+// polygon differs or a diagonal the pass inserted since joins two of its corners that it asked
+// about: it would then get the same answers, so it is the one the pass would make.
+bool SpbmLevelGenerator::LevelTriangulation::TakeTriangulationAhead(Index p, PolygonTriangulationResult& result)
+{
+  if (aheadJob.empty() || aheadJob[size_t(p)] == InvalidIndex)
+  {
+    return false;
+  }
+  const Index j = aheadJob[size_t(p)];
+  const Index* corner = aheadVertices.data() + aheadStart[size_t(j)];
+  const size_t n = size_t(aheadStart[size_t(j) + 1] - aheadStart[size_t(j)]);
+  if (aheadFailed[size_t(j)] == 2 || n != polygon.size() || !std::equal(polygon.begin(), polygon.end(), corner))
+  {
+    return false;
+  }
+  order.clear(); // the corners with a diagonal of the pass (polygon indices)
+  for (size_t i = 0; i < n; ++i)
+  {
+    if (passDiagonalCorner[size_t(polygon[i])])
+    {
+      order.push_back(static_cast<Index>(i));
+    }
+  }
+  const uint64_t* asked = aheadAsked.data() + aheadAskedStart[size_t(j)];
+  for (size_t a = 0; a < order.size(); ++a)
+  {
+    for (size_t b = a + 1; b < order.size(); ++b)
+    {
+      // Only a pair the triangulation asked about (a diagonal inside the polygon) can change it.
+      const size_t bit = size_t(order[a]) * n + size_t(order[b]);
+      if (((asked[bit / 64] >> (bit % 64)) & 1u) && passDiagonals.Contains(polygon[order[a]], polygon[order[b]]))
+      {
+        ++level.TriangulatedAgain;
+        return false;
+      }
+    }
+  }
+  ++level.TriangulatedAhead;
+  result.Failed = aheadFailed[size_t(j)] != 0;
+  result.Triangles.clear();
+  if (!result.Failed)
+  {
+    const auto begin = aheadTriangles.begin() + (aheadStart[size_t(j)] - 2 * j);
+    result.Triangles.assign(begin, begin + (n - 2));
+  }
+  return true;
+}
+
 // Non-planar boundary: the choice of diagonals decides how far the flat triangulation lies from
 // the original patch; choose the diagonals closest to the original surface.
 void SpbmLevelGenerator::LevelTriangulation::TriangulateMinimumDeviation(
   const Vec3& normal, PolygonTriangulationResult& result)
 {
   const TriangleBVH& tree = generator.GetInputTree(s.Times);
-  MinimumCostTriangulationOptions dp;
-  dp.AcceptDiagonal = [&](Index i, Index j) { return !s.Edges.Contains(polygon[i], polygon[j]); };
-  dp.DiagonalCost = [&](Index i, Index j) {
+  const auto started = StageClock::now();
+  result = TriangulatePolygonMinimumCost(points, normal, this->MinimumDeviationOptions(polygon.data(), [&](Index i, Index j) {
     Index bits = 0;
     if (!s.DiagonalCosts.Find(polygon[i], polygon[j], bits))
     {
@@ -1041,14 +1218,8 @@ void SpbmLevelGenerator::LevelTriangulation::TriangulateMinimumDeviation(
       Index ignored;
       s.DiagonalCosts.Insert(polygon[i], polygon[j], bits, ignored);
     }
-    float cached = 0;
-    std::memcpy(&cached, &bits, sizeof(float));
-    return double(cached);
-  };
-  // Thin triangles cost about as much as a diagonal 1e-3 of the diagonal off the surface.
-  dp.AngleWeight = 1e-3 * generator.Diagonal;
-  const auto started = StageClock::now();
-  result = TriangulatePolygonMinimumCost(points, normal, dp);
+    return bits;
+  }));
   s.Times.Triangulation += Since(started);
 }
 

@@ -63,7 +63,12 @@ private:
   void RemoveTriangles(Index stamp);
   void PolygonPoints();
   bool MinimumDeviationApplies(const Vec3& normal) const;
+  bool MinimumDeviationPolygon(Index p);
   void MeasureDiagonalsAhead(const std::vector<Index>& patches);
+  void TriangulateAhead(const std::vector<Index>& patches);
+  bool TakeTriangulationAhead(Index p, PolygonTriangulationResult& result);
+  template<typename CostBitsOf>
+  MinimumCostTriangulationOptions MinimumDeviationOptions(const Index* corner, CostBitsOf&& costBits) const;
   void TriangulateMinimumDeviation(const Vec3& normal, PolygonTriangulationResult& result);
   int NextEffectiveLevel(Index q, const std::vector<unsigned char>& frozen) const;
 
@@ -107,6 +112,19 @@ private:
   Index touchStamp = 0;
   // Larger polygons are always triangulated again: the edge context is quadratic in their size.
   static constexpr size_t MaximumReusedBoundary = 64;
+  // TriangulateAhead (the first pass): per patch its job or InvalidIndex (`aheadJob`); per job its
+  // patch (`aheadPatch`), polygon (aheadVertices[aheadStart[j], aheadStart[j + 1])), whether the triangulation failed,
+  // and its n - 2 triangles (polygon indices) from aheadStart[j] - 2 j in `aheadTriangles`. The
+  // diagonals the pass has inserted since (`passDiagonals`, their corners flagged in
+  // `passDiagonalCorner`) decide whether a job still holds when its patch's turn comes.
+  std::vector<Index> aheadJob, aheadStart, aheadVertices, aheadPatch;
+  // Per job the pairs i < j of corners its triangulation asked about (bit i n + j of the words from
+  // aheadAskedStart[j]).
+  std::vector<size_t> aheadAskedStart;
+  std::vector<uint64_t> aheadAsked;
+  std::vector<std::array<Index, 3>> aheadTriangles;
+  std::vector<unsigned char> aheadFailed, passDiagonalCorner;
+  spbm::EdgeMap passDiagonals;
   // Scratch of one patch: its boundary polygon (original vertex ids), the patch across each
   // polygon corner's outgoing chain (or InvalidIndex), its oriented chains, the corner points.
   std::vector<Index> polygon, other, ring, order;

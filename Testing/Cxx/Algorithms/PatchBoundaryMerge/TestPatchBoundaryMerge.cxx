@@ -1603,6 +1603,29 @@ TEST(SpbmLevel, FallbackPassesCompareOnlyThePatchesNextToAChange)
             << "); patch work " << workOn << " with, " << workOff << " without\n";
 }
 
+// The tenth levels of the noisy scans of `seeds` with the boolean parameter `option` on, with 1, 2
+// and 8 threads, are the level without it (the same triangles in the same passes); `check(on, off,
+// seed, threads)` looks at each.
+template<typename Check>
+void ExpectSameLevelsOverThreads(std::initializer_list<unsigned int> seeds, bool SpbmLevelParameters::*option, Check&& check)
+{
+  for (const unsigned int seed : seeds)
+  {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
+    SpbmLevel reference;
+    GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.*option = false; }, reference);
+    ASSERT_FALSE(::testing::Test::HasFatalFailure()) << "seed " << seed;
+    slodtest::ForOneTwoAndEightThreads([&](int threads) {
+      SpbmLevel on;
+      GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { p.*option = true; }, on);
+      ASSERT_FALSE(::testing::Test::HasFatalFailure()) << "seed " << seed << ", " << threads << " threads";
+      ExpectSameLevelInSamePasses(on, reference, seed);
+      check(on, reference, seed, threads);
+    });
+  }
+}
+
 // Session 29 (issue 10): a whole-level pass measures the diagonal costs of its minimum-deviation
 // triangulations first, over threads, into per-diagonal slots cached in the serial order
 // (MeasureDiagonalsAhead). On noisy scans of seeds no other test uses, with 1, 2 and 8 threads:
@@ -1610,25 +1633,35 @@ TEST(SpbmLevel, FallbackPassesCompareOnlyThePatchesNextToAChange)
 // measured ahead, none without the option.
 TEST(SpbmLevel, DiagonalCostsMeasuredAheadOverThreadsGiveTheSameLevel)
 {
-  for (const unsigned int seed : { 89u, 97u })
-  {
-    auto pm = PatchedNoisyScan(seed);
-    ASSERT_TRUE(pm) << "seed " << seed;
-    SpbmLevel reference;
-    GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.MeasureDiagonalsAhead = false; }, reference);
-    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
-    EXPECT_EQ(reference.DiagonalsMeasuredAhead, 0) << "seed " << seed;
-    slodtest::ForOneTwoAndEightThreads([&](int threads) {
-      SpbmLevel ahead;
-      GenerateTenthLevel(*pm, [](SpbmLevelParameters& p) { p.MeasureDiagonalsAhead = true; }, ahead);
-      ASSERT_FALSE(HasFatalFailure()) << "seed " << seed << ", " << threads << " threads";
-      ExpectSameLevelInSamePasses(ahead, reference, seed);
+  ExpectSameLevelsOverThreads({ 89u, 97u }, &SpbmLevelParameters::MeasureDiagonalsAhead,
+    [](const SpbmLevel& ahead, const SpbmLevel& reference, unsigned int seed, int threads) {
+      EXPECT_EQ(reference.DiagonalsMeasuredAhead, 0) << "seed " << seed;
       EXPECT_GT(ahead.DiagonalsMeasuredAhead, 0) << "seed " << seed << ", " << threads << " threads";
       std::cout << "seed " << seed << ", " << threads << " threads: " << ahead.DiagonalsMeasured
                 << " diagonals measured (" << ahead.DiagonalsMeasuredAhead << " ahead), "
                 << reference.DiagonalsMeasured << " on demand\n";
     });
-  }
+}
+
+// Session 33 (issue 10): the first pass runs its minimum-deviation triangulations over threads
+// against the level's edges before the pass and keeps each unless a diagonal the pass made since
+// joins two corners the triangulation asked about (TriangulateAheadOverThreads). On noisy scans of
+// seeds no other test uses, with 1, 2 and 8 threads: the level is the serial reference's (the same
+// triangles in the same passes); patches took their triangles from ahead, and on these rough
+// surfaces some had to be triangulated again (a check that misses such a diagonal, or takes a
+// triangulation for the wrong patch, gives another level); none without the option.
+TEST(SpbmLevel, TriangulationsAheadOverThreadsGiveTheSameLevel)
+{
+  Index again = 0;
+  ExpectSameLevelsOverThreads({ 107u, 109u }, &SpbmLevelParameters::TriangulateAheadOverThreads,
+    [&](const SpbmLevel& ahead, const SpbmLevel& reference, unsigned int seed, int threads) {
+      EXPECT_EQ(reference.TriangulatedAhead + reference.TriangulatedAgain, 0) << "seed " << seed;
+      EXPECT_GT(ahead.TriangulatedAhead, 0) << "seed " << seed << ", " << threads << " threads";
+      again += ahead.TriangulatedAgain;
+      std::cout << "seed " << seed << ", " << threads << " threads: " << ahead.TriangulatedAhead
+                << " patches triangulated ahead, " << ahead.TriangulatedAgain << " again\n";
+    });
+  EXPECT_GT(again, 0) << "the noisy scans must have patches whose triangulation ahead does not hold";
 }
 
 // Session 25 (issue 10): a replayed pass treats the patches frozen at the same fallback level as
