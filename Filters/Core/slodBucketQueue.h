@@ -109,8 +109,8 @@ public:
   // Ids of up to `count` entries of the lowest non-empty bucket (into ids; returns how many): pops
   // of the near future, for prefetch hints. In a bucket Pop scans they are taken cyclically from
   // position `from` (the scan's order is not theirs); in a larger one, from the back, Pop's order.
-  // Reads only: the queue is unchanged.
-  int Upcoming(size_t from, int count, Index* ids) const
+  // Reads only: the queue is unchanged. keys (optional) receives their keys.
+  int Upcoming(size_t from, int count, Index* ids, float* keys = nullptr) const
   {
     Index b = this->Lowest;
     const Index end = static_cast<Index>(this->Buckets.size());
@@ -127,7 +127,12 @@ public:
     const int n = size < size_t(count) ? static_cast<int>(size) : count;
     for (int i = 0; i < n; ++i)
     {
-      ids[i] = size > size_t(ScanLimit) ? bucket[size - 1 - size_t(i)].Id : bucket[(from + size_t(i)) % size].Id;
+      const Entry& e = size > size_t(ScanLimit) ? bucket[size - 1 - size_t(i)] : bucket[(from + size_t(i)) % size];
+      ids[i] = e.Id;
+      if (keys)
+      {
+        keys[i] = e.K;
+      }
     }
     return n;
   }

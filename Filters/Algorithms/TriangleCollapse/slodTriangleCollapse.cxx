@@ -488,10 +488,39 @@ struct CollapseBatch
   // changed (PassState::Change) instead of re-costing their surroundings.
   bool Passes = false;
   PassState* PassesState = nullptr;
+  // The strict order's look-ahead (see LookAhead): an entry evaluated ahead keeps its set's
+  // triangles (Gathered) without being performed in parallel; a lone entry taken from it reads them.
+  bool KeepGathered = false;
+  struct LookAhead* Ahead = nullptr;
+  const std::vector<Index>* LoneGathered = nullptr;
   std::uint64_t Stamp(size_t entry) const;
   void AdaptSize(size_t ran);
   // Each entry of Order gets its part of the reference room (Performed[k].Block); returns the room.
   size_t PlaceBlocks();
+};
+
+// TriangleCollapseOptions::LookAheadEvaluations: the upcoming pops named by the queue (ordered as
+// Pop orders a scanned bucket), evaluated at once in parallel where their closed rings are
+// disjoint from every earlier one's (the batches' claims). Until a collapse touches its ring an
+// entry's evaluation is the one it would get at its turn: the rings of the entries performed
+// before it are disjoint from its ring, and what else could change it ends the look-ahead (a pop
+// evaluated without it whose ring meets a ring still to take, a retried triangle, a compaction of
+// the mesh's references, a change of the limits).
+struct LookAhead
+{
+  CollapseBatch Batch;
+  std::vector<unsigned char> Taken; // per entry: a pop took its evaluation
+  size_t Remaining = 0;             // entries that hold their ring and were not taken
+  bool Live = false;
+  size_t ReferenceRoom = 0;  // EditableMesh::ReferencesBeforeCompaction after the last collapse
+  long long Updates = 0;     // TriangleCollapser::Updates at the evaluation
+  int Width = 0, MaximumWidth = 0; // entries evaluated: halved after a look-ahead of little use
+  std::vector<Index> Ids;
+  std::vector<float> Keys;
+  std::vector<size_t> Order;
+  long long Evaluated = 0, TakenCount = 0; // TriangleCollapseResult::LookAheadEvaluated, LookAheadTaken
+  void End() { this->Live = false; }
+  bool Exhausted() const { return !this->Live || this->Remaining == 0; }
 };
 
 // The pass schedule's state (CollapseSchedule::Passes): per triangle the key of its cheapest
@@ -622,6 +651,10 @@ private:
   void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const;
   struct EvaluateBatchFunctor;
   void EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch);
+  void EvaluateAhead(CollapseLoop& loop, LookAhead& ahead);
+  bool TakeFromLookAhead(CollapseBatch& batch) const;
+  void ForeignPop(const CollapseBatch& lone) const;
+  void CheckLookAhead(LookAhead& ahead) const;
   enum class Validity { Valid, Invalid, Deferred };
   Validity Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result);
   bool ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
@@ -834,6 +867,7 @@ private:
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
   std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input or locked by the caller, never collapsed
   std::vector<unsigned char> Pinned;   // per vertex: kept exactly in place (see PinnedVertices); empty when none
+  long long Updates = 0;               // triangles re-costed by Update (it ends a look-ahead)
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
   BucketQueue Heap;
@@ -1675,6 +1709,7 @@ void TriangleCollapser::RequeueAround(const std::vector<Index>& around, const st
 
 void TriangleCollapser::Update(Index t)
 {
+  ++this->Updates;
   this->State[t].Excluded = 0; // its neighbourhood changed: every operation may be valid again
   float key = 0.0f;
   if (!this->KeyFromCache(t, std::nullopt, key))
@@ -2426,7 +2461,7 @@ struct TriangleCollapser::EvaluateBatchFunctor
     {
       BatchEntry& entry = this->Batch.Entries[size_t(i)];
       // Performed in parallel, an entry keeps its set's triangles for the collapse.
-      auto& scratch = this->Batch.Parallel ? this->Batch.Gathered[size_t(i)] : local;
+      auto& scratch = this->Batch.Parallel || this->Batch.KeepGathered ? this->Batch.Gathered[size_t(i)] : local;
       const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
       entry.Runs = this->Batch.Entries.size() == 1 && !this->Batch.Passes;
       if (!entry.Runs)
@@ -2451,6 +2486,13 @@ struct TriangleCollapser::EvaluateBatchFunctor
 
 void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
 {
+  batch.LoneGathered = nullptr;
+  if (batch.Ahead && batch.Entries.size() == 1 && this->TakeFromLookAhead(batch))
+  {
+    batch.AdaptSize(1);
+    ++loop.Ran;
+    return;
+  }
   const vtkIdType n = static_cast<vtkIdType>(batch.Entries.size());
   // An entry takes up to eight checks (the optimum and seven alternative placements).
   if (!this->LinkTables)
@@ -2480,6 +2522,10 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
   if (n == 1 || this->Options.ExactUnion)
   {
     functor(0, n);
+    if (batch.Ahead)
+    {
+      this->ForeignPop(batch);
+    }
   }
   else
   {
@@ -2498,6 +2544,136 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
   }
   batch.AdaptSize(ran);
   loop.Ran += static_cast<long long>(ran);
+}
+
+void TriangleCollapser::EvaluateAhead(CollapseLoop& loop, LookAhead& ahead)
+{
+  // Adapt the width to the use of the last look-ahead (a pop of another triangle ends it early
+  // where the queue's order moves fast, e.g. on ties).
+  const size_t used = ahead.Batch.Entries.size() - ahead.Remaining;
+  ahead.Width = used * 4 < ahead.Batch.Entries.size() ? std::max(2, ahead.Width / 2)
+                                                      : std::min(ahead.MaximumWidth, 2 * ahead.Width);
+  // The whole lowest bucket (a scanned one, up to the queue's scan limit), its first pops in
+  // Pop's order (key, then id) taken.
+  constexpr int named = 512;
+  ahead.Ids.resize(size_t(named));
+  ahead.Keys.resize(size_t(named));
+  const int inBucket = this->Heap.Upcoming(0, named, ahead.Ids.data(), ahead.Keys.data());
+  ahead.Order.resize(size_t(inBucket));
+  for (size_t i = 0; i < size_t(inBucket); ++i)
+  {
+    ahead.Order[i] = i;
+  }
+  const int n = std::min(inBucket, ahead.Width);
+  std::partial_sort(ahead.Order.begin(), ahead.Order.begin() + n, ahead.Order.end(), [&](size_t a, size_t b) {
+    return ahead.Keys[a] < ahead.Keys[b] || (ahead.Keys[a] == ahead.Keys[b] && ahead.Ids[a] < ahead.Ids[b]);
+  });
+  CollapseBatch& batch = ahead.Batch;
+  batch.Entries.assign(size_t(n), BatchEntry());
+  batch.Keys.resize(size_t(n));
+  for (size_t i = 0; i < size_t(n); ++i)
+  {
+    batch.Entries[i].C.Triangle = ahead.Ids[ahead.Order[i]];
+    batch.Keys[i] = ahead.Keys[ahead.Order[i]];
+  }
+  if (++batch.Number == 0)
+  {
+    std::fill(batch.Owner.begin(), batch.Owner.end(), ~std::uint64_t(0));
+    batch.Number = 1;
+  }
+  if (batch.Gathered.size() < size_t(n))
+  {
+    batch.Gathered.resize(size_t(n));
+  }
+  // The picks and claims on this thread (one parallel loop per look-ahead: each costs a wake-up
+  // of the workers), the checks, the bulk of the work, in parallel. A lone entry is picked by its
+  // evaluation (as the strict order's); its claim, of its triangle's three fans, covers its ring
+  // too (a pop evaluated without the look-ahead is tested against the claims, ForeignPop).
+  if (n > 1)
+  {
+    PickFunctor pick{ {}, *this, batch };
+    pick(0, n);
+  }
+  ClaimRingsFunctor claim{ {}, *this, batch };
+  claim(0, n);
+  EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
+  vtkSMPTools::For(0, n, 2, functor);
+  ahead.Taken.assign(size_t(n), 0);
+  ahead.Remaining = 0;
+  for (const BatchEntry& entry : batch.Entries)
+  {
+    ahead.Remaining += entry.Runs ? 1 : 0;
+  }
+  ahead.Live = true;
+  ahead.Evaluated += static_cast<long long>(ahead.Remaining);
+  ahead.ReferenceRoom = this->Mesh.ReferencesBeforeCompaction();
+  ahead.Updates = this->Updates;
+}
+
+bool TriangleCollapser::TakeFromLookAhead(CollapseBatch& lone) const
+{
+  // Any two entries that hold their rings have disjoint rings (each vertex is held by its earliest
+  // claimant), so an entry's evaluation stays valid while only such entries are performed,
+  // whatever their order.
+  LookAhead& ahead = *lone.Ahead;
+  if (ahead.Exhausted())
+  {
+    return false;
+  }
+  const Index t = lone.Entries[0].C.Triangle;
+  const auto& entries = ahead.Batch.Entries;
+  size_t i = 0;
+  while (i < entries.size() && (entries[i].C.Triangle != t || ahead.Taken[i]))
+  {
+    ++i;
+  }
+  if (i == entries.size() || !entries[i].Runs || ahead.Batch.Keys[i] != lone.Keys[0])
+  {
+    return false; // evaluated now; ForeignPop decides whether the look-ahead stays valid
+  }
+  ahead.Taken[i] = 1;
+  --ahead.Remaining;
+  ++ahead.TakenCount;
+  lone.Entries[0] = entries[i];
+  lone.LoneGathered = &ahead.Batch.Gathered[i];
+  return true;
+}
+
+void TriangleCollapser::ForeignPop(const CollapseBatch& lone) const
+{
+  // A pop evaluated without the look-ahead may be performed: the look-ahead ends unless its ring
+  // is disjoint from the rings of the entries still to take (a vertex of such a ring is owned by
+  // that entry, its earliest claimant).
+  LookAhead& ahead = *lone.Ahead;
+  if (ahead.Exhausted())
+  {
+    return;
+  }
+  const std::uint64_t claimed = ahead.Batch.Stamp(0) >> 32;
+  bool overlaps = false;
+  this->ForEachRingVertex(lone.Entries[0], [&](Index w) {
+    const std::uint64_t owner = ahead.Batch.Owner[w];
+    const size_t entry = size_t(owner & 0xffffffffu);
+    overlaps = overlaps ||
+      ((owner >> 32) == claimed && ahead.Batch.Entries[entry].Runs && !ahead.Taken[entry]);
+  });
+  if (overlaps)
+  {
+    ahead.End();
+  }
+}
+
+void TriangleCollapser::CheckLookAhead(LookAhead& ahead) const
+{
+  // A compaction reorders the reference blocks (and so the order of a gathering) and raises the
+  // room left; a retried triangle may lie in a ring evaluated ahead.
+  const size_t room = this->Mesh.ReferencesBeforeCompaction();
+  if (room > ahead.ReferenceRoom || this->Updates != ahead.Updates)
+  {
+    ahead.End();
+  }
+  ahead.ReferenceRoom = room;
+  ahead.Updates = this->Updates;
 }
 
 TriangleCollapser::Validity TriangleCollapser::Settle(BatchEntry& entry, CollapseLoop& loop, TriangleCollapseResult& result)
@@ -2542,7 +2718,9 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
   // A lone entry was checked on this thread and its scratch still lists the set's triangles (the
   // last check, optimum or alternative placement, was of the same set); in a larger batch the
   // scratch of each thread was reused by later entries.
-  const std::vector<Index>* gathered = batch.Entries.size() == 1 ? &batch.Scratch.Local() : nullptr;
+  const std::vector<Index>* gathered = batch.Entries.size() != 1 ? nullptr
+    : batch.LoneGathered                                          ? batch.LoneGathered
+                                                                  : &batch.Scratch.Local();
   for (BatchEntry& entry : batch.Entries)
   {
     if (!entry.Runs)
@@ -2728,6 +2906,19 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
   batch.Owner.assign(batch.MaximumSize > 1 ? size_t(this->Mesh.NumberOfPoints()) : 0, ~std::uint64_t(0));
   // The exact-union mode merges sorted plane lists through one shared buffer: performed in order.
   batch.Parallel = batch.MaximumSize > 1 && !this->Options.ExactUnion;
+  // The look-ahead evaluates in parallel: with the checks' own link tables, not the mesh's marks,
+  // and not with the exact union's shared buffer.
+  std::unique_ptr<LookAhead> ahead;
+  if (batch.MaximumSize == 1 && this->Options.LookAheadEvaluations > 1 && this->LinkTables &&
+    !this->Options.ExactUnion && vtkSMPTools::GetEstimatedNumberOfThreads() > 1)
+  {
+    ahead.reset(new LookAhead);
+    ahead->MaximumWidth = std::min(this->Options.LookAheadEvaluations, 512);
+    ahead->Width = ahead->MaximumWidth;
+    ahead->Batch.KeepGathered = true;
+    ahead->Batch.Owner.assign(size_t(this->Mesh.NumberOfPoints()), ~std::uint64_t(0));
+    batch.Ahead = ahead.get();
+  }
   loop.Settling = static_cast<bool>(this->Options.SettleTarget);
   for (;;)
   {
@@ -2737,6 +2928,10 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
     }
     if (this->Heap.Empty())
     {
+      if (ahead)
+      {
+        ahead->End(); // the limits change
+      }
       if (!this->RelaxNormalLimit(loop, result))
       {
         break;
@@ -2752,6 +2947,10 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
       result.WorkBoundReached = true;
       break;
     }
+    if (ahead && ahead->Exhausted())
+    {
+      this->EvaluateAhead(loop, *ahead);
+    }
     PhaseClock clock(loop.PhaseTotals());
     this->SelectBatch(loop, batch);
     ++loop.Batches;
@@ -2762,10 +2961,19 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
     const bool more =
       batch.Parallel ? this->ParallelApply(batch, loop, result, clock) : this->ApplyBatch(batch, loop, result);
     clock.Next();
+    if (ahead)
+    {
+      this->CheckLookAhead(*ahead);
+    }
     if (!more)
     {
       break;
     }
+  }
+  if (ahead)
+  {
+    result.LookAheadEvaluated = ahead->Evaluated;
+    result.LookAheadTaken = ahead->TakenCount;
   }
 }
 

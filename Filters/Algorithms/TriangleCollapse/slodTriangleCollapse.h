@@ -126,6 +126,13 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // queue's lowest bucket (pops of the near future), in stages one pop apart; 0: none. Hints
   // only: the same output for any value (session 31).
   int UpcomingPrefetches = 8;
+  // With more than one thread the strict order may also evaluate (pick and check) up to this many
+  // upcoming pops ahead in parallel, those whose rings no earlier one of them touches; a pop that
+  // is one of them takes its evaluation, the one it would get at its turn. The same output for any
+  // value and thread count. 0 (default): none; 32 was not faster at the load it was measured at
+  // (session 33: the checks are about a quarter of the loop, and the look-ahead's own work and
+  // parallel loops cost about as much as the second thread takes over).
+  int LookAheadEvaluations = 0;
   // The order of the collapses (see CollapseSchedule).
   CollapseSchedule Schedule = CollapseSchedule::Queue;
   // The pass schedule's limit: PassErrorFactor times the cost of rank PassGoalShare x (triangles
@@ -217,6 +224,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // full window is tested again by the next fill), the threads that tested them, and the entries
   // that waited for the next pass (a vertex of their triangle moved in the pass).
   long long WindowTests = 0;
+  // The strict order's look-ahead (LookAheadEvaluations): entries evaluated ahead (those that held
+  // their rings) and pops that took such an evaluation.
+  long long LookAheadEvaluated = 0, LookAheadTaken = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first

@@ -473,17 +473,24 @@ TEST(QuadricTriangleCollapse, PassesAfterTheCollapsesVisitInOrderOnlyAtTheBudget
   }
 }
 
+// The strict order's test meshes: many ties (marching cubes), a scan, and a noisy scan-like
+// isosurface (rejections and retried triangles).
+std::vector<std::pair<const char*, vtkSmartPointer<vtkPolyData>>> StrictOrderMeshes()
+{
+  vtkNew<vtkScanSurfaceSource> scan;
+  scan->SetResolution(48);
+  scan->Update();
+  return { { "marching-cubes", Mesh("marching-cubes") }, { "bunny00", Mesh("bunny00") },
+    { "scan", vtkSmartPointer<vtkPolyData>(scan->GetOutput()) } };
+}
+
 // The strict order's prefetches of the next pops' neighbourhoods (UpcomingPrefetches, session 31)
 // are hints: without them, with the default and with the widest window the collapses are the same,
 // to the bit, on a mesh with many ties (marching cubes), a scan and a noisy scan-like isosurface
 // (rejections, retries), with the history recorded (its replay reads the same queue).
 TEST(QuadricTriangleCollapse, UpcomingPrefetchesGiveTheReferenceCollapses)
 {
-  vtkNew<vtkScanSurfaceSource> scan;
-  scan->SetResolution(48);
-  scan->Update();
-  const std::pair<const char*, vtkSmartPointer<vtkPolyData>> meshes[] = { { "marching-cubes", Mesh("marching-cubes") },
-    { "bunny00", Mesh("bunny00") }, { "scan", scan->GetOutput() } };
+  const auto meshes = StrictOrderMeshes();
   for (const auto& named : meshes)
   {
     const char* name = named.first;
@@ -512,6 +519,51 @@ TEST(QuadricTriangleCollapse, UpcomingPrefetchesGiveTheReferenceCollapses)
       EXPECT_EQ(reference.OutputToInput, results[i].OutputToInput) << name;
       EXPECT_EQ(reference.History.NewPositions, results[i].History.NewPositions) << name;
     }
+  }
+}
+
+// The strict order's look-ahead (LookAheadEvaluations, session 33) evaluates upcoming pops in
+// parallel and lets a pop take its evaluation: the same collapses, rejections, points, triangles,
+// ids and recorded positions as without it, for 1, 2 and 8 threads, on a mesh with many ties
+// (marching cubes), bunny00 and a noisy scan-like surface (rejections, retried triangles, which end
+// a look-ahead). With more than one thread most pops must take an evaluation made ahead (else the
+// test would check nothing); with one thread there is none (nothing to run it on).
+TEST(QuadricTriangleCollapse, LookAheadEvaluationsGiveTheStrictCollapsesForAnyThreadCount)
+{
+  const auto meshes = StrictOrderMeshes();
+  for (const auto& named : meshes)
+  {
+    const char* name = named.first;
+    TriangleCollapseOptions options;
+    options.TargetTriangles = named.second->GetNumberOfPolys() / 10;
+    options.RecordHistory = true;
+    options.LookAheadEvaluations = 0;
+    const std::vector<TriangleCollapseResult> strict = ResultsForOneTwoAndEightThreads(named.second, options);
+    options.LookAheadEvaluations = 32;
+    const std::vector<TriangleCollapseResult> ahead = ResultsForOneTwoAndEightThreads(named.second, options);
+    const TriangleCollapseResult& reference = strict[0];
+    ASSERT_GT(reference.Collapses, 0) << name;
+    EXPECT_EQ(reference.LookAheadTaken, 0) << name;
+    EXPECT_EQ(ahead[0].LookAheadTaken, 0) << name << ": one thread evaluated ahead";
+    for (size_t i = 1; i < ahead.size(); ++i)
+    {
+      EXPECT_GT(2 * ahead[i].LookAheadTaken, reference.Collapses) << name << ": few pops took an evaluation made ahead";
+      EXPECT_LE(ahead[i].LookAheadTaken, ahead[i].LookAheadEvaluated) << name;
+    }
+    for (const std::vector<TriangleCollapseResult>* runs : { &strict, &ahead })
+    {
+      for (const TriangleCollapseResult& result : *runs)
+      {
+        EXPECT_EQ(reference.Collapses, result.Collapses) << name;
+        EXPECT_EQ(reference.RejectedCollapses, result.RejectedCollapses) << name;
+        EXPECT_EQ(reference.Mesh.Points, result.Mesh.Points) << name;
+        EXPECT_EQ(reference.Mesh.Triangles, result.Mesh.Triangles) << name;
+        EXPECT_EQ(reference.OutputToInput, result.OutputToInput) << name;
+        EXPECT_EQ(reference.History.NewPositions, result.History.NewPositions) << name;
+      }
+    }
+    std::printf("%s: %lld collapses; 2 threads: %lld evaluated ahead, %lld taken\n", name, static_cast<long long>(reference.Collapses),
+      ahead[1].LookAheadEvaluated, ahead[1].LookAheadTaken);
   }
 }
 
