@@ -212,14 +212,15 @@ void TrimToCount(const slod::TriangleMesh& mesh, const slod::RetilingOptions& op
 // output has another count, re-tile with the candidates shifted by the difference (bounded
 // attempts, never more than `limit` triangles), then trim a small surplus (TrimToCount). A result
 // with at most `trimmable` vertices too many is as good as exact, and better than any other, so
-// the attempts aim at the middle of that window.
+// the attempts aim at the middle of that window; where the trim leaves a surplus (its candidates
+// held: tiny meshes), the remaining attempts look for the exact count itself.
 slod::RetilingResult RetileExactCount(const slod::TriangleMesh& mesh, slod::RetilingOptions& options,
   slod::Index wanted, slod::Index limit, slod::RetilingResult result)
 {
   // Each attempt steps from the last attempt's own count (retained vertices vary with the
   // candidates, so the best result's count would step past the target again and again); a step
   // back onto a count already tried halves the gap to the nearest tried count instead.
-  const slod::Index trimmable = std::max<slod::Index>(2, wanted / 50);
+  slod::Index trimmable = std::max<slod::Index>(2, wanted / 50);
   const auto settled = [&](slod::Index vertices) { return vertices >= wanted && vertices - wanted <= trimmable; };
   const auto miss = [&](slod::Index vertices) {
     return settled(vertices) ? vertices - wanted : std::abs(vertices - wanted) + trimmable;
@@ -227,38 +228,43 @@ slod::RetilingResult RetileExactCount(const slod::TriangleMesh& mesh, slod::Reti
   std::vector<slod::Index> tried{ options.NumberOfPoints };
   slod::RetilingOptions attempt = options;
   slod::Index last = result.Mesh.NumberOfPoints();
-  for (int k = 0; k < MaximumExactCountAttempts && !result.Aborted && !settled(result.Mesh.NumberOfPoints()); ++k)
+  int k = 0;
+  for (int phase = 0; phase < 2 && !result.Aborted; ++phase)
   {
-    slod::Index points = attempt.NumberOfPoints + (wanted + trimmable / 2 - last);
-    if (std::find(tried.begin(), tried.end(), points) != tried.end())
+    for (; k < MaximumExactCountAttempts && !result.Aborted && !settled(result.Mesh.NumberOfPoints()); ++k)
     {
-      points = (points + attempt.NumberOfPoints) / 2;
+      slod::Index points = attempt.NumberOfPoints + (wanted + trimmable / 2 - last);
+      if (std::find(tried.begin(), tried.end(), points) != tried.end())
+      {
+        points = (points + attempt.NumberOfPoints) / 2;
+      }
+      if (points < 4 || std::find(tried.begin(), tried.end(), points) != tried.end())
+      {
+        break;
+      }
+      tried.push_back(points);
+      attempt.NumberOfPoints = points;
+      const slod::Index best = result.Mesh.NumberOfPoints();
+      // Repaired only when kept (the repair changes no count).
+      attempt.ContinueWithCounts = [&](slod::Index vertices, slod::Index triangles) {
+        last = vertices;
+        return triangles <= limit && miss(vertices) < miss(best);
+      };
+      slod::RetilingResult next;
+      slod::Retile(mesh, attempt, next);
+      if (next.Aborted)
+      {
+        return next;
+      }
+      if (!next.Stopped && next.Mesh.NumberOfTriangles() <= limit && miss(next.Mesh.NumberOfPoints()) < miss(best))
+      {
+        result = std::move(next);
+        options.NumberOfPoints = attempt.NumberOfPoints;
+      }
     }
-    if (points < 4 || std::find(tried.begin(), tried.end(), points) != tried.end())
-    {
-      break;
-    }
-    tried.push_back(points);
-    attempt.NumberOfPoints = points;
-    const slod::Index best = result.Mesh.NumberOfPoints();
-    // Repaired only when kept (the repair changes no count).
-    attempt.ContinueWithCounts = [&](slod::Index vertices, slod::Index triangles) {
-      last = vertices;
-      return triangles <= limit && miss(vertices) < miss(best);
-    };
-    slod::RetilingResult next;
-    slod::Retile(mesh, attempt, next);
-    if (next.Aborted)
-    {
-      return next;
-    }
-    if (!next.Stopped && next.Mesh.NumberOfTriangles() <= limit && miss(next.Mesh.NumberOfPoints()) < miss(best))
-    {
-      result = std::move(next);
-      options.NumberOfPoints = attempt.NumberOfPoints;
-    }
+    TrimToCount(mesh, options, wanted, result);
+    trimmable = 0;
   }
-  TrimToCount(mesh, options, wanted, result);
   return result;
 }
 
