@@ -1993,18 +1993,18 @@ std::vector<Vec3> HostNormals(const TriangleMesh& mesh, const std::vector<Vec3>&
   return normals;
 }
 
-// Section 6.2: a coarser nested level from the next finer one. Every vertex of the finer level
-// that is not one of the first `keep` candidates is removed by the re-tiling's own step 5 (phases
-// 0-1 and their relaxed repeat, facing tested against the input's normals; phase 2 never applies
-// since every kept vertex is fixed), then step 6's flips; each collapse and flip is recorded
-// (coarse.Removals, in the finer level's ids). The survivors keep the finer level's order, so the first vertices are the kept
-// candidates in candidate order. Returns false when aborted.
-bool DeriveCoarserLevel(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
-  const RetilingResult& fine, Index keep, const RetilingOptions& options, RetilingResult& coarse,
-  std::vector<Index>& survivors)
+// Section 6.2's removal: every vertex of `fine` not flagged in `keep` is removed by the
+// re-tiling's own step 5 (phases 0-1 and their relaxed repeat, facing tested against the input's
+// normals; phase 2 never applies since every kept vertex is fixed), then step 6's flips; each
+// collapse and flip is recorded (coarse.Removals, in the finer level's ids). The survivors keep the
+// finer level's order; those not kept (no collapse allowed) count in coarse.RetainedOldVertices.
+// Returns false when aborted.
+bool RemoveUnkeptVertices(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
+  const RetilingResult& fine, const std::vector<unsigned char>& keep, const RetilingOptions& options,
+  RetilingResult& coarse, std::vector<Index>& survivors)
 {
   const Index n = fine.Mesh.NumberOfPoints();
-  auto kept = [&](Index v) { return fine.Candidate[v] != InvalidIndex && fine.Candidate[v] < keep; };
+  auto kept = [&](Index v) { return keep[v] != 0; };
   // The removal's layout: the vertices to remove first ("old"), then the kept ones.
   std::vector<Index> order, rank(static_cast<size_t>(n));
   order.reserve(size_t(n));
@@ -2081,9 +2081,125 @@ bool DeriveCoarserLevel(const TriangleMesh& mesh, const TriangleBVH& bvh, const 
     coarse.Candidate[v] = fine.Candidate[f];
     coarse.RetainedOldVertices += kept(f) ? 0 : 1;
   }
-  coarse.CandidatePoints = keep;
   return true;
 }
+
+// Section 6.2: a coarser nested level from the next finer one, keeping the first `keep`
+// candidates (so the first vertices are the kept candidates in candidate order).
+bool DeriveCoarserLevel(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
+  const RetilingResult& fine, Index keep, const RetilingOptions& options, RetilingResult& coarse,
+  std::vector<Index>& survivors)
+{
+  std::vector<unsigned char> kept(size_t(fine.Mesh.NumberOfPoints()), 0);
+  for (size_t v = 0; v < kept.size(); ++v)
+  {
+    kept[v] = fine.Candidate[v] != InvalidIndex && fine.Candidate[v] < keep;
+  }
+  coarse.CandidatePoints = keep;
+  return RemoveUnkeptVertices(mesh, bvh, inputNormals, fine, kept, options, coarse, survivors);
+}
+
+// The free candidates of a re-tiling (not on a kept line, nor in `avoid`: candidate ids, nor next
+// to a retained old vertex: those sit in the thin parts and small handles where the topology holds
+// them, nor of valence 3: a tetrahedral component's), most crowded first (shortest edge), none
+// next to another one chosen: up to `count`.
+std::vector<Index> CrowdedCandidates(const RetilingResult& result, Index count, const std::vector<Index>& avoid)
+{
+  const TriangleMesh& m = result.Mesh;
+  const size_t nv = size_t(m.NumberOfPoints());
+  std::vector<double> shortest(nv, std::numeric_limits<double>::infinity());
+  std::vector<std::vector<Index>> neighbors(nv);
+  for (Index t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    const Index* tri = m.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index a = tri[k], b = tri[(k + 1) % 3];
+      const double length = Norm(m.Point(a) - m.Point(b));
+      shortest[a] = std::min(shortest[a], length);
+      shortest[b] = std::min(shortest[b], length);
+      neighbors[a].push_back(b);
+      neighbors[b].push_back(a);
+    }
+  }
+  std::vector<Index> order;
+  for (size_t v = 0; v < nv; ++v)
+  {
+    // Every edge is listed at both ends once per triangle: an inner vertex of valence 3 has 6.
+    if (result.Candidate[v] != InvalidIndex && result.Candidate[v] >= result.FeatureVertices &&
+      neighbors[v].size() > 6 && std::find(avoid.begin(), avoid.end(), result.Candidate[v]) == avoid.end())
+    {
+      order.push_back(Index(v));
+    }
+  }
+  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return shortest[a] < shortest[b]; });
+  std::vector<unsigned char> blocked(nv, 0);
+  for (size_t v = 0; v < nv; ++v)
+  {
+    if (result.Candidate[v] == InvalidIndex)
+    {
+      for (Index w : neighbors[v])
+      {
+        blocked[w] = 1;
+      }
+    }
+  }
+  std::vector<Index> chosen;
+  for (size_t i = 0; i < order.size() && Index(chosen.size()) < count; ++i)
+  {
+    if (!blocked[order[i]])
+    {
+      chosen.push_back(order[i]);
+      for (Index w : neighbors[order[i]])
+      {
+        blocked[w] = 1;
+      }
+    }
+  }
+  return chosen;
+}
+} // namespace
+
+bool RemoveCandidates(const TriangleMesh& mesh, const RetilingOptions& options, Index count, RetilingResult& result,
+  std::vector<Index>& stayed)
+{
+  const std::vector<Index> chosen = CrowdedCandidates(result, count, stayed);
+  if (chosen.empty())
+  {
+    return true;
+  }
+  std::vector<unsigned char> kept(size_t(result.Mesh.NumberOfPoints()), 1);
+  for (Index v : chosen)
+  {
+    kept[v] = 0;
+  }
+  const TriangleBVH bvh(mesh);
+  std::vector<Vec3> inputNormals;
+  VertexNormals(mesh, inputNormals);
+  RetilingResult fewer;
+  std::vector<Index> survivors;
+  if (!RemoveUnkeptVertices(mesh, bvh, inputNormals, result, kept, options, fewer, survivors))
+  {
+    return false;
+  }
+  result.Mesh = std::move(fewer.Mesh);
+  result.HostTriangle = std::move(fewer.HostTriangle);
+  result.Barycentric = std::move(fewer.Barycentric);
+  result.InputVertex = std::move(fewer.InputVertex);
+  result.Candidate = std::move(fewer.Candidate);
+  result.Flips += fewer.Flips;
+  for (size_t v = 0; v < survivors.size(); ++v)
+  {
+    if (!kept[survivors[v]])
+    {
+      stayed.push_back(result.Candidate[v]);
+    }
+  }
+  return true;
+}
+
+namespace
+{
 
 // Renumbers the vertices of a level (newToOld: old id of every new id) with everything stored per vertex.
 void RenumberLevel(RetilingResult& level, const std::vector<Index>& newToOld, const std::vector<Index>& oldToNew)

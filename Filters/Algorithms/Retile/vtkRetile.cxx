@@ -87,15 +87,32 @@ slod::RetilingResult InputAsResult(const slod::TriangleMesh& mesh)
 // randomness (a few vertices more or less) decides it.
 constexpr double MinimumAttemptSlope = 1.0;
 constexpr double MinimumSlopeStep = 0.05;
+// Which old vertices are retained changes from one attempt to the next (the MRI at 10%: 18, then
+// 24 at nearly the same point count), and each one more costs two triangles, so a step aimed at
+// the limit itself missed it by a few triangles about half the time and paid for a whole attempt
+// more. The step aims below the limit by RetainedVariationMargin standard deviations of the
+// difference of two retained counts, taken as counts of rare events (variance = mean, so
+// sqrt(2 R) for R retained in the last attempt), at most MaximumMarginShare of the points: on a
+// small mesh an attempt more costs little, and a margin of many points would leave the output
+// far below the target (anchor at 10%: 86 triangles for 105).
+constexpr double RetainedVariationMargin = 2.0;
+constexpr double MaximumMarginShare = 0.05;
+// The triangle and vertex counts of one attempt (negative triangles: aborted).
+struct AttemptCounts
+{
+  slod::Index Triangles = 0, Vertices = 0;
+};
 struct LimitAttempts
 {
   int Attempt = 0;
   slod::Index PreviousPoints = 0, PreviousTriangles = 0;
 
-  // The point count of the attempt after one of `points` points gave `triangles` triangles over
-  // `limit`, or 0 when there is none (the last attempt, or no smaller count to try).
-  slod::Index Next(slod::Index points, slod::Index limit, slod::Index triangles) const
+  // The point count of the attempt after one of `points` points gave `counts` over `limit`, or 0
+  // when there is none (the last attempt, or no smaller count to try). The vertices beyond the
+  // points are the retained old vertices (less any candidate dropped).
+  slod::Index Next(slod::Index points, slod::Index limit, AttemptCounts counts) const
   {
+    const slod::Index triangles = counts.Triangles;
     double slope = 2.0;
     if (double(this->PreviousPoints - points) >= MinimumSlopeStep * double(this->PreviousPoints))
     {
@@ -105,33 +122,38 @@ struct LimitAttempts
         return 0;
       }
     }
-    const auto fewer = static_cast<slod::Index>(std::floor(double(points) - double(triangles - limit) / slope));
+    const double retained = double(std::max<slod::Index>(0, counts.Vertices - points));
+    const double margin = std::floor(
+      std::min(RetainedVariationMargin * std::sqrt(2.0 * retained), MaximumMarginShare * double(points)));
+    const auto fewer = static_cast<slod::Index>(std::floor(double(points) - double(triangles - limit) / slope - margin));
     return this->Attempt + 1 >= MaximumRetileAttempts || fewer >= points || fewer < 4 ? 0 : fewer;
   }
 };
 
-// Runs retile(points, attempts) (returns the triangle count, negative when aborted) with `points`,
-// then with fewer points while the result has more than `limit` triangles (retained old vertices
-// and borders add triangles; LimitAttempts); leaves the point count of the last attempt in `points`.
+// Runs retile(points, attempts) (returns the attempt's counts, negative triangles when aborted)
+// with `points`, then with fewer points while the result has more than `limit` triangles
+// (retained old vertices and borders add triangles; LimitAttempts); leaves the point count of the
+// last attempt in `points`.
 template <typename RetileFunction>
 void ShrinkWhileOverLimit(slod::Index& points, slod::Index limit, RetileFunction&& retile)
 {
   for (LimitAttempts attempts; attempts.Attempt < MaximumRetileAttempts; ++attempts.Attempt)
   {
-    const slod::Index triangles = retile(points, attempts);
-    vtkLogF(TRACE, "retile attempt %d: %lld points -> %lld triangles (limit %lld)", attempts.Attempt,
-      static_cast<long long>(points), static_cast<long long>(triangles), static_cast<long long>(limit));
-    if (triangles < 0 || triangles <= limit)
+    const AttemptCounts counts = retile(points, attempts);
+    vtkLogF(TRACE, "retile attempt %d: %lld points -> %lld triangles, %lld vertices (limit %lld)", attempts.Attempt,
+      static_cast<long long>(points), static_cast<long long>(counts.Triangles),
+      static_cast<long long>(counts.Vertices), static_cast<long long>(limit));
+    if (counts.Triangles < 0 || counts.Triangles <= limit)
     {
       break;
     }
-    const slod::Index fewer = attempts.Next(points, limit, triangles);
+    const slod::Index fewer = attempts.Next(points, limit, counts);
     if (fewer == 0)
     {
       break;
     }
     attempts.PreviousPoints = points;
-    attempts.PreviousTriangles = triangles;
+    attempts.PreviousTriangles = counts.Triangles;
     points = fewer;
   }
 }
@@ -145,59 +167,103 @@ slod::RetilingResult RetileWithin(const slod::TriangleMesh& mesh, slod::Retiling
     options.NumberOfPoints = points;
     // An attempt that another will follow is not repaired (the repair is most of the time on
     // noisy scans and changes no count).
-    options.ContinueWithCounts = [&](slod::Index, slod::Index triangles) {
-      return triangles <= limit || attempts.Next(points, limit, triangles) == 0;
+    options.ContinueWithCounts = [&](slod::Index vertices, slod::Index triangles) {
+      return triangles <= limit || attempts.Next(points, limit, AttemptCounts{ triangles, vertices }) == 0;
     };
     slod::Retile(mesh, options, result);
-    return result.Aborted ? slod::Index(-1) : result.Mesh.NumberOfTriangles();
+    return result.Aborted ? AttemptCounts{ -1, 0 }
+                          : AttemptCounts{ result.Mesh.NumberOfTriangles(), result.Mesh.NumberOfPoints() };
   });
   options.ContinueWithCounts = nullptr;
   return result;
 }
 
+// The candidate-count attempts cannot settle an exact vertex count on their own: which old vertices
+// are retained changes with the candidates (femur asked for 400 gave 401; 436 in an older build).
+// A re-tiling with a few vertices too many loses its most crowded candidates instead
+// (slod::RemoveCandidates), a few rounds while some go; one that stays (no collapse allowed) is
+// not chosen again.
+constexpr int MaximumTrimRounds = 5;
+void TrimToCount(const slod::TriangleMesh& mesh, const slod::RetilingOptions& options, slod::Index wanted,
+  slod::RetilingResult& result)
+{
+  slod::RetilingOptions trim = options;
+  trim.ContinueWithCounts = nullptr;
+  std::vector<slod::Index> stayed;
+  for (int round = 0; round < MaximumTrimRounds && !result.Aborted && !result.Stopped; ++round)
+  {
+    const slod::Index before = result.Mesh.NumberOfPoints();
+    if (before <= wanted)
+    {
+      return;
+    }
+    if (!slod::RemoveCandidates(mesh, trim, before - wanted, result, stayed))
+    {
+      result = slod::RetilingResult();
+      result.Aborted = true;
+      return;
+    }
+    vtkLogF(TRACE, "retile exact count: %lld -> %lld vertices (%lld asked)", static_cast<long long>(before),
+      static_cast<long long>(result.Mesh.NumberOfPoints()), static_cast<long long>(wanted));
+  }
+}
+
 // An explicit vertex count: the retained old vertices come on top of the candidates, so while the
 // output has another count, re-tile with the candidates shifted by the difference (bounded
-// attempts, never more than `limit` triangles); returns the attempt closest to `wanted`.
+// attempts, never more than `limit` triangles), then trim a small surplus (TrimToCount). A result
+// with at most `trimmable` vertices too many is as good as exact, and better than any other, so
+// the attempts aim at the middle of that window; where the trim leaves a surplus (its candidates
+// held: tiny meshes), the remaining attempts look for the exact count itself.
 slod::RetilingResult RetileExactCount(const slod::TriangleMesh& mesh, slod::RetilingOptions& options,
   slod::Index wanted, slod::Index limit, slod::RetilingResult result)
 {
   // Each attempt steps from the last attempt's own count (retained vertices vary with the
   // candidates, so the best result's count would step past the target again and again); a step
   // back onto a count already tried halves the gap to the nearest tried count instead.
-  const auto miss = [&](slod::Index vertices) { return std::abs(vertices - wanted); };
+  slod::Index trimmable = std::max<slod::Index>(2, wanted / 50);
+  const auto settled = [&](slod::Index vertices) { return vertices >= wanted && vertices - wanted <= trimmable; };
+  const auto miss = [&](slod::Index vertices) {
+    return settled(vertices) ? vertices - wanted : std::abs(vertices - wanted) + trimmable;
+  };
   std::vector<slod::Index> tried{ options.NumberOfPoints };
   slod::RetilingOptions attempt = options;
   slod::Index last = result.Mesh.NumberOfPoints();
-  for (int k = 0; k < MaximumExactCountAttempts && !result.Aborted && miss(result.Mesh.NumberOfPoints()) > 0; ++k)
+  int k = 0;
+  for (int phase = 0; phase < 2 && !result.Aborted; ++phase)
   {
-    slod::Index points = attempt.NumberOfPoints + (wanted - last);
-    if (std::find(tried.begin(), tried.end(), points) != tried.end())
+    for (; k < MaximumExactCountAttempts && !result.Aborted && !settled(result.Mesh.NumberOfPoints()); ++k)
     {
-      points = (points + attempt.NumberOfPoints) / 2;
+      slod::Index points = attempt.NumberOfPoints + (wanted + trimmable / 2 - last);
+      if (std::find(tried.begin(), tried.end(), points) != tried.end())
+      {
+        points = (points + attempt.NumberOfPoints) / 2;
+      }
+      if (points < 4 || std::find(tried.begin(), tried.end(), points) != tried.end())
+      {
+        break;
+      }
+      tried.push_back(points);
+      attempt.NumberOfPoints = points;
+      const slod::Index best = result.Mesh.NumberOfPoints();
+      // Repaired only when kept (the repair changes no count).
+      attempt.ContinueWithCounts = [&](slod::Index vertices, slod::Index triangles) {
+        last = vertices;
+        return triangles <= limit && miss(vertices) < miss(best);
+      };
+      slod::RetilingResult next;
+      slod::Retile(mesh, attempt, next);
+      if (next.Aborted)
+      {
+        return next;
+      }
+      if (!next.Stopped && next.Mesh.NumberOfTriangles() <= limit && miss(next.Mesh.NumberOfPoints()) < miss(best))
+      {
+        result = std::move(next);
+        options.NumberOfPoints = attempt.NumberOfPoints;
+      }
     }
-    if (points < 4 || std::find(tried.begin(), tried.end(), points) != tried.end())
-    {
-      break;
-    }
-    tried.push_back(points);
-    attempt.NumberOfPoints = points;
-    const slod::Index best = result.Mesh.NumberOfPoints();
-    // Repaired only when kept (the repair changes no count).
-    attempt.ContinueWithCounts = [&](slod::Index vertices, slod::Index triangles) {
-      last = vertices;
-      return triangles <= limit && miss(vertices) < miss(best);
-    };
-    slod::RetilingResult next;
-    slod::Retile(mesh, attempt, next);
-    if (next.Aborted)
-    {
-      return next;
-    }
-    if (!next.Stopped && next.Mesh.NumberOfTriangles() <= limit && miss(next.Mesh.NumberOfPoints()) < miss(best))
-    {
-      result = std::move(next);
-      options.NumberOfPoints = attempt.NumberOfPoints;
-    }
+    TrimToCount(mesh, options, wanted, result);
+    trimmable = 0;
   }
   return result;
 }
@@ -226,9 +292,9 @@ void RetileNestedWithin(const slod::TriangleMesh& mesh, const slod::RetilingOpti
     slod::RetileNested(mesh, NestedLevelCounts(points, numberOfLevels, ratio), options, levels);
     if (levels.empty() || levels.back().Aborted)
     {
-      return slod::Index(-1);
+      return AttemptCounts{ -1, 0 };
     }
-    return levels.back().Mesh.NumberOfTriangles();
+    return AttemptCounts{ levels.back().Mesh.NumberOfTriangles(), levels.back().Mesh.NumberOfPoints() };
   });
 }
 

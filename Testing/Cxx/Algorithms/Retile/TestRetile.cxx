@@ -6,6 +6,7 @@
 #include "BadInputCorpus.h"
 #include "TestSupport.h"
 
+#include "slodFilterContract.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodRetileFeatures.h"
@@ -24,6 +25,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkLinearSubdivisionFilter.h"
+#include "vtkLogger.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -39,6 +41,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 using namespace slod;
 
@@ -1413,6 +1416,40 @@ TEST(Retile, ExplicitVertexCountIsMetOrExplained)
   }
 }
 
+// Issue 15: asked for N vertices, retile gives N. The retained old vertices vary with the
+// candidates, so the candidate-count attempts alone left meshes with handles and thin parts a few
+// vertices off (femur asked for 400: 401); the surplus now goes by removing crowded candidates.
+TEST(Retile, ExplicitVertexCountIsExactOnMeshesThatRetainVertices)
+{
+  struct Case
+  {
+    const char* Name;
+    vtkIdType Points;
+  };
+  for (const Case c : { Case{ "femur", 200 }, Case{ "femur", 300 }, Case{ "femur", 400 }, Case{ "femur", 500 },
+         Case{ "bones", 250 }, Case{ "bones", 400 }, Case{ "cheese", 900 } })
+  {
+    SCOPED_TRACE(std::string(c.Name) + " " + std::to_string(c.Points));
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(c.Name);
+    vtkNew<vtkRetile> filter;
+    filter->SetInputData(input);
+    filter->SetNumberOfPoints(c.Points);
+    filter->Update();
+    vtkPolyData* output = filter->GetOutput();
+    std::printf("[retile] %s asked for %lld vertices: %lld (%lld retained)\n", c.Name, (long long)c.Points,
+      (long long)output->GetNumberOfPoints(), (long long)filter->GetNumberOfRetainedVertices());
+    EXPECT_EQ(output->GetNumberOfPoints(), c.Points);
+    vtkDataArray* reached = output->GetFieldData()->GetArray("NumberOfPointsReached");
+    ASSERT_NE(reached, nullptr);
+    EXPECT_EQ(reached->GetTuple1(0), 1);
+    const MeshStatistics in = ComputeMeshStatistics(slodtest::ToTriangleMesh(input));
+    const MeshStatistics out = ComputeMeshStatistics(slodtest::RawTriangleMesh(output));
+    EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+    EXPECT_EQ(out.NonManifoldEdges, 0);
+    EXPECT_EQ(out.DegenerateTriangles, 0);
+  }
+}
+
 // Never more triangles than asked for nor than the input has, and no degenerate ones: a single
 // triangle (re-tiled with 4 points it had 3), a sphere asked for as many triangles as it has or
 // for more points than it has (retained vertices added triangles), and a sphere with one vertex
@@ -1486,6 +1523,49 @@ TEST(Retile, NeverMoreTrianglesThanAskedOrGivenNorDegenerateOnes)
   farFilter->Update();
   EXPECT_EQ(messages->Errors.size(), 1u);
   EXPECT_EQ(farFilter->GetOutput()->GetNumberOfPolys(), 0);
+}
+
+// Counts vtkRetile's whole re-tilings at a triangle target (one TRACE line per attempt).
+struct CountAttemptCounter
+{
+  int Attempts = 0;
+  CountAttemptCounter()
+  {
+    vtkLogger::AddCallback("retile-count-attempts", &CountAttemptCounter::Count, this, vtkLogger::VERBOSITY_TRACE);
+  }
+  ~CountAttemptCounter() { vtkLogger::RemoveCallback("retile-count-attempts"); }
+  static void Count(void* self, const vtkLogger::Message& message)
+  {
+    if (message.message && std::strstr(message.message, "retile attempt ") != nullptr)
+    {
+      ++static_cast<CountAttemptCounter*>(self)->Attempts;
+    }
+  }
+};
+
+// At a triangle target the retained old vertices change between attempts, so a second attempt
+// aimed at the target itself missed it by a few triangles and a third (or fourth) whole re-tiling
+// ran (the MRI at 10%: +35% CPU). These meshes keep old vertices at 10% and need a second attempt;
+// it must reach the target.
+TEST(Retile, SecondCountAttemptReachesTheTarget)
+{
+  for (const char* name : { "anchor", "bones", "boeing", "cheese", "couplingdown", "elephant", "femur", "helmet", "turbine" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    vtkNew<vtkRetile> filter;
+    filter->SetInputData(input);
+    filter->SetTargetReduction(0.9);
+    CountAttemptCounter counter;
+    filter->Update();
+    const vtkIdType target = TargetTriangleCount(slodtest::ToTriangleMesh(input).NumberOfTriangles(), 0, 0.9, false);
+    std::printf("[retile] %s at 10%%: %lld triangles for %lld, %d attempts, %lld retained\n", name,
+      (long long)filter->GetOutput()->GetNumberOfPolys(), (long long)target, counter.Attempts,
+      (long long)filter->GetNumberOfRetainedVertices());
+    EXPECT_GE(counter.Attempts, 1); // the premise: the attempts are seen
+    EXPECT_LE(counter.Attempts, 2);
+    EXPECT_LE(filter->GetOutput()->GetNumberOfPolys(), target);
+  }
 }
 
 TEST(Retile, NestedLevelsAreSubsets)
