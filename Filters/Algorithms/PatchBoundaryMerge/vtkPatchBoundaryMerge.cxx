@@ -194,6 +194,7 @@ struct vtkPatchBoundaryMerge::Cache
   double ThicknessBound(vtkPatchBoundaryMerge* self, vtkIdType target) const;
   bool FitPatchesToDeviation(vtkPatchBoundaryMerge* self, vtkIdType target);
   bool AutomaticNoiseTolerance(vtkPatchBoundaryMerge* self, vtkIdType target) const;
+  double NoiseToleranceFraction(vtkPatchBoundaryMerge* self, vtkIdType target) const;
   bool GrowForPatchSetting(vtkPatchBoundaryMerge* self, vtkIdType target, double scale, bool noiseWithheld);
   bool LoosenThickness(
     vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
@@ -281,6 +282,17 @@ bool vtkPatchBoundaryMerge::Cache::AutomaticNoiseTolerance(vtkPatchBoundaryMerge
     double(target) < MildTargetShare * double(this->Mesh.NumberOfTriangles());
 }
 
+// The PatchNoiseTolerance the patches are grown with: as set, or the automatic one (-1) unless
+// LoosenThickness withheld it.
+double vtkPatchBoundaryMerge::Cache::NoiseToleranceFraction(vtkPatchBoundaryMerge* self, vtkIdType target) const
+{
+  if (this->NoiseFraction >= 0)
+  {
+    return this->NoiseFraction;
+  }
+  return this->AutomaticNoiseTolerance(self, target) && !this->NoiseWithheld ? AggressiveTargetNoiseTolerance : 0.0;
+}
+
 // Grows the patches with the cached parameters scaled by ToleranceScale and builds the chain
 // hierarchy (and, on the first growth, the input's BVH beside them). False when aborted.
 bool vtkPatchBoundaryMerge::Cache::GrowPatches(vtkPatchBoundaryMerge* self, const slod::MeshTopology& topology)
@@ -301,11 +313,9 @@ bool vtkPatchBoundaryMerge::Cache::GrowPatches(vtkPatchBoundaryMerge* self, cons
     target > 0 && double(target) >= MildTargetShare * double(this->Mesh.NumberOfTriangles()) ? SmallPatchTriangles : 0;
   // The noise tolerance follows the plane distance (and so the target); none without a finite one.
   // Automatic (negative): on below the mild targets only.
-  const double noiseFraction = this->NoiseFraction >= 0
-    ? this->NoiseFraction
-    : (this->AutomaticNoiseTolerance(self, target) && !this->NoiseWithheld ? AggressiveTargetNoiseTolerance : 0.0);
-  growth.NoiseTolerance =
-    std::isfinite(growth.MaximumPlaneDistance) ? noiseFraction * growth.MaximumPlaneDistance : 0.0;
+  growth.NoiseTolerance = std::isfinite(growth.MaximumPlaneDistance)
+    ? this->NoiseToleranceFraction(self, target) * growth.MaximumPlaneDistance
+    : 0.0;
   const slod::ProgressFunction progress = slod::FilterProgress(self, 0.05, 0.65);
   auto initialize = [&]() {
     const auto initializing = Clock::now();
@@ -535,10 +545,11 @@ bool vtkPatchBoundaryMerge::Cache::CollapseFinerLevel(
   {
     return true;
   }
-  // Patches grown with the automatic noise tolerance (kept by LoosenThickness) are a scan's: their
-  // level lies within a few noise amplitudes of the input (noisy137 at 10%: 0.99x the bound), so
-  // LoosenThickness's ratio applies there (a CAD model grown with it, boeing at 10%: 11.7x).
-  const bool scan = this->AutomaticNoiseTolerance(self, target) && !this->NoiseWithheld;
+  // Patches grown with a noise tolerance (the automatic one kept by LoosenThickness, or one set)
+  // are a scan's: their level lies within a few noise amplitudes of the input (noisy137 at 10%:
+  // 0.99x the bound), so LoosenThickness's ratio applies there (a CAD model grown with the
+  // automatic one, boeing at 10%: 11.7x).
+  const bool scan = this->NoiseToleranceFraction(self, target) > 0;
   const double share = scan ? LooseDeviationRatio : FinerLevelDeviationShare;
   const double scale = this->ThicknessScale, toleranceScale = this->ToleranceScale;
   const double trigger = share * this->ThicknessBound(self, target) / scale;
