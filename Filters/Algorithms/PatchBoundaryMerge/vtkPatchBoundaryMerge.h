@@ -102,6 +102,18 @@ public:
   ///@}
 
   ///@{
+  /// Extension (issue 15, session 33) [on; needs FinalCollapses]: when the level of a count target
+  /// deviates from the input by more than 3/4 of the thickness bound as given (3x the deviation
+  /// expected of any simplification to that count, with PatchDeviationFactor 4), a level of 1.5x
+  /// the target is made from patches grown for that count and brought down to the target by the
+  /// final collapses (quadric order); the level with the smaller deviation (every input vertex
+  /// sampled) is kept. FinalCollapseCount then counts its collapses.
+  vtkSetMacro(CollapseFinerLevelForTarget, bool);
+  vtkGetMacro(CollapseFinerLevelForTarget, bool);
+  vtkBooleanMacro(CollapseFinerLevelForTarget, bool);
+  ///@}
+
+  ///@{
   /// Extension (issue 10, sessions 24 and 28) [-1: automatic]: a triangle whose three vertices lie
   /// within this fraction of the patch growth's plane distance (PatchPlaneDistance, capped by
   /// PatchDeviationFactor, scaled with AdaptPatchesToTarget) from the patch's running plane joins
@@ -271,6 +283,7 @@ protected:
   bool LoosenThicknessForTarget = true;
   double PatchThicknessScale = 1.0;
   bool NoiseToleranceWithheld = false;
+  bool CollapseFinerLevelForTarget = true;
   double PatchNoiseTolerance = -1.0;
   double BorderCornerAngle = 60.0;
   double MergeAngle = 20.0;
