@@ -1128,7 +1128,9 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
             opposite = this->Mesh->Triangle(n)[(j + 2) % 3];
           }
         }
-        if (shared == 2 || (shared == 1 && !vertexUsed[opposite]))
+        // Checked per triangle, not per head: one head may add two neighbours, and a half that
+        // took the whole patch would leave it empty and split nothing.
+        if ((shared == 2 || (shared == 1 && !vertexUsed[opposite])) && 2 * queue.size() < inPatch.size())
         {
           label[n] = half;
           queue.push_back(n);
@@ -1472,7 +1474,11 @@ struct GreedyCuts::Worker
     const Vec3 nq = Normalized(Cross(B - A, C - A));
     // Chapter 3's terrain patches may be steep (their triangles only face the height direction):
     // Q need only face it too, as its patch's triangles do.
-    if (Dot(nq, s.Normal) <= (G.Terrain ? MinimumTerrainCosine : MinimumNormalCosine))
+    // A stuck patch's own input triangle (ThinOriginals) need only face the patch's side: a sliver's
+    // normal is ill-conditioned, and keeping it adds no triangle the input did not have.
+    const double facing = Dot(nq, s.Normal);
+    const bool ownTriangle = this->ThinOriginals[s.Patch] && facing > 0 && this->IsPatchTriangle(s.Patch, ia, ib, ic);
+    if (facing <= (G.Terrain ? MinimumTerrainCosine : MinimumNormalCosine) && !ownTriangle)
     {
       return false;
     }
@@ -2387,7 +2393,8 @@ struct GreedyCuts::Worker
       this->Res.Triangles.insert(this->Res.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
       this->Res.TrianglePatch.insert(this->Res.TrianglePatch.end(), this->PatchTris[p].size() / 3, p);
       // A seam triangle kept as it is was never cut, so it is no fallback.
-      const bool fellBack = this->PatchOriginal[p] && !G.IsSeamPatch(p);
+      // An empty patch (a split left nothing in it) keeps nothing either.
+      const bool fellBack = this->PatchOriginal[p] && !G.IsSeamPatch(p) && !this->PatchTris[p].empty();
       this->Res.OriginalPatches += fellBack;
       if (fellBack)
       {

@@ -1171,6 +1171,32 @@ TEST(GreedyCutsSimplification, WrappedFansAreSplitSoNoPatchFallsBack)
   }
 }
 
+// Session 33: at small tolerances (0.002, 0.003 of the diagonal) dragknob and part kept 12
+// fallback patches each: a three-triangle piece holding a 0.09 degree input sliver whose normal
+// turns away from the piece's direction got stuck, and its split gave the whole piece to the half
+// (one breadth-first step added two neighbours), leaving an empty patch, itself counted as a
+// fallback, and the same stuck piece in every later round. Now the half never takes the whole
+// patch, an empty patch is no fallback, and a stuck patch's own input triangle need only face
+// its side. part is used by no other test.
+TEST(GreedyCutsSimplification, SmallTolerancesLeaveNoFallbackPatch)
+{
+  for (const std::string name : { "dragknob", "part" })
+  {
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    for (double eps : { 0.002, 0.003 })
+    {
+      vtkNew<vtkGreedyCutsSimplification> filter;
+      filter->SetInputData(input);
+      filter->SetMaximumError(eps);
+      filter->Update();
+      const std::string run = name + " eps " + std::to_string(eps);
+      ExpectValid(input, Collect(filter, input), run);
+      EXPECT_EQ(filter->GetOutput()->GetFieldData()->GetArray("FallbackPatches")->GetTuple1(0), 0) << run;
+      EXPECT_EQ(filter->GetOriginalPatches(), 0) << run;
+    }
+  }
+}
+
 // Session 26: staged final collapses (CollapseStages, off by default). A lower stage accepts only
 // the collapses whose new triangles lie within MaximumError / 2^k of the input, while the input's
 // proofs stay at MaximumError (the bound the cuts' output holds on entry): every property of the
