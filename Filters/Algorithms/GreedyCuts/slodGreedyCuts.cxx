@@ -783,6 +783,7 @@ void GreedyCuts::Initialize(const TriangleMesh& mesh, const PatchificationParame
     }
   }
   this->Bvh.Build(mesh);
+  this->AbsorbPatchesWithoutNormal();
   this->BuildPatchData();
   this->IsolateSeamTriangles();
   this->InitialLabels = this->Patches.TrianglePatches();
@@ -791,6 +792,90 @@ void GreedyCuts::Initialize(const TriangleMesh& mesh, const PatchificationParame
   {
     this->WasAborted = true;
   }
+}
+
+// A patch of zero-area input triangles only (collinear corners: a polygon's fan over collinear
+// vertices, CGAL's degtri_sliding) has no normal, so it cannot be projected and would fall back to
+// its original triangles in every run. Each of its triangles joins the patch across its longest
+// edge instead (its third corner lies on that edge: the neighbour's boundary only gains a vertex
+// on a straight segment), when that patch has a normal and does not hold the third corner yet (the
+// union stays a disk). Repeated while a triangle moves (a strip of them joins one by one), at most
+// once per triangle; a mesh without such a patch is untouched.
+void GreedyCuts::AbsorbPatchesWithoutNormal()
+{
+  const TriangleMesh& mesh = *this->Mesh;
+  const Index np = this->Patches.NumberOfPatches();
+  std::vector<unsigned char> normalless(size_t(np), 0);
+  bool any = false;
+  for (Index p = 0; p < np; ++p)
+  {
+    normalless[p] = Norm(this->HeightDirection[p]) == 0;
+    any = any || normalless[p];
+  }
+  if (!any)
+  {
+    return;
+  }
+  std::vector<Index> label = this->Patches.TrianglePatches();
+  const auto holds = [&](Index q, Index v) {
+    for (const Index* t = this->Topology.VertexTrianglesBegin(v); t != this->Topology.VertexTrianglesEnd(v); ++t)
+    {
+      if (label[*t] == q)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  for (bool moved = true; moved;)
+  {
+    moved = false;
+    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    {
+      if (!normalless[label[t]])
+      {
+        continue;
+      }
+      const Index* v = mesh.Triangle(t);
+      int longest = 0;
+      for (int k = 1; k < 3; ++k)
+      {
+        if (Norm(mesh.Point(v[(k + 1) % 3]) - mesh.Point(v[k])) >
+          Norm(mesh.Point(v[(longest + 1) % 3]) - mesh.Point(v[longest])))
+        {
+          longest = k;
+        }
+      }
+      const Index n = this->Topology.EdgeNeighbor(t, longest);
+      if (n != InvalidIndex && !normalless[label[n]] && !holds(label[n], v[(longest + 2) % 3]))
+      {
+        label[t] = label[n];
+        moved = true;
+      }
+    }
+  }
+  // Patches left empty are dropped (the others renumbered in order).
+  std::vector<Index> renumber(size_t(np), InvalidIndex);
+  for (Index l : label)
+  {
+    renumber[l] = 0;
+  }
+  Index kept = 0;
+  std::vector<Vec3> heights;
+  for (Index p = 0; p < np; ++p)
+  {
+    if (renumber[p] != InvalidIndex)
+    {
+      renumber[p] = kept++;
+      heights.push_back(this->HeightDirection[p]);
+    }
+  }
+  for (Index& l : label)
+  {
+    l = renumber[l];
+  }
+  this->Patches.BuildFromLabels(mesh, this->Topology, label, kept);
+  this->HeightDirection = std::move(heights);
 }
 
 // Per patch: its triangles (grouped), its inner vertices (on no chain), its boundary loop.
@@ -1128,7 +1213,9 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
             opposite = this->Mesh->Triangle(n)[(j + 2) % 3];
           }
         }
-        if (shared == 2 || (shared == 1 && !vertexUsed[opposite]))
+        // Checked per triangle, not per head: one head may add two neighbours, and a half that
+        // took the whole patch would leave it empty and split nothing.
+        if ((shared == 2 || (shared == 1 && !vertexUsed[opposite])) && 2 * queue.size() < inPatch.size())
         {
           label[n] = half;
           queue.push_back(n);
@@ -1472,7 +1559,11 @@ struct GreedyCuts::Worker
     const Vec3 nq = Normalized(Cross(B - A, C - A));
     // Chapter 3's terrain patches may be steep (their triangles only face the height direction):
     // Q need only face it too, as its patch's triangles do.
-    if (Dot(nq, s.Normal) <= (G.Terrain ? MinimumTerrainCosine : MinimumNormalCosine))
+    // A stuck patch's own input triangle (ThinOriginals) need only face the patch's side: a sliver's
+    // normal is ill-conditioned, and keeping it adds no triangle the input did not have.
+    const double facing = Dot(nq, s.Normal);
+    const bool ownTriangle = this->ThinOriginals[s.Patch] && facing > 0 && this->IsPatchTriangle(s.Patch, ia, ib, ic);
+    if (facing <= (G.Terrain ? MinimumTerrainCosine : MinimumNormalCosine) && !ownTriangle)
     {
       return false;
     }
@@ -2387,7 +2478,8 @@ struct GreedyCuts::Worker
       this->Res.Triangles.insert(this->Res.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
       this->Res.TrianglePatch.insert(this->Res.TrianglePatch.end(), this->PatchTris[p].size() / 3, p);
       // A seam triangle kept as it is was never cut, so it is no fallback.
-      const bool fellBack = this->PatchOriginal[p] && !G.IsSeamPatch(p);
+      // An empty patch (a split left nothing in it) keeps nothing either.
+      const bool fellBack = this->PatchOriginal[p] && !G.IsSeamPatch(p) && !this->PatchTris[p].empty();
       this->Res.OriginalPatches += fellBack;
       if (fellBack)
       {

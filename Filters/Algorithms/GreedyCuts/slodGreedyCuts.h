@@ -225,6 +225,7 @@ public:
 private:
   struct Worker;
   void BuildPatchData();
+  void AbsorbPatchesWithoutNormal();
   bool CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress,
     Index target = 0);
   bool NextLevel(const GreedyCutsParameters& parameters, const GreedyCutsResult* finer, bool collapses, bool fresh,
