@@ -1603,6 +1603,45 @@ TEST(SpbmLevel, FallbackPassesCompareOnlyThePatchesNextToAChange)
             << "); patch work " << workOn << " with, " << workOff << " without\n";
 }
 
+// Session 33 (issue 10): in a fallback pass, a patch kept as its original triangles in the pass
+// before too no longer counts as changed (KeptOriginalPatchesUnchanged), so the patches across its
+// chains keep their triangles. On noisy scans of seeds no other test uses, with the final
+// collapses to follow (failed unmerged patches go to their original triangles): the level is the
+// reference's (the same triangles in the same order, patches, curves, passes and failures), the
+// levels have original patches through several passes, and the passes triangulate again fewer
+// patches with the option than without.
+TEST(SpbmLevel, FallbackPassesLeaveThePatchesAroundKeptOriginalPatches)
+{
+  Index original = 0, againOn = 0, againOff = 0;
+  int laterPasses = 0;
+  for (const unsigned int seed : { 107u, 131u })
+  {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
+    SpbmLevel on, off;
+    for (const bool kept : { true, false })
+    {
+      GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) {
+        p.FinalCollapsesFollow = true;
+        p.KeptOriginalPatchesUnchanged = kept;
+      }, kept ? on : off);
+    }
+    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
+    ExpectSameLevelInSamePasses(on, off, seed);
+    EXPECT_EQ(on.FailedPatches, off.FailedPatches) << "seed " << seed;
+    EXPECT_LE(on.RetriangulatedPatches, off.RetriangulatedPatches) << "seed " << seed;
+    original += on.OriginalPatches;
+    laterPasses += std::max(0, on.Passes - 2);
+    againOn += on.RetriangulatedPatches;
+    againOff += off.RetriangulatedPatches;
+  }
+  ASSERT_GT(original, 0) << "the noisy scans must keep original patches";
+  ASSERT_GT(laterPasses, 0) << "the noisy scans must need passes after an original patch is made";
+  EXPECT_LT(againOn, againOff) << "patches triangulated again: " << againOn << " with, " << againOff << " without";
+  std::cout << original << " original patches, " << laterPasses << " later passes; triangulated again " << againOn
+            << " with, " << againOff << " without\n";
+}
+
 // Session 29 (issue 10): a whole-level pass measures the diagonal costs of its minimum-deviation
 // triangulations first, over threads, into per-diagonal slots cached in the serial order
 // (MeasureDiagonalsAhead). On noisy scans of seeds no other test uses, with 1, 2 and 8 threads:
