@@ -178,6 +178,10 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // same. The same level; a late pass no longer hashes every pair of corners of every patch. Off:
   // the context of every unchanged patch is compared (the reference).
   bool ReuseUntouchedPatches = true;
+  // With LocalFallbackTriangulation (session 33, issue 10): an original patch (fallback level
+  // OriginalLevel) that was one in the pass before too counts as unchanged, as do the patches
+  // across its chains; off: every original patch counts as changed in every pass (the reference).
+  bool KeptOriginalPatchesUnchanged = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
   // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices

@@ -87,7 +87,12 @@ void SpbmLevelGenerator::LevelTriangulation::MarkChangedPatches(const std::vecto
   for (Index q = 0; q < np; ++q)
   {
     const Index root = s.Find(q), before = previousRoot[q];
-    if (root != before || frozen[q] != previousFrozen[q] || frozen[q] == OriginalLevel || previousFailed[before])
+    // An original patch that was one in the pass before too has the same triangles, edges and
+    // normal (refused segments of others fail those others): it changes nothing around it.
+    const bool keptOriginal = parameters.KeptOriginalPatchesUnchanged && root == before &&
+      frozen[q] == OriginalLevel && previousFrozen[q] == OriginalLevel;
+    if (root != before || frozen[q] != previousFrozen[q] ||
+      (!keptOriginal && (frozen[q] == OriginalLevel || previousFailed[before])))
     {
       changed[root] = 1;
       changed[before] = 1; // when it is still a root, it lost q

@@ -1301,21 +1301,33 @@ void ExpectSameLevelInSamePasses(const SpbmLevel& a, const SpbmLevel& b, unsigne
   }
 }
 
-// For each seed: the tenth levels of its noisy scan with the boolean parameter `option` on and
-// off, which must be the same level in the same passes (the option changes how the work is done),
-// then `check(on, off, seed)` for what it changes.
-template <typename Check>
-void ExpectSameLevelsWithAndWithout(
-  std::initializer_list<unsigned int> seeds, bool SpbmLevelParameters::*option, Check&& check)
+// For each seed: the tenth levels of its noisy scan with adjust(parameters, true) and
+// adjust(parameters, false), which must be the same level in the same passes (the switch changes
+// how the work is done), then `check(on, off, seed)` for what it changes.
+template <typename Adjust, typename Check>
+void ExpectSameLevelsAdjusted(std::initializer_list<unsigned int> seeds, Adjust&& adjust, Check&& check)
 {
   for (const unsigned int seed : seeds)
   {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
     SpbmLevel on, off;
-    NoisyScanTenthLevelsWithAndWithout(seed, option, on, off);
+    for (const bool option : { true, false })
+    {
+      GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) { adjust(p, option); }, option ? on : off);
+    }
     ASSERT_FALSE(::testing::Test::HasFatalFailure()) << "seed " << seed;
     ExpectSameLevelInSamePasses(on, off, seed);
     check(on, off, seed);
   }
+}
+
+// The same with the boolean parameter `option` on and off.
+template <typename Check>
+void ExpectSameLevelsWithAndWithout(
+  std::initializer_list<unsigned int> seeds, bool SpbmLevelParameters::*option, Check&& check)
+{
+  ExpectSameLevelsAdjusted(seeds, [option](SpbmLevelParameters& p, bool on) { p.*option = on; }, check);
 }
 
 // Issue 10: a fallback pass that unmerges patches replays the previous pass's merging edits with
@@ -1521,26 +1533,19 @@ TEST(SpbmLevel, MergingPassesRebuildOnlyTheChainsThatChanged)
 TEST(SpbmLevel, ReplayedUnionsFoldTheirSupportsWhenRead)
 {
   long long unionsOn = 0, unionsOff = 0, folds = 0;
-  for (const unsigned int seed : { 61u, 67u })
-  {
-    auto pm = PatchedNoisyScan(seed);
-    ASSERT_TRUE(pm) << "seed " << seed;
-    SpbmLevel on, off;
-    for (const bool fold : { true, false })
-    {
-      GenerateTenthLevel(*pm, [&](SpbmLevelParameters& p) {
-        p.FlatnessMerge = true;
-        p.FoldSupportsWhenRead = fold;
-      }, fold ? on : off);
-    }
-    ASSERT_FALSE(HasFatalFailure()) << "seed " << seed;
-    ExpectSameLevelInSamePasses(on, off, seed);
-    EXPECT_LE(on.SupportUnions, off.SupportUnions) << "seed " << seed;
-    EXPECT_EQ(off.SupportFolds, 0) << "seed " << seed;
-    unionsOn += on.SupportUnions;
-    unionsOff += off.SupportUnions;
-    folds += on.SupportFolds;
-  }
+  ExpectSameLevelsAdjusted(
+    { 61u, 67u },
+    [](SpbmLevelParameters& p, bool fold) {
+      p.FlatnessMerge = true;
+      p.FoldSupportsWhenRead = fold;
+    },
+    [&](const SpbmLevel& on, const SpbmLevel& off, unsigned int seed) {
+      EXPECT_LE(on.SupportUnions, off.SupportUnions) << "seed " << seed;
+      EXPECT_EQ(off.SupportFolds, 0) << "seed " << seed;
+      unionsOn += on.SupportUnions;
+      unionsOff += off.SupportUnions;
+      folds += on.SupportFolds;
+    });
   ASSERT_GT(folds, 0) << "supports must be read after replayed unions";
   EXPECT_LT(unionsOn, unionsOff) << "supports united " << unionsOn << " with, " << unionsOff << " without";
 }
@@ -1624,6 +1629,37 @@ void ExpectSameLevelsOverThreads(std::initializer_list<unsigned int> seeds, bool
       check(on, reference, seed, threads);
     });
   }
+}
+
+// Session 33 (issue 10): in a fallback pass, a patch kept as its original triangles in the pass
+// before too no longer counts as changed (KeptOriginalPatchesUnchanged), so the patches across its
+// chains keep their triangles. On noisy scans of seeds 107 and 131, with the final
+// collapses to follow (failed unmerged patches go to their original triangles): the level is the
+// reference's (the same triangles in the same order, patches, curves, passes and failures), the
+// levels have original patches through several passes, and the passes triangulate again fewer
+// patches with the option than without.
+TEST(SpbmLevel, FallbackPassesLeaveThePatchesAroundKeptOriginalPatches)
+{
+  Index original = 0, againOn = 0, againOff = 0;
+  int laterPasses = 0;
+  // The final collapses follow: failed unmerged patches go straight to their original triangles.
+  const auto keptOriginals = [](SpbmLevelParameters& p, bool kept) {
+    p.FinalCollapsesFollow = true;
+    p.KeptOriginalPatchesUnchanged = kept;
+  };
+  ExpectSameLevelsAdjusted({ 107u, 131u }, keptOriginals, [&](const SpbmLevel& on, const SpbmLevel& off, unsigned int seed) {
+    EXPECT_EQ(on.FailedPatches, off.FailedPatches) << "seed " << seed;
+    EXPECT_LE(on.RetriangulatedPatches, off.RetriangulatedPatches) << "seed " << seed;
+    original += on.OriginalPatches;
+    laterPasses += std::max(0, on.Passes - 2);
+    againOn += on.RetriangulatedPatches;
+    againOff += off.RetriangulatedPatches;
+  });
+  ASSERT_GT(original, 0) << "the noisy scans must keep original patches";
+  ASSERT_GT(laterPasses, 0) << "the noisy scans must need passes after an original patch is made";
+  EXPECT_LT(againOn, againOff) << "patches triangulated again: " << againOn << " with, " << againOff << " without";
+  std::cout << original << " original patches, " << laterPasses << " later passes; triangulated again " << againOn
+            << " with, " << againOff << " without\n";
 }
 
 // Session 29 (issue 10): a whole-level pass measures the diagonal costs of its minimum-deviation
