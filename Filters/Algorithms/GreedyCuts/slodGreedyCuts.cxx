@@ -827,10 +827,20 @@ void GreedyCuts::AbsorbPatchesWithoutNormal()
     }
     return false;
   };
+  // Only the triangles of normalless patches are walked again (a round moves at least one of them
+  // or ends, so at most as many rounds as they are).
+  std::vector<Index> waiting;
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    if (normalless[label[t]])
+    {
+      waiting.push_back(t);
+    }
+  }
   for (bool moved = true; moved;)
   {
     moved = false;
-    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    for (const Index t : waiting)
     {
       if (!normalless[label[t]])
       {

@@ -2099,7 +2099,7 @@ bool DeriveCoarserLevel(const TriangleMesh& mesh, const TriangleBVH& bvh, const 
   return RemoveUnkeptVertices(mesh, bvh, inputNormals, fine, kept, options, coarse, survivors);
 }
 
-// The free candidates of a re-tiling (not on a kept line, nor in `avoid`: candidate ids, nor next
+// The free candidates of a re-tiling (not on a kept line, nor in `avoid`: sorted candidate ids, nor next
 // to a retained old vertex: those sit in the thin parts and small handles where the topology holds
 // them, nor of valence 3: a tetrahedral component's), most crowded first (shortest edge), none
 // next to another one chosen: up to `count`.
@@ -2107,41 +2107,42 @@ std::vector<Index> CrowdedCandidates(const RetilingResult& result, Index count, 
 {
   const TriangleMesh& m = result.Mesh;
   const size_t nv = size_t(m.NumberOfPoints());
-  std::vector<double> shortest(nv, std::numeric_limits<double>::infinity());
-  std::vector<std::vector<Index>> neighbors(nv);
-  for (Index t = 0; t < m.NumberOfTriangles(); ++t)
-  {
-    const Index* tri = m.Triangle(t);
-    for (int k = 0; k < 3; ++k)
+  const MeshTopology topology(m);
+  // Calls visit(w) for every neighbour w of v (twice for an inner edge: once per triangle).
+  const auto forNeighbors = [&](Index v, auto&& visit) {
+    for (const Index* t = topology.VertexTrianglesBegin(v); t != topology.VertexTrianglesEnd(v); ++t)
     {
-      const Index a = tri[k], b = tri[(k + 1) % 3];
-      const double length = Norm(m.Point(a) - m.Point(b));
-      shortest[a] = std::min(shortest[a], length);
-      shortest[b] = std::min(shortest[b], length);
-      neighbors[a].push_back(b);
-      neighbors[b].push_back(a);
+      const Index* tri = m.Triangle(*t);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (tri[k] != v)
+        {
+          visit(tri[k]);
+        }
+      }
     }
-  }
+  };
+  std::vector<double> shortest(nv, std::numeric_limits<double>::infinity());
   std::vector<Index> order;
   for (size_t v = 0; v < nv; ++v)
   {
-    // Every edge is listed at both ends once per triangle: an inner vertex of valence 3 has 6.
-    if (result.Candidate[v] != InvalidIndex && result.Candidate[v] >= result.FeatureVertices &&
-      neighbors[v].size() > 6 && std::find(avoid.begin(), avoid.end(), result.Candidate[v]) == avoid.end())
+    forNeighbors(Index(v), [&](Index w) { shortest[v] = std::min(shortest[v], Norm(m.Point(Index(v)) - m.Point(w))); });
+    // More than three triangles: an inner vertex of valence 3 (a tetrahedral component's) stays.
+    const auto triangles = topology.VertexTrianglesEnd(Index(v)) - topology.VertexTrianglesBegin(Index(v));
+    if (result.Candidate[v] != InvalidIndex && result.Candidate[v] >= result.FeatureVertices && triangles > 3 &&
+      !std::binary_search(avoid.begin(), avoid.end(), result.Candidate[v]))
     {
       order.push_back(Index(v));
     }
   }
   std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return shortest[a] < shortest[b]; });
   std::vector<unsigned char> blocked(nv, 0);
+  const auto block = [&](Index w) { blocked[w] = 1; };
   for (size_t v = 0; v < nv; ++v)
   {
     if (result.Candidate[v] == InvalidIndex)
     {
-      for (Index w : neighbors[v])
-      {
-        blocked[w] = 1;
-      }
+      forNeighbors(Index(v), block);
     }
   }
   std::vector<Index> chosen;
@@ -2150,18 +2151,19 @@ std::vector<Index> CrowdedCandidates(const RetilingResult& result, Index count, 
     if (!blocked[order[i]])
     {
       chosen.push_back(order[i]);
-      for (Index w : neighbors[order[i]])
-      {
-        blocked[w] = 1;
-      }
+      forNeighbors(order[i], block);
     }
   }
   return chosen;
 }
 } // namespace
 
-bool RemoveCandidates(const TriangleMesh& mesh, const RetilingOptions& options, Index count, RetilingResult& result,
-  std::vector<Index>& stayed)
+namespace
+{
+// One round of RemoveCandidates: up to `count` crowded candidates out; those that stay go to
+// `stayed`. False when aborted.
+bool RemoveCandidatesOnce(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
+  const RetilingOptions& options, Index count, RetilingResult& result, std::vector<Index>& stayed)
 {
   const std::vector<Index> chosen = CrowdedCandidates(result, count, stayed);
   if (chosen.empty())
@@ -2173,9 +2175,6 @@ bool RemoveCandidates(const TriangleMesh& mesh, const RetilingOptions& options, 
   {
     kept[v] = 0;
   }
-  const TriangleBVH bvh(mesh);
-  std::vector<Vec3> inputNormals;
-  VertexNormals(mesh, inputNormals);
   RetilingResult fewer;
   std::vector<Index> survivors;
   if (!RemoveUnkeptVertices(mesh, bvh, inputNormals, result, kept, options, fewer, survivors))
@@ -2194,6 +2193,33 @@ bool RemoveCandidates(const TriangleMesh& mesh, const RetilingOptions& options, 
     {
       stayed.push_back(result.Candidate[v]);
     }
+  }
+  std::sort(stayed.begin(), stayed.end());
+  return true;
+}
+} // namespace
+
+bool RemoveCandidates(const TriangleMesh& mesh, const RetilingOptions& options, Index wanted, int maximumRounds,
+  RetilingResult& result)
+{
+  if (result.Mesh.NumberOfPoints() <= wanted)
+  {
+    return true;
+  }
+  // The input's search structures, built once for every round.
+  const TriangleBVH bvh(mesh);
+  std::vector<Vec3> inputNormals;
+  VertexNormals(mesh, inputNormals);
+  std::vector<Index> stayed;
+  for (int round = 0; round < maximumRounds && result.Mesh.NumberOfPoints() > wanted; ++round)
+  {
+    const Index before = result.Mesh.NumberOfPoints();
+    if (!RemoveCandidatesOnce(mesh, bvh, inputNormals, options, before - wanted, result, stayed))
+    {
+      return false;
+    }
+    vtkLogF(TRACE, "retile exact count: %lld -> %lld vertices (%lld asked)", static_cast<long long>(before),
+      static_cast<long long>(result.Mesh.NumberOfPoints()), static_cast<long long>(wanted));
   }
   return true;
 }

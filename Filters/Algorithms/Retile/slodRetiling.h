@@ -169,14 +169,14 @@ SURFACELODFILTERS_EXPORT void Retile(const TriangleMesh& mesh, const RetilingOpt
 // its own vertices; counted in RetainedOldVertices). Spacing figures are not computed per level.
 SURFACELODFILTERS_EXPORT void RetileNested(const TriangleMesh& mesh, std::vector<Index> counts,
   const RetilingOptions& options, std::vector<RetilingResult>& levels);
-// Removes up to `count` free candidates (not on a kept line, nor listed in `stayed`) of a
-// re-tiling, the most crowded first and no two neighbours, as a coarser nested level is made
-// (section 6.2: collapses, flips, the repair's flips); a chosen candidate no collapse may remove
-// stays and is added to `stayed` (candidate ids). The vertices keep their order. vtkRetile's
-// explicit vertex count: the retained old vertices of one attempt come on top of the candidates.
-// Returns false when aborted (result then unchanged).
-SURFACELODFILTERS_EXPORT bool RemoveCandidates(const TriangleMesh& mesh, const RetilingOptions& options, Index count,
-  RetilingResult& result, std::vector<Index>& stayed);
+// Brings a re-tiling with more than `wanted` vertices down towards `wanted` by removing free
+// candidates (not on a kept line), the most crowded first and no two neighbours, as a coarser
+// nested level is made (section 6.2: collapses, flips, the repair's flips), in at most
+// `maximumRounds` rounds; a chosen candidate no collapse may remove stays and is not chosen
+// again. The vertices keep their order. vtkRetile's explicit vertex count: the retained old
+// vertices of one attempt come on top of the candidates. Returns false when aborted.
+SURFACELODFILTERS_EXPORT bool RemoveCandidates(const TriangleMesh& mesh, const RetilingOptions& options, Index wanted,
+  int maximumRounds, RetilingResult& result);
 // Re-tiling and the level interpolation compute in the coordinates' own precision: a surface whose
 // extent is more than this many times its median edge length (a vertex at 1e30 among unit edges,
 // a copy 1e15 away) leaves its edges below the rounding of the positions, and tiles degenerate.

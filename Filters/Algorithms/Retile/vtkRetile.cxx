@@ -187,24 +187,16 @@ constexpr int MaximumTrimRounds = 5;
 void TrimToCount(const slod::TriangleMesh& mesh, const slod::RetilingOptions& options, slod::Index wanted,
   slod::RetilingResult& result)
 {
+  if (result.Aborted || result.Stopped)
+  {
+    return;
+  }
   slod::RetilingOptions trim = options;
   trim.ContinueWithCounts = nullptr;
-  std::vector<slod::Index> stayed;
-  for (int round = 0; round < MaximumTrimRounds && !result.Aborted && !result.Stopped; ++round)
+  if (!slod::RemoveCandidates(mesh, trim, wanted, MaximumTrimRounds, result))
   {
-    const slod::Index before = result.Mesh.NumberOfPoints();
-    if (before <= wanted)
-    {
-      return;
-    }
-    if (!slod::RemoveCandidates(mesh, trim, before - wanted, result, stayed))
-    {
-      result = slod::RetilingResult();
-      result.Aborted = true;
-      return;
-    }
-    vtkLogF(TRACE, "retile exact count: %lld -> %lld vertices (%lld asked)", static_cast<long long>(before),
-      static_cast<long long>(result.Mesh.NumberOfPoints()), static_cast<long long>(wanted));
+    result = slod::RetilingResult();
+    result.Aborted = true;
   }
 }
 
