@@ -1802,6 +1802,12 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
       generator = std::make_unique<SpbmLevelGenerator>();
       generator->Initialize(cleaned.Mesh, merged);
     }
+    // The final collapses below take the level to the target, so SPBM need not fight for the
+    // count itself (as vtkPatchBoundaryMerge): failed patches that are unmerged already go
+    // straight to their original triangles (no pass per finer-chain level, each one triangulating
+    // the whole level again) and the target search skips the widest merging run (and the fallback
+    // passes and replays of its level) when the removal stops far above the target.
+    level.FinalCollapsesFollow = parameters.FinalCollapses;
     ok = generator->GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
     if (ok && parameters.FinalCollapses)
     {
