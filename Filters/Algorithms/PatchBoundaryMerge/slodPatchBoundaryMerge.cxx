@@ -471,6 +471,19 @@ int SpbmLevelGenerator::MergingRunCount() const
   return this->Work->Times.MergingRuns;
 }
 
+void SpbmLevelGenerator::RenewHelper()
+{
+  const bool spare = this->SpareState == this->Helper.get();
+  this->Helper.reset(new State);
+  // As Initialize sets it up.
+  this->Helper->DiagonalCosts.TrackVertices(size_t(this->Mesh->NumberOfPoints()));
+  this->Helper->DiagonalCosts.Reset(0);
+  if (spare)
+  {
+    this->SpareState = this->Helper.get();
+  }
+}
+
 int SpbmLevelGenerator::SideBySideProbeCount() const
 {
   return this->SideBySideProbes;

@@ -415,6 +415,8 @@ private:
   std::unique_ptr<State> Helper; // second working state: candidates run on two threads
   // Helper while a target search in Work may use it (GenerateForTarget without CompareCandidates).
   State* SpareState = nullptr;
+  // Replaces Helper by a fresh working state (its memory returned; SpareState follows it).
+  void RenewHelper();
   int SideBySideProbes = 0;
   mutable std::mutex LazyMutex;  // guards the lazily built InputTree and PatchSupport
   std::unique_ptr<TriangleBVH> InputTree; // over Mesh, taken or built on first use (non-planar patches)
