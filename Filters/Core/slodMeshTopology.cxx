@@ -5,6 +5,8 @@
 
 #include "slodUnionFind.h"
 
+#include "vtkSMPTools.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -413,22 +415,32 @@ MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh)
 
 double MeanAbsoluteCurvature(const TriangleMesh& mesh, const MeshTopology& topology, double creaseAngle)
 {
+  // The edges' terms (two normals and an atan2 each: a third of a second on a 2M-triangle scan)
+  // are computed over threads, then summed in edge order: the same sum, bit for bit, as one loop.
+  const Index ne = topology.NumberOfEdges();
+  std::vector<double> terms(static_cast<size_t>(ne), 0.0);
+  vtkSMPTools::For(0, vtkIdType(ne), 16384, [&](vtkIdType first, vtkIdType last) {
+    for (Index e = Index(first); e < Index(last); ++e)
+    {
+      if (topology.EdgeTriangleCount(e) != 2)
+      {
+        continue;
+      }
+      const Index* t = topology.EdgeTrianglesBegin(e);
+      const Vec3 n0 = Normalized(mesh.TriangleAreaVector(t[0]));
+      const Vec3 n1 = Normalized(mesh.TriangleAreaVector(t[1]));
+      const double angle = std::atan2(Norm(Cross(n0, n1)), Dot(n0, n1));
+      if (!(angle > creaseAngle)) // as the serial loop did, NaN included
+      {
+        terms[size_t(e)] =
+          angle * Norm(mesh.Point(topology.EdgeVertex(e, 1)) - mesh.Point(topology.EdgeVertex(e, 0)));
+      }
+    }
+  });
   double bending = 0;
-  for (Index e = 0; e < topology.NumberOfEdges(); ++e)
+  for (const double term : terms)
   {
-    if (topology.EdgeTriangleCount(e) != 2)
-    {
-      continue;
-    }
-    const Index* t = topology.EdgeTrianglesBegin(e);
-    const Vec3 n0 = Normalized(mesh.TriangleAreaVector(t[0]));
-    const Vec3 n1 = Normalized(mesh.TriangleAreaVector(t[1]));
-    const double angle = std::atan2(Norm(Cross(n0, n1)), Dot(n0, n1));
-    if (angle > creaseAngle)
-    {
-      continue;
-    }
-    bending += angle * Norm(mesh.Point(topology.EdgeVertex(e, 1)) - mesh.Point(topology.EdgeVertex(e, 0)));
+    bending += term;
   }
   const double area = mesh.TotalArea();
   return area > 0 ? bending / (2 * area) : 0.0;

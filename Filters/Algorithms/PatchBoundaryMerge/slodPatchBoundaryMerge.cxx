@@ -359,16 +359,27 @@ bool SpbmLevelGenerator::PredictionMemo::SameLevel(const PredictionMemo& m) cons
     m.RemovalTarget == this->RemovalTarget;
 }
 
-Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s)
+bool SpbmLevelGenerator::RememberedCount(const SpbmLevelParameters& parameters, const State& s, Index& count)
 {
-  // Searches (and re-aimed searches) ask for the same levels again: remember the answers.
-  PredictionMemo key = PredictionMemo::Of(parameters);
+  const PredictionMemo key = PredictionMemo::Of(parameters);
   for (const PredictionMemo& m : s.Memo)
   {
     if (key.SameLevel(m))
     {
-      return m.Count;
+      count = m.Count;
+      return true;
     }
+  }
+  return false;
+}
+
+Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s)
+{
+  // Searches (and re-aimed searches) ask for the same levels again: remember the answers.
+  PredictionMemo key = PredictionMemo::Of(parameters);
+  if (RememberedCount(parameters, s, key.Count))
+  {
+    return key.Count;
   }
   s.NoFreeze.assign(size_t(this->Patches->NumberOfPatches()), 0);
   const auto started = StageClock::now();
@@ -383,6 +394,12 @@ Index SpbmLevelGenerator::PredictTriangleCountIn(const SpbmLevelParameters& para
   else
   {
     this->RunMerging(parameters, s.NoFreeze, s);
+    if (s.Cancelled)
+    {
+      s.Cancelled = false;
+      s.Times.Merging += Since(started);
+      return -1;
+    }
   }
   s.Times.Merging += Since(started);
   ++s.Times.MergingRuns;
@@ -452,6 +469,24 @@ Index SpbmLevelGenerator::FinestLevelCountWithoutRun(const SpbmLevelParameters& 
 int SpbmLevelGenerator::MergingRunCount() const
 {
   return this->Work->Times.MergingRuns;
+}
+
+void SpbmLevelGenerator::RenewHelper()
+{
+  const bool spare = this->SpareState == this->Helper.get();
+  this->Helper.reset(new State);
+  // As Initialize sets it up.
+  this->Helper->DiagonalCosts.TrackVertices(size_t(this->Mesh->NumberOfPoints()));
+  this->Helper->DiagonalCosts.Reset(0);
+  if (spare)
+  {
+    this->SpareState = this->Helper.get();
+  }
+}
+
+int SpbmLevelGenerator::SideBySideProbeCount() const
+{
+  return this->SideBySideProbes;
 }
 
 SpbmLevelParameters SpbmLevelGenerator::FindParameters(
@@ -920,6 +955,14 @@ bool SpbmLevelGenerator::GenerateForTarget(Index target, const SpbmLevelParamete
   } report{ this->Work->Times };
   TargetCandidates run(target, abort);
   run.Compare = base.MergePatches && base.MergeAngle > 0 && base.CompareCandidates;
+  // Without the compared candidates the second working state is idle while Work searches: the
+  // search may probe there (ProbeAnglesSideBySide). The planned tries run after the searches.
+  struct SpareDuringSearches
+  {
+    State*& Spare;
+    ~SpareDuringSearches() { this->Spare = nullptr; }
+  } spare{ this->SpareState };
+  spare.Spare = run.Compare ? nullptr : this->Helper.get();
   if (!run.Compare)
   {
     this->PlanRemovalTries(base, run);

@@ -104,6 +104,13 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // given alpha1 is evaluated first, and RemovalMergeAngle is not probed when it reaches the
   // target (the same parameters, one merging run fewer). Off: the probe first (the reference).
   bool MildTargetProbesMergeAngleFirst = true;
+  // Target search (session 34, issue 10), GenerateForTarget with two threads and the second working
+  // state idle (CompareCandidates off or not applicable): the given alpha1 and RemovalMergeAngle
+  // are probed side by side, one per working state, and when the given alpha1 reaches the target
+  // the probe at RemovalMergeAngle (the wider, slower merging run) is cancelled. The same
+  // parameters as the serial order (RemovalMergeAngle first), unless the count rises with alpha1
+  // there. Off, or on one thread: the serial order (the reference).
+  bool ProbeAnglesSideBySide = true;
   // Target search (session 28, issue 15): when one more kept chain vertex takes the count from
   // below the accepted band (2% of the target, at least 2 triangles) to above the target, the
   // count above is taken when it is within the band above the target, and otherwise alpha1 is
@@ -286,6 +293,8 @@ public:
   // Merging runs of the first working state so far (searches and generation passes; a
   // remembered prediction runs none): the work of a level.
   int MergingRunCount() const;
+  // Target searches of GenerateForTarget whose alpha1 probes ran side by side (ProbeAnglesSideBySide).
+  int SideBySideProbeCount() const;
 
   // Generates the level. Returns false only when aborted through `abort`.
   bool Generate(const SpbmLevelParameters& parameters, SpbmLevel& level,
@@ -343,7 +352,10 @@ private:
   bool GenerateForTargetAndAngle(Index target, const SpbmLevelParameters& base, SpbmLevel& level,
     SpbmLevelParameters* used, const std::function<bool()>& abort, State& s, Index budget = 0);
   // The same as the public functions, on a given working state (one per candidate thread).
+  // -1 when the run was cancelled (State::Cancel): nothing is remembered then.
   Index PredictTriangleCountIn(const SpbmLevelParameters& parameters, State& s);
+  // The remembered prediction of `parameters` in `s`, without a run; false when there is none.
+  static bool RememberedCount(const SpbmLevelParameters& parameters, const State& s, Index& count);
   SpbmLevelParameters FindParametersIn(Index target, const SpbmLevelParameters& base, Index* predicted, State& s);
   // With a budget (> 0), a candidate whose count after a pass's merging is above it is abandoned:
   // `level` is left without triangles (fallback passes only add triangles); so is one whose first
@@ -401,6 +413,11 @@ private:
   };
   std::unique_ptr<State> Work;
   std::unique_ptr<State> Helper; // second working state: candidates run on two threads
+  // Helper while a target search in Work may use it (GenerateForTarget without CompareCandidates).
+  State* SpareState = nullptr;
+  // Replaces Helper by a fresh working state (its memory returned; SpareState follows it).
+  void RenewHelper();
+  int SideBySideProbes = 0;
   mutable std::mutex LazyMutex;  // guards the lazily built InputTree and PatchSupport
   std::unique_ptr<TriangleBVH> InputTree; // over Mesh, taken or built on first use (non-planar patches)
   std::unique_ptr<TriangleBVH> BuiltTree; // over TreeMesh by BuildInputTreeDuring, not used yet

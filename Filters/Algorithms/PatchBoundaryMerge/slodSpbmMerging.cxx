@@ -246,6 +246,7 @@ Index SpbmLevelGenerator::MergingRun::ForPatchChains(Index p, Functor&& f)
 void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& frozen)
 {
   const auto runStart = StageClock::now();
+  s.Cancelled = false;
   this->ResetForRun(frozen);
   const double refinementSeconds = Since(runStart);
   if (!parameters.MergePatches && !parameters.CollapseChains)
@@ -255,6 +256,12 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
   const auto mergingStart = StageClock::now();
   this->MergeInMeasureOrder();
   const double mergingSeconds = Since(mergingStart);
+  if (s.Cancelled)
+  {
+    s.EditsValid = false; // the record stops midway: no replay from it
+    vtkLogF(TRACE, "[spbm] merging run cancelled after %.4f s", Since(runStart));
+    return;
+  }
   const long long merged = s.Total;
   const auto removalStart = StageClock::now();
   this->RemoveDownToTarget();
@@ -571,8 +578,13 @@ void SpbmLevelGenerator::MergingRun::MergeInMeasureOrder()
 // Pops merge candidates until none is left (see MergeInMeasureOrder).
 void SpbmLevelGenerator::MergingRun::DrainMergeQueue()
 {
-  while (!s.MergeQueue.Empty())
+  for (unsigned pops = 0; !s.MergeQueue.Empty(); ++pops)
   {
+    if (pops % 1024 == 0 && s.CancelRequested())
+    {
+      s.Cancelled = true;
+      return;
+    }
     const double queued = -s.MergeQueue.TopKey();
     const Index c = s.MergeQueue.Pop();
     if (!this->Movable(c))

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -483,6 +484,11 @@ struct SpbmLevelGenerator::State
   // prediction's run): the first generation pass of the same level need not run it again.
   bool HoldsPrediction = false;
   PredictionMemo Holds{};
+  // Set by another thread to stop this state's merging run (a side-by-side probe no longer
+  // needed); the run then leaves no prediction, and Cancelled says so.
+  const std::atomic<bool>* Cancel = nullptr;
+  bool Cancelled = false;
+  bool CancelRequested() const { return this->Cancel && this->Cancel->load(std::memory_order_relaxed); }
 
   Index Find(Index p)
   {

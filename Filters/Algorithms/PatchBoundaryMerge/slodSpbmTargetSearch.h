@@ -24,6 +24,7 @@ private:
   // alpha1.
   double SearchMergeAngle();
   bool MildTarget() const;
+  bool GivenAngleReachesTarget(double angle);
   void BracketMergeAngle();
   void ReachWithRemoval(double angle);
   void ReachWithRelaxations();

@@ -1700,6 +1700,84 @@ TEST(SpbmLevel, TriangulationsAheadOverThreadsGiveTheSameLevel)
   EXPECT_GT(again, 0) << "the noisy scans must have patches whose triangulation ahead does not hold";
 }
 
+// Session 34 (issue 10): with two threads and the second working state idle (CompareCandidates
+// off), GenerateForTarget's search probes the given alpha1 beside RemovalMergeAngle, one merging run
+// in each working state, and cancels the wider one when the given alpha1 reaches the target
+// (ProbeAnglesSideBySide). On surfaces no other test tunes for, with 1, 2 and 8 threads: the same
+// parameters and level as the serial order (the option off), the probes side by side with two
+// threads or more and never with one, and among the cases both outcomes: the given alpha1 reaching
+// the target (a level without the removal at it) and the removal deciding.
+TEST(SpbmLevel, AngleProbesSideBySideGiveTheSameLevel)
+{
+  struct Case
+  {
+    std::string Name;
+    std::unique_ptr<PatchedMesh> Patched;
+    Index Target;
+  };
+  std::vector<Case> cases;
+  for (const unsigned int seed : { 113u, 127u })
+  {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
+    const Index target = pm->Mesh.NumberOfTriangles() / 10;
+    cases.push_back({ "noisy scan " + std::to_string(seed), std::move(pm), target });
+  }
+  {
+    auto pm = Patch(slodtest::ToTriangleMesh(slodtest::SyntheticIsosurface(60)));
+    const Index target = pm->Mesh.NumberOfTriangles() / 10;
+    cases.push_back({ "synthetic isosurface", std::move(pm), target });
+  }
+  const auto generate = [](const Case& c, bool sideBySide, SpbmLevel& level, SpbmLevelParameters& used, int& probes) {
+    SpbmLevelParameters base;
+    base.SizeWeightedMerge = true;
+    base.CompareCandidates = false;
+    base.ProbeAnglesSideBySide = sideBySide;
+    SpbmLevelGenerator generator;
+    generator.Initialize(c.Patched->Mesh, c.Patched->Patches);
+    ASSERT_TRUE(generator.GenerateForTarget(c.Target, base, level, &used));
+    probes = generator.SideBySideProbeCount();
+  };
+  int givenReached = 0, removalDecided = 0;
+  for (const Case& c : cases)
+  {
+    SCOPED_TRACE(c.Name);
+    SpbmLevel reference;
+    SpbmLevelParameters referenceUsed;
+    int referenceProbes = 0;
+    generate(c, false, reference, referenceUsed, referenceProbes);
+    ASSERT_FALSE(HasFatalFailure());
+    EXPECT_EQ(referenceProbes, 0);
+    slodtest::ForOneTwoAndEightThreads([&](int threads) {
+      SpbmLevel level;
+      SpbmLevelParameters used;
+      int probes = 0;
+      generate(c, true, level, used, probes);
+      ASSERT_FALSE(HasFatalFailure()) << threads << " threads";
+      EXPECT_EQ(level.Triangles, reference.Triangles) << threads << " threads";
+      EXPECT_EQ(level.Passes, reference.Passes) << threads << " threads";
+      EXPECT_EQ(used.Epsilon, referenceUsed.Epsilon) << threads << " threads";
+      EXPECT_EQ(used.MergeAngle, referenceUsed.MergeAngle) << threads << " threads";
+      EXPECT_EQ(used.RemovalTarget, referenceUsed.RemovalTarget) << threads << " threads";
+      if (threads == 1)
+      {
+        EXPECT_EQ(probes, 0);
+      }
+      else
+      {
+        EXPECT_GT(probes, 0) << threads << " threads";
+      }
+      std::cout << c.Name << ", " << threads << " threads: alpha1 " << used.MergeAngle << ", removal "
+                << used.RemovalTarget << ", " << level.TrianglePatch.size() << " triangles, " << probes
+                << " side-by-side probes\n";
+    });
+    givenReached += referenceUsed.RemovalTarget == 0 && referenceUsed.MergeAngle == SpbmLevelParameters().MergeAngle;
+    removalDecided += referenceUsed.RemovalTarget > 0;
+  }
+  EXPECT_GT(givenReached, 0) << "a case must reach the target at the given alpha1";
+  EXPECT_GT(removalDecided, 0) << "a case must need the removal";
+}
+
 // Session 25 (issue 10): a replayed pass treats the patches frozen at the same fallback level as
 // in the recorded run as clean (FrozenPatchesAreClean): the edits next to them are applied as
 // recorded instead of being tested again in every pass (with each collapse's recorded walk root
