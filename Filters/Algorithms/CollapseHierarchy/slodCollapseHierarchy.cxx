@@ -763,21 +763,22 @@ double CollapseHierarchy::CheapestEdgeError(Index t, EdgeChoice& choice) const
     {
       continue;
     }
-    const size_t slot = 3 * this->Row(t) + k;
+    const size_t row = this->Row(t), slot = 3 * row + size_t(k);
     EdgeCost cost;
-    if (this->EdgeCostStates.empty())
+    if (this->EdgeCostErrors.empty())
     {
       cost = this->EdgeCostOf(tri[k], tri[(k + 1) % 3]);
     }
-    else if (this->EdgeCostStates[slot] == UnknownEdgeCost)
+    else if (!EdgeCostKnown(this->EdgeCostErrors[slot]))
     {
       cost = this->EdgeCostOf(tri[k], tri[(k + 1) % 3]);
-      this->StoreEdgeCost(slot, cost);
+      this->StoreEdgeCost(row, k, cost, false); // (only t's evaluation writes t's row)
     }
     else
     {
-      const unsigned char state = this->EdgeCostStates[slot];
-      cost = { this->EdgeCostErrors[slot], static_cast<unsigned char>(state & 3), (state & 4) != 0 };
+      const unsigned char kind = (this->EdgeCostKinds[row] >> (2 * k)) & 3;
+      cost = { this->EdgeCostErrors[slot], static_cast<unsigned char>(kind == NotANumberKind ? 0 : kind),
+        kind == NotANumberKind };
     }
     ordered = ordered && !cost.NotANumber;
     if (cost.Kind < 3 && cost.Error < cheapest)
@@ -859,10 +860,24 @@ CollapseHierarchy::EdgeCost CollapseHierarchy::CheapestPlacement(const EdgePlace
   return cost;
 }
 
-void CollapseHierarchy::StoreEdgeCost(size_t slot, const EdgeCost& cost) const
+void CollapseHierarchy::StoreEdgeCost(size_t row, int edge, const EdgeCost& cost, bool concurrent) const
 {
-  this->EdgeCostErrors[slot] = static_cast<float>(cost.Error); // (exact: CheapestPlacement rounded it)
-  this->EdgeCostStates[slot] = static_cast<unsigned char>(cost.Kind | (cost.NotANumber ? 4 : 0));
+  const unsigned kind = cost.NotANumber ? NotANumberKind : (cost.Kind < 3 ? cost.Kind : 0u);
+  const unsigned shift = 2 * unsigned(edge);
+  unsigned char* kinds = &this->EdgeCostKinds[row];
+  const auto with = [&](unsigned char old) { return static_cast<unsigned char>((old & ~(3u << shift)) | kind << shift); };
+  if (concurrent)
+  {
+    unsigned char old = __atomic_load_n(kinds, __ATOMIC_RELAXED);
+    while (!__atomic_compare_exchange_n(kinds, &old, with(old), true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+    {
+    }
+  }
+  else
+  {
+    *kinds = with(*kinds);
+  }
+  this->EdgeCostErrors[3 * row + size_t(edge)] = static_cast<float>(cost.Error); // (exact: CheapestPlacement rounded it)
 }
 
 // The spokes (v, w) of vertex v's fan, each priced once for the two triangles that share it: the
@@ -877,7 +892,8 @@ void CollapseHierarchy::PriceSpokesOf(Index v, bool allVertices) const
   struct Spoke
   {
     Index Other;
-    size_t Slot;
+    size_t Row;
+    int Edge;
   };
   Spoke leaving[HubValence], entering[HubValence];
   int nl = 0, ne = 0, fan = 0;
@@ -891,14 +907,14 @@ void CollapseHierarchy::PriceSpokesOf(Index v, bool allVertices) const
     {
       return;
     }
-    const size_t out = 3 * this->Row(x) + c, in = 3 * this->Row(x) + (c + 2) % 3;
-    if (this->EdgeCostStates[out] == UnknownEdgeCost && !otherPrices(next))
+    const size_t row = this->Row(x);
+    if (!EdgeCostKnown(this->EdgeCostErrors[3 * row + c]) && !otherPrices(next))
     {
-      leaving[nl++] = { next, out };
+      leaving[nl++] = { next, row, c };
     }
-    if (this->EdgeCostStates[in] == UnknownEdgeCost && !otherPrices(previous))
+    if (!EdgeCostKnown(this->EdgeCostErrors[3 * row + (c + 2) % 3]) && !otherPrices(previous))
     {
-      entering[ne++] = { previous, in };
+      entering[ne++] = { previous, row, (c + 2) % 3 };
     }
   });
   for (int i = 0; fits && i < nl; ++i)
@@ -909,8 +925,8 @@ void CollapseHierarchy::PriceSpokesOf(Index v, bool allVertices) const
       {
         EdgeCost uv, vu;
         this->EdgeCostsBothWays(v, leaving[i].Other, uv, vu);
-        this->StoreEdgeCost(leaving[i].Slot, uv);
-        this->StoreEdgeCost(entering[j].Slot, vu);
+        this->StoreEdgeCost(leaving[i].Row, leaving[i].Edge, uv, true);
+        this->StoreEdgeCost(entering[j].Row, entering[j].Edge, vu, true);
         entering[j] = entering[--ne];
         break;
       }
@@ -937,7 +953,7 @@ struct CollapseHierarchy::SpokePricing
 // would compute, so the same hierarchy.
 void CollapseHierarchy::PriceSpokes(const std::vector<Index>* vertices)
 {
-  if (this->EdgeCostStates.empty() || !this->PreferringEdges())
+  if (this->EdgeCostErrors.empty() || !this->PreferringEdges())
   {
     return;
   }
@@ -970,7 +986,7 @@ void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
     {
       if (q[k] == v || q[(k + 1) % 3] == v)
       {
-        this->EdgeCostStates[3 * this->Row(x) + k] = UnknownEdgeCost;
+        this->ForgetEdgeCost(3 * this->Row(x) + k);
       }
     }
   });
@@ -993,18 +1009,14 @@ int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements
   return n;
 }
 
-Index CollapseHierarchy::Degree(Index v) const
+Index CollapseHierarchy::CacheDegree(Index v) const
 {
-  VertexChange& change = this->VertexChanges[v];
-  if (change.Degree < 0)
+  const Index degree = this->Mesh.VertexDegree(v);
+  if (!this->DegreesFrozen && degree < UnknownDegree)
   {
-    if (this->DegreesFrozen)
-    {
-      return this->Mesh.VertexDegree(v);
-    }
-    change.Degree = this->Mesh.VertexDegree(v);
+    this->VertexDegrees[v] = static_cast<std::uint16_t>(degree);
   }
-  return change.Degree;
+  return degree;
 }
 
 int CollapseHierarchy::HubMask(Index t) const
@@ -1240,7 +1252,7 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   this->VersionsBornBy.push_back(this->NumberOfEntries()); // (the versions below are born at k + 1)
   this->GlobalOf[kept] = this->PointOfCollapse(k);
   this->MarkChangedAround(kept);
-  if (!this->EdgeCostStates.empty())
+  if (!this->EdgeCostErrors.empty())
   {
     this->ForgetEdgeCostsAround(kept);
   }
@@ -1273,13 +1285,13 @@ void CollapseHierarchy::MarkChangedAround(Index v)
 void CollapseHierarchy::MarkChangedAround(Index v, Index stamp)
 {
   const auto raise = [&](Index w) {
-    VertexChange& change = this->VertexChanges[w];
-    Index old = __atomic_load_n(&change.Stamp, __ATOMIC_RELAXED);
+    Index* changed = &this->VertexStamps[w];
+    Index old = __atomic_load_n(changed, __ATOMIC_RELAXED);
     while (old < stamp &&
-      !__atomic_compare_exchange_n(&change.Stamp, &old, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+      !__atomic_compare_exchange_n(changed, &old, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
     {
     }
-    __atomic_store_n(&change.Degree, Index(-1), __ATOMIC_RELAXED);
+    __atomic_store_n(&this->VertexDegrees[w], UnknownDegree, __ATOMIC_RELAXED);
   };
   raise(v);
   this->Mesh.ForEachTriangle(v, [&](Index x) {
@@ -1307,8 +1319,7 @@ bool CollapseHierarchy::StarsUnchangedSince(Index t, Index stamp, int skipMask) 
     }
     this->Mesh.ForEachTriangle(tri[k], [&](Index x) {
       const Index* q = this->Mesh.Triangle(x);
-      same = same && this->VertexChanges[q[0]].Stamp <= stamp && this->VertexChanges[q[1]].Stamp <= stamp &&
-        this->VertexChanges[q[2]].Stamp <= stamp;
+      same = same && this->VertexStamps[q[0]] <= stamp && this->VertexStamps[q[1]] <= stamp && this->VertexStamps[q[2]] <= stamp;
     });
   }
   return same;
@@ -1327,9 +1338,9 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   {
     this->EndVersion(this->EntryOf[this->Row(t)], k);
     this->AppendEntry(t, AllCorners);
-    if (!this->EdgeCostStates.empty())
+    if (!this->EdgeCostErrors.empty())
     {
-      std::fill_n(this->EdgeCostStates.begin() + 3 * this->Row(t), 3, UnknownEdgeCost); // new corners
+      std::fill_n(this->EdgeCostErrors.begin() + 3 * this->Row(t), 3, std::numeric_limits<float>::quiet_NaN()); // new corners
     }
   }
   this->Records.AppendFlip(flip);
@@ -1862,7 +1873,7 @@ void CollapseHierarchy::CompactRows(LevelState& state)
         KeepRows(this->BlockedEdge.Wide, oldRows, 1);
         break;
       case 7:
-        KeepRows(this->EdgeCostStates, oldRows, 3);
+        KeepRows(this->EdgeCostKinds, oldRows, 1);
         break;
       case 8:
         KeepRows(this->PaperTerms, oldRows, 1);
@@ -1921,7 +1932,8 @@ void CollapseHierarchy::ReleaseWorkingData()
   release(this->EntryOf);
   this->RowOf.Release();
   release(this->VertexMark);
-  release(this->VertexChanges);
+  release(this->VertexStamps);
+  release(this->VertexDegrees);
   for (BlockedColumn* column : { &this->BlockedStrict, &this->BlockedRelaxed, &this->BlockedEdge })
   {
     release(column->Narrow);
@@ -1929,7 +1941,7 @@ void CollapseHierarchy::ReleaseWorkingData()
   }
   release(this->BlockEpochs);
   release(this->EdgeCostErrors);
-  release(this->EdgeCostStates);
+  release(this->EdgeCostKinds);
   release(this->Spokes);
   release(this->Working);
   release(this->Rests);
@@ -1946,7 +1958,8 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
   const size_t records = bytes(r.Vertices) + bytes(r.RemovedOffsets) + bytes(r.RemovedTriangles) +
     bytes(r.ChangedOffsets) + bytes(r.ChangedTriangles) + bytes(r.ChangedCodes) +
     bytes(r.Flips) + bytes(r.FlipStamps);
-  size_t stamps = bytes(this->VertexMark) + bytes(this->VertexChanges) + bytes(this->BlockEpochs);
+  size_t stamps = bytes(this->VertexMark) + bytes(this->VertexStamps) + bytes(this->VertexDegrees) +
+    bytes(this->BlockEpochs);
   for (const BlockedColumn* column : { &this->BlockedStrict, &this->BlockedRelaxed, &this->BlockedEdge })
   {
     stamps += bytes(column->Narrow) + bytes(column->Wide);
@@ -1968,7 +1981,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "evaluation scratch", true, bytes(this->Working) + bytes(this->Rests) + bytes(this->PendingAlternatives) },
     { "paper's terms", true, bytes(this->PaperTerms) },
     { "quadrics", true, bytes(this->Quadrics) + this->QuadricRowOf.MemoryBytes() },
-    { "edge costs", true, bytes(this->EdgeCostErrors) + bytes(this->EdgeCostStates) },
+    { "edge costs", true, bytes(this->EdgeCostErrors) + bytes(this->EdgeCostKinds) },
     { "stamps, degrees, marks", true, stamps },
     { "ancestors", true, ancestors },
     { "current versions, rows", true, bytes(this->EntryOf) + this->RowOf.MemoryBytes() } };
@@ -2085,7 +2098,8 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->ReserveRecords();
   this->VertexMark.assign(np, 0);
   this->MarkEpoch = 0;
-  this->VertexChanges.assign(np, VertexChange());
+  this->VertexStamps.assign(size_t(np), 0);
+  this->VertexDegrees.assign(size_t(np), UnknownDegree);
   this->BlockedWide = false;
   this->BlockEpochs.clear();
   for (BlockedColumn* column : { &this->BlockedStrict, &this->BlockedRelaxed, &this->BlockedEdge })
@@ -2157,15 +2171,15 @@ void CollapseHierarchy::InitializeQuadrics()
   this->Quadrics.clear();
   this->QuadricRowOf.Release();
   std::vector<float>().swap(this->EdgeCostErrors);
-  std::vector<unsigned char>().swap(this->EdgeCostStates);
+  std::vector<unsigned char>().swap(this->EdgeCostKinds);
   if (this->Parameters.ErrorWeight <= 0 && this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Off)
   {
     return;
   }
   if (this->Parameters.ReuseEdgeCosts)
   {
-    this->EdgeCostErrors.resize(3 * size_t(nt));
-    this->EdgeCostStates.assign(3 * size_t(nt), UnknownEdgeCost);
+    this->EdgeCostErrors.assign(3 * size_t(nt), std::numeric_limits<float>::quiet_NaN());
+    this->EdgeCostKinds.assign(size_t(nt), 0);
   }
   this->Quadrics.assign(this->NumberOfBasePoints(), Quadric());
   this->QuadricRowOf.Reset(this->Quadrics.size());
@@ -2255,7 +2269,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
     {
       e.CheapestEdge.Edge = -1;
     }
-    std::fill(this->EdgeCostStates.begin(), this->EdgeCostStates.end(), UnknownEdgeCost);
+    std::fill(this->EdgeCostErrors.begin(), this->EdgeCostErrors.end(), std::numeric_limits<float>::quiet_NaN());
   }
   this->KappaMax = m0.KappaMax > 0 ? m0.KappaMax : 1.0;
   this->Mv = this->Parameters.ValenceNormalizer > 0 ? this->Parameters.ValenceNormalizer : std::max(1, m0.ValenceMax);
@@ -3208,7 +3222,7 @@ void CollapseHierarchy::ApplyRunCollapse(
     this->AncestorCountOf(collapse.Sources[0]) + this->AncestorCountOf(collapse.Sources[1]);
   this->GlobalOf[kept] = this->PointOfCollapse(k);
   this->MarkChangedAround(kept, run.FirstStamp + static_cast<Index>(i) + 1);
-  if (!this->EdgeCostStates.empty())
+  if (!this->EdgeCostErrors.empty())
   {
     this->ForgetEdgeCostsAround(kept);
   }
@@ -3287,7 +3301,7 @@ bool CollapseHierarchy::OppositeBorderVertexChangedSince(Index u, Index v, Index
     {
       // (a triangle on the edge: its vertex other than u and v is opposite it)
       changed = changed || (q[j] != u && q[j] != v && this->OnBorder[q[j]] &&
-                             this->VertexChanges[q[j]].Stamp > stamp && (q[0] == v || q[1] == v || q[2] == v));
+                             this->VertexStamps[q[j]] > stamp && (q[0] == v || q[1] == v || q[2] == v));
     }
   });
   return changed;
@@ -3452,10 +3466,12 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
       const Index* tri = this->Mesh.Triangle(triangleAt(static_cast<Index>(i)));
       for (int k = 0; k < 3; ++k)
       {
-        Index* degree = &this->VertexChanges[tri[k]].Degree;
-        if (__atomic_load_n(degree, __ATOMIC_RELAXED) < 0)
+        std::uint16_t* degree = &this->VertexDegrees[tri[k]];
+        const Index valence =
+          __atomic_load_n(degree, __ATOMIC_RELAXED) == UnknownDegree ? this->Mesh.VertexDegree(tri[k]) : UnknownDegree;
+        if (valence < UnknownDegree)
         {
-          __atomic_store_n(degree, this->Mesh.VertexDegree(tri[k]), __ATOMIC_RELAXED);
+          __atomic_store_n(degree, static_cast<std::uint16_t>(valence), __ATOMIC_RELAXED);
         }
       }
     }

@@ -779,18 +779,21 @@ private:
   void AssignBlocked(BlockedColumn& column, size_t rows) const;
   void WidenBlocked();
   // Per editable vertex: the stamp of its last change (position or triangles around it) and its
-  // valence, cached since then (-1: not known). One record, so that Degree reads one cache line
-  // and no stamp of its own (the cache is dropped where the change is stamped).
-  struct VertexChange
-  {
-    Index Stamp = 0;
-    Index Degree = -1;
-  };
-  mutable std::vector<VertexChange> VertexChanges;
+  // valence, cached since then (UnknownDegree: not known; the cache is dropped where the change is
+  // stamped, so that Degree reads no stamp). The valence in 2 bytes (4 before session 34, in one
+  // record with the stamp: 2 bytes per input vertex less for the whole build); a valence of
+  // UnknownDegree or more is computed at each call, not cached.
+  static constexpr std::uint16_t UnknownDegree = 0xffff;
+  mutable std::vector<Index> VertexStamps;
+  mutable std::vector<std::uint16_t> VertexDegrees;
   // Set while threads read the mesh concurrently (ChooseAhead): Degree then computes an unknown
-  // valence without caching it (no thread writes VertexChanges).
+  // valence without caching it (no thread writes VertexDegrees).
   bool DegreesFrozen = false;
-  void StampVertex(Index v, Index stamp) const { this->VertexChanges[v] = { stamp, -1 }; }
+  void StampVertex(Index v, Index stamp) const
+  {
+    this->VertexStamps[v] = stamp;
+    this->VertexDegrees[v] = UnknownDegree;
+  }
   Index EdgeCollapseCount = 0;
   Index BatchRechecks = 0;
   Index CollapsesInRuns = 0;
@@ -806,8 +809,13 @@ private:
   // Hubs: vertices on more than HubValence triangles. Every check of a collapse merging a hub costs
   // its valence, and a hub touches that many candidates: such collapses are no candidates (the
   // hub triangles' other edge still collapses, which lowers the hub's valence). Valences are
-  // cached until the vertex's neighbourhood changes (VertexChanges).
-  Index Degree(Index v) const;
+  // cached until the vertex's neighbourhood changes (VertexDegrees).
+  Index Degree(Index v) const
+  {
+    const std::uint16_t cached = this->VertexDegrees[v];
+    return cached != UnknownDegree ? Index(cached) : this->CacheDegree(v);
+  }
+  Index CacheDegree(Index v) const; // (the walk, out of the callers' loops)
   int HubMask(Index t) const; // bit k: tri[k] is a hub
   // Over edges with no hub or border end; choice: which candidate it was. Reads and fills t's
   // EdgeCosts.
@@ -825,10 +833,10 @@ private:
     unsigned char Kind; // 0..2 as EdgeChoice::Kind; 3: no finite placement
     bool NotANumber;
   };
-  static constexpr unsigned char UnknownEdgeCost = 0xff; // EdgeCostState: not computed
   EdgeCost EdgeCostOf(Index u, Index v) const;
   void EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCost& vu) const;
-  void StoreEdgeCost(size_t slot, const EdgeCost& cost) const;
+  // (concurrent: other threads may write the row's other edges meanwhile)
+  void StoreEdgeCost(size_t row, int edge, const EdgeCost& cost, bool concurrent) const;
   // The spokes of the new vertices' fans priced before their evaluation, once per edge (the
   // evaluation would price each in both of its triangles).
   void PriceSpokes(const std::vector<Index>* vertices); // nullptr: every edge of M0
@@ -836,11 +844,24 @@ private:
   struct SpokePricing;               // the vtkSMPTools functor (in the .cxx)
   std::vector<Index> Spokes;         // the vertices whose spokes are priced
   void ForgetEdgeCostsAround(Index v);
-  // 3 per triangle slot. Floats (session 26: 12 bytes per input triangle less): every edge cost is
+  // 3 per triangle row. Floats (session 26: 12 bytes per input triangle less): every edge cost is
   // rounded up to a float where it is made (CheapestPlacement), kept or not, so a kept cost is the
   // one a fresh pricing gives, and the selection's own errors (doubles) are never dearer than it.
+  // A cost not known is a NaN error (a made one never is: CheapestPlacement keeps the least of
+  // its errors, starting from infinity).
   mutable std::vector<float> EdgeCostErrors;
-  mutable std::vector<unsigned char> EdgeCostStates; // 3 per triangle slot: Kind | NaN << 2, or Unknown
+  // 1 per triangle row (3 before session 34: 4 bytes per input vertex less at the build's peak):
+  // 2 bits per edge k at bits 2k, its cost's Kind (0..2), or NotANumberKind when an error was not
+  // a number (the kind is then never read: such a choice is not kept, CheapestEdgeError). Kind 3
+  // (no finite placement) is kept as 0: its error is infinity, never the cheapest. Threads pricing
+  // spokes write other edges of one row at once (StoreEdgeCost: a compare-and-swap of the byte).
+  mutable std::vector<unsigned char> EdgeCostKinds;
+  static constexpr unsigned char NotANumberKind = 3;
+  static bool EdgeCostKnown(float error) { return error == error; } // (not a NaN)
+  void ForgetEdgeCost(size_t slot) const
+  {
+    this->EdgeCostErrors[slot] = std::numeric_limits<float>::quiet_NaN();
+  }
   // A placement of edge (u, v)'s collapse: the quadric's best point (Kind 0), u (1) or v (2).
   struct EdgePlacement
   {

@@ -1344,8 +1344,9 @@ TEST(CollapseHierarchy, KeptEdgeCostsGiveTheSameHierarchy)
   }
 }
 
-// The kept edge costs are floats (session 26; doubles took 27 bytes per triangle): at most 15
-// bytes per triangle row at every progress call of a noisy scan's build, and since every cost is
+// The kept edge costs are floats (session 26; doubles took 27 bytes per triangle) and their kinds
+// 2 bits each (session 34; a byte each before): at most 13 bytes per triangle row (15 before) at
+// every progress call of a noisy scan's build, and since every cost is
 // rounded up where it is made, a kept one is what a new pricing gives (the same hierarchy without
 // them, KeptEdgeCostsGiveTheSameHierarchy) and the selection still takes the edge collapses it
 // was ordered by: most collapses are edge collapses, and the levels reach a tenth of the input.
@@ -1373,7 +1374,7 @@ TEST(CollapseHierarchy, EdgeCostsAreKeptAsFloats)
   }));
   ASSERT_GT(calls, 1);
   EXPECT_GT(largest, 12 * nt); // kept (3 per triangle of M0)
-  EXPECT_LE(largest, 15 * nt);
+  EXPECT_LE(largest, 13 * nt);
   EXPECT_GT(2 * h.NumberOfEdgeCollapses(), h.NumberOfCollapses());
   EXPECT_LE(h.LevelTriangleCount(h.NumberOfLevels() - 1), Index(nt / 10));
 }
@@ -1489,7 +1490,9 @@ TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
     { "evaluation scratch", evaluationScratch }, { "paper's terms", 0 }, { "quadrics", 80 * nv + rows(nv) },
     // (evaluations: 20 bytes per row and the kept points' entries, 24 on base; stamps: the blocked
     // ones 2 bytes per row, 4 on base; their epochs)
-    { "edge costs", 15 * nt }, { "stamps, degrees, marks", 10 * nv + 2 * nt + 4096 }, { "ancestors", 0 },
+    // (edge costs: 12 bytes of errors and one of kinds per row, 15 on base; stamps: a vertex's
+    // change stamp, valence and mark in 8 bytes, 10 on base)
+    { "edge costs", 13 * nt }, { "stamps, degrees, marks", 8 * nv + 2 * nt + 4096 }, { "ancestors", 0 },
     { "current versions, rows", 4 * nt + rows(nt) } };
   CollapseHierarchy h;
   std::vector<CollapseHierarchy::StorageShare> start;
