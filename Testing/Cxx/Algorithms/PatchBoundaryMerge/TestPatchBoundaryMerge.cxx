@@ -2429,7 +2429,7 @@ TEST(PatchBoundaryMerge, CoarsePatchLevelsAreRedoneFromAFinerLevelByCollapses)
 // face beyond the crease. On the pinion at 50% the gear teeth's flanks were closed at their ends
 // by triangles standing in the plane of the gear's face (their heights along the flank's normal
 // unseen), 5.3x vtkQuadricDecimation's Hausdorff distance at the same count on base-s34; a
-// triangle turned by more than 60 degrees from its patch's normal now counts its height as its
+// triangle turned by more than 75 degrees from its patch's normal now counts its height as its
 // cost. Within the 2x for CAD meshes, measured in the same run, within the band, with the
 // input's topology.
 TEST(PatchBoundaryMerge, CurvedCreaseChainsAreNotFoldedIntoTheFaceBeyond)
