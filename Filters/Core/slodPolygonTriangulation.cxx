@@ -402,12 +402,28 @@ double Thinness(const std::vector<Vec3>& polygon, size_t a, size_t b, size_t c)
   return longest * middle > 0 ? 1.0 - area2 / (longest * middle) : 1.0;
 }
 
-// Dynamic programme over sub-polygons i, i+1, ..., j closed by the edge (i, j): the smallest
-// maximum diagonal cost, then the smallest sum (costs plus weighted thinness). Returns the best
-// apex k of every (i, j) (-1: none).
-std::vector<Index> MinimumCostSplits(const std::vector<Vec3>& polygon, const std::vector<Vec2>& p,
-  const DiagonalTable& table, double angleWeight)
+// The extent along the unit `normal` of triangle abc when it is turned away from it by more than
+// the angle of cosine foldedCosine (it stands across the polygon's plane), 0 otherwise.
+double FoldedHeight(const std::vector<Vec3>& polygon, size_t a, size_t b, size_t c, const Vec3& normal,
+  double foldedCosine)
 {
+  const Vec3 n = Cross(polygon[b] - polygon[a], polygon[c] - polygon[a]);
+  if (Dot(n, normal) >= foldedCosine * Norm(n))
+  {
+    return 0.0;
+  }
+  const double ha = Dot(polygon[a], normal), hb = Dot(polygon[b], normal), hc = Dot(polygon[c], normal);
+  return std::max({ ha, hb, hc }) - std::min({ ha, hb, hc });
+}
+
+// Dynamic programme over sub-polygons i, i+1, ..., j closed by the edge (i, j): the smallest
+// maximum cost (diagonals, folded triangles' heights), then the smallest sum (costs plus weighted
+// thinness). Returns the best apex k of every (i, j) (-1: none).
+std::vector<Index> MinimumCostSplits(const std::vector<Vec3>& polygon, const std::vector<Vec2>& p,
+  const DiagonalTable& table, const Vec3& normal, const MinimumCostTriangulationOptions& options)
+{
+  const double angleWeight = options.AngleWeight;
+  const bool foldsCount = options.FoldedTriangleCosine > -1.0;
   const size_t n = p.size();
   auto at = [&table](size_t i, size_t j) { return table.At(i, j); };
   const double infinity = std::numeric_limits<double>::infinity();
@@ -440,8 +456,10 @@ std::vector<Index> MinimumCostSplits(const std::vector<Vec3>& polygon, const std
           continue;
         }
         const double cik = table.Cost[at(i, k)], ckj = table.Cost[at(k, j)];
-        const double m = std::max({ bestMax[at(i, k)], bestMax[at(k, j)], cik, ckj });
-        const double sum = bestSum[at(i, k)] + bestSum[at(k, j)] + cik + ckj + angleWeight * Thinness(polygon, i, k, j);
+        const double fold = foldsCount ? FoldedHeight(polygon, i, k, j, normal, options.FoldedTriangleCosine) : 0.0;
+        const double m = std::max({ bestMax[at(i, k)], bestMax[at(k, j)], cik, ckj, fold });
+        const double sum =
+          bestSum[at(i, k)] + bestSum[at(k, j)] + cik + ckj + fold + angleWeight * Thinness(polygon, i, k, j);
         const double slack = 1e-9 * std::max(m, bm == infinity ? 0.0 : bm);
         if (m < bm - slack || (m <= bm + slack && sum < bs))
         {
@@ -467,7 +485,7 @@ PolygonTriangulationResult TriangulatePolygonMinimumCost(
   const size_t n = polygon.size();
   const std::vector<Vec2> p = ProjectOntoPlane(polygon, normal);
   const DiagonalTable table = ValidDiagonals(p, options);
-  const std::vector<Index> split = MinimumCostSplits(polygon, p, table, options.AngleWeight);
+  const std::vector<Index> split = MinimumCostSplits(polygon, p, table, Normalized(normal), options);
   if (split[table.At(0, n - 1)] < 0)
   {
     result.Failed = true;

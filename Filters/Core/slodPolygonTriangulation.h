@@ -52,12 +52,17 @@ SURFACELODFILTERS_EXPORT PolygonTriangulationResult TriangulatePolygon(
 // counter-clockwise in projection and not degenerate. The result minimises the largest cost of a
 // used diagonal, then the sum of the used diagonals' costs plus a small penalty for thin
 // triangles (AngleWeight times the sum of (1 - sin of the smallest angle), in cost units).
+// A triangle turned away from `normal` by more than the angle of cosine FoldedTriangleCosine
+// stands across the polygon's plane (three points of a curved crease chain whose diagonal lies on
+// the face beyond the crease, where its distance from the surface reads zero): its extent along
+// `normal` counts as a cost too, in the largest and in the sum (off by default).
 // Strict: Failed (and no triangles) when no valid triangulation exists.
 struct MinimumCostTriangulationOptions
 {
   std::function<bool(Index, Index)> AcceptDiagonal; // polygon indices i < j
   std::function<double(Index, Index)> DiagonalCost; // polygon indices i < j; >= 0; null = 0
   double AngleWeight = 0.0;
+  double FoldedTriangleCosine = -1.0; // -1: no triangle counts as folded
 };
 SURFACELODFILTERS_EXPORT PolygonTriangulationResult TriangulatePolygonMinimumCost(
   const std::vector<Vec3>& polygon, const Vec3& normal, const MinimumCostTriangulationOptions& options);

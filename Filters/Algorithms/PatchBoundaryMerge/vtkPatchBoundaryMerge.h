@@ -103,8 +103,9 @@ public:
 
   ///@{
   /// Extension (issue 15, session 33) [on; needs FinalCollapses]: when the level of a count target
-  /// deviates from the input by more than 3/4 of the thickness bound as given (3x the deviation
-  /// expected of any simplification to that count, with PatchDeviationFactor 4), a level of 1.5x
+  /// deviates from the input by more than 1/2 of the thickness bound as given (2x the deviation
+  /// expected of any simplification to that count, with PatchDeviationFactor 4; session 34, was
+  /// 3/4; 1.5x the bound on patches grown with a noise tolerance, i.e. scans), a level of 1.5x
   /// the target is made from patches grown for that count and brought down to the target by the
   /// final collapses (quadric order); the level with the smaller deviation (every input vertex
   /// sampled) is kept. FinalCollapseCount then counts its collapses.
@@ -217,6 +218,9 @@ public:
    * vertices) are triangulated with the valid diagonals closest to the original surface (an
    * exact minimum over all triangulations, by dynamic programming) instead of smallest-angle ear
    * clipping. Same triangle counts; on by default. Off = the paper's ear clipping everywhere.
+   * Session 34: a triangle turned by more than 75 degrees from its patch's normal (three vertices
+   * of a curved crease chain, lying on the face beyond the crease) counts its height along that
+   * normal as a cost, which the diagonals' distances from the input do not see.
    */
   vtkSetMacro(MinimumDeviationTriangulation, bool);
   vtkGetMacro(MinimumDeviationTriangulation, bool);

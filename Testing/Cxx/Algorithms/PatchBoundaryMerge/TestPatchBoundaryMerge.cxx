@@ -2502,6 +2502,31 @@ TEST(PatchBoundaryMerge, CoarsePatchLevelsAreRedoneFromAFinerLevelByCollapses)
   }
 }
 
+// Issue 15 (session 34): the minimum-deviation triangulation's diagonal cost is the distance of its
+// midpoint from the input, which reads zero for a chord of a curved crease chain: it lies on the
+// face beyond the crease. On the pinion at 50% the gear teeth's flanks were closed at their ends
+// by triangles standing in the plane of the gear's face (their heights along the flank's normal
+// unseen), 5.3x vtkQuadricDecimation's Hausdorff distance at the same count on base-s34; a
+// triangle turned by more than 75 degrees from its patch's normal now counts its height as its
+// cost. Within the issue's 2x for CAD meshes, measured in the same run, within the band, with the
+// input's topology.
+TEST(PatchBoundaryMerge, CurvedCreaseChainsAreNotFoldedIntoTheFaceBeyond)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("pinion");
+  EXPECT_LE(LevelHausdorffRatioToQuadric("pinion", input, 0.5), 2.0);
+}
+
+// Issue 15 (session 34): CollapseFinerLevelForTarget's trigger at 2x the estimate kappa s^2 / 8
+// (half the thickness bound as given) instead of 3x. The Fandisk at 50% (target beyond every chain
+// vertex of its patches: 6,216 for 6,473 on base-s34) deviated 0.67x the bound on every vertex,
+// its strided samples below it: 6.2x vtkQuadricDecimation's Hausdorff distance. The finer level,
+// brought down by collapses, reaches the band and comes within 3x, measured in the same run.
+TEST(PatchBoundaryMerge, CurvedCadPatchesAtMildTargetsAreRedoneFromAFinerLevel)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh("fandisk");
+  EXPECT_LE(LevelHausdorffRatioToQuadric("fandisk", input, 0.5), 3.0);
+}
+
 // The ear clipper's extension: the caller's ear test and the strict (no fallback) mode.
 TEST(PolygonTriangulationExtension, AcceptEarAndStrictMode)
 {
