@@ -226,6 +226,123 @@ public:
     }
     this->SnapshotBvh.Build(this->Snapshot);
     this->Changed.assign(size_t(this->Out.NumberOfTriangles()), 0);
+    if (this->Prm.Witnesses && this->Witness.empty())
+    {
+      this->InitialWitnesses();
+    }
+  }
+
+  // Each input triangle's witness on entry: the output triangle closest to its centroid, when its
+  // three corners lie within epsilon of it (one BVH query per input triangle, once per run).
+  void InitialWitnesses()
+  {
+    this->Witness.assign(size_t(this->In.NumberOfTriangles()), InvalidIndex);
+    this->StarMark.assign(size_t(this->Out.NumberOfTriangles()), 0);
+    for (Index p = 0; p < this->In.NumberOfTriangles(); ++p)
+    {
+      const Index* tri = this->In.Triangle(p);
+      const Vec3 g = (1.0 / 3.0) * (this->In.Point(tri[0]) + this->In.Point(tri[1]) + this->In.Point(tri[2]));
+      const ClosestPointResult hit = this->SnapshotBvh.ClosestPoint(g);
+      if (hit.Triangle != InvalidIndex && this->IsWitness(p, this->Out.Triangle(this->SnapshotIds[size_t(hit.Triangle)])))
+      {
+        this->Witness[size_t(p)] = this->SnapshotIds[size_t(hit.Triangle)];
+      }
+    }
+  }
+
+  // Whether the three corners of input triangle p lie within epsilon of triangle abc (3 output
+  // vertex ids), hence all of p (convexity), with a relative margin for rounding.
+  bool IsWitness(Index p, const Index* abc) const
+  {
+    const double limit = this->Prm.Epsilon * this->Prm.Epsilon * (1 - 1e-9);
+    const Vec3 a = this->Out.Point(abc[0]), b = this->Out.Point(abc[1]), c = this->Out.Point(abc[2]);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec3 x = this->In.Point(this->In.Triangle(p)[k]);
+      const Vec3 e = x - ClosestPointOnTriangle(x, a, b, c);
+      if (Dot(e, e) > limit)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // The triangles a change leaves around its new triangles' vertices (alive, not replaced: the
+  // old star is marked), at most MaximumCollapseValence per vertex: where the new witnesses are
+  // looked for besides the new triangles.
+  void WitnessRing()
+  {
+    this->Ring.clear();
+    for (Index x : this->NewTriangles)
+    {
+      if (this->Out.VertexDegree(x) > MaximumCollapseValence)
+      {
+        continue;
+      }
+      this->Out.ForEachTriangle(x, [&](Index s) {
+        if (this->StarMark[size_t(s)] != this->StarStamp)
+        {
+          this->Ring.push_back(s);
+        }
+      });
+    }
+    std::sort(this->Ring.begin(), this->Ring.end());
+    this->Ring.erase(std::unique(this->Ring.begin(), this->Ring.end()), this->Ring.end());
+  }
+
+  // Whether every input triangle relying on the change has a new witness among the new triangles
+  // (before the change: their corners) and the unchanged ring around them: then each lies within
+  // epsilon of the output after the change, with no local output and no proof.
+  bool RelyingHaveNewWitnesses()
+  {
+    this->WitnessRing();
+    for (Index p : this->Relying)
+    {
+      bool found = false;
+      for (size_t i = 0; i < this->NewTriangles.size() && !found; i += 3)
+      {
+        found = this->IsWitness(p, &this->NewTriangles[i]);
+      }
+      for (size_t i = 0; i < this->Ring.size() && !found; ++i)
+      {
+        found = this->IsWitness(p, this->Out.Triangle(this->Ring[i]));
+      }
+      if (!found)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // After an accepted change: each input triangle that relied on it takes a witness among the
+  // triangles around the new triangles' vertices (now in the mesh), or none.
+  void AssignWitnesses()
+  {
+    if (this->Witness.empty())
+    {
+      return;
+    }
+    this->Ring.clear();
+    for (Index x : this->NewTriangles)
+    {
+      if (this->Out.VertexDegree(x) <= MaximumCollapseValence)
+      {
+        this->Out.ForEachTriangle(x, [&](Index s) { this->Ring.push_back(s); });
+      }
+    }
+    std::sort(this->Ring.begin(), this->Ring.end());
+    this->Ring.erase(std::unique(this->Ring.begin(), this->Ring.end()), this->Ring.end());
+    for (Index p : this->Relying)
+    {
+      Index witness = InvalidIndex;
+      for (size_t i = 0; i < this->Ring.size() && witness == InvalidIndex; ++i)
+      {
+        witness = this->IsWitness(p, this->Out.Triangle(this->Ring[i])) ? this->Ring[i] : InvalidIndex;
+      }
+      this->Witness[size_t(p)] = witness;
+    }
   }
 
   void MarkChanged()
@@ -514,6 +631,7 @@ private:
     this->Share = SharedStar();
     this->Out.Collapse(set, 2, v, target, this->Gathered, nullptr);
     this->AliveTriangles -= Index(this->OldStar.size() - this->NewTriangles.size() / 3);
+    this->AssignWitnesses();
     return true;
   }
 
@@ -553,7 +671,12 @@ private:
       return false;
     }
     this->MarkChanged();
-    return this->Out.FlipEdge(x, y);
+    if (!this->Out.FlipEdge(x, y))
+    {
+      return false;
+    }
+    this->AssignWitnesses();
+    return true;
   }
 
   // Every new triangle faces the input at its centroid and lies within epsilon of it. The cheap
@@ -768,11 +891,17 @@ private:
     {
       return true;
     }
+    if (!this->Witness.empty() && this->RelyingHaveNewWitnesses())
+    {
+      ++this->AcceptedByWitnesses;
+      return true;
+    }
     if (!this->LocalGathered)
     {
       this->GatherLocalOutput();
     }
     this->LocalBvh.Build(this->Local);
+    this->LocalOutputTriangles += this->Local.NumberOfTriangles();
     if (this->StarRadius > CornerCheckStarRatio * this->Prm.Epsilon && !this->CornersNearLocalOutput())
     {
       return false;
@@ -802,8 +931,24 @@ private:
     {
       return;
     }
+    const bool witnesses = !this->Witness.empty();
+    if (witnesses)
+    {
+      this->StarMark.resize(size_t(this->Out.NumberOfTriangles()), 0);
+      ++this->StarStamp;
+      for (Index t : this->OldStar)
+      {
+        this->StarMark[size_t(t)] = this->StarStamp;
+      }
+    }
     for (Index p : this->Near)
     {
+      const Index w = witnesses ? this->Witness[size_t(p)] : InvalidIndex;
+      if (w != InvalidIndex && this->StarMark[size_t(w)] != this->StarStamp && this->Out.IsTriangleAlive(w))
+      {
+        ++this->WitnessesKept; // within epsilon of a triangle the change keeps
+        continue;
+      }
       const Index* tri = this->In.Triangle(p);
       if (this->MayRelyOnOldStar(this->In.Point(tri[0]), this->In.Point(tri[1]), this->In.Point(tri[2])))
       {
@@ -929,6 +1074,7 @@ public:
   long long BorderGuardRejections = 0;
   long long NewTriangleProofs = 0, NewTrianglesRecalled = 0;
   long long InputGatherings = 0, OutputGatherings = 0;
+  long long WitnessesKept = 0, AcceptedByWitnesses = 0, LocalOutputTriangles = 0;
 
 private:
   EditableMesh Out;
@@ -971,6 +1117,11 @@ private:
   TriangleBVH LocalBvh, SnapshotBvh;
   std::vector<Index> SnapshotIds;
   std::vector<unsigned char> Changed;
+  // Per input triangle: an output triangle it lies within epsilon of on its own (Witnesses), or
+  // none; empty when witnesses are off. StarMark == StarStamp: in the current change's old star.
+  std::vector<Index> Witness, Ring;
+  std::vector<unsigned> StarMark;
+  unsigned StarStamp = 0;
 };
 } // namespace
 
@@ -1032,6 +1183,9 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   statistics.NewTrianglesRecalled = collapser.NewTrianglesRecalled;
   statistics.InputGatherings = collapser.InputGatherings;
   statistics.OutputGatherings = collapser.OutputGatherings;
+  statistics.WitnessesKept = collapser.WitnessesKept;
+  statistics.AcceptedByWitnesses = collapser.AcceptedByWitnesses;
+  statistics.LocalOutputTriangles = collapser.LocalOutputTriangles;
   return !aborted;
 }
 } // namespace slod
