@@ -229,6 +229,7 @@ public:
     if (this->Prm.Witnesses && this->Witness.empty())
     {
       this->InitialWitnesses();
+      this->InitialRegistrations();
     }
   }
 
@@ -334,6 +335,13 @@ public:
     }
     std::sort(this->Ring.begin(), this->Ring.end());
     this->Ring.erase(std::unique(this->Ring.begin(), this->Ring.end()), this->Ring.end());
+    if (this->Indexed)
+    {
+      for (Index t : this->OldStar)
+      {
+        this->Registered[size_t(t)].clear(); // every live entry there belongs to Relying
+      }
+    }
     for (Index p : this->Relying)
     {
       Index witness = InvalidIndex;
@@ -342,7 +350,43 @@ public:
         witness = this->IsWitness(p, this->Out.Triangle(this->Ring[i])) ? this->Ring[i] : InvalidIndex;
       }
       this->Witness[size_t(p)] = witness;
+      if (this->Indexed)
+      {
+        this->RegisterAfterChange(p, witness);
+      }
     }
+  }
+
+  // Input triangle p relied on the accepted change: registered on its new witness, else (proved
+  // against the local output) on the ring around the new triangles and the kept local output near
+  // it. Without either the index is turned off (the gathering path stays exact).
+  void RegisterAfterChange(Index p, Index witness)
+  {
+    if (witness != InvalidIndex)
+    {
+      this->Register(p, &witness, 1);
+      return;
+    }
+    if (!this->LocalProved)
+    {
+      this->Indexed = false;
+      return;
+    }
+    this->Spread.assign(this->Ring.begin(), this->Ring.end());
+    const Index* tri = this->In.Triangle(p);
+    const Vec3 a = this->In.Point(tri[0]), b = this->In.Point(tri[1]), c = this->In.Point(tri[2]);
+    const Vec3 g = (1.0 / 3.0) * (a + b + c);
+    const double r = std::sqrt(std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) }));
+    this->SnapshotNear.clear();
+    this->LocalBvh.TrianglesNear(g, r + this->Prm.Epsilon, size_t(this->Local.NumberOfTriangles()), this->SnapshotNear);
+    for (Index i : this->SnapshotNear)
+    {
+      if (size_t(i) < this->Kept.size()) // the local output's first triangles are Kept's
+      {
+        this->Spread.push_back(this->Kept[size_t(i)]);
+      }
+    }
+    this->Register(p, this->Spread.data(), this->Spread.size());
   }
 
   void MarkChanged()
@@ -891,6 +935,7 @@ private:
     {
       return true;
     }
+    this->LocalProved = false;
     if (!this->Witness.empty() && this->RelyingHaveNewWitnesses())
     {
       ++this->AcceptedByWitnesses;
@@ -901,6 +946,7 @@ private:
       this->GatherLocalOutput();
     }
     this->LocalBvh.Build(this->Local);
+    this->LocalProved = true;
     this->LocalOutputTriangles += this->Local.NumberOfTriangles();
     if (this->StarRadius > CornerCheckStarRatio * this->Prm.Epsilon && !this->CornersNearLocalOutput())
     {
@@ -916,6 +962,105 @@ private:
       relying.size(), this->Prm.Epsilon);
   }
 
+  // The input triangles registered on the old star's triangles (Indexed) that come within epsilon
+  // of it (MayRelyOnOldStar): those whose proof may use it; NearFits as for a gathering.
+  void RegisteredOnOldStar()
+  {
+    this->MarkOldStar();
+    ++this->SeenStamp;
+    for (Index t : this->OldStar)
+    {
+      for (const auto& [p, stamp] : this->Registered[size_t(t)])
+      {
+        if (stamp != this->RegistrationStamp[size_t(p)] || this->Seen[size_t(p)] == this->SeenStamp)
+        {
+          continue;
+        }
+        this->Seen[size_t(p)] = this->SeenStamp;
+        ++this->InputTrianglesGathered;
+        // Registered near the star but not within epsilon of it: covered by its other registrations.
+        const Index* tri = this->In.Triangle(p);
+        if (this->MayRelyOnOldStar(this->In.Point(tri[0]), this->In.Point(tri[1]), this->In.Point(tri[2])))
+        {
+          this->Relying.push_back(p);
+        }
+      }
+    }
+    this->Share.NearFits = this->Relying.size() <= this->InputCap();
+  }
+
+  void MarkOldStar()
+  {
+    this->StarMark.resize(size_t(this->Out.NumberOfTriangles()), 0);
+    ++this->StarStamp;
+    for (Index t : this->OldStar)
+    {
+      this->StarMark[size_t(t)] = this->StarStamp;
+    }
+  }
+
+  // Input triangle p lies within epsilon of the union of `triangles` (output ids): registered on
+  // each, so that only a change replacing one of them re-proves p. A single witness is also kept.
+  void Register(Index p, const Index* triangles, size_t count)
+  {
+    const unsigned stamp = ++this->RegistrationStamp[size_t(p)];
+    for (size_t i = 0; i < count; ++i)
+    {
+      this->Registered[size_t(triangles[i])].emplace_back(p, stamp);
+    }
+    this->Witness[size_t(p)] = count == 1 ? triangles[0] : InvalidIndex;
+  }
+
+  // Whether the output triangle with corners q has its bounding sphere within epsilon of input
+  // triangle p's (those that may hold p's nearest points within epsilon pass).
+  bool ComesNear(Index p, const Vec3* q) const
+  {
+    const Index* tri = this->In.Triangle(p);
+    const Vec3 a = this->In.Point(tri[0]), b = this->In.Point(tri[1]), c = this->In.Point(tri[2]);
+    const Vec3 g = (1.0 / 3.0) * (a + b + c), h = (1.0 / 3.0) * (q[0] + q[1] + q[2]);
+    const double r = std::sqrt(std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) }));
+    const double s = std::max({ Norm(h - q[0]), Norm(h - q[1]), Norm(h - q[2]) });
+    const double apart = Norm(g - h) - r - s;
+    return apart - this->Prm.Epsilon <= 1e-9 * (this->Prm.Epsilon + r + s + Norm(g - h));
+  }
+
+  // The input triangles' registrations on entry: on their witness when they have one, else on
+  // every output triangle near them (the output is within epsilon on entry). An input triangle
+  // with more than MaximumInputTriangles such triangles turns the index off (the gathering path).
+  void InitialRegistrations()
+  {
+    this->Registered.assign(size_t(this->Out.NumberOfTriangles()), {});
+    this->RegistrationStamp.assign(size_t(this->In.NumberOfTriangles()), 0);
+    this->Seen.assign(size_t(this->In.NumberOfTriangles()), 0);
+    this->Indexed = true;
+    for (Index p = 0; p < this->In.NumberOfTriangles() && this->Indexed; ++p)
+    {
+      if (this->Witness[size_t(p)] != InvalidIndex)
+      {
+        this->Register(p, &this->Witness[size_t(p)], 1);
+        continue;
+      }
+      const Index* tri = this->In.Triangle(p);
+      const Vec3 a = this->In.Point(tri[0]), b = this->In.Point(tri[1]), c = this->In.Point(tri[2]);
+      const Vec3 g = (1.0 / 3.0) * (a + b + c);
+      const double r = std::sqrt(std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) }));
+      this->SnapshotNear.clear();
+      this->Indexed = this->SnapshotBvh.TrianglesNear(g, r + this->Prm.Epsilon, MaximumInputTriangles, this->SnapshotNear);
+      this->Ring.clear();
+      for (Index i : this->SnapshotNear)
+      {
+        const Index t = this->SnapshotIds[size_t(i)];
+        const Index* o = this->Out.Triangle(t);
+        const Vec3 q[3] = { this->Out.Point(o[0]), this->Out.Point(o[1]), this->Out.Point(o[2]) };
+        if (this->ComesNear(p, q))
+        {
+          this->Ring.push_back(t);
+        }
+      }
+      this->Register(p, this->Ring.data(), this->Ring.size());
+    }
+  }
+
   // The input triangles that may rely on the old star (Relying), from those whose boxes come within
   // epsilon of its sphere; NearFits says whether these were at most InputCap() (else the change
   // is not tried: bounded work).
@@ -925,8 +1070,14 @@ private:
     ++this->InputGatherings;
     this->Near.clear();
     this->Relying.clear();
+    if (this->Indexed)
+    {
+      this->RegisteredOnOldStar();
+      return;
+    }
     this->Share.NearFits =
       this->Bvh.TrianglesNear(this->StarCenter, this->StarRadius + this->Prm.Epsilon, this->InputCap(), this->Near);
+    this->InputTrianglesGathered += static_cast<long long>(this->Near.size());
     if (!this->Share.NearFits)
     {
       return;
@@ -934,12 +1085,7 @@ private:
     const bool witnesses = !this->Witness.empty();
     if (witnesses)
     {
-      this->StarMark.resize(size_t(this->Out.NumberOfTriangles()), 0);
-      ++this->StarStamp;
-      for (Index t : this->OldStar)
-      {
-        this->StarMark[size_t(t)] = this->StarStamp;
-      }
+      this->MarkOldStar();
     }
     for (Index p : this->Near)
     {
@@ -1074,7 +1220,7 @@ public:
   long long BorderGuardRejections = 0;
   long long NewTriangleProofs = 0, NewTrianglesRecalled = 0;
   long long InputGatherings = 0, OutputGatherings = 0;
-  long long WitnessesKept = 0, AcceptedByWitnesses = 0, LocalOutputTriangles = 0;
+  long long WitnessesKept = 0, AcceptedByWitnesses = 0, LocalOutputTriangles = 0, InputTrianglesGathered = 0;
 
 private:
   EditableMesh Out;
@@ -1122,6 +1268,16 @@ private:
   std::vector<Index> Witness, Ring;
   std::vector<unsigned> StarMark;
   unsigned StarStamp = 0;
+  // The index (Witnesses): per output triangle, the input triangles registered on it with their
+  // registration stamp (an entry is live while it equals the triangle's RegistrationStamp). A
+  // change's relying input is read from its old star's lists: no gathering of the input within
+  // epsilon, whose size grew with (epsilon / edge)^2.
+  bool Indexed = false;
+  bool LocalProved = false; // the current try built and proved against its local output
+  std::vector<std::vector<std::pair<Index, unsigned>>> Registered;
+  std::vector<unsigned> RegistrationStamp, Seen;
+  unsigned SeenStamp = 0;
+  std::vector<Index> Spread;
 };
 } // namespace
 
@@ -1186,6 +1342,7 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   statistics.WitnessesKept = collapser.WitnessesKept;
   statistics.AcceptedByWitnesses = collapser.AcceptedByWitnesses;
   statistics.LocalOutputTriangles = collapser.LocalOutputTriangles;
+  statistics.InputTrianglesGathered = collapser.InputTrianglesGathered;
   return !aborted;
 }
 } // namespace slod

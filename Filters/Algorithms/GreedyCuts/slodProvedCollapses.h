@@ -97,6 +97,8 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   // into the local outputs of the proofs (their BVHs are built per try: the work that grew with
   // the tolerance over the output's size).
   long long WitnessesKept = 0, AcceptedByWitnesses = 0, LocalOutputTriangles = 0;
+  // Input triangles examined to find those relying on each change (a gathering's, or the index's).
+  long long InputTrianglesGathered = 0;
   int Rounds = 0;
   bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
   bool WorkBoundReached = false; // parameters.MaximumProofPieces stopped the passes
