@@ -42,6 +42,13 @@ constexpr double FlipGain = 1.05;
 // (a coarse output, the target search's top level) those proofs end at their first piece, and the
 // queries cost more than the refusals they save (fandisk's top level: +270,000 pieces for 120,000).
 constexpr double CornerCheckStarRatio = 4.0;
+// A change reads its relying input from the index (ProvedCollapseParameters::Witnesses) when the
+// tolerance is more than this many times its star's radius: there the gathering within epsilon
+// holds (epsilon / star)^2 stars' worth of input, and it grew with the input's size at a relative
+// tolerance (the target search's top levels on scans). Nearer the star's size the gathering is
+// local and kept: reading the index there too changed the greedy order on CAD meshes at 0.01 of
+// the diagonal (more triangles: oblong 254 -> 542).
+constexpr double IndexedStarRatio = 2.0;
 
 std::array<Index, 3> OrderedTriple(const Index* v)
 {
@@ -1070,7 +1077,7 @@ private:
     ++this->InputGatherings;
     this->Near.clear();
     this->Relying.clear();
-    if (this->Indexed)
+    if (this->Indexed && this->Prm.Epsilon > IndexedStarRatio * this->StarRadius)
     {
       this->RegisteredOnOldStar();
       return;
