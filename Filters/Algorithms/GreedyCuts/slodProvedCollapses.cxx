@@ -42,6 +42,13 @@ constexpr double FlipGain = 1.05;
 // (a coarse output, the target search's top level) those proofs end at their first piece, and the
 // queries cost more than the refusals they save (fandisk's top level: +270,000 pieces for 120,000).
 constexpr double CornerCheckStarRatio = 4.0;
+// A change reads its relying input from the index (ProvedCollapseParameters::Witnesses) when the
+// tolerance is more than this many times its star's radius: there the gathering within epsilon
+// holds (epsilon / star)^2 stars' worth of input, and it grew with the input's size at a relative
+// tolerance (the target search's top levels on scans). Nearer the star's size the gathering is
+// local and kept: reading the index there too changed the greedy order on CAD meshes at 0.01 of
+// the diagonal (more triangles: oblong 254 -> 542).
+constexpr double IndexedStarRatio = 2.0;
 
 std::array<Index, 3> OrderedTriple(const Index* v)
 {
@@ -226,6 +233,167 @@ public:
     }
     this->SnapshotBvh.Build(this->Snapshot);
     this->Changed.assign(size_t(this->Out.NumberOfTriangles()), 0);
+    if (this->Prm.Witnesses && this->Witness.empty())
+    {
+      this->InitialWitnesses();
+      this->InitialRegistrations();
+    }
+  }
+
+  // Each input triangle's witness on entry: the output triangle closest to its centroid, when its
+  // three corners lie within epsilon of it (one BVH query per input triangle, once per run).
+  void InitialWitnesses()
+  {
+    this->Witness.assign(size_t(this->In.NumberOfTriangles()), InvalidIndex);
+    this->StarMark.assign(size_t(this->Out.NumberOfTriangles()), 0);
+    for (Index p = 0; p < this->In.NumberOfTriangles(); ++p)
+    {
+      const Index* tri = this->In.Triangle(p);
+      const Vec3 g = (1.0 / 3.0) * (this->In.Point(tri[0]) + this->In.Point(tri[1]) + this->In.Point(tri[2]));
+      const ClosestPointResult hit = this->SnapshotBvh.ClosestPoint(g);
+      if (hit.Triangle != InvalidIndex && this->IsWitness(p, this->Out.Triangle(this->SnapshotIds[size_t(hit.Triangle)])))
+      {
+        this->Witness[size_t(p)] = this->SnapshotIds[size_t(hit.Triangle)];
+      }
+    }
+  }
+
+  // Whether the three corners of input triangle p lie within epsilon of triangle abc (3 output
+  // vertex ids), hence all of p (convexity), with a relative margin for rounding.
+  bool IsWitness(Index p, const Index* abc) const
+  {
+    const double limit = this->Prm.Epsilon * this->Prm.Epsilon * (1 - 1e-9);
+    const Vec3 a = this->Out.Point(abc[0]), b = this->Out.Point(abc[1]), c = this->Out.Point(abc[2]);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec3 x = this->In.Point(this->In.Triangle(p)[k]);
+      const Vec3 e = x - ClosestPointOnTriangle(x, a, b, c);
+      if (Dot(e, e) > limit)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // The triangles a change leaves around its new triangles' vertices (alive, not replaced: the
+  // old star is marked), at most MaximumCollapseValence per vertex: where the new witnesses are
+  // looked for besides the new triangles.
+  void WitnessRing()
+  {
+    this->Ring.clear();
+    for (Index x : this->NewTriangles)
+    {
+      if (this->Out.VertexDegree(x) > MaximumCollapseValence)
+      {
+        continue;
+      }
+      this->Out.ForEachTriangle(x, [&](Index s) {
+        if (this->StarMark[size_t(s)] != this->StarStamp)
+        {
+          this->Ring.push_back(s);
+        }
+      });
+    }
+    std::sort(this->Ring.begin(), this->Ring.end());
+    this->Ring.erase(std::unique(this->Ring.begin(), this->Ring.end()), this->Ring.end());
+  }
+
+  // Whether every input triangle relying on the change has a new witness among the new triangles
+  // (before the change: their corners) and the unchanged ring around them: then each lies within
+  // epsilon of the output after the change, with no local output and no proof.
+  bool RelyingHaveNewWitnesses()
+  {
+    this->WitnessRing();
+    for (Index p : this->Relying)
+    {
+      bool found = false;
+      for (size_t i = 0; i < this->NewTriangles.size() && !found; i += 3)
+      {
+        found = this->IsWitness(p, &this->NewTriangles[i]);
+      }
+      for (size_t i = 0; i < this->Ring.size() && !found; ++i)
+      {
+        found = this->IsWitness(p, this->Out.Triangle(this->Ring[i]));
+      }
+      if (!found)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // After an accepted change: each input triangle that relied on it takes a witness among the
+  // triangles around the new triangles' vertices (now in the mesh), or none.
+  void AssignWitnesses()
+  {
+    if (this->Witness.empty())
+    {
+      return;
+    }
+    this->Ring.clear();
+    for (Index x : this->NewTriangles)
+    {
+      if (this->Out.VertexDegree(x) <= MaximumCollapseValence)
+      {
+        this->Out.ForEachTriangle(x, [&](Index s) { this->Ring.push_back(s); });
+      }
+    }
+    std::sort(this->Ring.begin(), this->Ring.end());
+    this->Ring.erase(std::unique(this->Ring.begin(), this->Ring.end()), this->Ring.end());
+    if (this->Indexed)
+    {
+      for (Index t : this->OldStar)
+      {
+        this->Registered[size_t(t)].clear(); // every live entry there belongs to Relying
+      }
+    }
+    for (Index p : this->Relying)
+    {
+      Index witness = InvalidIndex;
+      for (size_t i = 0; i < this->Ring.size() && witness == InvalidIndex; ++i)
+      {
+        witness = this->IsWitness(p, this->Out.Triangle(this->Ring[i])) ? this->Ring[i] : InvalidIndex;
+      }
+      this->Witness[size_t(p)] = witness;
+      if (this->Indexed)
+      {
+        this->RegisterAfterChange(p, witness);
+      }
+    }
+  }
+
+  // Input triangle p relied on the accepted change: registered on its new witness, else (proved
+  // against the local output) on the ring around the new triangles and the kept local output near
+  // it. Without either the index is turned off (the gathering path stays exact).
+  void RegisterAfterChange(Index p, Index witness)
+  {
+    if (witness != InvalidIndex)
+    {
+      this->Register(p, &witness, 1);
+      return;
+    }
+    if (!this->LocalProved)
+    {
+      this->Indexed = false;
+      return;
+    }
+    this->Spread.assign(this->Ring.begin(), this->Ring.end());
+    const Index* tri = this->In.Triangle(p);
+    const Vec3 a = this->In.Point(tri[0]), b = this->In.Point(tri[1]), c = this->In.Point(tri[2]);
+    const Vec3 g = (1.0 / 3.0) * (a + b + c);
+    const double r = std::sqrt(std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) }));
+    this->SnapshotNear.clear();
+    this->LocalBvh.TrianglesNear(g, r + this->Prm.Epsilon, size_t(this->Local.NumberOfTriangles()), this->SnapshotNear);
+    for (Index i : this->SnapshotNear)
+    {
+      if (size_t(i) < this->Kept.size()) // the local output's first triangles are Kept's
+      {
+        this->Spread.push_back(this->Kept[size_t(i)]);
+      }
+    }
+    this->Register(p, this->Spread.data(), this->Spread.size());
   }
 
   void MarkChanged()
@@ -514,6 +682,7 @@ private:
     this->Share = SharedStar();
     this->Out.Collapse(set, 2, v, target, this->Gathered, nullptr);
     this->AliveTriangles -= Index(this->OldStar.size() - this->NewTriangles.size() / 3);
+    this->AssignWitnesses();
     return true;
   }
 
@@ -553,7 +722,12 @@ private:
       return false;
     }
     this->MarkChanged();
-    return this->Out.FlipEdge(x, y);
+    if (!this->Out.FlipEdge(x, y))
+    {
+      return false;
+    }
+    this->AssignWitnesses();
+    return true;
   }
 
   // Every new triangle faces the input at its centroid and lies within epsilon of it. The cheap
@@ -768,11 +942,19 @@ private:
     {
       return true;
     }
+    this->LocalProved = false;
+    if (!this->Witness.empty() && this->RelyingHaveNewWitnesses())
+    {
+      ++this->AcceptedByWitnesses;
+      return true;
+    }
     if (!this->LocalGathered)
     {
       this->GatherLocalOutput();
     }
     this->LocalBvh.Build(this->Local);
+    this->LocalProved = true;
+    this->LocalOutputTriangles += this->Local.NumberOfTriangles();
     if (this->StarRadius > CornerCheckStarRatio * this->Prm.Epsilon && !this->CornersNearLocalOutput())
     {
       return false;
@@ -787,6 +969,105 @@ private:
       relying.size(), this->Prm.Epsilon);
   }
 
+  // The input triangles registered on the old star's triangles (Indexed) that come within epsilon
+  // of it (MayRelyOnOldStar): those whose proof may use it; NearFits as for a gathering.
+  void RegisteredOnOldStar()
+  {
+    this->MarkOldStar();
+    ++this->SeenStamp;
+    for (Index t : this->OldStar)
+    {
+      for (const auto& [p, stamp] : this->Registered[size_t(t)])
+      {
+        if (stamp != this->RegistrationStamp[size_t(p)] || this->Seen[size_t(p)] == this->SeenStamp)
+        {
+          continue;
+        }
+        this->Seen[size_t(p)] = this->SeenStamp;
+        ++this->InputTrianglesGathered;
+        // Registered near the star but not within epsilon of it: covered by its other registrations.
+        const Index* tri = this->In.Triangle(p);
+        if (this->MayRelyOnOldStar(this->In.Point(tri[0]), this->In.Point(tri[1]), this->In.Point(tri[2])))
+        {
+          this->Relying.push_back(p);
+        }
+      }
+    }
+    this->Share.NearFits = this->Relying.size() <= this->InputCap();
+  }
+
+  void MarkOldStar()
+  {
+    this->StarMark.resize(size_t(this->Out.NumberOfTriangles()), 0);
+    ++this->StarStamp;
+    for (Index t : this->OldStar)
+    {
+      this->StarMark[size_t(t)] = this->StarStamp;
+    }
+  }
+
+  // Input triangle p lies within epsilon of the union of `triangles` (output ids): registered on
+  // each, so that only a change replacing one of them re-proves p. A single witness is also kept.
+  void Register(Index p, const Index* triangles, size_t count)
+  {
+    const unsigned stamp = ++this->RegistrationStamp[size_t(p)];
+    for (size_t i = 0; i < count; ++i)
+    {
+      this->Registered[size_t(triangles[i])].emplace_back(p, stamp);
+    }
+    this->Witness[size_t(p)] = count == 1 ? triangles[0] : InvalidIndex;
+  }
+
+  // Whether the output triangle with corners q has its bounding sphere within epsilon of input
+  // triangle p's (those that may hold p's nearest points within epsilon pass).
+  bool ComesNear(Index p, const Vec3* q) const
+  {
+    const Index* tri = this->In.Triangle(p);
+    const Vec3 a = this->In.Point(tri[0]), b = this->In.Point(tri[1]), c = this->In.Point(tri[2]);
+    const Vec3 g = (1.0 / 3.0) * (a + b + c), h = (1.0 / 3.0) * (q[0] + q[1] + q[2]);
+    const double r = std::sqrt(std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) }));
+    const double s = std::max({ Norm(h - q[0]), Norm(h - q[1]), Norm(h - q[2]) });
+    const double apart = Norm(g - h) - r - s;
+    return apart - this->Prm.Epsilon <= 1e-9 * (this->Prm.Epsilon + r + s + Norm(g - h));
+  }
+
+  // The input triangles' registrations on entry: on their witness when they have one, else on
+  // every output triangle near them (the output is within epsilon on entry). An input triangle
+  // with more than MaximumInputTriangles such triangles turns the index off (the gathering path).
+  void InitialRegistrations()
+  {
+    this->Registered.assign(size_t(this->Out.NumberOfTriangles()), {});
+    this->RegistrationStamp.assign(size_t(this->In.NumberOfTriangles()), 0);
+    this->Seen.assign(size_t(this->In.NumberOfTriangles()), 0);
+    this->Indexed = true;
+    for (Index p = 0; p < this->In.NumberOfTriangles() && this->Indexed; ++p)
+    {
+      if (this->Witness[size_t(p)] != InvalidIndex)
+      {
+        this->Register(p, &this->Witness[size_t(p)], 1);
+        continue;
+      }
+      const Index* tri = this->In.Triangle(p);
+      const Vec3 a = this->In.Point(tri[0]), b = this->In.Point(tri[1]), c = this->In.Point(tri[2]);
+      const Vec3 g = (1.0 / 3.0) * (a + b + c);
+      const double r = std::sqrt(std::max({ Dot(g - a, g - a), Dot(g - b, g - b), Dot(g - c, g - c) }));
+      this->SnapshotNear.clear();
+      this->Indexed = this->SnapshotBvh.TrianglesNear(g, r + this->Prm.Epsilon, MaximumInputTriangles, this->SnapshotNear);
+      this->Ring.clear();
+      for (Index i : this->SnapshotNear)
+      {
+        const Index t = this->SnapshotIds[size_t(i)];
+        const Index* o = this->Out.Triangle(t);
+        const Vec3 q[3] = { this->Out.Point(o[0]), this->Out.Point(o[1]), this->Out.Point(o[2]) };
+        if (this->ComesNear(p, q))
+        {
+          this->Ring.push_back(t);
+        }
+      }
+      this->Register(p, this->Ring.data(), this->Ring.size());
+    }
+  }
+
   // The input triangles that may rely on the old star (Relying), from those whose boxes come within
   // epsilon of its sphere; NearFits says whether these were at most InputCap() (else the change
   // is not tried: bounded work).
@@ -796,14 +1077,31 @@ private:
     ++this->InputGatherings;
     this->Near.clear();
     this->Relying.clear();
+    if (this->Indexed && this->Prm.Epsilon > IndexedStarRatio * this->StarRadius)
+    {
+      this->RegisteredOnOldStar();
+      return;
+    }
     this->Share.NearFits =
       this->Bvh.TrianglesNear(this->StarCenter, this->StarRadius + this->Prm.Epsilon, this->InputCap(), this->Near);
+    this->InputTrianglesGathered += static_cast<long long>(this->Near.size());
     if (!this->Share.NearFits)
     {
       return;
     }
+    const bool witnesses = !this->Witness.empty();
+    if (witnesses)
+    {
+      this->MarkOldStar();
+    }
     for (Index p : this->Near)
     {
+      const Index w = witnesses ? this->Witness[size_t(p)] : InvalidIndex;
+      if (w != InvalidIndex && this->StarMark[size_t(w)] != this->StarStamp && this->Out.IsTriangleAlive(w))
+      {
+        ++this->WitnessesKept; // within epsilon of a triangle the change keeps
+        continue;
+      }
       const Index* tri = this->In.Triangle(p);
       if (this->MayRelyOnOldStar(this->In.Point(tri[0]), this->In.Point(tri[1]), this->In.Point(tri[2])))
       {
@@ -929,6 +1227,7 @@ public:
   long long BorderGuardRejections = 0;
   long long NewTriangleProofs = 0, NewTrianglesRecalled = 0;
   long long InputGatherings = 0, OutputGatherings = 0;
+  long long WitnessesKept = 0, AcceptedByWitnesses = 0, LocalOutputTriangles = 0, InputTrianglesGathered = 0;
 
 private:
   EditableMesh Out;
@@ -971,6 +1270,21 @@ private:
   TriangleBVH LocalBvh, SnapshotBvh;
   std::vector<Index> SnapshotIds;
   std::vector<unsigned char> Changed;
+  // Per input triangle: an output triangle it lies within epsilon of on its own (Witnesses), or
+  // none; empty when witnesses are off. StarMark == StarStamp: in the current change's old star.
+  std::vector<Index> Witness, Ring;
+  std::vector<unsigned> StarMark;
+  unsigned StarStamp = 0;
+  // The index (Witnesses): per output triangle, the input triangles registered on it with their
+  // registration stamp (an entry is live while it equals the triangle's RegistrationStamp). A
+  // change's relying input is read from its old star's lists: no gathering of the input within
+  // epsilon, whose size grew with (epsilon / edge)^2.
+  bool Indexed = false;
+  bool LocalProved = false; // the current try built and proved against its local output
+  std::vector<std::vector<std::pair<Index, unsigned>>> Registered;
+  std::vector<unsigned> RegistrationStamp, Seen;
+  unsigned SeenStamp = 0;
+  std::vector<Index> Spread;
 };
 } // namespace
 
@@ -1032,6 +1346,10 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   statistics.NewTrianglesRecalled = collapser.NewTrianglesRecalled;
   statistics.InputGatherings = collapser.InputGatherings;
   statistics.OutputGatherings = collapser.OutputGatherings;
+  statistics.WitnessesKept = collapser.WitnessesKept;
+  statistics.AcceptedByWitnesses = collapser.AcceptedByWitnesses;
+  statistics.LocalOutputTriangles = collapser.LocalOutputTriangles;
+  statistics.InputTrianglesGathered = collapser.InputTrianglesGathered;
   return !aborted;
 }
 } // namespace slod

@@ -72,6 +72,13 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   // (caps of ears, needles) are flipped or collapsed away while the bound is not yet used up
   // around them by the collapses (session 31). Not in CollapsesOnly stages.
   bool EarlySliverStep = false;
+  // Each input triangle remembers one output triangle it lies within epsilon of on its own (its
+  // three corners are: the distance to one triangle is convex), its witness. A change then re-proves
+  // only the input triangles near it whose witness it replaces (or that have none), and accepts
+  // without the local output when each of those finds a new witness among the new triangles and
+  // the unchanged ones around them. Off: every input triangle near the change is proved against the
+  // local output (the reference path; same bound, more work at large tolerances).
+  bool Witnesses = true;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
@@ -85,6 +92,13 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   // Gatherings of the input triangles near a change (a BVH walk, then each one's sphere test
   // against the replaced triangles) and of the unchanged output around it (ReuseStarGathering).
   long long InputGatherings = 0, OutputGatherings = 0;
+  // Input triangles near a change left out because their witness stays (Witnesses), changes
+  // accepted by new witnesses alone (no local output, no proof), and the output triangles gathered
+  // into the local outputs of the proofs (their BVHs are built per try: the work that grew with
+  // the tolerance over the output's size).
+  long long WitnessesKept = 0, AcceptedByWitnesses = 0, LocalOutputTriangles = 0;
+  // Input triangles examined to find those relying on each change (a gathering's, or the index's).
+  long long InputTrianglesGathered = 0;
   int Rounds = 0;
   bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
   bool WorkBoundReached = false; // parameters.MaximumProofPieces stopped the passes
