@@ -948,6 +948,39 @@ TEST(Retile, DefaultLeavesNoNeedle)
   }
 }
 
+// Issue 15, session 34: the repair counts a tile under 5 degrees as a needle (it was 2): at N =
+// 10% and 50% of the input's vertices, organic, CAD and open meshes come out with no smallest
+// angle under 5 degrees (base-s34: 2.0-4.6 degrees on each of them at one count or both), with
+// exactly N vertices, the input's topology and every vertex on the input.
+TEST(Retile, RepairLeavesNoTileUnderFiveDegrees)
+{
+  for (const char* name : { "elephant", "knot2", "holes", "mushroom", "pinion_small", "spool" })
+  {
+    for (const double share : { 0.1, 0.5 })
+    {
+      vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+      const vtkIdType asked = std::max<vtkIdType>(8, std::lround(share * double(input->GetNumberOfPoints())));
+      SCOPED_TRACE(std::string(name) + " at " + std::to_string(asked) + " vertices");
+      vtkNew<vtkRetile> filter;
+      filter->SetInputData(input);
+      filter->SetNumberOfPoints(asked);
+      filter->Update();
+      const TriangleMesh in = slodtest::ToTriangleMesh(input);
+      const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+      ASSERT_GT(out.NumberOfTriangles(), 0);
+      slodtest::ExpectSameTopology(in, out);
+      const SurfaceCheck check = CheckAgainstInput(in, out);
+      const TriangleShape shape = MeasureTriangleShape(out);
+      std::printf("[retile] %s at %lld vertices: %d triangles, smallest angle %.2f degrees, %d flipped\n", name,
+        (long long)asked, out.NumberOfTriangles(), shape.SmallestAngleDegrees, check.Flipped);
+      EXPECT_EQ(out.NumberOfPoints(), asked);
+      EXPECT_GE(shape.SmallestAngleDegrees, 5.0);
+      EXPECT_GT(shape.ShortestEdge, 1e-6 * in.BoundingBoxDiagonal());
+      EXPECT_LT(check.MaxVertexDistance, 1e-6);
+    }
+  }
+}
+
 // Turk's removal with the whole ring re-triangulated (slodRetileRing.h): a planar star whose ring
 // has a reflex corner (v1), so the fan from v0 folds there, while a flip of that fan's edge
 // (v0, v2) gives a ring facing the surface's way. Where no triangulation can face the surface (a
