@@ -578,12 +578,6 @@ public:
   void Run(TriangleMesh& mesh, TriangleCollapseResult& result);
 
 private:
-  // A quadric and its weight (the sum of its planes' areas).
-  struct WeightedQuadric
-  {
-    Quadric Q;
-    double W = 0.0;
-  };
   // The stages of Run, in order.
   void Prepare(TriangleMesh& input, bool refine);
   // Adds the caller's TriangleCollapseOptions::LockedVertices to Locked, and takes its
@@ -678,9 +672,7 @@ private:
   Index Perform(const Candidate& c, const std::vector<Index>* gathered, CollapseLoop& loop, TriangleCollapseResult& result);
   void MergeAttributes(const Candidate& c, Index kept);
   void MergeAttributeTerms(const Candidate& c, Index kept);
-  // merged: the set's quadric, summed before the collapse moved kept (HeldQuadric's frame).
-  void MergeVertexState(const Candidate& c, Index kept, const WeightedQuadric& merged);
-  WeightedQuadric MergedQuadric(const Candidate& c) const;
+  void MergeVertexState(const Candidate& c, Index kept);
   void RetryPendingAround(Index kept, CollapseLoop& loop);
   void AppendHistory(const CollapseRecord& record, const CollapseLoop& loop, TriangleCollapseResult& result) const;
   bool ReportProgress(CollapseLoop& loop, TriangleCollapseResult& result) const;
@@ -698,9 +690,8 @@ private:
     Index Tail, Head, Triangle;
   };
   struct VertexQuadricsFunctor;
-  // A plane's quadric with its origin at `at` (Local coordinates).
-  double TrianglePlane(Index t, Quadric& q, const Vec3& at = Vec3{ 0, 0, 0 }) const;
-  bool BorderPlane(const BorderEdge& edge, Quadric& q, const Vec3& at = Vec3{ 0, 0, 0 }) const;
+  double TrianglePlane(Index t, Quadric& q) const;
+  bool BorderPlane(const BorderEdge& edge, Quadric& q) const;
   void BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const;
   void InitializePlaneSets();
   void SumLogicalSet(Index v); // exact mode: LogicalSum[v] from LogicalSet[v]
@@ -719,11 +710,9 @@ private:
   // With the attribute metric: the minimiser's attribute values of every merged output vertex.
   void StoreAttributeValues(const std::vector<Index>& newToOld, TriangleCollapseResult& result) const;
   // Quadric of the interrelated set of 2 (edge) or 3 (triangle) vertices.
-  // frame: the origin of the returned quadric (Local coordinates; the exact union's is the mesh's).
-  Quadric SetQuadric(const Index* v, int count, double& weight, const Vec3& frame = Vec3{ 0, 0, 0 }) const;
-  // Best placement (local coordinates) and its cost for the set's quadric, whose origin is at
-  // `frame` (Local coordinates).
-  double Place(const Index* v, int count, const Quadric& q, Vec3& local, const Vec3& frame = Vec3{ 0, 0, 0 }) const;
+  Quadric SetQuadric(const Index* v, int count, double& weight) const;
+  // Best placement (local coordinates) and its cost for the set's quadric.
+  double Place(const Index* v, int count, const Quadric& q, Vec3& local) const;
   // Cheapest operation of triangle t: 0 = collapse the triangle, k = 1..3 = collapse its edge
   // (corner k-1, corner k % 3) when edge collapses are enabled.
   double Cost(Index t, Vec3& local, double& error, int& operation) const;
@@ -809,52 +798,14 @@ private:
   StageClock Stages{ "triangle collapse" }; // wall and CPU time per stage at TRACE
   double CostScale = 1.0; // makes float heap keys well scaled
   double Diagonal = 0.0;
-  // After the collapses (CompactQuadrics): the surviving vertices' quadrics in the mesh's frame.
-  std::vector<WeightedQuadric> Vertex;
-  // Through the collapses each vertex's quadric is held in one 64-byte record (one cache line; a
-  // WeightedQuadric takes 88 bytes and two lines): A in doubles, since it does not depend on the
-  // frame and its small eigenvalues on near-flat surfaces are below a float's resolution of its
-  // largest (session 24: A in floats moved mc1m's Hausdorff 2.45x); b and c relative to the
-  // vertex's own position in floats, where they are the half gradient and the error at the vertex:
-  // small numbers whose float rounding is relative to themselves, not to the mesh's extent.
-  // The weights (sums of areas) in floats beside them; a vertex merged away holds there, instead
-  // of its weight, its parent with the sign bit set (ParentOf).
-  struct HeldQuadric
+  // Accumulated mode: per vertex the sum of its logical set's planes and of their weights,
+  // side by side (one cache line pair per vertex instead of two separate misses).
+  struct WeightedQuadric
   {
-    double A[6];
-    float B[3];
-    float C;
+    Quadric Q;
+    double W = 0.0;
   };
-  static_assert(sizeof(HeldQuadric) == 64, "one cache line per vertex quadric");
-  std::vector<HeldQuadric> Held;
-  std::vector<float> HeldWeight;
-  // The quadric of vertex v with its origin at `frame` (Local coordinates), from its record.
-  // The collapses evaluate and solve each set's quadric in a frame at one of its vertices: moved
-  // by an edge's length, the rounding of b and c stays at the scale of the neighbourhood, where the
-  // mesh's frame (up to half the diagonal away) gave near-singular solves noise (CAD faces).
-  Quadric HeldQuadricIn(Index v, const Vec3& frame) const;
-  Quadric HeldQuadricOf(Index v) const { return this->HeldQuadricIn(v, Vec3{ 0, 0, 0 }); }
-  double HeldWeightOf(Index v) const { return double(this->HeldWeight[v]); }
-  // Holds q, whose origin is at `frame`, as vertex v's quadric (relative to v's position).
-  void Hold(Index v, Quadric q, double weight, const Vec3& frame);
-  // Cost and placement of a set (2 or 3 vertices) from the sum of its held quadrics, with their
-  // origin at the set's smallest vertex: whichever path costs the set (the initial keys, a pop,
-  // the re-keying around a collapse, the passes) gets the same value, as the cached costs assume.
-  double SetCost(const Index* set, int count, Vec3& local) const
-  {
-    const Vec3 frame = this->Local(*std::min_element(set, set + count));
-    Quadric q = this->HeldQuadricIn(set[0], frame);
-    for (int i = 1; i < count; ++i)
-    {
-      q += this->HeldQuadricIn(set[i], frame);
-    }
-    return this->Place(set, count, q, local, frame);
-  }
-  void PrefetchHeld(Index v) const
-  {
-    __builtin_prefetch(&this->Held[v]);
-    __builtin_prefetch(&this->HeldWeight[v]);
-  }
+  std::vector<WeightedQuadric> Vertex;
   // Per triangle, in one 16-byte record (one cache miss instead of three): the cached keys of its
   // edge collapses, the operations that failed validity (bit k), and whether it waits for a change
   // of its neighbourhood (1: failed validity, retried when the 2-ring changes; 2: over MaximumError).
@@ -882,9 +833,9 @@ private:
   mutable vtkSMPThreadLocal<EditableMesh::CheckScratch> LinkScratch;
   EditableMesh::CheckScratch* LinkTable() const { return this->LinkTables ? &this->LinkScratch.Local() : nullptr; }
   CollapseStatus CheckSet(const Candidate& c, const CollapseOptions& check, std::vector<Index>& gathered) const;
-  // RefineDeviation's tree of merges: a vertex merged away keeps, in its held weight (never read
-  // again), the vertex it merged into with the sign bit set, so no array of parents is held
-  // through the collapses (4 bytes per input vertex).
+  // RefineDeviation's tree of merges: a vertex merged away keeps, in its quadric's weight (never
+  // read again; a weight is a sum of areas, never negative), -(1 + the vertex it merged into), so
+  // no array of parents is held through the collapses (4 bytes per input vertex).
   // After the collapses only the survivors' quadrics are read (CompactQuadrics): Link then holds,
   // per vertex, its parent (>= 0) when merged away, or -(1 + its slot in Vertex) when it survived.
   Index ParentOf(Index v) const
@@ -893,9 +844,8 @@ private:
     {
       return this->Link[v] >= 0 ? this->Link[v] : v;
     }
-    std::uint32_t bits;
-    std::memcpy(&bits, &this->HeldWeight[v], sizeof bits);
-    return bits & ParentBit ? static_cast<Index>(bits & ~ParentBit) : v;
+    const double w = this->Vertex[v].W;
+    return w < 0 ? static_cast<Index>(-1.0 - w) : v;
   }
   void SetParent(Index v, Index parent)
   {
@@ -904,16 +854,13 @@ private:
       this->Link[v] = parent; // (only vertices merged away are re-parented)
       return;
     }
-    const std::uint32_t bits = std::uint32_t(parent) | ParentBit;
-    std::memcpy(&this->HeldWeight[v], &bits, sizeof bits);
+    this->Vertex[v].W = -1.0 - double(parent);
   }
-  // (a weight is a sum of areas from +0: its sign bit is never set)
-  static constexpr std::uint32_t ParentBit = 0x80000000u;
-  // A surviving vertex's quadric after CompactQuadrics.
+  // A surviving vertex's quadric, before or after CompactQuadrics.
   const WeightedQuadric& QuadricOf(Index v) const
   {
-    assert(!this->Link.empty() && this->Link[v] < 0); // (merged-away vertices have no slot)
-    return this->Vertex[size_t(-1 - this->Link[v])];
+    assert(this->Link.empty() || this->Link[v] < 0); // (merged-away vertices have no slot)
+    return this->Link.empty() ? this->Vertex[v] : this->Vertex[size_t(-1 - this->Link[v])];
   }
   void CompactQuadrics();
   std::vector<Index> Link;
@@ -1010,21 +957,20 @@ void TriangleCollapser::SortTrianglesBySmallestVertex(TriangleMesh& mesh, const 
 }
 
 // Area-weighted plane of triangle t (in local coordinates); returns the weight (the area).
-double TriangleCollapser::TrianglePlane(Index t, Quadric& q, const Vec3& at) const
+double TriangleCollapser::TrianglePlane(Index t, Quadric& q) const
 {
   const Index* tri = this->Mesh.Triangle(t);
-  return TrianglePlaneQuadric(this->Local(tri[0]) - at, this->Local(tri[1]) - at, this->Local(tri[2]) - at, q);
+  return TrianglePlaneQuadric(this->Local(tri[0]), this->Local(tri[1]), this->Local(tri[2]), q);
 }
 
 // Boundary plane (paper 2.3) of the border edge (tail, head) of triangle t: through the edge,
 // perpendicular to its triangle, weighted by the squared edge length (same units as the areas)
 // times the user weight. False when the weight vanishes.
-bool TriangleCollapser::BorderPlane(const BorderEdge& edge, Quadric& q, const Vec3& at) const
+bool TriangleCollapser::BorderPlane(const BorderEdge& edge, Quadric& q) const
 {
   const Index* tri = this->Mesh.Triangle(edge.Triangle);
   const Vec3 tn = Normalized(Cross(this->Local(tri[1]) - this->Local(tri[0]), this->Local(tri[2]) - this->Local(tri[0])));
-  return BorderEdgeQuadric(
-    this->Local(edge.Tail) - at, this->Local(edge.Head) - at, tn, this->Options.BoundaryWeight, q);
+  return BorderEdgeQuadric(this->Local(edge.Tail), this->Local(edge.Head), tn, this->Options.BoundaryWeight, q);
 }
 
 // The border edges at x (directed as in their triangle), ordered by (tail, triangle): the order
@@ -1102,10 +1048,9 @@ struct TriangleCollapser::VertexQuadricsFunctor
     for (Index x = static_cast<Index>(begin); x < static_cast<Index>(end); ++x)
     {
       WeightedQuadric sum;
-      const Vec3 at = this->Self.Local(x); // (its planes pass through it: b and c start at zero)
       this->Self.Mesh.ForEachTriangle(x, [&](Index t) {
         Quadric q;
-        sum.W += this->Self.TrianglePlane(t, q, at);
+        sum.W += this->Self.TrianglePlane(t, q);
         sum.Q += q;
       });
       this->Self.BorderEdgesAt(x, around, edges);
@@ -1113,12 +1058,12 @@ struct TriangleCollapser::VertexQuadricsFunctor
       for (const BorderEdge& edge : edges)
       {
         Quadric q;
-        if (this->Self.BorderPlane(edge, q, at))
+        if (this->Self.BorderPlane(edge, q))
         {
           sum.Q += q;
         }
       }
-      this->Self.Hold(x, sum.Q, sum.W, at);
+      this->Self.Vertex[x] = sum;
     }
   }
 };
@@ -1188,60 +1133,10 @@ void TriangleCollapser::InitializeQuadrics()
     this->InitializePlaneSets();
     return;
   }
-  AssignOnHugePages(this->Held, size_t(nv), HeldQuadric());
-  AssignOnHugePages(this->HeldWeight, size_t(nv), 0.0f);
+  AssignOnHugePages(this->Vertex, size_t(nv), WeightedQuadric());
   VertexQuadricsFunctor functor{ *this, {}, {} };
   vtkSMPTools::For(0, nv, 4096, functor);
   this->InitializeAttributeTerms();
-}
-
-// q(y) -> q(y + delta): the same quadric with its origin moved to delta (in its old frame).
-inline void MoveOrigin(Quadric& q, const Vec3& delta)
-{
-  const double ad[3] = { q.Axx * delta[0] + q.Axy * delta[1] + q.Axz * delta[2],
-    q.Axy * delta[0] + q.Ayy * delta[1] + q.Ayz * delta[2], q.Axz * delta[0] + q.Ayz * delta[1] + q.Azz * delta[2] };
-  q.C += delta[0] * ad[0] + delta[1] * ad[1] + delta[2] * ad[2] +
-    2.0 * (q.Bx * delta[0] + q.By * delta[1] + q.Bz * delta[2]);
-  q.Bx += ad[0];
-  q.By += ad[1];
-  q.Bz += ad[2];
-}
-
-// Held relative to the vertex's position p: q(x) = (x - p)^T A (x - p) + 2 b^T (x - p) + c, so
-// that b and c are the half gradient and the error at p; only they are rounded to floats.
-void TriangleCollapser::Hold(Index v, Quadric q, double weight, const Vec3& frame)
-{
-  MoveOrigin(q, this->Local(v) - frame);
-  HeldQuadric& h = this->Held[v];
-  h.A[0] = q.Axx;
-  h.A[1] = q.Axy;
-  h.A[2] = q.Axz;
-  h.A[3] = q.Ayy;
-  h.A[4] = q.Ayz;
-  h.A[5] = q.Azz;
-  h.B[0] = static_cast<float>(q.Bx);
-  h.B[1] = static_cast<float>(q.By);
-  h.B[2] = static_cast<float>(q.Bz);
-  h.C = static_cast<float>(q.C);
-  this->HeldWeight[v] = static_cast<float>(weight);
-}
-
-Quadric TriangleCollapser::HeldQuadricIn(Index v, const Vec3& frame) const
-{
-  const HeldQuadric& h = this->Held[v];
-  Quadric q;
-  q.Axx = h.A[0];
-  q.Axy = h.A[1];
-  q.Axz = h.A[2];
-  q.Ayy = h.A[3];
-  q.Ayz = h.A[4];
-  q.Azz = h.A[5];
-  q.Bx = double(h.B[0]);
-  q.By = double(h.B[1]);
-  q.Bz = double(h.B[2]);
-  q.C = double(h.C);
-  MoveOrigin(q, frame - this->Local(v));
-  return q;
 }
 
 // The attribute terms of triangle t added to q and gradient (4 per component): for each component
@@ -1391,16 +1286,16 @@ void TriangleCollapser::StoreAttributeValues(const std::vector<Index>& newToOld,
   }
 }
 
-Quadric TriangleCollapser::SetQuadric(const Index* tri, int count, double& weight, const Vec3& frame) const
+Quadric TriangleCollapser::SetQuadric(const Index* tri, int count, double& weight) const
 {
   if (!this->Options.ExactUnion)
   {
-    Quadric q = this->HeldQuadricIn(tri[0], frame);
-    weight = this->HeldWeightOf(tri[0]);
+    Quadric q = this->Vertex[tri[0]].Q;
+    weight = this->Vertex[tri[0]].W;
     for (int i = 1; i < count; ++i)
     {
-      q += this->HeldQuadricIn(tri[i], frame);
-      weight += this->HeldWeightOf(tri[i]);
+      q += this->Vertex[tri[i]].Q;
+      weight += this->Vertex[tri[i]].W;
     }
     return q;
   }
@@ -1442,7 +1337,7 @@ Quadric TriangleCollapser::SetQuadric(const Index* tri, int count, double& weigh
   return q;
 }
 
-double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, Vec3& local, const Vec3& frame) const
+double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, Vec3& local) const
 {
   int pinned = 0;
   const Index pin = this->PinnedIn(tri, count, pinned);
@@ -1455,10 +1350,9 @@ double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, V
       return std::numeric_limits<double>::infinity();
     }
     local = this->Local(pin);
-    return q.Evaluate(local - frame);
+    return q.Evaluate(local);
   }
-  const Vec3 a = this->Local(tri[0]) - frame, b = this->Local(tri[1]) - frame,
-             c = count == 3 ? this->Local(tri[2]) - frame : b;
+  const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = count == 3 ? this->Local(tri[2]) : b;
   if (q.Minimize(local, 1e-10))
   {
     // A well-conditioned optimum far outside the neighbourhood still means a near-singular
@@ -1468,9 +1362,7 @@ double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, V
     const Vec3 d = local - centroid;
     if (Dot(d, d) <= 4.0 * reach)
     {
-      const double e = q.Evaluate(local);
-      local = local + frame;
-      return e;
+      return q.Evaluate(local);
     }
   }
   // Fallback (§2.2): the best of the centroid, the vertices and the edge midpoints.
@@ -1484,7 +1376,7 @@ double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, V
     if (e < best)
     {
       best = e;
-      local = p + frame;
+      local = p;
     }
   }
   return best;
@@ -1502,14 +1394,10 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
   const double bias = this->Options.EdgeCollapseBias;
   const bool edges = this->Options.EdgeCollapses;
   double bestFactor = 1.0, bestWeight = 0.0;
-  // q: the set's quadric in the mesh's frame (the exact union, the attribute metric); null for
-  // the sum of its held quadrics (SetCost).
-  auto consider = [&](int op, const Index* set, int count, const Quadric* q, double weight, double factor, bool allowed) {
+  auto consider = [&](int op, const Index* set, int count, const Quadric& q, double weight, double factor, bool allowed) {
     Vec3 p;
-    const double c = (q == nullptr      ? this->SetCost(set, count, p)
-                         : this->AttributeComponents > 0 ? this->PlaceWithAttributes(set, count, *q, p)
-                                                         : this->Place(set, count, *q, p)) *
-      factor;
+    const double c =
+      (this->AttributeComponents > 0 ? this->PlaceWithAttributes(set, count, q, p) : this->Place(set, count, q, p)) * factor;
     if (allowed && c < cost)
     {
       cost = c;
@@ -1541,7 +1429,7 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
     if (!(excluded & 1u))
     {
       const Quadric q = this->CostQuadric(tri, 3, weight);
-      consider(0, tri, 3, &q, weight, 1.0, true);
+      consider(0, tri, 3, q, weight, 1.0, true);
     }
     for (int k = 0; edges && k < 3; ++k)
     {
@@ -1549,16 +1437,20 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
       {
         const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
         const Quadric qe = this->CostQuadric(edge, 2, weight);
-        consider(k + 1, edge, 2, &qe, weight, bias, true);
+        consider(k + 1, edge, 2, qe, weight, bias, true);
       }
     }
     return finish();
   }
-  // Accumulated mode: the set quadrics are sums of the vertex quadrics (SetCost).
-  const double wa = this->HeldWeightOf(tri[0]), wb = this->HeldWeightOf(tri[1]), wc = this->HeldWeightOf(tri[2]);
+  // Accumulated mode: the set quadrics are sums of the three vertex quadrics, shared below.
+  const Quadric& qa = this->Vertex[tri[0]].Q;
+  const Quadric& qb = this->Vertex[tri[1]].Q;
+  const Quadric& qc = this->Vertex[tri[2]].Q;
+  const double wa = this->Vertex[tri[0]].W, wb = this->Vertex[tri[1]].W, wc = this->Vertex[tri[2]].W;
+  const Quadric qab = qa + qb;
   if (!(excluded & 1u))
   {
-    consider(0, tri, 3, nullptr, wa + wb + wc, 1.0, true);
+    consider(0, tri, 3, qab + qc, wa + wb + wc, 1.0, true);
   }
   if (edges)
   {
@@ -1566,9 +1458,9 @@ double TriangleCollapser::Cost(Index t, Vec3& local, double& error, int& operati
     // touch the new vertex).
     const Index e0[2] = { tri[0], tri[1] }, e1[2] = { tri[1], tri[2] }, e2[2] = { tri[2], tri[0] };
     float* cache = this->State[t].EdgeCost;
-    cache[0] = static_cast<float>(consider(1, e0, 2, nullptr, wa + wb, bias, !(excluded & 2u)) * this->CostScale);
-    cache[1] = static_cast<float>(consider(2, e1, 2, nullptr, wb + wc, bias, !(excluded & 4u)) * this->CostScale);
-    cache[2] = static_cast<float>(consider(3, e2, 2, nullptr, wc + wa, bias, !(excluded & 8u)) * this->CostScale);
+    cache[0] = static_cast<float>(consider(1, e0, 2, qab, wa + wb, bias, !(excluded & 2u)) * this->CostScale);
+    cache[1] = static_cast<float>(consider(2, e1, 2, qb + qc, wb + wc, bias, !(excluded & 4u)) * this->CostScale);
+    cache[2] = static_cast<float>(consider(3, e2, 2, qc + qa, wc + wa, bias, !(excluded & 8u)) * this->CostScale);
   }
   return finish();
 }
@@ -1631,13 +1523,16 @@ double TriangleCollapser::PopCost(
   double best = std::numeric_limits<double>::infinity();
   if (!(excluded & 1u))
   {
-    best = this->SetCost(tri, 3, local);
+    Quadric q = this->Vertex[tri[0]].Q;
+    q += this->Vertex[tri[1]].Q;
+    q += this->Vertex[tri[2]].Q;
+    best = this->Place(tri, 3, q, local);
     if (triangleCost)
     {
       *triangleCost = best;
     }
     operation = std::isfinite(best) ? 0 : -1;
-    const double w = this->HeldWeightOf(tri[0]) + this->HeldWeightOf(tri[1]) + this->HeldWeightOf(tri[2]);
+    const double w = this->Vertex[tri[0]].W + this->Vertex[tri[1]].W + this->Vertex[tri[2]].W;
     error = w > 0 ? std::sqrt(best / w) : 0.0;
   }
   int edge = -1;
@@ -1653,8 +1548,8 @@ double TriangleCollapser::PopCost(
   {
     const Index e[2] = { tri[edge], tri[(edge + 1) % 3] };
     const double bias = this->Options.EdgeCollapseBias;
-    best = this->SetCost(e, 2, local) * bias;
-    const double w = this->HeldWeightOf(e[0]) + this->HeldWeightOf(e[1]);
+    best = this->Place(e, 2, this->Vertex[e[0]].Q + this->Vertex[e[1]].Q, local) * bias;
+    const double w = this->Vertex[e[0]].W + this->Vertex[e[1]].W;
     error = w > 0 && bias > 0 ? std::sqrt(best / bias / w) : 0.0;
     operation = edge + 1;
   }
@@ -1679,8 +1574,11 @@ bool TriangleCollapser::KeyFromCache(Index t, const std::optional<double>& trian
     {
       // (PopCost's sum and placement; TriangleOperationCost stays AroundKeys' alone, inlined there)
       const Index* tri = this->Mesh.Triangle(t);
+      Quadric q = this->Vertex[tri[0]].Q;
+      q += this->Vertex[tri[1]].Q;
+      q += this->Vertex[tri[2]].Q;
       Vec3 p;
-      cost = this->SetCost(tri, 3, p);
+      cost = this->Place(tri, 3, q, p);
     }
     best = static_cast<float>(cost * this->CostScale);
   }
@@ -1697,7 +1595,10 @@ bool TriangleCollapser::KeyFromCache(Index t, const std::optional<double>& trian
 
 double TriangleCollapser::TriangleOperationCost(const Index* tri, Vec3& local) const
 {
-  return this->SetCost(tri, 3, local);
+  Quadric q = this->Vertex[tri[0]].Q;
+  q += this->Vertex[tri[1]].Q;
+  q += this->Vertex[tri[2]].Q;
+  return this->Place(tri, 3, q, local);
 }
 
 void TriangleCollapser::UpdateAround(Index kept)
@@ -1732,6 +1633,7 @@ void TriangleCollapser::AroundKeys(
   }
   spokes.Vertex.clear();
   spokes.Cost.clear();
+  const Quadric& qk = this->Vertex[kept].Q;
   const double bias = this->Options.EdgeCollapseBias;
   // Prefetch what the updates read (corners, vertex quadrics, cached edge costs, queue slots):
   // the loop is bound by memory latency, and independent prefetches overlap where the loop's
@@ -1747,7 +1649,9 @@ void TriangleCollapser::AroundKeys(
     const Index* tri = this->Mesh.Triangle(t);
     for (int k = 0; k < 3; ++k)
     {
-      this->PrefetchHeld(tri[k]);
+      const char* q = reinterpret_cast<const char*>(&this->Vertex[tri[k]]);
+      __builtin_prefetch(q);
+      __builtin_prefetch(q + 64);
     }
     this->Heap.PrefetchBucket(t);
   }
@@ -1774,7 +1678,7 @@ void TriangleCollapser::AroundKeys(
         else
         {
           const Index edge[2] = { u, v };
-          cache[k] = static_cast<float>(this->SetCost(edge, 2, p) * bias * this->CostScale);
+          cache[k] = static_cast<float>(this->Place(edge, 2, qk + this->Vertex[x].Q, p) * bias * this->CostScale);
           spokes.Vertex.push_back(x);
           spokes.Cost.push_back(cache[k]);
         }
@@ -1834,8 +1738,7 @@ size_t TriangleCollapser::WorkingBytes() const
     this->Merged.capacity();
   return this->Mesh.MemoryBytes() + this->Original.MemoryBytes() + this->VertexInputPacked.Packed.MemoryBytes() +
     this->TriangleInputPacked.Packed.MemoryBytes() + this->Heap.MemoryBytes() +
-    this->Vertex.capacity() * sizeof(WeightedQuadric) + this->Held.capacity() * sizeof(HeldQuadric) +
-    this->HeldWeight.capacity() * sizeof(float) + this->State.capacity() * sizeof(TriangleState) +
+    this->Vertex.capacity() * sizeof(WeightedQuadric) + this->State.capacity() * sizeof(TriangleState) +
     this->TriangleInput.capacity() * sizeof(Index) + perVertex + this->Link.capacity() * sizeof(Index) +
     this->AttributeQuadric.capacity() * sizeof(Quadric) +
     this->AttributeGradient.capacity() * sizeof(double);
@@ -2128,17 +2031,7 @@ void TriangleCollapser::MergeAttributeTerms(const Candidate& c, Index kept)
   }
 }
 
-TriangleCollapser::WeightedQuadric TriangleCollapser::MergedQuadric(const Candidate& c) const
-{
-  WeightedQuadric merged;
-  if (!this->Options.ExactUnion)
-  {
-    merged.Q = this->SetQuadric(c.Set, c.Count, merged.W, c.Position - this->Origin);
-  }
-  return merged;
-}
-
-void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept, const WeightedQuadric& merged)
+void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept)
 {
   unsigned char boundary = 0;
   for (int i = 0; i < c.Count; ++i)
@@ -2157,7 +2050,9 @@ void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept, const W
   }
   if (!this->Options.ExactUnion)
   {
-    this->Hold(kept, merged.Q, merged.W, c.Position - this->Origin); // (summed at kept's new position)
+    double weight = 0;
+    this->Vertex[kept].Q = this->SetQuadric(c.Set, c.Count, weight);
+    this->Vertex[kept].W = weight;
     if (this->AttributeComponents > 0)
     {
       this->MergeAttributeTerms(c, kept);
@@ -2195,8 +2090,6 @@ Index TriangleCollapser::Perform(
   {
     this->MergeAttributes(c, kept);
   }
-  // Summed before the collapse moves kept: each held quadric is relative to its vertex's position.
-  const WeightedQuadric merged = this->MergedQuadric(c);
   if (gathered)
   {
     this->Mesh.Collapse(c.Set, c.Count, kept, c.Position, *gathered, &loop.Record);
@@ -2205,7 +2098,7 @@ Index TriangleCollapser::Perform(
   {
     this->Mesh.Collapse(c.Set, c.Count, kept, c.Position, &loop.Record);
   }
-  this->MergeVertexState(c, kept, merged);
+  this->MergeVertexState(c, kept);
   result.MaximumError = std::max(result.MaximumError, c.Error);
   ++result.Collapses;
   result.EdgeCollapses += c.Count == 2 ? 1 : 0;
@@ -2317,7 +2210,9 @@ void TriangleCollapser::PrefetchUpcoming(UpcomingPrefetch& ahead) const
     const Index* tri = this->Mesh.Triangle(ahead.Cornered[i]);
     for (int k = 0; k < 3; ++k)
     {
-      this->PrefetchHeld(tri[k]);
+      const char* q = reinterpret_cast<const char*>(&this->Vertex[tri[k]]);
+      __builtin_prefetch(q);
+      __builtin_prefetch(q + 64);
       this->Mesh.PrefetchVertex(tri[k]);
     }
     ahead.Recorded[i] = ahead.Cornered[i];
@@ -2470,7 +2365,9 @@ struct TriangleCollapser::PickFunctor : WindowedFunctor<TriangleCollapser::PickF
       const Index* tri = mesh.Triangle(this->Batch.Entries[size_t(i)].C.Triangle);
       for (int k = 0; k < 3; ++k)
       {
-        this->Self.PrefetchHeld(tri[k]);
+        const char* q = reinterpret_cast<const char*>(&this->Self.Vertex[tri[k]]);
+        __builtin_prefetch(q);
+        __builtin_prefetch(q + 64);
         mesh.PrefetchVertex(tri[k]);
       }
     }
@@ -2935,10 +2832,9 @@ struct TriangleCollapser::PerformBatchFunctor
       const Candidate& c = this->Batch.Entries[i].C;
       PerformedCollapse& done = this->Batch.Performed[size_t(k)];
       done.Kept = *std::min_element(c.Set, c.Set + c.Count);
-      const WeightedQuadric merged = this->Self.MergedQuadric(c); // (before kept moves)
       this->Self.Mesh.CollapseIntoBlock(
         c.Set, c.Count, done.Kept, c.Position, this->Batch.Gathered[i], this->Base + done.Block, done.Record);
-      this->Self.MergeVertexState(c, done.Kept, merged);
+      this->Self.MergeVertexState(c, done.Kept);
       if (this->Batch.PassesState)
       {
         this->Self.MarkChanged(done.Kept, done.Record, *this->Batch.PassesState);
@@ -3193,7 +3089,8 @@ unsigned char TriangleCollapser::CostOwnedEdges(
     }
     if (edge[0] < edge[1])
     {
-      cache[k] = static_cast<float>(this->SetCost(edge, 2, p) * bias * this->CostScale);
+      const Quadric qe = this->Vertex[edge[0]].Q + this->Vertex[edge[1]].Q;
+      cache[k] = static_cast<float>(this->Place(edge, 2, qe, p) * bias * this->CostScale);
     }
     else
     {
@@ -3226,7 +3123,8 @@ float TriangleCollapser::EdgeOwnerCost(Index t, Index a, Index b) const
   {
     const Index edge[2] = { a, b };
     Vec3 p;
-    cost = static_cast<float>(this->SetCost(edge, 2, p) * this->Options.EdgeCollapseBias * this->CostScale);
+    const Quadric qe = this->Vertex[a].Q + this->Vertex[b].Q;
+    cost = static_cast<float>(this->Place(edge, 2, qe, p) * this->Options.EdgeCollapseBias * this->CostScale);
   }
   return cost;
 }
@@ -3725,8 +3623,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     "queue %.1f, triangle state %.1f)",
     perVertex * double(result.PeakWorkingBytes), perVertex * double(this->Mesh.MemoryBytes()),
     perVertex * double(this->Original.MemoryBytes()),
-    perVertex * double(this->Held.capacity() * sizeof(HeldQuadric) + this->HeldWeight.capacity() * sizeof(float)),
-    perVertex * double(this->Heap.MemoryBytes()),
+    perVertex * double(this->Vertex.capacity() * sizeof(WeightedQuadric)), perVertex * double(this->Heap.MemoryBytes()),
     perVertex * double(this->State.capacity() * sizeof(TriangleState)));
   this->Stages.Lap("collapses");
   // The queue and the per-triangle state are done: free them so that the output reuses their
@@ -3753,33 +3650,29 @@ void TriangleCollapser::CompactQuadrics()
   // The passes after the collapses and the extraction read the quadrics of the surviving vertices
   // only (about a tenth at 90 %) and the parents of the others: hold those instead of a quadric
   // per input vertex, which was the largest array after the loop (88 bytes per input vertex).
-  // The survivors' records are expanded to the mesh's frame before the passes move vertices.
-  const size_t nv = this->Held.size();
+  // The values are moved, not recomputed: the outputs do not change.
+  const size_t nv = this->Vertex.size();
   if (this->Options.ExactUnion || nv != size_t(this->Mesh.NumberOfPoints()))
   {
     return; // (the exact union reads its plane sets, not these sums)
   }
-  std::vector<Index> link(nv);
-  size_t survivors = 0;
+  this->Link.resize(nv);
+  size_t slot = 0;
   for (size_t v = 0; v < nv; ++v)
   {
-    const Index parent = this->ParentOf(Index(v)); // (from the held weights while Link is empty)
-    link[v] = parent != Index(v) ? parent : -1 - static_cast<Index>(survivors++);
-  }
-  this->Link.swap(link);
-  this->Vertex.resize(survivors);
-  for (size_t v = 0; v < nv; ++v)
-  {
-    if (this->Link[v] < 0)
+    const double w = this->Vertex[v].W;
+    if (w < 0)
     {
-      WeightedQuadric& q = this->Vertex[size_t(-1 - this->Link[v])];
-      q.Q = this->HeldQuadricOf(Index(v));
-      q.W = this->HeldWeightOf(Index(v));
+      this->Link[v] = static_cast<Index>(-1.0 - w);
+    }
+    else
+    {
+      this->Link[v] = -1 - static_cast<Index>(slot);
+      this->Vertex[slot++] = this->Vertex[v]; // (slot <= v)
     }
   }
-  std::vector<HeldQuadric>().swap(this->Held);
-  std::vector<float>().swap(this->HeldWeight);
-  ReturnFreedMemory();
+  this->Vertex.resize(slot);
+  this->Vertex.shrink_to_fit();
 }
 
 void TriangleCollapser::BuildAncestry(const OriginalSurface& original, Ancestry& ancestry)

