@@ -383,11 +383,12 @@ private:
       Entry found[ScanLimit];
       const int count = bucket.size() <= size_t(Capacity) ? CopyAll(bucket, found) : Smallest(bucket, found);
       const int listed = count < Capacity ? count : Capacity;
-      if (count > 2 * Capacity)
+      const bool many = count > 2 * Capacity; // ties at the threshold: select, then sort the few
+      if (many)
       {
         std::nth_element(found, found + listed, found + count, [](const Entry& x, const Entry& y) { return Before(x, y); });
       }
-      SortFew(found, count < 2 * Capacity ? count : listed);
+      SortFew(found, many ? listed : count);
       std::memcpy(this->Sorted, found, size_t(listed) * sizeof(Entry));
       this->Bucket = b;
       this->Begin = 0;

@@ -360,3 +360,38 @@ TEST(PriorityQueues, PopCacheServesSeveralPopsPerScanInKeyOrder)
     EXPECT_LE(queue.Scans() * 4, pops) << queue.Scans() << " scans for " << pops << " pops, base " << base;
   }
 }
+
+// A scan lists the smallest entries at every number of entries tied at its threshold (one key for
+// the whole bucket, or two or three keys): the list is chosen among them by key, then id, at and
+// around the sizes where the selection changes (the list's capacity, twice it).
+TEST(PriorityQueues, PopCacheListsTheSmallestAtEveryCountOfTies)
+{
+  std::mt19937 random(64);
+  for (int distinct = 1; distinct <= 3; ++distinct)
+  {
+    for (Index size = 1; size <= 3 * 32 + 8; ++size)
+    {
+      SCOPED_TRACE(testing::Message() << size << " entries, " << distinct << " keys");
+      BucketQueue queue;
+      queue.Reset(4 * size);
+      std::vector<std::pair<float, Index>> expected;
+      std::vector<Index> ids(static_cast<size_t>(size));
+      for (Index i = 0; i < size; ++i)
+      {
+        ids[size_t(i)] = 4 * i + i % 4;
+      }
+      std::shuffle(ids.begin(), ids.end(), random);
+      for (Index id : ids)
+      {
+        const float key = 2.0f + 1e-4f * float(id % distinct); // one bucket
+        queue.Set(id, key);
+        expected.push_back({ key, id });
+      }
+      std::sort(expected.begin(), expected.end());
+      for (const auto& e : expected)
+      {
+        ASSERT_EQ(queue.Pop(), e.second);
+      }
+    }
+  }
+}
