@@ -312,7 +312,7 @@ private:
 
   // The smallest entries of one bucket in Pop's order, and a limit: every entry of that bucket
   // that is not listed comes after Limit in Pop's order. Pop takes the front; Set and Remove keep
-  // the list exact for the entries at or before Limit (Inserted, Removed), so that one scan serves
+  // the list exact for the entries at or before Limit (Insert, Erase), so that one scan serves
   // the next pops of the bucket: the pop scan was the largest part of the collapse loop's own
   // in-order work (about 300 instructions per pop on the marching-cubes mesh, session 34).
   struct PopCache
