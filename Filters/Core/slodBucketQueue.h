@@ -9,12 +9,15 @@
 // the lowest non-empty bucket for its exact minimum (ties: smallest id), so the order is the same
 // as a heap's; only buckets larger than ScanLimit (typically exact ties such as the zero costs of
 // planar regions) are served from the back without a scan. Deterministic.
+// A scan keeps the smallest entries it finds in Pop's order (PopCache), so that the next pops of
+// the same bucket take them without scanning it again; Set and Remove keep that list exact.
 #ifndef slodBucketQueue_h
 #define slodBucketQueue_h
 
 #include "slodHugePages.h"
 #include "slodTriangleMesh.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -38,6 +41,8 @@ public:
     this->Buckets.assign(size_t(1) << BucketBits, {});
     this->Lowest = static_cast<Index>(this->Buckets.size());
     this->Count = 0;
+    this->ScanCount = 0;
+    this->Cache.Clear();
   }
 
   // Reset(n) then Set(id, keys[id]) for every id in order, with each bucket allocated once at its
@@ -61,6 +66,8 @@ public:
   }
 
   bool Empty() const { return this->Count == 0; }
+  // Scans of a bucket by Pop since Reset (each lists the bucket's smallest entries for the next pops).
+  long long Scans() const { return this->ScanCount; }
   Index Size() const { return this->Count; }
   // Hint: id's entry is about to be changed.
   void Prefetch(Index id) const
@@ -158,6 +165,10 @@ public:
     bucket.push_back({ key, id });
     this->Lowest = b < this->Lowest ? b : this->Lowest;
     ++this->Count;
+    if (b == this->Cache.Bucket && !Before(this->Cache.Limit, { key, id }))
+    {
+      this->Cache.Insert({ key, id });
+    }
   }
 
   void Remove(Index id)
@@ -168,7 +179,12 @@ public:
       return;
     }
     // The entry's bucket follows from its key.
-    auto& bucket = this->Buckets[this->BucketId[id]];
+    const Index b = this->BucketId[id];
+    auto& bucket = this->Buckets[b];
+    if (b == this->Cache.Bucket && !Before(this->Cache.Limit, bucket[s]))
+    {
+      this->Cache.Erase(bucket[s].Id);
+    }
     const Entry last = bucket.back();
     bucket[s] = last;
     this->Slot[last.Id] = s;
@@ -213,14 +229,26 @@ public:
   {
     this->SkipEmptyBuckets();
     auto& bucket = this->Buckets[this->Lowest];
-    size_t best = bucket.size() - 1;
+    Entry e = bucket.back();
     if (bucket.size() <= size_t(ScanLimit))
     {
       // NaN keys share the bucket of 3e38 (BucketOf) and compare neither smaller nor larger:
-      // that bucket and those above it are scanned in order.
-      best = this->Lowest < BucketOf(3.0e38f) ? SmallestOf(bucket) : SmallestInOrder(bucket);
+      // that bucket and those above it are scanned in order, without the cache.
+      if (this->Lowest >= BucketOf(3.0e38f))
+      {
+        e = bucket[SmallestInOrder(bucket)];
+        ++this->ScanCount;
+      }
+      else
+      {
+        if (this->Cache.Bucket != this->Lowest || this->Cache.Empty())
+        {
+          this->Cache.Fill(this->Lowest, bucket);
+          ++this->ScanCount;
+        }
+        e = this->Cache.Front();
+      }
     }
-    const Entry e = bucket[best];
     if (key)
     {
       *key = e.K;
@@ -245,7 +273,7 @@ private:
     float K;
     Index Id;
   };
-  // SmallestOf reads the entries as pairs of floats, four keys per two 16-byte loads.
+  // The pop cache's scans read the entries as pairs of floats, four keys per two 16-byte loads.
   static_assert(sizeof(Entry) == 2 * sizeof(float) && sizeof(Index) == sizeof(float), "Entry must be {float, 32-bit id}");
   // Advances Lowest to the first non-empty bucket (call only when not Empty). The buckets passed
   // give their storage back: costs rise as a collapse loop runs, so the entries move to higher
@@ -279,63 +307,178 @@ private:
     return best;
   }
 
-  // The same position for keys that are not NaN, in two passes that need no branch per entry:
-  // the smallest key (four at a time), then the smallest id among the entries of that key (equal
-  // keys, -0 and +0 included, are the ties of SmallestInOrder). The pop scan was the largest
-  // part of the collapse loop's own instructions.
-  static size_t SmallestOf(const std::vector<Entry>& bucket)
+  // Pop's order on entries whose keys are not NaN: key, then id (-0 and +0 are equal keys).
+  static bool Before(const Entry& a, const Entry& b) { return a.K < b.K || (a.K == b.K && a.Id < b.Id); }
+
+  // The smallest entries of one bucket in Pop's order, and a limit: every entry of that bucket
+  // that is not listed comes after Limit in Pop's order. Pop takes the front; Set and Remove keep
+  // the list exact for the entries at or before Limit (Insert, Erase), so that one scan serves
+  // the next pops of the bucket: the pop scan was the largest part of the collapse loop's own
+  // in-order work (about 300 instructions per pop on the marching-cubes mesh, session 34).
+  struct PopCache
   {
-    const size_t n = bucket.size();
-    const Entry* e = bucket.data();
-    float smallest = e[n - 1].K;
-    size_t i = 0;
-#if defined(__SSE2__)
-    if (n >= 8)
+    static constexpr int Capacity = 32;
+    Index Bucket = InvalidIndex; // the bucket listed, or none
+    int Begin = 0, End = 0;      // the listed entries are Sorted[Begin, End)
+    Entry Limit{ 0.0f, 0 };
+    Entry Sorted[Capacity];
+
+    void Clear()
     {
-      __m128 lowest = _mm_set1_ps(smallest);
-      for (; i + 4 <= n; i += 4)
+      this->Bucket = InvalidIndex;
+      this->Begin = this->End = 0;
+    }
+    bool Empty() const { return this->Begin == this->End; }
+    const Entry& Front() const { return this->Sorted[this->Begin]; }
+    // Lists e, an entry of the bucket at or before the limit (out of line: Set's common path is
+    // the test before the call).
+    __attribute__((noinline)) void Insert(const Entry& e)
+    {
+      if (this->End == Capacity && this->Begin > 0)
       {
-        // Entries i..i+3 are {K, Id} pairs: keep the keys (lanes 0 and 2 of each half).
+        std::memmove(this->Sorted, this->Sorted + this->Begin, size_t(this->End - this->Begin) * sizeof(Entry));
+        this->End -= this->Begin;
+        this->Begin = 0;
+      }
+      if (this->End == Capacity)
+      {
+        // Full: the last entry leaves the list, and the limit moves before it.
+        --this->End;
+        this->Limit = this->Sorted[this->End - 1];
+        if (Before(this->Limit, e))
+        {
+          return;
+        }
+      }
+      int i = this->End++;
+      for (; i > this->Begin && Before(e, this->Sorted[i - 1]); --i)
+      {
+        this->Sorted[i] = this->Sorted[i - 1];
+      }
+      this->Sorted[i] = e;
+    }
+    // Takes the entry of id (at or before the limit, so listed) off the list; the front is a pop.
+    void Erase(Index id)
+    {
+      int i = this->Begin;
+      while (i < this->End && this->Sorted[i].Id != id)
+      {
+        ++i;
+      }
+      if (i == this->End)
+      {
+        return; // not reached: every entry at or before the limit is listed
+      }
+      if (i == this->Begin)
+      {
+        ++this->Begin; // a pop
+        return;
+      }
+      std::memmove(this->Sorted + i, this->Sorted + i + 1, size_t(this->End - i - 1) * sizeof(Entry));
+      --this->End;
+    }
+    // Lists the smallest entries of bucket b (not empty, at most ScanLimit entries, no NaN key).
+    void Fill(Index b, const std::vector<Entry>& bucket)
+    {
+      Entry found[ScanLimit];
+      const int count = bucket.size() <= size_t(Capacity) ? CopyAll(bucket, found) : Smallest(bucket, found);
+      const int listed = count < Capacity ? count : Capacity;
+      const bool many = count > 2 * Capacity; // ties at the threshold: select, then sort the few
+      if (many)
+      {
+        std::nth_element(found, found + listed, found + count, [](const Entry& x, const Entry& y) { return Before(x, y); });
+      }
+      SortFew(found, many ? listed : count);
+      std::memcpy(this->Sorted, found, size_t(listed) * sizeof(Entry));
+      this->Bucket = b;
+      this->Begin = 0;
+      this->End = listed;
+      this->Limit = this->Sorted[listed - 1];
+    }
+    // Insertion sort in Pop's order: the lists are short (about 16 entries).
+    static void SortFew(Entry* e, int n)
+    {
+      for (int i = 1; i < n; ++i)
+      {
+        const Entry x = e[i];
+        int j = i;
+        for (; j > 0 && Before(x, e[j - 1]); --j)
+        {
+          e[j] = e[j - 1];
+        }
+        e[j] = x;
+      }
+    }
+    static int CopyAll(const std::vector<Entry>& bucket, Entry* found)
+    {
+      std::memcpy(found, bucket.data(), bucket.size() * sizeof(Entry));
+      return static_cast<int>(bucket.size());
+    }
+    // The entries at or below the largest of eight minima (of the entries at positions i, i + 8,
+    // i + 16, ... for i = 0..7), so at least eight and about 16 on a bucket in random order, found
+    // with no branch per entry; returns how many (more than 32 entries in the bucket).
+    static int Smallest(const std::vector<Entry>& bucket, Entry* found)
+    {
+      const size_t n = bucket.size();
+      const Entry* e = bucket.data();
+      const float threshold = LargestOfEightMinima(e, n);
+      int count = 0;
+      size_t j = 0;
+#if defined(__SSE2__)
+      const __m128 t = _mm_set1_ps(threshold);
+      for (; j + 4 <= n; j += 4)
+      {
+        // Entries j..j+3 are {K, Id} pairs: keep the keys (lanes 0 and 2 of each half).
+        const __m128 a = _mm_loadu_ps(reinterpret_cast<const float*>(e + j));
+        const __m128 c = _mm_loadu_ps(reinterpret_cast<const float*>(e + j + 2));
+        for (int mask = _mm_movemask_ps(_mm_cmple_ps(_mm_shuffle_ps(a, c, _MM_SHUFFLE(2, 0, 2, 0)), t)); mask != 0;
+             mask &= mask - 1)
+        {
+          found[count++] = e[j + size_t(__builtin_ctz(static_cast<unsigned>(mask)))];
+        }
+      }
+#endif
+      for (; j < n; ++j)
+      {
+        if (e[j].K <= threshold)
+        {
+          found[count++] = e[j];
+        }
+      }
+      return count;
+    }
+    static float LargestOfEightMinima(const Entry* e, size_t n)
+    {
+      size_t i = 0;
+#if defined(__SSE2__)
+      __m128 low = _mm_set1_ps(std::numeric_limits<float>::infinity()), high = low;
+      for (; i + 8 <= n; i += 8)
+      {
         const __m128 a = _mm_loadu_ps(reinterpret_cast<const float*>(e + i));
         const __m128 b = _mm_loadu_ps(reinterpret_cast<const float*>(e + i + 2));
-        lowest = _mm_min_ps(lowest, _mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)));
+        const __m128 c = _mm_loadu_ps(reinterpret_cast<const float*>(e + i + 4));
+        const __m128 d = _mm_loadu_ps(reinterpret_cast<const float*>(e + i + 6));
+        low = _mm_min_ps(low, _mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)));
+        high = _mm_min_ps(high, _mm_shuffle_ps(c, d, _MM_SHUFFLE(2, 0, 2, 0)));
       }
-      lowest = _mm_min_ps(lowest, _mm_shuffle_ps(lowest, lowest, _MM_SHUFFLE(1, 0, 3, 2)));
-      lowest = _mm_min_ps(lowest, _mm_shuffle_ps(lowest, lowest, _MM_SHUFFLE(2, 3, 0, 1)));
-      smallest = _mm_cvtss_f32(lowest);
-    }
-#endif
-    for (; i < n; ++i)
-    {
-      smallest = e[i].K < smallest ? e[i].K : smallest;
-    }
-    size_t best = n - 1;
-    Index id = e[n - 1].K == smallest ? e[n - 1].Id : std::numeric_limits<Index>::max();
-    size_t j = 0;
-#if defined(__SSE2__)
-    // Four keys compared at once; only the entries of the smallest key (usually one) look at ids.
-    const __m128 target = _mm_set1_ps(smallest);
-    for (; j + 4 <= n; j += 4)
-    {
-      const __m128 a = _mm_loadu_ps(reinterpret_cast<const float*>(e + j));
-      const __m128 b = _mm_loadu_ps(reinterpret_cast<const float*>(e + j + 2));
-      for (int mask = _mm_movemask_ps(_mm_cmpeq_ps(_mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)), target)); mask != 0;
-           mask &= mask - 1)
+      __m128 m = _mm_max_ps(low, high);
+      m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
+      m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+      return _mm_cvtss_f32(m);
+#else
+      float minima[8];
+      std::fill(minima, minima + 8, std::numeric_limits<float>::infinity());
+      for (; i + 8 <= n; i += 8)
       {
-        const size_t k = j + size_t(__builtin_ctz(static_cast<unsigned>(mask)));
-        best = e[k].Id < id ? k : best;
-        id = e[k].Id < id ? e[k].Id : id;
+        for (int k = 0; k < 8; ++k)
+        {
+          minima[k] = e[i + size_t(k)].K < minima[k] ? e[i + size_t(k)].K : minima[k];
+        }
       }
-    }
+      return *std::max_element(minima, minima + 8);
 #endif
-    for (; j < n; ++j)
-    {
-      const bool better = e[j].K == smallest && e[j].Id < id;
-      best = better ? j : best;
-      id = better ? e[j].Id : id;
     }
-    return best;
-  }
+  };
 
   static Index BucketOf(float key)
   {
@@ -355,6 +498,8 @@ private:
   std::vector<std::uint16_t> BucketId; // bucket of each present id
   Index Lowest = 0;
   Index Count = 0;
+  long long ScanCount = 0;
+  PopCache Cache;
 };
 } // namespace slod
 

@@ -280,3 +280,118 @@ TEST(PriorityQueues, UpcomingNamesTheLowestBucketAndChangesNothing)
   }
   EXPECT_TRUE(queue.Empty());
 }
+
+// The pop cache (session 35): a scan of the lowest bucket lists its smallest entries for the next
+// pops, and Set and Remove keep that list exact. Under a churn of insertions (below the current
+// minimum, at the list's end, ties broken by id, signed zeros), key changes and removals of listed
+// and unlisted entries inside one scanned bucket, every pop is the reference's smallest (key,
+// then id), and a scan serves several pops: each lists at least eight entries of a bucket above
+// the list's capacity, and only pops and removals take them off.
+TEST(PriorityQueues, PopCacheServesSeveralPopsPerScanInKeyOrder)
+{
+  for (const float base : { 1.0f, 0.0f })
+  {
+    std::mt19937 random(base == 0.0f ? 350 : 35);
+    // Keys of one bucket: 1.0 to 1.0 + 1e-4 (a bucket spans about 0.8 %), or for base 0 the
+    // first bucket, which holds both zeros and the negative keys.
+    std::uniform_real_distribution<float> within(0.0f, 1e-4f);
+    std::uniform_int_distribution<int> coarse(0, 15); // few distinct keys: many ties
+    auto draw = [&]() {
+      if (base == 0.0f)
+      {
+        const int c = coarse(random);
+        return c == 0 ? -0.0f : c == 1 ? 0.0f : -float(c);
+      }
+      return coarse(random) < 4 ? 1.0f + 1e-5f * float(coarse(random)) : 1.0f + within(random);
+    };
+    const Index n = 2000, resident = 300; // at most ScanLimit present: every pop scans
+    ASSERT_LE(resident, BucketQueue::ScanLimit);
+    BucketQueue queue;
+    queue.Reset(n);
+    std::vector<float> key(size_t(n), 0.0f);
+    std::vector<bool> present(size_t(n), false);
+    auto before = [&](Index a, Index b) { return key[a] < key[b] || (!(key[b] < key[a]) && a < b); };
+    std::set<Index, decltype(before)> reference(before);
+    std::uniform_int_distribution<Index> anyId(0, n - 1);
+    std::uniform_int_distribution<int> action(0, 9);
+    long long pops = 0;
+    auto set = [&](Index id, float k) {
+      reference.erase(id);
+      key[size_t(id)] = k;
+      present[size_t(id)] = true;
+      queue.Set(id, k);
+      reference.insert(id);
+    };
+    for (Index id = 0; id < resident; ++id)
+    {
+      set(id, draw());
+    }
+    for (int step = 0; step < 20000; ++step)
+    {
+      const int a = action(random);
+      const Index id = anyId(random);
+      if (a < 4 && !reference.empty())
+      {
+        const Index expected = *reference.begin();
+        float popped = -2.0f;
+        ASSERT_EQ(queue.Pop(&popped), expected) << "step " << step;
+        EXPECT_EQ(popped, key[size_t(expected)]);
+        reference.erase(reference.begin());
+        present[size_t(expected)] = false;
+        ++pops;
+      }
+      else if (a < 8 && Index(reference.size()) < resident)
+      {
+        // A new key, or one just below the current smallest (the list's front), or equal to it.
+        const float k = a == 7 && !reference.empty() ? key[size_t(*reference.begin())] * (base == 0.0f ? 1.0f : 0.99999f) : draw();
+        set(id, k);
+      }
+      else if (present[size_t(id)])
+      {
+        reference.erase(id);
+        present[size_t(id)] = false;
+        queue.Remove(id);
+      }
+      ASSERT_EQ(queue.Size(), Index(reference.size()));
+    }
+    EXPECT_GT(pops, 5000);
+    // At least eight listed entries per scan; removals of listed entries are rare (a tenth of the
+    // steps remove a random id, about one in twenty of them listed).
+    EXPECT_LE(queue.Scans() * 4, pops) << queue.Scans() << " scans for " << pops << " pops, base " << base;
+  }
+}
+
+// A scan lists the smallest entries at every number of entries tied at its threshold (one key for
+// the whole bucket, or two or three keys): the list is chosen among them by key, then id, at and
+// around the sizes where the selection changes (the list's capacity, twice it).
+TEST(PriorityQueues, PopCacheListsTheSmallestAtEveryCountOfTies)
+{
+  std::mt19937 random(64);
+  for (int distinct = 1; distinct <= 3; ++distinct)
+  {
+    for (Index size = 1; size <= 3 * 32 + 8; ++size)
+    {
+      SCOPED_TRACE(testing::Message() << size << " entries, " << distinct << " keys");
+      BucketQueue queue;
+      queue.Reset(4 * size);
+      std::vector<std::pair<float, Index>> expected;
+      std::vector<Index> ids(static_cast<size_t>(size));
+      for (Index i = 0; i < size; ++i)
+      {
+        ids[size_t(i)] = 4 * i + i % 4;
+      }
+      std::shuffle(ids.begin(), ids.end(), random);
+      for (Index id : ids)
+      {
+        const float key = 2.0f + 1e-4f * float(id % distinct); // one bucket
+        queue.Set(id, key);
+        expected.push_back({ key, id });
+      }
+      std::sort(expected.begin(), expected.end());
+      for (const auto& e : expected)
+      {
+        ASSERT_EQ(queue.Pop(), e.second);
+      }
+    }
+  }
+}
