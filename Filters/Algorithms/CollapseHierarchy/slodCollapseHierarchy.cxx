@@ -110,12 +110,15 @@ static_assert(sizeof(RankedTriangle) == sizeof(double) + sizeof(Index), "packed"
 double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
 {
   double cosSum = 0;
-  const Vec3 corners[3] = { a, b, c };
+  // Edge k runs from corner k to corner k + 1; corner k's two edges are edge k and edge k + 2
+  // reversed (a reversed difference and its dot product are the same numbers negated, exactly),
+  // so each length is computed once.
+  const Vec3 edges[3] = { b - a, c - b, a - c };
+  const double lengths[3] = { Norm(edges[0]), Norm(edges[1]), Norm(edges[2]) };
   for (int k = 0; k < 3; ++k)
   {
-    const Vec3 u = corners[(k + 1) % 3] - corners[k], w = corners[(k + 2) % 3] - corners[k];
-    const double nu = Norm(u), nw = Norm(w);
-    cosSum += (nu > 0 && nw > 0) ? Dot(u, w) / (nu * nw) : 1.0;
+    const double nu = lengths[k], nw = lengths[(k + 2) % 3];
+    cosSum += (nu > 0 && nw > 0) ? -Dot(edges[k], edges[(k + 2) % 3]) / (nu * nw) : 1.0;
   }
   return std::min(1.0, std::max(0.0, 2.0 * (cosSum - 1.0)));
 }
@@ -826,10 +829,13 @@ void CollapseHierarchy::EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCo
   EdgePlacement placements[3];
   const int n = this->EdgePlacements(u, v, placements);
   uv = CheapestPlacement(placements, n);
-  std::swap(placements[n - 2], placements[n - 1]);
-  placements[n - 2].Kind = 1;
-  placements[n - 1].Kind = 2;
-  vu = CheapestPlacement(placements, n);
+  // (v, u)'s list is [best, v, u]: the same least error and NaN flag; the same best point; an end
+  // point taken alone becomes the other kind, and of two equal ends the first, kind 1, again.
+  vu = uv;
+  if ((uv.Kind == 1 || uv.Kind == 2) && !(placements[n - 2].Error == placements[n - 1].Error))
+  {
+    vu.Kind = static_cast<unsigned char>(3 - uv.Kind);
+  }
 }
 
 // The least float not below x (x itself when a float holds it; infinity and NaN stay): a kept
