@@ -110,12 +110,15 @@ static_assert(sizeof(RankedTriangle) == sizeof(double) + sizeof(Index), "packed"
 double Roundness(const Vec3& a, const Vec3& b, const Vec3& c)
 {
   double cosSum = 0;
-  const Vec3 corners[3] = { a, b, c };
+  // Edge k runs from corner k to corner k + 1; corner k's two edges are edge k and edge k + 2
+  // reversed (a reversed difference and its dot product are the same numbers negated, exactly),
+  // so each length is computed once.
+  const Vec3 edges[3] = { b - a, c - b, a - c };
+  const double lengths[3] = { Norm(edges[0]), Norm(edges[1]), Norm(edges[2]) };
   for (int k = 0; k < 3; ++k)
   {
-    const Vec3 u = corners[(k + 1) % 3] - corners[k], w = corners[(k + 2) % 3] - corners[k];
-    const double nu = Norm(u), nw = Norm(w);
-    cosSum += (nu > 0 && nw > 0) ? Dot(u, w) / (nu * nw) : 1.0;
+    const double nu = lengths[k], nw = lengths[(k + 2) % 3];
+    cosSum += (nu > 0 && nw > 0) ? -Dot(edges[k], edges[(k + 2) % 3]) / (nu * nw) : 1.0;
   }
   return std::min(1.0, std::max(0.0, 2.0 * (cosSum - 1.0)));
 }
@@ -330,7 +333,7 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   const EditableMesh& m = this->Mesh;
   const Index* tri = m.Triangle(t);
   LocalFrame frame;
-  if (!this->EvaluateShape(t, e, frame))
+  if (!this->EvaluateShape(t, e, frame, false))
   {
     return EvaluationRest::None;
   }
@@ -344,7 +347,8 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   const Vec3 centroid = frame.Origin;
   e.Kappa = 0;
   e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(t, e.CheapestEdge) : std::numeric_limits<double>::infinity();
-  const Quadric q = this->TriangleQuadric(tri);
+  OwnQuadric own[3];
+  const Quadric q = this->TriangleQuadric(tri, own);
   if (!this->QuadricPointNearCentroid(tri, q, centroid, e.Point))
   {
     return EvaluationRest::Fit;
@@ -352,7 +356,7 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   e.Source = PointSource::Quadric;
   // The error of the point decides whether T is ordered by its edge collapse and is T's error
   // when the point stays (computed once for both).
-  const double error = this->CollapseError(tri, 3, q, e.Point);
+  const double error = this->CollapseError(own, 3, q, e.Point);
   if (!(this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * error))
   {
     if (!this->StarShapedAround(tri, e.Point, frame.Normal))
@@ -367,9 +371,10 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   return EvaluationRest::None;
 }
 
-// Area, valence, roundness and T's frame (centroid, normal); false when that is all there is (a
-// hub triangle, ordered by its edge, or no plane at all).
-bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame) const
+// Area, valence, roundness and T's frame (centroid, normal, and the axes in its plane when the fit
+// needs them); false when that is all there is (a hub triangle, ordered by its edge, or no plane
+// at all).
+bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame, bool planeAxes) const
 {
   const EditableMesh& m = this->Mesh;
   const Index* tri = m.Triangle(t);
@@ -377,7 +382,8 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame)
   const Vec3 centroid = (1.0 / 3.0) * (a + b + c);
   Vec3 areaVector = Cross(b - a, c - a);
   e.CheapestEdge = EdgeChoice(); // known again only where this evaluation computes it
-  e.Area = 0.5 * Norm(areaVector);
+  const double twiceArea = Norm(areaVector);
+  e.Area = 0.5 * twiceArea;
   e.Valence = this->CollapsePointValence(tri);
   e.Alpha = Roundness(a, b, c);
   if (this->HubMask(t) != 0)
@@ -386,11 +392,11 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame)
     return false;
   }
   // A degenerate triangle has no plane of its own: use its stencil's.
-  if (IsDegenerate(a, b, c))
+  if (IsDegenerateWithArea(a, b, c, twiceArea))
   {
     areaVector = this->StencilAreaVector(tri);
   }
-  if (!frame.Set(centroid, areaVector, b - a))
+  if (!(planeAxes ? frame.Set(centroid, areaVector, b - a) : frame.SetNormal(centroid, areaVector)))
   {
     // No plane at all: never collapsed as a triangle (the error terms keep their last values).
     e.Normal = { 0, 0, 0 };
@@ -411,7 +417,7 @@ void CollapseHierarchy::EvaluateWithFit(Index t, Evaluation& e)
 {
   const Index* tri = this->Mesh.Triangle(t);
   LocalFrame frame;
-  if (!this->EvaluateShape(t, e, frame))
+  if (!this->EvaluateShape(t, e, frame, true))
   {
     return;
   }
@@ -452,9 +458,20 @@ bool CollapseHierarchy::PreferringEdges() const
 
 Quadric CollapseHierarchy::TriangleQuadric(const Index* tri) const
 {
-  Quadric q = this->QuadricOf(tri[0]);
-  q += this->QuadricOf(tri[1]);
-  q += this->QuadricOf(tri[2]);
+  OwnQuadric own[3];
+  return this->TriangleQuadric(tri, own);
+}
+
+// The same sum, keeping its terms for CollapseError.
+Quadric CollapseHierarchy::TriangleQuadric(const Index* tri, OwnQuadric (&own)[3]) const
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    own[k] = this->OwnQuadricOf(tri[k]);
+  }
+  Quadric q = *own[0].Planes;
+  q += *own[1].Planes;
+  q += *own[2].Planes;
   return q;
 }
 
@@ -757,13 +774,14 @@ double CollapseHierarchy::CheapestEdgeError(Index t, EdgeChoice& choice) const
   choice = EdgeChoice();
   choice.Fixed = static_cast<unsigned char>(fixed);
   bool ordered = true;
+  const size_t row = this->Row(t); // (once: the stores below could alias the rank words)
   for (int k = 0; k < 3; ++k)
   {
     if (((fixed >> k) & 1) || ((fixed >> ((k + 1) % 3)) & 1))
     {
       continue;
     }
-    const size_t row = this->Row(t), slot = 3 * row + size_t(k);
+    const size_t slot = 3 * row + size_t(k);
     EdgeCost cost;
     if (this->EdgeCostErrors.empty())
     {
@@ -811,10 +829,13 @@ void CollapseHierarchy::EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCo
   EdgePlacement placements[3];
   const int n = this->EdgePlacements(u, v, placements);
   uv = CheapestPlacement(placements, n);
-  std::swap(placements[n - 2], placements[n - 1]);
-  placements[n - 2].Kind = 1;
-  placements[n - 1].Kind = 2;
-  vu = CheapestPlacement(placements, n);
+  // (v, u)'s list is [best, v, u]: the same least error and NaN flag; the same best point; an end
+  // point taken alone becomes the other kind, and of two equal ends the first, kind 1, again.
+  vu = uv;
+  if ((uv.Kind == 1 || uv.Kind == 2) && !(placements[n - 2].Error == placements[n - 1].Error))
+  {
+    vu.Kind = static_cast<unsigned char>(3 - uv.Kind);
+  }
 }
 
 // The least float not below x (x itself when a float holds it; infinity and NaN stay): a kept
@@ -994,18 +1015,18 @@ void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
 
 int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const
 {
-  Quadric q = this->QuadricOf(u);
-  q += this->QuadricOf(v);
+  const OwnQuadric own[2] = { this->OwnQuadricOf(u), this->OwnQuadricOf(v) };
+  Quadric q = *own[0].Planes;
+  q += *own[1].Planes;
   const Vec3 pu = this->Mesh.Point(u), pv = this->Mesh.Point(v);
-  const Index uv[2] = { u, v };
   int n = 0;
   Vec3 best;
   if (EdgeOptimum(q, pu, pv, best))
   {
-    placements[n++] = { this->CollapseError(uv, 2, q, best), best, 0 };
+    placements[n++] = { this->CollapseError(own, 2, q, best), best, 0 };
   }
-  placements[n++] = { this->CollapseError(uv, 2, q, pu), pu, 1 };
-  placements[n++] = { this->CollapseError(uv, 2, q, pv), pv, 2 };
+  placements[n++] = { this->CollapseError(own, 2, q, pu), pu, 1 };
+  placements[n++] = { this->CollapseError(own, 2, q, pv), pv, 2 };
   return n;
 }
 
@@ -1032,6 +1053,17 @@ int CollapseHierarchy::HubMask(Index t) const
 
 double CollapseHierarchy::CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const
 {
+  OwnQuadric own[3];
+  const int n = this->Parameters.VertexErrorWeight > 0 ? std::min(count, 3) : 0; // (2 or 3 vertices)
+  for (int k = 0; k < n; ++k)
+  {
+    own[k] = this->OwnQuadricOf(vertices[k]);
+  }
+  return this->CollapseError(own, n, q, p);
+}
+
+double CollapseHierarchy::CollapseError(const OwnQuadric* own, int count, const Quadric& q, const Vec3& p) const
+{
   // Sum over the ancestral planes (area-weighted squared distances), plus the worst merged
   // vertex's mean squared distance to its own ancestral planes times the mean triangle area:
   // a crease or corner vertex is pinned by its own planes however small the faces around it
@@ -1043,11 +1075,9 @@ double CollapseHierarchy::CollapseError(const Index* vertices, int count, const 
     double worst = 0;
     for (int k = 0; k < count; ++k)
     {
-      const Quadric& own = this->QuadricOf(vertices[k]);
-      const double weight = own.Axx + own.Ayy + own.Azz; // sum of the plane weights (unit normals)
-      if (weight > 0)
+      if (own[k].Weight > 0)
       {
-        worst = std::max(worst, own.Evaluate(p) / weight);
+        worst = std::max(worst, own[k].Planes->Evaluate(p) / own[k].Weight);
       }
     }
     error += this->Parameters.VertexErrorWeight * this->MeanArea * worst;
@@ -1481,8 +1511,9 @@ bool CollapseHierarchy::KnownCheapestEdge(Index t, int& edge, Vec3& point, doubl
   }
   const int k = e.CheapestEdge.Edge;
   const Index uv[2] = { tri[k], tri[(k + 1) % 3] };
-  Quadric q = this->QuadricOf(uv[0]);
-  q += this->QuadricOf(uv[1]);
+  const OwnQuadric own[2] = { this->OwnQuadricOf(uv[0]), this->OwnQuadricOf(uv[1]) };
+  Quadric q = *own[0].Planes;
+  q += *own[1].Planes;
   const Vec3 pu = this->Mesh.Point(uv[0]), pv = this->Mesh.Point(uv[1]);
   if (e.CheapestEdge.Kind == 0)
   {
@@ -1496,7 +1527,7 @@ bool CollapseHierarchy::KnownCheapestEdge(Index t, int& edge, Vec3& point, doubl
     point = e.CheapestEdge.Kind == 1 ? pu : pv;
   }
   edge = k;
-  error = this->CollapseError(uv, 2, q, point);
+  error = this->CollapseError(own, 2, q, point);
   return true;
 }
 

@@ -564,7 +564,7 @@ private:
   void Evaluate(Index t, Evaluation& e);
   EvaluationRest EvaluateConcurrently(Index t, Evaluation& e, LinkEdges& link, Alternatives& alternatives) const;
   void FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest, const Alternatives& alternatives);
-  bool EvaluateShape(Index t, Evaluation& e, LocalFrame& frame) const;
+  bool EvaluateShape(Index t, Evaluation& e, LocalFrame& frame, bool planeAxes) const;
   void EvaluateWithFit(Index t, Evaluation& e);
   bool PreferringEdges() const;
   Quadric TriangleQuadric(const Index* tri) const;
@@ -586,6 +586,20 @@ private:
   void TakeCheapestValidAlternative(const Index* tri, const Alternatives& ranked, Vec3& point) const;
   double WeightOf(Index t, double error) const;
   double CollapseError(const Index* vertices, int count, const Quadric& q, const Vec3& p) const;
+  // A merged vertex's own quadric and the sum of its planes' weights, looked up once for all the
+  // points a caller prices (each look-up is a rank-word count).
+  struct OwnQuadric
+  {
+    const Quadric* Planes;
+    double Weight;
+  };
+  OwnQuadric OwnQuadricOf(Index v) const
+  {
+    const Quadric& own = this->QuadricOf(v);
+    return { &own, own.Axx + own.Ayy + own.Azz }; // (unit normals: the weights' sum)
+  }
+  double CollapseError(const OwnQuadric* own, int count, const Quadric& q, const Vec3& p) const;
+  Quadric TriangleQuadric(const Index* tri, OwnQuadric (&own)[3]) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p);
   // The cheapest valid edge collapse of triangle t (edge (tri[k], tri[k+1]) and its point).

@@ -6,7 +6,7 @@
 
 namespace slod
 {
-bool LocalFrame::Set(const Vec3& origin, const Vec3& normal, const Vec3& direction)
+bool LocalFrame::SetNormal(const Vec3& origin, const Vec3& normal)
 {
   this->Origin = origin;
   const Vec3 n = Normalized(normal);
@@ -14,6 +14,17 @@ bool LocalFrame::Set(const Vec3& origin, const Vec3& normal, const Vec3& directi
   {
     return false;
   }
+  this->Normal = n;
+  return true;
+}
+
+bool LocalFrame::Set(const Vec3& origin, const Vec3& normal, const Vec3& direction)
+{
+  if (!this->SetNormal(origin, normal))
+  {
+    return false;
+  }
+  const Vec3 n = this->Normal;
   Vec3 u = direction - Dot(direction, n) * n;
   if (Norm(u) <= 1e-12 * Norm(direction) || Norm(direction) == 0)
   {
@@ -24,7 +35,6 @@ bool LocalFrame::Set(const Vec3& origin, const Vec3& normal, const Vec3& directi
     e[axis] = 1;
     u = Cross(n, e);
   }
-  this->Normal = n;
   this->U = Normalized(u);
   this->V = Cross(n, this->U);
   return true;

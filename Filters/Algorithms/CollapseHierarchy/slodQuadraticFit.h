@@ -29,6 +29,9 @@ struct SURFACELODFILTERS_EXPORT LocalFrame
   // Frame at origin with the given normal; U follows `direction` projected on the plane (any
   // perpendicular direction when that is degenerate). Returns false for a zero normal.
   bool Set(const Vec3& origin, const Vec3& normal, const Vec3& direction);
+  // Origin and unit normal only, U and V left as they are (for a caller that needs no plane
+  // coordinates: two square roots fewer). Returns false for a zero normal, as Set does.
+  bool SetNormal(const Vec3& origin, const Vec3& normal);
   // Local coordinates (u, v, height) of a point.
   Vec3 ToLocal(const Vec3& p) const
   {

@@ -166,6 +166,38 @@ TEST(QuadraticFit, LocalFrameIsOrthonormal)
   EXPECT_FALSE(f.Set({ 0, 0, 0 }, { 0, 0, 0 }, { 1, 0, 0 }));
 }
 
+// The evaluations without a fit set only the origin and the normal: they must be Set's, bit for
+// bit (the hierarchy's order depends on them), the plane axes left as they were, and a zero normal
+// refused as Set refuses it.
+TEST(QuadraticFit, SetNormalGivesSetsOriginAndNormal)
+{
+  std::mt19937 random(35);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> scale(-30, 30);
+  for (int i = 0; i < 1000; ++i)
+  {
+    const double s = std::pow(10.0, scale(random) / 10); // lengths from 1e-3 to 1e3
+    const Vec3 origin{ normal(random), normal(random), normal(random) };
+    const Vec3 n{ s * normal(random), s * normal(random), s * normal(random) };
+    const Vec3 direction{ normal(random), normal(random), normal(random) };
+    LocalFrame full, partial;
+    partial.U = { 0.5, 0.25, 0.125 };
+    partial.V = { -1, -2, -4 };
+    ASSERT_TRUE(full.Set(origin, n, direction));
+    ASSERT_TRUE(partial.SetNormal(origin, n));
+    for (int k = 0; k < 3; ++k)
+    {
+      EXPECT_EQ(full.Origin[k], partial.Origin[k]);
+      EXPECT_EQ(full.Normal[k], partial.Normal[k]);
+    }
+    EXPECT_EQ(partial.U, (Vec3{ 0.5, 0.25, 0.125 }));
+    EXPECT_EQ(partial.V, (Vec3{ -1, -2, -4 }));
+  }
+  LocalFrame zero;
+  EXPECT_FALSE(zero.SetNormal({ 1, 1, 1 }, { 0, 0, 0 }));
+  EXPECT_EQ(zero.Normal, (Vec3{ 0, 0, 1 })); // unchanged, as Set leaves it
+}
+
 // ---------------------------------------------------------------------------------------------
 // Stencils and collapsibility.
 
