@@ -2462,7 +2462,8 @@ TEST(PatchBoundaryMerge, CountJumpsOverTheBandAreReachedThroughAlpha1)
 // on poly2x^2+y^2. Where the level is within the bound (bunny00 at 10%) the patches stay as given.
 // Session 31: poly2x^2+y^2's border corners now stay (BorderCornerAngle) and its level is within
 // the bound without a second growth (2.6x); it is measured with the paper's chains (angle 0),
-// where the bound is still what saves it.
+// where the bound is still what saves it. Session 35: bunny00 at 10% is not a scan for the finer
+// level's trigger any more and is redone from a finer level (scale 2/3): the bound is not loosened.
 TEST(PatchBoundaryMerge, TooSmallPatchesAreGrownAgainWithALooserThicknessBound)
 {
   const std::tuple<const char*, double, double> cases[] = { { "poly2x^2+y^2-0.062500", 10.0, 0.0 },
@@ -2481,7 +2482,7 @@ TEST(PatchBoundaryMerge, TooSmallPatchesAreGrownAgainWithALooserThicknessBound)
   filter->SetInputData(slodtest::LoadTestMesh("bunny00"));
   filter->SetTargetReduction(0.9);
   filter->Update();
-  EXPECT_EQ(filter->GetPatchThicknessScale(), 1.0);
+  EXPECT_LE(filter->GetPatchThicknessScale(), 1.0);
 }
 
 // Issue 15 (session 30): LoosenThicknessForTarget's first try at a coarse target. The automatic
