@@ -83,8 +83,8 @@ constexpr double FinerLevelStridedShare = 0.5;
 // trigger) only when the tolerance admitted, as Patchification::NoiseToleranceJoins, at least this
 // share of the input's triangles. Every target below MildTargetShare gets the automatic tolerance,
 // so smooth and CAD meshes at 10% took the scans' trigger too (horizons, itemb, poly2x^2+y^2 at
-// 3.4-3.7x vtkQuadricDecimation's Hausdorff distance); there the tolerance admits next to nothing
-// (under 0.04 of the triangles), on the MRI at 10-18% kept 0.38 and on the noisy scans 0.77, where
+// 3.4-3.7x vtkQuadricDecimation's Hausdorff distance); there the tolerance admits little (mostly
+// under 0.1 of the triangles), on the MRI at 10-18% kept 0.38 and on the noisy scans 0.77, where
 // the finer level costs a second run and gains little (noisy137: -4% Hausdorff, 2.1x CPU). Coarse
 // detailed models (cow, armadillo, ChineseDragon-10kv, bull: 0.25-0.57) stay on the scans' trigger.
 constexpr double ScanNoiseJoinShare = 0.25;
