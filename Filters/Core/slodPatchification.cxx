@@ -49,6 +49,7 @@ void Patchification::Build(const TriangleMesh& mesh, const MeshTopology& topolog
   const PatchificationParameters& parameters, const ProgressFunction& progress)
 {
   this->WasAborted = false;
+  this->NoiseJoins = 0;
   const Adjacency adjacency(mesh, topology);
   this->Grow(mesh, topology, adjacency, parameters, progress);
   if (this->WasAborted)
@@ -62,6 +63,7 @@ void Patchification::BuildFromLabels(
   const TriangleMesh& mesh, const MeshTopology& topology, const std::vector<Index>& patchOf, Index numberOfPatches)
 {
   this->WasAborted = false;
+  this->NoiseJoins = 0;
   const Adjacency adjacency(mesh, topology);
   this->TrianglePatch = patchOf;
   this->PatchAreaVector.assign(size_t(numberOfPatches), Vec3{ 0.0, 0.0, 0.0 });
@@ -106,6 +108,7 @@ struct PatchGrowth
   std::vector<Index> Candidates; // older seed candidates
   Index Scan = 0;
   Index Assigned = 0;
+  mutable Index NoiseJoins = 0; // Patchification::NoiseToleranceJoins
 
   // The patch being grown.
   Index Patch = InvalidIndex;
@@ -276,7 +279,9 @@ struct PatchGrowth
       }
       if (this->WithinNoise(candidate, centroid, np) && Dot(nc, np) >= 0.5) // cos 60 degrees
       {
-        return true; // within the noise of a plane: its normal says nothing about the surface
+        // Within the noise of a plane: its normal says nothing about the surface.
+        this->NoiseJoins += !(Dot(nc, np) >= this->CosOnePatch && Dot(nc, nt) >= this->CosOneNeighbor);
+        return true;
       }
     }
     const double cosPatch = shared == 1 ? this->CosOnePatch : this->CosTwoPatch;
@@ -498,6 +503,7 @@ void Patchification::Grow(const TriangleMesh& mesh, const MeshTopology& topology
     }
     seed = growth.NextSeed();
   }
+  this->NoiseJoins = growth.NoiseJoins;
 }
 
 namespace

@@ -84,6 +84,11 @@ public:
   void Build(const TriangleMesh& mesh, const MeshTopology& topology, const PatchificationParameters& parameters,
     const ProgressFunction& progress = nullptr);
   bool Aborted() const { return this->WasAborted; }
+  // NoiseTolerance at work (issue 15, session 35): how many candidates of the growth joined by the
+  // noise tolerance whose normals the angle tests (b) refuse. Next to none on smooth and CAD
+  // surfaces, whose neighbouring triangles pass (b) anyway; on a scan isosurface the tolerance
+  // admits a large share of the triangles (noise and staircase steps). 0 from BuildFromLabels.
+  Index NoiseToleranceJoins() const { return this->NoiseJoins; }
 
   // Patches given by the caller instead of grown (e.g. after the topology simplification of
   // chapter 5 removed wall patches and merged the rest): patchOf[t] in [0, numberOfPatches) for
@@ -150,6 +155,7 @@ private:
   void BuildPatchGraph();
 
   bool WasAborted = false;
+  Index NoiseJoins = 0;
   std::vector<Index> TrianglePatch;
   std::vector<Vec3> PatchAreaVector;
   std::vector<double> PatchAreaOf;

@@ -331,17 +331,23 @@ TEST(Patchification, FlatGridIsOnePatchWithBorderChains)
 // stay small; with NoiseTolerance above the noise amplitude (and the plane distance above it too)
 // triangles within the noise of the patch's plane join, the grid becomes a few large disks, and
 // no vertex of a patch is farther from its plane than the plane distance allows.
-TEST(Patchification, NoiseToleranceGrowsPatchesOverNoise)
+TriangleMesh NoisyGrid(int n, double amplitude)
 {
-  constexpr int N = 40;
-  constexpr double Amplitude = 0.2 / N;
-  TriangleMesh mesh = slodtest::Grid(N, N);
+  TriangleMesh mesh = slodtest::Grid(n, n);
   unsigned state = 12345u;
   for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
   {
     state = state * 1664525u + 1013904223u; // LCG: the same noise on every platform
-    mesh.Points[3 * size_t(v) + 2] = Amplitude * (2.0 * double(state >> 8) / double(1u << 24) - 1.0);
+    mesh.Points[3 * size_t(v) + 2] = amplitude * (2.0 * double(state >> 8) / double(1u << 24) - 1.0);
   }
+  return mesh;
+}
+
+TEST(Patchification, NoiseToleranceGrowsPatchesOverNoise)
+{
+  constexpr int N = 40;
+  constexpr double Amplitude = 0.2 / N;
+  const TriangleMesh mesh = NoisyGrid(N, Amplitude);
   PatchificationParameters cones;
   cones.MaximumPlaneDistance = 3 * Amplitude;
   auto without = Patch(mesh, cones);
@@ -371,6 +377,32 @@ TEST(Patchification, NoiseToleranceGrowsPatchesOverNoise)
       ASSERT_LE(off, 2 * cones.MaximumPlaneDistance + Amplitude) << "triangle " << t;
     }
   }
+}
+
+// Issue 15 (session 35): NoiseToleranceJoins counts the candidates the noise tolerance admitted
+// against the angle tests, which is what tells a scan from a smooth surface: on a grid noisy by
+// up to half its spacing at least a quarter of the triangles (the filter's ScanNoiseJoinShare),
+// none without the tolerance; on a finely tessellated sphere with the same plane distance and
+// tolerance (relative to its size) next to none, since its neighbouring triangles pass the angle
+// tests anyway.
+TEST(Patchification, NoiseToleranceJoinsTellNoiseFromCurvature)
+{
+  const double amplitude = 0.5 / 40;
+  const TriangleMesh noisy = NoisyGrid(40, amplitude);
+  const TriangleMesh sphere = slodtest::Sphere(64, 64);
+  // Plane distance 3 and tolerance `tolerance` times `unit` (the noise amplitude, scaled to the sphere's size).
+  auto joins = [](const TriangleMesh& mesh, double unit, double tolerance) {
+    PatchificationParameters parameters;
+    parameters.MaximumPlaneDistance = 3 * unit;
+    parameters.NoiseTolerance = tolerance * unit;
+    auto pm = Patch(mesh, parameters);
+    ExpectPatchesAreDisks(*pm);
+    return pm->Patches.NoiseToleranceJoins();
+  };
+  EXPECT_EQ(joins(noisy, amplitude, 0.0), 0);
+  EXPECT_GE(4 * joins(noisy, amplitude, 2.0), noisy.NumberOfTriangles());
+  const double sphereUnit = amplitude * sphere.BoundingBoxDiagonal() / noisy.BoundingBoxDiagonal();
+  EXPECT_LE(50 * joins(sphere, sphereUnit, 2.0), sphere.NumberOfTriangles());
 }
 
 // The noise tolerance does not smooth over a CAD model's creases: on the Fandisk, with the filter's
@@ -2430,7 +2462,8 @@ TEST(PatchBoundaryMerge, CountJumpsOverTheBandAreReachedThroughAlpha1)
 // on poly2x^2+y^2. Where the level is within the bound (bunny00 at 10%) the patches stay as given.
 // Session 31: poly2x^2+y^2's border corners now stay (BorderCornerAngle) and its level is within
 // the bound without a second growth (2.6x); it is measured with the paper's chains (angle 0),
-// where the bound is still what saves it.
+// where the bound is still what saves it. Session 35: bunny00 at 10% is not a scan for the finer
+// level's trigger any more and is redone from a finer level (scale 2/3): the bound is not loosened.
 TEST(PatchBoundaryMerge, TooSmallPatchesAreGrownAgainWithALooserThicknessBound)
 {
   const std::tuple<const char*, double, double> cases[] = { { "poly2x^2+y^2-0.062500", 10.0, 0.0 },
@@ -2449,7 +2482,7 @@ TEST(PatchBoundaryMerge, TooSmallPatchesAreGrownAgainWithALooserThicknessBound)
   filter->SetInputData(slodtest::LoadTestMesh("bunny00"));
   filter->SetTargetReduction(0.9);
   filter->Update();
-  EXPECT_EQ(filter->GetPatchThicknessScale(), 1.0);
+  EXPECT_LE(filter->GetPatchThicknessScale(), 1.0);
 }
 
 // Issue 15 (session 30): LoosenThicknessForTarget's first try at a coarse target. The automatic
@@ -2499,6 +2532,27 @@ TEST(PatchBoundaryMerge, CoarsePatchLevelsAreRedoneFromAFinerLevelByCollapses)
     filter->SetTargetReduction(reduction);
     filter->Update();
     EXPECT_GT(filter->GetFinalCollapseCount(), 0);
+  }
+}
+
+// Issue 15 (session 35): every target below a fifth of the input grows its patches with the
+// automatic noise tolerance, and such patches took the scans' trigger for the finer level (1.5x
+// the thickness bound instead of 0.5x), so smooth meshes at 10% were never redone from a finer
+// level: horizons 3.08x and itemb 3.63x vtkQuadricDecimation's Hausdorff distance at the same
+// count on base-s35 (this test's 100,000 samples). The tolerance admits next to none of their triangles, so they are not scans
+// now: within the issue's 3x for smooth meshes, measured in the same run, and closer than without
+// the finer level.
+TEST(PatchBoundaryMerge, SmoothMeshesAtCoarseTargetsAreNotTakenForScans)
+{
+  for (const char* name : { "horizons", "itemb" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    const double ratio = LevelHausdorffRatioToQuadric(name, input, 0.9);
+    EXPECT_LE(ratio, 3.0);
+    const double withoutRatio = LevelHausdorffRatioToQuadric(name, input, 0.9, nullptr, nullptr,
+      [](vtkPatchBoundaryMerge* filter) { filter->CollapseFinerLevelForTargetOff(); });
+    EXPECT_LT(ratio, withoutRatio);
   }
 }
 
