@@ -4,6 +4,7 @@
 #include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
 #include "slodSpbmFinalCollapses.h"
+#include "slodStageClock.h"
 #include "slodUnionFind.h"
 
 #include "vtkMath.h"
@@ -1707,7 +1708,7 @@ enum class PassOutcome
 // One detection pass over `current` (the input's vertices, the previous pass's triangles).
 PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const TriangleMesh& current,
   const std::vector<unsigned char>& currentFill, const TopologySimplificationParameters& parameters,
-  const AbortCheck& report, TopologySimplificationResult& result, CleanedSurface& cleaned)
+  const AbortCheck& report, TopologySimplificationResult& result, CleanedSurface& cleaned, StageClock& stages)
 {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
@@ -1722,6 +1723,7 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
   }
   const auto t1 = Clock::now();
   result.PatchificationSeconds += std::chrono::duration<double>(t1 - t0).count();
+  stages.Lap("detection pass: patchification");
   run.BuildSharpChains();
   run.ClassifySides();
   run.FindLoops();
@@ -1735,6 +1737,7 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
   {
     return PassOutcome::Aborted;
   }
+  stages.Lap("detection pass: sharp chains, loops, removal");
   if (pass == 0)
   {
     result.InitialPatches = run.Patches.NumberOfPatches();
@@ -1750,6 +1753,7 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
   cleaned.LabelCount = Compact(cleaned.Labels);
   const bool last = removedNow == 0 || pass + 1 == passes;
   AccumulateFindings(found, last, result);
+  stages.Lap("detection pass: cleaned surface");
   result.DetectionSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
   return last ? PassOutcome::Last : PassOutcome::Again;
 }
@@ -1769,13 +1773,14 @@ std::vector<unsigned char> FillOfPatches(
 // Completion by SPBM (TriangulatePatches or Spbm): the level's triangles, patches and fills.
 bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParameters& parameters,
   const CleanedSurface& cleaned, const MeshTopology& cleanedTopology, const CleanedSurface& unmerged /* labels only */,
-  const AbortCheck& report, TopologySimplificationResult& result)
+  const AbortCheck& report, TopologySimplificationResult& result, StageClock& stages)
 {
   Patchification merged;
   merged.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount);
   std::vector<unsigned char> patchFill = FillOfPatches(cleaned.Labels, cleaned.LabelCount, cleaned.Fill);
   auto generator = std::make_unique<SpbmLevelGenerator>();
   generator->Initialize(cleaned.Mesh, merged);
+  stages.Lap("completion: merged patches, level generator");
   SpbmLevelParameters level = parameters.Spbm;
   auto abort = [&]() { return report(0.85); };
   bool ok = true;
@@ -1802,6 +1807,7 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
       generator = std::make_unique<SpbmLevelGenerator>();
       generator->Initialize(cleaned.Mesh, merged);
     }
+    stages.Lap("completion: unmerged patches, level generator");
     // The final collapses below take the level to the target, so SPBM need not fight for the
     // count itself (as vtkPatchBoundaryMerge): failed patches that are unmerged already go
     // straight to their original triangles (no pass per finer-chain level, each one triangulating
@@ -1809,6 +1815,7 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
     // passes and replays of its level) when the removal stops far above the target.
     level.FinalCollapsesFollow = parameters.FinalCollapses;
     ok = generator->GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
+    stages.Lap("completion: SPBM level for the target");
     if (ok && parameters.FinalCollapses)
     {
       // As vtkPatchBoundaryMerge does: on rough scans the fallback passes unmerge patches and the
@@ -1818,6 +1825,7 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
       SpbmFinalCollapseStatistics statistics;
       SpbmFinalCollapses(cleaned.Mesh, parameters.SpbmTargetTriangles, result.Level, statistics);
       result.FinalCollapses = statistics.Collapses;
+      stages.Lap("completion: final collapses");
     }
   }
   else
@@ -1854,6 +1862,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
 {
   using Clock = std::chrono::steady_clock;
   result = TopologySimplificationResult();
+  StageClock stages("hole-bump removal"); // CPU per stage at TRACE (--log-verbosity 9)
   const AbortCheck report = [&](double f) { return progress && !progress(f); };
   // Detection passes: a removal can expose a new feature (the counterbore of a stepped hole is a
   // cavity once its hole is filled), so detection runs again on the cleaned surface while it
@@ -1864,7 +1873,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   const int passes = std::max(1, parameters.MaximumPasses);
   for (int pass = 0; pass < passes; ++pass)
   {
-    const PassOutcome outcome = DetectionPass(pass, passes, mesh, current, currentFill, parameters, report, result, cleaned);
+    const PassOutcome outcome = DetectionPass(pass, passes, mesh, current, currentFill, parameters, report, result, cleaned, stages);
     if (outcome == PassOutcome::Aborted)
     {
       return false;
@@ -1882,6 +1891,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
     return false;
   }
 
+  stages.Lap("detection passes' copies");
   // Clean-up merge on the patchification of the cleaned mesh.
   const MeshTopology cleanedTopology(cleaned.Mesh);
   Patchification cleanedPatches;
@@ -1897,6 +1907,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   cleaned.LabelCount = Compact(cleaned.Labels);
   result.MergedPatches = cleaned.LabelCount;
   result.CleanedTriangles = cleaned.Mesh.Triangles;
+  stages.Lap("clean-up merge");
   if (report(0.8))
   {
     return false;
@@ -1910,7 +1921,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
     result.TriangleFill = cleaned.Fill;
     result.NumberOfPatches = cleaned.LabelCount;
   }
-  else if (!CompleteBySpbm(mesh, parameters, cleaned, cleanedTopology, unmerged, report, result))
+  else if (!CompleteBySpbm(mesh, parameters, cleaned, cleanedTopology, unmerged, report, result, stages))
   {
     return false;
   }

@@ -4,6 +4,7 @@
 #include "slodAttributeTransfer.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
+#include "slodStageClock.h"
 #include "slodTopologySimplification.h"
 
 #include "vtkCellArray.h"
@@ -200,7 +201,9 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   {
     vtkWarningMacro("Non-manifold edges are never part of a removed feature; features next to them are kept.");
   }
+  slod::StageClock stages("vtkHoleBumpRemoval"); // CPU per stage at TRACE (--log-verbosity 9)
   const slod::MeshStatistics before = slod::MeshTopology(mesh).Statistics(mesh);
+  stages.Lap("input statistics");
   this->InputGenus = static_cast<int>(before.Genus);
   this->UpdateProgress(0.05);
 
@@ -214,6 +217,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
     slod::ReportAbort(this, output);
     return 1;
   }
+  stages.Lap("topology simplification");
   using Kind = slod::TopologyFeatureKind;
   this->NumberOfHolesDetected = result.Detected[int(Kind::Hole)];
   this->NumberOfBumpsDetected = result.Detected[int(Kind::Bump)];
@@ -233,6 +237,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   slod::TriangleMesh outMesh;
   StoreTriangles(result, mesh, input, vertexToInput, triangleToCell, this->OutputPointsPrecision, output, outMesh);
   AddFeatureCounts(this, output->GetFieldData());
+  stages.Lap("output");
   if (parameters.Completion == slod::TopologyCompletion::Spbm && parameters.SpbmTargetTriangles > 0)
   {
     slod::ReportTarget(this, output, parameters.SpbmTargetTriangles,
@@ -257,6 +262,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   {
     StoreSharpLoops(result, mesh, loopsOutput);
   }
+  stages.Lap("output statistics and sharp loops");
   this->UpdateProgress(1.0);
   return 1;
 }
