@@ -227,6 +227,9 @@ constexpr long long MaximumProofPiecesPerTriangle = 200;
 // cuts' and the collapses' together. Past it no further level, fresh run, collapse or flip is
 // started (a deterministic point of the same work sequence, so the nesting stays monotone).
 constexpr long long MaximumLadderPiecesPerTriangle = 2000;
+// New triangles' answers carried between final collapses (CarryProofs): past this many (about
+// 200 MB) they are dropped and gathered again.
+constexpr size_t MaximumCarriedProofs = size_t(1) << 22;
 // Tolerances (doubling up to the level found) at which a target's final collapses run when their
 // start is finer than half that level (the input below the ladder's bottom).
 constexpr int CollapseStages = 5;
@@ -753,6 +756,7 @@ void GreedyCuts::Initialize(const TriangleMesh& mesh, const PatchificationParame
 {
   this->Mesh = &mesh;
   this->WasAborted = false;
+  this->CarriedProofs.Clear();
   this->Terrain = terrain != nullptr;
   this->Topology.Build(mesh);
   const ProgressFunction stage =
@@ -2625,6 +2629,11 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.EarlySliverStep = parameters.EarlySliverStep;
   collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
   collapse.LockedVertices = this->SeamVertex.empty() ? nullptr : this->SeamVertex.data();
+  if (this->CarriedProofs.Size() > MaximumCarriedProofs)
+  {
+    this->CarriedProofs.Clear(); // bounded memory: the answers are only a saving
+  }
+  collapse.CarriedProofs = parameters.CarryProofs ? &this->CarriedProofs : nullptr;
   ProvedCollapseStatistics statistics;
   // Staged (CollapseStages): the lower stages take the collapses that move the surface least first.
   // Each is proved at Epsilon for the input, so the bound holds after each one.

@@ -42,6 +42,7 @@
 
 #include "slodMeshTopology.h"
 #include "slodPatchification.h"
+#include "slodProvedCollapses.h"
 #include "slodTerrainPatchification.h"
 #include "slodTriangleBVH.h"
 #include "slodTriangleMesh.h"
@@ -88,6 +89,11 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // the next front edge (session 29: the walk is about half of an open scan's cuts). false: the
   // reference walk, which computes them twice; the same decisions either way.
   bool CarryFrontSides = true;
+  // The final collapses recall the new triangles' answers of this object's earlier collapses over
+  // the same input (CarriedTriangleProofs: proved within a smaller tolerance, or not facing the
+  // input), so a chain of ladder levels (RunLevels, RunMonotone, the target search) does not prove
+  // them again at each level (session 35). The same outputs; false: each call proves its own.
+  bool CarryProofs = true;
 };
 
 struct SURFACELODFILTERS_EXPORT GreedyCutsResult
@@ -256,6 +262,9 @@ private:
   // collapses); per patch, 1 for a seam triangle's own patch. Both empty for a manifold input.
   std::vector<unsigned char> SeamVertex, SeamPatch;
   Index SeamTriangles = 0;
+  // New triangles' answers kept across this object's final collapses (CarryProofs); cleared by
+  // Initialize (they hold for one input) and when they grow past MaximumCarriedProofs.
+  CarriedTriangleProofs CarriedProofs;
   std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
   std::vector<Vec3> InitialHeights;
   const TriangleMesh* Mesh = nullptr;

@@ -741,13 +741,26 @@ private:
   // triangles'); only the triangles not decided before are examined, in the same order.
   bool NewTrianglesNearInput()
   {
+    const double tolerance = this->Prm.NewTriangleTolerance > 0 ? std::min(this->Prm.NewTriangleTolerance, this->Prm.Epsilon)
+                                                                 : this->Prm.Epsilon;
     this->Undecided.clear();
     for (size_t i = 0; i < this->NewTriangles.size(); i += 3)
     {
       const auto known = this->NewTriangleVerdicts.find(OrderedTriple(&this->NewTriangles[i]));
       if (known == this->NewTriangleVerdicts.end())
       {
-        this->Undecided.insert(this->Undecided.end(), &this->NewTriangles[i], &this->NewTriangles[i] + 3);
+        const int carried = this->Prm.CarriedProofs ? this->Prm.CarriedProofs->Recall(&this->NewTriangles[i], tolerance) : 0;
+        if (carried == 0)
+        {
+          this->Undecided.insert(this->Undecided.end(), &this->NewTriangles[i], &this->NewTriangles[i] + 3);
+          continue;
+        }
+        ++this->NewTrianglesCarried;
+        this->NewTriangleVerdicts.emplace(OrderedTriple(&this->NewTriangles[i]), carried > 0);
+        if (carried < 0)
+        {
+          return false;
+        }
         continue;
       }
       ++this->NewTrianglesRecalled;
@@ -767,11 +780,13 @@ private:
         Dot(normal, Normalized(this->In.TriangleAreaVector(hit.Triangle))) < MinimumFacingCosine)
       {
         this->NewTriangleVerdicts.emplace(OrderedTriple(&this->Undecided[i]), false);
+        if (this->Prm.CarriedProofs)
+        {
+          this->Prm.CarriedProofs->DoesNotFace(&this->Undecided[i]);
+        }
         return false;
       }
     }
-    const double tolerance = this->Prm.NewTriangleTolerance > 0 ? std::min(this->Prm.NewTriangleTolerance, this->Prm.Epsilon)
-                                                                 : this->Prm.Epsilon;
     size_t refused = 0;
     const bool proved = this->ProveTriangles(this->Bvh, [this](Index x) { return this->Out.Point(x); },
       this->Undecided.data(), this->Undecided.size() / 3, tolerance, &refused);
@@ -783,6 +798,10 @@ private:
     for (size_t i = 0; i < this->Undecided.size(); i += 3)
     {
       this->NewTriangleVerdicts.emplace(OrderedTriple(&this->Undecided[i]), true);
+      if (this->Prm.CarriedProofs)
+      {
+        this->Prm.CarriedProofs->Proved(&this->Undecided[i], tolerance);
+      }
     }
     return true;
   }
@@ -1225,7 +1244,7 @@ private:
 public:
   long long Rejected[3] = { 0, 0, 0 }; // collapses rejected by topology, output -> input, input -> output
   long long BorderGuardRejections = 0;
-  long long NewTriangleProofs = 0, NewTrianglesRecalled = 0;
+  long long NewTriangleProofs = 0, NewTrianglesRecalled = 0, NewTrianglesCarried = 0;
   long long InputGatherings = 0, OutputGatherings = 0;
   long long WitnessesKept = 0, AcceptedByWitnesses = 0, LocalOutputTriangles = 0, InputTrianglesGathered = 0;
 
@@ -1288,6 +1307,35 @@ private:
 };
 } // namespace
 
+size_t CarriedTriangleProofs::Hash::operator()(const std::array<Index, 3>& k) const
+{
+  return TripleHash()(k);
+}
+
+int CarriedTriangleProofs::Recall(const Index* corners, double tolerance) const
+{
+  const auto known = this->Verdicts.find(OrderedTriple(corners));
+  if (known == this->Verdicts.end())
+  {
+    return 0;
+  }
+  return known->second < 0 ? -1 : (known->second <= tolerance ? 1 : 0);
+}
+
+void CarriedTriangleProofs::Proved(const Index* corners, double tolerance)
+{
+  const auto [entry, added] = this->Verdicts.emplace(OrderedTriple(corners), tolerance);
+  if (!added && entry->second >= 0)
+  {
+    entry->second = std::min(entry->second, tolerance);
+  }
+}
+
+void CarriedTriangleProofs::DoesNotFace(const Index* corners)
+{
+  this->Verdicts[OrderedTriple(corners)] = -1;
+}
+
 bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, const ProvedCollapseParameters& parameters,
   std::vector<Index>& triangles, std::vector<Index>& patches, ProvedCollapseStatistics& statistics,
   const ProgressFunction& progress, long long* proofPieces)
@@ -1344,6 +1392,7 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   statistics.BorderGuardRejections = collapser.BorderGuardRejections;
   statistics.NewTriangleProofs = collapser.NewTriangleProofs;
   statistics.NewTrianglesRecalled = collapser.NewTrianglesRecalled;
+  statistics.NewTrianglesCarried = collapser.NewTrianglesCarried;
   statistics.InputGatherings = collapser.InputGatherings;
   statistics.OutputGatherings = collapser.OutputGatherings;
   statistics.WitnessesKept = collapser.WitnessesKept;

@@ -29,10 +29,38 @@
 #include "slodTriangleBVH.h"
 #include "slodTriangleMesh.h"
 
+#include <array>
+#include <unordered_map>
 #include <vector>
 
 namespace slod
 {
+// New triangles' answers that outlive one call (session 35). A triangle of input vertices proved
+// within a tolerance of the input is within every larger one, and one that does not face the input
+// at its centroid never will (neither depends on the output around it), so calls at rising
+// tolerances over the same input (a chain of ladder levels, RunLevels) recall them instead of
+// proving them again; a refusal by the proof is not carried (a larger tolerance may prove it).
+class SURFACELODFILTERS_EXPORT CarriedTriangleProofs
+{
+public:
+  // 1: proved within `tolerance` (or facing and proved within a smaller one), -1: does not face
+  // the input, 0: unknown.
+  int Recall(const Index* corners, double tolerance) const;
+  void Proved(const Index* corners, double tolerance);
+  void DoesNotFace(const Index* corners);
+  void Clear() { this->Verdicts.clear(); }
+  size_t Size() const { return this->Verdicts.size(); }
+
+private:
+  struct Hash
+  {
+    size_t operator()(const std::array<Index, 3>& k) const;
+  };
+  // Per triangle (its corners in order): the smallest tolerance it was proved within; a negative
+  // value when it does not face the input.
+  std::unordered_map<std::array<Index, 3>, double, Hash> Verdicts;
+};
+
 struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
 {
   double Epsilon = 0.0;        // absolute bound (> 0)
@@ -79,6 +107,10 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   // the unchanged ones around them. Off: every input triangle near the change is proved against the
   // local output (the reference path; same bound, more work at large tolerances).
   bool Witnesses = true;
+  // Answers carried from earlier calls over the same input and into later ones (nullptr: this
+  // call's own only). The decisions are those of proving again (the proofs are monotone in the
+  // tolerance); only the work differs.
+  CarriedTriangleProofs* CarriedProofs = nullptr;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
@@ -89,6 +121,7 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   // New triangles whose facing test and proof ran, and those answered from an earlier try of the
   // same triangle (each is decided once per run: its answer depends on its corners only).
   long long NewTriangleProofs = 0, NewTrianglesRecalled = 0;
+  long long NewTrianglesCarried = 0; // ... and those answered from an earlier call (CarriedProofs)
   // Gatherings of the input triangles near a change (a BVH walk, then each one's sphere test
   // against the replaced triangles) and of the unchanged output around it (ReuseStarGathering).
   long long InputGatherings = 0, OutputGatherings = 0;

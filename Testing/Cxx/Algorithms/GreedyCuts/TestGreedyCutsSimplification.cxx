@@ -1440,6 +1440,23 @@ TEST(GreedyCutsSimplification, SingleRunsNeverRiseWithEpsilon)
   }
 }
 
+// One level of a chain of tolerances: its measured Hausdorff within `bound`, and the input's
+// topology kept (no non-manifold or misoriented edge, its Euler characteristic and border loops).
+void ExpectLevelWithinBound(vtkPolyData* input, const TriangleMesh& mesh, const std::vector<Index>& triangles,
+  double bound, const std::string& what)
+{
+  TriangleMesh out;
+  out.Points = mesh.Points;
+  out.Triangles = triangles;
+  EXPECT_LE(MeasureHausdorff(input, slodtest::ToPolyData(out)), bound * (1 + 1e-6)) << what;
+  out.RemoveUnusedPoints();
+  const MeshStatistics before = ComputeMeshStatistics(mesh), after = ComputeMeshStatistics(out);
+  EXPECT_EQ(after.NonManifoldEdges, 0) << what;
+  EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic) << what;
+  EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops) << what;
+  EXPECT_EQ(after.InconsistentlyOrientedEdges, 0) << what;
+}
+
 // Session 30: the cheap chain (LadderOwnRuns off): each level above the bottom is the finer level's
 // output collapsed at its own tolerance, with no cuts or fresh runs of its own. Separate runs at
 // tolerances off the ladder (across its steps) never give more triangles at a larger epsilon,
@@ -1453,7 +1470,6 @@ TEST(GreedyCuts, CheapLadderChainNeverRisesForLessWork)
     SCOPED_TRACE(name);
     vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
     const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
-    const MeshStatistics before = ComputeMeshStatistics(mesh);
     const double diagonal = mesh.BoundingBoxDiagonal();
     size_t previous = std::numeric_limits<size_t>::max();
     long long chainWork = 0, ownWork = 0;
@@ -1482,19 +1498,60 @@ TEST(GreedyCuts, CheapLadderChainNeverRisesForLessWork)
       EXPECT_GT(count, 0u);
       EXPECT_LE(count, previous) << "eps " << eps;
       previous = count;
-      TriangleMesh out;
-      out.Points = mesh.Points;
-      out.Triangles = chain.Triangles;
-      EXPECT_LE(MeasureHausdorff(input, slodtest::ToPolyData(out)), chain.ErrorBound * (1 + 1e-6));
-      out.RemoveUnusedPoints();
-      const MeshStatistics after = ComputeMeshStatistics(out);
-      EXPECT_EQ(after.NonManifoldEdges, 0);
-      EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
-      EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops);
-      EXPECT_EQ(after.InconsistentlyOrientedEdges, 0);
+      ExpectLevelWithinBound(input, mesh, chain.Triangles, chain.ErrorBound, "eps " + std::to_string(eps));
     }
     std::cout << "\n[greedy-cuts] " << name << " proof pieces: chain " << chainWork << ", own runs " << ownWork << "\n";
     EXPECT_LT(chainWork, ownWork);
+    EXPECT_LT(previous, size_t(mesh.NumberOfTriangles()));
+  }
+}
+
+// Session 35: a chain of ladder levels (the cheap chain, 0.002 to 0.03 of the diagonal) recalls the
+// new triangles its finer levels proved (a triangle within a smaller tolerance is within every
+// larger one) instead of proving them again: the same triangles at every level as a chain that
+// proves each level's own, a count that never rises along the sweep, the bound measured at every
+// level with the topology kept, and fewer distance-proof pieces. Meshes no GreedyCuts test uses
+// (itemb: CAD, pig: smooth).
+TEST(GreedyCuts, LadderChainRecallsTheProofsOfFinerLevels)
+{
+  for (const std::string name : { "itemb", "pig" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+    std::vector<double> levels = GreedyCuts::ToleranceLadder(0.002, 0.03);
+    ASSERT_GT(levels.size(), 10u);
+    for (double& level : levels)
+    {
+      level *= mesh.BoundingBoxDiagonal();
+    }
+    GreedyCutsParameters parameters;
+    parameters.LadderOwnRuns = false;
+    std::vector<GreedyCutsResult> carried, own;
+    GreedyCuts carrying, proving;
+    carrying.Initialize(mesh, PatchificationParameters());
+    proving.Initialize(mesh, PatchificationParameters());
+    ASSERT_TRUE(carrying.RunLevels(levels, parameters, carried));
+    parameters.CarryProofs = false;
+    ASSERT_TRUE(proving.RunLevels(levels, parameters, own));
+    ASSERT_EQ(carried.size(), levels.size());
+    ASSERT_EQ(own.size(), levels.size());
+    size_t previous = size_t(mesh.NumberOfTriangles());
+    std::cout << "[greedy-cuts] " << name << " chain:";
+    for (size_t i = 0; i < levels.size(); ++i)
+    {
+      const size_t count = carried[i].Triangles.size() / 3;
+      std::cout << " " << count << std::flush;
+      EXPECT_EQ(carried[i].Triangles, own[i].Triangles) << "level " << i;
+      EXPECT_EQ(carried[i].ErrorBound, levels[i]);
+      EXPECT_GT(count, 0u);
+      EXPECT_LE(count, previous) << "level " << i;
+      previous = count;
+      ExpectLevelWithinBound(input, mesh, carried[i].Triangles, levels[i], "level " + std::to_string(i));
+    }
+    std::cout << "\n[greedy-cuts] " << name << " proof pieces: carried " << carrying.ProofPiecesExamined()
+              << ", each level its own " << proving.ProofPiecesExamined() << "\n";
+    EXPECT_LT(carrying.ProofPiecesExamined(), proving.ProofPiecesExamined());
     EXPECT_LT(previous, size_t(mesh.NumberOfTriangles()));
   }
 }
