@@ -1323,6 +1323,7 @@ struct GreedyCuts::Worker
   std::vector<unsigned char> Careful;
   std::vector<std::vector<Index>> PatchChains; // chains around each patch
   std::unordered_set<std::uint64_t> Segments;
+  bool ChainsChanged = true; // ChainFull changed since the last SimplifyChains (or none yet)
   std::unordered_map<std::uint64_t, int> EdgeUse;
   std::vector<std::vector<Index>> PatchTris;
   std::vector<P2> Coord; // per mesh vertex, valid for the current patch
@@ -2382,6 +2383,7 @@ struct GreedyCuts::Worker
       if (!this->ChainFull[c])
       {
         this->ChainFull[c] = 1;
+        this->ChainsChanged = true;
         refined = true;
         for (Index q : { PP.ChainLeftPatch(c), PP.ChainRightPatch(c) })
         {
@@ -2423,12 +2425,21 @@ struct GreedyCuts::Worker
       {
         // Safety net (never expected): everything not yet settled keeps its original triangles.
         std::fill(this->ChainFull.begin(), this->ChainFull.end(), 1);
+        this->ChainsChanged = true;
         std::fill(this->PatchOriginal.begin(), this->PatchOriginal.end(), 1);
         std::fill(this->Dirty.begin(), this->Dirty.end(), 1);
       }
-      const std::vector<unsigned char> keptBefore = this->Kept;
-      this->SimplifyChains();
-      this->MarkChangedChainPatches(keptBefore);
+      // The chains' simplification depends on ChainFull only (and epsilon): a round after which no
+      // chain was refined keeps the last one's (the same Kept and Segments), so a round costs the
+      // dirty patches, not a pass over every chain of the input.
+      if (this->ChainsChanged)
+      {
+        const std::vector<unsigned char> keptBefore = this->Kept;
+        this->SimplifyChains();
+        this->MarkChangedChainPatches(keptBefore);
+        this->ChainsChanged = false;
+        ++this->Res.ChainPasses;
+      }
       for (Index p = 0; p < np; ++p)
       {
         if (this->Dirty[p])

@@ -113,6 +113,7 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
   long long FinalFlips = 0;     // edges flipped between them (fatter triangles)
   bool StartedFromFinerLevel = false; // RunLevels: this level began as the previous one
   int Rounds = 0;
+  int ChainPasses = 0; // passes of the chain simplification over every chain (at most Rounds)
   bool Aborted = false;
 };
 

@@ -8,7 +8,6 @@
 #include <array>
 #include <cstdint>
 #include <cmath>
-#include <unordered_map>
 
 namespace slod
 {
@@ -50,11 +49,6 @@ constexpr double CornerCheckStarRatio = 4.0;
 // the diagonal (more triangles: oblong 254 -> 542).
 constexpr double IndexedStarRatio = 2.0;
 
-std::array<Index, 3> OrderedTriple(const Index* v)
-{
-  return { v[0], v[1], v[2] };
-}
-
 struct TripleHash
 {
   size_t operator()(const std::array<Index, 3>& k) const
@@ -64,6 +58,119 @@ struct TripleHash
     h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(k[2]);
     return size_t(h ^ (h >> 29));
   }
+};
+
+std::array<Index, 3> OrderedTriple(const Index* v)
+{
+  return { v[0], v[1], v[2] };
+}
+
+// The verdicts of the new triangles tried so far (Collapser::NewTrianglesNearInput), keyed by their
+// three corners in order: a flat table (open addressing, linear probing, 16 bytes a slot, at most
+// half full) instead of a node per entry. When it would grow, the verdicts of triangles with a
+// removed corner are dropped first (a removed vertex never returns, so such a triangle is never
+// tried again): the table holds the verdicts of the live output's vertices only, and stays
+// proportional to them instead of to every try of the run (the node map held one entry per
+// triangle ever proved: 4.8 million at 1M input triangles, read at random).
+class VerdictTable
+{
+public:
+  // -1: not decided yet; else the verdict.
+  int Find(const Index* key) const
+  {
+    if (this->Slots.empty())
+    {
+      return -1;
+    }
+    for (size_t i = this->Home(key);; i = (i + 1) & this->Mask)
+    {
+      const Slot& slot = this->Slots[i];
+      if (slot.Key[0] == InvalidIndex)
+      {
+        return -1;
+      }
+      if (slot.Key[0] == key[0] && slot.Key[1] == key[1] && slot.Key[2] == key[2])
+      {
+        return slot.Verdict;
+      }
+    }
+  }
+
+  // Stores a verdict not stored yet; `alive(v)` says whether vertex v is still in the output.
+  template <typename Alive>
+  void Insert(const Index* key, bool verdict, const Alive& alive)
+  {
+    if (2 * (this->Count + 1) > this->Slots.size())
+    {
+      this->Grow(alive);
+    }
+    size_t i = this->Home(key);
+    while (this->Slots[i].Key[0] != InvalidIndex)
+    {
+      i = (i + 1) & this->Mask;
+    }
+    this->Slots[i] = Slot{ { key[0], key[1], key[2] }, verdict ? 1 : 0 };
+    ++this->Count;
+  }
+
+  size_t Size() const { return this->Count; }
+  size_t Capacity() const { return this->Slots.size(); }
+  long long Dropped = 0; // verdicts of triangles with a removed corner, dropped on growth
+
+private:
+  struct Slot
+  {
+    Index Key[3] = { InvalidIndex, InvalidIndex, InvalidIndex };
+    int Verdict = 0;
+  };
+
+  size_t Home(const Index* key) const { return TripleHash()({ key[0], key[1], key[2] }) & this->Mask; }
+
+  // Keeps the live verdicts; doubles the slots only when those still fill a quarter of them, so
+  // the table is sized by the live verdicts (between a quarter and a half full after growing).
+  template <typename Alive>
+  void Grow(const Alive& alive)
+  {
+    std::vector<Slot> old;
+    old.swap(this->Slots);
+    std::vector<Slot> live;
+    for (const Slot& slot : old)
+    {
+      if (slot.Key[0] == InvalidIndex)
+      {
+        continue;
+      }
+      if (alive(slot.Key[0]) && alive(slot.Key[1]) && alive(slot.Key[2]))
+      {
+        live.push_back(slot);
+      }
+      else
+      {
+        ++this->Dropped;
+      }
+    }
+    size_t capacity = std::max<size_t>(old.size(), 1024);
+    while (4 * (live.size() + 1) > capacity)
+    {
+      capacity *= 2;
+    }
+    this->Slots.assign(capacity, Slot());
+    this->Mask = capacity - 1;
+    this->Count = 0;
+    for (const Slot& slot : live)
+    {
+      size_t i = this->Home(slot.Key);
+      while (this->Slots[i].Key[0] != InvalidIndex)
+      {
+        i = (i + 1) & this->Mask;
+      }
+      this->Slots[i] = slot;
+      ++this->Count;
+    }
+  }
+
+  std::vector<Slot> Slots;
+  size_t Mask = 0, Count = 0;
 };
 
 class Collapser
@@ -97,6 +204,9 @@ public:
     this->Options.MinimumAngle = Radians(parameters.MinimumAngle);
     this->Options.LockedVertices = parameters.LockedVertices;
   }
+
+  long long VerdictsHeld() const { return static_cast<long long>(this->NewTriangleVerdicts.Size()); }
+  long long VerdictsDropped() const { return this->NewTriangleVerdicts.Dropped; }
 
   bool Locked(Index v) const { return this->Prm.LockedVertices && this->Prm.LockedVertices[v]; }
 
@@ -746,8 +856,8 @@ private:
     this->Undecided.clear();
     for (size_t i = 0; i < this->NewTriangles.size(); i += 3)
     {
-      const auto known = this->NewTriangleVerdicts.find(OrderedTriple(&this->NewTriangles[i]));
-      if (known == this->NewTriangleVerdicts.end())
+      const int known = this->NewTriangleVerdicts.Find(&this->NewTriangles[i]);
+      if (known < 0)
       {
         const int carried = this->Prm.CarriedProofs ? this->Prm.CarriedProofs->Recall(&this->NewTriangles[i], tolerance) : 0;
         if (carried == 0)
@@ -756,7 +866,7 @@ private:
           continue;
         }
         ++this->NewTrianglesCarried;
-        this->NewTriangleVerdicts.emplace(OrderedTriple(&this->NewTriangles[i]), carried > 0);
+        this->RememberVerdict(&this->NewTriangles[i], carried > 0);
         if (carried < 0)
         {
           return false;
@@ -764,7 +874,7 @@ private:
         continue;
       }
       ++this->NewTrianglesRecalled;
-      if (!known->second)
+      if (!known)
       {
         return false;
       }
@@ -779,7 +889,7 @@ private:
       if (hit.Triangle == InvalidIndex ||
         Dot(normal, Normalized(this->In.TriangleAreaVector(hit.Triangle))) < MinimumFacingCosine)
       {
-        this->NewTriangleVerdicts.emplace(OrderedTriple(&this->Undecided[i]), false);
+        this->RememberVerdict(&this->Undecided[i], false);
         if (this->Prm.CarriedProofs)
         {
           this->Prm.CarriedProofs->DoesNotFace(&this->Undecided[i]);
@@ -792,18 +902,23 @@ private:
       this->Undecided.data(), this->Undecided.size() / 3, tolerance, &refused);
     if (!proved)
     {
-      this->NewTriangleVerdicts.emplace(OrderedTriple(&this->Undecided[3 * refused]), false);
+      this->RememberVerdict(&this->Undecided[3 * refused], false);
       return false;
     }
     for (size_t i = 0; i < this->Undecided.size(); i += 3)
     {
-      this->NewTriangleVerdicts.emplace(OrderedTriple(&this->Undecided[i]), true);
+      this->RememberVerdict(&this->Undecided[i], true);
       if (this->Prm.CarriedProofs)
       {
         this->Prm.CarriedProofs->Proved(&this->Undecided[i], tolerance);
       }
     }
     return true;
+  }
+
+  void RememberVerdict(const Index* triangle, bool verdict)
+  {
+    this->NewTriangleVerdicts.Insert(triangle, verdict, [this](Index v) { return this->Out.IsVertexAlive(v); });
   }
 
   // The corners of the input triangles that rely on the old star (Relying) are within epsilon of
@@ -1277,7 +1392,7 @@ private:
   std::vector<Index> Gathered, NewTriangles, OldStar, Near, Undecided;
   // Per new triangle (its corners in order) tried so far: faces the input and proved within the
   // new triangles' tolerance (true) or refused (false).
-  std::unordered_map<std::array<Index, 3>, bool, TripleHash> NewTriangleVerdicts;
+  VerdictTable NewTriangleVerdicts;
   // Scratch buffers reused by every candidate (their capacity grows once, no allocation per try).
   std::vector<Index> Neighbours, Replaced, Kept, SnapshotNear, Relying, RelyingIds;
   std::vector<Vec3> Corners;
@@ -1399,6 +1514,8 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   statistics.AcceptedByWitnesses = collapser.AcceptedByWitnesses;
   statistics.LocalOutputTriangles = collapser.LocalOutputTriangles;
   statistics.InputTrianglesGathered = collapser.InputTrianglesGathered;
+  statistics.VerdictsHeld = collapser.VerdictsHeld();
+  statistics.VerdictsDropped = collapser.VerdictsDropped();
   return !aborted;
 }
 } // namespace slod

@@ -132,6 +132,9 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   long long WitnessesKept = 0, AcceptedByWitnesses = 0, LocalOutputTriangles = 0;
   // Input triangles examined to find those relying on each change (a gathering's, or the index's).
   long long InputTrianglesGathered = 0;
+  // The new triangles' verdicts in the table at the end, and those dropped from it (a corner had
+  // been removed) when it would have grown: its size follows the live verdicts, not every try.
+  long long VerdictsHeld = 0, VerdictsDropped = 0;
   int Rounds = 0;
   bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
   bool WorkBoundReached = false; // parameters.MaximumProofPieces stopped the passes
