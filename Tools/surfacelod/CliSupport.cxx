@@ -18,10 +18,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
-
 namespace slodcli
 {
 std::string FormatReal(double value, int significant)
@@ -49,18 +45,6 @@ double StatusMegabytes(const char* key)
   return std::numeric_limits<double>::quiet_NaN();
 }
 } // namespace
-
-void KeepFreedMemoryForReuse()
-{
-#if defined(__GLIBC__)
-  if (std::getenv("GLIBC_TUNABLES") == nullptr)
-  {
-    mallopt(M_MMAP_MAX, 0); // every block from the heap, where a freed one is reused
-    // The heap's free top goes back only above 2 GB (the filters' ReturnFreedMemory still trims).
-    mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
-  }
-#endif
-}
 
 double PeakResidentMegabytes()
 {

@@ -58,15 +58,6 @@ private:
   double CpuStart;
 };
 
-// glibc only, and only when GLIBC_TUNABLES is not set (then the user's settings stay): freed
-// blocks stay in the process's heap for reuse instead of going back to the system. By default
-// every block above glibc's mmap threshold (adaptive, at most 32 MB) is a fresh mapping, faulted
-// in page by page when written and unmapped when freed. A 1M-triangle surface's per-triangle
-// arrays (12 bytes: 12 MB) stay below it, a 4M-triangle one's (48 MB) do not, so every pass that
-// rebuilds such an array paid its page faults again at 4M only: a step in time(4M)/time(1M)
-// (Documentation/HoleBumpRemoval.md, session 35). Called first in main.
-void KeepFreedMemoryForReuse();
-
 // Peak resident set size of this process in MiB (VmHWM, else getrusage).
 double PeakResidentMegabytes();
 // Resident set size now, in MiB (VmRSS; NaN when unknown).

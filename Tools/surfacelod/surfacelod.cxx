@@ -1579,7 +1579,6 @@ void PrintUsage(std::ostream& out)
 } // namespace
 int main(int argc, char* argv[])
 {
-  KeepFreedMemoryForReuse(); // before any large allocation
   const MpiSession mpi(&argc, &argv); // several processes only when started by mpiexec
   InstallMessageHandler();
   if (argc < 2)
