@@ -227,9 +227,28 @@ constexpr long long MaximumProofPiecesPerTriangle = 200;
 // cuts' and the collapses' together. Past it no further level, fresh run, collapse or flip is
 // started (a deterministic point of the same work sequence, so the nesting stays monotone).
 constexpr long long MaximumLadderPiecesPerTriangle = 2000;
-// New triangles' answers carried between final collapses (CarryProofs): past this many (about
-// 200 MB) they are dropped and gathered again.
-constexpr size_t MaximumCarriedProofs = size_t(1) << 22;
+// New triangles' answers carried between final collapses (CarryProofs): past this many they are
+// dropped and gathered again (a flat table of 16-byte slots, a quarter to half full: at most 128 MB).
+constexpr size_t MaximumCarriedProofs = size_t(1) << 21;
+
+// Sets a flag for the scope of a call and restores it on every way out.
+class ScopedFlag
+{
+public:
+  explicit ScopedFlag(bool& flag)
+    : Flag(flag)
+    , Before(flag)
+  {
+    flag = true;
+  }
+  ~ScopedFlag() { this->Flag = this->Before; }
+  ScopedFlag(const ScopedFlag&) = delete;
+  ScopedFlag& operator=(const ScopedFlag&) = delete;
+
+private:
+  bool& Flag;
+  const bool Before;
+};
 // Tolerances (doubling up to the level found) at which a target's final collapses run when their
 // start is finer than half that level (the input below the ladder's bottom).
 constexpr int CollapseStages = 5;
@@ -757,6 +776,7 @@ void GreedyCuts::Initialize(const TriangleMesh& mesh, const PatchificationParame
   this->Mesh = &mesh;
   this->WasAborted = false;
   this->CarriedProofs.Clear();
+  this->CarriedEpsilon = 0;
   this->Terrain = terrain != nullptr;
   this->Topology.Build(mesh);
   const ProgressFunction stage =
@@ -2640,11 +2660,16 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.EarlySliverStep = parameters.EarlySliverStep;
   collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
   collapse.LockedVertices = this->SeamVertex.empty() ? nullptr : this->SeamVertex.data();
-  if (this->CarriedProofs.Size() > MaximumCarriedProofs)
+  // A proof holds at every larger tolerance only: after a call at a larger one (the target
+  // search's top level before its finer levels) the table holds answers this call cannot recall,
+  // so it is emptied; a chain at rising tolerances keeps it. Past MaximumCarriedProofs too
+  // (bounded memory: the answers are only a saving; the decisions are the same either way).
+  if (this->CarriedProofs.Size() > MaximumCarriedProofs || parameters.Epsilon < this->CarriedEpsilon)
   {
-    this->CarriedProofs.Clear(); // bounded memory: the answers are only a saving
+    this->CarriedProofs.Clear();
   }
-  collapse.CarriedProofs = parameters.CarryProofs ? &this->CarriedProofs : nullptr;
+  this->CarriedEpsilon = parameters.Epsilon;
+  collapse.CarriedProofs = parameters.CarryProofs && this->RisingTolerances ? &this->CarriedProofs : nullptr;
   ProvedCollapseStatistics statistics;
   // Staged (CollapseStages): the lower stages take the collapses that move the surface least first.
   // Each is proved at Epsilon for the input, so the bound holds after each one.
@@ -2708,6 +2733,7 @@ bool GreedyCuts::RunLevels(const std::vector<double>& epsilons, const GreedyCuts
   std::vector<double> sorted = epsilons;
   std::sort(sorted.begin(), sorted.end());
   results.assign(sorted.size(), GreedyCutsResult());
+  const ScopedFlag rising(this->RisingTolerances); // the levels' collapses recall each other's answers
   GreedyCutsParameters prm = base;
   prm.FinalCollapses = false;
   for (size_t i = 0; i < sorted.size(); ++i)
@@ -3019,6 +3045,7 @@ bool GreedyCuts::DescendBelowTop(Index target, const LevelRun& evaluate, int ste
 bool GreedyCuts::CollapseToTarget(Index target, GreedyCutsResult& within, GreedyCutsResult& finer, double finerBound,
   GreedyCutsParameters prm, const ProgressFunction& progress, GreedyCutsResult& result)
 {
+  const ScopedFlag rising(this->RisingTolerances); // the stages below run at doubling tolerances
   std::vector<double> stages{ within.ErrorBound };
   while (stages.size() < size_t(CollapseStages) && 0.5 * stages.back() > finerBound)
   {

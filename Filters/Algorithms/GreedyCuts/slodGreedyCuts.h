@@ -91,8 +91,9 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   bool CarryFrontSides = true;
   // The final collapses recall the new triangles' answers of this object's earlier collapses over
   // the same input (CarriedTriangleProofs: proved within a smaller tolerance, or not facing the
-  // input), so a chain of ladder levels (RunLevels, RunMonotone, the target search) does not prove
-  // them again at each level (session 35). The same outputs; false: each call proves its own.
+  // input), so a chain of ladder levels (RunLevels, RunMonotone) and a target's staged collapses,
+  // both at rising tolerances, do not prove them again at each step (session 35; only those calls
+  // keep them). The same outputs; false: each call proves its own.
   bool CarryProofs = true;
 };
 
@@ -264,8 +265,14 @@ private:
   std::vector<unsigned char> SeamVertex, SeamPatch;
   Index SeamTriangles = 0;
   // New triangles' answers kept across this object's final collapses (CarryProofs); cleared by
-  // Initialize (they hold for one input) and when they grow past MaximumCarriedProofs.
+  // Initialize (they hold for one input), before a call at a smaller tolerance than the last, and
+  // when they grow past MaximumCarriedProofs.
   CarriedTriangleProofs CarriedProofs;
+  double CarriedEpsilon = 0; // the tolerance of the last call that carried its answers
+  // True while CollapseFinal is called at rising tolerances (RunLevels, CollapseToTarget's stages):
+  // only then can a later call recall the answers, so only then are they kept (a plain run, or the
+  // target search's levels from the top down, would hold them for nothing).
+  bool RisingTolerances = false;
   std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
   std::vector<Vec3> InitialHeights;
   const TriangleMesh* Mesh = nullptr;

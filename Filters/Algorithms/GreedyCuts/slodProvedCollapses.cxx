@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <cmath>
+#include <limits>
 
 namespace slod
 {
@@ -48,130 +49,6 @@ constexpr double CornerCheckStarRatio = 4.0;
 // local and kept: reading the index there too changed the greedy order on CAD meshes at 0.01 of
 // the diagonal (more triangles: oblong 254 -> 542).
 constexpr double IndexedStarRatio = 2.0;
-
-struct TripleHash
-{
-  size_t operator()(const std::array<Index, 3>& k) const
-  {
-    std::uint64_t h = std::uint32_t(k[0]);
-    h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(k[1]);
-    h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(k[2]);
-    return size_t(h ^ (h >> 29));
-  }
-};
-
-std::array<Index, 3> OrderedTriple(const Index* v)
-{
-  return { v[0], v[1], v[2] };
-}
-
-// The verdicts of the new triangles tried so far (Collapser::NewTrianglesNearInput), keyed by their
-// three corners in order: a flat table (open addressing, linear probing, 16 bytes a slot, at most
-// half full) instead of a node per entry. When it would grow, the verdicts of triangles with a
-// removed corner are dropped first (a removed vertex never returns, so such a triangle is never
-// tried again): the table holds the verdicts of the live output's vertices only, and stays
-// proportional to them instead of to every try of the run (the node map held one entry per
-// triangle ever proved: 4.8 million at 1M input triangles, read at random).
-class VerdictTable
-{
-public:
-  // -1: not decided yet; else the verdict.
-  int Find(const Index* key) const
-  {
-    if (this->Slots.empty())
-    {
-      return -1;
-    }
-    for (size_t i = this->Home(key);; i = (i + 1) & this->Mask)
-    {
-      const Slot& slot = this->Slots[i];
-      if (slot.Key[0] == InvalidIndex)
-      {
-        return -1;
-      }
-      if (slot.Key[0] == key[0] && slot.Key[1] == key[1] && slot.Key[2] == key[2])
-      {
-        return slot.Verdict;
-      }
-    }
-  }
-
-  // Stores a verdict not stored yet; `alive(v)` says whether vertex v is still in the output.
-  template <typename Alive>
-  void Insert(const Index* key, bool verdict, const Alive& alive)
-  {
-    if (2 * (this->Count + 1) > this->Slots.size())
-    {
-      this->Grow(alive);
-    }
-    size_t i = this->Home(key);
-    while (this->Slots[i].Key[0] != InvalidIndex)
-    {
-      i = (i + 1) & this->Mask;
-    }
-    this->Slots[i] = Slot{ { key[0], key[1], key[2] }, verdict ? 1 : 0 };
-    ++this->Count;
-  }
-
-  size_t Size() const { return this->Count; }
-  size_t Capacity() const { return this->Slots.size(); }
-  long long Dropped = 0; // verdicts of triangles with a removed corner, dropped on growth
-
-private:
-  struct Slot
-  {
-    Index Key[3] = { InvalidIndex, InvalidIndex, InvalidIndex };
-    int Verdict = 0;
-  };
-
-  size_t Home(const Index* key) const { return TripleHash()({ key[0], key[1], key[2] }) & this->Mask; }
-
-  // Keeps the live verdicts; doubles the slots only when those still fill a quarter of them, so
-  // the table is sized by the live verdicts (between a quarter and a half full after growing).
-  template <typename Alive>
-  void Grow(const Alive& alive)
-  {
-    std::vector<Slot> old;
-    old.swap(this->Slots);
-    std::vector<Slot> live;
-    for (const Slot& slot : old)
-    {
-      if (slot.Key[0] == InvalidIndex)
-      {
-        continue;
-      }
-      if (alive(slot.Key[0]) && alive(slot.Key[1]) && alive(slot.Key[2]))
-      {
-        live.push_back(slot);
-      }
-      else
-      {
-        ++this->Dropped;
-      }
-    }
-    size_t capacity = std::max<size_t>(old.size(), 1024);
-    while (4 * (live.size() + 1) > capacity)
-    {
-      capacity *= 2;
-    }
-    this->Slots.assign(capacity, Slot());
-    this->Mask = capacity - 1;
-    this->Count = 0;
-    for (const Slot& slot : live)
-    {
-      size_t i = this->Home(slot.Key);
-      while (this->Slots[i].Key[0] != InvalidIndex)
-      {
-        i = (i + 1) & this->Mask;
-      }
-      this->Slots[i] = slot;
-      ++this->Count;
-    }
-  }
-
-  std::vector<Slot> Slots;
-  size_t Mask = 0, Count = 0;
-};
 
 class Collapser
 {
@@ -856,8 +733,8 @@ private:
     this->Undecided.clear();
     for (size_t i = 0; i < this->NewTriangles.size(); i += 3)
     {
-      const int known = this->NewTriangleVerdicts.Find(&this->NewTriangles[i]);
-      if (known < 0)
+      const signed char* verdict = this->NewTriangleVerdicts.Find(&this->NewTriangles[i]);
+      if (verdict == nullptr)
       {
         const int carried = this->Prm.CarriedProofs ? this->Prm.CarriedProofs->Recall(&this->NewTriangles[i], tolerance) : 0;
         if (carried == 0)
@@ -874,7 +751,7 @@ private:
         continue;
       }
       ++this->NewTrianglesRecalled;
-      if (!known)
+      if (*verdict == 0)
       {
         return false;
       }
@@ -918,7 +795,11 @@ private:
 
   void RememberVerdict(const Index* triangle, bool verdict)
   {
-    this->NewTriangleVerdicts.Insert(triangle, verdict, [this](Index v) { return this->Out.IsVertexAlive(v); });
+    const signed char value = verdict ? 1 : 0;
+    this->NewTriangleVerdicts.Insert(triangle, value, [this](const Index* corners) {
+      return this->Out.IsVertexAlive(corners[0]) && this->Out.IsVertexAlive(corners[1]) &&
+        this->Out.IsVertexAlive(corners[2]);
+    });
   }
 
   // The corners of the input triangles that rely on the old star (Relying) are within epsilon of
@@ -1392,7 +1273,7 @@ private:
   std::vector<Index> Gathered, NewTriangles, OldStar, Near, Undecided;
   // Per new triangle (its corners in order) tried so far: faces the input and proved within the
   // new triangles' tolerance (true) or refused (false).
-  VerdictTable NewTriangleVerdicts;
+  TriangleKeyTable<signed char> NewTriangleVerdicts; // 1 proved, 0 refused
   // Scratch buffers reused by every candidate (their capacity grows once, no allocation per try).
   std::vector<Index> Neighbours, Replaced, Kept, SnapshotNear, Relying, RelyingIds;
   std::vector<Vec3> Corners;
@@ -1422,33 +1303,51 @@ private:
 };
 } // namespace
 
-size_t CarriedTriangleProofs::Hash::operator()(const std::array<Index, 3>& k) const
+namespace
 {
-  return TripleHash()(k);
+// The least float not below t (t >= 0): a stored tolerance is never smaller than the proved one.
+float FloatNotBelow(double t)
+{
+  const float f = static_cast<float>(t);
+  return double(f) < t ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
+} // namespace
 
 int CarriedTriangleProofs::Recall(const Index* corners, double tolerance) const
 {
-  const auto known = this->Verdicts.find(OrderedTriple(corners));
-  if (known == this->Verdicts.end())
+  const float* known = this->Verdicts.Find(corners);
+  if (known == nullptr)
   {
     return 0;
   }
-  return known->second < 0 ? -1 : (known->second <= tolerance ? 1 : 0);
+  return *known < 0 ? -1 : (double(*known) <= tolerance ? 1 : 0);
 }
 
 void CarriedTriangleProofs::Proved(const Index* corners, double tolerance)
 {
-  const auto [entry, added] = this->Verdicts.emplace(OrderedTriple(corners), tolerance);
-  if (!added && entry->second >= 0)
+  const float stored = FloatNotBelow(tolerance);
+  float* known = this->Verdicts.Find(corners);
+  if (known == nullptr)
   {
-    entry->second = std::min(entry->second, tolerance);
+    this->Verdicts.Insert(corners, stored);
+  }
+  else if (*known >= 0)
+  {
+    *known = std::min(*known, stored);
   }
 }
 
 void CarriedTriangleProofs::DoesNotFace(const Index* corners)
 {
-  this->Verdicts[OrderedTriple(corners)] = -1;
+  float* known = this->Verdicts.Find(corners);
+  if (known == nullptr)
+  {
+    this->Verdicts.Insert(corners, -1.0f);
+  }
+  else
+  {
+    *known = -1.0f;
+  }
 }
 
 bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, const ProvedCollapseParameters& parameters,

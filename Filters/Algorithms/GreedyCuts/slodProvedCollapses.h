@@ -29,12 +29,133 @@
 #include "slodTriangleBVH.h"
 #include "slodTriangleMesh.h"
 
-#include <array>
-#include <unordered_map>
+#include <algorithm>
+#include <cstdint>
 #include <vector>
 
 namespace slod
 {
+// Values keyed by a triangle's three corners in order (the same triangle tried again is the same
+// key): a flat table, open addressing with linear probing, at most half full, so a look-up reads a
+// slot or two and an insertion allocates nothing but the table's own growth (a node map allocated
+// one node per triangle ever proved: 4.8 million at 1M input triangles, read at random). Both the
+// answers of one run's new triangles and those carried between runs are held this way.
+template <typename Value>
+class TriangleKeyTable
+{
+public:
+  const Value* Find(const Index* key) const
+  {
+    if (this->Slots.empty())
+    {
+      return nullptr;
+    }
+    for (size_t i = this->Home(key);; i = (i + 1) & this->Mask) // ends: at least half the slots are free
+    {
+      const Slot& slot = this->Slots[i];
+      if (slot.Key[0] == InvalidIndex)
+      {
+        return nullptr;
+      }
+      if (slot.Key[0] == key[0] && slot.Key[1] == key[1] && slot.Key[2] == key[2])
+      {
+        return &slot.Stored;
+      }
+    }
+  }
+  Value* Find(const Index* key) { return const_cast<Value*>(static_cast<const TriangleKeyTable&>(*this).Find(key)); }
+
+  // Adds a key not present. When the table would pass half full, the entries `keep` refuses are
+  // dropped first (e.g. triangles with a removed corner, never asked again), and the slots double
+  // only while the kept entries still fill a quarter of them: the size follows the kept entries.
+  template <typename Keep>
+  void Insert(const Index* key, const Value& value, const Keep& keep)
+  {
+    if (2 * (this->Count + 1) > this->Slots.size())
+    {
+      this->Grow(keep);
+    }
+    this->Place(Slot{ { key[0], key[1], key[2] }, value });
+  }
+  void Insert(const Index* key, const Value& value)
+  {
+    this->Insert(key, value, [](const Index*) { return true; });
+  }
+
+  void Clear()
+  {
+    std::vector<Slot>().swap(this->Slots); // the memory too: Clear is the bound on it
+    this->Mask = this->Count = 0;
+  }
+  size_t Size() const { return this->Count; }
+  long long Dropped = 0; // entries `keep` refused when the table grew
+
+private:
+  struct Slot
+  {
+    Index Key[3] = { InvalidIndex, InvalidIndex, InvalidIndex };
+    Value Stored{};
+  };
+
+  size_t Home(const Index* key) const
+  {
+    std::uint64_t h = std::uint32_t(key[0]);
+    h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(key[1]);
+    h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(key[2]);
+    return size_t(h ^ (h >> 29)) & this->Mask;
+  }
+
+  void Place(const Slot& entry)
+  {
+    size_t i = this->Home(entry.Key);
+    while (this->Slots[i].Key[0] != InvalidIndex)
+    {
+      i = (i + 1) & this->Mask;
+    }
+    this->Slots[i] = entry;
+    ++this->Count;
+  }
+
+  // The kept entries are counted first and then placed straight from the old slots (no copy of
+  // them in between: the growth's peak is the old and the new slots).
+  template <typename Keep>
+  void Grow(const Keep& keep)
+  {
+    size_t kept = 0;
+    for (const Slot& slot : this->Slots)
+    {
+      kept += slot.Key[0] != InvalidIndex && keep(slot.Key);
+    }
+    size_t capacity = std::max<size_t>(this->Slots.size(), 1024);
+    while (4 * (kept + 1) > capacity)
+    {
+      capacity *= 2;
+    }
+    std::vector<Slot> old(capacity, Slot());
+    old.swap(this->Slots);
+    this->Mask = capacity - 1;
+    this->Count = 0;
+    for (const Slot& slot : old)
+    {
+      if (slot.Key[0] == InvalidIndex)
+      {
+        continue;
+      }
+      if (keep(slot.Key))
+      {
+        this->Place(slot);
+      }
+      else
+      {
+        ++this->Dropped;
+      }
+    }
+  }
+
+  std::vector<Slot> Slots;
+  size_t Mask = 0, Count = 0;
+};
+
 // New triangles' answers that outlive one call (session 35). A triangle of input vertices proved
 // within a tolerance of the input is within every larger one, and one that does not face the input
 // at its centroid never will (neither depends on the output around it), so calls at rising
@@ -48,17 +169,14 @@ public:
   int Recall(const Index* corners, double tolerance) const;
   void Proved(const Index* corners, double tolerance);
   void DoesNotFace(const Index* corners);
-  void Clear() { this->Verdicts.clear(); }
-  size_t Size() const { return this->Verdicts.size(); }
+  void Clear() { this->Verdicts.Clear(); }
+  size_t Size() const { return this->Verdicts.Size(); }
 
 private:
-  struct Hash
-  {
-    size_t operator()(const std::array<Index, 3>& k) const;
-  };
-  // Per triangle (its corners in order): the smallest tolerance it was proved within; a negative
-  // value when it does not face the input.
-  std::unordered_map<std::array<Index, 3>, double, Hash> Verdicts;
+  // Per triangle (its corners in order): the smallest tolerance it was proved within, rounded up
+  // to a float (a recall may then prove again what it could have recalled, never the reverse: the
+  // same decisions in a 16-byte slot); a negative value when it does not face the input.
+  TriangleKeyTable<float> Verdicts;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
