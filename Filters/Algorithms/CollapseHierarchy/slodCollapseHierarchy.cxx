@@ -36,6 +36,10 @@ constexpr Index MaximumFitPoints = 64;
 // Far above the valences collapses leave on ordinary meshes (about 3 to 20); a fan's centre or a
 // cone's apex has thousands.
 constexpr Index HubValence = 64;
+// Triangles evaluated together (their working evaluations, 117 bytes each with the chunk's ids,
+// are scratch): 4,096 of them (16,384 before session 36: 3.8 bytes per input vertex of mc1m's
+// peak, 1.9 MB, where 4,096 take 0.5 MB; a chunk is still many times the threads' grain).
+constexpr Index EvaluationChunk = Index(1) << 12;
 // The priority order's bounds are taken from the triangles of every 16th slot.
 constexpr Index SampleStride = 16;
 
@@ -60,20 +64,25 @@ void ReleaseRoomBeyondSize(std::vector<T>& values)
 #endif
 }
 
-// Keeps rows oldRows[0], oldRows[1], ... (increasing) of values as rows 0, 1, ... (perRow
-// elements each) and gives the rest back: in place, since a row only moves down.
+// Keeps the rows of values whose bit is set in kept (LiveRowIndex::Renumber), in order, as rows
+// 0, 1, ... (perRow elements each) and gives the rest back: in place, since a row only moves down.
 template <typename T>
-void KeepRows(std::vector<T>& values, const std::vector<Index>& oldRows, size_t perRow)
+void KeepRows(std::vector<T>& values, const std::vector<std::uint64_t>& kept, size_t perRow)
 {
   if (values.empty())
   {
     return; // (not allocated: a rule set or the edge costs were not used)
   }
-  for (size_t r = 0; r < oldRows.size(); ++r)
+  size_t r = 0;
+  for (size_t w = 0; w < kept.size(); ++w)
   {
-    std::copy_n(values.begin() + perRow * size_t(oldRows[r]), perRow, values.begin() + perRow * r);
+    for (std::uint64_t bits = kept[w]; bits != 0; bits &= bits - 1, ++r)
+    {
+      const size_t oldRow = 64 * w + size_t(__builtin_ctzll(bits));
+      std::copy_n(values.begin() + perRow * oldRow, perRow, values.begin() + perRow * r);
+    }
   }
-  values.resize(perRow * oldRows.size());
+  values.resize(perRow * r);
   ReleaseRoomBeyondSize(values);
 }
 
@@ -1704,8 +1713,10 @@ struct CollapseHierarchy::LevelState
     }
     return ++this->Stamp;
   }
-  // Triangles to evaluate again, gathered once each.
-  std::vector<Index> Affected;
+  // Triangles to evaluate again (marked AffectedStamp): how many, and the chunk of them being
+  // evaluated (ReweighAround).
+  size_t AffectedCount = 0;
+  std::vector<Index> AffectedChunk;
   std::vector<Index> Touched, Ring;
   double MaximumWeight = std::numeric_limits<double>::infinity();
   // Per level: edge collapses allowed for blocked triangles, batch size in triangle collapses,
@@ -1871,7 +1882,7 @@ void CollapseHierarchy::CompactRows(LevelState& state)
   {
     return;
   }
-  const std::vector<Index> oldRows = this->RowOf.Renumber(live, [&](Index t) { return this->Mesh.IsTriangleAlive(t); });
+  const std::vector<std::uint64_t> keptRows = this->RowOf.Renumber([&](Index t) { return this->Mesh.IsTriangleAlive(t); });
   // Ten independent tasks (each array kept on its own; the dead rows' kept points and normals forgotten
   // before their evaluations move): concurrent with ParallelBookkeeping, the same arrays.
   constexpr vtkIdType Tasks = 10;
@@ -1883,34 +1894,34 @@ void CollapseHierarchy::CompactRows(LevelState& state)
         break;
       case 1:
         this->ForgetDeadPoints();
-        KeepRows(this->Evaluations, oldRows, 1);
+        KeepRows(this->Evaluations, keptRows, 1);
         break;
       case 2:
-        KeepRows(state.Marks, oldRows, 1);
+        KeepRows(state.Marks, keptRows, 1);
         break;
       case 3:
-        KeepRows(this->EntryOf, oldRows, 1);
+        KeepRows(this->EntryOf, keptRows, 1);
         break;
       case 4:
-        KeepRows(this->BlockedStrict.Narrow, oldRows, 1);
-        KeepRows(this->BlockedStrict.Wide, oldRows, 1);
+        KeepRows(this->BlockedStrict.Narrow, keptRows, 1);
+        KeepRows(this->BlockedStrict.Wide, keptRows, 1);
         break;
       case 5:
-        KeepRows(this->BlockedRelaxed.Narrow, oldRows, 1);
-        KeepRows(this->BlockedRelaxed.Wide, oldRows, 1);
+        KeepRows(this->BlockedRelaxed.Narrow, keptRows, 1);
+        KeepRows(this->BlockedRelaxed.Wide, keptRows, 1);
         break;
       case 6:
-        KeepRows(this->BlockedEdge.Narrow, oldRows, 1);
-        KeepRows(this->BlockedEdge.Wide, oldRows, 1);
+        KeepRows(this->BlockedEdge.Narrow, keptRows, 1);
+        KeepRows(this->BlockedEdge.Wide, keptRows, 1);
         break;
       case 7:
-        KeepRows(this->EdgeCostKinds, oldRows, 1);
+        KeepRows(this->EdgeCostKinds, keptRows, 1);
         break;
       case 8:
-        KeepRows(this->PaperTerms, oldRows, 1);
+        KeepRows(this->PaperTerms, keptRows, 1);
         break;
       default:
-        KeepRows(this->EdgeCostErrors, oldRows, 3);
+        KeepRows(this->EdgeCostErrors, keptRows, 3);
     }
   };
   if (this->Parameters.ParallelBookkeeping)
@@ -1942,7 +1953,7 @@ void CollapseHierarchy::CompactQuadrics()
     return;
   }
   KeepRows(this->Quadrics,
-    this->QuadricRowOf.Renumber(live, [&](Index v) { return this->Mesh.IsVertexAlive(v); }), 1);
+    this->QuadricRowOf.Renumber([&](Index v) { return this->Mesh.IsVertexAlive(v); }), 1);
 }
 
 // What only the build reads (evaluations, quadrics, costs, stamps, ancestors, scratch): the
@@ -2049,7 +2060,7 @@ size_t CollapseHierarchy::LevelStateBytes(const LevelState& state)
   return bytes(state.Candidates) + bytes(state.Sample) + bytes(state.Raised) + bytes(state.RangeBits) +
     bytes(state.RangeCounts) + bytes(state.Ahead) + bytes(state.AheadClaimers) + bytes(state.ClaimedVertices) +
     bytes(state.ClaimedBy) + bytes(state.Batch) + bytes(state.BatchEdge) + bytes(state.BatchPoint) +
-    bytes(state.Marks) + bytes(state.Affected) + bytes(state.Touched) + bytes(state.Ring) + bytes(run.InOrder) +
+    bytes(state.Marks) + bytes(state.AffectedChunk) + bytes(state.Touched) + bytes(state.Ring) + bytes(run.InOrder) +
     bytes(run.Survivors) + bytes(run.Removed) + bytes(run.Changed) + bytes(run.SurvivorStart);
 }
 
@@ -2367,7 +2378,7 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
   this->ReweighAround(state.Touched, state);
   vtkLogF(TRACE, "collapse hierarchy level %d: %lld collapses, %lld triangles left, %zu candidates, %zu re-evaluated",
     level, static_cast<long long>(this->NumberOfCollapses() - levelStart),
-    static_cast<long long>(this->Mesh.NumberOfLiveTriangles()), state.Candidates.size(), state.Affected.size());
+    static_cast<long long>(this->Mesh.NumberOfLiveTriangles()), state.Candidates.size(), state.AffectedCount);
   return true;
 }
 
@@ -2905,7 +2916,7 @@ void CollapseHierarchy::SetBlocked(BlockedColumn& column, size_t row)
   }
   else
   {
-    column.Narrow[row] = static_cast<std::uint16_t>(this->BlockEpochs.size() - 1);
+    column.Narrow[row] = static_cast<std::uint8_t>(this->BlockEpochs.size() - 1);
   }
 }
 
@@ -2931,7 +2942,7 @@ void CollapseHierarchy::WidenBlocked()
     {
       column->Wide[r] = this->BlockedStamp(*column, r);
     }
-    std::vector<std::uint16_t>().swap(column->Narrow);
+    std::vector<std::uint8_t>().swap(column->Narrow);
   }
   this->BlockedWide = true;
 }
@@ -3377,30 +3388,49 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
   std::optional<StageTimer> timer;
   timer.emplace(*this, StageGather);
   state.AffectedStamp = state.NextStamp();
-  state.Affected.clear();
+  state.AffectedCount = 0;
   for (Index v : vertices)
   {
     this->Mesh.ForEachTriangle(v, [&](Index x) {
       if (state.Marks[this->Row(x)] != state.AffectedStamp)
       {
         state.Marks[this->Row(x)] = state.AffectedStamp;
-        state.Affected.push_back(x);
+        ++state.AffectedCount;
       }
     });
   }
-  // In id order (the input's, spatially coherent) rather than the batch's (by weight, scattered):
-  // neighbouring evaluations then share cached triangles and points. The results do not depend
-  // on the order.
-  vtkSMPTools::Sort(state.Affected.begin(), state.Affected.end());
   timer.emplace(*this, StagePrice);
   this->PriceSpokes(&vertices);
   timer.emplace(*this, StageEvaluate);
-  this->EvaluateTriangles(state.Affected.data(), 0, static_cast<Index>(state.Affected.size()));
-  for (Index x : state.Affected)
+  // The marked rows in row order, which is slot order (the input's, spatially coherent, rather
+  // than the batch's, by weight: neighbouring evaluations then share cached triangles and points;
+  // the results do not depend on the order), a chunk at a time: a list of all of them (4 bytes
+  // per re-evaluated triangle, half the triangles at the first level) was 4 bytes per input
+  // vertex of the build's peak.
+  const bool rowsAreSlots = this->Rows == this->Base.NumberOfTriangles();
+  std::vector<Index>& chunk = state.AffectedChunk;
+  chunk.clear();
+  const auto evaluateChunk = [&]() {
+    this->EvaluateTriangles(chunk.data(), 0, static_cast<Index>(chunk.size()));
+    for (Index x : chunk)
+    {
+      StoredEvaluation& e = this->Evaluations[this->Row(x)];
+      e.Weight = this->WeightOf(x, e.Weight);
+    }
+    chunk.clear();
+  };
+  for (size_t r = 0; r < size_t(this->Rows); ++r)
   {
-    StoredEvaluation& e = this->Evaluations[this->Row(x)];
-    e.Weight = this->WeightOf(x, e.Weight);
+    if (state.Marks[r] == state.AffectedStamp)
+    {
+      chunk.push_back(rowsAreSlots ? Index(r) : this->SlotOfRow(r));
+      if (chunk.size() == size_t(EvaluationChunk))
+      {
+        evaluateChunk();
+      }
+    }
   }
+  evaluateChunk();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -3439,10 +3469,9 @@ struct CollapseHierarchy::ConcurrentEvaluation
 // m0 (M0's evaluation) receives the weight terms whose normalisers are not known yet.
 void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, Index count, M0Terms* m0)
 {
-  constexpr Index Chunk = Index(1) << 14;
-  for (Index begin = 0; begin < count; begin += Chunk)
+  for (Index begin = 0; begin < count; begin += EvaluationChunk)
   {
-    const Index n = std::min(Chunk, count - begin);
+    const Index n = std::min(EvaluationChunk, count - begin);
     this->EvaluateChunk(triangles, first + begin, n);
     for (Index i = 0; i < n; ++i)
     {

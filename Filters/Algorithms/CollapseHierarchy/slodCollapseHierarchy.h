@@ -146,10 +146,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // the concurrent evaluation. The same hierarchy, bit for bit, for any number of threads. Off:
   // in serial (the reference).
   bool ParallelBookkeeping = true;
-  // Selection passes whose blocked stamps are kept as 2-byte indices before the blocked columns
-  // turn into full stamps (at most 65,535). Lower only to exercise the wide columns: the same
+  // Selection passes whose blocked stamps are kept as 1-byte indices before the blocked columns
+  // turn into full stamps (at most 255). Lower only to exercise the wide columns: the same
   // hierarchy, bit for bit, at any value.
-  int NarrowBlockedEpochs = 65535;
+  int NarrowBlockedEpochs = 255;
 };
 
 // One collapse as GetCollapse hands it out (the hierarchy keeps only its sources, triangle and
@@ -199,10 +199,10 @@ public:
   }
   const void* Address(size_t i) const { return &this->Words[i >> 6]; } // (prefetch)
   size_t NumberOfElements() const { return this->Elements; }
-  // Rows for the elements with a row that are alive(i) (live of them), in index order; returns
-  // the old row of each kept one (increasing), for the arrays compacted to the new rows.
+  // Rows for the elements with a row that are alive(i), in index order; returns
+  // which old rows are kept (a bit per old row), for the arrays compacted to the new rows.
   template <typename Alive>
-  std::vector<Index> Renumber(Index live, Alive&& alive);
+  std::vector<std::uint64_t> Renumber(Alive&& alive);
   size_t MemoryBytes() const { return this->Words.capacity() * sizeof(Word); }
   void Release() { std::vector<Word>().swap(this->Words); this->Elements = 0; }
 
@@ -228,21 +228,26 @@ private:
 };
 
 template <typename Alive>
-std::vector<Index> LiveRowIndex::Renumber(Index live, Alive&& alive)
+std::vector<std::uint64_t> LiveRowIndex::Renumber(Alive&& alive)
 {
-  std::vector<Index> oldRows;
-  oldRows.reserve(size_t(live));
-  Index oldRow = 0;
+  // A bit per old row, not the old row of each kept one (4 bytes per live row: 6 bytes per input
+  // vertex on top of the working data at the first compactions, the build's peak).
+  const size_t oldRows = this->Words.empty() ? 0
+                                             : size_t(this->Words.back().Base) + PopCount(this->Words.back().Bits);
+  std::vector<std::uint64_t> kept((oldRows + 63) / 64, 0);
+  Index newRows = 0;
+  size_t oldRow = 0;
   for (size_t w = 0; w < this->Words.size(); ++w)
   {
     Word& word = this->Words[w];
-    word.Base = static_cast<Index>(oldRows.size());
+    word.Base = newRows;
     for (std::uint64_t bits = word.Bits; bits != 0; bits &= bits - 1)
     {
       const size_t j = size_t(__builtin_ctzll(bits));
       if (alive(static_cast<Index>(64 * w + j)))
       {
-        oldRows.push_back(oldRow);
+        kept[oldRow >> 6] |= std::uint64_t(1) << (oldRow & 63);
+        ++newRows;
       }
       else
       {
@@ -251,7 +256,7 @@ std::vector<Index> LiveRowIndex::Renumber(Index live, Alive&& alive)
       ++oldRow;
     }
   }
-  return oldRows;
+  return kept;
 }
 
 class SURFACELODFILTERS_EXPORT CollapseHierarchy
@@ -766,17 +771,18 @@ private:
   // its stencil region changes (position or triangles around it). One stamp per rule set (strict,
   // relaxed); -1: not known to be blocked.
   // A selection never changes the mesh, so every stamp it writes is the same ChangeCounter value:
-  // a row keeps the index of that value in BlockEpochs, 2 bytes instead of 4 (session 30; at the
-  // first levels, the build's peak, 4 bytes per input vertex less per rule set in use). More
-  // values than 16 bits hold (a selection pass per epoch: 65,535 of them) turn every column into
-  // the stamps themselves (Wide), so the answers never change.
+  // a row keeps the index of that value in BlockEpochs, 1 byte instead of 4 (2 in sessions 30-35;
+  // at the first levels, the build's peak, 2 bytes per input vertex less per rule set in use
+  // than 2 bytes). Few passes block anything new (mc1m's whole build: 9 epochs); more values
+  // than a byte holds (255) turn every column into the stamps themselves (Wide), so the answers
+  // never change.
   struct BlockedColumn
   {
-    std::vector<std::uint16_t> Narrow; // index into BlockEpochs, NoEpoch: not known to be blocked
+    std::vector<std::uint8_t> Narrow; // index into BlockEpochs, NoEpoch: not known to be blocked
     std::vector<Index> Wide;           // (BlockedWide) the stamp, -1: not known
     bool Empty() const { return this->Narrow.empty() && this->Wide.empty(); }
   };
-  static constexpr std::uint16_t NoEpoch = 0xffff;
+  static constexpr std::uint8_t NoEpoch = 0xff;
   BlockedColumn BlockedStrict, BlockedRelaxed, BlockedEdge;
   std::vector<Index> BlockEpochs;
   bool BlockedWide = false;
@@ -786,7 +792,7 @@ private:
     {
       return column.Wide[row];
     }
-    const std::uint16_t epoch = column.Narrow[row];
+    const std::uint8_t epoch = column.Narrow[row];
     return epoch == NoEpoch ? -1 : this->BlockEpochs[epoch];
   }
   void SetBlocked(BlockedColumn& column, size_t row); // stamped ChangeCounter

@@ -1512,7 +1512,8 @@ TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
   // The mesh's scratch lists and its link table (12 bytes a slot, four slots per triangle): a few fans.
   const double meshScratch = 2 * 4096 * sizeof(Index) + 4096 * 12.0;
   const auto rows = [](double n) { return 12 * std::ceil(n / 64); }; // a rank word per 64 elements
-  const double evaluationScratch = 16384 * 160.0; // EvaluateChunk's evaluations of at most 16,384 triangles
+  // EvaluateChunk's evaluations of at most 4,096 triangles (16,384 before session 36: 1.9 MB)
+  const double evaluationScratch = 4096 * 160.0;
   const std::map<std::string, double> layout = { { "M0 (points, triangles)", 12 * nv + 12 * nt },
     { "editable mesh (coarsest)", nv * (24 + 1 + 4 + 4) + nt * (12 + 1) + references + meshScratch },
     { "collapse points", 0 }, { "collapses", 0 }, { "levels", sizeof(Index) },
@@ -1520,11 +1521,11 @@ TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
     { "triangle versions", sizeof(Index) }, { "collapse records", 2 * sizeof(Index) },
     { "vertex ids, flags", 6 * nv }, { "evaluations", 20 * nt + 28 * nt / 16 },
     { "evaluation scratch", evaluationScratch }, { "paper's terms", 0 }, { "quadrics", 80 * nv + rows(nv) },
-    // (evaluations: 20 bytes per row and the kept points' entries, 24 on base; stamps: the blocked
-    // ones 2 bytes per row, 4 on base; their epochs)
+    // (evaluations: 20 bytes per row and the kept points' entries, 24 before session 32; stamps:
+    // the blocked ones 1 byte per row, 2 before session 36, 4 before session 30; their epochs)
     // (edge costs: 12 bytes of errors and one of kinds per row, 15 on base; stamps: a vertex's
     // change stamp, valence and mark in 8 bytes, 10 on base)
-    { "edge costs", 13 * nt }, { "stamps, degrees, marks", 8 * nv + 2 * nt + 4096 }, { "ancestors", 0 },
+    { "edge costs", 13 * nt }, { "stamps, degrees, marks", 8 * nv + 1 * nt + 4096 }, { "ancestors", 0 },
     { "current versions, rows", 4 * nt + rows(nt) } };
   CollapseHierarchy h;
   std::vector<CollapseHierarchy::StorageShare> start;
@@ -2045,7 +2046,7 @@ TEST(CollapseHierarchy, ZeroAreaTrianglesOfTJunctionsCollapse)
   ExpectExactlyReversible(h, input);
 }
 
-// The blocked stamps are 2-byte indices of a selection pass until 65,535 passes have run, then
+// The blocked stamps are 1-byte indices of a selection pass until 255 passes have run, then
 // full stamps (WidenBlocked). Widening after 0, 1 or 2 passes must give the same hierarchy, and
 // the wide columns must really be in use (their stamps take more bytes than the narrow ones).
 TEST(CollapseHierarchy, BlockedStampsWidenedEarlyGiveTheSameHierarchy)
@@ -2065,7 +2066,7 @@ TEST(CollapseHierarchy, BlockedStampsWidenedEarlyGiveTheSameHierarchy)
   for (const auto& named : meshes)
   {
     const CollapseHierarchyParameters narrow = DefaultParameters();
-    ASSERT_EQ(narrow.NarrowBlockedEpochs, 65535);
+    ASSERT_EQ(narrow.NarrowBlockedEpochs, 255);
     CollapseHierarchy reference;
     std::vector<size_t> narrowStamps; // at every progress call
     ASSERT_TRUE(reference.Build(named.second, narrow, [&](double) {
