@@ -253,6 +253,12 @@ struct vtkTriangleCollapseHierarchy::Internals
     {
       return false;
     }
+    if (input->GetPointData()->GetNumberOfArrays() == 0)
+    {
+      // Only the point data's transfer reads the map (Attributes.Load, after the build): without
+      // point data it is not held through the build (4 bytes per input vertex of its peak).
+      std::vector<slod::Index>().swap(vertexToInputPoint);
+    }
     parameters.StopAtTriangles = OnlyToTarget(*filter) ? TargetOf(*filter, mesh.NumberOfTriangles()) : 0;
     const auto start = std::chrono::steady_clock::now();
     // (Moved: M0 is this mesh, not a second copy of it.)
