@@ -381,7 +381,8 @@ TEST(Patchification, NoiseToleranceGrowsPatchesOverNoise)
 
 // Issue 15 (session 35): NoiseToleranceJoins counts the candidates the noise tolerance admitted
 // against the angle tests, which is what tells a scan from a smooth surface: on a grid noisy by
-// up to half its spacing at least a quarter of the triangles (the filter's ScanNoiseJoinShare),
+// up to half its spacing at least a quarter of the triangles (session 35's ScanNoiseJoinShare; the
+// filter no longer decides by it since session 36, the counter stays a measure of the growth),
 // none without the tolerance; on a finely tessellated sphere with the same plane distance and
 // tolerance (relative to its size) next to none, since its neighbouring triangles pass the angle
 // tests anyway.
