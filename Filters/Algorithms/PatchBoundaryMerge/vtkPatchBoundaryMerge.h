@@ -103,12 +103,16 @@ public:
 
   ///@{
   /// Extension (issue 15, session 33) [on; needs FinalCollapses]: when the level of a count target
-  /// deviates from the input by more than 1/2 of the thickness bound as given (2x the deviation
-  /// expected of any simplification to that count, with PatchDeviationFactor 4; session 34, was
-  /// 3/4; 1.5x the bound on patches grown with a noise tolerance, i.e. scans), a level of 1.5x
-  /// the target is made from patches grown for that count and brought down to the target by the
-  /// final collapses (quadric order); the level with the smaller deviation (every input vertex
-  /// sampled) is kept. FinalCollapseCount then counts its collapses.
+  /// deviates from the input by more than its patches were allowed to lie from their planes (the
+  /// plane-distance cap, 1/2 of the thickness bound as given, plus the noise tolerance: 1/2 of the
+  /// bound without one, 2x the deviation expected of any simplification to that count with
+  /// PatchDeviationFactor 4; the whole bound with the automatic one of coarse targets; session 36,
+  /// was 1/2 or, on patches a noise tolerance grew over a quarter of the input, 1.5x), a level of
+  /// 1.5x the target is made from patches grown for that count and brought down to the target by
+  /// the final collapses (quadric order); the level with the smaller deviation (every input vertex
+  /// sampled) is kept. FinalCollapseCount then counts its collapses; FinerLevelTried says whether
+  /// the finer level was made and LevelDeviationShare what the level deviated (over the thickness
+  /// bound as given, -1 when not measured).
   vtkSetMacro(CollapseFinerLevelForTarget, bool);
   vtkGetMacro(CollapseFinerLevelForTarget, bool);
   vtkBooleanMacro(CollapseFinerLevelForTarget, bool);
@@ -266,6 +270,8 @@ public:
   vtkGetMacro(RefinedPatches, vtkIdType);
   vtkGetMacro(OriginalPatches, vtkIdType);
   vtkGetMacro(FinalCollapseCount, vtkIdType);     // FinalCollapses performed
+  vtkGetMacro(FinerLevelTried, bool);             // CollapseFinerLevelForTarget made its level
+  vtkGetMacro(LevelDeviationShare, double);       // of the target's level, over the bound as given
   vtkGetMacro(PatchificationReused, bool);        // the cache was hit
   vtkGetMacro(PatchificationTime, double);        // seconds (input preparation + patches + hierarchy)
   vtkGetMacro(LevelTime, double);                 // seconds (search + level generation + output)
@@ -311,6 +317,8 @@ protected:
   vtkIdType RefinedPatches = 0;
   vtkIdType OriginalPatches = 0;
   vtkIdType FinalCollapseCount = 0;
+  bool FinerLevelTried = false;
+  double LevelDeviationShare = -1.0;
   bool PatchificationReused = false;
   double PatchificationTime = 0.0;
   double LevelTime = 0.0;
