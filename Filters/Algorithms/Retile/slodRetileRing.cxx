@@ -4,6 +4,7 @@
 #include "slodTriangleBVH.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace slod
@@ -169,8 +170,9 @@ bool RingTriangulationSearch::OrderRing(Index r)
 // The tile (ring[i], ring[m], ring[j]) (ring order, so r's orientation) as the search ranks it:
 // ValidTile plus its smallest angle when it faces the surface's way at its three vertices (and has
 // no angle under MinimumAngle), else the worst cosine between its normal and their reference
-// normals (in [-1, 1]), -2 when degenerate. A larger worst value is a better triangulation.
-double RingTriangulationSearch::TileScore(int i, int m, int j) const
+// normals (in [-1, 1]), -2 when degenerate; `cosineOnly`: that cosine (or -2) for every tile, which
+// InputTileScore ranks by the input under it. A larger worst value is a better triangulation.
+double RingTriangulationSearch::TileScore(int i, int m, int j, bool cosineOnly) const
 {
   const Index ids[3] = { this->Ring[i], this->Ring[m], this->Ring[j] };
   const Vec3 p[3] = { this->Edit.Point(ids[0]), this->Edit.Point(ids[1]), this->Edit.Point(ids[2]) };
@@ -189,8 +191,32 @@ double RingTriangulationSearch::TileScore(int i, int m, int j) const
     const double referenceLength = Norm(this->Reference[v]);
     facing = std::min(facing, referenceLength > 0 ? dot / (length * referenceLength) : 0.0);
   }
+  facing = std::min(facing, 1.0);
+  if (cosineOnly)
+  {
+    return facing;
+  }
   const double angle = slod::MinimumAngle(p[0], p[1], p[2]);
-  return faces && angle >= this->MinimumAngle ? ValidTile + angle : std::min(facing, 1.0);
+  return faces && angle >= this->MinimumAngle ? ValidTile + angle : facing;
+}
+
+// The dot of the tile's normal with the normal of the input triangle closest to its centroid (the
+// sign is what counts). Every corner lies on the input, so the query is pruned at the nearest one.
+double RingTriangulationSearch::InputFacing(const Vec3* p, const Vec3& normal) const
+{
+  const Vec3 centroid = (1.0 / 3.0) * (p[0] + p[1] + p[2]);
+  double bound2 = std::numeric_limits<double>::max();
+  for (int k = 0; k < 3; ++k)
+  {
+    bound2 = std::min(bound2, Dot(p[k] - centroid, p[k] - centroid));
+  }
+  ClosestPointResult closest = this->InputSurface->ClosestPoint(centroid, bound2 * (1.0 + 1e-6));
+  if (closest.Triangle == InvalidIndex)
+  {
+    closest = this->InputSurface->ClosestPoint(centroid);
+  }
+  const TriangleMesh* input = this->InputSurface->GetMesh();
+  return closest.Triangle == InvalidIndex || !input ? 0.0 : Dot(normal, input->TriangleAreaVector(closest.Triangle));
 }
 
 bool RingTriangulationSearch::Find(Index r, bool& valid, double& worst, double& smallestAngle)
@@ -213,8 +239,87 @@ bool RingTriangulationSearch::Find(Index r, bool& valid, double& worst, double& 
       this->Allowed[at(i, j)] = ringEdge || this->Edit.EdgeTriangleCount(this->Ring[i], this->Ring[j]) == 0;
     }
   }
-  const double none = -std::numeric_limits<double>::max();
-  this->Best.assign(size_t(k) * k, none);
+  double best = this->Solve(false);
+  if (best == -std::numeric_limits<double>::max())
+  {
+    return false; // every triangulation needs an edge the mesh has
+  }
+  valid = best >= ValidTile;
+  this->CollectTiles(0, k - 1);
+  if (!valid && this->InputSurface)
+  {
+    best = this->SolveByInput(); // the fallback ranked by the input under the tiles (TileScore)
+  }
+  worst = valid ? best - ValidTile : best;
+  smallestAngle = std::numeric_limits<double>::max();
+  for (const auto& tile : this->Tiles)
+  {
+    smallestAngle = std::min(smallestAngle,
+      slod::MinimumAngle(this->Edit.Point(this->Ring[tile[0]]), this->Edit.Point(this->Ring[tile[1]]),
+        this->Edit.Point(this->Ring[tile[2]])));
+  }
+  return true;
+}
+
+// The fallback ranked by the input under the tiles, lazily: a tile not yet queried is taken to
+// face the input (its score can only fall), the best triangulation under that assumption is found,
+// and its unqueried tiles are queried; when one does not face the input, the search runs again.
+// Each run but the last finds a tile that does not, so it ends; the result is the exact optimum
+// (its tiles' assumed scores are their true ones, every other's can only be lower), at a few
+// queries per ring instead of one per tile.
+double RingTriangulationSearch::SolveByInput()
+{
+  const int k = static_cast<int>(this->Ring.size());
+  this->Facing.assign(size_t(k) * k * k, 0);
+  this->Cosine.assign(size_t(k) * k * k, std::numeric_limits<double>::quiet_NaN());
+  const size_t bound = size_t(k) * size_t(k) * size_t(k);
+  double best = -std::numeric_limits<double>::max();
+  for (size_t run = 0; run < bound; ++run)
+  {
+    best = this->Solve(true);
+    this->Tiles.clear();
+    this->CollectTiles(0, k - 1);
+    bool changed = false;
+    for (const std::array<int, 3>& tile : this->Tiles)
+    {
+      signed char& known = this->Facing[this->TileKey(tile[0], tile[1], tile[2])];
+      if (known == 0)
+      {
+        const Vec3 p[3] = { this->Edit.Point(this->Ring[tile[0]]), this->Edit.Point(this->Ring[tile[1]]),
+          this->Edit.Point(this->Ring[tile[2]]) };
+        known = this->InputFacing(p, TriangleNormal(p[0], p[1], p[2])) > 0 ? 1 : -1;
+        changed = changed || known < 0;
+      }
+    }
+    if (!changed)
+    {
+      break;
+    }
+  }
+  return best;
+}
+
+// A tile's rank in the fallback (Solve's `byInput`): one that faces the input under its centroid
+// (or is not known not to: SolveByInput) ranks above every tile that does not, as FacingInput plus
+// its worst cosine. The cosine is computed once per tile for all the runs of SolveByInput.
+double RingTriangulationSearch::InputTileScore(int i, int m, int j)
+{
+  const size_t key = this->TileKey(i, m, j);
+  double& cosine = this->Cosine[key];
+  if (std::isnan(cosine))
+  {
+    cosine = this->TileScore(i, m, j, true);
+  }
+  return cosine > -2.0 && this->Facing[key] >= 0 ? FacingInput + cosine : cosine;
+}
+
+// The dynamic programme over the ring's sub-polygons (Best, Split): the largest worst tile score
+// of a triangulation of the whole ring (-max: none, every one needs an edge the mesh has).
+double RingTriangulationSearch::Solve(bool byInput)
+{
+  const int k = static_cast<int>(this->Ring.size());
+  const auto at = [k](int i, int j) { return size_t(i) * size_t(k) + size_t(j); };
+  this->Best.assign(size_t(k) * k, -std::numeric_limits<double>::max());
   this->Split.assign(size_t(k) * k, -1);
   for (int i = 0; i + 1 < k; ++i)
   {
@@ -236,7 +341,7 @@ bool RingTriangulationSearch::Find(Index r, bool& valid, double& worst, double& 
         {
           continue; // cannot beat the best split (and skips the tile's cost)
         }
-        const double score = std::min(sides, this->TileScore(i, m, j));
+        const double score = std::min(sides, byInput ? this->InputTileScore(i, m, j) : this->TileScore(i, m, j, false));
         if (score > this->Best[at(i, j)])
         {
           this->Best[at(i, j)] = score;
@@ -245,22 +350,7 @@ bool RingTriangulationSearch::Find(Index r, bool& valid, double& worst, double& 
       }
     }
   }
-  const double best = this->Best[at(0, k - 1)];
-  if (best == none)
-  {
-    return false; // every triangulation needs an edge the mesh has
-  }
-  this->CollectTiles(0, k - 1);
-  valid = best >= ValidTile;
-  worst = valid ? best - ValidTile : best;
-  smallestAngle = std::numeric_limits<double>::max();
-  for (const auto& tile : this->Tiles)
-  {
-    smallestAngle = std::min(smallestAngle,
-      slod::MinimumAngle(this->Edit.Point(this->Ring[tile[0]]), this->Edit.Point(this->Ring[tile[1]]),
-        this->Edit.Point(this->Ring[tile[2]])));
-  }
-  return true;
+  return this->Best[at(0, k - 1)];
 }
 
 void RingTriangulationSearch::CollectTiles(int i, int j)

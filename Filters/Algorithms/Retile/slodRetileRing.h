@@ -19,6 +19,8 @@
 
 namespace slod
 {
+class TriangleBVH;
+
 struct SURFACELODFILTERS_EXPORT RingRetriangulation
 {
   RingRetriangulation(EditableMesh& edit, std::vector<Vec3>& reference)
@@ -75,15 +77,26 @@ struct SURFACELODFILTERS_EXPORT RingTriangulationSearch
 
   static constexpr int MaximumRing = 32;
   static constexpr double ValidTile = 4.0; // scores of valid tiles start here (above any cosine)
+  // Scores of tiles that are not valid but face the input at their centroid (InputSurface set):
+  // this plus their worst cosine to the reference normals, so in [FacingInput - 1, FacingInput + 1].
+  static constexpr double FacingInput = 2.0;
   const EditableMesh& Edit;
   const std::vector<Vec3>& Reference;
   double MinimumFacing = 0.0;
   double MinimumAngle = 0.0; // radians
+  // Optional: the input surface (the tree of the mesh being re-tiled). When set and no
+  // triangulation is valid, they are ranked again, first by whether every tile faces the input
+  // triangle closest to its centroid (Turk's local-plane test, section 4.4), then by the worst
+  // cosine: where the reference normals of a tile's corners are far apart (a thin part, a crease
+  // sharper than a right angle) no tile faces all three, and the worst cosine alone ranks only
+  // that tile, so the others could be turned over against the surface under them.
+  const TriangleBVH* InputSurface = nullptr;
 
   // True when r has a closed ring (interior manifold vertex, at most MaximumRing neighbours) and a
   // triangulation as above: `valid` says whether all its tiles face the surface's way, `worst` is
   // then its smallest angle (radians), else the smallest cosine between a tile's normal and the
-  // reference normal of one of its vertices; `smallestAngle` is its smallest angle either way.
+  // reference normal of one of its vertices (plus FacingInput when InputSurface is set and every
+  // tile faces the input under its centroid); `smallestAngle` is its smallest angle either way.
   bool Find(Index r, bool& valid, double& worst, double& smallestAngle);
   // The flips, in order, that turn the fan of ring vertex c (after the collapse of r onto c) into
   // the triangulation Find found; false when c is not on the ring.
@@ -107,13 +120,24 @@ struct SURFACELODFILTERS_EXPORT RingTriangulationSearch
 
 private:
   bool OrderRing(Index r);
-  double TileScore(int i, int m, int j) const;
+  double Solve(bool byInput);
+  double SolveByInput();
+  double InputTileScore(int i, int m, int j);
+  double TileScore(int i, int m, int j, bool cosineOnly) const;
+  size_t TileKey(int i, int m, int j) const
+  {
+    const size_t k = this->Ring.size();
+    return (size_t(i) * k + size_t(m)) * k + size_t(j);
+  }
+  double InputFacing(const Vec3* p, const Vec3& normal) const;
   void CollectTiles(int i, int j);
   std::vector<Index> Ring;                 // r's neighbours in the order of its tiles
   std::vector<unsigned char> Allowed;      // k x k: edge (i, j) may be a side of a tile
   std::vector<double> Best;                // k x k: best smallest angle of sub-polygon i..j (-1: none)
   std::vector<int> Split;                  // k x k: the apex of the tile on side (i, j)
   std::vector<std::array<int, 3>> Tiles;   // the triangulation found, in ring positions
+  std::vector<signed char> Facing;         // k x k x k: tile (i, m, j) faces the input (1), not (-1), unknown (0)
+  std::vector<double> Cosine;              // k x k x k: its worst cosine (-2 degenerate, NaN not yet computed)
 };
 } // namespace slod
 

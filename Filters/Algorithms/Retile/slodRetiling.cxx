@@ -1104,6 +1104,10 @@ struct OldVertexRemoval
   std::vector<TargetAngle> Valid;
   // Scratch of RemoveByRingSearch (reused by every old vertex).
   RingTriangulationSearch Search{ this->Edit, this->Reference };
+  // The input surface (optional): where a ring has no triangulation facing its corners' reference
+  // normals and one is taken all the same, the search prefers one whose tiles face the input
+  // under them (RingTriangulationSearch::InputSurface).
+  const TriangleBVH* InputSurface = nullptr;
   std::vector<std::pair<Index, Index>> SearchFlips;
   // A border vertex may only go onto a border neighbour (section 4.6: the border keeps its place),
   // and not when it has a single triangle. Set for the nested levels, whose records the fragment
@@ -1415,6 +1419,9 @@ struct OldVertexRemoval
     }
     this->Search.MinimumFacing = this->MinimumFacing;
     this->Search.MinimumAngle = this->Strict ? this->MinimumAngleFloor : 0.0;
+    // The fallback's ranking by the input costs a closest-point query per tile: only when the
+    // fallback may be taken.
+    this->Search.InputSurface = wrongFanTaken ? this->InputSurface : nullptr;
     bool valid = false;
     double worst = 0, smallest = 0;
     // Not valid: taken instead of the fan only without a needle (the repair cannot mend a needle
@@ -1462,6 +1469,7 @@ struct OldVertexRemoval
     }
     this->Search.MinimumFacing = 0.0;
     this->Search.MinimumAngle = RingNeedleAngle;
+    this->Search.InputSurface = nullptr; // only a valid triangulation is taken here
     bool valid = false;
     double worst = 0, smallest = 0;
     if (!this->Search.Find(r, valid, worst, smallest) || smallest < RingNeedleAngle || !valid)
@@ -1924,6 +1932,7 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
   }
   OldVertexRemoval removal(
     edit, reference, n0, np, coarser, options.NonManifoldVertices ? *options.NonManifoldVertices : computedFlags);
+  removal.InputSurface = options.RingSearchFacesInput ? &bvh : nullptr;
   vtkLogStartScopeF(TRACE, "retile-removal", "retile: old-vertex removal");
   const bool removed = removal.Run(options);
   vtkLogEndScope("retile-removal");

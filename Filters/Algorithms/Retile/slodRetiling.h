@@ -71,6 +71,13 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   // about a quarter fewer flipped triangles, but a needle on rotor_small and a Hausdorff distance
   // up to 11% larger on some meshes (Documentation/Retile.md). The nested levels use it too.
   bool RetriangulateRings = false;
+  // Where no triangulation of an old vertex's ring faces its tiles' corners and the ring search's
+  // fallback is taken, rank the triangulations first by whether every tile faces the input
+  // triangle under its centroid (Turk's local-plane test), then by the worst cosine
+  // (RingTriangulationSearch::InputSurface). Off by default: fewer flipped tiles over the CGAL
+  // meshes, but more needles at 10% of the vertices and a larger Hausdorff distance at 50%, and
+  // twice the search's cost on cheese (Documentation/Retile.md, session 36). Retile only.
+  bool RingSearchFacesInput = false;
   // Optional: per input vertex, 1 when non-manifold (the input preparation's
   // PreparationReport::NonManifoldVertexFlags); computed when null. These vertices are kept as
   // they are (retained old vertices): the removal's link condition assumes one fan per vertex.

@@ -494,6 +494,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   }
   options.EnforceFacing = this->EnforceFacing;
   options.RetriangulateRings = this->RetriangulateRings;
+  options.RingSearchFacesInput = this->RingSearchFacesInput;
   options.FeatureAngle = this->FeatureAngle;
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
@@ -606,6 +607,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EnforceFacing: " << this->EnforceFacing << "\n";
   os << indent << "FilletDensity: " << this->FilletDensity << "\n";
   os << indent << "RetriangulateRings: " << this->RetriangulateRings << "\n";
+  os << indent << "RingSearchFacesInput: " << this->RingSearchFacesInput << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";
   os << indent << "NumberOfCorners: " << this->NumberOfCorners << "\n";

@@ -105,6 +105,12 @@ public:
   vtkSetMacro(RetriangulateRings, bool);
   vtkGetMacro(RetriangulateRings, bool);
   vtkBooleanMacro(RetriangulateRings, bool);
+  // Where the ring search takes a triangulation not facing the input's normals at its corners,
+  // prefer one whose tiles face the input under their centroids; off by default
+  // (slod::RetilingOptions::RingSearchFacesInput).
+  vtkSetMacro(RingSearchFacesInput, bool);
+  vtkGetMacro(RingSearchFacesInput, bool);
+  vtkBooleanMacro(RingSearchFacesInput, bool);
   vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
   vtkGetMacro(FeatureAngle, double);
 
@@ -146,6 +152,7 @@ protected:
   bool EnforceFacing = false;
   bool FilletDensity = false;
   bool RetriangulateRings = false;
+  bool RingSearchFacesInput = false;
   double FeatureAngle = 45.0;
   bool GenerateNestedLevels = false;
   int NumberOfNestedLevels = 3;
