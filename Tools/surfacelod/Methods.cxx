@@ -326,6 +326,7 @@ std::vector<Parameter> GreedyCutsParameters()
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, FinalCollapses),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, BorderCollapses),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, EarlySliverStep),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, PassOrderBands),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, MonotoneInEpsilon),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, CollapseStages),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, LadderBottom),

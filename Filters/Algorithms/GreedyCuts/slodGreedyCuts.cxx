@@ -2658,6 +2658,7 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   collapse.TargetTriangles = target;
   collapse.BorderCollapses = parameters.BorderCollapses;
   collapse.EarlySliverStep = parameters.EarlySliverStep;
+  collapse.PassOrderBands = parameters.PassOrderBands;
   collapse.MaximumProofPieces = this->WorkLimit; // 0 (one plain run): their own bounds only
   collapse.LockedVertices = this->SeamVertex.empty() ? nullptr : this->SeamVertex.data();
   // A proof holds at every larger tolerance only: after a call at a larger one (the target

@@ -95,6 +95,11 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // both at rising tolerances, do not prove them again at each step (session 35; only those calls
   // keep them). The same outputs; false: each call proves its own.
   bool CarryProofs = true;
+  // The final collapses' passes visit their vertices in bands of the shortest edge (this many per
+  // doubling), in spatial (Morton) order within a band, so consecutive tries read nearby memory
+  // (ProvedCollapseParameters::PassOrderBands, session 36; opt-in: it changes the greedy order,
+  // hence the outputs, with counts up on some meshes and down on more). 0: the exact order.
+  int PassOrderBands = 0;
 };
 
 struct SURFACELODFILTERS_EXPORT GreedyCutsResult

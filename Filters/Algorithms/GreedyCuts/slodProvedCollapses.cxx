@@ -107,12 +107,17 @@ public:
       {
         shortest = std::min(shortest, Norm(this->Out.Point(w) - this->Out.Point(u)));
       }
-      order.emplace_back(shortest, u);
+      order.emplace_back(this->PassKey(shortest, u), u);
     }
     std::sort(order.begin(), order.end());
     long long done = 0;
     for (size_t i = 0; i < order.size(); ++i)
     {
+      if (i > 0)
+      {
+        statistics.PassStepLength += Norm(this->In.Point(order[i].second) - this->In.Point(order[i - 1].second));
+        ++statistics.PassSteps;
+      }
       if (progress && i % 256 == 0 && !progress(double(i) / double(order.size())))
       {
         aborted = true;
@@ -125,6 +130,33 @@ public:
       }
     }
     return done;
+  }
+
+  // A vertex's place in a collapse pass (PassOrderBands): its shortest edge's band, then its
+  // position's Morton rank (unique, so the order is total), packed exactly in a double.
+  double PassKey(double shortest, Index u)
+  {
+    if (this->Prm.PassOrderBands <= 0)
+    {
+      return shortest;
+    }
+    if (this->SpatialRank.empty())
+    {
+      const std::vector<MortonEntry> order = MortonOrder(this->In.NumberOfPoints(), [this](Index v, double* xyz) {
+        const Vec3 p = this->In.Point(v);
+        std::copy(p.begin(), p.end(), xyz);
+      });
+      this->SpatialRank.resize(order.size());
+      for (size_t i = 0; i < order.size(); ++i)
+      {
+        this->SpatialRank[order[i].Id] = Index(i);
+      }
+    }
+    // Bands relative to epsilon (the same bands for the mesh at any scale), bounded to +-2^20 so
+    // that band * 2^32 + rank stays an exact integer.
+    const double relative = shortest / this->Prm.Epsilon;
+    const double band = relative > 0 ? std::floor(std::log2(relative) * this->Prm.PassOrderBands) : -1048576.0;
+    return std::clamp(band, -1048576.0, 1048576.0) * 4294967296.0 + double(this->SpatialRank[u]);
   }
 
   size_t InputCap() const
@@ -1281,6 +1313,7 @@ private:
   std::vector<unsigned> CornerSeen; // == CornerStamp: a local output vertex or a corner already queried
   unsigned CornerStamp = 0;
   std::vector<std::pair<double, Index>> Order, Targets;
+  std::vector<Index> SpatialRank; // per input vertex: its Morton rank (PassOrderBands), made on first use
   TriangleMesh Local, Snapshot;
   TriangleBVH LocalBvh, SnapshotBvh;
   std::vector<Index> SnapshotIds;

@@ -229,6 +229,12 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   // call's own only). The decisions are those of proving again (the proofs are monotone in the
   // tolerance); only the work differs.
   CarriedTriangleProofs* CarriedProofs = nullptr;
+  // The collapse passes' order: vertices by their shortest incident edge, grouped in bands of
+  // this many per doubling of its length over epsilon, and within a band in the Morton order of their
+  // positions, so consecutive tries read neighbouring parts of the mesh, the input's BVH, the
+  // witnesses and the index (the exact shortest-first order walks them at random: the cost per
+  // try grew with the input's size). 0: the exact order (shortest first, ties by id).
+  int PassOrderBands = 0;
 };
 
 struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
@@ -253,6 +259,10 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   // The new triangles' verdicts in the table at the end, and those dropped from it (a corner had
   // been removed) when it would have grown: its size follows the live verdicts, not every try.
   long long VerdictsHeld = 0, VerdictsDropped = 0;
+  // The collapse passes' walk: the distances between consecutive vertices visited, summed, and
+  // their number (PassOrderBands shortens the steps: the memory read per try is nearby).
+  double PassStepLength = 0;
+  long long PassSteps = 0;
   int Rounds = 0;
   bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
   bool WorkBoundReached = false; // parameters.MaximumProofPieces stopped the passes

@@ -137,6 +137,7 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.FinalCollapses = this->FinalCollapses;
   parameters.BorderCollapses = this->BorderCollapses;
   parameters.EarlySliverStep = this->EarlySliverStep;
+  parameters.PassOrderBands = this->PassOrderBands;
   parameters.CollapseStages = this->CollapseStages;
   parameters.LadderBottom = this->LadderBottom;
   parameters.LadderOwnRuns = this->LadderOwnRuns;
@@ -214,6 +215,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FinalCollapses: " << (this->FinalCollapses ? "on" : "off") << "\n";
   os << indent << "BorderCollapses: " << (this->BorderCollapses ? "on" : "off") << "\n";
   os << indent << "EarlySliverStep: " << (this->EarlySliverStep ? "on" : "off") << "\n";
+  os << indent << "PassOrderBands: " << this->PassOrderBands << "\n";
   os << indent << "CollapseStages: " << this->CollapseStages << "\n";
   os << indent << "MonotoneInEpsilon: " << (this->MonotoneInEpsilon ? "on" : "off") << "\n";
   os << indent << "LadderBottom: " << this->LadderBottom << "\n";
