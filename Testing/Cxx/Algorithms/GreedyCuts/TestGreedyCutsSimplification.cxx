@@ -1613,6 +1613,56 @@ TEST(GreedyCuts, LadderChainRecallsTheProofsOfFinerLevels)
   }
 }
 
+// Session 36: the chain in collapse-only steps (LadderCollapsesOnly): every level, the bottom's too,
+// runs only the collapse passes, and the level returned is finished by proved flips. Separate runs
+// at tolerances off the ladder (across its steps) never give more triangles at a larger epsilon,
+// keep their bound (the ladder value at most epsilon, measured at every run), keep the topology,
+// and examine fewer distance-proof pieces over the sweep than the chain in full steps. Meshes no
+// other GreedyCuts test uses (rotor: CAD, cactus: smooth).
+TEST(GreedyCuts, CollapseOnlyChainNeverRisesForLessWork)
+{
+  for (const std::string name : { "rotor", "cactus" })
+  {
+    SCOPED_TRACE(name);
+    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+    const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+    const double diagonal = mesh.BoundingBoxDiagonal();
+    size_t previous = std::numeric_limits<size_t>::max();
+    long long stepsWork = 0, fullWork = 0;
+    std::cout << "[greedy-cuts] " << name << " collapse-only chain:";
+    for (double eps = 0.0045; eps <= 0.0125; eps *= 1.28)
+    {
+      GreedyCutsParameters parameters;
+      parameters.Epsilon = eps * diagonal;
+      parameters.LadderOwnRuns = false;
+      GreedyCutsResult steps, full;
+      GreedyCuts stepsCuts, fullCuts;
+      stepsCuts.Initialize(mesh, PatchificationParameters());
+      fullCuts.Initialize(mesh, PatchificationParameters());
+      parameters.LadderCollapsesOnly = true;
+      ASSERT_TRUE(stepsCuts.RunMonotone(parameters, steps));
+      parameters.LadderCollapsesOnly = false;
+      ASSERT_TRUE(fullCuts.RunMonotone(parameters, full));
+      stepsWork += stepsCuts.ProofPiecesExamined();
+      fullWork += fullCuts.ProofPiecesExamined();
+      EXPECT_FALSE(stepsCuts.WorkBoundReached());
+      EXPECT_EQ(steps.ErrorBound, full.ErrorBound); // the same ladder value
+      EXPECT_LE(steps.ErrorBound, parameters.Epsilon * (1 + 1e-12));
+      EXPECT_GE(steps.ErrorBound, parameters.Epsilon / 1.34);
+      const size_t count = steps.Triangles.size() / 3;
+      std::cout << " " << eps << ":" << count << " (full steps " << full.Triangles.size() / 3 << ")" << std::flush;
+      EXPECT_GT(count, 0u);
+      EXPECT_LE(count, previous) << "eps " << eps;
+      previous = count;
+      ExpectLevelWithinBound(input, mesh, steps.Triangles, steps.ErrorBound, "eps " + std::to_string(eps));
+    }
+    std::cout << "\n[greedy-cuts] " << name << " proof pieces: collapse-only " << stepsWork << ", full steps "
+              << fullWork << "\n";
+    EXPECT_LT(stepsWork, fullWork);
+    EXPECT_LT(previous, size_t(mesh.NumberOfTriangles()));
+  }
+}
+
 // The ladder: 10 round values per decade, ascending, each the largest at most the asked value.
 TEST(GreedyCuts, ToleranceLadderIsFixedAndRound)
 {
