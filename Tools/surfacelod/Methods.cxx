@@ -331,6 +331,7 @@ std::vector<Parameter> GreedyCutsParameters()
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, CollapseStages),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, LadderBottom),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, LadderOwnRuns),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, LadderCollapsesOnly),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, Patchification),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, MinimumPatchTriangles),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, OutputPointsPrecision),

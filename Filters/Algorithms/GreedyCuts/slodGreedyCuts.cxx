@@ -235,11 +235,11 @@ constexpr size_t MaximumCarriedProofs = size_t(1) << 21;
 class ScopedFlag
 {
 public:
-  explicit ScopedFlag(bool& flag)
+  explicit ScopedFlag(bool& flag, bool value = true)
     : Flag(flag)
     , Before(flag)
   {
-    flag = true;
+    flag = value;
   }
   ~ScopedFlag() { this->Flag = this->Before; }
   ScopedFlag(const ScopedFlag&) = delete;
@@ -2671,6 +2671,7 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   }
   this->CarriedEpsilon = parameters.Epsilon;
   collapse.CarriedProofs = parameters.CarryProofs && this->RisingTolerances ? &this->CarriedProofs : nullptr;
+  collapse.CollapsesOnly = this->CollapseStepsOnly && target == 0;
   ProvedCollapseStatistics statistics;
   // Staged (CollapseStages): the lower stages take the collapses that move the surface least first.
   // Each is proved at Epsilon for the input, so the bound holds after each one.
@@ -2694,6 +2695,26 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
   const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch,
     statistics, share, &this->ProofPieces);
   result.FinalCollapses += statistics.Collapses;
+  result.FinalFlips += statistics.Flips;
+  result.Aborted = !finished;
+  return finished;
+}
+
+// The finish of a chain in collapse-only steps: flips alone (the fatter-pair flips, then the sliver
+// step's flips), each proved at the level's tolerance; the count stays.
+bool GreedyCuts::FlipFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
+  const ProgressFunction& progress)
+{
+  ProvedCollapseParameters flips;
+  flips.Epsilon = parameters.Epsilon;
+  flips.SubdivisionDepth = parameters.SubdivisionDepth;
+  flips.MinimumAngle = parameters.ShapedAngle;
+  flips.BorderCollapses = parameters.BorderCollapses;
+  flips.LockedVertices = this->SeamVertex.empty() ? nullptr : this->SeamVertex.data();
+  flips.FlipsOnly = true;
+  ProvedCollapseStatistics statistics;
+  const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, flips, result.Triangles, result.TrianglePatch,
+    statistics, progress, &this->ProofPieces);
   result.FinalFlips += statistics.Flips;
   result.Aborted = !finished;
   return finished;
@@ -2878,7 +2899,12 @@ bool GreedyCuts::RunMonotone(const GreedyCutsParameters& parameters, GreedyCutsR
   }
   std::vector<GreedyCutsResult> results;
   this->OpenWorkAccount(MaximumLadderPiecesPerTriangle);
-  const bool finished = this->RunLevels(levels, parameters, results, progress, &fresh);
+  const bool stepsOnly = parameters.LadderCollapsesOnly && !parameters.LadderOwnRuns && parameters.FinalCollapses;
+  bool finished = true;
+  {
+    const ScopedFlag collapseSteps(this->CollapseStepsOnly, stepsOnly);
+    finished = this->RunLevels(levels, parameters, results, progress, &fresh);
+  }
   this->SearchStoppedByWorkBound = this->WorkSpent();
   this->WorkLimit = 0;
   if (!finished)
@@ -2886,6 +2912,14 @@ bool GreedyCuts::RunMonotone(const GreedyCutsParameters& parameters, GreedyCutsR
     return false;
   }
   result = std::move(results.back());
+  if (stepsOnly)
+  {
+    // The chain's levels ran without flips: the level returned gets them now (not passed on, so
+    // every epsilon still reads the same chain).
+    GreedyCutsParameters last = parameters;
+    last.Epsilon = result.ErrorBound;
+    return this->FlipFinal(last, result, nullptr);
+  }
   return true;
 }
 

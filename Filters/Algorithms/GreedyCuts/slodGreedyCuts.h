@@ -85,6 +85,11 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // chain: each level above the bottom is the finer level's output collapsed at its own tolerance
   // (one collapse phase per level, on a mesh already coarse).
   bool LadderOwnRuns = true;
+  // RunMonotone's cheap chain (LadderOwnRuns false, session 36): every level, the bottom's too, runs
+  // only the collapse passes at its tolerance (no flips, no sliver step), and the level returned is
+  // then finished by flips alone (proved at its tolerance; they keep the count). The chain is still
+  // one sequence whatever epsilon, so the count never rises; a level costs one step instead of four.
+  bool LadderCollapsesOnly = false;
   // A bite's walk along the front passes each front vertex's sides of the bite's new edges on to
   // the next front edge (session 29: the walk is about half of an open scan's cuts). false: the
   // reference walk, which computes them twice; the same decisions either way.
@@ -241,6 +246,7 @@ private:
   void AbsorbPatchesWithoutNormal();
   bool CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress,
     Index target = 0);
+  bool FlipFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress);
   bool NextLevel(const GreedyCutsParameters& parameters, const GreedyCutsResult* finer, bool collapses, bool fresh,
     GreedyCutsResult& level, const ProgressFunction& startProgress, const ProgressFunction& collapseProgress);
   bool StartLevel(const GreedyCutsParameters& parameters, const GreedyCutsResult* finer, bool collapses,
@@ -278,6 +284,8 @@ private:
   // only then can a later call recall the answers, so only then are they kept (a plain run, or the
   // target search's levels from the top down, would hold them for nothing).
   bool RisingTolerances = false;
+  // True while RunMonotone's chain runs in collapse-only steps (LadderCollapsesOnly).
+  bool CollapseStepsOnly = false;
   std::vector<Index> InitialLabels; // the patchification's labels (splits are undone per run)
   std::vector<Vec3> InitialHeights;
   const TriangleMesh* Mesh = nullptr;

@@ -225,8 +225,9 @@ public:
       }
       const bool flipped = this->FlipSliver(t);
       statistics.Flips += flipped;
-      // At a count target only flips (the count stays).
-      const bool collapsed = !flipped && !this->TargetMet() && this->CollapseSliver(t, statistics);
+      // At a count target, or when only flips are asked for, the count stays.
+      const bool collapsed =
+        !flipped && !this->TargetMet() && !this->Prm.FlipsOnly && this->CollapseSliver(t, statistics);
       return flipped || collapsed;
     });
   }
@@ -1399,11 +1400,14 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   // Collapses, then flips (fatter triangles, which may allow more collapses), then collapses again,
   // then the slivers the collapses left are flipped or collapsed away. EarlySliverStep: a sliver
   // step first too, while the collapses have not used the bound up around the slivers.
+  // FlipsOnly: the flips and the sliver step's flips alone.
   enum Kind { Collapses, Flips, Slivers };
   const Kind kinds[5] = { Slivers, Collapses, Flips, Collapses, Slivers };
-  const bool early = parameters.EarlySliverStep && !parameters.CollapsesOnly;
-  const Kind* order = early ? kinds : kinds + 1;
-  const int steps = parameters.CollapsesOnly ? 1 : (early ? 5 : 4), stages = steps * parameters.MaximumRounds;
+  const Kind flipKinds[2] = { Flips, Slivers };
+  const bool early = parameters.EarlySliverStep && !parameters.CollapsesOnly && !parameters.FlipsOnly;
+  const Kind* order = parameters.FlipsOnly ? flipKinds : (early ? kinds : kinds + 1);
+  const int steps = parameters.FlipsOnly ? 2 : (parameters.CollapsesOnly ? 1 : (early ? 5 : 4));
+  const int stages = steps * parameters.MaximumRounds;
   int pass = 0;
   auto stage = [&](double f) { return progress ? progress((pass + f) / double(stages)) : true; };
   for (int index = 0; index < steps && !aborted; ++index)

@@ -207,8 +207,12 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseParameters
   // within this distance (<= Epsilon) of the input; the input's proofs stay at Epsilon, the bound
   // that holds on entry. 0: Epsilon.
   double NewTriangleTolerance = 0.0;
-  // Only the collapse passes (no flips, no sliver step): a staged run's lower stages.
+  // Only the collapse passes (no flips, no sliver step): a staged run's lower stages, and every
+  // level of a chain in collapse-only steps (GreedyCutsParameters::LadderCollapsesOnly).
   bool CollapsesOnly = false;
+  // Only the flips (the flip passes, then the sliver step's flips, no collapse): the count stays.
+  // The finish of a chain whose levels ran in collapse-only steps.
+  bool FlipsOnly = false;
   // The tries of one vertex (up to MaximumNeighbours targets) replace the same star: its sphere,
   // the unchanged output around it and the input triangles that may rely on it are gathered once
   // for all of them. Off: gathered for each target (the reference path: the same outputs, proofs

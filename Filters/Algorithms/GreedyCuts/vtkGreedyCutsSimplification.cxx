@@ -141,6 +141,7 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.CollapseStages = this->CollapseStages;
   parameters.LadderBottom = this->LadderBottom;
   parameters.LadderOwnRuns = this->LadderOwnRuns;
+  parameters.LadderCollapsesOnly = this->LadderCollapsesOnly;
   const double bound = this->AbsoluteMaximumError(diagonal);
   vtkIdType target = 0;
   // The filter contract's targets (slodFilterContract.h); MaximumError is always a bound here, so
@@ -220,6 +221,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MonotoneInEpsilon: " << (this->MonotoneInEpsilon ? "on" : "off") << "\n";
   os << indent << "LadderBottom: " << this->LadderBottom << "\n";
   os << indent << "LadderOwnRuns: " << (this->LadderOwnRuns ? "on" : "off") << "\n";
+  os << indent << "LadderCollapsesOnly: " << (this->LadderCollapsesOnly ? "on" : "off") << "\n";
   os << indent << "UsedMaximumError: " << this->UsedMaximumError << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
   os << indent << "RefinedPatches: " << this->RefinedPatches << "\n";

@@ -163,6 +163,12 @@ public:
   vtkSetMacro(LadderOwnRuns, bool);
   vtkGetMacro(LadderOwnRuns, bool);
   vtkBooleanMacro(LadderOwnRuns, bool);
+  // With LadderOwnRuns off (session 36, default off): every level of the chain, the bottom's too,
+  // runs only the collapse passes, and the level returned is then finished by proved flips (the
+  // count stays): still monotone, one collapse step per level instead of four.
+  vtkSetMacro(LadderCollapsesOnly, bool);
+  vtkGetMacro(LadderCollapsesOnly, bool);
+  vtkBooleanMacro(LadderCollapsesOnly, bool);
   ///@}
 
   ///@{
@@ -199,6 +205,7 @@ protected:
   bool MonotoneInEpsilon = false;
   double LadderBottom = 0.004;
   bool LadderOwnRuns = true;
+  bool LadderCollapsesOnly = false;
 
   double UsedMaximumError = 0;
   int NumberOfPatches = 0;

@@ -1554,52 +1554,61 @@ void ExpectLevelWithinBound(vtkPolyData* input, const TriangleMesh& mesh, const 
   EXPECT_EQ(after.InconsistentlyOrientedEdges, 0) << what;
 }
 
+// Separate RunMonotone runs at tolerances off the ladder (0.0045 x 1.28^k of the diagonal up to
+// 0.0125, across its steps) with two settings: `checked`'s count never rises with epsilon, its
+// bound is the same ladder value as `other`'s (at most epsilon, at least epsilon / 1.34) and is
+// measured at every run, with the topology kept, and it ends below the input. Returns the
+// distance-proof pieces of each over the sweep.
+std::pair<long long, long long> SweepTwoChains(const std::string& name, const GreedyCutsParameters& checked,
+  const GreedyCutsParameters& other, const std::string& what)
+{
+  vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  size_t previous = std::numeric_limits<size_t>::max();
+  std::pair<long long, long long> work(0, 0);
+  std::cout << "[greedy-cuts] " << name << " " << what << ":";
+  for (double eps = 0.0045; eps <= 0.0125; eps *= 1.28)
+  {
+    GreedyCutsParameters first = checked, second = other;
+    first.Epsilon = second.Epsilon = eps * diagonal;
+    GreedyCutsResult result, compared;
+    GreedyCuts firstCuts, secondCuts;
+    firstCuts.Initialize(mesh, PatchificationParameters());
+    secondCuts.Initialize(mesh, PatchificationParameters());
+    EXPECT_TRUE(firstCuts.RunMonotone(first, result));
+    EXPECT_TRUE(secondCuts.RunMonotone(second, compared));
+    work.first += firstCuts.ProofPiecesExamined();
+    work.second += secondCuts.ProofPiecesExamined();
+    EXPECT_FALSE(firstCuts.WorkBoundReached());
+    EXPECT_EQ(result.ErrorBound, compared.ErrorBound); // the same ladder value
+    EXPECT_LE(result.ErrorBound, first.Epsilon * (1 + 1e-12));
+    EXPECT_GE(result.ErrorBound, first.Epsilon / 1.34);
+    const size_t count = result.Triangles.size() / 3;
+    std::cout << " " << eps << ":" << count << " (" << compared.Triangles.size() / 3 << ")" << std::flush;
+    EXPECT_GT(count, 0u);
+    EXPECT_LE(count, previous) << "eps " << eps;
+    previous = count;
+    ExpectLevelWithinBound(input, mesh, result.Triangles, result.ErrorBound, "eps " + std::to_string(eps));
+  }
+  std::cout << "\n[greedy-cuts] " << name << " proof pieces: " << work.first << " against " << work.second << "\n";
+  EXPECT_LT(previous, size_t(mesh.NumberOfTriangles()));
+  return work;
+}
+
 // Session 30: the cheap chain (LadderOwnRuns off): each level above the bottom is the finer level's
-// output collapsed at its own tolerance, with no cuts or fresh runs of its own. Separate runs at
-// tolerances off the ladder (across its steps) never give more triangles at a larger epsilon,
-// keep their bound (the ladder value at most epsilon; measured at every run), keep the topology,
-// and examine fewer distance-proof pieces than the nested run with its own runs at the same
-// epsilon. Meshes no GreedyCuts test uses (spool: CAD, helmet: smooth).
+// output collapsed at its own tolerance, with no cuts or fresh runs of its own: monotone, within
+// its bound, and fewer distance-proof pieces than the nested run with its own runs at the same
+// epsilon (in brackets). Meshes no other GreedyCuts test uses (spool: CAD, helmet: smooth).
 TEST(GreedyCuts, CheapLadderChainNeverRisesForLessWork)
 {
   for (const std::string name : { "spool", "helmet" })
   {
     SCOPED_TRACE(name);
-    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(name);
-    const TriangleMesh mesh = slodtest::ToTriangleMesh(input);
-    const double diagonal = mesh.BoundingBoxDiagonal();
-    size_t previous = std::numeric_limits<size_t>::max();
-    long long chainWork = 0, ownWork = 0;
-    std::cout << "[greedy-cuts] " << name << " cheap chain:";
-    for (double eps = 0.0045; eps <= 0.0125; eps *= 1.28)
-    {
-      GreedyCutsParameters parameters;
-      parameters.Epsilon = eps * diagonal;
-      GreedyCutsResult chain, own;
-      parameters.LadderOwnRuns = false;
-      GreedyCuts chainCuts;
-      chainCuts.Initialize(mesh, PatchificationParameters());
-      ASSERT_TRUE(chainCuts.RunMonotone(parameters, chain));
-      chainWork += chainCuts.ProofPiecesExamined();
-      parameters.LadderOwnRuns = true;
-      GreedyCuts ownCuts;
-      ownCuts.Initialize(mesh, PatchificationParameters());
-      ASSERT_TRUE(ownCuts.RunMonotone(parameters, own));
-      ownWork += ownCuts.ProofPiecesExamined();
-      EXPECT_FALSE(chainCuts.WorkBoundReached());
-      EXPECT_EQ(chain.ErrorBound, own.ErrorBound); // the same ladder value
-      EXPECT_LE(chain.ErrorBound, parameters.Epsilon * (1 + 1e-12));
-      EXPECT_GE(chain.ErrorBound, parameters.Epsilon / 1.34);
-      const size_t count = chain.Triangles.size() / 3;
-      std::cout << " " << eps << ":" << count << " (own runs " << own.Triangles.size() / 3 << ")" << std::flush;
-      EXPECT_GT(count, 0u);
-      EXPECT_LE(count, previous) << "eps " << eps;
-      previous = count;
-      ExpectLevelWithinBound(input, mesh, chain.Triangles, chain.ErrorBound, "eps " + std::to_string(eps));
-    }
-    std::cout << "\n[greedy-cuts] " << name << " proof pieces: chain " << chainWork << ", own runs " << ownWork << "\n";
+    GreedyCutsParameters chain, own;
+    chain.LadderOwnRuns = false;
+    const auto [chainWork, ownWork] = SweepTwoChains(name, chain, own, "cheap chain (own runs)");
     EXPECT_LT(chainWork, ownWork);
-    EXPECT_LT(previous, size_t(mesh.NumberOfTriangles()));
   }
 }
 
@@ -1650,6 +1659,23 @@ TEST(GreedyCuts, LadderChainRecallsTheProofsOfFinerLevels)
               << ", each level its own " << proving.ProofPiecesExamined() << "\n";
     EXPECT_LT(carrying.ProofPiecesExamined(), proving.ProofPiecesExamined());
     EXPECT_LT(previous, size_t(mesh.NumberOfTriangles()));
+  }
+}
+
+// Session 36: the chain in collapse-only steps (LadderCollapsesOnly): every level, the bottom's too,
+// runs only the collapse passes, and the level returned is finished by proved flips: monotone,
+// within its bound, and fewer distance-proof pieces over the sweep than the chain in full steps (in
+// brackets). Meshes no other GreedyCuts test uses (rotor: CAD, cactus: smooth).
+TEST(GreedyCuts, CollapseOnlyChainNeverRisesForLessWork)
+{
+  for (const std::string name : { "rotor", "cactus" })
+  {
+    SCOPED_TRACE(name);
+    GreedyCutsParameters steps, full;
+    steps.LadderOwnRuns = full.LadderOwnRuns = false;
+    steps.LadderCollapsesOnly = true;
+    const auto [stepsWork, fullWork] = SweepTwoChains(name, steps, full, "collapse-only chain (full steps)");
+    EXPECT_LT(stepsWork, fullWork);
   }
 }
 
