@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 namespace slod
 {
@@ -35,6 +36,27 @@ Index FindRoot(std::vector<Index>& parent, Index x)
     x = parent[x];
   }
   return x;
+}
+
+// Half-edges (id 3*t + k) bucketed by their smaller vertex: halfOffsets (np + 1 entries) and
+// halfEdges, assigned within their capacity.
+void BucketHalfEdges(
+  const std::vector<Index>& tris, Index np, std::vector<Index>& halfOffsets, std::vector<Index>& halfEdges)
+{
+  halfOffsets.assign(size_t(np) + 1, 0);
+  for (size_t i = 0; i < tris.size(); ++i)
+  {
+    const Index a = tris[i], b = tris[i - i % 3 + (i % 3 + 1) % 3];
+    ++halfOffsets[std::min(a, b)];
+  }
+  CountsToOffsets(halfOffsets);
+  AssignOnHugePages(halfEdges, tris.size(), Index(0));
+  std::vector<Index> fill(halfOffsets.begin(), halfOffsets.end() - 1);
+  for (size_t i = 0; i < tris.size(); ++i)
+  {
+    const Index a = tris[i], b = tris[i - i % 3 + (i % 3 + 1) % 3];
+    halfEdges[fill[std::min(a, b)]++] = static_cast<Index>(i);
+  }
 }
 } // namespace
 
@@ -67,23 +89,11 @@ void MeshTopology::Build(const TriangleMesh& mesh)
     }
   }
 
-  // Unique edges: bucket half-edges by their smaller vertex, dedupe with a per-vertex stamp.
-  std::vector<Index> halfOffsets(size_t(np) + 1, 0);
-  for (size_t i = 0; i < tris.size(); ++i)
-  {
-    const Index a = tris[i], b = tris[i - i % 3 + (i % 3 + 1) % 3];
-    ++halfOffsets[std::min(a, b)];
-  }
-  CountsToOffsets(halfOffsets);
-  std::vector<Index> halfEdges = MakeOnHugePages<Index>(tris.size()); // half-edge id = 3*t + k
-  {
-    std::vector<Index> fill(halfOffsets.begin(), halfOffsets.end() - 1);
-    for (size_t i = 0; i < tris.size(); ++i)
-    {
-      const Index a = tris[i], b = tris[i - i % 3 + (i % 3 + 1) % 3];
-      halfEdges[fill[std::min(a, b)]++] = static_cast<Index>(i);
-    }
-  }
+  // Unique edges: bucket half-edges by their smaller vertex, dedupe with a per-vertex stamp. The
+  // buckets use the room of EdgeTriangles (3 per triangle too, filled once they are done): a
+  // topology built again allocates no array for them (vtkHoleBumpRemoval's passes, session 36).
+  std::vector<Index> halfOffsets, halfEdges(std::move(this->EdgeTriangles));
+  BucketHalfEdges(tris, np, halfOffsets, halfEdges);
   this->EdgeVertices.clear();
   ReserveOnHugePages(this->EdgeVertices, tris.size()); // about 1.5 edges per triangle, two indices each
   AssignOnHugePages(this->TriangleEdges, tris.size(), InvalidIndex);
@@ -106,6 +116,7 @@ void MeshTopology::Build(const TriangleMesh& mesh)
     }
   }
   const Index ne = this->NumberOfEdges();
+  this->EdgeTriangles.swap(halfEdges);
 
   // Edge -> triangles.
   this->EdgeOffsets.assign(size_t(ne) + 1, 0);

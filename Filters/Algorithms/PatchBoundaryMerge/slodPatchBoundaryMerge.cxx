@@ -280,7 +280,7 @@ size_t SpbmLevelGenerator::MemoryUsage() const
       b(s.Degree) + b(s.PatchSlotNext) + b(s.Tries) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Support) + b(s.Frozen) +
       b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + s.MergeQueue.MemoryBytes() + b(s.NoFreeze) +
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
-      b(s.SimpleSignature) + b(s.Memo) + b(s.Edits) + b(s.EditsTolerance) + b(s.EditsLocked) +
+      b(s.SimpleSignature) + b(s.Memo) + b(s.Edits) + b(s.EditsSpare) + s.RemovalQueue.MemoryBytes() + b(s.EditsTolerance) + b(s.EditsLocked) +
       b(s.EditsFrozen) + b(s.DirtyPatch) + b(s.DirtyEnd) + b(s.DirtyNear);
   }
   for (const TriangleBVH* tree : { this->InputTree.get(), this->BuiltTree.get() })
@@ -516,6 +516,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
   level = SpbmLevel();
   LevelTriangulation triangulation(*this, parameters, s, level);
   const StageTimes before = s.Times;
+  const long long allocationsBefore = s.WorkspaceAllocations;
   // Each pass freezes at least one patch one level further (7 levels), except when it is aborted;
   // past that bound every patch keeps its original triangles.
   const int maxPasses = 2 * 64 + 2;
@@ -596,6 +597,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
   level.ChainRebuilds = s.Times.ChainRebuilds - before.ChainRebuilds;
   level.SupportUnions = s.Times.SupportUnions - before.SupportUnions;
   level.SupportFolds = s.Times.SupportFolds - before.SupportFolds;
+  level.WorkspaceAllocations = s.WorkspaceAllocations - allocationsBefore;
   vtkLogF(TRACE, "[spbm] generated %d triangles (predicted %d) in %d passes; fallback patches: %d unmerged, %d refined, %d original",
     int(level.TrianglePatch.size()), int(level.PredictedTriangles), level.Passes, int(level.UnmergedPatches),
     int(level.RefinedPatches), int(level.OriginalPatches));

@@ -243,6 +243,10 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   long long ChainRebuilds = 0;  // chains whose kept vertices the passes' merging rebuilt (RebuildOnlyChangedChains)
   long long SupportUnions = 0;  // supports the passes' merging united (FoldSupportsWhenRead)
   long long SupportFolds = 0;   // of them, folded in when a support was read after replayed unions
+  // Merging runs and replays of the passes whose edit record or removal queue needed more room than
+  // the working state held (State::WorkspaceAllocations): bounded by the record's growth, not by
+  // the number of passes.
+  long long WorkspaceAllocations = 0;
   Index FailedPatches = 0;      // root patches that went to a fallback level, summed over the passes
   Index RefinedInPass = 0;      // vertices kept by FailedPatchRefinementRounds, summed over the passes
   Index RetriangulatedPatches = 0; // root patches triangulated from their boundary in the passes after the first

@@ -210,7 +210,14 @@ SpbmLevelGenerator::MergingRun::MergingRun(
   , trackSupport(parameters_.FlatnessMerge || parameters_.MaximumPatchThickness > 0)
   , cosMerge(std::cos(Radians(parameters_.MergeAngle)))
   , inverseDiagonal(generator_.Diagonal > 0 ? 1.0 / generator_.Diagonal : 1.0)
+  , removalQueue(state.RemovalQueue)
+  , editsRoom(state.Edits.capacity())
 {
+}
+
+SpbmLevelGenerator::MergingRun::~MergingRun()
+{
+  s.WorkspaceAllocations += s.Edits.capacity() > editsRoom; // the record outgrew its buffer
 }
 
 // Walk the alive chains of root patch p, unlinking dead ones on the way (merged
@@ -1595,7 +1602,9 @@ void SpbmLevelGenerator::MergingRun::UnitePatches(Index c, Index p, Index q)
 void SpbmLevelGenerator::MergingRun::RemoveCheapest()
 {
   joinBase = 2 * nc;
+  const size_t queueRoom = removalQueue.MemoryBytes();
   removalQueue.Reset(joinBase + ne);
+  s.WorkspaceAllocations += removalQueue.MemoryBytes() > queueRoom;
   // A replay around dirty patches whose recorded run ran out of removals above the target: the
   // clean rest had none left then (unreachable targets, rough scans), so only the dirty
   // neighbourhoods are queued.

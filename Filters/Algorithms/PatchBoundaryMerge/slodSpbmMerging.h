@@ -30,6 +30,9 @@ class SpbmLevelGenerator::MergingRun
 {
 public:
   MergingRun(SpbmLevelGenerator& generator, const SpbmLevelParameters& parameters, State& s);
+  ~MergingRun();
+  MergingRun(const MergingRun&) = delete;
+  MergingRun& operator=(const MergingRun&) = delete;
   void Run(const std::vector<unsigned char>& frozen);
   // Stage 4 alone, on a state that holds stages 1-3 of the same parameters (RemovalTarget aside).
   void RemoveDownToTarget();
@@ -149,7 +152,8 @@ private:
   std::vector<Index> refinedChains; // the chains a refinement round made finer
   std::vector<Vec3> checkPoints, chainPoints, mergedPoints;
   std::vector<unsigned char> chainKept;
-  IndexedHeap<double> removalQueue; // removal operations by cost
+  IndexedHeap<double>& removalQueue; // removal operations by cost (the state's, see State::RemovalQueue)
+  size_t editsRoom; // capacity of the record the run writes, when it started writing it
   // The last boundary walks (BoundaryPoints), valid while no edit of the chain graph happened.
   struct BoundaryWalk
   {

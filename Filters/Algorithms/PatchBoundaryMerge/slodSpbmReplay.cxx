@@ -59,8 +59,11 @@ void SpbmLevelGenerator::MergingRun::Record(EditKind kind, std::initializer_list
 void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& frozen)
 {
   const auto start = StageClock::now();
-  std::vector<State::Edit> edits;
+  std::vector<State::Edit> edits; // the recorded run's; the new record takes the spare buffer
   edits.swap(s.Edits);
+  s.Edits.swap(s.EditsSpare);
+  s.Edits.clear();
+  editsRoom = s.Edits.capacity();
   const size_t removalBegin = s.EditsRemovalBegin;
   std::vector<float> tolerance;
   std::vector<unsigned char> locked, recordedFrozen;
@@ -135,6 +138,8 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
     "dirty patches %.4f s (%lld triangles), removal edits %.4f s, removal %.4f s (%lld triangles)",
     edits.size(), replayedAsRecorded, testedAgain, dirtyAtStart, Since(start), resetSeconds, replaySeconds - resetSeconds, dirty, mergingSeconds - replaySeconds,
     merged, removalReplaySeconds - mergingSeconds, Since(start) - removalReplaySeconds, s.Total);
+  edits.clear(); // its room serves the next replay's record
+  s.EditsSpare.swap(edits);
 }
 
 // Calls f(true, root) for the patches an edit reads or changes and f(false, e) for its endpoints:

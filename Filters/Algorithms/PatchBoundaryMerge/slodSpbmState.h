@@ -468,6 +468,17 @@ struct SpbmLevelGenerator::State
     Index V[7];
   };
   std::vector<Edit> Edits;
+  // A replay reads the old record while it writes the new one: the two buffers trade places
+  // (Replay), so that no replay grows a record from empty again. Above glibc's mmap threshold
+  // (32 MB: a 4M-triangle scan's record) each growth was a fresh mapping faulted in page by page.
+  std::vector<Edit> EditsSpare;
+  // The merging runs' removal queue (one per operation: 2 per chain and 1 per endpoint), kept
+  // with the state for the same reason: each run and replay reset it within its capacity.
+  IndexedHeap<double> RemovalQueue;
+  // Merging runs and replays of this state whose edit record outgrew its buffer, and resets of the
+  // removal queue that needed more room: a few for the largest run, not one per run and replay
+  // (tests assert it).
+  long long WorkspaceAllocations = 0;
   size_t EditsRemovalBegin = 0;
   bool EditsReachedTarget = true; // the recorded run's removal reached its target
   bool EditsValid = false;

@@ -133,6 +133,10 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationResult
   // seeds or partners. Only those on each loop's wall patches are, so it grows with the loops'
   // walls, not with (loops x chains).
   std::int64_t PartnerSearchWork = 0;
+  // Detection passes after the first whose large arrays (normals, patchification) needed more
+  // room than the earlier passes left in the run's workspace.
+  Index DetectionWorkspaceAllocations = 0;
+  int DetectionPasses = 0;
 };
 
 class SURFACELODFILTERS_EXPORT TopologySimplifier

@@ -737,6 +737,22 @@ TEST(HoleBumpRemovalFilter, RoughScanReachesItsTargetByFinalCollapses)
   EXPECT_GT(counts[0], counts[1]);
 }
 
+namespace
+{
+// vtkHoleBumpRemoval's defaults (relative to the mesh's diagonal), to a tenth of the triangles.
+TopologySimplificationParameters ToATenthWithDefaults(const TriangleMesh& mesh)
+{
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  TopologySimplificationParameters p;
+  p.FeatureSize = 0.05 * diagonal;
+  p.Patches.MaximumPlaneDistance = 0.004 * diagonal;
+  p.Spbm.Epsilon = 0.005 * diagonal;
+  p.Completion = TopologyCompletion::Spbm;
+  p.SpbmTargetTriangles = mesh.NumberOfTriangles() / 10;
+  return p;
+}
+} // namespace
+
 // Session 34 (issue 10): the final collapses take the SPBM completion's level to the target, so the
 // level is generated as vtkPatchBoundaryMerge generates it before its collapses
 // (FinalCollapsesFollow): an unmerged patch that fails again goes straight to its original
@@ -758,13 +774,7 @@ TEST(TopologySimplification, RoughScanCompletionLeavesTheCountToTheFinalCollapse
     std::vector<Index> vertexToInput;
     ASSERT_TRUE(PrepareTriangleMesh(NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
     const MeshStatistics in = Stats(mesh);
-    const double diagonal = mesh.BoundingBoxDiagonal();
-    TopologySimplificationParameters p; // vtkHoleBumpRemoval's defaults, to a tenth
-    p.FeatureSize = 0.05 * diagonal;
-    p.Patches.MaximumPlaneDistance = 0.004 * diagonal;
-    p.Spbm.Epsilon = 0.005 * diagonal;
-    p.Completion = TopologyCompletion::Spbm;
-    p.SpbmTargetTriangles = mesh.NumberOfTriangles() / 10;
+    TopologySimplificationParameters p = ToATenthWithDefaults(mesh);
     TopologySimplificationResult r[2];
     for (const bool collapses : { false, true })
     {
@@ -794,6 +804,36 @@ TEST(TopologySimplification, RoughScanCompletionLeavesTheCountToTheFinalCollapse
   }
   EXPECT_LT(passesOn, passesOff) << "the noisy scans must need fewer generation passes when the collapses follow";
   EXPECT_LT(editsOn, editsOff);
+}
+
+// Issue 10, session 36: the large arrays are reused across the passes (above glibc's mmap
+// threshold, 32 MB at 4M triangles, an array allocated anew is a fresh mapping faulted in page by
+// page: every pass paid it again). On rough scans whose detection runs more than one pass and
+// whose completion replays fallback passes: no detection pass after the first needs a larger
+// normal array or patchification than the passes before left in the run's workspace (the cleaned
+// surfaces are no larger), and the level's merging runs and replays allocate the edit record and
+// removal queue at most twice (the run that records and the first replay, whose new record takes
+// the spare buffer), not once per replay. Outputs as before (the hash list and the scans' md5).
+TEST(TopologySimplification, RoughScanPassesReuseTheirLargeArrays)
+{
+  int laterPasses = 0, replayedPasses = 0;
+  long long levelAllocations = 0;
+  for (const unsigned int seed : { 149u, 151u, 157u })
+  {
+    TriangleMesh mesh;
+    std::vector<Index> vertexToInput;
+    ASSERT_TRUE(PrepareTriangleMesh(NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
+    TopologySimplificationParameters p = ToATenthWithDefaults(mesh);
+    TopologySimplificationResult r;
+    ASSERT_TRUE(TopologySimplifier().Run(mesh, p, r)) << "seed " << seed;
+    EXPECT_EQ(r.DetectionWorkspaceAllocations, 0) << "seed " << seed << ", " << r.DetectionPasses << " passes";
+    EXPECT_LE(r.Level.WorkspaceAllocations, 2) << "seed " << seed << ", " << r.Level.ReplayedPasses << " replays";
+    laterPasses += r.DetectionPasses - 1;
+    replayedPasses += r.Level.ReplayedPasses;
+    levelAllocations += r.Level.WorkspaceAllocations;
+  }
+  ASSERT_GT(laterPasses, 0) << "the scans must need a second detection pass";
+  EXPECT_LT(levelAllocations, replayedPasses) << "replays must reuse the record's and the queue's room";
 }
 
 TEST(HoleBumpRemovalFilter, BadInputGivesDefinedOutput)
