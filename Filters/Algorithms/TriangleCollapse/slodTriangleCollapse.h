@@ -227,6 +227,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // The strict order's look-ahead (LookAheadEvaluations): entries evaluated ahead (those that held
   // their rings) and pops that took such an evaluation.
   long long LookAheadEvaluated = 0, LookAheadTaken = 0;
+  // Collapses whose new keys (UpdateAround's costs) were computed ahead, in the look-ahead's
+  // parallel evaluation (session 36).
+  long long LookAheadKeysTaken = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first
