@@ -754,11 +754,6 @@ private:
   // Its cost part: the triangles around kept and their new keys (writes only their states).
   void AroundKeys(Index kept, std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const;
   void RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys);
-  // The costs of triangle tri's edges at kept into its edge cache (each spoke (kept, x) placed once
-  // by placeEdge(corner, x), then taken from spokes) and the smallest of best and the cache's
-  // costs: AroundKeys' and KeysBeforeCollapse's common step.
-  template <typename PlaceEdge>
-  double SpokeCosts(const Index* tri, Index kept, float* cache, double best, SpokeScratch& spokes, PlaceEdge&& placeEdge) const;
   // AroundKeys of a checked collapse before it is performed (the set's vertices seen as the kept
   // one at the new position with the summed quadric); false where it cannot be (see there).
   bool KeysBeforeCollapse(const Candidate& c, const std::vector<Index>& gathered, KeysAhead& out,
@@ -1390,7 +1385,9 @@ double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, V
   return PlaceAmong(a, b, count == 3 ? this->Local(tri[2]) : b, count, q, local);
 }
 
-double TriangleCollapser::PlaceAmong(
+// Inlined into Place, whose code it was: a call there cost the default loop 30 M instructions on
+// mc250k (session 36).
+inline __attribute__((always_inline)) double TriangleCollapser::PlaceAmong(
   const Vec3& a, const Vec3& b, const Vec3& c, int count, const Quadric& q, Vec3& local)
 {
   if (q.Minimize(local, 1e-10))
@@ -1652,34 +1649,6 @@ void TriangleCollapser::UpdateAround(Index kept)
   this->RequeueAround(this->AroundScratch, this->AroundKeyScratch);
 }
 
-template <typename PlaceEdge>
-double TriangleCollapser::SpokeCosts(
-  const Index* tri, Index kept, float* cache, double best, SpokeScratch& spokes, PlaceEdge&& placeEdge) const
-{
-  const double bias = this->Options.EdgeCollapseBias;
-  for (int k = 0; k < 3; ++k)
-  {
-    const Index u = tri[k], v = tri[(k + 1) % 3];
-    if (u == kept || v == kept)
-    {
-      const Index x = u == kept ? v : u;
-      const auto found = std::find(spokes.Vertex.begin(), spokes.Vertex.end(), x);
-      if (found != spokes.Vertex.end())
-      {
-        cache[k] = spokes.Cost[size_t(found - spokes.Vertex.begin())];
-      }
-      else
-      {
-        cache[k] = static_cast<float>(placeEdge(k, x) * bias * this->CostScale);
-        spokes.Vertex.push_back(x);
-        spokes.Cost.push_back(cache[k]);
-      }
-    }
-    best = std::min(best, double(cache[k]) / this->CostScale);
-  }
-  return best;
-}
-
 void TriangleCollapser::AroundKeys(
   Index kept, std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const
 {
@@ -1702,6 +1671,7 @@ void TriangleCollapser::AroundKeys(
   spokes.Vertex.clear();
   spokes.Cost.clear();
   const Quadric& qk = this->Vertex[kept].Q;
+  const double bias = this->Options.EdgeCollapseBias;
   // Prefetch what the updates read (corners, vertex quadrics, cached edge costs, queue slots):
   // the loop is bound by memory latency, and independent prefetches overlap where the loop's
   // dependent loads would follow one another.
@@ -1731,10 +1701,27 @@ void TriangleCollapser::AroundKeys(
     Vec3 p;
     double best = this->TriangleOperationCost(tri, p);
     float* cache = this->State[t].EdgeCost;
-    best = this->SpokeCosts(tri, kept, cache, best, spokes, [&](int k, Index x) {
-      const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
-      return this->Place(edge, 2, qk + this->Vertex[x].Q, p);
-    });
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index u = tri[k], v = tri[(k + 1) % 3];
+      if (u == kept || v == kept)
+      {
+        const Index x = u == kept ? v : u;
+        const auto found = std::find(spokes.Vertex.begin(), spokes.Vertex.end(), x);
+        if (found != spokes.Vertex.end())
+        {
+          cache[k] = spokes.Cost[found - spokes.Vertex.begin()];
+        }
+        else
+        {
+          const Index edge[2] = { u, v };
+          cache[k] = static_cast<float>(this->Place(edge, 2, qk + this->Vertex[x].Q, p) * bias * this->CostScale);
+          spokes.Vertex.push_back(x);
+          spokes.Cost.push_back(cache[k]);
+        }
+      }
+      best = std::min(best, double(cache[k]) / this->CostScale);
+    }
     keys.push_back(static_cast<float>(best * this->CostScale));
   }
 }
@@ -1781,6 +1768,7 @@ bool TriangleCollapser::KeysBeforeCollapse(
   double weight = 0;
   const Quadric qk = this->SetQuadric(c.Set, c.Count, weight);
   const Vec3 keptLocal = c.Position - this->Origin;
+  const double bias = this->Options.EdgeCollapseBias;
   for (Index t : gathered)
   {
     Index tri[3];
@@ -1813,12 +1801,34 @@ bool TriangleCollapser::KeysBeforeCollapse(
     Vec3 p;
     double best = PlaceAmong(local[0], local[1], local[2], 3, q, p);
     float cache[3] = { this->State[t].EdgeCost[0], this->State[t].EdgeCost[1], this->State[t].EdgeCost[2] };
-    best = this->SpokeCosts(tri, kept, cache, best, spokes, [&](int k, Index x) {
+    // Each spoke (kept, x) placed once, at its first triangle in the list's order (as AroundKeys).
+    auto spokeCost = [&](int k) {
+      const Index x = tri[k] == kept ? tri[(k + 1) % 3] : tri[k];
+      // (A plain loop, not std::find, and lvalue pushes: a second caller of AroundKeys'
+      // instantiations changed their inlining there, +36 M instructions in the default loop on
+      // mc250k.)
+      for (size_t i = 0; i < spokes.Vertex.size(); ++i)
+      {
+        if (spokes.Vertex[i] == x)
+        {
+          return spokes.Cost[i];
+        }
+      }
       const Vec3& b = local[(k + 1) % 3];
-      return PlaceAmong(local[k], b, b, 2, qk + this->Vertex[x].Q, p);
-    });
+      const float cost =
+        static_cast<float>(PlaceAmong(local[k], b, b, 2, qk + this->Vertex[x].Q, p) * bias * this->CostScale);
+      spokes.Vertex.push_back(x);
+      spokes.Cost.push_back(cost);
+      return cost;
+    };
+    for (int k = 0; k < 3; ++k)
+    {
+      cache[k] = tri[k] == kept || tri[(k + 1) % 3] == kept ? spokeCost(k) : cache[k];
+      best = std::min(best, double(cache[k]) / this->CostScale);
+    }
     out.Around.push_back(t);
-    out.Keys.push_back(static_cast<float>(best * this->CostScale));
+    const float key = static_cast<float>(best * this->CostScale);
+    out.Keys.push_back(key);
     out.EdgeCosts.insert(out.EdgeCosts.end(), cache, cache + 3);
   }
   out.Ready = true;
