@@ -144,6 +144,36 @@ public:
     return n;
   }
 
+  // The next pops in Pop's order, up to `count` (into ids and keys; returns how many): the pop
+  // cache's list of the lowest bucket, filled first as the next Pop would fill it (the same scan,
+  // which that Pop then does not repeat: the same pops). 0 for a bucket Pop does not list (served
+  // from the back, or the NaN bucket and those above it).
+  int Listed(int count, Index* ids, float* keys)
+  {
+    if (this->Empty())
+    {
+      return 0;
+    }
+    this->SkipEmptyBuckets();
+    const auto& bucket = this->Buckets[this->Lowest];
+    if (bucket.size() > size_t(ScanLimit) || this->Lowest >= BucketOf(3.0e38f))
+    {
+      return 0;
+    }
+    if (this->Cache.Bucket != this->Lowest || this->Cache.Empty())
+    {
+      this->Cache.Fill(this->Lowest, bucket);
+      ++this->ScanCount;
+    }
+    const int n = std::min(count, this->Cache.End - this->Cache.Begin);
+    for (int i = 0; i < n; ++i)
+    {
+      ids[i] = this->Cache.Sorted[this->Cache.Begin + i].Id;
+      keys[i] = this->Cache.Sorted[this->Cache.Begin + i].K;
+    }
+    return n > 0 ? n : 0;
+  }
+
   // Inserts id or changes its key (key >= 0; NaN is treated as +infinity).
   void Set(Index id, float key)
   {

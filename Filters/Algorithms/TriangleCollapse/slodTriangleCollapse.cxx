@@ -455,6 +455,17 @@ struct SpokeScratch
   std::vector<float> Cost;
 };
 
+// What UpdateAround will write after a collapse, computed before it (KeysBeforeCollapse, in the
+// look-ahead's parallel evaluation): the surviving triangles in the order the new vertex will list
+// them, their new queue keys and their three cached edge costs each.
+struct KeysAhead
+{
+  bool Ready = false;
+  std::vector<Index> Around;
+  std::vector<float> Keys;
+  std::vector<float> EdgeCosts;
+};
+
 // The batches of the collapse loop: the popped entries and their queue keys, per vertex the
 // smallest stamp of an entry whose ring holds it (see ClaimRingsFunctor), and a check scratch
 // per thread.
@@ -494,8 +505,12 @@ struct CollapseBatch
   // The strict order's look-ahead (see LookAhead): an entry evaluated ahead keeps its set's
   // triangles (Gathered) without being performed in parallel; a lone entry taken from it reads them.
   bool KeepGathered = false;
+  // The look-ahead's entries claim their triangles' three fans (which hold any operation's ring)
+  // and pick their operations in the parallel evaluation, not before the claims (session 36).
+  bool PickWhenEvaluated = false;
   struct LookAhead* Ahead = nullptr;
   const std::vector<Index>* LoneGathered = nullptr;
+  const KeysAhead* LoneKeys = nullptr; // the lone entry's new keys computed ahead (or null)
   std::uint64_t Stamp(size_t entry) const;
   void AdaptSize(size_t ran);
   // Each entry of Order gets its part of the reference room (Performed[k].Block); returns the room.
@@ -513,6 +528,7 @@ struct LookAhead
 {
   CollapseBatch Batch;
   std::vector<unsigned char> Taken; // per entry: a pop took its evaluation
+  std::vector<KeysAhead> NewKeys;   // per entry: the new keys of its collapse (when valid)
   size_t Remaining = 0;             // entries that hold their ring and were not taken
   bool Live = false;
   size_t ReferenceRoom = 0;  // EditableMesh::ReferencesBeforeCompaction after the last collapse
@@ -669,7 +685,9 @@ private:
   void QueuePerformed(const BatchEntry& entry, PerformedCollapse& done, CollapseLoop& loop, TriangleCollapseResult& result);
   void Reject(const Candidate& c, TriangleCollapseResult& result);
   // gathered: the set's triangles from its check (null: gathered again).
-  Index Perform(const Candidate& c, const std::vector<Index>* gathered, CollapseLoop& loop, TriangleCollapseResult& result);
+  // keys: its new keys computed ahead (or null).
+  Index Perform(const Candidate& c, const std::vector<Index>* gathered, CollapseLoop& loop, TriangleCollapseResult& result,
+    const KeysAhead* keys = nullptr);
   void MergeAttributes(const Candidate& c, Index kept);
   void MergeAttributeTerms(const Candidate& c, Index kept);
   void MergeVertexState(const Candidate& c, Index kept);
@@ -713,6 +731,9 @@ private:
   Quadric SetQuadric(const Index* v, int count, double& weight) const;
   // Best placement (local coordinates) and its cost for the set's quadric.
   double Place(const Index* v, int count, const Quadric& q, Vec3& local) const;
+  // Place's part after the pinned vertices: the set's points given (c == b for an edge), so that a
+  // placement can be made for a vertex not yet moved there (KeysBeforeCollapse).
+  static double PlaceAmong(const Vec3& a, const Vec3& b, const Vec3& c, int count, const Quadric& q, Vec3& local);
   // Cheapest operation of triangle t: 0 = collapse the triangle, k = 1..3 = collapse its edge
   // (corner k-1, corner k % 3) when edge collapses are enabled.
   double Cost(Index t, Vec3& local, double& error, int& operation) const;
@@ -733,6 +754,13 @@ private:
   // Its cost part: the triangles around kept and their new keys (writes only their states).
   void AroundKeys(Index kept, std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const;
   void RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys);
+  // AroundKeys of a checked collapse before it is performed (the set's vertices seen as the kept
+  // one at the new position with the summed quadric); false where it cannot be (see there).
+  bool KeysBeforeCollapse(const Candidate& c, const std::vector<Index>& gathered, KeysAhead& out,
+    SpokeScratch& spokes) const;
+  // UpdateAround from keys computed ahead; false (nothing done) unless the new vertex lists
+  // exactly their triangles in their order.
+  bool RequeueKeysAhead(Index kept, const KeysAhead& ahead);
   // Cost at pop time: the triangle operation is evaluated, the edges come from the cache and
   // only the winning edge is placed again.
   // triangleCost: set to the triangle operation's cost when it is placed (the edge cache's path).
@@ -871,6 +899,7 @@ private:
   std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input or locked by the caller, never collapsed
   std::vector<unsigned char> Pinned;   // per vertex: kept exactly in place (see PinnedVertices); empty when none
   long long Updates = 0;               // triangles re-costed by Update (it ends a look-ahead)
+  long long KeysAheadTaken = 0;        // collapses re-keyed from KeysBeforeCollapse's keys
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
   BucketQueue Heap;
@@ -1352,7 +1381,15 @@ double TriangleCollapser::Place(const Index* tri, int count, const Quadric& q, V
     local = this->Local(pin);
     return q.Evaluate(local);
   }
-  const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]), c = count == 3 ? this->Local(tri[2]) : b;
+  const Vec3 a = this->Local(tri[0]), b = this->Local(tri[1]);
+  return PlaceAmong(a, b, count == 3 ? this->Local(tri[2]) : b, count, q, local);
+}
+
+// Inlined into Place, whose code it was: a call there cost the default loop 30 M instructions on
+// mc250k (session 36).
+inline __attribute__((always_inline)) double TriangleCollapser::PlaceAmong(
+  const Vec3& a, const Vec3& b, const Vec3& c, int count, const Quadric& q, Vec3& local)
+{
   if (q.Minimize(local, 1e-10))
   {
     // A well-conditioned optimum far outside the neighbourhood still means a near-singular
@@ -1708,6 +1745,120 @@ void TriangleCollapser::RequeueAround(const std::vector<Index>& around, const st
   {
     this->Heap.Set(around[i], keys[i]);
   }
+}
+
+bool TriangleCollapser::KeysBeforeCollapse(
+  const Candidate& c, const std::vector<Index>& gathered, KeysAhead& out, SpokeScratch& spokes) const
+{
+  // AroundKeys' arithmetic on the same operands: the surviving triangles' corners with the set's
+  // member replaced in place by the kept vertex, whose quadric is SetQuadric's sum (as
+  // MergeVertexState will store it) and whose point is the new position (Local's difference).
+  // Only the edge cache's path, without pinned vertices (Place reads their flags).
+  out.Ready = false;
+  if (!this->CacheEdges || this->Options.ExactUnion || !this->Pinned.empty())
+  {
+    return false;
+  }
+  out.Around.clear();
+  out.Keys.clear();
+  out.EdgeCosts.clear();
+  spokes.Vertex.clear();
+  spokes.Cost.clear();
+  const Index kept = *std::min_element(c.Set, c.Set + c.Count);
+  double weight = 0;
+  const Quadric qk = this->SetQuadric(c.Set, c.Count, weight);
+  const Vec3 keptLocal = c.Position - this->Origin;
+  const double bias = this->Options.EdgeCollapseBias;
+  for (Index t : gathered)
+  {
+    Index tri[3];
+    int members = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      tri[k] = this->Mesh.Triangle(t)[k];
+      const bool member = std::find(c.Set, c.Set + c.Count, tri[k]) != c.Set + c.Count;
+      members += member ? 1 : 0;
+      tri[k] = member ? kept : tri[k];
+    }
+    if (members != 1)
+    {
+      if (members == 0)
+      {
+        return false; // not a triangle of the set (not expected from a gathering)
+      }
+      continue; // removed by the collapse
+    }
+    const Quadric* corner[3];
+    Vec3 local[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      corner[k] = tri[k] == kept ? &qk : &this->Vertex[tri[k]].Q;
+      local[k] = tri[k] == kept ? keptLocal : this->Local(tri[k]);
+    }
+    Quadric q = *corner[0];
+    q += *corner[1];
+    q += *corner[2];
+    Vec3 p;
+    double best = PlaceAmong(local[0], local[1], local[2], 3, q, p);
+    float cache[3] = { this->State[t].EdgeCost[0], this->State[t].EdgeCost[1], this->State[t].EdgeCost[2] };
+    // Each spoke (kept, x) placed once, at its first triangle in the list's order (as AroundKeys).
+    auto spokeCost = [&](int k) {
+      const Index x = tri[k] == kept ? tri[(k + 1) % 3] : tri[k];
+      // (A plain loop, not std::find, and lvalue pushes: a second caller of AroundKeys'
+      // instantiations changed their inlining there, +36 M instructions in the default loop on
+      // mc250k.)
+      for (size_t i = 0; i < spokes.Vertex.size(); ++i)
+      {
+        if (spokes.Vertex[i] == x)
+        {
+          return spokes.Cost[i];
+        }
+      }
+      const Vec3& b = local[(k + 1) % 3];
+      const float cost =
+        static_cast<float>(PlaceAmong(local[k], b, b, 2, qk + this->Vertex[x].Q, p) * bias * this->CostScale);
+      spokes.Vertex.push_back(x);
+      spokes.Cost.push_back(cost);
+      return cost;
+    };
+    for (int k = 0; k < 3; ++k)
+    {
+      cache[k] = tri[k] == kept || tri[(k + 1) % 3] == kept ? spokeCost(k) : cache[k];
+      best = std::min(best, double(cache[k]) / this->CostScale);
+    }
+    out.Around.push_back(t);
+    const float key = static_cast<float>(best * this->CostScale);
+    out.Keys.push_back(key);
+    out.EdgeCosts.insert(out.EdgeCosts.end(), cache, cache + 3);
+  }
+  out.Ready = true;
+  return true;
+}
+
+bool TriangleCollapser::RequeueKeysAhead(Index kept, const KeysAhead& ahead)
+{
+  // A compaction during the collapse may reorder the new vertex's list, whose order is that of
+  // the queue's writes (part of the output): take the keys only for the very same list.
+  size_t i = 0;
+  bool same = true;
+  this->Mesh.ForEachTriangle(kept, [&](Index t) {
+    same = same && i < ahead.Around.size() && ahead.Around[i] == t;
+    ++i;
+  });
+  if (!same || i != ahead.Around.size())
+  {
+    return false;
+  }
+  for (size_t j = 0; j < ahead.Around.size(); ++j)
+  {
+    TriangleState& state = this->State[ahead.Around[j]];
+    state.Excluded = 0;
+    state.Rejected = 0;
+    std::copy(&ahead.EdgeCosts[3 * j], &ahead.EdgeCosts[3 * j] + 3, state.EdgeCost);
+  }
+  this->RequeueAround(ahead.Around, ahead.Keys);
+  ++this->KeysAheadTaken;
+  return true;
 }
 
 void TriangleCollapser::Update(Index t)
@@ -2082,8 +2233,8 @@ void TriangleCollapser::MergeVertexState(const Candidate& c, Index kept)
   this->SumLogicalSet(kept);
 }
 
-Index TriangleCollapser::Perform(
-  const Candidate& c, const std::vector<Index>* gathered, CollapseLoop& loop, TriangleCollapseResult& result)
+Index TriangleCollapser::Perform(const Candidate& c, const std::vector<Index>* gathered, CollapseLoop& loop,
+  TriangleCollapseResult& result, const KeysAhead* keys)
 {
   const Index kept = *std::min_element(c.Set, c.Set + c.Count);
   if (this->Attributes)
@@ -2107,7 +2258,10 @@ Index TriangleCollapser::Perform(
     this->Heap.Remove(r);
   }
   // Error propagation: the triangles around v0 get the quadric of their new logical sets.
-  this->UpdateAround(kept);
+  if (!(keys && keys->Ready && this->RequeueKeysAhead(kept, *keys)))
+  {
+    this->UpdateAround(kept);
+  }
   return kept;
 }
 
@@ -2187,7 +2341,8 @@ void TriangleCollapser::SelectBatch(CollapseLoop& loop, CollapseBatch& batch)
     batch.Entries.back().C.Triangle = t;
     batch.Keys.push_back(key);
   }
-  if (batch.MaximumSize == 1 && loop.Upcoming.Width > 0)
+  // While a look-ahead is live its evaluations have brought the next pops' neighbourhoods in.
+  if (batch.MaximumSize == 1 && loop.Upcoming.Width > 0 && !(batch.Ahead && !batch.Ahead->Exhausted()))
   {
     this->PrefetchUpcoming(loop.Upcoming);
   }
@@ -2458,9 +2613,11 @@ struct TriangleCollapser::EvaluateBatchFunctor
   const CollapseOptions& Check;
   vtkSMPThreadLocal<std::vector<Index>>& Scratch;
   std::vector<Index>* Serial = nullptr; // the scratch when run on the calling thread only
+  KeysAhead* NewKeys = nullptr;          // the look-ahead's: the valid entries' new keys too
   void operator()(vtkIdType begin, vtkIdType end) const
   {
     auto& local = this->Serial ? *this->Serial : this->Scratch.Local();
+    SpokeScratch* spokes = this->NewKeys ? &this->Batch.Spokes.Local() : nullptr;
     for (vtkIdType i = begin; i < end; ++i)
     {
       BatchEntry& entry = this->Batch.Entries[size_t(i)];
@@ -2475,7 +2632,8 @@ struct TriangleCollapser::EvaluateBatchFunctor
       }
       if (entry.Runs)
       {
-        this->Self.EvaluateEntry(entry, this->Check, scratch, this->Batch.Entries.size() > 1 || this->Batch.Passes);
+        this->Self.EvaluateEntry(entry, this->Check, scratch,
+          (this->Batch.Entries.size() > 1 || this->Batch.Passes) && !this->Batch.PickWhenEvaluated);
       }
       if (entry.Runs && this->Batch.Parallel &&
         (entry.Result == BatchEntry::Outcome::Valid || entry.Result == BatchEntry::Outcome::Alternative))
@@ -2484,6 +2642,15 @@ struct TriangleCollapser::EvaluateBatchFunctor
         entry.Removes = this->Self.Mesh.RemovedBy(c.Set, c.Count, scratch);
         entry.Survives = static_cast<Index>(scratch.size()) - entry.Removes;
       }
+      if (this->NewKeys)
+      {
+        KeysAhead& keys = this->NewKeys[i];
+        keys.Ready = false;
+        if (entry.Runs && entry.Result == BatchEntry::Outcome::Valid)
+        {
+          this->Self.KeysBeforeCollapse(entry.C, scratch, keys, *spokes);
+        }
+      }
     }
   }
 };
@@ -2491,6 +2658,7 @@ struct TriangleCollapser::EvaluateBatchFunctor
 void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
 {
   batch.LoneGathered = nullptr;
+  batch.LoneKeys = nullptr;
   if (batch.Ahead && batch.Entries.size() == 1 && this->TakeFromLookAhead(batch))
   {
     batch.AdaptSize(1);
@@ -2558,21 +2726,27 @@ void TriangleCollapser::EvaluateAhead(CollapseLoop& loop, LookAhead& ahead)
   const size_t used = ahead.Batch.Entries.size() - ahead.Remaining;
   ahead.Width = used * 4 < ahead.Batch.Entries.size() ? std::max(2, ahead.Width / 2)
                                                       : std::min(ahead.MaximumWidth, 2 * ahead.Width);
-  // The whole lowest bucket (a scanned one, up to the queue's scan limit), its first pops in
-  // Pop's order (key, then id) taken.
+  // The next pops in Pop's order (key, then id): the queue's pop cache lists them (at least eight
+  // where the bucket holds as many; session 36); else the whole lowest bucket (a scanned one, up to
+  // the queue's scan limit) is named and its first pops sorted out (77 M instructions on mc250k).
   constexpr int named = 512;
   ahead.Ids.resize(size_t(named));
   ahead.Keys.resize(size_t(named));
-  const int inBucket = this->Heap.Upcoming(0, named, ahead.Ids.data(), ahead.Keys.data());
+  int inBucket = this->Heap.Listed(ahead.Width, ahead.Ids.data(), ahead.Keys.data());
+  const bool listed = inBucket > 0;
+  inBucket = listed ? inBucket : this->Heap.Upcoming(0, named, ahead.Ids.data(), ahead.Keys.data());
   ahead.Order.resize(size_t(inBucket));
   for (size_t i = 0; i < size_t(inBucket); ++i)
   {
     ahead.Order[i] = i;
   }
   const int n = std::min(inBucket, ahead.Width);
-  std::partial_sort(ahead.Order.begin(), ahead.Order.begin() + n, ahead.Order.end(), [&](size_t a, size_t b) {
-    return ahead.Keys[a] < ahead.Keys[b] || (ahead.Keys[a] == ahead.Keys[b] && ahead.Ids[a] < ahead.Ids[b]);
-  });
+  if (!listed)
+  {
+    std::partial_sort(ahead.Order.begin(), ahead.Order.begin() + n, ahead.Order.end(), [&](size_t a, size_t b) {
+      return ahead.Keys[a] < ahead.Keys[b] || (ahead.Keys[a] == ahead.Keys[b] && ahead.Ids[a] < ahead.Ids[b]);
+    });
+  }
   CollapseBatch& batch = ahead.Batch;
   batch.Entries.assign(size_t(n), BatchEntry());
   batch.Keys.resize(size_t(n));
@@ -2590,18 +2764,19 @@ void TriangleCollapser::EvaluateAhead(CollapseLoop& loop, LookAhead& ahead)
   {
     batch.Gathered.resize(size_t(n));
   }
-  // The picks and claims on this thread (one parallel loop per look-ahead: each costs a wake-up
-  // of the workers), the checks, the bulk of the work, in parallel. A lone entry is picked by its
-  // evaluation (as the strict order's); its claim, of its triangle's three fans, covers its ring
-  // too (a pop evaluated without the look-ahead is tested against the claims, ForeignPop).
-  if (n > 1)
-  {
-    PickFunctor pick{ {}, *this, batch };
-    pick(0, n);
-  }
+  // The claims, of each triangle's three fans (which hold the ring of any of its operations), in
+  // parallel: the atomic minimum gives the same owners in any order. The picks run in the
+  // parallel evaluation (session 33 picked, then claimed, on this thread: both were the
+  // look-ahead's own in-order work, and the picks were wasted on the entries that lose a claim).
+  // A pop evaluated without the look-ahead is tested against the claims (ForeignPop).
   ClaimRingsFunctor claim{ {}, *this, batch };
-  claim(0, n);
+  vtkSMPTools::For(0, n, 8, claim);
+  // The checks and, for the valid ones, the new keys of their collapses (UpdateAround's work, done
+  // before the collapse: it reads only the entry's ring, which no other entry performed before
+  // it touches) are the bulk of the work: in parallel.
+  ahead.NewKeys.resize(std::max(ahead.NewKeys.size(), size_t(n)));
   EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
+  functor.NewKeys = ahead.NewKeys.data();
   vtkSMPTools::For(0, n, 2, functor);
   ahead.Taken.assign(size_t(n), 0);
   ahead.Remaining = 0;
@@ -2641,6 +2816,7 @@ bool TriangleCollapser::TakeFromLookAhead(CollapseBatch& lone) const
   ++ahead.TakenCount;
   lone.Entries[0] = entries[i];
   lone.LoneGathered = &ahead.Batch.Gathered[i];
+  lone.LoneKeys = &ahead.NewKeys[i];
   return true;
 }
 
@@ -2745,7 +2921,7 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
     {
       continue;
     }
-    const Index kept = this->Perform(entry.C, gathered, loop, result);
+    const Index kept = this->Perform(entry.C, gathered, loop, result, batch.LoneKeys);
     this->RetryPendingAround(kept, loop);
     if (this->Options.RecordHistory)
     {
@@ -2921,6 +3097,7 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
     ahead->MaximumWidth = std::min(this->Options.LookAheadEvaluations, 512);
     ahead->Width = ahead->MaximumWidth;
     ahead->Batch.KeepGathered = true;
+    ahead->Batch.PickWhenEvaluated = true;
     ahead->Batch.Owner.assign(size_t(this->Mesh.NumberOfPoints()), ~std::uint64_t(0));
     batch.Ahead = ahead.get();
   }
@@ -2979,6 +3156,7 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
   {
     result.LookAheadEvaluated = ahead->Evaluated;
     result.LookAheadTaken = ahead->TakenCount;
+    result.LookAheadKeysTaken = this->KeysAheadTaken;
   }
 }
 
@@ -3545,6 +3723,11 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
   {
     vtkLogF(TRACE, "triangle collapse: apply = sequential settle %.3f s + parallel collapses %.3f s + sequential queue updates %.3f s",
       phase[2], phase[3], phase[4]);
+  }
+  if (this->Options.LookAheadEvaluations > 1)
+  {
+    vtkLogF(TRACE, "triangle collapse: look-ahead evaluated %lld, taken by %lld pops, new keys taken by %lld collapses",
+      result.LookAheadEvaluated, result.LookAheadTaken, result.LookAheadKeysTaken);
   }
   for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
   {

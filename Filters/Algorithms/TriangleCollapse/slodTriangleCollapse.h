@@ -128,10 +128,11 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   int UpcomingPrefetches = 8;
   // With more than one thread the strict order may also evaluate (pick and check) up to this many
   // upcoming pops ahead in parallel, those whose rings no earlier one of them touches; a pop that
-  // is one of them takes its evaluation, the one it would get at its turn. The same output for any
-  // value and thread count. 0 (default): none; 32 was not faster at the load it was measured at
-  // (session 33: the checks are about a quarter of the loop, and the look-ahead's own work and
-  // parallel loops cost about as much as the second thread takes over).
+  // is one of them takes its evaluation, the one it would get at its turn, and its collapse the new
+  // keys computed with it (session 36). The same output for any value and thread count. 0
+  // (default): none. Session 36: about 76 % of the loop's instructions then run in parallel loops
+  // and the in-order rest is the strict loop's own, but at load 16-18 on two cores the two-thread
+  // runs took more CPU than one thread (see QuadricTriangleCollapse.md); not measured quietly.
   int LookAheadEvaluations = 0;
   // The order of the collapses (see CollapseSchedule).
   CollapseSchedule Schedule = CollapseSchedule::Queue;
@@ -227,6 +228,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // The strict order's look-ahead (LookAheadEvaluations): entries evaluated ahead (those that held
   // their rings) and pops that took such an evaluation.
   long long LookAheadEvaluated = 0, LookAheadTaken = 0;
+  // Collapses whose new keys (UpdateAround's costs) were computed ahead, in the look-ahead's
+  // parallel evaluation (session 36).
+  long long LookAheadKeysTaken = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first

@@ -96,6 +96,7 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   options.RecordHistory = filter->GetGenerateProgressiveMesh();
   options.BatchCollapses = filter->GetBatchCollapses();
   options.BatchCostTolerance = filter->GetBatchCostTolerance();
+  options.LookAheadEvaluations = filter->GetLookAheadEvaluations();
   options.Schedule = filter->GetCollapseSchedule() == vtkQuadricTriangleCollapse::PASSES ? slod::CollapseSchedule::Passes
                                                                                           : slod::CollapseSchedule::Queue;
   options.PassGoalShare = filter->GetPassGoalShare();
@@ -463,6 +464,7 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GenerateProgressiveMesh: " << this->GenerateProgressiveMesh << "\n";
   os << indent << "BatchCollapses: " << this->BatchCollapses << "\n";
   os << indent << "BatchCostTolerance: " << this->BatchCostTolerance << "\n";
+  os << indent << "LookAheadEvaluations: " << this->LookAheadEvaluations << "\n";
   os << indent << "CollapseSchedule: " << (this->CollapseSchedule == PASSES ? "Passes" : "Queue") << "\n";
   os << indent << "PassGoalShare: " << this->PassGoalShare << "\n";
   os << indent << "PassErrorFactor: " << this->PassErrorFactor << "\n";

@@ -169,6 +169,16 @@ public:
   /// AttributeErrorMetric, and for a distributed surface, the queue runs whatever this says.
   /// PassGoalShare (default 0.2) and PassErrorFactor (default 1.5) set a pass's limit: the factor
   /// times the cost of rank share x (triangles still to remove); smaller: more, finer passes.
+  ///@{
+  /// LookAheadEvaluations (default 0: off): with more than one thread the queue's order also
+  /// evaluates up to this many upcoming pops ahead in parallel (their checks and, for the valid
+  /// ones, the new costs around their collapses), those whose one-rings no earlier one of them
+  /// touches; a pop that is one of them takes that work. The output is the same for any value and
+  /// any number of threads (sessions 33 and 36).
+  vtkSetClampMacro(LookAheadEvaluations, int, 0, 512);
+  vtkGetMacro(LookAheadEvaluations, int);
+  ///@}
+
   enum CollapseScheduleType
   {
     QUEUE = 0,
@@ -290,6 +300,7 @@ protected:
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
   int CollapseSchedule = QUEUE;
+  int LookAheadEvaluations = 0;
   double PassGoalShare = 0.2;
   double PassErrorFactor = 1.5;
   double PassRemovalShare = 0.1;

@@ -395,3 +395,80 @@ TEST(PriorityQueues, PopCacheListsTheSmallestAtEveryCountOfTies)
     }
   }
 }
+
+// Listed (session 36) names the next pops in Pop's order (key, then id) from the pop cache, which
+// it fills as the next Pop would: over a queue with ties, keys in one bucket and keys in buckets of
+// their own, interleaved with key changes, insertions and removals, every listing is exactly the
+// next pops of a twin queue that is never listed, and listing changes no pop. A bucket served from
+// the back (too large to scan) is not listed.
+TEST(PriorityQueues, ListedNamesTheNextPopsInOrder)
+{
+  std::mt19937 random(36);
+  std::uniform_int_distribution<int> tie(0, 40);
+  std::uniform_real_distribution<float> spread(1.0f, 4.0f);
+  const Index count = 3000;
+  BucketQueue queue, twin;
+  queue.Reset(count);
+  twin.Reset(count);
+  auto keyOf = [&](Index id) { return id % 8 == 0 ? 1.0f + 1e-6f * static_cast<float>(tie(random)) : spread(random); };
+  for (Index id = 0; id < count; ++id)
+  {
+    const float key = keyOf(id);
+    queue.Set(id, key);
+    twin.Set(id, key);
+  }
+  Index ids[32];
+  float keys[32];
+  long long listedTotal = 0;
+  for (int step = 0; step < 2000 && !twin.Empty(); ++step)
+  {
+    const int n = queue.Listed(1 + step % 32, ids, keys);
+    ASSERT_LE(n, 1 + step % 32);
+    listedTotal += n;
+    // The listed entries are the next pops of the twin, with their keys.
+    std::vector<std::pair<Index, float>> popped;
+    for (int i = 0; i < n; ++i)
+    {
+      float key = 0.0f;
+      const Index next = twin.Pop(&key);
+      popped.emplace_back(next, key);
+      ASSERT_EQ(ids[i], next) << "step " << step << ", listed entry " << i;
+      ASSERT_EQ(keys[i], key) << "step " << step;
+    }
+    for (const auto& e : popped)
+    {
+      twin.Set(e.first, e.second); // back, so that the queues stay equal
+    }
+    // Then a few pops, and a key change and a removal of arbitrary entries, on both.
+    for (int i = 0; i < 1 + step % 3 && !twin.Empty(); ++i)
+    {
+      float a = 0.0f, b = 0.0f;
+      ASSERT_EQ(queue.Pop(&a), twin.Pop(&b));
+      ASSERT_EQ(a, b);
+    }
+    const Index changed = static_cast<Index>(random() % count), removed = static_cast<Index>(random() % count);
+    if (queue.Contains(changed))
+    {
+      const float key = keyOf(changed);
+      queue.Set(changed, key);
+      twin.Set(changed, key);
+    }
+    if (queue.Contains(removed))
+    {
+      queue.Remove(removed);
+      twin.Remove(removed);
+    }
+  }
+  EXPECT_GT(listedTotal, 2000) << "the listings named few entries";
+  // A bucket too large to scan is served from the back, not listed.
+  BucketQueue ties;
+  ties.Reset(BucketQueue::ScanLimit + 10);
+  for (Index id = 0; id < BucketQueue::ScanLimit + 10; ++id)
+  {
+    ties.Set(id, 0.5f);
+  }
+  EXPECT_EQ(ties.Listed(8, ids, keys), 0);
+  BucketQueue empty;
+  empty.Reset(4);
+  EXPECT_EQ(empty.Listed(8, ids, keys), 0);
+}

@@ -526,8 +526,9 @@ TEST(QuadricTriangleCollapse, UpcomingPrefetchesGiveTheReferenceCollapses)
 // parallel and lets a pop take its evaluation: the same collapses, rejections, points, triangles,
 // ids and recorded positions as without it, for 1, 2 and 8 threads, on a mesh with many ties
 // (marching cubes), bunny00 and a noisy scan-like surface (rejections, retried triangles, which end
-// a look-ahead). With more than one thread most pops must take an evaluation made ahead (else the
-// test would check nothing); with one thread there is none (nothing to run it on).
+// a look-ahead). With more than one thread most pops must take an evaluation made ahead, and most
+// collapses their new keys computed ahead (session 36; else the test would check nothing); with
+// one thread there is none (nothing to run it on).
 TEST(QuadricTriangleCollapse, LookAheadEvaluationsGiveTheStrictCollapsesForAnyThreadCount)
 {
   const auto meshes = StrictOrderMeshes();
@@ -545,10 +546,15 @@ TEST(QuadricTriangleCollapse, LookAheadEvaluationsGiveTheStrictCollapsesForAnyTh
     ASSERT_GT(reference.Collapses, 0) << name;
     EXPECT_EQ(reference.LookAheadTaken, 0) << name;
     EXPECT_EQ(ahead[0].LookAheadTaken, 0) << name << ": one thread evaluated ahead";
+    EXPECT_EQ(ahead[0].LookAheadKeysTaken, 0) << name;
     for (size_t i = 1; i < ahead.size(); ++i)
     {
       EXPECT_GT(2 * ahead[i].LookAheadTaken, reference.Collapses) << name << ": few pops took an evaluation made ahead";
       EXPECT_LE(ahead[i].LookAheadTaken, ahead[i].LookAheadEvaluated) << name;
+      // Session 36: most collapses also take their new keys computed ahead (in parallel, before
+      // the collapse), and the outputs below are still the strict order's.
+      EXPECT_GT(2 * ahead[i].LookAheadKeysTaken, reference.Collapses) << name << ": few collapses took new keys made ahead";
+      EXPECT_LE(ahead[i].LookAheadKeysTaken, reference.Collapses) << name;
     }
     for (const std::vector<TriangleCollapseResult>* runs : { &strict, &ahead })
     {
@@ -562,8 +568,9 @@ TEST(QuadricTriangleCollapse, LookAheadEvaluationsGiveTheStrictCollapsesForAnyTh
         EXPECT_EQ(reference.History.NewPositions, result.History.NewPositions) << name;
       }
     }
-    std::printf("%s: %lld collapses; 2 threads: %lld evaluated ahead, %lld taken\n", name, static_cast<long long>(reference.Collapses),
-      ahead[1].LookAheadEvaluated, ahead[1].LookAheadTaken);
+    std::printf("%s: %lld collapses; 2 threads: %lld evaluated ahead, %lld taken, %lld new keys taken\n", name,
+      static_cast<long long>(reference.Collapses), ahead[1].LookAheadEvaluated, ahead[1].LookAheadTaken,
+      ahead[1].LookAheadKeysTaken);
   }
 }
 
