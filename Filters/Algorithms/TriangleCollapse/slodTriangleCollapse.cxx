@@ -28,6 +28,8 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <system_error>
+#include <thread>
 #include <type_traits>
 
 
@@ -503,11 +505,7 @@ struct CollapseBatch
   bool Passes = false;
   PassState* PassesState = nullptr;
   // The strict order's look-ahead (see LookAhead): an entry evaluated ahead keeps its set's
-  // triangles (Gathered) without being performed in parallel; a lone entry taken from it reads them.
-  bool KeepGathered = false;
-  // The look-ahead's entries claim their triangles' three fans (which hold any operation's ring)
-  // and pick their operations in the parallel evaluation, not before the claims (session 36).
-  bool PickWhenEvaluated = false;
+  // triangles (Gathered, EvaluateSlot); a lone entry taken from it reads them.
   struct LookAhead* Ahead = nullptr;
   const std::vector<Index>* LoneGathered = nullptr;
   const KeysAhead* LoneKeys = nullptr; // the lone entry's new keys computed ahead (or null)
@@ -518,14 +516,47 @@ struct CollapseBatch
 };
 
 // TriangleCollapseOptions::LookAheadEvaluations: the upcoming pops named by the queue (ordered as
-// Pop orders a scanned bucket), evaluated at once in parallel where their closed rings are
-// disjoint from every earlier one's (the batches' claims). Until a collapse touches its ring an
-// entry's evaluation is the one it would get at its turn: the rings of the entries performed
-// before it are disjoint from its ring, and what else could change it ends the look-ahead (a pop
-// evaluated without it whose ring meets a ring still to take, a retried triangle, a compaction of
-// the mesh's references, a change of the limits).
+// Pop orders a scanned bucket), evaluated ahead where their closed rings are disjoint from every
+// earlier one's (the batches' claims). Until a collapse touches its ring an entry's evaluation is
+// the one it would get at its turn: the rings of the entries performed before it are disjoint from
+// its ring, and what else could change it ends the look-ahead (a pop evaluated without it whose
+// ring meets a ring still to take, a retried triangle, a compaction of the mesh's references, a
+// change of the limits).
+//
+// Session 37: the evaluations run on one long-lived worker (LookAheadWorker) while the loop
+// performs, instead of a vtkSMPTools::For per look-ahead (33k per mc1m run, each as long as its
+// work). Each entry is a slot: the worker claims posted slots from the back, the loop takes them
+// from the front and evaluates any slot still posted itself, so the split never changes a result.
+// The loop writes only the rings of the entries it performs (disjoint from the rings still to
+// take); whatever else it would write (a foreign pop's ring, a retry, a compaction, the limits)
+// comes after End, which waits for the slot the worker holds.
+// The worker's back-off while no slot is posted, in empty scans: pause, then yield, then sleep.
+constexpr int IdleYieldAfter = 4096, IdleSleepAfter = 8192;
+inline void CpuRelax()
+{
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+enum : unsigned char
+{
+  SlotIdle,   // not posted (not running, cancelled, or taken)
+  SlotPosted, // claims done, to be evaluated by whoever claims it
+  SlotWorker, // the worker evaluates it
+  SlotDone,   // evaluated by the worker
+  SlotLoop    // evaluated by the loop itself
+};
 struct LookAhead
 {
+  LookAhead(int maximumWidth)
+    : MaximumWidth(maximumWidth)
+    , Slots(new std::atomic<unsigned char>[size_t(maximumWidth)])
+  {
+    for (int i = 0; i < maximumWidth; ++i)
+    {
+      this->Slots[i].store(SlotIdle, std::memory_order_relaxed);
+    }
+  }
   CollapseBatch Batch;
   std::vector<unsigned char> Taken; // per entry: a pop took its evaluation
   std::vector<KeysAhead> NewKeys;   // per entry: the new keys of its collapse (when valid)
@@ -538,8 +569,38 @@ struct LookAhead
   std::vector<float> Keys;
   std::vector<size_t> Order;
   long long Evaluated = 0, TakenCount = 0; // TriangleCollapseResult::LookAheadEvaluated, LookAheadTaken
-  void End() { this->Live = false; }
+  std::unique_ptr<std::atomic<unsigned char>[]> Slots;
+  std::atomic<int> SlotCount{ 0 };          // slots of the current look-ahead
+  std::atomic<bool> Finished{ false };       // the loop has ended: the worker leaves
+  const CollapseOptions* Check = nullptr;    // the loop's limits (constant while Live)
+  long long WorkerEvaluations = 0;           // slots the worker evaluated (diagnostics)
+  // Takes back every posted slot and waits for the one the worker may hold: after it the loop may
+  // write anywhere.
+  void End()
+  {
+    this->Live = false;
+    const int n = this->SlotCount.load(std::memory_order_relaxed);
+    for (int i = 0; i < n; ++i)
+    {
+      unsigned char state = SlotPosted;
+      if (!this->Slots[i].compare_exchange_strong(state, SlotIdle, std::memory_order_acquire))
+      {
+        WaitWhileWorker(this->Slots[i]);
+      }
+    }
+  }
   bool Exhausted() const { return !this->Live || this->Remaining == 0; }
+  // A slot the worker holds is finished within one evaluation: spin briefly, then yield the core.
+  static void WaitWhileWorker(const std::atomic<unsigned char>& slot)
+  {
+    for (long long spins = 0; slot.load(std::memory_order_acquire) == SlotWorker; ++spins)
+    {
+      if (spins > 64)
+      {
+        std::this_thread::yield();
+      }
+    }
+  }
 };
 
 // The pass schedule's state (CollapseSchedule::Passes): per triangle the key of its cheapest
@@ -671,6 +732,17 @@ private:
   struct EvaluateBatchFunctor;
   void EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch);
   void EvaluateAhead(CollapseLoop& loop, LookAhead& ahead);
+  // The claims of the look-ahead's first n entries in order, on the calling thread: an entry runs
+  // when no earlier entry claimed a vertex of its ring (what the atomic minimum of the parallel
+  // claims gives).
+  void ClaimInOrder(CollapseBatch& batch, size_t n) const;
+  // One look-ahead slot: the check of entry i and, when valid, its new keys (any thread).
+  void EvaluateSlot(LookAhead& ahead, size_t i) const;
+  // The worker's side: evaluates posted slots until the loop has finished.
+  void LookAheadWorker(LookAhead& ahead) const;
+  // The collapse loop with the look-ahead's worker beside it (one parallel region per run).
+  void CollapseWithWorker(CollapseLoop& loop, CollapseBatch& batch, LookAhead& ahead, TriangleCollapseResult& result);
+  void CollapseSteps(CollapseLoop& loop, CollapseBatch& batch, LookAhead* ahead, TriangleCollapseResult& result);
   bool TakeFromLookAhead(CollapseBatch& batch) const;
   void ForeignPop(const CollapseBatch& lone) const;
   void CheckLookAhead(LookAhead& ahead) const;
@@ -900,6 +972,7 @@ private:
   std::vector<unsigned char> Pinned;   // per vertex: kept exactly in place (see PinnedVertices); empty when none
   long long Updates = 0;               // triangles re-costed by Update (it ends a look-ahead)
   long long KeysAheadTaken = 0;        // collapses re-keyed from KeysBeforeCollapse's keys
+  LookAhead* WorkerAhead = nullptr;    // the look-ahead beside the loop (ended before a retry)
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
   BucketQueue Heap;
@@ -2283,6 +2356,10 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
       this->Mesh.ForEachTriangle(w, [&](Index s) {
         if (this->State[s].Rejected == 1)
         {
+          if (this->WorkerAhead)
+          {
+            this->WorkerAhead->End(); // s may lie in a ring evaluated ahead (2-ring of kept)
+          }
           this->Update(s);
         }
       });
@@ -2613,16 +2690,14 @@ struct TriangleCollapser::EvaluateBatchFunctor
   const CollapseOptions& Check;
   vtkSMPThreadLocal<std::vector<Index>>& Scratch;
   std::vector<Index>* Serial = nullptr; // the scratch when run on the calling thread only
-  KeysAhead* NewKeys = nullptr;          // the look-ahead's: the valid entries' new keys too
   void operator()(vtkIdType begin, vtkIdType end) const
   {
     auto& local = this->Serial ? *this->Serial : this->Scratch.Local();
-    SpokeScratch* spokes = this->NewKeys ? &this->Batch.Spokes.Local() : nullptr;
     for (vtkIdType i = begin; i < end; ++i)
     {
       BatchEntry& entry = this->Batch.Entries[size_t(i)];
       // Performed in parallel, an entry keeps its set's triangles for the collapse.
-      auto& scratch = this->Batch.Parallel || this->Batch.KeepGathered ? this->Batch.Gathered[size_t(i)] : local;
+      auto& scratch = this->Batch.Parallel ? this->Batch.Gathered[size_t(i)] : local;
       const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
       entry.Runs = this->Batch.Entries.size() == 1 && !this->Batch.Passes;
       if (!entry.Runs)
@@ -2633,7 +2708,7 @@ struct TriangleCollapser::EvaluateBatchFunctor
       if (entry.Runs)
       {
         this->Self.EvaluateEntry(entry, this->Check, scratch,
-          (this->Batch.Entries.size() > 1 || this->Batch.Passes) && !this->Batch.PickWhenEvaluated);
+          this->Batch.Entries.size() > 1 || this->Batch.Passes);
       }
       if (entry.Runs && this->Batch.Parallel &&
         (entry.Result == BatchEntry::Outcome::Valid || entry.Result == BatchEntry::Outcome::Alternative))
@@ -2641,15 +2716,6 @@ struct TriangleCollapser::EvaluateBatchFunctor
         const Candidate& c = entry.C;
         entry.Removes = this->Self.Mesh.RemovedBy(c.Set, c.Count, scratch);
         entry.Survives = static_cast<Index>(scratch.size()) - entry.Removes;
-      }
-      if (this->NewKeys)
-      {
-        KeysAhead& keys = this->NewKeys[i];
-        keys.Ready = false;
-        if (entry.Runs && entry.Result == BatchEntry::Outcome::Valid)
-        {
-          this->Self.KeysBeforeCollapse(entry.C, scratch, keys, *spokes);
-        }
       }
     }
   }
@@ -2659,11 +2725,15 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
 {
   batch.LoneGathered = nullptr;
   batch.LoneKeys = nullptr;
-  if (batch.Ahead && batch.Entries.size() == 1 && this->TakeFromLookAhead(batch))
+  if (batch.Ahead && batch.Entries.size() == 1)
   {
-    batch.AdaptSize(1);
-    ++loop.Ran;
-    return;
+    if (this->TakeFromLookAhead(batch))
+    {
+      batch.AdaptSize(1);
+      ++loop.Ran;
+      return;
+    }
+    this->ForeignPop(batch); // before the evaluation writes the triangle's edge caches
   }
   const vtkIdType n = static_cast<vtkIdType>(batch.Entries.size());
   // An entry takes up to eight checks (the optimum and seven alternative placements).
@@ -2695,10 +2765,6 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
   {
     functor.Serial = &batch.SerialScratch;
     functor(0, n);
-    if (batch.Ahead)
-    {
-      this->ForeignPop(batch);
-    }
   }
   else
   {
@@ -2721,6 +2787,7 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
 
 void TriangleCollapser::EvaluateAhead(CollapseLoop& loop, LookAhead& ahead)
 {
+  ahead.End(); // no slot of the last look-ahead is still held (its vectors are rewritten here)
   // Adapt the width to the use of the last look-ahead (a pop of another triangle ends it early
   // where the queue's order moves fast, e.g. on ties).
   const size_t used = ahead.Batch.Entries.size() - ahead.Remaining;
@@ -2755,29 +2822,14 @@ void TriangleCollapser::EvaluateAhead(CollapseLoop& loop, LookAhead& ahead)
     batch.Entries[i].C.Triangle = ahead.Ids[ahead.Order[i]];
     batch.Keys[i] = ahead.Keys[ahead.Order[i]];
   }
-  if (++batch.Number == 0)
-  {
-    std::fill(batch.Owner.begin(), batch.Owner.end(), ~std::uint64_t(0));
-    batch.Number = 1;
-  }
   if (batch.Gathered.size() < size_t(n))
   {
     batch.Gathered.resize(size_t(n));
   }
-  // The claims, of each triangle's three fans (which hold the ring of any of its operations), in
-  // parallel: the atomic minimum gives the same owners in any order. The picks run in the
-  // parallel evaluation (session 33 picked, then claimed, on this thread: both were the
-  // look-ahead's own in-order work, and the picks were wasted on the entries that lose a claim).
-  // A pop evaluated without the look-ahead is tested against the claims (ForeignPop).
-  ClaimRingsFunctor claim{ {}, *this, batch };
-  vtkSMPTools::For(0, n, 8, claim);
-  // The checks and, for the valid ones, the new keys of their collapses (UpdateAround's work, done
-  // before the collapse: it reads only the entry's ring, which no other entry performed before
-  // it touches) are the bulk of the work: in parallel.
   ahead.NewKeys.resize(std::max(ahead.NewKeys.size(), size_t(n)));
-  EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
-  functor.NewKeys = ahead.NewKeys.data();
-  vtkSMPTools::For(0, n, 2, functor);
+  // The claims of each triangle's three fans (which hold the ring of any of its operations) stay on
+  // this thread: they must be complete before any slot is evaluated, and the next pop needs them.
+  this->ClaimInOrder(batch, size_t(n));
   ahead.Taken.assign(size_t(n), 0);
   ahead.Remaining = 0;
   for (const BatchEntry& entry : batch.Entries)
@@ -2788,6 +2840,99 @@ void TriangleCollapser::EvaluateAhead(CollapseLoop& loop, LookAhead& ahead)
   ahead.Evaluated += static_cast<long long>(ahead.Remaining);
   ahead.ReferenceRoom = this->Mesh.ReferencesBeforeCompaction();
   ahead.Updates = this->Updates;
+  ahead.Check = &loop.Check;
+  // Posted last (release): a worker that claims a slot sees its entry, its claims and the limits.
+  ahead.SlotCount.store(n, std::memory_order_relaxed);
+  for (int i = 0; i < n; ++i)
+  {
+    ahead.Slots[i].store(batch.Entries[size_t(i)].Runs ? SlotPosted : SlotIdle, std::memory_order_release);
+  }
+}
+
+void TriangleCollapser::ClaimInOrder(CollapseBatch& batch, size_t n) const
+{
+  if (++batch.Number == 0)
+  {
+    std::fill(batch.Owner.begin(), batch.Owner.end(), ~std::uint64_t(0));
+    batch.Number = 1;
+  }
+  const std::uint64_t current = batch.Stamp(0) >> 32;
+  for (size_t i = 0; i < n; ++i)
+  {
+    const Index* tri = this->Mesh.Triangle(batch.Entries[i].C.Triangle);
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Mesh.PrefetchBlock(tri[k]);
+    }
+  }
+  for (size_t i = 0; i < n; ++i)
+  {
+    // Stamps grow with the entry within a look-ahead and older look-aheads' are larger: a vertex
+    // already stamped by this look-ahead belongs to an earlier entry.
+    BatchEntry& entry = batch.Entries[i];
+    const std::uint64_t stamp = batch.Stamp(i);
+    entry.Runs = true;
+    this->ForEachRingVertex(entry, [&](Index w) {
+      std::uint64_t& owner = batch.Owner[w];
+      const bool earlier = (owner >> 32) == current && owner != stamp;
+      entry.Runs = entry.Runs && !earlier;
+      owner = earlier ? owner : stamp;
+    });
+  }
+}
+
+void TriangleCollapser::EvaluateSlot(LookAhead& ahead, size_t i) const
+{
+  // As EvaluateBatchFunctor for an entry of the look-ahead: picked here, the set's triangles kept.
+  BatchEntry& entry = ahead.Batch.Entries[i];
+  std::vector<Index>& gathered = ahead.Batch.Gathered[i];
+  this->EvaluateEntry(entry, *ahead.Check, gathered, false);
+  KeysAhead& keys = ahead.NewKeys[i];
+  keys.Ready = false;
+  if (entry.Result == BatchEntry::Outcome::Valid)
+  {
+    this->KeysBeforeCollapse(entry.C, gathered, keys, ahead.Batch.Spokes.Local());
+  }
+}
+
+void TriangleCollapser::LookAheadWorker(LookAhead& ahead) const
+{
+  // Claims posted slots from the back (the loop takes them from the front, so the two rarely want
+  // the same one). Idle, it spins briefly, then yields, then sleeps; it leaves when the loop has
+  // finished, so it never outlives the loop's own bounded work.
+  long long evaluated = 0;
+  for (int idle = 0; !ahead.Finished.load(std::memory_order_acquire);)
+  {
+    bool worked = false;
+    for (int i = ahead.SlotCount.load(std::memory_order_relaxed) - 1; i >= 0 && !worked; --i)
+    {
+      unsigned char state = SlotPosted;
+      if (ahead.Slots[i].load(std::memory_order_relaxed) == SlotPosted &&
+        ahead.Slots[i].compare_exchange_strong(state, SlotWorker, std::memory_order_acquire))
+      {
+        this->EvaluateSlot(ahead, size_t(i));
+        ahead.Slots[i].store(SlotDone, std::memory_order_release);
+        worked = true;
+        ++evaluated;
+      }
+    }
+    // The loop posts the next look-ahead within microseconds of taking the last slot: spin through
+    // such gaps (a yield on a loaded machine gives the core away for a time slice), then back off.
+    idle = worked ? 0 : std::min(idle + 1, IdleSleepAfter);
+    if (idle == IdleSleepAfter)
+    {
+      std::this_thread::sleep_for(std::chrono::microseconds(50));
+    }
+    else if (idle > IdleYieldAfter)
+    {
+      std::this_thread::yield();
+    }
+    else
+    {
+      CpuRelax();
+    }
+  }
+  ahead.WorkerEvaluations += evaluated;
 }
 
 bool TriangleCollapser::TakeFromLookAhead(CollapseBatch& lone) const
@@ -2811,6 +2956,17 @@ bool TriangleCollapser::TakeFromLookAhead(CollapseBatch& lone) const
   {
     return false; // evaluated now; ForeignPop decides whether the look-ahead stays valid
   }
+  // The slot: evaluated here if the worker has not claimed it, else its evaluation is awaited.
+  unsigned char state = SlotPosted;
+  if (ahead.Slots[i].compare_exchange_strong(state, SlotLoop, std::memory_order_acquire))
+  {
+    this->EvaluateSlot(ahead, i);
+  }
+  else
+  {
+    LookAhead::WaitWhileWorker(ahead.Slots[i]);
+  }
+  ahead.Slots[i].store(SlotIdle, std::memory_order_relaxed);
   ahead.Taken[i] = 1;
   --ahead.Remaining;
   ++ahead.TakenCount;
@@ -2822,9 +2978,10 @@ bool TriangleCollapser::TakeFromLookAhead(CollapseBatch& lone) const
 
 void TriangleCollapser::ForeignPop(const CollapseBatch& lone) const
 {
-  // A pop evaluated without the look-ahead may be performed: the look-ahead ends unless its ring
-  // is disjoint from the rings of the entries still to take (a vertex of such a ring is owned by
-  // that entry, its earliest claimant).
+  // A pop the look-ahead did not evaluate is evaluated (its triangle's edge caches written) and
+  // may be performed: before either, the look-ahead ends unless the pop's three fans (which hold
+  // any of its operations' rings) are disjoint from the rings of the entries still to take (a
+  // vertex of such a ring is owned by that entry, its earliest claimant).
   LookAhead& ahead = *lone.Ahead;
   if (ahead.Exhausted())
   {
@@ -2920,6 +3077,10 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
     if (validity != Validity::Valid)
     {
       continue;
+    }
+    if (batch.Ahead && (!gathered || this->Mesh.ReferencesBeforeCompaction() < gathered->size()))
+    {
+      batch.Ahead->End(); // the collapse may compact the references (moves every vertex's block)
     }
     const Index kept = this->Perform(entry.C, gathered, loop, result, batch.LoneKeys);
     this->RetryPendingAround(kept, loop);
@@ -3087,20 +3248,63 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
   batch.Owner.assign(batch.MaximumSize > 1 ? size_t(this->Mesh.NumberOfPoints()) : 0, ~std::uint64_t(0));
   // The exact-union mode merges sorted plane lists through one shared buffer: performed in order.
   batch.Parallel = batch.MaximumSize > 1 && !this->Options.ExactUnion;
-  // The look-ahead evaluates in parallel: with the checks' own link tables, not the mesh's marks,
-  // and not with the exact union's shared buffer.
-  std::unique_ptr<LookAhead> ahead;
-  if (batch.MaximumSize == 1 && this->Options.LookAheadEvaluations > 1 && this->LinkTables &&
-    !this->Options.ExactUnion && vtkSMPTools::GetEstimatedNumberOfThreads() > 1)
+  // The look-ahead evaluates beside the loop: with the checks' own link tables, not the mesh's
+  // marks, and not with the exact union's shared buffer.
+  if (!(batch.MaximumSize == 1 && this->Options.LookAheadEvaluations > 1 && this->LinkTables &&
+        !this->Options.ExactUnion && vtkSMPTools::GetEstimatedNumberOfThreads() > 1))
   {
-    ahead.reset(new LookAhead);
-    ahead->MaximumWidth = std::min(this->Options.LookAheadEvaluations, 512);
-    ahead->Width = ahead->MaximumWidth;
-    ahead->Batch.KeepGathered = true;
-    ahead->Batch.PickWhenEvaluated = true;
-    ahead->Batch.Owner.assign(size_t(this->Mesh.NumberOfPoints()), ~std::uint64_t(0));
-    batch.Ahead = ahead.get();
+    this->CollapseSteps(loop, batch, nullptr, result);
+    return;
   }
+  LookAhead ahead(std::min(this->Options.LookAheadEvaluations, 512));
+  ahead.Width = ahead.MaximumWidth;
+  ahead.Batch.Owner.assign(size_t(this->Mesh.NumberOfPoints()), ~std::uint64_t(0));
+  batch.Ahead = &ahead;
+  this->CollapseWithWorker(loop, batch, ahead, result);
+  result.LookAheadEvaluated = ahead.Evaluated;
+  result.LookAheadTaken = ahead.TakenCount;
+  result.LookAheadKeysTaken = this->KeysAheadTaken;
+  result.LookAheadRegions += 1;
+  result.LookAheadWorkerEvaluations += ahead.WorkerEvaluations;
+}
+
+void TriangleCollapser::CollapseWithWorker(
+  CollapseLoop& loop, CollapseBatch& batch, LookAhead& ahead, TriangleCollapseResult& result)
+{
+  // One worker thread for the whole loop (vtkSMPTools runs the rest: its thread-local scratch
+  // serves any thread). Not a vtkSMPTools::For of two chunks: the STDThread backend keeps the
+  // caller out of its chunks and TBB may run both on the caller, so the loop (progress events,
+  // abort) could not be kept on the calling thread. Without a thread the loop evaluates every slot.
+  struct Joined
+  {
+    LookAhead& Ahead;
+    std::thread Worker;
+    ~Joined()
+    {
+      this->Ahead.End();
+      this->Ahead.Finished.store(true, std::memory_order_release);
+      if (this->Worker.joinable())
+      {
+        this->Worker.join();
+      }
+    }
+  } joined{ ahead, {} };
+  try
+  {
+    joined.Worker = std::thread([this, &ahead] { this->LookAheadWorker(ahead); });
+  }
+  catch (const std::system_error&)
+  {
+    vtkLogF(WARNING, "triangle collapse: no thread for the look-ahead; it runs on the loop's thread");
+  }
+  this->WorkerAhead = &ahead;
+  this->CollapseSteps(loop, batch, &ahead, result);
+  this->WorkerAhead = nullptr;
+}
+
+void TriangleCollapser::CollapseSteps(
+  CollapseLoop& loop, CollapseBatch& batch, LookAhead* ahead, TriangleCollapseResult& result)
+{
   loop.Settling = static_cast<bool>(this->Options.SettleTarget);
   for (;;)
   {
@@ -3151,12 +3355,6 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
     {
       break;
     }
-  }
-  if (ahead)
-  {
-    result.LookAheadEvaluated = ahead->Evaluated;
-    result.LookAheadTaken = ahead->TakenCount;
-    result.LookAheadKeysTaken = this->KeysAheadTaken;
   }
 }
 
@@ -3726,8 +3924,10 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
   }
   if (this->Options.LookAheadEvaluations > 1)
   {
-    vtkLogF(TRACE, "triangle collapse: look-ahead evaluated %lld, taken by %lld pops, new keys taken by %lld collapses",
-      result.LookAheadEvaluated, result.LookAheadTaken, result.LookAheadKeysTaken);
+    vtkLogF(TRACE,
+      "triangle collapse: look-ahead evaluated %lld, taken by %lld pops, new keys taken by %lld collapses; "
+      "%lld evaluated by the worker",
+      result.LookAheadEvaluated, result.LookAheadTaken, result.LookAheadKeysTaken, result.LookAheadWorkerEvaluations);
   }
   for (int k = 1; k <= static_cast<int>(CollapseStatus::Locked); ++k)
   {

@@ -130,9 +130,8 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // upcoming pops ahead in parallel, those whose rings no earlier one of them touches; a pop that
   // is one of them takes its evaluation, the one it would get at its turn, and its collapse the new
   // keys computed with it (session 36). The same output for any value and thread count. 0
-  // (default): none. Session 36: about 76 % of the loop's instructions then run in parallel loops
-  // and the in-order rest is the strict loop's own, but at load 16-18 on two cores the two-thread
-  // runs took more CPU than one thread (see QuadricTriangleCollapse.md); not measured quietly.
+  // (default): none. Session 37: the evaluations run on one worker thread beside the loop for the
+  // whole run (no parallel loop per look-ahead); see QuadricTriangleCollapse.md for its figures.
   int LookAheadEvaluations = 0;
   // The order of the collapses (see CollapseSchedule).
   CollapseSchedule Schedule = CollapseSchedule::Queue;
@@ -231,6 +230,10 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // Collapses whose new keys (UpdateAround's costs) were computed ahead, in the look-ahead's
   // parallel evaluation (session 36).
   long long LookAheadKeysTaken = 0;
+  // Session 37: the parallel regions the look-ahead started (one per collapse loop that runs it,
+  // with its worker beside the loop), and the look-ahead's evaluations made by that worker (the
+  // rest by the loop itself; the split depends on timing, the results do not).
+  long long LookAheadRegions = 0, LookAheadWorkerEvaluations = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first

@@ -174,7 +174,8 @@ public:
   /// evaluates up to this many upcoming pops ahead in parallel (their checks and, for the valid
   /// ones, the new costs around their collapses), those whose one-rings no earlier one of them
   /// touches; a pop that is one of them takes that work. The output is the same for any value and
-  /// any number of threads (sessions 33 and 36).
+  /// any number of threads (sessions 33 and 36). Since session 37 the work ahead runs on one worker
+  /// thread beside the loop for the whole run; the loop evaluates what the worker has not claimed.
   vtkSetClampMacro(LookAheadEvaluations, int, 0, 512);
   vtkGetMacro(LookAheadEvaluations, int);
   ///@}

@@ -28,6 +28,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkQuadricDecimation.h"
+#include "vtkSMPTools.h"
 #include "vtkStaticCellLocator.h"
 
 #include <gtest/gtest.h>
@@ -35,6 +36,7 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include <string>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -528,7 +530,10 @@ TEST(QuadricTriangleCollapse, UpcomingPrefetchesGiveTheReferenceCollapses)
 // (marching cubes), bunny00 and a noisy scan-like surface (rejections, retried triangles, which end
 // a look-ahead). With more than one thread most pops must take an evaluation made ahead, and most
 // collapses their new keys computed ahead (session 36; else the test would check nothing); with
-// one thread there is none (nothing to run it on).
+// one thread there is none (nothing to run it on). Session 37: the evaluations run on one worker
+// beside the loop, one parallel region per run (session 36 started two vtkSMPTools loops per
+// look-ahead), and the loop evaluates whatever the worker has not claimed: the counts of
+// evaluations, takes and new keys are the same for 2 and 8 threads however the work was split.
 TEST(QuadricTriangleCollapse, LookAheadEvaluationsGiveTheStrictCollapsesForAnyThreadCount)
 {
   const auto meshes = StrictOrderMeshes();
@@ -547,8 +552,14 @@ TEST(QuadricTriangleCollapse, LookAheadEvaluationsGiveTheStrictCollapsesForAnyTh
     EXPECT_EQ(reference.LookAheadTaken, 0) << name;
     EXPECT_EQ(ahead[0].LookAheadTaken, 0) << name << ": one thread evaluated ahead";
     EXPECT_EQ(ahead[0].LookAheadKeysTaken, 0) << name;
+    EXPECT_EQ(ahead[0].LookAheadRegions, 0) << name;
     for (size_t i = 1; i < ahead.size(); ++i)
     {
+      EXPECT_EQ(ahead[i].LookAheadRegions, 1) << name << ": not one region with its worker per run";
+      EXPECT_LE(ahead[i].LookAheadWorkerEvaluations, ahead[i].LookAheadEvaluated) << name;
+      EXPECT_EQ(ahead[i].LookAheadEvaluated, ahead[1].LookAheadEvaluated) << name;
+      EXPECT_EQ(ahead[i].LookAheadTaken, ahead[1].LookAheadTaken) << name;
+      EXPECT_EQ(ahead[i].LookAheadKeysTaken, ahead[1].LookAheadKeysTaken) << name;
       EXPECT_GT(2 * ahead[i].LookAheadTaken, reference.Collapses) << name << ": few pops took an evaluation made ahead";
       EXPECT_LE(ahead[i].LookAheadTaken, ahead[i].LookAheadEvaluated) << name;
       // Session 36: most collapses also take their new keys computed ahead (in parallel, before
@@ -568,10 +579,48 @@ TEST(QuadricTriangleCollapse, LookAheadEvaluationsGiveTheStrictCollapsesForAnyTh
         EXPECT_EQ(reference.History.NewPositions, result.History.NewPositions) << name;
       }
     }
-    std::printf("%s: %lld collapses; 2 threads: %lld evaluated ahead, %lld taken, %lld new keys taken\n", name,
-      static_cast<long long>(reference.Collapses), ahead[1].LookAheadEvaluated, ahead[1].LookAheadTaken,
-      ahead[1].LookAheadKeysTaken);
+    std::printf("%s: %lld collapses; 2 threads: %lld evaluated ahead (%lld by the worker), %lld taken, %lld new keys taken\n",
+      name, static_cast<long long>(reference.Collapses), ahead[1].LookAheadEvaluated,
+      ahead[1].LookAheadWorkerEvaluations, ahead[1].LookAheadTaken, ahead[1].LookAheadKeysTaken);
   }
+}
+
+// The look-ahead's worker is a thread of its own whose scratch comes from vtkSMPTools' thread-local
+// storage (session 37): with each threaded backend (TBB, the default, and STDThread) and 2 threads
+// the strict order's collapses, points, triangles and recorded positions, with one region per run.
+TEST(QuadricTriangleCollapse, LookAheadWorkerGivesTheStrictCollapsesWithEachThreadedBackend)
+{
+  vtkSmartPointer<vtkPolyData> input = Mesh("marching-cubes");
+  TriangleCollapseOptions options;
+  options.TargetTriangles = input->GetNumberOfPolys() / 10;
+  options.RecordHistory = true;
+  TriangleMesh strictMesh = slodtest::ToTriangleMesh(input);
+  TriangleCollapseResult strict;
+  SimplifyByTriangleCollapse(strictMesh, options, strict);
+  ASSERT_GT(strict.Collapses, 0);
+  const std::string backend = vtkSMPTools::GetBackend();
+  const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
+  options.LookAheadEvaluations = 32;
+  for (const char* name : { "TBB", "STDThread" })
+  {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(vtkSMPTools::SetBackend(name));
+    vtkSMPTools::Initialize(2);
+    ASSERT_EQ(vtkSMPTools::GetEstimatedNumberOfThreads(), 2);
+    TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+    TriangleCollapseResult result;
+    SimplifyByTriangleCollapse(mesh, options, result);
+    EXPECT_EQ(result.LookAheadRegions, 1);
+    EXPECT_GT(2 * result.LookAheadTaken, strict.Collapses) << "few pops took an evaluation made ahead";
+    EXPECT_EQ(strict.Collapses, result.Collapses);
+    EXPECT_EQ(strict.RejectedCollapses, result.RejectedCollapses);
+    EXPECT_EQ(strict.Mesh.Points, result.Mesh.Points);
+    EXPECT_EQ(strict.Mesh.Triangles, result.Mesh.Triangles);
+    EXPECT_EQ(strict.OutputToInput, result.OutputToInput);
+    EXPECT_EQ(strict.History.NewPositions, result.History.NewPositions);
+  }
+  vtkSMPTools::SetBackend(backend.c_str());
+  vtkSMPTools::Initialize(threads);
 }
 
 // The pass schedule (CollapseSchedule::Passes) checks and collapses each round's independent set
