@@ -571,14 +571,32 @@ struct LookAhead
   long long Evaluated = 0, TakenCount = 0; // TriangleCollapseResult::LookAheadEvaluated, LookAheadTaken
   std::unique_ptr<std::atomic<unsigned char>[]> Slots;
   std::atomic<int> SlotCount{ 0 };          // slots of the current look-ahead
+  // The claims of the current look-ahead, a task in the same states as a slot: the worker makes them
+  // while the loop evaluates the first entry (reserved to the loop); the loop settles them (Runs,
+  // Remaining) before its next write to the mesh (SettleClaims).
+  std::atomic<unsigned char> Claims{ SlotIdle };
+  bool ClaimsSettled = true;
   std::atomic<bool> Finished{ false };       // the loop has ended: the worker leaves
   const CollapseOptions* Check = nullptr;    // the loop's limits (constant while Live)
-  long long WorkerEvaluations = 0;           // slots the worker evaluated (diagnostics)
+  long long WorkerEvaluations = 0, WorkerClaims = 0; // slots and claims the worker made (diagnostics)
   // Takes back every posted slot and waits for the one the worker may hold: after it the loop may
   // write anywhere.
   void End()
   {
     this->Live = false;
+    unsigned char claims = SlotPosted;
+    if (!this->Claims.compare_exchange_strong(claims, SlotIdle, std::memory_order_acquire))
+    {
+      WaitWhileWorker(this->Claims);
+    }
+    if (!this->ClaimsSettled)
+    {
+      // Ended before its first pop: counted as wholly used and never evaluated, whether or not the
+      // worker made its claims (the counts must not depend on timing).
+      this->Claims.store(SlotIdle, std::memory_order_relaxed);
+      this->ClaimsSettled = true;
+      this->Remaining = 0;
+    }
     const int n = this->SlotCount.load(std::memory_order_relaxed);
     for (int i = 0; i < n; ++i)
     {
@@ -736,6 +754,12 @@ private:
   // when no earlier entry claimed a vertex of its ring (what the atomic minimum of the parallel
   // claims gives).
   void ClaimInOrder(CollapseBatch& batch, size_t n) const;
+  // The look-ahead's claims and the posting of the slots that hold their rings (any thread), and
+  // the loop's wait for them (made by itself if the worker has not started them).
+  void MakeClaims(LookAhead& ahead) const;
+  void SettleClaims(LookAhead& ahead) const;
+  // The pop takes slot i's evaluation (done) and its new keys.
+  bool TakeSlot(CollapseBatch& lone, size_t i) const;
   // One look-ahead slot: the check of entry i and, when valid, its new keys (any thread).
   void EvaluateSlot(LookAhead& ahead, size_t i) const;
   // The worker's side: evaluates posted slots until the loop has finished.
@@ -2827,26 +2851,64 @@ void TriangleCollapser::EvaluateAhead(CollapseLoop& loop, LookAhead& ahead)
     batch.Gathered.resize(size_t(n));
   }
   ahead.NewKeys.resize(std::max(ahead.NewKeys.size(), size_t(n)));
-  // The claims of each triangle's three fans (which hold the ring of any of its operations) stay on
-  // this thread: they must be complete before any slot is evaluated, and the next pop needs them.
-  this->ClaimInOrder(batch, size_t(n));
   ahead.Taken.assign(size_t(n), 0);
-  ahead.Remaining = 0;
-  for (const BatchEntry& entry : batch.Entries)
-  {
-    ahead.Remaining += entry.Runs ? 1 : 0;
-  }
+  ahead.Remaining = size_t(n); // until the claims are settled: not exhausted
   ahead.Live = true;
-  ahead.Evaluated += static_cast<long long>(ahead.Remaining);
   ahead.ReferenceRoom = this->Mesh.ReferencesBeforeCompaction();
   ahead.Updates = this->Updates;
   ahead.Check = &loop.Check;
-  // Posted last (release): a worker that claims a slot sees its entry, its claims and the limits.
+  // The first entry is the next pop (usually): the loop keeps it and evaluates it while the worker
+  // makes the claims of all (read-only on the mesh, both). Posted last (release): whoever makes the
+  // claims sees the entries and the limits.
   ahead.SlotCount.store(n, std::memory_order_relaxed);
   for (int i = 0; i < n; ++i)
   {
-    ahead.Slots[i].store(batch.Entries[size_t(i)].Runs ? SlotPosted : SlotIdle, std::memory_order_release);
+    ahead.Slots[i].store(i == 0 ? SlotLoop : SlotIdle, std::memory_order_relaxed);
   }
+  ahead.ClaimsSettled = false;
+  ahead.Claims.store(SlotPosted, std::memory_order_release);
+}
+
+void TriangleCollapser::MakeClaims(LookAhead& ahead) const
+{
+  // The claims of each triangle's three fans (which hold the ring of any of its operations), then
+  // the slots of the entries that hold their rings (the first stays the loop's).
+  const int n = ahead.SlotCount.load(std::memory_order_relaxed);
+  this->ClaimInOrder(ahead.Batch, size_t(n));
+  for (int i = 1; i < n; ++i)
+  {
+    if (ahead.Batch.Entries[size_t(i)].Runs)
+    {
+      ahead.Slots[i].store(SlotPosted, std::memory_order_release);
+    }
+  }
+}
+
+void TriangleCollapser::SettleClaims(LookAhead& ahead) const
+{
+  // Before the loop reads the claims or writes the mesh: made here if the worker has not started
+  // them, else awaited (the worker is making them).
+  if (ahead.ClaimsSettled)
+  {
+    return;
+  }
+  unsigned char state = SlotPosted;
+  if (ahead.Claims.compare_exchange_strong(state, SlotLoop, std::memory_order_acquire))
+  {
+    this->MakeClaims(ahead);
+  }
+  else
+  {
+    LookAhead::WaitWhileWorker(ahead.Claims);
+  }
+  ahead.Claims.store(SlotIdle, std::memory_order_relaxed);
+  ahead.ClaimsSettled = true;
+  ahead.Remaining = 0;
+  for (const BatchEntry& entry : ahead.Batch.Entries)
+  {
+    ahead.Remaining += entry.Runs ? 1 : 0;
+  }
+  ahead.Evaluated += static_cast<long long>(ahead.Remaining);
 }
 
 void TriangleCollapser::ClaimInOrder(CollapseBatch& batch, size_t n) const
@@ -2869,15 +2931,25 @@ void TriangleCollapser::ClaimInOrder(CollapseBatch& batch, size_t n) const
   {
     // Stamps grow with the entry within a look-ahead and older look-aheads' are larger: a vertex
     // already stamped by this look-ahead belongs to an earlier entry.
+    // Only the entry's triangle is read: the loop may be picking the first entry's operation.
     BatchEntry& entry = batch.Entries[i];
     const std::uint64_t stamp = batch.Stamp(i);
-    entry.Runs = true;
-    this->ForEachRingVertex(entry, [&](Index w) {
-      std::uint64_t& owner = batch.Owner[w];
-      const bool earlier = (owner >> 32) == current && owner != stamp;
-      entry.Runs = entry.Runs && !earlier;
-      owner = earlier ? owner : stamp;
-    });
+    bool runs = true;
+    const Index* tri = this->Mesh.Triangle(entry.C.Triangle);
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Mesh.ForEachTriangle(tri[k], [&](Index s) {
+        const Index* around = this->Mesh.Triangle(s);
+        for (int m = 0; m < 3; ++m)
+        {
+          std::uint64_t& owner = batch.Owner[around[m]];
+          const bool earlier = (owner >> 32) == current && owner != stamp;
+          runs = runs && !earlier;
+          owner = earlier ? owner : stamp;
+        }
+      });
+    }
+    entry.Runs = runs;
   }
 }
 
@@ -2900,10 +2972,19 @@ void TriangleCollapser::LookAheadWorker(LookAhead& ahead) const
   // Claims posted slots from the back (the loop takes them from the front, so the two rarely want
   // the same one). Idle, it spins briefly, then yields, then sleeps; it leaves when the loop has
   // finished, so it never outlives the loop's own bounded work.
-  long long evaluated = 0;
+  long long evaluated = 0, claimsMade = 0;
   for (int idle = 0; !ahead.Finished.load(std::memory_order_acquire);)
   {
     bool worked = false;
+    unsigned char claims = SlotPosted;
+    if (ahead.Claims.load(std::memory_order_relaxed) == SlotPosted &&
+      ahead.Claims.compare_exchange_strong(claims, SlotWorker, std::memory_order_acquire))
+    {
+      this->MakeClaims(ahead);
+      ahead.Claims.store(SlotDone, std::memory_order_release);
+      worked = true;
+      ++claimsMade;
+    }
     for (int i = ahead.SlotCount.load(std::memory_order_relaxed) - 1; i >= 0 && !worked; --i)
     {
       unsigned char state = SlotPosted;
@@ -2933,6 +3014,7 @@ void TriangleCollapser::LookAheadWorker(LookAhead& ahead) const
     }
   }
   ahead.WorkerEvaluations += evaluated;
+  ahead.WorkerClaims += claimsMade;
 }
 
 bool TriangleCollapser::TakeFromLookAhead(CollapseBatch& lone) const
@@ -2947,6 +3029,20 @@ bool TriangleCollapser::TakeFromLookAhead(CollapseBatch& lone) const
   }
   const Index t = lone.Entries[0].C.Triangle;
   const auto& entries = ahead.Batch.Entries;
+  if (!ahead.ClaimsSettled)
+  {
+    // The first entry is the loop's: evaluated while the worker makes the claims.
+    const bool first = !entries.empty() && entries[0].C.Triangle == t && ahead.Batch.Keys[0] == lone.Keys[0];
+    if (first)
+    {
+      this->EvaluateSlot(ahead, 0);
+    }
+    this->SettleClaims(ahead);
+    if (first)
+    {
+      return this->TakeSlot(lone, 0);
+    }
+  }
   size_t i = 0;
   while (i < entries.size() && (entries[i].C.Triangle != t || ahead.Taken[i]))
   {
@@ -2956,9 +3052,10 @@ bool TriangleCollapser::TakeFromLookAhead(CollapseBatch& lone) const
   {
     return false; // evaluated now; ForeignPop decides whether the look-ahead stays valid
   }
-  // The slot: evaluated here if the worker has not claimed it, else its evaluation is awaited.
+  // The slot: evaluated here if the worker has not claimed it (the first entry's is the loop's),
+  // else its evaluation is awaited.
   unsigned char state = SlotPosted;
-  if (ahead.Slots[i].compare_exchange_strong(state, SlotLoop, std::memory_order_acquire))
+  if (ahead.Slots[i].compare_exchange_strong(state, SlotLoop, std::memory_order_acquire) || state == SlotLoop)
   {
     this->EvaluateSlot(ahead, i);
   }
@@ -2966,6 +3063,13 @@ bool TriangleCollapser::TakeFromLookAhead(CollapseBatch& lone) const
   {
     LookAhead::WaitWhileWorker(ahead.Slots[i]);
   }
+  return this->TakeSlot(lone, i);
+}
+
+bool TriangleCollapser::TakeSlot(CollapseBatch& lone, size_t i) const
+{
+  LookAhead& ahead = *lone.Ahead;
+  const auto& entries = ahead.Batch.Entries;
   ahead.Slots[i].store(SlotIdle, std::memory_order_relaxed);
   ahead.Taken[i] = 1;
   --ahead.Remaining;
@@ -2983,6 +3087,7 @@ void TriangleCollapser::ForeignPop(const CollapseBatch& lone) const
   // any of its operations' rings) are disjoint from the rings of the entries still to take (a
   // vertex of such a ring is owned by that entry, its earliest claimant).
   LookAhead& ahead = *lone.Ahead;
+  this->SettleClaims(ahead);
   if (ahead.Exhausted())
   {
     return;
@@ -3266,6 +3371,7 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
   result.LookAheadKeysTaken = this->KeysAheadTaken;
   result.LookAheadRegions += 1;
   result.LookAheadWorkerEvaluations += ahead.WorkerEvaluations;
+  vtkLogF(TRACE, "triangle collapse: the look-ahead's worker made the claims of %lld look-aheads", ahead.WorkerClaims);
 }
 
 void TriangleCollapser::CollapseWithWorker(
