@@ -531,7 +531,7 @@ struct CollapseBatch
 // take); whatever else it would write (a foreign pop's ring, a retry, a compaction, the limits)
 // comes after End, which waits for the slot the worker holds.
 // The worker's back-off while no slot is posted, in empty scans: pause, then yield, then sleep.
-constexpr int IdleYieldAfter = 4096, IdleSleepAfter = 8192;
+constexpr int IdleYieldAfter = 512, IdleSleepAfter = 2048;
 inline void CpuRelax()
 {
 #if defined(__x86_64__) || defined(__i386__)
@@ -3384,6 +3384,7 @@ void TriangleCollapser::CollapseWithWorker(
   struct Joined
   {
     LookAhead& Ahead;
+    LookAhead*& Beside; // TriangleCollapser::WorkerAhead
     std::thread Worker;
     ~Joined()
     {
@@ -3393,8 +3394,9 @@ void TriangleCollapser::CollapseWithWorker(
       {
         this->Worker.join();
       }
+      this->Beside = nullptr;
     }
-  } joined{ ahead, {} };
+  } joined{ ahead, this->WorkerAhead, {} };
   try
   {
     joined.Worker = std::thread([this, &ahead] { this->LookAheadWorker(ahead); });
@@ -3405,7 +3407,6 @@ void TriangleCollapser::CollapseWithWorker(
   }
   this->WorkerAhead = &ahead;
   this->CollapseSteps(loop, batch, &ahead, result);
-  this->WorkerAhead = nullptr;
 }
 
 void TriangleCollapser::CollapseSteps(
