@@ -387,6 +387,8 @@ int vtkQuadricTriangleCollapse::RequestData(
   }
   const std::vector<unsigned char> pinned = FeatureVertices(this, input, mesh, report.BoundaryVertexFlags, vertexToInput, triangleToCell);
   options.PinnedVertices = pinned.empty() ? nullptr : &pinned;
+  // Read by FeatureVertices only: not held through the collapses (1 byte per vertex at their peak).
+  std::vector<unsigned char>().swap(report.BoundaryVertexFlags);
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
   const AttributeMetricSetting metric = AttributeMetric(this, input->GetPointData(), vertexToInput, diagonal);

@@ -383,6 +383,34 @@ TEST(QuadricTriangleCollapse, PeakWorkingBytesWithinTheLayoutOfItsArrays)
   EXPECT_GE(double(peak[1]) - double(peak[0]), 11 * vertices);
 }
 
+// The locked flags (a byte per vertex) are held through the collapses only when a vertex is
+// locked: a closed manifold sphere has none, the same sphere with one vertex locked by the caller
+// has one. The working sets at the loop's start differ by those flags alone (the same arrays
+// otherwise; the queue's entries are one per triangle either way), so by at least a byte per vertex.
+// Before session 37 a manifold input held an all-zero array and the two differed by nothing.
+TEST(QuadricTriangleCollapse, HoldsLockedFlagsOnlyWhenAVertexIsLocked)
+{
+  const TriangleMesh sphere = slodtest::Sphere(90, 80);
+  const double vertices = sphere.NumberOfPoints();
+  std::vector<unsigned char> oneLocked(sphere.NumberOfPoints(), 0);
+  oneLocked[oneLocked.size() / 2] = 1;
+  size_t peak[2] = { 0, 0 };
+  for (const bool lock : { false, true })
+  {
+    TriangleMesh mesh = sphere;
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    options.LockedVertices = lock ? &oneLocked : nullptr;
+    TriangleCollapseResult result;
+    SimplifyByTriangleCollapse(mesh, options, result);
+    EXPECT_LE(mesh.NumberOfTriangles(), options.TargetTriangles);
+    peak[lock ? 1 : 0] = result.PeakWorkingBytes;
+  }
+  std::printf("[locked flags] %.2f bytes per vertex more with one vertex locked\n",
+    (double(peak[1]) - double(peak[0])) / vertices);
+  EXPECT_GE(double(peak[1]) - double(peak[0]), vertices);
+}
+
 // After the collapses (the fit, the refinement, the extraction) the working set holds the
 // quadrics of the surviving vertices only, with a 4-byte parent or slot per input vertex, instead
 // of a quadric per input vertex (88 bytes): before session 32 that made the passes the filter's
