@@ -1408,9 +1408,28 @@ void CollapseHierarchy::DeriveBaseDeaths()
     {
       ++birth;
     }
-    Index& death = this->BaseDeath[size_t(this->CodeOf(e) >> 2)];
+    Index& death = this->BaseDeath[size_t(this->BuildCodeOf(e) >> 2)];
     death = std::min(death, birth);
   }
+}
+
+// The finished versions in the fewest bits (BitPackedArray): a code needs the bits of four times
+// the input's triangles, a death those of the collapse count, where the build's arrays took 32
+// each (written concurrently by a run's collapses, so packed only once the build ends). The
+// build's arrays go first, so that at most one of the two forms of each field is alive.
+void CollapseHierarchy::PackVersions()
+{
+  const Index nt = this->Base.NumberOfTriangles();
+  const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
+  this->PackedDeaths.Assign(size_t(this->NumberOfEntries()), [this, nt](size_t e) {
+    const Index d = Index(e) < nt ? this->BaseDeath[e] : this->EntryDeath[e - size_t(nt)];
+    return d == Never ? std::uint64_t(0) : std::uint64_t(d) + 1;
+  });
+  release(this->BaseDeath);
+  release(this->EntryDeath);
+  this->PackedCodes.Assign(this->EntryCode.size(), [this](size_t i) { return std::uint64_t(this->EntryCode[i]); });
+  release(this->EntryCode);
+  this->VersionsPacked = true;
 }
 
 // A new version of triangle x (as it is in the mesh now), born at the current collapse count:
@@ -1760,7 +1779,7 @@ bool CollapseHierarchy::Build(
     this->InitializeQuadrics();
     if (!this->EvaluateAllTriangles(progress))
     {
-      this->DeriveBaseDeaths(); // (an aborted hierarchy still reads as one)
+      this->FinishVersions(); // (an aborted hierarchy still reads as one)
       return false;
     }
   }
@@ -1799,17 +1818,18 @@ bool CollapseHierarchy::Build(
       const double done = double(nt - this->Mesh.NumberOfLiveTriangles()) / (0.95 * nt);
       if (!progress(0.1 + 0.9 * std::min(1.0, done)))
       {
-        this->DeriveBaseDeaths();
+        this->FinishVersions();
         return false;
       }
     }
   }
   this->ReleaseWorkingData();
-  this->DeriveBaseDeaths();
+  this->FinishVersions();
   if (this->TimingStages)
   {
-    vtkLogF(TRACE, "collapse hierarchy: peak working bytes per input vertex %.1f",
-      double(this->PeakBytes) / double(std::max<Index>(1, this->NumberOfBasePoints())));
+    vtkLogF(TRACE, "collapse hierarchy: peak working bytes per input vertex %.1f, kept hierarchy %.1f",
+      double(this->PeakBytes) / double(std::max<Index>(1, this->NumberOfBasePoints())),
+      double(this->StorageBytes()) / double(std::max<Index>(1, this->NumberOfBasePoints())));
     this->LogStageTimes();
   }
   return true;
@@ -2013,7 +2033,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "collapses", false, bytes(this->Collapses) },
     { "triangle versions", false,
       bytes(this->EntryCode) + bytes(this->EntryDeath) + bytes(this->BaseDeath) + bytes(this->FullEntryVertices) +
-        bytes(this->VersionsBornBy) },
+        bytes(this->VersionsBornBy) + this->PackedCodes.MemoryBytes() + this->PackedDeaths.MemoryBytes() },
     { "levels", false, bytes(this->LevelStarts) },
     { "collapse records", false, records },
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
@@ -2131,6 +2151,9 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->EntryDeath.clear(); // (M0's versions' deaths: DeriveBaseDeaths)
   this->BaseDeath.clear();
   this->EntryCode.clear(); // (M0's versions are implicit: CodeOf)
+  this->VersionsPacked = false;
+  this->PackedCodes.Release();
+  this->PackedDeaths.Release();
   this->FullEntryVertices.clear();
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
