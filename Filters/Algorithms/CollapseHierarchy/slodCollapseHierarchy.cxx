@@ -1402,7 +1402,8 @@ void CollapseHierarchy::DeriveBaseDeaths()
     }
   }
   Index birth = 0; // versions [VersionsBornBy[K - 1], VersionsBornBy[K]) are born at K
-  for (Index e = nt; e < this->NumberOfEntries(); ++e)
+  const Index entries = this->NumberOfEntries();
+  for (Index e = nt; e < entries; ++e)
   {
     while (this->VersionsBornBy[size_t(birth)] <= e)
     {
@@ -1413,21 +1414,24 @@ void CollapseHierarchy::DeriveBaseDeaths()
   }
 }
 
-// The finished versions in the fewest bits (BitPackedArray): a code needs the bits of four times
-// the input's triangles, a death those of the collapse count, where the build's arrays took 32
-// each (written concurrently by a run's collapses, so packed only once the build ends). The
-// build's arrays go first, so that at most one of the two forms of each field is alive.
+// The finished versions in the fewest bits (BitPackedArray): a code (slot << 2 | corner) needs
+// the bits of four times the input's triangles, a death (at most the collapse count; a swap's
+// versions end at the count of their level) those of the collapse count and one, where the
+// build's arrays took 32 each (written concurrently by a run's collapses, so packed only once
+// the build ends). Each field's build array goes right after it is packed.
 void CollapseHierarchy::PackVersions()
 {
   const Index nt = this->Base.NumberOfTriangles();
   const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
-  this->PackedDeaths.Assign(size_t(this->NumberOfEntries()), [this, nt](size_t e) {
+  const std::uint64_t lastDeath = std::uint64_t(this->NumberOfCollapses()) + 1;
+  this->PackedDeaths.Assign(size_t(this->NumberOfEntries()), lastDeath, [this, nt](size_t e) {
     const Index d = Index(e) < nt ? this->BaseDeath[e] : this->EntryDeath[e - size_t(nt)];
     return d == Never ? std::uint64_t(0) : std::uint64_t(d) + 1;
   });
   release(this->BaseDeath);
   release(this->EntryDeath);
-  this->PackedCodes.Assign(this->EntryCode.size(), [this](size_t i) { return std::uint64_t(this->EntryCode[i]); });
+  this->PackedCodes.Assign(this->EntryCode.size(), 4 * std::uint64_t(nt) - 1,
+    [this](size_t i) { return std::uint64_t(this->EntryCode[i]); });
   release(this->EntryCode);
   this->VersionsPacked = true;
 }
@@ -1827,9 +1831,13 @@ bool CollapseHierarchy::Build(
   this->FinishVersions();
   if (this->TimingStages)
   {
-    vtkLogF(TRACE, "collapse hierarchy: peak working bytes per input vertex %.1f, kept hierarchy %.1f",
+    vtkLogF(TRACE,
+      "collapse hierarchy: peak working bytes per input vertex %.1f, kept hierarchy %.1f (%lld triangle "
+      "versions, codes in %u bits, deaths in %u)",
       double(this->PeakBytes) / double(std::max<Index>(1, this->NumberOfBasePoints())),
-      double(this->StorageBytes()) / double(std::max<Index>(1, this->NumberOfBasePoints())));
+      double(this->StorageBytes()) / double(std::max<Index>(1, this->NumberOfBasePoints())),
+      static_cast<long long>(this->NumberOfEntries()), this->PackedCodes.BitsPerValue(),
+      this->PackedDeaths.BitsPerValue());
     this->LogStageTimes();
   }
   return true;
@@ -3641,7 +3649,8 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     }
   }
   this->ForEachVersion(collapses, [&](Index e, Index origin, const Index* g) {
-    if (this->DeathOf(e) <= collapses)
+    const Index death = this->DeathOf(e);
+    if (death <= collapses)
     {
       return;
     }
@@ -3668,7 +3677,7 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     out.TriangleRole.push_back(moving == count ? 2 : (moving > 0 ? 1 : 0));
     out.TriangleOrigin.push_back(origin);
     out.TriangleCollapseLevel.push_back(
-      this->DeathOf(e) == Never ? -1 : this->LevelOfCollapse(this->DeathOf(e) - 1));
+      death == Never ? -1 : this->LevelOfCollapse(death - 1));
   });
   const size_t n = out.PointGlobal.size();
   out.Points.resize(3 * n);

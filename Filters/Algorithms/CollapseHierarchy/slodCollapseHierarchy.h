@@ -265,9 +265,9 @@ std::vector<std::uint64_t> LiveRowIndex::Renumber(Alive&& alive)
 class SURFACELODFILTERS_EXPORT BitPackedArray
 {
 public:
-  // n values, value i = valueAt(i).
+  // n values, value i = valueAt(i), none above `largest` (which sets the width).
   template <typename ValueAt>
-  void Assign(size_t n, ValueAt&& valueAt);
+  void Assign(size_t n, std::uint64_t largest, ValueAt&& valueAt);
   std::uint64_t operator[](size_t i) const
   {
     const size_t bit = i * this->Width;
@@ -297,13 +297,8 @@ private:
 };
 
 template <typename ValueAt>
-void BitPackedArray::Assign(size_t n, ValueAt&& valueAt)
+void BitPackedArray::Assign(size_t n, std::uint64_t largest, ValueAt&& valueAt)
 {
-  std::uint64_t largest = 0;
-  for (size_t i = 0; i < n; ++i)
-  {
-    largest = std::max<std::uint64_t>(largest, valueAt(i));
-  }
   this->Width = 1;
   while (this->Width < 64 && (largest >> this->Width) != 0)
   {
@@ -314,7 +309,7 @@ void BitPackedArray::Assign(size_t n, ValueAt&& valueAt)
   std::vector<std::uint64_t>((n * this->Width + 63) / 64, 0).swap(this->Words);
   for (size_t i = 0; i < n; ++i)
   {
-    const std::uint64_t v = valueAt(i);
+    const std::uint64_t v = valueAt(i) & this->Mask;
     const size_t bit = i * this->Width;
     const unsigned shift = unsigned(bit & 63);
     this->Words[bit >> 6] |= v << shift;
