@@ -1402,15 +1402,38 @@ void CollapseHierarchy::DeriveBaseDeaths()
     }
   }
   Index birth = 0; // versions [VersionsBornBy[K - 1], VersionsBornBy[K]) are born at K
-  for (Index e = nt; e < this->NumberOfEntries(); ++e)
+  const Index entries = this->NumberOfEntries();
+  for (Index e = nt; e < entries; ++e)
   {
     while (this->VersionsBornBy[size_t(birth)] <= e)
     {
       ++birth;
     }
-    Index& death = this->BaseDeath[size_t(this->CodeOf(e) >> 2)];
+    Index& death = this->BaseDeath[size_t(this->BuildCodeOf(e) >> 2)];
     death = std::min(death, birth);
   }
+}
+
+// The finished versions in the fewest bits (BitPackedArray): a code (slot << 2 | corner) needs
+// the bits of four times the input's triangles, a death (at most the collapse count; a swap's
+// versions end at the count of their level) those of the collapse count and one, where the
+// build's arrays took 32 each (written concurrently by a run's collapses, so packed only once
+// the build ends). Each field's build array goes right after it is packed.
+void CollapseHierarchy::PackVersions()
+{
+  const Index nt = this->Base.NumberOfTriangles();
+  const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
+  const std::uint64_t lastDeath = std::uint64_t(this->NumberOfCollapses()) + 1;
+  this->PackedDeaths.Assign(size_t(this->NumberOfEntries()), lastDeath, [this, nt](size_t e) {
+    const Index d = Index(e) < nt ? this->BaseDeath[e] : this->EntryDeath[e - size_t(nt)];
+    return d == Never ? std::uint64_t(0) : std::uint64_t(d) + 1;
+  });
+  release(this->BaseDeath);
+  release(this->EntryDeath);
+  this->PackedCodes.Assign(this->EntryCode.size(), 4 * std::uint64_t(nt) - 1,
+    [this](size_t i) { return std::uint64_t(this->EntryCode[i]); });
+  release(this->EntryCode);
+  this->VersionsPacked = true;
 }
 
 // A new version of triangle x (as it is in the mesh now), born at the current collapse count:
@@ -1760,7 +1783,7 @@ bool CollapseHierarchy::Build(
     this->InitializeQuadrics();
     if (!this->EvaluateAllTriangles(progress))
     {
-      this->DeriveBaseDeaths(); // (an aborted hierarchy still reads as one)
+      this->FinishVersions(); // (an aborted hierarchy still reads as one)
       return false;
     }
   }
@@ -1799,17 +1822,22 @@ bool CollapseHierarchy::Build(
       const double done = double(nt - this->Mesh.NumberOfLiveTriangles()) / (0.95 * nt);
       if (!progress(0.1 + 0.9 * std::min(1.0, done)))
       {
-        this->DeriveBaseDeaths();
+        this->FinishVersions();
         return false;
       }
     }
   }
   this->ReleaseWorkingData();
-  this->DeriveBaseDeaths();
+  this->FinishVersions();
   if (this->TimingStages)
   {
-    vtkLogF(TRACE, "collapse hierarchy: peak working bytes per input vertex %.1f",
-      double(this->PeakBytes) / double(std::max<Index>(1, this->NumberOfBasePoints())));
+    vtkLogF(TRACE,
+      "collapse hierarchy: peak working bytes per input vertex %.1f, kept hierarchy %.1f (%lld triangle "
+      "versions, codes in %u bits, deaths in %u)",
+      double(this->PeakBytes) / double(std::max<Index>(1, this->NumberOfBasePoints())),
+      double(this->StorageBytes()) / double(std::max<Index>(1, this->NumberOfBasePoints())),
+      static_cast<long long>(this->NumberOfEntries()), this->PackedCodes.BitsPerValue(),
+      this->PackedDeaths.BitsPerValue());
     this->LogStageTimes();
   }
   return true;
@@ -2013,7 +2041,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "collapses", false, bytes(this->Collapses) },
     { "triangle versions", false,
       bytes(this->EntryCode) + bytes(this->EntryDeath) + bytes(this->BaseDeath) + bytes(this->FullEntryVertices) +
-        bytes(this->VersionsBornBy) },
+        bytes(this->VersionsBornBy) + this->PackedCodes.MemoryBytes() + this->PackedDeaths.MemoryBytes() },
     { "levels", false, bytes(this->LevelStarts) },
     { "collapse records", false, records },
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
@@ -2131,6 +2159,9 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->EntryDeath.clear(); // (M0's versions' deaths: DeriveBaseDeaths)
   this->BaseDeath.clear();
   this->EntryCode.clear(); // (M0's versions are implicit: CodeOf)
+  this->VersionsPacked = false;
+  this->PackedCodes.Release();
+  this->PackedDeaths.Release();
   this->FullEntryVertices.clear();
   this->EntryOf.resize(nt);
   std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
@@ -3618,7 +3649,8 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     }
   }
   this->ForEachVersion(collapses, [&](Index e, Index origin, const Index* g) {
-    if (this->DeathOf(e) <= collapses)
+    const Index death = this->DeathOf(e);
+    if (death <= collapses)
     {
       return;
     }
@@ -3645,7 +3677,7 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
     out.TriangleRole.push_back(moving == count ? 2 : (moving > 0 ? 1 : 0));
     out.TriangleOrigin.push_back(origin);
     out.TriangleCollapseLevel.push_back(
-      this->DeathOf(e) == Never ? -1 : this->LevelOfCollapse(this->DeathOf(e) - 1));
+      death == Never ? -1 : this->LevelOfCollapse(death - 1));
   });
   const size_t n = out.PointGlobal.size();
   out.Points.resize(3 * n);

@@ -259,6 +259,67 @@ std::vector<std::uint64_t> LiveRowIndex::Renumber(Alive&& alive)
   return kept;
 }
 
+// Non-negative integers in the fewest bits the largest of them needs, read at any index: the
+// finished hierarchy's triangle versions (their codes and deaths, 4 bytes each in the build's
+// arrays, which threads write concurrently) take 20 to 22 bits a field on a 1M-triangle input.
+class SURFACELODFILTERS_EXPORT BitPackedArray
+{
+public:
+  // n values, value i = valueAt(i), none above `largest` (which sets the width).
+  template <typename ValueAt>
+  void Assign(size_t n, std::uint64_t largest, ValueAt&& valueAt);
+  std::uint64_t operator[](size_t i) const
+  {
+    const size_t bit = i * this->Width;
+    const size_t w = bit >> 6;
+    const unsigned shift = unsigned(bit & 63);
+    std::uint64_t v = this->Words[w] >> shift;
+    if (shift + this->Width > 64)
+    {
+      v |= this->Words[w + 1] << (64 - shift);
+    }
+    return v & this->Mask;
+  }
+  size_t size() const { return this->Count; }
+  unsigned BitsPerValue() const { return this->Width; }
+  size_t MemoryBytes() const { return this->Words.capacity() * sizeof(std::uint64_t); }
+  void Release()
+  {
+    std::vector<std::uint64_t>().swap(this->Words);
+    this->Count = 0;
+  }
+
+private:
+  std::vector<std::uint64_t> Words;
+  size_t Count = 0;
+  unsigned Width = 1;
+  std::uint64_t Mask = 1;
+};
+
+template <typename ValueAt>
+void BitPackedArray::Assign(size_t n, std::uint64_t largest, ValueAt&& valueAt)
+{
+  this->Width = 1;
+  while (this->Width < 64 && (largest >> this->Width) != 0)
+  {
+    ++this->Width;
+  }
+  this->Mask = this->Width == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << this->Width) - 1;
+  this->Count = n;
+  std::vector<std::uint64_t>((n * this->Width + 63) / 64, 0).swap(this->Words);
+  for (size_t i = 0; i < n; ++i)
+  {
+    const std::uint64_t v = valueAt(i) & this->Mask;
+    const size_t bit = i * this->Width;
+    const unsigned shift = unsigned(bit & 63);
+    this->Words[bit >> 6] |= v << shift;
+    if (shift + this->Width > 64)
+    {
+      this->Words[(bit >> 6) + 1] |= v >> (64 - shift);
+    }
+  }
+}
+
 class SURFACELODFILTERS_EXPORT CollapseHierarchy
 {
 public:
@@ -287,6 +348,8 @@ public:
   Index NumberOfChoicesInOrder() const { return this->ChoicesInOrder; }
   Index NumberOfChoicesDecidedAhead() const { return this->ChoicesDecidedAhead; }
   Index NumberOfSwaps() const { return this->Records.NumberOfFlips(); }
+  // Triangle versions stored (M0's and every one a collapse or swap gave birth to).
+  Index NumberOfTriangleVersions() const { return this->NumberOfEntries(); }
   // Edge swaps made after `collapses` collapses (between M_i(1) and M_i+1 when collapses =
   // LevelStart(i + 1)); each changes two triangles.
   Index SwapsAfter(Index collapses) const
@@ -667,6 +730,16 @@ private:
   std::uint32_t CodeOf(Index e) const
   {
     const Index nt = this->Base.NumberOfTriangles();
+    if (e < nt)
+    {
+      return std::uint32_t(e) << 2 | AllCorners;
+    }
+    return this->VersionsPacked ? std::uint32_t(this->PackedCodes[size_t(e - nt)]) : this->EntryCode[size_t(e - nt)];
+  }
+  // (The build's form only: SlotOfRow, DeriveBaseDeaths.)
+  std::uint32_t BuildCodeOf(Index e) const
+  {
+    const Index nt = this->Base.NumberOfTriangles();
     return e < nt ? std::uint32_t(e) << 2 | AllCorners : this->EntryCode[size_t(e - nt)];
   }
   // EntryDeath: the deaths of the versions after M0's (version e >= nt at e - nt, as EntryCode).
@@ -675,12 +748,29 @@ private:
   // removal, whichever came first, so DeriveBaseDeaths gives them from the versions and the records
   // once the build ends (BaseDeath; DeathOf reads both).
   std::vector<Index> EntryDeath, BaseDeath, EntryOf, VersionsBornBy, FullEntryVertices;
+  // Once built (PackVersions), the codes of the versions after M0's and every version's death
+  // (Never as 0, collapse count d as d + 1) in the fewest bits their largest needs; the build's
+  // arrays above are then released.
+  bool VersionsPacked = false;
+  BitPackedArray PackedCodes, PackedDeaths;
+  void PackVersions();
+  void FinishVersions()
+  {
+    this->DeriveBaseDeaths();
+    this->PackVersions();
+  }
   Index NumberOfEntries() const
   {
-    return this->Base.NumberOfTriangles() + static_cast<Index>(this->EntryDeath.size());
+    return this->VersionsPacked ? static_cast<Index>(this->PackedDeaths.size())
+                                : this->Base.NumberOfTriangles() + static_cast<Index>(this->EntryDeath.size());
   }
   Index DeathOf(Index e) const
   {
+    if (this->VersionsPacked)
+    {
+      const std::uint64_t d = this->PackedDeaths[size_t(e)];
+      return d == 0 ? std::numeric_limits<Index>::max() : static_cast<Index>(d - 1);
+    }
     const Index nt = this->Base.NumberOfTriangles();
     return e < nt ? this->BaseDeath[size_t(e)] : this->EntryDeath[size_t(e - nt)];
   }
@@ -724,7 +814,7 @@ private:
   Index Rows = 0;
   size_t Row(Index t) const { return this->RowOf.Row(size_t(t)); }
   // The M0 slot of a row: its current version's.
-  Index SlotOfRow(size_t r) const { return static_cast<Index>(this->CodeOf(this->EntryOf[r]) >> 2); }
+  Index SlotOfRow(size_t r) const { return static_cast<Index>(this->BuildCodeOf(this->EntryOf[r]) >> 2); }
   template <typename Functor>
   void ForEachLiveTriangle(Functor&& f) const; // f(t, row), in slot order
   // The same for the positions [begin, end) of that walk (0 <= begin <= end <= Rows).
