@@ -784,28 +784,20 @@ bool TileRepair::RepairFlippedTriangle(Index t)
 {
   const Index* tri = this->Edit.Triangle(t);
   const Index ids[3] = { tri[0], tri[1], tri[2] };
-  for (int k = 0; k < 3; ++k)
-  {
-    if (this->TryFlip(ids[k], ids[(k + 1) % 3]))
+  // The first of the tile's edges (x, y) for which `change` is kept; y unused by the moves of x.
+  const auto onAnEdge = [&](const auto& change) {
+    for (int k = 0; k < 3; ++k)
     {
-      return true;
+      if (change(ids[k], ids[(k + 1) % 3]))
+      {
+        return true;
+      }
     }
-  }
-  for (int k = 0; k < 3; ++k)
-  {
-    if (this->TryFlipPair(t, ids[k], ids[(k + 1) % 3]))
-    {
-      return true;
-    }
-  }
-  for (int k = 0; k < 3; ++k)
-  {
-    if (this->TryMove(ids[k]) || this->TryKernelMove(ids[k]) || this->TryRelocate(ids[k]))
-    {
-      return true;
-    }
-  }
-  return false;
+    return false;
+  };
+  return onAnEdge([&](Index x, Index y) { return this->TryFlip(x, y); }) ||
+    onAnEdge([&](Index x, Index y) { return this->TryFlipPair(t, x, y); }) ||
+    onAnEdge([&](Index x, Index) { return this->TryMove(x) || this->TryKernelMove(x) || this->TryRelocate(x); });
 }
 
 Index TileRepair::RunFlipped(int rounds)
