@@ -17,6 +17,31 @@ bool TileRepair::IsBad(const Index* ids, const Vec3* p, Index t) const
   return this->IsBadLocally(ids, p, normal, MinimumAngle(p[0], p[1], p[2])) || this->FacesAgainstInput(p, normal, t);
 }
 
+bool TileRepair::IsNeedle(const Vec3* p, double angle) const
+{
+  if (angle < this->NeedleAngle || Norm(TriangleNormal(p[0], p[1], p[2])) == 0)
+  {
+    return true;
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    if (Norm(p[(k + 1) % 3] - p[k]) < this->ShortestEdge)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+bool TileRepair::Improves(const Score& after, const Score& before) const
+{
+  if (this->FlippedOnly)
+  {
+    return after.Bad < before.Bad && after.Needles <= before.Needles;
+  }
+  return after.Better(before);
+}
+
 bool TileRepair::IsBadLocally(const Index* ids, const Vec3* p, const Vec3& normal, double angle) const
 {
   if (Norm(normal) == 0 || angle < this->NeedleAngle)
@@ -93,7 +118,8 @@ TileRepair::Score TileRepair::TriangleScore(Index t) const
   ++this->TilesScored;
   score.Angle = MinimumAngle(p[0], p[1], p[2]);
   const Vec3 normal = TriangleNormal(p[0], p[1], p[2]);
-  score.Bad = this->IsBadLocally(tri, p, normal, score.Angle) || this->FacesAgainstInput(p, normal, t) ? 1 : 0;
+  const bool locally = !this->FlippedOnly && this->IsBadLocally(tri, p, normal, score.Angle);
+  score.Bad = locally || this->FacesAgainstInput(p, normal, t) ? 1 : 0;
   return score;
 }
 
@@ -117,8 +143,16 @@ TileRepair::Score TileRepair::RegionScore(
     ++this->TilesScored;
     const double angle = MinimumAngle(p[0], p[1], p[2]);
     const Vec3 normal = this->Edit.TriangleNormal(t);
-    this->LocallyBad[i] = this->IsBadLocally(tri, p, TriangleNormal(p[0], p[1], p[2]), angle) ? 1 : 0;
-    total.Bad += this->LocallyBad[i];
+    if (this->FlippedOnly)
+    {
+      // The final stage counts needles (and folds, below) apart and queries every tile.
+      total.Needles += this->IsNeedle(p, angle) ? 1 : 0;
+    }
+    else
+    {
+      this->LocallyBad[i] = this->IsBadLocally(tri, p, TriangleNormal(p[0], p[1], p[2]), angle) ? 1 : 0;
+      total.Bad += this->LocallyBad[i];
+    }
     total.Angle = std::min(total.Angle, angle);
     Vec3 centroid{ 0, 0, 0 };
     for (int k = 0; k < 3; ++k)
@@ -131,14 +165,15 @@ TileRepair::Score TileRepair::RegionScore(
       }
       total.Extent = std::max(total.Extent, Dot(b - a, b - a));
       const Index other = this->Across(t, tri[k], tri[(k + 1) % 3]);
-      total.Bad += other != InvalidIndex && Dot(normal, this->Edit.TriangleNormal(other)) < FoldCosine ? 1 : 0;
+      const bool fold = other != InvalidIndex && Dot(normal, this->Edit.TriangleNormal(other)) < FoldCosine;
+      (this->FlippedOnly ? total.Needles : total.Bad) += fold ? 1 : 0;
     }
     if (deviationSamples)
     {
       deviationSamples->push_back(centroid);
     }
   }
-  if (bound && !total.Better(*bound))
+  if (bound && !this->Improves(total, *bound))
   {
     return total; // the queries could only add bad tiles
   }
@@ -196,7 +231,7 @@ bool TileRepair::Accept(Before& before, const std::vector<Index>& triangles)
   // sharper than the region had (a needle still counts as one bad tile only).
   const bool worseNeedle =
     this->MovedBound > MovedShare && after.Angle < std::min(before.Tiles.Angle, this->NeedleAngle);
-  if (!after.Better(before.Tiles) || worseNeedle ||
+  if (!this->Improves(after, before.Tiles) || worseNeedle ||
     !this->WithinDistanceOf(before.Surface, triangles, this->MovedBound * this->MovedBound * extent))
   {
     return false;
@@ -474,7 +509,7 @@ bool TileRepair::TryKernelMove(Index v)
   const Vec3 targets[2] = { kernel, start + 0.5 * (kernel - start) };
   this->MovedBound = LastResortMovedShare;
   const bool moved = this->MoveToFirstAccepted(v, star, targets, 2);
-  this->MovedBound = MovedShare;
+  this->MovedBound = this->UsualMovedBound();
   return moved;
 }
 
@@ -515,7 +550,7 @@ bool TileRepair::TryRelocate(Index v)
     this->Work += static_cast<long long>(2 * star.size()); // the flips' and the score's visits
     relocated = this->RelocateInto(v, nearest[i].second, star);
   }
-  this->MovedBound = MovedShare;
+  this->MovedBound = this->UsualMovedBound();
   return relocated;
 }
 
@@ -693,6 +728,10 @@ bool TileRepair::TryFlipPair(Index t, Index x, Index y)
 // MovedShare (the old tiles' samples lie on the fold) although the new tiles lie on the input.
 bool TileRepair::RepairTriangle(Index t)
 {
+  if (this->FlippedOnly)
+  {
+    return this->RepairFlippedTriangle(t);
+  }
   const Index* tri = this->Edit.Triangle(t);
   const Index ids[3] = { tri[0], tri[1], tri[2] };
   for (int k = 0; k < 3; ++k)
@@ -730,7 +769,7 @@ bool TileRepair::RepairTriangle(Index t)
   {
     repaired = this->TryFlipPair(t, ids[k], ids[(k + 1) % 3]);
   }
-  this->MovedBound = MovedShare;
+  this->MovedBound = this->UsualMovedBound();
   for (int k = 0; k < 3 && !repaired; ++k)
   {
     repaired = this->TryRelocate(ids[k]);
@@ -738,7 +777,46 @@ bool TileRepair::RepairTriangle(Index t)
   return repaired;
 }
 
+// A flipped tile in the final stage: the flips of its edges, then two flips together, then moves
+// of its vertices toward their neighbours' centre on the input, into their star's kernel, and the
+// relocation inside their ring's re-triangulation; every change bounded by LastResortMovedShare.
+bool TileRepair::RepairFlippedTriangle(Index t)
+{
+  const Index* tri = this->Edit.Triangle(t);
+  const Index ids[3] = { tri[0], tri[1], tri[2] };
+  // The first of the tile's edges (x, y) for which `change` is kept; y unused by the moves of x.
+  const auto onAnEdge = [&](const auto& change) {
+    for (int k = 0; k < 3; ++k)
+    {
+      if (change(ids[k], ids[(k + 1) % 3]))
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  return onAnEdge([&](Index x, Index y) { return this->TryFlip(x, y); }) ||
+    onAnEdge([&](Index x, Index y) { return this->TryFlipPair(t, x, y); }) ||
+    onAnEdge([&](Index x, Index) { return this->TryMove(x) || this->TryKernelMove(x) || this->TryRelocate(x); });
+}
+
+Index TileRepair::RunFlipped(int rounds)
+{
+  this->FlippedOnly = true;
+  this->MovedBound = this->UsualMovedBound();
+  this->Work = 0;
+  const Index left = this->Run(rounds, FlippedWorkPerTriangle);
+  this->FlippedOnly = false;
+  this->MovedBound = this->UsualMovedBound();
+  return left;
+}
+
 Index TileRepair::Run(int passes)
+{
+  return this->Run(passes, RepairWorkPerTriangle);
+}
+
+Index TileRepair::Run(int passes, long long workPerTriangle)
 {
   std::vector<Index> bad, near, ring;
   for (Index t = 0; t < this->Edit.NumberOfTriangles(); ++t)
@@ -750,7 +828,7 @@ Index TileRepair::Run(int passes)
   }
   // Work bound: triangle visits, a fixed number per triangle of the mesh (a valence-5000 apex
   // would otherwise cost 5000 visits per check of every tile around it, pass after pass).
-  const long long budget = RepairWorkPerTriangle * static_cast<long long>(this->Edit.NumberOfTriangles());
+  const long long budget = workPerTriangle * static_cast<long long>(this->Edit.NumberOfTriangles());
   for (int pass = 0; pass < passes && !bad.empty() && this->Work < budget; ++pass)
   {
     this->Touched.clear();

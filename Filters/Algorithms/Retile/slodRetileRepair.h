@@ -18,6 +18,9 @@
 //    its ring is re-triangulated by the ring search (every tile facing the surface's way) and the
 //    vertex goes back inside one of the new tiles (flips of its edges, then a move): the vertex
 //    count stays, and a star with no kernel gets one.
+// A final stage (session 37, RunFlipped) then works on the flipped tiles alone (normal against the
+// input triangle under the centroid): the same changes, each kept only when the flipped tiles
+// around it become fewer and the needles and folds no more.
 // Bounded: a fixed number of passes over the bad tiles, and a budget of triangle visits.
 #ifndef slodRetileRepair_h
 #define slodRetileRepair_h
@@ -48,6 +51,7 @@ constexpr double LastResortMovedShare = 0.25;
 // per triangle of the mesh.
 constexpr size_t MaximumRepairValence = 32;
 constexpr long long RepairWorkPerTriangle = 400;
+constexpr long long FlippedWorkPerTriangle = 100;
 // A relocation tries the vertex in at most this many tiles of its ring's triangulation (the
 // nearest to where it is first).
 constexpr int RelocationTiles = 4;
@@ -92,6 +96,10 @@ struct SURFACELODFILTERS_EXPORT TileRepair
   // Returns the number of bad tiles near the last pass's changes (the others were tried and left
   // as they are). Flips and moves done are counted in the members below.
   Index Run(int passes);
+  // The final stage: `rounds` passes over the tiles facing against the input under their
+  // centroids, with a budget of its own (FlippedWorkPerTriangle); returns those left near the
+  // last round's changes.
+  Index RunFlipped(int rounds);
   Index Flips = 0, Moves = 0, Relocations = 0;
   mutable long long Work = 0; // triangle visits so far (bounded in Run)
   // Tiles scored (is it bad?), of those the tiles of a region scored before or after a try, and
@@ -121,6 +129,7 @@ private:
   struct Score
   {
     int Bad = 0;
+    int Needles = 0; // needles and folds, counted apart from Bad only by the final stage
     double Angle = 0;
     double Extent = 0; // squared longest edge
     bool Better(const Score& other) const
@@ -128,6 +137,16 @@ private:
       return this->Bad < other.Bad || (this->Bad == other.Bad && this->Angle > other.Angle + 1e-4);
     }
   };
+  // Whether `after` is an improvement on `before`: Score::Better, or in the final stage fewer
+  // flipped tiles with no more needles or folds.
+  bool Improves(const Score& after, const Score& before) const;
+  // The final stage is running: only flipped tiles are bad (RunFlipped).
+  bool FlippedOnly = false;
+  // The moves' bound outside the last resort: MovedShare, LastResortMovedShare in the final stage.
+  double UsualMovedBound() const { return this->FlippedOnly ? LastResortMovedShare : MovedShare; }
+  bool RepairFlippedTriangle(Index t);
+  bool IsNeedle(const Vec3* p, double angle) const;
+  Index Run(int passes, long long workPerTriangle);
   // A region's tiles before a change: their score, where the surface was (vertices, edge
   // midpoints, centroids) and the points whose distance to the input is compared (edge midpoints
   // and centroids), measured only when the change gets that far.

@@ -1788,14 +1788,17 @@ Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference
 constexpr double RepairNeedleAngle = Radians(5.0);
 constexpr double RepairShortestEdge = 1e-5;
 constexpr int RepairPasses = 8;
+// Rounds of the final stage on the flipped tiles (RetilingOptions::RepairFlippedTiles).
+constexpr int FlippedRepairRounds = 4;
 
 // The last check (slodRetileRepair.h) after step 6: tiles facing against the input or needles
 // are repaired by flips (recorded in `record` when given) and moves of the `movable` vertices
-// (`moved` says where each went). Returns the number of flips.
+// (`moved` says where each went); then, with `flippedRounds`, the final stage on the tiles still
+// facing against the input under their centroids (TileRepair::RunFlipped). Returns the number of flips.
 Index RepairTiles(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
   const OldVertexRemoval& removal, const std::vector<unsigned char>& movable, EditableMesh& edit,
   std::vector<Vec3>& reference, std::vector<Index>* record,
-  const std::function<void(Index, const Vec3&, Index)>& moved)
+  const std::function<void(Index, const Vec3&, Index)>& moved, int flippedRounds = 0)
 {
   TileRepair repair(edit, reference, mesh, bvh, movable);
   repair.IsFixedEdge = [&](Index x, Index y) { return removal.IsLineEdge(x, y); };
@@ -1810,6 +1813,10 @@ Index RepairTiles(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::v
   repair.NeedleAngle = RepairNeedleAngle;
   repair.ShortestEdge = RepairShortestEdge * mesh.BoundingBoxDiagonal();
   repair.Run(RepairPasses);
+  if (flippedRounds > 0)
+  {
+    repair.RunFlipped(flippedRounds);
+  }
   return repair.Flips;
 }
 
@@ -1975,7 +1982,8 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
       const Index* tri = mesh.Triangle(triangle);
       const Vec3 w = Barycentric(position, mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]));
       std::copy(w.begin(), w.end(), &bary[3 * size_t(v - n0)]);
-    });
+    },
+    options.RepairFlippedTiles ? FlippedRepairRounds : 0);
   vtkLogEndScope("retile-repair");
   if (!ReportProgress(options, 0.97))
   {

@@ -78,6 +78,11 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   // meshes, but more needles at 10% of the vertices and a larger Hausdorff distance at 50%, and
   // twice the search's cost on cheese (Documentation/Retile.md, session 36). Retile only.
   bool RingSearchFacesInput = false;
+  // After the repair, a final stage on the tiles still facing against the input triangle under
+  // their centroids: flips, moves on the input and kernel moves of their vertices, each kept only
+  // when the flipped tiles around it become fewer and needles and folds do not (session 37,
+  // TileRepair::RunFlipped). The vertex count does not change. Retile's finest level only.
+  bool RepairFlippedTiles = true;
   // Optional: per input vertex, 1 when non-manifold (the input preparation's
   // PreparationReport::NonManifoldVertexFlags); computed when null. These vertices are kept as
   // they are (retained old vertices): the removal's link condition assumes one fan per vertex.

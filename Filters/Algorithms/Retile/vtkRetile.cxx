@@ -495,6 +495,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.EnforceFacing = this->EnforceFacing;
   options.RetriangulateRings = this->RetriangulateRings;
   options.RingSearchFacesInput = this->RingSearchFacesInput;
+  options.RepairFlippedTiles = this->RepairFlippedTiles;
   options.FeatureAngle = this->FeatureAngle;
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
@@ -608,6 +609,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FilletDensity: " << this->FilletDensity << "\n";
   os << indent << "RetriangulateRings: " << this->RetriangulateRings << "\n";
   os << indent << "RingSearchFacesInput: " << this->RingSearchFacesInput << "\n";
+  os << indent << "RepairFlippedTiles: " << this->RepairFlippedTiles << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";
   os << indent << "NumberOfCorners: " << this->NumberOfCorners << "\n";

@@ -111,6 +111,12 @@ public:
   vtkSetMacro(RingSearchFacesInput, bool);
   vtkGetMacro(RingSearchFacesInput, bool);
   vtkBooleanMacro(RingSearchFacesInput, bool);
+  // After the repair, a final stage on the tiles still facing against the input under their
+  // centroids (flips, moves of their vertices on the input); the vertex count does not change
+  // (slod::RetilingOptions::RepairFlippedTiles).
+  vtkSetMacro(RepairFlippedTiles, bool);
+  vtkGetMacro(RepairFlippedTiles, bool);
+  vtkBooleanMacro(RepairFlippedTiles, bool);
   vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
   vtkGetMacro(FeatureAngle, double);
 
@@ -153,6 +159,7 @@ protected:
   bool FilletDensity = false;
   bool RetriangulateRings = false;
   bool RingSearchFacesInput = false;
+  bool RepairFlippedTiles = true;
   double FeatureAngle = 45.0;
   bool GenerateNestedLevels = false;
   int NumberOfNestedLevels = 3;
