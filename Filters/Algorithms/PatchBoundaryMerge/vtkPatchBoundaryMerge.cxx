@@ -196,6 +196,7 @@ struct vtkPatchBoundaryMerge::Cache
   double MeanCurvature = 0;       // slod::MeanAbsoluteCurvature of the prepared input
   double Area = 0;                // the prepared input's area (ThicknessBound runs for every level)
   double PlaneDistanceCap = std::numeric_limits<double>::infinity(); // absolute, of the patch growth
+  double LevelDeviation = -1;     // the level's deviation on every input vertex, when CollapseFinerLevel measured it
 
   bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p, double relativePlaneDistance) const
   {
@@ -597,6 +598,7 @@ bool vtkPatchBoundaryMerge::Cache::CollapseFinerLevel(
   }
   const double deviation = this->Generator.EstimateDeviation(result, 3000, true);
   self->LevelDeviationShare = deviation / bound;
+  this->LevelDeviation = deviation;
   vtkLogF(TRACE, "[spbm] level deviation %.3gx the thickness bound as given (trigger %.3gx)", deviation / bound, share);
   if (!(deviation > trigger))
   {
@@ -713,7 +715,9 @@ bool vtkPatchBoundaryMerge::Cache::RefineRegions(
     return false;
   }
   this->FinishWithCollapses(self, target, candidate);
-  const double deviation = this->Generator.EstimateDeviation(result, 3000, true);
+  // Measured by CollapseFinerLevel when its strided check did not rule the level out (the same level).
+  const double deviation =
+    this->LevelDeviation >= 0 ? this->LevelDeviation : this->Generator.EstimateDeviation(result, 3000, true);
   const double candidateDeviation = this->Generator.EstimateDeviation(candidate, 3000, true);
   vtkLogF(TRACE, "[spbm] %d regions' patches refined: %zu triangles, deviation %.4g (was %.4g)", int(marked),
     candidate.TrianglePatch.size(), candidateDeviation, deviation);
@@ -993,6 +997,7 @@ int vtkPatchBoundaryMerge::RequestData(
     return 1;
   }
   const bool loosen = target > 0 && target < mesh.NumberOfTriangles();
+  cache.LevelDeviation = -1;
   if (!cache.GenerateLevel(this, target, result, level) || (loosen && !cache.LoosenThickness(this, target, result, level)) ||
     (loosen && !cache.CollapseFinerLevel(this, target, result, level)) ||
     (loosen && !cache.RefineRegions(this, target, result, level)))
