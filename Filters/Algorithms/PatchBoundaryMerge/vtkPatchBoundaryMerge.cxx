@@ -96,6 +96,25 @@ constexpr double TolerantStridedShare = 0.7;
 // share of the surface that misses, not the surface.
 constexpr double RegionAllowanceShare = 0.5;
 constexpr double RegionTriangleShare = 0.03;
+// Not where the noise tolerance admitted at least this share of the input's triangles that the
+// angle tests refuse (Patchification::NoiseToleranceJoins; session 35 measured the MRI 0.38, the
+// noisy scans 0.77, the smooth and CAD CGAL meshes under 0.1, mask and openscan under 0.25): there
+// the vertices beyond the cap are noise that the patches were grown to absorb, and keeping their
+// original triangles brings the noise back (the MRI at 10%: 7.4 -> 13.1 s CPU, same count).
+constexpr double RegionNoiseJoinShare = 0.25;
+
+// A candidate level replaces `result` when it deviates less (every input vertex) at a count no
+// farther from the target (within the final collapses' tolerance).
+bool CandidateWins(vtkIdType target, const slod::SpbmLevel& candidate, double candidateDeviation,
+  const slod::SpbmLevel& result, double deviation)
+{
+  const vtkIdType tolerance =
+    slod::SpbmFinalCollapseTolerance(static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)));
+  auto miss = [&](const slod::SpbmLevel& l) {
+    return std::max<vtkIdType>(tolerance, std::abs(vtkIdType(l.TrianglePatch.size()) - target));
+  };
+  return candidateDeviation < deviation && miss(candidate) <= miss(result);
+}
 
 // Manifold edges both of whose triangles run them the same way.
 slod::Index InconsistentEdges(const slod::TriangleMesh& mesh, const slod::MeshTopology& topology)
@@ -618,12 +637,7 @@ bool vtkPatchBoundaryMerge::Cache::CollapseFinerLevel(
   const double candidateDeviation = this->Generator.EstimateDeviation(candidate, 3000, true);
   vtkLogF(TRACE, "[spbm] finer level %lld collapsed to %zu triangles: deviation %.4g (was %.4g)", (long long)finer,
     candidate.TrianglePatch.size(), candidateDeviation, deviation);
-  const vtkIdType tolerance =
-    slod::SpbmFinalCollapseTolerance(static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)));
-  auto miss = [&](const slod::SpbmLevel& l) {
-    return std::max<vtkIdType>(tolerance, std::abs(vtkIdType(l.TrianglePatch.size()) - target));
-  };
-  if (candidateDeviation < deviation && miss(candidate) <= miss(result))
+  if (CandidateWins(target, candidate, candidateDeviation, result, deviation))
   {
     std::swap(result, candidate);
     level = candidateLevel;
@@ -692,6 +706,12 @@ bool vtkPatchBoundaryMerge::Cache::RefineRegions(
   {
     return true;
   }
+  if (double(this->Patches.NoiseToleranceJoins()) >= RegionNoiseJoinShare * double(this->Mesh.NumberOfTriangles()))
+  {
+    vtkLogF(TRACE, "[spbm] regions not refined: the noise tolerance joined %lld triangles the angle tests refuse",
+      (long long)this->Patches.NoiseToleranceJoins());
+    return true;
+  }
   const double bound = this->ThicknessBound(self, target) / this->ThicknessScale;
   const double allowance = RegionAllowanceShare * bound;
   // The level's strided samples (measured by CollapseFinerLevel) far below the allowance: every
@@ -721,12 +741,7 @@ bool vtkPatchBoundaryMerge::Cache::RefineRegions(
   const double candidateDeviation = this->Generator.EstimateDeviation(candidate, 3000, true);
   vtkLogF(TRACE, "[spbm] %d regions' patches refined: %zu triangles, deviation %.4g (was %.4g)", int(marked),
     candidate.TrianglePatch.size(), candidateDeviation, deviation);
-  const vtkIdType tolerance =
-    slod::SpbmFinalCollapseTolerance(static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX)));
-  auto miss = [&](const slod::SpbmLevel& l) {
-    return std::max<vtkIdType>(tolerance, std::abs(vtkIdType(l.TrianglePatch.size()) - target));
-  };
-  if (candidateDeviation < deviation && miss(candidate) <= miss(result))
+  if (CandidateWins(target, candidate, candidateDeviation, result, deviation))
   {
     std::swap(result, candidate);
     self->RegionRefinedPatches = marked;
