@@ -2526,7 +2526,11 @@ TEST(PatchBoundaryMerge, CoarsePatchLevelsAreRedoneFromAFinerLevelByCollapses)
     const double ratio = LevelHausdorffRatioToQuadric(name, input, reduction);
     EXPECT_LE(ratio, 3.0);
     const double withoutRatio = LevelHausdorffRatioToQuadric(name, input, reduction, nullptr, nullptr,
-      [](vtkPatchBoundaryMerge* filter) { filter->CollapseFinerLevelForTargetOff(); });
+      [](vtkPatchBoundaryMerge* filter) {
+        // The level itself: the refined regions (session 37) would redo it without the option too.
+        filter->CollapseFinerLevelForTargetOff();
+        filter->RefineDeviatingRegionsOff();
+      });
     EXPECT_LT(ratio, withoutRatio);
     vtkNew<vtkPatchBoundaryMerge> filter;
     filter->SetInputData(input);
@@ -2952,9 +2956,10 @@ TEST(PatchBoundaryMerge, BorderCornersOfAnOpenSheetStay)
     filter->SetInputData(input);
     filter->SetTargetReduction(0.9);
     filter->SetBorderCornerAngle(cornerAngle);
-    // The paper's chains are compared by themselves: the finer level's collapses (session 33)
-    // bring the cut corners back at this target.
+    // The paper's chains are compared by themselves: the finer level's collapses (session 33) and
+    // the refined regions' (session 37) bring the cut corners back at this target.
     filter->SetCollapseFinerLevelForTarget(cornerAngle > 0);
+    filter->SetRefineDeviatingRegions(cornerAngle > 0);
     filter->Update();
     return vtkSmartPointer<vtkPolyData>(filter->GetOutput());
   };
