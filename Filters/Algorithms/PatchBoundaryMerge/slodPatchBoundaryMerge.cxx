@@ -652,7 +652,6 @@ Index SpbmLevelGenerator::PatchDeviationsBeyond(
   const TriangleBVH bvh(simplified);
   const double allowance2 = allowance * allowance;
   std::vector<float> beyond(size_t(mesh.NumberOfPoints()), 0.0f); // distance beyond the allowance, else 0
-  bool any = false;
   for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
   {
     const Vec3 q = mesh.Point(v);
@@ -661,11 +660,19 @@ Index SpbmLevelGenerator::PatchDeviationsBeyond(
       continue;
     }
     beyond[size_t(v)] = static_cast<float>(std::sqrt(bvh.ClosestPoint(q).Distance2));
-    any = true;
   }
+  return this->PatchDeviationsFromVertices(beyond, patchDeviation);
+}
+
+Index SpbmLevelGenerator::PatchDeviationsFromVertices(
+  const std::vector<float>& beyond, std::vector<double>& patchDeviation) const
+{
+  const TriangleMesh& mesh = *this->Mesh;
+  patchDeviation.assign(size_t(this->Patches->NumberOfPatches()), 0.0);
+  const bool any = std::any_of(beyond.begin(), beyond.end(), [](float d) { return d > 0; });
   Index count = 0;
   const std::vector<Index>& patchOf = this->Patches->TrianglePatches();
-  for (Index t = 0; any && t < mesh.NumberOfTriangles(); ++t)
+  for (Index t = 0; any && t < mesh.NumberOfTriangles() && Index(beyond.size()) == mesh.NumberOfPoints(); ++t)
   {
     const Index* tri = mesh.Triangle(t);
     const double worst = std::max({ beyond[size_t(tri[0])], beyond[size_t(tri[1])], beyond[size_t(tri[2])] });
@@ -676,7 +683,8 @@ Index SpbmLevelGenerator::PatchDeviationsBeyond(
   return count;
 }
 
-double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index samples, bool everyVertex) const
+double SpbmLevelGenerator::EstimateDeviation(
+  const SpbmLevel& level, Index samples, bool everyVertex, std::vector<float>* beyond, double allowance) const
 {
   const TriangleMesh& mesh = *this->Mesh;
   const Index nt = mesh.NumberOfTriangles();
@@ -707,9 +715,31 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
     sample(a);
     sample((1.0 / 3.0) * (a + b + c));
   }
+  if (beyond)
+  {
+    beyond->assign(everyVertex ? size_t(mesh.NumberOfPoints()) : 0, 0.0f);
+  }
+  const double allowance2 = allowance * allowance;
   for (Index v = 0; everyVertex && v < mesh.NumberOfPoints(); ++v)
   {
-    sample(mesh.Point(v));
+    const Vec3 q = mesh.Point(v);
+    if (!beyond || !(allowance > 0))
+    {
+      sample(q);
+    }
+    else if (bvh.ClosestPoint(q, allowance2).Triangle != InvalidIndex)
+    {
+      if (allowance2 > worst2) // within the allowance, but it may still be the largest so far
+      {
+        sample(q);
+      }
+    }
+    else
+    {
+      const double d2 = bvh.ClosestPoint(q).Distance2;
+      (*beyond)[size_t(v)] = static_cast<float>(std::sqrt(d2));
+      worst2 = std::max(worst2, d2);
+    }
   }
   // The other side, when the input's BVH exists (the minimum-deviation triangulation builds it):
   // the level's largest triangles sampled on the barycentric grid of step 1/3 (the edge thirds

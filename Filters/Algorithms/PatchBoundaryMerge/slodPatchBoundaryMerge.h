@@ -331,12 +331,18 @@ public:
   // two-sided Hausdorff distance; compares candidates. With everyVertex, every input vertex is a
   // sample too (the search's epsilon drops a few chain vertices, where a level's largest error
   // often sits, and a strided sample misses them; O(input vertices) bounded queries).
-  double EstimateDeviation(const SpbmLevel& level, Index samples = 3000, bool everyVertex = false) const;
+  // With `beyond` (and everyVertex), also each input vertex's distance from the level where it is
+  // beyond `allowance` (0 elsewhere), for PatchDeviationsFromVertices, in the same pass; the
+  // estimate is the same.
+  double EstimateDeviation(const SpbmLevel& level, Index samples = 3000, bool everyVertex = false,
+    std::vector<float>* beyond = nullptr, double allowance = 0) const;
   // Per patch of the patchification, the largest distance of its triangles' vertices from `level`
   // where that is beyond `allowance` (0 elsewhere): where the level misses what its patches allow.
   // One query per input vertex, bounded by `allowance` (most end there). Returns the number of
   // patches beyond it.
   Index PatchDeviationsBeyond(const SpbmLevel& level, double allowance, std::vector<double>& patchDeviation) const;
+  // The same from the per-vertex distances beyond the allowance of EstimateDeviation's `beyond`.
+  Index PatchDeviationsFromVertices(const std::vector<float>& beyond, std::vector<double>& patchDeviation) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
   double ChainVertexKey(Index c, Index i) const;

@@ -216,6 +216,12 @@ struct vtkPatchBoundaryMerge::Cache
   double Area = 0;                // the prepared input's area (ThicknessBound runs for every level)
   double PlaneDistanceCap = std::numeric_limits<double>::infinity(); // absolute, of the patch growth
   double LevelDeviation = -1;     // the level's deviation on every input vertex, when CollapseFinerLevel measured it
+  std::vector<float> VertexBeyond; // with it: each input vertex's distance beyond the regions' allowance (else 0)
+  bool RegionsMayFollow(vtkPatchBoundaryMerge* self) const
+  {
+    return self->RefineDeviatingRegions &&
+      double(this->Patches.NoiseToleranceJoins()) < RegionNoiseJoinShare * double(this->Mesh.NumberOfTriangles());
+  }
 
   bool Matches(vtkPolyData* input, const slod::PatchificationParameters& p, double relativePlaneDistance) const
   {
@@ -615,7 +621,10 @@ bool vtkPatchBoundaryMerge::Cache::CollapseFinerLevel(
   {
     return true;
   }
-  const double deviation = this->Generator.EstimateDeviation(result, 3000, true);
+  // RefineRegions' per-vertex distances in the same pass (the same estimate).
+  const bool regions = this->RegionsMayFollow(self);
+  const double deviation = this->Generator.EstimateDeviation(
+    result, 3000, true, regions ? &this->VertexBeyond : nullptr, regions ? RegionAllowanceShare * bound : 0.0);
   self->LevelDeviationShare = deviation / bound;
   this->LevelDeviation = deviation;
   vtkLogF(TRACE, "[spbm] level deviation %.3gx the thickness bound as given (trigger %.3gx)", deviation / bound, share);
@@ -659,7 +668,10 @@ slod::Index vtkPatchBoundaryMerge::Cache::MarkRegions(
   const slod::SpbmLevel& result, double allowance, std::vector<unsigned char>& original) const
 {
   std::vector<double> patchDeviation;
-  const slod::Index beyond = this->Generator.PatchDeviationsBeyond(result, allowance, patchDeviation);
+  // CollapseFinerLevel's every-vertex estimate measured them already when it ran (the same level).
+  const slod::Index beyond = this->LevelDeviation >= 0 && !this->VertexBeyond.empty()
+    ? this->Generator.PatchDeviationsFromVertices(this->VertexBeyond, patchDeviation)
+    : this->Generator.PatchDeviationsBeyond(result, allowance, patchDeviation);
   original.assign(patchDeviation.size(), 0);
   std::vector<std::pair<double, slod::Index>> worst;
   worst.reserve(size_t(beyond));
@@ -706,7 +718,7 @@ bool vtkPatchBoundaryMerge::Cache::RefineRegions(
   {
     return true;
   }
-  if (double(this->Patches.NoiseToleranceJoins()) >= RegionNoiseJoinShare * double(this->Mesh.NumberOfTriangles()))
+  if (!this->RegionsMayFollow(self))
   {
     vtkLogF(TRACE, "[spbm] regions not refined: the noise tolerance joined %lld triangles the angle tests refuse",
       (long long)this->Patches.NoiseToleranceJoins());
@@ -1013,6 +1025,7 @@ int vtkPatchBoundaryMerge::RequestData(
   }
   const bool loosen = target > 0 && target < mesh.NumberOfTriangles();
   cache.LevelDeviation = -1;
+  cache.VertexBeyond.clear();
   if (!cache.GenerateLevel(this, target, result, level) || (loosen && !cache.LoosenThickness(this, target, result, level)) ||
     (loosen && !cache.CollapseFinerLevel(this, target, result, level)) ||
     (loosen && !cache.RefineRegions(this, target, result, level)))
