@@ -507,12 +507,24 @@ bool SpbmLevelGenerator::Generate(
   return this->GenerateIn(parameters, level, abort, *this->Work);
 }
 
+bool SpbmLevelGenerator::GenerateWithOriginalPatches(const SpbmLevelParameters& parameters,
+  const std::vector<unsigned char>& original, SpbmLevel& level, const std::function<bool()>& abort)
+{
+  return this->GenerateIn(parameters, level, abort, *this->Work, 0, &original);
+}
+
 bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level,
-  const std::function<bool()>& abort, State& s, Index budget)
+  const std::function<bool()>& abort, State& s, Index budget, const std::vector<unsigned char>* original)
 {
   const Index np = this->Patches->NumberOfPatches();
   s.VertexStamp.resize(size_t(this->Mesh->NumberOfPoints()), 0);
   std::vector<unsigned char> frozen(size_t(np), 0);
+  bool anyOriginal = false; // the held chain graph (no frozen patch) is not this level's then
+  for (Index p = 0; original && p < np && p < Index(original->size()); ++p)
+  {
+    frozen[size_t(p)] = (*original)[size_t(p)] ? OriginalLevel : 0;
+    anyOriginal = anyOriginal || frozen[size_t(p)] != 0;
+  }
   level = SpbmLevel();
   LevelTriangulation triangulation(*this, parameters, s, level);
   const StageTimes before = s.Times;
@@ -536,7 +548,8 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     // The search's last prediction is usually this level's first pass: its chain graph is
     // still in the state (the merging run depends on the parameters and frozen patches only).
     const auto passStart = StageClock::now();
-    const bool held = pass == 1 && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters));
+    const bool held =
+      pass == 1 && !anyOriginal && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters));
     if (!held && unmergedAny && parameters.ReplayFallbackPasses && this->ReplayMerging(parameters, frozen, s))
     {
       ++level.ReplayedPasses;
@@ -604,16 +617,11 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
   return true;
 }
 
-double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index samples, bool everyVertex) const
+namespace
 {
-  const TriangleMesh& mesh = *this->Mesh;
-  const Index nt = mesh.NumberOfTriangles();
-  if (nt == 0 || level.Triangles.empty())
-  {
-    return 0;
-  }
-  // The level over its own vertices only (it is small), in a BVH.
-  TriangleMesh simplified;
+// The level over its own vertices only (it is small), to be put in a BVH.
+void LevelOverItsVertices(const TriangleMesh& mesh, const SpbmLevel& level, TriangleMesh& simplified)
+{
   std::vector<Index> local(size_t(mesh.NumberOfPoints()), InvalidIndex);
   simplified.Triangles.reserve(level.Triangles.size());
   for (const Index v : level.Triangles)
@@ -626,6 +634,66 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
     }
     simplified.Triangles.push_back(local[v]);
   }
+}
+} // namespace
+
+Index SpbmLevelGenerator::PatchDeviationsBeyond(
+  const SpbmLevel& level, double allowance, std::vector<double>& patchDeviation) const
+{
+  const TriangleMesh& mesh = *this->Mesh;
+  const Index np = this->Patches->NumberOfPatches();
+  patchDeviation.assign(size_t(np), 0.0);
+  if (level.Triangles.empty() || !(allowance > 0))
+  {
+    return 0;
+  }
+  TriangleMesh simplified;
+  LevelOverItsVertices(mesh, level, simplified);
+  const TriangleBVH bvh(simplified);
+  const double allowance2 = allowance * allowance;
+  std::vector<float> beyond(size_t(mesh.NumberOfPoints()), 0.0f); // distance beyond the allowance, else 0
+  for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+  {
+    const Vec3 q = mesh.Point(v);
+    if (bvh.ClosestPoint(q, allowance2).Triangle != InvalidIndex)
+    {
+      continue;
+    }
+    beyond[size_t(v)] = static_cast<float>(std::sqrt(bvh.ClosestPoint(q).Distance2));
+  }
+  return this->PatchDeviationsFromVertices(beyond, patchDeviation);
+}
+
+Index SpbmLevelGenerator::PatchDeviationsFromVertices(
+  const std::vector<float>& beyond, std::vector<double>& patchDeviation) const
+{
+  const TriangleMesh& mesh = *this->Mesh;
+  patchDeviation.assign(size_t(this->Patches->NumberOfPatches()), 0.0);
+  const bool any = std::any_of(beyond.begin(), beyond.end(), [](float d) { return d > 0; });
+  Index count = 0;
+  const std::vector<Index>& patchOf = this->Patches->TrianglePatches();
+  for (Index t = 0; any && t < mesh.NumberOfTriangles() && Index(beyond.size()) == mesh.NumberOfPoints(); ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    const double worst = std::max({ beyond[size_t(tri[0])], beyond[size_t(tri[1])], beyond[size_t(tri[2])] });
+    double& patch = patchDeviation[size_t(patchOf[size_t(t)])];
+    count += worst > 0 && patch == 0 ? 1 : 0;
+    patch = std::max(patch, worst);
+  }
+  return count;
+}
+
+double SpbmLevelGenerator::EstimateDeviation(
+  const SpbmLevel& level, Index samples, bool everyVertex, std::vector<float>* beyond, double allowance) const
+{
+  const TriangleMesh& mesh = *this->Mesh;
+  const Index nt = mesh.NumberOfTriangles();
+  if (nt == 0 || level.Triangles.empty())
+  {
+    return 0;
+  }
+  TriangleMesh simplified;
+  LevelOverItsVertices(mesh, level, simplified);
   const TriangleBVH bvh(simplified);
   // Samples: the first vertex and the centroid of every stride-th original triangle (every
   // vertex is the first of some triangle, so all are covered at full sampling).
@@ -647,9 +715,31 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
     sample(a);
     sample((1.0 / 3.0) * (a + b + c));
   }
+  if (beyond)
+  {
+    beyond->assign(everyVertex ? size_t(mesh.NumberOfPoints()) : 0, 0.0f);
+  }
+  const double allowance2 = allowance * allowance;
   for (Index v = 0; everyVertex && v < mesh.NumberOfPoints(); ++v)
   {
-    sample(mesh.Point(v));
+    const Vec3 q = mesh.Point(v);
+    if (!beyond || !(allowance > 0))
+    {
+      sample(q);
+    }
+    else if (bvh.ClosestPoint(q, allowance2).Triangle != InvalidIndex)
+    {
+      if (allowance2 > worst2) // within the allowance, but it may still be the largest so far
+      {
+        sample(q);
+      }
+    }
+    else
+    {
+      const double d2 = bvh.ClosestPoint(q).Distance2;
+      (*beyond)[size_t(v)] = static_cast<float>(std::sqrt(d2));
+      worst2 = std::max(worst2, d2);
+    }
   }
   // The other side, when the input's BVH exists (the minimum-deviation triangulation builds it):
   // the level's largest triangles sampled on the barycentric grid of step 1/3 (the edge thirds

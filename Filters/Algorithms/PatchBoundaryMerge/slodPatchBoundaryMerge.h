@@ -303,6 +303,12 @@ public:
   // Generates the level. Returns false only when aborted through `abort`.
   bool Generate(const SpbmLevelParameters& parameters, SpbmLevel& level,
     const std::function<bool()>& abort = nullptr);
+  // The same level with the patches marked in `original` (per patch of the patchification, nonzero
+  // = marked) kept as their original triangles from the first pass on, as a fallback keeps them
+  // (issue 15, session 37: the per-region finer level). The other patches merge as in Generate; a
+  // held run of the same parameters is replayed with the marked patches frozen.
+  bool GenerateWithOriginalPatches(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& original,
+    SpbmLevel& level, const std::function<bool()>& abort = nullptr);
 
   // Parameters whose level has about `target` triangles: the number of kept chain vertices (i.e.
   // epsilon) is searched over the stored hierarchy; when even single-segment chains give too
@@ -325,7 +331,18 @@ public:
   // two-sided Hausdorff distance; compares candidates. With everyVertex, every input vertex is a
   // sample too (the search's epsilon drops a few chain vertices, where a level's largest error
   // often sits, and a strided sample misses them; O(input vertices) bounded queries).
-  double EstimateDeviation(const SpbmLevel& level, Index samples = 3000, bool everyVertex = false) const;
+  // With `beyond` (and everyVertex), also each input vertex's distance from the level where it is
+  // beyond `allowance` (0 elsewhere), for PatchDeviationsFromVertices, in the same pass; the
+  // estimate is the same.
+  double EstimateDeviation(const SpbmLevel& level, Index samples = 3000, bool everyVertex = false,
+    std::vector<float>* beyond = nullptr, double allowance = 0) const;
+  // Per patch of the patchification, the largest distance of its triangles' vertices from `level`
+  // where that is beyond `allowance` (0 elsewhere): where the level misses what its patches allow.
+  // One query per input vertex, bounded by `allowance` (most end there). Returns the number of
+  // patches beyond it.
+  Index PatchDeviationsBeyond(const SpbmLevel& level, double allowance, std::vector<double>& patchDeviation) const;
+  // The same from the per-vertex distances beyond the allowance of EstimateDeviation's `beyond`.
+  Index PatchDeviationsFromVertices(const std::vector<float>& beyond, std::vector<double>& patchDeviation) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
   double ChainVertexKey(Index c, Index i) const;
@@ -364,8 +381,9 @@ private:
   // With a budget (> 0), a candidate whose count after a pass's merging is above it is abandoned:
   // `level` is left without triangles (fallback passes only add triangles); so is one whose first
   // pass leaves patches that fail to triangulate (a budgeted try gets no fallback pass).
+  // `original` (when given): patches kept as their original triangles from the first pass on.
   bool GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s,
-    Index budget = 0);
+    Index budget = 0, const std::vector<unsigned char>* original = nullptr);
   const TriangleBVH& GetInputTree(StageTimes& times);
   // Stages of Initialize.
   void BuildChainKeys(size_t totalVertices);

@@ -119,6 +119,20 @@ public:
   ///@}
 
   ///@{
+  /// Extension (issue 15, session 37) [on; needs FinalCollapses]: when the finer level of
+  /// CollapseFinerLevelForTarget was not made, the patches whose own vertices deviate from the
+  /// count target's level by more than half the thickness bound as given (the worst first, their
+  /// triangles at most 3% of the input's) are kept as their original triangles in one more
+  /// generation pass, and the final collapses bring the level back to the target; the level with
+  /// the smaller deviation (every input vertex) is kept. RegionRefinedPatches counts the patches so
+  /// refined in the kept level (0 otherwise; also the output's field-data array
+  /// "RegionRefinedPatches" when above 0).
+  vtkSetMacro(RefineDeviatingRegions, bool);
+  vtkGetMacro(RefineDeviatingRegions, bool);
+  vtkBooleanMacro(RefineDeviatingRegions, bool);
+  ///@}
+
+  ///@{
   /// Extension (issue 10, sessions 24 and 28) [-1: automatic]: a triangle whose three vertices lie
   /// within this fraction of the patch growth's plane distance (PatchPlaneDistance, capped by
   /// PatchDeviationFactor, scaled with AdaptPatchesToTarget) from the patch's running plane joins
@@ -272,6 +286,7 @@ public:
   vtkGetMacro(FinalCollapseCount, vtkIdType);     // FinalCollapses performed
   vtkGetMacro(FinerLevelTried, bool);             // CollapseFinerLevelForTarget made its level
   vtkGetMacro(LevelDeviationShare, double);       // of the target's level, over the bound as given
+  vtkGetMacro(RegionRefinedPatches, vtkIdType);   // RefineDeviatingRegions' patches in the kept level
   vtkGetMacro(PatchificationReused, bool);        // the cache was hit
   vtkGetMacro(PatchificationTime, double);        // seconds (input preparation + patches + hierarchy)
   vtkGetMacro(LevelTime, double);                 // seconds (search + level generation + output)
@@ -294,6 +309,7 @@ protected:
   double PatchThicknessScale = 1.0;
   bool NoiseToleranceWithheld = false;
   bool CollapseFinerLevelForTarget = true;
+  bool RefineDeviatingRegions = true;
   double PatchNoiseTolerance = -1.0;
   double BorderCornerAngle = 60.0;
   double MergeAngle = 20.0;
@@ -319,6 +335,7 @@ protected:
   vtkIdType FinalCollapseCount = 0;
   bool FinerLevelTried = false;
   double LevelDeviationShare = -1.0;
+  vtkIdType RegionRefinedPatches = 0;
   bool PatchificationReused = false;
   double PatchificationTime = 0.0;
   double LevelTime = 0.0;

@@ -2526,7 +2526,11 @@ TEST(PatchBoundaryMerge, CoarsePatchLevelsAreRedoneFromAFinerLevelByCollapses)
     const double ratio = LevelHausdorffRatioToQuadric(name, input, reduction);
     EXPECT_LE(ratio, 3.0);
     const double withoutRatio = LevelHausdorffRatioToQuadric(name, input, reduction, nullptr, nullptr,
-      [](vtkPatchBoundaryMerge* filter) { filter->CollapseFinerLevelForTargetOff(); });
+      [](vtkPatchBoundaryMerge* filter) {
+        // The level itself: the refined regions (session 37) would redo it without the option too.
+        filter->CollapseFinerLevelForTargetOff();
+        filter->RefineDeviatingRegionsOff();
+      });
     EXPECT_LT(ratio, withoutRatio);
     vtkNew<vtkPatchBoundaryMerge> filter;
     filter->SetInputData(input);
@@ -2601,6 +2605,111 @@ TEST(PatchBoundaryMerge, FinerLevelOnlyWhereTheLevelDeviatesBeyondItsPatches)
   EXPECT_TRUE(filter->GetFinerLevelTried());
   EXPECT_GT(filter->GetLevelDeviationShare(), 1.0);
   EXPECT_LE(LevelHausdorffRatioToQuadric("horizons", horizons, 0.9), 3.0);
+}
+
+// Issue 15 (session 37): RefineDeviatingRegions. A flat square with one Gaussian bump in a corner
+// at 10%: the whole level deviates less than its patches' allowance with the coarse target's noise
+// tolerance (the finer level of CollapseFinerLevelForTarget is not made), but the bump's vertices
+// lie beyond half the thickness bound, the cap its patches were grown with. Only patches on the
+// bump are kept as their original triangles and collapsed again (the output's field-data count; the
+// flat part keeps no more vertices than without),
+// and the level's largest vertex distance, measured here, falls under that cap; without the
+// refinement it stays above. Same count band and topology as the input.
+double LargestVertexDistance(vtkPolyData* input, vtkPolyData* output)
+{
+  const TriangleMesh simplified = slodtest::ToTriangleMesh(output);
+  const TriangleBVH tree(simplified);
+  double worst2 = 0;
+  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    input->GetPoint(i, x);
+    worst2 = std::max(worst2, tree.ClosestPoint({ x[0], x[1], x[2] }).Distance2);
+  }
+  return std::sqrt(worst2);
+}
+
+TEST(PatchBoundaryMerge, OnlyTheRegionsThatDeviateAreRefined)
+{
+  const double centre = 0.75, sigma = 0.08, height = 0.1;
+  TriangleMesh mesh = slodtest::Grid(60, 60);
+  for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+  {
+    const double dx = mesh.Points[3 * size_t(v)] - centre, dy = mesh.Points[3 * size_t(v) + 1] - centre;
+    mesh.Points[3 * size_t(v) + 2] = height * std::exp(-(dx * dx + dy * dy) / (2 * sigma * sigma));
+  }
+  vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(mesh);
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  vtkIdType refined[2] = { 0, 0 };
+  double distance[2] = { 0, 0 };
+  vtkIdType flatVertices[2] = { 0, 0 }; // output vertices off the bump (beyond 3 sigma)
+  for (const bool refine : { true, false })
+  {
+    SCOPED_TRACE(refine ? "RefineDeviatingRegions on" : "off");
+    vtkNew<vtkPatchBoundaryMerge> filter;
+    filter->SetInputData(input);
+    filter->SetTargetReduction(0.9);
+    filter->SetRefineDeviatingRegions(refine);
+    filter->GeneratePatchColoredInputOn();
+    filter->Update();
+    vtkPolyData* output = filter->GetOutput();
+    EXPECT_FALSE(filter->GetFinerLevelTried());
+    EXPECT_GT(filter->GetLevelDeviationShare(), 0.0);
+    EXPECT_LT(filter->GetLevelDeviationShare(), 1.0);
+    const vtkIdType target = mesh.NumberOfTriangles() / 10;
+    EXPECT_LE(std::abs(output->GetNumberOfPolys() - target), std::max<vtkIdType>(2, target / 50));
+    slodtest::ExpectSameTopology(mesh, slodtest::ToTriangleMesh(output));
+    vtkDataArray* count = output->GetFieldData()->GetArray("RegionRefinedPatches");
+    refined[refine] = count ? static_cast<vtkIdType>(count->GetTuple1(0)) : 0;
+    EXPECT_EQ(refined[refine], filter->GetRegionRefinedPatches());
+    distance[refine] = LargestVertexDistance(input, output) / diagonal;
+    for (vtkIdType i = 0; i < output->GetNumberOfPoints(); ++i)
+    {
+      double x[3];
+      output->GetPoint(i, x);
+      flatVertices[refine] += std::hypot(x[0] - centre, x[1] - centre) >= 3 * sigma ? 1 : 0;
+    }
+    // The cap the patches were grown with (PatchThicknessBound: relative, the bound as given here).
+    EXPECT_EQ(filter->GetPatchThicknessScale(), 1.0);
+    const double cap = 0.5 * filter->GetPatchThicknessBound();
+    if (refine)
+    {
+      EXPECT_LE(distance[refine], cap);
+      // The refined patches are on the bump (within 3 sigma of its centre) and a minority of them.
+      vtkPolyData* patched = filter->GetOutput(2);
+      vtkDataArray* patchOf = patched->GetCellData()->GetArray("PatchId");
+      ASSERT_NE(patchOf, nullptr);
+      std::set<vtkIdType> onBump;
+      for (vtkIdType c = 0; c < patched->GetNumberOfCells(); ++c)
+      {
+        vtkNew<vtkIdList> ids;
+        patched->GetCellPoints(c, ids);
+        for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+        {
+          double x[3];
+          patched->GetPoint(ids->GetId(k), x);
+          if (std::hypot(x[0] - centre, x[1] - centre) < 3 * sigma)
+          {
+            onBump.insert(static_cast<vtkIdType>(patchOf->GetTuple1(c)));
+          }
+        }
+      }
+      EXPECT_GT(refined[refine], 0);
+      EXPECT_LT(2 * refined[refine], static_cast<vtkIdType>(onBump.size()));
+    }
+    else
+    {
+      EXPECT_GT(distance[refine], cap);
+    }
+  }
+  std::cout << "bump at 10%: refined patches " << refined[true] << ", largest vertex distance " << distance[true]
+            << " (without " << distance[false] << "), vertices off the bump " << flatVertices[true] << " (without "
+            << flatVertices[false] << ")\n";
+  EXPECT_EQ(refined[false], 0);
+  EXPECT_LT(distance[true], distance[false]);
+  // The flat part is not refined: it keeps no more vertices than without (the final collapses move
+  // budget from it to the bump, never the other way).
+  EXPECT_LE(flatVertices[true], flatVertices[false]);
 }
 
 // Issue 15 (session 34): the minimum-deviation triangulation's diagonal cost is the distance of its
@@ -2847,9 +2956,10 @@ TEST(PatchBoundaryMerge, BorderCornersOfAnOpenSheetStay)
     filter->SetInputData(input);
     filter->SetTargetReduction(0.9);
     filter->SetBorderCornerAngle(cornerAngle);
-    // The paper's chains are compared by themselves: the finer level's collapses (session 33)
-    // bring the cut corners back at this target.
+    // The paper's chains are compared by themselves: the finer level's collapses (session 33) and
+    // the refined regions' (session 37) bring the cut corners back at this target.
     filter->SetCollapseFinerLevelForTarget(cornerAngle > 0);
+    filter->SetRefineDeviatingRegions(cornerAngle > 0);
     filter->Update();
     return vtkSmartPointer<vtkPolyData>(filter->GetOutput());
   };
