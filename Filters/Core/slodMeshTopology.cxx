@@ -58,28 +58,6 @@ void BucketHalfEdges(
     halfEdges[fill[std::min(a, b)]++] = static_cast<Index>(i);
   }
 }
-
-// Number of distinct edges among the bucketed half-edges (a half-edge's twin is in the same
-// bucket). stamp (np entries) is left dirty.
-size_t CountUniqueEdges(const std::vector<Index>& tris, Index np, const std::vector<Index>& halfOffsets,
-  const std::vector<Index>& halfEdges, std::vector<Index>& stamp)
-{
-  size_t edges = 0;
-  for (Index u = 0; u < np; ++u)
-  {
-    for (Index h = halfOffsets[u]; h < halfOffsets[u + 1]; ++h)
-    {
-      const size_t i = size_t(halfEdges[h]);
-      const Index w = std::max(tris[i], tris[i - i % 3 + (i % 3 + 1) % 3]);
-      if (stamp[w] != u)
-      {
-        stamp[w] = u;
-        ++edges;
-      }
-    }
-  }
-  return edges;
-}
 } // namespace
 
 void MeshTopology::Build(const TriangleMesh& mesh)
@@ -116,19 +94,10 @@ void MeshTopology::Build(const TriangleMesh& mesh)
   // topology built again allocates no array for them (vtkHoleBumpRemoval's passes, session 36).
   std::vector<Index> halfOffsets, halfEdges(std::move(this->EdgeTriangles));
   BucketHalfEdges(tris, np, halfOffsets, halfEdges);
-  std::vector<Index> stamp(np, InvalidIndex), stampEdge(np, InvalidIndex);
-  // Exactly the room the edges need: a guess of 1.5 per triangle is short by half the border
-  // edges, and the growth by doubling then copied the array into one twice its size (a fresh
-  // mapping at 4M triangles, on every first build; session 37).
-  const size_t edgeCount = CountUniqueEdges(tris, np, halfOffsets, halfEdges, stamp);
-  std::fill(stamp.begin(), stamp.end(), InvalidIndex);
-  if (this->EdgeVertices.capacity() < 2 * edgeCount)
-  {
-    std::vector<Index>().swap(this->EdgeVertices);
-  }
   this->EdgeVertices.clear();
-  ReserveOnHugePages(this->EdgeVertices, 2 * edgeCount);
+  ReserveOnHugePages(this->EdgeVertices, tris.size()); // about 1.5 edges per triangle, two indices each
   AssignOnHugePages(this->TriangleEdges, tris.size(), InvalidIndex);
+  std::vector<Index> stamp(np, InvalidIndex), stampEdge(np, InvalidIndex);
   for (Index u = 0; u < np; ++u)
   {
     for (Index h = halfOffsets[u]; h < halfOffsets[u + 1]; ++h)

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodSpbmMerging.h"
-#include "slodHugePages.h"
 
 #include "vtkLogger.h"
 #include "vtkMath.h"
@@ -321,36 +320,8 @@ void SpbmLevelGenerator::MergingRun::RemoveDownToTarget()
   s.EditsReachedTarget = parameters.RemovalTarget <= 0 || s.Total <= parameters.RemovalTarget;
 }
 
-// The records and lists a merging run reads at every step, in storage advised for huge pages
-// before their first sizing (a no-op once they have the room: later runs and replays reuse it). A
-// run's steps follow the global merge queue, so they read these arrays at random places: with
-// 4 KiB pages nearly every read is a TLB miss, and at 4M triangles (4.4 GB resident) the page
-// tables no longer stay in the caches, so each miss walks them in memory (session 37; session 30
-// saw no gain at 1M, where they still fit).
-void SpbmLevelGenerator::MergingRun::ReserveHotArrays()
-{
-  ReserveOnHugePages(s.Patches, size_t(np));
-  ReserveOnHugePages(s.Chains, size_t(nc));
-  ReserveOnHugePages(s.Parts, size_t(nc));
-  ReserveOnHugePages(s.Tries, size_t(nc));
-  ReserveOnHugePages(s.Tolerance, size_t(nc));
-  ReserveOnHugePages(s.JointBefore, size_t(nc));
-  ReserveOnHugePages(s.EndSlotNext, 2 * size_t(nc));
-  ReserveOnHugePages(s.PatchSlotNext, 2 * size_t(nc));
-  for (std::vector<Index>* endpoints : { &s.EndHead, &s.Degree, &s.EndStamp, &s.EndLocal })
-  {
-    ReserveOnHugePages(*endpoints, size_t(ne));
-  }
-  for (std::vector<Index>* patches : { &s.AbsorbedFirst, &s.AbsorbedNext, &s.AbsorbedLast, &s.SupportFolded,
-         &s.PatchStamp, &s.CollapsesWalkedSize, &s.CandidatesPushedSize })
-  {
-    ReserveOnHugePages(*patches, size_t(np));
-  }
-}
-
 void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned char>& frozen)
 {
-  this->ReserveHotArrays();
   s.Patches.resize(size_t(np));
   s.AbsorbedFirst.assign(size_t(np), InvalidIndex);
   s.AbsorbedNext.assign(size_t(np), InvalidIndex);
@@ -393,7 +364,7 @@ void SpbmLevelGenerator::MergingRun::ResetChainGraph(const std::vector<unsigned 
       s.KeptOffsets[c] = s.KeptEnd[c] = static_cast<Index>(room);
       room += size_t(std::max<Index>(0, P.ChainSize(c) - 2));
     }
-    AssignOnHugePages(s.KeptPositions, room, Index(0));
+    s.KeptPositions.assign(room, 0);
   }
   for (Index c = 0; c < nc; ++c)
   {

@@ -45,7 +45,6 @@ public:
 private:
   // Stages.
   void ResetChainGraph(const std::vector<unsigned char>& frozen);
-  void ReserveHotArrays();
   void CopyPatchSupport();
   void RebuildKept(bool all, const std::vector<Index>* changed = nullptr);
   void RebuildKeptPositions(const std::vector<Index>* changed = nullptr);

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodTopologySimplification.h"
 
-#include "slodHugePages.h"
 #include "slodMeshTopology.h"
 #include "slodPolygonTriangulation.h"
 #include "slodSpbmFinalCollapses.h"
@@ -1630,9 +1629,7 @@ struct CleanedSurface
 void CollectCleaned(const Simplification& run, const TriangleMesh& current, const std::vector<unsigned char>& currentFill,
   const std::vector<double>& points, CleanedSurface& cleaned)
 {
-  // Within the capacity of the previous pass's copy; on huge pages: the completion's merging runs
-  // read the points at random (session 37).
-  CopyOnHugePages(cleaned.Mesh.Points, points);
+  cleaned.Mesh.Points = points; // within the capacity of the previous pass's copy
   cleaned.Mesh.Triangles.clear();
   cleaned.Labels.clear();
   cleaned.Fill.clear();

@@ -30,9 +30,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -109,57 +106,6 @@ TEST(MeshTopology, OpenDiskHasOneBoundaryLoop)
   ASSERT_TRUE(topology.IsBoundaryVertex(border));
   ASSERT_TRUE(topology.OrderedOneRing(disk, border, ring, fan));
   EXPECT_EQ(ring.size(), fan.size() + 1);
-}
-
-// The largest block asked of operator new while LargestAllocationWatch::Active (this test program
-// replaces the global operator new; the library's allocations come here too).
-namespace LargestAllocationWatch
-{
-std::atomic<bool> Active{ false };
-std::atomic<size_t> Largest{ 0 };
-}
-
-void* operator new(size_t bytes)
-{
-  if (LargestAllocationWatch::Active.load(std::memory_order_relaxed))
-  {
-    size_t seen = LargestAllocationWatch::Largest.load(std::memory_order_relaxed);
-    while (bytes > seen && !LargestAllocationWatch::Largest.compare_exchange_weak(seen, bytes))
-    {
-    }
-  }
-  if (void* block = std::malloc(bytes == 0 ? 1 : bytes))
-  {
-    return block;
-  }
-  throw std::bad_alloc();
-}
-
-void operator delete(void* block) noexcept
-{
-  std::free(block);
-}
-
-// An open surface has more than 1.5 edges per triangle (half its border edges more): the edge
-// array must be sized to them, not grown past a guess of 1.5 by doubling (a copy into a block
-// twice the size: a fresh mapping on every first build of a 4M-triangle scan's topology). No
-// block the build asks for is then larger than the largest array the topology holds.
-TEST(MeshTopology, OpenSurfaceBuildAllocatesNoGrowthRoom)
-{
-  for (int rings : { 1, 3, 12 })
-  {
-    const TriangleMesh disk = Disk(rings, 40);
-    MeshTopology topology;
-    LargestAllocationWatch::Largest = 0;
-    LargestAllocationWatch::Active = true;
-    topology.Build(disk);
-    LargestAllocationWatch::Active = false;
-    const MeshStatistics s = topology.Statistics(disk);
-    EXPECT_EQ(s.BoundaryEdges, 40);
-    const size_t edgeIndices = 2 * size_t(topology.NumberOfEdges());
-    ASSERT_GT(edgeIndices, disk.Triangles.size()) << "more than 1.5 edges per triangle";
-    EXPECT_EQ(LargestAllocationWatch::Largest.load(), edgeIndices * sizeof(Index)) << rings << " rings";
-  }
 }
 
 TEST(MeshTopology, TwoComponents)
