@@ -1004,6 +1004,7 @@ private:
   std::vector<unsigned char> Pinned;   // per vertex: kept exactly in place (see PinnedVertices); empty when none
   long long Updates = 0;               // triangles re-costed by Update (it ends a look-ahead)
   long long KeysAheadTaken = 0;        // collapses re-keyed from KeysBeforeCollapse's keys
+  long long KeyUpdates = 0;            // queue keys rewritten after collapses (TriangleCollapseResult)
   LookAhead* WorkerAhead = nullptr;    // the look-ahead beside the loop (ended before a retry)
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
@@ -1747,7 +1748,10 @@ void TriangleCollapser::UpdateAround(Index kept)
 {
   if (!this->CacheEdges)
   {
-    this->Mesh.ForEachTriangle(kept, [&](Index s) { this->Update(s); });
+    this->Mesh.ForEachTriangle(kept, [&](Index s) {
+      this->Update(s);
+      ++this->KeyUpdates;
+    });
     return;
   }
   this->AroundKeys(kept, this->AroundScratch, this->AroundKeyScratch, this->Spokes);
@@ -1833,6 +1837,7 @@ void TriangleCollapser::AroundKeys(
 
 void TriangleCollapser::RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys)
 {
+  this->KeyUpdates += static_cast<long long>(around.size());
   // The queue updates come after all the costs, in the same order: each removal swaps in the
   // last entry of its bucket and rewrites that entry's slot (dependent misses at random places),
   // so the chain is prefetched one level at a time for all the triangles before any update.
@@ -4034,6 +4039,8 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
   vtkLogF(TRACE, "triangle collapse: %d collapses, %d rejected, %lld placements replaced, %.2f pops per input triangle",
     int(result.Collapses), int(result.RejectedCollapses), loop.Replaced,
     double(loop.Pops) / std::max<Index>(1, loop.StartTriangles));
+  vtkLogF(TRACE, "triangle collapse: %.2f key updates per collapse (%lld)",
+    double(result.KeyUpdates) / std::max<Index>(1, result.Collapses), result.KeyUpdates);
   const double* phase = loop.PhaseSeconds;
   vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran); select %.3f s, evaluate %.3f s, apply %.3f s",
     loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)),
@@ -4146,6 +4153,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   result.PassesWorkingBytes = std::max(result.PassesWorkingBytes, this->WorkingBytes());
   this->ExtractResult(result);
   this->Stages.Lap("extraction");
+  result.KeyUpdates = this->KeyUpdates;
   this->TraceStatistics(loop, result);
 }
 

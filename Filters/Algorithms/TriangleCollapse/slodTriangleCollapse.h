@@ -234,6 +234,10 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // with its worker beside the loop), and the look-ahead's evaluations made by that worker (the
   // rest by the loop itself; the split depends on timing, the results do not).
   long long LookAheadRegions = 0, LookAheadWorkerEvaluations = 0;
+  // Session 38: the queue keys the loop rewrote after its collapses (strict order and batches; the
+  // pass schedule has no queue). Each collapse re-keys exactly the triangles around its new vertex,
+  // each once, so this is the sum of those fans: the work per collapse, without re-evaluations.
+  long long KeyUpdates = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first

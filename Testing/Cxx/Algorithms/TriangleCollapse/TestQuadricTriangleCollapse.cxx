@@ -411,6 +411,39 @@ TEST(QuadricTriangleCollapse, HoldsLockedFlagsOnlyWhenAVertexIsLocked)
   EXPECT_GE(double(peak[1]) - double(peak[0]), vertices);
 }
 
+// The loop's work per collapse (session 38): a collapse rewrites the queue keys of the triangles
+// around its new vertex, each once, and no others. KeyUpdates must equal the sum of those fans,
+// counted by replaying the records on the input (each fan right after its collapse); a wider
+// update or a triangle keyed twice per collapse would exceed it.
+TEST(QuadricTriangleCollapse, KeyUpdatesAreTheFansOfTheNewVertices)
+{
+  const TriangleMesh sphere = slodtest::Sphere(90, 80);
+  TriangleCollapseOptions options;
+  options.TargetTriangles = sphere.NumberOfTriangles() / 10;
+  options.RecordHistory = true;
+  for (const bool edges : { true, false })
+  {
+    options.EdgeCollapses = edges;
+    TriangleCollapseResult result;
+    TriangleMesh consumed = sphere;
+    SimplifyByTriangleCollapse(consumed, options, result);
+    ASSERT_GT(result.Collapses, 0);
+    ASSERT_EQ(result.History.NumberOfCollapses(), result.Collapses);
+    ASSERT_EQ(result.History.NumberOfFlips(), 0);
+    EditableMesh replay(sphere);
+    CollapseRecord scratch;
+    long long fans = 0;
+    for (Index k = 0; k < result.Collapses; ++k)
+    {
+      result.History.Redo(k, replay, scratch);
+      replay.ForEachTriangle(result.History.Vertices[3 * size_t(k)], [&](Index) { ++fans; });
+    }
+    std::printf("[key updates] edge collapses %s: %.2f per collapse\n", edges ? "on" : "off",
+      double(result.KeyUpdates) / double(result.Collapses));
+    EXPECT_EQ(result.KeyUpdates, fans);
+  }
+}
+
 // After the collapses (the fit, the refinement, the extraction) the working set holds the
 // quadrics of the surviving vertices only, with a 4-byte parent or slot per input vertex, instead
 // of a quadric per input vertex (88 bytes): before session 32 that made the passes the filter's
