@@ -556,12 +556,15 @@ namespace
 inline CollapseStatus MovedCornerStatus(const Vec3 (&corners)[3], int corner, const Vec3& p, const Vec3& oldNormal,
   double oldLength, double oldMinAngle, const CollapseOptions& options)
 {
-  Vec3 q[3] = { corners[0], corners[1], corners[2] };
-  q[corner] = p;
+  // The moved triangle's corners by reference (no copy indexed at run time, which kept the
+  // corners in memory; session 38).
+  const Vec3& q0 = corner == 0 ? p : corners[0];
+  const Vec3& q1 = corner == 1 ? p : corners[1];
+  const Vec3& q2 = corner == 2 ? p : corners[2];
   // The new normal's length is also the degeneracy test's area (computed once).
-  const Vec3 newNormal = Cross(q[1] - q[0], q[2] - q[0]);
+  const Vec3 newNormal = Cross(q1 - q0, q2 - q0);
   const double newLength = Norm(newNormal);
-  if (IsDegenerateWithArea(q[0], q[1], q[2], newLength))
+  if (IsDegenerateWithArea(q0, q1, q2, newLength))
   {
     return CollapseStatus::Degenerate;
   }
@@ -571,7 +574,7 @@ inline CollapseStatus MovedCornerStatus(const Vec3 (&corners)[3], int corner, co
   }
   if (options.MinimumAngle > 0)
   {
-    const double newMinAngle = MinimumAngle(q[0], q[1], q[2]);
+    const double newMinAngle = MinimumAngle(q0, q1, q2);
     if (newMinAngle < options.MinimumAngle && newMinAngle < oldMinAngle)
     {
       return CollapseStatus::BadShape;
