@@ -687,8 +687,9 @@ Index SpbmLevelGenerator::PatchDeviationsFromVertices(
 namespace
 {
 // EstimateDeviation's running tally: the largest squared distance of every sample and, when some
-// of the farthest input vertices are left out, the `Keep` largest vertex distances (a min-heap)
-// and the largest of the other samples. A query is bounded by what can still change a result.
+// of the farthest input samples are left out, the `Keep` largest distances of the input's samples
+// (vertices and strided centroids; a min-heap) and the largest of the level's own samples. A query
+// is bounded by what can still change a result.
 class DeviationTally
 {
 public:
@@ -698,23 +699,23 @@ public:
     this->Largest.reserve(keep);
   }
   // Samples within this (squared) distance change nothing.
-  double Bound2(bool vertex) const
+  double Bound2(bool inputSample) const
   {
     if (this->Keep == 0)
     {
       return this->Worst2;
     }
     const double kept = this->Largest.size() == this->Keep ? this->Largest.front() : 0.0;
-    return vertex ? kept : std::max(this->Other2, kept);
+    return inputSample ? kept : std::max(this->Other2, kept);
   }
-  void Add(double d2, bool vertex)
+  void Add(double d2, bool inputSample)
   {
     this->Worst2 = std::max(this->Worst2, d2);
     if (this->Keep == 0)
     {
       return;
     }
-    if (!vertex)
+    if (!inputSample)
     {
       this->Other2 = std::max(this->Other2, d2);
       return;
@@ -738,7 +739,7 @@ public:
 
 private:
   const size_t Keep; // 0: no vertex left out (one running maximum)
-  double Other2 = 0; // centroids and the level's own samples
+  double Other2 = 0; // the level's own samples (and, with none left out, the centroids)
   std::vector<double> Largest;
 };
 }
@@ -763,13 +764,13 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
   DeviationTally tally(leaveOut ? size_t(farthestLeftOut) + 1 : 0);
   // Only samples farther than the current worst matter: a query bounded by it prunes most of the
   // tree and finds nothing exactly when the sample is farther (then measure it).
-  const auto sample = [&](const Vec3& q, bool vertex) {
-    const double bound2 = tally.Bound2(vertex);
+  const auto sample = [&](const Vec3& q, bool inputSample) {
+    const double bound2 = tally.Bound2(inputSample);
     if (bound2 > 0 && bvh.ClosestPoint(q, bound2).Triangle != InvalidIndex)
     {
       return;
     }
-    tally.Add(bvh.ClosestPoint(q).Distance2, vertex);
+    tally.Add(bvh.ClosestPoint(q).Distance2, inputSample);
   };
   for (Index t = 0; t < nt; t += stride)
   {
@@ -779,7 +780,9 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
     {
       sample(a, true);
     }
-    sample((1.0 / 3.0) * (a + b + c), false);
+    // A centroid is a sample of the input like a vertex: next to the farthest vertices it is as far
+    // (noisy388's level: 1.11x the bound at one centroid, 0.87x without the 99 farthest vertices).
+    sample((1.0 / 3.0) * (a + b + c), leaveOut);
   }
   if (beyond)
   {

@@ -88,8 +88,8 @@ constexpr double FinerLevelStridedShare = 0.5;
 // level, whose strided samples read 0.65 of that trigger (every vertex: 0.78); the levels above the
 // trigger read at least 0.71 of it strided (the CGAL meshes at 10%: fold).
 constexpr double TolerantStridedShare = 0.7;
-// Issue 10 (session 38): the trigger measures the level with this share of the input's vertices,
-// the farthest from it, left out (none below 10,000 vertices). On a noisy scan the distances of the
+// Issue 10 (session 38): the trigger measures the level with as many of the input's samples as this
+// share of its vertices, the farthest from it, left out (none below 10,000 vertices). On a noisy scan the distances of the
 // vertices from the level follow the same distribution at every sampling density (noisy137 to
 // noisy546: mean 0.15, 99.99th percentile 0.86-0.87 of the bound), but their largest grows with
 // the number of vertices (0.99 / 0.96 / 1.12 / 1.20 at 0.25M / 1M / 2M / 4M triangles: a few
@@ -637,7 +637,7 @@ bool vtkPatchBoundaryMerge::Cache::CollapseFinerLevel(
   self->LevelDeviationShare = deviation / bound;
   self->LevelTailDeviationShare = tail / bound;
   this->LevelDeviation = deviation;
-  vtkLogF(TRACE, "[spbm] level deviation %.3gx the thickness bound as given, %.3gx without the %d farthest vertices "
+  vtkLogF(TRACE, "[spbm] level deviation %.3gx the thickness bound as given, %.3gx without the %d farthest samples "
     "(trigger %.3gx)", deviation / bound, tail / bound, int(leftOut), share);
   if (!(tail > trigger))
   {
