@@ -333,9 +333,13 @@ public:
   // often sits, and a strided sample misses them; O(input vertices) bounded queries).
   // With `beyond` (and everyVertex), also each input vertex's distance from the level where it is
   // beyond `allowance` (0 elsewhere), for PatchDeviationsFromVertices, in the same pass; the
-  // estimate is the same.
+  // estimate is the same. With `withoutFarthest` (and everyVertex), also the estimate with the
+  // `farthestLeftOut` input samples (vertices, strided centroids) farthest from the level left
+  // out: the tail of their distances, which does not grow with the sampling density of a noisy
+  // surface as the largest does (the same estimate when none is left out).
   double EstimateDeviation(const SpbmLevel& level, Index samples = 3000, bool everyVertex = false,
-    std::vector<float>* beyond = nullptr, double allowance = 0) const;
+    std::vector<float>* beyond = nullptr, double allowance = 0, Index farthestLeftOut = 0,
+    double* withoutFarthest = nullptr) const;
   // Per patch of the patchification, the largest distance of its triangles' vertices from `level`
   // where that is beyond `allowance` (0 elsewhere): where the level misses what its patches allow.
   // One query per input vertex, bounded by `allowance` (most end there). Returns the number of

@@ -107,12 +107,14 @@ public:
   /// plane-distance cap, 1/2 of the thickness bound as given, plus the noise tolerance: 1/2 of the
   /// bound without one, 2x the deviation expected of any simplification to that count with
   /// PatchDeviationFactor 4; the whole bound with the automatic one of coarse targets; session 36,
-  /// was 1/2 or, on patches a noise tolerance grew over a quarter of the input, 1.5x), a level of
+  /// was 1/2 or, on patches a noise tolerance grew over a quarter of the input, 1.5x; measured
+  /// without the farthest 1/10,000 of the input's vertices since session 38, so that a noisy
+  /// scan's extreme samples do not decide it at one sampling density and not at another), a level of
   /// 1.5x the target is made from patches grown for that count and brought down to the target by
   /// the final collapses (quadric order); the level with the smaller deviation (every input vertex
   /// sampled) is kept. FinalCollapseCount then counts its collapses; FinerLevelTried says whether
   /// the finer level was made and LevelDeviationShare what the level deviated (over the thickness
-  /// bound as given, -1 when not measured).
+  /// bound as given, -1 when not measured; LevelTailDeviationShare the same without those vertices).
   vtkSetMacro(CollapseFinerLevelForTarget, bool);
   vtkGetMacro(CollapseFinerLevelForTarget, bool);
   vtkBooleanMacro(CollapseFinerLevelForTarget, bool);
@@ -287,6 +289,9 @@ public:
   vtkGetMacro(FinalCollapseCount, vtkIdType);     // FinalCollapses performed
   vtkGetMacro(FinerLevelTried, bool);             // CollapseFinerLevelForTarget made its level
   vtkGetMacro(LevelDeviationShare, double);       // of the target's level, over the bound as given
+  // The same without the farthest 1/10,000 of the input's vertices (what the finer level's trigger
+  // compares; -1 when only the strided samples were measured).
+  vtkGetMacro(LevelTailDeviationShare, double);
   vtkGetMacro(RegionRefinedPatches, vtkIdType);   // RefineDeviatingRegions' patches in the kept level
   vtkGetMacro(PatchificationReused, bool);        // the cache was hit
   vtkGetMacro(PatchificationTime, double);        // seconds (input preparation + patches + hierarchy)
@@ -336,6 +341,7 @@ protected:
   vtkIdType FinalCollapseCount = 0;
   bool FinerLevelTried = false;
   double LevelDeviationShare = -1.0;
+  double LevelTailDeviationShare = -1.0;
   vtkIdType RegionRefinedPatches = 0;
   bool PatchificationReused = false;
   double PatchificationTime = 0.0;

@@ -2607,6 +2607,35 @@ TEST(PatchBoundaryMerge, FinerLevelOnlyWhereTheLevelDeviatesBeyondItsPatches)
   EXPECT_LE(LevelHausdorffRatioToQuadric("horizons", horizons, 0.9), 3.0);
 }
 
+// Issue 10 (session 38): the finer level's trigger decides by the surface, not by how densely it
+// is sampled. The same noisy scan (the default seed) at two resolutions, 4x the triangles apart, to
+// 10%: the level's vertex distances follow the same distribution, but the largest of them grows
+// with the number of vertices (a few extreme noise samples), and the whole-level finer level must
+// not be made at one density and not at the other; on the scan's noise it is not made at all.
+TEST(PatchBoundaryMerge, FinerLevelTriggerDoesNotFollowTheSamplingDensity)
+{
+  bool tried[2] = { true, true };
+  const int resolutions[2] = { 68, 137 };
+  for (int i = 0; i < 2; ++i)
+  {
+    SCOPED_TRACE(resolutions[i]);
+    vtkNew<vtkScanSurfaceSource> source;
+    source->SetKindToNoisyIsosurface();
+    source->SetResolution(resolutions[i]);
+    source->Update();
+    vtkNew<vtkPatchBoundaryMerge> filter;
+    filter->SetInputData(source->GetOutput());
+    filter->SetTargetReduction(0.9);
+    filter->Update();
+    tried[i] = filter->GetFinerLevelTried();
+    const vtkIdType target = source->GetOutput()->GetNumberOfPolys() / 10;
+    EXPECT_LE(std::abs(filter->GetOutput()->GetNumberOfPolys() - target), target / 50 + 2);
+  }
+  EXPECT_EQ(tried[0], tried[1]);
+  EXPECT_FALSE(tried[0]);
+  EXPECT_FALSE(tried[1]);
+}
+
 // Issue 15 (session 37): RefineDeviatingRegions. A flat square with one Gaussian bump in a corner
 // at 10%: the whole level deviates less than its patches' allowance with the coarse target's noise
 // tolerance (the finer level of CollapseFinerLevelForTarget is not made), but the bump's vertices
