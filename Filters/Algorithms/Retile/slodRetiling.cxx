@@ -810,7 +810,10 @@ void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, Fea
   if (2 * static_cast<Index>(features.Kept.size()) >= options.NumberOfPoints)
   {
     result.FeaturesIgnored = !features.Kept.empty();
-    creaseLines.swap(features.LineNeighbors); // too fine to keep, slid along
+    if (options.SlideAlongCreases)
+    {
+      creaseLines.swap(features.LineNeighbors); // too fine to keep, slid along
+    }
     features = FeatureLines();
     return;
   }
@@ -820,7 +823,10 @@ void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, Fea
   // CAD creases 0-12%), so none are kept, silently: it is the default.
   if (2 * features.Corners > static_cast<Index>(features.Kept.size()))
   {
-    creaseLines.swap(features.LineNeighbors);
+    if (options.SlideAlongCreases)
+    {
+      creaseLines.swap(features.LineNeighbors); // held otherwise: the MRI's lines are 52 MB
+    }
     features = FeatureLines();
     return;
   }

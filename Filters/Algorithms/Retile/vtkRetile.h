@@ -117,8 +117,8 @@ public:
   vtkSetMacro(RepairFlippedTiles, bool);
   vtkGetMacro(RepairFlippedTiles, bool);
   vtkBooleanMacro(RepairFlippedTiles, bool);
-  // Candidates standing on an input crease move only along it, in the repulsion and the repair
-  // (slod::RetilingOptions::SlideAlongCreases; with PreserveCreases).
+  // Candidates standing on a crease of a feature line that is not kept move only along it in the
+  // repair (slod::RetilingOptions::SlideAlongCreases; with PreserveCreases). Off by default.
   vtkSetMacro(SlideAlongCreases, bool);
   vtkGetMacro(SlideAlongCreases, bool);
   vtkBooleanMacro(SlideAlongCreases, bool);
