@@ -380,7 +380,7 @@ bool TileRepair::MoveToFirstAccepted(Index v, const std::vector<Index>& star, co
   for (int i = 0; i < count; ++i)
   {
     ClosestPointResult c;
-    if (this->ProjectTarget(start, startReference, targets[i], c) && this->KeepMoveIfAccepted(v, c, star))
+    if (this->ProjectTarget(v, start, startReference, targets[i], c) && this->KeepMoveIfAccepted(v, c, star))
     {
       return true;
     }
@@ -391,10 +391,17 @@ bool TileRepair::MoveToFirstAccepted(Index v, const std::vector<Index>& star, co
 }
 
 // `target`'s closest point on the original surface, on a sheet facing `reference`'s way (false
-// when it faces the other way: the vertex would change sheets in a thin part).
-bool TileRepair::ProjectTarget(const Vec3& start, const Vec3& reference, const Vec3& target, ClosestPointResult& c) const
+// when it faces the other way: the vertex would change sheets in a thin part). A vertex v on a
+// crease (AlongCrease) goes along the crease instead.
+bool TileRepair::ProjectTarget(
+  Index v, const Vec3& start, const Vec3& reference, const Vec3& target, ClosestPointResult& c) const
 {
   ++this->DistanceQueries;
+  if (this->AlongCrease && this->AlongCrease(v, start, target, reference, c))
+  {
+    // A crease vertex moves along its crease only (a move across it has no part left).
+    return c.Distance2 > 0 && Dot(this->Input.TriangleAreaVector(c.Triangle), reference) > 0;
+  }
   // start lies on the original surface: the closest point is no further from the query (pruned).
   const Vec3 step = target - start;
   c = this->InputBVH.ClosestPoint(target, Dot(step, step) * (1.0 + 1e-6));
@@ -599,7 +606,7 @@ bool TileRepair::RelocateInto(Index v, int tile, const std::vector<Index>& star)
   const Vec3 centroid =
     (1.0 / 3.0) * (this->Edit.Point(corners[0]) + this->Edit.Point(corners[1]) + this->Edit.Point(corners[2]));
   ClosestPointResult c;
-  if (flipped && this->ProjectTarget(start, startReference, centroid, c) && this->KeepsPoint(start, v, c.Point, star) &&
+  if (flipped && this->ProjectTarget(v, start, startReference, centroid, c) && this->KeepsPoint(start, v, c.Point, star) &&
     this->KeepMoveIfAccepted(v, c, star))
   {
     for (Index t : star)

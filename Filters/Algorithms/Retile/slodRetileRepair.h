@@ -81,6 +81,11 @@ struct SURFACELODFILTERS_EXPORT TileRepair
   // What the original surface faces at `position` on its triangle `triangle` (a moved vertex's
   // new reference normal).
   std::function<Vec3(const Vec3& position, Index triangle)> NormalAt;
+  // Optional (issue 15): when v stands on an input crease, sets c to where its move from `start`
+  // toward `target` ends when it slides along the crease (CreasePolylines::Slide; c.Triangle a
+  // triangle of that crease facing `reference` most) and returns true; v then never leaves it.
+  std::function<bool(Index v, const Vec3& start, const Vec3& target, const Vec3& reference, ClosestPointResult& c)>
+    AlongCrease;
   // Called after vertex v moved to `position` on input triangle `triangle`.
   std::function<void(Index v, const Vec3& position, Index triangle)> Moved;
   // Optional: each flip of edge (x, y) as the pair (-1 - x, y), as step 6 records them.
@@ -179,7 +184,7 @@ private:
   bool HasOpposedRingEdge(Index v, const std::vector<Index>& star) const;
   bool KeepsPoint(const Vec3& point, Index v, const Vec3& position, const std::vector<Index>& star);
   bool RelocateInto(Index v, int tile, const std::vector<Index>& star);
-  bool ProjectTarget(const Vec3& start, const Vec3& reference, const Vec3& target, ClosestPointResult& c) const;
+  bool ProjectTarget(Index v, const Vec3& start, const Vec3& reference, const Vec3& target, ClosestPointResult& c) const;
   bool KeepMoveIfAccepted(Index v, const ClosestPointResult& c, const std::vector<Index>& star);
   bool MoveToFirstAccepted(Index v, const std::vector<Index>& star, const Vec3* targets, int count);
   bool RepairTriangle(Index t);

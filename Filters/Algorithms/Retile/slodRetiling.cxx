@@ -5,6 +5,7 @@
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodPointGrid.h"
+#include "slodRetileCreases.h"
 #include "slodRetileFeatures.h"
 #include "slodRetileRepair.h"
 #include "slodRetileRing.h"
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <numeric>
 
 namespace slod
@@ -767,6 +769,8 @@ struct CoarserLevel
   std::vector<Index> PinnedTo;
   // Feature lines (PreserveCreases; null: none): per input vertex, its neighbours along a line.
   const std::vector<std::vector<Index>>* Lines = nullptr;
+  // The creases candidates slide along in the repair (SlideAlongCreases; null: none).
+  const CreasePolylines* Creases = nullptr;
 
   bool IsPinned(Index i) const { return !this->PinnedTo.empty() && this->PinnedTo[i] != InvalidIndex; }
 };
@@ -791,9 +795,11 @@ std::vector<unsigned char> LineVertexFlags(const FeatureLines& features)
 // PreserveCreases: the corners and samples of the feature lines as the first points, pinned to
 // their input vertex (kept as they are, like a coarser level's vertices), at the spacing the free
 // points will have. Lines needing half the vertices or more are finer than the re-tiling can
-// follow: then none are kept (FeaturesIgnored); nor when most of their vertices are corners.
+// follow: then none are kept (FeaturesIgnored); nor when most of their vertices are corners. The
+// lines not kept are handed out in `creaseLines` (SlideAlongCreases).
 void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, FeatureLines& features,
-  std::vector<SurfacePoint>& points, CoarserLevel& fixedPoints, RetilingResult& result)
+  std::vector<SurfacePoint>& points, CoarserLevel& fixedPoints, RetilingResult& result,
+  std::vector<std::vector<Index>>& creaseLines)
 {
   double area = 0;
   for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
@@ -804,6 +810,10 @@ void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, Fea
   if (2 * static_cast<Index>(features.Kept.size()) >= options.NumberOfPoints)
   {
     result.FeaturesIgnored = !features.Kept.empty();
+    if (options.SlideAlongCreases)
+    {
+      creaseLines.swap(features.LineNeighbors); // too fine to keep, slid along
+    }
     features = FeatureLines();
     return;
   }
@@ -813,6 +823,10 @@ void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, Fea
   // CAD creases 0-12%), so none are kept, silently: it is the default.
   if (2 * features.Corners > static_cast<Index>(features.Kept.size()))
   {
+    if (options.SlideAlongCreases)
+    {
+      creaseLines.swap(features.LineNeighbors); // held otherwise: the MRI's lines are 52 MB
+    }
     features = FeatureLines();
     return;
   }
@@ -856,9 +870,16 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   std::vector<SurfacePoint> points, added;
   FeatureLines features;
   CoarserLevel fixedPoints;
+  std::vector<std::vector<Index>> creaseLines;
   if (options.PreserveCreases)
   {
-    FeaturePoints(mesh, options, features, points, fixedPoints, result);
+    FeaturePoints(mesh, options, features, points, fixedPoints, result, creaseLines);
+  }
+  std::unique_ptr<CreasePolylines> creases;
+  if (options.SlideAlongCreases && !creaseLines.empty())
+  {
+    creases.reset(new CreasePolylines(mesh, creaseLines));
+    fixedPoints.Creases = creases.get();
   }
   std::vector<double> density;
   if (options.FilletDensity)
@@ -1798,9 +1819,11 @@ constexpr int FlippedRepairRounds = 4;
 Index RepairTiles(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
   const OldVertexRemoval& removal, const std::vector<unsigned char>& movable, EditableMesh& edit,
   std::vector<Vec3>& reference, std::vector<Index>* record,
-  const std::function<void(Index, const Vec3&, Index)>& moved, int flippedRounds = 0)
+  const std::function<void(Index, const Vec3&, Index)>& moved, int flippedRounds = 0,
+  const decltype(TileRepair::AlongCrease)& alongCrease = nullptr)
 {
   TileRepair repair(edit, reference, mesh, bvh, movable);
+  repair.AlongCrease = alongCrease;
   repair.IsFixedEdge = [&](Index x, Index y) { return removal.IsLineEdge(x, y); };
   repair.NormalAt = [&](const Vec3& position, Index t) {
     const Index* tri = mesh.Triangle(t);
@@ -1911,6 +1934,36 @@ void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoin
   }
 }
 
+// Candidates nudged inside their triangle (MoveCandidatesInside) stand this far from a side they
+// were on (a barycentric coordinate).
+constexpr double NudgedOnCreaseTolerance = 1.5e-4;
+
+// The repair's AlongCrease for candidate v (v - n0 in `points`, its host): slides along the
+// crease it stands on; none without creases.
+decltype(TileRepair::AlongCrease) AlongCreaseOf(
+  const CreasePolylines* creases, const std::vector<SurfacePoint>& points, Index n0)
+{
+  if (!creases)
+  {
+    return nullptr;
+  }
+  return [creases, &points, n0](
+           Index v, const Vec3& start, const Vec3& target, const Vec3& reference, ClosestPointResult& c) {
+    if (v < n0 || v - n0 >= static_cast<Index>(points.size()))
+    {
+      return false;
+    }
+    const Index host = points[v - n0].Triangle;
+    const Index s = creases->SegmentAt(host, start, NudgedOnCreaseTolerance);
+    if (s == InvalidIndex)
+    {
+      return false;
+    }
+    c = creases->Slide(s, start, target - start, reference);
+    return true;
+  };
+}
+
 // Steps 4-6 on given candidate points (their positions may be adjusted: moved strictly inside
 // their triangle). Keeps the spacing figures already in result.
 void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vector<SurfacePoint>& points,
@@ -1983,7 +2036,7 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
       const Vec3 w = Barycentric(position, mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]));
       std::copy(w.begin(), w.end(), &bary[3 * size_t(v - n0)]);
     },
-    options.RepairFlippedTiles ? FlippedRepairRounds : 0);
+    options.RepairFlippedTiles ? FlippedRepairRounds : 0, AlongCreaseOf(coarser.Creases, points, n0));
   vtkLogEndScope("retile-repair");
   if (!ReportProgress(options, 0.97))
   {

@@ -83,6 +83,12 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   // when the flipped tiles around it become fewer and needles and folds do not (session 37,
   // TileRepair::RunFlipped). The vertex count does not change. Retile's finest level only.
   bool RepairFlippedTiles = true;
+  // Candidates standing on an input crease move only along it in the repair and its final stage
+  // (slodRetileCreases.h), instead of to the closest point of the surface. The creases are the
+  // feature lines PreserveCreases detects but does not keep (they would take half the vertices
+  // or more, or are mostly corners); a kept line has its own vertices, and a candidate held on it
+  // left needles. Not in the repulsion: measured worse there (Documentation/Retile.md, session 38).
+  bool SlideAlongCreases = false;
   // Optional: per input vertex, 1 when non-manifold (the input preparation's
   // PreparationReport::NonManifoldVertexFlags); computed when null. These vertices are kept as
   // they are (retained old vertices): the removal's link condition assumes one fan per vertex.

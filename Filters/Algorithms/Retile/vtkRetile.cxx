@@ -496,6 +496,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
   options.RetriangulateRings = this->RetriangulateRings;
   options.RingSearchFacesInput = this->RingSearchFacesInput;
   options.RepairFlippedTiles = this->RepairFlippedTiles;
+  options.SlideAlongCreases = this->SlideAlongCreases;
   options.FeatureAngle = this->FeatureAngle;
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
@@ -610,6 +611,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RetriangulateRings: " << this->RetriangulateRings << "\n";
   os << indent << "RingSearchFacesInput: " << this->RingSearchFacesInput << "\n";
   os << indent << "RepairFlippedTiles: " << this->RepairFlippedTiles << "\n";
+  os << indent << "SlideAlongCreases: " << this->SlideAlongCreases << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";
   os << indent << "NumberOfCorners: " << this->NumberOfCorners << "\n";

@@ -117,6 +117,11 @@ public:
   vtkSetMacro(RepairFlippedTiles, bool);
   vtkGetMacro(RepairFlippedTiles, bool);
   vtkBooleanMacro(RepairFlippedTiles, bool);
+  // Candidates standing on a crease of a feature line that is not kept move only along it in the
+  // repair (slod::RetilingOptions::SlideAlongCreases; with PreserveCreases). Off by default.
+  vtkSetMacro(SlideAlongCreases, bool);
+  vtkGetMacro(SlideAlongCreases, bool);
+  vtkBooleanMacro(SlideAlongCreases, bool);
   vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
   vtkGetMacro(FeatureAngle, double);
 
@@ -160,6 +165,7 @@ protected:
   bool RetriangulateRings = false;
   bool RingSearchFacesInput = false;
   bool RepairFlippedTiles = true;
+  bool SlideAlongCreases = false;
   double FeatureAngle = 45.0;
   bool GenerateNestedLevels = false;
   int NumberOfNestedLevels = 3;

@@ -9,6 +9,7 @@
 #include "slodFilterContract.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
+#include "slodRetileCreases.h"
 #include "slodRetileFeatures.h"
 #include "slodRetileRepair.h"
 #include "slodRetileRing.h"
@@ -1397,6 +1398,112 @@ TEST(Retile, RepairMovesAVertexIntoItsStarsKernel)
   EXPECT_NEAR(moved[2], 0.0, 1e-12);  // on the input
   EXPECT_EQ(edit.Point(0), moved);
   EXPECT_TRUE(edit.CheckInvariants());
+}
+
+namespace
+{
+// The notched star of RepairMovesAVertexIntoItsStarsKernel laid on a shallow fold (the input: a
+// grid bent along y = 0.5, its two halves rising at 25 degrees, so its normals turn by 50 degrees
+// there: a crease at the feature angle 45), v and the notch's tip on the crease, the ring's other
+// side made uneven so that the kernel's centre lies off the crease. Repairs the two tiles facing
+// down by moving v only (with the crease slide when `slide`); returns where v went.
+Vec3 RepairOnAFoldedNotchedStar(bool slide, int& facingDownAfter, Index& moves)
+{
+  const double slope = std::tan(25.0 * std::acos(-1.0) / 180.0);
+  auto fold = [slope](double x, double y) { return Vec3{ x, y, slope * std::fabs(y - 0.5) }; };
+  const TriangleMesh grid = slodtest::Grid(64, 64);
+  TriangleMesh input;
+  for (Index v = 0; v < grid.NumberOfPoints(); ++v)
+  {
+    input.AddPoint(fold(grid.Point(v)[0], grid.Point(v)[1]));
+  }
+  for (Index t = 0; t < grid.NumberOfTriangles(); ++t)
+  {
+    input.AddTriangle(grid.Triangle(t)[0], grid.Triangle(t)[1], grid.Triangle(t)[2]);
+  }
+  const TriangleBVH bvh(input);
+  FeatureLines features;
+  DetectFeatureLines(input, 45.0, 0.0, features);
+  const CreasePolylines creases(input, features.LineNeighbors);
+  EXPECT_EQ(creases.NumberOfSegments(), 64); // the fold's 64 edges, not the border's
+  TriangleMesh star;
+  const double pi = std::acos(-1.0);
+  star.AddPoint(fold(0.7, 0.5)); // v, on the crease right of the notch
+  std::vector<double> angles;
+  for (int degrees = -60; degrees <= 60; degrees += 10)
+  {
+    angles.push_back(degrees);
+  }
+  for (int degrees : { 100, 150, 200, 250 })
+  {
+    angles.push_back(degrees);
+  }
+  for (double degrees : angles)
+  {
+    const double radius = degrees == 0 ? 0.12 : 0.4, angle = degrees * pi / 180.0;
+    star.AddPoint(fold(0.5 + radius * std::cos(angle), 0.5 + radius * std::sin(angle)));
+  }
+  const Index ring = static_cast<Index>(angles.size());
+  for (Index i = 0; i < ring; ++i)
+  {
+    star.AddTriangle(0, 1 + i, 1 + (i + 1) % ring);
+  }
+  EditableMesh edit(star);
+  std::vector<Vec3> reference;
+  for (Index v = 0; v < star.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = star.Point(v);
+    reference.push_back(Normalized(Vec3{ 0, p[1] > 0.5 ? -slope : (p[1] < 0.5 ? slope : 0.0), 1 }));
+  }
+  std::vector<unsigned char> movable(size_t(star.NumberOfPoints()), 0);
+  movable[0] = 1;
+  EXPECT_EQ(TilesFacingDown(edit), 2);
+  TileRepair repair(edit, reference, input, bvh, movable);
+  repair.NormalAt = [&](const Vec3&, Index t) { return Normalized(input.TriangleAreaVector(t)); };
+  repair.Moved = [](Index, const Vec3&, Index) {};
+  repair.NeedleAngle = 2.0 * pi / 180.0;
+  if (slide)
+  {
+    repair.AlongCrease = [&](Index, const Vec3& start, const Vec3& target, const Vec3& facing, ClosestPointResult& c) {
+      const Index segment = creases.SegmentAt(bvh.ClosestPoint(start).Triangle, start, 1e-9);
+      if (segment != InvalidIndex)
+      {
+        c = creases.Slide(segment, start, target - start, facing);
+      }
+      return segment != InvalidIndex;
+    };
+  }
+  repair.Run(8);
+  EXPECT_TRUE(edit.CheckInvariants());
+  facingDownAfter = TilesFacingDown(edit);
+  moves = repair.Moves;
+  return edit.Point(0);
+}
+} // namespace
+
+// Issue 15, session 38: a vertex standing on a crease moves only along it in the repair
+// (TileRepair::AlongCrease, CreasePolylines). The repair's kernel move takes v where its whole star
+// faces up; projected onto the surface that point lies on one of the fold's faces, so without the
+// slide (base-s38's repair) v leaves the crease; with it v slides along the crease into the wedge
+// behind the notch, which the crease crosses, and the tiles are repaired all the same.
+TEST(Retile, RepairMovesACreaseVertexOnlyAlongItsCrease)
+{
+  int downWithout = 0, downWith = 0;
+  Index movesWithout = 0, movesWith = 0;
+  const Vec3 without = RepairOnAFoldedNotchedStar(false, downWithout, movesWithout);
+  const Vec3 with = RepairOnAFoldedNotchedStar(true, downWith, movesWith);
+  std::printf("[retile] folded notched star: without the slide v at (%.4f, %.4f, %.4f), %d down; with it at "
+              "(%.4f, %.4f, %.4f), %d down\n",
+    without[0], without[1], without[2], downWithout, with[0], with[1], with[2], downWith);
+  // The tip of the notch is at x = 0.62 on the crease: the kernel is behind it.
+  EXPECT_GT(movesWith, 0);
+  EXPECT_EQ(downWith, 0);
+  EXPECT_LT(with[0], 0.62);
+  EXPECT_NEAR(with[1], 0.5, 1e-12); // on the crease: y = 0.5, z = 0
+  EXPECT_NEAR(with[2], 0.0, 1e-12);
+  // The configuration is one where the repair moves v off the crease without the slide.
+  EXPECT_GT(movesWithout, 0);
+  EXPECT_GT(std::fabs(without[1] - 0.5), 1e-6);
 }
 
 // The repair's pair of flips (session 25): a strip of three rows of five points, two of the middle
