@@ -714,7 +714,7 @@ namespace
 // exactly when the sample is farther (then it is measured).
 void RaiseToDistance(const TriangleBVH& bvh, const Vec3& q, double& worst2)
 {
-  if (worst2 > 0 && bvh.ClosestPoint(q, worst2).Triangle != InvalidIndex)
+  if (worst2 > 0 && bvh.AnyWithin(q, worst2))
   {
     return;
   }
@@ -786,7 +786,7 @@ double SpbmLevelGenerator::EstimateDeviation(
     {
       RaiseToDistance(bvh, q, worst2);
     }
-    else if (bvh.ClosestPoint(q, allowance2).Triangle != InvalidIndex)
+    else if (bvh.AnyWithin(q, allowance2))
     {
       if (allowance2 > worst2) // within the allowance, but it may still be the largest so far
       {

@@ -131,8 +131,8 @@ public:
   /// again; also GetRegionInputTriangles / GetRegionRetriangulatedTriangles, -1 when it did not
   /// run). Session 38: the pass goes on from the level's own last pass (the patches untouched by the
   /// refined ones keep their triangles) and the refined level is measured only near the triangles
-  /// that changed: same levels, about half the added cost. Still off by default: +28% CPU on the
-  /// segmentation mask, +59% on the open scan, +16% on mc1m at 10% (PatchBoundaryMerge.md).
+  /// that changed: same levels, about half the added cost. Still off by default: at 10%, +17-28%
+  /// CPU on the segmentation mask, +42-59% on the open scan, +16-24% on mc1m (PatchBoundaryMerge.md).
   vtkSetMacro(RefineDeviatingRegions, bool);
   vtkGetMacro(RefineDeviatingRegions, bool);
   vtkBooleanMacro(RefineDeviatingRegions, bool);
