@@ -459,6 +459,50 @@ ClosestPointResult TriangleBVH::ClosestPoint(const Vec3& query, double maxDistan
   return result;
 }
 
+bool TriangleBVH::AnyWithin(const Vec3& query, double maxDistance2) const
+{
+  if (this->Nodes.empty() || !(maxDistance2 >= 0))
+  {
+    return false;
+  }
+  const double q[3] = { query[0], query[1], query[2] };
+  Index pending[MaxStack];
+  int top = 0;
+  pending[top++] = 0;
+  const Node* nodes = this->Nodes.data();
+  const double* corners = this->Corners.data();
+  while (top > 0)
+  {
+    const Node& node = nodes[pending[--top]];
+    if (BoxDistance2(node.Bounds, q) > maxDistance2)
+    {
+      continue;
+    }
+    if (node.Count > 0)
+    {
+      for (Index i = node.First, e = node.First + node.Count; i < e; ++i)
+      {
+        const double* t = corners + 9 * size_t(i);
+        double p[3];
+        if (ClosestOnTriangle(q, t, t + 3, t + 6, p) <= maxDistance2)
+        {
+          return true;
+        }
+      }
+      continue;
+    }
+    // The nearer child popped first: most queries end in the first leaf they reach.
+    Index nearChild = node.First, farChild = node.First + 1;
+    if (BoxDistance2(nodes[farChild].Bounds, q) < BoxDistance2(nodes[nearChild].Bounds, q))
+    {
+      std::swap(nearChild, farChild);
+    }
+    pending[top++] = farChild;
+    pending[top++] = nearChild;
+  }
+  return false;
+}
+
 bool TriangleBVH::TrianglesNear(const Vec3& query, double radius, size_t limit, std::vector<Index>& triangles) const
 {
   const double q[3] = { query[0], query[1], query[2] };

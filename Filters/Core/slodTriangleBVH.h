@@ -42,6 +42,9 @@ public:
   // the result has Triangle == InvalidIndex (and Distance2 == maxDistance2, or +inf without a bound).
   // Points at exactly maxDistance2 are found.
   ClosestPointResult ClosestPoint(const Vec3& q, double maxDistance2 = -1) const;
+  // Whether some triangle lies within maxDistance2 of q (at exactly it too): the same answer as
+  // ClosestPoint(q, maxDistance2).Triangle != InvalidIndex, ending at the first such triangle.
+  bool AnyWithin(const Vec3& q, double maxDistance2) const;
 
   // Ids of the triangles whose box lies within `radius` of q (a superset of those within the
   // ball) appended to `triangles`; false, with the list incomplete, once more than `limit` are found.

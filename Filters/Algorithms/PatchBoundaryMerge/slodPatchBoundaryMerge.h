@@ -47,6 +47,7 @@
 
 namespace slod
 {
+class DeviationTally; // EstimateDeviation's running tally (slodPatchBoundaryMerge.cxx)
 class TriangleBVH;
 
 struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
@@ -252,6 +253,10 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   Index RetriangulatedPatches = 0; // root patches triangulated from their boundary in the passes after the first
   Index ContextsCompared = 0; // unchanged root patches whose edge context the passes after the first computed
   Index ReusedUntouched = 0;  // unchanged root patches those passes kept without it (ReuseUntouchedPatches)
+  // The generation that made the level (SpbmLevelGenerator's serial): which kept last pass is its.
+  long long Generation = 0;
+  // Triangles those passes made from boundaries (the work of a further pass: the reused ones are not).
+  Index RetriangulatedTriangles = 0;
 };
 
 class SURFACELODFILTERS_EXPORT SpbmLevelGenerator
@@ -307,8 +312,17 @@ public:
   // = marked) kept as their original triangles from the first pass on, as a fallback keeps them
   // (issue 15, session 37: the per-region finer level). The other patches merge as in Generate; a
   // held run of the same parameters is replayed with the marked patches frozen.
+  // With `from` a level whose last triangulation pass is kept (KeepLastPass), the generation goes on
+  // from that pass instead (session 38): one more fallback pass with the marked patches original,
+  // in which every patch untouched by them keeps its triangles (LocalFallbackTriangulation), so its
+  // cost follows the marked share, not the level.
   bool GenerateWithOriginalPatches(const SpbmLevelParameters& parameters, const std::vector<unsigned char>& original,
-    SpbmLevel& level, const std::function<bool()>& abort = nullptr);
+    SpbmLevel& level, const std::function<bool()>& abort = nullptr, const SpbmLevel* from = nullptr);
+  // Whether the levels of the first working state (not the budgeted tries) keep their last
+  // triangulation pass for GenerateWithOriginalPatches (memory: the pass's per-patch records and a
+  // copy of the level); off by default. Dropped by Initialize and by DropKeptPass.
+  void KeepLastPass(bool keep);
+  void DropKeptPass();
 
   // Parameters whose level has about `target` triangles: the number of kept chain vertices (i.e.
   // epsilon) is searched over the stored hierarchy; when even single-segment chains give too
@@ -340,12 +354,19 @@ public:
   double EstimateDeviation(const SpbmLevel& level, Index samples = 3000, bool everyVertex = false,
     std::vector<float>* beyond = nullptr, double allowance = 0, Index farthestLeftOut = 0,
     double* withoutFarthest = nullptr) const;
-  // Per patch of the patchification, the largest distance of its triangles' vertices from `level`
-  // where that is beyond `allowance` (0 elsewhere): where the level misses what its patches allow.
-  // One query per input vertex, bounded by `allowance` (most end there). Returns the number of
-  // patches beyond it.
-  Index PatchDeviationsBeyond(const SpbmLevel& level, double allowance, std::vector<double>& patchDeviation) const;
-  // The same from the per-vertex distances beyond the allowance of EstimateDeviation's `beyond`.
+  // EstimateDeviation(level, samples, true) of a level that differs from `from` in a few places
+  // (issue 15, session 38), `fromBeyond` being EstimateDeviation's `beyond` output for `from` at
+  // `allowance`: the input vertices beyond the allowance from `from` are measured, and of the others
+  // only those within the allowance of a triangle of `from` that `level` does not have (every other
+  // one is still within the allowance of a triangle of both). So the estimate is EstimateDeviation's
+  // whenever that is above the allowance (below it, it may be lower), at the cost of the changed
+  // places. `measured` (optional): the number of vertices measured.
+  double EstimateDeviationNear(const SpbmLevel& level, const SpbmLevel& from, const std::vector<float>& fromBeyond,
+    double allowance, Index samples = 3000, Index* measured = nullptr) const;
+  // Per patch of the patchification, the largest distance of its triangles' vertices from a level
+  // where that is beyond an allowance (0 elsewhere), from the per-vertex distances beyond it of
+  // EstimateDeviation's `beyond`: where the level misses what its patches allow. Returns the number
+  // of patches beyond it.
   Index PatchDeviationsFromVertices(const std::vector<float>& beyond, std::vector<double>& patchDeviation) const;
 
   // Hierarchy key of the i-th vertex of chain c: kept when epsilon < key (infinite at endpoints).
@@ -386,8 +407,15 @@ private:
   // `level` is left without triangles (fallback passes only add triangles); so is one whose first
   // pass leaves patches that fail to triangulate (a budgeted try gets no fallback pass).
   // `original` (when given): patches kept as their original triangles from the first pass on.
+  // `resume` (with `original`): the kept last pass of the level to go on from (GenerateWithOriginalPatches).
+  struct KeptPass;
   bool GenerateIn(const SpbmLevelParameters& parameters, SpbmLevel& level, const std::function<bool()>& abort, State& s,
-    Index budget = 0, const std::vector<unsigned char>* original = nullptr);
+    Index budget = 0, const std::vector<unsigned char>* original = nullptr, KeptPass* resume = nullptr);
+  // EstimateDeviation's samples: the strided ones of the input against `bvh` (over the level; with
+  // `centroidsOnly`, the strided vertices are left to an every-vertex pass), and the level's
+  // largest triangles against the input (when its BVH exists); both add to `tally`.
+  void StridedDeviation(const TriangleBVH& bvh, Index samples, bool centroidsOnly, DeviationTally& tally) const;
+  void LevelSideDeviation(const SpbmLevel& level, DeviationTally& tally) const;
   const TriangleBVH& GetInputTree(StageTimes& times);
   // Stages of Initialize.
   void BuildChainKeys(size_t totalVertices);
@@ -444,6 +472,9 @@ private:
   // Replaces Helper by a fresh working state (its memory returned; SpareState follows it).
   void RenewHelper();
   int SideBySideProbes = 0;
+  long long Generations = 0;          // GenerateIn calls so far (SpbmLevel::Generation)
+  bool KeepPasses = false;            // KeepLastPass
+  std::unique_ptr<KeptPass> LastPass; // the last pass of the latest kept level
   mutable std::mutex LazyMutex;  // guards the lazily built InputTree and PatchSupport
   std::unique_ptr<TriangleBVH> InputTree; // over Mesh, taken or built on first use (non-planar patches)
   std::unique_ptr<TriangleBVH> BuiltTree; // over TreeMesh by BuildInputTreeDuring, not used yet

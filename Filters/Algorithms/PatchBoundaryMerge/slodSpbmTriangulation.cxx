@@ -73,6 +73,26 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
   return true;
 }
 
+void SpbmLevelGenerator::LevelTriangulation::SwapMemory(Memory& memory)
+{
+  std::swap(passesDone, memory.PassesDone);
+  std::swap(touchStamp, memory.TouchStamp);
+  context.swap(memory.Context);
+  for (const auto& flags : { std::make_pair(&failed, &memory.Failed), std::make_pair(&refinedVertex, &memory.RefinedVertex),
+         std::make_pair(&previousFrozen, &memory.PreviousFrozen), std::make_pair(&previousAlive, &memory.PreviousAlive) })
+  {
+    flags.first->swap(*flags.second);
+  }
+  for (const auto& ids : { std::make_pair(&refinedRoots, &memory.RefinedRoots),
+         std::make_pair(&previousRoot, &memory.PreviousRoot), std::make_pair(&previousSize, &memory.PreviousSize),
+         std::make_pair(&previousKeptStart, &memory.PreviousKeptStart),
+         std::make_pair(&previousKept, &memory.PreviousKept), std::make_pair(&touched, &memory.Touched),
+         std::make_pair(&firstCorner, &memory.FirstCorner) })
+  {
+    ids.first->swap(*ids.second);
+  }
+}
+
 // Root patches whose triangles of the pass before cannot be kept (`changed`): those whose set of
 // original patches changed (a replay unmerged or merged them differently), that failed or are
 // kept as original triangles, and both sides of every chain that died, came alive or keeps other
@@ -272,7 +292,7 @@ uint64_t SpbmLevelGenerator::LevelTriangulation::EdgeContext(const Index* vertic
 bool SpbmLevelGenerator::LevelTriangulation::ReusePreviousTriangles(Index p)
 {
   if (changed[p] || p + 1 >= Index(previousFirst.size()) || previousFirst[p] == previousFirst[p + 1] ||
-    p >= Index(context.size()) || context[p] == 0)
+    p >= Index(context.size()))
   {
     return false;
   }
@@ -311,6 +331,12 @@ bool SpbmLevelGenerator::LevelTriangulation::ReusePreviousTriangles(Index p)
   }
   else
   {
+    // A polygon too large for a context (0) is kept only untouched (session 38: most of a coarse
+    // level's triangles are in such polygons, and a further pass kept none of them).
+    if (context[p] == 0)
+    {
+      return false;
+    }
     ++level.ContextsCompared;
     if (this->EdgeContext(polygon.data(), polygon.size(), p) != context[p])
     {
@@ -769,10 +795,12 @@ bool SpbmLevelGenerator::LevelTriangulation::TriangulatePatches(
       this->TouchPatch(p); // triangulated again: its edges may differ from the pass before
     }
     level.RetriangulatedPatches += passesDone > 0;
+    const size_t before = level.TrianglePatch.size();
     if (!this->BoundaryPolygon(p) || !this->TriangulateBoundary(p))
     {
       failed[p] = TriangulationFailure;
     }
+    level.RetriangulatedTriangles += passesDone > 0 ? Index(level.TrianglePatch.size() - before) : 0;
   }
   // The refinement rounds also remove edges: the jobs hold for this walk only.
   aheadJob.clear();

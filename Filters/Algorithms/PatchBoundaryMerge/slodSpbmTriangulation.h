@@ -33,6 +33,19 @@ public:
   // patch went to the first level (unmerged), which only a new merging run can apply.
   bool FreezeFailedPatches(std::vector<unsigned char>& frozen, bool& unmerged);
   void Finish(const std::vector<unsigned char>& frozen);
+  // What a pass leaves for the next one (LocalFallbackTriangulation): kept past the level's
+  // generation, a further pass can go on from it (GenerateWithOriginalPatches, session 38).
+  struct Memory
+  {
+    int PassesDone = 0;
+    Index TouchStamp = 0;
+    std::vector<unsigned char> Failed, RefinedVertex, PreviousFrozen, PreviousAlive;
+    std::vector<Index> RefinedRoots, PreviousRoot, PreviousSize, PreviousKeptStart, PreviousKept, Touched, FirstCorner;
+    std::vector<uint64_t> Context;
+  };
+  // Exchanges the pass memory with `memory`: keeps it after the last pass, or resumes from it
+  // before the first (the level must then hold the kept pass's triangles, with root patch ids).
+  void SwapMemory(Memory& memory);
   // Root patches that failed in the last pass.
   Index FailedPatches() const
   {
@@ -110,7 +123,7 @@ private:
   std::vector<Index> touched, refinedRoots, previousRefinedRoots, previousSize;
   std::vector<unsigned char> checkContext;
   Index touchStamp = 0;
-  // Larger polygons are always triangulated again: the edge context is quadratic in their size.
+  // Larger polygons get no edge context (it is quadratic in their size): kept only untouched.
   static constexpr size_t MaximumReusedBoundary = 64;
   // TriangulateAhead (the first pass): per patch its job or InvalidIndex (`aheadJob`); per job its
   // patch (`aheadPatch`), polygon (aheadVertices[aheadStart[j], aheadStart[j + 1])), whether the triangulation failed,
@@ -129,6 +142,17 @@ private:
   // polygon corner's outgoing chain (or InvalidIndex), its oriented chains, the corner points.
   std::vector<Index> polygon, other, ring, order;
   std::vector<Vec3> points;
+};
+
+// The last pass of a level (SpbmLevelGenerator::KeepLastPass): its triangulation memory, fallback
+// levels and triangles before Finish (root patch ids), for GenerateWithOriginalPatches.
+struct SpbmLevelGenerator::KeptPass
+{
+  long long Generation = 0;
+  SpbmLevelParameters Parameters;
+  std::vector<unsigned char> Frozen;
+  std::vector<Index> Triangles, TrianglePatch;
+  LevelTriangulation::Memory Memory;
 };
 } // namespace slod
 

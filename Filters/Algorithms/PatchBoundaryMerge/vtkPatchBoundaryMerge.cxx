@@ -255,7 +255,7 @@ struct vtkPatchBoundaryMerge::Cache
     vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
   bool RefineRegions(
     vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, const slod::SpbmLevelParameters& level);
-  slod::Index MarkRegions(const slod::SpbmLevel& result, double allowance, std::vector<unsigned char>& original) const;
+  slod::Index MarkRegions(std::vector<unsigned char>& original, vtkIdType& triangles) const;
   slod::SpbmLevelParameters LevelParameters(vtkPatchBoundaryMerge* self) const;
   bool GenerateLevel(
     vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, slod::SpbmLevelParameters& level);
@@ -672,17 +672,13 @@ bool vtkPatchBoundaryMerge::Cache::CollapseFinerLevel(
   return this->GrowPatches(self, topology);
 }
 
-// Marks in `original` the patches whose vertices deviate from `result` beyond `allowance`, the
-// worst first, while their triangles stay within RegionTriangleShare of the input's. Returns the
-// number marked.
-slod::Index vtkPatchBoundaryMerge::Cache::MarkRegions(
-  const slod::SpbmLevel& result, double allowance, std::vector<unsigned char>& original) const
+// Marks in `original` the patches whose vertices deviate from the level beyond the regions'
+// allowance (VertexBeyond), the worst first, while their triangles (`triangles`) stay within
+// RegionTriangleShare of the input's. Returns the number marked.
+slod::Index vtkPatchBoundaryMerge::Cache::MarkRegions(std::vector<unsigned char>& original, vtkIdType& triangles) const
 {
   std::vector<double> patchDeviation;
-  // CollapseFinerLevel's every-vertex estimate measured them already when it ran (the same level).
-  const slod::Index beyond = this->LevelDeviation >= 0 && !this->VertexBeyond.empty()
-    ? this->Generator.PatchDeviationsFromVertices(this->VertexBeyond, patchDeviation)
-    : this->Generator.PatchDeviationsBeyond(result, allowance, patchDeviation);
+  const slod::Index beyond = this->Generator.PatchDeviationsFromVertices(this->VertexBeyond, patchDeviation);
   original.assign(patchDeviation.size(), 0);
   std::vector<std::pair<double, slod::Index>> worst;
   worst.reserve(size_t(beyond));
@@ -695,20 +691,21 @@ slod::Index vtkPatchBoundaryMerge::Cache::MarkRegions(
   }
   std::sort(worst.begin(), worst.end());
   const double budget = RegionTriangleShare * double(this->Mesh.NumberOfTriangles());
-  double triangles = 0;
+  triangles = 0;
   slod::Index marked = 0;
   for (const auto& patch : worst)
   {
-    triangles += double(this->Patches.PatchTriangleCount(patch.second));
-    if (triangles > budget)
+    const vtkIdType more = this->Patches.PatchTriangleCount(patch.second);
+    if (double(triangles + more) > budget)
     {
       break;
     }
+    triangles += more;
     original[size_t(patch.second)] = 1;
     ++marked;
   }
-  vtkLogF(TRACE, "[spbm] %d patches deviate beyond %.4g; %d of them refined (%.0f triangles at most %.0f)", int(beyond),
-    allowance, int(marked), std::min(triangles, budget), budget);
+  vtkLogF(TRACE, "[spbm] %d patches deviate beyond the allowance; %d of them refined (%lld triangles, at most %.0f)",
+    int(beyond), int(marked), (long long)triangles, budget);
   return marked;
 }
 
@@ -720,7 +717,10 @@ slod::Index vtkPatchBoundaryMerge::Cache::MarkRegions(
 // final collapses (quadric order) bring the level back to the target: the collapses take the
 // region's cheapest vertices first, so it ends about as dense as its curvature needs. The level
 // with the smaller deviation (every input vertex) at a count no farther from the target is kept.
-// False when aborted.
+// Session 38: the pass goes on from the level's own last pass (KeepLastPass: only the patches
+// around the marked ones are triangulated again) and the refined level is measured only near the
+// triangles that changed (EstimateDeviationNear): its cost follows the refined share. False when
+// aborted.
 bool vtkPatchBoundaryMerge::Cache::RefineRegions(
   vtkPatchBoundaryMerge* self, vtkIdType target, slod::SpbmLevel& result, const slod::SpbmLevelParameters& level)
 {
@@ -744,8 +744,15 @@ bool vtkPatchBoundaryMerge::Cache::RefineRegions(
   {
     return true;
   }
+  if (this->LevelDeviation < 0 || this->VertexBeyond.empty())
+  {
+    // CollapseFinerLevel's strided check ruled the level out: every vertex now, with the distances
+    // beyond the allowance in the same pass.
+    this->LevelDeviation = this->Generator.EstimateDeviation(result, 3000, true, &this->VertexBeyond, allowance);
+  }
   std::vector<unsigned char> original;
-  const slod::Index marked = this->MarkRegions(result, allowance, original);
+  vtkIdType regionTriangles = 0;
+  const slod::Index marked = this->MarkRegions(original, regionTriangles);
   if (marked == 0)
   {
     return true;
@@ -753,17 +760,22 @@ bool vtkPatchBoundaryMerge::Cache::RefineRegions(
   const vtkIdType collapses = self->FinalCollapseCount;
   slod::SpbmLevel candidate;
   auto abort = [self]() { return self->GetAbortExecute() != 0; };
-  if (!this->Generator.GenerateWithOriginalPatches(level, original, candidate, abort))
+  if (!this->Generator.GenerateWithOriginalPatches(level, original, candidate, abort, &result))
   {
     return false;
   }
+  self->RegionInputTriangles = regionTriangles;
+  self->RegionRetriangulatedTriangles = candidate.RetriangulatedTriangles;
   this->FinishWithCollapses(self, target, candidate);
-  // Measured by CollapseFinerLevel when its strided check did not rule the level out (the same level).
-  const double deviation =
-    this->LevelDeviation >= 0 ? this->LevelDeviation : this->Generator.EstimateDeviation(result, 3000, true);
-  const double candidateDeviation = this->Generator.EstimateDeviation(candidate, 3000, true);
-  vtkLogF(TRACE, "[spbm] %d regions' patches refined: %zu triangles, deviation %.4g (was %.4g)", int(marked),
-    candidate.TrianglePatch.size(), candidateDeviation, deviation);
+  const double deviation = this->LevelDeviation;
+  slod::Index measured = 0;
+  const double candidateDeviation =
+    this->Generator.EstimateDeviationNear(candidate, result, this->VertexBeyond, allowance, 3000, &measured);
+  vtkLogF(TRACE,
+    "[spbm] %d regions' patches refined (%lld input triangles; %lld level triangles triangulated again): %zu "
+    "triangles, deviation %.4g (was %.4g; %d vertices measured)",
+    int(marked), (long long)regionTriangles, (long long)candidate.RetriangulatedTriangles,
+    candidate.TrianglePatch.size(), candidateDeviation, deviation, int(measured));
   if (CandidateWins(target, candidate, candidateDeviation, result, deviation))
   {
     std::swap(result, candidate);
@@ -942,6 +954,26 @@ void vtkPatchBoundaryMerge::ReleaseCache()
   this->Modified();
 }
 
+// RefineDeviatingRegions' field data, only when the refined level is kept (the other outputs stay as
+// they were): the patches, and the work of the pass that refined them.
+void vtkPatchBoundaryMerge::ReportRefinedRegions(vtkPolyData* output) const
+{
+  if (this->RegionRefinedPatches <= 0)
+  {
+    return;
+  }
+  const std::pair<const char*, vtkIdType> values[] = { { "RegionRefinedPatches", this->RegionRefinedPatches },
+    { "RegionInputTriangles", this->RegionInputTriangles },
+    { "RegionRetriangulatedTriangles", this->RegionRetriangulatedTriangles } };
+  for (const auto& value : values)
+  {
+    vtkNew<vtkIdTypeArray> array;
+    array->SetName(value.first);
+    array->InsertNextValue(value.second);
+    output->GetFieldData()->AddArray(array);
+  }
+}
+
 int vtkPatchBoundaryMerge::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -963,6 +995,8 @@ int vtkPatchBoundaryMerge::RequestData(
   this->LevelDeviationShare = -1.0;
   this->LevelTailDeviationShare = -1.0;
   this->RegionRefinedPatches = 0;
+  this->RegionInputTriangles = -1;
+  this->RegionRetriangulatedTriangles = -1;
   this->PatchificationTime = 0;
   this->LevelTime = 0;
 
@@ -1038,6 +1072,8 @@ int vtkPatchBoundaryMerge::RequestData(
   const bool loosen = target > 0 && target < mesh.NumberOfTriangles();
   cache.LevelDeviation = -1;
   cache.VertexBeyond.clear();
+  // RefineRegions goes on from the level's last pass.
+  cache.Generator.KeepLastPass(loosen && this->RefineDeviatingRegions && this->FinalCollapses && cache.RegionsMayFollow(this));
   if (!cache.GenerateLevel(this, target, result, level) || (loosen && !cache.LoosenThickness(this, target, result, level)) ||
     (loosen && !cache.CollapseFinerLevel(this, target, result, level)) ||
     (loosen && !cache.RefineRegions(this, target, result, level)))
@@ -1046,6 +1082,7 @@ int vtkPatchBoundaryMerge::RequestData(
     slod::ReportAbort(this, output); // the level's generation fails only when aborted
     return 1;
   }
+  cache.Generator.KeepLastPass(false); // its memory back
   this->PatchificationReused = this->PatchificationReused && cache.ToleranceScale == previousToleranceScale &&
     cache.ThicknessScale == 1 && cache.NoiseWithheld == previousNoiseWithheld;
   this->PatchToleranceScale = cache.ToleranceScale;
@@ -1067,14 +1104,7 @@ int vtkPatchBoundaryMerge::RequestData(
 
   // 3. Outputs over the original vertices that are used.
   cache.WriteOutputs(this, input, result, output, curves, colored);
-  if (this->RegionRefinedPatches > 0)
-  {
-    // Only when the refined level is kept: the other outputs stay as they were.
-    vtkNew<vtkIdTypeArray> refined;
-    refined->SetName("RegionRefinedPatches");
-    refined->InsertNextValue(this->RegionRefinedPatches);
-    output->GetFieldData()->AddArray(refined);
-  }
+  this->ReportRefinedRegions(output);
   if (target > 0 && target < mesh.NumberOfTriangles())
   {
     slod::SpbmLevelParameters finest = cache.LevelParameters(this);

@@ -128,8 +128,13 @@ public:
   /// generation pass, and the final collapses bring the level back to the target; the level with
   /// the smaller deviation (every input vertex) is kept. RegionRefinedPatches counts the patches so
   /// refined in the kept level (0 otherwise; also the output's field-data array
-  /// "RegionRefinedPatches" when above 0). Off by default: its every-patch re-triangulation and
-  /// every-vertex check cost the segmentation mask and the open scan about half their speed.
+  /// "RegionRefinedPatches" when above 0, with the pass's work: "RegionInputTriangles", the refined
+  /// patches' input triangles, and "RegionRetriangulatedTriangles", the level triangles it made
+  /// again; also GetRegionInputTriangles / GetRegionRetriangulatedTriangles, -1 when it did not
+  /// run). Session 38: the pass goes on from the level's own last pass (the patches untouched by the
+  /// refined ones keep their triangles) and the refined level is measured only near the triangles
+  /// that changed: same levels, about half the added cost. Still off by default: at 10%, +17-28%
+  /// CPU on the segmentation mask, +42-59% on the open scan, +16-24% on mc1m (PatchBoundaryMerge.md).
   vtkSetMacro(RefineDeviatingRegions, bool);
   vtkGetMacro(RefineDeviatingRegions, bool);
   vtkBooleanMacro(RefineDeviatingRegions, bool);
@@ -293,6 +298,10 @@ public:
   // compares; -1 when only the strided samples were measured).
   vtkGetMacro(LevelTailDeviationShare, double);
   vtkGetMacro(RegionRefinedPatches, vtkIdType);   // RefineDeviatingRegions' patches in the kept level
+  // The work of RefineDeviatingRegions' pass (-1 when it did not run): the input triangles of the
+  // patches it made original, and the level triangles it triangulated again (the rest are kept).
+  vtkGetMacro(RegionInputTriangles, vtkIdType);
+  vtkGetMacro(RegionRetriangulatedTriangles, vtkIdType);
   vtkGetMacro(PatchificationReused, bool);        // the cache was hit
   vtkGetMacro(PatchificationTime, double);        // seconds (input preparation + patches + hierarchy)
   vtkGetMacro(LevelTime, double);                 // seconds (search + level generation + output)
@@ -343,6 +352,8 @@ protected:
   double LevelDeviationShare = -1.0;
   double LevelTailDeviationShare = -1.0;
   vtkIdType RegionRefinedPatches = 0;
+  vtkIdType RegionInputTriangles = -1;
+  vtkIdType RegionRetriangulatedTriangles = -1;
   bool PatchificationReused = false;
   double PatchificationTime = 0.0;
   double LevelTime = 0.0;
@@ -354,6 +365,7 @@ private:
 
   struct Cache;
   std::unique_ptr<Cache> Cached;
+  void ReportRefinedRegions(vtkPolyData* output) const;
 };
 
 #endif

@@ -302,6 +302,35 @@ TEST(TriangleBVH, BoundAtOrAboveTheDistanceGivesTheSameTriangle)
   EXPECT_GT(compared, 1000);
 }
 
+// AnyWithin (session 38, SPBM's deviation checks) answers what a bounded ClosestPoint answers
+// (found or not), at the distance itself too: on the Fandisk, queries at offsets of up to 2% of the
+// diagonal, bounds below, at and above each query's distance; the grid's exact case by hand.
+TEST(TriangleBVH, AnyWithinAgreesWithTheBoundedClosestPoint)
+{
+  const TriangleMesh mesh = ToTriangleMesh(LoadTestMesh("fandisk"));
+  const TriangleBVH tree(mesh);
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  std::mt19937_64 rng(38);
+  int within = 0, beyond = 0;
+  for (Index v = 0; v < mesh.NumberOfPoints(); v += 5)
+  {
+    const Vec3 q = mesh.Point(v) + 0.01 * diagonal * RandomPoint(rng, -1, 1);
+    const double d2 = tree.ClosestPoint(q).Distance2;
+    for (const double bound : { 0.25 * d2, 0.999 * d2, d2, 1.001 * d2, 4.0 * d2 + 1e-12 * diagonal * diagonal })
+    {
+      const bool any = tree.AnyWithin(q, bound);
+      ASSERT_EQ(any, tree.ClosestPoint(q, bound).Triangle != InvalidIndex) << "vertex " << v << " bound " << bound;
+      (any ? within : beyond) += 1;
+    }
+  }
+  EXPECT_GT(within, 1000);
+  EXPECT_GT(beyond, 500);
+  const TriangleBVH grid(Grid(4, 4));
+  EXPECT_TRUE(grid.AnyWithin({ 0.3, 0.4, 0.5 }, 0.25));
+  EXPECT_FALSE(grid.AnyWithin({ 0.3, 0.4, 0.5 }, 0.2));
+  EXPECT_FALSE(TriangleBVH().AnyWithin({ 0, 0, 0 }, 1.0));
+}
+
 TEST(TriangleBVH, StructureIsValid)
 {
   const TriangleMesh mesh = ToTriangleMesh(LoadTestMesh("bunny00"));

@@ -2741,6 +2741,58 @@ TEST(PatchBoundaryMerge, OnlyTheRegionsThatDeviateAreRefined)
   EXPECT_LE(flatVertices[true], flatVertices[false]);
 }
 
+// Issue 15 (session 38): RefineDeviatingRegions' pass goes on from the level's own last pass, so
+// its work follows the refined regions, not the level. A gently waved square (many patches, all
+// within their allowance) with one narrow Gaussian bump at 10%: the bump's patches are refined and
+// the level keeps its other patches' triangles. The pass's report (field data, with the refined
+// patches): the level triangles it triangulated again are at most twice the refined patches'
+// input triangles and under a quarter of the level; base-s38 triangulated every patch again (the
+// whole level). The refined level is kept (closer to the input, measured here), in the count band,
+// with the input's topology.
+TEST(PatchBoundaryMerge, RegionRefinementWorkFollowsTheRefinedPatches)
+{
+  TriangleMesh mesh = slodtest::Grid(120, 120);
+  for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+  {
+    const double x = mesh.Points[3 * size_t(v)], y = mesh.Points[3 * size_t(v) + 1];
+    const double dx = x - 0.75, dy = y - 0.75, sigma = 0.05;
+    mesh.Points[3 * size_t(v) + 2] =
+      0.02 * std::sin(6 * x) * std::sin(5 * y) + 0.1 * std::exp(-(dx * dx + dy * dy) / (2 * sigma * sigma));
+  }
+  vtkSmartPointer<vtkPolyData> input = slodtest::ToPolyData(mesh);
+  auto simplify = [&](bool refine) {
+    auto filter = vtkSmartPointer<vtkPatchBoundaryMerge>::New();
+    filter->SetInputData(input);
+    filter->SetTargetReduction(0.9);
+    filter->SetRefineDeviatingRegions(refine);
+    filter->Update();
+    const vtkIdType target = mesh.NumberOfTriangles() / 10;
+    EXPECT_LE(std::abs(filter->GetOutput()->GetNumberOfPolys() - target), std::max<vtkIdType>(2, target / 50));
+    slodtest::ExpectSameTopology(mesh, slodtest::ToTriangleMesh(filter->GetOutput()));
+    return filter;
+  };
+  vtkSmartPointer<vtkPatchBoundaryMerge> without = simplify(false);
+  EXPECT_EQ(without->GetRegionRetriangulatedTriangles(), -1);
+  vtkSmartPointer<vtkPatchBoundaryMerge> filter = simplify(true);
+  vtkPolyData* output = filter->GetOutput();
+  EXPECT_GT(filter->GetRegionRefinedPatches(), 0);
+  vtkDataArray* inputTriangles = output->GetFieldData()->GetArray("RegionInputTriangles");
+  vtkDataArray* retriangulated = output->GetFieldData()->GetArray("RegionRetriangulatedTriangles");
+  ASSERT_NE(inputTriangles, nullptr);
+  ASSERT_NE(retriangulated, nullptr);
+  const vtkIdType region = static_cast<vtkIdType>(inputTriangles->GetTuple1(0));
+  const vtkIdType again = static_cast<vtkIdType>(retriangulated->GetTuple1(0));
+  EXPECT_EQ(region, filter->GetRegionInputTriangles());
+  EXPECT_EQ(again, filter->GetRegionRetriangulatedTriangles());
+  std::cout << "waves and bump at 10%: " << filter->GetRegionRefinedPatches() << " patches refined, " << region
+            << " input triangles; " << again << " of " << output->GetNumberOfPolys()
+            << " level triangles triangulated again\n";
+  EXPECT_GT(region, 0);
+  EXPECT_LE(again, 2 * region);
+  EXPECT_LT(4 * again, output->GetNumberOfPolys());
+  EXPECT_LT(LargestVertexDistance(input, output), LargestVertexDistance(input, without->GetOutput()));
+}
+
 // Issue 15 (session 34): the minimum-deviation triangulation's diagonal cost is the distance of its
 // midpoint from the input, which reads zero for a chord of a curved crease chain: it lies on the
 // face beyond the crease. On the pinion at 50% the gear teeth's flanks were closed at their ends
