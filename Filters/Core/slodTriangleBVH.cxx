@@ -461,19 +461,39 @@ ClosestPointResult TriangleBVH::ClosestPoint(const Vec3& query, double maxDistan
 
 bool TriangleBVH::AnyWithin(const Vec3& query, double maxDistance2) const
 {
+  Index none = InvalidIndex;
+  return this->AnyWithin(query, maxDistance2, none);
+}
+
+bool TriangleBVH::AnyWithin(const Vec3& query, double maxDistance2, Index& hint) const
+{
   if (this->Nodes.empty() || !(maxDistance2 >= 0))
   {
     return false;
   }
   const double q[3] = { query[0], query[1], query[2] };
+  const Node* nodes = this->Nodes.data();
+  const double* corners = this->Corners.data();
+  if (hint != InvalidIndex && size_t(hint) < this->Nodes.size() && nodes[hint].Count > 0 &&
+    BoxDistance2(nodes[hint].Bounds, q) <= maxDistance2)
+  {
+    for (Index i = nodes[hint].First, e = nodes[hint].First + nodes[hint].Count; i < e; ++i)
+    {
+      const double* t = corners + 9 * size_t(i);
+      double p[3];
+      if (ClosestOnTriangle(q, t, t + 3, t + 6, p) <= maxDistance2)
+      {
+        return true;
+      }
+    }
+  }
   Index pending[MaxStack];
   int top = 0;
   pending[top++] = 0;
-  const Node* nodes = this->Nodes.data();
-  const double* corners = this->Corners.data();
   while (top > 0)
   {
-    const Node& node = nodes[pending[--top]];
+    const Index at = pending[--top];
+    const Node& node = nodes[at];
     if (BoxDistance2(node.Bounds, q) > maxDistance2)
     {
       continue;
@@ -486,6 +506,7 @@ bool TriangleBVH::AnyWithin(const Vec3& query, double maxDistance2) const
         double p[3];
         if (ClosestOnTriangle(q, t, t + 3, t + 6, p) <= maxDistance2)
         {
+          hint = at;
           return true;
         }
       }

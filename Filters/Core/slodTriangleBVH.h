@@ -45,6 +45,10 @@ public:
   // Whether some triangle lies within maxDistance2 of q (at exactly it too): the same answer as
   // ClosestPoint(q, maxDistance2).Triangle != InvalidIndex, ending at the first such triangle.
   bool AnyWithin(const Vec3& q, double maxDistance2) const;
+  // The same answer, testing first the triangles of the leaf node `hint` (InvalidIndex: none) and
+  // leaving in it the leaf where one was found: queries one after another over neighbouring points
+  // (a mesh's vertices in their order) often end in the previous one's leaf, without a tree walk.
+  bool AnyWithin(const Vec3& q, double maxDistance2, Index& hint) const;
 
   // Ids of the triangles whose box lies within `radius` of q (a superset of those within the
   // ball) appended to `triangles`; false, with the list incomplete, once more than `limit` are found.

@@ -770,10 +770,13 @@ namespace
 // Adds q's squared distance from `bvh` to the tally when it can change a result. Only samples
 // farther than the tally's bound matter: a query bounded by it prunes most of the tree and finds
 // nothing exactly when the sample is farther (then it is measured).
-void RaiseToDistance(const TriangleBVH& bvh, const Vec3& q, DeviationTally& tally, bool inputSample = true)
+// `hint` (optional): the BVH entry to test first, for queries over neighbouring points.
+void RaiseToDistance(
+  const TriangleBVH& bvh, const Vec3& q, DeviationTally& tally, bool inputSample = true, Index* hint = nullptr)
 {
   const double bound2 = tally.Bound2(inputSample);
-  if (bound2 > 0 && bvh.AnyWithin(q, bound2))
+  Index none = InvalidIndex;
+  if (bound2 > 0 && bvh.AnyWithin(q, bound2, hint ? *hint : none))
   {
     return;
   }
@@ -846,18 +849,21 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
     beyond->assign(everyVertex ? size_t(mesh.NumberOfPoints()) : 0, 0.0f);
   }
   const double allowance2 = allowance * allowance;
+  // Consecutive input vertices are mostly neighbours: each query first tests the triangle that
+  // answered the previous one (the same answers, most without a tree walk).
+  Index hint = InvalidIndex;
   for (Index v = 0; everyVertex && v < mesh.NumberOfPoints(); ++v)
   {
     const Vec3 q = mesh.Point(v);
     if (!beyond || !(allowance > 0))
     {
-      RaiseToDistance(bvh, q, tally);
+      RaiseToDistance(bvh, q, tally, true, &hint);
     }
-    else if (bvh.AnyWithin(q, allowance2))
+    else if (bvh.AnyWithin(q, allowance2, hint))
     {
       if (allowance2 > tally.Bound2(true)) // within the allowance, but it may still count
       {
-        RaiseToDistance(bvh, q, tally);
+        RaiseToDistance(bvh, q, tally, true, &hint);
       }
     }
     else
@@ -890,13 +896,13 @@ double SpbmLevelGenerator::EstimateDeviationNear(const SpbmLevel& level, const S
   DeviationTally tally(0);
   this->StridedDeviation(bvh, samples, false, tally);
   // The vertices beyond the allowance from `from` (few): measured.
-  Index count = 0;
+  Index count = 0, hint = InvalidIndex;
   for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
   {
     if (fromBeyond[size_t(v)] > 0)
     {
       ++count;
-      RaiseToDistance(bvh, mesh.Point(v), tally);
+      RaiseToDistance(bvh, mesh.Point(v), tally, true, &hint);
     }
   }
   // The others lie within the allowance of a triangle of `from`: they can only be beyond it now
@@ -943,7 +949,7 @@ double SpbmLevelGenerator::EstimateDeviationNear(const SpbmLevel& level, const S
         {
           near[size_t(v)] = 1;
           ++count;
-          RaiseToDistance(bvh, q, tally);
+          RaiseToDistance(bvh, q, tally, true, &hint);
         }
       });
     }

@@ -331,6 +331,57 @@ TEST(TriangleBVH, AnyWithinAgreesWithTheBoundedClosestPoint)
   EXPECT_FALSE(TriangleBVH().AnyWithin({ 0, 0, 0 }, 1.0));
 }
 
+// The hinted AnyWithin (session 39, SPBM's every-vertex checks: each query starts in the subtree
+// where the previous one ended) answers what the plain one answers whatever the hint: queries in
+// vertex order (neighbouring points, the use), in a shuffled order (hints from far away), with a
+// stale hint kept from another bound and with invalid hints; a found answer leaves a node as hint.
+TEST(TriangleBVH, HintedAnyWithinAgreesWithThePlainOne)
+{
+  const TriangleMesh mesh = ToTriangleMesh(LoadTestMesh("fandisk"));
+  const TriangleBVH tree(mesh);
+  const double diagonal = mesh.BoundingBoxDiagonal();
+  std::mt19937_64 rng(39);
+  std::vector<Vec3> queries;
+  for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+  {
+    queries.push_back(mesh.Point(v) + 0.005 * diagonal * RandomPoint(rng, -1, 1));
+  }
+  std::vector<Vec3> shuffled(queries);
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  int within = 0, beyond = 0;
+  for (const std::vector<Vec3>* order : { &queries, &shuffled })
+  {
+    Index hint = InvalidIndex, stale = InvalidIndex;
+    for (const Vec3& q : *order)
+    {
+      const double d2 = tree.ClosestPoint(q).Distance2;
+      for (const double bound : { 0.5 * d2, d2, 2.0 * d2 + 1e-12 * diagonal * diagonal })
+      {
+        const bool plain = tree.AnyWithin(q, bound);
+        ASSERT_EQ(tree.AnyWithin(q, bound, hint), plain);
+        (plain ? within : beyond) += 1;
+        if (plain)
+        {
+          ASSERT_NE(hint, InvalidIndex);
+          ASSERT_LT(size_t(hint), tree.GetNodes().size());
+        }
+      }
+      // A hint from a bound of 4x the distance, used at half of it.
+      Index kept = stale;
+      ASSERT_EQ(tree.AnyWithin(q, 0.5 * d2, kept), tree.AnyWithin(q, 0.5 * d2));
+      tree.AnyWithin(q, 4.0 * d2 + 1e-12 * diagonal * diagonal, stale);
+    }
+  }
+  EXPECT_GT(within, 2 * mesh.NumberOfPoints());
+  EXPECT_GT(beyond, mesh.NumberOfPoints());
+  for (Index invalid : { InvalidIndex, Index(tree.GetNodes().size()), Index(tree.GetNodes().size() + 100) })
+  {
+    EXPECT_EQ(tree.AnyWithin(queries[0], diagonal * diagonal, invalid), true);
+  }
+  Index none = InvalidIndex;
+  EXPECT_FALSE(TriangleBVH().AnyWithin({ 0, 0, 0 }, 1.0, none));
+}
+
 TEST(TriangleBVH, StructureIsValid)
 {
   const TriangleMesh mesh = ToTriangleMesh(LoadTestMesh("bunny00"));
