@@ -31,6 +31,7 @@ public:
   // One stage with the given normal bound; returns false when its work bound stopped it.
   bool RunStage(double minimumNormalDot, Index target, SpbmFinalCollapseStatistics& statistics);
   Index LiveTriangles() const { return this->Mesh.NumberOfLiveTriangles(); }
+  Index Vertices() const { return static_cast<Index>(this->InputOf.size()); }
   void WriteBack(SpbmLevel& level);
 
 private:
@@ -365,6 +366,7 @@ void SpbmFinalCollapses(
     return;
   }
   FinalCollapser collapser(mesh, level);
+  statistics.Vertices = collapser.Vertices();
   for (const double normalDot : StageNormalDots)
   {
     ++statistics.Stages;

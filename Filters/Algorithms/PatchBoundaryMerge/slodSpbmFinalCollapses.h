@@ -28,6 +28,7 @@ namespace slod
 struct SURFACELODFILTERS_EXPORT SpbmFinalCollapseStatistics
 {
   Index StartTriangles = 0;
+  Index Vertices = 0; // the level's vertices the collapser was set up over (not the input's)
   Index Collapses = 0;
   long long Attempts = 0;  // CheckCollapse calls
   long long Refused[10] = {}; // by slod::CollapseStatus (NonManifold, BoundaryChange, Flip, ...)

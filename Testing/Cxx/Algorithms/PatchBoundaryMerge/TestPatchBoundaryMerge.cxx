@@ -2211,6 +2211,64 @@ TEST(PatchBoundaryMerge, FinalCollapsesStopAtTheTopologysFloor)
   EXPECT_EQ(RawStatistics(out).BoundaryLoops, in.BoundaryLoops);
 }
 
+// Issue 15, session 39: the final collapses (after RefineDeviatingRegions' pass, among others)
+// are set up over the level's own vertices, not over the input's: a level that uses a part of a
+// large input (here bunny00's surface after a second, unused copy of its points and triangles)
+// is collapsed over its vertices only, and exactly as over an input of its own surface alone
+// (the same triangles, counts and topology after the ids are shifted back).
+TEST(SpbmFinalCollapses, WorkOverTheLevelsVerticesOnly)
+{
+  const TriangleMesh surface = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("bunny00"));
+  const Index n = surface.NumberOfPoints();
+  TriangleMesh padded; // an unused copy (moved away) first, then the surface
+  padded.Points = surface.Points;
+  for (size_t i = 0; i < padded.Points.size(); i += 3)
+  {
+    padded.Points[i] += 10.0 * surface.BoundingBoxDiagonal();
+  }
+  padded.Points.insert(padded.Points.end(), surface.Points.begin(), surface.Points.end());
+  padded.Triangles = surface.Triangles;
+  for (const Index v : surface.Triangles)
+  {
+    padded.Triangles.push_back(v + n);
+  }
+  SpbmLevel alone, shifted;
+  alone.Triangles = surface.Triangles;
+  alone.TrianglePatch.assign(size_t(surface.NumberOfTriangles()), 0);
+  alone.NumberOfPatches = 1;
+  alone.CurveOffsets.assign(1, 0);
+  shifted = alone;
+  for (Index& v : shifted.Triangles)
+  {
+    v += n;
+  }
+  const Index target = surface.NumberOfTriangles() / 4;
+  SpbmFinalCollapseStatistics aloneStatistics, shiftedStatistics;
+  SpbmFinalCollapses(surface, target, alone, aloneStatistics);
+  SpbmFinalCollapses(padded, target, shifted, shiftedStatistics);
+  EXPECT_EQ(shiftedStatistics.Vertices, n);
+  EXPECT_EQ(aloneStatistics.Vertices, n);
+  EXPECT_TRUE(shiftedStatistics.Reached);
+  EXPECT_LE(Index(shifted.TrianglePatch.size()), target + SpbmFinalCollapseTolerance(target));
+  EXPECT_GT(shiftedStatistics.Collapses, 0);
+  EXPECT_EQ(shiftedStatistics.Collapses, aloneStatistics.Collapses);
+  EXPECT_EQ(shiftedStatistics.Attempts, aloneStatistics.Attempts);
+  ASSERT_EQ(shifted.Triangles.size(), alone.Triangles.size());
+  for (size_t i = 0; i < alone.Triangles.size(); ++i)
+  {
+    ASSERT_EQ(shifted.Triangles[i], alone.Triangles[i] + n) << "corner " << i;
+  }
+  // The collapsed level keeps the surface's topology (Euler characteristic, borders, manifold).
+  TriangleMesh collapsed;
+  collapsed.Points = surface.Points;
+  collapsed.Triangles = alone.Triangles;
+  const MeshStatistics before = ComputeMeshStatistics(surface), after = ComputeMeshStatistics(collapsed);
+  EXPECT_EQ(after.EulerCharacteristic, before.EulerCharacteristic);
+  EXPECT_EQ(after.BoundaryLoops, before.BoundaryLoops);
+  EXPECT_EQ(after.NonManifoldEdges, before.NonManifoldEdges);
+  EXPECT_EQ(after.Triangles, Index(alone.TrianglePatch.size()));
+}
+
 // Issue 15: mild targets (half of bunny00, which gave a quarter; half of the cow and a tenth of a
 // smooth isosurface, meshes no other test tunes for) are reached within the documented tolerance
 // (2%, at least 2 triangles) with the default angles: the patches follow the target. The output
