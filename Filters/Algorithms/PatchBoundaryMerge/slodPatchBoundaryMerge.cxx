@@ -770,7 +770,7 @@ namespace
 // Adds q's squared distance from `bvh` to the tally when it can change a result. Only samples
 // farther than the tally's bound matter: a query bounded by it prunes most of the tree and finds
 // nothing exactly when the sample is farther (then it is measured).
-// `hint` (optional): the BVH entry to test first, for queries over neighbouring points.
+// `hint` (optional): the BVH leaf to test first (TriangleBVH::AnyWithin), for neighbouring points.
 void RaiseToDistance(
   const TriangleBVH& bvh, const Vec3& q, DeviationTally& tally, bool inputSample = true, Index* hint = nullptr)
 {
@@ -849,8 +849,8 @@ double SpbmLevelGenerator::EstimateDeviation(const SpbmLevel& level, Index sampl
     beyond->assign(everyVertex ? size_t(mesh.NumberOfPoints()) : 0, 0.0f);
   }
   const double allowance2 = allowance * allowance;
-  // Consecutive input vertices are mostly neighbours: each query first tests the triangle that
-  // answered the previous one (the same answers, most without a tree walk).
+  // Consecutive input vertices are mostly neighbours: each query first tests the BVH leaf that
+  // answered the previous one (the same answers, many without a walk from the root).
   Index hint = InvalidIndex;
   for (Index v = 0; everyVertex && v < mesh.NumberOfPoints(); ++v)
   {
