@@ -34,24 +34,16 @@ public:
   static constexpr int BucketBits = 15;
   static constexpr Index ScanLimit = 512;
 
-  BucketQueue() = default;
-  BucketQueue(const BucketQueue&) = delete;
-  BucketQueue& operator=(const BucketQueue&) = delete;
-  BucketQueue(BucketQueue&&) = default;
-  BucketQueue& operator=(BucketQueue&&) = default;
-
   void Reset(Index n)
   {
     AssignOnHugePages(this->Slot, size_t(n), InvalidIndex);
-    if (this->External)
+    if (this->ExternalBucketIds)
     {
       std::vector<std::uint16_t>().swap(this->BucketId); // (the caller's records hold them)
     }
     else
     {
       AssignOnHugePages(this->BucketId, size_t(n), std::uint16_t(0));
-      this->BucketIds = reinterpret_cast<unsigned char*>(this->BucketId.data());
-      this->BucketIdStride = sizeof(std::uint16_t);
     }
     this->Buckets.assign(size_t(1) << BucketBits, {});
     this->Lowest = static_cast<Index>(this->Buckets.size());
@@ -86,9 +78,8 @@ public:
   // and one cache line less per update. The records must stay in place while the queue is used.
   void KeepBucketIdsIn(std::uint16_t* first, size_t stride)
   {
-    this->BucketIds = reinterpret_cast<unsigned char*>(first);
-    this->BucketIdStride = stride;
-    this->External = true;
+    this->ExternalBucketIds = reinterpret_cast<unsigned char*>(first);
+    this->ExternalStride = stride;
   }
 
   bool Empty() const { return this->Count == 0; }
@@ -551,16 +542,14 @@ private:
 
   std::vector<std::vector<Entry>> Buckets;
   std::vector<Index> Slot;
-  std::vector<std::uint16_t> BucketId; // bucket of each present id, unless External
-  // Where the bucket ids are: BucketId's data, or KeepBucketIdsIn's records (External). The
-  // vectors' storage does not move when the queue is moved; a copy would point into the
-  // original's, so the queue is not copied.
-  unsigned char* BucketIds = nullptr;
-  size_t BucketIdStride = 0;
-  bool External = false;
+  std::vector<std::uint16_t> BucketId; // bucket of each present id (unless ExternalBucketIds)
+  unsigned char* ExternalBucketIds = nullptr; // KeepBucketIdsIn's records
+  size_t ExternalStride = 0;
   std::uint16_t& BucketIdOf(Index id)
   {
-    return *reinterpret_cast<std::uint16_t*>(this->BucketIds + size_t(id) * this->BucketIdStride);
+    return this->ExternalBucketIds
+      ? *reinterpret_cast<std::uint16_t*>(this->ExternalBucketIds + size_t(id) * this->ExternalStride)
+      : this->BucketId[id];
   }
   const std::uint16_t& BucketIdOf(Index id) const { return const_cast<BucketQueue*>(this)->BucketIdOf(id); }
   Index Lowest = 0;
