@@ -37,14 +37,7 @@ public:
   void Reset(Index n)
   {
     AssignOnHugePages(this->Slot, size_t(n), InvalidIndex);
-    if (this->ExternalBucketIds)
-    {
-      std::vector<std::uint16_t>().swap(this->BucketId); // (the caller's records hold them)
-    }
-    else
-    {
-      AssignOnHugePages(this->BucketId, size_t(n), std::uint16_t(0));
-    }
+    AssignOnHugePages(this->BucketId, size_t(n), std::uint16_t(0));
     this->Buckets.assign(size_t(1) << BucketBits, {});
     this->Lowest = static_cast<Index>(this->Buckets.size());
     this->Count = 0;
@@ -72,16 +65,6 @@ public:
     }
   }
 
-  // Optional, before Reset or Build: the bucket ids kept in the caller's records, a std::uint16_t
-  // at byte offset id * stride from `first` (e.g. the padding of a record the caller reads for
-  // every id whose key it sets), instead of in an array of the queue's own: 2 bytes per id less,
-  // and one cache line less per update. The records must stay in place while the queue is used.
-  void KeepBucketIdsIn(std::uint16_t* first, size_t stride)
-  {
-    this->ExternalBucketIds = reinterpret_cast<unsigned char*>(first);
-    this->ExternalStride = stride;
-  }
-
   bool Empty() const { return this->Count == 0; }
   // Scans of a bucket by Pop since Reset (each lists the bucket's smallest entries for the next pops).
   long long Scans() const { return this->ScanCount; }
@@ -90,14 +73,14 @@ public:
   void Prefetch(Index id) const
   {
     __builtin_prefetch(&this->Slot[id]);
-    __builtin_prefetch(&this->BucketIdOf(id));
+    __builtin_prefetch(&this->BucketId[id]);
   }
   // Second hint, once Prefetch(id) has landed: the bucket header of id's entry.
   void PrefetchBucket(Index id) const
   {
     if (this->Slot[id] != InvalidIndex)
     {
-      __builtin_prefetch(&this->Buckets[this->BucketIdOf(id)]);
+      __builtin_prefetch(&this->Buckets[this->BucketId[id]]);
     }
   }
   // Third hint, once PrefetchBucket(id) has landed: the entries a Set or Remove of id moves (its
@@ -107,7 +90,7 @@ public:
     const Index s = this->Slot[id];
     if (s != InvalidIndex)
     {
-      const auto& bucket = this->Buckets[this->BucketIdOf(id)];
+      const auto& bucket = this->Buckets[this->BucketId[id]];
       __builtin_prefetch(bucket.data() + s, 1);
       __builtin_prefetch(bucket.data() + bucket.size() - 1);
     }
@@ -118,7 +101,7 @@ public:
   {
     if (this->Slot[id] != InvalidIndex)
     {
-      __builtin_prefetch(&this->Slot[this->Buckets[this->BucketIdOf(id)].back().Id], 1);
+      __builtin_prefetch(&this->Slot[this->Buckets[this->BucketId[id]].back().Id], 1);
     }
   }
   // Hints for the insertion of a key: the header of its bucket, then (once landed) its end.
@@ -208,7 +191,7 @@ public:
       bucket.reserve(bucket.size() + bucket.size() / 4 + 8);
     }
     this->Slot[id] = static_cast<Index>(bucket.size());
-    this->BucketIdOf(id) = static_cast<std::uint16_t>(b);
+    this->BucketId[id] = static_cast<std::uint16_t>(b);
     bucket.push_back({ key, id });
     this->Lowest = b < this->Lowest ? b : this->Lowest;
     ++this->Count;
@@ -226,7 +209,7 @@ public:
       return;
     }
     // The entry's bucket follows from its key.
-    const Index b = this->BucketIdOf(id);
+    const Index b = this->BucketId[id];
     auto& bucket = this->Buckets[b];
     if (b == this->Cache.Bucket && !Before(this->Cache.Limit, bucket[s]))
     {
@@ -542,16 +525,7 @@ private:
 
   std::vector<std::vector<Entry>> Buckets;
   std::vector<Index> Slot;
-  std::vector<std::uint16_t> BucketId; // bucket of each present id (unless ExternalBucketIds)
-  unsigned char* ExternalBucketIds = nullptr; // KeepBucketIdsIn's records
-  size_t ExternalStride = 0;
-  std::uint16_t& BucketIdOf(Index id)
-  {
-    return this->ExternalBucketIds
-      ? *reinterpret_cast<std::uint16_t*>(this->ExternalBucketIds + size_t(id) * this->ExternalStride)
-      : this->BucketId[id];
-  }
-  const std::uint16_t& BucketIdOf(Index id) const { return const_cast<BucketQueue*>(this)->BucketIdOf(id); }
+  std::vector<std::uint16_t> BucketId; // bucket of each present id
   Index Lowest = 0;
   Index Count = 0;
   long long ScanCount = 0;

@@ -946,11 +946,7 @@ private:
     float EdgeCost[3] = { 0, 0, 0 };
     unsigned char Excluded = 0;
     unsigned char Rejected = 0;
-    // The queue's bucket of the triangle's entry (BucketQueue::KeepBucketIdsIn): in the record's
-    // padding, read with its edge costs (2 bytes per triangle and a cache line per update less).
-    std::uint16_t QueueBucket = 0;
   };
-  static_assert(sizeof(TriangleState) == 16, "a triangle's state is one 16-byte record");
   mutable std::vector<TriangleState> State;
   bool CacheEdges = false;
   // The queue's edge caches hold what Cost would compute now: they are costed again around every
@@ -2119,10 +2115,6 @@ void TriangleCollapser::InitializeQueue()
 {
   const Index nt = this->Mesh.NumberOfTriangles();
   AssignOnHugePages(this->State, size_t(nt), TriangleState());
-  if (nt > 0)
-  {
-    this->Heap.KeepBucketIdsIn(&this->State[0].QueueBucket, sizeof(TriangleState));
-  }
   // The edge cache sums vertex quadrics; the attribute metric's set quadrics are not sums.
   this->CacheEdges = this->Options.EdgeCollapses && !this->Options.ExactUnion && this->AttributeComponents == 0;
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
