@@ -995,6 +995,9 @@ private:
     return this->Link.empty() ? this->Vertex[v] : this->Vertex[size_t(-1 - this->Link[v])];
   }
   void CompactQuadrics();
+  // The original surface for the passes after the collapses: unpacked, or read again from
+  // Options.ReloadInput (false when that failed).
+  bool RestoreOriginal();
   std::vector<Index> Link;
   int FitThreads = 0;                  // FitToOriginal's diagnostics (TriangleCollapseResult)
   bool FitBudgetReached = false;
@@ -2049,10 +2052,10 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
   this->Mesh.SetVertexLinkMarks(!this->LinkTables);
   this->Mesh.SetParallelRebuild(this->Options.ParallelStages);
   this->Mesh.Reset(input);
-  if (refine)
+  if (refine && !this->Options.ReloadInput)
   {
     // The refinement measures against the original surface: keep it (who merged into whom is in
-    // the quadrics, ParentOf).
+    // the quadrics, ParentOf). With ReloadInput it is read again after the collapses instead.
     this->Original.Take(input);
     this->Original.Pack();
   }
@@ -4142,9 +4145,8 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   this->Heap = BucketQueue();
   std::vector<TriangleState>().swap(this->State);
   this->CompactQuadrics();
-  if (refine && !result.Aborted)
+  if (refine && !result.Aborted && this->RestoreOriginal())
   {
-    this->Original.Unpack();
     this->Stages.Lap("original unpacked");
     this->MoveTowardOriginal(this->Original, result);
   }
@@ -4155,6 +4157,52 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   this->Stages.Lap("extraction");
   result.KeyUpdates = this->KeyUpdates;
   this->TraceStatistics(loop, result);
+}
+
+bool TriangleCollapser::RestoreOriginal()
+{
+  if (!this->Options.ReloadInput)
+  {
+    this->Original.Unpack();
+    return true;
+  }
+  this->UnpackInputIds(); // Reorder's maps (packed through the collapses)
+  TriangleMesh input;
+  this->Options.ReloadInput(input);
+  const size_t nv = this->VertexInput.size(), nt = this->TriangleInput.size();
+  if (size_t(input.NumberOfPoints()) != nv || size_t(input.NumberOfTriangles()) != nt)
+  {
+    vtkLogF(ERROR, "triangle collapse: the reloaded input has %lld points and %lld triangles, not %lld and %lld: "
+      "the passes after the collapses are skipped", static_cast<long long>(input.NumberOfPoints()),
+      static_cast<long long>(input.NumberOfTriangles()), static_cast<long long>(nv), static_cast<long long>(nt));
+    return false;
+  }
+  // Prepare's reordered copy, from Reorder's maps: vertex i is input vertex VertexInput[i],
+  // triangle t input triangle TriangleInput[t] with its corners renumbered in their order.
+  // (On huge pages, as Reorder's arrays: the gathers below are random reads.)
+  TriangleMesh reordered;
+  AssignOnHugePages(reordered.Points, 3 * nv, 0.0);
+  std::vector<Index> newId;
+  AssignOnHugePages(newId, nv, Index(0));
+  for (size_t i = 0; i < nv; ++i)
+  {
+    const Index v = this->VertexInput[i];
+    newId[size_t(v)] = static_cast<Index>(i);
+    std::copy(&input.Points[3 * size_t(v)], &input.Points[3 * size_t(v)] + 3, &reordered.Points[3 * i]);
+  }
+  std::vector<double>().swap(input.Points);
+  AssignOnHugePages(reordered.Triangles, 3 * nt, Index(0));
+  for (size_t t = 0; t < nt; ++t)
+  {
+    const Index* tri = input.Triangle(this->TriangleInput[t]);
+    for (int k = 0; k < 3; ++k)
+    {
+      reordered.Triangles[3 * t + size_t(k)] = newId[size_t(tri[k])];
+    }
+  }
+  std::vector<Index>().swap(input.Triangles);
+  this->Original.Take(reordered);
+  return true;
 }
 
 void TriangleCollapser::CompactQuadrics()

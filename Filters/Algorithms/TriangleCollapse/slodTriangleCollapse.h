@@ -186,6 +186,13 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // negative value while it is not settled (TargetTriangles then only scales the progress). It must
   // return a target when called with +infinity.
   std::function<Index(double cheapestCost, Index liveTriangles)> SettleTarget;
+  // Optional: fills `mesh` with the input mesh again, exactly as it was given (the same points and
+  // triangles in the same ids), e.g. from the caller's vtkPolyData when its preparation changed
+  // nothing. The passes after the collapses (FitToOriginal, RefineDeviation) then read the input
+  // from it once the collapses end, and no copy of the input is held through them, where the
+  // working set peaks (its packed copy: 14.6 bytes per input vertex on mc1m). A mesh of other
+  // sizes is refused (an error; the passes are skipped).
+  std::function<void(TriangleMesh& mesh)> ReloadInput;
 };
 
 // Visits of a pass after the collapses (FitToOriginal, RefineDeviation), for the thread tests:

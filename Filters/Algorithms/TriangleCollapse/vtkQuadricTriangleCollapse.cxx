@@ -4,14 +4,17 @@
 #include "slodInputPreparation.h"
 #include "slodAttributeTransfer.h"
 #include "slodCollapseRecordTable.h"
+#include "slodHugePages.h"
 #include "slodPieceSeams.h"
 #include "slodPointAttributes.h"
 #include "slodStageClock.h"
 #include "slodTriangleCollapse.h"
 
+#include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
@@ -26,6 +29,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -104,6 +108,79 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   options.PassRemovalShare = filter->GetPassRemovalShare();
   options.Progress = slod::FilterProgress(filter);
   return options;
+}
+
+// Copies n values of a typed array (by pointer: the reload runs at the collapses' end, on every
+// run of the filter).
+template <typename From, typename To>
+void CopyValues(const From* from, size_t n, To* to)
+{
+  std::transform(from, from + n, to, [](From x) { return static_cast<To>(x); });
+}
+
+// The input's points and triangles as a mesh, when every cell of the input is a triangle (false
+// otherwise, `mesh` then unspecified).
+bool InputAsMesh(vtkPolyData* input, slod::TriangleMesh& mesh)
+{
+  vtkCellArray* polys = input->GetPolys();
+  const vtkIdType nv = input->GetNumberOfPoints(), nt = polys ? polys->GetNumberOfCells() : 0;
+  if (!polys || nv > vtkIdType(std::numeric_limits<slod::Index>::max()) ||
+    input->GetNumberOfVerts() + input->GetNumberOfLines() + input->GetNumberOfStrips() > 0 ||
+    polys->GetNumberOfConnectivityIds() != 3 * nt)
+  {
+    return false;
+  }
+  for (vtkIdType t = 0; t < nt; ++t)
+  {
+    if (polys->GetCellSize(t) != 3)
+    {
+      return false;
+    }
+  }
+  slod::AssignOnHugePages(mesh.Points, 3 * size_t(nv), 0.0);
+  vtkDataArray* coordinates = nv > 0 ? input->GetPoints()->GetData() : nullptr;
+  if (auto* floats = vtkArrayDownCast<vtkFloatArray>(coordinates))
+  {
+    CopyValues(floats->GetPointer(0), mesh.Points.size(), mesh.Points.data());
+  }
+  else if (auto* doubles = vtkArrayDownCast<vtkDoubleArray>(coordinates))
+  {
+    CopyValues(doubles->GetPointer(0), mesh.Points.size(), mesh.Points.data());
+  }
+  else
+  {
+    for (vtkIdType i = 0; i < nv; ++i)
+    {
+      input->GetPoint(i, &mesh.Points[3 * size_t(i)]);
+    }
+  }
+  slod::AssignOnHugePages(mesh.Triangles, 3 * size_t(nt), slod::Index(0));
+  if (polys->IsStorage64Bit())
+  {
+    CopyValues(polys->GetConnectivityArray64()->GetPointer(0), mesh.Triangles.size(), mesh.Triangles.data());
+  }
+  else
+  {
+    CopyValues(polys->GetConnectivityArray32()->GetPointer(0), mesh.Triangles.size(), mesh.Triangles.data());
+  }
+  return true;
+}
+
+// Whether the prepared mesh holds exactly (bit for bit) the input's points and triangles in the
+// input's ids: nothing was merged, removed, flipped or triangulated. Checked, not assumed: the
+// collapser then reads the input again after the collapses (InputAsMesh) instead of holding a
+// copy of it through them.
+bool PreparedMeshIsInput(vtkPolyData* input, const slod::TriangleMesh& mesh)
+{
+  if (input->GetNumberOfPoints() != vtkIdType(mesh.NumberOfPoints()) ||
+    !input->GetPolys() || input->GetPolys()->GetNumberOfCells() != vtkIdType(mesh.NumberOfTriangles()))
+  {
+    return false;
+  }
+  slod::TriangleMesh again;
+  return InputAsMesh(input, again) && again.Triangles == mesh.Triangles && mesh.Points.size() == again.Points.size() &&
+    (mesh.Points.empty() ||
+      std::memcmp(mesh.Points.data(), again.Points.data(), mesh.Points.size() * sizeof(double)) == 0);
 }
 
 // PreserveAttributeSeams: per prepared vertex, 1 on an attribute seam or a region border (empty
@@ -395,6 +472,12 @@ int vtkQuadricTriangleCollapse::RequestData(
   options.AttributeError = metric.Terms.Components > 0 ? &metric.Terms : nullptr;
   std::vector<slod::Index>().swap(vertexToInput);
   stages.Lap("seams and point data");
+
+  if ((options.RefineDeviation || options.FitToOriginal) && !slod::IsDistributed(this->Controller) &&
+    PreparedMeshIsInput(input, mesh))
+  {
+    options.ReloadInput = [input](slod::TriangleMesh& original) { InputAsMesh(input, original); };
+  }
 
   slod::TriangleCollapseResult result;
   slod::SimplifyByTriangleCollapse(mesh, options, result, &attributes);

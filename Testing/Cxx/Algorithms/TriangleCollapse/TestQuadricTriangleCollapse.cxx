@@ -344,6 +344,47 @@ TEST(QuadricTriangleCollapse, KeepsTheInputPackedAndInFloatsWhenItsCoordinatesAr
   EXPECT_LT(std::abs(double(withoutPasses[1]) - double(withoutPasses[0])) / vertices, 1.0);
 }
 
+// With ReloadInput (the filter's, when its preparation changed nothing) the passes after the
+// collapses read the input again once the collapses end, so no copy of it is held through them:
+// the peak is below the kept run's by at least the packed copy's least size (each corner and each
+// coordinate is a varint of at least one byte), the reload is asked for once, and the output is
+// the same (the passes see the same surface). Before session 39 the input was always kept.
+TEST(QuadricTriangleCollapse, ReloadedInputIsNotKeptThroughTheCollapses)
+{
+  const TriangleMesh sphere = slodtest::Sphere(90, 80);
+  const double vertices = sphere.NumberOfPoints(), triangles = sphere.NumberOfTriangles();
+  size_t peak[2] = { 0, 0 };
+  TriangleMesh output[2];
+  Index moved[2] = { 0, 0 };
+  int reloads = 0;
+  for (const bool reload : { false, true })
+  {
+    TriangleMesh mesh = sphere;
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    if (reload)
+    {
+      options.ReloadInput = [&sphere, &reloads](TriangleMesh& input) {
+        input = sphere;
+        ++reloads;
+      };
+    }
+    TriangleCollapseResult result;
+    SimplifyByTriangleCollapse(mesh, options, result);
+    peak[reload ? 1 : 0] = result.PeakWorkingBytes;
+    moved[reload ? 1 : 0] = result.FittedVertices + result.RefinedVertices;
+    output[reload ? 1 : 0] = result.Mesh;
+  }
+  std::printf("[reloaded input] peak %.2f bytes per vertex less than with the input kept\n",
+    (double(peak[0]) - double(peak[1])) / vertices);
+  EXPECT_EQ(reloads, 1);
+  EXPECT_GT(moved[0], 0) << "the passes after the collapses moved nothing: the test sees no use of the input";
+  EXPECT_EQ(moved[1], moved[0]);
+  EXPECT_EQ(output[1].Points, output[0].Points);
+  EXPECT_EQ(output[1].Triangles, output[0].Triangles);
+  EXPECT_GE(double(peak[0]) - double(peak[1]), 3 * (vertices + triangles));
+}
+
 // The working set's peak (PeakWorkingBytes) within the sum of its arrays' layouts, with the
 // packed parts at their bounds (above). Per vertex: points 24, quadrics 88, reference starts and
 // counts 8, flags 4 (alive, border, locked, pending), the kept points packed 15, the input ids
