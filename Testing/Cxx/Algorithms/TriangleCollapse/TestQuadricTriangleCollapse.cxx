@@ -444,6 +444,56 @@ TEST(QuadricTriangleCollapse, KeyUpdatesAreTheFansOfTheNewVertices)
   }
 }
 
+// The placements (quadric solves) behind those keys (session 39): with the edge cache each
+// triangle of the new vertex's fan is placed once and each spoke (new vertex, neighbour) once,
+// shared by its two triangles; without it (edge collapses off) each triangle's one operation.
+// FanPlacements must equal that count from the replayed records: a spoke placed for each of its
+// triangles, or a placement repeated, exceeds it. Each validity test ends in a collapse, a
+// rejection or an alternative placement, so the tests are at least the collapses and rejections.
+TEST(QuadricTriangleCollapse, FanPlacementsAreEachTriangleAndSpokeOnce)
+{
+  const TriangleMesh sphere = slodtest::Sphere(90, 80);
+  TriangleCollapseOptions options;
+  options.TargetTriangles = sphere.NumberOfTriangles() / 10;
+  options.RecordHistory = true;
+  for (const bool edges : { true, false })
+  {
+    options.EdgeCollapses = edges;
+    TriangleCollapseResult result;
+    TriangleMesh consumed = sphere;
+    SimplifyByTriangleCollapse(consumed, options, result);
+    ASSERT_GT(result.Collapses, 0);
+    ASSERT_EQ(result.History.NumberOfCollapses(), result.Collapses);
+    EditableMesh replay(sphere);
+    CollapseRecord scratch;
+    long long fans = 0, spokes = 0;
+    std::vector<Index> neighbours;
+    for (Index k = 0; k < result.Collapses; ++k)
+    {
+      result.History.Redo(k, replay, scratch);
+      const Index kept = result.History.Vertices[3 * size_t(k)];
+      neighbours.clear();
+      replay.ForEachTriangle(kept, [&](Index t) {
+        ++fans;
+        for (int c = 0; c < 3; ++c)
+        {
+          const Index v = replay.Triangle(t)[c];
+          if (v != kept && std::find(neighbours.begin(), neighbours.end(), v) == neighbours.end())
+          {
+            neighbours.push_back(v);
+          }
+        }
+      });
+      spokes += static_cast<long long>(neighbours.size());
+    }
+    std::printf("[fan placements] edge collapses %s: %.2f placements and %.4f validity tests per collapse\n",
+      edges ? "on" : "off", double(result.FanPlacements) / double(result.Collapses),
+      double(result.ValidityTests) / double(result.Collapses));
+    EXPECT_EQ(result.FanPlacements, edges ? fans + spokes : fans);
+    EXPECT_GE(result.ValidityTests, static_cast<long long>(result.Collapses) + result.RejectedCollapses);
+  }
+}
+
 // After the collapses (the fit, the refinement, the extraction) the working set holds the
 // quadrics of the surviving vertices only, with a 4-byte parent or slot per input vertex, instead
 // of a quadric per input vertex (88 bytes): before session 32 that made the passes the filter's
