@@ -1510,7 +1510,10 @@ inline __attribute__((always_inline)) double TriangleCollapser::PlaceAmong(
     // A well-conditioned optimum far outside the neighbourhood still means a near-singular
     // system in practice (long thin features); keep it only within reach of the set.
     const Vec3 centroid = count == 3 ? (1.0 / 3.0) * (a + b + c) : 0.5 * (a + b);
-    const double reach = Dot(a - b, a - b) + Dot(b - c, b - c) + Dot(c - a, c - a);
+    // For an edge (c == b) the sum's terms are |a-b|^2, 0 and |b-a|^2, so it is ab + ab to the
+    // bit (b - a is -(a - b) exactly; the points are finite): two dot products fewer per edge.
+    const double ab = Dot(a - b, a - b);
+    const double reach = count == 3 ? ab + Dot(b - c, b - c) + Dot(c - a, c - a) : ab + ab;
     const Vec3 d = local - centroid;
     if (Dot(d, d) <= 4.0 * reach)
     {
