@@ -857,6 +857,14 @@ private:
   double TriangleOperationCost(const Index* tri, Vec3& local) const;
   // Its cost part: the triangles around kept and their new keys (writes only their states).
   void AroundKeys(Index kept, std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const;
+  // One triangle of a new vertex's fan, for AroundKeys after the collapse and KeysBeforeCollapse
+  // before it: its new key and its cached edge costs (`cache`, read and written). The Fan gives
+  // the corners' quadrics (Q) and the placements (Place) as they are after the collapse.
+  template <class Fan>
+  float FanTriangleKey(const Fan& fan, const Index* tri, Index kept, const Quadric& qk, float* cache,
+    SpokeScratch& spokes) const;
+  struct MeshFan;
+  struct PendingFan;
   void RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys);
   // AroundKeys of a checked collapse before it is performed (the set's vertices seen as the kept
   // one at the new position with the summed quadric); false where it cannot be (see there).
@@ -1008,6 +1016,7 @@ private:
   long long Updates = 0;               // triangles re-costed by Update (it ends a look-ahead)
   long long KeysAheadTaken = 0;        // collapses re-keyed from KeysBeforeCollapse's keys
   long long KeyUpdates = 0;            // queue keys rewritten after collapses (TriangleCollapseResult)
+  long long FanPlacements = 0;         // placements made for those keys (TriangleCollapseResult)
   LookAhead* WorkerAhead = nullptr;    // the look-ahead beside the loop (ended before a retry)
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
@@ -1504,7 +1513,10 @@ inline __attribute__((always_inline)) double TriangleCollapser::PlaceAmong(
     // A well-conditioned optimum far outside the neighbourhood still means a near-singular
     // system in practice (long thin features); keep it only within reach of the set.
     const Vec3 centroid = count == 3 ? (1.0 / 3.0) * (a + b + c) : 0.5 * (a + b);
-    const double reach = Dot(a - b, a - b) + Dot(b - c, b - c) + Dot(c - a, c - a);
+    // For an edge (c == b) the sum's terms are |a-b|^2, 0 and |b-a|^2, so it is ab + ab to the
+    // bit (b - a is -(a - b) exactly; the points are finite): two dot products fewer per edge.
+    const double ab = Dot(a - b, a - b);
+    const double reach = count == 3 ? ab + Dot(b - c, b - c) + Dot(c - a, c - a) : ab + ab;
     const Vec3 d = local - centroid;
     if (Dot(d, d) <= 4.0 * reach)
     {
@@ -1718,7 +1730,7 @@ bool TriangleCollapser::KeyFromCache(Index t, const std::optional<double>& trian
     double cost = triangle ? *triangle : 0.0;
     if (!triangle)
     {
-      // (PopCost's sum and placement; TriangleOperationCost stays AroundKeys' alone, inlined there)
+      // (PopCost's sum and placement)
       const Index* tri = this->Mesh.Triangle(t);
       Quadric q = this->Vertex[tri[0]].Q;
       q += this->Vertex[tri[1]].Q;
@@ -1751,14 +1763,86 @@ void TriangleCollapser::UpdateAround(Index kept)
 {
   if (!this->CacheEdges)
   {
+    const long long perTriangle = this->Options.EdgeCollapses ? 4 : 1; // Cost places every operation
     this->Mesh.ForEachTriangle(kept, [&](Index s) {
       this->Update(s);
       ++this->KeyUpdates;
+      this->FanPlacements += perTriangle;
     });
     return;
   }
   this->AroundKeys(kept, this->AroundScratch, this->AroundKeyScratch, this->Spokes);
+  this->FanPlacements += static_cast<long long>(this->AroundScratch.size() + this->Spokes.Vertex.size());
   this->RequeueAround(this->AroundScratch, this->AroundKeyScratch);
+}
+
+// The fan as the mesh holds it, after the collapse (AroundKeys).
+struct TriangleCollapser::MeshFan
+{
+  const TriangleCollapser& Self;
+  const Quadric& Q(Index v) const { return this->Self.Vertex[v].Q; }
+  double Place(const Index* set, int count, const Quadric& q, Vec3& p) const
+  {
+    return this->Self.Place(set, count, q, p);
+  }
+};
+
+// The fan before the collapse (KeysBeforeCollapse): the set's member replaced in the corners by
+// the kept vertex, with the set's summed quadric and the new position (no pinned vertices).
+struct TriangleCollapser::PendingFan
+{
+  const TriangleCollapser& Self;
+  Index Kept;
+  const Quadric& KeptQuadric;
+  Vec3 KeptLocal;
+  const Quadric& Q(Index v) const { return v == this->Kept ? this->KeptQuadric : this->Self.Vertex[v].Q; }
+  double Place(const Index* set, int count, const Quadric& q, Vec3& p) const
+  {
+    Vec3 local[3];
+    for (int i = 0; i < count; ++i)
+    {
+      local[i] = set[i] == this->Kept ? this->KeptLocal : this->Self.Local(set[i]);
+    }
+    return PlaceAmong(local[0], local[1], count == 3 ? local[2] : local[1], count, q, p);
+  }
+};
+
+// Inlined into AroundKeys' loop, whose code it was (an outlined call per triangle cost the loop
+// 41-63 M instructions on mc250k, session 39; inlined, 11 M, from the spokes' search, which is
+// inlined now; an outlined search cost 29 M).
+template <class Fan>
+inline __attribute__((always_inline)) float TriangleCollapser::FanTriangleKey(
+  const Fan& fan, const Index* tri, Index kept, const Quadric& qk, float* cache, SpokeScratch& spokes) const
+{
+  Quadric q = fan.Q(tri[0]);
+  q += fan.Q(tri[1]);
+  q += fan.Q(tri[2]);
+  Vec3 p;
+  double best = fan.Place(tri, 3, q, p);
+  const double bias = this->Options.EdgeCollapseBias;
+  for (int k = 0; k < 3; ++k)
+  {
+    const Index u = tri[k], v = tri[(k + 1) % 3];
+    if (u == kept || v == kept)
+    {
+      // A spoke (kept, x): placed once per fan, at its first triangle in the fan's order.
+      const Index x = u == kept ? v : u;
+      const auto found = std::find(spokes.Vertex.begin(), spokes.Vertex.end(), x);
+      if (found != spokes.Vertex.end())
+      {
+        cache[k] = spokes.Cost[found - spokes.Vertex.begin()];
+      }
+      else
+      {
+        const Index edge[2] = { u, v };
+        cache[k] = static_cast<float>(fan.Place(edge, 2, qk + fan.Q(x), p) * bias * this->CostScale);
+        spokes.Vertex.push_back(x);
+        spokes.Cost.push_back(cache[k]);
+      }
+    }
+    best = std::min(best, double(cache[k]) / this->CostScale);
+  }
+  return static_cast<float>(best * this->CostScale);
 }
 
 void TriangleCollapser::AroundKeys(
@@ -1782,8 +1866,6 @@ void TriangleCollapser::AroundKeys(
   }
   spokes.Vertex.clear();
   spokes.Cost.clear();
-  const Quadric& qk = this->Vertex[kept].Q;
-  const double bias = this->Options.EdgeCollapseBias;
   // Prefetch what the updates read (corners, vertex quadrics, cached edge costs, queue slots):
   // the loop is bound by memory latency, and independent prefetches overlap where the loop's
   // dependent loads would follow one another.
@@ -1804,37 +1886,14 @@ void TriangleCollapser::AroundKeys(
     }
     this->Heap.PrefetchBucket(t);
   }
-  for (size_t i = 0; i < around.size(); ++i)
+  const MeshFan fan{ *this };
+  const Quadric& qk = this->Vertex[kept].Q;
+  for (Index t : around)
   {
-    const Index t = around[i];
     this->State[t].Excluded = 0;
     this->State[t].Rejected = 0;
-    const Index* tri = this->Mesh.Triangle(t);
-    Vec3 p;
-    double best = this->TriangleOperationCost(tri, p);
-    float* cache = this->State[t].EdgeCost;
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index u = tri[k], v = tri[(k + 1) % 3];
-      if (u == kept || v == kept)
-      {
-        const Index x = u == kept ? v : u;
-        const auto found = std::find(spokes.Vertex.begin(), spokes.Vertex.end(), x);
-        if (found != spokes.Vertex.end())
-        {
-          cache[k] = spokes.Cost[found - spokes.Vertex.begin()];
-        }
-        else
-        {
-          const Index edge[2] = { u, v };
-          cache[k] = static_cast<float>(this->Place(edge, 2, qk + this->Vertex[x].Q, p) * bias * this->CostScale);
-          spokes.Vertex.push_back(x);
-          spokes.Cost.push_back(cache[k]);
-        }
-      }
-      best = std::min(best, double(cache[k]) / this->CostScale);
-    }
-    keys.push_back(static_cast<float>(best * this->CostScale));
+    const float key = this->FanTriangleKey(fan, this->Mesh.Triangle(t), kept, qk, this->State[t].EdgeCost, spokes);
+    keys.push_back(key);
   }
 }
 
@@ -1865,8 +1924,8 @@ bool TriangleCollapser::KeysBeforeCollapse(
 {
   // AroundKeys' arithmetic on the same operands: the surviving triangles' corners with the set's
   // member replaced in place by the kept vertex, whose quadric is SetQuadric's sum (as
-  // MergeVertexState will store it) and whose point is the new position (Local's difference).
-  // Only the edge cache's path, without pinned vertices (Place reads their flags).
+  // MergeVertexState will store it) and whose point is the new position (Local's difference),
+  // through the same FanTriangleKey. Only the edge cache's path, without pinned vertices.
   out.Ready = false;
   if (!this->CacheEdges || this->Options.ExactUnion || !this->Pinned.empty())
   {
@@ -1880,8 +1939,7 @@ bool TriangleCollapser::KeysBeforeCollapse(
   const Index kept = *std::min_element(c.Set, c.Set + c.Count);
   double weight = 0;
   const Quadric qk = this->SetQuadric(c.Set, c.Count, weight);
-  const Vec3 keptLocal = c.Position - this->Origin;
-  const double bias = this->Options.EdgeCollapseBias;
+  const PendingFan fan{ *this, kept, qk, c.Position - this->Origin };
   for (Index t : gathered)
   {
     Index tri[3];
@@ -1901,46 +1959,9 @@ bool TriangleCollapser::KeysBeforeCollapse(
       }
       continue; // removed by the collapse
     }
-    const Quadric* corner[3];
-    Vec3 local[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      corner[k] = tri[k] == kept ? &qk : &this->Vertex[tri[k]].Q;
-      local[k] = tri[k] == kept ? keptLocal : this->Local(tri[k]);
-    }
-    Quadric q = *corner[0];
-    q += *corner[1];
-    q += *corner[2];
-    Vec3 p;
-    double best = PlaceAmong(local[0], local[1], local[2], 3, q, p);
     float cache[3] = { this->State[t].EdgeCost[0], this->State[t].EdgeCost[1], this->State[t].EdgeCost[2] };
-    // Each spoke (kept, x) placed once, at its first triangle in the list's order (as AroundKeys).
-    auto spokeCost = [&](int k) {
-      const Index x = tri[k] == kept ? tri[(k + 1) % 3] : tri[k];
-      // (A plain loop, not std::find, and lvalue pushes: a second caller of AroundKeys'
-      // instantiations changed their inlining there, +36 M instructions in the default loop on
-      // mc250k.)
-      for (size_t i = 0; i < spokes.Vertex.size(); ++i)
-      {
-        if (spokes.Vertex[i] == x)
-        {
-          return spokes.Cost[i];
-        }
-      }
-      const Vec3& b = local[(k + 1) % 3];
-      const float cost =
-        static_cast<float>(PlaceAmong(local[k], b, b, 2, qk + this->Vertex[x].Q, p) * bias * this->CostScale);
-      spokes.Vertex.push_back(x);
-      spokes.Cost.push_back(cost);
-      return cost;
-    };
-    for (int k = 0; k < 3; ++k)
-    {
-      cache[k] = tri[k] == kept || tri[(k + 1) % 3] == kept ? spokeCost(k) : cache[k];
-      best = std::min(best, double(cache[k]) / this->CostScale);
-    }
+    const float key = this->FanTriangleKey(fan, tri, kept, qk, cache, spokes);
     out.Around.push_back(t);
-    const float key = static_cast<float>(best * this->CostScale);
     out.Keys.push_back(key);
     out.EdgeCosts.insert(out.EdgeCosts.end(), cache, cache + 3);
   }
@@ -4042,8 +4063,11 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
   vtkLogF(TRACE, "triangle collapse: %d collapses, %d rejected, %lld placements replaced, %.2f pops per input triangle",
     int(result.Collapses), int(result.RejectedCollapses), loop.Replaced,
     double(loop.Pops) / std::max<Index>(1, loop.StartTriangles));
-  vtkLogF(TRACE, "triangle collapse: %.2f key updates per collapse (%lld)",
-    double(result.KeyUpdates) / std::max<Index>(1, result.Collapses), result.KeyUpdates);
+  const double collapses = std::max<Index>(1, result.Collapses);
+  vtkLogF(TRACE, "triangle collapse: per collapse %.2f key updates (%lld), %.2f placements for them (%lld), "
+    "%.4f validity tests (%lld)", double(result.KeyUpdates) / collapses, result.KeyUpdates,
+    double(result.FanPlacements) / collapses, result.FanPlacements, double(result.ValidityTests) / collapses,
+    result.ValidityTests);
   const double* phase = loop.PhaseSeconds;
   vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran); select %.3f s, evaluate %.3f s, apply %.3f s",
     loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)),
@@ -4156,6 +4180,11 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   this->ExtractResult(result);
   this->Stages.Lap("extraction");
   result.KeyUpdates = this->KeyUpdates;
+  result.FanPlacements = this->FanPlacements;
+  for (long long tests : loop.StatusCounts)
+  {
+    result.ValidityTests += tests;
+  }
   this->TraceStatistics(loop, result);
 }
 

@@ -245,6 +245,12 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // pass schedule has no queue). Each collapse re-keys exactly the triangles around its new vertex,
   // each once, so this is the sum of those fans: the work per collapse, without re-evaluations.
   long long KeyUpdates = 0;
+  // Session 39: the placements (quadric solves) made for those keys, i.e. per collapse each
+  // triangle of the fan once and each spoke (kept vertex, neighbour) once (with the edge cache; the
+  // four operations of each triangle without it); and the operations whose validity was tested
+  // (EditableMesh's checks reached the loop's settling: each one a collapse or a rejection, or an
+  // alternative placement deferred).
+  long long FanPlacements = 0, ValidityTests = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first

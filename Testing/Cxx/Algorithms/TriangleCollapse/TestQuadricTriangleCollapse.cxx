@@ -452,6 +452,51 @@ TEST(QuadricTriangleCollapse, HoldsLockedFlagsOnlyWhenAVertexIsLocked)
   EXPECT_GE(double(peak[1]) - double(peak[0]), vertices);
 }
 
+// The sphere to 10 % with the records, which are then replayed on the input: per collapse the
+// triangles around its new vertex right after it (the fan) and that vertex's distinct
+// neighbours (the spokes), summed over the collapses.
+struct ReplayedFans
+{
+  TriangleCollapseResult Result;
+  long long Fans = 0, Spokes = 0;
+};
+static ReplayedFans CollapseAndReplayFans(const TriangleMesh& sphere, bool edges)
+{
+  TriangleCollapseOptions options;
+  options.TargetTriangles = sphere.NumberOfTriangles() / 10;
+  options.RecordHistory = true;
+  options.EdgeCollapses = edges;
+  ReplayedFans replayed;
+  TriangleCollapseResult& result = replayed.Result;
+  TriangleMesh consumed = sphere;
+  SimplifyByTriangleCollapse(consumed, options, result);
+  EXPECT_GT(result.Collapses, 0);
+  EXPECT_EQ(result.History.NumberOfCollapses(), result.Collapses);
+  EXPECT_EQ(result.History.NumberOfFlips(), 0);
+  EditableMesh replay(sphere);
+  CollapseRecord scratch;
+  std::vector<Index> neighbours;
+  for (Index k = 0; k < result.History.NumberOfCollapses(); ++k)
+  {
+    result.History.Redo(k, replay, scratch);
+    const Index kept = result.History.Vertices[3 * size_t(k)];
+    neighbours.clear();
+    replay.ForEachTriangle(kept, [&](Index t) {
+      ++replayed.Fans;
+      for (int c = 0; c < 3; ++c)
+      {
+        const Index v = replay.Triangle(t)[c];
+        if (v != kept && std::find(neighbours.begin(), neighbours.end(), v) == neighbours.end())
+        {
+          neighbours.push_back(v);
+        }
+      }
+    });
+    replayed.Spokes += static_cast<long long>(neighbours.size());
+  }
+  return replayed;
+}
+
 // The loop's work per collapse (session 38): a collapse rewrites the queue keys of the triangles
 // around its new vertex, each once, and no others. KeyUpdates must equal the sum of those fans,
 // counted by replaying the records on the input (each fan right after its collapse); a wider
@@ -459,29 +504,36 @@ TEST(QuadricTriangleCollapse, HoldsLockedFlagsOnlyWhenAVertexIsLocked)
 TEST(QuadricTriangleCollapse, KeyUpdatesAreTheFansOfTheNewVertices)
 {
   const TriangleMesh sphere = slodtest::Sphere(90, 80);
-  TriangleCollapseOptions options;
-  options.TargetTriangles = sphere.NumberOfTriangles() / 10;
-  options.RecordHistory = true;
   for (const bool edges : { true, false })
   {
-    options.EdgeCollapses = edges;
-    TriangleCollapseResult result;
-    TriangleMesh consumed = sphere;
-    SimplifyByTriangleCollapse(consumed, options, result);
+    const ReplayedFans replayed = CollapseAndReplayFans(sphere, edges);
+    const TriangleCollapseResult& result = replayed.Result;
     ASSERT_GT(result.Collapses, 0);
-    ASSERT_EQ(result.History.NumberOfCollapses(), result.Collapses);
-    ASSERT_EQ(result.History.NumberOfFlips(), 0);
-    EditableMesh replay(sphere);
-    CollapseRecord scratch;
-    long long fans = 0;
-    for (Index k = 0; k < result.Collapses; ++k)
-    {
-      result.History.Redo(k, replay, scratch);
-      replay.ForEachTriangle(result.History.Vertices[3 * size_t(k)], [&](Index) { ++fans; });
-    }
     std::printf("[key updates] edge collapses %s: %.2f per collapse\n", edges ? "on" : "off",
       double(result.KeyUpdates) / double(result.Collapses));
-    EXPECT_EQ(result.KeyUpdates, fans);
+    EXPECT_EQ(result.KeyUpdates, replayed.Fans);
+  }
+}
+
+// The placements (quadric solves) behind those keys (session 39): with the edge cache each
+// triangle of the new vertex's fan is placed once and each spoke (new vertex, neighbour) once,
+// shared by its two triangles; without it (edge collapses off) each triangle's one operation.
+// FanPlacements must equal that count from the replayed records: a spoke placed for each of its
+// triangles, or a placement repeated, exceeds it. Each validity test ends in a collapse, a
+// rejection or an alternative placement, so the tests are at least the collapses and rejections.
+TEST(QuadricTriangleCollapse, FanPlacementsAreEachTriangleAndSpokeOnce)
+{
+  const TriangleMesh sphere = slodtest::Sphere(90, 80);
+  const ReplayedFans cached = CollapseAndReplayFans(sphere, true), uncached = CollapseAndReplayFans(sphere, false);
+  EXPECT_EQ(cached.Result.FanPlacements, cached.Fans + cached.Spokes);
+  EXPECT_EQ(uncached.Result.FanPlacements, uncached.Fans);
+  for (const ReplayedFans* replayed : { &cached, &uncached })
+  {
+    const TriangleCollapseResult& result = replayed->Result;
+    const double collapses = std::max<Index>(1, result.Collapses);
+    std::printf("[fan placements] %.2f placements and %.4f validity tests per collapse\n",
+      double(result.FanPlacements) / collapses, double(result.ValidityTests) / collapses);
+    EXPECT_GE(result.ValidityTests, static_cast<long long>(result.Collapses) + result.RejectedCollapses);
   }
 }
 
