@@ -1216,16 +1216,25 @@ bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
 bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const Vec3& p) const
 {
   const EditableMesh& m = this->Mesh;
-  // M0's triangles are cold (the mesh's are warm from the collapse check): their loads are started
-  // for a fan's worth of triangles at once, then each test waits on one of them (one after the
-  // other, the misses were a sixteenth of the build on mc1m). Their points are the mesh's, warm as
-  // well, but for the vertices a collapse moved (MovedBasePoints), since session 39: not prefetched.
+  // M0's triangles and their points are cold (the mesh's are warm from the collapse check): their
+  // loads are started for a fan's worth of triangles at once, then each test waits on one of them
+  // (one after the other, the misses were a sixteenth of the build on mc1m). M0's points are the
+  // mesh's but for the vertices a collapse moved (MovedBasePoints, since session 39): the mesh's
+  // are prefetched (an M0 corner is often a vertex merged away long ago).
   constexpr int Batch = 16;
   Index ids[Batch];
   int corners[Batch];
   int n = 0;
   bool ok = true;
   const auto test = [&]() {
+    for (int i = 0; i < n; ++i)
+    {
+      const Index* b = &this->Base.Triangles[3 * size_t(ids[i])];
+      for (int j = 0; j < 3; ++j)
+      {
+        m.PrefetchVertex(b[j]); // (its point; the block bounds come with it)
+      }
+    }
     for (int i = 0; i < n && ok; ++i)
     {
       const Index* o = m.Triangle(ids[i]);
