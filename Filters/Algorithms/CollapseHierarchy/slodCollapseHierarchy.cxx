@@ -605,7 +605,7 @@ void CollapseHierarchy::AddAncestorPoints(Index v, const LocalFrame& frame, Inde
   this->ForEachAncestor(this->GlobalOf[v], [&](Index o) {
     if (counter++ % stride == 0)
     {
-      const Vec3 l = frame.ToLocal(this->BuildBasePoint(o));
+      const Vec3 l = frame.ToLocal(this->BasePoints.Point(o));
       this->FitPoints.insert(this->FitPoints.end(), { l[0], l[1], l[2] });
     }
   });
@@ -1218,9 +1218,7 @@ bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const
   const EditableMesh& m = this->Mesh;
   // M0's triangles and their points are cold (the mesh's are warm from the collapse check): their
   // loads are started for a fan's worth of triangles at once, then each test waits on one of them
-  // (one after the other, the misses were a sixteenth of the build on mc1m). M0's points are the
-  // mesh's but for the vertices a collapse moved (MovedBasePoints, since session 39): the mesh's
-  // are prefetched (an M0 corner is often a vertex merged away long ago).
+  // (one after the other, the misses were a sixteenth of the build on mc1m).
   constexpr int Batch = 16;
   Index ids[Batch];
   int corners[Batch];
@@ -1232,7 +1230,7 @@ bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const
       const Index* b = &this->Base.Triangles[3 * size_t(ids[i])];
       for (int j = 0; j < 3; ++j)
       {
-        m.PrefetchVertex(b[j]); // (its point; the block bounds come with it)
+        this->BasePoints.Prefetch(b[j]);
       }
     }
     for (int i = 0; i < n && ok; ++i)
@@ -1272,12 +1270,6 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   collapse.Triangle = t;
   collapse.Weight = this->Evaluations[this->Row(t)].Weight;
   this->CollapsePoints.insert(this->CollapsePoints.end(), p.begin(), p.end());
-  if (!this->MovedBasePoints.Holds(kept))
-  {
-    this->LateBasePointSaves++;
-    this->KeptScratch.assign(1, kept);
-    this->SaveBeforeMoving(this->KeptScratch);
-  }
 
   m.Collapse(vertices, count, kept, p, &this->Record);
   for (int i = 1; i < count; ++i)
@@ -1777,7 +1769,8 @@ bool CollapseHierarchy::Build(
   this->SetParameters(parameters);
   this->PeakBytes = 0;
   this->PeakShares.clear();
-  this->PeakLevel = -1;
+  this->PeakLevelStateBytes = 0;
+  this->PeakAtLevel = -1;
   if (input.NumberOfTriangles() >= Index(1) << 30)
   {
     return false; // a version's code holds the triangle id in 30 bits
@@ -1845,11 +1838,11 @@ bool CollapseHierarchy::Build(
   {
     vtkLogF(TRACE,
       "collapse hierarchy: peak working bytes per input vertex %.1f, kept hierarchy %.1f (%lld triangle "
-      "versions, codes in %u bits, deaths in %u; M0 points saved after their batch %lld)",
+      "versions, codes in %u bits, deaths in %u)",
       double(this->PeakBytes) / double(std::max<Index>(1, this->NumberOfBasePoints())),
       double(this->StorageBytes()) / double(std::max<Index>(1, this->NumberOfBasePoints())),
       static_cast<long long>(this->NumberOfEntries()), this->PackedCodes.BitsPerValue(),
-      this->PackedDeaths.BitsPerValue(), static_cast<long long>(this->LateBasePointSaves));
+      this->PackedDeaths.BitsPerValue());
     this->LogPeakShares();
     this->LogStageTimes();
   }
@@ -2048,8 +2041,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     stamps += bytes(column->Narrow) + bytes(column->Wide);
   }
   const size_t ancestors = bytes(this->AncestorCounts);
-  return { { "M0 (points, triangles)", false,
-             this->BasePoints.MemoryBytes() + this->MovedBasePoints.MemoryBytes() + bytes(this->Base.Triangles) },
+  return { { "M0 (points, triangles)", false, this->BasePoints.MemoryBytes() + bytes(this->Base.Triangles) },
     { "editable mesh (coarsest)", false, this->Mesh.MemoryBytes() },
     { "collapse points", false, bytes(this->CollapsePoints) },
     { "collapses", false, bytes(this->Collapses) },
@@ -2069,106 +2061,6 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "stamps, degrees, marks", true, stamps },
     { "ancestors", true, ancestors },
     { "current versions, rows", true, bytes(this->EntryOf) + this->RowOf.MemoryBytes() } };
-}
-
-void MovedPointRows::Reset(Index n, bool floats)
-{
-  this->Release();
-  this->Floats = floats;
-  this->Words.assign((size_t(n) + 63) / 64, Word{ 0, 0 });
-}
-
-void MovedPointRows::Release()
-{
-  std::vector<Word>().swap(this->Words);
-  std::vector<float>().swap(this->AsFloats);
-  std::vector<double>().swap(this->AsDoubles);
-  this->Rows = 0;
-}
-
-// The rows of `vertices` (sorted, none held) inserted in place from the back: the rows after the
-// last new vertex move by all of them, those before it and after the one before by one less, ...
-// (one block move per new vertex); then the words' bits and bases.
-template <typename T>
-void MovedPointRows::Insert(std::vector<T>& coordinates, const std::vector<Index>& vertices, const EditableMesh& mesh)
-{
-  const size_t k = vertices.size();
-  coordinates.resize(3 * (this->Rows + k));
-  size_t end = this->Rows; // old rows not moved yet: [0, end)
-  for (size_t j = k; j-- > 0;)
-  {
-    const size_t i = size_t(vertices[j]);
-    const Word& w = this->Words[i >> 6];
-    const size_t rank = size_t(w.Base) + LiveRowIndex::PopCount(w.Bits & ((std::uint64_t(1) << (i & 63)) - 1));
-    std::copy_backward(coordinates.begin() + 3 * rank, coordinates.begin() + 3 * end,
-      coordinates.begin() + 3 * (end + j + 1));
-    const Vec3 p = mesh.Point(vertices[j]);
-    std::copy(p.begin(), p.end(), coordinates.begin() + 3 * (rank + j)); // (exact as floats: Reset)
-    end = rank;
-  }
-  for (const Index v : vertices)
-  {
-    this->Words[size_t(v) >> 6].Bits |= std::uint64_t(1) << (size_t(v) & 63);
-  }
-  Index base = this->Words[size_t(vertices[0]) >> 6].Base;
-  for (size_t w = size_t(vertices[0]) >> 6; w < this->Words.size(); ++w)
-  {
-    this->Words[w].Base = base;
-    base += static_cast<Index>(LiveRowIndex::PopCount(this->Words[w].Bits));
-  }
-  this->Rows += k;
-}
-
-size_t MovedPointRows::Save(std::vector<Index>& vertices, const EditableMesh& mesh)
-{
-  vertices.erase(std::remove_if(vertices.begin(), vertices.end(), [this](Index v) { return this->Holds(v); }),
-    vertices.end());
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  const size_t saved = vertices.size();
-  if (saved > 0)
-  {
-    if (this->Floats)
-    {
-      this->Insert(this->AsFloats, vertices, mesh);
-    }
-    else
-    {
-      this->Insert(this->AsDoubles, vertices, mesh);
-    }
-  }
-  vertices.clear();
-  return saved;
-}
-
-std::vector<double> MovedPointRows::AllCoordinates(const EditableMesh& mesh) const
-{
-  const Index n = std::min(static_cast<Index>(64 * this->Words.size()), mesh.NumberOfPoints());
-  std::vector<double> all(3 * size_t(n));
-  for (Index v = 0; v < n; ++v)
-  {
-    const Vec3 p = this->Holds(v) ? this->Get(v) : mesh.Point(v);
-    std::copy(p.begin(), p.end(), all.begin() + 3 * size_t(v));
-  }
-  return all;
-}
-
-void CollapseHierarchy::SaveBeforeMoving(std::vector<Index>& kept)
-{
-  this->MovedBasePoints.Save(kept, this->Mesh);
-}
-
-void CollapseHierarchy::KeepBasePoints()
-{
-  if (!this->BuildingBasePoints)
-  {
-    return;
-  }
-  std::vector<double> all = this->MovedBasePoints.AllCoordinates(this->Mesh);
-  all.resize(3 * size_t(this->BasePointCount)); // (the mesh's first points are M0's)
-  this->MovedBasePoints.Release();
-  this->BasePoints.Take(all); // (floats again when every coordinate is one)
-  this->BuildingBasePoints = false;
 }
 
 void LiveRowIndex::Reset(size_t n)
@@ -2214,21 +2106,24 @@ void CollapseHierarchy::NotePeak(const LevelState* state, int level)
   if (bytes > this->PeakBytes)
   {
     this->PeakBytes = bytes;
-    if (this->TimingStages) // (only TRACE prints them)
-    {
-      this->PeakShares = this->Storage();
-      this->PeakLevelStateBytes = levelBytes;
-      this->PeakLevel = level;
-    }
+    this->PeakShares = this->Storage(); // (a few times per build: the peak rises at the first levels)
+    this->PeakLevelStateBytes = levelBytes;
+    this->PeakAtLevel = level;
   }
+}
+
+std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::PeakStorage() const
+{
+  std::vector<StorageShare> shares = this->PeakShares;
+  shares.push_back({ "level state (selection)", true, this->PeakLevelStateBytes });
+  return shares;
 }
 
 // The peak's structures in bytes per input vertex, largest first (at TRACE).
 void CollapseHierarchy::LogPeakShares() const
 {
   const double perVertex = 1.0 / double(std::max<Index>(1, this->NumberOfBasePoints()));
-  std::vector<StorageShare> shares = this->PeakShares;
-  shares.push_back({ "level state (selection)", true, this->PeakLevelStateBytes });
+  std::vector<StorageShare> shares = this->PeakStorage();
   std::stable_sort(shares.begin(), shares.end(),
     [](const StorageShare& a, const StorageShare& b) { return a.Bytes > b.Bytes; });
   std::string line;
@@ -2238,7 +2133,7 @@ void CollapseHierarchy::LogPeakShares() const
     std::snprintf(item, sizeof(item), "%s%s %.1f", line.empty() ? "" : ", ", share.Name, double(share.Bytes) * perVertex);
     line += item;
   }
-  vtkLogF(TRACE, "collapse hierarchy: the peak (after level %d), bytes per input vertex: %s", this->PeakLevel, line.c_str());
+  vtkLogF(TRACE, "collapse hierarchy: the peak (after level %d), bytes per input vertex: %s", this->PeakAtLevel, line.c_str());
 }
 
 // The parameters with the weights made non-negative (normalised by their sum) and the fractions
@@ -2289,15 +2184,8 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->Mesh.SetVertexLinkMarks(false);
   this->Mesh.Reset(this->Base);
   this->LockNonManifoldVertices();
-  // M0's points: the editable mesh's until a collapse moves one (MovedBasePoints), kept apart
-  // once built (KeepBasePoints).
-  this->BasePointCount = this->Base.NumberOfPoints();
-  this->MovedBasePoints.Reset(this->BasePointCount, PointStore::AllFloats(this->Base.Points));
-  std::vector<double>().swap(this->Base.Points);
-  std::vector<double> none;
-  this->BasePoints.Take(none);
-  this->BuildingBasePoints = true;
-  this->LateBasePointSaves = 0;
+  // M0's points for the life of the hierarchy (the editable mesh has its own copy to move).
+  this->BasePoints.Take(this->Base.Points);
   const Index np = this->NumberOfBasePoints();
   const Index nt = this->Base.NumberOfTriangles();
   this->CollapsePoints.clear();
@@ -2387,7 +2275,7 @@ void CollapseHierarchy::InitializeQuadrics()
   double totalArea = 0;
   for (Index t = 0; t < nt; ++t)
   {
-    totalArea += this->Mesh.TriangleArea(t); // (before the first collapse: M0's triangle and points)
+    totalArea += 0.5 * Norm(this->BaseAreaVector(t));
   }
   this->MeanArea = totalArea > 0 ? totalArea / nt : 1.0;
   this->Quadrics.clear();
@@ -2409,7 +2297,7 @@ void CollapseHierarchy::InitializeQuadrics()
   {
     const Index* tri = this->Base.Triangle(t);
     Quadric q;
-    if (TrianglePlaneQuadric(this->BuildBasePoint(tri[0]), this->BuildBasePoint(tri[1]), this->BuildBasePoint(tri[2]), q) > 0)
+    if (TrianglePlaneQuadric(this->BasePoints.Point(tri[0]), this->BasePoints.Point(tri[1]), this->BasePoints.Point(tri[2]), q) > 0)
     {
       for (int k = 0; k < 3; ++k)
       {
@@ -3231,16 +3119,6 @@ void CollapseHierarchy::CollapseBatch(LevelState& state)
   run.Survivors.resize(n);
   run.Removed.resize(n);
   run.Changed.resize(n);
-  // M0's points of the batch's kept vertices, before the first collapse moves one (the regions
-  // are disjoint: no collapse of the batch changes another's triangle; ApplyCollapse and ApplyRun
-  // save any that this missed).
-  std::vector<Index>& kept = this->KeptScratch;
-  kept.clear();
-  for (size_t b = 0; b < n; ++b)
-  {
-    kept.push_back(this->Mesh.Triangle(state.Batch[b])[std::max(0, state.BatchEdge[b])]);
-  }
-  this->SaveBeforeMoving(kept);
   for (size_t b = 0; b < n;)
   {
     const size_t end = this->Parameters.ParallelCollapses ? this->RunEnd(state, b) : b;
@@ -3403,18 +3281,6 @@ void CollapseHierarchy::ApplyRun(LevelState& state, size_t begin, size_t end)
     removed += run.Removed[b];
   }
   const Index survivors = run.SurvivorStart.back();
-  std::vector<Index>& late = this->KeptScratch; // (kept vertices the batch's save missed)
-  late.clear();
-  for (size_t b = begin; b < end; ++b)
-  {
-    const Index kept = this->Mesh.Triangle(state.Batch[b])[state.BatchEdge[b]];
-    if (!this->MovedBasePoints.Holds(kept))
-    {
-      late.push_back(kept);
-    }
-  }
-  this->LateBasePointSaves += static_cast<Index>(late.size());
-  this->SaveBeforeMoving(late);
   run.FirstCollapse = this->NumberOfCollapses();
   run.FirstEntry = this->NumberOfEntries();
   run.FirstStamp = this->ChangeCounter;

@@ -206,6 +206,7 @@ public:
   size_t MemoryBytes() const { return this->Words.capacity() * sizeof(Word); }
   void Release() { std::vector<Word>().swap(this->Words); this->Elements = 0; }
 
+private:
   static size_t PopCount(std::uint64_t x)
   {
     // (Bit arithmetic: the build has no popcnt instruction by default.)
@@ -214,8 +215,6 @@ public:
     x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
     return size_t((x * 0x0101010101010101u) >> 56);
   }
-
-private:
 #pragma pack(push, 4)
   struct Word
   {
@@ -259,64 +258,6 @@ std::vector<std::uint64_t> LiveRowIndex::Renumber(Alive&& alive)
   }
   return kept;
 }
-
-// M0's points during the build (session 39). The editable mesh starts with M0's points (the same
-// doubles) and moves only the kept vertex of each collapse, so M0's point is the mesh's until its
-// vertex is first kept; only then is it saved here (SaveBeforeMoving, before the batch's first
-// collapse), in vertex order, in rows counted by rank words as LiveRowIndex's. The second copy of
-// every point (12 bytes per input vertex on float inputs, 24 on double ones) becomes 12 or 24 per
-// moved vertex plus 12 bytes per 64 vertices: at the first levels, the build's peak, a fifth of the
-// vertices have moved. A save inserts its rows in place (a block move per saved vertex). (Rows
-// reserved for every vertex at Reset made the RSS no lower: the reserve took freed heap pages that
-// were still resident.)
-class SURFACELODFILTERS_EXPORT MovedPointRows
-{
-public:
-  // n vertices, none saved; floats: every coordinate of M0 is one (then kept as floats, exactly).
-  void Reset(Index n, bool floats);
-  bool Holds(Index v) const { return (this->Words[size_t(v) >> 6].Bits >> (size_t(v) & 63)) & 1u; }
-  // The saved point of a vertex it holds.
-  Vec3 Get(Index v) const
-  {
-    const size_t i = size_t(v);
-    const Word& w = this->Words[i >> 6];
-    const size_t row = 3 * (size_t(w.Base) + LiveRowIndex::PopCount(w.Bits & ((std::uint64_t(1) << (i & 63)) - 1)));
-    if (this->Floats)
-    {
-      return { this->AsFloats[row], this->AsFloats[row + 1], this->AsFloats[row + 2] };
-    }
-    return { this->AsDoubles[row], this->AsDoubles[row + 1], this->AsDoubles[row + 2] };
-  }
-  // Saves the current points (mesh) of the vertices of `vertices` not held yet; the list is
-  // sorted and emptied. Returns how many were saved.
-  size_t Save(std::vector<Index>& vertices, const EditableMesh& mesh);
-  // Every point (saved, else the mesh's), 3 coordinates per vertex.
-  std::vector<double> AllCoordinates(const EditableMesh& mesh) const;
-  size_t NumberOfRows() const { return this->Rows; }
-  bool HoldsFloats() const { return this->Floats; }
-  size_t MemoryBytes() const
-  {
-    return this->Words.capacity() * sizeof(Word) + this->AsFloats.capacity() * sizeof(float) +
-      this->AsDoubles.capacity() * sizeof(double);
-  }
-  void Release();
-
-private:
-  template <typename T>
-  void Insert(std::vector<T>& coordinates, const std::vector<Index>& vertices, const EditableMesh& mesh);
-#pragma pack(push, 4)
-  struct Word
-  {
-    std::uint64_t Bits; // bit j: vertex 64 w + j saved
-    Index Base;         // rows of the vertices before the word's
-  };
-#pragma pack(pop)
-  std::vector<Word> Words;
-  std::vector<float> AsFloats;
-  std::vector<double> AsDoubles;
-  size_t Rows = 0;
-  bool Floats = true;
-};
 
 // Non-negative integers in the fewest bits the largest of them needs, read at any index: the
 // finished hierarchy's triangle versions (their codes and deaths, 4 bytes each in the build's
@@ -449,18 +390,14 @@ public:
     const Index np = this->NumberOfBasePoints();
     if (g < np)
     {
-      return this->BasePoint(g);
+      return this->BasePoints.Point(g);
     }
     const double* p = &this->CollapsePoints[3 * size_t(g - np)];
     return { p[0], p[1], p[2] };
   }
   // M0 (the input, or the input after cycle-removing swaps), assembled: its points are held apart
   // (BasePoints).
-  TriangleMesh BaseMesh() const
-  {
-    return { this->BuildingBasePoints ? this->MovedBasePoints.AllCoordinates(this->Mesh) : this->BasePoints.Coordinates(),
-      this->Base.Triangles };
-  }
+  TriangleMesh BaseMesh() const { return { this->BasePoints.Coordinates(), this->Base.Triangles }; }
   // Largest curvature of M0 (1 when not computed: ErrorWeight 1 with QuadricCollapsePoint).
   double MaximumCurvature() const { return this->KappaMax; }
   double ValenceNormalizer() const { return this->Mv; }
@@ -499,6 +436,11 @@ public:
   // batch) met during the last Build: after M0's evaluation and at the end of every level, before
   // its compaction (the working data whole, the hierarchy grown by the level).
   size_t PeakWorkingBytes() const { return this->PeakBytes; }
+  // What made up that peak: Storage() then, and the level state's bytes ("level state
+  // (selection)", build only); their sum is PeakWorkingBytes(). PeakLevel(): the level after which
+  // it was met, -1 before the levels (after M0's evaluation).
+  std::vector<StorageShare> PeakStorage() const;
+  int PeakLevel() const { return this->PeakAtLevel; }
 
 private:
   // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the
@@ -665,11 +607,10 @@ private:
   static size_t LevelStateBytes(const LevelState& state);
   void NotePeak(const LevelState* state, int level);
   size_t PeakBytes = 0;
-  // What made up the peak (TRACE: LogPeakShares): Storage() and the level state's bytes then, and
-  // the level after which it was met (-1: before the levels).
+  // What made up the peak (PeakStorage; at TRACE LogPeakShares prints it).
   std::vector<StorageShare> PeakShares;
   size_t PeakLevelStateBytes = 0;
-  int PeakLevel = -1;
+  int PeakAtLevel = -1;
   void LogPeakShares() const;
 
   // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only
@@ -750,39 +691,19 @@ private:
   bool KeepsOrientation(Index t, const Vec3& p) const;
 
   CollapseHierarchyParameters Parameters;
-  // M0: its triangles in Base (whose points are moved out at Reset) and, once built, its points in BasePoints,
+  // M0: its triangles in Base (whose points are moved out at Reset) and its points in BasePoints,
   // in floats when every coordinate is one (12 bytes per input vertex less for the life of the
   // hierarchy on float inputs; the same values).
-  // During the build (BuildingBasePoints, from Reset to FinishVersions) BasePoints is empty and
-  // M0's points are the editable mesh's, or MovedBasePoints' for the vertices a collapse moved.
   TriangleMesh Base;
   PointStore BasePoints;
-  MovedPointRows MovedBasePoints;
-  bool BuildingBasePoints = false;
-  Index BasePointCount = 0;
-  Index NumberOfBasePoints() const { return this->BasePointCount; }
-  // M0's point of input vertex v, during the build.
-  Vec3 BuildBasePoint(Index v) const
-  {
-    return this->MovedBasePoints.Holds(v) ? this->MovedBasePoints.Get(v) : this->Mesh.Point(v);
-  }
-  Vec3 BasePoint(Index v) const
-  {
-    return this->BuildingBasePoints ? this->BuildBasePoint(v) : this->BasePoints.Point(v);
-  }
-  // Saves M0's points of the vertices about to move (the list is emptied; BuildBasePoint).
-  void SaveBeforeMoving(std::vector<Index>& kept);
-  // M0's points back in BasePoints once the mesh is not read any more (FinishVersions).
-  void KeepBasePoints();
-  std::vector<Index> KeptScratch; // (SaveBeforeMoving's lists)
-  Index LateBasePointSaves = 0;   // kept vertices not saved with their batch (TRACE; expected none)
-  // The area vector of M0's triangle t during the build, the orientation reference (computed when
-  // asked: not kept, 24 bytes per input triangle), as TriangleMesh::TriangleAreaVector.
+  Index NumberOfBasePoints() const { return this->BasePoints.NumberOfPoints(); }
+  // The area vector of M0's triangle t, the orientation reference (computed when asked: not kept,
+  // 24 bytes per input triangle), as TriangleMesh::TriangleAreaVector.
   Vec3 BaseAreaVector(Index t) const
   {
     const Index* tri = this->Base.Triangle(t);
-    const Vec3 a = this->BuildBasePoint(tri[0]);
-    return Cross(this->BuildBasePoint(tri[1]) - a, this->BuildBasePoint(tri[2]) - a);
+    const Vec3 a = this->BasePoints.Point(tri[0]);
+    return Cross(this->BasePoints.Point(tri[1]) - a, this->BasePoints.Point(tri[2]) - a);
   }
   EditableMesh Mesh;
   static constexpr double HierarchyReferenceRoomFactor = 1.0; // (Reset)
@@ -847,7 +768,6 @@ private:
   {
     this->DeriveBaseDeaths();
     this->PackVersions();
-    this->KeepBasePoints();
   }
   Index NumberOfEntries() const
   {

@@ -1496,58 +1496,35 @@ TEST(CollapseHierarchy, SpokePricingAndRebuildGiveTheSameHierarchy)
 // peak is at least what every progress call sees, and at most that start, plus what the hierarchy
 // grew to, plus the level's selection data at their largest (the order and sample of every live triangle, doubled by
 // their growth; marks, batch and re-evaluation lists).
-// M0's points are not held twice during the build (session 39): they are the editable mesh's
-// until a collapse moves its kept vertex, whose M0 point is saved just before. So before the first
-// collapse M0's share is its triangles and the saved points' rank words only (a copy of every point,
-// 12 bytes in floats, on base), at every progress call the saved points are at most one per
-// collapse (a vertex moves only as a collapse's kept vertex; the rows' capacity at most twice
-// their number), and the points given back then and once built are those of the start.
-TEST(CollapseHierarchy, MZeroPointsSavedOnlyWhenMoved)
+// The accounted peak is kept with its parts (session 39): PeakStorage() is Storage() at that moment
+// plus the level state, its parts add up to PeakWorkingBytes(), the level it names was built, and a
+// later build starts the record afresh (a smaller input gives a smaller peak, not the old one).
+TEST(CollapseHierarchy, PeakStorageAddsUpToThePeak)
 {
-  TriangleMesh scan = NoisyScanMesh(45);
-  for (double& x : scan.Points)
+  CollapseHierarchy h;
+  std::vector<size_t> peaks;
+  for (const int resolution : { 45, 25 })
   {
-    x = static_cast<float>(x); // (12 bytes per point)
-  }
-  const size_t nv = size_t(scan.NumberOfPoints()), nt = size_t(scan.NumberOfTriangles());
-  const size_t words = 12 * ((nv + 63) / 64);
-  const auto m0Share = [](const CollapseHierarchy& h) {
-    for (const CollapseHierarchy::StorageShare& share : h.Storage())
+    const TriangleMesh scan = NoisyScanMesh(resolution);
+    ASSERT_TRUE(h.Build(scan, DefaultParameters()));
+    const std::vector<CollapseHierarchy::StorageShare> peak = h.PeakStorage(), after = h.Storage();
+    ASSERT_EQ(peak.size(), after.size() + 1);
+    size_t sum = 0;
+    for (size_t i = 0; i < peak.size(); ++i)
     {
-      if (std::string(share.Name) == "M0 (points, triangles)")
+      sum += peak[i].Bytes;
+      if (i < after.size())
       {
-        return share.Bytes;
+        EXPECT_EQ(std::string(peak[i].Name), std::string(after[i].Name));
       }
     }
-    return size_t(0);
-  };
-  CollapseHierarchyParameters swapping = DefaultParameters();
-  swapping.SwapBlockingEdges = true; // (swaps change triangles, not points)
-  for (const CollapseHierarchyParameters& parameters : { DefaultParameters(), swapping })
-  {
-    CollapseHierarchy h;
-    size_t calls = 0, beforeCollapses = 0, differing = 0;
-    ASSERT_TRUE(h.Build(scan, parameters, [&](double) {
-      const size_t bytes = m0Share(h);
-      const size_t collapses = size_t(h.NumberOfCollapses());
-      if (collapses == 0)
-      {
-        ++beforeCollapses;
-        EXPECT_LE(bytes, 12 * nt + words) << "M0's points copied beside the editable mesh";
-      }
-      EXPECT_LE(bytes, 12 * nt + words + 2 * 12 * collapses) << "more points saved than moved";
-      differing += h.BaseMesh().Points != scan.Points ? 1 : 0;
-      ++calls;
-      return true;
-    }));
-    ASSERT_GT(beforeCollapses, 0u);
-    ASSERT_GT(calls, beforeCollapses + 10);
-    EXPECT_EQ(differing, 0u) << "a moved point read back as moved";
-    ASSERT_GT(h.NumberOfCollapses(), Index(nv / 2));
-    ASSERT_EQ(h.NumberOfSwaps() > 0, parameters.SwapBlockingEdges);
-    EXPECT_TRUE(h.BaseMesh().Points == scan.Points);
-    EXPECT_EQ(m0Share(h), 12 * nv + 12 * nt); // (all kept apart once built, in floats)
+    EXPECT_EQ(std::string(peak.back().Name), "level state (selection)");
+    EXPECT_EQ(sum, h.PeakWorkingBytes());
+    EXPECT_GE(h.PeakLevel(), -1);
+    EXPECT_LT(h.PeakLevel(), h.NumberOfLevels());
+    peaks.push_back(sum);
   }
+  EXPECT_LT(peaks[1], peaks[0]);
 }
 
 TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
@@ -1751,14 +1728,6 @@ TEST(CollapseHierarchy, WorkingDataIsReleasedAndTheAccountingAddsUp)
         // packed in the bits their counts need (session 37): smaller than the build's arrays
         // even with the deaths added (on base the share grows by the deaths' 4 bytes each).
         EXPECT_LT(after[i].Bytes, during[i].Bytes) << "triangle versions not packed after the build";
-      }
-      else if (std::string(after[i].Name) == "M0 (points, triangles)")
-      {
-        // During the build M0's points are the editable mesh's but for the moved ones, saved; the
-        // build's end keeps them all apart (session 39): 12 bytes per point in floats, else 24.
-        const size_t triangles = 12 * size_t(scan.NumberOfTriangles());
-        EXPECT_TRUE(after[i].Bytes == triangles + size_t(12 * nv) || after[i].Bytes == triangles + size_t(24 * nv))
-          << after[i].Bytes;
       }
       else
       {
