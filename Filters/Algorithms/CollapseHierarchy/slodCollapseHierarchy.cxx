@@ -13,10 +13,12 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <iterator>
 #include <limits>
 #include <optional>
+#include <string>
 #include <type_traits>
 #include <numeric>
 #include <utility>
@@ -1766,6 +1768,9 @@ bool CollapseHierarchy::Build(
 {
   this->SetParameters(parameters);
   this->PeakBytes = 0;
+  this->PeakShares.clear();
+  this->PeakLevelStateBytes = 0;
+  this->PeakAtLevel = -1;
   if (input.NumberOfTriangles() >= Index(1) << 30)
   {
     return false; // a version's code holds the triangle id in 30 bits
@@ -1790,7 +1795,7 @@ bool CollapseHierarchy::Build(
   // What the set-up freed (the input's double points, M0's evaluation's scratch) back to the
   // system before the levels, whose first ones are the build's peak.
   ReturnFreedMemory();
-  this->NotePeak(nullptr);
+  this->NotePeak(nullptr, -1);
   LevelState state;
   state.Marks.assign(nt, 0);
   if (this->Parameters.MaximumWeight > 0)
@@ -1806,7 +1811,7 @@ bool CollapseHierarchy::Build(
     {
       break;
     }
-    this->NotePeak(&state);
+    this->NotePeak(&state, level);
     {
       StageTimer timer(*this, StageCompact);
       this->CompactRows(state);
@@ -1838,6 +1843,7 @@ bool CollapseHierarchy::Build(
       double(this->StorageBytes()) / double(std::max<Index>(1, this->NumberOfBasePoints())),
       static_cast<long long>(this->NumberOfEntries()), this->PackedCodes.BitsPerValue(),
       this->PackedDeaths.BitsPerValue());
+    this->LogPeakShares();
     this->LogStageTimes();
   }
   return true;
@@ -2093,10 +2099,41 @@ size_t CollapseHierarchy::LevelStateBytes(const LevelState& state)
 }
 
 // (PeakWorkingBytes.)
-void CollapseHierarchy::NotePeak(const LevelState* state)
+void CollapseHierarchy::NotePeak(const LevelState* state, int level)
 {
-  const size_t bytes = this->StorageBytes() + (state ? LevelStateBytes(*state) : 0);
-  this->PeakBytes = std::max(this->PeakBytes, bytes);
+  const size_t levelBytes = state ? LevelStateBytes(*state) : 0;
+  const size_t bytes = this->StorageBytes() + levelBytes;
+  if (bytes > this->PeakBytes)
+  {
+    this->PeakBytes = bytes;
+    this->PeakShares = this->Storage(); // (a few times per build: the peak rises at the first levels)
+    this->PeakLevelStateBytes = levelBytes;
+    this->PeakAtLevel = level;
+  }
+}
+
+std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::PeakStorage() const
+{
+  std::vector<StorageShare> shares = this->PeakShares;
+  shares.push_back({ "level state (selection)", true, this->PeakLevelStateBytes });
+  return shares;
+}
+
+// The peak's structures in bytes per input vertex, largest first (at TRACE).
+void CollapseHierarchy::LogPeakShares() const
+{
+  const double perVertex = 1.0 / double(std::max<Index>(1, this->NumberOfBasePoints()));
+  std::vector<StorageShare> shares = this->PeakStorage();
+  std::stable_sort(shares.begin(), shares.end(),
+    [](const StorageShare& a, const StorageShare& b) { return a.Bytes > b.Bytes; });
+  std::string line;
+  for (const StorageShare& share : shares)
+  {
+    char item[96];
+    std::snprintf(item, sizeof(item), "%s%s %.1f", line.empty() ? "" : ", ", share.Name, double(share.Bytes) * perVertex);
+    line += item;
+  }
+  vtkLogF(TRACE, "collapse hierarchy: the peak (after level %d), bytes per input vertex: %s", this->PeakAtLevel, line.c_str());
 }
 
 // The parameters with the weights made non-negative (normalised by their sum) and the fractions

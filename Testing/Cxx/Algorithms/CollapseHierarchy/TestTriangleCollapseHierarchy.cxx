@@ -1496,6 +1496,37 @@ TEST(CollapseHierarchy, SpokePricingAndRebuildGiveTheSameHierarchy)
 // peak is at least what every progress call sees, and at most that start, plus what the hierarchy
 // grew to, plus the level's selection data at their largest (the order and sample of every live triangle, doubled by
 // their growth; marks, batch and re-evaluation lists).
+// The accounted peak is kept with its parts (session 39): PeakStorage() is Storage() at that moment
+// plus the level state, its parts add up to PeakWorkingBytes(), the level it names was built, and a
+// later build starts the record afresh (a smaller input gives a smaller peak, not the old one).
+TEST(CollapseHierarchy, PeakStorageAddsUpToThePeak)
+{
+  CollapseHierarchy h;
+  std::vector<size_t> peaks;
+  for (const int resolution : { 45, 25 })
+  {
+    const TriangleMesh scan = NoisyScanMesh(resolution);
+    ASSERT_TRUE(h.Build(scan, DefaultParameters()));
+    const std::vector<CollapseHierarchy::StorageShare> peak = h.PeakStorage(), after = h.Storage();
+    ASSERT_EQ(peak.size(), after.size() + 1);
+    size_t sum = 0;
+    for (size_t i = 0; i < peak.size(); ++i)
+    {
+      sum += peak[i].Bytes;
+      if (i < after.size())
+      {
+        EXPECT_EQ(std::string(peak[i].Name), std::string(after[i].Name));
+      }
+    }
+    EXPECT_EQ(std::string(peak.back().Name), "level state (selection)");
+    EXPECT_EQ(sum, h.PeakWorkingBytes());
+    EXPECT_GE(h.PeakLevel(), -1);
+    EXPECT_LT(h.PeakLevel(), h.NumberOfLevels());
+    peaks.push_back(sum);
+  }
+  EXPECT_LT(peaks[1], peaks[0]);
+}
+
 TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
 {
   vtkNew<vtkScanSurfaceSource> source;
