@@ -1506,6 +1506,63 @@ TEST(Retile, RepairMovesACreaseVertexOnlyAlongItsCrease)
   EXPECT_GT(std::fabs(without[1] - 0.5), 1e-6);
 }
 
+// Issue 15, session 39: a crease line that runs through a non-manifold edge (a fin standing on
+// the fold) is not followed across it. The edge has three triangles, so it has no pair of sides
+// to slide between; base-s38's polylines took it as a crease (keeping its last two triangles) and
+// slid a vertex through it. Here the line ends at that edge's vertices: a slide toward it stops
+// at its first vertex, and no side of the edge's triangles is on a crease.
+TEST(Retile, CreasePolylineStopsAtANonManifoldEdge)
+{
+  const int cells = 8, row = cells / 2; // the fold along y = 0.5
+  const TriangleMesh grid = slodtest::Grid(cells, cells);
+  TriangleMesh input;
+  for (Index v = 0; v < grid.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = grid.Point(v);
+    input.AddPoint({ p[0], p[1], std::fabs(p[1] - 0.5) });
+  }
+  for (Index t = 0; t < grid.NumberOfTriangles(); ++t)
+  {
+    input.AddTriangle(grid.Triangle(t)[0], grid.Triangle(t)[1], grid.Triangle(t)[2]);
+  }
+  auto onFold = [&](int i) { return static_cast<Index>(row * (cells + 1) + i); };
+  const int finAt = row; // the fin stands on the fold's edge between columns finAt and finAt + 1
+  const Index apex = static_cast<Index>(input.NumberOfPoints());
+  input.AddPoint({ (finAt + 0.5) / cells, 0.5, 1.0 });
+  input.AddTriangle(onFold(finAt), onFold(finAt + 1), apex);
+  const MeshTopology topology(input);
+  ASSERT_TRUE(topology.IsNonManifoldEdge(topology.FindEdge(onFold(finAt), onFold(finAt + 1))));
+  // The crease line: the fold's vertices joined in order (as DetectFeatureLines joins a line's).
+  std::vector<std::vector<Index>> lines(size_t(input.NumberOfPoints()));
+  for (int i = 0; i < cells; ++i)
+  {
+    lines[onFold(i)].push_back(onFold(i + 1));
+    lines[onFold(i + 1)].push_back(onFold(i));
+  }
+  const CreasePolylines creases(input, lines);
+  EXPECT_EQ(creases.NumberOfSegments(), cells - 1); // every fold edge but the non-manifold one
+  const Index fin = input.NumberOfTriangles() - 1;
+  const Vec3 onFinEdge{ (finAt + 0.5) / cells, 0.5, 0.0 };
+  EXPECT_EQ(creases.SegmentAt(fin, onFinEdge, 1e-9), InvalidIndex);
+  // A point on the fold two edges before the fin, moved toward and past it along the fold.
+  const Vec3 start{ (finAt - 1.5) / cells, 0.5, 0.0 };
+  Index host = InvalidIndex;
+  for (Index t = 0; t < grid.NumberOfTriangles() && host == InvalidIndex; ++t)
+  {
+    const Index* tri = input.Triangle(t);
+    const int onEdge = (std::count(tri, tri + 3, onFold(finAt - 2)) + std::count(tri, tri + 3, onFold(finAt - 1)));
+    host = onEdge == 2 ? t : InvalidIndex;
+  }
+  ASSERT_NE(host, InvalidIndex);
+  const Index segment = creases.SegmentAt(host, start, 1e-9);
+  ASSERT_NE(segment, InvalidIndex);
+  const ClosestPointResult slid = creases.Slide(segment, start, Vec3{ 3.0 / cells, 0, 0 }, Vec3{ 0, 0, 1 });
+  EXPECT_NEAR(slid.Point[0], double(finAt) / cells, 1e-12); // stopped at the line's new end
+  EXPECT_NEAR(slid.Point[1], 0.5, 1e-12);
+  EXPECT_NEAR(slid.Point[2], 0.0, 1e-12);
+  EXPECT_NE(slid.Triangle, fin);
+}
+
 // The repair's pair of flips (session 25): a strip of three rows of five points, two of the middle
 // row pushed out of place (one up past its row, one sideways), so that one tile faces down. No
 // vertex may move, and no single flip leaves fewer bad tiles around it (base-s25's repair leaves
