@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace slod
 {
@@ -13,82 +14,72 @@ namespace
 constexpr int MaximumSlideSegments = 4096;
 } // namespace
 
-CreasePolylines::CreasePolylines(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& lineNeighbors)
+CreasePolylines::CreasePolylines(
+  const TriangleMesh& mesh, const MeshTopology& topology, const std::vector<std::vector<Index>>& lineNeighbors)
   : Mesh(mesh)
 {
+  this->TriangleSideSlot.assign(size_t(mesh.NumberOfTriangles()), InvalidIndex);
+  this->VertexOffsets.assign(size_t(mesh.NumberOfPoints()) + 1, 0);
   auto joined = [&](Index a, Index b) {
     const std::vector<Index>& n = lineNeighbors[a];
     return std::find(n.begin(), n.end(), b) != n.end();
   };
-  std::unordered_map<std::uint64_t, Index> ids;
-  for (Index t = 0; t < mesh.NumberOfTriangles() && !lineNeighbors.empty(); ++t)
+  const bool haveLines = static_cast<Index>(lineNeighbors.size()) >= mesh.NumberOfPoints();
+  for (Index e = 0; haveLines && e < topology.NumberOfEdges(); ++e)
   {
-    const Index* tri = mesh.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
-      if (lineNeighbors[a].empty() || !joined(a, b))
-      {
-        continue;
-      }
-      auto inserted = ids.emplace(EdgeKey(a, b), static_cast<Index>(this->Segments.size()));
-      if (inserted.second)
-      {
-        this->Segments.push_back(Segment{ { a, b }, { t, InvalidIndex } });
-      }
-      else
-      {
-        this->Segments[inserted.first->second].Triangles[1] = t;
-      }
-    }
-  }
-  // Border edges (one triangle) and non-manifold ones are not creases: renumber the others.
-  std::vector<Index> renumbered(this->Segments.size(), InvalidIndex);
-  std::vector<Segment> kept;
-  for (size_t s = 0; s < this->Segments.size(); ++s)
-  {
-    if (this->Segments[s].Triangles[1] != InvalidIndex)
-    {
-      renumbered[s] = static_cast<Index>(kept.size());
-      kept.push_back(this->Segments[s]);
-    }
-  }
-  this->Segments.swap(kept);
-  for (const auto& entry : ids)
-  {
-    const Index s = renumbered[entry.second];
-    if (s == InvalidIndex)
+    const Index a = topology.EdgeVertex(e, 0), b = topology.EdgeVertex(e, 1);
+    // Two triangles exactly: a border edge has one side, a non-manifold one no single pair.
+    if (topology.EdgeTriangleCount(e) != 2 || lineNeighbors[a].empty() || !joined(a, b))
     {
       continue;
     }
-    for (Index t : this->Segments[s].Triangles)
+    const Index s = static_cast<Index>(this->Segments.size());
+    const Index* triangles = topology.EdgeTrianglesBegin(e);
+    this->Segments.push_back(Segment{ { a, b }, { triangles[0], triangles[1] } });
+    for (int i = 0; i < 2; ++i)
     {
-      const Index* tri = mesh.Triangle(t);
-      auto sides = this->TriangleSides.emplace(t, std::array<Index, 3>{ InvalidIndex, InvalidIndex, InvalidIndex });
-      for (int k = 0; k < 3; ++k)
+      const Index t = triangles[i];
+      if (this->TriangleSideSlot[t] == InvalidIndex)
       {
-        if (EdgeKey(tri[(k + 1) % 3], tri[(k + 2) % 3]) == entry.first)
+        this->TriangleSideSlot[t] = static_cast<Index>(this->TriangleSides.size());
+        this->TriangleSides.push_back({ InvalidIndex, InvalidIndex, InvalidIndex });
+      }
+      // The topology's edge j joins corners j and j + 1: it is the side opposite corner j + 2.
+      for (int j = 0; j < 3; ++j)
+      {
+        if (topology.TriangleEdge(t, j) == e)
         {
-          sides.first->second[k] = s;
+          this->TriangleSides[this->TriangleSideSlot[t]][(j + 2) % 3] = s;
         }
       }
     }
-    this->VertexSegments[this->Segments[s].Ends[0]].push_back(s);
-    this->VertexSegments[this->Segments[s].Ends[1]].push_back(s);
+    ++this->VertexOffsets[a + 1];
+    ++this->VertexOffsets[b + 1];
+  }
+  std::partial_sum(this->VertexOffsets.begin(), this->VertexOffsets.end(), this->VertexOffsets.begin());
+  this->VertexSegments.resize(size_t(this->VertexOffsets.back()));
+  std::vector<Index> filled(this->VertexOffsets.begin(), this->VertexOffsets.end() - 1);
+  for (Index s = 0; s < this->NumberOfSegments(); ++s)
+  {
+    for (Index v : this->Segments[s].Ends)
+    {
+      this->VertexSegments[filled[v]++] = s;
+    }
   }
 }
 
 Index CreasePolylines::SegmentAt(Index t, const Vec3& point, double tolerance) const
 {
-  const auto sides = this->TriangleSides.find(t);
-  if (sides == this->TriangleSides.end())
+  const Index slot = t >= 0 && t < static_cast<Index>(this->TriangleSideSlot.size()) ? this->TriangleSideSlot[t] : InvalidIndex;
+  if (slot == InvalidIndex)
   {
     return InvalidIndex;
   }
+  const std::array<Index, 3>& sides = this->TriangleSides[slot];
   const Index* tri = this->Mesh.Triangle(t);
   for (int k = 0; k < 3; ++k)
   {
-    const Index s = sides->second[k];
+    const Index s = sides[k];
     if (s == InvalidIndex)
     {
       continue;
@@ -106,12 +97,12 @@ Index CreasePolylines::SegmentAt(Index t, const Vec3& point, double tolerance) c
 
 Index CreasePolylines::Continuation(Index s, Index v) const
 {
-  const auto at = this->VertexSegments.find(v);
-  if (at == this->VertexSegments.end() || at->second.size() != 2)
+  const Index first = this->VertexOffsets[v];
+  if (this->VertexOffsets[v + 1] - first != 2)
   {
-    return InvalidIndex;
+    return InvalidIndex; // a line's end or a junction
   }
-  return at->second[0] == s ? at->second[1] : at->second[0];
+  return this->VertexSegments[first] == s ? this->VertexSegments[first + 1] : this->VertexSegments[first];
 }
 
 ClosestPointResult CreasePolylines::Slide(Index s, const Vec3& position, const Vec3& displacement, const Vec3& facing) const

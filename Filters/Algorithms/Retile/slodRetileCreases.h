@@ -10,11 +10,11 @@
 #ifndef slodRetileCreases_h
 #define slodRetileCreases_h
 
+#include "slodMeshTopology.h"
 #include "slodTriangleBVH.h"
 #include "slodTriangleMesh.h"
 
 #include <array>
-#include <unordered_map>
 #include <vector>
 
 namespace slod
@@ -22,9 +22,17 @@ namespace slod
 class SURFACELODFILTERS_EXPORT CreasePolylines
 {
 public:
-  // The crease edges of `mesh`: edges with two triangles whose ends are joined in `lineNeighbors`
-  // (DetectFeatureLines' lines; border edges are left out, borders having their own rules).
-  CreasePolylines(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& lineNeighbors);
+  // The crease edges of `mesh`: edges with exactly two triangles (by `topology`, built on `mesh`)
+  // whose ends are joined in `lineNeighbors` (DetectFeatureLines' lines). Border edges are left
+  // out (borders have their own rules) and so are non-manifold ones (no side to slide along), so a
+  // line through a non-manifold edge ends at its vertices.
+  CreasePolylines(const TriangleMesh& mesh, const MeshTopology& topology,
+    const std::vector<std::vector<Index>>& lineNeighbors);
+  // The same with the mesh's topology built here (held only while the polylines are made).
+  CreasePolylines(const TriangleMesh& mesh, const std::vector<std::vector<Index>>& lineNeighbors)
+    : CreasePolylines(mesh, MeshTopology(mesh), lineNeighbors)
+  {
+  }
 
   Index NumberOfSegments() const { return static_cast<Index>(this->Segments.size()); }
   // The crease segment a point of triangle t lies on: a crease side of t whose distance from the
@@ -47,8 +55,12 @@ private:
   Index Continuation(Index s, Index v) const;
   const TriangleMesh& Mesh;
   std::vector<Segment> Segments;
-  std::unordered_map<Index, std::array<Index, 3>> TriangleSides; // segment of side k (opposite corner k)
-  std::unordered_map<Index, std::vector<Index>> VertexSegments;
+  // Per triangle: its slot in TriangleSides, or InvalidIndex when no side is a crease (an index
+  // array: SegmentAt is asked at every move of the repair).
+  std::vector<Index> TriangleSideSlot;
+  std::vector<std::array<Index, 3>> TriangleSides; // segment of side k (opposite corner k)
+  // Per vertex its crease segments, compressed: those of v are [VertexOffsets[v], VertexOffsets[v + 1]).
+  std::vector<Index> VertexOffsets, VertexSegments;
 };
 } // namespace slod
 

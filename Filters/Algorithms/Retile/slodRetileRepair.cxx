@@ -812,7 +812,17 @@ Index TileRepair::RunFlipped(int rounds)
   this->FlippedOnly = true;
   this->MovedBound = this->UsualMovedBound();
   this->Work = 0;
+  std::vector<unsigned char> wasMovable;
+  for (Index v : this->MovableInFinalStage)
+  {
+    wasMovable.push_back(this->Movable[v]);
+    this->Movable[v] = 1;
+  }
   const Index left = this->Run(rounds, FlippedWorkPerTriangle);
+  for (size_t i = 0; i < wasMovable.size(); ++i)
+  {
+    this->Movable[this->MovableInFinalStage[i]] = wasMovable[i];
+  }
   this->FlippedOnly = false;
   this->MovedBound = this->UsualMovedBound();
   return left;

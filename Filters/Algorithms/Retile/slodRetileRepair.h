@@ -20,7 +20,8 @@
 //    count stays, and a star with no kernel gets one.
 // A final stage (session 37, RunFlipped) then works on the flipped tiles alone (normal against the
 // input triangle under the centroid): the same changes, each kept only when the flipped tiles
-// around it become fewer and the needles and folds no more.
+// around it become fewer and the needles and folds no more; there the vertices of
+// MovableInFinalStage may move too (session 39: retained original vertices, by option).
 // Bounded: a fixed number of passes over the bad tiles, and a budget of triangle visits.
 #ifndef slodRetileRepair_h
 #define slodRetileRepair_h
@@ -76,6 +77,9 @@ struct SURFACELODFILTERS_EXPORT TileRepair
   const TriangleBVH& InputBVH;
   // Per vertex of Edit: 1 when the repair may move it.
   std::vector<unsigned char> Movable;
+  // Vertices only the final stage (RunFlipped) may move, besides Movable's (session 39: retained
+  // original vertices, whose tiles the earlier passes leave as they are).
+  std::vector<Index> MovableInFinalStage;
   // Edges that are never flipped (feature lines); may be empty.
   std::function<bool(Index, Index)> IsFixedEdge;
   // What the original surface faces at `position` on its triangle `triangle` (a moved vertex's

@@ -20,6 +20,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <unordered_map>
 
 namespace slod
 {
@@ -1820,10 +1821,11 @@ Index RepairTiles(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::v
   const OldVertexRemoval& removal, const std::vector<unsigned char>& movable, EditableMesh& edit,
   std::vector<Vec3>& reference, std::vector<Index>* record,
   const std::function<void(Index, const Vec3&, Index)>& moved, int flippedRounds = 0,
-  const decltype(TileRepair::AlongCrease)& alongCrease = nullptr)
+  const decltype(TileRepair::AlongCrease)& alongCrease = nullptr, std::vector<Index> movableInFinalStage = {})
 {
   TileRepair repair(edit, reference, mesh, bvh, movable);
   repair.AlongCrease = alongCrease;
+  repair.MovableInFinalStage = std::move(movableInFinalStage);
   repair.IsFixedEdge = [&](Index x, Index y) { return removal.IsLineEdge(x, y); };
   repair.NormalAt = [&](const Vec3& position, Index t) {
     const Index* tri = mesh.Triangle(t);
@@ -1884,7 +1886,7 @@ void SortCandidatesFirst(
 // interpolating point attributes.
 void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoint>& points,
   const std::vector<double>& bary, const OldVertexRemoval& removal, const std::vector<Index>& newToOld,
-  RetilingResult& result)
+  const std::unordered_map<Index, SurfacePoint>& movedRetained, RetilingResult& result)
 {
   const std::vector<Index>& movedTo = removal.MovedTo;
   const Index n0 = mesh.NumberOfPoints();
@@ -1929,9 +1931,37 @@ void RecordHostLocations(const TriangleMesh& mesh, const std::vector<SurfacePoin
     else
     {
       result.RetainedOldVertices += removal.KeptFor[id] == InvalidIndex ? 1 : 0;
-      atOldVertex(v, id);
+      const auto moved = movedRetained.find(id);
+      if (moved == movedRetained.end())
+      {
+        atOldVertex(v, id);
+        continue;
+      }
+      // Moved by the final stage: it stands where it went, no longer at its input vertex.
+      const Index t = moved->second.Triangle;
+      const Index* tri = mesh.Triangle(t);
+      const Vec3 w = Barycentric(moved->second.Position, mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]));
+      result.HostTriangle[v] = t;
+      std::copy(w.begin(), w.end(), &result.Barycentric[3 * v]);
     }
   }
+}
+
+// The retained original vertices the final stage may move (MoveRetainedVertices): alive after the
+// removal, standing for no candidate, not locked (non-manifold), on a border or a kept line.
+std::vector<Index> MovableRetainedVertices(const EditableMesh& edit, const OldVertexRemoval& removal, Index n0)
+{
+  std::vector<Index> retained;
+  for (Index v = 0; v < n0; ++v)
+  {
+    const bool onLine = !removal.Lines.empty() && !removal.Lines[v].empty();
+    if (edit.IsVertexAlive(v) && removal.KeptFor[v] == InvalidIndex && !removal.Locked[v] && !removal.OnBorder[v] &&
+      !onLine)
+    {
+      retained.push_back(v);
+    }
+  }
+  return retained;
 }
 
 // Candidates nudged inside their triangle (MoveCandidatesInside) stand this far from a side they
@@ -2028,15 +2058,24 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
   std::vector<Vec3> vertexNormals;
   VertexNormals(mesh, vertexNormals);
   vtkLogStartScopeF(TRACE, "retile-repair", "retile: repair");
+  std::unordered_map<Index, SurfacePoint> movedRetained; // retained old vertices the final stage moved
   result.Flips += RepairTiles(mesh, bvh, vertexNormals, removal, movable, edit, reference, nullptr,
     [&](Index v, const Vec3& position, Index triangle) {
+      if (v < n0)
+      {
+        movedRetained[v] = SurfacePoint{ position, triangle };
+        return;
+      }
       removal.MovedTo[v - n0] = InvalidIndex;
       points[v - n0] = SurfacePoint{ position, triangle };
       const Index* tri = mesh.Triangle(triangle);
       const Vec3 w = Barycentric(position, mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]));
       std::copy(w.begin(), w.end(), &bary[3 * size_t(v - n0)]);
     },
-    options.RepairFlippedTiles ? FlippedRepairRounds : 0, AlongCreaseOf(coarser.Creases, points, n0));
+    options.RepairFlippedTiles ? FlippedRepairRounds : 0, AlongCreaseOf(coarser.Creases, points, n0),
+    options.RepairFlippedTiles && options.MoveRetainedVertices
+      ? MovableRetainedVertices(edit, removal, n0)
+      : std::vector<Index>());
   vtkLogEndScope("retile-repair");
   if (!ReportProgress(options, 0.97))
   {
@@ -2046,7 +2085,7 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
   std::vector<Index> newToOld;
   edit.Extract(result.Mesh, &newToOld);
   SortCandidatesFirst(n0, np, removal.KeptFor, result.Mesh, newToOld);
-  RecordHostLocations(mesh, points, bary, removal, newToOld, result);
+  RecordHostLocations(mesh, points, bary, removal, newToOld, movedRetained, result);
   ReportProgress(options, 1.0);
 }
 } // namespace

@@ -89,6 +89,12 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   // or more, or are mostly corners); a kept line has its own vertices, and a candidate held on it
   // left needles. Not in the repulsion: measured worse there (Documentation/Retile.md, session 38).
   bool SlideAlongCreases = false;
+  // The final stage (RepairFlippedTiles) may also move the retained original vertices (those no
+  // removal took out, not on a border, a kept line or a non-manifold spot), on the input within
+  // their star like the candidates: a tile at a retained vertex otherwise keeps its corner where
+  // the input had it (session 39). The vertex count does not change; a moved vertex's host
+  // location is where it went (InputVertex no longer set).
+  bool MoveRetainedVertices = false;
   // Optional: per input vertex, 1 when non-manifold (the input preparation's
   // PreparationReport::NonManifoldVertexFlags); computed when null. These vertices are kept as
   // they are (retained old vertices): the removal's link condition assumes one fan per vertex.

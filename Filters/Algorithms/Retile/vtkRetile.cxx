@@ -424,6 +424,22 @@ void WarnAboutCoarserLevelsKeptVertices(vtkRetile* filter, const std::vector<slo
                                       << missed.str());
   }
 }
+// The options vtkRetile passes on as they are.
+void CopyPlainOptions(vtkRetile* self, slod::RetilingOptions& options)
+{
+  options.RepulsionIterations = self->GetRepulsionIterations();
+  options.CurvatureWeight = self->GetCurvatureWeight();
+  options.FilletDensity = self->GetFilletDensity();
+  options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(self->GetRandomSeed()));
+  options.ShapeImprovementPasses = self->GetShapeImprovementPasses();
+  options.EnforceFacing = self->GetEnforceFacing();
+  options.RetriangulateRings = self->GetRetriangulateRings();
+  options.RingSearchFacesInput = self->GetRingSearchFacesInput();
+  options.RepairFlippedTiles = self->GetRepairFlippedTiles();
+  options.SlideAlongCreases = self->GetSlideAlongCreases();
+  options.MoveRetainedVertices = self->GetMoveRetainedVertices();
+  options.FeatureAngle = self->GetFeatureAngle();
+}
 } // namespace
 
 vtkRetile::vtkRetile()
@@ -478,11 +494,7 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     vtkWarningMacro(<< "NumberOfPoints " << options.NumberOfPoints << " is too small; using 4.");
     options.NumberOfPoints = 4;
   }
-  options.RepulsionIterations = this->RepulsionIterations;
-  options.CurvatureWeight = this->CurvatureWeight;
-  options.FilletDensity = this->FilletDensity;
-  options.RandomSeed = static_cast<std::uint64_t>(static_cast<unsigned int>(this->RandomSeed));
-  options.ShapeImprovementPasses = this->ShapeImprovementPasses;
+  CopyPlainOptions(this, options);
   // The nested levels do not keep feature lines (their coarser levels are made from the finer one
   // by recorded collapses): PreserveCreases applies to the plain re-tiling only.
   const bool nested = this->GenerateNestedLevels && this->NumberOfNestedLevels > 1;
@@ -492,12 +504,6 @@ int vtkRetile::RequestData(vtkInformation*, vtkInformationVector** inputVector, 
     vtkWarningMacro(<< "PreserveCreases is ignored with nested levels (GenerateNestedLevels): their coarser levels "
                        "are made from the finer one by recorded collapses, which do not keep feature lines.");
   }
-  options.EnforceFacing = this->EnforceFacing;
-  options.RetriangulateRings = this->RetriangulateRings;
-  options.RingSearchFacesInput = this->RingSearchFacesInput;
-  options.RepairFlippedTiles = this->RepairFlippedTiles;
-  options.SlideAlongCreases = this->SlideAlongCreases;
-  options.FeatureAngle = this->FeatureAngle;
   options.Progress = slod::FilterProgress(this);
   options.NonManifoldVertices = &report.NonManifoldVertexFlags;
   slod::RetilingResult result = RetileWithin(mesh, options, limit);
@@ -612,6 +618,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RingSearchFacesInput: " << this->RingSearchFacesInput << "\n";
   os << indent << "RepairFlippedTiles: " << this->RepairFlippedTiles << "\n";
   os << indent << "SlideAlongCreases: " << this->SlideAlongCreases << "\n";
+  os << indent << "MoveRetainedVertices: " << this->MoveRetainedVertices << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "NumberOfFeatureVertices: " << this->NumberOfFeatureVertices << "\n";
   os << indent << "NumberOfCorners: " << this->NumberOfCorners << "\n";

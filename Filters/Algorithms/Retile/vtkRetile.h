@@ -122,6 +122,11 @@ public:
   vtkSetMacro(SlideAlongCreases, bool);
   vtkGetMacro(SlideAlongCreases, bool);
   vtkBooleanMacro(SlideAlongCreases, bool);
+  // The final stage on the flipped tiles may move retained original vertices too, on the input
+  // within their star (slod::RetilingOptions::MoveRetainedVertices).
+  vtkSetMacro(MoveRetainedVertices, bool);
+  vtkGetMacro(MoveRetainedVertices, bool);
+  vtkBooleanMacro(MoveRetainedVertices, bool);
   vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
   vtkGetMacro(FeatureAngle, double);
 
@@ -166,6 +171,7 @@ protected:
   bool RingSearchFacesInput = false;
   bool RepairFlippedTiles = true;
   bool SlideAlongCreases = false;
+  bool MoveRetainedVertices = false;
   double FeatureAngle = 45.0;
   bool GenerateNestedLevels = false;
   int NumberOfNestedLevels = 3;

@@ -1345,19 +1345,11 @@ int TilesFacingDown(const EditableMesh& edit)
   }
   return down;
 }
-} // namespace
 
-// The repair's move into the star's kernel (2026-12-04, session 23): a vertex v inside a ring with
-// a notch (a reflex ring vertex) lies on the wrong side of the notch's two edges, so two of its
-// tiles face down on a flat surface facing up. Where the tiles all face up is the kernel, a wedge
-// behind the notch; the centre of v's neighbours (dense on the notch's side) and the points half
-// and a quarter of the way to it lie outside it, and no flip helps (the notch makes every new
-// tile across it face down), so until session 23 the repair left the two tiles as they were. Only
-// v may move; the ring is fixed (a border).
-TEST(Retile, RepairMovesAVertexIntoItsStarsKernel)
+// A vertex v (0) inside a ring with a notch (a reflex ring vertex at 0 degrees), on the wrong side
+// of the notch's two edges: one tile faces down on the plane z = 0.
+TriangleMesh NotchedStar()
 {
-  const TriangleMesh input = slodtest::Grid(64, 64);
-  const TriangleBVH bvh(input);
   TriangleMesh star;
   const double pi = std::acos(-1.0);
   star.AddPoint({ 0.5 + 0.2, 0.5 + 0.06, 0 }); // v, right of the notch
@@ -1380,6 +1372,23 @@ TEST(Retile, RepairMovesAVertexIntoItsStarsKernel)
   {
     star.AddTriangle(0, 1 + i, 1 + (i + 1) % ring);
   }
+  return star;
+}
+} // namespace
+
+// The repair's move into the star's kernel (2026-12-04, session 23): a vertex v inside a ring with
+// a notch (a reflex ring vertex) lies on the wrong side of the notch's two edges, so two of its
+// tiles face down on a flat surface facing up. Where the tiles all face up is the kernel, a wedge
+// behind the notch; the centre of v's neighbours (dense on the notch's side) and the points half
+// and a quarter of the way to it lie outside it, and no flip helps (the notch makes every new
+// tile across it face down), so until session 23 the repair left the two tiles as they were. Only
+// v may move; the ring is fixed (a border).
+TEST(Retile, RepairMovesAVertexIntoItsStarsKernel)
+{
+  const TriangleMesh input = slodtest::Grid(64, 64);
+  const TriangleBVH bvh(input);
+  const TriangleMesh star = NotchedStar();
+  const double pi = std::acos(-1.0);
   EditableMesh edit(star);
   std::vector<Vec3> reference(size_t(star.NumberOfPoints()), Vec3{ 0, 0, 1 });
   std::vector<unsigned char> movable(size_t(star.NumberOfPoints()), 0);
@@ -1504,6 +1513,107 @@ TEST(Retile, RepairMovesACreaseVertexOnlyAlongItsCrease)
   // The configuration is one where the repair moves v off the crease without the slide.
   EXPECT_GT(movesWithout, 0);
   EXPECT_GT(std::fabs(without[1] - 0.5), 1e-6);
+}
+
+namespace
+{
+// The notched star of RepairMovesAVertexIntoItsStarsKernel with no vertex movable by the repair
+// (v stands for a retained original vertex), v given to the final stage when `finalStageMoves`;
+// runs the final stage and returns the tiles facing down after it (`moved`: whether v went).
+int FinalStageOnANotchedStar(bool finalStageMoves, bool& moved, bool& movableAfter)
+{
+  EditableMesh edit(NotchedStar());
+  const size_t points = size_t(edit.NumberOfPoints());
+  std::vector<Vec3> reference(points, Vec3{ 0, 0, 1 }); // the input faces up
+  const TriangleMesh input = slodtest::Grid(64, 64);
+  const TriangleBVH bvh(input);
+  TileRepair repair(edit, reference, input, bvh, std::vector<unsigned char>(points, 0));
+  if (finalStageMoves)
+  {
+    repair.MovableInFinalStage = { 0 };
+  }
+  repair.NormalAt = [](const Vec3&, Index) { return Vec3{ 0, 0, 1 }; };
+  moved = false;
+  repair.Moved = [&](Index v, const Vec3&, Index) { moved = moved || v == 0; };
+  repair.NeedleAngle = Radians(2.0);
+  EXPECT_EQ(TilesFacingDown(edit), 1);
+  repair.RunFlipped(4);
+  EXPECT_TRUE(edit.CheckInvariants());
+  EXPECT_NEAR(edit.Point(0)[2], 0.0, 1e-12); // on the input
+  movableAfter = repair.Movable[0] != 0;
+  return TilesFacingDown(edit);
+}
+} // namespace
+
+// Issue 15, session 39: a retained original vertex (not movable by the repair) whose fan holds a
+// flipped tile is moved by the final stage within its star (MovableInFinalStage), and only there:
+// the repair proper leaves it, and so does the final stage without it (base-s38's, where a tile at
+// a retained vertex could only be flipped away).
+TEST(Retile, FinalStageMovesARetainedVertexOutOfAFlippedFan)
+{
+  bool movedWith = false, movedWithout = false, movableWith = true, movableWithout = true;
+  EXPECT_EQ(FinalStageOnANotchedStar(true, movedWith, movableWith), 0);
+  EXPECT_TRUE(movedWith);
+  EXPECT_FALSE(movableWith); // movable in the final stage only
+  EXPECT_EQ(FinalStageOnANotchedStar(false, movedWithout, movableWithout), 1);
+  EXPECT_FALSE(movedWithout);
+}
+
+// Issue 15, session 39: a crease line that runs through a non-manifold edge (a fin standing on
+// the fold) is not followed across it. The edge has three triangles, so it has no pair of sides
+// to slide between; base-s38's polylines took it as a crease (keeping its last two triangles) and
+// slid a vertex through it. Here the line ends at that edge's vertices: a slide toward it stops
+// at its first vertex, and no side of the edge's triangles is on a crease.
+TEST(Retile, CreasePolylineStopsAtANonManifoldEdge)
+{
+  const int cells = 8, row = cells / 2; // the fold along y = 0.5
+  const TriangleMesh grid = slodtest::Grid(cells, cells);
+  TriangleMesh input;
+  for (Index v = 0; v < grid.NumberOfPoints(); ++v)
+  {
+    const Vec3 p = grid.Point(v);
+    input.AddPoint({ p[0], p[1], std::fabs(p[1] - 0.5) });
+  }
+  for (Index t = 0; t < grid.NumberOfTriangles(); ++t)
+  {
+    input.AddTriangle(grid.Triangle(t)[0], grid.Triangle(t)[1], grid.Triangle(t)[2]);
+  }
+  auto onFold = [&](int i) { return static_cast<Index>(row * (cells + 1) + i); };
+  const int finAt = row; // the fin stands on the fold's edge between columns finAt and finAt + 1
+  const Index apex = static_cast<Index>(input.NumberOfPoints());
+  input.AddPoint({ (finAt + 0.5) / cells, 0.5, 1.0 });
+  input.AddTriangle(onFold(finAt), onFold(finAt + 1), apex);
+  const MeshTopology topology(input);
+  ASSERT_TRUE(topology.IsNonManifoldEdge(topology.FindEdge(onFold(finAt), onFold(finAt + 1))));
+  // The crease line: the fold's vertices joined in order (as DetectFeatureLines joins a line's).
+  std::vector<std::vector<Index>> lines(size_t(input.NumberOfPoints()));
+  for (int i = 0; i < cells; ++i)
+  {
+    lines[onFold(i)].push_back(onFold(i + 1));
+    lines[onFold(i + 1)].push_back(onFold(i));
+  }
+  const CreasePolylines creases(input, lines);
+  EXPECT_EQ(creases.NumberOfSegments(), cells - 1); // every fold edge but the non-manifold one
+  const Index fin = input.NumberOfTriangles() - 1;
+  const Vec3 onFinEdge{ (finAt + 0.5) / cells, 0.5, 0.0 };
+  EXPECT_EQ(creases.SegmentAt(fin, onFinEdge, 1e-9), InvalidIndex);
+  // A point on the fold two edges before the fin, moved toward and past it along the fold.
+  const Vec3 start{ (finAt - 1.5) / cells, 0.5, 0.0 };
+  Index host = InvalidIndex;
+  for (Index t = 0; t < grid.NumberOfTriangles() && host == InvalidIndex; ++t)
+  {
+    const Index* tri = input.Triangle(t);
+    const int onEdge = (std::count(tri, tri + 3, onFold(finAt - 2)) + std::count(tri, tri + 3, onFold(finAt - 1)));
+    host = onEdge == 2 ? t : InvalidIndex;
+  }
+  ASSERT_NE(host, InvalidIndex);
+  const Index segment = creases.SegmentAt(host, start, 1e-9);
+  ASSERT_NE(segment, InvalidIndex);
+  const ClosestPointResult slid = creases.Slide(segment, start, Vec3{ 3.0 / cells, 0, 0 }, Vec3{ 0, 0, 1 });
+  EXPECT_NEAR(slid.Point[0], double(finAt) / cells, 1e-12); // stopped at the line's new end
+  EXPECT_NEAR(slid.Point[1], 0.5, 1e-12);
+  EXPECT_NEAR(slid.Point[2], 0.0, 1e-12);
+  EXPECT_NE(slid.Triangle, fin);
 }
 
 // The repair's pair of flips (session 25): a strip of three rows of five points, two of the middle
