@@ -660,6 +660,8 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
   }
   triangulation.Finish(frozen);
   level.ChainRebuilds = s.Times.ChainRebuilds - before.ChainRebuilds;
+  level.WalkedChains = s.Times.WalkedChains - before.WalkedChains;
+  level.WalkSideFinds = s.Times.WalkSideFinds - before.WalkSideFinds;
   level.SupportUnions = s.Times.SupportUnions - before.SupportUnions;
   level.SupportFolds = s.Times.SupportFolds - before.SupportFolds;
   level.WorkspaceAllocations = s.WorkspaceAllocations - allocationsBefore;

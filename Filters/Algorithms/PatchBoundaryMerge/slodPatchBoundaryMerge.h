@@ -244,6 +244,8 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   long long ChainRebuilds = 0;  // chains whose kept vertices the passes' merging rebuilt (RebuildOnlyChangedChains)
   long long SupportUnions = 0;  // supports the passes' merging united (FoldSupportsWhenRead)
   long long SupportFolds = 0;   // of them, folded in when a support was read after replayed unions
+  long long WalkedChains = 0;   // chains the merging runs' boundary walks went along (issue 10, session 39)
+  long long WalkSideFinds = 0;  // of them, those whose side needed a Find through the patch records
   // Merging runs and replays of the passes whose edit record or removal queue needed more room than
   // the working state held (State::WorkspaceAllocations): bounded by the record's growth, not by
   // the number of passes.
@@ -378,7 +380,7 @@ private:
   {
     double Merging = 0, Generate = 0, Tree = 0, Triangulation = 0, Refinement = 0;
     int MergingRuns = 0;
-    long long ChainRebuilds = 0, SupportUnions = 0, SupportFolds = 0;
+    long long ChainRebuilds = 0, SupportUnions = 0, SupportFolds = 0, WalkedChains = 0, WalkSideFinds = 0;
   };
   static void LogStageTimes(const char* what, double seconds, const StageTimes& times);
   struct State;

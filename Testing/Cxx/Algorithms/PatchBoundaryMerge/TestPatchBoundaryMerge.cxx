@@ -1557,6 +1557,26 @@ TEST(SpbmLevel, MergingPassesRebuildOnlyTheChainsThatChanged)
   EXPECT_LT(rebuildsOn, rebuildsOff) << "chain rebuilds " << rebuildsOn << " with, " << rebuildsOff << " without";
 }
 
+// Session 39 (issue 10): a boundary walk takes the side of each chain from its slot (a left-side
+// slot stays in the list of its left patch's root, unions splice whole lists) and looks through the
+// patch records (Find) only for right-side slots. On noisy scans of seeds no other test uses, the
+// level's walks went along chains and needed that Find for fewer of them than they walked (before:
+// one per chain walked).
+TEST(SpbmLevel, BoundaryWalksFindOnlyTheRightSides)
+{
+  for (const unsigned int seed : { 167u, 173u })
+  {
+    auto pm = PatchedNoisyScan(seed);
+    ASSERT_TRUE(pm) << "seed " << seed;
+    SpbmLevel level;
+    GenerateTenthLevel(*pm, [](SpbmLevelParameters&) {}, level);
+    ASSERT_FALSE(level.Triangles.empty()) << "seed " << seed;
+    ASSERT_GT(level.WalkedChains, 0) << "seed " << seed << ": the level's merging must walk boundaries";
+    EXPECT_LT(level.WalkSideFinds, level.WalkedChains)
+      << "seed " << seed << ": " << level.WalkSideFinds << " Finds for " << level.WalkedChains << " chains walked";
+  }
+}
+
 // Session 22 (issue 10): a replayed pass applies its clean unions without uniting the patches'
 // supports (extreme vertices); a support read later is brought up to date by folding in the
 // patches absorbed since, in union order (FoldSupportsWhenRead). With the flatness measure (which
