@@ -4,6 +4,7 @@
 #include "slodChainSimplification.h"
 #include "slodInputPreparation.h" // NonManifoldVertexFlags
 #include "slodProvedCollapses.h"
+#include "slodStageClock.h"
 
 #include "vtkMath.h"
 
@@ -12,7 +13,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace slod
 {
@@ -1319,115 +1322,6 @@ bool GreedyCuts::SplitPatches(const std::vector<Index>& patches)
   return split;
 }
 
-namespace
-{
-// The simplified chains' segments (edge keys) of one run: a flat table, open addressing with
-// linear probing, sized once for every segment the run's chains can give (a chain of n vertices
-// gives at most n - 1) at most half full, and emptied by a new generation instead of a pass over
-// its slots. A node set (one allocation per segment, rebuilt by every chain pass and read at
-// random) took a share of the cuts' CPU that doubled from 0.25M to 1M input triangles.
-class SegmentSet
-{
-public:
-  // Room for `bound` keys; the only allocation of the table (counted in Reservations).
-  void Reserve(size_t bound)
-  {
-    size_t capacity = 16;
-    while (capacity < 2 * bound + 2)
-    {
-      capacity *= 2;
-    }
-    this->Slots.assign(capacity, Slot());
-    this->Mask = capacity - 1;
-    this->Generation = 1;
-    this->Count = 0;
-    ++this->Reservations;
-  }
-  void Clear()
-  {
-    this->Count = 0;
-    if (++this->Generation == 0) // wrapped: a stale slot could look current
-    {
-      std::fill(this->Slots.begin(), this->Slots.end(), Slot());
-      this->Generation = 1;
-    }
-  }
-  bool Contains(std::uint64_t key) const
-  {
-    if (this->Slots.empty())
-    {
-      return false;
-    }
-    for (size_t i = this->Home(key);; i = (i + 1) & this->Mask) // ends: at least half the slots are free
-    {
-      const Slot& slot = this->Slots[i];
-      if (slot.Generation != this->Generation)
-      {
-        return false;
-      }
-      if (slot.Key == key)
-      {
-        return true;
-      }
-    }
-  }
-  // Adds `key` unless present. The caller reserved for every key it can insert; past half full the
-  // table would lose its probe bound, so a key beyond the reservation doubles it (never expected).
-  void Insert(std::uint64_t key)
-  {
-    if (2 * (this->Count + 1) > this->Slots.size())
-    {
-      this->Regrow();
-    }
-    size_t i = this->Home(key);
-    for (; this->Slots[i].Generation == this->Generation; i = (i + 1) & this->Mask)
-    {
-      if (this->Slots[i].Key == key)
-      {
-        return;
-      }
-    }
-    this->Slots[i] = Slot{ key, this->Generation };
-    ++this->Count;
-  }
-  size_t Size() const { return this->Count; }
-  size_t Capacity() const { return this->Slots.size(); }
-  int Reservations = 0; // allocations of the slots: one per run when the reservation holds
-
-private:
-  struct Slot
-  {
-    std::uint64_t Key = 0;
-    std::uint32_t Generation = 0; // the slot holds a key of the current generation only
-  };
-
-  size_t Home(std::uint64_t key) const
-  {
-    key *= 0x9E3779B97F4A7C15ull;
-    return size_t(key ^ (key >> 31)) & this->Mask;
-  }
-
-  void Regrow()
-  {
-    std::vector<Slot> old;
-    old.swap(this->Slots);
-    const std::uint32_t generation = this->Generation;
-    this->Reserve(old.size());
-    for (const Slot& slot : old)
-    {
-      if (slot.Generation == generation)
-      {
-        this->Insert(slot.Key);
-      }
-    }
-  }
-
-  std::vector<Slot> Slots;
-  size_t Mask = 0, Count = 0;
-  std::uint32_t Generation = 1;
-};
-} // namespace
-
 // State of one run.
 struct GreedyCuts::Worker
 {
@@ -1450,7 +1344,7 @@ struct GreedyCuts::Worker
   // unused inner vertex wait until no bite is left, so the front keeps vertices to bite into.
   std::vector<unsigned char> Careful;
   std::vector<std::vector<Index>> PatchChains; // chains around each patch
-  SegmentSet Segments; // reserved once per run (SimplifyChains)
+  std::unordered_set<std::uint64_t> Segments;
   bool ChainsChanged = true; // ChainFull changed since the last SimplifyChains (or none yet)
   std::unordered_map<std::uint64_t, int> EdgeUse;
   std::vector<std::vector<Index>> PatchTris;
@@ -1518,16 +1412,7 @@ struct GreedyCuts::Worker
   void SimplifyChains()
   {
     this->Kept.assign(size_t(M.NumberOfPoints()), 0);
-    if (this->Segments.Capacity() == 0)
-    {
-      size_t segments = 0; // a chain of n vertices gives at most n - 1 segments
-      for (Index c = 0; c < PP.NumberOfChains(); ++c)
-      {
-        segments += size_t(std::max<Index>(PP.ChainSize(c) - 1, 0));
-      }
-      this->Segments.Reserve(segments);
-    }
-    this->Segments.Clear();
+    this->Segments.clear();
     std::vector<unsigned char> keep;
     std::vector<Index> positions;
     for (Index c = 0; c < PP.NumberOfChains(); ++c)
@@ -1551,7 +1436,7 @@ struct GreedyCuts::Worker
         for (size_t k = 0; k + 1 < positions.size(); ++k)
         {
           const Index i = positions[k], j = positions[k + 1];
-          if (j - i >= 2 && (v[i] == v[j] || this->Segments.Contains(EdgeKey(v[i], v[j]))))
+          if (j - i >= 2 && (v[i] == v[j] || this->Segments.count(EdgeKey(v[i], v[j]))))
           {
             keep[FarthestChainVertex(M, v, i, j)] = 1;
             again = true;
@@ -1563,7 +1448,7 @@ struct GreedyCuts::Worker
         this->Kept[v[positions[k]]] = 1;
         if (k + 1 < positions.size())
         {
-          this->Segments.Insert(EdgeKey(v[positions[k]], v[positions[k + 1]]));
+          this->Segments.insert(EdgeKey(v[positions[k]], v[positions[k + 1]]));
         }
       }
     }
@@ -1617,7 +1502,7 @@ struct GreedyCuts::Worker
   bool EdgeExists(Index a, Index b) const
   {
     const std::uint64_t key = EdgeKey(a, b);
-    return this->Segments.Contains(key) || this->EdgeUse.count(key);
+    return this->Segments.count(key) || this->EdgeUse.count(key);
   }
 
   // --- Greedy cuts on one patch ---
@@ -2059,7 +1944,7 @@ struct GreedyCuts::Worker
     for (const auto& [first, other] : this->CornerEdges(s, i))
     {
       const Index e1 = s.Vert[first], e2 = s.Vert[s.Next[first]], x = s.Vert[other];
-      const size_t t = this->Segments.Contains(EdgeKey(e1, e2)) ? size_t(-1) : TriangleOnEdge(tris, e1, e2);
+      const size_t t = this->Segments.count(EdgeKey(e1, e2)) ? size_t(-1) : TriangleOnEdge(tris, e1, e2);
       const Index d = t == size_t(-1) ? InvalidIndex : ThirdVertex(tris, t, e1, e2);
       if (d == InvalidIndex || this->FrontNode[d] != InvalidIndex || this->EdgeExists(x, d) ||
         !ProperCross(this->Coord[x], this->Coord[d], this->Coord[e1], this->Coord[e2]))
@@ -2093,7 +1978,7 @@ struct GreedyCuts::Worker
     for (const auto& [first, other] : this->CornerEdges(s, i))
     {
       const Index e1 = s.Vert[first], e2 = s.Vert[s.Next[first]];
-      const size_t t = this->Segments.Contains(EdgeKey(e1, e2)) ? size_t(-1) : TriangleOnEdge(tris, e1, e2);
+      const size_t t = this->Segments.count(EdgeKey(e1, e2)) ? size_t(-1) : TriangleOnEdge(tris, e1, e2);
       const Index d = t == size_t(-1) ? InvalidIndex : ThirdVertex(tris, t, e1, e2);
       if (d == InvalidIndex)
       {
@@ -2161,7 +2046,7 @@ struct GreedyCuts::Worker
     do
     {
       const Index u = s.Vert[i], w = s.Vert[s.Next[i]];
-      const size_t t = this->Segments.Contains(EdgeKey(u, w)) ? size_t(-1) : TriangleOnEdge(tris, u, w);
+      const size_t t = this->Segments.count(EdgeKey(u, w)) ? size_t(-1) : TriangleOnEdge(tris, u, w);
       const Index x = t == size_t(-1) ? InvalidIndex : ThirdVertex(tris, t, u, w);
       const Vec3 d = M.Point(w) - M.Point(u);
       if (x != InvalidIndex && this->FrontNode[x] == InvalidIndex && Dot(d, d) > bestLength)
@@ -2576,7 +2461,6 @@ struct GreedyCuts::Worker
         this->MarkChangedChainPatches(keptBefore);
         this->ChainsChanged = false;
         ++this->Res.ChainPasses;
-        this->Res.SegmentTableAllocations = this->Segments.Reservations;
       }
       for (Index p = 0; p < np; ++p)
       {
@@ -2741,6 +2625,10 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     }
     this->BuildPatchData();
   }
+  // Each level's cuts (their split rounds: whole runs again) and collapses, timed at TRACE verbosity
+  // (`surfacelod --log-verbosity 9`): which of them grows with the input.
+  StageClock clock("greedy cuts");
+  char stage[160];
   // The cuts report the first 80 % of the progress when the final collapses follow.
   const double cutsShare = parameters.FinalCollapses ? 0.8 : 1.0;
   const ProgressFunction cutsProgress =
@@ -2763,7 +2651,14 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
       break;
     }
   }
-  return !parameters.FinalCollapses || this->CollapseFinal(parameters, result, collapseProgress);
+  std::snprintf(stage, sizeof(stage), "cuts at epsilon %g (%d split rounds, %d rounds in the last, %d chain passes)",
+    parameters.Epsilon, result.SplitRounds, result.Rounds, result.ChainPasses);
+  clock.Lap(stage);
+  const bool collapsed = !parameters.FinalCollapses || this->CollapseFinal(parameters, result, collapseProgress);
+  std::snprintf(stage, sizeof(stage), "final collapses at epsilon %g (%lld collapses)", parameters.Epsilon,
+    result.FinalCollapses);
+  clock.Lap(stage);
+  return collapsed;
 }
 
 bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result,

@@ -125,9 +125,6 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
   bool StartedFromFinerLevel = false; // RunLevels: this level began as the previous one
   int Rounds = 0;
   int ChainPasses = 0; // passes of the chain simplification over every chain (at most Rounds)
-  // Allocations of the table of the simplified chains' segments: one per run (sized for every
-  // segment its chains can give, emptied by a generation counter), whatever the chain passes.
-  int SegmentTableAllocations = 0;
   bool Aborted = false;
 };
 

@@ -86,11 +86,8 @@ public:
     this->Options.BoundaryVertices = this->Border.data();
     this->Options.MinimumAngle = Radians(parameters.MinimumAngle);
     this->Options.LockedVertices = parameters.LockedVertices;
-    this->NewTriangleVerdicts.SetKeyRange(output.NumberOfPoints());
   }
 
-  bool VerdictsInStripes() const { return !this->NewTriangleVerdicts.KeysScattered(); }
-  long long VerdictLongestProbe() const { return static_cast<long long>(this->NewTriangleVerdicts.LongestPlacement()); }
   long long VerdictsHeld() const { return static_cast<long long>(this->NewTriangleVerdicts.Size()); }
   long long VerdictsDropped() const { return this->NewTriangleVerdicts.Dropped; }
 
@@ -1493,8 +1490,6 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   statistics.VerdictsHeld = collapser.VerdictsHeld();
   statistics.DegreeWalks = collapser.DegreeWalks;
   statistics.VerdictsDropped = collapser.VerdictsDropped();
-  statistics.VerdictsInStripes = collapser.VerdictsInStripes();
-  statistics.VerdictLongestProbe = collapser.VerdictLongestProbe();
   return !aborted;
 }
 } // namespace slod

@@ -90,20 +90,6 @@ public:
   size_t Size() const { return this->Count; }
   long long Dropped = 0; // entries `keep` refused when the table grew
 
-  // Keys are corners below `vertices`: a key's home is then in a stripe of StripeSlots slots chosen
-  // by its smallest corner's place in that range, so the triangles of one star (corners with
-  // nearby ids on a mesh numbered in a coherent order) are looked up in a few kilobytes instead of
-  // anywhere in the table. A table whose keys crowd in some stripes (a placement probing past
-  // LongestProbe slots) goes back to homes anywhere, once. Only where a key sits changes.
-  void SetKeyRange(Index vertices)
-  {
-    this->KeyRange = vertices > 0 ? vertices : 0;
-    this->Scattered = this->KeyRange == 0;
-    this->Rehome();
-  }
-  bool KeysScattered() const { return this->Scattered; }
-  size_t LongestPlacement() const { return this->LongestProbeSeen; } // slots probed past a home, at most
-
 private:
   struct Slot
   {
@@ -111,67 +97,23 @@ private:
     Value Stored{};
   };
 
-  static constexpr size_t StripeSlots = 256; // 4 KiB of 16-byte slots: a page
-  static constexpr size_t LongestProbe = 4 * StripeSlots;
-
   size_t Home(const Index* key) const
   {
     std::uint64_t h = std::uint32_t(key[0]);
     h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(key[1]);
     h = h * 0x9E3779B97F4A7C15ull ^ std::uint32_t(key[2]);
-    h ^= h >> 29;
-    if (this->Scattered)
-    {
-      return size_t(h) & this->Mask;
-    }
-    const std::uint64_t smallest = std::uint32_t(std::min(key[0], std::min(key[1], key[2])));
-    const std::uint64_t stripe = (smallest * this->StripeFactor) >> 32; // below Slots / StripeSlots
-    return size_t(stripe * StripeSlots + (h & (StripeSlots - 1))) & this->Mask;
-  }
-
-  // StripeFactor maps [0, KeyRange) onto the stripes in 32.32 fixed point.
-  void SetStripes()
-  {
-    const std::uint64_t stripes = std::max<std::uint64_t>(this->Slots.size() / StripeSlots, 1);
-    this->StripeFactor = this->KeyRange > 0 ? (stripes << 32) / std::uint64_t(this->KeyRange) : 0;
+    return size_t(h ^ (h >> 29)) & this->Mask;
   }
 
   void Place(const Slot& entry)
   {
-    size_t i = this->Home(entry.Key), probes = 0;
+    size_t i = this->Home(entry.Key);
     while (this->Slots[i].Key[0] != InvalidIndex)
     {
       i = (i + 1) & this->Mask;
-      ++probes;
     }
     this->Slots[i] = entry;
     ++this->Count;
-    this->LongestProbeSeen = std::max(this->LongestProbeSeen, probes);
-    if (probes > LongestProbe && !this->Scattered)
-    {
-      this->Scattered = true; // crowded stripes: homes anywhere from now on
-      this->Rehome();
-    }
-  }
-
-  // The entries placed again at their (new) homes, in the same slots' memory size.
-  void Rehome()
-  {
-    this->SetStripes();
-    if (this->Count == 0)
-    {
-      return;
-    }
-    std::vector<Slot> old(this->Slots.size(), Slot());
-    old.swap(this->Slots);
-    this->Count = 0;
-    for (const Slot& slot : old)
-    {
-      if (slot.Key[0] != InvalidIndex)
-      {
-        this->Place(slot);
-      }
-    }
   }
 
   // The kept entries are counted first and then placed straight from the old slots (no copy of
@@ -193,7 +135,6 @@ private:
     old.swap(this->Slots);
     this->Mask = capacity - 1;
     this->Count = 0;
-    this->SetStripes();
     for (const Slot& slot : old)
     {
       if (slot.Key[0] == InvalidIndex)
@@ -213,10 +154,6 @@ private:
 
   std::vector<Slot> Slots;
   size_t Mask = 0, Count = 0;
-  Index KeyRange = 0; // SetKeyRange; 0: homes anywhere
-  bool Scattered = true;
-  size_t LongestProbeSeen = 0;
-  std::uint64_t StripeFactor = 0;
 };
 
 // New triangles' answers that outlive one call (session 35). A triangle of input vertices proved
@@ -326,10 +263,6 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   // The new triangles' verdicts in the table at the end, and those dropped from it (a corner had
   // been removed) when it would have grown: its size follows the live verdicts, not every try.
   long long VerdictsHeld = 0, VerdictsDropped = 0;
-  // The verdicts' table kept its homes by stripes of the smallest corner (TriangleKeyTable::
-  // SetKeyRange; false: it went back to homes anywhere), and its longest placement probe.
-  bool VerdictsInStripes = false;
-  long long VerdictLongestProbe = 0;
   // The collapse passes' walk: the distances between consecutive vertices visited, summed, and
   // their number (PassOrderBands shortens the steps: the memory read per try is nearby).
   double PassStepLength = 0;

@@ -681,45 +681,6 @@ TEST(GreedyCuts, CollapsesWalkTheDegreesOfTheirChangesOnly)
   EXPECT_LE(walksPerVertex[0], 1.5 * walksPerVertex[1]);
 }
 
-// The new triangles' verdicts were placed anywhere in their table (a hash of the corners), so the
-// look-ups of one star's triangles read as many random places of a table that grows with the input.
-// With the key range set, a key's home is in a stripe chosen by its smallest corner: on noisy scans
-// of two sizes (vertex ids in slab order) the table keeps its stripes through the whole run and no
-// placement probes past the bound; each result keeps the bound (measured). Keys crowding one
-// corner (a fan of 3,000 triangles around vertex 0, out of a million vertices) make the table give
-// up its stripes once, and every key is still found with its value.
-TEST(GreedyCuts, VerdictLookupsOfAStarStayNearby)
-{
-  for (int resolution : { 16, 24 })
-  {
-    const ScanCollapsedAtATenth run(resolution);
-    ASSERT_TRUE(run.Finished);
-    EXPECT_GT(run.Statistics.VerdictsHeld, 0);
-    EXPECT_TRUE(run.Statistics.VerdictsInStripes);
-    EXPECT_LE(run.Statistics.VerdictLongestProbe, 1024);
-    EXPECT_LE(MeasureHausdorff(run.Scan, slodtest::ToPolyData(run.Output)), run.Epsilon);
-  }
-  TriangleKeyTable<int> fan;
-  fan.SetKeyRange(1000000);
-  EXPECT_FALSE(fan.KeysScattered());
-  const Index spokes = 3000;
-  for (Index i = 1; i <= spokes; ++i)
-  {
-    const Index key[3] = { 0, i, i + 1 };
-    fan.Insert(key, int(i));
-  }
-  EXPECT_TRUE(fan.KeysScattered());
-  ASSERT_EQ(fan.Size(), size_t(spokes));
-  for (Index i = 1; i <= spokes; ++i)
-  {
-    const Index key[3] = { 0, i, i + 1 }, absent[3] = { 0, i + 1, i };
-    const int* value = fan.Find(key);
-    ASSERT_NE(value, nullptr);
-    EXPECT_EQ(*value, int(i));
-    EXPECT_EQ(fan.Find(absent), nullptr);
-  }
-}
-
 // The collapse passes took their vertices shortest edge first, i.e. at random over the mesh, and
 // each try read the mesh, the input's BVH, the witnesses and the index there: the cost per try
 // grew with the input's size (memory). By bands of the shortest edge, in Morton order within a
@@ -760,23 +721,6 @@ TEST(GreedyCuts, CollapsePassesWalkTheMeshInSpatialOrder)
   EXPECT_LE(double(counts[1]), 1.05 * double(counts[0]));
 }
 
-// ... through the cuts alone at 0.3 of its diagonal (several rounds).
-struct ScanCutAtThreeTenths : NoisyScanAtTolerance
-{
-  explicit ScanCutAtThreeTenths(int resolution)
-    : NoisyScanAtTolerance(resolution, 0.3)
-  {
-    GreedyCuts cuts;
-    cuts.Initialize(this->Input, PatchificationParameters());
-    GreedyCutsParameters parameters;
-    parameters.Epsilon = this->Epsilon;
-    parameters.FinalCollapses = false;
-    this->Finished = cuts.Run(parameters, this->Result);
-    this->Output.Triangles = this->Result.Triangles;
-  }
-  GreedyCutsResult Result;
-};
-
 // The cuts repeat their rounds while patches escalate (released angles, careful mode, full chains,
 // original triangles), and every round used to simplify every chain of the input again, although
 // the chains' simplification changes only when a chain is refined to full resolution: the work of
@@ -785,31 +729,23 @@ struct ScanCutAtThreeTenths : NoisyScanAtTolerance
 // refinement), and the result keeps the bound (measured).
 TEST(GreedyCuts, CutsSimplifyTheChainsOnlyAfterARefinement)
 {
-  const ScanCutAtThreeTenths run(24);
-  ASSERT_TRUE(run.Finished);
-  EXPECT_GT(run.Result.Rounds, 2);
-  EXPECT_GE(run.Result.ChainPasses, 1);
-  EXPECT_LT(run.Result.ChainPasses, run.Result.Rounds);
-  EXPECT_LE(run.Output.NumberOfTriangles(), run.Input.NumberOfTriangles());
-  EXPECT_LE(MeasureHausdorff(run.Scan, slodtest::ToPolyData(run.Output)), run.Epsilon);
-}
-
-// The simplified chains' segments were a node set, emptied and refilled by every chain pass (one
-// allocation per segment). Now one flat table per run, sized for every segment the chains can give
-// and emptied by a generation counter: on noisy scans of two sizes whose cuts need several chain
-// passes (0.3 of the diagonal), the table is allocated once per run, and the output keeps the
-// bound (measured), with no more triangles than the input.
-TEST(GreedyCuts, CutsAllocateTheSegmentTableOncePerRun)
-{
-  for (int resolution : { 24, 32 })
-  {
-    const ScanCutAtThreeTenths run(resolution);
-    ASSERT_TRUE(run.Finished);
-    EXPECT_GE(run.Result.ChainPasses, 2);
-    EXPECT_EQ(run.Result.SegmentTableAllocations, 1);
-    EXPECT_LE(run.Output.NumberOfTriangles(), run.Input.NumberOfTriangles());
-    EXPECT_LE(MeasureHausdorff(run.Scan, slodtest::ToPolyData(run.Output)), run.Epsilon);
-  }
+  const vtkSmartPointer<vtkPolyData> scan = slodtest::NoisyScanIsosurface(24, 1);
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(scan);
+  GreedyCuts cuts;
+  cuts.Initialize(mesh, PatchificationParameters());
+  GreedyCutsParameters parameters;
+  parameters.Epsilon = 0.3 * mesh.BoundingBoxDiagonal();
+  parameters.FinalCollapses = false;
+  GreedyCutsResult result;
+  ASSERT_TRUE(cuts.Run(parameters, result));
+  EXPECT_GT(result.Rounds, 2);
+  EXPECT_GE(result.ChainPasses, 1);
+  EXPECT_LT(result.ChainPasses, result.Rounds);
+  TriangleMesh out;
+  out.Points = mesh.Points;
+  out.Triangles = result.Triangles;
+  EXPECT_LE(out.NumberOfTriangles(), mesh.NumberOfTriangles());
+  EXPECT_LE(MeasureHausdorff(scan, slodtest::ToPolyData(out)), parameters.Epsilon);
 }
 
 // A pyramid: a flat hexagon (its border) around a centre lifted by 3 epsilon. Its only removable
