@@ -4,6 +4,7 @@
 #include "slodChainSimplification.h"
 #include "slodInputPreparation.h" // NonManifoldVertexFlags
 #include "slodProvedCollapses.h"
+#include "slodStageClock.h"
 
 #include "vtkMath.h"
 
@@ -12,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -2623,6 +2625,10 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     }
     this->BuildPatchData();
   }
+  // Each level's cuts (their split rounds: whole runs again) and collapses, timed at TRACE verbosity
+  // (`surfacelod --log-verbosity 9`): which of them grows with the input.
+  StageClock clock("greedy cuts");
+  char stage[160];
   // The cuts report the first 80 % of the progress when the final collapses follow.
   const double cutsShare = parameters.FinalCollapses ? 0.8 : 1.0;
   const ProgressFunction cutsProgress =
@@ -2645,7 +2651,14 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
       break;
     }
   }
-  return !parameters.FinalCollapses || this->CollapseFinal(parameters, result, collapseProgress);
+  std::snprintf(stage, sizeof(stage), "cuts at epsilon %g (%d split rounds, %d rounds in the last, %d chain passes)",
+    parameters.Epsilon, result.SplitRounds, result.Rounds, result.ChainPasses);
+  clock.Lap(stage);
+  const bool collapsed = !parameters.FinalCollapses || this->CollapseFinal(parameters, result, collapseProgress);
+  std::snprintf(stage, sizeof(stage), "final collapses at epsilon %g (%lld collapses)", parameters.Epsilon,
+    result.FinalCollapses);
+  clock.Lap(stage);
+  return collapsed;
 }
 
 bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result,

@@ -68,6 +68,12 @@ public:
     this->Used.assign(size_t(output.NumberOfPoints()), 0);
     this->LocalId.assign(size_t(output.NumberOfPoints()), InvalidIndex);
     this->CornerSeen.assign(size_t(output.NumberOfPoints()), 0);
+    this->Degree.assign(size_t(output.NumberOfPoints()), 0);
+    for (Index v = 0; v < output.NumberOfPoints(); ++v)
+    {
+      this->Degree[size_t(v)] = this->Out.VertexDegree(v);
+    }
+    this->DegreeWalks = static_cast<long long>(output.NumberOfPoints());
     for (Index v : triangles)
     {
       this->Used[v] = 1;
@@ -87,6 +93,31 @@ public:
 
   bool Locked(Index v) const { return this->Prm.LockedVertices && this->Prm.LockedVertices[v]; }
 
+  // v's live triangles (EditableMesh::VertexDegree), read from Degree: a try asks it of u, its
+  // targets and the vertices around its star, and each walk of v's references reads the
+  // triangles' alive flags at random (their share of the CPU grew with the input).
+  Index DegreeOf(Index v) const { return this->Degree[size_t(v)]; }
+
+  // Degree again for the corners of `triangles` (ids taken before a change: a collapse or flip
+  // alters the degree of no other vertex).
+  void NoteCorners(const std::vector<Index>& triangles)
+  {
+    this->DegreeChanged.clear();
+    for (Index t : triangles)
+    {
+      const Index* tri = this->Out.Triangle(t);
+      this->DegreeChanged.insert(this->DegreeChanged.end(), tri, tri + 3);
+    }
+  }
+  void RefreshDegrees()
+  {
+    for (Index x : this->DegreeChanged)
+    {
+      this->Degree[size_t(x)] = this->Out.VertexDegree(x);
+    }
+    this->DegreeWalks += static_cast<long long>(this->DegreeChanged.size());
+  }
+
   // One pass over the removable vertices, shortest incident edge first. Returns the collapses.
   long long Pass(ProvedCollapseStatistics& statistics, const ProgressFunction& progress, bool& aborted)
   {
@@ -96,7 +127,7 @@ public:
     order.clear();
     for (Index u = 0; u < Index(this->Used.size()); ++u)
     {
-      if (!this->Used[u] || (this->Border[u] && !this->Prm.BorderCollapses) || this->Out.VertexDegree(u) == 0 ||
+      if (!this->Used[u] || (this->Border[u] && !this->Prm.BorderCollapses) || this->DegreeOf(u) == 0 ||
         this->Locked(u))
       {
         continue;
@@ -201,7 +232,7 @@ public:
       {
         const Index* tri = this->Out.Triangle(t);
         const Index x = tri[k], y = tri[(k + 1) % 3], q = tri[(k + 2) % 3];
-        if (x < y && this->Out.VertexDegree(x) + this->Out.VertexDegree(y) <= MaximumCollapseValence &&
+        if (x < y && this->DegreeOf(x) + this->DegreeOf(y) <= MaximumCollapseValence &&
           this->Out.EdgeTriangleCount(x, y) == 2 && this->TryFlip(t, x, y, q))
         {
           return true;
@@ -304,7 +335,7 @@ public:
     this->Ring.clear();
     for (Index x : this->NewTriangles)
     {
-      if (this->Out.VertexDegree(x) > MaximumCollapseValence)
+      if (this->DegreeOf(x) > MaximumCollapseValence)
       {
         continue;
       }
@@ -355,7 +386,7 @@ public:
     this->Ring.clear();
     for (Index x : this->NewTriangles)
     {
-      if (this->Out.VertexDegree(x) <= MaximumCollapseValence)
+      if (this->DegreeOf(x) <= MaximumCollapseValence)
       {
         this->Out.ForEachTriangle(x, [&](Index s) { this->Ring.push_back(s); });
       }
@@ -456,7 +487,7 @@ private:
     for (int k : order)
     {
       const Index x = tri[k], y = tri[(k + 1) % 3], q = tri[(k + 2) % 3];
-      if (this->Out.VertexDegree(x) + this->Out.VertexDegree(y) <= MaximumCollapseValence &&
+      if (this->DegreeOf(x) + this->DegreeOf(y) <= MaximumCollapseValence &&
         this->Out.EdgeTriangleCount(x, y) == 2 && this->TryFlip(t, x, y, q))
       {
         return true;
@@ -548,7 +579,7 @@ private:
   bool BorderStarGuarded(Index u, Index v) const
   {
     // u and v share one triangle (their border edge's), which goes.
-    if (this->Out.VertexDegree(u) + this->Out.VertexDegree(v) - 2 > MaximumBorderValence)
+    if (this->DegreeOf(u) + this->DegreeOf(v) - 2 > MaximumBorderValence)
     {
       return false;
     }
@@ -571,7 +602,7 @@ private:
     int found = 0;
     for (Index w : this->Neighbours)
     {
-      if (this->Out.VertexDegree(w) > MaximumCollapseValence)
+      if (this->DegreeOf(w) > MaximumCollapseValence)
       {
         this->Neighbours.clear();
         ++this->BorderGuardRejections;
@@ -601,7 +632,7 @@ private:
   bool RemoveVertex(Index u, ProvedCollapseStatistics& statistics, bool fatter = false)
   {
     this->Share = SharedStar(); // the mesh may have changed since u's last tries
-    if (this->Out.VertexDegree(u) == 0 || this->Out.VertexDegree(u) > MaximumCollapseValence)
+    if (this->DegreeOf(u) == 0 || this->DegreeOf(u) > MaximumCollapseValence)
     {
       return false;
     }
@@ -628,10 +659,10 @@ private:
         [&](const std::pair<double, Index>& target) { return this->SmallestAngleAfter(u, target.second) >= this->SliverAngle; });
     }
     targets.resize(std::min<size_t>(targets.size(), size_t(this->Prm.MaximumNeighbours)));
-    const Index valence = this->Out.VertexDegree(u);
+    const Index valence = this->DegreeOf(u);
     for (const auto& [distance, v] : targets)
     {
-      if (valence + this->Out.VertexDegree(v) > MaximumCollapseValence)
+      if (valence + this->DegreeOf(v) > MaximumCollapseValence)
       {
         continue;
       }
@@ -700,7 +731,9 @@ private:
     }
     this->MarkChanged();
     this->Share = SharedStar();
+    this->NoteCorners(this->Gathered);
     this->Out.Collapse(set, 2, v, target, this->Gathered, nullptr);
+    this->RefreshDegrees();
     this->AliveTriangles -= Index(this->OldStar.size() - this->NewTriangles.size() / 3);
     this->AssignWitnesses();
     return true;
@@ -742,10 +775,12 @@ private:
       return false;
     }
     this->MarkChanged();
+    this->NoteCorners(this->OldStar);
     if (!this->Out.FlipEdge(x, y))
     {
       return false;
     }
+    this->RefreshDegrees();
     this->AssignWitnesses();
     return true;
   }
@@ -1207,7 +1242,7 @@ private:
       for (int k = 0; k < 3; ++k)
       {
         const Index x = this->Out.Triangle(t)[k];
-        if (this->Out.VertexDegree(x) > MaximumCollapseValence)
+        if (this->DegreeOf(x) > MaximumCollapseValence)
         {
           continue; // a subset of the output still proves; the snapshot adds what lies near
         }
@@ -1276,6 +1311,7 @@ public:
   long long NewTriangleProofs = 0, NewTrianglesRecalled = 0, NewTrianglesCarried = 0;
   long long InputGatherings = 0, OutputGatherings = 0;
   long long WitnessesKept = 0, AcceptedByWitnesses = 0, LocalOutputTriangles = 0, InputTrianglesGathered = 0;
+  long long DegreeWalks = 0;
 
 private:
   EditableMesh Out;
@@ -1302,6 +1338,7 @@ private:
   double SliverAngle = Radians(SliverDegrees);
   CollapseOptions Options;
   std::vector<unsigned char> Border, Used;
+  std::vector<Index> Degree, DegreeChanged; // DegreeOf; the vertices whose degree a change alters
   std::vector<Index> LocalId, LocalVertices;
   std::vector<Index> Gathered, NewTriangles, OldStar, Near, Undecided;
   // Per new triangle (its corners in order) tried so far: faces the input and proved within the
@@ -1451,6 +1488,7 @@ bool ProvedCollapses(const TriangleMesh& input, const TriangleBVH& inputBvh, con
   statistics.LocalOutputTriangles = collapser.LocalOutputTriangles;
   statistics.InputTrianglesGathered = collapser.InputTrianglesGathered;
   statistics.VerdictsHeld = collapser.VerdictsHeld();
+  statistics.DegreeWalks = collapser.DegreeWalks;
   statistics.VerdictsDropped = collapser.VerdictsDropped();
   return !aborted;
 }

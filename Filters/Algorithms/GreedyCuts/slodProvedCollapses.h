@@ -267,6 +267,10 @@ struct SURFACELODFILTERS_EXPORT ProvedCollapseStatistics
   // their number (PassOrderBands shortens the steps: the memory read per try is nearby).
   double PassStepLength = 0;
   long long PassSteps = 0;
+  // Walks of an output vertex's references to count its triangles (one per vertex on entry, then
+  // one per corner of the triangles each accepted change gathered): the tries read the counts
+  // from a per-vertex array instead, so the walks follow the changes, not the tries.
+  long long DegreeWalks = 0;
   int Rounds = 0;
   bool TargetReached = false; // parameters.TargetTriangles was met (the passes stopped there)
   bool WorkBoundReached = false; // parameters.MaximumProofPieces stopped the passes
