@@ -2109,10 +2109,12 @@ std::vector<Vec3> HostNormals(const TriangleMesh& mesh, const std::vector<Vec3>&
 // normals; phase 2 never applies since every kept vertex is fixed), then step 6's flips; each
 // collapse and flip is recorded (coarse.Removals, in the finer level's ids). The survivors keep the
 // finer level's order; those not kept (no collapse allowed) count in coarse.RetainedOldVertices.
-// Returns false when aborted.
+// `flippedRounds` > 0: the repair's final stage too (RepairTiles; its flips are recorded with the
+// others: only for a result no level interpolation replays, the exact count's trim). Returns false
+// when aborted.
 bool RemoveUnkeptVertices(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
   const RetilingResult& fine, const std::vector<unsigned char>& keep, const RetilingOptions& options,
-  RetilingResult& coarse, std::vector<Index>& survivors)
+  RetilingResult& coarse, std::vector<Index>& survivors, int flippedRounds = 0)
 {
   const Index n = fine.Mesh.NumberOfPoints();
   auto kept = [&](Index v) { return keep[v] != 0; };
@@ -2166,7 +2168,8 @@ bool RemoveUnkeptVertices(const TriangleMesh& mesh, const TriangleBVH& bvh, cons
   coarse.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses, removal, &record);
   // Every vertex is the finer level's: the repair only flips (recorded with the others).
   const std::vector<unsigned char> fixedVertices(size_t(n), 0);
-  coarse.Flips += RepairTiles(mesh, bvh, inputNormals, removal, fixedVertices, edit, reference, &record, nullptr);
+  coarse.Flips +=
+    RepairTiles(mesh, bvh, inputNormals, removal, fixedVertices, edit, reference, &record, nullptr, flippedRounds);
   removal.RemoveHeldAfterFlips();
   edit.Extract(coarse.Mesh, &survivors);
   for (Index& id : survivors)
@@ -2288,7 +2291,11 @@ bool RemoveCandidatesOnce(const TriangleMesh& mesh, const TriangleBVH& bvh, cons
   }
   RetilingResult fewer;
   std::vector<Index> survivors;
-  if (!RemoveUnkeptVertices(mesh, bvh, inputNormals, result, kept, options, fewer, survivors))
+  // The trimmed re-tiling is the output, not a level the interpolation replays: its removals
+  // leave flipped tiles as the re-tiling's did, so the final stage runs on it too (flips only:
+  // every vertex stays where the re-tiling put it).
+  const int flippedRounds = options.RepairFlippedTiles ? FlippedRepairRounds : 0;
+  if (!RemoveUnkeptVertices(mesh, bvh, inputNormals, result, kept, options, fewer, survivors, flippedRounds))
   {
     return false;
   }
