@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace slod
 {
@@ -22,9 +23,8 @@ struct Chain
 
 // Border edges and edges whose two triangles' normals differ by more than the feature angle
 // (non-manifold edges are left out: their vertices are kept anyway).
-std::vector<std::vector<Index>> FeatureEdgeGraph(const TriangleMesh& mesh, double featureAngle)
+std::vector<std::vector<Index>> FeatureEdgeGraph(const TriangleMesh& mesh, const MeshTopology& topology, double featureAngle)
 {
-  const MeshTopology topology(mesh);
   const double cosine = std::cos(Radians(featureAngle));
   std::vector<std::vector<Index>> neighbors(size_t(mesh.NumberOfPoints()));
   for (Index e = 0; e < topology.NumberOfEdges(); ++e)
@@ -256,10 +256,13 @@ double EvenSpacing(double area, Index count)
   return count > 0 ? std::sqrt(2.0 * area / (std::sqrt(3.0) * double(count))) : 0.0;
 }
 
-void DetectFeatureLines(const TriangleMesh& mesh, double featureAngle, double spacing, FeatureLines& features)
+namespace
+{
+// The lines of the feature edge graph `neighbors` (moved into features.LineNeighbors).
+void LinesOfGraph(const TriangleMesh& mesh, std::vector<std::vector<Index>> neighbors, double featureAngle,
+  double spacing, FeatureLines& features)
 {
   features = FeatureLines();
-  std::vector<std::vector<Index>> neighbors = FeatureEdgeGraph(mesh, featureAngle);
   const double cosine = std::cos(Radians(featureAngle));
   std::vector<unsigned char> corner = CornerFlags(mesh, neighbors, featureAngle);
   std::vector<Chain> chains = Chains(mesh, neighbors, corner, features.WalkSteps);
@@ -319,5 +322,18 @@ void DetectFeatureLines(const TriangleMesh& mesh, double featureAngle, double sp
     SampleChain(mesh, chain, spacing, features.Kept);
   }
   features.LineNeighbors = std::move(neighbors);
+}
+} // namespace
+
+void DetectFeatureLines(const TriangleMesh& mesh, double featureAngle, double spacing, FeatureLines& features)
+{
+  std::vector<std::vector<Index>> neighbors = FeatureEdgeGraph(mesh, MeshTopology(mesh), featureAngle);
+  LinesOfGraph(mesh, std::move(neighbors), featureAngle, spacing, features);
+}
+
+void DetectFeatureLines(const TriangleMesh& mesh, const MeshTopology& topology, double featureAngle, double spacing,
+  FeatureLines& features)
+{
+  LinesOfGraph(mesh, FeatureEdgeGraph(mesh, topology, featureAngle), featureAngle, spacing, features);
 }
 } // namespace slod

@@ -33,10 +33,16 @@ struct SURFACELODFILTERS_EXPORT FeatureLines
   Index WalkSteps = 0;     // feature edges walked in all (the detection's work)
 };
 
+class MeshTopology;
+
 // Feature lines of `mesh` at `featureAngle` degrees, sampled at `spacing` (the free points'
-// expected nearest-neighbour distance). Border edges are feature edges too.
+// expected nearest-neighbour distance). Border edges are feature edges too. The mesh's topology is
+// built here and held only while the feature edges are found.
 SURFACELODFILTERS_EXPORT void DetectFeatureLines(
   const TriangleMesh& mesh, double featureAngle, double spacing, FeatureLines& features);
+// The same with `topology` built on `mesh` by the caller, who uses it again (CreasePolylines).
+SURFACELODFILTERS_EXPORT void DetectFeatureLines(const TriangleMesh& mesh, const MeshTopology& topology,
+  double featureAngle, double spacing, FeatureLines& features);
 
 // Expected nearest-neighbour distance of `count` evenly spread points on `area` (a hexagonal
 // packing: each point owns sqrt(3)/2 d^2).

@@ -796,40 +796,44 @@ std::vector<unsigned char> LineVertexFlags(const FeatureLines& features)
 // PreserveCreases: the corners and samples of the feature lines as the first points, pinned to
 // their input vertex (kept as they are, like a coarser level's vertices), at the spacing the free
 // points will have. Lines needing half the vertices or more are finer than the re-tiling can
-// follow: then none are kept (FeaturesIgnored); nor when most of their vertices are corners. The
-// lines not kept are handed out in `creaseLines` (SlideAlongCreases).
-void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, FeatureLines& features,
-  std::vector<SurfacePoint>& points, CoarserLevel& fixedPoints, RetilingResult& result,
-  std::vector<std::vector<Index>>& creaseLines)
+// follow: then none are kept (FeaturesIgnored); nor when most of their vertices are corners. With
+// SlideAlongCreases the lines not kept are returned as the crease polylines the repair slides
+// candidates along, built from the topology the lines were found with (one build of the input's
+// adjacency, held only here; session 39 built a second one).
+std::unique_ptr<CreasePolylines> FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options,
+  FeatureLines& features, std::vector<SurfacePoint>& points, CoarserLevel& fixedPoints, RetilingResult& result)
 {
   double area = 0;
   for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
   {
     area += mesh.TriangleArea(t);
   }
-  DetectFeatureLines(mesh, options.FeatureAngle, EvenSpacing(area, options.NumberOfPoints), features);
-  if (2 * static_cast<Index>(features.Kept.size()) >= options.NumberOfPoints)
+  const double spacing = EvenSpacing(area, options.NumberOfPoints);
+  std::unique_ptr<MeshTopology> topology;
+  if (options.SlideAlongCreases)
   {
-    result.FeaturesIgnored = !features.Kept.empty();
-    if (options.SlideAlongCreases)
-    {
-      creaseLines.swap(features.LineNeighbors); // too fine to keep, slid along
-    }
-    features = FeatureLines();
-    return;
+    topology.reset(new MeshTopology(mesh));
+    DetectFeatureLines(mesh, *topology, options.FeatureAngle, spacing, features);
+  }
+  else
+  {
+    DetectFeatureLines(mesh, options.FeatureAngle, spacing, features);
   }
   // Lines made mostly of corners are shorter than the spacing: detail (scan noise, the facets of
   // an organic shape, an isosurface's steps) finer than the re-tiling can follow. Kept, they held
   // original vertices and left needles (triceratops, mannequin-devil, the MRI: 83-100% corners;
   // CAD creases 0-12%), so none are kept, silently: it is the default.
-  if (2 * features.Corners > static_cast<Index>(features.Kept.size()))
+  const bool tooFine = 2 * static_cast<Index>(features.Kept.size()) >= options.NumberOfPoints;
+  if (tooFine || 2 * features.Corners > static_cast<Index>(features.Kept.size()))
   {
-    if (options.SlideAlongCreases)
+    result.FeaturesIgnored = tooFine && !features.Kept.empty();
+    std::unique_ptr<CreasePolylines> creases;
+    if (topology)
     {
-      creaseLines.swap(features.LineNeighbors); // held otherwise: the MRI's lines are 52 MB
+      creases.reset(new CreasePolylines(mesh, *topology, features.LineNeighbors));
     }
-    features = FeatureLines();
-    return;
+    features = FeatureLines(); // not held otherwise: the MRI's lines are 52 MB
+    return creases;
   }
   std::vector<Index> firstTriangle(size_t(mesh.NumberOfPoints()), InvalidIndex);
   for (Index t = mesh.NumberOfTriangles() - 1; t >= 0; --t)
@@ -848,6 +852,7 @@ void FeaturePoints(const TriangleMesh& mesh, const RetilingOptions& options, Fea
   fixedPoints.Lines = &features.LineNeighbors;
   result.FeatureVertices = fixedPoints.FixedCount;
   result.Corners = features.Corners;
+  return nullptr;
 }
 } // namespace
 
@@ -871,15 +876,10 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   std::vector<SurfacePoint> points, added;
   FeatureLines features;
   CoarserLevel fixedPoints;
-  std::vector<std::vector<Index>> creaseLines;
+  std::unique_ptr<CreasePolylines> creases;
   if (options.PreserveCreases)
   {
-    FeaturePoints(mesh, options, features, points, fixedPoints, result, creaseLines);
-  }
-  std::unique_ptr<CreasePolylines> creases;
-  if (options.SlideAlongCreases && !creaseLines.empty())
-  {
-    creases.reset(new CreasePolylines(mesh, creaseLines));
+    creases = FeaturePoints(mesh, options, features, points, fixedPoints, result);
     fixedPoints.Creases = creases.get();
   }
   std::vector<double> density;
@@ -2109,10 +2109,12 @@ std::vector<Vec3> HostNormals(const TriangleMesh& mesh, const std::vector<Vec3>&
 // normals; phase 2 never applies since every kept vertex is fixed), then step 6's flips; each
 // collapse and flip is recorded (coarse.Removals, in the finer level's ids). The survivors keep the
 // finer level's order; those not kept (no collapse allowed) count in coarse.RetainedOldVertices.
-// Returns false when aborted.
+// `flippedRounds` > 0: the repair's final stage too (RepairTiles; its flips are recorded with the
+// others: only for a result no level interpolation replays, the exact count's trim). Returns false
+// when aborted.
 bool RemoveUnkeptVertices(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
   const RetilingResult& fine, const std::vector<unsigned char>& keep, const RetilingOptions& options,
-  RetilingResult& coarse, std::vector<Index>& survivors)
+  RetilingResult& coarse, std::vector<Index>& survivors, int flippedRounds = 0)
 {
   const Index n = fine.Mesh.NumberOfPoints();
   auto kept = [&](Index v) { return keep[v] != 0; };
@@ -2166,7 +2168,8 @@ bool RemoveUnkeptVertices(const TriangleMesh& mesh, const TriangleBVH& bvh, cons
   coarse.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses, removal, &record);
   // Every vertex is the finer level's: the repair only flips (recorded with the others).
   const std::vector<unsigned char> fixedVertices(size_t(n), 0);
-  coarse.Flips += RepairTiles(mesh, bvh, inputNormals, removal, fixedVertices, edit, reference, &record, nullptr);
+  coarse.Flips +=
+    RepairTiles(mesh, bvh, inputNormals, removal, fixedVertices, edit, reference, &record, nullptr, flippedRounds);
   removal.RemoveHeldAfterFlips();
   edit.Extract(coarse.Mesh, &survivors);
   for (Index& id : survivors)
@@ -2288,7 +2291,11 @@ bool RemoveCandidatesOnce(const TriangleMesh& mesh, const TriangleBVH& bvh, cons
   }
   RetilingResult fewer;
   std::vector<Index> survivors;
-  if (!RemoveUnkeptVertices(mesh, bvh, inputNormals, result, kept, options, fewer, survivors))
+  // The trimmed re-tiling is the output, not a level the interpolation replays: its removals
+  // leave flipped tiles as the re-tiling's did, so the final stage runs on it too (flips only:
+  // every vertex stays where the re-tiling put it).
+  const int flippedRounds = options.RepairFlippedTiles ? FlippedRepairRounds : 0;
+  if (!RemoveUnkeptVertices(mesh, bvh, inputNormals, result, kept, options, fewer, survivors, flippedRounds))
   {
     return false;
   }
