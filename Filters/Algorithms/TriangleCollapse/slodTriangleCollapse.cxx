@@ -866,7 +866,7 @@ private:
   float FanTriangleKey(const Fan& fan, const Index* tri, Index kept, const Quadric& qk, float* cache,
     SpokeScratch& spokes) const;
   template <bool Bound>
-  void FanKeys(Index kept, const std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const;
+  __attribute__((noinline)) void FanKeys(Index kept, const std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const;
   struct MeshFan;
   struct PendingFan;
   void RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys);
@@ -1942,7 +1942,7 @@ void TriangleCollapser::AroundKeys(
 }
 
 // AroundKeys' keys, one instantiation per TriangleCostBound: both inlined into AroundKeys, the
-// default loop took 7 % more instructions in AroundKeys on mc250k (session 40).
+// default loop took 4-7 % more instructions in AroundKeys on mc250k (session 40).
 template <bool Bound>
 __attribute__((noinline)) void TriangleCollapser::FanKeys(
   Index kept, const std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const
