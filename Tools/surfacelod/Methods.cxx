@@ -181,6 +181,8 @@ std::vector<Parameter> QuadricTriangleCollapseParameters()
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, PassErrorFactor),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, PassRemovalShare),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Int, LookAheadEvaluations),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, TriangleCostBound),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Int, FitExactAssignmentLimit),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, PreserveAttributeSeams),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, AttributeErrorMetric),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, ScalarsWeight),

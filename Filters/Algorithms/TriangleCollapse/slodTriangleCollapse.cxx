@@ -463,6 +463,7 @@ struct SpokeScratch
 {
   std::vector<Index> Vertex;
   std::vector<float> Cost;
+  long long TrianglePlacements = 0; // the fan triangles' own placements (TriangleCostBound skips some)
 };
 
 // What UpdateAround will write after a collapse, computed before it (KeysBeforeCollapse, in the
@@ -860,9 +861,12 @@ private:
   // One triangle of a new vertex's fan, for AroundKeys after the collapse and KeysBeforeCollapse
   // before it: its new key and its cached edge costs (`cache`, read and written). The Fan gives
   // the corners' quadrics (Q) and the placements (Place) as they are after the collapse.
-  template <class Fan>
+  // Bound: TriangleCostBound (a template argument, so that the default loop's code stays as it was).
+  template <bool Bound, class Fan>
   float FanTriangleKey(const Fan& fan, const Index* tri, Index kept, const Quadric& qk, float* cache,
     SpokeScratch& spokes) const;
+  template <bool Bound>
+  __attribute__((noinline)) void FanKeys(Index kept, const std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const;
   struct MeshFan;
   struct PendingFan;
   void RequeueAround(const std::vector<Index>& around, const std::vector<float>& keys);
@@ -877,6 +881,9 @@ private:
   // only the winning edge is placed again.
   // triangleCost: set to the triangle operation's cost when it is placed (the edge cache's path).
   double PopCost(Index t, Vec3& local, double& error, int& operation, std::optional<double>* triangleCost = nullptr) const;
+  // TriangleCollapseOptions::TriangleCostBound: whether the triangle's own collapse cannot beat
+  // its cheapest allowed edge by the bound from its cached edge costs (then it is not placed).
+  bool TriangleCannotWin(const float* cache, unsigned excluded) const;
   // The key Cost would give triangle t, from its cached edge costs and the triangle operation's
   // cost (`triangle`, placed here when absent and the operation allowed): three placements fewer
   // for a rejection or a retry. False (the caller then runs Cost) when the cache is off or not
@@ -1679,7 +1686,7 @@ double TriangleCollapser::PopCost(
   const float* cache = this->State[t].EdgeCost;
   operation = -1;
   double best = std::numeric_limits<double>::infinity();
-  if (!(excluded & 1u))
+  if (!(excluded & 1u) && !this->TriangleCannotWin(cache, excluded))
   {
     Quadric q = this->Vertex[tri[0]].Q;
     q += this->Vertex[tri[1]].Q;
@@ -1725,7 +1732,7 @@ bool TriangleCollapser::KeyFromCache(Index t, const std::optional<double>& trian
   // expression). Each operation's placement reads only its vertices' quadrics and positions.
   const TriangleState& state = this->State[t];
   float best = std::numeric_limits<float>::infinity();
-  if (!(state.Excluded & 1u))
+  if (!(state.Excluded & 1u) && !this->TriangleCannotWin(state.EdgeCost, state.Excluded))
   {
     double cost = triangle ? *triangle : 0.0;
     if (!triangle)
@@ -1751,6 +1758,28 @@ bool TriangleCollapser::KeyFromCache(Index t, const std::optional<double>& trian
   return best < std::numeric_limits<float>::infinity();
 }
 
+bool TriangleCollapser::TriangleCannotWin(const float* cache, unsigned excluded) const
+{
+  if (!this->Options.TriangleCostBound)
+  {
+    return false;
+  }
+  // The cache holds bias x scale x each edge's cost. The triangle's quadric is the sum of its
+  // corners', i.e. half the sum of its edges' quadrics, so (minima of quadrics, no rounding) its
+  // cost is at least half the sum of the edge costs and at least the largest of them.
+  double largest = 0.0, sum = 0.0, cheapest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k)
+  {
+    largest = std::max(largest, double(cache[k]));
+    sum += double(cache[k]);
+    if (!(excluded & (2u << k)))
+    {
+      cheapest = std::min(cheapest, double(cache[k]));
+    }
+  }
+  return std::max(largest, 0.5 * sum) >= this->Options.EdgeCollapseBias * cheapest;
+}
+
 double TriangleCollapser::TriangleOperationCost(const Index* tri, Vec3& local) const
 {
   Quadric q = this->Vertex[tri[0]].Q;
@@ -1772,7 +1801,8 @@ void TriangleCollapser::UpdateAround(Index kept)
     return;
   }
   this->AroundKeys(kept, this->AroundScratch, this->AroundKeyScratch, this->Spokes);
-  this->FanPlacements += static_cast<long long>(this->AroundScratch.size() + this->Spokes.Vertex.size());
+  const size_t triangles = this->Options.TriangleCostBound ? size_t(this->Spokes.TrianglePlacements) : this->AroundScratch.size();
+  this->FanPlacements += static_cast<long long>(triangles + this->Spokes.Vertex.size());
   this->RequeueAround(this->AroundScratch, this->AroundKeyScratch);
 }
 
@@ -1807,18 +1837,27 @@ struct TriangleCollapser::PendingFan
   }
 };
 
-// Inlined into AroundKeys' loop, whose code it was (an outlined call per triangle cost the loop
-// 41-63 M instructions on mc250k, session 39; inlined, 11 M, from the spokes' search, which is
-// inlined now; an outlined search cost 29 M).
+// A fan triangle's own collapse: its corners' quadrics summed and placed.
 template <class Fan>
-inline __attribute__((always_inline)) float TriangleCollapser::FanTriangleKey(
-  const Fan& fan, const Index* tri, Index kept, const Quadric& qk, float* cache, SpokeScratch& spokes) const
+inline __attribute__((always_inline)) double PlaceFanTriangle(const Fan& fan, const Index* tri, Vec3& p)
 {
   Quadric q = fan.Q(tri[0]);
   q += fan.Q(tri[1]);
   q += fan.Q(tri[2]);
+  return fan.Place(tri, 3, q, p);
+}
+
+// Inlined into AroundKeys' loop, whose code it was (an outlined call per triangle cost the loop
+// 41-63 M instructions on mc250k, session 39; inlined, 11 M, from the spokes' search, which is
+// inlined now; an outlined search cost 29 M).
+template <bool Bound, class Fan>
+inline __attribute__((always_inline)) float TriangleCollapser::FanTriangleKey(
+  const Fan& fan, const Index* tri, Index kept, const Quadric& qk, float* cache, SpokeScratch& spokes) const
+{
   Vec3 p;
-  double best = fan.Place(tri, 3, q, p);
+  // Without the bound the triangle is placed first, as before session 40; with it, after its
+  // edges and only when it can win.
+  double best = Bound ? std::numeric_limits<double>::infinity() : PlaceFanTriangle(fan, tri, p);
   const double bias = this->Options.EdgeCollapseBias;
   for (int k = 0; k < 3; ++k)
   {
@@ -1841,6 +1880,11 @@ inline __attribute__((always_inline)) float TriangleCollapser::FanTriangleKey(
       }
     }
     best = std::min(best, double(cache[k]) / this->CostScale);
+  }
+  if (Bound && !this->TriangleCannotWin(cache, 0))
+  {
+    ++spokes.TrianglePlacements;
+    best = std::min(PlaceFanTriangle(fan, tri, p), best);
   }
   return static_cast<float>(best * this->CostScale);
 }
@@ -1866,6 +1910,7 @@ void TriangleCollapser::AroundKeys(
   }
   spokes.Vertex.clear();
   spokes.Cost.clear();
+  spokes.TrianglePlacements = 0;
   // Prefetch what the updates read (corners, vertex quadrics, cached edge costs, queue slots):
   // the loop is bound by memory latency, and independent prefetches overlap where the loop's
   // dependent loads would follow one another.
@@ -1886,13 +1931,29 @@ void TriangleCollapser::AroundKeys(
     }
     this->Heap.PrefetchBucket(t);
   }
+  if (this->Options.TriangleCostBound)
+  {
+    this->FanKeys<true>(kept, around, keys, spokes);
+  }
+  else
+  {
+    this->FanKeys<false>(kept, around, keys, spokes);
+  }
+}
+
+// AroundKeys' keys, one instantiation per TriangleCostBound: both inlined into AroundKeys, the
+// default loop took 4-7 % more instructions in AroundKeys on mc250k (session 40).
+template <bool Bound>
+__attribute__((noinline)) void TriangleCollapser::FanKeys(
+  Index kept, const std::vector<Index>& around, std::vector<float>& keys, SpokeScratch& spokes) const
+{
   const MeshFan fan{ *this };
   const Quadric& qk = this->Vertex[kept].Q;
   for (Index t : around)
   {
     this->State[t].Excluded = 0;
     this->State[t].Rejected = 0;
-    const float key = this->FanTriangleKey(fan, this->Mesh.Triangle(t), kept, qk, this->State[t].EdgeCost, spokes);
+    const float key = this->FanTriangleKey<Bound>(fan, this->Mesh.Triangle(t), kept, qk, this->State[t].EdgeCost, spokes);
     keys.push_back(key);
   }
 }
@@ -1927,7 +1988,9 @@ bool TriangleCollapser::KeysBeforeCollapse(
   // MergeVertexState will store it) and whose point is the new position (Local's difference),
   // through the same FanTriangleKey. Only the edge cache's path, without pinned vertices.
   out.Ready = false;
-  if (!this->CacheEdges || this->Options.ExactUnion || !this->Pinned.empty())
+  // (Not with TriangleCostBound: the loop then keys the fan after the collapse. A third
+  // instantiation of FanTriangleKey left Quadric::operator+= out of line in the default loop.)
+  if (!this->CacheEdges || this->Options.ExactUnion || !this->Pinned.empty() || this->Options.TriangleCostBound)
   {
     return false;
   }
@@ -1936,6 +1999,7 @@ bool TriangleCollapser::KeysBeforeCollapse(
   out.EdgeCosts.clear();
   spokes.Vertex.clear();
   spokes.Cost.clear();
+  spokes.TrianglePlacements = 0;
   const Index kept = *std::min_element(c.Set, c.Set + c.Count);
   double weight = 0;
   const Quadric qk = this->SetQuadric(c.Set, c.Count, weight);
@@ -1960,7 +2024,7 @@ bool TriangleCollapser::KeysBeforeCollapse(
       continue; // removed by the collapse
     }
     float cache[3] = { this->State[t].EdgeCost[0], this->State[t].EdgeCost[1], this->State[t].EdgeCost[2] };
-    const float key = this->FanTriangleKey(fan, tri, kept, qk, cache, spokes);
+    const float key = this->FanTriangleKey<false>(fan, tri, kept, qk, cache, spokes);
     out.Around.push_back(t);
     out.Keys.push_back(key);
     out.EdgeCosts.insert(out.EdgeCosts.end(), cache, cache + 3);
@@ -3601,7 +3665,9 @@ unsigned char TriangleCollapser::CostOwnedEdges(
 {
   const Index* tri = this->Mesh.Triangle(t);
   Vec3 p;
-  const double triangle = this->TriangleOperationCost(tri, p);
+  // With TriangleCostBound the triangle is placed after its edges (EdgeCopyFunctor), if at all.
+  const double triangle =
+    this->Options.TriangleCostBound ? std::numeric_limits<double>::infinity() : this->TriangleOperationCost(tri, p);
   key = std::isfinite(triangle) ? static_cast<float>(triangle * this->CostScale) : std::numeric_limits<float>::infinity();
   float* cache = this->State[t].EdgeCost;
   const double bias = this->Options.EdgeCollapseBias;
@@ -3684,6 +3750,12 @@ struct TriangleCollapser::EdgeCopyFunctor
           cache[k] = this->Self.EdgeOwnerCost(t, tri[k], tri[(k + 1) % 3]);
         }
         key = std::min(key, cache[k]);
+      }
+      if (this->Self.Options.TriangleCostBound && !this->Self.TriangleCannotWin(cache, 0))
+      {
+        Vec3 p;
+        const double triangle = this->Self.TriangleOperationCost(tri, p);
+        key = std::isfinite(triangle) ? std::min(key, static_cast<float>(triangle * this->Self.CostScale)) : key;
       }
       this->Key[t] = key;
     }

@@ -98,6 +98,11 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // is multiplied by EdgeCollapseBias before the comparison (it removes half as many triangles).
   bool EdgeCollapses = true;
   double EdgeCollapseBias = 2.0;
+  // Place a triangle's own collapse only when it can be the cheapest of its operations by a bound
+  // from its edges' costs (its quadric is at least half the sum of its edges' quadrics and at
+  // least each of them); otherwise its key is its cheapest edge's. Changes outputs (the bound is
+  // exact only without rounding and fallback placements); judged by quality, off by default.
+  bool TriangleCostBound = false;
   // Exact union semantics of the interrelated sets (slow reference mode, see above).
   bool ExactUnion = false;
   // Departure from the paper: after the collapses, the merged vertices of the regions with the

@@ -101,6 +101,8 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   options.BatchCollapses = filter->GetBatchCollapses();
   options.BatchCostTolerance = filter->GetBatchCostTolerance();
   options.LookAheadEvaluations = filter->GetLookAheadEvaluations();
+  options.TriangleCostBound = filter->GetTriangleCostBound();
+  options.FitExactAssignmentLimit = filter->GetFitExactAssignmentLimit();
   options.Schedule = filter->GetCollapseSchedule() == vtkQuadricTriangleCollapse::PASSES ? slod::CollapseSchedule::Passes
                                                                                           : slod::CollapseSchedule::Queue;
   options.PassGoalShare = filter->GetPassGoalShare();
@@ -550,6 +552,8 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BatchCollapses: " << this->BatchCollapses << "\n";
   os << indent << "BatchCostTolerance: " << this->BatchCostTolerance << "\n";
   os << indent << "LookAheadEvaluations: " << this->LookAheadEvaluations << "\n";
+  os << indent << "TriangleCostBound: " << this->TriangleCostBound << "\n";
+  os << indent << "FitExactAssignmentLimit: " << this->FitExactAssignmentLimit << "\n";
   os << indent << "CollapseSchedule: " << (this->CollapseSchedule == PASSES ? "Passes" : "Queue") << "\n";
   os << indent << "PassGoalShare: " << this->PassGoalShare << "\n";
   os << indent << "PassErrorFactor: " << this->PassErrorFactor << "\n";

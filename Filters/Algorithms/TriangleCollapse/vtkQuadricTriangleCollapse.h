@@ -170,6 +170,26 @@ public:
   /// PassGoalShare (default 0.2) and PassErrorFactor (default 1.5) set a pass's limit: the factor
   /// times the cost of rank share x (triangles still to remove); smaller: more, finer passes.
   ///@{
+  /// TriangleCostBound (default off): a triangle's own (three-vertex) collapse is placed only when
+  /// a bound from its edges' cached costs says it can be the triangle's cheapest operation (the
+  /// triangle's quadric is at least half the sum of its edges' and at least each of them);
+  /// otherwise the triangle is keyed by its cheapest edge. Fewer 3x3 solves per collapse; the
+  /// outputs change where rounding or fallback placements break the bound (session 40).
+  vtkSetMacro(TriangleCostBound, bool);
+  vtkGetMacro(TriangleCostBound, bool);
+  vtkBooleanMacro(TriangleCostBound, bool);
+  ///@}
+
+  ///@{
+  /// FitExactAssignmentLimit (default 300,000): up to this many input vertices the fit to the
+  /// original assigns every original vertex to its closest output triangle (one BVH query each) to
+  /// know exactly which ones a move can take farther away; above, it watches the original vertices
+  /// of the moved vertex's neighbourhood (cheaper, may miss a few). 0: never exact.
+  vtkSetClampMacro(FitExactAssignmentLimit, int, 0, VTK_INT_MAX);
+  vtkGetMacro(FitExactAssignmentLimit, int);
+  ///@}
+
+  ///@{
   /// LookAheadEvaluations (default 0: off): with more than one thread the queue's order also
   /// evaluates up to this many upcoming pops ahead in parallel (their checks and, for the valid
   /// ones, the new costs around their collapses), those whose one-rings no earlier one of them
@@ -302,6 +322,8 @@ protected:
   double BatchCostTolerance = 0.01;
   int CollapseSchedule = QUEUE;
   int LookAheadEvaluations = 0;
+  bool TriangleCostBound = false;
+  int FitExactAssignmentLimit = 300000;
   double PassGoalShare = 0.2;
   double PassErrorFactor = 1.5;
   double PassRemovalShare = 0.1;
