@@ -1751,6 +1751,24 @@ struct CollapseHierarchy::LevelState
   Index Wanted = 1;
   size_t Depth = std::numeric_limits<size_t>::max();
   Index MinimumBatch = 1;
+
+  // What only the selection reads (the order, its sample and bounds, the choices decided ahead),
+  // given back once the batch is chosen: the batch's collapses grow the hierarchy next, and the
+  // build's peak was there, after a first level's collapses, with these still held (8 bytes per
+  // input vertex on mc1m). The next level collects its own.
+  void ReleaseSelection()
+  {
+    const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
+    release(this->Candidates);
+    release(this->Sample);
+    release(this->Raised);
+    release(this->RangeBits);
+    release(this->RangeCounts);
+    release(this->Ahead);
+    release(this->AheadClaimers);
+    release(this->ClaimedVertices);
+    release(this->ClaimedBy);
+  }
 };
 
 
@@ -1771,6 +1789,7 @@ bool CollapseHierarchy::Build(
   this->PeakShares.clear();
   this->PeakLevelStateBytes = 0;
   this->PeakAtLevel = -1;
+  this->PeakMoment = "";
   if (input.NumberOfTriangles() >= Index(1) << 30)
   {
     return false; // a version's code holds the triangle id in 30 bits
@@ -1795,7 +1814,7 @@ bool CollapseHierarchy::Build(
   // What the set-up freed (the input's double points, M0's evaluation's scratch) back to the
   // system before the levels, whose first ones are the build's peak.
   ReturnFreedMemory();
-  this->NotePeak(nullptr, -1);
+  this->NotePeak(nullptr, -1, "M0 evaluated");
   LevelState state;
   state.Marks.assign(nt, 0);
   if (this->Parameters.MaximumWeight > 0)
@@ -1811,7 +1830,7 @@ bool CollapseHierarchy::Build(
     {
       break;
     }
-    this->NotePeak(&state, level);
+    this->NotePeak(&state, level, "its end");
     {
       StageTimer timer(*this, StageCompact);
       this->CompactRows(state);
@@ -2099,7 +2118,7 @@ size_t CollapseHierarchy::LevelStateBytes(const LevelState& state)
 }
 
 // (PeakWorkingBytes.)
-void CollapseHierarchy::NotePeak(const LevelState* state, int level)
+void CollapseHierarchy::NotePeak(const LevelState* state, int level, const char* moment)
 {
   const size_t levelBytes = state ? LevelStateBytes(*state) : 0;
   const size_t bytes = this->StorageBytes() + levelBytes;
@@ -2109,6 +2128,7 @@ void CollapseHierarchy::NotePeak(const LevelState* state, int level)
     this->PeakShares = this->Storage(); // (a few times per build: the peak rises at the first levels)
     this->PeakLevelStateBytes = levelBytes;
     this->PeakAtLevel = level;
+    this->PeakMoment = moment;
   }
 }
 
@@ -2133,7 +2153,8 @@ void CollapseHierarchy::LogPeakShares() const
     std::snprintf(item, sizeof(item), "%s%s %.1f", line.empty() ? "" : ", ", share.Name, double(share.Bytes) * perVertex);
     line += item;
   }
-  vtkLogF(TRACE, "collapse hierarchy: the peak (after level %d), bytes per input vertex: %s", this->PeakAtLevel, line.c_str());
+  vtkLogF(TRACE, "collapse hierarchy: the peak (level %d, %s), bytes per input vertex: %s", this->PeakAtLevel,
+    this->PeakMoment, line.c_str());
 }
 
 // The parameters with the weights made non-negative (normalised by their sum) and the fractions
@@ -2422,6 +2443,10 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
       this->SelectBatch(level, state);
     }
   }
+  const size_t candidates = state.Candidates.size();
+  this->NotePeak(&state, level, "its batch chosen");
+  state.ReleaseSelection();
+  ReturnFreedMemory();
   const Index levelStart = this->NumberOfCollapses();
   {
     StageTimer timer(*this, StageCollapse);
@@ -2446,7 +2471,7 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
   this->ReweighAround(state.Touched, state);
   vtkLogF(TRACE, "collapse hierarchy level %d: %lld collapses, %lld triangles left, %zu candidates, %zu re-evaluated",
     level, static_cast<long long>(this->NumberOfCollapses() - levelStart),
-    static_cast<long long>(this->Mesh.NumberOfLiveTriangles()), state.Candidates.size(), state.AffectedCount);
+    static_cast<long long>(this->Mesh.NumberOfLiveTriangles()), candidates, state.AffectedCount);
   return true;
 }
 
@@ -2485,11 +2510,6 @@ void CollapseHierarchy::OrderCandidates(LevelState& state) const
   state.Ranges = 0;
   state.Complete = false;
   const Index nt = this->Base.NumberOfTriangles();
-  // Room for what a level reads: the order of M0 (12 bytes per input triangle) is not kept.
-  if (state.Candidates.capacity() > 2 * state.FirstRange + 1024)
-  {
-    std::vector<RankedTriangle>().swap(state.Candidates);
-  }
   // Every 16th slot (a sixteenth of the memory a scan of the weights reads): the live ones
   // sample the live triangles evenly enough for bounds (a bound only sets a range's size). Late
   // in the build, when the rows are fewer than the sampled slots, through the rows (the same

@@ -433,12 +433,13 @@ public:
   };
   std::vector<StorageShare> Storage() const;
   // The largest sum of Storage() and the level's selection data (its order, sample, marks and
-  // batch) met during the last Build: after M0's evaluation and at the end of every level, before
-  // its compaction (the working data whole, the hierarchy grown by the level).
+  // batch) met during the last Build: after M0's evaluation, at every level's batch chosen (its
+  // order whole, released then) and at the end of every level, before its compaction (the working
+  // data whole, the hierarchy grown by the level).
   size_t PeakWorkingBytes() const { return this->PeakBytes; }
   // What made up that peak: Storage() then, and the level state's bytes ("level state
-  // (selection)", build only); their sum is PeakWorkingBytes(). PeakLevel(): the level after which
-  // it was met, -1 before the levels (after M0's evaluation).
+  // (selection)", build only); their sum is PeakWorkingBytes(). PeakLevel(): the level during
+  // which it was met, -1 before the levels (after M0's evaluation).
   std::vector<StorageShare> PeakStorage() const;
   int PeakLevel() const { return this->PeakAtLevel; }
 
@@ -605,12 +606,13 @@ private:
   void ReleaseWorkingData();
   size_t StorageBytes() const;
   static size_t LevelStateBytes(const LevelState& state);
-  void NotePeak(const LevelState* state, int level);
+  void NotePeak(const LevelState* state, int level, const char* moment);
   size_t PeakBytes = 0;
   // What made up the peak (PeakStorage; at TRACE LogPeakShares prints it).
   std::vector<StorageShare> PeakShares;
   size_t PeakLevelStateBytes = 0;
   int PeakAtLevel = -1;
+  const char* PeakMoment = ""; // (LogPeakShares)
   void LogPeakShares() const;
 
   // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only
