@@ -88,18 +88,19 @@ void KeepRows(std::vector<T>& values, const std::vector<std::uint64_t>& kept, si
   ReleaseRoomBeyondSize(values);
 }
 
-// Whether compacting rows rows down to live pays: at 15/16 while the rows are more than half of
-// all (the peak of the build is there: the working data whole and the hierarchy growing; 7/8 left
-// it 16 bytes per input vertex higher on mc1m), at 7/8 while more than a quarter, at half below
+// Whether compacting rows rows down to live pays: at any dead row while the rows are more than
+// half of all (the peak of the build is there: the working data whole and the hierarchy growing;
+// 7/8 left it 16 bytes per input vertex higher on mc1m, and since session 40 a level's batch is
+// compacted in two steps there, CollapseBatch), at 7/8 while more than a quarter, at half below
 // (each compaction scans every slot: on refined_elephant's whole build 7/8 throughout cost 3% of
 // the instructions).
 bool WorthCompacting(size_t live, size_t rows, size_t all)
 {
-  if (2 * rows > all)
+  if (4 * rows > all)
   {
-    return 16 * live < 15 * rows;
+    return live < rows;
   }
-  return 4 * rows > all ? 8 * live < 7 * rows : 2 * live < rows;
+  return 2 * live < rows;
 }
 
 // A triangle at its weight in a level's priority order, ordered as the pair (weight, triangle)
@@ -1675,6 +1676,16 @@ struct CollapseHierarchy::BatchRun
   Index FirstCollapse = 0, FirstEntry = 0, FirstStamp = 0, ReferenceStart = 0;
   vtkSMPThreadLocal<CollapseRecord> Records;
   vtkSMPThreadLocal<std::vector<Index>> Sets;
+  // (Not held through the next level's selection: a batch's 13 bytes per collapse.)
+  void ReleaseArrays()
+  {
+    const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
+    release(this->InOrder);
+    release(this->Survivors);
+    release(this->Removed);
+    release(this->Changed);
+    release(this->SurvivorStart);
+  }
 };
 
 struct CollapseHierarchy::LevelState
@@ -1833,13 +1844,7 @@ bool CollapseHierarchy::Build(
     this->NotePeak(&state, level, "its end");
     {
       StageTimer timer(*this, StageCompact);
-      this->CompactRows(state);
-      this->CompactQuadrics();
-      // The freed blocks of the compaction and the level (the editable mesh's references given
-      // back, the order's ranges) back to the system: the RSS stays flat over the first twenty
-      // levels, as the working data shrink and the hierarchy grows, and freed blocks kept
-      // resident made its later levels up to 23 bytes per input vertex higher than the arrays.
-      ReturnFreedMemory();
+      this->CompactWorkingData(state);
     }
     if (progress)
     {
@@ -1994,6 +1999,18 @@ void CollapseHierarchy::CompactRows(LevelState& state)
     }
   }
   this->Rows = live;
+}
+
+// The rows of the live triangles and vertices (CompactRows, CompactQuadrics) where it pays.
+void CollapseHierarchy::CompactWorkingData(LevelState& state)
+{
+  this->CompactRows(state);
+  this->CompactQuadrics();
+  // The freed blocks of the compaction and the level (the editable mesh's references given
+  // back, the order's ranges) back to the system: the RSS stays flat over the first twenty
+  // levels, as the working data shrink and the hierarchy grows, and freed blocks kept
+  // resident made its later levels up to 23 bytes per input vertex higher than the arrays.
+  ReturnFreedMemory();
 }
 
 // The quadrics of the live vertices, compacted as CompactRows does the triangles' working data
@@ -3139,9 +3156,22 @@ void CollapseHierarchy::CollapseBatch(LevelState& state)
   run.Survivors.resize(n);
   run.Removed.resize(n);
   run.Changed.resize(n);
+  // In the first levels (the rows over half the slots) the build's peak is the end of a batch: the
+  // working data still hold the rows of the triangles and vertices the batch removed (about 12
+  // bytes per input vertex on mc1m) while the hierarchy has grown by the batch (about 13). Those
+  // of the first two thirds are given back before the last third is collapsed, where the two
+  // moments are about equal. (Rows only move: the collapses read them by slot and vertex.)
+  const size_t twoThirds = 2 * n / 3;
+  const size_t compactAt = 4 * size_t(this->Rows) > size_t(this->Base.NumberOfTriangles()) && twoThirds > 0 ? twoThirds : n;
   for (size_t b = 0; b < n;)
   {
-    const size_t end = this->Parameters.ParallelCollapses ? this->RunEnd(state, b) : b;
+    if (b == compactAt)
+    {
+      this->NotePeak(&state, this->NumberOfLevels() - 1, "two thirds of its batch collapsed");
+      this->CompactWorkingData(state);
+    }
+    const size_t stop = b < compactAt ? compactAt : n; // (a run does not cross the compaction)
+    const size_t end = this->Parameters.ParallelCollapses ? this->RunEnd(state, b, stop) : b;
     if (end - b >= MinimumRun)
     {
       this->ApplyRun(state, b, end);
@@ -3153,6 +3183,7 @@ void CollapseHierarchy::CollapseBatch(LevelState& state)
       this->CollapseInOrder(state, b, batchStart);
     }
   }
+  run.ReleaseArrays(); // (the next batch sizes its own)
 }
 
 // Collapse b of the batch, checked again where an earlier collapse of the batch may have changed
@@ -3243,13 +3274,13 @@ struct CollapseHierarchy::RunSurvey
 // The end of the run from b: the first collapse that goes one by one, or after which the blocks
 // would be compacted. The positions are surveyed as the run reaches them, in parallel, in windows
 // that grow with it.
-size_t CollapseHierarchy::RunEnd(LevelState& state, size_t b) const
+size_t CollapseHierarchy::RunEnd(LevelState& state, size_t b, size_t stop) const
 {
   BatchRun& run = state.Run;
   const size_t n = state.Batch.size();
   const size_t room = this->Mesh.ReferencesBeforeCompaction();
   size_t used = 0, r = b;
-  for (; r < n; ++r)
+  for (; r < stop; ++r)
   {
     if (r == run.Surveyed)
     {

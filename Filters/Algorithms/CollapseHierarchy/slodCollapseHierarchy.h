@@ -592,7 +592,7 @@ private:
   struct BatchRun;      // a run's data (in the .cxx)
   struct RunSurvey;     // the vtkSMPTools functors (in the .cxx)
   struct RunApplication;
-  size_t RunEnd(LevelState& state, size_t b) const;
+  size_t RunEnd(LevelState& state, size_t b, size_t stop) const; // (a run ends at stop at the latest)
   void SurveyCollapse(const LevelState& state, size_t b, std::vector<Index>& gathered) const;
   void ApplyRun(LevelState& state, size_t begin, size_t end);
   void ApplyRunCollapse(const LevelState& state, size_t b, CollapseRecord& record, std::vector<Index>& gathered);
@@ -600,6 +600,7 @@ private:
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
+  void CompactWorkingData(LevelState& state);
   void CompactRows(LevelState& state);
   void ForgetDeadNormals();
   void ForgetDeadPoints();
