@@ -1800,7 +1800,7 @@ bool CollapseHierarchy::Build(
   this->PeakShares.clear();
   this->PeakLevelStateBytes = 0;
   this->PeakAtLevel = -1;
-  this->PeakMoment = "";
+  this->PeakAtMoment = "";
   if (input.NumberOfTriangles() >= Index(1) << 30)
   {
     return false; // a version's code holds the triangle id in 30 bits
@@ -2145,7 +2145,7 @@ void CollapseHierarchy::NotePeak(const LevelState* state, int level, const char*
     this->PeakShares = this->Storage(); // (a few times per build: the peak rises at the first levels)
     this->PeakLevelStateBytes = levelBytes;
     this->PeakAtLevel = level;
-    this->PeakMoment = moment;
+    this->PeakAtMoment = moment;
   }
 }
 
@@ -2171,7 +2171,7 @@ void CollapseHierarchy::LogPeakShares() const
     line += item;
   }
   vtkLogF(TRACE, "collapse hierarchy: the peak (level %d, %s), bytes per input vertex: %s", this->PeakAtLevel,
-    this->PeakMoment, line.c_str());
+    this->PeakAtMoment, line.c_str());
 }
 
 // The parameters with the weights made non-negative (normalised by their sum) and the fractions

@@ -442,6 +442,10 @@ public:
   // which it was met, -1 before the levels (after M0's evaluation).
   std::vector<StorageShare> PeakStorage() const;
   int PeakLevel() const { return this->PeakAtLevel; }
+  // When in that level: "its batch chosen" (the selection's order still held), "two thirds of its
+  // batch collapsed" (before the compaction inside a batch of the first levels), "its end" (before
+  // its compaction), or "M0 evaluated" (PeakLevel -1).
+  const char* PeakMoment() const { return this->PeakAtMoment; }
 
 private:
   // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the
@@ -613,7 +617,7 @@ private:
   std::vector<StorageShare> PeakShares;
   size_t PeakLevelStateBytes = 0;
   int PeakAtLevel = -1;
-  const char* PeakMoment = ""; // (LogPeakShares)
+  const char* PeakAtMoment = "";
   void LogPeakShares() const;
 
   // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only
