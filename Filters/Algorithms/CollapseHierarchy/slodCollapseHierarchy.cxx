@@ -66,6 +66,13 @@ void ReleaseRoomBeyondSize(std::vector<T>& values)
 #endif
 }
 
+// Gives the arrays' memory back (empty, no room).
+template <typename... Arrays>
+void ReleaseArrays(Arrays&... arrays)
+{
+  (Arrays().swap(arrays), ...);
+}
+
 // Keeps the rows of values whose bit is set in kept (LiveRowIndex::Renumber), in order, as rows
 // 0, 1, ... (perRow elements each) and gives the rest back: in place, since a row only moves down.
 template <typename T>
@@ -75,13 +82,24 @@ void KeepRows(std::vector<T>& values, const std::vector<std::uint64_t>& kept, si
   {
     return; // (not allocated: a rule set or the edge costs were not used)
   }
+  // Runs of kept rows at once (a move per run instead of per row: the compactions of the first
+  // levels keep most rows, and row by row the byte arrays cost more than the compaction's walk).
   size_t r = 0;
   for (size_t w = 0; w < kept.size(); ++w)
   {
-    for (std::uint64_t bits = kept[w]; bits != 0; bits &= bits - 1, ++r)
+    for (std::uint64_t bits = kept[w]; bits != 0;)
     {
-      const size_t oldRow = 64 * w + size_t(__builtin_ctzll(bits));
-      std::copy_n(values.begin() + perRow * oldRow, perRow, values.begin() + perRow * r);
+      const unsigned first = unsigned(__builtin_ctzll(bits));
+      const std::uint64_t rest = ~(bits >> first); // (bit 0 clear: the run's end is its first set bit)
+      const unsigned length = rest == 0 ? 64 : unsigned(__builtin_ctzll(rest));
+      const size_t oldRow = 64 * w + first;
+      if (oldRow != r)
+      {
+        // (Moves down: the destination starts before the source, as std::copy allows.)
+        std::copy(values.begin() + perRow * oldRow, values.begin() + perRow * (oldRow + length), values.begin() + perRow * r);
+      }
+      r += length;
+      bits = first + length >= 64 ? 0 : bits & ~(((std::uint64_t(1) << length) - 1) << first);
     }
   }
   values.resize(perRow * r);
@@ -1677,15 +1695,7 @@ struct CollapseHierarchy::BatchRun
   vtkSMPThreadLocal<CollapseRecord> Records;
   vtkSMPThreadLocal<std::vector<Index>> Sets;
   // (Not held through the next level's selection: a batch's 13 bytes per collapse.)
-  void ReleaseArrays()
-  {
-    const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
-    release(this->InOrder);
-    release(this->Survivors);
-    release(this->Removed);
-    release(this->Changed);
-    release(this->SurvivorStart);
-  }
+  void Release() { ReleaseArrays(this->InOrder, this->Survivors, this->Removed, this->Changed, this->SurvivorStart); }
 };
 
 struct CollapseHierarchy::LevelState
@@ -1769,16 +1779,8 @@ struct CollapseHierarchy::LevelState
   // input vertex on mc1m). The next level collects its own.
   void ReleaseSelection()
   {
-    const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
-    release(this->Candidates);
-    release(this->Sample);
-    release(this->Raised);
-    release(this->RangeBits);
-    release(this->RangeCounts);
-    release(this->Ahead);
-    release(this->AheadClaimers);
-    release(this->ClaimedVertices);
-    release(this->ClaimedBy);
+    ReleaseArrays(this->Candidates, this->Sample, this->Raised, this->RangeBits, this->RangeCounts, this->Ahead,
+      this->AheadClaimers, this->ClaimedVertices, this->ClaimedBy);
   }
 };
 
@@ -3183,7 +3185,7 @@ void CollapseHierarchy::CollapseBatch(LevelState& state)
       this->CollapseInOrder(state, b, batchStart);
     }
   }
-  run.ReleaseArrays(); // (the next batch sizes its own)
+  run.Release(); // (the next batch sizes its own)
 }
 
 // Collapse b of the batch, checked again where an earlier collapse of the batch may have changed
