@@ -66,6 +66,13 @@ void ReleaseRoomBeyondSize(std::vector<T>& values)
 #endif
 }
 
+// Gives the arrays' memory back (empty, no room).
+template <typename... Arrays>
+void ReleaseArrays(Arrays&... arrays)
+{
+  (Arrays().swap(arrays), ...);
+}
+
 // Keeps the rows of values whose bit is set in kept (LiveRowIndex::Renumber), in order, as rows
 // 0, 1, ... (perRow elements each) and gives the rest back: in place, since a row only moves down.
 template <typename T>
@@ -75,31 +82,43 @@ void KeepRows(std::vector<T>& values, const std::vector<std::uint64_t>& kept, si
   {
     return; // (not allocated: a rule set or the edge costs were not used)
   }
+  // Runs of kept rows at once (a move per run instead of per row: the compactions of the first
+  // levels keep most rows, and row by row the byte arrays cost more than the compaction's walk).
   size_t r = 0;
   for (size_t w = 0; w < kept.size(); ++w)
   {
-    for (std::uint64_t bits = kept[w]; bits != 0; bits &= bits - 1, ++r)
+    for (std::uint64_t bits = kept[w]; bits != 0;)
     {
-      const size_t oldRow = 64 * w + size_t(__builtin_ctzll(bits));
-      std::copy_n(values.begin() + perRow * oldRow, perRow, values.begin() + perRow * r);
+      const unsigned first = unsigned(__builtin_ctzll(bits));
+      const std::uint64_t rest = ~(bits >> first); // (bit 0 clear: the run's end is its first set bit)
+      const unsigned length = rest == 0 ? 64 : unsigned(__builtin_ctzll(rest));
+      const size_t oldRow = 64 * w + first;
+      if (oldRow != r)
+      {
+        // (Moves down: the destination starts before the source, as std::copy allows.)
+        std::copy(values.begin() + perRow * oldRow, values.begin() + perRow * (oldRow + length), values.begin() + perRow * r);
+      }
+      r += length;
+      bits = first + length >= 64 ? 0 : bits & ~(((std::uint64_t(1) << length) - 1) << first);
     }
   }
   values.resize(perRow * r);
   ReleaseRoomBeyondSize(values);
 }
 
-// Whether compacting rows rows down to live pays: at 15/16 while the rows are more than half of
-// all (the peak of the build is there: the working data whole and the hierarchy growing; 7/8 left
-// it 16 bytes per input vertex higher on mc1m), at 7/8 while more than a quarter, at half below
+// Whether compacting rows rows down to live pays: at any dead row while the rows are more than
+// half of all (the peak of the build is there: the working data whole and the hierarchy growing;
+// 7/8 left it 16 bytes per input vertex higher on mc1m, and since session 40 a level's batch is
+// compacted in two steps there, CollapseBatch), at 7/8 while more than a quarter, at half below
 // (each compaction scans every slot: on refined_elephant's whole build 7/8 throughout cost 3% of
 // the instructions).
 bool WorthCompacting(size_t live, size_t rows, size_t all)
 {
-  if (2 * rows > all)
+  if (4 * rows > all)
   {
-    return 16 * live < 15 * rows;
+    return live < rows;
   }
-  return 4 * rows > all ? 8 * live < 7 * rows : 2 * live < rows;
+  return 2 * live < rows;
 }
 
 // A triangle at its weight in a level's priority order, ordered as the pair (weight, triangle)
@@ -1675,6 +1694,8 @@ struct CollapseHierarchy::BatchRun
   Index FirstCollapse = 0, FirstEntry = 0, FirstStamp = 0, ReferenceStart = 0;
   vtkSMPThreadLocal<CollapseRecord> Records;
   vtkSMPThreadLocal<std::vector<Index>> Sets;
+  // (Not held through the next level's selection: a batch's 13 bytes per collapse.)
+  void Release() { ReleaseArrays(this->InOrder, this->Survivors, this->Removed, this->Changed, this->SurvivorStart); }
 };
 
 struct CollapseHierarchy::LevelState
@@ -1751,6 +1772,16 @@ struct CollapseHierarchy::LevelState
   Index Wanted = 1;
   size_t Depth = std::numeric_limits<size_t>::max();
   Index MinimumBatch = 1;
+
+  // What only the selection reads (the order, its sample and bounds, the choices decided ahead),
+  // given back once the batch is chosen: the batch's collapses grow the hierarchy next, and the
+  // build's peak was there, after a first level's collapses, with these still held (8 bytes per
+  // input vertex on mc1m). The next level collects its own.
+  void ReleaseSelection()
+  {
+    ReleaseArrays(this->Candidates, this->Sample, this->Raised, this->RangeBits, this->RangeCounts, this->Ahead,
+      this->AheadClaimers, this->ClaimedVertices, this->ClaimedBy);
+  }
 };
 
 
@@ -1771,6 +1802,7 @@ bool CollapseHierarchy::Build(
   this->PeakShares.clear();
   this->PeakLevelStateBytes = 0;
   this->PeakAtLevel = -1;
+  this->PeakAtMoment = "";
   if (input.NumberOfTriangles() >= Index(1) << 30)
   {
     return false; // a version's code holds the triangle id in 30 bits
@@ -1795,7 +1827,7 @@ bool CollapseHierarchy::Build(
   // What the set-up freed (the input's double points, M0's evaluation's scratch) back to the
   // system before the levels, whose first ones are the build's peak.
   ReturnFreedMemory();
-  this->NotePeak(nullptr, -1);
+  this->NotePeak(nullptr, -1, "M0 evaluated");
   LevelState state;
   state.Marks.assign(nt, 0);
   if (this->Parameters.MaximumWeight > 0)
@@ -1811,16 +1843,10 @@ bool CollapseHierarchy::Build(
     {
       break;
     }
-    this->NotePeak(&state, level);
+    this->NotePeak(&state, level, "its end");
     {
       StageTimer timer(*this, StageCompact);
-      this->CompactRows(state);
-      this->CompactQuadrics();
-      // The freed blocks of the compaction and the level (the editable mesh's references given
-      // back, the order's ranges) back to the system: the RSS stays flat over the first twenty
-      // levels, as the working data shrink and the hierarchy grows, and freed blocks kept
-      // resident made its later levels up to 23 bytes per input vertex higher than the arrays.
-      ReturnFreedMemory();
+      this->CompactWorkingData(state);
     }
     if (progress)
     {
@@ -1977,6 +2003,18 @@ void CollapseHierarchy::CompactRows(LevelState& state)
   this->Rows = live;
 }
 
+// The rows of the live triangles and vertices (CompactRows, CompactQuadrics) where it pays.
+void CollapseHierarchy::CompactWorkingData(LevelState& state)
+{
+  this->CompactRows(state);
+  this->CompactQuadrics();
+  // The freed blocks of the compaction and the level (the editable mesh's references given
+  // back, the order's ranges) back to the system: the RSS stays flat over the first twenty
+  // levels, as the working data shrink and the hierarchy grows, and freed blocks kept
+  // resident made its later levels up to 23 bytes per input vertex higher than the arrays.
+  ReturnFreedMemory();
+}
+
 // The quadrics of the live vertices, compacted as CompactRows does the triangles' working data
 // (80 bytes per input vertex at full size).
 void CollapseHierarchy::CompactQuadrics()
@@ -2099,7 +2137,7 @@ size_t CollapseHierarchy::LevelStateBytes(const LevelState& state)
 }
 
 // (PeakWorkingBytes.)
-void CollapseHierarchy::NotePeak(const LevelState* state, int level)
+void CollapseHierarchy::NotePeak(const LevelState* state, int level, const char* moment)
 {
   const size_t levelBytes = state ? LevelStateBytes(*state) : 0;
   const size_t bytes = this->StorageBytes() + levelBytes;
@@ -2109,6 +2147,7 @@ void CollapseHierarchy::NotePeak(const LevelState* state, int level)
     this->PeakShares = this->Storage(); // (a few times per build: the peak rises at the first levels)
     this->PeakLevelStateBytes = levelBytes;
     this->PeakAtLevel = level;
+    this->PeakAtMoment = moment;
   }
 }
 
@@ -2133,7 +2172,8 @@ void CollapseHierarchy::LogPeakShares() const
     std::snprintf(item, sizeof(item), "%s%s %.1f", line.empty() ? "" : ", ", share.Name, double(share.Bytes) * perVertex);
     line += item;
   }
-  vtkLogF(TRACE, "collapse hierarchy: the peak (after level %d), bytes per input vertex: %s", this->PeakAtLevel, line.c_str());
+  vtkLogF(TRACE, "collapse hierarchy: the peak (level %d, %s), bytes per input vertex: %s", this->PeakAtLevel,
+    this->PeakAtMoment, line.c_str());
 }
 
 // The parameters with the weights made non-negative (normalised by their sum) and the fractions
@@ -2422,6 +2462,10 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
       this->SelectBatch(level, state);
     }
   }
+  const size_t candidates = state.Candidates.size();
+  this->NotePeak(&state, level, "its batch chosen");
+  state.ReleaseSelection();
+  ReturnFreedMemory();
   const Index levelStart = this->NumberOfCollapses();
   {
     StageTimer timer(*this, StageCollapse);
@@ -2446,7 +2490,7 @@ bool CollapseHierarchy::ReduceLevel(int level, LevelState& state)
   this->ReweighAround(state.Touched, state);
   vtkLogF(TRACE, "collapse hierarchy level %d: %lld collapses, %lld triangles left, %zu candidates, %zu re-evaluated",
     level, static_cast<long long>(this->NumberOfCollapses() - levelStart),
-    static_cast<long long>(this->Mesh.NumberOfLiveTriangles()), state.Candidates.size(), state.AffectedCount);
+    static_cast<long long>(this->Mesh.NumberOfLiveTriangles()), candidates, state.AffectedCount);
   return true;
 }
 
@@ -2485,11 +2529,6 @@ void CollapseHierarchy::OrderCandidates(LevelState& state) const
   state.Ranges = 0;
   state.Complete = false;
   const Index nt = this->Base.NumberOfTriangles();
-  // Room for what a level reads: the order of M0 (12 bytes per input triangle) is not kept.
-  if (state.Candidates.capacity() > 2 * state.FirstRange + 1024)
-  {
-    std::vector<RankedTriangle>().swap(state.Candidates);
-  }
   // Every 16th slot (a sixteenth of the memory a scan of the weights reads): the live ones
   // sample the live triangles evenly enough for bounds (a bound only sets a range's size). Late
   // in the build, when the rows are fewer than the sampled slots, through the rows (the same
@@ -3119,9 +3158,22 @@ void CollapseHierarchy::CollapseBatch(LevelState& state)
   run.Survivors.resize(n);
   run.Removed.resize(n);
   run.Changed.resize(n);
+  // In the first levels (the rows over half the slots) the build's peak is the end of a batch: the
+  // working data still hold the rows of the triangles and vertices the batch removed (about 12
+  // bytes per input vertex on mc1m) while the hierarchy has grown by the batch (about 13). Those
+  // of the first two thirds are given back before the last third is collapsed, where the two
+  // moments are about equal. (Rows only move: the collapses read them by slot and vertex.)
+  const size_t twoThirds = 2 * n / 3;
+  const size_t compactAt = 4 * size_t(this->Rows) > size_t(this->Base.NumberOfTriangles()) && twoThirds > 0 ? twoThirds : n;
   for (size_t b = 0; b < n;)
   {
-    const size_t end = this->Parameters.ParallelCollapses ? this->RunEnd(state, b) : b;
+    if (b == compactAt)
+    {
+      this->NotePeak(&state, this->NumberOfLevels() - 1, "two thirds of its batch collapsed");
+      this->CompactWorkingData(state);
+    }
+    const size_t stop = b < compactAt ? compactAt : n; // (a run does not cross the compaction)
+    const size_t end = this->Parameters.ParallelCollapses ? this->RunEnd(state, b, stop) : b;
     if (end - b >= MinimumRun)
     {
       this->ApplyRun(state, b, end);
@@ -3133,6 +3185,7 @@ void CollapseHierarchy::CollapseBatch(LevelState& state)
       this->CollapseInOrder(state, b, batchStart);
     }
   }
+  run.Release(); // (the next batch sizes its own)
 }
 
 // Collapse b of the batch, checked again where an earlier collapse of the batch may have changed
@@ -3223,13 +3276,13 @@ struct CollapseHierarchy::RunSurvey
 // The end of the run from b: the first collapse that goes one by one, or after which the blocks
 // would be compacted. The positions are surveyed as the run reaches them, in parallel, in windows
 // that grow with it.
-size_t CollapseHierarchy::RunEnd(LevelState& state, size_t b) const
+size_t CollapseHierarchy::RunEnd(LevelState& state, size_t b, size_t stop) const
 {
   BatchRun& run = state.Run;
   const size_t n = state.Batch.size();
   const size_t room = this->Mesh.ReferencesBeforeCompaction();
   size_t used = 0, r = b;
-  for (; r < n; ++r)
+  for (; r < stop; ++r)
   {
     if (r == run.Surveyed)
     {

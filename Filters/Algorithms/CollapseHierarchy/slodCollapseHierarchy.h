@@ -433,14 +433,19 @@ public:
   };
   std::vector<StorageShare> Storage() const;
   // The largest sum of Storage() and the level's selection data (its order, sample, marks and
-  // batch) met during the last Build: after M0's evaluation and at the end of every level, before
-  // its compaction (the working data whole, the hierarchy grown by the level).
+  // batch) met during the last Build: after M0's evaluation, at every level's batch chosen (its
+  // order whole, released then) and at the end of every level, before its compaction (the working
+  // data whole, the hierarchy grown by the level).
   size_t PeakWorkingBytes() const { return this->PeakBytes; }
   // What made up that peak: Storage() then, and the level state's bytes ("level state
-  // (selection)", build only); their sum is PeakWorkingBytes(). PeakLevel(): the level after which
-  // it was met, -1 before the levels (after M0's evaluation).
+  // (selection)", build only); their sum is PeakWorkingBytes(). PeakLevel(): the level during
+  // which it was met, -1 before the levels (after M0's evaluation).
   std::vector<StorageShare> PeakStorage() const;
   int PeakLevel() const { return this->PeakAtLevel; }
+  // When in that level: "its batch chosen" (the selection's order still held), "two thirds of its
+  // batch collapsed" (before the compaction inside a batch of the first levels), "its end" (before
+  // its compaction), or "M0 evaluated" (PeakLevel -1).
+  const char* PeakMoment() const { return this->PeakAtMoment; }
 
 private:
   // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the
@@ -591,7 +596,7 @@ private:
   struct BatchRun;      // a run's data (in the .cxx)
   struct RunSurvey;     // the vtkSMPTools functors (in the .cxx)
   struct RunApplication;
-  size_t RunEnd(LevelState& state, size_t b) const;
+  size_t RunEnd(LevelState& state, size_t b, size_t stop) const; // (a run ends at stop at the latest)
   void SurveyCollapse(const LevelState& state, size_t b, std::vector<Index>& gathered) const;
   void ApplyRun(LevelState& state, size_t begin, size_t end);
   void ApplyRunCollapse(const LevelState& state, size_t b, CollapseRecord& record, std::vector<Index>& gathered);
@@ -599,18 +604,20 @@ private:
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
+  void CompactWorkingData(LevelState& state);
   void CompactRows(LevelState& state);
   void ForgetDeadNormals();
   void ForgetDeadPoints();
   void ReleaseWorkingData();
   size_t StorageBytes() const;
   static size_t LevelStateBytes(const LevelState& state);
-  void NotePeak(const LevelState* state, int level);
+  void NotePeak(const LevelState* state, int level, const char* moment);
   size_t PeakBytes = 0;
   // What made up the peak (PeakStorage; at TRACE LogPeakShares prints it).
   std::vector<StorageShare> PeakShares;
   size_t PeakLevelStateBytes = 0;
   int PeakAtLevel = -1;
+  const char* PeakAtMoment = "";
   void LogPeakShares() const;
 
   // Evaluate's stages: the weight terms of one triangle and its collapse point. The part that only

@@ -1527,6 +1527,67 @@ TEST(CollapseHierarchy, PeakStorageAddsUpToThePeak)
   EXPECT_LT(peaks[1], peaks[0]);
 }
 
+// Session 40: the selection's order is given back once a level's batch is chosen, and in the first
+// levels (the rows over a quarter of the slots) the working data's rows are compacted at any dead
+// row and once more after two thirds of a batch's collapses. So at the peak, once the batch is
+// chosen, the level state holds no order (only the marks, a byte per slot, the batch, its survey
+// and the kept vertices); and in the first levels the rows are the level's live triangles until
+// the compaction inside the batch, and at its end hold fewer dead rows than half the level removed
+// (all of them before).
+TEST(CollapseHierarchy, ThePeakHoldsNoOrderAfterTheSelectionNorTheWholeBatchsDeadRows)
+{
+  for (const int resolution : { 45, 60 })
+  {
+    const TriangleMesh scan = NoisyScanMesh(resolution);
+    CollapseHierarchy h;
+    ASSERT_TRUE(h.Build(scan, DefaultParameters()));
+    const int level = h.PeakLevel();
+    const std::string moment = h.PeakMoment();
+    // (The levels' selection data come on top of M0's evaluation: the peak is in a level.)
+    ASSERT_GE(level, 0) << moment;
+    ASSERT_LT(level + 1, h.NumberOfLevels()) << "the peak's level made no collapse";
+    const double nt = double(scan.NumberOfTriangles());
+    double rowBytes = -1, levelState = -1;
+    for (const CollapseHierarchy::StorageShare& share : h.PeakStorage())
+    {
+      rowBytes = std::string(share.Name) == "current versions, rows" ? double(share.Bytes) : rowBytes;
+      levelState = std::string(share.Name) == "level state (selection)" ? double(share.Bytes) : levelState;
+    }
+    ASSERT_GE(rowBytes, 0);
+    ASSERT_GE(levelState, 0);
+    const double rows = (rowBytes - 12 * std::ceil(nt / 64)) / sizeof(Index); // (the rank words)
+    const double atStart = double(h.LevelTriangleCount(level)), atEnd = double(h.LevelTriangleCount(level + 1));
+    double largestBatch = 0; // (the batch's arrays keep the room of the largest so far)
+    for (int i = 0; i <= level; ++i)
+    {
+      largestBatch = std::max(largestBatch, double(h.LevelStart(i + 1) - h.LevelStart(i)));
+    }
+    std::printf("[peak] resolution %d: level %d (%s), %.0f rows, %.0f -> %.0f triangles, level state %.0f bytes\n",
+      resolution, level, moment.c_str(), rows, atStart, atEnd, levelState);
+    if (moment != "its batch chosen")
+    {
+      // Marks, the batch (triangle, edge, point: 32 bytes, room up to twice), its survey (13 bytes
+      // and a start per collapse, room up to twice), the kept vertices, the re-evaluation's chunk
+      // and a vertex's ring (4,096 ids each at most).
+      const double bound = nt + 2 * 32 * largestBatch + 13 * largestBatch + 2 * 4 * (largestBatch + 1) +
+        2 * 4 * largestBatch + 2 * 4 * 4096.0;
+      EXPECT_LE(levelState, bound) << moment;
+    }
+    if (4 * atStart <= nt)
+    {
+      continue; // (a later level: its rows are compacted at half, as before)
+    }
+    if (moment == "its end")
+    {
+      EXPECT_LT(2 * (rows - atEnd), atStart - atEnd) << "dead rows at the end of level " << level;
+    }
+    else
+    {
+      EXPECT_EQ(rows, atStart) << moment;
+    }
+  }
+}
+
 TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
 {
   vtkNew<vtkScanSurfaceSource> source;
