@@ -277,6 +277,7 @@ std::vector<Parameter> HoleBumpRemovalParameters()
     SLOD_PARAMETER(vtkHoleBumpRemoval, Int, Completion),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, Epsilon),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, FinalCollapses),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, SingleMergeMeasure),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Int, OutputPointsPrecision),
   };
 }

@@ -69,6 +69,11 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
     parameters.Completion = slod::TopologyCompletion::Spbm;
     parameters.SpbmTargetTriangles = static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX));
     parameters.FinalCollapses = filter->GetFinalCollapses();
+    if (filter->GetSingleMergeMeasure())
+    {
+      parameters.Spbm.CompareCandidates = false;
+      parameters.Spbm.SizeWeightedMerge = true;
+    }
   }
   return parameters;
 }
@@ -279,6 +284,7 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RemoveCavities: " << this->RemoveCavities << "\n";
   os << indent << "FillCracks: " << this->FillCracks << "\n";
   os << indent << "FinalCollapses: " << this->FinalCollapses << "\n";
+  os << indent << "SingleMergeMeasure: " << this->SingleMergeMeasure << "\n";
   os << indent << "MaximumCrackSize: " << this->MaximumCrackSize << "\n";
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
   os << indent << "MaximumPasses: " << this->MaximumPasses << "\n";

@@ -159,6 +159,17 @@ public:
   ///@}
 
   ///@{
+  /// SPBM completion to a triangle target: generate the size-weighted merge measure's level only
+  /// (as vtkPatchBoundaryMerge does) instead of two whole levels, the plain and the size-weighted
+  /// measure's, compared by their sampled deviation before the final collapses (default off: the
+  /// comparison). On the noisy scans the plain level is the larger cost and is discarded at 1M and
+  /// 4M triangles (HoleBumpRemoval.md, session 40); at 0.25M it is kept, so outputs can differ.
+  vtkSetMacro(SingleMergeMeasure, bool);
+  vtkGetMacro(SingleMergeMeasure, bool);
+  vtkBooleanMacro(SingleMergeMeasure, bool);
+  ///@}
+
+  ///@{
   /// Second output with the sharp loops (default on); double precision points (default: as input).
   vtkSetMacro(GenerateSharpLoops, bool);
   vtkGetMacro(GenerateSharpLoops, bool);
@@ -200,6 +211,7 @@ protected:
   bool RemoveCavities = true;
   bool FillCracks = true;
   bool FinalCollapses = true;
+  bool SingleMergeMeasure = false;
   vtkIdType FinalCollapseCount = 0;
   double MaximumCrackSize = -1.0;
   double MergeAngle = 20.0;

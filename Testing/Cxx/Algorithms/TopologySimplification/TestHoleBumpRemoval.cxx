@@ -737,6 +737,44 @@ TEST(HoleBumpRemovalFilter, RoughScanReachesItsTargetByFinalCollapses)
   EXPECT_GT(counts[0], counts[1]);
 }
 
+// SingleMergeMeasure (off by default) generates one SPBM level instead of comparing two: the
+// detection before the completion is the same, and the output reaches the target with the same
+// topology as the compared run (the final collapses keep any level's), adding no non-manifold
+// edge or border loop. A noisy scan of seed 181, used by no other test.
+TEST(HoleBumpRemovalFilter, SingleMergeMeasureKeepsTheRemovalsTargetAndTopology)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKind(vtkScanSurfaceSource::NoisyIsosurface);
+  source->SetResolution(56);
+  source->SetSeed(181);
+  source->Update();
+  vtkPolyData* input = source->GetOutput();
+  const MeshStatistics in = Stats(ToTriangleMesh(input));
+  MeshStatistics out[2];
+  int removed[2] = { 0, 0 };
+  for (const bool single : { false, true })
+  {
+    vtkNew<vtkHoleBumpRemoval> filter;
+    filter->GlobalWarningDisplayOff();
+    EXPECT_FALSE(filter->GetSingleMergeMeasure()); // the comparison stays the default
+    filter->SetSingleMergeMeasure(single);
+    filter->SetTargetReduction(0.9);
+    vtkSmartPointer<vtkPolyData> result = RunFilter(filter, input);
+    const vtkIdType target = FieldCount(result, "TargetNumberOfTriangles");
+    ASSERT_GT(target, 0);
+    EXPECT_LE(result->GetNumberOfPolys(), target + std::max<vtkIdType>(2, target / 50)) << "single " << single;
+    out[single] = Stats(ToTriangleMesh(result));
+    removed[single] = filter->GetNumberOfHolesRemoved() + filter->GetNumberOfBumpsRemoved() +
+      filter->GetNumberOfCavitiesRemoved() + filter->GetNumberOfCracksFilled();
+    EXPECT_LE(out[single].NonManifoldEdges, in.NonManifoldEdges) << "single " << single;
+    EXPECT_LE(out[single].BoundaryLoops, in.BoundaryLoops) << "single " << single;
+  }
+  EXPECT_GT(removed[0], 0);
+  EXPECT_EQ(removed[1], removed[0]);
+  EXPECT_EQ(out[1].EulerCharacteristic, out[0].EulerCharacteristic);
+  EXPECT_EQ(out[1].BoundaryLoops, out[0].BoundaryLoops);
+}
+
 namespace
 {
 // vtkHoleBumpRemoval's defaults (relative to the mesh's diagonal), to a tenth of the triangles.
