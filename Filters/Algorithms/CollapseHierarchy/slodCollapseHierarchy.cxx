@@ -397,6 +397,7 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
     }
   }
   e.Error = error;
+  e.ErrorRecomputable = true;
   e.PreferEdge = this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
   return EvaluationRest::None;
 }
@@ -435,6 +436,7 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame,
     e.Kappa = 0;
     e.Alpha = 0;
     e.PreferEdge = false;
+    e.NoPlane = true;
     return false;
   }
   e.Normal = frame.Normal;
@@ -516,6 +518,7 @@ bool CollapseHierarchy::OrderedByEdge(const Index* tri, const Quadric& q, const 
 void CollapseHierarchy::SetCollapseError(const Index* tri, const Quadric& q, Evaluation& e) const
 {
   e.Error = this->CollapseError(tri, 3, q, e.Point);
+  e.ErrorRecomputable = true;
   e.PreferEdge = this->PreferringEdges() && e.EdgeError < this->Parameters.PreferEdgeFactor * e.Error;
 }
 
@@ -1197,19 +1200,84 @@ void CollapseHierarchy::StorePoint(Index t, StoredEvaluation& s, const Evaluatio
   s.Point = e.Source;
 }
 
+double CollapseHierarchy::ErrorOf(Index t) const
+{
+  return this->Evaluations[this->Row(t)].ErrorKept ? this->ErrorOf(t, Vec3{ 0, 0, 0 }) : this->ErrorOf(t, this->PointOf(t));
+}
+
+// (point: PointOf(t), read only when the error is not kept.)
+double CollapseHierarchy::ErrorOf(Index t, const Vec3& point) const
+{
+  if (this->Evaluations[this->Row(t)].ErrorKept)
+  {
+    const auto kept = this->KeptErrors.find(t);
+    return kept == this->KeptErrors.end() ? 0.0 : kept->second;
+  }
+  const Index* tri = this->Mesh.Triangle(t);
+  return this->CollapseError(tri, 3, this->TriangleQuadric(tri), point); // (SetCollapseError's)
+}
+
+// Keeps `error`, evaluation e's error of t's triangle collapse, where ErrorOf cannot recompute it.
+void CollapseHierarchy::StoreError(Index t, StoredEvaluation& s, const Evaluation& e, double error)
+{
+  const bool recomputable = e.ErrorRecomputable && this->Parameters.ErrorWeight > 0;
+  if (recomputable || error == 0)
+  {
+    if (s.ErrorKept && !this->KeptErrors.empty())
+    {
+      this->KeptErrors.erase(t);
+    }
+  }
+  else
+  {
+    this->KeptErrors[t] = error;
+  }
+  s.ErrorKept = !recomputable;
+}
+
+// M0's errors were computed with the mean area's guess (InitializeQuadrics): kept as they were
+// when the final mean area differs (it is the same sum in the same order: not met so far).
+void CollapseHierarchy::KeepGuessedErrors(double guess)
+{
+  if (this->Parameters.ErrorWeight <= 0)
+  {
+    return; // (every error kept already)
+  }
+  const double finalArea = this->MeanArea;
+  this->MeanArea = guess;
+  const Index nt = this->Base.NumberOfTriangles();
+  for (Index t = 0; t < nt; ++t)
+  {
+    StoredEvaluation& s = this->Evaluations[this->Row(t)];
+    if (!s.ErrorKept)
+    {
+      const double error = this->ErrorOf(t);
+      if (error != 0)
+      {
+        this->KeptErrors[t] = error;
+      }
+      s.ErrorKept = true;
+    }
+  }
+  this->MeanArea = finalArea;
+}
+
 // Keeps what the batch selection reads of evaluation e of triangle t (the normal as its source,
 // compared bit for bit, so that the one read back is the same).
 void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
 {
   StoredEvaluation& s = this->Evaluations[this->Row(t)];
+  // A triangle without a plane carries its last error: read before its point is replaced (with
+  // ErrorWeight 0 the evaluation carried it already, EvaluateChunk).
+  const double error = e.NoPlane && this->Parameters.ErrorWeight > 0 ? this->ErrorOf(t) : e.Error;
   const bool wasStored = s.Normal == NormalSource::Stored;
   this->StorePoint(t, s, e);
   if (!this->PaperTerms.empty())
   {
     this->PaperTerms[this->Row(t)] = this->PaperTerm(e.Kappa, e.Alpha, e.Valence, e.Area);
   }
-  s.Error = e.Error;
-  s.Weight = e.PreferEdge ? e.EdgeError : e.Error; // (weighed by the caller)
+  this->StoreError(t, s, e, error);
+  s.Weight = e.PreferEdge ? e.EdgeError : error; // (weighed by the caller)
   s.PreferEdge = e.PreferEdge;
   s.CheapestEdge = e.CheapestEdge;
   s.Normal = e.NormalKnown ? e.NormalKind : this->NormalSourceOf(t, e.Normal);
@@ -1929,6 +1997,15 @@ void CollapseHierarchy::ForgetDeadPoints()
   }
 }
 
+// The kept errors of the triangles dead at this compaction (RowOf already renumbered).
+void CollapseHierarchy::ForgetDeadErrors()
+{
+  for (auto i = this->KeptErrors.begin(); i != this->KeptErrors.end();)
+  {
+    i = !this->RowOf.HasRow(size_t(i->first)) ? this->KeptErrors.erase(i) : std::next(i);
+  }
+}
+
 // Called between levels. The rows of the live triangles keep their slot order, so each array is
 // compacted in place (a row only moves down) and the pages of its freed rows are given back
 // without a copy (ReleaseRoomBeyondSize).
@@ -1951,6 +2028,7 @@ void CollapseHierarchy::CompactRows(LevelState& state)
     {
       case 0:
         this->ForgetDeadNormals();
+        this->ForgetDeadErrors();
         break;
       case 1:
         this->ForgetDeadPoints();
@@ -2037,6 +2115,7 @@ void CollapseHierarchy::ReleaseWorkingData()
   const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
   release(this->Evaluations);
   release(this->KeptPoints);
+  release(this->KeptErrors);
   release(this->OtherNormals);
   release(this->Quadrics);
   this->QuadricRowOf.Release();
@@ -2091,7 +2170,8 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "vertex ids, flags", false, bytes(this->GlobalOf) + bytes(this->OnBorder) + bytes(this->LockedVertices) },
     { "evaluations", true,
       bytes(this->Evaluations) +
-        (this->KeptPoints.size() + this->OtherNormals.size()) * (sizeof(Index) + sizeof(Vec3)) }, // (their entries)
+        (this->KeptPoints.size() + this->OtherNormals.size()) * (sizeof(Index) + sizeof(Vec3)) +
+        this->KeptErrors.size() * (sizeof(Index) + sizeof(double)) }, // (their entries)
     { "evaluation scratch", true, bytes(this->Working) + bytes(this->Rests) + bytes(this->PendingAlternatives) },
     { "paper's terms", true, bytes(this->PaperTerms) },
     { "quadrics", true, bytes(this->Quadrics) + this->QuadricRowOf.MemoryBytes() },
@@ -2387,6 +2467,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
   const Index nt = this->Base.NumberOfTriangles();
   this->Evaluations.assign(nt, StoredEvaluation());
   this->KeptPoints.clear();
+  this->KeptErrors.clear();
   this->OtherNormals.clear();
   M0Terms m0;
   if (this->Parameters.ErrorWeight < 1)
@@ -2419,6 +2500,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
     {
       e.CheapestEdge.Edge = -1;
     }
+    this->KeepGuessedErrors(guess);
     std::fill(this->EdgeCostErrors.begin(), this->EdgeCostErrors.end(), std::numeric_limits<float>::quiet_NaN());
   }
   this->KappaMax = m0.KappaMax > 0 ? m0.KappaMax : 1.0;
@@ -2972,8 +3054,7 @@ CollapseHierarchy::Choice CollapseHierarchy::ChooseCollapse(
     {
       return false;
     }
-    choice.Edge = -1;
-    choice.Point = this->PointOf(t);
+    choice.Edge = -1; // (TriangleCollapseAllowed set the point)
     return true;
   };
   auto edgeCollapse = [&]() { return edges && this->EdgeCollapseAllowed(t, orderWeight, hubs, choice, scratch); };
@@ -3080,10 +3161,16 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Cho
   {
     return false;
   }
+  // (The point once: the error recomputed from it, and the checks below.)
+  std::optional<Vec3> point;
   if (e.PreferEdge)
   {
     // Ordered by its edge collapse: the triangle collapse only at its own cost.
-    const double weight = this->WeightOf(t, e.Error);
+    if (!e.ErrorKept)
+    {
+      point = this->PointOf(t);
+    }
+    const double weight = this->WeightOf(t, this->ErrorOf(t, point ? *point : Vec3{ 0, 0, 0 }));
     if (weight > orderWeight * (1 + 1e-9) + 1e-300)
     {
       choice.Weight = std::max(choice.Weight, weight);
@@ -3099,11 +3186,15 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Cho
     return false;
   }
   scratch.Stencils.Classify(this->Mesh, scratch.Stencil);
-  const Vec3 point = this->PointOf(t);
-  if (scratch.Stencils.CheckCollapsible(this->Mesh, scratch.Stencil, point, this->NormalOf(t), &this->MeshOptions,
-        this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok &&
-    this->KeepsOrientation(t, point))
+  if (!point)
   {
+    point = this->PointOf(t);
+  }
+  if (scratch.Stencils.CheckCollapsible(this->Mesh, scratch.Stencil, *point, this->NormalOf(t), &this->MeshOptions,
+        this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok &&
+    this->KeepsOrientation(t, *point))
+  {
+    choice.Point = *point;
     return true;
   }
   choice.BlockTriangle = true;
@@ -3626,7 +3717,9 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
     const StoredEvaluation& last = this->Evaluations[this->Row(triangleAt(i))];
     Evaluation& e = this->Working[i];
     e = Evaluation(); // (every evaluation sets its point)
-    e.Error = last.Error;
+    // With ErrorWeight 0 an evaluation carries its error (no evaluation sets it but a hub's);
+    // otherwise only one without a plane does, and StoreEvaluation reads it then.
+    e.Error = this->Parameters.ErrorWeight > 0 ? 0.0 : this->ErrorOf(triangleAt(i), Vec3{ 0, 0, 0 });
     e.PreferEdge = last.PreferEdge;
     e.CheapestEdge = last.CheapestEdge;
   }

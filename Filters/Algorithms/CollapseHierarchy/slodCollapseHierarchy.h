@@ -484,19 +484,28 @@ private:
     // How Normal is kept, when the concurrent evaluation decided it (ParallelBookkeeping).
     bool NormalKnown = false;
     NormalSource NormalKind = NormalSource::Own;
+    // Error is CollapseError of T's vertices, their quadrics and Point (ErrorOf gives it again
+    // from the stored evaluation); else it is kept (KeptErrors): a hub's edge error, or the last
+    // error a triangle without a plane carries (NoPlane: StoreEvaluation reads it then).
+    bool ErrorRecomputable = false;
+    bool NoPlane = false;
   };
-  // What the batch selection reads of a triangle's evaluation, kept per triangle (20 bytes instead
+  // What the batch selection reads of a triangle's evaluation, kept per triangle (12 bytes instead
   // of the Evaluation's 104): the paper's weight terms folded into one (their normalisers are fixed
-  // after M0's evaluation), and T's unit normal and collapse point recomputed from its vertices
-  // and their quadrics (they do not change until T is evaluated again) unless they came from
-  // elsewhere (NormalOf, PointOf).
-  // (Packed to 4 bytes: 20 bytes instead of 24 per live triangle, 8 per input vertex less at the
-  // first levels, the build's peak; the doubles on a 4-byte boundary cost no measurable time.)
+  // after M0's evaluation), and T's unit normal, collapse point and the error of its triangle
+  // collapse recomputed from its vertices and their quadrics (they do not change until T is
+  // evaluated again) unless they came from elsewhere (NormalOf, PointOf, ErrorOf).
+  // (Packed to 4 bytes: 12 bytes instead of 16 per live triangle; the double on a 4-byte boundary
+  // costs no measurable time. The error, 8 bytes per row before session 41, about 15 bytes per
+  // input vertex at the first levels, the build's peak, is read only for a triangle ordered by its
+  // edge collapse whose edge collapse was not taken: recomputed then.)
 #pragma pack(push, 4)
   struct StoredEvaluation
   {
+    // (A new row carries the error 0: kept, and 0 is what KeptErrors does not hold.)
     StoredEvaluation()
       : PreferEdge(false)
+      , ErrorKept(true)
       , Normal(NormalSource::Own)
       , Point(PointSource::Quadric)
     {
@@ -506,9 +515,11 @@ private:
     // (WeightOf, once M0's normalisers are known): the error T is ordered by (its cheapest edge
     // collapse's when PreferEdge, else Error), so that the edge's need not be kept.
     double Weight = 0;
-    double Error = 0; // of T's triangle collapse (read again when T is ordered by its edge)
     EdgeChoice CheapestEdge;
     bool PreferEdge : 1;
+    // The error of T's triangle collapse is kept: in KeptErrors, or 0 when not there (else ErrorOf
+    // recomputes it).
+    bool ErrorKept : 1;
     NormalSource Normal : 2;
     // The collapse point: recomputed (Quadric, Centroid) from T's vertices, else kept in
     // KeptPoints under T's slot (on the defaults 96-100% of the triangles of mc1m, the MRI and
@@ -517,9 +528,20 @@ private:
     PointSource Point : 2;
   };
 #pragma pack(pop)
-  static_assert(sizeof(StoredEvaluation) == 20, "one evaluation record per live triangle");
+  static_assert(sizeof(StoredEvaluation) == 12, "one evaluation record per live triangle");
   std::unordered_map<Index, Vec3> KeptPoints; // PointSource::Kept, by slot
   Vec3 PointOf(Index t) const;
+  // The error of T's triangle collapse at its last evaluation (read when T is ordered by its edge
+  // collapse, and carried by an evaluation without a plane): recomputed from T's vertices, their
+  // quadrics and its collapse point (PointOf, or `point` when the caller has it), as the
+  // evaluation computed it, else kept by slot (ErrorKept: hubs, triangles without a plane, and
+  // with ErrorWeight 0 every error that is not 0, the value an evaluation then carries).
+  std::unordered_map<Index, double> KeptErrors;
+  double ErrorOf(Index t) const;
+  double ErrorOf(Index t, const Vec3& point) const;
+  void StoreError(Index t, StoredEvaluation& s, const Evaluation& e, double error);
+  void KeepGuessedErrors(double guess);
+  void ForgetDeadErrors();
   void StorePoint(Index t, StoredEvaluation& s, const Evaluation& e);
   // The weight terms of M0's evaluation, until their normalisers are known.
   struct ShapeTerms
