@@ -1386,12 +1386,8 @@ void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count,
   }
 
   // Triangle versions: removed ones end, the ones around the moved vertex start anew.
-  for (Index r : this->Record.RemovedTriangles)
-  {
-    this->EndVersion(this->EntryOf[this->Row(r)], k + 1);
-  }
+  // (Their deaths: DeriveDeaths.)
   m.ForEachTriangle(kept, [&](Index x) {
-    this->EndVersion(this->EntryOf[this->Row(x)], k + 1);
     const Index* q = m.Triangle(x);
     this->AppendEntry(x, q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
   });
@@ -1464,8 +1460,7 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   }
   for (Index t : flip.Triangles)
   {
-    this->EndVersion(this->EntryOf[this->Row(t)], k);
-    this->AppendEntry(t, AllCorners);
+    this->AppendEntry(t, AllCorners); // (the version it replaces dies at this birth: DeriveDeaths)
     if (!this->EdgeCostErrors.empty())
     {
       std::fill_n(this->EdgeCostErrors.begin() + 3 * this->Row(t), 3, std::numeric_limits<float>::quiet_NaN()); // new corners
@@ -1474,51 +1469,48 @@ void CollapseHierarchy::RecordFlip(const FlipRecord& flip)
   this->Records.AppendFlip(flip);
 }
 
-// M0's versions' deaths, not written during the build (EndVersion): a slot's M0 version ends
-// when its next version is born (a collapse around it or a swap) or when a collapse removes it,
-// whichever comes first (a removed slot gets no version after its removal). One walk of the
-// versions in birth order and one of the records.
-void CollapseHierarchy::DeriveBaseDeaths()
+// Every version's death, none written during the build: a slot's version ends when its next
+// version is born (a collapse around it or a swap: the same count, ApplyCollapse, RecordFlip) or
+// when a collapse removes the slot (a removed slot gets no version after its removal), else never.
+// One walk of the records and one of the versions from the last to the first, with M0's entries
+// (version s is slot s's first) holding each slot's next birth meanwhile: they end as M0's deaths.
+void CollapseHierarchy::DeriveDeaths()
 {
   const Index nt = this->Base.NumberOfTriangles();
-  this->BaseDeath.assign(size_t(nt), Never);
+  const Index entries = this->NumberOfEntries();
+  this->Deaths.assign(size_t(entries), Never);
   const CollapseRecords& r = this->Records;
   for (Index k = 0; k < r.NumberOfCollapses(); ++k)
   {
     for (Index i = r.RemovedOffsets[size_t(k)]; i < r.RemovedOffsets[size_t(k) + 1]; ++i)
     {
-      this->BaseDeath[size_t(r.RemovedTriangles[size_t(i)])] = k + 1;
+      this->Deaths[size_t(r.RemovedTriangles[size_t(i)])] = k + 1;
     }
   }
-  Index birth = 0; // versions [VersionsBornBy[K - 1], VersionsBornBy[K]) are born at K
-  const Index entries = this->NumberOfEntries();
-  for (Index e = nt; e < entries; ++e)
+  // versions [VersionsBornBy[K - 1], VersionsBornBy[K]) are born at K (K = 0: M0's)
+  Index birth = static_cast<Index>(this->VersionsBornBy.size()) - 1;
+  for (Index e = entries - 1; e >= nt; --e)
   {
-    while (this->VersionsBornBy[size_t(birth)] <= e)
+    while (birth > 0 && this->VersionsBornBy[size_t(birth) - 1] > e)
     {
-      ++birth;
+      --birth;
     }
-    Index& death = this->BaseDeath[size_t(this->BuildCodeOf(e) >> 2)];
-    death = std::min(death, birth);
+    Index& next = this->Deaths[size_t(this->BuildCodeOf(e) >> 2)];
+    this->Deaths[size_t(e)] = next;
+    next = birth;
   }
 }
 
-// The finished versions in the fewest bits (BitPackedArray): a code (slot << 2 | corner) needs
-// the bits of four times the input's triangles, a death (at most the collapse count; a swap's
-// versions end at the count of their level) those of the collapse count and one, where the
-// build's arrays took 32 each (written concurrently by a run's collapses, so packed only once
-// the build ends). Each field's build array goes right after it is packed.
 void CollapseHierarchy::PackVersions()
 {
   const Index nt = this->Base.NumberOfTriangles();
   const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
   const std::uint64_t lastDeath = std::uint64_t(this->NumberOfCollapses()) + 1;
-  this->PackedDeaths.Assign(size_t(this->NumberOfEntries()), lastDeath, [this, nt](size_t e) {
-    const Index d = Index(e) < nt ? this->BaseDeath[e] : this->EntryDeath[e - size_t(nt)];
+  this->PackedDeaths.Assign(size_t(this->NumberOfEntries()), lastDeath, [this](size_t e) {
+    const Index d = this->Deaths[e];
     return d == Never ? std::uint64_t(0) : std::uint64_t(d) + 1;
   });
-  release(this->BaseDeath);
-  release(this->EntryDeath);
+  release(this->Deaths);
   this->PackedCodes.Assign(this->EntryCode.size(), 4 * std::uint64_t(nt) - 1,
     [this](size_t i) { return std::uint64_t(this->EntryCode[i]); });
   release(this->EntryCode);
@@ -1539,7 +1531,6 @@ void CollapseHierarchy::AppendEntry(Index x, std::uint32_t corner)
     }
   }
   this->EntryCode.push_back(std::uint32_t(x) << 2 | corner);
-  this->EntryDeath.push_back(Never);
   this->VersionsBornBy.back() = this->NumberOfEntries();
 }
 
@@ -2163,7 +2154,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "collapse points", false, bytes(this->CollapsePoints) },
     { "collapses", false, bytes(this->Collapses) },
     { "triangle versions", false,
-      bytes(this->EntryCode) + bytes(this->EntryDeath) + bytes(this->BaseDeath) + bytes(this->FullEntryVertices) +
+      bytes(this->EntryCode) + bytes(this->Deaths) + bytes(this->FullEntryVertices) +
         bytes(this->VersionsBornBy) + this->PackedCodes.MemoryBytes() + this->PackedDeaths.MemoryBytes() },
     { "levels", false, bytes(this->LevelStarts) },
     { "collapse records", false, records },
@@ -2313,8 +2304,7 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   std::iota(this->GlobalOf.begin(), this->GlobalOf.end(), 0);
   this->AncestorCounts.clear();
   this->VersionsBornBy.assign(1, nt);
-  this->EntryDeath.clear(); // (M0's versions' deaths: DeriveBaseDeaths)
-  this->BaseDeath.clear();
+  this->Deaths.clear(); // (DeriveDeaths)
   this->EntryCode.clear(); // (M0's versions are implicit: CodeOf)
   this->VersionsPacked = false;
   this->PackedCodes.Release();
@@ -2368,7 +2358,6 @@ void CollapseHierarchy::ReserveRecords()
   const size_t collapses = nt / 2 + 1, versions = 5 * nt;
   this->EntryCode.reserve(versions - nt);
   this->VersionsBornBy.reserve(collapses + 1);
-  this->EntryDeath.reserve(versions - nt);
   this->CollapsePoints.reserve(3 * collapses);
   this->Collapses.reserve(collapses);
   this->AncestorCounts.reserve(collapses);
@@ -3434,7 +3423,6 @@ void CollapseHierarchy::ApplyRun(LevelState& state, size_t begin, size_t end)
   this->CollapsePoints.resize(3 * collapses);
   this->AncestorCounts.resize(collapses);
   this->VersionsBornBy.resize(collapses + 1);
-  this->EntryDeath.resize(size_t(run.FirstEntry + survivors - this->Base.NumberOfTriangles()));
   this->EntryCode.resize(this->EntryCode.size() + size_t(survivors));
   this->Records.AppendRoom(n, &run.Removed[begin], &run.Changed[begin]);
   RunApplication application{ *this, state, run, begin };
@@ -3480,19 +3468,12 @@ void CollapseHierarchy::ApplyRunCollapse(
   {
     this->ForgetEdgeCostsAround(kept);
   }
-  for (Index r : record.RemovedTriangles)
-  {
-    this->EndVersion(this->EntryOf[this->Row(r)], k + 1);
-  }
-  Index e = run.FirstEntry + run.SurvivorStart[i];
+  Index e = run.FirstEntry + run.SurvivorStart[i]; // (the ended versions' deaths: DeriveDeaths)
   const Index nt = this->Base.NumberOfTriangles();
   this->Mesh.ForEachTriangle(kept, [&](Index x) {
-    Index& current = this->EntryOf[this->Row(x)];
-    this->EndVersion(current, k + 1);
     const Index* q = this->Mesh.Triangle(x);
     this->EntryCode[size_t(e - nt)] = std::uint32_t(x) << 2 | (q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
-    this->EntryDeath[size_t(e - nt)] = Never;
-    current = e++;
+    this->EntryOf[this->Row(x)] = e++;
   });
   this->VersionsBornBy[size_t(k) + 1] = e;
   this->Records.SetAt(k, record, this->Mesh);
