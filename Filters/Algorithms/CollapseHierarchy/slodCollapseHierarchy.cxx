@@ -1919,6 +1919,11 @@ bool CollapseHierarchy::Build(
   }
   this->ReleaseWorkingData();
   this->FinishVersions();
+  // The working data and the build's forms of the versions (the deaths derived at the end, the
+  // 32-bit codes) back to the system: freed in the heap they stayed resident under the levels the
+  // filter extracts next (2 MB more RSS on noisy273 than base-s41 before, whose deaths lived in a
+  // block of their own, unmapped when freed).
+  ReturnFreedMemory();
   if (this->TimingStages)
   {
     vtkLogF(TRACE,
