@@ -331,6 +331,14 @@ public:
   // The same, taking the mesh as M0 instead of copying it (the caller's copy is not held twice).
   bool Build(TriangleMesh&& mesh, const CollapseHierarchyParameters& parameters,
     const ProgressFunction& progress = ProgressFunction());
+  // The same with the mesh's non-manifold vertex flags already known (the input preparation's
+  // PreparationReport::NonManifoldVertexFlags, for exactly this mesh): M0's set-up does not
+  // classify the mesh a second time. Computed as without them when their size is not the mesh's
+  // vertex count or when RemoveCycles changes M0 first.
+  bool Build(TriangleMesh&& mesh, std::vector<unsigned char>&& nonManifoldVertices,
+    const CollapseHierarchyParameters& parameters, const ProgressFunction& progress = ProgressFunction());
+  // How many builds took their non-manifold vertex flags as given (the others computed them).
+  int NumberOfBuildsWithGivenFlags() const { return this->BuildsWithGivenFlags; }
 
   // Meshes M0..Mn: NumberOfLevels() = n + 1.
   int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
@@ -484,6 +492,8 @@ private:
     // How Normal is kept, when the concurrent evaluation decided it (ParallelBookkeeping).
     bool NormalKnown = false;
     NormalSource NormalKind = NormalSource::Own;
+    // Normal is T's own area vector normalised (EvaluateShape): OwnNormal's numbers, bit for bit.
+    bool OwnPlane = false;
   };
   // What the batch selection reads of a triangle's evaluation, kept per triangle (20 bytes instead
   // of the Evaluation's 104): the paper's weight terms folded into one (their normalisers are fixed
@@ -539,7 +549,7 @@ private:
 
   // Build's stages: set up M0, weigh every triangle, then reduce level by level.
   void SetParameters(const CollapseHierarchyParameters& parameters);
-  void Reset(TriangleMesh&& input);
+  void Reset(TriangleMesh&& input, std::vector<unsigned char>&& nonManifoldVertices);
   void ResetRecords();
   void ReserveRecords();
   void InitializeQuadrics();
@@ -650,6 +660,10 @@ private:
   EvaluationRest EvaluateConcurrently(Index t, Evaluation& e, LinkEdges& link, Alternatives& alternatives) const;
   void FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest, const Alternatives& alternatives);
   bool EvaluateShape(Index t, Evaluation& e, LocalFrame& frame, bool planeAxes) const;
+  // Whether the evaluations under way need the paper's shape terms (valence, roundness): M0's
+  // (their normalisers) and those of a weight with the paper's term (ErrorWeight < 1). Else
+  // nothing reads them (EvaluateTriangles sets it).
+  bool ShapeTermsRead = true;
   void EvaluateWithFit(Index t, Evaluation& e);
   bool PreferringEdges() const;
   Quadric TriangleQuadric(const Index* tri) const;
@@ -684,6 +698,7 @@ private:
     return { &own, own.Axx + own.Ayy + own.Azz }; // (unit normals: the weights' sum)
   }
   double CollapseError(const OwnQuadric* own, int count, const Quadric& q, const Vec3& p) const;
+  double WithVertexTerm(const OwnQuadric* own, int count, double sum, const Vec3& p) const;
   Quadric TriangleQuadric(const Index* tri, OwnQuadric (&own)[3]) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p);
@@ -694,7 +709,8 @@ private:
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
   int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
   void RecordFlip(const FlipRecord& flip);
-  void LockNonManifoldVertices();
+  void LockNonManifoldVertices(std::vector<unsigned char>&& given);
+  int BuildsWithGivenFlags = 0;
   bool KeepsOrientation(Index t, const Vec3& p) const;
 
   CollapseHierarchyParameters Parameters;
@@ -996,7 +1012,12 @@ private:
     Vec3 Point;
     int Kind;
   };
-  int EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const;
+  // cheapestOnly (the pricing's use): an end point whose quadric sum alone is above the cheapest
+  // placement before it keeps that sum as its Error, a bound (EndPointAboveCheapest): the same
+  // CheapestPlacement and the same ties, without its vertex term. Else every Error is exact (the
+  // selection sorts them).
+  int EdgePlacements(Index u, Index v, EdgePlacement placements[3], bool cheapestOnly = false) const;
+  bool EndPointAboveCheapest(const Quadric& q, const Vec3& p, double cheapest, double& sum) const;
   static EdgeCost CheapestPlacement(const EdgePlacement* placements, int n);
   int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
