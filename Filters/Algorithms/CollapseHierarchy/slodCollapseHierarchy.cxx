@@ -865,6 +865,10 @@ CollapseHierarchy::EdgeCost CollapseHierarchy::EdgeCostOf(Index u, Index v) cons
 {
   EdgePlacement placements[3];
   const int n = this->EdgePlacements(u, v, placements, true);
+  if (this->Parameters.VerifyBoundedPricing)
+  {
+    this->VerifyPricing(u, v, placements, n);
+  }
   return CheapestPlacement(placements, n);
 }
 
@@ -876,6 +880,15 @@ void CollapseHierarchy::EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCo
 {
   EdgePlacement placements[3];
   const int n = this->EdgePlacements(u, v, placements, true);
+  if (this->Parameters.VerifyBoundedPricing)
+  {
+    this->VerifyPricing(u, v, placements, n);
+  }
+  CostsBothWays(placements, n, uv, vu);
+}
+
+void CollapseHierarchy::CostsBothWays(const EdgePlacement* placements, int n, EdgeCost& uv, EdgeCost& vu)
+{
   uv = CheapestPlacement(placements, n);
   // (v, u)'s list is [best, v, u]: the same least error and NaN flag; the same best point; an end
   // point taken alone becomes the other kind, and of two equal ends the first, kind 1, again.
@@ -884,6 +897,27 @@ void CollapseHierarchy::EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCo
   {
     vu.Kind = static_cast<unsigned char>(3 - uv.Kind);
   }
+}
+
+// The bounded placements' costs against the exact ones, both ways, bit for bit (test support).
+void CollapseHierarchy::VerifyPricing(Index u, Index v, const EdgePlacement* placements, int n) const
+{
+  EdgePlacement exact[3];
+  const int m = this->EdgePlacements(u, v, exact, false);
+  EdgeCost uv, vu, exactUV, exactVU;
+  CostsBothWays(placements, n, uv, vu);
+  CostsBothWays(exact, m, exactUV, exactVU);
+  const auto same = [](const EdgeCost& a, const EdgeCost& b) {
+    return std::memcmp(&a.Error, &b.Error, sizeof(double)) == 0 && a.Kind == b.Kind && a.NotANumber == b.NotANumber;
+  };
+  long long bounded = 0;
+  for (int i = 0; i < std::min(n, m); ++i)
+  {
+    bounded += placements[i].Error != exact[i].Error ? 1 : 0;
+  }
+  const bool mismatch = m != n || !same(uv, exactUV) || !same(vu, exactVU);
+  __atomic_fetch_add(&this->PricingMismatches, mismatch ? 1 : 0, __ATOMIC_RELAXED);
+  __atomic_fetch_add(&this->BoundedEndPoints, bounded, __ATOMIC_RELAXED);
 }
 
 // The least float not below x (x itself when a float holds it; infinity and NaN stay): a kept
@@ -2318,6 +2352,8 @@ void CollapseHierarchy::Reset(TriangleMesh&& input, std::vector<unsigned char>&&
   this->AssignBlocked(this->BlockedStrict, nt);
   this->EdgeCollapseCount = 0;
   this->BatchRechecks = 0;
+  this->PricingMismatches = 0;
+  this->BoundedEndPoints = 0;
   this->CollapsesInRuns = 0;
   this->ChoicesAhead = 0;
   this->ChoicesInOrder = 0;

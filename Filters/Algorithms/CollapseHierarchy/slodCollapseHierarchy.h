@@ -146,6 +146,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // the concurrent evaluation. The same hierarchy, bit for bit, for any number of threads. Off:
   // in serial (the reference).
   bool ParallelBookkeeping = true;
+  // Test support: every edge pricing also computes its placements' exact errors and compares the
+  // costs (EdgeCostsBothWays, EdgeCostOf) with those of the bounded end points (session 41):
+  // NumberOfPricingMismatches() must stay 0. The same hierarchy either way.
+  bool VerifyBoundedPricing = false;
   // Selection passes whose blocked stamps are kept as 1-byte indices before the blocked columns
   // turn into full stamps (at most 255). Lower only to exercise the wide columns: the same
   // hierarchy, bit for bit, at any value.
@@ -347,6 +351,10 @@ public:
   // Collapses whose checks ran again when their batch was collapsed: those whose region shares a
   // vertex with the region of an earlier collapse of the batch (the others cannot have changed).
   Index NumberOfBatchRechecks() const { return this->BatchRechecks; }
+  // With VerifyBoundedPricing: edge pricings whose costs (either way) differ from those of the
+  // exact errors, and end points whose error the pricing bounded instead of computing.
+  long long NumberOfPricingMismatches() const { return this->PricingMismatches; }
+  long long NumberOfBoundedEndPoints() const { return this->BoundedEndPoints; }
   // Collapses applied in runs, concurrently (ParallelCollapses; the others one by one).
   Index NumberOfCollapsesInRuns() const { return this->CollapsesInRuns; }
   // The batch selection's choices (a candidate's collapse, decided when its region is free): those
@@ -939,6 +947,7 @@ private:
   }
   Index EdgeCollapseCount = 0;
   Index BatchRechecks = 0;
+  mutable long long PricingMismatches = 0, BoundedEndPoints = 0; // (atomic adds: concurrent pricing)
   Index CollapsesInRuns = 0;
   Index ChoicesAhead = 0, ChoicesInOrder = 0, ChoicesDecidedAhead = 0;
   // Per editable vertex: on a border of the mesh (MeshOptions.BoundaryVertices points here).
@@ -1019,6 +1028,8 @@ private:
   int EdgePlacements(Index u, Index v, EdgePlacement placements[3], bool cheapestOnly = false) const;
   bool EndPointAboveCheapest(const Quadric& q, const Vec3& p, double cheapest, double& sum) const;
   static EdgeCost CheapestPlacement(const EdgePlacement* placements, int n);
+  void VerifyPricing(Index u, Index v, const EdgePlacement* placements, int n) const;
+  static void CostsBothWays(const EdgePlacement* placements, int n, EdgeCost& uv, EdgeCost& vu);
   int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;
