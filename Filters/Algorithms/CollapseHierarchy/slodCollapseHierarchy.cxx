@@ -250,9 +250,19 @@ void CollapseHierarchy::LogStageTimes() const
 // A collapse of a non-manifold edge (or next to a pinched vertex) can pass the link condition
 // and cut the sheets around it apart (new border loops, another Euler characteristic): such
 // vertices are locked, the edge stays as it is in every level.
-void CollapseHierarchy::LockNonManifoldVertices()
+// (The input preparation's flags, when given for this M0, are those NonManifoldVertexFlags gives:
+// the same classification of the same mesh; on mc250k its second run was 2.3% of the instructions.)
+void CollapseHierarchy::LockNonManifoldVertices(std::vector<unsigned char>&& given)
 {
-  this->LockedVertices = NonManifoldVertexFlags(this->Base);
+  if (given.size() == size_t(this->Base.NumberOfPoints()) && !this->Parameters.RemoveCycles)
+  {
+    this->LockedVertices = std::move(given);
+    ++this->BuildsWithGivenFlags;
+  }
+  else
+  {
+    this->LockedVertices = NonManifoldVertexFlags(this->Base);
+  }
   const bool any = std::find(this->LockedVertices.begin(), this->LockedVertices.end(), 1) != this->LockedVertices.end();
   this->MeshOptions.LockedVertices = any ? this->LockedVertices.data() : nullptr;
 }
@@ -415,15 +425,20 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame,
   e.CheapestEdge = EdgeChoice(); // known again only where this evaluation computes it
   const double twiceArea = Norm(areaVector);
   e.Area = 0.5 * twiceArea;
-  e.Valence = this->CollapsePointValence(tri);
-  e.Alpha = Roundness(a, b, c);
+  e.OwnPlane = false;
+  if (this->ShapeTermsRead)
+  {
+    e.Valence = this->CollapsePointValence(tri);
+    e.Alpha = Roundness(a, b, c);
+  }
   if (this->HubMask(t) != 0)
   {
     this->EvaluateHubTriangle(t, areaVector, centroid, e);
     return false;
   }
   // A degenerate triangle has no plane of its own: use its stencil's.
-  if (IsDegenerateWithArea(a, b, c, twiceArea))
+  const bool degenerate = IsDegenerateWithArea(a, b, c, twiceArea);
+  if (degenerate)
   {
     areaVector = this->StencilAreaVector(tri);
   }
@@ -440,6 +455,9 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame,
     return false;
   }
   e.Normal = frame.Normal;
+  // (Normalized(Cross(b - a, c - a)) of T's points: what OwnNormal computes, so NormalSourceOf's
+  // answer, Own, is known without computing it again.)
+  e.OwnPlane = !degenerate;
   return true;
 }
 
@@ -849,7 +867,11 @@ double CollapseHierarchy::CheapestEdgeError(Index t, EdgeChoice& choice) const
 CollapseHierarchy::EdgeCost CollapseHierarchy::EdgeCostOf(Index u, Index v) const
 {
   EdgePlacement placements[3];
-  const int n = this->EdgePlacements(u, v, placements);
+  const int n = this->EdgePlacements(u, v, placements, true);
+  if (this->Parameters.VerifyBoundedPricing)
+  {
+    this->VerifyPricing(u, v, placements, n);
+  }
   return CheapestPlacement(placements, n);
 }
 
@@ -860,7 +882,16 @@ CollapseHierarchy::EdgeCost CollapseHierarchy::EdgeCostOf(Index u, Index v) cons
 void CollapseHierarchy::EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCost& vu) const
 {
   EdgePlacement placements[3];
-  const int n = this->EdgePlacements(u, v, placements);
+  const int n = this->EdgePlacements(u, v, placements, true);
+  if (this->Parameters.VerifyBoundedPricing)
+  {
+    this->VerifyPricing(u, v, placements, n);
+  }
+  CostsBothWays(placements, n, uv, vu);
+}
+
+void CollapseHierarchy::CostsBothWays(const EdgePlacement* placements, int n, EdgeCost& uv, EdgeCost& vu)
+{
   uv = CheapestPlacement(placements, n);
   // (v, u)'s list is [best, v, u]: the same least error and NaN flag; the same best point; an end
   // point taken alone becomes the other kind, and of two equal ends the first, kind 1, again.
@@ -869,6 +900,27 @@ void CollapseHierarchy::EdgeCostsBothWays(Index u, Index v, EdgeCost& uv, EdgeCo
   {
     vu.Kind = static_cast<unsigned char>(3 - uv.Kind);
   }
+}
+
+// The bounded placements' costs against the exact ones, both ways, bit for bit (test support).
+void CollapseHierarchy::VerifyPricing(Index u, Index v, const EdgePlacement* placements, int n) const
+{
+  EdgePlacement exact[3];
+  const int m = this->EdgePlacements(u, v, exact, false);
+  EdgeCost uv, vu, exactUV, exactVU;
+  CostsBothWays(placements, n, uv, vu);
+  CostsBothWays(exact, m, exactUV, exactVU);
+  const auto same = [](const EdgeCost& a, const EdgeCost& b) {
+    return std::memcmp(&a.Error, &b.Error, sizeof(double)) == 0 && a.Kind == b.Kind && a.NotANumber == b.NotANumber;
+  };
+  long long bounded = 0;
+  for (int i = 0; i < std::min(n, m); ++i)
+  {
+    bounded += placements[i].Error != exact[i].Error ? 1 : 0;
+  }
+  const bool mismatch = m != n || !same(uv, exactUV) || !same(vu, exactVU);
+  __atomic_fetch_add(&this->PricingMismatches, mismatch ? 1 : 0, __ATOMIC_RELAXED);
+  __atomic_fetch_add(&this->BoundedEndPoints, bounded, __ATOMIC_RELAXED);
 }
 
 // The least float not below x (x itself when a float holds it; infinity and NaN stay): a kept
@@ -1046,7 +1098,7 @@ void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
   });
 }
 
-int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const
+int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements[3], bool cheapestOnly) const
 {
   const OwnQuadric own[2] = { this->OwnQuadricOf(u), this->OwnQuadricOf(v) };
   Quadric q = *own[0].Planes;
@@ -1054,13 +1106,42 @@ int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements
   const Vec3 pu = this->Mesh.Point(u), pv = this->Mesh.Point(v);
   int n = 0;
   Vec3 best;
+  double cheapest = std::numeric_limits<double>::infinity(); // (of the exact errors so far)
+  const auto place = [&](const Vec3& p, int kind) {
+    double sum = -1;
+    if (cheapestOnly && kind != 0 && this->EndPointAboveCheapest(q, p, cheapest, sum))
+    {
+      placements[n++] = { sum, p, kind };
+      return;
+    }
+    placements[n++] = { sum >= 0 ? this->WithVertexTerm(own, 2, sum, p) : this->CollapseError(own, 2, q, p), p, kind };
+    cheapest = std::min(cheapest, placements[n - 1].Error);
+  };
   if (EdgeOptimum(q, pu, pv, best))
   {
-    placements[n++] = { this->CollapseError(own, 2, q, best), best, 0 };
+    place(best, 0);
   }
-  placements[n++] = { this->CollapseError(own, 2, q, pu), pu, 1 };
-  placements[n++] = { this->CollapseError(own, 2, q, pv), pv, 2 };
+  place(pu, 1);
+  place(pv, 2);
   return n;
+}
+
+// The end point's error is the quadric sum q(p) plus the vertex term, a product of non-negative
+// factors (each own error is clamped at 0, so never a NaN, and the weights are positive): when
+// that term's factor is finite and positive, the error is never a NaN and, rounded, never below
+// q(p). So when q(p) is strictly above the cheapest placement before it, so is the error: neither
+// is CheapestPlacement's minimum (strict <), and neither equals it (EdgeCostsBothWays' tie test
+// between the end points compares with the cheapest one). Two of the three vertex terms of most
+// pricings (the quadric's best point is usually far cheaper than the end points) are not computed.
+bool CollapseHierarchy::EndPointAboveCheapest(const Quadric& q, const Vec3& p, double cheapest, double& sum) const
+{
+  const double factor = this->Parameters.VertexErrorWeight * this->MeanArea;
+  if (!(this->Parameters.VertexErrorWeight > 0) || !(factor > 0) || !std::isfinite(factor))
+  {
+    return false;
+  }
+  sum = q.Evaluate(p);
+  return sum > cheapest;
 }
 
 Index CollapseHierarchy::CacheDegree(Index v) const
@@ -1102,7 +1183,13 @@ double CollapseHierarchy::CollapseError(const OwnQuadric* own, int count, const 
   // a crease or corner vertex is pinned by its own planes however small the faces around it
   // are (narrow CAD strips are cheap for the sum alone, and flattening them was the largest
   // deviation on fandisk).
-  double error = q.Evaluate(p);
+  return this->WithVertexTerm(own, count, q.Evaluate(p), p);
+}
+
+// CollapseError from the quadric sum q(p) already evaluated.
+double CollapseHierarchy::WithVertexTerm(const OwnQuadric* own, int count, double sum, const Vec3& p) const
+{
+  double error = sum;
   if (this->Parameters.VertexErrorWeight > 0)
   {
     double worst = 0;
@@ -1856,6 +1943,12 @@ bool CollapseHierarchy::Build(
 bool CollapseHierarchy::Build(
   TriangleMesh&& input, const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
 {
+  return this->Build(std::move(input), std::vector<unsigned char>(), parameters, progress);
+}
+
+bool CollapseHierarchy::Build(TriangleMesh&& input, std::vector<unsigned char>&& nonManifoldVertices,
+  const CollapseHierarchyParameters& parameters, const ProgressFunction& progress)
+{
   this->SetParameters(parameters);
   this->PeakBytes = 0;
   this->PeakShares.clear();
@@ -1866,7 +1959,7 @@ bool CollapseHierarchy::Build(
   {
     return false; // a version's code holds the triangle id in 30 bits
   }
-  this->Reset(std::move(input));
+  this->Reset(std::move(input), std::move(nonManifoldVertices));
   const Index nt = this->Base.NumberOfTriangles();
   if (nt == 0)
   {
@@ -2279,7 +2372,7 @@ void CollapseHierarchy::SetParameters(const CollapseHierarchyParameters& paramet
 
 // M0 and the empty hierarchy over it: every input point its own global vertex and ancestor,
 // every triangle a version born at 0.
-void CollapseHierarchy::Reset(TriangleMesh&& input)
+void CollapseHierarchy::Reset(TriangleMesh&& input, std::vector<unsigned char>&& nonManifoldVertices)
 {
   this->Base = std::move(input);
   if (this->Parameters.RemoveCycles)
@@ -2299,7 +2392,7 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   // serial (the concurrent ones, ChooseAhead's, bring their own tables) and take the mesh's table.
   this->Mesh.SetVertexLinkMarks(false);
   this->Mesh.Reset(this->Base);
-  this->LockNonManifoldVertices();
+  this->LockNonManifoldVertices(std::move(nonManifoldVertices));
   // M0's points for the life of the hierarchy (the editable mesh has its own copy to move).
   this->BasePoints.Take(this->Base.Points);
   const Index np = this->NumberOfBasePoints();
@@ -2334,6 +2427,8 @@ void CollapseHierarchy::Reset(TriangleMesh&& input)
   this->AssignBlocked(this->BlockedStrict, nt);
   this->EdgeCollapseCount = 0;
   this->BatchRechecks = 0;
+  this->PricingMismatches = 0;
+  this->BoundedEndPoints = 0;
   this->CollapsesInRuns = 0;
   this->ChoicesAhead = 0;
   this->ChoicesInOrder = 0;
@@ -3655,7 +3750,7 @@ struct CollapseHierarchy::ConcurrentEvaluation
       // (The stencil fit sets the normal again: decided in StoreEvaluation then.)
       if (this->Hierarchy->Parameters.ParallelBookkeeping && this->Rests[i] != EvaluationRest::Fit)
       {
-        e.NormalKind = this->Hierarchy->NormalSourceOf(t, e.Normal);
+        e.NormalKind = e.OwnPlane ? NormalSource::Own : this->Hierarchy->NormalSourceOf(t, e.Normal);
         e.NormalKnown = true;
       }
     }
@@ -3667,6 +3762,7 @@ struct CollapseHierarchy::ConcurrentEvaluation
 // m0 (M0's evaluation) receives the weight terms whose normalisers are not known yet.
 void CollapseHierarchy::EvaluateTriangles(const Index* triangles, Index first, Index count, M0Terms* m0)
 {
+  this->ShapeTermsRead = m0 || !this->PaperTerms.empty();
   for (Index begin = 0; begin < count; begin += EvaluationChunk)
   {
     const Index n = std::min(EvaluationChunk, count - begin);

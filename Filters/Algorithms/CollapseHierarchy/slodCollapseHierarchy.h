@@ -146,6 +146,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // the concurrent evaluation. The same hierarchy, bit for bit, for any number of threads. Off:
   // in serial (the reference).
   bool ParallelBookkeeping = true;
+  // Test support: every edge pricing also computes its placements' exact errors and compares the
+  // costs (EdgeCostsBothWays, EdgeCostOf) with those of the bounded end points (session 41):
+  // NumberOfPricingMismatches() must stay 0. The same hierarchy either way.
+  bool VerifyBoundedPricing = false;
   // Selection passes whose blocked stamps are kept as 1-byte indices before the blocked columns
   // turn into full stamps (at most 255). Lower only to exercise the wide columns: the same
   // hierarchy, bit for bit, at any value.
@@ -331,6 +335,14 @@ public:
   // The same, taking the mesh as M0 instead of copying it (the caller's copy is not held twice).
   bool Build(TriangleMesh&& mesh, const CollapseHierarchyParameters& parameters,
     const ProgressFunction& progress = ProgressFunction());
+  // The same with the mesh's non-manifold vertex flags already known (the input preparation's
+  // PreparationReport::NonManifoldVertexFlags, for exactly this mesh): M0's set-up does not
+  // classify the mesh a second time. Computed as without them when their size is not the mesh's
+  // vertex count or when RemoveCycles changes M0 first.
+  bool Build(TriangleMesh&& mesh, std::vector<unsigned char>&& nonManifoldVertices,
+    const CollapseHierarchyParameters& parameters, const ProgressFunction& progress = ProgressFunction());
+  // How many builds took their non-manifold vertex flags as given (the others computed them).
+  int NumberOfBuildsWithGivenFlags() const { return this->BuildsWithGivenFlags; }
 
   // Meshes M0..Mn: NumberOfLevels() = n + 1.
   int NumberOfLevels() const { return static_cast<int>(this->LevelStarts.size()); }
@@ -339,6 +351,10 @@ public:
   // Collapses whose checks ran again when their batch was collapsed: those whose region shares a
   // vertex with the region of an earlier collapse of the batch (the others cannot have changed).
   Index NumberOfBatchRechecks() const { return this->BatchRechecks; }
+  // With VerifyBoundedPricing: edge pricings whose costs (either way) differ from those of the
+  // exact errors, and end points whose error the pricing bounded instead of computing.
+  long long NumberOfPricingMismatches() const { return this->PricingMismatches; }
+  long long NumberOfBoundedEndPoints() const { return this->BoundedEndPoints; }
   // Collapses applied in runs, concurrently (ParallelCollapses; the others one by one).
   Index NumberOfCollapsesInRuns() const { return this->CollapsesInRuns; }
   // The batch selection's choices (a candidate's collapse, decided when its region is free): those
@@ -489,6 +505,8 @@ private:
     // error a triangle without a plane carries (NoPlane: StoreEvaluation reads it then).
     bool ErrorRecomputable = false;
     bool NoPlane = false;
+    // Normal is T's own area vector normalised (EvaluateShape): OwnNormal's numbers, bit for bit.
+    bool OwnPlane = false;
   };
   // What the batch selection reads of a triangle's evaluation, kept per triangle (12 bytes instead
   // of the Evaluation's 104): the paper's weight terms folded into one (their normalisers are fixed
@@ -561,7 +579,7 @@ private:
 
   // Build's stages: set up M0, weigh every triangle, then reduce level by level.
   void SetParameters(const CollapseHierarchyParameters& parameters);
-  void Reset(TriangleMesh&& input);
+  void Reset(TriangleMesh&& input, std::vector<unsigned char>&& nonManifoldVertices);
   void ResetRecords();
   void ReserveRecords();
   void InitializeQuadrics();
@@ -672,6 +690,10 @@ private:
   EvaluationRest EvaluateConcurrently(Index t, Evaluation& e, LinkEdges& link, Alternatives& alternatives) const;
   void FinishEvaluation(Index t, Evaluation& e, EvaluationRest rest, const Alternatives& alternatives);
   bool EvaluateShape(Index t, Evaluation& e, LocalFrame& frame, bool planeAxes) const;
+  // Whether the evaluations under way need the paper's shape terms (valence, roundness): M0's
+  // (their normalisers) and those of a weight with the paper's term (ErrorWeight < 1). Else
+  // nothing reads them (EvaluateTriangles sets it).
+  bool ShapeTermsRead = true;
   void EvaluateWithFit(Index t, Evaluation& e);
   bool PreferringEdges() const;
   Quadric TriangleQuadric(const Index* tri) const;
@@ -706,6 +728,7 @@ private:
     return { &own, own.Axx + own.Ayy + own.Azz }; // (unit normals: the weights' sum)
   }
   double CollapseError(const OwnQuadric* own, int count, const Quadric& q, const Vec3& p) const;
+  double WithVertexTerm(const OwnQuadric* own, int count, double sum, const Vec3& p) const;
   Quadric TriangleQuadric(const Index* tri, OwnQuadric (&own)[3]) const;
   void RemoveCyclesBySwapping(TriangleMesh& mesh) const;
   void ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p);
@@ -716,7 +739,8 @@ private:
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
   int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
   void RecordFlip(const FlipRecord& flip);
-  void LockNonManifoldVertices();
+  void LockNonManifoldVertices(std::vector<unsigned char>&& given);
+  int BuildsWithGivenFlags = 0;
   bool KeepsOrientation(Index t, const Vec3& p) const;
 
   CollapseHierarchyParameters Parameters;
@@ -937,6 +961,7 @@ private:
   }
   Index EdgeCollapseCount = 0;
   Index BatchRechecks = 0;
+  mutable long long PricingMismatches = 0, BoundedEndPoints = 0; // (atomic adds: concurrent pricing)
   Index CollapsesInRuns = 0;
   Index ChoicesAhead = 0, ChoicesInOrder = 0, ChoicesDecidedAhead = 0;
   // Per editable vertex: on a border of the mesh (MeshOptions.BoundaryVertices points here).
@@ -1010,8 +1035,15 @@ private:
     Vec3 Point;
     int Kind;
   };
-  int EdgePlacements(Index u, Index v, EdgePlacement placements[3]) const;
+  // cheapestOnly (the pricing's use): an end point whose quadric sum alone is above the cheapest
+  // placement before it keeps that sum as its Error, a bound (EndPointAboveCheapest): the same
+  // CheapestPlacement and the same ties, without its vertex term. Else every Error is exact (the
+  // selection sorts them).
+  int EdgePlacements(Index u, Index v, EdgePlacement placements[3], bool cheapestOnly = false) const;
+  bool EndPointAboveCheapest(const Quadric& q, const Vec3& p, double cheapest, double& sum) const;
   static EdgeCost CheapestPlacement(const EdgePlacement* placements, int n);
+  void VerifyPricing(Index u, Index v, const EdgePlacement* placements, int n) const;
+  static void CostsBothWays(const EdgePlacement* placements, int n, EdgeCost& uv, EdgeCost& vu);
   int FixedMask(const Index* tri) const; // bit k: tri[k] is a hub
   // The candidate of the evaluation's EdgeError, when still FindEdgeCollapse's first.
   bool KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const;

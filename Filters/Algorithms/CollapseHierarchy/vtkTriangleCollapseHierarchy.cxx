@@ -248,10 +248,17 @@ struct vtkTriangleCollapseHierarchy::Internals
     this->Levels = nullptr;
     slod::TriangleMesh mesh;
     std::vector<slod::Index> vertexToInputPoint;
-    if (!slod::PrepareFilterInput(filter, input, slod::PreparationOptions(), mesh, vertexToInputPoint, nullptr,
-          slod::CellMapIfNeeded(input, this->TriangleToCell)))
+    std::vector<unsigned char> nonManifoldVertices;
     {
-      return false;
+      // (The preparation classified the mesh: the build takes its non-manifold flags instead of
+      // classifying it again; the rest of the report is not held through the build.)
+      slod::PreparationReport report;
+      if (!slod::PrepareFilterInput(filter, input, slod::PreparationOptions(), mesh, vertexToInputPoint, &report,
+            slod::CellMapIfNeeded(input, this->TriangleToCell)))
+      {
+        return false;
+      }
+      nonManifoldVertices = std::move(report.NonManifoldVertexFlags);
     }
     if (input->GetPointData()->GetNumberOfArrays() == 0)
     {
@@ -262,7 +269,8 @@ struct vtkTriangleCollapseHierarchy::Internals
     parameters.StopAtTriangles = OnlyToTarget(*filter) ? TargetOf(*filter, mesh.NumberOfTriangles()) : 0;
     const auto start = std::chrono::steady_clock::now();
     // (Moved: M0 is this mesh, not a second copy of it.)
-    const bool done = this->Hierarchy.Build(std::move(mesh), parameters, slod::FilterProgress(filter, 0.0, 0.9));
+    const bool done = this->Hierarchy.Build(
+      std::move(mesh), std::move(nonManifoldVertices), parameters, slod::FilterProgress(filter, 0.0, 0.9));
     if (!done)
     {
       return false;

@@ -7,6 +7,7 @@
 
 #include "slodCollapseHierarchy.h"
 #include "slodEditableMesh.h"
+#include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodQuadraticFit.h"
 #include "slodQuadricPoint.h"
@@ -1225,6 +1226,56 @@ TEST(CollapseHierarchy, SameHierarchyOnOneTwoAndEightThreads)
       vtkSMPTools::Config{ threads }, [&]() { ASSERT_TRUE(parallel.Build(input, DefaultParameters())); });
     ExpectSameHierarchy(serial, parallel, std::to_string(threads) + " threads");
   }
+}
+
+// Session 41's cheaper stages give the hierarchy of before, bit for bit:
+// * the edge pricing does not compute the vertex term of an end point whose quadric sum alone is
+//   above the cheapest placement before it (that end point cannot be the cheapest nor tie with
+//   it): with VerifyBoundedPricing every pricing of the build (M0's edges and every level's
+//   spokes) also computes the exact errors, and the costs both ways must agree bit for bit while
+//   most end points were bounded; the hierarchy is the one built without the verification;
+// * the build takes the input preparation's non-manifold vertex flags (noisy scan: locked
+//   vertices) instead of classifying M0 again: the same hierarchy as without them, and flags of
+//   the wrong size or with RemoveCycles (which changes M0 first) are computed again.
+TEST(CollapseHierarchy, BoundedPricingAndPreparedFlagsGiveTheSameHierarchy)
+{
+  vtkSmartPointer<vtkPolyData> scanData = NoisyScanIsosurface(45, 3);
+  slod::TriangleMesh scan;
+  std::vector<Index> origin;
+  const slod::PreparationReport report = slod::PrepareTriangleMesh(scanData, {}, scan, origin);
+  ASSERT_TRUE(report.Valid);
+  ASSERT_GT(report.NonManifoldVertices, 0); // (the flags matter)
+  const TriangleMesh bunny = ToTriangleMesh(LoadTestMesh("bunny00"));
+  for (const TriangleMesh* input : { static_cast<const TriangleMesh*>(&scan), &bunny })
+  {
+    const std::string what = std::to_string(input->NumberOfTriangles()) + " triangles";
+    CollapseHierarchy plain, verified;
+    ASSERT_TRUE(plain.Build(*input, DefaultParameters()));
+    CollapseHierarchyParameters verify = DefaultParameters();
+    verify.VerifyBoundedPricing = true;
+    ASSERT_TRUE(verified.Build(*input, verify));
+    ExpectSameHierarchy(plain, verified, what);
+    EXPECT_EQ(verified.NumberOfPricingMismatches(), 0) << what;
+    EXPECT_EQ(plain.NumberOfBoundedEndPoints(), 0) << what; // (counted only when verifying)
+    // Two end points per pricing (3 or 2 placements each): most of them are bounded.
+    EXPECT_GT(verified.NumberOfBoundedEndPoints(), input->NumberOfTriangles()) << what;
+    EXPECT_EQ(plain.NumberOfBuildsWithGivenFlags(), 0) << what;
+  }
+  CollapseHierarchy computed, given, wrongSize, cycles, cyclesGiven;
+  ASSERT_TRUE(computed.Build(scan, DefaultParameters()));
+  ASSERT_TRUE(given.Build(TriangleMesh(scan), std::vector<unsigned char>(report.NonManifoldVertexFlags), DefaultParameters()));
+  EXPECT_EQ(given.NumberOfBuildsWithGivenFlags(), 1);
+  ExpectSameHierarchy(computed, given, "flags given");
+  std::vector<unsigned char> shorter(report.NonManifoldVertexFlags.begin(), report.NonManifoldVertexFlags.end() - 1);
+  ASSERT_TRUE(wrongSize.Build(TriangleMesh(scan), std::move(shorter), DefaultParameters()));
+  EXPECT_EQ(wrongSize.NumberOfBuildsWithGivenFlags(), 0);
+  ExpectSameHierarchy(computed, wrongSize, "flags of the wrong size");
+  CollapseHierarchyParameters removeCycles = DefaultParameters();
+  removeCycles.RemoveCycles = true;
+  ASSERT_TRUE(cycles.Build(scan, removeCycles));
+  ASSERT_TRUE(cyclesGiven.Build(TriangleMesh(scan), std::vector<unsigned char>(report.NonManifoldVertexFlags), removeCycles));
+  EXPECT_EQ(cyclesGiven.NumberOfBuildsWithGivenFlags(), 0);
+  ExpectSameHierarchy(cycles, cyclesGiven, "RemoveCycles");
 }
 
 // The batch selection decides the coming candidates' choices ahead, in parallel (DecideAhead,
