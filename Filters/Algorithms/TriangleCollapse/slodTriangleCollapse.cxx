@@ -2772,7 +2772,7 @@ bool TriangleCollapser::PickOperation(BatchEntry& entry, bool deferEdge) const
 // The rest of the pick, on the entry's own data: the winning edge's placement when it was
 // deferred (it reads what the batch does not write before its collapses), the error bound, the
 // position.
-bool TriangleCollapser::FinishPick(BatchEntry& entry) const
+inline __attribute__((always_inline)) bool TriangleCollapser::FinishPick(BatchEntry& entry) const
 {
   Candidate& c = entry.C;
   if (entry.PlacementPending)
