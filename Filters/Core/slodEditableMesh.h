@@ -123,6 +123,21 @@ public:
       }
     }
   }
+  // Whether p holds for every live triangle around v, in ForEachTriangle's order; stops at the
+  // first that fails.
+  template <typename Predicate>
+  bool AllTriangles(Index v, Predicate&& p) const
+  {
+    const Index* refs = this->Refs.data() + this->RefStart[v];
+    for (Index i = 0, n = this->RefCount[v]; i < n; ++i)
+    {
+      if (this->TriangleAlive[refs[i]] && !p(refs[i]))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
   // The triangles that survive merging the set (2 or 3 vertices): those around it that hold exactly
   // one of its vertices. f(t, corner) sees each once, with the corner (0..2) of that vertex.
   template <typename Functor>

@@ -256,6 +256,11 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // (EditableMesh's checks reached the loop's settling: each one a collapse or a rejection, or an
   // alternative placement deferred).
   long long FanPlacements = 0, ValidityTests = 0;
+  // Session 41: the entries the loop popped (each batch's selection; one per pop in the strict
+  // order), those that ran (held their claims; the strict order's lone entries always do), and of
+  // the others those whose winning edge was not placed (a batch entry's claims need its operation
+  // only; the placement waits until it holds them).
+  long long SelectedEntries = 0, RanEntries = 0, PlacementsNotMade = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first

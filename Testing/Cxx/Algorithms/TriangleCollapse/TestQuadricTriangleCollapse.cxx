@@ -1255,6 +1255,43 @@ TEST(QuadricTriangleCollapse, ParallelBatchesSameOutputAndPointDataForAnyThreadC
   EXPECT_LE(batchMean, 1.02 * strictMean);
 }
 
+// Session 41: a batch entry claims the ring of its operation, which needs the operation only; an
+// edge operation's placement waits until the entry holds its claims, so the entries that lose
+// them to an earlier entry (most of the others on a marching-cubes mesh: ties) are not placed.
+// Every entry that ran was placed; only entries that did not run skip it; the counts, like the
+// output, are the same for 1, 2 and 8 threads. The strict order's lone entries always run.
+TEST(QuadricTriangleCollapse, BatchEntriesThatLoseTheirClaimsAreNotPlaced)
+{
+  vtkSmartPointer<vtkPolyData> input = Mesh("marching-cubes");
+  TriangleCollapseOptions options;
+  options.TargetTriangles = static_cast<Index>(input->GetNumberOfPolys() / 10);
+  options.BatchCollapses = true;
+  const std::vector<TriangleCollapseResult> results = ResultsForOneTwoAndEightThreads(input, options);
+  const TriangleCollapseResult& first = results[0];
+  const long long lost = first.SelectedEntries - first.RanEntries;
+  std::printf("[batch placements] %lld entries, %lld ran, %lld lost, %lld not placed\n", first.SelectedEntries,
+    first.RanEntries, lost, first.PlacementsNotMade);
+  ASSERT_GT(lost, 0) << "no entry lost its claims: the test needs overlapping batches";
+  EXPECT_GT(first.PlacementsNotMade, 0);
+  EXPECT_LE(first.PlacementsNotMade, lost);
+  EXPECT_GT(2 * first.PlacementsNotMade, lost) << "most lost entries are edge operations (bias 2)";
+  EXPECT_GE(first.RanEntries, static_cast<long long>(first.Collapses));
+  for (size_t i = 1; i < results.size(); ++i)
+  {
+    EXPECT_EQ(results[i].SelectedEntries, first.SelectedEntries);
+    EXPECT_EQ(results[i].RanEntries, first.RanEntries);
+    EXPECT_EQ(results[i].PlacementsNotMade, first.PlacementsNotMade);
+    EXPECT_EQ(results[i].Mesh.Points, first.Mesh.Points);
+    EXPECT_EQ(results[i].Mesh.Triangles, first.Mesh.Triangles);
+  }
+  options.BatchCollapses = false;
+  TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+  TriangleCollapseResult strict;
+  SimplifyByTriangleCollapse(mesh, options, strict);
+  EXPECT_EQ(strict.PlacementsNotMade, 0);
+  EXPECT_EQ(strict.RanEntries, strict.SelectedEntries);
+}
+
 TEST(QuadricTriangleCollapse, PointDataErrorArrayAndFieldData)
 {
   // A linear field f = x + 2y - z is reproduced (up to the clamped barycentric weights).
