@@ -2661,6 +2661,31 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
   return collapsed;
 }
 
+namespace
+{
+// The work counts of one call of the final collapses, at TRACE verbosity beside the stage clocks:
+// whether a stage that grows faster than the input does more tries (passes, targets, proofs) or
+// pays more per try. Counts of the whole call (its staged steps included); nothing is read when
+// TRACE is off.
+void LogCollapseWork(double epsilon, Index target, const ProvedCollapseStatistics& s, long long pieces,
+  const GreedyCutsResult& result)
+{
+  if (vtkLogger::GetCurrentVerbosityCutoff() < vtkLogger::VERBOSITY_TRACE)
+  {
+    return;
+  }
+  vtkLogF(TRACE,
+    "greedy cuts: collapses at epsilon %g (target %lld): %lld triangles left, %d passes, %lld tries, "
+    "%lld collapses, %lld flips, refused %lld / %lld / %lld (topology, new triangles, relying input), "
+    "%lld new-triangle proofs (%lld recalled), %lld input gatherings, %lld input triangles examined, "
+    "%lld proof pieces%s",
+    epsilon, static_cast<long long>(target), static_cast<long long>(result.Triangles.size() / 3), s.Rounds,
+    s.Attempts, s.Collapses, s.Flips, s.Rejected[0], s.Rejected[1], s.Rejected[2], s.NewTriangleProofs,
+    s.NewTrianglesRecalled, s.InputGatherings, s.InputTrianglesGathered, pieces,
+    s.WorkBoundReached ? " (work bound reached)" : "");
+}
+}
+
 bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
   const ProgressFunction& progress, Index target)
 {
@@ -2705,11 +2730,13 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
     }
     result.FinalCollapses += statistics.Collapses;
   }
+  const long long piecesBefore = this->ProofPieces;
   const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch,
     statistics, share, &this->ProofPieces);
   result.FinalCollapses += statistics.Collapses;
   result.FinalFlips += statistics.Flips;
   result.Aborted = !finished;
+  LogCollapseWork(parameters.Epsilon, target, statistics, this->ProofPieces - piecesBefore, result);
   return finished;
 }
 
