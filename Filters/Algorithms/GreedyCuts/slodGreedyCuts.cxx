@@ -2627,7 +2627,7 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
   }
   // Each level's cuts (their split rounds: whole runs again) and collapses, timed at TRACE verbosity
   // (`surfacelod --log-verbosity 9`): which of them grows with the input.
-  StageClock clock("greedy cuts");
+  StageClock clock("greedy cuts"), runClock("greedy cuts");
   char stage[160];
   // The cuts report the first 80 % of the progress when the final collapses follow.
   const double cutsShare = parameters.FinalCollapses ? 0.8 : 1.0;
@@ -2644,6 +2644,19 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     if (!run.Execute(cutsProgress))
     {
       return false;
+    }
+    if (vtkLogger::GetCurrentVerbosityCutoff() >= vtkLogger::VERBOSITY_TRACE)
+    {
+      // How much of the input a split round runs again for: the patches that fell back, their triangles.
+      Index fallbackTriangles = 0;
+      for (Index p : result.FallbackPatchIds)
+      {
+        fallbackTriangles += this->PatchTriangleOffsets[p + 1] - this->PatchTriangleOffsets[p];
+      }
+      std::snprintf(stage, sizeof(stage), "cuts run %d at epsilon %g (%lld patches, %zu fell back with %lld triangles)",
+        round, parameters.Epsilon, static_cast<long long>(result.NumberOfPatches), result.FallbackPatchIds.size(),
+        static_cast<long long>(fallbackTriangles));
+      runClock.Lap(stage);
     }
     if (result.FallbackPatchIds.empty() || round >= MaximumSplitRounds || !this->SplitPatches(result.FallbackPatchIds))
     {
