@@ -2628,7 +2628,7 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
   // Each level's cuts (their split rounds: whole runs again) and collapses, timed at TRACE verbosity
   // (`surfacelod --log-verbosity 9`): which of them grows with the input.
   StageClock clock("greedy cuts"), runClock("greedy cuts");
-  char stage[160];
+  char stage[200];
   // The cuts report the first 80 % of the progress when the final collapses follow.
   const double cutsShare = parameters.FinalCollapses ? 0.8 : 1.0;
   const ProgressFunction cutsProgress =
@@ -2653,9 +2653,9 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
       {
         fallbackTriangles += this->PatchTriangleOffsets[p + 1] - this->PatchTriangleOffsets[p];
       }
-      std::snprintf(stage, sizeof(stage), "cuts run %d at epsilon %g (%lld patches, %zu fell back with %lld triangles)",
-        round, parameters.Epsilon, static_cast<long long>(result.NumberOfPatches), result.FallbackPatchIds.size(),
-        static_cast<long long>(fallbackTriangles));
+      std::snprintf(stage, sizeof(stage),
+        "cuts run %d at epsilon %g (%lld patches, %zu fell back with %lld triangles; %d rounds)", round, parameters.Epsilon, static_cast<long long>(result.NumberOfPatches), result.FallbackPatchIds.size(),
+        static_cast<long long>(fallbackTriangles), result.Rounds);
       runClock.Lap(stage);
     }
     if (result.FallbackPatchIds.empty() || round >= MaximumSplitRounds || !this->SplitPatches(result.FallbackPatchIds))
