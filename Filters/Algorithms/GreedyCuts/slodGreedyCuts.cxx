@@ -2627,8 +2627,8 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
   }
   // Each level's cuts (their split rounds: whole runs again) and collapses, timed at TRACE verbosity
   // (`surfacelod --log-verbosity 9`): which of them grows with the input.
-  StageClock clock("greedy cuts");
-  char stage[160];
+  StageClock clock("greedy cuts"), runClock("greedy cuts");
+  char stage[200];
   // The cuts report the first 80 % of the progress when the final collapses follow.
   const double cutsShare = parameters.FinalCollapses ? 0.8 : 1.0;
   const ProgressFunction cutsProgress =
@@ -2645,6 +2645,19 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     {
       return false;
     }
+    if (vtkLogger::GetCurrentVerbosityCutoff() >= vtkLogger::VERBOSITY_TRACE)
+    {
+      // How much of the input a split round runs again for: the patches that fell back, their triangles.
+      Index fallbackTriangles = 0;
+      for (Index p : result.FallbackPatchIds)
+      {
+        fallbackTriangles += this->PatchTriangleOffsets[p + 1] - this->PatchTriangleOffsets[p];
+      }
+      std::snprintf(stage, sizeof(stage),
+        "cuts run %d at epsilon %g (%lld patches, %zu fell back with %lld triangles; %d rounds)", round, parameters.Epsilon, static_cast<long long>(result.NumberOfPatches), result.FallbackPatchIds.size(),
+        static_cast<long long>(fallbackTriangles), result.Rounds);
+      runClock.Lap(stage);
+    }
     if (result.FallbackPatchIds.empty() || round >= MaximumSplitRounds || !this->SplitPatches(result.FallbackPatchIds))
     {
       result.SplitRounds = round;
@@ -2659,6 +2672,31 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     result.FinalCollapses);
   clock.Lap(stage);
   return collapsed;
+}
+
+namespace
+{
+// The work counts of one call of the final collapses, at TRACE verbosity beside the stage clocks:
+// whether a stage that grows faster than the input does more tries (passes, targets, proofs) or
+// pays more per try. Counts of the whole call (its staged steps included); nothing is read when
+// TRACE is off.
+void LogCollapseWork(double epsilon, Index target, const ProvedCollapseStatistics& s, long long pieces,
+  const GreedyCutsResult& result)
+{
+  if (vtkLogger::GetCurrentVerbosityCutoff() < vtkLogger::VERBOSITY_TRACE)
+  {
+    return;
+  }
+  vtkLogF(TRACE,
+    "greedy cuts: collapses at epsilon %g (target %lld): %lld triangles left, %d passes, %lld tries, "
+    "%lld collapses, %lld flips, refused %lld / %lld / %lld (topology, new triangles, relying input), "
+    "%lld new-triangle proofs (%lld recalled), %lld input gatherings, %lld input triangles examined, "
+    "%lld proof pieces%s",
+    epsilon, static_cast<long long>(target), static_cast<long long>(result.Triangles.size() / 3), s.Rounds,
+    s.Attempts, s.Collapses, s.Flips, s.Rejected[0], s.Rejected[1], s.Rejected[2], s.NewTriangleProofs,
+    s.NewTrianglesRecalled, s.InputGatherings, s.InputTrianglesGathered, pieces,
+    s.WorkBoundReached ? " (work bound reached)" : "");
+}
 }
 
 bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCutsResult& result,
@@ -2705,11 +2743,13 @@ bool GreedyCuts::CollapseFinal(const GreedyCutsParameters& parameters, GreedyCut
     }
     result.FinalCollapses += statistics.Collapses;
   }
+  const long long piecesBefore = this->ProofPieces;
   const bool finished = ProvedCollapses(*this->Mesh, this->Bvh, collapse, result.Triangles, result.TrianglePatch,
     statistics, share, &this->ProofPieces);
   result.FinalCollapses += statistics.Collapses;
   result.FinalFlips += statistics.Flips;
   result.Aborted = !finished;
+  LogCollapseWork(parameters.Epsilon, target, statistics, this->ProofPieces - piecesBefore, result);
   return finished;
 }
 

@@ -23,6 +23,7 @@
 #include "vtkDataArray.h"
 #include "vtkDecimatePro.h"
 #include "vtkFieldData.h"
+#include "vtkLogger.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkQuadricDecimation.h"
@@ -746,6 +747,59 @@ TEST(GreedyCuts, CutsSimplifyTheChainsOnlyAfterARefinement)
   out.Triangles = result.Triangles;
   EXPECT_LE(out.NumberOfTriangles(), mesh.NumberOfTriangles());
   EXPECT_LE(MeasureHausdorff(scan, slodtest::ToPolyData(out)), parameters.Epsilon);
+}
+
+// Session 41: the 4M noisy scan's cuts cost 14x the 1M scan's because one patch of 3 triangles fell
+// back and each split round ran the cuts again over the whole input; the trace (`--log-verbosity 9`)
+// now shows it: one line per cuts run with its fallback patches and their triangles, and one per
+// call of the final collapses with its work counts. ALSTOM_TEST4 at 0.01 splits in several rounds:
+// the trace has one run line per split round plus one, the last one's fallback count is the
+// result's, and the collapses' line counts the result's collapses.
+namespace
+{
+void CollectTrace(void* lines, const vtkLogger::Message& message)
+{
+  static_cast<std::vector<std::string>*>(lines)->push_back(message.message);
+}
+}
+
+TEST(GreedyCuts, TraceShowsEverySplitRoundAndTheCollapsesWork)
+{
+  const TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::LoadTestMesh("ALSTOM_TEST4"));
+  GreedyCuts cuts;
+  cuts.Initialize(mesh, PatchificationParameters());
+  GreedyCutsParameters parameters;
+  parameters.Epsilon = 0.01 * mesh.BoundingBoxDiagonal();
+  std::vector<std::string> lines;
+  vtkLogger::AddCallback("greedy-cuts-trace", CollectTrace, &lines, vtkLogger::VERBOSITY_TRACE);
+  GreedyCutsResult result;
+  const bool ran = cuts.Run(parameters, result);
+  vtkLogger::RemoveCallback("greedy-cuts-trace");
+  ASSERT_TRUE(ran);
+  ASSERT_GT(result.SplitRounds, 0);
+  std::vector<std::string> runs, collapses;
+  for (const std::string& line : lines)
+  {
+    if (line.find("greedy cuts: cuts run ") != std::string::npos)
+    {
+      runs.push_back(line);
+    }
+    if (line.find("greedy cuts: collapses at epsilon") != std::string::npos)
+    {
+      collapses.push_back(line);
+    }
+  }
+  ASSERT_EQ(runs.size(), size_t(result.SplitRounds) + 1);
+  for (size_t k = 0; k + 1 < runs.size(); ++k)
+  {
+    EXPECT_EQ(runs[k].find(" 0 fell back"), std::string::npos) << runs[k]; // each split round had a reason
+  }
+  EXPECT_NE(runs.back().find(", " + std::to_string(result.FallbackPatchIds.size()) + " fell back"), std::string::npos)
+    << runs.back();
+  ASSERT_EQ(collapses.size(), size_t(1));
+  EXPECT_NE(collapses[0].find(" " + std::to_string(result.FinalCollapses) + " collapses"), std::string::npos)
+    << collapses[0];
+  EXPECT_NE(collapses[0].find(" tries"), std::string::npos) << collapses[0];
 }
 
 // A pyramid: a flat hexagon (its border) around a centre lifted by 3 epsilon. Its only removable
