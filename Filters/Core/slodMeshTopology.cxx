@@ -8,6 +8,7 @@
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 #include <utility>
@@ -455,5 +456,49 @@ double MeanAbsoluteCurvature(const TriangleMesh& mesh, const MeshTopology& topol
   }
   const double area = mesh.TotalArea();
   return area > 0 ? bending / (2 * area) : 0.0;
+}
+
+namespace
+{
+// The vertex of triangle `tri` that is not on edge (a, b).
+Index ThirdVertex(const Index* tri, Index a, Index b)
+{
+  return tri[0] != a && tri[0] != b ? tri[0] : (tri[1] != a && tri[1] != b ? tri[1] : tri[2]);
+}
+}
+
+double NoisyBendShare(const TriangleMesh& mesh, const MeshTopology& topology, double angle, double planeDistance)
+{
+  // One O(1) test per edge, over threads; the counts are integers, so their sum does not depend
+  // on the split.
+  const double cosine = std::cos(angle);
+  const Index ne = topology.NumberOfEdges();
+  std::atomic<long long> interior{ 0 }, noisy{ 0 };
+  vtkSMPTools::For(0, vtkIdType(ne), 16384, [&](vtkIdType first, vtkIdType last) {
+    long long inner = 0, bends = 0;
+    for (Index e = Index(first); e < Index(last); ++e)
+    {
+      if (topology.EdgeTriangleCount(e) != 2)
+      {
+        continue;
+      }
+      ++inner;
+      const Index* t = topology.EdgeTrianglesBegin(e);
+      const Vec3 n0 = Normalized(mesh.TriangleAreaVector(t[0]));
+      const Vec3 n1 = Normalized(mesh.TriangleAreaVector(t[1]));
+      if (!(Dot(n0, n1) < cosine))
+      {
+        continue;
+      }
+      const Index a = topology.EdgeVertex(e, 0), b = topology.EdgeVertex(e, 1);
+      const Vec3 p = mesh.Point(a);
+      const double d0 = std::fabs(Dot(n1, mesh.Point(ThirdVertex(mesh.Triangle(t[0]), a, b)) - p));
+      const double d1 = std::fabs(Dot(n0, mesh.Point(ThirdVertex(mesh.Triangle(t[1]), a, b)) - p));
+      bends += d0 <= planeDistance && d1 <= planeDistance;
+    }
+    interior += inner;
+    noisy += bends;
+  });
+  return interior > 0 ? double(noisy) / double(interior) : 0.0;
 }
 } // namespace slod

@@ -132,6 +132,16 @@ private:
 SURFACELODFILTERS_EXPORT double MeanAbsoluteCurvature(
   const TriangleMesh& mesh, const MeshTopology& topology, double creaseAngle = Pi);
 
+// Share of the interior manifold edges that are "noisy bends": their two triangles' normals are
+// more than `angle` (radians) apart, yet each triangle's third vertex lies within `planeDistance`
+// of the other triangle's plane. A patch growth's angle tests stop at such an edge although the
+// surface stays within its plane distance there: the noise and voxel steps of a scan isosurface,
+// at a scale far below the plane distance. On smooth meshes the bends are small and on CAD or
+// coarse meshes the bent triangles are large, so next to none qualify. `mesh` consistently
+// oriented (a flipped neighbour is a 180-degree bend). 0 for a mesh without interior edges.
+SURFACELODFILTERS_EXPORT double NoisyBendShare(
+  const TriangleMesh& mesh, const MeshTopology& topology, double angle, double planeDistance);
+
 // Convenience: statistics of a mesh in one call.
 SURFACELODFILTERS_EXPORT MeshStatistics ComputeMeshStatistics(const TriangleMesh& mesh);
 

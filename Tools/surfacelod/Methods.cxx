@@ -278,6 +278,7 @@ std::vector<Parameter> HoleBumpRemovalParameters()
     SLOD_PARAMETER(vtkHoleBumpRemoval, Double, Epsilon),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, FinalCollapses),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Bool, SingleMergeMeasure),
+    SLOD_PARAMETER(vtkHoleBumpRemoval, Double, SingleMeasureNoisyBendShare),
     SLOD_PARAMETER(vtkHoleBumpRemoval, Int, OutputPointsPrecision),
   };
 }

@@ -1729,6 +1729,16 @@ enum class PassOutcome
   Last
 };
 
+// Whether the SPBM completion's merge measure is decided from the input's noisy bends
+// (SingleMeasureNoisyBendShare): a target, the comparison on, a threshold below 1 and a plane
+// distance to measure the bends against.
+bool DecidesMergeMeasureFromNoise(const TopologySimplificationParameters& parameters)
+{
+  return parameters.Completion == TopologyCompletion::Spbm && parameters.SpbmTargetTriangles > 0 &&
+    parameters.Spbm.CompareCandidates && parameters.SingleMeasureNoisyBendShare < 1.0 &&
+    parameters.Patches.MaximumPlaneDistance > 0;
+}
+
 // One detection pass over `current` (the input's vertices, the previous pass's triangles).
 PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const TriangleMesh& current,
   const std::vector<unsigned char>& currentFill, const TopologySimplificationParameters& parameters,
@@ -1750,6 +1760,14 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
   const auto t1 = Clock::now();
   result.PatchificationSeconds += std::chrono::duration<double>(t1 - t0).count();
   stages.Lap("detection pass: patchification");
+  if (pass == 0 && DecidesMergeMeasureFromNoise(parameters))
+  {
+    result.NoisyBendShare = NoisyBendShare(current, run.Topology, Radians(parameters.Patches.OneEdgeNeighborAngle),
+      parameters.Patches.MaximumPlaneDistance);
+    vtkLogF(TRACE, "[hbr] noisy bend share %.4f (threshold %.3f)", result.NoisyBendShare,
+      parameters.SingleMeasureNoisyBendShare);
+    stages.Lap("detection pass: noisy bends");
+  }
   run.BuildSharpChains();
   run.ClassifySides();
   run.FindLoops();
@@ -1841,6 +1859,15 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
     // the whole level again) and the target search skips the widest merging run (and the fallback
     // passes and replays of its level) when the removal stops far above the target.
     level.FinalCollapsesFollow = parameters.FinalCollapses;
+    if (DecidesMergeMeasureFromNoise(parameters) && result.NoisyBendShare > parameters.SingleMeasureNoisyBendShare)
+    {
+      // A scan: the plain measure's level would be generated only to be discarded (session 40).
+      level.CompareCandidates = false;
+      level.SizeWeightedMerge = true;
+    }
+    result.SingleMergeMeasure = !level.CompareCandidates && level.SizeWeightedMerge;
+    vtkLogF(TRACE, "[hbr] SPBM completion: %s",
+      result.SingleMergeMeasure ? "size-weighted level alone" : "merge measures compared");
     ok = generator->GenerateForTarget(parameters.SpbmTargetTriangles, level, result.Level, nullptr, abort);
     stages.Lap("completion: SPBM level for the target");
     if (ok && parameters.FinalCollapses)

@@ -79,6 +79,14 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationParameters
   SpbmLevelParameters Spbm;         // Completion == Spbm (Epsilon absolute)
   Index SpbmTargetTriangles = 0;    // Completion == Spbm: > 0 aims at this count
   bool FinalCollapses = true;       // ... and the level's vertices collapsed when it stays above it
+  // Completion == Spbm to a target with Spbm.CompareCandidates (session 41, issue 10): when more
+  // than this share of the input's interior edges are noisy bends (slod::NoisyBendShare at the
+  // patch growth's neighbour angle and plane distance: a scan's noise), the level is generated
+  // with the size-weighted merge measure alone, as SPBM does, instead of the plain and the
+  // size-weighted levels compared by their sampled deviation. On such surfaces the plain level
+  // needs fallback passes and ends far above the target, and the comparison discards it. >= 1
+  // (or no plane distance): always compared (the rule before session 41).
+  double SingleMeasureNoisyBendShare = 1.0;
 };
 
 enum class TopologyFeatureKind : int
@@ -137,6 +145,10 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationResult
   // room than the earlier passes left in the run's workspace.
   Index DetectionWorkspaceAllocations = 0;
   int DetectionPasses = 0;
+  // The input's NoisyBendShare when SingleMeasureNoisyBendShare applied (else -1), and whether
+  // the SPBM completion generated the size-weighted level alone (by that rule or as set).
+  double NoisyBendShare = -1.0;
+  bool SingleMergeMeasure = false;
 };
 
 class SURFACELODFILTERS_EXPORT TopologySimplifier

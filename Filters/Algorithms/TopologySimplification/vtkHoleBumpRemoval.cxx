@@ -69,6 +69,7 @@ slod::TopologySimplificationParameters SimplificationParameters(vtkHoleBumpRemov
     parameters.Completion = slod::TopologyCompletion::Spbm;
     parameters.SpbmTargetTriangles = static_cast<slod::Index>(std::min<vtkIdType>(target, VTK_INT_MAX));
     parameters.FinalCollapses = filter->GetFinalCollapses();
+    parameters.SingleMeasureNoisyBendShare = filter->GetSingleMeasureNoisyBendShare();
     if (filter->GetSingleMergeMeasure())
     {
       parameters.Spbm.CompareCandidates = false;
@@ -237,6 +238,8 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
   this->NumberOfPatches = result.InitialPatches;
   this->NumberOfMergedPatches = result.MergedPatches;
   this->FinalCollapseCount = result.FinalCollapses;
+  this->NoisyBendShare = result.NoisyBendShare;
+  this->SingleMergeMeasureUsed = result.SingleMergeMeasure;
 
   // Output over the used input vertices.
   slod::TriangleMesh outMesh;
@@ -285,6 +288,7 @@ void vtkHoleBumpRemoval::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FillCracks: " << this->FillCracks << "\n";
   os << indent << "FinalCollapses: " << this->FinalCollapses << "\n";
   os << indent << "SingleMergeMeasure: " << this->SingleMergeMeasure << "\n";
+  os << indent << "SingleMeasureNoisyBendShare: " << this->SingleMeasureNoisyBendShare << "\n";
   os << indent << "MaximumCrackSize: " << this->MaximumCrackSize << "\n";
   os << indent << "MergeAngle: " << this->MergeAngle << "\n";
   os << indent << "MaximumPasses: " << this->MaximumPasses << "\n";

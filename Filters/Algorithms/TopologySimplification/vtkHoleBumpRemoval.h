@@ -170,6 +170,20 @@ public:
   ///@}
 
   ///@{
+  /// SPBM completion to a triangle target, SingleMergeMeasure off (session 41): the size-weighted
+  /// level alone when more than this share of the input's interior edges are noisy bends, i.e.
+  /// bent by more than NeighborAngle while each triangle's third vertex stays within
+  /// PatchPlaneDistance of the other's plane (a scan's noise; see HoleBumpRemoval.md). There the
+  /// plain measure's level is discarded by the comparison; elsewhere both are compared. Clamped to
+  /// [0, 1]; 1: always compared (the rule of session 40). NoisyBendShare is the share measured (-1
+  /// when not), SingleMergeMeasureUsed whether the level was the size-weighted one alone.
+  vtkSetClampMacro(SingleMeasureNoisyBendShare, double, 0.0, 1.0);
+  vtkGetMacro(SingleMeasureNoisyBendShare, double);
+  vtkGetMacro(NoisyBendShare, double);
+  vtkGetMacro(SingleMergeMeasureUsed, bool);
+  ///@}
+
+  ///@{
   /// Second output with the sharp loops (default on); double precision points (default: as input).
   vtkSetMacro(GenerateSharpLoops, bool);
   vtkGetMacro(GenerateSharpLoops, bool);
@@ -212,6 +226,9 @@ protected:
   bool FillCracks = true;
   bool FinalCollapses = true;
   bool SingleMergeMeasure = false;
+  double SingleMeasureNoisyBendShare = 0.35;
+  double NoisyBendShare = -1.0;
+  bool SingleMergeMeasureUsed = false;
   vtkIdType FinalCollapseCount = 0;
   double MaximumCrackSize = -1.0;
   double MergeAngle = 20.0;

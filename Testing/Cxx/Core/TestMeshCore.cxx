@@ -1185,6 +1185,37 @@ TEST(MeshTopology, MeanAbsoluteCurvatureWithoutCreases)
   EXPECT_EQ(slod::MeanAbsoluteCurvature(sphere, topology, creaseAngle), slod::MeanAbsoluteCurvature(sphere, topology));
 }
 
+// Session 41 (issue 10): a bend counts as noise when it is sharper than the angle while the two
+// triangles stay within the plane distance of each other's plane. A grid whose vertices alternate
+// a little up and down bends at many of its edges; the same grid with the jitter 100 times larger
+// bends as sharply at the same edges but beyond the plane distance; a fine sphere bends little.
+TEST(MeshTopology, NoisyBendShareCountsSharpButShallowBends)
+{
+  const double angle = slod::Radians(20.0);
+  auto jittered = [](double amplitude) {
+    slod::TriangleMesh grid = slodtest::Grid(40, 40);
+    for (slod::Index v = 0; v < grid.NumberOfPoints(); ++v)
+    {
+      slod::Vec3 p = grid.Point(v);
+      p[2] = (v % 3 == 0 ? amplitude : (v % 3 == 1 ? -amplitude : 0.0));
+      grid.SetPoint(v, p);
+    }
+    return grid;
+  };
+  const slod::TriangleMesh noisy = jittered(0.01), rough = jittered(1.0);
+  const double planeDistance = 0.05; // above the noisy grid's full height (0.02)
+  const double noisyShare = slod::NoisyBendShare(noisy, slod::MeshTopology(noisy), angle, planeDistance);
+  EXPECT_GT(noisyShare, 0.1); // the edges between differently jittered vertices bend
+  EXPECT_LE(noisyShare, 1.0);
+  EXPECT_EQ(slod::NoisyBendShare(rough, slod::MeshTopology(rough), angle, planeDistance), 0.0);
+  // The rough grid bends at the same edges, which count once the plane distance covers them.
+  EXPECT_EQ(slod::NoisyBendShare(rough, slod::MeshTopology(rough), angle, 100 * planeDistance), noisyShare);
+  const slod::TriangleMesh sphere = slodtest::Sphere(64, 64);
+  EXPECT_EQ(slod::NoisyBendShare(sphere, slod::MeshTopology(sphere), angle, planeDistance), 0.0);
+  const slod::TriangleMesh tetrahedron = slodtest::Tetrahedron();
+  EXPECT_EQ(slod::NoisyBendShare(tetrahedron, slod::MeshTopology(tetrahedron), angle, planeDistance), 0.0);
+}
+
 // CheckCollapse with a caller's CheckScratch (its own link marks) gives the answer of the mesh's
 // own marks, also when many threads check overlapping sets at once (every edge and triangle of a
 // noisy scan isosurface, with its borders and non-manifold edges, after some collapses; and of a
