@@ -126,10 +126,15 @@ private:
   struct FacingEntry
   {
     Vec3 Corners[3];
-    bool Against = false;
+    Index Under = InvalidIndex; // the input triangle closest to the centroid
     bool Known = false;
   };
+  // The input triangle closest to the tile's centroid (InvalidIndex when none).
+  Index InputTriangleUnder(const Vec3* p, Index t) const;
   bool FacesAgainstInput(const Vec3* p, const Vec3& normal, Index t) const;
+  // Whether the input under tile t and under tile u (their centroids' closest triangles) turns by
+  // 90 degrees or more: a fold of t and u there follows the input (session 42).
+  bool InputFoldsBetween(Index t, Index u) const;
   // IsBad without the centroid query, given the tile's normal and smallest angle.
   bool IsBadLocally(const Index* ids, const Vec3* p, const Vec3& normal, double angle) const;
   // Sparse: only the tiles queried. A dense array over the editable mesh's triangle slots (80 bytes
