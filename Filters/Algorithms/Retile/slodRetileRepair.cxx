@@ -195,7 +195,7 @@ TileRepair::Score TileRepair::RegionScore(
         // input under the two tiles turns by 90 degrees or more (a wall thinner than the spacing,
         // a sharp ridge) the tiles must fold too, and counting that fold refused the changes that
         // put them the input's way (on the 132 consistently oriented CGAL meshes at 10% of the
-        // vertices, 353 flipped tiles left; 305 without those refusals).
+        // vertices, 353 flipped tiles were left with those refusals, 306 without).
         ++total.Needles;
       }
     }

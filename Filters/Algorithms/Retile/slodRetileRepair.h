@@ -20,7 +20,8 @@
 //    count stays, and a star with no kernel gets one.
 // A final stage (session 37, RunFlipped) then works on the flipped tiles alone (normal against the
 // input triangle under the centroid): the same changes, each kept only when the flipped tiles
-// around it become fewer and the needles and folds no more; there the vertices of
+// around it become fewer and the needles and folds no more (session 42: only folds the input does
+// not have under the two tiles count); there the vertices of
 // MovableInFinalStage may move too (session 39: retained original vertices, by option).
 // Bounded: a fixed number of passes over the bad tiles, and a budget of triangle visits.
 #ifndef slodRetileRepair_h
