@@ -1748,6 +1748,29 @@ TEST(Retile, RingSearchFacesInputKeepsTheTopology)
 // degrees that the stage made (none at all on these). base-s37, which had no such stage, leaves
 // some on each (hand at 10% of its vertices, eight at 10%, homer at 50%); the counts with the
 // stage off are printed.
+namespace
+{
+// vtkRetile to `asked` vertices, the final stage on or off, checked as the count tests check it:
+// some output, the count asked for, the input's topology, every vertex on the input; `check` gets
+// the flipped tiles (CheckAgainstInput).
+TriangleMesh RetileToCountAndCheck(
+  vtkPolyData* input, const TriangleMesh& in, vtkIdType asked, bool repairFlipped, SurfaceCheck& check)
+{
+  vtkNew<vtkRetile> filter;
+  filter->SetInputData(input);
+  filter->SetNumberOfPoints(asked);
+  filter->SetRepairFlippedTiles(repairFlipped);
+  filter->Update();
+  const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+  EXPECT_GT(out.NumberOfTriangles(), 0);
+  EXPECT_EQ(out.NumberOfPoints(), asked);
+  slodtest::ExpectSameTopology(in, out);
+  check = CheckAgainstInput(in, out);
+  EXPECT_LT(check.MaxVertexDistance, 1e-6);
+  return out;
+}
+} // namespace
+
 TEST(Retile, RepairFlippedTilesLeavesNoneOnSmoothSurfaces)
 {
   struct Case
@@ -1764,17 +1787,9 @@ TEST(Retile, RepairFlippedTilesLeavesNoneOnSmoothSurfaces)
     Index flipped[2] = { 0, 0 };
     for (int on = 0; on < 2; ++on)
     {
-      vtkNew<vtkRetile> filter;
-      filter->SetInputData(input);
-      filter->SetNumberOfPoints(asked);
-      filter->SetRepairFlippedTiles(on == 1);
-      filter->Update();
-      const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+      SurfaceCheck check;
+      const TriangleMesh out = RetileToCountAndCheck(input, in, asked, on == 1, check);
       ASSERT_GT(out.NumberOfTriangles(), 0);
-      EXPECT_EQ(out.NumberOfPoints(), asked);
-      slodtest::ExpectSameTopology(in, out);
-      const SurfaceCheck check = CheckAgainstInput(in, out);
-      EXPECT_LT(check.MaxVertexDistance, 1e-6);
       flipped[on] = check.Flipped;
       if (on == 1)
       {
@@ -2411,16 +2426,9 @@ TEST(Retile, FinalStageFollowsTheInputsOwnFolds)
     vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(c.Name);
     const TriangleMesh in = slodtest::ToTriangleMesh(input);
     const vtkIdType asked = std::max<vtkIdType>(8, std::llround(c.Share * input->GetNumberOfPoints()));
-    vtkNew<vtkRetile> filter;
-    filter->SetInputData(input);
-    filter->SetNumberOfPoints(asked);
-    filter->Update();
-    const TriangleMesh out = slodtest::RawTriangleMesh(filter->GetOutput());
+    SurfaceCheck check;
+    const TriangleMesh out = RetileToCountAndCheck(input, in, asked, true, check);
     ASSERT_GT(out.NumberOfTriangles(), 0);
-    EXPECT_EQ(out.NumberOfPoints(), asked);
-    slodtest::ExpectSameTopology(in, out);
-    const SurfaceCheck check = CheckAgainstInput(in, out);
-    EXPECT_LT(check.MaxVertexDistance, 1e-6);
     EXPECT_EQ(check.Flipped, 0);
     EXPECT_GE(MeasureTriangleShape(out).SmallestAngleDegrees, 5.0);
     EXPECT_EQ(FoldsTheInputLacks(in, out), 0);
