@@ -36,9 +36,9 @@
 #include "vtkTriangleFilter.h"
 
 #include <algorithm>
-#include <map>
 #include <array>
 #include <limits>
+#include <map>
 #include <random>
 #include <gtest/gtest.h>
 
@@ -1769,37 +1769,47 @@ TriangleMesh RetileToCountAndCheck(
   EXPECT_LT(check.MaxVertexDistance, 1e-6);
   return out;
 }
-} // namespace
 
-TEST(Retile, RepairFlippedTilesLeavesNoneOnSmoothSurfaces)
+struct CountCase
 {
-  struct Case
-  {
-    const char* Name;
-    double Share; // of the input's vertices
-  };
-  for (const Case& c : { Case{ "hand", 0.1 }, Case{ "eight", 0.1 }, Case{ "homer", 0.5 } })
+  const char* Name;
+  double Share; // of the input's vertices
+};
+
+// Runs body(c, input, in, asked) for each test mesh c, asked = c.Share of its vertices (at least 8).
+template <typename Body>
+void ForEachCountCase(std::initializer_list<CountCase> cases, const Body& body)
+{
+  for (const CountCase& c : cases)
   {
     SCOPED_TRACE(c.Name);
     vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(c.Name);
     const TriangleMesh in = slodtest::ToTriangleMesh(input);
-    const vtkIdType asked = std::max<vtkIdType>(8, std::llround(c.Share * input->GetNumberOfPoints()));
-    Index flipped[2] = { 0, 0 };
-    for (int on = 0; on < 2; ++on)
-    {
-      SurfaceCheck check;
-      const TriangleMesh out = RetileToCountAndCheck(input, in, asked, on == 1, check);
-      ASSERT_GT(out.NumberOfTriangles(), 0);
-      flipped[on] = check.Flipped;
-      if (on == 1)
-      {
-        EXPECT_EQ(check.Flipped, 0);
-        EXPECT_GE(MeasureTriangleShape(out).SmallestAngleDegrees, 5.0);
-      }
-    }
-    std::printf("[retile] %s at %.0f%% of its vertices: flipped tiles %lld without the final stage, %lld with it\n",
-      c.Name, 100.0 * c.Share, (long long)flipped[0], (long long)flipped[1]);
+    body(c, input.Get(), in, std::max<vtkIdType>(8, std::llround(c.Share * input->GetNumberOfPoints())));
   }
+}
+} // namespace
+
+TEST(Retile, RepairFlippedTilesLeavesNoneOnSmoothSurfaces)
+{
+  ForEachCountCase({ { "hand", 0.1 }, { "eight", 0.1 }, { "homer", 0.5 } },
+    [](const CountCase& c, vtkPolyData* input, const TriangleMesh& in, vtkIdType asked) {
+      Index flipped[2] = { 0, 0 };
+      for (int on = 0; on < 2; ++on)
+      {
+        SurfaceCheck check;
+        const TriangleMesh out = RetileToCountAndCheck(input, in, asked, on == 1, check);
+        ASSERT_GT(out.NumberOfTriangles(), 0);
+        flipped[on] = check.Flipped;
+        if (on == 1)
+        {
+          EXPECT_EQ(check.Flipped, 0);
+          EXPECT_GE(MeasureTriangleShape(out).SmallestAngleDegrees, 5.0);
+        }
+      }
+      std::printf("[retile] %s at %.0f%% of its vertices: flipped tiles %lld without the final stage, %lld with it\n",
+        c.Name, 100.0 * c.Share, (long long)flipped[0], (long long)flipped[1]);
+  });
 }
 
 // The default keeps creases (PreserveCreases on by default since 2026-12-03): on CAD meshes whose
@@ -2415,24 +2425,15 @@ Index FoldsTheInputLacks(const TriangleMesh& input, const TriangleMesh& output)
 // topology, every vertex on the input, no tile under 5 degrees and no fold the input lacks.
 TEST(Retile, FinalStageFollowsTheInputsOwnFolds)
 {
-  struct Case
-  {
-    const char* Name;
-    double Share; // of the input's vertices
-  };
-  for (const Case& c : { Case{ "pipe", 0.1 }, Case{ "cross", 0.5 } })
-  {
-    SCOPED_TRACE(c.Name);
-    vtkSmartPointer<vtkPolyData> input = slodtest::LoadTestMesh(c.Name);
-    const TriangleMesh in = slodtest::ToTriangleMesh(input);
-    const vtkIdType asked = std::max<vtkIdType>(8, std::llround(c.Share * input->GetNumberOfPoints()));
-    SurfaceCheck check;
-    const TriangleMesh out = RetileToCountAndCheck(input, in, asked, true, check);
-    ASSERT_GT(out.NumberOfTriangles(), 0);
-    EXPECT_EQ(check.Flipped, 0);
-    EXPECT_GE(MeasureTriangleShape(out).SmallestAngleDegrees, 5.0);
-    EXPECT_EQ(FoldsTheInputLacks(in, out), 0);
-    std::printf("[retile] %s at %.0f%% of its vertices: %lld vertices, flipped tiles %lld\n", c.Name, 100.0 * c.Share,
-      (long long)out.NumberOfPoints(), (long long)check.Flipped);
-  }
+  ForEachCountCase({ { "pipe", 0.1 }, { "cross", 0.5 } },
+    [](const CountCase& c, vtkPolyData* input, const TriangleMesh& in, vtkIdType asked) {
+      SurfaceCheck check;
+      const TriangleMesh out = RetileToCountAndCheck(input, in, asked, true, check);
+      ASSERT_GT(out.NumberOfTriangles(), 0);
+      EXPECT_EQ(check.Flipped, 0);
+      EXPECT_GE(MeasureTriangleShape(out).SmallestAngleDegrees, 5.0);
+      EXPECT_EQ(FoldsTheInputLacks(in, out), 0);
+      std::printf("[retile] %s at %.0f%% of its vertices: %lld vertices, flipped tiles %lld\n", c.Name, 100.0 * c.Share,
+        (long long)out.NumberOfPoints(), (long long)check.Flipped);
+  });
 }
