@@ -551,10 +551,11 @@ bool EditableMesh::IsolatesVertex(const Index* vertices, int count, const Collap
 
 namespace
 {
-// The geometry test of one surviving triangle (its corners) whose corner `corner` moves to p, given
-// its normal, that normal's length and its minimum angle before (CheckGeometry and CheckTrial).
-inline CollapseStatus MovedCornerStatus(const Vec3 (&corners)[3], int corner, const Vec3& p, const Vec3& oldNormal,
-  double oldLength, double oldMinAngle, const CollapseOptions& options)
+// The geometry test of one surviving triangle t (its corners) whose corner `corner` moves to p,
+// given its normal, that normal's length and its minimum angle before (CheckGeometry and
+// CheckTrial); then the caller's test of t with the new normal (options.Survivors).
+inline CollapseStatus MovedCornerStatus(Index t, const Vec3 (&corners)[3], int corner, const Vec3& p,
+  const Vec3& oldNormal, double oldLength, double oldMinAngle, const CollapseOptions& options)
 {
   // The moved triangle's corners by reference (no copy indexed at run time, which kept the
   // corners in memory; session 38).
@@ -580,7 +581,7 @@ inline CollapseStatus MovedCornerStatus(const Vec3 (&corners)[3], int corner, co
       return CollapseStatus::BadShape;
     }
   }
-  return CollapseStatus::Ok;
+  return options.Survivors && !options.Survivors->Keeps(t, newNormal) ? CollapseStatus::Flip : CollapseStatus::Ok;
 }
 } // namespace
 
@@ -590,7 +591,18 @@ CollapseStatus EditableMesh::SurvivorGeometry(Index t, int corner, const Vec3& p
   const Vec3 q[3] = { this->Point(tri[0]), this->Point(tri[1]), this->Point(tri[2]) };
   const Vec3 oldNormal = Cross(q[1] - q[0], q[2] - q[0]);
   const double oldMinAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
-  return MovedCornerStatus(q, corner, p, oldNormal, Norm(oldNormal), oldMinAngle, options);
+  return MovedCornerStatus(t, q, corner, p, oldNormal, Norm(oldNormal), oldMinAngle, options);
+}
+
+void EditableMesh::PrefetchSurvivorTest(const std::vector<Index>& gathered, const CollapseOptions& options) const
+{
+  if (options.Survivors)
+  {
+    for (Index t : gathered) // (the removed ones too: testing which survive would cost more)
+    {
+      options.Survivors->Prefetch(t);
+    }
+  }
 }
 
 CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
@@ -598,6 +610,7 @@ CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, con
 {
   // The surviving triangles with the set moved to p, in gathered order (the link test's list
   // when complete).
+  this->PrefetchSurvivorTest(gathered, options);
   if (scan && scan->Complete)
   {
     for (int i = 0; i < scan->Survivors; ++i)
@@ -736,6 +749,7 @@ void EditableMesh::PrepareTrial(const Index* vertices, int count, const Collapse
     }
   }
   this->GatherTriangles(vertices, count, trial.Gathered);
+  this->PrefetchSurvivorTest(trial.Gathered, options);
 }
 
 // The next surviving triangle of the gathered ones, with its old normal, length and angle (the
@@ -760,6 +774,7 @@ bool EditableMesh::AddNextSurvivor(const CollapseOptions& options, SetTrial& tri
     s.OldNormal = Cross(q[1] - q[0], q[2] - q[0]);
     s.OldLength = Norm(s.OldNormal);
     s.OldMinimumAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
+    s.Triangle = trial.Gathered[trial.NextGathered - 1];
     s.Corner = corner;
     trial.Survivors.push_back(s);
     return true;
@@ -777,7 +792,7 @@ CollapseStatus EditableMesh::CheckTrial(const Vec3& p, const CollapseOptions& op
   // order (each survivor once: bounded by the gathered triangles).
   const auto test = [&](size_t j) {
     const SetTrial::Surviving& s = trial.Survivors[j];
-    return MovedCornerStatus(s.Corners, s.Corner, p, s.OldNormal, s.OldLength, s.OldMinimumAngle, options);
+    return MovedCornerStatus(s.Triangle, s.Corners, s.Corner, p, s.OldNormal, s.OldLength, s.OldMinimumAngle, options);
   };
   // (first: none when no survivor is prepared yet)
   const size_t first = trial.FirstTested < trial.Survivors.size() ? trial.FirstTested : trial.Gathered.size();

@@ -22,6 +22,24 @@
 
 namespace slod
 {
+// A caller's own test of the triangles that survive a collapse (CollapseOptions::Survivors). The
+// geometric check computes each survivor's new area vector (its set's corner moved to the point)
+// anyway; a caller that tests those vectors against data of its own (the collapse hierarchy's
+// orientation against M0) gets them here instead of walking the set's triangles and computing them
+// again. Keeps is asked only after the core's own tests of that triangle passed; the checks may run
+// concurrently (const, no state).
+class SURFACELODFILTERS_EXPORT SurvivorTest
+{
+public:
+  virtual ~SurvivorTest() = default;
+  // Starts the loads of what Keeps(t, ...) reads (called for the set's triangles before any test:
+  // a caller's data are often cold where the mesh's are warm).
+  virtual void Prefetch(Index t) const = 0;
+  // Whether surviving triangle t may take the new area vector (unnormalised, as the flip test
+  // computed it); false rejects the collapse with CollapseStatus::Flip.
+  virtual bool Keeps(Index t, const Vec3& newAreaVector) const = 0;
+};
+
 struct SURFACELODFILTERS_EXPORT CollapseOptions
 {
   // Reject when a surviving triangle's unit normal turns so that dot(old, new) < this.
@@ -48,6 +66,9 @@ struct SURFACELODFILTERS_EXPORT CollapseOptions
   // geometric status, so callers that act on a geometric rejection (alternative placements) keep
   // it off.
   bool GeometryFirst = false;
+  // Optional: the caller's test of every surviving triangle, part of the geometric test (see
+  // SurvivorTest). Null: none.
+  const SurvivorTest* Survivors = nullptr;
 };
 
 enum class CollapseStatus
@@ -227,6 +248,7 @@ public:
       Vec3 Corners[3];
       Vec3 OldNormal;
       double OldLength, OldMinimumAngle;
+      Index Triangle;
       int Corner; // the set's vertex
     };
     std::vector<Index> Gathered;
@@ -340,6 +362,7 @@ private:
   CollapseStatus CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
     const std::vector<Index>& gathered, const SetScan* scan) const;
   CollapseStatus SurvivorGeometry(Index t, int corner, const Vec3& p, const CollapseOptions& options) const;
+  void PrefetchSurvivorTest(const std::vector<Index>& gathered, const CollapseOptions& options) const;
 
   std::vector<double> Points;
   std::vector<Index> Triangles;

@@ -1380,53 +1380,17 @@ void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
 }
 
 // ---------------------------------------------------------------------------------------------
-// The per-collapse flip guard bounds each turn; this bounds the accumulated one: no surviving
-// triangle may end up facing away from the M0 triangle it descends from.
-bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
+// The orientation test (see the header). M0's triangles and their points are cold where the mesh's
+// are warm from the check: their rows' loads are started for the set's triangles before the check's
+// tests (the points then follow one triangle at a time).
+void CollapseHierarchy::OrientationTest::Prefetch(Index t) const
 {
-  return this->KeepsOrientation(this->Mesh.Triangle(t), 3, p);
+  __builtin_prefetch(&this->Hierarchy->Base.Triangles[3 * size_t(t)]);
 }
 
-bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const Vec3& p) const
+bool CollapseHierarchy::OrientationTest::Keeps(Index t, const Vec3& newAreaVector) const
 {
-  const EditableMesh& m = this->Mesh;
-  // M0's triangles and their points are cold (the mesh's are warm from the collapse check): their
-  // loads are started for a fan's worth of triangles at once, then each test waits on one of them
-  // (one after the other, the misses were a sixteenth of the build on mc1m).
-  constexpr int Batch = 16;
-  Index ids[Batch];
-  int corners[Batch];
-  int n = 0;
-  bool ok = true;
-  const auto test = [&]() {
-    for (int i = 0; i < n; ++i)
-    {
-      const Index* b = &this->Base.Triangles[3 * size_t(ids[i])];
-      for (int j = 0; j < 3; ++j)
-      {
-        this->BasePoints.Prefetch(b[j]);
-      }
-    }
-    for (int i = 0; i < n && ok; ++i)
-    {
-      const Index* o = m.Triangle(ids[i]);
-      Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
-      q[corners[i]] = p;
-      ok = Dot(Cross(q[1] - q[0], q[2] - q[0]), this->BaseAreaVector(ids[i])) > 0;
-    }
-    n = 0;
-  };
-  m.ForEachSurvivingTriangle(vertices, count, [&](Index x, int corner) {
-    __builtin_prefetch(&this->Base.Triangles[3 * size_t(x)]);
-    ids[n] = x;
-    corners[n] = corner;
-    if (++n == Batch)
-    {
-      test();
-    }
-  });
-  test();
-  return ok;
+  return Dot(newAreaVector, this->Hierarchy->BaseAreaVector(t)) > 0;
 }
 
 void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p)
@@ -1744,10 +1708,10 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     EditableMesh::SetTrial& trial = scratch.EdgeTrials[k];
     if (!((prepared >> k) & 1))
     {
-      m.PrepareTrial(vertices, 2, this->MeshOptions, trial);
+      m.PrepareTrial(vertices, 2, this->ChoiceOptions, trial);
       prepared |= 1 << k;
     }
-    return m.CheckTrial(p, this->MeshOptions, trial, scratch.OwnMarks());
+    return m.CheckTrial(p, this->ChoiceOptions, trial, scratch.OwnMarks());
   };
   // Most of the time the cheapest candidate, known from the evaluation, passes: the other eight
   // need not be computed (one eigen decomposition instead of three).
@@ -1759,9 +1723,9 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     // cost 2% more instructions on bunny00.)
     const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
     EditableMesh::CheckScratch* own = scratch.OwnMarks();
-    const CollapseStatus status = own ? m.CheckCollapse(vertices, 2, point, this->MeshOptions, *own)
-                                      : m.CheckCollapse(vertices, 2, point, this->MeshOptions);
-    if (status == CollapseStatus::Ok && this->KeepsOrientation(vertices, 2, point))
+    const CollapseStatus status = own ? m.CheckCollapse(vertices, 2, point, this->ChoiceOptions, *own)
+                                      : m.CheckCollapse(vertices, 2, point, this->ChoiceOptions);
+    if (status == CollapseStatus::Ok)
     {
       return true;
     }
@@ -1803,7 +1767,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     }
     const Index vertices[2] = { tri[k], tri[(k + 1) % 3] };
     const CollapseStatus status = checked(vertices, candidates[i].Point);
-    if (status == CollapseStatus::Ok && this->KeepsOrientation(vertices, 2, candidates[i].Point))
+    if (status == CollapseStatus::Ok)
     {
       edge = k;
       point = candidates[i].Point;
@@ -2442,6 +2406,9 @@ void CollapseHierarchy::Reset(TriangleMesh&& input, std::vector<unsigned char>&&
     this->OnBorder[v] = this->Mesh.IsBoundaryVertex(v) ? 1 : 0;
   }
   this->MeshOptions.BoundaryVertices = this->OnBorder.data();
+  this->Orientation.Hierarchy = this;
+  this->ChoiceOptions = this->MeshOptions;
+  this->ChoiceOptions.Survivors = &this->Orientation;
   this->ChangeCounter = 0;
 }
 
@@ -3279,9 +3246,8 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Cho
   {
     point = this->PointOf(t);
   }
-  if (scratch.Stencils.CheckCollapsible(this->Mesh, scratch.Stencil, *point, this->NormalOf(t), &this->MeshOptions,
-        this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok &&
-    this->KeepsOrientation(t, *point))
+  if (scratch.Stencils.CheckCollapsible(this->Mesh, scratch.Stencil, *point, this->NormalOf(t), &this->ChoiceOptions,
+        this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok)
   {
     choice.Point = *point;
     return true;
