@@ -1380,17 +1380,38 @@ void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
 }
 
 // ---------------------------------------------------------------------------------------------
-// The orientation test (see the header). M0's triangles and their points are cold where the mesh's
-// are warm from the check: their rows' loads are started for the set's triangles before the check's
-// tests (the points then follow one triangle at a time).
-void CollapseHierarchy::OrientationTest::Prefetch(Index t) const
+// The orientation test (see the header). M0's triangles and their points are cold (the mesh's are
+// warm from the check): their loads are started for all the survivors' triangles, then for a
+// chunk's points at once, and each test waits on one of them (one after the other, the misses
+// were a sixteenth of the build on mc1m).
+bool CollapseHierarchy::OrientationTest::Keeps(const Index* triangles, const Vec3* newAreaVectors, int n) const
 {
-  __builtin_prefetch(&this->Hierarchy->Base.Triangles[3 * size_t(t)]);
-}
-
-bool CollapseHierarchy::OrientationTest::Keeps(Index t, const Vec3& newAreaVector) const
-{
-  return Dot(newAreaVector, this->Hierarchy->BaseAreaVector(t)) > 0;
+  const CollapseHierarchy& h = *this->Hierarchy;
+  for (int i = 0; i < n; ++i)
+  {
+    __builtin_prefetch(&h.Base.Triangles[3 * size_t(triangles[i])]);
+  }
+  constexpr int Chunk = 16;
+  for (int first = 0; first < n; first += Chunk)
+  {
+    const int last = std::min(n, first + Chunk);
+    for (int i = first; i < last; ++i)
+    {
+      const Index* b = &h.Base.Triangles[3 * size_t(triangles[i])];
+      for (int j = 0; j < 3; ++j)
+      {
+        h.BasePoints.Prefetch(b[j]);
+      }
+    }
+    for (int i = first; i < last; ++i)
+    {
+      if (!(Dot(newAreaVectors[i], h.BaseAreaVector(triangles[i])) > 0))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
 }
 
 void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p)

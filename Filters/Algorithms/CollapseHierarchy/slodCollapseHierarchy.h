@@ -737,12 +737,12 @@ private:
   bool FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error, ChoiceScratch& scratch) const;
   // The per-collapse flip guard bounds each turn; this bounds the accumulated one: no surviving
   // triangle may end up facing away from the M0 triangle it descends from. Asked by the mesh's
-  // geometric check of each survivor (ChoiceOptions), with the new area vector that check computed.
+  // check (ChoiceOptions) once its other tests passed, with the new area vectors its flip test
+  // computed.
   struct OrientationTest final : SurvivorTest
   {
     const CollapseHierarchy* Hierarchy = nullptr;
-    void Prefetch(Index t) const override;
-    bool Keeps(Index t, const Vec3& newAreaVector) const override;
+    bool Keeps(const Index* triangles, const Vec3* newAreaVectors, int n) const override;
   };
   OrientationTest Orientation;
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
