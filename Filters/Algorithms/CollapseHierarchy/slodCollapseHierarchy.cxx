@@ -1098,7 +1098,8 @@ void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
   });
 }
 
-int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements[3], bool cheapestOnly) const
+int CollapseHierarchy::EdgePlacements(
+  Index u, Index v, EdgePlacement placements[3], bool cheapestOnly, const Vec3* optimum) const
 {
   const OwnQuadric own[2] = { this->OwnQuadricOf(u), this->OwnQuadricOf(v) };
   Quadric q = *own[0].Planes;
@@ -1117,7 +1118,7 @@ int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements
     placements[n++] = { sum >= 0 ? this->WithVertexTerm(own, 2, sum, p) : this->CollapseError(own, 2, q, p), p, kind };
     cheapest = std::min(cheapest, placements[n - 1].Error);
   };
-  if (EdgeOptimum(q, pu, pv, best))
+  if (optimum ? (best = *optimum, true) : EdgeOptimum(q, pu, pv, best))
   {
     place(best, 0);
   }
@@ -1762,24 +1763,45 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   };
   Candidate candidates[9];
   int n = 0;
-  for (int k = 0; k < 3; ++k)
+  // The known edge's candidates are not computed when its check failed for every point (they would
+  // be skipped below): the sort, an insertion sort for 9 or fewer and so stable, then gives the
+  // others in the same order, since none of them is a NaN (a known cheapest means none of the
+  // triangle's edge errors was; checked all the same: with one, all are computed again). Else its
+  // quadric point is the known one (the same EdgeOptimum of the same quadric and ends).
+  const bool knownFailed = known && ((failsEverywhere >> edge) & 1);
+  const Vec3 knownPoint = point;
+  const bool knownOptimum = known && this->Evaluations[this->Row(t)].CheapestEdge.Kind == 0;
+  bool excluded = false; // (the known edge's candidates left out)
+  for (int pass = knownFailed ? 0 : 1; pass < 2; ++pass) // (pass 0: without the known edge)
   {
-    const Index u = tri[k], v = tri[(k + 1) % 3];
-    if (this->Degree(u) > HubValence || this->Degree(v) > HubValence)
+    n = 0;
+    bool nan = false;
+    for (int k = 0; k < 3; ++k)
     {
-      continue; // a hub's checks would cost its valence (see HubMask)
+      const Index u = tri[k], v = tri[(k + 1) % 3];
+      if ((pass == 0 && k == edge) || this->Degree(u) > HubValence || this->Degree(v) > HubValence)
+      {
+        continue; // (a hub's checks would cost its valence: see HubMask)
+      }
+      EdgePlacement placements[3];
+      const int count = this->EdgePlacements(u, v, placements, false, knownOptimum && k == edge ? &knownPoint : nullptr);
+      for (int i = 0; i < count; ++i)
+      {
+        nan = nan || std::isnan(placements[i].Error);
+        candidates[n++] = { placements[i].Error, k, placements[i].Point };
+      }
     }
-    EdgePlacement placements[3];
-    const int count = this->EdgePlacements(u, v, placements);
-    for (int i = 0; i < count; ++i)
+    excluded = pass == 0;
+    if (!(nan && excluded))
     {
-      candidates[n++] = { placements[i].Error, k, placements[i].Point };
+      break;
     }
   }
   std::sort(candidates, candidates + n, [](const Candidate& a, const Candidate& b) {
     return a.Error < b.Error || (a.Error == b.Error && a.Edge < b.Edge);
   });
-  for (int i = known ? 1 : 0; i < n; ++i) // (the known cheapest is the first: it failed above)
+  // (The known cheapest, when in the list, is the first: it failed above.)
+  for (int i = known && !excluded ? 1 : 0; i < n; ++i)
   {
     const int k = candidates[i].Edge;
     if ((failsEverywhere >> k) & 1)

@@ -1049,7 +1049,9 @@ private:
   // placement before it keeps that sum as its Error, a bound (EndPointAboveCheapest): the same
   // CheapestPlacement and the same ties, without its vertex term. Else every Error is exact (the
   // selection sorts them).
-  int EdgePlacements(Index u, Index v, EdgePlacement placements[3], bool cheapestOnly = false) const;
+  // (optimum: the edge's quadric point when the caller has it, EdgeOptimum's of the same edge)
+  int EdgePlacements(
+    Index u, Index v, EdgePlacement placements[3], bool cheapestOnly = false, const Vec3* optimum = nullptr) const;
   bool EndPointAboveCheapest(const Quadric& q, const Vec3& p, double cheapest, double& sum) const;
   static EdgeCost CheapestPlacement(const EdgePlacement* placements, int n);
   void VerifyPricing(Index u, Index v, const EdgePlacement* placements, int n) const;
