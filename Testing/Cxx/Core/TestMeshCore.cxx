@@ -1353,6 +1353,30 @@ TEST(EditableMesh, WithoutVertexLinkMarksTheAnswersAreTheSame)
   }
 }
 
+namespace
+{
+// f(t, edge, u, v) for each edge (tri[k], tri[k + 1]) of every live triangle t, u and v its ends'
+// points; then g(t, tri) for the triangle itself.
+template <typename EdgeFunctor, typename TriangleFunctor>
+void ForEachLiveEdgeAndTriangle(const EditableMesh& mesh, EdgeFunctor&& f, TriangleFunctor&& g)
+{
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    if (!mesh.IsTriangleAlive(t))
+    {
+      continue;
+    }
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
+      f(t, k, edge, mesh.Point(edge[0]), mesh.Point(edge[1]));
+    }
+    g(t, tri);
+  }
+}
+} // namespace
+
 // A set prepared once and checked at several points (the hierarchy's FindEdgeCollapse tries up to
 // three per edge) is accepted at exactly the points CheckCollapse accepts, with the mesh's marks
 // and with a scratch's; the points include flips (beyond an end), degenerate ones and valid ones.
@@ -1372,17 +1396,9 @@ TEST(EditableMesh, SetTrialAcceptsWhereCheckCollapseDoesAtEveryPoint)
       EditableMesh::CheckScratch scratch;
       std::map<CollapseStatus, size_t> seen;
       size_t agreements = 0;
-      for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-      {
-        if (!mesh.IsTriangleAlive(t))
-        {
-          continue;
-        }
-        const Index* tri = mesh.Triangle(t);
-        for (int k = 0; k < 3; ++k)
-        {
-          const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
-          const Vec3 u = mesh.Point(edge[0]), v = mesh.Point(edge[1]);
+      ForEachLiveEdgeAndTriangle(
+        mesh,
+        [&](Index t, int k, const Index* edge, const Vec3& u, const Vec3& v) {
           const Vec3 points[5] = { u + 2.5 * (v - u), 0.5 * (u + v), u, v, u - 1.5 * (v - u) };
           mesh.PrepareTrial(edge, 2, options, trial);
           for (const Vec3& p : points)
@@ -1396,8 +1412,8 @@ TEST(EditableMesh, SetTrialAcceptsWhereCheckCollapseDoesAtEveryPoint)
             ++seen[expected];
             ++agreements;
           }
-        }
-      }
+        },
+        [](Index, const Index*) {});
       EXPECT_GT(agreements, 1000u);
       EXPECT_GT(seen[CollapseStatus::Ok], agreements / 10); // accepted points
       EXPECT_GT(seen[CollapseStatus::Flip], 20u);           // refused by the geometry
@@ -1503,17 +1519,9 @@ TEST(EditableMesh, SurvivorTestIsAskedLastWithEachSurvivorsMovedAreaVector)
         ASSERT_EQ(mesh.CheckCollapse(set, count, p, refuse), expected == CollapseStatus::Ok ? CollapseStatus::Flip : expected);
       };
       EditableMesh::SetTrial trial;
-      for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-      {
-        if (!mesh.IsTriangleAlive(t))
-        {
-          continue;
-        }
-        const Index* tri = mesh.Triangle(t);
-        for (int k = 0; k < 3; ++k)
-        {
-          const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
-          const Vec3 u = mesh.Point(edge[0]), v = mesh.Point(edge[1]);
+      ForEachLiveEdgeAndTriangle(
+        mesh,
+        [&](Index, int, const Index* edge, const Vec3& u, const Vec3& v) {
           mesh.PrepareTrial(edge, 2, accept, trial);
           for (const Vec3& p : { 0.5 * (u + v), u, u - 1.5 * (v - u) })
           {
@@ -1526,10 +1534,10 @@ TEST(EditableMesh, SurvivorTestIsAskedLastWithEachSurvivorsMovedAreaVector)
             ASSERT_EQ(accepting.Sorted(), survivors);
             trialsAsked += accepting.Calls > 0 ? 1 : 0;
           }
-        }
-        const Index set[3] = { tri[0], tri[1], tri[2] };
-        check(set, 3, (1.0 / 3) * (mesh.Point(tri[0]) + mesh.Point(tri[1]) + mesh.Point(tri[2])));
-      }
+        },
+        [&](Index, const Index* tri) {
+          check(tri, 3, (1.0 / 3) * (mesh.Point(tri[0]) + mesh.Point(tri[1]) + mesh.Point(tri[2])));
+        });
     }
   }
   EXPECT_GT(asked, 10000u);        // passed every other test
