@@ -553,8 +553,9 @@ namespace
 {
 // The geometry test of one surviving triangle (its corners) whose corner `corner` moves to p, given
 // its normal, that normal's length and its minimum angle before (CheckGeometry and CheckTrial).
+// newNormal: the moved triangle's area vector (for CollapseOptions::Survivors).
 inline CollapseStatus MovedCornerStatus(const Vec3 (&corners)[3], int corner, const Vec3& p, const Vec3& oldNormal,
-  double oldLength, double oldMinAngle, const CollapseOptions& options)
+  double oldLength, double oldMinAngle, const CollapseOptions& options, Vec3& newNormal)
 {
   // The moved triangle's corners by reference (no copy indexed at run time, which kept the
   // corners in memory; session 38).
@@ -562,7 +563,7 @@ inline CollapseStatus MovedCornerStatus(const Vec3 (&corners)[3], int corner, co
   const Vec3& q1 = corner == 1 ? p : corners[1];
   const Vec3& q2 = corner == 2 ? p : corners[2];
   // The new normal's length is also the degeneracy test's area (computed once).
-  const Vec3 newNormal = Cross(q1 - q0, q2 - q0);
+  newNormal = Cross(q1 - q0, q2 - q0);
   const double newLength = Norm(newNormal);
   if (IsDegenerateWithArea(q0, q1, q2, newLength))
   {
@@ -584,17 +585,78 @@ inline CollapseStatus MovedCornerStatus(const Vec3 (&corners)[3], int corner, co
 }
 } // namespace
 
-CollapseStatus EditableMesh::SurvivorGeometry(Index t, int corner, const Vec3& p, const CollapseOptions& options) const
+// Up to Capacity survivors' new area vectors, kept for TestSurvivors; more are computed again there
+// (a set of more than 32 surviving triangles is rare: vertices of high valence).
+struct EditableMesh::SurvivorNormals
+{
+  static constexpr int Capacity = 32;
+  Index Triangles[Capacity];
+  Vec3 Normals[Capacity];
+  int Kept = 0;
+  int Survivors = 0; // passed the geometry (when over Capacity, the kept ones are not used)
+  bool Wanted = false;
+};
+
+CollapseStatus EditableMesh::SurvivorGeometry(
+  Index t, int corner, const Vec3& p, const CollapseOptions& options, SurvivorNormals& normals) const
 {
   const Index* tri = this->Triangle(t);
   const Vec3 q[3] = { this->Point(tri[0]), this->Point(tri[1]), this->Point(tri[2]) };
   const Vec3 oldNormal = Cross(q[1] - q[0], q[2] - q[0]);
   const double oldMinAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
-  return MovedCornerStatus(q, corner, p, oldNormal, Norm(oldNormal), oldMinAngle, options);
+  Vec3 newNormal;
+  const CollapseStatus status = MovedCornerStatus(q, corner, p, oldNormal, Norm(oldNormal), oldMinAngle, options, newNormal);
+  if (normals.Wanted && status == CollapseStatus::Ok && normals.Survivors++ < SurvivorNormals::Capacity)
+  {
+    normals.Triangles[normals.Kept] = t;
+    normals.Normals[normals.Kept++] = newNormal;
+  }
+  return status;
+}
+
+// The caller's test of the survivors (options.Survivors) with their new area vectors: those kept
+// by CheckGeometry, or, when they were more than it keeps, all of them computed again in chunks
+// (the same expression as MovedCornerStatus: the same numbers).
+CollapseStatus EditableMesh::TestSurvivors(const Index* vertices, int count, const Vec3& p,
+  const CollapseOptions& options, const std::vector<Index>& gathered, const SurvivorNormals& normals) const
+{
+  if (!options.Survivors)
+  {
+    return CollapseStatus::Ok;
+  }
+  if (normals.Survivors <= SurvivorNormals::Capacity)
+  {
+    return options.Survivors->Keeps(normals.Triangles, normals.Normals, normals.Kept) ? CollapseStatus::Ok
+                                                                                      : CollapseStatus::Flip;
+  }
+  SurvivorNormals chunk;
+  for (size_t i = 0; i <= gathered.size(); ++i) // (one step past the end: the last chunk)
+  {
+    int corner = 0;
+    if (i < gathered.size() && CountMembers(this->Triangle(gathered[i]), vertices, count, corner) < 2)
+    {
+      const Index* tri = this->Triangle(gathered[i]);
+      const Vec3 q[3] = { this->Point(tri[0]), this->Point(tri[1]), this->Point(tri[2]) };
+      const Vec3& q0 = corner == 0 ? p : q[0];
+      const Vec3& q1 = corner == 1 ? p : q[1];
+      const Vec3& q2 = corner == 2 ? p : q[2];
+      chunk.Triangles[chunk.Kept] = gathered[i];
+      chunk.Normals[chunk.Kept++] = Cross(q1 - q0, q2 - q0);
+    }
+    if ((chunk.Kept == SurvivorNormals::Capacity || i == gathered.size()) && chunk.Kept > 0)
+    {
+      if (!options.Survivors->Keeps(chunk.Triangles, chunk.Normals, chunk.Kept))
+      {
+        return CollapseStatus::Flip;
+      }
+      chunk.Kept = 0;
+    }
+  }
+  return CollapseStatus::Ok;
 }
 
 CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
-  const std::vector<Index>& gathered, const SetScan* scan) const
+  const std::vector<Index>& gathered, const SetScan* scan, SurvivorNormals& normals) const
 {
   // The surviving triangles with the set moved to p, in gathered order (the link test's list
   // when complete).
@@ -602,7 +664,7 @@ CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, con
   {
     for (int i = 0; i < scan->Survivors; ++i)
     {
-      const CollapseStatus status = this->SurvivorGeometry(scan->Survivor[i], scan->Corner[i], p, options);
+      const CollapseStatus status = this->SurvivorGeometry(scan->Survivor[i], scan->Corner[i], p, options, normals);
       if (status != CollapseStatus::Ok)
       {
         return status;
@@ -617,7 +679,7 @@ CollapseStatus EditableMesh::CheckGeometry(const Index* vertices, int count, con
     {
       continue;
     }
-    const CollapseStatus status = this->SurvivorGeometry(t, corner, p, options);
+    const CollapseStatus status = this->SurvivorGeometry(t, corner, p, options, normals);
     if (status != CollapseStatus::Ok)
     {
       return status;
@@ -660,9 +722,11 @@ CollapseStatus EditableMesh::CheckCollapseWith(const Index* vertices, int count,
     }
   }
   this->GatherTriangles(vertices, count, scratch);
+  SurvivorNormals normals;
+  normals.Wanted = options.Survivors != nullptr;
   if (options.GeometryFirst)
   {
-    const CollapseStatus geometry = this->CheckGeometry(vertices, count, p, options, scratch, nullptr);
+    const CollapseStatus geometry = this->CheckGeometry(vertices, count, p, options, scratch, nullptr, normals);
     if (geometry != CollapseStatus::Ok)
     {
       return geometry;
@@ -678,7 +742,15 @@ CollapseStatus EditableMesh::CheckCollapseWith(const Index* vertices, int count,
       return topology;
     }
   }
-  return options.GeometryFirst ? CollapseStatus::Ok : this->CheckGeometry(vertices, count, p, options, scratch, &scan);
+  if (!options.GeometryFirst)
+  {
+    const CollapseStatus geometry = this->CheckGeometry(vertices, count, p, options, scratch, &scan, normals);
+    if (geometry != CollapseStatus::Ok)
+    {
+      return geometry;
+    }
+  }
+  return this->TestSurvivors(vertices, count, p, options, scratch, normals);
 }
 
 CollapseStatus EditableMesh::CheckTopology(const Index* vertices, int count, const CollapseOptions& options,
@@ -760,6 +832,7 @@ bool EditableMesh::AddNextSurvivor(const CollapseOptions& options, SetTrial& tri
     s.OldNormal = Cross(q[1] - q[0], q[2] - q[0]);
     s.OldLength = Norm(s.OldNormal);
     s.OldMinimumAngle = options.MinimumAngle > 0 ? MinimumAngle(q[0], q[1], q[2]) : 0.0;
+    s.Triangle = trial.Gathered[trial.NextGathered - 1];
     s.Corner = corner;
     trial.Survivors.push_back(s);
     return true;
@@ -776,8 +849,8 @@ CollapseStatus EditableMesh::CheckTrial(const Vec3& p, const CollapseOptions& op
   // CheckGeometry's tests, the triangle that failed the last point first, then the others in
   // order (each survivor once: bounded by the gathered triangles).
   const auto test = [&](size_t j) {
-    const SetTrial::Surviving& s = trial.Survivors[j];
-    return MovedCornerStatus(s.Corners, s.Corner, p, s.OldNormal, s.OldLength, s.OldMinimumAngle, options);
+    SetTrial::Surviving& s = trial.Survivors[j];
+    return MovedCornerStatus(s.Corners, s.Corner, p, s.OldNormal, s.OldLength, s.OldMinimumAngle, options, s.NewNormal);
   };
   // (first: none when no survivor is prepared yet)
   const size_t first = trial.FirstTested < trial.Survivors.size() ? trial.FirstTested : trial.Gathered.size();
@@ -805,7 +878,32 @@ CollapseStatus EditableMesh::CheckTrial(const Vec3& p, const CollapseOptions& op
     trial.Fixed = this->CheckTopology(trial.Vertices, trial.Count, options, trial.Gathered, link, scan);
     trial.TopologyKnown = true;
   }
-  return trial.Fixed;
+  return trial.Fixed == CollapseStatus::Ok ? this->TestTrialSurvivors(options, trial) : trial.Fixed;
+}
+
+// The caller's test (options.Survivors) of every survivor at the point CheckTrial just tested (each
+// holds its new area vector from that test), in chunks.
+CollapseStatus EditableMesh::TestTrialSurvivors(const CollapseOptions& options, const SetTrial& trial) const
+{
+  if (!options.Survivors)
+  {
+    return CollapseStatus::Ok;
+  }
+  SurvivorNormals chunk;
+  for (size_t j = 0; j < trial.Survivors.size();)
+  {
+    chunk.Kept = 0;
+    for (; j < trial.Survivors.size() && chunk.Kept < SurvivorNormals::Capacity; ++j)
+    {
+      chunk.Triangles[chunk.Kept] = trial.Survivors[j].Triangle;
+      chunk.Normals[chunk.Kept++] = trial.Survivors[j].NewNormal;
+    }
+    if (!options.Survivors->Keeps(chunk.Triangles, chunk.Normals, chunk.Kept))
+    {
+      return CollapseStatus::Flip;
+    }
+  }
+  return CollapseStatus::Ok;
 }
 
 void EditableMesh::Collapse(const Index* vertices, int count, Index kept, const Vec3& p, CollapseRecord* record)

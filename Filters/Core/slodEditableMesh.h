@@ -22,6 +22,21 @@
 
 namespace slod
 {
+// A caller's own test of the triangles that survive a collapse (CollapseOptions::Survivors), given
+// their new area vectors (the set's corner moved to the point), which the geometric check computes
+// anyway: a caller that tests them against data of its own (the collapse hierarchy's orientation
+// against M0) need not walk the set's triangles and compute them again. Asked last, once every
+// other test passed (the caller's data are often cold where the mesh's are warm), with the
+// survivors in chunks; the checks may run concurrently (const, no state).
+class SURFACELODFILTERS_EXPORT SurvivorTest
+{
+public:
+  virtual ~SurvivorTest() = default;
+  // Whether the n surviving triangles may take their new area vectors (unnormalised, as the flip
+  // test computed them); false rejects the collapse with CollapseStatus::Flip.
+  virtual bool Keeps(const Index* triangles, const Vec3* newAreaVectors, int n) const = 0;
+};
+
 struct SURFACELODFILTERS_EXPORT CollapseOptions
 {
   // Reject when a surviving triangle's unit normal turns so that dot(old, new) < this.
@@ -48,6 +63,8 @@ struct SURFACELODFILTERS_EXPORT CollapseOptions
   // geometric status, so callers that act on a geometric rejection (alternative placements) keep
   // it off.
   bool GeometryFirst = false;
+  // Optional: the caller's test of the surviving triangles, after the others (see SurvivorTest).
+  const SurvivorTest* Survivors = nullptr;
 };
 
 enum class CollapseStatus
@@ -226,7 +243,9 @@ public:
     {
       Vec3 Corners[3];
       Vec3 OldNormal;
+      Vec3 NewNormal; // at the point tested last (CollapseOptions::Survivors)
       double OldLength, OldMinimumAngle;
+      Index Triangle;
       int Corner; // the set's vertex
     };
     std::vector<Index> Gathered;
@@ -337,9 +356,15 @@ private:
     const std::vector<Index>& gathered, const SetScan& scan) const;
   // Whether the vertex outside the set of triangle t (which holds two of the set) loses all its triangles.
   bool LosesAllTriangles(Index t, const Index* vertices, int count, const CollapseOptions& options) const;
+  // The survivors' new area vectors kept by CheckGeometry for options.Survivors (on the stack).
+  struct SurvivorNormals;
   CollapseStatus CheckGeometry(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
-    const std::vector<Index>& gathered, const SetScan* scan) const;
-  CollapseStatus SurvivorGeometry(Index t, int corner, const Vec3& p, const CollapseOptions& options) const;
+    const std::vector<Index>& gathered, const SetScan* scan, SurvivorNormals& normals) const;
+  CollapseStatus SurvivorGeometry(
+    Index t, int corner, const Vec3& p, const CollapseOptions& options, SurvivorNormals& normals) const;
+  CollapseStatus TestSurvivors(const Index* vertices, int count, const Vec3& p, const CollapseOptions& options,
+    const std::vector<Index>& gathered, const SurvivorNormals& normals) const;
+  CollapseStatus TestTrialSurvivors(const CollapseOptions& options, const SetTrial& trial) const;
 
   std::vector<double> Points;
   std::vector<Index> Triangles;

@@ -1098,7 +1098,8 @@ void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
   });
 }
 
-int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements[3], bool cheapestOnly) const
+int CollapseHierarchy::EdgePlacements(
+  Index u, Index v, EdgePlacement placements[3], bool cheapestOnly, const Vec3* optimum) const
 {
   const OwnQuadric own[2] = { this->OwnQuadricOf(u), this->OwnQuadricOf(v) };
   Quadric q = *own[0].Planes;
@@ -1117,7 +1118,7 @@ int CollapseHierarchy::EdgePlacements(Index u, Index v, EdgePlacement placements
     placements[n++] = { sum >= 0 ? this->WithVertexTerm(own, 2, sum, p) : this->CollapseError(own, 2, q, p), p, kind };
     cheapest = std::min(cheapest, placements[n - 1].Error);
   };
-  if (EdgeOptimum(q, pu, pv, best))
+  if (optimum ? (best = *optimum, true) : EdgeOptimum(q, pu, pv, best))
   {
     place(best, 0);
   }
@@ -1380,53 +1381,38 @@ void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
 }
 
 // ---------------------------------------------------------------------------------------------
-// The per-collapse flip guard bounds each turn; this bounds the accumulated one: no surviving
-// triangle may end up facing away from the M0 triangle it descends from.
-bool CollapseHierarchy::KeepsOrientation(Index t, const Vec3& p) const
+// The orientation test (see the header). M0's triangles and their points are cold (the mesh's are
+// warm from the check): their loads are started for all the survivors' triangles, then for a
+// chunk's points at once, and each test waits on one of them (one after the other, the misses
+// were a sixteenth of the build on mc1m).
+bool CollapseHierarchy::OrientationTest::Keeps(const Index* triangles, const Vec3* newAreaVectors, int n) const
 {
-  return this->KeepsOrientation(this->Mesh.Triangle(t), 3, p);
-}
-
-bool CollapseHierarchy::KeepsOrientation(const Index* vertices, int count, const Vec3& p) const
-{
-  const EditableMesh& m = this->Mesh;
-  // M0's triangles and their points are cold (the mesh's are warm from the collapse check): their
-  // loads are started for a fan's worth of triangles at once, then each test waits on one of them
-  // (one after the other, the misses were a sixteenth of the build on mc1m).
-  constexpr int Batch = 16;
-  Index ids[Batch];
-  int corners[Batch];
-  int n = 0;
-  bool ok = true;
-  const auto test = [&]() {
-    for (int i = 0; i < n; ++i)
+  const CollapseHierarchy& h = *this->Hierarchy;
+  for (int i = 0; i < n; ++i)
+  {
+    __builtin_prefetch(&h.Base.Triangles[3 * size_t(triangles[i])]);
+  }
+  constexpr int Chunk = 16;
+  for (int first = 0; first < n; first += Chunk)
+  {
+    const int last = std::min(n, first + Chunk);
+    for (int i = first; i < last; ++i)
     {
-      const Index* b = &this->Base.Triangles[3 * size_t(ids[i])];
+      const Index* b = &h.Base.Triangles[3 * size_t(triangles[i])];
       for (int j = 0; j < 3; ++j)
       {
-        this->BasePoints.Prefetch(b[j]);
+        h.BasePoints.Prefetch(b[j]);
       }
     }
-    for (int i = 0; i < n && ok; ++i)
+    for (int i = first; i < last; ++i)
     {
-      const Index* o = m.Triangle(ids[i]);
-      Vec3 q[3] = { m.Point(o[0]), m.Point(o[1]), m.Point(o[2]) };
-      q[corners[i]] = p;
-      ok = Dot(Cross(q[1] - q[0], q[2] - q[0]), this->BaseAreaVector(ids[i])) > 0;
+      if (!(Dot(newAreaVectors[i], h.BaseAreaVector(triangles[i])) > 0))
+      {
+        return false;
+      }
     }
-    n = 0;
-  };
-  m.ForEachSurvivingTriangle(vertices, count, [&](Index x, int corner) {
-    __builtin_prefetch(&this->Base.Triangles[3 * size_t(x)]);
-    ids[n] = x;
-    corners[n] = corner;
-    if (++n == Batch)
-    {
-      test();
-    }
-  });
-  test();
-  return ok;
+  }
+  return true;
 }
 
 void CollapseHierarchy::ApplyCollapse(Index t, const Index* vertices, int count, const Vec3& p)
@@ -1744,10 +1730,10 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     EditableMesh::SetTrial& trial = scratch.EdgeTrials[k];
     if (!((prepared >> k) & 1))
     {
-      m.PrepareTrial(vertices, 2, this->MeshOptions, trial);
+      m.PrepareTrial(vertices, 2, this->ChoiceOptions, trial);
       prepared |= 1 << k;
     }
-    return m.CheckTrial(p, this->MeshOptions, trial, scratch.OwnMarks());
+    return m.CheckTrial(p, this->ChoiceOptions, trial, scratch.OwnMarks());
   };
   // Most of the time the cheapest candidate, known from the evaluation, passes: the other eight
   // need not be computed (one eigen decomposition instead of three).
@@ -1759,9 +1745,9 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     // cost 2% more instructions on bunny00.)
     const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
     EditableMesh::CheckScratch* own = scratch.OwnMarks();
-    const CollapseStatus status = own ? m.CheckCollapse(vertices, 2, point, this->MeshOptions, *own)
-                                      : m.CheckCollapse(vertices, 2, point, this->MeshOptions);
-    if (status == CollapseStatus::Ok && this->KeepsOrientation(vertices, 2, point))
+    const CollapseStatus status = own ? m.CheckCollapse(vertices, 2, point, this->ChoiceOptions, *own)
+                                      : m.CheckCollapse(vertices, 2, point, this->ChoiceOptions);
+    if (status == CollapseStatus::Ok)
     {
       return true;
     }
@@ -1777,24 +1763,45 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   };
   Candidate candidates[9];
   int n = 0;
-  for (int k = 0; k < 3; ++k)
+  // The known edge's candidates are not computed when its check failed for every point (they would
+  // be skipped below): the sort, an insertion sort for 9 or fewer and so stable, then gives the
+  // others in the same order, since none of them is a NaN (a known cheapest means none of the
+  // triangle's edge errors was; checked all the same: with one, all are computed again). Else its
+  // quadric point is the known one (the same EdgeOptimum of the same quadric and ends).
+  const bool knownFailed = known && ((failsEverywhere >> edge) & 1);
+  const Vec3 knownPoint = point;
+  const bool knownOptimum = known && this->Evaluations[this->Row(t)].CheapestEdge.Kind == 0;
+  bool excluded = false; // (the known edge's candidates left out)
+  for (int pass = knownFailed ? 0 : 1; pass < 2; ++pass) // (pass 0: without the known edge)
   {
-    const Index u = tri[k], v = tri[(k + 1) % 3];
-    if (this->Degree(u) > HubValence || this->Degree(v) > HubValence)
+    n = 0;
+    bool nan = false;
+    for (int k = 0; k < 3; ++k)
     {
-      continue; // a hub's checks would cost its valence (see HubMask)
+      const Index u = tri[k], v = tri[(k + 1) % 3];
+      if ((pass == 0 && k == edge) || this->Degree(u) > HubValence || this->Degree(v) > HubValence)
+      {
+        continue; // (a hub's checks would cost its valence: see HubMask)
+      }
+      EdgePlacement placements[3];
+      const int count = this->EdgePlacements(u, v, placements, false, knownOptimum && k == edge ? &knownPoint : nullptr);
+      for (int i = 0; i < count; ++i)
+      {
+        nan = nan || std::isnan(placements[i].Error);
+        candidates[n++] = { placements[i].Error, k, placements[i].Point };
+      }
     }
-    EdgePlacement placements[3];
-    const int count = this->EdgePlacements(u, v, placements);
-    for (int i = 0; i < count; ++i)
+    excluded = pass == 0;
+    if (!(nan && excluded))
     {
-      candidates[n++] = { placements[i].Error, k, placements[i].Point };
+      break;
     }
   }
   std::sort(candidates, candidates + n, [](const Candidate& a, const Candidate& b) {
     return a.Error < b.Error || (a.Error == b.Error && a.Edge < b.Edge);
   });
-  for (int i = known ? 1 : 0; i < n; ++i) // (the known cheapest is the first: it failed above)
+  // (The known cheapest, when in the list, is the first: it failed above.)
+  for (int i = known && !excluded ? 1 : 0; i < n; ++i)
   {
     const int k = candidates[i].Edge;
     if ((failsEverywhere >> k) & 1)
@@ -1803,7 +1810,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     }
     const Index vertices[2] = { tri[k], tri[(k + 1) % 3] };
     const CollapseStatus status = checked(vertices, candidates[i].Point);
-    if (status == CollapseStatus::Ok && this->KeepsOrientation(vertices, 2, candidates[i].Point))
+    if (status == CollapseStatus::Ok)
     {
       edge = k;
       point = candidates[i].Point;
@@ -2442,6 +2449,9 @@ void CollapseHierarchy::Reset(TriangleMesh&& input, std::vector<unsigned char>&&
     this->OnBorder[v] = this->Mesh.IsBoundaryVertex(v) ? 1 : 0;
   }
   this->MeshOptions.BoundaryVertices = this->OnBorder.data();
+  this->Orientation.Hierarchy = this;
+  this->ChoiceOptions = this->MeshOptions;
+  this->ChoiceOptions.Survivors = &this->Orientation;
   this->ChangeCounter = 0;
 }
 
@@ -3279,9 +3289,8 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Cho
   {
     point = this->PointOf(t);
   }
-  if (scratch.Stencils.CheckCollapsible(this->Mesh, scratch.Stencil, *point, this->NormalOf(t), &this->MeshOptions,
-        this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok &&
-    this->KeepsOrientation(t, *point))
+  if (scratch.Stencils.CheckCollapsible(this->Mesh, scratch.Stencil, *point, this->NormalOf(t), &this->ChoiceOptions,
+        this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok)
   {
     choice.Point = *point;
     return true;

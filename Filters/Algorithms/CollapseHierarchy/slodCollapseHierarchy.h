@@ -735,13 +735,21 @@ private:
   // The cheapest valid edge collapse of triangle t (edge (tri[k], tri[k+1]) and its point).
   // (scratch: the trials of its edges, and the link marks, OwnMarks)
   bool FindEdgeCollapse(Index t, int& edge, Vec3& point, double& error, ChoiceScratch& scratch) const;
-  bool KeepsOrientation(const Index* vertices, int count, const Vec3& p) const;
+  // The per-collapse flip guard bounds each turn; this bounds the accumulated one: no surviving
+  // triangle may end up facing away from the M0 triangle it descends from. Asked by the mesh's
+  // check (ChoiceOptions) once its other tests passed, with the new area vectors its flip test
+  // computed.
+  struct OrientationTest final : SurvivorTest
+  {
+    const CollapseHierarchy* Hierarchy = nullptr;
+    bool Keeps(const Index* triangles, const Vec3* newAreaVectors, int n) const override;
+  };
+  OrientationTest Orientation;
   // Swaps the edges blocking vertex q (valence 3 or 4); returns the number of swaps.
   int SwapAround(Index q, double minimumDot, std::vector<Index>& touched);
   void RecordFlip(const FlipRecord& flip);
   void LockNonManifoldVertices(std::vector<unsigned char>&& given);
   int BuildsWithGivenFlags = 0;
-  bool KeepsOrientation(Index t, const Vec3& p) const;
 
   CollapseHierarchyParameters Parameters;
   // M0: its triangles in Base (whose points are moved out at Reset) and its points in BasePoints,
@@ -895,6 +903,8 @@ private:
   TriangleStencil Stencil;
   CollapseRecord Record;
   CollapseOptions MeshOptions;
+  // MeshOptions with the orientation test (Orientation): the selection's checks (set by Reset).
+  CollapseOptions ChoiceOptions;
   // Vertices of non-manifold edges and pinched vertices of M0: never collapsed, so that such an
   // edge stays one edge with all its sheets (MeshOptions.LockedVertices points here).
   std::vector<unsigned char> LockedVertices;
@@ -1039,7 +1049,9 @@ private:
   // placement before it keeps that sum as its Error, a bound (EndPointAboveCheapest): the same
   // CheapestPlacement and the same ties, without its vertex term. Else every Error is exact (the
   // selection sorts them).
-  int EdgePlacements(Index u, Index v, EdgePlacement placements[3], bool cheapestOnly = false) const;
+  // (optimum: the edge's quadric point when the caller has it, EdgeOptimum's of the same edge)
+  int EdgePlacements(
+    Index u, Index v, EdgePlacement placements[3], bool cheapestOnly = false, const Vec3* optimum = nullptr) const;
   bool EndPointAboveCheapest(const Quadric& q, const Vec3& p, double cheapest, double& sum) const;
   static EdgeCost CheapestPlacement(const EdgePlacement* placements, int n);
   void VerifyPricing(Index u, Index v, const EdgePlacement* placements, int n) const;

@@ -1353,6 +1353,30 @@ TEST(EditableMesh, WithoutVertexLinkMarksTheAnswersAreTheSame)
   }
 }
 
+namespace
+{
+// f(t, edge, u, v) for each edge (tri[k], tri[k + 1]) of every live triangle t, u and v its ends'
+// points; then g(t, tri) for the triangle itself.
+template <typename EdgeFunctor, typename TriangleFunctor>
+void ForEachLiveEdgeAndTriangle(const EditableMesh& mesh, EdgeFunctor&& f, TriangleFunctor&& g)
+{
+  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    if (!mesh.IsTriangleAlive(t))
+    {
+      continue;
+    }
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
+      f(t, k, edge, mesh.Point(edge[0]), mesh.Point(edge[1]));
+    }
+    g(t, tri);
+  }
+}
+} // namespace
+
 // A set prepared once and checked at several points (the hierarchy's FindEdgeCollapse tries up to
 // three per edge) is accepted at exactly the points CheckCollapse accepts, with the mesh's marks
 // and with a scratch's; the points include flips (beyond an end), degenerate ones and valid ones.
@@ -1372,17 +1396,9 @@ TEST(EditableMesh, SetTrialAcceptsWhereCheckCollapseDoesAtEveryPoint)
       EditableMesh::CheckScratch scratch;
       std::map<CollapseStatus, size_t> seen;
       size_t agreements = 0;
-      for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-      {
-        if (!mesh.IsTriangleAlive(t))
-        {
-          continue;
-        }
-        const Index* tri = mesh.Triangle(t);
-        for (int k = 0; k < 3; ++k)
-        {
-          const Index edge[2] = { tri[k], tri[(k + 1) % 3] };
-          const Vec3 u = mesh.Point(edge[0]), v = mesh.Point(edge[1]);
+      ForEachLiveEdgeAndTriangle(
+        mesh,
+        [&](Index t, int k, const Index* edge, const Vec3& u, const Vec3& v) {
           const Vec3 points[5] = { u + 2.5 * (v - u), 0.5 * (u + v), u, v, u - 1.5 * (v - u) };
           mesh.PrepareTrial(edge, 2, options, trial);
           for (const Vec3& p : points)
@@ -1396,8 +1412,8 @@ TEST(EditableMesh, SetTrialAcceptsWhereCheckCollapseDoesAtEveryPoint)
             ++seen[expected];
             ++agreements;
           }
-        }
-      }
+        },
+        [](Index, const Index*) {});
       EXPECT_GT(agreements, 1000u);
       EXPECT_GT(seen[CollapseStatus::Ok], agreements / 10); // accepted points
       EXPECT_GT(seen[CollapseStatus::Flip], 20u);           // refused by the geometry
@@ -1407,6 +1423,127 @@ TEST(EditableMesh, SetTrialAcceptsWhereCheckCollapseDoesAtEveryPoint)
       }
     }
   }
+}
+
+// Session 42 (issue 12): a caller's SurvivorTest (the collapse hierarchy's orientation against M0)
+// is asked last, only when every other test of the check passed, once per surviving triangle, with
+// the area vector of that triangle with its corner moved to the point, bit for bit as computed here;
+// its refusal makes the check answer Flip, and it changes no other answer. The same through
+// PrepareTrial / CheckTrial. Every edge (three points) and triangle (centroid) of a noisy scan
+// isosurface, a torus and a sphere whose poles have 64 triangles (more survivors than a chunk:
+// the vectors are then computed again), with the geometry first and last.
+namespace
+{
+struct RecordingSurvivorTest final : SurvivorTest
+{
+  bool Accept = true;
+  mutable int Calls = 0;
+  mutable std::vector<std::pair<Index, Vec3>> Asked;
+  bool Keeps(const Index* triangles, const Vec3* vectors, int n) const override
+  {
+    ++this->Calls;
+    for (int i = 0; i < n; ++i)
+    {
+      this->Asked.emplace_back(triangles[i], vectors[i]);
+    }
+    return this->Accept;
+  }
+  std::vector<std::pair<Index, Vec3>> Sorted() const
+  {
+    std::vector<std::pair<Index, Vec3>> asked = this->Asked;
+    std::sort(asked.begin(), asked.end());
+    return asked;
+  }
+  void Clear() const
+  {
+    this->Calls = 0;
+    this->Asked.clear();
+  }
+};
+
+// The survivors of merging the set at p with their moved area vectors, sorted.
+std::vector<std::pair<Index, Vec3>> MovedSurvivors(const EditableMesh& mesh, const Index* set, int count, const Vec3& p)
+{
+  std::vector<std::pair<Index, Vec3>> survivors;
+  mesh.ForEachSurvivingTriangle(set, count, [&](Index t, int corner) {
+    const Index* tri = mesh.Triangle(t);
+    Vec3 q[3] = { mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]) };
+    q[corner] = p;
+    survivors.emplace_back(t, Cross(q[1] - q[0], q[2] - q[0]));
+  });
+  std::sort(survivors.begin(), survivors.end());
+  return survivors;
+}
+} // namespace
+
+TEST(EditableMesh, SurvivorTestIsAskedLastWithEachSurvivorsMovedAreaVector)
+{
+  const TriangleMesh inputs[3] = { ToTriangleMesh(NoisyScanIsosurface(30, 7)), Torus(40, 16), Sphere(64, 64) };
+  size_t asked = 0, refusedBefore = 0, overChunk = 0, trialsAsked = 0;
+  for (const TriangleMesh& input : inputs)
+  {
+    EditableMesh mesh(input);
+    CollapseTrianglesGreedily(mesh, input.NumberOfTriangles() / 20);
+    std::vector<unsigned char> border(size_t(mesh.NumberOfPoints()));
+    for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+    {
+      border[size_t(v)] = mesh.IsVertexAlive(v) && mesh.IsBoundaryVertex(v) ? 1 : 0;
+    }
+    for (const bool geometryFirst : { false, true })
+    {
+      CollapseOptions plain;
+      plain.MinimumNormalDot = 0.2;
+      plain.GeometryFirst = geometryFirst;
+      plain.BoundaryVertices = border.data();
+      RecordingSurvivorTest accepting, refusing;
+      refusing.Accept = false;
+      CollapseOptions accept = plain, refuse = plain;
+      accept.Survivors = &accepting;
+      refuse.Survivors = &refusing;
+      const auto check = [&](const Index* set, int count, const Vec3& p) {
+        const CollapseStatus expected = mesh.CheckCollapse(set, count, p, plain);
+        accepting.Clear();
+        ASSERT_EQ(mesh.CheckCollapse(set, count, p, accept), expected);
+        if (expected != CollapseStatus::Ok)
+        {
+          ASSERT_EQ(accepting.Calls, 0) << ToString(expected); // (refused before it)
+          ++refusedBefore;
+        }
+        else
+        {
+          const std::vector<std::pair<Index, Vec3>> survivors = MovedSurvivors(mesh, set, count, p);
+          ASSERT_EQ(accepting.Sorted(), survivors);
+          overChunk += survivors.size() > 32 ? 1 : 0;
+          ++asked;
+        }
+        ASSERT_EQ(mesh.CheckCollapse(set, count, p, refuse), expected == CollapseStatus::Ok ? CollapseStatus::Flip : expected);
+      };
+      EditableMesh::SetTrial trial;
+      ForEachLiveEdgeAndTriangle(
+        mesh,
+        [&](Index, int, const Index* edge, const Vec3& u, const Vec3& v) {
+          mesh.PrepareTrial(edge, 2, accept, trial);
+          for (const Vec3& p : { 0.5 * (u + v), u, u - 1.5 * (v - u) })
+          {
+            check(edge, 2, p);
+            const CollapseStatus expected = mesh.CheckCollapse(edge, 2, p, plain);
+            accepting.Clear();
+            ASSERT_EQ(mesh.CheckTrial(p, accept, trial, nullptr) == CollapseStatus::Ok, expected == CollapseStatus::Ok);
+            const std::vector<std::pair<Index, Vec3>> none, survivors =
+              expected == CollapseStatus::Ok ? MovedSurvivors(mesh, edge, 2, p) : none;
+            ASSERT_EQ(accepting.Sorted(), survivors);
+            trialsAsked += accepting.Calls > 0 ? 1 : 0;
+          }
+        },
+        [&](Index, const Index* tri) {
+          check(tri, 3, (1.0 / 3) * (mesh.Point(tri[0]) + mesh.Point(tri[1]) + mesh.Point(tri[2])));
+        });
+    }
+  }
+  EXPECT_GT(asked, 10000u);        // passed every other test
+  EXPECT_GT(refusedBefore, 10000u); // refused by another test: not asked
+  EXPECT_GT(overChunk, 10u);       // the poles' edges: the vectors computed again
+  EXPECT_GT(trialsAsked, 10000u);
 }
 
 // Session 28: GroupByKey (the adjacency lists of the preparation stages, in parallel) gives the
