@@ -799,6 +799,7 @@ slod::SpbmLevelParameters vtkPatchBoundaryMerge::Cache::LevelParameters(vtkPatch
   level.SizeWeightedMerge = self->SizeWeightedMerge;
   level.MinimumDeviationTriangulation = self->MinimumDeviationTriangulation;
   level.FinalCollapsesFollow = self->FinalCollapses;
+  level.LateFailureShare = self->LateFailureShare;
   const double thickness = this->ThicknessBound(self, this->Target(self));
   level.MaximumPatchThickness = std::isfinite(thickness) && this->Mesh.BoundingBoxDiagonal() > 0
     ? thickness / this->Mesh.BoundingBoxDiagonal()
@@ -1138,6 +1139,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
      << "\n";
   os << indent << "GeneratePatchColoredInput: " << this->GeneratePatchColoredInput << "\n";
   os << indent << "FinalCollapses: " << this->FinalCollapses << "\n";
+  os << indent << "LateFailureShare: " << this->LateFailureShare << "\n";
   os << indent << "CollapseFinerLevelForTarget: " << this->CollapseFinerLevelForTarget << "\n";
   os << indent << "RefineDeviatingRegions: " << this->RefineDeviatingRegions << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
