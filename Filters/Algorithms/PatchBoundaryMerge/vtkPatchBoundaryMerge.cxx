@@ -991,6 +991,8 @@ int vtkPatchBoundaryMerge::RequestData(
   this->UnmergedPatches = 0;
   this->RefinedPatches = 0;
   this->OriginalPatches = 0;
+  this->GenerationPasses = 0;
+  this->LateOriginalPatches = 0;
   this->FinalCollapseCount = 0;
   this->FinerLevelTried = false;
   this->LevelDeviationShare = -1.0;
@@ -1101,6 +1103,8 @@ int vtkPatchBoundaryMerge::RequestData(
   this->UnmergedPatches = result.UnmergedPatches;
   this->RefinedPatches = result.RefinedPatches;
   this->OriginalPatches = result.OriginalPatches;
+  this->GenerationPasses = result.Passes;
+  this->LateOriginalPatches = result.LateOriginalPatches;
   this->UpdateProgress(0.9);
 
   // 3. Outputs over the original vertices that are used.

@@ -304,6 +304,10 @@ public:
   vtkGetMacro(UnmergedPatches, vtkIdType);
   vtkGetMacro(RefinedPatches, vtkIdType);
   vtkGetMacro(OriginalPatches, vtkIdType);
+  // The output level's generation passes (1 without fallback) and the input patches its late
+  // passes sent from merged to original triangles (LateFailureShare).
+  vtkGetMacro(GenerationPasses, int);
+  vtkGetMacro(LateOriginalPatches, vtkIdType);
   vtkGetMacro(FinalCollapseCount, vtkIdType);     // FinalCollapses performed
   vtkGetMacro(FinerLevelTried, bool);             // CollapseFinerLevelForTarget made its level
   vtkGetMacro(LevelDeviationShare, double);       // of the target's level, over the bound as given
@@ -361,6 +365,8 @@ protected:
   vtkIdType UnmergedPatches = 0;
   vtkIdType RefinedPatches = 0;
   vtkIdType OriginalPatches = 0;
+  int GenerationPasses = 0;
+  vtkIdType LateOriginalPatches = 0;
   vtkIdType FinalCollapseCount = 0;
   bool FinerLevelTried = false;
   double LevelDeviationShare = -1.0;
