@@ -159,6 +159,16 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // The target search then also stops at RemovalMergeAngle when the removal there stops more than
   // a quarter above the target (no merging run at 90 degrees: see TargetSearch::ReachWithRemoval).
   bool FinalCollapsesFollow = false;
+  // With FinalCollapsesFollow (session 42, issue 10): a pass whose failed root patches that another
+  // pass can change are at most this share of the input patches is a late pass, and its failed
+  // patches go straight to their original triangles, merged ones included, instead of through the
+  // unmerged level. The fallback passes end when no failure is left to change (a fixed point), and
+  // the failures shrink about fourfold per pass from a number proportional to the input: without a
+  // share the tail of a handful of patches took 2 more whole-level passes at 4M than at 1M triangles
+  // (noisy scans); with it, the pass that leaves few failures (relative to n) is followed by one
+  // more. 0: off (every failure goes one level further per pass); vtkPatchBoundaryMerge sets
+  // its LateFailureShare.
+  double LateFailureShare = 0;
   // A patch that fails to triangulate (not unmerged yet) first keeps one more boundary vertex (the
   // hidden chain vertex farthest from its kept segment, else one hidden by a chain segment
   // elsewhere that joins two of its corners) and the patches on both sides of that chain are
@@ -251,6 +261,10 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   // the number of passes.
   long long WorkspaceAllocations = 0;
   Index FailedPatches = 0;      // root patches that went to a fallback level, summed over the passes
+  // Per pass, the failed root patches that a further pass can change (an input patch of theirs
+  // below the original level): the generation's fixed-point test (another pass while one is left).
+  std::vector<Index> ChangeableFailures;
+  Index LateOriginalPatches = 0; // input patches a late pass sent from merged to original (LateFailureShare)
   Index RefinedInPass = 0;      // vertices kept by FailedPatchRefinementRounds, summed over the passes
   Index RetriangulatedPatches = 0; // root patches triangulated from their boundary in the passes after the first
   Index ContextsCompared = 0; // unchanged root patches whose edge context the passes after the first computed

@@ -1276,6 +1276,15 @@ bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<uns
   const bool collapsesFollow = parameters.FinalCollapsesFollow && parameters.RemovalTarget > 0 &&
     s.Total > parameters.RemovalTarget + SpbmFinalCollapseTolerance(parameters.RemovalTarget);
   const bool straightToOriginal = fullResolution || collapsesFollow;
+  // A late pass (LateFailureShare): its few failures relative to the input go to their original
+  // triangles at once. Through the unmerged level each would need a further whole-level pass or
+  // two when it or a patch re-merged next to it fails again, and the passes' cost is the level's.
+  const Index changeableFailures = this->CountChangeableFailures(frozen);
+  level.ChangeableFailures.push_back(changeableFailures);
+  const bool late = straightToOriginal && changeableFailures > 0 &&
+    double(changeableFailures) <= parameters.LateFailureShare * double(np);
+  vtkLogF(TRACE, "[spbm] pass %d: %d failed patches can change%s", int(level.ChangeableFailures.size()),
+    int(changeableFailures), late ? " (late pass: to their original triangles)" : "");
   // Every failed patch goes one level further per pass; the passes in which none of them keeps a
   // vertex more (or is unmerged) would repeat this one, so they are skipped: the level is the same.
   int step = parameters.SkipIneffectiveFallbackLevels ? OriginalLevel : 1;
@@ -1296,11 +1305,30 @@ bool SpbmLevelGenerator::LevelTriangulation::FreezeFailedPatches(std::vector<uns
     if (failed[s.Find(q)] && frozen[q] < OriginalLevel)
     {
       unmerged = unmerged || frozen[q] == 0;
-      frozen[q] = straightToOriginal && frozen[q] >= 1 ? OriginalLevel : std::min(OriginalLevel, frozen[q] + step);
+      level.LateOriginalPatches += late && frozen[q] == 0;
+      frozen[q] = late || (straightToOriginal && frozen[q] >= 1) ? OriginalLevel : std::min(OriginalLevel, frozen[q] + step);
       anyFailed = true;
     }
   }
   return anyFailed;
+}
+
+// The failed root patches of the last pass that a further pass can change: those with an input
+// patch below the original level (an original patch's triangles are the input's already).
+Index SpbmLevelGenerator::LevelTriangulation::CountChangeableFailures(const std::vector<unsigned char>& frozen)
+{
+  changeable.assign(size_t(np), 0);
+  Index count = 0;
+  for (Index q = 0; q < np; ++q)
+  {
+    const Index root = s.Find(q);
+    if (failed[root] && frozen[q] < OriginalLevel && !changeable[root])
+    {
+      changeable[root] = 1;
+      ++count;
+    }
+  }
+  return count;
 }
 
 // The next fallback level of unmerged patch q that makes one of its chains keep more vertices

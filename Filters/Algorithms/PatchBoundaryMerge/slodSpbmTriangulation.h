@@ -84,6 +84,7 @@ private:
   MinimumCostTriangulationOptions MinimumDeviationOptions(const Index* corner, CostBitsOf&& costBits) const;
   void TriangulateMinimumDeviation(const Vec3& normal, PolygonTriangulationResult& result);
   int NextEffectiveLevel(Index q, const std::vector<unsigned char>& frozen) const;
+  Index CountChangeableFailures(const std::vector<unsigned char>& frozen);
 
   SpbmLevelGenerator& generator;
   const SpbmLevelParameters& parameters;
@@ -104,6 +105,7 @@ private:
   std::vector<unsigned char> failed;
   std::vector<unsigned char> refinedVertex; // per mesh vertex: kept by RefineFailedPatches (all passes)
   std::vector<Index> affected;               // RefineFailedPatches: patches to triangulate again
+  std::vector<unsigned char> changeable;     // CountChangeableFailures: per root, counted already
   // The pass before (LocalFallbackTriangulation): per patch of the patchification its root and
   // fallback level, per root whether it failed, per chain whether it was alive and its kept vertices
   // (previousKept[previousKeptStart[c], previousKeptStart[c + 1])), the triangles of each root

@@ -799,6 +799,7 @@ slod::SpbmLevelParameters vtkPatchBoundaryMerge::Cache::LevelParameters(vtkPatch
   level.SizeWeightedMerge = self->SizeWeightedMerge;
   level.MinimumDeviationTriangulation = self->MinimumDeviationTriangulation;
   level.FinalCollapsesFollow = self->FinalCollapses;
+  level.LateFailureShare = self->LateFailureShare;
   const double thickness = this->ThicknessBound(self, this->Target(self));
   level.MaximumPatchThickness = std::isfinite(thickness) && this->Mesh.BoundingBoxDiagonal() > 0
     ? thickness / this->Mesh.BoundingBoxDiagonal()
@@ -990,6 +991,8 @@ int vtkPatchBoundaryMerge::RequestData(
   this->UnmergedPatches = 0;
   this->RefinedPatches = 0;
   this->OriginalPatches = 0;
+  this->GenerationPasses = 0;
+  this->LateOriginalPatches = 0;
   this->FinalCollapseCount = 0;
   this->FinerLevelTried = false;
   this->LevelDeviationShare = -1.0;
@@ -1100,6 +1103,8 @@ int vtkPatchBoundaryMerge::RequestData(
   this->UnmergedPatches = result.UnmergedPatches;
   this->RefinedPatches = result.RefinedPatches;
   this->OriginalPatches = result.OriginalPatches;
+  this->GenerationPasses = result.Passes;
+  this->LateOriginalPatches = result.LateOriginalPatches;
   this->UpdateProgress(0.9);
 
   // 3. Outputs over the original vertices that are used.
@@ -1138,6 +1143,7 @@ void vtkPatchBoundaryMerge::PrintSelf(ostream& os, vtkIndent indent)
      << "\n";
   os << indent << "GeneratePatchColoredInput: " << this->GeneratePatchColoredInput << "\n";
   os << indent << "FinalCollapses: " << this->FinalCollapses << "\n";
+  os << indent << "LateFailureShare: " << this->LateFailureShare << "\n";
   os << indent << "CollapseFinerLevelForTarget: " << this->CollapseFinerLevelForTarget << "\n";
   os << indent << "RefineDeviatingRegions: " << this->RefineDeviatingRegions << "\n";
   os << indent << "NumberOfPatches: " << this->NumberOfPatches << "\n";
