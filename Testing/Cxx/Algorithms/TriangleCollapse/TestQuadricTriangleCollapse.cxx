@@ -1292,6 +1292,65 @@ TEST(QuadricTriangleCollapse, BatchEntriesThatLoseTheirClaimsAreNotPlaced)
   EXPECT_EQ(strict.RanEntries, strict.SelectedEntries);
 }
 
+// Session 42: on one thread (or for a batch of one task) the claims are made in selection order,
+// so each entry learns from its own walk whether an earlier entry holds a vertex of its ring: every
+// entry's ring is walked at most once (concurrent claims need a second walk, the holders' check).
+// Every batch is formed here (BatchMinimumSize 1). The same selection and output for 1, 2 and 8
+// threads; on more threads the larger batches claim concurrently, so they walk more.
+TEST(QuadricTriangleCollapse, BatchClaimsWalkEachRingOnceOnOneThread)
+{
+  vtkSmartPointer<vtkPolyData> input = Mesh("marching-cubes");
+  TriangleCollapseOptions options;
+  options.TargetTriangles = static_cast<Index>(input->GetNumberOfPolys() / 10);
+  options.BatchCollapses = true;
+  options.BatchMinimumSize = 1;
+  const std::vector<TriangleCollapseResult> results = ResultsForOneTwoAndEightThreads(input, options);
+  const TriangleCollapseResult& first = results[0];
+  std::printf("[ring walks] %lld entries, %lld ran, %lld ring walks\n", first.SelectedEntries, first.RanEntries,
+    first.RingWalks);
+  ASSERT_GT(first.SelectedEntries - first.RanEntries, 0) << "no entry lost its claims: the test needs overlapping batches";
+  EXPECT_GT(first.RingWalks, 0);
+  EXPECT_LE(first.RingWalks, first.SelectedEntries) << "a ring was walked twice on one thread";
+  for (size_t i = 1; i < results.size(); ++i)
+  {
+    EXPECT_GE(results[i].RingWalks, first.RingWalks);
+    EXPECT_EQ(results[i].SelectedEntries, first.SelectedEntries);
+    EXPECT_EQ(results[i].RanEntries, first.RanEntries);
+    EXPECT_EQ(results[i].Mesh.Points, first.Mesh.Points);
+    EXPECT_EQ(results[i].Mesh.Triangles, first.Mesh.Triangles);
+  }
+}
+
+// Session 42: a batch that will hold fewer than BatchMinimumSize entries (counted in the queue
+// within the tolerance, before the batch is formed) is performed as a lone pop, without claims.
+// Against every batch formed (1): some batches are popped alone, fewer rings are walked, and the
+// outputs are the same for 1, 2 and 8 threads.
+TEST(QuadricTriangleCollapse, SmallBatchesArePoppedAlone)
+{
+  vtkSmartPointer<vtkPolyData> input = Mesh("bunny00");
+  TriangleCollapseOptions options;
+  options.TargetTriangles = static_cast<Index>(input->GetNumberOfPolys() / 10);
+  options.BatchCollapses = true;
+  options.BatchMinimumSize = 1;
+  TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+  TriangleCollapseResult every;
+  SimplifyByTriangleCollapse(mesh, options, every);
+  options.BatchMinimumSize = 16;
+  const std::vector<TriangleCollapseResult> results = ResultsForOneTwoAndEightThreads(input, options);
+  const TriangleCollapseResult& first = results[0];
+  std::printf("[small batches] every batch: %lld ring walks; minimum 16: %lld popped alone, %lld ring walks\n",
+    every.RingWalks, first.BatchesPoppedAlone, first.RingWalks);
+  EXPECT_EQ(every.BatchesPoppedAlone, 0);
+  EXPECT_GT(first.BatchesPoppedAlone, 0);
+  EXPECT_LT(first.RingWalks, every.RingWalks);
+  for (size_t i = 1; i < results.size(); ++i)
+  {
+    EXPECT_EQ(results[i].BatchesPoppedAlone, first.BatchesPoppedAlone);
+    EXPECT_EQ(results[i].Mesh.Points, first.Mesh.Points);
+    EXPECT_EQ(results[i].Mesh.Triangles, first.Mesh.Triangles);
+  }
+}
+
 TEST(QuadricTriangleCollapse, PointDataErrorArrayAndFieldData)
 {
   // A linear field f = x + 2y - z is reproduced (up to the clamped barycentric weights).
