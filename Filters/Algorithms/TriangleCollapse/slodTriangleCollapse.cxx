@@ -831,6 +831,8 @@ private:
   // The batch's disjoint collapses and their re-evaluations in parallel, the queue updates after
   // them in selection order (the same output for any thread count).
   bool ParallelApply(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, PhaseClock& clock);
+  template <typename PerformEntry>
+  void SettleInOrder(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more, PerformEntry&& perform);
   size_t SettleForParallel(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more);
   // ParallelApply on the calling thread (CollapseBatch::InOrder): settled and collapsed entry by
   // entry; then the queue updates (QueueInOrder, both ways).
@@ -3493,13 +3495,13 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
   return true;
 }
 
-size_t TriangleCollapser::SettleForParallel(
-  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more)
+template <typename PerformEntry>
+void TriangleCollapser::SettleInOrder(
+  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more, PerformEntry&& perform)
 {
-  // The sequential decisions, in selection order, before any collapse of the batch: the rings
-  // are disjoint, so an entry's outcome does not depend on the collapses before it; the count
-  // target is met by the removals the checks counted. The point data merge here, where the
-  // set's vertices are still in place.
+  // The sequential decisions, in selection order: the rings are disjoint, so an entry's outcome
+  // does not depend on the collapses before it; the count target is met by the removals that
+  // perform(i, kept) gives. The point data merge here, where the set's vertices are in place.
   batch.Order.clear();
   Index live = this->Mesh.NumberOfLiveTriangles();
   more = true;
@@ -3524,13 +3526,21 @@ size_t TriangleCollapser::SettleForParallel(
     {
       continue;
     }
+    const Index kept = *std::min_element(entry.C.Set, entry.C.Set + entry.C.Count);
     if (this->Attributes)
     {
-      this->MergeAttributes(entry.C, *std::min_element(entry.C.Set, entry.C.Set + entry.C.Count));
+      this->MergeAttributes(entry.C, kept);
     }
-    live -= entry.Removes;
+    live -= perform(i, kept);
     batch.Order.push_back(i);
   }
+}
+
+size_t TriangleCollapser::SettleForParallel(
+  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more)
+{
+  // Before any collapse of the batch: the removals are those the checks counted.
+  this->SettleInOrder(batch, loop, result, more, [&](size_t i, Index) { return batch.Entries[i].Removes; });
   return batch.PlaceBlocks();
 }
 
@@ -3644,49 +3654,22 @@ void TriangleCollapser::CollapseInOrder(
   // state and the queue are not theirs), and the blocks appended one after the other lie where
   // the reserved room would have put them (the survivors in order). The live count is then known
   // from each collapse, without counting the removals ahead (EditableMesh::RemovedBy).
-  batch.Order.clear();
   Index removedTriangles = 0, removedVertices = 0;
-  const Index live = this->Mesh.NumberOfLiveTriangles();
-  more = true;
-  for (size_t i = 0; i < batch.Entries.size(); ++i)
-  {
-    BatchEntry& entry = batch.Entries[i];
-    if (!entry.Runs)
-    {
-      continue;
-    }
-    if (!loop.Settling && live - removedTriangles <= loop.Target)
-    {
-      more = false;
-      break;
-    }
-    const Validity validity = this->Settle(entry, loop, result);
-    if (validity == Validity::Invalid)
-    {
-      this->Reject(entry.C, result);
-    }
-    if (validity != Validity::Valid)
-    {
-      continue;
-    }
-    const Candidate& c = entry.C;
-    const Index kept = *std::min_element(c.Set, c.Set + c.Count);
-    if (this->Attributes)
-    {
-      this->MergeAttributes(c, kept);
-    }
+  this->SettleInOrder(batch, loop, result, more, [&](size_t i, Index kept) {
+    const Candidate& c = batch.Entries[i].C;
     if (batch.Performed.size() <= batch.Order.size())
     {
       batch.Performed.resize(batch.Order.size() + 1);
     }
     PerformedCollapse& done = batch.Performed[batch.Order.size()];
-    batch.Order.push_back(i);
     done.Kept = kept;
-    removedTriangles += this->Mesh.CollapseAppending(c.Set, c.Count, kept, c.Position, batch.Gathered[i], done.Record);
+    const Index removed = this->Mesh.CollapseAppending(c.Set, c.Count, kept, c.Position, batch.Gathered[i], done.Record);
+    removedTriangles += removed;
     removedVertices += c.Count - 1;
     this->MergeVertexState(c, kept);
     this->AroundKeys(kept, done.Around, done.Keys, this->Spokes);
-  }
+    return removed;
+  });
   this->Mesh.FinishCollapses(removedTriangles, removedVertices);
 }
 
