@@ -127,10 +127,11 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // and are popped again, and 18 % of the batch loop is sequential).
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
-  // A batch that the queue shows will hold fewer entries than this (a cost beyond the tolerance
-  // among its next pops) is performed as a lone pop, the strict order's path: a batch of up to 16
-  // entries runs its steps as one task on any number of threads, so it only adds its claims and
-  // per-entry bookkeeping (session 42). 1: every batch as selected (session 41's outputs).
+  // A batch that will hold fewer entries than this (the queued costs within the tolerance of its
+  // first, counted before it is formed) is performed as a lone pop, the strict order's path: a
+  // batch of up to 16 entries runs its steps as one task on any number of threads, so it only adds
+  // its claims and per-entry bookkeeping (session 42). 1: every batch as selected (session 41's
+  // outputs).
   int BatchMinimumSize = 16;
   // The strict order prefetches, at each pop, the neighbourhoods of this many more entries of the
   // queue's lowest bucket (pops of the near future), in stages one pop apart; 0: none. Hints

@@ -158,8 +158,9 @@ public:
   vtkBooleanMacro(BatchCollapses, bool);
   vtkSetClampMacro(BatchCostTolerance, double, 0.0, 1.0);
   vtkGetMacro(BatchCostTolerance, double);
-  /// With BatchCollapses: a batch that the queue shows will hold fewer entries than this (default
-  /// 16, the entries one task runs) is performed as a lone pop of the strict order; 1: every batch.
+  /// With BatchCollapses: a batch that will hold fewer entries than this (the queued costs within
+  /// the tolerance, counted before it is formed; default 16, the entries one task runs) is
+  /// performed as a lone pop of the strict order; 1: every batch as selected.
   vtkSetClampMacro(BatchMinimumSize, int, 1, 1024);
   vtkGetMacro(BatchMinimumSize, int);
   ///@}
