@@ -174,6 +174,28 @@ public:
     return n > 0 ? n : 0;
   }
 
+  // How many entries have a key at most `bound` (a finite key), counting up to `limit`: the size
+  // of a selection that pops while the keys stay within the bound (session 42's batches). Reads
+  // only; a bucket too large to scan (served from the back, not in key order) counts as `limit`.
+  int CountAtMost(float bound, int limit) const
+  {
+    int n = 0;
+    const Index last = std::min<Index>(BucketOf(bound), static_cast<Index>(this->Buckets.size()) - 1);
+    for (Index b = this->Lowest; b <= last && n < limit; ++b)
+    {
+      const auto& bucket = this->Buckets[b];
+      if (bucket.size() > size_t(ScanLimit))
+      {
+        return limit;
+      }
+      for (size_t i = 0; i < bucket.size() && n < limit; ++i)
+      {
+        n += bucket[i].K <= bound ? 1 : 0;
+      }
+    }
+    return n < limit ? n : limit;
+  }
+
   // Inserts id or changes its key (key >= 0; NaN is treated as +infinity).
   void Set(Index id, float key)
   {

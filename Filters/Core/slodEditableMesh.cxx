@@ -1000,6 +1000,17 @@ Index EditableMesh::CollapseIntoBlock(const Index* vertices, int count, Index ke
   return removed;
 }
 
+Index EditableMesh::CollapseAppending(const Index* vertices, int count, Index kept, const Vec3& p,
+  const std::vector<Index>& gathered, CollapseRecord& record)
+{
+  // Room for every gathered triangle, trimmed to the survivors written.
+  const Index start = static_cast<Index>(this->Refs.size());
+  this->Refs.resize(this->Refs.size() + gathered.size());
+  const Index removed = this->CollapseIntoBlock(vertices, count, kept, p, gathered, start, record);
+  this->Refs.resize(size_t(start) + size_t(this->RefCount[kept]));
+  return removed;
+}
+
 Index EditableMesh::RemovedBy(const Index* vertices, int count, const std::vector<Index>& gathered) const
 {
   Index removed = 0;

@@ -280,6 +280,11 @@ public:
   Index CollapseIntoBlock(const Index* vertices, int count, Index kept, const Vec3& p,
     const std::vector<Index>& gathered, Index blockStart, CollapseRecord& record);
   void FinishCollapses(Index removedTriangles, Index removedVertices);
+  // CollapseIntoBlock with its block appended at the end of the references (sequential): a batch
+  // performed one collapse after the other gets the layout of ReserveRefs' room without knowing
+  // its survivors beforehand. No compaction until FinishCollapses.
+  Index CollapseAppending(const Index* vertices, int count, Index kept, const Vec3& p,
+    const std::vector<Index>& gathered, CollapseRecord& record);
   // How many of the gathered triangles of the set (CheckCollapse's scratch) a collapse removes.
   Index RemovedBy(const Index* vertices, int count, const std::vector<Index>& gathered) const;
   // The live triangles touching the set, deduplicated, in the order Collapse gathers them (a

@@ -176,6 +176,7 @@ std::vector<Parameter> QuadricTriangleCollapseParameters()
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, ExactUnion),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Bool, BatchCollapses),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, BatchCostTolerance),
+    SLOD_PARAMETER(vtkQuadricTriangleCollapse, Int, BatchMinimumSize),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Int, CollapseSchedule),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, PassGoalShare),
     SLOD_PARAMETER(vtkQuadricTriangleCollapse, Double, PassErrorFactor),

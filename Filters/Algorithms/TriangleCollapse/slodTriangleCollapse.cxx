@@ -107,16 +107,21 @@ struct WindowedFunctor
 // still makes tasks, 77 M instructions of TBB's own over mc250k's 3,336 batches and 205 M over
 // noisy137's 140,427 (4.8 entries each) on one thread (session 41). The functors' results do
 // not depend on how the range is split.
+constexpr vtkIdType BatchGrain = 16;
+inline bool OnCaller(bool oneThread, vtkIdType first, vtkIdType last)
+{
+  return oneThread || last - first <= BatchGrain;
+}
 template <typename Functor>
 void ForEntries(bool oneThread, vtkIdType first, vtkIdType last, Functor& functor)
 {
-  if (oneThread || last - first <= 16)
+  if (OnCaller(oneThread, first, last))
   {
     functor(first, last);
   }
   else
   {
-    vtkSMPTools::For(first, last, 16, functor);
+    vtkSMPTools::For(first, last, BatchGrain, functor);
   }
 }
 constexpr int FitIterations = 2;
@@ -389,6 +394,8 @@ struct CollapseLoop
   bool Settling = false;      // Options.SettleTarget has not given the target yet: Target is not a stop
   long long MaximumPops = 0, Pops = 0, Replaced = 0, Batches = 0, Selected = 0, Ran = 0;
   long long PlacementsDeferred = 0; // entries that lost their claims before their edge was placed
+  long long RingWalks = 0; // TriangleCollapseResult::RingWalks
+  long long LoneBatches = 0; // TriangleCollapseResult::BatchesPoppedAlone
   // Wall time of the batches' phases: select, evaluate, apply; the parallel apply splits the last
   // into its sequential settle, its concurrent collapses and its sequential queue updates.
   // Timed only when TRACE is logged: the clock read costs about 25 ns, four reads per batch, and
@@ -461,6 +468,7 @@ struct BatchEntry
   Vec3 Alternative{ 0, 0, 0 };
   double AlternativeError = 0.0, AlternativeCost = 0.0;
   bool Runs = false; // no earlier entry of the batch overlaps it
+  unsigned char Walks = 0; // walks of its ring by the claims and the holders' check (RingWalks)
   bool Picked = false; // its operation is chosen (PickOperation) and it goes on to the check
   bool PlacementPending = false; // its operation is chosen, its placement waits for FinishPick
   Index Removes = 0, Survives = 0; // triangles the operation removes and keeps (parallel performing)
@@ -507,6 +515,7 @@ struct CollapseBatch
   // batch ran, doubled back when more than half did (AdaptSize).
   size_t Size = 1;
   double CostTolerance = 0.0;
+  size_t MinimumSize = 1; // TriangleCollapseOptions::BatchMinimumSize (1 in the strict order)
   std::vector<BatchEntry> Entries;
   std::vector<float> Keys;
   std::vector<std::uint64_t> Owner;
@@ -525,6 +534,11 @@ struct CollapseBatch
   // entries performed (indices, in selection order) and what each did.
   bool Parallel = false;
   bool OneThread = false; // the SMP backend runs one thread: the steps run without it (ForEntries)
+  // The batch's steps run on the calling thread (one thread, or a batch of one task): the claims
+  // decide Runs in selection order (ClaimRingsFunctor::InOrder), so the evaluation does not walk
+  // the rings again, and the collapses follow their settling in order (CollapseInOrder), so the
+  // checks need not count their removals beforehand (session 42).
+  bool InOrder = false;
   std::vector<std::vector<Index>> Gathered;
   std::vector<size_t> Order;
   std::vector<PerformedCollapse> Performed;
@@ -540,6 +554,11 @@ struct CollapseBatch
   const KeysAhead* LoneKeys = nullptr; // the lone entry's new keys computed ahead (or null)
   std::uint64_t Stamp(size_t entry) const;
   void AdaptSize(size_t ran);
+  // The entries are performed together (ParallelApply, or a pass round), each keeping its set's
+  // triangles from its check; a lone entry of the queue is performed as the strict order's
+  // (ApplyBatch: the same collapse, queue writes and reference layout, without the batch's
+  // per-entry bookkeeping).
+  bool PerformsTogether() const { return this->Parallel && (this->Entries.size() > 1 || this->Passes); }
   // Each entry of Order gets its part of the reference room (Performed[k].Block); returns the room.
   size_t PlaceBlocks();
 };
@@ -777,6 +796,9 @@ private:
   bool FinishPick(BatchEntry& entry) const;
   struct ClaimRingsFunctor;
   void SelectBatch(CollapseLoop& loop, CollapseBatch& batch);
+  // Whether the batch being selected (its first entry popped) will hold fewer than MinimumSize
+  // entries: it is then performed as a lone pop.
+  bool StaysSmall(const CollapseBatch& batch, size_t limit, float bound) const;
   void PrefetchUpcoming(UpcomingPrefetch& ahead) const;
   // picked: PickOperation ran already (batches of more than one entry).
   void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const;
@@ -809,7 +831,13 @@ private:
   // The batch's disjoint collapses and their re-evaluations in parallel, the queue updates after
   // them in selection order (the same output for any thread count).
   bool ParallelApply(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, PhaseClock& clock);
+  template <typename PerformEntry>
+  void SettleInOrder(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more, PerformEntry&& perform);
   size_t SettleForParallel(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more);
+  // ParallelApply on the calling thread (CollapseBatch::InOrder): settled and collapsed entry by
+  // entry; then the queue updates (QueueInOrder, both ways).
+  void CollapseInOrder(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more);
+  bool QueueInOrder(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result);
   struct PerformBatchFunctor;
   void QueuePerformed(const BatchEntry& entry, PerformedCollapse& done, CollapseLoop& loop, TriangleCollapseResult& result);
   void Reject(const Candidate& c, TriangleCollapseResult& result);
@@ -2586,6 +2614,7 @@ void TriangleCollapser::SelectBatch(CollapseLoop& loop, CollapseBatch& batch)
   const Index room = std::max<Index>(1, (this->Mesh.NumberOfLiveTriangles() - loop.Target) / 4);
   const size_t limit = std::min<size_t>(size_t(room), batch.Size);
   float bound = 0.0f;
+  bool alone = false;
   while (batch.Entries.size() < limit && !this->Heap.Empty() && loop.Pops < loop.MaximumPops)
   {
     float key = 0.0f;
@@ -2596,16 +2625,41 @@ void TriangleCollapser::SelectBatch(CollapseLoop& loop, CollapseBatch& batch)
       this->Heap.Set(t, key);
       break;
     }
-    bound = batch.Entries.empty() ? static_cast<float>(key * (1.0 + batch.CostTolerance)) : bound;
+    if (batch.Entries.empty())
+    {
+      bound = static_cast<float>(key * (1.0 + batch.CostTolerance));
+      alone = batch.MaximumSize > 1 && this->StaysSmall(batch, limit, bound);
+    }
     batch.Entries.emplace_back();
     batch.Entries.back().C.Triangle = t;
     batch.Keys.push_back(key);
+    if (alone)
+    {
+      ++loop.LoneBatches;
+      break;
+    }
   }
   // While a look-ahead is live its evaluations have brought the next pops' neighbourhoods in.
   if (batch.MaximumSize == 1 && loop.Upcoming.Width > 0 && !(batch.Ahead && !batch.Ahead->Exhausted()))
   {
     this->PrefetchUpcoming(loop.Upcoming);
   }
+}
+
+bool TriangleCollapser::StaysSmall(const CollapseBatch& batch, size_t limit, float bound) const
+{
+  // The entries still queued within the bound, counted up to what a batch of MinimumSize needs
+  // besides the first (already popped): a read of the lowest buckets, no pop.
+  if (batch.MinimumSize <= 1)
+  {
+    return false;
+  }
+  if (limit < batch.MinimumSize)
+  {
+    return true;
+  }
+  const int needed = static_cast<int>(batch.MinimumSize - 1);
+  return this->Heap.CountAtMost(bound, needed) < needed;
 }
 
 void TriangleCollapser::PrefetchUpcoming(UpcomingPrefetch& ahead) const
@@ -2712,6 +2766,10 @@ struct TriangleCollapser::ClaimRingsFunctor : WindowedFunctor<TriangleCollapser:
 {
   const TriangleCollapser& Self;
   CollapseBatch& Batch;
+  // Claims made one entry after the other in selection order (one thread, or a batch of one
+  // task): each entry then knows at once whether an earlier one holds a vertex of its ring, and
+  // the holders' check does not walk the rings a second time (session 42).
+  bool InOrder = false;
   void Window(vtkIdType begin, vtkIdType end) const
   {
     // The rings' reference blocks first, for the whole window (see PickFunctor).
@@ -2727,8 +2785,15 @@ struct TriangleCollapser::ClaimRingsFunctor : WindowedFunctor<TriangleCollapser:
     }
     for (vtkIdType i = begin; i < end; ++i)
     {
+      BatchEntry& entry = this->Batch.Entries[size_t(i)];
       const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
-      this->Self.ForEachRingVertex(this->Batch.Entries[size_t(i)], [&](Index w) {
+      ++entry.Walks;
+      if (this->InOrder)
+      {
+        entry.Runs = this->ClaimInOrder(entry, stamp, size_t(i) + 1 == this->Batch.Entries.size());
+        continue;
+      }
+      this->Self.ForEachRingVertex(entry, [&](Index w) {
         std::uint64_t* owner = &this->Batch.Owner[w];
         std::uint64_t seen = __atomic_load_n(owner, __ATOMIC_RELAXED);
         while (stamp < seen && !__atomic_compare_exchange_n(owner, &seen, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
@@ -2736,6 +2801,24 @@ struct TriangleCollapser::ClaimRingsFunctor : WindowedFunctor<TriangleCollapser:
         }
       });
     }
+  }
+  // In selection order a vertex already holds a smaller stamp of this batch only when an earlier
+  // entry's ring has it (older batches' stamps are larger, later entries have not claimed yet):
+  // the same Runs as the atomic minimum's. A loser still claims its whole ring, as the minimum
+  // would; the last entry only reads (nothing after it), so it stops at its first lost vertex.
+  bool ClaimInOrder(const BatchEntry& entry, std::uint64_t stamp, bool last) const
+  {
+    std::vector<std::uint64_t>& owner = this->Batch.Owner;
+    if (last)
+    {
+      return this->Self.AllRingVertices(entry, [&](Index w) { return owner[w] >= stamp; });
+    }
+    bool holds = true;
+    this->Self.ForEachRingVertex(entry, [&](Index w) {
+      holds = holds && owner[w] >= stamp;
+      owner[w] = std::min(owner[w], stamp);
+    });
+    return holds;
   }
 };
 
@@ -2918,11 +3001,15 @@ struct TriangleCollapser::EvaluateBatchFunctor
     {
       BatchEntry& entry = this->Batch.Entries[size_t(i)];
       // Performed in parallel, an entry keeps its set's triangles for the collapse.
-      auto& scratch = this->Batch.Parallel ? this->Batch.Gathered[size_t(i)] : local;
+      auto& scratch = this->Batch.PerformsTogether() ? this->Batch.Gathered[size_t(i)] : local;
       const std::uint64_t stamp = this->Batch.Stamp(size_t(i));
-      entry.Runs = this->Batch.Entries.size() == 1 && !this->Batch.Passes;
-      if (!entry.Runs)
+      if (!this->Batch.InOrder)
       {
+        entry.Runs = this->Batch.Entries.size() == 1 && !this->Batch.Passes;
+      }
+      if (!entry.Runs && !this->Batch.InOrder)
+      {
+        ++entry.Walks;
         entry.Runs = this->Self.AllRingVertices(entry, [&](Index w) { return this->Batch.Owner[w] == stamp; });
       }
       if (entry.Runs)
@@ -2930,7 +3017,7 @@ struct TriangleCollapser::EvaluateBatchFunctor
         this->Self.EvaluateEntry(entry, this->Check, scratch,
           this->Batch.Entries.size() > 1 || this->Batch.Passes);
       }
-      if (entry.Runs && this->Batch.Parallel &&
+      if (entry.Runs && this->Batch.PerformsTogether() && !this->Batch.InOrder &&
         (entry.Result == BatchEntry::Outcome::Valid || entry.Result == BatchEntry::Outcome::Alternative))
       {
         const Candidate& c = entry.C;
@@ -2961,11 +3048,12 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
   {
     this->Mesh.ReserveEpochs(static_cast<std::uint32_t>(8 * n));
   }
-  if (batch.Parallel && batch.Gathered.size() < batch.Entries.size())
+  if (batch.PerformsTogether() && batch.Gathered.size() < batch.Entries.size())
   {
     batch.Gathered.resize(batch.Entries.size());
   }
   EvaluateBatchFunctor functor{ *this, batch, loop.Check, batch.Scratch };
+  batch.InOrder = false;
   if (n > 1)
   {
     PickFunctor pick{ {}, *this, batch, true };
@@ -2977,8 +3065,16 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
     {
       ForEntries(batch.OneThread, 0, n, pick);
     }
-    ClaimRingsFunctor claim{ {}, *this, batch };
-    ForEntries(batch.OneThread, 0, n, claim);
+    ClaimRingsFunctor claim{ {}, *this, batch, OnCaller(batch.OneThread, 0, n) };
+    if (claim.InOrder)
+    {
+      claim(0, n);
+    }
+    else
+    {
+      ForEntries(batch.OneThread, 0, n, claim);
+    }
+    batch.InOrder = claim.InOrder;
   }
   // The exact-union mode shares a union buffer between evaluations: sequential.
   if (n == 1 || this->Options.ExactUnion)
@@ -3000,6 +3096,7 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
       this->Heap.Set(batch.Entries[i].C.Triangle, batch.Keys[i]);
     }
     ran += batch.Entries[i].Runs ? 1 : 0;
+    loop.RingWalks += batch.Entries[i].Walks;
     loop.PlacementsDeferred += batch.Entries[i].PlacementPending ? 1 : 0;
   }
   batch.AdaptSize(ran);
@@ -3398,13 +3495,13 @@ bool TriangleCollapser::ApplyBatch(CollapseBatch& batch, CollapseLoop& loop, Tri
   return true;
 }
 
-size_t TriangleCollapser::SettleForParallel(
-  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more)
+template <typename PerformEntry>
+void TriangleCollapser::SettleInOrder(
+  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more, PerformEntry&& perform)
 {
-  // The sequential decisions, in selection order, before any collapse of the batch: the rings
-  // are disjoint, so an entry's outcome does not depend on the collapses before it; the count
-  // target is met by the removals the checks counted. The point data merge here, where the
-  // set's vertices are still in place.
+  // The sequential decisions, in selection order: the rings are disjoint, so an entry's outcome
+  // does not depend on the collapses before it; the count target is met by the removals that
+  // perform(i, kept) gives. The point data merge here, where the set's vertices are in place.
   batch.Order.clear();
   Index live = this->Mesh.NumberOfLiveTriangles();
   more = true;
@@ -3429,13 +3526,21 @@ size_t TriangleCollapser::SettleForParallel(
     {
       continue;
     }
+    const Index kept = *std::min_element(entry.C.Set, entry.C.Set + entry.C.Count);
     if (this->Attributes)
     {
-      this->MergeAttributes(entry.C, *std::min_element(entry.C.Set, entry.C.Set + entry.C.Count));
+      this->MergeAttributes(entry.C, kept);
     }
-    live -= entry.Removes;
+    live -= perform(i, kept);
     batch.Order.push_back(i);
   }
+}
+
+size_t TriangleCollapser::SettleForParallel(
+  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more)
+{
+  // Before any collapse of the batch: the removals are those the checks counted.
+  this->SettleInOrder(batch, loop, result, more, [&](size_t i, Index) { return batch.Entries[i].Removes; });
   return batch.PlaceBlocks();
 }
 
@@ -3508,6 +3613,12 @@ bool TriangleCollapser::ParallelApply(
   CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, PhaseClock& clock)
 {
   bool more = true;
+  if (batch.InOrder)
+  {
+    this->CollapseInOrder(batch, loop, result, more);
+    clock.Next();
+    return this->QueueInOrder(batch, loop, result) && more;
+  }
   const size_t room = this->SettleForParallel(batch, loop, result, more);
   clock.Next();
   const vtkIdType n = static_cast<vtkIdType>(batch.Order.size());
@@ -3521,12 +3632,45 @@ bool TriangleCollapser::ParallelApply(
   }
   this->Mesh.FinishCollapses(removedTriangles, removedVertices);
   clock.Next();
+  return this->QueueInOrder(batch, loop, result) && more;
+}
+
+bool TriangleCollapser::QueueInOrder(CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result)
+{
   // The queue is shared: its updates, the retries and the records follow in selection order.
-  for (vtkIdType k = 0; k < n; ++k)
+  for (size_t k = 0; k < batch.Order.size(); ++k)
   {
-    this->QueuePerformed(batch.Entries[batch.Order[size_t(k)]], batch.Performed[size_t(k)], loop, result);
+    this->QueuePerformed(batch.Entries[batch.Order[k]], batch.Performed[k], loop, result);
   }
-  return this->ReportProgress(loop, result) && more;
+  return this->ReportProgress(loop, result);
+}
+
+void TriangleCollapser::CollapseInOrder(
+  CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, bool& more)
+{
+  // SettleForParallel and PerformBatchFunctor one entry after the other: each collapse right after
+  // its settling, the queue untouched until QueueInOrder. The rings are disjoint, so an entry's
+  // settling does not see the collapses before it (they write only their rings; its own triangle's
+  // state and the queue are not theirs), and the blocks appended one after the other lie where
+  // the reserved room would have put them (the survivors in order). The live count is then known
+  // from each collapse, without counting the removals ahead (EditableMesh::RemovedBy).
+  Index removedTriangles = 0, removedVertices = 0;
+  this->SettleInOrder(batch, loop, result, more, [&](size_t i, Index kept) {
+    const Candidate& c = batch.Entries[i].C;
+    if (batch.Performed.size() <= batch.Order.size())
+    {
+      batch.Performed.resize(batch.Order.size() + 1);
+    }
+    PerformedCollapse& done = batch.Performed[batch.Order.size()];
+    done.Kept = kept;
+    const Index removed = this->Mesh.CollapseAppending(c.Set, c.Count, kept, c.Position, batch.Gathered[i], done.Record);
+    removedTriangles += removed;
+    removedVertices += c.Count - 1;
+    this->MergeVertexState(c, kept);
+    this->AroundKeys(kept, done.Around, done.Keys, this->Spokes);
+    return removed;
+  });
+  this->Mesh.FinishCollapses(removedTriangles, removedVertices);
 }
 
 void TriangleCollapser::AskForTarget(CollapseLoop& loop, bool nothingLeft)
@@ -3547,6 +3691,7 @@ void TriangleCollapser::CollapseToTarget(CollapseLoop& loop, TriangleCollapseRes
   batch.MaximumSize = this->Options.BatchCollapses ? MaximumBatchSize : 1;
   batch.Size = batch.MaximumSize;
   batch.CostTolerance = this->Options.BatchCollapses ? std::max(0.0, this->Options.BatchCostTolerance) : 0.0;
+  batch.MinimumSize = static_cast<size_t>(std::max(1, this->Options.BatchMinimumSize));
   batch.Owner.assign(batch.MaximumSize > 1 ? size_t(this->Mesh.NumberOfPoints()) : 0, ~std::uint64_t(0));
   // The exact-union mode merges sorted plane lists through one shared buffer: performed in order.
   batch.Parallel = batch.MaximumSize > 1 && !this->Options.ExactUnion;
@@ -3650,7 +3795,7 @@ void TriangleCollapser::CollapseSteps(
     this->EvaluateBatch(loop, batch);
     clock.Next();
     const bool more =
-      batch.Parallel ? this->ParallelApply(batch, loop, result, clock) : this->ApplyBatch(batch, loop, result);
+      batch.PerformsTogether() ? this->ParallelApply(batch, loop, result, clock) : this->ApplyBatch(batch, loop, result);
     clock.Next();
     if (ahead)
     {
@@ -4061,6 +4206,7 @@ bool TriangleCollapser::PassRound(
   {
     batch.Gathered.resize(batch.Entries.size());
   }
+  batch.InOrder = false;
   ClaimRingsFunctor claim{ {}, *this, batch };
   vtkSMPTools::For(0, n, 16, claim);
   EvaluateBatchFunctor evaluate{ *this, batch, loop.Check, batch.Scratch };
@@ -4232,10 +4378,13 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
     double(result.FanPlacements) / collapses, result.FanPlacements, double(result.ValidityTests) / collapses,
     result.ValidityTests);
   const double* phase = loop.PhaseSeconds;
-  vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran, %.1f placements not made); select %.3f s, evaluate %.3f s, apply %.3f s",
+  vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran, %.1f placements not made, %.2f ring walks per operation); select %.3f s, evaluate %.3f s, apply %.3f s",
     loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)),
     double(loop.Ran) / double(std::max<long long>(1, loop.Batches)),
-    double(loop.PlacementsDeferred) / double(std::max<long long>(1, loop.Batches)), phase[0], phase[1], phase[2] + phase[3] + phase[4]);
+    double(loop.PlacementsDeferred) / double(std::max<long long>(1, loop.Batches)),
+    double(loop.RingWalks) / double(std::max<long long>(1, loop.Selected)), phase[0], phase[1], phase[2] + phase[3] + phase[4]);
+  vtkLogF(TRACE, "triangle collapse: %lld batches popped alone (fewer than %d entries within the tolerance)",
+    loop.LoneBatches, this->Options.BatchMinimumSize);
   if (phase[3] > 0 || phase[4] > 0)
   {
     vtkLogF(TRACE, "triangle collapse: apply = sequential settle %.3f s + parallel collapses %.3f s + sequential queue updates %.3f s",
@@ -4348,6 +4497,8 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   result.SelectedEntries = loop.Selected;
   result.RanEntries = loop.Ran;
   result.PlacementsNotMade = loop.PlacementsDeferred;
+  result.RingWalks = loop.RingWalks;
+  result.BatchesPoppedAlone = loop.LoneBatches;
   for (long long tests : loop.StatusCounts)
   {
     result.ValidityTests += tests;

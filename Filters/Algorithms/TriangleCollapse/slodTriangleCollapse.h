@@ -127,6 +127,12 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // and are popped again, and 18 % of the batch loop is sequential).
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
+  // A batch that will hold fewer entries than this (the queued costs within the tolerance of its
+  // first, counted before it is formed) is performed as a lone pop, the strict order's path: a
+  // batch of up to 16 entries runs its steps as one task on any number of threads, so it only adds
+  // its claims and per-entry bookkeeping (session 42). 1: every batch as selected (session 41's
+  // outputs).
+  int BatchMinimumSize = 16;
   // The strict order prefetches, at each pop, the neighbourhoods of this many more entries of the
   // queue's lowest bucket (pops of the near future), in stages one pop apart; 0: none. Hints
   // only: the same output for any value (session 31).
@@ -261,6 +267,13 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // the others those whose winning edge was not placed (a batch entry's claims need its operation
   // only; the placement waits until it holds them).
   long long SelectedEntries = 0, RanEntries = 0, PlacementsNotMade = 0;
+  // Session 42: the batches' walks of an entry's ring (its claims, and the holders' check of them
+  // when the claims were made concurrently): two per entry of a larger batch before, one where
+  // the claims are made in selection order (one thread, or a batch of one task).
+  long long RingWalks = 0;
+  // Session 42: the batches performed as lone pops because the queue showed that they would hold
+  // fewer than TriangleCollapseOptions::BatchMinimumSize entries.
+  long long BatchesPoppedAlone = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first

@@ -100,6 +100,7 @@ slod::TriangleCollapseOptions CollapseOptions(vtkQuadricTriangleCollapse* filter
   options.RecordHistory = filter->GetGenerateProgressiveMesh();
   options.BatchCollapses = filter->GetBatchCollapses();
   options.BatchCostTolerance = filter->GetBatchCostTolerance();
+  options.BatchMinimumSize = filter->GetBatchMinimumSize();
   options.LookAheadEvaluations = filter->GetLookAheadEvaluations();
   options.TriangleCostBound = filter->GetTriangleCostBound();
   options.FitExactAssignmentLimit = filter->GetFitExactAssignmentLimit();
@@ -551,6 +552,7 @@ void vtkQuadricTriangleCollapse::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GenerateProgressiveMesh: " << this->GenerateProgressiveMesh << "\n";
   os << indent << "BatchCollapses: " << this->BatchCollapses << "\n";
   os << indent << "BatchCostTolerance: " << this->BatchCostTolerance << "\n";
+  os << indent << "BatchMinimumSize: " << this->BatchMinimumSize << "\n";
   os << indent << "LookAheadEvaluations: " << this->LookAheadEvaluations << "\n";
   os << indent << "TriangleCostBound: " << this->TriangleCostBound << "\n";
   os << indent << "FitExactAssignmentLimit: " << this->FitExactAssignmentLimit << "\n";

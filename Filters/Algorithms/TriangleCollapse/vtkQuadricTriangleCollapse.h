@@ -158,6 +158,11 @@ public:
   vtkBooleanMacro(BatchCollapses, bool);
   vtkSetClampMacro(BatchCostTolerance, double, 0.0, 1.0);
   vtkGetMacro(BatchCostTolerance, double);
+  /// With BatchCollapses: a batch that will hold fewer entries than this (the queued costs within
+  /// the tolerance, counted before it is formed; default 16, the entries one task runs) is
+  /// performed as a lone pop of the strict order; 1: every batch as selected.
+  vtkSetClampMacro(BatchMinimumSize, int, 1, 1024);
+  vtkGetMacro(BatchMinimumSize, int);
   ///@}
 
   ///@{
@@ -320,6 +325,7 @@ protected:
   bool GenerateProgressiveMesh = false;
   bool BatchCollapses = false;
   double BatchCostTolerance = 0.01;
+  int BatchMinimumSize = 16;
   int CollapseSchedule = QUEUE;
   int LookAheadEvaluations = 0;
   bool TriangleCostBound = false;

@@ -1255,6 +1255,19 @@ TEST(QuadricTriangleCollapse, ParallelBatchesSameOutputAndPointDataForAnyThreadC
   EXPECT_LE(batchMean, 1.02 * strictMean);
 }
 
+// The batches' selection (entries popped, entries that ran) and the output of every result equal
+// the first's (the thread counts of ResultsForOneTwoAndEightThreads).
+void ExpectTheSameBatchesAndOutputs(const std::vector<TriangleCollapseResult>& results)
+{
+  for (size_t i = 1; i < results.size(); ++i)
+  {
+    EXPECT_EQ(results[i].SelectedEntries, results[0].SelectedEntries);
+    EXPECT_EQ(results[i].RanEntries, results[0].RanEntries);
+    EXPECT_EQ(results[i].Mesh.Points, results[0].Mesh.Points);
+    EXPECT_EQ(results[i].Mesh.Triangles, results[0].Mesh.Triangles);
+  }
+}
+
 // Session 41: a batch entry claims the ring of its operation, which needs the operation only; an
 // edge operation's placement waits until the entry holds its claims, so the entries that lose
 // them to an earlier entry (most of the others on a marching-cubes mesh: ties) are not placed.
@@ -1276,13 +1289,10 @@ TEST(QuadricTriangleCollapse, BatchEntriesThatLoseTheirClaimsAreNotPlaced)
   EXPECT_LE(first.PlacementsNotMade, lost);
   EXPECT_GT(2 * first.PlacementsNotMade, lost) << "most lost entries are edge operations (bias 2)";
   EXPECT_GE(first.RanEntries, static_cast<long long>(first.Collapses));
+  ExpectTheSameBatchesAndOutputs(results);
   for (size_t i = 1; i < results.size(); ++i)
   {
-    EXPECT_EQ(results[i].SelectedEntries, first.SelectedEntries);
-    EXPECT_EQ(results[i].RanEntries, first.RanEntries);
     EXPECT_EQ(results[i].PlacementsNotMade, first.PlacementsNotMade);
-    EXPECT_EQ(results[i].Mesh.Points, first.Mesh.Points);
-    EXPECT_EQ(results[i].Mesh.Triangles, first.Mesh.Triangles);
   }
   options.BatchCollapses = false;
   TriangleMesh mesh = slodtest::ToTriangleMesh(input);
@@ -1290,6 +1300,66 @@ TEST(QuadricTriangleCollapse, BatchEntriesThatLoseTheirClaimsAreNotPlaced)
   SimplifyByTriangleCollapse(mesh, options, strict);
   EXPECT_EQ(strict.PlacementsNotMade, 0);
   EXPECT_EQ(strict.RanEntries, strict.SelectedEntries);
+}
+
+// Session 42: on one thread (or for a batch of one task) the claims are made in selection order,
+// so each entry learns from its own walk whether an earlier entry holds a vertex of its ring: every
+// entry's ring is walked at most once (concurrent claims need a second walk, the holders' check).
+// Every batch is formed here (BatchMinimumSize 1). The same selection and output for 1, 2 and 8
+// threads; on more threads the larger batches claim concurrently, so they walk more.
+// To a tenth in batches, every batch formed as selected (session 41's batches).
+TriangleCollapseOptions EveryBatchToATenth(vtkPolyData* input)
+{
+  TriangleCollapseOptions options;
+  options.TargetTriangles = static_cast<Index>(input->GetNumberOfPolys() / 10);
+  options.BatchCollapses = true;
+  options.BatchMinimumSize = 1;
+  return options;
+}
+
+TEST(QuadricTriangleCollapse, BatchClaimsWalkEachRingOnceOnOneThread)
+{
+  vtkSmartPointer<vtkPolyData> input = Mesh("marching-cubes");
+  const TriangleCollapseOptions options = EveryBatchToATenth(input);
+  const std::vector<TriangleCollapseResult> results = ResultsForOneTwoAndEightThreads(input, options);
+  const TriangleCollapseResult& first = results[0];
+  std::printf("[ring walks] %lld entries, %lld ran, %lld ring walks\n", first.SelectedEntries, first.RanEntries,
+    first.RingWalks);
+  ASSERT_GT(first.SelectedEntries - first.RanEntries, 0) << "no entry lost its claims: the test needs overlapping batches";
+  EXPECT_GT(first.RingWalks, 0);
+  EXPECT_LE(first.RingWalks, first.SelectedEntries) << "a ring was walked twice on one thread";
+  ExpectTheSameBatchesAndOutputs(results);
+  for (size_t i = 1; i < results.size(); ++i)
+  {
+    EXPECT_GE(results[i].RingWalks, first.RingWalks);
+  }
+}
+
+// Session 42: a batch that will hold fewer than BatchMinimumSize entries (counted in the queue
+// within the tolerance, before the batch is formed) is performed as a lone pop, without claims.
+// Against every batch formed (1): some batches are popped alone, fewer rings are walked, and the
+// outputs are the same for 1, 2 and 8 threads.
+TEST(QuadricTriangleCollapse, SmallBatchesArePoppedAlone)
+{
+  vtkSmartPointer<vtkPolyData> input = Mesh("bunny00");
+  TriangleCollapseOptions options = EveryBatchToATenth(input);
+  TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+  TriangleCollapseResult every;
+  SimplifyByTriangleCollapse(mesh, options, every);
+  options.BatchMinimumSize = 16;
+  const std::vector<TriangleCollapseResult> results = ResultsForOneTwoAndEightThreads(input, options);
+  const TriangleCollapseResult& first = results[0];
+  std::printf("[small batches] every batch: %lld ring walks; minimum 16: %lld popped alone, %lld ring walks\n",
+    every.RingWalks, first.BatchesPoppedAlone, first.RingWalks);
+  EXPECT_EQ(every.BatchesPoppedAlone, 0);
+  EXPECT_GT(first.BatchesPoppedAlone, 0);
+  EXPECT_LT(first.RingWalks, every.RingWalks);
+  for (size_t i = 1; i < results.size(); ++i)
+  {
+    EXPECT_EQ(results[i].BatchesPoppedAlone, first.BatchesPoppedAlone);
+    EXPECT_EQ(results[i].Mesh.Points, first.Mesh.Points);
+    EXPECT_EQ(results[i].Mesh.Triangles, first.Mesh.Triangles);
+  }
 }
 
 TEST(QuadricTriangleCollapse, PointDataErrorArrayAndFieldData)
