@@ -1411,6 +1411,7 @@ struct GreedyCuts::Worker
   // Chains whose resolution changed since the last chain pass (Escalate, ContinueAfterSplit): in a
   // split round only they are simplified again (SimplifyChainsLocally).
   std::vector<Index> ChangedChains;
+  bool ChainsAroundSplitForgotten = false; // ChangedChains are the new chains around split pieces
   // Split rounds: the patches cut since the last passed verification, whose new edges alone can be
   // used by more than two triangles (the verification before saw none).
   std::vector<Index> CutSinceVerify;
@@ -1574,6 +1575,7 @@ struct GreedyCuts::Worker
       }
     }
     this->ChainsChanged = true;
+    this->ChainsAroundSplitForgotten = true;
     this->LocalVerify = true;
   }
 
@@ -1630,13 +1632,14 @@ struct GreedyCuts::Worker
     }
   }
 
-  // Chain c's segments taken out of Segments and its inner vertices out of Kept (its ends stay:
+  // Chain c's segments taken out of Segments (unless `segmentsOut`: PrepareSplit took them out
+  // already, under the chains before the split) and its inner vertices out of Kept (its ends stay:
   // every chain keeps its ends); `inner` (when given) gets the inner vertices' old flags.
-  void ForgetChain(Index c, std::vector<unsigned char>* inner)
+  void ForgetChain(Index c, std::vector<unsigned char>* inner, bool segmentsOut = false)
   {
     const Index* v = PP.ChainVerticesBegin(c);
     const Index n = PP.ChainSize(c);
-    for (Index i = 0, last = 0; i + 1 < n; ++i)
+    for (Index i = 0, last = 0; !segmentsOut && i + 1 < n; ++i)
     {
       if (i + 2 == n || this->Kept[v[i + 1]])
       {
@@ -1670,8 +1673,9 @@ struct GreedyCuts::Worker
     for (Index c : this->ChangedChains)
     {
       offsets.push_back(before.size());
-      this->ForgetChain(c, &before);
+      this->ForgetChain(c, &before, this->ChainsAroundSplitForgotten);
     }
+    this->ChainsAroundSplitForgotten = false;
     for (size_t k = 0; k < this->ChangedChains.size(); ++k)
     {
       const Index c = this->ChangedChains[k];
