@@ -338,6 +338,7 @@ std::vector<Parameter> GreedyCutsParameters()
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, BorderCollapses),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, EarlySliverStep),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, PassOrderBands),
+    SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, LocalSplitRounds),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Bool, MonotoneInEpsilon),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Int, CollapseStages),
     SLOD_PARAMETER(vtkGreedyCutsSimplification, Double, LadderBottom),

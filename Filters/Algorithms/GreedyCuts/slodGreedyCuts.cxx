@@ -32,6 +32,56 @@ struct P2
 {
   double x, y;
 };
+
+// An axis-aligned box, for the local verification of a split round (which input triangles can
+// have lost their nearest output, which output a proof needs).
+struct Box3
+{
+  Vec3 Lo{ { 1e300, 1e300, 1e300 } }, Hi{ { -1e300, -1e300, -1e300 } };
+  void Add(const Vec3& p)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Lo[k] = std::min(this->Lo[k], p[k]);
+      this->Hi[k] = std::max(this->Hi[k], p[k]);
+    }
+  }
+  void Add(const Box3& b)
+  {
+    this->Add(b.Lo);
+    this->Add(b.Hi);
+  }
+  Box3 Grown(double d) const
+  {
+    Box3 b = *this;
+    for (int k = 0; k < 3; ++k)
+    {
+      b.Lo[k] -= d;
+      b.Hi[k] += d;
+    }
+    return b;
+  }
+  bool Meets(const Box3& b) const
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      if (b.Lo[k] > this->Hi[k] || b.Hi[k] < this->Lo[k])
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+};
+Box3 TriangleBox(const TriangleMesh& mesh, const Index* tri)
+{
+  Box3 b;
+  for (int k = 0; k < 3; ++k)
+  {
+    b.Add(mesh.Point(tri[k]));
+  }
+  return b;
+}
 inline double Orient(const P2& a, const P2& b, const P2& c)
 {
   return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
@@ -1350,6 +1400,21 @@ struct GreedyCuts::Worker
   std::vector<std::vector<Index>> PatchTris;
   std::vector<P2> Coord; // per mesh vertex, valid for the current patch
   std::vector<Index> FrontNode; // per mesh vertex: its node on the current front (or -1)
+  // Split rounds (session 42): the same worker goes on after GreedyCuts::SplitPatches and cuts
+  // again only the pieces and their neighbours. Its verification is then local: only the input
+  // triangles that can have had their nearest output among the triangles taken out since the last
+  // passed verification (Removed, 3 ids each) are proved again.
+  bool LocalVerify = false;
+  std::vector<Index> Removed;
+  std::unordered_set<std::uint64_t> FullChainEdges; // edges of the full-resolution chains, across a split
+  long long CutTriangles = 0; // input triangles of the patches cut in the last Execute (work count)
+  // Chains whose resolution changed since the last chain pass (Escalate, ContinueAfterSplit): in a
+  // split round only they are simplified again (SimplifyChainsLocally).
+  std::vector<Index> ChangedChains;
+  bool ChainsAroundSplitForgotten = false; // ChangedChains are the new chains around split pieces
+  // Split rounds: the patches cut since the last passed verification, whose new edges alone can be
+  // used by more than two triangles (the verification before saw none).
+  std::vector<Index> CutSinceVerify;
 
   Worker(const GreedyCuts& g, const GreedyCutsParameters& prm, GreedyCutsResult& res)
     : G(g)
@@ -1373,11 +1438,7 @@ struct GreedyCuts::Worker
     this->ThinInput.assign(size_t(np), 0);
     for (Index p = 0; p < np; ++p)
     {
-      for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1] && !this->ThinInput[p]; ++i)
-      {
-        const Index* tri = M.Triangle(G.PatchTriangleList[i]);
-        this->ThinInput[p] = MinimumAngle(M.Point(tri[0]), M.Point(tri[1]), M.Point(tri[2])) < this->MinAngle;
-      }
+      this->ThinInput[p] = this->HasThinInput(p);
     }
     this->Dirty.assign(size_t(np), 1);
     this->PatchTris.assign(size_t(np), {});
@@ -1390,15 +1451,7 @@ struct GreedyCuts::Worker
     this->FrontNode.assign(size_t(M.NumberOfPoints()), InvalidIndex);
     for (Index p = 0; p < np; ++p)
     {
-      // A seam triangle's patch is kept as it is from the start, as a patch that is no disk is.
-      if (!G.LoopValid[p] || G.IsSeamPatch(p))
-      {
-        this->PatchOriginal[p] = 1;
-        for (Index c : this->PatchChains[p])
-        {
-          this->ChainFull[c] = 1;
-        }
-      }
+      this->StartOriginalWhenNoDisk(p);
     }
     for (Index c = 0; c < PP.NumberOfChains(); ++c)
     {
@@ -1409,6 +1462,123 @@ struct GreedyCuts::Worker
     }
   }
 
+  bool HasThinInput(Index p) const
+  {
+    for (Index i = G.PatchTriangleOffsets[p]; i < G.PatchTriangleOffsets[p + 1]; ++i)
+    {
+      const Index* tri = M.Triangle(G.PatchTriangleList[i]);
+      if (MinimumAngle(M.Point(tri[0]), M.Point(tri[1]), M.Point(tri[2])) < this->MinAngle)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // A seam triangle's patch is kept as it is from the start, as a patch that is no disk is.
+  void StartOriginalWhenNoDisk(Index p)
+  {
+    if (!G.LoopValid[p] || G.IsSeamPatch(p))
+    {
+      this->PatchOriginal[p] = 1;
+      for (Index c : this->PatchChains[p])
+      {
+        this->ChainFull[c] = 1;
+      }
+    }
+  }
+
+  // Before GreedyCuts::SplitPatches(split) renumbers the chains: the edges of every chain at full
+  // resolution, by which they are found again after it (a chain between two patches the split
+  // leaves alone keeps its edges, and an edge lies on one chain only); the chains around the split
+  // patches are forgotten (their segments would forbid diagonals the new chains do not make).
+  void PrepareSplit(const std::vector<Index>& split)
+  {
+    std::vector<unsigned char> splitPatch(size_t(PP.NumberOfPatches()), 0);
+    for (Index p : split)
+    {
+      splitPatch[p] = 1;
+    }
+    this->FullChainEdges.clear();
+    for (Index c = 0; c < PP.NumberOfChains(); ++c)
+    {
+      const Index l = PP.ChainLeftPatch(c), r = PP.ChainRightPatch(c);
+      if ((l != InvalidIndex && splitPatch[l]) || (r != InvalidIndex && splitPatch[r]))
+      {
+        this->ForgetChain(c, nullptr);
+      }
+      const Index* v = PP.ChainVerticesBegin(c);
+      for (Index i = 0; this->ChainFull[c] && i + 1 < PP.ChainSize(c); ++i)
+      {
+        this->FullChainEdges.insert(EdgeKey(v[i], v[i + 1]));
+      }
+    }
+  }
+
+  // After GreedyCuts::SplitPatches(split) (the pieces: the split patches and the patches numbered
+  // from oldPatches on): the pieces and every patch sharing a chain with one start again as in a
+  // new run (Dirty, escalations undone, their chains simplified); every other patch keeps its
+  // triangulation, its escalations and its chains' resolution. The next Execute cuts the dirty
+  // patches and those whose chains' kept vertices the new chains change, and verifies locally.
+  void ContinueAfterSplit(const std::vector<Index>& split, Index oldPatches)
+  {
+    const Index np = PP.NumberOfPatches();
+    for (auto* v : { &this->PatchOriginal, &this->Refined, &this->Careful, &this->AngleReleased, &this->ThinOriginals,
+           &this->ThinInput, &this->Dirty })
+    {
+      v->resize(size_t(np), 0);
+    }
+    this->PatchTris.resize(size_t(np));
+    this->PatchChains.resize(size_t(np));
+    std::vector<unsigned char> piece(size_t(np), 0);
+    for (Index p : split)
+    {
+      piece[p] = 1;
+    }
+    std::fill(piece.begin() + oldPatches, piece.end(), 1);
+    std::fill(this->Dirty.begin(), this->Dirty.end(), 0);
+    this->ChainFull.assign(size_t(PP.NumberOfChains()), 0);
+    this->ChangedChains.clear(); // the chains around the pieces: simplified again (PrepareSplit forgot the old ones)
+    for (Index c = 0; c < PP.NumberOfChains(); ++c)
+    {
+      const Index l = PP.ChainLeftPatch(c), r = PP.ChainRightPatch(c);
+      const bool nearPiece = (l != InvalidIndex && piece[l]) || (r != InvalidIndex && piece[r]);
+      const Index* v = PP.ChainVerticesBegin(c);
+      this->ChainFull[c] = PP.ChainIsNonManifold(c) ||
+        (!nearPiece && PP.ChainSize(c) >= 2 && this->FullChainEdges.count(EdgeKey(v[0], v[1])));
+      if (nearPiece)
+      {
+        this->ChangedChains.push_back(c);
+      }
+      for (Index q : { l, r })
+      {
+        if (q != InvalidIndex && nearPiece)
+        {
+          this->Dirty[q] = 1;
+        }
+      }
+    }
+    this->FullChainEdges.clear();
+    for (Index p = 0; p < np; ++p)
+    {
+      this->PatchChains[p].assign(PP.PatchChainsBegin(p), PP.PatchChainsEnd(p));
+    }
+    for (Index p = 0; p < np; ++p)
+    {
+      if (this->Dirty[p] || piece[p])
+      {
+        this->Dirty[p] = 1;
+        this->PatchOriginal[p] = this->Refined[p] = this->Careful[p] = this->ThinOriginals[p] = 0;
+        this->AngleReleased[p] = this->ShapedAngle > this->MinAngle ? 0 : 1;
+        this->ThinInput[p] = this->HasThinInput(p);
+        this->StartOriginalWhenNoDisk(p);
+      }
+    }
+    this->ChainsChanged = true;
+    this->ChainsAroundSplitForgotten = true;
+    this->LocalVerify = true;
+  }
+
   void SimplifyChains()
   {
     this->Kept.assign(size_t(M.NumberOfPoints()), 0);
@@ -1417,41 +1587,114 @@ struct GreedyCuts::Worker
     std::vector<Index> positions;
     for (Index c = 0; c < PP.NumberOfChains(); ++c)
     {
-      const Index* v = PP.ChainVerticesBegin(c);
-      const Index n = PP.ChainSize(c);
-      SimplifyChain(M, v, n, this->ChainFull[c] ? -1.0 : Prm.ChainTolerance * this->Eps, keep);
-      // Two chains simplified to the same segment would make a non-manifold edge: keep a vertex
-      // apart (the farthest one), until every segment is new.
-      for (bool again = true; again;)
+      this->SimplifyOneChain(c, keep, positions);
+    }
+    this->ChangedChains.clear();
+  }
+
+  // Chain c simplified against the segments of the chains simplified before it: its kept vertices
+  // set in Kept, its segments added to Segments.
+  void SimplifyOneChain(Index c, std::vector<unsigned char>& keep, std::vector<Index>& positions)
+  {
+    const Index* v = PP.ChainVerticesBegin(c);
+    const Index n = PP.ChainSize(c);
+    SimplifyChain(M, v, n, this->ChainFull[c] ? -1.0 : Prm.ChainTolerance * this->Eps, keep);
+    // Two chains simplified to the same segment would make a non-manifold edge: keep a vertex
+    // apart (the farthest one), until every segment is new.
+    for (bool again = true; again;)
+    {
+      again = false;
+      positions.clear();
+      for (Index i = 0; i < n; ++i)
       {
-        again = false;
-        positions.clear();
-        for (Index i = 0; i < n; ++i)
+        if (keep[i])
         {
-          if (keep[i])
-          {
-            positions.push_back(i);
-          }
-        }
-        for (size_t k = 0; k + 1 < positions.size(); ++k)
-        {
-          const Index i = positions[k], j = positions[k + 1];
-          if (j - i >= 2 && (v[i] == v[j] || this->Segments.count(EdgeKey(v[i], v[j]))))
-          {
-            keep[FarthestChainVertex(M, v, i, j)] = 1;
-            again = true;
-          }
+          positions.push_back(i);
         }
       }
-      for (size_t k = 0; k < positions.size(); ++k)
+      for (size_t k = 0; k + 1 < positions.size(); ++k)
       {
-        this->Kept[v[positions[k]]] = 1;
-        if (k + 1 < positions.size())
+        const Index i = positions[k], j = positions[k + 1];
+        if (j - i >= 2 && (v[i] == v[j] || this->Segments.count(EdgeKey(v[i], v[j]))))
         {
-          this->Segments.insert(EdgeKey(v[positions[k]], v[positions[k + 1]]));
+          keep[FarthestChainVertex(M, v, i, j)] = 1;
+          again = true;
         }
       }
     }
+    for (size_t k = 0; k < positions.size(); ++k)
+    {
+      this->Kept[v[positions[k]]] = 1;
+      if (k + 1 < positions.size())
+      {
+        this->Segments.insert(EdgeKey(v[positions[k]], v[positions[k + 1]]));
+      }
+    }
+  }
+
+  // Chain c's segments taken out of Segments (unless `segmentsOut`: PrepareSplit took them out
+  // already, under the chains before the split) and its inner vertices out of Kept (its ends stay:
+  // every chain keeps its ends); `inner` (when given) gets the inner vertices' old flags.
+  void ForgetChain(Index c, std::vector<unsigned char>* inner, bool segmentsOut = false)
+  {
+    const Index* v = PP.ChainVerticesBegin(c);
+    const Index n = PP.ChainSize(c);
+    for (Index i = 0, last = 0; !segmentsOut && i + 1 < n; ++i)
+    {
+      if (i + 2 == n || this->Kept[v[i + 1]])
+      {
+        this->Segments.erase(EdgeKey(v[last], v[i + 1]));
+        last = i + 1;
+      }
+    }
+    for (Index i = 1; i + 1 < n; ++i)
+    {
+      if (inner)
+      {
+        inner->push_back(this->Kept[v[i]]);
+      }
+      this->Kept[v[i]] = 0;
+    }
+  }
+
+  // A split round's chain pass: only the chains whose resolution changed (ChangedChains) are
+  // simplified again (the global pass costs every chain of the input, half of a split round's CPU
+  // on the 4M noisy scan). The other chains keep their kept vertices and segments, so both sides of
+  // every chain still see the same polygon; the patches beside a chain whose kept vertices changed
+  // are cut again.
+  void SimplifyChainsLocally()
+  {
+    std::sort(this->ChangedChains.begin(), this->ChangedChains.end());
+    this->ChangedChains.erase(
+      std::unique(this->ChangedChains.begin(), this->ChangedChains.end()), this->ChangedChains.end());
+    std::vector<unsigned char> before, keep; // the changed chains' inner kept flags, chain after chain
+    std::vector<size_t> offsets;
+    std::vector<Index> positions;
+    for (Index c : this->ChangedChains)
+    {
+      offsets.push_back(before.size());
+      this->ForgetChain(c, &before, this->ChainsAroundSplitForgotten);
+    }
+    this->ChainsAroundSplitForgotten = false;
+    for (size_t k = 0; k < this->ChangedChains.size(); ++k)
+    {
+      const Index c = this->ChangedChains[k];
+      const Index* v = PP.ChainVerticesBegin(c);
+      this->SimplifyOneChain(c, keep, positions);
+      bool changed = false;
+      for (Index i = 1; i + 1 < PP.ChainSize(c) && !changed; ++i)
+      {
+        changed = this->Kept[v[i]] != before[offsets[k] + size_t(i - 1)];
+      }
+      for (Index q : { PP.ChainLeftPatch(c), PP.ChainRightPatch(c) })
+      {
+        if (changed && q != InvalidIndex)
+        {
+          this->Dirty[q] = 1;
+        }
+      }
+    }
+    this->ChangedChains.clear();
   }
 
   // A chain's simplification also depends on the chains simplified before it (no two may give the
@@ -2406,6 +2649,7 @@ struct GreedyCuts::Worker
       {
         this->ChainFull[c] = 1;
         this->ChainsChanged = true;
+        this->ChangedChains.push_back(c);
         refined = true;
         for (Index q : { PP.ChainLeftPatch(c), PP.ChainRightPatch(c) })
         {
@@ -2440,6 +2684,7 @@ struct GreedyCuts::Worker
   {
     const Index np = PP.NumberOfPatches();
     std::vector<Index> touched;
+    this->CutTriangles = 0;
     for (int round = 0;; ++round)
     {
       this->Res.Rounds = round + 1;
@@ -2448,24 +2693,33 @@ struct GreedyCuts::Worker
         // Safety net (never expected): everything not yet settled keeps its original triangles.
         std::fill(this->ChainFull.begin(), this->ChainFull.end(), 1);
         this->ChainsChanged = true;
+        this->LocalVerify = false; // every chain changed: the global pass and verification
         std::fill(this->PatchOriginal.begin(), this->PatchOriginal.end(), 1);
         std::fill(this->Dirty.begin(), this->Dirty.end(), 1);
       }
       // The chains' simplification depends on ChainFull only (and epsilon): a round after which no
       // chain was refined keeps the last one's (the same Kept and Segments), so a round costs the
       // dirty patches, not a pass over every chain of the input.
-      if (this->ChainsChanged)
+      if (this->ChainsChanged && this->LocalVerify)
+      {
+        this->SimplifyChainsLocally();
+      }
+      else if (this->ChainsChanged)
       {
         const std::vector<unsigned char> keptBefore = this->Kept;
         this->SimplifyChains();
         this->MarkChangedChainPatches(keptBefore);
-        this->ChainsChanged = false;
-        ++this->Res.ChainPasses;
       }
+      this->Res.ChainPasses += this->ChainsChanged;
+      this->ChainsChanged = false;
       for (Index p = 0; p < np; ++p)
       {
         if (this->Dirty[p])
         {
+          if (this->LocalVerify)
+          {
+            this->Removed.insert(this->Removed.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
+          }
           this->AddEdges(this->PatchTris[p], -1);
           this->PatchTris[p].clear();
         }
@@ -2491,6 +2745,11 @@ struct GreedyCuts::Worker
             return false;
           }
           std::vector<Index>& tris = this->PatchTris[p];
+          this->CutTriangles += G.PatchTriangleOffsets[p + 1] - G.PatchTriangleOffsets[p];
+          if (this->LocalVerify)
+          {
+            this->CutSinceVerify.push_back(p);
+          }
           if (originals)
           {
             this->Original(p, tris);
@@ -2510,6 +2769,8 @@ struct GreedyCuts::Worker
       }
       if (touched.empty())
       {
+        this->Removed.clear(); // every input triangle is proved against the output as it stands
+        this->CutSinceVerify.clear();
         break;
       }
       for (Index p : touched)
@@ -2520,6 +2781,8 @@ struct GreedyCuts::Worker
     // Result in patch order.
     this->Res.Triangles.clear();
     this->Res.TrianglePatch.clear();
+    this->Res.OriginalPatches = this->Res.RefinedPatches = 0;
+    this->Res.FallbackPatchIds.clear();
     for (Index p = 0; p < np; ++p)
     {
       this->Res.Triangles.insert(this->Res.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
@@ -2539,12 +2802,132 @@ struct GreedyCuts::Worker
     return true;
   }
 
+  // Every input triangle of a patch not yet failed (nor kept original) proved within epsilon of the
+  // whole output.
+  void VerifyAll(std::vector<unsigned char>& bad)
+  {
+    TriangleMesh output;
+    output.Points = M.Points;
+    for (Index p = 0; p < PP.NumberOfPatches(); ++p)
+    {
+      output.Triangles.insert(output.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
+    }
+    TriangleBVH bvh(output);
+    const std::vector<Index>& patchOf = PP.TrianglePatches();
+    for (Index t = 0; t < M.NumberOfTriangles(); ++t)
+    {
+      const Index p = patchOf[t];
+      if (bad[p] || this->PatchOriginal[p])
+      {
+        continue;
+      }
+      const Index* tri = M.Triangle(t);
+      if (!TriangleWithinDistance(bvh, M.Point(tri[0]), M.Point(tri[1]), M.Point(tri[2]), this->Eps, Prm.SubdivisionDepth,
+            &G.ProofPieces))
+      {
+        bad[p] = 1;
+      }
+    }
+  }
+
+  // The local verification of a split round. The output was proved (every input triangle within
+  // epsilon of it) before the triangles in Removed were taken out; an input triangle farther than
+  // epsilon from all of them kept its nearest output points, so only those whose box comes within
+  // epsilon of a removed triangle's box are proved again, against the output within epsilon of
+  // them (a subset: a proof against it holds for the whole output). Removed only grows until a
+  // verification passes, so a triangle that failed is proved again after its patch's escalation.
+  void VerifyNearRemoved(std::vector<unsigned char>& bad)
+  {
+    if (this->Removed.empty())
+    {
+      return;
+    }
+    Box3 region;
+    std::vector<Box3> removedBoxes;
+    for (size_t t = 0; t < this->Removed.size(); t += 3)
+    {
+      removedBoxes.push_back(TriangleBox(M, &this->Removed[t]).Grown(this->Eps));
+      region.Add(removedBoxes.back());
+    }
+    // Past this many removed triangles the union box alone selects (more proofs, the same soundness).
+    constexpr size_t MaximumBoxTests = 256;
+    const std::vector<Index>& patchOf = PP.TrianglePatches();
+    std::vector<Index> again;
+    Box3 needed;
+    for (Index t = 0; t < M.NumberOfTriangles(); ++t)
+    {
+      const Index p = patchOf[t];
+      const Box3 box = TriangleBox(M, M.Triangle(t));
+      bool near = !bad[p] && !this->PatchOriginal[p] && region.Meets(box);
+      if (near && removedBoxes.size() <= MaximumBoxTests)
+      {
+        near = std::any_of(removedBoxes.begin(), removedBoxes.end(), [&](const Box3& r) { return r.Meets(box); });
+      }
+      if (near)
+      {
+        again.push_back(t);
+        needed.Add(box);
+      }
+    }
+    needed = needed.Grown(this->Eps);
+    TriangleMesh output;
+    output.Points = M.Points;
+    for (Index p = 0; p < PP.NumberOfPatches() && !again.empty(); ++p)
+    {
+      const std::vector<Index>& tris = this->PatchTris[p];
+      for (size_t t = 0; t < tris.size(); t += 3)
+      {
+        if (needed.Meets(TriangleBox(M, &tris[t])))
+        {
+          output.Triangles.insert(output.Triangles.end(), &tris[t], &tris[t] + 3);
+        }
+      }
+    }
+    this->Res.LocallyVerifiedTriangles += static_cast<long long>(again.size());
+    if (output.Triangles.empty())
+    {
+      for (Index t : again)
+      {
+        bad[patchOf[t]] = 1;
+      }
+      return;
+    }
+    TriangleBVH bvh(output);
+    for (Index t : again)
+    {
+      const Index* tri = M.Triangle(t);
+      if (!bad[patchOf[t]] && !TriangleWithinDistance(bvh, M.Point(tri[0]), M.Point(tri[1]), M.Point(tri[2]), this->Eps,
+                                 Prm.SubdivisionDepth, &G.ProofPieces))
+      {
+        bad[patchOf[t]] = 1;
+      }
+    }
+  }
+
   // Stage 4: manifold edges and the original surface within epsilon of the output.
   void Verify(std::vector<Index>& touched)
   {
     const Index np = PP.NumberOfPatches();
     std::vector<unsigned char> bad(size_t(np), 0);
-    for (const auto& [key, use] : this->EdgeUse)
+    std::vector<std::pair<std::uint64_t, int>> uses;
+    if (this->LocalVerify)
+    {
+      // Only the edges of the patches cut since the last passed verification changed their use.
+      for (Index p : this->CutSinceVerify)
+      {
+        const std::vector<Index>& tris = this->PatchTris[p];
+        for (size_t t = 0; t < tris.size(); ++t)
+        {
+          const std::uint64_t key = EdgeKey(tris[t], tris[t - t % 3 + (t + 1) % 3]);
+          const auto found = this->EdgeUse.find(key);
+          if (found != this->EdgeUse.end() && found->second > 2)
+          {
+            uses.emplace_back(key, found->second);
+          }
+        }
+      }
+    }
+    const auto checkEdge = [&](std::uint64_t key, int use)
     {
       const Index a = Index(key >> 32), b = Index(key & 0xffffffffu);
       // Between two non-manifold vertices only seam triangles, kept as they are, make an edge: an
@@ -2567,28 +2950,28 @@ struct GreedyCuts::Worker
           }
         }
       }
-    }
-    TriangleMesh output;
-    output.Points = M.Points;
-    for (Index p = 0; p < np; ++p)
+    };
+    if (this->LocalVerify)
     {
-      output.Triangles.insert(output.Triangles.end(), this->PatchTris[p].begin(), this->PatchTris[p].end());
+      for (const auto& [key, use] : uses)
+      {
+        checkEdge(key, use);
+      }
     }
-    TriangleBVH bvh(output);
-    const std::vector<Index>& patchOf = PP.TrianglePatches();
-    for (Index t = 0; t < M.NumberOfTriangles(); ++t)
+    else
     {
-      const Index p = patchOf[t];
-      if (bad[p] || this->PatchOriginal[p])
+      for (const auto& [key, use] : this->EdgeUse)
       {
-        continue;
+        checkEdge(key, use);
       }
-      const Index* tri = M.Triangle(t);
-      if (!TriangleWithinDistance(bvh, M.Point(tri[0]), M.Point(tri[1]), M.Point(tri[2]), this->Eps, Prm.SubdivisionDepth,
-            &G.ProofPieces))
-      {
-        bad[p] = 1;
-      }
+    }
+    if (this->LocalVerify)
+    {
+      this->VerifyNearRemoved(bad);
+    }
+    else
+    {
+      this->VerifyAll(bad);
     }
     for (Index p = 0; p < np; ++p)
     {
@@ -2599,6 +2982,65 @@ struct GreedyCuts::Worker
     }
   }
 };
+
+// A patch that falls back to its original triangles is split in two and cut again (bounded:
+// MaximumSplitRounds rounds more at most, each only when some patch fell back). With
+// LocalSplitRounds the same worker goes on: a round cuts the pieces and their neighbours only.
+bool GreedyCuts::CutWithSplitRounds(
+  const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress)
+{
+  StageClock runClock("greedy cuts");
+  char stage[200];
+  long long splitRoundTriangles = 0, splitPatchTriangles = 0;
+  result = GreedyCutsResult();
+  std::unique_ptr<GreedyCuts::Worker> run;
+  for (int round = 0;; ++round)
+  {
+    if (!run || !parameters.LocalSplitRounds)
+    {
+      result = GreedyCutsResult();
+      run.reset(new GreedyCuts::Worker(*this, parameters, result));
+    }
+    if (!run->Execute(progress))
+    {
+      return false;
+    }
+    splitRoundTriangles += round > 0 ? run->CutTriangles : 0;
+    // How much of the input a split round runs again for: the patches that fell back, their triangles.
+    long long fallbackTriangles = 0;
+    for (Index p : result.FallbackPatchIds)
+    {
+      fallbackTriangles += this->PatchTriangleOffsets[p + 1] - this->PatchTriangleOffsets[p];
+    }
+    if (vtkLogger::GetCurrentVerbosityCutoff() >= vtkLogger::VERBOSITY_TRACE)
+    {
+      std::snprintf(stage, sizeof(stage),
+        "cuts run %d at epsilon %g (%lld patches, %zu fell back with %lld triangles; %d rounds; %lld input triangles cut)",
+        round, parameters.Epsilon, static_cast<long long>(result.NumberOfPatches), result.FallbackPatchIds.size(),
+        fallbackTriangles, result.Rounds, run->CutTriangles);
+      runClock.Lap(stage);
+    }
+    const Index patchesBefore = this->Patches.NumberOfPatches();
+    if (parameters.LocalSplitRounds)
+    {
+      run->PrepareSplit(result.FallbackPatchIds);
+    }
+    const std::vector<Index> split = result.FallbackPatchIds;
+    if (split.empty() || round >= MaximumSplitRounds || !this->SplitPatches(split))
+    {
+      result.SplitRounds = round;
+      break;
+    }
+    splitPatchTriangles += fallbackTriangles;
+    if (parameters.LocalSplitRounds)
+    {
+      run->ContinueAfterSplit(split, patchesBefore);
+    }
+  }
+  result.SplitRoundTriangles = splitRoundTriangles;
+  result.SplitPatchTriangles = splitPatchTriangles;
+  return true;
+}
 
 bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress)
 {
@@ -2627,7 +3069,7 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
   }
   // Each level's cuts (their split rounds: whole runs again) and collapses, timed at TRACE verbosity
   // (`surfacelod --log-verbosity 9`): which of them grows with the input.
-  StageClock clock("greedy cuts"), runClock("greedy cuts");
+  StageClock clock("greedy cuts");
   char stage[200];
   // The cuts report the first 80 % of the progress when the final collapses follow.
   const double cutsShare = parameters.FinalCollapses ? 0.8 : 1.0;
@@ -2635,34 +3077,9 @@ bool GreedyCuts::Run(const GreedyCutsParameters& parameters, GreedyCutsResult& r
     progress ? ProgressFunction([&](double f) { return progress(cutsShare * f); }) : ProgressFunction();
   const ProgressFunction collapseProgress =
     progress ? ProgressFunction([&](double f) { return progress(cutsShare + (1 - cutsShare) * f); }) : ProgressFunction();
-  // A patch that falls back to its original triangles is split in two and the run repeated
-  // (bounded: MaximumSplitRounds runs more at most, each only when some patch fell back).
-  for (int round = 0;; ++round)
+  if (!this->CutWithSplitRounds(parameters, result, cutsProgress))
   {
-    result = GreedyCutsResult();
-    GreedyCuts::Worker run(*this, parameters, result);
-    if (!run.Execute(cutsProgress))
-    {
-      return false;
-    }
-    if (vtkLogger::GetCurrentVerbosityCutoff() >= vtkLogger::VERBOSITY_TRACE)
-    {
-      // How much of the input a split round runs again for: the patches that fell back, their triangles.
-      Index fallbackTriangles = 0;
-      for (Index p : result.FallbackPatchIds)
-      {
-        fallbackTriangles += this->PatchTriangleOffsets[p + 1] - this->PatchTriangleOffsets[p];
-      }
-      std::snprintf(stage, sizeof(stage),
-        "cuts run %d at epsilon %g (%lld patches, %zu fell back with %lld triangles; %d rounds)", round, parameters.Epsilon, static_cast<long long>(result.NumberOfPatches), result.FallbackPatchIds.size(),
-        static_cast<long long>(fallbackTriangles), result.Rounds);
-      runClock.Lap(stage);
-    }
-    if (result.FallbackPatchIds.empty() || round >= MaximumSplitRounds || !this->SplitPatches(result.FallbackPatchIds))
-    {
-      result.SplitRounds = round;
-      break;
-    }
+    return false;
   }
   std::snprintf(stage, sizeof(stage), "cuts at epsilon %g (%d split rounds, %d rounds in the last, %d chain passes)",
     parameters.Epsilon, result.SplitRounds, result.Rounds, result.ChainPasses);

@@ -105,6 +105,13 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsParameters
   // (ProvedCollapseParameters::PassOrderBands, session 36; opt-in: it changes the greedy order,
   // hence the outputs, with counts up on some meshes and down on more). 0: the exact order.
   int PassOrderBands = 0;
+  // A split round goes on from the run before it (session 42): only the split patches' pieces and
+  // the patches sharing a chain with them are cut again (the others keep their triangulation, their
+  // escalations and their chains), and the verification proves again only the input near the
+  // triangles taken out. false: each split round is a whole new run (before session 42), whose cost
+  // is the input's however small the split patches (on the 4M noisy scan two whole runs per level
+  // for one fallback patch of 3 triangles).
+  bool LocalSplitRounds = true;
 };
 
 struct SURFACELODFILTERS_EXPORT GreedyCutsResult
@@ -120,6 +127,10 @@ struct SURFACELODFILTERS_EXPORT GreedyCutsResult
   Index OriginalPatches = 0; // patches kept as their original triangles
   std::vector<Index> FallbackPatchIds; // ... which ones
   int SplitRounds = 0;       // runs repeated after splitting patches that fell back
+  // Work of the split rounds: the input triangles of the patches they cut again (with
+  // LocalSplitRounds off, every patch: the input's count per round), the input triangles of the
+  // patches split (the work's cause), and the input triangles their local verification proved again.
+  long long SplitRoundTriangles = 0, SplitPatchTriangles = 0, LocallyVerifiedTriangles = 0;
   long long FinalCollapses = 0; // vertices removed by the final proved collapses
   long long FinalFlips = 0;     // edges flipped between them (fatter triangles)
   bool StartedFromFinerLevel = false; // RunLevels: this level began as the previous one
@@ -266,6 +277,7 @@ private:
   bool SearchCutsForTarget(Index target, const GreedyCutsParameters& base, double lo, double hi, int steps,
     GreedyCutsResult& result, const ProgressFunction& progress);
   bool SplitPatches(const std::vector<Index>& patches);
+  bool CutWithSplitRounds(const GreedyCutsParameters& parameters, GreedyCutsResult& result, const ProgressFunction& progress);
   size_t WrappedFan(Index p, const std::vector<Index>& inPatch, const std::vector<Index>& label,
     std::vector<Index>& fan) const;
   void IsolateSeamTriangles();

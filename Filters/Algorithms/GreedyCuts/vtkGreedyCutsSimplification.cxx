@@ -138,6 +138,7 @@ int vtkGreedyCutsSimplification::RequestData(
   parameters.BorderCollapses = this->BorderCollapses;
   parameters.EarlySliverStep = this->EarlySliverStep;
   parameters.PassOrderBands = this->PassOrderBands;
+  parameters.LocalSplitRounds = this->LocalSplitRounds;
   parameters.CollapseStages = this->CollapseStages;
   parameters.LadderBottom = this->LadderBottom;
   parameters.LadderOwnRuns = this->LadderOwnRuns;
@@ -217,6 +218,7 @@ void vtkGreedyCutsSimplification::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BorderCollapses: " << (this->BorderCollapses ? "on" : "off") << "\n";
   os << indent << "EarlySliverStep: " << (this->EarlySliverStep ? "on" : "off") << "\n";
   os << indent << "PassOrderBands: " << this->PassOrderBands << "\n";
+  os << indent << "LocalSplitRounds: " << (this->LocalSplitRounds ? "on" : "off") << "\n";
   os << indent << "CollapseStages: " << this->CollapseStages << "\n";
   os << indent << "MonotoneInEpsilon: " << (this->MonotoneInEpsilon ? "on" : "off") << "\n";
   os << indent << "LadderBottom: " << this->LadderBottom << "\n";

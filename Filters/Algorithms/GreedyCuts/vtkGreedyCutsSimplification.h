@@ -141,6 +141,12 @@ public:
   // meshes, more on some).
   vtkSetClampMacro(PassOrderBands, int, 0, 64);
   vtkGetMacro(PassOrderBands, int);
+  // Session 42: a split round (a patch fell back, is split in two and cut again) goes on from the
+  // run before it and cuts again only the pieces and the patches sharing a chain with them, with a
+  // local verification (default on). Off: each split round is a whole new run over the input.
+  vtkSetMacro(LocalSplitRounds, bool);
+  vtkGetMacro(LocalSplitRounds, bool);
+  vtkBooleanMacro(LocalSplitRounds, bool);
   ///@}
   ///@{
   /**
@@ -201,6 +207,7 @@ protected:
   bool BorderCollapses = true;
   bool EarlySliverStep = false;
   int PassOrderBands = 0;
+  bool LocalSplitRounds = true;
   int CollapseStages = 0;
   bool MonotoneInEpsilon = false;
   double LadderBottom = 0.004;
