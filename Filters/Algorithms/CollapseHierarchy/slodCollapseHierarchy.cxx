@@ -638,14 +638,27 @@ void CollapseHierarchy::ForEachAncestor(Index g, Functor&& f)
   }
 }
 
-// Every stride-th original point merged into v (counted over the calls by counter), in the local
-// frame, onto FitPoints.
-void CollapseHierarchy::AddAncestorPoints(Index v, const LocalFrame& frame, Index stride, Index& counter)
+// The squared reach of stencil vertices [begin, end) in the frame's plane: the farthest one's
+// distance from the origin.
+double CollapseHierarchy::StencilReach2(const LocalFrame& frame, size_t begin, size_t end) const
+{
+  double reach2 = 0;
+  for (size_t i = begin; i < end; ++i)
+  {
+    const Vec3 l = frame.ToLocal(this->Mesh.Point(this->StencilVertices[i]));
+    reach2 = std::max(reach2, l[0] * l[0] + l[1] * l[1]);
+  }
+  return reach2;
+}
+
+// Every stride-th original point merged into v that lies within the reach (squared, in the plane),
+// counted over the calls by counter, in the local frame, onto FitPoints.
+void CollapseHierarchy::AddAncestorPoints(Index v, const LocalFrame& frame, double reach2, Index stride, Index& counter)
 {
   this->ForEachAncestor(this->GlobalOf[v], [&](Index o) {
-    if (counter++ % stride == 0)
+    const Vec3 l = frame.ToLocal(this->BasePoints.Point(o));
+    if (l[0] * l[0] + l[1] * l[1] <= reach2 && counter++ % stride == 0)
     {
-      const Vec3 l = frame.ToLocal(this->BasePoints.Point(o));
       this->FitPoints.insert(this->FitPoints.end(), { l[0], l[1], l[2] });
     }
   });
@@ -659,7 +672,10 @@ Vec3 CollapseHierarchy::FitStencil(const Index* tri, const LocalFrame& frame, do
   // Fit to the ancestral original points of the stencil vertices, so that the error of earlier
   // collapses does not accumulate (section 7). Extended stencil when the system is singular.
   // On coarse levels the ancestors number hundreds: a regular subsample of about
-  // MaximumFitPoints keeps the fit's cost bounded without biasing it.
+  // MaximumFitPoints keeps the fit's cost bounded without biasing it. Only the ancestors over the
+  // stencil's own footprint count: on coarse levels a vertex's ancestors can trail far beyond it
+  // (a cap of half a sphere), where no quadratic graph over T's plane follows the surface and the
+  // fit misses it at T by several times the input's noise.
   Index total = 0;
   for (Index v : this->StencilVertices)
   {
@@ -668,23 +684,26 @@ Vec3 CollapseHierarchy::FitStencil(const Index* tri, const LocalFrame& frame, do
   const Index stride = std::max<Index>(1, (total + MaximumFitPoints - 1) / MaximumFitPoints);
   Index counter = 0;
   this->FitPoints.clear();
+  const double reach2 = this->StencilReach2(frame, 0, this->StencilVertices.size());
   for (Index v : this->StencilVertices)
   {
-    this->AddAncestorPoints(v, frame, stride, counter);
+    this->AddAncestorPoints(v, frame, reach2, stride, counter);
   }
   QuadraticPatch patch = this->Fitter.Fit(this->FitPoints);
   if (patch.Degree < 6)
   {
-    // The next ring: vertices of the triangles around the stencil vertices.
+    // The next ring: vertices of the triangles around the stencil vertices, over its footprint.
     const size_t ring = this->StencilVertices.size();
     for (size_t i = 0; i < ring; ++i)
     {
-      const size_t before = this->StencilVertices.size();
       this->Mesh.ForEachTriangle(this->StencilVertices[i], [&](Index x) { this->AddUnmarkedVertices(x); });
-      for (size_t j = before; j < this->StencilVertices.size(); ++j)
-      {
-        this->AddAncestorPoints(this->StencilVertices[j], frame, stride, counter);
-      }
+    }
+    const double extendedReach2 = std::max(reach2, this->StencilReach2(frame, ring, this->StencilVertices.size()));
+    this->FitPoints.clear();
+    counter = 0;
+    for (Index v : this->StencilVertices)
+    {
+      this->AddAncestorPoints(v, frame, extendedReach2, stride, counter);
     }
     const QuadraticPatch extended = this->Fitter.Fit(this->FitPoints);
     if (extended.Degree >= patch.Degree)

@@ -707,7 +707,8 @@ private:
   Vec3 StencilAreaVector(const Index* tri) const;
   void GatherStencilVertices(const Index* tri);
   void AddUnmarkedVertices(Index triangle);
-  void AddAncestorPoints(Index v, const LocalFrame& frame, Index stride, Index& counter);
+  double StencilReach2(const LocalFrame& frame, size_t begin, size_t end) const;
+  void AddAncestorPoints(Index v, const LocalFrame& frame, double reach2, Index stride, Index& counter);
   Vec3 FitStencil(const Index* tri, const LocalFrame& frame, double& kappa);
   bool QuadricPointNearCentroid(const Index* tri, const Quadric& q, const Vec3& centroid, Vec3& point) const;
   void AlternativePoints(const Index* tri, Vec3 (&points)[6]) const;
