@@ -314,6 +314,7 @@ std::vector<Parameter> RetileParameters()
     SLOD_PARAMETER(vtkRetile, Bool, RetriangulateRings),
     SLOD_PARAMETER(vtkRetile, Bool, RingSearchFacesInput),
     SLOD_PARAMETER(vtkRetile, Bool, RepairFlippedTiles),
+    SLOD_PARAMETER(vtkRetile, Bool, RepairNeedleTiles),
     SLOD_PARAMETER(vtkRetile, Bool, SlideAlongCreases),
     SLOD_PARAMETER(vtkRetile, Bool, MoveRetainedVertices),
     SLOD_PARAMETER(vtkRetile, Double, FeatureAngle),

@@ -35,11 +35,15 @@ bool TileRepair::IsNeedle(const Vec3* p, double angle) const
 
 bool TileRepair::Improves(const Score& after, const Score& before) const
 {
-  if (this->FlippedOnly)
+  switch (this->Stage)
   {
-    return after.Bad < before.Bad && after.Needles <= before.Needles;
+    case Target::Flipped:
+      return after.Bad < before.Bad && after.Guarded <= before.Guarded;
+    case Target::Needles:
+      return after.Flipped <= before.Flipped && after.Guarded <= before.Guarded && after.Better(before);
+    default:
+      return after.Better(before);
   }
-  return after.Better(before);
 }
 
 bool TileRepair::IsBadLocally(const Index* ids, const Vec3* p, const Vec3& normal, double angle) const
@@ -137,7 +141,12 @@ TileRepair::Score TileRepair::TriangleScore(Index t) const
   ++this->TilesScored;
   score.Angle = MinimumAngle(p[0], p[1], p[2]);
   const Vec3 normal = TriangleNormal(p[0], p[1], p[2]);
-  const bool locally = !this->FlippedOnly && this->IsBadLocally(tri, p, normal, score.Angle);
+  if (this->Stage == Target::Needles)
+  {
+    score.Bad = this->IsNeedle(p, score.Angle) ? 1 : 0;
+    return score;
+  }
+  const bool locally = this->Stage == Target::Any && this->IsBadLocally(tri, p, normal, score.Angle);
   score.Bad = locally || this->FacesAgainstInput(p, normal, t) ? 1 : 0;
   return score;
 }
@@ -162,10 +171,14 @@ TileRepair::Score TileRepair::RegionScore(
     ++this->TilesScored;
     const double angle = MinimumAngle(p[0], p[1], p[2]);
     const Vec3 normal = this->Edit.TriangleNormal(t);
-    if (this->FlippedOnly)
+    if (this->Stage == Target::Flipped)
     {
-      // The final stage counts needles (and folds, below) apart and queries every tile.
-      total.Needles += this->IsNeedle(p, angle) ? 1 : 0;
+      // The flipped stage counts needles (and folds, below) apart and queries every tile.
+      total.Guarded += this->IsNeedle(p, angle) ? 1 : 0;
+    }
+    else if (this->Stage == Target::Needles)
+    {
+      total.Bad += this->IsNeedle(p, angle) ? 1 : 0;
     }
     else
     {
@@ -185,7 +198,7 @@ TileRepair::Score TileRepair::RegionScore(
       total.Extent = std::max(total.Extent, Dot(b - a, b - a));
       const Index other = this->Across(t, tri[k], tri[(k + 1) % 3]);
       const bool fold = other != InvalidIndex && Dot(normal, this->Edit.TriangleNormal(other)) < FoldCosine;
-      if (!this->FlippedOnly)
+      if (!this->FinalStage())
       {
         total.Bad += fold ? 1 : 0;
       }
@@ -196,7 +209,7 @@ TileRepair::Score TileRepair::RegionScore(
         // a sharp ridge) the tiles must fold too, and counting that fold refused the changes that
         // put them the input's way (on the 132 consistently oriented CGAL meshes at 10% of the
         // vertices, 353 flipped tiles were left with those refusals, 306 without).
-        ++total.Needles;
+        ++total.Guarded;
       }
     }
     if (deviationSamples)
@@ -206,15 +219,17 @@ TileRepair::Score TileRepair::RegionScore(
   }
   if (bound && !this->Improves(total, *bound))
   {
-    return total; // the queries could only add bad tiles
+    return total; // the queries could only add bad (or guarded) tiles
   }
+  // The needle stage guards the flipped tiles: the same query, counted apart.
+  int& flipped = this->Stage == Target::Needles ? total.Flipped : total.Bad;
   for (size_t i = 0; i < triangles.size(); ++i)
   {
     if (!this->LocallyBad[i])
     {
       const Index* tri = this->Edit.Triangle(triangles[i]);
       const Vec3 p[3] = { this->Edit.Point(tri[0]), this->Edit.Point(tri[1]), this->Edit.Point(tri[2]) };
-      total.Bad += this->FacesAgainstInput(p, TriangleNormal(p[0], p[1], p[2]), triangles[i]) ? 1 : 0;
+      flipped += this->FacesAgainstInput(p, TriangleNormal(p[0], p[1], p[2]), triangles[i]) ? 1 : 0;
     }
   }
   return total;
@@ -766,7 +781,7 @@ bool TileRepair::TryFlipPair(Index t, Index x, Index y)
 // MovedShare (the old tiles' samples lie on the fold) although the new tiles lie on the input.
 bool TileRepair::RepairTriangle(Index t)
 {
-  if (this->FlippedOnly)
+  if (this->FinalStage())
   {
     return this->RepairFlippedTriangle(t);
   }
@@ -815,9 +830,10 @@ bool TileRepair::RepairTriangle(Index t)
   return repaired;
 }
 
-// A flipped tile in the final stage: the flips of its edges, then two flips together, then moves
-// of its vertices toward their neighbours' centre on the input, into their star's kernel, and the
-// relocation inside their ring's re-triangulation; every change bounded by LastResortMovedShare.
+// A flipped tile in the final stage (or a needle in the needle stage): the flips of its edges,
+// then two flips together, then moves of its vertices toward their neighbours' centre on the
+// input, into their star's kernel, and the relocation inside their ring's re-triangulation; every
+// change bounded by LastResortMovedShare.
 bool TileRepair::RepairFlippedTriangle(Index t)
 {
   const Index* tri = this->Edit.Triangle(t);
@@ -840,7 +856,17 @@ bool TileRepair::RepairFlippedTriangle(Index t)
 
 Index TileRepair::RunFlipped(int rounds)
 {
-  this->FlippedOnly = true;
+  return this->RunFinal(Target::Flipped, rounds);
+}
+
+Index TileRepair::RunNeedles(int rounds)
+{
+  return this->RunFinal(Target::Needles, rounds);
+}
+
+Index TileRepair::RunFinal(Target stage, int rounds)
+{
+  this->Stage = stage;
   this->MovedBound = this->UsualMovedBound();
   this->Work = 0;
   std::vector<unsigned char> wasMovable;
@@ -854,7 +880,7 @@ Index TileRepair::RunFlipped(int rounds)
   {
     this->Movable[this->MovableInFinalStage[i]] = wasMovable[i];
   }
-  this->FlippedOnly = false;
+  this->Stage = Target::Any;
   this->MovedBound = this->UsualMovedBound();
   return left;
 }

@@ -22,7 +22,9 @@
 // input triangle under the centroid): the same changes, each kept only when the flipped tiles
 // around it become fewer and the needles and folds no more (session 42: only folds the input does
 // not have under the two tiles count); there the vertices of
-// MovableInFinalStage may move too (session 39: retained original vertices, by option).
+// MovableInFinalStage may move too (session 39: retained original vertices, by option). A needle
+// stage (session 43, RunNeedles) follows it: the same changes on the needles, kept only when they
+// become fewer and the flipped tiles and folds the input lacks no more.
 // Bounded: a fixed number of passes over the bad tiles, and a budget of triangle visits.
 #ifndef slodRetileRepair_h
 #define slodRetileRepair_h
@@ -110,6 +112,14 @@ struct SURFACELODFILTERS_EXPORT TileRepair
   // centroids, with a budget of its own (FlippedWorkPerTriangle); returns those left near the
   // last round's changes.
   Index RunFlipped(int rounds);
+  // The needle stage (session 43), after the final stage: `rounds` passes over the needles (a
+  // smallest angle under NeedleAngle or an edge under ShortestEdge) with the final stage's changes
+  // and bounds, each kept only when the needles around it become fewer (or as many with a larger
+  // smallest angle) and the flipped tiles and the folds the input lacks no more. The repair
+  // proper counts a tile against a corner's reference normal as bad and moves by MovedShare
+  // only, so it leaves free candidates standing next to a kept line's samples as caps; returns
+  // the needles left near the last round's changes.
+  Index RunNeedles(int rounds);
   Index Flips = 0, Moves = 0, Relocations = 0;
   mutable long long Work = 0; // triangle visits so far (bounded in Run)
   // Tiles scored (is it bad?), of those the tiles of a region scored before or after a try, and
@@ -144,7 +154,11 @@ private:
   struct Score
   {
     int Bad = 0;
-    int Needles = 0; // needles and folds, counted apart from Bad only by the final stage
+    // What a change of the final stages may not increase, counted apart from Bad: needles and
+    // folds the input lacks in the flipped stage, those folds in the needle stage; and there,
+    // apart from them, the flipped tiles (a change trading a fold for a flipped tile was taken).
+    int Guarded = 0;
+    int Flipped = 0;
     double Angle = 0;
     double Extent = 0; // squared longest edge
     bool Better(const Score& other) const
@@ -152,13 +166,25 @@ private:
       return this->Bad < other.Bad || (this->Bad == other.Bad && this->Angle > other.Angle + 1e-4);
     }
   };
-  // Whether `after` is an improvement on `before`: Score::Better, or in the final stage fewer
-  // flipped tiles with no more needles or folds.
+  // Whether `after` is an improvement on `before`: Score::Better; in the flipped stage fewer
+  // flipped tiles, in the needle stage Score::Better on the needles with no more Flipped, with no
+  // more Guarded.
   bool Improves(const Score& after, const Score& before) const;
-  // The final stage is running: only flipped tiles are bad (RunFlipped).
-  bool FlippedOnly = false;
-  // The moves' bound outside the last resort: MovedShare, LastResortMovedShare in the final stage.
-  double UsualMovedBound() const { return this->FlippedOnly ? LastResortMovedShare : MovedShare; }
+  // Which tiles are bad: every kind (Run), only the flipped ones (RunFlipped), only the needles
+  // (RunNeedles).
+  enum class Target
+  {
+    Any,
+    Flipped,
+    Needles
+  };
+  Target Stage = Target::Any;
+  bool FinalStage() const { return this->Stage != Target::Any; }
+  // The moves' bound outside the last resort: MovedShare, LastResortMovedShare in the final stages.
+  double UsualMovedBound() const { return this->FinalStage() ? LastResortMovedShare : MovedShare; }
+  // Runs `rounds` passes of a final stage on the `stage` tiles (the vertices of MovableInFinalStage
+  // movable meanwhile).
+  Index RunFinal(Target stage, int rounds);
   bool RepairFlippedTriangle(Index t);
   bool IsNeedle(const Vec3* p, double angle) const;
   Index Run(int passes, long long workPerTriangle);

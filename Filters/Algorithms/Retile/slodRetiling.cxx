@@ -1810,17 +1810,24 @@ Index ImproveShapeByFlips(EditableMesh& edit, const std::vector<Vec3>& reference
 constexpr double RepairNeedleAngle = Radians(5.0);
 constexpr double RepairShortestEdge = 1e-5;
 constexpr int RepairPasses = 8;
-// Rounds of the final stage on the flipped tiles (RetilingOptions::RepairFlippedTiles).
+// Rounds of the final stage on the flipped tiles (RetilingOptions::RepairFlippedTiles), and of
+// the needle stage after it (RetilingOptions::RepairNeedleTiles).
 constexpr int FlippedRepairRounds = 4;
+constexpr int NeedleRepairRounds = 4;
+int NeedleRounds(const RetilingOptions& options)
+{
+  return options.RepairFlippedTiles && options.RepairNeedleTiles ? NeedleRepairRounds : 0;
+}
 
 // The last check (slodRetileRepair.h) after step 6: tiles facing against the input or needles
 // are repaired by flips (recorded in `record` when given) and moves of the `movable` vertices
 // (`moved` says where each went); then, with `flippedRounds`, the final stage on the tiles still
-// facing against the input under their centroids (TileRepair::RunFlipped). Returns the number of flips.
+// facing against the input under their centroids (TileRepair::RunFlipped), and with
+// `needleRounds` the needle stage after it (TileRepair::RunNeedles). Returns the number of flips.
 Index RepairTiles(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
   const OldVertexRemoval& removal, const std::vector<unsigned char>& movable, EditableMesh& edit,
   std::vector<Vec3>& reference, std::vector<Index>* record,
-  const std::function<void(Index, const Vec3&, Index)>& moved, int flippedRounds = 0,
+  const std::function<void(Index, const Vec3&, Index)>& moved, int flippedRounds = 0, int needleRounds = 0,
   const decltype(TileRepair::AlongCrease)& alongCrease = nullptr, std::vector<Index> movableInFinalStage = {})
 {
   TileRepair repair(edit, reference, mesh, bvh, movable);
@@ -1841,6 +1848,12 @@ Index RepairTiles(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::v
   if (flippedRounds > 0)
   {
     repair.RunFlipped(flippedRounds);
+    if (needleRounds > 0)
+    {
+      // After the flipped stage: its changes may leave needles, and the needle stage may not
+      // add a flipped tile back.
+      repair.RunNeedles(needleRounds);
+    }
   }
   return repair.Flips;
 }
@@ -2072,7 +2085,8 @@ void TileWithPoints(const TriangleMesh& mesh, const TriangleBVH& bvh, std::vecto
       const Vec3 w = Barycentric(position, mesh.Point(tri[0]), mesh.Point(tri[1]), mesh.Point(tri[2]));
       std::copy(w.begin(), w.end(), &bary[3 * size_t(v - n0)]);
     },
-    options.RepairFlippedTiles ? FlippedRepairRounds : 0, AlongCreaseOf(coarser.Creases, points, n0),
+    options.RepairFlippedTiles ? FlippedRepairRounds : 0, NeedleRounds(options),
+    AlongCreaseOf(coarser.Creases, points, n0),
     options.RepairFlippedTiles && options.MoveRetainedVertices
       ? MovableRetainedVertices(edit, removal, n0)
       : std::vector<Index>());
@@ -2109,12 +2123,12 @@ std::vector<Vec3> HostNormals(const TriangleMesh& mesh, const std::vector<Vec3>&
 // normals; phase 2 never applies since every kept vertex is fixed), then step 6's flips; each
 // collapse and flip is recorded (coarse.Removals, in the finer level's ids). The survivors keep the
 // finer level's order; those not kept (no collapse allowed) count in coarse.RetainedOldVertices.
-// `flippedRounds` > 0: the repair's final stage too (RepairTiles; its flips are recorded with the
-// others: only for a result no level interpolation replays, the exact count's trim). Returns false
-// when aborted.
+// `flippedRounds` > 0: the repair's final stage (and `needleRounds` > 0 its needle stage) too
+// (RepairTiles; their flips are recorded with the others: only for a result no level
+// interpolation replays, the exact count's trim). Returns false when aborted.
 bool RemoveUnkeptVertices(const TriangleMesh& mesh, const TriangleBVH& bvh, const std::vector<Vec3>& inputNormals,
   const RetilingResult& fine, const std::vector<unsigned char>& keep, const RetilingOptions& options,
-  RetilingResult& coarse, std::vector<Index>& survivors, int flippedRounds = 0)
+  RetilingResult& coarse, std::vector<Index>& survivors, int flippedRounds = 0, int needleRounds = 0)
 {
   const Index n = fine.Mesh.NumberOfPoints();
   auto kept = [&](Index v) { return keep[v] != 0; };
@@ -2168,8 +2182,8 @@ bool RemoveUnkeptVertices(const TriangleMesh& mesh, const TriangleBVH& bvh, cons
   coarse.Flips = ImproveShapeByFlips(edit, reference, options.ShapeImprovementPasses, removal, &record);
   // Every vertex is the finer level's: the repair only flips (recorded with the others).
   const std::vector<unsigned char> fixedVertices(size_t(n), 0);
-  coarse.Flips +=
-    RepairTiles(mesh, bvh, inputNormals, removal, fixedVertices, edit, reference, &record, nullptr, flippedRounds);
+  coarse.Flips += RepairTiles(
+    mesh, bvh, inputNormals, removal, fixedVertices, edit, reference, &record, nullptr, flippedRounds, needleRounds);
   removal.RemoveHeldAfterFlips();
   edit.Extract(coarse.Mesh, &survivors);
   for (Index& id : survivors)
@@ -2295,7 +2309,8 @@ bool RemoveCandidatesOnce(const TriangleMesh& mesh, const TriangleBVH& bvh, cons
   // leave flipped tiles as the re-tiling's did, so the final stage runs on it too (flips only:
   // every vertex stays where the re-tiling put it).
   const int flippedRounds = options.RepairFlippedTiles ? FlippedRepairRounds : 0;
-  if (!RemoveUnkeptVertices(mesh, bvh, inputNormals, result, kept, options, fewer, survivors, flippedRounds))
+  if (!RemoveUnkeptVertices(
+        mesh, bvh, inputNormals, result, kept, options, fewer, survivors, flippedRounds, NeedleRounds(options)))
   {
     return false;
   }

@@ -83,6 +83,13 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   // when the flipped tiles around it become fewer and needles and folds do not (session 37,
   // TileRepair::RunFlipped). The vertex count does not change. Retile's finest level only.
   bool RepairFlippedTiles = true;
+  // After that final stage, a needle stage on the tiles with a smallest angle under 5 degrees (or
+  // an edge under 1e-5 of the diagonal): the same flips and moves, each kept only when the needles
+  // around it become fewer (or as many with a larger smallest angle) and the flipped tiles and
+  // the folds the input lacks no more (session 43, TileRepair::RunNeedles). With an explicit
+  // count it ends the trim too (flips only). The vertex count does not change. Retile's finest
+  // level only; with RepairFlippedTiles only.
+  bool RepairNeedleTiles = true;
   // Candidates standing on an input crease move only along it in the repair and its final stage
   // (slodRetileCreases.h), instead of to the closest point of the surface. The creases are the
   // feature lines PreserveCreases detects but does not keep (they would take half the vertices

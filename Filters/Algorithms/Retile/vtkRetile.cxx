@@ -436,6 +436,7 @@ void CopyPlainOptions(vtkRetile* self, slod::RetilingOptions& options)
   options.RetriangulateRings = self->GetRetriangulateRings();
   options.RingSearchFacesInput = self->GetRingSearchFacesInput();
   options.RepairFlippedTiles = self->GetRepairFlippedTiles();
+  options.RepairNeedleTiles = self->GetRepairNeedleTiles();
   options.SlideAlongCreases = self->GetSlideAlongCreases();
   options.MoveRetainedVertices = self->GetMoveRetainedVertices();
   options.FeatureAngle = self->GetFeatureAngle();
@@ -617,6 +618,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RetriangulateRings: " << this->RetriangulateRings << "\n";
   os << indent << "RingSearchFacesInput: " << this->RingSearchFacesInput << "\n";
   os << indent << "RepairFlippedTiles: " << this->RepairFlippedTiles << "\n";
+  os << indent << "RepairNeedleTiles: " << this->RepairNeedleTiles << "\n";
   os << indent << "SlideAlongCreases: " << this->SlideAlongCreases << "\n";
   os << indent << "MoveRetainedVertices: " << this->MoveRetainedVertices << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";

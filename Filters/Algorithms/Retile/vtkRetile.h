@@ -117,6 +117,12 @@ public:
   vtkSetMacro(RepairFlippedTiles, bool);
   vtkGetMacro(RepairFlippedTiles, bool);
   vtkBooleanMacro(RepairFlippedTiles, bool);
+  // After that stage, a stage on the needles left (flips, moves of their vertices on the input)
+  // kept only where the needles become fewer and the flipped tiles no more; with
+  // RepairFlippedTiles; the vertex count does not change (slod::RetilingOptions::RepairNeedleTiles).
+  vtkSetMacro(RepairNeedleTiles, bool);
+  vtkGetMacro(RepairNeedleTiles, bool);
+  vtkBooleanMacro(RepairNeedleTiles, bool);
   // Candidates standing on a crease of a feature line that is not kept move only along it in the
   // repair (slod::RetilingOptions::SlideAlongCreases; with PreserveCreases). Off by default.
   vtkSetMacro(SlideAlongCreases, bool);
@@ -170,6 +176,7 @@ protected:
   bool RetriangulateRings = false;
   bool RingSearchFacesInput = false;
   bool RepairFlippedTiles = true;
+  bool RepairNeedleTiles = true;
   bool SlideAlongCreases = false;
   bool MoveRetainedVertices = false;
   double FeatureAngle = 45.0;
