@@ -726,6 +726,9 @@ private:
   // Adds the caller's TriangleCollapseOptions::LockedVertices to Locked, and takes its
   // PinnedVertices into Pinned (after Reorder).
   void LockCallersVertices(Index numberOfPoints);
+  // Takes the caller's TriangleCollapseOptions::BorderVertices into Boundary (after Reorder) and
+  // releases them.
+  void TakeBorderFlags(Index numberOfPoints);
   // The pinned vertex of a set (InvalidIndex when none); `pinned` gets how many there are.
   Index PinnedIn(const Index* set, int count, int& pinned) const
   {
@@ -868,6 +871,9 @@ private:
   double TrianglePlane(Index t, Quadric& q) const;
   bool BorderPlane(const BorderEdge& edge, Quadric& q) const;
   void BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const;
+  // BorderEdgesAt where the caller's flags allow a border edge (all vertices without them), and
+  // Boundary[x] set from it; returns whether the fan was searched.
+  bool SearchBorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out);
   void InitializePlaneSets();
   void SumLogicalSet(Index v); // exact mode: LogicalSum[v] from LogicalSet[v]
   // Options.AttributeError: the per-vertex attribute terms (AttributeQuadric, AttributeGradient).
@@ -1077,6 +1083,10 @@ private:
   bool FitBudgetReached = false;
   SweepCounts FitVisits, RefinementVisits; // the passes' diagnostics (TriangleCollapseResult)
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
+  // Boundary holds the caller's border flags (Options.BorderVertices) before the quadrics: only
+  // the flagged vertices' fans are searched for border edges.
+  bool BorderFlagsGiven = false;
+  long long BorderSearches = 0; // vertices whose fan was searched for border edges (the quadrics)
   std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input or locked by the caller, never collapsed
   std::vector<unsigned char> Pinned;   // per vertex: kept exactly in place (see PinnedVertices); empty when none
   long long Updates = 0;               // triangles re-costed by Update (it ends a look-ahead)
@@ -1254,6 +1264,7 @@ struct TriangleCollapser::VertexQuadricsFunctor
   TriangleCollapser& Self;
   vtkSMPThreadLocal<std::vector<Index>> Around;
   vtkSMPThreadLocal<std::vector<BorderEdge>> Edges;
+  vtkSMPThreadLocal<long long> Searches;
   void operator()(vtkIdType begin, vtkIdType end)
   {
     auto& around = this->Around.Local();
@@ -1266,8 +1277,10 @@ struct TriangleCollapser::VertexQuadricsFunctor
         sum.W += this->Self.TrianglePlane(t, q);
         sum.Q += q;
       });
-      this->Self.BorderEdgesAt(x, around, edges);
-      this->Self.Boundary[x] = edges.empty() ? 0 : 1;
+      if (this->Self.SearchBorderEdgesAt(x, around, edges))
+      {
+        ++this->Searches.Local();
+      }
       for (const BorderEdge& edge : edges)
       {
         Quadric q;
@@ -1280,6 +1293,19 @@ struct TriangleCollapser::VertexQuadricsFunctor
     }
   }
 };
+
+bool TriangleCollapser::SearchBorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out)
+{
+  if (this->BorderFlagsGiven && !this->Boundary[x])
+  {
+    // Not on an edge of one triangle (the caller's classification of this mesh): no border edge.
+    out.clear();
+    return false;
+  }
+  this->BorderEdgesAt(x, around, out);
+  this->Boundary[x] = out.empty() ? 0 : 1;
+  return true;
+}
 
 // Exact mode: every plane gets an id (in triangle order, then border tails in id order) and the
 // sorted ids of each vertex's logical set. Sequential: the ids are shared by the vertices.
@@ -1306,8 +1332,7 @@ void TriangleCollapser::InitializePlaneSets()
   std::vector<BorderEdge> edges;
   for (Index u = 0; u < nv; ++u)
   {
-    this->BorderEdgesAt(u, around, edges);
-    this->Boundary[u] = edges.empty() ? 0 : 1;
+    this->BorderSearches += this->SearchBorderEdgesAt(u, around, edges) ? 1 : 0;
     for (const BorderEdge& edge : edges)
     {
       Quadric q;
@@ -1340,15 +1365,23 @@ void TriangleCollapser::SumLogicalSet(Index v)
 void TriangleCollapser::InitializeQuadrics()
 {
   const Index nv = this->Mesh.NumberOfPoints();
-  this->Boundary.assign(size_t(nv), 0);
+  if (!this->BorderFlagsGiven)
+  {
+    this->Boundary.assign(size_t(nv), 0);
+  }
+  this->BorderSearches = 0;
   if (this->Options.ExactUnion)
   {
     this->InitializePlaneSets();
     return;
   }
   AssignOnHugePages(this->Vertex, size_t(nv), WeightedQuadric());
-  VertexQuadricsFunctor functor{ *this, {}, {} };
+  VertexQuadricsFunctor functor{ *this, {}, {}, {} };
   vtkSMPTools::For(0, nv, 4096, functor);
+  for (long long searches : functor.Searches)
+  {
+    this->BorderSearches += searches;
+  }
   this->InitializeAttributeTerms();
 }
 
@@ -2181,7 +2214,8 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
   // Costs are area * distance^2 ~ length^4: normalise by the diagonal so float keys keep range.
   this->CostScale = diagonal > 0 ? 1.0 / (diagonal * diagonal * diagonal * diagonal) : 1.0;
   this->Diagonal = diagonal;
-  const std::vector<unsigned char>* given = this->Options.NonManifoldVertices;
+  std::vector<unsigned char>* const callers = this->Options.NonManifoldVertices;
+  const std::vector<unsigned char>* given = callers;
   if (given && given->size() != size_t(input.NumberOfPoints()))
   {
     given = nullptr; // not this mesh's flags: classify it here
@@ -2204,7 +2238,12 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
       this->Locked = NonManifoldVertexFlags(input);
     }
   }
+  if (callers)
+  {
+    std::vector<unsigned char>().swap(*callers); // read: not held through the collapses
+  }
   this->LockCallersVertices(input.NumberOfPoints());
+  this->TakeBorderFlags(input.NumberOfPoints());
   if (std::none_of(this->Locked.begin(), this->Locked.end(), [](unsigned char locked) { return locked != 0; }))
   {
     // No vertex locked (a manifold input, no caller's locks): the checks need no flags, and the
@@ -2229,6 +2268,25 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
   std::vector<Index>().swap(input.Triangles);
   ReturnFreedMemory();
   this->Stages.Lap("editable mesh");
+}
+
+void TriangleCollapser::TakeBorderFlags(Index numberOfPoints)
+{
+  std::vector<unsigned char>* given = this->Options.BorderVertices;
+  this->BorderFlagsGiven = given && given->size() == size_t(numberOfPoints);
+  if (this->BorderFlagsGiven)
+  {
+    // Vertex i of the reordered mesh is input vertex VertexInput[i].
+    this->Boundary.resize(size_t(numberOfPoints));
+    for (Index v = 0; v < numberOfPoints; ++v)
+    {
+      this->Boundary[v] = (*given)[this->VertexInput[v]] ? 1 : 0;
+    }
+  }
+  if (given)
+  {
+    std::vector<unsigned char>().swap(*given); // read: not held through the collapses
+  }
 }
 
 void TriangleCollapser::LockCallersVertices(Index numberOfPoints)
@@ -4385,6 +4443,8 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
     double(loop.RingWalks) / double(std::max<long long>(1, loop.Selected)), phase[0], phase[1], phase[2] + phase[3] + phase[4]);
   vtkLogF(TRACE, "triangle collapse: %lld batches popped alone (fewer than %d entries within the tolerance)",
     loop.LoneBatches, this->Options.BatchMinimumSize);
+  vtkLogF(TRACE, "triangle collapse: %lld of %lld vertices searched for border edges (the caller's border flags %s)",
+    result.BorderSearches, static_cast<long long>(this->Mesh.NumberOfPoints()), this->BorderFlagsGiven ? "given" : "not given");
   if (phase[3] > 0 || phase[4] > 0)
   {
     vtkLogF(TRACE, "triangle collapse: apply = sequential settle %.3f s + parallel collapses %.3f s + sequential queue updates %.3f s",
@@ -4441,6 +4501,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
   this->Prepare(input, refine);
   this->InitializeQuadrics();
+  result.BorderSearches = this->BorderSearches;
   this->Stages.Lap("quadrics");
   this->PackInputIds();
   this->Stages.Lap("input ids packed");
