@@ -345,85 +345,6 @@ long long FlagEdgesOf(const TriangleMesh& mesh, const VertexStar& star, Index a,
   return nonManifold;
 }
 
-// SameHalfEdgeTwice and FlagEdgesOf for one vertex a over a single read of a small star held on
-// the stack (session 43: the two walks, their std::vector copies and std::sorts cost about 800
-// instructions a vertex, a third of the preparation's own work on a marching-cubes mesh). The
-// same answers: the half-edge a -> b twice with b in exactly two of a's triangles; per
-// neighbour b > a the number of a's triangles holding it (1: border, more than 2: non-manifold).
-// Returns false, having done nothing, for a large star or one with a repeated vertex (the
-// callers then run the two general walks).
-bool ClassifySmallStar(const TriangleMesh& mesh, const VertexStar& star, Index a, bool& sameHalfEdge,
-  long long& nonManifold, std::vector<unsigned char>& flags)
-{
-  constexpr Index smallStar = 32;
-  const Index degree = star.Degree(a);
-  if (degree > smallStar)
-  {
-    return false;
-  }
-  Index next[smallStar], previous[smallStar], others[2 * smallStar];
-  int n = 0;
-  for (Index i = 0; i < degree; ++i)
-  {
-    const Index* tri = mesh.Triangle(star.Begin(a)[i]);
-    const int c = tri[0] == a ? 0 : (tri[1] == a ? 1 : 2);
-    next[i] = tri[(c + 1) % 3];
-    previous[i] = tri[(c + 2) % 3];
-    if (next[i] == a || previous[i] == a || next[i] == previous[i])
-    {
-      return false;
-    }
-    // Insertion sort of the corners above a (a triangle holds each of them once).
-    for (const Index value : { next[i], previous[i] })
-    {
-      if (value > a)
-      {
-        int j = n++;
-        for (; j > 0 && others[j - 1] > value; --j)
-        {
-          others[j] = others[j - 1];
-        }
-        others[j] = value;
-      }
-    }
-  }
-  sameHalfEdge = false;
-  for (Index i = 0; i < degree && !sameHalfEdge; ++i)
-  {
-    for (Index j = i + 1; j < degree && !sameHalfEdge; ++j)
-    {
-      if (next[j] == next[i])
-      {
-        const Index b = next[i];
-        int count = 0;
-        for (Index k = 0; k < degree; ++k)
-        {
-          count += (next[k] == b || previous[k] == b) ? 1 : 0;
-        }
-        sameHalfEdge = count == 2;
-      }
-    }
-  }
-  for (int i = 0; i < n;)
-  {
-    int j = i;
-    while (j < n && others[j] == others[i])
-    {
-      ++j;
-    }
-    const int count = j - i;
-    const unsigned char flag = count == 1 ? BoundaryFlag : (count > 2 ? NonManifoldFlag : 0);
-    if (flag)
-    {
-      nonManifold += flag == NonManifoldFlag ? 1 : 0;
-      __atomic_fetch_or(&flags[a], flag, __ATOMIC_RELAXED);
-      __atomic_fetch_or(&flags[others[i]], flag, __ATOMIC_RELAXED);
-    }
-    i = j;
-  }
-  return true;
-}
-
 // Per vertex: on a border edge, on a non-manifold edge (more than two triangles, counted in the
 // report as MeshTopology does). Returns true when some edge with two triangles is traversed the
 // same way by both (inconsistent orientation): without one, orientation needs no repair. In
@@ -442,15 +363,6 @@ bool ClassifyEdges(const TriangleMesh& mesh, const VertexStar& star, Preparation
     long long& count = nonManifold.Local();
     for (Index a = static_cast<Index>(begin); a < static_cast<Index>(end); ++a)
     {
-      bool sameHalfEdge = false;
-      if (ClassifySmallStar(mesh, star, a, sameHalfEdge, count, flags))
-      {
-        if (sameHalfEdge)
-        {
-          __atomic_store_n(&inconsistent, true, __ATOMIC_RELAXED);
-        }
-        continue;
-      }
       // One inconsistent edge is enough: the others are not searched for.
       if (!__atomic_load_n(&inconsistent, __ATOMIC_RELAXED) && SameHalfEdgeTwice(mesh, star, a, local))
       {
