@@ -747,7 +747,7 @@ private:
   bool IsPinned(Index v) const { return !this->Pinned.empty() && this->Pinned[v]; }
   void InitializeQueue();
   // InitializeQueue with the edge cache: every triangle's key, each edge placed once.
-  void InitialKeys(std::vector<float>& keys);
+  void InitialKeys(std::vector<Index>& keys); // (BucketQueue::StoreKey)
   void StartLoop(CollapseLoop& loop) const;
   void CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result);
   // The pass schedule (CollapseSchedule::Passes), its stages in order: keys of the triangles
@@ -859,6 +859,7 @@ private:
   // Diagnostics (vtkLogF at TRACE verbosity).
   // Bytes of the arrays held through the collapses (capacities, TriangleCollapseResult::PeakWorkingBytes).
   size_t WorkingBytes() const;
+  void TraceWorkingParts(const char* when) const; // WorkingBytes's arrays at TRACE
   void TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const;
   Vec3 Local(Index v) const { return this->Mesh.Point(v) - this->Origin; }
   void InitializeQuadrics();
@@ -2193,6 +2194,31 @@ double NormalLimitDot(double degrees)
   return std::cos(Radians(std::min(90.0, std::max(0.0, degrees))));
 }
 
+void TriangleCollapser::TraceWorkingParts(const char* when) const
+{
+  // Every array of WorkingBytes, per input vertex (the peak's parts: at the loop's start the queue
+  // is largest, at its end the references and the history may have grown).
+  if (vtkLogger::GetCurrentVerbosityCutoff() < vtkLogger::VERBOSITY_TRACE)
+  {
+    return;
+  }
+  const double perVertex = 1.0 / std::max<double>(1.0, double(this->Mesh.NumberOfPoints()));
+  const size_t flags = this->Boundary.capacity() + this->Locked.capacity() + this->Pinned.capacity() +
+    this->Pending.capacity() + this->Merged.capacity();
+  const size_t ids = this->VertexInputPacked.Packed.MemoryBytes() + this->TriangleInputPacked.Packed.MemoryBytes() +
+    (this->VertexInput.capacity() + this->TriangleInput.capacity()) * sizeof(Index);
+  const size_t attributes = this->AttributeQuadric.capacity() * sizeof(Quadric) +
+    this->AttributeGradient.capacity() * sizeof(double);
+  vtkLogF(TRACE,
+    "triangle collapse: working bytes per input vertex %s: %.1f (editable mesh %.1f, quadrics %.1f, triangle state "
+    "%.1f, queue %.1f, input ids %.1f, input kept %.1f, vertex flags %.1f, parents %.1f, attribute terms %.1f)",
+    when, perVertex * double(this->WorkingBytes()), perVertex * double(this->Mesh.MemoryBytes()),
+    perVertex * double(this->Vertex.capacity() * sizeof(WeightedQuadric)),
+    perVertex * double(this->State.capacity() * sizeof(TriangleState)), perVertex * double(this->Heap.MemoryBytes()),
+    perVertex * double(ids), perVertex * double(this->Original.MemoryBytes()), perVertex * double(flags),
+    perVertex * double(this->Link.capacity() * sizeof(Index)), perVertex * double(attributes));
+}
+
 size_t TriangleCollapser::WorkingBytes() const
 {
   const size_t perVertex = this->VertexInput.capacity() * sizeof(Index) +
@@ -2343,12 +2369,14 @@ void TriangleCollapser::InitializeQueue()
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
   // Every triangle's cost depends only on its own vertices and writes only its own cache
   // entries: computed in parallel (vtkSMPTools), the same result for any thread count. The
-  // exact-union mode shares a scratch buffer: sequential.
-  auto keys = MakeOnHugePages<float>(static_cast<size_t>(nt));
+  // exact-union mode shares a scratch buffer: sequential. The keys go into the queue's own
+  // per-triangle array (BucketQueue::KeysBeforeBuild): no key array of their own beside the
+  // queue at its build, where the working set peaks (4 bytes per triangle; session 43).
+  std::vector<Index>& keys = this->Heap.KeysBeforeBuild(nt);
   if (this->CacheEdges)
   {
     this->InitialKeys(keys);
-    this->Heap.Build(keys.data(), nt);
+    this->Heap.BuildFromStoredKeys();
     this->EdgeCachesCurrent = true;
     return;
   }
@@ -2358,7 +2386,7 @@ void TriangleCollapser::InitializeQueue()
       Vec3 p;
       double error;
       int operation;
-      keys[t] = static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale);
+      BucketQueue::StoreKey(keys[t], static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale));
     }
   };
   if (this->Options.ExactUnion)
@@ -2369,7 +2397,7 @@ void TriangleCollapser::InitializeQueue()
   {
     vtkSMPTools::For(0, nt, 4096, costs);
   }
-  this->Heap.Build(keys.data(), nt);
+  this->Heap.BuildFromStoredKeys();
 }
 
 void TriangleCollapser::StartLoop(CollapseLoop& loop) const
@@ -4022,7 +4050,8 @@ struct TriangleCollapser::EdgeCopyFunctor
 {
   const TriangleCollapser& Self;
   const std::vector<unsigned char>& Recost;
-  std::vector<float>& Key;
+  std::vector<float>* Key;        // the pass schedule's keys, or
+  std::vector<Index>* StoredKeys; // the queue's stored keys (BucketQueue::StoreKey, InitialKeys)
   const Index* Listed; // as CostPassFunctor's
   void operator()(vtkIdType begin, vtkIdType end) const
   {
@@ -4036,7 +4065,7 @@ struct TriangleCollapser::EdgeCopyFunctor
       }
       const Index* tri = this->Self.Mesh.Triangle(t);
       float* cache = this->Self.State[t].EdgeCost;
-      float key = this->Key[t];
+      float key = this->Key ? (*this->Key)[t] : BucketQueue::StoredKey((*this->StoredKeys)[t]);
       for (int k = 0; k < 3; ++k)
       {
         if (flags & (2u << k))
@@ -4051,12 +4080,19 @@ struct TriangleCollapser::EdgeCopyFunctor
         const double triangle = this->Self.TriangleOperationCost(tri, p);
         key = std::isfinite(triangle) ? std::min(key, static_cast<float>(triangle * this->Self.CostScale)) : key;
       }
-      this->Key[t] = key;
+      if (this->Key)
+      {
+        (*this->Key)[t] = key;
+      }
+      else
+      {
+        BucketQueue::StoreKey((*this->StoredKeys)[t], key);
+      }
     }
   }
 };
 
-void TriangleCollapser::InitialKeys(std::vector<float>& keys)
+void TriangleCollapser::InitialKeys(std::vector<Index>& keys)
 {
   // Each edge placed once, by the triangle that holds it from the smaller to the larger vertex id,
   // the twin copying its cost (as CostPass): the keys and caches of Cost bit for bit.
@@ -4066,10 +4102,12 @@ void TriangleCollapser::InitialKeys(std::vector<float>& keys)
   vtkSMPTools::For(0, nt, 4096, [&](vtkIdType begin, vtkIdType end) {
     for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
     {
-      recost[t] = this->CostOwnedEdges(t, unused, true, keys[t]);
+      float key;
+      recost[t] = this->CostOwnedEdges(t, unused, true, key);
+      BucketQueue::StoreKey(keys[t], key);
     }
   });
-  EdgeCopyFunctor copies{ *this, recost, keys, nullptr };
+  EdgeCopyFunctor copies{ *this, recost, nullptr, &keys, nullptr };
   vtkSMPTools::For(0, nt, 4096, copies);
 }
 
@@ -4099,7 +4137,7 @@ void TriangleCollapser::CostPass(PassState& passes)
   passes.Visits += static_cast<long long>(n);
   CostPassFunctor costs{ *this, passes, list };
   vtkSMPTools::For(0, n, 4096, costs);
-  EdgeCopyFunctor copies{ *this, passes.Recost, passes.Key, list };
+  EdgeCopyFunctor copies{ *this, passes.Recost, &passes.Key, nullptr, list };
   vtkSMPTools::For(0, n, 4096, copies);
   // The exclusions left (on triangles none of whose vertices changed) stay listed.
   for (vtkIdType i = 0; i < n && !everything; ++i)
@@ -4518,6 +4556,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   // The working set peaks here or at the end (the queue is largest here; the references and the
   // history may grow in the loop).
   const size_t startBytes = this->WorkingBytes();
+  this->TraceWorkingParts("at the loop's start");
   CollapseLoop loop;
   this->StartLoop(loop);
   if (passes)
@@ -4529,6 +4568,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     this->CollapseToTarget(loop, result);
   }
   result.PeakWorkingBytes = std::max(startBytes, this->WorkingBytes() + result.History.MemoryBytes());
+  this->TraceWorkingParts("at the loop's end");
   const double perVertex = 1.0 / std::max<double>(1.0, double(this->Mesh.NumberOfPoints()));
   vtkLogF(TRACE,
     "triangle collapse: working bytes per input vertex %.1f (editable mesh %.1f, input kept %.1f, quadrics %.1f, "
