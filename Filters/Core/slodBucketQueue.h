@@ -50,28 +50,19 @@ public:
   void Build(const float* keys, Index n)
   {
     this->Reset(n);
-    this->Fill(n, [keys](Index id) { return keys[id]; }, false);
-  }
-
-  // Build without a key array beside the queue (session 43; that array was 4 bytes per id at the
-  // collapse filters' working-set peak, the queue's build): Reset(n), and the returned per-id
-  // array (the slots' own storage) takes each id's key as StoreKey writes it; then
-  // BuildFromStoredKeys() is Build(keys, n) with those keys (each read before its slot is written).
-  std::vector<Index>& KeysBeforeBuild(Index n)
-  {
-    this->Reset(n);
-    return this->Slot;
-  }
-  static void StoreKey(Index& stored, float key) { std::memcpy(&stored, &key, sizeof(float)); }
-  static float StoredKey(Index stored)
-  {
-    float key;
-    std::memcpy(&key, &stored, sizeof(float));
-    return key;
-  }
-  void BuildFromStoredKeys()
-  {
-    this->Fill(static_cast<Index>(this->Slot.size()), [this](Index id) { return StoredKey(this->Slot[id]); }, true);
+    std::vector<Index> sizes(this->Buckets.size(), 0);
+    for (Index id = 0; id < n; ++id)
+    {
+      ++sizes[BucketOf(keys[id])];
+    }
+    for (size_t b = 0; b < sizes.size(); ++b)
+    {
+      this->Buckets[b].reserve(size_t(sizes[b]));
+    }
+    for (Index id = 0; id < n; ++id)
+    {
+      this->Set(id, keys[id]);
+    }
   }
 
   bool Empty() const { return this->Count == 0; }
@@ -334,30 +325,6 @@ private:
     float K;
     Index Id;
   };
-  // Build's filling of a Reset queue: bucket sizes counted, each bucket reserved once, then every
-  // id Set in order (`stored`: its key is in its slot, emptied just before the Set).
-  template <class KeyOf>
-  void Fill(Index n, KeyOf&& keyOf, bool stored)
-  {
-    std::vector<Index> sizes(this->Buckets.size(), 0);
-    for (Index id = 0; id < n; ++id)
-    {
-      ++sizes[BucketOf(keyOf(id))];
-    }
-    for (size_t b = 0; b < sizes.size(); ++b)
-    {
-      this->Buckets[b].reserve(size_t(sizes[b]));
-    }
-    for (Index id = 0; id < n; ++id)
-    {
-      const float key = keyOf(id);
-      if (stored)
-      {
-        this->Slot[id] = InvalidIndex;
-      }
-      this->Set(id, key);
-    }
-  }
   // The pop cache's scans read the entries as pairs of floats, four keys per two 16-byte loads.
   static_assert(sizeof(Entry) == 2 * sizeof(float) && sizeof(Index) == sizeof(float), "Entry must be {float, 32-bit id}");
   // Advances Lowest to the first non-empty bucket (call only when not Empty). The buckets passed

@@ -747,7 +747,7 @@ private:
   bool IsPinned(Index v) const { return !this->Pinned.empty() && this->Pinned[v]; }
   void InitializeQueue();
   // InitializeQueue with the edge cache: every triangle's key, each edge placed once.
-  void InitialKeys(std::vector<Index>& keys); // (BucketQueue::StoreKey)
+  void InitialKeys(std::vector<float>& keys);
   void StartLoop(CollapseLoop& loop) const;
   void CollapseToTarget(CollapseLoop& loop, TriangleCollapseResult& result);
   // The pass schedule (CollapseSchedule::Passes), its stages in order: keys of the triangles
@@ -2369,14 +2369,12 @@ void TriangleCollapser::InitializeQueue()
   this->Pending.assign(size_t(this->Mesh.NumberOfPoints()), 0);
   // Every triangle's cost depends only on its own vertices and writes only its own cache
   // entries: computed in parallel (vtkSMPTools), the same result for any thread count. The
-  // exact-union mode shares a scratch buffer: sequential. The keys go into the queue's own
-  // per-triangle array (BucketQueue::KeysBeforeBuild): no key array of their own beside the
-  // queue at its build, where the working set peaks (4 bytes per triangle; session 43).
-  std::vector<Index>& keys = this->Heap.KeysBeforeBuild(nt);
+  // exact-union mode shares a scratch buffer: sequential.
+  auto keys = MakeOnHugePages<float>(static_cast<size_t>(nt));
   if (this->CacheEdges)
   {
     this->InitialKeys(keys);
-    this->Heap.BuildFromStoredKeys();
+    this->Heap.Build(keys.data(), nt);
     this->EdgeCachesCurrent = true;
     return;
   }
@@ -2386,7 +2384,7 @@ void TriangleCollapser::InitializeQueue()
       Vec3 p;
       double error;
       int operation;
-      BucketQueue::StoreKey(keys[t], static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale));
+      keys[t] = static_cast<float>(this->Cost(t, p, error, operation) * this->CostScale);
     }
   };
   if (this->Options.ExactUnion)
@@ -2397,7 +2395,7 @@ void TriangleCollapser::InitializeQueue()
   {
     vtkSMPTools::For(0, nt, 4096, costs);
   }
-  this->Heap.BuildFromStoredKeys();
+  this->Heap.Build(keys.data(), nt);
 }
 
 void TriangleCollapser::StartLoop(CollapseLoop& loop) const
@@ -4050,8 +4048,7 @@ struct TriangleCollapser::EdgeCopyFunctor
 {
   const TriangleCollapser& Self;
   const std::vector<unsigned char>& Recost;
-  std::vector<float>* Key;        // the pass schedule's keys, or
-  std::vector<Index>* StoredKeys; // the queue's stored keys (BucketQueue::StoreKey, InitialKeys)
+  std::vector<float>& Key;
   const Index* Listed; // as CostPassFunctor's
   void operator()(vtkIdType begin, vtkIdType end) const
   {
@@ -4065,7 +4062,7 @@ struct TriangleCollapser::EdgeCopyFunctor
       }
       const Index* tri = this->Self.Mesh.Triangle(t);
       float* cache = this->Self.State[t].EdgeCost;
-      float key = this->Key ? (*this->Key)[t] : BucketQueue::StoredKey((*this->StoredKeys)[t]);
+      float key = this->Key[t];
       for (int k = 0; k < 3; ++k)
       {
         if (flags & (2u << k))
@@ -4080,19 +4077,12 @@ struct TriangleCollapser::EdgeCopyFunctor
         const double triangle = this->Self.TriangleOperationCost(tri, p);
         key = std::isfinite(triangle) ? std::min(key, static_cast<float>(triangle * this->Self.CostScale)) : key;
       }
-      if (this->Key)
-      {
-        (*this->Key)[t] = key;
-      }
-      else
-      {
-        BucketQueue::StoreKey((*this->StoredKeys)[t], key);
-      }
+      this->Key[t] = key;
     }
   }
 };
 
-void TriangleCollapser::InitialKeys(std::vector<Index>& keys)
+void TriangleCollapser::InitialKeys(std::vector<float>& keys)
 {
   // Each edge placed once, by the triangle that holds it from the smaller to the larger vertex id,
   // the twin copying its cost (as CostPass): the keys and caches of Cost bit for bit.
@@ -4102,12 +4092,10 @@ void TriangleCollapser::InitialKeys(std::vector<Index>& keys)
   vtkSMPTools::For(0, nt, 4096, [&](vtkIdType begin, vtkIdType end) {
     for (Index t = static_cast<Index>(begin); t < static_cast<Index>(end); ++t)
     {
-      float key;
-      recost[t] = this->CostOwnedEdges(t, unused, true, key);
-      BucketQueue::StoreKey(keys[t], key);
+      recost[t] = this->CostOwnedEdges(t, unused, true, keys[t]);
     }
   });
-  EdgeCopyFunctor copies{ *this, recost, nullptr, &keys, nullptr };
+  EdgeCopyFunctor copies{ *this, recost, keys, nullptr };
   vtkSMPTools::For(0, nt, 4096, copies);
 }
 
@@ -4137,7 +4125,7 @@ void TriangleCollapser::CostPass(PassState& passes)
   passes.Visits += static_cast<long long>(n);
   CostPassFunctor costs{ *this, passes, list };
   vtkSMPTools::For(0, n, 4096, costs);
-  EdgeCopyFunctor copies{ *this, passes.Recost, &passes.Key, nullptr, list };
+  EdgeCopyFunctor copies{ *this, passes.Recost, passes.Key, list };
   vtkSMPTools::For(0, n, 4096, copies);
   // The exclusions left (on triangles none of whose vertices changed) stay listed.
   for (vtkIdType i = 0; i < n && !everything; ++i)
