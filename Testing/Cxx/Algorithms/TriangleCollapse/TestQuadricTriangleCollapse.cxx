@@ -472,6 +472,24 @@ static TriangleMesh PreparedWithFlags(bool open, PreparationReport& report)
   return mesh;
 }
 
+// The prepared mesh to 10 %: result[0] without the caller's flags, result[1] with them (`give`
+// sets them in the options).
+template <class Give>
+static void CollapseWithoutAndWithFlags(const TriangleMesh& prepared, Give&& give, TriangleCollapseResult result[2])
+{
+  for (const bool given : { false, true })
+  {
+    TriangleMesh mesh = prepared;
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    if (given)
+    {
+      give(options);
+    }
+    SimplifyByTriangleCollapse(mesh, options, result[given ? 1 : 0]);
+  }
+}
+
 // The caller's non-manifold flags (a byte per input vertex) are read by the collapses' set-up and
 // released there: held by the filter until the end (before session 43) they sat beside the
 // working set at its peak. The output is the same as with the flags computed by the collapses.
@@ -482,14 +500,9 @@ TEST(QuadricTriangleCollapse, CallersNonManifoldFlagsAreReleasedBeforeTheCollaps
     PreparationReport report;
     const TriangleMesh prepared = PreparedWithFlags(open, report);
     TriangleCollapseResult result[2];
-    for (const bool given : { false, true })
-    {
-      TriangleMesh mesh = prepared;
-      TriangleCollapseOptions options;
-      options.TargetTriangles = mesh.NumberOfTriangles() / 10;
-      options.NonManifoldVertices = given ? &report.NonManifoldVertexFlags : nullptr;
-      SimplifyByTriangleCollapse(mesh, options, result[given ? 1 : 0]);
-    }
+    CollapseWithoutAndWithFlags(
+      prepared, [&](TriangleCollapseOptions& options) { options.NonManifoldVertices = &report.NonManifoldVertexFlags; },
+      result);
     EXPECT_TRUE(report.NonManifoldVertexFlags.empty()) << "the caller's flags were held through the collapses";
     EXPECT_EQ(report.NonManifoldVertexFlags.capacity(), 0u);
     EXPECT_EQ(result[1].Mesh.Points, result[0].Mesh.Points);
@@ -509,14 +522,8 @@ TEST(QuadricTriangleCollapse, BorderFlagsLimitTheQuadricsBorderSearch)
     const long long flagged = std::count(report.BoundaryVertexFlags.begin(), report.BoundaryVertexFlags.end(), 1);
     EXPECT_EQ(flagged > 0, open);
     TriangleCollapseResult result[2];
-    for (const bool given : { false, true })
-    {
-      TriangleMesh mesh = prepared;
-      TriangleCollapseOptions options;
-      options.TargetTriangles = mesh.NumberOfTriangles() / 10;
-      options.BorderVertices = given ? &report.BoundaryVertexFlags : nullptr;
-      SimplifyByTriangleCollapse(mesh, options, result[given ? 1 : 0]);
-    }
+    CollapseWithoutAndWithFlags(
+      prepared, [&](TriangleCollapseOptions& options) { options.BorderVertices = &report.BoundaryVertexFlags; }, result);
     std::printf("[border search] %s: %lld of %lld vertices searched with the flags\n", open ? "open grid" : "sphere",
       result[1].BorderSearches, result[0].BorderSearches);
     EXPECT_EQ(result[0].BorderSearches, prepared.NumberOfPoints());
