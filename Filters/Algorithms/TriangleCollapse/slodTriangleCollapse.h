@@ -286,6 +286,9 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // Vertices whose fan the quadrics searched for border edges: every vertex without
   // TriangleCollapseOptions::BorderVertices, the flagged ones with them.
   long long BorderSearches = 0;
+  // Triangle planes the quadrics computed (accumulated mode): each triangle's once per block of
+  // vertices holding its corners (session 43; before, once per corner, three per triangle).
+  long long TrianglePlanes = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first

@@ -535,6 +535,27 @@ TEST(QuadricTriangleCollapse, BorderFlagsLimitTheQuadricsBorderSearch)
   }
 }
 
+// The quadrics compute each triangle's plane for its three corners together (session 43), not
+// once per corner: on the sphere and the marching-cubes mesh (vertices in Morton order, blocks of
+// 4,096) well under two planes per triangle (before, exactly three), and the output is the one
+// of the runs before (the same values summed in the same order: the other tests' outputs).
+TEST(QuadricTriangleCollapse, QuadricsComputeEachTrianglePlaneAboutOnce)
+{
+  for (const bool sphere : { true, false })
+  {
+    TriangleMesh mesh = sphere ? slodtest::Sphere(90, 80) : slodtest::ToTriangleMesh(Mesh("marching-cubes"));
+    const double triangles = mesh.NumberOfTriangles();
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    TriangleCollapseResult result;
+    SimplifyByTriangleCollapse(mesh, options, result);
+    std::printf("[triangle planes] %s: %.3f per triangle\n", sphere ? "sphere" : "marching cubes",
+      double(result.TrianglePlanes) / triangles);
+    EXPECT_GE(double(result.TrianglePlanes), triangles);
+    EXPECT_LT(double(result.TrianglePlanes), 1.5 * triangles);
+  }
+}
+
 // The sphere to 10 % with the records, which are then replayed on the input: per collapse the
 // triangles around its new vertex right after it (the fan) and that vertex's distinct
 // neighbours (the spokes), summed over the collapses.
