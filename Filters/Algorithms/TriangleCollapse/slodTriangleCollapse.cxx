@@ -726,6 +726,9 @@ private:
   // Adds the caller's TriangleCollapseOptions::LockedVertices to Locked, and takes its
   // PinnedVertices into Pinned (after Reorder).
   void LockCallersVertices(Index numberOfPoints);
+  // Takes the caller's TriangleCollapseOptions::BorderVertices into Boundary (after Reorder) and
+  // releases them.
+  void TakeBorderFlags(Index numberOfPoints);
   // The pinned vertex of a set (InvalidIndex when none); `pinned` gets how many there are.
   Index PinnedIn(const Index* set, int count, int& pinned) const
   {
@@ -856,6 +859,7 @@ private:
   // Diagnostics (vtkLogF at TRACE verbosity).
   // Bytes of the arrays held through the collapses (capacities, TriangleCollapseResult::PeakWorkingBytes).
   size_t WorkingBytes() const;
+  void TraceWorkingParts(const char* when) const; // WorkingBytes's arrays at TRACE
   void TraceStatistics(const CollapseLoop& loop, const TriangleCollapseResult& result) const;
   Vec3 Local(Index v) const { return this->Mesh.Point(v) - this->Origin; }
   void InitializeQuadrics();
@@ -868,6 +872,9 @@ private:
   double TrianglePlane(Index t, Quadric& q) const;
   bool BorderPlane(const BorderEdge& edge, Quadric& q) const;
   void BorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out) const;
+  // BorderEdgesAt where the caller's flags allow a border edge (all vertices without them), and
+  // Boundary[x] set from it; returns whether the fan was searched.
+  bool SearchBorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out);
   void InitializePlaneSets();
   void SumLogicalSet(Index v); // exact mode: LogicalSum[v] from LogicalSet[v]
   // Options.AttributeError: the per-vertex attribute terms (AttributeQuadric, AttributeGradient).
@@ -1077,6 +1084,11 @@ private:
   bool FitBudgetReached = false;
   SweepCounts FitVisits, RefinementVisits; // the passes' diagnostics (TriangleCollapseResult)
   std::vector<unsigned char> Boundary; // per vertex: on a border (maintained, see CollapseOptions)
+  // Boundary holds the caller's border flags (Options.BorderVertices) before the quadrics: only
+  // the flagged vertices' fans are searched for border edges.
+  bool BorderFlagsGiven = false;
+  long long BorderSearches = 0; // vertices whose fan was searched for border edges (the quadrics)
+  long long TrianglePlanes = 0; // triangle planes computed by the quadrics (accumulated mode)
   std::vector<unsigned char> Locked;   // per vertex: non-manifold in the input or locked by the caller, never collapsed
   std::vector<unsigned char> Pinned;   // per vertex: kept exactly in place (see PinnedVertices); empty when none
   long long Updates = 0;               // triangles re-costed by Update (it ends a look-ahead)
@@ -1254,20 +1266,89 @@ struct TriangleCollapser::VertexQuadricsFunctor
   TriangleCollapser& Self;
   vtkSMPThreadLocal<std::vector<Index>> Around;
   vtkSMPThreadLocal<std::vector<BorderEdge>> Edges;
+  vtkSMPThreadLocal<long long> Searches;
+  // Each triangle's plane is needed by its three corners (session 43: computed three times, 2.9 %
+  // of mc1m's instructions). Per block of vertices, the planes of the triangles whose smallest
+  // vertex lies in the block (a contiguous range: Reorder sorts the triangles by smallest vertex)
+  // are kept for the block's other corners; the same values, summed in the same order.
+  struct PlaneCache
+  {
+    Index First = 0, Block = -1;
+    std::vector<Quadric> Q;
+    std::vector<double> Area;
+    std::vector<unsigned char> Held;
+  };
+  vtkSMPThreadLocal<PlaneCache> Planes;
+  vtkSMPThreadLocal<long long> PlanesComputed;
+  static constexpr Index CacheBlock = 4096;
+  double Plane(PlaneCache& cache, Index t, Quadric& q, long long& computed) const
+  {
+    // Any triangle may take its own slot (t alone decides it); the order only decides how many hit.
+    const Index slot = t - cache.First;
+    if (slot < 0 || size_t(slot) >= cache.Held.size())
+    {
+      ++computed;
+      return this->Self.TrianglePlane(t, q);
+    }
+    if (!cache.Held[slot])
+    {
+      ++computed;
+      cache.Area[slot] = this->Self.TrianglePlane(t, cache.Q[slot]);
+      cache.Held[slot] = 1;
+    }
+    q = cache.Q[slot];
+    return cache.Area[slot];
+  }
+  // The triangles whose smallest vertex is in [blockBegin, blockEnd).
+  void StartBlock(PlaneCache& cache, Index blockBegin, Index blockEnd) const
+  {
+    const auto smallestFrom = [&](Index v) {
+      Index low = 0, high = this->Self.Mesh.NumberOfTriangles();
+      while (low < high) // first triangle whose smallest vertex is at least v
+      {
+        const Index mid = low + (high - low) / 2;
+        const Index* tri = this->Self.Mesh.Triangle(mid);
+        if (std::min({ tri[0], tri[1], tri[2] }) < v)
+        {
+          low = mid + 1;
+        }
+        else
+        {
+          high = mid;
+        }
+      }
+      return low;
+    };
+    cache.First = smallestFrom(blockBegin);
+    const size_t n = size_t(smallestFrom(blockEnd) - cache.First);
+    cache.Q.resize(n);
+    cache.Area.resize(n);
+    cache.Held.assign(n, 0);
+  }
   void operator()(vtkIdType begin, vtkIdType end)
   {
     auto& around = this->Around.Local();
     auto& edges = this->Edges.Local();
+    PlaneCache& cache = this->Planes.Local();
+    long long& computed = this->PlanesComputed.Local();
+    Index blockBegin = static_cast<Index>(begin);
     for (Index x = static_cast<Index>(begin); x < static_cast<Index>(end); ++x)
     {
+      if (x == blockBegin || x - blockBegin == CacheBlock)
+      {
+        blockBegin = x;
+        this->StartBlock(cache, x, std::min(static_cast<Index>(end), x + CacheBlock));
+      }
       WeightedQuadric sum;
       this->Self.Mesh.ForEachTriangle(x, [&](Index t) {
         Quadric q;
-        sum.W += this->Self.TrianglePlane(t, q);
+        sum.W += this->Plane(cache, t, q, computed);
         sum.Q += q;
       });
-      this->Self.BorderEdgesAt(x, around, edges);
-      this->Self.Boundary[x] = edges.empty() ? 0 : 1;
+      if (this->Self.SearchBorderEdgesAt(x, around, edges))
+      {
+        ++this->Searches.Local();
+      }
       for (const BorderEdge& edge : edges)
       {
         Quadric q;
@@ -1280,6 +1361,19 @@ struct TriangleCollapser::VertexQuadricsFunctor
     }
   }
 };
+
+bool TriangleCollapser::SearchBorderEdgesAt(Index x, std::vector<Index>& around, std::vector<BorderEdge>& out)
+{
+  if (this->BorderFlagsGiven && !this->Boundary[x])
+  {
+    // Not on an edge of one triangle (the caller's classification of this mesh): no border edge.
+    out.clear();
+    return false;
+  }
+  this->BorderEdgesAt(x, around, out);
+  this->Boundary[x] = out.empty() ? 0 : 1;
+  return true;
+}
 
 // Exact mode: every plane gets an id (in triangle order, then border tails in id order) and the
 // sorted ids of each vertex's logical set. Sequential: the ids are shared by the vertices.
@@ -1306,8 +1400,7 @@ void TriangleCollapser::InitializePlaneSets()
   std::vector<BorderEdge> edges;
   for (Index u = 0; u < nv; ++u)
   {
-    this->BorderEdgesAt(u, around, edges);
-    this->Boundary[u] = edges.empty() ? 0 : 1;
+    this->BorderSearches += this->SearchBorderEdgesAt(u, around, edges) ? 1 : 0;
     for (const BorderEdge& edge : edges)
     {
       Quadric q;
@@ -1340,15 +1433,28 @@ void TriangleCollapser::SumLogicalSet(Index v)
 void TriangleCollapser::InitializeQuadrics()
 {
   const Index nv = this->Mesh.NumberOfPoints();
-  this->Boundary.assign(size_t(nv), 0);
+  if (!this->BorderFlagsGiven)
+  {
+    this->Boundary.assign(size_t(nv), 0);
+  }
+  this->BorderSearches = 0;
   if (this->Options.ExactUnion)
   {
     this->InitializePlaneSets();
     return;
   }
   AssignOnHugePages(this->Vertex, size_t(nv), WeightedQuadric());
-  VertexQuadricsFunctor functor{ *this, {}, {} };
+  VertexQuadricsFunctor functor{ *this, {}, {}, {}, {}, {} };
   vtkSMPTools::For(0, nv, 4096, functor);
+  for (long long searches : functor.Searches)
+  {
+    this->BorderSearches += searches;
+  }
+  this->TrianglePlanes = 0;
+  for (long long planes : functor.PlanesComputed)
+  {
+    this->TrianglePlanes += planes;
+  }
   this->InitializeAttributeTerms();
 }
 
@@ -2160,6 +2266,31 @@ double NormalLimitDot(double degrees)
   return std::cos(Radians(std::min(90.0, std::max(0.0, degrees))));
 }
 
+void TriangleCollapser::TraceWorkingParts(const char* when) const
+{
+  // Every array of WorkingBytes, per input vertex (the peak's parts: at the loop's start the queue
+  // is largest, at its end the references and the history may have grown).
+  if (vtkLogger::GetCurrentVerbosityCutoff() < vtkLogger::VERBOSITY_TRACE)
+  {
+    return;
+  }
+  const double perVertex = 1.0 / std::max<double>(1.0, double(this->Mesh.NumberOfPoints()));
+  const size_t flags = this->Boundary.capacity() + this->Locked.capacity() + this->Pinned.capacity() +
+    this->Pending.capacity() + this->Merged.capacity();
+  const size_t ids = this->VertexInputPacked.Packed.MemoryBytes() + this->TriangleInputPacked.Packed.MemoryBytes() +
+    (this->VertexInput.capacity() + this->TriangleInput.capacity()) * sizeof(Index);
+  const size_t attributes = this->AttributeQuadric.capacity() * sizeof(Quadric) +
+    this->AttributeGradient.capacity() * sizeof(double);
+  vtkLogF(TRACE,
+    "triangle collapse: working bytes per input vertex %s: %.1f (editable mesh %.1f, quadrics %.1f, triangle state "
+    "%.1f, queue %.1f, input ids %.1f, input kept %.1f, vertex flags %.1f, parents %.1f, attribute terms %.1f)",
+    when, perVertex * double(this->WorkingBytes()), perVertex * double(this->Mesh.MemoryBytes()),
+    perVertex * double(this->Vertex.capacity() * sizeof(WeightedQuadric)),
+    perVertex * double(this->State.capacity() * sizeof(TriangleState)), perVertex * double(this->Heap.MemoryBytes()),
+    perVertex * double(ids), perVertex * double(this->Original.MemoryBytes()), perVertex * double(flags),
+    perVertex * double(this->Link.capacity() * sizeof(Index)), perVertex * double(attributes));
+}
+
 size_t TriangleCollapser::WorkingBytes() const
 {
   const size_t perVertex = this->VertexInput.capacity() * sizeof(Index) +
@@ -2181,7 +2312,8 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
   // Costs are area * distance^2 ~ length^4: normalise by the diagonal so float keys keep range.
   this->CostScale = diagonal > 0 ? 1.0 / (diagonal * diagonal * diagonal * diagonal) : 1.0;
   this->Diagonal = diagonal;
-  const std::vector<unsigned char>* given = this->Options.NonManifoldVertices;
+  std::vector<unsigned char>* const callers = this->Options.NonManifoldVertices;
+  const std::vector<unsigned char>* given = callers;
   if (given && given->size() != size_t(input.NumberOfPoints()))
   {
     given = nullptr; // not this mesh's flags: classify it here
@@ -2204,7 +2336,12 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
       this->Locked = NonManifoldVertexFlags(input);
     }
   }
+  if (callers)
+  {
+    std::vector<unsigned char>().swap(*callers); // read: not held through the collapses
+  }
   this->LockCallersVertices(input.NumberOfPoints());
+  this->TakeBorderFlags(input.NumberOfPoints());
   if (std::none_of(this->Locked.begin(), this->Locked.end(), [](unsigned char locked) { return locked != 0; }))
   {
     // No vertex locked (a manifold input, no caller's locks): the checks need no flags, and the
@@ -2229,6 +2366,25 @@ void TriangleCollapser::Prepare(TriangleMesh& input, bool refine)
   std::vector<Index>().swap(input.Triangles);
   ReturnFreedMemory();
   this->Stages.Lap("editable mesh");
+}
+
+void TriangleCollapser::TakeBorderFlags(Index numberOfPoints)
+{
+  std::vector<unsigned char>* given = this->Options.BorderVertices;
+  this->BorderFlagsGiven = given && given->size() == size_t(numberOfPoints);
+  if (this->BorderFlagsGiven)
+  {
+    // Vertex i of the reordered mesh is input vertex VertexInput[i].
+    this->Boundary.resize(size_t(numberOfPoints));
+    for (Index v = 0; v < numberOfPoints; ++v)
+    {
+      this->Boundary[v] = (*given)[this->VertexInput[v]] ? 1 : 0;
+    }
+  }
+  if (given)
+  {
+    std::vector<unsigned char>().swap(*given); // read: not held through the collapses
+  }
 }
 
 void TriangleCollapser::LockCallersVertices(Index numberOfPoints)
@@ -4385,6 +4541,8 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
     double(loop.RingWalks) / double(std::max<long long>(1, loop.Selected)), phase[0], phase[1], phase[2] + phase[3] + phase[4]);
   vtkLogF(TRACE, "triangle collapse: %lld batches popped alone (fewer than %d entries within the tolerance)",
     loop.LoneBatches, this->Options.BatchMinimumSize);
+  vtkLogF(TRACE, "triangle collapse: %lld of %lld vertices searched for border edges (the caller's border flags %s)",
+    result.BorderSearches, static_cast<long long>(this->Mesh.NumberOfPoints()), this->BorderFlagsGiven ? "given" : "not given");
   if (phase[3] > 0 || phase[4] > 0)
   {
     vtkLogF(TRACE, "triangle collapse: apply = sequential settle %.3f s + parallel collapses %.3f s + sequential queue updates %.3f s",
@@ -4441,6 +4599,8 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   const bool refine = (this->Options.RefineDeviation || this->Options.FitToOriginal) && !this->Options.ExactUnion;
   this->Prepare(input, refine);
   this->InitializeQuadrics();
+  result.BorderSearches = this->BorderSearches;
+  result.TrianglePlanes = this->TrianglePlanes;
   this->Stages.Lap("quadrics");
   this->PackInputIds();
   this->Stages.Lap("input ids packed");
@@ -4457,6 +4617,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   // The working set peaks here or at the end (the queue is largest here; the references and the
   // history may grow in the loop).
   const size_t startBytes = this->WorkingBytes();
+  this->TraceWorkingParts("at the loop's start");
   CollapseLoop loop;
   this->StartLoop(loop);
   if (passes)
@@ -4468,6 +4629,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
     this->CollapseToTarget(loop, result);
   }
   result.PeakWorkingBytes = std::max(startBytes, this->WorkingBytes() + result.History.MemoryBytes());
+  this->TraceWorkingParts("at the loop's end");
   const double perVertex = 1.0 / std::max<double>(1.0, double(this->Mesh.NumberOfPoints()));
   vtkLogF(TRACE,
     "triangle collapse: working bytes per input vertex %.1f (editable mesh %.1f, input kept %.1f, quadrics %.1f, "

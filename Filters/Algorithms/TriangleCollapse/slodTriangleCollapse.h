@@ -170,8 +170,17 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseOptions
   // Record every collapse for progressive meshes (TriangleCollapseResult::History).
   bool RecordHistory = false;
   // Optional: per vertex of the input mesh, 1 when non-manifold (the input preparation's
-  // PreparationReport::NonManifoldVertexFlags); computed here when null.
-  const std::vector<unsigned char>* NonManifoldVertices = nullptr;
+  // PreparationReport::NonManifoldVertexFlags); computed here when null. Read once by the
+  // preparation and then released (swapped empty: a byte per vertex not held through the
+  // collapses, session 43).
+  std::vector<unsigned char>* NonManifoldVertices = nullptr;
+  // Optional: per vertex of the input mesh, 1 when on a border edge (an edge of one triangle: the
+  // input preparation's PreparationReport::BoundaryVertexFlags, the same definition as the border
+  // edges the quadrics add). When given, the quadrics look for border edges at these vertices only
+  // (on a closed mesh at none): the fan of every interior vertex was sorted for nothing. Read once
+  // by the preparation and then released (swapped empty: not held through the collapses).
+  // Ignored when its size is not the mesh's.
+  std::vector<unsigned char>* BorderVertices = nullptr;
   // Optional: per vertex of the input mesh, 1 when the vertex must stay exactly as it is (never
   // removed, never moved), whatever AllowTopologyChange says: e.g. the seam of a piece of a
   // distributed surface, shared with other pieces. Ignored when its size is not the mesh's.
@@ -274,6 +283,12 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // Session 42: the batches performed as lone pops because the queue showed that they would hold
   // fewer than TriangleCollapseOptions::BatchMinimumSize entries.
   long long BatchesPoppedAlone = 0;
+  // Vertices whose fan the quadrics searched for border edges: every vertex without
+  // TriangleCollapseOptions::BorderVertices, the flagged ones with them.
+  long long BorderSearches = 0;
+  // Triangle planes the quadrics computed (accumulated mode): each triangle's once per block of
+  // vertices holding its corners (session 43; before, once per corner, three per triangle).
+  long long TrianglePlanes = 0;
   int WindowTestThreads = 0;
   long long WaitingEntries = 0;
   // Triangles the pass schedule's cost steps visited, over all passes (every triangle in the first

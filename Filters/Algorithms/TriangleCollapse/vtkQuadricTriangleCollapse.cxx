@@ -467,8 +467,10 @@ int vtkQuadricTriangleCollapse::RequestData(
   }
   const std::vector<unsigned char> pinned = FeatureVertices(this, input, mesh, report.BoundaryVertexFlags, vertexToInput, triangleToCell);
   options.PinnedVertices = pinned.empty() ? nullptr : &pinned;
-  // Read by FeatureVertices only: not held through the collapses (1 byte per vertex at their peak).
-  std::vector<unsigned char>().swap(report.BoundaryVertexFlags);
+  // Read by FeatureVertices and by the collapses' preparation, which releases them (1 byte per
+  // vertex not held through the collapses): the quadrics then search only these vertices' fans
+  // for border edges.
+  options.BorderVertices = &report.BoundaryVertexFlags;
   slod::PointAttributes attributes;
   attributes.Load(input->GetPointData(), vertexToInput);
   const AttributeMetricSetting metric = AttributeMetric(this, input->GetPointData(), vertexToInput, diagonal);

@@ -6,6 +6,7 @@
 #include "TestSupport.h"
 
 #include "slodCollapsePasses.h"
+#include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
 #include "slodTriangleCollapse.h"
 #include "slodUnionFind.h"
@@ -450,6 +451,109 @@ TEST(QuadricTriangleCollapse, HoldsLockedFlagsOnlyWhenAVertexIsLocked)
   std::printf("[locked flags] %.2f bytes per vertex more with one vertex locked\n",
     (double(peak[1]) - double(peak[0])) / vertices);
   EXPECT_GE(double(peak[1]) - double(peak[0]), vertices);
+}
+
+// A mesh as vtkQuadricTriangleCollapse hands it to the collapses, with the input preparation's
+// per-vertex flags: a bumpy open grid (one border loop) or a closed sphere.
+static TriangleMesh PreparedWithFlags(bool open, PreparationReport& report)
+{
+  TriangleMesh raw = open ? slodtest::Grid(40, 40) : slodtest::Sphere(90, 80);
+  for (Index v = 0; open && v < raw.NumberOfPoints(); ++v)
+  {
+    Vec3 p = raw.Point(v);
+    p[2] = 0.05 * std::sin(6 * p[0]) * std::cos(5 * p[1]);
+    raw.SetPoint(v, p);
+  }
+  TriangleMesh mesh;
+  std::vector<Index> vertexToInput;
+  report = PrepareTriangleMesh(slodtest::ToPolyData(raw), PreparationOptions(), mesh, vertexToInput);
+  EXPECT_TRUE(report.Valid);
+  EXPECT_EQ(report.NonManifoldVertexFlags.size(), size_t(mesh.NumberOfPoints()));
+  return mesh;
+}
+
+// The prepared mesh to 10 %: result[0] without the caller's flags, result[1] with them (`give`
+// sets them in the options).
+template <class Give>
+static void CollapseWithoutAndWithFlags(const TriangleMesh& prepared, Give&& give, TriangleCollapseResult result[2])
+{
+  for (const bool given : { false, true })
+  {
+    TriangleMesh mesh = prepared;
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    if (given)
+    {
+      give(options);
+    }
+    SimplifyByTriangleCollapse(mesh, options, result[given ? 1 : 0]);
+  }
+}
+
+// The caller's non-manifold flags (a byte per input vertex) are read by the collapses' set-up and
+// released there: held by the filter until the end (before session 43) they sat beside the
+// working set at its peak. The output is the same as with the flags computed by the collapses.
+TEST(QuadricTriangleCollapse, CallersNonManifoldFlagsAreReleasedBeforeTheCollapses)
+{
+  for (const bool open : { true, false })
+  {
+    PreparationReport report;
+    const TriangleMesh prepared = PreparedWithFlags(open, report);
+    TriangleCollapseResult result[2];
+    CollapseWithoutAndWithFlags(
+      prepared, [&](TriangleCollapseOptions& options) { options.NonManifoldVertices = &report.NonManifoldVertexFlags; },
+      result);
+    EXPECT_TRUE(report.NonManifoldVertexFlags.empty()) << "the caller's flags were held through the collapses";
+    EXPECT_EQ(report.NonManifoldVertexFlags.capacity(), 0u);
+    EXPECT_EQ(result[1].Mesh.Points, result[0].Mesh.Points);
+    EXPECT_EQ(result[1].Mesh.Triangles, result[0].Mesh.Triangles);
+  }
+}
+
+// With the preparation's border flags (session 43) the quadrics search for border edges only at
+// the flagged vertices' fans (none on a closed mesh; before, every vertex's fan was sorted), the
+// flags are released by the set-up, and the output is bit for bit the one without them.
+TEST(QuadricTriangleCollapse, BorderFlagsLimitTheQuadricsBorderSearch)
+{
+  for (const bool open : { true, false })
+  {
+    PreparationReport report;
+    const TriangleMesh prepared = PreparedWithFlags(open, report);
+    const long long flagged = std::count(report.BoundaryVertexFlags.begin(), report.BoundaryVertexFlags.end(), 1);
+    EXPECT_EQ(flagged > 0, open);
+    TriangleCollapseResult result[2];
+    CollapseWithoutAndWithFlags(
+      prepared, [&](TriangleCollapseOptions& options) { options.BorderVertices = &report.BoundaryVertexFlags; }, result);
+    std::printf("[border search] %s: %lld of %lld vertices searched with the flags\n", open ? "open grid" : "sphere",
+      result[1].BorderSearches, result[0].BorderSearches);
+    EXPECT_EQ(result[0].BorderSearches, prepared.NumberOfPoints());
+    EXPECT_EQ(result[1].BorderSearches, flagged);
+    EXPECT_TRUE(report.BoundaryVertexFlags.empty()) << "the caller's flags were held through the collapses";
+    EXPECT_EQ(result[1].Mesh.Points, result[0].Mesh.Points);
+    EXPECT_EQ(result[1].Mesh.Triangles, result[0].Mesh.Triangles);
+    EXPECT_EQ(result[1].MaximumError, result[0].MaximumError);
+  }
+}
+
+// The quadrics compute each triangle's plane for its three corners together (session 43), not
+// once per corner: on the sphere and the marching-cubes mesh (vertices in Morton order, blocks of
+// 4,096) well under two planes per triangle (before, exactly three), and the output is the one
+// of the runs before (the same values summed in the same order: the other tests' outputs).
+TEST(QuadricTriangleCollapse, QuadricsComputeEachTrianglePlaneAboutOnce)
+{
+  for (const bool sphere : { true, false })
+  {
+    TriangleMesh mesh = sphere ? slodtest::Sphere(90, 80) : slodtest::ToTriangleMesh(Mesh("marching-cubes"));
+    const double triangles = mesh.NumberOfTriangles();
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    TriangleCollapseResult result;
+    SimplifyByTriangleCollapse(mesh, options, result);
+    std::printf("[triangle planes] %s: %.3f per triangle\n", sphere ? "sphere" : "marching cubes",
+      double(result.TrianglePlanes) / triangles);
+    EXPECT_GE(double(result.TrianglePlanes), triangles);
+    EXPECT_LT(double(result.TrianglePlanes), 1.5 * triangles);
+  }
 }
 
 // The sphere to 10 % with the records, which are then replayed on the input: per collapse the
