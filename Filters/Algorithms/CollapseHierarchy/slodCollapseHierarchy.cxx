@@ -1088,16 +1088,19 @@ void CollapseHierarchy::PriceSpokes(const std::vector<Index>* vertices)
 // v is the kept vertex of a collapse (new point and quadric): the costs of the edges at v go.
 void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
 {
-  this->Mesh.ForEachTriangle(v, [&](Index x) {
-    const Index* q = this->Mesh.Triangle(x);
-    for (int k = 0; k < 3; ++k)
+  this->Mesh.ForEachTriangle(v, [&](Index x) { this->ForgetEdgeCostsAt(v, this->Mesh.Triangle(x), this->Row(x)); });
+}
+
+// The costs of triangle q's (row's) edges at v.
+void CollapseHierarchy::ForgetEdgeCostsAt(Index v, const Index* q, size_t row) const
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    if (q[k] == v || q[(k + 1) % 3] == v)
     {
-      if (q[k] == v || q[(k + 1) % 3] == v)
-      {
-        this->ForgetEdgeCost(3 * this->Row(x) + k);
-      }
+      this->ForgetEdgeCost(3 * row + size_t(k));
     }
-  });
+  }
 }
 
 int CollapseHierarchy::EdgePlacements(
@@ -1483,23 +1486,28 @@ void CollapseHierarchy::MarkChangedAround(Index v)
 // (relaxed atomics; one by one the stamps only grow).
 void CollapseHierarchy::MarkChangedAround(Index v, Index stamp)
 {
-  const auto raise = [&](Index w) {
-    Index* changed = &this->VertexStamps[w];
-    Index old = __atomic_load_n(changed, __ATOMIC_RELAXED);
-    while (old < stamp &&
-      !__atomic_compare_exchange_n(changed, &old, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
-    {
-    }
-    __atomic_store_n(&this->VertexDegrees[w], UnknownDegree, __ATOMIC_RELAXED);
-  };
-  raise(v);
-  this->Mesh.ForEachTriangle(v, [&](Index x) {
-    const Index* q = this->Mesh.Triangle(x);
-    for (int j = 0; j < 3; ++j)
-    {
-      raise(q[j]);
-    }
-  });
+  this->RaiseStamp(v, stamp);
+  this->Mesh.ForEachTriangle(v, [&](Index x) { this->RaiseStampsOf(this->Mesh.Triangle(x), stamp); });
+}
+
+// w's change stamp raised to stamp (the larger stays: concurrent collapses of a run meet at shared
+// boundary vertices), and its valence unknown.
+void CollapseHierarchy::RaiseStamp(Index w, Index stamp)
+{
+  Index* changed = &this->VertexStamps[w];
+  Index old = __atomic_load_n(changed, __ATOMIC_RELAXED);
+  while (old < stamp && !__atomic_compare_exchange_n(changed, &old, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+  {
+  }
+  __atomic_store_n(&this->VertexDegrees[w], UnknownDegree, __ATOMIC_RELAXED);
+}
+
+void CollapseHierarchy::RaiseStampsOf(const Index* q, Index stamp)
+{
+  for (int j = 0; j < 3; ++j)
+  {
+    this->RaiseStamp(q[j], stamp);
+  }
 }
 
 bool CollapseHierarchy::StarsUnchangedSince(Index t, Index stamp, int skipMask) const
@@ -3593,17 +3601,23 @@ void CollapseHierarchy::ApplyRunCollapse(
   this->AncestorCounts[size_t(k)] =
     this->AncestorCountOf(collapse.Sources[0]) + this->AncestorCountOf(collapse.Sources[1]);
   this->GlobalOf[kept] = this->PointOfCollapse(k);
-  this->MarkChangedAround(kept, run.FirstStamp + static_cast<Index>(i) + 1);
-  if (!this->EdgeCostErrors.empty())
-  {
-    this->ForgetEdgeCostsAround(kept);
-  }
+  // One walk of kept's new fan for what ApplyCollapse does in three (MarkChangedAround,
+  // ForgetEdgeCostsAround, the new versions): each triangle's row looked up once.
+  const Index stamp = run.FirstStamp + static_cast<Index>(i) + 1;
+  const bool costs = !this->EdgeCostErrors.empty();
+  this->RaiseStamp(kept, stamp);
   Index e = run.FirstEntry + run.SurvivorStart[i]; // (the ended versions' deaths: DeriveDeaths)
   const Index nt = this->Base.NumberOfTriangles();
   this->Mesh.ForEachTriangle(kept, [&](Index x) {
     const Index* q = this->Mesh.Triangle(x);
+    const size_t row = this->Row(x);
+    this->RaiseStampsOf(q, stamp);
+    if (costs)
+    {
+      this->ForgetEdgeCostsAt(kept, q, row);
+    }
     this->EntryCode[size_t(e - nt)] = std::uint32_t(x) << 2 | (q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
-    this->EntryOf[this->Row(x)] = e++;
+    this->EntryOf[row] = e++;
   });
   this->VersionsBornBy[size_t(k) + 1] = e;
   this->Records.SetAt(k, record, this->Mesh);

@@ -988,6 +988,8 @@ private:
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
   void MarkChangedAround(Index v, Index stamp);
+  void RaiseStamp(Index w, Index stamp);
+  void RaiseStampsOf(const Index* q, Index stamp); // (each corner of a triangle)
   // The stars of the vertices of t not in skipMask (bit k: tri[k]) are unchanged since stamp
   // (false for a negative stamp: not known).
   bool StarsUnchangedSince(Index t, Index stamp, int skipMask = 0) const;
@@ -1029,6 +1031,7 @@ private:
   struct SpokePricing;               // the vtkSMPTools functor (in the .cxx)
   std::vector<Index> Spokes;         // the vertices whose spokes are priced
   void ForgetEdgeCostsAround(Index v);
+  void ForgetEdgeCostsAt(Index v, const Index* q, size_t row) const;
   // 3 per triangle row. Floats (session 26: 12 bytes per input triangle less): every edge cost is
   // rounded up to a float where it is made (CheapestPlacement), kept or not, so a kept cost is the
   // one a fresh pricing gives, and the selection's own errors (doubles) are never dearer than it.
