@@ -302,6 +302,65 @@ bool EditableMesh::IsBoundaryVertex(Index v) const
                                : this->BorderThrough(v, TableLink(this->LinkTable, size_t(this->RefCount[v])));
 }
 
+void EditableMesh::BoundaryVertexFlags(std::vector<unsigned char>& flags) const
+{
+  // BorderThrough's In and Out per neighbour w of v are the corners after and before v in v's
+  // triangles: v is on a border when some w other than v is not as often the one as the other,
+  // i.e. when the two lists differ as multisets. Each corner after v is matched with an equal
+  // corner before it (taken out of that list); one without a match, or one left over, is a border.
+  constexpr int Capacity = 32; // (fans of more: IsBoundaryVertex)
+  Index after[Capacity], before[Capacity];
+  const Index np = this->NumberOfPoints();
+  flags.assign(size_t(np), 0);
+  for (Index v = 0; v < np; ++v)
+  {
+    int n = 0;
+    bool fits = true;
+    this->ForEachTriangle(v, [&](Index t) {
+      fits = fits && n < Capacity;
+      if (fits)
+      {
+        const Index* tri = this->Triangle(t);
+        const int c = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+        after[n] = tri[NextCorner[c]];
+        before[n++] = tri[NextCorner[NextCorner[c]]];
+      }
+    });
+    if (!fits)
+    {
+      flags[size_t(v)] = this->IsBoundaryVertex(v) ? 1 : 0;
+      continue;
+    }
+    bool boundary = false;
+    int left = n;
+    for (int i = 0; i < n && !boundary; ++i)
+    {
+      if (after[i] == v)
+      {
+        continue;
+      }
+      int j = 0;
+      while (j < left && before[j] != after[i]) // (at most n steps)
+      {
+        ++j;
+      }
+      if (j == left)
+      {
+        boundary = true;
+      }
+      else
+      {
+        before[j] = before[--left];
+      }
+    }
+    for (int j = 0; j < left && !boundary; ++j)
+    {
+      boundary = before[j] != v;
+    }
+    flags[size_t(v)] = boundary ? 1 : 0;
+  }
+}
+
 template <typename Link>
 bool EditableMesh::BorderThrough(Index v, Link&& link) const
 {
@@ -871,14 +930,20 @@ CollapseStatus EditableMesh::CheckTrial(const Vec3& p, const CollapseOptions& op
       return failure;
     }
   }
-  if (!trial.TopologyKnown)
+  return this->CheckTrialTopology(options, trial, link) == CollapseStatus::Ok ? this->TestTrialSurvivors(options, trial)
+                                                                                : trial.Fixed;
+}
+
+CollapseStatus EditableMesh::CheckTrialTopology(const CollapseOptions& options, SetTrial& trial, CheckScratch* link) const
+{
+  if (trial.Fixed == CollapseStatus::Ok && !trial.TopologyKnown)
   {
     this->PrefetchGathered(trial.Gathered);
     SetScan scan;
     trial.Fixed = this->CheckTopology(trial.Vertices, trial.Count, options, trial.Gathered, link, scan);
     trial.TopologyKnown = true;
   }
-  return trial.Fixed == CollapseStatus::Ok ? this->TestTrialSurvivors(options, trial) : trial.Fixed;
+  return trial.Fixed;
 }
 
 // The caller's test (options.Survivors) of every survivor at the point CheckTrial just tested (each

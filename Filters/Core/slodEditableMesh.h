@@ -195,6 +195,10 @@ public:
   Index VertexDegree(Index v) const;
   // True when an edge at v has a single triangle.
   bool IsBoundaryVertex(Index v) const;
+  // IsBoundaryVertex of every vertex (1 or 0), in one pass: each fan's link counts in a small array
+  // on the stack rather than in the marks or the hashed table (a few fans of more than 32 triangles
+  // take IsBoundaryVertex itself). Serial; the same answers.
+  void BoundaryVertexFlags(std::vector<unsigned char>& flags) const;
   // Number of live triangles containing both u and v.
   int EdgeTriangleCount(Index u, Index v) const;
   // Distinct neighbours of v (appended to out after clearing it).
@@ -260,6 +264,11 @@ public:
   void PrepareTrial(const Index* vertices, int count, const CollapseOptions& options, SetTrial& trial) const;
   // (link: as CheckCollapse's CheckScratch, or null for the mesh's marks)
   CollapseStatus CheckTrial(const Vec3& p, const CollapseOptions& options, SetTrial& trial, CheckScratch* link) const;
+  // The set's topology (the link condition, borders, isolated vertices) tested now, before any
+  // point, instead of after the first point that passes the geometry; returns the set's fixed
+  // status (Ok, or a status no point can change). For a caller whose sets often fail it: their
+  // points' geometric tests are then never run. CheckTrial answers Ok for the same points.
+  CollapseStatus CheckTrialTopology(const CollapseOptions& options, SetTrial& trial, CheckScratch* link) const;
 
   // Merges the vertices into `kept` (one of them) placed at p. Triangles with two or more of the
   // vertices disappear. Call CheckCollapse first. The record, when given, allows Undo.

@@ -386,7 +386,8 @@ CollapseHierarchy::EvaluationRest CollapseHierarchy::EvaluateConcurrently(
   }
   const Vec3 centroid = frame.Origin;
   e.Kappa = 0;
-  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(t, e.CheapestEdge) : std::numeric_limits<double>::infinity();
+  // (No hub: EvaluateShape took those.)
+  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(t, 0, e.CheapestEdge) : std::numeric_limits<double>::infinity();
   OwnQuadric own[3];
   const Quadric q = this->TriangleQuadric(tri, own);
   if (!this->QuadricPointNearCentroid(tri, q, centroid, e.Point))
@@ -431,9 +432,10 @@ bool CollapseHierarchy::EvaluateShape(Index t, Evaluation& e, LocalFrame& frame,
     e.Valence = this->CollapsePointValence(tri);
     e.Alpha = Roundness(a, b, c);
   }
-  if (this->HubMask(t) != 0)
+  const int hubs = this->HubMask(t);
+  if (hubs != 0)
   {
-    this->EvaluateHubTriangle(t, areaVector, centroid, e);
+    this->EvaluateHubTriangle(t, hubs, areaVector, centroid, e);
     return false;
   }
   // A degenerate triangle has no plane of its own: use its stencil's.
@@ -473,7 +475,7 @@ void CollapseHierarchy::EvaluateWithFit(Index t, Evaluation& e)
   }
   e.Source = PointSource::Kept;
   const Vec3 fitPoint = this->FitStencil(tri, frame, e.Kappa);
-  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(t, e.CheapestEdge) : std::numeric_limits<double>::infinity();
+  e.EdgeError = this->PreferringEdges() ? this->CheapestEdgeError(t, 0, e.CheapestEdge) : std::numeric_limits<double>::infinity();
   e.Point = fitPoint;
   if (this->Parameters.ErrorWeight > 0)
   {
@@ -552,13 +554,13 @@ int CollapseHierarchy::CollapsePointValence(const Index* tri) const
 }
 
 // Only its edge away from the hubs can collapse: ordered by that edge (no fit, no stencil).
-void CollapseHierarchy::EvaluateHubTriangle(Index t, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const
+void CollapseHierarchy::EvaluateHubTriangle(Index t, int hubs, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const
 {
   e.Normal = Norm(areaVector) > 0 ? Normalized(areaVector) : Vec3{ 0, 0, 0 };
   e.Point = centroid;
   e.Source = PointSource::Centroid;
   e.Kappa = 0;
-  e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(t, e.CheapestEdge);
+  e.EdgeError = this->Quadrics.empty() ? std::numeric_limits<double>::infinity() : this->CheapestEdgeError(t, hubs, e.CheapestEdge);
   e.Error = e.EdgeError;
   e.PreferEdge = true;
 }
@@ -833,10 +835,10 @@ int CollapseHierarchy::FixedMask(const Index* tri) const
   return mask;
 }
 
-double CollapseHierarchy::CheapestEdgeError(Index t, EdgeChoice& choice) const
+double CollapseHierarchy::CheapestEdgeError(Index t, int hubs, EdgeChoice& choice) const
 {
   const Index* tri = this->Mesh.Triangle(t);
-  const int fixed = this->FixedMask(tri);
+  const int fixed = hubs; // (FixedMask(tri): its callers have it, a fifth of this function's instructions)
   double cheapest = std::numeric_limits<double>::infinity();
   // The first minimum in FindEdgeCollapse's order (error, then edge, then best/u/v); unknown when
   // an error is not a number (that order is then not a minimum). Per edge, its cost holds its
@@ -1105,16 +1107,19 @@ void CollapseHierarchy::PriceSpokes(const std::vector<Index>* vertices)
 // v is the kept vertex of a collapse (new point and quadric): the costs of the edges at v go.
 void CollapseHierarchy::ForgetEdgeCostsAround(Index v)
 {
-  this->Mesh.ForEachTriangle(v, [&](Index x) {
-    const Index* q = this->Mesh.Triangle(x);
-    for (int k = 0; k < 3; ++k)
+  this->Mesh.ForEachTriangle(v, [&](Index x) { this->ForgetEdgeCostsAt(v, this->Mesh.Triangle(x), this->Row(x)); });
+}
+
+// The costs of triangle q's (row's) edges at v.
+void CollapseHierarchy::ForgetEdgeCostsAt(Index v, const Index* q, size_t row) const
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    if (q[k] == v || q[(k + 1) % 3] == v)
     {
-      if (q[k] == v || q[(k + 1) % 3] == v)
-      {
-        this->ForgetEdgeCost(3 * this->Row(x) + k);
-      }
+      this->ForgetEdgeCost(3 * row + size_t(k));
     }
-  });
+  }
 }
 
 int CollapseHierarchy::EdgePlacements(
@@ -1500,23 +1505,28 @@ void CollapseHierarchy::MarkChangedAround(Index v)
 // (relaxed atomics; one by one the stamps only grow).
 void CollapseHierarchy::MarkChangedAround(Index v, Index stamp)
 {
-  const auto raise = [&](Index w) {
-    Index* changed = &this->VertexStamps[w];
-    Index old = __atomic_load_n(changed, __ATOMIC_RELAXED);
-    while (old < stamp &&
-      !__atomic_compare_exchange_n(changed, &old, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
-    {
-    }
-    __atomic_store_n(&this->VertexDegrees[w], UnknownDegree, __ATOMIC_RELAXED);
-  };
-  raise(v);
-  this->Mesh.ForEachTriangle(v, [&](Index x) {
-    const Index* q = this->Mesh.Triangle(x);
-    for (int j = 0; j < 3; ++j)
-    {
-      raise(q[j]);
-    }
-  });
+  this->RaiseStamp(v, stamp);
+  this->Mesh.ForEachTriangle(v, [&](Index x) { this->RaiseStampsOf(this->Mesh.Triangle(x), stamp); });
+}
+
+// w's change stamp raised to stamp (the larger stays: concurrent collapses of a run meet at shared
+// boundary vertices), and its valence unknown.
+void CollapseHierarchy::RaiseStamp(Index w, Index stamp)
+{
+  Index* changed = &this->VertexStamps[w];
+  Index old = __atomic_load_n(changed, __ATOMIC_RELAXED);
+  while (old < stamp && !__atomic_compare_exchange_n(changed, &old, stamp, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+  {
+  }
+  __atomic_store_n(&this->VertexDegrees[w], UnknownDegree, __ATOMIC_RELAXED);
+}
+
+void CollapseHierarchy::RaiseStampsOf(const Index* q, Index stamp)
+{
+  for (int j = 0; j < 3; ++j)
+  {
+    this->RaiseStamp(q[j], stamp);
+  }
 }
 
 bool CollapseHierarchy::StarsUnchangedSince(Index t, Index stamp, int skipMask) const
@@ -1744,6 +1754,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   // scans these checks were a third of the build's instructions, each gathering the same
   // triangles).
   int prepared = 0; // bit k: edge k's trial is prepared
+  long long tested[3] = { 0, 0, 0 }; // per edge, its points tested so far (the counters)
   const auto checked = [&](const Index* vertices, const Vec3& p) {
     const int k = vertices[0] == tri[0] ? 0 : (vertices[0] == tri[1] ? 1 : 2);
     EditableMesh::SetTrial& trial = scratch.EdgeTrials[k];
@@ -1751,8 +1762,26 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
     {
       m.PrepareTrial(vertices, 2, this->ChoiceOptions, trial);
       prepared |= 1 << k;
+      // The edge's topology before any of its points' geometry: on noisy scans seven in ten of the
+      // edges tried here fail the link condition (noisy137: 215k of 299k), and with the geometry
+      // first each of their points was tested in vain (350k of the 488k points refused as flips).
+      const CollapseStatus topology = this->Parameters.TopologyBeforeTrialPoints
+        ? m.CheckTrialTopology(this->ChoiceOptions, trial, scratch.OwnMarks())
+        : CollapseStatus::Ok;
+      if (topology != CollapseStatus::Ok)
+      {
+        return topology;
+      }
     }
-    return m.CheckTrial(p, this->ChoiceOptions, trial, scratch.OwnMarks());
+    const CollapseStatus status = m.CheckTrial(p, this->ChoiceOptions, trial, scratch.OwnMarks());
+    ++tested[k];
+    __atomic_fetch_add(&this->TrialPoints, 1, __ATOMIC_RELAXED);
+    if (FailsForEveryPoint(status))
+    {
+      __atomic_fetch_add(&this->TrialPointsOnRefusedEdges, tested[k], __ATOMIC_RELAXED);
+      tested[k] = 0;
+    }
+    return status;
   };
   // Most of the time the cheapest candidate, known from the evaluation, passes: the other eight
   // need not be computed (one eigen decomposition instead of three).
@@ -2455,6 +2484,8 @@ void CollapseHierarchy::Reset(TriangleMesh&& input, std::vector<unsigned char>&&
   this->BatchRechecks = 0;
   this->PricingMismatches = 0;
   this->BoundedEndPoints = 0;
+  this->TrialPoints = 0;
+  this->TrialPointsOnRefusedEdges = 0;
   this->CollapsesInRuns = 0;
   this->ChoicesAhead = 0;
   this->ChoicesInOrder = 0;
@@ -2462,11 +2493,9 @@ void CollapseHierarchy::Reset(TriangleMesh&& input, std::vector<unsigned char>&&
   // Border flags, computed once (EditableMesh::IsBoundaryVertex was a fifth of the build when
   // asked at every check): collapses keep the topology, so a merged vertex is on the border
   // exactly when one of its vertices was, and swaps only turn interior edges.
-  this->OnBorder.resize(np);
-  for (Index v = 0; v < np; ++v)
-  {
-    this->OnBorder[v] = this->Mesh.IsBoundaryVertex(v) ? 1 : 0;
-  }
+  // (In one pass with the fans' counts on the stack: asked vertex by vertex through the mesh's
+  // hashed table it was 1.5% of the run on mc250k.)
+  this->Mesh.BoundaryVertexFlags(this->OnBorder);
   this->MeshOptions.BoundaryVertices = this->OnBorder.data();
   this->Orientation.Hierarchy = this;
   this->ChoiceOptions = this->MeshOptions;
@@ -3591,17 +3620,23 @@ void CollapseHierarchy::ApplyRunCollapse(
   this->AncestorCounts[size_t(k)] =
     this->AncestorCountOf(collapse.Sources[0]) + this->AncestorCountOf(collapse.Sources[1]);
   this->GlobalOf[kept] = this->PointOfCollapse(k);
-  this->MarkChangedAround(kept, run.FirstStamp + static_cast<Index>(i) + 1);
-  if (!this->EdgeCostErrors.empty())
-  {
-    this->ForgetEdgeCostsAround(kept);
-  }
+  // One walk of kept's new fan for what ApplyCollapse does in three (MarkChangedAround,
+  // ForgetEdgeCostsAround, the new versions): each triangle's row looked up once.
+  const Index stamp = run.FirstStamp + static_cast<Index>(i) + 1;
+  const bool costs = !this->EdgeCostErrors.empty();
+  this->RaiseStamp(kept, stamp);
   Index e = run.FirstEntry + run.SurvivorStart[i]; // (the ended versions' deaths: DeriveDeaths)
   const Index nt = this->Base.NumberOfTriangles();
   this->Mesh.ForEachTriangle(kept, [&](Index x) {
     const Index* q = this->Mesh.Triangle(x);
+    const size_t row = this->Row(x);
+    this->RaiseStampsOf(q, stamp);
+    if (costs)
+    {
+      this->ForgetEdgeCostsAt(kept, q, row);
+    }
     this->EntryCode[size_t(e - nt)] = std::uint32_t(x) << 2 | (q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
-    this->EntryOf[this->Row(x)] = e++;
+    this->EntryOf[row] = e++;
   });
   this->VersionsBornBy[size_t(k) + 1] = e;
   this->Records.SetAt(k, record, this->Mesh);

@@ -150,6 +150,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // costs (EdgeCostsBothWays, EdgeCostOf) with those of the bounded end points (session 41):
   // NumberOfPricingMismatches() must stay 0. The same hierarchy either way.
   bool VerifyBoundedPricing = false;
+  // FindEdgeCollapse's edge trials test an edge's topology (the link condition, borders) before
+  // any of its points' geometry, so that no point of an edge that fails it is tested (session 43).
+  // Off (test support): the geometry first, as before. The same hierarchy either way.
+  bool TopologyBeforeTrialPoints = true;
   // Selection passes whose blocked stamps are kept as 1-byte indices before the blocked columns
   // turn into full stamps (at most 255). Lower only to exercise the wide columns: the same
   // hierarchy, bit for bit, at any value.
@@ -355,6 +359,10 @@ public:
   // exact errors, and end points whose error the pricing bounded instead of computing.
   long long NumberOfPricingMismatches() const { return this->PricingMismatches; }
   long long NumberOfBoundedEndPoints() const { return this->BoundedEndPoints; }
+  // FindEdgeCollapse's edge trials (after a failed known cheapest): the points tested, and those of
+  // of them on an edge that no point passes (its topology fails, or a vertex is locked): in vain.
+  long long NumberOfTrialPoints() const { return this->TrialPoints; }
+  long long NumberOfTrialPointsOnRefusedEdges() const { return this->TrialPointsOnRefusedEdges; }
   // Collapses applied in runs, concurrently (ParallelCollapses; the others one by one).
   Index NumberOfCollapsesInRuns() const { return this->CollapsesInRuns; }
   // The batch selection's choices (a candidate's collapse, decided when its region is free): those
@@ -703,7 +711,7 @@ private:
   static bool StarShaped(const LinkEdges& link, const Vec3& point, const Vec3& normal);
   bool StarShapedAround(const Index* tri, const Vec3& point, const Vec3& normal) const;
   int CollapsePointValence(const Index* tri) const;
-  void EvaluateHubTriangle(Index t, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const;
+  void EvaluateHubTriangle(Index t, int hubs, const Vec3& areaVector, const Vec3& centroid, Evaluation& e) const;
   Vec3 StencilAreaVector(const Index* tri) const;
   void GatherStencilVertices(const Index* tri);
   void AddUnmarkedVertices(Index triangle);
@@ -973,6 +981,7 @@ private:
   Index EdgeCollapseCount = 0;
   Index BatchRechecks = 0;
   mutable long long PricingMismatches = 0, BoundedEndPoints = 0; // (atomic adds: concurrent pricing)
+  mutable long long TrialPoints = 0, TrialPointsOnRefusedEdges = 0; // (atomic adds: ChooseAhead)
   Index CollapsesInRuns = 0;
   Index ChoicesAhead = 0, ChoicesInOrder = 0, ChoicesDecidedAhead = 0;
   // Per editable vertex: on a border of the mesh (MeshOptions.BoundaryVertices points here).
@@ -980,6 +989,8 @@ private:
   Index ChangeCounter = 0;
   void MarkChangedAround(Index v);
   void MarkChangedAround(Index v, Index stamp);
+  void RaiseStamp(Index w, Index stamp);
+  void RaiseStampsOf(const Index* q, Index stamp); // (each corner of a triangle)
   // The stars of the vertices of t not in skipMask (bit k: tri[k]) are unchanged since stamp
   // (false for a negative stamp: not known).
   bool StarsUnchangedSince(Index t, Index stamp, int skipMask = 0) const;
@@ -995,8 +1006,8 @@ private:
   Index CacheDegree(Index v) const; // (the walk, out of the callers' loops)
   int HubMask(Index t) const; // bit k: tri[k] is a hub
   // Over edges with no hub or border end; choice: which candidate it was. Reads and fills t's
-  // EdgeCosts.
-  double CheapestEdgeError(Index t, EdgeChoice& choice) const;
+  // EdgeCosts. hubs: t's HubMask, which every caller has just computed (EvaluateShape).
+  double CheapestEdgeError(Index t, int hubs, EdgeChoice& choice) const;
   // The cheapest placement of one edge collapse as CheapestEdgeError needs it, kept per triangle
   // edge (tri[k], tri[k + 1]): the error, the kind of the first cheapest placement and whether an
   // error was not a number. An edge's cost depends only on its two vertices' points and quadrics,
@@ -1021,6 +1032,7 @@ private:
   struct SpokePricing;               // the vtkSMPTools functor (in the .cxx)
   std::vector<Index> Spokes;         // the vertices whose spokes are priced
   void ForgetEdgeCostsAround(Index v);
+  void ForgetEdgeCostsAt(Index v, const Index* q, size_t row) const;
   // 3 per triangle row. Floats (session 26: 12 bytes per input triangle less): every edge cost is
   // rounded up to a float where it is made (CheapestPlacement), kept or not, so a kept cost is the
   // one a fresh pricing gives, and the selection's own errors (doubles) are never dearer than it.

@@ -1155,6 +1155,64 @@ TEST(EditableMesh, LargeFansGiveTheAnswersOfSmallOnes)
   }
 }
 
+// BoundaryVertexFlags (all vertices in one pass, the fans' corners matched on the stack; session
+// 43) gives IsBoundaryVertex of every vertex: on a noisy scan isosurface (borders, handles,
+// non-manifold edges) before and after collapses (dead vertices and triangles, merged fans), a
+// torus (no border) and open and closed fans of 8 and 100 triangles (more than the stack holds:
+// IsBoundaryVertex itself), with the mesh's marks and with its table.
+TEST(EditableMesh, BoundaryVertexFlagsAreIsBoundaryVertexOfEveryVertex)
+{
+  std::vector<TriangleMesh> inputs{ ToTriangleMesh(NoisyScanIsosurface(30, 7)), Torus(40, 16) };
+  for (const bool open : { false, true })
+  {
+    for (const int n : { 8, 100 })
+    {
+      TriangleMesh m;
+      const Index top = m.AddPoint({ 0, 0, 1 }), bottom = m.AddPoint({ 0, 0, -1 });
+      for (int i = 0; i < n; ++i)
+      {
+        const double a = 2 * vtkMath::Pi() * i / n;
+        m.AddPoint({ std::cos(a), std::sin(a), 0 });
+      }
+      for (int i = 0; i < n; ++i)
+      {
+        m.AddTriangle(top, 2 + i, 2 + (i + 1) % n);
+        if (!open)
+        {
+          m.AddTriangle(bottom, 2 + (i + 1) % n, 2 + i);
+        }
+      }
+      inputs.push_back(m);
+    }
+  }
+  size_t borders = 0, interior = 0;
+  for (const TriangleMesh& input : inputs)
+  {
+    for (const bool marks : { true, false })
+    {
+      EditableMesh mesh;
+      mesh.SetVertexLinkMarks(marks);
+      mesh.Reset(input);
+      for (const int steps : { 0, input.NumberOfTriangles() / 20 })
+      {
+        CollapseTrianglesGreedily(mesh, steps);
+        std::vector<unsigned char> flags{ 7 }; // (replaced whole)
+        mesh.BoundaryVertexFlags(flags);
+        ASSERT_EQ(flags.size(), size_t(mesh.NumberOfPoints()));
+        for (Index v = 0; v < mesh.NumberOfPoints(); ++v)
+        {
+          ASSERT_EQ(flags[size_t(v)], mesh.IsBoundaryVertex(v) ? 1 : 0)
+            << "vertex " << v << " of " << mesh.NumberOfPoints() << ", " << steps << " collapses";
+          borders += flags[size_t(v)];
+          interior += 1 - flags[size_t(v)];
+        }
+      }
+    }
+  }
+  EXPECT_GT(borders, 100u);
+  EXPECT_GT(interior, 1000u);
+}
+
 // The mean absolute curvature: about 1/R on a sphere (the discrete sum converges to it), exactly
 // 1/s of it when the mesh is scaled by s, zero on a flat grid.
 TEST(MeshTopology, MeanAbsoluteCurvatureOfSphereAndPlane)

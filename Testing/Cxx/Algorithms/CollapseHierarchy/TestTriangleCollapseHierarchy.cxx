@@ -1280,6 +1280,39 @@ TEST(CollapseHierarchy, BoundedPricingAndPreparedFlagsGiveTheSameHierarchy)
   ExpectSameHierarchy(cycles, cyclesGiven, "RemoveCycles");
 }
 
+// Session 43: when a triangle's known cheapest edge collapse fails, FindEdgeCollapse tries the
+// other points of its edges (by error), each edge's trial testing the edge's topology (link
+// condition, borders) before any point's geometry. On a noisy scan isosurface (handles, borders,
+// locked non-manifold vertices: many of the edges tried there fail the link condition) no point
+// is tested on an edge that no point passes, while with the geometry first (the order before,
+// TopologyBeforeTrialPoints off) a good share of the points are, and no point is tested that the
+// geometry first did not test; the hierarchy is the same bit for bit, also with
+// the choices decided ahead on two threads (the counters then add up from both).
+TEST(CollapseHierarchy, TrialPointsAreTestedOnlyOnEdgesWhoseTopologyPasses)
+{
+  const TriangleMesh scan = ToTriangleMesh(NoisyScanIsosurface(45, 3));
+  CollapseHierarchyParameters geometryFirst = DefaultParameters();
+  geometryFirst.TopologyBeforeTrialPoints = false;
+  CollapseHierarchy topologyFirst, before;
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ 1 }, [&]() {
+    ASSERT_TRUE(topologyFirst.Build(scan, DefaultParameters()));
+    ASSERT_TRUE(before.Build(scan, geometryFirst));
+  });
+  ExpectSameHierarchy(topologyFirst, before, "geometry first");
+  ASSERT_GT(topologyFirst.NumberOfTrialPoints(), 0);
+  EXPECT_EQ(topologyFirst.NumberOfTrialPointsOnRefusedEdges(), 0);
+  EXPECT_GT(before.NumberOfTrialPointsOnRefusedEdges(), before.NumberOfTrialPoints() / 10);
+  // (Geometry first, a point of a refused edge is counted so only once one of the edge's points
+  // passed the geometry: the others tested before stay among the rest.)
+  EXPECT_LE(topologyFirst.NumberOfTrialPoints(), before.NumberOfTrialPoints() - before.NumberOfTrialPointsOnRefusedEdges());
+  CollapseHierarchyParameters ahead = DefaultParameters();
+  ahead.DecideAhead = true;
+  CollapseHierarchy twoThreads;
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ 2 }, [&]() { ASSERT_TRUE(twoThreads.Build(scan, ahead)); });
+  ExpectSameHierarchy(topologyFirst, twoThreads, "two threads, choices decided ahead");
+  EXPECT_EQ(twoThreads.NumberOfTrialPointsOnRefusedEdges(), 0);
+}
+
 // The batch selection decides the coming candidates' choices ahead, in parallel (DecideAhead,
 // ChooseAhead), and uses them in the order: on a noisy scan isosurface (borders, handles, locked non-manifold
 // vertices) with the defaults, and on bunny00 with triangle collapses preferred (PreferEdgeFactor
