@@ -474,12 +474,16 @@ struct Simplification
   Index Stamp = 0;
   std::vector<unsigned char> InSequence;
 
-  // One level of the depth-first search: the chains that may follow `current`, best first.
+  // One level of the depth-first search: the chains that may follow `current`, best first, are
+  // Candidates[Next, End) of the search's candidate stack (one stack for every level and search:
+  // no allocation per step; a level's candidates, from Begin, are dropped with the level).
   struct SearchFrame
   {
-    std::vector<Oriented> Candidates;
-    size_t Next = 0;
+    size_t Begin = 0, Next = 0, End = 0;
   };
+  std::vector<Oriented> Candidates;
+  std::vector<SearchFrame> Frames;
+  std::vector<std::pair<double, Oriented>> Scored;
   bool Blocked(Index v, Index stamp, const std::vector<Index>* forbidden, Index forbiddenStamp) const
   {
     return this->VertexStamp[v] == stamp || (forbidden && (*forbidden)[v] == forbiddenStamp);
@@ -488,9 +492,10 @@ struct Simplification
   // Candidates keep the flat side on the left and continue it (score: alignment, +2 on the
   // same flat patch).
   SearchFrame Continuations(const Oriented& current, Index start, Index stamp, const std::vector<Index>* forbidden,
-    Index forbiddenStamp) const
+    Index forbiddenStamp)
   {
-    std::vector<std::pair<double, Oriented>> scored;
+    std::vector<std::pair<double, Oriented>>& scored = this->Scored;
+    scored.clear();
     const Index v = this->Last(current);
     for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
     {
@@ -525,10 +530,12 @@ struct Simplification
     std::stable_sort(scored.begin(), scored.end(),
       [](const std::pair<double, Oriented>& a, const std::pair<double, Oriented>& b) { return a.first > b.first; });
     SearchFrame frame;
+    frame.Begin = frame.Next = this->Candidates.size();
     for (const auto& candidate : scored)
     {
-      frame.Candidates.push_back(candidate.second);
+      this->Candidates.push_back(candidate.second);
     }
+    frame.End = this->Candidates.size();
     return frame;
   }
 
@@ -536,7 +543,9 @@ struct Simplification
     std::vector<Index>& explored)
   {
     std::vector<Oriented> sequence{ seed };
-    std::vector<SearchFrame> frames;
+    std::vector<SearchFrame>& frames = this->Frames;
+    frames.clear();
+    this->Candidates.clear();
     ++this->Stamp;
     const Index stamp = this->Stamp;
     const Index start = this->First(seed);
@@ -559,8 +568,9 @@ struct Simplification
     while (!closed && !frames.empty() && budget-- > 0)
     {
       SearchFrame& top = frames.back();
-      if (top.Next >= top.Candidates.size())
+      if (top.Next >= top.End)
       {
+        this->Candidates.resize(top.Begin);
         frames.pop_back();
         occupy(sequence.back(), 0);
         sequence.pop_back();
@@ -570,7 +580,7 @@ struct Simplification
         }
         continue;
       }
-      const Oriented next = top.Candidates[top.Next++];
+      const Oriented next = this->Candidates[top.Next++];
       sequence.push_back(next);
       explored.push_back(next.Chain);
       if (this->Last(next) == start)
@@ -1400,8 +1410,19 @@ std::vector<std::pair<double, Index>> MergeCandidates(const Patchification& pa, 
   return candidates;
 }
 
-// The state of the clean-up merge: the groups of patches, and per group (at its root) its
-// normal sum and its boundary chains.
+// The state of the clean-up merge: the groups of patches and, at each group's root, its normal
+// sum and its boundary chains. The decisions are those of the plain formulation (session 43 and
+// before: each group's chain list filtered of its internal chains at every join, the larger
+// group's whole boundary marked for every pinch test), which made a group that grows by many
+// small joins cost its whole boundary per join. Here the work of a candidate follows the smaller
+// group:
+//  - a list may keep stale entries (chains a later join made internal): they are skipped when
+//    read and dropped when the list moves; a join appends the shorter list to the longer one;
+//  - the pinch test walks the smaller group's boundary vertices and asks the chains at each
+//    vertex whether the other group's boundary passes there.
+// The plain lists' lengths are kept as counts (Size): they choose, as before, which group's list
+// was filtered before a merge test, which decides whether a patch's seams (chains with that patch
+// on both sides, never merge candidates) still count as its boundary.
 struct PatchGroups
 {
   PatchGroups(const Patchification& pa, Index nv)
@@ -1409,36 +1430,81 @@ struct PatchGroups
     , Groups(pa.NumberOfPatches())
     , NormalSum(size_t(pa.NumberOfPatches()))
     , ChainsOf(size_t(pa.NumberOfPatches()))
-    , StampA(size_t(nv), -1)
+    , Size(size_t(pa.NumberOfPatches()), 0)
+    , SeamEntries(size_t(pa.NumberOfPatches()), 0)
     , StampArc(size_t(nv), -1)
   {
     for (Index p = 0; p < pa.NumberOfPatches(); ++p)
     {
       this->NormalSum[p] = pa.PatchNormalSum(p);
       this->ChainsOf[p].assign(pa.PatchChainsBegin(p), pa.PatchChainsEnd(p));
+      this->Size[p] = static_cast<Index>(this->ChainsOf[p].size());
+      for (Index c : this->ChainsOf[p])
+      {
+        this->SeamEntries[p] += pa.ChainRightPatch(c) == p && pa.ChainLeftPatch(c) == p;
+      }
+    }
+    this->IndexVertexChains(nv);
+  }
+
+  // Per vertex, the chains through it (each chain vertex once per chain).
+  void IndexVertexChains(Index nv)
+  {
+    const Patchification& pa = this->Patches;
+    this->VertexChainOffsets.assign(size_t(nv) + 1, 0);
+    for (Index c = 0; c < pa.NumberOfChains(); ++c)
+    {
+      for (Index i = 0; i < pa.ChainSize(c); ++i)
+      {
+        ++this->VertexChainOffsets[pa.ChainVerticesBegin(c)[i] + 1];
+      }
+    }
+    for (Index v = 0; v < nv; ++v)
+    {
+      this->VertexChainOffsets[v + 1] += this->VertexChainOffsets[v];
+    }
+    this->VertexChainList.resize(size_t(this->VertexChainOffsets[nv]));
+    std::vector<Index> fill(this->VertexChainOffsets.begin(), this->VertexChainOffsets.end() - 1);
+    for (Index c = 0; c < pa.NumberOfChains(); ++c)
+    {
+      for (Index i = 0; i < pa.ChainSize(c); ++i)
+      {
+        this->VertexChainList[fill[pa.ChainVerticesBegin(c)[i]]++] = c;
+      }
     }
   }
 
-  // Whether chain c now lies inside one group.
-  bool IsInternal(Index c)
+  Index RightGroup(Index c)
   {
     const Index r = this->Patches.ChainRightPatch(c);
-    return r != InvalidIndex && this->Groups.Find(this->Patches.ChainLeftPatch(c)) == this->Groups.Find(r);
+    return r == InvalidIndex ? InvalidIndex : this->Groups.Find(r);
   }
-  void DropInternalChains(std::vector<Index>& chains)
+  // Whether chain c is in root g's plain list: a side in g and not internal, or a seam of a
+  // single patch whose list was never filtered.
+  bool Listed(Index c, Index g)
   {
-    chains.erase(std::remove_if(chains.begin(), chains.end(), [&](Index c) { return this->IsInternal(c); }), chains.end());
+    const Index l = this->Groups.Find(this->Patches.ChainLeftPatch(c));
+    const Index r = this->RightGroup(c);
+    return (l == g || r == g) && (l != r || this->SeamEntries[g] > 0);
   }
 
-  // The chains of g2 between g1 and g2.
+  // The plain formulation filtered g's list of its internal chains before each merge test.
+  void Filter(Index g)
+  {
+    this->Size[g] -= this->SeamEntries[g];
+    this->SeamEntries[g] = 0;
+  }
+
+  // The chains between g1 and g2, read from the shorter list.
   void SharedChains(Index g1, Index g2, std::vector<Index>& shared)
   {
     shared.clear();
-    for (Index c : this->ChainsOf[g2])
+    const Index g = this->ChainsOf[g1].size() < this->ChainsOf[g2].size() ? g1 : g2;
+    this->Work += static_cast<std::int64_t>(this->ChainsOf[g].size());
+    for (Index c : this->ChainsOf[g])
     {
       const Index l = this->Groups.Find(this->Patches.ChainLeftPatch(c));
-      const Index r =
-        this->Patches.ChainRightPatch(c) == InvalidIndex ? InvalidIndex : this->Groups.Find(this->Patches.ChainRightPatch(c));
+      const Index r = this->RightGroup(c);
       if ((l == g1 && r == g2) || (l == g2 && r == g1))
       {
         shared.push_back(c);
@@ -1499,65 +1565,104 @@ struct PatchGroups
     return walked == shared.size();
   }
 
-  // Whether the boundaries of g1 and g2 meet anywhere off the shared arc.
+  // Whether the boundaries of g1 and g2 meet anywhere off the shared arc: a vertex of the
+  // smaller boundary (by list length), off the arc, that a chain of the other group passes.
   bool Pinches(Index g1, Index g2, const std::vector<Index>& shared)
   {
+    const Patchification& pa = this->Patches;
     ++this->Stamp;
-    auto mark = [&](const std::vector<Index>& chains, std::vector<Index>& stamps) {
-      for (Index c : chains)
-      {
-        for (Index i = 0; i < this->Patches.ChainSize(c); ++i)
-        {
-          stamps[this->Patches.ChainVerticesBegin(c)[i]] = this->Stamp;
-        }
-      }
-    };
-    mark(shared, this->StampArc);
-    mark(this->ChainsOf[g1], this->StampA);
-    for (Index c : this->ChainsOf[g2])
+    for (Index c : shared)
     {
-      for (Index i = 0; i < this->Patches.ChainSize(c); ++i)
+      this->Work += pa.ChainSize(c);
+      for (Index i = 0; i < pa.ChainSize(c); ++i)
       {
-        const Index v = this->Patches.ChainVerticesBegin(c)[i];
-        if (this->StampA[v] == this->Stamp && this->StampArc[v] != this->Stamp)
+        this->StampArc[pa.ChainVerticesBegin(c)[i]] = this->Stamp;
+      }
+    }
+    const bool firstShorter = this->ChainsOf[g1].size() < this->ChainsOf[g2].size();
+    const Index walked = firstShorter ? g1 : g2, other = firstShorter ? g2 : g1;
+    for (Index c : this->ChainsOf[walked])
+    {
+      ++this->Work;
+      if (!this->Listed(c, walked))
+      {
+        continue;
+      }
+      for (Index i = 0; i < pa.ChainSize(c); ++i)
+      {
+        const Index v = pa.ChainVerticesBegin(c)[i];
+        if (this->StampArc[v] == this->Stamp)
         {
-          return true;
+          continue;
+        }
+        this->Work += 1 + this->VertexChainOffsets[v + 1] - this->VertexChainOffsets[v];
+        for (Index k = this->VertexChainOffsets[v]; k < this->VertexChainOffsets[v + 1]; ++k)
+        {
+          if (this->Listed(this->VertexChainList[k], other))
+          {
+            return true;
+          }
         }
       }
     }
     return false;
   }
 
-  // g2 joins g1; the group's data moves to the root of the union.
-  void Join(Index g1, Index g2)
+  // g2 joins g1 across `shared`; the group's data moves to the root of the union. The shorter
+  // list is appended to the longer one without its now internal chains.
+  void Join(Index g1, Index g2, Index shared)
   {
-    std::vector<Index>& list1 = this->ChainsOf[g1];
-    std::vector<Index>& list2 = this->ChainsOf[g2];
-    this->NormalSum[g1] = this->NormalSum[g1] + this->NormalSum[g2];
-    list1.insert(list1.end(), list2.begin(), list2.end());
-    std::vector<Index>().swap(list2);
+    const Vec3 sum = this->NormalSum[g1] + this->NormalSum[g2];
+    const Index size = this->Size[g1] - this->SeamEntries[g1] + this->Size[g2] - this->SeamEntries[g2] - 2 * shared;
+    if (this->ChainsOf[g1].size() < this->ChainsOf[g2].size())
+    {
+      this->ChainsOf[g1].swap(this->ChainsOf[g2]);
+    }
+    std::vector<Index> moved;
+    moved.swap(this->ChainsOf[g2]);
     this->Groups.Union(g1, g2);
     const Index root = this->Groups.Find(g1);
     if (root != g1)
     {
-      std::swap(this->NormalSum[root], this->NormalSum[g1]);
       this->ChainsOf[root].swap(this->ChainsOf[g1]);
     }
-    this->DropInternalChains(this->ChainsOf[root]);
+    this->Work += static_cast<std::int64_t>(moved.size());
+    for (Index c : moved)
+    {
+      if (!this->IsInternal(c))
+      {
+        this->ChainsOf[root].push_back(c);
+      }
+    }
+    this->NormalSum[root] = sum;
+    this->Size[root] = size;
+    this->SeamEntries[g1] = this->SeamEntries[g2] = 0;
+  }
+
+  // Whether chain c now lies inside one group.
+  bool IsInternal(Index c)
+  {
+    const Index r = this->RightGroup(c);
+    return r != InvalidIndex && this->Groups.Find(this->Patches.ChainLeftPatch(c)) == r;
   }
 
   const Patchification& Patches;
   UnionFind Groups;
   std::vector<Vec3> NormalSum;
-  std::vector<std::vector<Index>> ChainsOf;
-  std::vector<Index> StampA, StampArc, Ends;
+  std::vector<std::vector<Index>> ChainsOf; // at the root: its boundary chains, maybe stale ones
+  std::vector<Index> Size;                  // at the root: the plain list's length
+  std::vector<Index> SeamEntries;           // seam entries a single patch's plain list still has
+  std::vector<Index> VertexChainOffsets, VertexChainList;
+  std::vector<Index> StampArc, Ends;
   Index Stamp = 0;
+  std::int64_t Work = 0; // list entries, chain vertices and vertex-chain incidences visited
 };
 
 // Per patch, the group it merges into: neighbouring patches within MergeAngle of each other
 // join, the most parallel first, when their common boundary is one arc and they touch nowhere
 // else (the union stays a disk).
-std::vector<Index> CleanUpMerge(const TopologySimplificationParameters& P, const TriangleMesh& mesh, const Patchification& pa)
+std::vector<Index> CleanUpMerge(
+  const TopologySimplificationParameters& P, const TriangleMesh& mesh, const Patchification& pa, std::int64_t& work)
 {
   const Index np = pa.NumberOfPatches();
   std::vector<Index> group(static_cast<size_t>(np));
@@ -1577,21 +1682,22 @@ std::vector<Index> CleanUpMerge(const TopologySimplificationParameters& P, const
     {
       continue;
     }
-    if (groups.ChainsOf[g1].size() < groups.ChainsOf[g2].size())
+    if (groups.Size[g1] < groups.Size[g2])
     {
       std::swap(g1, g2);
     }
-    groups.DropInternalChains(groups.ChainsOf[g2]);
+    groups.Filter(g2);
     groups.SharedChains(g1, g2, shared);
     if (groups.IsSingleArc(shared) && !groups.Pinches(g1, g2, shared))
     {
-      groups.Join(g1, g2);
+      groups.Join(g1, g2, static_cast<Index>(shared.size()));
     }
   }
   for (Index p = 0; p < np; ++p)
   {
     group[p] = groups.Groups.Find(p);
   }
+  work = groups.Work;
   return group;
 }
 
@@ -1959,7 +2065,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   CleanedSurface unmerged;
   unmerged.Labels = cleaned.Labels;
   unmerged.LabelCount = cleaned.LabelCount;
-  const std::vector<Index> group = CleanUpMerge(parameters, cleaned.Mesh, cleanedPatches);
+  const std::vector<Index> group = CleanUpMerge(parameters, cleaned.Mesh, cleanedPatches, result.CleanUpMergeWork);
   for (Index& l : cleaned.Labels)
   {
     l = group[l];
