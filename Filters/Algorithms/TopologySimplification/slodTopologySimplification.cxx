@@ -1432,7 +1432,9 @@ struct PatchGroups
     , ChainsOf(size_t(pa.NumberOfPatches()))
     , Size(size_t(pa.NumberOfPatches()), 0)
     , SeamEntries(size_t(pa.NumberOfPatches()), 0)
+    , Stale(size_t(pa.NumberOfPatches()), 0)
     , StampArc(size_t(nv), -1)
+    , StampOther(size_t(nv), -1)
   {
     for (Index p = 0; p < pa.NumberOfPatches(); ++p)
     {
@@ -1488,9 +1490,11 @@ struct PatchGroups
     return (l == g || r == g) && (l != r || this->SeamEntries[g] > 0);
   }
 
-  // The plain formulation filtered g's list of its internal chains before each merge test.
+  // The plain formulation filtered g's list of its internal chains before each merge test (only
+  // a single patch's seams can be there): they stay as stale entries.
   void Filter(Index g)
   {
+    this->Stale[g] += this->SeamEntries[g];
     this->Size[g] -= this->SeamEntries[g];
     this->SeamEntries[g] = 0;
   }
@@ -1523,7 +1527,8 @@ struct PatchGroups
       ends.push_back(this->Patches.ChainVerticesBegin(c)[0]);
       ends.push_back(this->Patches.ChainVerticesBegin(c)[this->Patches.ChainSize(c) - 1]);
     }
-    std::vector<Index> distinct(ends);
+    std::vector<Index>& distinct = this->Distinct; // reused: no allocation per candidate
+    distinct.assign(ends.begin(), ends.end());
     std::sort(distinct.begin(), distinct.end());
     bool arc = !shared.empty();
     Index degreeOne = 0;
@@ -1545,7 +1550,8 @@ struct PatchGroups
     }
     // Connected: walk from a degree-one end (each step uses one chain: at most shared.size()).
     Index at = *std::find_if(distinct.begin(), distinct.end(), [&](Index v) { return std::count(ends.begin(), ends.end(), v) == 1; });
-    std::vector<unsigned char> used(shared.size(), 0);
+    std::vector<unsigned char>& used = this->Used;
+    used.assign(shared.size(), 0);
     size_t walked = 0;
     for (bool moved = true; moved;)
     {
@@ -1565,8 +1571,10 @@ struct PatchGroups
     return walked == shared.size();
   }
 
-  // Whether the boundaries of g1 and g2 meet anywhere off the shared arc: a vertex of the
-  // smaller boundary (by list length), off the arc, that a chain of the other group passes.
+  // Whether the boundaries of g1 and g2 meet anywhere off the shared arc (the arc's vertices
+  // stamped). Two groups of similar list lengths: the other's listed vertices are stamped and the
+  // shorter list's looked up, as before. Else only the shorter boundary is walked, and the chains
+  // through each of its vertices (off the arc) are asked whether they are the other group's.
   bool Pinches(Index g1, Index g2, const std::vector<Index>& shared)
   {
     const Patchification& pa = this->Patches;
@@ -1581,62 +1589,102 @@ struct PatchGroups
     }
     const bool firstShorter = this->ChainsOf[g1].size() < this->ChainsOf[g2].size();
     const Index walked = firstShorter ? g1 : g2, other = firstShorter ? g2 : g1;
+    const bool stampOther = this->ChainsOf[other].size() <= 4 * this->ChainsOf[walked].size();
+    if (stampOther)
+    {
+      for (Index c : this->ChainsOf[other])
+      {
+        this->Work += 1 + pa.ChainSize(c);
+        if (this->ListedEntry(c, other))
+        {
+          for (Index i = 0; i < pa.ChainSize(c); ++i)
+          {
+            this->StampOther[pa.ChainVerticesBegin(c)[i]] = this->Stamp;
+          }
+        }
+      }
+    }
     for (Index c : this->ChainsOf[walked])
     {
       ++this->Work;
-      if (!this->Listed(c, walked))
+      if (!this->ListedEntry(c, walked))
       {
         continue;
       }
       for (Index i = 0; i < pa.ChainSize(c); ++i)
       {
         const Index v = pa.ChainVerticesBegin(c)[i];
-        if (this->StampArc[v] == this->Stamp)
+        if (this->StampArc[v] != this->Stamp &&
+          (stampOther ? this->StampOther[v] == this->Stamp : this->OtherChainThrough(v, c, other)))
         {
-          continue;
-        }
-        this->Work += 1 + this->VertexChainOffsets[v + 1] - this->VertexChainOffsets[v];
-        for (Index k = this->VertexChainOffsets[v]; k < this->VertexChainOffsets[v + 1]; ++k)
-        {
-          if (this->Listed(this->VertexChainList[k], other))
-          {
-            return true;
-          }
+          return true;
         }
       }
     }
     return false;
   }
 
+  // Whether a chain of group g other than c (which is not g's: a chain of both groups is
+  // shared, its vertices stamped) passes through v.
+  bool OtherChainThrough(Index v, Index c, Index g)
+  {
+    this->Work += 1 + this->VertexChainOffsets[v + 1] - this->VertexChainOffsets[v];
+    for (Index k = this->VertexChainOffsets[v]; k < this->VertexChainOffsets[v + 1]; ++k)
+    {
+      const Index d = this->VertexChainList[k];
+      if (d != c && this->Listed(d, g))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Whether c, an entry of g's list, is listed (no stale entry: without asking).
+  bool ListedEntry(Index c, Index g) { return this->Stale[g] == 0 || this->Listed(c, g); }
+
   // g2 joins g1 across `shared`; the group's data moves to the root of the union. The shorter
-  // list is appended to the longer one without its now internal chains.
+  // list is appended to the longer one without its now internal chains; the longer one's shared
+  // chains (and a single patch's seams) stay as stale entries until they are half of it.
   void Join(Index g1, Index g2, Index shared)
   {
     const Vec3 sum = this->NormalSum[g1] + this->NormalSum[g2];
     const Index size = this->Size[g1] - this->SeamEntries[g1] + this->Size[g2] - this->SeamEntries[g2] - 2 * shared;
-    if (this->ChainsOf[g1].size() < this->ChainsOf[g2].size())
-    {
-      this->ChainsOf[g1].swap(this->ChainsOf[g2]);
-    }
-    std::vector<Index> moved;
-    moved.swap(this->ChainsOf[g2]);
+    const bool firstLonger = this->ChainsOf[g1].size() >= this->ChainsOf[g2].size();
+    const Index kept = firstLonger ? g1 : g2, moved = firstLonger ? g2 : g1;
+    const Index stale = this->Stale[kept] + shared + this->SeamEntries[kept];
+    std::vector<Index> list, from;
+    list.swap(this->ChainsOf[kept]);
+    from.swap(this->ChainsOf[moved]);
     this->Groups.Union(g1, g2);
     const Index root = this->Groups.Find(g1);
-    if (root != g1)
-    {
-      this->ChainsOf[root].swap(this->ChainsOf[g1]);
-    }
-    this->Work += static_cast<std::int64_t>(moved.size());
-    for (Index c : moved)
+    this->Work += static_cast<std::int64_t>(from.size());
+    for (Index c : from)
     {
       if (!this->IsInternal(c))
       {
-        this->ChainsOf[root].push_back(c);
+        list.push_back(c);
       }
     }
+    this->ChainsOf[root].swap(list);
     this->NormalSum[root] = sum;
     this->Size[root] = size;
+    this->Stale[root] = stale;
     this->SeamEntries[g1] = this->SeamEntries[g2] = 0;
+    if (2 * size_t(stale) > this->ChainsOf[root].size())
+    {
+      this->DropStaleEntries(root);
+    }
+  }
+
+  // Drops the entries of root g's list that are no longer its boundary (paid for by the joins
+  // that made them stale: at least half the list).
+  void DropStaleEntries(Index g)
+  {
+    std::vector<Index>& chains = this->ChainsOf[g];
+    this->Work += static_cast<std::int64_t>(chains.size());
+    chains.erase(std::remove_if(chains.begin(), chains.end(), [&](Index c) { return this->IsInternal(c); }), chains.end());
+    this->Stale[g] = 0;
   }
 
   // Whether chain c now lies inside one group.
@@ -1649,11 +1697,13 @@ struct PatchGroups
   const Patchification& Patches;
   UnionFind Groups;
   std::vector<Vec3> NormalSum;
-  std::vector<std::vector<Index>> ChainsOf; // at the root: its boundary chains, maybe stale ones
+  std::vector<std::vector<Index>> ChainsOf; // at the root: its boundary chains and stale entries
   std::vector<Index> Size;                  // at the root: the plain list's length
   std::vector<Index> SeamEntries;           // seam entries a single patch's plain list still has
+  std::vector<Index> Stale;                 // at the root: entries of ChainsOf no longer listed
   std::vector<Index> VertexChainOffsets, VertexChainList;
-  std::vector<Index> StampArc, Ends;
+  std::vector<Index> StampArc, StampOther, Ends, Distinct;
+  std::vector<unsigned char> Used;
   Index Stamp = 0;
   std::int64_t Work = 0; // list entries, chain vertices and vertex-chain incidences visited
 };
