@@ -1411,15 +1411,18 @@ std::vector<std::pair<double, Index>> MergeCandidates(const Patchification& pa, 
 }
 
 // The state of the clean-up merge: the groups of patches and, at each group's root, its normal
-// sum and its boundary chains. The decisions are those of the plain formulation (session 43 and
-// before: each group's chain list filtered of its internal chains at every join, the larger
-// group's whole boundary marked for every pinch test), which made a group that grows by many
-// small joins cost its whole boundary per join. Here the work of a candidate follows the smaller
-// group:
-//  - a list may keep stale entries (chains a later join made internal): they are skipped when
-//    read and dropped when the list moves; a join appends the shorter list to the longer one;
-//  - the pinch test walks the smaller group's boundary vertices and asks the chains at each
-//    vertex whether the other group's boundary passes there.
+// sum and its boundary chains. The decisions are those of the plain formulation (up to session
+// 42: each group's chain list filtered of its internal chains at every join, the larger group's
+// whole boundary marked for every pinch test), which made a group that grows by many small joins
+// cost its whole boundary per join. The arc and pinch tests are symmetric in the two groups and
+// the labels are compacted afterwards, so which list is walked or kept changes no decision. Here
+// the work of a candidate follows the smaller group:
+//  - a list may keep stale entries (chains a later join made internal), counted: they are
+//    skipped when read, dropped when the list moves or when they are half of it; a join appends
+//    the shorter list to the longer one;
+//  - the pinch test walks the shorter list's boundary vertices and asks the chains at each
+//    vertex whether the other group's boundary passes there (or, when the two lists are alike,
+//    stamps the other's vertices as before).
 // The plain lists' lengths are kept as counts (Size): they choose, as before, which group's list
 // was filtered before a merge test, which decides whether a patch's seams (chains with that patch
 // on both sides, never merge candidates) still count as its boundary.
@@ -1429,7 +1432,7 @@ struct PatchGroups
     : Patches(pa)
     , Groups(pa.NumberOfPatches())
     , NormalSum(size_t(pa.NumberOfPatches()))
-    , ChainsOf(size_t(pa.NumberOfPatches()))
+    , ListIndex(size_t(pa.NumberOfPatches()), InvalidIndex)
     , Size(size_t(pa.NumberOfPatches()), 0)
     , SeamEntries(size_t(pa.NumberOfPatches()), 0)
     , Stale(size_t(pa.NumberOfPatches()), 0)
@@ -1439,9 +1442,8 @@ struct PatchGroups
     for (Index p = 0; p < pa.NumberOfPatches(); ++p)
     {
       this->NormalSum[p] = pa.PatchNormalSum(p);
-      this->ChainsOf[p].assign(pa.PatchChainsBegin(p), pa.PatchChainsEnd(p));
-      this->Size[p] = static_cast<Index>(this->ChainsOf[p].size());
-      for (Index c : this->ChainsOf[p])
+      this->Size[p] = static_cast<Index>(pa.PatchChainsEnd(p) - pa.PatchChainsBegin(p));
+      for (Index c : this->ListOf(p))
       {
         this->SeamEntries[p] += pa.ChainRightPatch(c) == p && pa.ChainLeftPatch(c) == p;
       }
@@ -1476,6 +1478,36 @@ struct PatchGroups
     }
   }
 
+  // Root g's chain list: the patchification's own while g is a single patch (no copy per patch).
+  struct ChainSpan
+  {
+    const Index* First;
+    const Index* Last;
+    const Index* begin() const { return this->First; }
+    const Index* end() const { return this->Last; }
+    size_t size() const { return size_t(this->Last - this->First); }
+  };
+  Index NewList()
+  {
+    if (this->FreeLists.empty())
+    {
+      this->Lists.emplace_back();
+      return static_cast<Index>(this->Lists.size()) - 1;
+    }
+    const Index slot = this->FreeLists.back();
+    this->FreeLists.pop_back();
+    return slot;
+  }
+  ChainSpan ListOf(Index g) const
+  {
+    if (this->ListIndex[g] != InvalidIndex)
+    {
+      const std::vector<Index>& list = this->Lists[this->ListIndex[g]];
+      return { list.data(), list.data() + list.size() };
+    }
+    return { this->Patches.PatchChainsBegin(g), this->Patches.PatchChainsEnd(g) };
+  }
+
   Index RightGroup(Index c)
   {
     const Index r = this->Patches.ChainRightPatch(c);
@@ -1503,9 +1535,9 @@ struct PatchGroups
   void SharedChains(Index g1, Index g2, std::vector<Index>& shared)
   {
     shared.clear();
-    const Index g = this->ChainsOf[g1].size() < this->ChainsOf[g2].size() ? g1 : g2;
-    this->Work += static_cast<std::int64_t>(this->ChainsOf[g].size());
-    for (Index c : this->ChainsOf[g])
+    const Index g = this->ListOf(g1).size() < this->ListOf(g2).size() ? g1 : g2;
+    this->Work += static_cast<std::int64_t>(this->ListOf(g).size());
+    for (Index c : this->ListOf(g))
     {
       const Index l = this->Groups.Find(this->Patches.ChainLeftPatch(c));
       const Index r = this->RightGroup(c);
@@ -1587,12 +1619,12 @@ struct PatchGroups
         this->StampArc[pa.ChainVerticesBegin(c)[i]] = this->Stamp;
       }
     }
-    const bool firstShorter = this->ChainsOf[g1].size() < this->ChainsOf[g2].size();
+    const bool firstShorter = this->ListOf(g1).size() < this->ListOf(g2).size();
     const Index walked = firstShorter ? g1 : g2, other = firstShorter ? g2 : g1;
-    const bool stampOther = this->ChainsOf[other].size() <= 4 * this->ChainsOf[walked].size();
+    const bool stampOther = this->ListOf(other).size() <= 4 * this->ListOf(walked).size();
     if (stampOther)
     {
-      for (Index c : this->ChainsOf[other])
+      for (Index c : this->ListOf(other))
       {
         this->Work += 1 + pa.ChainSize(c);
         if (this->ListedEntry(c, other))
@@ -1604,7 +1636,7 @@ struct PatchGroups
         }
       }
     }
-    for (Index c : this->ChainsOf[walked])
+    for (Index c : this->ListOf(walked))
     {
       ++this->Work;
       if (!this->ListedEntry(c, walked))
@@ -1650,28 +1682,41 @@ struct PatchGroups
   {
     const Vec3 sum = this->NormalSum[g1] + this->NormalSum[g2];
     const Index size = this->Size[g1] - this->SeamEntries[g1] + this->Size[g2] - this->SeamEntries[g2] - 2 * shared;
-    const bool firstLonger = this->ChainsOf[g1].size() >= this->ChainsOf[g2].size();
+    const bool firstLonger = this->ListOf(g1).size() >= this->ListOf(g2).size();
     const Index kept = firstLonger ? g1 : g2, moved = firstLonger ? g2 : g1;
     const Index stale = this->Stale[kept] + shared + this->SeamEntries[kept];
-    std::vector<Index> list, from;
-    list.swap(this->ChainsOf[kept]);
-    from.swap(this->ChainsOf[moved]);
+    Index slot = this->ListIndex[kept];
+    if (slot == InvalidIndex) // a single patch's first join: its list leaves the patchification's
+    {
+      const ChainSpan span = this->ListOf(kept);
+      slot = this->NewList();
+      this->Lists[slot].reserve(span.size() + this->ListOf(moved).size());
+      this->Lists[slot].assign(span.begin(), span.end());
+    }
+    std::vector<Index>& list = this->Lists[slot];
+    const ChainSpan moving = this->ListOf(moved);
     this->Groups.Union(g1, g2);
     const Index root = this->Groups.Find(g1);
-    this->Work += static_cast<std::int64_t>(from.size());
-    for (Index c : from)
+    this->Work += static_cast<std::int64_t>(moving.size());
+    for (Index c : moving)
     {
       if (!this->IsInternal(c))
       {
         list.push_back(c);
       }
     }
-    this->ChainsOf[root].swap(list);
+    if (this->ListIndex[moved] != InvalidIndex)
+    {
+      std::vector<Index>().swap(this->Lists[this->ListIndex[moved]]);
+      this->FreeLists.push_back(this->ListIndex[moved]);
+    }
+    this->ListIndex[g1] = this->ListIndex[g2] = InvalidIndex;
+    this->ListIndex[root] = slot;
     this->NormalSum[root] = sum;
     this->Size[root] = size;
     this->Stale[root] = stale;
     this->SeamEntries[g1] = this->SeamEntries[g2] = 0;
-    if (2 * size_t(stale) > this->ChainsOf[root].size())
+    if (2 * size_t(stale) > list.size())
     {
       this->DropStaleEntries(root);
     }
@@ -1681,7 +1726,7 @@ struct PatchGroups
   // that made them stale: at least half the list).
   void DropStaleEntries(Index g)
   {
-    std::vector<Index>& chains = this->ChainsOf[g];
+    std::vector<Index>& chains = this->Lists[this->ListIndex[g]];
     this->Work += static_cast<std::int64_t>(chains.size());
     chains.erase(std::remove_if(chains.begin(), chains.end(), [&](Index c) { return this->IsInternal(c); }), chains.end());
     this->Stale[g] = 0;
@@ -1697,10 +1742,12 @@ struct PatchGroups
   const Patchification& Patches;
   UnionFind Groups;
   std::vector<Vec3> NormalSum;
-  std::vector<std::vector<Index>> ChainsOf; // at the root: its boundary chains and stale entries
+  std::vector<Index> ListIndex; // at a merged group's root: its list in Lists (else its patch's)
+  std::vector<std::vector<Index>> Lists; // merged groups' boundary chains and stale entries
+  std::vector<Index> FreeLists;          // slots of Lists no group uses
   std::vector<Index> Size;                  // at the root: the plain list's length
   std::vector<Index> SeamEntries;           // seam entries a single patch's plain list still has
-  std::vector<Index> Stale;                 // at the root: entries of ChainsOf no longer listed
+  std::vector<Index> Stale;                 // at the root: entries of its list no longer listed
   std::vector<Index> VertexChainOffsets, VertexChainList;
   std::vector<Index> StampArc, StampOther, Ends, Distinct;
   std::vector<unsigned char> Used;
