@@ -474,12 +474,16 @@ struct Simplification
   Index Stamp = 0;
   std::vector<unsigned char> InSequence;
 
-  // One level of the depth-first search: the chains that may follow `current`, best first.
+  // One level of the depth-first search: the chains that may follow `current`, best first, are
+  // Candidates[Next, End) of the search's candidate stack (one stack for every level and search:
+  // no allocation per step; a level's candidates, from Begin, are dropped with the level).
   struct SearchFrame
   {
-    std::vector<Oriented> Candidates;
-    size_t Next = 0;
+    size_t Begin = 0, Next = 0, End = 0;
   };
+  std::vector<Oriented> Candidates;
+  std::vector<SearchFrame> Frames;
+  std::vector<std::pair<double, Oriented>> Scored;
   bool Blocked(Index v, Index stamp, const std::vector<Index>* forbidden, Index forbiddenStamp) const
   {
     return this->VertexStamp[v] == stamp || (forbidden && (*forbidden)[v] == forbiddenStamp);
@@ -488,9 +492,10 @@ struct Simplification
   // Candidates keep the flat side on the left and continue it (score: alignment, +2 on the
   // same flat patch).
   SearchFrame Continuations(const Oriented& current, Index start, Index stamp, const std::vector<Index>* forbidden,
-    Index forbiddenStamp) const
+    Index forbiddenStamp)
   {
-    std::vector<std::pair<double, Oriented>> scored;
+    std::vector<std::pair<double, Oriented>>& scored = this->Scored;
+    scored.clear();
     const Index v = this->Last(current);
     for (Index k = this->IncidenceOffset[v]; k < this->IncidenceOffset[v + 1]; ++k)
     {
@@ -525,10 +530,12 @@ struct Simplification
     std::stable_sort(scored.begin(), scored.end(),
       [](const std::pair<double, Oriented>& a, const std::pair<double, Oriented>& b) { return a.first > b.first; });
     SearchFrame frame;
+    frame.Begin = frame.Next = this->Candidates.size();
     for (const auto& candidate : scored)
     {
-      frame.Candidates.push_back(candidate.second);
+      this->Candidates.push_back(candidate.second);
     }
+    frame.End = this->Candidates.size();
     return frame;
   }
 
@@ -536,7 +543,9 @@ struct Simplification
     std::vector<Index>& explored)
   {
     std::vector<Oriented> sequence{ seed };
-    std::vector<SearchFrame> frames;
+    std::vector<SearchFrame>& frames = this->Frames;
+    frames.clear();
+    this->Candidates.clear();
     ++this->Stamp;
     const Index stamp = this->Stamp;
     const Index start = this->First(seed);
@@ -559,8 +568,9 @@ struct Simplification
     while (!closed && !frames.empty() && budget-- > 0)
     {
       SearchFrame& top = frames.back();
-      if (top.Next >= top.Candidates.size())
+      if (top.Next >= top.End)
       {
+        this->Candidates.resize(top.Begin);
         frames.pop_back();
         occupy(sequence.back(), 0);
         sequence.pop_back();
@@ -570,7 +580,7 @@ struct Simplification
         }
         continue;
       }
-      const Oriented next = top.Candidates[top.Next++];
+      const Oriented next = this->Candidates[top.Next++];
       sequence.push_back(next);
       explored.push_back(next.Chain);
       if (this->Last(next) == start)
@@ -1400,45 +1410,137 @@ std::vector<std::pair<double, Index>> MergeCandidates(const Patchification& pa, 
   return candidates;
 }
 
-// The state of the clean-up merge: the groups of patches, and per group (at its root) its
-// normal sum and its boundary chains.
+// The state of the clean-up merge: the groups of patches and, at each group's root, its normal
+// sum and its boundary chains. The decisions are those of the plain formulation (up to session
+// 42: each group's chain list filtered of its internal chains at every join, the larger group's
+// whole boundary marked for every pinch test), which made a group that grows by many small joins
+// cost its whole boundary per join. The arc and pinch tests are symmetric in the two groups and
+// the labels are compacted afterwards, so which list is walked or kept changes no decision. Here
+// the work of a candidate follows the smaller group:
+//  - a list may keep stale entries (chains a later join made internal), counted: they are
+//    skipped when read, dropped when the list moves or when they are half of it; a join appends
+//    the shorter list to the longer one;
+//  - the pinch test walks the shorter list's boundary vertices and asks the chains at each
+//    vertex whether the other group's boundary passes there (or, when the two lists are alike,
+//    stamps the other's vertices as before).
+// The plain lists' lengths are kept as counts (Size): they choose, as before, which group's list
+// was filtered before a merge test, which decides whether a patch's seams (chains with that patch
+// on both sides, never merge candidates) still count as its boundary.
 struct PatchGroups
 {
   PatchGroups(const Patchification& pa, Index nv)
     : Patches(pa)
     , Groups(pa.NumberOfPatches())
     , NormalSum(size_t(pa.NumberOfPatches()))
-    , ChainsOf(size_t(pa.NumberOfPatches()))
-    , StampA(size_t(nv), -1)
+    , ListIndex(size_t(pa.NumberOfPatches()), InvalidIndex)
+    , Size(size_t(pa.NumberOfPatches()), 0)
+    , SeamEntries(size_t(pa.NumberOfPatches()), 0)
+    , Stale(size_t(pa.NumberOfPatches()), 0)
     , StampArc(size_t(nv), -1)
+    , StampOther(size_t(nv), -1)
   {
     for (Index p = 0; p < pa.NumberOfPatches(); ++p)
     {
       this->NormalSum[p] = pa.PatchNormalSum(p);
-      this->ChainsOf[p].assign(pa.PatchChainsBegin(p), pa.PatchChainsEnd(p));
+      this->Size[p] = static_cast<Index>(pa.PatchChainsEnd(p) - pa.PatchChainsBegin(p));
+      for (Index c : this->ListOf(p))
+      {
+        this->SeamEntries[p] += pa.ChainRightPatch(c) == p && pa.ChainLeftPatch(c) == p;
+      }
+    }
+    this->IndexVertexChains(nv);
+  }
+
+  // Per vertex, the chains through it (each chain vertex once per chain).
+  void IndexVertexChains(Index nv)
+  {
+    const Patchification& pa = this->Patches;
+    this->VertexChainOffsets.assign(size_t(nv) + 1, 0);
+    for (Index c = 0; c < pa.NumberOfChains(); ++c)
+    {
+      for (Index i = 0; i < pa.ChainSize(c); ++i)
+      {
+        ++this->VertexChainOffsets[pa.ChainVerticesBegin(c)[i] + 1];
+      }
+    }
+    for (Index v = 0; v < nv; ++v)
+    {
+      this->VertexChainOffsets[v + 1] += this->VertexChainOffsets[v];
+    }
+    this->VertexChainList.resize(size_t(this->VertexChainOffsets[nv]));
+    std::vector<Index> fill(this->VertexChainOffsets.begin(), this->VertexChainOffsets.end() - 1);
+    for (Index c = 0; c < pa.NumberOfChains(); ++c)
+    {
+      for (Index i = 0; i < pa.ChainSize(c); ++i)
+      {
+        this->VertexChainList[fill[pa.ChainVerticesBegin(c)[i]]++] = c;
+      }
     }
   }
 
-  // Whether chain c now lies inside one group.
-  bool IsInternal(Index c)
+  // Root g's chain list: the patchification's own while g is a single patch (no copy per patch).
+  struct ChainSpan
   {
-    const Index r = this->Patches.ChainRightPatch(c);
-    return r != InvalidIndex && this->Groups.Find(this->Patches.ChainLeftPatch(c)) == this->Groups.Find(r);
+    const Index* First;
+    const Index* Last;
+    const Index* begin() const { return this->First; }
+    const Index* end() const { return this->Last; }
+    size_t size() const { return size_t(this->Last - this->First); }
+  };
+  Index NewList()
+  {
+    if (this->FreeLists.empty())
+    {
+      this->Lists.emplace_back();
+      return static_cast<Index>(this->Lists.size()) - 1;
+    }
+    const Index slot = this->FreeLists.back();
+    this->FreeLists.pop_back();
+    return slot;
   }
-  void DropInternalChains(std::vector<Index>& chains)
+  ChainSpan ListOf(Index g) const
   {
-    chains.erase(std::remove_if(chains.begin(), chains.end(), [&](Index c) { return this->IsInternal(c); }), chains.end());
+    if (this->ListIndex[g] != InvalidIndex)
+    {
+      const std::vector<Index>& list = this->Lists[this->ListIndex[g]];
+      return { list.data(), list.data() + list.size() };
+    }
+    return { this->Patches.PatchChainsBegin(g), this->Patches.PatchChainsEnd(g) };
   }
 
-  // The chains of g2 between g1 and g2.
+  Index RightGroup(Index c)
+  {
+    const Index r = this->Patches.ChainRightPatch(c);
+    return r == InvalidIndex ? InvalidIndex : this->Groups.Find(r);
+  }
+  // Whether chain c is in root g's plain list: a side in g and not internal, or a seam of a
+  // single patch whose list was never filtered.
+  bool Listed(Index c, Index g)
+  {
+    const Index l = this->Groups.Find(this->Patches.ChainLeftPatch(c));
+    const Index r = this->RightGroup(c);
+    return (l == g || r == g) && (l != r || this->SeamEntries[g] > 0);
+  }
+
+  // The plain formulation filtered g's list of its internal chains before each merge test (only
+  // a single patch's seams can be there): they stay as stale entries.
+  void Filter(Index g)
+  {
+    this->Stale[g] += this->SeamEntries[g];
+    this->Size[g] -= this->SeamEntries[g];
+    this->SeamEntries[g] = 0;
+  }
+
+  // The chains between g1 and g2, read from the shorter list.
   void SharedChains(Index g1, Index g2, std::vector<Index>& shared)
   {
     shared.clear();
-    for (Index c : this->ChainsOf[g2])
+    const Index g = this->ListOf(g1).size() < this->ListOf(g2).size() ? g1 : g2;
+    this->Work += static_cast<std::int64_t>(this->ListOf(g).size());
+    for (Index c : this->ListOf(g))
     {
       const Index l = this->Groups.Find(this->Patches.ChainLeftPatch(c));
-      const Index r =
-        this->Patches.ChainRightPatch(c) == InvalidIndex ? InvalidIndex : this->Groups.Find(this->Patches.ChainRightPatch(c));
+      const Index r = this->RightGroup(c);
       if ((l == g1 && r == g2) || (l == g2 && r == g1))
       {
         shared.push_back(c);
@@ -1457,7 +1559,8 @@ struct PatchGroups
       ends.push_back(this->Patches.ChainVerticesBegin(c)[0]);
       ends.push_back(this->Patches.ChainVerticesBegin(c)[this->Patches.ChainSize(c) - 1]);
     }
-    std::vector<Index> distinct(ends);
+    std::vector<Index>& distinct = this->Distinct; // reused: no allocation per candidate
+    distinct.assign(ends.begin(), ends.end());
     std::sort(distinct.begin(), distinct.end());
     bool arc = !shared.empty();
     Index degreeOne = 0;
@@ -1479,7 +1582,8 @@ struct PatchGroups
     }
     // Connected: walk from a degree-one end (each step uses one chain: at most shared.size()).
     Index at = *std::find_if(distinct.begin(), distinct.end(), [&](Index v) { return std::count(ends.begin(), ends.end(), v) == 1; });
-    std::vector<unsigned char> used(shared.size(), 0);
+    std::vector<unsigned char>& used = this->Used;
+    used.assign(shared.size(), 0);
     size_t walked = 0;
     for (bool moved = true; moved;)
     {
@@ -1499,27 +1603,51 @@ struct PatchGroups
     return walked == shared.size();
   }
 
-  // Whether the boundaries of g1 and g2 meet anywhere off the shared arc.
+  // Whether the boundaries of g1 and g2 meet anywhere off the shared arc (the arc's vertices
+  // stamped). Two groups of similar list lengths: the other's listed vertices are stamped and the
+  // shorter list's looked up, as before. Else only the shorter boundary is walked, and the chains
+  // through each of its vertices (off the arc) are asked whether they are the other group's.
   bool Pinches(Index g1, Index g2, const std::vector<Index>& shared)
   {
+    const Patchification& pa = this->Patches;
     ++this->Stamp;
-    auto mark = [&](const std::vector<Index>& chains, std::vector<Index>& stamps) {
-      for (Index c : chains)
+    for (Index c : shared)
+    {
+      this->Work += pa.ChainSize(c);
+      for (Index i = 0; i < pa.ChainSize(c); ++i)
       {
-        for (Index i = 0; i < this->Patches.ChainSize(c); ++i)
+        this->StampArc[pa.ChainVerticesBegin(c)[i]] = this->Stamp;
+      }
+    }
+    const bool firstShorter = this->ListOf(g1).size() < this->ListOf(g2).size();
+    const Index walked = firstShorter ? g1 : g2, other = firstShorter ? g2 : g1;
+    const bool stampOther = this->ListOf(other).size() <= 4 * this->ListOf(walked).size();
+    if (stampOther)
+    {
+      for (Index c : this->ListOf(other))
+      {
+        this->Work += 1 + pa.ChainSize(c);
+        if (this->ListedEntry(c, other))
         {
-          stamps[this->Patches.ChainVerticesBegin(c)[i]] = this->Stamp;
+          for (Index i = 0; i < pa.ChainSize(c); ++i)
+          {
+            this->StampOther[pa.ChainVerticesBegin(c)[i]] = this->Stamp;
+          }
         }
       }
-    };
-    mark(shared, this->StampArc);
-    mark(this->ChainsOf[g1], this->StampA);
-    for (Index c : this->ChainsOf[g2])
+    }
+    for (Index c : this->ListOf(walked))
     {
-      for (Index i = 0; i < this->Patches.ChainSize(c); ++i)
+      ++this->Work;
+      if (!this->ListedEntry(c, walked))
       {
-        const Index v = this->Patches.ChainVerticesBegin(c)[i];
-        if (this->StampA[v] == this->Stamp && this->StampArc[v] != this->Stamp)
+        continue;
+      }
+      for (Index i = 0; i < pa.ChainSize(c); ++i)
+      {
+        const Index v = pa.ChainVerticesBegin(c)[i];
+        if (this->StampArc[v] != this->Stamp &&
+          (stampOther ? this->StampOther[v] == this->Stamp : this->OtherChainThrough(v, c, other)))
         {
           return true;
         }
@@ -1528,36 +1656,110 @@ struct PatchGroups
     return false;
   }
 
-  // g2 joins g1; the group's data moves to the root of the union.
-  void Join(Index g1, Index g2)
+  // Whether a chain of group g other than c (which is not g's: a chain of both groups is
+  // shared, its vertices stamped) passes through v.
+  bool OtherChainThrough(Index v, Index c, Index g)
   {
-    std::vector<Index>& list1 = this->ChainsOf[g1];
-    std::vector<Index>& list2 = this->ChainsOf[g2];
-    this->NormalSum[g1] = this->NormalSum[g1] + this->NormalSum[g2];
-    list1.insert(list1.end(), list2.begin(), list2.end());
-    std::vector<Index>().swap(list2);
+    this->Work += 1 + this->VertexChainOffsets[v + 1] - this->VertexChainOffsets[v];
+    for (Index k = this->VertexChainOffsets[v]; k < this->VertexChainOffsets[v + 1]; ++k)
+    {
+      const Index d = this->VertexChainList[k];
+      if (d != c && this->Listed(d, g))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Whether c, an entry of g's list, is listed (no stale entry: without asking).
+  bool ListedEntry(Index c, Index g) { return this->Stale[g] == 0 || this->Listed(c, g); }
+
+  // g2 joins g1 across `shared`; the group's data moves to the root of the union. The shorter
+  // list is appended to the longer one without its now internal chains; the longer one's shared
+  // chains (and a single patch's seams) stay as stale entries until they are half of it.
+  void Join(Index g1, Index g2, Index shared)
+  {
+    const Vec3 sum = this->NormalSum[g1] + this->NormalSum[g2];
+    const Index size = this->Size[g1] - this->SeamEntries[g1] + this->Size[g2] - this->SeamEntries[g2] - 2 * shared;
+    const bool firstLonger = this->ListOf(g1).size() >= this->ListOf(g2).size();
+    const Index kept = firstLonger ? g1 : g2, moved = firstLonger ? g2 : g1;
+    const Index stale = this->Stale[kept] + shared + this->SeamEntries[kept];
+    Index slot = this->ListIndex[kept];
+    if (slot == InvalidIndex) // a single patch's first join: its list leaves the patchification's
+    {
+      const ChainSpan span = this->ListOf(kept);
+      slot = this->NewList();
+      this->Lists[slot].reserve(span.size() + this->ListOf(moved).size());
+      this->Lists[slot].assign(span.begin(), span.end());
+    }
+    std::vector<Index>& list = this->Lists[slot];
+    const ChainSpan moving = this->ListOf(moved);
     this->Groups.Union(g1, g2);
     const Index root = this->Groups.Find(g1);
-    if (root != g1)
+    this->Work += static_cast<std::int64_t>(moving.size());
+    for (Index c : moving)
     {
-      std::swap(this->NormalSum[root], this->NormalSum[g1]);
-      this->ChainsOf[root].swap(this->ChainsOf[g1]);
+      if (!this->IsInternal(c))
+      {
+        list.push_back(c);
+      }
     }
-    this->DropInternalChains(this->ChainsOf[root]);
+    if (this->ListIndex[moved] != InvalidIndex)
+    {
+      std::vector<Index>().swap(this->Lists[this->ListIndex[moved]]);
+      this->FreeLists.push_back(this->ListIndex[moved]);
+    }
+    this->ListIndex[g1] = this->ListIndex[g2] = InvalidIndex;
+    this->ListIndex[root] = slot;
+    this->NormalSum[root] = sum;
+    this->Size[root] = size;
+    this->Stale[root] = stale;
+    this->SeamEntries[g1] = this->SeamEntries[g2] = 0;
+    if (2 * size_t(stale) > list.size())
+    {
+      this->DropStaleEntries(root);
+    }
+  }
+
+  // Drops the entries of root g's list that are no longer its boundary (paid for by the joins
+  // that made them stale: at least half the list).
+  void DropStaleEntries(Index g)
+  {
+    std::vector<Index>& chains = this->Lists[this->ListIndex[g]];
+    this->Work += static_cast<std::int64_t>(chains.size());
+    chains.erase(std::remove_if(chains.begin(), chains.end(), [&](Index c) { return this->IsInternal(c); }), chains.end());
+    this->Stale[g] = 0;
+  }
+
+  // Whether chain c now lies inside one group.
+  bool IsInternal(Index c)
+  {
+    const Index r = this->RightGroup(c);
+    return r != InvalidIndex && this->Groups.Find(this->Patches.ChainLeftPatch(c)) == r;
   }
 
   const Patchification& Patches;
   UnionFind Groups;
   std::vector<Vec3> NormalSum;
-  std::vector<std::vector<Index>> ChainsOf;
-  std::vector<Index> StampA, StampArc, Ends;
+  std::vector<Index> ListIndex; // at a merged group's root: its list in Lists (else its patch's)
+  std::vector<std::vector<Index>> Lists; // merged groups' boundary chains and stale entries
+  std::vector<Index> FreeLists;          // slots of Lists no group uses
+  std::vector<Index> Size;                  // at the root: the plain list's length
+  std::vector<Index> SeamEntries;           // seam entries a single patch's plain list still has
+  std::vector<Index> Stale;                 // at the root: entries of its list no longer listed
+  std::vector<Index> VertexChainOffsets, VertexChainList;
+  std::vector<Index> StampArc, StampOther, Ends, Distinct;
+  std::vector<unsigned char> Used;
   Index Stamp = 0;
+  std::int64_t Work = 0; // list entries, chain vertices and vertex-chain incidences visited
 };
 
 // Per patch, the group it merges into: neighbouring patches within MergeAngle of each other
 // join, the most parallel first, when their common boundary is one arc and they touch nowhere
 // else (the union stays a disk).
-std::vector<Index> CleanUpMerge(const TopologySimplificationParameters& P, const TriangleMesh& mesh, const Patchification& pa)
+std::vector<Index> CleanUpMerge(
+  const TopologySimplificationParameters& P, const TriangleMesh& mesh, const Patchification& pa, std::int64_t& work)
 {
   const Index np = pa.NumberOfPatches();
   std::vector<Index> group(static_cast<size_t>(np));
@@ -1577,21 +1779,22 @@ std::vector<Index> CleanUpMerge(const TopologySimplificationParameters& P, const
     {
       continue;
     }
-    if (groups.ChainsOf[g1].size() < groups.ChainsOf[g2].size())
+    if (groups.Size[g1] < groups.Size[g2])
     {
       std::swap(g1, g2);
     }
-    groups.DropInternalChains(groups.ChainsOf[g2]);
+    groups.Filter(g2);
     groups.SharedChains(g1, g2, shared);
     if (groups.IsSingleArc(shared) && !groups.Pinches(g1, g2, shared))
     {
-      groups.Join(g1, g2);
+      groups.Join(g1, g2, static_cast<Index>(shared.size()));
     }
   }
   for (Index p = 0; p < np; ++p)
   {
     group[p] = groups.Groups.Find(p);
   }
+  work = groups.Work;
   return group;
 }
 
@@ -1959,7 +2162,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   CleanedSurface unmerged;
   unmerged.Labels = cleaned.Labels;
   unmerged.LabelCount = cleaned.LabelCount;
-  const std::vector<Index> group = CleanUpMerge(parameters, cleaned.Mesh, cleanedPatches);
+  const std::vector<Index> group = CleanUpMerge(parameters, cleaned.Mesh, cleanedPatches, result.CleanUpMergeWork);
   for (Index& l : cleaned.Labels)
   {
     l = group[l];

@@ -141,6 +141,10 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationResult
   // seeds or partners. Only those on each loop's wall patches are, so it grows with the loops'
   // walls, not with (loops x chains).
   std::int64_t PartnerSearchWork = 0;
+  // Work of the clean-up merge (8.): chain list entries, chain vertices and vertex-chain
+  // incidences visited by its merge tests and joins. Each test walks the smaller group's
+  // boundary, so a group that grows by many small joins does not cost its whole boundary each.
+  std::int64_t CleanUpMergeWork = 0;
   // Detection passes after the first whose large arrays (normals, patchification) needed more
   // room than the earlier passes left in the run's workspace.
   Index DetectionWorkspaceAllocations = 0;

@@ -208,6 +208,58 @@ TEST(TopologySimplification, PartnerSearchWorkGrowsWithTheHoles)
   EXPECT_LE(work[1], 5 * work[0]);
 }
 
+// A strip of k unit quads folded alternately up and down (a zigzag roof), each crease a little
+// sharper than the one before. With patches of one quad (patch angles of 1 degree) and the clean-up
+// merge's 20 degrees, the most parallel pair is the first crease, so the merge joins the quads one
+// at a time, in order, to a group that grows to the whole strip.
+static TriangleMesh ZigzagStrip(int k)
+{
+  const double degree = std::acos(-1.0) / 180.0;
+  TriangleMesh m;
+  double z = 0;
+  for (int i = 0; i <= k; ++i)
+  {
+    m.Points.insert(m.Points.end(), { double(i), 0.0, z, double(i), 1.0, z });
+    const double tilt = (i % 2 ? -1.0 : 1.0) * (1.0 + 3.0 * i / k) * degree;
+    z += std::tan(tilt);
+  }
+  for (int i = 0; i < k; ++i)
+  {
+    const Index a = 2 * i, b = a + 1, c = a + 2, d = a + 3;
+    m.AddTriangle(a, c, d);
+    m.AddTriangle(a, d, b);
+  }
+  return m;
+}
+
+// The clean-up merge's tests and joins walk the smaller group's boundary (session 43). They used
+// to mark the larger group's whole boundary for each pinch test and filter its whole chain list
+// at each join: on this strip, each of the k joins cost the grown group's boundary, about k^2
+// chain vertices and list entries in all (2.0M for k = 1,000, with a counter added to the old code).
+TEST(TopologySimplification, CleanUpMergeWorkFollowsTheSmallerGroup)
+{
+  std::int64_t work[2] = { 0, 0 };
+  for (int i = 0; i < 2; ++i)
+  {
+    const int k = 250 * (1 + 3 * i);
+    SCOPED_TRACE(k);
+    TopologySimplificationParameters p;
+    p.FeatureSize = 0.01; // the strip's outline is no crack
+    p.Completion = TopologyCompletion::KeepTriangles;
+    p.Patches.OneEdgePatchAngle = p.Patches.OneEdgeNeighborAngle = 1.0;
+    TopologySimplificationResult r;
+    ASSERT_TRUE(TopologySimplifier().Run(ZigzagStrip(k), p, r));
+    ASSERT_EQ(r.InitialPatches, k); // one patch per quad
+    EXPECT_EQ(r.MergedPatches, 1);  // merged into one group
+    work[i] = r.CleanUpMergeWork;
+    EXPECT_GT(work[i], 0);
+    // Per join: the new quad's four chains, their vertices and the chains through them.
+    EXPECT_LE(work[i], 64 * std::int64_t(k));
+  }
+  // Four times the quads: about four times the work (before: about sixteen times).
+  EXPECT_LE(work[1], 5 * work[0]);
+}
+
 TEST(TopologySimplification, RoundHolesRemoved)
 {
   const TriangleMesh plate = PlateWithRoundHoles(4, 4, 0.3, 24, 0.3);
