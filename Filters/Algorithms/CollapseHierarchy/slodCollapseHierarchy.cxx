@@ -1739,11 +1739,18 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   // need not be computed (one eigen decomposition instead of three).
   const bool known = this->KnownCheapestEdge(t, edge, point, error);
   int failsEverywhere = 0; // bit k: edge k failed a check of its vertices alone (no point passes)
-  if (known)
+  // (PreventNewValenceThree refuses an edge for every point: it is not priced or checked.)
+  const bool valences = this->Parameters.PreventNewValenceThree;
+  const Index known0[2] = { tri[known ? edge : 0], tri[known ? (edge + 1) % 3 : 1] };
+  if (known && valences && !this->EdgeKeepsValences(known0[0], known0[1]))
+  {
+    failsEverywhere |= 1 << edge;
+  }
+  else if (known)
   {
     // (A plain check: it mostly passes, and then no other point is tried; a trial's bookkeeping
     // cost 2% more instructions on bunny00.)
-    const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
+    const Index* vertices = known0;
     EditableMesh::CheckScratch* own = scratch.OwnMarks();
     const CollapseStatus status = own ? m.CheckCollapse(vertices, 2, point, this->ChoiceOptions, *own)
                                       : m.CheckCollapse(vertices, 2, point, this->ChoiceOptions);
@@ -1782,6 +1789,11 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
       if ((pass == 0 && k == edge) || this->Degree(u) > HubValence || this->Degree(v) > HubValence)
       {
         continue; // (a hub's checks would cost its valence: see HubMask)
+      }
+      if (valences && !(known && k == edge) && !this->EdgeKeepsValences(u, v))
+      {
+        failsEverywhere |= 1 << k;
+        continue;
       }
       EdgePlacement placements[3];
       const int count = this->EdgePlacements(u, v, placements, false, knownOptimum && k == edge ? &knownPoint : nullptr);
@@ -1840,6 +1852,10 @@ struct CollapseHierarchy::BatchRun
   // keeps (references, versions), removes and redirects.
   std::vector<unsigned char> InOrder;
   std::vector<Index> Survivors, Removed, Changed;
+  // Per batch position: an interior vertex opposite its collapsed edge(s) is also opposite
+  // another collapse's (MarkSharedOpposites); the (vertex, position) pairs that found them.
+  std::vector<unsigned char> SharedOpposite;
+  std::vector<std::pair<Index, Index>> Opposites;
   size_t Surveyed = 0; // positions [0, Surveyed) are
   // ApplyRun's: per collapse of the run + 1, where its references and versions start.
   std::vector<Index> SurvivorStart;
@@ -1848,7 +1864,8 @@ struct CollapseHierarchy::BatchRun
   vtkSMPThreadLocal<CollapseRecord> Records;
   vtkSMPThreadLocal<std::vector<Index>> Sets;
   // (Not held through the next level's selection: a batch's 13 bytes per collapse.)
-  void Release() { ReleaseArrays(this->InOrder, this->Survivors, this->Removed, this->Changed, this->SurvivorStart); }
+  void Release() { ReleaseArrays(this->InOrder, this->Survivors, this->Removed, this->Changed, this->SurvivorStart, this->SharedOpposite, this->Opposites);
+  }
 };
 
 struct CollapseHierarchy::LevelState
@@ -2434,6 +2451,7 @@ void CollapseHierarchy::Reset(TriangleMesh&& input, std::vector<unsigned char>&&
   this->AssignBlocked(this->BlockedStrict, nt);
   this->EdgeCollapseCount = 0;
   this->BatchRechecks = 0;
+  this->ValenceRefusals = 0;
   this->PricingMismatches = 0;
   this->BoundedEndPoints = 0;
   this->CollapsesInRuns = 0;
@@ -2853,13 +2871,22 @@ void CollapseHierarchy::SelectOrRelax(int level, LevelState& state)
 {
   state.Edges = this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
   this->SelectBatch(level, state);
-  if (state.Batch.empty() && this->Parameters.RelaxWhenBlocked)
+  // (PreventNewValenceThree keeps rule (2): the retry then only adds the stencil plane, and is
+  // the same selection again when that is on already.)
+  const bool cycles = !this->Parameters.PreventNewValenceThree;
+  if (state.Batch.empty() && this->Parameters.RelaxWhenBlocked && (cycles || !this->Rules.StencilPlaneFallback))
   {
     // The whole list is sorted by now (the first pass scanned it all).
-    this->Rules.AllowNewCycles = true;
+    this->Rules.AllowNewCycles = cycles;
     this->Rules.StencilPlaneFallback = true;
     this->SelectBatch(level, state);
   }
+}
+
+// The level's rules are the relaxed ones (SelectOrRelax): their own blocked stamps.
+bool CollapseHierarchy::RulesRelaxed() const
+{
+  return this->Rules.AllowNewCycles || this->Rules.StencilPlaneFallback != this->Parameters.StarShapedInStencilPlane;
 }
 
 // Blocked everywhere: swap the blocking edges of every vertex of valence 3 or 4 with a looser
@@ -3176,7 +3203,7 @@ void CollapseHierarchy::Settle(Index t, const Choice& choice)
   this->Evaluations[row].Weight = choice.Weight;
   if (choice.BlockTriangle)
   {
-    this->SetBlocked(this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict, row);
+    this->SetBlocked(this->RulesRelaxed() ? this->BlockedRelaxed : this->BlockedStrict, row);
   }
   if (choice.BlockEdge)
   {
@@ -3238,7 +3265,7 @@ void CollapseHierarchy::WidenBlocked()
 // first use), before any choice reads them.
 void CollapseHierarchy::PrepareBlockedStamps(const LevelState& state)
 {
-  BlockedColumn& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
+  BlockedColumn& blocked = this->RulesRelaxed() ? this->BlockedRelaxed : this->BlockedStrict;
   if (blocked.Empty())
   {
     this->AssignBlocked(blocked, size_t(this->Rows));
@@ -3254,7 +3281,7 @@ void CollapseHierarchy::PrepareBlockedStamps(const LevelState& state)
 // region, the collapse point only on T's vertices).
 bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Choice& choice, ChoiceScratch& scratch) const
 {
-  const BlockedColumn& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
+  const BlockedColumn& blocked = this->RulesRelaxed() ? this->BlockedRelaxed : this->BlockedStrict;
   const StoredEvaluation& e = this->Evaluations[this->Row(t)];
   if (this->StarsUnchangedSince(t, this->BlockedStamp(blocked, this->Row(t))))
   {
@@ -3290,8 +3317,10 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Cho
     point = this->PointOf(t);
   }
   if (scratch.Stencils.CheckCollapsible(this->Mesh, scratch.Stencil, *point, this->NormalOf(t), &this->ChoiceOptions,
-        this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok)
+        this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok &&
+    !(this->Parameters.PreventNewValenceThree && scratch.Stencil.BoundaryPolygon.size() < 4))
   {
+    // (A three-sided polygon: the collapse point would get valence three, a new cycle.)
     choice.Point = *point;
     return true;
   }
@@ -3347,6 +3376,7 @@ void CollapseHierarchy::CollapseBatch(LevelState& state)
   run.Survivors.resize(n);
   run.Removed.resize(n);
   run.Changed.resize(n);
+  this->MarkSharedOpposites(state);
   // In the first levels (the rows over half the slots) the build's peak is the end of a batch: the
   // working data still hold the rows of the triangles and vertices the batch removed (about 12
   // bytes per input vertex on mc1m) while the hierarchy has grown by the batch (about 13). Those
@@ -3390,6 +3420,11 @@ void CollapseHierarchy::CollapseInOrder(const LevelState& state, size_t b, Index
     const Index vertices[2] = { tri[edge], tri[(edge + 1) % 3] };
     const bool unchanged = !this->OppositeBorderVertexChangedSince(vertices[0], vertices[1], batchStart);
     this->BatchRechecks += unchanged ? 0 : 1;
+    if (state.Run.SharedOpposite[b] && !this->EdgeKeepsValences(vertices[0], vertices[1]))
+    {
+      ++this->ValenceRefusals; // (an earlier collapse of the batch took an opposite vertex to four)
+      return;
+    }
     if (unchanged ||
       this->Mesh.CheckCollapse(vertices, 2, state.BatchPoint[b], this->MeshOptions) == CollapseStatus::Ok)
     {
@@ -3441,7 +3476,7 @@ void CollapseHierarchy::SurveyCollapse(const LevelState& state, size_t b, std::v
     ++survivors;
     changed += (q[0] == v || q[1] == v || q[2] == v) ? 1 : 0; // (its corner becomes u)
   }
-  run.InOrder[b] = borderOpposite ? 1 : 0;
+  run.InOrder[b] = borderOpposite || run.SharedOpposite[b] ? 1 : 0;
   run.Survivors[b] = survivors;
   run.Removed[b] = removed;
   run.Changed[b] = changed;
@@ -3667,6 +3702,82 @@ bool CollapseHierarchy::CreatesCycle(Index t)
     }
   }
   return false;
+}
+
+// PreventNewValenceThree for the edge collapse of (u, v). The triangles on the edge go: an
+// interior vertex opposite it loses a neighbour, and the merged vertex has val(u) + val(v) - 4
+// (interior edge). Border vertices are left to the border rules (their valence counts differently).
+bool CollapseHierarchy::EdgeKeepsValences(Index u, Index v) const
+{
+  bool keeps = true;
+  this->Mesh.ForEachTriangle(u, [&](Index x) {
+    const Index* q = this->Mesh.Triangle(x);
+    if (q[0] == v || q[1] == v || q[2] == v)
+    {
+      const Index o = q[0] != u && q[0] != v ? q[0] : (q[1] != u && q[1] != v ? q[1] : q[2]);
+      keeps = keeps && (this->OnBorder[o] || this->Degree(o) > 4);
+    }
+  });
+  if (!keeps || this->OnBorder[u] || this->OnBorder[v])
+  {
+    return keeps;
+  }
+  const Index du = this->Degree(u), dv = this->Degree(v);
+  return du <= 3 || dv <= 3 || du + dv >= 8; // (a valence-3 vertex merged away may leave one)
+}
+
+// Each collapse of the batch was checked on the level's mesh, alone; a vertex on the boundaries
+// of two regions, opposite a collapsed edge in both, loses a neighbour to each. Such edge
+// collapses go one by one and check their opposite vertices again (CollapseInOrder); triangle
+// collapses always do (CreatesCycle). Work: the fans of the collapsed edges' first vertices and
+// a sort of at most six pairs per collapse.
+void CollapseHierarchy::MarkSharedOpposites(LevelState& state)
+{
+  BatchRun& run = state.Run;
+  const size_t n = state.Batch.size();
+  run.SharedOpposite.assign(n, 0);
+  if (!this->Parameters.PreventNewValenceThree)
+  {
+    return;
+  }
+  std::vector<std::pair<Index, Index>>& pairs = run.Opposites;
+  pairs.clear();
+  for (size_t b = 0; b < n; ++b)
+  {
+    const Index t = state.Batch[b];
+    const Index* tri = this->Mesh.Triangle(t);
+    const int edge = state.BatchEdge[b];
+    for (int k = edge < 0 ? 0 : edge; k < (edge < 0 ? 3 : edge + 1); ++k)
+    {
+      const Index u = tri[k], v = tri[(k + 1) % 3];
+      this->Mesh.ForEachTriangle(u, [&](Index x) {
+        const Index* q = this->Mesh.Triangle(x);
+        // (a triangle collapse's own triangle holds no opposite vertex: its third vertex merges)
+        if ((x != t || edge >= 0) && (q[0] == v || q[1] == v || q[2] == v))
+        {
+          const Index o = q[0] != u && q[0] != v ? q[0] : (q[1] != u && q[1] != v ? q[1] : q[2]);
+          if (!this->OnBorder[o])
+          {
+            pairs.emplace_back(o, static_cast<Index>(b));
+          }
+        }
+      });
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  for (size_t i = 0; i < pairs.size();)
+  {
+    size_t j = i + 1;
+    while (j < pairs.size() && pairs[j].first == pairs[i].first)
+    {
+      ++j;
+    }
+    for (size_t k = i; j - i > 1 && k < j; ++k)
+    {
+      run.SharedOpposite[size_t(pairs[k].second)] = 1;
+    }
+    i = j;
+  }
 }
 
 // The valences changed on the batch's stencil boundaries: swap around the neighbours of the new

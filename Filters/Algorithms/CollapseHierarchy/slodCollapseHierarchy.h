@@ -117,6 +117,13 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // factor times the quadric error of its triangle collapse takes the edge collapse (and is
   // ordered by its error) even when the triangle collapse is allowed. 0: edges only where blocked.
   double PreferEdgeFactor = 0.0;
+  // No collapse may leave an interior vertex of valence three (or less) where there was none:
+  // rule (2) extended to the edge collapses (an interior vertex opposite the edge may not have
+  // valence four, the merged vertex may not get fewer than four neighbours unless one of the two
+  // had), kept in the relaxed retry, and a triangle collapse may not leave a three-sided stencil
+  // polygon. A valence-3 vertex makes needle and cap triangles and blocks its neighbours'
+  // triangle collapses (a cyclic stencil). Off: edge collapses and relaxed levels may make them.
+  bool PreventNewValenceThree = false;
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
   Index MinimumNumberOfTriangles = 0;
@@ -351,6 +358,9 @@ public:
   // Collapses whose checks ran again when their batch was collapsed: those whose region shares a
   // vertex with the region of an earlier collapse of the batch (the others cannot have changed).
   Index NumberOfBatchRechecks() const { return this->BatchRechecks; }
+  // Edge collapses of a batch dropped because an earlier one took an opposite vertex down to
+  // valence four (PreventNewValenceThree; MarkSharedOpposites).
+  Index NumberOfValenceRefusals() const { return this->ValenceRefusals; }
   // With VerifyBoundedPricing: edge pricings whose costs (either way) differ from those of the
   // exact errors, and end points whose error the pricing bounded instead of computing.
   long long NumberOfPricingMismatches() const { return this->PricingMismatches; }
@@ -593,6 +603,7 @@ private:
   void PrefetchCandidates(const LevelState& state, size_t i) const;
   void SelectOrRelax(int level, LevelState& state);
   void SwapEverywhereAndRetry(int level, LevelState& state);
+  bool RulesRelaxed() const;
   void SelectBatch(int level, LevelState& state);
   bool RegionIsFree(Index t, const LevelState& state, int edge = -1) const;
   void MarkRegion(Index t, int edge, LevelState& state) const;
@@ -641,6 +652,14 @@ private:
   void ApplyRun(LevelState& state, size_t begin, size_t end);
   void ApplyRunCollapse(const LevelState& state, size_t b, CollapseRecord& record, std::vector<Index>& gathered);
   bool OppositeBorderVertexChangedSince(Index u, Index v, Index stamp) const;
+  // PreventNewValenceThree for the edge collapse of (u, v): no interior vertex opposite the edge
+  // of valence four, and the merged vertex keeps at least four neighbours (or one of u, v had
+  // fewer).
+  bool EdgeKeepsValences(Index u, Index v) const;
+  // The batch's edge collapses that share an interior opposite vertex with another collapse of
+  // the batch (each was checked alone on the level's mesh; together they may take that vertex
+  // down to valence three): marked to go one by one and be checked again (CollapseInOrder).
+  void MarkSharedOpposites(LevelState& state);
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
@@ -971,6 +990,7 @@ private:
   }
   Index EdgeCollapseCount = 0;
   Index BatchRechecks = 0;
+  Index ValenceRefusals = 0;
   mutable long long PricingMismatches = 0, BoundedEndPoints = 0; // (atomic adds: concurrent pricing)
   Index CollapsesInRuns = 0;
   Index ChoicesAhead = 0, ChoicesInOrder = 0, ChoicesDecidedAhead = 0;

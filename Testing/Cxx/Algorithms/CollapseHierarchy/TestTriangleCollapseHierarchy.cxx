@@ -707,6 +707,7 @@ CollapseHierarchyParameters DefaultParameters()
   p.ErrorWeight = f->GetErrorWeight();
   p.QuadricCollapsePoint = f->GetQuadricCollapsePoint();
   p.RelaxWhenBlocked = f->GetRelaxWhenBlocked();
+  p.PreventNewValenceThree = f->GetPreventNewValenceThree();
   p.EdgeCollapses = static_cast<CollapseHierarchyParameters::EdgeFallback>(f->GetEdgeCollapses());
   p.PreferEdgeFactor = f->GetPreferEdgeFactor();
   p.VertexErrorWeight = f->GetVertexErrorWeight();
