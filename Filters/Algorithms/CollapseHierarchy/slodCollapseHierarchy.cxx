@@ -1740,7 +1740,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   const bool known = this->KnownCheapestEdge(t, edge, point, error);
   int failsEverywhere = 0; // bit k: edge k failed a check of its vertices alone (no point passes)
   // (PreventNewValenceThree refuses an edge for every point: it is not priced or checked.)
-  const bool valences = this->Parameters.PreventNewValenceThree;
+  const bool valences = this->KeepValences;
   const Index known0[2] = { tri[known ? edge : 0], tri[known ? (edge + 1) % 3 : 1] };
   if (known && valences && !this->EdgeKeepsValences(known0[0], known0[1]))
   {
@@ -2392,6 +2392,7 @@ void CollapseHierarchy::SetParameters(const CollapseHierarchyParameters& paramet
   // collapse is valid, never which test failed, so the order changes no result.
   this->MeshOptions.GeometryFirst = true;
   this->Rules = CollapsibleOptions();
+  this->KeepValences = false;
 }
 
 // M0 and the empty hierarchy over it: every input point its own global vertex and ancestor,
@@ -2706,6 +2707,7 @@ void CollapseHierarchy::PlanLevel(LevelState& state)
   }
   this->Rules = CollapsibleOptions();
   this->Rules.StencilPlaneFallback = p.StarShapedInStencilPlane;
+  this->KeepValences = p.PreventNewValenceThree;
   // Search depth in the priority order (BatchSearchDepth x batch size; unlimited when 0), in half
   // triangle collapses (SelectBatch).
   state.Depth = p.BatchSearchDepth > 0 ? 2 * static_cast<size_t>(std::ceil(p.BatchSearchDepth * state.Wanted))
@@ -2871,22 +2873,25 @@ void CollapseHierarchy::SelectOrRelax(int level, LevelState& state)
 {
   state.Edges = this->Parameters.EdgeCollapses == CollapseHierarchyParameters::EdgeFallback::Everywhere;
   this->SelectBatch(level, state);
-  // (PreventNewValenceThree keeps rule (2): the retry then only adds the stencil plane, and is
-  // the same selection again when that is on already.)
-  const bool cycles = !this->Parameters.PreventNewValenceThree;
-  if (state.Batch.empty() && this->Parameters.RelaxWhenBlocked && (cycles || !this->Rules.StencilPlaneFallback))
+  if (state.Batch.empty() && this->Parameters.RelaxWhenBlocked)
   {
-    // The whole list is sorted by now (the first pass scanned it all).
-    this->Rules.AllowNewCycles = cycles;
+    // The whole list is sorted by now (the first pass scanned it all). The relaxed rules may make
+    // valence-3 vertices: PreventNewValenceThree yields here, where nothing else can collapse
+    // (the last levels of small or thin meshes), so that the targets are still reached.
+    this->Rules.AllowNewCycles = true;
     this->Rules.StencilPlaneFallback = true;
+    if (this->KeepValences)
+    {
+      this->KeepValences = false;
+      if (!this->BlockedEdge.Empty())
+      {
+        // (Blocked under the valence rule says nothing without it; blocked without it, read by
+        // the next levels, still holds with it.)
+        this->AssignBlocked(this->BlockedEdge, size_t(this->Rows));
+      }
+    }
     this->SelectBatch(level, state);
   }
-}
-
-// The level's rules are the relaxed ones (SelectOrRelax): their own blocked stamps.
-bool CollapseHierarchy::RulesRelaxed() const
-{
-  return this->Rules.AllowNewCycles || this->Rules.StencilPlaneFallback != this->Parameters.StarShapedInStencilPlane;
 }
 
 // Blocked everywhere: swap the blocking edges of every vertex of valence 3 or 4 with a looser
@@ -2908,6 +2913,7 @@ void CollapseHierarchy::SwapEverywhereAndRetry(int level, LevelState& state)
   this->ReweighAround(state.Touched, state);
   this->Rules = CollapsibleOptions();
   this->Rules.StencilPlaneFallback = this->Parameters.StarShapedInStencilPlane;
+  this->KeepValences = this->Parameters.PreventNewValenceThree;
   this->OrderCandidates(state);
   this->SelectOrRelax(level, state);
 }
@@ -3203,7 +3209,7 @@ void CollapseHierarchy::Settle(Index t, const Choice& choice)
   this->Evaluations[row].Weight = choice.Weight;
   if (choice.BlockTriangle)
   {
-    this->SetBlocked(this->RulesRelaxed() ? this->BlockedRelaxed : this->BlockedStrict, row);
+    this->SetBlocked(this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict, row);
   }
   if (choice.BlockEdge)
   {
@@ -3265,7 +3271,7 @@ void CollapseHierarchy::WidenBlocked()
 // first use), before any choice reads them.
 void CollapseHierarchy::PrepareBlockedStamps(const LevelState& state)
 {
-  BlockedColumn& blocked = this->RulesRelaxed() ? this->BlockedRelaxed : this->BlockedStrict;
+  BlockedColumn& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
   if (blocked.Empty())
   {
     this->AssignBlocked(blocked, size_t(this->Rows));
@@ -3281,7 +3287,7 @@ void CollapseHierarchy::PrepareBlockedStamps(const LevelState& state)
 // region, the collapse point only on T's vertices).
 bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Choice& choice, ChoiceScratch& scratch) const
 {
-  const BlockedColumn& blocked = this->RulesRelaxed() ? this->BlockedRelaxed : this->BlockedStrict;
+  const BlockedColumn& blocked = this->Rules.AllowNewCycles ? this->BlockedRelaxed : this->BlockedStrict;
   const StoredEvaluation& e = this->Evaluations[this->Row(t)];
   if (this->StarsUnchangedSince(t, this->BlockedStamp(blocked, this->Row(t))))
   {
@@ -3318,7 +3324,7 @@ bool CollapseHierarchy::TriangleCollapseAllowed(Index t, double orderWeight, Cho
   }
   if (scratch.Stencils.CheckCollapsible(this->Mesh, scratch.Stencil, *point, this->NormalOf(t), &this->ChoiceOptions,
         this->Rules, scratch.OwnMarks()) == CollapsibleStatus::Ok &&
-    !(this->Parameters.PreventNewValenceThree && scratch.Stencil.BoundaryPolygon.size() < 4))
+    !(this->KeepValences && scratch.Stencil.BoundaryPolygon.size() < 4))
   {
     // (A three-sided polygon: the collapse point would get valence three, a new cycle.)
     choice.Point = *point;
@@ -3710,14 +3716,7 @@ bool CollapseHierarchy::CreatesCycle(Index t)
 bool CollapseHierarchy::EdgeKeepsValences(Index u, Index v) const
 {
   bool keeps = true;
-  this->Mesh.ForEachTriangle(u, [&](Index x) {
-    const Index* q = this->Mesh.Triangle(x);
-    if (q[0] == v || q[1] == v || q[2] == v)
-    {
-      const Index o = q[0] != u && q[0] != v ? q[0] : (q[1] != u && q[1] != v ? q[1] : q[2]);
-      keeps = keeps && (this->OnBorder[o] || this->Degree(o) > 4);
-    }
-  });
+  this->ForEachOppositeVertex(u, v, InvalidIndex, [&](Index o) { keeps = keeps && (this->OnBorder[o] || this->Degree(o) > 4); });
   if (!keeps || this->OnBorder[u] || this->OnBorder[v])
   {
     return keeps;
@@ -3736,7 +3735,7 @@ void CollapseHierarchy::MarkSharedOpposites(LevelState& state)
   BatchRun& run = state.Run;
   const size_t n = state.Batch.size();
   run.SharedOpposite.assign(n, 0);
-  if (!this->Parameters.PreventNewValenceThree)
+  if (!this->KeepValences)
   {
     return;
   }
@@ -3749,17 +3748,11 @@ void CollapseHierarchy::MarkSharedOpposites(LevelState& state)
     const int edge = state.BatchEdge[b];
     for (int k = edge < 0 ? 0 : edge; k < (edge < 0 ? 3 : edge + 1); ++k)
     {
-      const Index u = tri[k], v = tri[(k + 1) % 3];
-      this->Mesh.ForEachTriangle(u, [&](Index x) {
-        const Index* q = this->Mesh.Triangle(x);
-        // (a triangle collapse's own triangle holds no opposite vertex: its third vertex merges)
-        if ((x != t || edge >= 0) && (q[0] == v || q[1] == v || q[2] == v))
+      // (a triangle collapse's own triangle holds no opposite vertex: its third vertex merges)
+      this->ForEachOppositeVertex(tri[k], tri[(k + 1) % 3], edge < 0 ? t : InvalidIndex, [&](Index o) {
+        if (!this->OnBorder[o])
         {
-          const Index o = q[0] != u && q[0] != v ? q[0] : (q[1] != u && q[1] != v ? q[1] : q[2]);
-          if (!this->OnBorder[o])
-          {
-            pairs.emplace_back(o, static_cast<Index>(b));
-          }
+          pairs.emplace_back(o, static_cast<Index>(b));
         }
       });
     }

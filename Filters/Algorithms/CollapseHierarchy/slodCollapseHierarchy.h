@@ -120,9 +120,10 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // No collapse may leave an interior vertex of valence three (or less) where there was none:
   // rule (2) extended to the edge collapses (an interior vertex opposite the edge may not have
   // valence four, the merged vertex may not get fewer than four neighbours unless one of the two
-  // had), kept in the relaxed retry, and a triangle collapse may not leave a three-sided stencil
-  // polygon. A valence-3 vertex makes needle and cap triangles and blocks its neighbours'
-  // triangle collapses (a cyclic stencil). Off: edge collapses and relaxed levels may make them.
+  // had), and a triangle collapse may not leave a three-sided stencil polygon. A valence-3 vertex
+  // makes needle and cap triangles and blocks its neighbours' triangle collapses (a cyclic
+  // stencil). Lifted with the relaxed rules (RelaxWhenBlocked: a level where nothing else can
+  // collapse), so that targets are still reached. Off: edge collapses may make them anywhere.
   bool PreventNewValenceThree = false;
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
@@ -603,7 +604,6 @@ private:
   void PrefetchCandidates(const LevelState& state, size_t i) const;
   void SelectOrRelax(int level, LevelState& state);
   void SwapEverywhereAndRetry(int level, LevelState& state);
-  bool RulesRelaxed() const;
   void SelectBatch(int level, LevelState& state);
   bool RegionIsFree(Index t, const LevelState& state, int edge = -1) const;
   void MarkRegion(Index t, int edge, LevelState& state) const;
@@ -656,6 +656,18 @@ private:
   // of valence four, and the merged vertex keeps at least four neighbours (or one of u, v had
   // fewer).
   bool EdgeKeepsValences(Index u, Index v) const;
+  // f(o) for the vertex o opposite the edge (u, v) in each of its triangles but `skip`.
+  template <typename F>
+  void ForEachOppositeVertex(Index u, Index v, Index skip, F&& f) const
+  {
+    this->Mesh.ForEachTriangle(u, [&](Index x) {
+      const Index* q = this->Mesh.Triangle(x);
+      if (x != skip && (q[0] == v || q[1] == v || q[2] == v))
+      {
+        f(q[0] != u && q[0] != v ? q[0] : (q[1] != u && q[1] != v ? q[1] : q[2]));
+      }
+    });
+  }
   // The batch's edge collapses that share an interior opposite vertex with another collapse of
   // the batch (each was checked alone on the level's mesh; together they may take that vertex
   // down to valence three): marked to go one by one and be checked again (CollapseInOrder).
@@ -991,6 +1003,8 @@ private:
   Index EdgeCollapseCount = 0;
   Index BatchRechecks = 0;
   Index ValenceRefusals = 0;
+  // PreventNewValenceThree under the level's rules (lifted with the relaxed rules: SelectOrRelax).
+  bool KeepValences = false;
   mutable long long PricingMismatches = 0, BoundedEndPoints = 0; // (atomic adds: concurrent pricing)
   Index CollapsesInRuns = 0;
   Index ChoicesAhead = 0, ChoicesInOrder = 0, ChoicesDecidedAhead = 0;

@@ -193,8 +193,10 @@ public:
   /// No collapse leaves an interior vertex of valence 3 where there was none (default on, not in
   /// the paper, whose rule (2) covers triangle collapses only): an edge collapse may not take an
   /// interior vertex opposite the edge from valence 4 to 3 nor make a merged vertex of valence 3,
-  /// the relaxed retry (RelaxWhenBlocked) keeps rule (2), and a triangle collapse may not leave a
-  /// three-sided stencil polygon. Off: the behaviour before session 43.
+  /// and a triangle collapse may not leave a three-sided stencil polygon. Lifted, as rule (2), in
+  /// a level where nothing passes (RelaxWhenBlocked), so that targets are still reached (a closed
+  /// genus-0 surface below 8 triangles must have valence-3 vertices). Off: the behaviour before
+  /// session 43.
   vtkSetMacro(PreventNewValenceThree, bool);
   vtkGetMacro(PreventNewValenceThree, bool);
   vtkBooleanMacro(PreventNewValenceThree, bool);
