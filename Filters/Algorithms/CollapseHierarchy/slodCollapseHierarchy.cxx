@@ -3726,9 +3726,9 @@ bool CollapseHierarchy::EdgeKeepsValences(Index u, Index v) const
 }
 
 // Each collapse of the batch was checked on the level's mesh, alone; a vertex on the boundaries
-// of two regions, opposite a collapsed edge in both, loses a neighbour to each. Such edge
-// collapses go one by one and check their opposite vertices again (CollapseInOrder); triangle
-// collapses always do (CreatesCycle). Work: the fans of the collapsed edges' first vertices and
+// of two regions, opposite a collapsed edge in both, loses a neighbour to each. Where that could
+// leave it below four, such edge collapses go one by one and check their opposite vertices again
+// (CollapseInOrder); triangle collapses always do (CreatesCycle). Work: the fans of the collapsed edges' first vertices and
 // a sort of at most six pairs per collapse.
 void CollapseHierarchy::MarkSharedOpposites(LevelState& state)
 {
@@ -3765,7 +3765,10 @@ void CollapseHierarchy::MarkSharedOpposites(LevelState& state)
     {
       ++j;
     }
-    for (size_t k = i; j - i > 1 && k < j; ++k)
+    // (Only where the collapses together could take it below four: marking every shared vertex
+    // sent most of mc250k's edge collapses one by one, out of the concurrent runs.)
+    const bool low = j - i > 1 && this->Degree(pairs[i].first) < Index(4 + (j - i));
+    for (size_t k = i; low && k < j; ++k)
     {
       run.SharedOpposite[size_t(pairs[k].second)] = 1;
     }
