@@ -656,6 +656,7 @@ private:
   // of valence four, and the merged vertex keeps at least four neighbours (or one of u, v had
   // fewer).
   bool EdgeKeepsValences(Index u, Index v) const;
+  bool ValenceRuleHolds(Index live) const; // on a level of `live` triangles
   // f(o) for the vertex o opposite the edge (u, v) in each of its triangles but `skip`.
   template <typename F>
   void ForEachOppositeVertex(Index u, Index v, Index skip, F&& f) const
