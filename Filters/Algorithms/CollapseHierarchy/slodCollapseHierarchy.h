@@ -123,7 +123,8 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // had), and a triangle collapse may not leave a three-sided stencil polygon. A valence-3 vertex
   // makes needle and cap triangles and blocks its neighbours' triangle collapses (a cyclic
   // stencil). Lifted with the relaxed rules (RelaxWhenBlocked: a level where nothing else can
-  // collapse), so that targets are still reached. Off: edge collapses may make them anywhere.
+  // collapse), so that targets are still reached, and on levels with 5% of M0's triangles or
+  // fewer (ValenceRuleHolds). Off: edge collapses may make them anywhere.
   bool PreventNewValenceThree = false;
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).

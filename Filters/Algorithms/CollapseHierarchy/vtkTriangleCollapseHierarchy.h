@@ -195,8 +195,8 @@ public:
   /// interior vertex opposite the edge from valence 4 to 3 nor make a merged vertex of valence 3,
   /// and a triangle collapse may not leave a three-sided stencil polygon. Lifted, as rule (2), in
   /// a level where nothing passes (RelaxWhenBlocked), so that targets are still reached (a closed
-  /// genus-0 surface below 8 triangles must have valence-3 vertices). Off: the behaviour before
-  /// session 43.
+  /// genus-0 surface below 8 triangles must have valence-3 vertices), and on levels with 5% of the
+  /// input's triangles or fewer (it cost accuracy there). Off: the behaviour before session 43.
   vtkSetMacro(PreventNewValenceThree, bool);
   vtkGetMacro(PreventNewValenceThree, bool);
   vtkBooleanMacro(PreventNewValenceThree, bool);
