@@ -215,6 +215,7 @@ std::vector<Parameter> TriangleCollapseHierarchyParameters()
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, RelaxWhenBlocked),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, EdgeCollapses),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, PreferEdgeFactor),
+    SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Bool, PreventNewValenceThree),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, VertexErrorWeight),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Double, BoundaryWeight),
     SLOD_PARAMETER(vtkTriangleCollapseHierarchy, Int, MaximumNumberOfLevels),

@@ -117,6 +117,15 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // factor times the quadric error of its triangle collapse takes the edge collapse (and is
   // ordered by its error) even when the triangle collapse is allowed. 0: edges only where blocked.
   double PreferEdgeFactor = 0.0;
+  // No collapse may leave an interior vertex of valence three (or less) where there was none:
+  // rule (2) extended to the edge collapses (an interior vertex opposite the edge may not have
+  // valence four, the merged vertex may not get fewer than four neighbours unless one of the two
+  // had), and a triangle collapse may not leave a three-sided stencil polygon. A valence-3 vertex
+  // makes needle and cap triangles and blocks its neighbours' triangle collapses (a cyclic
+  // stencil). Lifted with the relaxed rules (RelaxWhenBlocked: a level where nothing else can
+  // collapse), so that targets are still reached, and on levels with 5% of M0's triangles or
+  // fewer (ValenceRuleHolds). Off: edge collapses may make them anywhere.
+  bool PreventNewValenceThree = false;
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
   Index MinimumNumberOfTriangles = 0;
@@ -355,6 +364,9 @@ public:
   // Collapses whose checks ran again when their batch was collapsed: those whose region shares a
   // vertex with the region of an earlier collapse of the batch (the others cannot have changed).
   Index NumberOfBatchRechecks() const { return this->BatchRechecks; }
+  // Edge collapses of a batch dropped because an earlier one took an opposite vertex down to
+  // valence four (PreventNewValenceThree; MarkSharedOpposites).
+  Index NumberOfValenceRefusals() const { return this->ValenceRefusals; }
   // With VerifyBoundedPricing: edge pricings whose costs (either way) differ from those of the
   // exact errors, and end points whose error the pricing bounded instead of computing.
   long long NumberOfPricingMismatches() const { return this->PricingMismatches; }
@@ -649,6 +661,27 @@ private:
   void ApplyRun(LevelState& state, size_t begin, size_t end);
   void ApplyRunCollapse(const LevelState& state, size_t b, CollapseRecord& record, std::vector<Index>& gathered);
   bool OppositeBorderVertexChangedSince(Index u, Index v, Index stamp) const;
+  // PreventNewValenceThree for the edge collapse of (u, v): no interior vertex opposite the edge
+  // of valence four, and the merged vertex keeps at least four neighbours (or one of u, v had
+  // fewer).
+  bool EdgeKeepsValences(Index u, Index v) const;
+  bool ValenceRuleHolds(Index live) const; // on a level of `live` triangles
+  // f(o) for the vertex o opposite the edge (u, v) in each of its triangles but `skip`.
+  template <typename F>
+  void ForEachOppositeVertex(Index u, Index v, Index skip, F&& f) const
+  {
+    this->Mesh.ForEachTriangle(u, [&](Index x) {
+      const Index* q = this->Mesh.Triangle(x);
+      if (x != skip && (q[0] == v || q[1] == v || q[2] == v))
+      {
+        f(q[0] != u && q[0] != v ? q[0] : (q[1] != u && q[1] != v ? q[1] : q[2]));
+      }
+    });
+  }
+  // The batch's edge collapses that share an interior opposite vertex with another collapse of
+  // the batch (each was checked alone on the level's mesh; together they may take that vertex
+  // down to valence three): marked to go one by one and be checked again (CollapseInOrder).
+  void MarkSharedOpposites(LevelState& state);
   bool CreatesCycle(Index t);
   void SwapAroundNewVertices(LevelState& state);
   void ReweighAround(const std::vector<Index>& vertices, LevelState& state);
@@ -980,6 +1013,9 @@ private:
   }
   Index EdgeCollapseCount = 0;
   Index BatchRechecks = 0;
+  Index ValenceRefusals = 0;
+  // PreventNewValenceThree under the level's rules (lifted with the relaxed rules: SelectOrRelax).
+  bool KeepValences = false;
   mutable long long PricingMismatches = 0, BoundedEndPoints = 0; // (atomic adds: concurrent pricing)
   mutable long long TrialPoints = 0, TrialPointsOnRefusedEdges = 0; // (atomic adds: ChooseAhead)
   Index CollapsesInRuns = 0;

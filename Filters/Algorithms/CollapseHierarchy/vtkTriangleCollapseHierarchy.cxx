@@ -53,7 +53,8 @@ struct vtkTriangleCollapseHierarchy::Internals
       a.MaximumWeight == b.MaximumWeight && a.ValenceNormalizer == b.ValenceNormalizer &&
       a.RemoveCycles == b.RemoveCycles && a.MaximumNumberOfLevels == b.MaximumNumberOfLevels &&
       a.RelaxWhenBlocked == b.RelaxWhenBlocked && a.EdgeCollapses == b.EdgeCollapses &&
-      a.PreferEdgeFactor == b.PreferEdgeFactor && a.VertexErrorWeight == b.VertexErrorWeight &&
+      a.PreferEdgeFactor == b.PreferEdgeFactor && a.PreventNewValenceThree == b.PreventNewValenceThree &&
+      a.VertexErrorWeight == b.VertexErrorWeight &&
       a.BoundaryWeight == b.BoundaryWeight &&
       a.SwapBlockingEdges == b.SwapBlockingEdges &&
       a.StarShapedInStencilPlane == b.StarShapedInStencilPlane &&
@@ -187,6 +188,7 @@ struct vtkTriangleCollapseHierarchy::Internals
     parameters.ErrorWeight = f.ErrorWeight;
     parameters.RelaxWhenBlocked = f.RelaxWhenBlocked;
     parameters.PreferEdgeFactor = f.PreferEdgeFactor;
+    parameters.PreventNewValenceThree = f.PreventNewValenceThree;
     parameters.VertexErrorWeight = f.VertexErrorWeight;
     parameters.BoundaryWeight = f.BoundaryWeight;
     parameters.EdgeCollapses = static_cast<slod::CollapseHierarchyParameters::EdgeFallback>(f.EdgeCollapses);
@@ -450,6 +452,7 @@ void vtkTriangleCollapseHierarchy::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ErrorWeight: " << this->ErrorWeight << "\n";
   os << indent << "QuadricCollapsePoint: " << this->QuadricCollapsePoint << "\n";
   os << indent << "RelaxWhenBlocked: " << this->RelaxWhenBlocked << "\n";
+  os << indent << "PreventNewValenceThree: " << this->PreventNewValenceThree << "\n";
   os << indent << "EdgeCollapses: " << this->EdgeCollapses << "\n";
   os << indent << "PreferEdgeFactor: " << this->PreferEdgeFactor << "\n";
   os << indent << "VertexErrorWeight: " << this->VertexErrorWeight << "\n";

@@ -190,6 +190,16 @@ public:
   /// Hausdorff distance (mc1m at 10%: 1.35x vtkQuadricDecimation's instead of 1.04x).
   vtkSetClampMacro(PreferEdgeFactor, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(PreferEdgeFactor, double);
+  /// No collapse leaves an interior vertex of valence 3 where there was none (default on, not in
+  /// the paper, whose rule (2) covers triangle collapses only): an edge collapse may not take an
+  /// interior vertex opposite the edge from valence 4 to 3 nor make a merged vertex of valence 3,
+  /// and a triangle collapse may not leave a three-sided stencil polygon. Lifted, as rule (2), in
+  /// a level where nothing passes (RelaxWhenBlocked), so that targets are still reached (a closed
+  /// genus-0 surface below 8 triangles must have valence-3 vertices), and on levels with 5% of the
+  /// input's triangles or fewer (it cost accuracy there). Off: the behaviour before session 43.
+  vtkSetMacro(PreventNewValenceThree, bool);
+  vtkGetMacro(PreventNewValenceThree, bool);
+  vtkBooleanMacro(PreventNewValenceThree, bool);
   /// Feature protection in the error (not in the paper; needs ErrorWeight > 0 or edge collapses):
   /// adds this factor times the mean triangle area times the largest mean squared distance of the
   /// collapse point to the original planes of one merged vertex, so crease and corner vertices
@@ -299,6 +309,7 @@ protected:
   bool RelaxWhenBlocked = true;
   int EdgeCollapses = EDGE_COLLAPSES_EVERYWHERE;
   double PreferEdgeFactor = 0.5;
+  bool PreventNewValenceThree = true;
   double VertexErrorWeight = 10.0;
   double BoundaryWeight = 10.0; // slod::DefaultBorderPlaneWeight (a test checks they agree)
   bool StarShapedInStencilPlane = true;
