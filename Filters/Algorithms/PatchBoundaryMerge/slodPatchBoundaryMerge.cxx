@@ -283,7 +283,7 @@ size_t SpbmLevelGenerator::MemoryUsage() const
     bytes += b(s.Chains) + b(s.Parts) + b(s.Patches) + b(s.Tolerance) +
       b(s.KeptPositions) + b(s.KeptTolerance) + b(s.KeptLocked) + b(s.RefinedTolerance) + b(s.RefinedLocked) +
       b(s.JointBefore) + b(s.EndHead) + b(s.EndSlotNext) +
-      b(s.Degree) + b(s.PatchSlotNext) + b(s.Tries) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Support) + b(s.Frozen) +
+      b(s.Degree) + b(s.PatchSlotNext) + b(s.Tries) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Support) + b(s.SupportWritten) + b(s.SupportWrittenFlag) + b(s.Frozen) +
       b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + s.MergeQueue.MemoryBytes() + b(s.NoFreeze) +
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
       b(s.SimpleSignature) + s.BoundaryOutcomes.MemoryUsage() + b(s.Memo) + b(s.Edits) + b(s.EditsSpare) + s.RemovalQueue.MemoryBytes() + b(s.EditsTolerance) + b(s.EditsLocked) +

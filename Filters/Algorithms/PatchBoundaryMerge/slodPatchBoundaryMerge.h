@@ -481,6 +481,7 @@ private:
   std::vector<double> EndpointVariation;   // normal variation around each endpoint
   std::vector<Vec3> EndpointPoints;        // coordinates of each endpoint (read by every merge and collapse try)
   std::vector<Index> PatchSupport;         // per patch: its extreme vertices in the 26 support directions
+  long long PatchSupportBuilds = 0;        // how many times PatchSupport was built (which one a state holds)
   struct PredictionMemo
   {
     float Epsilon;

@@ -409,6 +409,7 @@ void SpbmLevelGenerator::MergingRun::CopyPatchSupport()
   std::vector<Index>& support = generator.PatchSupport;
   if (support.size() != size_t(np) * SupportSize)
   {
+    ++generator.PatchSupportBuilds;
     support.assign(size_t(np) * SupportSize, InvalidIndex);
     std::vector<double> extreme(size_t(np) * SupportSize, -std::numeric_limits<double>::infinity());
     const std::vector<Index>& patchOf = P.TrianglePatches();
@@ -445,7 +446,23 @@ void SpbmLevelGenerator::MergingRun::CopyPatchSupport()
       }
     }
   }
-  s.Support = support;
+  if (s.SupportBuild == generator.PatchSupportBuilds && s.Support.size() == support.size() &&
+    s.SupportWrittenFlag.size() == size_t(np))
+  {
+    for (const Index p : s.SupportWritten) // the entries written since the last reset
+    {
+      std::copy_n(support.begin() + std::ptrdiff_t(size_t(p) * SupportSize), SupportSize,
+        s.Support.begin() + std::ptrdiff_t(size_t(p) * SupportSize));
+      s.SupportWrittenFlag[p] = 0;
+    }
+  }
+  else
+  {
+    s.Support = support;
+    s.SupportWrittenFlag.assign(size_t(np), 0);
+    s.SupportBuild = generator.PatchSupportBuilds;
+  }
+  s.SupportWritten.clear();
 }
 
 // Merge measure (larger = merge sooner) and its threshold. Plain: the cosine of
@@ -1532,6 +1549,16 @@ void SpbmLevelGenerator::MergingRun::UniteSupport(Index p, Index q)
 void SpbmLevelGenerator::MergingRun::CombineSupport(Index* into, const Index* from)
 {
   ++s.Times.SupportUnions;
+  const size_t p = size_t(into - s.Support.data()) / SupportSize;
+  if (p >= s.SupportWrittenFlag.size())
+  {
+    s.SupportBuild = -1; // not tracked: the next run resets the whole array
+  }
+  else if (!s.SupportWrittenFlag[p])
+  {
+    s.SupportWrittenFlag[p] = 1;
+    s.SupportWritten.push_back(Index(p));
+  }
   for (int d = 0; d < SupportDirections; ++d)
   {
     const Vec3 axis{ SupportAxes[d][0], SupportAxes[d][1], SupportAxes[d][2] };
