@@ -72,6 +72,8 @@ void SpbmLevelGenerator::Initialize(const TriangleMesh& mesh, const Patchificati
   this->Work->RefinedValid = false;
   this->Work->SimpleSignature.clear();
   this->Helper->SimpleSignature.clear();
+  this->Work->BoundaryOutcomes.Clear();
+  this->Helper->BoundaryOutcomes.Clear();
   this->Work->DiagonalCosts.TrackVertices(size_t(mesh.NumberOfPoints()));
   this->Work->DiagonalCosts.Reset(0);
   this->Work->KeptTolerance.clear(); // the chain keys change: every chain's kept positions too
@@ -281,10 +283,10 @@ size_t SpbmLevelGenerator::MemoryUsage() const
     bytes += b(s.Chains) + b(s.Parts) + b(s.Patches) + b(s.Tolerance) +
       b(s.KeptPositions) + b(s.KeptTolerance) + b(s.KeptLocked) + b(s.RefinedTolerance) + b(s.RefinedLocked) +
       b(s.JointBefore) + b(s.EndHead) + b(s.EndSlotNext) +
-      b(s.Degree) + b(s.PatchSlotNext) + b(s.Tries) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Support) + b(s.Frozen) +
+      b(s.Degree) + b(s.PatchSlotNext) + b(s.Tries) + b(s.CollapsesWalkedSize) + b(s.CandidatesPushedSize) + b(s.Support) + b(s.SupportWritten) + b(s.SupportWrittenFlag) + b(s.Frozen) +
       b(s.PatchStamp) + b(s.EndStamp) + b(s.EndLocal) + b(s.VertexStamp) + s.MergeQueue.MemoryBytes() + b(s.NoFreeze) +
       b(s.SeqOffsets) + b(s.SeqVertices) + b(s.SeqKeep) + s.Edges.MemoryUsage() + s.DiagonalCosts.MemoryUsage() +
-      b(s.SimpleSignature) + b(s.Memo) + b(s.Edits) + b(s.EditsSpare) + s.RemovalQueue.MemoryBytes() + b(s.EditsTolerance) + b(s.EditsLocked) +
+      b(s.SimpleSignature) + s.BoundaryOutcomes.MemoryUsage() + b(s.Memo) + b(s.Edits) + b(s.EditsSpare) + s.RemovalQueue.MemoryBytes() + b(s.EditsTolerance) + b(s.EditsLocked) +
       b(s.EditsFrozen) + b(s.DirtyPatch) + b(s.DirtyEnd) + b(s.DirtyNear);
   }
   for (const TriangleBVH* tree : { this->InputTree.get(), this->BuiltTree.get() })
@@ -591,11 +593,14 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     const auto passStart = StageClock::now();
     const bool held =
       pass == 1 && !anyOriginal && s.HoldsPrediction && s.Holds.SameLevel(PredictionMemo::Of(parameters));
+    s.BoundariesTested = -1;
+    level.PassDirtyPatches.push_back(-1);
     if (!held && unmergedAny && parameters.ReplayFallbackPasses && this->ReplayMerging(parameters, frozen, s))
     {
       ++level.ReplayedPasses;
       level.EditsAppliedAsRecorded += s.AppliedAsRecorded;
       level.EditsTestedAgain += s.TestedAgain;
+      level.PassDirtyPatches.back() = s.DirtyAtStart;
     }
     else if (!held && unmergedAny)
     {
@@ -605,6 +610,7 @@ bool SpbmLevelGenerator::GenerateIn(const SpbmLevelParameters& parameters, SpbmL
     {
       this->RefineFrozenInPlace(parameters, frozen, s);
     }
+    level.PassBoundaryTests.push_back(s.BoundariesTested);
     const double mergingSeconds = Since(passStart);
     if (pass == 1)
     {

@@ -200,6 +200,14 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // OriginalLevel) that was one in the pass before too counts as unchanged, as do the patches
   // across its chains; off: every original patch counts as changed in every pass (the reference).
   bool KeptOriginalPatchesUnchanged = true;
+  // Session 43 (issue 10): a merging run's refinement of non-simple patches (every run and replay
+  // with a patch at a finer fallback level makes it from scratch) remembers whether each boundary
+  // it tested was simple, by the boundary's signature (its chains and how many vertices each
+  // keeps), and does not test a boundary seen before again: the same level; a late pass's replay
+  // tests about as many boundaries as it has patches that changed, not every one that is not
+  // simple and those around them. Off: each boundary whose signature is not the last one found
+  // simple is tested (the reference).
+  bool RememberBoundaryOutcomes = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
   // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices
@@ -251,6 +259,12 @@ struct SURFACELODFILTERS_EXPORT SpbmLevel
   int ReplayedPasses = 0;       // passes that replayed the previous pass's merging (ReplayFallbackPasses)
   long long EditsAppliedAsRecorded = 0; // edits those passes applied without their tests (clean)
   long long EditsTestedAgain = 0;       // edits those passes tested again (FrozenPatchesAreClean)
+  // Per pass (issue 10, session 43): the root patches a replay started with as dirty (their
+  // fallback level or the tolerance of one of their chains changed since the recorded run: what
+  // changed; -1 when the pass did not replay), and the patch boundaries the pass's merging run or
+  // replay tested for simplicity when it refined the non-simple patches (RememberBoundaryOutcomes;
+  // -1 when it reused the refinement of the level's search or ran none).
+  std::vector<long long> PassDirtyPatches, PassBoundaryTests;
   long long ChainRebuilds = 0;  // chains whose kept vertices the passes' merging rebuilt (RebuildOnlyChangedChains)
   long long SupportUnions = 0;  // supports the passes' merging united (FoldSupportsWhenRead)
   long long SupportFolds = 0;   // of them, folded in when a support was read after replayed unions
@@ -467,6 +481,7 @@ private:
   std::vector<double> EndpointVariation;   // normal variation around each endpoint
   std::vector<Vec3> EndpointPoints;        // coordinates of each endpoint (read by every merge and collapse try)
   std::vector<Index> PatchSupport;         // per patch: its extreme vertices in the 26 support directions
+  long long PatchSupportBuilds = 0;        // how many times PatchSupport was built (which one a state holds)
   struct PredictionMemo
   {
     float Epsilon;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "slodSpbmMerging.h"
 
+#include "slodCounterHash.h"
+#include "slodStageClock.h"
 #include "vtkLogger.h"
 #include "vtkMath.h"
 
@@ -252,7 +254,7 @@ Index SpbmLevelGenerator::MergingRun::ForPatchChains(Index p, Functor&& f)
 
 void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& frozen)
 {
-  const auto runStart = StageClock::now();
+  const auto runStart = spbm::StageClock::now();
   s.Cancelled = false;
   this->ResetForRun(frozen);
   const double refinementSeconds = Since(runStart);
@@ -260,7 +262,7 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
   {
     return;
   }
-  const auto mergingStart = StageClock::now();
+  const auto mergingStart = spbm::StageClock::now();
   this->MergeInMeasureOrder();
   const double mergingSeconds = Since(mergingStart);
   if (s.Cancelled)
@@ -270,7 +272,7 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
     return;
   }
   const long long merged = s.Total;
-  const auto removalStart = StageClock::now();
+  const auto removalStart = spbm::StageClock::now();
   this->RemoveDownToTarget();
   // Profiling aid: where a level's merging runs spend their time (search, fallback passes, tries).
   vtkLogF(TRACE,
@@ -283,6 +285,7 @@ void SpbmLevelGenerator::MergingRun::Run(const std::vector<unsigned char>& froze
 // tolerance (a prefix of its key order) and the patch sizes; the edit record starts empty.
 void SpbmLevelGenerator::MergingRun::ResetForRun(const std::vector<unsigned char>& frozen)
 {
+  slod::StageClock clock("[spbm] reset for a run"); // TRACE: a replay's fixed cost, stage by stage
   this->ResetChainGraph(frozen);
   if (trackSupport)
   {
@@ -290,9 +293,11 @@ void SpbmLevelGenerator::MergingRun::ResetForRun(const std::vector<unsigned char
   }
   this->RebuildKept(true);
   this->ComputeMergeThreshold();
-  const auto refinementStart = StageClock::now();
+  clock.Lap("chain graph and kept vertices");
+  const auto refinementStart = spbm::StageClock::now();
   this->RefineNonSimplePatches(frozen);
   s.Times.Refinement += Since(refinementStart);
+  clock.Lap("non-simple patch refinement");
   s.Total = 0;
   for (Index p = 0; p < np; ++p)
   {
@@ -404,6 +409,7 @@ void SpbmLevelGenerator::MergingRun::CopyPatchSupport()
   std::vector<Index>& support = generator.PatchSupport;
   if (support.size() != size_t(np) * SupportSize)
   {
+    ++generator.PatchSupportBuilds;
     support.assign(size_t(np) * SupportSize, InvalidIndex);
     std::vector<double> extreme(size_t(np) * SupportSize, -std::numeric_limits<double>::infinity());
     const std::vector<Index>& patchOf = P.TrianglePatches();
@@ -440,7 +446,23 @@ void SpbmLevelGenerator::MergingRun::CopyPatchSupport()
       }
     }
   }
-  s.Support = support;
+  if (s.SupportBuild == generator.PatchSupportBuilds && s.Support.size() == support.size() &&
+    s.SupportWrittenFlag.size() == size_t(np))
+  {
+    for (const Index p : s.SupportWritten) // the entries written since the last reset
+    {
+      std::copy_n(support.begin() + std::ptrdiff_t(size_t(p) * SupportSize), SupportSize,
+        s.Support.begin() + std::ptrdiff_t(size_t(p) * SupportSize));
+      s.SupportWrittenFlag[p] = 0;
+    }
+  }
+  else
+  {
+    s.Support = support;
+    s.SupportWrittenFlag.assign(size_t(np), 0);
+    s.SupportBuild = generator.PatchSupportBuilds;
+  }
+  s.SupportWritten.clear();
 }
 
 // Merge measure (larger = merge sooner) and its threshold. Plain: the cosine of
@@ -487,12 +509,14 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
   if (s.SimpleSignature.size() != size_t(np))
   {
     s.SimpleSignature.assign(size_t(np), 0);
+    s.BoundaryOutcomes.Clear(); // of another patchification
   }
   // After the first round only the patches on a chain refined by the previous round can change:
   // any other one has the signature it had then (simple, or every chain locked already), so the
   // later rounds visit those, in the same order.
   std::vector<Index>& visit = refinePatches;
   std::vector<Index> next;
+  long long tested = 0, nonSimple = 0, checkedVertices = 0, rounds = 0;
   for (int round = 0; round < 8 && !reuse; ++round)
   {
     bool refined = false;
@@ -521,12 +545,24 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
       {
         continue;
       }
-      if (this->BoundaryPoints(p, InvalidIndex, InvalidIndex, checkPoints) &&
-        ProjectsToSimplePolygon(checkPoints, s.Normal[p], s.SimplePolygonScratch))
+      // The test's answer depends on the boundary only (its signature; the patch is unmerged here,
+      // so its normal is its own): one seen before is not tested again.
+      const uint64_t key = signature ^ Finalise(uint64_t(uint32_t(p)) + Golden);
+      int simple = parameters.RememberBoundaryOutcomes ? s.BoundaryOutcomes.Find(key) : -1;
+      if (simple < 0)
+      {
+        ++tested;
+        checkedVertices += s.Size[p];
+        simple = this->BoundaryPoints(p, InvalidIndex, InvalidIndex, checkPoints) &&
+          ProjectsToSimplePolygon(checkPoints, s.Normal[p], s.SimplePolygonScratch);
+        s.BoundaryOutcomes.Insert(key, simple != 0, 4 * size_t(np) + 1024);
+      }
+      if (simple)
       {
         s.SimpleSignature[p] = signature;
         continue;
       }
+      ++nonSimple;
       this->ForPatchChains(p, [&](Index c) {
         if (!s.Locked[c])
         {
@@ -548,6 +584,7 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
         }
       });
     }
+    ++rounds;
     if (!refined)
     {
       break;
@@ -557,6 +594,9 @@ void SpbmLevelGenerator::MergingRun::RefineNonSimplePatches(const std::vector<un
     visit.swap(next);
     this->RebuildKept(false, &refinedChains);
   }
+  s.BoundariesTested = reuse ? -1 : tested;
+  vtkLogF(TRACE, "[spbm] non-simple patch refinement: %s, %lld rounds, %lld boundaries tested (%lld vertices), %lld not simple",
+    reuse ? "reused" : "made", rounds, tested, checkedVertices, nonSimple);
   if (!anyFrozen && !reuse)
   {
     s.RefinedValid = true;
@@ -1509,6 +1549,16 @@ void SpbmLevelGenerator::MergingRun::UniteSupport(Index p, Index q)
 void SpbmLevelGenerator::MergingRun::CombineSupport(Index* into, const Index* from)
 {
   ++s.Times.SupportUnions;
+  const size_t p = size_t(into - s.Support.data()) / SupportSize;
+  if (p >= s.SupportWrittenFlag.size())
+  {
+    s.SupportBuild = -1; // not tracked: the next run resets the whole array
+  }
+  else if (!s.SupportWrittenFlag[p])
+  {
+    s.SupportWrittenFlag[p] = 1;
+    s.SupportWritten.push_back(Index(p));
+  }
   for (int d = 0; d < SupportDirections; ++d)
   {
     const Vec3 axis{ SupportAxes[d][0], SupportAxes[d][1], SupportAxes[d][2] };

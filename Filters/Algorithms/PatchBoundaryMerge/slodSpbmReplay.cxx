@@ -104,6 +104,7 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
   }
   const double resetSeconds = Since(start);
   const long long dirtyAtStart = std::count(s.DirtyPatch.begin(), s.DirtyPatch.end(), 1);
+  s.DirtyAtStart = dirtyAtStart;
   replaying = true;
   this->ReplayEdits(edits, 0, std::min(removalBegin, edits.size()), false);
   replaying = false;

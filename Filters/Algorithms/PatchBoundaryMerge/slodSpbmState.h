@@ -304,6 +304,87 @@ private:
   std::vector<uint64_t> VertexBits; // TrackVertices: per vertex, bits of its neighbours' hashes
   size_t Count = 0;
 };
+// Outcomes of a yes/no test remembered by a 64-bit key (RefineNonSimplePatches: whether the boundary
+// of a given signature projects to a simple polygon). One flat open-addressing array, no per-entry
+// allocation; the outcome sits in the key's lowest bit, so keys are compared on their upper
+// bits (62 of the key's). Past `limit` entries it starts empty again (its memory stays bounded; what it forgot is
+// tested again).
+class KeyedOutcomes
+{
+public:
+  void Clear()
+  {
+    this->Slots.clear();
+    this->Count = 0;
+  }
+  // 1 or 0: the outcome stored for `key`; -1: none.
+  int Find(uint64_t key) const
+  {
+    if (this->Slots.empty())
+    {
+      return -1;
+    }
+    const uint64_t k = Stored(key);
+    for (size_t slot = this->Home(k);; slot = (slot + 1) & (this->Slots.size() - 1))
+    {
+      if (this->Slots[slot] == 0)
+      {
+        return -1;
+      }
+      if ((this->Slots[slot] | 1) == k)
+      {
+        return int(this->Slots[slot] & 1);
+      }
+    }
+  }
+  // Stores (or overwrites) the outcome of `key`.
+  void Insert(uint64_t key, bool outcome, size_t limit)
+  {
+    if (this->Count >= limit)
+    {
+      this->Clear();
+    }
+    if (2 * (this->Count + 1) > this->Slots.size())
+    {
+      this->Grow();
+    }
+    const uint64_t k = Stored(key);
+    size_t slot = this->Home(k);
+    while (this->Slots[slot] != 0 && (this->Slots[slot] | 1) != k)
+    {
+      slot = (slot + 1) & (this->Slots.size() - 1);
+    }
+    this->Count += this->Slots[slot] == 0;
+    this->Slots[slot] = outcome ? k : k - 1;
+  }
+  size_t MemoryUsage() const { return this->Slots.capacity() * sizeof(uint64_t); }
+
+private:
+  // The key with its two lowest bits set: the outcome clears the lowest or not, and the slot is
+  // never 0 (the empty slot) either way.
+  static uint64_t Stored(uint64_t key) { return key | 3; }
+  size_t Home(uint64_t k) const { return size_t((k * 0x9E3779B97F4A7C15ull) >> 17) & (this->Slots.size() - 1); }
+  void Grow()
+  {
+    std::vector<uint64_t> old;
+    old.swap(this->Slots);
+    this->Slots.assign(std::max<size_t>(1024, 2 * old.size()), 0);
+    for (const uint64_t stored : old)
+    {
+      if (stored != 0)
+      {
+        size_t slot = this->Home(stored | 3);
+        while (this->Slots[slot] != 0)
+        {
+          slot = (slot + 1) & (this->Slots.size() - 1);
+        }
+        this->Slots[slot] = stored;
+      }
+    }
+  }
+  std::vector<uint64_t> Slots;
+  size_t Count = 0;
+};
 // One field of an array of records, indexed as an array of its own (see State). Holds a reference
 // to the records: the state that owns both is never copied or moved.
 template<typename Record, typename T, T Record::*Member>
@@ -438,6 +519,14 @@ struct SpbmLevelGenerator::State
   // folding in the patches absorbed since, in the same order (MergingRun::FoldSupport): the same
   // extreme vertices as uniting them at each union.
   std::vector<Index> AbsorbedFirst, AbsorbedNext, AbsorbedLast, SupportFolded;
+  // The patches whose Support entry a union or fold wrote since it was last reset to the
+  // patchification's (flagged per patch, listed once), and which build of the generator's
+  // PatchSupport it holds: a run or replay resets those entries only, not the whole array (26
+  // entries per input patch: on a 4M-triangle scan about 100 MB per replay, for the few thousand
+  // patches a late replay unites).
+  std::vector<Index> SupportWritten;
+  std::vector<unsigned char> SupportWrittenFlag;
+  long long SupportBuild = -1;
   std::vector<unsigned char> Frozen;
   long long Total = 0;
   // Scratch.
@@ -457,6 +546,13 @@ struct SpbmLevelGenerator::State
   spbm::EdgeMap DiagonalCosts;
   std::vector<uint64_t> SimpleSignature; // per patch: boundary signature last
                                          // found simple (0: none)
+  // Every boundary RefineNonSimplePatches tested, simple or not, by its signature and patch: a
+  // replay resets the chain graph and refines from scratch, and without it each replay with patches
+  // at finer fallback levels tested again every boundary that is not simple and those of their
+  // neighbours (a patch's boundary alternates between the signatures of its rounds, and
+  // SimpleSignature holds one). Cleared with SimpleSignature.
+  spbm::KeyedOutcomes BoundaryOutcomes;
+  long long BoundariesTested = -1; // by the last RefineNonSimplePatches (work counter; -1: reused)
   std::vector<PredictionMemo> Memo;      // predicted counts of the levels asked for (searches repeat them)
   // The edits of the run that made the chain graph above, in order (unions, collapses, joins;
   // the removal stage's from EditsRemovalBegin on), and the chain tolerances it started from: a
@@ -491,6 +587,7 @@ struct SpbmLevelGenerator::State
   std::vector<unsigned char> DirtyNear;
   long long AppliedAsRecorded = 0; // the last replay's clean edits
   long long TestedAgain = 0;       // the last replay's edits tested again
+  long long DirtyAtStart = 0;      // the last replay's dirty root patches before its first edit
   // The chain graph above is the merging run of these parameters without frozen patches (a
   // prediction's run): the first generation pass of the same level need not run it again.
   bool HoldsPrediction = false;

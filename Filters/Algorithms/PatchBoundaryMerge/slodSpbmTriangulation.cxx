@@ -3,6 +3,7 @@
 
 #include "slodPolygonTriangulation.h"
 #include "slodSpbmFinalCollapses.h"
+#include "slodStageClock.h"
 #include "slodTriangleBVH.h"
 
 #include "vtkLogger.h"
@@ -36,6 +37,9 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
   failed.assign(size_t(np), 0);
   previousRefinedRoots.swap(refinedRoots);
   refinedRoots.clear();
+  // Where a pass's time goes, stage by stage (TRACE): on the large scans the late passes change a
+  // few patches and their cost is these sweeps over the whole level.
+  slod::StageClock clock("[spbm] triangulation pass");
   this->BuildVertexSequences();
   if (!refinedVertex.empty())
   {
@@ -46,17 +50,22 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
       s.SeqKeep[i] = s.SeqKeep[i] || refinedVertex[s.SeqVertices[i]];
     }
   }
+  clock.Lap("vertex sequences");
   this->MakeSegmentsUnique();
+  clock.Lap("unique segments");
   if (local)
   {
     this->GroupPreviousTriangles(); // before AddOriginalPatches clears the level
     this->MarkChangedPatches(frozen);
+    clock.Lap("changed patches");
   }
   this->AddOriginalPatches(frozen);
+  clock.Lap("original patches");
   if (!this->TriangulatePatches(frozen, abort))
   {
     return false;
   }
+  clock.Lap("patches");
   for (int round = 0; round < parameters.FailedPatchRefinementRounds; ++round)
   {
     const Index before = level.RefinedInPass;
@@ -68,7 +77,9 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
       break;
     }
   }
+  clock.Lap("refinement rounds");
   this->RememberPass(frozen);
+  clock.Lap("remember");
   ++passesDone;
   return true;
 }
@@ -1045,7 +1056,7 @@ void SpbmLevelGenerator::LevelTriangulation::MeasureDiagonalsAhead(const std::ve
     return;
   }
   const TriangleBVH& tree = generator.GetInputTree(s.Times);
-  const auto started = StageClock::now();
+  const auto started = spbm::StageClock::now();
   std::vector<float> costs(pairs.size());
   vtkSMPTools::For(0, vtkIdType(pairs.size()), [&](vtkIdType first, vtkIdType last) {
     for (vtkIdType k = first; k < last; ++k)
@@ -1135,7 +1146,7 @@ void SpbmLevelGenerator::LevelTriangulation::TriangulateAhead(const std::vector<
   aheadAsked.assign(aheadAskedStart.back(), 0);
   aheadTriangles.resize(aheadVertices.size() - 2 * size_t(jobs));
   const TriangleBVH& tree = generator.GetInputTree(s.Times);
-  const auto started = StageClock::now();
+  const auto started = spbm::StageClock::now();
   struct Measured
   {
     Index A, B;
@@ -1247,7 +1258,7 @@ void SpbmLevelGenerator::LevelTriangulation::TriangulateMinimumDeviation(
   const Vec3& normal, PolygonTriangulationResult& result)
 {
   const TriangleBVH& tree = generator.GetInputTree(s.Times);
-  const auto started = StageClock::now();
+  const auto started = spbm::StageClock::now();
   result = TriangulatePolygonMinimumCost(points, normal, this->MinimumDeviationOptions(polygon.data(), [&](Index i, Index j) {
     Index bits = 0;
     if (!s.DiagonalCosts.Find(polygon[i], polygon[j], bits))

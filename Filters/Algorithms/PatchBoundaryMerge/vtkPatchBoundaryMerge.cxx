@@ -975,6 +975,31 @@ void vtkPatchBoundaryMerge::ReportRefinedRegions(vtkPolyData* output) const
   }
 }
 
+namespace
+{
+// The late replays of a level: those after its first replay whose refinement of the non-simple
+// patches was made again (not reused), with what had changed when each began (summed into the
+// filter's results).
+void CountLateReplays(const slod::SpbmLevel& result, int& replays, vtkIdType& changed, vtkIdType& tests)
+{
+  bool replayedBefore = false;
+  for (size_t pass = 0; pass < result.PassDirtyPatches.size() && pass < result.PassBoundaryTests.size(); ++pass)
+  {
+    if (result.PassDirtyPatches[pass] < 0)
+    {
+      continue; // not a replay
+    }
+    if (replayedBefore && result.PassBoundaryTests[pass] >= 0)
+    {
+      ++replays;
+      changed += vtkIdType(result.PassDirtyPatches[pass]);
+      tests += vtkIdType(result.PassBoundaryTests[pass]);
+    }
+    replayedBefore = true;
+  }
+}
+} // namespace
+
 int vtkPatchBoundaryMerge::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -993,6 +1018,9 @@ int vtkPatchBoundaryMerge::RequestData(
   this->OriginalPatches = 0;
   this->GenerationPasses = 0;
   this->LateOriginalPatches = 0;
+  this->LateReplays = 0;
+  this->LateReplayChangedPatches = 0;
+  this->LateReplayBoundaryTests = 0;
   this->FinalCollapseCount = 0;
   this->FinerLevelTried = false;
   this->LevelDeviationShare = -1.0;
@@ -1105,6 +1133,7 @@ int vtkPatchBoundaryMerge::RequestData(
   this->OriginalPatches = result.OriginalPatches;
   this->GenerationPasses = result.Passes;
   this->LateOriginalPatches = result.LateOriginalPatches;
+  CountLateReplays(result, this->LateReplays, this->LateReplayChangedPatches, this->LateReplayBoundaryTests);
   this->UpdateProgress(0.9);
 
   // 3. Outputs over the original vertices that are used.

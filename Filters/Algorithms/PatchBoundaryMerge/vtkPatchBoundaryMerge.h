@@ -308,6 +308,13 @@ public:
   // passes sent from merged to original triangles (LateFailureShare).
   vtkGetMacro(GenerationPasses, int);
   vtkGetMacro(LateOriginalPatches, vtkIdType);
+  // Work of the output level's late replays (issue 10, session 43): the replays after the first
+  // that refined the non-simple patches again (some patch at a finer fallback level), the root
+  // patches that had changed when each began (summed), and the patch boundaries they tested for
+  // simplicity (summed).
+  vtkGetMacro(LateReplays, int);
+  vtkGetMacro(LateReplayChangedPatches, vtkIdType);
+  vtkGetMacro(LateReplayBoundaryTests, vtkIdType);
   vtkGetMacro(FinalCollapseCount, vtkIdType);     // FinalCollapses performed
   vtkGetMacro(FinerLevelTried, bool);             // CollapseFinerLevelForTarget made its level
   vtkGetMacro(LevelDeviationShare, double);       // of the target's level, over the bound as given
@@ -367,6 +374,9 @@ protected:
   vtkIdType OriginalPatches = 0;
   int GenerationPasses = 0;
   vtkIdType LateOriginalPatches = 0;
+  int LateReplays = 0;
+  vtkIdType LateReplayChangedPatches = 0;
+  vtkIdType LateReplayBoundaryTests = 0;
   vtkIdType FinalCollapseCount = 0;
   bool FinerLevelTried = false;
   double LevelDeviationShare = -1.0;

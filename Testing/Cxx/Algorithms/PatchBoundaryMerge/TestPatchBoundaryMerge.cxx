@@ -2757,6 +2757,38 @@ TEST(PatchBoundaryMerge, LateFallbackFailuresGoStraightToOriginal)
   EXPECT_LE(st[1].NonManifoldEdges, st[0].NonManifoldEdges);
 }
 
+// Session 43 (issue 10): the late replays of a level (after its first, with patches at finer
+// fallback levels, so that the refinement of the non-simple patches is made from scratch) test only
+// the boundaries they have not seen (RememberBoundaryOutcomes). The noisy scan at resolution 137,
+// seed 5 (251k triangles; no other test uses it) to 10%: it needs such replays, and the boundaries
+// they test stay within the root patches that had changed when each began (plus a few per replay)
+// (base-s43 tested every boundary that is not simple, and those around them, in each: tens of
+// times more); on target with the input's Euler characteristic and border loops.
+TEST(PatchBoundaryMerge, LateReplaysTestOnlyTheBoundariesThatChanged)
+{
+  vtkNew<vtkScanSurfaceSource> source;
+  source->SetKindToNoisyIsosurface();
+  source->SetResolution(137);
+  source->SetSeed(5);
+  source->Update();
+  const vtkIdType target = source->GetOutput()->GetNumberOfPolys() / 10;
+  vtkNew<vtkPatchBoundaryMerge> filter;
+  filter->SetInputData(source->GetOutput());
+  filter->SetTargetReduction(0.9);
+  filter->Update();
+  const int replays = filter->GetLateReplays();
+  const vtkIdType changed = filter->GetLateReplayChangedPatches();
+  const vtkIdType tested = filter->GetLateReplayBoundaryTests();
+  std::cout << replays << " late replays, " << changed << " patches changed, " << tested << " boundaries tested\n";
+  ASSERT_GT(replays, 0) << "the scan must need late replays";
+  EXPECT_LE(tested, changed + 8 * replays);
+  EXPECT_LE(std::abs(filter->GetOutput()->GetNumberOfPolys() - target), target / 50 + 2);
+  const MeshStatistics in = ComputeMeshStatistics(slodtest::ToTriangleMesh(source->GetOutput()));
+  const MeshStatistics out = ComputeMeshStatistics(slodtest::ToTriangleMesh(filter->GetOutput()));
+  EXPECT_EQ(out.EulerCharacteristic, in.EulerCharacteristic);
+  EXPECT_EQ(out.BoundaryLoops, in.BoundaryLoops);
+}
+
 // Issue 15 (session 37): RefineDeviatingRegions. A flat square with one Gaussian bump in a corner
 // at 10%: the whole level deviates less than its patches' allowance with the coarse target's noise
 // tolerance (the finer level of CollapseFinerLevelForTarget is not made), but the bump's vertices
