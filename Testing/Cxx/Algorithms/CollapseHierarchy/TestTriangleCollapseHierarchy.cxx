@@ -3169,6 +3169,7 @@ TEST(vtkTriangleCollapseHierarchy, NoLevelHasNewInteriorVerticesOfValenceThree)
   vtkNew<vtkTriangleCollapseHierarchy> hierarchy;
   hierarchy->SetInputData(input);
   hierarchy->SetTargetReduction(0.9);
+  hierarchy->PreventNewValenceThreeOn();
   hierarchy->Update();
   vtkMultiBlockDataSet* all = hierarchy->GetLevelsOutput();
   ASSERT_GT(all->GetNumberOfBlocks(), 10u);
