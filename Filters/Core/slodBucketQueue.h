@@ -28,16 +28,51 @@
 
 namespace slod
 {
-class BucketQueue
+// Where the queue keeps each id's bucket number (2 bytes per id): by default an array of its own
+// (BucketIdStride = 2); a caller that holds a record per id with two spare bytes (padding) can lend
+// them instead (LendBucketIds, with the record's size as the stride), so that the queue needs no
+// array of its own for them (session 44: the triangle collapse's 16-byte triangle state had two
+// bytes of padding; 4 bytes per input vertex less at the working set's peak). The stride is a
+// template argument so that the address of an id's bucket number costs what an array's does.
+template <std::size_t BucketIdStride = sizeof(std::uint16_t)>
+class BasicBucketQueue
 {
 public:
   static constexpr int BucketBits = 15;
   static constexpr Index ScanLimit = 512;
+  static_assert(BucketIdStride % alignof(std::uint16_t) == 0, "the bucket numbers must be aligned");
+
+  BasicBucketQueue() = default;
+  // Not copied: the bucket numbers' address would still be the original's. Moves keep it (the
+  // storage moves with the vector, or stays the caller's).
+  BasicBucketQueue(const BasicBucketQueue&) = delete;
+  BasicBucketQueue& operator=(const BasicBucketQueue&) = delete;
+  BasicBucketQueue(BasicBucketQueue&&) = default;
+  BasicBucketQueue& operator=(BasicBucketQueue&&) = default;
+
+  // Lends the queue the bucket numbers' storage: the 16-bit field of id 0's record at `first`, and
+  // of id i at BucketIdStride * i bytes after it, for `n` ids (n at least the next Reset's or
+  // Build's). The records must stay where they are while the queue is used, and the caller must
+  // not write that field (a copy of a whole record over another would). Reset does not clear it:
+  // a bucket number is read only for an id that is present. Until the next Reset, an id's number
+  // is valid only while it is present.
+  void LendBucketIds(std::uint16_t* first, Index n)
+  {
+    std::vector<std::uint16_t>().swap(this->OwnBucketIds);
+    this->BucketIdBase = reinterpret_cast<unsigned char*>(first);
+    this->LentBucketIds = n;
+  }
 
   void Reset(Index n)
   {
     AssignOnHugePages(this->Slot, size_t(n), InvalidIndex);
-    AssignOnHugePages(this->BucketId, size_t(n), std::uint16_t(0));
+    if (this->LentBucketIds < n)
+    {
+      // (Not lent, or not enough: an array of its own, one stride per id.)
+      this->LentBucketIds = 0;
+      AssignOnHugePages(this->OwnBucketIds, size_t(n) * BucketIdStride / sizeof(std::uint16_t), std::uint16_t(0));
+      this->BucketIdBase = reinterpret_cast<unsigned char*>(this->OwnBucketIds.data());
+    }
     this->Buckets.assign(size_t(1) << BucketBits, {});
     this->Lowest = static_cast<Index>(this->Buckets.size());
     this->Count = 0;
@@ -73,14 +108,14 @@ public:
   void Prefetch(Index id) const
   {
     __builtin_prefetch(&this->Slot[id]);
-    __builtin_prefetch(&this->BucketId[id]);
+    __builtin_prefetch(&this->BucketIdOf(id));
   }
   // Second hint, once Prefetch(id) has landed: the bucket header of id's entry.
   void PrefetchBucket(Index id) const
   {
     if (this->Slot[id] != InvalidIndex)
     {
-      __builtin_prefetch(&this->Buckets[this->BucketId[id]]);
+      __builtin_prefetch(&this->Buckets[this->BucketIdOf(id)]);
     }
   }
   // Third hint, once PrefetchBucket(id) has landed: the entries a Set or Remove of id moves (its
@@ -90,7 +125,7 @@ public:
     const Index s = this->Slot[id];
     if (s != InvalidIndex)
     {
-      const auto& bucket = this->Buckets[this->BucketId[id]];
+      const auto& bucket = this->Buckets[this->BucketIdOf(id)];
       __builtin_prefetch(bucket.data() + s, 1);
       __builtin_prefetch(bucket.data() + bucket.size() - 1);
     }
@@ -101,7 +136,7 @@ public:
   {
     if (this->Slot[id] != InvalidIndex)
     {
-      __builtin_prefetch(&this->Slot[this->Buckets[this->BucketId[id]].back().Id], 1);
+      __builtin_prefetch(&this->Slot[this->Buckets[this->BucketIdOf(id)].back().Id], 1);
     }
   }
   // Hints for the insertion of a key: the header of its bucket, then (once landed) its end.
@@ -213,7 +248,7 @@ public:
       bucket.reserve(bucket.size() + bucket.size() / 4 + 8);
     }
     this->Slot[id] = static_cast<Index>(bucket.size());
-    this->BucketId[id] = static_cast<std::uint16_t>(b);
+    this->BucketIdOf(id) = static_cast<std::uint16_t>(b);
     bucket.push_back({ key, id });
     this->Lowest = b < this->Lowest ? b : this->Lowest;
     ++this->Count;
@@ -231,7 +266,7 @@ public:
       return;
     }
     // The entry's bucket follows from its key.
-    const Index b = this->BucketId[id];
+    const Index b = this->BucketIdOf(id);
     auto& bucket = this->Buckets[b];
     if (b == this->Cache.Bucket && !Before(this->Cache.Limit, bucket[s]))
     {
@@ -311,7 +346,9 @@ public:
 
   size_t MemoryBytes() const
   {
-    size_t bytes = this->Slot.capacity() * sizeof(Index) + this->BucketId.capacity() * sizeof(std::uint16_t) + this->Buckets.capacity() * sizeof(this->Buckets[0]);
+    // (Lent bucket numbers are the caller's bytes.)
+    size_t bytes = this->Slot.capacity() * sizeof(Index) + this->OwnBucketIds.capacity() * sizeof(std::uint16_t) +
+      this->Buckets.capacity() * sizeof(this->Buckets[0]);
     for (const auto& b : this->Buckets)
     {
       bytes += b.capacity() * sizeof(Entry);
@@ -547,12 +584,21 @@ private:
 
   std::vector<std::vector<Entry>> Buckets;
   std::vector<Index> Slot;
-  std::vector<std::uint16_t> BucketId; // bucket of each present id
+  // The bucket of each present id: at BucketIdBase + BucketIdStride * id, in OwnBucketIds or in
+  // the caller's records (LendBucketIds; LentBucketIds ids).
+  std::vector<std::uint16_t> OwnBucketIds;
+  unsigned char* BucketIdBase = nullptr;
+  Index LentBucketIds = 0;
+  std::uint16_t& BucketIdOf(Index id) const
+  {
+    return *reinterpret_cast<std::uint16_t*>(this->BucketIdBase + BucketIdStride * size_t(id));
+  }
   Index Lowest = 0;
   Index Count = 0;
   long long ScanCount = 0;
   PopCache Cache;
 };
+using BucketQueue = BasicBucketQueue<>;
 } // namespace slod
 
 #endif

@@ -1022,12 +1022,18 @@ private:
   // Per triangle, in one 16-byte record (one cache miss instead of three): the cached keys of its
   // edge collapses, the operations that failed validity (bit k), and whether it waits for a change
   // of its neighbourhood (1: failed validity, retried when the 2-ring changes; 2: over MaximumError).
+  // Its last two bytes, padding before session 44, hold the queue's bucket number of the triangle
+  // (BasicBucketQueue::LendBucketIds: written by the queue only, so a whole record is never
+  // assigned while the queue runs): the queue's own array of them was 4 bytes per input vertex at
+  // the working set's peak.
   struct TriangleState
   {
     float EdgeCost[3] = { 0, 0, 0 };
     unsigned char Excluded = 0;
     unsigned char Rejected = 0;
+    std::uint16_t QueueBucket = 0;
   };
+  static_assert(sizeof(TriangleState) == 16, "the triangle state is one 16-byte record");
   mutable std::vector<TriangleState> State;
   bool CacheEdges = false;
   // The queue's edge caches hold what Cost would compute now: they are costed again around every
@@ -1098,7 +1104,7 @@ private:
   LookAhead* WorkerAhead = nullptr;    // the look-ahead beside the loop (ended before a retry)
   Index PendingCount = 0;              // vertices with Pending set
   std::vector<unsigned char> Pending;  // per vertex: a triangle of it was rejected for validity
-  BucketQueue Heap;
+  BasicBucketQueue<sizeof(TriangleState)> Heap; // (its bucket numbers in State: InitializeQueue)
   // Exact mode: original planes and, per vertex, the sorted ids of its logical set and their sum.
   std::vector<Quadric> PlaneQuadric;
   std::vector<double> PlaneWeight;
@@ -2443,6 +2449,10 @@ void TriangleCollapser::InitializeQueue()
   // entries: computed in parallel (vtkSMPTools), the same result for any thread count. The
   // exact-union mode shares a scratch buffer: sequential.
   auto keys = MakeOnHugePages<float>(static_cast<size_t>(nt));
+  if (nt > 0)
+  {
+    this->Heap.LendBucketIds(&this->State[0].QueueBucket, nt);
+  }
   if (this->CacheEdges)
   {
     this->InitialKeys(keys);
@@ -4641,7 +4651,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   this->Stages.Lap("collapses");
   // The queue and the per-triangle state are done: free them so that the output reuses their
   // memory instead of raising the peak.
-  this->Heap = BucketQueue();
+  this->Heap = decltype(this->Heap)(); // (before State, which holds its bucket numbers)
   std::vector<TriangleState>().swap(this->State);
   this->CompactQuadrics();
   if (refine && !result.Aborted && this->RestoreOriginal())
