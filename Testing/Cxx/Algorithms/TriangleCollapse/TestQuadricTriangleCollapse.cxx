@@ -5,6 +5,7 @@
 #include "BadInputCorpus.h"
 #include "TestSupport.h"
 
+#include "slodBucketQueue.h"
 #include "slodCollapsePasses.h"
 #include "slodInputPreparation.h"
 #include "slodMeshTopology.h"
@@ -389,8 +390,9 @@ TEST(QuadricTriangleCollapse, ReloadedInputIsNotKeptThroughTheCollapses)
 // The working set's peak (PeakWorkingBytes) within the sum of its arrays' layouts, with the
 // packed parts at their bounds (above). Per vertex: points 24, quadrics 88, reference starts and
 // counts 8, flags 4 (alive, border, locked, pending), the kept points packed 15, the input ids
-// packed 2; per triangle: corners 12, references 3 x 4 with the room factor, state 16, queue 14
-// (entry 8, slot 4, bucket 2), alive 1, the kept corners packed 6, the input ids packed 2; and the
+// packed 2; per triangle: corners 12, references 3 x 4 with the room factor, state 16 (with the
+// queue's bucket number since session 44), queue 12 (entry 8, slot 4; 14 before, with an array of
+// bucket numbers), alive 1, the kept corners packed 6, the input ids packed 2; and the
 // queue's 2^15 bucket headers. Not in it (session 31): the mesh's per-vertex link marks (12 bytes;
 // the checks use small tables of their own) and an array of parents (4 bytes; a merged-away
 // vertex's quadric slot holds its parent): with either the bound is exceeded. Unpacked through
@@ -404,7 +406,7 @@ TEST(QuadricTriangleCollapse, PeakWorkingBytesWithinTheLayoutOfItsArrays)
   const double references = 3 * 4 * EditableMesh::ShrinkingMeshRoomFactor;
   const double scratch = 4096; // the mesh's scratch lists: a few fans
   const double bound = vertices * (24 + 88 + 8 + 4 + 15 + 2) +
-    triangles * (12 + references + 16 + 14 + 1 + 6 + 2) + double(1 << 15) * sizeof(std::vector<int>) + scratch;
+    triangles * (12 + references + 16 + 12 + 1 + 6 + 2) + double(1 << 15) * sizeof(std::vector<int>) + scratch;
   size_t peak[2] = { 0, 0 };
   for (const bool topologyChange : { false, true })
   {
@@ -423,6 +425,38 @@ TEST(QuadricTriangleCollapse, PeakWorkingBytesWithinTheLayoutOfItsArrays)
   // With the mesh's marks: 12 bytes per vertex more, less the locked flags (1), which that mode
   // does not hold.
   EXPECT_GE(double(peak[1]) - double(peak[0]), 11 * vertices);
+}
+
+// The queue's share of the working set's peak is its slot and its entry (key, id) per triangle and
+// its 2^15 bucket headers, nothing more: each triangle's bucket number lives in the two bytes of
+// its 16-byte state that were padding (BasicBucketQueue::LendBucketIds, session 44; before, an
+// array of the queue's own, 2 bytes per triangle). Measured as the difference between the peaks of
+// the same mesh simplified with the queue and with the pass schedule, which holds the same arrays
+// (the same triangle state included) but no queue and no pending flags (a byte per vertex).
+TEST(QuadricTriangleCollapse, QueueHoldsOnlyItsSlotsEntriesAndBucketHeaders)
+{
+  const TriangleMesh sphere = slodtest::Sphere(90, 80);
+  const double vertices = sphere.NumberOfPoints(), triangles = sphere.NumberOfTriangles();
+  size_t peak[2] = { 0, 0 };
+  for (const bool passes : { false, true })
+  {
+    TriangleMesh mesh = sphere;
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    options.Schedule = passes ? CollapseSchedule::Passes : CollapseSchedule::Queue;
+    TriangleCollapseResult result;
+    SimplifyByTriangleCollapse(mesh, options, result);
+    EXPECT_LE(mesh.NumberOfTriangles(), options.TargetTriangles);
+    EXPECT_EQ(result.Passes > 0, passes);
+    peak[passes ? 1 : 0] = result.PeakWorkingBytes;
+  }
+  const double queue = double(peak[0]) - double(peak[1]);
+  const double headers = double(1 << BucketQueue::BucketBits) * sizeof(std::vector<std::pair<float, Index>>);
+  const double slotAndEntry = triangles * (sizeof(Index) + sizeof(float) + sizeof(Index));
+  std::printf("[queue] %.2f bytes per triangle beyond its bucket headers (slot and entry %.0f)\n",
+    (queue - headers - vertices) / triangles, slotAndEntry / triangles);
+  EXPECT_GE(queue, slotAndEntry + headers);
+  EXPECT_LE(queue, slotAndEntry + headers + vertices); // (the pending flags)
 }
 
 // The locked flags (a byte per vertex) are held through the collapses only when a vertex is
