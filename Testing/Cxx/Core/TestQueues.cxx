@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <set>
 #include <utility>
@@ -471,4 +472,54 @@ TEST(PriorityQueues, ListedNamesTheNextPopsInOrder)
   BucketQueue empty;
   empty.Reset(4);
   EXPECT_EQ(empty.Listed(8, ids, keys), 0);
+}
+
+// A queue whose bucket numbers live in the caller's records (LendBucketIds, session 44) pops what
+// a queue with its own array pops, through sets, updates and removals, leaves the records' other
+// fields as they were, and holds 2 bytes per id less.
+TEST(PriorityQueues, LentBucketNumbersGiveTheSamePopsAndLessMemory)
+{
+  struct Record
+  {
+    float Payload[3];
+    unsigned char Flags[2];
+    std::uint16_t Bucket;
+  };
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  const Index n = 4000;
+  std::vector<float> keys(n);
+  for (float& key : keys)
+  {
+    key = std::pow(uniform(random), 3.0f) * 1e-3f;
+  }
+  std::vector<Record> records(size_t(n), Record{ { 1.0f, 2.0f, 3.0f }, { 4, 5 }, 0 });
+  BucketQueue own;
+  BasicBucketQueue<sizeof(Record)> lent;
+  lent.LendBucketIds(&records[0].Bucket, n);
+  own.Build(keys.data(), n);
+  lent.Build(keys.data(), n);
+  EXPECT_EQ(own.MemoryBytes() - lent.MemoryBytes(), size_t(n) * sizeof(std::uint16_t));
+  for (Index i = 0; i < n; i += 5)
+  {
+    own.Set(i, keys[i] * 7.0f);
+    lent.Set(i, keys[i] * 7.0f);
+  }
+  for (Index i = 2; i < n; i += 9)
+  {
+    own.Remove(i);
+    lent.Remove(i);
+  }
+  ASSERT_EQ(own.Size(), lent.Size());
+  while (!own.Empty())
+  {
+    float a = 0, b = 0;
+    ASSERT_EQ(own.Pop(&a), lent.Pop(&b));
+    ASSERT_EQ(a, b);
+  }
+  EXPECT_TRUE(lent.Empty());
+  for (const Record& r : records)
+  {
+    ASSERT_TRUE(r.Payload[0] == 1.0f && r.Payload[1] == 2.0f && r.Payload[2] == 3.0f && r.Flags[0] == 4 && r.Flags[1] == 5);
+  }
 }
