@@ -450,6 +450,68 @@ struct Candidate
   std::optional<double> TriangleCost;
 };
 
+// The sets whose validity test failed on the topology (or a locked vertex) since the mesh's last
+// edit, for the strict order's lone pops (session 44). Such a status depends only on the mesh and
+// on the set as a set (EditableMesh::CheckCollapse tests it before the point, and its topological
+// tests do not depend on the order of the set's vertices), so a set tested again before any
+// collapse gets the same status without a test: on noisy scans an edge whose collapse would make a
+// non-manifold edge is tried by both of its triangles, one pop after the other (both hold the same
+// cached key). The mesh's live triangle count is the edit stamp: every collapse removes at least
+// the popped triangle. A few entries, overwritten in turn: bounded work per pop.
+struct FailedTopologies
+{
+  static constexpr int Capacity = 8;
+  Index Sets[Capacity][3];
+  CollapseStatus Status[Capacity];
+  int Size = 0, Next = 0;
+  Index Stamp = InvalidIndex;
+  long long Reused = 0; // tests answered here (TriangleCollapseResult::TopologyTestsReused)
+
+  static bool IsTopological(CollapseStatus status)
+  {
+    return status == CollapseStatus::NonManifold || status == CollapseStatus::BoundaryChange ||
+      status == CollapseStatus::TooSmall || status == CollapseStatus::IsolatedVertex ||
+      status == CollapseStatus::Locked || status == CollapseStatus::DeadVertex;
+  }
+  // The set sorted, an edge's third entry InvalidIndex (the key of a set as a set).
+  static void Key(const Candidate& c, Index (&key)[3])
+  {
+    key[0] = c.Set[0];
+    key[1] = c.Set[1];
+    key[2] = c.Count == 3 ? c.Set[2] : InvalidIndex;
+    std::sort(key, key + c.Count);
+  }
+  bool Find(const Candidate& c, Index stamp, CollapseStatus& status)
+  {
+    if (stamp != this->Stamp)
+    {
+      this->Size = 0;
+      this->Next = 0;
+      this->Stamp = stamp;
+      return false;
+    }
+    Index key[3];
+    Key(c, key);
+    for (int i = 0; i < this->Size; ++i)
+    {
+      if (std::equal(key, key + 3, this->Sets[i]))
+      {
+        status = this->Status[i];
+        ++this->Reused;
+        return true;
+      }
+    }
+    return false;
+  }
+  void Add(const Candidate& c, CollapseStatus status)
+  {
+    Key(c, this->Sets[this->Next]);
+    this->Status[this->Next] = status;
+    this->Next = (this->Next + 1) % Capacity;
+    this->Size = std::min(this->Size + 1, Capacity);
+  }
+};
+
 // One operation of a batch: picked and checked in parallel (EvaluateEntry), settled and performed
 // in selection order (ApplyBatch).
 struct BatchEntry
@@ -804,7 +866,8 @@ private:
   bool StaysSmall(const CollapseBatch& batch, size_t limit, float bound) const;
   void PrefetchUpcoming(UpcomingPrefetch& ahead) const;
   // picked: PickOperation ran already (batches of more than one entry).
-  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const;
+  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked,
+    FailedTopologies* failed = nullptr) const;
   struct EvaluateBatchFunctor;
   void EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch);
   void EvaluateAhead(CollapseLoop& loop, LookAhead& ahead);
@@ -1045,6 +1108,9 @@ private:
   bool LinkTables = false;
   mutable vtkSMPThreadLocal<EditableMesh::CheckScratch> LinkScratch;
   EditableMesh::CheckScratch* LinkTable() const { return this->LinkTables ? &this->LinkScratch.Local() : nullptr; }
+  // The strict order's memory of the sets that failed their topology (its lone pops only: the
+  // batches' and the look-ahead's evaluations run concurrently).
+  mutable FailedTopologies FailedSets;
   CollapseStatus CheckSet(const Candidate& c, const CollapseOptions& check, std::vector<Index>& gathered) const;
   // RefineDeviation's tree of merges: a vertex merged away keeps, in its quadric's weight (never
   // read again; a weight is a sum of areas, never negative), -(1 + the vertex it merged into), so
@@ -1821,10 +1887,21 @@ bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const 
   // One trial of the set for all its points (session 27): its triangles gathered and its topology
   // tested once, where a CheckCollapse per point did both again; a point passes exactly when
   // CheckCollapse would pass it. `scratch` keeps the set's triangles from the check of the
-  // optimum (the same set, gathered before its geometric test failed) for the collapse.
+  // optimum (the same set, gathered before its geometric test failed) for the collapse. Since
+  // session 44 the trial borrows them, and the topology that check passed is not tested again
+  // (a geometric status comes only after the topology when the geometry is not tested first).
   EditableMesh::SetTrial& trial = this->Trials.Local();
-  this->Mesh.PrepareTrial(set, count, check, trial);
-  for (int i = 0; i < n; ++i)
+  const bool borrowed = !check.GeometryFirst;
+  if (borrowed)
+  {
+    this->Mesh.PrepareTrialAfterGeometry(set, count, check, scratch, trial);
+  }
+  else
+  {
+    this->Mesh.PrepareTrial(set, count, check, trial);
+  }
+  bool found = false;
+  for (int i = 0; i < n && !found; ++i)
   {
     const Vec3 world = candidates[i].second + this->Origin;
     if (this->Mesh.CheckTrial(world, check, trial, this->LinkTable()) == CollapseStatus::Ok)
@@ -1833,10 +1910,14 @@ bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const 
       cost = candidates[i].first;
       error = this->AttributeComponents > 0 ? this->GeometricError(set, count, candidates[i].second)
                                             : (weight > 0 ? std::sqrt(cost / weight) : 0.0);
-      return true;
+      found = true;
     }
   }
-  return false;
+  if (borrowed)
+  {
+    EditableMesh::ReturnGathered(trial, scratch);
+  }
+  return found;
 }
 
 double TriangleCollapser::PopCost(
@@ -3117,15 +3198,28 @@ CollapseStatus TriangleCollapser::CheckSet(
   return status;
 }
 
-void TriangleCollapser::EvaluateEntry(
-  BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const
+void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch,
+  bool picked, FailedTopologies* failed) const
 {
   if (!(picked ? (entry.PlacementPending ? this->FinishPick(entry) : entry.Picked) : this->PickOperation(entry)))
   {
     return; // no operation to check
   }
   Candidate& c = entry.C;
+  // (A status found in `failed` is one of its topological ones: the set is rejected, `scratch`
+  // is not needed.)
+  const Index stamp = this->Mesh.NumberOfLiveTriangles();
+  failed = check.GeometryFirst ? nullptr : failed; // (then a topological status depends on the point)
+  if (failed && failed->Find(c, stamp, entry.Status))
+  {
+    entry.Result = BatchEntry::Outcome::Invalid;
+    return;
+  }
   entry.Status = this->CheckSet(c, check, scratch);
+  if (failed && FailedTopologies::IsTopological(entry.Status))
+  {
+    failed->Add(c, entry.Status);
+  }
   entry.Result = entry.Status == CollapseStatus::Ok ? BatchEntry::Outcome::Valid : BatchEntry::Outcome::Invalid;
   if (entry.Status == CollapseStatus::Flip || entry.Status == CollapseStatus::Degenerate ||
     entry.Status == CollapseStatus::BadShape)
@@ -3170,8 +3264,8 @@ struct TriangleCollapser::EvaluateBatchFunctor
       }
       if (entry.Runs)
       {
-        this->Self.EvaluateEntry(entry, this->Check, scratch,
-          this->Batch.Entries.size() > 1 || this->Batch.Passes);
+        const bool lone = this->Batch.Entries.size() == 1 && !this->Batch.Passes;
+        this->Self.EvaluateEntry(entry, this->Check, scratch, !lone, lone ? &this->Self.FailedSets : nullptr);
       }
       if (entry.Runs && this->Batch.PerformsTogether() && !this->Batch.InOrder &&
         (entry.Result == BatchEntry::Outcome::Valid || entry.Result == BatchEntry::Outcome::Alternative))
@@ -4533,6 +4627,8 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
     "%.4f validity tests (%lld)", double(result.KeyUpdates) / collapses, result.KeyUpdates,
     double(result.FanPlacements) / collapses, result.FanPlacements, double(result.ValidityTests) / collapses,
     result.ValidityTests);
+  vtkLogF(TRACE, "triangle collapse: %lld of the validity tests answered by an earlier test of the same set since the last collapse (%.4f per collapse)",
+    result.TopologyTestsReused, double(result.TopologyTestsReused) / collapses);
   const double* phase = loop.PhaseSeconds;
   vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran, %.1f placements not made, %.2f ring walks per operation); select %.3f s, evaluate %.3f s, apply %.3f s",
     loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)),
@@ -4661,6 +4757,7 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   result.PlacementsNotMade = loop.PlacementsDeferred;
   result.RingWalks = loop.RingWalks;
   result.BatchesPoppedAlone = loop.LoneBatches;
+  result.TopologyTestsReused = this->FailedSets.Reused;
   for (long long tests : loop.StatusCounts)
   {
     result.ValidityTests += tests;
