@@ -558,25 +558,19 @@ TEST(QuadricTriangleCollapse, QuadricsComputeEachTrianglePlaneAboutOnce)
 
 // Session 44's counters, read where the library has them; -1 where it does not (the test then
 // fails by its assertions on a library without them, e.g. base-s44, instead of not compiling).
-template <class R>
-auto TopologyTestsReusedOf(const R& r, int) -> decltype(static_cast<long long>(r.TopologyTestsReused))
+struct LoopCounters
 {
-  return r.TopologyTestsReused;
+  long long Reused = -1, Gathers = -1;
+};
+template <class R>
+auto LoopCountersOf(const R& r, int) -> decltype(r.TopologyTestsReused + r.OneRingGathers, LoopCounters())
+{
+  return { r.TopologyTestsReused, r.OneRingGathers };
 }
 template <class R>
-long long TopologyTestsReusedOf(const R&, long)
+LoopCounters LoopCountersOf(const R&, long)
 {
-  return -1;
-}
-template <class R>
-auto OneRingGathersOf(const R& r, int) -> decltype(static_cast<long long>(r.OneRingGathers))
-{
-  return r.OneRingGathers;
-}
-template <class R>
-long long OneRingGathersOf(const R&, long)
-{
-  return -1;
+  return {};
 }
 
 // The strict order's validity tests on a noisy scan (handles, non-manifold edges): an edge whose
@@ -594,7 +588,8 @@ TEST(QuadricTriangleCollapse, FailedTopologiesAreNotTestedAgainBeforeACollapse)
     options.TargetTriangles = mesh.NumberOfTriangles() / 10;
     TriangleCollapseResult result;
     SimplifyByTriangleCollapse(mesh, options, result);
-    const long long reused = TopologyTestsReusedOf(result, 0), gathers = OneRingGathersOf(result, 0);
+    const LoopCounters counters = LoopCountersOf(result, 0);
+    const long long reused = counters.Reused, gathers = counters.Gathers;
     std::printf("[failed topologies] seed %u: %d collapses, %lld validity tests (%d rejected), %lld reused, "
                 "%lld one-ring gathers\n",
       seed, int(result.Collapses), result.ValidityTests, int(result.RejectedCollapses), reused, gathers);
