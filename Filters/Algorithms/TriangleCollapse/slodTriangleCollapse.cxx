@@ -2799,12 +2799,7 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
   // Collapses rejected for validity may have become valid: retry those in the 2-ring.
   // (Skipped while no vertex is pending, the common case.)
   loop.Neighbors.clear();
-  if (this->PendingCount > 0 || this->Options.RecordHistory)
-  {
-    this->Mesh.Neighbors(kept, loop.Neighbors);
-  }
-  for (Index w : loop.Neighbors)
-  {
+  const auto retry = [&](Index w) {
     if (this->Pending[w])
     {
       this->Pending[w] = 0;
@@ -2820,6 +2815,30 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
         }
       });
     }
+  };
+  if (this->Options.RecordHistory)
+  {
+    this->Mesh.Neighbors(kept, loop.Neighbors); // (the record lists them)
+    std::for_each(loop.Neighbors.begin(), loop.Neighbors.end(), retry);
+    return;
+  }
+  // Without the records the fan's corners are walked as Neighbors walks them (triangle by
+  // triangle, corner by corner): a neighbour's first corner is its place in Neighbors' list, and a
+  // later one finds it no longer pending (Update marks nothing pending), so the retries are the
+  // same, in the same order, without Neighbors' table of distinct vertices (81 M instructions on
+  // noisy137, 2.4 % of its loop; session 44).
+  if (this->PendingCount > 0)
+  {
+    this->Mesh.ForEachTriangle(kept, [&](Index t) {
+      const Index* tri = this->Mesh.Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (tri[k] != kept)
+        {
+          retry(tri[k]);
+        }
+      }
+    });
   }
 }
 
