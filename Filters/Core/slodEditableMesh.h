@@ -262,6 +262,15 @@ public:
     size_t NextGathered = 0; // the survivors are those of Gathered before it
   };
   void PrepareTrial(const Index* vertices, int count, const CollapseOptions& options, SetTrial& trial) const;
+  // PrepareTrial for a set that CheckCollapse has just rejected with a geometric status (Flip,
+  // Degenerate, BadShape) with options.GeometryFirst off and no edit since: that check gathered
+  // its triangles (`gathered`, its scratch, swapped into the trial: swap them back with
+  // ReturnGathered before the collapse) and passed its topology, so neither is done again
+  // (session 44: the alternative placements of a folding optimum). The same answers as
+  // PrepareTrial's.
+  void PrepareTrialAfterGeometry(
+    const Index* vertices, int count, const CollapseOptions& options, std::vector<Index>& gathered, SetTrial& trial) const;
+  static void ReturnGathered(SetTrial& trial, std::vector<Index>& gathered) { trial.Gathered.swap(gathered); }
   // (link: as CheckCollapse's CheckScratch, or null for the mesh's marks)
   CollapseStatus CheckTrial(const Vec3& p, const CollapseOptions& options, SetTrial& trial, CheckScratch* link) const;
   // The set's topology (the link condition, borders, isolated vertices) tested now, before any

@@ -395,6 +395,7 @@ struct CollapseLoop
   long long MaximumPops = 0, Pops = 0, Replaced = 0, Batches = 0, Selected = 0, Ran = 0;
   long long PlacementsDeferred = 0; // entries that lost their claims before their edge was placed
   long long RingWalks = 0; // TriangleCollapseResult::RingWalks
+  long long Gathers = 0;   // TriangleCollapseResult::OneRingGathers
   long long LoneBatches = 0; // TriangleCollapseResult::BatchesPoppedAlone
   // Wall time of the batches' phases: select, evaluate, apply; the parallel apply splits the last
   // into its sequential settle, its concurrent collapses and its sequential queue updates.
@@ -450,6 +451,68 @@ struct Candidate
   std::optional<double> TriangleCost;
 };
 
+// The sets whose validity test failed on the topology (or a locked vertex) since the mesh's last
+// edit, for the strict order's lone pops (session 44). Such a status depends only on the mesh and
+// on the set as a set (EditableMesh::CheckCollapse tests it before the point, and its topological
+// tests do not depend on the order of the set's vertices), so a set tested again before any
+// collapse gets the same status without a test: on noisy scans an edge whose collapse would make a
+// non-manifold edge is tried by both of its triangles, one pop after the other (both hold the same
+// cached key). The mesh's live triangle count is the edit stamp: every collapse removes at least
+// the popped triangle. A few entries, overwritten in turn: bounded work per pop.
+struct FailedTopologies
+{
+  static constexpr int Capacity = 8;
+  Index Sets[Capacity][3];
+  CollapseStatus Status[Capacity];
+  int Size = 0, Next = 0;
+  Index Stamp = InvalidIndex;
+  long long Reused = 0; // tests answered here (TriangleCollapseResult::TopologyTestsReused)
+
+  static bool IsTopological(CollapseStatus status)
+  {
+    return status == CollapseStatus::NonManifold || status == CollapseStatus::BoundaryChange ||
+      status == CollapseStatus::TooSmall || status == CollapseStatus::IsolatedVertex ||
+      status == CollapseStatus::Locked || status == CollapseStatus::DeadVertex;
+  }
+  // The set sorted, an edge's third entry InvalidIndex (the key of a set as a set).
+  static void Key(const Candidate& c, Index (&key)[3])
+  {
+    key[0] = c.Set[0];
+    key[1] = c.Set[1];
+    key[2] = c.Count == 3 ? c.Set[2] : InvalidIndex;
+    std::sort(key, key + c.Count);
+  }
+  bool Find(const Candidate& c, Index stamp, CollapseStatus& status)
+  {
+    if (stamp != this->Stamp)
+    {
+      this->Size = 0;
+      this->Next = 0;
+      this->Stamp = stamp;
+      return false;
+    }
+    Index key[3];
+    Key(c, key);
+    for (int i = 0; i < this->Size; ++i)
+    {
+      if (std::equal(key, key + 3, this->Sets[i]))
+      {
+        status = this->Status[i];
+        ++this->Reused;
+        return true;
+      }
+    }
+    return false;
+  }
+  void Add(const Candidate& c, CollapseStatus status)
+  {
+    Key(c, this->Sets[this->Next]);
+    this->Status[this->Next] = status;
+    this->Next = (this->Next + 1) % Capacity;
+    this->Size = std::min(this->Size + 1, Capacity);
+  }
+};
+
 // One operation of a batch: picked and checked in parallel (EvaluateEntry), settled and performed
 // in selection order (ApplyBatch).
 struct BatchEntry
@@ -469,6 +532,7 @@ struct BatchEntry
   double AlternativeError = 0.0, AlternativeCost = 0.0;
   bool Runs = false; // no earlier entry of the batch overlaps it
   unsigned char Walks = 0; // walks of its ring by the claims and the holders' check (RingWalks)
+  unsigned char Gathers = 0; // gatherings of its set's triangles by its checks (OneRingGathers)
   bool Picked = false; // its operation is chosen (PickOperation) and it goes on to the check
   bool PlacementPending = false; // its operation is chosen, its placement waits for FinishPick
   Index Removes = 0, Survives = 0; // triangles the operation removes and keeps (parallel performing)
@@ -804,7 +868,11 @@ private:
   bool StaysSmall(const CollapseBatch& batch, size_t limit, float bound) const;
   void PrefetchUpcoming(UpcomingPrefetch& ahead) const;
   // picked: PickOperation ran already (batches of more than one entry).
-  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const;
+  void EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked,
+    FailedTopologies* failed = nullptr) const;
+  // Whether the set fails whatever its point: a dead or locked vertex (EditableMesh's first test) or
+  // a topology that failed since the last collapse (`failed`); then `status` is that test's.
+  bool KnownToFail(const Candidate& c, const CollapseOptions& check, FailedTopologies& failed, CollapseStatus& status) const;
   struct EvaluateBatchFunctor;
   void EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch);
   void EvaluateAhead(CollapseLoop& loop, LookAhead& ahead);
@@ -1051,6 +1119,9 @@ private:
   bool LinkTables = false;
   mutable vtkSMPThreadLocal<EditableMesh::CheckScratch> LinkScratch;
   EditableMesh::CheckScratch* LinkTable() const { return this->LinkTables ? &this->LinkScratch.Local() : nullptr; }
+  // The strict order's memory of the sets that failed their topology (its lone pops only: the
+  // batches' and the look-ahead's evaluations run concurrently).
+  mutable FailedTopologies FailedSets;
   CollapseStatus CheckSet(const Candidate& c, const CollapseOptions& check, std::vector<Index>& gathered) const;
   // RefineDeviation's tree of merges: a vertex merged away keeps, in its quadric's weight (never
   // read again; a weight is a sum of areas, never negative), -(1 + the vertex it merged into), so
@@ -1827,10 +1898,21 @@ bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const 
   // One trial of the set for all its points (session 27): its triangles gathered and its topology
   // tested once, where a CheckCollapse per point did both again; a point passes exactly when
   // CheckCollapse would pass it. `scratch` keeps the set's triangles from the check of the
-  // optimum (the same set, gathered before its geometric test failed) for the collapse.
+  // optimum (the same set, gathered before its geometric test failed) for the collapse. Since
+  // session 44 the trial borrows them, and the topology that check passed is not tested again
+  // (a geometric status comes only after the topology when the geometry is not tested first).
   EditableMesh::SetTrial& trial = this->Trials.Local();
-  this->Mesh.PrepareTrial(set, count, check, trial);
-  for (int i = 0; i < n; ++i)
+  const bool borrowed = !check.GeometryFirst;
+  if (borrowed)
+  {
+    this->Mesh.PrepareTrialAfterGeometry(set, count, check, scratch, trial);
+  }
+  else
+  {
+    this->Mesh.PrepareTrial(set, count, check, trial);
+  }
+  bool found = false;
+  for (int i = 0; i < n && !found; ++i)
   {
     const Vec3 world = candidates[i].second + this->Origin;
     if (this->Mesh.CheckTrial(world, check, trial, this->LinkTable()) == CollapseStatus::Ok)
@@ -1839,10 +1921,14 @@ bool TriangleCollapser::AlternativePlacement(const Index* set, int count, const 
       cost = candidates[i].first;
       error = this->AttributeComponents > 0 ? this->GeometricError(set, count, candidates[i].second)
                                             : (weight > 0 ? std::sqrt(cost / weight) : 0.0);
-      return true;
+      found = true;
     }
   }
-  return false;
+  if (borrowed)
+  {
+    EditableMesh::ReturnGathered(trial, scratch);
+  }
+  return found;
 }
 
 double TriangleCollapser::PopCost(
@@ -2051,9 +2137,12 @@ inline __attribute__((always_inline)) float TriangleCollapser::FanTriangleKey(
   // edges and only when it can win.
   double best = Bound ? std::numeric_limits<double>::infinity() : PlaceFanTriangle(fan, tri, p);
   const double bias = this->Options.EdgeCollapseBias;
+  // The corner after k from a table: (k + 1) % 3 took a multiply and four more instructions per
+  // edge, 2.35 million edges on mc250k (session 44).
+  constexpr int next[3] = { 1, 2, 0 };
   for (int k = 0; k < 3; ++k)
   {
-    const Index u = tri[k], v = tri[(k + 1) % 3];
+    const Index u = tri[k], v = tri[next[k]];
     if (u == kept || v == kept)
     {
       // A spoke (kept, x): placed once per fan, at its first triangle in the fan's order.
@@ -2720,12 +2809,7 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
   // Collapses rejected for validity may have become valid: retry those in the 2-ring.
   // (Skipped while no vertex is pending, the common case.)
   loop.Neighbors.clear();
-  if (this->PendingCount > 0 || this->Options.RecordHistory)
-  {
-    this->Mesh.Neighbors(kept, loop.Neighbors);
-  }
-  for (Index w : loop.Neighbors)
-  {
+  const auto retry = [&](Index w) {
     if (this->Pending[w])
     {
       this->Pending[w] = 0;
@@ -2741,6 +2825,30 @@ void TriangleCollapser::RetryPendingAround(Index kept, CollapseLoop& loop)
         }
       });
     }
+  };
+  if (this->Options.RecordHistory)
+  {
+    this->Mesh.Neighbors(kept, loop.Neighbors); // (the record lists them)
+    std::for_each(loop.Neighbors.begin(), loop.Neighbors.end(), retry);
+    return;
+  }
+  // Without the records the fan's corners are walked as Neighbors walks them (triangle by
+  // triangle, corner by corner): a neighbour's first corner is its place in Neighbors' list, and a
+  // later one finds it no longer pending (Update marks nothing pending), so the retries are the
+  // same, in the same order, without Neighbors' table of distinct vertices (81 M instructions on
+  // noisy137, 2.4 % of its loop; session 44).
+  if (this->PendingCount > 0)
+  {
+    this->Mesh.ForEachTriangle(kept, [&](Index t) {
+      const Index* tri = this->Mesh.Triangle(t);
+      for (int k = 0; k < 3; ++k)
+      {
+        if (tri[k] != kept)
+        {
+          retry(tri[k]);
+        }
+      }
+    });
   }
 }
 
@@ -3127,15 +3235,57 @@ CollapseStatus TriangleCollapser::CheckSet(
   return status;
 }
 
-void TriangleCollapser::EvaluateEntry(
-  BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch, bool picked) const
+bool TriangleCollapser::KnownToFail(
+  const Candidate& c, const CollapseOptions& check, FailedTopologies& failed, CollapseStatus& status) const
 {
-  if (!(picked ? (entry.PlacementPending ? this->FinishPick(entry) : entry.Picked) : this->PickOperation(entry)))
+  // EditableMesh::CheckCollapse's first test, which does not depend on the point, in its order.
+  for (int i = 0; i < c.Count; ++i)
+  {
+    if (!this->Mesh.IsVertexAlive(c.Set[i]))
+    {
+      status = CollapseStatus::DeadVertex;
+      return true;
+    }
+    if (check.LockedVertices && check.LockedVertices[c.Set[i]])
+    {
+      status = CollapseStatus::Locked;
+      return true;
+    }
+  }
+  return failed.Find(c, this->Mesh.NumberOfLiveTriangles(), status);
+}
+
+void TriangleCollapser::EvaluateEntry(BatchEntry& entry, const CollapseOptions& check, std::vector<Index>& scratch,
+  bool picked, FailedTopologies* failed) const
+{
+  failed = check.GeometryFirst ? nullptr : failed; // (then a topological status depends on the point)
+  // The strict order's lone pop (`failed` given) places a winning edge only once its set may pass
+  // (session 44): a set with a locked vertex, or remembered in `failed`, is rejected whatever the
+  // point, and its rejection reads only the triangle's own cost. Not with an error bound, which
+  // FinishPick tests before the validity (OverError, not a rejection).
+  const bool defer = failed && !picked && this->Options.MaximumError < 0;
+  if (!(picked ? (entry.PlacementPending ? this->FinishPick(entry) : entry.Picked) : this->PickOperation(entry, defer)))
   {
     return; // no operation to check
   }
   Candidate& c = entry.C;
+  if (failed && this->KnownToFail(c, check, *failed, entry.Status))
+  {
+    entry.PlacementPending = false; // never placed (not counted as PlacementsNotMade, a batch figure)
+    entry.Result = BatchEntry::Outcome::Invalid;
+    return;
+  }
+  if (entry.PlacementPending)
+  {
+    this->FinishPick(entry); // (PopCost's placement of the edge; no error bound to fail)
+  }
   entry.Status = this->CheckSet(c, check, scratch);
+  // (EditableMesh's check gathers the set's triangles unless a vertex is dead or locked)
+  entry.Gathers += entry.Status == CollapseStatus::DeadVertex || entry.Status == CollapseStatus::Locked ? 0 : 1;
+  if (failed && FailedTopologies::IsTopological(entry.Status))
+  {
+    failed->Add(c, entry.Status);
+  }
   entry.Result = entry.Status == CollapseStatus::Ok ? BatchEntry::Outcome::Valid : BatchEntry::Outcome::Invalid;
   if (entry.Status == CollapseStatus::Flip || entry.Status == CollapseStatus::Degenerate ||
     entry.Status == CollapseStatus::BadShape)
@@ -3143,6 +3293,7 @@ void TriangleCollapser::EvaluateEntry(
     // The optimum folds a triangle: try the paper's other placements (vertices, midpoints,
     // centroid) of the same set, cheapest first.
     const double maxError = this->Options.MaximumError;
+    entry.Gathers += check.GeometryFirst ? 1 : 0; // (AlternativePlacement's own gathering)
     if (this->AlternativePlacement(c.Set, c.Count, check, scratch, entry.Alternative, entry.AlternativeError,
           entry.AlternativeCost) &&
       !(maxError >= 0 && entry.AlternativeError > maxError))
@@ -3180,8 +3331,8 @@ struct TriangleCollapser::EvaluateBatchFunctor
       }
       if (entry.Runs)
       {
-        this->Self.EvaluateEntry(entry, this->Check, scratch,
-          this->Batch.Entries.size() > 1 || this->Batch.Passes);
+        const bool lone = this->Batch.Entries.size() == 1 && !this->Batch.Passes;
+        this->Self.EvaluateEntry(entry, this->Check, scratch, !lone, lone ? &this->Self.FailedSets : nullptr);
       }
       if (entry.Runs && this->Batch.PerformsTogether() && !this->Batch.InOrder &&
         (entry.Result == BatchEntry::Outcome::Valid || entry.Result == BatchEntry::Outcome::Alternative))
@@ -3202,6 +3353,7 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
   {
     if (this->TakeFromLookAhead(batch))
     {
+      loop.Gathers += batch.Entries[0].Gathers;
       batch.AdaptSize(1);
       ++loop.Ran;
       return;
@@ -3263,6 +3415,7 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
     }
     ran += batch.Entries[i].Runs ? 1 : 0;
     loop.RingWalks += batch.Entries[i].Walks;
+    loop.Gathers += batch.Entries[i].Gathers;
     loop.PlacementsDeferred += batch.Entries[i].PlacementPending ? 1 : 0;
   }
   batch.AdaptSize(ran);
@@ -4543,6 +4696,9 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
     "%.4f validity tests (%lld)", double(result.KeyUpdates) / collapses, result.KeyUpdates,
     double(result.FanPlacements) / collapses, result.FanPlacements, double(result.ValidityTests) / collapses,
     result.ValidityTests);
+  vtkLogF(TRACE, "triangle collapse: %lld of the validity tests answered by an earlier test of the same set since the last collapse (%.4f per collapse); %lld one-ring gathers (%.4f per collapse)",
+    result.TopologyTestsReused, double(result.TopologyTestsReused) / collapses, result.OneRingGathers,
+    double(result.OneRingGathers) / collapses);
   const double* phase = loop.PhaseSeconds;
   vtkLogF(TRACE, "triangle collapse: %lld batches, %.1f operations per batch (%.1f ran, %.1f placements not made, %.2f ring walks per operation); select %.3f s, evaluate %.3f s, apply %.3f s",
     loop.Batches, double(loop.Selected) / double(std::max<long long>(1, loop.Batches)),
@@ -4670,7 +4826,9 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   result.RanEntries = loop.Ran;
   result.PlacementsNotMade = loop.PlacementsDeferred;
   result.RingWalks = loop.RingWalks;
+  result.OneRingGathers = loop.Gathers;
   result.BatchesPoppedAlone = loop.LoneBatches;
+  result.TopologyTestsReused = this->FailedSets.Reused;
   for (long long tests : loop.StatusCounts)
   {
     result.ValidityTests += tests;

@@ -283,6 +283,16 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // Session 42: the batches performed as lone pops because the queue showed that they would hold
   // fewer than TriangleCollapseOptions::BatchMinimumSize entries.
   long long BatchesPoppedAlone = 0;
+  // Session 44: the validity tests (counted in ValidityTests) that the strict order answered
+  // without EditableMesh's check: a set that failed its topology (or held a locked vertex) was
+  // tested again with no collapse in between (the two triangles of an edge whose collapse would
+  // make a non-manifold edge hold the same key and are popped one after the other).
+  long long TopologyTestsReused = 0;
+  // Session 44: the gatherings of a set's triangles (its one-ring) by the loop's validity tests:
+  // one per EditableMesh check that reaches its topology (not a dead or locked vertex). Before,
+  // the alternative placements of a folding optimum gathered the set again (and tested its
+  // topology again), and a repeated failed set was gathered each time.
+  long long OneRingGathers = 0;
   // Vertices whose fan the quadrics searched for border edges: every vertex without
   // TriangleCollapseOptions::BorderVertices, the flagged ones with them.
   long long BorderSearches = 0;

@@ -590,6 +590,52 @@ TEST(QuadricTriangleCollapse, QuadricsComputeEachTrianglePlaneAboutOnce)
   }
 }
 
+// Session 44's counters, read where the library has them; -1 where it does not (the test then
+// fails by its assertions on a library without them, e.g. base-s44, instead of not compiling).
+struct LoopCounters
+{
+  long long Reused = -1, Gathers = -1;
+};
+template <class R>
+auto LoopCountersOf(const R& r, int) -> decltype(r.TopologyTestsReused + r.OneRingGathers, LoopCounters())
+{
+  return { r.TopologyTestsReused, r.OneRingGathers };
+}
+template <class R>
+LoopCounters LoopCountersOf(const R&, long)
+{
+  return {};
+}
+
+// The strict order's validity tests on a noisy scan (handles, non-manifold edges): an edge whose
+// collapse would make a non-manifold edge is popped by its two triangles one after the other, and
+// the second test, with no collapse in between, takes the first one's status instead of gathering
+// and walking the one-ring again (session 44). Each test gathers its set's triangles at most once
+// (the alternative placements of a folding optimum borrow the check's), a reused one never: the
+// gatherings are bounded by the tests that were not reused.
+TEST(QuadricTriangleCollapse, FailedTopologiesAreNotTestedAgainBeforeACollapse)
+{
+  for (const unsigned seed : { 3u, 11u })
+  {
+    TriangleMesh mesh = slodtest::ToTriangleMesh(slodtest::NoisyScanIsosurface(40, seed));
+    TriangleCollapseOptions options;
+    options.TargetTriangles = mesh.NumberOfTriangles() / 10;
+    TriangleCollapseResult result;
+    SimplifyByTriangleCollapse(mesh, options, result);
+    const LoopCounters counters = LoopCountersOf(result, 0);
+    const long long reused = counters.Reused, gathers = counters.Gathers;
+    std::printf("[failed topologies] seed %u: %d collapses, %lld validity tests (%d rejected), %lld reused, "
+                "%lld one-ring gathers\n",
+      seed, int(result.Collapses), result.ValidityTests, int(result.RejectedCollapses), reused, gathers);
+    EXPECT_GT(result.Collapses, 0);
+    EXPECT_GT(result.RejectedCollapses, 0) << "the scan's handles should refuse some collapses";
+    EXPECT_GT(reused, 0) << "no repeated failed test was answered without a check";
+    EXPECT_LE(reused, static_cast<long long>(result.RejectedCollapses)) << "only failed sets are remembered";
+    EXPECT_GT(gathers, 0);
+    EXPECT_LE(gathers + reused, result.ValidityTests) << "a test gathered its set more than once";
+  }
+}
+
 // The sphere to 10 % with the records, which are then replayed on the input: per collapse the
 // triangles around its new vertex right after it (the fan) and that vertex's distinct
 // neighbours (the spokes), summed over the collapses.
