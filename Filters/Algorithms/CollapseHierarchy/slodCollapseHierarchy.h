@@ -666,6 +666,9 @@ private:
   // fewer).
   bool EdgeKeepsValences(Index u, Index v) const;
   bool ValenceRuleHolds(Index live) const; // on a level of `live` triangles
+  // The factor on the error of the edge collapse of (u, v) in the order: below one where it merges
+  // an interior vertex of valence four (under the valence rule only).
+  double ValenceDiscount(Index u, Index v) const;
   // f(o) for the vertex o opposite the edge (u, v) in each of its triangles but `skip`.
   template <typename F>
   void ForEachOppositeVertex(Index u, Index v, Index skip, F&& f) const
