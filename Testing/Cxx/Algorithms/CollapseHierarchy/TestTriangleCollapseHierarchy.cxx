@@ -3118,10 +3118,9 @@ TEST(CollapseHierarchy, PaperConfigurationQuality)
 
 namespace
 {
-// Interior vertices of valence three or less, counted on the triangles as stored: vertices on an
-// edge with other than two triangles (borders, non-manifold edges) are left out, as are unused
-// points.
-int InteriorLowValenceVertices(vtkPolyData* polyData)
+// The valence of every interior vertex, counted on the triangles as stored (0 for the vertices on
+// an edge with other than two triangles, borders and non-manifold edges, and for unused points).
+std::vector<int> InteriorValences(vtkPolyData* polyData)
 {
   const TriangleMesh mesh = RawTriangleMesh(polyData);
   std::map<std::pair<Index, Index>, int> edges;
@@ -3147,12 +3146,18 @@ int InteriorLowValenceVertices(vtkPolyData* polyData)
       open[size_t(v)] = open[size_t(v)] || count != 2;
     }
   }
-  int low = 0;
   for (size_t v = 0; v < valence.size(); ++v)
   {
-    low += valence[v] > 0 && valence[v] <= 3 && !open[v] ? 1 : 0;
+    valence[v] = open[v] ? 0 : valence[v];
   }
-  return low;
+  return valence;
+}
+
+// Interior vertices of valence three or less.
+int InteriorLowValenceVertices(vtkPolyData* polyData)
+{
+  const std::vector<int> valence = InteriorValences(polyData);
+  return static_cast<int>(std::count_if(valence.begin(), valence.end(), [](int d) { return d > 0 && d <= 3; }));
 }
 } // namespace
 
@@ -3249,59 +3254,27 @@ TEST(vtkTriangleCollapseHierarchy, PreventNewValenceThreeCostsLittleDistance)
 
 namespace
 {
-// Interior vertices (on no border or non-manifold edge) of exactly this valence, counted on the
-// triangles as stored.
+// Interior vertices (on no border or non-manifold edge) of exactly this valence.
 int InteriorVerticesOfValence(vtkPolyData* polyData, int valence)
 {
-  const TriangleMesh mesh = RawTriangleMesh(polyData);
-  std::map<std::pair<Index, Index>, int> edges;
-  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-  {
-    const Index* tri = mesh.Triangle(t);
-    for (int k = 0; k < 3; ++k)
-    {
-      const Index a = tri[k], b = tri[(k + 1) % 3];
-      if (a != b)
-      {
-        ++edges[{ std::min(a, b), std::max(a, b) }];
-      }
-    }
-  }
-  std::vector<int> degree(size_t(mesh.NumberOfPoints()), 0);
-  std::vector<char> open(size_t(mesh.NumberOfPoints()), 0);
-  for (const auto& [edge, count] : edges)
-  {
-    for (Index v : { edge.first, edge.second })
-    {
-      ++degree[size_t(v)];
-      open[size_t(v)] = open[size_t(v)] || count != 2;
-    }
-  }
-  int n = 0;
-  for (size_t v = 0; v < degree.size(); ++v)
-  {
-    n += degree[v] == valence && !open[v] ? 1 : 0;
-  }
-  return n;
+  const std::vector<int> valences = InteriorValences(polyData);
+  return static_cast<int>(std::count(valences.begin(), valences.end(), valence));
 }
 } // namespace
 
-// A sphere with radial noise (generated here, as PaperFitsToAncestralPointsAverageTheNoise's) to
+// A sphere with radial noise (generated here) to
 // 10%: without the rule the hierarchy makes new valence-3 vertices (so the case is real); with it,
 // none, and no more interior vertices of valence four than without it (base-s44: more).
 TEST(vtkTriangleCollapseHierarchy, ValenceRuleLeavesNoPileOfValenceFourVertices)
 {
   TriangleMesh sphere = Sphere(120, 120);
-  const double a = 0.01;
-  for (Index v = 0; v < sphere.NumberOfPoints(); ++v)
+  std::mt19937 random(44);
+  std::uniform_real_distribution<double> noise(-0.01, 0.01); // (relative to the radius)
+  for (size_t v = 0; v < sphere.Points.size(); v += 3) // (a radial offset: the point's coordinates scaled)
   {
-    const double u = std::fmod(std::sin(12.9898 * v + 78.233) * 43758.5453, 1.0);
-    const double r = 1.0 + a * (2 * std::fabs(u) - 1);
-    const Vec3 p = Normalized(sphere.Point(v));
-    for (int j = 0; j < 3; ++j)
-    {
-      sphere.Points[3 * size_t(v) + j] = r * p[j];
-    }
+    const double scale = 1.0 + noise(random);
+    std::transform(sphere.Points.begin() + long(v), sphere.Points.begin() + long(v) + 3, sphere.Points.begin() + long(v),
+      [scale](double c) { return scale * c; });
   }
   vtkSmartPointer<vtkPolyData> input = ToPolyData(sphere);
   const int before = InteriorLowValenceVertices(input);
