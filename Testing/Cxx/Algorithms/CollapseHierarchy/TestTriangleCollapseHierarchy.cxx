@@ -3153,6 +3153,18 @@ std::vector<int> InteriorValences(vtkPolyData* polyData)
   return valence;
 }
 
+// The defaults' output at `target` triangles, the valence rule on or off (no levels kept).
+vtkSmartPointer<vtkPolyData> ValenceRuleOutput(vtkPolyData* input, bool prevent, vtkIdType target)
+{
+  vtkNew<vtkTriangleCollapseHierarchy> hierarchy;
+  hierarchy->SetInputData(input);
+  hierarchy->GenerateAllLevelsOff();
+  hierarchy->SetPreventNewValenceThree(prevent);
+  hierarchy->SetTargetNumberOfTriangles(target);
+  hierarchy->Update();
+  return hierarchy->GetOutput();
+}
+
 // Interior vertices of valence three or less.
 int InteriorLowValenceVertices(vtkPolyData* polyData)
 {
@@ -3221,15 +3233,11 @@ TEST(vtkTriangleCollapseHierarchy, PreventNewValenceThreeCostsLittleDistance)
     vtkIdType counts[2] = { 0, 0 };
     for (int prevent = 0; prevent < 2; ++prevent)
     {
-      vtkNew<vtkTriangleCollapseHierarchy> hierarchy;
-      hierarchy->SetInputData(input);
-      hierarchy->GenerateAllLevelsOff();
-      hierarchy->SetPreventNewValenceThree(prevent == 1);
-      hierarchy->SetTargetNumberOfTriangles(static_cast<vtkIdType>(std::llround(fraction * double(n0))));
-      hierarchy->Update();
-      low[prevent] = InteriorLowValenceVertices(hierarchy->GetOutput());
-      counts[prevent] = hierarchy->GetOutput()->GetNumberOfPolys();
-      distances[prevent] = Measure(input, hierarchy->GetOutput());
+      vtkSmartPointer<vtkPolyData> output =
+        ValenceRuleOutput(input, prevent == 1, static_cast<vtkIdType>(std::llround(fraction * double(n0))));
+      low[prevent] = InteriorLowValenceVertices(output);
+      counts[prevent] = output->GetNumberOfPolys();
+      distances[prevent] = Measure(input, output);
     }
     std::printf("[ measure  ] elephant %.0f%%: interior valence <= 3 input %d, off %d, on %d; triangles %lld / %lld; "
                 "Hausdorff %.3e / %.3e (x%.2f), mean %.3e / %.3e (x%.2f)\n",
@@ -3282,15 +3290,11 @@ TEST(vtkTriangleCollapseHierarchy, ValenceRuleLeavesNoPileOfValenceFourVertices)
   vtkIdType counts[2] = { 0, 0 };
   for (int prevent = 0; prevent < 2; ++prevent)
   {
-    vtkNew<vtkTriangleCollapseHierarchy> hierarchy;
-    hierarchy->SetInputData(input);
-    hierarchy->GenerateAllLevelsOff();
-    hierarchy->SetPreventNewValenceThree(prevent == 1);
-    hierarchy->SetTargetReduction(0.9);
-    hierarchy->Update();
-    low[prevent] = InteriorLowValenceVertices(hierarchy->GetOutput());
-    four[prevent] = InteriorVerticesOfValence(hierarchy->GetOutput(), 4);
-    counts[prevent] = hierarchy->GetOutput()->GetNumberOfPolys();
+    vtkSmartPointer<vtkPolyData> output =
+      ValenceRuleOutput(input, prevent == 1, static_cast<vtkIdType>(std::llround(0.1 * double(input->GetNumberOfPolys()))));
+    low[prevent] = InteriorLowValenceVertices(output);
+    four[prevent] = InteriorVerticesOfValence(output, 4);
+    counts[prevent] = output->GetNumberOfPolys();
   }
   std::printf("[ measure  ] noisy sphere (%lld triangles) 10%%: interior valence <= 3 input %d, off %d, on %d; "
               "valence 4 off %d, on %d (of %lld / %lld triangles)\n",
