@@ -124,7 +124,9 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // makes needle and cap triangles and blocks its neighbours' triangle collapses (a cyclic
   // stencil). Lifted with the relaxed rules (RelaxWhenBlocked: a level where nothing else can
   // collapse), so that targets are still reached, and on levels with 5% of M0's triangles or
-  // fewer (ValenceRuleHolds). Off: edge collapses may make them anywhere.
+  // fewer (ValenceRuleHolds). Under the rule the edges that merge an interior valence-4 vertex
+  // are ordered at half their error (ValenceDiscount: else such vertices pile up and jam the
+  // last levels). Off: edge collapses may make them anywhere, and the order is the error's.
   bool PreventNewValenceThree = false;
   int MaximumNumberOfLevels = 1000;
   // Stop once a level has at most this many triangles (0: reduce as far as possible).
@@ -666,6 +668,9 @@ private:
   // fewer).
   bool EdgeKeepsValences(Index u, Index v) const;
   bool ValenceRuleHolds(Index live) const; // on a level of `live` triangles
+  // The factor on the error of the edge collapse of (u, v) in the order: below one where it merges
+  // an interior vertex of valence four (under the valence rule only).
+  double ValenceDiscount(Index u, Index v) const;
   // f(o) for the vertex o opposite the edge (u, v) in each of its triangles but `skip`.
   template <typename F>
   void ForEachOppositeVertex(Index u, Index v, Index skip, F&& f) const

@@ -3118,10 +3118,9 @@ TEST(CollapseHierarchy, PaperConfigurationQuality)
 
 namespace
 {
-// Interior vertices of valence three or less, counted on the triangles as stored: vertices on an
-// edge with other than two triangles (borders, non-manifold edges) are left out, as are unused
-// points.
-int InteriorLowValenceVertices(vtkPolyData* polyData)
+// The valence of every interior vertex, counted on the triangles as stored (0 for the vertices on
+// an edge with other than two triangles, borders and non-manifold edges, and for unused points).
+std::vector<int> InteriorValences(vtkPolyData* polyData)
 {
   const TriangleMesh mesh = RawTriangleMesh(polyData);
   std::map<std::pair<Index, Index>, int> edges;
@@ -3147,12 +3146,30 @@ int InteriorLowValenceVertices(vtkPolyData* polyData)
       open[size_t(v)] = open[size_t(v)] || count != 2;
     }
   }
-  int low = 0;
   for (size_t v = 0; v < valence.size(); ++v)
   {
-    low += valence[v] > 0 && valence[v] <= 3 && !open[v] ? 1 : 0;
+    valence[v] = open[v] ? 0 : valence[v];
   }
-  return low;
+  return valence;
+}
+
+// The defaults' output at `target` triangles, the valence rule on or off (no levels kept).
+vtkSmartPointer<vtkPolyData> ValenceRuleOutput(vtkPolyData* input, bool prevent, vtkIdType target)
+{
+  vtkNew<vtkTriangleCollapseHierarchy> hierarchy;
+  hierarchy->SetInputData(input);
+  hierarchy->GenerateAllLevelsOff();
+  hierarchy->SetPreventNewValenceThree(prevent);
+  hierarchy->SetTargetNumberOfTriangles(target);
+  hierarchy->Update();
+  return hierarchy->GetOutput();
+}
+
+// Interior vertices of valence three or less.
+int InteriorLowValenceVertices(vtkPolyData* polyData)
+{
+  const std::vector<int> valence = InteriorValences(polyData);
+  return static_cast<int>(std::count_if(valence.begin(), valence.end(), [](int d) { return d > 0 && d <= 3; }));
 }
 } // namespace
 
@@ -3216,15 +3233,11 @@ TEST(vtkTriangleCollapseHierarchy, PreventNewValenceThreeCostsLittleDistance)
     vtkIdType counts[2] = { 0, 0 };
     for (int prevent = 0; prevent < 2; ++prevent)
     {
-      vtkNew<vtkTriangleCollapseHierarchy> hierarchy;
-      hierarchy->SetInputData(input);
-      hierarchy->GenerateAllLevelsOff();
-      hierarchy->SetPreventNewValenceThree(prevent == 1);
-      hierarchy->SetTargetNumberOfTriangles(static_cast<vtkIdType>(std::llround(fraction * double(n0))));
-      hierarchy->Update();
-      low[prevent] = InteriorLowValenceVertices(hierarchy->GetOutput());
-      counts[prevent] = hierarchy->GetOutput()->GetNumberOfPolys();
-      distances[prevent] = Measure(input, hierarchy->GetOutput());
+      vtkSmartPointer<vtkPolyData> output =
+        ValenceRuleOutput(input, prevent == 1, static_cast<vtkIdType>(std::llround(fraction * double(n0))));
+      low[prevent] = InteriorLowValenceVertices(output);
+      counts[prevent] = output->GetNumberOfPolys();
+      distances[prevent] = Measure(input, output);
     }
     std::printf("[ measure  ] elephant %.0f%%: interior valence <= 3 input %d, off %d, on %d; triangles %lld / %lld; "
                 "Hausdorff %.3e / %.3e (x%.2f), mean %.3e / %.3e (x%.2f)\n",
@@ -3239,4 +3252,56 @@ TEST(vtkTriangleCollapseHierarchy, PreventNewValenceThreeCostsLittleDistance)
     EXPECT_LT(distances[1].Hausdorff, MaximumRatioToQuadric * distances[0].Hausdorff) << fraction;
     EXPECT_LT(distances[1].Mean, 1.1 * distances[0].Mean) << fraction;
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Session 44 (issue 15): under PreventNewValenceThree an interior vertex of valence four can no
+// longer go down to three, and it blocks the edges opposite it; before ValenceDiscount such
+// vertices piled up (a noisy sphere at 10%: more with the rule than without it; noisy137 a
+// quarter of the output's vertices, against 5% without the rule) and jammed the last levels.
+
+namespace
+{
+// Interior vertices (on no border or non-manifold edge) of exactly this valence.
+int InteriorVerticesOfValence(vtkPolyData* polyData, int valence)
+{
+  const std::vector<int> valences = InteriorValences(polyData);
+  return static_cast<int>(std::count(valences.begin(), valences.end(), valence));
+}
+} // namespace
+
+// A sphere with radial noise (generated here) to
+// 10%: without the rule the hierarchy makes new valence-3 vertices (so the case is real); with it,
+// none, and no more interior vertices of valence four than without it (base-s44: more).
+TEST(vtkTriangleCollapseHierarchy, ValenceRuleLeavesNoPileOfValenceFourVertices)
+{
+  TriangleMesh sphere = Sphere(120, 120);
+  std::mt19937 random(44);
+  std::uniform_real_distribution<double> noise(-0.01, 0.01); // (relative to the radius)
+  for (size_t v = 0; v < sphere.Points.size(); v += 3) // (a radial offset: the point's coordinates scaled)
+  {
+    const double scale = 1.0 + noise(random);
+    std::transform(sphere.Points.begin() + long(v), sphere.Points.begin() + long(v) + 3, sphere.Points.begin() + long(v),
+      [scale](double c) { return scale * c; });
+  }
+  vtkSmartPointer<vtkPolyData> input = ToPolyData(sphere);
+  const int before = InteriorLowValenceVertices(input);
+  int low[2] = { 0, 0 }, four[2] = { 0, 0 };
+  vtkIdType counts[2] = { 0, 0 };
+  for (int prevent = 0; prevent < 2; ++prevent)
+  {
+    vtkSmartPointer<vtkPolyData> output =
+      ValenceRuleOutput(input, prevent == 1, static_cast<vtkIdType>(std::llround(0.1 * double(input->GetNumberOfPolys()))));
+    low[prevent] = InteriorLowValenceVertices(output);
+    four[prevent] = InteriorVerticesOfValence(output, 4);
+    counts[prevent] = output->GetNumberOfPolys();
+  }
+  std::printf("[ measure  ] noisy sphere (%lld triangles) 10%%: interior valence <= 3 input %d, off %d, on %d; "
+              "valence 4 off %d, on %d (of %lld / %lld triangles)\n",
+    static_cast<long long>(input->GetNumberOfPolys()), before, low[0], low[1], four[0], four[1],
+    static_cast<long long>(counts[0]), static_cast<long long>(counts[1]));
+  EXPECT_GT(low[0], before);
+  EXPECT_LE(low[1], before);
+  EXPECT_NEAR(double(counts[1]), double(counts[0]), 3.0);
+  EXPECT_LE(four[1], four[0]);
 }
