@@ -94,6 +94,9 @@ struct DetectionWorkspace
   // Passes after the first whose normals or patchification needed more room than the passes
   // before (an array allocated anew): none while the later surfaces are no larger (tests assert it).
   Index Allocations = 0;
+  // Topology already indexes the surface of the next pass (the caller's topology of the input).
+  bool TopologyCurrent = false;
+  std::int64_t TopologyTriangles = 0; // indexed by the passes' builds
   size_t Bytes() const { return this->Normal.capacity() * sizeof(Vec3) + this->Patches.MemoryUsage(); }
 };
 
@@ -143,7 +146,12 @@ struct Simplification
     , Patches(workspace.Patches)
     , Normal(workspace.Normal)
   {
-    this->Topology.Build(mesh);
+    if (!workspace.TopologyCurrent)
+    {
+      this->Topology.Build(mesh);
+      workspace.TopologyTriangles += mesh.NumberOfTriangles();
+    }
+    workspace.TopologyCurrent = false;
   }
 
   Index NumberOfChains() const { return static_cast<Index>(this->Left.size()); }
@@ -2128,7 +2136,7 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
 } // namespace
 
 bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificationParameters& parameters,
-  TopologySimplificationResult& result, const ProgressFunction& progress)
+  TopologySimplificationResult& result, const ProgressFunction& progress, MeshTopology* meshTopology)
 {
   using Clock = std::chrono::steady_clock;
   result = TopologySimplificationResult();
@@ -2142,6 +2150,14 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   CleanedSurface cleaned;
   DetectionWorkspace workspace; // the passes' large arrays, then the clean-up merge's and completion's
   workspace.Patches.SetKeepAdjacency(true); // reused within its capacity; released before the SPBM level
+  if (meshTopology && meshTopology->NumberOfTriangles() == mesh.NumberOfTriangles() &&
+    meshTopology->NumberOfPoints() == mesh.NumberOfPoints())
+  {
+    // The first pass's surface is `mesh` itself (`current` is its copy): its topology as given.
+    std::swap(workspace.Topology, *meshTopology);
+    *meshTopology = MeshTopology();
+    workspace.TopologyCurrent = true;
+  }
   const int passes = std::max(1, parameters.MaximumPasses);
   for (int pass = 0; pass < passes; ++pass)
   {
@@ -2168,6 +2184,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   stages.Lap("detection passes' copies");
   // Clean-up merge on the patchification of the cleaned mesh.
   result.DetectionWorkspaceAllocations = workspace.Allocations;
+  result.DetectionTopologyTriangles = workspace.TopologyTriangles;
   workspace.Normal = std::vector<Vec3>(); // not used after the passes
   MeshTopology& cleanedTopology = workspace.Topology;
   Patchification& cleanedPatches = workspace.Patches;
