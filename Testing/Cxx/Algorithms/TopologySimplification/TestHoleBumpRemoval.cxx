@@ -127,6 +127,34 @@ TriangleMesh LargeAndSmallHoles(int subdivisions)
   h[1 + 9] = h[7 + 9] = h[1 + 9 * 7] = h[7 + 9 * 7] = 0;
   return BlockModel(9, 9, h, 1.0, subdivisions);
 }
+
+// A 9 x 9 block with a stepped hole: a 3 x 3 counterbore half deep, a 1 x 1 hole through it.
+TriangleMesh SteppedHole()
+{
+  std::vector<double> h(81, 1.0);
+  for (int j = 3; j < 6; ++j)
+  {
+    for (int i = 3; i < 6; ++i)
+    {
+      h[size_t(i) + 9 * size_t(j)] = 0.5;
+    }
+  }
+  h[4 + 9 * 4] = 0.0;
+  return BlockModel(9, 9, h, 1.0, 2);
+}
+
+// The same chains (vertices and the patches on both sides) in the same order.
+void ExpectSameChains(const Patchification& a, const Patchification& b)
+{
+  ASSERT_EQ(a.NumberOfChains(), b.NumberOfChains());
+  for (Index c = 0; c < b.NumberOfChains(); ++c)
+  {
+    ASSERT_EQ(a.ChainSize(c), b.ChainSize(c));
+    EXPECT_TRUE(std::equal(a.ChainVerticesBegin(c), a.ChainVerticesBegin(c) + a.ChainSize(c), b.ChainVerticesBegin(c)));
+    EXPECT_EQ(a.ChainLeftPatch(c), b.ChainLeftPatch(c));
+    EXPECT_EQ(a.ChainRightPatch(c), b.ChainRightPatch(c));
+  }
+}
 } // namespace
 
 
@@ -393,16 +421,7 @@ TEST(TopologySimplification, AlphaSelectsHoles)
 // which has become a cavity.
 TEST(TopologySimplification, SteppedHoleNeedsTwoPasses)
 {
-  std::vector<double> h(81, 1.0);
-  for (int j = 3; j < 6; ++j)
-  {
-    for (int i = 3; i < 6; ++i)
-    {
-      h[size_t(i) + 9 * size_t(j)] = 0.5;
-    }
-  }
-  h[4 + 9 * 4] = 0.0;
-  const TriangleMesh mesh = BlockModel(9, 9, h, 1.0, 2);
+  const TriangleMesh mesh = SteppedHole();
   ASSERT_EQ(Stats(mesh).Genus, 1);
   TopologySimplificationParameters p;
   p.FeatureSize = 5.0;
@@ -1021,16 +1040,7 @@ TEST(TopologySimplification, RoughScanPassesReuseTheirLargeArrays)
 // passes of scattered accesses, growing faster than the input at 4M triangles (session 43).
 TEST(TopologySimplification, CleanedSurfaceIndexedAgainOnlyWhenTheLastPassChangedIt)
 {
-  std::vector<double> h(81, 1.0);
-  for (int j = 3; j < 6; ++j)
-  {
-    for (int i = 3; i < 6; ++i)
-    {
-      h[size_t(i) + 9 * size_t(j)] = 0.5;
-    }
-  }
-  h[4 + 9 * 4] = 0.0;
-  const TriangleMesh stepped = BlockModel(9, 9, h, 1.0, 2);
+  const TriangleMesh stepped = SteppedHole();
   for (const TopologyCompletion completion : { TopologyCompletion::TriangulatePatches, TopologyCompletion::Spbm })
   {
     TopologySimplificationParameters p;
@@ -1117,16 +1127,8 @@ TEST(PatchificationFromLabels, KeptAdjacencyServesTheNextLabels)
   grown.BuildFromLabels(mesh, topology, labels, 2 * grown.NumberOfPatches(), Patchification::AdjacencySource::Previous);
   EXPECT_EQ(grown.AdjacencyEntriesBuilt(), once);
   EXPECT_EQ(fresh.AdjacencyEntriesBuilt(), once);
-  ASSERT_EQ(grown.NumberOfChains(), fresh.NumberOfChains());
   ASSERT_EQ(grown.NumberOfEndpoints(), fresh.NumberOfEndpoints());
-  for (Index c = 0; c < fresh.NumberOfChains(); ++c)
-  {
-    ASSERT_EQ(grown.ChainSize(c), fresh.ChainSize(c));
-    EXPECT_TRUE(std::equal(grown.ChainVerticesBegin(c), grown.ChainVerticesBegin(c) + grown.ChainSize(c),
-      fresh.ChainVerticesBegin(c)));
-    EXPECT_EQ(grown.ChainLeftPatch(c), fresh.ChainLeftPatch(c));
-    EXPECT_EQ(grown.ChainRightPatch(c), fresh.ChainRightPatch(c));
-  }
+  ExpectSameChains(grown, fresh);
   // A mesh of another size is never served a stale adjacency.
   TriangleMesh half = mesh;
   half.Triangles.resize(3 * size_t(mesh.NumberOfTriangles() / 2));
@@ -1285,15 +1287,7 @@ TEST(PatchificationFromLabels, ReproducesGrownPatches)
   Patchification given;
   given.BuildFromLabels(mesh, topology, grown.TrianglePatches(), grown.NumberOfPatches());
   ASSERT_EQ(given.NumberOfPatches(), grown.NumberOfPatches());
-  ASSERT_EQ(given.NumberOfChains(), grown.NumberOfChains());
-  for (Index c = 0; c < grown.NumberOfChains(); ++c)
-  {
-    ASSERT_EQ(given.ChainSize(c), grown.ChainSize(c));
-    EXPECT_TRUE(std::equal(given.ChainVerticesBegin(c), given.ChainVerticesBegin(c) + given.ChainSize(c),
-      grown.ChainVerticesBegin(c)));
-    EXPECT_EQ(given.ChainLeftPatch(c), grown.ChainLeftPatch(c));
-    EXPECT_EQ(given.ChainRightPatch(c), grown.ChainRightPatch(c));
-  }
+  ExpectSameChains(given, grown);
   std::vector<Index> loop;
   for (Index p = 0; p < grown.NumberOfPatches(); ++p)
   {
