@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace slod
 {
@@ -15,56 +16,79 @@ namespace
 
 // The adjacency the growth needs, as one flat array: the triangle across edge k of t when that
 // edge is manifold and consistently oriented (the neighbour runs it the other way), else
-// InvalidIndex. Growing only across such edges keeps every patch an orientable disk.
+// InvalidIndex. Growing only across such edges keeps every patch an orientable disk. Kept as a
+// member only while KeepAdjacency is on (filled within its capacity), else released after each build.
 struct Patchification::Adjacency
 {
-  std::vector<Index> Across;
+  const std::vector<Index>& Across;
 
-  Adjacency(const TriangleMesh& mesh, const MeshTopology& topology)
-  {
-    const Index nt = mesh.NumberOfTriangles();
-    this->Across.resize(3 * size_t(nt));
-    for (Index t = 0; t < nt; ++t)
-    {
-      const Index* tri = mesh.Triangle(t);
-      for (int k = 0; k < 3; ++k)
-      {
-        Index n = topology.EdgeNeighbor(t, k);
-        if (n != InvalidIndex)
-        {
-          const Index a = tri[k], b = tri[(k + 1) % 3];
-          const Index* other = mesh.Triangle(n);
-          const bool consistent = (other[0] == b && other[1] == a) || (other[1] == b && other[2] == a) ||
-            (other[2] == b && other[0] == a);
-          n = consistent ? n : InvalidIndex;
-        }
-        this->Across[3 * size_t(t) + k] = n;
-      }
-    }
-  }
   Index Neighbor(Index t, int k) const { return this->Across[3 * size_t(t) + k]; }
 };
+
+// Fills the oriented adjacency of `mesh` (three entries per triangle) within its capacity.
+void Patchification::BuildAdjacency(const TriangleMesh& mesh, const MeshTopology& topology)
+{
+  const Index nt = mesh.NumberOfTriangles();
+  this->Across.resize(3 * size_t(nt));
+  for (Index t = 0; t < nt; ++t)
+  {
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      Index n = topology.EdgeNeighbor(t, k);
+      if (n != InvalidIndex)
+      {
+        const Index a = tri[k], b = tri[(k + 1) % 3];
+        const Index* other = mesh.Triangle(n);
+        const bool consistent =
+          (other[0] == b && other[1] == a) || (other[1] == b && other[2] == a) || (other[2] == b && other[0] == a);
+        n = consistent ? n : InvalidIndex;
+      }
+      this->Across[3 * size_t(t) + k] = n;
+    }
+  }
+  this->AdjacencyEntries += 3 * std::int64_t(nt);
+}
+
+// Releases the adjacency unless the caller keeps it for the next build over the same surface.
+void Patchification::FinishAdjacency()
+{
+  if (!this->KeepsAdjacency)
+  {
+    this->ReleaseAdjacency();
+  }
+}
+
+void Patchification::ReleaseAdjacency()
+{
+  this->Across = std::vector<Index>();
+}
 
 void Patchification::Build(const TriangleMesh& mesh, const MeshTopology& topology,
   const PatchificationParameters& parameters, const ProgressFunction& progress)
 {
   this->WasAborted = false;
   this->NoiseJoins = 0;
-  const Adjacency adjacency(mesh, topology);
+  this->BuildAdjacency(mesh, topology);
+  const Adjacency adjacency{ this->Across };
   this->Grow(mesh, topology, adjacency, parameters, progress);
-  if (this->WasAborted)
+  if (!this->WasAborted)
   {
-    return;
+    this->ExtractChains(mesh, topology, adjacency, parameters.BorderCornerAngle);
   }
-  this->ExtractChains(mesh, topology, adjacency, parameters.BorderCornerAngle);
+  this->FinishAdjacency();
 }
 
-void Patchification::BuildFromLabels(
-  const TriangleMesh& mesh, const MeshTopology& topology, const std::vector<Index>& patchOf, Index numberOfPatches)
+void Patchification::BuildFromLabels(const TriangleMesh& mesh, const MeshTopology& topology,
+  const std::vector<Index>& patchOf, Index numberOfPatches, AdjacencySource source)
 {
   this->WasAborted = false;
   this->NoiseJoins = 0;
-  const Adjacency adjacency(mesh, topology);
+  if (source == AdjacencySource::Build || this->Across.size() != 3 * size_t(mesh.NumberOfTriangles()))
+  {
+    this->BuildAdjacency(mesh, topology);
+  }
+  const Adjacency adjacency{ this->Across };
   this->TrianglePatch = patchOf;
   this->PatchAreaVector.assign(size_t(numberOfPatches), Vec3{ 0.0, 0.0, 0.0 });
   this->PatchAreaOf.assign(size_t(numberOfPatches), 0.0);
@@ -80,6 +104,7 @@ void Patchification::BuildFromLabels(
     ++this->PatchTriangleCountOf[p];
   }
   this->ExtractChains(mesh, topology, adjacency, 0.0);
+  this->FinishAdjacency();
 }
 
 namespace

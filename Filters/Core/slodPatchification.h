@@ -17,6 +17,7 @@
 #include "slodFilterContract.h"
 #include "slodTriangleMesh.h"
 
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -95,8 +96,25 @@ public:
   // every triangle; each patch should be a disk (an edge-connected, consistently oriented set with
   // one simple boundary loop). Patch normals are area-weighted sums; chains, endpoints and the
   // patch graph are extracted as in Build, so SpbmLevelGenerator can run on the result.
+  //
+  // The oriented adjacency (three indices per triangle, read through the topology's edges: a
+  // scattered pass over the whole surface) depends on the surface alone, not on the labels. With
+  // KeepAdjacency on, a build keeps it, and AdjacencySource::Previous reuses it: the caller
+  // promises that `mesh` has the triangles (in the same order) and `topology` the edges of the
+  // surface of the previous Build or BuildFromLabels (vtkHoleBumpRemoval builds patches from
+  // three label sets over one cleaned surface, session 44). A size mismatch rebuilds it.
+  enum class AdjacencySource
+  {
+    Build,
+    Previous
+  };
   void BuildFromLabels(const TriangleMesh& mesh, const MeshTopology& topology, const std::vector<Index>& patchOf,
-    Index numberOfPatches);
+    Index numberOfPatches, AdjacencySource source = AdjacencySource::Build);
+  // Keep the adjacency after each build (off: released at the end of each build, as a local).
+  void SetKeepAdjacency(bool keep) { this->KeepsAdjacency = keep; }
+  void ReleaseAdjacency();
+  // Adjacency entries computed so far (three per triangle per build that did not reuse it).
+  std::int64_t AdjacencyEntriesBuilt() const { return this->AdjacencyEntries; }
 
   // --- Patches ---
   Index NumberOfPatches() const { return static_cast<Index>(this->PatchAreaVector.size()); }
@@ -147,6 +165,8 @@ private:
     NonManifoldChain = 1
   };
   struct Adjacency;
+  void BuildAdjacency(const TriangleMesh& mesh, const MeshTopology& topology);
+  void FinishAdjacency();
   void Grow(const TriangleMesh& mesh, const MeshTopology& topology, const Adjacency& adjacency,
     const PatchificationParameters& parameters, const ProgressFunction& progress);
   void ExtractChains(
@@ -155,6 +175,9 @@ private:
   void BuildPatchGraph();
 
   bool WasAborted = false;
+  bool KeepsAdjacency = false;
+  std::int64_t AdjacencyEntries = 0;
+  std::vector<Index> Across; // the oriented adjacency (see BuildAdjacency)
   Index NoiseJoins = 0;
   std::vector<Index> TrianglePatch;
   std::vector<Vec3> PatchAreaVector;

@@ -94,6 +94,9 @@ struct DetectionWorkspace
   // Passes after the first whose normals or patchification needed more room than the passes
   // before (an array allocated anew): none while the later surfaces are no larger (tests assert it).
   Index Allocations = 0;
+  // Topology already indexes the surface of the next pass (the caller's topology of the input).
+  bool TopologyCurrent = false;
+  std::int64_t TopologyTriangles = 0; // indexed by the passes' builds
   size_t Bytes() const { return this->Normal.capacity() * sizeof(Vec3) + this->Patches.MemoryUsage(); }
 };
 
@@ -143,7 +146,12 @@ struct Simplification
     , Patches(workspace.Patches)
     , Normal(workspace.Normal)
   {
-    this->Topology.Build(mesh);
+    if (!workspace.TopologyCurrent)
+    {
+      this->Topology.Build(mesh);
+      workspace.TopologyTriangles += mesh.NumberOfTriangles();
+    }
+    workspace.TopologyCurrent = false;
   }
 
   Index NumberOfChains() const { return static_cast<Index>(this->Left.size()); }
@@ -1999,6 +2007,9 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
     CloseCracks(run, cleaned);
   }
   cleaned.LabelCount = Compact(cleaned.Labels);
+  vtkLogF(TRACE, "[hbr] pass %d: %lld of %lld triangles kept, %lld fill triangles", pass + 1,
+    static_cast<long long>(cleaned.Mesh.NumberOfTriangles()) - static_cast<long long>(run.FillPatch.size()),
+    static_cast<long long>(current.NumberOfTriangles()), static_cast<long long>(run.FillPatch.size()));
   const bool last = removedNow == 0 || pass + 1 == passes;
   AccumulateFindings(found, last, result);
   stages.Lap("detection pass: cleaned surface");
@@ -2024,7 +2035,15 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
   const CleanedSurface& unmerged /* labels only */, const AbortCheck& report, TopologySimplificationResult& result,
   StageClock& stages)
 {
-  merged.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount);
+  // Same surface as the clean-up merge's patches: only the labels differ (merged groups).
+  merged.BuildFromLabels(
+    cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount, Patchification::AdjacencySource::Previous);
+  const bool unmergedMayFollow =
+    parameters.Completion != TopologyCompletion::TriangulatePatches && parameters.SpbmTargetTriangles > 0;
+  if (!unmergedMayFollow)
+  {
+    merged.ReleaseAdjacency(); // not needed by the level generator
+  }
   std::vector<unsigned char> patchFill = FillOfPatches(cleaned.Labels, cleaned.LabelCount, cleaned.Fill);
   auto generator = std::make_unique<SpbmLevelGenerator>();
   generator->Initialize(cleaned.Mesh, merged);
@@ -2050,11 +2069,13 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
     finest.CollapseChains = false;
     if (generator->PredictTriangleCount(finest) < parameters.SpbmTargetTriangles)
     {
-      merged.BuildFromLabels(cleaned.Mesh, cleanedTopology, unmerged.Labels, unmerged.LabelCount);
+      merged.BuildFromLabels(cleaned.Mesh, cleanedTopology, unmerged.Labels, unmerged.LabelCount,
+        Patchification::AdjacencySource::Previous);
       patchFill = FillOfPatches(unmerged.Labels, unmerged.LabelCount, cleaned.Fill);
       generator = std::make_unique<SpbmLevelGenerator>();
       generator->Initialize(cleaned.Mesh, merged);
     }
+    merged.ReleaseAdjacency(); // before the level's own large arrays
     stages.Lap("completion: unmerged patches, level generator");
     // The final collapses below take the level to the target, so SPBM need not fight for the
     // count itself (as vtkPatchBoundaryMerge): failed patches that are unmerged already go
@@ -2115,7 +2136,7 @@ bool CompleteBySpbm(const TriangleMesh& input, const TopologySimplificationParam
 } // namespace
 
 bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificationParameters& parameters,
-  TopologySimplificationResult& result, const ProgressFunction& progress)
+  TopologySimplificationResult& result, const ProgressFunction& progress, MeshTopology* meshTopology)
 {
   using Clock = std::chrono::steady_clock;
   result = TopologySimplificationResult();
@@ -2128,6 +2149,15 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   std::vector<unsigned char> currentFill(size_t(mesh.NumberOfTriangles()), 0);
   CleanedSurface cleaned;
   DetectionWorkspace workspace; // the passes' large arrays, then the clean-up merge's and completion's
+  workspace.Patches.SetKeepAdjacency(true); // reused within its capacity; released before the SPBM level
+  if (meshTopology && meshTopology->NumberOfTriangles() == mesh.NumberOfTriangles() &&
+    meshTopology->NumberOfPoints() == mesh.NumberOfPoints())
+  {
+    // The first pass's surface is `mesh` itself (`current` is its copy): its topology as given.
+    std::swap(workspace.Topology, *meshTopology);
+    *meshTopology = MeshTopology();
+    workspace.TopologyCurrent = true;
+  }
   const int passes = std::max(1, parameters.MaximumPasses);
   for (int pass = 0; pass < passes; ++pass)
   {
@@ -2154,11 +2184,23 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   stages.Lap("detection passes' copies");
   // Clean-up merge on the patchification of the cleaned mesh.
   result.DetectionWorkspaceAllocations = workspace.Allocations;
+  result.DetectionTopologyTriangles = workspace.TopologyTriangles;
   workspace.Normal = std::vector<Vec3>(); // not used after the passes
   MeshTopology& cleanedTopology = workspace.Topology;
-  cleanedTopology.Build(cleaned.Mesh);
   Patchification& cleanedPatches = workspace.Patches;
-  cleanedPatches.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount);
+  const std::int64_t adjacencyBefore = cleanedPatches.AdjacencyEntriesBuilt();
+  // The last pass usually finds the surface it leaves (it removed nothing, or refilled what it
+  // removed the same way): then the workspace's topology and adjacency, built over `current` by
+  // that pass, are the cleaned surface's, and rebuilding them is a whole-surface pass of scattered
+  // accesses for nothing. Comparing the triangles is one sequential pass.
+  const bool surfaceKept = cleaned.Mesh.Triangles == current.Triangles;
+  if (!surfaceKept)
+  {
+    cleanedTopology.Build(cleaned.Mesh);
+    result.CleanedTopologyTriangles = cleaned.Mesh.NumberOfTriangles();
+  }
+  cleanedPatches.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount,
+    surfaceKept ? Patchification::AdjacencySource::Previous : Patchification::AdjacencySource::Build);
   CleanedSurface unmerged;
   unmerged.Labels = cleaned.Labels;
   unmerged.LabelCount = cleaned.LabelCount;
@@ -2171,6 +2213,10 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   result.MergedPatches = cleaned.LabelCount;
   result.CleanedTriangles = cleaned.Mesh.Triangles;
   stages.Lap("clean-up merge");
+  vtkLogF(TRACE, "[hbr] cleaned surface %s: %lld topology triangles and %lld adjacency entries rebuilt so far",
+    surfaceKept ? "kept by the last pass" : "changed by the last pass",
+    static_cast<long long>(result.CleanedTopologyTriangles),
+    static_cast<long long>(cleanedPatches.AdjacencyEntriesBuilt() - adjacencyBefore));
   if (report(0.8))
   {
     return false;
@@ -2188,6 +2234,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   {
     return false;
   }
+  result.CleanedAdjacencyEntries = cleanedPatches.AdjacencyEntriesBuilt() - adjacencyBefore;
   result.CompletionSeconds = std::chrono::duration<double>(Clock::now() - t2).count();
   report(1.0);
   return true;

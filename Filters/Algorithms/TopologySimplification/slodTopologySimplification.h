@@ -148,6 +148,17 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationResult
   // Detection passes after the first whose large arrays (normals, patchification) needed more
   // room than the earlier passes left in the run's workspace.
   Index DetectionWorkspaceAllocations = 0;
+  // Whole-surface rebuilds of the cleaned surface after the detection passes (session 44):
+  // triangles whose edges and incidences MeshTopology::Build indexed again, and oriented-adjacency
+  // entries (three per triangle) computed again for the patchifications from labels (the clean-up
+  // merge's, the completion's, the unmerged fallback's). Both 0 when the last pass kept the surface
+  // as it found it (then its topology and adjacency are the cleaned surface's); otherwise one
+  // topology and one adjacency, however many label sets are built over them.
+  std::int64_t CleanedTopologyTriangles = 0;
+  // Triangles indexed by the detection passes' MeshTopology::Build (all passes; the first pass's
+  // are not counted when Run was given the mesh's topology).
+  std::int64_t DetectionTopologyTriangles = 0;
+  std::int64_t CleanedAdjacencyEntries = 0;
   int DetectionPasses = 0;
   // The input's NoisyBendShare when SingleMeasureNoisyBendShare applied (else -1), and whether
   // the SPBM completion generated the size-weighted level alone (by that rule or as set).
@@ -160,8 +171,12 @@ class SURFACELODFILTERS_EXPORT TopologySimplifier
 public:
   // Progress (slodFilterContract.h): returning false aborts (Run then returns false).
   // mesh: consistently oriented; non-manifold edges are never part of a feature.
+  // meshTopology (optional): the caller's MeshTopology built over `mesh` (vtkHoleBumpRemoval's
+  // input statistics), taken over by the first detection pass instead of indexing the same
+  // triangles again; it is left empty. Ignored when its triangle count is not the mesh's.
   bool Run(const TriangleMesh& mesh, const TopologySimplificationParameters& parameters,
-    TopologySimplificationResult& result, const ProgressFunction& progress = nullptr);
+    TopologySimplificationResult& result, const ProgressFunction& progress = nullptr,
+    MeshTopology* meshTopology = nullptr);
 };
 
 // Diameter estimate of a closed vertex loop (section 5.3.3): evenly spaced sample pairs and

@@ -208,7 +208,9 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
     vtkWarningMacro("Non-manifold edges are never part of a removed feature; features next to them are kept.");
   }
   slod::StageClock stages("vtkHoleBumpRemoval"); // CPU per stage at TRACE (--log-verbosity 9)
-  const slod::MeshStatistics before = slod::MeshTopology(mesh).Statistics(mesh);
+  // The input's topology serves the statistics, then the first detection pass (taken over by Run).
+  slod::MeshTopology inputTopology(mesh);
+  const slod::MeshStatistics before = inputTopology.Statistics(mesh);
   stages.Lap("input statistics");
   this->InputGenus = static_cast<int>(before.Genus);
   this->UpdateProgress(0.05);
@@ -218,7 +220,7 @@ int vtkHoleBumpRemoval::RequestData(vtkInformation*, vtkInformationVector** inpu
 
   slod::TopologySimplificationResult result;
   slod::TopologySimplifier simplifier;
-  if (!simplifier.Run(mesh, parameters, result, slod::FilterProgress(this, 0.05, 0.9)))
+  if (!simplifier.Run(mesh, parameters, result, slod::FilterProgress(this, 0.05, 0.9), &inputTopology))
   {
     slod::ReportAbort(this, output);
     return 1;

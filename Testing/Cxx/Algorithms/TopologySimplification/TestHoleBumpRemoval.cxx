@@ -127,6 +127,34 @@ TriangleMesh LargeAndSmallHoles(int subdivisions)
   h[1 + 9] = h[7 + 9] = h[1 + 9 * 7] = h[7 + 9 * 7] = 0;
   return BlockModel(9, 9, h, 1.0, subdivisions);
 }
+
+// A 9 x 9 block with a stepped hole: a 3 x 3 counterbore half deep, a 1 x 1 hole through it.
+TriangleMesh SteppedHole()
+{
+  std::vector<double> h(81, 1.0);
+  for (int j = 3; j < 6; ++j)
+  {
+    for (int i = 3; i < 6; ++i)
+    {
+      h[size_t(i) + 9 * size_t(j)] = 0.5;
+    }
+  }
+  h[4 + 9 * 4] = 0.0;
+  return BlockModel(9, 9, h, 1.0, 2);
+}
+
+// The same chains (vertices and the patches on both sides) in the same order.
+void ExpectSameChains(const Patchification& a, const Patchification& b)
+{
+  ASSERT_EQ(a.NumberOfChains(), b.NumberOfChains());
+  for (Index c = 0; c < b.NumberOfChains(); ++c)
+  {
+    ASSERT_EQ(a.ChainSize(c), b.ChainSize(c));
+    EXPECT_TRUE(std::equal(a.ChainVerticesBegin(c), a.ChainVerticesBegin(c) + a.ChainSize(c), b.ChainVerticesBegin(c)));
+    EXPECT_EQ(a.ChainLeftPatch(c), b.ChainLeftPatch(c));
+    EXPECT_EQ(a.ChainRightPatch(c), b.ChainRightPatch(c));
+  }
+}
 } // namespace
 
 
@@ -393,16 +421,7 @@ TEST(TopologySimplification, AlphaSelectsHoles)
 // which has become a cavity.
 TEST(TopologySimplification, SteppedHoleNeedsTwoPasses)
 {
-  std::vector<double> h(81, 1.0);
-  for (int j = 3; j < 6; ++j)
-  {
-    for (int i = 3; i < 6; ++i)
-    {
-      h[size_t(i) + 9 * size_t(j)] = 0.5;
-    }
-  }
-  h[4 + 9 * 4] = 0.0;
-  const TriangleMesh mesh = BlockModel(9, 9, h, 1.0, 2);
+  const TriangleMesh mesh = SteppedHole();
   ASSERT_EQ(Stats(mesh).Genus, 1);
   TopologySimplificationParameters p;
   p.FeatureSize = 5.0;
@@ -1012,6 +1031,113 @@ TEST(TopologySimplification, RoughScanPassesReuseTheirLargeArrays)
   EXPECT_LT(levelAllocations, replayedPasses) << "replays must reuse the record's and the queue's room";
 }
 
+// Issue 10, session 44: after the detection passes the cleaned surface is indexed again only when
+// the last pass changed it, and then once: one MeshTopology::Build and one oriented adjacency,
+// however many label sets (the clean-up merge's, the merged completion's, the unmerged fallback's)
+// are built over it. The last pass usually keeps the surface it found (it removed nothing, or
+// refilled what it removed the same way), and then its topology and adjacency are reused as they
+// are. Before, every run rebuilt the topology and one adjacency per label set: whole-surface
+// passes of scattered accesses, growing faster than the input at 4M triangles (session 43).
+TEST(TopologySimplification, CleanedSurfaceIndexedAgainOnlyWhenTheLastPassChangedIt)
+{
+  const TriangleMesh stepped = SteppedHole();
+  for (const TopologyCompletion completion : { TopologyCompletion::TriangulatePatches, TopologyCompletion::Spbm })
+  {
+    TopologySimplificationParameters p;
+    p.FeatureSize = 5.0;
+    p.Completion = completion;
+    TopologySimplificationResult r;
+    // Three passes (hole, counterbore, nothing): the last one kept the surface.
+    ASSERT_TRUE(TopologySimplifier().Run(stepped, p, r));
+    ASSERT_EQ(r.DetectionPasses, 3);
+    EXPECT_EQ(r.CleanedTopologyTriangles, 0);
+    EXPECT_EQ(r.CleanedAdjacencyEntries, 0);
+    // One pass, which removes the hole: the cleaned surface is new, indexed once.
+    p.MaximumPasses = 1;
+    ASSERT_TRUE(TopologySimplifier().Run(stepped, p, r));
+    const std::int64_t cleaned = std::int64_t(r.CleanedTriangles.size() / 3);
+    ASSERT_GT(cleaned, 0);
+    EXPECT_EQ(r.CleanedTopologyTriangles, cleaned);
+    EXPECT_EQ(r.CleanedAdjacencyEntries, 3 * cleaned);
+  }
+  // Rough scans to a tenth (SPBM completion from a target, the unmerged fallback possible): at
+  // most one topology and one adjacency of the cleaned surface, none when the last pass kept it.
+  int kept = 0;
+  for (const unsigned int seed : { 149u, 151u, 157u })
+  {
+    TriangleMesh mesh;
+    std::vector<Index> vertexToInput;
+    ASSERT_TRUE(PrepareTriangleMesh(NoisyScanIsosurface(48, seed), PreparationOptions(), mesh, vertexToInput).Valid);
+    const TopologySimplificationParameters p = ToATenthWithDefaults(mesh);
+    TopologySimplificationResult r;
+    ASSERT_TRUE(TopologySimplifier().Run(mesh, p, r)) << "seed " << seed;
+    const std::int64_t cleaned = std::int64_t(r.CleanedTriangles.size() / 3);
+    EXPECT_LE(r.CleanedTopologyTriangles, cleaned) << "seed " << seed;
+    EXPECT_LE(r.CleanedAdjacencyEntries, 3 * r.CleanedTopologyTriangles) << "seed " << seed;
+    kept += r.CleanedTopologyTriangles == 0;
+  }
+  EXPECT_GT(kept, 0) << "a scan's last pass must keep its surface at least once";
+}
+
+// vtkHoleBumpRemoval builds the input's topology for its statistics; Run takes it over for the
+// first detection pass instead of indexing the same triangles again (session 44). Same result, one
+// input's worth of triangles fewer indexed by the passes; a topology of another mesh is ignored.
+TEST(TopologySimplification, GivenInputTopologyServesTheFirstPass)
+{
+  const TriangleMesh mesh = LargeAndSmallHoles(2);
+  TopologySimplificationParameters p;
+  p.FeatureSize = 2.0;
+  TopologySimplificationResult own, given, other;
+  ASSERT_TRUE(TopologySimplifier().Run(mesh, p, own));
+  MeshTopology topology(mesh);
+  ASSERT_TRUE(TopologySimplifier().Run(mesh, p, given, nullptr, &topology));
+  EXPECT_EQ(topology.NumberOfTriangles(), 0) << "taken over";
+  ASSERT_GT(own.DetectionPasses, 1);
+  EXPECT_EQ(own.DetectionTopologyTriangles - given.DetectionTopologyTriangles, std::int64_t(mesh.NumberOfTriangles()));
+  EXPECT_EQ(given.Triangles, own.Triangles);
+  EXPECT_EQ(given.TrianglePatch, own.TrianglePatch);
+  EXPECT_EQ(Count(given, TopologyFeatureKind::Hole, true), Count(own, TopologyFeatureKind::Hole, true));
+  TriangleMesh half = mesh;
+  half.Triangles.resize(3 * size_t(mesh.NumberOfTriangles() / 2));
+  MeshTopology wrong(half);
+  ASSERT_TRUE(TopologySimplifier().Run(mesh, p, other, nullptr, &wrong));
+  EXPECT_EQ(other.DetectionTopologyTriangles, own.DetectionTopologyTriangles);
+  EXPECT_EQ(other.Triangles, own.Triangles);
+}
+
+// The adjacency kept from one build serves the next build from labels over the same surface:
+// the same patches and chains as a build that computes it again, and no entry computed again.
+TEST(PatchificationFromLabels, KeptAdjacencyServesTheNextLabels)
+{
+  const TriangleMesh mesh = ToTriangleMesh(LoadTestMesh("fandisk"));
+  const MeshTopology topology(mesh);
+  Patchification grown;
+  grown.SetKeepAdjacency(true);
+  grown.Build(mesh, topology, PatchificationParameters());
+  const std::int64_t once = grown.AdjacencyEntriesBuilt();
+  EXPECT_EQ(once, 3 * std::int64_t(mesh.NumberOfTriangles()));
+  // Every patch in two halves by triangle parity: new labels, same surface.
+  std::vector<Index> labels(grown.TrianglePatches());
+  for (size_t t = 0; t < labels.size(); ++t)
+  {
+    labels[t] = 2 * labels[t] + Index(t % 2 == 0 ? 0 : 1);
+  }
+  Patchification fresh;
+  fresh.BuildFromLabels(mesh, topology, labels, 2 * grown.NumberOfPatches());
+  grown.BuildFromLabels(mesh, topology, labels, 2 * grown.NumberOfPatches(), Patchification::AdjacencySource::Previous);
+  EXPECT_EQ(grown.AdjacencyEntriesBuilt(), once);
+  EXPECT_EQ(fresh.AdjacencyEntriesBuilt(), once);
+  ASSERT_EQ(grown.NumberOfEndpoints(), fresh.NumberOfEndpoints());
+  ExpectSameChains(grown, fresh);
+  // A mesh of another size is never served a stale adjacency.
+  TriangleMesh half = mesh;
+  half.Triangles.resize(3 * size_t(mesh.NumberOfTriangles() / 2));
+  const MeshTopology halfTopology(half);
+  std::vector<Index> one(size_t(half.NumberOfTriangles()), 0);
+  grown.BuildFromLabels(half, halfTopology, one, 1, Patchification::AdjacencySource::Previous);
+  EXPECT_EQ(grown.AdjacencyEntriesBuilt(), once + 3 * std::int64_t(half.NumberOfTriangles()));
+}
+
 TEST(HoleBumpRemovalFilter, BadInputGivesDefinedOutput)
 {
   vtkNew<vtkHoleBumpRemoval> filter;
@@ -1161,15 +1287,7 @@ TEST(PatchificationFromLabels, ReproducesGrownPatches)
   Patchification given;
   given.BuildFromLabels(mesh, topology, grown.TrianglePatches(), grown.NumberOfPatches());
   ASSERT_EQ(given.NumberOfPatches(), grown.NumberOfPatches());
-  ASSERT_EQ(given.NumberOfChains(), grown.NumberOfChains());
-  for (Index c = 0; c < grown.NumberOfChains(); ++c)
-  {
-    ASSERT_EQ(given.ChainSize(c), grown.ChainSize(c));
-    EXPECT_TRUE(std::equal(given.ChainVerticesBegin(c), given.ChainVerticesBegin(c) + given.ChainSize(c),
-      grown.ChainVerticesBegin(c)));
-    EXPECT_EQ(given.ChainLeftPatch(c), grown.ChainLeftPatch(c));
-    EXPECT_EQ(given.ChainRightPatch(c), grown.ChainRightPatch(c));
-  }
+  ExpectSameChains(given, grown);
   std::vector<Index> loop;
   for (Index p = 0; p < grown.NumberOfPatches(); ++p)
   {
