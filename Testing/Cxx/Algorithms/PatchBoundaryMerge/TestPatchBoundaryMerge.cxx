@@ -1626,22 +1626,6 @@ TEST(SpbmLevel, FallbackPassesTriangulateOnlyTheChangedPatches)
   EXPECT_GT(fallbackPasses, 0) << "the noisy scans must need fallback passes";
 }
 
-// Session 44 (issue 10): a replay requests the state records of the edits ahead of the one it
-// applies (PrefetchReplayedEdits); only loads are issued early, so the level must be the one the
-// reference gives: the same triangles, patches, curves, passes and as-recorded edits, on noisy scans
-// of seeds no other test uses, which need replayed passes (a prefetch that wrote, or read past the
-// state's arrays under the sanitizers, fails this).
-TEST(SpbmLevel, PrefetchedReplaysMakeTheSameLevels)
-{
-  int replayedPasses = 0;
-  ExpectSameLevelsWithAndWithout({ 227u, 229u }, &SpbmLevelParameters::PrefetchReplayedEdits,
-    [&](const SpbmLevel& on, const SpbmLevel& off, unsigned int seed) {
-      EXPECT_EQ(on.FailedPatches, off.FailedPatches) << "seed " << seed;
-      replayedPasses += on.ReplayedPasses;
-    });
-  EXPECT_GT(replayedPasses, 0) << "the noisy scans must need replayed passes";
-}
-
 // Session 31 (issue 10): in a fallback pass, an unchanged patch that no changed patch or chain
 // touches (no shared vertex) keeps its triangles without its edge context being computed again
 // (ReuseUntouchedPatches). On noisy scans of seeds no other test uses, which need fallback
