@@ -208,12 +208,6 @@ struct SURFACELODFILTERS_EXPORT SpbmLevelParameters
   // simple and those around them. Off: each boundary whose signature is not the last one found
   // simple is tested (the reference).
   bool RememberBoundaryOutcomes = true;
-  // Session 44 (issue 10): a replay requests the state records (chain, patch, endpoint) of the
-  // edits a few places ahead in the record before it applies the current one: the record is
-  // known in advance, and at 4M triangles the as-recorded edits of a late replay wait on scattered
-  // records more than they compute. Only loads are issued early: the same level. Off: each edit
-  // loads its records when it reads them (the reference).
-  bool PrefetchReplayedEdits = true;
   // Extension (not in the paper): a patch whose boundary is not planar (a vertex farther than
   // NonPlanarTolerance, relative to the bbox diagonal, from the plane through the boundary's
   // centroid along the patch normal) with at most MinimumDeviationMaxVertices boundary vertices

@@ -114,7 +114,6 @@ private:
   bool ApplyRecorded(const State::Edit& edit);
   bool RetryEdit(const State::Edit& edit);
   void ReplayEdits(const std::vector<State::Edit>& edits, size_t begin, size_t end, bool removal);
-  void PrefetchEdit(const State::Edit& edit, bool ends);
   void MergeAroundDirty();
   void DrainMergeQueue();
 

@@ -351,28 +351,11 @@ bool SpbmLevelGenerator::MergingRun::RetryEdit(const State::Edit& edit)
 void SpbmLevelGenerator::MergingRun::ReplayEdits(
   const std::vector<State::Edit>& edits, size_t begin, size_t end, bool removal)
 {
-  // PrefetchReplayedEdits: the records edit i + far reads are requested at edit i, and those that
-  // edit i + near reaches through them (its chain's endpoints and patches) at edit i, when the
-  // first ones have usually arrived. A few hundred instructions per edit: 8-16 edits ahead cover a
-  // miss to memory without flushing what the current edit reads.
-  constexpr size_t far = 16, near = 8;
-  const bool prefetch = parameters.PrefetchReplayedEdits;
   for (size_t i = begin; i < end; ++i)
   {
     if (removal && s.Total <= parameters.RemovalTarget)
     {
       break;
-    }
-    if (prefetch)
-    {
-      if (i + far < end)
-      {
-        this->PrefetchEdit(edits[i + far], false);
-      }
-      if (i + near < end)
-      {
-        this->PrefetchEdit(edits[i + near], true);
-      }
     }
     const State::Edit& edit = edits[i];
     if (this->EditIsClean(edit) && this->ApplyRecorded(edit))
@@ -390,77 +373,6 @@ void SpbmLevelGenerator::MergingRun::ReplayEdits(
     }
     relaxed = false;
   }
-}
-
-// Requests (no wait, no write) the state records that EditIsClean and ApplyRecorded will read for
-// `edit`: its chains, recorded patches and recorded endpoints; with `ends`, also what the chain
-// record leads to (the chain's endpoints and its sides' patch records), which needs the chain
-// record itself (requested by the call without `ends` some edits before).
-void SpbmLevelGenerator::MergingRun::PrefetchEdit(const State::Edit& edit, bool ends)
-{
-#if defined(__GNUC__)
-  auto chain = [&](Index c) {
-    if (size_t(c) < s.Chains.size())
-    {
-      __builtin_prefetch(&s.Chains[size_t(c)]);
-    }
-  };
-  auto patch = [&](Index p) {
-    if (size_t(p) < s.Patches.size())
-    {
-      __builtin_prefetch(&s.Patches[size_t(p)]);
-      __builtin_prefetch(&s.DirtyPatch[size_t(p)]);
-    }
-  };
-  auto endpoint = [&](Index e) {
-    if (size_t(e) < s.EndHead.size())
-    {
-      __builtin_prefetch(&s.EndHead[size_t(e)]);
-      __builtin_prefetch(&s.Degree[size_t(e)]);
-      __builtin_prefetch(&s.DirtyEnd[size_t(e)]);
-      __builtin_prefetch(&s.DirtyNear[size_t(e)]);
-    }
-  };
-  const Index* v = edit.V;
-  const bool join = edit.Kind == JoinEdit;
-  if (!ends)
-  {
-    chain(v[0]);
-    if (join)
-    {
-      chain(v[1]);
-      endpoint(v[2]);
-      endpoint(v[3]);
-      patch(v[4]);
-      patch(v[5]);
-      patch(v[6]);
-      return;
-    }
-    patch(v[1]);
-    patch(v[2]);
-    if (edit.Kind == CollapseEdit)
-    {
-      endpoint(v[3]);
-      endpoint(v[4]);
-    }
-    return;
-  }
-  if (size_t(v[0]) >= s.Chains.size())
-  {
-    return;
-  }
-  const State::ChainRecord& record = s.Chains[size_t(v[0])];
-  if (edit.Kind == UniteEdit || join)
-  {
-    endpoint(record.A);
-    endpoint(record.B);
-  }
-  patch(record.L);
-  patch(record.R);
-#else
-  (void)edit;
-  (void)ends;
-#endif
 }
 
 // Merging resumes from the chains of dirty patches: the clean ones are as the recorded run left
