@@ -114,6 +114,8 @@ private:
   bool ApplyRecorded(const State::Edit& edit);
   bool RetryEdit(const State::Edit& edit);
   void ReplayEdits(const std::vector<State::Edit>& edits, size_t begin, size_t end, bool removal);
+  bool ReachedBefore(const State::Edit& edit);
+  void MarkReached(bool reached);
   void MergeAroundDirty();
   void DrainMergeQueue();
 
@@ -170,6 +172,12 @@ private:
   Index collapseRoot = InvalidIndex; // the patch whose chains TryCollapses walks (recorded)
   long long replayedAsRecorded = 0;
   long long testedAgain = 0;
+  // TRACE: the record's edits reachable from those tested again (ReachedBefore), flags per patch
+  // and endpoint, and the current edit's patches and endpoints.
+  bool countReachable = false;
+  long long reachableEdits = 0;
+  std::vector<unsigned char> reachedPatch, reachedEnd;
+  std::vector<Index> reachIds;
   bool markNewEdits = false; // Replay: edits made while merging around the dirty patches
   bool removalAroundDirty = false; // Replay: the removal continues around the dirty patches first
   Index joinBase = 0;                                // removal operations: 2c / 2c + 1 collapse chain c,

@@ -16,6 +16,7 @@
 // but not always the same: candidates are tried in record order, not in measure order, around
 // the unmerged patches.
 #include "slodSpbmMerging.h"
+#include "slodStageClock.h"
 
 #include "vtkLogger.h"
 
@@ -58,7 +59,8 @@ void SpbmLevelGenerator::MergingRun::Record(EditKind kind, std::initializer_list
 
 void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& frozen)
 {
-  const auto start = StageClock::now();
+  const auto start = spbm::StageClock::now();
+  slod::StageClock clock("[spbm] replay"); // TRACE: thread CPU of its stages (the wall times below are loaded)
   std::vector<State::Edit> edits; // the recorded run's; the new record takes the spare buffer
   edits.swap(s.Edits);
   s.Edits.swap(s.EditsSpare);
@@ -103,16 +105,24 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
     }
   }
   const double resetSeconds = Since(start);
+  clock.Lap("reset and dirty marks");
+  countReachable = vtkLogger::GetCurrentVerbosityCutoff() >= vtkLogger::VERBOSITY_TRACE;
+  reachedPatch.assign(countReachable ? size_t(np) : 0, 0);
+  reachedEnd.assign(countReachable ? size_t(ne) : 0, 0);
+  reachableEdits = 0;
   const long long dirtyAtStart = std::count(s.DirtyPatch.begin(), s.DirtyPatch.end(), 1);
   s.DirtyAtStart = dirtyAtStart;
   replaying = true;
   this->ReplayEdits(edits, 0, std::min(removalBegin, edits.size()), false);
   replaying = false;
   const double replaySeconds = Since(start);
+  clock.Lap("merging edits");
+  const long long reachableMerging = reachableEdits;
   markNewEdits = true;
   this->MergeAroundDirty();
   markNewEdits = false;
   const double mergingSeconds = Since(start);
+  clock.Lap("merging around dirty patches");
   const long long merged = s.Total;
   s.EditsRemovalBegin = s.Edits.size();
   if (parameters.RemovalTarget > 0 && parameters.CollapseChains)
@@ -122,11 +132,19 @@ void SpbmLevelGenerator::MergingRun::Replay(const std::vector<unsigned char>& fr
     replaying = false;
   }
   const double removalReplaySeconds = Since(start);
+  clock.Lap("removal edits");
   const size_t removalBeginNow = s.EditsRemovalBegin;
   removalAroundDirty = true;
   this->RemoveDownToTarget();
   removalAroundDirty = false;
   s.EditsRemovalBegin = removalBeginNow;
+  clock.Lap("removal");
+  if (countReachable)
+  {
+    vtkLogF(TRACE, "[spbm] replay: %lld merging and %lld removal edits of the record reachable from those tested again (a selective undo's size)",
+      reachableMerging, reachableEdits - reachableMerging);
+  }
+  countReachable = false;
   s.AppliedAsRecorded = replayedAsRecorded;
   s.TestedAgain = testedAgain;
   long long dirty = 0;
@@ -351,9 +369,11 @@ void SpbmLevelGenerator::MergingRun::ReplayEdits(
       break;
     }
     const State::Edit& edit = edits[i];
+    const bool reached = countReachable && this->ReachedBefore(edit);
     if (this->EditIsClean(edit) && this->ApplyRecorded(edit))
     {
       ++replayedAsRecorded;
+      this->MarkReached(reached);
       continue;
     }
     // Tried again; the patches and endpoints around become dirty only when the outcome differs
@@ -365,6 +385,44 @@ void SpbmLevelGenerator::MergingRun::ReplayEdits(
       this->MarkEditDirty(edit);
     }
     relaxed = false;
+    this->MarkReached(countReachable);
+  }
+}
+
+// TRACE only (issue 10: the size of a selective undo, measured before building one): an edit is
+// reachable when it is tested again or reads a patch or endpoint that a reachable edit before it
+// in the record read or wrote; undoing the edits tested again from the end state means undoing
+// the reachable ones too. ReachedBefore notes the edit's own patches (roots) and endpoints before
+// it is applied; MarkReached flags them when the edit is reachable.
+bool SpbmLevelGenerator::MergingRun::ReachedBefore(const State::Edit& edit)
+{
+  reachIds.clear();
+  bool reached = false;
+  this->ForEditNeighbourhood(edit, false, [&](bool patch, Index id) {
+    reachIds.push_back(patch ? id : -2 - id); // endpoints as -2 - e (InvalidIndex is -1)
+    reached = reached || (patch ? reachedPatch[id] : reachedEnd[id]);
+  });
+  return reached;
+}
+
+void SpbmLevelGenerator::MergingRun::MarkReached(bool reached)
+{
+  if (!reached)
+  {
+    return;
+  }
+  ++reachableEdits;
+  for (const Index id : reachIds)
+  {
+    if (id >= 0)
+    {
+      reachedPatch[id] = 1;
+      reachedPatch[s.Find(id)] = 1; // the root it is part of after a union
+    }
+    else
+    {
+      reachedEnd[-2 - id] = 1;
+    }
   }
 }
 

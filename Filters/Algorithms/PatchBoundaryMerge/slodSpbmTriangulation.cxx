@@ -61,11 +61,22 @@ bool SpbmLevelGenerator::LevelTriangulation::RunPass(
   }
   this->AddOriginalPatches(frozen);
   clock.Lap("original patches");
+  const size_t originalTriangles = level.TrianglePatch.size();
+  const long long retriangulatedBefore = level.RetriangulatedPatches, trianglesBefore = level.RetriangulatedTriangles;
   if (!this->TriangulatePatches(frozen, abort))
   {
     return false;
   }
   clock.Lap("patches");
+  if (local)
+  {
+    // What a late pass changed against what it walked (TRACE, issue 10): the triangles kept from
+    // the pass before were copied in the whole pass's order.
+    const long long again = level.RetriangulatedTriangles - trianglesBefore;
+    vtkLogF(TRACE, "[spbm] triangulation pass work: %lld triangles kept from the pass before, %lld patches (%lld triangles) triangulated again, %zu original triangles",
+      static_cast<long long>(level.TrianglePatch.size() - originalTriangles) - again,
+      static_cast<long long>(level.RetriangulatedPatches - retriangulatedBefore), again, originalTriangles);
+  }
   for (int round = 0; round < parameters.FailedPatchRefinementRounds; ++round)
   {
     const Index before = level.RefinedInPass;
