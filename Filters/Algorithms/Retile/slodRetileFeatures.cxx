@@ -222,8 +222,33 @@ void RemoveChainEdges(const Chain& chain, std::vector<std::vector<Index>>& neigh
   }
 }
 
-// Interior samples of a chain at even arc-length steps near `spacing`, snapped to its vertices.
-void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, std::vector<Index>& kept)
+// Points at the spacing between consecutive kept vertices of a chain (chain positions `at`, in
+// order) that are 1.5 spacings or more apart along it (FeatureLines::GapPoints).
+void GapPointsOfChain(const Chain& chain, const std::vector<double>& arc, const std::vector<size_t>& at,
+  double spacing, std::vector<LinePoint>& gaps)
+{
+  for (size_t k = 0; k + 1 < at.size(); ++k)
+  {
+    const double start = arc[at[k]], length = arc[at[k + 1]] - start;
+    const long long pieces = std::llround(length / spacing);
+    size_t i = at[k];
+    for (long long j = 1; j < pieces; ++j) // bounded: pieces < length / spacing + 1
+    {
+      const double s = start + length * double(j) / double(pieces);
+      while (i + 1 < at[k + 1] && arc[i + 1] < s)
+      {
+        ++i;
+      }
+      const double edge = arc[i + 1] - arc[i];
+      gaps.push_back(LinePoint{ chain.Vertices[i], chain.Vertices[i + 1], edge > 0 ? (s - arc[i]) / edge : 0.0 });
+    }
+  }
+}
+
+// Interior samples of a chain at even arc-length steps near `spacing`, snapped to its vertices;
+// then the gap points between the kept vertices (its ends and the samples).
+void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, std::vector<Index>& kept,
+  std::vector<LinePoint>& gaps)
 {
   const size_t m = chain.Vertices.size();
   std::vector<double> arc(m, 0.0);
@@ -234,6 +259,7 @@ void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, s
   // A loop without corners keeps its start as a sample (at least three, so it stays a loop).
   const long long pieces = std::max<long long>(chain.Loop ? 3 : 1, std::llround(chain.Length / spacing));
   size_t last = 0;
+  std::vector<size_t> at{ 0 };
   for (long long j = 1; j < pieces; ++j)
   {
     const double s = chain.Length * double(j) / double(pieces);
@@ -246,8 +272,11 @@ void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, s
     {
       kept.push_back(chain.Vertices[i]);
       last = i;
+      at.push_back(i);
     }
   }
+  at.push_back(m - 1);
+  GapPointsOfChain(chain, arc, at, spacing, gaps);
 }
 } // namespace
 
@@ -319,7 +348,7 @@ void LinesOfGraph(const TriangleMesh& mesh, std::vector<std::vector<Index>> neig
     {
       features.Kept.push_back(chain.Vertices.front()); // a loop without corners: its start
     }
-    SampleChain(mesh, chain, spacing, features.Kept);
+    SampleChain(mesh, chain, spacing, features.Kept, features.GapPoints);
   }
   features.LineNeighbors = std::move(neighbors);
 }

@@ -178,10 +178,13 @@ SURFACELODFILTERS_EXPORT void DistributePoints(const TriangleMesh& mesh, const s
 
 // Point repulsion restricted to the surface. The first fixedCount points push but do not move.
 // Two points repel within the mean of their radii (Turk), or the smaller one (smallerPairRadius,
-// RetilingOptions::FilletDensity). Returns false when progress asked to abort.
+// RetilingOptions::FilletDensity). The last `pushers` of the fixed points are not counted in the
+// radius (2 sqrt(A / n)): they stand for a kept line between its samples (FeatureLines::GapPoints)
+// and are no vertices. Returns false when progress asked to abort.
 SURFACELODFILTERS_EXPORT bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh,
   const std::vector<double>& vertexDensity, int iterations, std::vector<SurfacePoint>& points,
-  const std::function<bool(double)>& progress = nullptr, Index fixedCount = 0, bool smallerPairRadius = false);
+  const std::function<bool(double)>& progress = nullptr, Index fixedCount = 0, bool smallerPairRadius = false,
+  Index pushers = 0);
 
 // Min and mean Euclidean nearest-neighbour distance of a point set (grid search).
 SURFACELODFILTERS_EXPORT void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, double& mean,
