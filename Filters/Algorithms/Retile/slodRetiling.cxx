@@ -992,7 +992,7 @@ void Retile(const TriangleMesh& mesh, const RetilingOptions& options, RetilingRe
   vtkLogF(TRACE, "retile: %lld candidate points on %lld triangles", static_cast<long long>(points.size()),
     static_cast<long long>(nt));
   vtkLogStartScopeF(TRACE, "retile-relax", "retile: repulsion");
-  const Index pushers = InsertGapPushers(mesh, features.GapPoints, fixed, points);
+  const Index pushers = options.RepelFromLineGaps ? InsertGapPushers(mesh, features.GapPoints, fixed, points) : 0;
   const bool relaxed = RelaxPoints(mesh, bvh, density, options.RepulsionIterations, points,
     [&](double f) { return report(0.6 * f); }, fixed + pushers, options.FilletDensity, pushers);
   points.erase(points.begin() + fixed, points.begin() + fixed + pushers);

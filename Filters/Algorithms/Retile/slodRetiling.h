@@ -90,6 +90,12 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   // count it ends the trim too (flips only). The vertex count does not change. Retile's finest
   // level only; with RepairFlippedTiles only.
   bool RepairNeedleTiles = true;
+  // With PreserveCreases: where two consecutive kept vertices of a line are 1.5 spacings or more
+  // apart (input edges along the line longer than the spacing), points of the line between them
+  // push the free points in the repulsion, as samples would, without being vertices
+  // (FeatureLines::GapPoints, session 44). Without them a free point held on a convex crease in
+  // such a gap became the obtuse corner of a cap over the line's edge.
+  bool RepelFromLineGaps = true;
   // Candidates standing on an input crease move only along it in the repair and its final stage
   // (slodRetileCreases.h), instead of to the closest point of the surface. The creases are the
   // feature lines PreserveCreases detects but does not keep (they would take half the vertices
