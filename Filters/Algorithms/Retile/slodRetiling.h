@@ -11,6 +11,8 @@
 //     uniform grid, each move in the tangent plane then projected back to the closest point of the
 //     original surface (TriangleBVH), so points cross triangles. Jacobi updates: every move of an
 //     iteration uses the previous positions, which makes the result independent of threading.
+//     Kept feature lines push with their samples and, where the samples are far apart, with
+//     points of the line between them that are no vertices (RepelFromLineGaps, session 44).
 //  4. Mutual tessellation (section 4.2): each original triangle is split at the candidate points it
 //     holds (incremental insertion, then Delaunay flips inside the triangle, original edges kept).
 //  5. Old-vertex removal (sections 4.3/4.4/4.6): each old vertex is removed by collapsing it onto a
