@@ -222,31 +222,32 @@ void RemoveChainEdges(const Chain& chain, std::vector<std::vector<Index>>& neigh
   }
 }
 
-// Points at the spacing between consecutive kept vertices of a chain (chain positions `at`, in
-// order) that are 1.5 spacings or more apart along it (FeatureLines::GapPoints).
-void GapPointsOfChain(const Chain& chain, const std::vector<double>& arc, const std::vector<size_t>& at,
-  double spacing, std::vector<LinePoint>& gaps)
+// Points at the spacing between the kept chain positions i0 < i1 when they are 1.5 spacings or more
+// apart along the chain (FeatureLines::GapPoints).
+void GapPointsBetween(const Chain& chain, const std::vector<double>& arc, size_t i0, size_t i1, double spacing,
+  std::vector<LinePoint>& gaps)
 {
-  for (size_t k = 0; k + 1 < at.size(); ++k)
+  const double start = arc[i0], length = arc[i1] - start;
+  if (length < 1.5 * spacing)
   {
-    const double start = arc[at[k]], length = arc[at[k + 1]] - start;
-    const long long pieces = std::llround(length / spacing);
-    size_t i = at[k];
-    for (long long j = 1; j < pieces; ++j) // bounded: pieces < length / spacing + 1
+    return;
+  }
+  const long long pieces = std::llround(length / spacing);
+  size_t i = i0;
+  for (long long j = 1; j < pieces; ++j) // bounded: pieces < length / spacing + 1
+  {
+    const double s = start + length * double(j) / double(pieces);
+    while (i + 1 < i1 && arc[i + 1] < s)
     {
-      const double s = start + length * double(j) / double(pieces);
-      while (i + 1 < at[k + 1] && arc[i + 1] < s)
-      {
-        ++i;
-      }
-      const double edge = arc[i + 1] - arc[i];
-      gaps.push_back(LinePoint{ chain.Vertices[i], chain.Vertices[i + 1], edge > 0 ? (s - arc[i]) / edge : 0.0 });
+      ++i;
     }
+    const double edge = arc[i + 1] - arc[i];
+    gaps.push_back(LinePoint{ chain.Vertices[i], chain.Vertices[i + 1], edge > 0 ? (s - arc[i]) / edge : 0.0 });
   }
 }
 
 // Interior samples of a chain at even arc-length steps near `spacing`, snapped to its vertices;
-// then the gap points between the kept vertices (its ends and the samples).
+// and the gap points between the kept vertices (its ends and the samples).
 void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, std::vector<Index>& kept,
   std::vector<LinePoint>& gaps)
 {
@@ -259,7 +260,6 @@ void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, s
   // A loop without corners keeps its start as a sample (at least three, so it stays a loop).
   const long long pieces = std::max<long long>(chain.Loop ? 3 : 1, std::llround(chain.Length / spacing));
   size_t last = 0;
-  std::vector<size_t> at{ 0 };
   for (long long j = 1; j < pieces; ++j)
   {
     const double s = chain.Length * double(j) / double(pieces);
@@ -271,12 +271,11 @@ void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, s
     if (i > last && i + 1 < m)
     {
       kept.push_back(chain.Vertices[i]);
+      GapPointsBetween(chain, arc, last, i, spacing, gaps);
       last = i;
-      at.push_back(i);
     }
   }
-  at.push_back(m - 1);
-  GapPointsOfChain(chain, arc, at, spacing, gaps);
+  GapPointsBetween(chain, arc, last, m - 1, spacing, gaps);
 }
 } // namespace
 
