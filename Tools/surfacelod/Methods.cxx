@@ -316,6 +316,7 @@ std::vector<Parameter> RetileParameters()
     SLOD_PARAMETER(vtkRetile, Bool, RingSearchFacesInput),
     SLOD_PARAMETER(vtkRetile, Bool, RepairFlippedTiles),
     SLOD_PARAMETER(vtkRetile, Bool, RepairNeedleTiles),
+    SLOD_PARAMETER(vtkRetile, Bool, RepelFromLineGaps),
     SLOD_PARAMETER(vtkRetile, Bool, SlideAlongCreases),
     SLOD_PARAMETER(vtkRetile, Bool, MoveRetainedVertices),
     SLOD_PARAMETER(vtkRetile, Double, FeatureAngle),

@@ -222,8 +222,34 @@ void RemoveChainEdges(const Chain& chain, std::vector<std::vector<Index>>& neigh
   }
 }
 
-// Interior samples of a chain at even arc-length steps near `spacing`, snapped to its vertices.
-void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, std::vector<Index>& kept)
+// Points at the spacing between the kept chain positions i0 < i1 when they are 1.5 spacings or more
+// apart along the chain (FeatureLines::GapPoints).
+void GapPointsBetween(const Chain& chain, const std::vector<double>& arc, size_t i0, size_t i1, double spacing,
+  std::vector<LinePoint>& gaps)
+{
+  const double start = arc[i0], length = arc[i1] - start;
+  if (length < 1.5 * spacing)
+  {
+    return;
+  }
+  const long long pieces = std::llround(length / spacing);
+  size_t i = i0;
+  for (long long j = 1; j < pieces; ++j) // bounded: pieces < length / spacing + 1
+  {
+    const double s = start + length * double(j) / double(pieces);
+    while (i + 1 < i1 && arc[i + 1] < s)
+    {
+      ++i;
+    }
+    const double edge = arc[i + 1] - arc[i];
+    gaps.push_back(LinePoint{ chain.Vertices[i], chain.Vertices[i + 1], edge > 0 ? (s - arc[i]) / edge : 0.0 });
+  }
+}
+
+// Interior samples of a chain at even arc-length steps near `spacing`, snapped to its vertices;
+// and the gap points between the kept vertices (its ends and the samples).
+void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, std::vector<Index>& kept,
+  std::vector<LinePoint>& gaps)
 {
   const size_t m = chain.Vertices.size();
   std::vector<double> arc(m, 0.0);
@@ -245,9 +271,11 @@ void SampleChain(const TriangleMesh& mesh, const Chain& chain, double spacing, s
     if (i > last && i + 1 < m)
     {
       kept.push_back(chain.Vertices[i]);
+      GapPointsBetween(chain, arc, last, i, spacing, gaps);
       last = i;
     }
   }
+  GapPointsBetween(chain, arc, last, m - 1, spacing, gaps);
 }
 } // namespace
 
@@ -319,7 +347,7 @@ void LinesOfGraph(const TriangleMesh& mesh, std::vector<std::vector<Index>> neig
     {
       features.Kept.push_back(chain.Vertices.front()); // a loop without corners: its start
     }
-    SampleChain(mesh, chain, spacing, features.Kept);
+    SampleChain(mesh, chain, spacing, features.Kept, features.GapPoints);
   }
   features.LineNeighbors = std::move(neighbors);
 }

@@ -20,12 +20,25 @@
 
 namespace slod
 {
+// A point on the feature edge from input vertex From to To: From + T (To - From).
+struct LinePoint
+{
+  Index From, To;
+  double T;
+};
+
 struct SURFACELODFILTERS_EXPORT FeatureLines
 {
   // Per input vertex: the vertices it is joined to by feature edges (empty: not on a line).
   std::vector<std::vector<Index>> LineNeighbors;
   // Input vertices kept as output vertices: corners first, then the samples along the chains.
   std::vector<Index> Kept;
+  // Session 44: points along the chains where two consecutive kept vertices are 1.5 spacings or
+  // more apart (the samples snap to the chain's vertices, so an input edge longer than the spacing
+  // leaves a gap), at the spacing. Not output vertices: they push the free points off the line
+  // in the repulsion, which otherwise holds free points on a convex crease between the samples,
+  // where the removal joins the samples over them and leaves caps.
+  std::vector<LinePoint> GapPoints;
   Index Corners = 0;
   Index FeatureEdges = 0;
   Index DroppedChains = 0; // dangling chains and loops shorter than the spacing (noise)

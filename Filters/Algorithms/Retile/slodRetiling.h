@@ -11,6 +11,8 @@
 //     uniform grid, each move in the tangent plane then projected back to the closest point of the
 //     original surface (TriangleBVH), so points cross triangles. Jacobi updates: every move of an
 //     iteration uses the previous positions, which makes the result independent of threading.
+//     Kept feature lines push with their samples and, where the samples are far apart, with
+//     points of the line between them that are no vertices (RepelFromLineGaps, session 44).
 //  4. Mutual tessellation (section 4.2): each original triangle is split at the candidate points it
 //     holds (incremental insertion, then Delaunay flips inside the triangle, original edges kept).
 //  5. Old-vertex removal (sections 4.3/4.4/4.6): each old vertex is removed by collapsing it onto a
@@ -90,6 +92,12 @@ struct SURFACELODFILTERS_EXPORT RetilingOptions
   // count it ends the trim too (flips only). The vertex count does not change. Retile's finest
   // level only; with RepairFlippedTiles only.
   bool RepairNeedleTiles = true;
+  // With PreserveCreases: where two consecutive kept vertices of a line are 1.5 spacings or more
+  // apart (input edges along the line longer than the spacing), points of the line between them
+  // push the free points in the repulsion, as samples would, without being vertices
+  // (FeatureLines::GapPoints, session 44). Without them a free point held on a convex crease in
+  // such a gap became the obtuse corner of a cap over the line's edge.
+  bool RepelFromLineGaps = true;
   // Candidates standing on an input crease move only along it in the repair and its final stage
   // (slodRetileCreases.h), instead of to the closest point of the surface. The creases are the
   // feature lines PreserveCreases detects but does not keep (they would take half the vertices
@@ -178,10 +186,13 @@ SURFACELODFILTERS_EXPORT void DistributePoints(const TriangleMesh& mesh, const s
 
 // Point repulsion restricted to the surface. The first fixedCount points push but do not move.
 // Two points repel within the mean of their radii (Turk), or the smaller one (smallerPairRadius,
-// RetilingOptions::FilletDensity). Returns false when progress asked to abort.
+// RetilingOptions::FilletDensity). The last `pushers` of the fixed points are not counted in the
+// radius (2 sqrt(A / n)): they stand for a kept line between its samples (FeatureLines::GapPoints)
+// and are no vertices. Returns false when progress asked to abort.
 SURFACELODFILTERS_EXPORT bool RelaxPoints(const TriangleMesh& mesh, const TriangleBVH& bvh,
   const std::vector<double>& vertexDensity, int iterations, std::vector<SurfacePoint>& points,
-  const std::function<bool(double)>& progress = nullptr, Index fixedCount = 0, bool smallerPairRadius = false);
+  const std::function<bool(double)>& progress = nullptr, Index fixedCount = 0, bool smallerPairRadius = false,
+  Index pushers = 0);
 
 // Min and mean Euclidean nearest-neighbour distance of a point set (grid search).
 SURFACELODFILTERS_EXPORT void NearestNeighborSpacing(const std::vector<double>& xyz, double& minimum, double& mean,

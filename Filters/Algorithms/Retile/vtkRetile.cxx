@@ -437,6 +437,7 @@ void CopyPlainOptions(vtkRetile* self, slod::RetilingOptions& options)
   options.RingSearchFacesInput = self->GetRingSearchFacesInput();
   options.RepairFlippedTiles = self->GetRepairFlippedTiles();
   options.RepairNeedleTiles = self->GetRepairNeedleTiles();
+  options.RepelFromLineGaps = self->GetRepelFromLineGaps();
   options.SlideAlongCreases = self->GetSlideAlongCreases();
   options.MoveRetainedVertices = self->GetMoveRetainedVertices();
   options.FeatureAngle = self->GetFeatureAngle();
@@ -619,6 +620,7 @@ void vtkRetile::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RingSearchFacesInput: " << this->RingSearchFacesInput << "\n";
   os << indent << "RepairFlippedTiles: " << this->RepairFlippedTiles << "\n";
   os << indent << "RepairNeedleTiles: " << this->RepairNeedleTiles << "\n";
+  os << indent << "RepelFromLineGaps: " << this->RepelFromLineGaps << "\n";
   os << indent << "SlideAlongCreases: " << this->SlideAlongCreases << "\n";
   os << indent << "MoveRetainedVertices: " << this->MoveRetainedVertices << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";

@@ -123,6 +123,12 @@ public:
   vtkSetMacro(RepairNeedleTiles, bool);
   vtkGetMacro(RepairNeedleTiles, bool);
   vtkBooleanMacro(RepairNeedleTiles, bool);
+  // With PreserveCreases: the kept lines push the free points off the stretches between their
+  // samples that are longer than 1.5 spacings, in the repulsion (no vertex is added; the vertex
+  // count does not change; slod::RetilingOptions::RepelFromLineGaps). On by default.
+  vtkSetMacro(RepelFromLineGaps, bool);
+  vtkGetMacro(RepelFromLineGaps, bool);
+  vtkBooleanMacro(RepelFromLineGaps, bool);
   // Candidates standing on a crease of a feature line that is not kept move only along it in the
   // repair (slod::RetilingOptions::SlideAlongCreases; with PreserveCreases). Off by default.
   vtkSetMacro(SlideAlongCreases, bool);
@@ -177,6 +183,7 @@ protected:
   bool RingSearchFacesInput = false;
   bool RepairFlippedTiles = true;
   bool RepairNeedleTiles = true;
+  bool RepelFromLineGaps = true;
   bool SlideAlongCreases = false;
   bool MoveRetainedVertices = false;
   double FeatureAngle = 45.0;
