@@ -286,9 +286,24 @@ double EvenSpacing(double area, Index count)
 
 namespace
 {
+// The triangles of each gap point's edge, from the topology the lines came from (a gap point's
+// edge is a feature edge: one or two triangles).
+void FindGapPointFaces(const MeshTopology& topology, std::vector<LinePoint>& gaps)
+{
+  for (LinePoint& g : gaps)
+  {
+    const Index e = topology.FindEdge(g.From, g.To);
+    const Index count = e == InvalidIndex ? 0 : std::min<Index>(2, topology.EdgeTriangleCount(e));
+    for (Index k = 0; k < count; ++k)
+    {
+      g.Faces[k] = topology.EdgeTrianglesBegin(e)[k];
+    }
+  }
+}
+
 // The lines of the feature edge graph `neighbors` (moved into features.LineNeighbors).
-void LinesOfGraph(const TriangleMesh& mesh, std::vector<std::vector<Index>> neighbors, double featureAngle,
-  double spacing, FeatureLines& features)
+void LinesOfGraph(const TriangleMesh& mesh, const MeshTopology& topology, std::vector<std::vector<Index>> neighbors,
+  double featureAngle, double spacing, FeatureLines& features)
 {
   features = FeatureLines();
   const double cosine = std::cos(Radians(featureAngle));
@@ -349,19 +364,20 @@ void LinesOfGraph(const TriangleMesh& mesh, std::vector<std::vector<Index>> neig
     }
     SampleChain(mesh, chain, spacing, features.Kept, features.GapPoints);
   }
+  FindGapPointFaces(topology, features.GapPoints);
   features.LineNeighbors = std::move(neighbors);
 }
 } // namespace
 
 void DetectFeatureLines(const TriangleMesh& mesh, double featureAngle, double spacing, FeatureLines& features)
 {
-  std::vector<std::vector<Index>> neighbors = FeatureEdgeGraph(mesh, MeshTopology(mesh), featureAngle);
-  LinesOfGraph(mesh, std::move(neighbors), featureAngle, spacing, features);
+  const MeshTopology topology(mesh);
+  DetectFeatureLines(mesh, topology, featureAngle, spacing, features);
 }
 
 void DetectFeatureLines(const TriangleMesh& mesh, const MeshTopology& topology, double featureAngle, double spacing,
   FeatureLines& features)
 {
-  LinesOfGraph(mesh, FeatureEdgeGraph(mesh, topology, featureAngle), featureAngle, spacing, features);
+  LinesOfGraph(mesh, topology, FeatureEdgeGraph(mesh, topology, featureAngle), featureAngle, spacing, features);
 }
 } // namespace slod

@@ -20,11 +20,14 @@
 
 namespace slod
 {
-// A point on the feature edge from input vertex From to To: From + T (To - From).
+// A point on the feature edge from input vertex From to To: From + T (To - From), with the
+// edge's triangles (two on a crease, the second InvalidIndex on a border), found with the
+// topology the lines were detected with.
 struct LinePoint
 {
   Index From, To;
   double T;
+  Index Faces[2] = { InvalidIndex, InvalidIndex };
 };
 
 struct SURFACELODFILTERS_EXPORT FeatureLines
@@ -50,7 +53,7 @@ class MeshTopology;
 
 // Feature lines of `mesh` at `featureAngle` degrees, sampled at `spacing` (the free points'
 // expected nearest-neighbour distance). Border edges are feature edges too. The mesh's topology is
-// built here and held only while the feature edges are found.
+// built here and held while the lines are found (it gives the gap points their faces).
 SURFACELODFILTERS_EXPORT void DetectFeatureLines(
   const TriangleMesh& mesh, double featureAngle, double spacing, FeatureLines& features);
 // The same with `topology` built on `mesh` by the caller, who uses it again (CreasePolylines).

@@ -870,44 +870,6 @@ std::unique_ptr<CreasePolylines> FeaturePoints(const TriangleMesh& mesh, const R
   return nullptr;
 }
 
-// Per gap point: the triangles of its edge (two on a crease, one on a border).
-std::vector<std::array<Index, 2>> GapEdgeTriangles(const TriangleMesh& mesh, const std::vector<LinePoint>& gaps)
-{
-  auto key = [](Index a, Index b) {
-    return (std::uint64_t(std::uint32_t(std::min(a, b))) << 32) | std::uint32_t(std::max(a, b));
-  };
-  std::unordered_map<std::uint64_t, std::array<Index, 2>> edges;
-  std::vector<unsigned char> end(size_t(mesh.NumberOfPoints()), 0);
-  for (const LinePoint& g : gaps)
-  {
-    edges.emplace(key(g.From, g.To), std::array<Index, 2>{ InvalidIndex, InvalidIndex });
-    end[g.From] = end[g.To] = 1;
-  }
-  for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
-  {
-    const Index* v = mesh.Triangle(t);
-    if (end[v[0]] + end[v[1]] + end[v[2]] < 2)
-    {
-      continue;
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      const auto found = edges.find(key(v[k], v[(k + 1) % 3]));
-      if (found != edges.end())
-      {
-        found->second[found->second[0] == InvalidIndex ? 0 : 1] = t;
-      }
-    }
-  }
-  std::vector<std::array<Index, 2>> triangles;
-  triangles.reserve(gaps.size());
-  for (const LinePoint& g : gaps)
-  {
-    triangles.push_back(edges[key(g.From, g.To)]);
-  }
-  return triangles;
-}
-
 // The kept lines' gap points (FeatureLines::GapPoints) as fixed points of the repulsion, inserted
 // after the `fixed` samples; returns how many. On a convex crease the projection holds a free
 // point pushed across it on the crease, and the samples around a gap push it only along the line:
@@ -922,7 +884,6 @@ Index InsertGapPushers(const TriangleMesh& mesh, const std::vector<LinePoint>& g
   {
     return 0;
   }
-  const std::vector<std::array<Index, 2>> faces = GapEdgeTriangles(mesh, gaps);
   std::vector<SurfacePoint> pushers;
   pushers.reserve(2 * gaps.size());
   for (size_t i = 0; i < gaps.size(); ++i)
@@ -930,7 +891,7 @@ Index InsertGapPushers(const TriangleMesh& mesh, const std::vector<LinePoint>& g
     const LinePoint& g = gaps[i];
     const Vec3 a = mesh.Point(g.From);
     const Vec3 p = a + g.T * (mesh.Point(g.To) - a);
-    const Index t0 = faces[i][0], t1 = faces[i][1];
+    const Index t0 = g.Faces[0], t1 = g.Faces[1];
     if (t0 == InvalidIndex)
     {
       continue;

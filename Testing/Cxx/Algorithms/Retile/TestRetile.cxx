@@ -450,6 +450,35 @@ TEST(Retile, DanglingLineIsKeptWhicheverEndHasTheLargerId)
   EXPECT_EQ(reversed.Kept.size(), forward.Kept.size());
 }
 
+// A gap point carries the triangles of its own edge, found with the detection's topology (the
+// repulsion's pushers stand on them): both faces on the crease, each one holding the edge, and the
+// same faces whether the caller or the detection builds the topology.
+TEST(Retile, GapPointsCarryTheirEdgesFaces)
+{
+  const TriangleMesh sheet = FadingCrease(8, false);
+  FeatureLines own, given;
+  DetectFeatureLines(sheet, 30.0, 0.04, own); // grid edges of 0.125: kept samples are gaps apart
+  const MeshTopology topology(sheet);
+  DetectFeatureLines(sheet, topology, 30.0, 0.04, given);
+  ASSERT_FALSE(own.GapPoints.empty());
+  ASSERT_EQ(own.GapPoints.size(), given.GapPoints.size());
+  for (size_t i = 0; i < own.GapPoints.size(); ++i)
+  {
+    const LinePoint& g = own.GapPoints[i];
+    const bool onBorder = topology.EdgeTriangleCount(topology.FindEdge(g.From, g.To)) == 1;
+    for (int k = 0; k < (onBorder ? 1 : 2); ++k)
+    {
+      ASSERT_NE(g.Faces[k], InvalidIndex) << i;
+      const Index* v = sheet.Triangle(g.Faces[k]);
+      const int ends = (v[0] == g.From || v[1] == g.From || v[2] == g.From) + (v[0] == g.To || v[1] == g.To || v[2] == g.To);
+      EXPECT_EQ(ends, 2) << i;
+      EXPECT_EQ(g.Faces[k], given.GapPoints[i].Faces[k]) << i;
+    }
+    EXPECT_EQ(g.Faces[1] == InvalidIndex, onBorder) << i;
+    EXPECT_NE(g.Faces[0], g.Faces[1]) << i;
+  }
+}
+
 TEST(Retile, CoreSpacingImprovesWithIterations)
 {
   const TriangleMesh torus = slodtest::Torus(64, 32);
