@@ -797,6 +797,28 @@ def scenario_bench_scaling(a):
     check(abs(ratios[0]["cpu_time_ratio"] - expected) <= 1e-6 * expected, "cpu ratio %r, times %r" % (ratios, rows))
 
 
+def scenario_bench_interleave(a):
+    """--interleave: every method's --repeat runs in rounds; the time ratio is the median of the rounds' ratios."""
+    rows = [json.loads(l) for l in run(a.cli, "bench", "--inputs", "fandisk", "--mesh-dir", a.mesh_dir, "--methods",
+                                       "quadric-triangle-collapse", "--repeat", 3, "--interleave", "-n", 500,
+                                       "-j").stdout.splitlines() if l.strip()]
+    check(len(rows) == 2 and all(r["status"] == "ok" for r in rows), "rows: %r" % rows)
+    base, method = rows
+    for row in rows:
+        rounds = row.get("round_seconds") or []
+        check(len(rounds) == 3, "rounds of %s: %r" % (row["method"], rounds))
+        check(rounds and abs(row["seconds"] - min(rounds)) <= 1e-12, "fastest of the rounds: %r" % row)
+    ratios = sorted(m / b for m, b in zip(method["round_seconds"], base["round_seconds"]))
+    check(abs(method["time_ratio_vs_vtk_quadric"] - ratios[1]) <= 1e-9 * ratios[1],
+          "median of %r, reported %r" % (ratios, method["time_ratio_vs_vtk_quadric"]))
+    plain = [json.loads(l) for l in run(a.cli, "bench", "--inputs", "fandisk", "--mesh-dir", a.mesh_dir, "--methods",
+                                        "quadric-triangle-collapse", "--repeat", 2, "-n", 500, "-j").stdout.splitlines()
+             if l.strip()]
+    check(len(plain) == 2 and all("round_seconds" not in r for r in plain), "without --interleave: %r" % plain)
+    check(abs(plain[1]["time_ratio_vs_vtk_quadric"] - plain[1]["seconds"] / plain[0]["seconds"]) <= 1e-9,
+          "without --interleave the fastest runs' ratio: %r" % plain)
+
+
 def scenario_bench_timeout(a):
     """A method over the time-out is killed and reported, and the bench goes on."""
     proc = run(a.cli, "bench", "--inputs", "noisy:40,fandisk", "--mesh-dir", a.mesh_dir, "--methods",

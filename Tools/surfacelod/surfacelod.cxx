@@ -1002,6 +1002,9 @@ std::string BenchDescription()
     "bounding-box diagonal; target: at most 1% (+1) more triangles than asked; chi, loops, nm-e: Euler\n"
     "characteristic, border loops and non-manifold edges of the output (the input's on its header line); B/vert:\n"
     "the method's peak memory beyond the read input, in bytes per input point (largest of the runs).\n"
+    "--interleave: the --repeat runs of an input alternate between the methods (a round runs each\n"
+    "once, the baseline first), and t/quad is the median of the rounds' ratios: a machine whose speed\n"
+    "drifts during the bench moves both times of a round alike.\n"
     "The header gives the load average.";
 }
 
@@ -1010,7 +1013,7 @@ struct BenchArguments
 {
   std::vector<std::string> Inputs, Files, ScalingResolutions, MethodNames;
   std::string InputSet, MeshDirectory;
-  bool Scaling = false, NoDeviation = false, Json = false;
+  bool Scaling = false, NoDeviation = false, Json = false, Interleave = false;
   TargetArguments Target;
   int Repeat = 1;
   double TimeoutSeconds = 600.0;
@@ -1043,6 +1046,8 @@ std::function<int()> DefineBench(CLI::App& app)
   AddMethodsOption(app, args->MethodNames, "methods to run (default: all)");
   app.add_option("--repeat", args->Repeat, "runs per method, the fastest counts (default 1)")
     ->type_name("N")->check(CLI::Range(1, 1000));
+  app.add_flag("--interleave", args->Interleave, "the --repeat runs alternate between the methods; t/quad is the "
+    "median of the rounds' ratios");
   app.add_option("--timeout", args->TimeoutSeconds, "seconds a method may take (per run, default 600)")
     ->type_name("S")->check(CLI::Range(0.001, 1e7));
   app.add_option("--mesh-dir", args->MeshDirectory,
@@ -1059,6 +1064,7 @@ struct BenchOptions
   std::vector<const Method*> Methods; // the baseline first
   std::vector<std::string> TargetArguments; // forwarded to `surfacelod simplify`
   int Repeat = 1;
+  bool Interleave = false; // rounds of one run per method instead of each method's runs in a row
   double TimeoutSeconds = 600.0;
   vtkIdType Samples = -1;
   bool Deviation = true;
@@ -1089,6 +1095,7 @@ struct BenchRow
   double CpuSeconds = 0.0;    // of the fastest run: the work, whatever the machine's load
   double PeakMegabytes = 0.0; // of the child process
   double WorkingBytesPerInputPoint = std::numeric_limits<double>::quiet_NaN(); // beyond the input, largest run
+  std::vector<double> RoundSeconds; // with --interleave: the filter's seconds in each round
   vtkIdType InputTriangles = 0, TargetTriangles = 0, OutputTriangles = 0;
   bool HasTarget = true; // false for a method that removes features of a size (no count to reach)
   bool TargetReached = false;
@@ -1117,48 +1124,55 @@ std::string LastLine(const std::string& text)
   return text.substr(begin == std::string::npos ? 0 : begin + 1, end + 1 - (begin == std::string::npos ? 0 : begin + 1));
 }
 
-// Runs `surfacelod simplify` on the input file --repeat times; keeps the fastest run. The output
-// mesh of the last run is in outputPath when the status is "ok".
-void RunMethodInChild(const BenchOptions& options, const std::string& inputPath, const std::string& outputPath,
-  BenchRow& row)
+// The `surfacelod simplify` command line of a row's method.
+std::vector<std::string> ChildArguments(const BenchOptions& options, const std::string& inputPath,
+  const std::string& outputPath, const BenchRow& row)
 {
   std::vector<std::string> arguments = { CurrentExecutable(), "simplify", inputPath, outputPath, "--method",
     row.Run->Name, "--json" };
   arguments.insert(arguments.end(), options.TargetArguments.begin(), options.TargetArguments.end());
-  for (int r = 0; r < options.Repeat; ++r)
-  {
-    const ChildResult child = RunChildProcess(arguments, options.TimeoutSeconds);
-    if (child.TimedOut || !child.Started || child.ExitCode != 0)
-    {
-      row.Status = child.TimedOut ? "timeout" : "failed";
-      row.Message = child.TimedOut ? "over " + FormatReal(options.TimeoutSeconds) + " s"
-                                   : LastLine(child.Started ? child.Errors : child.Output);
-      return;
-    }
-    const double seconds = JsonNumber(child.Output, "seconds");
-    if (!std::isfinite(seconds))
-    {
-      row.Status = "failed";
-      row.Message = "no timing in the output of simplify";
-      return;
-    }
-    if (r == 0 || seconds < row.Seconds)
-    {
-      row.Seconds = seconds;
-      row.CpuSeconds = JsonNumber(child.Output, "cpu_seconds");
-    }
-    row.PeakMegabytes = std::max(row.PeakMegabytes, JsonNumber(child.Output, "peak_rss_mb"));
-    const double working = JsonNumber(child.Output, "working_rss_mb") * 1048576.0 / JsonNumber(child.Output, "input_points");
-    if (std::isfinite(working) && !(working <= row.WorkingBytesPerInputPoint))
-    {
-      row.WorkingBytesPerInputPoint = working;
-    }
-  }
+  return arguments;
 }
 
-// Runs one method and measures its output against the input.
-BenchRow BenchMethod(const BenchOptions& options, const std::string& inputName, vtkPolyData* input,
-  const std::string& inputPath, const MethodSettings& settings, const Method& method)
+// One run of a row's method in a child process; keeps the fastest run's times and the largest
+// memory. Returns false (status and message set) when the run failed or timed out.
+bool RunOnceInChild(const BenchOptions& options, const std::vector<std::string>& arguments, bool first, BenchRow& row)
+{
+  const ChildResult child = RunChildProcess(arguments, options.TimeoutSeconds);
+  if (child.TimedOut || !child.Started || child.ExitCode != 0)
+  {
+    row.Status = child.TimedOut ? "timeout" : "failed";
+    row.Message = child.TimedOut ? "over " + FormatReal(options.TimeoutSeconds) + " s"
+                                 : LastLine(child.Started ? child.Errors : child.Output);
+    return false;
+  }
+  const double seconds = JsonNumber(child.Output, "seconds");
+  if (!std::isfinite(seconds))
+  {
+    row.Status = "failed";
+    row.Message = "no timing in the output of simplify";
+    return false;
+  }
+  if (first || seconds < row.Seconds)
+  {
+    row.Seconds = seconds;
+    row.CpuSeconds = JsonNumber(child.Output, "cpu_seconds");
+  }
+  if (options.Interleave)
+  {
+    row.RoundSeconds.push_back(seconds);
+  }
+  row.PeakMegabytes = std::max(row.PeakMegabytes, JsonNumber(child.Output, "peak_rss_mb"));
+  const double working = JsonNumber(child.Output, "working_rss_mb") * 1048576.0 / JsonNumber(child.Output, "input_points");
+  if (std::isfinite(working) && !(working <= row.WorkingBytesPerInputPoint))
+  {
+    row.WorkingBytesPerInputPoint = working;
+  }
+  return true;
+}
+
+// A row for one method on one input, not yet run.
+BenchRow MakeBenchRow(const std::string& inputName, const MethodSettings& settings, const Method& method)
 {
   BenchRow row;
   row.Input = inputName;
@@ -1168,12 +1182,22 @@ BenchRow BenchMethod(const BenchOptions& options, const std::string& inputName, 
   row.TargetTriangles = settings.TargetTriangles > 0
     ? settings.TargetTriangles
     : vtkIdType(std::llround(double(settings.InputTriangles) * (1.0 - settings.ReductionFraction())));
-  const std::string outputPath = options.WorkDirectory + "/" + method.Name + ".vtp";
-  RunMethodInChild(options, inputPath, outputPath, row);
+  return row;
+}
+
+std::string BenchOutputPath(const BenchOptions& options, const BenchRow& row)
+{
+  return options.WorkDirectory + "/" + row.Run->Name + ".vtp";
+}
+
+// The last run's output of a row that ran: its count, topology and deviation from the input.
+void MeasureBenchOutput(const BenchOptions& options, vtkPolyData* input, BenchRow& row)
+{
   if (row.Status != "ok")
   {
-    return row;
+    return;
   }
+  const std::string outputPath = BenchOutputPath(options, row);
   vtkSmartPointer<vtkPolyData> output = TriangulatedSurface(ReadMesh(outputPath));
   row.OutputTriangles = CountTriangles(output);
   row.TargetReached = row.OutputTriangles <= row.TargetTriangles + row.TargetTriangles / 100 + 1;
@@ -1183,7 +1207,6 @@ BenchRow BenchMethod(const BenchOptions& options, const std::string& inputName, 
     row.Distance = MeasureDeviation(input, output, options.Samples, true);
     row.HasDeviation = true;
   }
-  return row;
 }
 
 // value / baseline, or NaN when either is missing.
@@ -1191,6 +1214,28 @@ double RatioTo(double value, double baseline)
 {
   return baseline > 0 && std::isfinite(baseline) && std::isfinite(value) ? value / baseline
                                                                           : std::numeric_limits<double>::quiet_NaN();
+}
+
+// The method's time over the baseline's: with --interleave the median of the rounds' ratios,
+// else the ratio of the fastest runs.
+double TimeRatio(const BenchRow& row, const BenchRow& baseline)
+{
+  if (row.Status != "ok" || baseline.Status != "ok")
+  {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const size_t rounds = row.RoundSeconds.size();
+  if (rounds < 2 || baseline.RoundSeconds.size() != rounds)
+  {
+    return RatioTo(row.Seconds, baseline.Seconds);
+  }
+  std::vector<double> ratios(rounds);
+  for (size_t r = 0; r < rounds; ++r)
+  {
+    ratios[r] = RatioTo(row.RoundSeconds[r], baseline.RoundSeconds[r]);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  return rounds % 2 ? ratios[rounds / 2] : 0.5 * (ratios[rounds / 2 - 1] + ratios[rounds / 2]);
 }
 
 double OneMinuteLoad()
@@ -1247,7 +1292,7 @@ void PrintRowText(const BenchRow& row, const BenchRow& baseline)
             << Padded(Fixed(row.Seconds, 3), 9, true)
             << Padded(std::isfinite(row.CpuSeconds) ? Fixed(row.CpuSeconds, 3) : "-", 9, true)
             << Padded(row.Seconds > 0 ? Fixed(1e-6 * double(row.InputTriangles) / row.Seconds, 2) : "-", 8, true)
-            << Padded(RatioText(RatioTo(row.Seconds, baseline.Status == "ok" ? baseline.Seconds : 0)), 8, true)
+            << Padded(RatioText(TimeRatio(row, baseline)), 8, true)
             << Padded(deviation ? Scientific(row.Distance.Hausdorff) : "-", 11, true)
             << Padded(deviation && baseline.HasDeviation
                    ? RatioText(RatioTo(row.Distance.Hausdorff, baseline.Distance.Hausdorff)) : "-", 8, true)
@@ -1274,8 +1319,8 @@ void PrintRowJson(const BenchRow& row, const BenchRow& baseline, const TopologyS
     { "seconds", NumberOrNull(row.Seconds, ok) }, { "cpu_seconds", NumberOrNull(row.CpuSeconds, ok) },
     { "input_triangles_per_second", NumberOrNull(double(row.InputTriangles) / row.Seconds, ok && row.Seconds > 0) },
     { "baseline_seconds", NumberOrNull(baselineSeconds, baselineSeconds > 0) },
-    { "speedup_vs_vtk_quadric", NumberOrNull(RatioTo(baselineSeconds, row.Seconds), ok) },
-    { "time_ratio_vs_vtk_quadric", NumberOrNull(RatioTo(row.Seconds, baselineSeconds), ok) },
+    { "speedup_vs_vtk_quadric", NumberOrNull(1.0 / TimeRatio(row, baseline), ok) },
+    { "time_ratio_vs_vtk_quadric", NumberOrNull(TimeRatio(row, baseline), ok) },
     { "hausdorff", NumberOrNull(row.Distance.Hausdorff, row.HasDeviation) },
     { "rms", NumberOrNull(row.Distance.RMS, row.HasDeviation) },
     { "hausdorff_ratio_vs_vtk_quadric", NumberOrNull(RatioTo(row.Distance.Hausdorff, baseline.Distance.Hausdorff),
@@ -1292,7 +1337,30 @@ void PrintRowJson(const BenchRow& row, const BenchRow& baseline, const TopologyS
   {
     line["message"] = row.Message;
   }
+  if (!row.RoundSeconds.empty())
+  {
+    line["round_seconds"] = row.RoundSeconds;
+  }
   PrintJson(line);
+}
+
+// Runs the rows' methods --repeat times: each method's runs in a row, or with --interleave in
+// rounds of one run per method (a method that failed runs no more).
+void RunBenchRows(const BenchOptions& options, const std::string& inputPath, std::vector<BenchRow>& rows)
+{
+  const int rounds = options.Interleave ? options.Repeat : 1;
+  const int runsPerRound = options.Interleave ? 1 : options.Repeat;
+  for (int round = 0; round < rounds; ++round)
+  {
+    for (BenchRow& row : rows)
+    {
+      const std::vector<std::string> arguments = ChildArguments(options, inputPath, BenchOutputPath(options, row), row);
+      for (int r = 0; r < runsPerRound && row.Status == "ok"; ++r)
+      {
+        RunOnceInChild(options, arguments, round + r == 0, row);
+      }
+    }
+  }
 }
 
 // Every method on one input; returns the rows (the baseline's first).
@@ -1308,14 +1376,19 @@ std::vector<BenchRow> BenchInput(const BenchOptions& options, const TargetArgume
   std::vector<BenchRow> rows;
   for (const Method* method : options.Methods)
   {
-    rows.push_back(BenchMethod(options, name, input, inputPath, settings, *method));
-    if (options.Json)
+    rows.push_back(MakeBenchRow(name, settings, *method));
+  }
+  // Without --interleave each method runs and is printed before the next one starts.
+  const size_t batch = options.Interleave ? rows.size() : 1;
+  for (size_t first = 0; first < rows.size(); first += batch)
+  {
+    std::vector<BenchRow> part(rows.begin() + first, rows.begin() + first + batch);
+    RunBenchRows(options, inputPath, part);
+    for (size_t k = 0; k < batch; ++k)
     {
-      PrintRowJson(rows.back(), rows.front(), topology);
-    }
-    else
-    {
-      PrintRowText(rows.back(), rows.front());
+      rows[first + k] = std::move(part[k]);
+      MeasureBenchOutput(options, input, rows[first + k]);
+      options.Json ? PrintRowJson(rows[first + k], rows.front(), topology) : PrintRowText(rows[first + k], rows.front());
     }
   }
   return rows;
@@ -1410,6 +1483,7 @@ BenchOptions MakeBenchOptions(const BenchArguments& args)
 {
   BenchOptions options;
   options.Repeat = args.Repeat;
+  options.Interleave = args.Interleave;
   options.TimeoutSeconds = args.TimeoutSeconds;
   options.Samples = args.Samples;
   options.Deviation = !args.NoDeviation;
