@@ -244,6 +244,7 @@ std::vector<Parameter> PatchBoundaryMergeParameters()
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, LoosenThicknessForTarget),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, CollapseFinerLevelForTarget),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, RefineDeviatingRegions),
+    SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, MildTargetRegionAllowance),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Double, LateFailureShare),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, AreaWeightedNormals),
     SLOD_PARAMETER(vtkPatchBoundaryMerge, Bool, MaximumErrorIsRelative),
