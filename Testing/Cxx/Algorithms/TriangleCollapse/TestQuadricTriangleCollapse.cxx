@@ -1452,6 +1452,18 @@ void ExpectTheSameBatchesAndOutputs(const std::vector<TriangleCollapseResult>& r
   }
 }
 
+// The marching-cubes mesh (its equal costs make large, overlapping batches) to a tenth in
+// batches, for 1, 2 and 8 threads; input and options are set to those of the runs.
+std::vector<TriangleCollapseResult> MarchingCubesInBatches(
+  vtkSmartPointer<vtkPolyData>& input, TriangleCollapseOptions& options)
+{
+  input = Mesh("marching-cubes");
+  options = TriangleCollapseOptions();
+  options.TargetTriangles = static_cast<Index>(input->GetNumberOfPolys() / 10);
+  options.BatchCollapses = true;
+  return ResultsForOneTwoAndEightThreads(input, options);
+}
+
 // Session 41: a batch entry claims the ring of its operation, which needs the operation only; an
 // edge operation's placement waits until the entry holds its claims, so the entries that lose
 // them to an earlier entry (most of the others on a marching-cubes mesh: ties) are not placed.
@@ -1459,11 +1471,9 @@ void ExpectTheSameBatchesAndOutputs(const std::vector<TriangleCollapseResult>& r
 // output, are the same for 1, 2 and 8 threads. The strict order's lone entries always run.
 TEST(QuadricTriangleCollapse, BatchEntriesThatLoseTheirClaimsAreNotPlaced)
 {
-  vtkSmartPointer<vtkPolyData> input = Mesh("marching-cubes");
+  vtkSmartPointer<vtkPolyData> input;
   TriangleCollapseOptions options;
-  options.TargetTriangles = static_cast<Index>(input->GetNumberOfPolys() / 10);
-  options.BatchCollapses = true;
-  const std::vector<TriangleCollapseResult> results = ResultsForOneTwoAndEightThreads(input, options);
+  const std::vector<TriangleCollapseResult> results = MarchingCubesInBatches(input, options);
   const TriangleCollapseResult& first = results[0];
   const long long lost = first.SelectedEntries - first.RanEntries;
   std::printf("[batch placements] %lld entries, %lld ran, %lld lost, %lld not placed\n", first.SelectedEntries,
@@ -1573,11 +1583,9 @@ SharedCounters SharedCountersOf(const R&, long)
 // the same for 1, 2 and 8 threads, as the output is; none in the strict order.
 TEST(QuadricTriangleCollapse, BatchCollapsesLeaveFewCollapsesToTheCallingThread)
 {
-  vtkSmartPointer<vtkPolyData> input = Mesh("marching-cubes");
+  vtkSmartPointer<vtkPolyData> input;
   TriangleCollapseOptions options;
-  options.TargetTriangles = static_cast<Index>(input->GetNumberOfPolys() / 10);
-  options.BatchCollapses = true;
-  const std::vector<TriangleCollapseResult> results = ResultsForOneTwoAndEightThreads(input, options);
+  const std::vector<TriangleCollapseResult> results = MarchingCubesInBatches(input, options);
   const TriangleCollapseResult& first = results[0];
   const SharedCounters shared = SharedCountersOf(first, 0);
   const long long lone = first.BatchesPoppedAlone;
