@@ -108,20 +108,26 @@ struct WindowedFunctor
 // noisy137's 140,427 (4.8 entries each) on one thread (session 41). The functors' results do
 // not depend on how the range is split.
 constexpr vtkIdType BatchGrain = 16;
-inline bool OnCaller(bool oneThread, vtkIdType first, vtkIdType last)
+// The perform step's grain (session 45): a collapse with the re-keying of its fan costs about
+// 7,000 instructions (mc250k), 30 times an entry's pick and claims, so a step of 5 to 16
+// collapses is worth a task per few of them (a vtkSMPTools::For costs about 6,000 instructions
+// of TBB's own, session 41). With the batch grain, the performed collapses of the batches that
+// ran at most 16 stayed on the calling thread: sequential work on two threads.
+constexpr vtkIdType PerformGrain = 4;
+inline bool OnCaller(bool oneThread, vtkIdType first, vtkIdType last, vtkIdType grain = BatchGrain)
 {
-  return oneThread || last - first <= BatchGrain;
+  return oneThread || last - first <= grain;
 }
 template <typename Functor>
-void ForEntries(bool oneThread, vtkIdType first, vtkIdType last, Functor& functor)
+void ForEntries(bool oneThread, vtkIdType first, vtkIdType last, Functor& functor, vtkIdType grain = BatchGrain)
 {
-  if (OnCaller(oneThread, first, last))
+  if (OnCaller(oneThread, first, last, grain))
   {
     functor(first, last);
   }
   else
   {
-    vtkSMPTools::For(first, last, BatchGrain, functor);
+    vtkSMPTools::For(first, last, grain, functor);
   }
 }
 constexpr int FitIterations = 2;
@@ -397,6 +403,7 @@ struct CollapseLoop
   long long RingWalks = 0; // TriangleCollapseResult::RingWalks
   long long Gathers = 0;   // TriangleCollapseResult::OneRingGathers
   long long LoneBatches = 0; // TriangleCollapseResult::BatchesPoppedAlone
+  long long SharedBatches = 0, SharedEntries = 0, SharedCollapses = 0; // TriangleCollapseResult::SharedStep*
   // Wall time of the batches' phases: select, evaluate, apply; the parallel apply splits the last
   // into its sequential settle, its concurrent collapses and its sequential queue updates.
   // Timed only when TRACE is logged: the clock read costs about 25 ns, four reads per batch, and
@@ -3394,6 +3401,13 @@ void TriangleCollapser::EvaluateBatch(CollapseLoop& loop, CollapseBatch& batch)
     }
     batch.InOrder = claim.InOrder;
   }
+  // The entries whose pick, claims and check run in steps that several threads share when there
+  // are several (TriangleCollapseResult::SharedStepEntries; from sizes only, as the steps split).
+  if (n > 1 && !this->Options.ExactUnion && !OnCaller(false, 0, n))
+  {
+    ++loop.SharedBatches;
+    loop.SharedEntries += n;
+  }
   // The exact-union mode shares a union buffer between evaluations: sequential.
   if (n == 1 || this->Options.ExactUnion)
   {
@@ -3928,6 +3942,19 @@ void TriangleCollapser::QueuePerformed(
   }
 }
 
+// The collapses of a batch performed in a step that several threads share when there are several
+// (TriangleCollapseResult::SharedStepCollapses): the batch's steps split (more entries than one
+// grain) and more collapses than one perform grain. Counted from sizes only: the same for any
+// thread count (on one thread the same steps run in order on the caller).
+void CountSharedCollapses(const CollapseBatch& batch, CollapseLoop& loop)
+{
+  const vtkIdType n = static_cast<vtkIdType>(batch.Order.size());
+  if (!OnCaller(false, 0, static_cast<vtkIdType>(batch.Entries.size())) && !OnCaller(false, 0, n, PerformGrain))
+  {
+    loop.SharedCollapses += n;
+  }
+}
+
 bool TriangleCollapser::ParallelApply(
   CollapseBatch& batch, CollapseLoop& loop, TriangleCollapseResult& result, PhaseClock& clock)
 {
@@ -3935,14 +3962,16 @@ bool TriangleCollapser::ParallelApply(
   if (batch.InOrder)
   {
     this->CollapseInOrder(batch, loop, result, more);
+    CountSharedCollapses(batch, loop);
     clock.Next();
     return this->QueueInOrder(batch, loop, result) && more;
   }
   const size_t room = this->SettleForParallel(batch, loop, result, more);
+  CountSharedCollapses(batch, loop);
   clock.Next();
   const vtkIdType n = static_cast<vtkIdType>(batch.Order.size());
   PerformBatchFunctor perform{ *this, batch, this->Mesh.ReserveRefs(static_cast<Index>(room)) };
-  ForEntries(batch.OneThread, 0, n, perform);
+  ForEntries(batch.OneThread, 0, n, perform, PerformGrain);
   Index removedTriangles = 0, removedVertices = 0;
   for (vtkIdType k = 0; k < n; ++k)
   {
@@ -4707,6 +4736,9 @@ void TriangleCollapser::TraceStatistics(const CollapseLoop& loop, const Triangle
     double(loop.RingWalks) / double(std::max<long long>(1, loop.Selected)), phase[0], phase[1], phase[2] + phase[3] + phase[4]);
   vtkLogF(TRACE, "triangle collapse: %lld batches popped alone (fewer than %d entries within the tolerance)",
     loop.LoneBatches, this->Options.BatchMinimumSize);
+  vtkLogF(TRACE, "triangle collapse: %lld batches, %lld of %lld entries and %lld of %d collapses in steps shared by "
+    "the threads (the rest on the calling thread whatever the thread count)", loop.SharedBatches, loop.SharedEntries,
+    loop.Selected, loop.SharedCollapses, int(result.Collapses));
   vtkLogF(TRACE, "triangle collapse: %lld of %lld vertices searched for border edges (the caller's border flags %s)",
     result.BorderSearches, static_cast<long long>(this->Mesh.NumberOfPoints()), this->BorderFlagsGiven ? "given" : "not given");
   if (phase[3] > 0 || phase[4] > 0)
@@ -4828,6 +4860,9 @@ void TriangleCollapser::Run(TriangleMesh& input, TriangleCollapseResult& result)
   result.RingWalks = loop.RingWalks;
   result.OneRingGathers = loop.Gathers;
   result.BatchesPoppedAlone = loop.LoneBatches;
+  result.SharedStepBatches = loop.SharedBatches;
+  result.SharedStepEntries = loop.SharedEntries;
+  result.SharedStepCollapses = loop.SharedCollapses;
   result.TopologyTestsReused = this->FailedSets.Reused;
   for (long long tests : loop.StatusCounts)
   {

@@ -283,6 +283,13 @@ struct SURFACELODFILTERS_EXPORT TriangleCollapseResult
   // Session 42: the batches performed as lone pops because the queue showed that they would hold
   // fewer than TriangleCollapseOptions::BatchMinimumSize entries.
   long long BatchesPoppedAlone = 0;
+  // Session 45: the batches' work that several threads share when there are several: the batches
+  // whose steps split (more than 16 entries), their entries (pick, claims and check in split
+  // steps), and the collapses performed in split steps (more than 4 collapses of such a batch). Everything else
+  // of the loop (lone pops, selection, settling, queue updates) runs on the calling thread:
+  // Collapses - SharedStepCollapses is the count of collapses performed there. Counted from the
+  // batches' sizes, so the same for any thread count; 0 in the strict order.
+  long long SharedStepBatches = 0, SharedStepEntries = 0, SharedStepCollapses = 0;
   // Session 44: the validity tests (counted in ValidityTests) that the strict order answered
   // without EditableMesh's check: a set that failed its topology (or held a locked vertex) was
   // tested again with no collapse in between (the two triangles of an edge whose collapse would

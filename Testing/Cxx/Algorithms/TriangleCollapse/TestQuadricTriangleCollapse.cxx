@@ -1452,6 +1452,18 @@ void ExpectTheSameBatchesAndOutputs(const std::vector<TriangleCollapseResult>& r
   }
 }
 
+// The marching-cubes mesh (its equal costs make large, overlapping batches) to a tenth in
+// batches, for 1, 2 and 8 threads; input and options are set to those of the runs.
+std::vector<TriangleCollapseResult> MarchingCubesInBatches(
+  vtkSmartPointer<vtkPolyData>& input, TriangleCollapseOptions& options)
+{
+  input = Mesh("marching-cubes");
+  options = TriangleCollapseOptions();
+  options.TargetTriangles = static_cast<Index>(input->GetNumberOfPolys() / 10);
+  options.BatchCollapses = true;
+  return ResultsForOneTwoAndEightThreads(input, options);
+}
+
 // Session 41: a batch entry claims the ring of its operation, which needs the operation only; an
 // edge operation's placement waits until the entry holds its claims, so the entries that lose
 // them to an earlier entry (most of the others on a marching-cubes mesh: ties) are not placed.
@@ -1459,11 +1471,9 @@ void ExpectTheSameBatchesAndOutputs(const std::vector<TriangleCollapseResult>& r
 // output, are the same for 1, 2 and 8 threads. The strict order's lone entries always run.
 TEST(QuadricTriangleCollapse, BatchEntriesThatLoseTheirClaimsAreNotPlaced)
 {
-  vtkSmartPointer<vtkPolyData> input = Mesh("marching-cubes");
+  vtkSmartPointer<vtkPolyData> input;
   TriangleCollapseOptions options;
-  options.TargetTriangles = static_cast<Index>(input->GetNumberOfPolys() / 10);
-  options.BatchCollapses = true;
-  const std::vector<TriangleCollapseResult> results = ResultsForOneTwoAndEightThreads(input, options);
+  const std::vector<TriangleCollapseResult> results = MarchingCubesInBatches(input, options);
   const TriangleCollapseResult& first = results[0];
   const long long lost = first.SelectedEntries - first.RanEntries;
   std::printf("[batch placements] %lld entries, %lld ran, %lld lost, %lld not placed\n", first.SelectedEntries,
@@ -1544,6 +1554,65 @@ TEST(QuadricTriangleCollapse, SmallBatchesArePoppedAlone)
     EXPECT_EQ(results[i].Mesh.Points, first.Mesh.Points);
     EXPECT_EQ(results[i].Mesh.Triangles, first.Mesh.Triangles);
   }
+}
+
+// Session 45's counters of the batches' work that several threads share, read where the library
+// has them; -1 where it does not (the test then fails by its assertions on base-s45).
+struct SharedCounters
+{
+  long long Batches = -1, Entries = -1, Collapses = -1;
+};
+template <class R>
+auto SharedCountersOf(const R& r, int)
+  -> decltype(r.SharedStepBatches + r.SharedStepEntries + r.SharedStepCollapses, SharedCounters())
+{
+  return { r.SharedStepBatches, r.SharedStepEntries, r.SharedStepCollapses };
+}
+template <class R>
+SharedCounters SharedCountersOf(const R&, long)
+{
+  return {};
+}
+
+// Session 45: on two threads only the steps of the larger batches are shared; the collapses that
+// stay on the calling thread are sequential work (Amdahl). A batch's steps split when it holds
+// more than 16 entries, and its collapses run in a split step when there are more than four of
+// them, so the calling thread performs at most one collapse per lone pop, one per entry of a
+// batch too small to split, and four per split batch (before, a split batch that ran up to 16
+// collapses performed them all there: on this mesh half of its collapses). Counted from sizes:
+// the same for 1, 2 and 8 threads, as the output is; none in the strict order.
+TEST(QuadricTriangleCollapse, BatchCollapsesLeaveFewCollapsesToTheCallingThread)
+{
+  vtkSmartPointer<vtkPolyData> input;
+  TriangleCollapseOptions options;
+  const std::vector<TriangleCollapseResult> results = MarchingCubesInBatches(input, options);
+  const TriangleCollapseResult& first = results[0];
+  const SharedCounters shared = SharedCountersOf(first, 0);
+  const long long lone = first.BatchesPoppedAlone;
+  const long long unsplit = first.SelectedEntries - lone - shared.Entries; // entries of batches of at most 16
+  const long long onCaller = static_cast<long long>(first.Collapses) - shared.Collapses;
+  std::printf("[shared steps] %lld batches, %lld of %lld entries, %lld of %d collapses; %lld lone pops\n", shared.Batches,
+    shared.Entries, first.SelectedEntries, shared.Collapses, int(first.Collapses), lone);
+  ASSERT_GT(first.SelectedEntries - lone, 16 * 16) << "the test needs larger batches";
+  EXPECT_GT(shared.Batches, 0);
+  EXPECT_GT(shared.Entries, 16 * shared.Batches);
+  EXPECT_GE(unsplit, 0);
+  EXPECT_GT(shared.Collapses, 0);
+  EXPECT_LE(onCaller, lone + unsplit + 4 * shared.Batches) << "collapses of split batches left to the calling thread";
+  ExpectTheSameBatchesAndOutputs(results);
+  for (size_t i = 1; i < results.size(); ++i)
+  {
+    const SharedCounters other = SharedCountersOf(results[i], 0);
+    EXPECT_EQ(other.Batches, shared.Batches);
+    EXPECT_EQ(other.Entries, shared.Entries);
+    EXPECT_EQ(other.Collapses, shared.Collapses);
+  }
+  options.BatchCollapses = false;
+  TriangleMesh mesh = slodtest::ToTriangleMesh(input);
+  TriangleCollapseResult strict;
+  SimplifyByTriangleCollapse(mesh, options, strict);
+  EXPECT_EQ(SharedCountersOf(strict, 0).Collapses, 0);
+  EXPECT_EQ(SharedCountersOf(strict, 0).Entries, 0);
 }
 
 TEST(QuadricTriangleCollapse, PointDataErrorArrayAndFieldData)
