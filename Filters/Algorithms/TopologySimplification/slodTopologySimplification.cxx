@@ -1961,6 +1961,7 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
   TopologySimplificationResult found;
   const size_t room = workspace.Bytes();
   Simplification run(current, parameters, found, workspace);
+  stages.Lap("detection pass: topology");
   const double base = pass == 0 ? 0.0 : 0.7;
   const double span = pass == 0 ? 0.4 : 0.02;
   run.Patches.Build(current, run.Topology, parameters.Patches, [&](double f) { return !report(base + span * f); });
@@ -2004,7 +2005,9 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
   const Index removedNow = found.Removed[0] + found.Removed[1] + found.Removed[2];
   if (pass == 0 && parameters.FillCracks)
   {
+    stages.Lap("detection pass: cleaned copy");
     CloseCracks(run, cleaned);
+    stages.Lap("detection pass: cracks");
   }
   cleaned.LabelCount = Compact(cleaned.Labels);
   vtkLogF(TRACE, "[hbr] pass %d: %lld of %lld triangles kept, %lld fill triangles", pass + 1,
@@ -2199,6 +2202,7 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
     cleanedTopology.Build(cleaned.Mesh);
     result.CleanedTopologyTriangles = cleaned.Mesh.NumberOfTriangles();
   }
+  stages.Lap("clean-up merge: cleaned topology");
   cleanedPatches.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount,
     surfaceKept ? Patchification::AdjacencySource::Previous : Patchification::AdjacencySource::Build);
   CleanedSurface unmerged;
