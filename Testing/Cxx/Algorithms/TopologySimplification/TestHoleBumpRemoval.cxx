@@ -1102,9 +1102,11 @@ Index MaximumVertexDegree(const TriangleMesh& mesh)
 // before had built all but those triangles: a whole MeshTopology::Build each (scattered passes,
 // growing faster than the input). Now the passes carry their topology over (MeshTopology::Update):
 // the topology work after the input's (counted by the result's DetectionTopologyTriangles and
-// CleanedTopologyTriangles: whole builds' triangles, updates' local incidences) is at most a fixed
-// multiple of the changed triangles times the largest vertex degree, and less than one rebuild of
-// the cleaned surface. The outputs are unchanged (MeshTopology.UpdateAfterAnEditEqualsABuildOfTheEditedMesh,
+// CleanedTopologyTriangles: whole builds' triangles, updates' local incidences) is at most twice
+// the changed triangles times the largest vertex degree (a changed triangle touches three vertices,
+// each examined about four times over its degree, about 6 on average and 19-22 at most on these
+// scans; measured 14-19 per changed triangle), and less than one rebuild of the cleaned surface.
+// On base-s45 both fail: a whole build of the cleaned surface, and one per later pass. The outputs are unchanged (MeshTopology.UpdateAfterAnEditEqualsABuildOfTheEditedMesh,
 // the hash list).
 TEST(TopologySimplification, PassesUpdateTheirTopologyAroundTheChangedTriangles)
 {
@@ -1135,7 +1137,7 @@ TEST(TopologySimplification, PassesUpdateTheirTopologyAroundTheChangedTriangles)
       const std::string what = "seed " + std::to_string(seed) + ", " + std::to_string(passes) + " passes, " +
         std::to_string(changed) + " changed triangles, degree " + std::to_string(degree);
       ASSERT_GT(changed, 0) << what;
-      EXPECT_LE(work, 15 * degree * changed) << what;
+      EXPECT_LE(work, 2 * degree * changed) << what << ", work " << work;
       EXPECT_LT(work, std::int64_t(cleaned.NumberOfTriangles())) << what;
       changedLast += r.CleanedTopologyTriangles > 0;
     }
