@@ -189,16 +189,6 @@ void ExpectSameTopology(const MeshTopology& a, const MeshTopology& b, const Tria
   EXPECT_EQ(sa.Components, sb.Components) << what;
   EXPECT_EQ(sa.EulerCharacteristic, sb.EulerCharacteristic) << what;
 }
-
-Index MaximumDegree(const MeshTopology& topology)
-{
-  Index degree = 0;
-  for (Index v = 0; v < topology.NumberOfPoints(); ++v)
-  {
-    degree = std::max(degree, topology.VertexDegree(v));
-  }
-  return degree;
-}
 } // namespace
 
 // Session 45 (issue 10): MeshTopology::Update carries a topology over to its mesh edited (triangles
@@ -243,7 +233,7 @@ TEST(MeshTopology, UpdateAfterAnEditEqualsABuildOfTheEditedMesh)
     {
       next.AddTriangle(tri[0], tri[1], tri[2]);
     }
-    const Index before = MaximumDegree(updated);
+    const Index before = MaximumVertexDegree(updated);
     const std::vector<Index> previous = mesh.Triangles;
     mesh = next;
     updated.Update(previous, removed, mesh);
@@ -252,7 +242,7 @@ TEST(MeshTopology, UpdateAfterAnEditEqualsABuildOfTheEditedMesh)
     const MeshTopologyUpdateWork& work = updated.LastUpdateWork();
     const std::int64_t changed = std::int64_t(removedTriangles.size() / 3 + add.size());
     EXPECT_EQ(work.RemovedTriangles + work.AppendedTriangles, changed) << what;
-    EXPECT_LE(work.LocalIncidences, 15 * std::int64_t(std::max(before, MaximumDegree(updated))) * changed) << what;
+    EXPECT_LE(work.LocalIncidences, 15 * std::int64_t(std::max(before, MaximumVertexDegree(updated))) * changed) << what;
     return removedTriangles;
   };
   // Random removals, refilled in reverse order (the appended triangles differ in order).

@@ -1082,20 +1082,6 @@ TEST(TopologySimplification, CleanedSurfaceIndexedAgainOnlyWhenTheLastPassChange
   EXPECT_GT(kept, 0) << "a scan's last pass must keep its surface at least once";
 }
 
-namespace
-{
-Index MaximumVertexDegree(const TriangleMesh& mesh)
-{
-  const MeshTopology topology(mesh);
-  Index degree = 0;
-  for (Index v = 0; v < topology.NumberOfPoints(); ++v)
-  {
-    degree = std::max(degree, topology.VertexDegree(v));
-  }
-  return degree;
-}
-} // namespace
-
 // Issue 10, session 45: a detection pass changes about 0.1 % of a scan's triangles (features
 // removed and refilled, cracks closed), and at 1M and 4M triangles the last pass still changes
 // some, so every later pass and the clean-up merge indexed a surface whose topology the pass
@@ -1132,7 +1118,8 @@ TEST(TopologySimplification, PassesUpdateTheirTopologyAroundTheChangedTriangles)
       TriangleMesh cleaned;
       cleaned.Points = mesh.Points;
       cleaned.Triangles = r.CleanedTriangles;
-      const std::int64_t degree = std::max(MaximumVertexDegree(mesh), MaximumVertexDegree(cleaned));
+      const std::int64_t degree =
+        std::max(MaximumVertexDegree(MeshTopology(mesh)), MaximumVertexDegree(MeshTopology(cleaned)));
       const std::int64_t work = r.DetectionTopologyTriangles + r.CleanedTopologyTriangles;
       const std::string what = "seed " + std::to_string(seed) + ", " + std::to_string(passes) + " passes, " +
         std::to_string(changed) + " changed triangles, degree " + std::to_string(degree);
