@@ -171,6 +171,13 @@ void MeshTopology::Build(const TriangleMesh& mesh)
     }
   }
 
+  this->BuildComponents();
+}
+
+void MeshTopology::BuildComponents() const
+{
+  const Index nt = this->NumTriangles;
+  const Index ne = this->NumberOfEdges();
   // Edge-connected components.
   std::vector<Index> parent(nt);
   std::iota(parent.begin(), parent.end(), 0);
@@ -197,6 +204,322 @@ void MeshTopology::Build(const TriangleMesh& mesh)
       rootLabel[r] = this->ComponentCount++;
     }
     this->TriangleComponent[t] = rootLabel[r];
+  }
+  this->ComponentsStale = false;
+}
+
+void MeshTopology::ReleaseUpdateBuffers()
+{
+  this->Buffers = Spare();
+}
+
+void MeshTopology::Update(
+  const std::vector<Index>& previousTriangles, const std::vector<unsigned char>& removed, const TriangleMesh& mesh)
+{
+  const Index nto = this->NumTriangles;
+  const Index np = this->NumPoints;
+  const Index ntn = mesh.NumberOfTriangles();
+  Index removedCount = 0;
+  for (const unsigned char r : removed)
+  {
+    removedCount += r != 0;
+  }
+  if (mesh.NumberOfPoints() != np || this->VertexOffsets.size() != size_t(np) + 1 ||
+    (!removed.empty() && (removed.size() != size_t(nto) || previousTriangles.size() < 3 * size_t(nto))) ||
+    ntn < nto - removedCount)
+  {
+    this->Build(mesh); // not an edit of the indexed mesh
+    this->UpdateWork = MeshTopologyUpdateWork();
+    this->UpdateWork.LocalIncidences = 3 * std::int64_t(ntn);
+    return;
+  }
+  Spare& b = this->Buffers;
+  // New triangle ids: the kept triangles keep their order, the appended ones follow.
+  b.NewId.resize(size_t(nto));
+  Index kept = 0;
+  for (Index t = 0; t < nto; ++t)
+  {
+    b.NewId[t] = !removed.empty() && removed[t] ? InvalidIndex : kept++;
+  }
+  // Touched vertices: those of the removed and of the appended triangles. Only their incidences,
+  // edges, valences and flags can differ from the previous topology's.
+  if (b.Touched.size() != size_t(np))
+  {
+    b.Touched.assign(size_t(np), 0);
+  }
+  std::vector<Index> touched;
+  auto touch = [&](Index v) {
+    if (!b.Touched[v])
+    {
+      b.Touched[v] = 1;
+      touched.push_back(v);
+    }
+  };
+  for (Index t = 0; t < nto && removedCount > 0; ++t)
+  {
+    if (removed[t])
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        touch(previousTriangles[3 * size_t(t) + k]);
+      }
+    }
+  }
+  for (size_t i = 3 * size_t(kept); i < mesh.Triangles.size(); ++i)
+  {
+    touch(mesh.Triangles[i]);
+  }
+  std::sort(touched.begin(), touched.end());
+  this->UpdateWork = MeshTopologyUpdateWork();
+  this->UpdateWork.RemovedTriangles = removedCount;
+  this->UpdateWork.AppendedTriangles = ntn - kept;
+  this->UpdateWork.TouchedVertices = static_cast<std::int64_t>(touched.size());
+  for (const Index v : touched)
+  {
+    this->UpdateWork.LocalIncidences += this->VertexDegree(v);
+  }
+  this->UpdateVertexTriangles(previousTriangles, removed, mesh, touched);
+  this->UpdateEdges(mesh);
+  this->UpdateVertexFlags(mesh, touched);
+  for (const Index v : touched)
+  {
+    b.Touched[v] = 0;
+  }
+  this->NumTriangles = ntn;
+  this->Mesh = &mesh;
+  this->ComponentsStale = true;
+}
+
+void MeshTopology::UpdateVertexTriangles(const std::vector<Index>& previousTriangles,
+  const std::vector<unsigned char>& removed, const TriangleMesh& mesh, const std::vector<Index>& touched)
+{
+  Spare& b = this->Buffers;
+  const Index np = this->NumPoints;
+  const Index nto = this->NumTriangles;
+  const Index first = static_cast<Index>(mesh.NumberOfTriangles() - this->UpdateWork.AppendedTriangles);
+  std::vector<Index>& offsets = b.VertexOffsets;
+  AssignOnHugePages(offsets, size_t(np) + 1, Index(0));
+  for (Index v = 0; v < np; ++v)
+  {
+    offsets[v] = this->VertexDegree(v);
+  }
+  for (Index t = 0; t < nto && this->UpdateWork.RemovedTriangles > 0; ++t)
+  {
+    for (int k = 0; k < 3 && removed[t]; ++k)
+    {
+      --offsets[previousTriangles[3 * size_t(t) + k]];
+    }
+  }
+  for (size_t i = 3 * size_t(first); i < mesh.Triangles.size(); ++i)
+  {
+    ++offsets[mesh.Triangles[i]];
+  }
+  CountsToOffsets(offsets);
+  // Each list: its kept triangles renumbered (still ascending), then the appended ones.
+  std::vector<Index>& lists = b.VertexTriangles;
+  AssignOnHugePages(lists, size_t(offsets[np]), Index(0));
+  for (Index v = 0; v < np; ++v)
+  {
+    Index write = offsets[v];
+    for (const Index* t = this->VertexTrianglesBegin(v); t != this->VertexTrianglesEnd(v); ++t)
+    {
+      const Index id = b.NewId[*t];
+      if (id != InvalidIndex)
+      {
+        lists[write++] = id;
+      }
+    }
+  }
+  // The appended triangles from each touched list's end backwards: they come out ascending.
+  std::vector<Index> end(touched.size());
+  for (size_t i = 0; i < touched.size(); ++i)
+  {
+    end[i] = offsets[touched[i] + 1];
+  }
+  for (Index t = mesh.NumberOfTriangles() - 1; t >= first; --t)
+  {
+    for (int k = 2; k >= 0; --k)
+    {
+      const Index v = mesh.Triangles[3 * size_t(t) + k];
+      const size_t i = size_t(std::lower_bound(touched.begin(), touched.end(), v) - touched.begin());
+      lists[--end[i]] = t;
+    }
+  }
+  this->UpdateWork.CarriedEntries += static_cast<std::int64_t>(this->VertexTriangles.size());
+  this->VertexOffsets.swap(offsets);
+  this->VertexTriangles.swap(lists);
+  for (const Index v : touched)
+  {
+    this->UpdateWork.LocalIncidences += this->VertexDegree(v);
+  }
+}
+
+void MeshTopology::UpdateEdges(const TriangleMesh& mesh)
+{
+  Spare& b = this->Buffers;
+  const Index np = this->NumPoints;
+  const Index nto = this->NumTriangles;
+  const Index oldEdges = this->NumberOfEdges();
+  const std::vector<Index>& tris = mesh.Triangles;
+  const size_t appended = size_t(this->UpdateWork.AppendedTriangles);
+  std::vector<Index>& vertices = b.EdgeVertices;
+  vertices.clear();
+  ReserveOnHugePages(vertices, this->EdgeVertices.size() + 6 * appended);
+  std::vector<Index>& offsets = b.EdgeOffsets;
+  offsets.clear();
+  ReserveOnHugePages(offsets, size_t(oldEdges) + 1 + 3 * appended);
+  std::vector<Index>& lists = b.EdgeTriangles;
+  AssignOnHugePages(lists, tris.size(), Index(0));
+  std::vector<Index>& edgeOf = b.TriangleEdges;
+  AssignOnHugePages(edgeOf, tris.size(), InvalidIndex);
+  b.EdgeShift.resize(size_t(np));
+  if (b.Stamp.size() != size_t(np))
+  {
+    b.Stamp.assign(size_t(np), InvalidIndex);
+    b.StampEdge.assign(size_t(np), InvalidIndex);
+  }
+  // Edges by smaller vertex u, each u's in the order of their first half-edge, as Build numbers
+  // them. An untouched u keeps its edges and their triangles (renumbered); a touched u's are
+  // found again from its triangles, which list its half-edges in half-edge order.
+  std::vector<std::pair<Index, Index>> halves; // (edge, triangle) of a touched u's half-edges
+  std::vector<Index> fill;
+  Index oldEdge = 0, write = 0;
+  for (Index u = 0; u < np; ++u)
+  {
+    const Index oldBegin = oldEdge;
+    while (oldEdge < oldEdges && this->EdgeVertices[2 * size_t(oldEdge)] == u)
+    {
+      ++oldEdge;
+    }
+    const Index newBegin = static_cast<Index>(vertices.size() / 2);
+    if (!b.Touched[u])
+    {
+      b.EdgeShift[u] = newBegin - oldBegin;
+      for (Index e = oldBegin; e < oldEdge; ++e)
+      {
+        vertices.push_back(u);
+        vertices.push_back(this->EdgeVertices[2 * size_t(e) + 1]);
+        offsets.push_back(write);
+        for (const Index* t = this->EdgeTrianglesBegin(e); t != this->EdgeTrianglesEnd(e); ++t)
+        {
+          lists[write++] = b.NewId[*t];
+        }
+      }
+      continue;
+    }
+    halves.clear();
+    Index previous = InvalidIndex;
+    for (const Index* t = this->VertexTrianglesBegin(u); t != this->VertexTrianglesEnd(u); ++t)
+    {
+      if (*t == previous)
+      {
+        continue; // u twice in one (degenerate) triangle
+      }
+      previous = *t;
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index a = tris[3 * size_t(*t) + k], c = tris[3 * size_t(*t) + (k + 1) % 3];
+        if (std::min(a, c) != u)
+        {
+          continue;
+        }
+        const Index w = std::max(a, c);
+        if (b.Stamp[w] != u)
+        {
+          b.Stamp[w] = u;
+          b.StampEdge[w] = static_cast<Index>(vertices.size() / 2);
+          vertices.push_back(u);
+          vertices.push_back(w);
+        }
+        edgeOf[3 * size_t(*t) + k] = b.StampEdge[w];
+        halves.emplace_back(b.StampEdge[w], *t);
+      }
+    }
+    const Index count = static_cast<Index>(vertices.size() / 2) - newBegin;
+    fill.assign(size_t(count) + 1, 0);
+    for (const auto& h : halves)
+    {
+      ++fill[h.first - newBegin];
+      b.Stamp[vertices[2 * size_t(h.first) + 1]] = InvalidIndex; // clean for the next update
+    }
+    CountsToOffsets(fill);
+    for (Index j = 0; j < count; ++j)
+    {
+      offsets.push_back(write + fill[j]);
+    }
+    for (const auto& h : halves)
+    {
+      lists[write + fill[h.first - newBegin]++] = h.second;
+    }
+    write += static_cast<Index>(halves.size());
+    this->UpdateWork.LocalIncidences += static_cast<std::int64_t>(halves.size());
+  }
+  offsets.push_back(write);
+  // The half-edges of untouched vertices: their edge shifted with its smaller vertex's edges.
+  for (Index t = 0; t < nto; ++t)
+  {
+    const Index id = b.NewId[t];
+    for (int k = 0; k < 3 && id != InvalidIndex; ++k)
+    {
+      const Index a = tris[3 * size_t(id) + k], c = tris[3 * size_t(id) + (k + 1) % 3];
+      const Index u = std::min(a, c);
+      if (!b.Touched[u])
+      {
+        edgeOf[3 * size_t(id) + k] = this->TriangleEdges[3 * size_t(t) + k] + b.EdgeShift[u];
+      }
+    }
+  }
+  this->UpdateWork.CarriedEntries += static_cast<std::int64_t>(
+    this->EdgeVertices.size() + this->EdgeOffsets.size() + this->EdgeTriangles.size() + this->TriangleEdges.size());
+  this->EdgeVertices.swap(vertices);
+  this->EdgeOffsets.swap(offsets);
+  this->EdgeTriangles.swap(lists);
+  this->TriangleEdges.swap(edgeOf);
+}
+
+void MeshTopology::UpdateVertexFlags(const TriangleMesh& mesh, const std::vector<Index>& touched)
+{
+  // As Build: valence and border / non-manifold flags from the incident edges, then the fan test.
+  std::vector<Index> incident;
+  for (const Index v : touched)
+  {
+    incident.clear();
+    for (const Index* t = this->VertexTrianglesBegin(v); t != this->VertexTrianglesEnd(v); ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const Index e = this->TriangleEdge(*t, k);
+        if (this->EdgeVertex(e, 0) == v || this->EdgeVertex(e, 1) == v)
+        {
+          incident.push_back(e);
+        }
+      }
+    }
+    std::sort(incident.begin(), incident.end());
+    incident.erase(std::unique(incident.begin(), incident.end()), incident.end());
+    Index valence = 0;
+    unsigned char flags = 0;
+    for (const Index e : incident)
+    {
+      valence += this->EdgeVertex(e, 0) == this->EdgeVertex(e, 1) ? 2 : 1;
+      const Index count = this->EdgeTriangleCount(e);
+      flags |= count == 1 ? BoundaryFlag : (count > 2 ? NonManifoldFlag : 0);
+    }
+    this->ValenceOf[v] = valence;
+    this->VertexFlags[v] = flags;
+  }
+  std::vector<Index> ring, fan;
+  for (const Index v : touched)
+  {
+    if (this->VertexDegree(v) == 0 || (this->VertexFlags[v] & NonManifoldFlag))
+    {
+      continue;
+    }
+    if (!this->OrderedOneRing(mesh, v, ring, fan) || Index(fan.size()) != this->VertexDegree(v))
+    {
+      this->VertexFlags[v] |= NonManifoldFlag;
+    }
+    this->UpdateWork.LocalIncidences += this->VertexDegree(v);
   }
 }
 
@@ -407,7 +730,7 @@ MeshStatistics MeshTopology::Statistics(const TriangleMesh& mesh) const
       ++s.DegenerateTriangles;
     }
   }
-  s.Components = this->ComponentCount;
+  s.Components = this->NumberOfComponents();
   s.BoundaryLoops = this->BorderComponentCount();
   s.EulerCharacteristic = static_cast<long long>(s.Vertices) - s.Edges + s.Triangles;
   const long long twiceGenus = 2LL * s.Components - s.EulerCharacteristic - s.BoundaryLoops;

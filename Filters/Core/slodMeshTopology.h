@@ -9,6 +9,7 @@
 
 #include "slodTriangleMesh.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace slod
@@ -53,12 +54,42 @@ Index FanStart(Index start, Index degree, AcrossPrevious acrossPrevious)
   return t;
 }
 
+// Work of one MeshTopology::Update (counters for tests and traces).
+struct MeshTopologyUpdateWork
+{
+  std::int64_t RemovedTriangles = 0;
+  std::int64_t AppendedTriangles = 0;
+  std::int64_t TouchedVertices = 0; // vertices of the removed and appended triangles
+  // Vertex-triangle incidences of the touched vertices examined (before and after the edit): the
+  // only indexing work; it is bounded by a multiple of the changed triangles where the valences
+  // are bounded.
+  std::int64_t LocalIncidences = 0;
+  // Entries of the arrays carried over with their triangle and edge ids shifted (one sequential
+  // pass each, no lookup by vertex or edge): what Build would index again.
+  std::int64_t CarriedEntries = 0;
+};
+
 class SURFACELODFILTERS_EXPORT MeshTopology
 {
 public:
   MeshTopology() = default;
   explicit MeshTopology(const TriangleMesh& mesh) { this->Build(mesh); }
   void Build(const TriangleMesh& mesh);
+  // The topology of `mesh` when it is the indexed mesh edited: its triangles without those flagged
+  // in `removed` (one flag per indexed triangle; empty: none), in their order, then new triangles
+  // appended. `previousTriangles` holds the indexed triangles (read only where removed). Only the
+  // edges, valences and flags around the vertices of removed and appended triangles are computed
+  // again; the rest of the arrays are carried over with their ids shifted. The result equals
+  // Build(mesh) entry for entry (the same edge numbering and component labels), so callers see
+  // no difference. Falls back to Build when the sizes do not fit. The components are computed
+  // when first asked for (TriangleComponents / NumberOfComponents / Statistics).
+  void Update(const std::vector<Index>& previousTriangles, const std::vector<unsigned char>& removed,
+    const TriangleMesh& mesh);
+  const MeshTopologyUpdateWork& LastUpdateWork() const { return this->UpdateWork; }
+  // The same triangles in another TriangleMesh object (a copy): BoundaryLoops reads that one.
+  void Rebind(const TriangleMesh& mesh) { this->Mesh = &mesh; }
+  // The spare arrays an Update keeps for the next one (its earlier arrays), released.
+  void ReleaseUpdateBuffers();
 
   Index NumberOfPoints() const { return this->NumPoints; }
   Index NumberOfTriangles() const { return this->NumTriangles; }
@@ -96,8 +127,16 @@ public:
     std::vector<Index>& triangles) const;
 
   // Edge-connected components of triangles: a label per triangle, InvalidIndex-free.
-  const std::vector<Index>& TriangleComponents() const { return this->TriangleComponent; }
-  Index NumberOfComponents() const { return this->ComponentCount; }
+  const std::vector<Index>& TriangleComponents() const
+  {
+    this->EnsureComponents();
+    return this->TriangleComponent;
+  }
+  Index NumberOfComponents() const
+  {
+    this->EnsureComponents();
+    return this->ComponentCount;
+  }
 
   // Closed loops of boundary edges, each a list of vertices in order (first not repeated).
   std::vector<std::vector<Index>> BoundaryLoops() const;
@@ -120,9 +159,34 @@ private:
   std::vector<Index> EdgeVertices, TriangleEdges, EdgeOffsets, EdgeTriangles;
   std::vector<unsigned char> VertexFlags;
   std::vector<Index> ValenceOf;
-  std::vector<Index> TriangleComponent;
-  Index ComponentCount = 0;
+  // Computed by Build, or on first use after an Update (not thread-safe then: ask once before
+  // sharing the topology across threads).
+  mutable std::vector<Index> TriangleComponent;
+  mutable Index ComponentCount = 0;
+  mutable bool ComponentsStale = false;
   const TriangleMesh* Mesh = nullptr;
+  MeshTopologyUpdateWork UpdateWork;
+  // Update's arrays: the previous ones, reused within their capacity by the next Update.
+  struct Spare
+  {
+    std::vector<Index> VertexOffsets, VertexTriangles, EdgeVertices, TriangleEdges, EdgeOffsets, EdgeTriangles;
+    std::vector<Index> NewId, EdgeShift, Stamp, StampEdge;
+    std::vector<unsigned char> Touched;
+  } Buffers;
+
+  void EnsureComponents() const
+  {
+    if (this->ComponentsStale)
+    {
+      this->BuildComponents();
+    }
+  }
+  void BuildComponents() const;
+  // Update's stages (see Update).
+  void UpdateVertexTriangles(const std::vector<Index>& previousTriangles, const std::vector<unsigned char>& removed,
+    const TriangleMesh& mesh, const std::vector<Index>& touched);
+  void UpdateEdges(const TriangleMesh& mesh);
+  void UpdateVertexFlags(const TriangleMesh& mesh, const std::vector<Index>& touched);
 };
 
 // Mean absolute curvature of a surface: the sum over interior manifold edges of |dihedral angle| x

@@ -183,6 +183,16 @@ slod::TriangleMesh Tetrahedron()
   return m;
 }
 
+slod::Index MaximumVertexDegree(const slod::MeshTopology& topology)
+{
+  slod::Index degree = 0;
+  for (slod::Index v = 0; v < topology.NumberOfPoints(); ++v)
+  {
+    degree = std::max(degree, topology.VertexDegree(v));
+  }
+  return degree;
+}
+
 slod::TriangleMesh Torus(int majorSegments, int minorSegments, double majorRadius, double minorRadius)
 {
   slod::TriangleMesh m;

@@ -48,6 +48,8 @@ vtkSmartPointer<vtkPolyData> NoisyScanIsosurface(int resolution, unsigned seed);
 // Known shapes.
 slod::TriangleMesh Tetrahedron();
 slod::TriangleMesh Torus(int majorSegments, int minorSegments, double majorRadius = 1.0, double minorRadius = 0.35);
+// The largest number of triangles around one vertex.
+slod::Index MaximumVertexDegree(const slod::MeshTopology& topology);
 slod::TriangleMesh Sphere(int thetaResolution, int phiResolution); // vtkSphereSource, cleaned
 slod::TriangleMesh Disk(int rings, int segments);                    // open, one boundary loop
 slod::TriangleMesh Grid(int nx, int ny, double z = 0.0);             // unit square, one boundary loop

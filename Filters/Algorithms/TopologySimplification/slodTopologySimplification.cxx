@@ -94,9 +94,15 @@ struct DetectionWorkspace
   // Passes after the first whose normals or patchification needed more room than the passes
   // before (an array allocated anew): none while the later surfaces are no larger (tests assert it).
   Index Allocations = 0;
-  // Topology already indexes the surface of the next pass (the caller's topology of the input).
+  // Topology already indexes the surface of the next pass (the caller's topology of the input,
+  // or the previous pass's topology updated to its cleaned surface).
   bool TopologyCurrent = false;
-  std::int64_t TopologyTriangles = 0; // indexed by the passes' builds
+  // Topology work of the passes: triangles of their whole builds plus the local incidences of
+  // their updates (MeshTopologyUpdateWork::LocalIncidences); the last pass's update of the
+  // cleaned surface apart.
+  std::int64_t TopologyTriangles = 0;
+  std::int64_t CleanedTopologyWork = 0;
+  bool LastSurfaceKept = false; // the last pass left its surface as it found it
   size_t Bytes() const { return this->Normal.capacity() * sizeof(Vec3) + this->Patches.MemoryUsage(); }
 };
 
@@ -150,6 +156,10 @@ struct Simplification
     {
       this->Topology.Build(mesh);
       workspace.TopologyTriangles += mesh.NumberOfTriangles();
+    }
+    else
+    {
+      this->Topology.Rebind(mesh); // the same triangles, in the pass's copy
     }
     workspace.TopologyCurrent = false;
   }
@@ -1329,9 +1339,9 @@ struct Simplification
     return true;
   }
 
-  void FillCracks(TriangleMesh& current)
+  // `topology`: of `current` as it is before the cracks are closed.
+  void FillCracks(TriangleMesh& current, const MeshTopology& topology)
   {
-    const MeshTopology topology(current);
     const double limit = this->P.MaximumCrackSize >= 0 ? this->P.MaximumCrackSize : this->P.FeatureSize;
     auto edgeExists = [&](Index u, Index w) { return topology.FindEdge(u, w) != InvalidIndex; };
     const std::vector<std::array<Vec3, 2>> componentBoxes = ComponentBoxes(current, topology);
@@ -1868,12 +1878,12 @@ void CollectCleaned(const Simplification& run, const TriangleMesh& current, cons
   }
 }
 
-// The cracks of the cleaned mesh, closed (first pass only).
-void CloseCracks(Simplification& run, CleanedSurface& cleaned)
+// The cracks of the cleaned mesh, closed (first pass only); `topology` is the cleaned mesh's.
+void CloseCracks(Simplification& run, CleanedSurface& cleaned, const MeshTopology& topology)
 {
   const Index np = run.Patches.NumberOfPatches();
   const size_t before = run.FillPatch.size();
-  run.FillCracks(cleaned.Mesh); // adds the crack triangles to the cleaned mesh itself
+  run.FillCracks(cleaned.Mesh, topology); // adds the crack triangles to the cleaned mesh itself
   for (size_t i = before; i < run.FillPatch.size(); ++i)
   {
     cleaned.Labels.push_back(np + run.FillPatch[i]);
@@ -1950,6 +1960,24 @@ bool DecidesMergeMeasureFromNoise(const TopologySimplificationParameters& parame
     parameters.Patches.MaximumPlaneDistance > 0;
 }
 
+// The topology of `current` made `cleaned`'s: `cleaned` is `current` without the triangles flagged
+// in `removed` (their order kept) and with the pass's fills appended, which change about 0.1 % of
+// a scan's triangles per pass; a whole Build was a scattered pass over the surface for each
+// (session 45). Returns the update's local work.
+std::int64_t UpdateTopology(MeshTopology& topology, const std::vector<Index>& currentTriangles,
+  const std::vector<unsigned char>& removed, const TriangleMesh& cleaned, int pass)
+{
+  topology.Update(currentTriangles, removed, cleaned);
+  const MeshTopologyUpdateWork& work = topology.LastUpdateWork();
+  vtkLogF(TRACE,
+    "[hbr] pass %d: topology updated: %lld removed, %lld appended, %lld touched vertices, %lld local "
+    "incidences, %lld entries carried over",
+    pass + 1, static_cast<long long>(work.RemovedTriangles), static_cast<long long>(work.AppendedTriangles),
+    static_cast<long long>(work.TouchedVertices), static_cast<long long>(work.LocalIncidences),
+    static_cast<long long>(work.CarriedEntries));
+  return work.LocalIncidences;
+}
+
 // One detection pass over `current` (the input's vertices, the previous pass's triangles).
 PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const TriangleMesh& current,
   const std::vector<unsigned char>& currentFill, const TopologySimplificationParameters& parameters,
@@ -1961,6 +1989,7 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
   TopologySimplificationResult found;
   const size_t room = workspace.Bytes();
   Simplification run(current, parameters, found, workspace);
+  stages.Lap("detection pass: topology");
   const double base = pass == 0 ? 0.0 : 0.7;
   const double span = pass == 0 ? 0.4 : 0.02;
   run.Patches.Build(current, run.Topology, parameters.Patches, [&](double f) { return !report(base + span * f); });
@@ -2002,15 +2031,29 @@ PassOutcome DetectionPass(int pass, int passes, const TriangleMesh& input, const
   }
   CollectCleaned(run, current, currentFill, input.Points, cleaned);
   const Index removedNow = found.Removed[0] + found.Removed[1] + found.Removed[2];
+  const bool last = removedNow == 0 || pass + 1 == passes;
+  std::int64_t& topologyWork = last ? workspace.CleanedTopologyWork : workspace.TopologyTriangles;
   if (pass == 0 && parameters.FillCracks)
   {
-    CloseCracks(run, cleaned);
+    stages.Lap("detection pass: cleaned copy");
+    // The cracks are looked for on the cleaned surface: the pass's topology, edited.
+    topologyWork += UpdateTopology(workspace.Topology, current.Triangles, run.Removed, cleaned.Mesh, pass);
+    CloseCracks(run, cleaned, workspace.Topology);
+    stages.Lap("detection pass: cracks");
+    // The crack fills appended (no triangle removed).
+    topologyWork += UpdateTopology(workspace.Topology, {}, {}, cleaned.Mesh, pass);
   }
+  workspace.LastSurfaceKept = cleaned.Mesh.Triangles == current.Triangles; // one sequential pass
+  if (!(pass == 0 && parameters.FillCracks) && !workspace.LastSurfaceKept)
+  {
+    topologyWork += UpdateTopology(workspace.Topology, current.Triangles, run.Removed, cleaned.Mesh, pass);
+  }
+  workspace.TopologyCurrent = true; // the next pass's, and the clean-up merge's after the last
+  stages.Lap("detection pass: topology update");
   cleaned.LabelCount = Compact(cleaned.Labels);
   vtkLogF(TRACE, "[hbr] pass %d: %lld of %lld triangles kept, %lld fill triangles", pass + 1,
     static_cast<long long>(cleaned.Mesh.NumberOfTriangles()) - static_cast<long long>(run.FillPatch.size()),
     static_cast<long long>(current.NumberOfTriangles()), static_cast<long long>(run.FillPatch.size()));
-  const bool last = removedNow == 0 || pass + 1 == passes;
   AccumulateFindings(found, last, result);
   stages.Lap("detection pass: cleaned surface");
   result.DetectionSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
@@ -2193,11 +2236,14 @@ bool TopologySimplifier::Run(const TriangleMesh& mesh, const TopologySimplificat
   // removed the same way): then the workspace's topology and adjacency, built over `current` by
   // that pass, are the cleaned surface's, and rebuilding them is a whole-surface pass of scattered
   // accesses for nothing. Comparing the triangles is one sequential pass.
-  const bool surfaceKept = cleaned.Mesh.Triangles == current.Triangles;
+  // Otherwise the last pass updated that topology to the cleaned surface (session 45: only
+  // around the changed triangles; before, a whole Build here).
+  const bool surfaceKept = workspace.LastSurfaceKept;
+  cleanedTopology.Rebind(cleaned.Mesh);
+  cleanedTopology.ReleaseUpdateBuffers();
   if (!surfaceKept)
   {
-    cleanedTopology.Build(cleaned.Mesh);
-    result.CleanedTopologyTriangles = cleaned.Mesh.NumberOfTriangles();
+    result.CleanedTopologyTriangles = workspace.CleanedTopologyWork;
   }
   cleanedPatches.BuildFromLabels(cleaned.Mesh, cleanedTopology, cleaned.Labels, cleaned.LabelCount,
     surfaceKept ? Patchification::AdjacencySource::Previous : Patchification::AdjacencySource::Build);

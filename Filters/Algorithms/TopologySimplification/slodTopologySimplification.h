@@ -149,14 +149,17 @@ struct SURFACELODFILTERS_EXPORT TopologySimplificationResult
   // room than the earlier passes left in the run's workspace.
   Index DetectionWorkspaceAllocations = 0;
   // Whole-surface rebuilds of the cleaned surface after the detection passes (session 44):
-  // triangles whose edges and incidences MeshTopology::Build indexed again, and oriented-adjacency
+  // triangles whose edges and incidences MeshTopology::Build indexed again (since session 45 the
+  // last pass updates its topology instead: the incidences examined around its changed triangles,
+  // MeshTopologyUpdateWork::LocalIncidences), and oriented-adjacency
   // entries (three per triangle) computed again for the patchifications from labels (the clean-up
   // merge's, the completion's, the unmerged fallback's). Both 0 when the last pass kept the surface
   // as it found it (then its topology and adjacency are the cleaned surface's); otherwise one
   // topology and one adjacency, however many label sets are built over them.
   std::int64_t CleanedTopologyTriangles = 0;
   // Triangles indexed by the detection passes' MeshTopology::Build (all passes; the first pass's
-  // are not counted when Run was given the mesh's topology).
+  // are not counted when Run was given the mesh's topology), plus the local incidences of the
+  // updates that carry a pass's topology to the next pass's surface (session 45).
   std::int64_t DetectionTopologyTriangles = 0;
   std::int64_t CleanedAdjacencyEntries = 0;
   int DetectionPasses = 0;

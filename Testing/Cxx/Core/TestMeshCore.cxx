@@ -33,6 +33,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <limits>
 #include <map>
@@ -145,6 +146,156 @@ TEST(MeshTopology, BowTieVertexIsNonManifold)
   MeshTopology topology(m);
   EXPECT_TRUE(topology.IsNonManifoldVertex(0));
   EXPECT_EQ(topology.Statistics(m).NonManifoldEdges, 0);
+}
+
+namespace
+{
+// Every array of two topologies, entry for entry (what any caller can read).
+void ExpectSameTopology(const MeshTopology& a, const MeshTopology& b, const TriangleMesh& mesh, const char* what)
+{
+  ASSERT_EQ(a.NumberOfPoints(), b.NumberOfPoints()) << what;
+  ASSERT_EQ(a.NumberOfTriangles(), b.NumberOfTriangles()) << what;
+  ASSERT_EQ(a.NumberOfEdges(), b.NumberOfEdges()) << what;
+  int differences = 0;
+  for (Index v = 0; v < a.NumberOfPoints(); ++v)
+  {
+    differences += !std::equal(a.VertexTrianglesBegin(v), a.VertexTrianglesEnd(v), b.VertexTrianglesBegin(v),
+      b.VertexTrianglesEnd(v));
+    differences += a.IsBoundaryVertex(v) != b.IsBoundaryVertex(v);
+    differences += a.IsNonManifoldVertex(v) != b.IsNonManifoldVertex(v);
+    differences += a.Valence(v) != b.Valence(v);
+  }
+  for (Index e = 0; e < a.NumberOfEdges(); ++e)
+  {
+    differences += a.EdgeVertex(e, 0) != b.EdgeVertex(e, 0) || a.EdgeVertex(e, 1) != b.EdgeVertex(e, 1);
+    differences += !std::equal(a.EdgeTrianglesBegin(e), a.EdgeTrianglesEnd(e), b.EdgeTrianglesBegin(e),
+      b.EdgeTrianglesEnd(e));
+  }
+  for (Index t = 0; t < a.NumberOfTriangles(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      differences += a.TriangleEdge(t, k) != b.TriangleEdge(t, k);
+    }
+  }
+  EXPECT_EQ(differences, 0) << what;
+  EXPECT_EQ(a.NumberOfComponents(), b.NumberOfComponents()) << what;
+  EXPECT_EQ(a.TriangleComponents(), b.TriangleComponents()) << what;
+  EXPECT_EQ(a.BoundaryLoops(), b.BoundaryLoops()) << what;
+  const MeshStatistics sa = a.Statistics(mesh), sb = b.Statistics(mesh);
+  EXPECT_EQ(sa.Edges, sb.Edges) << what;
+  EXPECT_EQ(sa.BoundaryLoops, sb.BoundaryLoops) << what;
+  EXPECT_EQ(sa.NonManifoldVertices, sb.NonManifoldVertices) << what;
+  EXPECT_EQ(sa.Components, sb.Components) << what;
+  EXPECT_EQ(sa.EulerCharacteristic, sb.EulerCharacteristic) << what;
+}
+} // namespace
+
+// Session 45 (issue 10): MeshTopology::Update carries a topology over to its mesh edited (triangles
+// removed, their order kept, and triangles appended), as hole-bump removal's passes do, and must
+// give exactly Build's arrays (edge numbering, triangle lists, flags, component labels): the
+// filter's outputs depend on them. Chained edits of a torus with isolated extra points: random
+// removals and refills, two rings cut (two components), two triangles joining them again, a third
+// triangle on an edge (non-manifold), a separate triangle, a triangle with a repeated vertex, a bow
+// tie. Each update's local work is at most a fixed multiple of the changed triangles times the
+// largest vertex degree, and an edit that changes nothing touches nothing.
+TEST(MeshTopology, UpdateAfterAnEditEqualsABuildOfTheEditedMesh)
+{
+  const int major = 40, minor = 16;
+  TriangleMesh mesh = Torus(major, minor);
+  const Index torusPoints = mesh.NumberOfPoints();
+  for (int i = 0; i < 6; ++i)
+  {
+    mesh.AddPoint({ 3.0 + i, 0.0, 0.0 }); // unused until a separate triangle takes them
+  }
+  MeshTopology updated(mesh);
+  std::mt19937 random(45);
+  int round = 0;
+  auto edit = [&](const std::function<bool(Index)>& remove, const std::vector<std::array<Index, 3>>& add) {
+    TriangleMesh next;
+    next.Points = mesh.Points;
+    std::vector<unsigned char> removed(size_t(mesh.NumberOfTriangles()), 0);
+    std::vector<Index> removedTriangles;
+    for (Index t = 0; t < mesh.NumberOfTriangles(); ++t)
+    {
+      removed[t] = remove(t) ? 1 : 0;
+      const Index* tri = mesh.Triangle(t);
+      if (removed[t])
+      {
+        removedTriangles.insert(removedTriangles.end(), tri, tri + 3);
+      }
+      else
+      {
+        next.AddTriangle(tri[0], tri[1], tri[2]);
+      }
+    }
+    for (const auto& tri : add)
+    {
+      next.AddTriangle(tri[0], tri[1], tri[2]);
+    }
+    const Index before = MaximumVertexDegree(updated);
+    const std::vector<Index> previous = mesh.Triangles;
+    mesh = next;
+    updated.Update(previous, removed, mesh);
+    const std::string what = "round " + std::to_string(++round);
+    ExpectSameTopology(updated, MeshTopology(mesh), mesh, what.c_str());
+    const MeshTopologyUpdateWork& work = updated.LastUpdateWork();
+    const std::int64_t changed = std::int64_t(removedTriangles.size() / 3 + add.size());
+    EXPECT_EQ(work.RemovedTriangles + work.AppendedTriangles, changed) << what;
+    EXPECT_LE(work.LocalIncidences, 15 * std::int64_t(std::max(before, MaximumVertexDegree(updated))) * changed) << what;
+    return removedTriangles;
+  };
+  // Random removals, refilled in reverse order (the appended triangles differ in order).
+  for (int k = 0; k < 3; ++k)
+  {
+    std::vector<unsigned char> pick(size_t(mesh.NumberOfTriangles()));
+    for (auto& p : pick)
+    {
+      p = random() % 50 == 0;
+    }
+    const std::vector<Index> gone = edit([&](Index t) { return pick[t] != 0; }, {});
+    std::vector<std::array<Index, 3>> refill;
+    for (size_t i = gone.size(); i >= 3; i -= 3)
+    {
+      refill.push_back({ gone[i - 3], gone[i - 2], gone[i - 1] });
+    }
+    edit([](Index) { return false; }, refill);
+  }
+  // Nothing changed: nothing touched.
+  edit([](Index) { return false; }, {});
+  EXPECT_EQ(updated.LastUpdateWork().TouchedVertices, 0);
+  EXPECT_EQ(updated.LastUpdateWork().LocalIncidences, 0);
+  // Two rings cut (ring i: the triangles between vertex columns i and i + 1, wherever the refills
+  // put them): two components; then two triangles join them across a cut.
+  const Index cutA = 5, cutB = 25;
+  auto inRing = [&](Index t, Index i) {
+    const Index* tri = mesh.Triangle(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (tri[k] >= torusPoints || !(tri[k] / minor == i || tri[k] / minor == (i + 1) % major))
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  edit([&](Index t) { return inRing(t, cutA) || inRing(t, cutB); }, {});
+  EXPECT_EQ(updated.NumberOfComponents(), 2);
+  const Index a = cutA * minor, b = (cutA + 1) * minor;
+  edit([](Index) { return false; }, { { a, b, Index(b + 1) }, { a, Index(b + 1), Index(a + 1) } });
+  EXPECT_EQ(updated.NumberOfComponents(), 1);
+  // A third triangle on an edge, a separate triangle, a repeated vertex, a bow tie at a vertex.
+  const Index* first = mesh.Triangle(0);
+  const Index far = Index(20 * minor + 8);
+  edit([](Index t) { return t % 97 == 3; },
+    { { first[0], first[1], far }, { torusPoints, Index(torusPoints + 1), Index(torusPoints + 2) },
+      { Index(torusPoints + 3), Index(torusPoints + 3), Index(torusPoints + 4) },
+      { far, Index(torusPoints + 4), Index(torusPoints + 5) } });
+  EXPECT_GT(updated.Statistics(mesh).NonManifoldEdges, 0);
+  EXPECT_GT(updated.Statistics(mesh).NonManifoldVertices, 0);
+  // And those edits removed again.
+  const Index count = mesh.NumberOfTriangles();
+  edit([&](Index t) { return t >= count - 4; }, {});
 }
 
 // A border is counted as its connected boundary edges: two triangles whose shared edge runs the

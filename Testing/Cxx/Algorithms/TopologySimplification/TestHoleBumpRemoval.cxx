@@ -36,6 +36,7 @@
 #include <cstdint>
 #include <limits>
 #include <sstream>
+#include <string>
 
 using namespace slod;
 using namespace slodtest;
@@ -1052,12 +1053,13 @@ TEST(TopologySimplification, CleanedSurfaceIndexedAgainOnlyWhenTheLastPassChange
     ASSERT_EQ(r.DetectionPasses, 3);
     EXPECT_EQ(r.CleanedTopologyTriangles, 0);
     EXPECT_EQ(r.CleanedAdjacencyEntries, 0);
-    // One pass, which removes the hole: the cleaned surface is new, indexed once.
+    // One pass, which removes the hole: the cleaned surface is new, its adjacency built once (its
+    // topology is the pass's, updated around the changed triangles since session 45).
     p.MaximumPasses = 1;
     ASSERT_TRUE(TopologySimplifier().Run(stepped, p, r));
     const std::int64_t cleaned = std::int64_t(r.CleanedTriangles.size() / 3);
     ASSERT_GT(cleaned, 0);
-    EXPECT_EQ(r.CleanedTopologyTriangles, cleaned);
+    EXPECT_GT(r.CleanedTopologyTriangles, 0);
     EXPECT_EQ(r.CleanedAdjacencyEntries, 3 * cleaned);
   }
   // Rough scans to a tenth (SPBM completion from a target, the unmerged fallback possible): at
@@ -1073,10 +1075,61 @@ TEST(TopologySimplification, CleanedSurfaceIndexedAgainOnlyWhenTheLastPassChange
     ASSERT_TRUE(TopologySimplifier().Run(mesh, p, r)) << "seed " << seed;
     const std::int64_t cleaned = std::int64_t(r.CleanedTriangles.size() / 3);
     EXPECT_LE(r.CleanedTopologyTriangles, cleaned) << "seed " << seed;
-    EXPECT_LE(r.CleanedAdjacencyEntries, 3 * r.CleanedTopologyTriangles) << "seed " << seed;
+    EXPECT_LE(r.CleanedAdjacencyEntries, 3 * cleaned) << "seed " << seed;
+    EXPECT_EQ(r.CleanedTopologyTriangles == 0, r.CleanedAdjacencyEntries == 0) << "seed " << seed;
     kept += r.CleanedTopologyTriangles == 0;
   }
   EXPECT_GT(kept, 0) << "a scan's last pass must keep its surface at least once";
+}
+
+// Issue 10, session 45: a detection pass changes about 0.1 % of a scan's triangles (features
+// removed and refilled, cracks closed), and at 1M and 4M triangles the last pass still changes
+// some, so every later pass and the clean-up merge indexed a surface whose topology the pass
+// before had built all but those triangles: a whole MeshTopology::Build each (scattered passes,
+// growing faster than the input). Now the passes carry their topology over (MeshTopology::Update):
+// the topology work after the input's (counted by the result's DetectionTopologyTriangles and
+// CleanedTopologyTriangles: whole builds' triangles, updates' local incidences) is at most twice
+// the changed triangles times the largest vertex degree (a changed triangle touches three vertices,
+// each examined about four times over its degree, about 6 on average and 19-22 at most on these
+// scans; measured 14-19 per changed triangle), and less than one rebuild of the cleaned surface.
+// On base-s45 both fail: a whole build of the cleaned surface, and one per later pass. The outputs are unchanged (MeshTopology.UpdateAfterAnEditEqualsABuildOfTheEditedMesh,
+// the hash list).
+TEST(TopologySimplification, PassesUpdateTheirTopologyAroundTheChangedTriangles)
+{
+  int changedLast = 0;
+  for (const unsigned int seed : { 149u, 151u })
+  {
+    TriangleMesh mesh;
+    std::vector<Index> vertexToInput;
+    ASSERT_TRUE(PrepareTriangleMesh(NoisyScanIsosurface(64, seed), PreparationOptions(), mesh, vertexToInput).Valid);
+    for (const int passes : { 1, 4 })
+    {
+      TopologySimplificationParameters p = ToATenthWithDefaults(mesh);
+      p.Completion = TopologyCompletion::KeepTriangles;
+      p.MaximumPasses = passes;
+      MeshTopology given(mesh);
+      TopologySimplificationResult r;
+      ASSERT_TRUE(TopologySimplifier().Run(mesh, p, r, nullptr, &given));
+      std::int64_t changed = 0;
+      for (const TopologyFeature& f : r.Features)
+      {
+        changed += f.Removed ? f.RemovedTriangles + f.FillTriangles : 0;
+      }
+      TriangleMesh cleaned;
+      cleaned.Points = mesh.Points;
+      cleaned.Triangles = r.CleanedTriangles;
+      const std::int64_t degree =
+        std::max(MaximumVertexDegree(MeshTopology(mesh)), MaximumVertexDegree(MeshTopology(cleaned)));
+      const std::int64_t work = r.DetectionTopologyTriangles + r.CleanedTopologyTriangles;
+      const std::string what = "seed " + std::to_string(seed) + ", " + std::to_string(passes) + " passes, " +
+        std::to_string(changed) + " changed triangles, degree " + std::to_string(degree);
+      ASSERT_GT(changed, 0) << what;
+      EXPECT_LE(work, 2 * degree * changed) << what << ", work " << work;
+      EXPECT_LT(work, std::int64_t(cleaned.NumberOfTriangles())) << what;
+      changedLast += r.CleanedTopologyTriangles > 0;
+    }
+  }
+  EXPECT_GT(changedLast, 0) << "a last pass must change its surface";
 }
 
 // vtkHoleBumpRemoval builds the input's topology for its statistics; Run takes it over for the
