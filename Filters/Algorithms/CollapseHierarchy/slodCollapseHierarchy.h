@@ -522,6 +522,13 @@ public:
   // batch collapsed" (before the compaction inside a batch of the first levels), "its end" (before
   // its compaction), or "M0 evaluated" (PeakLevel -1).
   const char* PeakMoment() const { return this->PeakAtMoment; }
+  // The scratch Extract keeps between calls (a slider's extractions reuse it): the replay's
+  // corners, the map to output points and, once a blend was extracted, its targets and batches.
+  size_t ExtractionScratchBytes() const
+  {
+    return (this->ScratchCorners.capacity() + this->ScratchMap.capacity() + this->ScratchTarget.capacity() +
+             this->ScratchBatch.capacity()) * sizeof(Index);
+  }
 
 private:
   // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the
@@ -568,7 +575,7 @@ private:
     // Normal is T's own area vector normalised (EvaluateShape): OwnNormal's numbers, bit for bit.
     bool OwnPlane = false;
   };
-  // What the batch selection reads of a triangle's evaluation, kept per triangle (12 bytes instead
+  // What the batch selection reads of a triangle's evaluation, kept per triangle (10 bytes instead
   // of the Evaluation's 104): the paper's weight terms folded into one (their normalisers are fixed
   // after M0's evaluation), and T's unit normal, collapse point and the error of its triangle
   // collapse recomputed from its vertices and their quadrics (they do not change until T is
@@ -576,13 +583,18 @@ private:
   // (Packed to 4 bytes: 12 bytes instead of 16 per live triangle; the double on a 4-byte boundary
   // costs no measurable time. The error, 8 bytes per row before session 41, about 15 bytes per
   // input vertex at the first levels, the build's peak, is read only for a triangle ordered by its
-  // edge collapse whose edge collapse was not taken: recomputed then.)
-#pragma pack(push, 4)
+  // edge collapse whose edge collapse was not taken: recomputed then. Since session 45 the cheapest
+  // edge's choice is 7 bits, not its 3 bytes, and the record packed to 2 bytes: 10 bytes per row,
+  // 4 per input vertex less at the first levels, the build's peak.)
+#pragma pack(push, 2)
   struct StoredEvaluation
   {
     // (A new row carries the error 0: kept, and 0 is what KeptErrors does not hold.)
     StoredEvaluation()
-      : PreferEdge(false)
+      : EdgePlusOne(0)
+      , EdgeKind(0)
+      , EdgeFixed(0)
+      , PreferEdge(false)
       , ErrorKept(true)
       , Normal(NormalSource::Own)
       , Point(PointSource::Quadric)
@@ -593,7 +605,25 @@ private:
     // (WeightOf, once M0's normalisers are known): the error T is ordered by (its cheapest edge
     // collapse's when PreferEdge, else Error), so that the edge's need not be kept.
     double Weight = 0;
-    EdgeChoice CheapestEdge;
+    // The evaluation's EdgeChoice (Edge -1..2 as Edge + 1, Kind 0..2, Fixed a bit per corner).
+    unsigned char EdgePlusOne : 2;
+    unsigned char EdgeKind : 2;
+    unsigned char EdgeFixed : 3;
+    EdgeChoice CheapestEdge() const
+    {
+      EdgeChoice c;
+      c.Edge = static_cast<signed char>(int(this->EdgePlusOne) - 1);
+      c.Kind = this->EdgeKind;
+      c.Fixed = this->EdgeFixed;
+      return c;
+    }
+    void SetCheapestEdge(const EdgeChoice& c)
+    {
+      this->EdgePlusOne = static_cast<unsigned char>(c.Edge + 1);
+      this->EdgeKind = c.Kind;
+      this->EdgeFixed = c.Fixed;
+    }
+    void ForgetCheapestEdge() { this->EdgePlusOne = 0; } // (Edge -1: not known)
     bool PreferEdge : 1;
     // The error of T's triangle collapse is kept: in KeptErrors, or 0 when not there (else ErrorOf
     // recomputes it).
@@ -606,7 +636,7 @@ private:
     PointSource Point : 2;
   };
 #pragma pack(pop)
-  static_assert(sizeof(StoredEvaluation) == 12, "one evaluation record per live triangle");
+  static_assert(sizeof(StoredEvaluation) == 10, "one evaluation record per live triangle");
   std::unordered_map<Index, Vec3> KeptPoints; // PointSource::Kept, by slot
   Vec3 PointOf(Index t) const;
   // The error of T's triangle collapse at its last evaluation (read when T is ordered by its edge
