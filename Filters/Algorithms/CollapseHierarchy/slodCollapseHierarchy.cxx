@@ -1392,7 +1392,7 @@ void CollapseHierarchy::StoreEvaluation(Index t, const Evaluation& e)
   this->StoreError(t, s, e, error);
   s.Weight = e.PreferEdge ? e.EdgeError : error; // (weighed by the caller)
   s.PreferEdge = e.PreferEdge;
-  s.SetCheapestEdge(e.CheapestEdge);
+  s.CheapestEdge = e.CheapestEdge;
   s.Normal = e.NormalKnown ? e.NormalKind : this->NormalSourceOf(t, e.Normal);
   if (s.Normal == NormalSource::Stored)
   {
@@ -1717,19 +1717,19 @@ int CollapseHierarchy::SwapAround(Index q, double minimumDot, std::vector<Index>
 // current mean area (not the initial one's guess).
 bool CollapseHierarchy::KnownCheapestEdge(Index t, int& edge, Vec3& point, double& error) const
 {
-  const EdgeChoice cheapest = this->Evaluations[this->Row(t)].CheapestEdge();
+  const StoredEvaluation& e = this->Evaluations[this->Row(t)];
   const Index* tri = this->Mesh.Triangle(t);
-  if (cheapest.Edge < 0 || cheapest.Fixed != this->FixedMask(tri))
+  if (e.CheapestEdge.Edge < 0 || e.CheapestEdge.Fixed != this->FixedMask(tri))
   {
     return false;
   }
-  const int k = cheapest.Edge;
+  const int k = e.CheapestEdge.Edge;
   const Index uv[2] = { tri[k], tri[(k + 1) % 3] };
   const OwnQuadric own[2] = { this->OwnQuadricOf(uv[0]), this->OwnQuadricOf(uv[1]) };
   Quadric q = *own[0].Planes;
   q += *own[1].Planes;
   const Vec3 pu = this->Mesh.Point(uv[0]), pv = this->Mesh.Point(uv[1]);
-  if (cheapest.Kind == 0)
+  if (e.CheapestEdge.Kind == 0)
   {
     if (!EdgeOptimum(q, pu, pv, point))
     {
@@ -1738,7 +1738,7 @@ bool CollapseHierarchy::KnownCheapestEdge(Index t, int& edge, Vec3& point, doubl
   }
   else
   {
-    point = cheapest.Kind == 1 ? pu : pv;
+    point = e.CheapestEdge.Kind == 1 ? pu : pv;
   }
   edge = k;
   error = this->CollapseError(own, 2, q, point) * this->ValenceDiscount(uv[0], uv[1]);
@@ -1848,7 +1848,7 @@ bool CollapseHierarchy::FindEdgeCollapse(Index t, int& edge, Vec3& point, double
   // quadric point is the known one (the same EdgeOptimum of the same quadric and ends).
   const bool knownFailed = known && ((failsEverywhere >> edge) & 1);
   const Vec3 knownPoint = point;
-  const bool knownOptimum = known && this->Evaluations[this->Row(t)].CheapestEdge().Kind == 0;
+  const bool knownOptimum = known && this->Evaluations[this->Row(t)].CheapestEdge.Kind == 0;
   bool excluded = false; // (the known edge's candidates left out)
   for (int pass = knownFailed ? 0 : 1; pass < 2; ++pass) // (pass 0: without the known edge)
   {
@@ -2690,7 +2690,7 @@ bool CollapseHierarchy::EvaluateAllTriangles(const ProgressFunction& progress)
     // FindEdgeCollapse's first with the final mean area.
     for (StoredEvaluation& e : this->Evaluations)
     {
-      e.ForgetCheapestEdge();
+      e.CheapestEdge.Edge = -1;
     }
     this->KeepGuessedErrors(guess);
     std::fill(this->EdgeCostErrors.begin(), this->EdgeCostErrors.end(), std::numeric_limits<float>::quiet_NaN());
@@ -2896,12 +2896,15 @@ struct CollapseHierarchy::RangeCollection
         }
         continue;
       }
-      h.ForEachRowSlot(first, last, [&](Index t, size_t row) {
-        if ((bits[row / 64] >> (row % 64)) & 1)
+      LiveRowIndex::Cursor slots(h.RowOf);
+      for (size_t w = first / 64; w < (last + 63) / 64; ++w)
+      {
+        for (std::uint64_t word = bits[w]; word != 0; word &= word - 1)
         {
-          *out++ = { h.Evaluations[row].Weight, t };
+          const size_t row = 64 * w + size_t(__builtin_ctzll(word));
+          *out++ = { h.Evaluations[row].Weight, Index(slots.ElementOf(row)) };
         }
-      });
+      }
     }
   }
 };
@@ -3049,7 +3052,7 @@ void CollapseHierarchy::SelectBatch(int level, LevelState& state)
     examined += byEdge ? 1 : 2;
     // The region of the collapse expected (for an edge, the triangles around its two ends, the
     // region MarkRegion marks), then of the one chosen.
-    const int expected = byEdge ? this->Evaluations[this->Row(t)].CheapestEdge().Edge : -1;
+    const int expected = byEdge ? this->Evaluations[this->Row(t)].CheapestEdge.Edge : -1;
     bool chosen = false;
     Choice choice;
     if (this->RegionIsFree(t, state, expected))
@@ -3112,7 +3115,7 @@ struct CollapseHierarchy::ChoosingAhead
       const Index t = candidate.Triangle;
       const StoredEvaluation& e = h.Evaluations[h.Row(t)];
       const bool byEdge = this->State.Edges && (e.PreferEdge || h.HubMask(t) != 0);
-      if (h.RegionIsFree(t, this->State, byEdge ? e.CheapestEdge().Edge : -1))
+      if (h.RegionIsFree(t, this->State, byEdge ? e.CheapestEdge.Edge : -1))
       {
         this->State.Ahead[size_t(j)] = h.ChooseCollapse(t, candidate.Weight, this->State.Edges, scratch);
       }
@@ -3927,16 +3930,21 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
     }
     chunk.clear();
   };
-  this->ForEachRowSlot(0, size_t(this->Rows), [&](Index t, size_t r) {
+  // (A marked row's slot from the rank words, by a cursor: the rows not marked, most of them, are
+  // a byte's test each.)
+  const bool rowsAreSlots = this->Rows == this->Base.NumberOfTriangles();
+  LiveRowIndex::Cursor slots(this->RowOf);
+  for (size_t r = 0; r < size_t(this->Rows); ++r)
+  {
     if (state.Marks[r] == state.AffectedStamp)
     {
-      chunk.push_back(t);
+      chunk.push_back(rowsAreSlots ? Index(r) : Index(slots.ElementOf(r)));
       if (chunk.size() == size_t(EvaluationChunk))
       {
         evaluateChunk();
       }
     }
-  });
+  }
   evaluateChunk();
 }
 
@@ -4017,7 +4025,7 @@ void CollapseHierarchy::EvaluateChunk(const Index* triangles, Index first, Index
     // otherwise only one without a plane does, and StoreEvaluation reads it then.
     e.Error = this->Parameters.ErrorWeight > 0 ? 0.0 : this->ErrorOf(triangleAt(i), Vec3{ 0, 0, 0 });
     e.PreferEdge = last.PreferEdge;
-    e.CheapestEdge = last.CheapestEdge();
+    e.CheapestEdge = last.CheapestEdge;
   }
   if (!(this->Parameters.ErrorWeight >= 1 && this->Parameters.QuadricCollapsePoint))
   {

@@ -221,6 +221,9 @@ public:
   // Row: a binary search for the word of row `begin`, then the words' set bits).
   template <typename Functor>
   void ForEachRow(size_t begin, size_t end, Functor&& f) const;
+  // The elements of increasing rows, one at a time (walks that read a few of their rows' slots:
+  // each costs the set bits skipped since the one before, words skipped by their bases).
+  class Cursor;
   size_t NumberOfElements() const { return this->Elements; }
   // Rows for the elements with a row that are alive(i), in index order; returns
   // which old rows are kept (a bit per old row), for the arrays compacted to the new rows.
@@ -250,6 +253,46 @@ private:
   size_t Elements = 0;
 };
 
+class LiveRowIndex::Cursor
+{
+public:
+  explicit Cursor(const LiveRowIndex& index)
+    : Words(index.Words)
+  {
+  }
+  // (row at least the one asked before, and below the number of rows)
+  size_t ElementOf(size_t row)
+  {
+    if (this->W == Unset)
+    {
+      const auto after = std::upper_bound(this->Words.begin(), this->Words.end(), row,
+        [](size_t r, const Word& w) { return r < size_t(w.Base); });
+      this->Enter(size_t(after - this->Words.begin()) - 1);
+    }
+    while (this->W + 1 < this->Words.size() && size_t(this->Words[this->W + 1].Base) <= row)
+    {
+      this->Enter(this->W + 1);
+    }
+    for (; this->At < row; ++this->At) // (at most 63 per word)
+    {
+      this->Bits &= this->Bits - 1;
+    }
+    return 64 * this->W + size_t(__builtin_ctzll(this->Bits));
+  }
+
+private:
+  static constexpr size_t Unset = ~size_t(0);
+  void Enter(size_t w)
+  {
+    this->W = w;
+    this->Bits = this->Words[w].Bits;
+    this->At = size_t(this->Words[w].Base);
+  }
+  const std::vector<Word>& Words;
+  size_t W = Unset, At = 0;
+  std::uint64_t Bits = 0;
+};
+
 template <typename Functor>
 void LiveRowIndex::ForEachRow(size_t begin, size_t end, Functor&& f) const
 {
@@ -268,13 +311,20 @@ void LiveRowIndex::ForEachRow(size_t begin, size_t end, Functor&& f) const
   }
   for (size_t row = begin;;)
   {
-    for (; bits != 0; bits &= bits - 1)
+    if (row + PopCount(bits) < end)
     {
-      f(64 * w + size_t(__builtin_ctzll(bits)), row);
-      if (++row == end)
+      for (; bits != 0; bits &= bits - 1) // (the whole word: no test of the end per element)
       {
-        return;
+        f(64 * w + size_t(__builtin_ctzll(bits)), row++);
       }
+    }
+    else
+    {
+      for (; row < end; bits &= bits - 1)
+      {
+        f(64 * w + size_t(__builtin_ctzll(bits)), row++);
+      }
+      return;
     }
     if (++w == this->Words.size())
     {
@@ -575,7 +625,7 @@ private:
     // Normal is T's own area vector normalised (EvaluateShape): OwnNormal's numbers, bit for bit.
     bool OwnPlane = false;
   };
-  // What the batch selection reads of a triangle's evaluation, kept per triangle (10 bytes instead
+  // What the batch selection reads of a triangle's evaluation, kept per triangle (12 bytes instead
   // of the Evaluation's 104): the paper's weight terms folded into one (their normalisers are fixed
   // after M0's evaluation), and T's unit normal, collapse point and the error of its triangle
   // collapse recomputed from its vertices and their quadrics (they do not change until T is
@@ -583,18 +633,13 @@ private:
   // (Packed to 4 bytes: 12 bytes instead of 16 per live triangle; the double on a 4-byte boundary
   // costs no measurable time. The error, 8 bytes per row before session 41, about 15 bytes per
   // input vertex at the first levels, the build's peak, is read only for a triangle ordered by its
-  // edge collapse whose edge collapse was not taken: recomputed then. Since session 45 the cheapest
-  // edge's choice is 7 bits, not its 3 bytes, and the record packed to 2 bytes: 10 bytes per row,
-  // 4 per input vertex less at the first levels, the build's peak.)
-#pragma pack(push, 2)
+  // edge collapse whose edge collapse was not taken: recomputed then.)
+#pragma pack(push, 4)
   struct StoredEvaluation
   {
     // (A new row carries the error 0: kept, and 0 is what KeptErrors does not hold.)
     StoredEvaluation()
-      : EdgePlusOne(0)
-      , EdgeKind(0)
-      , EdgeFixed(0)
-      , PreferEdge(false)
+      : PreferEdge(false)
       , ErrorKept(true)
       , Normal(NormalSource::Own)
       , Point(PointSource::Quadric)
@@ -605,25 +650,7 @@ private:
     // (WeightOf, once M0's normalisers are known): the error T is ordered by (its cheapest edge
     // collapse's when PreferEdge, else Error), so that the edge's need not be kept.
     double Weight = 0;
-    // The evaluation's EdgeChoice (Edge -1..2 as Edge + 1, Kind 0..2, Fixed a bit per corner).
-    unsigned char EdgePlusOne : 2;
-    unsigned char EdgeKind : 2;
-    unsigned char EdgeFixed : 3;
-    EdgeChoice CheapestEdge() const
-    {
-      EdgeChoice c;
-      c.Edge = static_cast<signed char>(int(this->EdgePlusOne) - 1);
-      c.Kind = this->EdgeKind;
-      c.Fixed = this->EdgeFixed;
-      return c;
-    }
-    void SetCheapestEdge(const EdgeChoice& c)
-    {
-      this->EdgePlusOne = static_cast<unsigned char>(c.Edge + 1);
-      this->EdgeKind = c.Kind;
-      this->EdgeFixed = c.Fixed;
-    }
-    void ForgetCheapestEdge() { this->EdgePlusOne = 0; } // (Edge -1: not known)
+    EdgeChoice CheapestEdge;
     bool PreferEdge : 1;
     // The error of T's triangle collapse is kept: in KeptErrors, or 0 when not there (else ErrorOf
     // recomputes it).
@@ -636,7 +663,7 @@ private:
     PointSource Point : 2;
   };
 #pragma pack(pop)
-  static_assert(sizeof(StoredEvaluation) == 10, "one evaluation record per live triangle");
+  static_assert(sizeof(StoredEvaluation) == 12, "one evaluation record per live triangle");
   std::unordered_map<Index, Vec3> KeptPoints; // PointSource::Kept, by slot
   Vec3 PointOf(Index t) const;
   // The error of T's triangle collapse at its last evaluation (read when T is ordered by its edge
