@@ -934,8 +934,8 @@ private:
   // is the collapse's point (global id = input points + the collapse's index), all else as the
   // slot's previous version; corner 3 (M0's versions, a swap's two) holds all three: Base's
   // triangle, or the next three of FullEntryVertices. 8 bytes per version instead of 20: Extract
-  // replays the slots' corners in the same pass it already makes. M0's versions (the first nt, Base's triangles in slot order) have no
-  // code stored: EntryCode holds version e >= nt at e - nt (CodeOf; 4 bytes per input triangle
+  // replays the slots' corners in the same pass it already makes. M0's versions (the first nt,
+  // Base's triangles in slot order) have no code stored: EntryCode holds version e >= nt at e - nt (CodeOf; 4 bytes per input triangle
   // less, at every stage of the build).
   static constexpr std::uint32_t AllCorners = 3;
   std::vector<std::uint32_t> EntryCode;
