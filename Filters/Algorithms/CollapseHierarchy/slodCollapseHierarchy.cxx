@@ -1624,7 +1624,6 @@ void CollapseHierarchy::PackVersions()
 // its corner `corner` is the last collapse's point, or (AllCorners) its three vertices are stored.
 void CollapseHierarchy::AppendEntry(Index x, std::uint32_t corner)
 {
-  this->EntryOf[this->Row(x)] = this->NumberOfEntries();
   if (corner == AllCorners)
   {
     const Index* q = this->Mesh.Triangle(x);
@@ -2108,7 +2107,12 @@ bool CollapseHierarchy::Build(TriangleMesh&& input, std::vector<unsigned char>&&
     }
   }
   this->ReleaseWorkingData();
-  this->FinishVersions();
+  // The working data back to the system before the versions are finished: DeriveDeaths and
+  // PackVersions allocate their arrays next (4 bytes per version, then the packed ones), which on
+  // top of the freed but resident working data were the run's peak (mc1m: 4 MB above the levels').
+  ReturnFreedMemory();
+  this->DeriveDeaths();
+  this->PackVersions();
   // The working data and the build's forms of the versions (the deaths derived at the end, the
   // 32-bit codes) back to the system: freed in the heap they stayed resident under the levels the
   // filter extracts next (2 MB more RSS on noisy273 than base-s41 before, whose deaths lived in a
@@ -2130,7 +2134,7 @@ bool CollapseHierarchy::Build(TriangleMesh&& input, std::vector<unsigned char>&&
 }
 
 // f(t, row) for the live triangles in slot order. Before the first compaction every slot is its
-// own row; after it, through the rows (each row's current version holds its slot), which skips
+// own row; after it, through the rows (the rank words' set bits give their slots), which skips
 // the slots dead at the compactions: late in the build a small share of M0's slots is live, and
 // the walks of every slot by each range of the priority order were 3% of the build's
 // instructions on refined_elephant.
@@ -2142,27 +2146,28 @@ void CollapseHierarchy::ForEachLiveTriangle(Functor&& f) const
 
 // (Before the first compaction Rows is the number of slots: position, slot and row coincide.)
 template <typename Functor>
-void CollapseHierarchy::ForEachLiveTriangleIn(size_t begin, size_t end, Functor&& f) const
+void CollapseHierarchy::ForEachRowSlot(size_t begin, size_t end, Functor&& f) const
 {
   if (this->Rows == this->Base.NumberOfTriangles())
   {
     for (size_t t = begin; t < end; ++t)
     {
-      if (this->Mesh.IsTriangleAlive(Index(t)))
-      {
-        f(Index(t), t);
-      }
+      f(Index(t), t);
     }
     return;
   }
-  for (size_t r = begin; r < end; ++r)
-  {
-    const Index t = this->SlotOfRow(r);
+  this->RowOf.ForEachRow(begin, end, [&](size_t t, size_t r) { f(Index(t), r); });
+}
+
+template <typename Functor>
+void CollapseHierarchy::ForEachLiveTriangleIn(size_t begin, size_t end, Functor&& f) const
+{
+  this->ForEachRowSlot(begin, end, [&](Index t, size_t r) {
     if (this->Mesh.IsTriangleAlive(t))
     {
       f(t, r);
     }
-  }
+  });
 }
 
 // The stored normals of the triangles dead at this compaction (RowOf already renumbered).
@@ -2206,9 +2211,9 @@ void CollapseHierarchy::CompactRows(LevelState& state)
     return;
   }
   const std::vector<std::uint64_t> keptRows = this->RowOf.Renumber([&](Index t) { return this->Mesh.IsTriangleAlive(t); });
-  // Ten independent tasks (each array kept on its own; the dead rows' kept points and normals forgotten
+  // Nine independent tasks (each array kept on its own; the dead rows' kept points and normals forgotten
   // before their evaluations move): concurrent with ParallelBookkeeping, the same arrays.
-  constexpr vtkIdType Tasks = 10;
+  constexpr vtkIdType Tasks = 9;
   const auto task = [&](vtkIdType i) {
     switch (i)
     {
@@ -2224,24 +2229,21 @@ void CollapseHierarchy::CompactRows(LevelState& state)
         KeepRows(state.Marks, keptRows, 1);
         break;
       case 3:
-        KeepRows(this->EntryOf, keptRows, 1);
-        break;
-      case 4:
         KeepRows(this->BlockedStrict.Narrow, keptRows, 1);
         KeepRows(this->BlockedStrict.Wide, keptRows, 1);
         break;
-      case 5:
+      case 4:
         KeepRows(this->BlockedRelaxed.Narrow, keptRows, 1);
         KeepRows(this->BlockedRelaxed.Wide, keptRows, 1);
         break;
-      case 6:
+      case 5:
         KeepRows(this->BlockedEdge.Narrow, keptRows, 1);
         KeepRows(this->BlockedEdge.Wide, keptRows, 1);
         break;
-      case 7:
+      case 6:
         KeepRows(this->EdgeCostKinds, keptRows, 1);
         break;
-      case 8:
+      case 7:
         KeepRows(this->PaperTerms, keptRows, 1);
         break;
       default:
@@ -2308,7 +2310,6 @@ void CollapseHierarchy::ReleaseWorkingData()
   release(this->PaperTerms);
   release(this->AncestorCounts);
   release(this->AncestorStack);
-  release(this->EntryOf);
   this->RowOf.Release();
   release(this->VertexMark);
   release(this->VertexStamps);
@@ -2364,7 +2365,7 @@ std::vector<CollapseHierarchy::StorageShare> CollapseHierarchy::Storage() const
     { "edge costs", true, bytes(this->EdgeCostErrors) + bytes(this->EdgeCostKinds) },
     { "stamps, degrees, marks", true, stamps },
     { "ancestors", true, ancestors },
-    { "current versions, rows", true, bytes(this->EntryOf) + this->RowOf.MemoryBytes() } };
+    { "rows", true, this->RowOf.MemoryBytes() } };
 }
 
 void LiveRowIndex::Reset(size_t n)
@@ -2506,8 +2507,6 @@ void CollapseHierarchy::Reset(TriangleMesh&& input, std::vector<unsigned char>&&
   this->PackedCodes.Release();
   this->PackedDeaths.Release();
   this->FullEntryVertices.clear();
-  this->EntryOf.resize(nt);
-  std::iota(this->EntryOf.begin(), this->EntryOf.end(), 0);
   this->RowOf.Reset(size_t(nt)); // every slot its own row until the first compaction
   this->Rows = nt;
   this->ResetRecords();
@@ -2881,16 +2880,29 @@ struct CollapseHierarchy::RangeCollection
         this->State.RangeCounts[size_t(b)] = n;
         continue;
       }
-      // (Only the members' rows are read again: through their bits.)
+      // (Only the members' rows are read again: through their bits; their slots, once rows are
+      // compacted, along the rank words' bits.)
       const CollapseHierarchy& h = this->Hierarchy;
-      const bool slots = h.Rows == h.Base.NumberOfTriangles();
       RankedTriangle* out = this->State.Candidates.data() + this->Have + this->State.RangeCounts[size_t(b)];
+      if (h.Rows == h.Base.NumberOfTriangles())
+      {
+        for (size_t w = first / 64; w < (last + 63) / 64; ++w)
+        {
+          for (std::uint64_t word = bits[w]; word != 0; word &= word - 1)
+          {
+            const size_t row = 64 * w + size_t(__builtin_ctzll(word));
+            *out++ = { h.Evaluations[row].Weight, Index(row) };
+          }
+        }
+        continue;
+      }
+      LiveRowIndex::Cursor slots(h.RowOf);
       for (size_t w = first / 64; w < (last + 63) / 64; ++w)
       {
         for (std::uint64_t word = bits[w]; word != 0; word &= word - 1)
         {
           const size_t row = 64 * w + size_t(__builtin_ctzll(word));
-          *out++ = { h.Evaluations[row].Weight, slots ? Index(row) : h.SlotOfRow(row) };
+          *out++ = { h.Evaluations[row].Weight, Index(slots.ElementOf(row)) };
         }
       }
     }
@@ -3702,7 +3714,7 @@ void CollapseHierarchy::ApplyRunCollapse(
       this->ForgetEdgeCostsAt(kept, q, row);
     }
     this->EntryCode[size_t(e - nt)] = std::uint32_t(x) << 2 | (q[0] == kept ? 0 : (q[1] == kept ? 1 : 2));
-    this->EntryOf[row] = e++;
+    ++e;
   });
   this->VersionsBornBy[size_t(k) + 1] = e;
   this->Records.SetAt(k, record, this->Mesh);
@@ -3907,7 +3919,6 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
   // the results do not depend on the order), a chunk at a time: a list of all of them (4 bytes
   // per re-evaluated triangle, half the triangles at the first level) was 4 bytes per input
   // vertex of the build's peak.
-  const bool rowsAreSlots = this->Rows == this->Base.NumberOfTriangles();
   std::vector<Index>& chunk = state.AffectedChunk;
   chunk.clear();
   const auto evaluateChunk = [&]() {
@@ -3919,11 +3930,15 @@ void CollapseHierarchy::ReweighAround(const std::vector<Index>& vertices, LevelS
     }
     chunk.clear();
   };
+  // (A marked row's slot from the rank words, by a cursor: the rows not marked, most of them, are
+  // a byte's test each.)
+  const bool rowsAreSlots = this->Rows == this->Base.NumberOfTriangles();
+  LiveRowIndex::Cursor slots(this->RowOf);
   for (size_t r = 0; r < size_t(this->Rows); ++r)
   {
     if (state.Marks[r] == state.AffectedStamp)
     {
-      chunk.push_back(rowsAreSlots ? Index(r) : this->SlotOfRow(r));
+      chunk.push_back(rowsAreSlots ? Index(r) : Index(slots.ElementOf(r)));
       if (chunk.size() == size_t(EvaluationChunk))
       {
         evaluateChunk();
@@ -4109,8 +4124,15 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   t = std::min(1.0, std::max(0.0, t));
   out.BlendT = t;
   this->ScratchMap.resize(ng, InvalidIndex);
-  this->ScratchTarget.resize(ng, InvalidIndex);
-  this->ScratchBatch.resize(ng, InvalidIndex);
+  // The blend's targets and batches only when there is a blend: a cut (collapses = blendEnd, the
+  // filter's output for a target or a level) reads none, and the two arrays (4 bytes per global
+  // vertex each, about 8 per input vertex) made the extraction after the build the run's peak.
+  const bool blending = blendEnd > collapses;
+  if (blending)
+  {
+    this->ScratchTarget.resize(ng, InvalidIndex);
+    this->ScratchBatch.resize(ng, InvalidIndex);
+  }
   for (Index k = collapses; k < blendEnd; ++k)
   {
     for (int j = 0; j < this->CountOfCollapse(k); ++j)
@@ -4137,7 +4159,7 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
         out.PointGlobal.push_back(g[j]);
       }
       out.Triangles.push_back(slot);
-      if (this->ScratchBatch[g[j]] != InvalidIndex)
+      if (blending && this->ScratchBatch[g[j]] != InvalidIndex)
       {
         batch = this->ScratchBatch[g[j]];
         ++moving;
@@ -4158,7 +4180,7 @@ void CollapseHierarchy::Extract(Index collapses, Index blendEnd, double t, Hiera
   {
     const Index g = out.PointGlobal[i];
     const Vec3 a = this->Vertex(g);
-    const Index target = this->ScratchTarget[g];
+    const Index target = blending ? this->ScratchTarget[g] : InvalidIndex;
     out.PointTarget[i] = target;
     if (target != InvalidIndex && t > 0)
     {

@@ -152,7 +152,7 @@ struct SURFACELODFILTERS_EXPORT CollapseHierarchyParameters
   // slots prefix sums give it (its index, reference block, versions, records): the same hierarchy,
   // bit for bit, for any number of threads. Off: one by one (the serial reference).
   bool ParallelCollapses = true;
-  // Upkeep of the working data run concurrently (vtkSMPTools): the ten compactions of CompactRows
+  // Upkeep of the working data run concurrently (vtkSMPTools): the nine compactions of CompactRows
   // as tasks, and the test of an evaluation's normal against T's own (StoreEvaluation) made in
   // the concurrent evaluation. The same hierarchy, bit for bit, for any number of threads. Off:
   // in serial (the reference).
@@ -217,6 +217,13 @@ public:
     return size_t(w.Base) + PopCount(w.Bits & ((std::uint64_t(1) << (i & 63)) - 1));
   }
   const void* Address(size_t i) const { return &this->Words[i >> 6]; } // (prefetch)
+  // f(i, row) for the elements with a row in [begin, end) of the rows, in order (the inverse of
+  // Row: a binary search for the word of row `begin`, then the words' set bits).
+  template <typename Functor>
+  void ForEachRow(size_t begin, size_t end, Functor&& f) const;
+  // The elements of increasing rows, one at a time (walks that read a few of their rows' slots:
+  // each costs the set bits skipped since the one before, words skipped by their bases).
+  class Cursor;
   size_t NumberOfElements() const { return this->Elements; }
   // Rows for the elements with a row that are alive(i), in index order; returns
   // which old rows are kept (a bit per old row), for the arrays compacted to the new rows.
@@ -245,6 +252,87 @@ private:
   std::vector<Word> Words;
   size_t Elements = 0;
 };
+
+class LiveRowIndex::Cursor
+{
+public:
+  explicit Cursor(const LiveRowIndex& index)
+    : Words(index.Words)
+  {
+  }
+  // (row at least the one asked before, and below the number of rows)
+  size_t ElementOf(size_t row)
+  {
+    if (this->W == Unset)
+    {
+      const auto after = std::upper_bound(this->Words.begin(), this->Words.end(), row,
+        [](size_t r, const Word& w) { return r < size_t(w.Base); });
+      this->Enter(size_t(after - this->Words.begin()) - 1);
+    }
+    while (this->W + 1 < this->Words.size() && size_t(this->Words[this->W + 1].Base) <= row)
+    {
+      this->Enter(this->W + 1);
+    }
+    for (; this->At < row; ++this->At) // (at most 63 per word)
+    {
+      this->Bits &= this->Bits - 1;
+    }
+    return 64 * this->W + size_t(__builtin_ctzll(this->Bits));
+  }
+
+private:
+  static constexpr size_t Unset = ~size_t(0);
+  void Enter(size_t w)
+  {
+    this->W = w;
+    this->Bits = this->Words[w].Bits;
+    this->At = size_t(this->Words[w].Base);
+  }
+  const std::vector<Word>& Words;
+  size_t W = Unset, At = 0;
+  std::uint64_t Bits = 0;
+};
+
+template <typename Functor>
+void LiveRowIndex::ForEachRow(size_t begin, size_t end, Functor&& f) const
+{
+  if (begin >= end)
+  {
+    return;
+  }
+  // The last word whose rows start at or before `begin` holds it (bases never decrease).
+  const auto after = std::upper_bound(this->Words.begin(), this->Words.end(), begin,
+    [](size_t row, const Word& w) { return row < size_t(w.Base); });
+  size_t w = size_t(after - this->Words.begin()) - 1;
+  std::uint64_t bits = this->Words[w].Bits;
+  for (size_t skip = begin - size_t(this->Words[w].Base); skip > 0; --skip) // (at most 63)
+  {
+    bits &= bits - 1;
+  }
+  for (size_t row = begin;;)
+  {
+    if (row + PopCount(bits) < end)
+    {
+      for (; bits != 0; bits &= bits - 1) // (the whole word: no test of the end per element)
+      {
+        f(64 * w + size_t(__builtin_ctzll(bits)), row++);
+      }
+    }
+    else
+    {
+      for (; row < end; bits &= bits - 1)
+      {
+        f(64 * w + size_t(__builtin_ctzll(bits)), row++);
+      }
+      return;
+    }
+    if (++w == this->Words.size())
+    {
+      return;
+    }
+    bits = this->Words[w].Bits;
+  }
+}
 
 template <typename Alive>
 std::vector<std::uint64_t> LiveRowIndex::Renumber(Alive&& alive)
@@ -484,6 +572,13 @@ public:
   // batch collapsed" (before the compaction inside a batch of the first levels), "its end" (before
   // its compaction), or "M0 evaluated" (PeakLevel -1).
   const char* PeakMoment() const { return this->PeakAtMoment; }
+  // The scratch Extract keeps between calls (a slider's extractions reuse it): the replay's
+  // corners, the map to output points and, once a blend was extracted, its targets and batches.
+  size_t ExtractionScratchBytes() const
+  {
+    return (this->ScratchCorners.capacity() + this->ScratchMap.capacity() + this->ScratchTarget.capacity() +
+             this->ScratchBatch.capacity()) * sizeof(Index);
+  }
 
 private:
   // Which of T's edge collapse candidates was the cheapest (FindEdgeCollapse's first), with the
@@ -839,9 +934,8 @@ private:
   // is the collapse's point (global id = input points + the collapse's index), all else as the
   // slot's previous version; corner 3 (M0's versions, a swap's two) holds all three: Base's
   // triangle, or the next three of FullEntryVertices. 8 bytes per version instead of 20: Extract
-  // replays the slots' corners in the same pass it already makes. EntryOf: each row's current
-  // version (build only). M0's versions (the first nt, Base's triangles in slot order) have no
-  // code stored: EntryCode holds version e >= nt at e - nt (CodeOf; 4 bytes per input triangle
+  // replays the slots' corners in the same pass it already makes. M0's versions (the first nt,
+  // Base's triangles in slot order) have no code stored: EntryCode holds version e >= nt at e - nt (CodeOf; 4 bytes per input triangle
   // less, at every stage of the build).
   static constexpr std::uint32_t AllCorners = 3;
   std::vector<std::uint32_t> EntryCode;
@@ -854,7 +948,7 @@ private:
     }
     return this->VersionsPacked ? std::uint32_t(this->PackedCodes[size_t(e - nt)]) : this->EntryCode[size_t(e - nt)];
   }
-  // (The build's form only: SlotOfRow, DeriveDeaths.)
+  // (The build's form only: DeriveDeaths.)
   std::uint32_t BuildCodeOf(Index e) const
   {
     const Index nt = this->Base.NumberOfTriangles();
@@ -867,7 +961,7 @@ private:
   // build ends (Deaths, in version order). M0's versions' deaths were derived so since session 32
   // (8 bytes per input vertex), the later ones' since session 41: 4 bytes per version born, 27
   // bytes per input vertex on mc1m at level 25, where the grown hierarchy had become the peak.
-  std::vector<Index> Deaths, EntryOf, VersionsBornBy, FullEntryVertices;
+  std::vector<Index> Deaths, VersionsBornBy, FullEntryVertices;
   // Once built (PackVersions), the codes of the versions after M0's and every version's death
   // (Never as 0, collapse count d as d + 1) in the fewest bits their largest needs; the build's
   // arrays above are then released.
@@ -914,8 +1008,8 @@ private:
   // positions are those of the global vertices, Sources and Point of each HierarchyCollapse).
   CollapseRecords Records;
 
-  // The per-triangle working data (evaluations, paper's terms, edge costs, blocked stamps, current
-  // versions, the level state's marks) are indexed by row, not by M0 slot: when the live triangles
+  // The per-triangle working data (evaluations, paper's terms, edge costs, blocked stamps, the
+  // level state's marks) are indexed by row, not by M0 slot: when the live triangles
   // fall below 15/16 of the rows while the rows are over half of the slots, 7/8 while over a
   // quarter, 1/2 after that (WorthCompacting), CompactRows renumbers the live ones in slot order
   // and gives the dead ones' rows back. The working data then shrink with the mesh while the
@@ -923,8 +1017,12 @@ private:
   LiveRowIndex RowOf; // M0 slot -> row (for the slots live at the last compaction)
   Index Rows = 0;
   size_t Row(Index t) const { return this->RowOf.Row(size_t(t)); }
-  // The M0 slot of a row: its current version's.
-  Index SlotOfRow(size_t r) const { return static_cast<Index>(this->BuildCodeOf(this->EntryOf[r]) >> 2); }
+  // f(t, r) for the rows [begin, end) in order, t the M0 slot of row r (live or not): the rows'
+  // slots are the rank words' set bits in order, so no row stores its slot. (Until session 45
+  // each row held its current version, 4 bytes per row, 8 per input vertex at the build's peak,
+  // to read the slot from the version's code; the walks that needed it all go in row order.)
+  template <typename Functor>
+  void ForEachRowSlot(size_t begin, size_t end, Functor&& f) const;
   template <typename Functor>
   void ForEachLiveTriangle(Functor&& f) const; // f(t, row), in slot order
   // The same for the positions [begin, end) of that walk (0 <= begin <= end <= Rows).

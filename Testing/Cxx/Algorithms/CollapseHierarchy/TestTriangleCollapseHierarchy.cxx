@@ -1637,12 +1637,14 @@ TEST(CollapseHierarchy, ThePeakHoldsNoOrderAfterTheSelectionNorTheWholeBatchsDea
     double rowBytes = -1, levelState = -1;
     for (const CollapseHierarchy::StorageShare& share : h.PeakStorage())
     {
-      rowBytes = std::string(share.Name) == "current versions, rows" ? double(share.Bytes) : rowBytes;
+      // (the rows counted by the edge costs: 12 bytes of errors and a byte of kinds per row)
+      rowBytes = std::string(share.Name) == "edge costs" ? double(share.Bytes) : rowBytes;
       levelState = std::string(share.Name) == "level state (selection)" ? double(share.Bytes) : levelState;
     }
     ASSERT_GE(rowBytes, 0);
     ASSERT_GE(levelState, 0);
-    const double rows = (rowBytes - 12 * std::ceil(nt / 64)) / sizeof(Index); // (the rank words)
+    ASSERT_GT(rowBytes, 0);
+    const double rows = rowBytes / 13;
     const double atStart = double(h.LevelTriangleCount(level)), atEnd = double(h.LevelTriangleCount(level + 1));
     double largestBatch = 0; // (the batch's arrays keep the room of the largest so far)
     for (int i = 0; i <= level; ++i)
@@ -1707,7 +1709,8 @@ TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
     // (edge costs: 12 bytes of errors and one of kinds per row, 15 on base; stamps: a vertex's
     // change stamp, valence and mark in 8 bytes, 10 on base)
     { "edge costs", 13 * nt }, { "stamps, degrees, marks", 8 * nv + 1 * nt + 4096 }, { "ancestors", 0 },
-    { "current versions, rows", 4 * nt + rows(nt) } };
+    // (rows: the rank words only since session 45; a current version per row, 4 bytes, before)
+    { "rows", rows(nt) } };
   CollapseHierarchy h;
   std::vector<CollapseHierarchy::StorageShare> start;
   size_t seen = 0;
@@ -1748,6 +1751,89 @@ TEST(CollapseHierarchy, PeakWorkingBytesWithinTheLayoutOfItsArrays)
   EXPECT_GE(peak, double(seen));
   EXPECT_LE(peak, startLayout + grown + levelState);
   EXPECT_LE(h.LevelTriangleCount(h.NumberOfLevels() - 1), Index(nt / 10));
+}
+
+// Session 45: a row's M0 slot is read off the rank words in row order (ForEachRowSlot), so no row
+// keeps its current version (4 bytes per row, 8 per input vertex at the build's peak, whose only
+// use was the slot in its code). At every progress call and at the peak the rows' share is the
+// rank words alone, and the peak less that share is the same sum of the other shares: the
+// peak per input vertex is below the one the same arrays make with 4 bytes per row more.
+TEST(CollapseHierarchy, RowsKeepNoSlotSoThePeakHoldsOnlyTheirRankWords)
+{
+  const TriangleMesh scan = NoisyScanMesh(60);
+  const double nv = scan.NumberOfPoints(), nt = scan.NumberOfTriangles();
+  const double rankWords = 12 * std::ceil(nt / 64);
+  // (found by the word: its name until session 45 was "current versions, rows")
+  const auto rowShare = [](const std::vector<CollapseHierarchy::StorageShare>& shares, double& edgeCosts) {
+    double rows = -1;
+    for (const CollapseHierarchy::StorageShare& share : shares)
+    {
+      const std::string name = share.Name;
+      rows = name.find("rows") != std::string::npos && name.find("level state") == std::string::npos
+        ? double(share.Bytes) : rows;
+      edgeCosts = name == "edge costs" ? double(share.Bytes) : edgeCosts;
+    }
+    return rows;
+  };
+  CollapseHierarchy h;
+  int calls = 0;
+  ASSERT_TRUE(h.Build(scan, DefaultParameters(), [&](double) {
+    double edgeCosts = 0;
+    const double rows = rowShare(h.Storage(), edgeCosts);
+    EXPECT_GE(rows, 0);
+    EXPECT_LE(rows, rankWords) << "progress call " << calls << ", " << edgeCosts / 13 << " rows";
+    ++calls;
+    return true;
+  }));
+  EXPECT_GT(calls, 2);
+  double edgeCosts = 0;
+  const std::vector<CollapseHierarchy::StorageShare> peak = h.PeakStorage();
+  const double rows = rowShare(peak, edgeCosts), liveRows = edgeCosts / 13;
+  ASSERT_GT(liveRows, 0);
+  double others = 0;
+  for (const CollapseHierarchy::StorageShare& share : peak)
+  {
+    others += double(share.Bytes);
+  }
+  others -= rows;
+  std::printf("[peak] %.1f bytes per input vertex (level %d, %s), rows %.0f bytes for %.0f rows; with a version "
+              "per row %.1f\n", double(h.PeakWorkingBytes()) / nv, h.PeakLevel(), h.PeakMoment(), rows, liveRows,
+    (others + rankWords + 4 * liveRows) / nv);
+  EXPECT_LE(rows, rankWords);
+  EXPECT_LE(double(h.PeakWorkingBytes()), others + rankWords);
+  EXPECT_LT(double(h.PeakWorkingBytes()) / nv, (others + rankWords + 4 * liveRows) / nv);
+}
+
+// Session 45: a cut's extraction (collapses = blend end, the filter's output for a target or a
+// level) keeps only the replay's corners and the map to output points; the blend's targets and
+// batches come with the first blended extraction (4 bytes per global vertex each), and the meshes
+// extracted are the same either way.
+TEST(CollapseHierarchy, ACutsExtractionHoldsNoBlendArrays)
+{
+  const TriangleMesh scan = NoisyScanMesh(45);
+  CollapseHierarchy h;
+  ASSERT_TRUE(h.Build(scan, DefaultParameters()));
+  ASSERT_GT(h.NumberOfLevels(), 3);
+  const Index k = h.LevelStart(2);
+  HierarchyMesh cut, blended, cutAgain;
+  EXPECT_EQ(h.ExtractionScratchBytes(), size_t(0));
+  h.Extract(k, k, 0.0, cut);
+  const double corners = 3.0 * scan.NumberOfTriangles() * sizeof(Index);
+  const double map = double(h.NumberOfVertices()) * sizeof(Index);
+  EXPECT_LE(double(h.ExtractionScratchBytes()), corners + map);
+  h.Extract(k, h.LevelStart(3), 0.5, blended);
+  EXPECT_GE(double(h.ExtractionScratchBytes()), corners + 3 * map);
+  h.Extract(k, k, 0.0, cutAgain);
+  EXPECT_EQ(cut.Triangles, cutAgain.Triangles);
+  EXPECT_EQ(cut.Points, cutAgain.Points);
+  EXPECT_EQ(cut.PointTarget, cutAgain.PointTarget);
+  EXPECT_EQ(cut.TriangleBatch, cutAgain.TriangleBatch);
+  EXPECT_EQ(cut.TriangleRole, cutAgain.TriangleRole);
+  for (const Index target : cut.PointTarget)
+  {
+    EXPECT_EQ(target, InvalidIndex);
+  }
+  EXPECT_EQ(cut.Triangles.size(), 3 * size_t(h.LevelTriangleCount(2)));
 }
 
 // M0's versions' deaths are derived when the build ends, also when it is aborted: the levels
